@@ -1,0 +1,115 @@
+# patchwork: plain Makefile, no other build system needed.
+#
+#   make            build the CLI, examples, tests and benchmarks into build/
+#   make demo       render every method on built-in data into out/
+#   make test       run the whole test suite (ends with "N passed, N failed")
+#   make bench      benchmarks (medians of several runs)
+#   make data       extract real test data from installed Debian packages into data/
+#   make headers    regenerate the single-file headers from src/
+#   make fuzz       run each libFuzzer target for FUZZ_SECONDS (needs clang)
+#   make clean
+#
+# CC and CFLAGS can be overridden; SANITIZE=1 builds with address and
+# undefined-behaviour sanitizers (into build-san/).
+
+CC       ?= cc
+CXX      ?= c++
+CFLAGS   ?= -O2 -g
+WARN     := -std=c99 -Wall -Wextra -pedantic
+LDLIBS   := -lm
+FUZZ_CC  ?= clang
+FUZZ_SECONDS ?= 60
+
+ifeq ($(SANITIZE),1)
+BUILD    := build-san
+SANFLAGS := -fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer
+else
+BUILD    := build
+SANFLAGS :=
+endif
+
+ALL_CFLAGS = $(WARN) $(CFLAGS) $(SANFLAGS) -I.
+
+# ---- single-file headers: name and the shared modules each one carries ----
+HEADERS       := tiled
+MODULES_tiled := base vec rng image deflate png mesh halfedge subdiv raster render graphcut quilt
+
+COMMON_SRC := $(wildcard src/common/*.h)
+HEADER_FILES := $(addsuffix .h,$(HEADERS))
+HEADER_DEPS = tools/amalgamate.sh LICENSE $(COMMON_SRC) src/$(1)/$(1).h src/$(1)/$(1).c
+
+.PHONY: all demo test bench data headers check-headers fuzz fuzz-build clean
+
+CLI_SRC   := $(wildcard cli/*.c)
+TEST_SRC  := $(wildcard tests/test_*.c)
+EX_SRC    := $(wildcard examples/*.c)
+BENCH_SRC := $(wildcard bench/bench_*.c)
+FUZZ_SRC  := $(wildcard fuzz/fuzz_*.c)
+
+TEST_BIN  := $(patsubst tests/%.c,$(BUILD)/tests/%,$(TEST_SRC))
+EX_BIN    := $(patsubst examples/%.c,$(BUILD)/examples/%,$(EX_SRC))
+BENCH_BIN := $(patsubst bench/%.c,$(BUILD)/bench/%,$(BENCH_SRC))
+FUZZ_BIN  := $(patsubst fuzz/%.c,$(BUILD)/fuzz/%,$(FUZZ_SRC))
+
+all: $(BUILD)/patchwork $(EX_BIN) $(TEST_BIN) $(BENCH_BIN)
+
+headers:
+	@for h in $(HEADERS); do \
+	  case $$h in \
+	    tiled) mods="$(MODULES_tiled)";; \
+	  esac; \
+	  sh tools/amalgamate.sh $$h $$mods > $$h.h.tmp && mv $$h.h.tmp $$h.h && echo "wrote $$h.h"; \
+	done
+
+# Fails when a committed header differs from what `make headers` would write.
+check-headers:
+	@mkdir -p $(BUILD)/gen; status=0; \
+	for h in $(HEADERS); do \
+	  case $$h in \
+	    tiled) mods="$(MODULES_tiled)";; \
+	  esac; \
+	  sh tools/amalgamate.sh $$h $$mods > $(BUILD)/gen/$$h.h; \
+	  if ! cmp -s $(BUILD)/gen/$$h.h $$h.h; then \
+	    echo "$$h.h is stale: run 'make headers' and commit it"; status=1; fi; \
+	done; exit $$status
+
+$(BUILD)/patchwork: $(CLI_SRC) $(wildcard cli/*.h) $(HEADER_FILES)
+	@mkdir -p $(BUILD)
+	$(CC) $(ALL_CFLAGS) -o $@ $(CLI_SRC) $(LDLIBS)
+
+$(BUILD)/tests/%: tests/%.c tests/pwtest.h $(COMMON_SRC) $(HEADER_FILES)
+	@mkdir -p $(BUILD)/tests
+	$(CC) $(ALL_CFLAGS) -o $@ $< $(LDLIBS)
+
+$(BUILD)/examples/%: examples/%.c $(HEADER_FILES)
+	@mkdir -p $(BUILD)/examples
+	$(CC) $(ALL_CFLAGS) -o $@ $< $(LDLIBS)
+
+$(BUILD)/bench/%: bench/%.c bench/bench.h $(COMMON_SRC) $(HEADER_FILES)
+	@mkdir -p $(BUILD)/bench
+	$(CC) $(WARN) -O2 -g -DNDEBUG -I. -o $@ $< $(LDLIBS)
+
+demo: $(BUILD)/patchwork
+	./$(BUILD)/patchwork demo out
+
+test: $(BUILD)/patchwork $(TEST_BIN) $(EX_BIN)
+	@sh tests/run.sh $(BUILD)
+
+bench: $(BENCH_BIN) $(BUILD)/patchwork
+	@sh bench/run.sh $(BUILD)
+
+data: $(BUILD)/patchwork
+	@sh tools/make_data.sh $(BUILD)/patchwork
+
+fuzz-build:
+	@mkdir -p build/fuzz
+	@for f in $(FUZZ_SRC); do \
+	  b=build/fuzz/$$(basename $$f .c); \
+	  $(FUZZ_CC) -g -O1 -I. -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=all -o $$b $$f -lm || exit 1; \
+	done
+
+fuzz: fuzz-build
+	@sh fuzz/run.sh $(FUZZ_SECONDS)
+
+clean:
+	rm -rf build build-san out

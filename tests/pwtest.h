@@ -1,0 +1,136 @@
+/* pwtest: the tiny test framework behind `make test`.
+ *
+ * A test file lists its cases and ends with PWT_MAIN:
+ *
+ *     static void t_roundtrip(void) { CHECK(1 + 1 == 2); }
+ *     static const pwt_case cases[] = {{"roundtrip", t_roundtrip}};
+ *     PWT_MAIN(cases)
+ *
+ * Each case prints one line, `PASS name`, `FAIL name: where: what` or
+ * `SKIP name: why`; tests/run.sh counts them. INFO lines carry measurements.
+ * `./test_x NAME` runs only the cases whose name contains NAME. */
+#ifndef PWTEST_H
+#define PWTEST_H
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <stdarg.h>
+
+typedef struct pwt_case {
+    const char *name;
+    void (*fn)(void);
+} pwt_case;
+
+static int pwt_failed_, pwt_skipped_;
+static const char *pwt_name_;
+
+static void pwt_fail_(const char *file, int line, const char *fmt, ...)
+{
+    va_list ap;
+    if (!pwt_failed_) printf("FAIL %s: ", pwt_name_);
+    else printf("     %s: ", pwt_name_);
+    printf("%s:%d: ", file, line);
+    va_start(ap, fmt);
+    vprintf(fmt, ap);
+    va_end(ap);
+    printf("\n");
+    fflush(stdout);
+    pwt_failed_++;
+}
+
+/* Skips the current case (a test that needs absent optional data). */
+static void pwt_skip(const char *fmt, ...)
+{
+    va_list ap;
+    printf("SKIP %s: ", pwt_name_);
+    va_start(ap, fmt);
+    vprintf(fmt, ap);
+    va_end(ap);
+    printf("\n");
+    pwt_skipped_ = 1;
+}
+
+/* A measurement worth keeping in the log. */
+static void pwt_info(const char *fmt, ...)
+{
+    va_list ap;
+    printf("INFO %s: ", pwt_name_);
+    va_start(ap, fmt);
+    vprintf(fmt, ap);
+    va_end(ap);
+    printf("\n");
+}
+
+#define CHECK(c) ((c) ? (void)0 : pwt_fail_(__FILE__, __LINE__, "%s", #c))
+#define CHECKF(c, ...) ((c) ? (void)0 : pwt_fail_(__FILE__, __LINE__, __VA_ARGS__))
+#define REQUIRE(c)                                           \
+    do {                                                     \
+        if (!(c)) {                                          \
+            pwt_fail_(__FILE__, __LINE__, "required: %s", #c); \
+            return;                                          \
+        }                                                    \
+    } while (0)
+#define CHECK_EQ_INT(a, b)                                                        \
+    do {                                                                          \
+        long long pwt_a_ = (long long)(a), pwt_b_ = (long long)(b);               \
+        if (pwt_a_ != pwt_b_)                                                     \
+            pwt_fail_(__FILE__, __LINE__, "%s == %s (%lld vs %lld)", #a, #b, pwt_a_, \
+                      pwt_b_);                                                    \
+    } while (0)
+#define CHECK_NEAR(a, b, tol)                                                         \
+    do {                                                                              \
+        double pwt_a_ = (double)(a), pwt_b_ = (double)(b);                            \
+        if (!(pwt_a_ - pwt_b_ <= (tol) && pwt_b_ - pwt_a_ <= (tol)))                  \
+            pwt_fail_(__FILE__, __LINE__, "%s ~= %s (%g vs %g, tol %g)", #a, #b, pwt_a_, \
+                      pwt_b_, (double)(tol));                                         \
+    } while (0)
+
+/* Directory of optional real data (make data), overridable with PW_DATA. */
+static const char *pwt_data_dir(void)
+{
+    const char *d = getenv("PW_DATA");
+    return d && *d ? d : "data";
+}
+
+/* Path of a data file in a static buffer; NULL (and the case skipped) if the
+ * file is absent. */
+static const char *pwt_data(const char *rel)
+{
+    static char buf[4][1024];
+    static int k;
+    FILE *f;
+    char *p = buf[k++ & 3];
+    snprintf(p, 1024, "%s/%s", pwt_data_dir(), rel);
+    f = fopen(p, "rb");
+    if (!f) {
+        pwt_skip("%s absent (run `make data`)", p);
+        return NULL;
+    }
+    fclose(f);
+    return p;
+}
+
+static int pwt_run_(const pwt_case *cases, int n, int argc, char **argv)
+{
+    int i, nfail = 0;
+    for (i = 0; i < n; i++) {
+        if (argc > 1 && !strstr(cases[i].name, argv[1])) continue;
+        pwt_name_ = cases[i].name;
+        pwt_failed_ = 0;
+        pwt_skipped_ = 0;
+        cases[i].fn();
+        if (pwt_failed_) nfail++;
+        else if (!pwt_skipped_) printf("PASS %s\n", cases[i].name);
+        fflush(stdout);
+    }
+    return nfail ? 1 : 0;
+}
+
+#define PWT_MAIN(cases)                                                          \
+    int main(int argc, char **argv)                                              \
+    {                                                                            \
+        return pwt_run_(cases, (int)(sizeof(cases) / sizeof(cases[0])), argc, argv); \
+    }
+
+#endif
