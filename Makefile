@@ -38,7 +38,7 @@ COMMON_SRC := $(wildcard src/common/*.h)
 HEADER_FILES := $(addsuffix .h,$(HEADERS))
 HEADER_DEPS = tools/amalgamate.sh LICENSE $(COMMON_SRC) src/$(1)/$(1).h src/$(1)/$(1).c
 
-.PHONY: all demo test bench data headers check-headers fuzz fuzz-build clean
+.PHONY: all demo test bench data headers check-headers print-headers fuzz fuzz-build clean
 
 CLI_SRC   := $(wildcard cli/*.c)
 TEST_SRC  := $(wildcard tests/test_*.c)
@@ -60,6 +60,9 @@ headers:
 	  esac; \
 	  sh tools/amalgamate.sh $$h $$mods > $$h.h.tmp && mv $$h.h.tmp $$h.h && echo "wrote $$h.h"; \
 	done
+
+print-headers:
+	@echo $(HEADERS)
 
 # Fails when a committed header differs from what `make headers` would write.
 check-headers:

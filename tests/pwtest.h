@@ -17,6 +17,12 @@
 #include <string.h>
 #include <stdarg.h>
 
+#if defined(__GNUC__) || defined(__clang__)
+#define PWT_UNUSED __attribute__((unused))
+#else
+#define PWT_UNUSED
+#endif
+
 typedef struct pwt_case {
     const char *name;
     void (*fn)(void);
@@ -40,7 +46,7 @@ static void pwt_fail_(const char *file, int line, const char *fmt, ...)
 }
 
 /* Skips the current case (a test that needs absent optional data). */
-static void pwt_skip(const char *fmt, ...)
+PWT_UNUSED static void pwt_skip(const char *fmt, ...)
 {
     va_list ap;
     printf("SKIP %s: ", pwt_name_);
@@ -52,7 +58,7 @@ static void pwt_skip(const char *fmt, ...)
 }
 
 /* A measurement worth keeping in the log. */
-static void pwt_info(const char *fmt, ...)
+PWT_UNUSED static void pwt_info(const char *fmt, ...)
 {
     va_list ap;
     printf("INFO %s: ", pwt_name_);
@@ -87,7 +93,7 @@ static void pwt_info(const char *fmt, ...)
     } while (0)
 
 /* Directory of optional real data (make data), overridable with PW_DATA. */
-static const char *pwt_data_dir(void)
+PWT_UNUSED static const char *pwt_data_dir(void)
 {
     const char *d = getenv("PW_DATA");
     return d && *d ? d : "data";
@@ -95,7 +101,7 @@ static const char *pwt_data_dir(void)
 
 /* Path of a data file in a static buffer; NULL (and the case skipped) if the
  * file is absent. */
-static const char *pwt_data(const char *rel)
+PWT_UNUSED static const char *pwt_data(const char *rel)
 {
     static char buf[4][1024];
     static int k;

@@ -49,6 +49,24 @@ PW__DEF pw_v3 pw_v3_max(pw_v3 a, pw_v3 b)
     return pw_v3_make(a.x > b.x ? a.x : b.x, a.y > b.y ? a.y : b.y, a.z > b.z ? a.z : b.z);
 }
 
+/* sin and cos from + - * / only, so that procedural geometry is
+ * bit-identical on every platform (libm results may differ in the last
+ * bit). Taylor series to r^19 after reduction to [-pi/2, pi/2]: error below
+ * 1e-15 for |x| < 1e6. */
+PW__DEF double pw_sin(double x)
+{
+    const double pi = 3.14159265358979323846;
+    double k = x / pi, r, r2, s;
+    long n = (long)(k >= 0 ? k + 0.5 : k - 0.5);
+    r = x - (double)n * pi; /* r in [-pi/2, pi/2] */
+    r2 = r * r;
+    s = r * (1.0 + r2 * (-1.0 / 6 + r2 * (1.0 / 120 + r2 * (-1.0 / 5040 + r2 * (1.0 / 362880 +
+        r2 * (-1.0 / 39916800 + r2 * (1.0 / 6227020800.0 + r2 * (-1.0 / 1307674368000.0 +
+        r2 * (1.0 / 355687428096000.0 + r2 * (-1.0 / 121645100408832000.0))))))))));
+    return (n & 1) ? -s : s;
+}
+PW__DEF double pw_cos(double x) { return pw_sin(x + 1.57079632679489661923); }
+
 /* Row-major 4x4 matrix, m[row*4+col], acting on column vectors. */
 typedef struct pw_m4 {
     float m[16];

@@ -1,0 +1,54 @@
+/* cli.h: shared helpers of the `patchwork` command. */
+#ifndef PATCHWORK_CLI_H
+#define PATCHWORK_CLI_H
+
+#include "../tiled.h"
+
+/* Argument cursor: `patchwork SUB --flag value ...`. */
+typedef struct cli_args {
+    int argc, i;
+    char **argv;
+    const char *cmd; /* subcommand name, for messages */
+} cli_args;
+
+/* Reports an error as one line on stderr: "patchwork CMD: message". */
+void cli_error(const char *cmd, const char *fmt, ...);
+
+/* Parses the value of the current flag (argv[i], possibly --flag=value).
+ * On error prints a message and returns 0. */
+int cli_value(cli_args *a, const char **value);
+int cli_int(cli_args *a, int lo, int hi, int *out);
+int cli_u64(cli_args *a, unsigned long long *out);
+int cli_size(cli_args *a, int *w, int *h);
+/* True if argv[i] is `name` or `name=...`. */
+int cli_is(const cli_args *a, const char *name);
+
+/* Outputs are written to "<path>.partial" and renamed into place only when
+ * every output of the command succeeded (cli_commit), so a failure never
+ * leaves a half-written file behind (cli_abort removes the partial ones). */
+typedef struct cli_outputs {
+    int n;
+    char final_path[16][1024];
+    char tmp_path[16][1024];
+} cli_outputs;
+
+/* Registers an output; returns the temporary path to write, NULL if too many. */
+const char *cli_stage(cli_outputs *o, const char *path);
+int cli_commit(cli_outputs *o, const char *cmd);
+void cli_abort(cli_outputs *o);
+
+/* Writes an image (format from the extension of `final_path`) to the
+ * staged temporary path. Returns TILED_OK or an error (message in err). */
+tiled_result cli_write_image(cli_outputs *o, const char *final_path, const tiled_image *img,
+                             tiled_error *err);
+/* Format name ("png", "ppm", "pgm", "pam") for a path, NULL if unknown. */
+const char *cli_image_format(const char *path);
+
+/* "procedural:NAME" inputs. */
+int cli_is_procedural(const char *s, const char **name);
+
+int cmd_tiled(int argc, char **argv);
+int cmd_demo(int argc, char **argv);
+int cmd_convert(int argc, char **argv);
+
+#endif

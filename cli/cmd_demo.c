@@ -1,0 +1,106 @@
+/* cmd_demo.c: `patchwork demo [DIR]`, every method on built-in data. */
+#define _POSIX_C_SOURCE 200809L
+#include <errno.h>
+#include <stdio.h>
+#include <string.h>
+#include <sys/stat.h>
+#include "cli.h"
+
+typedef struct demo_scene {
+    const char *name, *mesh, *exemplar;
+    int subdivide, smooth, case_number, pairs_or_grid, exemplar_size;
+    float view[3];
+} demo_scene;
+
+static const demo_scene tiled_scenes[] = {
+    {"tiled_double_torus", "double-torus", "pebbles", 0, 2, 2, 1, 128, {-0.35f, -0.55f, -0.75f}},
+    {"tiled_torus", "torus", "spots", 0, 1, 2, 2, 64, {-0.3f, -0.5f, -0.8f}},
+    {"tiled_cube_case1", "cube", "lichen", 1, 2, 1, 4, 128, {-0.6f, -0.5f, -0.62f}},
+    {"tiled_icosahedron", "icosahedron", "pebbles", 0, 2, 2, 1, 128, {-0.5f, -0.4f, -0.75f}},
+    {"tiled_grid", "grid", "spots", 0, 1, 2, 1, 128, {-0.2f, -0.7f, -0.65f}},
+};
+
+/* Writes img as DIR/NAME.ppm and DIR/NAME.png, reporting each file. */
+static int demo_write(const char *dir, const char *name, const tiled_image *img)
+{
+    static const char *const ext[2] = {"ppm", "png"};
+    char path[1024];
+    cli_outputs outs;
+    tiled_error err;
+    int k;
+    for (k = 0; k < 2; k++) {
+        memset(&outs, 0, sizeof outs);
+        snprintf(path, sizeof path, "%s/%s.%s", dir, name, ext[k]);
+        if (cli_write_image(&outs, path, img, &err) != TILED_OK) {
+            cli_abort(&outs);
+            cli_error("demo", "%s", err.message);
+            return 0;
+        }
+        if (!cli_commit(&outs, "demo")) return 0;
+        printf("wrote %s (%dx%d)\n", path, img->width, img->height);
+    }
+    return 1;
+}
+
+static tiled_result demo_tiled_scene(const char *dir, const demo_scene *s, tiled_error *err)
+{
+    tiled_options o = tiled_default_options();
+    tiled_render_options ro;
+    tiled_mesh mesh, quads;
+    tiled_image ex, pic;
+    tiled_tileset ts;
+    tiled_result r;
+    char name[256];
+    memset(&ro, 0, sizeof ro);
+    memset(&ts, 0, sizeof ts);
+    memset(&quads, 0, sizeof quads);
+    memset(&pic, 0, sizeof pic);
+    memcpy(ro.view_dir, s->view, sizeof ro.view_dir);
+    o.subdivide = s->subdivide;
+    o.smooth = s->smooth;
+    o.layout.case_number = s->case_number;
+    if (s->case_number == 1) o.layout.grid = s->pairs_or_grid;
+    else o.layout.pairs = s->pairs_or_grid;
+    if ((r = tiled_builtin_mesh(s->mesh, &o, &mesh, err)) != TILED_OK) return r;
+    if ((r = tiled_builtin_exemplar(s->exemplar, s->exemplar_size, &o, &ex, err)) == TILED_OK &&
+        (r = tiled_synthesize(&ex, &o, &ts, err)) == TILED_OK &&
+        (r = tiled_map(&mesh, &ts.layout, &o, &quads, err)) == TILED_OK &&
+        (r = tiled_render(&quads, &ts, &ro, &pic, err)) == TILED_OK) {
+        snprintf(name, sizeof name, "%s_tiles", s->name);
+        if (!demo_write(dir, s->name, &pic) || !demo_write(dir, name, &ts.atlas)) r = TILED_ERR_IO;
+    }
+    tiled_image_free(&pic);
+    tiled_mesh_free(&quads);
+    tiled_tileset_free(&ts);
+    tiled_image_free(&ex);
+    tiled_mesh_free(&mesh);
+    return r;
+}
+
+int cmd_demo(int argc, char **argv)
+{
+    const char *dir = argc > 1 ? argv[1] : "out";
+    tiled_error err;
+    size_t k;
+    if (argc > 2 || (argc > 1 && argv[1][0] == '-')) {
+        if (argc > 1 && (!strcmp(argv[1], "--help") || !strcmp(argv[1], "-h"))) {
+            printf("usage: patchwork demo [DIR]\n\nRenders every method on built-in meshes and "
+                   "exemplars into DIR (default out/), as PPM and PNG.\n");
+            return 0;
+        }
+        cli_error("demo", "usage: patchwork demo [DIR]");
+        return 1;
+    }
+    if (mkdir(dir, 0777) != 0 && errno != EEXIST) {
+        cli_error("demo", "%s: cannot create folder (%s)", dir, strerror(errno));
+        return 1;
+    }
+    for (k = 0; k < sizeof tiled_scenes / sizeof tiled_scenes[0]; k++) {
+        err.code = TILED_OK;
+        if (demo_tiled_scene(dir, &tiled_scenes[k], &err) != TILED_OK) {
+            if (err.code != TILED_ERR_IO) cli_error("demo", "%s: %s", tiled_scenes[k].name, err.message);
+            return 1;
+        }
+    }
+    return 0;
+}

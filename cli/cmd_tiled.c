@@ -1,0 +1,280 @@
+/* cmd_tiled.c: `patchwork tiled`, the whole of tiled.h from the shell. */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include "cli.h"
+
+static const char *tiled_usage =
+    "usage: patchwork tiled --mesh FILE [--exemplar IMG | --tiles IMG] [options]\n"
+    "\n"
+    "Seamless, singularity-free tiled textures on quad meshes (Kaur 2003).\n"
+    "\n"
+    "inputs:\n"
+    "  --mesh FILE         OBJ, OFF or PLY mesh, or procedural:NAME (cube, torus,\n"
+    "                      double-torus, icosahedron, grid); non-quad meshes are\n"
+    "                      made all quads by Catmull-Clark subdivision\n"
+    "  --exemplar IMG      texture to build the tile set from (PNG, PPM, PGM, PAM,\n"
+    "                      GIMP .pat) or procedural:NAME (pebbles, spots, lichen);\n"
+    "                      default procedural:pebbles\n"
+    "  --tiles IMG         a ready-made tiled texture in the thesis layout (no\n"
+    "                      guard bands); its sides are validated first\n"
+    "options:\n"
+    "  --case 1|2          2: boundary pairs (default); 1: one self-matching boundary\n"
+    "  --pairs N           case 2: N boundary pairs, (2N)^4 tiles (default 1)\n"
+    "  --grid N            case 1: N x N tiles (default 4)\n"
+    "  --subdivide K       K more Catmull-Clark levels before mapping: more,\n"
+    "                      smaller tiles (default 0)\n"
+    "  --smooth K          K Catmull-Clark levels after mapping, carrying the\n"
+    "                      texture along: a smooth surface (default 0)\n"
+    "  --tile-size PX      tile size (default: from the exemplar)\n"
+    "  --guard PX|none     guard band around tiles (default tile/8)\n"
+    "  --no-mirror         case 1: rotate tiles but never mirror them\n"
+    "  --seed S            random seed (default 0)\n"
+    "  --validate          with --tiles: only report mismatching sides\n"
+    "outputs (at least one):\n"
+    "  --out-obj FILE      quad mesh with texture coordinates, plus FILE's .mtl\n"
+    "  --out-tiles IMG     the tiled texture the OBJ indexes (default with --out-obj:\n"
+    "                      the OBJ's name with .png)\n"
+    "  --out-image IMG     a rendering (.png .ppm .pgm .pam)\n"
+    "  --size WxH          rendering size (default 800x600)\n";
+
+typedef struct tiled_cmd {
+    const char *mesh, *exemplar, *tiles, *out_obj, *out_tiles, *out_image;
+    int validate_only;
+    tiled_options opt;
+    tiled_render_options ro;
+} tiled_cmd;
+
+static int parse_guard(cli_args *a, tiled_cmd *c)
+{
+    const char *v;
+    if (!cli_value(a, &v)) return 0;
+    if (!strcmp(v, "none")) {
+        c->opt.layout.guard = TILED_NO_GUARD;
+        return 1;
+    }
+    c->opt.layout.guard = atoi(v);
+    if (c->opt.layout.guard < 1 || c->opt.layout.guard > 4096 || strspn(v, "0123456789") != strlen(v)) {
+        cli_error(a->cmd, "--guard: '%s' is not a pixel count or 'none'", v);
+        return 0;
+    }
+    return 1;
+}
+
+/* One option; returns 0 on a parse error, -1 for --help. */
+static int parse_one(cli_args *a, tiled_cmd *c)
+{
+    tiled_layout *l = &c->opt.layout;
+    if (cli_is(a, "--help") || cli_is(a, "-h")) return -1;
+    if (cli_is(a, "--mesh")) return cli_value(a, &c->mesh);
+    if (cli_is(a, "--exemplar")) return cli_value(a, &c->exemplar);
+    if (cli_is(a, "--tiles")) return cli_value(a, &c->tiles);
+    if (cli_is(a, "--out-obj")) return cli_value(a, &c->out_obj);
+    if (cli_is(a, "--out-tiles")) return cli_value(a, &c->out_tiles);
+    if (cli_is(a, "--out-image")) return cli_value(a, &c->out_image);
+    if (cli_is(a, "--case")) return cli_int(a, 1, 2, &l->case_number);
+    if (cli_is(a, "--pairs")) return cli_int(a, 1, 8, &l->pairs);
+    if (cli_is(a, "--grid")) return cli_int(a, 1, 256, &l->grid);
+    if (cli_is(a, "--subdivide")) return cli_int(a, 0, 8, &c->opt.subdivide);
+    if (cli_is(a, "--smooth")) return cli_int(a, 0, 8, &c->opt.smooth);
+    if (cli_is(a, "--tile-size")) return cli_int(a, 4, 4096, &l->tile_size);
+    if (cli_is(a, "--guard")) return parse_guard(a, c);
+    if (cli_is(a, "--seed")) return cli_u64(a, &c->opt.seed);
+    if (cli_is(a, "--size")) return cli_size(a, &c->ro.width, &c->ro.height);
+    if (cli_is(a, "--no-mirror")) return (c->opt.no_mirror = 1);
+    if (cli_is(a, "--validate")) return (c->validate_only = 1);
+    cli_error(a->cmd, "unknown option '%s' (try patchwork tiled --help)", a->argv[a->i]);
+    return 0;
+}
+
+static int parse(int argc, char **argv, tiled_cmd *c)
+{
+    cli_args a;
+    int r;
+    memset(c, 0, sizeof *c);
+    c->opt = tiled_default_options();
+    a.argc = argc;
+    a.argv = argv;
+    a.cmd = "tiled";
+    for (a.i = 1; a.i < argc; a.i++)
+        if ((r = parse_one(&a, c)) <= 0) return r;
+    if (c->exemplar && c->tiles) {
+        cli_error("tiled", "give --exemplar or --tiles, not both");
+        return 0;
+    }
+    if (c->validate_only ? !c->tiles : !c->mesh) {
+        cli_error("tiled", c->validate_only ? "--validate needs --tiles" : "--mesh is required");
+        return 0;
+    }
+    if (!c->validate_only && !c->out_obj && !c->out_tiles && !c->out_image) {
+        cli_error("tiled", "nothing to write: give --out-obj, --out-tiles or --out-image");
+        return 0;
+    }
+    return 1;
+}
+
+static tiled_result load_mesh(const char *src, const tiled_options *o, tiled_mesh *m, tiled_error *err)
+{
+    const char *name;
+    if (cli_is_procedural(src, &name)) return tiled_builtin_mesh(name, o, m, err);
+    return tiled_load_mesh(src, o, m, err);
+}
+
+static tiled_result load_image(const char *src, const tiled_options *o, tiled_image *img,
+                               tiled_error *err)
+{
+    const char *name;
+    if (cli_is_procedural(src, &name)) return tiled_builtin_exemplar(name, 64, o, img, err);
+    return tiled_load_image(src, o, img, err);
+}
+
+/* Prints the validation report of a hand-made tiled texture. */
+static void print_validation(const char *path, const tiled_validation *v, FILE *f)
+{
+    static const char *const side[4] = {"bottom", "right", "top", "left"};
+    int k, n = v->nbad < TILED_MAX_MISMATCHES ? v->nbad : TILED_MAX_MISMATCHES;
+    fprintf(f, "%s: %d of %d tile sides do not match (seam > %.4f; interior jump %.4f, worst %.4f)\n",
+            path, v->nbad, v->sides_checked, v->threshold, v->interior, v->worst);
+    for (k = 0; k < n; k++)
+        fprintf(f, "  tile %d %s side (type %d): seam %.4f\n", v->bad[k].tile, side[v->bad[k].side],
+                v->bad[k].type, v->bad[k].seam);
+}
+
+/* Builds the tile set from --tiles or --exemplar. */
+static tiled_result make_tiles(tiled_cmd *c, tiled_tileset *ts, tiled_error *err)
+{
+    tiled_image img;
+    tiled_result r = load_image(c->tiles ? c->tiles : c->exemplar ? c->exemplar : "procedural:pebbles",
+                                &c->opt, &img, err);
+    if (r != TILED_OK) return r;
+    if (c->tiles) {
+        tiled_validation v;
+        r = tiled_validate_tiles(&img, &c->opt, &v, err);
+        if (r == TILED_OK && (v.nbad || c->validate_only))
+            print_validation(c->tiles, &v, c->validate_only ? stdout : stderr);
+        if (r == TILED_OK && c->validate_only && v.nbad) r = TILED_ERR_INVALID;
+        if (r == TILED_OK && !c->validate_only) r = tiled_tileset_from_image(&img, &c->opt, ts, err);
+        if (r == TILED_ERR_INVALID && c->validate_only)
+            snprintf(err->message, sizeof err->message, "%s: tile sides do not match", c->tiles);
+    } else
+        r = tiled_synthesize(&img, &c->opt, ts, err);
+    tiled_image_free(&img);
+    return r;
+}
+
+/* `path` with its extension replaced by `ext`. */
+static void with_ext(const char *path, const char *ext, char *out, size_t size)
+{
+    const char *dot = strrchr(path, '.'), *slash = strrchr(path, '/');
+    size_t n = dot && (!slash || dot > slash) ? (size_t)(dot - path) : strlen(path);
+    snprintf(out, size, "%.*s%s", (int)n, path, ext);
+}
+
+/* Writes an OBJ and its MTL (naming the texture) to staged paths. */
+static tiled_result write_obj(cli_outputs *o, const char *obj, const char *texture,
+                              const tiled_mesh *m, tiled_error *err);
+
+static tiled_result run(tiled_cmd *c, cli_outputs *outs, tiled_error *err)
+{
+    tiled_mesh mesh, quads;
+    tiled_tileset ts;
+    tiled_image pic;
+    tiled_result r;
+    char tex_path[1024];
+    memset(&mesh, 0, sizeof mesh);
+    memset(&quads, 0, sizeof quads);
+    memset(&pic, 0, sizeof pic);
+    if ((r = make_tiles(c, &ts, err)) != TILED_OK || c->validate_only) return r;
+    if (c->out_obj && !c->out_tiles) { /* the MTL must name a texture that exists */
+        with_ext(c->out_obj, ".png", tex_path, sizeof tex_path);
+        c->out_tiles = tex_path;
+    }
+    if ((r = load_mesh(c->mesh, &c->opt, &mesh, err)) == TILED_OK &&
+        (r = tiled_map(&mesh, &ts.layout, &c->opt, &quads, err)) != TILED_OK) {
+        char msg[1400]; /* name the mesh: the library does not know it */
+        snprintf(msg, sizeof msg, "%.1000s: %s", c->mesh, err->message);
+        memcpy(err->message, msg, sizeof err->message - 1);
+        err->message[sizeof err->message - 1] = 0;
+    } else if (r == TILED_OK) {
+        printf("tiled: %d faces -> %d quads; %d x %d tiles of %d px (guard %d)\n", mesh.nfaces,
+               quads.nfaces, ts.tiles_per_side, ts.tiles_per_side, ts.layout.tile_size,
+               ts.layout.guard < 0 ? 0 : ts.layout.guard);
+        if (r == TILED_OK && c->out_tiles) r = cli_write_image(outs, c->out_tiles, &ts.atlas, err);
+        if (r == TILED_OK && c->out_obj) r = write_obj(outs, c->out_obj, c->out_tiles, &quads, err);
+        if (r == TILED_OK && c->out_image && (r = tiled_render(&quads, &ts, &c->ro, &pic, err)) == TILED_OK)
+            r = cli_write_image(outs, c->out_image, &pic, err);
+    }
+    tiled_image_free(&pic);
+    tiled_mesh_free(&quads);
+    tiled_mesh_free(&mesh);
+    tiled_tileset_free(&ts);
+    return r;
+}
+
+static int file_write(void *ctx, const void *data, size_t size)
+{
+    return fwrite(data, 1, size, (FILE *)ctx) == size ? 0 : -1;
+}
+
+/* The MTL names the texture by its path relative to the OBJ's folder when
+ * both are in the same folder, else by the path as given. */
+static const char *texture_ref(const char *obj, const char *texture)
+{
+    const char *so = strrchr(obj, '/'), *st = strrchr(texture, '/');
+    size_t lo = so ? (size_t)(so - obj) : 0, lt = st ? (size_t)(st - texture) : 0;
+    if (lo == lt && !strncmp(obj, texture, lo)) return st ? st + 1 : texture;
+    return texture;
+}
+
+static tiled_result write_one(cli_outputs *o, const char *path, int is_obj, const char *arg,
+                              const tiled_mesh *m, tiled_error *err)
+{
+    const char *tmp = cli_stage(o, path);
+    FILE *f = tmp ? fopen(tmp, "wb") : NULL;
+    tiled_result r;
+    if (!f) {
+        err->code = TILED_ERR_IO;
+        snprintf(err->message, sizeof err->message, "%s: cannot open for writing", path);
+        return err->code;
+    }
+    r = is_obj ? tiled_write_obj_to_func(m, arg, file_write, f, err)
+               : tiled_write_mtl_to_func(arg, file_write, f, err);
+    if (fclose(f) != 0 && r == TILED_OK) r = TILED_ERR_IO;
+    if (r == TILED_ERR_IO) {
+        err->code = r;
+        snprintf(err->message, sizeof err->message, "%s: write error (disk full?)", path);
+    }
+    return r;
+}
+
+static tiled_result write_obj(cli_outputs *o, const char *obj, const char *texture,
+                              const tiled_mesh *m, tiled_error *err)
+{
+    char mtl[1024];
+    tiled_result r;
+    with_ext(obj, ".mtl", mtl, sizeof mtl);
+    r = write_one(o, obj, 1, texture_ref(obj, mtl), m, err);
+    if (r == TILED_OK) r = write_one(o, mtl, 0, texture_ref(obj, texture), m, err);
+    return r;
+}
+
+int cmd_tiled(int argc, char **argv)
+{
+    tiled_cmd c;
+    cli_outputs outs;
+    tiled_error err;
+    int p = parse(argc, argv, &c);
+    if (p < 0) {
+        fputs(tiled_usage, stdout);
+        return 0;
+    }
+    if (!p) return 1;
+    memset(&outs, 0, sizeof outs);
+    if (run(&c, &outs, &err) != TILED_OK) {
+        cli_abort(&outs);
+        cli_error("tiled", "%s", err.message);
+        return 1;
+    }
+    if (!cli_commit(&outs, "tiled")) return 1;
+    return 0;
+}

@@ -1,0 +1,174 @@
+/* util.c: argument parsing and all-or-nothing output files for the CLI. */
+#include <errno.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include "cli.h"
+
+void cli_error(const char *cmd, const char *fmt, ...)
+{
+    va_list ap;
+    fprintf(stderr, "patchwork %s: ", cmd);
+    va_start(ap, fmt);
+    vfprintf(stderr, fmt, ap);
+    va_end(ap);
+    fputc('\n', stderr);
+}
+
+int cli_is(const cli_args *a, const char *name)
+{
+    size_t n = strlen(name);
+    const char *s = a->argv[a->i];
+    return !strncmp(s, name, n) && (s[n] == 0 || s[n] == '=');
+}
+
+int cli_value(cli_args *a, const char **value)
+{
+    const char *s = a->argv[a->i], *eq = strchr(s, '=');
+    if (eq && !strncmp(s, "--", 2)) {
+        *value = eq + 1;
+        return 1;
+    }
+    if (a->i + 1 >= a->argc) {
+        cli_error(a->cmd, "%s needs a value", s);
+        return 0;
+    }
+    *value = a->argv[++a->i];
+    return 1;
+}
+
+int cli_int(cli_args *a, int lo, int hi, int *out)
+{
+    const char *flag = a->argv[a->i], *v;
+    char *end;
+    long x;
+    if (!cli_value(a, &v)) return 0;
+    errno = 0;
+    x = strtol(v, &end, 10);
+    if (errno || end == v || *end || x < lo || x > hi) {
+        cli_error(a->cmd, "%.*s: '%s' is not a whole number in %d..%d",
+                  (int)strcspn(flag, "="), flag, v, lo, hi);
+        return 0;
+    }
+    *out = (int)x;
+    return 1;
+}
+
+int cli_u64(cli_args *a, unsigned long long *out)
+{
+    const char *flag = a->argv[a->i], *v;
+    char *end;
+    if (!cli_value(a, &v)) return 0;
+    errno = 0;
+    *out = strtoull(v, &end, 10);
+    if (errno || end == v || *end || *v == '-') {
+        cli_error(a->cmd, "%.*s: '%s' is not a non-negative whole number",
+                  (int)strcspn(flag, "="), flag, v);
+        return 0;
+    }
+    return 1;
+}
+
+int cli_size(cli_args *a, int *w, int *h)
+{
+    const char *v;
+    char *end, *end2;
+    long x, y;
+    if (!cli_value(a, &v)) return 0;
+    x = strtol(v, &end, 10);
+    y = (*end == 'x' || *end == 'X') ? strtol(end + 1, &end2, 10) : -1;
+    if (y < 0 || *end2 || x < 16 || y < 16 || x > 8192 || y > 8192) {
+        cli_error(a->cmd, "--size: '%s' is not WIDTHxHEIGHT with both in 16..8192", v);
+        return 0;
+    }
+    *w = (int)x;
+    *h = (int)y;
+    return 1;
+}
+
+int cli_is_procedural(const char *s, const char **name)
+{
+    if (strncmp(s, "procedural:", 11)) return 0;
+    *name = s + 11;
+    return 1;
+}
+
+const char *cli_stage(cli_outputs *o, const char *path)
+{
+    int k;
+    if (o->n >= 16 || strlen(path) + 9 > sizeof o->final_path[0]) return NULL;
+    for (k = 0; k < o->n; k++)
+        if (!strcmp(o->final_path[k], path)) return o->tmp_path[k];
+    strcpy(o->final_path[o->n], path);
+    snprintf(o->tmp_path[o->n], sizeof o->tmp_path[0], "%s.partial", path);
+    return o->tmp_path[o->n++];
+}
+
+int cli_commit(cli_outputs *o, const char *cmd)
+{
+    int k;
+    for (k = 0; k < o->n; k++)
+        if (rename(o->tmp_path[k], o->final_path[k]) != 0) {
+            cli_error(cmd, "%s: cannot move the finished file into place (%s)", o->final_path[k],
+                      strerror(errno));
+            for (; k < o->n; k++) remove(o->tmp_path[k]);
+            return 0;
+        }
+    return 1;
+}
+
+void cli_abort(cli_outputs *o)
+{
+    int k;
+    for (k = 0; k < o->n; k++) remove(o->tmp_path[k]);
+    o->n = 0;
+}
+
+const char *cli_image_format(const char *path)
+{
+    static const char *const ext[] = {".png", "png", ".ppm", "ppm", ".pnm", "ppm",
+                                      ".pgm", "pgm", ".pam", "pam"};
+    size_t n = strlen(path), k;
+    for (k = 0; k < sizeof ext / sizeof ext[0]; k += 2) {
+        size_t m = strlen(ext[k]), i;
+        int same = n >= m;
+        for (i = 0; same && i < m; i++) {
+            char c = path[n - m + i];
+            same = (c >= 'A' && c <= 'Z' ? c - 'A' + 'a' : c) == ext[k][i];
+        }
+        if (same) return ext[k + 1];
+    }
+    return NULL;
+}
+
+static int cli_file_write(void *ctx, const void *data, size_t size)
+{
+    return fwrite(data, 1, size, (FILE *)ctx) == size ? 0 : -1;
+}
+
+tiled_result cli_write_image(cli_outputs *o, const char *final_path, const tiled_image *img,
+                             tiled_error *err)
+{
+    const char *fmt = cli_image_format(final_path), *tmp;
+    tiled_result r;
+    FILE *f;
+    if (!fmt) {
+        err->code = TILED_ERR_UNSUPPORTED;
+        snprintf(err->message, sizeof err->message,
+                 "%s: unknown image extension (use .png, .ppm, .pgm, .pam)", final_path);
+        return err->code;
+    }
+    if (!(tmp = cli_stage(o, final_path)) || !(f = fopen(tmp, "wb"))) {
+        err->code = TILED_ERR_IO;
+        snprintf(err->message, sizeof err->message, "%s: cannot open for writing", final_path);
+        return err->code;
+    }
+    r = tiled_write_image_to_func(img, fmt, cli_file_write, f, err);
+    if (fclose(f) != 0 && r == TILED_OK) r = TILED_ERR_IO;
+    if (r == TILED_ERR_IO) {
+        err->code = r;
+        snprintf(err->message, sizeof err->message, "%s: write error (disk full?)", final_path);
+    }
+    return r;
+}

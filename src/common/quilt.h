@@ -1,0 +1,245 @@
+/* quilt: graph-cut compositing of several source images ("graph-cut
+ * textures", Kwatra et al. 2003), the seam machinery behind tile synthesis.
+ *
+ * Every pixel of a w x h grid takes its colour from one of `nlabels` source
+ * images that all cover the grid. The labelling minimises the total seam
+ * cost: for neighbouring pixels p, q with labels A != B, the cost is
+ * |A(p) - B(p)| + |A(q) - B(q)| (Euclidean colour distance), which is small
+ * where the two sources agree on both sides of the seam. That cost is a
+ * metric, so alpha-expansion (Boykov, Veksler, Zabih 2001) applies: each
+ * move lets every pixel either keep its label or switch to label alpha, and
+ * is solved exactly by one minimum cut. Hard constraints are per-pixel masks
+ * of the labels a pixel may take. The grid may wrap around in x and/or y,
+ * for textures that must tile. */
+#ifndef PW__QUILT_V1
+#define PW__QUILT_V1
+
+#include "base.h"
+#include "graphcut.h"
+#include "image.h"
+
+typedef struct pw_quilt {
+    int w, h, c;          /* grid size and colour channels */
+    int nlabels;          /* number of sources, at most 32 */
+    const float *src;     /* nlabels*w*h*c: source l's colour at pixel i is src + (l*w*h + i)*c */
+    int *label;           /* w*h, in/out: the labelling (initial labels must be allowed) */
+    const uint32_t *allowed; /* w*h bit masks (bit l: label l allowed) or NULL: all */
+    int wrap_x, wrap_y;   /* non-zero: the grid is periodic in that direction */
+} pw_quilt;
+
+/* |A(i) - B(i)|: distance between the colours of two labels at pixel i. */
+PW__DEF float pw__quilt_diff(const pw_quilt *q, int la, int lb, int i)
+{
+    const float *a = q->src + ((size_t)la * q->w * q->h + i) * q->c;
+    const float *b = q->src + ((size_t)lb * q->w * q->h + i) * q->c;
+    float s = 0.0f;
+    int k;
+    if (la == lb) return 0.0f;
+    for (k = 0; k < q->c; k++) s += (a[k] - b[k]) * (a[k] - b[k]);
+    return sqrtf(s);
+}
+
+/* Seam cost between neighbours i, j labelled la, lb. */
+PW__DEF float pw_quilt_pair_cost(const pw_quilt *q, int i, int j, int la, int lb)
+{
+    if (la == lb) return 0.0f;
+    return pw__quilt_diff(q, la, lb, i) + pw__quilt_diff(q, la, lb, j);
+}
+
+/* The right and upper neighbours of pixel i (-1 where the grid ends). */
+PW__DEF void pw__quilt_neighbours(const pw_quilt *q, int i, int nb[2])
+{
+    int x = i % q->w, y = i / q->w;
+    nb[0] = x + 1 < q->w ? i + 1 : (q->wrap_x && q->w > 2 ? i + 1 - q->w : -1);
+    nb[1] = y + 1 < q->h ? i + q->w : (q->wrap_y && q->h > 2 ? x : -1);
+}
+
+/* Total seam cost of the current labelling. */
+PW__DEF double pw_quilt_energy(const pw_quilt *q)
+{
+    double s = 0.0;
+    int i, k, n = q->w * q->h, nb[2];
+    for (i = 0; i < n; i++) {
+        pw__quilt_neighbours(q, i, nb);
+        for (k = 0; k < 2; k++)
+            if (nb[k] >= 0) s += pw_quilt_pair_cost(q, i, nb[k], q->label[i], q->label[nb[k]]);
+    }
+    return s;
+}
+
+/* Adds the expansion-move energy of one neighbour pair to the graph.
+ * Variable x = 1 means "switch to alpha"; node[i] < 0 marks a constant. */
+PW__DEF int pw__quilt_add_pair(const pw_quilt *q, pw_graph *g, const int *node, double *u0,
+                               double *u1, int i, int j, int alpha, pw_err *e)
+{
+    int li = q->label[i], lj = q->label[j], vi = node[i], vj = node[j];
+    if (vi >= 0 && vj >= 0) {
+        /* E00 = V(li,lj), E01 = V(li,a), E10 = V(a,lj), E11 = 0 */
+        double a00 = pw_quilt_pair_cost(q, i, j, li, lj);
+        double a01 = pw_quilt_pair_cost(q, i, j, li, alpha);
+        double a10 = pw_quilt_pair_cost(q, i, j, alpha, lj);
+        double w = a01 + a10 - a00; /* >= 0: the cost is a metric */
+        u0[vi] += a00;              /* E = a00 + (a10-a00) xi - a10 xj + w [xi=0,xj=1] */
+        u1[vi] += a10;
+        u0[vj] += a10;
+        return pw_graph_add_edge(g, vi, vj, w > 0.0 ? (float)w : 0.0f, 0.0f, e);
+    }
+    if (vi >= 0) {
+        u0[vi] += pw_quilt_pair_cost(q, i, j, li, lj);
+        u1[vi] += pw_quilt_pair_cost(q, i, j, alpha, lj);
+    } else if (vj >= 0) {
+        u0[vj] += pw_quilt_pair_cost(q, i, j, li, lj);
+        u1[vj] += pw_quilt_pair_cost(q, i, j, li, alpha);
+    }
+    return PW_OK;
+}
+
+/* Normalises the pairwise edges' unary parts: u0 (cost when keeping) and
+ * u1 (cost when switching) become t-links, both non-negative. */
+PW__DEF void pw__quilt_tlinks(pw_graph *g, const double *u0, const double *u1, int nvar)
+{
+    int v;
+    for (v = 0; v < nvar; v++) {
+        double m = u0[v] < u1[v] ? u0[v] : u1[v];
+        /* source side = keep: cutting the sink link pays u0, the source link u1 */
+        pw_graph_add_tweights(g, v, (float)(u1[v] - m), (float)(u0[v] - m));
+    }
+}
+
+/* One alpha-expansion move. `node` and the u arrays are caller scratch of
+ * w*h entries. Returns the number of pixels that switched in *changed. */
+PW__DEF int pw__quilt_expand_one(const pw_quilt *q, int alpha, int *node, double *u0,
+                                 double *u1, int *changed, const pw_alloc *a, pw_err *e)
+{
+    pw_graph g;
+    int i, k, n = q->w * q->h, nvar = 0, nb[2], r;
+    double flow;
+    *changed = 0;
+    for (i = 0; i < n; i++)
+        node[i] = q->label[i] == alpha || (q->allowed && !(q->allowed[i] >> alpha & 1u)) ? -1
+                                                                                   : nvar++;
+    if (nvar == 0) return PW_OK;
+    for (i = 0; i < nvar; i++) u0[i] = u1[i] = 0.0;
+    if ((r = pw_graph_init(&g, a, nvar, 2 * nvar, e)) != PW_OK) return r;
+    for (i = 0; i < n && r == PW_OK; i++) {
+        pw__quilt_neighbours(q, i, nb);
+        for (k = 0; k < 2 && r == PW_OK; k++)
+            if (nb[k] >= 0) r = pw__quilt_add_pair(q, &g, node, u0, u1, i, nb[k], alpha, e);
+    }
+    if (r == PW_OK) {
+        pw__quilt_tlinks(&g, u0, u1, nvar);
+        r = pw_graph_maxflow(&g, &flow, e);
+    }
+    for (i = 0; i < n && r == PW_OK; i++)
+        if (node[i] >= 0 && !pw_graph_in_source(&g, node[i])) {
+            q->label[i] = alpha;
+            (*changed)++;
+        }
+    pw_graph_free(&g);
+    return r;
+}
+
+/* Alpha-expansion over every label, `cycles` times (or until no pixel
+ * changes). Deterministic: labels are visited in increasing order. */
+PW__DEF int pw_quilt_optimize(const pw_alloc *a, pw_quilt *q, int cycles, pw_err *e)
+{
+    int n = q->w * q->h, c, l, r = PW_OK, changed, total;
+    int *node = (int *)pw_alloc_array(a, (size_t)n, sizeof(int), "quilt nodes", e);
+    double *u = (double *)pw_alloc_array(a, (size_t)n * 2, sizeof(double), "quilt costs", e);
+    if (!node || !u) {
+        pw_free(a, node);
+        pw_free(a, u);
+        return PW_ERR_NOMEM;
+    }
+    for (c = 0; c < cycles && r == PW_OK; c++) {
+        total = 0;
+        for (l = 0; l < q->nlabels && r == PW_OK; l++) {
+            r = pw__quilt_expand_one(q, l, node, u, u + n, &changed, a, e);
+            total += changed;
+        }
+        if (total == 0) break;
+    }
+    pw_free(a, node);
+    pw_free(a, u);
+    return r;
+}
+
+/* Writes the composite: out[i*c..] = colour of pixel i's label. */
+PW__DEF void pw_quilt_compose(const pw_quilt *q, float *out)
+{
+    int i, n = q->w * q->h;
+    for (i = 0; i < n; i++)
+        memcpy(out + (size_t)i * q->c, q->src + ((size_t)q->label[i] * n + i) * q->c,
+               sizeof(float) * (size_t)q->c);
+}
+
+/* Labels of pw_quilt_make_tileable: the image itself and two copies of it
+ * shifted by half and by a quarter of its size. Each source is
+ * discontinuous only along the lines where its shifted lookup wraps; a
+ * source is forbidden on both sides of its own lines, so every seam left in
+ * the result is a cut between two sources that were continuous there. */
+PW__DEF int pw__tileable_shift(int l, int n) { return l == 0 ? 0 : (l == 1 ? n / 2 : n / 4); }
+
+PW__DEF int pw__tileable_near_wrap(int x, int n, int shift)
+{
+    int x0 = (n - shift) % n; /* first column whose shifted lookup wrapped */
+    return x == x0 || x == (x0 + n - 1) % n;
+}
+
+/* Makes an image tile seamlessly (periodic in x and y) by graph-cut
+ * compositing of it with shifted copies of itself (see above). The output
+ * has the input's size; images under 8 pixels wide or high are copied. */
+PW__DEF int pw_quilt_make_tileable(const pw_alloc *a, const pw_image *in, pw_image *out,
+                                   pw_err *e)
+{
+    int w = in->w, h = in->h, c = in->c, x, y, l, r;
+    size_t n = (size_t)w * h, i;
+    float *src;
+    uint32_t *allowed;
+    int *label;
+    pw_quilt q;
+    if ((r = pw_image_alloc(a, out, w, h, c, e)) != PW_OK) return r;
+    out->bits = in->bits;
+    if (w < 8 || h < 8) {
+        memcpy(out->px, in->px, sizeof(float) * n * c);
+        return PW_OK;
+    }
+    src = (float *)pw_alloc_array(a, n * 3 * c, sizeof(float), "tileable sources", e);
+    allowed = (uint32_t *)pw_alloc_array(a, n, sizeof(uint32_t), "tileable constraints", e);
+    label = (int *)pw_alloc_array(a, n, sizeof(int), "tileable labels", e);
+    if (!src || !allowed || !label) {
+        r = PW_ERR_NOMEM;
+        goto done;
+    }
+    for (y = 0; y < h; y++)
+        for (x = 0; x < w; x++) {
+            i = (size_t)y * w + x;
+            allowed[i] = 0;
+            for (l = 0; l < 3; l++) {
+                int sx = pw__tileable_shift(l, w), sy = pw__tileable_shift(l, h);
+                size_t j = (size_t)((y + sy) % h) * w + (size_t)((x + sx) % w);
+                memcpy(src + (l * n + i) * c, in->px + j * c, sizeof(float) * c);
+                if (!pw__tileable_near_wrap(x, w, sx) && !pw__tileable_near_wrap(y, h, sy))
+                    allowed[i] |= 1u << l;
+            }
+            label[i] = allowed[i] & 1u ? 0 : (allowed[i] & 2u ? 1 : 2);
+        }
+    q.w = w;
+    q.h = h;
+    q.c = c;
+    q.nlabels = 3;
+    q.src = src;
+    q.label = label;
+    q.allowed = allowed;
+    q.wrap_x = q.wrap_y = 1;
+    r = pw_quilt_optimize(a, &q, 3, e);
+    if (r == PW_OK) pw_quilt_compose(&q, out->px);
+done:
+    pw_free(a, src);
+    pw_free(a, allowed);
+    pw_free(a, label);
+    if (r != PW_OK) pw_image_free(a, out);
+    return r;
+}
+
+#endif /* PW__QUILT_V1 */

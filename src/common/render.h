@@ -1,0 +1,1344 @@
+/* render: a small deterministic software renderer for textured triangle meshes.
+ *
+ * Pieces:
+ *   pw_camera    perspective camera (eye, target, up, vertical field of view,
+ *                near and far distances); pw_camera_frame fits a mesh in view.
+ *   pw_texture   an image as premultiplied 16-bit RGBA with a box-filtered mip
+ *                chain (any size, optionally capped), sampled nearest,
+ *                bilinear or trilinear, wrapping or clamping.
+ *   pw_fb        framebuffer: w x h pixels of ss x ss samples, float RGBA and
+ *                float depth per sample; pw_fb_resolve box-filters it into a
+ *                pw_image.
+ *   pw_render_draw draws one triangle mesh (pw_draw) into a framebuffer.
+ *
+ * Conventions. Image rows go down (row 0 at the top); texture coordinate
+ * v = 0 is the BOTTOM row of the texture image (OBJ/OpenGL). Triangles whose
+ * vertices appear counter-clockwise on screen are front-facing. Colours are
+ * stored premultiplied by alpha. Depth is stored as q = 1 / (distance along
+ * the view axis): 0 is "nothing drawn", larger is nearer, and q is exactly
+ * affine in screen space, which makes it cheap and precise to interpolate.
+ *
+ * Pipeline of a draw. Vertices are transformed once; each triangle gets
+ * homogeneous screen-space planes (Olano & Greer 1997: the adjugate of the
+ * matrix of its homogeneous vertices gives 1/w and every attribute divided
+ * by w as affine functions of the screen position, so interpolation is
+ * perspective-correct and the screen derivatives of the texture coordinates
+ * are exact, per pixel). Triangles crossing the near plane are clipped in
+ * homogeneous space; coverage comes from the exact fixed-point rasterizer of
+ * raster.h on the sample grid, so meshes are watertight.
+ *   Opaque draws (PW_BLEND_REPLACE) use a visibility buffer: the first phase
+ *   only tests and writes depth and the triangle id of each sample; a second
+ *   phase shades each pixel once per distinct visible triangle and writes
+ *   the colour to that triangle's samples (the shading rate of multisample
+ *   anti-aliasing), so hidden surfaces cost no texture lookups.
+ *   Blended draws (PW_BLEND_OVER) shade immediately, in triangle order (the
+ *   order matters for blending): per pixel, the samples the triangle covers
+ *   and that pass the depth test are blended with one shaded colour.
+ * Shading happens at the pixel centre when the triangle covers all samples of
+ * the pixel, otherwise at the first covered sample; the mip level comes from
+ * the pixel footprint.
+ *
+ * Draws that only test depth (no_depth_write, as the passes of lapped
+ * textures) first check each triangle against a coarse depth (the farthest
+ * stored depth of each 8x8-sample tile, rebuilt only after depth changed)
+ * and skip triangles that are hidden everywhere under it.
+ *
+ * Memory: 24 bytes per sample, i.e. 24 ss^2 bytes per pixel (96 at ss = 2):
+ * 16 colour, 4 depth, 4 visibility id. Draws add scratch kept in the
+ * framebuffer for the next draw: 40 bytes per vertex (+12 with computed
+ * normals), 84 bytes per triangle, and for blended draws 8 bytes per pixel
+ * column plus 4 ss bytes per sample column and 4 bytes per 64 samples. A
+ * texture holds 8 bytes per texel (16-bit premultiplied RGBA), times about
+ * 4/3 for the mip chain.
+ *
+ * Determinism: one thread, fixed orders, and no libm call whose rounding
+ * varies across platforms on any path that reaches a pixel (tan and log2 are
+ * computed here from + - * /; sqrt is exactly rounded by IEEE 754).
+ *
+ * Example: a textured, lit mesh to an RGB image.
+ *
+ *     pw_fb fb; pw_texture tex; pw_image out; pw_draw d; pw_camera cam;
+ *     pw_fb_create(NULL, &fb, 800, 600, 2, NULL, &err);
+ *     pw_texture_create(NULL, &tex, &img, 0, &err);
+ *     cam = pw_camera_frame(pos, nv, NULL, NULL, 40.0f, 800.0f / 600.0f);
+ *     memset(&d, 0, sizeof d);
+ *     d.positions = pos; d.nv = nv; d.tris = tris; d.ntris = nt;
+ *     d.uvs = uvs; d.tex = &tex; d.lighting = PW_LIGHT_CAMERA;
+ *     pw_render_draw(&fb, &cam, &d, &err);
+ *     pw_fb_resolve(&fb, &out, 3, &err);
+ *
+ * Lapped textures at run time: draw the mesh once opaque, then each patch
+ * with its own uvs and RGBA texture, in order, with d.blend = PW_BLEND_OVER,
+ * d.depth_test = PW_DEPTH_LEQUAL and d.no_depth_write = 1. */
+#ifndef PW__RENDER_V1
+#define PW__RENDER_V1
+
+#include "raster.h"
+#include "vec.h"
+#include "image.h"
+
+enum { PW_FILTER_TRILINEAR = 0, PW_FILTER_BILINEAR = 1, PW_FILTER_NEAREST = 2 };
+enum { PW_WRAP_REPEAT = 0, PW_WRAP_CLAMP = 1 };
+enum { PW_BLEND_REPLACE = 0, PW_BLEND_OVER = 1 };
+enum { PW_DEPTH_LESS = 0, PW_DEPTH_LEQUAL = 1, PW_DEPTH_ALWAYS = 2 };
+enum { PW_LIGHT_NONE = 0, PW_LIGHT_CAMERA = 1, PW_LIGHT_WORLD = 2 };
+enum { PW_CULL_NONE = 0, PW_CULL_BACK = 1, PW_CULL_FRONT = 2 };
+
+#define PW_FB_MAX_SS 8              /* samples per pixel side */
+#define PW_FB_NONE 0xFFFFFFFFu      /* visibility id of an untouched sample */
+#define PW_TEXTURE_MAX_LEVELS 32
+#define PW_DEPTH_TOLERANCE 1e-4f    /* default relative slack of PW_DEPTH_LEQUAL */
+
+/* ---------------------------------------------------------------- camera */
+
+typedef struct pw_camera {
+    float eye[3], target[3], up[3]; /* world space; up need not be orthogonal */
+    float fovy_deg;                 /* vertical field of view, in (0, 180) degrees */
+    float znear, zfar;              /* clipping distances along the view axis, 0 < znear < zfar */
+} pw_camera;
+
+/* The camera set up for one draw, in double precision. Screen coordinates
+ * are in samples (x right, y down); a vertex at view coordinates (xv, yv, w)
+ * (w = distance along the view axis) has homogeneous screen coordinates
+ * (cx w + fx xv, cy w - fy yv, w). */
+typedef struct pw__view {
+    double eye[3], r[3], u[3], f[3]; /* right, up, forward unit vectors */
+    double fx, fy, cx, cy, znear, zfar;
+} pw__view;
+
+PW__DEF double pw__dot3(const double *a, const double *b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+
+PW__DEF void pw__cross3(const double *a, const double *b, double *out)
+{
+    out[0] = a[1] * b[2] - a[2] * b[1];
+    out[1] = a[2] * b[0] - a[0] * b[2];
+    out[2] = a[0] * b[1] - a[1] * b[0];
+}
+
+/* Normalises v in place; returns its former length. */
+PW__DEF double pw__norm3(double *v)
+{
+    double l = sqrt(pw__dot3(v, v));
+    if (l > 0.0) {
+        v[0] /= l;
+        v[1] /= l;
+        v[2] /= l;
+    }
+    return l;
+}
+
+/* double to float without the undefined behaviour of converting a value
+ * beyond the float range (absurd inputs): clamps to +-FLT_MAX. */
+PW__DEF float pw__f(double x)
+{
+    return x > FLT_MAX ? FLT_MAX : (x < -FLT_MAX ? -FLT_MAX : (float)x);
+}
+
+/* tan of an angle in degrees, 0 < deg < 180, from the sine and cosine
+ * series: the same bits on every platform, unlike libm's tan. */
+PW__DEF double pw__tan_deg(double deg)
+{
+    double x = (deg > 90.0 ? 180.0 - deg : deg) * (3.14159265358979323846 / 180.0);
+    double x2 = x * x, s = x, c = 1.0, ts = x, tc = 1.0;
+    int i;
+    for (i = 1; i < 16; i++) {
+        ts *= -x2 / (double)((2 * i) * (2 * i + 1));
+        tc *= -x2 / (double)((2 * i - 1) * (2 * i));
+        s += ts;
+        c += tc;
+    }
+    return deg > 90.0 ? -s / c : s / c;
+}
+
+/* Camera basis from eye, target and up; returns 0 if they are degenerate. */
+PW__DEF int pw__camera_basis(const pw_camera *cam, pw__view *v)
+{
+    double up[3];
+    int k;
+    for (k = 0; k < 3; k++) {
+        v->eye[k] = cam->eye[k];
+        v->f[k] = (double)cam->target[k] - cam->eye[k];
+        up[k] = cam->up[k];
+    }
+    if (!(pw__norm3(v->f) > 0.0) || !pw_is_finite(pw__dot3(v->f, v->f))) return 0;
+    pw__cross3(v->f, up, v->r);
+    if (!(pw__norm3(v->r) > 1e-9 * sqrt(pw__dot3(up, up)))) return 0;
+    pw__cross3(v->r, v->f, v->u);
+    return pw_is_finite(pw__dot3(v->r, v->r)) && pw_is_finite(pw__dot3(v->eye, v->eye));
+}
+
+/* Sets up the view for a sw x sh sample grid. */
+PW__DEF int pw__view_init(pw__view *v, const pw_camera *cam, int sw, int sh, pw_err *e)
+{
+    double t;
+    if (!(cam->fovy_deg > 0.0f && cam->fovy_deg < 180.0f))
+        return pw_fail(e, PW_ERR_INVALID, "camera: field of view %g degrees outside (0, 180)",
+                       (double)cam->fovy_deg);
+    if (!(cam->znear > 0.0f && cam->zfar > cam->znear) || !pw_is_finite(cam->zfar))
+        return pw_fail(e, PW_ERR_INVALID, "camera: need 0 < znear < zfar (znear %g, zfar %g)",
+                       (double)cam->znear, (double)cam->zfar);
+    if (!pw__camera_basis(cam, v))
+        return pw_fail(e, PW_ERR_INVALID,
+                       "camera: eye, target and up must be finite, eye != target, up not along the view");
+    t = pw__tan_deg(0.5 * cam->fovy_deg);
+    v->fy = 0.5 * sh / t;
+    v->fx = v->fy; /* square samples */
+    v->cx = 0.5 * sw;
+    v->cy = 0.5 * sh;
+    v->znear = cam->znear;
+    v->zfar = cam->zfar;
+    return PW_OK;
+}
+
+/* Projects world point p for a w x h image: out = pixel x, pixel y (row 0 at
+ * the top), distance along the view axis. Returns 1 if p is at least znear
+ * in front of the camera (out[0..1] are then valid), 0 otherwise or if the
+ * camera is invalid. */
+PW__DEF int pw_camera_project(const pw_camera *cam, int w, int h, const float p[3], float out[3])
+{
+    pw__view v;
+    double d[3], xv, yv, wv;
+    int k;
+    if (w <= 0 || h <= 0 || pw__view_init(&v, cam, w, h, NULL) != PW_OK) return 0;
+    for (k = 0; k < 3; k++) d[k] = (double)p[k] - v.eye[k];
+    xv = pw__dot3(d, v.r);
+    yv = pw__dot3(d, v.u);
+    wv = pw__dot3(d, v.f);
+    out[2] = pw__f(wv);
+    if (!(wv >= v.znear)) return 0;
+    out[0] = pw__f(v.cx + v.fx * xv / wv);
+    out[1] = pw__f(v.cy - v.fy * yv / wv);
+    return 1;
+}
+
+/* Centre (of the bounding box) and radius (farthest vertex from it) of the
+ * finite vertices of pos[nv*3]; radius 1 around the origin if there are none. */
+PW__DEF void pw__bounding_sphere(const float *pos, int nv, double *c, double *r)
+{
+    double lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
+    int i, k, n = 0;
+    for (i = 0; i < nv; i++) {
+        const float *p = pos + 3 * i;
+        if (!pw_is_finite(p[0]) || !pw_is_finite(p[1]) || !pw_is_finite(p[2])) continue;
+        for (k = 0; k < 3; k++) {
+            if (!n || p[k] < lo[k]) lo[k] = p[k];
+            if (!n || p[k] > hi[k]) hi[k] = p[k];
+        }
+        n++;
+    }
+    for (k = 0; k < 3; k++) c[k] = 0.5 * (lo[k] + hi[k]);
+    *r = 0.0;
+    for (i = 0; i < nv; i++) {
+        const float *p = pos + 3 * i;
+        double d[3];
+        if (!pw_is_finite(p[0]) || !pw_is_finite(p[1]) || !pw_is_finite(p[2])) continue;
+        for (k = 0; k < 3; k++) d[k] = p[k] - c[k];
+        if (pw__dot3(d, d) > *r) *r = pw__dot3(d, d);
+    }
+    *r = sqrt(*r);
+    if (!(*r > 0.0)) *r = n ? 1e-3 * (1.0 + sqrt(pw__dot3(c, c))) : 1.0;
+}
+
+/* A camera looking along view_dir (NULL: -z) with the given up (NULL: +y;
+ * replaced if parallel to the view) that frames the mesh pos[nv*3]: its
+ * bounding sphere, enlarged by 5%, fits the field of view (vertical fovy_deg,
+ * horizontal from aspect = width / height), and near and far enclose it.
+ * Invalid fovy (outside (0, 180)) becomes 45, invalid aspect 1. */
+PW__DEF pw_camera pw_camera_frame(const float *pos, int nv, const float view_dir[3],
+                                  const float up[3], float fovy_deg, float aspect)
+{
+    pw_camera cam;
+    double c[3], r, vd[3] = {0, 0, -1}, u[3] = {0, 1, 0}, x[3], t, tx, s, dist;
+    int k;
+    if (view_dir)
+        for (k = 0; k < 3; k++) vd[k] = view_dir[k];
+    if (!(pw__norm3(vd) > 0.0) || !pw_is_finite(vd[0] + vd[1] + vd[2])) {
+        vd[0] = vd[1] = 0.0;
+        vd[2] = -1.0;
+    }
+    if (up)
+        for (k = 0; k < 3; k++) u[k] = up[k];
+    pw__cross3(vd, u, x);
+    if (!(pw__dot3(x, x) > 1e-12 * pw__dot3(u, u)) || !pw_is_finite(pw__dot3(u, u))) {
+        u[0] = fabs(vd[1]) < 0.9 ? 0.0 : 1.0; /* any up not along the view */
+        u[1] = fabs(vd[1]) < 0.9 ? 1.0 : 0.0;
+        u[2] = 0.0;
+    }
+    if (!(fovy_deg > 0.0f && fovy_deg < 180.0f)) fovy_deg = 45.0f;
+    if (!(aspect > 0.0f) || !pw_is_finite(aspect)) aspect = 1.0f;
+    pw__bounding_sphere(pos, pos ? nv : 0, c, &r);
+    r *= 1.05;
+    t = pw__tan_deg(0.5 * fovy_deg);
+    tx = t * aspect;
+    s = t / sqrt(1.0 + t * t); /* sine of the narrower half-angle */
+    if (tx < t) s = tx / sqrt(1.0 + tx * tx);
+    dist = r / s;
+    for (k = 0; k < 3; k++) {
+        cam.target[k] = pw__f(c[k]);
+        cam.eye[k] = pw__f(c[k] - vd[k] * dist);
+        cam.up[k] = (float)u[k];
+    }
+    cam.fovy_deg = fovy_deg;
+    cam.znear = pw__f(dist - r > 0.02 * dist ? 0.9 * (dist - r) : 0.018 * dist);
+    cam.zfar = pw__f(1.1 * (dist + r));
+    return cam;
+}
+
+/* --------------------------------------------------------------- texture */
+
+typedef struct pw_texture {
+    int w, h;    /* level 0 size */
+    int nlevels; /* levels built: 1 (no mipmaps) .. full chain down to 1x1 */
+    int lw[PW_TEXTURE_MAX_LEVELS], lh[PW_TEXTURE_MAX_LEVELS];
+    /* premultiplied RGBA in 16-bit fixed point (65535 = 1), row 0 = top
+     * (v = 1). 16 bits keep 8- and 16-bit opaque sources exact and halve the
+     * memory traffic of floats, which dominates the cost of texturing. */
+    uint16_t *level[PW_TEXTURE_MAX_LEVELS];
+} pw_texture;
+
+/* Area-weighted box filter of n samples (stride sst floats, 4 channels) down
+ * to m <= n (stride dst): output i averages the input over [i n/m, (i+1) n/m),
+ * which handles odd sizes exactly (no texel is dropped or counted twice). */
+PW__DEF void pw__box_1d(const float *src, int n, ptrdiff_t sst, float *dst, int m, ptrdiff_t dstr)
+{
+    double scale = (double)n / m;
+    int i, j, k;
+    for (i = 0; i < m; i++) {
+        double a = i * scale, b = (i + 1) * scale, acc[4] = {0, 0, 0, 0};
+        int j0 = (int)a, j1 = (int)b;
+        if (j1 < b) j1++;
+        if (j1 > n) j1 = n;
+        for (j = j0; j < j1; j++) {
+            double wgt = (b < j + 1 ? b : j + 1) - (a > j ? a : j);
+            for (k = 0; k < 4; k++) acc[k] += wgt * src[j * sst + k];
+        }
+        for (k = 0; k < 4; k++) dst[i * dstr + k] = (float)(acc[k] / scale);
+    }
+}
+
+/* Box-filters the W x H float level src into the W2 x H2 level dst:
+ * horizontal pass into tmp (W2 x H), then vertical. */
+PW__DEF void pw__mip_down(const float *src, int W, int H, float *dst, int W2, int H2, float *tmp)
+{
+    int y, x;
+    for (y = 0; y < H; y++)
+        pw__box_1d(src + (size_t)y * W * 4, W, 4, tmp + (size_t)y * W2 * 4, W2, 4);
+    for (x = 0; x < W2; x++)
+        pw__box_1d(tmp + (size_t)x * 4, H, (ptrdiff_t)W2 * 4, dst + (size_t)x * 4, H2,
+                   (ptrdiff_t)W2 * 4);
+}
+
+/* Converts any channel count to premultiplied float RGBA. */
+PW__DEF void pw__tex_convert(const pw_image *img, float *out)
+{
+    size_t i, n = (size_t)img->w * img->h;
+    for (i = 0; i < n; i++) {
+        const float *p = img->px + i * img->c;
+        float r = p[0], g = p[0], b = p[0], a = 1.0f;
+        if (img->c >= 3) {
+            g = p[1];
+            b = p[2];
+        }
+        if (img->c == 2) a = p[1];
+        if (img->c == 4) a = p[3];
+        a = pw_clampf(a, 0.0f, 1.0f);
+        out[4 * i] = r * a;
+        out[4 * i + 1] = g * a;
+        out[4 * i + 2] = b * a;
+        out[4 * i + 3] = a;
+    }
+}
+
+/* Float level to 16-bit fixed point, clamped to [0, 1] (NaN becomes 0). */
+PW__DEF void pw__tex_quantise(const float *src, size_t n, uint16_t *dst)
+{
+    size_t i;
+    for (i = 0; i < n; i++) {
+        float v = src[i] > 0.0f ? (src[i] < 1.0f ? src[i] : 1.0f) : 0.0f;
+        dst[i] = (uint16_t)(v * 65535.0f + 0.5f);
+    }
+}
+
+/* Level sizes: each halves the previous, rounding down, at least 1. */
+PW__DEF void pw__tex_sizes(pw_texture *t, int max_levels)
+{
+    if (max_levels <= 0 || max_levels > PW_TEXTURE_MAX_LEVELS) max_levels = PW_TEXTURE_MAX_LEVELS;
+    t->nlevels = 1;
+    while (t->nlevels < max_levels && (t->lw[t->nlevels - 1] > 1 || t->lh[t->nlevels - 1] > 1)) {
+        t->lw[t->nlevels] = t->lw[t->nlevels - 1] > 1 ? t->lw[t->nlevels - 1] / 2 : 1;
+        t->lh[t->nlevels] = t->lh[t->nlevels - 1] > 1 ? t->lh[t->nlevels - 1] / 2 : 1;
+        t->nlevels++;
+    }
+}
+
+/* Builds a texture from img (1 gray, 2 gray+alpha, 3 RGB, 4 RGBA; values
+ * clamped to [0, 1]) with a mip chain of at most max_levels levels (0: the
+ * full chain down to 1x1; 1: no mipmaps, e.g. for atlases whose tiles must
+ * not mix). Each level halves the size (rounding down, at least 1) with an
+ * area-weighted box filter of premultiplied colour, computed in float from
+ * the level above, so transparent texels do not bleed their colour. Free
+ * with pw_texture_free. */
+PW__DEF int pw_texture_create(const pw_alloc *a, pw_texture *t, const pw_image *img,
+                              int max_levels, pw_err *e)
+{
+    size_t total = 0, off = 0, n0;
+    uint16_t *data;
+    float *cur, *next = NULL, *tmp = NULL;
+    int L;
+    memset(t, 0, sizeof *t);
+    if (!img || !img->px || img->w <= 0 || img->h <= 0 || img->c < 1 || img->c > 4)
+        return pw_fail(e, PW_ERR_INVALID, "texture: invalid source image");
+    t->w = t->lw[0] = img->w;
+    t->h = t->lh[0] = img->h;
+    pw__tex_sizes(t, max_levels);
+    for (L = 0; L < t->nlevels; L++) total += (size_t)t->lw[L] * t->lh[L] * 4;
+    n0 = (size_t)t->w * t->h * 4;
+    data = (uint16_t *)pw_alloc_array(a, total, sizeof(uint16_t), "texture", e);
+    cur = data ? (float *)pw_alloc_array(a, n0, sizeof(float), "texture scratch", e) : NULL;
+    if (cur && t->nlevels > 1) {
+        next = (float *)pw_alloc_array(a, n0 / 2 + 4, sizeof(float), "texture scratch", e);
+        tmp = next ? (float *)pw_alloc_array(a, n0 / 2 + 4, sizeof(float), "texture scratch", e) : NULL;
+    }
+    if (!cur || (t->nlevels > 1 && !tmp)) {
+        pw_free(a, data);
+        pw_free(a, cur);
+        pw_free(a, next);
+        memset(t, 0, sizeof *t);
+        return PW_ERR_NOMEM;
+    }
+    pw__tex_convert(img, cur);
+    for (L = 0; L < t->nlevels; L++) {
+        size_t n = (size_t)t->lw[L] * t->lh[L] * 4;
+        t->level[L] = data + off;
+        off += n;
+        pw__tex_quantise(cur, n, t->level[L]);
+        if (L + 1 < t->nlevels) {
+            float *sw;
+            pw__mip_down(cur, t->lw[L], t->lh[L], next, t->lw[L + 1], t->lh[L + 1], tmp);
+            sw = cur;
+            cur = next;
+            next = sw;
+        }
+    }
+    pw_free(a, cur);
+    pw_free(a, next);
+    pw_free(a, tmp);
+    return PW_OK;
+}
+
+PW__DEF void pw_texture_free(const pw_alloc *a, pw_texture *t)
+{
+    if (!t) return;
+    pw_free(a, t->level[0]);
+    memset(t, 0, sizeof *t);
+}
+
+/* Brings a coordinate into [0, 1]: the fractional part (repeat) or a clamp.
+ * Non-finite and absurdly large values become 0 (no float-to-int overflow). */
+PW__DEF float pw__tex_wrap(float u, int wrap)
+{
+    float f;
+    if (!(u > -1e9f && u < 1e9f)) return 0.0f;
+    if (wrap == PW_WRAP_CLAMP) return u < 0.0f ? 0.0f : (u > 1.0f ? 1.0f : u);
+    f = (float)(int)u;
+    if (f > u) f -= 1.0f;
+    return u - f;
+}
+
+/* Bilinear lookup in level L of wrapped coordinates u, v in [0, 1]; out in
+ * 16-bit units (65535 = 1). Texel centres sit at (i + 0.5) / W. */
+PW__DEF void pw__tex_bilinear(const pw_texture *t, int L, float u, float v, int wrap, float *out)
+{
+    const int W = t->lw[L], H = t->lh[L];
+    const float cx = u * (float)W - 0.5f, cy = (1.0f - v) * (float)H - 0.5f; /* >= -0.5 */
+    int x0 = (int)(cx + 1.0f) - 1, y0 = (int)(cy + 1.0f) - 1, x1 = x0 + 1, y1 = y0 + 1, k;
+    const float fx = cx - (float)x0, fy = cy - (float)y0;
+    const uint16_t *r0, *r1;
+    float r[4];
+    if (wrap == PW_WRAP_CLAMP) {
+        if (x0 < 0) x0 = 0;
+        if (y0 < 0) y0 = 0;
+        if (x1 > W - 1) x1 = W - 1;
+        if (y1 > H - 1) y1 = H - 1;
+    } else {
+        if (x0 < 0) x0 += W;
+        if (y0 < 0) y0 += H;
+        if (x1 >= W) x1 -= W;
+        if (y1 >= H) y1 -= H;
+    }
+    r0 = t->level[L] + (size_t)y0 * W * 4;
+    r1 = t->level[L] + (size_t)y1 * W * 4;
+    x0 *= 4;
+    x1 *= 4;
+    for (k = 0; k < 4; k++) {
+        float a = (float)r0[x0 + k], b = (float)r0[x1 + k], c = (float)r1[x0 + k], d = (float)r1[x1 + k];
+        float top = a + fx * (b - a), bot = c + fx * (d - c);
+        r[k] = top + fy * (bot - top);
+    }
+    memcpy(out, r, sizeof r);
+}
+
+/* Trilinear lookup of wrapped coordinates at mip level lod (clamped to the
+ * chain), in 16-bit units. */
+PW__DEF void pw__tex_trilinear(const pw_texture *t, float u, float v, float lod, int wrap, float *out)
+{
+    float b[4];
+    int L, k;
+    u = pw__tex_wrap(u, wrap);
+    v = pw__tex_wrap(v, wrap);
+    if (!(lod > 0.0f)) {
+        pw__tex_bilinear(t, 0, u, v, wrap, out);
+        return;
+    }
+    if (lod >= (float)(t->nlevels - 1)) {
+        pw__tex_bilinear(t, t->nlevels - 1, u, v, wrap, out);
+        return;
+    }
+    L = (int)lod;
+    lod -= (float)L;
+    pw__tex_bilinear(t, L, u, v, wrap, out);
+    if (lod > 0.0f) {
+        pw__tex_bilinear(t, L + 1, u, v, wrap, b);
+        for (k = 0; k < 4; k++) out[k] += lod * (b[k] - out[k]);
+    }
+}
+
+/* Samples texture t at (u, v) (v = 0 at the bottom) with the given filter
+ * and wrap mode; lod (log2 of the footprint in level-0 texels) selects and
+ * blends mip levels for PW_FILTER_TRILINEAR and is ignored otherwise
+ * (PW_FILTER_NEAREST and _BILINEAR read level 0). out = premultiplied RGBA. */
+PW__DEF void pw_texture_sample(const pw_texture *t, float u, float v, float lod, int filter,
+                               int wrap, float out[4])
+{
+    const float s = 1.0f / 65535.0f;
+    float a[4];
+    int k;
+    if (filter == PW_FILTER_NEAREST) {
+        int x, y;
+        const uint16_t *p;
+        u = pw__tex_wrap(u, wrap);
+        v = pw__tex_wrap(v, wrap);
+        x = (int)(u * (float)t->w);
+        y = (int)((1.0f - v) * (float)t->h);
+        if (x >= t->w) x = wrap == PW_WRAP_CLAMP ? t->w - 1 : 0;
+        if (y >= t->h) y = wrap == PW_WRAP_CLAMP ? t->h - 1 : 0;
+        p = t->level[0] + ((size_t)y * t->w + x) * 4;
+        for (k = 0; k < 4; k++) out[k] = (float)p[k] * s;
+        return;
+    }
+    pw__tex_trilinear(t, u, v, filter == PW_FILTER_TRILINEAR ? lod : 0.0f, wrap, a);
+    for (k = 0; k < 4; k++) out[k] = a[k] * s;
+}
+
+/* log2(x) from the exponent bits and the series of atanh: about 2e-5
+ * accurate, and the same on every platform. Tiny, zero, negative and NaN
+ * inputs give -100. */
+PW__DEF float pw__log2f(float x)
+{
+    uint32_t bits;
+    float m, s, s2;
+    int ex;
+    if (!(x > 1e-30f)) return -100.0f;
+    if (x > 1e30f) return 100.0f;
+    memcpy(&bits, &x, sizeof bits);
+    ex = (int)((bits >> 23) & 255u) - 127;
+    bits = (bits & 0x007FFFFFu) | 0x3F800000u;
+    memcpy(&m, &bits, sizeof m); /* mantissa in [1, 2) */
+    s = (m - 1.0f) / (m + 1.0f);
+    s2 = s * s;
+    return (float)ex +
+           s * (2.8853900818f + s2 * (0.9617966939f + s2 * (0.5770780164f + s2 * 0.4121985831f)));
+}
+
+/* ----------------------------------------------------------- framebuffer */
+
+typedef struct pw_fb {
+    int w, h, ss;  /* pixels; ss x ss samples per pixel */
+    int sw, sh;    /* sample grid: w*ss x h*ss, sample (x, y) centred at ((x+.5)/ss, (y+.5)/ss) pixels */
+    float bg[4];   /* background, straight RGBA */
+    float *color;  /* sw*sh*4 premultiplied RGBA, sample (x, y) at (y*sw + x)*4, row 0 at the top */
+    float *depth;  /* sw*sh, q = 1/(distance along the view axis); 0 = nothing drawn */
+    uint32_t *vis; /* sw*sh triangle ids of the opaque draw under way; PW_FB_NONE between draws */
+    double *vbuf;  /* draw scratch: transformed vertices */
+    float *nbuf;   /* draw scratch: computed normals */
+    float *pbuf;   /* draw scratch: triangle planes */
+    uint64_t *mbuf; /* draw scratch: sample masks of a pixel row (all zero between uses) */
+    float *qbuf;   /* draw scratch: depths of ss sample rows */
+    float *zmin;   /* coarse depth: per tile of PW__ZT x PW__ZT samples, the smallest q */
+    int zvalid;    /* zmin matches depth; set 0 if you write depth yourself */
+    size_t vcap, ncap, pcap, mcap, qcap, zcap;
+    const pw_alloc *alloc;
+} pw_fb;
+
+/* Colour to background, depth to "nothing drawn". */
+PW__DEF void pw_fb_clear(pw_fb *fb)
+{
+    size_t i, row, n;
+    float c[4];
+    PW_ASSERT(fb && fb->color);
+    row = (size_t)fb->sw * 4;
+    n = (size_t)fb->sw * fb->sh;
+    c[0] = fb->bg[0] * fb->bg[3];
+    c[1] = fb->bg[1] * fb->bg[3];
+    c[2] = fb->bg[2] * fb->bg[3];
+    c[3] = fb->bg[3];
+    for (i = 0; i < (size_t)fb->sw; i++) memcpy(fb->color + 4 * i, c, sizeof c);
+    for (i = 1; i < (size_t)fb->sh; i++) memcpy(fb->color + i * row, fb->color, row * sizeof(float));
+    memset(fb->depth, 0, n * sizeof(float));
+    fb->zvalid = 0;
+}
+
+PW__DEF void pw_fb_free(pw_fb *fb)
+{
+    if (!fb) return;
+    pw_free(fb->alloc, fb->color);
+    pw_free(fb->alloc, fb->depth);
+    pw_free(fb->alloc, fb->vis);
+    pw_free(fb->alloc, fb->vbuf);
+    pw_free(fb->alloc, fb->nbuf);
+    pw_free(fb->alloc, fb->pbuf);
+    pw_free(fb->alloc, fb->mbuf);
+    pw_free(fb->alloc, fb->qbuf);
+    pw_free(fb->alloc, fb->zmin);
+    memset(fb, 0, sizeof *fb);
+}
+
+/* Creates a cleared w x h framebuffer with ss x ss samples per pixel
+ * (1 <= ss <= PW_FB_MAX_SS) and background bg (straight RGBA; NULL: opaque
+ * black). The allocator a (may be NULL) must outlive the framebuffer. */
+PW__DEF int pw_fb_create(const pw_alloc *a, pw_fb *fb, int w, int h, int ss, const float bg[4],
+                         pw_err *e)
+{
+    size_t n;
+    memset(fb, 0, sizeof *fb);
+    if (w <= 0 || h <= 0 || ss < 1 || ss > PW_FB_MAX_SS)
+        return pw_fail(e, PW_ERR_INVALID, "framebuffer: invalid size %dx%d with %dx%d samples", w,
+                       h, ss, ss);
+    if (w > PW_MAX_IMAGE_DIM || h > PW_MAX_IMAGE_DIM ||
+        (int64_t)w * h * ss * ss > (int64_t)PW_MAX_IMAGE_PIXELS)
+        return pw_fail(e, PW_ERR_LIMIT, "framebuffer: %dx%d with %dx%d samples exceeds the limit", w,
+                       h, ss, ss);
+    fb->w = w;
+    fb->h = h;
+    fb->ss = ss;
+    fb->sw = w * ss;
+    fb->sh = h * ss;
+    fb->alloc = a;
+    fb->bg[3] = 1.0f;
+    if (bg) memcpy(fb->bg, bg, sizeof fb->bg);
+    n = (size_t)fb->sw * fb->sh;
+    fb->color = (float *)pw_alloc_array(a, n * 4, sizeof(float), "framebuffer colour", e);
+    fb->depth = fb->color ? (float *)pw_alloc_array(a, n, sizeof(float), "framebuffer depth", e) : NULL;
+    fb->vis = fb->depth ? (uint32_t *)pw_alloc_array(a, n, sizeof(uint32_t), "framebuffer ids", e) : NULL;
+    if (!fb->vis) {
+        pw_fb_free(fb);
+        return PW_ERR_NOMEM;
+    }
+    memset(fb->vis, 0xFF, n * sizeof(uint32_t));
+    pw_fb_clear(fb);
+    return PW_OK;
+}
+
+/* Box-filters the samples of each pixel into out (allocated here with the
+ * framebuffer's allocator; free with pw_image_free): channels 4 gives
+ * straight RGBA, 3 gives the premultiplied colour (i.e. composited over
+ * black, which is the colour itself wherever alpha is 1). Clamped to [0,1]. */
+PW__DEF int pw_fb_resolve(const pw_fb *fb, pw_image *out, int channels, pw_err *e)
+{
+    const size_t srow = (size_t)fb->sw * 4;
+    const float inv = 1.0f / (float)(fb->ss * fb->ss);
+    int x, y, i, j, k, r;
+    PW_ASSERT(fb && fb->color && out);
+    if (channels != 3 && channels != 4) {
+        memset(out, 0, sizeof *out);
+        return pw_fail(e, PW_ERR_INVALID, "resolve: %d channels (need 3 or 4)", channels);
+    }
+    r = pw_image_alloc(fb->alloc, out, fb->w, fb->h, channels, e);
+    if (r) return r;
+    for (y = 0; y < fb->h; y++) {
+        const float *blk = fb->color + (size_t)y * fb->ss * srow;
+        float *o = out->px + (size_t)y * fb->w * channels;
+        for (x = 0; x < fb->w; x++, blk += 4 * fb->ss, o += channels) {
+            float acc[4], r = 0.0f, g = 0.0f, b = 0.0f, a = 0.0f;
+            for (j = 0; j < fb->ss; j++) {
+                const float *smp = blk + j * srow;
+                for (i = 0; i < fb->ss; i++, smp += 4) {
+                    r += smp[0];
+                    g += smp[1];
+                    b += smp[2];
+                    a += smp[3];
+                }
+            }
+            acc[0] = r * inv;
+            acc[1] = g * inv;
+            acc[2] = b * inv;
+            acc[3] = a * inv;
+            if (channels == 4 && acc[3] > 0.0f)
+                for (k = 0; k < 3; k++) acc[k] /= acc[3];
+            for (k = 0; k < channels; k++) o[k] = acc[k] > 0.0f ? (acc[k] < 1.0f ? acc[k] : 1.0f) : 0.0f;
+        }
+    }
+    return PW_OK;
+}
+
+/* ------------------------------------------------------------------ draw */
+
+/* A triangle mesh and how to draw it. Zero-initialised fields are defaults. */
+typedef struct pw_draw {
+    const float *positions; /* nv*3 world-space vertex positions */
+    int nv;
+    const int *tris;        /* ntris*3 vertex indices */
+    int ntris;
+    const float *uvs;       /* ntris*3*2 texture coordinates per triangle corner (v = 0 at the
+                               bottom of the texture); required with a texture, else ignored */
+    const float *normals;   /* nv*3 per-vertex normals; NULL: smooth area-weighted normals
+                               computed from the mesh. Used only when lit */
+    int flat;               /* 1: flat shading, one normal per face (normals ignored) */
+    const pw_texture *tex;  /* NULL: the constant colour alone */
+    float color[4];         /* straight RGBA multiplied with the texture; all zero: opaque white */
+    int filter;             /* PW_FILTER_TRILINEAR (default), _BILINEAR, _NEAREST (level 0) */
+    int wrap;               /* PW_WRAP_REPEAT (default), PW_WRAP_CLAMP */
+    int blend;              /* PW_BLEND_REPLACE (default: write the colour, alpha included),
+                               PW_BLEND_OVER (rgba = src + (1 - src alpha) dst, premultiplied) */
+    int depth_test;         /* PW_DEPTH_LESS (default: passes where nearer than what is
+                               stored), PW_DEPTH_LEQUAL (also where as near, within a
+                               tolerance, so a second pass over the same surface passes),
+                               PW_DEPTH_ALWAYS. Samples beyond zfar never pass */
+    float depth_tolerance;  /* relative slack of LEQUAL: passes if q > (1 - tol) q_stored
+                               (q = 1/depth); 0: PW_DEPTH_TOLERANCE */
+    int no_depth_write;     /* 1: depth is tested but not written */
+    int no_color_write;     /* 1: depth only (a depth pre-pass) */
+    int cull;               /* PW_CULL_NONE (default: two-sided), PW_CULL_BACK, PW_CULL_FRONT */
+    int lighting;           /* PW_LIGHT_NONE (default: unlit), PW_LIGHT_CAMERA, PW_LIGHT_WORLD:
+                               Lambert + ambient, the light direction in camera space (x right,
+                               y up, z toward the viewer) or in world space. Two-sided: back
+                               faces are lit with their normals reversed */
+    float light_dir[3];     /* direction toward the light; zero: (-0.3, 0.4, 1) in camera space */
+    float ambient;          /* brightness of unlit parts, in [0, 1]; 0: 0.25; negative: none */
+} pw_draw;
+
+#define PW__ZT 8 /* coarse depth tile, in samples */
+#define PW__NPL 21 /* floats per triangle: planes q(3) U(3) V(3) N(9), origin(2), ready */
+#define PW__OX 18
+#define PW__OY 19
+#define PW__READY 20
+
+/* Everything a draw needs in its inner loops. */
+typedef struct pw__ctx {
+    pw_fb *fb;
+    const pw_draw *d;
+    pw__view view;
+    pw_raster_grid grid;
+    const double *vh;     /* per vertex: X, Y, W (homogeneous), X/W, Y/W */
+    const float *normals; /* per vertex, or NULL (flat or unlit) */
+    float *planes;        /* per triangle, PW__NPL floats */
+    const float *zmin;    /* coarse depth of draws that do not write depth, or NULL */
+    uint64_t *mask;       /* blended draws: per pixel of a row, its samples that passed */
+    float *qbuf;          /* blended draws: their depths, ss sample rows */
+    const pw_texture *tex;
+    int filter, wrap, blend, lit, cull, dwrite, cwrite;
+    float tint[4], light[3], ambient, dfac, qfar, ss;
+    int bx0, by0, bx1, by1; /* sample box touched by an opaque draw */
+} pw__ctx;
+
+/* Checks the draw description; names the first problem found. */
+PW__DEF int pw__draw_check(const pw_draw *d, pw_err *e)
+{
+    int i;
+    if (d->nv < 0 || d->ntris < 0)
+        return pw_fail(e, PW_ERR_INVALID, "draw: negative counts (%d vertices, %d triangles)", d->nv,
+                       d->ntris);
+    if (d->nv > PW_MAX_MESH_ELEMENTS || d->ntris > PW_MAX_MESH_ELEMENTS)
+        return pw_fail(e, PW_ERR_LIMIT, "draw: %d vertices, %d triangles exceed the limit %d", d->nv,
+                       d->ntris, PW_MAX_MESH_ELEMENTS);
+    if ((d->nv > 0 && !d->positions) || (d->ntris > 0 && !d->tris))
+        return pw_fail(e, PW_ERR_INVALID, "draw: missing positions or triangle indices");
+    if (d->tex && (!d->uvs || d->tex->nlevels < 1 || !d->tex->level[0]))
+        return pw_fail(e, PW_ERR_INVALID, "draw: a texture needs uvs and a built mip chain");
+    if ((unsigned)d->filter > 2u || (unsigned)d->wrap > 1u || (unsigned)d->blend > 1u ||
+        (unsigned)d->depth_test > 2u || (unsigned)d->cull > 2u || (unsigned)d->lighting > 2u)
+        return pw_fail(e, PW_ERR_INVALID, "draw: unknown filter, wrap, blend, depth, cull or lighting mode");
+    for (i = 0; i < 3 * d->ntris; i++)
+        if (d->tris[i] < 0 || d->tris[i] >= d->nv)
+            return pw_fail(e, PW_ERR_INVALID, "draw: triangle %d, corner %d: vertex index %d outside [0, %d)",
+                           i / 3, i % 3, d->tris[i], d->nv);
+    return PW_OK;
+}
+
+PW__DEF int pw__finite3(const float *p)
+{
+    return pw_is_finite(p[0]) && pw_is_finite(p[1]) && pw_is_finite(p[2]);
+}
+
+/* Homogeneous screen coordinates of every vertex; W = -DBL_MAX marks a
+ * vertex with non-finite coordinates (its triangles are skipped). */
+PW__DEF void pw__transform(const pw__view *v, const pw_draw *d, double *vh)
+{
+    int i, k;
+    for (i = 0; i < d->nv; i++) {
+        const float *p = d->positions + 3 * i;
+        double q[3], xv, yv, w, *o = vh + 5 * i;
+        if (!pw__finite3(p)) {
+            o[0] = o[1] = o[3] = o[4] = 0.0;
+            o[2] = -DBL_MAX;
+            continue;
+        }
+        for (k = 0; k < 3; k++) q[k] = (double)p[k] - v->eye[k];
+        xv = pw__dot3(q, v->r);
+        yv = pw__dot3(q, v->u);
+        w = pw__dot3(q, v->f);
+        o[0] = v->cx * w + v->fx * xv;
+        o[1] = v->cy * w - v->fy * yv;
+        o[2] = w;
+        o[3] = w >= v->znear ? o[0] / w : 0.0;
+        o[4] = w >= v->znear ? o[1] / w : 0.0;
+    }
+}
+
+/* Unnormalised normal of triangle t (its area-weighted direction). */
+PW__DEF void pw__face_normal(const pw_draw *d, int t, double *n)
+{
+    const float *p0 = d->positions + 3 * d->tris[3 * t], *p1 = d->positions + 3 * d->tris[3 * t + 1],
+                *p2 = d->positions + 3 * d->tris[3 * t + 2];
+    double a[3], b[3];
+    int k;
+    for (k = 0; k < 3; k++) {
+        a[k] = (double)p1[k] - p0[k];
+        b[k] = (double)p2[k] - p0[k];
+    }
+    pw__cross3(a, b, n);
+}
+
+/* Smooth vertex normals: area-weighted sums of the face normals, unit length. */
+PW__DEF void pw__smooth_normals(const pw_draw *d, float *out)
+{
+    int t, i, k;
+    memset(out, 0, sizeof(float) * 3 * (size_t)d->nv);
+    for (t = 0; t < d->ntris; t++) {
+        double n[3];
+        const int *ix = d->tris + 3 * t;
+        if (!pw__finite3(d->positions + 3 * ix[0]) || !pw__finite3(d->positions + 3 * ix[1]) ||
+            !pw__finite3(d->positions + 3 * ix[2]))
+            continue;
+        pw__face_normal(d, t, n);
+        for (i = 0; i < 3; i++)
+            for (k = 0; k < 3; k++) out[3 * ix[i] + k] += pw__f(n[k]);
+    }
+    for (i = 0; i < d->nv; i++) {
+        double n[3];
+        for (k = 0; k < 3; k++) n[k] = out[3 * i + k];
+        pw__norm3(n);
+        for (k = 0; k < 3; k++) out[3 * i + k] = (float)n[k];
+    }
+}
+
+/* One plane: the attribute a_k at the vertices interpolated perspective-
+ * correctly and divided by w, as c0 (x - ox) + c1 (y - oy) + c2. Rows r_k of
+ * the adjugate, already divided by the determinant, give u_k = b_k / w. */
+PW__DEF void pw__plane(double r[3][3], const double *a, double ox, double oy, float *out)
+{
+    double c[3];
+    int j;
+    for (j = 0; j < 3; j++) c[j] = a[0] * r[0][j] + a[1] * r[1][j] + a[2] * r[2][j];
+    out[0] = pw__f(c[0]);
+    out[1] = pw__f(c[1]);
+    out[2] = pw__f(c[0] * ox + c[1] * oy + c[2]);
+}
+
+/* Rows of the adjugate of the matrix of triangle t's homogeneous vertices,
+ * divided by its determinant: u_k(x, y) = r_k . (x, y, 1) is the
+ * barycentric b_k divided by w. Returns 0 if the triangle is seen edge-on
+ * (its plane passes through the eye) or culled. */
+PW__DEF int pw__tri_adjugate(const pw__ctx *c, int t, double r[3][3], double *det)
+{
+    const int *ix = c->d->tris + 3 * (size_t)t;
+    const double *h0 = c->vh + 5 * (size_t)ix[0], *h1 = c->vh + 5 * (size_t)ix[1],
+                 *h2 = c->vh + 5 * (size_t)ix[2];
+    double scale;
+    int i, j;
+    pw__cross3(h1, h2, r[0]);
+    pw__cross3(h2, h0, r[1]);
+    pw__cross3(h0, h1, r[2]);
+    *det = pw__dot3(h0, r[0]);
+    scale = sqrt(pw__dot3(h0, h0) * pw__dot3(h1, h1) * pw__dot3(h2, h2));
+    if (!(fabs(*det) > 1e-12 * scale)) return 0;
+    /* det < 0: counter-clockwise as seen by the viewer, i.e. front-facing */
+    if ((c->cull == PW_CULL_BACK && *det > 0.0) || (c->cull == PW_CULL_FRONT && *det < 0.0)) return 0;
+    scale = 1.0 / *det;
+    for (i = 0; i < 3; i++)
+        for (j = 0; j < 3; j++) r[i][j] *= scale;
+    return 1;
+}
+
+/* Depth plane q = 1/w of triangle t, relative to an integer origin near its
+ * screen polygon poly[n] so that float evaluation does not cancel. The
+ * attribute planes wait until a sample of the triangle is shaded (most
+ * triangles of an opaque draw are hidden or tiny). */
+PW__DEF int pw__tri_planes(const pw__ctx *c, int t, const double *poly, int n, float *pl)
+{
+    double r[3][3], det, ox = 0.0, oy = 0.0, one[3] = {1.0, 1.0, 1.0};
+    int i;
+    if (!pw__tri_adjugate(c, t, r, &det)) return 0;
+    for (i = 0; i < n; i++) {
+        ox += poly[2 * i] / n;
+        oy += poly[2 * i + 1] / n;
+    }
+    ox = floor((ox > 0.0 ? (ox < c->fb->sw ? ox : c->fb->sw) : 0.0) + 0.5);
+    oy = floor((oy > 0.0 ? (oy < c->fb->sh ? oy : c->fb->sh) : 0.0) + 0.5);
+    pw__plane(r, one, ox, oy, pl);
+    pl[PW__OX] = (float)ox;
+    pl[PW__OY] = (float)oy;
+    pl[PW__READY] = 0.0f;
+    return 1;
+}
+
+/* Attribute planes of triangle t (U/w, V/w, N/w), computed on first use. */
+PW__DEF void pw__attr_planes(const pw__ctx *c, int t, float *pl)
+{
+    const pw_draw *d = c->d;
+    double r[3][3], det, a[3], fn[3], sgn, ox = pl[PW__OX], oy = pl[PW__OY];
+    int i, k;
+    if (pl[PW__READY] != 0.0f) return;
+    pl[PW__READY] = 1.0f;
+    pw__tri_adjugate(c, t, r, &det); /* succeeded when the triangle was set up */
+    if (c->tex) {
+        const float *uv = d->uvs + 6 * (size_t)t;
+        for (k = 0; k < 2; k++) {
+            for (i = 0; i < 3; i++) a[i] = uv[2 * i + k];
+            pw__plane(r, a, ox, oy, pl + 3 + 3 * k);
+        }
+    }
+    if (c->lit) {
+        sgn = det > 0.0 ? -1.0 : 1.0; /* two-sided: back faces turn their normals around */
+        if (!c->normals) pw__face_normal(d, t, fn);
+        for (k = 0; k < 3; k++) {
+            for (i = 0; i < 3; i++)
+                a[i] = sgn * (c->normals ? (double)c->normals[3 * d->tris[3 * t + i] + k] : fn[k]);
+            pw__plane(r, a, ox, oy, pl + 9 + 3 * k);
+        }
+    }
+}
+
+/* Clips a triangle crossing the near plane in homogeneous coordinates and
+ * projects the polygon (3 or 4 vertices) to the screen. Each intersection is
+ * computed from the endpoint with the smaller vertex index, so the two
+ * triangles sharing an edge get the same point. */
+PW__DEF int pw__near_clip(const pw__ctx *c, const int *ix, const double *const *h, double *poly)
+{
+    double zn = c->view.znear;
+    int i, m = 0;
+    for (i = 0; i < 3; i++) {
+        int j = (i + 1) % 3, pin = h[i][2] >= zn, qin = h[j][2] >= zn;
+        if (pin) {
+            poly[2 * m] = h[i][3];
+            poly[2 * m + 1] = h[i][4];
+            m++;
+        }
+        if (pin != qin) {
+            const double *a = ix[i] < ix[j] ? h[i] : h[j], *b = ix[i] < ix[j] ? h[j] : h[i];
+            double t = (zn - a[2]) / (b[2] - a[2]); /* the point is on the near plane: w = zn */
+            poly[2 * m] = (a[0] + t * (b[0] - a[0])) / zn;
+            poly[2 * m + 1] = (a[1] + t * (b[1] - a[1])) / zn;
+            m++;
+        }
+    }
+    return m;
+}
+
+/* Depth test of one sample (q = 1/depth): passes if q > dfac * stored
+ * (LESS: dfac 1, LEQUAL: 1 - tolerance, ALWAYS: 0) and q is within the far
+ * plane; then writes depth and/or the triangle id. */
+PW__DEF void pw__vis_sample(const pw__ctx *c, float *dp, uint32_t *vp, float q, uint32_t id)
+{
+    if (q > *dp * c->dfac && q >= c->qfar) {
+        if (c->dwrite) *dp = q;
+        if (c->cwrite) *vp = id;
+    }
+}
+
+/* Samples of one piece into the depth and visibility buffers (opaque draws
+ * and depth-only draws). Sample centres x + 0.5 are stepped in float,
+ * exactly (integers < 2^24), so q is the same whichever loop computes it. */
+PW__DEF void pw__raster_vis(pw__ctx *c, pw_raster_edges *s, uint32_t id, const float *pl)
+{
+    pw_fb *fb = c->fb;
+    const float ox = pl[PW__OX], oy = pl[PW__OY], qx = pl[0];
+    int y, x, xa, xb;
+    for (y = s->y0; y < s->y1; y++) {
+        const float qrow = pl[1] * ((float)y + 0.5f - oy) + pl[2];
+        float *dp = fb->depth + (size_t)y * fb->sw, fx;
+        uint32_t *vp = fb->vis + (size_t)y * fb->sw;
+        if (!pw_raster_next(s, &xa, &xb)) continue;
+        fx = (float)xa + 0.5f - ox;
+        for (x = xa; x < xb; x++, fx += 1.0f) pw__vis_sample(c, dp + x, vp + x, qx * fx + qrow, id);
+    }
+    if (s->x0 < c->bx0) c->bx0 = s->x0;
+    if (s->y0 < c->by0) c->by0 = s->y0;
+    if (s->x1 > c->bx1) c->bx1 = s->x1;
+    if (s->y1 > c->by1) c->by1 = s->y1;
+}
+
+/* Texture colour at a shading point: perspective-correct (u, v) and their
+ * exact screen derivatives from the planes (d(U/q)/dx = (U_x - u q_x) / q),
+ * scaled to one pixel, give the mip level. Multiplies col. */
+PW__DEF void pw__shade_tex(const pw__ctx *c, const float *pl, float dx, float dy, float iq,
+                           float *col)
+{
+    const pw_texture *t = c->tex;
+    float u = (pl[3] * dx + pl[4] * dy + pl[5]) * iq, v = (pl[6] * dx + pl[7] * dy + pl[8]) * iq;
+    float tx[4];
+    int k;
+    if (c->filter == PW_FILTER_TRILINEAR) {
+        float su = c->ss * iq * (float)t->w, sv = c->ss * iq * (float)t->h;
+        float ux = (pl[3] - u * pl[0]) * su, uy = (pl[4] - u * pl[1]) * su;
+        float vx = (pl[6] - v * pl[0]) * sv, vy = (pl[7] - v * pl[1]) * sv;
+        float rx = ux * ux + vx * vx, ry = uy * uy + vy * vy;
+        pw__tex_trilinear(t, u, v, 0.5f * pw__log2f(rx > ry ? rx : ry), c->wrap, tx);
+        for (k = 0; k < 4; k++) col[k] *= tx[k] * (1.0f / 65535.0f);
+        return;
+    }
+    pw_texture_sample(t, u, v, 0.0f, c->filter, c->wrap, tx);
+    for (k = 0; k < 4; k++) col[k] *= tx[k];
+}
+
+/* Shades triangle t at sample-grid point (x, y): tint x texture, lit.
+ * Output premultiplied RGBA. */
+PW__DEF void pw__shade(const pw__ctx *c, int t, float x, float y, float *out)
+{
+    float *pl = c->planes + (size_t)t * PW__NPL;
+    const float dx = x - pl[PW__OX], dy = y - pl[PW__OY];
+    float q = pl[0] * dx + pl[1] * dy + pl[2], col[4];
+    col[0] = c->tint[0];
+    col[1] = c->tint[1];
+    col[2] = c->tint[2];
+    col[3] = c->tint[3];
+    if (pl[PW__READY] == 0.0f) pw__attr_planes(c, t, pl);
+    if (!(q > 1e-30f)) q = 1e-30f; /* only reachable through rounding at a near-plane edge */
+    if (c->tex) pw__shade_tex(c, pl, dx, dy, 1.0f / q, col);
+    if (c->lit) {
+        float n0 = pl[9] * dx + pl[10] * dy + pl[11], n1 = pl[12] * dx + pl[13] * dy + pl[14];
+        float n2 = pl[15] * dx + pl[16] * dy + pl[17], nn = n0 * n0 + n1 * n1 + n2 * n2;
+        float dif = 1.0f, k;
+        if (nn > 0.0f) dif = (n0 * c->light[0] + n1 * c->light[1] + n2 * c->light[2]) / sqrtf(nn);
+        if (!(dif > 0.0f)) dif = 0.0f;
+        k = c->ambient + (1.0f - c->ambient) * dif;
+        col[0] *= k;
+        col[1] *= k;
+        col[2] *= k;
+    }
+    memcpy(out, col, sizeof col);
+}
+
+/* Second phase of an opaque draw: each pixel of the touched box is shaded
+ * once per distinct visible triangle, and the visibility ids are reset. */
+PW__DEF void pw__shade_vis(pw__ctx *c)
+{
+    pw_fb *fb = c->fb;
+    const int ss = fb->ss, n = ss * ss;
+    const int px0 = c->bx0 / ss, py0 = c->by0 / ss, px1 = (c->bx1 + ss - 1) / ss, py1 = (c->by1 + ss - 1) / ss;
+    const float half = 0.5f * (float)ss;
+    uint32_t ids[PW_FB_MAX_SS * PW_FB_MAX_SS];
+    size_t off[PW_FB_MAX_SS * PW_FB_MAX_SS];
+    int px, py, k, m;
+    for (k = 0; k < n; k++) off[k] = (size_t)(k / ss) * fb->sw + (size_t)(k % ss);
+    for (py = py0; py < py1; py++) {
+        size_t base = (size_t)py * ss * fb->sw + (size_t)px0 * ss;
+        for (px = px0; px < px1; px++, base += ss) {
+            uint32_t *vis = fb->vis + base, first = vis[0], any = first;
+            int same = 1;
+            for (k = 0; k < n; k++) {
+                ids[k] = vis[off[k]];
+                same &= ids[k] == first;
+                any &= ids[k];
+            }
+            if (any == PW_FB_NONE) continue; /* all untouched (the AND of the ids) */
+            for (k = 0; k < n; k++) vis[off[k]] = PW_FB_NONE;
+            if (same) { /* the usual case: one triangle covers the pixel */
+                float col[4];
+                pw__shade(c, (int)first, (float)(px * ss) + half, (float)(py * ss) + half, col);
+                for (k = 0; k < n; k++) memcpy(fb->color + (base + off[k]) * 4, col, sizeof col);
+                continue;
+            }
+            for (k = 0; k < n; k++) {
+                float *dst = fb->color + (base + off[k]) * 4;
+                if (ids[k] == PW_FB_NONE) continue;
+                for (m = 0; m < k && ids[m] != ids[k]; m++) {
+                }
+                if (m < k)
+                    memcpy(dst, fb->color + (base + off[m]) * 4, 4 * sizeof(float));
+                else
+                    pw__shade(c, (int)ids[k], (float)(px * ss + k % ss) + 0.5f,
+                              (float)(py * ss + k / ss) + 0.5f, dst);
+            }
+        }
+    }
+}
+
+/* Blends one shaded colour "over" the samples of pixel (px, py) set in
+ * mask (bit j*ss + i: sample i of sample row j), whose depths wait in the
+ * row buffer qb. Shaded at the pixel centre when every sample is covered,
+ * else at the first covered sample. */
+PW__DEF void pw__over_pixel(pw__ctx *c, int t, int px, int py, uint64_t mask, const float *qb)
+{
+    pw_fb *fb = c->fb;
+    const int ss = fb->ss, n = ss * ss;
+    const uint64_t full = n == 64 ? ~(uint64_t)0 : ((uint64_t)1 << n) - 1;
+    float col[4], keep;
+    int k;
+    if (mask == full) {
+        pw__shade(c, t, (float)(px * ss) + 0.5f * ss, (float)(py * ss) + 0.5f * ss, col);
+    } else {
+        for (k = 0; !(mask >> k & 1); k++) {
+        }
+        pw__shade(c, t, (float)(px * ss + k % ss) + 0.5f, (float)(py * ss + k / ss) + 0.5f, col);
+    }
+    keep = 1.0f - col[3];
+    for (k = 0; k < n; k++) {
+        size_t at;
+        float *d;
+        if (!(mask >> k & 1)) continue;
+        at = (size_t)(py * ss + k / ss) * fb->sw + (size_t)px * ss + k % ss;
+        d = fb->color + at * 4;
+        d[0] = col[0] + keep * d[0];
+        d[1] = col[1] + keep * d[1];
+        d[2] = col[2] + keep * d[2];
+        d[3] = col[3] + keep * d[3];
+        if (c->dwrite) fb->depth[at] = qb[(size_t)(k / ss) * fb->sw + (size_t)px * ss + k % ss];
+    }
+}
+
+/* One piece of a blended draw, pixel row by pixel row: the depth test marks
+ * the passing samples of the ss sample rows in per-pixel masks (keeping
+ * their depths), then each marked pixel is shaded once and blended. */
+PW__DEF void pw__raster_over(pw__ctx *c, pw_raster_edges *s, int t, const float *pl)
+{
+    pw_fb *fb = c->fb;
+    const int ss = fb->ss;
+    const float ox = pl[PW__OX], oy = pl[PW__OY], qx = pl[0];
+    uint64_t *mask = c->mask;
+    int py, j, x, xa, xb, px;
+    for (py = s->y0 / ss; py * ss < s->y1; py++) {
+        int lo = INT_MAX, hi = INT_MIN;
+        for (j = 0; j < ss; j++) {
+            const int y = py * ss + j;
+            const float qrow = pl[1] * ((float)y + 0.5f - oy) + pl[2];
+            const float *dp = fb->depth + (size_t)y * fb->sw;
+            float *qr = c->qbuf + (size_t)j * fb->sw, fx;
+            int i;
+            if (y < s->y0 || y >= s->y1 || !pw_raster_next(s, &xa, &xb)) continue;
+            fx = (float)xa + 0.5f - ox;
+            px = xa / ss;
+            i = xa - px * ss;
+            if (px < lo) lo = px;
+            if ((xb - 1) / ss >= hi) hi = (xb - 1) / ss + 1;
+            for (x = xa; x < xb; x++, fx += 1.0f) {
+                const float q = qx * fx + qrow;
+                if (q > dp[x] * c->dfac && q >= c->qfar) {
+                    qr[x] = q;
+                    mask[px] |= (uint64_t)1 << (j * ss + i);
+                }
+                if (++i == ss) {
+                    i = 0;
+                    px++;
+                }
+            }
+        }
+        for (px = lo; px < hi; px++)
+            if (mask[px]) {
+                pw__over_pixel(c, t, px, py, mask[px], c->qbuf);
+                mask[px] = 0;
+            }
+    }
+}
+
+/* True if the projected triangle lies entirely on one side of the screen. */
+PW__DEF int pw__offscreen(const pw__ctx *c, const double *p)
+{
+    double w = c->fb->sw, h = c->fb->sh;
+    return (p[0] < 0 && p[2] < 0 && p[4] < 0) || (p[0] > w && p[2] > w && p[4] > w) ||
+           (p[1] < 0 && p[3] < 0 && p[5] < 0) || (p[1] > h && p[3] > h && p[5] > h);
+}
+
+/* Builds the coarse depth: the smallest stored q of each tile. */
+PW__DEF void pw__zmin_build(pw_fb *fb)
+{
+    const int tw = (fb->sw + PW__ZT - 1) / PW__ZT;
+    int x, y;
+    for (x = 0; x < tw * ((fb->sh + PW__ZT - 1) / PW__ZT); x++) fb->zmin[x] = FLT_MAX;
+    for (y = 0; y < fb->sh; y++) {
+        const float *d = fb->depth + (size_t)y * fb->sw;
+        float *z = fb->zmin + (size_t)(y / PW__ZT) * tw;
+        for (x = 0; x < fb->sw; x++)
+            if (d[x] < z[x / PW__ZT]) z[x / PW__ZT] = d[x];
+    }
+    fb->zvalid = 1;
+}
+
+/* True if triangle h (all in front, screen box p) certainly fails the depth
+ * test everywhere: its nearest point (largest q, at a vertex since q is
+ * affine on the screen), with a margin for rounding, is behind every stored
+ * sample of the tiles under its box. Boxes of many tiles are not tested. */
+PW__DEF int pw__hidden(const pw__ctx *c, const double *const *h, const double *p)
+{
+    const int tw = (c->fb->sw + PW__ZT - 1) / PW__ZT, th = (c->fb->sh + PW__ZT - 1) / PW__ZT;
+    double lo[2], hi[2], qmax = 0.0;
+    float zm = FLT_MAX;
+    int k, t0[2], t1[2], tx, ty;
+    for (k = 0; k < 2; k++) {
+        lo[k] = p[k] < p[k + 2] ? (p[k] < p[k + 4] ? p[k] : p[k + 4]) : (p[k + 2] < p[k + 4] ? p[k + 2] : p[k + 4]);
+        hi[k] = p[k] > p[k + 2] ? (p[k] > p[k + 4] ? p[k] : p[k + 4]) : (p[k + 2] > p[k + 4] ? p[k + 2] : p[k + 4]);
+        t0[k] = (int)pw_clampf((float)lo[k], 0.0f, (float)(c->fb->sw + c->fb->sh)) / PW__ZT;
+        t1[k] = (int)pw_clampf((float)hi[k], 0.0f, (float)(c->fb->sw + c->fb->sh)) / PW__ZT;
+    }
+    if (t1[0] >= tw) t1[0] = tw - 1;
+    if (t1[1] >= th) t1[1] = th - 1;
+    if ((t1[0] - t0[0] + 1) * (t1[1] - t0[1] + 1) > 16) return 0;
+    for (k = 0; k < 3; k++)
+        if (1.0 / h[k][2] > qmax) qmax = 1.0 / h[k][2];
+    for (ty = t0[1]; ty <= t1[1]; ty++)
+        for (tx = t0[0]; tx <= t1[0]; tx++)
+            if (c->zmin[(size_t)ty * tw + tx] < zm) zm = c->zmin[(size_t)ty * tw + tx];
+    return qmax * 1.001 <= (double)zm * c->dfac;
+}
+
+/* Triangle t: cull, clip, set up its depth plane and rasterize its pieces. */
+PW__DEF void pw__draw_tri(pw__ctx *c, int t)
+{
+    const int *ix = c->d->tris + 3 * (size_t)t;
+    const double *h[3], R = c->grid.range;
+    double poly[8];
+    pw_raster_edges pieces[PW_RASTER_MAX_PIECES];
+    float *pl = c->planes + (size_t)t * PW__NPL;
+    int k, n = 3, np, nin = 0, nfar = 0, inside = 1;
+    for (k = 0; k < 3; k++) {
+        h[k] = c->vh + 5 * (size_t)ix[k];
+        if (h[k][2] == -DBL_MAX) return;
+        nin += h[k][2] >= c->view.znear;
+        nfar += h[k][2] > c->view.zfar;
+    }
+    if (nin == 0 || nfar == 3) return;
+    if (nin == 3) {
+        for (k = 0; k < 3; k++) {
+            poly[2 * k] = h[k][3];
+            poly[2 * k + 1] = h[k][4];
+            inside &= poly[2 * k] >= -R && poly[2 * k] <= R && poly[2 * k + 1] >= -R && poly[2 * k + 1] <= R;
+        }
+        if (pw__offscreen(c, poly) || (c->zmin && pw__hidden(c, h, poly))) return;
+    } else {
+        n = pw__near_clip(c, ix, h, poly);
+        inside = 0;
+    }
+    if (!pw__tri_planes(c, t, poly, n, pl)) return;
+    /* the usual case (in front, within the raster range) needs no clipping */
+    np = inside ? pw_raster_setup(pieces, &c->grid, poly) : pw_raster_polygon(&c->grid, poly, n, pieces);
+    for (k = 0; k < np; k++) {
+        if (c->blend == PW_BLEND_OVER && c->cwrite)
+            pw__raster_over(c, pieces + k, t, pl);
+        else
+            pw__raster_vis(c, pieces + k, (uint32_t)t, pl);
+    }
+}
+
+/* Grows the framebuffer's draw scratch for d. */
+PW__DEF int pw__draw_scratch(pw_fb *fb, const pw_draw *d, int need_normals, pw_err *e)
+{
+    size_t oldm = fb->mcap;
+    if (pw_grow(fb->alloc, (void **)&fb->vbuf, &fb->vcap, (size_t)d->nv * 5, sizeof(double),
+                "render vertices", e) ||
+        pw_grow(fb->alloc, (void **)&fb->pbuf, &fb->pcap, (size_t)d->ntris * PW__NPL, sizeof(float),
+                "render triangle planes", e) ||
+        (need_normals && pw_grow(fb->alloc, (void **)&fb->nbuf, &fb->ncap, (size_t)d->nv * 3,
+                                 sizeof(float), "render normals", e)))
+        return e ? e->code : PW_ERR_NOMEM;
+    if (d->blend == PW_BLEND_OVER &&
+        (pw_grow(fb->alloc, (void **)&fb->mbuf, &fb->mcap, (size_t)fb->w, sizeof(uint64_t),
+                 "render sample masks", e) ||
+         pw_grow(fb->alloc, (void **)&fb->qbuf, &fb->qcap, (size_t)fb->sw * fb->ss, sizeof(float),
+                 "render sample depths", e)))
+        return e ? e->code : PW_ERR_NOMEM;
+    if (fb->mcap > oldm) memset(fb->mbuf, 0, fb->mcap * sizeof(uint64_t));
+    if (d->no_depth_write && d->depth_test != PW_DEPTH_ALWAYS &&
+        pw_grow(fb->alloc, (void **)&fb->zmin, &fb->zcap,
+                (size_t)((fb->sw + PW__ZT - 1) / PW__ZT) * ((fb->sh + PW__ZT - 1) / PW__ZT),
+                sizeof(float), "render coarse depth", e))
+        return e ? e->code : PW_ERR_NOMEM;
+    return PW_OK;
+}
+
+/* Shading and depth constants of a draw. */
+PW__DEF void pw__ctx_init(pw__ctx *c, pw_fb *fb, const pw_draw *d)
+{
+    static const float def_light[3] = {-0.3f, 0.4f, 1.0f};
+    const float *l = d->light_dir;
+    double lw[3];
+    float tol = d->depth_tolerance > 0.0f ? d->depth_tolerance : PW_DEPTH_TOLERANCE;
+    int k, cam = d->lighting == PW_LIGHT_CAMERA;
+    c->fb = fb;
+    c->d = d;
+    c->tex = d->tex;
+    c->filter = d->filter;
+    c->wrap = d->wrap;
+    c->blend = d->blend;
+    c->cull = d->cull;
+    c->lit = d->lighting != PW_LIGHT_NONE;
+    c->dwrite = !d->no_depth_write;
+    c->cwrite = !d->no_color_write;
+    c->ss = (float)fb->ss;
+    c->dfac = d->depth_test == PW_DEPTH_LESS ? 1.0f : (d->depth_test == PW_DEPTH_LEQUAL ? 1.0f - tol : 0.0f);
+    if (c->dfac < 0.0f) c->dfac = 0.0f;
+    c->qfar = (float)(1.0 / c->view.zfar);
+    for (k = 0; k < 4; k++) c->tint[k] = d->color[k];
+    if (d->color[0] == 0.0f && d->color[1] == 0.0f && d->color[2] == 0.0f && d->color[3] == 0.0f)
+        c->tint[0] = c->tint[1] = c->tint[2] = c->tint[3] = 1.0f;
+    for (k = 0; k < 3; k++) c->tint[k] *= c->tint[3];
+    if (l[0] == 0.0f && l[1] == 0.0f && l[2] == 0.0f) {
+        l = def_light;
+        cam = 1;
+    }
+    for (k = 0; k < 3; k++) /* camera space: x right, y up, z toward the viewer */
+        lw[k] = cam ? l[0] * c->view.r[k] + l[1] * c->view.u[k] - l[2] * c->view.f[k] : l[k];
+    pw__norm3(lw);
+    for (k = 0; k < 3; k++) c->light[k] = (float)lw[k];
+    c->ambient = d->ambient == 0.0f ? 0.25f : pw_clampf(d->ambient, 0.0f, 1.0f);
+    c->bx0 = fb->sw;
+    c->by0 = fb->sh;
+    c->bx1 = c->by1 = 0;
+}
+
+/* Draws the mesh d into fb as seen by cam. Returns PW_OK, or PW_ERR_INVALID
+ * (bad camera, index out of range, texture without uvs...), PW_ERR_LIMIT or
+ * PW_ERR_NOMEM with nothing drawn. Triangles with non-finite vertices are
+ * skipped. */
+PW__DEF int pw_render_draw(pw_fb *fb, const pw_camera *cam, const pw_draw *d, pw_err *e)
+{
+    pw__ctx c;
+    int r, t, need_normals;
+    PW_ASSERT(fb && fb->color && cam && d);
+    memset(&c, 0, sizeof c);
+    if ((r = pw__draw_check(d, e)) != PW_OK) return r;
+    if ((r = pw__view_init(&c.view, cam, fb->sw, fb->sh, e)) != PW_OK) return r;
+    pw_raster_grid_init(&c.grid, fb->sw, fb->sh);
+    need_normals = d->lighting != PW_LIGHT_NONE && !d->flat && !d->normals;
+    if ((r = pw__draw_scratch(fb, d, need_normals, e)) != PW_OK) return r;
+    pw__ctx_init(&c, fb, d);
+    pw__transform(&c.view, d, fb->vbuf);
+    c.vh = fb->vbuf;
+    c.planes = fb->pbuf;
+    c.mask = fb->mbuf;
+    c.qbuf = fb->qbuf;
+    if (need_normals) pw__smooth_normals(d, fb->nbuf);
+    c.normals = (c.lit && !d->flat) ? (d->normals ? d->normals : fb->nbuf) : NULL;
+    /* draws that only test depth (the passes of lapped textures) skip the
+     * triangles hidden under the coarse depth, kept while nothing writes */
+    if (!c.dwrite && d->depth_test != PW_DEPTH_ALWAYS) {
+        if (!fb->zvalid) pw__zmin_build(fb);
+        c.zmin = fb->zmin;
+    } else if (c.dwrite) {
+        fb->zvalid = 0;
+    }
+    for (t = 0; t < d->ntris; t++) pw__draw_tri(&c, t);
+    if (c.cwrite && c.blend == PW_BLEND_REPLACE && c.bx1 > c.bx0) pw__shade_vis(&c);
+    return PW_OK;
+}
+
+#endif /* PW__RENDER_V1 */

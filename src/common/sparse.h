@@ -1,0 +1,764 @@
+/* sparse: sparse matrices and a Jacobi-preconditioned conjugate gradient.
+ *
+ * Used for the least-squares parametrisations of lapped textures and lapped
+ * solid textures (warm-started from the previous patch), for Laplacian
+ * smoothing in PGP and for field interpolation. Everything is double
+ * precision, single-threaded and sums in a fixed order, so the same inputs
+ * give bit-identical results on every run.
+ *
+ * Build a matrix from (row, col, value) triplets added in any order, convert
+ * it to compressed sparse rows once, then multiply or solve:
+ *
+ *     pw_triplets t;  pw_csr A;  pw_cg_stats st;  pw_err e;
+ *     pw_err_clear(&e);
+ *     pw_triplets_init(&t, NULL, n, n, &e);
+ *     pw_triplets_add(&t, i, j, v, &e);  ...      (duplicates are summed)
+ *     pw_csr_from_triplets(NULL, &t, &A, &e);
+ *     pw_triplets_free(&t);
+ *     pw_cg_solve(NULL, &A, b, x, NULL, &st, &e);  (x: guess in, solution out)
+ *     pw_csr_free(NULL, &A);
+ *
+ * Solvers:
+ *   pw_cg_solve   A x = b for symmetric positive (semi)definite A.
+ *   pw_lsq_solve  min |A x - b| for any rectangular A, by CGLS: conjugate
+ *                 gradients on the normal equations AᵀA x = Aᵀb without
+ *                 forming AᵀA, which keeps the residual b - Ax in row space
+ *                 and so loses less accuracy than CG on pw_csr_ata's output
+ *                 (the condition number is not squared a second time).
+ * Both stop when the relative residual falls to `tol`, recompute the true
+ * residual before accepting (and restart from it if rounding has made the
+ * recurrence drift), and on hitting the iteration cap return
+ * PW_ERR_NOCONVERGE with the residual in the message while x holds the last
+ * iterate: CG's best approximation in the energy norm (the A-norm of the
+ * error never grows from one iterate to the next), so callers that can live
+ * with the reported residual may use it. */
+#ifndef PW__SPARSE_V1
+#define PW__SPARSE_V1
+
+#include "base.h"
+
+/* ---- triplets ---------------------------------------------------------- */
+
+/* A growable list of (row, col, value) entries of an n x m matrix. */
+typedef struct pw_triplets {
+    int n, m;       /* rows, columns */
+    int count;      /* entries added */
+    int *row, *col; /* count each */
+    double *val;    /* count */
+    size_t cap;     /* allocated entries in each array */
+    pw_alloc alloc; /* copied at init; all-NULL means PW_MALLOC */
+} pw_triplets;
+
+/* Starts an empty n x m list. */
+PW__DEF int pw_triplets_init(pw_triplets *t, const pw_alloc *a, int n, int m, pw_err *e)
+{
+    memset(t, 0, sizeof *t);
+    if (a) t->alloc = *a;
+    if (n < 0 || m < 0)
+        return pw_fail(e, PW_ERR_INVALID, "sparse matrix size %dx%d is negative", n, m);
+    t->n = n;
+    t->m = m;
+    return PW_OK;
+}
+
+/* Forgets the entries and keeps the memory, for building another matrix of
+ * the same size. */
+PW__DEF void pw_triplets_clear(pw_triplets *t) { t->count = 0; }
+
+PW__DEF void pw_triplets_free(pw_triplets *t)
+{
+    pw_alloc a = t->alloc;
+    pw_free(&a, t->row);
+    pw_free(&a, t->col);
+    pw_free(&a, t->val);
+    memset(t, 0, sizeof *t);
+    t->alloc = a;
+}
+
+/* Grows the three arrays together so that one capacity describes them all. */
+PW__DEF int pw__triplets_grow(pw_triplets *t, pw_err *e)
+{
+    size_t ncap = t->cap ? t->cap * 2 : 64;
+    void *p;
+    if (ncap > (size_t)INT_MAX) ncap = (size_t)INT_MAX;
+    if (ncap > (size_t)-1 / sizeof(double))
+        return pw_fail(e, PW_ERR_NOMEM, "sparse triplets: size overflow");
+    /* Each successful realloc is kept even if a later one fails: the list
+     * stays valid with the old capacity. */
+    if (!(p = pw_realloc(&t->alloc, t->row, ncap * sizeof(int)))) goto nomem;
+    t->row = (int *)p;
+    if (!(p = pw_realloc(&t->alloc, t->col, ncap * sizeof(int)))) goto nomem;
+    t->col = (int *)p;
+    if (!(p = pw_realloc(&t->alloc, t->val, ncap * sizeof(double)))) goto nomem;
+    t->val = (double *)p;
+    t->cap = ncap;
+    return PW_OK;
+nomem:
+    return pw_fail(e, PW_ERR_NOMEM, "out of memory growing sparse triplets to %lu entries",
+                   (unsigned long)ncap);
+}
+
+/* Adds v at (i, j). Entries at the same position are summed by
+ * pw_csr_from_triplets. Fails on an index out of range or a non-finite v. */
+PW__DEF int pw_triplets_add(pw_triplets *t, int i, int j, double v, pw_err *e)
+{
+    if (i < 0 || i >= t->n || j < 0 || j >= t->m)
+        return pw_fail(e, PW_ERR_INVALID, "sparse entry (%d, %d) outside the %dx%d matrix", i,
+                       j, t->n, t->m);
+    if (!pw_is_finite(v))
+        return pw_fail(e, PW_ERR_INVALID, "sparse entry (%d, %d) is not finite", i, j);
+    if (t->count == INT_MAX)
+        return pw_fail(e, PW_ERR_LIMIT, "sparse matrix has more than %d entries", INT_MAX);
+    if ((size_t)t->count >= t->cap && pw__triplets_grow(t, e)) return PW_ERR_NOMEM;
+    t->row[t->count] = i;
+    t->col[t->count] = j;
+    t->val[t->count] = v;
+    t->count++;
+    return PW_OK;
+}
+
+/* ---- compressed sparse rows -------------------------------------------- */
+
+/* Row i holds col[k], val[k] for rowptr[i] <= k < rowptr[i+1]. Matrices made
+ * here have strictly increasing columns within each row. */
+typedef struct pw_csr {
+    int n, m;    /* rows, columns */
+    int *rowptr; /* n+1 */
+    int *col;    /* rowptr[n] */
+    double *val; /* rowptr[n] */
+} pw_csr;
+
+PW__DEF void pw_csr_free(const pw_alloc *a, pw_csr *A)
+{
+    if (!A) return;
+    pw_free(a, A->rowptr);
+    pw_free(a, A->col);
+    pw_free(a, A->val);
+    memset(A, 0, sizeof *A);
+}
+
+/* Allocates an n x m matrix with room for nnz entries; rowptr is zeroed. */
+PW__DEF int pw__csr_alloc(const pw_alloc *a, pw_csr *A, int n, int m, int nnz, pw_err *e)
+{
+    memset(A, 0, sizeof *A);
+    A->rowptr = (int *)pw_calloc_array(a, (size_t)n + 1, sizeof(int), "CSR rows", e);
+    A->col = (int *)pw_alloc_array(a, (size_t)nnz, sizeof(int), "CSR columns", e);
+    A->val = (double *)pw_alloc_array(a, (size_t)nnz, sizeof(double), "CSR values", e);
+    if (!A->rowptr || !A->col || !A->val) {
+        pw_csr_free(a, A);
+        return PW_ERR_NOMEM;
+    }
+    A->n = n;
+    A->m = m;
+    return PW_OK;
+}
+
+/* Stable counting sort of the entries idx[0..cnt) by key[idx[k]] in [0, nkeys):
+ * writes the order to out and the start of each key to start[0..nkeys]. */
+PW__DEF void pw__counting_sort(const int *key, const int *idx, int cnt, int nkeys, int *start,
+                               int *out)
+{
+    int k;
+    memset(start, 0, ((size_t)nkeys + 1) * sizeof(int));
+    for (k = 0; k < cnt; k++) start[key[idx ? idx[k] : k] + 1]++;
+    for (k = 0; k < nkeys; k++) start[k + 1] += start[k];
+    for (k = 0; k < cnt; k++) {
+        int id = idx ? idx[k] : k;
+        out[start[key[id]]++] = id;
+    }
+    /* the scatter advanced each start to the next key's start: shift back */
+    for (k = nkeys; k > 0; k--) start[k] = start[k - 1];
+    start[0] = 0;
+}
+
+/* Sums the duplicates of each row of `order` (sorted by row, then column,
+ * ties in insertion order, so the sums are taken in insertion order). */
+PW__DEF void pw__csr_compress(const pw_triplets *t, const int *order, const int *start,
+                              pw_csr *A)
+{
+    int r, k, nz = 0;
+    for (r = 0; r < t->n; r++) {
+        A->rowptr[r] = nz;
+        for (k = start[r]; k < start[r + 1]; k++) {
+            int id = order[k];
+            if (nz > A->rowptr[r] && A->col[nz - 1] == t->col[id]) {
+                A->val[nz - 1] += t->val[id];
+            } else {
+                A->col[nz] = t->col[id];
+                A->val[nz] = t->val[id];
+                nz++;
+            }
+        }
+    }
+    A->rowptr[t->n] = nz;
+}
+
+/* Builds the CSR matrix of t: duplicates summed (in insertion order),
+ * columns sorted within each row. Two stable counting sorts (by column,
+ * then by row) give that order in O(entries + n + m). Entries whose sum is
+ * zero are kept, so the structure depends only on the positions. */
+PW__DEF int pw_csr_from_triplets(const pw_alloc *a, const pw_triplets *t, pw_csr *out, pw_err *e)
+{
+    int nkeys = pw_maxi(t->n, t->m), *start, *bycol, *order;
+    memset(out, 0, sizeof *out);
+    start = (int *)pw_alloc_array(a, (size_t)nkeys + 1, sizeof(int), "CSR build", e);
+    bycol = (int *)pw_alloc_array(a, (size_t)t->count, sizeof(int), "CSR build", e);
+    order = (int *)pw_alloc_array(a, (size_t)t->count, sizeof(int), "CSR build", e);
+    if (!start || !bycol || !order || pw__csr_alloc(a, out, t->n, t->m, t->count, e)) {
+        pw_free(a, start);
+        pw_free(a, bycol);
+        pw_free(a, order);
+        return PW_ERR_NOMEM;
+    }
+    pw__counting_sort(t->col, NULL, t->count, t->m, start, bycol);
+    pw__counting_sort(t->row, bycol, t->count, t->n, start, order);
+    pw__csr_compress(t, order, start, out);
+    pw_free(a, start);
+    pw_free(a, bycol);
+    pw_free(a, order);
+    return PW_OK;
+}
+
+/* Checks the structure (row pointers, column range) and that every value is
+ * finite, so that solvers can fail cleanly on matrices built elsewhere. */
+PW__DEF int pw_csr_check(const pw_csr *A, pw_err *e)
+{
+    int i, k;
+    if (!A || A->n < 0 || A->m < 0 || !A->rowptr || A->rowptr[0] != 0)
+        return pw_fail(e, PW_ERR_INVALID, "malformed sparse matrix");
+    for (i = 0; i < A->n; i++) {
+        if (A->rowptr[i + 1] < A->rowptr[i])
+            return pw_fail(e, PW_ERR_INVALID, "sparse matrix row %d has a negative length", i);
+        for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++) {
+            if (A->col[k] < 0 || A->col[k] >= A->m)
+                return pw_fail(e, PW_ERR_INVALID, "sparse matrix entry %d of row %d: column %d "
+                               "outside 0..%d", k - A->rowptr[i], i, A->col[k], A->m - 1);
+            if (!pw_is_finite(A->val[k]))
+                return pw_fail(e, PW_ERR_INVALID, "sparse matrix entry (%d, %d) is not finite",
+                               i, A->col[k]);
+        }
+    }
+    return PW_OK;
+}
+
+/* y = A x   (x: m, y: n; y must not overlap x) */
+PW__DEF void pw_csr_mul(const pw_csr *A, const double *x, double *y)
+{
+    int i, k;
+    for (i = 0; i < A->n; i++) {
+        double s = 0;
+        for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++) s += A->val[k] * x[A->col[k]];
+        y[i] = s;
+    }
+}
+
+/* y = Aᵀ x   (x: n, y: m; y must not overlap x). Scatters row by row, so
+ * each y[j] is summed in increasing row order. */
+PW__DEF void pw_csr_mul_t(const pw_csr *A, const double *x, double *y)
+{
+    int i, k;
+    for (k = 0; k < A->m; k++) y[k] = 0;
+    for (i = 0; i < A->n; i++) {
+        double xi = x[i];
+        for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++) y[A->col[k]] += A->val[k] * xi;
+    }
+}
+
+/* d[i] = A(i, i) for i < min(n, m); 0 where the diagonal entry is absent. */
+PW__DEF void pw_csr_diag(const pw_csr *A, double *d)
+{
+    int i, k, nd = pw_mini(A->n, A->m);
+    for (i = 0; i < nd; i++) {
+        d[i] = 0;
+        for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++)
+            if (A->col[k] == i) d[i] += A->val[k];
+    }
+}
+
+/* out = Aᵀ (m x n). Scanning A's rows in order makes every row of the
+ * result come out with sorted columns. */
+PW__DEF int pw_csr_transpose(const pw_alloc *a, const pw_csr *A, pw_csr *out, pw_err *e)
+{
+    int i, k, nnz = A->rowptr[A->n], *next;
+    if (pw__csr_alloc(a, out, A->m, A->n, nnz, e)) return PW_ERR_NOMEM;
+    next = (int *)pw_alloc_array(a, (size_t)A->m + 1, sizeof(int), "CSR transpose", e);
+    if (!next) {
+        pw_csr_free(a, out);
+        return PW_ERR_NOMEM;
+    }
+    for (k = 0; k < nnz; k++) out->rowptr[A->col[k] + 1]++;
+    for (k = 0; k < A->m; k++) out->rowptr[k + 1] += out->rowptr[k];
+    memcpy(next, out->rowptr, ((size_t)A->m + 1) * sizeof(int));
+    for (i = 0; i < A->n; i++) {
+        for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++) {
+            int p = next[A->col[k]]++;
+            out->col[p] = i;
+            out->val[p] = A->val[k];
+        }
+    }
+    pw_free(a, next);
+    return PW_OK;
+}
+
+/* Counts the entries of AᵀA row by row (At = Aᵀ) into C->rowptr; fails
+ * when the total does not fit in an int. */
+PW__DEF int pw__ata_count(const pw_csr *A, const pw_csr *At, int *mark, int *rowptr,
+                          pw_err *e)
+{
+    int i, k, q;
+    int64_t nnz = 0;
+    for (i = 0; i < At->n; i++) mark[i] = -1;
+    rowptr[0] = 0;
+    for (i = 0; i < At->n; i++) {
+        for (k = At->rowptr[i]; k < At->rowptr[i + 1]; k++) {
+            int r = At->col[k];
+            for (q = A->rowptr[r]; q < A->rowptr[r + 1]; q++) {
+                if (mark[A->col[q]] != i) {
+                    mark[A->col[q]] = i;
+                    nnz++;
+                }
+            }
+        }
+        if (nnz > INT_MAX)
+            return pw_fail(e, PW_ERR_LIMIT, "A^T A has more than %d entries", INT_MAX);
+        rowptr[i + 1] = (int)nnz;
+    }
+    return PW_OK;
+}
+
+/* Fills C = AᵀA (structure counted by pw__ata_count) with columns in order
+ * of first touch. C(i,j) = sum over rows r of A(r,i) A(r,j), always in
+ * increasing r, so C(i,j) and C(j,i) are bitwise equal. */
+PW__DEF void pw__ata_fill(const pw_csr *A, const pw_csr *At, int *pos, pw_csr *C)
+{
+    int i, k, q;
+    for (i = 0; i < At->n; i++) pos[i] = -1;
+    for (i = 0; i < At->n; i++) {
+        int nz = C->rowptr[i];
+        for (k = At->rowptr[i]; k < At->rowptr[i + 1]; k++) {
+            int r = At->col[k];
+            double ari = At->val[k];
+            for (q = A->rowptr[r]; q < A->rowptr[r + 1]; q++) {
+                int j = A->col[q];
+                /* pos[j] is a slot of row i only if it is not below row i's start */
+                if (pos[j] < C->rowptr[i]) {
+                    pos[j] = nz;
+                    C->col[nz] = j;
+                    C->val[nz++] = 0;
+                }
+                C->val[pos[j]] += ari * A->val[q];
+            }
+        }
+    }
+}
+
+/* out = AᵀA (m x m), the normal-equations matrix of min |Ax - b|.
+ * The product comes out with unsorted rows; since it is exactly symmetric
+ * (see pw__ata_fill), its transpose is the same matrix with sorted rows. */
+PW__DEF int pw_csr_ata(const pw_alloc *a, const pw_csr *A, pw_csr *out, pw_err *e)
+{
+    pw_csr At, C;
+    int *work, r = PW_ERR_NOMEM;
+    memset(out, 0, sizeof *out);
+    memset(&C, 0, sizeof C);
+    if (pw_csr_transpose(a, A, &At, e)) return PW_ERR_NOMEM;
+    work = (int *)pw_alloc_array(a, (size_t)A->m + 1, sizeof(int), "A^T A", e);
+    C.rowptr = (int *)pw_alloc_array(a, (size_t)A->m + 1, sizeof(int), "A^T A", e);
+    if (!work || !C.rowptr) goto fail;
+    if ((r = pw__ata_count(A, &At, work, C.rowptr, e)) != PW_OK) goto fail;
+    r = PW_ERR_NOMEM;
+    C.n = C.m = A->m;
+    C.col = (int *)pw_alloc_array(a, (size_t)C.rowptr[C.n], sizeof(int), "A^T A", e);
+    C.val = (double *)pw_alloc_array(a, (size_t)C.rowptr[C.n], sizeof(double), "A^T A", e);
+    if (!C.col || !C.val) goto fail;
+    pw__ata_fill(A, &At, work, &C);
+    if (pw_csr_transpose(a, &C, out, e)) goto fail;
+    pw_csr_free(a, &At);
+    pw_csr_free(a, &C);
+    pw_free(a, work);
+    return PW_OK;
+fail:
+    pw_csr_free(a, &At);
+    pw_csr_free(a, &C);
+    pw_free(a, work);
+    return r;
+}
+
+/* ---- conjugate gradients ----------------------------------------------- */
+
+typedef struct pw_cg_options {
+    int max_iter;         /* iteration cap; 0 = max(1000, 10 * unknowns) */
+    double tol;           /* stop at relative residual <= tol; 0 = 1e-8 (see each solver) */
+    pw_progress progress; /* optional; called every 64 iterations, may cancel */
+} pw_cg_options;
+
+typedef struct pw_cg_stats {
+    int iterations;  /* iterations run (0 when the guess already satisfies tol) */
+    double residual; /* relative residual of the returned x, recomputed from x */
+    int converged;   /* 1 if residual <= tol */
+} pw_cg_stats;
+
+PW__DEF pw_cg_options pw_cg_default_options(void)
+{
+    pw_cg_options o;
+    memset(&o, 0, sizeof o);
+    o.max_iter = 0; /* chosen from the size at solve time */
+    o.tol = 1e-8;
+    return o;
+}
+
+PW__DEF double pw__dot(const double *x, const double *y, int n)
+{
+    double s = 0;
+    int i;
+    for (i = 0; i < n; i++) s += x[i] * y[i];
+    return s;
+}
+
+/* r = b - A x */
+PW__DEF void pw__residual(const pw_csr *A, const double *b, const double *x, double *r)
+{
+    int i;
+    pw_csr_mul(A, x, r);
+    for (i = 0; i < A->n; i++) r[i] = b[i] - r[i];
+}
+
+PW__DEF int pw__check_vec(const double *v, int n, const char *what, pw_err *e)
+{
+    int i;
+    for (i = 0; i < n; i++)
+        if (!pw_is_finite(v[i]))
+            return pw_fail(e, PW_ERR_INVALID, "%s[%d] is not finite", what, i);
+    return PW_OK;
+}
+
+/* Jacobi preconditioner: dinv[j] = 1 / d[j]. A zero or negative entry (an
+ * empty row of a semidefinite matrix, or a matrix that is not positive
+ * definite) falls back to 1, i.e. no scaling for that unknown. */
+PW__DEF void pw__jacobi(double *d, int n)
+{
+    int i;
+    for (i = 0; i < n; i++) d[i] = d[i] > 0 ? 1.0 / d[i] : 1.0;
+}
+
+/* State shared by CG and CGLS: settings, counters, the outcome. */
+typedef struct pw__krylov {
+    int n;          /* unknowns */
+    int max_iter;
+    double tol;
+    double bnorm;   /* norm the residual is measured against */
+    double rnorm;   /* current (recurrence) residual norm */
+    int it;
+    int status;     /* PW_OK, or why the loop stopped */
+    const pw_progress *progress;
+} pw__krylov;
+
+PW__DEF void pw__krylov_init(pw__krylov *k, int n, const pw_cg_options *o)
+{
+    memset(k, 0, sizeof *k);
+    k->n = n;
+    k->tol = o && o->tol > 0 ? o->tol : 1e-8;
+    k->max_iter = o ? o->max_iter : 0;
+    if (k->max_iter <= 0) k->max_iter = n > INT_MAX / 10 ? INT_MAX : pw_maxi(1000, 10 * n);
+    k->progress = o ? &o->progress : NULL;
+}
+
+/* Reports progress as the fraction of the way, in orders of magnitude, from
+ * relative residual 1 down to the tolerance. Returns non-zero to stop. */
+PW__DEF int pw__krylov_report(pw__krylov *k, pw_err *e)
+{
+    double done;
+    if (!k->progress || !k->progress->fn || k->it % 64 != 0) return PW_OK;
+    done = k->rnorm > 0 && k->tol < 1 ? log(k->rnorm / k->bnorm) / log(k->tol) : 1.0;
+    done = done < 0 ? 0 : (done > 1 ? 1 : done);
+    k->status = pw_report(k->progress, (float)done, "conjugate gradients", e);
+    return k->status;
+}
+
+/* Fills the stats and turns a stop without convergence into an error that
+ * carries the residual. `what` names the solver. */
+PW__DEF int pw__krylov_finish(const pw__krylov *k, double true_rnorm, const char *what,
+                              pw_cg_stats *s, pw_err *e)
+{
+    double rel = true_rnorm / k->bnorm;
+    if (s) {
+        s->iterations = k->it;
+        s->residual = rel;
+        s->converged = rel <= k->tol;
+    }
+    if (rel <= k->tol) return PW_OK;
+    if (k->status == PW_ERR_CANCELLED) return k->status;
+    if (k->status)
+        return pw_fail(e, PW_ERR_NOCONVERGE, "%s broke down after %d iterations (the matrix is "
+                       "not positive definite or the system is inconsistent): relative "
+                       "residual %.3g, tolerance %.3g", what, k->it, rel, k->tol);
+    return pw_fail(e, PW_ERR_NOCONVERGE, "%s stopped at the cap of %d iterations: relative "
+                   "residual %.3g, tolerance %.3g", what, k->it, rel, k->tol);
+}
+
+/* The loops below are fused so that each iteration streams the matrix once
+ * and the vectors as few times as possible: CG on large grids is limited
+ * by memory bandwidth, not arithmetic. The preconditioned residual
+ * z = D⁻¹r is never stored. Every sum still runs in index order. */
+
+/* q = A p; returns p·q (A square) or, if `norm`, q·q. */
+PW__DEF double pw__mul_dot(const pw_csr *A, const double *p, double *q, int norm)
+{
+    double d = 0;
+    int i, k;
+    for (i = 0; i < A->n; i++) {
+        double s = 0;
+        for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++) s += A->val[k] * p[A->col[k]];
+        q[i] = s;
+        d += (norm ? s : p[i]) * s;
+    }
+    return d;
+}
+
+/* Returns r·D⁻¹r, and |r|² in *rr. */
+PW__DEF double pw__precond_dots(const double *r, const double *dinv, int n, double *rr)
+{
+    double rz = 0, r2 = 0;
+    int i;
+    for (i = 0; i < n; i++) {
+        rz += r[i] * dinv[i] * r[i];
+        r2 += r[i] * r[i];
+    }
+    *rr = r2;
+    return rz;
+}
+
+/* p = D⁻¹r + beta p (beta = 0 restarts along the preconditioned residual). */
+PW__DEF void pw__new_direction(double *p, const double *r, const double *dinv, double beta,
+                               int n)
+{
+    int i;
+    if (beta == 0)
+        for (i = 0; i < n; i++) p[i] = dinv[i] * r[i];
+    else
+        for (i = 0; i < n; i++) p[i] = dinv[i] * r[i] + beta * p[i];
+}
+
+/* Work vectors of CG, one allocation: residual, direction, A times the
+ * direction, inverse diagonal. */
+typedef struct pw__cg_ws {
+    double *r, *p, *q, *dinv;
+} pw__cg_ws;
+
+/* One CG step along p (q = A p, pq = p·q): x += alpha p, r -= alpha q,
+ * then the next direction. Returns |r|²; *rz carries r·D⁻¹r along. */
+PW__DEF double pw__cg_step(double *x, pw__cg_ws *w, int n, double pq, double *rz)
+{
+    double alpha = *rz / pq, rz1 = 0, rr = 0;
+    int i;
+    for (i = 0; i < n; i++) {
+        double ri = w->r[i] - alpha * w->q[i];
+        x[i] += alpha * w->p[i];
+        w->r[i] = ri;
+        rz1 += ri * w->dinv[i] * ri;
+        rr += ri * ri;
+    }
+    pw__new_direction(w->p, w->r, w->dinv, rz1 / *rz, n);
+    *rz = rz1;
+    return rr;
+}
+
+/* Preconditioned CG iterations from x; r holds b - A x on entry. Restarts
+ * from the true residual when the recurrence claims convergence that the
+ * true residual does not confirm (rounding drift). */
+PW__DEF void pw__cg_loop(const pw_csr *A, const double *b, double *x, pw__cg_ws *w,
+                         pw__krylov *k, pw_err *e)
+{
+    int n = k->n, restart = 1, fresh = 1;
+    double rz = 0, rr;
+    rz = pw__precond_dots(w->r, w->dinv, n, &rr);
+    k->rnorm = sqrt(rr);
+    for (;;) {
+        double pq;
+        if (k->rnorm <= k->tol * k->bnorm) {
+            if (fresh) break;
+            pw__residual(A, b, x, w->r);
+            rz = pw__precond_dots(w->r, w->dinv, n, &rr);
+            k->rnorm = sqrt(rr);
+            fresh = restart = 1;
+            if (k->rnorm <= k->tol * k->bnorm) break;
+        }
+        if (k->it >= k->max_iter || pw__krylov_report(k, e)) break;
+        if (restart) pw__new_direction(w->p, w->r, w->dinv, 0, n);
+        restart = 0;
+        pq = pw__mul_dot(A, w->p, w->q, 0);
+        if (!(pq > 0) || !pw_is_finite(rz / pq)) {
+            k->status = PW_ERR_NOCONVERGE; /* p·Ap <= 0: not positive definite */
+            break;
+        }
+        k->rnorm = sqrt(pw__cg_step(x, w, n, pq, &rz));
+        k->it++;
+        fresh = 0;
+    }
+}
+
+/* Solves A x = b for a symmetric positive definite, or semidefinite with b
+ * in its range, matrix A (n x n) by conjugate gradients with a Jacobi
+ * preconditioner. x holds the initial guess (warm start) and receives the
+ * solution. Stops when |b - A x| <= tol |b| (opts may be NULL; see
+ * pw_cg_options). b = 0 gives x = 0 at once. Returns PW_ERR_INVALID for a
+ * non-square or non-finite input, PW_ERR_NOCONVERGE (residual in the
+ * message) at the iteration cap or on breakdown, PW_ERR_CANCELLED if the
+ * progress callback stopped it: in those three cases x holds the last
+ * iterate, never worse in the energy norm than the guess, and *s its
+ * residual. */
+PW__DEF int pw_cg_solve(const pw_alloc *a, const pw_csr *A, const double *b, double *x,
+                        const pw_cg_options *o, pw_cg_stats *s, pw_err *e)
+{
+    pw__krylov k;
+    pw__cg_ws w;
+    int n, r;
+    if (s) memset(s, 0, sizeof *s);
+    if (pw_csr_check(A, e)) return PW_ERR_INVALID;
+    n = A->n;
+    if (A->m != n) return pw_fail(e, PW_ERR_INVALID, "CG needs a square matrix, not %dx%d", n, A->m);
+    if (pw__check_vec(b, n, "CG right-hand side b", e) || pw__check_vec(x, n, "CG guess x", e))
+        return PW_ERR_INVALID;
+    pw__krylov_init(&k, n, o);
+    k.bnorm = sqrt(pw__dot(b, b, n));
+    if (k.bnorm == 0) {
+        memset(x, 0, (size_t)n * sizeof *x);
+        if (s) s->converged = 1;
+        return PW_OK;
+    }
+    w.r = (double *)pw_alloc_array(a, (size_t)n * 4, sizeof(double), "CG vectors", e);
+    if (!w.r) return PW_ERR_NOMEM;
+    w.p = w.r + n;
+    w.q = w.p + n;
+    w.dinv = w.q + n;
+    pw_csr_diag(A, w.dinv);
+    pw__jacobi(w.dinv, n);
+    pw__residual(A, b, x, w.r);
+    pw__cg_loop(A, b, x, &w, &k, e);
+    pw__residual(A, b, x, w.r); /* report what x achieves, not the recurrence */
+    r = pw__krylov_finish(&k, sqrt(pw__dot(w.r, w.r, n)), "CG", s, e);
+    pw_free(a, w.r);
+    return r;
+}
+
+/* ---- least squares (CGLS) ---------------------------------------------- */
+
+/* Work vectors of CGLS: r, q in row space (rows); s = Aᵀr, p, dinv in
+ * column space (cols). */
+typedef struct pw__cgls_ws {
+    double *r, *q, *s, *p, *dinv;
+} pw__cgls_ws;
+
+/* r = b - A x, s = Aᵀ r; returns |s|. */
+PW__DEF double pw__cgls_residual(const pw_csr *A, const double *b, const double *x,
+                                 pw__cgls_ws *w)
+{
+    pw__residual(A, b, x, w->r);
+    pw_csr_mul_t(A, w->r, w->s);
+    return sqrt(pw__dot(w->s, w->s, A->m));
+}
+
+/* One CGLS step along p: x += alpha p with the residual updated in row
+ * space, then s = Aᵀr and the next direction. Returns |s|², or -1 on
+ * breakdown (A p = 0); *gamma carries s·D⁻¹s along. */
+PW__DEF double pw__cgls_step(const pw_csr *A, double *x, pw__cgls_ws *w, double *gamma)
+{
+    int i, m = A->m;
+    double qq = pw__mul_dot(A, w->p, w->q, 1), alpha, g1, ss;
+    if (!(qq > 0) || !pw_is_finite(*gamma / qq)) return -1;
+    alpha = *gamma / qq;
+    for (i = 0; i < m; i++) x[i] += alpha * w->p[i];
+    for (i = 0; i < A->n; i++) w->r[i] -= alpha * w->q[i];
+    pw_csr_mul_t(A, w->r, w->s);
+    g1 = pw__precond_dots(w->s, w->dinv, m, &ss);
+    pw__new_direction(w->p, w->s, w->dinv, g1 / *gamma, m);
+    *gamma = g1;
+    return ss;
+}
+
+/* CGLS iterations, structured like pw__cg_loop with the normal-equation
+ * residual s = Aᵀ(b - A x) in the role of CG's residual. */
+PW__DEF void pw__cgls_loop(const pw_csr *A, const double *b, double *x, pw__cgls_ws *w,
+                           pw__krylov *k, pw_err *e)
+{
+    int m = A->m, restart = 1, fresh = 1;
+    double gamma = 0, ss;
+    k->rnorm = pw__cgls_residual(A, b, x, w);
+    for (;;) {
+        if (k->rnorm <= k->tol * k->bnorm) {
+            if (fresh) break;
+            k->rnorm = pw__cgls_residual(A, b, x, w);
+            fresh = restart = 1;
+            if (k->rnorm <= k->tol * k->bnorm) break;
+        }
+        if (k->it >= k->max_iter || pw__krylov_report(k, e)) break;
+        if (restart) {
+            gamma = pw__precond_dots(w->s, w->dinv, m, &ss);
+            pw__new_direction(w->p, w->s, w->dinv, 0, m);
+            restart = 0;
+        }
+        ss = pw__cgls_step(A, x, w, &gamma);
+        if (ss < 0) {
+            k->status = PW_ERR_NOCONVERGE;
+            break;
+        }
+        k->rnorm = sqrt(ss);
+        k->it++;
+        fresh = 0;
+    }
+}
+
+/* Jacobi preconditioner of the normal equations: the squared column norms
+ * of A, i.e. diag(AᵀA), summed in row order. */
+PW__DEF void pw__col_norms2(const pw_csr *A, double *d)
+{
+    int i, k;
+    for (k = 0; k < A->m; k++) d[k] = 0;
+    for (i = 0; i < A->n; i++)
+        for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++) d[A->col[k]] += A->val[k] * A->val[k];
+}
+
+/* Least squares: x minimising |A x - b| for A with n rows and m columns
+ * (b: n, x: m), by Jacobi-preconditioned CGLS. x holds the initial guess
+ * and receives the solution. The tolerance applies to the normal-equation
+ * residual, |Aᵀ(b - A x)| <= tol |Aᵀ b| (the quantity that vanishes at the
+ * minimum even when A x = b has no solution); stats->residual reports it.
+ * Aᵀb = 0 gives x = 0. Unknowns that no row touches keep their guess. Errors
+ * and the meaning of x after a failure are as for pw_cg_solve. */
+PW__DEF int pw_lsq_solve(const pw_alloc *a, const pw_csr *A, const double *b, double *x,
+                         const pw_cg_options *o, pw_cg_stats *s, pw_err *e)
+{
+    pw__krylov k;
+    pw__cgls_ws w;
+    int m, r;
+    if (s) memset(s, 0, sizeof *s);
+    if (pw_csr_check(A, e)) return PW_ERR_INVALID;
+    m = A->m;
+    if (pw__check_vec(b, A->n, "least-squares right-hand side b", e) ||
+        pw__check_vec(x, m, "least-squares guess x", e))
+        return PW_ERR_INVALID;
+    pw__krylov_init(&k, m, o);
+    w.r = (double *)pw_alloc_array(a, (size_t)A->n * 2 + (size_t)m * 3, sizeof(double),
+                                   "least-squares vectors", e);
+    if (!w.r) return PW_ERR_NOMEM;
+    w.q = w.r + A->n;
+    w.s = w.q + A->n;
+    w.p = w.s + m;
+    w.dinv = w.p + m;
+    pw_csr_mul_t(A, b, w.s);
+    k.bnorm = sqrt(pw__dot(w.s, w.s, m));
+    if (k.bnorm == 0) {
+        memset(x, 0, (size_t)m * sizeof *x);
+        if (s) s->converged = 1;
+        pw_free(a, w.r);
+        return PW_OK;
+    }
+    pw__col_norms2(A, w.dinv);
+    pw__jacobi(w.dinv, m);
+    pw__cgls_loop(A, b, x, &w, &k, e);
+    r = pw__krylov_finish(&k, pw__cgls_residual(A, b, x, &w), "least-squares CG", s, e);
+    pw_free(a, w.r);
+    return r;
+}
+
+#endif /* PW__SPARSE_V1 */

@@ -1,0 +1,744 @@
+/* Tests of tiled.h through its public API (and, where a test needs to
+ * look inside, the shared core compiled into this file). */
+#define TILED_IMPLEMENTATION
+#include "../tiled.h"
+#include "pwtest.h"
+
+/* ---- helpers ----------------------------------------------------------- */
+
+static tiled_options opts(int case_number, int n)
+{
+    tiled_options o = tiled_default_options();
+    o.layout.case_number = case_number;
+    if (case_number == 1) o.layout.grid = n;
+    else o.layout.pairs = n;
+    return o;
+}
+
+/* Where a corner's texture coordinates land: tile (col,row) and the tile
+ * corner 0..3 (0 lower-left, counter-clockwise). */
+typedef struct corner_at {
+    int col, row, corner;
+} corner_at;
+
+static corner_at decode(const tiled_tileset *ts, const float *uv)
+{
+    static const int corner_of[2][2] = {{0, 3}, {1, 2}}; /* [du][dv] */
+    corner_at c;
+    int T = ts->layout.tile_size, g = ts->layout.guard < 0 ? 0 : ts->layout.guard, C = T + 2 * g;
+    double W = (double)ts->tiles_per_side * C, x = uv[0] * W, y = uv[1] * W;
+    int du, dv;
+    c.col = (int)((x + 0.5) / C);
+    c.row = (int)((y + 0.5) / C);
+    if (c.col >= ts->tiles_per_side) c.col = ts->tiles_per_side - 1;
+    if (c.row >= ts->tiles_per_side) c.row = ts->tiles_per_side - 1;
+    du = x - c.col * C - g > 0.5 * T;
+    dv = y - c.row * C - g > 0.5 * T;
+    c.corner = corner_of[du][dv];
+    return c;
+}
+
+/* A layout-only tile set (no atlas) for mapping tests. */
+static tiled_tileset layout_only(int case_number, int n, int guard)
+{
+    tiled_tileset ts;
+    memset(&ts, 0, sizeof ts);
+    ts.layout.case_number = case_number;
+    ts.layout.pairs = case_number == 2 ? n : 1;
+    ts.layout.grid = case_number == 1 ? n : 4;
+    ts.layout.tile_size = 64;
+    ts.layout.guard = guard;
+    ts.tiles_per_side = case_number == 1 ? n : 4 * n * n;
+    return ts;
+}
+
+/* Per half-edge of a mapped quad mesh: the tile side it lies on, whether
+ * it walks the side in the tile's counter-clockwise direction, and the
+ * side's boundary type read from the tile's name (position in the atlas).
+ * Returns 0 if a face's corners are not the four corners of one tile. */
+static int sides_of(const tiled_tileset *ts, const tiled_mesh *m, int *side, int *forward, int *type)
+{
+    int f, k, n = ts->layout.case_number == 1 ? 1 : 2 * ts->layout.pairs;
+    for (f = 0; f < m->nfaces; f++) {
+        int h0 = m->face_start[f];
+        corner_at c[4];
+        if (m->face_start[f + 1] - h0 != 4) return 0;
+        for (k = 0; k < 4; k++) c[k] = decode(ts, m->uvs + 2 * (h0 + k));
+        for (k = 0; k < 4; k++) {
+            corner_at a = c[k], b = c[(k + 1) & 3];
+            int fwd = (b.corner - a.corner + 4) % 4 == 1, bwd = (a.corner - b.corner + 4) % 4 == 1;
+            int s = fwd ? a.corner : b.corner, e[4];
+            if (a.col != c[0].col || a.row != c[0].row || (!fwd && !bwd)) return 0;
+            e[0] = a.col / n;
+            e[1] = a.col % n;
+            e[2] = a.row / n;
+            e[3] = a.row % n;
+            side[h0 + k] = s;
+            forward[h0 + k] = fwd;
+            type[h0 + k] = ts->layout.case_number == 1 ? 0 : e[s];
+        }
+    }
+    return 1;
+}
+
+/* Twin of each corner's half-edge (-1 on the boundary), from a sorted
+ * list of undirected edges: independent of the library's half-edge code. */
+typedef struct he_key {
+    int lo, hi, h;
+} he_key;
+
+static int he_cmp(const void *x, const void *y)
+{
+    const he_key *p = (const he_key *)x, *q = (const he_key *)y;
+    if (p->lo != q->lo) return p->lo < q->lo ? -1 : 1;
+    if (p->hi != q->hi) return p->hi < q->hi ? -1 : 1;
+    return p->h - q->h;
+}
+
+static int next_corner(const tiled_mesh *m, int f, int k)
+{
+    return k + 1 < m->face_start[f + 1] ? k + 1 : m->face_start[f];
+}
+
+static int *twins_of(const tiled_mesh *m)
+{
+    int nc = m->face_start[m->nfaces], f, k, *tw = (int *)malloc(sizeof(int) * nc);
+    he_key *keys = (he_key *)malloc(sizeof(he_key) * nc);
+    for (f = 0; f < m->nfaces; f++)
+        for (k = m->face_start[f]; k < m->face_start[f + 1]; k++) {
+            int a = m->face_verts[k], b = m->face_verts[next_corner(m, f, k)];
+            keys[k].lo = a < b ? a : b;
+            keys[k].hi = a < b ? b : a;
+            keys[k].h = k;
+            tw[k] = -1;
+        }
+    qsort(keys, nc, sizeof *keys, he_cmp);
+    for (k = 0; k + 1 < nc; k++)
+        if (keys[k].lo == keys[k + 1].lo && keys[k].hi == keys[k + 1].hi) {
+            tw[keys[k].h] = keys[k + 1].h;
+            tw[keys[k + 1].h] = keys[k].h;
+        }
+    free(keys);
+    return tw;
+}
+
+static int *faces_of_corners(const tiled_mesh *m)
+{
+    int f, k, *fc = (int *)malloc(sizeof(int) * m->face_start[m->nfaces]);
+    for (f = 0; f < m->nfaces; f++)
+        for (k = m->face_start[f]; k < m->face_start[f + 1]; k++) fc[k] = f;
+    return fc;
+}
+
+/* The Fig. 29 invariants on a mapped mesh: every face's corners are one
+ * tile's corners; across every interior edge the two sides have partner
+ * types (2k, 2k+1; case 1: the same type) and are walked in opposite
+ * directions. Returns the number of interior edges checked (or -1). */
+static int check_edges(const tiled_tileset *ts, const tiled_mesh *m)
+{
+    int nc = m->face_start[m->nfaces], k, bad = 0, edges = 0;
+    int *side = (int *)malloc(sizeof(int) * nc), *fwd = (int *)malloc(sizeof(int) * nc);
+    int *type = (int *)malloc(sizeof(int) * nc), *tw = twins_of(m);
+    int ok = sides_of(ts, m, side, fwd, type);
+    CHECKF(ok, "a face's corners are not the corners of one tile");
+    for (k = 0; ok && k < nc; k++) {
+        int t = tw[k];
+        if (t < 0 || t < k) continue;
+        edges++;
+        if (ts->layout.case_number == 2 ? (type[k] ^ 1) != type[t] : type[k] != type[t]) bad++;
+        if (ts->layout.case_number == 2 && (!fwd[k] || !fwd[t])) bad++;
+        if (m->corner_types && m->corner_types[k] != type[k]) bad++;
+    }
+    CHECKF(bad == 0, "%d of %d interior edges break the tile invariants", bad, edges);
+    free(side);
+    free(fwd);
+    free(type);
+    free(tw);
+    return ok && !bad ? edges : -1;
+}
+
+/* Texel next to half-edge h at distance x along it from its start vertex
+ * (inside the tile, first row). */
+static const float *texel_at(const tiled_tileset *ts, const tiled_mesh *m, const int *side,
+                             const int *fwd, const int *fc, int h, int x)
+{
+    tiled__geom gm = tiled__geometry(&ts->layout);
+    pw_image atlas = tiled__pw_image(&ts->atlas);
+    int T = gm.T, a = fwd[h] ? x : T - 1 - x, i, j;
+    tiled__from_side(side[h], T, a, 0, &i, &j);
+    return tiled__atlas_px(&atlas, &gm, m->face_tiles[fc[h]], i, j);
+}
+
+/* Mean colour jump between neighbouring texels inside the tiles. */
+static double interior_jump(const tiled_tileset *ts)
+{
+    tiled__geom gm = tiled__geometry(&ts->layout);
+    pw_image atlas = tiled__pw_image(&ts->atlas);
+    double sum = 0.0;
+    long n = 0;
+    int t, i, j;
+    for (t = 0; t < gm.N * gm.N; t++)
+        for (j = 0; j + 1 < gm.T; j++)
+            for (i = 0; i + 1 < gm.T; i++) {
+                const float *p = tiled__atlas_px(&atlas, &gm, t, i, j);
+                sum += tiled__dist(p, tiled__atlas_px(&atlas, &gm, t, i + 1, j), atlas.c);
+                sum += tiled__dist(p, tiled__atlas_px(&atlas, &gm, t, i, j + 1), atlas.c);
+                n += 2;
+            }
+    return sum / (double)n;
+}
+
+/* Mean colour jump across the mesh's interior edges, texel against texel;
+ * also the worst edge's mean. */
+static double seam_jump(const tiled_tileset *ts, const tiled_mesh *m, double *worst)
+{
+    int nc = m->face_start[m->nfaces], k, x, T = ts->layout.tile_size, c = ts->atlas.channels;
+    int *side = (int *)malloc(sizeof(int) * nc), *fwd = (int *)malloc(sizeof(int) * nc);
+    int *type = (int *)malloc(sizeof(int) * nc), *tw = twins_of(m), *fc = faces_of_corners(m);
+    double sum = 0.0;
+    long n = 0;
+    *worst = 0.0;
+    if (sides_of(ts, m, side, fwd, type))
+        for (k = 0; k < nc; k++) {
+            double edge = 0.0;
+            if (tw[k] < k) continue;
+            for (x = 0; x < T; x++)
+                edge += tiled__dist(texel_at(ts, m, side, fwd, fc, k, x),
+                                    texel_at(ts, m, side, fwd, fc, tw[k], T - 1 - x), c);
+            sum += edge;
+            n += T;
+            if (edge / T > *worst) *worst = edge / T;
+        }
+    free(side);
+    free(fwd);
+    free(type);
+    free(tw);
+    free(fc);
+    return n ? sum / (double)n : -1.0;
+}
+
+/* ---- tests ----------------------------------------------------------------- */
+
+/* Fig. 29 with the erratum fixed, on the thesis layout (no guard): corner i
+ * of tile e0e1e2e3 is at ((2n e0 + e1 + j)/(4n^2), (2n e2 + e3 + i/2)/(4n^2)),
+ * j = ((i+1) mod 4)/2. The printed floor(j/2) would put every corner at u
+ * offset 0. */
+static void t_fig29_formula(void)
+{
+    int n, f, k;
+    for (n = 1; n <= 3; n++) {
+        tiled_tileset ts = layout_only(2, n, TILED_NO_GUARD);
+        tiled_options o = opts(2, n);
+        tiled_mesh mesh, q;
+        tiled_error err;
+        int bad = 0;
+        REQUIRE(tiled_builtin_mesh("torus", &o, &mesh, &err) == TILED_OK);
+        REQUIRE(tiled_map(&mesh, &ts.layout, &o, &q, &err) == TILED_OK);
+        for (f = 0; f < q.nfaces; f++) {
+            int e[4], tile = q.face_tiles[f], N = 4 * n * n, fixed = 0;
+            e[0] = (tile % N) / (2 * n);
+            e[1] = (tile % N) % (2 * n);
+            e[2] = (tile / N) / (2 * n);
+            e[3] = (tile / N) % (2 * n);
+            for (k = 0; k < 4; k++) {
+                const float *uv = q.uvs + 2 * (q.face_start[f] + k);
+                int i;
+                for (i = 0; i < 4; i++) {
+                    int j = ((i + 1) % 4) / 2;
+                    double u = (2.0 * n * e[0] + e[1] + j) / (4.0 * n * n);
+                    double v = (2.0 * n * e[2] + e[3] + i / 2) / (4.0 * n * n);
+                    if (fabs(uv[0] - u) < 1e-6 && fabs(uv[1] - v) < 1e-6) fixed++;
+                }
+            }
+            bad += fixed != 4;
+        }
+        CHECKF(bad == 0, "n=%d: %d faces' corners do not follow the corrected formula", n, bad);
+        tiled_mesh_free(&mesh);
+        tiled_mesh_free(&q);
+    }
+}
+
+/* Thousands of quads, genus 1 and 2, n = 1..3: partner types across every
+ * edge, walked in opposite directions. */
+static void t_edge_invariants(void)
+{
+    static const char *meshes[3] = {"torus", "double-torus", "grid"};
+    int n, k, total = 0;
+    for (k = 0; k < 3; k++)
+        for (n = 1; n <= 3; n++) {
+            tiled_tileset ts = layout_only(2, n, 0);
+            tiled_options o = opts(2, n);
+            tiled_mesh mesh, q;
+            tiled_error err;
+            o.subdivide = k == 1 ? 3 : 2;
+            o.seed = (unsigned long long)(n * 10 + k);
+            ts.layout.guard = 8;
+            REQUIRE(tiled_builtin_mesh(meshes[k], &o, &mesh, &err) == TILED_OK);
+            REQUIRE(tiled_map(&mesh, &ts.layout, &o, &q, &err) == TILED_OK);
+            total += check_edges(&ts, &q);
+            tiled_mesh_free(&mesh);
+            tiled_mesh_free(&q);
+        }
+    pwt_info("%d interior edges checked", total);
+}
+
+static void t_case1_invariants(void)
+{
+    tiled_tileset ts = layout_only(1, 3, 0);
+    tiled_options o = opts(1, 3);
+    tiled_mesh mesh, q;
+    tiled_error err;
+    int f, used[9] = {0}, flips = 0, nc, k, *side, *fwd, *type;
+    ts.layout.guard = 8;
+    o.subdivide = 2;
+    REQUIRE(tiled_builtin_mesh("double-torus", &o, &mesh, &err) == TILED_OK);
+    REQUIRE(tiled_map(&mesh, &ts.layout, &o, &q, &err) == TILED_OK);
+    CHECK(check_edges(&ts, &q) > 1000);
+    nc = q.face_start[q.nfaces];
+    side = (int *)malloc(sizeof(int) * nc);
+    fwd = (int *)malloc(sizeof(int) * nc);
+    type = (int *)malloc(sizeof(int) * nc);
+    REQUIRE(sides_of(&ts, &q, side, fwd, type));
+    for (f = 0; f < q.nfaces; f++) {
+        used[q.face_tiles[f]] = 1;
+        flips += !fwd[q.face_start[f]];
+    }
+    for (k = 0; k < 9; k++) CHECKF(used[k], "tile %d never used", k);
+    CHECKF(flips > q.nfaces / 4 && flips < 3 * q.nfaces / 4, "%d of %d faces mirrored", flips, q.nfaces);
+    o.no_mirror = 1;
+    tiled_mesh_free(&q);
+    REQUIRE(tiled_map(&mesh, &ts.layout, &o, &q, &err) == TILED_OK);
+    REQUIRE(sides_of(&ts, &q, side, fwd, type));
+    for (f = flips = 0; f < q.nfaces; f++) flips += !fwd[q.face_start[f]];
+    CHECK_EQ_INT(flips, 0);
+    free(side);
+    free(fwd);
+    free(type);
+    tiled_mesh_free(&mesh);
+    tiled_mesh_free(&q);
+}
+
+/* Random starting edge: each face's tile walk starts at any of its four
+ * corners; fixed_start pins it to the first. */
+static void t_random_start(void)
+{
+    tiled_tileset ts = layout_only(2, 1, 8);
+    tiled_options o = opts(2, 1);
+    tiled_mesh mesh, q;
+    tiled_error err;
+    int f, count[4] = {0, 0, 0, 0};
+    REQUIRE(tiled_builtin_mesh("torus", &o, &mesh, &err) == TILED_OK);
+    REQUIRE(tiled_map(&mesh, &ts.layout, &o, &q, &err) == TILED_OK);
+    for (f = 0; f < q.nfaces; f++) {
+        int k;
+        for (k = 0; k < 4; k++)
+            if (decode(&ts, q.uvs + 2 * (q.face_start[f] + k)).corner == 0) count[k]++;
+    }
+    for (f = 0; f < 4; f++) CHECKF(count[f] > q.nfaces / 8, "start corner %d used %d times", f, count[f]);
+    tiled_mesh_free(&q);
+    o.fixed_start = 1;
+    REQUIRE(tiled_map(&mesh, &ts.layout, &o, &q, &err) == TILED_OK);
+    for (f = 0; f < q.nfaces; f++) CHECK(decode(&ts, q.uvs + 2 * q.face_start[f]).corner == 0);
+    tiled_mesh_free(&q);
+    tiled_mesh_free(&mesh);
+}
+
+/* Synthesises a tile set from a built-in exemplar. */
+static int synth(const char *exemplar, tiled_options *o, tiled_tileset *ts)
+{
+    tiled_image ex;
+    tiled_error err;
+    int ok = tiled_builtin_exemplar(exemplar, 64, o, &ex, &err) == TILED_OK &&
+             tiled_synthesize(&ex, o, ts, &err) == TILED_OK;
+    CHECKF(ok, "synthesis failed: %s", err.message);
+    tiled_image_free(&ex);
+    return ok;
+}
+
+/* Seams on a mapped mesh are no larger than neighbouring texels inside
+ * tiles: the pattern continues across every edge. */
+static void seam_case(int case_number, int n, const char *exemplar, const char *mesh_name)
+{
+    tiled_options o = opts(case_number, n);
+    tiled_tileset ts;
+    tiled_mesh mesh, q;
+    tiled_error err;
+    double inside, worst, seam;
+    o.subdivide = 1;
+    if (!synth(exemplar, &o, &ts)) return;
+    REQUIRE(tiled_builtin_mesh(mesh_name, &o, &mesh, &err) == TILED_OK);
+    REQUIRE(tiled_map(&mesh, &ts.layout, &o, &q, &err) == TILED_OK);
+    inside = interior_jump(&ts);
+    seam = seam_jump(&ts, &q, &worst);
+    pwt_info("case %d n=%d %s on %s: seam %.4f vs interior %.4f (worst edge %.4f)", case_number, n,
+             exemplar, mesh_name, seam, inside, worst);
+    CHECKF(seam >= 0.0 && seam <= 1.1 * inside, "seam %.4f > interior %.4f", seam, inside);
+    CHECKF(worst <= 2.5 * inside, "worst edge seam %.4f vs interior %.4f", worst, inside);
+    tiled_tileset_free(&ts);
+    tiled_mesh_free(&mesh);
+    tiled_mesh_free(&q);
+}
+
+static void t_seams_case2(void) { seam_case(2, 1, "pebbles", "double-torus"); }
+static void t_seams_case2_pairs2(void) { seam_case(2, 2, "spots", "torus"); }
+static void t_seams_case1(void) { seam_case(1, 3, "lichen", "cube"); }
+
+/* Every tile of the set shows up on a large mesh. */
+static void t_all_tiles_used(void)
+{
+    int n;
+    for (n = 1; n <= 2; n++) {
+        tiled_tileset ts = layout_only(2, n, 8);
+        tiled_options o = opts(2, n);
+        tiled_mesh mesh, q;
+        tiled_error err;
+        int N = ts.tiles_per_side, *used = (int *)calloc((size_t)N * N, sizeof(int)), f, missing = 0;
+        o.subdivide = n == 1 ? 1 : 3;
+        REQUIRE(tiled_builtin_mesh("torus", &o, &mesh, &err) == TILED_OK);
+        REQUIRE(tiled_map(&mesh, &ts.layout, &o, &q, &err) == TILED_OK);
+        for (f = 0; f < q.nfaces; f++) used[q.face_tiles[f]]++;
+        for (f = 0; f < N * N; f++) missing += !used[f];
+        CHECKF(missing == 0, "n=%d: %d of %d tiles unused on %d quads", n, missing, N * N, q.nfaces);
+        free(used);
+        tiled_mesh_free(&mesh);
+        tiled_mesh_free(&q);
+    }
+}
+
+static int buf_sink(void *ctx, const void *data, size_t size)
+{
+    return pw_buf_write(ctx, data, size);
+}
+
+/* OBJ and PNG of one run, in memory. */
+static void run_to_memory(unsigned long long seed, pw_buf *obj, pw_buf *png)
+{
+    tiled_options o = opts(2, 1);
+    tiled_render_options ro;
+    tiled_tileset ts;
+    tiled_mesh mesh, q;
+    tiled_image pic;
+    tiled_error err;
+    memset(&ro, 0, sizeof ro);
+    ro.width = 160;
+    ro.height = 120;
+    o.seed = seed;
+    memset(obj, 0, sizeof *obj);
+    memset(png, 0, sizeof *png);
+    if (!synth("pebbles", &o, &ts)) return;
+    REQUIRE(tiled_builtin_mesh("double-torus", &o, &mesh, &err) == TILED_OK);
+    REQUIRE(tiled_map(&mesh, &ts.layout, &o, &q, &err) == TILED_OK);
+    REQUIRE(tiled_write_obj_to_func(&q, "x.mtl", buf_sink, obj, &err) == TILED_OK);
+    REQUIRE(tiled_render(&q, &ts, &ro, &pic, &err) == TILED_OK);
+    REQUIRE(tiled_write_image_to_func(&pic, "png", buf_sink, png, &err) == TILED_OK);
+    REQUIRE(tiled_write_image_to_func(&ts.atlas, "png", buf_sink, png, &err) == TILED_OK);
+    tiled_image_free(&pic);
+    tiled_tileset_free(&ts);
+    tiled_mesh_free(&mesh);
+    tiled_mesh_free(&q);
+}
+
+static void t_determinism(void)
+{
+    pw_buf a1, a2, b1, b2, c1, c2;
+    run_to_memory(7, &a1, &a2);
+    run_to_memory(7, &b1, &b2);
+    run_to_memory(8, &c1, &c2);
+    CHECK(a1.size > 0 && a2.size > 0);
+    CHECK(a1.size == b1.size && !memcmp(a1.data, b1.data, a1.size));
+    CHECK(a2.size == b2.size && !memcmp(a2.data, b2.data, a2.size));
+    CHECK(a1.size != c1.size || memcmp(a1.data, c1.data, a1.size));
+    CHECK(a2.size != c2.size || memcmp(a2.data, c2.data, a2.size));
+    free(a1.data), free(a2.data), free(b1.data), free(b2.data), free(c1.data), free(c2.data);
+}
+
+/* The thesis layout (no guard bands) of a synthesised set. */
+static tiled_image plain_layout(const tiled_tileset *ts)
+{
+    tiled__geom gm = tiled__geometry(&ts->layout), plain;
+    pw_image atlas = tiled__pw_image(&ts->atlas);
+    tiled_image out;
+    int t, j;
+    memset(&out, 0, sizeof out);
+    plain = gm;
+    plain.g = 0;
+    plain.C = gm.T;
+    out.width = out.height = gm.N * gm.T;
+    out.channels = atlas.c;
+    out.pixels = (float *)malloc(sizeof(float) * out.width * out.height * out.channels);
+    for (t = 0; t < gm.N * gm.N; t++)
+        for (j = 0; j < gm.T; j++) {
+            pw_image o = tiled__pw_image(&out);
+            memcpy(tiled__atlas_px(&o, &plain, t, 0, j), tiled__atlas_px(&atlas, &gm, t, 0, j),
+                   sizeof(float) * gm.T * atlas.c);
+        }
+    return out;
+}
+
+/* A synthesised set passes validation; the same set with one tile turned
+ * by 90 degrees fails on exactly that tile's sides. */
+static void t_validate(void)
+{
+    tiled_options o = opts(2, 1);
+    tiled_tileset ts;
+    tiled_validation v;
+    tiled_error err;
+    tiled_image img;
+    int T, i, j, k, c, bad_tile = 5, only_that = 1;
+    float *copy;
+    if (!synth("pebbles", &o, &ts)) return;
+    img = plain_layout(&ts);
+    REQUIRE(tiled_validate_tiles(&img, &o, &v, &err) == TILED_OK);
+    pwt_info("valid set: %d sides, worst seam %.4f, threshold %.4f", v.sides_checked, v.worst, v.threshold);
+    CHECK_EQ_INT(v.sides_checked, 64);
+    CHECK_EQ_INT(v.nbad, 0);
+    T = ts.layout.tile_size;
+    c = img.channels;
+    copy = (float *)malloc(sizeof(float) * T * T * c);
+    for (j = 0; j < T; j++) /* tile 5 sits at column 1, row 1 (from the bottom) */
+        memcpy(copy + (size_t)j * T * c, img.pixels + ((size_t)(img.height - 1 - T - j) * img.width + T) * c,
+               sizeof(float) * T * c);
+    for (j = 0; j < T; j++)
+        for (i = 0; i < T; i++)
+            for (k = 0; k < c; k++) /* rotate by 90 degrees */
+                img.pixels[((size_t)(img.height - 1 - T - j) * img.width + T + i) * c + k] =
+                    copy[((size_t)i * T + (T - 1 - j)) * c + k];
+    REQUIRE(tiled_validate_tiles(&img, &o, &v, &err) == TILED_OK);
+    pwt_info("rotated tile: %d bad sides, worst %.4f", v.nbad, v.worst);
+    CHECK(v.nbad >= 2);
+    for (k = 0; k < v.nbad && k < TILED_MAX_MISMATCHES; k++) only_that &= v.bad[k].tile == bad_tile;
+    CHECKF(only_that, "a side of another tile was reported first");
+    free(copy);
+    free(img.pixels);
+    tiled_tileset_free(&ts);
+}
+
+/* Guard bands hold what continues across each side, and a hand-made set
+ * re-wrapped by tiled_tileset_from_image gets the same atlas back. */
+static void t_guards(void)
+{
+    tiled_options o = opts(2, 1);
+    tiled_tileset ts, again;
+    tiled_image img;
+    tiled_error err;
+    size_t n, k, diff = 0;
+    if (!synth("spots", &o, &ts)) return;
+    img = plain_layout(&ts);
+    REQUIRE(tiled_tileset_from_image(&img, &o, &again, &err) == TILED_OK);
+    CHECK_EQ_INT(again.atlas.width, ts.atlas.width);
+    CHECK_EQ_INT(again.layout.tile_size, ts.layout.tile_size);
+    n = (size_t)ts.atlas.width * ts.atlas.height * ts.atlas.channels;
+    for (k = 0; k < n; k++) diff += ts.atlas.pixels[k] != again.atlas.pixels[k];
+    CHECK_EQ_INT(diff, 0);
+    CHECKF(ts.max_mip_level >= 2, "max mip level %d", ts.max_mip_level);
+    free(img.pixels);
+    tiled_tileset_free(&again);
+    tiled_tileset_free(&ts);
+}
+
+/* Triangles and mixed polygons become quads by Catmull-Clark first. */
+static void t_catmull_clark_first(void)
+{
+    tiled_tileset ts = layout_only(2, 1, 8);
+    tiled_options o = opts(2, 1);
+    tiled_mesh mesh, q;
+    tiled_error err;
+    REQUIRE(tiled_builtin_mesh("icosahedron", &o, &mesh, &err) == TILED_OK);
+    REQUIRE(tiled_map(&mesh, &ts.layout, &o, &q, &err) == TILED_OK);
+    CHECK_EQ_INT(q.nfaces, 60);
+    CHECK(check_edges(&ts, &q) == 120);
+    tiled_mesh_free(&q);
+    o.subdivide = 2;
+    REQUIRE(tiled_map(&mesh, &ts.layout, &o, &q, &err) == TILED_OK);
+    CHECK_EQ_INT(q.nfaces, 960);
+    tiled_mesh_free(&q);
+    tiled_mesh_free(&mesh);
+}
+
+/* ---- bad input ------------------------------------------------------------- */
+
+static tiled_result map_text(const char *text, tiled_error *err)
+{
+    tiled_tileset ts = layout_only(2, 1, 8);
+    tiled_mesh mesh, q;
+    tiled_result r = tiled_load_mesh_from_memory(text, strlen(text), "bad.obj", NULL, &mesh, err);
+    if (r != TILED_OK) return r;
+    r = tiled_map(&mesh, &ts.layout, NULL, &q, err);
+    tiled_mesh_free(&mesh);
+    tiled_mesh_free(&q);
+    return r;
+}
+
+static void t_bad_meshes(void)
+{
+    tiled_error err;
+    /* three quads sharing the edge 0-1 */
+    CHECK_EQ_INT(map_text("v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 1 -1 0\nv 0 -1 0\nv 1 0 1\nv 0 0 1\n"
+                          "f 1 2 3 4\nf 2 1 6 5\nf 1 2 7 8\n", &err), TILED_ERR_TOPOLOGY);
+    CHECKF(strstr(err.message, "non-manifold") != NULL, "message: %s", err.message);
+    /* second quad flipped */
+    CHECK_EQ_INT(map_text("v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 2 0 0\nv 2 1 0\n"
+                          "f 1 2 3 4\nf 2 3 6 5\n", &err), TILED_ERR_TOPOLOGY);
+    CHECKF(strstr(err.message, "orientation") != NULL, "message: %s", err.message);
+    CHECK_EQ_INT(map_text("v 0 0 nan\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n", &err), TILED_ERR_INVALID);
+    CHECK_EQ_INT(map_text("v 0 0 0\nv 1 0 0\nv 1 1 0\nf 1 2 7\n", &err), TILED_ERR_INVALID);
+    CHECKF(strstr(err.message, "bad.obj:4") != NULL, "message: %s", err.message);
+}
+
+static void t_bad_arguments(void)
+{
+    tiled_options o = opts(2, 1);
+    tiled_tileset ts;
+    tiled_image ex;
+    tiled_mesh mesh, q;
+    tiled_error err;
+    tiled_layout l = layout_only(2, 1, 8).layout;
+    float nan_px[8 * 8 * 3];
+    int k;
+    REQUIRE(tiled_builtin_mesh("cube", &o, &mesh, &err) == TILED_OK);
+    l.pairs = 9;
+    CHECK_EQ_INT(tiled_map(&mesh, &l, &o, &q, &err), TILED_ERR_INVALID);
+    CHECKF(strstr(err.message, "pairs") != NULL, "message: %s", err.message);
+    l.pairs = 1;
+    o.subdivide = 9;
+    CHECK_EQ_INT(tiled_map(&mesh, &l, &o, &q, &err), TILED_ERR_INVALID);
+    o.subdivide = 8;
+    l.pairs = 1;
+    mesh.positions[4] = (float)(1e30 * 1e30);
+    CHECK_EQ_INT(tiled_map(&mesh, &l, &o, &q, &err), TILED_ERR_INVALID);
+    tiled_mesh_free(&mesh);
+    for (k = 0; k < 8 * 8 * 3; k++) nan_px[k] = k == 100 ? (float)(0.0 * (1e300 * 1e300)) : 0.5f;
+    memset(&ex, 0, sizeof ex);
+    ex.width = ex.height = 8;
+    ex.channels = 3;
+    ex.pixels = nan_px;
+    CHECK_EQ_INT(tiled_synthesize(&ex, &o, &ts, &err), TILED_ERR_INVALID);
+    CHECKF(strstr(err.message, "pixel 33") != NULL, "message: %s", err.message);
+    o = opts(2, 8);
+    o.layout.tile_size = 256;
+    nan_px[100] = 0.5f;
+    CHECK_EQ_INT(tiled_synthesize(&ex, &o, &ts, &err), TILED_ERR_LIMIT);
+}
+
+/* A run that cancels from its progress callback stops with CANCELLED. */
+static int cancel_at_half(void *user, float done, const char *stage)
+{
+    (void)stage;
+    ++*(int *)user;
+    return done > 0.5f;
+}
+
+static void t_cancel(void)
+{
+    tiled_options o = opts(2, 1);
+    tiled_tileset ts;
+    tiled_image ex;
+    tiled_error err;
+    int calls = 0;
+    o.progress = cancel_at_half;
+    o.progress_user = &calls;
+    REQUIRE(tiled_builtin_exemplar("pebbles", 32, &o, &ex, &err) == TILED_OK);
+    CHECK_EQ_INT(tiled_synthesize(&ex, &o, &ts, &err), TILED_ERR_CANCELLED);
+    CHECK(calls > 2);
+    CHECK(ts.atlas.pixels == NULL);
+    tiled_image_free(&ex);
+}
+
+/* ---- real data (make data) --------------------------------------------------- */
+
+/* CGAL meshes: quad meshes of genus 0..2 and triangle meshes. */
+static void real_mesh(const char *file, int subdivide)
+{
+    const char *path = pwt_data(file);
+    tiled_tileset ts = layout_only(2, 1, 8);
+    tiled_options o = opts(2, 1);
+    tiled_mesh mesh, q;
+    tiled_error err;
+    int edges;
+    if (!path) return;
+    o.subdivide = subdivide;
+    REQUIRE(tiled_load_mesh(path, &o, &mesh, &err) == TILED_OK);
+    if (tiled_map(&mesh, &ts.layout, &o, &q, &err) != TILED_OK) {
+        CHECKF(0, "%s: %s", path, err.message);
+        tiled_mesh_free(&mesh);
+        return;
+    }
+    edges = check_edges(&ts, &q);
+    pwt_info("%s: %d faces -> %d quads, %d interior edges matched", file, mesh.nfaces, q.nfaces, edges);
+    tiled_mesh_free(&mesh);
+    tiled_mesh_free(&q);
+}
+
+static void t_real_cube_quad(void) { real_mesh("meshes/cube_quad.off", 1); }
+static void t_real_torus_quad(void) { real_mesh("meshes/torus_quad.off", 0); }
+static void t_real_cross_quad(void) { real_mesh("meshes/cross_quad.off", 0); }
+static void t_real_double_torus(void) { real_mesh("meshes/double-torus-example.off", 0); }
+static void t_real_elephant(void) { real_mesh("meshes/elephant.off", 0); }
+static void t_real_knot(void) { real_mesh("meshes/knot.off", 0); }
+
+/* GIMP patterns: synthesis keeps every mapped edge seamless. */
+static void real_exemplar(const char *name)
+{
+    char rel[256];
+    const char *path;
+    tiled_options o = opts(2, 1);
+    tiled_tileset ts;
+    tiled_image ex;
+    tiled_mesh mesh, q;
+    tiled_error err;
+    double inside, seam, worst;
+    snprintf(rel, sizeof rel, "textures/%s.ppm", name);
+    if (!(path = pwt_data(rel))) return;
+    REQUIRE(tiled_load_image(path, &o, &ex, &err) == TILED_OK);
+    REQUIRE(tiled_synthesize(&ex, &o, &ts, &err) == TILED_OK);
+    o.subdivide = 1;
+    REQUIRE(tiled_builtin_mesh("double-torus", &o, &mesh, &err) == TILED_OK);
+    REQUIRE(tiled_map(&mesh, &ts.layout, &o, &q, &err) == TILED_OK);
+    inside = interior_jump(&ts);
+    seam = seam_jump(&ts, &q, &worst);
+    pwt_info("%s (%dx%d): tiles of %d px, seam %.4f vs interior %.4f (worst edge %.4f)", name,
+             ex.width, ex.height, ts.layout.tile_size, seam, inside, worst);
+    CHECKF(seam <= 1.1 * inside, "seam %.4f > interior %.4f", seam, inside);
+    tiled_image_free(&ex);
+    tiled_tileset_free(&ts);
+    tiled_mesh_free(&mesh);
+    tiled_mesh_free(&q);
+}
+
+static void t_real_brick(void) { real_exemplar("brick"); }
+static void t_real_leopard(void) { real_exemplar("leopard"); }
+static void t_real_burlap(void) { real_exemplar("burlap"); }
+static void t_real_java(void) { real_exemplar("java"); }
+static void t_real_pine(void) { real_exemplar("pine"); }
+static void t_real_marble3(void) { real_exemplar("marble3"); }
+
+static const pwt_case cases[] = {
+    {"tiled/fig29_formula", t_fig29_formula},
+    {"tiled/edge_invariants", t_edge_invariants},
+    {"tiled/case1_invariants", t_case1_invariants},
+    {"tiled/random_start", t_random_start},
+    {"tiled/seams_case2", t_seams_case2},
+    {"tiled/seams_case2_pairs2", t_seams_case2_pairs2},
+    {"tiled/seams_case1", t_seams_case1},
+    {"tiled/all_tiles_used", t_all_tiles_used},
+    {"tiled/determinism", t_determinism},
+    {"tiled/validate", t_validate},
+    {"tiled/guards", t_guards},
+    {"tiled/catmull_clark_first", t_catmull_clark_first},
+    {"tiled/bad_meshes", t_bad_meshes},
+    {"tiled/bad_arguments", t_bad_arguments},
+    {"tiled/cancel", t_cancel},
+    {"tiled/real_cube_quad", t_real_cube_quad},
+    {"tiled/real_torus_quad", t_real_torus_quad},
+    {"tiled/real_cross_quad", t_real_cross_quad},
+    {"tiled/real_double_torus", t_real_double_torus},
+    {"tiled/real_elephant", t_real_elephant},
+    {"tiled/real_knot", t_real_knot},
+    {"tiled/real_brick", t_real_brick},
+    {"tiled/real_leopard", t_real_leopard},
+    {"tiled/real_burlap", t_real_burlap},
+    {"tiled/real_java", t_real_java},
+    {"tiled/real_pine", t_real_pine},
+    {"tiled/real_marble3", t_real_marble3},
+};
+PWT_MAIN(cases)
