@@ -2604,7 +2604,8 @@ PW__DEF int pw_zlib_decompress(const pw_alloc *a, const unsigned char *data, siz
  * Writer: 8- or 16-bit gray, gray+alpha, RGB or RGBA by channel count; each
  * row gets the filter whose output has the smallest sum of absolute values
  * (the heuristic the PNG specification suggests); one zlib stream split in
- * 64 KiB IDAT chunks. Temporary buffers come from PW_MALLOC.
+ * 64 KiB IDAT chunks. Temporary buffers come from the caller's allocator
+ * (NULL: PW_MALLOC).
  *
  * Reader: every colour type (0 gray, 2 RGB, 3 palette, 4 gray+alpha, 6
  * RGBA) and bit depth (1, 2, 4, 8, 16), tRNS (palette alpha or a colour
@@ -2681,17 +2682,17 @@ PW__DEF void pw__png_filter(unsigned char *dst, const unsigned char *cur, const 
 
 /* Quantised rows, each prefixed by the filter byte that minimises the sum
  * of absolute differences (bytes read as signed). */
-PW__DEF int pw__png_filtered(const pw_image *img, unsigned maxval, unsigned char **out,
-                             size_t *outn, pw_err *e)
+PW__DEF int pw__png_filtered(const pw_alloc *a, const pw_image *img, unsigned maxval,
+                             unsigned char **out, size_t *outn, pw_err *e)
 {
     size_t bps = maxval > 255 ? 2 : 1, bpp = bps * (size_t)img->c;
     size_t n = bpp * (size_t)img->w, x, y, k;
     unsigned char *buf, *rows, *cand;
-    buf = (unsigned char *)pw_alloc_array(NULL, (n + 1) * (size_t)img->h, 1, "PNG rows", e);
-    rows = (unsigned char *)pw_calloc_array(NULL, 7, n, "PNG rows", e);
+    buf = (unsigned char *)pw_alloc_array(a, (n + 1) * (size_t)img->h, 1, "PNG rows", e);
+    rows = (unsigned char *)pw_calloc_array(a, 7, n, "PNG rows", e);
     if (!buf || !rows) {
-        pw_free(NULL, buf);
-        pw_free(NULL, rows);
+        pw_free(a, buf);
+        pw_free(a, rows);
         return PW_ERR_NOMEM;
     }
     cand = rows + 2 * n; /* rows: previous, current, 5 candidates */
@@ -2716,14 +2717,16 @@ PW__DEF int pw__png_filtered(const pw_image *img, unsigned maxval, unsigned char
         buf[y * (n + 1)] = (unsigned char)bf;
         memcpy(buf + y * (n + 1) + 1, cand + bf * n, n);
     }
-    pw_free(NULL, rows);
+    pw_free(a, rows);
     *out = buf;
     *outn = (n + 1) * (size_t)img->h;
     return PW_OK;
 }
 
-/* Writes img as PNG. bits: 8, 16, or 0 for img->bits. */
-PW__DEF int pw_png_write(const pw_image *img, int bits, pw_write_fn w, void *ctx, pw_err *e)
+/* Writes img as PNG. bits: 8, 16, or 0 for img->bits. Temporary buffers
+ * come from a (NULL: PW_MALLOC). */
+PW__DEF int pw_png_write(const pw_alloc *a, const pw_image *img, int bits, pw_write_fn w,
+                         void *ctx, pw_err *e)
 {
     static const unsigned char ctypes[4] = {0, 4, 2, 6};
     unsigned char ihdr[13], *raw = NULL, *z = NULL;
@@ -2732,9 +2735,9 @@ PW__DEF int pw_png_write(const pw_image *img, int bits, pw_write_fn w, void *ctx
     pw__sink s;
     int rc = pw__write_bits(img, bits, &maxval, e);
     if (rc) return rc;
-    if ((rc = pw__png_filtered(img, maxval, &raw, &rawn, e))) return rc;
-    rc = pw_zlib_compress(NULL, raw, rawn, 6, &z, &zn, e);
-    pw_free(NULL, raw);
+    if ((rc = pw__png_filtered(a, img, maxval, &raw, &rawn, e))) return rc;
+    rc = pw_zlib_compress(a, raw, rawn, 6, &z, &zn, e);
+    pw_free(a, raw);
     if (rc) return rc;
     pw__put_be32(ihdr, (uint32_t)img->w);
     pw__put_be32(ihdr + 4, (uint32_t)img->h);
@@ -2747,7 +2750,7 @@ PW__DEF int pw_png_write(const pw_image *img, int bits, pw_write_fn w, void *ctx
     for (off = 0; off < zn; off += 65536)
         pw__png_chunk(&s, "IDAT", z + off, zn - off < 65536 ? zn - off : 65536);
     pw__png_chunk(&s, "IEND", ihdr, 0);
-    pw_free(NULL, z);
+    pw_free(a, z);
     return pw__sink_end(&s, e);
 }
 
@@ -3130,7 +3133,7 @@ typedef struct pw__save_job {
 PW__DEF int pw__save_body(void *arg, pw_write_fn w, void *ctx, pw_err *e)
 {
     const pw__save_job *j = (const pw__save_job *)arg;
-    if (j->kind == 2) return pw_png_write(j->img, 0, w, ctx, e);
+    if (j->kind == 2) return pw_png_write(NULL, j->img, 0, w, ctx, e);
     if (j->kind == 1) return pw_image_write_pam(j->img, 0, w, ctx, e);
     return pw_image_write_pnm(j->img, 0, 0, w, ctx, e);
 }
@@ -6127,16 +6130,88 @@ PW__DEF void pw__bounding_sphere(const float *pos, int nv, double *c, double *r)
     if (!(*r > 0.0)) *r = n ? 1e-3 * (1.0 + sqrt(pw__dot3(c, c))) : 1.0;
 }
 
+/* Where the finite vertices lie in a view basis (right rt, up up, view vd,
+ * from centre c): the lateral extent (lo, hi in x and y) and the depth
+ * range along the view. */
+PW__DEF void pw__view_extent(const float *pos, int nv, const double c[3], const double rt[3],
+                             const double up[3], const double vd[3], double lo[3], double hi[3])
+{
+    int i, k, n = 0;
+    for (k = 0; k < 3; k++) lo[k] = hi[k] = 0.0;
+    for (i = 0; i < nv; i++) {
+        const float *p = pos + 3 * i;
+        double d[3], q[3];
+        if (!pw_is_finite(p[0]) || !pw_is_finite(p[1]) || !pw_is_finite(p[2])) continue;
+        for (k = 0; k < 3; k++) d[k] = p[k] - c[k];
+        q[0] = pw__dot3(d, rt);
+        q[1] = pw__dot3(d, up);
+        q[2] = pw__dot3(d, vd);
+        for (k = 0; k < 3; k++) {
+            if (!n || q[k] < lo[k]) lo[k] = q[k];
+            if (!n || q[k] > hi[k]) hi[k] = q[k];
+        }
+        n++;
+    }
+}
+
+/* The range of projected tangents (x - ox)/(dist + z) of the vertices in
+ * the view basis, in out[0..1] (x) and out[2..3] (y). */
+PW__DEF void pw__projected_range(const float *pos, int nv, const double c[3], const double rt[3],
+                                 const double up[3], const double vd[3], double ox, double oy,
+                                 double dist, double out[4])
+{
+    int i, k, n = 0;
+    for (k = 0; k < 4; k++) out[k] = 0.0;
+    for (i = 0; i < nv; i++) {
+        const float *p = pos + 3 * i;
+        double d[3], w, q[2];
+        if (!pw_is_finite(p[0]) || !pw_is_finite(p[1]) || !pw_is_finite(p[2])) continue;
+        for (k = 0; k < 3; k++) d[k] = p[k] - c[k];
+        w = dist + pw__dot3(d, vd);
+        q[0] = (pw__dot3(d, rt) - ox) / w;
+        q[1] = (pw__dot3(d, up) - oy) / w;
+        for (k = 0; k < 2; k++) {
+            if (!n || q[k] < out[2 * k]) out[2 * k] = q[k];
+            if (!n || q[k] > out[2 * k + 1]) out[2 * k + 1] = q[k];
+        }
+        n++;
+    }
+}
+
+/* The smallest distance from the framing centre at which every vertex
+ * (lateral offset x, y from the image centre ox, oy; depth z toward the
+ * far side) fits in half-angles with tangents tx, ty. */
+PW__DEF double pw__fit_distance(const float *pos, int nv, const double c[3], const double rt[3],
+                                const double up[3], const double vd[3], double ox, double oy,
+                                double tx, double ty)
+{
+    double dist = 0.0;
+    int i, k;
+    for (i = 0; i < nv; i++) {
+        const float *p = pos + 3 * i;
+        double d[3], need;
+        if (!pw_is_finite(p[0]) || !pw_is_finite(p[1]) || !pw_is_finite(p[2])) continue;
+        for (k = 0; k < 3; k++) d[k] = p[k] - c[k];
+        need = fabs(pw__dot3(d, rt) - ox) / tx - pw__dot3(d, vd);
+        if (fabs(pw__dot3(d, up) - oy) / ty - pw__dot3(d, vd) > need)
+            need = fabs(pw__dot3(d, up) - oy) / ty - pw__dot3(d, vd);
+        if (need > dist) dist = need;
+    }
+    return dist;
+}
+
 /* A camera looking along view_dir (NULL: -z) with the given up (NULL: +y;
- * replaced if parallel to the view) that frames the mesh pos[nv*3]: its
- * bounding sphere, enlarged by 5%, fits the field of view (vertical fovy_deg,
- * horizontal from aspect = width / height), and near and far enclose it.
- * Invalid fovy (outside (0, 180)) becomes 45, invalid aspect 1. */
+ * replaced if parallel to the view) that frames the mesh pos[nv*3]: the
+ * image centre is the middle of the mesh's extent across the view, and the
+ * camera is as close as it can be with every vertex inside the field of
+ * view shrunk by 5% (vertical fovy_deg, horizontal from aspect = width /
+ * height); near and far enclose the mesh. Invalid fovy (outside (0, 180))
+ * becomes 45, invalid aspect 1. */
 PW__DEF pw_camera pw_camera_frame(const float *pos, int nv, const float view_dir[3],
                                   const float up[3], float fovy_deg, float aspect)
 {
     pw_camera cam;
-    double c[3], r, vd[3] = {0, 0, -1}, u[3] = {0, 1, 0}, x[3], t, tx, s, dist;
+    double c[3], r, vd[3] = {0, 0, -1}, u[3] = {0, 1, 0}, x[3], y[3], lo[3], hi[3], t, tx, dist, ox, oy;
     int k;
     if (view_dir)
         for (k = 0; k < 3; k++) vd[k] = view_dir[k];
@@ -6151,24 +6226,35 @@ PW__DEF pw_camera pw_camera_frame(const float *pos, int nv, const float view_dir
         u[0] = fabs(vd[1]) < 0.9 ? 0.0 : 1.0; /* any up not along the view */
         u[1] = fabs(vd[1]) < 0.9 ? 1.0 : 0.0;
         u[2] = 0.0;
+        pw__cross3(vd, u, x);
     }
+    pw__norm3(x);
+    pw__cross3(x, vd, y); /* unit: vd and x are orthonormal */
     if (!(fovy_deg > 0.0f && fovy_deg < 180.0f)) fovy_deg = 45.0f;
     if (!(aspect > 0.0f) || !pw_is_finite(aspect)) aspect = 1.0f;
     pw__bounding_sphere(pos, pos ? nv : 0, c, &r);
-    r *= 1.05;
-    t = pw__tan_deg(0.5 * fovy_deg);
+    t = 0.95 * pw__tan_deg(0.5 * fovy_deg);
     tx = t * aspect;
-    s = t / sqrt(1.0 + t * t); /* sine of the narrower half-angle */
-    if (tx < t) s = tx / sqrt(1.0 + tx * tx);
-    dist = r / s;
+    pw__view_extent(pos, pos ? nv : 0, c, x, y, vd, lo, hi);
+    ox = 0.5 * (lo[0] + hi[0]);
+    oy = 0.5 * (lo[1] + hi[1]);
+    for (k = 0; k < 4; k++) { /* centre the perspective image, not the orthographic one */
+        double range[4];
+        dist = pos ? pw__fit_distance(pos, nv, c, x, y, vd, ox, oy, tx, t) : 0.0;
+        if (dist < -lo[2] + 0.05 * r) dist = -lo[2] + 0.05 * r; /* the eye stays outside */
+        if (!pos || k == 3) break;
+        pw__projected_range(pos, nv, c, x, y, vd, ox, oy, dist, range);
+        ox += 0.5 * (range[0] + range[1]) * dist;
+        oy += 0.5 * (range[2] + range[3]) * dist;
+    }
     for (k = 0; k < 3; k++) {
-        cam.target[k] = pw__f(c[k]);
-        cam.eye[k] = pw__f(c[k] - vd[k] * dist);
+        cam.target[k] = pw__f(c[k] + ox * x[k] + oy * y[k]);
+        cam.eye[k] = pw__f(cam.target[k] - vd[k] * dist);
         cam.up[k] = (float)u[k];
     }
     cam.fovy_deg = fovy_deg;
-    cam.znear = pw__f(dist - r > 0.02 * dist ? 0.9 * (dist - r) : 0.018 * dist);
-    cam.zfar = pw__f(1.1 * (dist + r));
+    cam.znear = pw__f(0.9 * (dist + lo[2]));
+    cam.zfar = pw__f(1.1 * (dist + hi[2]) + 1e-6 * r);
     return cam;
 }
 
@@ -8846,6 +8932,29 @@ static int tiled__compose(const pw_alloc *a, const tiled__synth *s, pw_rng *rng,
     return PW_OK;
 }
 
+/* Places diamond k: the best of a few random origins, judged by how much
+ * the source changes across the edge line. The two sides of every edge of
+ * type pair k show the rows just above and below that line, so it should
+ * not run along a cut seam of the periodic source. */
+static void tiled__place_diamond(tiled__synth *s, pw_rng *rng, int k)
+{
+    double best = -1.0;
+    int cand, a, c;
+    for (cand = 0; cand < 8; cand++) {
+        int ox = (int)pw_rng_below(rng, (uint32_t)s->src.w), oy = (int)pw_rng_below(rng, (uint32_t)s->src.h);
+        double jump = 0.0;
+        for (a = 0; a < s->T; a++) {
+            const float *p = tiled__src_px(s, ox + a, oy), *q = tiled__src_px(s, ox + a, oy + 1);
+            for (c = 0; c < s->src.c; c++) jump += fabs(p[c] - q[c]);
+        }
+        if (best < 0.0 || jump < best) {
+            best = jump;
+            s->dx[k] = ox;
+            s->dy[k] = oy;
+        }
+    }
+}
+
 /* Builds every tile of a resolved layout from the periodic source. */
 static int tiled__synth_tiles(const pw_alloc *a, tiled__synth *s, const tiled_options *o,
                               pw_image *atlas, const tiled__geom *gm, pw_err *e)
@@ -8855,10 +8964,7 @@ static int tiled__synth_tiles(const pw_alloc *a, tiled__synth *s, const tiled_op
     tiled__scratch sc;
     size_t tt = (size_t)s->T * s->T;
     int k, t, r = PW_OK;
-    for (k = 0; k < 8; k++) {
-        s->dx[k] = (int)pw_rng_below(&rng, (uint32_t)s->src.w);
-        s->dy[k] = (int)pw_rng_below(&rng, (uint32_t)s->src.h);
-    }
+    for (k = 0; k < 8; k++) tiled__place_diamond(s, &rng, k);
     sc.src = (float *)pw_alloc_array(a, tt * 5 * s->src.c, sizeof(float), "tile sources", e);
     sc.allowed = (uint32_t *)pw_alloc_array(a, tt, sizeof(uint32_t), "tile constraints", e);
     sc.label = (int *)pw_alloc_array(a, tt, sizeof(int), "tile labels", e);
@@ -9564,7 +9670,7 @@ static int tiled__encode(const tiled_image *img, const char *format, pw_write_fn
     }
     if (want) return pw_image_write_pnm(&view, 0, 0, fn, ctx, e);
     if (!strcmp(format, "pam")) return pw_image_write_pam(&view, 0, fn, ctx, e);
-    return pw_png_write(&view, 0, fn, ctx, e);
+    return pw_png_write(NULL, &view, 0, fn, ctx, e);
 }
 
 TILEDDEF tiled_result tiled_write_image_to_func(const tiled_image *img, const char *format,

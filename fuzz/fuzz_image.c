@@ -30,7 +30,7 @@ static void roundtrip(const pw_image *img, int png)
     int rc;
     memset(&b, 0, sizeof b);
     pw_err_clear(&e);
-    rc = png ? pw_png_write(img, 0, pw_buf_write, &b, &e)
+    rc = png ? pw_png_write(NULL, img, 0, pw_buf_write, &b, &e)
              : pw_image_write_pnm(img, 0, 0, pw_buf_write, &b, &e);
     if (rc) abort();
     if (pw_image_read_memory(NULL, b.data, b.size, "roundtrip", &back, &e)) abort();

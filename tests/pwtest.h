@@ -16,6 +16,12 @@
 #include <stdlib.h>
 #include <string.h>
 #include <stdarg.h>
+#if defined(__unix__) || defined(__unix) || defined(__APPLE__)
+#include <unistd.h>
+#define PWT_PID_ ((long)getpid())
+#else
+#define PWT_PID_ 0L
+#endif
 
 #if defined(__GNUC__) || defined(__clang__)
 #define PWT_UNUSED __attribute__((unused))
@@ -99,9 +105,9 @@ PWT_UNUSED static const char *pwt_data_dir(void)
     return d && *d ? d : "data";
 }
 
-/* Path of a data file in a static buffer; NULL (and the case skipped) if the
- * file is absent. */
-PWT_UNUSED static const char *pwt_data(const char *rel)
+/* Path of a data file in a static buffer (the last four stay valid); NULL
+ * if the file is absent. */
+PWT_UNUSED static const char *pwt_data_opt(const char *rel)
 {
     static char buf[4][1024];
     static int k;
@@ -109,11 +115,68 @@ PWT_UNUSED static const char *pwt_data(const char *rel)
     char *p = buf[k++ & 3];
     snprintf(p, 1024, "%s/%s", pwt_data_dir(), rel);
     f = fopen(p, "rb");
-    if (!f) {
-        pwt_skip("%s absent (run `make data`)", p);
-        return NULL;
-    }
+    if (!f) return NULL;
     fclose(f);
+    return p;
+}
+
+/* The same, and the case skipped if the file is absent. */
+PWT_UNUSED static const char *pwt_data(const char *rel)
+{
+    const char *p = pwt_data_opt(rel);
+    if (!p) pwt_skip("%s/%s absent (run `make data`)", pwt_data_dir(), rel);
+    return p;
+}
+
+/* A counting allocator that can be made to fail, for the run-time allocator
+ * hooks (user pointer: a pwt_alloc_state). A test builds its own
+ *
+ *     pwt_alloc_state st = {0, 0, -1};
+ *     pw_alloc al = {pwt_malloc, pwt_realloc, pwt_free, &st};
+ *
+ * calls: malloc/realloc calls so far (failed ones included);
+ * live: blocks allocated and not yet freed (0 after a run that leaks nothing);
+ * fail_after: < 0 never fails, else calls after the first fail_after return
+ * NULL (0: every call fails). */
+typedef struct pwt_alloc_state {
+    long calls, live, fail_after;
+} pwt_alloc_state;
+
+PWT_UNUSED static void *pwt_malloc(void *user, size_t n)
+{
+    pwt_alloc_state *s = (pwt_alloc_state *)user;
+    void *p;
+    if (++s->calls > s->fail_after && s->fail_after >= 0) return NULL;
+    p = malloc(n);
+    if (p) s->live++;
+    return p;
+}
+
+PWT_UNUSED static void *pwt_realloc(void *user, void *p, size_t n)
+{
+    pwt_alloc_state *s = (pwt_alloc_state *)user;
+    void *q;
+    if (++s->calls > s->fail_after && s->fail_after >= 0) return NULL;
+    q = realloc(p, n);
+    if (q && !p) s->live++;
+    return q;
+}
+
+PWT_UNUSED static void pwt_free(void *user, void *p)
+{
+    pwt_alloc_state *s = (pwt_alloc_state *)user;
+    if (p) s->live--;
+    free(p);
+}
+
+/* A per-process temporary file name, /tmp/pw_test_STEM_PID_K.EXT, in a
+ * static buffer (the last four stay valid). */
+PWT_UNUSED static const char *pwt_tmp(const char *stem, int k, const char *ext)
+{
+    static char buf[4][256];
+    static int n;
+    char *p = buf[n++ & 3];
+    snprintf(p, 256, "/tmp/pw_test_%s_%ld_%d%s", stem, PWT_PID_, k, ext);
     return p;
 }
 

@@ -186,7 +186,6 @@ static void t_random_small_graphs(void)
 {
     pw_rng rng = pw_rng_seed(2024, 1);
     int k, nonzero = 0;
-    (void)pwt_data; /* pwtest.h helper unused here */
     for (k = 0; k < 600 && !pwt_failed_; k++) {
         pw_graph g;
         ref_graph r;
@@ -368,6 +367,20 @@ static void t_tweights_common_part(void)
     pw_graph_free(&g);
 }
 
+/* Resets g to the chain source -> 0 -> 1 -> 2 -> sink: infinite terminal
+ * links and edge 0->1, edge 1->2 of capacities `fwd` and `rev`. */
+static int infinite_chain(pw_graph *g, double fwd, double rev, pw_err *e)
+{
+    int rc;
+    pw_err_clear(e);
+    if ((rc = pw_graph_reset(g, 3, e)) != PW_OK) return rc;
+    pw_graph_add_tweights(g, 0, HUGE_VAL, 0);
+    pw_graph_add_tweights(g, 2, 0, HUGE_VAL);
+    pw_graph_add_edge(g, 0, 1, HUGE_VAL, 0, e);
+    pw_graph_add_edge(g, 1, 2, fwd, rev, e);
+    return PW_OK;
+}
+
 static void t_invalid_input(void)
 {
     pw_graph g;
@@ -394,22 +407,12 @@ static void t_invalid_input(void)
     CHECK(pw_graph_maxflow(&g, &flow, &e) == PW_ERR_INVALID);
     CHECKF(strstr(e.msg, "(0, 4)") != NULL, "message: %s", e.msg);
     /* reset forgets it */
-    pw_err_clear(&e);
-    REQUIRE(pw_graph_reset(&g, 3, &e) == PW_OK);
-    pw_graph_add_tweights(&g, 0, HUGE_VAL, 0);
-    pw_graph_add_tweights(&g, 2, 0, HUGE_VAL);
-    pw_graph_add_edge(&g, 0, 1, HUGE_VAL, 0, &e);
-    pw_graph_add_edge(&g, 1, 2, HUGE_VAL, 3, &e);
+    REQUIRE(infinite_chain(&g, HUGE_VAL, 3, &e) == PW_OK);
     REQUIRE(e.code == PW_OK);
     CHECK(pw_graph_maxflow(&g, &flow, &e) == PW_ERR_INVALID); /* unbounded */
     CHECKF(strstr(e.msg, "infinite") != NULL, "message: %s", e.msg);
     /* an infinite edge in the other direction is fine */
-    pw_err_clear(&e);
-    REQUIRE(pw_graph_reset(&g, 3, &e) == PW_OK);
-    pw_graph_add_tweights(&g, 0, HUGE_VAL, 0);
-    pw_graph_add_tweights(&g, 2, 0, HUGE_VAL);
-    pw_graph_add_edge(&g, 0, 1, HUGE_VAL, 0, &e);
-    pw_graph_add_edge(&g, 1, 2, 3, HUGE_VAL, &e);
+    REQUIRE(infinite_chain(&g, 3, HUGE_VAL, &e) == PW_OK);
     CHECK(pw_graph_maxflow(&g, &flow, &e) == PW_OK);
     CHECK(flow == 3);
     CHECK(pw_graph_in_source(&g, 1));
@@ -500,49 +503,16 @@ static void t_large_grid_cut(void)
     pw_graph_free(&g);
 }
 
-typedef struct fail_alloc {
-    int left, live;
-} fail_alloc;
-
-static void *fa_malloc(void *u, size_t n)
-{
-    fail_alloc *f = (fail_alloc *)u;
-    void *p;
-    if (f->left-- <= 0) return NULL;
-    p = malloc(n);
-    if (p) f->live++;
-    return p;
-}
-static void *fa_realloc(void *u, void *p, size_t n)
-{
-    fail_alloc *f = (fail_alloc *)u;
-    if (f->left-- <= 0) return NULL;
-    if (!p) f->live++;
-    return realloc(p, n);
-}
-static void fa_free(void *u, void *p)
-{
-    fail_alloc *f = (fail_alloc *)u;
-    if (p) f->live--;
-    free(p);
-}
-
 static void t_alloc_failures(void)
 {
     int budget, finished = 0;
     for (budget = 0; budget < 20 && !finished; budget++) {
-        fail_alloc f;
-        pw_alloc al;
+        pwt_alloc_state f = {0, 0, budget};
+        pw_alloc al = {pwt_malloc, pwt_realloc, pwt_free, &f};
         pw_graph g;
         double flow = -1;
         pw_err e;
         int i, rc;
-        f.left = budget;
-        f.live = 0;
-        al.malloc_fn = fa_malloc;
-        al.realloc_fn = fa_realloc;
-        al.free_fn = fa_free;
-        al.user = &f;
         pw_err_clear(&e);
         rc = pw_graph_init(&g, &al, 200, 0, &e);
         for (i = 0; i + 1 < 200 && !rc; i++) rc = pw_graph_add_edge(&g, i, i + 1, 1, 1, &e);
@@ -560,7 +530,7 @@ static void t_alloc_failures(void)
         CHECKF(rc == PW_OK || rc == PW_ERR_NOMEM, "budget %d: %d %s", budget, rc, e.msg);
         finished = rc == PW_OK;
         pw_graph_free(&g);
-        CHECKF(f.live == 0, "budget %d: %d blocks leaked", budget, f.live);
+        CHECKF(f.live == 0, "budget %d: %ld blocks leaked", budget, f.live);
     }
     CHECK(finished);
 }

@@ -589,47 +589,21 @@ static void t_deterministic(void)
 }
 
 /* Allocation failures at every step are reported and leak nothing. */
-typedef struct talloc {
-    int budget, live;
-} talloc;
-static void *t_malloc(void *u, size_t n)
-{
-    talloc *t = (talloc *)u;
-    if (t->budget == 0) return NULL;
-    t->budget--, t->live++;
-    return malloc(n);
-}
-static void *t_realloc(void *u, void *p, size_t n)
-{
-    talloc *t = (talloc *)u;
-    if (t->budget == 0) return NULL;
-    t->budget--;
-    if (!p) t->live++;
-    return realloc(p, n);
-}
-static void t_free(void *u, void *p)
-{
-    if (p) ((talloc *)u)->live--;
-    free(p);
-}
-
 static void t_alloc_failures(void)
 {
     pw_mesh m = make_genus2();
     int budget, ok = 0;
     for (budget = 0; budget < 100 && !ok; budget++) {
-        talloc t;
-        pw_alloc a;
+        pwt_alloc_state t = {0, 0, budget};
+        pw_alloc a = {pwt_malloc, pwt_realloc, pwt_free, &t};
         pw_mesh out;
         pw_err e;
         int r;
-        t.budget = budget, t.live = 0;
-        a.malloc_fn = t_malloc, a.realloc_fn = t_realloc, a.free_fn = t_free, a.user = &t;
         pw_err_clear(&e);
         r = pw_subdivide(&a, &m, 2, &out, &e);
         if (r == PW_OK) ok = 1, pw_mesh_free(&a, &out);
         else CHECKF(r == PW_ERR_NOMEM, "budget %d: %s", budget, e.msg);
-        CHECKF(t.live == 0, "budget %d: %d blocks leaked", budget, t.live);
+        CHECKF(t.live == 0, "budget %d: %ld blocks leaked", budget, t.live);
     }
     CHECK(ok);
     pw_mesh_free(NULL, &m);
@@ -645,14 +619,11 @@ static void t_real_data(void)
     size_t i;
     int found = 0;
     for (i = 0; i < sizeof files / sizeof files[0]; i++) {
-        char path[1024];
-        FILE *f;
+        const char *path = pwt_data_opt(files[i]);
         pw_mesh m, s;
         pw_hmesh hm;
         pw_err e;
-        snprintf(path, sizeof path, "%s/%s", pwt_data_dir(), files[i]);
-        if (!(f = fopen(path, "rb"))) continue;
-        fclose(f);
+        if (!path) continue;
         found++;
         pw_err_clear(&e);
         if (pw_mesh_load(NULL, path, &m, &e) || build(&m, &hm, &e)) {
@@ -679,12 +650,9 @@ static void t_real_data_errors(void)
                                         "non-manifold vertex 4113: its faces form 3 separate fans"};
     int i, found = 0;
     for (i = 0; i < 2; i++) {
-        char path[1024];
-        FILE *f;
+        const char *path = pwt_data_opt(files[i]);
         pw_mesh m;
-        snprintf(path, sizeof path, "%s/%s", pwt_data_dir(), files[i]);
-        if (!(f = fopen(path, "rb"))) continue;
-        fclose(f);
+        if (!path) continue;
         found++;
         {
             pw_err e;

@@ -1,34 +1,10 @@
 /* Tests of src/common/image.h: PNM/PAM/GIMP pattern reading and writing,
  * the format front end (png.h), and the image helpers. */
-#define _POSIX_C_SOURCE 200809L
 #include "../src/common/png.h"
 #include "../src/common/rng.h"
 #include "pwtest.h"
-#include <unistd.h>
 
 /* ---- helpers ---- */
-
-/* An allocator that counts its calls, to prove that a read refused a size
- * before allocating anything. */
-static int alloc_calls;
-static void *count_malloc(void *u, size_t n)
-{
-    (void)u;
-    alloc_calls++;
-    return malloc(n);
-}
-static void *count_realloc(void *u, void *p, size_t n)
-{
-    (void)u;
-    alloc_calls++;
-    return realloc(p, n);
-}
-static void count_free(void *u, void *p)
-{
-    (void)u;
-    free(p);
-}
-static const pw_alloc counting = {count_malloc, count_realloc, count_free, NULL};
 
 /* A test image of random samples in [0,1]. */
 static void make_image(pw_image *img, int w, int h, int c, uint64_t seed)
@@ -372,22 +348,24 @@ static void t_huge_header_no_alloc(void)
         "P5\n65536 65536\n255\n", "P3\n60000 60000\n255\n1 2 3", "P5\n60000 60000\n255\nabc"};
     static const unsigned char gpat[28] = {0, 0, 0, 26, 0, 0, 0,   1,   0x80, 0,   0,   0, 0x80, 0,
                                            0, 0, 0, 0,  0, 4, 'G', 'P', 'A',  'T', 'x', 0, 1,    2};
+    pwt_alloc_state counts = {0, 0, -1};
+    pw_alloc counting = {pwt_malloc, pwt_realloc, pwt_free, &counts};
     pw_image img;
     pw_err e;
     size_t i;
     for (i = 0; i < sizeof heads / sizeof heads[0]; i++) {
         int rc;
-        alloc_calls = 0;
+        counts.calls = 0;
         pw_err_clear(&e);
         rc = pw_image_read_memory(&counting, (const unsigned char *)heads[i], strlen(heads[i]),
                                   "big", &img, &e);
         CHECKF(rc == PW_ERR_LIMIT || rc == PW_ERR_PARSE, "header %lu: rc %d", (unsigned long)i, rc);
-        CHECKF(alloc_calls == 0, "header %lu allocated", (unsigned long)i);
+        CHECKF(counts.calls == 0, "header %lu allocated", (unsigned long)i);
     }
-    alloc_calls = 0;
+    counts.calls = 0;
     pw_err_clear(&e);
     CHECK(pw_image_read_memory(&counting, gpat, sizeof gpat, "big", &img, &e) == PW_ERR_LIMIT);
-    CHECK(alloc_calls == 0 && strstr(e.msg, "exceeds"));
+    CHECK(counts.calls == 0 && strstr(e.msg, "exceeds"));
 }
 
 /* ---- GIMP patterns ---- */
@@ -481,7 +459,6 @@ static void t_gimp_pattern_files(void)
                                         "/usr/share/gimp/2.0/patterns/blackwhitefloor.pat"};
     size_t i;
     int found = 0;
-    (void)pwt_data; /* pwtest.h helper unused here; keeps -Werror quiet */
     for (i = 0; i < sizeof files / sizeof files[0]; i++) {
         pw_image img;
         pw_err e;
@@ -613,15 +590,14 @@ static void t_write_errors(void)
 static void t_save_load_files(void)
 {
     static const char *const ext[] = {".ppm", ".PGM", ".pnm", ".pam", ".png", ".Png"};
-    char path[256];
     int i, c;
     for (i = 0; i < 6; i++)
         for (c = 1; c <= 4; c++) {
+            const char *path = pwt_tmp("image", c, ext[i]);
             pw_image a, b;
             pw_err e;
             make_image(&a, 6, 5, c, (uint64_t)(i * 10 + c));
             a.bits = (i + c) % 2 ? 16 : 8;
-            snprintf(path, sizeof path, "/tmp/pw_test_image_%ld_%d%s", (long)getpid(), c, ext[i]);
             pw_err_clear(&e);
             CHECKF(pw_image_save(path, &a, &e) == PW_OK, "%s: %s", path, e.msg);
             CHECKF(pw_image_load(NULL, path, &b, &e) == PW_OK, "%s: %s", path, e.msg);
@@ -652,7 +628,8 @@ static void t_save_load_files(void)
 /* netpbm, when installed, reads what we write. */
 static void t_netpbm_reads_ours(void)
 {
-    char path[256], cmd[600];
+    const char *path = pwt_tmp("image", 0, ".pnm");
+    char cmd[600];
     pw_image a;
     pw_err e;
     int c, bits;
@@ -664,7 +641,6 @@ static void t_netpbm_reads_ours(void)
         for (bits = 8; bits <= 16; bits += 8) {
             make_image(&a, 7, 4, c, 3);
             a.bits = bits;
-            snprintf(path, sizeof path, "/tmp/pw_test_image_%ld.pnm", (long)getpid());
             pw_err_clear(&e);
             REQUIRE(pw_image_save(path, &a, &e) == PW_OK);
             snprintf(cmd, sizeof cmd, "pamfile %s 2>/dev/null | grep -q '7 by 4.*maxval %d'", path,

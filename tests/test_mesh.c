@@ -45,41 +45,31 @@ static int same_mesh(const pw_mesh *a, const pw_mesh *b)
     return 1;
 }
 
-/* An allocator that fails after `budget` successful calls and tracks the
- * largest request and the balance of live blocks. */
+/* The counting, failing allocator of pwtest.h, also tracking the largest
+ * request. */
 typedef struct talloc {
-    int budget, live;
+    pwt_alloc_state s;
     size_t largest;
 } talloc;
 static void *t_malloc(void *u, size_t n)
 {
     talloc *t = (talloc *)u;
     if (n > t->largest) t->largest = n;
-    if (t->budget == 0) return NULL;
-    if (t->budget > 0) t->budget--;
-    t->live++;
-    return malloc(n);
+    return pwt_malloc(&t->s, n);
 }
 static void *t_realloc(void *u, void *p, size_t n)
 {
     talloc *t = (talloc *)u;
     if (n > t->largest) t->largest = n;
-    if (t->budget == 0) return NULL;
-    if (t->budget > 0) t->budget--;
-    if (!p) t->live++;
-    return realloc(p, n);
+    return pwt_realloc(&t->s, p, n);
 }
-static void t_free(void *u, void *p)
-{
-    talloc *t = (talloc *)u;
-    if (p) t->live--;
-    free(p);
-}
+static void t_free(void *u, void *p) { pwt_free(&((talloc *)u)->s, p); }
 static pw_alloc make_alloc(talloc *t, int budget)
 {
     pw_alloc a;
-    t->budget = budget;
-    t->live = 0;
+    t->s.calls = 0;
+    t->s.live = 0;
+    t->s.fail_after = budget;
     t->largest = 0;
     a.malloc_fn = t_malloc;
     a.realloc_fn = t_realloc;
@@ -500,7 +490,7 @@ static void t_huge_counts(void)
         CHECKF(r == codes[i], "case %d: code %d (%s)", (int)i, r, e.msg);
         CHECKF(t.largest < 100000, "case %d: allocated %lu bytes", (int)i, (unsigned long)t.largest);
         if (r == PW_OK) pw_mesh_free(&a, &m);
-        CHECK_EQ_INT(t.live, 0);
+        CHECK_EQ_INT(t.s.live, 0);
     }
 }
 
@@ -711,11 +701,22 @@ static void t_ply_binary(void)
     }
 }
 
+/* EXPECT_ERR on an ASCII PLY file of 3 vertices and 1 face whose header
+ * (10 lines) is followed by `body`. */
+static void expect_ply_err_(int line, const char *body, const char *name, int code, const char *f1,
+                            const char *f2)
+{
+    static const char vhdr[] =
+        "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+        "element face 1\nproperty list uchar int vertex_indices\nend_header\n";
+    char text[1024];
+    snprintf(text, sizeof text, "%s%s", vhdr, body);
+    expect_err_(line, text, name, code, f1, f2);
+}
+#define EXPECT_PLY_ERR(body, name, code, f1, f2) expect_ply_err_(__LINE__, body, name, code, f1, f2)
+
 static void t_ply_errors(void)
 {
-    const char *vhdr = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
-                       "element face 1\nproperty list uchar int vertex_indices\nend_header\n";
-    char text[1024];
     EXPECT_ERR("ply\nformat ascii 1.0\nelement vertex 3\n", "h.ply", PW_ERR_PARSE, "h.ply:", "end_header");
     EXPECT_ERR("ply\nformat binary_middle_endian 1.0\nend_header\n", "f.ply", PW_ERR_UNSUPPORTED, "f.ply:2:", "binary_middle_endian");
     EXPECT_ERR("ply\nformat ascii 2.0\nend_header\n", "f.ply", PW_ERR_UNSUPPORTED, "f.ply:2:", "version");
@@ -730,20 +731,15 @@ static void t_ply_errors(void)
     EXPECT_ERR("ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
                "element face 1\nproperty int label\nend_header\n0 0 0\n1 0 0\n0 1 0\n5\n", "nf.ply", PW_ERR_PARSE, "nf.ply",
                "vertex_indices");
-    snprintf(text, sizeof text, "%s0 0 0\n1 0 0\n0 1 0\n3 0 1 3\n", vhdr);
-    EXPECT_ERR(text, "i.ply", PW_ERR_INVALID, "i.ply:13:", "face 0: vertex index 3 out of range");
-    snprintf(text, sizeof text, "%s0 0 0\n1 0 0\n0 1 0\n3 0 1 1.5\n", vhdr);
-    EXPECT_ERR(text, "i.ply", PW_ERR_INVALID, "i.ply:13:", "index 1.5");
-    snprintf(text, sizeof text, "%s0 0 0\n1 inf 0\n0 1 0\n3 0 1 2\n", vhdr);
-    EXPECT_ERR(text, "n.ply", PW_ERR_INVALID, "n.ply:11:", "vertex 1 has a non-finite coordinate");
-    snprintf(text, sizeof text, "%s0 0 0\n1 0 0\n0 1 0\n2 0 1\n", vhdr);
-    EXPECT_ERR(text, "d.ply", PW_ERR_DEGENERATE, "d.ply:13:", "face 0 has 2 corners");
-    snprintf(text, sizeof text, "%s0 0 0\n1 0 0\n0 1 0\n3 0 1", vhdr);
-    EXPECT_ERR(text, "tr.ply", PW_ERR_PARSE, "tr.ply:13:", "end of file in face 0");
-    snprintf(text, sizeof text, "%s0 0 0\n1 0 x\n0 1 0\n3 0 1 2\n", vhdr);
-    EXPECT_ERR(text, "x.ply", PW_ERR_PARSE, "x.ply:11:", "malformed number 'x'");
-    snprintf(text, sizeof text, "%s0 0 0\n1 0 0\n0 1 0\n-3 0 1 2\n", vhdr);
-    EXPECT_ERR(text, "c.ply", PW_ERR_PARSE, "c.ply:13:", "bad list length");
+    EXPECT_PLY_ERR("0 0 0\n1 0 0\n0 1 0\n3 0 1 3\n", "i.ply", PW_ERR_INVALID, "i.ply:13:",
+                   "face 0: vertex index 3 out of range");
+    EXPECT_PLY_ERR("0 0 0\n1 0 0\n0 1 0\n3 0 1 1.5\n", "i.ply", PW_ERR_INVALID, "i.ply:13:", "index 1.5");
+    EXPECT_PLY_ERR("0 0 0\n1 inf 0\n0 1 0\n3 0 1 2\n", "n.ply", PW_ERR_INVALID, "n.ply:11:",
+                   "vertex 1 has a non-finite coordinate");
+    EXPECT_PLY_ERR("0 0 0\n1 0 0\n0 1 0\n2 0 1\n", "d.ply", PW_ERR_DEGENERATE, "d.ply:13:", "face 0 has 2 corners");
+    EXPECT_PLY_ERR("0 0 0\n1 0 0\n0 1 0\n3 0 1", "tr.ply", PW_ERR_PARSE, "tr.ply:13:", "end of file in face 0");
+    EXPECT_PLY_ERR("0 0 0\n1 0 x\n0 1 0\n3 0 1 2\n", "x.ply", PW_ERR_PARSE, "x.ply:11:", "malformed number 'x'");
+    EXPECT_PLY_ERR("0 0 0\n1 0 0\n0 1 0\n-3 0 1 2\n", "c.ply", PW_ERR_PARSE, "c.ply:13:", "bad list length");
     EXPECT_ERR("ply\nformat ascii 1.0\nelement vertex 3\nelement vertex 3\nend_header\n", "2v.ply", PW_ERR_PARSE, ":4:",
                "second 'vertex'");
     EXPECT_ERR("plyx\n", "m.ply", PW_ERR_PARSE, "m.ply", "not a PLY file");
@@ -848,7 +844,7 @@ static void t_alloc_failures(void)
                 pw_mesh_free(&a, &m);
             } else
                 CHECKF(r == PW_ERR_NOMEM, "format %d budget %d: %d %s", i, budget, r, e.msg);
-            CHECKF(t.live == 0, "format %d budget %d: %d blocks leaked", i, budget, t.live);
+            CHECKF(t.s.live == 0, "format %d budget %d: %ld blocks leaked", i, budget, t.s.live);
         }
         CHECK(ok);
     }
@@ -936,13 +932,10 @@ static void t_real_data(void)
     size_t i;
     int found = 0;
     for (i = 0; i < sizeof files / sizeof files[0]; i++) {
-        char path[1024];
-        FILE *f;
+        const char *path = pwt_data_opt(files[i]);
         pw_mesh m;
         pw_err e;
-        snprintf(path, sizeof path, "%s/%s", pwt_data_dir(), files[i]);
-        if (!(f = fopen(path, "rb"))) continue;
-        fclose(f);
+        if (!path) continue;
         found++;
         pw_err_clear(&e);
         if (pw_mesh_load(NULL, path, &m, &e)) {

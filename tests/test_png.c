@@ -2,46 +2,15 @@
  * round trips and hand-made/corrupt streams, PNG writing and reading of
  * every colour type, depth, filter and interlacing, malformed files, and
  * cross-checks with python3's zlib and netpbm when they are installed. */
-#define _POSIX_C_SOURCE 200809L
 #include "../src/common/png.h"
 #include "../src/common/rng.h"
 #include "pwtest.h"
 #include <time.h>
-#include <unistd.h>
 
 /* ---- helpers ---- */
 
-static int alloc_calls;
-static void *count_malloc(void *u, size_t n)
-{
-    (void)u;
-    alloc_calls++;
-    return malloc(n);
-}
-static void *count_realloc(void *u, void *p, size_t n)
-{
-    (void)u;
-    alloc_calls++;
-    return realloc(p, n);
-}
-static void count_free(void *u, void *p)
-{
-    (void)u;
-    free(p);
-}
-static const pw_alloc counting = {count_malloc, count_realloc, count_free, NULL};
-
-static char tmp_path[4][256];
-/* A per-process temporary file name. */
-static const char *tmp(int k, const char *ext)
-{
-    snprintf(tmp_path[k], sizeof tmp_path[k], "/tmp/pw_test_png_%ld_%d%s", (long)getpid(), k, ext);
-    return tmp_path[k];
-}
-
 static int have(const char *tool)
 {
-    (void)pwt_data; /* pwtest.h helper unused here; keeps -Werror quiet */
     char cmd[256];
     snprintf(cmd, sizeof cmd, "command -v %s >/dev/null 2>&1", tool);
     return system(cmd) == 0;
@@ -97,6 +66,14 @@ static int same_quantized(const pw_image *a, const pw_image *b, unsigned maxval)
 }
 
 static double now(void) { return (double)clock() / CLOCKS_PER_SEC; }
+
+/* Writes img as PNG (bits: 8, 16 or 0) into the fresh buffer b. */
+static int png_to_buf(const pw_alloc *a, const pw_image *img, int bits, pw_buf *b, pw_err *e)
+{
+    memset(b, 0, sizeof *b);
+    pw_err_clear(e);
+    return pw_png_write(a, img, bits, pw_buf_write, b, e);
+}
 
 /* ---- checksums ---- */
 
@@ -288,6 +265,52 @@ static void expect_inflate_fail(const bits *s, int code, const char *what, int l
 }
 #define EXPECT_INFLATE_FAIL(s, code, what) expect_inflate_fail(s, code, what, __LINE__)
 
+/* Starts a fresh stream with a final block of `type` (0 stored, 1 fixed,
+ * 2 dynamic, 3 invalid). */
+static void final_block(bits *s, unsigned type)
+{
+    memset(s, 0, sizeof *s);
+    put(s, 1u | type << 1, 3);
+}
+
+/* A stored block header with the given LEN and NLEN fields. */
+static void stored_header(bits *s, unsigned len, unsigned nlen)
+{
+    final_block(s, 0);
+    put(s, 0, 5); /* to the byte boundary */
+    put(s, len, 16);
+    put(s, nlen, 16);
+}
+
+/* A fixed block: literal 'a', then a match of length 3 (code 257) with
+ * distance code dcode. */
+static void fixed_a_match(bits *s, unsigned dcode)
+{
+    final_block(s, 1);
+    put_code(s, 0x30 + 'a', 8);
+    put_code(s, 1, 7);
+    put_code(s, dcode, 5);
+}
+
+/* A dynamic block header: HLIT, HDIST and HCLEN as stored (less 257, 1, 4). */
+static void dyn_header(bits *s, unsigned hlit, unsigned hdist, unsigned hclen)
+{
+    final_block(s, 2);
+    put(s, hlit, 5);
+    put(s, hdist, 5);
+    put(s, hclen, 4);
+}
+
+/* A dynamic block with 257 literal/length and 1 distance code whose
+ * code-length codes 16, 17, 18 and 0 all have length 2 (complete); in
+ * canonical order 0 -> 00, 16 -> 01, 17 -> 10, 18 -> 11. */
+static void dyn_header_clen2(bits *s)
+{
+    int i;
+    dyn_header(s, 0, 0, 0);
+    for (i = 0; i < 4; i++) put(s, 2, 3);
+}
+
 /* A dynamic block: literal/length lengths 'a' 1, end-of-block 2, length
  * code 257 2; one distance code (0) of length 1. Data: 'a', then a match of
  * 3 with distance code bit `dbit`, then end-of-block. */
@@ -296,11 +319,7 @@ static void dyn_single_dist(bits *s, int dbit)
     /* code-length code: 18 -> 0, 1 -> 10, 2 -> 11 (canonical) */
     static const int clen_in_order[18] = {0, 0, 1, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 2, 0, 2};
     int i;
-    memset(s, 0, sizeof *s);
-    put(s, 5, 3);
-    put(s, 1, 5);  /* HLIT 258 */
-    put(s, 0, 5);  /* HDIST 1 */
-    put(s, 14, 4); /* HCLEN 18 */
+    dyn_header(s, 1, 0, 14); /* HLIT 258, HDIST 1, HCLEN 18 */
     for (i = 0; i < 18; i++) put(s, (unsigned)clen_in_order[i], 3);
     put_code(s, 0, 1);
     put(s, 97 - 11, 7); /* 97 zeros */
@@ -322,97 +341,53 @@ static void t_inflate_corrupt(void)
 {
     bits s;
     int i;
-    memset(&s, 0, sizeof s);
-    put(&s, 7, 3); /* final, type 3 */
+    final_block(&s, 3);
     EXPECT_INFLATE_FAIL(&s, PW_ERR_PARSE, "invalid block type 3");
-    memset(&s, 0, sizeof s);
-    put(&s, 1, 3); /* stored */
-    put(&s, 0, 5);
-    put(&s, 5, 16);
-    put(&s, 5, 16);
+    stored_header(&s, 5, 5);
     EXPECT_INFLATE_FAIL(&s, PW_ERR_PARSE, "stored block length check failed");
-    memset(&s, 0, sizeof s);
-    put(&s, 1, 3);
-    put(&s, 0, 5);
-    put(&s, 5, 16);
-    put(&s, 0xfffa, 16);
+    stored_header(&s, 5, 0xfffa);
     put(&s, 'a', 8);
     EXPECT_INFLATE_FAIL(&s, PW_ERR_PARSE, "truncated");
     /* fixed block: a match before any output */
-    memset(&s, 0, sizeof s);
-    put(&s, 3, 3);
+    final_block(&s, 1);
     put_code(&s, 1, 7); /* length code 257: 3 */
     put_code(&s, 0, 5); /* distance code 0: 1 */
     EXPECT_INFLATE_FAIL(&s, PW_ERR_PARSE, "distance 1 too far back");
     /* fixed block: literal 'a' then distance 2 */
-    memset(&s, 0, sizeof s);
-    put(&s, 3, 3);
-    put_code(&s, 0x30 + 'a', 8);
-    put_code(&s, 1, 7);
-    put_code(&s, 1, 5);
+    fixed_a_match(&s, 1);
     EXPECT_INFLATE_FAIL(&s, PW_ERR_PARSE, "distance 2 too far back");
     /* fixed block: length code 286 is invalid */
-    memset(&s, 0, sizeof s);
-    put(&s, 3, 3);
+    final_block(&s, 1);
     put_code(&s, 0xc6, 8);
     EXPECT_INFLATE_FAIL(&s, PW_ERR_PARSE, "invalid length code 286");
     /* fixed block: distance code 30 is invalid */
-    memset(&s, 0, sizeof s);
-    put(&s, 3, 3);
-    put_code(&s, 0x30 + 'a', 8);
-    put_code(&s, 1, 7);
-    put_code(&s, 30, 5);
+    fixed_a_match(&s, 30);
     EXPECT_INFLATE_FAIL(&s, PW_ERR_PARSE, "invalid distance code 30");
     /* fixed block without end-of-block */
-    memset(&s, 0, sizeof s);
-    put(&s, 3, 3);
+    final_block(&s, 1);
     put_code(&s, 0x30 + 'a', 8);
     EXPECT_INFLATE_FAIL(&s, PW_ERR_PARSE, "truncated");
     /* dynamic: all 19 code-length codes of length 1: over-subscribed */
-    memset(&s, 0, sizeof s);
-    put(&s, 5, 3);
-    put(&s, 0, 5);
-    put(&s, 0, 5);
-    put(&s, 15, 4);
+    dyn_header(&s, 0, 0, 15);
     for (i = 0; i < 19; i++) put(&s, 1, 3);
     EXPECT_INFLATE_FAIL(&s, PW_ERR_PARSE, "bad code-length code");
     /* dynamic: HLIT 287 */
-    memset(&s, 0, sizeof s);
-    put(&s, 5, 3);
-    put(&s, 30, 5);
-    put(&s, 0, 5);
-    put(&s, 0, 4);
+    dyn_header(&s, 30, 0, 0);
     EXPECT_INFLATE_FAIL(&s, PW_ERR_PARSE, "too many length or distance codes");
-    /* dynamic: code lengths for 16,17,18,0 all 2 (complete); first symbol
-     * is a repeat (16 = code 00) with nothing to repeat */
-    memset(&s, 0, sizeof s);
-    put(&s, 5, 3);
-    put(&s, 0, 5);
-    put(&s, 0, 5);
-    put(&s, 0, 4);
-    for (i = 0; i < 4; i++) put(&s, 2, 3);
-    put_code(&s, 1, 2); /* canonical: 0 -> 00, 16 -> 01, 17 -> 10, 18 -> 11 */
+    /* dynamic: the first symbol is a repeat (16) with nothing to repeat */
+    dyn_header_clen2(&s);
+    put_code(&s, 1, 2);
     put(&s, 0, 2);
     EXPECT_INFLATE_FAIL(&s, PW_ERR_PARSE, "repeat with no previous length");
-    /* dynamic: 258 zero lengths via 18 (code 10) x2: no end-of-block code */
-    memset(&s, 0, sizeof s);
-    put(&s, 5, 3);
-    put(&s, 0, 5);
-    put(&s, 0, 5);
-    put(&s, 0, 4);
-    for (i = 0; i < 4; i++) put(&s, 2, 3);
+    /* dynamic: 258 zero lengths via 18 (code 11) x2: no end-of-block code */
+    dyn_header_clen2(&s);
     put_code(&s, 3, 2);
     put(&s, 127, 7); /* 138 zeros */
     put_code(&s, 3, 2);
     put(&s, 109, 7); /* 120 zeros: 258 = 257 + 1 */
     EXPECT_INFLATE_FAIL(&s, PW_ERR_PARSE, "no end-of-block code");
     /* dynamic: repeat past the end */
-    memset(&s, 0, sizeof s);
-    put(&s, 5, 3);
-    put(&s, 0, 5);
-    put(&s, 0, 5);
-    put(&s, 0, 4);
-    for (i = 0; i < 4; i++) put(&s, 2, 3);
+    dyn_header_clen2(&s);
     put_code(&s, 3, 2);
     put(&s, 127, 7);
     put_code(&s, 3, 2);
@@ -477,6 +452,8 @@ static void t_zlib_errors(void)
 {
     unsigned char zeros[100000], *z, *out;
     size_t zn, outn;
+    pwt_alloc_state counts = {0, 0, -1};
+    pw_alloc counting = {pwt_malloc, pwt_realloc, pwt_free, &counts};
     pw_err e;
     memset(zeros, 0, sizeof zeros);
     pw_err_clear(&e);
@@ -486,9 +463,8 @@ static void t_zlib_errors(void)
           strstr(e.msg, "99999"));
     CHECK(out == NULL);
     pw_err_clear(&e);
-    alloc_calls = 0;
     CHECK(pw_zlib_decompress(&counting, z, zn, sizeof zeros, &out, &outn, &e) == PW_OK);
-    free(out);
+    pwt_free(&counts, out);
     z[zn - 1] ^= 1;
     pw_err_clear(&e);
     CHECK(pw_zlib_decompress(NULL, z, zn, sizeof zeros, &out, &outn, &e) == PW_ERR_PARSE &&
@@ -518,7 +494,7 @@ static void t_zlib_errors(void)
 /* python3's zlib decodes our streams and we decode its streams. */
 static void t_python_zlib(void)
 {
-    const char *ours = tmp(0, ".z"), *raw = tmp(1, ".bin"), *theirs = tmp(2, ".z");
+    const char *ours = pwt_tmp("png", 0, ".z"), *raw = pwt_tmp("png", 1, ".bin"), *theirs = pwt_tmp("png", 2, ".z");
     char cmd[1024];
     size_t n = 300000, i, zn, tn, on;
     unsigned char *d = (unsigned char *)malloc(n), *z, *t, *out;
@@ -582,9 +558,7 @@ static void t_png_roundtrip(void)
                 pw_buf buf;
                 pw_err e;
                 make_image(&a, sizes[si][0], sizes[si][1], c, (uint64_t)(c * 7 + bits + si));
-                memset(&buf, 0, sizeof buf);
-                pw_err_clear(&e);
-                REQUIRE(pw_png_write(&a, bits, pw_buf_write, &buf, &e) == PW_OK);
+                REQUIRE(png_to_buf(NULL, &a, bits, &buf, &e) == PW_OK);
                 pw_err_clear(&e);
                 CHECKF(pw_image_read_memory(NULL, buf.data, buf.size, "rt.png", &b, &e) == PW_OK,
                        "%s", e.msg);
@@ -600,21 +574,32 @@ static void t_png_roundtrip(void)
             }
 }
 
-/* The writer's output is deterministic and its chunk CRCs are right. */
+/* The writer's output is deterministic, its buffers come from the caller's
+ * allocator (a failure there is reported and leaks nothing), and its chunk
+ * CRCs are right. */
 static void t_png_write_structure(void)
 {
     pw_image a;
     pw_buf b1, b2;
     pw_err e;
+    pwt_alloc_state counts = {0, 0, -1};
+    pw_alloc al = {pwt_malloc, pwt_realloc, pwt_free, &counts};
     size_t pos = 8;
     int nchunks = 0;
+    long budget;
     make_smooth(&a, 300, 200, 3);
-    memset(&b1, 0, sizeof b1);
-    memset(&b2, 0, sizeof b2);
-    pw_err_clear(&e);
-    REQUIRE(pw_png_write(&a, 8, pw_buf_write, &b1, &e) == PW_OK);
-    REQUIRE(pw_png_write(&a, 8, pw_buf_write, &b2, &e) == PW_OK);
+    REQUIRE(png_to_buf(NULL, &a, 8, &b1, &e) == PW_OK);
+    REQUIRE(png_to_buf(&al, &a, 8, &b2, &e) == PW_OK);
     CHECK(b1.size == b2.size && memcmp(b1.data, b2.data, b1.size) == 0);
+    CHECKF(counts.calls > 0 && counts.live == 0, "%ld calls, %ld live", counts.calls, counts.live);
+    for (budget = 0; budget < counts.calls; budget++) {
+        pwt_alloc_state f = {0, 0, budget};
+        pw_alloc fa = {pwt_malloc, pwt_realloc, pwt_free, &f};
+        pw_buf b3;
+        CHECKF(png_to_buf(&fa, &a, 8, &b3, &e) == PW_ERR_NOMEM, "budget %ld", budget);
+        CHECKF(f.live == 0, "budget %ld: %ld blocks leaked", budget, f.live);
+        free(b3.data);
+    }
     CHECK(memcmp(b1.data, "\x89PNG\r\n\x1a\n", 8) == 0);
     while (pos + 12 <= b1.size) {
         uint32_t len = pw__be32(b1.data + pos);
@@ -625,7 +610,7 @@ static void t_png_write_structure(void)
     CHECK(pos == b1.size && nchunks >= 3);
     CHECK(memcmp(b1.data + b1.size - 8, "IEND", 4) == 0);
     pw_err_clear(&e);
-    CHECK(pw_png_write(&a, 4, pw_buf_write, &b1, &e) == PW_ERR_INVALID);
+    CHECK(pw_png_write(NULL, &a, 4, pw_buf_write, &b1, &e) == PW_ERR_INVALID);
     free(b1.data);
     free(b2.data);
     pw_image_free(NULL, &a);
@@ -876,7 +861,7 @@ static void t_png_read_all_types(void)
 static void t_png_read_vs_netpbm(void)
 {
     pw_rng r = pw_rng_seed(4, 4);
-    const char *png = tmp(0, ".png"), *pam = tmp(1, ".pam");
+    const char *png = pwt_tmp("png", 0, ".png"), *pam = pwt_tmp("png", 1, ".pam");
     char cmd[700];
     size_t t;
     int il, trns, count = 0;
@@ -922,13 +907,33 @@ static void t_png_read_vs_netpbm(void)
     pwt_info("%d files agree with pngtopam", count);
 }
 
+/* pnmtopng, plain and interlaced, turns the PNM file pnm (holding a's
+ * samples) into back, which must read back as a at maxval. */
+static void check_pnmtopng(const pw_image *a, const char *pnm, const char *back, unsigned maxval,
+                           const char *what)
+{
+    char cmd[900];
+    int il;
+    for (il = 0; il <= 1; il++) {
+        pw_image b;
+        pw_err e;
+        snprintf(cmd, sizeof cmd, "pnmtopng %s %s > %s 2>/dev/null", il ? "-interlace" : "", pnm,
+                 back);
+        CHECKF(system(cmd) == 0, "pnmtopng %s interlace %d failed", what, il);
+        pw_err_clear(&e);
+        CHECKF(pw_image_load(NULL, back, &b, &e) == PW_OK, "%s", e.msg);
+        CHECKF(b.px && same_quantized(a, &b, maxval), "pnmtopng %s interlace %d", what, il);
+        pw_image_free(NULL, &b);
+    }
+}
+
 /* netpbm's pngtopnm/pngtopam decode our PNGs to our own PNM samples, and
  * we decode pnmtopng's PNGs (its own choices of depth, palette, interlace). */
 static void t_png_netpbm_cross(void)
 {
-    const char *png = tmp(0, ".png"), *pnm = tmp(1, ".pnm"), *back = tmp(2, ".pnm");
-    char cmd[900];
-    int c, bits, il;
+    const char *png = pwt_tmp("png", 0, ".png"), *pnm = pwt_tmp("png", 1, ".pnm"), *back = pwt_tmp("png", 2, ".pnm");
+    char cmd[900], what[64];
+    int c, bits;
     if (!have("pngtopnm") || !have("pngtopam") || !have("pnmtopng")) {
         pwt_skip("netpbm (pngtopnm, pngtopam, pnmtopng) not installed");
         return;
@@ -950,17 +955,9 @@ static void t_png_netpbm_cross(void)
             CHECKF(same_quantized(&a, &b, bits == 16 ? 65535u : 255u) && b.bits == bits,
                    "netpbm decodes c=%d bits=%d differently", c, bits);
             pw_image_free(NULL, &b);
-            if (c == 1 || c == 3)
-                for (il = 0; il <= 1; il++) { /* the other direction */
-                    snprintf(cmd, sizeof cmd, "pnmtopng %s %s > %s 2>/dev/null",
-                             il ? "-interlace" : "", pnm, back);
-                    CHECK(system(cmd) == 0);
-                    pw_err_clear(&e);
-                    CHECKF(pw_image_load(NULL, back, &b, &e) == PW_OK, "%s", e.msg);
-                    CHECKF(b.px && same_quantized(&a, &b, bits == 16 ? 65535u : 255u),
-                           "pnmtopng c=%d bits=%d il=%d", c, bits, il);
-                    pw_image_free(NULL, &b);
-                }
+            snprintf(what, sizeof what, "c=%d bits=%d", c, bits);
+            if (c == 1 || c == 3) /* the other direction */
+                check_pnmtopng(&a, pnm, back, bits == 16 ? 65535u : 255u, what);
             pw_image_free(NULL, &a);
         }
     {
@@ -969,22 +966,16 @@ static void t_png_netpbm_cross(void)
             "P2 5 3 3 0 1 2 3 0 3 2 1 0 1 1 1 1 1 1\n",
             "P3 4 2 255 255 0 0 0 255 0 0 0 255 255 0 0 9 9 9 255 255 255 0 0 0 0 0 255\n"};
         int i;
-        for (i = 0; i < 2; i++)
-            for (il = 0; il <= 1; il++) {
-                pw_image a, b;
-                pw_err e;
-                pw_err_clear(&e);
-                REQUIRE(write_bytes(pnm, srcs[i], strlen(srcs[i])));
-                REQUIRE(pw_image_load(NULL, pnm, &a, &e) == PW_OK);
-                snprintf(cmd, sizeof cmd, "pnmtopng %s %s > %s 2>/dev/null", il ? "-interlace" : "",
-                         pnm, back);
-                CHECK(system(cmd) == 0);
-                CHECKF(pw_image_load(NULL, back, &b, &e) == PW_OK, "%s", e.msg);
-                CHECKF(b.px && same_quantized(&a, &b, 255), "pnmtopng source %d interlace %d", i,
-                       il);
-                pw_image_free(NULL, &a);
-                pw_image_free(NULL, &b);
-            }
+        for (i = 0; i < 2; i++) {
+            pw_image a;
+            pw_err e;
+            pw_err_clear(&e);
+            REQUIRE(write_bytes(pnm, srcs[i], strlen(srcs[i])));
+            REQUIRE(pw_image_load(NULL, pnm, &a, &e) == PW_OK);
+            snprintf(what, sizeof what, "source %d", i);
+            check_pnmtopng(&a, pnm, back, 255, what);
+            pw_image_free(NULL, &a);
+        }
     }
     remove(png);
     remove(pnm);
@@ -1005,7 +996,9 @@ static void base_png(pw_buf *b, int idat_extra)
     add_chunk(b, "IEND", NULL, 0);
 }
 
-static void expect_png_fail(const pw_buf *b, int code, const char *what, int line)
+/* Expects reading b to fail with `code` and a message naming the file and
+ * containing `what`; frees b. */
+static void expect_png_fail(pw_buf *b, int code, const char *what, int line)
 {
     pw_image img;
     pw_err e;
@@ -1015,6 +1008,7 @@ static void expect_png_fail(const pw_buf *b, int code, const char *what, int lin
     if (rc != code || !strstr(e.msg, what) || !strstr(e.msg, "bad.png"))
         pwt_fail_(__FILE__, line, "got %d '%s', expected %d '%s'", rc, e.msg, code, what);
     if (rc == PW_OK) pw_image_free(NULL, &img);
+    free(b->data);
 }
 #define EXPECT_PNG_FAIL(b, code, what) expect_png_fail(b, code, what, __LINE__)
 
@@ -1028,8 +1022,33 @@ static void raw_png(pw_buf *b, uint32_t w, uint32_t h, int depth, int ctype, int
     add_chunk(b, "IEND", NULL, 0);
 }
 
+/* The start of a 3x2 8-bit PNG of colour type ctype: signature and IHDR. */
+static void png_head(pw_buf *b, int ctype)
+{
+    memset(b, 0, sizeof *b);
+    add_ihdr(b, 3, 2, 8, ctype, 0);
+}
+
+/* Its end: 8 bytes of raw data in an IDAT chunk, then IEND. */
+static void png_tail(pw_buf *b, const unsigned char *raw)
+{
+    add_idat(b, raw, 8, 65536);
+    add_chunk(b, "IEND", NULL, 0);
+}
+
 static void t_png_malformed(void)
 {
+    /* invalid IHDR fields: width, bit depth, colour type, interlace method */
+    static const struct bad_ihdr {
+        uint32_t w;
+        int depth, ctype, il;
+        const char *what;
+    } bad[] = {{3, 3, 0, 0, "bit depth 3 is invalid for PNG colour type 0"},
+               {3, 16, 3, 0, "bit depth 16 is invalid for PNG colour type 3"},
+               {3, 4, 2, 0, "bit depth 4 is invalid for PNG colour type 2"},
+               {3, 8, 5, 0, "invalid PNG colour type 5"},
+               {3, 8, 0, 2, "interlace method"},
+               {0, 8, 0, 0, "zero size"}};
     pw_buf b;
     pw_image img;
     pw_err e;
@@ -1061,106 +1080,68 @@ static void t_png_malformed(void)
     b.data[0] = 0x89;
     b.data[8 + 8 + 3] ^= 1; /* IHDR width */
     EXPECT_PNG_FAIL(&b, PW_ERR_PARSE, "CRC mismatch in PNG chunk 'IHDR'");
-    b.data[8 + 8 + 3] ^= 1;
+    base_png(&b, 0);
     b.data[33 + 8] ^= 1; /* PLTE data */
     EXPECT_PNG_FAIL(&b, PW_ERR_PARSE, "CRC mismatch in PNG chunk 'PLTE'");
-    b.data[33 + 8] ^= 1;
+    base_png(&b, 0);
     b.data[33 + 4] = '1';
     EXPECT_PNG_FAIL(&b, PW_ERR_PARSE, "bad PNG chunk type");
-    b.data[33 + 4] = 'P';
+    base_png(&b, 0);
     b.data[33 + 3] = 200; /* PLTE length beyond the file */
     EXPECT_PNG_FAIL(&b, PW_ERR_PARSE, "chunk 'PLTE' truncated");
-    free(b.data);
 
     base_png(&b, 1);
     EXPECT_PNG_FAIL(&b, PW_ERR_PARSE, "longer than the 8 bytes");
-    free(b.data);
     base_png(&b, -2);
     EXPECT_PNG_FAIL(&b, PW_ERR_PARSE, "image data truncated (6 of 8 bytes)");
-    free(b.data);
 
-    raw_png(&b, 3, 2, 3, 0, 0, raw, 8);
-    EXPECT_PNG_FAIL(&b, PW_ERR_PARSE, "bit depth 3 is invalid for PNG colour type 0");
-    free(b.data);
-    raw_png(&b, 3, 2, 16, 3, 0, raw, 8);
-    EXPECT_PNG_FAIL(&b, PW_ERR_PARSE, "bit depth 16 is invalid for PNG colour type 3");
-    free(b.data);
-    raw_png(&b, 3, 2, 4, 2, 0, raw, 8);
-    EXPECT_PNG_FAIL(&b, PW_ERR_PARSE, "bit depth 4 is invalid for PNG colour type 2");
-    free(b.data);
-    raw_png(&b, 3, 2, 8, 5, 0, raw, 8);
-    EXPECT_PNG_FAIL(&b, PW_ERR_PARSE, "invalid PNG colour type 5");
-    free(b.data);
-    raw_png(&b, 3, 2, 8, 0, 2, raw, 8);
-    EXPECT_PNG_FAIL(&b, PW_ERR_PARSE, "interlace method");
-    free(b.data);
-    raw_png(&b, 0, 2, 8, 0, 0, raw, 8);
-    EXPECT_PNG_FAIL(&b, PW_ERR_PARSE, "zero size");
-    free(b.data);
+    for (k = 0; k < sizeof bad / sizeof bad[0]; k++) {
+        raw_png(&b, bad[k].w, 2, bad[k].depth, bad[k].ctype, bad[k].il, raw, 8);
+        EXPECT_PNG_FAIL(&b, PW_ERR_PARSE, bad[k].what);
+    }
     raw[4] = 5; /* filter type of row 1 */
-    raw_png(&b, 3, 2, 8, 0, 0, raw, 8);
+    png_head(&b, 0);
+    png_tail(&b, raw);
     EXPECT_PNG_FAIL(&b, PW_ERR_PARSE, "invalid PNG filter type 5");
-    free(b.data);
     raw[4] = 0;
     raw[3] = 7; /* palette index 7 of 3 */
-    memset(&b, 0, sizeof b);
-    add_ihdr(&b, 3, 2, 8, 3, 0);
+    png_head(&b, 3);
     add_chunk(&b, "PLTE", raw + 8, 9);
-    add_idat(&b, raw, 8, 65536);
-    add_chunk(&b, "IEND", NULL, 0);
+    png_tail(&b, raw);
     EXPECT_PNG_FAIL(&b, PW_ERR_PARSE, "palette index 7 out of range (3 entries)");
-    free(b.data);
     raw[3] = 0;
-    memset(&b, 0, sizeof b);
-    add_ihdr(&b, 3, 2, 8, 3, 0);
+    png_head(&b, 3);
     add_chunk(&b, "PLTE", raw + 8, 9);
     add_chunk(&b, "tRNS", raw + 8, 4);
-    add_idat(&b, raw, 8, 65536);
-    add_chunk(&b, "IEND", NULL, 0);
+    png_tail(&b, raw);
     EXPECT_PNG_FAIL(&b, PW_ERR_PARSE, "tRNS chunk has 4 entries for a palette of 3");
-    free(b.data);
-    memset(&b, 0, sizeof b);
-    add_ihdr(&b, 3, 2, 8, 3, 0);
-    add_idat(&b, raw, 8, 65536);
-    add_chunk(&b, "IEND", NULL, 0);
+    png_head(&b, 3);
+    png_tail(&b, raw);
     EXPECT_PNG_FAIL(&b, PW_ERR_PARSE, "palette PNG has no PLTE chunk");
-    free(b.data);
-    memset(&b, 0, sizeof b);
-    add_ihdr(&b, 3, 2, 8, 0, 0);
+    png_head(&b, 0);
     add_chunk(&b, "ABCD", raw, 3);
-    add_idat(&b, raw, 8, 65536);
-    add_chunk(&b, "IEND", NULL, 0);
+    png_tail(&b, raw);
     EXPECT_PNG_FAIL(&b, PW_ERR_UNSUPPORTED, "unknown critical PNG chunk 'ABCD'");
-    free(b.data);
-    memset(&b, 0, sizeof b);
-    add_ihdr(&b, 3, 2, 8, 0, 0);
+    png_head(&b, 0);
     add_chunk(&b, "IEND", NULL, 0);
     EXPECT_PNG_FAIL(&b, PW_ERR_PARSE, "no IDAT chunk");
-    free(b.data);
     memset(&b, 0, sizeof b);
     pw_buf_write(&b, "\x89PNG\r\n\x1a\n", 8);
     add_chunk(&b, "gAMA", raw, 4);
     EXPECT_PNG_FAIL(&b, PW_ERR_PARSE, "first PNG chunk is not IHDR");
-    free(b.data);
-    memset(&b, 0, sizeof b);
-    add_ihdr(&b, 3, 2, 8, 0, 0);
+    png_head(&b, 0);
     add_chunk(&b, "IDAT", (const unsigned char *)"\x78\x9c\xff\xff\xff\xff", 6);
     add_chunk(&b, "IEND", NULL, 0);
     EXPECT_PNG_FAIL(&b, PW_ERR_PARSE, "bad.png: PNG image data: deflate data");
-    free(b.data);
-    memset(&b, 0, sizeof b);
-    add_ihdr(&b, 3, 2, 8, 0, 0);
+    png_head(&b, 0);
     add_chunk(&b, "IHDR", raw, 13);
     EXPECT_PNG_FAIL(&b, PW_ERR_PARSE, "more than one IHDR");
-    free(b.data);
-    memset(&b, 0, sizeof b);
-    add_ihdr(&b, 3, 2, 8, 3, 0);
+    png_head(&b, 3);
     add_chunk(&b, "PLTE", raw + 8, 9);
     add_idat(&b, raw, 8, 65536);
     add_chunk(&b, "PLTE", raw + 8, 9);
     add_chunk(&b, "IEND", NULL, 0);
     EXPECT_PNG_FAIL(&b, PW_ERR_PARSE, "PLTE chunk after the image data");
-    free(b.data);
 }
 
 /* Huge IHDR sizes are refused before any allocation. */
@@ -1169,6 +1150,8 @@ static void t_png_huge_no_alloc(void)
     static const uint32_t dims[][2] = {
         {0x80000000u, 0x80000000u}, {65537, 1}, {65536, 65536}, {60000, 4000}};
     unsigned char raw[8] = {0};
+    pwt_alloc_state counts = {0, 0, -1};
+    pw_alloc counting = {pwt_malloc, pwt_realloc, pwt_free, &counts};
     size_t i;
     for (i = 0; i < 4; i++) {
         pw_buf b;
@@ -1176,12 +1159,12 @@ static void t_png_huge_no_alloc(void)
         pw_err e;
         int rc;
         raw_png(&b, dims[i][0], dims[i][1], 16, 6, (int)i & 1, raw, sizeof raw);
-        alloc_calls = 0;
+        counts.calls = 0;
         pw_err_clear(&e);
         rc = pw_image_read_memory(&counting, b.data, b.size, "huge.png", &img, &e);
         CHECKF(rc == (i < 3 ? PW_ERR_LIMIT : PW_ERR_PARSE), "case %lu: %d %s", (unsigned long)i, rc,
                e.msg);
-        CHECKF(alloc_calls == 0, "case %lu: %d allocations", (unsigned long)i, alloc_calls);
+        CHECKF(counts.calls == 0, "case %lu: %ld allocations", (unsigned long)i, counts.calls);
         CHECK(strstr(e.msg, i < 3 ? "exceeds the limits" : "too short for a 60000x4000 image") !=
               NULL);
         free(b.data);
@@ -1205,9 +1188,7 @@ static void t_png_compression_ratio(void)
             p[1] = (float)y / 255.0f;
             p[2] = (float)(x + y) / 510.0f;
         }
-    memset(&b, 0, sizeof b);
-    pw_err_clear(&e);
-    REQUIRE(pw_png_write(&g, 8, pw_buf_write, &b, &e) == PW_OK);
+    REQUIRE(png_to_buf(NULL, &g, 8, &b, &e) == PW_OK);
     raw = 256 * 256 * 3;
     pwt_info("256x256 RGB gradient: %lu bytes as PNG, raw %lu (%.2f%%)", (unsigned long)b.size,
              (unsigned long)raw, 100.0 * b.size / raw);
@@ -1216,8 +1197,7 @@ static void t_png_compression_ratio(void)
     free(b.data);
     pw_image_free(NULL, &g);
     make_smooth(&g, 256, 256, 3);
-    memset(&b, 0, sizeof b);
-    REQUIRE(pw_png_write(&g, 8, pw_buf_write, &b, &e) == PW_OK);
+    REQUIRE(png_to_buf(NULL, &g, 8, &b, &e) == PW_OK);
     pwt_info("256x256 RGB smooth+noise: %lu bytes as PNG (%.1f%% of raw)", (unsigned long)b.size,
              100.0 * b.size / raw);
     CHECK(b.size < raw / 2);
@@ -1242,9 +1222,8 @@ static void t_png_texture(void)
     fclose(f);
     pw_err_clear(&e);
     REQUIRE(pw_image_load(NULL, path, &t, &e) == PW_OK);
-    memset(&b, 0, sizeof b);
     t0 = now();
-    REQUIRE(pw_png_write(&t, 8, pw_buf_write, &b, &e) == PW_OK);
+    REQUIRE(png_to_buf(NULL, &t, 8, &b, &e) == PW_OK);
     pwt_info("%s %dx%d: PNG %lu bytes, raw %lu (%.1f%%), %.3f s", path, t.w, t.h,
              (unsigned long)b.size, (unsigned long)t.w * t.h * t.c,
              100.0 * b.size / ((double)t.w * t.h * t.c), now() - t0);
@@ -1255,9 +1234,8 @@ static void t_png_texture(void)
         for (x = 0; x < 512; x++)
             pw_image_sample_bilinear(&t, (x + 0.5f) * t.w / 512.0f, (y + 0.5f) * t.h / 512.0f,
                                      big.px + ((size_t)y * 512 + x) * t.c);
-    memset(&b, 0, sizeof b);
     t0 = now();
-    REQUIRE(pw_png_write(&big, 8, pw_buf_write, &b, &e) == PW_OK);
+    REQUIRE(png_to_buf(NULL, &big, 8, &b, &e) == PW_OK);
     pwt_info("512x512 upsampled texture: PNG %lu bytes, raw %lu (%.1f%%), %.3f s",
              (unsigned long)b.size, (unsigned long)512 * 512 * t.c,
              100.0 * b.size / (512.0 * 512 * t.c), now() - t0);
@@ -1274,10 +1252,8 @@ static void t_png_speed(void)
     pw_err e;
     double t0, tw, tr;
     make_smooth(&img, 1024, 1024, 3);
-    memset(&b, 0, sizeof b);
-    pw_err_clear(&e);
     t0 = now();
-    REQUIRE(pw_png_write(&img, 8, pw_buf_write, &b, &e) == PW_OK);
+    REQUIRE(png_to_buf(NULL, &img, 8, &b, &e) == PW_OK);
     tw = now() - t0;
     t0 = now();
     REQUIRE(pw_png_read_memory(NULL, b.data, b.size, "speed.png", &back, &e) == PW_OK);

@@ -238,7 +238,6 @@ static void t_triplets_duplicates(void)
     pw_triplets t;
     pw_csr A;
     pw_err e;
-    (void)pwt_data; /* pwtest.h helper unused here */
     pw_err_clear(&e);
     REQUIRE(pw_triplets_init(&t, NULL, 3, 4, &e) == PW_OK);
     /* out of order, with duplicates and a cancelling pair */
@@ -771,54 +770,20 @@ static void t_cg_progress_cancel(void)
 
 /* ---- allocation failures ------------------------------------------------ */
 
-typedef struct fail_alloc {
-    int left; /* allocations that succeed before the next fails */
-    int live;
-} fail_alloc;
-
-static void *fa_malloc(void *u, size_t n)
-{
-    fail_alloc *f = (fail_alloc *)u;
-    void *p;
-    if (f->left-- <= 0) return NULL;
-    p = malloc(n);
-    if (p) f->live++;
-    return p;
-}
-static void *fa_realloc(void *u, void *p, size_t n)
-{
-    fail_alloc *f = (fail_alloc *)u;
-    if (f->left-- <= 0) return NULL;
-    if (!p) f->live++;
-    return realloc(p, n);
-}
-static void fa_free(void *u, void *p)
-{
-    fail_alloc *f = (fail_alloc *)u;
-    if (p) f->live--;
-    free(p);
-}
-
 /* Builds, multiplies and solves with every allocation failing in turn:
  * each failure is reported as PW_ERR_NOMEM and nothing leaks. */
 static void t_alloc_failures(void)
 {
     int budget, finished = 0;
     for (budget = 0; budget < 40 && !finished; budget++) {
-        fail_alloc f;
-        pw_alloc al;
+        pwt_alloc_state f = {0, 0, budget};
+        pw_alloc al = {pwt_malloc, pwt_realloc, pwt_free, &f};
         pw_triplets t;
         pw_csr A, C;
         double b[30], x[30];
         pw_cg_stats st;
         pw_err e;
         int i, rc;
-        f.left = budget;
-        f.live = 0;
-        al.malloc_fn = fa_malloc;
-        al.realloc_fn = fa_realloc;
-        al.free_fn = fa_free;
-        al.user = &f;
         pw_err_clear(&e);
         memset(&A, 0, sizeof A);
         memset(&C, 0, sizeof C);
@@ -839,7 +804,7 @@ static void t_alloc_failures(void)
         pw_triplets_free(&t);
         pw_csr_free(&al, &A);
         pw_csr_free(&al, &C);
-        CHECKF(f.live == 0, "budget %d: %d blocks leaked", budget, f.live);
+        CHECKF(f.live == 0, "budget %d: %ld blocks leaked", budget, f.live);
     }
     CHECK(finished);
 }

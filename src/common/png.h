@@ -3,7 +3,8 @@
  * Writer: 8- or 16-bit gray, gray+alpha, RGB or RGBA by channel count; each
  * row gets the filter whose output has the smallest sum of absolute values
  * (the heuristic the PNG specification suggests); one zlib stream split in
- * 64 KiB IDAT chunks. Temporary buffers come from PW_MALLOC.
+ * 64 KiB IDAT chunks. Temporary buffers come from the caller's allocator
+ * (NULL: PW_MALLOC).
  *
  * Reader: every colour type (0 gray, 2 RGB, 3 palette, 4 gray+alpha, 6
  * RGBA) and bit depth (1, 2, 4, 8, 16), tRNS (palette alpha or a colour
@@ -83,17 +84,17 @@ PW__DEF void pw__png_filter(unsigned char *dst, const unsigned char *cur, const 
 
 /* Quantised rows, each prefixed by the filter byte that minimises the sum
  * of absolute differences (bytes read as signed). */
-PW__DEF int pw__png_filtered(const pw_image *img, unsigned maxval, unsigned char **out,
-                             size_t *outn, pw_err *e)
+PW__DEF int pw__png_filtered(const pw_alloc *a, const pw_image *img, unsigned maxval,
+                             unsigned char **out, size_t *outn, pw_err *e)
 {
     size_t bps = maxval > 255 ? 2 : 1, bpp = bps * (size_t)img->c;
     size_t n = bpp * (size_t)img->w, x, y, k;
     unsigned char *buf, *rows, *cand;
-    buf = (unsigned char *)pw_alloc_array(NULL, (n + 1) * (size_t)img->h, 1, "PNG rows", e);
-    rows = (unsigned char *)pw_calloc_array(NULL, 7, n, "PNG rows", e);
+    buf = (unsigned char *)pw_alloc_array(a, (n + 1) * (size_t)img->h, 1, "PNG rows", e);
+    rows = (unsigned char *)pw_calloc_array(a, 7, n, "PNG rows", e);
     if (!buf || !rows) {
-        pw_free(NULL, buf);
-        pw_free(NULL, rows);
+        pw_free(a, buf);
+        pw_free(a, rows);
         return PW_ERR_NOMEM;
     }
     cand = rows + 2 * n; /* rows: previous, current, 5 candidates */
@@ -118,14 +119,16 @@ PW__DEF int pw__png_filtered(const pw_image *img, unsigned maxval, unsigned char
         buf[y * (n + 1)] = (unsigned char)bf;
         memcpy(buf + y * (n + 1) + 1, cand + bf * n, n);
     }
-    pw_free(NULL, rows);
+    pw_free(a, rows);
     *out = buf;
     *outn = (n + 1) * (size_t)img->h;
     return PW_OK;
 }
 
-/* Writes img as PNG. bits: 8, 16, or 0 for img->bits. */
-PW__DEF int pw_png_write(const pw_image *img, int bits, pw_write_fn w, void *ctx, pw_err *e)
+/* Writes img as PNG. bits: 8, 16, or 0 for img->bits. Temporary buffers
+ * come from a (NULL: PW_MALLOC). */
+PW__DEF int pw_png_write(const pw_alloc *a, const pw_image *img, int bits, pw_write_fn w,
+                         void *ctx, pw_err *e)
 {
     static const unsigned char ctypes[4] = {0, 4, 2, 6};
     unsigned char ihdr[13], *raw = NULL, *z = NULL;
@@ -134,9 +137,9 @@ PW__DEF int pw_png_write(const pw_image *img, int bits, pw_write_fn w, void *ctx
     pw__sink s;
     int rc = pw__write_bits(img, bits, &maxval, e);
     if (rc) return rc;
-    if ((rc = pw__png_filtered(img, maxval, &raw, &rawn, e))) return rc;
-    rc = pw_zlib_compress(NULL, raw, rawn, 6, &z, &zn, e);
-    pw_free(NULL, raw);
+    if ((rc = pw__png_filtered(a, img, maxval, &raw, &rawn, e))) return rc;
+    rc = pw_zlib_compress(a, raw, rawn, 6, &z, &zn, e);
+    pw_free(a, raw);
     if (rc) return rc;
     pw__put_be32(ihdr, (uint32_t)img->w);
     pw__put_be32(ihdr + 4, (uint32_t)img->h);
@@ -149,7 +152,7 @@ PW__DEF int pw_png_write(const pw_image *img, int bits, pw_write_fn w, void *ctx
     for (off = 0; off < zn; off += 65536)
         pw__png_chunk(&s, "IDAT", z + off, zn - off < 65536 ? zn - off : 65536);
     pw__png_chunk(&s, "IEND", ihdr, 0);
-    pw_free(NULL, z);
+    pw_free(a, z);
     return pw__sink_end(&s, e);
 }
 
@@ -532,7 +535,7 @@ typedef struct pw__save_job {
 PW__DEF int pw__save_body(void *arg, pw_write_fn w, void *ctx, pw_err *e)
 {
     const pw__save_job *j = (const pw__save_job *)arg;
-    if (j->kind == 2) return pw_png_write(j->img, 0, w, ctx, e);
+    if (j->kind == 2) return pw_png_write(NULL, j->img, 0, w, ctx, e);
     if (j->kind == 1) return pw_image_write_pam(j->img, 0, w, ctx, e);
     return pw_image_write_pnm(j->img, 0, 0, w, ctx, e);
 }

@@ -239,16 +239,88 @@ PW__DEF void pw__bounding_sphere(const float *pos, int nv, double *c, double *r)
     if (!(*r > 0.0)) *r = n ? 1e-3 * (1.0 + sqrt(pw__dot3(c, c))) : 1.0;
 }
 
+/* Where the finite vertices lie in a view basis (right rt, up up, view vd,
+ * from centre c): the lateral extent (lo, hi in x and y) and the depth
+ * range along the view. */
+PW__DEF void pw__view_extent(const float *pos, int nv, const double c[3], const double rt[3],
+                             const double up[3], const double vd[3], double lo[3], double hi[3])
+{
+    int i, k, n = 0;
+    for (k = 0; k < 3; k++) lo[k] = hi[k] = 0.0;
+    for (i = 0; i < nv; i++) {
+        const float *p = pos + 3 * i;
+        double d[3], q[3];
+        if (!pw_is_finite(p[0]) || !pw_is_finite(p[1]) || !pw_is_finite(p[2])) continue;
+        for (k = 0; k < 3; k++) d[k] = p[k] - c[k];
+        q[0] = pw__dot3(d, rt);
+        q[1] = pw__dot3(d, up);
+        q[2] = pw__dot3(d, vd);
+        for (k = 0; k < 3; k++) {
+            if (!n || q[k] < lo[k]) lo[k] = q[k];
+            if (!n || q[k] > hi[k]) hi[k] = q[k];
+        }
+        n++;
+    }
+}
+
+/* The range of projected tangents (x - ox)/(dist + z) of the vertices in
+ * the view basis, in out[0..1] (x) and out[2..3] (y). */
+PW__DEF void pw__projected_range(const float *pos, int nv, const double c[3], const double rt[3],
+                                 const double up[3], const double vd[3], double ox, double oy,
+                                 double dist, double out[4])
+{
+    int i, k, n = 0;
+    for (k = 0; k < 4; k++) out[k] = 0.0;
+    for (i = 0; i < nv; i++) {
+        const float *p = pos + 3 * i;
+        double d[3], w, q[2];
+        if (!pw_is_finite(p[0]) || !pw_is_finite(p[1]) || !pw_is_finite(p[2])) continue;
+        for (k = 0; k < 3; k++) d[k] = p[k] - c[k];
+        w = dist + pw__dot3(d, vd);
+        q[0] = (pw__dot3(d, rt) - ox) / w;
+        q[1] = (pw__dot3(d, up) - oy) / w;
+        for (k = 0; k < 2; k++) {
+            if (!n || q[k] < out[2 * k]) out[2 * k] = q[k];
+            if (!n || q[k] > out[2 * k + 1]) out[2 * k + 1] = q[k];
+        }
+        n++;
+    }
+}
+
+/* The smallest distance from the framing centre at which every vertex
+ * (lateral offset x, y from the image centre ox, oy; depth z toward the
+ * far side) fits in half-angles with tangents tx, ty. */
+PW__DEF double pw__fit_distance(const float *pos, int nv, const double c[3], const double rt[3],
+                                const double up[3], const double vd[3], double ox, double oy,
+                                double tx, double ty)
+{
+    double dist = 0.0;
+    int i, k;
+    for (i = 0; i < nv; i++) {
+        const float *p = pos + 3 * i;
+        double d[3], need;
+        if (!pw_is_finite(p[0]) || !pw_is_finite(p[1]) || !pw_is_finite(p[2])) continue;
+        for (k = 0; k < 3; k++) d[k] = p[k] - c[k];
+        need = fabs(pw__dot3(d, rt) - ox) / tx - pw__dot3(d, vd);
+        if (fabs(pw__dot3(d, up) - oy) / ty - pw__dot3(d, vd) > need)
+            need = fabs(pw__dot3(d, up) - oy) / ty - pw__dot3(d, vd);
+        if (need > dist) dist = need;
+    }
+    return dist;
+}
+
 /* A camera looking along view_dir (NULL: -z) with the given up (NULL: +y;
- * replaced if parallel to the view) that frames the mesh pos[nv*3]: its
- * bounding sphere, enlarged by 5%, fits the field of view (vertical fovy_deg,
- * horizontal from aspect = width / height), and near and far enclose it.
- * Invalid fovy (outside (0, 180)) becomes 45, invalid aspect 1. */
+ * replaced if parallel to the view) that frames the mesh pos[nv*3]: the
+ * image centre is the middle of the mesh's extent across the view, and the
+ * camera is as close as it can be with every vertex inside the field of
+ * view shrunk by 5% (vertical fovy_deg, horizontal from aspect = width /
+ * height); near and far enclose the mesh. Invalid fovy (outside (0, 180))
+ * becomes 45, invalid aspect 1. */
 PW__DEF pw_camera pw_camera_frame(const float *pos, int nv, const float view_dir[3],
                                   const float up[3], float fovy_deg, float aspect)
 {
     pw_camera cam;
-    double c[3], r, vd[3] = {0, 0, -1}, u[3] = {0, 1, 0}, x[3], t, tx, s, dist;
+    double c[3], r, vd[3] = {0, 0, -1}, u[3] = {0, 1, 0}, x[3], y[3], lo[3], hi[3], t, tx, dist, ox, oy;
     int k;
     if (view_dir)
         for (k = 0; k < 3; k++) vd[k] = view_dir[k];
@@ -263,24 +335,35 @@ PW__DEF pw_camera pw_camera_frame(const float *pos, int nv, const float view_dir
         u[0] = fabs(vd[1]) < 0.9 ? 0.0 : 1.0; /* any up not along the view */
         u[1] = fabs(vd[1]) < 0.9 ? 1.0 : 0.0;
         u[2] = 0.0;
+        pw__cross3(vd, u, x);
     }
+    pw__norm3(x);
+    pw__cross3(x, vd, y); /* unit: vd and x are orthonormal */
     if (!(fovy_deg > 0.0f && fovy_deg < 180.0f)) fovy_deg = 45.0f;
     if (!(aspect > 0.0f) || !pw_is_finite(aspect)) aspect = 1.0f;
     pw__bounding_sphere(pos, pos ? nv : 0, c, &r);
-    r *= 1.05;
-    t = pw__tan_deg(0.5 * fovy_deg);
+    t = 0.95 * pw__tan_deg(0.5 * fovy_deg);
     tx = t * aspect;
-    s = t / sqrt(1.0 + t * t); /* sine of the narrower half-angle */
-    if (tx < t) s = tx / sqrt(1.0 + tx * tx);
-    dist = r / s;
+    pw__view_extent(pos, pos ? nv : 0, c, x, y, vd, lo, hi);
+    ox = 0.5 * (lo[0] + hi[0]);
+    oy = 0.5 * (lo[1] + hi[1]);
+    for (k = 0; k < 4; k++) { /* centre the perspective image, not the orthographic one */
+        double range[4];
+        dist = pos ? pw__fit_distance(pos, nv, c, x, y, vd, ox, oy, tx, t) : 0.0;
+        if (dist < -lo[2] + 0.05 * r) dist = -lo[2] + 0.05 * r; /* the eye stays outside */
+        if (!pos || k == 3) break;
+        pw__projected_range(pos, nv, c, x, y, vd, ox, oy, dist, range);
+        ox += 0.5 * (range[0] + range[1]) * dist;
+        oy += 0.5 * (range[2] + range[3]) * dist;
+    }
     for (k = 0; k < 3; k++) {
-        cam.target[k] = pw__f(c[k]);
-        cam.eye[k] = pw__f(c[k] - vd[k] * dist);
+        cam.target[k] = pw__f(c[k] + ox * x[k] + oy * y[k]);
+        cam.eye[k] = pw__f(cam.target[k] - vd[k] * dist);
         cam.up[k] = (float)u[k];
     }
     cam.fovy_deg = fovy_deg;
-    cam.znear = pw__f(dist - r > 0.02 * dist ? 0.9 * (dist - r) : 0.018 * dist);
-    cam.zfar = pw__f(1.1 * (dist + r));
+    cam.znear = pw__f(0.9 * (dist + lo[2]));
+    cam.zfar = pw__f(1.1 * (dist + hi[2]) + 1e-6 * r);
     return cam;
 }
 

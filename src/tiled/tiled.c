@@ -876,6 +876,29 @@ static int tiled__compose(const pw_alloc *a, const tiled__synth *s, pw_rng *rng,
     return PW_OK;
 }
 
+/* Places diamond k: the best of a few random origins, judged by how much
+ * the source changes across the edge line. The two sides of every edge of
+ * type pair k show the rows just above and below that line, so it should
+ * not run along a cut seam of the periodic source. */
+static void tiled__place_diamond(tiled__synth *s, pw_rng *rng, int k)
+{
+    double best = -1.0;
+    int cand, a, c;
+    for (cand = 0; cand < 8; cand++) {
+        int ox = (int)pw_rng_below(rng, (uint32_t)s->src.w), oy = (int)pw_rng_below(rng, (uint32_t)s->src.h);
+        double jump = 0.0;
+        for (a = 0; a < s->T; a++) {
+            const float *p = tiled__src_px(s, ox + a, oy), *q = tiled__src_px(s, ox + a, oy + 1);
+            for (c = 0; c < s->src.c; c++) jump += fabs(p[c] - q[c]);
+        }
+        if (best < 0.0 || jump < best) {
+            best = jump;
+            s->dx[k] = ox;
+            s->dy[k] = oy;
+        }
+    }
+}
+
 /* Builds every tile of a resolved layout from the periodic source. */
 static int tiled__synth_tiles(const pw_alloc *a, tiled__synth *s, const tiled_options *o,
                               pw_image *atlas, const tiled__geom *gm, pw_err *e)
@@ -885,10 +908,7 @@ static int tiled__synth_tiles(const pw_alloc *a, tiled__synth *s, const tiled_op
     tiled__scratch sc;
     size_t tt = (size_t)s->T * s->T;
     int k, t, r = PW_OK;
-    for (k = 0; k < 8; k++) {
-        s->dx[k] = (int)pw_rng_below(&rng, (uint32_t)s->src.w);
-        s->dy[k] = (int)pw_rng_below(&rng, (uint32_t)s->src.h);
-    }
+    for (k = 0; k < 8; k++) tiled__place_diamond(s, &rng, k);
     sc.src = (float *)pw_alloc_array(a, tt * 5 * s->src.c, sizeof(float), "tile sources", e);
     sc.allowed = (uint32_t *)pw_alloc_array(a, tt, sizeof(uint32_t), "tile constraints", e);
     sc.label = (int *)pw_alloc_array(a, tt, sizeof(int), "tile labels", e);
@@ -1594,7 +1614,7 @@ static int tiled__encode(const tiled_image *img, const char *format, pw_write_fn
     }
     if (want) return pw_image_write_pnm(&view, 0, 0, fn, ctx, e);
     if (!strcmp(format, "pam")) return pw_image_write_pam(&view, 0, fn, ctx, e);
-    return pw_png_write(&view, 0, fn, ctx, e);
+    return pw_png_write(NULL, &view, 0, fn, ctx, e);
 }
 
 TILEDDEF tiled_result tiled_write_image_to_func(const tiled_image *img, const char *format,
