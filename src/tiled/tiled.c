@@ -307,15 +307,16 @@ static void tiled__assign_boundaries(const pw_hmesh *hm, const tiled_layout *l, 
                                      int *types)
 {
     pw_rng r = pw_rng_seed(seed, 1);
+    const int ne = hm->ne, *edgeh = hm->edgeh, *twin = hm->twin;
     int e, pairs = l->case_number == 1 ? 0 : l->pairs;
     if (!pairs) {
         memset(types, 0, sizeof(int) * (size_t)hm->nh);
         return;
     }
-    for (e = 0; e < hm->ne; e++) {
+    for (e = 0; e < ne; e++) {
         uint32_t x = pw_rng_u32(&r);
         int o = (int)(x & 1u), k = (int)(((uint64_t)(x >> 1) * (uint32_t)pairs) >> 31);
-        int h = hm->edgeh[e], t = hm->twin[h];
+        int h = edgeh[e], t = twin[h];
         types[h] = 2 * k + o;
         if (t >= 0) types[t] = 2 * k + 1 - o;
     }
@@ -329,28 +330,33 @@ static void tiled__assign_uvs(const pw_mesh *q, const int *types, const tiled__g
                               int case1, const tiled_options *o, const float *coord, float *uv,
                               int *face_tiles)
 {
-    static const int du[4] = {0, 1, 1, 0}, dv[4] = {0, 0, 1, 1}, mirror[4] = {1, 0, 3, 2};
     pw_rng r = pw_rng_seed(o->seed, 2);
-    int f, k, nn = gm->N * gm->N;
-    for (f = 0; f < q->nf; f++) {
-        int h0 = q->fstart[f], col, row, flip = 0;
+    const int nf = q->nf, n = gm->n, N = gm->N, nn = N * N;
+    const uint32_t rot_mask = o->fixed_start ? 0u : 3u, flip_mask = case1 && !o->no_mirror;
+    int f, c;
+    for (f = 0; f < nf; f++) {
+        const int *t = types + 4 * f; /* all quads: face f's corners are 4f..4f+3 */
+        float cu[4], cv[4], *out = uv + 8 * f;
         uint32_t x = pw_rng_u32(&r);
-        int rot = o->fixed_start ? 0 : (int)(x & 3u);
-        if (case1) {
+        int rot = (int)(x & rot_mask), flip = (int)(x >> 2 & flip_mask), col, row;
+        if (case1) { /* a random tile; mirrored tiles take tile corner k ^ 1 */
             int tile = (int)(((uint64_t)(x >> 3) * (uint32_t)nn) >> 29);
-            flip = !o->no_mirror && (x >> 2 & 1u);
-            col = tile % gm->N;
-            row = tile / gm->N;
+            col = tile % N;
+            row = tile / N;
         } else {
-            col = types[h0 + rot] * gm->n + types[h0 + ((rot + 1) & 3)];
-            row = types[h0 + ((rot + 2) & 3)] * gm->n + types[h0 + ((rot + 3) & 3)];
+            col = t[rot] * n + t[(rot + 1) & 3];
+            row = t[(rot + 2) & 3] * n + t[(rot + 3) & 3];
         }
-        for (k = 0; k < 4; k++) {
-            int c = h0 + ((rot + k) & 3), tk = flip ? mirror[k] : k;
-            uv[2 * c] = coord[2 * col + du[tk]];
-            uv[2 * c + 1] = coord[2 * row + dv[tk]];
+        cu[0] = cu[3] = coord[2 * col]; /* tile corners 0..3: (0,0) (1,0) (1,1) (0,1) */
+        cu[1] = cu[2] = coord[2 * col + 1];
+        cv[0] = cv[1] = coord[2 * row];
+        cv[2] = cv[3] = coord[2 * row + 1];
+        for (c = 0; c < 4; c++) { /* quad corner c is tile corner c - rot */
+            int k = ((c - rot) & 3) ^ flip;
+            out[2 * c] = cu[k];
+            out[2 * c + 1] = cv[k];
         }
-        face_tiles[f] = row * gm->N + col;
+        face_tiles[f] = row * N + col;
     }
 }
 
