@@ -9662,6 +9662,7 @@ static int tiled__encode(const tiled_image *img, const char *format, pw_write_fn
                          pw_err *e)
 {
     pw_image view = tiled__pw_image(img), conv;
+    pw_alloc a = tiled__alloc(&img->allocator);
     int want = 0, r;
     if (!format) return pw_fail(e, PW_ERR_INVALID, "no image format given");
     if (!strcmp(format, "ppm")) want = 3;
@@ -9669,14 +9670,14 @@ static int tiled__encode(const tiled_image *img, const char *format, pw_write_fn
     else if (strcmp(format, "png") && strcmp(format, "pam"))
         return pw_fail(e, PW_ERR_UNSUPPORTED, "unknown image format '%s' (png, ppm, pgm, pam)", format);
     if (want && want != view.c) {
-        if ((r = pw_image_convert(NULL, &view, want, &conv, e)) != PW_OK) return r;
+        if ((r = pw_image_convert(&a, &view, want, &conv, e)) != PW_OK) return r;
         r = pw_image_write_pnm(&conv, 0, 0, fn, ctx, e);
-        pw_image_free(NULL, &conv);
+        pw_image_free(&a, &conv);
         return r;
     }
     if (want) return pw_image_write_pnm(&view, 0, 0, fn, ctx, e);
     if (!strcmp(format, "pam")) return pw_image_write_pam(&view, 0, fn, ctx, e);
-    return pw_png_write(NULL, &view, 0, fn, ctx, e);
+    return pw_png_write(&a, &view, 0, fn, ctx, e);
 }
 
 TILEDDEF tiled_result tiled_write_image_to_func(const tiled_image *img, const char *format,
