@@ -672,6 +672,7 @@ PW__DEF int pw_buf_write(void *ctx, const void *data, size_t size)
 #ifndef PW__VEC_V1
 #define PW__VEC_V1
 
+
 typedef struct pw_v3 {
     float x, y, z;
 } pw_v3;
@@ -722,7 +723,7 @@ PW__DEF pw_v3 pw_v3_max(pw_v3 a, pw_v3 b)
 /* sin and cos from + - * / only, so that procedural geometry is
  * bit-identical on every platform (libm results may differ in the last
  * bit). Taylor series to r^19 after reduction to [-pi/2, pi/2]: error below
- * 1e-15 for |x| < 1e6. */
+ * 1e-14 for |x| < 100, growing with |x| (the reduction uses a double pi). */
 PW__DEF double pw_sin(double x)
 {
     const double pi = 3.14159265358979323846;
@@ -773,6 +774,7 @@ PW__DEF void pw_m4_apply(const pw_m4 *m, pw_v3 p, float out[4])
  * platform-dependent libm call is involved. */
 #ifndef PW__RNG_V1
 #define PW__RNG_V1
+
 
 typedef struct pw_rng {
     uint64_t state, inc;

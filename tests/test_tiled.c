@@ -658,6 +658,66 @@ static void t_cancel(void)
     tiled_image_free(&ex);
 }
 
+/* Every allocation of a small synthesis + mapping + render + encode fails
+ * in turn: each call reports out-of-memory, nothing leaks, nothing crashes. */
+static int sink_null(void *ctx, const void *data, size_t size)
+{
+    (void)ctx, (void)data, (void)size;
+    return 0;
+}
+
+static int pipeline_with(tiled_options *o, tiled_error *err)
+{
+    tiled_render_options ro;
+    tiled_image ex, pic;
+    tiled_tileset ts;
+    tiled_mesh mesh, q;
+    int r;
+    memset(&ro, 0, sizeof ro);
+    ro.width = ro.height = 32;
+    memset(&ts, 0, sizeof ts);
+    memset(&q, 0, sizeof q);
+    memset(&pic, 0, sizeof pic);
+    memset(&mesh, 0, sizeof mesh);
+    if ((r = tiled_builtin_exemplar("spots", 16, o, &ex, err)) != TILED_OK) return r;
+    if ((r = tiled_synthesize(&ex, o, &ts, err)) == TILED_OK &&
+        (r = tiled_builtin_mesh("icosahedron", o, &mesh, err)) == TILED_OK &&
+        (r = tiled_map(&mesh, &ts.layout, o, &q, err)) == TILED_OK &&
+        (r = tiled_render(&q, &ts, &ro, &pic, err)) == TILED_OK &&
+        (r = tiled_write_image_to_func(&pic, "png", sink_null, NULL, err)) == TILED_OK)
+        r = tiled_write_obj_to_func(&q, "x.mtl", sink_null, NULL, err);
+    tiled_image_free(&pic);
+    tiled_mesh_free(&q);
+    tiled_mesh_free(&mesh);
+    tiled_tileset_free(&ts);
+    tiled_image_free(&ex);
+    return r;
+}
+
+static void t_alloc_failures(void)
+{
+    int budget, done = 0;
+    for (budget = 0; budget < 100000 && !done; budget++) {
+        pwt_alloc_state st = {0, 0, 0};
+        tiled_options o = opts(2, 1);
+        tiled_error err;
+        int r;
+        st.fail_after = budget;
+        o.allocator.malloc_fn = pwt_malloc;
+        o.allocator.realloc_fn = pwt_realloc;
+        o.allocator.free_fn = pwt_free;
+        o.allocator.user = &st;
+        o.smooth = 1;
+        r = pipeline_with(&o, &err);
+        if (r == TILED_OK) done = 1;
+        else CHECKF(r == TILED_ERR_NOMEM, "budget %d: %s", budget, err.message);
+        CHECKF(st.live == 0, "budget %d: %ld blocks leaked", budget, st.live);
+        if (pwt_failed_) return;
+    }
+    CHECK(done);
+    pwt_info("%d allocation failure points exercised", budget - 1);
+}
+
 /* ---- real data (make data) --------------------------------------------------- */
 
 /* CGAL meshes: quad meshes of genus 0..2 and triangle meshes. */
@@ -742,6 +802,7 @@ static const pwt_case cases[] = {
     {"tiled/bad_meshes", t_bad_meshes},
     {"tiled/bad_arguments", t_bad_arguments},
     {"tiled/cancel", t_cancel},
+    {"tiled/alloc_failures", t_alloc_failures},
     {"tiled/real_cube_quad", t_real_cube_quad},
     {"tiled/real_torus_quad", t_real_torus_quad},
     {"tiled/real_cross_quad", t_real_cross_quad},

@@ -6,6 +6,8 @@
 #ifndef PW__RNG_V1
 #define PW__RNG_V1
 
+#include "base.h"
+
 typedef struct pw_rng {
     uint64_t state, inc;
 } pw_rng;

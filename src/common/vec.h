@@ -2,6 +2,8 @@
 #ifndef PW__VEC_V1
 #define PW__VEC_V1
 
+#include "base.h"
+
 typedef struct pw_v3 {
     float x, y, z;
 } pw_v3;
@@ -52,7 +54,7 @@ PW__DEF pw_v3 pw_v3_max(pw_v3 a, pw_v3 b)
 /* sin and cos from + - * / only, so that procedural geometry is
  * bit-identical on every platform (libm results may differ in the last
  * bit). Taylor series to r^19 after reduction to [-pi/2, pi/2]: error below
- * 1e-15 for |x| < 1e6. */
+ * 1e-14 for |x| < 100, growing with |x| (the reduction uses a double pi). */
 PW__DEF double pw_sin(double x)
 {
     const double pi = 3.14159265358979323846;
