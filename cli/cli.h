@@ -34,7 +34,7 @@ typedef struct cli_outputs {
 
 /* Registers an output; returns the temporary path to write, NULL if too many. */
 const char *cli_stage(cli_outputs *o, const char *path);
-int cli_commit(cli_outputs *o, const char *cmd);
+tiled_result cli_commit(cli_outputs *o, tiled_error *err);
 void cli_abort(cli_outputs *o);
 
 /* Writes an image (format from the extension of `final_path`) to the

@@ -29,5 +29,9 @@ int cmd_convert(int argc, char **argv)
         return 1;
     }
     tiled_image_free(&img);
-    return cli_commit(&outs, "convert") ? 0 : 1;
+    if (cli_commit(&outs, &err) != TILED_OK) {
+        cli_error("convert", "%s", err.message);
+        return 1;
+    }
+    return 0;
 }

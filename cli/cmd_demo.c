@@ -21,25 +21,24 @@ static const demo_scene tiled_scenes[] = {
 };
 
 /* Writes img as DIR/NAME.ppm and DIR/NAME.png, reporting each file. */
-static int demo_write(const char *dir, const char *name, const tiled_image *img)
+static tiled_result demo_write(const char *dir, const char *name, const tiled_image *img,
+                               tiled_error *err)
 {
     static const char *const ext[2] = {"ppm", "png"};
     char path[1024];
     cli_outputs outs;
-    tiled_error err;
     int k;
     for (k = 0; k < 2; k++) {
         memset(&outs, 0, sizeof outs);
         snprintf(path, sizeof path, "%s/%s.%s", dir, name, ext[k]);
-        if (cli_write_image(&outs, path, img, &err) != TILED_OK) {
+        if (cli_write_image(&outs, path, img, err) != TILED_OK) {
             cli_abort(&outs);
-            cli_error("demo", "%s", err.message);
-            return 0;
+            return err->code;
         }
-        if (!cli_commit(&outs, "demo")) return 0;
+        if (cli_commit(&outs, err) != TILED_OK) return err->code;
         printf("wrote %s (%dx%d)\n", path, img->width, img->height);
     }
-    return 1;
+    return TILED_OK;
 }
 
 static tiled_result demo_tiled_scene(const char *dir, const demo_scene *s, tiled_error *err)
@@ -67,7 +66,7 @@ static tiled_result demo_tiled_scene(const char *dir, const demo_scene *s, tiled
         (r = tiled_map(&mesh, &ts.layout, &o, &quads, err)) == TILED_OK &&
         (r = tiled_render(&quads, &ts, &ro, &pic, err)) == TILED_OK) {
         snprintf(name, sizeof name, "%s_tiles", s->name);
-        if (!demo_write(dir, s->name, &pic) || !demo_write(dir, name, &ts.atlas)) r = TILED_ERR_IO;
+        if ((r = demo_write(dir, s->name, &pic, err)) == TILED_OK) r = demo_write(dir, name, &ts.atlas, err);
     }
     tiled_image_free(&pic);
     tiled_mesh_free(&quads);
@@ -96,9 +95,8 @@ int cmd_demo(int argc, char **argv)
         return 1;
     }
     for (k = 0; k < sizeof tiled_scenes / sizeof tiled_scenes[0]; k++) {
-        err.code = TILED_OK;
         if (demo_tiled_scene(dir, &tiled_scenes[k], &err) != TILED_OK) {
-            if (err.code != TILED_ERR_IO) cli_error("demo", "%s: %s", tiled_scenes[k].name, err.message);
+            cli_error("demo", "%s: %s", tiled_scenes[k].name, err.message);
             return 1;
         }
     }

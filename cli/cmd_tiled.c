@@ -275,6 +275,9 @@ int cmd_tiled(int argc, char **argv)
         cli_error("tiled", "%s", err.message);
         return 1;
     }
-    if (!cli_commit(&outs, "tiled")) return 1;
+    if (cli_commit(&outs, &err) != TILED_OK) {
+        cli_error("tiled", "%s", err.message);
+        return 1;
+    }
     return 0;
 }

@@ -105,17 +105,18 @@ const char *cli_stage(cli_outputs *o, const char *path)
     return o->tmp_path[o->n++];
 }
 
-int cli_commit(cli_outputs *o, const char *cmd)
+tiled_result cli_commit(cli_outputs *o, tiled_error *err)
 {
     int k;
     for (k = 0; k < o->n; k++)
         if (rename(o->tmp_path[k], o->final_path[k]) != 0) {
-            cli_error(cmd, "%s: cannot move the finished file into place (%s)", o->final_path[k],
-                      strerror(errno));
+            err->code = TILED_ERR_IO;
+            snprintf(err->message, sizeof err->message, "%.200s: cannot move the finished file "
+                     "into place (%s)", o->final_path[k], strerror(errno));
             for (; k < o->n; k++) remove(o->tmp_path[k]);
-            return 0;
+            return err->code;
         }
-    return 1;
+    return TILED_OK;
 }
 
 void cli_abort(cli_outputs *o)

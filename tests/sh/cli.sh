@@ -72,7 +72,7 @@ fi
 "$bin" tiled --mesh procedural:torus --seed 5 --size 120x90 --out-obj "$tmp/a.obj" --out-image "$tmp/a.png" > /dev/null 2>&1
 "$bin" tiled --mesh procedural:torus --seed 5 --size 120x90 --out-obj "$tmp/b.obj" --out-image "$tmp/b.png" > /dev/null 2>&1
 sed 's/b\.mtl/a.mtl/' "$tmp/b.obj" > "$tmp/b2.obj"
-if cmp -s "$tmp/a.obj" "$tmp/b2.obj" && cmp -s "$tmp/a.png" "$tmp/b.png" && cmp -s "$tmp/a.png" "$tmp/b.png"; then
+if cmp -s "$tmp/a.obj" "$tmp/b2.obj" && cmp -s "$tmp/a.png" "$tmp/b.png"; then
     pass determinism
 else
     fail determinism "outputs differ between two runs with the same seed"
@@ -84,7 +84,6 @@ if "$bin" tiled --tiles "$tmp/plain.ppm" --validate > "$tmp/stdout" 2>&1; then p
 "$bin" tiled --mesh procedural:cube --guard none --seed 9 --out-tiles "$tmp/other.ppm" > /dev/null 2>&1
 if [ -s "$tmp/plain.ppm" ] && [ -s "$tmp/other.ppm" ]; then
     # splice: top half from one set, bottom half from another
-    head -c 15 "$tmp/plain.ppm" > /dev/null
     size=$(wc -c < "$tmp/plain.ppm")
     half=$((size / 2))
     head -c "$half" "$tmp/plain.ppm" > "$tmp/mixed.ppm"
