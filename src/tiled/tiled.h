@@ -7,7 +7,9 @@
  * parametrisation, no seams, no singularities, any genus.
  *
  *   - Any polygon mesh: when not all faces are quads, Catmull-Clark
- *     subdivision makes it all quads first (thesis ch. VI).
+ *     subdivision makes it all quads first (thesis ch. VI); more levels can
+ *     be added before mapping (smaller tiles) or after it, carrying the
+ *     texture along (a smooth surface, as in the thesis's Figs. 30-31).
  *   - Case 2 (ch. III.1.2, generalised in ch. VI): n boundary pairs; the two
  *     half-edges of every edge get complementary types 2k and 2k+1; the
  *     tiled texture holds all (2n)^4 tiles in a (2n)^2 x (2n)^2 grid.
@@ -62,9 +64,11 @@
  *   mipmapped lookups near a tile's border never bleed another tile in. The
  *   atlas is N x N cells (N = (2n)^2 in case 2, N = grid in case 1); cell
  *   (col, row) starts at pixel (col*C, row*C) counted from the BOTTOM-LEFT
- *   (texture coordinates put v = 0 at the bottom row of the image). Mip
- *   levels up to log2(g) never mix two tiles; C is a multiple of 2^that.
- *   With guard = TILED_NO_GUARD (g = 0) this is exactly the thesis's layout.
+ *   (texture coordinates put v = 0 at the bottom row of the image).
+ *   tiled_tileset.max_mip_level is the last mip level that never mixes two
+ *   tiles (C is a multiple of 2^level and 2^level <= g): cap a renderer's
+ *   mip chain there. With guard = TILED_NO_GUARD (g = 0) this is exactly
+ *   the thesis's layout.
  *
  *   Case 2 tile names: a quad's sides are walked counter-clockwise from the
  *   lower-left corner of its tile: e0 bottom, e1 right, e2 top, e3 left,
