@@ -307,16 +307,19 @@ static void tiled__assign_boundaries(const pw_hmesh *hm, const tiled_layout *l, 
                                      int *types)
 {
     pw_rng r = pw_rng_seed(seed, 1);
-    const int ne = hm->ne, *edgeh = hm->edgeh, *twin = hm->twin;
-    int e, pairs = l->case_number == 1 ? 0 : l->pairs;
+    const int nh = hm->nh, *twin = hm->twin;
+    int h, pairs = l->case_number == 1 ? 0 : l->pairs;
     if (!pairs) {
-        memset(types, 0, sizeof(int) * (size_t)hm->nh);
+        memset(types, 0, sizeof(int) * (size_t)nh);
         return;
     }
-    for (e = 0; e < ne; e++) {
-        uint32_t x = pw_rng_u32(&r);
-        int o = (int)(x & 1u), k = (int)(((uint64_t)(x >> 1) * (uint32_t)pairs) >> 31);
-        int h = edgeh[e], t = twin[h];
+    for (h = 0; h < nh; h++) { /* edges in order of their lower half-edge */
+        int t = twin[h], o, k;
+        uint32_t x;
+        if (t >= 0 && t < h) continue;
+        x = pw_rng_u32(&r);
+        o = (int)(x & 1u);
+        k = (int)(((uint64_t)(x >> 1) * (uint32_t)pairs) >> 31);
         types[h] = 2 * k + o;
         if (t >= 0) types[t] = 2 * k + 1 - o;
     }
