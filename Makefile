@@ -31,14 +31,15 @@ endif
 ALL_CFLAGS = $(WARN) $(CFLAGS) $(SANFLAGS) -I.
 
 # ---- single-file headers: name and the shared modules each one carries ----
-HEADERS       := tiled
-MODULES_tiled := base vec rng image deflate png mesh halfedge subdiv raster render graphcut quilt
+HEADERS        := tiled
+MODULES_tiled  := base vec rng image deflate png text mesh halfedge subdiv raster render graphcut quilt
+MODULES_lapped := base vec rng image deflate png text mesh halfedge sparse raster render polyhull
+PARTS_lapped   := core field patch builtin grow render atlas io
 
 COMMON_SRC := $(wildcard src/common/*.h)
 HEADER_FILES := $(addsuffix .h,$(HEADERS))
-HEADER_DEPS = tools/amalgamate.sh LICENSE $(COMMON_SRC) src/$(1)/$(1).h src/$(1)/$(1).c
 
-.PHONY: all demo test bench data headers check-headers print-headers fuzz fuzz-build clean
+.PHONY: all demo test bench data headers check-headers print-headers dev-header fuzz fuzz-build clean
 
 CLI_SRC   := $(wildcard cli/*.c)
 TEST_SRC  := $(wildcard tests/test_*.c)
@@ -53,28 +54,27 @@ FUZZ_BIN  := $(patsubst fuzz/%.c,$(BUILD)/fuzz/%,$(FUZZ_SRC))
 
 all: $(BUILD)/patchwork $(EX_BIN) $(TEST_BIN) $(BENCH_BIN)
 
+# The shell command that writes header $(1) to stdout.
+gen_header = sh tools/amalgamate.sh $(1) $(MODULES_$(1)) -- $(or $(PARTS_$(1)),$(1))
+
 headers:
-	@for h in $(HEADERS); do \
-	  case $$h in \
-	    tiled) mods="$(MODULES_tiled)";; \
-	  esac; \
-	  sh tools/amalgamate.sh $$h $$mods > $$h.h.tmp && mv $$h.h.tmp $$h.h && echo "wrote $$h.h"; \
-	done
+	@$(foreach h,$(HEADERS),$(call gen_header,$(h)) > $(h).h.tmp && mv $(h).h.tmp $(h).h && echo "wrote $(h).h" &&) true
 
 print-headers:
 	@echo $(HEADERS)
 
+# A private copy of header H in folder OUT (for work in progress that must
+# not touch the committed headers): make dev-header H=lapped OUT=/tmp/x
+dev-header:
+	@mkdir -p $(OUT) && $(call gen_header,$(H)) > $(OUT)/$(H).h && echo "wrote $(OUT)/$(H).h"
+
 # Fails when a committed header differs from what `make headers` would write.
 check-headers:
 	@mkdir -p $(BUILD)/gen; status=0; \
-	for h in $(HEADERS); do \
-	  case $$h in \
-	    tiled) mods="$(MODULES_tiled)";; \
-	  esac; \
-	  sh tools/amalgamate.sh $$h $$mods > $(BUILD)/gen/$$h.h; \
-	  if ! cmp -s $(BUILD)/gen/$$h.h $$h.h; then \
-	    echo "$$h.h is stale: run 'make headers' and commit it"; status=1; fi; \
-	done; exit $$status
+	$(foreach h,$(HEADERS),$(call gen_header,$(h)) > $(BUILD)/gen/$(h).h; \
+	  if ! cmp -s $(BUILD)/gen/$(h).h $(h).h; then \
+	    echo "$(h).h is stale: run 'make headers' and commit it"; status=1; fi;) \
+	exit $$status
 
 $(BUILD)/patchwork: $(CLI_SRC) $(wildcard cli/*.h) $(HEADER_FILES)
 	@mkdir -p $(BUILD)

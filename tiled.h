@@ -3169,221 +3169,14 @@ PW__DEF int pw_image_save(const char *path, const pw_image *img, pw_err *e)
 
 #endif /* PW__PNG_V1 */
 
-/* ---- shared module src/common/mesh.h ---- */
-/* mesh: polygon meshes as flat arrays, and their file formats.
- *
- * A pw_mesh is a list of vertex positions and a list of polygons of any
- * degree, stored as offsets into one array of corners (CSR layout): the
- * corners of face f are fv[fstart[f]] .. fv[fstart[f+1]-1], counter-clockwise
- * seen from outside. Texture coordinates, when present, have their own index
- * per corner (fuv), as in OBJ, so that seams can split a vertex's uv.
- *
- * Readers (all from memory; `name` is only used in messages, usually the
- * file name, and may be NULL):
- *   OBJ  v/vt/f (a, a/b, a//c, a/b/c, negative indices), any polygon degree,
- *        '\' line continuation; vn, o, g, s, usemtl, mtllib, l, p and the
- *        free-form statements are skipped; an unknown keyword is an error.
- *        uv and fuv are kept when every face has texture indices.
- *   OFF  [ST][C][N]OFF, ASCII (one vertex or face per line, extra values such
- *        as colours ignored, '#' comments anywhere, the keyword optional) and
- *        Geomview's BINARY form. 4OFF and nOFF are refused (unsupported).
- *   PLY  ascii, binary_little_endian and binary_big_endian 1.0, every scalar
- *        type; vertex x, y, z (+ u/v, s/t or texture_u/texture_v as uv);
- *        face list vertex_indices or vertex_index; anything else is skipped.
- * Every reader refuses, with a message naming the file, the line (text) or
- * byte offset (binary) and the element: truncated data (PW_ERR_PARSE), counts
- * the data cannot hold (checked before allocating), sizes over
- * PW_MAX_MESH_ELEMENTS / PW_MAX_FACE_DEGREE (PW_ERR_LIMIT), vertex indices
- * out of range and NaN/Inf coordinates (PW_ERR_INVALID), faces with fewer
- * than 3 corners and meshes without faces (PW_ERR_DEGENERATE). Element
- * indices in messages are 0-based; OBJ indices are quoted as written.
- *
- * Numbers are parsed and printed by hand: locale-independent, no NUL
- * terminator needed, the same bytes on every platform; floats are written
- * with 9 significant digits, so a write -> read round trip is exact.
- *
- * API: pw_mesh_alloc/free/copy/validate/bounds/triangulate;
- * pw_mesh_read_obj/off/ply/memory (+ pw_mesh_load); pw_mesh_write_obj,
- * pw_mesh_write_mtl (+ pw_mesh_save_obj, pw_mesh_save_mtl). The file forms
- * are left out by PW_NO_STDIO. */
-#ifndef PW__MESH_V1
-#define PW__MESH_V1
+/* ---- shared module src/common/text.h ---- */
+/* text: locale-independent number parsing and formatting, a line scanner
+ * for text formats (with line numbers for error messages) and a buffered
+ * writer over pw_write_fn. Used by every text reader and writer: OBJ, OFF,
+ * PLY headers, paste files, constraint files, TetGen and MEDIT files. */
+#ifndef PW__TEXT_V1
+#define PW__TEXT_V1
 
-
-typedef struct pw_mesh {
-    int nv;
-    float *pos;  /* nv*3: vertex i is pos[3*i], pos[3*i+1], pos[3*i+2] */
-    int nf;
-    int *fstart; /* nf+1 offsets into fv; fstart[0] = 0 */
-    int *fv;     /* fstart[nf] vertex indices, counter-clockwise per face */
-    int nuv;
-    float *uv;   /* nuv*2 texture coordinates, or NULL */
-    int *fuv;    /* fstart[nf]: uv index of each corner, or NULL */
-} pw_mesh;
-
-/* Frees the arrays and zeroes *m (NULL is fine). */
-PW__DEF void pw_mesh_free(const pw_alloc *a, pw_mesh *m)
-{
-    if (!m) return;
-    pw_free(a, m->pos);
-    pw_free(a, m->fstart);
-    pw_free(a, m->fv);
-    pw_free(a, m->uv);
-    pw_free(a, m->fuv);
-    memset(m, 0, sizeof *m);
-}
-
-/* Shared by pw_mesh_alloc and pw_mesh_copy: nuv < 0 means no uv arrays. */
-PW__DEF int pw__mesh_alloc(const pw_alloc *a, pw_mesh *m, int nv, int nf, int nc, int nuv,
-                           pw_err *e)
-{
-    memset(m, 0, sizeof *m);
-    if (nv < 0 || nf < 0 || nc < 0)
-        return pw_fail(e, PW_ERR_INVALID, "mesh: negative size (%d vertices, %d faces, %d corners)",
-                       nv, nf, nc);
-    if (nv > PW_MAX_MESH_ELEMENTS || nf > PW_MAX_MESH_ELEMENTS || nc > PW_MAX_MESH_ELEMENTS ||
-        nuv > PW_MAX_MESH_ELEMENTS)
-        return pw_fail(e, PW_ERR_LIMIT,
-                       "mesh: %d vertices, %d faces, %d corners exceed the limit of %d elements",
-                       nv, nf, nc, PW_MAX_MESH_ELEMENTS);
-    m->pos = (float *)pw_calloc_array(a, (size_t)nv * 3, sizeof(float), "mesh positions", e);
-    m->fstart = (int *)pw_calloc_array(a, (size_t)nf + 1, sizeof(int), "mesh faces", e);
-    m->fv = (int *)pw_calloc_array(a, (size_t)nc, sizeof(int), "mesh corners", e);
-    if (nuv >= 0) {
-        m->uv = (float *)pw_calloc_array(a, (size_t)nuv * 2, sizeof(float), "mesh uvs", e);
-        m->fuv = (int *)pw_calloc_array(a, (size_t)nc, sizeof(int), "mesh corner uvs", e);
-    }
-    if (!m->pos || !m->fstart || !m->fv || (nuv >= 0 && (!m->uv || !m->fuv))) {
-        pw_mesh_free(a, m);
-        return PW_ERR_NOMEM;
-    }
-    m->nv = nv;
-    m->nf = nf;
-    m->nuv = nuv > 0 ? nuv : 0;
-    return PW_OK;
-}
-
-/* Allocates a zeroed mesh of nv vertices, nf faces and ncorners corners; the
- * caller fills pos, all nf+1 entries of fstart, and fv. With with_uv != 0 it
- * also allocates one texture coordinate per corner (nuv = ncorners, uv
- * zeroed, fuv[i] = i); lower nuv afterwards when sharing uvs. */
-PW__DEF int pw_mesh_alloc(const pw_alloc *a, pw_mesh *m, int nv, int nf, int ncorners,
-                          int with_uv, pw_err *e)
-{
-    int r = pw__mesh_alloc(a, m, nv, nf, ncorners, with_uv ? ncorners : -1, e), i;
-    if (r == PW_OK && with_uv)
-        for (i = 0; i < ncorners; i++) m->fuv[i] = i;
-    return r;
-}
-
-/* Structural check: sizes, offsets, every index in range, every face with
- * at least 3 corners, finite coordinates. Meshes from the readers pass. */
-PW__DEF int pw_mesh_validate(const pw_mesh *m, pw_err *e)
-{
-    int f, i;
-    if (m->nv < 0 || m->nf < 0 || m->nuv < 0 || !m->fstart || (m->nv && !m->pos) ||
-        (m->nuv && !m->uv))
-        return pw_fail(e, PW_ERR_INVALID, "mesh: negative count or missing array");
-    if (m->fstart[0] != 0)
-        return pw_fail(e, PW_ERR_INVALID, "mesh: fstart[0] is %d, must be 0", m->fstart[0]);
-    for (f = 0; f < m->nf; f++) {
-        int b = m->fstart[f], d; /* b >= 0 by induction */
-        if ((int64_t)m->fstart[f + 1] < (int64_t)b + 3)
-            return pw_fail(e, PW_ERR_DEGENERATE, "mesh: face %d has %ld corners (at least 3 needed)",
-                           f, (long)m->fstart[f + 1] - b);
-        d = m->fstart[f + 1] - b;
-        for (i = b; i < b + d; i++) {
-            if (!m->fv || m->fv[i] < 0 || m->fv[i] >= m->nv)
-                return pw_fail(e, PW_ERR_INVALID, "mesh: face %d, corner %d: vertex index %d out of range (%d vertices)",
-                               f, i - b, m->fv ? m->fv[i] : -1, m->nv);
-            if (m->fuv && (m->fuv[i] < 0 || m->fuv[i] >= m->nuv))
-                return pw_fail(e, PW_ERR_INVALID, "mesh: face %d, corner %d: uv index %d out of range (%d uvs)",
-                               f, i - b, m->fuv[i], m->nuv);
-        }
-    }
-    for (i = 0; i < m->nv * 3; i++)
-        if (!pw_is_finite(m->pos[i]))
-            return pw_fail(e, PW_ERR_INVALID, "mesh: vertex %d has a non-finite coordinate", i / 3);
-    for (i = 0; m->fuv && i < m->nuv * 2; i++)
-        if (!pw_is_finite(m->uv[i]))
-            return pw_fail(e, PW_ERR_INVALID, "mesh: texture coordinate %d is not finite", i / 2);
-    return PW_OK;
-}
-
-/* Axis-aligned bounding box; all zero for a mesh without vertices. */
-PW__DEF void pw_mesh_bounds(const pw_mesh *m, float lo[3], float hi[3])
-{
-    int i, k;
-    for (k = 0; k < 3; k++) lo[k] = hi[k] = m->nv > 0 ? m->pos[k] : 0.0f;
-    for (i = 1; i < m->nv; i++)
-        for (k = 0; k < 3; k++) {
-            float x = m->pos[3 * i + k];
-            if (x < lo[k]) lo[k] = x;
-            if (x > hi[k]) hi[k] = x;
-        }
-}
-
-/* Deep copy (dst is overwritten, not freed). */
-PW__DEF int pw_mesh_copy(const pw_alloc *a, const pw_mesh *src, pw_mesh *dst, pw_err *e)
-{
-    int nc = src->nf > 0 ? src->fstart[src->nf] : 0;
-    int with_uv = src->uv && src->fuv;
-    int r = pw__mesh_alloc(a, dst, src->nv, src->nf, nc, with_uv ? src->nuv : -1, e);
-    if (r) return r;
-    if (src->nv) memcpy(dst->pos, src->pos, (size_t)src->nv * 3 * sizeof(float));
-    if (src->fstart) memcpy(dst->fstart, src->fstart, ((size_t)src->nf + 1) * sizeof(int));
-    if (nc) memcpy(dst->fv, src->fv, (size_t)nc * sizeof(int));
-    if (with_uv) {
-        if (src->nuv) memcpy(dst->uv, src->uv, (size_t)src->nuv * 2 * sizeof(float));
-        if (nc) memcpy(dst->fuv, src->fuv, (size_t)nc * sizeof(int));
-    }
-    return PW_OK;
-}
-
-/* Fan triangulation: face f with corners c0..c(d-1) becomes the triangles
- * (c0, ck, ck+1), k = 1..d-2, in order, so triangles of one face are
- * contiguous. Vertices and uvs are shared with the source numbering. When
- * tri_face is not NULL it receives a new array (free with pw_free(a, ...))
- * mapping each triangle to its source face. Fans suit convex polygons, which
- * is what renderers and the triangle-based methods are given. */
-PW__DEF int pw_mesh_triangulate(const pw_alloc *a, const pw_mesh *m, pw_mesh *out,
-                                int **tri_face, pw_err *e)
-{
-    int64_t nt = 0;
-    int f, k, t = 0, r, with_uv = m->uv && m->fuv;
-    int *map = NULL;
-    memset(out, 0, sizeof *out);
-    if (tri_face) *tri_face = NULL;
-    if ((r = pw_mesh_validate(m, e))) return r;
-    for (f = 0; f < m->nf; f++) nt += m->fstart[f + 1] - m->fstart[f] - 2;
-    if (nt * 3 > PW_MAX_MESH_ELEMENTS)
-        return pw_fail(e, PW_ERR_LIMIT, "triangulation: %ld triangles exceed the limit", (long)nt);
-    if ((r = pw__mesh_alloc(a, out, m->nv, (int)nt, (int)nt * 3, with_uv ? m->nuv : -1, e)))
-        return r;
-    if (tri_face && !(map = (int *)pw_alloc_array(a, (size_t)nt + 1, sizeof(int), "triangle map", e))) {
-        pw_mesh_free(a, out);
-        return PW_ERR_NOMEM;
-    }
-    if (m->nv) memcpy(out->pos, m->pos, (size_t)m->nv * 3 * sizeof(float));
-    if (with_uv && m->nuv) memcpy(out->uv, m->uv, (size_t)m->nuv * 2 * sizeof(float));
-    for (f = 0; f < m->nf; f++) {
-        int b = m->fstart[f], d = m->fstart[f + 1] - b;
-        for (k = 1; k + 1 < d; k++, t++) {
-            int c[3], j;
-            c[0] = b;
-            c[1] = b + k;
-            c[2] = b + k + 1;
-            for (j = 0; j < 3; j++) {
-                out->fv[3 * t + j] = m->fv[c[j]];
-                if (with_uv) out->fuv[3 * t + j] = m->fuv[c[j]];
-            }
-            out->fstart[t + 1] = 3 * t + 3;
-            if (map) map[t] = f;
-        }
-    }
-    if (tri_face) *tri_face = map;
-    return PW_OK;
-}
 
 /* ---- number parsing ------------------------------------------------------ */
 
@@ -3630,6 +3423,349 @@ PW__DEF int pw__sc_num(pw__sc *s, double *v, const char *what, long long index)
 PW__DEF int pw__sc_int(pw__sc *s, long long *v, const char *what, long long index)
 {
     return pw__sc_value(s, NULL, v, what, index);
+}
+
+
+/* Buffered output over a pw_write_fn. */
+typedef struct pw__wb {
+    pw_write_fn w;
+    void *ctx;
+    size_t n;
+    int failed;
+    char buf[4096];
+} pw__wb;
+
+PW__DEF void pw__wb_flush(pw__wb *b)
+{
+    if (b->n && !b->failed && b->w(b->ctx, b->buf, b->n) != 0) b->failed = 1;
+    b->n = 0;
+}
+
+PW__DEF void pw__wb_put(pw__wb *b, const char *s, size_t n)
+{
+    while (n) {
+        size_t k = sizeof b->buf - b->n < n ? sizeof b->buf - b->n : n;
+        memcpy(b->buf + b->n, s, k);
+        b->n += k;
+        s += k;
+        n -= k;
+        if (b->n == sizeof b->buf) pw__wb_flush(b);
+    }
+}
+
+PW__DEF void pw__wb_str(pw__wb *b, const char *s) { pw__wb_put(b, s, strlen(s)); }
+
+/* " %d" without printf. */
+PW__DEF void pw__wb_int(pw__wb *b, long long v, char lead)
+{
+    char t[24];
+    int n = (int)sizeof t;
+    unsigned long long u = v < 0 ? 0ull - (unsigned long long)v : (unsigned long long)v;
+    do t[--n] = (char)('0' + u % 10); while (u /= 10);
+    if (v < 0) t[--n] = '-';
+    if (lead) t[--n] = lead;
+    pw__wb_put(b, t + n, sizeof t - (size_t)n);
+}
+
+/* v * 10^x with exact powers of ten (deterministic: only + - * /). */
+PW__DEF double pw__num_mul10(double v, int x)
+{
+    while (x > 22) v *= 1e22, x -= 22;
+    while (x < -22) v /= 1e22, x += 22;
+    return x >= 0 ? v * pw__num_pow10[x] : v / pw__num_pow10[-x];
+}
+
+/* Nine significant digits of |x| > 0 as an integer in [1e8, 1e9), and the
+ * decimal exponent of the first digit. The first guess of the exponent
+ * comes from the binary one and is corrected by at most a step. */
+PW__DEF uint32_t pw__num_digits(double x, int *e10)
+{
+    int e2, k, t;
+    uint32_t d = 0;
+    frexp(x, &e2); /* x in [2^(e2-1), 2^e2) */
+    t = (e2 - 1) * 30103; /* log10(2) = 0.30103 */
+    *e10 = t >= 0 ? t / 100000 : -((99999 - t) / 100000);
+    for (k = 0; k < 4; k++) {
+        double m = pw__num_mul10(x, 8 - *e10), fl = floor(m);
+        /* round half to even, like printf: exact ties are common (x is a
+         * dyadic fraction and the product is then exact) */
+        fl += m - fl > 0.5 || (m - fl == 0.5 && fmod(fl, 2.0) != 0.0);
+        d = fl >= 1e9 ? 1000000000u : (uint32_t)fl;
+        if (d >= 1000000000u) ++*e10;
+        else if (d < 100000000u) --*e10;
+        else break;
+    }
+    return d;
+}
+
+/* Formats a finite float with 9 significant digits, the most a float
+ * needs to read back exactly, without printf: locale-independent (never a
+ * decimal comma) and several times faster. Returns the length. */
+PW__DEF int pw__num_format(char *out, float xf)
+{
+    char dig[10];
+    double x = xf;
+    uint32_t d, bits;
+    int n = 0, nd = 9, e10, i, pos;
+    memcpy(&bits, &xf, 4);
+    if (bits >> 31) out[n++] = '-', x = -x; /* also keeps -0 */
+    if (x == 0.0) {
+        out[n++] = '0';
+        return n;
+    }
+    d = pw__num_digits(x, &e10);
+    while (nd > 1 && d % 10 == 0) d /= 10, nd--;
+    for (i = nd - 1; i >= 0; i--) dig[i] = (char)('0' + d % 10), d /= 10;
+    if (e10 >= 0 && e10 < 9) { /* ddd.ddd */
+        for (i = 0; i <= e10; i++) out[n++] = i < nd ? dig[i] : '0';
+        if (nd > e10 + 1) out[n++] = '.';
+        for (i = e10 + 1; i < nd; i++) out[n++] = dig[i];
+    } else if (e10 < 0 && e10 >= -4) { /* 0.000ddd, as %g does */
+        out[n++] = '0', out[n++] = '.';
+        for (i = 0; i < -e10 - 1; i++) out[n++] = '0';
+        for (i = 0; i < nd; i++) out[n++] = dig[i];
+    } else { /* d.ddde-12 */
+        out[n++] = dig[0];
+        if (nd > 1) out[n++] = '.';
+        for (i = 1; i < nd; i++) out[n++] = dig[i];
+        out[n++] = 'e';
+        if (e10 < 0) out[n++] = '-', e10 = -e10;
+        pos = e10 >= 10 ? 2 : 1;
+        for (i = pos - 1; i >= 0; i--, e10 /= 10) out[n + i] = (char)('0' + e10 % 10);
+        n += pos;
+    }
+    return n;
+}
+
+PW__DEF void pw__wb_float(pw__wb *b, float x)
+{
+    char t[24];
+    t[0] = ' ';
+    pw__wb_put(b, t, (size_t)pw__num_format(t + 1, x) + 1);
+}
+
+PW__DEF int pw__wb_done(pw__wb *b, pw_err *e)
+{
+    pw__wb_flush(b);
+    return b->failed ? pw_fail(e, PW_ERR_IO, "write failed") : PW_OK;
+}
+
+#endif /* PW__TEXT_V1 */
+
+/* ---- shared module src/common/mesh.h ---- */
+/* mesh: polygon meshes as flat arrays, and their file formats.
+ *
+ * A pw_mesh is a list of vertex positions and a list of polygons of any
+ * degree, stored as offsets into one array of corners (CSR layout): the
+ * corners of face f are fv[fstart[f]] .. fv[fstart[f+1]-1], counter-clockwise
+ * seen from outside. Texture coordinates, when present, have their own index
+ * per corner (fuv), as in OBJ, so that seams can split a vertex's uv.
+ *
+ * Readers (all from memory; `name` is only used in messages, usually the
+ * file name, and may be NULL):
+ *   OBJ  v/vt/f (a, a/b, a//c, a/b/c, negative indices), any polygon degree,
+ *        '\' line continuation; vn, o, g, s, usemtl, mtllib, l, p and the
+ *        free-form statements are skipped; an unknown keyword is an error.
+ *        uv and fuv are kept when every face has texture indices.
+ *   OFF  [ST][C][N]OFF, ASCII (one vertex or face per line, extra values such
+ *        as colours ignored, '#' comments anywhere, the keyword optional) and
+ *        Geomview's BINARY form. 4OFF and nOFF are refused (unsupported).
+ *   PLY  ascii, binary_little_endian and binary_big_endian 1.0, every scalar
+ *        type; vertex x, y, z (+ u/v, s/t or texture_u/texture_v as uv);
+ *        face list vertex_indices or vertex_index; anything else is skipped.
+ * Every reader refuses, with a message naming the file, the line (text) or
+ * byte offset (binary) and the element: truncated data (PW_ERR_PARSE), counts
+ * the data cannot hold (checked before allocating), sizes over
+ * PW_MAX_MESH_ELEMENTS / PW_MAX_FACE_DEGREE (PW_ERR_LIMIT), vertex indices
+ * out of range and NaN/Inf coordinates (PW_ERR_INVALID), faces with fewer
+ * than 3 corners and meshes without faces (PW_ERR_DEGENERATE). Element
+ * indices in messages are 0-based; OBJ indices are quoted as written.
+ *
+ * Numbers are parsed and printed by hand: locale-independent, no NUL
+ * terminator needed, the same bytes on every platform; floats are written
+ * with 9 significant digits, so a write -> read round trip is exact.
+ *
+ * API: pw_mesh_alloc/free/copy/validate/bounds/triangulate;
+ * pw_mesh_read_obj/off/ply/memory (+ pw_mesh_load); pw_mesh_write_obj,
+ * pw_mesh_write_mtl (+ pw_mesh_save_obj, pw_mesh_save_mtl). The file forms
+ * are left out by PW_NO_STDIO. */
+#ifndef PW__MESH_V1
+#define PW__MESH_V1
+
+
+typedef struct pw_mesh {
+    int nv;
+    float *pos;  /* nv*3: vertex i is pos[3*i], pos[3*i+1], pos[3*i+2] */
+    int nf;
+    int *fstart; /* nf+1 offsets into fv; fstart[0] = 0 */
+    int *fv;     /* fstart[nf] vertex indices, counter-clockwise per face */
+    int nuv;
+    float *uv;   /* nuv*2 texture coordinates, or NULL */
+    int *fuv;    /* fstart[nf]: uv index of each corner, or NULL */
+} pw_mesh;
+
+/* Frees the arrays and zeroes *m (NULL is fine). */
+PW__DEF void pw_mesh_free(const pw_alloc *a, pw_mesh *m)
+{
+    if (!m) return;
+    pw_free(a, m->pos);
+    pw_free(a, m->fstart);
+    pw_free(a, m->fv);
+    pw_free(a, m->uv);
+    pw_free(a, m->fuv);
+    memset(m, 0, sizeof *m);
+}
+
+/* Shared by pw_mesh_alloc and pw_mesh_copy: nuv < 0 means no uv arrays. */
+PW__DEF int pw__mesh_alloc(const pw_alloc *a, pw_mesh *m, int nv, int nf, int nc, int nuv,
+                           pw_err *e)
+{
+    memset(m, 0, sizeof *m);
+    if (nv < 0 || nf < 0 || nc < 0)
+        return pw_fail(e, PW_ERR_INVALID, "mesh: negative size (%d vertices, %d faces, %d corners)",
+                       nv, nf, nc);
+    if (nv > PW_MAX_MESH_ELEMENTS || nf > PW_MAX_MESH_ELEMENTS || nc > PW_MAX_MESH_ELEMENTS ||
+        nuv > PW_MAX_MESH_ELEMENTS)
+        return pw_fail(e, PW_ERR_LIMIT,
+                       "mesh: %d vertices, %d faces, %d corners exceed the limit of %d elements",
+                       nv, nf, nc, PW_MAX_MESH_ELEMENTS);
+    m->pos = (float *)pw_calloc_array(a, (size_t)nv * 3, sizeof(float), "mesh positions", e);
+    m->fstart = (int *)pw_calloc_array(a, (size_t)nf + 1, sizeof(int), "mesh faces", e);
+    m->fv = (int *)pw_calloc_array(a, (size_t)nc, sizeof(int), "mesh corners", e);
+    if (nuv >= 0) {
+        m->uv = (float *)pw_calloc_array(a, (size_t)nuv * 2, sizeof(float), "mesh uvs", e);
+        m->fuv = (int *)pw_calloc_array(a, (size_t)nc, sizeof(int), "mesh corner uvs", e);
+    }
+    if (!m->pos || !m->fstart || !m->fv || (nuv >= 0 && (!m->uv || !m->fuv))) {
+        pw_mesh_free(a, m);
+        return PW_ERR_NOMEM;
+    }
+    m->nv = nv;
+    m->nf = nf;
+    m->nuv = nuv > 0 ? nuv : 0;
+    return PW_OK;
+}
+
+/* Allocates a zeroed mesh of nv vertices, nf faces and ncorners corners; the
+ * caller fills pos, all nf+1 entries of fstart, and fv. With with_uv != 0 it
+ * also allocates one texture coordinate per corner (nuv = ncorners, uv
+ * zeroed, fuv[i] = i); lower nuv afterwards when sharing uvs. */
+PW__DEF int pw_mesh_alloc(const pw_alloc *a, pw_mesh *m, int nv, int nf, int ncorners,
+                          int with_uv, pw_err *e)
+{
+    int r = pw__mesh_alloc(a, m, nv, nf, ncorners, with_uv ? ncorners : -1, e), i;
+    if (r == PW_OK && with_uv)
+        for (i = 0; i < ncorners; i++) m->fuv[i] = i;
+    return r;
+}
+
+/* Structural check: sizes, offsets, every index in range, every face with
+ * at least 3 corners, finite coordinates. Meshes from the readers pass. */
+PW__DEF int pw_mesh_validate(const pw_mesh *m, pw_err *e)
+{
+    int f, i;
+    if (m->nv < 0 || m->nf < 0 || m->nuv < 0 || !m->fstart || (m->nv && !m->pos) ||
+        (m->nuv && !m->uv))
+        return pw_fail(e, PW_ERR_INVALID, "mesh: negative count or missing array");
+    if (m->fstart[0] != 0)
+        return pw_fail(e, PW_ERR_INVALID, "mesh: fstart[0] is %d, must be 0", m->fstart[0]);
+    for (f = 0; f < m->nf; f++) {
+        int b = m->fstart[f], d; /* b >= 0 by induction */
+        if ((int64_t)m->fstart[f + 1] < (int64_t)b + 3)
+            return pw_fail(e, PW_ERR_DEGENERATE, "mesh: face %d has %ld corners (at least 3 needed)",
+                           f, (long)m->fstart[f + 1] - b);
+        d = m->fstart[f + 1] - b;
+        for (i = b; i < b + d; i++) {
+            if (!m->fv || m->fv[i] < 0 || m->fv[i] >= m->nv)
+                return pw_fail(e, PW_ERR_INVALID, "mesh: face %d, corner %d: vertex index %d out of range (%d vertices)",
+                               f, i - b, m->fv ? m->fv[i] : -1, m->nv);
+            if (m->fuv && (m->fuv[i] < 0 || m->fuv[i] >= m->nuv))
+                return pw_fail(e, PW_ERR_INVALID, "mesh: face %d, corner %d: uv index %d out of range (%d uvs)",
+                               f, i - b, m->fuv[i], m->nuv);
+        }
+    }
+    for (i = 0; i < m->nv * 3; i++)
+        if (!pw_is_finite(m->pos[i]))
+            return pw_fail(e, PW_ERR_INVALID, "mesh: vertex %d has a non-finite coordinate", i / 3);
+    for (i = 0; m->fuv && i < m->nuv * 2; i++)
+        if (!pw_is_finite(m->uv[i]))
+            return pw_fail(e, PW_ERR_INVALID, "mesh: texture coordinate %d is not finite", i / 2);
+    return PW_OK;
+}
+
+/* Axis-aligned bounding box; all zero for a mesh without vertices. */
+PW__DEF void pw_mesh_bounds(const pw_mesh *m, float lo[3], float hi[3])
+{
+    int i, k;
+    for (k = 0; k < 3; k++) lo[k] = hi[k] = m->nv > 0 ? m->pos[k] : 0.0f;
+    for (i = 1; i < m->nv; i++)
+        for (k = 0; k < 3; k++) {
+            float x = m->pos[3 * i + k];
+            if (x < lo[k]) lo[k] = x;
+            if (x > hi[k]) hi[k] = x;
+        }
+}
+
+/* Deep copy (dst is overwritten, not freed). */
+PW__DEF int pw_mesh_copy(const pw_alloc *a, const pw_mesh *src, pw_mesh *dst, pw_err *e)
+{
+    int nc = src->nf > 0 ? src->fstart[src->nf] : 0;
+    int with_uv = src->uv && src->fuv;
+    int r = pw__mesh_alloc(a, dst, src->nv, src->nf, nc, with_uv ? src->nuv : -1, e);
+    if (r) return r;
+    if (src->nv) memcpy(dst->pos, src->pos, (size_t)src->nv * 3 * sizeof(float));
+    if (src->fstart) memcpy(dst->fstart, src->fstart, ((size_t)src->nf + 1) * sizeof(int));
+    if (nc) memcpy(dst->fv, src->fv, (size_t)nc * sizeof(int));
+    if (with_uv) {
+        if (src->nuv) memcpy(dst->uv, src->uv, (size_t)src->nuv * 2 * sizeof(float));
+        if (nc) memcpy(dst->fuv, src->fuv, (size_t)nc * sizeof(int));
+    }
+    return PW_OK;
+}
+
+/* Fan triangulation: face f with corners c0..c(d-1) becomes the triangles
+ * (c0, ck, ck+1), k = 1..d-2, in order, so triangles of one face are
+ * contiguous. Vertices and uvs are shared with the source numbering. When
+ * tri_face is not NULL it receives a new array (free with pw_free(a, ...))
+ * mapping each triangle to its source face. Fans suit convex polygons, which
+ * is what renderers and the triangle-based methods are given. */
+PW__DEF int pw_mesh_triangulate(const pw_alloc *a, const pw_mesh *m, pw_mesh *out,
+                                int **tri_face, pw_err *e)
+{
+    int64_t nt = 0;
+    int f, k, t = 0, r, with_uv = m->uv && m->fuv;
+    int *map = NULL;
+    memset(out, 0, sizeof *out);
+    if (tri_face) *tri_face = NULL;
+    if ((r = pw_mesh_validate(m, e))) return r;
+    for (f = 0; f < m->nf; f++) nt += m->fstart[f + 1] - m->fstart[f] - 2;
+    if (nt * 3 > PW_MAX_MESH_ELEMENTS)
+        return pw_fail(e, PW_ERR_LIMIT, "triangulation: %ld triangles exceed the limit", (long)nt);
+    if ((r = pw__mesh_alloc(a, out, m->nv, (int)nt, (int)nt * 3, with_uv ? m->nuv : -1, e)))
+        return r;
+    if (tri_face && !(map = (int *)pw_alloc_array(a, (size_t)nt + 1, sizeof(int), "triangle map", e))) {
+        pw_mesh_free(a, out);
+        return PW_ERR_NOMEM;
+    }
+    if (m->nv) memcpy(out->pos, m->pos, (size_t)m->nv * 3 * sizeof(float));
+    if (with_uv && m->nuv) memcpy(out->uv, m->uv, (size_t)m->nuv * 2 * sizeof(float));
+    for (f = 0; f < m->nf; f++) {
+        int b = m->fstart[f], d = m->fstart[f + 1] - b;
+        for (k = 1; k + 1 < d; k++, t++) {
+            int c[3], j;
+            c[0] = b;
+            c[1] = b + k;
+            c[2] = b + k + 1;
+            for (j = 0; j < 3; j++) {
+                out->fv[3 * t + j] = m->fv[c[j]];
+                if (with_uv) out->fuv[3 * t + j] = m->fuv[c[j]];
+            }
+            out->fstart[t + 1] = 3 * t + 3;
+            if (map) map[t] = f;
+        }
+    }
+    if (tri_face) *tri_face = map;
+    return PW_OK;
 }
 
 /* Reads a vertex's 3 coordinates and refuses NaN/Inf (also values too large
@@ -4593,130 +4729,6 @@ PW__DEF int pw_mesh_load(const pw_alloc *a, const char *path, pw_mesh *out, pw_e
 #endif
 
 /* ---- OBJ and MTL writers -------------------------------------------------- */
-
-/* Buffered output over a pw_write_fn. */
-typedef struct pw__wb {
-    pw_write_fn w;
-    void *ctx;
-    size_t n;
-    int failed;
-    char buf[4096];
-} pw__wb;
-
-PW__DEF void pw__wb_flush(pw__wb *b)
-{
-    if (b->n && !b->failed && b->w(b->ctx, b->buf, b->n) != 0) b->failed = 1;
-    b->n = 0;
-}
-
-PW__DEF void pw__wb_put(pw__wb *b, const char *s, size_t n)
-{
-    while (n) {
-        size_t k = sizeof b->buf - b->n < n ? sizeof b->buf - b->n : n;
-        memcpy(b->buf + b->n, s, k);
-        b->n += k;
-        s += k;
-        n -= k;
-        if (b->n == sizeof b->buf) pw__wb_flush(b);
-    }
-}
-
-PW__DEF void pw__wb_str(pw__wb *b, const char *s) { pw__wb_put(b, s, strlen(s)); }
-
-/* " %d" without printf. */
-PW__DEF void pw__wb_int(pw__wb *b, long long v, char lead)
-{
-    char t[24];
-    int n = (int)sizeof t;
-    unsigned long long u = v < 0 ? 0ull - (unsigned long long)v : (unsigned long long)v;
-    do t[--n] = (char)('0' + u % 10); while (u /= 10);
-    if (v < 0) t[--n] = '-';
-    if (lead) t[--n] = lead;
-    pw__wb_put(b, t + n, sizeof t - (size_t)n);
-}
-
-/* v * 10^x with exact powers of ten (deterministic: only + - * /). */
-PW__DEF double pw__num_mul10(double v, int x)
-{
-    while (x > 22) v *= 1e22, x -= 22;
-    while (x < -22) v /= 1e22, x += 22;
-    return x >= 0 ? v * pw__num_pow10[x] : v / pw__num_pow10[-x];
-}
-
-/* Nine significant digits of |x| > 0 as an integer in [1e8, 1e9), and the
- * decimal exponent of the first digit. The first guess of the exponent
- * comes from the binary one and is corrected by at most a step. */
-PW__DEF uint32_t pw__num_digits(double x, int *e10)
-{
-    int e2, k, t;
-    uint32_t d = 0;
-    frexp(x, &e2); /* x in [2^(e2-1), 2^e2) */
-    t = (e2 - 1) * 30103; /* log10(2) = 0.30103 */
-    *e10 = t >= 0 ? t / 100000 : -((99999 - t) / 100000);
-    for (k = 0; k < 4; k++) {
-        double m = pw__num_mul10(x, 8 - *e10), fl = floor(m);
-        /* round half to even, like printf: exact ties are common (x is a
-         * dyadic fraction and the product is then exact) */
-        fl += m - fl > 0.5 || (m - fl == 0.5 && fmod(fl, 2.0) != 0.0);
-        d = fl >= 1e9 ? 1000000000u : (uint32_t)fl;
-        if (d >= 1000000000u) ++*e10;
-        else if (d < 100000000u) --*e10;
-        else break;
-    }
-    return d;
-}
-
-/* Formats a finite float with 9 significant digits, the most a float
- * needs to read back exactly, without printf: locale-independent (never a
- * decimal comma) and several times faster. Returns the length. */
-PW__DEF int pw__num_format(char *out, float xf)
-{
-    char dig[10];
-    double x = xf;
-    uint32_t d, bits;
-    int n = 0, nd = 9, e10, i, pos;
-    memcpy(&bits, &xf, 4);
-    if (bits >> 31) out[n++] = '-', x = -x; /* also keeps -0 */
-    if (x == 0.0) {
-        out[n++] = '0';
-        return n;
-    }
-    d = pw__num_digits(x, &e10);
-    while (nd > 1 && d % 10 == 0) d /= 10, nd--;
-    for (i = nd - 1; i >= 0; i--) dig[i] = (char)('0' + d % 10), d /= 10;
-    if (e10 >= 0 && e10 < 9) { /* ddd.ddd */
-        for (i = 0; i <= e10; i++) out[n++] = i < nd ? dig[i] : '0';
-        if (nd > e10 + 1) out[n++] = '.';
-        for (i = e10 + 1; i < nd; i++) out[n++] = dig[i];
-    } else if (e10 < 0 && e10 >= -4) { /* 0.000ddd, as %g does */
-        out[n++] = '0', out[n++] = '.';
-        for (i = 0; i < -e10 - 1; i++) out[n++] = '0';
-        for (i = 0; i < nd; i++) out[n++] = dig[i];
-    } else { /* d.ddde-12 */
-        out[n++] = dig[0];
-        if (nd > 1) out[n++] = '.';
-        for (i = 1; i < nd; i++) out[n++] = dig[i];
-        out[n++] = 'e';
-        if (e10 < 0) out[n++] = '-', e10 = -e10;
-        pos = e10 >= 10 ? 2 : 1;
-        for (i = pos - 1; i >= 0; i--, e10 /= 10) out[n + i] = (char)('0' + e10 % 10);
-        n += pos;
-    }
-    return n;
-}
-
-PW__DEF void pw__wb_float(pw__wb *b, float x)
-{
-    char t[24];
-    t[0] = ' ';
-    pw__wb_put(b, t, (size_t)pw__num_format(t + 1, x) + 1);
-}
-
-PW__DEF int pw__wb_done(pw__wb *b, pw_err *e)
-{
-    pw__wb_flush(b);
-    return b->failed ? pw_fail(e, PW_ERR_IO, "write failed") : PW_OK;
-}
 
 /* Names written on a line of their own must not break the line. */
 PW__DEF int pw__obj_name_ok(const char *s, const char *what, pw_err *e)
@@ -8073,7 +8085,7 @@ done:
 
 #endif /* PW__QUILT_V1 */
 
-/* ---- tiled ---- */
+/* ---- src/tiled/tiled.c ---- */
 /* tiled.c: the implementation of tiled.h (Kaur 2003, "Texture Mapping Using
  * Tiled Textures"). Chapter numbers refer to the thesis. */
 
