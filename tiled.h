@@ -6418,6 +6418,29 @@ PW__DEF int pw_texture_create(const pw_alloc *a, pw_texture *t, const pw_image *
     return PW_OK;
 }
 
+/* Makes the outermost ring of texels of every level larger than min_size
+ * in both directions transparent (premultiplied zero). Lapped textures
+ * (Praun et al. 2000, §4) paste patches with clamped texture coordinates,
+ * which repeat the border texels outside the patch: "the texture patch must
+ * have a border of transparent pixels at all mipmap levels finer than
+ * 2x2", so the levels are built and then cleared here (min_size = 2). */
+PW__DEF void pw_texture_clear_border(pw_texture *t, int min_size)
+{
+    int L, x, y;
+    for (L = 0; t && L < t->nlevels; L++) {
+        int W = t->lw[L], H = t->lh[L];
+        uint16_t *p = t->level[L];
+        if (W <= min_size || H <= min_size) continue;
+        memset(p, 0, (size_t)W * 4 * sizeof(uint16_t));                   /* top row */
+        memset(p + (size_t)(H - 1) * W * 4, 0, (size_t)W * 4 * sizeof(uint16_t)); /* bottom row */
+        for (y = 1; y < H - 1; y++)
+            for (x = 0; x < 4; x++) {
+                p[((size_t)y * W) * 4 + x] = 0;          /* left column */
+                p[((size_t)y * W + W - 1) * 4 + x] = 0; /* right column */
+            }
+    }
+}
+
 PW__DEF void pw_texture_free(const pw_alloc *a, pw_texture *t)
 {
     if (!t) return;

@@ -2,7 +2,9 @@
 #ifndef PATCHWORK_CLI_H
 #define PATCHWORK_CLI_H
 
+#include <stdio.h>
 #include "../tiled.h"
+#include "../lapped.h"
 
 /* Argument cursor: `patchwork SUB --flag value ...`. */
 typedef struct cli_args {
@@ -37,6 +39,14 @@ const char *cli_stage(cli_outputs *o, const char *path);
 tiled_result cli_commit(cli_outputs *o, tiled_error *err);
 void cli_abort(cli_outputs *o);
 
+/* Staged output files: cli_open opens the temporary file of `path` (NULL and
+ * a message on failure); cli_close closes it and returns 1 if it was fully
+ * written (ok and a clean close), else 0 with a message. cli_fwrite is a
+ * write callback over FILE*. */
+FILE *cli_open(cli_outputs *o, const char *path, char *msg, size_t size);
+int cli_close(FILE *f, int ok, const char *path, char *msg, size_t size);
+int cli_fwrite(void *ctx, const void *data, size_t size);
+
 /* Writes an image (format from the extension of `final_path`) to the
  * staged temporary path. Returns TILED_OK or an error (message in err). */
 tiled_result cli_write_image(cli_outputs *o, const char *final_path, const tiled_image *img,
@@ -44,11 +54,18 @@ tiled_result cli_write_image(cli_outputs *o, const char *final_path, const tiled
 /* Format name ("png", "ppm", "pgm", "pam") for a path, NULL if unknown. */
 const char *cli_image_format(const char *path);
 
+/* `path` with its extension replaced by `ext`. */
+void cli_with_ext(const char *path, const char *ext, char *out, size_t size);
+/* How an MTL beside `obj` names `texture`: relative when in the same
+ * folder, else as given. */
+const char *cli_texture_ref(const char *obj, const char *texture);
+
 /* "procedural:NAME" inputs. */
 int cli_is_procedural(const char *s, const char **name);
 
 int cmd_tiled(int argc, char **argv);
 int cmd_demo(int argc, char **argv);
 int cmd_convert(int argc, char **argv);
+int cmd_lapped(int argc, char **argv);
 
 #endif

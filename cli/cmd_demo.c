@@ -76,6 +76,80 @@ static tiled_result demo_tiled_scene(const char *dir, const demo_scene *s, tiled
     return r;
 }
 
+typedef struct lapped_scene {
+    const char *name, *mesh, *texture;
+    int field, atlas;
+    float scale, view[3];
+} lapped_scene;
+
+static const lapped_scene lapped_scenes[] = {
+    {"lapped_bumpy_scales", "bumpy", "scales", LAPPED_FIELD_UP, 1, 0.45f, {-0.3f, -0.35f, -0.9f}},
+    {"lapped_torus_stripes", "torus", "stripes", LAPPED_FIELD_CURVATURE, 0, 0.5f, {-0.2f, -0.6f, -0.75f}},
+    {"lapped_sphere_dots", "sphere", "dots", LAPPED_FIELD_ISOTROPIC, 0, 0.5f, {-0.4f, -0.3f, -0.85f}},
+};
+
+static tiled_result demo_write_lapped(const char *dir, const char *name, const lapped_image *img,
+                                      tiled_error *err)
+{
+    tiled_image view;
+    memset(&view, 0, sizeof view);
+    view.width = img->width;
+    view.height = img->height;
+    view.channels = img->channels;
+    view.pixels = img->pixels;
+    return demo_write(dir, name, &view, err);
+}
+
+static tiled_result demo_lapped_error(const lapped_error *le, tiled_error *err)
+{
+    err->code = (tiled_result)le->code;
+    memcpy(err->message, le->message, sizeof err->message);
+    return err->code;
+}
+
+/* A lapped scene: the patch, the runtime-pasting render and, for some, the
+ * texture atlas. */
+static tiled_result demo_lapped_scene(const char *dir, const lapped_scene *s, tiled_error *err)
+{
+    lapped_options o = lapped_default_options();
+    lapped_render_options ro;
+    lapped_mesh mesh;
+    lapped_image tex, patch, pic;
+    lapped_texture t;
+    lapped_atlas atlas;
+    lapped_error le;
+    tiled_result r = TILED_OK;
+    char name[256];
+    memset(&ro, 0, sizeof ro);
+    memset(&t, 0, sizeof t);
+    memset(&pic, 0, sizeof pic);
+    memset(&patch, 0, sizeof patch);
+    memset(&atlas, 0, sizeof atlas);
+    memcpy(ro.view_dir, s->view, sizeof ro.view_dir);
+    o.field.mode = s->field;
+    o.field.scale = s->scale;
+    if (lapped_builtin_mesh(s->mesh, &o, &mesh, &le) != LAPPED_OK) return demo_lapped_error(&le, err);
+    if (lapped_builtin_texture(s->texture, 128, &o, &tex, &le) != LAPPED_OK ||
+        lapped_make_patch(&tex, NULL, &o, &patch, &le) != LAPPED_OK ||
+        lapped_create(&mesh, &patch, 1, &o, &t, &le) != LAPPED_OK ||
+        lapped_render(&mesh, &t, &patch, NULL, &ro, &pic, &le) != LAPPED_OK ||
+        (s->atlas && lapped_bake_atlas(&mesh, &t, &patch, NULL, NULL, &o, &atlas, &le) != LAPPED_OK)) {
+        r = demo_lapped_error(&le, err);
+    }
+    if (r == TILED_OK) r = demo_write_lapped(dir, s->name, &pic, err);
+    snprintf(name, sizeof name, "%s_patch", s->name);
+    if (r == TILED_OK) r = demo_write_lapped(dir, name, &patch, err);
+    snprintf(name, sizeof name, "%s_atlas", s->name);
+    if (r == TILED_OK && s->atlas) r = demo_write_lapped(dir, name, &atlas.image, err);
+    lapped_atlas_free(&atlas);
+    lapped_image_free(&pic);
+    lapped_texture_free(&t);
+    lapped_image_free(&patch);
+    lapped_image_free(&tex);
+    lapped_mesh_free(&mesh);
+    return r;
+}
+
 int cmd_demo(int argc, char **argv)
 {
     const char *dir = argc > 1 ? argv[1] : "out";
@@ -100,5 +174,10 @@ int cmd_demo(int argc, char **argv)
             return 1;
         }
     }
+    for (k = 0; k < sizeof lapped_scenes / sizeof lapped_scenes[0]; k++)
+        if (demo_lapped_scene(dir, &lapped_scenes[k], &err) != TILED_OK) {
+            cli_error("demo", "%s: %s", lapped_scenes[k].name, err.message);
+            return 1;
+        }
     return 0;
 }

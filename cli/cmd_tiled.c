@@ -162,14 +162,6 @@ static tiled_result make_tiles(tiled_cmd *c, tiled_tileset *ts, tiled_error *err
     return r;
 }
 
-/* `path` with its extension replaced by `ext`. */
-static void with_ext(const char *path, const char *ext, char *out, size_t size)
-{
-    const char *dot = strrchr(path, '.'), *slash = strrchr(path, '/');
-    size_t n = dot && (!slash || dot > slash) ? (size_t)(dot - path) : strlen(path);
-    snprintf(out, size, "%.*s%s", (int)n, path, ext);
-}
-
 /* Writes an OBJ and its MTL (naming the texture) to staged paths. */
 static tiled_result write_obj(cli_outputs *o, const char *obj, const char *texture,
                               const tiled_mesh *m, tiled_error *err);
@@ -186,7 +178,7 @@ static tiled_result run(tiled_cmd *c, cli_outputs *outs, tiled_error *err)
     memset(&pic, 0, sizeof pic);
     if ((r = make_tiles(c, &ts, err)) != TILED_OK || c->validate_only) return r;
     if (c->out_obj && !c->out_tiles) { /* the MTL must name a texture that exists */
-        with_ext(c->out_obj, ".png", tex_path, sizeof tex_path);
+        cli_with_ext(c->out_obj, ".png", tex_path, sizeof tex_path);
         c->out_tiles = tex_path;
     }
     if ((r = load_mesh(c->mesh, &c->opt, &mesh, err)) == TILED_OK &&
@@ -211,40 +203,17 @@ static tiled_result run(tiled_cmd *c, cli_outputs *outs, tiled_error *err)
     return r;
 }
 
-static int file_write(void *ctx, const void *data, size_t size)
-{
-    return fwrite(data, 1, size, (FILE *)ctx) == size ? 0 : -1;
-}
-
-/* The MTL names the texture by its path relative to the OBJ's folder when
- * both are in the same folder, else by the path as given. */
-static const char *texture_ref(const char *obj, const char *texture)
-{
-    const char *so = strrchr(obj, '/'), *st = strrchr(texture, '/');
-    size_t lo = so ? (size_t)(so - obj) : 0, lt = st ? (size_t)(st - texture) : 0;
-    if (lo == lt && !strncmp(obj, texture, lo)) return st ? st + 1 : texture;
-    return texture;
-}
-
 static tiled_result write_one(cli_outputs *o, const char *path, int is_obj, const char *arg,
                               const tiled_mesh *m, tiled_error *err)
 {
-    const char *tmp = cli_stage(o, path);
-    FILE *f = tmp ? fopen(tmp, "wb") : NULL;
+    FILE *f = cli_open(o, path, err->message, sizeof err->message);
     tiled_result r;
-    if (!f) {
-        err->code = TILED_ERR_IO;
-        snprintf(err->message, sizeof err->message, "%s: cannot open for writing", path);
-        return err->code;
-    }
-    r = is_obj ? tiled_write_obj_to_func(m, arg, file_write, f, err)
-               : tiled_write_mtl_to_func(arg, file_write, f, err);
-    if (fclose(f) != 0 && r == TILED_OK) r = TILED_ERR_IO;
-    if (r == TILED_ERR_IO) {
-        err->code = r;
-        snprintf(err->message, sizeof err->message, "%s: write error (disk full?)", path);
-    }
-    return r;
+    if (!f) return err->code = TILED_ERR_IO;
+    r = is_obj ? tiled_write_obj_to_func(m, arg, cli_fwrite, f, err)
+               : tiled_write_mtl_to_func(arg, cli_fwrite, f, err);
+    if (r == TILED_ERR_IO) snprintf(err->message, sizeof err->message, "%.200s: write error (disk full?)", path);
+    if (!cli_close(f, r == TILED_OK, path, err->message, sizeof err->message)) r = TILED_ERR_IO;
+    return err->code = r;
 }
 
 static tiled_result write_obj(cli_outputs *o, const char *obj, const char *texture,
@@ -252,9 +221,9 @@ static tiled_result write_obj(cli_outputs *o, const char *obj, const char *textu
 {
     char mtl[1024];
     tiled_result r;
-    with_ext(obj, ".mtl", mtl, sizeof mtl);
-    r = write_one(o, obj, 1, texture_ref(obj, mtl), m, err);
-    if (r == TILED_OK) r = write_one(o, mtl, 0, texture_ref(obj, texture), m, err);
+    cli_with_ext(obj, ".mtl", mtl, sizeof mtl);
+    r = write_one(o, obj, 1, cli_texture_ref(obj, mtl), m, err);
+    if (r == TILED_OK) r = write_one(o, mtl, 0, cli_texture_ref(obj, texture), m, err);
     return r;
 }
 

@@ -143,33 +143,62 @@ const char *cli_image_format(const char *path)
     return NULL;
 }
 
-static int cli_file_write(void *ctx, const void *data, size_t size)
+int cli_fwrite(void *ctx, const void *data, size_t size)
 {
     return fwrite(data, 1, size, (FILE *)ctx) == size ? 0 : -1;
+}
+
+FILE *cli_open(cli_outputs *o, const char *path, char *msg, size_t size)
+{
+    const char *tmp = cli_stage(o, path);
+    FILE *f = tmp ? fopen(tmp, "wb") : NULL;
+    if (!f) snprintf(msg, size, "%.200s: cannot open for writing", path);
+    return f;
+}
+
+int cli_close(FILE *f, int ok, const char *path, char *msg, size_t size)
+{
+    if (fclose(f) != 0 && ok) {
+        snprintf(msg, size, "%.200s: write error (disk full?)", path);
+        return 0;
+    }
+    return ok;
 }
 
 tiled_result cli_write_image(cli_outputs *o, const char *final_path, const tiled_image *img,
                              tiled_error *err)
 {
-    const char *fmt = cli_image_format(final_path), *tmp;
+    const char *fmt = cli_image_format(final_path);
     tiled_result r;
     FILE *f;
     if (!fmt) {
         err->code = TILED_ERR_UNSUPPORTED;
         snprintf(err->message, sizeof err->message,
-                 "%s: unknown image extension (use .png, .ppm, .pgm, .pam)", final_path);
+                 "%.200s: unknown image extension (use .png, .ppm, .pgm, .pam)", final_path);
         return err->code;
     }
-    if (!(tmp = cli_stage(o, final_path)) || !(f = fopen(tmp, "wb"))) {
-        err->code = TILED_ERR_IO;
-        snprintf(err->message, sizeof err->message, "%s: cannot open for writing", final_path);
-        return err->code;
-    }
-    r = tiled_write_image_to_func(img, fmt, cli_file_write, f, err);
-    if (fclose(f) != 0 && r == TILED_OK) r = TILED_ERR_IO;
-    if (r == TILED_ERR_IO) {
-        err->code = r;
-        snprintf(err->message, sizeof err->message, "%s: write error (disk full?)", final_path);
-    }
-    return r;
+    if (!(f = cli_open(o, final_path, err->message, sizeof err->message))) return err->code = TILED_ERR_IO;
+    r = tiled_write_image_to_func(img, fmt, cli_fwrite, f, err);
+    if (r == TILED_ERR_IO) snprintf(err->message, sizeof err->message, "%.200s: write error (disk full?)", final_path);
+    if (!cli_close(f, r == TILED_OK, final_path, err->message, sizeof err->message)) r = TILED_ERR_IO;
+    return err->code = r;
 }
+
+/* `path` with its extension replaced by `ext`. */
+void cli_with_ext(const char *path, const char *ext, char *out, size_t size)
+{
+    const char *dot = strrchr(path, '.'), *slash = strrchr(path, '/');
+    size_t n = dot && (!slash || dot > slash) ? (size_t)(dot - path) : strlen(path);
+    snprintf(out, size, "%.*s%s", (int)n, path, ext);
+}
+
+/* The MTL names the texture by its path relative to the OBJ's folder when
+ * both are in the same folder, else by the path as given. */
+const char *cli_texture_ref(const char *obj, const char *texture)
+{
+    const char *so = strrchr(obj, '/'), *st = strrchr(texture, '/');
+    size_t lo = so ? (size_t)(so - obj) : 0, lt = st ? (size_t)(st - texture) : 0;
+    if (lo == lt && !strncmp(obj, texture, lo)) return st ? st + 1 : texture;
+    return texture;
+}
+

@@ -641,6 +641,150 @@ PW__DEF int pw_cg_solve(const pw_alloc *a, const pw_csr *A, const double *b, dou
     return r;
 }
 
+/* ---- incomplete Cholesky preconditioning -------------------------------- */
+
+/* IC(0): a lower-triangular L with the sparsity of A's lower triangle and
+ * L Lᵀ ~ A. For the Laplacian-like systems of mesh parametrisation it cuts
+ * CG's iterations several-fold over Jacobi. Rows hold their diagonal last. */
+typedef struct pw_ic0 {
+    int n;
+    int *rowptr, *col;
+    double *val;
+} pw_ic0;
+
+PW__DEF void pw_ic0_free(const pw_alloc *a, pw_ic0 *L)
+{
+    pw_free(a, L->rowptr);
+    pw_free(a, L->col);
+    pw_free(a, L->val);
+    memset(L, 0, sizeof *L);
+}
+
+/* Sparse dot product of rows i and j of L over columns below `below`. */
+PW__DEF double pw__ic0_dot(const pw_ic0 *L, int i, int j, int below)
+{
+    int a = L->rowptr[i], b = L->rowptr[j], ea = L->rowptr[i + 1], eb = L->rowptr[j + 1];
+    double s = 0.0;
+    while (a < ea && b < eb && L->col[a] < below && L->col[b] < below) {
+        if (L->col[a] == L->col[b]) s += L->val[a++] * L->val[b++];
+        else if (L->col[a] < L->col[b]) a++;
+        else b++;
+    }
+    return s;
+}
+
+/* Factors A + shift diag(A) into L; returns 0 when a pivot is not
+ * positive (the caller retries with a larger shift). */
+PW__DEF int pw__ic0_try(const pw_csr *A, double shift, pw_ic0 *L)
+{
+    int i, k, out = 0;
+    for (i = 0; i < A->n; i++) {
+        double diag = 0.0;
+        for (k = A->rowptr[i]; k < A->rowptr[i + 1] && A->col[k] <= i; k++) {
+            int j = A->col[k];
+            if (j == i) diag = A->val[k] * (1.0 + shift);
+            else {
+                L->col[out] = j;
+                L->val[out] = (A->val[k] - pw__ic0_dot(L, i, j, j)) / L->val[L->rowptr[j + 1] - 1];
+                out++;
+                L->rowptr[i + 1] = out; /* rows read themselves while being filled */
+            }
+        }
+        L->rowptr[i + 1] = out;
+        diag -= pw__ic0_dot(L, i, i, i);
+        if (!(diag > 0.0) || !pw_is_finite(diag)) return 0;
+        L->col[out] = i;
+        L->val[out++] = sqrt(diag);
+        L->rowptr[i + 1] = out;
+    }
+    return 1;
+}
+
+/* Factors a symmetric positive (semi)definite A with sorted columns and
+ * every diagonal entry present. Breakdowns (IC(0) of an SPD matrix can meet
+ * a non-positive pivot) are cured by a growing diagonal shift. */
+PW__DEF int pw_ic0_factor(const pw_alloc *a, const pw_csr *A, pw_ic0 *L, pw_err *e)
+{
+    int i, k, nnz = 0;
+    double shift = 0.0;
+    memset(L, 0, sizeof *L);
+    if (A->n != A->m) return pw_fail(e, PW_ERR_INVALID, "IC(0) needs a square matrix, not %dx%d", A->n, A->m);
+    for (i = 0; i < A->n; i++)
+        for (k = A->rowptr[i]; k < A->rowptr[i + 1] && A->col[k] <= i; k++) nnz++;
+    L->n = A->n;
+    L->rowptr = (int *)pw_calloc_array(a, (size_t)A->n + 1, sizeof(int), "IC(0) rows", e);
+    L->col = (int *)pw_alloc_array(a, (size_t)nnz + (size_t)A->n, sizeof(int), "IC(0) columns", e);
+    L->val = (double *)pw_alloc_array(a, (size_t)nnz + (size_t)A->n, sizeof(double), "IC(0) values", e);
+    if (!L->rowptr || !L->col || !L->val) {
+        pw_ic0_free(a, L);
+        return PW_ERR_NOMEM;
+    }
+    for (k = 0; k < 40; k++, shift = shift > 0.0 ? 2.0 * shift : 1e-3)
+        if (pw__ic0_try(A, shift, L)) return PW_OK;
+    pw_ic0_free(a, L);
+    return pw_fail(e, PW_ERR_INVALID, "IC(0): the matrix is not positive definite");
+}
+
+/* z = (L Lᵀ)⁻¹ r. */
+PW__DEF void pw_ic0_apply(const pw_ic0 *L, const double *r, double *z)
+{
+    int i, k;
+    for (i = 0; i < L->n; i++) { /* L y = r */
+        double s = r[i];
+        for (k = L->rowptr[i]; k < L->rowptr[i + 1] - 1; k++) s -= L->val[k] * z[L->col[k]];
+        z[i] = s / L->val[L->rowptr[i + 1] - 1];
+    }
+    for (i = L->n - 1; i >= 0; i--) { /* Lᵀ z = y, by columns of Lᵀ = rows of L */
+        z[i] /= L->val[L->rowptr[i + 1] - 1];
+        for (k = L->rowptr[i]; k < L->rowptr[i + 1] - 1; k++) z[L->col[k]] -= L->val[k] * z[i];
+    }
+}
+
+/* CG preconditioned by an IC(0) factor M of A; otherwise as pw_cg_solve
+ * (same options, stopping rule, warm start and errors). */
+PW__DEF int pw_pcg_solve(const pw_alloc *a, const pw_csr *A, const pw_ic0 *M, const double *b, double *x,
+                         const pw_cg_options *o, pw_cg_stats *s, pw_err *e)
+{
+    pw__krylov k;
+    double *r, *z, *p, *q, rz, rr;
+    int n = A->n, i, ret;
+    if (s) memset(s, 0, sizeof *s);
+    if (pw_csr_check(A, e) || pw__check_vec(b, n, "PCG right-hand side b", e) ||
+        pw__check_vec(x, n, "PCG guess x", e))
+        return PW_ERR_INVALID;
+    pw__krylov_init(&k, n, o);
+    k.bnorm = sqrt(pw__dot(b, b, n));
+    if (k.bnorm == 0) {
+        memset(x, 0, (size_t)n * sizeof *x);
+        if (s) s->converged = 1;
+        return PW_OK;
+    }
+    if (!(r = (double *)pw_alloc_array(a, (size_t)n * 4, sizeof(double), "PCG vectors", e))) return PW_ERR_NOMEM;
+    z = r + n, p = z + n, q = p + n;
+    pw__residual(A, b, x, r);
+    pw_ic0_apply(M, r, z);
+    memcpy(p, z, sizeof(double) * (size_t)n);
+    rz = pw__dot(r, z, n);
+    for (rr = pw__dot(r, r, n); (k.rnorm = sqrt(rr)) > k.tol * k.bnorm && k.it < k.max_iter; k.it++) {
+        double pq = pw__mul_dot(A, p, q, 0), alpha, rz1;
+        if (!(pq > 0) || !pw_is_finite(rz / pq) || pw__krylov_report(&k, e)) {
+            if (k.status == PW_OK) k.status = PW_ERR_NOCONVERGE;
+            break;
+        }
+        alpha = rz / pq;
+        for (i = 0; i < n; i++) x[i] += alpha * p[i], r[i] -= alpha * q[i];
+        pw_ic0_apply(M, r, z);
+        rz1 = pw__dot(r, z, n);
+        for (i = 0; i < n; i++) p[i] = z[i] + rz1 / rz * p[i];
+        rz = rz1;
+        rr = pw__dot(r, r, n);
+    }
+    pw__residual(A, b, x, r); /* report what x achieves, not the recurrence */
+    ret = pw__krylov_finish(&k, sqrt(pw__dot(r, r, n)), "PCG", s, e);
+    pw_free(a, r);
+    return ret;
+}
+
 /* ---- least squares (CGLS) ---------------------------------------------- */
 
 /* Work vectors of CGLS: r, q in row space (rows); s = Aᵀr, p, dinv in

@@ -1,0 +1,296 @@
+/* cmd_lapped.c: `patchwork lapped`, the whole of lapped.h from the shell. */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include "cli.h"
+
+static const char *lapped_usage =
+    "usage: patchwork lapped --mesh FILE --texture IMG [--texture IMG ...] [options]\n"
+    "\n"
+    "Lapped textures (Praun, Finkelstein, Hoppe 2000): texture patches pasted over\n"
+    "a mesh along a tangent field until it is covered.\n"
+    "\n"
+    "inputs:\n"
+    "  --mesh FILE          OBJ, OFF or PLY (polygons are fan-triangulated), or\n"
+    "                       procedural:NAME (sphere, torus, bumpy, disc)\n"
+    "  --texture IMG        a texture patch (PNG, PPM, PGM, PAM, GIMP .pat) or\n"
+    "                       procedural:NAME (scales, stripes, dots); repeat for\n"
+    "                       several patches, one picked at random per paste\n"
+    "  --mask IMG           alpha of the (first) patch from a mask image\n"
+    "  --splotch | --circle generated alpha (default: the image's alpha, else splotch)\n"
+    "  --falloff PX         alpha fall-off at the patch border (default 3)\n"
+    "field (texture orientation and scale):\n"
+    "  --field up[:X,Y,Z]   up direction projected on the surface (default +Y)\n"
+    "  --field isotropic    scale only, orientation propagated while growing\n"
+    "  --field curvature    along the direction of least curvature\n"
+    "  --field constraints:FILE  lines 'face dx dy dz [scale [radius [weight]]]'\n"
+    "  --scale S            patch side length in mesh units (default: 1/10 of the\n"
+    "                       bounding-box diagonal)\n"
+    "  --lscm               isotropic: least-squares conformal parametrisation\n"
+    "  --seed S             random seed (default 0)\n"
+    "outputs (at least one):\n"
+    "  --out-pastes FILE    the ordered pastes (text format, see README)\n"
+    "  --out-patch FILE.pam the first patch with its final alpha (RGBA PAM)\n"
+    "  --out-image IMG      a rendering by runtime pasting (.png .ppm .pgm .pam)\n"
+    "  --size WxH           rendering size (default 800x600)\n"
+    "  --out-obj FILE       triangulated mesh with texture-atlas coordinates + .mtl;\n"
+    "  --out-atlas IMG      needs --out-atlas: the lapped texture baked into an atlas\n"
+    "  --atlas-size PX      atlas side (default 1024)\n";
+
+#define MAX_TEXTURES 16
+
+typedef struct lapped_cmd {
+    const char *mesh, *textures[MAX_TEXTURES], *mask, *constraints;
+    const char *out_pastes, *out_patch, *out_image, *out_obj, *out_atlas;
+    int ntextures;
+    lapped_options opt;
+    lapped_render_options ro;
+    lapped_atlas_options ao;
+} lapped_cmd;
+
+static int bad(const char *what, const char *value)
+{
+    cli_error("lapped", "%s: '%s' is not valid (try patchwork lapped --help)", what, value);
+    return 0;
+}
+
+/* --field up[:X,Y,Z] | isotropic | curvature | constraints:FILE */
+static int parse_field(cli_args *a, lapped_cmd *c)
+{
+    const char *v;
+    lapped_field *f = &c->opt.field;
+    if (!cli_value(a, &v)) return 0;
+    if (!strcmp(v, "isotropic")) f->mode = LAPPED_FIELD_ISOTROPIC;
+    else if (!strcmp(v, "curvature")) f->mode = LAPPED_FIELD_CURVATURE;
+    else if (!strncmp(v, "constraints:", 12) && v[12]) {
+        f->mode = LAPPED_FIELD_CONSTRAINTS;
+        c->constraints = v + 12;
+    } else if (!strcmp(v, "up")) f->mode = LAPPED_FIELD_UP;
+    else if (!strncmp(v, "up:", 3)) {
+        char *end;
+        int k;
+        const char *p = v + 3;
+        f->mode = LAPPED_FIELD_UP;
+        for (k = 0; k < 3; k++, p = end + 1) {
+            f->up[k] = strtof(p, &end);
+            if (end == p || (k < 2 && *end != ',') || (k == 2 && *end)) return bad("--field", v);
+        }
+    } else
+        return bad("--field", v);
+    return 1;
+}
+
+static int parse_float(cli_args *a, float lo, float hi, float *out)
+{
+    const char *flag = a->argv[a->i], *v;
+    char *end;
+    if (!cli_value(a, &v)) return 0;
+    *out = strtof(v, &end);
+    if (end == v || *end || !(*out >= lo && *out <= hi)) return bad(flag, v);
+    return 1;
+}
+
+static int parse_one(cli_args *a, lapped_cmd *c)
+{
+    if (cli_is(a, "--help") || cli_is(a, "-h")) return -1;
+    if (cli_is(a, "--mesh")) return cli_value(a, &c->mesh);
+    if (cli_is(a, "--texture")) {
+        if (c->ntextures == MAX_TEXTURES) return bad("--texture", "(more than 16)");
+        return cli_value(a, &c->textures[c->ntextures++]);
+    }
+    if (cli_is(a, "--mask")) return (c->opt.alpha = LAPPED_ALPHA_MASK), cli_value(a, &c->mask);
+    if (cli_is(a, "--splotch")) return (c->opt.alpha = LAPPED_ALPHA_SPLOTCH), 1;
+    if (cli_is(a, "--circle")) return (c->opt.alpha = LAPPED_ALPHA_CIRCLE), 1;
+    if (cli_is(a, "--falloff")) return parse_float(a, 0.0f, 1000.0f, &c->opt.falloff);
+    if (cli_is(a, "--field")) return parse_field(a, c);
+    if (cli_is(a, "--scale")) return parse_float(a, 1e-30f, 1e30f, &c->opt.field.scale);
+    if (cli_is(a, "--lscm")) return (c->opt.lscm = 1);
+    if (cli_is(a, "--seed")) return cli_u64(a, &c->opt.seed);
+    if (cli_is(a, "--out-pastes")) return cli_value(a, &c->out_pastes);
+    if (cli_is(a, "--out-patch")) return cli_value(a, &c->out_patch);
+    if (cli_is(a, "--out-image")) return cli_value(a, &c->out_image);
+    if (cli_is(a, "--size")) return cli_size(a, &c->ro.width, &c->ro.height);
+    if (cli_is(a, "--out-obj")) return cli_value(a, &c->out_obj);
+    if (cli_is(a, "--out-atlas")) return cli_value(a, &c->out_atlas);
+    if (cli_is(a, "--atlas-size")) return cli_int(a, 64, 16384, &c->ao.size);
+    cli_error("lapped", "unknown option '%s' (try patchwork lapped --help)", a->argv[a->i]);
+    return 0;
+}
+
+static int parse(int argc, char **argv, lapped_cmd *c)
+{
+    cli_args a;
+    int r;
+    memset(c, 0, sizeof *c);
+    c->opt = lapped_default_options();
+    a.argc = argc;
+    a.argv = argv;
+    a.cmd = "lapped";
+    for (a.i = 1; a.i < argc; a.i++)
+        if ((r = parse_one(&a, c)) <= 0) return r;
+    if (!c->mesh || !c->ntextures) {
+        cli_error("lapped", "--mesh and --texture are required");
+        return 0;
+    }
+    if (!!c->out_obj != !!c->out_atlas) {
+        cli_error("lapped", "--out-obj and --out-atlas go together");
+        return 0;
+    }
+    if (!c->out_pastes && !c->out_patch && !c->out_image && !c->out_obj) {
+        cli_error("lapped", "nothing to write: give --out-pastes, --out-patch, --out-image or --out-obj");
+        return 0;
+    }
+    return 1;
+}
+
+static lapped_result load_mesh(const char *src, const lapped_options *o, lapped_mesh *m, lapped_error *err)
+{
+    const char *name;
+    if (cli_is_procedural(src, &name)) return lapped_builtin_mesh(name, o, m, err);
+    return lapped_load_mesh(src, o, m, err);
+}
+
+static lapped_result load_image(const char *src, const lapped_options *o, lapped_image *img,
+                                lapped_error *err)
+{
+    const char *name;
+    if (cli_is_procedural(src, &name)) return lapped_builtin_texture(name, 128, o, img, err);
+    return lapped_load_image(src, o, img, err);
+}
+
+/* Writes a lapped image through the shared image writer. */
+static lapped_result write_image(cli_outputs *outs, const char *path, const lapped_image *img,
+                                 lapped_error *err)
+{
+    tiled_image view;
+    tiled_error terr;
+    memset(&view, 0, sizeof view);
+    view.width = img->width;
+    view.height = img->height;
+    view.channels = img->channels;
+    view.pixels = img->pixels;
+    view.bits = img->bits;
+    if (cli_write_image(outs, path, &view, &terr) == TILED_OK) return LAPPED_OK;
+    err->code = (lapped_result)terr.code;
+    memcpy(err->message, terr.message, sizeof err->message);
+    return err->code;
+}
+
+/* The RGBA patches from the textures (the mask applies to the first). */
+static lapped_result make_patches(lapped_cmd *c, lapped_image *patches, lapped_error *err)
+{
+    lapped_image tex, mask;
+    lapped_result r = LAPPED_OK;
+    int k;
+    memset(&mask, 0, sizeof mask);
+    if (c->mask && (r = load_image(c->mask, &c->opt, &mask, err)) != LAPPED_OK) return r;
+    for (k = 0; k < c->ntextures && r == LAPPED_OK; k++) {
+        lapped_options o = c->opt;
+        if (k > 0 && o.alpha == LAPPED_ALPHA_MASK) o.alpha = LAPPED_ALPHA_AUTO;
+        o.seed = c->opt.seed + (unsigned long long)k; /* different splotches */
+        if ((r = load_image(c->textures[k], &o, &tex, err)) == LAPPED_OK) {
+            r = lapped_make_patch(&tex, k == 0 && c->mask ? &mask : NULL, &o, &patches[k], err);
+            lapped_image_free(&tex);
+        }
+    }
+    lapped_image_free(&mask);
+    return r;
+}
+
+static lapped_result write_pastes(cli_outputs *outs, const char *path, const lapped_texture *t,
+                                  lapped_error *err)
+{
+    FILE *f = cli_open(outs, path, err->message, sizeof err->message);
+    lapped_result r;
+    if (!f) return err->code = LAPPED_ERR_IO;
+    r = lapped_write_pastes_to_func(t, cli_fwrite, f, err);
+    if (!cli_close(f, r == LAPPED_OK, path, err->message, sizeof err->message)) r = LAPPED_ERR_IO;
+    return err->code = r;
+}
+
+/* The atlas: OBJ + MTL (naming the atlas image) + the image. */
+static lapped_result write_atlas(lapped_cmd *c, cli_outputs *outs, const lapped_mesh *mesh,
+                                 const lapped_texture *t, const lapped_image *patches, lapped_error *err)
+{
+    lapped_atlas atlas;
+    char mtl[1024];
+    lapped_result r = lapped_bake_atlas(mesh, t, patches, NULL, &c->ao, &c->opt, &atlas, err);
+    FILE *f;
+    if (r != LAPPED_OK) return r;
+    cli_with_ext(c->out_obj, ".mtl", mtl, sizeof mtl);
+    if ((f = cli_open(outs, c->out_obj, err->message, sizeof err->message)) == NULL) r = LAPPED_ERR_IO;
+    else {
+        r = lapped_write_obj_to_func(mesh, &atlas, cli_texture_ref(c->out_obj, mtl), cli_fwrite, f, err);
+        if (!cli_close(f, r == LAPPED_OK, c->out_obj, err->message, sizeof err->message)) r = LAPPED_ERR_IO;
+    }
+    if (r == LAPPED_OK && (f = cli_open(outs, mtl, err->message, sizeof err->message)) == NULL) r = LAPPED_ERR_IO;
+    else if (r == LAPPED_OK) {
+        r = lapped_write_mtl_to_func(cli_texture_ref(c->out_obj, c->out_atlas), cli_fwrite, f, err);
+        if (!cli_close(f, r == LAPPED_OK, mtl, err->message, sizeof err->message)) r = LAPPED_ERR_IO;
+    }
+    if (r == LAPPED_OK) r = write_image(outs, c->out_atlas, &atlas.image, err);
+    if (r == LAPPED_OK)
+        printf("lapped: atlas of %d charts, %.0f%% of %dx%d filled\n", atlas.ncharts, 100.0 * atlas.fill,
+               atlas.image.width, atlas.image.height);
+    lapped_atlas_free(&atlas);
+    return err->code = r;
+}
+
+static lapped_result run(lapped_cmd *c, cli_outputs *outs, lapped_error *err)
+{
+    lapped_image patches[MAX_TEXTURES], pic;
+    lapped_constraint *cons = NULL;
+    lapped_texture t;
+    lapped_mesh mesh;
+    lapped_result r;
+    int k;
+    memset(patches, 0, sizeof patches);
+    memset(&pic, 0, sizeof pic);
+    memset(&t, 0, sizeof t);
+    memset(&mesh, 0, sizeof mesh);
+    r = make_patches(c, patches, err);
+    if (r == LAPPED_OK && c->constraints &&
+        (r = lapped_load_constraints(c->constraints, &c->opt, &cons, &c->opt.field.nconstraints, err)) == LAPPED_OK)
+        c->opt.field.constraints = cons;
+    if (r == LAPPED_OK) r = load_mesh(c->mesh, &c->opt, &mesh, err);
+    if (r == LAPPED_OK && (r = lapped_create(&mesh, patches, c->ntextures, &c->opt, &t, err)) == LAPPED_OK)
+        printf("lapped: %d triangles covered by %d pastes, %.2f layers per triangle (%.2f before "
+               "removing hidden ones), %d with hard edges\n",
+               t.ntris, t.npastes, t.layers, t.layers_before, t.hard_edges);
+    if (r == LAPPED_OK && c->out_patch) r = write_image(outs, c->out_patch, &patches[0], err);
+    if (r == LAPPED_OK && c->out_pastes) r = write_pastes(outs, c->out_pastes, &t, err);
+    if (r == LAPPED_OK && c->out_image && (r = lapped_render(&mesh, &t, patches, NULL, &c->ro, &pic, err)) == LAPPED_OK)
+        r = write_image(outs, c->out_image, &pic, err);
+    if (r == LAPPED_OK && c->out_obj) r = write_atlas(c, outs, &mesh, &t, patches, err);
+    lapped_image_free(&pic);
+    lapped_texture_free(&t);
+    lapped_mesh_free(&mesh);
+    lapped_free_constraints(cons, &c->opt);
+    for (k = 0; k < MAX_TEXTURES; k++) lapped_image_free(&patches[k]);
+    return r;
+}
+
+int cmd_lapped(int argc, char **argv)
+{
+    lapped_cmd c;
+    cli_outputs outs;
+    lapped_error err;
+    tiled_error terr;
+    int p = parse(argc, argv, &c);
+    if (p < 0) {
+        fputs(lapped_usage, stdout);
+        return 0;
+    }
+    if (!p) return 1;
+    memset(&outs, 0, sizeof outs);
+    if (run(&c, &outs, &err) != LAPPED_OK) {
+        cli_abort(&outs);
+        cli_error("lapped", "%s", err.message);
+        return 1;
+    }
+    if (cli_commit(&outs, &terr) != TILED_OK) {
+        cli_error("lapped", "%s", terr.message);
+        return 1;
+    }
+    return 0;
+}

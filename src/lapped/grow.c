@@ -1,0 +1,1119 @@
+/* grow.c: pasting (§3.3-3.6): grow a surface patch around an uncovered
+ * point, parametrise it over the texture patch, record the paste, update
+ * the coverage, until every triangle is covered. */
+#include "core.c"
+
+/* ---- coverage (§3.6) ------------------------------------------------------ */
+
+/* The paper rasterises each paste's faces into a face-ID buffer and needs
+ * several passes when a patch overlaps itself in texture space. We keep, for
+ * every triangle, the accumulated opacity at a fixed lattice of points
+ * (barycentric (i, j, k)/R, i + j + k = R, corners and edges included):
+ * evaluating a paste at a triangle's own points is immune to self-overlap,
+ * needs no passes, and gives the "one uncovered point" to seed from. R
+ * grows with the triangle's size against the texture scale, so the lattice
+ * stays about one texel apart however large a triangle is.
+ *
+ * Points between lattice points must be covered too, and the alpha
+ * fall-off can dip between them. So the lattice reads a conservative alpha:
+ * the patch's alpha eroded (minimum over a square of radius r texels) by
+ * at least the distance from any point of the triangle to its nearest
+ * lattice point, measured in texels of that paste. Since compositing is
+ * monotone in every paste's alpha, opacity reached at the lattice with
+ * eroded alphas is reached everywhere in the triangle with the real ones. */
+#define LAPPED__RMIN 4   /* lattice resolution of triangles small against the patch */
+#define LAPPED__RMAX 256 /* ... and of huge ones (they need a finer lattice) */
+#define LAPPED__NLEV 8 /* erosion radii 0, 1, 2, 4, ..., 64 texels */
+
+typedef struct lapped__eroded {
+    int w, h;
+    int top;                  /* the last level still opaque at the patch centre */
+    float *lev[LAPPED__NLEV]; /* w*h alpha, eroded by radius 0, 1, 2, 4, ... */
+} lapped__eroded;
+
+static void lapped__eroded_free(const pw_alloc *a, lapped__eroded *er)
+{
+    int l;
+    for (l = 0; l < LAPPED__NLEV; l++) pw_free(a, er->lev[l]);
+    memset(er, 0, sizeof *er);
+}
+
+/* out = minimum of src over [x-r, x+r] along one axis (stride between
+ * samples `step`, n samples per line, `lines` lines `pitch` apart);
+ * outside the image counts as 0. */
+static void lapped__min_1d(const float *src, float *out, int n, int step, int lines, int pitch, int r)
+{
+    int l, i, k;
+    for (l = 0; l < lines; l++)
+        for (i = 0; i < n; i++) {
+            float m = i - r < 0 || i + r >= n ? 0.0f : 1.0f;
+            for (k = pw_maxi(0, i - r); k <= pw_mini(n - 1, i + r) && m > 0.0f; k++) {
+                float v = src[(size_t)l * pitch + (size_t)k * step];
+                if (v < m) m = v;
+            }
+            out[(size_t)l * pitch + (size_t)i * step] = m;
+        }
+}
+
+static int lapped__eroded_init(const pw_alloc *a, const pw_image *rgba, lapped__eroded *er, pw_err *e)
+{
+    size_t n = (size_t)rgba->w * rgba->h, i;
+    float *tmp = (float *)pw_alloc_array(a, n, sizeof(float), "erosion", e);
+    int l;
+    memset(er, 0, sizeof *er);
+    er->w = rgba->w;
+    er->h = rgba->h;
+    for (l = 0; l < LAPPED__NLEV; l++)
+        if (!(er->lev[l] = (float *)pw_alloc_array(a, n, sizeof(float), "erosion", e))) break;
+    if (!tmp || l < LAPPED__NLEV) {
+        pw_free(a, tmp);
+        lapped__eroded_free(a, er);
+        return PW_ERR_NOMEM;
+    }
+    for (i = 0; i < n; i++) er->lev[0][i] = rgba->px[4 * i + 3];
+    for (l = 1; l < LAPPED__NLEV; l++) { /* separable: rows, then columns */
+        int r = 1 << (l - 1);
+        lapped__min_1d(er->lev[0], tmp, er->w, 1, er->h, er->w, r);
+        lapped__min_1d(tmp, er->lev[l], er->h, er->w, er->w, 1, r);
+    }
+    pw_free(a, tmp);
+    return PW_OK;
+}
+
+/* The erosion level for a paste of triangle uv[6]: at least one texel (the
+ * lookups are bilinear) and enough to cover the distance to the nearest
+ * lattice point, but never beyond `top`, so that a paste always covers its seed
+ * point and the pasting always progresses (triangles larger than about a
+ * third of the patch lose the guarantee between lattice points). */
+static int lapped__eroded_level(const lapped__eroded *er, const float uv[6], int R)
+{
+    float longest = 0.0f, need;
+    int k, l;
+    for (k = 0; k < 3; k++) {
+        float du = (uv[2 * k] - uv[(2 * k + 2) % 6]) * (float)er->w;
+        float dv = (uv[2 * k + 1] - uv[(2 * k + 3) % 6]) * (float)er->h;
+        float len = sqrtf(du * du + dv * dv);
+        if (len > longest) longest = len;
+    }
+    need = 0.58f * longest / (float)R; /* any point is within spacing/sqrt(3) of the lattice */
+    for (l = 1; l < er->top && (float)(1 << (l - 1)) < need; l++) {
+    }
+    return l < er->top ? l : er->top;
+}
+
+/* Bilinear lookup of erosion level l at (u, v) (texel centres at half
+ * integers, clamped at the border, 0 outside the image, like
+ * lapped__lookup), written out for the hot coverage loop. */
+static float lapped__eroded_at(const lapped__eroded *er, int l, float u, float v)
+{
+    const float *px = er->lev[l];
+    float fx = u * (float)er->w - 0.5f, fy = (1.0f - v) * (float)er->h - 0.5f, tx, ty, top, bot;
+    int x0, y0, x1, y1;
+    if (!(u >= 0.0f && v >= 0.0f && u <= 1.0f && v <= 1.0f)) return 0.0f;
+    x0 = fx < 0.0f ? -1 : (int)fx; /* fx >= -0.5, so truncation is floor */
+    y0 = fy < 0.0f ? -1 : (int)fy;
+    tx = fx - (float)x0;
+    ty = fy - (float)y0;
+    x1 = x0 + 1 < er->w ? x0 + 1 : er->w - 1;
+    y1 = y0 + 1 < er->h ? y0 + 1 : er->h - 1;
+    x0 = x0 < 0 ? 0 : x0;
+    y0 = y0 < 0 ? 0 : y0;
+    top = px[y0 * er->w + x0] + (px[y0 * er->w + x1] - px[y0 * er->w + x0]) * tx;
+    bot = px[y1 * er->w + x0] + (px[y1 * er->w + x1] - px[y1 * er->w + x0]) * tx;
+    return top + (bot - top) * ty;
+}
+
+typedef struct lapped__cover {
+    size_t *off;          /* nf+1: triangle f's points are alpha[off[f] .. off[f+1]-1] */
+    unsigned short *res;  /* nf: its lattice resolution R */
+    float *alpha;         /* accumulated opacity per lattice point */
+    int *open;            /* triangles not yet covered, in any order */
+    int *where;           /* nf: position in open, -1 once covered */
+    int nopen;
+    float need;           /* opacity a point must reach */
+} lapped__cover;
+
+static void lapped__cover_free(const pw_alloc *a, lapped__cover *c)
+{
+    pw_free(a, c->off);
+    pw_free(a, c->res);
+    pw_free(a, c->alpha);
+    pw_free(a, c->open);
+    pw_free(a, c->where);
+    memset(c, 0, sizeof *c);
+}
+
+/* Lattice resolutions: points about 3 texels apart for a triangle of
+ * this size at this scale in the largest patch (side `texels`). */
+static int lapped__cover_sizes(lapped__cover *c, const lapped__mesh *m, const float *t, int texels, pw_err *e)
+{
+    int f, k;
+    c->off[0] = 0;
+    for (f = 0; f < m->nf; f++) {
+        float longest = 0.0f, r;
+        for (k = 0; k < 3; k++) {
+            float len = pw_v3_len(pw_v3_sub(lapped__corner(m, f, k), lapped__corner(m, f, (k + 1) % 3)));
+            if (len > longest) longest = len;
+        }
+        r = longest / pw_v3_len(pw_v3_load(t + 3 * f)) * (float)texels / 3.0f;
+        c->res[f] = (unsigned short)(r < LAPPED__RMIN ? LAPPED__RMIN : (r > LAPPED__RMAX ? LAPPED__RMAX : (int)r + 1));
+        c->off[f + 1] = c->off[f] + (size_t)(c->res[f] + 1) * (c->res[f] + 2) / 2;
+    }
+    if (c->off[m->nf] > (size_t)PW_MAX_MESH_ELEMENTS)
+        return pw_fail(e, PW_ERR_LIMIT, "the triangles are so large against the texture scale that "
+                       "tracking their coverage needs %lu points (limit %d)",
+                       (unsigned long)c->off[m->nf], PW_MAX_MESH_ELEMENTS);
+    return PW_OK;
+}
+
+static int lapped__cover_init(const pw_alloc *a, const lapped__mesh *m, const float *t, int texels,
+                              float need, lapped__cover *c, pw_err *e)
+{
+    int f, r;
+    memset(c, 0, sizeof *c);
+    c->off = (size_t *)pw_alloc_array(a, (size_t)m->nf + 1, sizeof(size_t), "coverage", e);
+    c->res = (unsigned short *)pw_alloc_array(a, (size_t)m->nf, sizeof(unsigned short), "coverage", e);
+    c->open = (int *)pw_alloc_array(a, (size_t)m->nf, sizeof(int), "open triangles", e);
+    c->where = (int *)pw_alloc_array(a, (size_t)m->nf, sizeof(int), "open triangles", e);
+    if (!c->off || !c->res || !c->open || !c->where) r = PW_ERR_NOMEM;
+    else if ((r = lapped__cover_sizes(c, m, t, texels, e)) == PW_OK &&
+             !(c->alpha = (float *)pw_calloc_array(a, c->off[m->nf], sizeof(float), "coverage", e)))
+        r = PW_ERR_NOMEM;
+    if (r != PW_OK) {
+        lapped__cover_free(a, c);
+        return r;
+    }
+    for (f = 0; f < m->nf; f++) c->open[f] = c->where[f] = f;
+    c->nopen = m->nf;
+    c->need = need;
+    return PW_OK;
+}
+
+/* Sets er->top: the last level still opaque enough at the patch centre.
+ * A patch whose alpha never reaches the coverage opacity cannot cover. */
+static int lapped__eroded_top(lapped__eroded *er, const float centre[2], float need, int k, pw_err *e)
+{
+    int l;
+    if (lapped__eroded_at(er, 0, centre[0], centre[1]) < need)
+        return pw_fail(e, PW_ERR_INVALID, "patch %d never reaches opacity %g, so it can never cover a point",
+                       k, need);
+    for (l = 1; l < LAPPED__NLEV && lapped__eroded_at(er, l, centre[0], centre[1]) >= need; l++) {
+    }
+    er->top = l - 1;
+    return PW_OK;
+}
+
+/* Composites one paste's (eroded) alpha over triangle f's lattice (uv: its
+ * corners' texture coordinates); returns 1 if every point is now opaque
+ * enough. Points go i = 0..R, j = 0..R-i, barycentrics (i, j, R-i-j)/R. */
+static int lapped__cover_paint(lapped__cover *c, int f, const float uv[6], const lapped__eroded *er)
+{
+    float *acc = c->alpha + c->off[f], inv = 1.0f / (float)c->res[f];
+    int R = c->res[f], i, j, full = 1, l = lapped__eroded_level(er, uv, R);
+    for (i = 0; i <= R; i++)
+        for (j = 0; i + j <= R; j++, acc++) {
+            float b0 = (float)i * inv, b1 = (float)j * inv, b2 = 1.0f - b0 - b1;
+            float a = lapped__eroded_at(er, l, b0 * uv[0] + b1 * uv[2] + b2 * uv[4],
+                                        b0 * uv[1] + b1 * uv[3] + b2 * uv[5]);
+            *acc = a + *acc * (1.0f - a);
+            full &= *acc >= c->need;
+        }
+    return full;
+}
+
+/* Paints a paste over triangle f and retires f once it is covered. */
+static void lapped__cover_add(lapped__cover *c, int f, const float uv[6], const lapped__eroded *er)
+{
+    if (lapped__cover_paint(c, f, uv, er) && c->where[f] >= 0) { /* swap-remove from the open list */
+        int last = c->open[--c->nopen];
+        c->open[c->where[f]] = last;
+        c->where[last] = c->where[f];
+        c->where[f] = -1;
+    }
+}
+
+/* The least covered lattice point of triangle f, as barycentrics. */
+static void lapped__cover_hole(const lapped__cover *c, int f, float b[3])
+{
+    const float *acc = c->alpha + c->off[f];
+    int R = c->res[f], i, j, bi = 0, bj = 0;
+    float least = 2.0f;
+    for (i = 0; i <= R; i++)
+        for (j = 0; i + j <= R; j++, acc++)
+            if (*acc < least) {
+                least = *acc;
+                bi = i;
+                bj = j;
+            }
+    b[0] = (float)bi / (float)R;
+    b[1] = (float)bj / (float)R;
+    b[2] = 1.0f - b[0] - b[1];
+}
+
+/* ---- a surface patch being grown (§3.3) ------------------------------------ */
+
+/* Per-triangle and per-vertex scratch reused by every paste; an entry
+ * belongs to the current patch when its stamp equals `stamp`. */
+typedef struct lapped__patchbuf {
+    int stamp;
+    int *fin, *fout;     /* nf: stamp when in the patch / rejected for it */
+    int *fq;             /* nf: stamp while waiting in the candidate queue */
+    int *vin;            /* nv: stamp when the vertex has texture coordinates */
+    int *vloc;           /* nv: index into verts */
+    float *vuv;          /* nv*2 texture coordinates */
+    float *fs, *ft;      /* nf*3 the frame each patch triangle aligns with */
+    int *faces, nfaces;  /* patch triangles in the order they were added */
+    int *verts, nverts;  /* patch vertices in the order they were mapped */
+    float *heapk;        /* candidate queue: distance keys ... */
+    int *heapf, nheap;   /* ... and triangles */
+    int hard;            /* growth stopped somewhere at the distortion limit */
+} lapped__patchbuf;
+
+static void lapped__patchbuf_free(const pw_alloc *a, lapped__patchbuf *p)
+{
+    pw_free(a, p->fin);
+    pw_free(a, p->fout);
+    pw_free(a, p->fq);
+    pw_free(a, p->vin);
+    pw_free(a, p->vloc);
+    pw_free(a, p->vuv);
+    pw_free(a, p->fs);
+    pw_free(a, p->ft);
+    pw_free(a, p->faces);
+    pw_free(a, p->verts);
+    pw_free(a, p->heapk);
+    pw_free(a, p->heapf);
+    memset(p, 0, sizeof *p);
+}
+
+/* Every array sized for the whole mesh: a patch may cover all of it, and a
+ * triangle waits in the candidate queue at most once at a time. */
+static int lapped__patchbuf_init(const pw_alloc *a, int nf, int nv, lapped__patchbuf *p, pw_err *e)
+{
+    memset(p, 0, sizeof *p);
+    p->fin = (int *)pw_calloc_array(a, (size_t)nf, sizeof(int), "patch triangles", e);
+    p->fout = (int *)pw_calloc_array(a, (size_t)nf, sizeof(int), "patch triangles", e);
+    p->fq = (int *)pw_calloc_array(a, (size_t)nf, sizeof(int), "patch triangles", e);
+    p->vin = (int *)pw_calloc_array(a, (size_t)nv, sizeof(int), "patch vertices", e);
+    p->vloc = (int *)pw_alloc_array(a, (size_t)nv, sizeof(int), "patch vertices", e);
+    p->vuv = (float *)pw_alloc_array(a, (size_t)nv * 2, sizeof(float), "patch coordinates", e);
+    p->fs = (float *)pw_alloc_array(a, (size_t)nf * 3, sizeof(float), "patch frames", e);
+    p->ft = (float *)pw_alloc_array(a, (size_t)nf * 3, sizeof(float), "patch frames", e);
+    p->faces = (int *)pw_alloc_array(a, (size_t)nf, sizeof(int), "patch triangles", e);
+    p->verts = (int *)pw_alloc_array(a, (size_t)nv, sizeof(int), "patch vertices", e);
+    p->heapk = (float *)pw_alloc_array(a, (size_t)nf, sizeof(float), "growth queue", e);
+    p->heapf = (int *)pw_alloc_array(a, (size_t)nf, sizeof(int), "growth queue", e);
+    if (p->fin && p->fout && p->fq && p->vin && p->vloc && p->vuv && p->fs && p->ft && p->faces && p->verts &&
+        p->heapk && p->heapf)
+        return PW_OK;
+    lapped__patchbuf_free(a, p);
+    return PW_ERR_NOMEM;
+}
+
+/* Binary min-heap of candidate triangles keyed by distance. */
+static void lapped__heap_push(lapped__patchbuf *p, float key, int f)
+{
+    int i = p->nheap++;
+    while (i > 0) {
+        int up = (i - 1) / 2;
+        if (p->heapk[up] < key || (p->heapk[up] == key && p->heapf[up] <= f)) break;
+        p->heapk[i] = p->heapk[up];
+        p->heapf[i] = p->heapf[up];
+        i = up;
+    }
+    p->heapk[i] = key;
+    p->heapf[i] = f;
+}
+
+static int lapped__heap_pop(lapped__patchbuf *p)
+{
+    int top = p->heapf[0], i = 0, n = --p->nheap;
+    float key = p->heapk[n];
+    int f = p->heapf[n];
+    for (;;) {
+        int c = 2 * i + 1;
+        if (c >= n) break;
+        if (c + 1 < n && (p->heapk[c + 1] < p->heapk[c] ||
+                          (p->heapk[c + 1] == p->heapk[c] && p->heapf[c + 1] < p->heapf[c])))
+            c++;
+        if (key < p->heapk[c] || (key == p->heapk[c] && f <= p->heapf[c])) break;
+        p->heapk[i] = p->heapk[c];
+        p->heapf[i] = p->heapf[c];
+        i = c;
+    }
+    p->heapk[i] = key;
+    p->heapf[i] = f;
+    return top;
+}
+
+static void lapped__map_vertex(lapped__patchbuf *p, int v, float u, float w)
+{
+    if (p->vin[v] != p->stamp) {
+        p->vin[v] = p->stamp;
+        p->vloc[v] = p->nverts;
+        p->verts[p->nverts++] = v;
+    }
+    p->vuv[2 * v] = u;
+    p->vuv[2 * v + 1] = w;
+}
+
+/* ---- geometry of the parametrisation (§3.3, §3.4) ----------------------------- */
+
+/* Coefficients of an in-plane vector X of triangle f on its corners:
+ * X = w0 A + w1 B + w2 C with w0 + w1 + w2 = 0 (§3.4, footnote 1). */
+static void lapped__coeffs(const lapped__mesh *m, int f, pw_v3 x, float w[3])
+{
+    pw_v3 a = lapped__corner(m, f, 0);
+    pw_v3 e1 = pw_v3_sub(lapped__corner(m, f, 1), a), e2 = pw_v3_sub(lapped__corner(m, f, 2), a);
+    double g11 = pw_v3_dot(e1, e1), g12 = pw_v3_dot(e1, e2), g22 = pw_v3_dot(e2, e2);
+    double r1 = pw_v3_dot(x, e1), r2 = pw_v3_dot(x, e2), det = g11 * g22 - g12 * g12;
+    w[1] = (float)((r1 * g22 - r2 * g12) / det);
+    w[2] = (float)((r2 * g11 - r1 * g12) / det);
+    w[0] = -w[1] - w[2];
+}
+
+/* phi(X) for an in-plane vector X of a patch triangle. */
+static void lapped__phi(const lapped__mesh *m, const lapped__patchbuf *p, int f, pw_v3 x, float out[2])
+{
+    float w[3];
+    int k;
+    lapped__coeffs(m, f, x, w);
+    out[0] = out[1] = 0.0f;
+    for (k = 0; k < 3; k++) {
+        int v = m->tri[3 * f + k];
+        out[0] += w[k] * p->vuv[2 * v];
+        out[1] += w[k] * p->vuv[2 * v + 1];
+    }
+}
+
+/* How far the parametrisation of triangle f is from the ideal phi(S) = s^,
+ * phi(T) = t^: the larger of the stretch and shrink factors of the 2x2 map
+ * with columns phi(S), phi(T), or infinity when it flips orientation. */
+static float lapped__distortion(const lapped__mesh *m, const lapped__patchbuf *p, int f)
+{
+    float ps[2], pt[2], a, b, c, d, det, fro, disc, s1, s2;
+    lapped__phi(m, p, f, pw_v3_load(p->fs + 3 * f), ps);
+    lapped__phi(m, p, f, pw_v3_load(p->ft + 3 * f), pt);
+    a = ps[0], b = pt[0], c = ps[1], d = pt[1];
+    det = a * d - b * c;
+    if (!(det > 0.0f)) return FLT_MAX;
+    fro = a * a + b * b + c * c + d * d; /* s1^2 + s2^2 */
+    disc = sqrtf(pw_clampf(fro * fro - 4.0f * det * det, 0.0f, FLT_MAX));
+    s1 = sqrtf(0.5f * (fro + disc));
+    s2 = det / s1;
+    return s1 > 1.0f / s2 ? s1 : 1.0f / s2;
+}
+
+/* Texture coordinates of point x of the seed triangle f: the chosen point
+ * maps to the patch centre and the face frame (S, T) to the texture axes. */
+static void lapped__seed_uv(const lapped__patchbuf *p, int f, pw_v3 x, pw_v3 centre3, const float c[2],
+                            float out[2])
+{
+    pw_v3 s = pw_v3_load(p->fs + 3 * f), t = pw_v3_load(p->ft + 3 * f), d = pw_v3_sub(x, centre3);
+    /* solve d = a S + b T in the plane (S and T need not be orthogonal) */
+    double ss = pw_v3_dot(s, s), st = pw_v3_dot(s, t), tt = pw_v3_dot(t, t);
+    double ds = pw_v3_dot(d, s), dt = pw_v3_dot(d, t), det = ss * tt - st * st;
+    out[0] = c[0] + (float)((ds * tt - dt * st) / det);
+    out[1] = c[1] + (float)((dt * ss - ds * st) / det);
+}
+
+/* Maillot et al.'s prediction (§3.3): the texture position of corner k of
+ * triangle f from its other two, mapped, corners, by a triangle similar to
+ * the 3D one with the same orientation. */
+static void lapped__predict(const lapped__mesh *m, const lapped__patchbuf *p, int f, int k, float out[2])
+{
+    int ia = m->tri[3 * f + (k + 1) % 3], ib = m->tri[3 * f + (k + 2) % 3];
+    pw_v3 a = lapped__vert(m, ia), b = lapped__vert(m, ib), c = lapped__corner(m, f, k);
+    pw_v3 e = pw_v3_sub(b, a), d = pw_v3_sub(c, a);
+    float ee = pw_v3_dot(e, e), x = pw_v3_dot(d, e) / ee;
+    float y = pw_v3_len(pw_v3_sub(d, pw_v3_scale(e, x))) / sqrtf(ee);
+    float du = p->vuv[2 * ib] - p->vuv[2 * ia], dv = p->vuv[2 * ib + 1] - p->vuv[2 * ia + 1];
+    /* (a, b, c) is counter-clockwise, so c lies to the left of a -> b */
+    out[0] = p->vuv[2 * ia] + x * du - y * dv;
+    out[1] = p->vuv[2 * ia + 1] + x * dv + y * du;
+}
+
+/* Adds the prediction of the triangle of outgoing half-edge h (from v) if
+ * its other two corners are mapped. */
+static void lapped__predict_from(const lapped__mesh *m, const lapped__patchbuf *p, int h, float sum[2], int *n)
+{
+    int f = h / 3, k = h % 3;
+    float q[2];
+    if (p->vin[m->tri[3 * f + (k + 1) % 3]] != p->stamp || p->vin[m->tri[3 * f + (k + 2) % 3]] != p->stamp)
+        return;
+    lapped__predict(m, p, f, k, q);
+    sum[0] += q[0];
+    sum[1] += q[1];
+    (*n)++;
+}
+
+/* Maps the new vertex v at the centroid of the predictions of every
+ * triangle around it that has its other two corners mapped (§3.3). h0 is
+ * a half-edge leaving v in such a triangle. */
+static void lapped__map_new_vertex(const lapped__mesh *m, lapped__patchbuf *p, int v, int h0)
+{
+    float sum[2] = {0.0f, 0.0f};
+    int n = 0, h = h0, guard = 0;
+    do { /* counter-clockwise around v until back at h0 or at a boundary */
+        lapped__predict_from(m, p, h, sum, &n);
+        h = pw_he_ccw(&m->hm, h);
+    } while (h >= 0 && h != h0 && ++guard < 4096);
+    if (h < 0) /* an open fan: the clockwise side too */
+        for (h = pw_he_cw(&m->hm, h0); h >= 0 && ++guard < 8192; h = pw_he_cw(&m->hm, h))
+            lapped__predict_from(m, p, h, sum, &n);
+    lapped__map_vertex(p, v, sum[0] / (float)n, sum[1] / (float)n);
+}
+
+/* ---- growing one surface patch (§3.3) ---------------------------------------- */
+
+/* Everything the pasting loop works with. */
+typedef struct lapped__paster {
+    const pw_alloc *a;
+    lapped_options o;
+    lapped__mesh m;
+    float *fs, *ft;          /* the field (nf*3) */
+    float *difficulty;       /* nf, for the early seeds */
+    const pw_image *patches; /* npatches views of the caller's RGBA patches */
+    int npatches;
+    pw_polyhull *hulls;      /* per patch */
+    lapped__eroded *eroded;  /* per patch, for the coverage */
+    float *centre;           /* per patch: texture point where pastes are centred */
+    lapped__cover cover;
+    lapped__patchbuf pb;
+    pw_rng rng;
+    lapped_paste *pastes;
+    size_t npastes, cap;
+    int hard_edges;
+} lapped__paster;
+
+static pw_v3 lapped__centroid(const lapped__mesh *m, int f)
+{
+    return pw_v3_scale(pw_v3_add(pw_v3_add(lapped__corner(m, f, 0), lapped__corner(m, f, 1)),
+                                 lapped__corner(m, f, 2)), 1.0f / 3.0f);
+}
+
+/* Queues the triangles across the edges of f that are neither in the patch
+ * nor rejected, keyed by distance from the paste's centre point. */
+static void lapped__push_neighbours(lapped__paster *P, int f, pw_v3 centre3)
+{
+    lapped__patchbuf *p = &P->pb;
+    int k;
+    for (k = 0; k < 3; k++) {
+        int g = lapped__across(&P->m, f, k);
+        if (g < 0 || p->fin[g] == p->stamp || p->fout[g] == p->stamp || p->fq[g] == p->stamp) continue;
+        p->fq[g] = p->stamp;
+        lapped__heap_push(p, pw_v3_len(pw_v3_sub(lapped__centroid(&P->m, g), centre3)), g);
+    }
+}
+
+/* The frame triangle g aligns with. For isotropic textures (§3.2) the
+ * orientation is propagated: the average of the patch neighbours' T,
+ * projected onto g's plane, at the field's scale. */
+static void lapped__frame(lapped__paster *P, int g)
+{
+    lapped__patchbuf *p = &P->pb;
+    pw_v3 n = pw_v3_load(P->m.normal + 3 * g), t = pw_v3_make(0, 0, 0), s;
+    float scale = pw_v3_len(pw_v3_load(P->ft + 3 * g));
+    int k;
+    if (P->o.field.mode != LAPPED_FIELD_ISOTROPIC || p->nfaces == 0) {
+        memcpy(p->fs + 3 * g, P->fs + 3 * g, sizeof(float) * 3);
+        memcpy(p->ft + 3 * g, P->ft + 3 * g, sizeof(float) * 3);
+        return;
+    }
+    for (k = 0; k < 3; k++) {
+        int h = lapped__across(&P->m, g, k);
+        if (h >= 0 && p->fin[h] == p->stamp) t = pw_v3_add(t, pw_v3_norm(pw_v3_load(p->ft + 3 * h)));
+    }
+    t = pw_v3_sub(t, pw_v3_scale(n, pw_v3_dot(t, n)));
+    if (!(pw_v3_len(t) > 1e-6f)) t = pw_v3_load(P->ft + 3 * g); /* opposite neighbours cancel */
+    t = pw_v3_scale(pw_v3_norm(t), scale);
+    s = pw_v3_cross(t, n); /* S = T x N (§3.2) */
+    pw_v3_store(p->ft + 3 * g, t);
+    pw_v3_store(p->fs + 3 * g, s);
+}
+
+/* Starts a patch on triangle f at barycentric point b, mapped to the
+ * centre of patch image `patch` (§3.3). */
+static void lapped__start(lapped__paster *P, int f, const float b[3], int patch, pw_v3 *centre3)
+{
+    lapped__patchbuf *p = &P->pb;
+    int k;
+    p->stamp++;
+    p->nfaces = p->nverts = p->nheap = p->hard = 0;
+    *centre3 = pw_v3_add(pw_v3_add(pw_v3_scale(lapped__corner(&P->m, f, 0), b[0]),
+                                   pw_v3_scale(lapped__corner(&P->m, f, 1), b[1])),
+                         pw_v3_scale(lapped__corner(&P->m, f, 2), b[2]));
+    lapped__frame(P, f);
+    for (k = 0; k < 3; k++) {
+        float uv[2];
+        lapped__seed_uv(p, f, lapped__corner(&P->m, f, k), *centre3, P->centre + 2 * patch, uv);
+        lapped__map_vertex(p, P->m.tri[3 * f + k], uv[0], uv[1]);
+    }
+    p->fin[f] = p->stamp;
+    p->faces[p->nfaces++] = f;
+    lapped__push_neighbours(P, f, *centre3);
+}
+
+/* Shared edges of candidate g with the patch: how many, the last one, and
+ * whether any of them still reaches into the texture patch's hull. */
+static int lapped__shared(const lapped__paster *P, int g, const pw_polyhull *hull, int *edge, int *inside)
+{
+    const lapped__patchbuf *p = &P->pb;
+    int k, n = 0;
+    *inside = 0;
+    for (k = 0; k < 3; k++) {
+        int h = lapped__across(&P->m, g, k), va = P->m.tri[3 * g + k], vb = P->m.tri[3 * g + (k + 1) % 3];
+        if (h < 0 || p->fin[h] != p->stamp) continue;
+        n++;
+        *edge = k;
+        if (!*inside)
+            *inside = pw_polyhull_segment_hits(hull, p->vuv[2 * va], p->vuv[2 * va + 1], p->vuv[2 * vb],
+                                               p->vuv[2 * vb + 1]);
+    }
+    return n;
+}
+
+/* Tries to add candidate g (§3.3): only across an edge that still reaches
+ * into the texture patch, only if the patch stays a disc, and only if the
+ * new triangle is not too distorted (else the paste keeps a hard edge). */
+static void lapped__try_add(lapped__paster *P, int g, const pw_polyhull *hull, pw_v3 centre3)
+{
+    lapped__patchbuf *p = &P->pb;
+    int edge = 0, inside, shared = lapped__shared(P, g, hull, &edge, &inside);
+    int c = P->m.tri[3 * g + (edge + 2) % 3], fresh = 0;
+    if (shared == 0 || !inside) return; /* may be reached again through another edge */
+    if (shared == 3 || (shared == 1 && p->vin[c] == p->stamp)) {
+        p->fout[g] = p->stamp; /* would close the surface or pinch a hole: not a disc */
+        return;
+    }
+    lapped__frame(P, g);
+    if (shared == 1) {
+        lapped__map_new_vertex(&P->m, p, c, 3 * g + (edge + 2) % 3);
+        fresh = 1;
+    }
+    if (lapped__distortion(&P->m, p, g) > P->o.max_distortion) {
+        if (fresh) { /* forget the vertex mapped for it */
+            p->vin[c] = 0;
+            p->nverts--;
+        }
+        p->fout[g] = p->stamp;
+        p->hard = 1;
+        return;
+    }
+    p->fin[g] = p->stamp;
+    p->faces[p->nfaces++] = g;
+    lapped__push_neighbours(P, g, centre3);
+}
+
+/* Grows until no candidate is left; returns how many triangles were added. */
+static int lapped__grow(lapped__paster *P, const pw_polyhull *hull, pw_v3 centre3)
+{
+    lapped__patchbuf *p = &P->pb;
+    int before = p->nfaces;
+    while (p->nheap > 0) {
+        int g = lapped__heap_pop(p);
+        p->fq[g] = 0;
+        if (p->fin[g] != p->stamp && p->fout[g] != p->stamp) lapped__try_add(P, g, hull, centre3);
+    }
+    return p->nfaces - before;
+}
+
+/* After the optimisation moved the vertices, the boundary may expose more
+ * of the texture patch (§3.3: "we further grow the patch"): queue the
+ * boundary's outside neighbours again. */
+static void lapped__requeue_boundary(lapped__paster *P, pw_v3 centre3)
+{
+    int i;
+    for (i = 0; i < P->pb.nfaces; i++) lapped__push_neighbours(P, P->pb.faces[i], centre3);
+}
+
+/* ---- optimising the parametrisation (§3.4) --------------------------------------- */
+
+/* Rows of the least-squares system: for every patch triangle, phi(S) and
+ * phi(T) as linear functions of the corner coordinates (coefficient rows
+ * w_S, w_T). Field alignment (§3.4) asks phi(S) = s^ = (1,0) and
+ * phi(T) = t^ = (0,1): u and v separate into two systems with the same
+ * matrix. Texture coordinate j of vertex verts[i] is unknown i. */
+static int lapped__align_rows(lapped__paster *P, pw_triplets *tr, double *bu, double *bv, pw_err *e)
+{
+    lapped__patchbuf *p = &P->pb;
+    int i, k, r = PW_OK;
+    for (i = 0; i < p->nfaces && r == PW_OK; i++) {
+        int f = p->faces[i];
+        float ws[3], wt[3];
+        lapped__coeffs(&P->m, f, pw_v3_load(p->fs + 3 * f), ws);
+        lapped__coeffs(&P->m, f, pw_v3_load(p->ft + 3 * f), wt);
+        for (k = 0; k < 3 && r == PW_OK; k++) {
+            int col = p->vloc[P->m.tri[3 * f + k]];
+            r = pw_triplets_add(tr, 2 * i, col, ws[k], e);
+            if (r == PW_OK) r = pw_triplets_add(tr, 2 * i + 1, col, wt[k], e);
+        }
+        bu[2 * i] = 1.0, bu[2 * i + 1] = 0.0;
+        bv[2 * i] = 0.0, bv[2 * i + 1] = 1.0;
+    }
+    return r;
+}
+
+/* The hindsights' least-squares conformal variant for isotropic textures:
+ * phi(S) = rot90(phi(T)), i.e. u.wS - v.wT = 0 and v.wS + u.wT = 0 (u in
+ * columns 0..n-1, v in n..2n-1), with the seed triangle's phi(S), phi(T)
+ * pinned to the texture axes to fix the similarity. */
+static int lapped__lscm_rows(lapped__paster *P, int seed, pw_triplets *tr, double *b, pw_err *e)
+{
+    lapped__patchbuf *p = &P->pb;
+    int i, k, n = p->nverts, rows = 2 * p->nfaces, r = PW_OK;
+    for (i = 0; i < p->nfaces && r == PW_OK; i++) {
+        int f = p->faces[i];
+        float ws[3], wt[3];
+        lapped__coeffs(&P->m, f, pw_v3_load(p->fs + 3 * f), ws);
+        lapped__coeffs(&P->m, f, pw_v3_load(p->ft + 3 * f), wt);
+        for (k = 0; k < 3 && r == PW_OK; k++) {
+            int col = p->vloc[P->m.tri[3 * f + k]];
+            r = pw_triplets_add(tr, 2 * i, col, ws[k], e);
+            if (r == PW_OK) r = pw_triplets_add(tr, 2 * i, n + col, -wt[k], e);
+            if (r == PW_OK) r = pw_triplets_add(tr, 2 * i + 1, n + col, ws[k], e);
+            if (r == PW_OK) r = pw_triplets_add(tr, 2 * i + 1, col, wt[k], e);
+        }
+        b[2 * i] = b[2 * i + 1] = 0.0;
+    }
+    for (i = 0; i < 2 && r == PW_OK; i++) { /* phi(S_seed) = (1,0), phi(T_seed) = (0,1) */
+        float w[3];
+        lapped__coeffs(&P->m, seed, pw_v3_load((i ? p->ft : p->fs) + 3 * seed), w);
+        for (k = 0; k < 3 && r == PW_OK; k++) {
+            int col = p->vloc[P->m.tri[3 * seed + k]];
+            r = pw_triplets_add(tr, rows + 2 * i, col, w[k], e);
+            if (r == PW_OK) r = pw_triplets_add(tr, rows + 2 * i + 1, n + col, w[k], e);
+        }
+        b[rows + 2 * i] = i ? 0.0 : 1.0;
+        b[rows + 2 * i + 1] = i ? 1.0 : 0.0;
+    }
+    return r;
+}
+
+/* Solves the least-squares systems A x_j = b_j (nrhs right-hand sides of
+ * tr->n rows, unknowns of tr->m columns, warm-started from x) through their
+ * normal equations AᵀA x = Aᵀb by conjugate gradients preconditioned with
+ * incomplete Cholesky (the paper's CG, §3.4; IC(0) cuts the iterations
+ * threefold over Jacobi). A ridge of 1e-8 of the mean diagonal makes AᵀA
+ * definite (the functional ignores translations); it moves nothing but the
+ * translation, which lapped__optimize fixes afterwards. Hitting the
+ * iteration cap is not an error here: the warm start is already a usable
+ * parametrisation and every iterate improves it. */
+static int lapped__solve(lapped__paster *P, const pw_triplets *tr, const double *b, double *x, int nrhs,
+                         double *rhs, pw_err *e)
+{
+    pw_csr A, N;
+    pw_ic0 M;
+    pw_cg_options co = pw_cg_default_options();
+    pw_err local;
+    double mean = 0.0;
+    int r, i, k, j;
+    co.tol = 1e-4;
+    co.max_iter = 200;
+    memset(&N, 0, sizeof N);
+    memset(&M, 0, sizeof M);
+    if ((r = pw_csr_from_triplets(P->a, tr, &A, e)) != PW_OK) return r;
+    if ((r = pw_csr_ata(P->a, &A, &N, e)) == PW_OK) {
+        for (i = 0; i < N.n; i++)
+            for (k = N.rowptr[i]; k < N.rowptr[i + 1]; k++) mean += N.col[k] == i ? N.val[k] / N.n : 0.0;
+        for (i = 0; i < N.n; i++)
+            for (k = N.rowptr[i]; k < N.rowptr[i + 1]; k++)
+                if (N.col[k] == i) N.val[k] += 1e-8 * mean;
+        r = pw_ic0_factor(P->a, &N, &M, e);
+    }
+    for (j = 0; j < nrhs && r == PW_OK; j++) {
+        pw_csr_mul_t(&A, b + (size_t)j * A.n, rhs);
+        pw_err_clear(&local);
+        r = pw_pcg_solve(P->a, &N, &M, rhs, x + (size_t)j * A.m, &co, NULL, &local);
+        if (r == PW_ERR_NOCONVERGE) r = PW_OK;
+        else if (r != PW_OK) pw_fail(e, r, "%s", local.msg);
+    }
+    pw_ic0_free(P->a, &M);
+    pw_csr_free(P->a, &N);
+    pw_csr_free(P->a, &A);
+    return r;
+}
+
+/* Optimises the patch's coordinates (§3.4), then translates them so the
+ * seed point stays at the patch centre ("a positional constraint to fix
+ * the location of the patch center": the functional ignores translations,
+ * so fixing it afterwards is exact). */
+static int lapped__optimize(lapped__paster *P, int seed, const float bary[3], int patch, pw_triplets *tr,
+                            double *x, double *b, double *rhs, pw_err *e)
+{
+    lapped__patchbuf *p = &P->pb;
+    int n = p->nverts, i, j, r, lscm = P->o.lscm && P->o.field.mode == LAPPED_FIELD_ISOTROPIC;
+    float du, dv;
+    pw_triplets_clear(tr);
+    tr->n = lscm ? 2 * p->nfaces + 4 : 2 * p->nfaces;
+    tr->m = lscm ? 2 * n : n;
+    for (i = 0; i < n; i++) {
+        x[i] = p->vuv[2 * p->verts[i]];
+        x[n + i] = p->vuv[2 * p->verts[i] + 1];
+    }
+    if (lscm) {
+        r = lapped__lscm_rows(P, seed, tr, b, e);
+        if (r == PW_OK) r = lapped__solve(P, tr, b, x, 1, rhs, e);
+    } else {
+        r = lapped__align_rows(P, tr, b, b + tr->n, e);
+        if (r == PW_OK) r = lapped__solve(P, tr, b, x, 2, rhs, e);
+    }
+    if (r != PW_OK) return r;
+    for (i = 0; i < n; i++) lapped__map_vertex(p, p->verts[i], (float)x[i], (float)x[n + i]);
+    du = P->centre[2 * patch], dv = P->centre[2 * patch + 1];
+    for (j = 0; j < 3; j++) {
+        int v = P->m.tri[3 * seed + j];
+        du -= bary[j] * p->vuv[2 * v];
+        dv -= bary[j] * p->vuv[2 * v + 1];
+    }
+    for (i = 0; i < n; i++) {
+        p->vuv[2 * p->verts[i]] += du;
+        p->vuv[2 * p->verts[i] + 1] += dv;
+    }
+    return PW_OK;
+}
+
+/* ---- one paste, and the pasting loop ----------------------------------------------- */
+
+/* Records the current patch as a paste and composites it into the
+ * coverage (§3.5, §3.6). */
+static int lapped__record(lapped__paster *P, int patch, pw_err *e)
+{
+    lapped__patchbuf *p = &P->pb;
+    lapped_paste *q;
+    int i, k;
+    if (pw_grow(P->a, (void **)&P->pastes, &P->cap, P->npastes + 1, sizeof *P->pastes, "pastes", e))
+        return PW_ERR_NOMEM;
+    q = &P->pastes[P->npastes];
+    q->patch = patch;
+    q->nfaces = p->nfaces;
+    q->faces = (int *)pw_alloc_array(P->a, (size_t)p->nfaces, sizeof(int), "paste triangles", e);
+    q->uvs = (float *)pw_alloc_array(P->a, (size_t)p->nfaces * 6, sizeof(float), "paste coordinates", e);
+    if (!q->faces || !q->uvs) {
+        pw_free(P->a, q->faces);
+        pw_free(P->a, q->uvs);
+        return PW_ERR_NOMEM;
+    }
+    P->npastes++;
+    for (i = 0; i < p->nfaces; i++) {
+        int f = p->faces[i];
+        q->faces[i] = f;
+        for (k = 0; k < 3; k++) {
+            q->uvs[6 * i + 2 * k] = p->vuv[2 * P->m.tri[3 * f + k]];
+            q->uvs[6 * i + 2 * k + 1] = p->vuv[2 * P->m.tri[3 * f + k] + 1];
+        }
+        lapped__cover_add(&P->cover, f, q->uvs + 6 * i, &P->eroded[patch]);
+    }
+    P->hard_edges += p->hard;
+    return PW_OK;
+}
+
+/* A random point not yet covered (§3.3): on a random open triangle, at its
+ * least covered point. Early in the process, the most difficult of a few
+ * open triangles (high curvature, field discontinuities). */
+static void lapped__pick(lapped__paster *P, int early, int *f, float b[3])
+{
+    int k, best = P->cover.open[pw_rng_below(&P->rng, (uint32_t)P->cover.nopen)];
+    for (k = 1; early && k < 8; k++) {
+        int g = P->cover.open[pw_rng_below(&P->rng, (uint32_t)P->cover.nopen)];
+        if (P->difficulty[g] > P->difficulty[best] || (P->difficulty[g] == P->difficulty[best] && g < best))
+            best = g;
+    }
+    *f = best;
+    lapped__cover_hole(&P->cover, best, b);
+}
+
+/* One paste: seed, grow, optimise, grow again where the optimisation
+ * uncovered texture, up to three rounds (§3.3, §3.4), record. */
+static int lapped__paste(lapped__paster *P, int early, pw_triplets *tr, double *x, double *b, pw_err *e)
+{
+    int f, patch, round, r = PW_OK;
+    float bary[3];
+    pw_v3 centre3;
+    lapped__pick(P, early, &f, bary);
+    patch = P->npatches > 1 ? (int)pw_rng_below(&P->rng, (uint32_t)P->npatches) : 0;
+    lapped__start(P, f, bary, patch, &centre3);
+    lapped__grow(P, &P->hulls[patch], centre3);
+    for (round = 0; round < 3 && r == PW_OK; round++) {
+        r = lapped__optimize(P, f, bary, patch, tr, x, b, x + 2 * P->m.nv, e);
+        lapped__requeue_boundary(P, centre3);
+        if (r != PW_OK || lapped__grow(P, &P->hulls[patch], centre3) == 0) break;
+    }
+    return r == PW_OK ? lapped__record(P, patch, e) : r;
+}
+
+/* ---- hidden faces (§4) --------------------------------------------------------------- */
+
+/* Removes from each paste the triangles that later pastes hide (§4: "we
+ * remove for a given paste operation any faces that are completely
+ * occluded by subsequent paste operations"): walking the pastes backwards,
+ * a triangle is hidden once the later pastes' opacity, accumulated at its
+ * lattice points with the eroded alphas of the coverage (so that it holds
+ * between the points too), is 0.999 everywhere. With remove = 0 the
+ * triangles stay; the layer counts are the same. */
+static void lapped__prune(lapped__paster *P, int remove, double *before, double *after)
+{
+    lapped__cover *c = &P->cover;
+    long total = 0, kept = 0;
+    int p, i;
+    memset(c->alpha, 0, sizeof(float) * c->off[P->m.nf]);
+    for (p = (int)P->npastes - 1; p >= 0; p--) {
+        lapped_paste *q = &P->pastes[p];
+        int n = 0;
+        for (i = 0; i < q->nfaces; i++) {
+            const float *acc = c->alpha + c->off[q->faces[i]];
+            size_t np = c->off[q->faces[i] + 1] - c->off[q->faces[i]], s;
+            int hidden = 1;
+            for (s = 0; s < np && hidden; s++) hidden = acc[s] >= 0.999f;
+            lapped__cover_paint(c, q->faces[i], q->uvs + 6 * i, &P->eroded[q->patch]);
+            kept += !hidden;
+            if (hidden && remove) continue;
+            q->faces[n] = q->faces[i];
+            memmove(q->uvs + 6 * n, q->uvs + 6 * i, sizeof(float) * 6);
+            n++;
+        }
+        total += q->nfaces;
+        q->nfaces = n;
+    }
+    *before = (double)total / P->m.nf;
+    *after = (double)kept / P->m.nf;
+}
+
+/* ---- set-up -------------------------------------------------------------------------- */
+
+/* Where a paste is centred in each patch: its most interior point, the
+ * texel farthest (in a 3-4 chamfer distance) from every texel under half
+ * opacity, so that the seed point always lands well inside the patch. */
+static void lapped__chamfer_at(float *dist, int w, int h, int x, int y, int dir)
+{
+    static const int dx[4] = {-1, -1, 0, 1}, dy[4] = {0, -1, -1, -1}, cost[4] = {3, 4, 3, 4};
+    int k, i = y * w + x;
+    for (k = 0; k < 4; k++) { /* the forward mask; the backward one is its mirror */
+        int nx = x + dir * dx[k], ny = y + dir * dy[k];
+        float d = nx < 0 || ny < 0 || nx >= w || ny >= h ? 0.0f : dist[ny * w + nx]; /* outside: empty */
+        if (d + (float)cost[k] < dist[i]) dist[i] = d + (float)cost[k];
+    }
+}
+
+static void lapped__centre_of(const pw_image *img, float *dist, float out[2])
+{
+    int w = img->w, h = img->h, x, y, best = 0;
+    for (y = 0; y < h; y++)
+        for (x = 0; x < w; x++)
+            dist[y * w + x] = img->px[((size_t)y * w + x) * 4 + 3] >= 0.5f ? 1e9f : 0.0f;
+    for (y = 0; y < h; y++)
+        for (x = 0; x < w; x++) lapped__chamfer_at(dist, w, h, x, y, 1);
+    for (y = h - 1; y >= 0; y--)
+        for (x = w - 1; x >= 0; x--) lapped__chamfer_at(dist, w, h, x, y, -1);
+    for (y = 0; y < w * h; y++)
+        if (dist[y] > dist[best]) best = y;
+    out[0] = ((float)(best % w) + 0.5f) / (float)w;
+    out[1] = 1.0f - ((float)(best / w) + 0.5f) / (float)h;
+}
+
+static void lapped__free_pastes(const pw_alloc *a, lapped_paste *pastes, size_t n)
+{
+    size_t i;
+    for (i = 0; pastes && i < n; i++) {
+        pw_free(a, pastes[i].faces);
+        pw_free(a, pastes[i].uvs);
+    }
+    pw_free(a, pastes);
+}
+
+static void lapped__paster_free(lapped__paster *P)
+{
+    int k;
+    for (k = 0; P->hulls && k < P->npatches; k++) pw_polyhull_free(P->a, &P->hulls[k]);
+    for (k = 0; P->eroded && k < P->npatches; k++) lapped__eroded_free(P->a, &P->eroded[k]);
+    pw_free(P->a, P->hulls);
+    pw_free(P->a, P->eroded);
+    pw_free(P->a, (void *)P->patches);
+    pw_free(P->a, P->centre);
+    pw_free(P->a, P->fs);
+    pw_free(P->a, P->ft);
+    pw_free(P->a, P->difficulty);
+    lapped__cover_free(P->a, &P->cover);
+    lapped__patchbuf_free(P->a, &P->pb);
+    lapped__free_pastes(P->a, P->pastes, P->npastes);
+    lapped__mesh_free(P->a, &P->m);
+}
+
+/* The caller's patches: RGBA, finite, each reaching full opacity somewhere
+ * (a paste centred there is what guarantees progress). Builds their views,
+ * hulls (§3.3) and centres. */
+static int lapped__setup_patches(lapped__paster *P, const lapped_image *in, int n, pw_err *e)
+{
+    pw_image *views;
+    float *dist = NULL;
+    int k, r = PW_OK;
+    size_t maxpx = 0;
+    if (!in || n < 1 || n > 4096) return pw_fail(e, PW_ERR_INVALID, "need 1..4096 texture patches (got %d)", n);
+    views = (pw_image *)pw_calloc_array(P->a, (size_t)n, sizeof(pw_image), "patches", e);
+    P->patches = views;
+    P->npatches = n;
+    P->hulls = (pw_polyhull *)pw_calloc_array(P->a, (size_t)n, sizeof(pw_polyhull), "hulls", e);
+    P->eroded = (lapped__eroded *)pw_calloc_array(P->a, (size_t)n, sizeof(lapped__eroded), "erosion", e);
+    P->centre = (float *)pw_alloc_array(P->a, (size_t)n * 2, sizeof(float), "patch centres", e);
+    if (!views || !P->hulls || !P->eroded || !P->centre) return PW_ERR_NOMEM;
+    for (k = 0; k < n && r == PW_OK; k++) {
+        char what[32];
+        snprintf(what, sizeof what, "patch %d", k);
+        if ((r = lapped__check_image(&in[k], what, e)) != PW_OK) break;
+        if (in[k].channels != 4)
+            return pw_fail(e, PW_ERR_INVALID, "patch %d has %d channels: patches are RGBA (see "
+                           "lapped_make_patch)", k, in[k].channels);
+        views[k] = lapped__pw_image(&in[k]);
+        if ((size_t)in[k].width * in[k].height > maxpx) maxpx = (size_t)in[k].width * in[k].height;
+    }
+    if (r == PW_OK && !(dist = (float *)pw_alloc_array(P->a, maxpx, sizeof(float), "distances", e))) r = PW_ERR_NOMEM;
+    for (k = 0; k < n && r == PW_OK; k++) {
+        r = lapped__patch_hull(P->a, &views[k], &P->hulls[k], e);
+        if (r == PW_OK) lapped__centre_of(&views[k], dist, P->centre + 2 * k);
+        if (r == PW_OK) r = lapped__eroded_init(P->a, &views[k], &P->eroded[k], e);
+        if (r == PW_OK) r = lapped__eroded_top(&P->eroded[k], P->centre + 2 * k, P->o.coverage, k, e);
+    }
+    pw_free(P->a, dist);
+    return r;
+}
+
+/* The largest side of any patch, in texels. */
+static int lapped__max_side(const lapped__paster *P)
+{
+    int k, m = 1;
+    for (k = 0; k < P->npatches; k++) m = pw_maxi(m, pw_maxi(P->patches[k].w, P->patches[k].h));
+    return m;
+}
+
+/* Roughly how many pastes will be needed: the surface area over the area a
+ * paste covers fully (scale^2 times the patch's opaque fraction), twice for
+ * the overlap. Used to refuse absurd scales up front and to time the early,
+ * difficulty-seeking seeds. */
+static double lapped__estimate(const lapped__paster *P)
+{
+    double need = 0.0, opaque = 0.0;
+    int f, k;
+    size_t i;
+    for (k = 0; k < P->npatches; k++) {
+        const pw_image *im = &P->patches[k];
+        size_t n = (size_t)im->w * im->h, full = 0;
+        for (i = 0; i < n; i++) full += im->px[4 * i + 3] >= P->o.coverage;
+        opaque += (double)full / (double)n / P->npatches;
+    }
+    for (f = 0; f < P->m.nf; f++) {
+        double s = pw_v3_len(pw_v3_load(P->ft + 3 * f));
+        need += P->m.area[f] / (s * s * (opaque > 1e-6 ? opaque : 1e-6));
+    }
+    return 2.0 * need;
+}
+
+static int lapped__setup(lapped__paster *P, const lapped_mesh *mesh, const lapped_image *patches,
+                         int npatches, double *estimate, pw_err *e)
+{
+    int nf, r;
+    if ((r = lapped__mesh_init(P->a, mesh, &P->m, e)) != PW_OK) return r;
+    nf = P->m.nf;
+    P->fs = (float *)pw_alloc_array(P->a, (size_t)nf * 3, sizeof(float), "field", e);
+    P->ft = (float *)pw_alloc_array(P->a, (size_t)nf * 3, sizeof(float), "field", e);
+    P->difficulty = (float *)pw_alloc_array(P->a, (size_t)nf, sizeof(float), "difficulty", e);
+    if (!P->fs || !P->ft || !P->difficulty) return PW_ERR_NOMEM;
+    if ((r = lapped__field(P->a, &P->m, &P->o.field, P->fs, P->ft, e)) != PW_OK ||
+        (r = lapped__difficulty(P->a, &P->m, P->o.field.mode == LAPPED_FIELD_ISOTROPIC ? NULL : P->ft,
+                               P->difficulty, e)) != PW_OK ||
+        (r = lapped__setup_patches(P, patches, npatches, e)) != PW_OK ||
+        (r = lapped__cover_init(P->a, &P->m, P->ft, lapped__max_side(P), P->o.coverage, &P->cover, e)) != PW_OK ||
+        (r = lapped__patchbuf_init(P->a, nf, P->m.nv, &P->pb, e)) != PW_OK)
+        return r;
+    *estimate = lapped__estimate(P);
+    if (*estimate > P->o.max_pastes)
+        return pw_fail(e, PW_ERR_LIMIT, "the texture scale is too small for this mesh: covering it would "
+                       "take about %.0f pastes (limit %d, see max_pastes)", *estimate, P->o.max_pastes);
+    if (pw_v3_len(pw_v3_load(P->ft)) > 20.0f * P->m.diag)
+        return pw_fail(e, PW_ERR_INVALID, "the texture scale %g is more than 20 times the mesh's size "
+                       "(%g): one patch would have to cover the whole mesh",
+                       pw_v3_len(pw_v3_load(P->ft)), P->m.diag);
+    P->rng = pw_rng_seed(P->o.seed, 5);
+    return PW_OK;
+}
+
+/* The pasting loop (§3): until every triangle is covered. */
+static int lapped__run(lapped__paster *P, double estimate, pw_err *e)
+{
+    pw_progress pr = lapped__progress(&P->o);
+    pw_triplets tr;
+    double *x = (double *)pw_alloc_array(P->a, (size_t)P->m.nv * 4, sizeof(double), "solver unknowns", e);
+    double *b = (double *)pw_alloc_array(P->a, (size_t)P->m.nf * 4 + 8, sizeof(double), "solver rows", e);
+    int r = x && b ? pw_triplets_init(&tr, P->a, 1, 1, e) : PW_ERR_NOMEM;
+    if (!x || !b) {
+        pw_free(P->a, x);
+        pw_free(P->a, b);
+        return r;
+    }
+    while (r == PW_OK && P->cover.nopen > 0) {
+        if (P->npastes >= (size_t)P->o.max_pastes)
+            r = pw_fail(e, PW_ERR_LIMIT, "stopped after %d pastes with %d triangles still uncovered "
+                        "(see max_pastes)", P->o.max_pastes, P->cover.nopen);
+        else if (P->npastes % 16 == 0)
+            r = pw_report(&pr, 1.0f - (float)P->cover.nopen / (float)P->m.nf, "pasting", e);
+        if (r == PW_OK) r = lapped__paste(P, (double)P->npastes < P->o.early * estimate, &tr, x, b, e);
+    }
+    pw_triplets_free(&tr);
+    pw_free(P->a, x);
+    pw_free(P->a, b);
+    return r;
+}
+
+/* Moves the pastes into the caller's lapped_texture. */
+static int lapped__output(lapped__paster *P, lapped_texture *out, pw_err *e)
+{
+    int k;
+    memset(out, 0, sizeof *out);
+    out->patch_size = (int *)pw_alloc_array(P->a, (size_t)P->npatches * 2, sizeof(int), "patch sizes", e);
+    if (!out->patch_size) return PW_ERR_NOMEM;
+    for (k = 0; k < P->npatches; k++) {
+        out->patch_size[2 * k] = P->patches[k].w;
+        out->patch_size[2 * k + 1] = P->patches[k].h;
+    }
+    out->ntris = P->m.nf;
+    out->npatches = P->npatches;
+    out->npastes = (int)P->npastes;
+    out->pastes = P->pastes;
+    out->hard_edges = P->hard_edges;
+    out->allocator = lapped__allocator(P->a);
+    lapped__prune(P, !P->o.keep_hidden, &out->layers_before, &out->layers);
+    P->pastes = NULL;
+    P->npastes = 0;
+    return PW_OK;
+}
+
+LAPPEDDEF lapped_result lapped_create(const lapped_mesh *mesh, const lapped_image *patches,
+                                      int npatches, const lapped_options *opt,
+                                      lapped_texture *out, lapped_error *err)
+{
+    lapped__paster P;
+    pw_alloc a;
+    pw_err pe;
+    double estimate = 0.0;
+    memset(&P, 0, sizeof P);
+    pw_err_clear(&pe);
+    P.o = lapped__options(opt);
+    a = lapped__alloc(&P.o.allocator);
+    P.a = &a;
+    if (out) memset(out, 0, sizeof *out);
+    if (!out) pw_fail(&pe, PW_ERR_INVALID, "lapped_create: NULL output");
+    else if (lapped__setup(&P, mesh, patches, npatches, &estimate, &pe) == PW_OK &&
+             lapped__run(&P, estimate, &pe) == PW_OK)
+        lapped__output(&P, out, &pe);
+    lapped__paster_free(&P);
+    return lapped__done(&pe, err);
+}
+
+LAPPEDDEF void lapped_texture_free(lapped_texture *t)
+{
+    pw_alloc a;
+    if (!t) return;
+    a = lapped__alloc(&t->allocator);
+    lapped__free_pastes(&a, t->pastes, (size_t)t->npastes);
+    pw_free(&a, t->patch_size);
+    memset(t, 0, sizeof *t);
+}

@@ -1,0 +1,431 @@
+/* io.c: the paste file format and the file conveniences of lapped.h.
+ *
+ * A paste file records a lapped texture for runtime pasting (§3.5, §4):
+ *
+ *     lapped-pastes 1
+ *     patches P
+ *     patch <index> <width> <height>                  (P lines)
+ *     pastes K
+ *     paste <patch-index> <face-count>                (K blocks, in compositing order)
+ *     <face> <u0> <v0> <u1> <v1> <u2> <v2>            (face-count lines)
+ *
+ * Faces are 0-based triangles of the fan triangulation; corners in the
+ * triangle's vertex order; (u,v) in patch texture space, (0,0) the
+ * bottom-left of the patch image. Numbers are written so that they read
+ * back exactly, whatever the locale. */
+#include "atlas.c"
+
+/* ---- writing ----------------------------------------------------------------- */
+
+static void lapped__wb_line(pw__wb *b, const char *word, const long long *v, int n)
+{
+    int k;
+    pw__wb_str(b, word);
+    for (k = 0; k < n; k++) pw__wb_int(b, v[k], ' ');
+    pw__wb_str(b, "\n");
+}
+
+LAPPEDDEF lapped_result lapped_write_pastes_to_func(const lapped_texture *t, lapped_write_fn fn,
+                                                    void *ctx, lapped_error *err)
+{
+    pw__wb b;
+    pw_err pe;
+    long long v[3];
+    int p, i, k;
+    pw_err_clear(&pe);
+    if (!t || !fn) {
+        pw_fail(&pe, PW_ERR_INVALID, "lapped_write_pastes_to_func: NULL argument");
+        return lapped__done(&pe, err);
+    }
+    memset(&b, 0, sizeof b);
+    b.w = fn;
+    b.ctx = ctx;
+    pw__wb_str(&b, "lapped-pastes 1\n");
+    v[0] = t->npatches;
+    lapped__wb_line(&b, "patches", v, 1);
+    for (k = 0; k < t->npatches; k++) {
+        v[0] = k, v[1] = t->patch_size[2 * k], v[2] = t->patch_size[2 * k + 1];
+        lapped__wb_line(&b, "patch", v, 3);
+    }
+    v[0] = t->npastes;
+    lapped__wb_line(&b, "pastes", v, 1);
+    for (p = 0; p < t->npastes; p++) {
+        const lapped_paste *q = &t->pastes[p];
+        v[0] = q->patch, v[1] = q->nfaces;
+        lapped__wb_line(&b, "paste", v, 2);
+        for (i = 0; i < q->nfaces; i++) {
+            pw__wb_int(&b, q->faces[i], 0);
+            for (k = 0; k < 6; k++) pw__wb_float(&b, q->uvs[6 * i + k]);
+            pw__wb_str(&b, "\n");
+        }
+    }
+    pw__wb_done(&b, &pe);
+    return lapped__done(&pe, err);
+}
+
+/* ---- reading ----------------------------------------------------------------- */
+
+/* Reads "<keyword> n1 ... nk" on one line, each within [lo, hi]. */
+static int lapped__read_line(pw__sc *s, const char *keyword, long long *v, int n, long long lo, long long hi)
+{
+    size_t len;
+    const char *w;
+    int k, r;
+    pw__sc_skip_empty(s);
+    w = pw__sc_word(s, &len);
+    if (!pw__sc_is(w, len, keyword))
+        return pw__sc_fail(s, PW_ERR_PARSE, "expected '%s'", keyword);
+    for (k = 0; k < n; k++) {
+        if ((r = pw__sc_int(s, &v[k], keyword, -1)) != PW_OK) return r;
+        if (v[k] < lo || v[k] > hi)
+            return pw__sc_fail(s, PW_ERR_LIMIT, "%s: %lld is outside %lld..%lld", keyword, v[k], lo, hi);
+    }
+    if (!pw__sc_eol(s)) return pw__sc_fail(s, PW_ERR_PARSE, "unexpected text after '%s'", keyword);
+    pw__sc_next_line(s);
+    return PW_OK;
+}
+
+static int lapped__read_header(pw__sc *s, const pw_alloc *a, lapped_texture *t, pw_err *e)
+{
+    long long v[3];
+    int k, r;
+    if ((r = lapped__read_line(s, "lapped-pastes", v, 1, 1, 1)) != PW_OK ||
+        (r = lapped__read_line(s, "patches", v, 1, 1, 4096)) != PW_OK)
+        return r;
+    t->npatches = (int)v[0];
+    if (!(t->patch_size = (int *)pw_alloc_array(a, (size_t)t->npatches * 2, sizeof(int), "patch sizes", e)))
+        return PW_ERR_NOMEM;
+    for (k = 0; k < t->npatches; k++) {
+        if ((r = lapped__read_line(s, "patch", v, 3, 0, PW_MAX_IMAGE_DIM)) != PW_OK) return r;
+        if (v[0] != k) return pw__sc_fail(s, PW_ERR_PARSE, "patch %lld listed where patch %d belongs", v[0], k);
+        if (v[1] < 1 || v[2] < 1) return pw__sc_fail(s, PW_ERR_PARSE, "patch %d has an empty size", k);
+        t->patch_size[2 * k] = (int)v[1];
+        t->patch_size[2 * k + 1] = (int)v[2];
+    }
+    return PW_OK;
+}
+
+/* One "<face> u0 v0 u1 v1 u2 v2" line. */
+static int lapped__read_face(pw__sc *s, lapped_paste *q, int i)
+{
+    long long f;
+    double x;
+    int k, r;
+    pw__sc_skip_empty(s);
+    if ((r = pw__sc_int(s, &f, "paste triangle", i)) != PW_OK) return r;
+    if (f < 0 || f >= PW_MAX_MESH_ELEMENTS) return pw__sc_fail(s, PW_ERR_PARSE, "triangle index %lld", f);
+    q->faces[i] = (int)f;
+    for (k = 0; k < 6; k++) {
+        if ((r = pw__sc_num(s, &x, "texture coordinate", i)) != PW_OK) return r;
+        q->uvs[6 * i + k] = pw__num_to_float(x);
+        if (!pw_is_finite(q->uvs[6 * i + k]))
+            return pw__sc_fail(s, PW_ERR_INVALID, "a texture coordinate is not finite");
+    }
+    if (!pw__sc_eol(s)) return pw__sc_fail(s, PW_ERR_PARSE, "unexpected text after a triangle");
+    pw__sc_next_line(s);
+    return PW_OK;
+}
+
+static int lapped__read_pastes(pw__sc *s, const pw_alloc *a, lapped_texture *t, pw_err *e)
+{
+    long long v[2];
+    int p, i, r;
+    /* a face line has at least 14 bytes: checked before allocating */
+    if ((r = lapped__read_line(s, "pastes", v, 1, 0, PW_MAX_MESH_ELEMENTS)) != PW_OK) return r;
+    if (v[0] > (long long)(s->end - s->p) / 8 + 1)
+        return pw__sc_fail(s, PW_ERR_PARSE, "%lld pastes announced, the file is too short for them", v[0]);
+    if (!(t->pastes = (lapped_paste *)pw_calloc_array(a, (size_t)v[0], sizeof(lapped_paste), "pastes", e)))
+        return PW_ERR_NOMEM;
+    t->npastes = (int)v[0];
+    for (p = 0; p < t->npastes; p++) {
+        lapped_paste *q = &t->pastes[p];
+        if ((r = lapped__read_line(s, "paste", v, 2, 0, PW_MAX_MESH_ELEMENTS)) != PW_OK) return r;
+        if (v[0] >= t->npatches) return pw__sc_fail(s, PW_ERR_PARSE, "paste %d uses patch %lld of %d", p, v[0], t->npatches);
+        if (v[1] > (long long)(s->end - s->p) / 14 + 1)
+            return pw__sc_fail(s, PW_ERR_PARSE, "paste %d announces %lld triangles, the file is too short", p, v[1]);
+        q->patch = (int)v[0];
+        q->faces = (int *)pw_alloc_array(a, (size_t)v[1], sizeof(int), "paste triangles", e);
+        q->uvs = (float *)pw_alloc_array(a, (size_t)v[1] * 6, sizeof(float), "paste coordinates", e);
+        if (!q->faces || !q->uvs) return PW_ERR_NOMEM;
+        q->nfaces = (int)v[1];
+        for (i = 0; i < q->nfaces; i++)
+            if ((r = lapped__read_face(s, q, i)) != PW_OK) return r;
+    }
+    pw__sc_skip_empty(s);
+    if (s->p < s->end) return pw__sc_fail(s, PW_ERR_PARSE, "unexpected text after the last paste");
+    return PW_OK;
+}
+
+/* A texture read from a file does not know its mesh's triangle count:
+ * ntris is 0 ("unknown"), and every triangle index is checked when the
+ * texture is used with a mesh. */
+LAPPEDDEF lapped_result lapped_read_pastes_from_memory(const void *data, size_t size,
+                                                       const char *name, const lapped_options *opt,
+                                                       lapped_texture *out, lapped_error *err)
+{
+    lapped_options o = lapped__options(opt);
+    pw_alloc a = lapped__alloc(&o.allocator);
+    pw__sc s;
+    pw_err pe;
+    pw_err_clear(&pe);
+    if (out) memset(out, 0, sizeof *out);
+    if (!out || (!data && size)) {
+        pw_fail(&pe, PW_ERR_INVALID, "lapped_read_pastes_from_memory: NULL argument");
+        return lapped__done(&pe, err);
+    }
+    out->allocator = lapped__allocator(&a);
+    pw__sc_init(&s, data, size, name ? name : "pastes", 0, &pe);
+    if (lapped__read_header(&s, &a, out, &pe) == PW_OK) lapped__read_pastes(&s, &a, out, &pe);
+    if (pe.code != PW_OK) lapped_texture_free(out);
+    return lapped__done(&pe, err);
+}
+
+/* ---- constraints files --------------------------------------------------------- */
+
+static int lapped__read_constraint(pw__sc *s, lapped_constraint *c, int index)
+{
+    double v[7];
+    long long face;
+    int k, n, r;
+    memset(c, 0, sizeof *c);
+    if ((r = pw__sc_int(s, &face, "constraint", index)) != PW_OK) return r;
+    if (face < 0 || face > PW_MAX_MESH_ELEMENTS) return pw__sc_fail(s, PW_ERR_INVALID, "constraint %d: face %lld", index, face);
+    for (n = 0; n < 6 && !pw__sc_eol(s); n++)
+        if ((r = pw__sc_num(s, &v[n], "constraint", index)) != PW_OK) return r;
+    if (n < 3 || !pw__sc_eol(s))
+        return pw__sc_fail(s, PW_ERR_PARSE, "constraint %d: expected 'face dx dy dz [scale [radius [weight]]]'", index);
+    for (k = 0; k < n; k++)
+        if (!pw_is_finite(v[k])) return pw__sc_fail(s, PW_ERR_INVALID, "constraint %d has a non-finite value", index);
+    c->face = (int)face;
+    for (k = 0; k < 3; k++) c->direction[k] = (float)v[k];
+    c->scale = n > 3 ? (float)v[3] : 0.0f;
+    c->radius = n > 4 ? (float)v[4] : 0.0f;
+    c->weight = n > 5 ? (float)v[5] : 0.0f;
+    pw__sc_next_line(s);
+    return PW_OK;
+}
+
+LAPPEDDEF lapped_result lapped_read_constraints_from_memory(const void *data, size_t size,
+                                                           const char *name, const lapped_options *opt,
+                                                           lapped_constraint **out, int *count,
+                                                           lapped_error *err)
+{
+    lapped_options o = lapped__options(opt);
+    pw_alloc a = lapped__alloc(&o.allocator);
+    lapped_constraint *c = NULL;
+    size_t cap = 0;
+    int n = 0;
+    pw__sc s;
+    pw_err pe;
+    pw_err_clear(&pe);
+    if (out) *out = NULL;
+    if (count) *count = 0;
+    if (!out || !count || (!data && size)) {
+        pw_fail(&pe, PW_ERR_INVALID, "lapped_read_constraints_from_memory: NULL argument");
+        return lapped__done(&pe, err);
+    }
+    pw__sc_init(&s, data, size, name ? name : "constraints", 0, &pe);
+    for (pw__sc_skip_empty(&s); s.p < s.end && pe.code == PW_OK; pw__sc_skip_empty(&s))
+        if (pw_grow(&a, (void **)&c, &cap, (size_t)n + 1, sizeof *c, "constraints", &pe) == PW_OK &&
+            lapped__read_constraint(&s, &c[n], n) == PW_OK)
+            n++;
+    if (pe.code == PW_OK && n == 0) pw_fail(&pe, PW_ERR_PARSE, "%s: no constraints", s.name);
+    if (pe.code != PW_OK) {
+        pw_free(&a, c);
+        return lapped__done(&pe, err);
+    }
+    *out = c;
+    *count = n;
+    return lapped__done(&pe, err);
+}
+
+LAPPEDDEF void lapped_free_constraints(lapped_constraint *c, const lapped_options *opt)
+{
+    lapped_options o = lapped__options(opt);
+    pw_alloc a = lapped__alloc(&o.allocator);
+    pw_free(&a, c);
+}
+
+/* ---- meshes and images --------------------------------------------------------- */
+
+LAPPEDDEF lapped_result lapped_load_mesh_from_memory(const void *data, size_t size, const char *name,
+                                                     const lapped_options *opt, lapped_mesh *out,
+                                                     lapped_error *err)
+{
+    lapped_options o = lapped__options(opt);
+    pw_alloc a = lapped__alloc(&o.allocator);
+    pw_mesh m;
+    pw_err pe;
+    pw_err_clear(&pe);
+    if (out) memset(out, 0, sizeof *out);
+    if (!out || (!data && size)) pw_fail(&pe, PW_ERR_INVALID, "lapped_load_mesh_from_memory: NULL argument");
+    else if (pw_mesh_read_memory(&a, data, size, name ? name : "mesh", &m, &pe) == PW_OK)
+        lapped__take_mesh(&m, &a, out);
+    return lapped__done(&pe, err);
+}
+
+LAPPEDDEF lapped_result lapped_load_image_from_memory(const void *data, size_t size,
+                                                      const char *name, const lapped_options *opt,
+                                                      lapped_image *out, lapped_error *err)
+{
+    lapped_options o = lapped__options(opt);
+    pw_alloc a = lapped__alloc(&o.allocator);
+    pw_image img;
+    pw_err pe;
+    pw_err_clear(&pe);
+    if (out) memset(out, 0, sizeof *out);
+    if (!out || (!data && size)) pw_fail(&pe, PW_ERR_INVALID, "lapped_load_image_from_memory: NULL argument");
+    else if (pw_image_read_memory(&a, (const unsigned char *)data, size, name ? name : "image", &img, &pe) == PW_OK)
+        lapped__take_image(&img, &a, out);
+    return lapped__done(&pe, err);
+}
+
+/* Encodes an image as `format`, converting channels to what it holds. */
+static int lapped__encode(const lapped_image *img, const char *format, pw_write_fn fn, void *ctx, pw_err *e)
+{
+    pw_image view = lapped__pw_image(img), conv;
+    pw_alloc a = lapped__alloc(&img->allocator);
+    int want = 0, r;
+    if (!format) return pw_fail(e, PW_ERR_INVALID, "no image format given");
+    if (!strcmp(format, "ppm")) want = 3;
+    else if (!strcmp(format, "pgm")) want = 1;
+    else if (strcmp(format, "png") && strcmp(format, "pam"))
+        return pw_fail(e, PW_ERR_UNSUPPORTED, "unknown image format '%s' (png, ppm, pgm, pam)", format);
+    if (want && want != view.c) {
+        if ((r = pw_image_convert(&a, &view, want, &conv, e)) != PW_OK) return r;
+        r = pw_image_write_pnm(&conv, 0, 0, fn, ctx, e);
+        pw_image_free(&a, &conv);
+        return r;
+    }
+    if (want) return pw_image_write_pnm(&view, 0, 0, fn, ctx, e);
+    if (!strcmp(format, "pam")) return pw_image_write_pam(&view, 0, fn, ctx, e);
+    return pw_png_write(&a, &view, 0, fn, ctx, e);
+}
+
+LAPPEDDEF lapped_result lapped_write_image_to_func(const lapped_image *img, const char *format,
+                                                   lapped_write_fn fn, void *ctx, lapped_error *err)
+{
+    pw_err pe;
+    pw_err_clear(&pe);
+    if (!fn) pw_fail(&pe, PW_ERR_INVALID, "lapped_write_image_to_func: NULL writer");
+    else if (lapped__check_image(img, "image", &pe) == PW_OK) lapped__encode(img, format, fn, ctx, &pe);
+    return lapped__done(&pe, err);
+}
+
+#ifndef PW_NO_STDIO
+LAPPEDDEF lapped_result lapped_load_mesh(const char *path, const lapped_options *opt,
+                                         lapped_mesh *out, lapped_error *err)
+{
+    lapped_options o = lapped__options(opt);
+    pw_alloc a = lapped__alloc(&o.allocator);
+    pw_mesh m;
+    pw_err pe;
+    pw_err_clear(&pe);
+    if (out) memset(out, 0, sizeof *out);
+    if (!out || !path) pw_fail(&pe, PW_ERR_INVALID, "lapped_load_mesh: NULL argument");
+    else if (pw_mesh_load(&a, path, &m, &pe) == PW_OK) lapped__take_mesh(&m, &a, out);
+    return lapped__done(&pe, err);
+}
+
+LAPPEDDEF lapped_result lapped_load_image(const char *path, const lapped_options *opt,
+                                          lapped_image *out, lapped_error *err)
+{
+    lapped_options o = lapped__options(opt);
+    pw_alloc a = lapped__alloc(&o.allocator);
+    pw_image img;
+    pw_err pe;
+    pw_err_clear(&pe);
+    if (out) memset(out, 0, sizeof *out);
+    if (!out || !path) pw_fail(&pe, PW_ERR_INVALID, "lapped_load_image: NULL argument");
+    else if (pw_image_load(&a, path, &img, &pe) == PW_OK) lapped__take_image(&img, &a, out);
+    return lapped__done(&pe, err);
+}
+
+typedef struct lapped__job {
+    const lapped_image *img;
+    const char *format;
+    const lapped_texture *tex;
+} lapped__job;
+
+static int lapped__image_job(void *arg, pw_write_fn w, void *ctx, pw_err *e)
+{
+    const lapped__job *j = (const lapped__job *)arg;
+    return lapped__encode(j->img, j->format, w, ctx, e);
+}
+
+static int lapped__pastes_job(void *arg, pw_write_fn w, void *ctx, pw_err *e)
+{
+    const lapped__job *j = (const lapped__job *)arg;
+    lapped_error le;
+    int r = (int)lapped_write_pastes_to_func(j->tex, w, ctx, &le);
+    return r ? pw_fail(e, r, "%s", le.message) : PW_OK;
+}
+
+LAPPEDDEF lapped_result lapped_save_image(const char *path, const lapped_image *img, lapped_error *err)
+{
+    lapped__job j;
+    pw_err pe;
+    pw_err_clear(&pe);
+    memset(&j, 0, sizeof j);
+    j.img = img;
+    if (!path) pw_fail(&pe, PW_ERR_INVALID, "lapped_save_image: NULL path");
+    else if (!(j.format = pw_has_ext(path, ".png") ? "png" : pw_has_ext(path, ".ppm") || pw_has_ext(path, ".pnm")
+                          ? "ppm" : pw_has_ext(path, ".pgm") ? "pgm" : pw_has_ext(path, ".pam") ? "pam" : NULL))
+        pw_fail(&pe, PW_ERR_UNSUPPORTED, "%s: unknown image extension (use .png, .ppm, .pgm, .pam)", path);
+    else if (lapped__check_image(img, path, &pe) == PW_OK)
+        pw_write_file(path, lapped__image_job, &j, &pe);
+    return lapped__done(&pe, err);
+}
+
+LAPPEDDEF lapped_result lapped_save_pastes(const char *path, const lapped_texture *t, lapped_error *err)
+{
+    lapped__job j;
+    pw_err pe;
+    pw_err_clear(&pe);
+    memset(&j, 0, sizeof j);
+    j.tex = t;
+    if (!path || !t) pw_fail(&pe, PW_ERR_INVALID, "lapped_save_pastes: NULL argument");
+    else pw_write_file(path, lapped__pastes_job, &j, &pe);
+    return lapped__done(&pe, err);
+}
+
+LAPPEDDEF lapped_result lapped_load_constraints(const char *path, const lapped_options *opt,
+                                                lapped_constraint **out, int *count,
+                                                lapped_error *err)
+{
+    lapped_options o = lapped__options(opt);
+    pw_alloc a = lapped__alloc(&o.allocator);
+    unsigned char *data;
+    size_t size;
+    pw_err pe;
+    pw_err_clear(&pe);
+    if (!path || !out || !count) pw_fail(&pe, PW_ERR_INVALID, "lapped_load_constraints: NULL argument");
+    else if (pw_read_file(&a, path, &data, &size, &pe) == PW_OK) {
+        lapped_error le;
+        if (lapped_read_constraints_from_memory(data, size, path, &o, out, count, &le) != LAPPED_OK)
+            pw_fail(&pe, (int)le.code, "%s", le.message);
+        pw_free(&a, data);
+    }
+    return lapped__done(&pe, err);
+}
+
+LAPPEDDEF lapped_result lapped_load_pastes(const char *path, const lapped_options *opt,
+                                           lapped_texture *out, lapped_error *err)
+{
+    lapped_options o = lapped__options(opt);
+    pw_alloc a = lapped__alloc(&o.allocator);
+    unsigned char *data;
+    size_t size;
+    pw_err pe;
+    pw_err_clear(&pe);
+    if (out) memset(out, 0, sizeof *out);
+    if (!path || !out) pw_fail(&pe, PW_ERR_INVALID, "lapped_load_pastes: NULL argument");
+    else if (pw_read_file(&a, path, &data, &size, &pe) == PW_OK) {
+        lapped_error le;
+        if (lapped_read_pastes_from_memory(data, size, path, &o, out, &le) != LAPPED_OK)
+            pw_fail(&pe, (int)le.code, "%s", le.message);
+        pw_free(&a, data);
+    }
+    return lapped__done(&pe, err);
+}
+#endif

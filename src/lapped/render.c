@@ -1,0 +1,158 @@
+/* render.c: runtime pasting (§4): the mesh drawn once per paste, in paste
+ * order, each paste's triangles textured with its patch and composited over
+ * what is there. */
+#include "grow.c"
+
+/* Checks that a lapped texture belongs to this mesh and these patches. */
+static int lapped__check_texture(const lapped__mesh *m, const lapped_texture *t,
+                                 const lapped_image *patches, const lapped_image *values, pw_err *e)
+{
+    int k, p, i;
+    if (!t || !patches) return pw_fail(e, PW_ERR_INVALID, "missing lapped texture or patches");
+    if (t->ntris && t->ntris != m->nf) /* 0: read from a file, triangle indices checked below */
+        return pw_fail(e, PW_ERR_INVALID, "the lapped texture was made for %d triangles, the mesh has %d",
+                       t->ntris, m->nf);
+    for (k = 0; k < t->npatches; k++) {
+        const lapped_image *v = values ? &values[k] : &patches[k];
+        if (patches[k].width != t->patch_size[2 * k] || patches[k].height != t->patch_size[2 * k + 1] ||
+            patches[k].channels != 4 || !patches[k].pixels)
+            return pw_fail(e, PW_ERR_INVALID, "patch %d is not the %dx%d RGBA image the pastes were made "
+                           "with", k, t->patch_size[2 * k], t->patch_size[2 * k + 1]);
+        if (v->width != patches[k].width || v->height != patches[k].height || !v->pixels)
+            return pw_fail(e, PW_ERR_INVALID, "value image %d does not match patch %d's size", k, k);
+    }
+    for (p = 0; p < t->npastes; p++) {
+        if (t->pastes[p].patch < 0 || t->pastes[p].patch >= t->npatches)
+            return pw_fail(e, PW_ERR_INVALID, "paste %d uses patch %d of %d", p, t->pastes[p].patch,
+                           t->npatches);
+        for (i = 0; i < t->pastes[p].nfaces; i++)
+            if (t->pastes[p].faces[i] < 0 || t->pastes[p].faces[i] >= m->nf)
+                return pw_fail(e, PW_ERR_INVALID, "paste %d refers to triangle %d of %d", p,
+                               t->pastes[p].faces[i], m->nf);
+    }
+    return PW_OK;
+}
+
+/* A patch texture for compositing: colour from `value` (any channels),
+ * alpha from the patch, and explicitly built mip levels whose border stays
+ * transparent (§4: "the texture patch must have a border of transparent
+ * pixels at all mipmap levels finer than 2x2"), sampled with clamping. */
+static int lapped__patch_texture(const pw_alloc *a, const lapped_image *patch, const lapped_image *value,
+                                 pw_texture *tex, pw_err *e)
+{
+    pw_image rgba, src = lapped__pw_image(value), alpha = lapped__pw_image(patch);
+    size_t i, n = (size_t)patch->width * patch->height;
+    int r;
+    if ((r = pw_image_convert(a, &src, 4, &rgba, e)) != PW_OK) return r;
+    for (i = 0; i < n; i++) rgba.px[4 * i + 3] = alpha.px[4 * i + 3];
+    r = pw_texture_create(a, tex, &rgba, 0, e);
+    if (r == PW_OK) pw_texture_clear_border(tex, 2);
+    pw_image_free(a, &rgba);
+    return r;
+}
+
+/* The paste's triangles as a draw: indices and per-corner coordinates. */
+static void lapped__paste_draw(const lapped__mesh *m, const lapped_paste *p, int *tris, pw_draw *d)
+{
+    int i, k;
+    for (i = 0; i < p->nfaces; i++)
+        for (k = 0; k < 3; k++) tris[3 * i + k] = m->tri[3 * p->faces[i] + k];
+    d->tris = tris;
+    d->ntris = p->nfaces;
+    d->uvs = p->uvs;
+}
+
+static lapped_render_options lapped__render_defaults(const lapped_render_options *ro)
+{
+    static const float view[3] = {-0.55f, -0.45f, -0.7f}, up[3] = {0.0f, 1.0f, 0.0f};
+    lapped_render_options r;
+    if (ro) r = *ro;
+    else memset(&r, 0, sizeof r);
+    if (!r.width) r.width = 800;
+    if (!r.height) r.height = 600;
+    if (!r.supersample) r.supersample = 2;
+    if (!r.view_dir[0] && !r.view_dir[1] && !r.view_dir[2]) memcpy(r.view_dir, view, sizeof view);
+    if (!r.up[0] && !r.up[1] && !r.up[2]) memcpy(r.up, up, sizeof up);
+    if (!r.background[0] && !r.background[1] && !r.background[2])
+        r.background[0] = r.background[1] = r.background[2] = 1.0f;
+    return r;
+}
+
+/* The base pass: the bare mesh, mid-grey, writing depth; then every paste
+ * over it with depth test "less or equal" and no depth write. */
+static int lapped__draw_pastes(const pw_alloc *a, const lapped__mesh *m, const lapped_texture *t,
+                               const pw_texture *tex, const lapped_render_options *ro, pw_fb *fb,
+                               pw_err *e)
+{
+    pw_camera cam = pw_camera_frame(m->pos, m->nv, ro->view_dir, ro->up, 35.0f,
+                                    (float)ro->width / (float)ro->height);
+    int *tris = (int *)pw_alloc_array(a, (size_t)m->nf * 3, sizeof(int), "paste triangles", e);
+    pw_draw d;
+    int p, r;
+    if (!tris) return PW_ERR_NOMEM;
+    memset(&d, 0, sizeof d);
+    d.positions = m->pos;
+    d.nv = m->nv;
+    d.tris = m->tri;
+    d.ntris = m->nf;
+    d.color[0] = d.color[1] = d.color[2] = 0.5f;
+    d.color[3] = 1.0f;
+    d.lighting = PW_LIGHT_CAMERA;
+    d.ambient = 0.3f;
+    r = pw_render_draw(fb, &cam, &d, e);
+    d.color[0] = d.color[1] = d.color[2] = d.color[3] = 1.0f;
+    d.filter = ro->filter;
+    d.wrap = PW_WRAP_CLAMP;
+    d.blend = PW_BLEND_OVER;
+    d.depth_test = PW_DEPTH_LEQUAL;
+    d.no_depth_write = 1;
+    for (p = 0; p < t->npastes && r == PW_OK; p++) {
+        if (t->pastes[p].nfaces == 0) continue;
+        lapped__paste_draw(m, &t->pastes[p], tris, &d);
+        d.tex = &tex[t->pastes[p].patch];
+        r = pw_render_draw(fb, &cam, &d, e);
+    }
+    pw_free(a, tris);
+    return r;
+}
+
+LAPPEDDEF lapped_result lapped_render(const lapped_mesh *mesh, const lapped_texture *t,
+                                      const lapped_image *patches, const lapped_image *values,
+                                      const lapped_render_options *ro, lapped_image *out,
+                                      lapped_error *err)
+{
+    lapped_render_options o = lapped__render_defaults(ro);
+    pw_alloc a = lapped__alloc(t ? &t->allocator : NULL);
+    lapped__mesh m;
+    pw_texture *tex = NULL;
+    pw_image pic;
+    pw_fb fb;
+    pw_err pe;
+    float bg[4];
+    int k, r;
+    pw_err_clear(&pe);
+    if (out) memset(out, 0, sizeof *out);
+    memcpy(bg, o.background, sizeof o.background);
+    bg[3] = 1.0f;
+    if (!out) pw_fail(&pe, PW_ERR_INVALID, "lapped_render: NULL output");
+    else if (o.width < 1 || o.height < 1 || o.supersample < 1 || o.supersample > 8 || o.filter < 0 || o.filter > 2)
+        pw_fail(&pe, PW_ERR_INVALID, "render options: size %dx%d, supersample %d, filter %d", o.width,
+                o.height, o.supersample, o.filter);
+    else if (lapped__mesh_init(&a, mesh, &m, &pe) == PW_OK) {
+        r = lapped__check_texture(&m, t, patches, values, &pe);
+        if (r == PW_OK && !(tex = (pw_texture *)pw_calloc_array(&a, (size_t)t->npatches, sizeof *tex, "textures", &pe)))
+            r = PW_ERR_NOMEM;
+        for (k = 0; r == PW_OK && k < t->npatches; k++)
+            r = lapped__patch_texture(&a, &patches[k], values ? &values[k] : &patches[k], &tex[k], &pe);
+        if (r == PW_OK && (r = pw_fb_create(&a, &fb, o.width, o.height, o.supersample, bg, &pe)) == PW_OK) {
+            if ((r = lapped__draw_pastes(&a, &m, t, tex, &o, &fb, &pe)) == PW_OK &&
+                pw_fb_resolve(&fb, &pic, 3, &pe) == PW_OK)
+                lapped__take_image(&pic, &a, out);
+            pw_fb_free(&fb);
+        }
+        for (k = 0; tex && k < t->npatches; k++) pw_texture_free(&a, &tex[k]);
+        pw_free(&a, tex);
+        lapped__mesh_free(&a, &m);
+    }
+    return lapped__done(&pe, err);
+}
