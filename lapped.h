@@ -8919,6 +8919,155 @@ PW__DEF int pw_polyhull_triangle_hits(const pw_polyhull *h, const float uv[6])
 
 #endif /* PW__POLYHULL_V1 */
 
+/* ---- shared module src/common/glue.h ---- */
+/* glue: what every method header needs between its public types and the
+ * shared core.
+ *
+ * Each header has its own prefixed public types (tiled_image, lapped_image,
+ * ...) with the same fields, so that a program can include several headers
+ * without clashes. The logic that deals with them (checking a caller's
+ * image, encoding an image in a named format) works on the shared pw_ types
+ * here; PW_PUBLIC_GLUE(prefix) then writes the field-by-field conversions
+ * once for every header. */
+#ifndef PW__GLUE_V1
+#define PW__GLUE_V1
+
+
+/* Checks an image that came from a caller: size, channel count, and every
+ * sample a finite number. `what` names it in the message. */
+PW__DEF int pw_image_validate(const pw_image *im, const char *what, pw_err *e)
+{
+    size_t k, n;
+    if (!im->px || im->w < 1 || im->h < 1 || im->c < 1 || im->c > 4)
+        return pw_fail(e, PW_ERR_INVALID, "%s: empty image or bad channel count", what);
+    if (im->w > PW_MAX_IMAGE_DIM || im->h > PW_MAX_IMAGE_DIM ||
+        (int64_t)im->w * im->h > PW_MAX_IMAGE_PIXELS)
+        return pw_fail(e, PW_ERR_LIMIT, "%s: %dx%d pixels is over the limit", what, im->w, im->h);
+    n = (size_t)im->w * im->h * im->c;
+    for (k = 0; k < n; k++)
+        if (!pw_is_finite(im->px[k]))
+            return pw_fail(e, PW_ERR_INVALID, "%s: pixel %lu is not a finite number", what,
+                           (unsigned long)(k / im->c));
+    return PW_OK;
+}
+
+/* Encodes an image as "png", "pam", "ppm" or "pgm", converting the channels
+ * to what PPM (3) and PGM (1) hold. */
+PW__DEF int pw_image_encode(const pw_alloc *a, const pw_image *img, const char *format,
+                            pw_write_fn fn, void *ctx, pw_err *e)
+{
+    pw_image conv;
+    int want = 0, r;
+    if (!format) return pw_fail(e, PW_ERR_INVALID, "no image format given");
+    if (!strcmp(format, "ppm")) want = 3;
+    else if (!strcmp(format, "pgm")) want = 1;
+    else if (strcmp(format, "png") && strcmp(format, "pam"))
+        return pw_fail(e, PW_ERR_UNSUPPORTED, "unknown image format '%s' (png, ppm, pgm, pam)",
+                       format);
+    if (want && want != img->c) {
+        if ((r = pw_image_convert(a, img, want, &conv, e)) != PW_OK) return r;
+        r = pw_image_write_pnm(&conv, 0, 0, fn, ctx, e);
+        pw_image_free(a, &conv);
+        return r;
+    }
+    if (want) return pw_image_write_pnm(img, 0, 0, fn, ctx, e);
+    if (!strcmp(format, "pam")) return pw_image_write_pam(img, 0, fn, ctx, e);
+    return pw_png_write(a, img, 0, fn, ctx, e);
+}
+
+/* Fills the zero fields of a view (public render options) with the
+ * defaults every method shares: 800x600, 2x2 supersampling, looking along
+ * (-0.55,-0.45,-0.7) with +Y up, on white. */
+PW__DEF void pw_view_defaults(int *width, int *height, int *supersample, float view_dir[3],
+                              float up[3], float background[3])
+{
+    static const float view[3] = {-0.55f, -0.45f, -0.7f}, y[3] = {0.0f, 1.0f, 0.0f};
+    if (!*width) *width = 800;
+    if (!*height) *height = 600;
+    if (!*supersample) *supersample = 2;
+    if (!view_dir[0] && !view_dir[1] && !view_dir[2]) memcpy(view_dir, view, sizeof view);
+    if (!up[0] && !up[1] && !up[2]) memcpy(up, y, sizeof y);
+    if (!background[0] && !background[1] && !background[2])
+        background[0] = background[1] = background[2] = 1.0f;
+}
+
+/* PW_PUBLIC_GLUE(p) defines, for a header whose public types are
+ * p_allocator, p_image, p_error and p_result (fields as in tiled.h):
+ *   pw_alloc    p__alloc(const p_allocator *)       a shared allocator (NULL: default)
+ *   p_allocator p__allocator(const pw_alloc *)      and back
+ *   p_result    p__done(const pw_err *, p_error *)  copies an error out, returns its code
+ *   pw_image    p__pw_image(const p_image *)        a view, no copy
+ *   void        p__take_image(pw_image *, const pw_alloc *, p_image *)  moves pixels out
+ *   int         p__check_image(const p_image *, const char *what, pw_err *)
+ *   int         p__encode(const p_image *, const char *format, pw_write_fn, void *, pw_err *) */
+#define PW_PUBLIC_GLUE(p)                                                                        \
+    static PW__UNUSED pw_alloc p##__alloc(const p##_allocator *t)                                \
+    {                                                                                            \
+        pw_alloc a;                                                                              \
+        memset(&a, 0, sizeof a);                                                                 \
+        if (t) {                                                                                 \
+            a.malloc_fn = t->malloc_fn;                                                          \
+            a.realloc_fn = t->realloc_fn;                                                        \
+            a.free_fn = t->free_fn;                                                              \
+            a.user = t->user;                                                                    \
+        }                                                                                        \
+        return a;                                                                                \
+    }                                                                                            \
+    static PW__UNUSED p##_allocator p##__allocator(const pw_alloc *a)                            \
+    {                                                                                            \
+        p##_allocator t;                                                                         \
+        t.malloc_fn = a->malloc_fn;                                                              \
+        t.realloc_fn = a->realloc_fn;                                                            \
+        t.free_fn = a->free_fn;                                                                  \
+        t.user = a->user;                                                                        \
+        return t;                                                                                \
+    }                                                                                            \
+    static PW__UNUSED p##_result p##__done(const pw_err *pe, p##_error *err)                     \
+    {                                                                                            \
+        if (err) {                                                                               \
+            err->code = (p##_result)pe->code;                                                    \
+            memcpy(err->message, pe->msg, sizeof err->message);                                  \
+        }                                                                                        \
+        return (p##_result)pe->code;                                                             \
+    }                                                                                            \
+    static PW__UNUSED pw_image p##__pw_image(const p##_image *t)                                 \
+    {                                                                                            \
+        pw_image v;                                                                              \
+        v.w = t->width;                                                                          \
+        v.h = t->height;                                                                         \
+        v.c = t->channels;                                                                       \
+        v.bits = t->bits ? t->bits : 8;                                                          \
+        v.px = t->pixels;                                                                        \
+        return v;                                                                                \
+    }                                                                                            \
+    static PW__UNUSED void p##__take_image(pw_image *v, const pw_alloc *a, p##_image *t)         \
+    {                                                                                            \
+        t->width = v->w;                                                                         \
+        t->height = v->h;                                                                        \
+        t->channels = v->c;                                                                      \
+        t->bits = v->bits;                                                                       \
+        t->pixels = v->px;                                                                       \
+        t->allocator = p##__allocator(a);                                                        \
+        memset(v, 0, sizeof *v);                                                                 \
+    }                                                                                            \
+    static PW__UNUSED int p##__check_image(const p##_image *t, const char *what, pw_err *e)      \
+    {                                                                                            \
+        pw_image v;                                                                              \
+        if (!t) return pw_fail(e, PW_ERR_INVALID, "%s: empty image (none given)", what);                         \
+        v = p##__pw_image(t);                                                                    \
+        return pw_image_validate(&v, what, e);                                                   \
+    }                                                                                            \
+    static PW__UNUSED int p##__encode(const p##_image *t, const char *format, pw_write_fn fn,    \
+                                      void *ctx, pw_err *e)                                      \
+    {                                                                                            \
+        pw_image v = p##__pw_image(t);                                                           \
+        pw_alloc a = p##__alloc(&t->allocator);                                                  \
+        return pw_image_encode(&a, &v, format, fn, ctx, e);                                      \
+    }                                                                                            \
+    typedef int p##__glue_defined /* so that the use ends with a semicolon */
+
+#endif /* PW__GLUE_V1 */
+
 /* ---- src/lapped/core.c ---- */
 /* core.c: lapped.h's glue to the shared core, its defaults, and the mesh
  * every stage works on. Section numbers refer to Praun, Finkelstein and
@@ -8928,59 +9077,7 @@ PW__DEF int pw_polyhull_triangle_hits(const pw_polyhull *h, const float uv[6])
 
 typedef char lapped__codes_match[(int)LAPPED_ERR_NOCONVERGE == PW_ERR_NOCONVERGE ? 1 : -1];
 
-static pw_alloc lapped__alloc(const lapped_allocator *t)
-{
-    pw_alloc a;
-    memset(&a, 0, sizeof a);
-    if (t) {
-        a.malloc_fn = t->malloc_fn;
-        a.realloc_fn = t->realloc_fn;
-        a.free_fn = t->free_fn;
-        a.user = t->user;
-    }
-    return a;
-}
-
-static lapped_allocator lapped__allocator(const pw_alloc *a)
-{
-    lapped_allocator t;
-    t.malloc_fn = a->malloc_fn;
-    t.realloc_fn = a->realloc_fn;
-    t.free_fn = a->free_fn;
-    t.user = a->user;
-    return t;
-}
-
-static lapped_result lapped__done(const pw_err *pe, lapped_error *err)
-{
-    if (err) {
-        err->code = (lapped_result)pe->code;
-        memcpy(err->message, pe->msg, sizeof err->message);
-    }
-    return (lapped_result)pe->code;
-}
-
-static pw_image lapped__pw_image(const lapped_image *t)
-{
-    pw_image p;
-    p.w = t->width;
-    p.h = t->height;
-    p.c = t->channels;
-    p.bits = t->bits ? t->bits : 8;
-    p.px = t->pixels;
-    return p;
-}
-
-static void lapped__take_image(pw_image *p, const pw_alloc *a, lapped_image *t)
-{
-    t->width = p->w;
-    t->height = p->h;
-    t->channels = p->c;
-    t->bits = p->bits;
-    t->pixels = p->px;
-    t->allocator = lapped__allocator(a);
-    memset(p, 0, sizeof *p);
-}
+PW_PUBLIC_GLUE(lapped);
 
 static void lapped__take_mesh(pw_mesh *m, const pw_alloc *a, lapped_mesh *t)
 {
@@ -9052,25 +9149,6 @@ LAPPEDDEF void lapped_mesh_free(lapped_mesh *m)
     pw_free(&a, m->face_start);
     pw_free(&a, m->face_verts);
     memset(m, 0, sizeof *m);
-}
-
-/* Checks a caller-made image. */
-static int lapped__check_image(const lapped_image *im, const char *what, pw_err *e)
-{
-    size_t k, n;
-    if (!im || !im->pixels || im->width < 1 || im->height < 1 || im->channels < 1 ||
-        im->channels > 4)
-        return pw_fail(e, PW_ERR_INVALID, "%s: empty image or bad channel count", what);
-    if (im->width > PW_MAX_IMAGE_DIM || im->height > PW_MAX_IMAGE_DIM ||
-        (int64_t)im->width * im->height > PW_MAX_IMAGE_PIXELS)
-        return pw_fail(e, PW_ERR_LIMIT, "%s: %dx%d pixels is over the limit", what, im->width,
-                       im->height);
-    n = (size_t)im->width * im->height * im->channels;
-    for (k = 0; k < n; k++)
-        if (!pw_is_finite(im->pixels[k]))
-            return pw_fail(e, PW_ERR_INVALID, "%s: pixel %lu is not a finite number", what,
-                           (unsigned long)(k / im->channels));
-    return PW_OK;
 }
 
 /* ---- the triangle mesh every stage works on ------------------------------ */
@@ -12136,22 +12214,6 @@ static void lapped__paste_draw(const lapped__mesh *m, const lapped_paste *p, int
     d->uvs = p->uvs;
 }
 
-static lapped_render_options lapped__render_defaults(const lapped_render_options *ro)
-{
-    static const float view[3] = {-0.55f, -0.45f, -0.7f}, up[3] = {0.0f, 1.0f, 0.0f};
-    lapped_render_options r;
-    if (ro) r = *ro;
-    else memset(&r, 0, sizeof r);
-    if (!r.width) r.width = 800;
-    if (!r.height) r.height = 600;
-    if (!r.supersample) r.supersample = 2;
-    if (!r.view_dir[0] && !r.view_dir[1] && !r.view_dir[2]) memcpy(r.view_dir, view, sizeof view);
-    if (!r.up[0] && !r.up[1] && !r.up[2]) memcpy(r.up, up, sizeof up);
-    if (!r.background[0] && !r.background[1] && !r.background[2])
-        r.background[0] = r.background[1] = r.background[2] = 1.0f;
-    return r;
-}
-
 /* The base pass: the bare mesh, mid-grey, writing depth; then every paste
  * over it with depth test "less or equal" and no depth write. */
 static int lapped__draw_pastes(const pw_alloc *a, const lapped__mesh *m, const lapped_texture *t,
@@ -12195,7 +12257,7 @@ LAPPEDDEF lapped_result lapped_render(const lapped_mesh *mesh, const lapped_text
                                       const lapped_render_options *ro, lapped_image *out,
                                       lapped_error *err)
 {
-    lapped_render_options o = lapped__render_defaults(ro);
+    lapped_render_options o;
     pw_alloc a = lapped__alloc(t ? &t->allocator : NULL);
     lapped__mesh m;
     pw_texture *tex = NULL;
@@ -12204,6 +12266,9 @@ LAPPEDDEF lapped_result lapped_render(const lapped_mesh *mesh, const lapped_text
     pw_err pe;
     float bg[4];
     int k, r;
+    if (ro) o = *ro;
+    else memset(&o, 0, sizeof o);
+    pw_view_defaults(&o.width, &o.height, &o.supersample, o.view_dir, o.up, o.background);
     pw_err_clear(&pe);
     if (out) memset(out, 0, sizeof *out);
     memcpy(bg, o.background, sizeof o.background);
@@ -14652,28 +14717,6 @@ LAPPEDDEF lapped_result lapped_load_image_from_memory(const void *data, size_t s
     else if (pw_image_read_memory(&a, (const unsigned char *)data, size, name ? name : "image", &img, &pe) == PW_OK)
         lapped__take_image(&img, &a, out);
     return lapped__done(&pe, err);
-}
-
-/* Encodes an image as `format`, converting channels to what it holds. */
-static int lapped__encode(const lapped_image *img, const char *format, pw_write_fn fn, void *ctx, pw_err *e)
-{
-    pw_image view = lapped__pw_image(img), conv;
-    pw_alloc a = lapped__alloc(&img->allocator);
-    int want = 0, r;
-    if (!format) return pw_fail(e, PW_ERR_INVALID, "no image format given");
-    if (!strcmp(format, "ppm")) want = 3;
-    else if (!strcmp(format, "pgm")) want = 1;
-    else if (strcmp(format, "png") && strcmp(format, "pam"))
-        return pw_fail(e, PW_ERR_UNSUPPORTED, "unknown image format '%s' (png, ppm, pgm, pam)", format);
-    if (want && want != view.c) {
-        if ((r = pw_image_convert(&a, &view, want, &conv, e)) != PW_OK) return r;
-        r = pw_image_write_pnm(&conv, 0, 0, fn, ctx, e);
-        pw_image_free(&a, &conv);
-        return r;
-    }
-    if (want) return pw_image_write_pnm(&view, 0, 0, fn, ctx, e);
-    if (!strcmp(format, "pam")) return pw_image_write_pam(&view, 0, fn, ctx, e);
-    return pw_png_write(&a, &view, 0, fn, ctx, e);
 }
 
 LAPPEDDEF lapped_result lapped_write_image_to_func(const lapped_image *img, const char *format,

@@ -13,65 +13,14 @@
 #include "../common/raster.h"
 #include "../common/render.h"
 #include "../common/polyhull.h"
+#include "../common/glue.h"
 #include "lapped.h"
 
 /* ---- glue between the public types and the shared core ------------------ */
 
 typedef char lapped__codes_match[(int)LAPPED_ERR_NOCONVERGE == PW_ERR_NOCONVERGE ? 1 : -1];
 
-static pw_alloc lapped__alloc(const lapped_allocator *t)
-{
-    pw_alloc a;
-    memset(&a, 0, sizeof a);
-    if (t) {
-        a.malloc_fn = t->malloc_fn;
-        a.realloc_fn = t->realloc_fn;
-        a.free_fn = t->free_fn;
-        a.user = t->user;
-    }
-    return a;
-}
-
-static lapped_allocator lapped__allocator(const pw_alloc *a)
-{
-    lapped_allocator t;
-    t.malloc_fn = a->malloc_fn;
-    t.realloc_fn = a->realloc_fn;
-    t.free_fn = a->free_fn;
-    t.user = a->user;
-    return t;
-}
-
-static lapped_result lapped__done(const pw_err *pe, lapped_error *err)
-{
-    if (err) {
-        err->code = (lapped_result)pe->code;
-        memcpy(err->message, pe->msg, sizeof err->message);
-    }
-    return (lapped_result)pe->code;
-}
-
-static pw_image lapped__pw_image(const lapped_image *t)
-{
-    pw_image p;
-    p.w = t->width;
-    p.h = t->height;
-    p.c = t->channels;
-    p.bits = t->bits ? t->bits : 8;
-    p.px = t->pixels;
-    return p;
-}
-
-static void lapped__take_image(pw_image *p, const pw_alloc *a, lapped_image *t)
-{
-    t->width = p->w;
-    t->height = p->h;
-    t->channels = p->c;
-    t->bits = p->bits;
-    t->pixels = p->px;
-    t->allocator = lapped__allocator(a);
-    memset(p, 0, sizeof *p);
-}
+PW_PUBLIC_GLUE(lapped);
 
 static void lapped__take_mesh(pw_mesh *m, const pw_alloc *a, lapped_mesh *t)
 {
@@ -143,25 +92,6 @@ LAPPEDDEF void lapped_mesh_free(lapped_mesh *m)
     pw_free(&a, m->face_start);
     pw_free(&a, m->face_verts);
     memset(m, 0, sizeof *m);
-}
-
-/* Checks a caller-made image. */
-static int lapped__check_image(const lapped_image *im, const char *what, pw_err *e)
-{
-    size_t k, n;
-    if (!im || !im->pixels || im->width < 1 || im->height < 1 || im->channels < 1 ||
-        im->channels > 4)
-        return pw_fail(e, PW_ERR_INVALID, "%s: empty image or bad channel count", what);
-    if (im->width > PW_MAX_IMAGE_DIM || im->height > PW_MAX_IMAGE_DIM ||
-        (int64_t)im->width * im->height > PW_MAX_IMAGE_PIXELS)
-        return pw_fail(e, PW_ERR_LIMIT, "%s: %dx%d pixels is over the limit", what, im->width,
-                       im->height);
-    n = (size_t)im->width * im->height * im->channels;
-    for (k = 0; k < n; k++)
-        if (!pw_is_finite(im->pixels[k]))
-            return pw_fail(e, PW_ERR_INVALID, "%s: pixel %lu is not a finite number", what,
-                           (unsigned long)(k / im->channels));
-    return PW_OK;
 }
 
 /* ---- the triangle mesh every stage works on ------------------------------ */

@@ -280,28 +280,6 @@ LAPPEDDEF lapped_result lapped_load_image_from_memory(const void *data, size_t s
     return lapped__done(&pe, err);
 }
 
-/* Encodes an image as `format`, converting channels to what it holds. */
-static int lapped__encode(const lapped_image *img, const char *format, pw_write_fn fn, void *ctx, pw_err *e)
-{
-    pw_image view = lapped__pw_image(img), conv;
-    pw_alloc a = lapped__alloc(&img->allocator);
-    int want = 0, r;
-    if (!format) return pw_fail(e, PW_ERR_INVALID, "no image format given");
-    if (!strcmp(format, "ppm")) want = 3;
-    else if (!strcmp(format, "pgm")) want = 1;
-    else if (strcmp(format, "png") && strcmp(format, "pam"))
-        return pw_fail(e, PW_ERR_UNSUPPORTED, "unknown image format '%s' (png, ppm, pgm, pam)", format);
-    if (want && want != view.c) {
-        if ((r = pw_image_convert(&a, &view, want, &conv, e)) != PW_OK) return r;
-        r = pw_image_write_pnm(&conv, 0, 0, fn, ctx, e);
-        pw_image_free(&a, &conv);
-        return r;
-    }
-    if (want) return pw_image_write_pnm(&view, 0, 0, fn, ctx, e);
-    if (!strcmp(format, "pam")) return pw_image_write_pam(&view, 0, fn, ctx, e);
-    return pw_png_write(&a, &view, 0, fn, ctx, e);
-}
-
 LAPPEDDEF lapped_result lapped_write_image_to_func(const lapped_image *img, const char *format,
                                                    lapped_write_fn fn, void *ctx, lapped_error *err)
 {

@@ -62,22 +62,6 @@ static void lapped__paste_draw(const lapped__mesh *m, const lapped_paste *p, int
     d->uvs = p->uvs;
 }
 
-static lapped_render_options lapped__render_defaults(const lapped_render_options *ro)
-{
-    static const float view[3] = {-0.55f, -0.45f, -0.7f}, up[3] = {0.0f, 1.0f, 0.0f};
-    lapped_render_options r;
-    if (ro) r = *ro;
-    else memset(&r, 0, sizeof r);
-    if (!r.width) r.width = 800;
-    if (!r.height) r.height = 600;
-    if (!r.supersample) r.supersample = 2;
-    if (!r.view_dir[0] && !r.view_dir[1] && !r.view_dir[2]) memcpy(r.view_dir, view, sizeof view);
-    if (!r.up[0] && !r.up[1] && !r.up[2]) memcpy(r.up, up, sizeof up);
-    if (!r.background[0] && !r.background[1] && !r.background[2])
-        r.background[0] = r.background[1] = r.background[2] = 1.0f;
-    return r;
-}
-
 /* The base pass: the bare mesh, mid-grey, writing depth; then every paste
  * over it with depth test "less or equal" and no depth write. */
 static int lapped__draw_pastes(const pw_alloc *a, const lapped__mesh *m, const lapped_texture *t,
@@ -121,7 +105,7 @@ LAPPEDDEF lapped_result lapped_render(const lapped_mesh *mesh, const lapped_text
                                       const lapped_render_options *ro, lapped_image *out,
                                       lapped_error *err)
 {
-    lapped_render_options o = lapped__render_defaults(ro);
+    lapped_render_options o;
     pw_alloc a = lapped__alloc(t ? &t->allocator : NULL);
     lapped__mesh m;
     pw_texture *tex = NULL;
@@ -130,6 +114,9 @@ LAPPEDDEF lapped_result lapped_render(const lapped_mesh *mesh, const lapped_text
     pw_err pe;
     float bg[4];
     int k, r;
+    if (ro) o = *ro;
+    else memset(&o, 0, sizeof o);
+    pw_view_defaults(&o.width, &o.height, &o.supersample, o.view_dir, o.up, o.background);
     pw_err_clear(&pe);
     if (out) memset(out, 0, sizeof *out);
     memcpy(bg, o.background, sizeof o.background);

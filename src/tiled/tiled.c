@@ -13,6 +13,7 @@
 #include "../common/render.h"
 #include "../common/graphcut.h"
 #include "../common/quilt.h"
+#include "../common/glue.h"
 #include "tiled.h"
 
 /* ---- glue between the public types and the shared core ------------------ */
@@ -20,62 +21,7 @@
 /* The public result codes repeat the shared ones. */
 typedef char tiled__codes_match[(int)TILED_ERR_NOCONVERGE == PW_ERR_NOCONVERGE ? 1 : -1];
 
-static pw_alloc tiled__alloc(const tiled_allocator *t)
-{
-    pw_alloc a;
-    memset(&a, 0, sizeof a);
-    if (t) {
-        a.malloc_fn = t->malloc_fn;
-        a.realloc_fn = t->realloc_fn;
-        a.free_fn = t->free_fn;
-        a.user = t->user;
-    }
-    return a;
-}
-
-static tiled_allocator tiled__allocator(const pw_alloc *a)
-{
-    tiled_allocator t;
-    t.malloc_fn = a->malloc_fn;
-    t.realloc_fn = a->realloc_fn;
-    t.free_fn = a->free_fn;
-    t.user = a->user;
-    return t;
-}
-
-/* Copies a shared-core error out to the caller and returns its code. */
-static tiled_result tiled__done(const pw_err *pe, tiled_error *err)
-{
-    if (err) {
-        err->code = (tiled_result)pe->code;
-        memcpy(err->message, pe->msg, sizeof err->message);
-    }
-    return (tiled_result)pe->code;
-}
-
-/* A pw_image view of a public image (no copy). */
-static pw_image tiled__pw_image(const tiled_image *t)
-{
-    pw_image p;
-    p.w = t->width;
-    p.h = t->height;
-    p.c = t->channels;
-    p.bits = t->bits ? t->bits : 8;
-    p.px = t->pixels;
-    return p;
-}
-
-/* Moves a pw_image into a public image. */
-static void tiled__take_image(pw_image *p, const pw_alloc *a, tiled_image *t)
-{
-    t->width = p->w;
-    t->height = p->h;
-    t->channels = p->c;
-    t->bits = p->bits;
-    t->pixels = p->px;
-    t->allocator = tiled__allocator(a);
-    memset(p, 0, sizeof *p);
-}
+PW_PUBLIC_GLUE(tiled);
 
 /* A pw_mesh view of a public mesh (no copy, no texture coordinates). */
 static pw_mesh tiled__pw_mesh(const tiled_mesh *t)
@@ -646,25 +592,6 @@ static int tiled__new_tileset(const pw_alloc *a, const tiled_layout *l, int chan
     ts->tiles_per_side = gm.N;
     ts->max_mip_level = tiled__max_mip(&gm);
     tiled__take_image(&img, a, &ts->atlas);
-    return PW_OK;
-}
-
-/* Checks a caller-made image. */
-static int tiled__check_image(const tiled_image *im, const char *what, pw_err *e)
-{
-    size_t k, n;
-    if (!im || !im->pixels || im->width < 1 || im->height < 1 || im->channels < 1 ||
-        im->channels > 4)
-        return pw_fail(e, PW_ERR_INVALID, "%s: empty image or bad channel count", what);
-    if (im->width > PW_MAX_IMAGE_DIM || im->height > PW_MAX_IMAGE_DIM ||
-        (int64_t)im->width * im->height > PW_MAX_IMAGE_PIXELS)
-        return pw_fail(e, PW_ERR_LIMIT, "%s: %dx%d pixels is over the limit", what, im->width,
-                       im->height);
-    n = (size_t)im->width * im->height * im->channels;
-    for (k = 0; k < n; k++)
-        if (!pw_is_finite(im->pixels[k]))
-            return pw_fail(e, PW_ERR_INVALID, "%s: pixel %lu is not a finite number", what,
-                           (unsigned long)(k / im->channels));
     return PW_OK;
 }
 
@@ -1484,22 +1411,6 @@ static int tiled__triangles(const pw_alloc *a, const tiled_mesh *m, int **tris, 
     return PW_OK;
 }
 
-static tiled_render_options tiled__render_defaults(const tiled_render_options *ro)
-{
-    static const float view[3] = {-0.55f, -0.45f, -0.7f}, up[3] = {0.0f, 1.0f, 0.0f};
-    tiled_render_options r;
-    if (ro) r = *ro;
-    else memset(&r, 0, sizeof r);
-    if (!r.width) r.width = 800;
-    if (!r.height) r.height = 600;
-    if (!r.supersample) r.supersample = 2;
-    if (!r.view_dir[0] && !r.view_dir[1] && !r.view_dir[2]) memcpy(r.view_dir, view, sizeof view);
-    if (!r.up[0] && !r.up[1] && !r.up[2]) memcpy(r.up, up, sizeof up);
-    if (!r.background[0] && !r.background[1] && !r.background[2])
-        r.background[0] = r.background[1] = r.background[2] = 1.0f;
-    return r;
-}
-
 /* Draws the triangles lit, textured from the atlas with mip levels capped
  * where they would mix tiles, and resolves the supersamples. */
 static int tiled__draw(const pw_alloc *a, const tiled_mesh *m, const tiled_tileset *ts,
@@ -1542,12 +1453,15 @@ TILEDDEF tiled_result tiled_render(const tiled_mesh *mapped, const tiled_tileset
                                    const tiled_render_options *ro, tiled_image *out,
                                    tiled_error *err)
 {
-    tiled_render_options o = tiled__render_defaults(ro);
+    tiled_render_options o;
     pw_alloc a = tiled__alloc(ts ? &ts->atlas.allocator : NULL);
     pw_image pic;
     pw_err pe;
     int *tris = NULL, ntris = 0;
     float *uvs = NULL;
+    if (ro) o = *ro;
+    else memset(&o, 0, sizeof o);
+    pw_view_defaults(&o.width, &o.height, &o.supersample, o.view_dir, o.up, o.background);
     pw_err_clear(&pe);
     if (out) memset(out, 0, sizeof *out);
     if (!out || !ts || !mapped || !mapped->uvs)
@@ -1601,30 +1515,6 @@ TILEDDEF tiled_result tiled_load_image_from_memory(const void *data, size_t size
                                   &pe) == PW_OK)
         tiled__take_image(&img, &a, out);
     return tiled__done(&pe, err);
-}
-
-/* Encodes img as `format`, converting the channels to what the format
- * holds: ppm RGB, pgm gray, pam and png any. */
-static int tiled__encode(const tiled_image *img, const char *format, pw_write_fn fn, void *ctx,
-                         pw_err *e)
-{
-    pw_image view = tiled__pw_image(img), conv;
-    pw_alloc a = tiled__alloc(&img->allocator);
-    int want = 0, r;
-    if (!format) return pw_fail(e, PW_ERR_INVALID, "no image format given");
-    if (!strcmp(format, "ppm")) want = 3;
-    else if (!strcmp(format, "pgm")) want = 1;
-    else if (strcmp(format, "png") && strcmp(format, "pam"))
-        return pw_fail(e, PW_ERR_UNSUPPORTED, "unknown image format '%s' (png, ppm, pgm, pam)", format);
-    if (want && want != view.c) {
-        if ((r = pw_image_convert(&a, &view, want, &conv, e)) != PW_OK) return r;
-        r = pw_image_write_pnm(&conv, 0, 0, fn, ctx, e);
-        pw_image_free(&a, &conv);
-        return r;
-    }
-    if (want) return pw_image_write_pnm(&view, 0, 0, fn, ctx, e);
-    if (!strcmp(format, "pam")) return pw_image_write_pam(&view, 0, fn, ctx, e);
-    return pw_png_write(&a, &view, 0, fn, ctx, e);
 }
 
 TILEDDEF tiled_result tiled_write_image_to_func(const tiled_image *img, const char *format,
