@@ -48,7 +48,7 @@
  *           lapped_load_image("fur.png", &opt, &texture, &err) ||
  *           lapped_make_patch(&texture, NULL, &opt, &patch, &err) ||
  *           lapped_create(&mesh, &patch, 1, &opt, &lt, &err) ||
- *           lapped_render(&mesh, &lt, &patch, NULL, &picture, &err) ||
+ *           lapped_render(&mesh, &lt, &patch, NULL, NULL, &picture, &err) ||
  *           lapped_save_image("bunny.png", &picture, &err))
  *           fprintf(stderr, "%s\n", err.message);
  *
@@ -7472,6 +7472,13 @@ typedef struct pw_draw {
                                faces are lit with their normals reversed */
     float light_dir[3];     /* direction toward the light; zero: (-0.3, 0.4, 1) in camera space */
     float ambient;          /* brightness of unlit parts, in [0, 1]; 0: 0.25; negative: none */
+    /* Optional, replaces the texture: the straight RGBA of triangle `tri` at
+     * the point of barycentric coordinates (1 - b1 - b2, b1, b2) (perspective-
+     * correct, corners in the triangle's order), given db = (db1/dx, db1/dy,
+     * db2/dx, db2/dy) per pixel for filtering. Multiplied into the colour as
+     * a texture lookup would be; uvs are not needed. */
+    void (*shader)(void *user, int tri, float b1, float b2, const float db[4], float rgba[4]);
+    void *shader_user;
 } pw_draw;
 
 #define PW__ZT 8 /* coarse depth tile, in samples */
@@ -7658,7 +7665,12 @@ PW__DEF void pw__attr_planes(const pw__ctx *c, int t, float *pl)
     if (pl[PW__READY] != 0.0f) return;
     pl[PW__READY] = 1.0f;
     pw__tri_adjugate(c, t, r, &det); /* succeeded when the triangle was set up */
-    if (c->tex) {
+    if (d->shader) { /* barycentric coordinates b1, b2 in the places of u, v */
+        for (k = 0; k < 2; k++) {
+            for (i = 0; i < 3; i++) a[i] = i == k + 1 ? 1.0 : 0.0;
+            pw__plane(r, a, ox, oy, pl + 3 + 3 * k);
+        }
+    } else if (c->tex) {
         const float *uv = d->uvs + 6 * (size_t)t;
         for (k = 0; k < 2; k++) {
             for (i = 0; i < 3; i++) a[i] = uv[2 * i + k];
@@ -7758,6 +7770,23 @@ PW__DEF void pw__shade_tex(const pw__ctx *c, const float *pl, float dx, float dy
     for (k = 0; k < 4; k++) col[k] *= tx[k];
 }
 
+/* The caller's shader at a shading point: barycentric coordinates and
+ * their derivatives per pixel, as pw__shade_tex finds u, v. Multiplies col. */
+PW__DEF void pw__shade_custom(const pw__ctx *c, int t, const float *pl, float dx, float dy, float iq,
+                              float *col)
+{
+    float b1 = (pl[3] * dx + pl[4] * dy + pl[5]) * iq, b2 = (pl[6] * dx + pl[7] * dy + pl[8]) * iq;
+    float db[4], rgba[4], s = c->ss * iq;
+    int k;
+    db[0] = (pl[3] - b1 * pl[0]) * s;
+    db[1] = (pl[4] - b1 * pl[1]) * s;
+    db[2] = (pl[6] - b2 * pl[0]) * s;
+    db[3] = (pl[7] - b2 * pl[1]) * s;
+    c->d->shader(c->d->shader_user, t, b1, b2, db, rgba);
+    for (k = 0; k < 3; k++) col[k] *= rgba[k] * rgba[3];
+    col[3] *= rgba[3];
+}
+
 /* Shades triangle t at sample-grid point (x, y): tint x texture, lit.
  * Output premultiplied RGBA. */
 PW__DEF void pw__shade(const pw__ctx *c, int t, float x, float y, float *out)
@@ -7771,7 +7800,8 @@ PW__DEF void pw__shade(const pw__ctx *c, int t, float x, float y, float *out)
     col[3] = c->tint[3];
     if (pl[PW__READY] == 0.0f) pw__attr_planes(c, t, pl);
     if (!(q > 1e-30f)) q = 1e-30f; /* only reachable through rounding at a near-plane edge */
-    if (c->tex) pw__shade_tex(c, pl, dx, dy, 1.0f / q, col);
+    if (c->d->shader) pw__shade_custom(c, t, pl, dx, dy, 1.0f / q, col);
+    else if (c->tex) pw__shade_tex(c, pl, dx, dy, 1.0f / q, col);
     if (c->lit) {
         float n0 = pl[9] * dx + pl[10] * dy + pl[11], n1 = pl[12] * dx + pl[13] * dy + pl[14];
         float n2 = pl[15] * dx + pl[16] * dy + pl[17], nn = n0 * n0 + n1 * n1 + n2 * n2;
@@ -8919,6 +8949,114 @@ PW__DEF int pw_polyhull_triangle_hits(const pw_polyhull *h, const float uv[6])
 
 #endif /* PW__POLYHULL_V1 */
 
+/* ---- shared module src/common/trimesh.h ---- */
+/* trimesh: the triangle mesh that the surface methods (lapped, pgp) work on:
+ * the fan triangulation of a polygon mesh (polygon corners 0, k, k+1, in
+ * order, so triangle indices are stable and documented), its half-edges
+ * (h = 3f+k runs from tri[3f+k] to tri[3f+(k+1)%3]; twin -1 on a
+ * boundary), unit normals, areas and the bounding-box diagonal. */
+#ifndef PW__TRIMESH_V1
+#define PW__TRIMESH_V1
+
+
+typedef struct pw_trimesh {
+    int nv, nf;          /* vertices, triangles */
+    const float *pos;    /* nv*3, borrowed */
+    int *tri;            /* nf*3 */
+    pw_hmesh hm;
+    float *normal;       /* nf*3 */
+    float *area;         /* nf */
+    double total_area;
+    float diag;          /* bounding-box diagonal */
+} pw_trimesh;
+
+PW__DEF void pw_trimesh_free(const pw_alloc *a, pw_trimesh *m)
+{
+    pw_free(a, m->tri);
+    pw_hmesh_free(a, &m->hm);
+    pw_free(a, m->normal);
+    pw_free(a, m->area);
+    memset(m, 0, sizeof *m);
+}
+
+PW__DEF pw_v3 pw_trimesh_vert(const pw_trimesh *m, int v) { return pw_v3_load(m->pos + 3 * v); }
+
+/* Corner k of triangle f. */
+PW__DEF pw_v3 pw_trimesh_corner(const pw_trimesh *m, int f, int k)
+{
+    return pw_trimesh_vert(m, m->tri[3 * f + k]);
+}
+
+/* The triangle across edge k of triangle f (-1 on a boundary). */
+PW__DEF int pw_trimesh_across(const pw_trimesh *m, int f, int k)
+{
+    int t = m->hm.twin[3 * f + k];
+    return t < 0 ? -1 : t / 3;
+}
+
+/* Normals, areas and the bounding box; zero-area triangles are refused:
+ * neither a tangent field nor a parametrisation is defined on them. */
+PW__DEF int pw__trimesh_geometry(pw_trimesh *m, pw_err *e)
+{
+    pw_v3 lo, hi;
+    int f, v;
+    m->total_area = 0.0;
+    for (f = 0; f < m->nf; f++) {
+        pw_v3 a = pw_trimesh_corner(m, f, 0), b = pw_trimesh_corner(m, f, 1), c = pw_trimesh_corner(m, f, 2);
+        pw_v3 n = pw_v3_cross(pw_v3_sub(b, a), pw_v3_sub(c, a));
+        float len = pw_v3_len(n), ref = pw_v3_dot(pw_v3_sub(b, a), pw_v3_sub(b, a)) +
+                                        pw_v3_dot(pw_v3_sub(c, a), pw_v3_sub(c, a));
+        if (!(len > 1e-12f * ref) || !(len > 0.0f))
+            return pw_fail(e, PW_ERR_DEGENERATE, "triangle %d (vertices %d, %d, %d) has zero area", f,
+                           m->tri[3 * f], m->tri[3 * f + 1], m->tri[3 * f + 2]);
+        pw_v3_store(m->normal + 3 * f, pw_v3_scale(n, 1.0f / len));
+        m->area[f] = 0.5f * len;
+        m->total_area += m->area[f];
+    }
+    lo = hi = pw_trimesh_vert(m, m->tri[0]);
+    for (v = 0; v < 3 * m->nf; v++) {
+        lo = pw_v3_min(lo, pw_trimesh_vert(m, m->tri[v]));
+        hi = pw_v3_max(hi, pw_trimesh_vert(m, m->tri[v]));
+    }
+    m->diag = pw_v3_len(pw_v3_sub(hi, lo));
+    return PW_OK;
+}
+
+/* Fan-triangulates a polygon mesh (positions borrowed: they must outlive
+ * the trimesh) and builds adjacency and geometry. Non-manifold or
+ * inconsistently oriented meshes and zero-area triangles are errors that
+ * name the element. */
+PW__DEF int pw_trimesh_init(const pw_alloc *a, const pw_mesh *in, pw_trimesh *m, pw_err *e)
+{
+    int f, k, t = 0, r, *fs;
+    memset(m, 0, sizeof *m);
+    if (!in->pos || !in->fstart || !in->fv) return pw_fail(e, PW_ERR_INVALID, "mesh has NULL arrays");
+    if (in->nf < 1) return pw_fail(e, PW_ERR_DEGENERATE, "mesh has no faces");
+    if ((r = pw_mesh_validate(in, e)) != PW_OK) return r;
+    m->nv = in->nv;
+    m->pos = in->pos;
+    m->nf = in->fstart[in->nf] - 2 * in->nf;
+    m->tri = (int *)pw_alloc_array(a, (size_t)m->nf * 3, sizeof(int), "triangles", e);
+    m->normal = (float *)pw_alloc_array(a, (size_t)m->nf * 3, sizeof(float), "normals", e);
+    m->area = (float *)pw_alloc_array(a, (size_t)m->nf, sizeof(float), "areas", e);
+    fs = (int *)pw_alloc_array(a, (size_t)m->nf + 1, sizeof(int), "triangle offsets", e);
+    if (!m->tri || !m->normal || !m->area || !fs) r = PW_ERR_NOMEM;
+    for (f = 0; r == PW_OK && f < in->nf; f++)
+        for (k = in->fstart[f] + 1; k + 1 < in->fstart[f + 1]; k++, t++) {
+            m->tri[3 * t] = in->fv[in->fstart[f]];
+            m->tri[3 * t + 1] = in->fv[k];
+            m->tri[3 * t + 2] = in->fv[k + 1];
+        }
+    for (f = 0; r == PW_OK && f <= m->nf; f++) fs[f] = 3 * f;
+    if (r == PW_OK) r = pw_hmesh_build(a, m->nv, m->nf, fs, m->tri, &m->hm, e);
+    if (r == PW_OK) r = pw__trimesh_geometry(m, e);
+    pw_free(a, fs);
+    if (r != PW_OK) pw_trimesh_free(a, m);
+    return r;
+}
+
+#endif /* PW__TRIMESH_V1 */
+
 /* ---- shared module src/common/glue.h ---- */
 /* glue: what every method header needs between its public types and the
  * shared core.
@@ -9153,110 +9291,19 @@ LAPPEDDEF void lapped_mesh_free(lapped_mesh *m)
 
 /* ---- the triangle mesh every stage works on ------------------------------ */
 
-/* Triangles of the fan triangulation, their half-edges (h = 3f+k runs from
- * tri[3f+k] to tri[3f+(k+1)%3]), unit normals and areas. */
-typedef struct lapped__mesh {
-    int nv, nf;          /* vertices, triangles */
-    const float *pos;    /* nv*3, borrowed */
-    int *tri;            /* nf*3 */
-    pw_hmesh hm;         /* twin[h] = -1 on a boundary */
-    float *normal;       /* nf*3 */
-    float *area;         /* nf */
-    double total_area;
-    float diag;          /* bounding-box diagonal */
-} lapped__mesh;
-
-static void lapped__mesh_free(const pw_alloc *a, lapped__mesh *m)
-{
-    pw_free(a, m->tri);
-    pw_hmesh_free(a, &m->hm);
-    pw_free(a, m->normal);
-    pw_free(a, m->area);
-    memset(m, 0, sizeof *m);
-}
-
-static pw_v3 lapped__vert(const lapped__mesh *m, int v) { return pw_v3_load(m->pos + 3 * v); }
-
-/* Corner k of triangle f. */
-static pw_v3 lapped__corner(const lapped__mesh *m, int f, int k) { return lapped__vert(m, m->tri[3 * f + k]); }
-
-/* The triangle across edge k of triangle f (-1 on a boundary). */
-static int lapped__across(const lapped__mesh *m, int f, int k)
-{
-    int t = m->hm.twin[3 * f + k];
-    return t < 0 ? -1 : t / 3;
-}
-
-/* Checks the caller's polygon mesh (the half-edge build checks topology). */
-static int lapped__check_mesh(const lapped_mesh *m, pw_err *e)
+/* The fan triangulation of the caller's mesh, with adjacency and geometry. */
+static int lapped__mesh_init(const pw_alloc *a, const lapped_mesh *in, pw_trimesh *m, pw_err *e)
 {
     pw_mesh v;
-    if (!m || !m->positions || !m->face_start || !m->face_verts)
-        return pw_fail(e, PW_ERR_INVALID, "mesh has NULL arrays");
-    memset(&v, 0, sizeof v);
-    v.nv = m->nverts;
-    v.pos = m->positions;
-    v.nf = m->nfaces;
-    v.fstart = m->face_start;
-    v.fv = m->face_verts;
-    if (m->nfaces < 1) return pw_fail(e, PW_ERR_DEGENERATE, "mesh has no faces");
-    return pw_mesh_validate(&v, e);
-}
-
-/* Normals, areas and the bounding box; zero-area triangles are refused:
- * neither the field nor the parametrisation is defined on them. */
-static int lapped__mesh_geometry(lapped__mesh *m, pw_err *e)
-{
-    pw_v3 lo, hi;
-    int f, v;
-    m->total_area = 0.0;
-    for (f = 0; f < m->nf; f++) {
-        pw_v3 a = lapped__corner(m, f, 0), b = lapped__corner(m, f, 1), c = lapped__corner(m, f, 2);
-        pw_v3 n = pw_v3_cross(pw_v3_sub(b, a), pw_v3_sub(c, a));
-        float len = pw_v3_len(n), ref = pw_v3_dot(pw_v3_sub(b, a), pw_v3_sub(b, a)) +
-                                        pw_v3_dot(pw_v3_sub(c, a), pw_v3_sub(c, a));
-        if (!(len > 1e-12f * ref) || !(len > 0.0f))
-            return pw_fail(e, PW_ERR_DEGENERATE, "triangle %d (vertices %d, %d, %d) has zero area", f,
-                           m->tri[3 * f], m->tri[3 * f + 1], m->tri[3 * f + 2]);
-        pw_v3_store(m->normal + 3 * f, pw_v3_scale(n, 1.0f / len));
-        m->area[f] = 0.5f * len;
-        m->total_area += m->area[f];
-    }
-    lo = hi = lapped__vert(m, m->tri[0]);
-    for (v = 0; v < 3 * m->nf; v++) {
-        lo = pw_v3_min(lo, lapped__vert(m, m->tri[v]));
-        hi = pw_v3_max(hi, lapped__vert(m, m->tri[v]));
-    }
-    m->diag = pw_v3_len(pw_v3_sub(hi, lo));
-    return PW_OK;
-}
-
-/* Fan-triangulates the caller's mesh and builds adjacency and geometry. */
-static int lapped__mesh_init(const pw_alloc *a, const lapped_mesh *in, lapped__mesh *m, pw_err *e)
-{
-    int f, k, t = 0, r, *fs;
     memset(m, 0, sizeof *m);
-    if ((r = lapped__check_mesh(in, e)) != PW_OK) return r;
-    m->nv = in->nverts;
-    m->pos = in->positions;
-    m->nf = in->face_start[in->nfaces] - 2 * in->nfaces;
-    m->tri = (int *)pw_alloc_array(a, (size_t)m->nf * 3, sizeof(int), "triangles", e);
-    m->normal = (float *)pw_alloc_array(a, (size_t)m->nf * 3, sizeof(float), "normals", e);
-    m->area = (float *)pw_alloc_array(a, (size_t)m->nf, sizeof(float), "areas", e);
-    fs = (int *)pw_alloc_array(a, (size_t)m->nf + 1, sizeof(int), "triangle offsets", e);
-    if (!m->tri || !m->normal || !m->area || !fs) r = PW_ERR_NOMEM;
-    for (f = 0; r == PW_OK && f < in->nfaces; f++)
-        for (k = in->face_start[f] + 1; k + 1 < in->face_start[f + 1]; k++, t++) {
-            m->tri[3 * t] = in->face_verts[in->face_start[f]];
-            m->tri[3 * t + 1] = in->face_verts[k];
-            m->tri[3 * t + 2] = in->face_verts[k + 1];
-        }
-    for (f = 0; r == PW_OK && f <= m->nf; f++) fs[f] = 3 * f;
-    if (r == PW_OK) r = pw_hmesh_build(a, m->nv, m->nf, fs, m->tri, &m->hm, e);
-    if (r == PW_OK) r = lapped__mesh_geometry(m, e);
-    pw_free(a, fs);
-    if (r != PW_OK) lapped__mesh_free(a, m);
-    return r;
+    if (!in) return pw_fail(e, PW_ERR_INVALID, "no mesh given");
+    memset(&v, 0, sizeof v);
+    v.nv = in->nverts;
+    v.pos = in->positions;
+    v.nf = in->nfaces;
+    v.fstart = in->face_start;
+    v.fv = in->face_verts;
+    return pw_trimesh_init(a, &v, m, e);
 }
 
 /* ---- pastes per triangle, and evaluating the lapped texture ---------------- */
@@ -9381,10 +9428,10 @@ static void lapped__eval(const lapped__index *ix, const lapped_texture *t, const
  * lapped__fld_. */
 
 /* A tenth of the bounding-box diagonal: the documented default patch size. */
-static float lapped__default_scale(const lapped__mesh *m) { return 0.1f * m->diag; }
+static float lapped__default_scale(const pw_trimesh *m) { return 0.1f * m->diag; }
 
 /* field->scale: 0 means the default; negative or NaN is refused. */
-static int lapped__fld_scale(const lapped__mesh *m, const lapped_field *f, float *out, pw_err *e)
+static int lapped__fld_scale(const pw_trimesh *m, const lapped_field *f, float *out, pw_err *e)
 {
     if (f->scale == 0.0f) {
         *out = lapped__default_scale(m);
@@ -9398,39 +9445,39 @@ static int lapped__fld_scale(const lapped__mesh *m, const lapped_field *f, float
 
 /* ---- frames, transport and small numerics -------------------------------- */
 
-static pw_v3 lapped__fld_normal(const lapped__mesh *m, int f) { return pw_v3_load(m->normal + 3 * f); }
+static pw_v3 lapped__fld_normal(const pw_trimesh *m, int f) { return pw_v3_load(m->normal + 3 * f); }
 
-static pw_v3 lapped__fld_centroid(const lapped__mesh *m, int f)
+static pw_v3 lapped__fld_centroid(const pw_trimesh *m, int f)
 {
-    pw_v3 c = pw_v3_add(pw_v3_add(lapped__corner(m, f, 0), lapped__corner(m, f, 1)), lapped__corner(m, f, 2));
+    pw_v3 c = pw_v3_add(pw_v3_add(pw_trimesh_corner(m, f, 0), pw_trimesh_corner(m, f, 1)), pw_trimesh_corner(m, f, 2));
     return pw_v3_scale(c, 1.0f / 3.0f);
 }
 
 /* Surface distance between the triangles on either side of half-edge h
  * (which must have a twin): centroid to the edge's midpoint to centroid. */
-static double lapped__fld_dual_len(const lapped__mesh *m, int h)
+static double lapped__fld_dual_len(const pw_trimesh *m, int h)
 {
     int f = h / 3, k = h % 3;
-    pw_v3 mid = pw_v3_add(lapped__corner(m, f, k), lapped__corner(m, f, (k + 1) % 3));
+    pw_v3 mid = pw_v3_add(pw_trimesh_corner(m, f, k), pw_trimesh_corner(m, f, (k + 1) % 3));
     mid = pw_v3_scale(mid, 0.5f);
     return (double)pw_v3_len(pw_v3_sub(mid, lapped__fld_centroid(m, f))) +
            (double)pw_v3_len(pw_v3_sub(lapped__fld_centroid(m, m->hm.twin[h] / 3), mid));
 }
 
 /* The frame of triangle f: u along its first edge, v = N x u. */
-static void lapped__fld_frame(const lapped__mesh *m, int f, pw_v3 *u, pw_v3 *v)
+static void lapped__fld_frame(const pw_trimesh *m, int f, pw_v3 *u, pw_v3 *v)
 {
-    *u = pw_v3_norm(pw_v3_sub(lapped__corner(m, f, 1), lapped__corner(m, f, 0)));
+    *u = pw_v3_norm(pw_v3_sub(pw_trimesh_corner(m, f, 1), pw_trimesh_corner(m, f, 0)));
     *v = pw_v3_cross(lapped__fld_normal(m, f), *u);
 }
 
 /* Tangent vector x of the triangle across half-edge h, unfolded about the
  * shared edge into the plane of h's own triangle: the rotation about the
  * edge that takes one normal to the other. */
-static pw_v3 lapped__fld_hinge(const lapped__mesh *m, int h, pw_v3 x)
+static pw_v3 lapped__fld_hinge(const pw_trimesh *m, int h, pw_v3 x)
 {
     int f = h / 3, g = m->hm.twin[h] / 3, k = h % 3;
-    pw_v3 ed = pw_v3_norm(pw_v3_sub(lapped__corner(m, f, (k + 1) % 3), lapped__corner(m, f, k)));
+    pw_v3 ed = pw_v3_norm(pw_v3_sub(pw_trimesh_corner(m, f, (k + 1) % 3), pw_trimesh_corner(m, f, k)));
     pw_v3 nf = lapped__fld_normal(m, f), ng = lapped__fld_normal(m, g);
     pw_v3 r = pw_v3_scale(ed, pw_v3_dot(x, ed));
     r = pw_v3_add(r, pw_v3_scale(pw_v3_cross(nf, ed), pw_v3_dot(x, pw_v3_cross(ng, ed))));
@@ -9449,10 +9496,10 @@ static int lapped__fld_unit(double *z)
 
 /* The shared edge of half-edge h as a complex number in the frame of
  * triangle f (either side of the edge). */
-static void lapped__fld_edge_in(const lapped__mesh *m, int h, int f, double *w)
+static void lapped__fld_edge_in(const pw_trimesh *m, int h, int f, double *w)
 {
     int k = h % 3, g = h / 3;
-    pw_v3 u, v, ed = pw_v3_sub(lapped__corner(m, g, (k + 1) % 3), lapped__corner(m, g, k));
+    pw_v3 u, v, ed = pw_v3_sub(pw_trimesh_corner(m, g, (k + 1) % 3), pw_trimesh_corner(m, g, k));
     lapped__fld_frame(m, f, &u, &v);
     w[0] = pw_v3_dot(ed, u);
     w[1] = pw_v3_dot(ed, v);
@@ -9464,7 +9511,7 @@ static void lapped__fld_edge_in(const lapped__mesh *m, int h, int f, double *w)
  * about the shared edge (lapped__fld_hinge): the edge keeps its angle to
  * every vector, so with the edge at angle a_f here and a_g there,
  * conn = e^{i (a_f - a_g)}. Boundary half-edges get 1. */
-static int lapped__fld_connection(const pw_alloc *a, const lapped__mesh *m, float **out, pw_err *e)
+static int lapped__fld_connection(const pw_alloc *a, const pw_trimesh *m, float **out, pw_err *e)
 {
     float *c = (float *)pw_alloc_array(a, (size_t)m->nf * 6, sizeof(float), "field connection", e);
     int h;
@@ -9520,7 +9567,7 @@ static void lapped__fld_halve(double *z)
 /* The 3D direction d projected onto triangle f, as a unit direction in its
  * frame. Returns 0 when d is (within 1e-4 radians) normal to the face:
  * "project the global up direction onto the surface" has no answer there. */
-static int lapped__fld_project(const lapped__mesh *m, int f, pw_v3 d, double *z)
+static int lapped__fld_project(const pw_trimesh *m, int f, pw_v3 d, double *z)
 {
     pw_v3 u, v;
     double l2 = (double)pw_v3_dot(d, d);
@@ -9534,7 +9581,7 @@ static int lapped__fld_project(const lapped__mesh *m, int f, pw_v3 d, double *z)
 /* A fixed direction for triangle f when nothing else defines one: the
  * coordinate axis least aligned with its normal (lowest axis on ties),
  * projected; never degenerate (at least sqrt(2/3) of it is tangent). */
-static void lapped__fld_axis(const lapped__mesh *m, int f, double *z)
+static void lapped__fld_axis(const pw_trimesh *m, int f, double *z)
 {
     const float *n = m->normal + 3 * f;
     int k = 0, i;
@@ -9572,7 +9619,7 @@ static double lapped__fld_exp_neg(double x)
  * `start` on): every triangle where `up` projects gets that projection, as
  * in the up field; if none does (a flat piece normal to up), the lowest
  * triangle gets the fixed axis. Seeds go to the queue with level 0. */
-static void lapped__fld_seed(const lapped__mesh *m, pw_v3 up, int power, double *z, int *level, int *queue,
+static void lapped__fld_seed(const pw_trimesh *m, pw_v3 up, int power, double *z, int *level, int *queue,
                              int *tail, int *stack, int start)
 {
     int top = 1, n = 0, i, k, f, g, seeded = 0;
@@ -9581,7 +9628,7 @@ static void lapped__fld_seed(const lapped__mesh *m, pw_v3 up, int power, double 
     while (n < top) { /* flood the component, in a deterministic order */
         f = stack[n++];
         for (k = 0; k < 3; k++)
-            if ((g = lapped__across(m, f, k)) >= 0 && level[g] == -1) level[g] = -2, stack[top++] = g;
+            if ((g = pw_trimesh_across(m, f, k)) >= 0 && level[g] == -1) level[g] = -2, stack[top++] = g;
     }
     for (i = 0; i < top; i++) {
         f = stack[i];
@@ -9605,13 +9652,13 @@ static void lapped__fld_seed(const lapped__mesh *m, pw_v3 up, int power, double 
  * ones: the unit average of their directions transported into f (§3.2
  * propagation: "projecting onto its face plane the average direction of
  * neighboring faces"); the first neighbour's if the average cancels. */
-static void lapped__fld_average(const lapped__mesh *m, const float *conn, int power, const int *level,
+static void lapped__fld_average(const pw_trimesh *m, const float *conn, int power, const int *level,
                                 double *z, int f)
 {
     double sum[2] = {0.0, 0.0}, first[2] = {0.0, 0.0}, w[2];
     int k, g, n = 0;
     for (k = 0; k < 3; k++) {
-        g = lapped__across(m, f, k);
+        g = pw_trimesh_across(m, f, k);
         if (g < 0 || level[g] < 0 || level[g] >= level[f]) continue;
         lapped__fld_move(conn, 3 * f + k, power, z + 2 * g, w);
         if (n++ == 0) first[0] = w[0], first[1] = w[1];
@@ -9629,7 +9676,7 @@ static void lapped__fld_average(const lapped__mesh *m, const float *conn, int po
  * from the known ones, layer by layer, so that the result does not depend
  * on which known triangle is met first. Components without a known triangle
  * are seeded by lapped__fld_seed. Known directions must be unit. */
-static int lapped__fld_fill(const pw_alloc *a, const lapped__mesh *m, const float *conn, int power, pw_v3 up,
+static int lapped__fld_fill(const pw_alloc *a, const pw_trimesh *m, const float *conn, int power, pw_v3 up,
                             const unsigned char *known, double *z, pw_err *e)
 {
     int *level = (int *)pw_alloc_array(a, (size_t)m->nf * 3, sizeof(int), "field propagation", e);
@@ -9650,7 +9697,7 @@ static int lapped__fld_fill(const pw_alloc *a, const lapped__mesh *m, const floa
         f = queue[head++];
         if (level[f] > 0) lapped__fld_average(m, conn, power, level, z, f);
         for (k = 0; k < 3; k++)
-            if ((g = lapped__across(m, f, k)) >= 0 && level[g] == -1) {
+            if ((g = pw_trimesh_across(m, f, k)) >= 0 && level[g] == -1) {
                 level[g] = level[f] + 1;
                 queue[tail++] = g;
             }
@@ -9661,7 +9708,7 @@ static int lapped__fld_fill(const pw_alloc *a, const lapped__mesh *m, const floa
 
 /* Writes T = scale * direction (unit z in the triangle frame) and
  * S = T x N (§3.2). scales may be NULL (then `scale` everywhere). */
-static void lapped__fld_output(const lapped__mesh *m, const double *z, float scale, const double *scales,
+static void lapped__fld_output(const pw_trimesh *m, const double *z, float scale, const double *scales,
                                float *s, float *t)
 {
     int f;
@@ -9686,7 +9733,7 @@ static void lapped__fld_output(const lapped__mesh *m, const double *z, float sca
  * (lapped__fld_axis). ISOTROPIC uses the same field: growth replaces the
  * orientation by its own propagation, and a smooth start keeps the
  * discontinuity part of lapped__difficulty quiet. */
-static int lapped__fld_up(const pw_alloc *a, const lapped__mesh *m, const float *conn, pw_v3 up, double *z,
+static int lapped__fld_up(const pw_alloc *a, const pw_trimesh *m, const float *conn, pw_v3 up, double *z,
                           unsigned char *known, pw_err *e)
 {
     int f;
@@ -9699,7 +9746,7 @@ static int lapped__fld_up(const pw_alloc *a, const lapped__mesh *m, const float 
 /* One caller vector of triangle f, projected onto its plane and rescaled to
  * its own length (a vector meant to be tangent keeps its magnitude, the
  * scale). Refuses NaN/Inf, zero, and vectors normal to the face. */
-static int lapped__fld_tangent(const lapped__mesh *m, int f, const float *p, const char *what, pw_v3 *out,
+static int lapped__fld_tangent(const pw_trimesh *m, int f, const float *p, const char *what, pw_v3 *out,
                                pw_err *e)
 {
     pw_v3 x = pw_v3_load(p), n = lapped__fld_normal(m, f), q;
@@ -9720,7 +9767,7 @@ static int lapped__fld_tangent(const lapped__mesh *m, int f, const float *p, con
 /* §3.2: "The user could alternatively specify this tangential basis
  * directly": the caller's T per triangle (its length is the scale) and S,
  * or S = T x N when face_s is NULL. S parallel to T is refused (no frame). */
-static int lapped__fld_faces(const lapped__mesh *m, const lapped_field *fl, float *s, float *t, pw_err *e)
+static int lapped__fld_faces(const pw_trimesh *m, const lapped_field *fl, float *s, float *t, pw_err *e)
 {
     int f, r;
     if (!fl->face_t) return pw_fail(e, PW_ERR_INVALID, "FACES field: face_t is NULL");
@@ -9761,7 +9808,7 @@ static int lapped__fld_value(int i, const char *what, float x, double def, doubl
 
 /* Checks constraint i and resolves its defaults (lapped.h: scale 0 is the
  * field's scale, radius 0 is twice the constraint's scale, weight 0 is 1). */
-static int lapped__fld_check(const lapped__mesh *m, const lapped_constraint *in, int i, float scale,
+static int lapped__fld_check(const pw_trimesh *m, const lapped_constraint *in, int i, float scale,
                              lapped__fld_con *c, pw_err *e)
 {
     pw_v3 d = pw_v3_load(in->direction), n;
@@ -9786,7 +9833,7 @@ static int lapped__fld_check(const lapped__mesh *m, const lapped_constraint *in,
 /* Length of each dual edge: centroid to edge midpoint to centroid, a path
  * on the surface even across a crease (the straight centroid-to-centroid
  * segment would cut through it). 0 on the boundary. */
-static void lapped__fld_dual(const lapped__mesh *m, double *len)
+static void lapped__fld_dual(const pw_trimesh *m, double *len)
 {
     int h;
     for (h = 0; h < 3 * m->nf; h++) len[h] = m->hm.twin[h] < 0 ? 0.0 : lapped__fld_dual_len(m, h);
@@ -9842,7 +9889,7 @@ static void lapped__fld_pop(lapped__fld_heap *hp)
  * joined through edge midpoints) from triangle src; DBL_MAX where
  * unreachable. The heap holds at most 3*nf+1 entries (a triangle is pushed
  * only when one of its <= 3 neighbours improves it). */
-static void lapped__fld_dijkstra(const lapped__mesh *m, const double *len, int src, double *dist,
+static void lapped__fld_dijkstra(const pw_trimesh *m, const double *len, int src, double *dist,
                                  lapped__fld_heap *hp)
 {
     int f, k, g;
@@ -9857,7 +9904,7 @@ static void lapped__fld_dijkstra(const lapped__mesh *m, const double *len, int s
         if (d > dist[f]) continue; /* stale entry */
         for (k = 0; k < 3; k++) {
             double nd = d + len[3 * f + k];
-            if ((g = lapped__across(m, f, k)) >= 0 && nd < dist[g]) {
+            if ((g = pw_trimesh_across(m, f, k)) >= 0 && nd < dist[g]) {
                 dist[g] = nd;
                 lapped__fld_push(hp, nd, g);
             }
@@ -9903,7 +9950,7 @@ static int lapped__fld_gap(int a, int b) { return a > b ? a - b : b - a; }
  * each takes, whole, the direction and scale of the constraint whose
  * triangle index is nearest to the component's lowest triangle (the lower
  * constraint on ties), projected onto each face like an up vector. */
-static void lapped__fld_orphans(const lapped__mesh *m, const lapped__fld_con *c, int nc, lapped__fld_acc *acc,
+static void lapped__fld_orphans(const pw_trimesh *m, const lapped__fld_con *c, int nc, lapped__fld_acc *acc,
                                 int *stack)
 {
     int f, i, j, top, k, g;
@@ -9922,7 +9969,7 @@ static void lapped__fld_orphans(const lapped__mesh *m, const lapped__fld_con *c,
             acc->dir[3 * h + 1] = c[j].dir.y;
             acc->dir[3 * h + 2] = c[j].dir.z;
             for (k = 0; k < 3; k++)
-                if ((g = lapped__across(m, h, k)) >= 0 && acc->q[g] == DBL_MAX) {
+                if ((g = pw_trimesh_across(m, h, k)) >= 0 && acc->q[g] == DBL_MAX) {
                     acc->q[g] = 0.0;
                     stack[top++] = g;
                 }
@@ -9952,7 +9999,7 @@ static void lapped__fld_pin(const lapped__fld_con *c, int nc, lapped__fld_acc *a
 }
 
 /* Checks and resolves every constraint into c[]. */
-static int lapped__fld_checks(const lapped__mesh *m, const lapped_field *fl, float scale, lapped__fld_con *c,
+static int lapped__fld_checks(const pw_trimesh *m, const lapped_field *fl, float scale, lapped__fld_con *c,
                               pw_err *e)
 {
     int i, r;
@@ -9964,7 +10011,7 @@ static int lapped__fld_checks(const lapped__mesh *m, const lapped_field *fl, flo
 /* The blended 3D directions projected onto each face (§3.2: vectors "at
  * the remaining faces"), and the blended scales. A blend that cancels or is
  * normal to its face is filled from the neighbours. */
-static int lapped__fld_blend(const pw_alloc *a, const lapped__mesh *m, const float *conn, pw_v3 up,
+static int lapped__fld_blend(const pw_alloc *a, const pw_trimesh *m, const float *conn, pw_v3 up,
                              const lapped__fld_acc *acc, double *z, double *scales, unsigned char *known,
                              pw_err *e)
 {
@@ -9987,7 +10034,7 @@ static int lapped__fld_blend(const pw_alloc *a, const lapped__mesh *m, const flo
  * weight_i exp(-d_i(f)^2 / (2 radius_i^2)); directions are blended in 3D
  * and projected onto f, scales blended linearly. One Dijkstra run per
  * constraint: O(nconstraints * nf log nf) time, O(nf) memory. */
-static int lapped__fld_constraints(const pw_alloc *a, const lapped__mesh *m, const lapped_field *fl,
+static int lapped__fld_constraints(const pw_alloc *a, const pw_trimesh *m, const lapped_field *fl,
                                    float scale, const float *conn, double *z, double *scales,
                                    unsigned char *known, pw_err *e)
 {
@@ -10041,7 +10088,7 @@ static int lapped__fld_constraints(const pw_alloc *a, const lapped__mesh *m, con
 /* Vertex normals with Max's weights (J. Graphics Tools 4(2), 1999): each
  * triangle's corner cross product over the squared lengths of its two
  * edges; exact on a sphere, no trigonometry. */
-static int lapped__fld_vertex_normals(const pw_alloc *a, const lapped__mesh *m, double **out, pw_err *e)
+static int lapped__fld_vertex_normals(const pw_alloc *a, const pw_trimesh *m, double **out, pw_err *e)
 {
     double *vn = (double *)pw_calloc_array(a, (size_t)m->nv * 3, sizeof(double), "vertex normals", e);
     int f, i, v;
@@ -10049,9 +10096,9 @@ static int lapped__fld_vertex_normals(const pw_alloc *a, const lapped__mesh *m, 
     if (!vn) return PW_ERR_NOMEM;
     for (f = 0; f < m->nf; f++)
         for (i = 0; i < 3; i++) {
-            pw_v3 p = lapped__corner(m, f, i);
-            pw_v3 e1 = pw_v3_sub(lapped__corner(m, f, (i + 1) % 3), p);
-            pw_v3 e2 = pw_v3_sub(lapped__corner(m, f, (i + 2) % 3), p);
+            pw_v3 p = pw_trimesh_corner(m, f, i);
+            pw_v3 e1 = pw_v3_sub(pw_trimesh_corner(m, f, (i + 1) % 3), p);
+            pw_v3 e2 = pw_v3_sub(pw_trimesh_corner(m, f, (i + 2) % 3), p);
             pw_v3 c = pw_v3_cross(e1, e2);
             double w = 1.0 / ((double)pw_v3_dot(e1, e1) * (double)pw_v3_dot(e2, e2));
             v = m->tri[3 * f + i];
@@ -10070,7 +10117,7 @@ static int lapped__fld_vertex_normals(const pw_alloc *a, const lapped__mesh *m, 
  * least squares over its three edges e of II e = (dn . u, dn . v), dn the
  * difference of the vertex normals along e (Rusinkiewicz 2004, eq. 5),
  * solved by Cramer's rule on the 3x3 normal equations. */
-static void lapped__fld_tensor(const lapped__mesh *m, const double *vn, int f, double abc[3])
+static void lapped__fld_tensor(const pw_trimesh *m, const double *vn, int f, double abc[3])
 {
     double suu = 0, suv = 0, svv = 0, r0 = 0, r1 = 0, r2 = 0, det;
     pw_v3 u, v;
@@ -10078,7 +10125,7 @@ static void lapped__fld_tensor(const lapped__mesh *m, const double *vn, int f, d
     lapped__fld_frame(m, f, &u, &v);
     for (i = 0; i < 3; i++) {
         int p = m->tri[3 * f + (i + 1) % 3], q = m->tri[3 * f + (i + 2) % 3], k;
-        pw_v3 ed = pw_v3_sub(lapped__vert(m, q), lapped__vert(m, p));
+        pw_v3 ed = pw_v3_sub(pw_trimesh_vert(m, q), pw_trimesh_vert(m, p));
         double dn[3], eu = pw_v3_dot(ed, u), ev = pw_v3_dot(ed, v), du = 0, dv = 0;
         for (k = 0; k < 3; k++) dn[k] = vn[3 * q + k] - vn[3 * p + k];
         du = dn[0] * u.x + dn[1] * u.y + dn[2] * u.z;
@@ -10123,7 +10170,7 @@ static void lapped__fld_least(const double abc[3], double flat, double *z)
  * mean of its own and its neighbours' (transported): confident directions
  * dominate weak ones, and the flat or umbilic ones (exactly 0) pick up their
  * neighbours' direction one ring per sweep. */
-static int lapped__fld_smooth(const pw_alloc *a, const lapped__mesh *m, const float *conn, int iters,
+static int lapped__fld_smooth(const pw_alloc *a, const pw_trimesh *m, const float *conn, int iters,
                               double *z, pw_err *e)
 {
     double *tmp = (double *)pw_alloc_array(a, (size_t)m->nf * 2, sizeof(double), "field smoothing", e), w[2];
@@ -10133,7 +10180,7 @@ static int lapped__fld_smooth(const pw_alloc *a, const lapped__mesh *m, const fl
         for (f = 0; f < m->nf; f++) {
             double sx = z[2 * f], sy = z[2 * f + 1];
             for (n = 1, k = 0; k < 3; k++)
-                if ((g = lapped__across(m, f, k)) >= 0) {
+                if ((g = pw_trimesh_across(m, f, k)) >= 0) {
                     lapped__fld_move(conn, 3 * f + k, 2, z + 2 * g, w);
                     sx += w[0], sy += w[1], n++;
                 }
@@ -10149,7 +10196,7 @@ static int lapped__fld_smooth(const pw_alloc *a, const lapped__mesh *m, const fl
 /* Relaxes the neighbours of triangle f (just oriented) in the orientation
  * walk: a neighbour's key is 1 - |cos| of the angle between its line and
  * f's direction carried over, the smallest key (best agreement) kept. */
-static void lapped__fld_offer(const lapped__mesh *m, const float *conn, const double *z, int f,
+static void lapped__fld_offer(const pw_trimesh *m, const float *conn, const double *z, int f,
                               const unsigned char *seen, double *best, int *via, lapped__fld_heap *hp)
 {
     int k, g, th;
@@ -10168,7 +10215,7 @@ static void lapped__fld_offer(const lapped__mesh *m, const float *conn, const do
 
 /* The walk of lapped__fld_orient (best: nf keys, via: nf half-edges,
  * hp: room for 3 nf + 1 entries). */
-static void lapped__fld_walk(const lapped__mesh *m, const float *conn, pw_v3 up, double *z,
+static void lapped__fld_walk(const pw_trimesh *m, const float *conn, pw_v3 up, double *z,
                              unsigned char *seen, double *best, int *via, lapped__fld_heap *hp)
 {
     double w[2];
@@ -10200,7 +10247,7 @@ static void lapped__fld_walk(const lapped__mesh *m, const float *conn, pw_v3 up,
  * a half-integer singularity the signs must disagree somewhere: this puts
  * the seams where neighbouring lines are closest to perpendicular, near the
  * singularities, rather than wherever a breadth-first walk closes. */
-static int lapped__fld_orient(const pw_alloc *a, const lapped__mesh *m, const float *conn, pw_v3 up,
+static int lapped__fld_orient(const pw_alloc *a, const pw_trimesh *m, const float *conn, pw_v3 up,
                               double *z, pw_err *e)
 {
     size_t n = (size_t)m->nf;
@@ -10223,7 +10270,7 @@ static int lapped__fld_orient(const pw_alloc *a, const lapped__mesh *m, const fl
  * 1e-3 / diagonal, i.e. radii of curvature over a thousand mesh sizes),
  * smoothing, unit length, gaps filled (components with no direction at all,
  * like a sphere or a plane, get the up field), halved to vectors, oriented. */
-static int lapped__fld_curvature(const pw_alloc *a, const lapped__mesh *m, const lapped_field *fl,
+static int lapped__fld_curvature(const pw_alloc *a, const pw_trimesh *m, const lapped_field *fl,
                                  const float *conn, double *z, unsigned char *known, pw_err *e)
 {
     double *vn, abc[3];
@@ -10247,7 +10294,7 @@ static int lapped__fld_curvature(const pw_alloc *a, const lapped__mesh *m, const
 /* ---- the field, the difficulty, and the public entry ----------------------- */
 
 /* §3.2: fills s and t (nf*3 each) for every mode of lapped_field. */
-static int lapped__field(const pw_alloc *a, const lapped__mesh *m, const lapped_field *fl, float *s, float *t,
+static int lapped__field(const pw_alloc *a, const pw_trimesh *m, const lapped_field *fl, float *s, float *t,
                          pw_err *e)
 {
     size_t n = (size_t)m->nf;
@@ -10285,7 +10332,7 @@ static int lapped__field(const pw_alloc *a, const lapped__mesh *m, const lapped_
  * normal (chord |n_f - n_g| = 2 sin(angle/2)) per unit of surface distance,
  * times the local patch size |T|: how far a patch bends there. Mapped to
  * [0, 1) by x / (1 + x). */
-static double lapped__fld_bend(const lapped__mesh *m, int h, double size)
+static double lapped__fld_bend(const pw_trimesh *m, int h, double size)
 {
     pw_v3 dn = pw_v3_sub(lapped__fld_normal(m, h / 3), lapped__fld_normal(m, m->hm.twin[h] / 3));
     double d = lapped__fld_dual_len(m, h), x = d > 0.0 ? pw_v3_len(dn) * size / d : 0.0;
@@ -10300,7 +10347,7 @@ static double lapped__fld_bend(const lapped__mesh *m, int h, double size)
  * 1 opposite), as 1 - (1 - bend)(1 - turn). t may be NULL (an isotropic
  * field, whose orientation does not matter): curvature only, at the default
  * scale. */
-static int lapped__difficulty(const pw_alloc *a, const lapped__mesh *m, const float *t, float *out, pw_err *e)
+static int lapped__difficulty(const pw_alloc *a, const pw_trimesh *m, const float *t, float *out, pw_err *e)
 {
     int f, k;
     (void)a;
@@ -10309,7 +10356,7 @@ static int lapped__difficulty(const pw_alloc *a, const lapped__mesh *m, const fl
         pw_v3 T = t ? pw_v3_load(t + 3 * f) : pw_v3_make(0, 0, 0);
         double size = t ? pw_v3_len(T) : lapped__default_scale(m), bend = 0.0, turn = 0.0, x;
         for (k = 0; k < 3; k++) {
-            int h = 3 * f + k, g = lapped__across(m, f, k);
+            int h = 3 * f + k, g = pw_trimesh_across(m, f, k);
             if (g < 0) continue;
             if ((x = lapped__fld_bend(m, h, size)) > bend) bend = x;
             if (t) {
@@ -10331,14 +10378,14 @@ LAPPEDDEF lapped_result lapped_compute_field(const lapped_mesh *mesh, const lapp
 {
     lapped_options o = lapped__options(opt);
     pw_alloc a = lapped__alloc(&o.allocator);
-    lapped__mesh m;
+    pw_trimesh m;
     pw_err e;
     pw_err_clear(&e);
     if (!s || !t)
         pw_fail(&e, PW_ERR_INVALID, "lapped_compute_field: output array %s is NULL", !s ? "s" : "t");
     else if (lapped__mesh_init(&a, mesh, &m, &e) == PW_OK) {
         lapped__field(&a, &m, &o.field, s, t, &e);
-        lapped__mesh_free(&a, &m);
+        pw_trimesh_free(&a, &m);
     }
     return lapped__done(&e, err);
 }
@@ -11177,14 +11224,14 @@ static void lapped__cover_free(const pw_alloc *a, lapped__cover *c)
 
 /* Lattice resolutions: points about 3 texels apart for a triangle of
  * this size at this scale in the largest patch (side `texels`). */
-static int lapped__cover_sizes(lapped__cover *c, const lapped__mesh *m, const float *t, int texels, pw_err *e)
+static int lapped__cover_sizes(lapped__cover *c, const pw_trimesh *m, const float *t, int texels, pw_err *e)
 {
     int f, k;
     c->off[0] = 0;
     for (f = 0; f < m->nf; f++) {
         float longest = 0.0f, r;
         for (k = 0; k < 3; k++) {
-            float len = pw_v3_len(pw_v3_sub(lapped__corner(m, f, k), lapped__corner(m, f, (k + 1) % 3)));
+            float len = pw_v3_len(pw_v3_sub(pw_trimesh_corner(m, f, k), pw_trimesh_corner(m, f, (k + 1) % 3)));
             if (len > longest) longest = len;
         }
         r = longest / pw_v3_len(pw_v3_load(t + 3 * f)) * (float)texels / 3.0f;
@@ -11198,7 +11245,7 @@ static int lapped__cover_sizes(lapped__cover *c, const lapped__mesh *m, const fl
     return PW_OK;
 }
 
-static int lapped__cover_init(const pw_alloc *a, const lapped__mesh *m, const float *t, int texels,
+static int lapped__cover_init(const pw_alloc *a, const pw_trimesh *m, const float *t, int texels,
                               float need, lapped__cover *c, pw_err *e)
 {
     int f, r;
@@ -11393,10 +11440,10 @@ static void lapped__map_vertex(lapped__patchbuf *p, int v, float u, float w)
 
 /* Coefficients of an in-plane vector X of triangle f on its corners:
  * X = w0 A + w1 B + w2 C with w0 + w1 + w2 = 0 (§3.4, footnote 1). */
-static void lapped__coeffs(const lapped__mesh *m, int f, pw_v3 x, float w[3])
+static void lapped__coeffs(const pw_trimesh *m, int f, pw_v3 x, float w[3])
 {
-    pw_v3 a = lapped__corner(m, f, 0);
-    pw_v3 e1 = pw_v3_sub(lapped__corner(m, f, 1), a), e2 = pw_v3_sub(lapped__corner(m, f, 2), a);
+    pw_v3 a = pw_trimesh_corner(m, f, 0);
+    pw_v3 e1 = pw_v3_sub(pw_trimesh_corner(m, f, 1), a), e2 = pw_v3_sub(pw_trimesh_corner(m, f, 2), a);
     double g11 = pw_v3_dot(e1, e1), g12 = pw_v3_dot(e1, e2), g22 = pw_v3_dot(e2, e2);
     double r1 = pw_v3_dot(x, e1), r2 = pw_v3_dot(x, e2), det = g11 * g22 - g12 * g12;
     w[1] = (float)((r1 * g22 - r2 * g12) / det);
@@ -11405,7 +11452,7 @@ static void lapped__coeffs(const lapped__mesh *m, int f, pw_v3 x, float w[3])
 }
 
 /* phi(X) for an in-plane vector X of a patch triangle. */
-static void lapped__phi(const lapped__mesh *m, const lapped__patchbuf *p, int f, pw_v3 x, float out[2])
+static void lapped__phi(const pw_trimesh *m, const lapped__patchbuf *p, int f, pw_v3 x, float out[2])
 {
     float w[3];
     int k;
@@ -11421,7 +11468,7 @@ static void lapped__phi(const lapped__mesh *m, const lapped__patchbuf *p, int f,
 /* How far the parametrisation of triangle f is from the ideal phi(S) = s^,
  * phi(T) = t^: the larger of the stretch and shrink factors of the 2x2 map
  * with columns phi(S), phi(T), or infinity when it flips orientation. */
-static float lapped__distortion(const lapped__mesh *m, const lapped__patchbuf *p, int f)
+static float lapped__distortion(const pw_trimesh *m, const lapped__patchbuf *p, int f)
 {
     float ps[2], pt[2], a, b, c, d, det, fro, disc, s1, s2;
     lapped__phi(m, p, f, pw_v3_load(p->fs + 3 * f), ps);
@@ -11452,10 +11499,10 @@ static void lapped__seed_uv(const lapped__patchbuf *p, int f, pw_v3 x, pw_v3 cen
 /* Maillot et al.'s prediction (§3.3): the texture position of corner k of
  * triangle f from its other two, mapped, corners, by a triangle similar to
  * the 3D one with the same orientation. */
-static void lapped__predict(const lapped__mesh *m, const lapped__patchbuf *p, int f, int k, float out[2])
+static void lapped__predict(const pw_trimesh *m, const lapped__patchbuf *p, int f, int k, float out[2])
 {
     int ia = m->tri[3 * f + (k + 1) % 3], ib = m->tri[3 * f + (k + 2) % 3];
-    pw_v3 a = lapped__vert(m, ia), b = lapped__vert(m, ib), c = lapped__corner(m, f, k);
+    pw_v3 a = pw_trimesh_vert(m, ia), b = pw_trimesh_vert(m, ib), c = pw_trimesh_corner(m, f, k);
     pw_v3 e = pw_v3_sub(b, a), d = pw_v3_sub(c, a);
     float ee = pw_v3_dot(e, e), x = pw_v3_dot(d, e) / ee;
     float y = pw_v3_len(pw_v3_sub(d, pw_v3_scale(e, x))) / sqrtf(ee);
@@ -11467,7 +11514,7 @@ static void lapped__predict(const lapped__mesh *m, const lapped__patchbuf *p, in
 
 /* Adds the prediction of the triangle of outgoing half-edge h (from v) if
  * its other two corners are mapped. */
-static void lapped__predict_from(const lapped__mesh *m, const lapped__patchbuf *p, int h, float sum[2], int *n)
+static void lapped__predict_from(const pw_trimesh *m, const lapped__patchbuf *p, int h, float sum[2], int *n)
 {
     int f = h / 3, k = h % 3;
     float q[2];
@@ -11482,7 +11529,7 @@ static void lapped__predict_from(const lapped__mesh *m, const lapped__patchbuf *
 /* Maps the new vertex v at the centroid of the predictions of every
  * triangle around it that has its other two corners mapped (§3.3). h0 is
  * a half-edge leaving v in such a triangle. */
-static void lapped__map_new_vertex(const lapped__mesh *m, lapped__patchbuf *p, int v, int h0)
+static void lapped__map_new_vertex(const pw_trimesh *m, lapped__patchbuf *p, int v, int h0)
 {
     float sum[2] = {0.0f, 0.0f};
     int n = 0, h = h0, guard = 0;
@@ -11502,7 +11549,7 @@ static void lapped__map_new_vertex(const lapped__mesh *m, lapped__patchbuf *p, i
 typedef struct lapped__paster {
     const pw_alloc *a;
     lapped_options o;
-    lapped__mesh m;
+    pw_trimesh m;
     float *fs, *ft;          /* the field (nf*3) */
     float *difficulty;       /* nf, for the early seeds */
     const pw_image *patches; /* npatches views of the caller's RGBA patches */
@@ -11518,10 +11565,10 @@ typedef struct lapped__paster {
     int hard_edges;
 } lapped__paster;
 
-static pw_v3 lapped__centroid(const lapped__mesh *m, int f)
+static pw_v3 lapped__centroid(const pw_trimesh *m, int f)
 {
-    return pw_v3_scale(pw_v3_add(pw_v3_add(lapped__corner(m, f, 0), lapped__corner(m, f, 1)),
-                                 lapped__corner(m, f, 2)), 1.0f / 3.0f);
+    return pw_v3_scale(pw_v3_add(pw_v3_add(pw_trimesh_corner(m, f, 0), pw_trimesh_corner(m, f, 1)),
+                                 pw_trimesh_corner(m, f, 2)), 1.0f / 3.0f);
 }
 
 /* Queues the triangles across the edges of f that are neither in the patch
@@ -11531,7 +11578,7 @@ static void lapped__push_neighbours(lapped__paster *P, int f, pw_v3 centre3)
     lapped__patchbuf *p = &P->pb;
     int k;
     for (k = 0; k < 3; k++) {
-        int g = lapped__across(&P->m, f, k);
+        int g = pw_trimesh_across(&P->m, f, k);
         if (g < 0 || p->fin[g] == p->stamp || p->fout[g] == p->stamp || p->fq[g] == p->stamp) continue;
         p->fq[g] = p->stamp;
         lapped__heap_push(p, pw_v3_len(pw_v3_sub(lapped__centroid(&P->m, g), centre3)), g);
@@ -11553,7 +11600,7 @@ static void lapped__frame(lapped__paster *P, int g)
         return;
     }
     for (k = 0; k < 3; k++) {
-        int h = lapped__across(&P->m, g, k);
+        int h = pw_trimesh_across(&P->m, g, k);
         if (h >= 0 && p->fin[h] == p->stamp) t = pw_v3_add(t, pw_v3_norm(pw_v3_load(p->ft + 3 * h)));
     }
     t = pw_v3_sub(t, pw_v3_scale(n, pw_v3_dot(t, n)));
@@ -11572,13 +11619,13 @@ static void lapped__start(lapped__paster *P, int f, const float b[3], int patch,
     int k;
     p->stamp++;
     p->nfaces = p->nverts = p->nheap = p->hard = 0;
-    *centre3 = pw_v3_add(pw_v3_add(pw_v3_scale(lapped__corner(&P->m, f, 0), b[0]),
-                                   pw_v3_scale(lapped__corner(&P->m, f, 1), b[1])),
-                         pw_v3_scale(lapped__corner(&P->m, f, 2), b[2]));
+    *centre3 = pw_v3_add(pw_v3_add(pw_v3_scale(pw_trimesh_corner(&P->m, f, 0), b[0]),
+                                   pw_v3_scale(pw_trimesh_corner(&P->m, f, 1), b[1])),
+                         pw_v3_scale(pw_trimesh_corner(&P->m, f, 2), b[2]));
     lapped__frame(P, f);
     for (k = 0; k < 3; k++) {
         float uv[2];
-        lapped__seed_uv(p, f, lapped__corner(&P->m, f, k), *centre3, P->centre + 2 * patch, uv);
+        lapped__seed_uv(p, f, pw_trimesh_corner(&P->m, f, k), *centre3, P->centre + 2 * patch, uv);
         lapped__map_vertex(p, P->m.tri[3 * f + k], uv[0], uv[1]);
     }
     p->fin[f] = p->stamp;
@@ -11594,7 +11641,7 @@ static int lapped__shared(const lapped__paster *P, int g, const pw_polyhull *hul
     int k, n = 0;
     *inside = 0;
     for (k = 0; k < 3; k++) {
-        int h = lapped__across(&P->m, g, k), va = P->m.tri[3 * g + k], vb = P->m.tri[3 * g + (k + 1) % 3];
+        int h = pw_trimesh_across(&P->m, g, k), va = P->m.tri[3 * g + k], vb = P->m.tri[3 * g + (k + 1) % 3];
         if (h < 0 || p->fin[h] != p->stamp) continue;
         n++;
         *edge = k;
@@ -11876,6 +11923,21 @@ static int lapped__paste(lapped__paster *P, int early, pw_triplets *tr, double *
 
 /* ---- hidden faces (§4) --------------------------------------------------------------- */
 
+/* Drops the pastes that later ones hide completely, keeping the order. */
+static void lapped__drop_empty(lapped__paster *P)
+{
+    size_t p, n = 0;
+    for (p = 0; p < P->npastes; p++) {
+        if (P->pastes[p].nfaces > 0) {
+            P->pastes[n++] = P->pastes[p];
+            continue;
+        }
+        pw_free(P->a, P->pastes[p].faces);
+        pw_free(P->a, P->pastes[p].uvs);
+    }
+    P->npastes = n;
+}
+
 /* Removes from each paste the triangles that later pastes hide (§4: "we
  * remove for a given paste operation any faces that are completely
  * occluded by subsequent paste operations"): walking the pastes backwards,
@@ -11909,6 +11971,7 @@ static void lapped__prune(lapped__paster *P, int remove, double *before, double 
     }
     *before = (double)total / P->m.nf;
     *after = (double)kept / P->m.nf;
+    lapped__drop_empty(P);
 }
 
 /* ---- set-up -------------------------------------------------------------------------- */
@@ -11968,7 +12031,7 @@ static void lapped__paster_free(lapped__paster *P)
     lapped__cover_free(P->a, &P->cover);
     lapped__patchbuf_free(P->a, &P->pb);
     lapped__free_pastes(P->a, P->pastes, P->npastes);
-    lapped__mesh_free(P->a, &P->m);
+    pw_trimesh_free(P->a, &P->m);
 }
 
 /* The caller's patches: RGBA, finite, each reaching full opacity somewhere
@@ -12039,6 +12102,12 @@ static double lapped__estimate(const lapped__paster *P)
     return 2.0 * need;
 }
 
+/* |v| in double: a float length overflows for absurd scales. */
+static double lapped__len_d(const float *v)
+{
+    return sqrt((double)v[0] * v[0] + (double)v[1] * v[1] + (double)v[2] * v[2]);
+}
+
 static int lapped__setup(lapped__paster *P, const lapped_mesh *mesh, const lapped_image *patches,
                          int npatches, double *estimate, pw_err *e)
 {
@@ -12060,10 +12129,9 @@ static int lapped__setup(lapped__paster *P, const lapped_mesh *mesh, const lappe
     if (*estimate > P->o.max_pastes)
         return pw_fail(e, PW_ERR_LIMIT, "the texture scale is too small for this mesh: covering it would "
                        "take about %.0f pastes (limit %d, see max_pastes)", *estimate, P->o.max_pastes);
-    if (pw_v3_len(pw_v3_load(P->ft)) > 20.0f * P->m.diag)
+    if (lapped__len_d(P->ft) > 20.0 * P->m.diag)
         return pw_fail(e, PW_ERR_INVALID, "the texture scale %g is more than 20 times the mesh's size "
-                       "(%g): one patch would have to cover the whole mesh",
-                       pw_v3_len(pw_v3_load(P->ft)), P->m.diag);
+                       "(%g): one patch would have to cover the whole mesh", lapped__len_d(P->ft), P->m.diag);
     P->rng = pw_rng_seed(P->o.seed, 5);
     return PW_OK;
 }
@@ -12108,11 +12176,11 @@ static int lapped__output(lapped__paster *P, lapped_texture *out, pw_err *e)
     }
     out->ntris = P->m.nf;
     out->npatches = P->npatches;
-    out->npastes = (int)P->npastes;
-    out->pastes = P->pastes;
     out->hard_edges = P->hard_edges;
     out->allocator = lapped__allocator(P->a);
     lapped__prune(P, !P->o.keep_hidden, &out->layers_before, &out->layers);
+    out->npastes = (int)P->npastes;
+    out->pastes = P->pastes;
     P->pastes = NULL;
     P->npastes = 0;
     return PW_OK;
@@ -12156,7 +12224,7 @@ LAPPEDDEF void lapped_texture_free(lapped_texture *t)
  * what is there. */
 
 /* Checks that a lapped texture belongs to this mesh and these patches. */
-static int lapped__check_texture(const lapped__mesh *m, const lapped_texture *t,
+static int lapped__check_texture(const pw_trimesh *m, const lapped_texture *t,
                                  const lapped_image *patches, const lapped_image *values, pw_err *e)
 {
     int k, p, i;
@@ -12204,7 +12272,7 @@ static int lapped__patch_texture(const pw_alloc *a, const lapped_image *patch, c
 }
 
 /* The paste's triangles as a draw: indices and per-corner coordinates. */
-static void lapped__paste_draw(const lapped__mesh *m, const lapped_paste *p, int *tris, pw_draw *d)
+static void lapped__paste_draw(const pw_trimesh *m, const lapped_paste *p, int *tris, pw_draw *d)
 {
     int i, k;
     for (i = 0; i < p->nfaces; i++)
@@ -12216,7 +12284,7 @@ static void lapped__paste_draw(const lapped__mesh *m, const lapped_paste *p, int
 
 /* The base pass: the bare mesh, mid-grey, writing depth; then every paste
  * over it with depth test "less or equal" and no depth write. */
-static int lapped__draw_pastes(const pw_alloc *a, const lapped__mesh *m, const lapped_texture *t,
+static int lapped__draw_pastes(const pw_alloc *a, const pw_trimesh *m, const lapped_texture *t,
                                const pw_texture *tex, const lapped_render_options *ro, pw_fb *fb,
                                pw_err *e)
 {
@@ -12259,7 +12327,7 @@ LAPPEDDEF lapped_result lapped_render(const lapped_mesh *mesh, const lapped_text
 {
     lapped_render_options o;
     pw_alloc a = lapped__alloc(t ? &t->allocator : NULL);
-    lapped__mesh m;
+    pw_trimesh m;
     pw_texture *tex = NULL;
     pw_image pic;
     pw_fb fb;
@@ -12291,7 +12359,7 @@ LAPPEDDEF lapped_result lapped_render(const lapped_mesh *mesh, const lapped_text
         }
         for (k = 0; tex && k < t->npatches; k++) pw_texture_free(&a, &tex[k]);
         pw_free(&a, tex);
-        lapped__mesh_free(&a, &m);
+        pw_trimesh_free(&a, &m);
     }
     return lapped__done(&pe, err);
 }
@@ -12660,7 +12728,7 @@ static void lapped__atlas_charts_free(const pw_alloc *a, lapped__atlas_charts *c
  * prefix of the order is a valid smaller chart (a disc whose vertices are a
  * prefix of verts[]): that is what a chart is cut back to. */
 typedef struct lapped__atlas_grower {
-    const lapped__mesh *m;
+    const pw_trimesh *m;
     const pw_alloc *a;
     pw_err *e;
     double cos_cone;     /* §4: normals within the cone around the seed's */
@@ -12707,7 +12775,7 @@ static void lapped__atlas_grower_coords_with(const lapped__atlas_grower *G, int 
     }
 }
 
-static void lapped__atlas_centroid(const lapped__mesh *m, int f, double *c)
+static void lapped__atlas_centroid(const pw_trimesh *m, int f, double *c)
 {
     int k, d;
     for (d = 0; d < 3; d++) {
@@ -12719,7 +12787,7 @@ static void lapped__atlas_centroid(const lapped__mesh *m, int f, double *c)
 
 /* Triangle f in its own plane: corner 0 at the origin, corner 1 on +x,
  * corner 2 at y > 0 (counter-clockwise seen from the normal's side). */
-static void lapped__atlas_frame(const lapped__mesh *m, int f, double *x, double *y)
+static void lapped__atlas_frame(const pw_trimesh *m, int f, double *x, double *y)
 {
     double p[3][3], e1[3], e2[3], n[3], ey[3], len, nl;
     int k, d;
@@ -12765,7 +12833,7 @@ static double lapped__atlas_key(const lapped__atlas_grower *G, int g)
     double c[3], key = 0.0;
     int k, shared = 0;
     for (k = 0; k < 3; k++) {
-        int h = lapped__across(G->m, g, k);
+        int h = pw_trimesh_across(G->m, g, k);
         shared += h >= 0 && G->chart[h] == G->cur;
     }
     if (shared >= 2) return -1.0;
@@ -12779,7 +12847,7 @@ static int lapped__atlas_push_neighbours(lapped__atlas_grower *G, int f)
 {
     int k;
     for (k = 0; k < 3; k++) {
-        int g = lapped__across(G->m, f, k);
+        int g = pw_trimesh_across(G->m, f, k);
         if (g < 0 || G->chart[g] >= 0 || G->cone[g] == G->cur) continue;
         if (lapped__atlas_heap_push(G->a, &G->heap, lapped__atlas_key(G, g), g, G->e)) return PW_ERR_NOMEM;
     }
@@ -12847,7 +12915,7 @@ static int lapped__atlas_grow_start(lapped__atlas_grower *G, int f)
  * to the centroid of the predictions. */
 static void lapped__atlas_maillot(const lapped__atlas_grower *G, int v, double *V)
 {
-    const lapped__mesh *m = G->m;
+    const pw_trimesh *m = G->m;
     int h0 = m->hm.vout[v], h = h0, n = 0;
     V[0] = V[1] = 0.0;
     do {
@@ -12904,7 +12972,7 @@ static int lapped__atlas_flat_ok(const lapped__atlas_grower *G, int f, const dou
  * flattened shape are deferred. */
 static int lapped__atlas_grow_try(lapped__atlas_grower *G, int f)
 {
-    const lapped__mesh *m = G->m;
+    const pw_trimesh *m = G->m;
     const float *n = m->normal + 3 * f, *ns = m->normal + 3 * G->seed;
     int k, shared = 0, sk = 0, v = -1;
     double t[6], V[2] = {0.0, 0.0};
@@ -12914,7 +12982,7 @@ static int lapped__atlas_grow_try(lapped__atlas_grower *G, int f)
         return PW_OK;
     }
     for (k = 0; k < 3; k++) {
-        int g = lapped__across(m, f, k);
+        int g = pw_trimesh_across(m, f, k);
         if (g >= 0 && G->chart[g] == G->cur) shared++, sk = k;
     }
     /* Disc: across one edge the third vertex must be new (else the chart
@@ -13253,7 +13321,7 @@ static void lapped__atlas_grower_free(lapped__atlas_grower *G)
 }
 
 /* Mean edge length: the hash's cell size. */
-static double lapped__atlas_mean_edge(const lapped__mesh *m)
+static double lapped__atlas_mean_edge(const pw_trimesh *m)
 {
     double sum = 0.0;
     int f, k, d;
@@ -13267,7 +13335,7 @@ static double lapped__atlas_mean_edge(const lapped__mesh *m)
     return sum / (3.0 * m->nf);
 }
 
-static int lapped__atlas_grower_init(lapped__atlas_grower *G, const pw_alloc *a, const lapped__mesh *m, double cone_deg,
+static int lapped__atlas_grower_init(lapped__atlas_grower *G, const pw_alloc *a, const pw_trimesh *m, double cone_deg,
                                int *chart, pw_err *e)
 {
     double cell = lapped__atlas_mean_edge(m);
@@ -13294,7 +13362,7 @@ static int lapped__atlas_grower_init(lapped__atlas_grower *G, const pw_alloc *a,
 /* §4: the charts. Each is seeded at the lowest-index unassigned triangle
  * and grown until nothing more can join; every triangle ends in exactly
  * one chart (a seed always forms a chart by itself). */
-static int lapped__atlas_charts_build(const pw_alloc *a, const lapped__mesh *m, double cone_deg,
+static int lapped__atlas_charts_build(const pw_alloc *a, const pw_trimesh *m, double cone_deg,
                                 const pw_progress *prog, lapped__atlas_charts *C, pw_err *e)
 {
     lapped__atlas_grower G;
@@ -13338,7 +13406,7 @@ static int lapped__atlas_charts_build(const pw_alloc *a, const lapped__mesh *m, 
  * so also to the image border). Beyond 1024 pixels the grid's cells are
  * several pixels wide and both parts are rounded up to whole cells. */
 typedef struct lapped__atlas_packer {
-    const lapped__mesh *m;
+    const pw_trimesh *m;
     const lapped__atlas_charts *C;
     int size, gutter;    /* the packing grid: size x size cells of `unit` pixels; gutter in cells */
     int pad_lo;          /* cells of the gutter on the left of and below a chart (the rest:
@@ -13826,7 +13894,7 @@ static int lapped__atlas_pack_prepare(const pw_alloc *a, lapped__atlas_packer *P
 /* The packing grid: cells of one pixel up to 1024 pixels a side, of
  * ceil(size / 1024) pixels beyond (the search costs grow with the grid's
  * area; a chart then loses at most a cell's rounding per side). */
-static int lapped__atlas_packer_init(const pw_alloc *a, lapped__atlas_packer *P, const lapped__mesh *m,
+static int lapped__atlas_packer_init(const pw_alloc *a, lapped__atlas_packer *P, const pw_trimesh *m,
                                      const lapped__atlas_charts *C, int size, int gutter, pw_err *e)
 {
     size_t n = (size_t)C->n, rows, cells, spans, runs;
@@ -13944,7 +14012,7 @@ static void lapped__atlas_pack_uvs(const lapped__atlas_packer *P, double s, floa
 }
 
 /* §4 packing: charts into the unit square; uvs gets nf*6 coordinates. */
-static int lapped__atlas_pack(const pw_alloc *a, const lapped__mesh *m, const lapped__atlas_charts *C, int size,
+static int lapped__atlas_pack(const pw_alloc *a, const pw_trimesh *m, const lapped__atlas_charts *C, int size,
                         int gutter, const pw_progress *prog, float *uvs, float *fill, pw_err *e)
 {
     lapped__atlas_packer P;
@@ -14140,7 +14208,7 @@ static int lapped__atlas_dilate(const pw_alloc *a, lapped__atlas_baker *B, int g
 
 /* §4 baking: the lapped texture (or the `values` channel) into an image of
  * size x size pixels with oc channels, through the atlas coordinates. */
-static int lapped__atlas_bake(const pw_alloc *a, const lapped__mesh *m, const float *uvs, const lapped__index *ix,
+static int lapped__atlas_bake(const pw_alloc *a, const pw_trimesh *m, const float *uvs, const lapped__index *ix,
                         const lapped_texture *t, const pw_image *patches, const pw_image *values, int oc,
                         int size, int gutter, const pw_progress *prog, pw_image *out, pw_err *e)
 {
@@ -14267,7 +14335,7 @@ static pw_image *lapped__atlas_image_views(const pw_alloc *a, const lapped_textu
 }
 
 /* Charts, packing and baking, once everything has been checked. */
-static int lapped__atlas_run(const pw_alloc *a, const lapped__mesh *m, const lapped_texture *t,
+static int lapped__atlas_run(const pw_alloc *a, const pw_trimesh *m, const lapped_texture *t,
                              const pw_image *views, int oc, const lapped_atlas_options *o, const pw_progress *prog,
                              lapped_atlas *out, pw_image *img, pw_err *e)
 {
@@ -14298,7 +14366,7 @@ LAPPEDDEF lapped_result lapped_bake_atlas(const lapped_mesh *mesh, const lapped_
     lapped_atlas_options ato;
     pw_alloc a = lapped__alloc(&o.allocator);
     pw_progress prog = lapped__progress(&o);
-    lapped__mesh m;
+    pw_trimesh m;
     pw_image img, *views = NULL;
     pw_err pe;
     int r;
@@ -14321,7 +14389,7 @@ LAPPEDDEF lapped_result lapped_bake_atlas(const lapped_mesh *mesh, const lapped_
         else lapped__take_image(&img, &a, &out->image);
     }
     pw_free(&a, views);
-    lapped__mesh_free(&a, &m);
+    pw_trimesh_free(&a, &m);
     if (pe.code) {
         pw_image_free(&a, &img);
         pw_free(&a, out->uvs);
@@ -14378,7 +14446,7 @@ static int lapped__atlas_dedup_uvs(const pw_alloc *a, const float *uvs, int nc, 
 
 /* The triangulated mesh with the atlas's corner coordinates as a pw_mesh
  * (positions borrowed); free fstart, uv and fuv. */
-static int lapped__atlas_mesh(const pw_alloc *a, const lapped__mesh *m, const lapped_atlas *atlas, pw_mesh *pm,
+static int lapped__atlas_mesh(const pw_alloc *a, const pw_trimesh *m, const lapped_atlas *atlas, pw_mesh *pm,
                               pw_err *e)
 {
     int f, k;
@@ -14403,7 +14471,7 @@ LAPPEDDEF lapped_result lapped_write_obj_to_func(const lapped_mesh *mesh, const 
                                                  lapped_error *err)
 {
     pw_alloc a;
-    lapped__mesh m;
+    pw_trimesh m;
     pw_mesh pm;
     pw_err pe;
     pw_err_clear(&pe);
@@ -14423,7 +14491,7 @@ LAPPEDDEF lapped_result lapped_write_obj_to_func(const lapped_mesh *mesh, const 
     pw_free(&a, pm.fstart);
     pw_free(&a, pm.uv);
     pw_free(&a, pm.fuv);
-    lapped__mesh_free(&a, &m);
+    pw_trimesh_free(&a, &m);
     return lapped__done(&pe, err);
 }
 

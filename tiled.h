@@ -6730,6 +6730,13 @@ typedef struct pw_draw {
                                faces are lit with their normals reversed */
     float light_dir[3];     /* direction toward the light; zero: (-0.3, 0.4, 1) in camera space */
     float ambient;          /* brightness of unlit parts, in [0, 1]; 0: 0.25; negative: none */
+    /* Optional, replaces the texture: the straight RGBA of triangle `tri` at
+     * the point of barycentric coordinates (1 - b1 - b2, b1, b2) (perspective-
+     * correct, corners in the triangle's order), given db = (db1/dx, db1/dy,
+     * db2/dx, db2/dy) per pixel for filtering. Multiplied into the colour as
+     * a texture lookup would be; uvs are not needed. */
+    void (*shader)(void *user, int tri, float b1, float b2, const float db[4], float rgba[4]);
+    void *shader_user;
 } pw_draw;
 
 #define PW__ZT 8 /* coarse depth tile, in samples */
@@ -6916,7 +6923,12 @@ PW__DEF void pw__attr_planes(const pw__ctx *c, int t, float *pl)
     if (pl[PW__READY] != 0.0f) return;
     pl[PW__READY] = 1.0f;
     pw__tri_adjugate(c, t, r, &det); /* succeeded when the triangle was set up */
-    if (c->tex) {
+    if (d->shader) { /* barycentric coordinates b1, b2 in the places of u, v */
+        for (k = 0; k < 2; k++) {
+            for (i = 0; i < 3; i++) a[i] = i == k + 1 ? 1.0 : 0.0;
+            pw__plane(r, a, ox, oy, pl + 3 + 3 * k);
+        }
+    } else if (c->tex) {
         const float *uv = d->uvs + 6 * (size_t)t;
         for (k = 0; k < 2; k++) {
             for (i = 0; i < 3; i++) a[i] = uv[2 * i + k];
@@ -7016,6 +7028,23 @@ PW__DEF void pw__shade_tex(const pw__ctx *c, const float *pl, float dx, float dy
     for (k = 0; k < 4; k++) col[k] *= tx[k];
 }
 
+/* The caller's shader at a shading point: barycentric coordinates and
+ * their derivatives per pixel, as pw__shade_tex finds u, v. Multiplies col. */
+PW__DEF void pw__shade_custom(const pw__ctx *c, int t, const float *pl, float dx, float dy, float iq,
+                              float *col)
+{
+    float b1 = (pl[3] * dx + pl[4] * dy + pl[5]) * iq, b2 = (pl[6] * dx + pl[7] * dy + pl[8]) * iq;
+    float db[4], rgba[4], s = c->ss * iq;
+    int k;
+    db[0] = (pl[3] - b1 * pl[0]) * s;
+    db[1] = (pl[4] - b1 * pl[1]) * s;
+    db[2] = (pl[6] - b2 * pl[0]) * s;
+    db[3] = (pl[7] - b2 * pl[1]) * s;
+    c->d->shader(c->d->shader_user, t, b1, b2, db, rgba);
+    for (k = 0; k < 3; k++) col[k] *= rgba[k] * rgba[3];
+    col[3] *= rgba[3];
+}
+
 /* Shades triangle t at sample-grid point (x, y): tint x texture, lit.
  * Output premultiplied RGBA. */
 PW__DEF void pw__shade(const pw__ctx *c, int t, float x, float y, float *out)
@@ -7029,7 +7058,8 @@ PW__DEF void pw__shade(const pw__ctx *c, int t, float x, float y, float *out)
     col[3] = c->tint[3];
     if (pl[PW__READY] == 0.0f) pw__attr_planes(c, t, pl);
     if (!(q > 1e-30f)) q = 1e-30f; /* only reachable through rounding at a near-plane edge */
-    if (c->tex) pw__shade_tex(c, pl, dx, dy, 1.0f / q, col);
+    if (c->d->shader) pw__shade_custom(c, t, pl, dx, dy, 1.0f / q, col);
+    else if (c->tex) pw__shade_tex(c, pl, dx, dy, 1.0f / q, col);
     if (c->lit) {
         float n0 = pl[9] * dx + pl[10] * dy + pl[11], n1 = pl[12] * dx + pl[13] * dy + pl[14];
         float n2 = pl[15] * dx + pl[16] * dy + pl[17], nn = n0 * n0 + n1 * n1 + n2 * n2;

@@ -34,8 +34,10 @@ typedef struct cli_outputs {
     char tmp_path[16][1024];
 } cli_outputs;
 
-/* Registers an output; returns the temporary path to write, NULL if too many. */
+/* Registers an output; returns the temporary path to write, NULL if too
+ * many or if the path is already registered (two outputs on one file). */
 const char *cli_stage(cli_outputs *o, const char *path);
+int cli_staged(const cli_outputs *o, const char *path);
 tiled_result cli_commit(cli_outputs *o, tiled_error *err);
 void cli_abort(cli_outputs *o);
 

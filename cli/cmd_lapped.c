@@ -19,6 +19,8 @@ static const char *lapped_usage =
     "  --mask IMG           alpha of the (first) patch from a mask image\n"
     "  --splotch | --circle generated alpha (default: the image's alpha, else splotch)\n"
     "  --falloff PX         alpha fall-off at the patch border (default 3)\n"
+    "  --channel IMG        another per-texel channel (bump, displacement...) of the\n"
+    "                       same size as the texture; one per --texture, in order\n"
     "field (texture orientation and scale):\n"
     "  --field up[:X,Y,Z]   up direction projected on the surface (default +Y)\n"
     "  --field isotropic    scale only, orientation propagated while growing\n"
@@ -33,16 +35,21 @@ static const char *lapped_usage =
     "  --out-patch FILE.pam the first patch with its final alpha (RGBA PAM)\n"
     "  --out-image IMG      a rendering by runtime pasting (.png .ppm .pgm .pam)\n"
     "  --size WxH           rendering size (default 800x600)\n"
-    "  --out-obj FILE       triangulated mesh with texture-atlas coordinates + .mtl;\n"
-    "  --out-atlas IMG      needs --out-atlas: the lapped texture baked into an atlas\n"
-    "  --atlas-size PX      atlas side (default 1024)\n";
+    "  --out-obj FILE       triangulated mesh with texture-atlas coordinates, and\n"
+    "                       FILE's .mtl naming the atlas (needs --out-atlas)\n"
+    "  --out-atlas IMG      the lapped texture baked into the atlas (needs --out-obj)\n"
+    "  --atlas-size PX      atlas side (default 1024)\n"
+    "  --out-channel-image IMG  the --channel images pasted the same way, rendered\n"
+    "  --out-channel-atlas IMG  ... baked into an atlas of the same layout as\n"
+    "                       --out-atlas (needs --out-obj)\n";
 
 #define MAX_TEXTURES 16
 
 typedef struct lapped_cmd {
-    const char *mesh, *textures[MAX_TEXTURES], *mask, *constraints;
+    const char *mesh, *textures[MAX_TEXTURES], *channels[MAX_TEXTURES], *mask, *constraints;
     const char *out_pastes, *out_patch, *out_image, *out_obj, *out_atlas;
-    int ntextures;
+    const char *out_channel_image, *out_channel_atlas;
+    int ntextures, nchannels;
     lapped_options opt;
     lapped_render_options ro;
     lapped_atlas_options ao;
@@ -75,6 +82,7 @@ static int parse_field(cli_args *a, lapped_cmd *c)
             f->up[k] = strtof(p, &end);
             if (end == p || (k < 2 && *end != ',') || (k == 2 && *end)) return bad("--field", v);
         }
+        if (f->up[0] == 0.0f && f->up[1] == 0.0f && f->up[2] == 0.0f) return bad("--field (zero up vector)", v);
     } else
         return bad("--field", v);
     return 1;
@@ -98,6 +106,10 @@ static int parse_one(cli_args *a, lapped_cmd *c)
         if (c->ntextures == MAX_TEXTURES) return bad("--texture", "(more than 16)");
         return cli_value(a, &c->textures[c->ntextures++]);
     }
+    if (cli_is(a, "--channel")) {
+        if (c->nchannels == MAX_TEXTURES) return bad("--channel", "(more than 16)");
+        return cli_value(a, &c->channels[c->nchannels++]);
+    }
     if (cli_is(a, "--mask")) return (c->opt.alpha = LAPPED_ALPHA_MASK), cli_value(a, &c->mask);
     if (cli_is(a, "--splotch")) return (c->opt.alpha = LAPPED_ALPHA_SPLOTCH), 1;
     if (cli_is(a, "--circle")) return (c->opt.alpha = LAPPED_ALPHA_CIRCLE), 1;
@@ -112,6 +124,8 @@ static int parse_one(cli_args *a, lapped_cmd *c)
     if (cli_is(a, "--size")) return cli_size(a, &c->ro.width, &c->ro.height);
     if (cli_is(a, "--out-obj")) return cli_value(a, &c->out_obj);
     if (cli_is(a, "--out-atlas")) return cli_value(a, &c->out_atlas);
+    if (cli_is(a, "--out-channel-image")) return cli_value(a, &c->out_channel_image);
+    if (cli_is(a, "--out-channel-atlas")) return cli_value(a, &c->out_channel_atlas);
     if (cli_is(a, "--atlas-size")) return cli_int(a, 64, 16384, &c->ao.size);
     cli_error("lapped", "unknown option '%s' (try patchwork lapped --help)", a->argv[a->i]);
     return 0;
@@ -136,8 +150,22 @@ static int parse(int argc, char **argv, lapped_cmd *c)
         cli_error("lapped", "--out-obj and --out-atlas go together");
         return 0;
     }
-    if (!c->out_pastes && !c->out_patch && !c->out_image && !c->out_obj) {
-        cli_error("lapped", "nothing to write: give --out-pastes, --out-patch, --out-image or --out-obj");
+    if (c->nchannels && c->nchannels != c->ntextures) {
+        cli_error("lapped", "%d --channel for %d --texture: give one per texture", c->nchannels,
+                  c->ntextures);
+        return 0;
+    }
+    if (!c->nchannels != !(c->out_channel_image || c->out_channel_atlas)) {
+        cli_error("lapped", "--channel and --out-channel-image/--out-channel-atlas go together");
+        return 0;
+    }
+    if (c->out_channel_atlas && !c->out_obj) {
+        cli_error("lapped", "--out-channel-atlas needs --out-obj and --out-atlas");
+        return 0;
+    }
+    if (!c->out_pastes && !c->out_patch && !c->out_image && !c->out_obj && !c->out_channel_image) {
+        cli_error("lapped", "nothing to write: give --out-pastes, --out-patch, --out-image, "
+                  "--out-obj or --out-channel-image");
         return 0;
     }
     return 1;
@@ -208,47 +236,72 @@ static lapped_result write_pastes(cli_outputs *outs, const char *path, const lap
     return err->code = r;
 }
 
-/* The atlas: OBJ + MTL (naming the atlas image) + the image. */
-static lapped_result write_atlas(lapped_cmd *c, cli_outputs *outs, const lapped_mesh *mesh,
-                                 const lapped_texture *t, const lapped_image *patches, lapped_error *err)
+/* OBJ + MTL naming the atlas image. */
+static lapped_result write_obj(lapped_cmd *c, cli_outputs *outs, const lapped_mesh *mesh,
+                               const lapped_atlas *atlas, lapped_error *err)
 {
-    lapped_atlas atlas;
     char mtl[1024];
-    lapped_result r = lapped_bake_atlas(mesh, t, patches, NULL, &c->ao, &c->opt, &atlas, err);
+    lapped_result r;
     FILE *f;
-    if (r != LAPPED_OK) return r;
     cli_with_ext(c->out_obj, ".mtl", mtl, sizeof mtl);
-    if ((f = cli_open(outs, c->out_obj, err->message, sizeof err->message)) == NULL) r = LAPPED_ERR_IO;
-    else {
-        r = lapped_write_obj_to_func(mesh, &atlas, cli_texture_ref(c->out_obj, mtl), cli_fwrite, f, err);
-        if (!cli_close(f, r == LAPPED_OK, c->out_obj, err->message, sizeof err->message)) r = LAPPED_ERR_IO;
-    }
+    if ((f = cli_open(outs, c->out_obj, err->message, sizeof err->message)) == NULL) return err->code = LAPPED_ERR_IO;
+    r = lapped_write_obj_to_func(mesh, atlas, cli_texture_ref(c->out_obj, mtl), cli_fwrite, f, err);
+    if (!cli_close(f, r == LAPPED_OK, c->out_obj, err->message, sizeof err->message)) r = LAPPED_ERR_IO;
     if (r == LAPPED_OK && (f = cli_open(outs, mtl, err->message, sizeof err->message)) == NULL) r = LAPPED_ERR_IO;
     else if (r == LAPPED_OK) {
         r = lapped_write_mtl_to_func(cli_texture_ref(c->out_obj, c->out_atlas), cli_fwrite, f, err);
         if (!cli_close(f, r == LAPPED_OK, mtl, err->message, sizeof err->message)) r = LAPPED_ERR_IO;
     }
-    if (r == LAPPED_OK) r = write_image(outs, c->out_atlas, &atlas.image, err);
-    if (r == LAPPED_OK)
+    return err->code = r;
+}
+
+/* The lapped texture (values NULL) or the extra channel baked into an atlas
+ * image at `path`; with `obj`, also the OBJ + MTL. The layout depends only
+ * on the mesh and the pastes, so both atlases share it. */
+static lapped_result write_atlas(lapped_cmd *c, cli_outputs *outs, const lapped_mesh *mesh,
+                                 const lapped_texture *t, const lapped_image *patches,
+                                 const lapped_image *values, const char *path, int obj, lapped_error *err)
+{
+    lapped_atlas atlas;
+    lapped_result r = lapped_bake_atlas(mesh, t, patches, values, &c->ao, &c->opt, &atlas, err);
+    if (r != LAPPED_OK) return r;
+    if (obj) r = write_obj(c, outs, mesh, &atlas, err);
+    if (r == LAPPED_OK) r = write_image(outs, path, &atlas.image, err);
+    if (r == LAPPED_OK && obj)
         printf("lapped: atlas of %d charts, %.0f%% of %dx%d filled\n", atlas.ncharts, 100.0 * atlas.fill,
                atlas.image.width, atlas.image.height);
     lapped_atlas_free(&atlas);
     return err->code = r;
 }
 
+/* The runtime-pasting rendering of the patches (values NULL) or of the
+ * extra channel. */
+static lapped_result write_render(lapped_cmd *c, cli_outputs *outs, const lapped_mesh *mesh,
+                                  const lapped_texture *t, const lapped_image *patches,
+                                  const lapped_image *values, const char *path, lapped_error *err)
+{
+    lapped_image pic;
+    lapped_result r = lapped_render(mesh, t, patches, values, &c->ro, &pic, err);
+    if (r != LAPPED_OK) return r;
+    r = write_image(outs, path, &pic, err);
+    lapped_image_free(&pic);
+    return r;
+}
+
 static lapped_result run(lapped_cmd *c, cli_outputs *outs, lapped_error *err)
 {
-    lapped_image patches[MAX_TEXTURES], pic;
+    lapped_image patches[MAX_TEXTURES], channels[MAX_TEXTURES];
     lapped_constraint *cons = NULL;
     lapped_texture t;
     lapped_mesh mesh;
     lapped_result r;
     int k;
     memset(patches, 0, sizeof patches);
-    memset(&pic, 0, sizeof pic);
+    memset(channels, 0, sizeof channels);
     memset(&t, 0, sizeof t);
     memset(&mesh, 0, sizeof mesh);
     r = make_patches(c, patches, err);
+    for (k = 0; k < c->nchannels && r == LAPPED_OK; k++) r = load_image(c->channels[k], &c->opt, &channels[k], err);
     if (r == LAPPED_OK && c->constraints &&
         (r = lapped_load_constraints(c->constraints, &c->opt, &cons, &c->opt.field.nconstraints, err)) == LAPPED_OK)
         c->opt.field.constraints = cons;
@@ -259,14 +312,19 @@ static lapped_result run(lapped_cmd *c, cli_outputs *outs, lapped_error *err)
                t.ntris, t.npastes, t.layers, t.layers_before, t.hard_edges);
     if (r == LAPPED_OK && c->out_patch) r = write_image(outs, c->out_patch, &patches[0], err);
     if (r == LAPPED_OK && c->out_pastes) r = write_pastes(outs, c->out_pastes, &t, err);
-    if (r == LAPPED_OK && c->out_image && (r = lapped_render(&mesh, &t, patches, NULL, &c->ro, &pic, err)) == LAPPED_OK)
-        r = write_image(outs, c->out_image, &pic, err);
-    if (r == LAPPED_OK && c->out_obj) r = write_atlas(c, outs, &mesh, &t, patches, err);
-    lapped_image_free(&pic);
+    if (r == LAPPED_OK && c->out_image) r = write_render(c, outs, &mesh, &t, patches, NULL, c->out_image, err);
+    if (r == LAPPED_OK && c->out_channel_image)
+        r = write_render(c, outs, &mesh, &t, patches, channels, c->out_channel_image, err);
+    if (r == LAPPED_OK && c->out_obj) r = write_atlas(c, outs, &mesh, &t, patches, NULL, c->out_atlas, 1, err);
+    if (r == LAPPED_OK && c->out_channel_atlas)
+        r = write_atlas(c, outs, &mesh, &t, patches, channels, c->out_channel_atlas, 0, err);
     lapped_texture_free(&t);
     lapped_mesh_free(&mesh);
     lapped_free_constraints(cons, &c->opt);
-    for (k = 0; k < MAX_TEXTURES; k++) lapped_image_free(&patches[k]);
+    for (k = 0; k < MAX_TEXTURES; k++) {
+        lapped_image_free(&patches[k]);
+        lapped_image_free(&channels[k]);
+    }
     return r;
 }
 

@@ -94,12 +94,17 @@ int cli_is_procedural(const char *s, const char **name)
     return 1;
 }
 
-const char *cli_stage(cli_outputs *o, const char *path)
+int cli_staged(const cli_outputs *o, const char *path)
 {
     int k;
-    if (o->n >= 16 || strlen(path) + 9 > sizeof o->final_path[0]) return NULL;
     for (k = 0; k < o->n; k++)
-        if (!strcmp(o->final_path[k], path)) return o->tmp_path[k];
+        if (!strcmp(o->final_path[k], path)) return 1;
+    return 0;
+}
+
+const char *cli_stage(cli_outputs *o, const char *path)
+{
+    if (o->n >= 16 || strlen(path) + 9 > sizeof o->final_path[0] || cli_staged(o, path)) return NULL;
     strcpy(o->final_path[o->n], path);
     snprintf(o->tmp_path[o->n], sizeof o->tmp_path[0], "%s.partial", path);
     return o->tmp_path[o->n++];
@@ -150,8 +155,14 @@ int cli_fwrite(void *ctx, const void *data, size_t size)
 
 FILE *cli_open(cli_outputs *o, const char *path, char *msg, size_t size)
 {
-    const char *tmp = cli_stage(o, path);
-    FILE *f = tmp ? fopen(tmp, "wb") : NULL;
+    const char *tmp;
+    FILE *f;
+    if (cli_staged(o, path)) {
+        snprintf(msg, size, "%.200s: named by two outputs", path);
+        return NULL;
+    }
+    tmp = cli_stage(o, path);
+    f = tmp ? fopen(tmp, "wb") : NULL;
     if (!f) snprintf(msg, size, "%.200s: cannot open for writing", path);
     return f;
 }

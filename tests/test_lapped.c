@@ -112,7 +112,7 @@ static void t_coverage_disc_boundary(void) { coverage_case("disc", "dots", LAPPE
 static void alignment_errors(const lapped_mesh *mesh, const lapped_texture *t, const lapped_options *o,
                              double *median, double *p90)
 {
-    lapped__mesh m;
+    pw_trimesh m;
     pw_alloc a;
     pw_err e;
     float *s = (float *)malloc(sizeof(float) * 3 * t->ntris), *tt = (float *)malloc(sizeof(float) * 3 * t->ntris);
@@ -146,7 +146,7 @@ static void alignment_errors(const lapped_mesh *mesh, const lapped_texture *t, c
     free(errs);
     free(s);
     free(tt);
-    lapped__mesh_free(&a, &m);
+    pw_trimesh_free(&a, &m);
 }
 
 /* With a smooth up field on a smooth mesh, phi(S) and phi(T) match the
@@ -179,13 +179,13 @@ static void t_alignment(void)
  * each of its vertices form one fan: walking around a vertex, at most one
  * triangle of the set has its next neighbour (across the edge leaving the
  * vertex) outside the set. vmark and ends are nv zeroed scratch arrays. */
-static int is_disc(const lapped__mesh *m, const int *faces, int n, int *in_set, int *vmark, int *ends)
+static int is_disc(const pw_trimesh *m, const int *faces, int n, int *in_set, int *vmark, int *ends)
 {
     int i, k, v = 0, e2 = 0, bad = 0;
     for (i = 0; i < n; i++) in_set[faces[i]] = 1;
     for (i = 0; i < n; i++)
         for (k = 0; k < 3; k++) {
-            int g = lapped__across(m, faces[i], k), vert = m->tri[3 * faces[i] + k];
+            int g = pw_trimesh_across(m, faces[i], k), vert = m->tri[3 * faces[i] + k];
             int inside = g >= 0 && in_set[g];
             e2 += inside ? 1 : 2; /* edges inside the set are seen from both sides */
             if (!vmark[vert]++) v++;
@@ -204,7 +204,7 @@ static void t_disc_topology(void)
     lapped_mesh mesh;
     lapped_image patch;
     lapped_texture t;
-    lapped__mesh m;
+    pw_trimesh m;
     pw_alloc a;
     pw_err e;
     int p, bad = 0, *in_set, *vmark, *ends;
@@ -224,7 +224,7 @@ static void t_disc_topology(void)
     free(in_set);
     free(vmark);
     free(ends);
-    lapped__mesh_free(&a, &m);
+    pw_trimesh_free(&a, &m);
     lapped_texture_free(&t);
     lapped_image_free(&patch);
     lapped_mesh_free(&mesh);

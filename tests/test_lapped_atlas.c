@@ -321,7 +321,7 @@ static void paste_uv(const float *v, const double *cc, const double *e1, const d
     uv[1] = (float)(0.5 + 0.5 * b / R);
 }
 
-static void make_texture(const lapped__mesh *m, int k, handmade *H)
+static void make_texture(const pw_trimesh *m, int k, handmade *H)
 {
     double lo[3], hi[3], ext = 0, R, d[3];
     int a0, a1, p, f, c, i, s = 0;
@@ -430,7 +430,7 @@ static double rnd(unsigned long long *s)
 /* Every triangle in exactly one chart; each chart a connected disc
  * (Euler characteristic 1) whose normals lie within the cone around its
  * seed's, flattened without flips. Returns the number of charts. */
-static int check_partition(const lapped__mesh *m, const lapped__atlas_charts *C, double cone)
+static int check_partition(const pw_trimesh *m, const lapped__atlas_charts *C, double cone)
 {
     int *seen = (int *)calloc((size_t)m->nf, sizeof(int)), *vmark = (int *)malloc(sizeof(int) * m->nv);
     int *queue = (int *)malloc(sizeof(int) * m->nf), c, i, k, bad_cone = 0, bad_disc = 0, bad_flip = 0;
@@ -450,7 +450,7 @@ static int check_partition(const lapped__mesh *m, const lapped__atlas_charts *C,
             for (k = 0; k < 6; k++) t[k] = C->uv[6 * f + k];
             if (!(lapped__atlas_area2(t) > 0)) bad_flip++;
             for (k = 0; k < 3; k++) {
-                int v = m->tri[3 * f + k], g = lapped__across(m, f, k);
+                int v = m->tri[3 * f + k], g = pw_trimesh_across(m, f, k);
                 if (vmark[v] != c) vmark[v] = c, V++;
                 if (g < 0 || C->chart[g] != c) B++;
             }
@@ -461,7 +461,7 @@ static int check_partition(const lapped__mesh *m, const lapped__atlas_charts *C,
         while (head < tail) {
             int f = queue[head++];
             for (k = 0; k < 3; k++) {
-                int g = lapped__across(m, f, k);
+                int g = pw_trimesh_across(m, f, k);
                 if (g >= 0 && C->chart[g] == c && seen[g] < 1000) seen[g] += 1000, queue[tail++] = g;
             }
         }
@@ -495,7 +495,7 @@ static void id_texel(void *user, int x, int y, float b0, float b1, float b2)
  * that coordinates keep floor(gutter/2) pixels from the left and bottom
  * border and the rest of the gutter from the others, and that texels of
  * different charts are at least `gutter` apart. */
-static int *check_overlap(const lapped__mesh *m, const lapped__atlas_charts *C, const lapped_atlas *at, int g,
+static int *check_overlap(const pw_trimesh *m, const lapped__atlas_charts *C, const lapped_atlas *at, int g,
                           int *ntexels)
 {
     int n = at->image.width, f, k, x, y, twice = 0, border = 0, close = 0;
@@ -534,7 +534,7 @@ static int *check_overlap(const lapped__mesh *m, const lapped__atlas_charts *C, 
 
 /* Singular values of the map from triangle f (its own plane) to the atlas
  * (pixels). */
-static void tri_sigma(const lapped__mesh *m, const float *uv, int f, double size, double *s1, double *s2)
+static void tri_sigma(const pw_trimesh *m, const float *uv, int f, double size, double *s1, double *s2)
 {
     double x[3], y[3], a, b, c, d, det, tr, disc, ia, ib, ic, id;
     lapped__atlas_frame(m, f, x, y);
@@ -577,7 +577,7 @@ static double wquantile(wval *a, int n, double q)
 
 /* Distortion (singular-value ratio, area-weighted median and 95th
  * percentile) and the spread of texel density over charts. */
-static void measure_maps(const lapped__mesh *m, const lapped__atlas_charts *C, const lapped_atlas *at,
+static void measure_maps(const pw_trimesh *m, const lapped__atlas_charts *C, const lapped_atlas *at,
                          double *med, double *p95, double *spread, double *density)
 {
     wval *r = (wval *)malloc(sizeof(wval) * m->nf);
@@ -628,7 +628,7 @@ static void eval_texel(void *user, int x, int y, float b0, float b1, float b2)
 }
 
 /* Every covered texel holds exactly the lapped texture at its centre. */
-static void check_texel_centres(const lapped__mesh *m, const lapped__index *ix, const lapped_texture *t,
+static void check_texel_centres(const pw_trimesh *m, const lapped__index *ix, const lapped_texture *t,
                                 const pw_image *pv, const pw_image *vv, const lapped_atlas *at)
 {
     evalcheck E;
@@ -662,7 +662,7 @@ static errstats quantiles(double *e, int n)
     return q;
 }
 
-static void check_samples(const lapped__mesh *m, const lapped__atlas_charts *C, const lapped__index *ix,
+static void check_samples(const pw_trimesh *m, const lapped__atlas_charts *C, const lapped__index *ix,
                           const lapped_texture *t, const pw_image *pv, const pw_image *vv, const lapped_atlas *at,
                           const int *ids, errstats *in, errstats *all)
 {
@@ -731,7 +731,7 @@ static void check_gutter(const lapped_atlas *at, const int *ids, int g)
 
 /* Writes the atlas and a rendering of the mesh textured with it to
  * $LAPPED_ATLAS_OUT/atlas_NAME.png and render_NAME.png, if set. */
-static void write_pictures(const char *name, const lapped__mesh *m, const lapped_atlas *at)
+static void write_pictures(const char *name, const pw_trimesh *m, const lapped_atlas *at)
 {
     const char *dir = getenv("LAPPED_ATLAS_OUT");
     char path[1024];
@@ -767,7 +767,7 @@ static void write_pictures(const char *name, const lapped__mesh *m, const lapped
 static void check_mesh_with(const char *name, const lapped_mesh *mesh, int npastes, int size, double cone, int gutter,
                             double fill_floor)
 {
-    lapped__mesh m;
+    pw_trimesh m;
     lapped__atlas_charts C;
     lapped__index ix;
     handmade H;
@@ -792,7 +792,7 @@ static void check_mesh_with(const char *name, const lapped_mesh *mesh, int npast
     CHECKF(r == LAPPED_OK, "%s: %s", name, err.message);
     if (r != LAPPED_OK) {
         handmade_free(&H);
-        lapped__mesh_free(NULL, &m);
+        pw_trimesh_free(NULL, &m);
         return;
     }
     REQUIRE(lapped__atlas_charts_build(NULL, &m, cone, NULL, &C, &e) == PW_OK);
@@ -826,7 +826,7 @@ static void check_mesh_with(const char *name, const lapped_mesh *mesh, int npast
     lapped__atlas_charts_free(NULL, &C);
     lapped_atlas_free(&at);
     handmade_free(&H);
-    lapped__mesh_free(NULL, &m);
+    pw_trimesh_free(NULL, &m);
 }
 
 static void check_mesh(const char *name, const lapped_mesh *mesh, int npastes, int size, double fill_floor)
@@ -916,7 +916,7 @@ static void t_bunny(void) { data_case("meshes/bunny00.off", "bunny", 1024, 0.5);
 static void t_elephant(void) { data_case("meshes/refined_elephant.off", "elephant", 1024, 0.5); }
 
 /* A small mesh and its hand-made texture, for the cases below. */
-static int small_setup(lapped_mesh *mesh, lapped__mesh *m, handmade *H)
+static int small_setup(lapped_mesh *mesh, pw_trimesh *m, handmade *H)
 {
     pw_err e;
     pw_err_clear(&e);
@@ -926,17 +926,17 @@ static int small_setup(lapped_mesh *mesh, lapped__mesh *m, handmade *H)
     return 1;
 }
 
-static void small_free(lapped_mesh *mesh, lapped__mesh *m, handmade *H)
+static void small_free(lapped_mesh *mesh, pw_trimesh *m, handmade *H)
 {
     handmade_free(H);
-    lapped__mesh_free(NULL, m);
+    pw_trimesh_free(NULL, m);
     free_mesh(mesh);
 }
 
 static void t_deterministic(void)
 {
     lapped_mesh mesh = make_icosphere(3);
-    lapped__mesh m;
+    pw_trimesh m;
     handmade H;
     lapped_atlas a, b;
     lapped_atlas_options ao;
@@ -955,7 +955,7 @@ static void t_deterministic(void)
     lapped_atlas_free(&a);
     lapped_atlas_free(&b);
     handmade_free(&H);
-    lapped__mesh_free(NULL, &m);
+    pw_trimesh_free(NULL, &m);
     free_mesh(&mesh);
 }
 
@@ -964,7 +964,7 @@ static void t_deterministic(void)
 static void t_values(void)
 {
     lapped_mesh mesh;
-    lapped__mesh m;
+    pw_trimesh m;
     handmade H;
     lapped_atlas a, rgb;
     lapped_atlas_options ao;
@@ -1015,7 +1015,7 @@ static int cmp_uv(const void *a, const void *b) { return memcmp(a, b, 2 * sizeof
 static void t_obj(void)
 {
     lapped_mesh mesh;
-    lapped__mesh m;
+    pw_trimesh m;
     handmade H;
     lapped_atlas a;
     lapped_atlas_options ao;
@@ -1085,7 +1085,7 @@ static void expect_bad(const char *what, const lapped_mesh *mesh, const lapped_t
 static void t_bad_inputs(void)
 {
     lapped_mesh mesh, big;
-    lapped__mesh m;
+    pw_trimesh m;
     handmade H;
     lapped_atlas_options ao, bad;
     lapped_image p3[2], v2[2];
@@ -1135,7 +1135,7 @@ static void t_bad_inputs(void)
     /* a mesh with too many charts for a tiny atlas */
     big = make_icosphere(4);
     {
-        lapped__mesh bm;
+        pw_trimesh bm;
         handmade BH;
         pw_err e;
         pw_err_clear(&e);
@@ -1144,7 +1144,7 @@ static void t_bad_inputs(void)
         bad = ao, bad.size = 16, bad.cone_angle = 5;
         expect_bad("too many charts", &big, &BH.t, BH.patches, NULL, &bad, LAPPED_ERR_LIMIT, "charts do not fit");
         handmade_free(&BH);
-        lapped__mesh_free(NULL, &bm);
+        pw_trimesh_free(NULL, &bm);
     }
     free_mesh(&big);
     /* the OBJ writer checks the atlas against the mesh */
@@ -1168,7 +1168,7 @@ static void t_bad_inputs(void)
 static void t_alloc_failures(void)
 {
     lapped_mesh mesh = make_icosphere(1);
-    lapped__mesh m;
+    pw_trimesh m;
     handmade H;
     lapped_atlas_options ao;
     lapped_options o = lapped_default_options();
@@ -1200,7 +1200,7 @@ static void t_alloc_failures(void)
     CHECKF(bad == 0, "%ld failures reported as something else than NOMEM", bad);
     CHECKF(leaks == 0, "%ld failures leaked memory", leaks);
     handmade_free(&H);
-    lapped__mesh_free(NULL, &m);
+    pw_trimesh_free(NULL, &m);
     free_mesh(&mesh);
 }
 
@@ -1213,7 +1213,7 @@ static int cancel_after(void *user, float done, const char *stage)
 static void t_cancel(void)
 {
     lapped_mesh mesh;
-    lapped__mesh m;
+    pw_trimesh m;
     handmade H;
     lapped_atlas_options ao;
     lapped_options o = lapped_default_options();
@@ -1248,7 +1248,7 @@ static void t_pipeline(void)
     lapped_texture t;
     lapped_atlas at;
     lapped_error err;
-    lapped__mesh m;
+    pw_trimesh m;
     lapped__index ix;
     pw_image pv;
     pw_err e;
@@ -1283,7 +1283,7 @@ static void t_pipeline(void)
                 }
             }
             lapped__index_free(NULL, &ix);
-            lapped__mesh_free(NULL, &m);
+            pw_trimesh_free(NULL, &m);
             lapped_atlas_free(&at);
         }
         lapped_texture_free(&t);

@@ -831,7 +831,7 @@ static void t_difficulty(void)
     tmesh tm;
     int *fs, f, nc = 0, nf = 0, r;
     lapped_mesh m;
-    lapped__mesh lm;
+    pw_trimesh lm;
     lapped_options o = field_opts(LAPPED_FIELD_UP, 0.4f);
     lapped_error err;
     pw_err e;
@@ -882,7 +882,7 @@ static void t_difficulty(void)
     r = lapped__difficulty(&a, &lm, NULL, d, &e); /* curvature only */
     CHECK(r == PW_OK);
     free(d), free(s), free(t);
-    lapped__mesh_free(&a, &lm);
+    pw_trimesh_free(&a, &lm);
     free(fs);
     tm_free(&tm);
 }

@@ -362,7 +362,7 @@ static void lapped__atlas_charts_free(const pw_alloc *a, lapped__atlas_charts *c
  * prefix of the order is a valid smaller chart (a disc whose vertices are a
  * prefix of verts[]): that is what a chart is cut back to. */
 typedef struct lapped__atlas_grower {
-    const lapped__mesh *m;
+    const pw_trimesh *m;
     const pw_alloc *a;
     pw_err *e;
     double cos_cone;     /* §4: normals within the cone around the seed's */
@@ -409,7 +409,7 @@ static void lapped__atlas_grower_coords_with(const lapped__atlas_grower *G, int 
     }
 }
 
-static void lapped__atlas_centroid(const lapped__mesh *m, int f, double *c)
+static void lapped__atlas_centroid(const pw_trimesh *m, int f, double *c)
 {
     int k, d;
     for (d = 0; d < 3; d++) {
@@ -421,7 +421,7 @@ static void lapped__atlas_centroid(const lapped__mesh *m, int f, double *c)
 
 /* Triangle f in its own plane: corner 0 at the origin, corner 1 on +x,
  * corner 2 at y > 0 (counter-clockwise seen from the normal's side). */
-static void lapped__atlas_frame(const lapped__mesh *m, int f, double *x, double *y)
+static void lapped__atlas_frame(const pw_trimesh *m, int f, double *x, double *y)
 {
     double p[3][3], e1[3], e2[3], n[3], ey[3], len, nl;
     int k, d;
@@ -467,7 +467,7 @@ static double lapped__atlas_key(const lapped__atlas_grower *G, int g)
     double c[3], key = 0.0;
     int k, shared = 0;
     for (k = 0; k < 3; k++) {
-        int h = lapped__across(G->m, g, k);
+        int h = pw_trimesh_across(G->m, g, k);
         shared += h >= 0 && G->chart[h] == G->cur;
     }
     if (shared >= 2) return -1.0;
@@ -481,7 +481,7 @@ static int lapped__atlas_push_neighbours(lapped__atlas_grower *G, int f)
 {
     int k;
     for (k = 0; k < 3; k++) {
-        int g = lapped__across(G->m, f, k);
+        int g = pw_trimesh_across(G->m, f, k);
         if (g < 0 || G->chart[g] >= 0 || G->cone[g] == G->cur) continue;
         if (lapped__atlas_heap_push(G->a, &G->heap, lapped__atlas_key(G, g), g, G->e)) return PW_ERR_NOMEM;
     }
@@ -549,7 +549,7 @@ static int lapped__atlas_grow_start(lapped__atlas_grower *G, int f)
  * to the centroid of the predictions. */
 static void lapped__atlas_maillot(const lapped__atlas_grower *G, int v, double *V)
 {
-    const lapped__mesh *m = G->m;
+    const pw_trimesh *m = G->m;
     int h0 = m->hm.vout[v], h = h0, n = 0;
     V[0] = V[1] = 0.0;
     do {
@@ -606,7 +606,7 @@ static int lapped__atlas_flat_ok(const lapped__atlas_grower *G, int f, const dou
  * flattened shape are deferred. */
 static int lapped__atlas_grow_try(lapped__atlas_grower *G, int f)
 {
-    const lapped__mesh *m = G->m;
+    const pw_trimesh *m = G->m;
     const float *n = m->normal + 3 * f, *ns = m->normal + 3 * G->seed;
     int k, shared = 0, sk = 0, v = -1;
     double t[6], V[2] = {0.0, 0.0};
@@ -616,7 +616,7 @@ static int lapped__atlas_grow_try(lapped__atlas_grower *G, int f)
         return PW_OK;
     }
     for (k = 0; k < 3; k++) {
-        int g = lapped__across(m, f, k);
+        int g = pw_trimesh_across(m, f, k);
         if (g >= 0 && G->chart[g] == G->cur) shared++, sk = k;
     }
     /* Disc: across one edge the third vertex must be new (else the chart
@@ -955,7 +955,7 @@ static void lapped__atlas_grower_free(lapped__atlas_grower *G)
 }
 
 /* Mean edge length: the hash's cell size. */
-static double lapped__atlas_mean_edge(const lapped__mesh *m)
+static double lapped__atlas_mean_edge(const pw_trimesh *m)
 {
     double sum = 0.0;
     int f, k, d;
@@ -969,7 +969,7 @@ static double lapped__atlas_mean_edge(const lapped__mesh *m)
     return sum / (3.0 * m->nf);
 }
 
-static int lapped__atlas_grower_init(lapped__atlas_grower *G, const pw_alloc *a, const lapped__mesh *m, double cone_deg,
+static int lapped__atlas_grower_init(lapped__atlas_grower *G, const pw_alloc *a, const pw_trimesh *m, double cone_deg,
                                int *chart, pw_err *e)
 {
     double cell = lapped__atlas_mean_edge(m);
@@ -996,7 +996,7 @@ static int lapped__atlas_grower_init(lapped__atlas_grower *G, const pw_alloc *a,
 /* §4: the charts. Each is seeded at the lowest-index unassigned triangle
  * and grown until nothing more can join; every triangle ends in exactly
  * one chart (a seed always forms a chart by itself). */
-static int lapped__atlas_charts_build(const pw_alloc *a, const lapped__mesh *m, double cone_deg,
+static int lapped__atlas_charts_build(const pw_alloc *a, const pw_trimesh *m, double cone_deg,
                                 const pw_progress *prog, lapped__atlas_charts *C, pw_err *e)
 {
     lapped__atlas_grower G;
@@ -1040,7 +1040,7 @@ static int lapped__atlas_charts_build(const pw_alloc *a, const lapped__mesh *m, 
  * so also to the image border). Beyond 1024 pixels the grid's cells are
  * several pixels wide and both parts are rounded up to whole cells. */
 typedef struct lapped__atlas_packer {
-    const lapped__mesh *m;
+    const pw_trimesh *m;
     const lapped__atlas_charts *C;
     int size, gutter;    /* the packing grid: size x size cells of `unit` pixels; gutter in cells */
     int pad_lo;          /* cells of the gutter on the left of and below a chart (the rest:
@@ -1528,7 +1528,7 @@ static int lapped__atlas_pack_prepare(const pw_alloc *a, lapped__atlas_packer *P
 /* The packing grid: cells of one pixel up to 1024 pixels a side, of
  * ceil(size / 1024) pixels beyond (the search costs grow with the grid's
  * area; a chart then loses at most a cell's rounding per side). */
-static int lapped__atlas_packer_init(const pw_alloc *a, lapped__atlas_packer *P, const lapped__mesh *m,
+static int lapped__atlas_packer_init(const pw_alloc *a, lapped__atlas_packer *P, const pw_trimesh *m,
                                      const lapped__atlas_charts *C, int size, int gutter, pw_err *e)
 {
     size_t n = (size_t)C->n, rows, cells, spans, runs;
@@ -1646,7 +1646,7 @@ static void lapped__atlas_pack_uvs(const lapped__atlas_packer *P, double s, floa
 }
 
 /* §4 packing: charts into the unit square; uvs gets nf*6 coordinates. */
-static int lapped__atlas_pack(const pw_alloc *a, const lapped__mesh *m, const lapped__atlas_charts *C, int size,
+static int lapped__atlas_pack(const pw_alloc *a, const pw_trimesh *m, const lapped__atlas_charts *C, int size,
                         int gutter, const pw_progress *prog, float *uvs, float *fill, pw_err *e)
 {
     lapped__atlas_packer P;
@@ -1842,7 +1842,7 @@ static int lapped__atlas_dilate(const pw_alloc *a, lapped__atlas_baker *B, int g
 
 /* §4 baking: the lapped texture (or the `values` channel) into an image of
  * size x size pixels with oc channels, through the atlas coordinates. */
-static int lapped__atlas_bake(const pw_alloc *a, const lapped__mesh *m, const float *uvs, const lapped__index *ix,
+static int lapped__atlas_bake(const pw_alloc *a, const pw_trimesh *m, const float *uvs, const lapped__index *ix,
                         const lapped_texture *t, const pw_image *patches, const pw_image *values, int oc,
                         int size, int gutter, const pw_progress *prog, pw_image *out, pw_err *e)
 {
@@ -1969,7 +1969,7 @@ static pw_image *lapped__atlas_image_views(const pw_alloc *a, const lapped_textu
 }
 
 /* Charts, packing and baking, once everything has been checked. */
-static int lapped__atlas_run(const pw_alloc *a, const lapped__mesh *m, const lapped_texture *t,
+static int lapped__atlas_run(const pw_alloc *a, const pw_trimesh *m, const lapped_texture *t,
                              const pw_image *views, int oc, const lapped_atlas_options *o, const pw_progress *prog,
                              lapped_atlas *out, pw_image *img, pw_err *e)
 {
@@ -2000,7 +2000,7 @@ LAPPEDDEF lapped_result lapped_bake_atlas(const lapped_mesh *mesh, const lapped_
     lapped_atlas_options ato;
     pw_alloc a = lapped__alloc(&o.allocator);
     pw_progress prog = lapped__progress(&o);
-    lapped__mesh m;
+    pw_trimesh m;
     pw_image img, *views = NULL;
     pw_err pe;
     int r;
@@ -2023,7 +2023,7 @@ LAPPEDDEF lapped_result lapped_bake_atlas(const lapped_mesh *mesh, const lapped_
         else lapped__take_image(&img, &a, &out->image);
     }
     pw_free(&a, views);
-    lapped__mesh_free(&a, &m);
+    pw_trimesh_free(&a, &m);
     if (pe.code) {
         pw_image_free(&a, &img);
         pw_free(&a, out->uvs);
@@ -2080,7 +2080,7 @@ static int lapped__atlas_dedup_uvs(const pw_alloc *a, const float *uvs, int nc, 
 
 /* The triangulated mesh with the atlas's corner coordinates as a pw_mesh
  * (positions borrowed); free fstart, uv and fuv. */
-static int lapped__atlas_mesh(const pw_alloc *a, const lapped__mesh *m, const lapped_atlas *atlas, pw_mesh *pm,
+static int lapped__atlas_mesh(const pw_alloc *a, const pw_trimesh *m, const lapped_atlas *atlas, pw_mesh *pm,
                               pw_err *e)
 {
     int f, k;
@@ -2105,7 +2105,7 @@ LAPPEDDEF lapped_result lapped_write_obj_to_func(const lapped_mesh *mesh, const 
                                                  lapped_error *err)
 {
     pw_alloc a;
-    lapped__mesh m;
+    pw_trimesh m;
     pw_mesh pm;
     pw_err pe;
     pw_err_clear(&pe);
@@ -2125,7 +2125,7 @@ LAPPEDDEF lapped_result lapped_write_obj_to_func(const lapped_mesh *mesh, const 
     pw_free(&a, pm.fstart);
     pw_free(&a, pm.uv);
     pw_free(&a, pm.fuv);
-    lapped__mesh_free(&a, &m);
+    pw_trimesh_free(&a, &m);
     return lapped__done(&pe, err);
 }
 

@@ -13,6 +13,7 @@
 #include "../common/raster.h"
 #include "../common/render.h"
 #include "../common/polyhull.h"
+#include "../common/trimesh.h"
 #include "../common/glue.h"
 #include "lapped.h"
 
@@ -96,110 +97,19 @@ LAPPEDDEF void lapped_mesh_free(lapped_mesh *m)
 
 /* ---- the triangle mesh every stage works on ------------------------------ */
 
-/* Triangles of the fan triangulation, their half-edges (h = 3f+k runs from
- * tri[3f+k] to tri[3f+(k+1)%3]), unit normals and areas. */
-typedef struct lapped__mesh {
-    int nv, nf;          /* vertices, triangles */
-    const float *pos;    /* nv*3, borrowed */
-    int *tri;            /* nf*3 */
-    pw_hmesh hm;         /* twin[h] = -1 on a boundary */
-    float *normal;       /* nf*3 */
-    float *area;         /* nf */
-    double total_area;
-    float diag;          /* bounding-box diagonal */
-} lapped__mesh;
-
-static void lapped__mesh_free(const pw_alloc *a, lapped__mesh *m)
-{
-    pw_free(a, m->tri);
-    pw_hmesh_free(a, &m->hm);
-    pw_free(a, m->normal);
-    pw_free(a, m->area);
-    memset(m, 0, sizeof *m);
-}
-
-static pw_v3 lapped__vert(const lapped__mesh *m, int v) { return pw_v3_load(m->pos + 3 * v); }
-
-/* Corner k of triangle f. */
-static pw_v3 lapped__corner(const lapped__mesh *m, int f, int k) { return lapped__vert(m, m->tri[3 * f + k]); }
-
-/* The triangle across edge k of triangle f (-1 on a boundary). */
-static int lapped__across(const lapped__mesh *m, int f, int k)
-{
-    int t = m->hm.twin[3 * f + k];
-    return t < 0 ? -1 : t / 3;
-}
-
-/* Checks the caller's polygon mesh (the half-edge build checks topology). */
-static int lapped__check_mesh(const lapped_mesh *m, pw_err *e)
+/* The fan triangulation of the caller's mesh, with adjacency and geometry. */
+static int lapped__mesh_init(const pw_alloc *a, const lapped_mesh *in, pw_trimesh *m, pw_err *e)
 {
     pw_mesh v;
-    if (!m || !m->positions || !m->face_start || !m->face_verts)
-        return pw_fail(e, PW_ERR_INVALID, "mesh has NULL arrays");
-    memset(&v, 0, sizeof v);
-    v.nv = m->nverts;
-    v.pos = m->positions;
-    v.nf = m->nfaces;
-    v.fstart = m->face_start;
-    v.fv = m->face_verts;
-    if (m->nfaces < 1) return pw_fail(e, PW_ERR_DEGENERATE, "mesh has no faces");
-    return pw_mesh_validate(&v, e);
-}
-
-/* Normals, areas and the bounding box; zero-area triangles are refused:
- * neither the field nor the parametrisation is defined on them. */
-static int lapped__mesh_geometry(lapped__mesh *m, pw_err *e)
-{
-    pw_v3 lo, hi;
-    int f, v;
-    m->total_area = 0.0;
-    for (f = 0; f < m->nf; f++) {
-        pw_v3 a = lapped__corner(m, f, 0), b = lapped__corner(m, f, 1), c = lapped__corner(m, f, 2);
-        pw_v3 n = pw_v3_cross(pw_v3_sub(b, a), pw_v3_sub(c, a));
-        float len = pw_v3_len(n), ref = pw_v3_dot(pw_v3_sub(b, a), pw_v3_sub(b, a)) +
-                                        pw_v3_dot(pw_v3_sub(c, a), pw_v3_sub(c, a));
-        if (!(len > 1e-12f * ref) || !(len > 0.0f))
-            return pw_fail(e, PW_ERR_DEGENERATE, "triangle %d (vertices %d, %d, %d) has zero area", f,
-                           m->tri[3 * f], m->tri[3 * f + 1], m->tri[3 * f + 2]);
-        pw_v3_store(m->normal + 3 * f, pw_v3_scale(n, 1.0f / len));
-        m->area[f] = 0.5f * len;
-        m->total_area += m->area[f];
-    }
-    lo = hi = lapped__vert(m, m->tri[0]);
-    for (v = 0; v < 3 * m->nf; v++) {
-        lo = pw_v3_min(lo, lapped__vert(m, m->tri[v]));
-        hi = pw_v3_max(hi, lapped__vert(m, m->tri[v]));
-    }
-    m->diag = pw_v3_len(pw_v3_sub(hi, lo));
-    return PW_OK;
-}
-
-/* Fan-triangulates the caller's mesh and builds adjacency and geometry. */
-static int lapped__mesh_init(const pw_alloc *a, const lapped_mesh *in, lapped__mesh *m, pw_err *e)
-{
-    int f, k, t = 0, r, *fs;
     memset(m, 0, sizeof *m);
-    if ((r = lapped__check_mesh(in, e)) != PW_OK) return r;
-    m->nv = in->nverts;
-    m->pos = in->positions;
-    m->nf = in->face_start[in->nfaces] - 2 * in->nfaces;
-    m->tri = (int *)pw_alloc_array(a, (size_t)m->nf * 3, sizeof(int), "triangles", e);
-    m->normal = (float *)pw_alloc_array(a, (size_t)m->nf * 3, sizeof(float), "normals", e);
-    m->area = (float *)pw_alloc_array(a, (size_t)m->nf, sizeof(float), "areas", e);
-    fs = (int *)pw_alloc_array(a, (size_t)m->nf + 1, sizeof(int), "triangle offsets", e);
-    if (!m->tri || !m->normal || !m->area || !fs) r = PW_ERR_NOMEM;
-    for (f = 0; r == PW_OK && f < in->nfaces; f++)
-        for (k = in->face_start[f] + 1; k + 1 < in->face_start[f + 1]; k++, t++) {
-            m->tri[3 * t] = in->face_verts[in->face_start[f]];
-            m->tri[3 * t + 1] = in->face_verts[k];
-            m->tri[3 * t + 2] = in->face_verts[k + 1];
-        }
-    for (f = 0; r == PW_OK && f <= m->nf; f++) fs[f] = 3 * f;
-    if (r == PW_OK) r = pw_hmesh_build(a, m->nv, m->nf, fs, m->tri, &m->hm, e);
-    if (r == PW_OK) r = lapped__mesh_geometry(m, e);
-    pw_free(a, fs);
-    if (r != PW_OK) lapped__mesh_free(a, m);
-    return r;
+    if (!in) return pw_fail(e, PW_ERR_INVALID, "no mesh given");
+    memset(&v, 0, sizeof v);
+    v.nv = in->nverts;
+    v.pos = in->positions;
+    v.nf = in->nfaces;
+    v.fstart = in->face_start;
+    v.fv = in->face_verts;
+    return pw_trimesh_init(a, &v, m, e);
 }
 
 /* ---- pastes per triangle, and evaluating the lapped texture ---------------- */

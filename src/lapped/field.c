@@ -39,10 +39,10 @@
 #include "core.c"
 
 /* A tenth of the bounding-box diagonal: the documented default patch size. */
-static float lapped__default_scale(const lapped__mesh *m) { return 0.1f * m->diag; }
+static float lapped__default_scale(const pw_trimesh *m) { return 0.1f * m->diag; }
 
 /* field->scale: 0 means the default; negative or NaN is refused. */
-static int lapped__fld_scale(const lapped__mesh *m, const lapped_field *f, float *out, pw_err *e)
+static int lapped__fld_scale(const pw_trimesh *m, const lapped_field *f, float *out, pw_err *e)
 {
     if (f->scale == 0.0f) {
         *out = lapped__default_scale(m);
@@ -56,39 +56,39 @@ static int lapped__fld_scale(const lapped__mesh *m, const lapped_field *f, float
 
 /* ---- frames, transport and small numerics -------------------------------- */
 
-static pw_v3 lapped__fld_normal(const lapped__mesh *m, int f) { return pw_v3_load(m->normal + 3 * f); }
+static pw_v3 lapped__fld_normal(const pw_trimesh *m, int f) { return pw_v3_load(m->normal + 3 * f); }
 
-static pw_v3 lapped__fld_centroid(const lapped__mesh *m, int f)
+static pw_v3 lapped__fld_centroid(const pw_trimesh *m, int f)
 {
-    pw_v3 c = pw_v3_add(pw_v3_add(lapped__corner(m, f, 0), lapped__corner(m, f, 1)), lapped__corner(m, f, 2));
+    pw_v3 c = pw_v3_add(pw_v3_add(pw_trimesh_corner(m, f, 0), pw_trimesh_corner(m, f, 1)), pw_trimesh_corner(m, f, 2));
     return pw_v3_scale(c, 1.0f / 3.0f);
 }
 
 /* Surface distance between the triangles on either side of half-edge h
  * (which must have a twin): centroid to the edge's midpoint to centroid. */
-static double lapped__fld_dual_len(const lapped__mesh *m, int h)
+static double lapped__fld_dual_len(const pw_trimesh *m, int h)
 {
     int f = h / 3, k = h % 3;
-    pw_v3 mid = pw_v3_add(lapped__corner(m, f, k), lapped__corner(m, f, (k + 1) % 3));
+    pw_v3 mid = pw_v3_add(pw_trimesh_corner(m, f, k), pw_trimesh_corner(m, f, (k + 1) % 3));
     mid = pw_v3_scale(mid, 0.5f);
     return (double)pw_v3_len(pw_v3_sub(mid, lapped__fld_centroid(m, f))) +
            (double)pw_v3_len(pw_v3_sub(lapped__fld_centroid(m, m->hm.twin[h] / 3), mid));
 }
 
 /* The frame of triangle f: u along its first edge, v = N x u. */
-static void lapped__fld_frame(const lapped__mesh *m, int f, pw_v3 *u, pw_v3 *v)
+static void lapped__fld_frame(const pw_trimesh *m, int f, pw_v3 *u, pw_v3 *v)
 {
-    *u = pw_v3_norm(pw_v3_sub(lapped__corner(m, f, 1), lapped__corner(m, f, 0)));
+    *u = pw_v3_norm(pw_v3_sub(pw_trimesh_corner(m, f, 1), pw_trimesh_corner(m, f, 0)));
     *v = pw_v3_cross(lapped__fld_normal(m, f), *u);
 }
 
 /* Tangent vector x of the triangle across half-edge h, unfolded about the
  * shared edge into the plane of h's own triangle: the rotation about the
  * edge that takes one normal to the other. */
-static pw_v3 lapped__fld_hinge(const lapped__mesh *m, int h, pw_v3 x)
+static pw_v3 lapped__fld_hinge(const pw_trimesh *m, int h, pw_v3 x)
 {
     int f = h / 3, g = m->hm.twin[h] / 3, k = h % 3;
-    pw_v3 ed = pw_v3_norm(pw_v3_sub(lapped__corner(m, f, (k + 1) % 3), lapped__corner(m, f, k)));
+    pw_v3 ed = pw_v3_norm(pw_v3_sub(pw_trimesh_corner(m, f, (k + 1) % 3), pw_trimesh_corner(m, f, k)));
     pw_v3 nf = lapped__fld_normal(m, f), ng = lapped__fld_normal(m, g);
     pw_v3 r = pw_v3_scale(ed, pw_v3_dot(x, ed));
     r = pw_v3_add(r, pw_v3_scale(pw_v3_cross(nf, ed), pw_v3_dot(x, pw_v3_cross(ng, ed))));
@@ -107,10 +107,10 @@ static int lapped__fld_unit(double *z)
 
 /* The shared edge of half-edge h as a complex number in the frame of
  * triangle f (either side of the edge). */
-static void lapped__fld_edge_in(const lapped__mesh *m, int h, int f, double *w)
+static void lapped__fld_edge_in(const pw_trimesh *m, int h, int f, double *w)
 {
     int k = h % 3, g = h / 3;
-    pw_v3 u, v, ed = pw_v3_sub(lapped__corner(m, g, (k + 1) % 3), lapped__corner(m, g, k));
+    pw_v3 u, v, ed = pw_v3_sub(pw_trimesh_corner(m, g, (k + 1) % 3), pw_trimesh_corner(m, g, k));
     lapped__fld_frame(m, f, &u, &v);
     w[0] = pw_v3_dot(ed, u);
     w[1] = pw_v3_dot(ed, v);
@@ -122,7 +122,7 @@ static void lapped__fld_edge_in(const lapped__mesh *m, int h, int f, double *w)
  * about the shared edge (lapped__fld_hinge): the edge keeps its angle to
  * every vector, so with the edge at angle a_f here and a_g there,
  * conn = e^{i (a_f - a_g)}. Boundary half-edges get 1. */
-static int lapped__fld_connection(const pw_alloc *a, const lapped__mesh *m, float **out, pw_err *e)
+static int lapped__fld_connection(const pw_alloc *a, const pw_trimesh *m, float **out, pw_err *e)
 {
     float *c = (float *)pw_alloc_array(a, (size_t)m->nf * 6, sizeof(float), "field connection", e);
     int h;
@@ -178,7 +178,7 @@ static void lapped__fld_halve(double *z)
 /* The 3D direction d projected onto triangle f, as a unit direction in its
  * frame. Returns 0 when d is (within 1e-4 radians) normal to the face:
  * "project the global up direction onto the surface" has no answer there. */
-static int lapped__fld_project(const lapped__mesh *m, int f, pw_v3 d, double *z)
+static int lapped__fld_project(const pw_trimesh *m, int f, pw_v3 d, double *z)
 {
     pw_v3 u, v;
     double l2 = (double)pw_v3_dot(d, d);
@@ -192,7 +192,7 @@ static int lapped__fld_project(const lapped__mesh *m, int f, pw_v3 d, double *z)
 /* A fixed direction for triangle f when nothing else defines one: the
  * coordinate axis least aligned with its normal (lowest axis on ties),
  * projected; never degenerate (at least sqrt(2/3) of it is tangent). */
-static void lapped__fld_axis(const lapped__mesh *m, int f, double *z)
+static void lapped__fld_axis(const pw_trimesh *m, int f, double *z)
 {
     const float *n = m->normal + 3 * f;
     int k = 0, i;
@@ -230,7 +230,7 @@ static double lapped__fld_exp_neg(double x)
  * `start` on): every triangle where `up` projects gets that projection, as
  * in the up field; if none does (a flat piece normal to up), the lowest
  * triangle gets the fixed axis. Seeds go to the queue with level 0. */
-static void lapped__fld_seed(const lapped__mesh *m, pw_v3 up, int power, double *z, int *level, int *queue,
+static void lapped__fld_seed(const pw_trimesh *m, pw_v3 up, int power, double *z, int *level, int *queue,
                              int *tail, int *stack, int start)
 {
     int top = 1, n = 0, i, k, f, g, seeded = 0;
@@ -239,7 +239,7 @@ static void lapped__fld_seed(const lapped__mesh *m, pw_v3 up, int power, double 
     while (n < top) { /* flood the component, in a deterministic order */
         f = stack[n++];
         for (k = 0; k < 3; k++)
-            if ((g = lapped__across(m, f, k)) >= 0 && level[g] == -1) level[g] = -2, stack[top++] = g;
+            if ((g = pw_trimesh_across(m, f, k)) >= 0 && level[g] == -1) level[g] = -2, stack[top++] = g;
     }
     for (i = 0; i < top; i++) {
         f = stack[i];
@@ -263,13 +263,13 @@ static void lapped__fld_seed(const lapped__mesh *m, pw_v3 up, int power, double 
  * ones: the unit average of their directions transported into f (§3.2
  * propagation: "projecting onto its face plane the average direction of
  * neighboring faces"); the first neighbour's if the average cancels. */
-static void lapped__fld_average(const lapped__mesh *m, const float *conn, int power, const int *level,
+static void lapped__fld_average(const pw_trimesh *m, const float *conn, int power, const int *level,
                                 double *z, int f)
 {
     double sum[2] = {0.0, 0.0}, first[2] = {0.0, 0.0}, w[2];
     int k, g, n = 0;
     for (k = 0; k < 3; k++) {
-        g = lapped__across(m, f, k);
+        g = pw_trimesh_across(m, f, k);
         if (g < 0 || level[g] < 0 || level[g] >= level[f]) continue;
         lapped__fld_move(conn, 3 * f + k, power, z + 2 * g, w);
         if (n++ == 0) first[0] = w[0], first[1] = w[1];
@@ -287,7 +287,7 @@ static void lapped__fld_average(const lapped__mesh *m, const float *conn, int po
  * from the known ones, layer by layer, so that the result does not depend
  * on which known triangle is met first. Components without a known triangle
  * are seeded by lapped__fld_seed. Known directions must be unit. */
-static int lapped__fld_fill(const pw_alloc *a, const lapped__mesh *m, const float *conn, int power, pw_v3 up,
+static int lapped__fld_fill(const pw_alloc *a, const pw_trimesh *m, const float *conn, int power, pw_v3 up,
                             const unsigned char *known, double *z, pw_err *e)
 {
     int *level = (int *)pw_alloc_array(a, (size_t)m->nf * 3, sizeof(int), "field propagation", e);
@@ -308,7 +308,7 @@ static int lapped__fld_fill(const pw_alloc *a, const lapped__mesh *m, const floa
         f = queue[head++];
         if (level[f] > 0) lapped__fld_average(m, conn, power, level, z, f);
         for (k = 0; k < 3; k++)
-            if ((g = lapped__across(m, f, k)) >= 0 && level[g] == -1) {
+            if ((g = pw_trimesh_across(m, f, k)) >= 0 && level[g] == -1) {
                 level[g] = level[f] + 1;
                 queue[tail++] = g;
             }
@@ -319,7 +319,7 @@ static int lapped__fld_fill(const pw_alloc *a, const lapped__mesh *m, const floa
 
 /* Writes T = scale * direction (unit z in the triangle frame) and
  * S = T x N (§3.2). scales may be NULL (then `scale` everywhere). */
-static void lapped__fld_output(const lapped__mesh *m, const double *z, float scale, const double *scales,
+static void lapped__fld_output(const pw_trimesh *m, const double *z, float scale, const double *scales,
                                float *s, float *t)
 {
     int f;
@@ -344,7 +344,7 @@ static void lapped__fld_output(const lapped__mesh *m, const double *z, float sca
  * (lapped__fld_axis). ISOTROPIC uses the same field: growth replaces the
  * orientation by its own propagation, and a smooth start keeps the
  * discontinuity part of lapped__difficulty quiet. */
-static int lapped__fld_up(const pw_alloc *a, const lapped__mesh *m, const float *conn, pw_v3 up, double *z,
+static int lapped__fld_up(const pw_alloc *a, const pw_trimesh *m, const float *conn, pw_v3 up, double *z,
                           unsigned char *known, pw_err *e)
 {
     int f;
@@ -357,7 +357,7 @@ static int lapped__fld_up(const pw_alloc *a, const lapped__mesh *m, const float 
 /* One caller vector of triangle f, projected onto its plane and rescaled to
  * its own length (a vector meant to be tangent keeps its magnitude, the
  * scale). Refuses NaN/Inf, zero, and vectors normal to the face. */
-static int lapped__fld_tangent(const lapped__mesh *m, int f, const float *p, const char *what, pw_v3 *out,
+static int lapped__fld_tangent(const pw_trimesh *m, int f, const float *p, const char *what, pw_v3 *out,
                                pw_err *e)
 {
     pw_v3 x = pw_v3_load(p), n = lapped__fld_normal(m, f), q;
@@ -378,7 +378,7 @@ static int lapped__fld_tangent(const lapped__mesh *m, int f, const float *p, con
 /* §3.2: "The user could alternatively specify this tangential basis
  * directly": the caller's T per triangle (its length is the scale) and S,
  * or S = T x N when face_s is NULL. S parallel to T is refused (no frame). */
-static int lapped__fld_faces(const lapped__mesh *m, const lapped_field *fl, float *s, float *t, pw_err *e)
+static int lapped__fld_faces(const pw_trimesh *m, const lapped_field *fl, float *s, float *t, pw_err *e)
 {
     int f, r;
     if (!fl->face_t) return pw_fail(e, PW_ERR_INVALID, "FACES field: face_t is NULL");
@@ -419,7 +419,7 @@ static int lapped__fld_value(int i, const char *what, float x, double def, doubl
 
 /* Checks constraint i and resolves its defaults (lapped.h: scale 0 is the
  * field's scale, radius 0 is twice the constraint's scale, weight 0 is 1). */
-static int lapped__fld_check(const lapped__mesh *m, const lapped_constraint *in, int i, float scale,
+static int lapped__fld_check(const pw_trimesh *m, const lapped_constraint *in, int i, float scale,
                              lapped__fld_con *c, pw_err *e)
 {
     pw_v3 d = pw_v3_load(in->direction), n;
@@ -444,7 +444,7 @@ static int lapped__fld_check(const lapped__mesh *m, const lapped_constraint *in,
 /* Length of each dual edge: centroid to edge midpoint to centroid, a path
  * on the surface even across a crease (the straight centroid-to-centroid
  * segment would cut through it). 0 on the boundary. */
-static void lapped__fld_dual(const lapped__mesh *m, double *len)
+static void lapped__fld_dual(const pw_trimesh *m, double *len)
 {
     int h;
     for (h = 0; h < 3 * m->nf; h++) len[h] = m->hm.twin[h] < 0 ? 0.0 : lapped__fld_dual_len(m, h);
@@ -500,7 +500,7 @@ static void lapped__fld_pop(lapped__fld_heap *hp)
  * joined through edge midpoints) from triangle src; DBL_MAX where
  * unreachable. The heap holds at most 3*nf+1 entries (a triangle is pushed
  * only when one of its <= 3 neighbours improves it). */
-static void lapped__fld_dijkstra(const lapped__mesh *m, const double *len, int src, double *dist,
+static void lapped__fld_dijkstra(const pw_trimesh *m, const double *len, int src, double *dist,
                                  lapped__fld_heap *hp)
 {
     int f, k, g;
@@ -515,7 +515,7 @@ static void lapped__fld_dijkstra(const lapped__mesh *m, const double *len, int s
         if (d > dist[f]) continue; /* stale entry */
         for (k = 0; k < 3; k++) {
             double nd = d + len[3 * f + k];
-            if ((g = lapped__across(m, f, k)) >= 0 && nd < dist[g]) {
+            if ((g = pw_trimesh_across(m, f, k)) >= 0 && nd < dist[g]) {
                 dist[g] = nd;
                 lapped__fld_push(hp, nd, g);
             }
@@ -561,7 +561,7 @@ static int lapped__fld_gap(int a, int b) { return a > b ? a - b : b - a; }
  * each takes, whole, the direction and scale of the constraint whose
  * triangle index is nearest to the component's lowest triangle (the lower
  * constraint on ties), projected onto each face like an up vector. */
-static void lapped__fld_orphans(const lapped__mesh *m, const lapped__fld_con *c, int nc, lapped__fld_acc *acc,
+static void lapped__fld_orphans(const pw_trimesh *m, const lapped__fld_con *c, int nc, lapped__fld_acc *acc,
                                 int *stack)
 {
     int f, i, j, top, k, g;
@@ -580,7 +580,7 @@ static void lapped__fld_orphans(const lapped__mesh *m, const lapped__fld_con *c,
             acc->dir[3 * h + 1] = c[j].dir.y;
             acc->dir[3 * h + 2] = c[j].dir.z;
             for (k = 0; k < 3; k++)
-                if ((g = lapped__across(m, h, k)) >= 0 && acc->q[g] == DBL_MAX) {
+                if ((g = pw_trimesh_across(m, h, k)) >= 0 && acc->q[g] == DBL_MAX) {
                     acc->q[g] = 0.0;
                     stack[top++] = g;
                 }
@@ -610,7 +610,7 @@ static void lapped__fld_pin(const lapped__fld_con *c, int nc, lapped__fld_acc *a
 }
 
 /* Checks and resolves every constraint into c[]. */
-static int lapped__fld_checks(const lapped__mesh *m, const lapped_field *fl, float scale, lapped__fld_con *c,
+static int lapped__fld_checks(const pw_trimesh *m, const lapped_field *fl, float scale, lapped__fld_con *c,
                               pw_err *e)
 {
     int i, r;
@@ -622,7 +622,7 @@ static int lapped__fld_checks(const lapped__mesh *m, const lapped_field *fl, flo
 /* The blended 3D directions projected onto each face (§3.2: vectors "at
  * the remaining faces"), and the blended scales. A blend that cancels or is
  * normal to its face is filled from the neighbours. */
-static int lapped__fld_blend(const pw_alloc *a, const lapped__mesh *m, const float *conn, pw_v3 up,
+static int lapped__fld_blend(const pw_alloc *a, const pw_trimesh *m, const float *conn, pw_v3 up,
                              const lapped__fld_acc *acc, double *z, double *scales, unsigned char *known,
                              pw_err *e)
 {
@@ -645,7 +645,7 @@ static int lapped__fld_blend(const pw_alloc *a, const lapped__mesh *m, const flo
  * weight_i exp(-d_i(f)^2 / (2 radius_i^2)); directions are blended in 3D
  * and projected onto f, scales blended linearly. One Dijkstra run per
  * constraint: O(nconstraints * nf log nf) time, O(nf) memory. */
-static int lapped__fld_constraints(const pw_alloc *a, const lapped__mesh *m, const lapped_field *fl,
+static int lapped__fld_constraints(const pw_alloc *a, const pw_trimesh *m, const lapped_field *fl,
                                    float scale, const float *conn, double *z, double *scales,
                                    unsigned char *known, pw_err *e)
 {
@@ -699,7 +699,7 @@ static int lapped__fld_constraints(const pw_alloc *a, const lapped__mesh *m, con
 /* Vertex normals with Max's weights (J. Graphics Tools 4(2), 1999): each
  * triangle's corner cross product over the squared lengths of its two
  * edges; exact on a sphere, no trigonometry. */
-static int lapped__fld_vertex_normals(const pw_alloc *a, const lapped__mesh *m, double **out, pw_err *e)
+static int lapped__fld_vertex_normals(const pw_alloc *a, const pw_trimesh *m, double **out, pw_err *e)
 {
     double *vn = (double *)pw_calloc_array(a, (size_t)m->nv * 3, sizeof(double), "vertex normals", e);
     int f, i, v;
@@ -707,9 +707,9 @@ static int lapped__fld_vertex_normals(const pw_alloc *a, const lapped__mesh *m, 
     if (!vn) return PW_ERR_NOMEM;
     for (f = 0; f < m->nf; f++)
         for (i = 0; i < 3; i++) {
-            pw_v3 p = lapped__corner(m, f, i);
-            pw_v3 e1 = pw_v3_sub(lapped__corner(m, f, (i + 1) % 3), p);
-            pw_v3 e2 = pw_v3_sub(lapped__corner(m, f, (i + 2) % 3), p);
+            pw_v3 p = pw_trimesh_corner(m, f, i);
+            pw_v3 e1 = pw_v3_sub(pw_trimesh_corner(m, f, (i + 1) % 3), p);
+            pw_v3 e2 = pw_v3_sub(pw_trimesh_corner(m, f, (i + 2) % 3), p);
             pw_v3 c = pw_v3_cross(e1, e2);
             double w = 1.0 / ((double)pw_v3_dot(e1, e1) * (double)pw_v3_dot(e2, e2));
             v = m->tri[3 * f + i];
@@ -728,7 +728,7 @@ static int lapped__fld_vertex_normals(const pw_alloc *a, const lapped__mesh *m, 
  * least squares over its three edges e of II e = (dn . u, dn . v), dn the
  * difference of the vertex normals along e (Rusinkiewicz 2004, eq. 5),
  * solved by Cramer's rule on the 3x3 normal equations. */
-static void lapped__fld_tensor(const lapped__mesh *m, const double *vn, int f, double abc[3])
+static void lapped__fld_tensor(const pw_trimesh *m, const double *vn, int f, double abc[3])
 {
     double suu = 0, suv = 0, svv = 0, r0 = 0, r1 = 0, r2 = 0, det;
     pw_v3 u, v;
@@ -736,7 +736,7 @@ static void lapped__fld_tensor(const lapped__mesh *m, const double *vn, int f, d
     lapped__fld_frame(m, f, &u, &v);
     for (i = 0; i < 3; i++) {
         int p = m->tri[3 * f + (i + 1) % 3], q = m->tri[3 * f + (i + 2) % 3], k;
-        pw_v3 ed = pw_v3_sub(lapped__vert(m, q), lapped__vert(m, p));
+        pw_v3 ed = pw_v3_sub(pw_trimesh_vert(m, q), pw_trimesh_vert(m, p));
         double dn[3], eu = pw_v3_dot(ed, u), ev = pw_v3_dot(ed, v), du = 0, dv = 0;
         for (k = 0; k < 3; k++) dn[k] = vn[3 * q + k] - vn[3 * p + k];
         du = dn[0] * u.x + dn[1] * u.y + dn[2] * u.z;
@@ -781,7 +781,7 @@ static void lapped__fld_least(const double abc[3], double flat, double *z)
  * mean of its own and its neighbours' (transported): confident directions
  * dominate weak ones, and the flat or umbilic ones (exactly 0) pick up their
  * neighbours' direction one ring per sweep. */
-static int lapped__fld_smooth(const pw_alloc *a, const lapped__mesh *m, const float *conn, int iters,
+static int lapped__fld_smooth(const pw_alloc *a, const pw_trimesh *m, const float *conn, int iters,
                               double *z, pw_err *e)
 {
     double *tmp = (double *)pw_alloc_array(a, (size_t)m->nf * 2, sizeof(double), "field smoothing", e), w[2];
@@ -791,7 +791,7 @@ static int lapped__fld_smooth(const pw_alloc *a, const lapped__mesh *m, const fl
         for (f = 0; f < m->nf; f++) {
             double sx = z[2 * f], sy = z[2 * f + 1];
             for (n = 1, k = 0; k < 3; k++)
-                if ((g = lapped__across(m, f, k)) >= 0) {
+                if ((g = pw_trimesh_across(m, f, k)) >= 0) {
                     lapped__fld_move(conn, 3 * f + k, 2, z + 2 * g, w);
                     sx += w[0], sy += w[1], n++;
                 }
@@ -807,7 +807,7 @@ static int lapped__fld_smooth(const pw_alloc *a, const lapped__mesh *m, const fl
 /* Relaxes the neighbours of triangle f (just oriented) in the orientation
  * walk: a neighbour's key is 1 - |cos| of the angle between its line and
  * f's direction carried over, the smallest key (best agreement) kept. */
-static void lapped__fld_offer(const lapped__mesh *m, const float *conn, const double *z, int f,
+static void lapped__fld_offer(const pw_trimesh *m, const float *conn, const double *z, int f,
                               const unsigned char *seen, double *best, int *via, lapped__fld_heap *hp)
 {
     int k, g, th;
@@ -826,7 +826,7 @@ static void lapped__fld_offer(const lapped__mesh *m, const float *conn, const do
 
 /* The walk of lapped__fld_orient (best: nf keys, via: nf half-edges,
  * hp: room for 3 nf + 1 entries). */
-static void lapped__fld_walk(const lapped__mesh *m, const float *conn, pw_v3 up, double *z,
+static void lapped__fld_walk(const pw_trimesh *m, const float *conn, pw_v3 up, double *z,
                              unsigned char *seen, double *best, int *via, lapped__fld_heap *hp)
 {
     double w[2];
@@ -858,7 +858,7 @@ static void lapped__fld_walk(const lapped__mesh *m, const float *conn, pw_v3 up,
  * a half-integer singularity the signs must disagree somewhere: this puts
  * the seams where neighbouring lines are closest to perpendicular, near the
  * singularities, rather than wherever a breadth-first walk closes. */
-static int lapped__fld_orient(const pw_alloc *a, const lapped__mesh *m, const float *conn, pw_v3 up,
+static int lapped__fld_orient(const pw_alloc *a, const pw_trimesh *m, const float *conn, pw_v3 up,
                               double *z, pw_err *e)
 {
     size_t n = (size_t)m->nf;
@@ -881,7 +881,7 @@ static int lapped__fld_orient(const pw_alloc *a, const lapped__mesh *m, const fl
  * 1e-3 / diagonal, i.e. radii of curvature over a thousand mesh sizes),
  * smoothing, unit length, gaps filled (components with no direction at all,
  * like a sphere or a plane, get the up field), halved to vectors, oriented. */
-static int lapped__fld_curvature(const pw_alloc *a, const lapped__mesh *m, const lapped_field *fl,
+static int lapped__fld_curvature(const pw_alloc *a, const pw_trimesh *m, const lapped_field *fl,
                                  const float *conn, double *z, unsigned char *known, pw_err *e)
 {
     double *vn, abc[3];
@@ -905,7 +905,7 @@ static int lapped__fld_curvature(const pw_alloc *a, const lapped__mesh *m, const
 /* ---- the field, the difficulty, and the public entry ----------------------- */
 
 /* §3.2: fills s and t (nf*3 each) for every mode of lapped_field. */
-static int lapped__field(const pw_alloc *a, const lapped__mesh *m, const lapped_field *fl, float *s, float *t,
+static int lapped__field(const pw_alloc *a, const pw_trimesh *m, const lapped_field *fl, float *s, float *t,
                          pw_err *e)
 {
     size_t n = (size_t)m->nf;
@@ -943,7 +943,7 @@ static int lapped__field(const pw_alloc *a, const lapped__mesh *m, const lapped_
  * normal (chord |n_f - n_g| = 2 sin(angle/2)) per unit of surface distance,
  * times the local patch size |T|: how far a patch bends there. Mapped to
  * [0, 1) by x / (1 + x). */
-static double lapped__fld_bend(const lapped__mesh *m, int h, double size)
+static double lapped__fld_bend(const pw_trimesh *m, int h, double size)
 {
     pw_v3 dn = pw_v3_sub(lapped__fld_normal(m, h / 3), lapped__fld_normal(m, m->hm.twin[h] / 3));
     double d = lapped__fld_dual_len(m, h), x = d > 0.0 ? pw_v3_len(dn) * size / d : 0.0;
@@ -958,7 +958,7 @@ static double lapped__fld_bend(const lapped__mesh *m, int h, double size)
  * 1 opposite), as 1 - (1 - bend)(1 - turn). t may be NULL (an isotropic
  * field, whose orientation does not matter): curvature only, at the default
  * scale. */
-static int lapped__difficulty(const pw_alloc *a, const lapped__mesh *m, const float *t, float *out, pw_err *e)
+static int lapped__difficulty(const pw_alloc *a, const pw_trimesh *m, const float *t, float *out, pw_err *e)
 {
     int f, k;
     (void)a;
@@ -967,7 +967,7 @@ static int lapped__difficulty(const pw_alloc *a, const lapped__mesh *m, const fl
         pw_v3 T = t ? pw_v3_load(t + 3 * f) : pw_v3_make(0, 0, 0);
         double size = t ? pw_v3_len(T) : lapped__default_scale(m), bend = 0.0, turn = 0.0, x;
         for (k = 0; k < 3; k++) {
-            int h = 3 * f + k, g = lapped__across(m, f, k);
+            int h = 3 * f + k, g = pw_trimesh_across(m, f, k);
             if (g < 0) continue;
             if ((x = lapped__fld_bend(m, h, size)) > bend) bend = x;
             if (t) {
@@ -989,14 +989,14 @@ LAPPEDDEF lapped_result lapped_compute_field(const lapped_mesh *mesh, const lapp
 {
     lapped_options o = lapped__options(opt);
     pw_alloc a = lapped__alloc(&o.allocator);
-    lapped__mesh m;
+    pw_trimesh m;
     pw_err e;
     pw_err_clear(&e);
     if (!s || !t)
         pw_fail(&e, PW_ERR_INVALID, "lapped_compute_field: output array %s is NULL", !s ? "s" : "t");
     else if (lapped__mesh_init(&a, mesh, &m, &e) == PW_OK) {
         lapped__field(&a, &m, &o.field, s, t, &e);
-        lapped__mesh_free(&a, &m);
+        pw_trimesh_free(&a, &m);
     }
     return lapped__done(&e, err);
 }

@@ -145,14 +145,14 @@ static void lapped__cover_free(const pw_alloc *a, lapped__cover *c)
 
 /* Lattice resolutions: points about 3 texels apart for a triangle of
  * this size at this scale in the largest patch (side `texels`). */
-static int lapped__cover_sizes(lapped__cover *c, const lapped__mesh *m, const float *t, int texels, pw_err *e)
+static int lapped__cover_sizes(lapped__cover *c, const pw_trimesh *m, const float *t, int texels, pw_err *e)
 {
     int f, k;
     c->off[0] = 0;
     for (f = 0; f < m->nf; f++) {
         float longest = 0.0f, r;
         for (k = 0; k < 3; k++) {
-            float len = pw_v3_len(pw_v3_sub(lapped__corner(m, f, k), lapped__corner(m, f, (k + 1) % 3)));
+            float len = pw_v3_len(pw_v3_sub(pw_trimesh_corner(m, f, k), pw_trimesh_corner(m, f, (k + 1) % 3)));
             if (len > longest) longest = len;
         }
         r = longest / pw_v3_len(pw_v3_load(t + 3 * f)) * (float)texels / 3.0f;
@@ -166,7 +166,7 @@ static int lapped__cover_sizes(lapped__cover *c, const lapped__mesh *m, const fl
     return PW_OK;
 }
 
-static int lapped__cover_init(const pw_alloc *a, const lapped__mesh *m, const float *t, int texels,
+static int lapped__cover_init(const pw_alloc *a, const pw_trimesh *m, const float *t, int texels,
                               float need, lapped__cover *c, pw_err *e)
 {
     int f, r;
@@ -361,10 +361,10 @@ static void lapped__map_vertex(lapped__patchbuf *p, int v, float u, float w)
 
 /* Coefficients of an in-plane vector X of triangle f on its corners:
  * X = w0 A + w1 B + w2 C with w0 + w1 + w2 = 0 (§3.4, footnote 1). */
-static void lapped__coeffs(const lapped__mesh *m, int f, pw_v3 x, float w[3])
+static void lapped__coeffs(const pw_trimesh *m, int f, pw_v3 x, float w[3])
 {
-    pw_v3 a = lapped__corner(m, f, 0);
-    pw_v3 e1 = pw_v3_sub(lapped__corner(m, f, 1), a), e2 = pw_v3_sub(lapped__corner(m, f, 2), a);
+    pw_v3 a = pw_trimesh_corner(m, f, 0);
+    pw_v3 e1 = pw_v3_sub(pw_trimesh_corner(m, f, 1), a), e2 = pw_v3_sub(pw_trimesh_corner(m, f, 2), a);
     double g11 = pw_v3_dot(e1, e1), g12 = pw_v3_dot(e1, e2), g22 = pw_v3_dot(e2, e2);
     double r1 = pw_v3_dot(x, e1), r2 = pw_v3_dot(x, e2), det = g11 * g22 - g12 * g12;
     w[1] = (float)((r1 * g22 - r2 * g12) / det);
@@ -373,7 +373,7 @@ static void lapped__coeffs(const lapped__mesh *m, int f, pw_v3 x, float w[3])
 }
 
 /* phi(X) for an in-plane vector X of a patch triangle. */
-static void lapped__phi(const lapped__mesh *m, const lapped__patchbuf *p, int f, pw_v3 x, float out[2])
+static void lapped__phi(const pw_trimesh *m, const lapped__patchbuf *p, int f, pw_v3 x, float out[2])
 {
     float w[3];
     int k;
@@ -389,7 +389,7 @@ static void lapped__phi(const lapped__mesh *m, const lapped__patchbuf *p, int f,
 /* How far the parametrisation of triangle f is from the ideal phi(S) = s^,
  * phi(T) = t^: the larger of the stretch and shrink factors of the 2x2 map
  * with columns phi(S), phi(T), or infinity when it flips orientation. */
-static float lapped__distortion(const lapped__mesh *m, const lapped__patchbuf *p, int f)
+static float lapped__distortion(const pw_trimesh *m, const lapped__patchbuf *p, int f)
 {
     float ps[2], pt[2], a, b, c, d, det, fro, disc, s1, s2;
     lapped__phi(m, p, f, pw_v3_load(p->fs + 3 * f), ps);
@@ -420,10 +420,10 @@ static void lapped__seed_uv(const lapped__patchbuf *p, int f, pw_v3 x, pw_v3 cen
 /* Maillot et al.'s prediction (§3.3): the texture position of corner k of
  * triangle f from its other two, mapped, corners, by a triangle similar to
  * the 3D one with the same orientation. */
-static void lapped__predict(const lapped__mesh *m, const lapped__patchbuf *p, int f, int k, float out[2])
+static void lapped__predict(const pw_trimesh *m, const lapped__patchbuf *p, int f, int k, float out[2])
 {
     int ia = m->tri[3 * f + (k + 1) % 3], ib = m->tri[3 * f + (k + 2) % 3];
-    pw_v3 a = lapped__vert(m, ia), b = lapped__vert(m, ib), c = lapped__corner(m, f, k);
+    pw_v3 a = pw_trimesh_vert(m, ia), b = pw_trimesh_vert(m, ib), c = pw_trimesh_corner(m, f, k);
     pw_v3 e = pw_v3_sub(b, a), d = pw_v3_sub(c, a);
     float ee = pw_v3_dot(e, e), x = pw_v3_dot(d, e) / ee;
     float y = pw_v3_len(pw_v3_sub(d, pw_v3_scale(e, x))) / sqrtf(ee);
@@ -435,7 +435,7 @@ static void lapped__predict(const lapped__mesh *m, const lapped__patchbuf *p, in
 
 /* Adds the prediction of the triangle of outgoing half-edge h (from v) if
  * its other two corners are mapped. */
-static void lapped__predict_from(const lapped__mesh *m, const lapped__patchbuf *p, int h, float sum[2], int *n)
+static void lapped__predict_from(const pw_trimesh *m, const lapped__patchbuf *p, int h, float sum[2], int *n)
 {
     int f = h / 3, k = h % 3;
     float q[2];
@@ -450,7 +450,7 @@ static void lapped__predict_from(const lapped__mesh *m, const lapped__patchbuf *
 /* Maps the new vertex v at the centroid of the predictions of every
  * triangle around it that has its other two corners mapped (§3.3). h0 is
  * a half-edge leaving v in such a triangle. */
-static void lapped__map_new_vertex(const lapped__mesh *m, lapped__patchbuf *p, int v, int h0)
+static void lapped__map_new_vertex(const pw_trimesh *m, lapped__patchbuf *p, int v, int h0)
 {
     float sum[2] = {0.0f, 0.0f};
     int n = 0, h = h0, guard = 0;
@@ -470,7 +470,7 @@ static void lapped__map_new_vertex(const lapped__mesh *m, lapped__patchbuf *p, i
 typedef struct lapped__paster {
     const pw_alloc *a;
     lapped_options o;
-    lapped__mesh m;
+    pw_trimesh m;
     float *fs, *ft;          /* the field (nf*3) */
     float *difficulty;       /* nf, for the early seeds */
     const pw_image *patches; /* npatches views of the caller's RGBA patches */
@@ -486,10 +486,10 @@ typedef struct lapped__paster {
     int hard_edges;
 } lapped__paster;
 
-static pw_v3 lapped__centroid(const lapped__mesh *m, int f)
+static pw_v3 lapped__centroid(const pw_trimesh *m, int f)
 {
-    return pw_v3_scale(pw_v3_add(pw_v3_add(lapped__corner(m, f, 0), lapped__corner(m, f, 1)),
-                                 lapped__corner(m, f, 2)), 1.0f / 3.0f);
+    return pw_v3_scale(pw_v3_add(pw_v3_add(pw_trimesh_corner(m, f, 0), pw_trimesh_corner(m, f, 1)),
+                                 pw_trimesh_corner(m, f, 2)), 1.0f / 3.0f);
 }
 
 /* Queues the triangles across the edges of f that are neither in the patch
@@ -499,7 +499,7 @@ static void lapped__push_neighbours(lapped__paster *P, int f, pw_v3 centre3)
     lapped__patchbuf *p = &P->pb;
     int k;
     for (k = 0; k < 3; k++) {
-        int g = lapped__across(&P->m, f, k);
+        int g = pw_trimesh_across(&P->m, f, k);
         if (g < 0 || p->fin[g] == p->stamp || p->fout[g] == p->stamp || p->fq[g] == p->stamp) continue;
         p->fq[g] = p->stamp;
         lapped__heap_push(p, pw_v3_len(pw_v3_sub(lapped__centroid(&P->m, g), centre3)), g);
@@ -521,7 +521,7 @@ static void lapped__frame(lapped__paster *P, int g)
         return;
     }
     for (k = 0; k < 3; k++) {
-        int h = lapped__across(&P->m, g, k);
+        int h = pw_trimesh_across(&P->m, g, k);
         if (h >= 0 && p->fin[h] == p->stamp) t = pw_v3_add(t, pw_v3_norm(pw_v3_load(p->ft + 3 * h)));
     }
     t = pw_v3_sub(t, pw_v3_scale(n, pw_v3_dot(t, n)));
@@ -540,13 +540,13 @@ static void lapped__start(lapped__paster *P, int f, const float b[3], int patch,
     int k;
     p->stamp++;
     p->nfaces = p->nverts = p->nheap = p->hard = 0;
-    *centre3 = pw_v3_add(pw_v3_add(pw_v3_scale(lapped__corner(&P->m, f, 0), b[0]),
-                                   pw_v3_scale(lapped__corner(&P->m, f, 1), b[1])),
-                         pw_v3_scale(lapped__corner(&P->m, f, 2), b[2]));
+    *centre3 = pw_v3_add(pw_v3_add(pw_v3_scale(pw_trimesh_corner(&P->m, f, 0), b[0]),
+                                   pw_v3_scale(pw_trimesh_corner(&P->m, f, 1), b[1])),
+                         pw_v3_scale(pw_trimesh_corner(&P->m, f, 2), b[2]));
     lapped__frame(P, f);
     for (k = 0; k < 3; k++) {
         float uv[2];
-        lapped__seed_uv(p, f, lapped__corner(&P->m, f, k), *centre3, P->centre + 2 * patch, uv);
+        lapped__seed_uv(p, f, pw_trimesh_corner(&P->m, f, k), *centre3, P->centre + 2 * patch, uv);
         lapped__map_vertex(p, P->m.tri[3 * f + k], uv[0], uv[1]);
     }
     p->fin[f] = p->stamp;
@@ -562,7 +562,7 @@ static int lapped__shared(const lapped__paster *P, int g, const pw_polyhull *hul
     int k, n = 0;
     *inside = 0;
     for (k = 0; k < 3; k++) {
-        int h = lapped__across(&P->m, g, k), va = P->m.tri[3 * g + k], vb = P->m.tri[3 * g + (k + 1) % 3];
+        int h = pw_trimesh_across(&P->m, g, k), va = P->m.tri[3 * g + k], vb = P->m.tri[3 * g + (k + 1) % 3];
         if (h < 0 || p->fin[h] != p->stamp) continue;
         n++;
         *edge = k;
@@ -844,6 +844,21 @@ static int lapped__paste(lapped__paster *P, int early, pw_triplets *tr, double *
 
 /* ---- hidden faces (§4) --------------------------------------------------------------- */
 
+/* Drops the pastes that later ones hide completely, keeping the order. */
+static void lapped__drop_empty(lapped__paster *P)
+{
+    size_t p, n = 0;
+    for (p = 0; p < P->npastes; p++) {
+        if (P->pastes[p].nfaces > 0) {
+            P->pastes[n++] = P->pastes[p];
+            continue;
+        }
+        pw_free(P->a, P->pastes[p].faces);
+        pw_free(P->a, P->pastes[p].uvs);
+    }
+    P->npastes = n;
+}
+
 /* Removes from each paste the triangles that later pastes hide (§4: "we
  * remove for a given paste operation any faces that are completely
  * occluded by subsequent paste operations"): walking the pastes backwards,
@@ -877,6 +892,7 @@ static void lapped__prune(lapped__paster *P, int remove, double *before, double 
     }
     *before = (double)total / P->m.nf;
     *after = (double)kept / P->m.nf;
+    lapped__drop_empty(P);
 }
 
 /* ---- set-up -------------------------------------------------------------------------- */
@@ -936,7 +952,7 @@ static void lapped__paster_free(lapped__paster *P)
     lapped__cover_free(P->a, &P->cover);
     lapped__patchbuf_free(P->a, &P->pb);
     lapped__free_pastes(P->a, P->pastes, P->npastes);
-    lapped__mesh_free(P->a, &P->m);
+    pw_trimesh_free(P->a, &P->m);
 }
 
 /* The caller's patches: RGBA, finite, each reaching full opacity somewhere
@@ -1007,6 +1023,12 @@ static double lapped__estimate(const lapped__paster *P)
     return 2.0 * need;
 }
 
+/* |v| in double: a float length overflows for absurd scales. */
+static double lapped__len_d(const float *v)
+{
+    return sqrt((double)v[0] * v[0] + (double)v[1] * v[1] + (double)v[2] * v[2]);
+}
+
 static int lapped__setup(lapped__paster *P, const lapped_mesh *mesh, const lapped_image *patches,
                          int npatches, double *estimate, pw_err *e)
 {
@@ -1028,10 +1050,9 @@ static int lapped__setup(lapped__paster *P, const lapped_mesh *mesh, const lappe
     if (*estimate > P->o.max_pastes)
         return pw_fail(e, PW_ERR_LIMIT, "the texture scale is too small for this mesh: covering it would "
                        "take about %.0f pastes (limit %d, see max_pastes)", *estimate, P->o.max_pastes);
-    if (pw_v3_len(pw_v3_load(P->ft)) > 20.0f * P->m.diag)
+    if (lapped__len_d(P->ft) > 20.0 * P->m.diag)
         return pw_fail(e, PW_ERR_INVALID, "the texture scale %g is more than 20 times the mesh's size "
-                       "(%g): one patch would have to cover the whole mesh",
-                       pw_v3_len(pw_v3_load(P->ft)), P->m.diag);
+                       "(%g): one patch would have to cover the whole mesh", lapped__len_d(P->ft), P->m.diag);
     P->rng = pw_rng_seed(P->o.seed, 5);
     return PW_OK;
 }
@@ -1076,11 +1097,11 @@ static int lapped__output(lapped__paster *P, lapped_texture *out, pw_err *e)
     }
     out->ntris = P->m.nf;
     out->npatches = P->npatches;
-    out->npastes = (int)P->npastes;
-    out->pastes = P->pastes;
     out->hard_edges = P->hard_edges;
     out->allocator = lapped__allocator(P->a);
     lapped__prune(P, !P->o.keep_hidden, &out->layers_before, &out->layers);
+    out->npastes = (int)P->npastes;
+    out->pastes = P->pastes;
     P->pastes = NULL;
     P->npastes = 0;
     return PW_OK;

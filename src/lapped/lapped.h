@@ -46,7 +46,7 @@
  *           lapped_load_image("fur.png", &opt, &texture, &err) ||
  *           lapped_make_patch(&texture, NULL, &opt, &patch, &err) ||
  *           lapped_create(&mesh, &patch, 1, &opt, &lt, &err) ||
- *           lapped_render(&mesh, &lt, &patch, NULL, &picture, &err) ||
+ *           lapped_render(&mesh, &lt, &patch, NULL, NULL, &picture, &err) ||
  *           lapped_save_image("bunny.png", &picture, &err))
  *           fprintf(stderr, "%s\n", err.message);
  *

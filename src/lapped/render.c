@@ -4,7 +4,7 @@
 #include "grow.c"
 
 /* Checks that a lapped texture belongs to this mesh and these patches. */
-static int lapped__check_texture(const lapped__mesh *m, const lapped_texture *t,
+static int lapped__check_texture(const pw_trimesh *m, const lapped_texture *t,
                                  const lapped_image *patches, const lapped_image *values, pw_err *e)
 {
     int k, p, i;
@@ -52,7 +52,7 @@ static int lapped__patch_texture(const pw_alloc *a, const lapped_image *patch, c
 }
 
 /* The paste's triangles as a draw: indices and per-corner coordinates. */
-static void lapped__paste_draw(const lapped__mesh *m, const lapped_paste *p, int *tris, pw_draw *d)
+static void lapped__paste_draw(const pw_trimesh *m, const lapped_paste *p, int *tris, pw_draw *d)
 {
     int i, k;
     for (i = 0; i < p->nfaces; i++)
@@ -64,7 +64,7 @@ static void lapped__paste_draw(const lapped__mesh *m, const lapped_paste *p, int
 
 /* The base pass: the bare mesh, mid-grey, writing depth; then every paste
  * over it with depth test "less or equal" and no depth write. */
-static int lapped__draw_pastes(const pw_alloc *a, const lapped__mesh *m, const lapped_texture *t,
+static int lapped__draw_pastes(const pw_alloc *a, const pw_trimesh *m, const lapped_texture *t,
                                const pw_texture *tex, const lapped_render_options *ro, pw_fb *fb,
                                pw_err *e)
 {
@@ -107,7 +107,7 @@ LAPPEDDEF lapped_result lapped_render(const lapped_mesh *mesh, const lapped_text
 {
     lapped_render_options o;
     pw_alloc a = lapped__alloc(t ? &t->allocator : NULL);
-    lapped__mesh m;
+    pw_trimesh m;
     pw_texture *tex = NULL;
     pw_image pic;
     pw_fb fb;
@@ -139,7 +139,7 @@ LAPPEDDEF lapped_result lapped_render(const lapped_mesh *mesh, const lapped_text
         }
         for (k = 0; tex && k < t->npatches; k++) pw_texture_free(&a, &tex[k]);
         pw_free(&a, tex);
-        lapped__mesh_free(&a, &m);
+        pw_trimesh_free(&a, &m);
     }
     return lapped__done(&pe, err);
 }

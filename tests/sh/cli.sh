@@ -59,8 +59,9 @@ expect_error empty_mesh "empty.obj" tiled --mesh "$tmp/empty.obj" $out
 # a successful run writes all outputs, with an MTL that names the texture
 rm -rf "$tmp/out" && mkdir -p "$tmp/out"
 if "$bin" tiled --mesh procedural:double-torus --subdivide 1 --seed 3 --size 200x150 \
-        --out-obj "$tmp/out/dt.obj" --out-image "$tmp/out/dt.png" > "$tmp/stdout" 2> "$tmp/stderr" &&
-   [ -s "$tmp/out/dt.obj" ] && [ -s "$tmp/out/dt.png" ] && grep -q 'map_Kd dt.png' "$tmp/out/dt.mtl" &&
+        --out-obj "$tmp/out/dt.obj" --out-image "$tmp/out/dt_render.png" > "$tmp/stdout" 2> "$tmp/stderr" &&
+   [ -s "$tmp/out/dt.obj" ] && [ -s "$tmp/out/dt.png" ] && [ -s "$tmp/out/dt_render.png" ] &&
+   grep -q 'map_Kd dt.png' "$tmp/out/dt.mtl" &&
    grep -q '^mtllib dt.mtl' "$tmp/out/dt.obj" && grep -q '^vt ' "$tmp/out/dt.obj" &&
    grep -q '^f [0-9]*/[0-9]* ' "$tmp/out/dt.obj" && [ -z "$(ls "$tmp/out" | grep partial)" ]; then
     pass outputs
@@ -68,11 +69,24 @@ else
     fail outputs "$(cat "$tmp/stderr") $(ls "$tmp/out" | tr '\n' ' ')"
 fi
 
+# two outputs on one file (here the OBJ's default texture and the rendering)
+# are refused before anything is written
+rm -rf "$tmp/out" && mkdir -p "$tmp/out"
+if "$bin" tiled --mesh procedural:torus --out-obj "$tmp/out/t.obj" --out-image "$tmp/out/t.png" \
+        > /dev/null 2> "$tmp/stderr"; then
+    fail same-path "exit status 0"
+elif grep -q 'named by two outputs' "$tmp/stderr" && [ -z "$(ls "$tmp/out")" ]; then
+    pass same-path
+else
+    fail same-path "$(cat "$tmp/stderr") $(ls "$tmp/out" | tr '\n' ' ')"
+fi
+
 # determinism: same seed, byte-identical files
-"$bin" tiled --mesh procedural:torus --seed 5 --size 120x90 --out-obj "$tmp/a.obj" --out-image "$tmp/a.png" > /dev/null 2>&1
-"$bin" tiled --mesh procedural:torus --seed 5 --size 120x90 --out-obj "$tmp/b.obj" --out-image "$tmp/b.png" > /dev/null 2>&1
+"$bin" tiled --mesh procedural:torus --seed 5 --size 120x90 --out-obj "$tmp/a.obj" --out-image "$tmp/a_r.png" > /dev/null 2>&1
+"$bin" tiled --mesh procedural:torus --seed 5 --size 120x90 --out-obj "$tmp/b.obj" --out-image "$tmp/b_r.png" > /dev/null 2>&1
 sed 's/b\.mtl/a.mtl/' "$tmp/b.obj" > "$tmp/b2.obj"
-if cmp -s "$tmp/a.obj" "$tmp/b2.obj" && cmp -s "$tmp/a.png" "$tmp/b.png"; then
+if [ -s "$tmp/a.png" ] && cmp -s "$tmp/a.obj" "$tmp/b2.obj" && cmp -s "$tmp/a.png" "$tmp/b.png" &&
+   cmp -s "$tmp/a_r.png" "$tmp/b_r.png"; then
     pass determinism
 else
     fail determinism "outputs differ between two runs with the same seed"

@@ -8,7 +8,7 @@ for ex in "$build"/examples/*; do
     name=$(basename "$ex")
     if (cd "$tmp" && "$OLDPWD/$ex" > out.txt 2>&1); then
         missing=""
-        for f in $(grep -o '[a-z_]*\.\(ppm\|obj\|mtl\)' "$tmp/out.txt"); do
+        for f in $(grep -o '[a-z_]*\.\(ppm\|png\|pastes\|obj\|mtl\)' "$tmp/out.txt"); do
             [ -s "$tmp/$f" ] || missing="$missing $f"
         done
         if [ -z "$missing" ]; then echo "PASS examples/$name"; else echo "FAIL examples/$name: missing$missing"; fi

@@ -1,0 +1,110 @@
+/* trimesh: the triangle mesh that the surface methods (lapped, pgp) work on:
+ * the fan triangulation of a polygon mesh (polygon corners 0, k, k+1, in
+ * order, so triangle indices are stable and documented), its half-edges
+ * (h = 3f+k runs from tri[3f+k] to tri[3f+(k+1)%3]; twin -1 on a
+ * boundary), unit normals, areas and the bounding-box diagonal. */
+#ifndef PW__TRIMESH_V1
+#define PW__TRIMESH_V1
+
+#include "base.h"
+#include "vec.h"
+#include "mesh.h"
+#include "halfedge.h"
+
+typedef struct pw_trimesh {
+    int nv, nf;          /* vertices, triangles */
+    const float *pos;    /* nv*3, borrowed */
+    int *tri;            /* nf*3 */
+    pw_hmesh hm;
+    float *normal;       /* nf*3 */
+    float *area;         /* nf */
+    double total_area;
+    float diag;          /* bounding-box diagonal */
+} pw_trimesh;
+
+PW__DEF void pw_trimesh_free(const pw_alloc *a, pw_trimesh *m)
+{
+    pw_free(a, m->tri);
+    pw_hmesh_free(a, &m->hm);
+    pw_free(a, m->normal);
+    pw_free(a, m->area);
+    memset(m, 0, sizeof *m);
+}
+
+PW__DEF pw_v3 pw_trimesh_vert(const pw_trimesh *m, int v) { return pw_v3_load(m->pos + 3 * v); }
+
+/* Corner k of triangle f. */
+PW__DEF pw_v3 pw_trimesh_corner(const pw_trimesh *m, int f, int k)
+{
+    return pw_trimesh_vert(m, m->tri[3 * f + k]);
+}
+
+/* The triangle across edge k of triangle f (-1 on a boundary). */
+PW__DEF int pw_trimesh_across(const pw_trimesh *m, int f, int k)
+{
+    int t = m->hm.twin[3 * f + k];
+    return t < 0 ? -1 : t / 3;
+}
+
+/* Normals, areas and the bounding box; zero-area triangles are refused:
+ * neither a tangent field nor a parametrisation is defined on them. */
+PW__DEF int pw__trimesh_geometry(pw_trimesh *m, pw_err *e)
+{
+    pw_v3 lo, hi;
+    int f, v;
+    m->total_area = 0.0;
+    for (f = 0; f < m->nf; f++) {
+        pw_v3 a = pw_trimesh_corner(m, f, 0), b = pw_trimesh_corner(m, f, 1), c = pw_trimesh_corner(m, f, 2);
+        pw_v3 n = pw_v3_cross(pw_v3_sub(b, a), pw_v3_sub(c, a));
+        float len = pw_v3_len(n), ref = pw_v3_dot(pw_v3_sub(b, a), pw_v3_sub(b, a)) +
+                                        pw_v3_dot(pw_v3_sub(c, a), pw_v3_sub(c, a));
+        if (!(len > 1e-12f * ref) || !(len > 0.0f))
+            return pw_fail(e, PW_ERR_DEGENERATE, "triangle %d (vertices %d, %d, %d) has zero area", f,
+                           m->tri[3 * f], m->tri[3 * f + 1], m->tri[3 * f + 2]);
+        pw_v3_store(m->normal + 3 * f, pw_v3_scale(n, 1.0f / len));
+        m->area[f] = 0.5f * len;
+        m->total_area += m->area[f];
+    }
+    lo = hi = pw_trimesh_vert(m, m->tri[0]);
+    for (v = 0; v < 3 * m->nf; v++) {
+        lo = pw_v3_min(lo, pw_trimesh_vert(m, m->tri[v]));
+        hi = pw_v3_max(hi, pw_trimesh_vert(m, m->tri[v]));
+    }
+    m->diag = pw_v3_len(pw_v3_sub(hi, lo));
+    return PW_OK;
+}
+
+/* Fan-triangulates a polygon mesh (positions borrowed: they must outlive
+ * the trimesh) and builds adjacency and geometry. Non-manifold or
+ * inconsistently oriented meshes and zero-area triangles are errors that
+ * name the element. */
+PW__DEF int pw_trimesh_init(const pw_alloc *a, const pw_mesh *in, pw_trimesh *m, pw_err *e)
+{
+    int f, k, t = 0, r, *fs;
+    memset(m, 0, sizeof *m);
+    if (!in->pos || !in->fstart || !in->fv) return pw_fail(e, PW_ERR_INVALID, "mesh has NULL arrays");
+    if (in->nf < 1) return pw_fail(e, PW_ERR_DEGENERATE, "mesh has no faces");
+    if ((r = pw_mesh_validate(in, e)) != PW_OK) return r;
+    m->nv = in->nv;
+    m->pos = in->pos;
+    m->nf = in->fstart[in->nf] - 2 * in->nf;
+    m->tri = (int *)pw_alloc_array(a, (size_t)m->nf * 3, sizeof(int), "triangles", e);
+    m->normal = (float *)pw_alloc_array(a, (size_t)m->nf * 3, sizeof(float), "normals", e);
+    m->area = (float *)pw_alloc_array(a, (size_t)m->nf, sizeof(float), "areas", e);
+    fs = (int *)pw_alloc_array(a, (size_t)m->nf + 1, sizeof(int), "triangle offsets", e);
+    if (!m->tri || !m->normal || !m->area || !fs) r = PW_ERR_NOMEM;
+    for (f = 0; r == PW_OK && f < in->nf; f++)
+        for (k = in->fstart[f] + 1; k + 1 < in->fstart[f + 1]; k++, t++) {
+            m->tri[3 * t] = in->fv[in->fstart[f]];
+            m->tri[3 * t + 1] = in->fv[k];
+            m->tri[3 * t + 2] = in->fv[k + 1];
+        }
+    for (f = 0; r == PW_OK && f <= m->nf; f++) fs[f] = 3 * f;
+    if (r == PW_OK) r = pw_hmesh_build(a, m->nv, m->nf, fs, m->tri, &m->hm, e);
+    if (r == PW_OK) r = pw__trimesh_geometry(m, e);
+    pw_free(a, fs);
+    if (r != PW_OK) pw_trimesh_free(a, m);
+    return r;
+}
+
+#endif /* PW__TRIMESH_V1 */
