@@ -33,7 +33,7 @@ ALL_CFLAGS = $(WARN) $(CFLAGS) $(SANFLAGS) -I.
 # ---- single-file headers: name and the shared modules each one carries ----
 HEADERS        := tiled lapped
 MODULES_tiled  := base vec rng image deflate png text mesh halfedge subdiv raster render graphcut quilt glue
-MODULES_lapped := base vec rng image deflate png text mesh halfedge sparse raster render polyhull trimesh glue
+MODULES_lapped := base vec rng image deflate png text mesh halfedge sparse raster render polyhull trimesh dirfield glue
 PARTS_lapped   := core field patch builtin grow render atlas io
 
 COMMON_SRC := $(wildcard src/common/*.h)
