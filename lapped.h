@@ -4838,6 +4838,253 @@ PW__DEF int pw_mesh_save_mtl(const char *path, const char *material, const char 
 
 #endif /* PW__MESH_V1 */
 
+/* ---- shared module src/common/shapes.h ---- */
+/* shapes: the built-in surface meshes of the demos and tests, shared by
+ * the surface methods (lapped, pgp). Everything is made from + - * / and
+ * sqrt (and pw_sin/pw_cos, built from those), so the meshes are the same on
+ * every platform. Faces are counter-clockwise seen from outside (from +z
+ * for the flat ones); sizes are about one unit.
+ *
+ *   pw_shape_geosphere  icosahedron faces split n x n, pushed onto the unit
+ *                       sphere: 10 n^2 + 2 vertices, 20 n^2 triangles
+ *   pw_shape_bumpy      a geosphere with 14 smooth bumps and dents at fixed
+ *                       pseudo-random places, a little taller than wide
+ *   pw_shape_torus      radii 1 and 0.4 around the z axis, nu x nv quads
+ *                       (or each split in two triangles)
+ *   pw_shape_disc       a gently domed disc of radius 1 facing +z (boundary)
+ *   pw_shape_grid       n x n quads (or triangle pairs) on [-1,1]^2 facing
+ *                       +z, optionally waved (boundary) */
+#ifndef PW__SHAPES_V1
+#define PW__SHAPES_V1
+
+
+/* A mesh of nv vertices and nf faces of `degree` corners each, fstart
+ * filled. */
+PW__DEF int pw_shape_alloc(const pw_alloc *a, int nv, int nf, int degree, pw_mesh *m, pw_err *e)
+{
+    int f, r = pw_mesh_alloc(a, m, nv, nf, nf * degree, 0, e);
+    if (r != PW_OK) return r;
+    for (f = 0; f <= nf; f++) m->fstart[f] = degree * f;
+    return PW_OK;
+}
+
+/* The icosahedron: corners (0, +-1, +-phi) and cyclic permutations, faces
+ * counter-clockwise seen from outside (the table's 2 stands for phi). */
+static const signed char pw__ico_v[12][3] = {{-1, 2, 0}, {1, 2, 0}, {-1, -2, 0}, {1, -2, 0},
+                                             {0, -1, 2}, {0, 1, 2}, {0, -1, -2}, {0, 1, -2},
+                                             {2, 0, -1}, {2, 0, 1}, {-2, 0, -1}, {-2, 0, 1}};
+static const unsigned char pw__ico_f[20][3] = {
+    {0, 11, 5}, {0, 5, 1}, {0, 1, 7}, {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
+    {11, 10, 2}, {10, 7, 6}, {7, 1, 8}, {3, 9, 4}, {3, 4, 2}, {3, 2, 6}, {3, 6, 8},
+    {3, 8, 9}, {4, 9, 5}, {2, 4, 11}, {6, 2, 10}, {8, 6, 7}, {9, 8, 1}};
+
+PW__DEF pw_v3 pw__ico_corner(int k)
+{
+    const float phi = 1.61803398874989485f;
+    float c[3];
+    int i;
+    for (i = 0; i < 3; i++) {
+        int t = pw__ico_v[k][i];
+        c[i] = t == 2 ? phi : t == -2 ? -phi : (float)t;
+    }
+    return pw_v3_load(c);
+}
+
+/* Index (0..29) of the icosahedron edge between corners p < q. */
+PW__DEF int pw__ico_edge(int p, int q)
+{
+    int f, k, n = 0;
+    for (f = 0; f < 20; f++)
+        for (k = 0; k < 3; k++) {
+            int a = pw__ico_f[f][k], b = pw__ico_f[f][(k + 1) % 3];
+            if (a > b) continue; /* count each edge once, from the face where it runs upwards */
+            if (a == p && b == q) return n;
+            n++;
+        }
+    return -1;
+}
+
+/* Vertex id of lattice point (i, j) of a frequency-n face with corners
+ * c[0..2]: the point c0 + i (c1 - c0)/n + j (c2 - c0)/n. Corners come first,
+ * then n-1 points per edge (from its lower corner), then face interiors, so
+ * points shared by faces get one id. */
+PW__DEF int pw__geo_id(const int *c, int f, int n, int i, int j)
+{
+    int p = -1, q = -1, t = 0, jj = j;
+    if (i == 0 && j == 0) return c[0];
+    if (i == n) return c[1];
+    if (j == n) return c[2];
+    if (j == 0) p = c[0], q = c[1], t = i;
+    else if (i == 0) p = c[0], q = c[2], t = j;
+    else if (i + j == n) p = c[1], q = c[2], t = j;
+    if (p >= 0) {
+        if (p > q) {
+            int s = p;
+            p = q;
+            q = s;
+            t = n - t;
+        }
+        return 12 + pw__ico_edge(p, q) * (n - 1) + t - 1;
+    }
+    return 12 + 30 * (n - 1) + f * (n - 1) * (n - 2) / 2 + (jj - 1) * (n - 1) - (jj - 1) * jj / 2 + i - 1;
+}
+
+/* Geodesic sphere: every icosahedron face split into n^2 triangles, the
+ * points pushed onto the unit sphere (10 n^2 + 2 vertices, 20 n^2 faces).
+ * Vertices 0..11 are the icosahedron's corners. */
+PW__DEF int pw_shape_geosphere(const pw_alloc *a, int n, pw_mesh *m, pw_err *e)
+{
+    int f, i, j, nt = 0, r = pw_shape_alloc(a, 10 * n * n + 2, 20 * n * n, 3, m, e);
+    if (r != PW_OK) return r;
+    for (f = 0; f < 20; f++) {
+        int c[3];
+        pw_v3 A, B, C;
+        c[0] = pw__ico_f[f][0], c[1] = pw__ico_f[f][1], c[2] = pw__ico_f[f][2];
+        A = pw__ico_corner(c[0]), B = pw__ico_corner(c[1]), C = pw__ico_corner(c[2]);
+        for (j = 0; j <= n; j++)
+            for (i = 0; i + j <= n; i++) {
+                pw_v3 p = pw_v3_add(A, pw_v3_add(pw_v3_scale(pw_v3_sub(B, A), (float)i / n),
+                                                 pw_v3_scale(pw_v3_sub(C, A), (float)j / n)));
+                int *t = m->fv + 3 * nt;
+                pw_v3_store(m->pos + 3 * pw__geo_id(c, f, n, i, j), pw_v3_norm(p));
+                if (i + j == n) continue;
+                t[0] = pw__geo_id(c, f, n, i, j); /* the upright triangle */
+                t[1] = pw__geo_id(c, f, n, i + 1, j);
+                t[2] = pw__geo_id(c, f, n, i, j + 1);
+                nt++;
+                if (i + j + 1 == n) continue;
+                t[3] = t[1]; /* and the inverted one beside it */
+                t[4] = pw__geo_id(c, f, n, i + 1, j + 1);
+                t[5] = t[2];
+                nt++;
+            }
+    }
+    return PW_OK;
+}
+
+/* A smooth bump of height 1 at distance 0, reaching 0 at distance 1 with
+ * zero slope and curvature: (1 - t^2)^3. */
+PW__DEF double pw__shape_bump(double t) { return t >= 1.0 ? 0.0 : (1.0 - t * t) * (1.0 - t * t) * (1.0 - t * t); }
+
+/* "bumpy": a frequency-n geodesic sphere whose radius is raised or lowered
+ * by 14 smooth bumps at fixed pseudo-random places (the same for every
+ * seed). The surface stays star-shaped, so it is embedded and keeps its
+ * orientation. */
+PW__DEF int pw_shape_bumpy(const pw_alloc *a, int n, pw_mesh *m, pw_err *e)
+{
+    double c[14][3], h[14], rad[14];
+    pw_rng rng = pw_rng_seed(2000, 7);
+    int k, v, r = pw_shape_geosphere(a, n, m, e);
+    if (r != PW_OK) return r;
+    for (k = 0; k < 14; k++) {
+        double x = 2 * pw_rng_double(&rng) - 1, y = 2 * pw_rng_double(&rng) - 1, z = 2 * pw_rng_double(&rng) - 1;
+        double l = sqrt(x * x + y * y + z * z) + 1e-9;
+        c[k][0] = x / l, c[k][1] = y / l, c[k][2] = z / l;
+        h[k] = k % 3 == 2 ? -0.1 : 0.08 + 0.14 * pw_rng_double(&rng);
+        rad[k] = 0.45 + 0.4 * pw_rng_double(&rng);
+    }
+    for (v = 0; v < m->nv; v++) {
+        float *p = m->pos + 3 * v;
+        double s = 1.0;
+        for (k = 0; k < 14; k++) {
+            double dx = p[0] - c[k][0], dy = p[1] - c[k][1], dz = p[2] - c[k][2];
+            s += h[k] * pw__shape_bump(sqrt(dx * dx + dy * dy + dz * dz) / rad[k]);
+        }
+        p[0] = (float)(p[0] * s);
+        p[1] = (float)(p[1] * s * 1.1); /* a little taller than wide */
+        p[2] = (float)(p[2] * s);
+    }
+    return PW_OK;
+}
+
+/* Torus around the z axis: radii 1 and 0.4, nu x nv quads (quads != 0) or
+ * each quad split in two triangles. Vertex i*nv + j sits at angle 2 pi i/nu
+ * around the axis and 2 pi j/nv around the tube. */
+PW__DEF int pw_shape_torus(const pw_alloc *a, int nu, int nv, int quads, pw_mesh *m, pw_err *e)
+{
+    const double pi2 = 6.28318530717958647692;
+    int d = quads ? 4 : 3, i, j, r = pw_shape_alloc(a, nu * nv, (quads ? 1 : 2) * nu * nv, d, m, e);
+    if (r != PW_OK) return r;
+    for (i = 0; i < nu; i++)
+        for (j = 0; j < nv; j++) {
+            double u = pi2 * i / nu, v = pi2 * j / nv, rr = 1.0 + 0.4 * pw_cos(v);
+            float *p = m->pos + 3 * (i * nv + j);
+            int *t = m->fv + (size_t)(quads ? 4 : 6) * (i * nv + j);
+            int a0 = i * nv + j, a1 = ((i + 1) % nu) * nv + j;
+            int a2 = ((i + 1) % nu) * nv + (j + 1) % nv, a3 = i * nv + (j + 1) % nv;
+            p[0] = (float)(rr * pw_cos(u));
+            p[1] = (float)(rr * pw_sin(u));
+            p[2] = (float)(0.4 * pw_sin(v));
+            t[0] = a0, t[1] = a1, t[2] = a2; /* d/du x d/dv points outwards */
+            if (quads) t[3] = a3;
+            else t[3] = a0, t[4] = a2, t[5] = a3;
+        }
+    return PW_OK;
+}
+
+/* "disc": a gently domed disc of radius 1 facing +z, with a boundary: a
+ * centre and K rings of 6k vertices, neighbouring rings zipped together
+ * (6 K^2 triangles). */
+PW__DEF int pw_shape_disc(const pw_alloc *a, int K, pw_mesh *m, pw_err *e)
+{
+    const double pi2 = 6.28318530717958647692;
+    int k, i, nt = 0, r = pw_shape_alloc(a, 1 + 3 * K * (K + 1), 6 * K * K, 3, m, e);
+    if (r != PW_OK) return r;
+    m->pos[2] = 0.2f;
+    for (k = 1; k <= K; k++)
+        for (i = 0; i < 6 * k; i++) {
+            double rho = (double)k / K, th = pi2 * i / (6 * k);
+            float *p = m->pos + 3 * (1 + 3 * k * (k - 1) + i);
+            p[0] = (float)(rho * pw_cos(th));
+            p[1] = (float)(rho * pw_sin(th));
+            p[2] = (float)(0.2 * (1.0 - rho * rho));
+        }
+    for (k = 1; k <= K; k++) { /* ring k-1 (n0 vertices; the centre for k = 1) against ring k */
+        int n0 = k == 1 ? 1 : 6 * (k - 1), n1 = 6 * k, b0 = k == 1 ? 0 : 1 + 3 * (k - 1) * (k - 2);
+        int b1 = 1 + 3 * k * (k - 1), i = k == 1 ? 1 : 0, j = 0;
+        while (i < n0 || j < n1) { /* step along the ring whose next vertex comes first in angle */
+            int *t = m->fv + 3 * nt++, inner = j == n1 || (i < n0 && (long)(i + 1) * n1 < (long)(j + 1) * n0);
+            t[0] = b0 + i % n0;
+            t[1] = b1 + j % n1;
+            t[2] = inner ? b0 + (i + 1) % n0 : b1 + (j + 1) % n1; /* counter-clockwise seen from +z */
+            if (inner) i++;
+            else j++;
+        }
+    }
+    return PW_OK;
+}
+
+/* An n x n grid of quads (quads != 0) or triangle pairs on [-1,1]^2 facing
+ * +z, with a boundary; z = wave sin(pi x) sin(pi y) (0: flat). Vertex
+ * j*(n+1) + i sits at x = -1 + 2i/n, y = -1 + 2j/n; the triangles of cell
+ * (i, j) are 2(j n + i) and 2(j n + i) + 1. */
+PW__DEF int pw_shape_grid(const pw_alloc *a, int n, double wave, int quads, pw_mesh *m, pw_err *e)
+{
+    const double pi = 3.14159265358979323846;
+    int i, j, r = pw_shape_alloc(a, (n + 1) * (n + 1), (quads ? 1 : 2) * n * n, quads ? 4 : 3, m, e);
+    if (r != PW_OK) return r;
+    for (j = 0; j <= n; j++)
+        for (i = 0; i <= n; i++) {
+            double x = -1.0 + 2.0 * i / n, y = -1.0 + 2.0 * j / n;
+            float *p = m->pos + 3 * (j * (n + 1) + i);
+            p[0] = (float)x;
+            p[1] = (float)y;
+            p[2] = wave != 0.0 ? (float)(wave * pw_sin(pi * x) * pw_sin(pi * y)) : 0.0f;
+        }
+    for (j = 0; j < n; j++)
+        for (i = 0; i < n; i++) {
+            int *f = m->fv + (size_t)(quads ? 4 : 6) * (j * n + i), v = j * (n + 1) + i;
+            f[0] = v;
+            f[1] = v + 1;
+            f[2] = v + n + 2;
+            if (quads) f[3] = v + n + 1;
+            else f[3] = v, f[4] = v + n + 2, f[5] = v + n + 1;
+        }
+    return PW_OK;
+}
+
+#endif /* PW__SHAPES_V1 */
+
 /* ---- shared module src/common/halfedge.h ---- */
 /* halfedge: half-edge connectivity of a polygon mesh.
  *
@@ -7131,7 +7378,10 @@ PW__DEF int pw_texture_create(const pw_alloc *a, pw_texture *t, const pw_image *
     cur = data ? (float *)pw_alloc_array(a, n0, sizeof(float), "texture scratch", e) : NULL;
     if (cur && t->nlevels > 1) {
         next = (float *)pw_alloc_array(a, n0 / 2 + 4, sizeof(float), "texture scratch", e);
-        tmp = next ? (float *)pw_alloc_array(a, n0 / 2 + 4, sizeof(float), "texture scratch", e) : NULL;
+        /* the horizontal pass holds lw[1] x h texels (for a 1-wide texture
+         * that is the whole level, not half of it) */
+        tmp = next ? (float *)pw_alloc_array(a, (size_t)t->lw[1] * t->h * 4 + 4, sizeof(float), "texture scratch", e)
+                   : NULL;
     }
     if (!cur || (t->nlevels > 1 && !tmp)) {
         pw_free(a, data);
@@ -10705,231 +10955,36 @@ static PW__UNUSED int lapped__patch_hull(const pw_alloc *a, const pw_image *rgba
 }
 
 /* ---- src/lapped/builtin.c ---- */
-/* builtin.c: built-in meshes and textures for demos and tests. Everything is
- * made from + - * / and sqrt (and pw_sin/pw_cos, built from those), so the
- * data is the same on every platform. Meshes are triangle meshes,
- * counter-clockwise seen from outside, about unit size. Textures are RGB
- * and follow opt->seed: "scales" and "stripes" are anisotropic (they have an
- * obvious up direction, for LAPPED_FIELD_UP and friends, §3.2), "dots" is
- * isotropic (for LAPPED_FIELD_ISOTROPIC). */
+/* builtin.c: built-in meshes (made by the shared shapes module) and textures
+ * for demos and tests. Everything is made from + - * / and sqrt (and
+ * pw_sin/pw_cos, built from those), so the data is the same on every
+ * platform. Meshes are triangle meshes, counter-clockwise seen from
+ * outside, about unit size. Textures are RGB and follow opt->seed:
+ * "scales" and "stripes" are anisotropic (they have an obvious up
+ * direction, for LAPPED_FIELD_UP and friends, §3.2), "dots" is isotropic
+ * (for LAPPED_FIELD_ISOTROPIC). */
 
 /* ---- meshes ----------------------------------------------------------------- */
-
-/* A triangle mesh of nv vertices and nf triangles, face_start filled. */
-static int lapped__new_trimesh(const pw_alloc *a, int nv, int nf, lapped_mesh *m, pw_err *e)
-{
-    int f;
-    memset(m, 0, sizeof *m);
-    m->positions = (float *)pw_calloc_array(a, (size_t)nv * 3, sizeof(float), "mesh positions", e);
-    m->face_start = (int *)pw_alloc_array(a, (size_t)nf + 1, sizeof(int), "mesh faces", e);
-    m->face_verts = (int *)pw_calloc_array(a, (size_t)nf * 3, sizeof(int), "mesh faces", e);
-    m->allocator = lapped__allocator(a);
-    if (!m->positions || !m->face_start || !m->face_verts) {
-        lapped_mesh_free(m);
-        return PW_ERR_NOMEM;
-    }
-    m->nverts = nv;
-    m->nfaces = nf;
-    for (f = 0; f <= nf; f++) m->face_start[f] = 3 * f;
-    return PW_OK;
-}
-
-/* The icosahedron: corners (0, +-1, +-phi) and cyclic permutations, faces
- * counter-clockwise seen from outside (the table's 2 stands for phi). */
-static const signed char lapped__ico_v[12][3] = {{-1, 2, 0}, {1, 2, 0}, {-1, -2, 0}, {1, -2, 0},
-                                                 {0, -1, 2}, {0, 1, 2}, {0, -1, -2}, {0, 1, -2},
-                                                 {2, 0, -1}, {2, 0, 1}, {-2, 0, -1}, {-2, 0, 1}};
-static const unsigned char lapped__ico_f[20][3] = {
-    {0, 11, 5}, {0, 5, 1}, {0, 1, 7}, {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
-    {11, 10, 2}, {10, 7, 6}, {7, 1, 8}, {3, 9, 4}, {3, 4, 2}, {3, 2, 6}, {3, 6, 8},
-    {3, 8, 9}, {4, 9, 5}, {2, 4, 11}, {6, 2, 10}, {8, 6, 7}, {9, 8, 1}};
-
-static pw_v3 lapped__ico_corner(int k)
-{
-    const float phi = 1.61803398874989485f;
-    float c[3];
-    int i;
-    for (i = 0; i < 3; i++) {
-        int t = lapped__ico_v[k][i];
-        c[i] = t == 2 ? phi : t == -2 ? -phi : (float)t;
-    }
-    return pw_v3_load(c);
-}
-
-/* Index (0..29) of the icosahedron edge between corners p < q. */
-static int lapped__ico_edge(int p, int q)
-{
-    int f, k, n = 0;
-    for (f = 0; f < 20; f++)
-        for (k = 0; k < 3; k++) {
-            int a = lapped__ico_f[f][k], b = lapped__ico_f[f][(k + 1) % 3];
-            if (a > b) continue; /* count each edge once, from the face where it runs upwards */
-            if (a == p && b == q) return n;
-            n++;
-        }
-    return -1;
-}
-
-/* Vertex id of lattice point (i, j) of a frequency-n face with corners
- * c[0..2]: the point c0 + i (c1 - c0)/n + j (c2 - c0)/n. Corners come first,
- * then n-1 points per edge (from its lower corner), then face interiors, so
- * points shared by faces get one id. */
-static int lapped__geo_id(const int *c, int f, int n, int i, int j)
-{
-    int p = -1, q = -1, t = 0, jj = j;
-    if (i == 0 && j == 0) return c[0];
-    if (i == n) return c[1];
-    if (j == n) return c[2];
-    if (j == 0) p = c[0], q = c[1], t = i;
-    else if (i == 0) p = c[0], q = c[2], t = j;
-    else if (i + j == n) p = c[1], q = c[2], t = j;
-    if (p >= 0) {
-        if (p > q) {
-            int s = p;
-            p = q;
-            q = s;
-            t = n - t;
-        }
-        return 12 + lapped__ico_edge(p, q) * (n - 1) + t - 1;
-    }
-    return 12 + 30 * (n - 1) + f * (n - 1) * (n - 2) / 2 + (jj - 1) * (n - 1) - (jj - 1) * jj / 2 + i - 1;
-}
-
-/* Geodesic sphere: every icosahedron face split into n^2 triangles, the
- * points pushed onto the unit sphere (10 n^2 + 2 vertices, 20 n^2 faces). */
-static int lapped__geosphere(const pw_alloc *a, int n, lapped_mesh *m, pw_err *e)
-{
-    int f, i, j, nt = 0, r = lapped__new_trimesh(a, 10 * n * n + 2, 20 * n * n, m, e);
-    if (r != PW_OK) return r;
-    for (f = 0; f < 20; f++) {
-        int c[3];
-        pw_v3 A, B, C;
-        c[0] = lapped__ico_f[f][0], c[1] = lapped__ico_f[f][1], c[2] = lapped__ico_f[f][2];
-        A = lapped__ico_corner(c[0]), B = lapped__ico_corner(c[1]), C = lapped__ico_corner(c[2]);
-        for (j = 0; j <= n; j++)
-            for (i = 0; i + j <= n; i++) {
-                pw_v3 p = pw_v3_add(A, pw_v3_add(pw_v3_scale(pw_v3_sub(B, A), (float)i / n),
-                                                 pw_v3_scale(pw_v3_sub(C, A), (float)j / n)));
-                int *t = m->face_verts + 3 * nt;
-                pw_v3_store(m->positions + 3 * lapped__geo_id(c, f, n, i, j), pw_v3_norm(p));
-                if (i + j == n) continue;
-                t[0] = lapped__geo_id(c, f, n, i, j); /* the upright triangle */
-                t[1] = lapped__geo_id(c, f, n, i + 1, j);
-                t[2] = lapped__geo_id(c, f, n, i, j + 1);
-                nt++;
-                if (i + j + 1 == n) continue;
-                t[3] = t[1]; /* and the inverted one beside it */
-                t[4] = lapped__geo_id(c, f, n, i + 1, j + 1);
-                t[5] = t[2];
-                nt++;
-            }
-    }
-    return PW_OK;
-}
-
-/* A smooth bump of height 1 at distance 0, reaching 0 at distance 1 with
- * zero slope and curvature: (1 - t^2)^3. */
-static double lapped__bump(double t) { return t >= 1.0 ? 0.0 : (1.0 - t * t) * (1.0 - t * t) * (1.0 - t * t); }
-
-/* "bumpy": a geodesic sphere whose radius is raised or lowered by 14 smooth
- * bumps at fixed pseudo-random places (the same for every seed). The
- * surface stays star-shaped, so it is embedded and keeps its orientation. */
-static int lapped__bumpy(const pw_alloc *a, lapped_mesh *m, pw_err *e)
-{
-    double c[14][3], h[14], rad[14];
-    pw_rng rng = pw_rng_seed(2000, 7);
-    int k, v, r = lapped__geosphere(a, 16, m, e);
-    if (r != PW_OK) return r;
-    for (k = 0; k < 14; k++) {
-        double x = 2 * pw_rng_double(&rng) - 1, y = 2 * pw_rng_double(&rng) - 1, z = 2 * pw_rng_double(&rng) - 1;
-        double l = sqrt(x * x + y * y + z * z) + 1e-9;
-        c[k][0] = x / l, c[k][1] = y / l, c[k][2] = z / l;
-        h[k] = k % 3 == 2 ? -0.1 : 0.08 + 0.14 * pw_rng_double(&rng);
-        rad[k] = 0.45 + 0.4 * pw_rng_double(&rng);
-    }
-    for (v = 0; v < m->nverts; v++) {
-        float *p = m->positions + 3 * v;
-        double s = 1.0;
-        for (k = 0; k < 14; k++) {
-            double dx = p[0] - c[k][0], dy = p[1] - c[k][1], dz = p[2] - c[k][2];
-            s += h[k] * lapped__bump(sqrt(dx * dx + dy * dy + dz * dz) / rad[k]);
-        }
-        p[0] = (float)(p[0] * s);
-        p[1] = (float)(p[1] * s * 1.1); /* a little taller than wide */
-        p[2] = (float)(p[2] * s);
-    }
-    return PW_OK;
-}
-
-/* Torus around the z axis: radii 1 and 0.4, nu x nv quads split in two. */
-static int lapped__torus(const pw_alloc *a, int nu, int nv, lapped_mesh *m, pw_err *e)
-{
-    const double pi2 = 6.28318530717958647692;
-    int i, j, r = lapped__new_trimesh(a, nu * nv, 2 * nu * nv, m, e);
-    if (r != PW_OK) return r;
-    for (i = 0; i < nu; i++)
-        for (j = 0; j < nv; j++) {
-            double u = pi2 * i / nu, v = pi2 * j / nv, rr = 1.0 + 0.4 * pw_cos(v);
-            float *p = m->positions + 3 * (i * nv + j);
-            int *t = m->face_verts + 6 * (i * nv + j);
-            int a0 = i * nv + j, a1 = ((i + 1) % nu) * nv + j;
-            int a2 = ((i + 1) % nu) * nv + (j + 1) % nv, a3 = i * nv + (j + 1) % nv;
-            p[0] = (float)(rr * pw_cos(u));
-            p[1] = (float)(rr * pw_sin(u));
-            p[2] = (float)(0.4 * pw_sin(v));
-            t[0] = a0, t[1] = a1, t[2] = a2; /* d/du x d/dv points outwards */
-            t[3] = a0, t[4] = a2, t[5] = a3;
-        }
-    return PW_OK;
-}
-
-/* "disc": a gently domed disc of radius 1 facing +z, with a boundary: a
- * centre and K rings of 6k vertices, neighbouring rings zipped together
- * (6 K^2 triangles). */
-static int lapped__disc(const pw_alloc *a, int K, lapped_mesh *m, pw_err *e)
-{
-    const double pi2 = 6.28318530717958647692;
-    int k, i, nt = 0, r = lapped__new_trimesh(a, 1 + 3 * K * (K + 1), 6 * K * K, m, e);
-    if (r != PW_OK) return r;
-    m->positions[2] = 0.2f;
-    for (k = 1; k <= K; k++)
-        for (i = 0; i < 6 * k; i++) {
-            double rho = (double)k / K, th = pi2 * i / (6 * k);
-            float *p = m->positions + 3 * (1 + 3 * k * (k - 1) + i);
-            p[0] = (float)(rho * pw_cos(th));
-            p[1] = (float)(rho * pw_sin(th));
-            p[2] = (float)(0.2 * (1.0 - rho * rho));
-        }
-    for (k = 1; k <= K; k++) { /* ring k-1 (n0 vertices; the centre for k = 1) against ring k */
-        int n0 = k == 1 ? 1 : 6 * (k - 1), n1 = 6 * k, b0 = k == 1 ? 0 : 1 + 3 * (k - 1) * (k - 2);
-        int b1 = 1 + 3 * k * (k - 1), i = k == 1 ? 1 : 0, j = 0;
-        while (i < n0 || j < n1) { /* step along the ring whose next vertex comes first in angle */
-            int *t = m->face_verts + 3 * nt++, inner = j == n1 || (i < n0 && (long)(i + 1) * n1 < (long)(j + 1) * n0);
-            t[0] = b0 + i % n0;
-            t[1] = b1 + j % n1;
-            t[2] = inner ? b0 + (i + 1) % n0 : b1 + (j + 1) % n1; /* counter-clockwise seen from +z */
-            if (inner) i++;
-            else j++;
-        }
-    }
-    return PW_OK;
-}
 
 LAPPEDDEF lapped_result lapped_builtin_mesh(const char *name, const lapped_options *opt, lapped_mesh *out,
                                             lapped_error *err)
 {
     lapped_options o = lapped__options(opt);
     pw_alloc a = lapped__alloc(&o.allocator);
+    pw_mesh m;
     pw_err pe;
+    int r = -1;
     pw_err_clear(&pe);
+    memset(&m, 0, sizeof m);
     if (out) memset(out, 0, sizeof *out);
     if (!out || !name) pw_fail(&pe, PW_ERR_INVALID, "lapped_builtin_mesh: NULL argument");
-    else if (!strcmp(name, "sphere")) lapped__geosphere(&a, 12, out, &pe);
-    else if (!strcmp(name, "torus")) lapped__torus(&a, 48, 32, out, &pe);
-    else if (!strcmp(name, "bumpy")) lapped__bumpy(&a, out, &pe);
-    else if (!strcmp(name, "disc")) lapped__disc(&a, 18, out, &pe);
+    else if (!strcmp(name, "sphere")) r = pw_shape_geosphere(&a, 12, &m, &pe);
+    else if (!strcmp(name, "torus")) r = pw_shape_torus(&a, 48, 32, 0, &m, &pe);
+    else if (!strcmp(name, "bumpy")) r = pw_shape_bumpy(&a, 16, &m, &pe);
+    else if (!strcmp(name, "disc")) r = pw_shape_disc(&a, 18, &m, &pe);
     else
         pw_fail(&pe, PW_ERR_INVALID, "unknown built-in mesh '%s' (sphere, torus, bumpy, disc)", name);
+    if (r == PW_OK) lapped__take_mesh(&m, &a, out);
     return lapped__done(&pe, err);
 }
 
@@ -12317,14 +12372,21 @@ static int lapped__draw_pastes(const pw_alloc *a, const pw_trimesh *m, const lap
     pw_camera cam = pw_camera_frame(m->pos, m->nv, ro->view_dir, ro->up, 35.0f,
                                     (float)ro->width / (float)ro->height);
     int *tris = (int *)pw_alloc_array(a, (size_t)m->nf * 3, sizeof(int), "paste triangles", e);
+    float *normals = (float *)pw_alloc_array(a, (size_t)m->nv * 3, sizeof(float), "normals", e);
     pw_draw d;
     int p, r;
-    if (!tris) return PW_ERR_NOMEM;
+    if (!tris || !normals) {
+        pw_free(a, tris);
+        pw_free(a, normals);
+        return PW_ERR_NOMEM;
+    }
     memset(&d, 0, sizeof d);
     d.positions = m->pos;
     d.nv = m->nv;
     d.tris = m->tri;
     d.ntris = m->nf;
+    pw__smooth_normals(&d, normals); /* once, from the whole mesh: every paste is lit as the surface */
+    d.normals = normals;
     d.color[0] = d.color[1] = d.color[2] = 0.5f;
     d.color[3] = 1.0f;
     d.lighting = PW_LIGHT_CAMERA;
@@ -12343,6 +12405,7 @@ static int lapped__draw_pastes(const pw_alloc *a, const pw_trimesh *m, const lap
         r = pw_render_draw(fb, &cam, &d, e);
     }
     pw_free(a, tris);
+    pw_free(a, normals);
     return r;
 }
 

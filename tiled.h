@@ -6389,7 +6389,10 @@ PW__DEF int pw_texture_create(const pw_alloc *a, pw_texture *t, const pw_image *
     cur = data ? (float *)pw_alloc_array(a, n0, sizeof(float), "texture scratch", e) : NULL;
     if (cur && t->nlevels > 1) {
         next = (float *)pw_alloc_array(a, n0 / 2 + 4, sizeof(float), "texture scratch", e);
-        tmp = next ? (float *)pw_alloc_array(a, n0 / 2 + 4, sizeof(float), "texture scratch", e) : NULL;
+        /* the horizontal pass holds lw[1] x h texels (for a 1-wide texture
+         * that is the whole level, not half of it) */
+        tmp = next ? (float *)pw_alloc_array(a, (size_t)t->lw[1] * t->h * 4 + 4, sizeof(float), "texture scratch", e)
+                   : NULL;
     }
     if (!cur || (t->nlevels > 1 && !tmp)) {
         pw_free(a, data);

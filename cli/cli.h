@@ -5,6 +5,7 @@
 #include <stdio.h>
 #include "../tiled.h"
 #include "../lapped.h"
+#include "../pgp.h"
 
 /* Argument cursor: `patchwork SUB --flag value ...`. */
 typedef struct cli_args {
@@ -69,5 +70,6 @@ int cmd_tiled(int argc, char **argv);
 int cmd_demo(int argc, char **argv);
 int cmd_convert(int argc, char **argv);
 int cmd_lapped(int argc, char **argv);
+int cmd_pgp(int argc, char **argv);
 
 #endif

@@ -1,7 +1,9 @@
 /* cmd_demo.c: `patchwork demo [DIR]`, every method on built-in data. */
 #define _POSIX_C_SOURCE 200809L
 #include <errno.h>
+#include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
 #include "cli.h"
@@ -150,6 +152,122 @@ static tiled_result demo_lapped_scene(const char *dir, const lapped_scene *s, ti
     return r;
 }
 
+typedef struct pgp_scene {
+    const char *name, *mesh, *tile;
+    int field;
+    float scale, view[3];
+    float fresh[3], weathered[3]; /* material 0 / 1 on the side of the mesh this way; 0: none */
+} pgp_scene;
+
+static const pgp_scene pgp_scenes[] = {
+    {"pgp_bumpy_bricks", "bumpy", "bricks", PGP_FIELD_UP, 0.5f, {-0.3f, -0.35f, -0.9f}, {-0.48f, 0.57f, 0.67f}, {0.92f, -0.26f, 0.28f}},
+    {"pgp_torus_stripes", "torus", "stripes", PGP_FIELD_CURVATURE, 0.6f, {-0.2f, -0.6f, -0.75f}, {0.0f, 0.0f, 0.0f}, {0.0f, 0.0f, 0.0f}},
+};
+
+static tiled_result demo_write_pgp(const char *dir, const char *name, const pgp_image *img, tiled_error *err)
+{
+    tiled_image view;
+    memset(&view, 0, sizeof view);
+    view.width = img->width;
+    view.height = img->height;
+    view.channels = img->channels;
+    view.pixels = img->pixels;
+    return demo_write(dir, name, &view, err);
+}
+
+static tiled_result demo_pgp_error(const pgp_error *pe, tiled_error *err)
+{
+    err->code = (tiled_result)pe->code;
+    memcpy(err->message, pe->message, sizeof err->message);
+    return err->code;
+}
+
+/* The layers of a tile side by side, m growing to the right. */
+static tiled_result demo_pgp_tile(const char *dir, const char *name, const pgp_tile *t, tiled_error *err)
+{
+    tiled_image strip;
+    tiled_result r;
+    int y, k, row = t->width * t->channels;
+    memset(&strip, 0, sizeof strip);
+    strip.width = t->width * t->layers;
+    strip.height = t->height;
+    strip.channels = t->channels;
+    if (!(strip.pixels = (float *)malloc(sizeof(float) * (size_t)row * t->layers * t->height))) {
+        err->code = TILED_ERR_NOMEM;
+        snprintf(err->message, sizeof err->message, "out of memory");
+        return err->code;
+    }
+    for (k = 0; k < t->layers; k++)
+        for (y = 0; y < t->height; y++)
+            memcpy(strip.pixels + ((size_t)y * t->layers + k) * row, t->pixels + ((size_t)k * t->height + y) * row,
+                   sizeof(float) * (size_t)row);
+    r = demo_write(dir, name, &strip, err);
+    free(strip.pixels);
+    return r;
+}
+
+/* Material constraints (§2.2): m = 0 at the vertices whose direction from
+ * the origin is within about 37 degrees of s->fresh, m = 1 near
+ * s->weathered. Each recomputes a small area; the last one the whole mesh,
+ * so that m runs smoothly from one side to the other. */
+static pgp_result demo_pgp_weather(const pgp_scene *s, const pgp_mesh *mesh, pgp_map *map, pgp_error *pe)
+{
+    pgp_result r = PGP_OK;
+    int v, last = -1;
+    for (v = 0; v < mesh->nverts && r == PGP_OK; v++) {
+        const float *p = mesh->positions + 3 * v;
+        float l = sqrtf(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
+        float d0 = l > 0.0f ? (p[0] * s->fresh[0] + p[1] * s->fresh[1] + p[2] * s->fresh[2]) / l : 0.0f;
+        float d1 = l > 0.0f ? (p[0] * s->weathered[0] + p[1] * s->weathered[1] + p[2] * s->weathered[2]) / l : 0.0f;
+        if (d0 > 0.8f || d1 > 0.8f) r = pgp_add_material(map, v, d1 > 0.8f ? 1.0f : 0.0f, 0.1f, NULL, NULL, pe);
+        if (d0 > 0.8f) last = v;
+    }
+    if (r == PGP_OK && last >= 0) r = pgp_add_material(map, last, 0.0f, 0.0f, NULL, NULL, pe);
+    return r;
+}
+
+/* A pgp scene: the rendering, a second view (the material for a weathered
+ * scene, else the singular triangles and the rendering without the §3
+ * fix), and the tile's layers. */
+static tiled_result demo_pgp_scene(const char *dir, const pgp_scene *s, tiled_error *err)
+{
+    pgp_options o = pgp_default_options();
+    pgp_render_options ro;
+    pgp_mesh mesh;
+    pgp_tile tile;
+    pgp_image pic[3];
+    pgp_map *map = NULL;
+    pgp_error pe;
+    tiled_result r = TILED_OK;
+    int weather = s->weathered[0] != 0.0f || s->weathered[1] != 0.0f || s->weathered[2] != 0.0f, k;
+    static const char *const suffix[2][3] = {{"", "_singular", "_nofix"}, {"", "_material", NULL}};
+    char name[256];
+    memset(&ro, 0, sizeof ro);
+    memset(pic, 0, sizeof pic);
+    memset(&tile, 0, sizeof tile);
+    memcpy(ro.view_dir, s->view, sizeof ro.view_dir);
+    o.field = s->field;
+    o.scale = s->scale;
+    if (pgp_builtin_mesh(s->mesh, &o, &mesh, &pe) != PGP_OK) return demo_pgp_error(&pe, err);
+    if (pgp_builtin_tile(s->tile, 256, &o, &tile, &pe) != PGP_OK || pgp_create(&mesh, &o, &map, &pe) != PGP_OK ||
+        (weather && demo_pgp_weather(s, &mesh, map, &pe) != PGP_OK))
+        r = demo_pgp_error(&pe, err);
+    for (k = 0; k < 3 && r == TILED_OK && suffix[weather][k]; k++) {
+        ro.show = k == 1 ? (weather ? 1 : 2) : 0;
+        ro.fix = k == 2 ? 1 : 0;
+        if (pgp_render(map, &tile, &ro, &pic[k], &pe) != PGP_OK) r = demo_pgp_error(&pe, err);
+        snprintf(name, sizeof name, "%s%s", s->name, suffix[weather][k]);
+        if (r == TILED_OK) r = demo_write_pgp(dir, name, &pic[k], err);
+    }
+    snprintf(name, sizeof name, "%s_tile", s->name);
+    if (r == TILED_OK) r = demo_pgp_tile(dir, name, &tile, err);
+    for (k = 0; k < 3; k++) pgp_image_free(&pic[k]);
+    pgp_destroy(map);
+    pgp_tile_free(&tile);
+    pgp_mesh_free(&mesh);
+    return r;
+}
+
 int cmd_demo(int argc, char **argv)
 {
     const char *dir = argc > 1 ? argv[1] : "out";
@@ -177,6 +295,11 @@ int cmd_demo(int argc, char **argv)
     for (k = 0; k < sizeof lapped_scenes / sizeof lapped_scenes[0]; k++)
         if (demo_lapped_scene(dir, &lapped_scenes[k], &err) != TILED_OK) {
             cli_error("demo", "%s: %s", lapped_scenes[k].name, err.message);
+            return 1;
+        }
+    for (k = 0; k < sizeof pgp_scenes / sizeof pgp_scenes[0]; k++)
+        if (demo_pgp_scene(dir, &pgp_scenes[k], &err) != TILED_OK) {
+            cli_error("demo", "%s: %s", pgp_scenes[k].name, err.message);
             return 1;
         }
     return 0;

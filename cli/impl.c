@@ -2,3 +2,4 @@
 #define PATCHWORK_IMPLEMENTATION
 #include "../tiled.h"
 #include "../lapped.h"
+#include "../pgp.h"

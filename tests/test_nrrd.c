@@ -16,15 +16,15 @@
 #include "pwtest.h"
 
 static const unsigned char gz_plain[130] = {
-    0x1f, 0x8b, 0x08, 0x00, 0x00, 0x00, 0x00, 0x00, 0x02, 0x03, 0x63, 0xe0, 0x12, 0x91, 0xd3, 0x30,
-    0xb2, 0x71, 0x0b, 0x88, 0x4a, 0xc9, 0xab, 0x68, 0xea, 0x99, 0xb6, 0x60, 0xd5, 0x96, 0x7d, 0x27,
-    0x2e, 0xdd, 0x79, 0xc6, 0x80, 0x43, 0x9c, 0x91, 0x5b, 0x54, 0x5e, 0xd3, 0xd8, 0xd6, 0x3d, 0x30,
-    0x3a, 0x35, 0xbf, 0xb2, 0xb9, 0x77, 0xfa, 0xc2, 0xd5, 0x5b, 0xf7, 0x9f, 0xbc, 0x7c, 0xf7, 0x39,
-    0x2e, 0x71, 0x26, 0x1e, 0x31, 0x05, 0x2d, 0x13, 0x3b, 0x8f, 0xa0, 0x98, 0xb4, 0x82, 0xaa, 0x96,
-    0xbe, 0x19, 0x8b, 0xd6, 0x6c, 0x3b, 0x70, 0xea, 0xca, 0xbd, 0x17, 0xb8, 0xc4, 0x99, 0x79, 0xc5,
-    0x15, 0xb5, 0x4d, 0xed, 0x3d, 0x83, 0x63, 0xd3, 0x0b, 0xab, 0x5b, 0xfb, 0x67, 0x2e, 0x5e, 0xbb,
-    0xfd, 0xe0, 0xe9, 0xab, 0xf7, 0x5f, 0xe2, 0x12, 0x07, 0x00, 0x26, 0x42, 0x19, 0xde, 0xc0, 0x00,
-    0x00, 0x00,
+    0x1f, 0x8b, 0x08, 0x00, 0x00, 0x00, 0x00, 0x00, 0x02, 0x03, 0x63, 0xe0, 0x12, 0x91, 0xd3,
+    0x30, 0xb2, 0x71, 0x0b, 0x88, 0x4a, 0xc9, 0xab, 0x68, 0xea, 0x99, 0xb6, 0x60, 0xd5, 0x96,
+    0x7d, 0x27, 0x2e, 0xdd, 0x79, 0xc6, 0x80, 0x43, 0x9c, 0x91, 0x5b, 0x54, 0x5e, 0xd3, 0xd8,
+    0xd6, 0x3d, 0x30, 0x3a, 0x35, 0xbf, 0xb2, 0xb9, 0x77, 0xfa, 0xc2, 0xd5, 0x5b, 0xf7, 0x9f,
+    0xbc, 0x7c, 0xf7, 0x39, 0x2e, 0x71, 0x26, 0x1e, 0x31, 0x05, 0x2d, 0x13, 0x3b, 0x8f, 0xa0,
+    0x98, 0xb4, 0x82, 0xaa, 0x96, 0xbe, 0x19, 0x8b, 0xd6, 0x6c, 0x3b, 0x70, 0xea, 0xca, 0xbd,
+    0x17, 0xb8, 0xc4, 0x99, 0x79, 0xc5, 0x15, 0xb5, 0x4d, 0xed, 0x3d, 0x83, 0x63, 0xd3, 0x0b,
+    0xab, 0x5b, 0xfb, 0x67, 0x2e, 0x5e, 0xbb, 0xfd, 0xe0, 0xe9, 0xab, 0xf7, 0x5f, 0xe2, 0x12,
+    0x07, 0x00, 0x26, 0x42, 0x19, 0xde, 0xc0, 0x00, 0x00, 0x00,
 };
 
 static const unsigned char gz_fname[139] = {
@@ -65,14 +65,14 @@ static const unsigned char gz_two[154] = {
     0x71, 0x00, 0x58, 0x6b, 0x2d, 0x58, 0x5c, 0x00, 0x00, 0x00,
 };
 
-
 /* The 192 samples the gzip arrays hold. */
 static unsigned char payload_byte(int i) { return (unsigned char)(((i % 24) * 10 + i / 48) & 255); }
 
 /* ---- helpers ---- */
 
 /* header text followed by n data bytes, in a static buffer */
-static size_t make_file(unsigned char *out, size_t cap, const char *head, const void *data, size_t n)
+static size_t make_file(unsigned char *out, size_t cap, const char *head, const void *data,
+                        size_t n)
 {
     size_t h = strlen(head);
     if (h + n > cap) return 0;
@@ -144,11 +144,15 @@ static void t_roundtrip_u8(void)
                 snprintf(want, sizeof want, "dimension: 4\nsizes: %d 5 3 4\n", c);
             CHECKF(strstr((const char *)buf.data, want) != NULL, "c=%d: no '%s'", c, want);
             CHECK(strstr((const char *)buf.data, "type: uint8\n") != NULL);
-            CHECK(strstr((const char *)buf.data, gz ? "encoding: gzip\n\n\x1f\x8b" : "encoding: raw\n\n") != NULL);
-            if (!gz) CHECK_EQ_INT(buf.size, strstr((const char *)buf.data, "\n\n") + 2 - (char *)buf.data + n);
+            CHECK(strstr((const char *)buf.data,
+                         gz ? "encoding: gzip\n\n\x1f\x8b" : "encoding: raw\n\n") != NULL);
+            if (!gz)
+                CHECK_EQ_INT(buf.size,
+                             strstr((const char *)buf.data, "\n\n") + 2 - (char *)buf.data + n);
             REQUIRE(read_mem(buf.data, buf.size, &b, &e) == PW_OK);
             CHECK(b.c == c && b.x == 5 && b.y == 3 && b.z == 4);
-            CHECKF(memcmp(a.px, b.px, n * sizeof(float)) == 0, "c=%d gzip=%d: samples differ", c, gz);
+            CHECKF(memcmp(a.px, b.px, n * sizeof(float)) == 0, "c=%d gzip=%d: samples differ", c,
+                   gz);
             pw_volume_free(NULL, &a);
             pw_volume_free(NULL, &b);
             free(buf.data);
@@ -251,9 +255,10 @@ static void t_read_u16_endian(void)
     for (big = 0; big <= 1; big++)
         for (t = 0; t < 3; t++) {
             size_t n;
-            snprintf(head, sizeof head,
-                     "NRRD0004\ntype: %s\ndimension: 3\nsizes: 3 1 1\nendian: %s\nencoding: raw\n\n",
-                     types[t], big ? "big" : "little");
+            snprintf(
+                head, sizeof head,
+                "NRRD0004\ntype: %s\ndimension: 3\nsizes: 3 1 1\nendian: %s\nencoding: raw\n\n",
+                types[t], big ? "big" : "little");
             n = make_file(f, sizeof f, head, big ? be : le, 6);
             REQUIRE(read_mem(f, n, &v, &e) == PW_OK);
             CHECK(v.c == 1 && v.x == 3 && v.y == 1 && v.z == 1);
@@ -267,7 +272,7 @@ static void t_read_u16_endian(void)
 static void t_read_float_endian(void)
 {
     /* 0.25, -1.5, 3.0 and 1e-3 as IEEE 754 single precision, big endian */
-    static const unsigned char be[16] = {0x3e, 0x80, 0, 0, 0xbf, 0xc0, 0, 0,
+    static const unsigned char be[16] = {0x3e, 0x80, 0, 0, 0xbf, 0xc0, 0,    0,
                                          0x40, 0x40, 0, 0, 0x3a, 0x83, 0x12, 0x6f};
     unsigned char le[16], f[256];
     pw_volume v;
@@ -301,7 +306,8 @@ static void t_read_header_variants(void)
         "byte skip: 0\nline skip: 0\n# the end\n\n",
         "NRRD0005\r\ntype: unsigned char\r\ndimension: 3\r\nsizes: 2 3 1\r\nencoding: raw\r\n\r\n",
         "NRRD0003\ntype: uint8_t\ndimension: 3\nsizes: 2 3 1\nendian: big\nencoding: raw\n\n",
-        "NRRD0002\ntype: uint8\ndimension: 3\nsizes: 2 3 1\nencoding: raw\ncenterings: cell cell cell\n"
+        "NRRD0002\ntype: uint8\ndimension: 3\nsizes: 2 3 1\nencoding: raw\ncenterings: cell cell "
+        "cell\n"
         "datafilez: not data file\n\n"};
     static const unsigned char data[8] = {0, 51, 102, 153, 204, 255, 7, 7};
     unsigned char f[1024];
@@ -375,7 +381,8 @@ static void t_gzip_python(void)
                {gz_fname, sizeof gz_fname, "fname"},
                {gz_flags, sizeof gz_flags, "flags"},
                {gz_two, sizeof gz_two, "two members"}};
-    static const char head[] = "NRRD0005\ntype: uint8\ndimension: 4\nsizes: 3 8 4 2\nencoding: gzip\n\n";
+    static const char head[] =
+        "NRRD0005\ntype: uint8\ndimension: 4\nsizes: 3 8 4 2\nencoding: gzip\n\n";
     unsigned char f[1024], *out;
     size_t i, outn;
     int k;
@@ -397,9 +404,9 @@ static void t_gzip_python(void)
     {
         pw_volume v;
         pw_err e;
-        size_t n = make_file(f, sizeof f,
-                             "NRRD0004\ntype: uint8\ndimension: 4\nsizes: 3 8 4 2\nencoding: gz\n\n",
-                             gz_plain, sizeof gz_plain);
+        size_t n = make_file(
+            f, sizeof f, "NRRD0004\ntype: uint8\ndimension: 4\nsizes: 3 8 4 2\nencoding: gz\n\n",
+            gz_plain, sizeof gz_plain);
         REQUIRE(read_mem(f, n, &v, &e) == PW_OK);
         check_payload(&v, "gz");
         pw_volume_free(NULL, &v);
@@ -417,8 +424,10 @@ static void gz_fail(const unsigned char *d, size_t n, int code, const char *what
     rc = pw_gzip_decompress(NULL, d, n, 1000, &out, &outn, &e);
     if (rc != code || !strstr(e.msg, what))
         pwt_fail_(__FILE__, line, "got %d '%s', expected %d '%s'", rc, e.msg, code, what);
-    if (rc == PW_OK) free(out);
-    else if (out || outn) pwt_fail_(__FILE__, line, "failure left output behind");
+    if (rc == PW_OK)
+        free(out);
+    else if (out || outn)
+        pwt_fail_(__FILE__, line, "failure left output behind");
 }
 
 static void t_gzip_errors(void)
@@ -467,7 +476,8 @@ static void t_gzip_errors(void)
         CHECK(pw_gzip_decompress(NULL, gz_plain, n, 191, &out, &outn, &e) == PW_ERR_LIMIT);
         CHECK(out == NULL);
         pw_err_clear(&e);
-        CHECK(pw_gzip_decompress(NULL, gz_two, sizeof gz_two, 150, &out, &outn, &e) == PW_ERR_LIMIT);
+        CHECK(pw_gzip_decompress(NULL, gz_two, sizeof gz_two, 150, &out, &outn, &e) ==
+              PW_ERR_LIMIT);
         CHECK(out == NULL);
     }
 }
@@ -505,11 +515,13 @@ static void t_gzip_size_mismatch(void)
     size_t n = make_file(f, sizeof f,
                          "NRRD0004\ntype: uint8\ndimension: 4\nsizes: 3 8 4 1\nencoding: gzip\n\n",
                          gz_plain, sizeof gz_plain);
-    expect_fail(f, n, PW_ERR_PARSE, "t.nrrd:6: the gzip data holds more than the 96 bytes", __LINE__);
+    expect_fail(f, n, PW_ERR_PARSE, "t.nrrd:6: the gzip data holds more than the 96 bytes",
+                __LINE__);
     n = make_file(f, sizeof f,
                   "NRRD0004\ntype: uint8\ndimension: 4\nsizes: 3 8 4 3\nencoding: gzip\n\n",
                   gz_plain, sizeof gz_plain);
-    expect_fail(f, n, PW_ERR_PARSE, "t.nrrd:6: data truncated: 288 bytes needed, 192 present", __LINE__);
+    expect_fail(f, n, PW_ERR_PARSE, "t.nrrd:6: data truncated: 288 bytes needed, 192 present",
+                __LINE__);
     n = make_file(f, sizeof f,
                   "NRRD0004\ntype: uint8\ndimension: 4\nsizes: 3 8 4 2\nencoding: gzip\n\n",
                   gz_plain, sizeof gz_plain - 1);
@@ -534,7 +546,8 @@ static void t_malformed(void)
     /* types */
     EXPECT_FAIL("NRRD0004\ntype: double\ndimension: 3\nsizes: 1 1 1\nendian: little\nencoding: "
                 "raw\n\n12345678",
-                PW_ERR_UNSUPPORTED, "t.nrrd:2: type is not supported (uchar, ushort or float): 'double'");
+                PW_ERR_UNSUPPORTED,
+                "t.nrrd:2: type is not supported (uchar, ushort or float): 'double'");
     EXPECT_FAIL("NRRD0004\ntype: signed short\ndimension: 3\nsizes: 1 1 1\nencoding: raw\n\nab",
                 PW_ERR_UNSUPPORTED, "'signed short'");
     EXPECT_FAIL("NRRD0004\ntype: int\ndimension: 3\nsizes: 1 1 1\nencoding: raw\n\nabcd",
@@ -570,9 +583,10 @@ static void t_malformed(void)
     EXPECT_FAIL("NRRD0004\ntype: uint8\ndimension: 3\nsizes: 2 99999999999999999999 1\nencoding: "
                 "raw\n\nab",
                 PW_ERR_LIMIT, "t.nrrd:4: size is too large");
-    EXPECT_FAIL("NRRD0004\ntype: uint8\ndimension: 3\nsizes: 1 2 3 4 5 6 7 8 9 10 11 12 13 14 15 16 "
-                "17\nencoding: raw\n\nab",
-                PW_ERR_PARSE, "t.nrrd:4: more than 16 sizes");
+    EXPECT_FAIL(
+        "NRRD0004\ntype: uint8\ndimension: 3\nsizes: 1 2 3 4 5 6 7 8 9 10 11 12 13 14 15 16 "
+        "17\nencoding: raw\n\nab",
+        PW_ERR_PARSE, "t.nrrd:4: more than 16 sizes");
     EXPECT_FAIL("NRRD0004\ntype: uint8\ndimension: 4\nsizes: 5 1 1 1\nencoding: raw\n\nabcde",
                 PW_ERR_UNSUPPORTED, "t.nrrd:4: 5 channels (the first size) are not supported");
     EXPECT_FAIL("NRRD0004\ntype: uint8\ndimension: 3\nsizes: 3000 3000 3000\nencoding: raw\n\nab",
@@ -581,7 +595,8 @@ static void t_malformed(void)
     EXPECT_FAIL("NRRD0004\n" HDR3 "encoding: bzip2\n\nab", PW_ERR_UNSUPPORTED,
                 "t.nrrd:5: encoding is not supported (raw or gzip): 'bzip2'");
     EXPECT_FAIL("NRRD0004\n" HDR3 "encoding: ascii\n\n1 2", PW_ERR_UNSUPPORTED, "'ascii'");
-    EXPECT_FAIL("NRRD0004\n" HDR3 "encoding: zip\n\nab", PW_ERR_PARSE, "t.nrrd:5: unknown encoding 'zip'");
+    EXPECT_FAIL("NRRD0004\n" HDR3 "encoding: zip\n\nab", PW_ERR_PARSE,
+                "t.nrrd:5: unknown encoding 'zip'");
     EXPECT_FAIL("NRRD0004\ntype: ushort\ndimension: 3\nsizes: 2 1 1\nencoding: raw\n\nabcd",
                 PW_ERR_PARSE, "t.nrrd:6: the header lacks the 'endian' field (needed for 16-bit");
     EXPECT_FAIL("NRRD0004\ntype: float\ndimension: 3\nsizes: 1 1 1\nencoding: raw\n\nabcd",

@@ -1280,6 +1280,62 @@ static void t_render_errors(void)
     CHECK(pw_texture_create(NULL, &tex, NULL, 0, NULL) == PW_ERR_INVALID);
 }
 
+
+/* A caller's shader (pw_draw.shader) gets perspective-correct barycentric
+ * coordinates and their derivatives per pixel: on a triangle facing the
+ * camera they are affine in the pixel position. */
+typedef struct shader_probe {
+    float db[4];
+    int calls;
+} shader_probe;
+
+static void probe_shader(void *user, int tri, float b1, float b2, const float db[4], float rgba[4])
+{
+    shader_probe *p = (shader_probe *)user;
+    (void)tri;
+    memcpy(p->db, db, sizeof p->db);
+    p->calls++;
+    rgba[0] = b1, rgba[1] = b2, rgba[2] = 0.0f, rgba[3] = 1.0f;
+}
+
+static void t_render_shader(void)
+{
+    static const float pos[9] = {-1, -1, 0, 1, -1, 0, -1, 1, 0};
+    static const int tri[3] = {0, 1, 2};
+    const int W = 64, H = 64;
+    pw_camera cam = cam_front();
+    shader_probe probe;
+    pw_fb fb;
+    pw_image out;
+    pw_draw d;
+    pw_err e;
+    double worst = 0.0;
+    int x, y, n = 0;
+    memset(&d, 0, sizeof d);
+    memset(&probe, 0, sizeof probe);
+    d.positions = pos, d.nv = 3, d.tris = tri, d.ntris = 1;
+    d.shader = probe_shader, d.shader_user = &probe;
+    CHECK(pw_fb_create(NULL, &fb, W, H, 1, NULL, &e) == PW_OK);
+    CHECK(pw_render_draw(&fb, &cam, &d, &e) == PW_OK);
+    CHECK(pw_fb_resolve(&fb, &out, 3, &e) == PW_OK);
+    for (y = 0; y < H; y++)
+        for (x = 0; x < W; x++) {
+            double wx = (x + 0.5) / W * 2.0 - 1.0, wy = 1.0 - (y + 0.5) / H * 2.0;
+            double b1 = (wx + 1.0) / 2.0, b2 = (wy + 1.0) / 2.0;
+            const float *px = fb_px(&out, x, y);
+            if (b1 + b2 > 0.97) continue; /* near the diagonal edge: partial coverage */
+            worst = fabs(px[0] - b1) > worst ? fabs(px[0] - b1) : worst;
+            worst = fabs(px[1] - b2) > worst ? fabs(px[1] - b2) : worst;
+            n++;
+        }
+    CHECKF(n > 1500 && worst < 2e-3, "%d pixels, largest barycentric error %g", n, worst);
+    CHECKF(probe.calls > 0 && fabs(probe.db[0] - 1.0 / W) < 1e-4 && fabs(probe.db[1]) < 1e-4 &&
+               fabs(probe.db[2]) < 1e-4 && fabs(probe.db[3] + 1.0 / H) < 1e-4,
+           "derivatives %g %g %g %g", probe.db[0], probe.db[1], probe.db[2], probe.db[3]);
+    pw_image_free(NULL, &out);
+    pw_fb_free(&fb);
+}
+
 static const pwt_case cases[] = {
     {"raster_triangulation", t_raster_triangulation},
     {"raster_fan", t_raster_fan},
@@ -1302,5 +1358,6 @@ static const pwt_case cases[] = {
     {"render_paths_agree", t_render_paths_agree},
     {"render_garbage", t_render_garbage},
     {"render_errors", t_render_errors},
+    {"render_shader", t_render_shader},
 };
 PWT_MAIN(cases)

@@ -1,7 +1,7 @@
 /* Tests of src/common/tile3.h: sampling material-space tiles (s, t
  * periodic, m clamped and blended between layers, mip levels). */
-#include "../src/common/tile3.h"
 #include "../src/common/rng.h"
+#include "../src/common/tile3.h"
 #include "pwtest.h"
 
 /* Texel (x, y) of layer l, channel k: multiples of 1/255, so that 16-bit
@@ -67,8 +67,8 @@ static void t_texel_centres(void)
         for (j = 0; j < H; j++)
             for (i = 0; i < W; i++) {
                 float out[4];
-                pw_tile3_sample(&t, centre_s(i, W), centre_t(j, H), (float)l / (float)(M - 1),
-                                0.0f, out);
+                pw_tile3_sample(&t, centre_s(i, W), centre_t(j, H), (float)l / (float)(M - 1), 0.0f,
+                                out);
                 for (k = 0; k < 3; k++)
                     CHECKF(out[k] - texel(i, j, l, k) < 1e-6f && texel(i, j, l, k) - out[k] < 1e-6f,
                            "layer %d texel (%d,%d) channel %d: %g vs %g", l, i, j, k, out[k],
@@ -222,9 +222,9 @@ static void t_mip(void)
             for (i = 0; i < W / 2; i++) {
                 pw_tile3_sample(&t, centre_s(i, W / 2), centre_t(j, H / 2), (float)l, 1.0f, out);
                 for (k = 0; k < 3; k++) {
-                    float box = 0.25f * (texel(2 * i, 2 * j, l, k) + texel(2 * i + 1, 2 * j, l, k) +
-                                         texel(2 * i, 2 * j + 1, l, k) +
-                                         texel(2 * i + 1, 2 * j + 1, l, k));
+                    float box =
+                        0.25f * (texel(2 * i, 2 * j, l, k) + texel(2 * i + 1, 2 * j, l, k) +
+                                 texel(2 * i, 2 * j + 1, l, k) + texel(2 * i + 1, 2 * j + 1, l, k));
                     CHECKF(out[k] - box < 2e-5f && box - out[k] < 2e-5f,
                            "layer %d level-1 texel (%d,%d) channel %d: %g vs box %g", l, i, j, k,
                            out[k], box);
@@ -371,13 +371,46 @@ static void t_errors_and_alloc(void)
         pw_err_clear(&e);
         rc = pw_tile3_create(&al, &t, &v, 0, &e);
         CHECKF(rc == PW_OK || rc == PW_ERR_NOMEM, "k=%ld: rc %d", k, rc);
-        if (rc == PW_OK) ok++;
-        else CHECK(t.layer == NULL);
+        if (rc == PW_OK)
+            ok++;
+        else
+            CHECK(t.layer == NULL);
         pw_tile3_free(&al, &t);
         CHECKF(st.live == 0, "k=%ld: %ld blocks leaked", k, st.live);
     }
     CHECK(ok > 0);
     pw_volume_free(NULL, &v);
+}
+
+/* Tiles one texel wide or high (a 1 x H layer once overran a scratch
+ * buffer of pw_texture_create): texel centres, wrap and the mean at the
+ * top of the chain. */
+static void t_thin(void)
+{
+    static const int sizes[5][2] = {{1, 5}, {1, 2}, {1, 1}, {5, 1}, {1, 16}};
+    int n;
+    for (n = 0; n < 5; n++) {
+        const int W = sizes[n][0], H = sizes[n][1];
+        pw_tile3 t;
+        float out[4], mean = 0.0f;
+        int i, j;
+        REQUIRE(make_tile(&t, W, H, 2) == PW_OK);
+        CHECK(t.w == W && t.h == H && t.m == 2);
+        CHECK_EQ_INT(t.nlevels, 1 + (W > H ? (W > 4 ? 2 : W > 1)
+                                           : (H >= 16  ? 4
+                                              : H >= 4 ? 2
+                                                       : H > 1)));
+        for (j = 0; j < H; j++)
+            for (i = 0; i < W; i++) {
+                pw_tile3_sample(&t, centre_s(i, W) + 2.0f, centre_t(j, H), 1.0f, 0.0f, out);
+                CHECKF(out[1] - texel(i, j, 1, 1) < 1e-6f && texel(i, j, 1, 1) - out[1] < 1e-6f,
+                       "%dx%d texel (%d,%d): %g vs %g", W, H, i, j, out[1], texel(i, j, 1, 1));
+                mean += texel(i, j, 1, 1) / (float)(W * H);
+            }
+        pw_tile3_sample(&t, 0.3f, 0.8f, 1.0f, 50.0f, out);
+        CHECK_NEAR(out[1], mean, 3e-5);
+        pw_tile3_free(NULL, &t);
+    }
 }
 
 static const pwt_case cases[] = {
@@ -389,6 +422,7 @@ static const pwt_case cases[] = {
     {"tile3_single_layer", t_single_layer},
     {"tile3_mip", t_mip},
     {"tile3_odd_sizes", t_odd_sizes},
+    {"tile3_thin", t_thin},
     {"tile3_channels", t_channels},
     {"tile3_from_image", t_from_image},
     {"tile3_bad_coordinates", t_bad_coordinates},

@@ -48,8 +48,8 @@
 #ifndef PW__NRRD_V1
 #define PW__NRRD_V1
 
-#include "image.h"
 #include "deflate.h"
+#include "image.h"
 
 #ifndef PW_MAX_VOLUME_VOXELS
 #define PW_MAX_VOLUME_VOXELS (1 << 28) /* x*y*z of a volume (channels not counted) */
@@ -163,7 +163,8 @@ PW__DEF int pw__gzip_header(const unsigned char *d, size_t n, size_t *hlen, pw_e
 {
     size_t pos = 10;
     unsigned flg;
-    if (n < 18) return pw_fail(e, PW_ERR_PARSE, "gzip data truncated (%lu bytes)", (unsigned long)n);
+    if (n < 18)
+        return pw_fail(e, PW_ERR_PARSE, "gzip data truncated (%lu bytes)", (unsigned long)n);
     if (d[0] != 0x1f || d[1] != 0x8b)
         return pw_fail(e, PW_ERR_PARSE, "not gzip data (bad magic 0x%02x 0x%02x)", d[0], d[1]);
     if (d[2] != 8)
@@ -238,8 +239,9 @@ PW__DEF int pw_gzip_decompress(const pw_alloc *a, const unsigned char *data, siz
         else if (pw_crc32(0, m, mn) != pw__le32(t))
             r = pw_fail(e, PW_ERR_PARSE, "gzip data: CRC-32 mismatch in member %d", member + 1);
         else if (pw__le32(t + 4) != (uint32_t)mn)
-            r = pw_fail(e, PW_ERR_PARSE, "gzip data: member %d holds %lu bytes, its trailer says %lu",
-                        member + 1, (unsigned long)mn, (unsigned long)pw__le32(t + 4));
+            r = pw_fail(e, PW_ERR_PARSE,
+                        "gzip data: member %d holds %lu bytes, its trailer says %lu", member + 1,
+                        (unsigned long)mn, (unsigned long)pw__le32(t + 4));
         else if (member == 0 && pos + 8 == n) { /* the usual single member: no copy */
             *out = m;
             *outn = mn;
@@ -291,7 +293,8 @@ PW__DEF int pw_gzip_compress(const pw_alloc *a, const unsigned char *data, size_
 
 #define PW__NRRD_MAX_DIM 16 /* Teem's NRRD_DIM_MAX */
 
-/* Fields whose duplicates are refused (the known ones). */
+/* Indexes, in the list of pw__nrrd_field, of the fields that are read; the
+ * others are known only to refuse their duplicates. */
 enum {
     PW__NF_TYPE,
     PW__NF_DIMENSION,
@@ -302,7 +305,7 @@ enum {
     PW__NF_LINE_SKIP,
     PW__NF_BYTE_SKIP,
     PW__NF_KINDS,
-    PW__NF_IGNORED /* the others follow, in the order of pw__nrrd_field */
+    PW__NF_COUNT = 32 /* room for every field of pw__nrrd_field */
 };
 
 typedef struct pw__nrrd {
@@ -310,15 +313,15 @@ typedef struct pw__nrrd {
     size_t n, pos;
     const char *name;
     pw_err *e;
-    int line;       /* current line, 1-based (the magic is line 1) */
-    int bytes;      /* per sample: 1, 2 (unsigned integers) or 4 (float) */
+    int line;  /* current line, 1-based (the magic is line 1) */
+    int bytes; /* per sample: 1, 2 (unsigned integers) or 4 (float) */
     int dim, nsizes;
     uint64_t size[PW__NRRD_MAX_DIM];
-    int gzip;       /* encoding: 0 raw, 1 gzip */
-    int endian;     /* 0 not given, 1 little, 2 big */
-    int first_kind; /* kinds: 1 when the first axis holds channels */
-    int seen[48];   /* line on which each known field was given, 0 = not yet */
-    int c, x, y, z; /* the volume, once the header is read */
+    int gzip;               /* encoding: 0 raw, 1 gzip */
+    int endian;             /* 0 not given, 1 little, 2 big */
+    int first_kind;         /* kinds: 1 when the first axis holds channels */
+    int seen[PW__NF_COUNT]; /* line where each known field was given, 0 = not yet */
+    int c, x, y, z;         /* the volume, once the header is read */
 } pw__nrrd;
 
 /* Case-insensitive: do the n bytes at s spell kw? */
@@ -335,13 +338,14 @@ PW__DEF int pw__nrrd_ieq(const char *s, size_t n, const char *kw)
     return kw[n] == 0;
 }
 
-/* Is s[0..n) one of the '|'-separated words of list (case-insensitive)? */
+/* Is s[0..n) one of the '|'-separated words of list (case-insensitive)?
+ * The list ends at its NUL or at a ';'. */
 PW__DEF int pw__nrrd_in_list(const char *s, size_t n, const char *list)
 {
     char w[32];
-    while (*list) {
+    while (*list && *list != ';') {
         size_t k = 0;
-        while (list[k] && list[k] != '|' && k < sizeof w - 1) {
+        while (list[k] && list[k] != '|' && list[k] != ';' && k < sizeof w - 1) {
             w[k] = list[k];
             k++;
         }
@@ -353,30 +357,34 @@ PW__DEF int pw__nrrd_in_list(const char *s, size_t n, const char *list)
     return 0;
 }
 
-/* Index of a known field name (aliases share the index), or -1. */
+/* Index of a known field name (aliases share the index), or -1. Fields are
+ * separated by ';', aliases by '|'; the first nine are the PW__NF_ ones. */
 PW__DEF int pw__nrrd_field(const char *s, size_t n)
 {
-    static const char *const names[] = {
-        "type", "dimension", "sizes", "encoding", "endian", "data file|datafile",
-        "line skip|lineskip", "byte skip|byteskip", "kinds", "content", "block size|blocksize",
-        "min", "max", "old min|oldmin", "old max|oldmax", "number", "sample units|sampleunits",
-        "spacings", "thicknesses", "axis mins|axismins", "axis maxs|axismaxs",
-        "centers|centerings", "labels", "units", "space", "space dimension", "space units",
-        "space origin", "space directions", "measurement frame"};
+    static const char names[] =
+        "type;dimension;sizes;encoding;endian;data file|datafile;line skip|lineskip;"
+        "byte skip|byteskip;kinds;content;block size|blocksize;min;max;old min|oldmin;"
+        "old max|oldmax;number;sample units|sampleunits;spacings;thicknesses;axis mins|axismins;"
+        "axis maxs|axismaxs;centers|centerings;labels;units;space;space dimension;space units;"
+        "space origin;space directions;measurement frame";
+    const char *p = names;
     int i;
-    for (i = 0; i < (int)(sizeof names / sizeof names[0]); i++)
-        if (pw__nrrd_in_list(s, n, names[i])) return i;
+    for (i = 0; *p; i++) {
+        if (pw__nrrd_in_list(s, n, p)) return i;
+        while (*p && *p != ';') p++;
+        if (*p) p++;
+    }
     return -1;
 }
 
-/* A decimal integer filling all of s[0..n), optionally negative; values
- * beyond 10^15 are refused (*v is then -1 for the caller's limit message). */
+/* A decimal integer filling all of s[0..n), optionally negative. Returns
+ * 0, -1 when s is not such a number, -2 beyond 10^15 (too large for any
+ * size; no overflow). */
 PW__DEF int pw__nrrd_int(const char *s, size_t n, int64_t *v)
 {
-    size_t i = 0;
     int64_t x = 0;
     int neg = n > 0 && s[0] == '-';
-    i = (size_t)neg;
+    size_t i = (size_t)neg;
     if (i >= n) return -1;
     for (; i < n; i++) {
         if (s[i] < '0' || s[i] > '9') return -1;
@@ -441,11 +449,10 @@ PW__DEF int pw__nrrd_sizes(pw__nrrd *r, const char *s, size_t n)
             return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: more than %d sizes", r->name, r->line,
                            PW__NRRD_MAX_DIM);
         rc = pw__nrrd_int(s + i, k - i, &v);
-        if (rc == -2)
-            return pw__nrrd_bad(r, PW_ERR_LIMIT, "size is too large:", s + i, k - i);
+        if (rc == -2) return pw__nrrd_bad(r, PW_ERR_LIMIT, "size is too large:", s + i, k - i);
         if (rc || v <= 0)
-            return pw__nrrd_bad(r, PW_ERR_PARSE, "bad size (a positive integer is needed):",
-                                s + i, k - i);
+            return pw__nrrd_bad(r, PW_ERR_PARSE, "bad size (a positive integer is needed):", s + i,
+                                k - i);
         r->size[r->nsizes++] = (uint64_t)v;
         i = k;
         while (i < n && (s[i] == ' ' || s[i] == '\t')) i++;
@@ -459,7 +466,7 @@ PW__DEF int pw__nrrd_number_field(pw__nrrd *r, int id, const char *s, size_t n)
     int64_t v = 0;
     if (pw__nrrd_int(s, n, &v))
         return pw__nrrd_bad(r, PW_ERR_PARSE,
-                            id == PW__NF_DIMENSION ? "bad dimension"
+                            id == PW__NF_DIMENSION   ? "bad dimension"
                             : id == PW__NF_LINE_SKIP ? "bad line skip"
                                                      : "bad byte skip",
                             s, n);
@@ -473,9 +480,8 @@ PW__DEF int pw__nrrd_number_field(pw__nrrd *r, int id, const char *s, size_t n)
         r->dim = (int)v;
     } else if (v != 0) {
         return pw_fail(r->e, PW_ERR_UNSUPPORTED,
-                       "%s:%d: %s %lld is not supported (the data must follow the header)",
-                       r->name, r->line, id == PW__NF_LINE_SKIP ? "line skip" : "byte skip",
-                       (long long)v);
+                       "%s:%d: %s %lld is not supported (the data must follow the header)", r->name,
+                       r->line, id == PW__NF_LINE_SKIP ? "line skip" : "byte skip", (long long)v);
     }
     return PW_OK;
 }
@@ -495,24 +501,34 @@ PW__DEF void pw__nrrd_kinds(pw__nrrd *r, const char *s, size_t n)
 PW__DEF int pw__nrrd_value(pw__nrrd *r, int id, const char *s, size_t n)
 {
     switch (id) {
-    case PW__NF_TYPE: return pw__nrrd_type(r, s, n);
-    case PW__NF_ENCODING: return pw__nrrd_encoding(r, s, n);
-    case PW__NF_SIZES: return pw__nrrd_sizes(r, s, n);
-    case PW__NF_KINDS: pw__nrrd_kinds(r, s, n); return PW_OK;
+    case PW__NF_TYPE:
+        return pw__nrrd_type(r, s, n);
+    case PW__NF_ENCODING:
+        return pw__nrrd_encoding(r, s, n);
+    case PW__NF_SIZES:
+        return pw__nrrd_sizes(r, s, n);
+    case PW__NF_KINDS:
+        pw__nrrd_kinds(r, s, n);
+        return PW_OK;
     case PW__NF_DIMENSION:
     case PW__NF_LINE_SKIP:
-    case PW__NF_BYTE_SKIP: return pw__nrrd_number_field(r, id, s, n);
+    case PW__NF_BYTE_SKIP:
+        return pw__nrrd_number_field(r, id, s, n);
     case PW__NF_ENDIAN:
-        if (pw__nrrd_ieq(s, n, "little")) r->endian = 1;
-        else if (pw__nrrd_ieq(s, n, "big")) r->endian = 2;
-        else return pw__nrrd_bad(r, PW_ERR_PARSE, "bad endian (little or big):", s, n);
+        if (pw__nrrd_ieq(s, n, "little"))
+            r->endian = 1;
+        else if (pw__nrrd_ieq(s, n, "big"))
+            r->endian = 2;
+        else
+            return pw__nrrd_bad(r, PW_ERR_PARSE, "bad endian (little or big):", s, n);
         return PW_OK;
     case PW__NF_DATA_FILE:
         return pw__nrrd_bad(r, PW_ERR_UNSUPPORTED,
                             "detached data is not supported (the data must follow the header): "
                             "data file",
                             s, n);
-    default: return PW_OK; /* content, spacings, space, ...: ignored */
+    default:
+        return PW_OK; /* content, spacings, space, ...: ignored */
     }
 }
 
@@ -522,7 +538,8 @@ PW__DEF int pw__nrrd_line(pw__nrrd *r, const char *s, size_t n)
 {
     size_t k, v;
     int id;
-    if (memchr(s, 0, n)) return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: NUL byte in the header", r->name, r->line);
+    if (memchr(s, 0, n))
+        return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: NUL byte in the header", r->name, r->line);
     if (s[0] == '#') return PW_OK;
     for (k = 0; k + 1 < n; k++)
         if (s[k] == ':' && (s[k + 1] == ' ' || s[k + 1] == '=')) break;
@@ -566,9 +583,9 @@ PW__DEF int pw__nrrd_magic(pw__nrrd *r)
 PW__DEF int pw__nrrd_header(pw__nrrd *r)
 {
     for (;; r->line++) {
-        const unsigned char *nl = r->pos < r->n ? (const unsigned char *)memchr(
-                                                      r->p + r->pos, '\n', r->n - r->pos)
-                                                : NULL;
+        const unsigned char *nl =
+            r->pos < r->n ? (const unsigned char *)memchr(r->p + r->pos, '\n', r->n - r->pos)
+                          : NULL;
         size_t start = r->pos, end;
         int rc;
         if (!nl)
@@ -595,8 +612,8 @@ PW__DEF int pw__nrrd_shape(pw__nrrd *r)
             return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: the header lacks the required '%s' field",
                            r->name, r->line, req[i]);
     if (r->nsizes != r->dim)
-        return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: sizes has %d values, dimension says %d",
-                       r->name, r->seen[PW__NF_SIZES], r->nsizes, r->dim);
+        return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: sizes has %d values, dimension says %d", r->name,
+                       r->seen[PW__NF_SIZES], r->nsizes, r->dim);
     if (r->bytes > 1 && !r->endian)
         return pw_fail(r->e, PW_ERR_PARSE,
                        "%s:%d: the header lacks the 'endian' field (needed for %s samples)",
@@ -672,8 +689,9 @@ PW__DEF int pw__nrrd_data(const pw_alloc *a, pw__nrrd *r, pw_volume *out)
     }
     if (have < need) {
         pw_free(a, buf);
-        return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: data truncated: %llu bytes needed, %llu present%s",
-                       r->name, r->line, (unsigned long long)need, (unsigned long long)have,
+        return pw_fail(r->e, PW_ERR_PARSE,
+                       "%s:%d: data truncated: %llu bytes needed, %llu present%s", r->name, r->line,
+                       (unsigned long long)need, (unsigned long long)have,
                        r->gzip ? " after gunzip" : "");
     }
     rc = pw_volume_alloc(a, out, r->c, r->x, r->y, r->z, r->e);

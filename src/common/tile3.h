@@ -31,14 +31,14 @@
 #ifndef PW__TILE3_V1
 #define PW__TILE3_V1
 
-#include "render.h"
 #include "nrrd.h"
+#include "render.h"
 
 typedef struct pw_tile3 {
-    int w, h;           /* texels per layer, at level 0 */
-    int m;              /* layers along the material axis */
-    int nlevels;        /* mip levels of every layer */
-    pw_texture *layer;  /* m textures, layer k at m = k / (m - 1) */
+    int w, h;          /* texels per layer, at level 0 */
+    int m;             /* layers along the material axis */
+    int nlevels;       /* mip levels of every layer */
+    pw_texture *layer; /* m textures, layer k at m = k / (m - 1) */
 } pw_tile3;
 
 PW__DEF void pw_tile3_free(const pw_alloc *a, pw_tile3 *t)
@@ -68,17 +68,18 @@ PW__DEF int pw_tile3_create(const pw_alloc *a, pw_tile3 *t, const pw_volume *vol
     t->w = vol->x;
     t->h = vol->y;
     t->m = vol->z;
-    for (k = 0; k < vol->z; k++) {
+    for (k = 0; k < vol->z && !rc; k++) {
         pw_image img; /* a view of layer k, not a copy */
         img.w = vol->x;
         img.h = vol->y;
         img.c = vol->c;
         img.bits = 8;
         img.px = vol->px + (size_t)k * vol->x * vol->y * vol->c;
-        if ((rc = pw_texture_create(a, &t->layer[k], &img, max_levels, e))) {
-            pw_tile3_free(a, t);
-            return rc;
-        }
+        rc = pw_texture_create(a, &t->layer[k], &img, max_levels, e);
+    }
+    if (rc) {
+        pw_tile3_free(a, t);
+        return rc;
     }
     t->nlevels = t->layer[0].nlevels;
     return PW_OK;
@@ -97,8 +98,10 @@ PW__DEF void pw_tile3_sample(const pw_tile3 *tile, float s, float t, float m, fl
         m = m > 0.0f ? (m < 1.0f ? m : 1.0f) : 0.0f;
         p = m * (float)(tile->m - 1);
         k0 = (int)p;
-        if (k0 >= tile->m - 1) k0 = tile->m - 1;
-        else f = p - (float)k0;
+        if (k0 >= tile->m - 1)
+            k0 = tile->m - 1;
+        else
+            f = p - (float)k0;
     }
     pw__tex_trilinear(&tile->layer[k0], s, t, lod, PW_WRAP_REPEAT, a);
     if (f > 0.0f) {

@@ -71,14 +71,21 @@ static int lapped__draw_pastes(const pw_alloc *a, const pw_trimesh *m, const lap
     pw_camera cam = pw_camera_frame(m->pos, m->nv, ro->view_dir, ro->up, 35.0f,
                                     (float)ro->width / (float)ro->height);
     int *tris = (int *)pw_alloc_array(a, (size_t)m->nf * 3, sizeof(int), "paste triangles", e);
+    float *normals = (float *)pw_alloc_array(a, (size_t)m->nv * 3, sizeof(float), "normals", e);
     pw_draw d;
     int p, r;
-    if (!tris) return PW_ERR_NOMEM;
+    if (!tris || !normals) {
+        pw_free(a, tris);
+        pw_free(a, normals);
+        return PW_ERR_NOMEM;
+    }
     memset(&d, 0, sizeof d);
     d.positions = m->pos;
     d.nv = m->nv;
     d.tris = m->tri;
     d.ntris = m->nf;
+    pw__smooth_normals(&d, normals); /* once, from the whole mesh: every paste is lit as the surface */
+    d.normals = normals;
     d.color[0] = d.color[1] = d.color[2] = 0.5f;
     d.color[3] = 1.0f;
     d.lighting = PW_LIGHT_CAMERA;
@@ -97,6 +104,7 @@ static int lapped__draw_pastes(const pw_alloc *a, const pw_trimesh *m, const lap
         r = pw_render_draw(fb, &cam, &d, e);
     }
     pw_free(a, tris);
+    pw_free(a, normals);
     return r;
 }
 

@@ -1,0 +1,249 @@
+/* cmd_pgp.c: `patchwork pgp`, the whole of pgp.h from the shell. */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include "cli.h"
+
+static const char *pgp_usage =
+    "usage: patchwork pgp --mesh FILE (--tile FILE | --texture IMG) [options]\n"
+    "\n"
+    "Material-space texturing (Ray, Levy, Wang, Turk, Vallet 2009): a tile that is\n"
+    "periodic in s and t and varies along a material axis m, mapped onto a mesh by a\n"
+    "periodic global parameterization that follows orientation, scale and material\n"
+    "constraints; singular triangles are fixed when rendering.\n"
+    "\n"
+    "inputs:\n"
+    "  --mesh FILE          OBJ, OFF or PLY (polygons are fan-triangulated), or\n"
+    "                       procedural:NAME (sphere, torus, bumpy, grid)\n"
+    "  --tile FILE          a material-space tile: NRRD (sizes C W H M, or W H M),\n"
+    "                       any image (one layer), or procedural:NAME (bricks:\n"
+    "                       4 layers weathering along m; stripes: 1 layer)\n"
+    "  --texture IMG        a periodic 2D texture (PNG, PPM, PGM, PAM) as a\n"
+    "                       one-layer tile\n"
+    "mapping:\n"
+    "  --field up[:X,Y,Z]   the tile's t axis along this direction projected on the\n"
+    "                       surface (default +Y)\n"
+    "  --field curvature    the tile's t axis along the direction of least curvature\n"
+    "  --scale S            tile side in mesh units (default: 1/10 of the\n"
+    "                       bounding-box diagonal)\n"
+    "  --constraints FILE   lines 'orient F dx dy dz', 'scale V S', 'material V m'\n"
+    "                       and 'radius R' (effect radius of the lines after it)\n"
+    "  --seed S             seed of the procedural tiles (default 0)\n"
+    "outputs (at least one):\n"
+    "  --out-image IMG      a rendering (.png .ppm .pgm .pam)\n"
+    "  --size WxH           rendering size (default 800x600)\n"
+    "  --show WHAT          tile (default), material (m in gray) or singular (the\n"
+    "                       singular triangles in red)\n"
+    "  --no-fix             one lookup everywhere: no singularity fix (section 3)\n"
+    "  --out-obj FILE       the triangulated mesh with 'vt s t m' per corner, faces\n"
+    "                       in groups 'regular' and 'singular'\n"
+    "  --out-tile FILE.nrrd the tile, as NRRD (uint8)\n";
+
+typedef struct pgp_cmd {
+    const char *mesh, *tile, *texture, *constraints, *out_image, *out_obj, *out_tile;
+    pgp_options opt;
+    pgp_render_options ro;
+} pgp_cmd;
+
+static int bad(const char *what, const char *value)
+{
+    cli_error("pgp", "%s: '%s' is not valid (try patchwork pgp --help)", what, value);
+    return 0;
+}
+
+/* --field up[:X,Y,Z] | curvature */
+static int parse_field(cli_args *a, pgp_cmd *c)
+{
+    const char *v;
+    if (!cli_value(a, &v)) return 0;
+    if (!strcmp(v, "curvature")) c->opt.field = PGP_FIELD_CURVATURE;
+    else if (!strcmp(v, "up")) c->opt.field = PGP_FIELD_UP;
+    else if (!strncmp(v, "up:", 3)) {
+        char *end;
+        const char *p = v + 3;
+        int k;
+        c->opt.field = PGP_FIELD_UP;
+        for (k = 0; k < 3; k++, p = end + 1) {
+            c->opt.up[k] = strtof(p, &end);
+            if (end == p || (k < 2 && *end != ',') || (k == 2 && *end)) return bad("--field", v);
+        }
+        if (!(c->opt.up[0] != 0.0f || c->opt.up[1] != 0.0f || c->opt.up[2] != 0.0f))
+            return bad("--field (zero up vector)", v);
+    } else
+        return bad("--field", v);
+    return 1;
+}
+
+static int parse_float(cli_args *a, float lo, float hi, float *out)
+{
+    const char *flag = a->argv[a->i], *v;
+    char *end;
+    if (!cli_value(a, &v)) return 0;
+    *out = strtof(v, &end);
+    if (end == v || *end || !(*out >= lo && *out <= hi)) return bad(flag, v);
+    return 1;
+}
+
+static int parse_show(cli_args *a, pgp_cmd *c)
+{
+    const char *v;
+    if (!cli_value(a, &v)) return 0;
+    if (!strcmp(v, "tile")) c->ro.show = 0;
+    else if (!strcmp(v, "material")) c->ro.show = 1;
+    else if (!strcmp(v, "singular")) c->ro.show = 2;
+    else return bad("--show (tile, material or singular)", v);
+    return 1;
+}
+
+static int parse_one(cli_args *a, pgp_cmd *c)
+{
+    if (cli_is(a, "--help") || cli_is(a, "-h")) return -1;
+    if (cli_is(a, "--mesh")) return cli_value(a, &c->mesh);
+    if (cli_is(a, "--tile")) return cli_value(a, &c->tile);
+    if (cli_is(a, "--texture")) return cli_value(a, &c->texture);
+    if (cli_is(a, "--field")) return parse_field(a, c);
+    if (cli_is(a, "--scale")) return parse_float(a, 1e-30f, 1e30f, &c->opt.scale);
+    if (cli_is(a, "--constraints")) return cli_value(a, &c->constraints);
+    if (cli_is(a, "--seed")) return cli_u64(a, &c->opt.seed);
+    if (cli_is(a, "--no-fix")) return (c->ro.fix = 1);
+    if (cli_is(a, "--out-obj")) return cli_value(a, &c->out_obj);
+    if (cli_is(a, "--out-image")) return cli_value(a, &c->out_image);
+    if (cli_is(a, "--size")) return cli_size(a, &c->ro.width, &c->ro.height);
+    if (cli_is(a, "--out-tile")) return cli_value(a, &c->out_tile);
+    if (cli_is(a, "--show")) return parse_show(a, c);
+    cli_error("pgp", "unknown option '%s' (try patchwork pgp --help)", a->argv[a->i]);
+    return 0;
+}
+
+static int parse(int argc, char **argv, pgp_cmd *c)
+{
+    cli_args a;
+    const char *name;
+    int r;
+    memset(c, 0, sizeof *c);
+    c->opt = pgp_default_options();
+    a.argc = argc;
+    a.argv = argv;
+    a.cmd = "pgp";
+    for (a.i = 1; a.i < argc; a.i++)
+        if ((r = parse_one(&a, c)) <= 0) return r;
+    if (!c->mesh || !!c->tile == !!c->texture) {
+        cli_error("pgp", "--mesh and one of --tile or --texture are required");
+        return 0;
+    }
+    if (c->texture && cli_is_procedural(c->texture, &name)) {
+        cli_error("pgp", "--texture takes an image file; use --tile procedural:%s", name);
+        return 0;
+    }
+    if (c->out_tile && (strlen(c->out_tile) < 6 || strcmp(c->out_tile + strlen(c->out_tile) - 5, ".nrrd"))) {
+        cli_error("pgp", "--out-tile: '%s' does not end in .nrrd", c->out_tile);
+        return 0;
+    }
+    if (!c->out_image && !c->out_obj && !c->out_tile) {
+        cli_error("pgp", "nothing to write: give --out-image, --out-obj or --out-tile");
+        return 0;
+    }
+    return 1;
+}
+
+static pgp_result load_tile(const pgp_cmd *c, pgp_tile *t, pgp_error *err)
+{
+    const char *name;
+    pgp_image img;
+    pgp_result r;
+    if (c->tile && cli_is_procedural(c->tile, &name)) return pgp_builtin_tile(name, 256, &c->opt, t, err);
+    if (c->tile) return pgp_load_tile(c->tile, &c->opt, t, err);
+    if ((r = pgp_load_image(c->texture, &c->opt, &img, err)) != PGP_OK) return r;
+    r = pgp_tile_from_image(&img, &c->opt, t, err);
+    pgp_image_free(&img);
+    return r;
+}
+
+static pgp_result load_mesh(const char *src, const pgp_options *o, pgp_mesh *m, pgp_error *err)
+{
+    const char *name;
+    if (cli_is_procedural(src, &name)) return pgp_builtin_mesh(name, o, m, err);
+    return pgp_load_mesh(src, o, m, err);
+}
+
+/* Writes a pgp image through the shared image writer. */
+static pgp_result write_image(cli_outputs *outs, const char *path, const pgp_image *img, pgp_error *err)
+{
+    tiled_image view;
+    tiled_error terr;
+    memset(&view, 0, sizeof view);
+    view.width = img->width;
+    view.height = img->height;
+    view.channels = img->channels;
+    view.pixels = img->pixels;
+    view.bits = img->bits;
+    if (cli_write_image(outs, path, &view, &terr) == TILED_OK) return PGP_OK;
+    err->code = (pgp_result)terr.code;
+    memcpy(err->message, terr.message, sizeof err->message);
+    return err->code;
+}
+
+/* The OBJ (tile NULL) or the tile, to a staged file. */
+static pgp_result write_file(cli_outputs *outs, const char *path, const pgp_mesh *mesh, const pgp_map *map,
+                             const pgp_tile *tile, pgp_error *err)
+{
+    FILE *f = cli_open(outs, path, err->message, sizeof err->message);
+    pgp_result r;
+    if (!f) return err->code = PGP_ERR_IO;
+    r = tile ? pgp_write_tile_to_func(tile, cli_fwrite, f, err) : pgp_write_obj_to_func(mesh, map, cli_fwrite, f, err);
+    if (r == PGP_ERR_IO) snprintf(err->message, sizeof err->message, "%.200s: write error (disk full?)", path);
+    if (!cli_close(f, r == PGP_OK, path, err->message, sizeof err->message)) r = PGP_ERR_IO;
+    return err->code = r;
+}
+
+static pgp_result run(pgp_cmd *c, cli_outputs *outs, pgp_error *err)
+{
+    pgp_mesh mesh;
+    pgp_tile tile;
+    pgp_image pic;
+    pgp_map *map = NULL;
+    pgp_result r;
+    memset(&mesh, 0, sizeof mesh);
+    memset(&pic, 0, sizeof pic);
+    if ((r = load_tile(c, &tile, err)) != PGP_OK) return r;
+    if ((r = load_mesh(c->mesh, &c->opt, &mesh, err)) == PGP_OK && (r = pgp_create(&mesh, &c->opt, &map, err)) == PGP_OK &&
+        (!c->constraints || (r = pgp_apply_constraints(map, c->constraints, err)) == PGP_OK)) {
+        int n = pgp_triangle_count(map), s = pgp_get_singular(map, NULL);
+        printf("pgp: %d triangles, %d singular (%.1f%%), tile %dx%d with %d layer%s\n", n, s,
+               n ? 100.0 * s / n : 0.0, tile.width, tile.height, tile.layers, tile.layers == 1 ? "" : "s");
+    }
+    if (r == PGP_OK && c->out_tile) r = write_file(outs, c->out_tile, NULL, NULL, &tile, err);
+    if (r == PGP_OK && c->out_obj) r = write_file(outs, c->out_obj, &mesh, map, NULL, err);
+    if (r == PGP_OK && c->out_image && (r = pgp_render(map, &tile, &c->ro, &pic, err)) == PGP_OK)
+        r = write_image(outs, c->out_image, &pic, err);
+    pgp_image_free(&pic);
+    pgp_destroy(map);
+    pgp_mesh_free(&mesh);
+    pgp_tile_free(&tile);
+    return r;
+}
+
+int cmd_pgp(int argc, char **argv)
+{
+    pgp_cmd c;
+    cli_outputs outs;
+    pgp_error err;
+    tiled_error terr;
+    int p = parse(argc, argv, &c);
+    if (p < 0) {
+        fputs(pgp_usage, stdout);
+        return 0;
+    }
+    if (!p) return 1;
+    memset(&outs, 0, sizeof outs);
+    if (run(&c, &outs, &err) != PGP_OK) {
+        cli_abort(&outs);
+        cli_error("pgp", "%s", err.message);
+        return 1;
+    }
+    if (cli_commit(&outs, &terr) != TILED_OK) {
+        cli_error("pgp", "%s", terr.message);
+        return 1;
+    }
+    return 0;
+}

@@ -1,0 +1,384 @@
+/* fuzz_lapped_files: lapped.h's paste and constraint file readers. The first
+ * byte picks the reader (bit 0) and a few options; the rest is the file.
+ * Besides crashes it checks properties, aborting when one fails:
+ *   - a failure carries its code and a message, and hands nothing out;
+ *   - a paste set that is read is well formed (ntris 0, patch sizes in
+ *     range, patch indices below npatches, triangle indices >= 0, finite
+ *     coordinates) and round-trips exactly: written with
+ *     lapped_write_pastes_to_func (9 significant digits, enough for a
+ *     float) and read back it gives the same counts and bit-identical
+ *     values, and writing that again gives the same bytes;
+ *   - a small paste set is then drawn (lapped_render) and, when bit 7 is
+ *     set, baked (lapped_bake_atlas) over a fixed octahedron with patches of the sizes
+ *     it names: both either succeed with finite output or fail cleanly;
+ *   - constraints that are read are finite, with faces in range, and the
+ *     CONSTRAINTS field over the octahedron either fails cleanly or is
+ *     finite with t != 0;
+ *   - with the counting allocator (bit 1), every block is freed through the
+ *     allocator that made it and none is left over.
+ * Build with -DFZ_SKIP_KNOWN to skip the checks that known, reported bugs
+ * fail, so that a long run can look past them:
+ *   - lapped_read_constraints_from_memory narrows finite doubles beyond
+ *     FLT_MAX (e.g. "0 1e39 0 0") to infinite floats and accepts them;
+ *   - lapped_render overruns pw_texture_create's scratch buffer for a
+ *     patch 1 texel wide and at least 3 high. */
+#define LAPPED_IMPLEMENTATION
+#include "../lapped.h"
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define FZ_CHECK(c)                                                                    \
+    do {                                                                               \
+        if (!(c)) {                                                                    \
+            fprintf(stderr, "fuzz_lapped_files: check failed at line %d: %s\n", __LINE__, #c); \
+            abort();                                                                   \
+        }                                                                              \
+    } while (0)
+
+/* ---- a counting allocator: a tagged header before every block ---------------- */
+
+typedef struct fz_heap {
+    long live;
+} fz_heap;
+
+#define FZ_TAG 0x6c617070u /* "lapp" */
+#define FZ_HDR 16
+
+static void *fz_malloc(void *user, size_t n)
+{
+    unsigned char *p = (unsigned char *)malloc(n + FZ_HDR);
+    uint32_t tag = FZ_TAG;
+    if (!p) return NULL;
+    memcpy(p, &tag, 4);
+    ((fz_heap *)user)->live++;
+    return p + FZ_HDR;
+}
+
+static unsigned char *fz_header(void *ptr)
+{
+    unsigned char *p = (unsigned char *)ptr - FZ_HDR;
+    uint32_t tag;
+    memcpy(&tag, p, 4);
+    FZ_CHECK(tag == FZ_TAG); /* not one of ours: freed through the wrong allocator */
+    return p;
+}
+
+static void *fz_realloc(void *user, void *ptr, size_t n)
+{
+    unsigned char *p;
+    if (!ptr) return fz_malloc(user, n);
+    p = (unsigned char *)realloc(fz_header(ptr), n + FZ_HDR);
+    return p ? p + FZ_HDR : NULL;
+}
+
+static void fz_free(void *user, void *ptr)
+{
+    unsigned char *p;
+    if (!ptr) return;
+    p = fz_header(ptr);
+    memset(p, 0, 4);
+    free(p);
+    ((fz_heap *)user)->live--;
+}
+
+/* ---- a growable output buffer ----------------------------------------------- */
+
+typedef struct fz_buf {
+    unsigned char *data;
+    size_t size, cap;
+} fz_buf;
+
+static int fz_write(void *ctx, const void *data, size_t size)
+{
+    fz_buf *b = (fz_buf *)ctx;
+    if (b->size + size > b->cap) {
+        size_t cap = b->cap ? b->cap : 256;
+        unsigned char *p;
+        while (cap < b->size + size) cap *= 2;
+        if (!(p = (unsigned char *)realloc(b->data, cap))) return 1;
+        b->data = p;
+        b->cap = cap;
+    }
+    memcpy(b->data + b->size, data, size);
+    b->size += size;
+    return 0;
+}
+
+static int fz_discard(void *ctx, const void *data, size_t size)
+{
+    (void)ctx, (void)data, (void)size;
+    return 0;
+}
+
+/* ---- a fixed mesh: the octahedron, 8 triangles --------------------------------- */
+
+static float fz_oct_pos[18] = {1, 0, 0, -1, 0, 0, 0, 1, 0, 0, -1, 0, 0, 0, 1, 0, 0, -1};
+static int fz_oct_start[9] = {0, 3, 6, 9, 12, 15, 18, 21, 24};
+static int fz_oct_verts[24] = {0, 2, 4, 2, 1, 4, 1, 3, 4, 3, 0, 4, 2, 0, 5, 1, 2, 5, 3, 1, 5, 0, 3, 5};
+
+static lapped_mesh fz_octahedron(void)
+{
+    lapped_mesh m;
+    memset(&m, 0, sizeof m);
+    m.nverts = 6;
+    m.positions = fz_oct_pos;
+    m.nfaces = 8;
+    m.face_start = fz_oct_start;
+    m.face_verts = fz_oct_verts;
+    return m;
+}
+
+static int fz_finite(float x) { return x == x && x - x == 0.0f; }
+
+static void fz_check_failure(lapped_result r, const lapped_error *err)
+{
+    FZ_CHECK(r > LAPPED_OK && r <= LAPPED_ERR_NOCONVERGE);
+    FZ_CHECK(err->code == r);
+    FZ_CHECK(err->message[0] != 0);
+    FZ_CHECK(memchr(err->message, 0, sizeof err->message) != NULL);
+}
+
+/* ---- pastes ----------------------------------------------------------------------- */
+
+static void fz_check_texture(const lapped_texture *t)
+{
+    int p, i;
+    FZ_CHECK(t->ntris == 0);
+    FZ_CHECK(t->npatches >= 1 && t->patch_size);
+    for (p = 0; p < t->npatches; p++)
+        FZ_CHECK(t->patch_size[2 * p] >= 1 && t->patch_size[2 * p + 1] >= 1 &&
+                 t->patch_size[2 * p] <= 65536 && t->patch_size[2 * p + 1] <= 65536);
+    FZ_CHECK(t->npastes >= 0 && (t->npastes == 0 || t->pastes));
+    for (p = 0; p < t->npastes; p++) {
+        const lapped_paste *q = &t->pastes[p];
+        FZ_CHECK(q->patch >= 0 && q->patch < t->npatches);
+        FZ_CHECK(q->nfaces >= 0 && (q->nfaces == 0 || (q->faces && q->uvs)));
+        for (i = 0; i < q->nfaces; i++) FZ_CHECK(q->faces[i] >= 0);
+        for (i = 0; i < 6 * q->nfaces; i++) FZ_CHECK(fz_finite(q->uvs[i]));
+    }
+}
+
+static void fz_same_texture(const lapped_texture *a, const lapped_texture *b)
+{
+    int p;
+    FZ_CHECK(a->ntris == b->ntris && a->npatches == b->npatches && a->npastes == b->npastes);
+    FZ_CHECK(!memcmp(a->patch_size, b->patch_size, (size_t)a->npatches * 2 * sizeof(int)));
+    for (p = 0; p < a->npastes; p++) {
+        const lapped_paste *x = &a->pastes[p], *y = &b->pastes[p];
+        FZ_CHECK(x->patch == y->patch && x->nfaces == y->nfaces);
+        if (x->nfaces == 0) continue;
+        FZ_CHECK(!memcmp(x->faces, y->faces, (size_t)x->nfaces * sizeof(int)));
+        FZ_CHECK(!memcmp(x->uvs, y->uvs, (size_t)x->nfaces * 6 * sizeof(float))); /* bits, -0 too */
+    }
+}
+
+/* Write, read back, compare; write again, compare the bytes. */
+static void fz_roundtrip(const lapped_texture *t, const lapped_options *o)
+{
+    fz_buf b1, b2;
+    lapped_texture r;
+    lapped_error err;
+    memset(&b1, 0, sizeof b1);
+    memset(&b2, 0, sizeof b2);
+    FZ_CHECK(lapped_write_pastes_to_func(t, fz_write, &b1, &err) == LAPPED_OK);
+    if (lapped_read_pastes_from_memory(b1.data, b1.size, "roundtrip", o, &r, &err) != LAPPED_OK) {
+        fprintf(stderr, "fuzz_lapped_files: re-reading a written paste file failed: %s\n", err.message);
+        abort();
+    }
+    fz_check_texture(&r);
+    fz_same_texture(t, &r);
+    FZ_CHECK(lapped_write_pastes_to_func(&r, fz_write, &b2, &err) == LAPPED_OK);
+    FZ_CHECK(b1.size == b2.size && !memcmp(b1.data, b2.data, b1.size));
+    lapped_texture_free(&r);
+    free(b1.data);
+    free(b2.data);
+}
+
+/* An RGBA patch of w x h: a colour ramp, opaque inside a transparent border. */
+static int fz_make_patch(int w, int h, int k, lapped_image *img)
+{
+    int x, y;
+    memset(img, 0, sizeof *img);
+    img->width = w;
+    img->height = h;
+    img->channels = 4;
+    if (!(img->pixels = (float *)malloc((size_t)w * h * 4 * sizeof(float)))) return 0;
+    for (y = 0; y < h; y++)
+        for (x = 0; x < w; x++) {
+            float *p = img->pixels + ((size_t)y * w + x) * 4;
+            p[0] = (float)x / (float)w;
+            p[1] = (float)y / (float)h;
+            p[2] = (float)(k % 3) * 0.5f;
+            p[3] = x > 0 && y > 0 && x < w - 1 && y < h - 1 ? 1.0f : 0.0f;
+        }
+    return 1;
+}
+
+/* Bakes an atlas (the slow part, so only when bit 7 is set). Baking needs
+ * the triangle count, which a paste file does not record. */
+static void fz_bake(lapped_texture *t, const lapped_mesh *mesh, const lapped_image *patches,
+                    const lapped_image *values, unsigned flags, const lapped_options *o)
+{
+    lapped_atlas_options ao;
+    lapped_atlas atlas;
+    lapped_error err;
+    lapped_result r;
+    size_t i;
+    t->ntris = mesh->nfaces;
+    memset(&ao, 0, sizeof ao);
+    ao.size = 32;
+    ao.gutter = 1 + (int)(flags >> 5 & 1);
+    r = lapped_bake_atlas(mesh, t, patches, values, &ao, o, &atlas, &err);
+    if (r == LAPPED_OK) {
+        FZ_CHECK(atlas.ntris == mesh->nfaces && atlas.uvs && atlas.image.pixels);
+        FZ_CHECK(atlas.image.width == 32 && atlas.image.height == 32);
+        for (i = 0; i < (size_t)atlas.ntris * 6; i++)
+            FZ_CHECK(fz_finite(atlas.uvs[i]) && atlas.uvs[i] >= 0.0f && atlas.uvs[i] <= 1.0f);
+        for (i = 0; i < (size_t)32 * 32 * atlas.image.channels; i++) FZ_CHECK(fz_finite(atlas.image.pixels[i]));
+        FZ_CHECK(lapped_write_obj_to_func(mesh, &atlas, "x.mtl", fz_discard, NULL, &err) == LAPPED_OK);
+        lapped_atlas_free(&atlas);
+    } else {
+        fz_check_failure(r, &err);
+        FZ_CHECK(atlas.uvs == NULL && atlas.image.pixels == NULL);
+    }
+    t->ntris = 0;
+}
+
+/* Draws (and with bit 7 bakes) a small paste set over the octahedron. */
+static void fz_use_texture(lapped_texture *t, unsigned flags, const lapped_options *o)
+{
+    lapped_image patches[8], values[8], pic;
+    lapped_render_options ro;
+    lapped_mesh mesh = fz_octahedron();
+    lapped_error err;
+    lapped_result r;
+    long total = 0;
+    int k, n = t->npatches, ok = 1, use_values = flags >> 4 & 1;
+    size_t i;
+    if (n > 8) return;
+    for (k = 0; k < n; k++) {
+        if (t->patch_size[2 * k] > 32 || t->patch_size[2 * k + 1] > 32) return;
+#ifdef FZ_SKIP_KNOWN
+        if (t->patch_size[2 * k] == 1 && t->patch_size[2 * k + 1] >= 3) return;
+#endif
+    }
+    for (k = 0; k < t->npastes; k++) total += t->pastes[k].nfaces;
+    if (total > 4096) return;
+    memset(patches, 0, sizeof patches);
+    memset(values, 0, sizeof values);
+    for (k = 0; k < n && ok; k++) {
+        ok = fz_make_patch(t->patch_size[2 * k], t->patch_size[2 * k + 1], k, &patches[k]);
+        if (ok && use_values) { /* a one-channel value image per patch */
+            values[k] = patches[k];
+            values[k].channels = 1;
+            values[k].pixels = (float *)malloc((size_t)values[k].width * values[k].height * sizeof(float));
+            ok = values[k].pixels != NULL;
+            for (i = 0; ok && i < (size_t)values[k].width * values[k].height; i++)
+                values[k].pixels[i] = (float)(i % 7) / 6.0f;
+        }
+    }
+    if (ok) {
+        memset(&ro, 0, sizeof ro);
+        ro.width = 16 + (int)(flags >> 5 & 1) * 16;
+        ro.height = 12;
+        ro.supersample = 1 + (int)(flags >> 6 & 1);
+        ro.filter = (int)(flags >> 2 & 3) % 3;
+        r = lapped_render(&mesh, t, patches, use_values ? values : NULL, &ro, &pic, &err);
+        if (r == LAPPED_OK) {
+            FZ_CHECK(pic.width == ro.width && pic.height == ro.height && pic.pixels);
+            for (i = 0; i < (size_t)pic.width * pic.height * pic.channels; i++) FZ_CHECK(fz_finite(pic.pixels[i]));
+            lapped_image_free(&pic);
+        } else {
+            fz_check_failure(r, &err);
+            FZ_CHECK(pic.pixels == NULL);
+        }
+        if (flags & 128) fz_bake(t, &mesh, patches, use_values ? values : NULL, flags, o);
+    }
+    for (k = 0; k < n; k++) {
+        free(patches[k].pixels);
+        free(values[k].pixels);
+    }
+}
+
+static void fz_pastes(const uint8_t *data, size_t size, unsigned flags, const lapped_options *o)
+{
+    lapped_texture t;
+    lapped_error err;
+    lapped_result r = lapped_read_pastes_from_memory(data, size, "fuzz", o, &t, &err);
+    if (r != LAPPED_OK) {
+        fz_check_failure(r, &err);
+        FZ_CHECK(t.pastes == NULL && t.patch_size == NULL && t.npastes == 0 && t.npatches == 0);
+        return;
+    }
+    fz_check_texture(&t);
+    fz_roundtrip(&t, o);
+    fz_use_texture(&t, flags, o);
+    lapped_texture_free(&t);
+    FZ_CHECK(t.pastes == NULL && t.npastes == 0);
+}
+
+/* ---- constraints ------------------------------------------------------------------ */
+
+static void fz_constraints(const uint8_t *data, size_t size, unsigned flags, const lapped_options *o)
+{
+    lapped_constraint *c = (lapped_constraint *)1;
+    lapped_options fo = *o;
+    lapped_mesh mesh = fz_octahedron();
+    lapped_error err;
+    lapped_result r;
+    float s[24], t[24];
+    int n = -1, i, k;
+    r = lapped_read_constraints_from_memory(data, size, "fuzz", o, &c, &n, &err);
+    if (r != LAPPED_OK) {
+        fz_check_failure(r, &err);
+        FZ_CHECK(c == NULL && n == 0);
+        return;
+    }
+    FZ_CHECK(c != NULL && n >= 1);
+    for (i = 0; i < n; i++) {
+        FZ_CHECK(c[i].face >= 0);
+#ifndef FZ_SKIP_KNOWN
+        for (k = 0; k < 3; k++) FZ_CHECK(fz_finite(c[i].direction[k]));
+        FZ_CHECK(fz_finite(c[i].scale) && fz_finite(c[i].radius) && fz_finite(c[i].weight));
+#endif
+    }
+    if (n <= 256) { /* the field over the octahedron: O(n) Dijkstra runs */
+        fo.field.mode = LAPPED_FIELD_CONSTRAINTS;
+        fo.field.constraints = c;
+        fo.field.nconstraints = n;
+        fo.field.scale = flags >> 2 & 1 ? 0.5f : 0.0f;
+        r = lapped_compute_field(&mesh, &fo, s, t, &err);
+        if (r == LAPPED_OK) {
+            for (i = 0; i < 8; i++) { /* |t| may be tiny (a scale of 1e-30), never 0 */
+                for (k = 0; k < 3; k++) FZ_CHECK(fz_finite(s[3 * i + k]) && fz_finite(t[3 * i + k]));
+                FZ_CHECK(t[3 * i] != 0.0f || t[3 * i + 1] != 0.0f || t[3 * i + 2] != 0.0f);
+            }
+        } else {
+            fz_check_failure(r, &err);
+        }
+    }
+    lapped_free_constraints(c, o);
+}
+
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
+{
+    lapped_options o = lapped_default_options();
+    fz_heap heap;
+    unsigned flags;
+    if (size < 1) return 0;
+    flags = data[0];
+    heap.live = 0;
+    if (flags & 2) {
+        o.allocator.malloc_fn = fz_malloc;
+        o.allocator.realloc_fn = fz_realloc;
+        o.allocator.free_fn = fz_free;
+        o.allocator.user = &heap;
+    }
+    if (flags & 1) fz_constraints(data + 1, size - 1, flags, &o);
+    else fz_pastes(data + 1, size - 1, flags, &o);
+    FZ_CHECK(heap.live == 0);
+    return 0;
+}

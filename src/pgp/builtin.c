@@ -1,0 +1,307 @@
+/* builtin.c: built-in meshes and material-space tiles for demos and tests.
+ *
+ * Meshes come from the shared shapes module ("sphere", "torus", "bumpy" as
+ * in lapped.h, and "grid", a flat square with a boundary). Tiles are RGB,
+ * follow opt->seed, and are periodic in s and t by construction: every
+ * feature is laid out on a lattice that divides the tile (3 bricks by 8
+ * rows, 8 stripes) and every noise is value noise on a lattice whose period
+ * divides the tile, so the texel after the last column is the texel of
+ * column 0 (§2: "periodic in the (s,t) dimensions"). Everything is made
+ * from + - * /, floor and sqrt, so the data is the same on every platform.
+ *
+ *   "bricks"   4 layers along m (§4, Figure 14): running-bond bricks at
+ *              m = 0 that weather as m grows: the mortar widens and turns
+ *              earthy and mossy, the bricks erode (rounder, smaller,
+ *              shifted, pinched) into pebble-like stones and their colour
+ *              drifts from fired red to weathered grey-brown.
+ *   "stripes"  1 layer: horizontal bands (constant along s, so the pattern
+ *              shows the direction of d_s), each its own colour, with pin
+ *              stripes and a faint weave. */
+#include "render.c"
+#include "../common/shapes.h"
+
+/* ---- meshes ----------------------------------------------------------------- */
+
+PGPDEF pgp_result pgp_builtin_mesh(const char *name, const pgp_options *opt, pgp_mesh *out,
+                                   pgp_error *err)
+{
+    pgp_options o = pgp__options(opt);
+    pw_alloc a = pgp__alloc(&o.allocator);
+    pw_mesh m;
+    pw_err pe;
+    int r = -1;
+    pw_err_clear(&pe);
+    memset(&m, 0, sizeof m);
+    if (out) memset(out, 0, sizeof *out);
+    if (!out || !name) pw_fail(&pe, PW_ERR_INVALID, "pgp_builtin_mesh: NULL argument");
+    else if (!strcmp(name, "sphere")) r = pw_shape_geosphere(&a, 12, &m, &pe);
+    else if (!strcmp(name, "torus")) r = pw_shape_torus(&a, 48, 32, 0, &m, &pe);
+    else if (!strcmp(name, "bumpy")) r = pw_shape_bumpy(&a, 16, &m, &pe);
+    else if (!strcmp(name, "grid")) r = pw_shape_grid(&a, 32, 0.0, 0, &m, &pe);
+    else
+        pw_fail(&pe, PW_ERR_INVALID, "unknown built-in mesh '%s' (sphere, torus, bumpy, grid)", name);
+    if (r == PW_OK) pgp__take_mesh(&m, &a, out);
+    return pgp__done(&pe, err);
+}
+
+/* ---- periodic noise ----------------------------------------------------------- */
+
+/* A uniform value in [0, 1) for point (x, y), 0 <= x, y < p, of a lattice
+ * of period p. */
+static double pgp__lattice(unsigned long long seed, int x, int y)
+{
+    uint64_t key = ((uint64_t)(uint32_t)y << 32) | (uint32_t)x;
+    return (double)(pw_hash64(seed, key) >> 11) * (1.0 / 9007199254740992.0);
+}
+
+/* Value noise with a quintic fade on a lattice of period p (in lattice
+ * units), at tile coordinates (s, t): the lattice points are wrapped, so
+ * the noise has period 1 in s and t. In [0, 1]. */
+static double pgp__noise(unsigned long long seed, double s, double t, int p)
+{
+    double x = s * p, y = t * p, fx = floor(x), fy = floor(y), tx = x - fx, ty = y - fy;
+    double v00, v10, v01, v11;
+    int x0 = (int)fx % p, y0 = (int)fy % p, x1, y1;
+    x0 += x0 < 0 ? p : 0;
+    y0 += y0 < 0 ? p : 0;
+    x1 = x0 + 1 < p ? x0 + 1 : 0;
+    y1 = y0 + 1 < p ? y0 + 1 : 0;
+    tx = tx * tx * tx * (tx * (tx * 6.0 - 15.0) + 10.0);
+    ty = ty * ty * ty * (ty * (ty * 6.0 - 15.0) + 10.0);
+    v00 = pgp__lattice(seed, x0, y0);
+    v10 = pgp__lattice(seed, x1, y0);
+    v01 = pgp__lattice(seed, x0, y1);
+    v11 = pgp__lattice(seed, x1, y1);
+    v00 += (v10 - v00) * tx;
+    v01 += (v11 - v01) * tx;
+    return v00 + (v01 - v00) * ty;
+}
+
+/* Three octaves (periods p, 2p, 4p), in [0, 1]. */
+static double pgp__fbm(unsigned long long seed, double s, double t, int p)
+{
+    return 0.57 * pgp__noise(seed, s, t, p) + 0.29 * pgp__noise(seed + 1, s, t, 2 * p) +
+           0.14 * pgp__noise(seed + 2, s, t, 4 * p);
+}
+
+static double pgp__smooth(double e0, double e1, double x)
+{
+    double t = (x - e0) / (e1 - e0);
+    t = t < 0.0 ? 0.0 : t > 1.0 ? 1.0 : t;
+    return t * t * (3.0 - 2.0 * t);
+}
+
+static void pgp__mix(double *out, const double *a, const double *b, double t)
+{
+    int k;
+    for (k = 0; k < 3; k++) out[k] = a[k] + (b[k] - a[k]) * t;
+}
+
+/* Uniform in [0, 1): the k-th random number of element `id`. */
+static double pgp__rand(unsigned long long seed, int id, int k)
+{
+    return (double)(pw_hash64(seed ^ 0x5bd1e9955bd1e995ULL, (uint64_t)id * 16u + (uint64_t)k) >> 11) *
+           (1.0 / 9007199254740992.0);
+}
+
+/* ---- "bricks" ------------------------------------------------------------------ */
+
+/* 3 bricks a row, 8 rows a tile, odd rows shifted by half a brick: both
+ * divide the tile, so the bond is periodic. Lengths are in row heights. */
+enum { PGP__BX = 3, PGP__BY = 8 };
+
+/* What a point of the wall is: its cell's brick, the signed distance to
+ * that stone's edge (< 0 inside) and the surface height there. */
+typedef struct pgp__wall {
+    int id;
+    double d, h, cover, hy;
+} pgp__wall;
+
+/* Signed distance to a box of half sizes (bx, by) with corners rounded by
+ * rc, at (x, y) from its centre. */
+static double pgp__round_box(double x, double y, double bx, double by, double rc)
+{
+    double qx = (x < 0 ? -x : x) - (bx - rc), qy = (y < 0 ? -y : y) - (by - rc);
+    double ox = qx > 0 ? qx : 0, oy = qy > 0 ? qy : 0, in = qx > qy ? qx : qy;
+    return sqrt(ox * ox + oy * oy) + (in < 0 ? in : 0) - rc;
+}
+
+/* The stone of brick `id` at weathering w in [0, 1], at (x, y) from its
+ * cell's centre: the mortar gap widens with w, the brick shrinks and moves
+ * a little, its corners round off until it is a pebble, some pebbles get a
+ * waist, and the edge is eaten by noise. */
+static void pgp__stone(unsigned long long seed, double w, double s, double t, double x, double y,
+                       pgp__wall *o)
+{
+    const double L = (double)PGP__BY / PGP__BX;
+    double mw = 0.045 + 0.12 * w, r1 = pgp__rand(seed, o->id, 1), r2 = pgp__rand(seed, o->id, 2);
+    double bx = 0.5 * L - mw - 0.4 * w * r1, by = 0.5 - mw - 0.12 * w * r2;
+    double cx = 0.3 * w * r1 * (pgp__rand(seed, o->id, 3) - 0.5), cy = 0.07 * w * (pgp__rand(seed, o->id, 4) - 0.5);
+    double pinch = pgp__rand(seed, o->id, 5) < 0.4 ? 0.3 * pgp__smooth(0.4, 1.0, w) : 0.0;
+    double ang = 0.14 * w * (pgp__rand(seed, o->id, 6) - 0.5), ca = pw_cos(ang), sa = pw_sin(ang);
+    double px = ca * (x - cx) + sa * (y - cy), py = ca * (y - cy) - sa * (x - cx), u = px / (0.6 * bx), waist, rc;
+    waist = u > -1.0 && u < 1.0 ? (1.0 - u * u) * (1.0 - u * u) : 0.0;
+    by *= 1.0 - pinch * waist;
+    rc = (0.03 + 0.97 * w) * by;
+    o->hy = by;
+    o->d = pgp__round_box(px, py, bx, by, rc);
+    o->d += (0.012 + 0.07 * w) * (2.0 * pgp__fbm(seed + 10, s, t, 16) - 1.0);
+}
+
+/* The wall at (s, t): cell, stone, anti-aliased coverage (px: a texel in
+ * row heights) and height (bevelled bricks, domed pebbles, sunken mortar). */
+static void pgp__wall_at(unsigned long long seed, double w, double s, double t, double px, pgp__wall *o)
+{
+    const double L = (double)PGP__BY / PGP__BX;
+    double x = s * PGP__BY, y = t * PGP__BY, fy = floor(y), off, fx, in, bevel, a, prof, top, mortar;
+    int row = (int)fy, col;
+    off = (row & 1) ? 0.5 * L : 0.0;
+    fx = floor((x - off) / L);
+    col = (int)fx;
+    row = ((row % PGP__BY) + PGP__BY) % PGP__BY;
+    col = ((col % PGP__BX) + PGP__BX) % PGP__BX;
+    o->id = row * PGP__BX + col;
+    pgp__stone(seed, w, s, t, x - off - (fx + 0.5) * L, y - fy - 0.5, o);
+    o->cover = pgp__smooth(-0.5, 0.5, -o->d / px);
+    in = -o->d;
+    bevel = 0.035 + 0.9 * w * o->hy;
+    a = in <= 0.0 ? 0.0 : in >= bevel ? 1.0 : in / bevel;
+    prof = (1.0 - w) * a * a * (3.0 - 2.0 * a) + w * sqrt(a * (2.0 - a)); /* bevel .. dome */
+    /* each height only where it shows (the noise is most of the cost) */
+    top = o->cover > 0.0 ? (0.05 + 0.16 * w) * prof + 0.012 * pgp__fbm(seed + 20, s, t, 64) : 0.0;
+    mortar = o->cover < 1.0 ? -0.04 - 0.05 * w + 0.03 * pgp__fbm(seed + 21, s, t, 48) : 0.0;
+    o->h = o->cover >= 1.0 ? top : mortar + (top - mortar) * o->cover;
+}
+
+/* Lambert shading of the height field (light from the upper left, t up),
+ * 1 on flat ground. */
+static double pgp__wall_light(unsigned long long seed, double w, double s, double t, double px, double h)
+{
+    static const double l[3] = {-0.42, 0.55, 0.72};
+    pgp__wall ex, ey;
+    double e = px / PGP__BY, gx, gy, n;
+    pgp__wall_at(seed, w, s + e, t, px, &ex);
+    pgp__wall_at(seed, w, s, t + e, px, &ey);
+    gx = (ex.h - h) / px;
+    gy = (ey.h - h) / px;
+    n = sqrt(gx * gx + gy * gy + 1.0);
+    return pw_clampf((float)((-gx * l[0] - gy * l[1] + l[2]) / (n * l[2])), 0.3f, 1.45f);
+}
+
+/* The colour of stone `id`: fired brick at w = 0 (a few over-burnt), a
+ * weathered stone at w = 1, soot and blotches in between. */
+static void pgp__stone_colour(unsigned long long seed, double w, double s, double t, int id, double *c)
+{
+    static const double brick[5][3] = {{0.66, 0.27, 0.17}, {0.58, 0.22, 0.15}, {0.72, 0.36, 0.22},
+                                       {0.52, 0.21, 0.15}, {0.63, 0.31, 0.22}};
+    static const double stone[6][3] = {{0.60, 0.55, 0.48}, {0.47, 0.44, 0.41}, {0.66, 0.58, 0.47},
+                                       {0.53, 0.43, 0.35}, {0.41, 0.39, 0.38}, {0.57, 0.48, 0.39}};
+    static const double burnt[3] = {0.34, 0.17, 0.13};
+    double b[3], st[3], v = 0.88 + 0.24 * pgp__rand(seed, id, 8), grain, blotch;
+    int k;
+    pgp__mix(b, brick[(int)(5.0 * pgp__rand(seed, id, 10))], burnt, pgp__rand(seed, id, 7) < 0.1 ? 0.8 : 0.0);
+    memcpy(st, stone[(int)(6.0 * pgp__rand(seed, id, 9))], sizeof st);
+    pgp__mix(c, b, st, w);
+    grain = 0.9 + 0.2 * pgp__fbm(seed + 30, s, t, 96) * (1.0 + w);
+    blotch = 1.0 - (0.1 + 0.5 * w * (1.0 - w)) * pgp__smooth(0.45, 0.8, pgp__fbm(seed + 31, s, t, 12));
+    for (k = 0; k < 3; k++) c[k] *= v * grain * blotch;
+}
+
+/* The mortar: light lime at w = 0, earthy with moss patches at w = 1. */
+static void pgp__mortar_colour(unsigned long long seed, double w, double s, double t, double *c)
+{
+    static const double fresh[3] = {0.80, 0.78, 0.73}, old[3] = {0.43, 0.39, 0.31}, moss[3] = {0.31, 0.41, 0.17};
+    double g = 0.85 + 0.3 * pgp__fbm(seed + 40, s, t, 128);
+    int k;
+    pgp__mix(c, fresh, old, w);
+    if (w > 0.0) pgp__mix(c, c, moss, w * pgp__smooth(0.5, 0.68, pgp__fbm(seed + 41, s, t, 8)));
+    for (k = 0; k < 3; k++) c[k] *= g;
+}
+
+static void pgp__bricks(unsigned long long seed, double w, double s, double t, double px, double *rgb)
+{
+    pgp__wall o;
+    double stone[3], mortar[3], light, ao;
+    int k;
+    pgp__wall_at(seed, w, s, t, px, &o);
+    light = pgp__wall_light(seed, w, s, t, px, o.h);
+    memset(stone, 0, sizeof stone);
+    memset(mortar, 0, sizeof mortar);
+    if (o.cover > 0.0) pgp__stone_colour(seed, w, s, t, o.id, stone);
+    if (o.cover < 1.0) pgp__mortar_colour(seed, w, s, t, mortar);
+    ao = 0.55 + 0.45 * pgp__smooth(0.0, 0.05 + 0.1 * w, o.d); /* the mortar is dark beside the stones */
+    for (k = 0; k < 3; k++) rgb[k] = (mortar[k] * ao + (stone[k] - mortar[k] * ao) * o.cover) * light;
+}
+
+/* ---- "stripes" ----------------------------------------------------------------- */
+
+/* 8 bands down the tile; band k holds a coloured stripe of its own width on
+ * a cream ground, with a thin darker pin stripe in the gap above it. */
+static void pgp__stripes(unsigned long long seed, double s, double t, double px, double *rgb)
+{
+    static const double pal[6][3] = {{0.16, 0.27, 0.50}, {0.70, 0.20, 0.18}, {0.16, 0.45, 0.35},
+                                     {0.85, 0.62, 0.18}, {0.40, 0.24, 0.46}, {0.12, 0.12, 0.15}};
+    static const double cream[3] = {0.93, 0.90, 0.82};
+    const int N = 8;
+    double y = t * N, fy = floor(y), v = y - fy, half, cov, pin, col[3], weave;
+    int band = (((int)fy % N) + N) % N, k;
+    half = 0.22 + 0.16 * pgp__rand(seed, band, 0);
+    memcpy(col, pal[(int)(6.0 * pgp__rand(seed, band, 1))], sizeof col);
+    cov = pgp__smooth(-0.5, 0.5, (half - (v < 0.5 ? 0.5 - v : v - 0.5)) / (px * N)); /* px: a texel in t */
+    pin = pgp__smooth(-0.5, 0.5, (0.018 - (v < 0.93 ? 0.93 - v : v - 0.93)) / (px * N));
+    for (k = 0; k < 3; k++) rgb[k] = cream[k] + (col[k] - cream[k]) * cov;
+    for (k = 0; k < 3; k++) rgb[k] += (0.55 * col[k] - rgb[k]) * pin * (1.0 - cov);
+    weave = 0.93 + 0.1 * pgp__fbm(seed + 50, s, t, 8) + 0.05 * pgp__noise(seed + 51, s, t, 256);
+    for (k = 0; k < 3; k++) rgb[k] *= weave;
+}
+
+/* ---- tiles ---------------------------------------------------------------------- */
+
+enum { PGP__TILE_BRICKS = 0, PGP__TILE_STRIPES = 1 };
+
+/* The colour of a built-in tile at (s, t) of layer `layer` of `layers`; px
+ * is the side of a texel in tile units. Periodic: (s + 1, t) and (s, t + 1)
+ * give the same colour up to rounding. */
+static void pgp__tile_texel(int kind, unsigned long long seed, int layer, int layers, double s, double t,
+                            double px, float *rgb)
+{
+    double c[3];
+    int k;
+    if (kind == PGP__TILE_BRICKS)
+        pgp__bricks(seed, layers > 1 ? (double)layer / (layers - 1) : 0.0, s, t, px * PGP__BY, c);
+    else
+        pgp__stripes(seed, s, t, px, c);
+    for (k = 0; k < 3; k++) rgb[k] = pw_clampf((float)c[k], 0.0f, 1.0f);
+}
+
+PGPDEF pgp_result pgp_builtin_tile(const char *name, int size, const pgp_options *opt, pgp_tile *out,
+                                   pgp_error *err)
+{
+    pgp_options o = pgp__options(opt);
+    pw_alloc a = pgp__alloc(&o.allocator);
+    pw_volume vol;
+    pw_err pe;
+    int kind = -1, layers, x, y, z;
+    pw_err_clear(&pe);
+    if (out) memset(out, 0, sizeof *out);
+    if (name) kind = !strcmp(name, "bricks") ? PGP__TILE_BRICKS : !strcmp(name, "stripes") ? PGP__TILE_STRIPES : -1;
+    layers = kind == PGP__TILE_BRICKS ? 4 : 1;
+    if (!out || kind < 0)
+        pw_fail(&pe, PW_ERR_INVALID, "unknown built-in tile '%s' (bricks, stripes)", name ? name : "(null)");
+    else if (size < 8 || size > 4096)
+        pw_fail(&pe, PW_ERR_INVALID, "built-in tile size must be 8..4096 (got %d)", size);
+    else if (pw_volume_alloc(&a, &vol, 3, size, size, layers, &pe) == PW_OK) {
+        double px = 1.0 / size;
+        for (z = 0; z < layers; z++)
+            for (y = 0; y < size; y++)
+                for (x = 0; x < size; x++) /* texel centres; row 0 at the top, t = 0 at the bottom */
+                    pgp__tile_texel(kind, o.seed, z, layers, (x + 0.5) * px, 1.0 - (y + 0.5) * px, px,
+                                    vol.px + (((size_t)z * size + y) * size + x) * 3);
+        out->width = out->height = size;
+        out->layers = layers;
+        out->channels = 3;
+        out->pixels = vol.px;
+        out->allocator = pgp__allocator(&a);
+    }
+    return pgp__done(&pe, err);
+}

@@ -1,0 +1,420 @@
+/* io.c: files and memory for pgp.h: material-space tiles (NRRD, or any 2D
+ * image as one layer), meshes, images, the textured OBJ and the
+ * constraints file of the CLI.
+ *
+ * Tiles and NRRD volumes share their layout (pw_volume, nrrd.h): x is s
+ * (the width), y the rows from the top (t = 0 at the bottom row), z the
+ * layers along m. A tile is written as NRRD0004, uint8, raw, with sizes
+ * C W H M (dimension 4), or W H M (dimension 3) for one channel.
+ *
+ * The OBJ holds the map's triangles (the fan triangulation of the mesh):
+ *     v x y z                          one per vertex
+ *     vt s t m                         one per triangle corner, in triangle
+ *                                      order (Eq. 4, before the §3 fix)
+ *     g regular / f a/ta b/tb c/tc     triangles without a singular corner
+ *     g singular / f ...               the others (§3)
+ * with vertex and vt indices 1-based; numbers read back exactly whatever
+ * the locale.
+ *
+ * A constraints file is applied line by line (§2); '#' starts a comment:
+ *     radius R                effect radius of the lines that follow, mesh
+ *                             units (0 or less, the default: whole mesh)
+ *     orient F dx dy dz       the tile's s axis along (dx, dy, dz) at triangle F
+ *     scale V S               tile side S (mesh units, > 0) at vertex V
+ *     material V m            material m in [0, 1] at vertex V
+ * Triangles and vertices are 0-based. An error names the file and line;
+ * the lines before it stay applied. */
+#include "builtin.c"
+
+/* ---- tiles ------------------------------------------------------------------ */
+
+/* A tile as a volume (no copy), checked: sizes, channels, finite samples. */
+static int pgp__tile_view(const pgp_tile *t, pw_volume *v, pw_err *e)
+{
+    size_t k, n;
+    int r;
+    if (!t || !t->pixels) return pw_fail(e, PW_ERR_INVALID, "tile: empty (no texels)");
+    if (t->width < 1 || t->height < 1 || t->layers < 1 || t->channels < 1 || t->channels > 4)
+        return pw_fail(e, PW_ERR_INVALID, "tile: %dx%d texels, %d layers, %d channels (1 to 4) is not a tile",
+                       t->width, t->height, t->layers, t->channels);
+    if ((r = pw__volume_check_size("tile", (uint64_t)t->width, (uint64_t)t->height, (uint64_t)t->layers, e)) != PW_OK)
+        return r;
+    v->c = t->channels, v->x = t->width, v->y = t->height, v->z = t->layers, v->px = t->pixels;
+    n = (size_t)v->c * v->x * v->y * v->z;
+    for (k = 0; k < n; k++)
+        if (!pw_is_finite(v->px[k]))
+            return pw_fail(e, PW_ERR_INVALID, "tile: texel %lu is not a finite number", (unsigned long)(k / v->c));
+    return PW_OK;
+}
+
+/* Moves a volume's samples into a tile. */
+static void pgp__take_volume(pw_volume *v, const pw_alloc *a, pgp_tile *t)
+{
+    t->width = v->x;
+    t->height = v->y;
+    t->layers = v->z;
+    t->channels = v->c;
+    t->pixels = v->px;
+    t->allocator = pgp__allocator(a);
+    memset(v, 0, sizeof *v);
+}
+
+PGPDEF pgp_result pgp_tile_from_image(const pgp_image *img, const pgp_options *opt, pgp_tile *out, pgp_error *err)
+{
+    pgp_options o = pgp__options(opt);
+    pw_alloc a = pgp__alloc(&o.allocator);
+    pw_volume vol;
+    pw_image view;
+    pw_err pe;
+    pw_err_clear(&pe);
+    if (out) memset(out, 0, sizeof *out);
+    if (!out) pw_fail(&pe, PW_ERR_INVALID, "pgp_tile_from_image: NULL output");
+    else if (pgp__check_image(img, "image", &pe) == PW_OK) {
+        view = pgp__pw_image(img);
+        if (pw_volume_from_image(&a, &view, &vol, &pe) == PW_OK) pgp__take_volume(&vol, &a, out);
+    }
+    return pgp__done(&pe, err);
+}
+
+/* NRRD when the data starts with its magic, else a 2D image (one layer). */
+PGPDEF pgp_result pgp_load_tile_from_memory(const void *data, size_t size, const char *name, const pgp_options *opt,
+                                            pgp_tile *out, pgp_error *err)
+{
+    pgp_options o = pgp__options(opt);
+    pw_alloc a = pgp__alloc(&o.allocator);
+    const unsigned char *d = (const unsigned char *)data;
+    pw_volume vol;
+    pw_image img;
+    pw_err pe;
+    pw_err_clear(&pe);
+    if (out) memset(out, 0, sizeof *out);
+    if (!name) name = "tile";
+    if (!out || (!data && size)) pw_fail(&pe, PW_ERR_INVALID, "pgp_load_tile_from_memory: NULL argument");
+    else if (size >= 4 && !memcmp(d, "NRRD", 4)) {
+        if (pw_nrrd_read_memory(&a, d, size, name, &vol, &pe) == PW_OK) pgp__take_volume(&vol, &a, out);
+    } else if (pw_image_read_memory(&a, d, size, name, &img, &pe) == PW_OK) {
+        vol.c = img.c, vol.x = img.w, vol.y = img.h, vol.z = 1, vol.px = img.px;
+        pgp__take_volume(&vol, &a, out);
+    }
+    return pgp__done(&pe, err);
+}
+
+PGPDEF pgp_result pgp_write_tile_to_func(const pgp_tile *tile, pgp_write_fn fn, void *ctx, pgp_error *err)
+{
+    pw_volume v;
+    pw_alloc a;
+    pw_err pe;
+    pw_err_clear(&pe);
+    if (!fn) pw_fail(&pe, PW_ERR_INVALID, "pgp_write_tile_to_func: NULL writer");
+    else if (pgp__tile_view(tile, &v, &pe) == PW_OK) {
+        a = pgp__alloc(&tile->allocator);
+        pw_nrrd_write(&a, &v, 0, fn, ctx, &pe);
+    }
+    return pgp__done(&pe, err);
+}
+
+/* ---- meshes and images --------------------------------------------------------- */
+
+PGPDEF pgp_result pgp_load_mesh_from_memory(const void *data, size_t size, const char *name, const pgp_options *opt,
+                                            pgp_mesh *out, pgp_error *err)
+{
+    pgp_options o = pgp__options(opt);
+    pw_alloc a = pgp__alloc(&o.allocator);
+    pw_mesh m;
+    pw_err pe;
+    pw_err_clear(&pe);
+    if (out) memset(out, 0, sizeof *out);
+    if (!out || (!data && size)) pw_fail(&pe, PW_ERR_INVALID, "pgp_load_mesh_from_memory: NULL argument");
+    else if (pw_mesh_read_memory(&a, data, size, name ? name : "mesh", &m, &pe) == PW_OK)
+        pgp__take_mesh(&m, &a, out);
+    return pgp__done(&pe, err);
+}
+
+PGPDEF pgp_result pgp_write_image_to_func(const pgp_image *img, const char *format, pgp_write_fn fn, void *ctx,
+                                          pgp_error *err)
+{
+    pw_err pe;
+    pw_err_clear(&pe);
+    if (!fn) pw_fail(&pe, PW_ERR_INVALID, "pgp_write_image_to_func: NULL writer");
+    else if (pgp__check_image(img, "image", &pe) == PW_OK) pgp__encode(img, format, fn, ctx, &pe);
+    return pgp__done(&pe, err);
+}
+
+/* ---- the textured OBJ ------------------------------------------------------------ */
+
+/* The mesh given with a map must be the one it was made from: the same
+ * vertices and the same fan triangulation. */
+static int pgp__same_mesh(const pgp_mesh *mesh, const pgp_map *P, pw_err *e)
+{
+    int f, k, t = 0;
+    if (mesh->nverts != P->m.nv || mesh->nfaces < 0 || !mesh->face_start || !mesh->face_verts)
+        return pw_fail(e, PW_ERR_INVALID, "the mesh (%d vertices) is not the map's (%d vertices)", mesh->nverts, P->m.nv);
+    for (f = 0; f < mesh->nfaces; f++) {
+        const int *c = mesh->face_verts + mesh->face_start[f];
+        int d = mesh->face_start[f + 1] - mesh->face_start[f];
+        for (k = 1; k + 1 < d; k++, t++)
+            if (t >= P->m.nf || P->m.tri[3 * t] != c[0] || P->m.tri[3 * t + 1] != c[k] || P->m.tri[3 * t + 2] != c[k + 1])
+                return pw_fail(e, PW_ERR_INVALID, "the mesh is not the map's (face %d differs)", f);
+    }
+    if (t != P->m.nf)
+        return pw_fail(e, PW_ERR_INVALID, "the mesh has %d triangles, the map %d", t, P->m.nf);
+    return PW_OK;
+}
+
+/* The faces of one group: regular (sing = 0) or singular (sing = 1). */
+static void pgp__obj_group(pw__wb *b, const pgp_map *P, int sing)
+{
+    int f, k;
+    pw__wb_str(b, sing ? "g singular\n" : "g regular\n");
+    for (f = 0; f < P->m.nf; f++) {
+        if (!P->fsing[f] != !sing) continue;
+        pw__wb_str(b, "f");
+        for (k = 0; k < 3; k++) {
+            pw__wb_int(b, (long long)P->m.tri[3 * f + k] + 1, ' ');
+            pw__wb_int(b, 3LL * f + k + 1, '/');
+        }
+        pw__wb_str(b, "\n");
+    }
+}
+
+static int pgp__write_obj(const pgp_map *P, pw_write_fn fn, void *ctx, pw_err *e)
+{
+    pw__wb b;
+    int i, k;
+    memset(&b, 0, sizeof b);
+    b.w = fn;
+    b.ctx = ctx;
+    pw__wb_str(&b, "# patchwork pgp: vt s t m per triangle corner; groups regular and singular (§3)\n");
+    for (i = 0; i < P->m.nv; i++) {
+        pw__wb_str(&b, "v");
+        for (k = 0; k < 3; k++) pw__wb_float(&b, P->pos[3 * i + k]);
+        pw__wb_str(&b, "\n");
+    }
+    for (i = 0; i < 3 * P->m.nf; i++) {
+        pw__wb_str(&b, "vt");
+        for (k = 0; k < 3; k++) pw__wb_float(&b, P->stm[3 * i + k]);
+        pw__wb_str(&b, "\n");
+    }
+    pgp__obj_group(&b, P, 0);
+    pgp__obj_group(&b, P, 1);
+    return pw__wb_done(&b, e);
+}
+
+PGPDEF pgp_result pgp_write_obj_to_func(const pgp_mesh *mesh, const pgp_map *map, pgp_write_fn fn, void *ctx,
+                                        pgp_error *err)
+{
+    pw_err pe;
+    pw_err_clear(&pe);
+    if (!map || !fn) pw_fail(&pe, PW_ERR_INVALID, "pgp_write_obj_to_func: NULL map or writer");
+    else if (!mesh || pgp__same_mesh(mesh, map, &pe) == PW_OK)
+        pgp__write_obj(map, fn, ctx, &pe);
+    return pgp__done(&pe, err);
+}
+
+/* ---- constraints files -------------------------------------------------------------- */
+
+/* A triangle or vertex index, checked against the map. */
+static int pgp__con_index(pw__sc *s, const char *what, int n, int *out)
+{
+    long long v;
+    int r;
+    if ((r = pw__sc_int(s, &v, what, -1)) != PW_OK) return r;
+    if (v < 0 || v >= n) return pw__sc_fail(s, PW_ERR_INVALID, "%s %lld does not exist (0 to %d)", what, v, n - 1);
+    *out = (int)v;
+    return PW_OK;
+}
+
+/* n finite numbers. */
+static int pgp__con_numbers(pw__sc *s, const char *what, float *v, int n)
+{
+    double x;
+    int k, r;
+    for (k = 0; k < n; k++) {
+        if ((r = pw__sc_num(s, &x, what, -1)) != PW_OK) return r;
+        v[k] = pw__num_to_float(x);
+        if (!pw_is_finite(v[k])) return pw__sc_fail(s, PW_ERR_INVALID, "%s: a value is not a finite number", what);
+    }
+    return PW_OK;
+}
+
+/* One line: reads it whole, then applies it. *count counts constraints. */
+static int pgp__con_line(pw__sc *s, pgp_map *P, float *radius, int *count)
+{
+    static const char *const names[4] = {"radius", "orient", "scale", "material"};
+    char tok[32];
+    const char *w;
+    size_t n;
+    float v[3];
+    int kind, idx = 0, r;
+    pgp_error le;
+    pgp_result q;
+    w = pw__sc_word(s, &n);
+    kind = pw__sc_is(w, n, "radius") ? 0 : pw__sc_is(w, n, "orient") ? 1 : pw__sc_is(w, n, "scale") ? 2
+           : pw__sc_is(w, n, "material") ? 3 : -1;
+    if (kind < 0)
+        return pw__sc_fail(s, PW_ERR_PARSE, "unknown keyword '%s' (orient, scale, material, radius)", pw__sc_tok(s, w, tok));
+    if (kind == 1) r = pgp__con_index(s, "orient: triangle", P->m.nf, &idx);
+    else if (kind > 1) r = pgp__con_index(s, kind == 2 ? "scale: vertex" : "material: vertex", P->m.nv, &idx);
+    else r = PW_OK;
+    if (r != PW_OK || (r = pgp__con_numbers(s, names[kind], v, kind == 1 ? 3 : 1)) != PW_OK) return r;
+    if (!pw__sc_eol(s)) return pw__sc_fail(s, PW_ERR_PARSE, "unexpected text after '%s'", names[kind]);
+    if (kind == 0) *radius = v[0];
+    else {
+        q = kind == 1 ? pgp_add_orientation(P, idx, v, *radius, NULL, NULL, &le)
+            : kind == 2 ? pgp_add_scale(P, idx, v[0], *radius, NULL, NULL, &le)
+                        : pgp_add_material(P, idx, v[0], *radius, NULL, NULL, &le);
+        if (q != PGP_OK) return pw__sc_fail(s, (int)q, "%s", le.message);
+        ++*count;
+    }
+    pw__sc_next_line(s);
+    return PW_OK;
+}
+
+PGPDEF pgp_result pgp_apply_constraints_from_memory(pgp_map *map, const void *data, size_t size, const char *name,
+                                                    pgp_error *err)
+{
+    float radius = 0.0f;
+    int count = 0;
+    pw__sc s;
+    pw_err pe;
+    pw_err_clear(&pe);
+    if (!map || (!data && size)) {
+        pw_fail(&pe, PW_ERR_INVALID, "pgp_apply_constraints_from_memory: NULL argument");
+        return pgp__done(&pe, err);
+    }
+    pw__sc_init(&s, data, size, name ? name : "constraints", 0, &pe);
+    for (pw__sc_skip_empty(&s); s.p < s.end && pe.code == PW_OK; pw__sc_skip_empty(&s))
+        pgp__con_line(&s, map, &radius, &count);
+    if (pe.code == PW_OK && count == 0) pw_fail(&pe, PW_ERR_PARSE, "%s: no constraints", s.name);
+    return pgp__done(&pe, err);
+}
+
+/* ---- files ------------------------------------------------------------------------------ */
+
+#ifndef PW_NO_STDIO
+PGPDEF pgp_result pgp_load_mesh(const char *path, const pgp_options *opt, pgp_mesh *out, pgp_error *err)
+{
+    pgp_options o = pgp__options(opt);
+    pw_alloc a = pgp__alloc(&o.allocator);
+    pw_mesh m;
+    pw_err pe;
+    pw_err_clear(&pe);
+    if (out) memset(out, 0, sizeof *out);
+    if (!out || !path) pw_fail(&pe, PW_ERR_INVALID, "pgp_load_mesh: NULL argument");
+    else if (pw_mesh_load(&a, path, &m, &pe) == PW_OK) pgp__take_mesh(&m, &a, out);
+    return pgp__done(&pe, err);
+}
+
+PGPDEF pgp_result pgp_load_image(const char *path, const pgp_options *opt, pgp_image *out, pgp_error *err)
+{
+    pgp_options o = pgp__options(opt);
+    pw_alloc a = pgp__alloc(&o.allocator);
+    pw_image img;
+    pw_err pe;
+    pw_err_clear(&pe);
+    if (out) memset(out, 0, sizeof *out);
+    if (!out || !path) pw_fail(&pe, PW_ERR_INVALID, "pgp_load_image: NULL argument");
+    else if (pw_image_load(&a, path, &img, &pe) == PW_OK) pgp__take_image(&img, &a, out);
+    return pgp__done(&pe, err);
+}
+
+PGPDEF pgp_result pgp_load_tile(const char *path, const pgp_options *opt, pgp_tile *out, pgp_error *err)
+{
+    pgp_options o = pgp__options(opt);
+    pw_alloc a = pgp__alloc(&o.allocator);
+    unsigned char *data;
+    size_t size;
+    pw_err pe;
+    pw_err_clear(&pe);
+    if (out) memset(out, 0, sizeof *out);
+    if (!out || !path) pw_fail(&pe, PW_ERR_INVALID, "pgp_load_tile: NULL argument");
+    else if (pw_read_file(&a, path, &data, &size, &pe) == PW_OK) {
+        pgp_error le;
+        if (pgp_load_tile_from_memory(data, size, path, &o, out, &le) != PGP_OK) pw_fail(&pe, (int)le.code, "%s", le.message);
+        pw_free(&a, data);
+    }
+    return pgp__done(&pe, err);
+}
+
+/* What a file writer writes: one of these is set. */
+typedef struct pgp__job {
+    const pgp_image *img;
+    const char *format;
+    const pgp_tile *tile;
+    const pgp_mesh *mesh;
+    const pgp_map *map;
+} pgp__job;
+
+static int pgp__job_body(void *arg, pw_write_fn w, void *ctx, pw_err *e)
+{
+    const pgp__job *j = (const pgp__job *)arg;
+    pgp_error le;
+    pgp_result r = j->img ? pgp_write_image_to_func(j->img, j->format, w, ctx, &le)
+                   : j->tile ? pgp_write_tile_to_func(j->tile, w, ctx, &le)
+                             : pgp_write_obj_to_func(j->mesh, j->map, w, ctx, &le);
+    return r != PGP_OK ? pw_fail(e, (int)r, "%s", le.message) : PW_OK;
+}
+
+PGPDEF pgp_result pgp_save_tile(const char *path, const pgp_tile *tile, pgp_error *err)
+{
+    pgp__job j;
+    pw_volume v;
+    pw_err pe;
+    pw_err_clear(&pe);
+    memset(&j, 0, sizeof j);
+    j.tile = tile;
+    if (!path) pw_fail(&pe, PW_ERR_INVALID, "pgp_save_tile: NULL path");
+    else if (!pw_has_ext(path, ".nrrd")) pw_fail(&pe, PW_ERR_UNSUPPORTED, "%s: a tile is saved as .nrrd", path);
+    else if (pgp__tile_view(tile, &v, &pe) == PW_OK) pw_write_file(path, pgp__job_body, &j, &pe);
+    return pgp__done(&pe, err);
+}
+
+PGPDEF pgp_result pgp_save_image(const char *path, const pgp_image *img, pgp_error *err)
+{
+    pgp__job j;
+    pw_err pe;
+    pw_err_clear(&pe);
+    memset(&j, 0, sizeof j);
+    j.img = img;
+    if (!path) pw_fail(&pe, PW_ERR_INVALID, "pgp_save_image: NULL path");
+    else if (!(j.format = pw_has_ext(path, ".png") ? "png" : pw_has_ext(path, ".ppm") || pw_has_ext(path, ".pnm")
+                          ? "ppm" : pw_has_ext(path, ".pgm") ? "pgm" : pw_has_ext(path, ".pam") ? "pam" : NULL))
+        pw_fail(&pe, PW_ERR_UNSUPPORTED, "%s: unknown image extension (use .png, .ppm, .pgm, .pam)", path);
+    else if (pgp__check_image(img, path, &pe) == PW_OK)
+        pw_write_file(path, pgp__job_body, &j, &pe);
+    return pgp__done(&pe, err);
+}
+
+PGPDEF pgp_result pgp_save_obj(const char *path, const pgp_mesh *mesh, const pgp_map *map, pgp_error *err)
+{
+    pgp__job j;
+    pw_err pe;
+    pw_err_clear(&pe);
+    memset(&j, 0, sizeof j);
+    j.mesh = mesh;
+    j.map = map;
+    if (!path || !map) pw_fail(&pe, PW_ERR_INVALID, "pgp_save_obj: NULL argument");
+    else if (!mesh || pgp__same_mesh(mesh, map, &pe) == PW_OK) pw_write_file(path, pgp__job_body, &j, &pe);
+    return pgp__done(&pe, err);
+}
+
+PGPDEF pgp_result pgp_apply_constraints(pgp_map *map, const char *path, pgp_error *err)
+{
+    pw_alloc a;
+    unsigned char *data;
+    size_t size;
+    pw_err pe;
+    pw_err_clear(&pe);
+    if (!map || !path) pw_fail(&pe, PW_ERR_INVALID, "pgp_apply_constraints: NULL argument");
+    else {
+        a = map->a;
+        if (pw_read_file(&a, path, &data, &size, &pe) == PW_OK) {
+            pgp_error le;
+            if (pgp_apply_constraints_from_memory(map, data, size, path, &le) != PGP_OK)
+                pw_fail(&pe, (int)le.code, "%s", le.message);
+            pw_free(&a, data);
+        }
+    }
+    return pgp__done(&pe, err);
+}
+#endif

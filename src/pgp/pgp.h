@@ -1,0 +1,287 @@
+/* pgp.h - material-space texturing with a periodic global parameterization.
+ *
+ * A single-file C library implementing §2 and §3 of "Material Space
+ * Texturing" (Nicolas Ray, Bruno Lévy, Huamin Wang, Greg Turk, Bruno
+ * Vallet, Computer Graphics Forum 2009): a triangle mesh of any genus gets
+ * texture coordinates (s, t, m) into a material-space tile (a 3D texture
+ * periodic in s and t, with a material axis m; a plain periodic 2D texture
+ * is the one-layer case) that follow constraints on orientation, scale and
+ * material, and are updated locally when a constraint is edited.
+ *
+ *   - §2.1 effect area: each edit recomputes only the triangles within a
+ *     radius of its constraint (greedy, in order of distance); everything
+ *     outside keeps its values, so edits are local and continuous.
+ *   - §2.2 interpolation: scale and material by Laplacian smoothing with the
+ *     constraints locked (m clamped to [0,1], scale kept above a floor);
+ *     orientation by smoothing unit directions (singularities emerge from
+ *     the geometry); without orientation constraints the field is a global
+ *     up direction projected on the surface, or the direction of least
+ *     curvature.
+ *   - §2.3 periodic global parameterization: a unit complex number per
+ *     vertex for s and one for t, solved in the least-squares sense from
+ *     the per-edge rotations alpha_ij = 2 pi e_ij . (g_T + g_T')/2 with
+ *     g = d / S; per-corner coordinates recovered with integer jumps (Eq. 4).
+ *   - §3 rendering: singular 1-rings (distorted triangles or edges whose two
+ *     triangles disagree) are detected; their triangles are drawn with three
+ *     lookups (one per corner's point of view) blended barycentrically, the
+ *     rest with one; the tile is sampled with mipmaps, wrapping in s and t,
+ *     clamped and interpolated in m.
+ *
+ * USAGE
+ *   In exactly one C or C++ file:
+ *       #define PGP_IMPLEMENTATION
+ *       #include "pgp.h"
+ *   PATCHWORK_IMPLEMENTATION turns on every patchwork header included after
+ *   it. Build macros: PGP_STATIC (all functions static), PW_MALLOC /
+ *   PW_REALLOC / PW_FREE (all or none), PW_ASSERT, PW_NO_STDIO, and the
+ *   PW_MAX_* size limits, as in every patchwork header.
+ *
+ * MINIMAL EXAMPLE
+ *       pgp_options opt = pgp_default_options();
+ *       pgp_mesh mesh;
+ *       pgp_tile tile;
+ *       pgp_map *map;
+ *       pgp_image picture;
+ *       pgp_error err;
+ *       opt.scale = 0.2f;                      (tile side, mesh units)
+ *       if (pgp_load_mesh("bunny.obj", &opt, &mesh, &err) ||
+ *           pgp_load_tile("fur.nrrd", &opt, &tile, &err) ||
+ *           pgp_create(&mesh, &opt, &map, &err) ||
+ *           pgp_add_material(map, 120, 1.0f, 0.0f, NULL, &err) ||
+ *           pgp_render(map, &tile, NULL, &picture, &err) ||
+ *           pgp_save_image("bunny.png", &picture, &err))
+ *           fprintf(stderr, "%s\n", err.message);
+ *
+ * CONVENTIONS
+ *   Fallible calls return pgp_result (PGP_OK == 0) and fill err->message.
+ *   Images are floats in [0,1], row 0 at the top; t = 0 is the bottom row of
+ *   a tile (OBJ/OpenGL). Meshes are flat arrays of polygons, counter-
+ *   clockwise, fan-triangulated (corner 0, k, k+1); every face index is a
+ *   triangle of that triangulation. The same inputs give byte-identical
+ *   results.
+ *
+ * Licence: MIT or public domain, at your choice; see the end of the file.
+ */
+#ifndef PGP_H
+#define PGP_H
+
+#define PGP_VERSION_MAJOR 1
+#define PGP_VERSION_MINOR 0
+#define PGP_VERSION_PATCH 0
+#define PGP_VERSION_STRING "1.0.0"
+
+#include <stddef.h>
+
+#ifndef PGPDEF
+#ifdef PGP_STATIC
+#if defined(__GNUC__) || defined(__clang__)
+#define PGPDEF static __attribute__((unused))
+#else
+#define PGPDEF static
+#endif
+#else
+#define PGPDEF extern
+#endif
+#endif
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Result codes (the same values in every patchwork header). */
+typedef enum pgp_result {
+    PGP_OK = 0,
+    PGP_ERR_NOMEM = 1,       /* an allocation failed */
+    PGP_ERR_IO = 2,          /* a file could not be opened, read or written */
+    PGP_ERR_PARSE = 3,       /* malformed or truncated file */
+    PGP_ERR_UNSUPPORTED = 4, /* valid input using an unsupported feature */
+    PGP_ERR_LIMIT = 5,       /* a size exceeds a limit  */
+    PGP_ERR_INVALID = 6,     /* invalid argument or value (NaN, out of range) */
+    PGP_ERR_TOPOLOGY = 7,    /* non-manifold or inconsistently oriented mesh */
+    PGP_ERR_DEGENERATE = 8,  /* degenerate geometry (no faces, zero area) */
+    PGP_ERR_CANCELLED = 9,   /* the progress callback asked to stop */
+    PGP_ERR_NOCONVERGE = 10  /* an iterative solver did not converge */
+} pgp_result;
+
+typedef struct pgp_error {
+    pgp_result code;
+    char message[256];
+} pgp_error;
+
+/* Optional run-time allocator; NULL functions mean malloc/realloc/free (or
+ * the PW_MALLOC macros). Objects remember the allocator that made them. */
+typedef struct pgp_allocator {
+    void *(*malloc_fn)(void *user, size_t size);
+    void *(*realloc_fn)(void *user, void *ptr, size_t size);
+    void (*free_fn)(void *user, void *ptr);
+    void *user;
+} pgp_allocator;
+
+typedef int (*pgp_progress_fn)(void *user, float done, const char *stage);
+typedef int (*pgp_write_fn)(void *ctx, const void *data, size_t size);
+
+/* width*height pixels of `channels` floats in [0,1], row 0 at the top. */
+typedef struct pgp_image {
+    int width, height, channels;
+    float *pixels;
+    int bits; /* sample depth read from a file (8 or 16); 0 means 8 */
+    pgp_allocator allocator;
+} pgp_image;
+
+/* A polygon mesh; corners of face f are face_start[f] .. face_start[f+1]-1. */
+typedef struct pgp_mesh {
+    int nverts;
+    float *positions; /* nverts*3 */
+    int nfaces;
+    int *face_start;  /* nfaces+1 */
+    int *face_verts;  /* face_start[nfaces] */
+    pgp_allocator allocator;
+} pgp_mesh;
+
+/* A material-space tile: `layers` slices of width x height texels with
+ * `channels` floats each (1..4), slice k at m = k / (layers - 1); rows from
+ * the top, t = 0 at the bottom row. Periodic in s and t. */
+typedef struct pgp_tile {
+    int width, height, layers, channels;
+    float *pixels; /* layers*height*width*channels */
+    pgp_allocator allocator;
+} pgp_tile;
+
+/* Orientation field where no orientation constraint reaches (§2.2). */
+enum {
+    PGP_FIELD_UP = 0,       /* `up` projected onto every triangle */
+    PGP_FIELD_CURVATURE = 1 /* direction of least curvature, smoothed */
+};
+
+typedef struct pgp_options {
+    int field;               /* PGP_FIELD_*; default UP */
+    float up[3];             /* default (0,1,0): the tile's t axis follows it */
+    float scale;             /* tile side in mesh units where no scale constraint
+                                reaches; 0: a tenth of the bounding-box diagonal */
+    float material;          /* m where no material constraint reaches; default 0 */
+    float min_scale;         /* floor of the interpolated scale (§2.2 epsilon), as a
+                                fraction of `scale`; default 0.05 */
+    int smoothing;           /* CURVATURE: smoothing sweeps; default 20 */
+    float singular_distortion; /* §3: a triangle is distorted when
+                                |grad s - g_s|^2 / |g_s|^2 (or for t) exceeds this;
+                                default 0.5 */
+    unsigned long long seed; /* default 0 (nothing is random yet; kept for the CLI) */
+    pgp_allocator allocator;
+    pgp_progress_fn progress;
+    void *progress_user;
+} pgp_options;
+
+/* The mapping: opaque; made by pgp_create, edited by the constraint calls. */
+typedef struct pgp_map pgp_map;
+
+/* Triangles an edit recomputed (§2.1), caller frees with pgp_area_free. */
+typedef struct pgp_area {
+    int nfaces;
+    int *faces;
+    pgp_allocator allocator;
+} pgp_area;
+
+typedef struct pgp_render_options {
+    int width, height;       /* default 800 x 600 */
+    int supersample;         /* default 2 */
+    float view_dir[3];       /* default (-0.55,-0.45,-0.7) */
+    float up[3];             /* default (0,1,0) */
+    float background[3];     /* default white */
+    int fix;                 /* §3 singularity fix: 0 on (default), 1 off (one lookup
+                                everywhere), 2 three lookups on every triangle (the
+                                reference the fix is compared with) */
+    int show;                /* 0 the tile (default), 1 the material m in gray,
+                                2 singular triangles in red over the tile */
+} pgp_render_options;
+
+PGPDEF pgp_options pgp_default_options(void);
+PGPDEF const char *pgp_result_string(pgp_result r);
+
+/* Builds the mapping of a mesh: the default field, scale and material, and
+ * the initial parameterization (one vertex locked, §2.3). */
+PGPDEF pgp_result pgp_create(const pgp_mesh *mesh, const pgp_options *opt, pgp_map **out,
+                             pgp_error *err);
+PGPDEF void pgp_destroy(pgp_map *map);
+
+/* Constraints (§2). Each call recomputes the effect area: the triangles
+ * within `radius` (mesh units, geodesic; 0 or less: the whole mesh) of the
+ * constraint, in order of distance; the rest is locked. On success *id (if
+ * not NULL) names the constraint and *area (if not NULL) lists the
+ * triangles recomputed. */
+PGPDEF pgp_result pgp_add_orientation(pgp_map *map, int face, const float dir[3], float radius,
+                                      int *id, pgp_area *area, pgp_error *err);
+PGPDEF pgp_result pgp_add_scale(pgp_map *map, int vertex, float scale, float radius, int *id,
+                                pgp_area *area, pgp_error *err);
+PGPDEF pgp_result pgp_add_material(pgp_map *map, int vertex, float m, float radius, int *id,
+                                   pgp_area *area, pgp_error *err);
+/* A new value for constraint `id` (dir for orientation, value[0] for scale
+ * and material), recomputed over the same radius. */
+PGPDEF pgp_result pgp_edit_constraint(pgp_map *map, int id, const float value[3], pgp_area *area,
+                                      pgp_error *err);
+PGPDEF pgp_result pgp_remove_constraint(pgp_map *map, int id, pgp_area *area, pgp_error *err);
+PGPDEF void pgp_area_free(pgp_area *area);
+
+/* Queries. Per triangle corner (ntris*9): s, t, m of corners 0, 1, 2, the
+ * PGP coordinates of Eq. (4) before the rendering fix. */
+PGPDEF int pgp_triangle_count(const pgp_map *map);
+PGPDEF int pgp_vertex_count(const pgp_map *map);
+PGPDEF void pgp_get_coords(const pgp_map *map, float *stm);
+/* Singular triangles (§3, those with a corner whose 1-ring is singular):
+ * flags[ntris] set to 0/1 when flags is not NULL; returns their number. */
+PGPDEF int pgp_get_singular(const pgp_map *map, unsigned char *flags);
+/* The interpolated fields: d_s per triangle (ntris*3, unit), scale and
+ * material per vertex (nverts each); any pointer may be NULL. */
+PGPDEF void pgp_get_field(const pgp_map *map, float *ds, float *scale, float *material);
+
+/* §3: renders the mapped mesh textured with the tile. */
+PGPDEF pgp_result pgp_render(const pgp_map *map, const pgp_tile *tile, const pgp_render_options *ro,
+                             pgp_image *out, pgp_error *err);
+
+/* Built-in data for demos and tests. Meshes: "sphere", "torus", "bumpy",
+ * "grid" (a flat square, with a boundary). Tiles: "bricks" (bricks that
+ * weather into pebbles along m, 4 layers), "stripes" (1 layer). */
+PGPDEF pgp_result pgp_builtin_mesh(const char *name, const pgp_options *opt, pgp_mesh *out,
+                                   pgp_error *err);
+PGPDEF pgp_result pgp_builtin_tile(const char *name, int size, const pgp_options *opt, pgp_tile *out,
+                                   pgp_error *err);
+
+/* Files and memory. Tiles: NRRD (uint8/uint16/float, dimension 4 with
+ * sizes C W H M, or 3 with W H M, raw or gzip) or any 2D image (one
+ * layer). The constraints file of the CLI is documented in the README. */
+PGPDEF pgp_result pgp_tile_from_image(const pgp_image *img, const pgp_options *opt, pgp_tile *out,
+                                      pgp_error *err);
+PGPDEF pgp_result pgp_load_tile_from_memory(const void *data, size_t size, const char *name,
+                                            const pgp_options *opt, pgp_tile *out, pgp_error *err);
+PGPDEF pgp_result pgp_write_tile_to_func(const pgp_tile *tile, pgp_write_fn fn, void *ctx,
+                                         pgp_error *err);
+PGPDEF pgp_result pgp_load_mesh_from_memory(const void *data, size_t size, const char *name,
+                                            const pgp_options *opt, pgp_mesh *out, pgp_error *err);
+PGPDEF pgp_result pgp_write_image_to_func(const pgp_image *img, const char *format, pgp_write_fn fn,
+                                          void *ctx, pgp_error *err);
+/* OBJ: the triangulated mesh with `vt s t m` per corner, faces grouped as
+ * `g regular` then `g singular`. */
+PGPDEF pgp_result pgp_write_obj_to_func(const pgp_mesh *mesh, const pgp_map *map, pgp_write_fn fn,
+                                        void *ctx, pgp_error *err);
+/* Applies a constraints file's text ("orient F dx dy dz", "scale V S",
+ * "material V m", "radius R" for the following lines, '#' comments) to the
+ * map, line by line. */
+PGPDEF pgp_result pgp_apply_constraints_from_memory(pgp_map *map, const void *data, size_t size,
+                                                    const char *name, pgp_error *err);
+#ifndef PW_NO_STDIO
+PGPDEF pgp_result pgp_load_mesh(const char *path, const pgp_options *opt, pgp_mesh *out, pgp_error *err);
+PGPDEF pgp_result pgp_load_image(const char *path, const pgp_options *opt, pgp_image *out, pgp_error *err);
+PGPDEF pgp_result pgp_load_tile(const char *path, const pgp_options *opt, pgp_tile *out, pgp_error *err);
+PGPDEF pgp_result pgp_save_tile(const char *path, const pgp_tile *tile, pgp_error *err);
+PGPDEF pgp_result pgp_save_image(const char *path, const pgp_image *img, pgp_error *err);
+PGPDEF pgp_result pgp_save_obj(const char *path, const pgp_mesh *mesh, const pgp_map *map, pgp_error *err);
+PGPDEF pgp_result pgp_apply_constraints(pgp_map *map, const char *path, pgp_error *err);
+#endif
+PGPDEF void pgp_mesh_free(pgp_mesh *m);
+PGPDEF void pgp_image_free(pgp_image *img);
+PGPDEF void pgp_tile_free(pgp_tile *t);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* PGP_H */

@@ -1,0 +1,586 @@
+/* solve.c: §2.3 the periodic global parameterization, the recovery of
+ * per-corner coordinates (Eq. 4), the §3 detection of singular 1-rings, and
+ * the public entry points that create and edit a mapping. */
+#include "field.c"
+
+#define PGP__TWO_PI 6.28318530717958647692
+
+/* ---- angles without libm -------------------------------------------------------------- */
+
+/* atan(x) for |x| <= 1: two half-angle steps (atan x = 2 atan(x / (1 +
+ * sqrt(1 + x^2)))) bring |x| below tan(pi/16) ~ 0.2, then the Taylor series
+ * to x^21 (truncation below 1e-17). Only + - * / sqrt: the same bits on
+ * every IEEE platform, which libm's atan2 does not promise. */
+static double pgp__atan(double x)
+{
+    double y = x / (1.0 + sqrt(1.0 + x * x)), y2, p = 1.0 / 21.0;
+    int k;
+    y = y / (1.0 + sqrt(1.0 + y * y));
+    y2 = y * y;
+    for (k = 19; k >= 1; k -= 2) p = 1.0 / k - y2 * p;
+    return 4.0 * y * p;
+}
+
+/* Arg(x + iy) / 2 pi, in (-1/2, 1/2]; 0 for 0. */
+static double pgp__turns(double x, double y)
+{
+    const double pi = 3.14159265358979323846;
+    double a;
+    if (x == 0.0 && y == 0.0) return 0.0;
+    if (fabs(y) <= fabs(x)) {
+        a = pgp__atan(y / x);
+        if (x < 0.0) a += y >= 0.0 ? pi : -pi;
+    } else
+        a = (y > 0.0 ? 0.5 * pi : -0.5 * pi) - pgp__atan(x / y);
+    return a / PGP__TWO_PI;
+}
+
+/* ---- §2.3 per-edge rotations ------------------------------------------------------------ */
+
+/* alpha / 2 pi of half-edge h (from tri[h] to the next corner) for s (k = 0)
+ * or t (k = 1): e_ij . (g_T + g_T') / 2, the gradient averaged over the two
+ * triangles of the edge (the one triangle on a boundary). This is the
+ * coordinate difference s_j - s_i the field asks for along the edge. */
+static double pgp__alpha(const pgp_map *P, int h, int k)
+{
+    int f = h / 3, c = h % 3, t = P->m.hm.twin[h];
+    pw_v3 ed = pw_v3_sub(pw_trimesh_corner(&P->m, f, (c + 1) % 3), pw_trimesh_corner(&P->m, f, c));
+    pw_v3 g = pgp__grad(P, f, k);
+    if (t >= 0) g = pw_v3_scale(pw_v3_add(g, pgp__grad(P, t / 3, k)), 0.5f);
+    return (double)pw_v3_dot(ed, g);
+}
+
+/* ---- §2.3 the least-squares system ----------------------------------------------------- */
+
+/* Adds the term (A_T + A_T') |z_j - R(alpha) z_i|^2 of edge h (i -> j) to
+ * the system of the free vertices (id >= 0). R(alpha) is the rotation by
+ * +alpha, [cos -sin; sin cos]: with z = e^{2 pi i s}, s_j = s_i + alpha/2pi
+ * is z_j = e^{i alpha} z_i. (The matrix printed in the paper has the signs
+ * of the sines the other way round, which would make s decrease along g;
+ * tests/test_pgp.c checks a flat grid, where the exact answer is linear.)
+ * Blocks: diagonal w I at i and j, -w R at (j, i), -w R^T at (i, j); a
+ * fixed end moves to the right-hand side. */
+static int pgp__pgp_edge(const pgp_map *P, const double *z, const int *id, int h, int k, pw_triplets *t,
+                         double *b, pw_err *e)
+{
+    int f = h / 3, tw = P->m.hm.twin[h];
+    int vi = P->m.tri[h], vj = P->m.tri[3 * f + (h % 3 + 1) % 3], i = id[vi], j = id[vj], p, q, r = PW_OK;
+    double w = (double)P->m.area[f] + (tw >= 0 ? (double)P->m.area[tw / 3] : 0.0);
+    double a = PGP__TWO_PI * pgp__alpha(P, h, k), R[2][2];
+    R[0][0] = pw_cos(a), R[0][1] = -pw_sin(a), R[1][0] = pw_sin(a), R[1][1] = R[0][0];
+    for (p = 0; p < 2 && r == PW_OK; p++) {
+        if (i >= 0) r = pw_triplets_add(t, 2 * i + p, 2 * i + p, w, e);
+        if (r == PW_OK && j >= 0) r = pw_triplets_add(t, 2 * j + p, 2 * j + p, w, e);
+    }
+    for (p = 0; p < 2 && r == PW_OK; p++)
+        for (q = 0; q < 2 && r == PW_OK; q++) {
+            if (i >= 0 && j >= 0) {
+                r = pw_triplets_add(t, 2 * j + p, 2 * i + q, -w * R[p][q], e);
+                if (r == PW_OK) r = pw_triplets_add(t, 2 * i + q, 2 * j + p, -w * R[p][q], e);
+            } else if (j >= 0)
+                b[2 * j + p] += w * R[p][q] * z[2 * vi + q];
+            else if (i >= 0)
+                b[2 * i + q] += w * R[p][q] * z[2 * vj + p]; /* R^T z_j */
+        }
+    return r;
+}
+
+/* Proximal steps and their weights: each step minimises
+ * F_PGP(z) + mu sum_i d_i |z_i - zhat_i|^2 (d_i the diagonal of F's
+ * matrix) around the current unit estimate zhat, then normalises. The
+ * plain least squares with one vertex locked decays towards 0 away from it
+ * wherever the field is not a gradient (its minimum is z = 0 but near the
+ * lock), leaving only noise in Arg(z); the unit-length constraint |z_i| = 1
+ * of PGP [RLL*06] is what these steps restore, one linear solve each. The
+ * first, weak steps let the estimate relax over long distances (the
+ * breadth-first start has seams along its tree); the later ones converge. */
+#define PGP__STEPS 5
+static const double pgp__mu[PGP__STEPS] = {1e-3, 1e-2, 0.1, 0.1, 0.1};
+
+/* Where each row's diagonal entry sits in A (every row has one). */
+static int pgp__diag_index(const pw_alloc *a, const pw_csr *A, int **out, pw_err *e)
+{
+    int i, k, *d = (int *)pw_alloc_array(a, (size_t)A->n, sizeof(int), "PGP", e);
+    *out = d;
+    if (!d) return PW_ERR_NOMEM;
+    for (i = 0; i < A->n; i++)
+        for (d[i] = -1, k = A->rowptr[i]; k < A->rowptr[i + 1]; k++)
+            if (A->col[k] == i) d[i] = k;
+    for (i = 0; i < A->n; i++)
+        if (d[i] < 0) return pw_fail(e, PW_ERR_INVALID, "PGP: row %d has no diagonal", i);
+    return PW_OK;
+}
+
+/* A first estimate: z carried from the fixed vertices along a breadth-first
+ * tree, z_j = e^{i alpha_ij} z_i, i.e. the field integrated along the tree. */
+static int pgp__propagate(pgp_map *P, double *z, const int *id, int k, pw_err *e)
+{
+    const pw_trimesh *m = &P->m;
+    int nh = 3 * m->nf, *start = (int *)pw_calloc_array(&P->a, (size_t)m->nv + 1, sizeof(int), "PGP", e);
+    int *adj = (int *)pw_alloc_array(&P->a, (size_t)nh * 2, sizeof(int), "PGP", e);
+    int *queue = (int *)pw_alloc_array(&P->a, (size_t)m->nv, sizeof(int), "PGP", e);
+    unsigned char *done = (unsigned char *)pw_alloc_array(&P->a, (size_t)m->nv, 1, "PGP", e);
+    int h, v, head = 0, tail = 0, i, r = start && adj && queue && done ? PW_OK : PW_ERR_NOMEM;
+    for (h = 0; r == PW_OK && h < nh; h++) { /* each edge from both ends: +(h+1) forward, -(h+1) backward */
+        start[m->tri[h] + 1]++;
+        if (m->hm.twin[h] < 0) start[m->tri[3 * (h / 3) + (h % 3 + 1) % 3] + 1]++;
+    }
+    for (v = 0; r == PW_OK && v < m->nv; v++) start[v + 1] += start[v];
+    for (h = 0; r == PW_OK && h < nh; h++) {
+        int j = m->tri[3 * (h / 3) + (h % 3 + 1) % 3];
+        adj[start[m->tri[h]]++] = h + 1;
+        if (m->hm.twin[h] < 0) adj[start[j]++] = -(h + 1);
+    }
+    for (v = m->nv; r == PW_OK && v > 0; v--) start[v] = start[v - 1];
+    if (r == PW_OK) start[0] = 0;
+    for (v = 0; r == PW_OK && v < m->nv; v++)
+        if ((done[v] = (unsigned char)(id[v] < 0)) != 0) queue[tail++] = v;
+    while (r == PW_OK && head < tail) {
+        int u = queue[head++];
+        for (i = start[u]; i < start[u + 1]; i++) {
+            int hh = adj[i] > 0 ? adj[i] - 1 : -adj[i] - 1, fw = adj[i] > 0, w;
+            double a, c, sn, *zu = z + 2 * u;
+            w = fw ? m->tri[3 * (hh / 3) + (hh % 3 + 1) % 3] : m->tri[hh];
+            if (done[w]) continue;
+            a = PGP__TWO_PI * pgp__alpha(P, hh, k) * (fw ? 1.0 : -1.0);
+            c = pw_cos(a), sn = pw_sin(a);
+            z[2 * w] = c * zu[0] - sn * zu[1];
+            z[2 * w + 1] = sn * zu[0] + c * zu[1];
+            done[w] = 1;
+            queue[tail++] = w;
+        }
+        if (head == tail) /* a piece no fixed vertex reaches: start it at z = 1 */
+            for (v = 0; v < m->nv; v++)
+                if (!done[v]) {
+                    done[v] = 1, z[2 * v] = 1.0, z[2 * v + 1] = 0.0, queue[tail++] = v;
+                    break;
+                }
+    }
+    pw_free(&P->a, start);
+    pw_free(&P->a, adj);
+    pw_free(&P->a, queue);
+    pw_free(&P->a, done);
+    return r;
+}
+
+/* Solves for the unit complex numbers z (nv*2) of coordinate k at the free
+ * vertices (id >= 0, n of them), the others fixed. */
+static int pgp__pgp_solve(pgp_map *P, double *z, const int *id, int n, int k, pw_err *e)
+{
+    double *b = (double *)pw_calloc_array(&P->a, (size_t)n * 6, sizeof(double), "PGP", e);
+    double *x = b + 2 * n, *dg = b + 4 * n, *rhs = NULL;
+    int *dpos = NULL;
+    pw_triplets t;
+    pw_csr A;
+    pw_ic0 L;
+    pw_cg_options o = pw_cg_default_options();
+    int v, h, q, step, r = b ? PW_OK : PW_ERR_NOMEM;
+    memset(&t, 0, sizeof t);
+    memset(&A, 0, sizeof A);
+    memset(&L, 0, sizeof L);
+    if (r == PW_OK) r = pw_triplets_init(&t, &P->a, 2 * n, 2 * n, e);
+    for (h = 0; r == PW_OK && h < 3 * P->m.nf; h++)
+        if (P->m.hm.twin[h] < h) r = pgp__pgp_edge(P, z, id, h, k, &t, b, e); /* each edge once */
+    for (q = 0; r == PW_OK && q < t.count; q++) /* the diagonal of F's matrix */
+        if (t.row[q] == t.col[q]) dg[t.row[q]] += t.val[q];
+    if (r == PW_OK) r = pgp__propagate(P, z, id, k, e);
+    if (r == PW_OK && (r = pw_csr_from_triplets(&P->a, &t, &A, e)) == PW_OK)
+        r = pgp__diag_index(&P->a, &A, &dpos, e);
+    if (r == PW_OK && !(rhs = (double *)pw_alloc_array(&P->a, (size_t)n * 2, sizeof(double), "PGP", e))) r = PW_ERR_NOMEM;
+    o.tol = 1e-6; /* each step is followed by a normalisation: no need for more */
+    o.max_iter = 4000;
+    for (step = 0; r == PW_OK && step < PGP__STEPS; step++) {
+        double mu = pgp__mu[step];
+        for (q = 0; q < 2 * n; q++) A.val[dpos[q]] = dg[q] * (1.0 + mu);
+        pw_ic0_free(&P->a, &L);
+        if ((r = pw_ic0_factor(&P->a, &A, &L, e)) != PW_OK) break;
+        for (v = 0; v < P->m.nv; v++)
+            if ((q = id[v]) >= 0) {
+                x[2 * q] = z[2 * v], x[2 * q + 1] = z[2 * v + 1];
+                rhs[2 * q] = b[2 * q] + mu * dg[2 * q] * z[2 * v];
+                rhs[2 * q + 1] = b[2 * q + 1] + mu * dg[2 * q + 1] * z[2 * v + 1];
+            }
+        r = pw_pcg_solve(&P->a, &A, &L, rhs, x, &o, NULL, e);
+        for (v = 0; r == PW_OK && v < P->m.nv; v++)
+            if ((q = id[v]) >= 0) {
+                double zz[2];
+                zz[0] = x[2 * q], zz[1] = x[2 * q + 1];
+                if (pw_df_unit(zz)) z[2 * v] = zz[0], z[2 * v + 1] = zz[1];
+            }
+    }
+    pw_free(&P->a, dpos);
+    pw_ic0_free(&P->a, &L);
+    pw_csr_free(&P->a, &A);
+    pw_triplets_free(&t);
+    pw_free(&P->a, b);
+    pw_free(&P->a, rhs);
+    return r;
+}
+
+/* §2.3 over the free vertices: "in the special case of initialization, we
+ * lock a single vertex s_0 = 0 <=> z_0 = [1,0], else s is locked outside
+ * the effect area" (whole: the first vertex of every component locked). */
+static int pgp__pgp(pgp_map *P, const unsigned char *vfree, int whole, pw_err *e)
+{
+    int *id = (int *)pw_alloc_array(&P->a, (size_t)P->m.nv, sizeof(int), "PGP", e);
+    int *comp = (int *)pw_calloc_array(&P->a, (size_t)P->m.nf * 2, sizeof(int), "PGP", e);
+    unsigned char *lock = (unsigned char *)pw_calloc_array(&P->a, (size_t)P->m.nv, 1, "PGP", e);
+    int n = 0, v, f, c, nc = 0, r = id && comp && lock ? PW_OK : PW_ERR_NOMEM;
+    if (r == PW_OK && whole) r = pw_hmesh_components(&P->a, &P->m.hm, comp, &nc, e);
+    for (f = 0; r == PW_OK && whole && f < P->m.nf; f++) /* the first triangle of each component */
+        if (!comp[P->m.nf + comp[f]]) {
+            int lo = P->m.tri[3 * f];
+            comp[P->m.nf + comp[f]] = 1;
+            for (c = 1; c < 3; c++) lo = P->m.tri[3 * f + c] < lo ? P->m.tri[3 * f + c] : lo;
+            lock[lo] = 1;
+        }
+    for (v = 0; r == PW_OK && v < P->m.nv; v++) {
+        id[v] = vfree[v] && !lock[v] ? n++ : -1;
+        if (lock[v]) P->zs[2 * v] = P->zt[2 * v] = 1.0, P->zs[2 * v + 1] = P->zt[2 * v + 1] = 0.0;
+    }
+    if (r == PW_OK && n > 0) r = pgp__pgp_solve(P, P->zs, id, n, 0, e);
+    if (r == PW_OK && n > 0) r = pgp__pgp_solve(P, P->zt, id, n, 1, e);
+    pw_free(&P->a, id);
+    pw_free(&P->a, comp);
+    pw_free(&P->a, lock);
+    return r;
+}
+
+/* ---- Eq. (4): per-corner coordinates -------------------------------------------------- */
+
+/* s, t, m of triangle f's corners: corner 0 reads Arg(z)/2pi, corners 1 and
+ * 2 add the integer p that brings their difference to corner 0 closest to
+ * what the field asks for along the edge (alpha), so that every vertex
+ * differs between its triangles by integers only. */
+static void pgp__recover(pgp_map *P, int f)
+{
+    const int *tri = P->m.tri + 3 * f;
+    float *o = P->stm + 9 * f;
+    int c, k;
+    for (k = 0; k < 2; k++) {
+        const double *z = k ? P->zt : P->zs;
+        double s0 = pgp__turns(z[2 * tri[0]], z[2 * tri[0] + 1]);
+        o[k] = (float)s0;
+        for (c = 1; c < 3; c++) {
+            /* alpha from corner 0 to corner c: edge 0->1 is half-edge 3f, edge 0->2 is 3f+2 reversed */
+            double want = s0 + (c == 1 ? pgp__alpha(P, 3 * f, k) : -pgp__alpha(P, 3 * f + 2, k));
+            double sc = pgp__turns(z[2 * tri[c]], z[2 * tri[c] + 1]);
+            o[3 * c + k] = (float)(sc + floor(want - sc + 0.5));
+        }
+    }
+    for (c = 0; c < 3; c++) o[3 * c + 2] = P->mat[tri[c]];
+}
+
+/* ---- §3 singular 1-rings --------------------------------------------------------------- */
+
+/* The 3D gradient of the linear function with corner values w0, w1, w2 on
+ * triangle f. */
+static pw_v3 pgp__gradient(const pgp_map *P, int f, double w0, double w1, double w2)
+{
+    pw_v3 p = pw_trimesh_corner(&P->m, f, 0);
+    pw_v3 e1 = pw_v3_sub(pw_trimesh_corner(&P->m, f, 1), p), e2 = pw_v3_sub(pw_trimesh_corner(&P->m, f, 2), p);
+    double a11 = pw_v3_dot(e1, e1), a12 = pw_v3_dot(e1, e2), a22 = pw_v3_dot(e2, e2), det = a11 * a22 - a12 * a12;
+    double d1 = w1 - w0, d2 = w2 - w0, x, y;
+    if (!(det > 0.0)) return pw_v3_make(0.0f, 0.0f, 0.0f);
+    x = (d1 * a22 - d2 * a12) / det;
+    y = (d2 * a11 - d1 * a12) / det;
+    return pw_v3_add(pw_v3_scale(e1, (float)x), pw_v3_scale(e2, (float)y));
+}
+
+/* "Highly distorted": ||grad s - g_s||^2 > threshold, or the same for t.
+ * The paper's 0.5 is read relative to |g|^2 = 1/S^2 (the paper's tiles have
+ * unit size), so that the test does not depend on the units of the mesh. */
+static int pgp__distorted(const pgp_map *P, int f)
+{
+    const float *o = P->stm + 9 * f;
+    int k;
+    for (k = 0; k < 2; k++) {
+        pw_v3 g = pgp__grad(P, f, k), d = pw_v3_sub(pgp__gradient(P, f, o[k], o[3 + k], o[6 + k]), g);
+        if ((double)pw_v3_dot(d, d) > (double)P->o.singular_distortion * pw_v3_dot(g, g)) return 1;
+    }
+    return 0;
+}
+
+/* Whether the two triangles of half-edge h disagree on the coordinate
+ * difference along it (s_i^T - s_j^T != s_i^T' - s_j^T', or for t). */
+static int pgp__mismatch(const pgp_map *P, int h)
+{
+    int t = P->m.hm.twin[h], f = h / 3, g, c = h % 3, d, k;
+    if (t < 0) return 0;
+    g = t / 3, d = t % 3; /* h runs from corner c to c+1 of f, t from corner d to d+1 of g */
+    for (k = 0; k < 2; k++) {
+        double df = P->stm[9 * f + 3 * ((c + 1) % 3) + k] - P->stm[9 * f + 3 * c + k];
+        double dg = P->stm[9 * g + 3 * d + k] - P->stm[9 * g + 3 * ((d + 1) % 3) + k];
+        if (fabs(df - dg) > 0.5) return 1;
+    }
+    return 0;
+}
+
+/* §3: a vertex's 1-ring is singular if it holds a distorted triangle or a
+ * spoke edge whose two triangles disagree; a triangle is singular (drawn
+ * with three lookups) if one of its corners is. */
+static int pgp__singularities(pgp_map *P, pw_err *e)
+{
+    unsigned char *dist = (unsigned char *)pw_alloc_array(&P->a, (size_t)P->m.nf, 1, "singularities", e);
+    int f, c, h;
+    if (!dist) return PW_ERR_NOMEM;
+    memset(P->vsing, 0, (size_t)P->m.nv);
+    for (f = 0; f < P->m.nf; f++) dist[f] = (unsigned char)pgp__distorted(P, f);
+    for (h = 0; h < 3 * P->m.nf; h++) {
+        int f3 = h / 3, c3 = h % 3;
+        if (dist[f3]) P->vsing[P->m.tri[h]] = 1;
+        if (pgp__mismatch(P, h)) P->vsing[P->m.tri[h]] = P->vsing[P->m.tri[3 * f3 + (c3 + 1) % 3]] = 1;
+    }
+    P->nsing = 0;
+    for (f = 0; f < P->m.nf; f++) {
+        P->fsing[f] = 0;
+        for (c = 0; c < 3; c++) P->fsing[f] |= P->vsing[P->m.tri[3 * f + c]];
+        P->nsing += P->fsing[f];
+    }
+    pw_free(&P->a, dist);
+    return PW_OK;
+}
+
+/* ---- edits: §2's three steps over an effect area ------------------------------------------ */
+
+/* Recomputes the fields of `kind` and the coordinates over the area around
+ * the seed triangles (radius <= 0: the whole mesh). */
+static int pgp__edit(pgp_map *P, int kind, const int *seeds, int nseeds, float radius, pgp_area *area,
+                     pw_err *e)
+{
+    size_t nf = (size_t)P->m.nf, nv = (size_t)P->m.nv;
+    unsigned char *in = (unsigned char *)pw_alloc_array(&P->a, 2 * nf + 2 * nv, 1, "effect area", e);
+    int *order = (int *)pw_alloc_array(&P->a, nf, sizeof(int), "effect area", e);
+    pw_progress pr = pgp__progress(&P->o);
+    int n = 0, i, whole = !(radius > 0.0f), r = in && order ? PW_OK : PW_ERR_NOMEM;
+    unsigned char *mark = in + nf, *vfree = in + 2 * nf, *locked = vfree + nv;
+    if (r == PW_OK) r = pgp__area(P, seeds, nseeds, radius, in, order, &n, e);
+    if (r == PW_OK) pgp__free_vertices(P, in, vfree);
+    if (r == PW_OK) r = pw_report(&pr, 0.2f, "interpolation", e);
+    if (r == PW_OK && kind == PGP__ORIENT) r = pgp__interp_dir(P, in, whole, mark, e);
+    if (r == PW_OK && kind != PGP__ORIENT) r = pgp__interp_vertex(P, kind, vfree, whole, locked, e);
+    if (r == PW_OK) r = pw_report(&pr, 0.4f, "periodic global parameterization", e);
+    if (r == PW_OK && kind != PGP__MATERIAL) r = pgp__pgp(P, vfree, whole, e);
+    for (i = 0; r == PW_OK && i < n; i++) pgp__recover(P, order[i]);
+    if (r == PW_OK) r = pw_report(&pr, 0.9f, "singularities", e);
+    if (r == PW_OK) r = pgp__singularities(P, e);
+    if (r == PW_OK && area) {
+        area->faces = (int *)pw_alloc_array(&P->a, (size_t)n, sizeof(int), "effect area", e);
+        if (!area->faces) r = PW_ERR_NOMEM;
+        else memcpy(area->faces, order, sizeof(int) * (size_t)n), area->nfaces = n;
+        area->allocator = pgp__allocator(&P->a);
+    }
+    pw_free(&P->a, in);
+    pw_free(&P->a, order);
+    return r;
+}
+
+/* The triangles around a constraint: its triangle, or a vertex's fan. */
+static int pgp__edit_constraint(pgp_map *P, const pgp__constraint *c, pgp_area *area, pw_err *e)
+{
+    int *seeds, n = 0, h, r;
+    if (c->kind == PGP__ORIENT) return pgp__edit(P, c->kind, &c->index, 1, c->radius, area, e);
+    seeds = (int *)pw_alloc_array(&P->a, (size_t)P->m.nf, sizeof(int), "effect area", e);
+    if (!seeds) return PW_ERR_NOMEM;
+    for (h = 0; h < 3 * P->m.nf; h++)
+        if (P->m.tri[h] == c->index) seeds[n++] = h / 3;
+    r = pgp__edit(P, c->kind, seeds, n, c->radius, area, e);
+    pw_free(&P->a, seeds);
+    return r;
+}
+
+/* Checks a constraint's values (§2.2: m in [0, 1], S > 0, a direction that
+ * is not normal to its triangle). */
+static int pgp__check_constraint(const pgp_map *P, const pgp__constraint *c, pw_err *e)
+{
+    double z[2];
+    int r = c->kind == PGP__ORIENT ? pgp__check_face(P, c->index, e) : pgp__check_vertex(P, c->index, e);
+    if (r != PW_OK) return r;
+    if (!pw_is_finite(c->radius)) return pw_fail(e, PW_ERR_INVALID, "effect radius %g is not finite", (double)c->radius);
+    if (c->kind == PGP__ORIENT) {
+        if (!pw_is_finite(c->value[0]) || !pw_is_finite(c->value[1]) || !pw_is_finite(c->value[2]) ||
+            !pw_df_project(&P->m, c->index, pw_v3_load(c->value), z))
+            return pw_fail(e, PW_ERR_INVALID, "orientation (%g, %g, %g) at triangle %d is zero, not finite or "
+                           "normal to the triangle", (double)c->value[0], (double)c->value[1], (double)c->value[2], c->index);
+    } else if (c->kind == PGP__SCALE && !(c->value[0] > 0.0f && pw_is_finite(c->value[0])))
+        return pw_fail(e, PW_ERR_INVALID, "scale %g at vertex %d is not a positive finite number", (double)c->value[0], c->index);
+    else if (c->kind == PGP__MATERIAL && !(c->value[0] >= 0.0f && c->value[0] <= 1.0f))
+        return pw_fail(e, PW_ERR_INVALID, "material %g at vertex %d is not in [0, 1]", (double)c->value[0], c->index);
+    return PW_OK;
+}
+
+/* Adds a constraint and applies it. */
+static pgp_result pgp__add(pgp_map *map, int kind, int index, const float *value, float radius, int *id,
+                           pgp_area *area, pgp_error *err)
+{
+    pgp__constraint c;
+    pw_err pe;
+    pw_err_clear(&pe);
+    if (area) memset(area, 0, sizeof *area);
+    if (!map || !value) {
+        pw_fail(&pe, PW_ERR_INVALID, "NULL map or value");
+        return pgp__done(&pe, err);
+    }
+    memset(&c, 0, sizeof c);
+    c.kind = kind, c.index = index, c.alive = 1, c.radius = radius;
+    memcpy(c.value, value, sizeof(float) * (kind == PGP__ORIENT ? 3 : 1));
+    if (pgp__check_constraint(map, &c, &pe) == PW_OK &&
+        pw_grow(&map->a, (void **)&map->con, &map->concap, (size_t)map->ncon + 1, sizeof c, "constraints", &pe) == PW_OK) {
+        map->con[map->ncon++] = c;
+        if (pgp__edit_constraint(map, &c, area, &pe) != PW_OK) map->con[--map->ncon].alive = 0;
+        else if (id) *id = map->ncon - 1;
+    }
+    return pgp__done(&pe, err);
+}
+
+PGPDEF pgp_result pgp_add_orientation(pgp_map *map, int face, const float dir[3], float radius, int *id,
+                                      pgp_area *area, pgp_error *err)
+{
+    return pgp__add(map, PGP__ORIENT, face, dir, radius, id, area, err);
+}
+
+PGPDEF pgp_result pgp_add_scale(pgp_map *map, int vertex, float scale, float radius, int *id, pgp_area *area,
+                                pgp_error *err)
+{
+    return pgp__add(map, PGP__SCALE, vertex, &scale, radius, id, area, err);
+}
+
+PGPDEF pgp_result pgp_add_material(pgp_map *map, int vertex, float m, float radius, int *id, pgp_area *area,
+                                   pgp_error *err)
+{
+    return pgp__add(map, PGP__MATERIAL, vertex, &m, radius, id, area, err);
+}
+
+/* The live constraint `id`, or an error. */
+static pgp__constraint *pgp__find(pgp_map *map, int id, pw_err *e)
+{
+    if (!map) return pw_fail(e, PW_ERR_INVALID, "NULL map"), (pgp__constraint *)NULL;
+    if (id < 0 || id >= map->ncon || !map->con[id].alive) {
+        pw_fail(e, PW_ERR_INVALID, "there is no constraint %d", id);
+        return NULL;
+    }
+    return &map->con[id];
+}
+
+PGPDEF pgp_result pgp_edit_constraint(pgp_map *map, int id, const float value[3], pgp_area *area, pgp_error *err)
+{
+    pgp__constraint *c, old;
+    pw_err pe;
+    pw_err_clear(&pe);
+    if (area) memset(area, 0, sizeof *area);
+    if ((c = pgp__find(map, id, &pe)) != NULL && !value) pw_fail(&pe, PW_ERR_INVALID, "NULL value");
+    if (pe.code == PW_OK) {
+        old = *c;
+        memcpy(c->value, value, sizeof(float) * (c->kind == PGP__ORIENT ? 3 : 1));
+        if (pgp__check_constraint(map, c, &pe) != PW_OK || pgp__edit_constraint(map, c, area, &pe) != PW_OK)
+            *c = old;
+    }
+    return pgp__done(&pe, err);
+}
+
+PGPDEF pgp_result pgp_remove_constraint(pgp_map *map, int id, pgp_area *area, pgp_error *err)
+{
+    pgp__constraint *c;
+    pw_err pe;
+    pw_err_clear(&pe);
+    if (area) memset(area, 0, sizeof *area);
+    if ((c = pgp__find(map, id, &pe)) != NULL) {
+        c->alive = 0;
+        if (pgp__edit_constraint(map, c, area, &pe) != PW_OK) c->alive = 1;
+    }
+    return pgp__done(&pe, err);
+}
+
+/* ---- creation -------------------------------------------------------------------------- */
+
+PGPDEF void pgp_destroy(pgp_map *P)
+{
+    pw_alloc a;
+    if (!P) return;
+    a = P->a;
+    pw_trimesh_free(&a, &P->m);
+    pw_free(&a, P->pos);
+    pw_free(&a, P->conn);
+    pw_free(&a, P->dual);
+    pw_free(&a, P->base);
+    pw_free(&a, P->scale);
+    pw_free(&a, P->zs);
+    pw_free(&a, P->vsing);
+    pw_free(&a, P->con);
+    pw_free(&a, P);
+}
+
+static int pgp__check_options(const pgp_options *o, pw_err *e)
+{
+    if (o->field != PGP_FIELD_UP && o->field != PGP_FIELD_CURVATURE)
+        return pw_fail(e, PW_ERR_INVALID, "unknown field mode %d", o->field);
+    if (!pw_is_finite(o->up[0]) || !pw_is_finite(o->up[1]) || !pw_is_finite(o->up[2]))
+        return pw_fail(e, PW_ERR_INVALID, "up vector is not finite");
+    if (!(o->scale >= 0.0f) || !pw_is_finite(o->scale))
+        return pw_fail(e, PW_ERR_INVALID, "scale %g is not a positive finite number", (double)o->scale);
+    if (!(o->material >= 0.0f && o->material <= 1.0f))
+        return pw_fail(e, PW_ERR_INVALID, "default material %g is not in [0, 1]", (double)o->material);
+    if (!(o->min_scale > 0.0f && o->min_scale <= 1.0f))
+        return pw_fail(e, PW_ERR_INVALID, "min_scale %g is not in (0, 1]", (double)o->min_scale);
+    if (!(o->singular_distortion > 0.0f) || !pw_is_finite(o->singular_distortion))
+        return pw_fail(e, PW_ERR_INVALID, "singular_distortion %g is not positive", (double)o->singular_distortion);
+    if (o->smoothing < 0) return pw_fail(e, PW_ERR_INVALID, "smoothing %d is negative", o->smoothing);
+    return PW_OK;
+}
+
+/* Copies the mesh, builds the triangle mesh and allocates every array. */
+static int pgp__setup(pgp_map *P, const pgp_mesh *in, pw_err *e)
+{
+    size_t nf, nv;
+    pw_mesh v;
+    int r;
+    if (!in || !in->positions || in->nverts < 1) return pw_fail(e, PW_ERR_INVALID, "no mesh or no vertices");
+    if (in->nverts > PW_MAX_MESH_ELEMENTS) return pw_fail(e, PW_ERR_LIMIT, "%d vertices is over the limit", in->nverts);
+    P->pos = (float *)pw_alloc_array(&P->a, (size_t)in->nverts * 3, sizeof(float), "positions", e);
+    if (!P->pos) return PW_ERR_NOMEM;
+    memcpy(P->pos, in->positions, sizeof(float) * 3 * (size_t)in->nverts);
+    memset(&v, 0, sizeof v);
+    v.nv = in->nverts, v.pos = P->pos, v.nf = in->nfaces, v.fstart = in->face_start, v.fv = in->face_verts;
+    if ((r = pw_trimesh_init(&P->a, &v, &P->m, e)) != PW_OK) return r;
+    nf = (size_t)P->m.nf, nv = (size_t)P->m.nv;
+    P->dual = (double *)pw_alloc_array(&P->a, 3 * nf, sizeof(double), "mapping", e);
+    P->base = (double *)pw_alloc_array(&P->a, 4 * nf, sizeof(double), "mapping", e);
+    P->scale = (float *)pw_alloc_array(&P->a, 2 * nv + 9 * nf, sizeof(float), "mapping", e);
+    P->zs = (double *)pw_alloc_array(&P->a, 4 * nv, sizeof(double), "mapping", e);
+    P->vsing = (unsigned char *)pw_calloc_array(&P->a, nv + nf, 1, "mapping", e);
+    if (!P->dual || !P->base || !P->scale || !P->zs || !P->vsing) return PW_ERR_NOMEM;
+    P->dir = P->base + 2 * nf;
+    P->mat = P->scale + nv;
+    P->stm = P->mat + nv;
+    P->zt = P->zs + 2 * nv;
+    P->fsing = P->vsing + nv;
+    pw_df_dual(&P->m, P->dual);
+    return pw_df_connection(&P->a, &P->m, &P->conn, e);
+}
+
+PGPDEF pgp_result pgp_create(const pgp_mesh *mesh, const pgp_options *opt, pgp_map **out, pgp_error *err)
+{
+    pgp_options o = pgp__options(opt);
+    pw_alloc a = pgp__alloc(&o.allocator);
+    pgp_map *P = NULL;
+    pw_err pe;
+    int v;
+    pw_err_clear(&pe);
+    if (out) *out = NULL;
+    if (!out) pw_fail(&pe, PW_ERR_INVALID, "pgp_create: NULL output");
+    else if (pgp__check_options(&o, &pe) == PW_OK &&
+             (P = (pgp_map *)pw_calloc_array(&a, 1, sizeof *P, "mapping", &pe)) != NULL) {
+        P->a = a;
+        P->o = o;
+        if (pgp__setup(P, mesh, &pe) == PW_OK) {
+            P->scale0 = o.scale > 0.0f ? o.scale : 0.1f * P->m.diag;
+            for (v = 0; v < P->m.nv; v++) P->scale[v] = P->scale0, P->mat[v] = o.material;
+            for (v = 0; v < P->m.nv; v++) P->zs[2 * v] = P->zt[2 * v] = 1.0, P->zs[2 * v + 1] = P->zt[2 * v + 1] = 0.0;
+            if (pgp__base_field(P, &pe) == PW_OK &&
+                pgp__edit(P, PGP__ORIENT, NULL, 0, 0.0f, NULL, &pe) == PW_OK)
+                *out = P;
+        }
+        if (!*out) pgp_destroy(P);
+    }
+    return pgp__done(&pe, err);
+}

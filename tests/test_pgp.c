@@ -1,0 +1,208 @@
+/* Tests of pgp.h's mapping (§2) and singularity detection (§3) through the
+ * public API, with the implementation compiled in where a test looks
+ * inside (the per-edge rotations, the singular flags). */
+#define PGP_IMPLEMENTATION
+#include "pgp.h"
+#include "pwtest.h"
+
+/* A flat n x n grid of the unit square in the XY plane, two triangles per
+ * cell. */
+static void grid(int n, pgp_mesh *m)
+{
+    int i, j, k = 0;
+    memset(m, 0, sizeof *m);
+    m->nverts = (n + 1) * (n + 1);
+    m->nfaces = 2 * n * n;
+    m->positions = (float *)malloc(sizeof(float) * 3 * (size_t)m->nverts);
+    m->face_start = (int *)malloc(sizeof(int) * (size_t)(m->nfaces + 1));
+    m->face_verts = (int *)malloc(sizeof(int) * 3 * (size_t)m->nfaces);
+    for (j = 0; j <= n; j++)
+        for (i = 0; i <= n; i++) {
+            float *p = m->positions + 3 * (j * (n + 1) + i);
+            p[0] = (float)i / (float)n, p[1] = (float)j / (float)n, p[2] = 0.0f;
+        }
+    for (j = 0; j < n; j++)
+        for (i = 0; i < n; i++) {
+            int a = j * (n + 1) + i, b = a + 1, c = a + n + 2, d = a + n + 1, *fv = m->face_verts + 3 * k;
+            fv[0] = a, fv[1] = b, fv[2] = c, fv[3] = a, fv[4] = c, fv[5] = d;
+            k += 2;
+        }
+    for (k = 0; k <= m->nfaces; k++) m->face_start[k] = 3 * k;
+}
+
+static double frac_dist(double x) { return fabs(x - floor(x + 0.5)); }
+
+/* §2.3 on a flat square with a constant field: s = x / S and t = y / S up
+ * to a constant, exactly (this fixes the sign of the rotation, which the
+ * paper prints the other way round), and no singular triangle. */
+static void t_flat_grid_linear(void)
+{
+    pgp_mesh m;
+    pgp_options o = pgp_default_options();
+    pgp_map *P = NULL;
+    pgp_error err;
+    float *stm;
+    double worst = 0.0;
+    int f, c;
+    grid(20, &m);
+    o.scale = 0.25f;
+    CHECKF(pgp_create(&m, &o, &P, &err) == PGP_OK, "%s", err.message);
+    if (!P) return;
+    stm = (float *)malloc(sizeof(float) * 9 * (size_t)pgp_triangle_count(P));
+    pgp_get_coords(P, stm);
+    for (f = 0; f < pgp_triangle_count(P); f++)
+        for (c = 0; c < 3; c++) {
+            const float *p = m.positions + 3 * m.face_verts[3 * f + c];
+            double es = stm[9 * f + 3 * c] - stm[0] - p[0] / 0.25, et = stm[9 * f + 3 * c + 1] - stm[1] - p[1] / 0.25;
+            /* within a triangle the coordinates are exact (no integer jumps) */
+            double ws = c ? stm[9 * f + 3 * c] - stm[9 * f] : 0.0, wx = c ? (p[0] - m.positions[3 * m.face_verts[3 * f]]) / 0.25 : 0.0;
+            worst = frac_dist(es) > worst ? frac_dist(es) : worst;
+            worst = frac_dist(et) > worst ? frac_dist(et) : worst;
+            worst = fabs(ws - wx) > worst ? fabs(ws - wx) : worst;
+        }
+    CHECKF(worst < 1e-5, "largest deviation from s = x/S, t = y/S: %g", worst);
+    CHECKF(pgp_get_singular(P, NULL) == 0, "%d singular triangles on a flat grid", pgp_get_singular(P, NULL));
+    free(stm);
+    pgp_destroy(P);
+    pgp_mesh_free(&m);
+}
+
+/* Eq. (4): every vertex's coordinates differ between its triangles by
+ * integers only; and regular edges carry the same difference on both
+ * sides. */
+static void t_integer_jumps(void)
+{
+    pgp_mesh m;
+    pgp_options o = pgp_default_options();
+    pgp_map *P = NULL;
+    pgp_error err;
+    int h, k, bad = 0, mism = 0;
+    grid(16, &m);
+    m.positions[3 * 100 + 2] = 0.2f; /* a bump: the field is no longer a gradient */
+    m.positions[3 * 101 + 2] = 0.15f;
+    o.scale = 0.2f;
+    CHECKF(pgp_create(&m, &o, &P, &err) == PGP_OK, "%s", err.message);
+    if (!P) return;
+    for (h = 0; h < 3 * P->m.nf; h++) {
+        int t = P->m.hm.twin[h], f = h / 3, c = h % 3;
+        if (t < 0) continue;
+        for (k = 0; k < 2; k++) { /* vertex tri[h] seen from both triangles */
+            int g = t / 3, d = (t % 3 + 1) % 3; /* the twin runs the other way: its next corner is our start */
+            double jump = P->stm[9 * f + 3 * c + k] - P->stm[9 * g + 3 * d + k];
+            if (fabs(jump - floor(jump + 0.5)) > 1e-5) bad++;
+        }
+        if (!P->fsing[f] && !P->fsing[t / 3]) mism += pgp__mismatch(P, h);
+    }
+    CHECKF(bad == 0, "%d corner pairs differ by a non-integer", bad);
+    CHECKF(mism == 0, "%d edges between regular triangles disagree", mism);
+    pgp_destroy(P);
+    pgp_mesh_free(&m);
+}
+
+/* §2.1: an edit with a radius changes nothing outside its effect area, and
+ * material stays in [0, 1]. */
+static void t_local_edit(void)
+{
+    pgp_mesh m;
+    pgp_options o = pgp_default_options();
+    pgp_map *P = NULL;
+    pgp_error err;
+    pgp_area area;
+    float *before, *after, mat[441];
+    unsigned char *in;
+    int f, k, id = -1, changed_out = 0, changed_in = 0, v;
+    grid(20, &m);
+    o.scale = 0.2f;
+    CHECKF(pgp_create(&m, &o, &P, &err) == PGP_OK, "%s", err.message);
+    if (!P) return;
+    before = (float *)malloc(sizeof(float) * 9 * (size_t)P->m.nf);
+    after = (float *)malloc(sizeof(float) * 9 * (size_t)P->m.nf);
+    in = (unsigned char *)calloc((size_t)P->m.nf, 1);
+    pgp_get_coords(P, before);
+    CHECKF(pgp_add_orientation(P, 400, (const float[3]){1.0f, 1.0f, 0.0f}, 0.3f, &id, &area, &err) == PGP_OK, "%s",
+           err.message);
+    CHECK(area.nfaces > 0 && area.nfaces < P->m.nf);
+    for (k = 0; k < area.nfaces; k++) in[area.faces[k]] = 1;
+    pgp_get_coords(P, after);
+    for (f = 0; f < P->m.nf; f++)
+        for (k = 0; k < 9; k++)
+            if (before[9 * f + k] != after[9 * f + k]) {
+                if (in[f]) changed_in++;
+                else changed_out++;
+            }
+    CHECKF(changed_out == 0, "%d coordinates outside the effect area changed", changed_out);
+    CHECKF(changed_in > 0, "the edit changed nothing");
+    pgp_area_free(&area);
+    CHECKF(pgp_add_material(P, 220, 1.0f, 0.0f, NULL, NULL, &err) == PGP_OK, "%s", err.message);
+    CHECKF(pgp_add_material(P, 20, 0.0f, 0.0f, NULL, NULL, &err) == PGP_OK, "%s", err.message);
+    pgp_get_field(P, NULL, NULL, mat);
+    for (v = 0; v < P->m.nv; v++) CHECKF(mat[v] >= 0.0f && mat[v] <= 1.0f, "material %g at vertex %d", mat[v], v);
+    CHECKF(mat[220] == 1.0f && mat[20] == 0.0f && mat[120] > 0.0f && mat[120] < 1.0f, "material not interpolated");
+    CHECKF(pgp_remove_constraint(P, id, NULL, &err) == PGP_OK, "%s", err.message);
+    CHECK(pgp_remove_constraint(P, id, NULL, &err) == PGP_ERR_INVALID);
+    free(before);
+    free(after);
+    free(in);
+    pgp_destroy(P);
+    pgp_mesh_free(&m);
+}
+
+static void t_determinism(void)
+{
+    pgp_mesh m;
+    pgp_options o = pgp_default_options();
+    pgp_map *P1 = NULL, *P2 = NULL;
+    pgp_error err;
+    float *a, *b;
+    grid(12, &m);
+    m.positions[3 * 50 + 2] = 0.1f;
+    CHECK(pgp_create(&m, &o, &P1, &err) == PGP_OK && pgp_create(&m, &o, &P2, &err) == PGP_OK);
+    if (!P1 || !P2) return;
+    a = (float *)malloc(sizeof(float) * 9 * (size_t)P1->m.nf);
+    b = (float *)malloc(sizeof(float) * 9 * (size_t)P1->m.nf);
+    pgp_get_coords(P1, a);
+    pgp_get_coords(P2, b);
+    CHECK(memcmp(a, b, sizeof(float) * 9 * (size_t)P1->m.nf) == 0);
+    free(a);
+    free(b);
+    pgp_destroy(P1);
+    pgp_destroy(P2);
+    pgp_mesh_free(&m);
+}
+
+static void t_bad_input(void)
+{
+    pgp_mesh m;
+    pgp_options o = pgp_default_options();
+    pgp_map *P = NULL;
+    pgp_error err;
+    grid(4, &m);
+    o.scale = -1.0f;
+    CHECK(pgp_create(&m, &o, &P, &err) == PGP_ERR_INVALID && !P);
+    o.scale = 0.0f;
+    o.material = 2.0f;
+    CHECK(pgp_create(&m, &o, &P, &err) == PGP_ERR_INVALID && !P);
+    o = pgp_default_options();
+    CHECKF(pgp_create(&m, &o, &P, &err) == PGP_OK, "%s", err.message);
+    if (P) {
+        CHECK(pgp_add_orientation(P, 1000, (const float[3]){1, 0, 0}, 0.0f, NULL, NULL, &err) == PGP_ERR_INVALID);
+        CHECK(strstr(err.message, "triangle 1000") != NULL);
+        CHECK(pgp_add_orientation(P, 0, (const float[3]){0, 0, 1}, 0.0f, NULL, NULL, &err) == PGP_ERR_INVALID);
+        CHECK(pgp_add_scale(P, 3, 0.0f, 0.0f, NULL, NULL, &err) == PGP_ERR_INVALID);
+        CHECK(pgp_add_scale(P, -1, 1.0f, 0.0f, NULL, NULL, &err) == PGP_ERR_INVALID);
+        CHECK(pgp_add_material(P, 3, 1.5f, 0.0f, NULL, NULL, &err) == PGP_ERR_INVALID);
+        pgp_destroy(P);
+    }
+    m.face_verts[4] = m.face_verts[1]; /* triangle 1 repeats a vertex: degenerate */
+    CHECK(pgp_create(&m, &o, &P, &err) != PGP_OK && !P);
+    pgp_mesh_free(&m);
+}
+
+static const pwt_case cases[] = {
+    {"pgp/flat_grid_linear", t_flat_grid_linear},
+    {"pgp/integer_jumps", t_integer_jumps},
+    {"pgp/local_edit", t_local_edit},
+    {"pgp/determinism", t_determinism},
+    {"pgp/bad_input", t_bad_input},
+};
+PWT_MAIN(cases)
