@@ -37,6 +37,8 @@ MODULES_lapped := base vec rng image deflate png text mesh shapes halfedge spars
 PARTS_lapped   := core field patch builtin grow render atlas io
 MODULES_pgp    := base vec rng image deflate png text mesh shapes halfedge sparse raster render trimesh dirfield nrrd tile3 glue
 PARTS_pgp      := core field solve render builtin io
+MODULES_lst    := base vec rng image deflate png text mesh shapes halfedge trimesh sparse raster render nrrd tetmesh tetio glue
+PARTS_lst      := core exemplar field paste render io
 
 COMMON_SRC := $(wildcard src/common/*.h)
 HEADER_FILES := $(addsuffix .h,$(HEADERS))

@@ -1,0 +1,540 @@
+/* exemplar.c: solid exemplars (§5): sampling, the procedural exemplars of
+ * the demos and tests, the §5.2.1 splotch mask and its §5.2.7 outer,
+ * middle and inner copies, and the distance fields that let pasting skip
+ * the sample points of tetrahedra wholly outside a mask or inside its
+ * opaque core. */
+#include "core.c"
+
+/* ---- sampling ------------------------------------------------------------------ */
+
+/* Trilinear interpolation at texture coordinates (u, v, w) (v = 0 at the
+ * bottom row), clamped to the edge voxels; out gets vol->c values. */
+static void lst__sample(const pw_volume *vol, double u, double v, double w, float *out)
+{
+    double x = u * vol->x - 0.5, y = (1.0 - v) * vol->y - 0.5, z = w * vol->z - 0.5, fx, fy, fz;
+    int x0, y0, z0, x1, y1, z1, k, c = vol->c;
+    const float *p[8];
+    x = x < 0.0 ? 0.0 : (x > vol->x - 1 ? vol->x - 1 : x);
+    y = y < 0.0 ? 0.0 : (y > vol->y - 1 ? vol->y - 1 : y);
+    z = z < 0.0 ? 0.0 : (z > vol->z - 1 ? vol->z - 1 : z);
+    x0 = (int)x, y0 = (int)y, z0 = (int)z;
+    fx = x - x0, fy = y - y0, fz = z - z0;
+    x1 = x0 + (x0 + 1 < vol->x), y1 = y0 + (y0 + 1 < vol->y), z1 = z0 + (z0 + 1 < vol->z);
+#define LST__AT(X, Y, Z) (vol->px + ((((size_t)(Z) * vol->y + (Y)) * vol->x + (X)) * c))
+    p[0] = LST__AT(x0, y0, z0), p[1] = LST__AT(x1, y0, z0), p[2] = LST__AT(x0, y1, z0), p[3] = LST__AT(x1, y1, z0);
+    p[4] = LST__AT(x0, y0, z1), p[5] = LST__AT(x1, y0, z1), p[6] = LST__AT(x0, y1, z1), p[7] = LST__AT(x1, y1, z1);
+#undef LST__AT
+    for (k = 0; k < c; k++) {
+        double a = p[0][k] + fx * (p[1][k] - p[0][k]), b = p[2][k] + fx * (p[3][k] - p[2][k]);
+        double d = p[4][k] + fx * (p[5][k] - p[4][k]), f = p[6][k] + fx * (p[7][k] - p[6][k]);
+        double g = a + fy * (b - a), h = d + fy * (f - d);
+        out[k] = (float)(g + fz * (h - g));
+    }
+}
+
+/* A mask's alpha at (u, v, w): trilinear inside the unit cube, 0 outside
+ * it (the paste ends at the exemplar's faces). The one-channel case of
+ * lst__sample, written out: it is the inner loop of coverage. */
+static float lst__mask_alpha(const pw_volume *mask, double u, double v, double w)
+{
+    const int X = mask->x, Y = mask->y, Z = mask->z;
+    const size_t sy = (size_t)X, sz = (size_t)X * Y;
+    double x, y, z;
+    float fx, fy, fz, a, b, c, d;
+    const float *p;
+    int x0, y0, z0, dx, dy, dz;
+    if (!(u >= 0.0 && u <= 1.0 && v >= 0.0 && v <= 1.0 && w >= 0.0 && w <= 1.0)) return 0.0f;
+    x = u * X - 0.5, y = (1.0 - v) * Y - 0.5, z = w * Z - 0.5;
+    x = x < 0.0 ? 0.0 : (x > X - 1 ? X - 1 : x);
+    y = y < 0.0 ? 0.0 : (y > Y - 1 ? Y - 1 : y);
+    z = z < 0.0 ? 0.0 : (z > Z - 1 ? Z - 1 : z);
+    x0 = (int)x, y0 = (int)y, z0 = (int)z;
+    fx = (float)(x - x0), fy = (float)(y - y0), fz = (float)(z - z0);
+    dx = x0 + 1 < X, dy = y0 + 1 < Y ? (int)sy : 0, dz = z0 + 1 < Z ? (int)sz : 0;
+    p = mask->px + z0 * sz + y0 * sy + x0;
+    a = p[0] + fx * (p[dx] - p[0]);
+    b = p[dy] + fx * (p[dy + dx] - p[dy]);
+    c = p[dz] + fx * (p[dz + dx] - p[dz]);
+    d = p[dz + dy] + fx * (p[dz + dy + dx] - p[dz + dy]);
+    a += fy * (b - a);
+    c += fy * (d - c);
+    return a + fz * (c - a);
+}
+
+/* ---- noise for the procedural exemplars --------------------------------------------- */
+
+static double lst__smooth(double e0, double e1, double x)
+{
+    double t = (x - e0) / (e1 - e0);
+    t = t < 0.0 ? 0.0 : (t > 1.0 ? 1.0 : t);
+    return t * t * (3.0 - 2.0 * t);
+}
+
+static double lst__hash01(unsigned long long seed, long x, long y, long z)
+{
+    uint64_t k = (uint64_t)(x & 0xFFFFF) | (uint64_t)(y & 0xFFFFF) << 20 | (uint64_t)(z & 0xFFFFF) << 40;
+    return (double)(pw_hash64(seed, k) >> 11) * (1.0 / 9007199254740992.0);
+}
+
+/* Value noise in [0, 1] on the integer lattice, smoothly interpolated. */
+static double lst__noise(unsigned long long seed, double x, double y, double z)
+{
+    double fx = floor(x), fy = floor(y), fz = floor(z), tx = lst__smooth(0, 1, x - fx), ty = lst__smooth(0, 1, y - fy);
+    double tz = lst__smooth(0, 1, z - fz), c[2];
+    long ix = (long)fx, iy = (long)fy, iz = (long)fz;
+    int k;
+    for (k = 0; k < 2; k++) {
+        double a = lst__hash01(seed, ix, iy, iz + k), b = lst__hash01(seed, ix + 1, iy, iz + k);
+        double d = lst__hash01(seed, ix, iy + 1, iz + k), e = lst__hash01(seed, ix + 1, iy + 1, iz + k);
+        double ab = a + tx * (b - a), de = d + tx * (e - d);
+        c[k] = ab + ty * (de - ab);
+    }
+    return c[0] + tz * (c[1] - c[0]);
+}
+
+/* Three octaves of noise, frequency f, in [0, 1]. */
+static double lst__fbm(unsigned long long seed, double x, double y, double z, double f)
+{
+    return (4.0 * lst__noise(seed, x * f, y * f, z * f) + 2.0 * lst__noise(seed + 1, x * 2 * f, y * 2 * f, z * 2 * f) +
+            lst__noise(seed + 2, x * 4 * f, y * 4 * f, z * 4 * f)) /
+           7.0;
+}
+
+static void lst__mix3(double *o, const double *a, const double *b, double t)
+{
+    int k;
+    for (k = 0; k < 3; k++) o[k] = a[k] + (b[k] - a[k]) * t;
+}
+
+/* ---- the procedural exemplars (u, v, w in the unit cube; v = 0 the skin) ----------- */
+
+/* 1-b: a thin skin at v = 0, then strata whose borders wave with u and w. */
+static void lst__layers(unsigned long long seed, double u, double v, double w, double *c, double *val)
+{
+    static const double pal[6][3] = {{0.91, 0.82, 0.62}, {0.72, 0.36, 0.20}, {0.96, 0.93, 0.84},
+                                     {0.45, 0.30, 0.22}, {0.80, 0.62, 0.30}, {0.58, 0.60, 0.55}};
+    static const double skin[3] = {0.20, 0.32, 0.14};
+    double band = v * 6.0 + 0.55 * (lst__fbm(seed, u, 0.0, w, 3.0) - 0.5), g = lst__fbm(seed + 7, u, v, w, 24.0);
+    int b = (int)floor(band);
+    b = ((b % 6) + 6) % 6;
+    lst__mix3(c, pal[b], pal[b], 0.0);
+    c[0] *= 0.85 + 0.3 * g, c[1] *= 0.85 + 0.3 * g, c[2] *= 0.85 + 0.3 * g;
+    if (v < 0.035) lst__mix3(c, skin, skin, 0.0);
+    *val = v < 0.035 ? 0.5 + 0.4 * (lst__fbm(seed + 9, u, 0.0, w, 12.0) - 0.5) : 0.5;
+}
+
+/* 1-a: fibres along u (muscle): streaks that vary across v and w only,
+ * slowly along u, with pale sheaths between bundles. */
+static void lst__fibers(unsigned long long seed, double u, double v, double w, double *c, double *val)
+{
+    static const double dark[3] = {0.52, 0.10, 0.12}, light[3] = {0.88, 0.42, 0.40}, sheath[3] = {0.96, 0.90, 0.84};
+    double f = lst__fbm(seed, u * 0.15, v, w, 14.0), b = lst__noise(seed + 3, u * 0.6, v * 5.0, w * 5.0);
+    lst__mix3(c, dark, light, lst__smooth(0.25, 0.75, f));
+    if (fabs(b - 0.5) < 0.035) lst__mix3(c, c, sheath, 0.8);
+    *val = 0.35 + 0.3 * f;
+}
+
+/* 0: an isotropic aggregate (concrete): stones in a grainy matrix. */
+static void lst__spots(unsigned long long seed, double u, double v, double w, double *c, double *val)
+{
+    static const double matrix[3] = {0.72, 0.70, 0.66}, stone[4][3] = {
+        {0.45, 0.40, 0.36}, {0.62, 0.50, 0.38}, {0.30, 0.30, 0.32}, {0.80, 0.74, 0.62}};
+    const double cells = 6.0;
+    double g = lst__fbm(seed, u, v, w, 20.0), best = 1e9;
+    long cx = (long)floor(u * cells), cy = (long)floor(v * cells), cz = (long)floor(w * cells), i, j, k, id = 0;
+    for (i = cx - 1; i <= cx + 1; i++)
+        for (j = cy - 1; j <= cy + 1; j++)
+            for (k = cz - 1; k <= cz + 1; k++) { /* a jittered stone per cell, radius 0.3-0.45 cells */
+                double px = (i + 0.2 + 0.6 * lst__hash01(seed, i, j, k)) / cells - u;
+                double py = (j + 0.2 + 0.6 * lst__hash01(seed + 1, i, j, k)) / cells - v;
+                double pz = (k + 0.2 + 0.6 * lst__hash01(seed + 2, i, j, k)) / cells - w;
+                double r = (0.3 + 0.15 * lst__hash01(seed + 3, i, j, k)) / cells, d = sqrt(px * px + py * py + pz * pz) / r;
+                if (d < best) best = d, id = (i * 7 + j * 13 + k * 29) & 3;
+            }
+    lst__mix3(c, matrix, matrix, 0.0);
+    if (best < 1.0) lst__mix3(c, matrix, stone[id], lst__smooth(1.0, 0.85, best));
+    c[0] *= 0.9 + 0.2 * g, c[1] *= 0.9 + 0.2 * g, c[2] *= 0.9 + 0.2 * g;
+    *val = best < 1.0 ? 0.5 + 0.4 * (1.0 - best) : 0.45 + 0.1 * g;
+}
+
+/* 2-b: a tree: bark at v = 0 (furrows along u), cambium, growth rings
+ * along v that wobble with w, grain along u, darker heartwood, the pith at
+ * v = 1. The extra channel is the bark's relief. */
+static void lst__rings(unsigned long long seed, double u, double v, double w, double *c, double *val)
+{
+    static const double bark[3] = {0.30, 0.21, 0.15}, barkhi[3] = {0.55, 0.47, 0.40}, cambium[3] = {0.80, 0.78, 0.45};
+    static const double early[3] = {0.89, 0.72, 0.50}, late[3] = {0.62, 0.38, 0.19}, heart[3] = {0.70, 0.45, 0.26};
+    double furrow = lst__noise(seed + 4, u * 2.0, 0.0, w * 9.0 + 0.6 * lst__noise(seed + 5, u * 3.0, 0.0, w * 3.0));
+    double ridge = 1.0 - fabs(2.0 * furrow - 1.0), phase, ring, grain;
+    *val = 0.5 + 0.45 * (ridge - 0.5) * 2.0 * (1.0 - lst__smooth(0.05, 0.09, v));
+    if (v < 0.075 - 0.025 * ridge) {
+        lst__mix3(c, bark, barkhi, ridge * (0.6 + 0.4 * lst__fbm(seed + 6, u, v, w, 16.0)));
+        return;
+    }
+    if (v < 0.09) {
+        lst__mix3(c, cambium, early, (v - 0.05) / 0.04);
+        return;
+    }
+    phase = v * 11.0 + 0.35 * (lst__fbm(seed, u * 0.3, v, w, 4.0) - 0.5);
+    ring = lst__smooth(0.55, 0.85, phase - floor(phase)) * (1.0 - lst__smooth(0.9, 1.0, phase - floor(phase)));
+    grain = lst__fbm(seed + 8, u * 0.08, v, w, 40.0);
+    lst__mix3(c, early, late, ring);
+    if (v > 0.55) lst__mix3(c, c, heart, lst__smooth(0.55, 0.7, v) * 0.6);
+    c[0] *= 0.88 + 0.24 * grain, c[1] *= 0.88 + 0.24 * grain, c[2] *= 0.88 + 0.24 * grain;
+    if (v > 0.975) lst__mix3(c, c, late, 0.8);
+}
+
+/* 2-b: a kiwi fruit: a fuzzy skin, green flesh that pales inward with
+ * radial rays, a ring of black seeds elongated along v (the radius), a
+ * pale core at v = 1. The extra channel is the skin's fuzz. */
+static void lst__kiwi(unsigned long long seed, double u, double v, double w, double *c, double *val)
+{
+    static const double skin[3] = {0.42, 0.30, 0.15}, flesh[3] = {0.35, 0.62, 0.10}, pale[3] = {0.66, 0.82, 0.30};
+    static const double core[3] = {0.94, 0.93, 0.74}, seedc[3] = {0.06, 0.05, 0.04}, ray[3] = {0.86, 0.92, 0.62};
+    const double cells = 14.0;
+    double g = lst__fbm(seed, u, v, w, 18.0), edge = 0.80 + 0.04 * (lst__noise(seed + 2, u * 6, 0, w * 6) - 0.5);
+    double best = 9.0, raydist = 9.0;
+    long cu = (long)floor(u * cells), cw = (long)floor(w * cells), i, k;
+    *val = v < 0.04 ? 0.5 + 0.45 * (lst__fbm(seed + 3, u, 0.0, w, 30.0) - 0.5) : 0.5;
+    if (v < 0.028 + 0.01 * g) {
+        lst__mix3(c, skin, skin, 0.0);
+        c[0] *= 0.8 + 0.4 * g, c[1] *= 0.8 + 0.4 * g, c[2] *= 0.8 + 0.4 * g;
+        return;
+    }
+    if (v > edge) {
+        lst__mix3(c, core, pale, 0.3 * g);
+        return;
+    }
+    for (i = cu - 1; i <= cu + 1; i++)
+        for (k = cw - 1; k <= cw + 1; k++) { /* a seed (and a ray) per jittered cell of the (u, w) plane */
+            double su = (i + 0.2 + 0.6 * lst__hash01(seed, i, 0, k)) / cells - u;
+            double sw = (k + 0.2 + 0.6 * lst__hash01(seed + 1, i, 0, k)) / cells - w;
+            double sv = 0.66 + 0.05 * (lst__hash01(seed + 4, i, 0, k) - 0.5) - v;
+            double d = sqrt((su / 0.022) * (su / 0.022) + (sv / 0.05) * (sv / 0.05) + (sw / 0.018) * (sw / 0.018));
+            double r = sqrt(su * su + sw * sw);
+            if (d < best) best = d;
+            if (r < raydist) raydist = r;
+        }
+    lst__mix3(c, flesh, pale, lst__smooth(0.1, 0.75, v) * 0.8 + 0.2 * g);
+    if (v > 0.35 && raydist < 0.006) lst__mix3(c, c, ray, 0.7 * lst__smooth(0.35, 0.6, v));
+    if (v > 0.6) lst__mix3(c, c, core, 0.35 * lst__smooth(0.6, edge, v));
+    if (best < 1.0) lst__mix3(c, c, seedc, lst__smooth(1.0, 0.7, best));
+}
+
+typedef void (*lst__exemplar_fn)(unsigned long long seed, double u, double v, double w, double *c, double *val);
+
+static lst__exemplar_fn lst__exemplar_by_name(const char *name)
+{
+    if (!strcmp(name, "layers")) return lst__layers;
+    if (!strcmp(name, "fibers")) return lst__fibers;
+    if (!strcmp(name, "spots")) return lst__spots;
+    if (!strcmp(name, "rings")) return lst__rings;
+    if (!strcmp(name, "kiwi")) return lst__kiwi;
+    return NULL;
+}
+
+static int lst__fill_exemplar(lst__exemplar_fn fn, unsigned long long seed, pw_volume *col, pw_volume *val)
+{
+    int x, y, z, n = col->x, k;
+    for (z = 0; z < n; z++)
+        for (y = 0; y < n; y++)
+            for (x = 0; x < n; x++) {
+                double c[3], v, u = (x + 0.5) / n, vv = 1.0 - (y + 0.5) / n, w = (z + 0.5) / n;
+                size_t at = ((size_t)z * n + y) * n + x;
+                fn(seed, u, vv, w, c, &v);
+                for (k = 0; k < 3; k++) col->px[3 * at + k] = pw_clampf((float)c[k], 0.0f, 1.0f);
+                if (val) val->px[at] = pw_clampf((float)v, 0.0f, 1.0f);
+            }
+    return PW_OK;
+}
+
+LSTDEF lst_result lst_builtin_exemplar(const char *name, int size, const lst_options *opt, lst_volume *color,
+                                       lst_volume *values, lst_error *err)
+{
+    lst_options o = lst__options(opt);
+    pw_alloc a = lst__alloc(&o.allocator);
+    pw_volume col, val;
+    lst__exemplar_fn fn = name ? lst__exemplar_by_name(name) : NULL;
+    pw_err e;
+    pw_err_clear(&e);
+    memset(&col, 0, sizeof col);
+    memset(&val, 0, sizeof val);
+    if (color) memset(color, 0, sizeof *color);
+    if (values) memset(values, 0, sizeof *values);
+    if (size == 0) size = 64;
+    if (!color) pw_fail(&e, PW_ERR_INVALID, "lst_builtin_exemplar: NULL output");
+    else if (!fn)
+        pw_fail(&e, PW_ERR_INVALID, "unknown built-in exemplar '%s' (layers, fibers, spots, rings, kiwi)",
+                name ? name : "(null)");
+    else if (size < 4 || size > 512)
+        pw_fail(&e, PW_ERR_INVALID, "exemplar size %d is outside 4..512", size);
+    else if (pw_volume_alloc(&a, &col, 3, size, size, size, &e) == PW_OK &&
+             (!values || pw_volume_alloc(&a, &val, 1, size, size, size, &e) == PW_OK)) {
+        lst__fill_exemplar(fn, o.seed, &col, values ? &val : NULL);
+        lst__take_volume(&col, &a, color);
+        if (values) lst__take_volume(&val, &a, values);
+    }
+    pw_volume_free(&a, &col);
+    pw_volume_free(&a, &val);
+    return lst__done(&e, err);
+}
+
+/* ---- masks (§5.2.1, §5.2.7) ------------------------------------------------------------- */
+
+/* The splotch's radius toward unit direction d: a sphere of mean radius r
+ * with eight smooth lobes and dents (±12%) at directions drawn from the
+ * seed, so that the pastes' borders do not line up. */
+static double lst__splotch_radius(const double *lobes, double r, const double *d)
+{
+    double s = 1.0;
+    int k;
+    for (k = 0; k < 8; k++) {
+        double c = lst__dot3(lobes + 4 * k, d), t = c > 0.5 ? (c - 0.5) / 0.5 : 0.0;
+        s += lobes[4 * k + 3] * t * t * (3.0 - 2.0 * t);
+    }
+    return r * s;
+}
+
+static void lst__splotch_lobes(unsigned long long seed, double *lobes)
+{
+    pw_rng rng = pw_rng_seed(seed, 0x5107C4);
+    int k;
+    for (k = 0; k < 8; k++) {
+        double *l = lobes + 4 * k, n2;
+        do {
+            l[0] = 2.0 * pw_rng_double(&rng) - 1.0, l[1] = 2.0 * pw_rng_double(&rng) - 1.0;
+            l[2] = 2.0 * pw_rng_double(&rng) - 1.0, n2 = lst__dot3(l, l);
+        } while (n2 > 1.0 || n2 < 1e-4);
+        lst__norm3(l);
+        l[3] = 0.24 * pw_rng_double(&rng) - 0.12;
+    }
+}
+
+/* Fills mask with the splotch centred at texture coordinates centre: alpha
+ * 1 inside, a smooth fall-off of width `falloff` (fraction of the side) at
+ * the border, 0 outside. */
+static void lst__splotch(pw_volume *mask, const double *lobes, double radius, double falloff, const double *centre)
+{
+    int x, y, z;
+    for (z = 0; z < mask->z; z++)
+        for (y = 0; y < mask->y; y++)
+            for (x = 0; x < mask->x; x++) {
+                double d[3], len, r;
+                d[0] = (x + 0.5) / mask->x - centre[0];
+                d[1] = 1.0 - (y + 0.5) / mask->y - centre[1];
+                d[2] = (z + 0.5) / mask->z - centre[2];
+                len = lst__norm3(d);
+                r = len > 0.0 ? lst__splotch_radius(lobes, radius, d) : radius;
+                if (r > 0.5 - 0.5 / mask->x) r = 0.5 - 0.5 / mask->x; /* stays inside the cube's sides */
+                mask->px[((size_t)z * mask->y + y) * mask->x + x] = (float)lst__smooth(r, r - falloff, len);
+            }
+}
+
+/* The number of masks a type uses: three layers for depth-varying types. */
+static int lst__mask_count(int type) { return lst__depth_varying(type) ? 3 : 1; }
+
+/* §5.2.7: which mask a paste seeded at depth d uses (0 outer, 1 middle,
+ * 2 inner); the centres along v below keep each third inside its core. */
+static int lst__mask_for_depth(double d) { return d < 1.0 / 3.0 ? 0 : (d < 2.0 / 3.0 ? 1 : 2); }
+static const double lst__layer_centre[3] = {0.15, 0.5, 0.85};
+
+static int lst__use_exemplar_alpha(const lst_options *o, const lst_volume *ex)
+{
+    if (lst__depth_varying(o->type)) return 0;
+    if (o->mask == LST_MASK_EXEMPLAR) return 1;
+    return o->mask == LST_MASK_AUTO && (ex->channels == 2 || ex->channels == 4);
+}
+
+/* The masks of an exemplar (§5.2.1): its alpha, or the splotch (three
+ * copies along v for depth-varying types, §5.2.7, Fig. 14). */
+static int lst__masks(const pw_alloc *a, const lst_volume *ex, const lst_options *o, pw_volume *masks, int *count,
+                      pw_err *e)
+{
+    double lobes[32], centre[3] = {0.5, 0.5, 0.5};
+    int k, n = lst__mask_count(o->type);
+    size_t i, nvox = (size_t)ex->width * ex->height * ex->depth;
+    if (o->mask == LST_MASK_EXEMPLAR && (lst__depth_varying(o->type) || (ex->channels != 2 && ex->channels != 4)))
+        return pw_fail(e, PW_ERR_INVALID, "the exemplar's alpha as mask needs an exemplar with alpha and a "
+                                          "homogeneous type (0, 1-a, 2-a)");
+    lst__splotch_lobes(o->seed, lobes);
+    *count = 0;
+    for (k = 0; k < n; k++) {
+        if (pw_volume_alloc(a, &masks[k], 1, ex->width, ex->height, ex->depth, e)) return PW_ERR_NOMEM;
+        *count = k + 1;
+        if (lst__use_exemplar_alpha(o, ex)) {
+            for (i = 0; i < nvox; i++) masks[k].px[i] = pw_clampf(ex->voxels[i * ex->channels + ex->channels - 1], 0, 1);
+            continue;
+        }
+        if (n == 3) centre[1] = lst__layer_centre[k];
+        lst__splotch(&masks[k], lobes, o->mask_radius, o->falloff, centre);
+    }
+    return PW_OK;
+}
+
+LSTDEF lst_result lst_make_masks(const lst_volume *exemplar, const lst_options *opt, lst_volume **masks, int *count,
+                                 lst_error *err)
+{
+    lst_options o = lst__options(opt);
+    pw_alloc a = lst__alloc(&o.allocator);
+    pw_volume m[3];
+    pw_err e;
+    int n = 0, k;
+    pw_err_clear(&e);
+    memset(m, 0, sizeof m);
+    if (masks) *masks = NULL;
+    if (count) *count = 0;
+    if (!masks || !count) pw_fail(&e, PW_ERR_INVALID, "lst_make_masks: NULL output");
+    else if (lst__check_options(&o, &e) == PW_OK && lst__check_volume(exemplar, "exemplar", &e) == PW_OK &&
+             lst__masks(&a, exemplar, &o, m, &n, &e) == PW_OK &&
+             (*masks = (lst_volume *)pw_calloc_array(&a, (size_t)n, sizeof(lst_volume), "masks", &e)) != NULL) {
+        for (k = 0; k < n; k++) lst__take_volume(&m[k], &a, &(*masks)[k]);
+        *count = n;
+    }
+    for (k = 0; k < n; k++) pw_volume_free(&a, &m[k]);
+    return lst__done(&e, err);
+}
+
+/* ---- distance fields of a mask ------------------------------------------------------------ */
+
+/* Felzenszwalb & Huttenlocher's 1D squared distance transform of f (n
+ * values, stride st) in place; work: n doubles, n+1 doubles, n ints. */
+static void lst__edt_1d(float *f, int n, size_t st, double *d, double *zz, int *v)
+{
+    int q, k = 0;
+    for (q = 0; q < n; q++) d[q] = f[q * st];
+    v[0] = 0, zz[0] = -1e30, zz[1] = 1e30;
+    for (q = 1; q < n; q++) {
+        double s;
+        for (;;) {
+            s = ((d[q] + (double)q * q) - (d[v[k]] + (double)v[k] * v[k])) / (2.0 * q - 2.0 * v[k]);
+            if (s > zz[k] || k == 0) break;
+            k--;
+        }
+        if (s <= zz[k]) s = zz[k];
+        k++;
+        v[k] = q, zz[k] = s, zz[k + 1] = 1e30;
+    }
+    for (q = 0, k = 0; q < n; q++) {
+        while (zz[k + 1] < q) k++;
+        f[q * st] = (float)((q - v[k]) * (double)(q - v[k]) + d[v[k]]);
+    }
+}
+
+/* dist[i] = distance, in texture units (of the largest side), from voxel
+ * i to the nearest voxel where `inside(alpha)` holds; the cube's outside
+ * counts as such when `outside_counts` (1 voxel of padding). */
+static int lst__edt(const pw_alloc *a, const pw_volume *mask, int want_positive, float *dist, pw_err *e)
+{
+    int n[3] = {mask->x, mask->y, mask->z}, big = pw_maxi(n[0], pw_maxi(n[1], n[2])), ax, i, j;
+    size_t st[3], total = (size_t)n[0] * n[1] * n[2], k;
+    double *d = (double *)pw_alloc_array(a, (size_t)big * 2 + 2, sizeof(double), "distance transform", e);
+    int *v = (int *)pw_alloc_array(a, (size_t)big + 1, sizeof(int), "distance transform", e);
+    if (!d || !v) {
+        pw_free(a, d);
+        pw_free(a, v);
+        return PW_ERR_NOMEM;
+    }
+    st[0] = 1, st[1] = (size_t)n[0], st[2] = (size_t)n[0] * n[1];
+    for (k = 0; k < total; k++) { /* 0 on the target set, "infinite" elsewhere */
+        int hit = want_positive ? mask->px[k] > 0.0f : mask->px[k] < 1.0f;
+        dist[k] = hit ? 0.0f : 1e12f;
+    }
+    for (ax = 0; ax < 3; ax++) {
+        int o1 = (ax + 1) % 3, o2 = (ax + 2) % 3;
+        for (i = 0; i < n[o1]; i++)
+            for (j = 0; j < n[o2]; j++)
+                lst__edt_1d(dist + i * st[o1] + j * st[o2], n[ax], st[ax], d, d + big, v);
+    }
+    for (k = 0; k < total; k++) dist[k] = (float)(sqrt((double)dist[k]) / big);
+    pw_free(a, d);
+    pw_free(a, v);
+    return PW_OK;
+}
+
+/* What pasting knows about one mask: the volume, and per voxel the
+ * distance to the nearest voxel with alpha > 0 (out) and to the nearest
+ * with alpha < 1 or the cube's outside (in). */
+typedef struct lst__mask {
+    pw_volume vol;
+    float *out, *in;
+    unsigned char *cell; /* per voxel: 1 if trilinear alpha is > 0 somewhere in the cell it starts */
+    double margin;       /* how far trilinear interpolation and the nearest-voxel lookup reach */
+} lst__mask;
+
+static void lst__mask_free(const pw_alloc *a, lst__mask *m)
+{
+    pw_free(a, m->out);
+    pw_free(a, m->in);
+    pw_free(a, m->cell);
+    m->out = m->in = NULL;
+    m->cell = NULL;
+}
+
+/* cell[x,y,z] = 1 when one of the 8 voxels that trilinear interpolation
+ * blends between (x, y, z) and (x+1, y+1, z+1) (clamped) has alpha > 0:
+ * then, and only then, alpha can be > 0 in that cell. */
+static void lst__mask_cells(lst__mask *m)
+{
+    const pw_volume *v = &m->vol;
+    int x, y, z, i, j, k;
+    for (z = 0; z < v->z; z++)
+        for (y = 0; y < v->y; y++)
+            for (x = 0; x < v->x; x++) {
+                unsigned char any = 0;
+                for (k = 0; k < 2; k++)
+                    for (j = 0; j < 2; j++)
+                        for (i = 0; i < 2; i++) {
+                            int X = pw_mini(x + i, v->x - 1), Y = pw_mini(y + j, v->y - 1), Z = pw_mini(z + k, v->z - 1);
+                            any |= v->px[((size_t)Z * v->y + Y) * v->x + X] > 0.0f;
+                        }
+                m->cell[((size_t)z * v->y + y) * v->x + x] = any;
+            }
+}
+
+/* Whether alpha is > 0 at (u, v, w) (exactly as lst__mask_alpha would
+ * say), from one byte. */
+static int lst__mask_any(const lst__mask *m, double u, double v, double w)
+{
+    const pw_volume *vol = &m->vol;
+    double x, y, z;
+    if (!(u >= 0.0 && u <= 1.0 && v >= 0.0 && v <= 1.0 && w >= 0.0 && w <= 1.0)) return 0;
+    x = u * vol->x - 0.5, y = (1.0 - v) * vol->y - 0.5, z = w * vol->z - 0.5;
+    x = x < 0.0 ? 0.0 : (x > vol->x - 1 ? vol->x - 1 : x);
+    y = y < 0.0 ? 0.0 : (y > vol->y - 1 ? vol->y - 1 : y);
+    z = z < 0.0 ? 0.0 : (z > vol->z - 1 ? vol->z - 1 : z);
+    return m->cell[((size_t)(int)z * vol->y + (int)y) * vol->x + (int)x];
+}
+
+static int lst__mask_init(const pw_alloc *a, const pw_volume *vol, lst__mask *m, pw_err *e)
+{
+    size_t total = (size_t)vol->x * vol->y * vol->z;
+    int x, y, z;
+    m->vol = *vol;
+    m->out = (float *)pw_alloc_array(a, total, sizeof(float), "mask distances", e);
+    m->in = (float *)pw_alloc_array(a, total, sizeof(float), "mask distances", e);
+    m->cell = (unsigned char *)pw_alloc_array(a, total, 1, "mask cells", e);
+    m->margin = 2.6 / pw_mini(vol->x, pw_mini(vol->y, vol->z));
+    if (!m->out || !m->in || !m->cell || lst__edt(a, vol, 1, m->out, e) || lst__edt(a, vol, 0, m->in, e)) {
+        lst__mask_free(a, m);
+        return e->code ? e->code : PW_ERR_NOMEM;
+    }
+    for (z = 0; z < vol->z; z++) /* the cube's outside is not core: distance to the faces */
+        for (y = 0; y < vol->y; y++)
+            for (x = 0; x < vol->x; x++) {
+                size_t k = ((size_t)z * vol->y + y) * vol->x + x;
+                double f = pw_mini(pw_mini(x, vol->x - 1 - x), pw_mini(pw_mini(y, vol->y - 1 - y), pw_mini(z, vol->z - 1 - z)));
+                f = (f + 0.5) / pw_maxi(vol->x, pw_maxi(vol->y, vol->z));
+                if (f < m->in[k]) m->in[k] = (float)f;
+            }
+    lst__mask_cells(m);
+    return PW_OK;
+}
+
+/* The distance field d (out or in) at the voxel nearest to (u, v, w),
+ * the point first clamped into the cube. */
+static double lst__mask_dist(const lst__mask *m, const float *d, double u, double v, double w)
+{
+    int x = pw_clampi((int)(u * m->vol.x), 0, m->vol.x - 1), y = pw_clampi((int)((1.0 - v) * m->vol.y), 0, m->vol.y - 1);
+    int z = pw_clampi((int)(w * m->vol.z), 0, m->vol.z - 1);
+    return d[((size_t)z * m->vol.y + y) * m->vol.x + x];
+}

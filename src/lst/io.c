@@ -1,0 +1,807 @@
+/* io.c: the model file, the constraint files and the file conveniences of
+ * lst.h.
+ *
+ * A model file records a lapped solid textured model (what §6's Table 1
+ * calls its size, without the exemplars, which are NRRD files):
+ *
+ *     lst 1
+ *     nodes N
+ *     <x> <y> <z>                                  (N lines)
+ *     tets M
+ *     <a> <b> <c> <d>                              (M lines, 0-based nodes)
+ *     exemplars E
+ *     exemplar <index> <nx> <ny> <nz>              (E lines)
+ *     pastes K
+ *     paste <exemplar-index> <tet-count>           (K blocks, in compositing order)
+ *     <tet> <u0> <v0> <w0> ... <u3> <v3> <w3>      (the tet's 4 nodes, in order)
+ *
+ * Texture coordinates are in exemplar space (the unit cube is the
+ * exemplar). Numbers are written so that they read back exactly, whatever
+ * the locale. */
+#include "builtin.c"
+
+/* ---- writing the model -------------------------------------------------------------------- */
+
+static void lst__wb_line(pw__wb *b, const char *word, const long long *v, int n)
+{
+    int k;
+    pw__wb_str(b, word);
+    for (k = 0; k < n; k++) pw__wb_int(b, v[k], ' ');
+    pw__wb_str(b, "\n");
+}
+
+/* New numbers of the visible tetrahedra and of the nodes they use (-1:
+ * not written); returns 0 on allocation failure. */
+static int lst__visible(const pw_alloc *a, const lst_model *m, int **tmap, int **vmap, int *nt, int *nv, pw_err *e)
+{
+    int t, k;
+    *tmap = (int *)pw_alloc_array(a, (size_t)m->mesh.ntets, sizeof(int), "model writer", e);
+    *vmap = (int *)pw_alloc_array(a, (size_t)m->mesh.nverts, sizeof(int), "model writer", e);
+    if (!*tmap || !*vmap) return 0;
+    *nt = *nv = 0;
+    for (k = 0; k < m->mesh.nverts; k++) (*vmap)[k] = -1;
+    for (t = 0; t < m->mesh.ntets; t++) {
+        (*tmap)[t] = m->removed && m->removed[t] ? -1 : (*nt)++;
+        for (k = 0; (*tmap)[t] >= 0 && k < 4; k++)
+            if ((*vmap)[m->mesh.tets[4 * t + k]] < 0) (*vmap)[m->mesh.tets[4 * t + k]] = 0;
+    }
+    for (k = 0; k < m->mesh.nverts; k++)
+        if ((*vmap)[k] == 0) (*vmap)[k] = (*nv)++;
+    return 1;
+}
+
+static void lst__write_mesh_part(pw__wb *b, const lst_model *m, const int *tmap, const int *vmap, int nt, int nv)
+{
+    long long v[4];
+    int t, k;
+    v[0] = nv;
+    lst__wb_line(b, "nodes", v, 1);
+    for (k = 0; k < m->mesh.nverts; k++)
+        if (vmap[k] >= 0) {
+            pw__wb_float(b, m->mesh.positions[3 * k]);
+            pw__wb_float(b, m->mesh.positions[3 * k + 1]);
+            pw__wb_float(b, m->mesh.positions[3 * k + 2]);
+            pw__wb_str(b, "\n");
+        }
+    v[0] = nt;
+    lst__wb_line(b, "tets", v, 1);
+    for (t = 0; t < m->mesh.ntets; t++)
+        if (tmap[t] >= 0) {
+            for (k = 0; k < 4; k++) v[k] = vmap[m->mesh.tets[4 * t + k]];
+            lst__wb_line(b, "", v, 4);
+        }
+}
+
+static void lst__write_pastes_part(pw__wb *b, const lst_model *m, const int *tmap)
+{
+    long long v[4];
+    int p, i, k, j, n = 0;
+    for (p = 0; p < m->npastes; p++) {
+        for (i = 0; i < m->pastes[p].ntets && tmap[m->pastes[p].tets[i]] < 0; i++) {
+        }
+        n += i < m->pastes[p].ntets;
+    }
+    v[0] = n;
+    lst__wb_line(b, "pastes", v, 1);
+    for (p = 0; p < m->npastes; p++) {
+        const lst_paste *q = &m->pastes[p];
+        int cnt = 0;
+        for (i = 0; i < q->ntets; i++) cnt += tmap[q->tets[i]] >= 0;
+        if (!cnt) continue;
+        v[0] = q->exemplar, v[1] = cnt;
+        lst__wb_line(b, "paste", v, 2);
+        for (i = 0; i < q->ntets; i++) {
+            if (tmap[q->tets[i]] < 0) continue;
+            pw__wb_int(b, tmap[q->tets[i]], 0);
+            for (k = 0; k < 4; k++)
+                for (j = 0; j < 3; j++) pw__wb_float(b, q->uvw[3 * q->corners[4 * i + k] + j]);
+            pw__wb_str(b, "\n");
+        }
+    }
+}
+
+LSTDEF lst_result lst_write_model_to_func(const lst_model *m, lst_write_fn fn, void *ctx, lst_error *err)
+{
+    pw_alloc a;
+    pw__wb b;
+    pw_err e;
+    long long v[4];
+    int *tmap = NULL, *vmap = NULL, nt, nv, k;
+    pw_err_clear(&e);
+    if (!m || !fn || !m->mesh.tets) {
+        pw_fail(&e, PW_ERR_INVALID, "lst_write_model_to_func: NULL argument or empty model");
+        return lst__done(&e, err);
+    }
+    a = lst__alloc(&m->allocator);
+    if (lst__visible(&a, m, &tmap, &vmap, &nt, &nv, &e)) {
+        memset(&b, 0, sizeof b);
+        b.w = fn;
+        b.ctx = ctx;
+        pw__wb_str(&b, "lst 1\n");
+        lst__write_mesh_part(&b, m, tmap, vmap, nt, nv);
+        v[0] = m->nmasks;
+        lst__wb_line(&b, "exemplars", v, 1);
+        for (k = 0; k < m->nmasks; k++) {
+            v[0] = k, v[1] = m->masks[k].width, v[2] = m->masks[k].height, v[3] = m->masks[k].depth;
+            lst__wb_line(&b, "exemplar", v, 4);
+        }
+        lst__write_pastes_part(&b, m, tmap);
+        pw__wb_done(&b, &e);
+    }
+    pw_free(&a, tmap);
+    pw_free(&a, vmap);
+    return lst__done(&e, err);
+}
+
+/* ---- reading the model ---------------------------------------------------------------------- */
+
+/* "<keyword> n1 ... nk" on one line, each within [lo, hi]. */
+static int lst__read_line(pw__sc *s, const char *keyword, long long *v, int n, long long lo, long long hi)
+{
+    size_t len;
+    const char *w;
+    int k, r;
+    pw__sc_skip_empty(s);
+    w = pw__sc_word(s, &len);
+    if (!pw__sc_is(w, len, keyword)) return pw__sc_fail(s, PW_ERR_PARSE, "expected '%s'", keyword);
+    for (k = 0; k < n; k++) {
+        if ((r = pw__sc_int(s, &v[k], keyword, -1)) != PW_OK) return r;
+        if (v[k] < lo || v[k] > hi) return pw__sc_fail(s, PW_ERR_LIMIT, "%s: %lld is outside %lld..%lld", keyword, v[k], lo, hi);
+    }
+    if (!pw__sc_eol(s)) return pw__sc_fail(s, PW_ERR_PARSE, "unexpected text after '%s'", keyword);
+    pw__sc_next_line(s);
+    return PW_OK;
+}
+
+/* A count announced in the file, at most one per `min_bytes` left. */
+static int lst__read_count(pw__sc *s, const char *keyword, size_t min_bytes, int *out)
+{
+    long long v;
+    int r = lst__read_line(s, keyword, &v, 1, 0, PW_MAX_MESH_ELEMENTS);
+    if (r != PW_OK) return r;
+    if ((unsigned long long)v > (unsigned long long)(s->end - s->p) / min_bytes + 1)
+        return pw__sc_fail(s, PW_ERR_PARSE, "%lld %s announced, the file is too short for them", v, keyword);
+    *out = (int)v;
+    return PW_OK;
+}
+
+static int lst__read_mesh_part(pw__sc *s, const pw_alloc *a, lst_model *m, pw_err *e)
+{
+    long long c;
+    int nv, nt, i, k, r;
+    if ((r = lst__read_count(s, "nodes", 6, &nv)) != PW_OK) return r;
+    if (!(m->mesh.positions = (float *)pw_alloc_array(a, (size_t)nv * 3, sizeof(float), "model nodes", e))) return PW_ERR_NOMEM;
+    m->mesh.nverts = nv;
+    for (i = 0; i < nv; i++) {
+        pw__sc_skip_empty(s);
+        for (k = 0; k < 3; k++)
+            if ((r = pw__tio_coord(s, m->mesh.positions + 3 * i + k, "node", i)) != PW_OK) return r;
+        if ((r = pw__tio_rest(s, 0, "node", i)) != PW_OK) return r;
+    }
+    if ((r = lst__read_count(s, "tets", 8, &nt)) != PW_OK) return r;
+    m->mesh.tets = (int *)pw_alloc_array(a, (size_t)nt * 4, sizeof(int), "model tetrahedra", e);
+    m->removed = (unsigned char *)pw_calloc_array(a, (size_t)nt, 1, "model tetrahedra", e);
+    if (!m->mesh.tets || !m->removed) return PW_ERR_NOMEM;
+    m->mesh.ntets = nt;
+    for (i = 0; i < nt; i++) {
+        pw__sc_skip_empty(s);
+        for (k = 0; k < 4; k++) {
+            if ((r = pw__sc_int(s, &c, "tetrahedron", i)) != PW_OK) return r;
+            if (c < 0 || c >= nv) return pw__sc_fail(s, PW_ERR_INVALID, "tetrahedron %d: node %lld does not exist", i, c);
+            m->mesh.tets[4 * i + k] = (int)c;
+        }
+        if ((r = pw__tio_rest(s, 0, "tetrahedron", i)) != PW_OK) return r;
+    }
+    return PW_OK;
+}
+
+static int lst__read_exemplars_part(pw__sc *s, const pw_alloc *a, lst_model *m, pw_err *e)
+{
+    long long v[4];
+    int n, k, r;
+    if ((r = lst__read_count(s, "exemplars", 10, &n)) != PW_OK) return r;
+    if (n < 1 || n > 64) return pw__sc_fail(s, PW_ERR_LIMIT, "%d exemplars (1 to 64 expected)", n);
+    if (!(m->masks = (lst_volume *)pw_calloc_array(a, (size_t)n, sizeof(lst_volume), "masks", e))) return PW_ERR_NOMEM;
+    m->nmasks = n;
+    for (k = 0; k < n; k++) {
+        if ((r = lst__read_line(s, "exemplar", v, 4, 0, 65536)) != PW_OK) return r;
+        if (v[0] != k) return pw__sc_fail(s, PW_ERR_PARSE, "exemplar %lld listed where exemplar %d belongs", v[0], k);
+        if (v[1] < 1 || v[2] < 1 || v[3] < 1) return pw__sc_fail(s, PW_ERR_PARSE, "exemplar %d has an empty size", k);
+        m->masks[k].width = (int)v[1], m->masks[k].height = (int)v[2], m->masks[k].depth = (int)v[3];
+        m->masks[k].channels = 1;
+        m->masks[k].allocator = lst__allocator(a);
+    }
+    return PW_OK;
+}
+
+/* One "<tet> u0 v0 w0 ... u3 v3 w3" line of paste q: corners that share a
+ * node and its coordinates share a vertex (vmark: per node, 1 + its local
+ * index in this paste, for the paste whose stamp is in vstamp). */
+static int lst__read_entry(pw__sc *s, const pw_alloc *a, const lst_model *m, lst_paste *q, int i, int id, int *vstamp,
+                           int *vloc, size_t *cap, pw_err *e)
+{
+    long long t;
+    double x;
+    float w[12];
+    int k, j, r;
+    pw__sc_skip_empty(s);
+    if ((r = pw__sc_int(s, &t, "paste entry", i)) != PW_OK) return r;
+    if (t < 0 || t >= m->mesh.ntets) return pw__sc_fail(s, PW_ERR_INVALID, "paste entry %d: tetrahedron %lld does not exist", i, t);
+    for (k = 0; k < 12; k++) {
+        if ((r = pw__sc_num(s, &x, "paste entry", i)) != PW_OK) return r;
+        w[k] = pw__num_to_float(x);
+        if (!pw_is_finite(w[k])) return pw__sc_fail(s, PW_ERR_INVALID, "paste entry %d: a texture coordinate is not finite", i);
+    }
+    if ((r = pw__tio_rest(s, 0, "paste entry", i)) != PW_OK) return r;
+    q->tets[i] = (int)t;
+    for (k = 0; k < 4; k++) {
+        int node = m->mesh.tets[4 * t + k], li = vstamp[node] == id ? vloc[node] : -1;
+        if (li < 0 || memcmp(q->uvw + 3 * li, w + 3 * k, 3 * sizeof(float)) != 0) {
+            size_t old = *cap;
+            float *grown;
+            if (pw_grow(a, (void **)&q->verts, cap, (size_t)q->nverts + 1, sizeof(int), "paste", e)) return PW_ERR_NOMEM;
+            if (*cap != old) {
+                if (!(grown = (float *)pw_realloc(a, q->uvw, (*cap) * 3 * sizeof(float)))) {
+                    *cap = old; /* verts grew, uvw did not: keep them consistent for the next try */
+                    return pw_fail(e, PW_ERR_NOMEM, "out of memory reading a paste");
+                }
+                q->uvw = grown;
+            }
+            li = q->nverts++;
+            q->verts[li] = node;
+            for (j = 0; j < 3; j++) q->uvw[3 * li + j] = w[3 * k + j];
+            vstamp[node] = id, vloc[node] = li;
+        }
+        q->corners[4 * i + k] = li;
+    }
+    return PW_OK;
+}
+
+static int lst__read_pastes_part(pw__sc *s, const pw_alloc *a, lst_model *m, pw_err *e)
+{
+    long long v[2];
+    int n, p, i, r, *vstamp, *vloc;
+    if ((r = lst__read_count(s, "pastes", 10, &n)) != PW_OK) return r;
+    if (!(m->pastes = (lst_paste *)pw_calloc_array(a, (size_t)n, sizeof(lst_paste), "pastes", e))) return PW_ERR_NOMEM;
+    vstamp = (int *)pw_alloc_array(a, (size_t)m->mesh.nverts, sizeof(int), "model reader", e);
+    vloc = (int *)pw_alloc_array(a, (size_t)m->mesh.nverts, sizeof(int), "model reader", e);
+    r = !vstamp || !vloc ? PW_ERR_NOMEM : PW_OK;
+    for (i = 0; r == PW_OK && i < m->mesh.nverts; i++) vstamp[i] = -1;
+    for (p = 0; p < n && r == PW_OK; p++) {
+        lst_paste *q = &m->pastes[p];
+        size_t cap = 0;
+        m->npastes = p + 1;
+        if ((r = lst__read_line(s, "paste", v, 2, 0, PW_MAX_MESH_ELEMENTS)) != PW_OK) break;
+        if (v[0] >= m->nmasks) r = pw__sc_fail(s, PW_ERR_PARSE, "paste %d uses exemplar %lld of %d", p, v[0], m->nmasks);
+        else if (v[1] < 1 || v[1] > (long long)(s->end - s->p) / 26 + 1)
+            r = pw__sc_fail(s, PW_ERR_PARSE, "paste %d announces %lld tetrahedra, the file is too short for them", p, v[1]);
+        if (r != PW_OK) break;
+        q->exemplar = (int)v[0];
+        q->tets = (int *)pw_alloc_array(a, (size_t)v[1], sizeof(int), "paste", e);
+        q->corners = (int *)pw_alloc_array(a, (size_t)v[1] * 4, sizeof(int), "paste", e);
+        if (!q->tets || !q->corners) r = PW_ERR_NOMEM;
+        q->ntets = r == PW_OK ? (int)v[1] : 0;
+        for (i = 0; i < q->ntets && r == PW_OK; i++) r = lst__read_entry(s, a, m, q, i, p, vstamp, vloc, &cap, e);
+    }
+    pw_free(a, vstamp);
+    pw_free(a, vloc);
+    if (r == PW_OK) {
+        pw__sc_skip_empty(s);
+        if (s->p < s->end) r = pw__sc_fail(s, PW_ERR_PARSE, "unexpected text after the last paste");
+    }
+    return r;
+}
+
+static void lst__model_stats(lst_model *m)
+{
+    size_t tot = 0;
+    int p;
+    for (p = 0; p < m->npastes; p++) tot += (size_t)m->pastes[p].ntets;
+    m->layers = m->layers_before = m->mesh.ntets ? (double)tot / m->mesh.ntets : 0.0;
+}
+
+LSTDEF lst_result lst_read_model_from_memory(const void *data, size_t size, const char *name, const lst_options *opt,
+                                             lst_model *out, lst_error *err)
+{
+    lst_options o = lst__options(opt);
+    pw_alloc a = lst__alloc(&o.allocator);
+    long long v;
+    pw__sc s;
+    pw_err e;
+    pw_err_clear(&e);
+    if (out) memset(out, 0, sizeof *out);
+    if (!out || (!data && size)) {
+        pw_fail(&e, PW_ERR_INVALID, "lst_read_model_from_memory: NULL argument");
+        return lst__done(&e, err);
+    }
+    out->allocator = out->mesh.allocator = lst__allocator(&a);
+    out->type = -1; /* not recorded in the file */
+    pw__sc_init(&s, data, size, name ? name : "model", 0, &e);
+    if (lst__read_line(&s, "lst", &v, 1, 1, 1) == PW_OK && lst__read_mesh_part(&s, &a, out, &e) == PW_OK) {
+        if (lst__check_tets(&out->mesh, &e) == PW_OK && lst__read_exemplars_part(&s, &a, out, &e) == PW_OK &&
+            lst__read_pastes_part(&s, &a, out, &e) == PW_OK)
+            lst__model_stats(out);
+    }
+    if (e.code != PW_OK) lst_model_free(out);
+    return lst__done(&e, err);
+}
+
+/* ---- constraint files --------------------------------------------------------------------------- */
+
+/* The numbers left on the line (at most max) into v; returns how many. */
+static int lst__read_numbers(pw__sc *s, double *v, int max, const char *what, int line, int *n)
+{
+    int r;
+    *n = 0;
+    while (!pw__sc_eol(s)) {
+        if (*n == max) return pw__sc_fail(s, PW_ERR_LIMIT, "%s %d: more than %d numbers on the line", what, line, max);
+        if ((r = pw__sc_num(s, &v[*n], what, line)) != PW_OK) return r;
+        if (!pw_is_finite(v[*n])) return pw__sc_fail(s, PW_ERR_INVALID, "%s %d: a number is not finite", what, line);
+        (*n)++;
+    }
+    pw__sc_next_line(s);
+    return PW_OK;
+}
+
+#define LST__LINE_MAX 3000 /* numbers on one constraint line (a stroke of 1000 points) */
+#define LST__STROKE_STEPS 8 /* samples per stroke segment */
+
+static int lst__add_depth(const pw_alloc *a, lst_depth_constraint **c, size_t *cap, int *n, int kind, int face,
+                          const double *p, double d, double crease, pw_err *e)
+{
+    lst_depth_constraint *x;
+    if (pw_grow(a, (void **)c, cap, (size_t)*n + 1, sizeof **c, "depth constraints", e)) return PW_ERR_NOMEM;
+    x = &(*c)[(*n)++];
+    memset(x, 0, sizeof *x);
+    x->kind = kind, x->face = face, x->depth = (float)d, x->crease = (float)crease;
+    if (p) x->point[0] = (float)p[0], x->point[1] = (float)p[1], x->point[2] = (float)p[2];
+    return PW_OK;
+}
+
+/* One line of a depth file. */
+static int lst__depth_line(pw__sc *s, const pw_alloc *a, double *v, lst_depth_constraint **c, size_t *cap, int *n,
+                           int line, pw_err *e)
+{
+    size_t len;
+    const char *w = pw__sc_word(s, &len);
+    char tok[32];
+    int cnt, r, i, k, kind = pw__sc_is(w, len, "face") ? 0 : pw__sc_is(w, len, "fill") ? 1 : pw__sc_is(w, len, "point") ? 2
+                                                      : pw__sc_is(w, len, "stroke") ? 3 : -1;
+    if (kind < 0) return pw__sc_fail(s, PW_ERR_PARSE, "unknown depth constraint '%s' (face, fill, point, stroke)", pw__sc_tok(s, w, tok));
+    if ((r = lst__read_numbers(s, v, LST__LINE_MAX, "depth line", line, &cnt)) != PW_OK) return r;
+    s->line--; /* messages below name the line just read */
+    if ((kind == 0 && cnt != 2) || (kind == 1 && cnt != 2 && cnt != 3) || (kind == 2 && cnt != 4) ||
+        (kind == 3 && (cnt < 4 || (cnt - 1) % 3 != 0)))
+        r = pw__sc_fail(s, PW_ERR_PARSE, "expected 'face F D', 'fill F D [crease]', 'point X Y Z D' or 'stroke D X Y Z ...'");
+    else if (!(v[kind == 2 ? 3 : (kind == 3 ? 0 : 1)] >= 0.0 && v[kind == 2 ? 3 : (kind == 3 ? 0 : 1)] <= 1.0))
+        r = pw__sc_fail(s, PW_ERR_INVALID, "a depth is outside [0, 1]");
+    else if (kind < 2 && (v[0] < 0 || v[0] > PW_MAX_MESH_ELEMENTS || v[0] != floor(v[0])))
+        r = pw__sc_fail(s, PW_ERR_INVALID, "face %g is not a triangle index", v[0]);
+    else if (kind < 2)
+        r = lst__add_depth(a, c, cap, n, kind == 0 ? LST_DEPTH_FACE : LST_DEPTH_FILL, (int)v[0], NULL, v[1], cnt == 3 ? v[2] : 0.0, e);
+    else if (kind == 2)
+        r = lst__add_depth(a, c, cap, n, LST_DEPTH_POINT, 0, v, v[3], 0.0, e);
+    else /* §4.3 stroke tool: the polyline, each segment sampled */
+        for (i = 0; r == PW_OK && i < (cnt - 1) / 3; i++) {
+            const double *p = v + 1 + 3 * i, *q = i + 1 < (cnt - 1) / 3 ? p + 3 : p;
+            for (k = 0; r == PW_OK && k < (q == p ? 1 : LST__STROKE_STEPS); k++) {
+                double t = (double)k / LST__STROKE_STEPS, x[3] = {p[0] + t * (q[0] - p[0]), p[1] + t * (q[1] - p[1]), p[2] + t * (q[2] - p[2])};
+                r = lst__add_depth(a, c, cap, n, LST_DEPTH_POINT, 0, x, v[0], 0.0, e);
+            }
+        }
+    s->line++;
+    return r;
+}
+
+static int lst__add_field(const pw_alloc *a, lst_field_constraint **c, size_t *cap, int *n, int kind, const double *p,
+                          const double *d, double sc, pw_err *e)
+{
+    lst_field_constraint *x;
+    int k;
+    if (pw_grow(a, (void **)c, cap, (size_t)*n + 1, sizeof **c, "field constraints", e)) return PW_ERR_NOMEM;
+    x = &(*c)[(*n)++];
+    memset(x, 0, sizeof *x);
+    x->kind = kind, x->scale = (float)sc;
+    for (k = 0; k < 3; k++) x->point[k] = (float)p[k], x->direction[k] = d ? (float)d[k] : 0.0f;
+    return PW_OK;
+}
+
+/* One line of a directions file. */
+static int lst__field_line(pw__sc *s, const pw_alloc *a, double *v, lst_field_constraint **c, size_t *cap, int *n,
+                           int line, pw_err *e)
+{
+    size_t len;
+    const char *w = pw__sc_word(s, &len);
+    char tok[32];
+    int cnt, r, i, k, kind = pw__sc_is(w, len, "dir") ? 0 : pw__sc_is(w, len, "stroke") ? 1 : pw__sc_is(w, len, "scale") ? 2 : -1;
+    if (kind < 0) return pw__sc_fail(s, PW_ERR_PARSE, "unknown field constraint '%s' (dir, stroke, scale)", pw__sc_tok(s, w, tok));
+    if ((r = lst__read_numbers(s, v, LST__LINE_MAX, "field line", line, &cnt)) != PW_OK) return r;
+    s->line--;
+    if ((kind == 0 && cnt != 6) || (kind == 1 && (cnt < 6 || cnt % 3 != 0)) || (kind == 2 && cnt != 4))
+        r = pw__sc_fail(s, PW_ERR_PARSE, "expected 'dir X Y Z DX DY DZ', 'stroke X Y Z X Y Z ...' or 'scale X Y Z S'");
+    else if (kind == 0 && v[3] == 0.0 && v[4] == 0.0 && v[5] == 0.0)
+        r = pw__sc_fail(s, PW_ERR_INVALID, "a zero direction");
+    else if (kind == 2 && !(v[3] > 0.0))
+        r = pw__sc_fail(s, PW_ERR_INVALID, "scale %g is not positive", v[3]);
+    else if (kind == 0)
+        r = lst__add_field(a, c, cap, n, LST_FIELD_DIRECTION, v, v + 3, 0.0, e);
+    else if (kind == 2)
+        r = lst__add_field(a, c, cap, n, LST_FIELD_SCALE, v, NULL, v[3], e);
+    else /* a stroke: its direction along each segment, sampled */
+        for (i = 0; r == PW_OK && i + 1 < cnt / 3; i++) {
+            const double *p = v + 3 * i, *q = p + 3;
+            double d[3] = {q[0] - p[0], q[1] - p[1], q[2] - p[2]};
+            if (d[0] == 0.0 && d[1] == 0.0 && d[2] == 0.0) continue;
+            for (k = 0; r == PW_OK && k < LST__STROKE_STEPS; k++) {
+                double t = (k + 0.5) / LST__STROKE_STEPS, x[3] = {p[0] + t * d[0], p[1] + t * d[1], p[2] + t * d[2]};
+                r = lst__add_field(a, c, cap, n, LST_FIELD_DIRECTION, x, d, 0.0, e);
+            }
+        }
+    s->line++;
+    return r;
+}
+
+typedef int (*lst__line_fn)(pw__sc *s, const pw_alloc *a, double *v, void **c, size_t *cap, int *n, int line, pw_err *e);
+
+static int lst__depth_line_v(pw__sc *s, const pw_alloc *a, double *v, void **c, size_t *cap, int *n, int line, pw_err *e)
+{
+    return lst__depth_line(s, a, v, (lst_depth_constraint **)c, cap, n, line, e);
+}
+static int lst__field_line_v(pw__sc *s, const pw_alloc *a, double *v, void **c, size_t *cap, int *n, int line, pw_err *e)
+{
+    return lst__field_line(s, a, v, (lst_field_constraint **)c, cap, n, line, e);
+}
+
+/* Reads a constraint file line by line with fn; '#' comments. */
+static int lst__read_constraints(const pw_alloc *a, const void *data, size_t size, const char *name, lst__line_fn fn,
+                                 void **out, int *count, pw_err *e)
+{
+    pw__sc s;
+    double *v = (double *)pw_alloc_array(a, LST__LINE_MAX, sizeof(double), "constraint line", e);
+    size_t cap = 0;
+    int n = 0, line = 0, r = v ? PW_OK : PW_ERR_NOMEM;
+    *out = NULL;
+    pw__sc_init(&s, data, size, name, 0, e);
+    for (pw__sc_skip_empty(&s); r == PW_OK && s.p < s.end; pw__sc_skip_empty(&s)) r = fn(&s, a, v, out, &cap, &n, line++, e);
+    if (r == PW_OK && n == 0) r = pw_fail(e, PW_ERR_PARSE, "%s: no constraints", s.name);
+    pw_free(a, v);
+    if (r != PW_OK) {
+        pw_free(a, *out);
+        *out = NULL;
+        return r;
+    }
+    *count = n;
+    return PW_OK;
+}
+
+LSTDEF lst_result lst_read_depth_from_memory(const void *data, size_t size, const char *name, const lst_options *opt,
+                                             lst_depth_constraint **out, int *count, lst_error *err)
+{
+    lst_options o = lst__options(opt);
+    pw_alloc a = lst__alloc(&o.allocator);
+    pw_err e;
+    void *c = NULL;
+    pw_err_clear(&e);
+    if (out) *out = NULL;
+    if (count) *count = 0;
+    if (!out || !count || (!data && size)) pw_fail(&e, PW_ERR_INVALID, "lst_read_depth_from_memory: NULL argument");
+    else if (lst__read_constraints(&a, data, size, name ? name : "depth", lst__depth_line_v, &c, count, &e) == PW_OK)
+        *out = (lst_depth_constraint *)c;
+    return lst__done(&e, err);
+}
+
+LSTDEF lst_result lst_read_directions_from_memory(const void *data, size_t size, const char *name, const lst_options *opt,
+                                                  lst_field_constraint **out, int *count, lst_error *err)
+{
+    lst_options o = lst__options(opt);
+    pw_alloc a = lst__alloc(&o.allocator);
+    pw_err e;
+    void *c = NULL;
+    pw_err_clear(&e);
+    if (out) *out = NULL;
+    if (count) *count = 0;
+    if (!out || !count || (!data && size)) pw_fail(&e, PW_ERR_INVALID, "lst_read_directions_from_memory: NULL argument");
+    else if (lst__read_constraints(&a, data, size, name ? name : "directions", lst__field_line_v, &c, count, &e) == PW_OK)
+        *out = (lst_field_constraint *)c;
+    return lst__done(&e, err);
+}
+
+LSTDEF void lst_free_constraints(lst_depth_constraint *depth, lst_field_constraint *field, const lst_options *opt)
+{
+    lst_options o = lst__options(opt);
+    pw_alloc a = lst__alloc(&o.allocator);
+    pw_free(&a, depth);
+    pw_free(&a, field);
+}
+
+/* ---- meshes, volumes, images ------------------------------------------------------------------ */
+
+LSTDEF lst_result lst_read_tetgen_from_memory(const void *node, size_t node_size, const void *ele, size_t ele_size,
+                                              const char *name, const lst_options *opt, lst_tetmesh *out, lst_error *err)
+{
+    lst_options o = lst__options(opt);
+    pw_alloc a = lst__alloc(&o.allocator);
+    pw_tetmesh m;
+    pw_err e;
+    char nn[256], en[256];
+    pw_err_clear(&e);
+    if (out) memset(out, 0, sizeof *out);
+    snprintf(nn, sizeof nn, "%s.node", name ? name : "tetgen");
+    snprintf(en, sizeof en, "%s.ele", name ? name : "tetgen");
+    if (!out || (!node && node_size) || (!ele && ele_size)) pw_fail(&e, PW_ERR_INVALID, "lst_read_tetgen_from_memory: NULL argument");
+    else if (pw_tetgen_read_memory(&a, node, node_size, nn, ele, ele_size, en, &m, &e) == PW_OK)
+        lst__take_tets(&m, &a, out);
+    return lst__done(&e, err);
+}
+
+LSTDEF lst_result lst_read_medit_from_memory(const void *data, size_t size, const char *name, const lst_options *opt,
+                                             lst_tetmesh *out, lst_error *err)
+{
+    lst_options o = lst__options(opt);
+    pw_alloc a = lst__alloc(&o.allocator);
+    pw_tetmesh m;
+    pw_err e;
+    pw_err_clear(&e);
+    if (out) memset(out, 0, sizeof *out);
+    if (!out || (!data && size)) pw_fail(&e, PW_ERR_INVALID, "lst_read_medit_from_memory: NULL argument");
+    else if (pw_medit_read_memory(&a, data, size, name ? name : "mesh", &m, &e) == PW_OK)
+        lst__take_tets(&m, &a, out);
+    return lst__done(&e, err);
+}
+
+LSTDEF lst_result lst_write_tetgen_to_func(const lst_tetmesh *mesh, lst_write_fn node_fn, void *node_ctx,
+                                           lst_write_fn ele_fn, void *ele_ctx, lst_error *err)
+{
+    pw_tetmesh m;
+    pw_err e;
+    pw_err_clear(&e);
+    if (!mesh || !node_fn || !ele_fn) pw_fail(&e, PW_ERR_INVALID, "lst_write_tetgen_to_func: NULL argument");
+    else if (lst__check_tets(mesh, &e) == PW_OK) {
+        m = lst__pw_tets(mesh);
+        if (pw_tetgen_write_node(&m, node_fn, node_ctx, &e) == PW_OK) pw_tetgen_write_ele(&m, ele_fn, ele_ctx, &e);
+    }
+    return lst__done(&e, err);
+}
+
+LSTDEF lst_result lst_write_medit_to_func(const lst_tetmesh *mesh, lst_write_fn fn, void *ctx, lst_error *err)
+{
+    pw_tetmesh m;
+    pw_err e;
+    pw_err_clear(&e);
+    if (!mesh || !fn) pw_fail(&e, PW_ERR_INVALID, "lst_write_medit_to_func: NULL argument");
+    else if (lst__check_tets(mesh, &e) == PW_OK) {
+        m = lst__pw_tets(mesh);
+        pw_medit_write(&m, fn, ctx, &e);
+    }
+    return lst__done(&e, err);
+}
+
+LSTDEF lst_result lst_read_volume_from_memory(const void *data, size_t size, const char *name, const lst_options *opt,
+                                              lst_volume *out, lst_error *err)
+{
+    lst_options o = lst__options(opt);
+    pw_alloc a = lst__alloc(&o.allocator);
+    pw_volume v;
+    pw_err e;
+    pw_err_clear(&e);
+    if (out) memset(out, 0, sizeof *out);
+    if (!out || (!data && size)) pw_fail(&e, PW_ERR_INVALID, "lst_read_volume_from_memory: NULL argument");
+    else if (pw_nrrd_read_memory(&a, (const unsigned char *)data, size, name ? name : "volume", &v, &e) == PW_OK)
+        lst__take_volume(&v, &a, out);
+    return lst__done(&e, err);
+}
+
+LSTDEF lst_result lst_write_volume_to_func(const lst_volume *vol, lst_write_fn fn, void *ctx, lst_error *err)
+{
+    pw_alloc a;
+    pw_volume v;
+    pw_err e;
+    pw_err_clear(&e);
+    if (!vol || !fn) pw_fail(&e, PW_ERR_INVALID, "lst_write_volume_to_func: NULL argument");
+    else if (lst__check_volume(vol, "volume", &e) == PW_OK) {
+        a = lst__alloc(&vol->allocator);
+        v = lst__pw_volume(vol);
+        pw_nrrd_write(&a, &v, 1, fn, ctx, &e);
+    }
+    return lst__done(&e, err);
+}
+
+LSTDEF lst_result lst_load_mesh_from_memory(const void *data, size_t size, const char *name, const lst_options *opt,
+                                            lst_mesh *out, lst_error *err)
+{
+    lst_options o = lst__options(opt);
+    pw_alloc a = lst__alloc(&o.allocator);
+    pw_mesh m;
+    pw_err e;
+    pw_err_clear(&e);
+    if (out) memset(out, 0, sizeof *out);
+    if (!out || (!data && size)) pw_fail(&e, PW_ERR_INVALID, "lst_load_mesh_from_memory: NULL argument");
+    else if (pw_mesh_read_memory(&a, data, size, name ? name : "mesh", &m, &e) == PW_OK)
+        lst__take_mesh(&m, &a, out);
+    return lst__done(&e, err);
+}
+
+LSTDEF lst_result lst_write_image_to_func(const lst_image *img, const char *format, lst_write_fn fn, void *ctx,
+                                          lst_error *err)
+{
+    pw_err e;
+    pw_err_clear(&e);
+    if (!fn) pw_fail(&e, PW_ERR_INVALID, "lst_write_image_to_func: NULL writer");
+    else if (lst__check_image(img, "image", &e) == PW_OK) lst__encode(img, format, fn, ctx, &e);
+    return lst__done(&e, err);
+}
+
+#ifndef PW_NO_STDIO
+/* Runs a from-memory reader on a whole file. */
+typedef int (*lst__reader)(const pw_alloc *a, const unsigned char *data, size_t size, const char *path, void *out,
+                           const lst_options *o, lst_error *le);
+
+static lst_result lst__load(const char *path, const lst_options *opt, void *out, lst__reader fn, const char *what, lst_error *err)
+{
+    lst_options o = lst__options(opt);
+    pw_alloc a = lst__alloc(&o.allocator);
+    unsigned char *data;
+    size_t size;
+    pw_err e;
+    pw_err_clear(&e);
+    if (!path || !out) pw_fail(&e, PW_ERR_INVALID, "%s: NULL argument", what);
+    else if (pw_read_file(&a, path, &data, &size, &e) == PW_OK) {
+        lst_error le;
+        if (fn(&a, data, size, path, out, &o, &le) != LST_OK) pw_fail(&e, (int)le.code, "%s", le.message);
+        pw_free(&a, data);
+    }
+    return lst__done(&e, err);
+}
+
+static int lst__rd_mesh(const pw_alloc *a, const unsigned char *d, size_t n, const char *p, void *out, const lst_options *o, lst_error *le)
+{
+    (void)a;
+    return (int)lst_load_mesh_from_memory(d, n, p, o, (lst_mesh *)out, le);
+}
+static int lst__rd_volume(const pw_alloc *a, const unsigned char *d, size_t n, const char *p, void *out, const lst_options *o, lst_error *le)
+{
+    (void)a;
+    return (int)lst_read_volume_from_memory(d, n, p, o, (lst_volume *)out, le);
+}
+static int lst__rd_model(const pw_alloc *a, const unsigned char *d, size_t n, const char *p, void *out, const lst_options *o, lst_error *le)
+{
+    (void)a;
+    return (int)lst_read_model_from_memory(d, n, p, o, (lst_model *)out, le);
+}
+
+typedef struct lst__cons_out {
+    void **c;
+    int *n;
+} lst__cons_out;
+
+static int lst__rd_depth(const pw_alloc *a, const unsigned char *d, size_t n, const char *p, void *out, const lst_options *o, lst_error *le)
+{
+    lst__cons_out *c = (lst__cons_out *)out;
+    (void)a;
+    return (int)lst_read_depth_from_memory(d, n, p, o, (lst_depth_constraint **)c->c, c->n, le);
+}
+static int lst__rd_dirs(const pw_alloc *a, const unsigned char *d, size_t n, const char *p, void *out, const lst_options *o, lst_error *le)
+{
+    lst__cons_out *c = (lst__cons_out *)out;
+    (void)a;
+    return (int)lst_read_directions_from_memory(d, n, p, o, (lst_field_constraint **)c->c, c->n, le);
+}
+
+LSTDEF lst_result lst_load_mesh(const char *path, const lst_options *opt, lst_mesh *out, lst_error *err)
+{
+    if (out) memset(out, 0, sizeof *out);
+    return lst__load(path, opt, out, lst__rd_mesh, "lst_load_mesh", err);
+}
+
+LSTDEF lst_result lst_load_volume(const char *path, const lst_options *opt, lst_volume *out, lst_error *err)
+{
+    if (out) memset(out, 0, sizeof *out);
+    return lst__load(path, opt, out, lst__rd_volume, "lst_load_volume", err);
+}
+
+LSTDEF lst_result lst_load_model(const char *path, const lst_options *opt, lst_model *out, lst_error *err)
+{
+    if (out) memset(out, 0, sizeof *out);
+    return lst__load(path, opt, out, lst__rd_model, "lst_load_model", err);
+}
+
+LSTDEF lst_result lst_load_depth(const char *path, const lst_options *opt, lst_depth_constraint **out, int *count,
+                                 lst_error *err)
+{
+    lst__cons_out c;
+    c.c = (void **)out, c.n = count;
+    if (out) *out = NULL;
+    if (count) *count = 0;
+    return lst__load(path, opt, out && count ? &c : NULL, lst__rd_depth, "lst_load_depth", err);
+}
+
+LSTDEF lst_result lst_load_directions(const char *path, const lst_options *opt, lst_field_constraint **out, int *count,
+                                      lst_error *err)
+{
+    lst__cons_out c;
+    c.c = (void **)out, c.n = count;
+    if (out) *out = NULL;
+    if (count) *count = 0;
+    return lst__load(path, opt, out && count ? &c : NULL, lst__rd_dirs, "lst_load_directions", err);
+}
+
+LSTDEF lst_result lst_load_tetmesh(const char *path, const lst_options *opt, lst_tetmesh *out, lst_error *err)
+{
+    lst_options o = lst__options(opt);
+    pw_alloc a = lst__alloc(&o.allocator);
+    pw_tetmesh m;
+    pw_err e;
+    pw_err_clear(&e);
+    if (out) memset(out, 0, sizeof *out);
+    if (!path || !out) pw_fail(&e, PW_ERR_INVALID, "lst_load_tetmesh: NULL argument");
+    else if (pw_tetmesh_load(&a, path, &m, &e) == PW_OK) lst__take_tets(&m, &a, out);
+    return lst__done(&e, err);
+}
+
+LSTDEF lst_result lst_save_tetmesh(const char *path, const lst_tetmesh *mesh, lst_error *err)
+{
+    pw_tetmesh m;
+    pw_err e;
+    pw_err_clear(&e);
+    if (!path || !mesh) pw_fail(&e, PW_ERR_INVALID, "lst_save_tetmesh: NULL argument");
+    else if (lst__check_tets(mesh, &e) == PW_OK) {
+        m = lst__pw_tets(mesh);
+        pw_tetmesh_save(path, &m, &e);
+    }
+    return lst__done(&e, err);
+}
+
+typedef struct lst__job {
+    const lst_image *img;
+    const char *format;
+    const lst_volume *vol;
+    const lst_model *model;
+} lst__job;
+
+static int lst__job_body(void *arg, pw_write_fn w, void *ctx, pw_err *e)
+{
+    const lst__job *j = (const lst__job *)arg;
+    lst_error le;
+    int r;
+    if (j->img) return lst__encode(j->img, j->format, w, ctx, e);
+    r = j->vol ? (int)lst_write_volume_to_func(j->vol, w, ctx, &le) : (int)lst_write_model_to_func(j->model, w, ctx, &le);
+    return r ? pw_fail(e, r, "%s", le.message) : PW_OK;
+}
+
+static lst_result lst__save(const char *path, lst__job *j, lst_error *err)
+{
+    pw_err e;
+    pw_err_clear(&e);
+    if (!path || (!j->img && !j->vol && !j->model)) pw_fail(&e, PW_ERR_INVALID, "save: NULL argument");
+    else if (j->img && !(j->format = pw_has_ext(path, ".png") ? "png" : pw_has_ext(path, ".ppm") || pw_has_ext(path, ".pnm")
+                                     ? "ppm" : pw_has_ext(path, ".pgm") ? "pgm" : pw_has_ext(path, ".pam") ? "pam" : NULL))
+        pw_fail(&e, PW_ERR_UNSUPPORTED, "%s: unknown image extension (use .png, .ppm, .pgm, .pam)", path);
+    else if (!j->img || lst__check_image(j->img, path, &e) == PW_OK)
+        pw_write_file(path, lst__job_body, j, &e);
+    return lst__done(&e, err);
+}
+
+LSTDEF lst_result lst_save_image(const char *path, const lst_image *img, lst_error *err)
+{
+    lst__job j;
+    memset(&j, 0, sizeof j);
+    j.img = img;
+    return lst__save(path, &j, err);
+}
+
+LSTDEF lst_result lst_save_volume(const char *path, const lst_volume *vol, lst_error *err)
+{
+    lst__job j;
+    memset(&j, 0, sizeof j);
+    j.vol = vol;
+    return lst__save(path, &j, err);
+}
+
+LSTDEF lst_result lst_save_model(const char *path, const lst_model *model, lst_error *err)
+{
+    lst__job j;
+    memset(&j, 0, sizeof j);
+    j.model = model;
+    return lst__save(path, &j, err);
+}
+#endif

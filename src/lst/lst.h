@@ -1,0 +1,511 @@
+/* lst.h - lapped solid textures: solid exemplars pasted inside a model.
+ *
+ * A single-file C library implementing "Lapped Solid Textures: Filling a
+ * Model with Anisotropic Textures" (Kenshi Takayama, Makoto Okabe, Takashi
+ * Ijiri, Takeo Igarashi, SIGGRAPH 2008): the inside of a closed surface,
+ * cut into tetrahedra, is filled with overlapping copies of a small solid
+ * texture (a cubic array of colours) aligned with a volumetric tensor field,
+ * until every tetrahedron is covered. What is stored is the tetrahedral mesh
+ * and, per paste, the 3D texture coordinates of its tetrahedra: no voxel
+ * grid of the model ever exists, so large models cost little memory.
+ * Section numbers refer to the paper.
+ *
+ *   - §3 every texture type of the classification: 0 (isotropic), 1-a
+ *     (one axis: fibres), 1-b (depth-varying: layers), 2-a (three distinct
+ *     axes), 2-b (three axes, depth-varying). 2-c and 2-d are not supported,
+ *     as in the paper (see LST_TYPE_*).
+ *   - tetrahedral meshes: TetGen .node/.ele and MEDIT .mesh files, or the
+ *     built-in tetrahedralizer (isosurface stuffing) of a closed surface.
+ *   - §5.2.1 a 3D "splotch" alpha mask with a fall-off of 5-10% of the
+ *     exemplar size, or the exemplar's own alpha; §5.2.7 outer, middle and
+ *     inner masks for depth-varying textures.
+ *   - §5.2.2 fields: a depth field by thin-plate (r^3) radial basis
+ *     functions from constraints painted on surface faces (single face,
+ *     flood fill stopped at creases) or put at points (strokes); without
+ *     constraints, the normalised distance to the surface. Vectors and
+ *     scales by Laplacian smoothing over the mesh with barycentric point
+ *     constraints (Eqs. 1-2, sparse least squares), depth-aware weights
+ *     exp(-(d_i - d_j)^2) for 2-a/2-b, directions orthogonalised against the
+ *     depth gradient; scale 1/|grad depth| for 1-b/2-b; tensor per
+ *     tetrahedron the average of its vertices'.
+ *   - §5.2.3-5.2.6 pasting: a random uncovered seed tetrahedron, the affine
+ *     map of its tensor, clump growth (similar tensor, partly inside the
+ *     mask), least-squares texture coordinates with the positional
+ *     constraint, regrowth where the warped mask is uncovered, coverage
+ *     accumulated at fixed sample points in every tetrahedron (165 as in the
+ *     paper by default).
+ *   - §5.2.7 depth-varying models: the depth is the v texture coordinate,
+ *     the positional constraint (0.5, d_seed, 0.5), the mask chosen by depth.
+ *   - §4.6 manual pasting at a point with an orientation and a scale.
+ *   - §5.1 rendering: the surface composited with each triangle's ordered
+ *     pastes; §5.1.1 cuts by a plane, by any scalar field, or by a stroke
+ *     (RBF field), with marching tetrahedra, the mesh split along the cut so
+ *     that later cuts work; §5.1.2 volume rendering by slices composited
+ *     with alpha; an extra channel (displacement) carried like colour, and
+ *     displacement mapping of the surface (Figs. 1c, 4d).
+ *
+ * USAGE
+ *   In exactly one C or C++ file:
+ *       #define LST_IMPLEMENTATION
+ *       #include "lst.h"
+ *   PATCHWORK_IMPLEMENTATION turns on every patchwork header included after
+ *   it. Build macros: LST_STATIC (all functions static), PW_MALLOC /
+ *   PW_REALLOC / PW_FREE (all or none), PW_ASSERT, PW_NO_STDIO, and the
+ *   PW_MAX_* size limits, as in every patchwork header.
+ *
+ * MINIMAL EXAMPLE
+ *       lst_options opt = lst_default_options();
+ *       lst_mesh surface;
+ *       lst_tetmesh tets;
+ *       lst_volume texture;
+ *       lst_model model;
+ *       lst_image picture;
+ *       lst_error err;
+ *       const float cut[4] = {0, 0, 1, 0};          (keep z <= 0)
+ *       opt.type = LST_TYPE_1B;                     (layers along the depth)
+ *       if (lst_load_mesh("fruit.obj", &opt, &surface, &err) ||
+ *           lst_tetrahedralize(&surface, NULL, &opt, &tets, &err) ||
+ *           lst_builtin_exemplar("layers", 64, &opt, &texture, NULL, &err) ||
+ *           lst_create(&tets, &surface, &texture, NULL, &opt, &model, &err) ||
+ *           lst_cut_plane(&model, cut, &err) ||
+ *           lst_render(&model, NULL, &picture, &err) ||
+ *           lst_save_image("fruit.png", &picture, &err))
+ *           fprintf(stderr, "%s\n", err.message);
+ *
+ * CONVENTIONS
+ *   Fallible calls return lst_result (LST_OK == 0) and fill err->message.
+ *   Images are floats in [0,1], row 0 at the top. A volume's texture
+ *   coordinates (u, v, w) span the unit cube: u along x (columns, left to
+ *   right), v up the rows (v = 0 is the bottom row y = height-1, as in
+ *   images), w along the slices (w = 0 the first); the v axis is the depth
+ *   axis of depth-varying textures (v = 0 the outer skin) and u the fibre
+ *   axis of types 1-a, 2-a and 2-b. Tetrahedra are positively oriented
+ *   ((b-a) x (c-a) . (d-a) > 0; readers flip the others). The same inputs
+ *   and seed give byte-identical results.
+ *
+ * Licence: MIT or public domain, at your choice; see the end of the file.
+ */
+#ifndef LST_H
+#define LST_H
+
+#define LST_VERSION_MAJOR 1
+#define LST_VERSION_MINOR 0
+#define LST_VERSION_PATCH 0
+#define LST_VERSION_STRING "1.0.0"
+
+#include <stddef.h>
+
+#ifndef LSTDEF
+#ifdef LST_STATIC
+#if defined(__GNUC__) || defined(__clang__)
+#define LSTDEF static __attribute__((unused))
+#else
+#define LSTDEF static
+#endif
+#else
+#define LSTDEF extern
+#endif
+#endif
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Result codes (the same values in every patchwork header). */
+typedef enum lst_result {
+    LST_OK = 0,
+    LST_ERR_NOMEM = 1,       /* an allocation failed */
+    LST_ERR_IO = 2,          /* a file could not be opened, read or written */
+    LST_ERR_PARSE = 3,       /* malformed or truncated file */
+    LST_ERR_UNSUPPORTED = 4, /* valid input using an unsupported feature */
+    LST_ERR_LIMIT = 5,       /* a size exceeds a limit (or would need too many pastes) */
+    LST_ERR_INVALID = 6,     /* invalid argument or value (NaN, out of range) */
+    LST_ERR_TOPOLOGY = 7,    /* open, non-manifold, overlapping or self-intersecting input */
+    LST_ERR_DEGENERATE = 8,  /* degenerate geometry (no tetrahedra, zero volume) */
+    LST_ERR_CANCELLED = 9,   /* the progress callback asked to stop */
+    LST_ERR_NOCONVERGE = 10  /* an iterative solver did not converge */
+} lst_result;
+
+typedef struct lst_error {
+    lst_result code;
+    char message[256];
+} lst_error;
+
+/* Optional run-time allocator; NULL functions mean malloc/realloc/free (or
+ * the PW_MALLOC macros). Objects remember the allocator that made them. */
+typedef struct lst_allocator {
+    void *(*malloc_fn)(void *user, size_t size);
+    void *(*realloc_fn)(void *user, void *ptr, size_t size);
+    void (*free_fn)(void *user, void *ptr);
+    void *user;
+} lst_allocator;
+
+typedef int (*lst_progress_fn)(void *user, float done, const char *stage);
+typedef int (*lst_write_fn)(void *ctx, const void *data, size_t size);
+
+/* width*height pixels of `channels` floats in [0,1], row 0 at the top. */
+typedef struct lst_image {
+    int width, height, channels;
+    float *pixels;
+    int bits; /* sample depth read from a file (8 or 16); 0 means 8 */
+    lst_allocator allocator;
+} lst_image;
+
+/* A closed polygon surface; corners of face f are face_start[f] ..
+ * face_start[f+1]-1, counter-clockwise seen from outside. Polygons are
+ * fan-triangulated (corners 0, k, k+1) and face indices in constraints
+ * are triangles of that triangulation. */
+typedef struct lst_mesh {
+    int nverts;
+    float *positions; /* nverts*3 */
+    int nfaces;
+    int *face_start;  /* nfaces+1 */
+    int *face_verts;  /* face_start[nfaces] */
+    lst_allocator allocator;
+} lst_mesh;
+
+/* A tetrahedral mesh: tetrahedron t has corners tets[4t..4t+3], positively
+ * oriented. */
+typedef struct lst_tetmesh {
+    int nverts;
+    float *positions; /* nverts*3 */
+    int ntets;
+    int *tets;        /* ntets*4 */
+    lst_allocator allocator;
+} lst_tetmesh;
+
+/* A solid exemplar or mask: width x height x depth voxels of `channels`
+ * floats (1 gray, 2 gray+alpha, 3 RGB, 4 RGBA), x fastest:
+ * voxels[((z*height + y)*width + x)*channels + c]. Voxel (x, y, z) is
+ * centred at texture coordinates ((x+.5)/width, 1-(y+.5)/height,
+ * (z+.5)/depth). */
+typedef struct lst_volume {
+    int width, height, depth, channels;
+    float *voxels;
+    lst_allocator allocator;
+} lst_volume;
+
+/* §3 texture types. 2-c and 2-d (variation along two or three axes) are
+ * not supported: as the paper says, a tiling method is not effective for
+ * textures that can be tiled along one axis or none. */
+enum {
+    LST_TYPE_0 = 0,  /* isotropic: random orientation per paste; scale from the user */
+    LST_TYPE_1A = 1, /* one axis (fibres): u along the direction field, the others random */
+    LST_TYPE_1B = 2, /* depth-varying layers: v = depth, u and w random around it;
+                        scale 1/|grad depth| */
+    LST_TYPE_2A = 3, /* three axes: v along grad depth, u along the direction field
+                        (orthogonalised), w = u x v; scale from the user */
+    LST_TYPE_2B = 4  /* as 2-a, and depth-varying: v = depth, scale 1/|grad depth| */
+};
+
+/* §4.3 depth constraints (0 outermost, 1 innermost). */
+enum {
+    LST_DEPTH_FACE = 0,  /* one surface triangle (single-face-fill tool) */
+    LST_DEPTH_FILL = 1,  /* the triangles reachable from `face` without crossing an
+                            edge sharper than `crease` (multi-face-fill tool) */
+    LST_DEPTH_POINT = 2  /* a point (the stroke tool: strokes are sampled points) */
+};
+
+typedef struct lst_depth_constraint {
+    int kind;       /* LST_DEPTH_* */
+    int face;       /* FACE, FILL: a triangle of the surface */
+    float point[3]; /* POINT */
+    float depth;    /* in [0, 1] */
+    float crease;   /* FILL: dihedral angle, degrees, at which the fill stops; 0: 30 */
+} lst_depth_constraint;
+
+/* §4.1-4.5 field constraints, interpolated by Laplacian smoothing. */
+enum {
+    LST_FIELD_DIRECTION = 0, /* the exemplar's u axis at `point` (types 1-a, 2-a, 2-b) */
+    LST_FIELD_SCALE = 1      /* the exemplar's side at `point`, mesh units (0, 1-a, 2-a) */
+};
+
+typedef struct lst_field_constraint {
+    int kind;           /* LST_FIELD_* */
+    float point[3];
+    float direction[3]; /* DIRECTION (any length but 0) */
+    float scale;        /* SCALE (> 0) */
+} lst_field_constraint;
+
+/* §5.2.1 alpha masks. */
+enum {
+    LST_MASK_AUTO = 0,    /* the exemplar's alpha (4 channels) for homogeneous types,
+                             else the splotch (always for 1-b and 2-b) */
+    LST_MASK_SPLOTCH = 1, /* the built-in splotch (and its outer/middle/inner copies) */
+    LST_MASK_EXEMPLAR = 2 /* the exemplar's alpha (types 0, 1-a, 2-a; 4 channels) */
+};
+
+/* The fields of §5.2.2, per vertex and per tetrahedron. */
+typedef struct lst_fields {
+    int nverts, ntets;
+    float *depth; /* nverts depths in [0,1] (1-b, 2-a, 2-b), or NULL */
+    float *frame; /* ntets*9: the images of the exemplar's u, v, w axes (columns R, S, T of
+                     the tensor, each as long as the exemplar's side there). For types 0
+                     and 1-x the axes without a field are an arbitrary frame that pasting
+                     re-draws at random */
+    lst_allocator allocator;
+} lst_fields;
+
+typedef struct lst_options {
+    int type;                 /* LST_TYPE_*; default LST_TYPE_0 */
+    float scale;              /* exemplar side in mesh units where no scale constraint
+                                 reaches (0, 1-a, 2-a); 0: a fifth of the bounding-box
+                                 diagonal */
+    const lst_depth_constraint *depth; /* NULL: depth = normalised distance to the surface */
+    int ndepth;
+    const lst_field_constraint *field; /* directions and scales; may be NULL */
+    int nfield;
+    float axis[3];            /* the direction where no direction constraint is given;
+                                 zero: the principal axis of the shape */
+    const lst_fields *fields; /* non-NULL: these fields instead of computing them */
+    int mask;                 /* LST_MASK_*; default AUTO */
+    float mask_radius;        /* splotch mean radius, fraction of the side; default 0.4 */
+    float falloff;            /* splotch fall-off width, fraction of the side; default 0.08 */
+    int samples;              /* coverage samples per tetrahedron: the barycentric
+                                 lattice of this order, (n+1)(n+2)(n+3)/6 points;
+                                 default 8 (165 points, §5.2.6) */
+    float coverage;           /* opacity every sample must reach; default 0.99 */
+    float max_angle;          /* clump growth: the largest angle, degrees, between a
+                                 field axis of a tetrahedron and the seed's; default 50 */
+    float max_stretch;        /* clump growth: the largest ratio of scales; default 2 */
+    float layer_weight;       /* k in the 2-a/2-b smoothing weights exp(-(k(d_i-d_j))^2);
+                                 default 1 (the paper's) */
+    float constraint_weight;  /* weight of a constraint row (Eq. 2) against a Laplacian
+                                 row (Eq. 1); default 10 */
+    int rbf_centers;          /* most centres of the depth RBF (farthest points of the
+                                 constraints); default 400 */
+    int keep_hidden;          /* 1: keep the paste entries of tetrahedra that a later
+                                 paste's opaque core covers entirely (default: drop them) */
+    int max_pastes;           /* refuse inputs needing more; default 200000 */
+    unsigned long long seed;  /* default 0 */
+    lst_allocator allocator;
+    lst_progress_fn progress;
+    void *progress_user;
+} lst_options;
+
+/* One paste: a clump of tetrahedra and the texture coordinates of their
+ * corners. Corners are shared within a paste (the map is continuous). */
+typedef struct lst_paste {
+    int exemplar; /* mask index (§5.2.7: 0 outer, 1 middle, 2 inner for 1-b/2-b) */
+    int ntets;
+    int *tets;    /* ntets tetrahedra */
+    int *corners; /* ntets*4: index into verts/uvw of each tetrahedron corner, in order */
+    int nverts;
+    int *verts;   /* nverts tetrahedral-mesh vertices */
+    float *uvw;   /* nverts*3 texture coordinates (the unit cube is the exemplar) */
+} lst_paste;
+
+/* A lapped solid textured model. */
+typedef struct lst_model {
+    lst_tetmesh mesh;         /* the model's own copy; cuts refine it */
+    unsigned char *removed;   /* ntets: 1 where a cut took the tetrahedron away */
+    int type;                 /* LST_TYPE_* it was made with */
+    lst_volume texture;       /* the exemplar's colour (1-3 channels: alpha was made a mask) */
+    lst_volume values;        /* an extra channel (displacement...), or empty */
+    int nmasks;
+    lst_volume *masks;        /* one-channel alpha volumes; paste p uses masks[p.exemplar] */
+    int npastes;
+    lst_paste *pastes;        /* in compositing order: later over earlier */
+    double layers;            /* mean pastes per tetrahedron */
+    double layers_before;     /* ... before hidden entries were dropped */
+    lst_allocator allocator;
+} lst_model;
+
+enum {
+    LST_SHOW_COLOR = 0,  /* the texture */
+    LST_SHOW_VALUES = 1, /* the extra channel (its first component) in gray */
+    LST_SHOW_PASTES = 2, /* a flat colour per paste: where the clumps are */
+    LST_SHOW_DEPTH = 3   /* u, v, w of the topmost paste as red, green, blue */
+};
+
+typedef struct lst_render_options {
+    int width, height;    /* default 800 x 600 */
+    int supersample;      /* default 2 */
+    float view_dir[3];    /* default (-0.55,-0.45,-0.7) */
+    float up[3];          /* default (0,1,0) */
+    float background[3];  /* default white */
+    int show;             /* LST_SHOW_*; default COLOR */
+    int unlit;            /* 1: no shading, the texture as it is */
+    float displace;       /* displacement mapping: the surface moved along its normal by
+                             this times (values - 0.5), mesh units; 0: none */
+    int subdivide;        /* with displacement: each surface triangle split into 4^k; default 2 */
+} lst_render_options;
+
+typedef struct lst_volume_options {
+    int slices;           /* §5.1.2: default 200 */
+    float opacity;        /* opacity of a slab one hundredth of the model's diagonal thick
+                             at full density; default 0.3 */
+    int density;          /* 0 (default): density = 1 - luminance of the colour (dark is
+                             dense); k >= 1: the extra channel's component k-1 */
+} lst_volume_options;
+
+LSTDEF lst_options lst_default_options(void);
+LSTDEF const char *lst_result_string(lst_result r);
+
+/* ---- tetrahedral meshes ---- */
+
+/* Tetrahedralizes the inside of a closed, oriented surface (isosurface
+ * stuffing). cell: lattice spacing in mesh units (0: chosen from
+ * target_tets; target_tets 0: 20000). Open, non-manifold or
+ * self-intersecting surfaces are refused with a message naming the problem. */
+typedef struct lst_tet_options {
+    double cell;
+    int target_tets;
+} lst_tet_options;
+LSTDEF lst_result lst_tetrahedralize(const lst_mesh *surface, const lst_tet_options *to, const lst_options *opt,
+                                     lst_tetmesh *out, lst_error *err);
+/* Checks a caller's mesh (indices, orientation, zero volumes, faces shared by
+ * more than two tetrahedra, overlaps), flipping negative tetrahedra; reports
+ * the dihedral angle range in degrees (either pointer may be NULL). */
+LSTDEF lst_result lst_tetmesh_check(lst_tetmesh *mesh, double *min_dihedral, double *max_dihedral, lst_error *err);
+/* The boundary triangles of a tetrahedral mesh, outward, as a surface
+ * sharing its vertices (in order of tetrahedron, then face). */
+LSTDEF lst_result lst_tetmesh_surface(const lst_tetmesh *mesh, const lst_options *opt, lst_mesh *out,
+                                      lst_error *err);
+
+/* ---- exemplars and fields ---- */
+
+/* §5 procedural exemplars of side `size` (0: 64): "layers" (1-b: strata
+ * along v with a thin skin), "fibers" (1-a: streaks along u), "spots" (0:
+ * isotropic blobs), "rings" (2-b: tree rings along v, bark at v = 0, grain
+ * along u), "kiwi" (2-b: skin, flesh, a ring of seeds, core). values (may
+ * be NULL) receives a one-channel displacement channel. */
+LSTDEF lst_result lst_builtin_exemplar(const char *name, int size, const lst_options *opt, lst_volume *color,
+                                       lst_volume *values, lst_error *err);
+/* §5.2.1/§5.2.7 the masks pasting would use with this exemplar and these
+ * options (1 or 3 one-channel volumes), allocated here. */
+LSTDEF lst_result lst_make_masks(const lst_volume *exemplar, const lst_options *opt, lst_volume **masks,
+                                 int *count, lst_error *err);
+LSTDEF void lst_free_masks(lst_volume *masks, int count);
+/* §5.2.2 the depth, vector, scale and tensor fields. surface: the surface
+ * that depth constraints name faces of (NULL: the mesh's boundary). */
+LSTDEF lst_result lst_compute_fields(const lst_tetmesh *mesh, const lst_mesh *surface, const lst_options *opt,
+                                     lst_fields *out, lst_error *err);
+LSTDEF void lst_fields_free(lst_fields *f);
+
+/* ---- filling ---- */
+
+/* §5.2 fills the mesh: pastes until every tetrahedron is covered. values
+ * (NULL or the same size as the exemplar) is carried along for rendering. */
+LSTDEF lst_result lst_create(const lst_tetmesh *mesh, const lst_mesh *surface, const lst_volume *exemplar,
+                             const lst_volume *values, const lst_options *opt, lst_model *out, lst_error *err);
+/* §4.6 manual pasting: one more paste on top, centred at `point`, its u
+ * axis along u_axis and v along v_axis (made orthogonal), of side `scale`
+ * (mesh units), with mask `mask`. */
+LSTDEF lst_result lst_paste_at(lst_model *model, const float point[3], const float u_axis[3], const float v_axis[3],
+                               float scale, int mask, const lst_options *opt, lst_error *err);
+LSTDEF void lst_model_free(lst_model *model);
+
+/* The model at points (n*3): straight RGB and total opacity in rgba (n*4;
+ * zero outside the visible tetrahedra), the extra channel in values (n
+ * floats per component, may be NULL). Direct evaluation, for checks. */
+LSTDEF lst_result lst_eval(const lst_model *model, const float *points, int n, float *rgba, float *values,
+                           lst_error *err);
+
+/* ---- cuts (§5.1.1) ---- */
+
+/* Splits the mesh along the plane n.x = d (plane = nx, ny, nz, d) and
+ * removes what lies on the side n.x > d. */
+LSTDEF lst_result lst_cut_plane(lst_model *model, const float plane[4], lst_error *err);
+/* The same along the zero set of a field given at the vertices (nverts of
+ * model->mesh): removes phi > 0. */
+LSTDEF lst_result lst_cut_field(lst_model *model, const float *phi, lst_error *err);
+/* The field of a stroke (points, n >= 2) seen along view_dir: RBF
+ * interpolation (Turk & O'Brien 1999) that is 0 on the stroke swept along
+ * the view, positive on its right (view_dir x tangent), at every vertex of
+ * the model into phi. */
+LSTDEF lst_result lst_stroke_field(const lst_model *model, const float *points, int n, const float view_dir[3],
+                                   float *phi, lst_error *err);
+/* Everything visible again (the refined mesh stays). */
+LSTDEF void lst_uncut(lst_model *model);
+
+/* ---- rendering (§5.1) ---- */
+
+/* The visible boundary (surface and cut faces), each triangle composited
+ * with its ordered pastes. */
+LSTDEF lst_result lst_render(const lst_model *model, const lst_render_options *ro, lst_image *out, lst_error *err);
+/* §5.1.2 volume rendering: slices perpendicular to the view, composited
+ * back to front with an opacity from the density. */
+LSTDEF lst_result lst_render_volume(const lst_model *model, const lst_render_options *ro,
+                                    const lst_volume_options *vo, lst_image *out, lst_error *err);
+
+/* ---- built-in data ---- */
+
+/* Surfaces: "sphere", "torus", "bumpy", "kiwi" (an egg-shaped fruit along
+ * z), "tree" (a trunk along z with two branches). */
+LSTDEF lst_result lst_builtin_surface(const char *name, const lst_options *opt, lst_mesh *out, lst_error *err);
+/* The constraints that go with a built-in surface ("kiwi": depth 0 on the
+ * skin and 1 along the axis, direction along the axis; "tree": depth 0 on
+ * the bark, 1 along the pith of trunk and branches, direction along
+ * them), allocated here; free with lst_free_constraints. */
+LSTDEF lst_result lst_builtin_constraints(const char *name, const lst_mesh *surface, const lst_options *opt,
+                                          lst_depth_constraint **depth, int *ndepth, lst_field_constraint **field,
+                                          int *nfield, lst_error *err);
+
+/* ---- files ---- */
+
+/* The model file ("lst 1", documented in the README): nodes, tetrahedra,
+ * exemplar sizes, pastes with per-tetrahedron texture coordinates. Only
+ * the visible tetrahedra are written (a cut model is saved as cut). */
+LSTDEF lst_result lst_write_model_to_func(const lst_model *model, lst_write_fn fn, void *ctx, lst_error *err);
+/* Reads a model file: mesh and pastes; the texture and masks are not in
+ * it (they are NRRD files): nmasks is set from the file, the volumes are
+ * empty until the caller fills them (lst_make_masks, lst_load_volume). */
+LSTDEF lst_result lst_read_model_from_memory(const void *data, size_t size, const char *name,
+                                             const lst_options *opt, lst_model *out, lst_error *err);
+/* Constraint files (documented in the README): depth lines "face F D",
+ * "fill F D [crease]", "point X Y Z D", "stroke D X Y Z X Y Z ..."; field
+ * lines "dir X Y Z DX DY DZ", "stroke X Y Z X Y Z ..." (directions along
+ * the polyline), "scale X Y Z S"; '#' comments. */
+LSTDEF lst_result lst_read_depth_from_memory(const void *data, size_t size, const char *name, const lst_options *opt,
+                                             lst_depth_constraint **out, int *count, lst_error *err);
+LSTDEF lst_result lst_read_directions_from_memory(const void *data, size_t size, const char *name,
+                                                  const lst_options *opt, lst_field_constraint **out, int *count,
+                                                  lst_error *err);
+LSTDEF void lst_free_constraints(lst_depth_constraint *depth, lst_field_constraint *field, const lst_options *opt);
+/* Tetrahedral meshes: TetGen .node + .ele, MEDIT .mesh. */
+LSTDEF lst_result lst_read_tetgen_from_memory(const void *node, size_t node_size, const void *ele, size_t ele_size,
+                                              const char *name, const lst_options *opt, lst_tetmesh *out,
+                                              lst_error *err);
+LSTDEF lst_result lst_read_medit_from_memory(const void *data, size_t size, const char *name, const lst_options *opt,
+                                             lst_tetmesh *out, lst_error *err);
+LSTDEF lst_result lst_write_tetgen_to_func(const lst_tetmesh *mesh, lst_write_fn node_fn, void *node_ctx,
+                                           lst_write_fn ele_fn, void *ele_ctx, lst_error *err);
+LSTDEF lst_result lst_write_medit_to_func(const lst_tetmesh *mesh, lst_write_fn fn, void *ctx, lst_error *err);
+/* Volumes: NRRD (uint8, uint16 or float; sizes C X Y Z or X Y Z; raw or
+ * gzip); written as uint8, gzip-compressed. */
+LSTDEF lst_result lst_read_volume_from_memory(const void *data, size_t size, const char *name, const lst_options *opt,
+                                              lst_volume *out, lst_error *err);
+LSTDEF lst_result lst_write_volume_to_func(const lst_volume *vol, lst_write_fn fn, void *ctx, lst_error *err);
+LSTDEF lst_result lst_load_mesh_from_memory(const void *data, size_t size, const char *name, const lst_options *opt,
+                                            lst_mesh *out, lst_error *err);
+/* format: "png", "ppm", "pgm", "pam" */
+LSTDEF lst_result lst_write_image_to_func(const lst_image *img, const char *format, lst_write_fn fn, void *ctx,
+                                          lst_error *err);
+#ifndef PW_NO_STDIO
+LSTDEF lst_result lst_load_mesh(const char *path, const lst_options *opt, lst_mesh *out, lst_error *err);
+/* FILE.node (with FILE.ele beside it) or FILE.mesh. */
+LSTDEF lst_result lst_load_tetmesh(const char *path, const lst_options *opt, lst_tetmesh *out, lst_error *err);
+/* FILE.node (and FILE.ele) or FILE.mesh. */
+LSTDEF lst_result lst_save_tetmesh(const char *path, const lst_tetmesh *mesh, lst_error *err);
+LSTDEF lst_result lst_load_volume(const char *path, const lst_options *opt, lst_volume *out, lst_error *err);
+LSTDEF lst_result lst_save_volume(const char *path, const lst_volume *vol, lst_error *err);
+LSTDEF lst_result lst_save_model(const char *path, const lst_model *model, lst_error *err);
+LSTDEF lst_result lst_load_model(const char *path, const lst_options *opt, lst_model *out, lst_error *err);
+LSTDEF lst_result lst_load_depth(const char *path, const lst_options *opt, lst_depth_constraint **out, int *count,
+                                 lst_error *err);
+LSTDEF lst_result lst_load_directions(const char *path, const lst_options *opt, lst_field_constraint **out,
+                                      int *count, lst_error *err);
+LSTDEF lst_result lst_save_image(const char *path, const lst_image *img, lst_error *err);
+#endif
+
+LSTDEF void lst_mesh_free(lst_mesh *m);
+LSTDEF void lst_tetmesh_free(lst_tetmesh *m);
+LSTDEF void lst_volume_free(lst_volume *v);
+LSTDEF void lst_image_free(lst_image *img);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* LST_H */
