@@ -8,10 +8,10 @@
 #include "../src/common/rng.h"
 #include "pwtest.h"
 
-/* The bounds that Labelle & Shewchuk prove for alpha_long = 0.24999 and
- * alpha_short = 0.41189 (the abstract's 10.7 and 164.8 degrees). */
-#define MIN_DIHEDRAL 10.7
-#define MAX_DIHEDRAL 164.8
+/* The bounds of stuffing.h (see the top of that file): the worst case of
+ * its stencils over all configurations, which t_adversary searches. */
+#define MIN_DIHEDRAL 10.2
+#define MAX_DIHEDRAL 161.7
 
 typedef struct surf {
     pw_mesh m; /* triangles only */
@@ -218,6 +218,199 @@ static void t_refusals(void)
     pw_mesh_free(NULL, &s.m);
 }
 
+/* ---- stencil-level tests on a bare lattice (no surface) ---- */
+
+static pw_rng rng;
+
+/* A lattice of n^3 unit cubes, every vertex outside. */
+static void lattice(pw__st *st, int n, pw_err *e)
+{
+    int v;
+    memset(st, 0, sizeof *st);
+    pw_err_clear(e);
+    st->e = e;
+    st->n[0] = st->n[1] = st->n[2] = n;
+    st->h = 1.0;
+    st->nb = (n + 1) * (n + 1) * (n + 1);
+    st->nlv = st->nb + n * n * n;
+    st->side = (signed char *)malloc((size_t)st->nlv);
+    st->warp = (int *)malloc(sizeof(int) * (size_t)st->nlv);
+    st->id = (int *)malloc(sizeof(int) * (size_t)st->nlv);
+    for (v = 0; v < st->nlv; v++) st->side[v] = -1, st->warp[v] = st->id[v] = -1;
+}
+
+static void add_cut(pw__st *st, int in, int out, double t)
+{
+    pw__stcut *c;
+    pw_grow(NULL, (void **)&st->cut, &st->capcut, st->ncut + 1, sizeof *st->cut, "cuts", st->e);
+    c = st->cut + st->ncut++;
+    c->in = in, c->out = out, c->id = -1, c->t = t;
+}
+
+/* A fraction in [lo, hi], often at an end (where the worst cases are). */
+static double extreme(double lo, double hi)
+{
+    uint32_t k = pw_rng_below(&rng, 4);
+    return k == 0 ? lo : k == 1 ? hi : lo + (hi - lo) * pw_rng_double(&rng);
+}
+
+static double alpha_of(const int *A, const int *B)
+{
+    return pw__st_long_axis(A, B) >= 0 ? PW__ST_ALPHA_LONG : PW__ST_ALPHA_SHORT;
+}
+
+/* Dihedral range of the tetrahedra st emitted from index t0 on. */
+static void range_from(const pw__st *st, size_t t0, double *lo, double *hi)
+{
+    pw_tetmesh m;
+    m.nv = (int)st->nopos, m.pos = st->opos, m.nt = (int)(st->notet - t0), m.tet = st->otet + 4 * t0;
+    pw_tet_dihedral_range(&m, lo, hi);
+}
+
+/* Random inside/outside patterns with cut points anywhere (near the alpha
+ * thresholds and the edge ends half the time) through the real warping and
+ * stencils: no chained warps, a valid conforming mesh, angles in bounds. */
+static void t_random_fields(void)
+{
+    int it, v, k, chains = 0;
+    double worst = 180.0, worst_hi = 0.0;
+    rng = pw_rng_seed(11, 1);
+    for (it = 0; it < 300; it++) {
+        pw__st st;
+        pw_err e;
+        pw_tetmesh m;
+        double lo, hi;
+        int U[3], V[3];
+        lattice(&st, 5, &e);
+        for (v = 0; v < st.nlv; v++) {
+            pw__st_coord(&st, v, U);
+            if (U[0] > 1 && U[1] > 1 && U[2] > 1 && U[0] < 9 && U[1] < 9 && U[2] < 9 &&
+                pw_rng_below(&rng, 100) < (uint32_t)(25 + it % 50))
+                st.side[v] = 1;
+        }
+        for (v = 0; v < st.nlv; v++) {
+            if (st.side[v] < 0) continue;
+            pw__st_coord(&st, v, U);
+            for (k = 0; k < 14; k++) {
+                int w, i;
+                for (i = 0; i < 3; i++) V[i] = U[i] + pw__st_nb[k][i];
+                w = pw__st_index(&st, V);
+                if (w >= 0 && st.side[w] < 0) {
+                    double a = alpha_of(U, V), t = extreme(0.0, 1.0);
+                    uint32_t c = pw_rng_below(&rng, 3);
+                    add_cut(&st, v, w, c == 0 ? t : c == 1 ? a * (1.0 + (t - 0.5) * 1e-6) : 1.0 - a * (1.0 + (t - 0.5) * 1e-6));
+                }
+            }
+        }
+        REQUIRE(pw__st_warp(&st) == PW_OK);
+        for (v = 0; v < st.nlv; v++)
+            if (st.warp[v] >= 0) {
+                const pw__stcut *c = st.cut + st.warp[v];
+                chains += st.warp[c->in == v ? c->out : c->in] >= 0;
+            }
+        REQUIRE(pw__st_stencils(&st) == PW_OK);
+        m.nv = (int)st.nopos, m.pos = st.opos, m.nt = (int)st.notet, m.tet = st.otet;
+        if (m.nt) check_mesh(&m, &lo, &hi);
+        if (m.nt && lo < worst) worst = lo;
+        if (m.nt && hi > worst_hi) worst_hi = hi;
+        pw__st_free(&st);
+    }
+    CHECKF(chains == 0, "%d vertices moved towards a vertex that moved too", chains);
+    pwt_info("300 random sign fields: dihedral angles %.3f..%.3f", worst, worst_hi);
+}
+
+/* The worst case of the stencils, as in the paper's computer-assisted
+ * proof: one lattice tetrahedron, any corner signs; each corner either in
+ * place or moved along any of its 14 lattice edges by up to alpha of that
+ * edge (towards a vertex of the other sign, which stays in place, one cut
+ * point per edge); cut points between unmoved corners of opposite signs
+ * anywhere from alpha to 1 - alpha. */
+static void add_tagged_cut(pw__st *st, int in, int out, double t, int tag)
+{
+    add_cut(st, in, out, t);
+    st->cut[st->ncut - 1].id = tag;
+}
+
+static int adversary_config(pw__st *st, const int *g, int L[4][3])
+{
+    int k, i, j, sg[4], mv[4], np = 0;
+    for (k = 0; k < 4; k++) sg[k] = pw_rng_below(&rng, 2) ? 1 : -1, np += sg[k] > 0, mv[k] = -1;
+    if (!np) return 0;
+    for (k = 0; k < 4; k++) st->side[g[k]] = (signed char)sg[k];
+    for (k = 0; k < 4; k++) {
+        int d = (int)pw_rng_below(&rng, 14), W[3], w, c;
+        double a, f;
+        if (pw_rng_below(&rng, 2)) continue;
+        for (i = 0; i < 3; i++) W[i] = L[k][i] + pw__st_nb[d][i];
+        w = pw__st_index(st, W);
+        for (c = 0; c < 4 && g[c] != w; c++) continue;
+        if (c < 4 && (sg[c] == sg[k] || mv[c] >= 0)) continue; /* the far end has the other sign, stays */
+        if (c == 4) st->side[w] = (signed char)-sg[k];
+        a = alpha_of(L[k], W);
+        f = extreme(a * 1e-3, a * (1.0 - 1e-9));
+        mv[k] = w;
+        if (sg[k] > 0) add_tagged_cut(st, g[k], w, f, -2 - k);
+        else add_tagged_cut(st, w, g[k], 1.0 - f, -2 - k);
+    }
+    for (k = 0; k < 4; k++)
+        for (j = 0; j < 4; j++)
+            if (mv[k] == g[j] && mv[j] >= 0) return 0; /* moved towards a corner that moved */
+    for (i = 0; i < 4; i++)
+        for (j = 0; j < 4; j++)
+            if (sg[i] > 0 && sg[j] < 0 && mv[i] < 0 && mv[j] < 0) {
+                double a = alpha_of(L[i], L[j]);
+                add_tagged_cut(st, g[i], g[j], extreme(a, 1.0 - a), -1);
+            }
+    return 1;
+}
+
+static int cmp_cut(const void *x, const void *y)
+{
+    const pw__stcut *a = (const pw__stcut *)x, *b = (const pw__stcut *)y;
+    if (a->in != b->in) return a->in < b->in ? -1 : 1;
+    return (a->out > b->out) - (a->out < b->out);
+}
+
+/* Searches the configurations; the search must find the known tight case
+ * (a +-00 tetrahedron at 10.205 degrees), or it proves nothing. */
+static void t_adversary(void)
+{
+    static const int base[4][3] = {{5, 5, 5}, {5, 7, 5}, {4, 6, 6}, {6, 6, 6}}; /* long edges along y and x */
+    int L[4][3], g[4], k, it;
+    double worst = 180.0, worst_hi = 0.0, lo, hi;
+    pw__st st;
+    pw_err e;
+    lattice(&st, 6, &e);
+    for (k = 0; k < 4; k++) memcpy(L[k], base[k], sizeof L[k]), g[k] = pw__st_index(&st, L[k]);
+    rng = pw_rng_seed(5, 2);
+    for (it = 0; it < 1500000; it++) {
+        size_t c;
+        st.ncut = st.nopos = st.notet = 0;
+        for (k = 0; k < st.nlv; k++) st.warp[k] = st.id[k] = -1, st.side[k] = -1;
+        if (!adversary_config(&st, g, L)) continue;
+        qsort(st.cut, st.ncut, sizeof *st.cut, cmp_cut);
+        for (c = 0; c < st.ncut; c++) {
+            if (st.cut[c].id <= -2) st.warp[g[-2 - st.cut[c].id]] = (int)c;
+            st.cut[c].id = -1;
+        }
+        REQUIRE(pw__st_tet(&st, g) == PW_OK);
+        if (!st.notet) continue;
+        range_from(&st, 0, &lo, &hi);
+        for (k = 0; k < (int)st.notet; k++) {
+            pw_tetmesh m;
+            m.nv = (int)st.nopos, m.pos = st.opos, m.nt = 1, m.tet = st.otet + 4 * k;
+            if (!(pw_tet_volume6(&m, 0) > 0.0)) break;
+        }
+        CHECKF(k == (int)st.notet, "configuration %d: a tetrahedron is not positive", it);
+        if (lo < worst) worst = lo;
+        if (hi > worst_hi) worst_hi = hi;
+    }
+    CHECKF(worst >= MIN_DIHEDRAL && worst_hi <= MAX_DIHEDRAL, "stencils reach %.4f..%.4f", worst, worst_hi);
+    CHECKF(worst < 10.3, "the search missed the tight case (worst found %.4f)", worst);
+    pwt_info("1.5M stencil configurations: dihedral angles %.4f..%.4f", worst, worst_hi);
+    pw__st_free(&st);
+}
+
 /* Real closed CGAL meshes at 5K and 100K tetrahedra. */
 static void t_cgal(void)
 {
@@ -252,6 +445,8 @@ static void t_cgal(void)
 }
 
 static const pwt_case cases[] = {
+    {"stuffing/random_fields", t_random_fields},
+    {"stuffing/adversary", t_adversary},
     {"stuffing/cgal", t_cgal},
     {"stuffing/sphere", t_sphere},
     {"stuffing/deterministic", t_deterministic},

@@ -23,24 +23,31 @@
  *     intersection, so they lie on the input surface), then warping
  *     (§3 of the paper): a lattice vertex nearer to a cut point on one of its
  *     edges than alpha times the edge length (alpha_long = 0.24999 on long
- *     edges, alpha_short = 0.41189 on short ones, the paper's parameters for
- *     the 10.7-164.8 degree bounds) moves onto the nearest such cut point and
- *     is then on the surface.
- *  5. Stencils: each lattice tetrahedron is kept, dropped or cut into one to
- *     three tetrahedra according to the signs of its corners, the
- *     quadrilateral faces being split by the paper's rule (pw__st_diagonal)
- *     so that neighbours agree.
+ *     edges, alpha_short = 0.41189 on short ones, the paper's parameters)
+ *     moves onto the nearest such cut point and is then on the surface. A
+ *     vertex only moves towards an edge end that stays in place.
+ *  5. Stencils: each lattice tetrahedron with an inside corner is kept or
+ *     cut into one to three tetrahedra according to the signs of its
+ *     corners, the quadrilateral faces being split by a rule that depends on
+ *     the face alone (pw__st_diagonal), so that neighbours agree.
  *
  * Guarantees: the tetrahedra are positively oriented (tetmesh.h) and form a
- * conforming mesh (neighbours share whole faces); all vertices of its
- * boundary lie on the input surface (to float precision); every dihedral
- * angle lies between 10.7 and 164.8 degrees, the bounds that Labelle &
- * Shewchuk prove for these parameters (checked by tests/test_stuffing.c on
- * real meshes and on random sign patterns). The boundary follows the surface
- * to within about one cell: features thinner than a cell are lost, sharp
- * edges are rounded. Several components and nested shells are fine: the
- * inside is where the winding number is at least 1/2. A surface whose
- * triangles all face inward (negative enclosed volume) is used as if
+ * conforming mesh (neighbours share whole faces) whose boundary is closed;
+ * all vertices of the boundary lie on the input surface (to float
+ * precision); every dihedral angle lies between 10.2 and 161.7 degrees.
+ * The paper proves 10.7-164.8 degrees for its own stencils, whose quadrilateral
+ * rule this implementation does not reproduce; the bounds here are those of
+ * the stencils and warping above, found as the worst case of an adversarial
+ * search over all stencil configurations (corner signs, warps along any of
+ * the 14 lattice directions up to alpha, cut points anywhere alpha allows;
+ * tests/test_stuffing.c repeats it): 10.205 degrees is reached by a +-00
+ * tetrahedron whose long edge is cut a quarter from its inside end while
+ * both zero corners moved alpha_short towards the outside corner. The
+ * boundary follows the surface to within about one cell: features thinner
+ * than a cell are lost, sharp edges are rounded, and two parts of the solid
+ * may touch along lattice edges. Several components and nested shells are
+ * fine: the inside is where the winding number is at least 1/2. A surface
+ * whose triangles all face inward (negative enclosed volume) is used as if
  * reversed.
  *
  *   pw_stuff_default_options, pw_stuff_tetrahedralize, pw_stuff_boundary,
@@ -72,9 +79,13 @@ PW__DEF pw_stuff_options pw_stuff_default_options(void)
 #define PW_MAX_STUFF_LATTICE (1 << 24)
 #endif
 
-/* §3: the warping thresholds that give the 10.7-164.8 degree bounds. */
+/* §3: the paper's warping thresholds (those of its 10.7-164.8 degree bounds). */
 #define PW__ST_ALPHA_LONG 0.24999
 #define PW__ST_ALPHA_SHORT 0.41189
+/* Quadrilateral faces with a long cut edge take the diagonal from that
+ * edge's cut point when it lies within this fraction of the edge from its
+ * inside end (see pw__st_diagonal). */
+#define PW__ST_LONG_SPLIT 0.6
 
 /* ---- exact orientation predicates on float input ----
  * The fast double evaluation is trusted beyond Shewchuk's error bound;
@@ -1044,7 +1055,7 @@ PW__DEF void pw__st_cut_pos(const pw__st *st, int c, double *x)
 }
 
 typedef struct pw__stviol {
-    int v, c;  /* lattice vertex, cut point */
+    int v, c;  /* the violated lattice vertex, the cut point */
     double d;  /* their distance */
 } pw__stviol;
 
@@ -1056,17 +1067,28 @@ PW__DEF int pw__st_viol_cmp(const void *x, const void *y)
     return (a->c > b->c) - (a->c < b->c);
 }
 
-/* §3 warping: a cut point violates the lattice vertex at the end of its
- * edge that is nearer than alpha * edge length (alpha < 1/2, so at most one
- * end). Taking the vertices in index order, each vertex with violating cut
- * points moves onto the nearest one whose other end has not moved (a moved
- * vertex is on the surface, so the edges at it no longer carry cut points). */
-PW__DEF int pw__st_warp(pw__st *st)
+/* The warping state: violations sorted by vertex then distance (vertex v
+ * owns vl[first[v] .. first[v+1])), the violations whose cut point lies on
+ * an edge towards each vertex (byt[tfirst[v] .. tfirst[v+1]), indices into
+ * vl), and the number of live violations of each vertex. */
+typedef struct pw__stwarp {
+    pw__stviol *vl;
+    int n, *first, *byt, *tfirst, *pend, *queue, qn;
+} pw__stwarp;
+
+PW__DEF int pw__st_other(const pw__st *st, const pw__stviol *x)
 {
-    pw__stviol *vl = (pw__stviol *)pw_alloc_array(st->a, st->ncut + 1, sizeof *vl, "warp candidates", st->e);
-    size_t i, n = 0;
-    if (!vl) return PW_ERR_NOMEM;
-    for (i = 0; i < st->ncut; i++) {
+    return st->cut[x->c].in == x->v ? st->cut[x->c].out : st->cut[x->c].in;
+}
+
+/* A cut point violates the lattice vertex at the end of its edge that is
+ * nearer than alpha * edge length (alpha < 1/2: at most one end). */
+PW__DEF int pw__st_violations(pw__st *st, pw__stwarp *w)
+{
+    size_t i;
+    w->vl = (pw__stviol *)pw_alloc_array(st->a, st->ncut + 1, sizeof *w->vl, "warp candidates", st->e);
+    if (!w->vl) return PW_ERR_NOMEM;
+    for (i = 0, w->n = 0; i < st->ncut; i++) {
         const pw__stcut *c = st->cut + i;
         int A[3], B[3], lg;
         double len, al;
@@ -1075,17 +1097,93 @@ PW__DEF int pw__st_warp(pw__st *st)
         lg = pw__st_long_axis(A, B) >= 0;
         len = lg ? st->h : 0.86602540378443865 * st->h;
         al = lg ? PW__ST_ALPHA_LONG : PW__ST_ALPHA_SHORT;
-        if (c->t < al) vl[n].v = c->in, vl[n].c = (int)i, vl[n++].d = c->t * len;
-        else if (1.0 - c->t < al) vl[n].v = c->out, vl[n].c = (int)i, vl[n++].d = (1.0 - c->t) * len;
+        if (c->t < al) w->vl[w->n].v = c->in, w->vl[w->n].c = (int)i, w->vl[w->n++].d = c->t * len;
+        else if (1.0 - c->t < al) w->vl[w->n].v = c->out, w->vl[w->n].c = (int)i, w->vl[w->n++].d = (1.0 - c->t) * len;
     }
-    qsort(vl, n, sizeof *vl, pw__st_viol_cmp);
-    for (i = 0; i < n; i++) {
-        const pw__stcut *c = st->cut + vl[i].c;
-        int other = c->in == vl[i].v ? c->out : c->in;
-        if (st->warp[vl[i].v] < 0 && st->warp[other] < 0) st->warp[vl[i].v] = vl[i].c;
-    }
-    pw_free(st->a, vl);
+    qsort(w->vl, (size_t)w->n, sizeof *w->vl, pw__st_viol_cmp);
     return PW_OK;
+}
+
+/* The per-vertex index arrays of the warping state (counting sorts). */
+PW__DEF int pw__st_warp_index(pw__st *st, pw__stwarp *w)
+{
+    size_t nl = (size_t)st->nlv + 1;
+    int i;
+    w->first = (int *)pw_calloc_array(st->a, nl, sizeof(int), "warp index", st->e);
+    w->tfirst = (int *)pw_calloc_array(st->a, nl + 1, sizeof(int), "warp index", st->e);
+    w->pend = (int *)pw_calloc_array(st->a, nl, sizeof(int), "warp index", st->e);
+    w->byt = (int *)pw_alloc_array(st->a, (size_t)w->n + 1, sizeof(int), "warp index", st->e);
+    w->queue = (int *)pw_alloc_array(st->a, 2 * (size_t)w->n + 1, sizeof(int), "warp queue", st->e);
+    if (!w->first || !w->tfirst || !w->pend || !w->byt || !w->queue) return PW_ERR_NOMEM;
+    for (i = 0; i < w->n; i++) {
+        w->first[w->vl[i].v + 1]++;
+        w->pend[w->vl[i].v]++;
+        w->tfirst[pw__st_other(st, w->vl + i) + 2]++;
+    }
+    for (i = 0; i < st->nlv; i++) w->first[i + 1] += w->first[i], w->tfirst[i + 2] += w->tfirst[i + 1];
+    for (i = 0; i < w->n; i++) w->byt[w->tfirst[pw__st_other(st, w->vl + i) + 1]++] = i;
+    return PW_OK;
+}
+
+/* Moves v onto cut point c: the violations on other edges at v die, and
+ * vertices left without live violations are stable, so that the vertices
+ * violated towards them may warp (queued). */
+PW__DEF void pw__st_move(pw__st *st, pw__stwarp *w, int v, int c)
+{
+    int i, j;
+    st->warp[v] = c;
+    w->pend[v] = 0;
+    for (i = w->tfirst[v]; i < w->tfirst[v + 1]; i++) {
+        int x = w->vl[w->byt[i]].v;
+        if (st->warp[x] >= 0 || --w->pend[x] > 0) continue;
+        for (j = w->tfirst[x]; j < w->tfirst[x + 1]; j++) w->queue[w->qn++] = w->vl[w->byt[j]].v;
+    }
+}
+
+/* Warps v onto its nearest live violating cut point whose other end is
+ * stable (any live one when `any`); returns 1 if it moved. */
+PW__DEF int pw__st_try_warp(pw__st *st, pw__stwarp *w, int v, int any)
+{
+    int i;
+    if (st->warp[v] >= 0 || w->pend[v] == 0) return 0;
+    for (i = w->first[v]; i < w->first[v + 1]; i++) {
+        int o = pw__st_other(st, w->vl + i);
+        if (st->warp[o] < 0 && (any || w->pend[o] == 0)) {
+            pw__st_move(st, w, v, w->vl[i].c);
+            return 1;
+        }
+    }
+    return 0;
+}
+
+/* §3 warping: each violated vertex moves onto its nearest violating cut
+ * point and is then on the surface, so the cut points on its other edges
+ * vanish. A vertex only moves towards an end that stays in place (one that
+ * moves towards another that moves too can make slivers outside the
+ * bounds): first the vertices violated towards stable ends, each move
+ * making further ends stable. What remains pending is a core of vertices
+ * all violated towards one another; violations join inside to outside
+ * vertices, so moving exactly the core's outside vertices (towards inside
+ * ones, which then have no live violation left) keeps every end in place. */
+PW__DEF int pw__st_warp(pw__st *st)
+{
+    pw__stwarp w;
+    int r, i, scan = 0;
+    memset(&w, 0, sizeof w);
+    r = pw__st_violations(st, &w);
+    if (r == PW_OK) r = pw__st_warp_index(st, &w);
+    for (i = w.n - 1; r == PW_OK && i >= 0; i--) w.queue[w.qn++] = w.vl[i].v; /* popped in index order */
+    while (r == PW_OK && (w.qn > 0 || scan < w.n)) {
+        if (w.qn > 0) pw__st_try_warp(st, &w, w.queue[--w.qn], 0);
+        else if (st->side[w.vl[scan++].v] < 0) pw__st_try_warp(st, &w, w.vl[scan - 1].v, 1);
+    }
+    pw_free(st->a, w.vl);
+    pw_free(st->a, w.first);
+    pw_free(st->a, w.tfirst);
+    pw_free(st->a, w.pend);
+    pw_free(st->a, w.byt);
+    pw_free(st->a, w.queue);
+    return r;
 }
 
 /* ---- stencils ---- */
@@ -1155,8 +1253,8 @@ PW__DEF int pw__st_diagonal(const pw__st *st, int p, int q, int m)
     pw__st_coord(st, p, P);
     pw__st_coord(st, q, Q);
     pw__st_coord(st, m, M);
-    if (pw__st_long_axis(P, M) >= 0) return 2;
-    if (pw__st_long_axis(Q, M) >= 0) return 1;
+    if (pw__st_long_axis(P, M) >= 0) return st->cut[pw__st_find_cut(st, p, m)].t < PW__ST_LONG_SPLIT ? 2 : 1;
+    if (pw__st_long_axis(Q, M) >= 0) return st->cut[pw__st_find_cut(st, q, m)].t < PW__ST_LONG_SPLIT ? 1 : 2;
     for (k = 0; k < 3; k++) s += P[k] != Q[k] ? P[k] > Q[k] : M[k] < Q[k];
     return (s & 1) ? 2 : 1;
 }
