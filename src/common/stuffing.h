@@ -275,6 +275,8 @@ typedef struct pw__stsurf {
     int *slot;  /* nt: a node's triangles are slot[first .. first+count) */
     double lo[3], hi[3], mag; /* bounding box; mag: its size plus its distance from 0 */
     double volume; /* enclosed volume (positive) */
+    int *capfirst; /* nnode+1: node nd's boundary half-edges are cap[2*capfirst[nd] ..]; NULL: none */
+    int *cap;      /* boundary half-edges of the nodes' triangle sets, 2 vertices each */
     int flip;   /* 1: the triangles face inward, winding numbers are negated */
 } pw__stsurf;
 
@@ -284,6 +286,8 @@ PW__DEF void pw__st_surf_free(const pw_alloc *a, pw__stsurf *s)
     pw_free(a, s->box);
     pw_free(a, s->node);
     pw_free(a, s->slot);
+    pw_free(a, s->capfirst);
+    pw_free(a, s->cap);
     memset(s, 0, sizeof *s);
 }
 
@@ -414,6 +418,44 @@ PW__DEF int pw__st_folded(const double *p, const double *q, const double *c, con
     return pw__st_orient2d(p, q, c, i, j) * pw__st_orient2d(p, q, d, i, j) > 0;
 }
 
+/* The line pq (in the projection on axes i, j) has x strictly on one side
+ * and all n points of y strictly on the other. */
+PW__DEF int pw__st_splits(const double *p, const double *q, const double *x, const double *const *y, int n, int i,
+                          int j)
+{
+    int s = pw__st_orient2d(p, q, x, i, j), k;
+    for (k = 0; k < n && s != 0; k++)
+        if (pw__st_orient2d(p, q, y[k], i, j) != -s) return 0;
+    return s != 0;
+}
+
+/* A cheap exact proof that triangles A and B (sharing n corners, sx/sy
+ * their positions) meet only in what they share: a line in the projection
+ * along A's dominant normal axis that has them strictly on either side
+ * (through the shared corners, if any); the plane through that line along
+ * the axis then separates them in space. Coplanar neighbours in flat
+ * regions would otherwise all need exact arithmetic. */
+PW__DEF int pw__st_apart_2d(const double *const *A, const double *const *B, int n, const int *sx, const int *sy)
+{
+    int ax = pw__st_proj_axis(A[0], A[1], A[2]), i = (ax + 1) % 3, j = (ax + 2) % 3, k;
+    const double *y[3];
+    if (n == 2)
+        return pw__st_splits(A[sx[0]], A[sx[1]], A[3 - sx[0] - sx[1]], B + (3 - sy[0] - sy[1]), 1, i, j);
+    if (n == 1) {
+        const double *a = A[sx[0]], *a1 = A[(sx[0] + 1) % 3], *a2 = A[(sx[0] + 2) % 3];
+        const double *b1 = B[(sy[0] + 1) % 3], *b2 = B[(sy[0] + 2) % 3];
+        y[0] = b1, y[1] = b2;
+        if (pw__st_splits(a, a1, a2, y, 2, i, j) || pw__st_splits(a, a2, a1, y, 2, i, j)) return 1;
+        y[0] = a1, y[1] = a2;
+        return pw__st_splits(a, b1, b2, y, 2, i, j) || pw__st_splits(a, b2, b1, y, 2, i, j);
+    }
+    for (k = 0; k < 3; k++)
+        if (pw__st_splits(A[k], A[(k + 1) % 3], A[(k + 2) % 3], B, 3, i, j) ||
+            pw__st_splits(B[k], B[(k + 1) % 3], B[(k + 2) % 3], A, 3, i, j))
+            return 1;
+    return 0;
+}
+
 /* Triangles t and u meet somewhere else than in their shared vertices and
  * edge. With one shared vertex v, the two meet beyond v exactly when the
  * edge opposite v in one of them meets the other triangle: along the line
@@ -426,6 +468,7 @@ PW__DEF int pw__st_tri_tri(const pw__stsurf *s, int t, int u)
     int sx[3], sy[3], n = pw__st_shared(x, y, sx, sy), k;
     for (k = 0; k < 3; k++) A[k] = pw__st_corner(s, t, k), B[k] = pw__st_corner(s, u, k);
     if (n == 3) return 1; /* the same triangle twice */
+    if (pw__st_apart_2d(A, B, n, sx, sy)) return 0;
     if (n == 2)
         return pw__st_folded(A[sx[0]], A[sx[1]], A[3 - sx[0] - sx[1]], B[3 - sy[0] - sy[1]]);
     if (n == 1)
@@ -487,11 +530,14 @@ PW__DEF int pw__st_check_values(const float *pos, int nv, const int *tri, int nt
     return PW_OK;
 }
 
-/* Closed and consistently oriented: every half-edge has a twin. */
-PW__DEF int pw__st_check_closed(const pw_alloc *a, int nv, const int *tri, int nt, pw_err *e)
+/* Closed and consistently oriented: every half-edge has a twin. The twins
+ * (half-edge 3t+k runs from corner k to corner k+1 of triangle t) go to
+ * *twin, for the winding-number caps. */
+PW__DEF int pw__st_check_closed(const pw_alloc *a, int nv, const int *tri, int nt, int **twin, pw_err *e)
 {
     pw_hmesh hm;
     int *fs = (int *)pw_alloc_array(a, (size_t)nt + 1, sizeof(int), "triangle offsets", e), i, r;
+    *twin = NULL;
     if (!fs) return PW_ERR_NOMEM;
     for (i = 0; i <= nt; i++) fs[i] = 3 * i;
     r = pw_hmesh_build(a, nv, nt, fs, tri, &hm, e);
@@ -503,6 +549,9 @@ PW__DEF int pw__st_check_closed(const pw_alloc *a, int nv, const int *tri, int n
                     "surface is not closed: %d boundary edges (the first: v%d-v%d of triangle %d); "
                     "a solid needs a closed surface",
                     hm.nboundary, tri[i], tri[3 * (i / 3) + (i % 3 + 1) % 3], i / 3);
+    if (r == PW_OK && !(*twin = (int *)pw_alloc_array(a, (size_t)hm.nh, sizeof(int), "half-edge twins", e)))
+        r = PW_ERR_NOMEM;
+    if (r == PW_OK) memcpy(*twin, hm.twin, sizeof(int) * (size_t)hm.nh);
     pw_hmesh_free(a, &hm);
     return r;
 }
@@ -716,16 +765,81 @@ PW__DEF double pw__st_solid_angle(const double *p, const double *a, const double
     return 2.0 * pw__st_atan2(num, den);
 }
 
-/* Generalised winding number of the surface at p: 1 inside, 0 outside,
- * fractional only very near the surface. */
+/* The boundary half-edges of every inner node's triangle set (those whose
+ * twin lies outside the node), for the hierarchical winding number. In
+ * slot order, so that a node's set is a slot range. */
+PW__DEF int pw__st_caps(const pw_alloc *a, pw__stsurf *s, const int *twin, pw_err *e)
+{
+    int *where = (int *)pw_alloc_array(a, (size_t)s->nt, sizeof(int), "slot index", e), nd, pass, i, k, n = 0;
+    s->capfirst = (int *)pw_calloc_array(a, (size_t)s->nnode + 1, sizeof(int), "winding caps", e);
+    if (!where || !s->capfirst) {
+        pw_free(a, where);
+        return PW_ERR_NOMEM;
+    }
+    for (i = 0; i < s->nt; i++) where[s->slot[i]] = i;
+    for (pass = 0; pass < 2; pass++) {
+        for (nd = 1, n = 0; nd < s->nnode; nd++) { /* the root is closed: no cap */
+            const int *nn = s->node + 3 * nd;
+            s->capfirst[nd] = n;
+            if (nn[2] < 0) continue;
+            for (i = nn[0]; i < nn[0] + nn[1]; i++)
+                for (k = 0; k < 3; k++) {
+                    int t = s->slot[i], u = where[twin[3 * t + k] / 3];
+                    if (u >= nn[0] && u < nn[0] + nn[1]) continue;
+                    if (pass) s->cap[2 * n] = s->tri[3 * t + k], s->cap[2 * n + 1] = s->tri[3 * t + (k + 1) % 3];
+                    n++;
+                }
+        }
+        s->capfirst[s->nnode] = n;
+        if (!pass && !(s->cap = (int *)pw_alloc_array(a, 2 * (size_t)n + 2, sizeof(int), "winding caps", e))) break;
+    }
+    pw_free(a, where);
+    return s->cap ? PW_OK : PW_ERR_NOMEM;
+}
+
+/* Sum of solid angles at p of node nd's triangles, or of the fan closing
+ * its boundary when that is shorter and p is outside the node's box (the
+ * patch and the fan then make a closed surface not around p, §3.3 of
+ * Jacobson et al.). */
+PW__DEF double pw__st_node_angle(const pw__stsurf *s, int nd, const double *p, int outside)
+{
+    const int *nn = s->node + 3 * nd;
+    const float *b = s->box + 6 * nd;
+    double w = 0.0, o[3];
+    int i, k, c0 = s->capfirst ? s->capfirst[nd] : 0, nc = s->capfirst ? s->capfirst[nd + 1] - c0 : 0;
+    if (outside && s->capfirst && nn[2] >= 0 && nc < nn[1]) {
+        for (k = 0; k < 3; k++) o[k] = 0.5 * ((double)b[k] + b[k + 3]);
+        for (i = c0; i < c0 + nc; i++) w += pw__st_solid_angle(p, o, s->p + 3 * s->cap[2 * i], s->p + 3 * s->cap[2 * i + 1]);
+        return w;
+    }
+    for (i = nn[0]; i < nn[0] + nn[1]; i++) {
+        int t = s->slot[i];
+        w += pw__st_solid_angle(p, pw__st_corner(s, t, 0), pw__st_corner(s, t, 1), pw__st_corner(s, t, 2));
+    }
+    return w;
+}
+
+PW__DEF int pw__st_in_box(const float *b, const double *p)
+{
+    return p[0] >= b[0] && p[0] <= b[3] && p[1] >= b[1] && p[1] <= b[4] && p[2] >= b[2] && p[2] <= b[5];
+}
+
+/* Generalised winding number of the surface at p (1 inside, 0 outside,
+ * fractional only very near the surface), exact up to rounding: the nodes
+ * whose box holds p are opened, the others contribute their caps. */
 PW__DEF double pw__st_winding(const pw__stsurf *s, const double *p)
 {
     double w = 0.0;
-    int t, k;
-    for (k = 0; k < 3; k++)
-        if (p[k] < s->lo[k] || p[k] > s->hi[k]) return 0.0; /* outside a closed surface's box */
-    for (t = 0; t < s->nt; t++)
-        w += pw__st_solid_angle(p, pw__st_corner(s, t, 0), pw__st_corner(s, t, 1), pw__st_corner(s, t, 2));
+    int stack[96], top = 0;
+    if (!pw__st_in_box(s->box, p)) return 0.0; /* outside a closed surface's box */
+    stack[top++] = 0;
+    while (top > 0) {
+        int nd = stack[--top];
+        const int *nn = s->node + 3 * nd;
+        if (!pw__st_in_box(s->box + 6 * nd, p)) w += pw__st_node_angle(s, nd, p, 1);
+        else if (nn[2] < 0) w += pw__st_node_angle(s, nd, p, 0);
+        else stack[top++] = nn[2], stack[top++] = nn[2] + 1;
+    }
     w /= 4.0 * 3.14159265358979323846;
     return s->flip ? -w : w;
 }
@@ -1377,15 +1491,17 @@ PW__DEF int pw_stuff_tetrahedralize(const pw_alloc *a, const float *pos, int nv,
                                     const pw_stuff_options *o, const pw_progress *p, pw_tetmesh *out, pw_err *e)
 {
     pw__st st;
-    int r;
+    int r, *twin = NULL;
     if (!out) return pw_fail(e, PW_ERR_INVALID, "tetrahedralize: no output mesh");
     memset(out, 0, sizeof *out);
     memset(&st, 0, sizeof st);
     st.a = a, st.prog = p, st.e = e;
     r = pw__st_check_values(pos, nv, tri, nt, e);
     if (r == PW_OK) r = pw_report(p, 0.0f, "surface checks", e);
-    if (r == PW_OK) r = pw__st_check_closed(a, nv, tri, nt, e);
+    if (r == PW_OK) r = pw__st_check_closed(a, nv, tri, nt, &twin, e);
     if (r == PW_OK) r = pw__st_surf_init(a, pos, nv, tri, nt, &st.s, e);
+    if (r == PW_OK) r = pw__st_caps(a, &st.s, twin, e);
+    pw_free(a, twin);
     if (r == PW_OK) r = pw__st_check_geometry(&st.s, e);
     if (r == PW_OK) r = pw__st_lattice(&st, o);
     if (r == PW_OK) r = pw__st_sides(&st);
