@@ -48,12 +48,17 @@ static int load(const char *path, surf *s)
     return ok;
 }
 
+static int stuff_with(const surf *s, const pw_stuff_options *o, pw_tetmesh *out, pw_err *e)
+{
+    pw_err_clear(e);
+    return pw_stuff_tetrahedralize(NULL, s->m.pos, s->m.nv, s->m.fv, s->m.nf, o, NULL, out, e);
+}
+
 static int stuff(const surf *s, int target, pw_tetmesh *out, pw_err *e)
 {
     pw_stuff_options o = pw_stuff_default_options();
     o.target_tets = target;
-    pw_err_clear(e);
-    return pw_stuff_tetrahedralize(NULL, s->m.pos, s->m.nv, s->m.fv, s->m.nf, &o, NULL, out, e);
+    return stuff_with(s, &o, out, e);
 }
 
 static int cmp_edge(const void *x, const void *y)
@@ -411,6 +416,169 @@ static void t_adversary(void)
     pw__st_free(&st);
 }
 
+/* Several shells: disjoint spheres add up, an inward inner sphere is a
+ * cavity, an outward inner sphere adds nothing (winding number 2 is still
+ * inside), overlapping spheres unite when self-intersections are allowed. */
+static void t_shells(void)
+{
+    surf a, b, two;
+    pw_tetmesh t;
+    pw_err e;
+    pw_stuff_options o = pw_stuff_default_options();
+    double lo, hi, vol, va, vb;
+    REQUIRE(sphere(6, &a) && sphere(4, &b));
+    va = surf_volume(&a), vb = surf_volume(&b) * 0.125; /* b is scaled by 0.5 below */
+    o.target_tets = 20000;
+    REQUIRE(join(&a, &b, 3.0f, 0.5f, &two));
+    REQUIRE(stuff_with(&two, &o, &t, &e) == PW_OK);
+    vol = check_mesh(&t, &lo, &hi);
+    CHECKF(fabs(vol - (va + vb)) < 0.03 * (va + vb), "disjoint: %g, expected %g", vol, va + vb);
+    pw_tetmesh_free(NULL, &t), pw_mesh_free(NULL, &two.m);
+    REQUIRE(join(&a, &b, 0.0f, -0.5f, &two));
+    REQUIRE(stuff_with(&two, &o, &t, &e) == PW_OK);
+    vol = check_mesh(&t, &lo, &hi);
+    CHECKF(fabs(vol - (va - vb)) < 0.03 * (va - vb), "cavity: %g, expected %g", vol, va - vb);
+    pw_tetmesh_free(NULL, &t), pw_mesh_free(NULL, &two.m);
+    REQUIRE(join(&a, &b, 0.0f, 0.5f, &two));
+    REQUIRE(stuff_with(&two, &o, &t, &e) == PW_OK);
+    vol = check_mesh(&t, &lo, &hi);
+    CHECKF(fabs(vol - va) < 0.03 * va, "nested: %g, expected %g", vol, va);
+    pw_tetmesh_free(NULL, &t), pw_mesh_free(NULL, &two.m);
+    REQUIRE(join(&a, &a, 0.5f, 1.0f, &two));
+    CHECK(stuff_with(&two, &o, &t, &e) == PW_ERR_TOPOLOGY);
+    o.allow_self_intersections = 1;
+    REQUIRE(stuff_with(&two, &o, &t, &e) == PW_OK);
+    vol = check_mesh(&t, &lo, &hi);
+    { /* union of two unit balls 0.5 apart: two balls minus the lens pi (4r + d)(2r - d)^2 / 12 */
+        double ball = 4.0 / 3.0 * 3.14159265358979 * va / (4.0 / 3.0 * 3.14159265358979);
+        double lens = 3.14159265358979 * 4.5 * 2.25 / 12.0 * (va / (4.0 / 3.0 * 3.14159265358979));
+        CHECKF(fabs(vol - (2.0 * ball - lens)) < 0.03 * vol, "union: %g, expected %g", vol, 2.0 * ball - lens);
+    }
+    pwt_info("union of overlapping spheres: %d tets, volume %.4f, dihedral %.2f..%.2f", t.nt, vol, lo, hi);
+    pw_tetmesh_free(NULL, &t), pw_mesh_free(NULL, &two.m);
+    pw_mesh_free(NULL, &a.m), pw_mesh_free(NULL, &b.m);
+}
+
+/* All triangles reversed: the same mesh (a documented repair). */
+static void t_inward(void)
+{
+    surf s;
+    pw_tetmesh a, b;
+    pw_err e;
+    int f, k;
+    REQUIRE(sphere(5, &s));
+    REQUIRE(stuff(&s, 3000, &a, &e) == PW_OK);
+    for (f = 0; f < s.m.nf; f++) k = s.m.fv[3 * f], s.m.fv[3 * f] = s.m.fv[3 * f + 1], s.m.fv[3 * f + 1] = k;
+    REQUIRE(stuff(&s, 3000, &b, &e) == PW_OK);
+    CHECK(a.nv == b.nv && a.nt == b.nt && !memcmp(a.pos, b.pos, sizeof(float) * 3 * (size_t)a.nv) &&
+          !memcmp(a.tet, b.tet, sizeof(int) * 4 * (size_t)a.nt));
+    pw_tetmesh_free(NULL, &a), pw_tetmesh_free(NULL, &b);
+    pw_mesh_free(NULL, &s.m);
+}
+
+/* The options: an explicit cell, the count following target_tets, bad
+ * values, a lattice too large, a cell too coarse for the shape. */
+static void t_options(void)
+{
+    surf s;
+    pw_tetmesh t;
+    pw_err e;
+    pw_stuff_options o = pw_stuff_default_options();
+    int small, big;
+    REQUIRE(sphere(4, &s));
+    o.cell = 0.1;
+    REQUIRE(stuff_with(&s, &o, &t, &e) == PW_OK);
+    /* about 12 tetrahedra per cube: volume 4.1 / 0.001 * 12 = 50K */
+    CHECKF(t.nt > 40000 && t.nt < 60000, "%d tetrahedra for cell 0.1", t.nt);
+    pw_tetmesh_free(NULL, &t);
+    CHECK(stuff(&s, 2000, &t, &e) == PW_OK);
+    small = t.nt;
+    pw_tetmesh_free(NULL, &t);
+    CHECK(stuff(&s, 8000, &t, &e) == PW_OK);
+    big = t.nt;
+    pw_tetmesh_free(NULL, &t);
+    CHECKF(small > 1500 && small < 2600 && big > 6500 && big < 9500, "targets 2000/8000 gave %d/%d", small, big);
+    o.cell = -1.0;
+    CHECK(stuff_with(&s, &o, &t, &e) == PW_ERR_INVALID && strstr(e.msg, "cell"));
+    o.cell = (double)NAN;
+    CHECK(stuff_with(&s, &o, &t, &e) == PW_ERR_INVALID);
+    o.cell = 1e-5;
+    CHECKF(stuff_with(&s, &o, &t, &e) == PW_ERR_LIMIT && strstr(e.msg, "PW_MAX_STUFF_LATTICE"), "%s", e.msg);
+    o.cell = 10.0;
+    CHECKF(stuff_with(&s, &o, &t, &e) == PW_ERR_DEGENERATE && strstr(e.msg, "smaller cell"), "%s", e.msg);
+    o.cell = 0.0, o.target_tets = -5;
+    CHECK(stuff_with(&s, &o, &t, &e) == PW_ERR_INVALID);
+    CHECK(pw_stuff_tetrahedralize(NULL, s.m.pos, s.m.nv, s.m.fv, s.m.nf, NULL, NULL, &t, &e) == PW_OK && t.nt > 15000);
+    pw_tetmesh_free(NULL, &t);
+    CHECK(pw_stuff_tetrahedralize(NULL, s.m.pos, s.m.nv, s.m.fv, s.m.nf, NULL, NULL, NULL, &e) == PW_ERR_INVALID);
+    pw_mesh_free(NULL, &s.m);
+}
+
+static int cancel_after(void *user, float done, const char *stage)
+{
+    (void)done, (void)stage;
+    return --*(int *)user < 0;
+}
+
+/* The progress callback sees the stages in order and can stop each. */
+static void t_cancel(void)
+{
+    surf s;
+    pw_tetmesh t;
+    pw_err e;
+    pw_progress p;
+    int n, calls = 0, total;
+    REQUIRE(sphere(4, &s));
+    p.fn = cancel_after, p.user = &calls;
+    calls = 1 << 30;
+    pw_err_clear(&e);
+    REQUIRE(pw_stuff_tetrahedralize(NULL, s.m.pos, s.m.nv, s.m.fv, s.m.nf, NULL, &p, &t, &e) == PW_OK);
+    pw_tetmesh_free(NULL, &t);
+    total = (1 << 30) - calls;
+    CHECKF(total >= 4, "%d progress calls", total);
+    for (n = 0; n < total; n++) {
+        calls = n;
+        pw_err_clear(&e);
+        CHECKF(pw_stuff_tetrahedralize(NULL, s.m.pos, s.m.nv, s.m.fv, s.m.nf, NULL, &p, &t, &e) == PW_ERR_CANCELLED &&
+                   t.nt == 0 && t.tet == NULL && strstr(e.msg, "cancelled"),
+               "call %d: %s", n, e.msg);
+    }
+    pw_mesh_free(NULL, &s.m);
+}
+
+/* Every allocation made to fail once: NOMEM, nothing leaked. */
+static void t_alloc_failures(void)
+{
+    surf s;
+    pw_tetmesh t;
+    pw_err e;
+    pwt_alloc_state st = {0, 0, -1};
+    pw_alloc al;
+    pw_stuff_options o = pw_stuff_default_options();
+    long k, total, bad = 0, leaks = 0;
+    REQUIRE(sphere(3, &s));
+    al.malloc_fn = pwt_malloc, al.realloc_fn = pwt_realloc, al.free_fn = pwt_free, al.user = &st;
+    o.target_tets = 400;
+    pw_err_clear(&e);
+    REQUIRE(pw_stuff_tetrahedralize(&al, s.m.pos, s.m.nv, s.m.fv, s.m.nf, &o, NULL, &t, &e) == PW_OK);
+    pw_tetmesh_free(&al, &t);
+    total = st.calls;
+    CHECK_EQ_INT(st.live, 0);
+    for (k = 0; k < total; k++) {
+        int r;
+        st.calls = 0, st.live = 0, st.fail_after = k;
+        pw_err_clear(&e);
+        r = pw_stuff_tetrahedralize(&al, s.m.pos, s.m.nv, s.m.fv, s.m.nf, &o, NULL, &t, &e);
+        if (r == PW_OK) pw_tetmesh_free(&al, &t);
+        else if (r != PW_ERR_NOMEM || t.tet || t.pos) bad++;
+        if (st.live) leaks++;
+    }
+    pwt_info("%ld allocations per run, each made to fail once", total);
+    CHECKF(bad == 0, "%ld failures reported as something else than NOMEM", bad);
+    CHECKF(leaks == 0, "%ld failures leaked memory", leaks);
+    pw_mesh_free(NULL, &s.m);
+}
+
 /* Real closed CGAL meshes at 5K and 100K tetrahedra. */
 static void t_cgal(void)
 {
@@ -444,12 +612,52 @@ static void t_cgal(void)
     if (!done) pwt_skip("no CGAL meshes in %s/meshes (run `make data`)", pwt_data_dir());
 }
 
+/* CGAL meshes that intersect themselves (confirmed with tetgen -d):
+ * refused by default, filled as a union when allowed. */
+static void t_cgal_union(void)
+{
+    static const char *names[] = {"cow", "bull", "camel"};
+    int i, done = 0;
+    for (i = 0; i < 3; i++) {
+        char rel[64];
+        const char *path;
+        surf s;
+        pw_tetmesh t;
+        pw_err e;
+        pw_stuff_fit fit;
+        pw_stuff_options o = pw_stuff_default_options();
+        double lo, hi;
+        snprintf(rel, sizeof rel, "meshes/%s.off", names[i]);
+        if (!(path = pwt_data_opt(rel))) continue;
+        REQUIRE(load(path, &s));
+        CHECKF(stuff_with(&s, &o, &t, &e) == PW_ERR_TOPOLOGY && strstr(e.msg, "intersects itself"), "%s: %s",
+               names[i], e.msg);
+        o.allow_self_intersections = 1, o.target_tets = 50000;
+        CHECKF(stuff_with(&s, &o, &t, &e) == PW_OK, "%s: %s", names[i], e.msg);
+        check_mesh(&t, &lo, &hi);
+        CHECK(pw_stuff_fit_measure(NULL, s.m.pos, s.m.nv, s.m.fv, s.m.nf, &t, &fit, &e) == PW_OK);
+        CHECKF(fit.to_surface_max < 1e-6 * fit.diag, "%s: boundary vertex %g off the surface", names[i], fit.to_surface_max);
+        pwt_info("%s (self-intersecting, united): %d tets, dihedral %.2f..%.2f, fit %.2g / %.2g of the diagonal",
+                 names[i], t.nt, lo, hi, fit.to_surface_max / fit.diag, fit.from_surface_max / fit.diag);
+        pw_tetmesh_free(NULL, &t);
+        pw_mesh_free(NULL, &s.m);
+        done++;
+    }
+    if (!done) pwt_skip("no CGAL meshes in %s/meshes (run `make data`)", pwt_data_dir());
+}
+
 static const pwt_case cases[] = {
+    {"stuffing/cgal_union", t_cgal_union},
     {"stuffing/random_fields", t_random_fields},
     {"stuffing/adversary", t_adversary},
     {"stuffing/cgal", t_cgal},
     {"stuffing/sphere", t_sphere},
     {"stuffing/deterministic", t_deterministic},
     {"stuffing/refusals", t_refusals},
+    {"stuffing/shells", t_shells},
+    {"stuffing/inward", t_inward},
+    {"stuffing/options", t_options},
+    {"stuffing/cancel", t_cancel},
+    {"stuffing/alloc_failures", t_alloc_failures},
 };
 PWT_MAIN(cases)

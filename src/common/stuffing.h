@@ -63,6 +63,9 @@
 typedef struct pw_stuff_options {
     double cell;     /* lattice spacing (cube side = long-edge length) in mesh units; 0: chosen from target_tets */
     int target_tets; /* approximate tetrahedron count when cell is 0; 0: 20000 */
+    int allow_self_intersections; /* 1: a closed surface whose triangles cross is filled where its winding
+                                     number is at least 1/2 (overlapping parts unite, inner sheets vanish);
+                                     0: refused with the first crossing pair */
 } pw_stuff_options;
 
 PW__DEF pw_stuff_options pw_stuff_default_options(void)
@@ -70,6 +73,7 @@ PW__DEF pw_stuff_options pw_stuff_default_options(void)
     pw_stuff_options o;
     o.cell = 0.0;
     o.target_tets = 20000;
+    o.allow_self_intersections = 0;
     return o;
 }
 
@@ -558,7 +562,7 @@ PW__DEF int pw__st_check_closed(const pw_alloc *a, int nv, const int *tri, int n
 
 /* Zero-area triangles, then self-intersections, then the enclosed volume
  * (its sign tells the orientation). */
-PW__DEF int pw__st_check_geometry(pw__stsurf *s, pw_err *e)
+PW__DEF int pw__st_check_geometry(pw__stsurf *s, int pairs, pw_err *e)
 {
     double vol = 0.0, c[3], size = 0.0;
     int t, k, hit[2] = {-1, -1};
@@ -566,7 +570,7 @@ PW__DEF int pw__st_check_geometry(pw__stsurf *s, pw_err *e)
         if (pw__st_proj_axis(pw__st_corner(s, t, 0), pw__st_corner(s, t, 1), pw__st_corner(s, t, 2)) < 0)
             return pw_fail(e, PW_ERR_DEGENERATE, "triangle %d (vertices %d, %d, %d) has zero area", t, s->tri[3 * t],
                            s->tri[3 * t + 1], s->tri[3 * t + 2]);
-    pw__st_pairs(s, 0, 0, hit);
+    if (pairs) pw__st_pairs(s, 0, 0, hit);
     if (hit[0] >= 0)
         return pw_fail(e, PW_ERR_TOPOLOGY, "surface intersects itself: triangles %d and %d cross", hit[0], hit[1]);
     for (k = 0; k < 3; k++) c[k] = 0.5 * (s->lo[k] + s->hi[k]), size += (s->hi[k] - s->lo[k]) * (s->hi[k] - s->lo[k]);
@@ -641,8 +645,10 @@ PW__DEF int pw__st_seg_cross(const pw__stsurf *s, int t, const double *p, const 
 
 /* All crossings of segment pq with the surface: PW__ST_HIT and/or
  * PW__ST_GRAZE bits (0: pq certainly misses the surface); *tfirst is the
- * hit nearest to p. */
-PW__DEF int pw__st_segment(const pw__stsurf *s, const double *p, const double *q, double *tfirst)
+ * hit nearest to p; when all is not NULL, the first `cap` hits go there
+ * (*nall counts them all). */
+PW__DEF int pw__st_crossings(const pw__stsurf *s, const double *p, const double *q, double *tfirst, double *all,
+                             int cap, int *nall)
 {
     double lo[3], hi[3], tol = 1e-9 * s->mag, t;
     float sb[6];
@@ -664,9 +670,15 @@ PW__DEF int pw__st_segment(const pw__stsurf *s, const double *p, const double *q
             int r = pw__st_seg_cross(s, s->slot[i], p, q, tol, &t);
             res |= r;
             if (r == PW__ST_HIT && t < *tfirst) *tfirst = t;
+            if (r == PW__ST_HIT && all && (*nall)++ < cap) all[*nall - 1] = t;
         }
     }
     return res;
+}
+
+PW__DEF int pw__st_segment(const pw__stsurf *s, const double *p, const double *q, double *tfirst)
+{
+    return pw__st_crossings(s, p, q, tfirst, NULL, 0, NULL);
 }
 
 /* Squared distance from p to triangle abc; the nearest point to x
@@ -863,6 +875,7 @@ typedef struct pw__st {
     pw_err *e;
     pw__stsurf s;
     int n[3], nb, nlv;   /* cubes per axis; black vertices; all lattice vertices */
+    int unite;           /* self-intersections allowed: cut where the winding number drops below 1/2 */
     double org[3], h;
     signed char *side;   /* per lattice vertex: +1 inside, -1 outside, 0 not known yet */
     unsigned char *busy; /* per cube: the surface may meet it */
@@ -1103,14 +1116,46 @@ PW__DEF int pw__st_sides(pw__st *st)
 /* Where the lattice edge from pin (inside) to pout (outside) crosses the
  * surface: the first crossing from the inside end, or bisection on the
  * winding number when the crossing grazes a triangle. */
+PW__DEF int pw__st_cmp_double(const void *x, const void *y)
+{
+    double a = *(const double *)x, b = *(const double *)y;
+    return (a > b) - (a < b);
+}
+
+PW__DEF void pw__st_lerp(const double *p, const double *q, double t, double *x)
+{
+    int k;
+    for (k = 0; k < 3; k++) x[k] = p[k] + t * (q[k] - p[k]);
+}
+
+/* With self-intersections, the crossing after which the winding number is
+ * below 1/2 (the first crossings may enter an overlap or leave it); -1 if
+ * rounding hides it. */
+PW__DEF double pw__st_cut_union(const pw__st *st, const double *pin, const double *pout)
+{
+    double hits[64], t, x[3];
+    int n = 0, i, j;
+    pw__st_crossings(&st->s, pin, pout, &t, hits, 64, &n);
+    if (n > 64) return -1.0;
+    qsort(hits, (size_t)n, sizeof(double), pw__st_cmp_double);
+    if (n > 0 && hits[n - 1] - hits[0] < 1e-9) return hits[0]; /* one crossing: the side changes there */
+    for (i = 0; i < n; i = j) { /* probe halfway to the next distinct crossing */
+        for (j = i + 1; j < n && hits[j] - hits[i] < 1e-9; j++) continue;
+        pw__st_lerp(pin, pout, 0.5 * (hits[i] + (j < n ? hits[j] : 1.0)), x);
+        if (!pw__st_inside(st, x)) return hits[i];
+    }
+    return -1.0;
+}
+
 PW__DEF double pw__st_cut_param(const pw__st *st, const double *pin, const double *pout)
 {
     double t, lo = 0.0, hi = 1.0, x[3];
-    int i, k;
-    if (pw__st_segment(&st->s, pin, pout, &t) & PW__ST_HIT) return t;
+    int i;
+    if (st->unite && (t = pw__st_cut_union(st, pin, pout)) >= 0.0) return t;
+    if (!st->unite && (pw__st_segment(&st->s, pin, pout, &t) & PW__ST_HIT)) return t;
     for (i = 0; i < 48; i++) {
         double mid = 0.5 * (lo + hi);
-        for (k = 0; k < 3; k++) x[k] = pin[k] + mid * (pout[k] - pin[k]);
+        pw__st_lerp(pin, pout, mid, x);
         if (pw__st_inside(st, x)) lo = mid;
         else hi = mid;
     }
@@ -1502,7 +1547,8 @@ PW__DEF int pw_stuff_tetrahedralize(const pw_alloc *a, const float *pos, int nv,
     if (r == PW_OK) r = pw__st_surf_init(a, pos, nv, tri, nt, &st.s, e);
     if (r == PW_OK) r = pw__st_caps(a, &st.s, twin, e);
     pw_free(a, twin);
-    if (r == PW_OK) r = pw__st_check_geometry(&st.s, e);
+    st.unite = o && o->allow_self_intersections;
+    if (r == PW_OK) r = pw__st_check_geometry(&st.s, !st.unite, e);
     if (r == PW_OK) r = pw__st_lattice(&st, o);
     if (r == PW_OK) r = pw__st_sides(&st);
     if (r == PW_OK) r = pw__st_cuts(&st);
