@@ -31,14 +31,14 @@ endif
 ALL_CFLAGS = $(WARN) $(CFLAGS) $(SANFLAGS) -I.
 
 # ---- single-file headers: name and the shared modules each one carries ----
-HEADERS        := tiled lapped pgp
+HEADERS        := tiled lapped pgp lst
 MODULES_tiled  := base vec rng image deflate png text mesh halfedge subdiv raster render graphcut quilt glue
 MODULES_lapped := base vec rng image deflate png text mesh shapes halfedge sparse raster render polyhull trimesh dirfield glue
 PARTS_lapped   := core field patch builtin grow render atlas io
 MODULES_pgp    := base vec rng image deflate png text mesh shapes halfedge sparse raster render trimesh dirfield nrrd tile3 glue
 PARTS_pgp      := core field solve render builtin io
-MODULES_lst    := base vec rng image deflate png text mesh shapes halfedge trimesh sparse raster render nrrd tetmesh tetio glue
-PARTS_lst      := core exemplar field paste render io
+MODULES_lst    := base vec rng image deflate png text mesh shapes halfedge trimesh sparse raster render nrrd tetmesh tetio stuffing glue
+PARTS_lst      := core exemplar field paste render cut builtin io
 
 COMMON_SRC := $(wildcard src/common/*.h)
 HEADER_FILES := $(addsuffix .h,$(HEADERS))

@@ -19,6 +19,7 @@
 #include "../common/nrrd.h"
 #include "../common/tetmesh.h"
 #include "../common/tetio.h"
+#include "../common/stuffing.h"
 #include "../common/glue.h"
 #include "lst.h"
 

@@ -186,13 +186,13 @@ static void lst__rings(unsigned long long seed, double u, double v, double w, do
 
 /* 2-b: a kiwi fruit: a fuzzy skin, green flesh that pales inward with
  * radial rays, a ring of black seeds elongated along v (the radius), a
- * pale core at v = 1. The extra channel is the skin's fuzz. */
+ * pale core near v = 1. The extra channel is the skin's fuzz. */
 static void lst__kiwi(unsigned long long seed, double u, double v, double w, double *c, double *val)
 {
     static const double skin[3] = {0.42, 0.30, 0.15}, flesh[3] = {0.35, 0.62, 0.10}, pale[3] = {0.66, 0.82, 0.30};
     static const double core[3] = {0.94, 0.93, 0.74}, seedc[3] = {0.06, 0.05, 0.04}, ray[3] = {0.86, 0.92, 0.62};
-    const double cells = 14.0;
-    double g = lst__fbm(seed, u, v, w, 18.0), edge = 0.80 + 0.04 * (lst__noise(seed + 2, u * 6, 0, w * 6) - 0.5);
+    const double cells = 17.0;
+    double g = lst__fbm(seed, u, v, w, 18.0), edge = 0.90 + 0.03 * (lst__noise(seed + 2, u * 6, 0, w * 6) - 0.5);
     double best = 9.0, raydist = 9.0;
     long cu = (long)floor(u * cells), cw = (long)floor(w * cells), i, k;
     *val = v < 0.04 ? 0.5 + 0.45 * (lst__fbm(seed + 3, u, 0.0, w, 30.0) - 0.5) : 0.5;
@@ -209,15 +209,15 @@ static void lst__kiwi(unsigned long long seed, double u, double v, double w, dou
         for (k = cw - 1; k <= cw + 1; k++) { /* a seed (and a ray) per jittered cell of the (u, w) plane */
             double su = (i + 0.2 + 0.6 * lst__hash01(seed, i, 0, k)) / cells - u;
             double sw = (k + 0.2 + 0.6 * lst__hash01(seed + 1, i, 0, k)) / cells - w;
-            double sv = 0.66 + 0.05 * (lst__hash01(seed + 4, i, 0, k) - 0.5) - v;
-            double d = sqrt((su / 0.022) * (su / 0.022) + (sv / 0.05) * (sv / 0.05) + (sw / 0.018) * (sw / 0.018));
+            double sv = 0.80 + 0.05 * (lst__hash01(seed + 4, i, 0, k) - 0.5) - v;
+            double d = sqrt((su / 0.026) * (su / 0.026) + (sv / 0.055) * (sv / 0.055) + (sw / 0.02) * (sw / 0.02));
             double r = sqrt(su * su + sw * sw);
             if (d < best) best = d;
             if (r < raydist) raydist = r;
         }
-    lst__mix3(c, flesh, pale, lst__smooth(0.1, 0.75, v) * 0.8 + 0.2 * g);
-    if (v > 0.35 && raydist < 0.006) lst__mix3(c, c, ray, 0.7 * lst__smooth(0.35, 0.6, v));
-    if (v > 0.6) lst__mix3(c, c, core, 0.35 * lst__smooth(0.6, edge, v));
+    lst__mix3(c, flesh, pale, lst__smooth(0.1, 0.85, v) * 0.75 + 0.25 * g);
+    if (v > 0.4 && raydist < 0.008) lst__mix3(c, c, ray, 0.75 * lst__smooth(0.4, 0.7, v));
+    if (v > 0.7) lst__mix3(c, c, core, 0.35 * lst__smooth(0.7, edge, v));
     if (best < 1.0) lst__mix3(c, c, seedc, lst__smooth(1.0, 0.7, best));
 }
 

@@ -1022,3 +1022,30 @@ LSTDEF lst_result lst_compute_fields(const lst_tetmesh *mesh, const lst_mesh *su
     }
     return lst__done(&e, err);
 }
+
+/* ---- growable constraint lists (files, built-in constraints) ---------------------------------- */
+
+static int lst__add_depth(const pw_alloc *a, lst_depth_constraint **c, size_t *cap, int *n, int kind, int face,
+                          const double *p, double d, double crease, pw_err *e)
+{
+    lst_depth_constraint *x;
+    if (pw_grow(a, (void **)c, cap, (size_t)*n + 1, sizeof **c, "depth constraints", e)) return PW_ERR_NOMEM;
+    x = &(*c)[(*n)++];
+    memset(x, 0, sizeof *x);
+    x->kind = kind, x->face = face, x->depth = (float)d, x->crease = (float)crease;
+    if (p) x->point[0] = (float)p[0], x->point[1] = (float)p[1], x->point[2] = (float)p[2];
+    return PW_OK;
+}
+
+static int lst__add_field(const pw_alloc *a, lst_field_constraint **c, size_t *cap, int *n, int kind, const double *p,
+                          const double *d, double sc, pw_err *e)
+{
+    lst_field_constraint *x;
+    int k;
+    if (pw_grow(a, (void **)c, cap, (size_t)*n + 1, sizeof **c, "field constraints", e)) return PW_ERR_NOMEM;
+    x = &(*c)[(*n)++];
+    memset(x, 0, sizeof *x);
+    x->kind = kind, x->scale = (float)sc;
+    for (k = 0; k < 3; k++) x->point[k] = (float)p[k], x->direction[k] = d ? (float)d[k] : 0.0f;
+    return PW_OK;
+}

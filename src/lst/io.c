@@ -346,18 +346,6 @@ static int lst__read_numbers(pw__sc *s, double *v, int max, const char *what, in
 #define LST__LINE_MAX 3000 /* numbers on one constraint line (a stroke of 1000 points) */
 #define LST__STROKE_STEPS 8 /* samples per stroke segment */
 
-static int lst__add_depth(const pw_alloc *a, lst_depth_constraint **c, size_t *cap, int *n, int kind, int face,
-                          const double *p, double d, double crease, pw_err *e)
-{
-    lst_depth_constraint *x;
-    if (pw_grow(a, (void **)c, cap, (size_t)*n + 1, sizeof **c, "depth constraints", e)) return PW_ERR_NOMEM;
-    x = &(*c)[(*n)++];
-    memset(x, 0, sizeof *x);
-    x->kind = kind, x->face = face, x->depth = (float)d, x->crease = (float)crease;
-    if (p) x->point[0] = (float)p[0], x->point[1] = (float)p[1], x->point[2] = (float)p[2];
-    return PW_OK;
-}
-
 /* One line of a depth file. */
 static int lst__depth_line(pw__sc *s, const pw_alloc *a, double *v, lst_depth_constraint **c, size_t *cap, int *n,
                            int line, pw_err *e)
@@ -391,19 +379,6 @@ static int lst__depth_line(pw__sc *s, const pw_alloc *a, double *v, lst_depth_co
         }
     s->line++;
     return r;
-}
-
-static int lst__add_field(const pw_alloc *a, lst_field_constraint **c, size_t *cap, int *n, int kind, const double *p,
-                          const double *d, double sc, pw_err *e)
-{
-    lst_field_constraint *x;
-    int k;
-    if (pw_grow(a, (void **)c, cap, (size_t)*n + 1, sizeof **c, "field constraints", e)) return PW_ERR_NOMEM;
-    x = &(*c)[(*n)++];
-    memset(x, 0, sizeof *x);
-    x->kind = kind, x->scale = (float)sc;
-    for (k = 0; k < 3; k++) x->point[k] = (float)p[k], x->direction[k] = d ? (float)d[k] : 0.0f;
-    return PW_OK;
 }
 
 /* One line of a directions file. */

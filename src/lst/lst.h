@@ -345,12 +345,15 @@ LSTDEF const char *lst_result_string(lst_result r);
 /* ---- tetrahedral meshes ---- */
 
 /* Tetrahedralizes the inside of a closed, oriented surface (isosurface
- * stuffing). cell: lattice spacing in mesh units (0: chosen from
- * target_tets; target_tets 0: 20000). Open, non-manifold or
- * self-intersecting surfaces are refused with a message naming the problem. */
+ * stuffing, Labelle & Shewchuk 2007: dihedral angles 10.2-161.7 degrees,
+ * the boundary within about a cell of the surface). Open, non-manifold or
+ * self-intersecting surfaces are refused with a message naming the
+ * problem (unless allow_self_intersections). */
 typedef struct lst_tet_options {
-    double cell;
-    int target_tets;
+    double cell;                  /* lattice spacing, mesh units; 0: chosen from target_tets */
+    int target_tets;              /* approximate tetrahedron count; 0: 20000 */
+    int allow_self_intersections; /* 1: a closed surface whose triangles cross is filled where
+                                     its winding number is at least 1/2 */
 } lst_tet_options;
 LSTDEF lst_result lst_tetrahedralize(const lst_mesh *surface, const lst_tet_options *to, const lst_options *opt,
                                      lst_tetmesh *out, lst_error *err);

@@ -161,21 +161,30 @@ static void lst__affine(const lst__fill *F, const lst__spec *s, const double *in
 
 enum { LST__OUT = 0, LST__PART = 1, LST__CORE = 2 };
 
-/* How the mask meets a tetrahedron whose corners map to c[0..3] (each 3
- * texture coordinates): wholly outside its support, wholly inside its
- * opaque core (the distance fields at the centroid against the radius of
- * the ball around it that holds the tetrahedron, plus a margin for
- * interpolation, decide), or partly, as the sample points tell. */
-static int lst__overlap(const lst__fill *F, const lst__mask *m, double c[4][3])
+/* The centroid g of a mapped tetrahedron and the radius of the ball around
+ * it that holds the tetrahedron. */
+static double lst__ball(double c[4][3], double *g)
 {
-    double g[3], rad = 0.0, w[3], lim;
-    int k, s;
+    double rad = 0.0;
+    int k;
     for (k = 0; k < 3; k++) g[k] = 0.25 * (c[0][k] + c[1][k] + c[2][k] + c[3][k]);
     for (k = 0; k < 4; k++) {
         double d = lst__dist3(c[k], g);
         if (d > rad) rad = d;
     }
-    lim = rad + m->margin;
+    return rad;
+}
+
+/* How the mask meets a tetrahedron whose corners map to c[0..3] (each 3
+ * texture coordinates): wholly outside its support, wholly inside its
+ * opaque core (the distance fields at the centroid against the bounding
+ * ball, plus a margin for interpolation, decide), or partly, as the sample
+ * points tell (§5.2.4 "partially inside the alpha mask", at the points
+ * where coverage is measured). */
+static int lst__overlap(const lst__fill *F, const lst__mask *m, double c[4][3])
+{
+    double g[3], w[3], lim = lst__ball(c, g) + m->margin;
+    int k, s;
     if (lst__mask_dist(m, m->out, pw_clampf((float)g[0], 0, 1), pw_clampf((float)g[1], 0, 1), pw_clampf((float)g[2], 0, 1)) > lim)
         return LST__OUT;
     if (g[0] >= 0 && g[0] <= 1 && g[1] >= 0 && g[1] <= 1 && g[2] >= 0 && g[2] <= 1 && lst__mask_dist(m, m->in, g[0], g[1], g[2]) > lim)
