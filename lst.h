@@ -442,7 +442,8 @@ LSTDEF lst_result lst_builtin_surface(const char *name, const lst_options *opt, 
 /* The constraints that go with a built-in surface ("kiwi": depth 0 on the
  * skin and 1 along the axis, direction along the axis; "tree": depth 0 on
  * the bark, 1 along the pith of trunk and branches, direction along
- * them), allocated here; free with lst_free_constraints. */
+ * them; "torus": directions around the ring, no depth), allocated here;
+ * free with lst_free_constraints. */
 LSTDEF lst_result lst_builtin_constraints(const char *name, const lst_mesh *surface, const lst_options *opt,
                                           lst_depth_constraint **depth, int *ndepth, lst_field_constraint **field,
                                           int *nfield, lst_error *err);
@@ -12743,7 +12744,7 @@ static void lst__layers(unsigned long long seed, double u, double v, double w, d
     static const double pal[6][3] = {{0.91, 0.82, 0.62}, {0.72, 0.36, 0.20}, {0.96, 0.93, 0.84},
                                      {0.45, 0.30, 0.22}, {0.80, 0.62, 0.30}, {0.58, 0.60, 0.55}};
     static const double skin[3] = {0.20, 0.32, 0.14};
-    double band = v * 6.0 + 0.55 * (lst__fbm(seed, u, 0.0, w, 3.0) - 0.5), g = lst__fbm(seed + 7, u, v, w, 24.0);
+    double band = v * 6.0 + 0.3 * (lst__fbm(seed, u, 0.0, w, 2.0) - 0.5), g = lst__fbm(seed + 7, u, v, w, 24.0);
     int b = (int)floor(band);
     b = ((b % 6) + 6) % 6;
     lst__mix3(c, pal[b], pal[b], 0.0);
@@ -16575,6 +16576,20 @@ static int lst__tree_constraints(const pw_alloc *a, const lst_mesh *surface, lst
         }
     for (j = 0; j < 3; j++)
         if (lst__axis_constraints(a, lst__tree_parts[j], j ? 0.3 : 0.0, lst__tree_parts[j][6], 12, s, e)) return PW_ERR_NOMEM;
+    return PW_OK;
+}
+
+/* The torus: directions around its ring (a stroke along the core circle;
+ * no depth constraint: the default depth is the distance to the surface). */
+static int lst__torus_constraints(const pw_alloc *a, lst__cset *s, pw_err *e)
+{
+    int i;
+    for (i = 0; i < 24; i++) {
+        double t = i * (2.0 * 3.14159265358979323846 / 24), p[3], d[3];
+        p[0] = pw_cos(t), p[1] = pw_sin(t), p[2] = 0.0;
+        d[0] = -p[1], d[1] = p[0], d[2] = 0.0;
+        if (lst__add_field(a, &s->f, &s->fcap, &s->nf, LST_FIELD_DIRECTION, p, d, 0.0, e)) return PW_ERR_NOMEM;
+    }
     return PW_OK;
 }
 

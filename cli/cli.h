@@ -6,6 +6,7 @@
 #include "../tiled.h"
 #include "../lapped.h"
 #include "../pgp.h"
+#include "../lst.h"
 
 /* Argument cursor: `patchwork SUB --flag value ...`. */
 typedef struct cli_args {
@@ -71,5 +72,6 @@ int cmd_demo(int argc, char **argv);
 int cmd_convert(int argc, char **argv);
 int cmd_lapped(int argc, char **argv);
 int cmd_pgp(int argc, char **argv);
+int cmd_lst(int argc, char **argv);
 
 #endif

@@ -268,6 +268,136 @@ static tiled_result demo_pgp_scene(const char *dir, const pgp_scene *s, tiled_er
     return r;
 }
 
+typedef struct lst_scene {
+    const char *name, *surface, *exemplar;
+    int type, tets;
+    float view[3], up[3], cuts[2][4]; /* a section face on per cut (normal zero: none) */
+    float displace;
+    int volume;
+} lst_scene;
+
+static const lst_scene lst_scenes[] = {
+    {"lst_kiwi", "kiwi", "kiwi", LST_TYPE_2B, 6000, {-0.5f, -0.6f, -0.6f}, {0, 0, 1}, {{0, 0, 1, 0.15f}, {0, 1, 0, 0}}, 0.0f, 1},
+    {"lst_tree", "tree", "rings", LST_TYPE_2B, 9000, {-0.6f, 0.8f, -0.1f}, {0, 0, 1}, {{0, 0, 1, -0.4f}, {1, 0, 0, 0}}, 0.03f, 0},
+    {"lst_layers", "sphere", "layers", LST_TYPE_1B, 5000, {-0.55f, -0.45f, -0.7f}, {0, 1, 0}, {{0.3f, 0.3f, 1, 0.2f}, {0, 0, 0, 0}}, 0.0f, 0},
+    {"lst_fibers", "torus", "fibers", LST_TYPE_1A, 6000, {-0.3f, -0.5f, -0.8f}, {0, 1, 0}, {{1, 0, 0, 0.4f}, {0, 0, 0, 0}}, 0.0f, 0},
+    {"lst_spots", "bumpy", "spots", LST_TYPE_0, 5000, {-0.3f, -0.35f, -0.9f}, {0, 1, 0}, {{0, 0, 1, 0}, {0, 0, 0, 0}}, 0.0f, 0},
+};
+
+static tiled_result demo_write_lst(const char *dir, const char *name, const lst_image *img, tiled_error *err)
+{
+    tiled_image view;
+    memset(&view, 0, sizeof view);
+    view.width = img->width;
+    view.height = img->height;
+    view.channels = img->channels;
+    view.pixels = img->pixels;
+    return demo_write(dir, name, &view, err);
+}
+
+static tiled_result demo_lst_error(const lst_error *le, tiled_error *err)
+{
+    err->code = (tiled_result)le->code;
+    memcpy(err->message, le->message, sizeof err->message);
+    return err->code;
+}
+
+/* The model of a scene: built-in surface, tetrahedralized, filled with its
+ * built-in constraints (kiwi and tree) or the default fields. */
+static lst_result demo_lst_model(const lst_scene *s, lst_options *o, lst_model *m, lst_error *le)
+{
+    lst_mesh surf;
+    lst_tetmesh tets;
+    lst_volume ex, val;
+    lst_tet_options to;
+    lst_depth_constraint *dc = NULL;
+    lst_field_constraint *fc = NULL;
+    lst_result r;
+    memset(&to, 0, sizeof to);
+    memset(&tets, 0, sizeof tets);
+    memset(&ex, 0, sizeof ex);
+    memset(&val, 0, sizeof val);
+    to.target_tets = s->tets;
+    o->type = s->type;
+    if ((r = lst_builtin_surface(s->surface, o, &surf, le)) != LST_OK) return r;
+    if ((r = lst_tetrahedralize(&surf, &to, o, &tets, le)) == LST_OK &&
+        (r = lst_builtin_exemplar(s->exemplar, 64, o, &ex, &val, le)) == LST_OK &&
+        (strcmp(s->surface, "kiwi") && strcmp(s->surface, "tree") && strcmp(s->surface, "torus") ? LST_OK
+         : (r = lst_builtin_constraints(s->surface, &surf, o, &dc, &o->ndepth, &fc, &o->nfield, le))) == LST_OK) {
+        o->depth = dc, o->field = fc;
+        r = lst_create(&tets, &surf, &ex, &val, o, m, le);
+    }
+    lst_free_constraints(dc, fc, o);
+    lst_volume_free(&ex);
+    lst_volume_free(&val);
+    lst_tetmesh_free(&tets);
+    lst_mesh_free(&surf);
+    return r;
+}
+
+/* One section: the cut, the cut part face on, then everything back. */
+static tiled_result demo_lst_section(const char *dir, const lst_scene *s, int k, lst_model *m, lst_render_options ro,
+                                     tiled_error *err)
+{
+    lst_image pic;
+    lst_error le;
+    tiled_result r;
+    char name[256];
+    int j;
+    memset(&pic, 0, sizeof pic);
+    for (j = 0; j < 3; j++) ro.view_dir[j] = -s->cuts[k][j];
+    if (fabsf(s->cuts[k][2]) > 0.9f) ro.up[0] = 0, ro.up[1] = 1, ro.up[2] = 0;
+    ro.displace = 0.0f;
+    if (lst_cut_plane(m, s->cuts[k], &le) != LST_OK || lst_render(m, &ro, &pic, &le) != LST_OK) return demo_lst_error(&le, err);
+    snprintf(name, sizeof name, "%s_section%d", s->name, k + 1);
+    r = demo_write_lst(dir, name, &pic, err);
+    lst_image_free(&pic);
+    lst_uncut(m);
+    return r;
+}
+
+/* A lst scene: the surface, a section per cut, the cut model in its
+ * view, and for some a volume rendering. */
+static tiled_result demo_lst_scene(const char *dir, const lst_scene *s, tiled_error *err)
+{
+    lst_options o = lst_default_options();
+    lst_render_options ro;
+    lst_volume_options vo;
+    lst_model m;
+    lst_image pic;
+    lst_error le;
+    tiled_result r = TILED_OK;
+    char name[256];
+    int k;
+    memset(&ro, 0, sizeof ro);
+    memset(&vo, 0, sizeof vo);
+    memset(&pic, 0, sizeof pic);
+    ro.width = 600, ro.height = 500;
+    memcpy(ro.view_dir, s->view, sizeof ro.view_dir);
+    memcpy(ro.up, s->up, sizeof ro.up);
+    ro.displace = s->displace;
+    if (demo_lst_model(s, &o, &m, &le) != LST_OK) return demo_lst_error(&le, err);
+    if (lst_render(&m, &ro, &pic, &le) != LST_OK) r = demo_lst_error(&le, err);
+    if (r == TILED_OK) r = demo_write_lst(dir, s->name, &pic, err);
+    lst_image_free(&pic);
+    for (k = 0; k < 2 && r == TILED_OK; k++)
+        if (s->cuts[k][0] || s->cuts[k][1] || s->cuts[k][2]) r = demo_lst_section(dir, s, k, &m, ro, err);
+    ro.displace = 0.0f;
+    if (r == TILED_OK && (lst_cut_plane(&m, s->cuts[0], &le) != LST_OK || lst_render(&m, &ro, &pic, &le) != LST_OK))
+        r = demo_lst_error(&le, err);
+    snprintf(name, sizeof name, "%s_cut", s->name);
+    if (r == TILED_OK) r = demo_write_lst(dir, name, &pic, err);
+    lst_image_free(&pic);
+    lst_uncut(&m);
+    ro.width = 400, ro.height = 330;
+    if (r == TILED_OK && s->volume && lst_render_volume(&m, &ro, &vo, &pic, &le) != LST_OK) r = demo_lst_error(&le, err);
+    snprintf(name, sizeof name, "%s_volume", s->name);
+    if (r == TILED_OK && s->volume) r = demo_write_lst(dir, name, &pic, err);
+    lst_image_free(&pic);
+    lst_model_free(&m);
+    return r;
+}
+
 int cmd_demo(int argc, char **argv)
 {
     const char *dir = argc > 1 ? argv[1] : "out";
@@ -300,6 +430,11 @@ int cmd_demo(int argc, char **argv)
     for (k = 0; k < sizeof pgp_scenes / sizeof pgp_scenes[0]; k++)
         if (demo_pgp_scene(dir, &pgp_scenes[k], &err) != TILED_OK) {
             cli_error("demo", "%s: %s", pgp_scenes[k].name, err.message);
+            return 1;
+        }
+    for (k = 0; k < sizeof lst_scenes / sizeof lst_scenes[0]; k++)
+        if (demo_lst_scene(dir, &lst_scenes[k], &err) != TILED_OK) {
+            cli_error("demo", "%s: %s", lst_scenes[k].name, err.message);
             return 1;
         }
     return 0;

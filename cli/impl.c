@@ -3,3 +3,4 @@
 #include "../tiled.h"
 #include "../lapped.h"
 #include "../pgp.h"
+#include "../lst.h"

@@ -368,6 +368,20 @@ static int lst__tree_constraints(const pw_alloc *a, const lst_mesh *surface, lst
     return PW_OK;
 }
 
+/* The torus: directions around its ring (a stroke along the core circle;
+ * no depth constraint: the default depth is the distance to the surface). */
+static int lst__torus_constraints(const pw_alloc *a, lst__cset *s, pw_err *e)
+{
+    int i;
+    for (i = 0; i < 24; i++) {
+        double t = i * (2.0 * 3.14159265358979323846 / 24), p[3], d[3];
+        p[0] = pw_cos(t), p[1] = pw_sin(t), p[2] = 0.0;
+        d[0] = -p[1], d[1] = p[0], d[2] = 0.0;
+        if (lst__add_field(a, &s->f, &s->fcap, &s->nf, LST_FIELD_DIRECTION, p, d, 0.0, e)) return PW_ERR_NOMEM;
+    }
+    return PW_OK;
+}
+
 LSTDEF lst_result lst_builtin_constraints(const char *name, const lst_mesh *surface, const lst_options *opt,
                                           lst_depth_constraint **depth, int *ndepth, lst_field_constraint **field,
                                           int *nfield, lst_error *err)

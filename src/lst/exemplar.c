@@ -114,7 +114,7 @@ static void lst__layers(unsigned long long seed, double u, double v, double w, d
     static const double pal[6][3] = {{0.91, 0.82, 0.62}, {0.72, 0.36, 0.20}, {0.96, 0.93, 0.84},
                                      {0.45, 0.30, 0.22}, {0.80, 0.62, 0.30}, {0.58, 0.60, 0.55}};
     static const double skin[3] = {0.20, 0.32, 0.14};
-    double band = v * 6.0 + 0.55 * (lst__fbm(seed, u, 0.0, w, 3.0) - 0.5), g = lst__fbm(seed + 7, u, v, w, 24.0);
+    double band = v * 6.0 + 0.3 * (lst__fbm(seed, u, 0.0, w, 2.0) - 0.5), g = lst__fbm(seed + 7, u, v, w, 24.0);
     int b = (int)floor(band);
     b = ((b % 6) + 6) % 6;
     lst__mix3(c, pal[b], pal[b], 0.0);

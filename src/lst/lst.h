@@ -440,7 +440,8 @@ LSTDEF lst_result lst_builtin_surface(const char *name, const lst_options *opt, 
 /* The constraints that go with a built-in surface ("kiwi": depth 0 on the
  * skin and 1 along the axis, direction along the axis; "tree": depth 0 on
  * the bark, 1 along the pith of trunk and branches, direction along
- * them), allocated here; free with lst_free_constraints. */
+ * them; "torus": directions around the ring, no depth), allocated here;
+ * free with lst_free_constraints. */
 LSTDEF lst_result lst_builtin_constraints(const char *name, const lst_mesh *surface, const lst_options *opt,
                                           lst_depth_constraint **depth, int *ndepth, lst_field_constraint **field,
                                           int *nfield, lst_error *err);

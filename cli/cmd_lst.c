@@ -1,0 +1,539 @@
+/* cmd_lst.c: `patchwork lst`, the whole of lst.h from the shell. */
+#define _POSIX_C_SOURCE 199309L
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include "cli.h"
+
+static const char *lst_usage =
+    "usage: patchwork lst (--mesh FILE | --tets FILE.node | --tets FILE.mesh)\n"
+    "                     (--exemplar FILE.nrrd | --exemplar procedural:NAME) [options]\n"
+    "\n"
+    "Lapped solid textures (Takayama, Okabe, Ijiri, Igarashi 2008): the inside of a\n"
+    "closed surface filled with overlapping solid exemplars aligned to a tensor\n"
+    "field, shown as the surface, cross-sections and a volume rendering.\n"
+    "\n"
+    "inputs:\n"
+    "  --mesh FILE          a closed surface (OBJ, OFF, PLY), tetrahedralized here,\n"
+    "                       or procedural:NAME (sphere, torus, bumpy, kiwi, tree)\n"
+    "  --tets FILE          a tetrahedral mesh: TetGen FILE.node (with FILE.ele) or\n"
+    "                       MEDIT FILE.mesh\n"
+    "  --tet-count N        tetrahedra to aim for with --mesh (default 20000)\n"
+    "  --cell H             or the lattice spacing, mesh units\n"
+    "  --allow-self-intersections  fill a self-intersecting closed surface where its\n"
+    "                       winding number is at least 1/2\n"
+    "  --exemplar FILE      a solid exemplar: NRRD (sizes C X Y Z or X Y Z; RGBA:\n"
+    "                       the alpha is the mask of homogeneous types) or\n"
+    "                       procedural:NAME (layers, fibers, spots, rings, kiwi)\n"
+    "  --exemplar-size N    side of a procedural exemplar (default 64)\n"
+    "  --values FILE.nrrd   an extra channel (displacement...) of the exemplar's size\n"
+    "field and pasting:\n"
+    "  --type T             0 (isotropic, default), 1a (fibres), 1b (layers along the\n"
+    "                       depth), 2a (three axes), 2b (three axes, depth-varying)\n"
+    "  --scale S            exemplar side in mesh units (0, 1a, 2a; default 1/5 of\n"
+    "                       the bounding-box diagonal)\n"
+    "  --depth FILE         depth constraints ('face F D', 'fill F D [crease]',\n"
+    "                       'point X Y Z D', 'stroke D X Y Z ...'), or\n"
+    "                       procedural:NAME (kiwi, tree); default: the normalised\n"
+    "                       distance from the surface\n"
+    "  --directions FILE    direction and scale constraints ('dir X Y Z DX DY DZ',\n"
+    "                       'stroke X Y Z ...', 'scale X Y Z S'), or procedural:NAME\n"
+    "                       (kiwi, tree, torus); default direction: the principal\n"
+    "                       axis of the shape\n"
+    "  --axis X,Y,Z         the default direction instead of the principal axis\n"
+    "  --samples N          coverage lattice order (default 8: 165 points per tet)\n"
+    "  --seed S             random seed (default 0)\n"
+    "  --paste \"X Y Z UX UY UZ VX VY VZ S [MASK]\"  a manual paste on top (repeatable)\n"
+    "views:\n"
+    "  --cut \"NX NY NZ D\"   cut away the side NX x + NY y + NZ z > D (repeatable)\n"
+    "  --cut-stroke \"X Y Z X Y Z ...\"  cut along a stroke seen along the view\n"
+    "  --view X,Y,Z         view direction (default -0.55,-0.45,-0.7)\n"
+    "  --up X,Y,Z           up direction (default 0,1,0)\n"
+    "  --size WxH           image size (default 800x600)\n"
+    "  --show WHAT          color (default), values, pastes, depth (u,v,w as RGB)\n"
+    "  --displace A         displacement mapping of the surface by the extra channel\n"
+    "  --slices N           volume rendering slices (default 200)\n"
+    "  --opacity A          volume rendering opacity (default 0.3)\n"
+    "outputs (at least one):\n"
+    "  --out-lst FILE       the model (text format, see README)\n"
+    "  --out-masks PREFIX   each exemplar's alpha as PREFIX<i>.nrrd\n"
+    "  --out-exemplar FILE.nrrd  the exemplar's colour\n"
+    "  --out-image IMG      the surface (after any cut)\n"
+    "  --out-section IMG    the last --cut seen face on\n"
+    "  --out-volume IMG     a volume rendering (slices composited with alpha)\n"
+    "  --out-tets FILE      the tetrahedral mesh filled: FILE.node (+ .ele) or .mesh\n";
+
+#define LST_MAX_CUTS 8
+#define LST_MAX_PASTES 16
+
+typedef struct lst_cmd {
+    const char *mesh, *tets, *exemplar, *values, *depth, *directions;
+    const char *out_lst, *out_masks, *out_exemplar, *out_image, *out_section, *out_volume, *out_tets;
+    const char *pastes[LST_MAX_PASTES], *stroke;
+    float cuts[LST_MAX_CUTS][4];
+    int ncuts, npastes, exemplar_size;
+    lst_options opt;
+    lst_tet_options to;
+    lst_render_options ro;
+    lst_volume_options vo;
+} lst_cmd;
+
+static int bad(const char *what, const char *value)
+{
+    cli_error("lst", "%s: '%s' is not valid (try patchwork lst --help)", what, value);
+    return 0;
+}
+
+/* n floats separated by blanks or commas; 0 when the text is not that. */
+static int parse_floats(const char *v, float *out, int min, int max)
+{
+    char *end;
+    const char *p = v;
+    int n = 0;
+    for (;;) {
+        while (*p == ' ' || *p == ',' || *p == '\t') p++;
+        if (!*p) break;
+        if (n == max) return 0;
+        out[n] = strtof(p, &end);
+        if (end == p || !(out[n] - out[n] == 0.0f)) return 0;
+        n++, p = end;
+    }
+    return n >= min ? n : 0;
+}
+
+static int parse_vec(cli_args *a, float *out)
+{
+    const char *flag = a->argv[a->i], *v;
+    if (!cli_value(a, &v)) return 0;
+    if (parse_floats(v, out, 3, 3) != 3) return bad(flag, v);
+    return 1;
+}
+
+static int parse_float(cli_args *a, float lo, float hi, float *out)
+{
+    const char *flag = a->argv[a->i], *v;
+    char *end;
+    if (!cli_value(a, &v)) return 0;
+    *out = strtof(v, &end);
+    if (end == v || *end || !(*out >= lo && *out <= hi)) return bad(flag, v);
+    return 1;
+}
+
+static int parse_type(cli_args *a, lst_cmd *c)
+{
+    static const char *const names[5] = {"0", "1a", "1b", "2a", "2b"};
+    const char *v;
+    int k;
+    if (!cli_value(a, &v)) return 0;
+    for (k = 0; k < 5; k++)
+        if (!strcmp(v, names[k])) return (c->opt.type = k), 1;
+    return bad("--type (0, 1a, 1b, 2a, 2b)", v);
+}
+
+static int parse_show(cli_args *a, lst_cmd *c)
+{
+    static const char *const names[4] = {"color", "values", "pastes", "depth"};
+    const char *v;
+    int k;
+    if (!cli_value(a, &v)) return 0;
+    for (k = 0; k < 4; k++)
+        if (!strcmp(v, names[k])) return (c->ro.show = k), 1;
+    return bad("--show (color, values, pastes, depth)", v);
+}
+
+static int parse_cut(cli_args *a, lst_cmd *c)
+{
+    const char *v;
+    if (!cli_value(a, &v)) return 0;
+    if (c->ncuts == LST_MAX_CUTS) return bad("--cut (too many)", v);
+    if (parse_floats(v, c->cuts[c->ncuts], 4, 4) != 4) return bad("--cut (\"NX NY NZ D\")", v);
+    c->ncuts++;
+    return 1;
+}
+
+static int parse_paste(cli_args *a, lst_cmd *c)
+{
+    const char *v;
+    float f[11];
+    if (!cli_value(a, &v)) return 0;
+    if (c->npastes == LST_MAX_PASTES) return bad("--paste (too many)", v);
+    if (!parse_floats(v, f, 10, 11)) return bad("--paste (\"X Y Z UX UY UZ VX VY VZ S [MASK]\")", v);
+    c->pastes[c->npastes++] = v;
+    return 1;
+}
+
+static int parse_options(cli_args *a, lst_cmd *c)
+{
+    if (cli_is(a, "--type")) return parse_type(a, c);
+    if (cli_is(a, "--scale")) return parse_float(a, 1e-30f, 1e30f, &c->opt.scale);
+    if (cli_is(a, "--depth")) return cli_value(a, &c->depth);
+    if (cli_is(a, "--directions")) return cli_value(a, &c->directions);
+    if (cli_is(a, "--axis")) return parse_vec(a, c->opt.axis);
+    if (cli_is(a, "--samples")) return cli_int(a, 1, 32, &c->opt.samples);
+    if (cli_is(a, "--seed")) return cli_u64(a, &c->opt.seed);
+    if (cli_is(a, "--paste")) return parse_paste(a, c);
+    if (cli_is(a, "--tet-count")) return cli_int(a, 10, 20000000, &c->to.target_tets);
+    if (cli_is(a, "--allow-self-intersections")) return (c->to.allow_self_intersections = 1);
+    if (cli_is(a, "--exemplar-size")) return cli_int(a, 4, 512, &c->exemplar_size);
+    if (cli_is(a, "--cut")) return parse_cut(a, c);
+    if (cli_is(a, "--cut-stroke")) return cli_value(a, &c->stroke);
+    if (cli_is(a, "--view")) return parse_vec(a, c->ro.view_dir);
+    if (cli_is(a, "--up")) return parse_vec(a, c->ro.up);
+    if (cli_is(a, "--size")) return cli_size(a, &c->ro.width, &c->ro.height);
+    if (cli_is(a, "--show")) return parse_show(a, c);
+    if (cli_is(a, "--displace")) return parse_float(a, -1e30f, 1e30f, &c->ro.displace);
+    if (cli_is(a, "--slices")) return cli_int(a, 1, 10000, &c->vo.slices);
+    if (cli_is(a, "--opacity")) return parse_float(a, 1e-6f, 1000.0f, &c->vo.opacity);
+    return -2;
+}
+
+static int parse_one(cli_args *a, lst_cmd *c)
+{
+    float cell;
+    int r;
+    if (cli_is(a, "--help") || cli_is(a, "-h")) return -1;
+    if (cli_is(a, "--mesh")) return cli_value(a, &c->mesh);
+    if (cli_is(a, "--tets")) return cli_value(a, &c->tets);
+    if (cli_is(a, "--exemplar")) return cli_value(a, &c->exemplar);
+    if (cli_is(a, "--values")) return cli_value(a, &c->values);
+    if (cli_is(a, "--cell")) return parse_float(a, 1e-30f, 1e30f, &cell) && (c->to.cell = cell, 1);
+    if (cli_is(a, "--out-lst")) return cli_value(a, &c->out_lst);
+    if (cli_is(a, "--out-masks")) return cli_value(a, &c->out_masks);
+    if (cli_is(a, "--out-exemplar")) return cli_value(a, &c->out_exemplar);
+    if (cli_is(a, "--out-image")) return cli_value(a, &c->out_image);
+    if (cli_is(a, "--out-section")) return cli_value(a, &c->out_section);
+    if (cli_is(a, "--out-volume")) return cli_value(a, &c->out_volume);
+    if (cli_is(a, "--out-tets")) return cli_value(a, &c->out_tets);
+    if ((r = parse_options(a, c)) != -2) return r;
+    cli_error("lst", "unknown option '%s' (try patchwork lst --help)", a->argv[a->i]);
+    return 0;
+}
+
+static int ends_with(const char *s, const char *ext)
+{
+    size_t n = strlen(s), m = strlen(ext);
+    return n > m && !strcmp(s + n - m, ext);
+}
+
+/* What the options must agree on. */
+static int parse_check(const lst_cmd *c)
+{
+    const char *name;
+    if (!!c->mesh == !!c->tets || !c->exemplar) {
+        cli_error("lst", "one of --mesh or --tets, and --exemplar, are required");
+        return 0;
+    }
+    if (c->tets && !ends_with(c->tets, ".node") && !ends_with(c->tets, ".ele") && !ends_with(c->tets, ".mesh"))
+        return bad("--tets (FILE.node or FILE.mesh)", c->tets);
+    if (c->tets && cli_is_procedural(c->tets, &name)) return bad("--tets (use --mesh procedural:NAME)", c->tets);
+    if (c->out_tets && !ends_with(c->out_tets, ".node") && !ends_with(c->out_tets, ".mesh"))
+        return bad("--out-tets (FILE.node or FILE.mesh)", c->out_tets);
+    if (c->out_exemplar && !ends_with(c->out_exemplar, ".nrrd")) return bad("--out-exemplar (FILE.nrrd)", c->out_exemplar);
+    if (c->out_section && !c->ncuts) {
+        cli_error("lst", "--out-section needs a --cut");
+        return 0;
+    }
+    if (!c->out_lst && !c->out_masks && !c->out_exemplar && !c->out_image && !c->out_section && !c->out_volume &&
+        !c->out_tets) {
+        cli_error("lst", "nothing to write: give --out-lst, --out-masks, --out-image, --out-section, --out-volume, "
+                         "--out-tets or --out-exemplar");
+        return 0;
+    }
+    return 1;
+}
+
+static int parse(int argc, char **argv, lst_cmd *c)
+{
+    cli_args a;
+    int r;
+    memset(c, 0, sizeof *c);
+    c->opt = lst_default_options();
+    c->exemplar_size = 64;
+    a.argc = argc;
+    a.argv = argv;
+    a.cmd = "lst";
+    for (a.i = 1; a.i < argc; a.i++)
+        if ((r = parse_one(&a, c)) <= 0) return r;
+    return parse_check(c);
+}
+
+/* Everything a run holds. */
+typedef struct lst_run {
+    lst_mesh surface;
+    lst_tetmesh tets;
+    lst_volume ex, val;
+    lst_depth_constraint *dc;
+    lst_field_constraint *fc;
+    int nd, nf;
+    lst_model model;
+} lst_run;
+
+static void run_free(lst_run *r, const lst_options *o)
+{
+    lst_model_free(&r->model);
+    lst_free_constraints(r->dc, r->fc, o);
+    lst_volume_free(&r->ex);
+    lst_volume_free(&r->val);
+    lst_tetmesh_free(&r->tets);
+    lst_mesh_free(&r->surface);
+}
+
+static double seconds(void)
+{
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
+
+/* The tetrahedral mesh: read, or the surface tetrahedralized; and the
+ * surface the depth constraints paint (the mesh's boundary with --tets). */
+static lst_result load_tets(const lst_cmd *c, lst_run *r, lst_error *err)
+{
+    const char *name;
+    lst_result res;
+    double lo = 0, hi = 0, t0 = seconds();
+    if (c->tets) res = lst_load_tetmesh(c->tets, &c->opt, &r->tets, err);
+    else if (cli_is_procedural(c->mesh, &name)) res = lst_builtin_surface(name, &c->opt, &r->surface, err);
+    else res = lst_load_mesh(c->mesh, &c->opt, &r->surface, err);
+    if (res == LST_OK && c->mesh) res = lst_tetrahedralize(&r->surface, &c->to, &c->opt, &r->tets, err);
+    if (res == LST_OK && c->tets) res = lst_tetmesh_surface(&r->tets, &c->opt, &r->surface, err);
+    if (res == LST_OK) res = lst_tetmesh_check(&r->tets, &lo, &hi, err);
+    if (res == LST_OK)
+        printf("lst: %d tetrahedra, %d vertices, dihedral angles %.1f..%.1f degrees (%s, %.2f s)\n", r->tets.ntets,
+               r->tets.nverts, lo, hi, c->tets ? "read" : "tetrahedralized", seconds() - t0);
+    return res;
+}
+
+static lst_result load_exemplar(const lst_cmd *c, lst_run *r, lst_error *err)
+{
+    const char *name;
+    lst_result res;
+    if (cli_is_procedural(c->exemplar, &name))
+        res = lst_builtin_exemplar(name, c->exemplar_size, &c->opt, &r->ex, c->values ? NULL : &r->val, err);
+    else res = lst_load_volume(c->exemplar, &c->opt, &r->ex, err);
+    if (res == LST_OK && c->values) res = lst_load_volume(c->values, &c->opt, &r->val, err);
+    return res;
+}
+
+/* --depth and --directions: files, or the constraints of a built-in shape. */
+static lst_result load_constraints(const lst_cmd *c, lst_run *r, lst_error *err)
+{
+    const char *dn = NULL, *fn = NULL;
+    lst_depth_constraint *d2 = NULL;
+    lst_field_constraint *f2 = NULL;
+    int n2 = 0, m2 = 0;
+    lst_result res = LST_OK;
+    if (c->depth && cli_is_procedural(c->depth, &dn))
+        res = lst_builtin_constraints(dn, &r->surface, &c->opt, &r->dc, &r->nd, &f2, &m2, err);
+    else if (c->depth) res = lst_load_depth(c->depth, &c->opt, &r->dc, &r->nd, err);
+    lst_free_constraints(NULL, f2, &c->opt);
+    if (res == LST_OK && c->directions && cli_is_procedural(c->directions, &fn))
+        res = lst_builtin_constraints(fn, &r->surface, &c->opt, &d2, &n2, &r->fc, &r->nf, err);
+    else if (res == LST_OK && c->directions) res = lst_load_directions(c->directions, &c->opt, &r->fc, &r->nf, err);
+    lst_free_constraints(d2, NULL, &c->opt);
+    return res;
+}
+
+/* --paste "X Y Z UX UY UZ VX VY VZ S [MASK]" (checked when parsed). */
+static lst_result manual_pastes(const lst_cmd *c, lst_run *r, lst_error *err)
+{
+    int k, n;
+    for (k = 0; k < c->npastes; k++) {
+        float f[11];
+        lst_result res;
+        n = parse_floats(c->pastes[k], f, 10, 11);
+        res = lst_paste_at(&r->model, f, f + 3, f + 6, f[9], n == 11 ? (int)f[10] : 0, &c->opt, err);
+        if (res != LST_OK) return res;
+    }
+    return LST_OK;
+}
+
+static lst_result fill(lst_cmd *c, lst_run *r, lst_error *err)
+{
+    static const char *const types[5] = {"0", "1-a", "1-b", "2-a", "2-b"};
+    lst_result res;
+    double t0;
+    c->opt.depth = r->dc, c->opt.ndepth = r->nd, c->opt.field = r->fc, c->opt.nfield = r->nf;
+    t0 = seconds();
+    res = lst_create(&r->tets, &r->surface, &r->ex, r->val.voxels ? &r->val : NULL, &c->opt, &r->model, err);
+    if (res != LST_OK) return res;
+    printf("lst: type %s, %d pastes, %.2f per tetrahedron (%.2f before hidden ones were dropped), %d masks, "
+           "filled in %.2f s\n",
+           types[c->opt.type], r->model.npastes, r->model.layers, r->model.layers_before, r->model.nmasks,
+           seconds() - t0);
+    return manual_pastes(c, r, err);
+}
+
+/* ---- outputs ---- */
+
+typedef lst_result (*writer_fn)(const void *obj, lst_write_fn fn, void *ctx, lst_error *err);
+
+static lst_result w_model(const void *o, lst_write_fn fn, void *ctx, lst_error *err)
+{
+    return lst_write_model_to_func((const lst_model *)o, fn, ctx, err);
+}
+static lst_result w_volume(const void *o, lst_write_fn fn, void *ctx, lst_error *err)
+{
+    return lst_write_volume_to_func((const lst_volume *)o, fn, ctx, err);
+}
+static lst_result w_medit(const void *o, lst_write_fn fn, void *ctx, lst_error *err)
+{
+    return lst_write_medit_to_func((const lst_tetmesh *)o, fn, ctx, err);
+}
+
+/* obj written by w to the staged file of path. */
+static lst_result write_out(cli_outputs *outs, const char *path, writer_fn w, const void *obj, lst_error *err)
+{
+    FILE *f = cli_open(outs, path, err->message, sizeof err->message);
+    lst_result r;
+    if (!f) return err->code = LST_ERR_IO;
+    r = w(obj, cli_fwrite, f, err);
+    if (r == LST_ERR_IO) snprintf(err->message, sizeof err->message, "%.200s: write error (disk full?)", path);
+    if (!cli_close(f, r == LST_OK, path, err->message, sizeof err->message)) r = LST_ERR_IO;
+    return err->code = r;
+}
+
+/* FILE.node and FILE.ele, or FILE.mesh. */
+static lst_result write_tets(cli_outputs *outs, const char *path, const lst_tetmesh *m, lst_error *err)
+{
+    char ele[1024];
+    FILE *f, *g;
+    lst_result r;
+    int ok;
+    if (ends_with(path, ".mesh")) return write_out(outs, path, w_medit, m, err);
+    cli_with_ext(path, ".ele", ele, sizeof ele);
+    if (!(f = cli_open(outs, path, err->message, sizeof err->message))) return err->code = LST_ERR_IO;
+    if (!(g = cli_open(outs, ele, err->message, sizeof err->message))) {
+        fclose(f);
+        return err->code = LST_ERR_IO;
+    }
+    r = lst_write_tetgen_to_func(m, cli_fwrite, f, cli_fwrite, g, err);
+    if (r == LST_ERR_IO) snprintf(err->message, sizeof err->message, "%.200s: write error (disk full?)", path);
+    ok = cli_close(f, r == LST_OK, path, err->message, sizeof err->message);
+    ok = cli_close(g, ok, ele, err->message, sizeof err->message);
+    return err->code = ok ? r : LST_ERR_IO;
+}
+
+static lst_result write_image(cli_outputs *outs, const char *path, const lst_image *img, lst_error *err)
+{
+    tiled_image view;
+    tiled_error terr;
+    memset(&view, 0, sizeof view);
+    view.width = img->width, view.height = img->height, view.channels = img->channels, view.pixels = img->pixels;
+    if (cli_write_image(outs, path, &view, &terr) == TILED_OK) return LST_OK;
+    err->code = (lst_result)terr.code;
+    memcpy(err->message, terr.message, sizeof err->message);
+    return err->code;
+}
+
+static lst_result write_masks(cli_outputs *outs, const lst_cmd *c, const lst_model *m, lst_error *err)
+{
+    char path[1024];
+    int k;
+    lst_result r = LST_OK;
+    for (k = 0; k < m->nmasks && r == LST_OK; k++) {
+        snprintf(path, sizeof path, "%s%d.nrrd", c->out_masks, k);
+        r = write_out(outs, path, w_volume, &m->masks[k], err);
+    }
+    return r;
+}
+
+/* --cut planes, then --cut-stroke along the view. */
+static lst_result cuts(const lst_cmd *c, lst_run *r, lst_error *err)
+{
+    static const float view0[3] = {-0.55f, -0.45f, -0.7f};
+    float pts[3000], *phi;
+    const float *view = c->ro.view_dir[0] || c->ro.view_dir[1] || c->ro.view_dir[2] ? c->ro.view_dir : view0;
+    int k, n;
+    lst_result res = LST_OK;
+    for (k = 0; k < c->ncuts && res == LST_OK; k++) res = lst_cut_plane(&r->model, c->cuts[k], err);
+    if (res != LST_OK || !c->stroke) return res;
+    if ((n = parse_floats(c->stroke, pts, 6, 3000)) == 0 || n % 3) {
+        err->code = LST_ERR_INVALID;
+        snprintf(err->message, sizeof err->message, "--cut-stroke: '%.100s' is not X Y Z X Y Z ... (2 to 1000 points)", c->stroke);
+        return err->code;
+    }
+    if (!(phi = (float *)malloc(sizeof(float) * (size_t)r->model.mesh.nverts))) {
+        snprintf(err->message, sizeof err->message, "out of memory");
+        return err->code = LST_ERR_NOMEM;
+    }
+    res = lst_stroke_field(&r->model, pts, n / 3, view, phi, err);
+    if (res == LST_OK) res = lst_cut_field(&r->model, phi, err);
+    free(phi);
+    return res;
+}
+
+/* The last plane cut seen face on (looking against its normal). */
+static lst_result section(const lst_cmd *c, const lst_run *r, lst_image *img, lst_error *err)
+{
+    lst_render_options ro = c->ro;
+    const float *n = c->cuts[c->ncuts - 1];
+    float up[3] = {0, 1, 0}, len = n[0] * n[0] + n[1] * n[1] + n[2] * n[2];
+    int k;
+    if (ro.up[0] || ro.up[1] || ro.up[2]) memcpy(up, ro.up, sizeof up);
+    if ((up[0] * n[0] + up[1] * n[1] + up[2] * n[2]) * (up[0] * n[0] + up[1] * n[1] + up[2] * n[2]) >
+        0.98f * len * (up[0] * up[0] + up[1] * up[1] + up[2] * up[2]))
+        up[0] = 0, up[1] = 0, up[2] = 1; /* up along the normal: any other will do */
+    if (n[2] * n[2] > 0.98f * len && up[2] == 1) up[1] = 1, up[2] = 0;
+    for (k = 0; k < 3; k++) ro.view_dir[k] = -n[k], ro.up[k] = up[k];
+    return lst_render(&r->model, &ro, img, err);
+}
+
+static lst_result outputs(const lst_cmd *c, lst_run *r, cli_outputs *outs, lst_error *err)
+{
+    lst_image img;
+    lst_result res = LST_OK;
+    double t0;
+    memset(&img, 0, sizeof img);
+    if (c->out_tets) res = write_tets(outs, c->out_tets, &r->tets, err);
+    if (res == LST_OK && c->out_masks) res = write_masks(outs, c, &r->model, err);
+    if (res == LST_OK && c->out_exemplar) res = write_out(outs, c->out_exemplar, w_volume, &r->ex, err);
+    t0 = seconds();
+    if (res == LST_OK) res = cuts(c, r, err);
+    if (res == LST_OK && (c->ncuts || c->stroke))
+        printf("lst: cut in %.3f s, %d tetrahedra now\n", seconds() - t0, r->model.mesh.ntets);
+    if (res == LST_OK && c->out_lst) res = write_out(outs, c->out_lst, w_model, &r->model, err);
+    if (res == LST_OK && c->out_image && (res = lst_render(&r->model, &c->ro, &img, err)) == LST_OK)
+        res = write_image(outs, c->out_image, &img, err);
+    lst_image_free(&img);
+    if (res == LST_OK && c->out_section && (res = section(c, r, &img, err)) == LST_OK)
+        res = write_image(outs, c->out_section, &img, err);
+    lst_image_free(&img);
+    if (res == LST_OK && c->out_volume && (res = lst_render_volume(&r->model, &c->ro, &c->vo, &img, err)) == LST_OK)
+        res = write_image(outs, c->out_volume, &img, err);
+    lst_image_free(&img);
+    return res;
+}
+
+int cmd_lst(int argc, char **argv)
+{
+    lst_cmd c;
+    lst_run r;
+    cli_outputs outs;
+    lst_error err;
+    tiled_error terr;
+    lst_result res;
+    int p = parse(argc, argv, &c);
+    if (p < 0) {
+        fputs(lst_usage, stdout);
+        return 0;
+    }
+    if (!p) return 1;
+    memset(&r, 0, sizeof r);
+    memset(&outs, 0, sizeof outs);
+    if ((res = load_tets(&c, &r, &err)) == LST_OK && (res = load_exemplar(&c, &r, &err)) == LST_OK &&
+        (res = load_constraints(&c, &r, &err)) == LST_OK && (res = fill(&c, &r, &err)) == LST_OK)
+        res = outputs(&c, &r, &outs, &err);
+    run_free(&r, &c.opt);
+    if (res != LST_OK) {
+        cli_abort(&outs);
+        cli_error("lst", "%s", err.message);
+        return 1;
+    }
+    if (cli_commit(&outs, &terr) != TILED_OK) {
+        cli_error("lst", "%s", terr.message);
+        return 1;
+    }
+    return 0;
+}
