@@ -402,8 +402,10 @@ LSTDEF lst_result lst_builtin_constraints(const char *name, const lst_mesh *surf
             lst__axis_constraints(&a, kiwi_axis, -0.9, 0.9, 13, &s, &e);
     } else if (!strcmp(name, "tree"))
         lst__tree_constraints(&a, surface, &s, &e);
+    else if (!strcmp(name, "torus"))
+        lst__torus_constraints(&a, &s, &e);
     else
-        pw_fail(&e, PW_ERR_INVALID, "no built-in constraints for '%s' (kiwi, tree)", name);
+        pw_fail(&e, PW_ERR_INVALID, "no built-in constraints for '%s' (kiwi, tree, torus)", name);
     if (e.code == PW_OK) *depth = s.d, *ndepth = s.nd, *field = s.f, *nfield = s.nf;
     else pw_free(&a, s.d), pw_free(&a, s.f);
     return lst__done(&e, err);
