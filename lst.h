@@ -15370,8 +15370,10 @@ static int lst__visible_positions(const pw_alloc *a, const lst_model *m, float *
     for (v = 0; v < m->mesh.nverts; v++)
         if (used[v]) memcpy(*out + 3 * (*n)++, m->mesh.positions + 3 * v, 3 * sizeof(float));
     pw_free(a, used);
-    if (*n == 0) return pw_fail(e, PW_ERR_DEGENERATE, "nothing to render: every tetrahedron was cut away");
-    return PW_OK;
+    if (*n > 0) return PW_OK;
+    pw_free(a, *out);
+    *out = NULL;
+    return pw_fail(e, PW_ERR_DEGENERATE, "nothing to render: every tetrahedron was cut away");
 }
 
 /* ---- displacement mapping (§6, Figs. 1c and 4d) ------------------------------------------------ */
@@ -15859,8 +15861,10 @@ static void lst__cutter_free(lst__cutter *C)
     pw_free(a, C->sg), pw_free(a, C->E.key), pw_free(a, C->E.id), pw_free(a, C->elo), pw_free(a, C->ehi), pw_free(a, C->es);
     pw_free(a, C->sub_start), pw_free(a, C->sub), pw_free(a, C->side), pw_free(a, C->first_new);
     pw_free(a, C->tets), pw_free(a, C->rem);
-    if (C->ptets)
-        for (p = 0; p < C->m->npastes; p++) pw_free(a, C->ptets[p]), pw_free(a, C->pcorners[p]);
+    for (p = 0; p < C->m->npastes; p++) {
+        if (C->ptets) pw_free(a, C->ptets[p]);
+        if (C->pcorners) pw_free(a, C->pcorners[p]);
+    }
     pw_free(a, C->ptets), pw_free(a, C->pcorners), pw_free(a, C->pn);
 }
 

@@ -166,8 +166,10 @@ static void lst__cutter_free(lst__cutter *C)
     pw_free(a, C->sg), pw_free(a, C->E.key), pw_free(a, C->E.id), pw_free(a, C->elo), pw_free(a, C->ehi), pw_free(a, C->es);
     pw_free(a, C->sub_start), pw_free(a, C->sub), pw_free(a, C->side), pw_free(a, C->first_new);
     pw_free(a, C->tets), pw_free(a, C->rem);
-    if (C->ptets)
-        for (p = 0; p < C->m->npastes; p++) pw_free(a, C->ptets[p]), pw_free(a, C->pcorners[p]);
+    for (p = 0; p < C->m->npastes; p++) {
+        if (C->ptets) pw_free(a, C->ptets[p]);
+        if (C->pcorners) pw_free(a, C->pcorners[p]);
+    }
     pw_free(a, C->ptets), pw_free(a, C->pcorners), pw_free(a, C->pn);
 }
 

@@ -339,8 +339,10 @@ static int lst__visible_positions(const pw_alloc *a, const lst_model *m, float *
     for (v = 0; v < m->mesh.nverts; v++)
         if (used[v]) memcpy(*out + 3 * (*n)++, m->mesh.positions + 3 * v, 3 * sizeof(float));
     pw_free(a, used);
-    if (*n == 0) return pw_fail(e, PW_ERR_DEGENERATE, "nothing to render: every tetrahedron was cut away");
-    return PW_OK;
+    if (*n > 0) return PW_OK;
+    pw_free(a, *out);
+    *out = NULL;
+    return pw_fail(e, PW_ERR_DEGENERATE, "nothing to render: every tetrahedron was cut away");
 }
 
 /* ---- displacement mapping (§6, Figs. 1c and 4d) ------------------------------------------------ */
