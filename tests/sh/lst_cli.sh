@@ -1,0 +1,151 @@
+#!/bin/sh
+# `patchwork lst` tests: every output and its format (the model file's
+# structure, masks as NRRD, TetGen and MEDIT meshes, images), determinism,
+# the options that must change the result (type, seed, constraints, manual
+# pastes, cuts, views), meshes and exemplars read back from the files the
+# command wrote, and clear one-line errors (no crash, no output or
+# .partial file left behind) on bad input of every kind.
+bin=${BUILD:-build}/patchwork
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT INT TERM
+pass() { echo "PASS lst_cli/$1"; }
+fail() { echo "FAIL lst_cli/$1: $2"; }
+
+# expect_error NAME PATTERN ARGS...: `patchwork lst ARGS` exits non-zero
+# without crashing, prints one stderr line matching PATTERN, and leaves
+# nothing under $tmp/out.
+expect_error() {
+    name=$1 pattern=$2
+    shift 2
+    rm -rf "$tmp/out" && mkdir -p "$tmp/out"
+    "$bin" lst "$@" > "$tmp/stdout" 2> "$tmp/stderr"
+    status=$?
+    lines=$(wc -l < "$tmp/stderr")
+    left=$(ls -A "$tmp/out" | wc -l)
+    if [ $status -eq 0 ]; then fail "$name" "exit status 0, expected an error"
+    elif [ $status -ge 128 ]; then fail "$name" "crashed (exit status $status): $(head -3 "$tmp/stderr" | tr '\n' '|')"
+    elif [ "$lines" -ne 1 ]; then fail "$name" "$lines lines on stderr: $(head -3 "$tmp/stderr" | tr '\n' '|')"
+    elif ! grep -q -- "$pattern" "$tmp/stderr"; then fail "$name" "stderr lacks '$pattern': $(cat "$tmp/stderr")"
+    elif [ "$left" -ne 0 ]; then fail "$name" "left files behind: $(ls -A "$tmp/out" | tr '\n' ' ')"
+    else pass "$name"; fi
+}
+
+# run NAME ARGS...: `patchwork lst ARGS` must exit 0 with a quiet stderr.
+run() {
+    name=$1
+    shift
+    "$bin" lst "$@" > "$tmp/$name.log" 2> "$tmp/$name.err"
+    status=$?
+    if [ $status -ne 0 ]; then fail "$name" "exit status $status: $(head -2 "$tmp/$name.err" | tr '\n' '|')"; return 1; fi
+    if [ -s "$tmp/$name.err" ]; then fail "$name" "stderr not empty: $(head -2 "$tmp/$name.err" | tr '\n' '|')"; return 1; fi
+    return 0
+}
+
+# reported LOG: the tetrahedron count of "lst: N tetrahedra, ..."
+reported() { sed -n 's/^lst: \([0-9]*\) tetrahedra,.*/\1/p' "$1"; }
+
+# check_lst FILE NEXEMPLARS: validates a model file (src/lst/io.c); prints
+# nothing when valid, else what is wrong.
+check_lst() {
+    awk -v nex="$2" '
+    function bad(m) { if (err == "") err = "line " NR ": " m }
+    function isint(s) { return s ~ /^[0-9]+$/ }
+    function isnum(s) { return s ~ /^[-+]?([0-9]+\.?[0-9]*|\.[0-9]+)([eE][-+]?[0-9]+)?$/ }
+    err != "" { next }
+    NR == 1 { if ($0 != "lst 1") bad("bad magic"); state = "nodes"; next }
+    state == "nodes" { if ($1 != "nodes" || !isint($2)) bad("expected nodes"); nn = $2; k = 0; state = nn ? "node" : "tets"; next }
+    state == "node" { if (NF != 3 || !isnum($1) || !isnum($2) || !isnum($3)) bad("bad node"); if (++k == nn) state = "tets"; next }
+    state == "tets" { if ($1 != "tets" || !isint($2)) bad("expected tets"); nt = $2; k = 0; state = nt ? "tet" : "ex"; next }
+    state == "tet" { if (NF != 4) bad("bad tet"); for (i = 1; i <= 4; i++) if (!isint($i) || $i >= nn) bad("bad node index");
+                     if (++k == nt) state = "ex"; next }
+    state == "ex" { if ($1 != "exemplars" || $2 != nex) bad("expected exemplars " nex); ne = $2; k = 0; state = "exl"; next }
+    state == "exl" { if ($1 != "exemplar" || $2 != k || NF != 5) bad("bad exemplar line"); if (++k == ne) state = "pastes"; next }
+    state == "pastes" { if ($1 != "pastes" || !isint($2)) bad("expected pastes"); np = $2; p = 0; state = np ? "paste" : "end"; next }
+    state == "paste" { if ($1 != "paste" || !isint($2) || $2 >= ne || !isint($3) || $3 < 1) bad("bad paste header");
+                       left = $3; state = "entry"; next }
+    state == "entry" { if (NF != 13 || !isint($1) || $1 >= nt) bad("bad entry");
+                       for (i = 2; i <= 13; i++) if (!isnum($i)) bad("bad coordinate");
+                       entries++; if (--left == 0) { p++; state = p == np ? "end" : "paste" } next }
+    state == "end" { bad("text after the last paste") }
+    END { if (err == "" && state != "end") err = "truncated in state " state; if (err != "") print err; else if (entries == 0) print "no entries" }
+    ' "$1"
+}
+
+is_png() { [ "$(head -c 8 "$1" | od -An -tx1 | tr -d ' \n')" = "89504e470d0a1a0a" ]; }
+
+png_size() { od -An -tu1 -j16 -N8 "$1" | awk '{ print $3 * 256 + $4 "x" $7 * 256 + $8 }'; }
+
+# ---- the whole pipeline ------------------------------------------------------
+
+o=$tmp/k
+kiwi="--mesh procedural:kiwi --exemplar procedural:kiwi --exemplar-size 32 --type 2b --depth procedural:kiwi
+      --directions procedural:kiwi --tet-count 1500"
+if run all $kiwi --cut "0 0 1 0.1" --out-lst $o.lst --out-masks $o.mask --out-tets $o.node --out-image $o.png \
+       --out-section $o.sec.png --out-volume $o.vol.png --out-exemplar $o.ex.nrrd --size 160x120 --slices 20; then
+    nt=$(reported "$tmp/all.log")
+    bad=$(check_lst $o.lst 3)
+    if [ -n "$bad" ]; then fail model_file "$bad"; else pass model_file; fi
+    if [ "$(head -1 $o.mask0.nrrd)" = "NRRD0004" ] && [ -f $o.mask2.nrrd ] && [ ! -f $o.mask3.nrrd ]; then pass masks
+    else fail masks "expected three NRRD masks"; fi
+    if [ "$(grep -v '^#' $o.node | head -1 | awk '{ print $2 }')" = 3 ] &&
+       [ "$(grep -v '^#' $o.ele | head -1 | awk '{ print $1 }')" = "$nt" ]; then pass out_tets
+    else fail out_tets "the .node/.ele headers do not match $nt tetrahedra"; fi
+    ok=1
+    for f in $o.png $o.sec.png $o.vol.png; do is_png "$f" && [ "$(png_size "$f")" = 160x120 ] || ok=0; done
+    if [ $ok = 1 ]; then pass images; else fail images "a rendering is not a 160x120 PNG"; fi
+    grep -q '^lst: cut in' "$tmp/all.log" && pass cut_reported || fail cut_reported "no cut line"
+    grep -q 'dihedral angles' "$tmp/all.log" && pass dihedral_reported || fail dihedral_reported "no dihedral angles"
+fi
+
+# ---- determinism and options that must matter --------------------------------
+
+small="--mesh procedural:sphere --tet-count 800 --exemplar procedural:spots --exemplar-size 16"
+run det1 $small --out-lst $tmp/d1.lst --out-image $tmp/d1.png --size 64x48 &&
+run det2 $small --out-lst $tmp/d2.lst --out-image $tmp/d2.png --size 64x48 &&
+if cmp -s $tmp/d1.lst $tmp/d2.lst && cmp -s $tmp/d1.png $tmp/d2.png; then pass determinism; else fail determinism "outputs differ"; fi
+run seed $small --seed 5 --out-lst $tmp/d3.lst && { cmp -s $tmp/d1.lst $tmp/d3.lst && fail seed "same model" || pass seed; }
+run type1b $small --type 1b --out-lst $tmp/d4.lst && { [ "$(sed -n 's/^exemplars //p' $tmp/d4.lst)" = 3 ] && pass type_1b_masks || fail type_1b_masks "not 3 exemplars"; }
+for t in 1a 2a; do run "type$t" $small --type $t --out-lst $tmp/t$t.lst && pass "type_$t"; done
+run paste $small --paste "0 0 0 1 0 0 0 1 0 0.8" --out-lst $tmp/d5.lst &&
+if [ "$(sed -n 's/^pastes //p' $tmp/d5.lst)" -gt "$(sed -n 's/^pastes //p' $tmp/d1.lst)" ]; then pass manual_paste; else fail manual_paste "no extra paste"; fi
+run stroke $small --cut-stroke "0.2 -0.8 0 0.2 0.8 0" --view 0,0,-1 --out-lst $tmp/d6.lst &&
+maxx=$(awk '$1 == "nodes" { n = $2; next } n > 0 { if ($1 > m || m == "") m = $1; n-- } END { print m }' $tmp/d6.lst)
+if awk -v m="$maxx" 'BEGIN { exit !(m < 0.21) }'; then pass cut_stroke; else fail cut_stroke "a node at x = $maxx is right of the stroke"; fi
+run show $small --show pastes --out-image $tmp/d7.png --size 64x48 && { cmp -s $tmp/d1.png $tmp/d7.png && fail show "same image" || pass show; }
+printf 'fill 0 0\npoint 0 0 0 1\n' > $tmp/depth.txt
+printf 'dir 0 0 0 0 0 1\nscale 0 0 0 0.5\n' > $tmp/dirs.txt
+run files $small --type 2b --depth $tmp/depth.txt --directions $tmp/dirs.txt --out-lst $tmp/d8.lst && pass constraint_files
+
+# ---- inputs read back from the command's own outputs ------------------------------
+
+if [ -f $o.node ]; then
+    run tets_node --tets $o.node --exemplar $o.ex.nrrd --out-image $tmp/r1.png --size 64x48 &&
+    [ "$(reported "$tmp/tets_node.log")" = "$nt" ] && pass tets_node_read
+    run out_mesh --tets $o.node --exemplar procedural:layers --exemplar-size 16 --out-tets $tmp/r.mesh &&
+    run tets_mesh --tets $tmp/r.mesh --exemplar procedural:layers --exemplar-size 16 --type 1b --out-lst $tmp/r.lst &&
+    [ "$(reported "$tmp/tets_mesh.log")" = "$nt" ] && pass tets_medit_read
+fi
+
+# ---- errors ------------------------------------------------------------------------
+
+mkdir -p "$tmp/out"
+printf 'OFF\n4 2 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 1 2\n3 0 3 1\n' > $tmp/open.off
+printf 'face 0 0\nfill x 1\n' > $tmp/baddepth.txt
+printf 'NRRD0004\ntype: float\n' > $tmp/bad.nrrd
+expect_error no_input "required" --exemplar procedural:spots --out-lst $tmp/out/x.lst
+expect_error no_output "nothing to write" $small
+expect_error unknown_option "unknown option" $small --frobnicate --out-lst $tmp/out/x.lst
+expect_error bad_type "--type" $small --type 3c --out-lst $tmp/out/x.lst
+expect_error bad_cut "--cut" $small --cut "1 2 3" --out-lst $tmp/out/x.lst
+expect_error section_needs_cut "needs a --cut" $small --out-section $tmp/out/x.png
+expect_error missing_mesh "cannot open" --mesh $tmp/none.off --exemplar procedural:spots --out-lst $tmp/out/x.lst
+expect_error open_mesh "not closed" --mesh $tmp/open.off --exemplar procedural:spots --out-lst $tmp/out/x.lst
+expect_error unknown_surface "unknown built-in surface" --mesh procedural:cube --exemplar procedural:spots --out-lst $tmp/out/x.lst
+expect_error unknown_exemplar "unknown built-in exemplar" $small --exemplar procedural:marble --out-lst $tmp/out/x.lst
+expect_error bad_nrrd "bad.nrrd" --mesh procedural:sphere --tet-count 800 --exemplar $tmp/bad.nrrd --out-lst $tmp/out/x.lst
+expect_error bad_depth "baddepth.txt:2" $small --type 1b --depth $tmp/baddepth.txt --out-lst $tmp/out/x.lst
+expect_error tets_extension "--tets" --tets $tmp/x.off --exemplar procedural:spots --out-lst $tmp/out/x.lst
+expect_error out_tets_extension "--out-tets" $small --out-tets $tmp/out/x.vtk
+expect_error paste_outside "outside the model" $small --paste "5 0 0 1 0 0 0 1 0 0.5" --out-lst $tmp/out/x.lst
+expect_error cut_everything "cut away" $small --cut "1 0 0 -5" --out-image $tmp/out/x.png
+expect_error same_file "two outputs" $small --out-image $tmp/out/x.png --out-volume $tmp/out/x.png --slices 2
