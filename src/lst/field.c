@@ -244,6 +244,7 @@ static int lst__paint_surface(const pw_alloc *a, const lst__geo *g, const lst_me
         return pw_trimesh_init(a, &tmp, tm, e);
     }
     if ((r = pw_mesh_alloc(a, &tmp, 0, g->nbface, 3 * g->nbface, 0, e)) != PW_OK) return r;
+    pw_free(a, tmp.pos); /* no positions of its own: the tetrahedral mesh's */
     tmp.nv = g->m.nv;
     tmp.pos = g->m.pos;
     for (f = 0; f < g->nbface; f++) {

@@ -1,0 +1,136 @@
+/* fuzz_lst: lst.h's readers and its pipeline on whatever they accept.
+ *
+ * Each input is used three ways:
+ *   1. as a model file: a model that reads is written back and read again,
+ *      byte for byte the same file;
+ *   2. as a depth constraint file and as a directions file: constraints that
+ *      read steer a fill of a small built-in mesh (type, seed, mask size and
+ *      a cut plane from the input's first bytes), which must succeed or fail
+ *      with a known code and a message; a model that fills is covered (its
+ *      composite opacity at every sample point of every tetrahedron at least
+ *      0.98), is cut by the plane, and renders a tiny image;
+ *   3. its first bytes as the options of a fill with no constraints.
+ * Every failure must carry a code and a message and leave no model.
+ *
+ * Build: clang -g -O1 -fsanitize=fuzzer,address,undefined -I. fuzz/fuzz_lst.c -lm */
+#define LST_IMPLEMENTATION
+#include "../lst.h"
+#include <stdlib.h>
+
+static lst_tetmesh fz_mesh;
+static lst_volume fz_ex;
+
+static void fz_check_err(lst_result r, const lst_error *e)
+{
+    if (r <= 0 || r > LST_ERR_NOCONVERGE || e->code != r || !e->message[0]) abort();
+}
+
+static void fz_setup(void)
+{
+    lst_options o = lst_default_options();
+    lst_tet_options to;
+    lst_mesh s;
+    lst_error e;
+    if (fz_mesh.tets) return;
+    memset(&to, 0, sizeof to);
+    to.target_tets = 60;
+    if (lst_builtin_surface("sphere", &o, &s, &e) || lst_tetrahedralize(&s, &to, &o, &fz_mesh, &e) ||
+        lst_builtin_exemplar("rings", 8, &o, &fz_ex, NULL, &e))
+        abort();
+    lst_mesh_free(&s);
+}
+
+static void fz_model_file(const uint8_t *d, size_t n)
+{
+    lst_model m, b;
+    lst_error e;
+    pw_buf x, y;
+    lst_result r = lst_read_model_from_memory(d, n, "fuzz.lst", NULL, &m, &e);
+    if (r != LST_OK) {
+        fz_check_err(r, &e);
+        if (m.mesh.tets || m.pastes) abort();
+        return;
+    }
+    memset(&x, 0, sizeof x), memset(&y, 0, sizeof y);
+    if (lst_write_model_to_func(&m, pw_buf_write, &x, &e)) abort();
+    if (lst_read_model_from_memory(x.data, x.size, "again", NULL, &b, &e)) abort();
+    if (lst_write_model_to_func(&b, pw_buf_write, &y, &e)) abort();
+    if (x.size != y.size || memcmp(x.data, y.data, x.size)) abort();
+    free(x.data), free(y.data);
+    lst_model_free(&m), lst_model_free(&b);
+}
+
+/* A fill with options from the first bytes; the model's checks. */
+static void fz_fill(const uint8_t *d, size_t n, const lst_depth_constraint *dc, int nd, const lst_field_constraint *fc,
+                    int nf)
+{
+    lst_options o = lst_default_options();
+    lst_render_options ro;
+    lst_model m;
+    lst_image img;
+    lst_error e;
+    lst_result r;
+    float plane[4] = {0, 0, 1, 0};
+    int t, k;
+    o.type = n > 0 ? d[0] % 5 : 0;
+    o.seed = n > 1 ? d[1] : 0;
+    o.samples = 1 + (n > 2 ? d[2] % 3 : 0);
+    o.scale = 0.8f + (n > 3 ? d[3] % 8 : 0) * 0.2f;
+    o.depth = dc, o.ndepth = nd, o.field = fc, o.nfield = nf;
+    o.max_pastes = 3000;
+    if (n > 6) plane[0] = (d[4] - 128) / 64.0f, plane[1] = (d[5] - 128) / 64.0f, plane[3] = (d[6] - 128) / 256.0f;
+    r = lst_create(&fz_mesh, NULL, &fz_ex, NULL, &o, &m, &e);
+    if (r != LST_OK) {
+        fz_check_err(r, &e);
+        if (m.mesh.tets || m.pastes) abort();
+        return;
+    }
+    {
+        pw_alloc a;
+        lst__view v;
+        pw_err pe;
+        float *lat = NULL, rgba[4];
+        int q, ns;
+        memset(&a, 0, sizeof a);
+        pw_err_clear(&pe);
+        if (lst__view_init(&a, &m, LST_SHOW_COLOR, &v, &pe) || (ns = lst__lattice(&a, o.samples, &lat, &pe)) < 0) abort();
+        for (t = 0; t < m.mesh.ntets; t++)
+            for (q = 0; q < ns; q++) {
+                double l[4];
+                for (k = 0; k < 4; k++) l[k] = lat[4 * q + k];
+                lst__eval(&v, t, l, rgba, NULL);
+                if (!(rgba[3] >= 0.98f)) abort();
+            }
+        pw_free(&a, lat);
+        lst__index_free(&a, &v.ix);
+    }
+    r = lst_cut_plane(&m, plane, &e);
+    if (r != LST_OK) fz_check_err(r, &e);
+    memset(&ro, 0, sizeof ro);
+    ro.width = 16, ro.height = 12, ro.supersample = 1;
+    r = lst_render(&m, &ro, &img, &e);
+    if (r == LST_OK) lst_image_free(&img);
+    else fz_check_err(r, &e);
+    lst_model_free(&m);
+}
+
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
+{
+    lst_depth_constraint *dc = NULL;
+    lst_field_constraint *fc = NULL;
+    lst_error e;
+    lst_result r;
+    int nd = 0, nf = 0;
+    fz_setup();
+    fz_model_file(data, size);
+    r = lst_read_depth_from_memory(data, size, "fuzz.depth", NULL, &dc, &nd, &e);
+    if (r != LST_OK) fz_check_err(r, &e);
+    else fz_fill(data, size, dc, nd, NULL, 0);
+    r = lst_read_directions_from_memory(data, size, "fuzz.dirs", NULL, &fc, &nf, &e);
+    if (r != LST_OK) fz_check_err(r, &e);
+    else fz_fill(data, size, NULL, 0, fc, nf);
+    if (size < 16) fz_fill(data, size, NULL, 0, NULL, 0);
+    lst_free_constraints(dc, fc, NULL);
+    return 0;
+}
