@@ -12641,45 +12641,43 @@ static double lst__diagonal(const float *pos, int nv)
  * bottom row), clamped to the edge voxels; out gets vol->c values. */
 static void lst__sample(const pw_volume *vol, double u, double v, double w, float *out)
 {
-    double x = u * vol->x - 0.5, y = (1.0 - v) * vol->y - 0.5, z = w * vol->z - 0.5, fx, fy, fz;
-    int x0, y0, z0, x1, y1, z1, k, c = vol->c;
-    const float *p[8];
-    x = x < 0.0 ? 0.0 : (x > vol->x - 1 ? vol->x - 1 : x);
-    y = y < 0.0 ? 0.0 : (y > vol->y - 1 ? vol->y - 1 : y);
-    z = z < 0.0 ? 0.0 : (z > vol->z - 1 ? vol->z - 1 : z);
+    const int X = vol->x, Y = vol->y, Z = vol->z, c = vol->c;
+    float x = (float)(u * X - 0.5), y = (float)((1.0 - v) * Y - 0.5), z = (float)(w * Z - 0.5), fx, fy, fz;
+    size_t dx, dy, dz;
+    const float *p;
+    int x0, y0, z0, k;
+    x = x < 0.0f ? 0.0f : (x > X - 1 ? (float)(X - 1) : x);
+    y = y < 0.0f ? 0.0f : (y > Y - 1 ? (float)(Y - 1) : y);
+    z = z < 0.0f ? 0.0f : (z > Z - 1 ? (float)(Z - 1) : z);
     x0 = (int)x, y0 = (int)y, z0 = (int)z;
     fx = x - x0, fy = y - y0, fz = z - z0;
-    x1 = x0 + (x0 + 1 < vol->x), y1 = y0 + (y0 + 1 < vol->y), z1 = z0 + (z0 + 1 < vol->z);
-#define LST__AT(X, Y, Z) (vol->px + ((((size_t)(Z) * vol->y + (Y)) * vol->x + (X)) * c))
-    p[0] = LST__AT(x0, y0, z0), p[1] = LST__AT(x1, y0, z0), p[2] = LST__AT(x0, y1, z0), p[3] = LST__AT(x1, y1, z0);
-    p[4] = LST__AT(x0, y0, z1), p[5] = LST__AT(x1, y0, z1), p[6] = LST__AT(x0, y1, z1), p[7] = LST__AT(x1, y1, z1);
-#undef LST__AT
-    for (k = 0; k < c; k++) {
-        double a = p[0][k] + fx * (p[1][k] - p[0][k]), b = p[2][k] + fx * (p[3][k] - p[2][k]);
-        double d = p[4][k] + fx * (p[5][k] - p[4][k]), f = p[6][k] + fx * (p[7][k] - p[6][k]);
-        double g = a + fy * (b - a), h = d + fy * (f - d);
-        out[k] = (float)(g + fz * (h - g));
+    dx = x0 + 1 < X ? (size_t)c : 0, dy = y0 + 1 < Y ? (size_t)X * c : 0, dz = z0 + 1 < Z ? (size_t)X * Y * c : 0;
+    p = vol->px + (((size_t)z0 * Y + y0) * X + x0) * c;
+    for (k = 0; k < c; k++, p++) {
+        float a = p[0] + fx * (p[dx] - p[0]), b = p[dy] + fx * (p[dy + dx] - p[dy]);
+        float d = p[dz] + fx * (p[dz + dx] - p[dz]), f = p[dz + dy] + fx * (p[dz + dy + dx] - p[dz + dy]);
+        a += fy * (b - a);
+        d += fy * (f - d);
+        out[k] = a + fz * (d - a);
     }
 }
 
-/* A mask's alpha at (u, v, w): trilinear inside the unit cube, 0 outside
- * it (the paste ends at the exemplar's faces). The one-channel case of
- * lst__sample, written out: it is the inner loop of coverage. */
-static float lst__mask_alpha(const pw_volume *mask, double u, double v, double w)
+/* A mask's alpha at voxel coordinates (x, y, z) (voxel centres at
+ * integers; the unit cube spans -0.5 .. size-0.5): trilinear inside, 0
+ * outside (the paste ends at the exemplar's faces). */
+static float lst__mask_alpha_vox(const pw_volume *mask, float x, float y, float z)
 {
     const int X = mask->x, Y = mask->y, Z = mask->z;
     const size_t sy = (size_t)X, sz = (size_t)X * Y;
-    double x, y, z;
     float fx, fy, fz, a, b, c, d;
     const float *p;
     int x0, y0, z0, dx, dy, dz;
-    if (!(u >= 0.0 && u <= 1.0 && v >= 0.0 && v <= 1.0 && w >= 0.0 && w <= 1.0)) return 0.0f;
-    x = u * X - 0.5, y = (1.0 - v) * Y - 0.5, z = w * Z - 0.5;
-    x = x < 0.0 ? 0.0 : (x > X - 1 ? X - 1 : x);
-    y = y < 0.0 ? 0.0 : (y > Y - 1 ? Y - 1 : y);
-    z = z < 0.0 ? 0.0 : (z > Z - 1 ? Z - 1 : z);
+    if (!(x >= -0.5f && x <= X - 0.5f && y >= -0.5f && y <= Y - 0.5f && z >= -0.5f && z <= Z - 0.5f)) return 0.0f;
+    x = x < 0.0f ? 0.0f : (x > X - 1 ? (float)(X - 1) : x);
+    y = y < 0.0f ? 0.0f : (y > Y - 1 ? (float)(Y - 1) : y);
+    z = z < 0.0f ? 0.0f : (z > Z - 1 ? (float)(Z - 1) : z);
     x0 = (int)x, y0 = (int)y, z0 = (int)z;
-    fx = (float)(x - x0), fy = (float)(y - y0), fz = (float)(z - z0);
+    fx = x - x0, fy = y - y0, fz = z - z0;
     dx = x0 + 1 < X, dy = y0 + 1 < Y ? (int)sy : 0, dz = z0 + 1 < Z ? (int)sz : 0;
     p = mask->px + z0 * sz + y0 * sy + x0;
     a = p[0] + fx * (p[dx] - p[0]);
@@ -12689,6 +12687,21 @@ static float lst__mask_alpha(const pw_volume *mask, double u, double v, double w
     a += fy * (b - a);
     c += fy * (d - c);
     return a + fz * (c - a);
+}
+
+/* Texture coordinates to a mask's voxel coordinates. */
+static void lst__to_voxel(const pw_volume *mask, double u, double v, double w, float *out)
+{
+    out[0] = (float)(u * mask->x - 0.5), out[1] = (float)((1.0 - v) * mask->y - 0.5), out[2] = (float)(w * mask->z - 0.5);
+}
+
+/* A mask's alpha at texture coordinates (u, v, w). */
+static float lst__mask_alpha(const pw_volume *mask, double u, double v, double w)
+{
+    float x[3];
+    if (!(u >= 0.0 && u <= 1.0 && v >= 0.0 && v <= 1.0 && w >= 0.0 && w <= 1.0)) return 0.0f;
+    lst__to_voxel(mask, u, v, w, x);
+    return lst__mask_alpha_vox(mask, x[0], x[1], x[2]);
 }
 
 /* ---- noise for the procedural exemplars --------------------------------------------- */
@@ -13103,9 +13116,8 @@ static void lst__mask_free(const pw_alloc *a, lst__mask *m)
 /* cell[x,y,z] = 1 when one of the 8 voxels that trilinear interpolation
  * blends between (x, y, z) and (x+1, y+1, z+1) (clamped) has alpha > 0:
  * then, and only then, alpha can be > 0 in that cell. */
-static void lst__mask_cells(lst__mask *m)
+static void lst__mask_cells(const pw_volume *v, unsigned char *cell)
 {
-    const pw_volume *v = &m->vol;
     int x, y, z, i, j, k;
     for (z = 0; z < v->z; z++)
         for (y = 0; y < v->y; y++)
@@ -13117,22 +13129,19 @@ static void lst__mask_cells(lst__mask *m)
                             int X = pw_mini(x + i, v->x - 1), Y = pw_mini(y + j, v->y - 1), Z = pw_mini(z + k, v->z - 1);
                             any |= v->px[((size_t)Z * v->y + Y) * v->x + X] > 0.0f;
                         }
-                m->cell[((size_t)z * v->y + y) * v->x + x] = any;
+                cell[((size_t)z * v->y + y) * v->x + x] = any;
             }
 }
 
-/* Whether alpha is > 0 at (u, v, w) (exactly as lst__mask_alpha would
- * say), from one byte. */
-static int lst__mask_any(const lst__mask *m, double u, double v, double w)
+/* Whether alpha is > 0 at voxel coordinates (x, y, z) of volume v
+ * (exactly as lst__mask_alpha_vox would say), from one byte of its cells. */
+static int lst__cell_any(const pw_volume *v, const unsigned char *cell, float x, float y, float z)
 {
-    const pw_volume *vol = &m->vol;
-    double x, y, z;
-    if (!(u >= 0.0 && u <= 1.0 && v >= 0.0 && v <= 1.0 && w >= 0.0 && w <= 1.0)) return 0;
-    x = u * vol->x - 0.5, y = (1.0 - v) * vol->y - 0.5, z = w * vol->z - 0.5;
-    x = x < 0.0 ? 0.0 : (x > vol->x - 1 ? vol->x - 1 : x);
-    y = y < 0.0 ? 0.0 : (y > vol->y - 1 ? vol->y - 1 : y);
-    z = z < 0.0 ? 0.0 : (z > vol->z - 1 ? vol->z - 1 : z);
-    return m->cell[((size_t)(int)z * vol->y + (int)y) * vol->x + (int)x];
+    if (!(x >= -0.5f && x <= v->x - 0.5f && y >= -0.5f && y <= v->y - 0.5f && z >= -0.5f && z <= v->z - 0.5f)) return 0;
+    x = x < 0.0f ? 0.0f : (x > v->x - 1 ? (float)(v->x - 1) : x);
+    y = y < 0.0f ? 0.0f : (y > v->y - 1 ? (float)(v->y - 1) : y);
+    z = z < 0.0f ? 0.0f : (z > v->z - 1 ? (float)(v->z - 1) : z);
+    return cell[((size_t)(int)z * v->y + (int)y) * v->x + (int)x];
 }
 
 static int lst__mask_init(const pw_alloc *a, const pw_volume *vol, lst__mask *m, pw_err *e)
@@ -13156,7 +13165,7 @@ static int lst__mask_init(const pw_alloc *a, const pw_volume *vol, lst__mask *m,
                 f = (f + 0.5) / pw_maxi(vol->x, pw_maxi(vol->y, vol->z));
                 if (f < m->in[k]) m->in[k] = (float)f;
             }
-    lst__mask_cells(m);
+    lst__mask_cells(vol, m->cell);
     return PW_OK;
 }
 
@@ -14407,16 +14416,20 @@ static double lst__ball(double c[4][3], double *g)
  * where coverage is measured). */
 static int lst__overlap(const lst__fill *F, const lst__mask *m, double c[4][3])
 {
-    double g[3], w[3], lim = lst__ball(c, g) + m->margin;
+    double g[3], lim = lst__ball(c, g) + m->margin;
+    float vc[4][3];
     int k, s;
     if (lst__mask_dist(m, m->out, pw_clampf((float)g[0], 0, 1), pw_clampf((float)g[1], 0, 1), pw_clampf((float)g[2], 0, 1)) > lim)
         return LST__OUT;
     if (g[0] >= 0 && g[0] <= 1 && g[1] >= 0 && g[1] <= 1 && g[2] >= 0 && g[2] <= 1 && lst__mask_dist(m, m->in, g[0], g[1], g[2]) > lim)
         return LST__CORE;
+    for (k = 0; k < 4; k++) lst__to_voxel(&m->vol, c[k][0], c[k][1], c[k][2], vc[k]);
     for (s = 0; s < F->nsamp; s++) {
         const float *l = F->lattice + 4 * s;
-        for (k = 0; k < 3; k++) w[k] = l[0] * c[0][k] + l[1] * c[1][k] + l[2] * c[2][k] + l[3] * c[3][k];
-        if (lst__mask_any(m, w[0], w[1], w[2])) return LST__PART;
+        if (lst__cell_any(&m->vol, m->cell, l[0] * vc[0][0] + l[1] * vc[1][0] + l[2] * vc[2][0] + l[3] * vc[3][0],
+                              l[0] * vc[0][1] + l[1] * vc[1][1] + l[2] * vc[2][1] + l[3] * vc[3][1],
+                              l[0] * vc[0][2] + l[1] * vc[1][2] + l[2] * vc[2][2] + l[3] * vc[3][2]))
+            return LST__PART;
     }
     return LST__OUT;
 }
@@ -14515,62 +14528,92 @@ static int lst__grow(lst__fill *F, const lst__spec *s, int id, const double *inv
 
 /* ---- §5.2.5 texture optimisation ------------------------------------------------------------- */
 
+/* The normal equations of the clump's least-squares problem. Tetrahedron i
+ * contributes, for each axis a, the row c_a (c_ak = grad lambda_k . A_i,a)
+ * with right-hand side e_a: a 4x4 block sum_a c_a c_a^T of the matrix and
+ * c_j (for coordinate j) of the right-hand side; the positional constraint
+ * adds W^2 c c^T and W^2 c w0. coef: 12 per tetrahedron, kept for the
+ * right-hand sides. Returns the weight W. */
+static double lst__normal_matrix(lst__fill *F, const lst__spec *s, double *coef, pw_triplets *T, pw_err *e)
+{
+    double gsum = 0.0, W;
+    int i, a, k, l, r = PW_OK;
+    for (i = 0; i < F->nct; i++) {
+        double g[4][3], ax[9];
+        pw_tet_gradients(&F->g->m, F->ctet[i], g);
+        lst__frame_of(F, s, F->ctet[i], ax);
+        for (a = 0; a < 3; a++) {
+            double n2 = 0.0;
+            for (k = 0; k < 4; k++) {
+                double v = lst__dot3(g[k], ax + 3 * a);
+                coef[12 * i + 4 * a + k] = v;
+                n2 += v * v;
+            }
+            gsum += sqrt(n2);
+        }
+        for (k = 0; k < 4 && r == PW_OK; k++)
+            for (l = 0; l < 4 && r == PW_OK; l++) {
+                double v = 0.0;
+                for (a = 0; a < 3; a++) v += coef[12 * i + 4 * a + k] * coef[12 * i + 4 * a + l];
+                r = pw_triplets_add(T, F->ccorner[4 * i + k], F->ccorner[4 * i + l], v, e);
+            }
+    }
+    W = 10.0 * gsum / (3.0 * F->nct);
+    for (k = 0; k < 4 && r == PW_OK; k++)
+        for (l = 0; l < 4 && r == PW_OK; l++)
+            r = pw_triplets_add(T, F->ccorner[k], F->ccorner[l], W * W * s->centre[k] * s->centre[l], e);
+    return r == PW_OK ? W : -1.0;
+}
+
 /* The clump's texture coordinates minimising, over its tetrahedra i and
  * axes a, |sum_k (grad lambda_k . A_i,a) w_k - e_a|^2 (the transformed
  * tensor axes against the texture axes, Fig. 12), with the positional
- * constraint sum_k c_k w_k = w0 on the seed as a heavily weighted row.
- * One sparse matrix serves every coordinate; the depth coordinate of
- * depth-varying pastes is not solved (§5.2.7). Warm-started from the
- * current coordinates. */
+ * constraint sum_k c_k w_k = w0 on the seed as a heavily weighted row: the
+ * sparse normal equations, solved by conjugate gradients with an
+ * incomplete Cholesky factor shared by the coordinates, warm-started from
+ * the current ones. The depth coordinate of depth-varying pastes is not
+ * solved (§5.2.7). */
 static int lst__optimise(lst__fill *F, const lst__spec *s, const pw_progress *p, pw_err *e)
 {
     pw_triplets T;
     pw_csr A;
-    double *b = NULL, *x = NULL, gsum = 0.0, W;
-    int i, a, k, j, r, rows = 3 * F->nct + 1;
+    pw_ic0 L;
+    double *coef, *b = NULL, *x = NULL, W;
+    int i, k, j, r;
     memset(&A, 0, sizeof A);
-    if ((r = pw_triplets_init(&T, F->a, rows, F->ncv, e)) != PW_OK) return r;
-    for (i = 0; i < F->nct && r == PW_OK; i++) {
-        double g[4][3], ax[9];
-        pw_tet_gradients(&F->g->m, F->ctet[i], g);
-        lst__frame_of(F, s, F->ctet[i], ax);
-        for (a = 0; a < 3 && r == PW_OK; a++) {
-            double n2 = 0.0;
-            for (k = 0; k < 4 && r == PW_OK; k++) {
-                double v = lst__dot3(g[k], ax + 3 * a);
-                n2 += v * v;
-                r = pw_triplets_add(&T, 3 * i + a, F->ccorner[4 * i + k], v, e);
-            }
-            gsum += sqrt(n2);
-        }
+    memset(&L, 0, sizeof L);
+    if (!(coef = (double *)pw_alloc_array(F->a, (size_t)F->nct * 12, sizeof(double), "texture optimisation", e)))
+        return PW_ERR_NOMEM;
+    if ((r = pw_triplets_init(&T, F->a, F->ncv, F->ncv, e)) == PW_OK) {
+        W = lst__normal_matrix(F, s, coef, &T, e);
+        r = W < 0.0 ? PW_ERR_NOMEM : pw_csr_from_triplets(F->a, &T, &A, e);
     }
-    W = 10.0 * gsum / (3.0 * F->nct);
-    for (k = 0; k < 4 && r == PW_OK; k++) r = pw_triplets_add(&T, rows - 1, F->ccorner[k], W * s->centre[k], e);
-    if (r == PW_OK) r = pw_csr_from_triplets(F->a, &T, &A, e);
     pw_triplets_free(&T);
-    b = (double *)pw_alloc_array(F->a, (size_t)rows, sizeof(double), "texture optimisation", e);
+    b = (double *)pw_alloc_array(F->a, (size_t)F->ncv, sizeof(double), "texture optimisation", e);
     x = (double *)pw_alloc_array(F->a, (size_t)F->ncv, sizeof(double), "texture optimisation", e);
     if (r == PW_OK && (!b || !x)) r = PW_ERR_NOMEM;
+    if (r == PW_OK) r = pw_ic0_factor(F->a, &A, &L, e);
     for (j = 0; j < 3 && r == PW_OK; j++) {
         pw_cg_options co = pw_cg_default_options();
         pw_err local;
         if (j == 1 && s->depth_coord) continue;
+        memset(b, 0, sizeof(double) * (size_t)F->ncv);
         for (i = 0; i < F->nct; i++)
-            for (a = 0; a < 3; a++) b[3 * i + a] = a == j ? 1.0 : 0.0;
-        b[rows - 1] = W * s->w0[j];
+            for (k = 0; k < 4; k++) b[F->ccorner[4 * i + k]] += coef[12 * i + 4 * j + k];
+        for (k = 0; k < 4; k++) b[F->ccorner[k]] += W * W * s->centre[k] * s->w0[j];
         for (k = 0; k < F->ncv; k++) x[k] = F->w[3 * k + j];
-        co.tol = 1e-5;
-        co.max_iter = 400;
+        co.tol = 1e-6;
+        co.max_iter = 300;
         if (p) co.progress = *p;
         pw_err_clear(&local);
-        r = pw_lsq_solve(F->a, &A, b, x, &co, NULL, &local);
+        r = pw_pcg_solve(F->a, &A, &L, b, x, &co, NULL, &local);
         if (r == PW_ERR_NOCONVERGE) r = PW_OK; /* x is the best iterate: still a fine map */
         else if (r != PW_OK) pw_fail(e, r, "%s", local.msg);
         for (k = 0; r == PW_OK && k < F->ncv; k++) F->w[3 * k + j] = x[k];
     }
+    pw_ic0_free(F->a, &L);
     pw_csr_free(F->a, &A);
-    pw_free(F->a, b);
-    pw_free(F->a, x);
+    pw_free(F->a, coef), pw_free(F->a, b), pw_free(F->a, x);
     return r;
 }
 
@@ -14597,20 +14640,20 @@ static void lst__coverage(lst__fill *F, const lst__spec *s, int id)
         int t = F->ctet[i], all = 1, ov;
         unsigned char *cv = F->cov + (size_t)t * F->nsamp;
         double c[4][3];
+        float vc[4][3];
         for (k = 0; k < 4; k++) memcpy(c[k], F->w + 3 * F->ccorner[4 * i + k], sizeof c[k]);
         ov = lst__overlap(F, m, c);
         if (ov == LST__CORE) F->opaque[t] = id;
         if (F->upos[t] < 0 || ov == LST__OUT) continue;
+        for (k = 0; k < 4; k++) lst__to_voxel(&m->vol, c[k][0], c[k][1], c[k][2], vc[k]);
         for (q = 0; q < F->nsamp; q++) {
             const float *l = F->lattice + 4 * q;
-            double w[3];
             float al;
             if (cv[q] == 255) continue;
-            if (ov == LST__CORE) al = 1.0f;
-            else {
-                for (k = 0; k < 3; k++) w[k] = l[0] * c[0][k] + l[1] * c[1][k] + l[2] * c[2][k] + l[3] * c[3][k];
-                al = lst__mask_alpha(&m->vol, w[0], w[1], w[2]);
-            }
+            al = ov == LST__CORE ? 1.0f
+                                 : lst__mask_alpha_vox(&m->vol, l[0] * vc[0][0] + l[1] * vc[1][0] + l[2] * vc[2][0] + l[3] * vc[3][0],
+                                                       l[0] * vc[0][1] + l[1] * vc[1][1] + l[2] * vc[2][1] + l[3] * vc[3][1],
+                                                       l[0] * vc[0][2] + l[1] * vc[1][2] + l[2] * vc[2][2] + l[3] * vc[3][2]);
             cv[q] = (unsigned char)(cv[q] + (int)(al * (255 - cv[q]) + 0.5f));
             all &= cv[q] >= F->threshold;
         }
@@ -15091,7 +15134,10 @@ typedef struct lst__view {
     lst__index ix;
     pw_volume tex, val, mask[64];
     int show;
+    const pw_alloc *a;
 } lst__view;
+
+static void lst__view_free(lst__view *v) { lst__index_free(v->a, &v->ix); }
 
 /* A model usable for rendering: mesh, texture and masks present, paste
  * indices within range. */
@@ -15127,6 +15173,7 @@ static int lst__view_init(const pw_alloc *a, const lst_model *m, int show, lst__
         return pw_fail(e, PW_ERR_INVALID, "the model has no extra channel to show");
     v->m = m;
     v->show = show;
+    v->a = a;
     v->tex = lst__pw_volume(&m->texture);
     if (m->values.voxels) v->val = lst__pw_volume(&m->values);
     for (k = 0; k < m->nmasks; k++) v->mask[k] = lst__pw_volume(&m->masks[k]);
@@ -15148,7 +15195,7 @@ static void lst__paste_colour(int p, float *c)
 static void lst__eval(const lst__view *v, int t, const double *l, float *rgba, float *values)
 {
     float acc[4] = {0, 0, 0, 0}, vacc[4] = {0, 0, 0, 0}, T = 1.0f, col[4], vv[4];
-    int i, k, j, nc = v->tex.c, vc = v->val.px ? v->val.c : 0;
+    int i, k, j, nc = v->tex.c, vc = v->val.px && (values || v->show == LST_SHOW_VALUES) ? v->val.c : 0;
     for (i = v->ix.start[t + 1] - 1; i >= v->ix.start[t] && T > 1.0f / 1024.0f; i--) {
         const lst_paste *p = &v->m->pastes[v->ix.paste[i]];
         const int *c = p->corners + 4 * v->ix.slot[i];
@@ -15209,7 +15256,7 @@ LSTDEF lst_result lst_eval(const lst_model *model, const float *points, int n, f
         }
         pw_tetgrid_free(&a, &grid);
     }
-    lst__index_free(&a, &v.ix);
+    lst__view_free(&v);
     return lst__done(&e, err);
 }
 
@@ -15304,7 +15351,7 @@ static void lst__shade(void *user, int tri, float b1, float b2, const float db[4
     int k;
     (void)db;
     for (k = 0; k < 4; k++) l[k] = b0 * b[k] + b1 * b[4 + k] + b2 * b[8 + k];
-    lst__eval(S->v, S->tris->tet[tri], l, rgba, S->mode ? vals : NULL);
+    lst__eval(S->v, S->tris->tet[tri], l, rgba, S->mode && S->density ? vals : NULL);
     if (S->mode == 0) {
         rgba[3] = 1.0f;
         return;
@@ -15561,7 +15608,7 @@ static int lst__render(const pw_alloc *a, const lst_model *m, const lst_render_o
     pw_fb_free(&fb);
     lst__tris_free(a, &outer), lst__tris_free(a, &cut), lst__tris_free(a, &disp);
     pw_free(a, nb);
-    lst__index_free(a, &v.ix);
+    lst__view_free(&v);
     return r;
 }
 
@@ -15664,7 +15711,7 @@ static int lst__volume(const pw_alloc *a, const lst_model *m, const lst_render_o
     pw_fb_free(&fb);
     lst__tris_free(a, &sl);
     pw_free(a, phi);
-    lst__index_free(a, &v.ix);
+    lst__view_free(&v);
     return r;
 }
 

@@ -102,7 +102,7 @@ static void fz_fill(const uint8_t *d, size_t n, const lst_depth_constraint *dc, 
                 if (!(rgba[3] >= 0.98f)) abort();
             }
         pw_free(&a, lat);
-        lst__index_free(&a, &v.ix);
+        lst__view_free(&v);
     }
     r = lst_cut_plane(&m, plane, &e);
     if (r != LST_OK) fz_check_err(r, &e);

@@ -70,7 +70,7 @@ static double min_coverage(const lst_model *model, int *worst)
             if (rgba[3] < mn) mn = rgba[3], *worst = t;
         }
     pw_free(&a, lat);
-    lst__index_free(&a, &v.ix);
+    lst__view_free(&v);
     return mn;
 }
 
@@ -285,7 +285,7 @@ static void t_skin_on_surface(void)
     CHECK(vmax <= 1.0 / 64);
     CHECK(cerr < 0.05);
     free(onb);
-    lst__index_free(&a, &v.ix);
+    lst__view_free(&v);
     lst__geo_free(&a, &g);
     lst_model_free(&model);
     lst_tetmesh_free(&m);

@@ -156,7 +156,7 @@ static void t_section_matches_eval(void)
     pwt_info("%d cut faces: largest difference from direct evaluation %.2g", n, worst);
     CHECK(n > 50);
     CHECK(worst < 2e-3);
-    lst__index_free(&a, &v.ix);
+    lst__view_free(&v);
     free(nb);
     free_copy(&orig);
     lst_model_free(&m);

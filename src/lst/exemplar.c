@@ -11,45 +11,43 @@
  * bottom row), clamped to the edge voxels; out gets vol->c values. */
 static void lst__sample(const pw_volume *vol, double u, double v, double w, float *out)
 {
-    double x = u * vol->x - 0.5, y = (1.0 - v) * vol->y - 0.5, z = w * vol->z - 0.5, fx, fy, fz;
-    int x0, y0, z0, x1, y1, z1, k, c = vol->c;
-    const float *p[8];
-    x = x < 0.0 ? 0.0 : (x > vol->x - 1 ? vol->x - 1 : x);
-    y = y < 0.0 ? 0.0 : (y > vol->y - 1 ? vol->y - 1 : y);
-    z = z < 0.0 ? 0.0 : (z > vol->z - 1 ? vol->z - 1 : z);
+    const int X = vol->x, Y = vol->y, Z = vol->z, c = vol->c;
+    float x = (float)(u * X - 0.5), y = (float)((1.0 - v) * Y - 0.5), z = (float)(w * Z - 0.5), fx, fy, fz;
+    size_t dx, dy, dz;
+    const float *p;
+    int x0, y0, z0, k;
+    x = x < 0.0f ? 0.0f : (x > X - 1 ? (float)(X - 1) : x);
+    y = y < 0.0f ? 0.0f : (y > Y - 1 ? (float)(Y - 1) : y);
+    z = z < 0.0f ? 0.0f : (z > Z - 1 ? (float)(Z - 1) : z);
     x0 = (int)x, y0 = (int)y, z0 = (int)z;
     fx = x - x0, fy = y - y0, fz = z - z0;
-    x1 = x0 + (x0 + 1 < vol->x), y1 = y0 + (y0 + 1 < vol->y), z1 = z0 + (z0 + 1 < vol->z);
-#define LST__AT(X, Y, Z) (vol->px + ((((size_t)(Z) * vol->y + (Y)) * vol->x + (X)) * c))
-    p[0] = LST__AT(x0, y0, z0), p[1] = LST__AT(x1, y0, z0), p[2] = LST__AT(x0, y1, z0), p[3] = LST__AT(x1, y1, z0);
-    p[4] = LST__AT(x0, y0, z1), p[5] = LST__AT(x1, y0, z1), p[6] = LST__AT(x0, y1, z1), p[7] = LST__AT(x1, y1, z1);
-#undef LST__AT
-    for (k = 0; k < c; k++) {
-        double a = p[0][k] + fx * (p[1][k] - p[0][k]), b = p[2][k] + fx * (p[3][k] - p[2][k]);
-        double d = p[4][k] + fx * (p[5][k] - p[4][k]), f = p[6][k] + fx * (p[7][k] - p[6][k]);
-        double g = a + fy * (b - a), h = d + fy * (f - d);
-        out[k] = (float)(g + fz * (h - g));
+    dx = x0 + 1 < X ? (size_t)c : 0, dy = y0 + 1 < Y ? (size_t)X * c : 0, dz = z0 + 1 < Z ? (size_t)X * Y * c : 0;
+    p = vol->px + (((size_t)z0 * Y + y0) * X + x0) * c;
+    for (k = 0; k < c; k++, p++) {
+        float a = p[0] + fx * (p[dx] - p[0]), b = p[dy] + fx * (p[dy + dx] - p[dy]);
+        float d = p[dz] + fx * (p[dz + dx] - p[dz]), f = p[dz + dy] + fx * (p[dz + dy + dx] - p[dz + dy]);
+        a += fy * (b - a);
+        d += fy * (f - d);
+        out[k] = a + fz * (d - a);
     }
 }
 
-/* A mask's alpha at (u, v, w): trilinear inside the unit cube, 0 outside
- * it (the paste ends at the exemplar's faces). The one-channel case of
- * lst__sample, written out: it is the inner loop of coverage. */
-static float lst__mask_alpha(const pw_volume *mask, double u, double v, double w)
+/* A mask's alpha at voxel coordinates (x, y, z) (voxel centres at
+ * integers; the unit cube spans -0.5 .. size-0.5): trilinear inside, 0
+ * outside (the paste ends at the exemplar's faces). */
+static float lst__mask_alpha_vox(const pw_volume *mask, float x, float y, float z)
 {
     const int X = mask->x, Y = mask->y, Z = mask->z;
     const size_t sy = (size_t)X, sz = (size_t)X * Y;
-    double x, y, z;
     float fx, fy, fz, a, b, c, d;
     const float *p;
     int x0, y0, z0, dx, dy, dz;
-    if (!(u >= 0.0 && u <= 1.0 && v >= 0.0 && v <= 1.0 && w >= 0.0 && w <= 1.0)) return 0.0f;
-    x = u * X - 0.5, y = (1.0 - v) * Y - 0.5, z = w * Z - 0.5;
-    x = x < 0.0 ? 0.0 : (x > X - 1 ? X - 1 : x);
-    y = y < 0.0 ? 0.0 : (y > Y - 1 ? Y - 1 : y);
-    z = z < 0.0 ? 0.0 : (z > Z - 1 ? Z - 1 : z);
+    if (!(x >= -0.5f && x <= X - 0.5f && y >= -0.5f && y <= Y - 0.5f && z >= -0.5f && z <= Z - 0.5f)) return 0.0f;
+    x = x < 0.0f ? 0.0f : (x > X - 1 ? (float)(X - 1) : x);
+    y = y < 0.0f ? 0.0f : (y > Y - 1 ? (float)(Y - 1) : y);
+    z = z < 0.0f ? 0.0f : (z > Z - 1 ? (float)(Z - 1) : z);
     x0 = (int)x, y0 = (int)y, z0 = (int)z;
-    fx = (float)(x - x0), fy = (float)(y - y0), fz = (float)(z - z0);
+    fx = x - x0, fy = y - y0, fz = z - z0;
     dx = x0 + 1 < X, dy = y0 + 1 < Y ? (int)sy : 0, dz = z0 + 1 < Z ? (int)sz : 0;
     p = mask->px + z0 * sz + y0 * sy + x0;
     a = p[0] + fx * (p[dx] - p[0]);
@@ -59,6 +57,21 @@ static float lst__mask_alpha(const pw_volume *mask, double u, double v, double w
     a += fy * (b - a);
     c += fy * (d - c);
     return a + fz * (c - a);
+}
+
+/* Texture coordinates to a mask's voxel coordinates. */
+static void lst__to_voxel(const pw_volume *mask, double u, double v, double w, float *out)
+{
+    out[0] = (float)(u * mask->x - 0.5), out[1] = (float)((1.0 - v) * mask->y - 0.5), out[2] = (float)(w * mask->z - 0.5);
+}
+
+/* A mask's alpha at texture coordinates (u, v, w). */
+static float lst__mask_alpha(const pw_volume *mask, double u, double v, double w)
+{
+    float x[3];
+    if (!(u >= 0.0 && u <= 1.0 && v >= 0.0 && v <= 1.0 && w >= 0.0 && w <= 1.0)) return 0.0f;
+    lst__to_voxel(mask, u, v, w, x);
+    return lst__mask_alpha_vox(mask, x[0], x[1], x[2]);
 }
 
 /* ---- noise for the procedural exemplars --------------------------------------------- */
@@ -473,9 +486,8 @@ static void lst__mask_free(const pw_alloc *a, lst__mask *m)
 /* cell[x,y,z] = 1 when one of the 8 voxels that trilinear interpolation
  * blends between (x, y, z) and (x+1, y+1, z+1) (clamped) has alpha > 0:
  * then, and only then, alpha can be > 0 in that cell. */
-static void lst__mask_cells(lst__mask *m)
+static void lst__mask_cells(const pw_volume *v, unsigned char *cell)
 {
-    const pw_volume *v = &m->vol;
     int x, y, z, i, j, k;
     for (z = 0; z < v->z; z++)
         for (y = 0; y < v->y; y++)
@@ -487,22 +499,19 @@ static void lst__mask_cells(lst__mask *m)
                             int X = pw_mini(x + i, v->x - 1), Y = pw_mini(y + j, v->y - 1), Z = pw_mini(z + k, v->z - 1);
                             any |= v->px[((size_t)Z * v->y + Y) * v->x + X] > 0.0f;
                         }
-                m->cell[((size_t)z * v->y + y) * v->x + x] = any;
+                cell[((size_t)z * v->y + y) * v->x + x] = any;
             }
 }
 
-/* Whether alpha is > 0 at (u, v, w) (exactly as lst__mask_alpha would
- * say), from one byte. */
-static int lst__mask_any(const lst__mask *m, double u, double v, double w)
+/* Whether alpha is > 0 at voxel coordinates (x, y, z) of volume v
+ * (exactly as lst__mask_alpha_vox would say), from one byte of its cells. */
+static int lst__cell_any(const pw_volume *v, const unsigned char *cell, float x, float y, float z)
 {
-    const pw_volume *vol = &m->vol;
-    double x, y, z;
-    if (!(u >= 0.0 && u <= 1.0 && v >= 0.0 && v <= 1.0 && w >= 0.0 && w <= 1.0)) return 0;
-    x = u * vol->x - 0.5, y = (1.0 - v) * vol->y - 0.5, z = w * vol->z - 0.5;
-    x = x < 0.0 ? 0.0 : (x > vol->x - 1 ? vol->x - 1 : x);
-    y = y < 0.0 ? 0.0 : (y > vol->y - 1 ? vol->y - 1 : y);
-    z = z < 0.0 ? 0.0 : (z > vol->z - 1 ? vol->z - 1 : z);
-    return m->cell[((size_t)(int)z * vol->y + (int)y) * vol->x + (int)x];
+    if (!(x >= -0.5f && x <= v->x - 0.5f && y >= -0.5f && y <= v->y - 0.5f && z >= -0.5f && z <= v->z - 0.5f)) return 0;
+    x = x < 0.0f ? 0.0f : (x > v->x - 1 ? (float)(v->x - 1) : x);
+    y = y < 0.0f ? 0.0f : (y > v->y - 1 ? (float)(v->y - 1) : y);
+    z = z < 0.0f ? 0.0f : (z > v->z - 1 ? (float)(v->z - 1) : z);
+    return cell[((size_t)(int)z * v->y + (int)y) * v->x + (int)x];
 }
 
 static int lst__mask_init(const pw_alloc *a, const pw_volume *vol, lst__mask *m, pw_err *e)
@@ -526,7 +535,7 @@ static int lst__mask_init(const pw_alloc *a, const pw_volume *vol, lst__mask *m,
                 f = (f + 0.5) / pw_maxi(vol->x, pw_maxi(vol->y, vol->z));
                 if (f < m->in[k]) m->in[k] = (float)f;
             }
-    lst__mask_cells(m);
+    lst__mask_cells(vol, m->cell);
     return PW_OK;
 }
 

@@ -183,16 +183,20 @@ static double lst__ball(double c[4][3], double *g)
  * where coverage is measured). */
 static int lst__overlap(const lst__fill *F, const lst__mask *m, double c[4][3])
 {
-    double g[3], w[3], lim = lst__ball(c, g) + m->margin;
+    double g[3], lim = lst__ball(c, g) + m->margin;
+    float vc[4][3];
     int k, s;
     if (lst__mask_dist(m, m->out, pw_clampf((float)g[0], 0, 1), pw_clampf((float)g[1], 0, 1), pw_clampf((float)g[2], 0, 1)) > lim)
         return LST__OUT;
     if (g[0] >= 0 && g[0] <= 1 && g[1] >= 0 && g[1] <= 1 && g[2] >= 0 && g[2] <= 1 && lst__mask_dist(m, m->in, g[0], g[1], g[2]) > lim)
         return LST__CORE;
+    for (k = 0; k < 4; k++) lst__to_voxel(&m->vol, c[k][0], c[k][1], c[k][2], vc[k]);
     for (s = 0; s < F->nsamp; s++) {
         const float *l = F->lattice + 4 * s;
-        for (k = 0; k < 3; k++) w[k] = l[0] * c[0][k] + l[1] * c[1][k] + l[2] * c[2][k] + l[3] * c[3][k];
-        if (lst__mask_any(m, w[0], w[1], w[2])) return LST__PART;
+        if (lst__cell_any(&m->vol, m->cell, l[0] * vc[0][0] + l[1] * vc[1][0] + l[2] * vc[2][0] + l[3] * vc[3][0],
+                              l[0] * vc[0][1] + l[1] * vc[1][1] + l[2] * vc[2][1] + l[3] * vc[3][1],
+                              l[0] * vc[0][2] + l[1] * vc[1][2] + l[2] * vc[2][2] + l[3] * vc[3][2]))
+            return LST__PART;
     }
     return LST__OUT;
 }
@@ -291,62 +295,92 @@ static int lst__grow(lst__fill *F, const lst__spec *s, int id, const double *inv
 
 /* ---- §5.2.5 texture optimisation ------------------------------------------------------------- */
 
+/* The normal equations of the clump's least-squares problem. Tetrahedron i
+ * contributes, for each axis a, the row c_a (c_ak = grad lambda_k . A_i,a)
+ * with right-hand side e_a: a 4x4 block sum_a c_a c_a^T of the matrix and
+ * c_j (for coordinate j) of the right-hand side; the positional constraint
+ * adds W^2 c c^T and W^2 c w0. coef: 12 per tetrahedron, kept for the
+ * right-hand sides. Returns the weight W. */
+static double lst__normal_matrix(lst__fill *F, const lst__spec *s, double *coef, pw_triplets *T, pw_err *e)
+{
+    double gsum = 0.0, W;
+    int i, a, k, l, r = PW_OK;
+    for (i = 0; i < F->nct; i++) {
+        double g[4][3], ax[9];
+        pw_tet_gradients(&F->g->m, F->ctet[i], g);
+        lst__frame_of(F, s, F->ctet[i], ax);
+        for (a = 0; a < 3; a++) {
+            double n2 = 0.0;
+            for (k = 0; k < 4; k++) {
+                double v = lst__dot3(g[k], ax + 3 * a);
+                coef[12 * i + 4 * a + k] = v;
+                n2 += v * v;
+            }
+            gsum += sqrt(n2);
+        }
+        for (k = 0; k < 4 && r == PW_OK; k++)
+            for (l = 0; l < 4 && r == PW_OK; l++) {
+                double v = 0.0;
+                for (a = 0; a < 3; a++) v += coef[12 * i + 4 * a + k] * coef[12 * i + 4 * a + l];
+                r = pw_triplets_add(T, F->ccorner[4 * i + k], F->ccorner[4 * i + l], v, e);
+            }
+    }
+    W = 10.0 * gsum / (3.0 * F->nct);
+    for (k = 0; k < 4 && r == PW_OK; k++)
+        for (l = 0; l < 4 && r == PW_OK; l++)
+            r = pw_triplets_add(T, F->ccorner[k], F->ccorner[l], W * W * s->centre[k] * s->centre[l], e);
+    return r == PW_OK ? W : -1.0;
+}
+
 /* The clump's texture coordinates minimising, over its tetrahedra i and
  * axes a, |sum_k (grad lambda_k . A_i,a) w_k - e_a|^2 (the transformed
  * tensor axes against the texture axes, Fig. 12), with the positional
- * constraint sum_k c_k w_k = w0 on the seed as a heavily weighted row.
- * One sparse matrix serves every coordinate; the depth coordinate of
- * depth-varying pastes is not solved (§5.2.7). Warm-started from the
- * current coordinates. */
+ * constraint sum_k c_k w_k = w0 on the seed as a heavily weighted row: the
+ * sparse normal equations, solved by conjugate gradients with an
+ * incomplete Cholesky factor shared by the coordinates, warm-started from
+ * the current ones. The depth coordinate of depth-varying pastes is not
+ * solved (§5.2.7). */
 static int lst__optimise(lst__fill *F, const lst__spec *s, const pw_progress *p, pw_err *e)
 {
     pw_triplets T;
     pw_csr A;
-    double *b = NULL, *x = NULL, gsum = 0.0, W;
-    int i, a, k, j, r, rows = 3 * F->nct + 1;
+    pw_ic0 L;
+    double *coef, *b = NULL, *x = NULL, W;
+    int i, k, j, r;
     memset(&A, 0, sizeof A);
-    if ((r = pw_triplets_init(&T, F->a, rows, F->ncv, e)) != PW_OK) return r;
-    for (i = 0; i < F->nct && r == PW_OK; i++) {
-        double g[4][3], ax[9];
-        pw_tet_gradients(&F->g->m, F->ctet[i], g);
-        lst__frame_of(F, s, F->ctet[i], ax);
-        for (a = 0; a < 3 && r == PW_OK; a++) {
-            double n2 = 0.0;
-            for (k = 0; k < 4 && r == PW_OK; k++) {
-                double v = lst__dot3(g[k], ax + 3 * a);
-                n2 += v * v;
-                r = pw_triplets_add(&T, 3 * i + a, F->ccorner[4 * i + k], v, e);
-            }
-            gsum += sqrt(n2);
-        }
+    memset(&L, 0, sizeof L);
+    if (!(coef = (double *)pw_alloc_array(F->a, (size_t)F->nct * 12, sizeof(double), "texture optimisation", e)))
+        return PW_ERR_NOMEM;
+    if ((r = pw_triplets_init(&T, F->a, F->ncv, F->ncv, e)) == PW_OK) {
+        W = lst__normal_matrix(F, s, coef, &T, e);
+        r = W < 0.0 ? PW_ERR_NOMEM : pw_csr_from_triplets(F->a, &T, &A, e);
     }
-    W = 10.0 * gsum / (3.0 * F->nct);
-    for (k = 0; k < 4 && r == PW_OK; k++) r = pw_triplets_add(&T, rows - 1, F->ccorner[k], W * s->centre[k], e);
-    if (r == PW_OK) r = pw_csr_from_triplets(F->a, &T, &A, e);
     pw_triplets_free(&T);
-    b = (double *)pw_alloc_array(F->a, (size_t)rows, sizeof(double), "texture optimisation", e);
+    b = (double *)pw_alloc_array(F->a, (size_t)F->ncv, sizeof(double), "texture optimisation", e);
     x = (double *)pw_alloc_array(F->a, (size_t)F->ncv, sizeof(double), "texture optimisation", e);
     if (r == PW_OK && (!b || !x)) r = PW_ERR_NOMEM;
+    if (r == PW_OK) r = pw_ic0_factor(F->a, &A, &L, e);
     for (j = 0; j < 3 && r == PW_OK; j++) {
         pw_cg_options co = pw_cg_default_options();
         pw_err local;
         if (j == 1 && s->depth_coord) continue;
+        memset(b, 0, sizeof(double) * (size_t)F->ncv);
         for (i = 0; i < F->nct; i++)
-            for (a = 0; a < 3; a++) b[3 * i + a] = a == j ? 1.0 : 0.0;
-        b[rows - 1] = W * s->w0[j];
+            for (k = 0; k < 4; k++) b[F->ccorner[4 * i + k]] += coef[12 * i + 4 * j + k];
+        for (k = 0; k < 4; k++) b[F->ccorner[k]] += W * W * s->centre[k] * s->w0[j];
         for (k = 0; k < F->ncv; k++) x[k] = F->w[3 * k + j];
-        co.tol = 1e-5;
-        co.max_iter = 400;
+        co.tol = 1e-6;
+        co.max_iter = 300;
         if (p) co.progress = *p;
         pw_err_clear(&local);
-        r = pw_lsq_solve(F->a, &A, b, x, &co, NULL, &local);
+        r = pw_pcg_solve(F->a, &A, &L, b, x, &co, NULL, &local);
         if (r == PW_ERR_NOCONVERGE) r = PW_OK; /* x is the best iterate: still a fine map */
         else if (r != PW_OK) pw_fail(e, r, "%s", local.msg);
         for (k = 0; r == PW_OK && k < F->ncv; k++) F->w[3 * k + j] = x[k];
     }
+    pw_ic0_free(F->a, &L);
     pw_csr_free(F->a, &A);
-    pw_free(F->a, b);
-    pw_free(F->a, x);
+    pw_free(F->a, coef), pw_free(F->a, b), pw_free(F->a, x);
     return r;
 }
 
@@ -373,20 +407,20 @@ static void lst__coverage(lst__fill *F, const lst__spec *s, int id)
         int t = F->ctet[i], all = 1, ov;
         unsigned char *cv = F->cov + (size_t)t * F->nsamp;
         double c[4][3];
+        float vc[4][3];
         for (k = 0; k < 4; k++) memcpy(c[k], F->w + 3 * F->ccorner[4 * i + k], sizeof c[k]);
         ov = lst__overlap(F, m, c);
         if (ov == LST__CORE) F->opaque[t] = id;
         if (F->upos[t] < 0 || ov == LST__OUT) continue;
+        for (k = 0; k < 4; k++) lst__to_voxel(&m->vol, c[k][0], c[k][1], c[k][2], vc[k]);
         for (q = 0; q < F->nsamp; q++) {
             const float *l = F->lattice + 4 * q;
-            double w[3];
             float al;
             if (cv[q] == 255) continue;
-            if (ov == LST__CORE) al = 1.0f;
-            else {
-                for (k = 0; k < 3; k++) w[k] = l[0] * c[0][k] + l[1] * c[1][k] + l[2] * c[2][k] + l[3] * c[3][k];
-                al = lst__mask_alpha(&m->vol, w[0], w[1], w[2]);
-            }
+            al = ov == LST__CORE ? 1.0f
+                                 : lst__mask_alpha_vox(&m->vol, l[0] * vc[0][0] + l[1] * vc[1][0] + l[2] * vc[2][0] + l[3] * vc[3][0],
+                                                       l[0] * vc[0][1] + l[1] * vc[1][1] + l[2] * vc[2][1] + l[3] * vc[3][1],
+                                                       l[0] * vc[0][2] + l[1] * vc[1][2] + l[2] * vc[2][2] + l[3] * vc[3][2]);
             cv[q] = (unsigned char)(cv[q] + (int)(al * (255 - cv[q]) + 0.5f));
             all &= cv[q] >= F->threshold;
         }

@@ -59,7 +59,10 @@ typedef struct lst__view {
     lst__index ix;
     pw_volume tex, val, mask[64];
     int show;
+    const pw_alloc *a;
 } lst__view;
+
+static void lst__view_free(lst__view *v) { lst__index_free(v->a, &v->ix); }
 
 /* A model usable for rendering: mesh, texture and masks present, paste
  * indices within range. */
@@ -95,6 +98,7 @@ static int lst__view_init(const pw_alloc *a, const lst_model *m, int show, lst__
         return pw_fail(e, PW_ERR_INVALID, "the model has no extra channel to show");
     v->m = m;
     v->show = show;
+    v->a = a;
     v->tex = lst__pw_volume(&m->texture);
     if (m->values.voxels) v->val = lst__pw_volume(&m->values);
     for (k = 0; k < m->nmasks; k++) v->mask[k] = lst__pw_volume(&m->masks[k]);
@@ -116,7 +120,7 @@ static void lst__paste_colour(int p, float *c)
 static void lst__eval(const lst__view *v, int t, const double *l, float *rgba, float *values)
 {
     float acc[4] = {0, 0, 0, 0}, vacc[4] = {0, 0, 0, 0}, T = 1.0f, col[4], vv[4];
-    int i, k, j, nc = v->tex.c, vc = v->val.px ? v->val.c : 0;
+    int i, k, j, nc = v->tex.c, vc = v->val.px && (values || v->show == LST_SHOW_VALUES) ? v->val.c : 0;
     for (i = v->ix.start[t + 1] - 1; i >= v->ix.start[t] && T > 1.0f / 1024.0f; i--) {
         const lst_paste *p = &v->m->pastes[v->ix.paste[i]];
         const int *c = p->corners + 4 * v->ix.slot[i];
@@ -177,7 +181,7 @@ LSTDEF lst_result lst_eval(const lst_model *model, const float *points, int n, f
         }
         pw_tetgrid_free(&a, &grid);
     }
-    lst__index_free(&a, &v.ix);
+    lst__view_free(&v);
     return lst__done(&e, err);
 }
 
@@ -272,7 +276,7 @@ static void lst__shade(void *user, int tri, float b1, float b2, const float db[4
     int k;
     (void)db;
     for (k = 0; k < 4; k++) l[k] = b0 * b[k] + b1 * b[4 + k] + b2 * b[8 + k];
-    lst__eval(S->v, S->tris->tet[tri], l, rgba, S->mode ? vals : NULL);
+    lst__eval(S->v, S->tris->tet[tri], l, rgba, S->mode && S->density ? vals : NULL);
     if (S->mode == 0) {
         rgba[3] = 1.0f;
         return;
@@ -529,7 +533,7 @@ static int lst__render(const pw_alloc *a, const lst_model *m, const lst_render_o
     pw_fb_free(&fb);
     lst__tris_free(a, &outer), lst__tris_free(a, &cut), lst__tris_free(a, &disp);
     pw_free(a, nb);
-    lst__index_free(a, &v.ix);
+    lst__view_free(&v);
     return r;
 }
 
@@ -632,7 +636,7 @@ static int lst__volume(const pw_alloc *a, const lst_model *m, const lst_render_o
     pw_fb_free(&fb);
     lst__tris_free(a, &sl);
     pw_free(a, phi);
-    lst__index_free(a, &v.ix);
+    lst__view_free(&v);
     return r;
 }
 
