@@ -12766,15 +12766,27 @@ static void lst__layers(unsigned long long seed, double u, double v, double w, d
     *val = v < 0.035 ? 0.5 + 0.4 * (lst__fbm(seed + 9, u, 0.0, w, 12.0) - 0.5) : 0.5;
 }
 
-/* 1-a: fibres along u (muscle): streaks that vary across v and w only,
- * slowly along u, with pale sheaths between bundles. */
+/* 1-a: fibres along u (muscle): bundles, cells of a jittered grid in the
+ * (v, w) plane (constant along u, as fibres are), each with its own shade
+ * and fine streaks, bounded by pale sheaths. */
 static void lst__fibers(unsigned long long seed, double u, double v, double w, double *c, double *val)
 {
-    static const double dark[3] = {0.52, 0.10, 0.12}, light[3] = {0.88, 0.42, 0.40}, sheath[3] = {0.96, 0.90, 0.84};
-    double f = lst__fbm(seed, u * 0.15, v, w, 14.0), b = lst__noise(seed + 3, u * 0.6, v * 5.0, w * 5.0);
-    lst__mix3(c, dark, light, lst__smooth(0.25, 0.75, f));
-    if (fabs(b - 0.5) < 0.035) lst__mix3(c, c, sheath, 0.8);
-    *val = 0.35 + 0.3 * f;
+    static const double dark[3] = {0.50, 0.09, 0.11}, light[3] = {0.86, 0.36, 0.34}, sheath[3] = {0.95, 0.88, 0.82};
+    const double cells = 7.0;
+    double d1 = 9.0, d2 = 9.0, shade = 0.5, streak;
+    long cv = (long)floor(v * cells), cw = (long)floor(w * cells), i, k;
+    for (i = cv - 1; i <= cv + 1; i++)
+        for (k = cw - 1; k <= cw + 1; k++) {
+            double pv = (i + 0.15 + 0.7 * lst__hash01(seed, 0, i, k)) / cells - v;
+            double pw_ = (k + 0.15 + 0.7 * lst__hash01(seed + 1, 0, i, k)) / cells - w;
+            double d = sqrt(pv * pv + pw_ * pw_);
+            if (d < d1) d2 = d1, d1 = d, shade = lst__hash01(seed + 2, 0, i, k);
+            else if (d < d2) d2 = d;
+        }
+    streak = lst__fbm(seed + 3, u * 0.12, v, w, 30.0);
+    lst__mix3(c, dark, light, 0.25 + 0.45 * shade + 0.5 * (streak - 0.5));
+    if (d2 - d1 < 0.012) lst__mix3(c, c, sheath, 0.85);
+    *val = 0.35 + 0.3 * streak;
 }
 
 /* 0: an isotropic aggregate (concrete): stones in a grainy matrix. */
