@@ -33,9 +33,11 @@
  *   - §5.2.3-5.2.6 pasting: a random uncovered seed tetrahedron, the affine
  *     map of its tensor, clump growth (similar tensor, partly inside the
  *     mask), least-squares texture coordinates with the positional
- *     constraint, regrowth where the warped mask is uncovered, coverage
+ *     constraint (normal equations, incomplete-Cholesky conjugate
+ *     gradients), regrowth where the warped mask is uncovered, coverage
  *     accumulated at fixed sample points in every tetrahedron (165 as in the
- *     paper by default).
+ *     paper by default); a tetrahedron seeded again centres its next paste
+ *     at its least-covered sample point, so the fill always ends.
  *   - §5.2.7 depth-varying models: the depth is the v texture coordinate,
  *     the positional constraint (0.5, d_seed, 0.5), the mask chosen by depth.
  *   - §4.6 manual pasting at a point with an orientation and a scale.
@@ -410,7 +412,10 @@ LSTDEF lst_result lst_eval(const lst_model *model, const float *points, int n, f
 /* ---- cuts (§5.1.1) ---- */
 
 /* Splits the mesh along the plane n.x = d (plane = nx, ny, nz, d) and
- * removes what lies on the side n.x > d. */
+ * removes what lies on the side n.x > d. Crossings within a thousandth of
+ * an edge of a vertex move onto it (no slivers thinner than that). Like
+ * every cut, it is built aside and committed at the end: a failure leaves
+ * the model as it was. */
 LSTDEF lst_result lst_cut_plane(lst_model *model, const float plane[4], lst_error *err);
 /* The same along the zero set of a field given at the vertices (nverts of
  * model->mesh): removes phi > 0. */
