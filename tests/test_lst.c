@@ -477,6 +477,102 @@ static void t_frames_orthonormal(void)
     lst_tetmesh_free(&m);
 }
 
+/* §4.3 multi-face fill: from a top face of the slab it paints the top and
+ * stops at the rounded edge's crease; a single face paints one triangle. */
+static void t_flood_fill(void)
+{
+    lst_mesh s;
+    lst_tetmesh m;
+    lst_depth_constraint *dc, fill;
+    lst_options o = lst_default_options();
+    pw_alloc a;
+    pw_trimesh tm;
+    pw_mesh pm;
+    pw_err e;
+    double *paint;
+    int nd, f, top = -1, painted = 0, tops = 0;
+    memset(&a, 0, sizeof a);
+    pw_err_clear(&e);
+    REQUIRE(slab(1500, &s, &m, &dc, &nd));
+    pm = lst__pw_mesh(&s);
+    REQUIRE(pw_trimesh_init(&a, &pm, &tm, &e) == PW_OK);
+    for (f = 0; f < tm.nf; f++)
+        if (tm.normal[3 * f + 2] > 0.99f) {
+            tops++;
+            if (top < 0) top = f;
+        }
+    memset(&fill, 0, sizeof fill);
+    fill.kind = LST_DEPTH_FILL, fill.face = top, fill.crease = 30.0f;
+    o.depth = &fill, o.ndepth = 1;
+    paint = (double *)malloc(sizeof(double) * (size_t)tm.nf);
+    REQUIRE(lst__paint(&a, &tm, &o, paint, &e) == PW_OK);
+    for (f = 0; f < tm.nf; f++) painted += paint[f] == 0.0;
+    pwt_info("fill from a top face: %d triangles painted, %d face up, %d in all", painted, tops, tm.nf);
+    CHECK(painted >= tops && painted < tops + tm.nf / 10);
+    fill.kind = LST_DEPTH_FACE;
+    REQUIRE(lst__paint(&a, &tm, &o, paint, &e) == PW_OK);
+    for (f = 0, painted = 0; f < tm.nf; f++) painted += paint[f] == 0.0;
+    CHECK_EQ_INT(painted, 1);
+    free(paint);
+    free(dc);
+    pw_trimesh_free(&a, &tm);
+    lst_tetmesh_free(&m);
+    lst_mesh_free(&s);
+}
+
+/* §5.2.2 the 2-a/2-b weights: w_ij = exp(-(d_i - d_j)^2) / sum_k
+ * exp(-(d_i - d_k)^2) over the one-ring, rows of the Laplacian summing to
+ * zero; uniform 1/|N_i| without a depth. */
+static void t_layer_weights(void)
+{
+    lst_tetmesh m;
+    pw_alloc a;
+    lst__geo g;
+    lst__cons c;
+    pw_csr A, B;
+    pw_err e;
+    pw_tetmesh tm;
+    double *depth, worst = 0.0;
+    int v, k;
+    memset(&a, 0, sizeof a);
+    memset(&c, 0, sizeof c);
+    pw_err_clear(&e);
+    REQUIRE(sphere_tets(800, &m));
+    tm = lst__pw_tets(&m);
+    REQUIRE(lst__geo_init(&a, &tm, &g, &e) == PW_OK);
+    depth = (double *)malloc(sizeof(double) * (size_t)tm.nv);
+    for (v = 0; v < tm.nv; v++) depth[v] = 0.5 + 0.5 * tm.pos[3 * v]; /* varies along x */
+    REQUIRE(lst__smooth_matrix(&a, &g, depth, 3.0, &c, 10.0, &A, &e) == PW_OK);
+    REQUIRE(lst__smooth_matrix(&a, &g, NULL, 1.0, &c, 10.0, &B, &e) == PW_OK);
+    for (v = 0; v < tm.nv; v++) {
+        double sum = 0.0, sumw = 0.0, row = 0.0;
+        for (k = g.rings.start[v]; k < g.rings.start[v + 1]; k++) {
+            double dd = 3.0 * (depth[v] - depth[g.rings.adj[k]]);
+            sumw += exp(-dd * dd);
+        }
+        for (k = A.rowptr[v]; k < A.rowptr[v + 1]; k++) {
+            int j = A.col[k];
+            row += A.val[k];
+            if (j != v) {
+                double dd = 3.0 * (depth[v] - depth[j]), want = -exp(-dd * dd) / sumw;
+                sum = fabs(A.val[k] - want);
+                worst = sum > worst ? sum : worst;
+            }
+        }
+        worst = fabs(row) > worst ? fabs(row) : worst;
+        for (k = B.rowptr[v]; k < B.rowptr[v + 1]; k++)
+            if (B.col[k] != v) {
+                double want = -1.0 / (g.rings.start[v + 1] - g.rings.start[v]);
+                worst = fabs(B.val[k] - want) > worst ? fabs(B.val[k] - want) : worst;
+            }
+    }
+    CHECKF(worst < 1e-12, "weights off by %g", worst);
+    pw_csr_free(&a, &A), pw_csr_free(&a, &B);
+    free(depth);
+    lst__geo_free(&a, &g);
+    lst_tetmesh_free(&m);
+}
+
 /* exp without libm matches libm closely (the weights of §5.2.2). */
 static void t_exp(void)
 {
@@ -603,6 +699,8 @@ static const pwt_case cases[] = {
     {"laplacian", t_laplacian},
     {"principal_axis", t_principal_axis},
     {"frames_orthonormal", t_frames_orthonormal},
+    {"flood_fill", t_flood_fill},
+    {"layer_weights", t_layer_weights},
     {"exp", t_exp},
     {"masks", t_masks},
     {"determinism", t_determinism},
