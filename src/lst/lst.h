@@ -301,7 +301,7 @@ typedef struct lst_paste {
 typedef struct lst_model {
     lst_tetmesh mesh;         /* the model's own copy; cuts refine it */
     unsigned char *removed;   /* ntets: 1 where a cut took the tetrahedron away */
-    int type;                 /* LST_TYPE_* it was made with */
+    int type;                 /* LST_TYPE_* it was made with (-1: read from a file) */
     lst_volume texture;       /* the exemplar's colour (1-3 channels: alpha was made a mask) */
     lst_volume values;        /* an extra channel (displacement...), or empty */
     int nmasks;
@@ -430,7 +430,9 @@ LSTDEF void lst_uncut(lst_model *model);
 /* ---- rendering (§5.1) ---- */
 
 /* The visible boundary (surface and cut faces), each triangle composited
- * with its ordered pastes. */
+ * with its ordered pastes. Exemplars are sampled trilinearly without mip
+ * levels (at the scales pasting uses they are magnified on screen; the
+ * supersampling takes care of the rest). */
 LSTDEF lst_result lst_render(const lst_model *model, const lst_render_options *ro, lst_image *out, lst_error *err);
 /* §5.1.2 volume rendering: slices perpendicular to the view, composited
  * back to front with an opacity from the density. */
