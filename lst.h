@@ -13325,20 +13325,24 @@ static double lst__dist3(const double *a, const double *b)
 }
 
 /* Up to k of the n points (n*3), spread out: farthest-point sampling from
- * point 0; writes their indices to pick and returns how many. */
+ * point 0 (on squared distances: the same order, no square roots); writes
+ * their indices to pick and returns how many. */
 static int lst__farthest(const double *p, int n, int k, double *dmin, int *pick)
 {
     int i, c, cnt = 0;
     for (i = 0; i < n; i++) dmin[i] = 1e300;
     for (c = 0; c < k && c < n; c++) {
         int best = 0;
+        const double *q;
         if (c > 0)
             for (i = 1; i < n; i++)
                 if (dmin[i] > dmin[best]) best = i;
         if (c > 0 && !(dmin[best] > 0.0)) break; /* only repeats left */
         pick[cnt++] = best;
+        q = p + 3 * best;
         for (i = 0; i < n; i++) {
-            double d = lst__dist3(p + 3 * i, p + 3 * best);
+            const double *x = p + 3 * i;
+            double d = (x[0] - q[0]) * (x[0] - q[0]) + (x[1] - q[1]) * (x[1] - q[1]) + (x[2] - q[2]) * (x[2] - q[2]);
             if (d < dmin[i]) dmin[i] = d;
         }
     }
@@ -13563,6 +13567,22 @@ static int lst__depth_points(const pw_alloc *a, const pw_trimesh *tm, const lst_
     return PW_OK;
 }
 
+/* Thins the painted points (all but the last `keep`, the point constraints)
+ * to every s-th, s chosen so that about 8 per RBF centre remain for the
+ * farthest-point sampling: painted surfaces are dense and their points
+ * near each other carry the same value. */
+static void lst__pts_thin(lst__pts *pts, int keep, int maxc)
+{
+    int painted = pts->n - keep, stride = painted / (8 * maxc), i, n = 0;
+    if (stride < 2) return;
+    for (i = 0; i < pts->n; i++)
+        if (i >= painted || i % stride == 0) {
+            memmove(pts->p + 3 * n, pts->p + 3 * i, 3 * sizeof(double));
+            pts->val[n++] = pts->val[i];
+        }
+    pts->n = n;
+}
+
 /* ---- nearest painted surface vertex ----------------------------------------------------- */
 
 /* A uniform grid over points, for nearest-neighbour queries within reach. */
@@ -13701,6 +13721,8 @@ static int lst__depth_rbf(const pw_alloc *a, const lst__geo *g, const lst_mesh *
     r = !paint || !vp ? PW_ERR_NOMEM : lst__paint(a, &tm, o, paint, e);
     if (r == PW_OK) lst__vertex_paint(&tm, paint, vp), r = lst__depth_points(a, &tm, o, paint, vp, &pts, e);
     if (r == PW_OK && pts.n < 1) r = pw_fail(e, PW_ERR_INVALID, "depth constraints: none applies");
+    for (k = 0, v = 0; k < o->ndepth; k++) v += o->depth[k].kind == LST_DEPTH_POINT;
+    if (r == PW_OK) lst__pts_thin(&pts, v, o->rbf_centers);
     if (r == PW_OK) {
         for (k = 0; k < 3; k++) lo[k] = hi[k] = g->m.pos[k];
         for (v = 0; v < g->m.nv; v++)
@@ -14284,7 +14306,8 @@ typedef struct lst__fill {
     lst__mask mask[3];
     int nmasks;
     int nsamp;                  /* sample points per tetrahedron */
-    float *lattice;             /* nsamp*4 barycentric coordinates */
+    float *lattice;             /* nsamp*4 barycentric coordinates, grouped by octant */
+    int group[9];               /* samples group[c] .. group[c+1]-1 lie in octant c (lst__octants) */
     unsigned char *cov;         /* nt*nsamp accumulated opacity, 0..255 (§5.2.6) */
     int *uncov, *upos, nuncov;  /* the uncovered list and each tetrahedron's place in it (-1: covered) */
     int *opaque;                /* nt: the latest paste whose opaque core holds the whole tetrahedron */
@@ -14303,18 +14326,62 @@ typedef struct lst__fill {
 
 /* ---- sample points (§5.2.6) ------------------------------------------------------------ */
 
-/* The barycentric lattice of order n: (i, j, k, l) / n with i + j + k + l = n
- * (n = 8 gives the paper's 165 points, corners, edges and faces included). */
-static int lst__lattice(const pw_alloc *a, int n, float **out, pw_err *e)
+/* The midpoint subdivision of a tetrahedron into eight: points 0-3 are its
+ * corners, 4-9 the midpoints of edges 01 02 03 12 13 23; four corner
+ * tetrahedra, and the middle octahedron cut along 4-9 into four. */
+static const int lst__octants[8][4] = {{0, 4, 5, 6}, {4, 1, 7, 8}, {5, 7, 2, 9}, {6, 8, 9, 3},
+                                       {4, 9, 5, 6}, {4, 9, 6, 8}, {4, 9, 8, 7}, {4, 9, 7, 5}};
+static const int lst__midpoints[6][2] = {{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 3}, {2, 3}};
+
+/* The octant (lst__octants) holding barycentric point l. */
+static int lst__octant_of(const float *l)
 {
-    int cnt = (n + 1) * (n + 2) * (n + 3) / 6, i, j, k, at = 0;
-    if (!(*out = (float *)pw_alloc_array(a, (size_t)cnt * 4, sizeof(float), "sample points", e))) return -1;
+    double P[10][4], m[16], b[4];
+    int c, k, j;
+    for (k = 0; k < 4; k++)
+        for (j = 0; j < 4; j++) P[k][j] = k == j;
+    for (k = 0; k < 6; k++)
+        for (j = 0; j < 4; j++) P[4 + k][j] = 0.5 * (P[lst__midpoints[k][0]][j] + P[lst__midpoints[k][1]][j]);
+    for (c = 0; c < 8; c++) { /* l = sum_j mu_j P_j: solve for mu, inside when all mu >= 0 */
+        for (k = 0; k < 4; k++) {
+            for (j = 0; j < 4; j++) m[4 * k + j] = P[lst__octants[c][j]][k];
+            b[k] = l[k];
+        }
+        if (lst__dense_solve(m, b, 4) && b[0] > -1e-9 && b[1] > -1e-9 && b[2] > -1e-9 && b[3] > -1e-9) return c;
+    }
+    return 7;
+}
+
+/* The barycentric lattice of order n: (i, j, k, l) / n with i + j + k + l = n
+ * (n = 8 gives the paper's 165 points, corners, edges and faces included),
+ * grouped by octant (group: the start of each). */
+static int lst__lattice(const pw_alloc *a, int n, float **out, int *group, pw_err *e)
+{
+    int cnt = (n + 1) * (n + 2) * (n + 3) / 6, i, j, k, c, at = 0, q;
+    float *tmp;
+    int *oct;
+    *out = (float *)pw_alloc_array(a, (size_t)cnt * 4, sizeof(float), "sample points", e);
+    tmp = (float *)pw_alloc_array(a, (size_t)cnt * 4, sizeof(float), "sample points", e);
+    oct = (int *)pw_alloc_array(a, (size_t)cnt, sizeof(int), "sample points", e);
+    if (!*out || !tmp || !oct) {
+        pw_free(a, *out), pw_free(a, tmp), pw_free(a, oct);
+        *out = NULL;
+        return -1;
+    }
     for (i = 0; i <= n; i++)
         for (j = 0; j <= n - i; j++)
             for (k = 0; k <= n - i - j; k++) {
-                float *l = *out + 4 * at++;
+                float *l = tmp + 4 * at;
                 l[0] = (float)i / n, l[1] = (float)j / n, l[2] = (float)k / n, l[3] = (float)(n - i - j - k) / n;
+                oct[at++] = lst__octant_of(l);
             }
+    for (c = 0, at = 0; c < 8; c++) {
+        group[c] = at;
+        for (q = 0; q < cnt; q++)
+            if (oct[q] == c) memcpy(*out + 4 * at++, tmp + 4 * q, 4 * sizeof(float));
+    }
+    group[8] = at;
+    pw_free(a, tmp), pw_free(a, oct);
     return cnt;
 }
 
@@ -14435,20 +14502,28 @@ static double lst__ball(double c[4][3], double *g)
  * where coverage is measured). */
 static int lst__overlap(const lst__fill *F, const lst__mask *m, double c[4][3])
 {
-    double g[3], lim = lst__ball(c, g) + m->margin;
+    double g[3], lim = lst__ball(c, g) + m->margin, p[10][3], o[4][3];
     float vc[4][3];
-    int k, s;
+    int k, j, s, q;
     if (lst__mask_dist(m, m->out, pw_clampf((float)g[0], 0, 1), pw_clampf((float)g[1], 0, 1), pw_clampf((float)g[2], 0, 1)) > lim)
         return LST__OUT;
     if (g[0] >= 0 && g[0] <= 1 && g[1] >= 0 && g[1] <= 1 && g[2] >= 0 && g[2] <= 1 && lst__mask_dist(m, m->in, g[0], g[1], g[2]) > lim)
         return LST__CORE;
-    for (k = 0; k < 4; k++) lst__to_voxel(&m->vol, c[k][0], c[k][1], c[k][2], vc[k]);
-    for (s = 0; s < F->nsamp; s++) {
-        const float *l = F->lattice + 4 * s;
-        if (lst__cell_any(&m->vol, m->cell, l[0] * vc[0][0] + l[1] * vc[1][0] + l[2] * vc[2][0] + l[3] * vc[3][0],
+    for (k = 0; k < 4; k++) lst__to_voxel(&m->vol, c[k][0], c[k][1], c[k][2], vc[k]), memcpy(p[k], c[k], sizeof p[k]);
+    for (k = 0; k < 6; k++)
+        for (j = 0; j < 3; j++) p[4 + k][j] = 0.5 * (c[lst__midpoints[k][0]][j] + c[lst__midpoints[k][1]][j]);
+    for (q = 0; q < 8; q++) { /* octants the distance field clears are not sampled */
+        for (k = 0; k < 4; k++) memcpy(o[k], p[lst__octants[q][k]], sizeof o[k]);
+        lim = lst__ball(o, g) + m->margin;
+        if (lst__mask_dist(m, m->out, pw_clampf((float)g[0], 0, 1), pw_clampf((float)g[1], 0, 1), pw_clampf((float)g[2], 0, 1)) > lim)
+            continue;
+        for (s = F->group[q]; s < F->group[q + 1]; s++) {
+            const float *l = F->lattice + 4 * s;
+            if (lst__cell_any(&m->vol, m->cell, l[0] * vc[0][0] + l[1] * vc[1][0] + l[2] * vc[2][0] + l[3] * vc[3][0],
                               l[0] * vc[0][1] + l[1] * vc[1][1] + l[2] * vc[2][1] + l[3] * vc[3][1],
                               l[0] * vc[0][2] + l[1] * vc[1][2] + l[2] * vc[2][2] + l[3] * vc[3][2]))
-            return LST__PART;
+                return LST__PART;
+        }
     }
     return LST__OUT;
 }
@@ -14798,7 +14873,7 @@ static int lst__fill_init(lst__fill *F, const pw_alloc *a, const lst_options *o,
         if (lst__mask_init(a, &masks[k], &F->mask[k], e)) return e->code;
         F->nmasks = k + 1;
     }
-    if ((F->nsamp = lst__lattice(a, o->samples, &F->lattice, e)) < 0) return PW_ERR_NOMEM;
+    if ((F->nsamp = lst__lattice(a, o->samples, &F->lattice, F->group, e)) < 0) return PW_ERR_NOMEM;
     if (!coverage) return PW_OK;
     F->cov = (unsigned char *)pw_calloc_array(a, (size_t)nt * F->nsamp, 1, "coverage samples", e);
     F->uncov = (int *)pw_alloc_array(a, (size_t)nt, sizeof(int), "uncovered list", e);

@@ -90,10 +90,10 @@ static void fz_fill(const uint8_t *d, size_t n, const lst_depth_constraint *dc, 
         lst__view v;
         pw_err pe;
         float *lat = NULL, rgba[4];
-        int q, ns;
+        int q, ns, grp[9];
         memset(&a, 0, sizeof a);
         pw_err_clear(&pe);
-        if (lst__view_init(&a, &m, LST_SHOW_COLOR, &v, &pe) || (ns = lst__lattice(&a, o.samples, &lat, &pe)) < 0) abort();
+        if (lst__view_init(&a, &m, LST_SHOW_COLOR, &v, &pe) || (ns = lst__lattice(&a, o.samples, &lat, grp, &pe)) < 0) abort();
         for (t = 0; t < m.mesh.ntets; t++)
             for (q = 0; q < ns; q++) {
                 double l[4];

@@ -62,7 +62,7 @@ static double min_coverage(const lst_model *model, int *worst)
     memset(&a, 0, sizeof a);
     pw_err_clear(&e);
     if (lst__view_init(&a, model, LST_SHOW_COLOR, &v, &e)) return -1.0;
-    n = lst__lattice(&a, 8, &lat, &e);
+    { int grp[9]; n = lst__lattice(&a, 8, &lat, grp, &e); }
     for (t = 0; t < model->mesh.ntets; t++)
         for (q = 0; q < n; q++) {
             double l[4] = {lat[4 * q], lat[4 * q + 1], lat[4 * q + 2], lat[4 * q + 3]};

@@ -126,20 +126,24 @@ static double lst__dist3(const double *a, const double *b)
 }
 
 /* Up to k of the n points (n*3), spread out: farthest-point sampling from
- * point 0; writes their indices to pick and returns how many. */
+ * point 0 (on squared distances: the same order, no square roots); writes
+ * their indices to pick and returns how many. */
 static int lst__farthest(const double *p, int n, int k, double *dmin, int *pick)
 {
     int i, c, cnt = 0;
     for (i = 0; i < n; i++) dmin[i] = 1e300;
     for (c = 0; c < k && c < n; c++) {
         int best = 0;
+        const double *q;
         if (c > 0)
             for (i = 1; i < n; i++)
                 if (dmin[i] > dmin[best]) best = i;
         if (c > 0 && !(dmin[best] > 0.0)) break; /* only repeats left */
         pick[cnt++] = best;
+        q = p + 3 * best;
         for (i = 0; i < n; i++) {
-            double d = lst__dist3(p + 3 * i, p + 3 * best);
+            const double *x = p + 3 * i;
+            double d = (x[0] - q[0]) * (x[0] - q[0]) + (x[1] - q[1]) * (x[1] - q[1]) + (x[2] - q[2]) * (x[2] - q[2]);
             if (d < dmin[i]) dmin[i] = d;
         }
     }
@@ -364,6 +368,22 @@ static int lst__depth_points(const pw_alloc *a, const pw_trimesh *tm, const lst_
     return PW_OK;
 }
 
+/* Thins the painted points (all but the last `keep`, the point constraints)
+ * to every s-th, s chosen so that about 8 per RBF centre remain for the
+ * farthest-point sampling: painted surfaces are dense and their points
+ * near each other carry the same value. */
+static void lst__pts_thin(lst__pts *pts, int keep, int maxc)
+{
+    int painted = pts->n - keep, stride = painted / (8 * maxc), i, n = 0;
+    if (stride < 2) return;
+    for (i = 0; i < pts->n; i++)
+        if (i >= painted || i % stride == 0) {
+            memmove(pts->p + 3 * n, pts->p + 3 * i, 3 * sizeof(double));
+            pts->val[n++] = pts->val[i];
+        }
+    pts->n = n;
+}
+
 /* ---- nearest painted surface vertex ----------------------------------------------------- */
 
 /* A uniform grid over points, for nearest-neighbour queries within reach. */
@@ -502,6 +522,8 @@ static int lst__depth_rbf(const pw_alloc *a, const lst__geo *g, const lst_mesh *
     r = !paint || !vp ? PW_ERR_NOMEM : lst__paint(a, &tm, o, paint, e);
     if (r == PW_OK) lst__vertex_paint(&tm, paint, vp), r = lst__depth_points(a, &tm, o, paint, vp, &pts, e);
     if (r == PW_OK && pts.n < 1) r = pw_fail(e, PW_ERR_INVALID, "depth constraints: none applies");
+    for (k = 0, v = 0; k < o->ndepth; k++) v += o->depth[k].kind == LST_DEPTH_POINT;
+    if (r == PW_OK) lst__pts_thin(&pts, v, o->rbf_centers);
     if (r == PW_OK) {
         for (k = 0; k < 3; k++) lo[k] = hi[k] = g->m.pos[k];
         for (v = 0; v < g->m.nv; v++)
