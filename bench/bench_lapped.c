@@ -27,83 +27,6 @@
 #define NRUNGS 4
 #define TARGET_RUNG 2
 
-/* ---- 1-to-4 midpoint subdivision ------------------------------------------ */
-
-/* Edge-midpoint table: open addressing on the (smaller, larger) vertex pair. */
-typedef struct edge_map {
-    long long *key;
-    int *mid;
-    size_t mask;
-} edge_map;
-
-static int edge_mid(edge_map *em, lapped_mesh *out, int a, int b)
-{
-    long long k = a < b ? (long long)a << 32 | (unsigned)b : (long long)b << 32 | (unsigned)a;
-    size_t h = (size_t)((unsigned long long)k * 0x9E3779B97F4A7C15ull >> 20) & em->mask;
-    int c;
-    while (em->key[h] != -1 && em->key[h] != k) h = (h + 1) & em->mask;
-    if (em->key[h] == k) return em->mid[h];
-    em->key[h] = k;
-    em->mid[h] = c = out->nverts++;
-    for (int i = 0; i < 3; i++)
-        out->positions[3 * c + i] = 0.5f * (out->positions[3 * a + i] + out->positions[3 * b + i]);
-    return c;
-}
-
-/* Every triangle of `in` (all faces must be triangles) split in four at its
- * edge midpoints: the surface stays the same flat triangles, which is all
- * the timing needs. Orientation is kept. */
-static int subdivide(const lapped_mesh *in, lapped_mesh *out)
-{
-    size_t cap = 1;
-    int ne = 3 * in->nfaces, f; /* at most this many edges */
-    edge_map em;
-    while (cap < (size_t)ne * 2) cap <<= 1;
-    memset(out, 0, sizeof *out);
-    em.key = (long long *)malloc(cap * sizeof *em.key);
-    em.mid = (int *)malloc(cap * sizeof *em.mid);
-    em.mask = cap - 1;
-    out->positions = (float *)malloc(sizeof(float) * 3 * ((size_t)in->nverts + ne));
-    out->face_start = (int *)malloc(sizeof(int) * (4 * (size_t)in->nfaces + 1));
-    out->face_verts = (int *)malloc(sizeof(int) * 12 * (size_t)in->nfaces);
-    if (!em.key || !em.mid || !out->positions || !out->face_start || !out->face_verts) return 1;
-    memset(em.key, 0xff, cap * sizeof *em.key);
-    memcpy(out->positions, in->positions, sizeof(float) * 3 * in->nverts);
-    out->nverts = in->nverts;
-    for (f = 0; f < in->nfaces; f++) {
-        const int *v = in->face_verts + in->face_start[f];
-        int m[3], t, k, q[4][3];
-        if (in->face_start[f + 1] - in->face_start[f] != 3) return 1;
-        for (k = 0; k < 3; k++) m[k] = edge_mid(&em, out, v[k], v[(k + 1) % 3]);
-        q[0][0] = v[0], q[0][1] = m[0], q[0][2] = m[2];
-        q[1][0] = m[0], q[1][1] = v[1], q[1][2] = m[1];
-        q[2][0] = m[2], q[2][1] = m[1], q[2][2] = v[2];
-        q[3][0] = m[0], q[3][1] = m[1], q[3][2] = m[2];
-        for (t = 0; t < 4; t++)
-            for (k = 0; k < 3; k++) out->face_verts[12 * f + 3 * t + k] = q[t][k];
-    }
-    out->nfaces = 4 * in->nfaces;
-    for (f = 0; f <= out->nfaces; f++) out->face_start[f] = 3 * f;
-    free(em.key);
-    free(em.mid);
-    return 0;
-}
-
-static float bbox_diagonal(const lapped_mesh *m)
-{
-    float lo[3], hi[3], d = 0.0f;
-    int v, k;
-    for (k = 0; k < 3; k++) lo[k] = hi[k] = m->positions[k];
-    for (v = 0; v < m->nverts; v++)
-        for (k = 0; k < 3; k++) {
-            float x = m->positions[3 * v + k];
-            lo[k] = x < lo[k] ? x : lo[k];
-            hi[k] = x > hi[k] ? x : hi[k];
-        }
-    for (k = 0; k < 3; k++) d += (hi[k] - lo[k]) * (hi[k] - lo[k]);
-    return sqrtf(d);
-}
-
 /* ---- timing ---------------------------------------------------------------- */
 
 typedef struct create_job {
@@ -143,46 +66,6 @@ static void run_render(void *arg)
         j->fail = 1;
     }
     lapped_image_free(&pic);
-}
-
-/* Process CPU time: the machine may be shared, and CPU time is what one
- * core spent whatever else runs (wall time stays the headline figure). */
-static double cpu_now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
-/* bench_time with the warm-up call optional (a big rung would spend a
- * whole run, seconds, warming caches that one run fills anyway), and the
- * CPU time's median too. */
-static bench_stat time_runs(void (*fn)(void *), void *arg, int runs, int warm, double *cpu_median)
-{
-    double t[64], c[64];
-    int i;
-    if (runs > 64) runs = 64;
-    if (warm) fn(arg);
-    for (i = 0; i < runs; i++) {
-        double t0 = bench_now(), c0 = cpu_now();
-        fn(arg);
-        c[i] = cpu_now() - c0;
-        t[i] = bench_now() - t0;
-    }
-    *cpu_median = bench_stats(c, runs).median;
-    return bench_stats(t, runs);
-}
-
-/* Least-squares slope of log y against log x. */
-static double loglog_slope(const double *x, const double *y, int n)
-{
-    double sx = 0, sy = 0, sxx = 0, sxy = 0;
-    int i;
-    for (i = 0; i < n; i++) {
-        double lx = log(x[i]), ly = log(y[i]);
-        sx += lx, sy += ly, sxx += lx * lx, sxy += lx * ly;
-    }
-    return (n * sxy - sx * sy) / (n * sxx - sx * sx);
 }
 
 /* The single-layer baseline for the render: one paste holding every
@@ -232,7 +115,6 @@ int main(int argc, char **argv)
     lapped_paste all;
     long drawn = 0;
 
-    (void)bench_time; /* time_runs below also reports CPU time */
     memset(&cj, 0, sizeof cj);
     memset(mesh, 0, sizeof mesh);
     if (lapped_load_mesh(MESH_FILE, &opt, &mesh[0], &err)) {
@@ -255,15 +137,13 @@ int main(int argc, char **argv)
     }
     /* the first rung: the mesh, subdivided until it has at least ~4.5K
      * triangles (the built-in one is smaller); then three more rungs */
-    while (mesh[0].nfaces < 4500) {
-        lapped_mesh m;
-        if (subdivide(&mesh[0], &m)) return printf("subdivision failed\n"), 1;
-        lapped_mesh_free(&mesh[0]);
-        mesh[0] = m;
+    { /* the built-in mesh is smaller: subdivided up to the first rung */
+        bench_mesh base, rung[NRUNGS];
+        BENCH_MESH_COPY(base, mesh[0]);
+        if (bench_ladder(&base, rung, NRUNGS, 4500)) return printf("subdivision failed\n"), 1;
+        for (i = 0; i < NRUNGS; i++) BENCH_MESH_COPY(mesh[i], rung[i]);
     }
-    for (i = 1; i < NRUNGS; i++)
-        if (subdivide(&mesh[i - 1], &mesh[i])) return printf("subdivision failed\n"), 1;
-    diag = bbox_diagonal(&mesh[0]);
+    diag = bench_bbox_diagonal(mesh[0].positions, mesh[0].nverts);
     opt.field.mode = LAPPED_FIELD_UP;
     opt.field.scale = frac * diag;
     printf("mesh: %s (%d triangles), 1-to-4 midpoint subdivision per rung%s\n",
@@ -284,7 +164,7 @@ int main(int argc, char **argv)
     for (i = 0; i < NRUNGS; i++) {
         double r0 = bench_now();
         cj.mesh = &mesh[i];
-        s[i] = time_runs(run_create, &cj, runs[i], i < 2, &cpu[i]);
+        s[i] = bench_time_cpu(run_create, &cj, runs[i], i < 2, &cpu[i]);
         if (cj.fail) return 1;
         npastes[i] = cj.t.npastes;
         faces[i] = mesh[i].nfaces;
@@ -304,7 +184,7 @@ int main(int argc, char **argv)
         }
     }
     lapped_texture_free(&cj.t);
-    slope = loglog_slope(faces, secs, NRUNGS);
+    slope = bench_loglog_slope(faces, secs, NRUNGS);
     printf("growth: time ~ triangles^%.2f (log-log least squares over %d rungs; 1.00 = linear)\n", slope,
            NRUNGS);
     printf("  step exponents:");
@@ -312,7 +192,7 @@ int main(int argc, char **argv)
         printf(" %.0fK->%.0fK %.2f", faces[i - 1] / 1e3, faces[i] / 1e3,
                log(secs[i] / secs[i - 1]) / log(faces[i] / faces[i - 1]));
     printf("\n");
-    printf("  cpu-time growth: triangles^%.2f\n", loglog_slope(faces, cpu, NRUNGS));
+    printf("  cpu-time growth: triangles^%.2f\n", bench_loglog_slope(faces, cpu, NRUNGS));
     printf("target: 75K faces, >1000 pastes, <2 s: %s (%d triangles, %d pastes in %.3f s; cpu %.3f s)\n\n",
            npastes[TARGET_RUNG] > 1000 && secs[TARGET_RUNG] < 2.0 ? "met" : "not met",
            mesh[TARGET_RUNG].nfaces, npastes[TARGET_RUNG], secs[TARGET_RUNG], cpu[TARGET_RUNG]);
@@ -344,11 +224,11 @@ int main(int argc, char **argv)
         rj.ro.width = rj.ro.height = 1024;
         rj.ro.supersample = 1;
         rj.t = &bare;
-        rs_bare = time_runs(run_render, &rj, 7, 1, &rc_bare);
+        rs_bare = bench_time_cpu(run_render, &rj, 7, 1, &rc_bare);
         rj.t = &one;
-        rs_one = time_runs(run_render, &rj, 7, 1, &rc_one);
+        rs_one = bench_time_cpu(run_render, &rj, 7, 1, &rc_one);
         rj.t = &full;
-        rs_full = time_runs(run_render, &rj, 5, 1, &rc_full);
+        rs_full = bench_time_cpu(run_render, &rj, 5, 1, &rc_full);
         if (rj.fail) return 1;
         printf("lapped_render 1024x1024, supersample 1, %d triangles:\n", mesh[TARGET_RUNG].nfaces);
         bench_report("  bare mesh (base pass only, 0 pastes)", rs_bare, 0, "");

@@ -9,6 +9,7 @@
 #include "../common/mesh.h"
 #include "../common/halfedge.h"
 #include "../common/sparse.h"
+#include "../common/zsparse.h"
 #include "../common/render.h"
 #include "../common/nrrd.h"
 #include "../common/tile3.h"
