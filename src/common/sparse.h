@@ -37,6 +37,16 @@
 
 #include "base.h"
 
+/* Instrumentation for benchmarks and experiments: a program that defines
+ * PW_SOLVE_HOOK(kind, A, b, x, opts) before including a header sees every
+ * system a solver is given, before it is solved: kind is "cg", "pcg" or
+ * "lsq" with A a const pw_csr *, or "zpcg" with A a const pw_zcsr *
+ * (zsparse.h); b the right-hand side, x the warm start, opts the
+ * pw_cg_options (tolerance) or NULL. Undefined, it costs nothing. */
+#ifndef PW_SOLVE_HOOK
+#define PW_SOLVE_HOOK(kind, A, b, x, opts) ((void)0)
+#endif
+
 /* ---- triplets ---------------------------------------------------------- */
 
 /* A growable list of (row, col, value) entries of an n x m matrix. */
@@ -619,6 +629,7 @@ PW__DEF int pw_cg_solve(const pw_alloc *a, const pw_csr *A, const double *b, dou
     if (A->m != n) return pw_fail(e, PW_ERR_INVALID, "CG needs a square matrix, not %dx%d", n, A->m);
     if (pw__check_vec(b, n, "CG right-hand side b", e) || pw__check_vec(x, n, "CG guess x", e))
         return PW_ERR_INVALID;
+    PW_SOLVE_HOOK("cg", A, b, x, o);
     pw__krylov_init(&k, n, o);
     k.bnorm = sqrt(pw__dot(b, b, n));
     if (k.bnorm == 0) {
@@ -812,6 +823,7 @@ PW__DEF int pw_pcg_solve(const pw_alloc *a, const pw_csr *A, const pw_ic0 *M, co
     if (pw_csr_check(A, e) || pw__check_vec(b, A->n, "PCG right-hand side b", e) ||
         pw__check_vec(x, A->n, "PCG guess x", e))
         return PW_ERR_INVALID;
+    PW_SOLVE_HOOK("pcg", A, b, x, o);
     op.n = A->n;
     op.mul = pw__csr_op_mul;
     op.precond = pw__ic0_op;
@@ -916,6 +928,7 @@ PW__DEF int pw_lsq_solve(const pw_alloc *a, const pw_csr *A, const double *b, do
     if (pw__check_vec(b, A->n, "least-squares right-hand side b", e) ||
         pw__check_vec(x, m, "least-squares guess x", e))
         return PW_ERR_INVALID;
+    PW_SOLVE_HOOK("lsq", A, b, x, o);
     pw__krylov_init(&k, m, o);
     w.r = (double *)pw_alloc_array(a, (size_t)A->n * 2 + (size_t)m * 3, sizeof(double),
                                    "least-squares vectors", e);

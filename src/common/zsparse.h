@@ -242,6 +242,7 @@ PW__DEF int pw_zpcg_solve(const pw_alloc *a, const pw_zcsr *A, const pw_zic0 *M,
         pw__check_vec(x, 2 * A->n, "complex PCG guess x", e) ||
         pw__check_vec(A->val, 2 * A->rowptr[A->n], "complex matrix", e))
         return PW_ERR_INVALID;
+    PW_SOLVE_HOOK("zpcg", A, b, x, o);
     op.n = 2 * A->n;
     op.mul = pw__zcsr_op_mul;
     op.precond = pw__zic0_op;
