@@ -3,7 +3,9 @@
 #   make            build the CLI, examples, tests and benchmarks into build/
 #   make demo       render every method on built-in data into out/
 #   make test       run the whole test suite (ends with "N passed, N failed")
-#   make bench      benchmarks (medians of several runs)
+#   make bench      benchmarks (medians of several runs), against peers where
+#                   installed, ending with a summary table
+#   make bench-report  the same, also written to bench/results.md
 #   make data       extract real test data from installed Debian packages into data/
 #   make headers    regenerate the single-file headers from src/
 #   make fuzz       run each libFuzzer target for FUZZ_SECONDS (needs clang)
@@ -41,7 +43,7 @@ PARTS_pgp      := core field solve render builtin io
 COMMON_SRC := $(wildcard src/common/*.h)
 HEADER_FILES := $(addsuffix .h,$(HEADERS))
 
-.PHONY: all demo test bench data headers check-headers print-headers dev-header fuzz fuzz-build clean
+.PHONY: all demo test bench bench-report data headers check-headers print-headers dev-header fuzz fuzz-build clean
 
 CLI_SRC   := $(wildcard cli/*.c)
 TEST_SRC  := $(wildcard tests/test_*.c)
@@ -53,8 +55,9 @@ TEST_BIN  := $(patsubst tests/%.c,$(BUILD)/tests/%,$(TEST_SRC))
 EX_BIN    := $(patsubst examples/%.c,$(BUILD)/examples/%,$(EX_SRC))
 BENCH_BIN := $(patsubst bench/%.c,$(BUILD)/bench/%,$(BENCH_SRC))
 FUZZ_BIN  := $(patsubst fuzz/%.c,$(BUILD)/fuzz/%,$(FUZZ_SRC))
+BENCH_TOOLS := $(BUILD)/bench/sysdump $(BUILD)/bench/meshinfo
 
-all: $(BUILD)/patchwork $(EX_BIN) $(TEST_BIN) $(BENCH_BIN)
+all: $(BUILD)/patchwork $(EX_BIN) $(TEST_BIN) $(BENCH_BIN) $(BENCH_TOOLS)
 
 # The shell command that writes header $(1) to stdout.
 gen_header = sh tools/amalgamate.sh $(1) $(MODULES_$(1)) -- $(or $(PARTS_$(1)),$(1))
@@ -90,9 +93,32 @@ $(BUILD)/examples/%: examples/%.c $(HEADER_FILES)
 	@mkdir -p $(BUILD)/examples
 	$(CC) $(ALL_CFLAGS) -o $@ $< $(LDLIBS)
 
-$(BUILD)/bench/%: bench/%.c bench/bench.h $(COMMON_SRC) $(HEADER_FILES)
+BENCH_CFLAGS := $(WARN) -O2 -g -DNDEBUG -I.
+
+$(BUILD)/bench/%: bench/%.c $(wildcard bench/*.h) $(COMMON_SRC) $(HEADER_FILES)
 	@mkdir -p $(BUILD)/bench
-	$(CC) $(WARN) -O2 -g -DNDEBUG -I. -o $@ $< $(LDLIBS)
+	$(CC) $(BENCH_CFLAGS) -o $@ $< $(LDLIBS)
+
+# Peers of the benchmarks (Debian packages, each optional): bench/probe.sh
+# decides at build time whether Eigen (libeigen3-dev) and OSMesa
+# (libosmesa6-dev) can be built against; without one, the benchmark builds
+# without that peer and says so when it runs. Peer code is in bench/ only.
+$(BUILD)/bench/bench_sparse: bench/bench_sparse.c bench/peer_eigen.cpp $(wildcard bench/*.h) $(COMMON_SRC)
+	@mkdir -p $(BUILD)/bench/obj
+	@if sh bench/probe.sh eigen "$(CXX)"; then set -x; \
+	  $(CXX) -Wall -Wextra -O2 -g -DNDEBUG $$(sh bench/probe.sh eigen-flags) -c bench/peer_eigen.cpp -o $(BUILD)/bench/obj/peer_eigen.o && \
+	  $(CC) $(BENCH_CFLAGS) -DBENCH_EIGEN -c $< -o $(BUILD)/bench/obj/bench_sparse.o && \
+	  $(CXX) -o $@ $(BUILD)/bench/obj/bench_sparse.o $(BUILD)/bench/obj/peer_eigen.o $(LDLIBS); \
+	else echo "bench_sparse: Eigen (libeigen3-dev) not found: built without its peer"; set -x; \
+	  $(CC) $(BENCH_CFLAGS) -o $@ $< $(LDLIBS); fi
+
+OSMESA_BENCH := $(BUILD)/bench/bench_render $(BUILD)/bench/bench_lapped
+$(OSMESA_BENCH): $(BUILD)/bench/%: bench/%.c $(wildcard bench/*.h) $(COMMON_SRC) $(HEADER_FILES)
+	@mkdir -p $(BUILD)/bench
+	@if sh bench/probe.sh osmesa "$(CC)"; then set -x; \
+	  $(CC) $(BENCH_CFLAGS) -DBENCH_OSMESA -o $@ $< $(LDLIBS) -lOSMesa; \
+	else echo "$*: OSMesa (libosmesa6-dev) not found: built without its peer"; set -x; \
+	  $(CC) $(BENCH_CFLAGS) -o $@ $< $(LDLIBS); fi
 
 demo: $(BUILD)/patchwork
 	./$(BUILD)/patchwork demo out
@@ -100,8 +126,11 @@ demo: $(BUILD)/patchwork
 test: $(BUILD)/patchwork $(TEST_BIN) $(EX_BIN)
 	@sh tests/run.sh $(BUILD)
 
-bench: $(BENCH_BIN) $(BUILD)/patchwork
+bench: $(BENCH_BIN) $(BENCH_TOOLS) $(BUILD)/patchwork
 	@sh bench/run.sh $(BUILD)
+
+bench-report: $(BENCH_BIN) $(BENCH_TOOLS) $(BUILD)/patchwork
+	@sh bench/run.sh $(BUILD) bench/results.md
 
 data: $(BUILD)/patchwork
 	@sh tools/make_data.sh $(BUILD)/patchwork

@@ -4,9 +4,9 @@
 #ifndef PW_BENCH_H
 #define PW_BENCH_H
 
-#if !defined(_POSIX_C_SOURCE) || _POSIX_C_SOURCE < 199309L
+#if !defined(_POSIX_C_SOURCE) || _POSIX_C_SOURCE < 200809L
 #undef _POSIX_C_SOURCE
-#define _POSIX_C_SOURCE 199309L
+#define _POSIX_C_SOURCE 200809L
 #endif
 #include <time.h>
 #include <stdio.h>
@@ -107,6 +107,145 @@ static inline double bench_loglog_slope(const double *x, const double *y, int n)
         sx += lx, sy += ly, sxx += lx * lx, sxy += lx * ly;
     }
     return (n * sxy - sx * sy) / (n * sxx - sx * sx);
+}
+
+/* ---- peers: interleaved timing and the summary table ----------------------
+ * A measurement against a peer runs the contenders interleaved, one run of
+ * each per round (the order rotating from round to round), so that a noisy
+ * neighbour on a shared machine slows both alike; ratios are then taken
+ * pair by pair within each round. */
+
+#define BENCH_MAXF 4
+
+typedef struct bench_multi {
+    int n, runs, warm;
+    double t[BENCH_MAXF][64], c[BENCH_MAXF][64]; /* per round: wall, CPU seconds */
+} bench_multi;
+
+/* Runs fn[0..n-1] `runs` rounds (after one warm-up round if `warm`). */
+static inline void bench_interleave(bench_multi *m, void (*const *fn)(void *), void *const *arg, int n,
+                                    int runs, int warm)
+{
+    int r, j;
+    if (runs > 64) runs = 64;
+    if (n > BENCH_MAXF) n = BENCH_MAXF;
+    m->n = n;
+    m->runs = runs;
+    m->warm = warm;
+    for (j = 0; warm && j < n; j++) fn[j](arg[j]);
+    for (r = 0; r < runs; r++)
+        for (j = 0; j < n; j++) {
+            int k = (j + r) % n;
+            double t0 = bench_now(), c0 = bench_cpu_now();
+            fn[k](arg[k]);
+            m->c[k][r] = bench_cpu_now() - c0;
+            m->t[k][r] = bench_now() - t0;
+        }
+}
+
+/* Wall-clock statistics of contender k; *cpu (may be NULL) its CPU median. */
+static inline bench_stat bench_multi_stat(const bench_multi *m, int k, double *cpu)
+{
+    double t[64], c[64];
+    memcpy(t, m->t[k], sizeof(double) * (size_t)m->runs);
+    memcpy(c, m->c[k], sizeof(double) * (size_t)m->runs);
+    if (cpu) *cpu = bench_stats(c, m->runs).median;
+    return bench_stats(t, m->runs);
+}
+
+/* Per-round ratios of contender a's time over b's (CPU time if cpu, else
+ * wall-clock): their median and spread. */
+static inline bench_stat bench_multi_ratio(const bench_multi *m, int a, int b, int cpu)
+{
+    double q[64];
+    int r;
+    for (r = 0; r < m->runs; r++) q[r] = cpu ? m->c[a][r] / m->c[b][r] : m->t[a][r] / m->t[b][r];
+    return bench_stats(q, m->runs);
+}
+
+/* A duration with a unit that keeps 3 significant digits. */
+static inline const char *bench_fmt_time(double s, char *buf, size_t size)
+{
+    if (s < 1e-3) snprintf(buf, size, "%.3g us", s * 1e6);
+    else if (s < 1.0) snprintf(buf, size, "%.3g ms", s * 1e3);
+    else snprintf(buf, size, "%.3g s", s);
+    return buf;
+}
+
+/* The summary table that bench/run.sh prints at the end of `make bench`
+ * (and writes to bench/results.md with `make bench-report`) is made of the
+ * lines below, which any bench program may print among its own output
+ * (run.sh hides them there), tab-separated, "-" for an empty field:
+ *   ROW     task  patchwork  peer-figure  peer-name  ratio  paper-figure  runs/spread  [note]
+ *   GROWTH  method  exponent  over-what  [note]
+ *   PEER    name  version-or-"skipped: why"
+ * ratio is patchwork's time over the peer's (< 1: patchwork faster), the
+ * median of the per-round ratios (see bench_row_pair). */
+static inline void bench_row(const char *task, const char *pw, const char *peer, const char *peer_name,
+                             const char *ratio, const char *paper, const char *runs, const char *note)
+{
+    const char *f[8];
+    int i;
+    f[0] = task, f[1] = pw, f[2] = peer, f[3] = peer_name, f[4] = ratio, f[5] = paper, f[6] = runs, f[7] = note;
+    printf("ROW");
+    for (i = 0; i < 8; i++) printf("\t%s", f[i] && *f[i] ? f[i] : "-");
+    printf("\n");
+    fflush(stdout);
+}
+
+/* A row for a patchwork time against a peer's (contender k against
+ * contender 0 of m): figures are wall-clock medians with the CPU-time
+ * medians in brackets; the ratio is the median of the per-round ratios of
+ * CPU time (on a shared machine the wall clock also counts the time other
+ * processes held the core; the per-round wall ratio follows in the spread
+ * field). `note` is printed only when patchwork is not clearly the faster
+ * (ratio above 0.95). */
+static inline void bench_row_pair(const char *task, const bench_multi *m, int peer, const char *peer_name,
+                                  const char *paper, const char *slower_note)
+{
+    char a[80], b[80], q[32], sp[160], t0[32], t1[32];
+    double ca, cb;
+    bench_stat sa = bench_multi_stat(m, 0, &ca), sb = bench_multi_stat(m, peer, &cb);
+    bench_stat qc = bench_multi_ratio(m, 0, peer, 1), qw = bench_multi_ratio(m, 0, peer, 0);
+    snprintf(a, sizeof a, "%s (cpu %s)", bench_fmt_time(sa.median, t0, sizeof t0), bench_fmt_time(ca, t1, sizeof t1));
+    snprintf(b, sizeof b, "%s (cpu %s)", bench_fmt_time(sb.median, t0, sizeof t0), bench_fmt_time(cb, t1, sizeof t1));
+    snprintf(q, sizeof q, "%.2f", qc.median);
+    snprintf(sp, sizeof sp, "%d rounds%s; ratio %.2f..%.2f; wall-time ratio %.2f (%.2f..%.2f)", m->runs,
+             m->warm ? "" : " (no warm-up)", qc.min, qc.max, qw.median, qw.min, qw.max);
+    bench_row(task, a, b, peer_name, q, paper, sp, qc.median > 0.95 ? slower_note : NULL);
+}
+
+static inline void bench_growth(const char *method, double exponent, const char *over, const char *note)
+{
+    printf("GROWTH\t%s\t%.2f\t%s\t%s\n", method, exponent, over && *over ? over : "-", note && *note ? note : "-");
+    fflush(stdout);
+}
+
+static inline void bench_peer(const char *name, const char *version)
+{
+    printf("PEER\t%s\t%s\n", name, version);
+    fflush(stdout);
+}
+
+/* Where the benchmarks write their inputs and pictures (never committed):
+ * $BENCH_DATA, which bench/run.sh sets, or build/bench-data. */
+static inline const char *bench_data_dir(void)
+{
+    const char *d = getenv("BENCH_DATA");
+    return d && *d ? d : "build/bench-data";
+}
+
+/* 1 if the peer `name` is to be treated as absent: BENCH_NO_PEERS lists
+ * names (or "all"), to try the skip paths on a machine that has them. */
+static inline int bench_peer_disabled(const char *name)
+{
+    const char *s = getenv("BENCH_NO_PEERS");
+    size_t n = strlen(name);
+    if (!s) return 0;
+    if (strstr(s, "all")) return 1;
+    for (; (s = strstr(s, name)) != NULL; s += n)
+        if ((s[n] == '\0' || s[n] == ' ' || s[n] == ',')) return 1;
+    return 0;
 }
 
 /* ---- size ladders: 1-to-4 midpoint subdivision of a triangle mesh ---------- */
@@ -214,6 +353,26 @@ static inline int bench_ladder(const bench_mesh *base, bench_mesh *rung, int nru
     for (i = 1; i < nrungs; i++)
         if (bench_subdivide(&rung[i - 1], &rung[i])) return 1;
     return 0;
+}
+
+/* A binary little-endian PLY (float xyz; uchar count, int indices per face)
+ * of a polygon mesh, through w(ctx, data, size) (0 on success). The bench
+ * runs on little-endian hosts, which write their floats and ints as is. */
+static inline int bench_write_ply(int (*w)(void *, const void *, size_t), void *ctx, int nv, const float *pos,
+                                  int nf, const int *fstart, const int *fv)
+{
+    char hdr[256];
+    int f, bad;
+    snprintf(hdr, sizeof hdr,
+             "ply\nformat binary_little_endian 1.0\nelement vertex %d\nproperty float x\nproperty float y\n"
+             "property float z\nelement face %d\nproperty list uchar int vertex_indices\nend_header\n",
+             nv, nf);
+    bad = w(ctx, hdr, strlen(hdr)) || w(ctx, pos, (size_t)nv * 12);
+    for (f = 0; f < nf && !bad; f++) {
+        unsigned char d = (unsigned char)(fstart[f + 1] - fstart[f]);
+        bad = w(ctx, &d, 1) || w(ctx, fv + fstart[f], 4 * (size_t)d);
+    }
+    return bad;
 }
 
 /* Bounding-box diagonal of nverts points. */
