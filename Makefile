@@ -5,7 +5,8 @@
 #   make test       run the whole test suite (ends with "N passed, N failed")
 #   make bench      benchmarks (medians of several runs), against peers where
 #                   installed, ending with a summary table
-#   make bench-report  the same, also written to bench/results.md
+#   make bench-report  the same, also written to bench/results.md (and the
+#                   table into README.md's Performance section)
 #   make data       extract real test data from installed Debian packages into data/
 #   make headers    regenerate the single-file headers from src/
 #   make fuzz       run each libFuzzer target for FUZZ_SECONDS (needs clang)
@@ -130,7 +131,7 @@ bench: $(BENCH_BIN) $(BENCH_TOOLS) $(BUILD)/patchwork
 	@sh bench/run.sh $(BUILD)
 
 bench-report: $(BENCH_BIN) $(BENCH_TOOLS) $(BUILD)/patchwork
-	@sh bench/run.sh $(BUILD) bench/results.md
+	@sh bench/run.sh $(BUILD) bench/results.md README.md
 
 data: $(BUILD)/patchwork
 	@sh tools/make_data.sh $(BUILD)/patchwork

@@ -4,12 +4,15 @@
 # prints the summary table made of the ROW / GROWTH / PEER lines the
 # programs print (bench.h describes them; they are hidden from each
 # program's own output). With a second argument, also writes the table, the
-# machine and every program's full output to that Markdown file:
-#   sh bench/run.sh build bench/results.md        (make bench-report)
+# machine and every program's full output to that Markdown file, and with a
+# third, replaces the block between the lines <!-- bench-report:begin -->
+# and <!-- bench-report:end --> of that file (the README) with the table:
+#   sh bench/run.sh build bench/results.md README.md    (make bench-report)
 # BENCH_NO_PEERS="eigen osmesa assimp pnmtopng" (or "all") runs without
 # those peers, as on a machine that lacks them.
 build=${1:-build}
 report=$2
+readme=$3
 BENCH_DATA=$build/bench-data
 BENCH_BUILD=$build
 export BENCH_DATA BENCH_BUILD
@@ -71,6 +74,13 @@ table() {
     awk -F'\t' '$1 == "GROWTH" { printf "| %s | %s | %s | %s |\n", $2, $3, $4, $5 }' "$log"
 }
 
+machine() {
+    echo "Taken on $(date -u +%Y-%m-%d) by \`make bench-report\` on $(uname -sm), $cpu, $cores cores,"
+    echo "$(awk '/MemTotal/ { printf "%.0f GB", $2 / 1048576 }' /proc/meminfo) RAM; load average $load0 at the start and $load1 at the end"
+    echo "(other sessions shared the machine); $minutes min in all. Compilers: $(${CC:-cc} --version | head -1);"
+    echo "$(${CXX:-c++} --version | head -1)."
+}
+
 echo
 echo "== summary"
 table
@@ -78,10 +88,7 @@ if [ -n "$report" ]; then
     {
         echo "# patchwork against peers"
         echo
-        echo "Written by \`make bench-report\` (\`sh bench/run.sh $build $report\`) on $(date -u +%Y-%m-%d)."
-        echo "Machine: $(uname -sm), $cpu, $cores cores, $(awk '/MemTotal/ { printf "%.0f GB", $2 / 1048576 }' /proc/meminfo) RAM;"
-        echo "load average $load0 at the start, $load1 at the end (other sessions share it); $minutes min in all."
-        echo "Compilers: $(${CC:-cc} --version | head -1); $(${CXX:-c++} --version | head -1)."
+        machine
         echo
         table
         echo
@@ -93,5 +100,14 @@ if [ -n "$report" ]; then
         echo
         echo "</details>"
     } > "$report.tmp" && mv "$report.tmp" "$report" && echo "wrote $report"
+fi
+if [ -n "$readme" ] && grep -q '^<!-- bench-report:begin -->$' "$readme" && grep -q '^<!-- bench-report:end -->$' "$readme"; then
+    {
+        sed -n '1,/^<!-- bench-report:begin -->$/p' "$readme"
+        machine
+        echo
+        table
+        sed -n '/^<!-- bench-report:end -->$/,$p' "$readme"
+    } > "$readme.tmp" && mv "$readme.tmp" "$readme" && echo "updated the table in $readme"
 fi
 exit $status
