@@ -2,7 +2,8 @@
 #
 #   make            build the CLI, examples, tests and benchmarks into build/
 #   make demo       render every method on built-in data into out/
-#   make test       run the whole test suite (ends with "N passed, N failed")
+#   make test       build and run the whole test suite, JOBS at a time (ends with
+#                   "N passed, N failed, N skipped")
 #   make bench      benchmarks (medians of several runs)
 #   make data       extract real test data from installed Debian packages into data/
 #   make headers    regenerate the single-file headers from src/
@@ -19,6 +20,8 @@ WARN     := -std=c99 -Wall -Wextra -pedantic
 LDLIBS   := -lm
 FUZZ_CC  ?= clang
 FUZZ_SECONDS ?= 60
+# parallel builds and test runs (make test JOBS=1 for one at a time)
+JOBS     ?= $(shell getconf _NPROCESSORS_ONLN 2>/dev/null || echo 1)
 
 ifeq ($(SANITIZE),1)
 BUILD    := build-san
@@ -97,8 +100,9 @@ $(BUILD)/bench/%: bench/%.c bench/bench.h $(COMMON_SRC) $(HEADER_FILES)
 demo: $(BUILD)/patchwork
 	./$(BUILD)/patchwork demo out
 
-test: $(BUILD)/patchwork $(TEST_BIN) $(EX_BIN)
-	@sh tests/run.sh $(BUILD)
+test:
+	@$(MAKE) --no-print-directory -j$(JOBS) $(BUILD)/patchwork $(TEST_BIN) $(EX_BIN)
+	@sh tests/run.sh $(BUILD) $(JOBS)
 
 bench: $(BENCH_BIN) $(BUILD)/patchwork
 	@sh bench/run.sh $(BUILD)
