@@ -194,17 +194,14 @@ static double volume(const pw_mesh *m)
 static int load(const char *name, pw_mesh *tri)
 {
     char path[256];
-    unsigned char *d;
-    size_t n;
     pw_mesh m;
     pw_err e;
     int ok;
     pw_err_clear(&e);
     snprintf(path, sizeof path, "data/meshes/%s.off", name);
-    if (pw_read_file(NULL, path, &d, &n, &e) != PW_OK) return 0;
-    ok = pw_mesh_read_memory(NULL, d, n, path, &m, &e) == PW_OK;
-    free(d);
-    if (ok) ok = pw_mesh_triangulate(NULL, &m, tri, NULL, &e) == PW_OK, pw_mesh_free(NULL, &m);
+    if (pw_mesh_load(NULL, path, &m, &e) != PW_OK) return 0;
+    ok = pw_mesh_triangulate(NULL, &m, tri, NULL, &e) == PW_OK;
+    pw_mesh_free(NULL, &m);
     return ok;
 }
 

@@ -1534,8 +1534,25 @@ PW__DEF void pw__st_free(pw__st *st)
     memset(st, 0, sizeof *st);
 }
 
-/* The input checks, the lattice and the stencils: see the top of the file.
- * o may be NULL (defaults), p may be NULL. On failure *out is empty. */
+/* Tetrahedralizes the inside of a closed, oriented triangle surface (pos
+ * nv*3, tri nt*3, counter-clockwise seen from outside; a surface facing
+ * inward throughout is used reversed) into *out: positively oriented
+ * tetrahedra (tetmesh.h), freed with pw_tetmesh_free(a, out). o may be NULL
+ * (defaults); p may be NULL, else it sees the stages "surface checks",
+ * "lattice sides", "cut points" and "stencils" and may cancel. Same inputs,
+ * same bytes out. On failure *out is empty and e names the problem:
+ *   PW_ERR_INVALID     NULL arrays, a non-finite coordinate, an index out of
+ *                      range, a negative or non-finite option
+ *   PW_ERR_DEGENERATE  no triangles, a repeated corner, a zero-area
+ *                      triangle, no enclosed volume, a cell so coarse that
+ *                      no lattice vertex is inside
+ *   PW_ERR_TOPOLOGY    not closed (boundary edges), inconsistent
+ *                      orientation, a non-manifold edge or vertex, two
+ *                      triangles crossing (unless allowed)
+ *   PW_ERR_LIMIT       a lattice above PW_MAX_STUFF_LATTICE vertices, more
+ *                      than PW_MAX_MESH_ELEMENTS vertices, triangles or
+ *                      tetrahedra
+ *   PW_ERR_NOMEM, PW_ERR_CANCELLED */
 PW__DEF int pw_stuff_tetrahedralize(const pw_alloc *a, const float *pos, int nv, const int *tri, int nt,
                                     const pw_stuff_options *o, const pw_progress *p, pw_tetmesh *out, pw_err *e)
 {
