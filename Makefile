@@ -55,7 +55,6 @@ FUZZ_SRC  := $(wildcard fuzz/fuzz_*.c)
 TEST_BIN  := $(patsubst tests/%.c,$(BUILD)/tests/%,$(TEST_SRC))
 EX_BIN    := $(patsubst examples/%.c,$(BUILD)/examples/%,$(EX_SRC))
 BENCH_BIN := $(patsubst bench/%.c,$(BUILD)/bench/%,$(BENCH_SRC))
-FUZZ_BIN  := $(patsubst fuzz/%.c,$(BUILD)/fuzz/%,$(FUZZ_SRC))
 
 all: $(BUILD)/patchwork $(EX_BIN) $(TEST_BIN) $(BENCH_BIN)
 
@@ -110,15 +109,18 @@ bench: $(BENCH_BIN) $(BUILD)/patchwork
 data: $(BUILD)/patchwork
 	@sh tools/make_data.sh $(BUILD)/patchwork
 
+FUZZ_DIR := build/fuzz
+FUZZ_TARGETS := $(patsubst fuzz/%.c,$(FUZZ_DIR)/%,$(FUZZ_SRC))
+
+$(FUZZ_DIR)/%: fuzz/%.c fuzz/fuzz.h $(HEADER_FILES) $(COMMON_SRC)
+	@mkdir -p $(FUZZ_DIR)
+	$(FUZZ_CC) -g -O1 -I. -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=all -o $@ $< -lm
+
 fuzz-build:
-	@mkdir -p build/fuzz
-	@for f in $(FUZZ_SRC); do \
-	  b=build/fuzz/$$(basename $$f .c); \
-	  $(FUZZ_CC) -g -O1 -I. -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=all -o $$b $$f -lm || exit 1; \
-	done
+	@$(MAKE) --no-print-directory -j$(JOBS) $(FUZZ_TARGETS)
 
 fuzz: fuzz-build
-	@sh fuzz/run.sh $(FUZZ_SECONDS)
+	@sh fuzz/run.sh $(FUZZ_SECONDS) $(JOBS)
 
 clean:
 	rm -rf build build-san out
