@@ -2,7 +2,8 @@
 #
 #   make            build the CLI, examples, tests and benchmarks into build/
 #   make demo       render every method on built-in data into out/
-#   make test       run the whole test suite (ends with "N passed, N failed")
+#   make test       build and run the whole test suite, JOBS at a time (ends with
+#                   "N passed, N failed, N skipped")
 #   make bench      benchmarks (medians of several runs), against peers where
 #                   installed, ending with a summary table
 #   make bench-report  the same, also written to bench/results.md (and the
@@ -22,6 +23,8 @@ WARN     := -std=c99 -Wall -Wextra -pedantic
 LDLIBS   := -lm
 FUZZ_CC  ?= clang
 FUZZ_SECONDS ?= 60
+# parallel builds and test runs (make test JOBS=1 for one at a time)
+JOBS     ?= $(shell getconf _NPROCESSORS_ONLN 2>/dev/null || echo 1)
 
 ifeq ($(SANITIZE),1)
 BUILD    := build-san
@@ -55,7 +58,6 @@ FUZZ_SRC  := $(wildcard fuzz/fuzz_*.c)
 TEST_BIN  := $(patsubst tests/%.c,$(BUILD)/tests/%,$(TEST_SRC))
 EX_BIN    := $(patsubst examples/%.c,$(BUILD)/examples/%,$(EX_SRC))
 BENCH_BIN := $(patsubst bench/%.c,$(BUILD)/bench/%,$(BENCH_SRC))
-FUZZ_BIN  := $(patsubst fuzz/%.c,$(BUILD)/fuzz/%,$(FUZZ_SRC))
 BENCH_TOOLS := $(BUILD)/bench/sysdump $(BUILD)/bench/meshinfo
 
 all: $(BUILD)/patchwork $(EX_BIN) $(TEST_BIN) $(BENCH_BIN) $(BENCH_TOOLS)
@@ -124,8 +126,9 @@ $(OSMESA_BENCH): $(BUILD)/bench/%: bench/%.c $(wildcard bench/*.h) $(COMMON_SRC)
 demo: $(BUILD)/patchwork
 	./$(BUILD)/patchwork demo out
 
-test: $(BUILD)/patchwork $(TEST_BIN) $(EX_BIN)
-	@sh tests/run.sh $(BUILD)
+test:
+	@$(MAKE) --no-print-directory -j$(JOBS) $(BUILD)/patchwork $(TEST_BIN) $(EX_BIN)
+	@sh tests/run.sh $(BUILD) $(JOBS)
 
 bench: $(BENCH_BIN) $(BENCH_TOOLS) $(BUILD)/patchwork
 	@sh bench/run.sh $(BUILD)
@@ -136,15 +139,18 @@ bench-report: $(BENCH_BIN) $(BENCH_TOOLS) $(BUILD)/patchwork
 data: $(BUILD)/patchwork
 	@sh tools/make_data.sh $(BUILD)/patchwork
 
+FUZZ_DIR := build/fuzz
+FUZZ_TARGETS := $(patsubst fuzz/%.c,$(FUZZ_DIR)/%,$(FUZZ_SRC))
+
+$(FUZZ_DIR)/%: fuzz/%.c fuzz/fuzz.h $(HEADER_FILES) $(COMMON_SRC)
+	@mkdir -p $(FUZZ_DIR)
+	$(FUZZ_CC) -g -O1 -I. -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=all -o $@ $< -lm
+
 fuzz-build:
-	@mkdir -p build/fuzz
-	@for f in $(FUZZ_SRC); do \
-	  b=build/fuzz/$$(basename $$f .c); \
-	  $(FUZZ_CC) -g -O1 -I. -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=all -o $$b $$f -lm || exit 1; \
-	done
+	@$(MAKE) --no-print-directory -j$(JOBS) $(FUZZ_TARGETS)
 
 fuzz: fuzz-build
-	@sh fuzz/run.sh $(FUZZ_SECONDS)
+	@sh fuzz/run.sh $(FUZZ_SECONDS) $(JOBS)
 
 clean:
 	rm -rf build build-san out

@@ -1,0 +1,1751 @@
+/* stuffing: the built-in tetrahedralizer of lst.h, so that no external mesher
+ * is needed. pw_stuff_tetrahedralize fills the inside of a closed,
+ * consistently oriented triangle surface with tetrahedra by isosurface
+ * stuffing (Labelle & Shewchuk, "Isosurface stuffing: fast tetrahedral
+ * meshes with good dihedral angles", SIGGRAPH 2007), uniform variant:
+ *
+ *  1. Input checks: finite coordinates, indices in range, no zero-area
+ *     triangle, closed and consistently oriented (every edge has exactly two
+ *     triangles, traversing it in opposite directions: halfedge.h), no two
+ *     triangles intersecting except at shared vertices and edges (exact
+ *     orientation predicates on the float input, candidate pairs from a
+ *     bounding-volume hierarchy). Each refusal names the elements.
+ *  2. A body-centred cubic lattice of spacing `cell` covers the surface:
+ *     black vertices at the cube corners, red ones at the cube centres.
+ *     Every pair of cubes sharing a face gives four congruent tetrahedra
+ *     with two long edges (length cell) and four short ones (sqrt(3)/2 cell),
+ *     dihedral angles 60 and 90 degrees.
+ *  3. Inside or outside for every lattice vertex from the generalised
+ *     winding number (Jacobson, Kavan & Sorkine-Hornung 2013): lattice edges
+ *     that provably do not meet the surface join the vertices into
+ *     components, and one winding number decides the side of a component.
+ *  4. Cut points where lattice edges cross the surface (segment-triangle
+ *     intersection, so they lie on the input surface), then warping
+ *     (§3 of the paper): a lattice vertex nearer to a cut point on one of its
+ *     edges than alpha times the edge length (alpha_long = 0.24999 on long
+ *     edges, alpha_short = 0.41189 on short ones, the paper's parameters)
+ *     moves onto the nearest such cut point and is then on the surface. A
+ *     vertex only moves towards an edge end that stays in place.
+ *  5. Stencils: each lattice tetrahedron with an inside corner is kept or
+ *     cut into one to three tetrahedra according to the signs of its
+ *     corners, the quadrilateral faces being split by a rule that depends on
+ *     the face alone (pw__st_diagonal), so that neighbours agree.
+ *
+ * Guarantees: the tetrahedra are positively oriented (tetmesh.h) and form a
+ * conforming mesh (neighbours share whole faces) whose boundary is closed;
+ * all vertices of the boundary lie on the input surface (to float
+ * precision); every dihedral angle lies between 10.2 and 161.7 degrees.
+ * The paper proves 10.7-164.8 degrees for its own stencils, whose quadrilateral
+ * rule this implementation does not reproduce; the bounds here are those of
+ * the stencils and warping above, found as the worst case of an adversarial
+ * search over all stencil configurations (corner signs, warps along any of
+ * the 14 lattice directions up to alpha, cut points anywhere alpha allows;
+ * tests/test_stuffing.c repeats it): 10.205 degrees is reached by a +-00
+ * tetrahedron whose long edge is cut a quarter from its inside end while
+ * both zero corners moved alpha_short towards the outside corner. The
+ * boundary follows the surface to within about one cell: features thinner
+ * than a cell are lost, sharp edges are rounded, and two parts of the solid
+ * may touch along lattice edges. Several components and nested shells are
+ * fine: the inside is where the winding number is at least 1/2. A surface
+ * whose triangles all face inward (negative enclosed volume) is used as if
+ * reversed.
+ *
+ *   pw_stuff_default_options, pw_stuff_tetrahedralize, pw_stuff_boundary,
+ *   pw_stuff_fit_measure */
+#ifndef PW__STUFFING_V1
+#define PW__STUFFING_V1
+
+#include <stdlib.h> /* qsort */
+#include "base.h"
+#include "halfedge.h"
+#include "tetmesh.h"
+
+typedef struct pw_stuff_options {
+    double cell;     /* lattice spacing (cube side = long-edge length) in mesh units; 0: chosen from target_tets */
+    int target_tets; /* approximate tetrahedron count when cell is 0; 0: 20000 */
+    int allow_self_intersections; /* 1: a closed surface whose triangles cross is filled where its winding
+                                     number is at least 1/2 (overlapping parts unite, inner sheets vanish);
+                                     0: refused with the first crossing pair */
+} pw_stuff_options;
+
+PW__DEF pw_stuff_options pw_stuff_default_options(void)
+{
+    pw_stuff_options o;
+    o.cell = 0.0;
+    o.target_tets = 20000;
+    o.allow_self_intersections = 0;
+    return o;
+}
+
+/* Largest lattice (black + red vertices) one call may use: about 13 bytes
+ * per lattice vertex. */
+#ifndef PW_MAX_STUFF_LATTICE
+#define PW_MAX_STUFF_LATTICE (1 << 24)
+#endif
+
+/* §3: the paper's warping thresholds (those of its 10.7-164.8 degree bounds). */
+#define PW__ST_ALPHA_LONG 0.24999
+#define PW__ST_ALPHA_SHORT 0.41189
+/* Quadrilateral faces with a long cut edge take the diagonal from that
+ * edge's cut point when it lies within this fraction of the edge from its
+ * inside end (see pw__st_diagonal). */
+#define PW__ST_LONG_SPLIT 0.6
+
+/* ---- exact orientation predicates on float input ----
+ * The fast double evaluation is trusted beyond Shewchuk's error bound;
+ * otherwise the determinant is summed exactly as an expansion of doubles:
+ * coordinates are floats (24-bit significands), so the product of two is
+ * exact in a double and the product of three is exact as a two-double sum.
+ * Needs IEEE double arithmetic without extended precision or -ffast-math. */
+
+PW__DEF void pw__st_two_sum(double a, double b, double *s, double *err)
+{
+    double x = a + b, bv = x - a, av = x - bv;
+    *s = x;
+    *err = (a - av) + (b - bv);
+}
+
+PW__DEF void pw__st_split(double a, double *hi, double *lo)
+{
+    double c = 134217729.0 * a, big = c - a; /* 2^27 + 1 */
+    *hi = c - big;
+    *lo = a - *hi;
+}
+
+PW__DEF void pw__st_two_prod(double a, double b, double *p, double *err)
+{
+    double x = a * b, ah, al, bh, bl;
+    pw__st_split(a, &ah, &al);
+    pw__st_split(b, &bh, &bl);
+    *p = x;
+    *err = al * bl - (((x - ah * bh) - al * bh) - ah * bl);
+}
+
+/* Adds b to the expansion e[0..n) (nonoverlapping, increasing magnitude),
+ * dropping zeros; returns the new length (Shewchuk's grow-expansion). */
+PW__DEF int pw__st_grow(double *e, int n, double b)
+{
+    double q = b, h;
+    int i, m = 0;
+    for (i = 0; i < n; i++) {
+        pw__st_two_sum(q, e[i], &q, &h);
+        if (h != 0.0) e[m++] = h;
+    }
+    if (q != 0.0) e[m++] = q;
+    return m;
+}
+
+PW__DEF int pw__st_add_prod3(double *e, int n, double x, double y, double z, int sign)
+{
+    double hi, lo;
+    pw__st_two_prod(x * y, z, &hi, &lo);
+    n = pw__st_grow(e, n, sign > 0 ? lo : -lo);
+    return pw__st_grow(e, n, sign > 0 ? hi : -hi);
+}
+
+/* s * det[p; q; r] added to the expansion. */
+PW__DEF int pw__st_add_det3(double *e, int n, const double *p, const double *q, const double *r, int s)
+{
+    n = pw__st_add_prod3(e, n, p[0], q[1], r[2], s);
+    n = pw__st_add_prod3(e, n, p[0], q[2], r[1], -s);
+    n = pw__st_add_prod3(e, n, p[1], q[0], r[2], -s);
+    n = pw__st_add_prod3(e, n, p[1], q[2], r[0], s);
+    n = pw__st_add_prod3(e, n, p[2], q[0], r[1], s);
+    return pw__st_add_prod3(e, n, p[2], q[1], r[0], -s);
+}
+
+/* det[b-a; c-a; d-a] as the 4x4 determinant of the raw coordinates. */
+PW__DEF int pw__st_orient3d_exact(const double *a, const double *b, const double *c, const double *d)
+{
+    double e[48];
+    int n = 0;
+    n = pw__st_add_det3(e, n, b, c, d, 1);
+    n = pw__st_add_det3(e, n, a, c, d, -1);
+    n = pw__st_add_det3(e, n, a, b, d, 1);
+    n = pw__st_add_det3(e, n, a, b, c, -1);
+    return n == 0 ? 0 : e[n - 1] > 0.0 ? 1 : -1;
+}
+
+/* Sign of (b-a) x (c-a) . (d-a): positive when d is on the side that the
+ * normal of (a, b, c) points to (a positive tetrahedron a, b, c, d). */
+PW__DEF int pw__st_orient3d(const double *a, const double *b, const double *c, const double *d)
+{
+    double bx = b[0] - a[0], by = b[1] - a[1], bz = b[2] - a[2];
+    double cx = c[0] - a[0], cy = c[1] - a[1], cz = c[2] - a[2];
+    double dx = d[0] - a[0], dy = d[1] - a[1], dz = d[2] - a[2];
+    double det = bx * (cy * dz - cz * dy) + by * (cz * dx - cx * dz) + bz * (cx * dy - cy * dx);
+    double perm = fabs(bx) * (fabs(cy * dz) + fabs(cz * dy)) + fabs(by) * (fabs(cz * dx) + fabs(cx * dz)) +
+                  fabs(bz) * (fabs(cx * dy) + fabs(cy * dx));
+    double bound = 7.7715611723761027e-16 * perm; /* (7 + 56 eps) eps */
+    if (det > bound) return 1;
+    if (-det > bound) return -1;
+    return pw__st_orient3d_exact(a, b, c, d);
+}
+
+/* Sign of (b-a) x (c-a) in the plane of coordinates i and j. */
+PW__DEF int pw__st_orient2d(const double *a, const double *b, const double *c, int i, int j)
+{
+    double l = (b[i] - a[i]) * (c[j] - a[j]), r = (b[j] - a[j]) * (c[i] - a[i]), det = l - r;
+    double bound = 3.3306690738754716e-16 * (fabs(l) + fabs(r)), e[6];
+    int n = 0;
+    if (det > bound) return 1;
+    if (-det > bound) return -1;
+    n = pw__st_grow(e, n, b[i] * c[j]);
+    n = pw__st_grow(e, n, -b[j] * c[i]);
+    n = pw__st_grow(e, n, -a[i] * c[j]);
+    n = pw__st_grow(e, n, a[j] * c[i]);
+    n = pw__st_grow(e, n, a[i] * b[j]);
+    n = pw__st_grow(e, n, -a[j] * b[i]);
+    return n == 0 ? 0 : e[n - 1] > 0.0 ? 1 : -1;
+}
+
+/* An axis along which triangle abc does not project to a segment, -1 if
+ * it has zero area. */
+PW__DEF int pw__st_proj_axis(const double *a, const double *b, const double *c)
+{
+    double n[3], u[3], v[3];
+    int k, best = 0, tries;
+    for (k = 0; k < 3; k++) u[k] = b[k] - a[k], v[k] = c[k] - a[k];
+    n[0] = fabs(u[1] * v[2] - u[2] * v[1]);
+    n[1] = fabs(u[2] * v[0] - u[0] * v[2]);
+    n[2] = fabs(u[0] * v[1] - u[1] * v[0]);
+    if (n[1] > n[best]) best = 1;
+    if (n[2] > n[best]) best = 2;
+    for (tries = 0; tries < 3; tries++, best = (best + 1) % 3)
+        if (pw__st_orient2d(a, b, c, (best + 1) % 3, (best + 2) % 3) != 0) return best;
+    return -1;
+}
+
+/* x on the closed segment pq, given that the three are collinear. */
+PW__DEF int pw__st_on_seg(const double *p, const double *q, const double *x, int i, int j)
+{
+    return x[i] >= (p[i] < q[i] ? p[i] : q[i]) && x[i] <= (p[i] > q[i] ? p[i] : q[i]) &&
+           x[j] >= (p[j] < q[j] ? p[j] : q[j]) && x[j] <= (p[j] > q[j] ? p[j] : q[j]);
+}
+
+/* Closed segments pq and ab meet (all four in one plane, axes i, j). */
+PW__DEF int pw__st_seg_seg_2d(const double *p, const double *q, const double *a, const double *b, int i, int j)
+{
+    int d1 = pw__st_orient2d(p, q, a, i, j), d2 = pw__st_orient2d(p, q, b, i, j);
+    int d3 = pw__st_orient2d(a, b, p, i, j), d4 = pw__st_orient2d(a, b, q, i, j);
+    if (d1 * d2 < 0 && d3 * d4 < 0) return 1;
+    return (d1 == 0 && pw__st_on_seg(p, q, a, i, j)) || (d2 == 0 && pw__st_on_seg(p, q, b, i, j)) ||
+           (d3 == 0 && pw__st_on_seg(a, b, p, i, j)) || (d4 == 0 && pw__st_on_seg(a, b, q, i, j));
+}
+
+/* Point x in the closed triangle abc (coplanar, axes i, j). */
+PW__DEF int pw__st_in_tri_2d(const double *x, const double *a, const double *b, const double *c, int i, int j)
+{
+    int o = pw__st_orient2d(a, b, c, i, j);
+    return o * pw__st_orient2d(a, b, x, i, j) >= 0 && o * pw__st_orient2d(b, c, x, i, j) >= 0 &&
+           o * pw__st_orient2d(c, a, x, i, j) >= 0;
+}
+
+/* Closed segment pq meets closed triangle abc (non-degenerate), exactly. */
+PW__DEF int pw__st_seg_tri(const double *p, const double *q, const double *a, const double *b, const double *c)
+{
+    int o1 = pw__st_orient3d(a, b, c, p), o2 = pw__st_orient3d(a, b, c, q), s1, s2, s3, ax, i, j;
+    if (o1 == 0 && o2 == 0) { /* coplanar: work in the projection */
+        ax = pw__st_proj_axis(a, b, c);
+        i = (ax + 1) % 3, j = (ax + 2) % 3;
+        return pw__st_in_tri_2d(p, a, b, c, i, j) || pw__st_in_tri_2d(q, a, b, c, i, j) ||
+               pw__st_seg_seg_2d(p, q, a, b, i, j) || pw__st_seg_seg_2d(p, q, b, c, i, j) ||
+               pw__st_seg_seg_2d(p, q, c, a, i, j);
+    }
+    if (o1 == o2) return 0;
+    s1 = pw__st_orient3d(p, q, a, b);
+    s2 = pw__st_orient3d(p, q, b, c);
+    s3 = pw__st_orient3d(p, q, c, a);
+    return !((s1 > 0 || s2 > 0 || s3 > 0) && (s1 < 0 || s2 < 0 || s3 < 0));
+}
+
+/* All three of d, e, f strictly on one side of the plane of abc. */
+PW__DEF int pw__st_one_side(const double *a, const double *b, const double *c, const double *d, const double *e,
+                            const double *f)
+{
+    int s = pw__st_orient3d(a, b, c, d);
+    return s != 0 && pw__st_orient3d(a, b, c, e) == s && pw__st_orient3d(a, b, c, f) == s;
+}
+
+PW__DEF void pw__st_cross(const double *u, const double *v, double *n)
+{
+    n[0] = u[1] * v[2] - u[2] * v[1];
+    n[1] = u[2] * v[0] - u[0] * v[2];
+    n[2] = u[0] * v[1] - u[1] * v[0];
+}
+
+PW__DEF double pw__st_dot(const double *u, const double *v) { return u[0] * v[0] + u[1] * v[1] + u[2] * v[2]; }
+
+/* ---- the surface and its bounding-volume hierarchy ---- */
+
+typedef struct pw__stsurf {
+    int nv, nt;
+    double *p;  /* nv*3, the float input as doubles */
+    const int *tri;
+    int nnode;
+    float *box; /* nnode*6: lo xyz, hi xyz (exact bounds of the float input) */
+    int *node;  /* nnode*3: first slot, slot count, left child (-1: leaf; right = left + 1) */
+    int *slot;  /* nt: a node's triangles are slot[first .. first+count) */
+    double lo[3], hi[3], mag; /* bounding box; mag: its size plus its distance from 0 */
+    double volume, area; /* enclosed volume (positive), surface area */
+    int *capfirst; /* nnode+1: node nd's boundary half-edges are cap[2*capfirst[nd] ..]; NULL: none */
+    int *cap;      /* boundary half-edges of the nodes' triangle sets, 2 vertices each */
+    int flip;   /* 1: the triangles face inward, winding numbers are negated */
+} pw__stsurf;
+
+PW__DEF void pw__st_surf_free(const pw_alloc *a, pw__stsurf *s)
+{
+    pw_free(a, s->p);
+    pw_free(a, s->box);
+    pw_free(a, s->node);
+    pw_free(a, s->slot);
+    pw_free(a, s->capfirst);
+    pw_free(a, s->cap);
+    memset(s, 0, sizeof *s);
+}
+
+PW__DEF const double *pw__st_corner(const pw__stsurf *s, int t, int k) { return s->p + 3 * s->tri[3 * t + k]; }
+
+/* Slot order for the median split: by centroid coordinate, ties by index. */
+PW__DEF int pw__st_before(const double *cen, int axis, int t, int u)
+{
+    double x = cen[3 * t + axis], y = cen[3 * u + axis];
+    return x < y || (x == y && t < u);
+}
+
+PW__DEF void pw__st_swap(int *v, int i, int j)
+{
+    int t = v[i];
+    v[i] = v[j];
+    v[j] = t;
+}
+
+/* Partially orders v[0..n) so that v[k] is in its sorted place
+ * (quickselect, median-of-three pivot). */
+PW__DEF void pw__st_select(int *v, int n, int k, const double *cen, int axis)
+{
+    int lo = 0, hi = n - 1;
+    while (lo < hi) {
+        int mid = lo + (hi - lo) / 2, i = lo, j = hi, pivot;
+        if (pw__st_before(cen, axis, v[mid], v[lo])) pw__st_swap(v, mid, lo);
+        if (pw__st_before(cen, axis, v[hi], v[lo])) pw__st_swap(v, hi, lo);
+        if (pw__st_before(cen, axis, v[hi], v[mid])) pw__st_swap(v, hi, mid);
+        pivot = v[mid];
+        while (i <= j) {
+            while (pw__st_before(cen, axis, v[i], pivot)) i++;
+            while (pw__st_before(cen, axis, pivot, v[j])) j--;
+            if (i <= j) pw__st_swap(v, i++, j--);
+        }
+        if (k <= j) hi = j;
+        else if (k >= i) lo = i;
+        else return;
+    }
+}
+
+/* Node nd over slots [first, first+count): its box, then a median split
+ * along the longest axis of the centroids (depth <= log2(nt) + 1). */
+PW__DEF void pw__st_bvh_node(pw__stsurf *s, const double *cen, int nd, int first, int count)
+{
+    float *b = s->box + 6 * nd;
+    double clo[3], chi[3];
+    int i, k, axis = 0, left;
+    for (k = 0; k < 3; k++) b[k] = FLT_MAX, b[k + 3] = -FLT_MAX, clo[k] = DBL_MAX, chi[k] = -DBL_MAX;
+    for (i = first; i < first + count; i++) {
+        int t = s->slot[i], c;
+        for (c = 0; c < 3; c++)
+            for (k = 0; k < 3; k++) {
+                float x = (float)pw__st_corner(s, t, c)[k];
+                if (x < b[k]) b[k] = x;
+                if (x > b[k + 3]) b[k + 3] = x;
+            }
+        for (k = 0; k < 3; k++) {
+            if (cen[3 * t + k] < clo[k]) clo[k] = cen[3 * t + k];
+            if (cen[3 * t + k] > chi[k]) chi[k] = cen[3 * t + k];
+        }
+    }
+    s->node[3 * nd] = first, s->node[3 * nd + 1] = count, s->node[3 * nd + 2] = -1;
+    if (count <= 4) return;
+    for (k = 1; k < 3; k++)
+        if (chi[k] - clo[k] > chi[axis] - clo[axis]) axis = k;
+    pw__st_select(s->slot + first, count, count / 2, cen, axis);
+    left = s->nnode;
+    s->nnode += 2;
+    s->node[3 * nd + 2] = left;
+    pw__st_bvh_node(s, cen, left, first, count / 2);
+    pw__st_bvh_node(s, cen, left + 1, first + count / 2, count - count / 2);
+}
+
+/* Copies the positions, builds the hierarchy and the bounding box. The
+ * triangle array is borrowed. Indices must be in range. */
+PW__DEF int pw__st_surf_init(const pw_alloc *a, const float *pos, int nv, const int *tri, int nt, pw__stsurf *s,
+                             pw_err *e)
+{
+    double *cen;
+    int i, k;
+    memset(s, 0, sizeof *s);
+    s->nv = nv, s->nt = nt, s->tri = tri;
+    s->p = (double *)pw_alloc_array(a, (size_t)nv * 3, sizeof(double), "surface positions", e);
+    s->box = (float *)pw_alloc_array(a, (size_t)(2 * nt) * 6, sizeof(float), "surface hierarchy", e);
+    s->node = (int *)pw_alloc_array(a, (size_t)(2 * nt) * 3, sizeof(int), "surface hierarchy", e);
+    s->slot = (int *)pw_alloc_array(a, (size_t)nt, sizeof(int), "surface hierarchy", e);
+    cen = (double *)pw_alloc_array(a, (size_t)nt * 3, sizeof(double), "triangle centroids", e);
+    if (!s->p || !s->box || !s->node || !s->slot || !cen) {
+        pw_free(a, cen);
+        pw__st_surf_free(a, s);
+        return PW_ERR_NOMEM;
+    }
+    for (i = 0; i < 3 * nv; i++) s->p[i] = pos[i];
+    for (i = 0; i < nt; i++) {
+        s->slot[i] = i;
+        for (k = 0; k < 3; k++)
+            cen[3 * i + k] = (pw__st_corner(s, i, 0)[k] + pw__st_corner(s, i, 1)[k] + pw__st_corner(s, i, 2)[k]) / 3.0;
+    }
+    s->nnode = 1;
+    pw__st_bvh_node(s, cen, 0, 0, nt);
+    pw_free(a, cen);
+    for (k = 0; k < 3; k++) s->lo[k] = s->box[k], s->hi[k] = s->box[k + 3];
+    s->mag = 0.0;
+    for (k = 0; k < 3; k++) s->mag += (s->hi[k] - s->lo[k]) + fabs(s->lo[k]) + fabs(s->hi[k]);
+    return PW_OK;
+}
+
+/* ---- input checks ---- */
+
+PW__DEF int pw__st_shared(const int *x, const int *y, int *sx, int *sy)
+{
+    int i, j, n = 0;
+    for (i = 0; i < 3; i++)
+        for (j = 0; j < 3; j++)
+            if (x[i] == y[j]) sx[n] = i, sy[n] = j, n++;
+    return n;
+}
+
+/* Triangles sharing edge (p, q), with third corners c and d, overlap
+ * beyond it: coplanar, with c and d on the same side of the edge. */
+PW__DEF int pw__st_folded(const double *p, const double *q, const double *c, const double *d)
+{
+    int ax, i, j;
+    if (pw__st_orient3d(p, q, c, d) != 0) return 0;
+    ax = pw__st_proj_axis(p, q, c);
+    i = (ax + 1) % 3, j = (ax + 2) % 3;
+    return pw__st_orient2d(p, q, c, i, j) * pw__st_orient2d(p, q, d, i, j) > 0;
+}
+
+/* The line pq (in the projection on axes i, j) has x strictly on one side
+ * and all n points of y strictly on the other. */
+PW__DEF int pw__st_splits(const double *p, const double *q, const double *x, const double *const *y, int n, int i,
+                          int j)
+{
+    int s = pw__st_orient2d(p, q, x, i, j), k;
+    for (k = 0; k < n && s != 0; k++)
+        if (pw__st_orient2d(p, q, y[k], i, j) != -s) return 0;
+    return s != 0;
+}
+
+/* A cheap exact proof that triangles A and B (sharing n corners, sx/sy
+ * their positions) meet only in what they share: a line in the projection
+ * along A's dominant normal axis that has them strictly on either side
+ * (through the shared corners, if any); the plane through that line along
+ * the axis then separates them in space. Coplanar neighbours in flat
+ * regions would otherwise all need exact arithmetic. */
+PW__DEF int pw__st_apart_2d(const double *const *A, const double *const *B, int n, const int *sx, const int *sy)
+{
+    int ax = pw__st_proj_axis(A[0], A[1], A[2]), i = (ax + 1) % 3, j = (ax + 2) % 3, k;
+    const double *y[3];
+    if (n == 2)
+        return pw__st_splits(A[sx[0]], A[sx[1]], A[3 - sx[0] - sx[1]], B + (3 - sy[0] - sy[1]), 1, i, j);
+    if (n == 1) {
+        const double *a = A[sx[0]], *a1 = A[(sx[0] + 1) % 3], *a2 = A[(sx[0] + 2) % 3];
+        const double *b1 = B[(sy[0] + 1) % 3], *b2 = B[(sy[0] + 2) % 3];
+        y[0] = b1, y[1] = b2;
+        if (pw__st_splits(a, a1, a2, y, 2, i, j) || pw__st_splits(a, a2, a1, y, 2, i, j)) return 1;
+        y[0] = a1, y[1] = a2;
+        return pw__st_splits(a, b1, b2, y, 2, i, j) || pw__st_splits(a, b2, b1, y, 2, i, j);
+    }
+    for (k = 0; k < 3; k++)
+        if (pw__st_splits(A[k], A[(k + 1) % 3], A[(k + 2) % 3], B, 3, i, j) ||
+            pw__st_splits(B[k], B[(k + 1) % 3], B[(k + 2) % 3], A, 3, i, j))
+            return 1;
+    return 0;
+}
+
+/* Triangles t and u meet somewhere else than in their shared vertices and
+ * edge. With one shared vertex v, the two meet beyond v exactly when the
+ * edge opposite v in one of them meets the other triangle: along the line
+ * through v and any common point, whichever triangle ends first ends on
+ * its opposite edge, inside the other. */
+PW__DEF int pw__st_tri_tri(const pw__stsurf *s, int t, int u)
+{
+    const int *x = s->tri + 3 * t, *y = s->tri + 3 * u;
+    const double *A[3], *B[3];
+    int sx[3], sy[3], n = pw__st_shared(x, y, sx, sy), k;
+    for (k = 0; k < 3; k++) A[k] = pw__st_corner(s, t, k), B[k] = pw__st_corner(s, u, k);
+    if (n == 3) return 1; /* the same triangle twice */
+    if (pw__st_apart_2d(A, B, n, sx, sy)) return 0;
+    if (n == 2)
+        return pw__st_folded(A[sx[0]], A[sx[1]], A[3 - sx[0] - sx[1]], B[3 - sy[0] - sy[1]]);
+    if (n == 1)
+        return pw__st_seg_tri(A[(sx[0] + 1) % 3], A[(sx[0] + 2) % 3], B[0], B[1], B[2]) ||
+               pw__st_seg_tri(B[(sy[0] + 1) % 3], B[(sy[0] + 2) % 3], A[0], A[1], A[2]);
+    if (pw__st_one_side(A[0], A[1], A[2], B[0], B[1], B[2]) || pw__st_one_side(B[0], B[1], B[2], A[0], A[1], A[2]))
+        return 0;
+    for (k = 0; k < 3; k++)
+        if (pw__st_seg_tri(A[k], A[(k + 1) % 3], B[0], B[1], B[2]) ||
+            pw__st_seg_tri(B[k], B[(k + 1) % 3], A[0], A[1], A[2]))
+            return 1;
+    return 0;
+}
+
+PW__DEF int pw__st_boxes_meet(const float *a, const float *b)
+{
+    return a[0] <= b[3] && b[0] <= a[3] && a[1] <= b[4] && b[1] <= a[4] && a[2] <= b[5] && b[2] <= a[5];
+}
+
+/* Intersecting triangle pairs among the leaves under nodes x and y; the
+ * first found goes to hit[0..1]. */
+PW__DEF void pw__st_pairs(const pw__stsurf *s, int x, int y, int *hit)
+{
+    const int *nx = s->node + 3 * x, *ny = s->node + 3 * y;
+    int i, j;
+    if (hit[0] >= 0 || !pw__st_boxes_meet(s->box + 6 * x, s->box + 6 * y)) return;
+    if (nx[2] >= 0 && (x == y || ny[2] < 0 || nx[1] >= ny[1])) {
+        if (x == y) pw__st_pairs(s, nx[2], nx[2] + 1, hit);
+        pw__st_pairs(s, nx[2], y == x ? nx[2] : y, hit);
+        pw__st_pairs(s, nx[2] + 1, y == x ? nx[2] + 1 : y, hit);
+        return;
+    }
+    if (ny[2] >= 0) {
+        pw__st_pairs(s, x, ny[2], hit);
+        pw__st_pairs(s, x, ny[2] + 1, hit);
+        return;
+    }
+    for (i = nx[0]; i < nx[0] + nx[1]; i++)
+        for (j = (x == y ? i + 1 : ny[0]); j < ny[0] + ny[1]; j++) {
+            int t = s->slot[i], u = s->slot[j];
+            if (hit[0] < 0 && pw__st_tri_tri(s, t, u)) hit[0] = t < u ? t : u, hit[1] = t < u ? u : t;
+        }
+}
+
+PW__DEF int pw__st_check_values(const float *pos, int nv, const int *tri, int nt, pw_err *e)
+{
+    int i;
+    if (!pos || !tri) return pw_fail(e, PW_ERR_INVALID, "tetrahedralize: NULL positions or triangles");
+    if (nt < 1 || nv < 3) return pw_fail(e, PW_ERR_DEGENERATE, "tetrahedralize: the surface has no triangles");
+    if (nv > PW_MAX_MESH_ELEMENTS || nt > PW_MAX_MESH_ELEMENTS)
+        return pw_fail(e, PW_ERR_LIMIT, "tetrahedralize: %d vertices and %d triangles exceed PW_MAX_MESH_ELEMENTS (%d)",
+                       nv, nt, PW_MAX_MESH_ELEMENTS);
+    for (i = 0; i < 3 * nv; i++)
+        if (!pw_is_finite(pos[i])) return pw_fail(e, PW_ERR_INVALID, "vertex %d has a non-finite coordinate", i / 3);
+    for (i = 0; i < 3 * nt; i++)
+        if (tri[i] < 0 || tri[i] >= nv)
+            return pw_fail(e, PW_ERR_INVALID, "triangle %d: vertex index %d out of range (%d vertices)", i / 3,
+                           tri[i], nv);
+    return PW_OK;
+}
+
+/* Closed and consistently oriented: every half-edge has a twin. The twins
+ * (half-edge 3t+k runs from corner k to corner k+1 of triangle t) go to
+ * *twin, for the winding-number caps. */
+PW__DEF int pw__st_check_closed(const pw_alloc *a, int nv, const int *tri, int nt, int **twin, pw_err *e)
+{
+    pw_hmesh hm;
+    int *fs = (int *)pw_alloc_array(a, (size_t)nt + 1, sizeof(int), "triangle offsets", e), i, r;
+    *twin = NULL;
+    if (!fs) return PW_ERR_NOMEM;
+    for (i = 0; i <= nt; i++) fs[i] = 3 * i;
+    r = pw_hmesh_build(a, nv, nt, fs, tri, &hm, e);
+    pw_free(a, fs);
+    if (r != PW_OK) return r;
+    for (i = 0; i < hm.nh && hm.twin[i] >= 0; i++) continue;
+    if (i < hm.nh)
+        r = pw_fail(e, PW_ERR_TOPOLOGY,
+                    "surface is not closed: %d boundary edges (the first: v%d-v%d of triangle %d); "
+                    "a solid needs a closed surface",
+                    hm.nboundary, tri[i], tri[3 * (i / 3) + (i % 3 + 1) % 3], i / 3);
+    if (r == PW_OK && !(*twin = (int *)pw_alloc_array(a, (size_t)hm.nh, sizeof(int), "half-edge twins", e)))
+        r = PW_ERR_NOMEM;
+    if (r == PW_OK) memcpy(*twin, hm.twin, sizeof(int) * (size_t)hm.nh);
+    pw_hmesh_free(a, &hm);
+    return r;
+}
+
+/* Enclosed volume (signed: negative when the triangles face inward) and
+ * area, with coordinates taken from the box centre for precision. */
+PW__DEF void pw__st_measure(pw__stsurf *s, double *vol)
+{
+    double c[3];
+    int t, k;
+    for (k = 0; k < 3; k++) c[k] = 0.5 * (s->lo[k] + s->hi[k]);
+    *vol = s->area = 0.0;
+    for (t = 0; t < s->nt; t++) {
+        double u[3], v[3], w[3], n[3];
+        for (k = 0; k < 3; k++) {
+            u[k] = pw__st_corner(s, t, 0)[k] - c[k];
+            v[k] = pw__st_corner(s, t, 1)[k] - c[k];
+            w[k] = pw__st_corner(s, t, 2)[k] - c[k];
+        }
+        pw__st_cross(v, w, n);
+        *vol += pw__st_dot(u, n) / 6.0;
+        for (k = 0; k < 3; k++) v[k] -= u[k], w[k] -= u[k];
+        pw__st_cross(v, w, n);
+        s->area += 0.5 * sqrt(pw__st_dot(n, n));
+    }
+}
+
+/* Zero-area triangles, then self-intersections (when `pairs`), then the
+ * enclosed volume (its sign tells the orientation). */
+PW__DEF int pw__st_check_geometry(pw__stsurf *s, int pairs, pw_err *e)
+{
+    double vol, size = 0.0;
+    int t, k, hit[2] = {-1, -1};
+    for (t = 0; t < s->nt; t++)
+        if (pw__st_proj_axis(pw__st_corner(s, t, 0), pw__st_corner(s, t, 1), pw__st_corner(s, t, 2)) < 0)
+            return pw_fail(e, PW_ERR_DEGENERATE, "triangle %d (vertices %d, %d, %d) has zero area", t, s->tri[3 * t],
+                           s->tri[3 * t + 1], s->tri[3 * t + 2]);
+    if (pairs) pw__st_pairs(s, 0, 0, hit);
+    if (hit[0] >= 0)
+        return pw_fail(e, PW_ERR_TOPOLOGY, "surface intersects itself: triangles %d and %d cross", hit[0], hit[1]);
+    pw__st_measure(s, &vol);
+    for (k = 0; k < 3; k++) size += (s->hi[k] - s->lo[k]) * (s->hi[k] - s->lo[k]);
+    if (!(fabs(vol) > 1e-12 * size * sqrt(size)))
+        return pw_fail(e, PW_ERR_DEGENERATE, "surface encloses no volume (%g)", vol);
+    s->flip = vol < 0.0;
+    s->volume = fabs(vol);
+    return PW_OK;
+}
+
+/* ---- queries: segment crossings, closest points, winding numbers ---- */
+
+enum { PW__ST_HIT = 1, PW__ST_GRAZE = 2 };
+
+/* A float box around [lo, hi] grown by margin, rounded outward. */
+PW__DEF void pw__st_fbox(const double *lo, const double *hi, double margin, float *b)
+{
+    int k;
+    for (k = 0; k < 3; k++) {
+        b[k] = (float)(lo[k] - margin - 1e-7 * fabs(lo[k]));
+        b[k + 3] = (float)(hi[k] + margin + 1e-7 * fabs(hi[k]));
+    }
+}
+
+/* Segment pq against triangle t, conservatively: 0 only when it certainly
+ * misses by more than tol; PW__ST_HIT with *tp the crossing as a fraction
+ * of pq; PW__ST_GRAZE when it runs (nearly) within the plane. */
+PW__DEF int pw__st_seg_cross(const pw__stsurf *s, int t, const double *p, const double *q, double tol, double *tp)
+{
+    const double *c[3];
+    double u[3], v[3], n[3], x[3], len, dp, dq, seg, tt;
+    int k, i;
+    for (k = 0; k < 3; k++) c[k] = pw__st_corner(s, t, k);
+    for (k = 0; k < 3; k++) u[k] = c[1][k] - c[0][k], v[k] = c[2][k] - c[0][k], x[k] = q[k] - p[k];
+    pw__st_cross(u, v, n);
+    len = sqrt(pw__st_dot(n, n));
+    seg = sqrt(pw__st_dot(x, x));
+    for (k = 0; k < 3; k++) n[k] /= len, u[k] = p[k] - c[0][k], v[k] = q[k] - c[0][k];
+    dp = pw__st_dot(u, n), dq = pw__st_dot(v, n);
+    if ((dp > tol && dq > tol) || (dp < -tol && dq < -tol)) return 0;
+    if (fabs(dp - dq) <= 1e-5 * seg) return PW__ST_GRAZE;
+    tt = dp / (dp - dq);
+    tt = tt < 0.0 ? 0.0 : tt > 1.0 ? 1.0 : tt;
+    for (k = 0; k < 3; k++) x[k] = p[k] + tt * (q[k] - p[k]);
+    for (i = 0; i < 3; i++) { /* x beyond edge i by more than tol: a miss */
+        const double *a = c[i], *b = c[(i + 1) % 3];
+        double e[3], w[3], m[3];
+        for (k = 0; k < 3; k++) e[k] = b[k] - a[k], w[k] = x[k] - a[k];
+        pw__st_cross(e, w, m);
+        if (pw__st_dot(m, n) < -tol * sqrt(pw__st_dot(e, e))) return 0;
+    }
+    *tp = tt;
+    return PW__ST_HIT;
+}
+
+/* All crossings of segment pq with the surface: PW__ST_HIT and/or
+ * PW__ST_GRAZE bits (0: pq certainly misses the surface); *tfirst is the
+ * hit nearest to p; when all is not NULL, the first `cap` hits go there
+ * (*nall counts them all). */
+PW__DEF int pw__st_crossings(const pw__stsurf *s, const double *p, const double *q, double *tfirst, double *all,
+                             int cap, int *nall)
+{
+    double lo[3], hi[3], tol = 1e-9 * s->mag, t;
+    float sb[6];
+    int stack[96], top = 0, res = 0, k, i;
+    for (k = 0; k < 3; k++) lo[k] = p[k] < q[k] ? p[k] : q[k], hi[k] = p[k] < q[k] ? q[k] : p[k];
+    pw__st_fbox(lo, hi, tol, sb);
+    *tfirst = 2.0;
+    stack[top++] = 0;
+    while (top > 0) {
+        int id = stack[--top];
+        const int *nd = s->node + 3 * id;
+        if (!pw__st_boxes_meet(s->box + 6 * id, sb)) continue;
+        if (nd[2] >= 0) {
+            stack[top++] = nd[2];
+            stack[top++] = nd[2] + 1;
+            continue;
+        }
+        for (i = nd[0]; i < nd[0] + nd[1]; i++) {
+            int r = pw__st_seg_cross(s, s->slot[i], p, q, tol, &t);
+            res |= r;
+            if (r == PW__ST_HIT && t < *tfirst) *tfirst = t;
+            if (r == PW__ST_HIT && all && (*nall)++ < cap) all[*nall - 1] = t;
+        }
+    }
+    return res;
+}
+
+PW__DEF int pw__st_segment(const pw__stsurf *s, const double *p, const double *q, double *tfirst)
+{
+    return pw__st_crossings(s, p, q, tfirst, NULL, 0, NULL);
+}
+
+/* Squared distance from p to triangle abc; the nearest point to x
+ * (Ericson, Real-Time Collision Detection, 5.1.5). */
+PW__DEF double pw__st_closest_tri(const double *p, const double *a, const double *b, const double *c, double *x)
+{
+    double ab[3], ac[3], ap[3], bp[3], cp[3], d1, d2, d3, d4, d5, d6, va, vb, vc, v = 0.0, w = 0.0, r = 0.0;
+    int k;
+    for (k = 0; k < 3; k++)
+        ab[k] = b[k] - a[k], ac[k] = c[k] - a[k], ap[k] = p[k] - a[k], bp[k] = p[k] - b[k], cp[k] = p[k] - c[k];
+    d1 = pw__st_dot(ab, ap), d2 = pw__st_dot(ac, ap), d3 = pw__st_dot(ab, bp), d4 = pw__st_dot(ac, bp);
+    d5 = pw__st_dot(ab, cp), d6 = pw__st_dot(ac, cp);
+    vc = d1 * d4 - d3 * d2, vb = d5 * d2 - d1 * d6, va = d3 * d6 - d5 * d4;
+    if (d1 <= 0.0 && d2 <= 0.0) v = w = 0.0;
+    else if (d3 >= 0.0 && d4 <= d3) v = 1.0, w = 0.0;
+    else if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0) v = d1 / (d1 - d3), w = 0.0;
+    else if (d6 >= 0.0 && d5 <= d6) v = 0.0, w = 1.0;
+    else if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0) v = 0.0, w = d2 / (d2 - d6);
+    else if (va <= 0.0 && d4 - d3 >= 0.0 && d5 - d6 >= 0.0) w = (d4 - d3) / ((d4 - d3) + (d5 - d6)), v = 1.0 - w;
+    else v = vb / (va + vb + vc), w = vc / (va + vb + vc);
+    for (k = 0; k < 3; k++) {
+        x[k] = a[k] + v * ab[k] + w * ac[k];
+        r += (p[k] - x[k]) * (p[k] - x[k]);
+    }
+    return r;
+}
+
+PW__DEF double pw__st_box_dist2(const float *b, const double *p)
+{
+    double r = 0.0, d;
+    int k;
+    for (k = 0; k < 3; k++) {
+        d = b[k] - p[k] > 0.0 ? b[k] - p[k] : p[k] - b[k + 3] > 0.0 ? p[k] - b[k + 3] : 0.0;
+        r += d * d;
+    }
+    return r;
+}
+
+/* Squared distance from p to the surface, the nearest point to x. */
+PW__DEF double pw__st_closest(const pw__stsurf *s, const double *p, double *x)
+{
+    double best = DBL_MAX, y[3];
+    int stack[96], top = 0, i, k;
+    stack[top++] = 0;
+    while (top > 0) {
+        int nd = stack[--top];
+        const int *n = s->node + 3 * nd;
+        if (pw__st_box_dist2(s->box + 6 * nd, p) >= best) continue;
+        if (n[2] >= 0) { /* the nearer child is searched first */
+            int near_first = pw__st_box_dist2(s->box + 6 * n[2], p) <= pw__st_box_dist2(s->box + 6 * (n[2] + 1), p);
+            stack[top++] = near_first ? n[2] + 1 : n[2];
+            stack[top++] = near_first ? n[2] : n[2] + 1;
+            continue;
+        }
+        for (i = n[0]; i < n[0] + n[1]; i++) {
+            int t = s->slot[i];
+            double d = pw__st_closest_tri(p, pw__st_corner(s, t, 0), pw__st_corner(s, t, 1), pw__st_corner(s, t, 2), y);
+            if (d < best)
+                for (best = d, k = 0; k < 3; k++) x[k] = y[k];
+        }
+    }
+    return best;
+}
+
+/* atan2 from + - * / and sqrt only, so that inside/outside decisions are
+ * the same on every platform: two argument halvings bring |z| below
+ * tan(pi/16), where the series to z^21 is exact to 1e-17. */
+PW__DEF double pw__st_atan2(double y, double x)
+{
+    const double pi = 3.14159265358979323846;
+    double ax = fabs(x), ay = fabs(y), r, z, z2, s = 0.0, a;
+    int m;
+    if (ax == 0.0 && ay == 0.0) return 0.0;
+    r = ay > ax ? ax / ay : ay / ax;
+    z = r / (1.0 + sqrt(1.0 + r * r));
+    z = z / (1.0 + sqrt(1.0 + z * z));
+    z2 = z * z;
+    for (m = 10; m >= 0; m--) s = (m % 2 ? -1.0 : 1.0) / (2 * m + 1) + z2 * s;
+    a = 4.0 * z * s;
+    if (ay > ax) a = 0.5 * pi - a;
+    if (x < 0.0) a = pi - a;
+    return y < 0.0 ? -a : a;
+}
+
+/* Signed solid angle of triangle abc seen from p (Van Oosterom &
+ * Strackee): positive when p is on the side the triangle's back faces. */
+PW__DEF double pw__st_solid_angle(const double *p, const double *a, const double *b, const double *c)
+{
+    double A[3], B[3], C[3], la, lb, lc, n[3], num, den;
+    int k;
+    for (k = 0; k < 3; k++) A[k] = a[k] - p[k], B[k] = b[k] - p[k], C[k] = c[k] - p[k];
+    la = sqrt(pw__st_dot(A, A)), lb = sqrt(pw__st_dot(B, B)), lc = sqrt(pw__st_dot(C, C));
+    pw__st_cross(B, C, n);
+    num = pw__st_dot(A, n);
+    den = la * lb * lc + pw__st_dot(A, B) * lc + pw__st_dot(B, C) * la + pw__st_dot(C, A) * lb;
+    return 2.0 * pw__st_atan2(num, den);
+}
+
+/* The boundary half-edges of every inner node's triangle set (those whose
+ * twin lies outside the node), for the hierarchical winding number. In
+ * slot order, so that a node's set is a slot range. */
+PW__DEF int pw__st_caps(const pw_alloc *a, pw__stsurf *s, const int *twin, pw_err *e)
+{
+    int *where = (int *)pw_alloc_array(a, (size_t)s->nt, sizeof(int), "slot index", e), nd, pass, i, k, n = 0;
+    s->capfirst = (int *)pw_calloc_array(a, (size_t)s->nnode + 1, sizeof(int), "winding caps", e);
+    if (!where || !s->capfirst) {
+        pw_free(a, where);
+        return PW_ERR_NOMEM;
+    }
+    for (i = 0; i < s->nt; i++) where[s->slot[i]] = i;
+    for (pass = 0; pass < 2; pass++) {
+        for (nd = 1, n = 0; nd < s->nnode; nd++) { /* the root is closed: no cap */
+            const int *nn = s->node + 3 * nd;
+            s->capfirst[nd] = n;
+            if (nn[2] < 0) continue;
+            for (i = nn[0]; i < nn[0] + nn[1]; i++)
+                for (k = 0; k < 3; k++) {
+                    int t = s->slot[i], u = where[twin[3 * t + k] / 3];
+                    if (u >= nn[0] && u < nn[0] + nn[1]) continue;
+                    if (pass) s->cap[2 * n] = s->tri[3 * t + k], s->cap[2 * n + 1] = s->tri[3 * t + (k + 1) % 3];
+                    n++;
+                }
+        }
+        s->capfirst[s->nnode] = n;
+        if (!pass && !(s->cap = (int *)pw_alloc_array(a, 2 * (size_t)n + 2, sizeof(int), "winding caps", e))) break;
+    }
+    pw_free(a, where);
+    return s->cap ? PW_OK : PW_ERR_NOMEM;
+}
+
+/* Sum of solid angles at p of node nd's triangles, or of the fan closing
+ * its boundary when that is shorter and p is outside the node's box (the
+ * patch and the fan then make a closed surface not around p, §3.3 of
+ * Jacobson et al.). */
+PW__DEF double pw__st_node_angle(const pw__stsurf *s, int nd, const double *p, int outside)
+{
+    const int *nn = s->node + 3 * nd;
+    const float *b = s->box + 6 * nd;
+    double w = 0.0, o[3];
+    int i, k, c0 = s->capfirst ? s->capfirst[nd] : 0, nc = s->capfirst ? s->capfirst[nd + 1] - c0 : 0;
+    if (outside && s->capfirst && nn[2] >= 0 && nc < nn[1]) {
+        for (k = 0; k < 3; k++) o[k] = 0.5 * ((double)b[k] + b[k + 3]);
+        for (i = c0; i < c0 + nc; i++) w += pw__st_solid_angle(p, o, s->p + 3 * s->cap[2 * i], s->p + 3 * s->cap[2 * i + 1]);
+        return w;
+    }
+    for (i = nn[0]; i < nn[0] + nn[1]; i++) {
+        int t = s->slot[i];
+        w += pw__st_solid_angle(p, pw__st_corner(s, t, 0), pw__st_corner(s, t, 1), pw__st_corner(s, t, 2));
+    }
+    return w;
+}
+
+PW__DEF int pw__st_in_box(const float *b, const double *p)
+{
+    return p[0] >= b[0] && p[0] <= b[3] && p[1] >= b[1] && p[1] <= b[4] && p[2] >= b[2] && p[2] <= b[5];
+}
+
+/* Generalised winding number of the surface at p (1 inside, 0 outside,
+ * fractional only very near the surface), exact up to rounding: the nodes
+ * whose box holds p are opened, the others contribute their caps. */
+PW__DEF double pw__st_winding(const pw__stsurf *s, const double *p)
+{
+    double w = 0.0;
+    int stack[96], top = 0;
+    if (!pw__st_in_box(s->box, p)) return 0.0; /* outside a closed surface's box */
+    stack[top++] = 0;
+    while (top > 0) {
+        int nd = stack[--top];
+        const int *nn = s->node + 3 * nd;
+        if (!pw__st_in_box(s->box + 6 * nd, p)) w += pw__st_node_angle(s, nd, p, 1);
+        else if (nn[2] < 0) w += pw__st_node_angle(s, nd, p, 0);
+        else stack[top++] = nn[2], stack[top++] = nn[2] + 1;
+    }
+    w /= 4.0 * 3.14159265358979323846;
+    return s->flip ? -w : w;
+}
+
+/* ---- the body-centred cubic lattice ----
+ * Lattice vertices are named by half-unit coordinates L: black ones (cube
+ * corners) have all three even, red ones (cube centres) all three odd;
+ * the position is org + L * cell / 2. Long edges join vertices of one
+ * colour (L differs by 2 along one axis), short ones a corner to the
+ * centre of its cube (L differs by 1 along every axis). */
+
+typedef struct pw__stcut {
+    int in, out; /* the lattice edge: inside end, outside end */
+    int id;      /* output vertex, -1 until a tetrahedron uses it */
+    double t;    /* where the surface crosses, as a fraction from `in` */
+} pw__stcut;
+
+typedef struct pw__st {
+    const pw_alloc *a;
+    const pw_progress *prog;
+    pw_err *e;
+    pw__stsurf s;
+    int n[3], nb, nlv;   /* cubes per axis; black vertices; all lattice vertices */
+    int unite;           /* self-intersections allowed: cut where the winding number drops below 1/2 */
+    double org[3], h;
+    signed char *side;   /* per lattice vertex: +1 inside, -1 outside, 0 not known yet */
+    unsigned char *busy; /* per cube: the surface may meet it */
+    int *warp;           /* per lattice vertex: the cut point it moved onto, -1 */
+    int *id;             /* per lattice vertex: output vertex, -1 */
+    pw__stcut *cut;      /* sorted by inside end */
+    size_t ncut, capcut;
+    float *opos;         /* output positions (nopos vertices) */
+    size_t nopos, capopos;
+    int *otet;           /* output tetrahedra (notet) */
+    size_t notet, capotet;
+} pw__st;
+
+/* The 14 lattice neighbours: 6 along long edges, 8 along short ones. */
+static const signed char pw__st_nb[14][3] = {{2, 0, 0}, {-2, 0, 0}, {0, 2, 0}, {0, -2, 0}, {0, 0, 2},
+                                              {0, 0, -2}, {1, 1, 1}, {1, 1, -1}, {1, -1, 1}, {1, -1, -1},
+                                              {-1, 1, 1}, {-1, 1, -1}, {-1, -1, 1}, {-1, -1, -1}};
+
+PW__DEF void pw__st_coord(const pw__st *st, int v, int *L)
+{
+    int nx = st->n[0] + 1, ny = st->n[1] + 1, odd = 0;
+    if (v >= st->nb) v -= st->nb, nx = st->n[0], ny = st->n[1], odd = 1;
+    L[0] = 2 * (v % nx) + odd;
+    L[1] = 2 * ((v / nx) % ny) + odd;
+    L[2] = 2 * (v / nx / ny) + odd;
+}
+
+/* The lattice vertex at L, -1 if there is none. */
+PW__DEF int pw__st_index(const pw__st *st, const int *L)
+{
+    int k, odd = L[0] & 1;
+    for (k = 0; k < 3; k++)
+        if (L[k] < odd || L[k] > 2 * st->n[k] - odd || (L[k] & 1) != odd) return -1;
+    if (!odd) return L[0] / 2 + (st->n[0] + 1) * (L[1] / 2 + (st->n[1] + 1) * (L[2] / 2));
+    return st->nb + L[0] / 2 + st->n[0] * (L[1] / 2 + st->n[1] * (L[2] / 2));
+}
+
+PW__DEF void pw__st_lpos(const pw__st *st, const int *L, double *p)
+{
+    int k;
+    for (k = 0; k < 3; k++) p[k] = st->org[k] + 0.5 * st->h * L[k];
+}
+
+PW__DEF void pw__st_vpos(const pw__st *st, int v, double *p)
+{
+    int L[3];
+    pw__st_coord(st, v, L);
+    pw__st_lpos(st, L, p);
+}
+
+/* The axis along which A and B form a long edge, -1 for a short edge. */
+PW__DEF int pw__st_long_axis(const int *A, const int *B)
+{
+    int k;
+    for (k = 0; k < 3; k++)
+        if (A[k] - B[k] == 2 || B[k] - A[k] == 2) return k;
+    return -1;
+}
+
+/* The cell for about `target` tetrahedra: the inside holds volume * 12 /
+ * cell^3 lattice tetrahedra, and the cut ones near the surface add about
+ * 1.3 area / cell^2 (measured on CGAL meshes: 1.1 to 2 for most, so counts
+ * land within a few per cent). Newton on x = 1/cell from above (the cubic
+ * is increasing and convex), from + - * / only, so that the lattice is the
+ * same on every platform. */
+PW__DEF double pw__st_cell_for(double volume, double area, double target)
+{
+    double x = 1.0, f;
+    int i;
+    for (i = 0; i < 200 && 12.0 * volume * x * x * x < target; i++) x *= 2.0;
+    for (i = 0; i < 200 && 12.0 * volume * x * x * x > 8.0 * target; i++) x *= 0.5;
+    for (i = 0; i < 60; i++) {
+        f = 12.0 * volume * x * x * x + 1.3 * area * x * x - target;
+        x -= f / (36.0 * volume * x * x + 2.6 * area * x);
+    }
+    return 1.0 / x;
+}
+
+/* Lattice spacing and extent: the surface's box centred in the lattice
+ * with at least one cube to spare on every side, so that every lattice
+ * vertex of the outer layer is outside. */
+PW__DEF int pw__st_lattice(pw__st *st, const pw_stuff_options *o)
+{
+    double h, count;
+    int k, target = o && o->target_tets ? o->target_tets : 20000;
+    if (o && o->cell != 0.0) {
+        if (!(o->cell > 0.0) || !pw_is_finite(o->cell))
+            return pw_fail(st->e, PW_ERR_INVALID, "tetrahedralize: cell %g must be positive", o->cell);
+        h = o->cell;
+    } else {
+        if (target < 0) return pw_fail(st->e, PW_ERR_INVALID, "tetrahedralize: target_tets %d is negative", target);
+        h = pw__st_cell_for(st->s.volume, st->s.area, target);
+    }
+    for (k = 0, count = 1.0; k < 3; k++) {
+        double c = (st->s.hi[k] - st->s.lo[k]) / h;
+        if (!(c < 1e6)) count = 1e30;
+        else st->n[k] = (int)ceil(c) + 2, count *= st->n[k] + 1;
+    }
+    if (count < 1e30) count += (double)st->n[0] * st->n[1] * st->n[2];
+    if (count > PW_MAX_STUFF_LATTICE)
+        return pw_fail(st->e, PW_ERR_LIMIT,
+                       "tetrahedralize: a lattice of spacing %g needs %.3g vertices, more than PW_MAX_STUFF_LATTICE "
+                       "(%d); use a larger cell or fewer tetrahedra",
+                       h, count, PW_MAX_STUFF_LATTICE);
+    st->h = h;
+    for (k = 0; k < 3; k++) st->org[k] = 0.5 * (st->s.lo[k] + st->s.hi[k]) - 0.5 * h * st->n[k];
+    st->nb = (st->n[0] + 1) * (st->n[1] + 1) * (st->n[2] + 1);
+    st->nlv = st->nb + st->n[0] * st->n[1] * st->n[2];
+    st->side = (signed char *)pw_calloc_array(st->a, (size_t)st->nlv, 1, "lattice sides", st->e);
+    st->busy = (unsigned char *)pw_calloc_array(st->a, (size_t)(st->nlv - st->nb), 1, "lattice cubes", st->e);
+    st->warp = (int *)pw_alloc_array(st->a, (size_t)st->nlv, sizeof(int), "lattice warps", st->e);
+    st->id = (int *)pw_alloc_array(st->a, (size_t)st->nlv, sizeof(int), "lattice vertex ids", st->e);
+    if (!st->side || !st->busy || !st->warp || !st->id) return PW_ERR_NOMEM;
+    for (k = 0; k < st->nlv; k++) st->warp[k] = st->id[k] = -1;
+    return PW_OK;
+}
+
+/* Triangle abc meets the cube of centre c and half-width hw (separating
+ * axis test, Akenine-Moller 2001); hw is padded by the caller, so rounding
+ * can only report a meeting that is not there. */
+PW__DEF int pw__st_tri_box(const double *ctr, double hw, const double *a, const double *b, const double *c)
+{
+    double v[3][3], e[3][3], n[3], ax[3], p[3], r;
+    int i, j, k;
+    for (k = 0; k < 3; k++) {
+        v[0][k] = a[k] - ctr[k], v[1][k] = b[k] - ctr[k], v[2][k] = c[k] - ctr[k];
+        if ((v[0][k] > hw && v[1][k] > hw && v[2][k] > hw) || (v[0][k] < -hw && v[1][k] < -hw && v[2][k] < -hw))
+            return 0;
+    }
+    for (i = 0; i < 3; i++)
+        for (k = 0; k < 3; k++) e[i][k] = v[(i + 1) % 3][k] - v[i][k];
+    pw__st_cross(e[0], e[1], n);
+    if (fabs(pw__st_dot(n, v[0])) > hw * (fabs(n[0]) + fabs(n[1]) + fabs(n[2]))) return 0;
+    for (i = 0; i < 3; i++)
+        for (j = 0; j < 3; j++) { /* axis: unit vector i cross edge j */
+            ax[i] = 0.0, ax[(i + 1) % 3] = -e[j][(i + 2) % 3], ax[(i + 2) % 3] = e[j][(i + 1) % 3];
+            for (k = 0; k < 3; k++) p[k] = pw__st_dot(ax, v[k]);
+            r = hw * (fabs(ax[0]) + fabs(ax[1]) + fabs(ax[2]));
+            if ((p[0] > r && p[1] > r && p[2] > r) || (p[0] < -r && p[1] < -r && p[2] < -r)) return 0;
+        }
+    return 1;
+}
+
+/* Marks the cubes that the surface may meet. */
+PW__DEF void pw__st_mark(pw__st *st)
+{
+    const pw__stsurf *s = &st->s;
+    int t, k, c0[3], c1[3], c[3];
+    for (t = 0; t < s->nt; t++) {
+        const double *p[3];
+        for (k = 0; k < 3; k++) p[k] = pw__st_corner(s, t, k);
+        for (k = 0; k < 3; k++) {
+            double lo = p[0][k] < p[1][k] ? p[0][k] : p[1][k], hi = p[0][k] > p[1][k] ? p[0][k] : p[1][k];
+            lo = lo < p[2][k] ? lo : p[2][k], hi = hi > p[2][k] ? hi : p[2][k];
+            c0[k] = pw_clampi((int)floor((lo - st->org[k]) / st->h - 1e-6), 0, st->n[k] - 1);
+            c1[k] = pw_clampi((int)floor((hi - st->org[k]) / st->h + 1e-6), 0, st->n[k] - 1);
+        }
+        for (c[2] = c0[2]; c[2] <= c1[2]; c[2]++)
+            for (c[1] = c0[1]; c[1] <= c1[1]; c[1]++)
+                for (c[0] = c0[0]; c[0] <= c1[0]; c[0]++) {
+                    int L[3] = {2 * c[0] + 1, 2 * c[1] + 1, 2 * c[2] + 1}, i = pw__st_index(st, L) - st->nb;
+                    double ctr[3];
+                    if (st->busy[i]) continue;
+                    pw__st_lpos(st, L, ctr);
+                    st->busy[i] = (unsigned char)pw__st_tri_box(ctr, 0.5 * st->h * (1.0 + 1e-6), p[0], p[1], p[2]);
+                }
+    }
+}
+
+PW__DEF int pw__st_busy(const pw__st *st, int i, int j, int k)
+{
+    if (i < 0 || j < 0 || k < 0 || i >= st->n[0] || j >= st->n[1] || k >= st->n[2]) return 0;
+    return st->busy[i + st->n[0] * (j + st->n[1] * k)];
+}
+
+/* Edge AB lies in a cube that the surface does not meet. A short edge is
+ * in the cube of its red end, a red long edge in the two cubes of its
+ * ends, a black long edge on the boundary of four cubes. */
+PW__DEF int pw__st_edge_free(const pw__st *st, const int *A, const int *B)
+{
+    int ax = pw__st_long_axis(A, B), c[3], du, dv, u, v;
+    if (ax < 0) {
+        const int *R = (A[0] & 1) ? A : B;
+        return !pw__st_busy(st, R[0] / 2, R[1] / 2, R[2] / 2);
+    }
+    if (A[0] & 1) return !pw__st_busy(st, A[0] / 2, A[1] / 2, A[2] / 2) && !pw__st_busy(st, B[0] / 2, B[1] / 2, B[2] / 2);
+    u = (ax + 1) % 3, v = (ax + 2) % 3;
+    c[ax] = (A[ax] < B[ax] ? A[ax] : B[ax]) / 2;
+    for (du = -1; du <= 0; du++)
+        for (dv = -1; dv <= 0; dv++) {
+            c[u] = A[u] / 2 + du, c[v] = A[v] / 2 + dv;
+            if (!pw__st_busy(st, c[0], c[1], c[2])) return 1;
+        }
+    return 0;
+}
+
+/* Lattice edge AB certainly does not meet the surface. */
+PW__DEF int pw__st_edge_clear(const pw__st *st, const int *A, const int *B)
+{
+    double p[3], q[3], t;
+    if (pw__st_edge_free(st, A, B)) return 1;
+    pw__st_lpos(st, A, p);
+    pw__st_lpos(st, B, q);
+    return pw__st_segment(&st->s, p, q, &t) == 0;
+}
+
+PW__DEF int pw__st_inside(const pw__st *st, const double *p) { return pw__st_winding(&st->s, p) >= 0.5; }
+
+/* Inside or outside for every lattice vertex: breadth-first over edges
+ * that certainly do not meet the surface, one winding number per
+ * component (§ "inside decided robustly": no ray parity, no normals). */
+PW__DEF int pw__st_sides(pw__st *st)
+{
+    int *queue = (int *)pw_alloc_array(st->a, (size_t)st->nlv, sizeof(int), "lattice queue", st->e);
+    int s0, head, tail, k, r = PW_OK, U[3], V[3];
+    double p[3];
+    if (!queue) return PW_ERR_NOMEM;
+    pw__st_mark(st);
+    for (s0 = 0; s0 < st->nlv && r == PW_OK; s0++) {
+        signed char sg;
+        if ((s0 & 4095) == 0 && (r = pw_report(st->prog, 0.1f + 0.4f * (float)s0 / (float)st->nlv, "lattice sides", st->e)))
+            break;
+        if (st->side[s0]) continue;
+        pw__st_vpos(st, s0, p);
+        sg = (signed char)(pw__st_inside(st, p) ? 1 : -1);
+        st->side[s0] = sg;
+        queue[0] = s0, head = 0, tail = 1;
+        while (head < tail) {
+            pw__st_coord(st, queue[head++], U);
+            for (k = 0; k < 14; k++) {
+                int v;
+                V[0] = U[0] + pw__st_nb[k][0], V[1] = U[1] + pw__st_nb[k][1], V[2] = U[2] + pw__st_nb[k][2];
+                v = pw__st_index(st, V);
+                if (v < 0 || st->side[v] || !pw__st_edge_clear(st, U, V)) continue;
+                st->side[v] = sg;
+                queue[tail++] = v;
+            }
+        }
+    }
+    pw_free(st->a, queue);
+    return r;
+}
+
+/* ---- cut points and warping ---- */
+
+/* Where the lattice edge from pin (inside) to pout (outside) crosses the
+ * surface: the first crossing from the inside end, or bisection on the
+ * winding number when the crossing grazes a triangle. */
+PW__DEF int pw__st_cmp_double(const void *x, const void *y)
+{
+    double a = *(const double *)x, b = *(const double *)y;
+    return (a > b) - (a < b);
+}
+
+PW__DEF void pw__st_lerp(const double *p, const double *q, double t, double *x)
+{
+    int k;
+    for (k = 0; k < 3; k++) x[k] = p[k] + t * (q[k] - p[k]);
+}
+
+/* With self-intersections, the crossing after which the winding number is
+ * below 1/2 (the first crossings may enter an overlap or leave it); -1 if
+ * rounding hides it. */
+PW__DEF double pw__st_cut_union(const pw__st *st, const double *pin, const double *pout)
+{
+    double hits[64], t, x[3];
+    int n = 0, i, j;
+    pw__st_crossings(&st->s, pin, pout, &t, hits, 64, &n);
+    if (n > 64) return -1.0;
+    qsort(hits, (size_t)n, sizeof(double), pw__st_cmp_double);
+    if (n > 0 && hits[n - 1] - hits[0] < 1e-9) return hits[0]; /* one crossing: the side changes there */
+    for (i = 0; i < n; i = j) { /* probe halfway to the next distinct crossing */
+        for (j = i + 1; j < n && hits[j] - hits[i] < 1e-9; j++) continue;
+        pw__st_lerp(pin, pout, 0.5 * (hits[i] + (j < n ? hits[j] : 1.0)), x);
+        if (!pw__st_inside(st, x)) return hits[i];
+    }
+    return -1.0;
+}
+
+PW__DEF double pw__st_cut_param(const pw__st *st, const double *pin, const double *pout)
+{
+    double t, lo = 0.0, hi = 1.0, x[3];
+    int i;
+    if (st->unite && (t = pw__st_cut_union(st, pin, pout)) >= 0.0) return t;
+    if (!st->unite && (pw__st_segment(&st->s, pin, pout, &t) & PW__ST_HIT)) return t;
+    for (i = 0; i < 48; i++) {
+        double mid = 0.5 * (lo + hi);
+        pw__st_lerp(pin, pout, mid, x);
+        if (pw__st_inside(st, x)) lo = mid;
+        else hi = mid;
+    }
+    return 0.5 * (lo + hi);
+}
+
+/* A cut point on every lattice edge from an inside to an outside vertex,
+ * sorted by the inside end. */
+PW__DEF int pw__st_cuts(pw__st *st)
+{
+    int u, k, r = PW_OK, U[3], V[3];
+    double p[3], q[3];
+    for (u = 0; u < st->nlv && r == PW_OK; u++) {
+        if ((u & 4095) == 0 && (r = pw_report(st->prog, 0.5f + 0.2f * (float)u / (float)st->nlv, "cut points", st->e)))
+            break;
+        if (st->side[u] <= 0) continue;
+        pw__st_coord(st, u, U);
+        for (k = 0; k < 14; k++) {
+            pw__stcut *c;
+            int v;
+            V[0] = U[0] + pw__st_nb[k][0], V[1] = U[1] + pw__st_nb[k][1], V[2] = U[2] + pw__st_nb[k][2];
+            v = pw__st_index(st, V);
+            if (v < 0 || st->side[v] >= 0) continue;
+            if ((r = pw_grow(st->a, (void **)&st->cut, &st->capcut, st->ncut + 1, sizeof *st->cut, "cut points", st->e)))
+                break;
+            pw__st_lpos(st, U, p);
+            pw__st_lpos(st, V, q);
+            c = st->cut + st->ncut++;
+            c->in = u, c->out = v, c->id = -1, c->t = pw__st_cut_param(st, p, q);
+        }
+    }
+    return r;
+}
+
+/* The cut point on the edge from `in` (inside) to `out` (outside). */
+PW__DEF int pw__st_find_cut(const pw__st *st, int in, int out)
+{
+    size_t lo = 0, hi = st->ncut;
+    while (lo < hi) {
+        size_t mid = lo + (hi - lo) / 2;
+        if (st->cut[mid].in < in) lo = mid + 1;
+        else hi = mid;
+    }
+    while (lo < st->ncut && st->cut[lo].in == in && st->cut[lo].out != out) lo++;
+    PW_ASSERT(lo < st->ncut && st->cut[lo].in == in);
+    return (int)lo;
+}
+
+PW__DEF void pw__st_cut_pos(const pw__st *st, int c, double *x)
+{
+    double p[3], q[3];
+    int k;
+    pw__st_vpos(st, st->cut[c].in, p);
+    pw__st_vpos(st, st->cut[c].out, q);
+    for (k = 0; k < 3; k++) x[k] = p[k] + st->cut[c].t * (q[k] - p[k]);
+}
+
+typedef struct pw__stviol {
+    int v, c;  /* the violated lattice vertex, the cut point */
+    double d;  /* their distance */
+} pw__stviol;
+
+PW__DEF int pw__st_viol_cmp(const void *x, const void *y)
+{
+    const pw__stviol *a = (const pw__stviol *)x, *b = (const pw__stviol *)y;
+    if (a->v != b->v) return a->v < b->v ? -1 : 1;
+    if (a->d != b->d) return a->d < b->d ? -1 : 1;
+    return (a->c > b->c) - (a->c < b->c);
+}
+
+/* The warping state: violations sorted by vertex then distance (vertex v
+ * owns vl[first[v] .. first[v+1])), the violations whose cut point lies on
+ * an edge towards each vertex (byt[tfirst[v] .. tfirst[v+1]), indices into
+ * vl), and the number of live violations of each vertex. */
+typedef struct pw__stwarp {
+    pw__stviol *vl;
+    int n, *first, *byt, *tfirst, *pend, *queue, qn;
+} pw__stwarp;
+
+PW__DEF int pw__st_other(const pw__st *st, const pw__stviol *x)
+{
+    return st->cut[x->c].in == x->v ? st->cut[x->c].out : st->cut[x->c].in;
+}
+
+/* A cut point violates the lattice vertex at the end of its edge that is
+ * nearer than alpha * edge length (alpha < 1/2: at most one end). */
+PW__DEF int pw__st_violations(pw__st *st, pw__stwarp *w)
+{
+    size_t i;
+    w->vl = (pw__stviol *)pw_alloc_array(st->a, st->ncut + 1, sizeof *w->vl, "warp candidates", st->e);
+    if (!w->vl) return PW_ERR_NOMEM;
+    for (i = 0, w->n = 0; i < st->ncut; i++) {
+        const pw__stcut *c = st->cut + i;
+        int A[3], B[3], lg;
+        double len, al;
+        pw__st_coord(st, c->in, A);
+        pw__st_coord(st, c->out, B);
+        lg = pw__st_long_axis(A, B) >= 0;
+        len = lg ? st->h : 0.86602540378443865 * st->h;
+        al = lg ? PW__ST_ALPHA_LONG : PW__ST_ALPHA_SHORT;
+        if (c->t < al) w->vl[w->n].v = c->in, w->vl[w->n].c = (int)i, w->vl[w->n++].d = c->t * len;
+        else if (1.0 - c->t < al) w->vl[w->n].v = c->out, w->vl[w->n].c = (int)i, w->vl[w->n++].d = (1.0 - c->t) * len;
+    }
+    qsort(w->vl, (size_t)w->n, sizeof *w->vl, pw__st_viol_cmp);
+    return PW_OK;
+}
+
+/* The per-vertex index arrays of the warping state (counting sorts). */
+PW__DEF int pw__st_warp_index(pw__st *st, pw__stwarp *w)
+{
+    size_t nl = (size_t)st->nlv + 1;
+    int i;
+    w->first = (int *)pw_calloc_array(st->a, nl, sizeof(int), "warp index", st->e);
+    w->tfirst = (int *)pw_calloc_array(st->a, nl + 1, sizeof(int), "warp index", st->e);
+    w->pend = (int *)pw_calloc_array(st->a, nl, sizeof(int), "warp index", st->e);
+    w->byt = (int *)pw_alloc_array(st->a, (size_t)w->n + 1, sizeof(int), "warp index", st->e);
+    w->queue = (int *)pw_alloc_array(st->a, 2 * (size_t)w->n + 1, sizeof(int), "warp queue", st->e);
+    if (!w->first || !w->tfirst || !w->pend || !w->byt || !w->queue) return PW_ERR_NOMEM;
+    for (i = 0; i < w->n; i++) {
+        w->first[w->vl[i].v + 1]++;
+        w->pend[w->vl[i].v]++;
+        w->tfirst[pw__st_other(st, w->vl + i) + 2]++;
+    }
+    for (i = 0; i < st->nlv; i++) w->first[i + 1] += w->first[i], w->tfirst[i + 2] += w->tfirst[i + 1];
+    for (i = 0; i < w->n; i++) w->byt[w->tfirst[pw__st_other(st, w->vl + i) + 1]++] = i;
+    return PW_OK;
+}
+
+/* Moves v onto cut point c: the violations on other edges at v die, and
+ * vertices left without live violations are stable, so that the vertices
+ * violated towards them may warp (queued). */
+PW__DEF void pw__st_move(pw__st *st, pw__stwarp *w, int v, int c)
+{
+    int i, j;
+    st->warp[v] = c;
+    w->pend[v] = 0;
+    for (i = w->tfirst[v]; i < w->tfirst[v + 1]; i++) {
+        int x = w->vl[w->byt[i]].v;
+        if (st->warp[x] >= 0 || --w->pend[x] > 0) continue;
+        for (j = w->tfirst[x]; j < w->tfirst[x + 1]; j++) w->queue[w->qn++] = w->vl[w->byt[j]].v;
+    }
+}
+
+/* Warps v onto its nearest live violating cut point whose other end is
+ * stable (any live one when `any`); returns 1 if it moved. */
+PW__DEF int pw__st_try_warp(pw__st *st, pw__stwarp *w, int v, int any)
+{
+    int i;
+    if (st->warp[v] >= 0 || w->pend[v] == 0) return 0;
+    for (i = w->first[v]; i < w->first[v + 1]; i++) {
+        int o = pw__st_other(st, w->vl + i);
+        if (st->warp[o] < 0 && (any || w->pend[o] == 0)) {
+            pw__st_move(st, w, v, w->vl[i].c);
+            return 1;
+        }
+    }
+    return 0;
+}
+
+/* §3 warping: each violated vertex moves onto its nearest violating cut
+ * point and is then on the surface, so the cut points on its other edges
+ * vanish. A vertex only moves towards an end that stays in place (one that
+ * moves towards another that moves too can make slivers outside the
+ * bounds): first the vertices violated towards stable ends, each move
+ * making further ends stable. What remains pending is a core of vertices
+ * all violated towards one another; violations join inside to outside
+ * vertices, so moving exactly the core's outside vertices (towards inside
+ * ones, which then have no live violation left) keeps every end in place. */
+PW__DEF int pw__st_warp(pw__st *st)
+{
+    pw__stwarp w;
+    int r, i, scan = 0;
+    memset(&w, 0, sizeof w);
+    r = pw__st_violations(st, &w);
+    if (r == PW_OK) r = pw__st_warp_index(st, &w);
+    for (i = w.n - 1; r == PW_OK && i >= 0; i--) w.queue[w.qn++] = w.vl[i].v; /* popped in index order */
+    while (r == PW_OK && (w.qn > 0 || scan < w.n)) {
+        if (w.qn > 0) pw__st_try_warp(st, &w, w.queue[--w.qn], 0);
+        else if (st->side[w.vl[scan++].v] < 0) pw__st_try_warp(st, &w, w.vl[scan - 1].v, 1);
+    }
+    pw_free(st->a, w.vl);
+    pw_free(st->a, w.first);
+    pw_free(st->a, w.tfirst);
+    pw_free(st->a, w.pend);
+    pw_free(st->a, w.byt);
+    pw_free(st->a, w.queue);
+    return r;
+}
+
+/* ---- stencils ---- */
+
+/* Lattice vertex v after warping: +1 inside, -1 outside, 0 on the surface. */
+PW__DEF int pw__st_class(const pw__st *st, int v) { return st->warp[v] >= 0 ? 0 : st->side[v]; }
+
+/* Output tetrahedra are built from references: a lattice vertex v >= 0,
+ * or cut point c as -1 - c. */
+PW__DEF int pw__st_cutref(const pw__st *st, int in, int out) { return -1 - pw__st_find_cut(st, in, out); }
+
+PW__DEF void pw__st_ref_pos(const pw__st *st, int r, double *x)
+{
+    if (r >= 0 && st->warp[r] >= 0) r = -1 - st->warp[r];
+    if (r < 0) pw__st_cut_pos(st, -1 - r, x);
+    else pw__st_vpos(st, r, x);
+}
+
+/* The output vertex of reference r, created on first use (-1: no memory). */
+PW__DEF int pw__st_ref_id(pw__st *st, int r)
+{
+    int *slot = r < 0 ? &st->cut[-1 - r].id : &st->id[r], k;
+    double x[3];
+    if (*slot >= 0) return *slot;
+    if (pw_grow(st->a, (void **)&st->opos, &st->capopos, 3 * (st->nopos + 1), sizeof(float), "tetrahedron vertices",
+                st->e))
+        return -1;
+    pw__st_ref_pos(st, r, x);
+    for (k = 0; k < 3; k++) st->opos[3 * st->nopos + k] = (float)x[k];
+    *slot = (int)st->nopos++;
+    return *slot;
+}
+
+/* Appends a tetrahedron, positively oriented. */
+PW__DEF int pw__st_emit(pw__st *st, int r0, int r1, int r2, int r3)
+{
+    int r[4], id[4], k;
+    double p[4][3], u[3], v[3], w[3], n[3];
+    r[0] = r0, r[1] = r1, r[2] = r2, r[3] = r3;
+    for (k = 0; k < 4; k++) pw__st_ref_pos(st, r[k], p[k]);
+    for (k = 0; k < 3; k++) u[k] = p[1][k] - p[0][k], v[k] = p[2][k] - p[0][k], w[k] = p[3][k] - p[0][k];
+    pw__st_cross(u, v, n);
+    if (pw__st_dot(n, w) < 0.0) r[0] = r1, r[1] = r0;
+    for (k = 0; k < 4; k++)
+        if ((id[k] = pw__st_ref_id(st, r[k])) < 0) return PW_ERR_NOMEM;
+    if (st->notet >= PW_MAX_MESH_ELEMENTS)
+        return pw_fail(st->e, PW_ERR_LIMIT, "tetrahedralize: more than PW_MAX_MESH_ELEMENTS (%d) tetrahedra",
+                       PW_MAX_MESH_ELEMENTS);
+    if (pw_grow(st->a, (void **)&st->otet, &st->capotet, 4 * (st->notet + 1), sizeof(int), "tetrahedra", st->e))
+        return PW_ERR_NOMEM;
+    memcpy(st->otet + 4 * st->notet++, id, sizeof id);
+    return PW_OK;
+}
+
+/* §3, quadrilateral faces: the surface cuts lattice face (p, q, m), p and
+ * q inside, m outside, into the quadrilateral p, q, cut(q,m), cut(p,m).
+ * Its diagonal depends on the face alone, so that both tetrahedra sharing
+ * the face split it alike. When m's edge to p (or q) is long, the diagonal
+ * takes the cut point on that long edge (to the other inside corner) if the
+ * cut lies within PW__ST_LONG_SPLIT of the edge from p, else p itself (to
+ * the other cut point); the two faces at one long edge then decide alike,
+ * so a prism's diagonals cannot cycle. The adversarial search (see the top
+ * of the file) found the worst angles flat for splits from 0.55 to 0.7,
+ * and worse for a fixed choice either way (9.3 degrees). When pq is the
+ * long edge, a parity rule on the lattice coordinates picks the end (it
+ * flips between the two faces at a long edge). Returns 1 for the diagonal
+ * p - cut(q, m), 2 for q - cut(p, m). */
+PW__DEF int pw__st_diagonal(const pw__st *st, int p, int q, int m)
+{
+    int P[3], Q[3], M[3], k, s = 0;
+    pw__st_coord(st, p, P);
+    pw__st_coord(st, q, Q);
+    pw__st_coord(st, m, M);
+    if (pw__st_long_axis(P, M) >= 0) return st->cut[pw__st_find_cut(st, p, m)].t < PW__ST_LONG_SPLIT ? 2 : 1;
+    if (pw__st_long_axis(Q, M) >= 0) return st->cut[pw__st_find_cut(st, q, m)].t < PW__ST_LONG_SPLIT ? 1 : 2;
+    for (k = 0; k < 3; k++) s += P[k] != Q[k] ? P[k] > Q[k] : M[k] < Q[k];
+    return (s & 1) ? 2 : 1;
+}
+
+/* A triangular prism, columns (b[i], t[i]); dir[i] is the diagonal of the
+ * quadrilateral between columns i and i+1: +1 for b[i]-t[i+1], -1 for
+ * b[i+1]-t[i], 0 to be chosen. The three diagonals must not cycle; then
+ * one column's bottom carries two of them, and the prism is its top
+ * triangle with that bottom plus a pyramid. */
+PW__DEF int pw__st_prism(pw__st *st, const int *b, const int *t, int *dir)
+{
+    int i, s = -1, x, y, r;
+    for (i = 0; i < 3; i++)
+        if (dir[i] == 0) dir[i] = dir[(i + 1) % 3] == dir[(i + 2) % 3] ? -dir[(i + 1) % 3] : 1;
+    for (i = 0; i < 3; i++)
+        if (dir[i] > 0 && dir[(i + 2) % 3] < 0) s = i;
+    PW_ASSERT(s >= 0);
+    x = (s + 1) % 3, y = (s + 2) % 3;
+    if ((r = pw__st_emit(st, b[s], t[s], t[x], t[y]))) return r;
+    if (dir[x] > 0) {
+        if ((r = pw__st_emit(st, b[s], b[x], b[y], t[y]))) return r;
+        return pw__st_emit(st, b[s], b[x], t[y], t[x]);
+    }
+    if ((r = pw__st_emit(st, b[s], b[x], b[y], t[x]))) return r;
+    return pw__st_emit(st, b[s], b[y], t[y], t[x]);
+}
+
+/* Corners p, q inside, m outside, z on the surface: a pyramid on the
+ * quadrilateral of face (p, q, m) with apex z. */
+PW__DEF int pw__st_pyramid(pw__st *st, int p, int q, int m, int z)
+{
+    int cp = pw__st_cutref(st, p, m), cq = pw__st_cutref(st, q, m), r;
+    if (pw__st_diagonal(st, p, q, m) == 1) {
+        if ((r = pw__st_emit(st, z, p, q, cq))) return r;
+        return pw__st_emit(st, z, p, cq, cp);
+    }
+    if ((r = pw__st_emit(st, z, p, q, cp))) return r;
+    return pw__st_emit(st, z, q, cq, cp);
+}
+
+/* §3 stencils for lattice tetrahedron g by the signs of its corners. */
+PW__DEF int pw__st_tet(pw__st *st, const int *g)
+{
+    int P[4], M[4], Z[4], np = 0, nm = 0, nz = 0, k, r[4], b[3], t[3], dir[3];
+    for (k = 0; k < 4; k++) {
+        int c = pw__st_class(st, g[k]);
+        if (c > 0) P[np++] = g[k];
+        else if (c < 0) M[nm++] = g[k];
+        else Z[nz++] = g[k];
+    }
+    if (np == 0) return PW_OK; /* also with four corners on the surface: a sliver outside the bounds */
+    if (nm == 0) return pw__st_emit(st, g[0], g[1], g[2], g[3]);
+    if (np == 1) { /* one tetrahedron: the inside corner and the cut points towards the outside ones */
+        for (k = 0; k < 4; k++) r[k] = pw__st_class(st, g[k]) < 0 ? pw__st_cutref(st, P[0], g[k]) : g[k];
+        return pw__st_emit(st, r[0], r[1], r[2], r[3]);
+    }
+    if (np == 2 && nm == 1) return pw__st_pyramid(st, P[0], P[1], M[0], Z[0]);
+    if (np == 2) { /* ++--: prism between the faces of P[0] and P[1]; the cut quadrilateral is free */
+        b[0] = P[0], b[1] = pw__st_cutref(st, P[0], M[0]), b[2] = pw__st_cutref(st, P[0], M[1]);
+        t[0] = P[1], t[1] = pw__st_cutref(st, P[1], M[0]), t[2] = pw__st_cutref(st, P[1], M[1]);
+        dir[0] = pw__st_diagonal(st, P[0], P[1], M[0]) == 1 ? 1 : -1;
+        dir[1] = 0;
+        dir[2] = pw__st_diagonal(st, P[0], P[1], M[1]) == 1 ? -1 : 1;
+        return pw__st_prism(st, b, t, dir);
+    }
+    for (k = 0; k < 3; k++) { /* +++-: the tetrahedron minus its outside corner */
+        b[k] = P[k], t[k] = pw__st_cutref(st, P[k], M[0]);
+        dir[k] = pw__st_diagonal(st, P[k], P[(k + 1) % 3], M[0]) == 1 ? 1 : -1;
+    }
+    return pw__st_prism(st, b, t, dir);
+}
+
+/* Every lattice tetrahedron: for each cube and each of its faces towards
+ * +x, +y, +z, the long edge between the two cube centres with each of the
+ * four edges of the face. */
+PW__DEF int pw__st_stencils(pw__st *st)
+{
+    int c[3], ax, e, k, r = PW_OK, g[4], L[3], B[3], C[3];
+    for (c[2] = 0; c[2] < st->n[2] && r == PW_OK; c[2]++) {
+        r = pw_report(st->prog, 0.7f + 0.3f * (float)c[2] / (float)st->n[2], "stencils", st->e);
+        for (c[1] = 0; c[1] < st->n[1] && r == PW_OK; c[1]++)
+            for (c[0] = 0; c[0] < st->n[0] && r == PW_OK; c[0]++)
+                for (ax = 0; ax < 3 && r == PW_OK; ax++) {
+                    int u = (ax + 1) % 3, v = (ax + 2) % 3;
+                    if (c[ax] + 1 >= st->n[ax]) continue;
+                    for (k = 0; k < 3; k++) L[k] = 2 * c[k] + 1;
+                    g[0] = pw__st_index(st, L);
+                    L[ax] += 2;
+                    g[1] = pw__st_index(st, L);
+                    for (e = 0; e < 4 && r == PW_OK; e++) {
+                        int along = e < 2 ? u : v, across = e < 2 ? v : u;
+                        B[ax] = C[ax] = 2 * c[ax] + 2;
+                        B[across] = C[across] = 2 * c[across] + 2 * (e & 1);
+                        B[along] = 2 * c[along], C[along] = B[along] + 2;
+                        g[2] = pw__st_index(st, B), g[3] = pw__st_index(st, C);
+                        for (k = 0; k < 4 && pw__st_class(st, g[k]) < 0; k++) continue;
+                        if (k < 4) r = pw__st_tet(st, g);
+                    }
+                }
+    }
+    return r;
+}
+
+PW__DEF void pw__st_free(pw__st *st)
+{
+    pw__st_surf_free(st->a, &st->s);
+    pw_free(st->a, st->side);
+    pw_free(st->a, st->busy);
+    pw_free(st->a, st->warp);
+    pw_free(st->a, st->id);
+    pw_free(st->a, st->cut);
+    pw_free(st->a, st->opos);
+    pw_free(st->a, st->otet);
+    memset(st, 0, sizeof *st);
+}
+
+/* Tetrahedralizes the inside of a closed, oriented triangle surface (pos
+ * nv*3, tri nt*3, counter-clockwise seen from outside; a surface facing
+ * inward throughout is used reversed) into *out: positively oriented
+ * tetrahedra (tetmesh.h), freed with pw_tetmesh_free(a, out). o may be NULL
+ * (defaults); p may be NULL, else it sees the stages "surface checks",
+ * "lattice sides", "cut points" and "stencils" and may cancel. Same inputs,
+ * same bytes out. On failure *out is empty and e names the problem:
+ *   PW_ERR_INVALID     NULL arrays, a non-finite coordinate, an index out of
+ *                      range, a negative or non-finite option
+ *   PW_ERR_DEGENERATE  no triangles, a repeated corner, a zero-area
+ *                      triangle, no enclosed volume, a cell so coarse that
+ *                      no lattice vertex is inside
+ *   PW_ERR_TOPOLOGY    not closed (boundary edges), inconsistent
+ *                      orientation, a non-manifold edge or vertex, two
+ *                      triangles crossing (unless allowed)
+ *   PW_ERR_LIMIT       a lattice above PW_MAX_STUFF_LATTICE vertices, more
+ *                      than PW_MAX_MESH_ELEMENTS vertices, triangles or
+ *                      tetrahedra
+ *   PW_ERR_NOMEM, PW_ERR_CANCELLED */
+PW__DEF int pw_stuff_tetrahedralize(const pw_alloc *a, const float *pos, int nv, const int *tri, int nt,
+                                    const pw_stuff_options *o, const pw_progress *p, pw_tetmesh *out, pw_err *e)
+{
+    pw__st st;
+    int r, *twin = NULL;
+    if (!out) return pw_fail(e, PW_ERR_INVALID, "tetrahedralize: no output mesh");
+    memset(out, 0, sizeof *out);
+    memset(&st, 0, sizeof st);
+    st.a = a, st.prog = p, st.e = e;
+    r = pw__st_check_values(pos, nv, tri, nt, e);
+    if (r == PW_OK) r = pw_report(p, 0.0f, "surface checks", e);
+    if (r == PW_OK) r = pw__st_check_closed(a, nv, tri, nt, &twin, e);
+    if (r == PW_OK) r = pw__st_surf_init(a, pos, nv, tri, nt, &st.s, e);
+    if (r == PW_OK) r = pw__st_caps(a, &st.s, twin, e);
+    pw_free(a, twin);
+    st.unite = o && o->allow_self_intersections;
+    if (r == PW_OK) r = pw__st_check_geometry(&st.s, !st.unite, e);
+    if (r == PW_OK) r = pw__st_lattice(&st, o);
+    if (r == PW_OK) r = pw__st_sides(&st);
+    if (r == PW_OK) r = pw__st_cuts(&st);
+    if (r == PW_OK) r = pw__st_warp(&st);
+    if (r == PW_OK) r = pw__st_stencils(&st);
+    if (r == PW_OK && st.notet == 0)
+        r = pw_fail(e, PW_ERR_DEGENERATE, "tetrahedralize: no lattice vertex of spacing %g is inside the surface; "
+                    "use a smaller cell", st.h);
+    if (r == PW_OK) r = pw_report(p, 1.0f, "stencils", e);
+    if (r == PW_OK) {
+        out->nv = (int)st.nopos, out->pos = st.opos, out->nt = (int)st.notet, out->tet = st.otet;
+        st.opos = NULL, st.otet = NULL;
+    }
+    pw__st_free(&st);
+    return r;
+}
+
+/* ---- the boundary of a tetrahedral mesh, and how well it fits ---- */
+
+typedef struct pw__stface {
+    int k[3]; /* corners, sorted */
+    int odd;  /* the sort was an odd permutation of the outward order */
+    int t, f; /* tetrahedron, face (opposite corner) */
+} pw__stface;
+
+PW__DEF int pw__st_face_cmp(const void *x, const void *y)
+{
+    const pw__stface *a = (const pw__stface *)x, *b = (const pw__stface *)y;
+    int k;
+    for (k = 0; k < 3; k++)
+        if (a->k[k] != b->k[k]) return a->k[k] < b->k[k] ? -1 : 1;
+    if (a->t != b->t) return a->t < b->t ? -1 : 1;
+    return (a->f > b->f) - (a->f < b->f);
+}
+
+PW__DEF void pw__st_face_key(const pw_tetmesh *m, int t, int f, pw__stface *x)
+{
+    int c[3], i, j;
+    pw_tet_face(f, c);
+    for (i = 0; i < 3; i++) x->k[i] = m->tet[4 * t + c[i]];
+    x->odd = 0, x->t = t, x->f = f;
+    for (i = 0; i < 3; i++)
+        for (j = 0; j + 1 < 3 - i; j++)
+            if (x->k[j] > x->k[j + 1]) {
+                int s = x->k[j];
+                x->k[j] = x->k[j + 1], x->k[j + 1] = s, x->odd ^= 1;
+            }
+}
+
+/* Faces that appear once in sorted order fl[0..n) go to tri (outward);
+ * faces in two tetrahedra must be oppositely oriented. */
+PW__DEF int pw__st_face_runs(const pw_tetmesh *m, const pw__stface *fl, size_t n, int *tri, int *nb, pw_err *e)
+{
+    size_t i = 0, j;
+    int c[3], k;
+    *nb = 0;
+    while (i < n) {
+        for (j = i + 1; j < n && !memcmp(fl[j].k, fl[i].k, sizeof fl[i].k); j++) continue;
+        if (j - i > 2 || (j - i == 2 && fl[i].odd == fl[i + 1].odd))
+            return pw_fail(e, PW_ERR_TOPOLOGY, "tetrahedra %d and %d overlap at face v%d-v%d-v%d", fl[i].t,
+                           fl[i + 1].t, fl[i].k[0], fl[i].k[1], fl[i].k[2]);
+        if (j - i == 1 && tri) {
+            pw_tet_face(fl[i].f, c);
+            for (k = 0; k < 3; k++) tri[3 * *nb + k] = m->tet[4 * fl[i].t + c[k]];
+        }
+        if (j - i == 1) ++*nb;
+        i = j;
+    }
+    return PW_OK;
+}
+
+/* The boundary triangles of a tetrahedral mesh (faces of one tetrahedron
+ * only), outward, in order of their sorted corners: *tri (3 * *ntri, free
+ * with pw_free). PW_ERR_TOPOLOGY when the mesh does not conform: a face in
+ * more than two tetrahedra, or in two on the same side. */
+PW__DEF int pw_stuff_boundary(const pw_alloc *a, const pw_tetmesh *m, int **tri, int *ntri, pw_err *e)
+{
+    size_t n = (size_t)m->nt * 4, i;
+    pw__stface *fl;
+    int r, nb;
+    *tri = NULL, *ntri = 0;
+    fl = (pw__stface *)pw_alloc_array(a, n + 1, sizeof *fl, "tetrahedron faces", e);
+    if (!fl) return PW_ERR_NOMEM;
+    for (i = 0; i < n; i++) pw__st_face_key(m, (int)(i / 4), (int)(i % 4), fl + i);
+    qsort(fl, n, sizeof *fl, pw__st_face_cmp);
+    r = pw__st_face_runs(m, fl, n, NULL, &nb, e);
+    if (r == PW_OK && !(*tri = (int *)pw_alloc_array(a, (size_t)nb * 3 + 1, sizeof(int), "boundary triangles", e)))
+        r = PW_ERR_NOMEM;
+    if (r == PW_OK) r = pw__st_face_runs(m, fl, n, *tri, ntri, e);
+    pw_free(a, fl);
+    if (r != PW_OK) pw_free(a, *tri), *tri = NULL, *ntri = 0;
+    return r;
+}
+
+/* How well the boundary of a tetrahedral mesh follows a surface. */
+typedef struct pw_stuff_fit {
+    double to_surface_max, to_surface_mean;     /* boundary vertices of the tetrahedra -> surface */
+    double from_surface_max, from_surface_mean; /* surface vertices -> boundary of the tetrahedra */
+    double diag;                                /* the surface's bounding-box diagonal, for relative figures */
+    int boundary_triangles;
+} pw_stuff_fit;
+
+/* Largest and mean distance from the vertices used by triangles tri of
+ * positions pos to surface s. */
+PW__DEF int pw__st_vertex_dist(const pw_alloc *a, const float *pos, int nv, const int *tri, int nt,
+                               const pw__stsurf *s, double *dmax, double *dmean, pw_err *e)
+{
+    unsigned char *used = (unsigned char *)pw_calloc_array(a, (size_t)nv + 1, 1, "used vertices", e);
+    double x[3], p[3], sum = 0.0, d;
+    int v, k, n = 0;
+    if (!used) return PW_ERR_NOMEM;
+    for (k = 0; k < 3 * nt; k++) used[tri[k]] = 1;
+    *dmax = 0.0;
+    for (v = 0; v < nv; v++) {
+        if (!used[v]) continue;
+        for (k = 0; k < 3; k++) p[k] = pos[3 * v + k];
+        d = sqrt(pw__st_closest(s, p, x));
+        sum += d, n++;
+        if (d > *dmax) *dmax = d;
+    }
+    *dmean = n ? sum / n : 0.0;
+    pw_free(a, used);
+    return PW_OK;
+}
+
+/* Measures how well the boundary of m matches the closed surface (pos, nv,
+ * tri, nt): distances from the boundary vertices of m to the surface and
+ * from the surface's vertices to the boundary of m, in mesh units (divide
+ * by fit->diag for relative figures). */
+PW__DEF int pw_stuff_fit_measure(const pw_alloc *a, const float *pos, int nv, const int *tri, int nt,
+                                 const pw_tetmesh *m, pw_stuff_fit *fit, pw_err *e)
+{
+    pw__stsurf s, b;
+    int *btri = NULL, nb = 0, r, k;
+    memset(fit, 0, sizeof *fit);
+    memset(&s, 0, sizeof s);
+    memset(&b, 0, sizeof b);
+    r = pw__st_check_values(pos, nv, tri, nt, e);
+    if (r == PW_OK) r = pw_stuff_boundary(a, m, &btri, &nb, e);
+    if (r == PW_OK && nb == 0) r = pw_fail(e, PW_ERR_DEGENERATE, "fit: the tetrahedral mesh has no boundary");
+    if (r == PW_OK) r = pw__st_surf_init(a, pos, nv, tri, nt, &s, e);
+    if (r == PW_OK) r = pw__st_surf_init(a, m->pos, m->nv, btri, nb, &b, e);
+    if (r == PW_OK) r = pw__st_vertex_dist(a, m->pos, m->nv, btri, nb, &s, &fit->to_surface_max, &fit->to_surface_mean, e);
+    if (r == PW_OK)
+        r = pw__st_vertex_dist(a, pos, nv, tri, nt, &b, &fit->from_surface_max, &fit->from_surface_mean, e);
+    for (k = 0; k < 3; k++) fit->diag += (s.hi[k] - s.lo[k]) * (s.hi[k] - s.lo[k]);
+    fit->diag = sqrt(fit->diag);
+    fit->boundary_triangles = nb;
+    pw__st_surf_free(a, &s);
+    pw__st_surf_free(a, &b);
+    pw_free(a, btri);
+    return r;
+}
+
+#endif /* PW__STUFFING_V1 */
