@@ -237,15 +237,19 @@ static inline const char *bench_data_dir(void)
 
 /* 1 if the peer `name` is to be treated as absent: BENCH_NO_PEERS lists
  * names (or "all"), to try the skip paths on a machine that has them. */
+static inline int bench__has_word(const char *s, const char *w)
+{
+    const char *p;
+    size_t n = strlen(w);
+    for (p = s; (p = strstr(p, w)) != NULL; p += n)
+        if ((p == s || p[-1] == ' ' || p[-1] == ',') && (p[n] == '\0' || p[n] == ' ' || p[n] == ',')) return 1;
+    return 0;
+}
+
 static inline int bench_peer_disabled(const char *name)
 {
     const char *s = getenv("BENCH_NO_PEERS");
-    size_t n = strlen(name);
-    if (!s) return 0;
-    if (strstr(s, "all")) return 1;
-    for (; (s = strstr(s, name)) != NULL; s += n)
-        if ((s[n] == '\0' || s[n] == ' ' || s[n] == ',')) return 1;
-    return 0;
+    return s && (bench__has_word(s, "all") || bench__has_word(s, name));
 }
 
 /* ---- size ladders: 1-to-4 midpoint subdivision of a triangle mesh ---------- */

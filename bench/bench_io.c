@@ -26,7 +26,8 @@
 
 extern char **environ;
 
-#define ROUNDS 5
+#define ROUNDS 5     /* rounds for the meshes */
+#define PNG_ROUNDS 3 /* the PNG rounds take seconds each */
 
 /* What the profiles show where patchwork is not clearly faster (printed
  * only then). */
@@ -39,7 +40,7 @@ extern char **environ;
 typedef struct cmd {
     const char *argv[8];
     char out[512]; /* its stdout goes here */
-    double cpu[ROUNDS + 1];
+    double cpu[ROUNDS + 1]; /* per call: the warm-up, then the rounds */
     int calls, fail;
 } cmd;
 
@@ -75,7 +76,8 @@ static void run_cmd(void *arg)
     cmd *c = (cmd *)arg;
     double c0 = children_cpu();
     c->fail |= spawn(c->argv, c->out) != 0;
-    c->cpu[c->calls++ % (ROUNDS + 1)] = children_cpu() - c0;
+    if (c->calls <= ROUNDS) c->cpu[c->calls] = children_cpu() - c0;
+    c->calls++;
 }
 
 /* The first line of `path` containing `what`, into buf ("" if none). */
@@ -193,14 +195,14 @@ static void child_cpu(bench_multi *m, cmd *const *c, int n)
 {
     int k, r;
     for (k = 0; k < n; k++)
-        for (r = 0; r < m->runs; r++) m->c[k][r] = c[k]->cpu[(r + 1) % (ROUNDS + 1)];
+        for (r = 0; r < m->runs; r++) m->c[k][r] = c[k]->cpu[r + 1];
 }
 
 /* Patchwork's and the peer's commands on the big and the trivial input,
  * interleaved; the row compares big minus trivial, round by round. Without
  * a peer (peer_big NULL) patchwork's figure alone, with `peer` saying why. */
 static void compare(const char *task, cmd *pw_big, cmd *pw_triv, cmd *peer_big, cmd *peer_triv, const char *peer,
-                    const char *note)
+                    const char *note, int rounds)
 {
     static const char *const who[4] = {"patchwork input  ", "peer input       ", "patchwork trivial",
                                        "peer trivial     "};
@@ -212,7 +214,7 @@ static void compare(const char *task, cmd *pw_big, cmd *pw_triv, cmd *peer_big, 
     c[0] = pw_big, c[h] = pw_triv;
     if (peer_big) c[1] = peer_big, c[3] = peer_triv;
     for (k = 0; k < n; k++) arg[k] = c[k];
-    bench_interleave(&m, fn, arg, n, ROUNDS, 1);
+    bench_interleave(&m, fn, arg, n, rounds, 1);
     child_cpu(&m, c, n);
     printf("%s:\n", task);
     for (k = 0; k < n; k++) {
@@ -265,12 +267,12 @@ static void mesh_rows(const char *dir, const char *build, const char *assimp, co
         cmd_init(&pb, out, info, big, NULL, NULL, NULL);
         cmd_init(&pt, out, info, tri, NULL, NULL, NULL);
         if (!assimp) {
-            compare(task, &pb, &pt, NULL, NULL, why, NULL);
+            compare(task, &pb, &pt, NULL, NULL, why, NULL, ROUNDS);
             continue;
         }
         cmd_init(&ab, out, "assimp", "info", big, "-r", "-s");
         cmd_init(&at, out, "assimp", "info", tri, "-r", "-s");
-        compare(task, &pb, &pt, &ab, &at, assimp, MESH_NOTE);
+        compare(task, &pb, &pt, &ab, &at, assimp, MESH_NOTE, ROUNDS);
         spawn(ab.argv, out);
         printf("  assimp's own report of its last import: %s\n", grep_line(out, "import took", v, sizeof v));
     }
@@ -289,12 +291,12 @@ static void png_rows(const char *dir, const char *build, const char *pnmtopng, c
     cmd_init(&pb, "/dev/null", cli, "convert", in, out_pw, NULL);
     cmd_init(&pt, "/dev/null", cli, "convert", one, out_pw, NULL);
     if (!pnmtopng) {
-        compare(task, &pb, &pt, NULL, NULL, why, NULL);
+        compare(task, &pb, &pt, NULL, NULL, why, NULL, PNG_ROUNDS);
         return;
     }
     cmd_init(&nb, out_nb, "pnmtopng", in, NULL, NULL, NULL);
     cmd_init(&nt, out_nb, "pnmtopng", one, NULL, NULL, NULL);
-    compare(task, &pb, &pt, &nb, &nt, pnmtopng, PNG_NOTE);
+    compare(task, &pb, &pt, &nb, &nt, pnmtopng, PNG_NOTE, PNG_ROUNDS);
     spawn(pb.argv, "/dev/null"); /* the outputs of the big input, for their sizes */
     spawn(nb.argv, out_nb);
     printf("  output: patchwork %ld bytes, pnmtopng %ld bytes (input %ld bytes)\n", file_size(out_pw),

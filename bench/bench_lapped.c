@@ -243,6 +243,8 @@ static void peer_compositing(render_job *rj, const lapped_texture *t, long drawn
             lapped_error err;
             snprintf(path, sizeof path, "%s/lapped-pw.png", bench_data_dir());
             if (lapped_render(rj->mesh, t, rj->patch, NULL, &rj->ro, &pic, &err) == LAPPED_OK) {
+                pw_image im = lapped__pw_image(&pic);
+                printf("  the two pictures differ by %.2f/255 on average\n", gl_peer_diff(&L.g, &im));
                 lapped_save_image(path, &pic, &err);
                 lapped_image_free(&pic);
             }

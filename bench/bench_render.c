@@ -7,7 +7,8 @@
  * through OSMesa drawing the same torus, texture, lighting and camera
  * (bench/peer_gl.h), one frame at 1 sample per pixel and one at 4 (2x2
  * supersampling against 4x MSAA), interleaved round by round; both
- * pictures are written to build/bench-data/ to be compared by eye. */
+ * pictures are written to build/bench-data/ (bench_data_dir) and their mean
+ * difference is printed. */
 #include "bench.h"
 #include "../src/common/render.h"
 #include "../src/common/png.h"
@@ -219,7 +220,7 @@ static void peer_rows(scene *s, const pw_image *img, double ss2_frame)
     arg[0] = arg[1] = &j;
     for (k = 0; k < 2; k++) {
         bench_multi m;
-        char path[128];
+        char path[512];
         pw_err e;
         j.samples = k ? 4 : 1;
         j.fb = k ? &s->fb : &fb1;
@@ -233,10 +234,11 @@ static void peer_rows(scene *s, const pw_image *img, double ss2_frame)
                        "pw__tex_trilinear and pw__shade (scalar float, 8 texels of 16-bit RGBA per pixel), which "
                        "llvmpipe runs as JIT-compiled SIMD over 4x4 pixel blocks; with 4 samples per pixel patchwork "
                        "still shades once per pixel and the ranking reverses");
-        snprintf(path, sizeof path, "build/bench-data/render-pw-%dspp.png", j.samples);
+        printf("  the two pictures differ by %.2f/255 on average\n", gl_peer_diff(&g, &s->out));
+        snprintf(path, sizeof path, "%s/render-pw-%dspp.png", bench_data_dir(), j.samples);
         pw_err_clear(&e);
         pw_image_save(path, &s->out, &e);
-        snprintf(path, sizeof path, "build/bench-data/render-gl-%dspp.ppm", j.samples);
+        snprintf(path, sizeof path, "%s/render-gl-%dspp.ppm", bench_data_dir(), j.samples);
         gl_peer_save_ppm(&g, path);
     }
     pw_fb_free(&fb1);

@@ -405,6 +405,9 @@ int main(int argc, char **argv)
         if (load(dir, line, &all[n]) == 0) n++;
         else bad = 1;
     fclose(idx);
+    if (n == 0)
+        bench_row("solve the systems of lapped.h and pgp.h", "skipped", "-", "-", "-", "-", "-",
+                  "sysdump found no meshes to run the methods on: `make data` for the CGAL meshes");
     printf("%d systems from %s; times are medians of interleaved rounds (after a warm-up round below 400K "
            "nonzeros)\n", n, dir);
     for (i = 0; i < n; i++) {

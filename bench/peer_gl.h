@@ -285,6 +285,23 @@ static void gl_peer_end(const gl_peer *g, int samples)
     glFinish();
 }
 
+/* Mean |difference| of the last picture from img (RGB floats, row 0 at the
+ * top, the same size), in 1/255 steps: how alike the two renderers drew. */
+static double gl_peer_diff(const gl_peer *g, const pw_image *img)
+{
+    double d = 0.0;
+    int x, y, k;
+    if (img->w != g->w || img->h != g->h || img->c < 3) return -1.0;
+    for (y = 0; y < g->h; y++)
+        for (x = 0; x < g->w; x++)
+            for (k = 0; k < 3; k++) {
+                double a = g->buf[((size_t)(g->h - 1 - y) * g->w + x) * 4 + k];
+                double b = pw_clampf(img->px[((size_t)y * img->w + x) * img->c + k], 0.0f, 1.0f) * 255.0;
+                d += fabs(a - b);
+            }
+    return d / (3.0 * g->w * g->h);
+}
+
 /* The last picture as a binary PPM (to compare with patchwork's by eye). */
 static int gl_peer_save_ppm(const gl_peer *g, const char *path)
 {
