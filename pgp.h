@@ -337,8 +337,8 @@ typedef struct pgp_synth_options {
                             most 8 */
     int mask_dims;       /* ... of a mask neighbourhood; default 3, at most 8 */
     float mask_weight;   /* scale of the mask coefficients ("scaled by two"); default 2 */
-    float usage_weight;  /* usage penalty: each use of an input texel costs this fraction
-                            of the input vectors' total variance; default 0.05;
+    float usage_weight;  /* usage penalty: each current use of an input texel costs this
+                            fraction of the input vectors' total variance; default 0.2;
                             negative: no penalty */
     float search_eps;    /* nearest neighbours within a factor 1 + eps of the nearest
                             distance, as the paper's ANN; default 1; negative: exact */
@@ -13584,7 +13584,7 @@ PGPDEF pgp_synth_options pgp_synth_default_options(void)
     o.color_dims = 5;
     o.mask_dims = 3;
     o.mask_weight = 2.0f;
-    o.usage_weight = 0.05f;
+    o.usage_weight = 0.2f;
     o.search_eps = 1.0f;
     return o;
 }

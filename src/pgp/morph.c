@@ -23,7 +23,7 @@ PGPDEF pgp_synth_options pgp_synth_default_options(void)
     o.color_dims = 5;
     o.mask_dims = 3;
     o.mask_weight = 2.0f;
-    o.usage_weight = 0.05f;
+    o.usage_weight = 0.2f;
     o.search_eps = 1.0f;
     return o;
 }
