@@ -342,6 +342,10 @@ typedef struct pgp_synth_options {
                             negative: no penalty */
     float search_eps;    /* nearest neighbours within a factor 1 + eps of the nearest
                             distance, as the paper's ANN; default 1; negative: exact */
+    int search_buckets;  /* ... scanning at most this many kd-tree buckets (of 8 input
+                            texels) per search, ANN's bound on the points visited;
+                            default 64; negative: no bound. With search_eps < 0 and
+                            search_buckets < 0 every match is the exact nearest one */
     unsigned long long seed; /* random pixel order and single-tile initialisation; default 0 */
     pgp_allocator allocator;
     pgp_progress_fn progress; /* may cancel: non-zero return stops with PGP_ERR_CANCELLED */
@@ -11291,6 +11295,7 @@ typedef struct pw__kdsearch {
     float scale;   /* (1 + eps)^2 */
     float best;
     int bi;        /* tree position of the best point, -1 none */
+    int budget;    /* buckets that may still be visited (negative: no limit) */
 } pw__kdsearch;
 
 /* Costs of a whole bucket in one loop over its slots. */
@@ -11322,7 +11327,7 @@ PW__DEF void pw__kd_search(const pw_kdtree *t, int ni, float rd, pw__kdsearch *s
         float diff, old, rfar;
         int near, far;
         if (nd->dim < 0) {
-            pw__kd_leaf(t, nd, s);
+            if (s->budget != 0) pw__kd_leaf(t, nd, s), s->budget--;
             break;
         }
         diff = s->q[nd->dim] - nd->split;
@@ -11331,7 +11336,7 @@ PW__DEF void pw__kd_search(const pw_kdtree *t, int ni, float rd, pw__kdsearch *s
         if (rd * s->scale + t->node[near].minpen < s->best) pw__kd_search(t, near, rd, s);
         old = s->off[nd->dim];
         rfar = rd - old * old + diff * diff;
-        if (rfar * s->scale + t->node[far].minpen >= s->best) break;
+        if (rfar * s->scale + t->node[far].minpen >= s->best || s->budget == 0) break;
         if (nu == 64) { /* deeper than any tree of fewer than 2^60 points */
             s->off[nd->dim] = diff;
             pw__kd_search(t, far, rfar, s);
@@ -11349,9 +11354,13 @@ PW__DEF void pw__kd_search(const pw_kdtree *t, int ni, float rd, pw__kdsearch *s
 
 /* The caller's index of the point minimising |q - p|^2 + pen, starting from
  * candidate `start` (caller's index, or -1) whose cost is start_cost; its
- * cost in *cost (may be NULL). off: scratch of d floats. */
-PW__DEF int pw_kdtree_nearest(const pw_kdtree *t, const float *q, float eps, int start, float start_cost,
-                              float *off, float *cost)
+ * cost in *cost (may be NULL). At most `buckets` buckets are scanned
+ * (negative: no limit), in the depth-first, nearest-cell-first order of the
+ * search, as ANN's bound on the points visited: the cost of a query is then
+ * bounded where many points are nearly equidistant (smooth images). off:
+ * scratch of d floats. */
+PW__DEF int pw_kdtree_nearest_budget(const pw_kdtree *t, const float *q, float eps, int buckets, int start,
+                                     float start_cost, float *off, float *cost)
 {
     pw__kdsearch s;
     int k;
@@ -11361,9 +11370,17 @@ PW__DEF int pw_kdtree_nearest(const pw_kdtree *t, const float *q, float eps, int
     s.scale = (1.0f + eps) * (1.0f + eps);
     s.best = start >= 0 ? start_cost : FLT_MAX;
     s.bi = start >= 0 ? t->pos[start] : -1;
+    s.budget = buckets;
     if (t->node[0].minpen < s.best) pw__kd_search(t, 0, 0.0f, &s);
     if (cost) *cost = s.best;
     return s.bi >= 0 ? t->idx[s.bi] : -1;
+}
+
+/* The same without a bound on the buckets scanned. */
+PW__DEF int pw_kdtree_nearest(const pw_kdtree *t, const float *q, float eps, int start, float start_cost,
+                              float *off, float *cost)
+{
+    return pw_kdtree_nearest_budget(t, q, eps, -1, start, start_cost, off, cost);
 }
 
 #endif /* PW__KDTREE_V1 */
@@ -13586,6 +13603,7 @@ PGPDEF pgp_synth_options pgp_synth_default_options(void)
     o.mask_weight = 2.0f;
     o.usage_weight = 0.2f;
     o.search_eps = 1.0f;
+    o.search_buckets = 64;
     return o;
 }
 
@@ -13608,6 +13626,8 @@ static pgp_synth_options pgp__synth_options(const pgp_synth_options *opt)
     if (o.usage_weight < 0.0f) o.usage_weight = 0.0f;
     if (o.search_eps == 0.0f) o.search_eps = d.search_eps;
     if (o.search_eps < 0.0f) o.search_eps = 0.0f;
+    if (!o.search_buckets) o.search_buckets = d.search_buckets;
+    if (o.search_buckets < 0) o.search_buckets = -1;
     return o;
 }
 
@@ -14482,7 +14502,7 @@ static void pgp__update_texel(pgp__synth *S, pgp__exlevel *L, int *ind, const fl
     float c0;
     pgp__vector(S->ex, L, ind, target, p % L->n, p / L->n, S->buf, S->q);
     c0 = pw_kdtree_cost(&L->tree, S->q, u0) - L->lambda;
-    u = pw_kdtree_nearest(&L->tree, S->q, S->o->search_eps, u0, c0, S->off, NULL);
+    u = pw_kdtree_nearest_budget(&L->tree, S->q, S->o->search_eps, S->o->search_buckets, u0, c0, S->off, NULL);
     if (u == u0) return;
     L->count[u0]--;
     pw_kdtree_set_penalty(&L->tree, u0, L->lambda * (float)L->count[u0]);

@@ -31,8 +31,8 @@ static const char *tile_usage =
     "                       resampled to PX x PX, never cropped\n"
     "  --seed S             seed of the pixel order (default 0)\n"
     "  --uniform            layers at equal advection steps instead of speed-adaptive\n"
-    "  --exact              exact nearest neighbours (default: within a factor 2, as the\n"
-    "                       paper's ANN; slower)\n"
+    "  --exact              exact nearest neighbours (default: approximate, within a\n"
+    "                       factor 2 and 64 kd-tree buckets, as the paper's ANN; slower)\n"
     "outputs:\n"
     "  --out FILE.nrrd      the tile: NRRD, uint8, sizes C W H M\n"
     "  --out-slices PREFIX  every layer as PREFIX_00.png, PREFIX_01.png, ... (PREFIX\n"
@@ -78,7 +78,7 @@ static int parse_one(cli_args *a, tile_cmd *c)
     if (cli_is(a, "--size")) return cli_int(a, 16, 4096, &c->opt.size);
     if (cli_is(a, "--seed")) return cli_u64(a, &c->opt.seed);
     if (cli_is(a, "--uniform")) return (c->opt.uniform = 1);
-    if (cli_is(a, "--exact")) return (c->opt.search_eps = -1.0f), 1;
+    if (cli_is(a, "--exact")) return (c->opt.search_eps = -1.0f), (c->opt.search_buckets = -1), 1;
     if (cli_is(a, "--out")) return cli_value(a, &c->out);
     if (cli_is(a, "--out-slices")) return cli_value(a, &c->slices);
     if (cli_is(a, "--out-masks")) return cli_value(a, &c->masks);

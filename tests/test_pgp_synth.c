@@ -219,8 +219,9 @@ static void t_edt_signed_disc(void)
 }
 
 /* kdtree.h: the nearest point under |q-p|^2 + pen equals brute force, with
- * penalties changed between queries; eps bounds the approximation; ties
- * keep the starting candidate. */
+ * penalties changed between queries; eps bounds the approximation; a
+ * search limited to a few buckets ends no worse than where it started;
+ * ties keep the starting candidate. */
 static void t_kdtree_penalties(void)
 {
     pw_kdtree t;
@@ -246,9 +247,12 @@ static void t_kdtree_penalties(void)
         bad += got != best || (u != bi && pw_kdtree_cost(&t, q, u) != best);
         pw_kdtree_nearest(&t, q, 1.0f, -1, 0.0f, off, &got);
         worse += got > 4.0f * best + 1e-6f;
+        c = pw_kdtree_cost(&t, q, qn); /* a bounded search never ends worse than its start */
+        pw_kdtree_nearest_budget(&t, q, 0.0f, 2, qn, c, off, &got);
+        worse += got > c || got < best;
     }
     CHECKF(bad == 0, "%d of 400 exact queries differ from brute force", bad);
-    CHECKF(worse == 0, "%d of 400 eps = 1 queries cost more than 4x the optimum", worse);
+    CHECKF(worse == 0, "%d of 800 approximate queries cost more than allowed", worse);
     for (i = 0; i < n; i++) pw_kdtree_set_penalty(&t, i, 0.0f);
     for (k = 0; k < d; k++) q[k] = 0.25f; /* exactly the duplicated point */
     dup = 7 * 11;

@@ -239,6 +239,7 @@ typedef struct pw__kdsearch {
     float scale;   /* (1 + eps)^2 */
     float best;
     int bi;        /* tree position of the best point, -1 none */
+    int budget;    /* buckets that may still be visited (negative: no limit) */
 } pw__kdsearch;
 
 /* Costs of a whole bucket in one loop over its slots. */
@@ -270,7 +271,7 @@ PW__DEF void pw__kd_search(const pw_kdtree *t, int ni, float rd, pw__kdsearch *s
         float diff, old, rfar;
         int near, far;
         if (nd->dim < 0) {
-            pw__kd_leaf(t, nd, s);
+            if (s->budget != 0) pw__kd_leaf(t, nd, s), s->budget--;
             break;
         }
         diff = s->q[nd->dim] - nd->split;
@@ -279,7 +280,7 @@ PW__DEF void pw__kd_search(const pw_kdtree *t, int ni, float rd, pw__kdsearch *s
         if (rd * s->scale + t->node[near].minpen < s->best) pw__kd_search(t, near, rd, s);
         old = s->off[nd->dim];
         rfar = rd - old * old + diff * diff;
-        if (rfar * s->scale + t->node[far].minpen >= s->best) break;
+        if (rfar * s->scale + t->node[far].minpen >= s->best || s->budget == 0) break;
         if (nu == 64) { /* deeper than any tree of fewer than 2^60 points */
             s->off[nd->dim] = diff;
             pw__kd_search(t, far, rfar, s);
@@ -297,9 +298,13 @@ PW__DEF void pw__kd_search(const pw_kdtree *t, int ni, float rd, pw__kdsearch *s
 
 /* The caller's index of the point minimising |q - p|^2 + pen, starting from
  * candidate `start` (caller's index, or -1) whose cost is start_cost; its
- * cost in *cost (may be NULL). off: scratch of d floats. */
-PW__DEF int pw_kdtree_nearest(const pw_kdtree *t, const float *q, float eps, int start, float start_cost,
-                              float *off, float *cost)
+ * cost in *cost (may be NULL). At most `buckets` buckets are scanned
+ * (negative: no limit), in the depth-first, nearest-cell-first order of the
+ * search, as ANN's bound on the points visited: the cost of a query is then
+ * bounded where many points are nearly equidistant (smooth images). off:
+ * scratch of d floats. */
+PW__DEF int pw_kdtree_nearest_budget(const pw_kdtree *t, const float *q, float eps, int buckets, int start,
+                                     float start_cost, float *off, float *cost)
 {
     pw__kdsearch s;
     int k;
@@ -309,9 +314,17 @@ PW__DEF int pw_kdtree_nearest(const pw_kdtree *t, const float *q, float eps, int
     s.scale = (1.0f + eps) * (1.0f + eps);
     s.best = start >= 0 ? start_cost : FLT_MAX;
     s.bi = start >= 0 ? t->pos[start] : -1;
+    s.budget = buckets;
     if (t->node[0].minpen < s.best) pw__kd_search(t, 0, 0.0f, &s);
     if (cost) *cost = s.best;
     return s.bi >= 0 ? t->idx[s.bi] : -1;
+}
+
+/* The same without a bound on the buckets scanned. */
+PW__DEF int pw_kdtree_nearest(const pw_kdtree *t, const float *q, float eps, int start, float start_cost,
+                              float *off, float *cost)
+{
+    return pw_kdtree_nearest_budget(t, q, eps, -1, start, start_cost, off, cost);
 }
 
 #endif /* PW__KDTREE_V1 */

@@ -25,6 +25,7 @@ PGPDEF pgp_synth_options pgp_synth_default_options(void)
     o.mask_weight = 2.0f;
     o.usage_weight = 0.2f;
     o.search_eps = 1.0f;
+    o.search_buckets = 64;
     return o;
 }
 
@@ -47,6 +48,8 @@ static pgp_synth_options pgp__synth_options(const pgp_synth_options *opt)
     if (o.usage_weight < 0.0f) o.usage_weight = 0.0f;
     if (o.search_eps == 0.0f) o.search_eps = d.search_eps;
     if (o.search_eps < 0.0f) o.search_eps = 0.0f;
+    if (!o.search_buckets) o.search_buckets = d.search_buckets;
+    if (o.search_buckets < 0) o.search_buckets = -1;
     return o;
 }
 

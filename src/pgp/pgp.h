@@ -340,6 +340,10 @@ typedef struct pgp_synth_options {
                             negative: no penalty */
     float search_eps;    /* nearest neighbours within a factor 1 + eps of the nearest
                             distance, as the paper's ANN; default 1; negative: exact */
+    int search_buckets;  /* ... scanning at most this many kd-tree buckets (of 8 input
+                            texels) per search, ANN's bound on the points visited;
+                            default 64; negative: no bound. With search_eps < 0 and
+                            search_buckets < 0 every match is the exact nearest one */
     unsigned long long seed; /* random pixel order and single-tile initialisation; default 0 */
     pgp_allocator allocator;
     pgp_progress_fn progress; /* may cancel: non-zero return stops with PGP_ERR_CANCELLED */

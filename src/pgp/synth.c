@@ -288,7 +288,7 @@ static void pgp__update_texel(pgp__synth *S, pgp__exlevel *L, int *ind, const fl
     float c0;
     pgp__vector(S->ex, L, ind, target, p % L->n, p / L->n, S->buf, S->q);
     c0 = pw_kdtree_cost(&L->tree, S->q, u0) - L->lambda;
-    u = pw_kdtree_nearest(&L->tree, S->q, S->o->search_eps, u0, c0, S->off, NULL);
+    u = pw_kdtree_nearest_budget(&L->tree, S->q, S->o->search_eps, S->o->search_buckets, u0, c0, S->off, NULL);
     if (u == u0) return;
     L->count[u0]--;
     pw_kdtree_set_penalty(&L->tree, u0, L->lambda * (float)L->count[u0]);
