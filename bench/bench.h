@@ -11,6 +11,13 @@
 #include <time.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <math.h>
+
+#if defined(__GNUC__) || defined(__clang__)
+#define BENCH_UNUSED __attribute__((unused))
+#else
+#define BENCH_UNUSED
+#endif
 
 static double bench_now(void)
 {
@@ -65,6 +72,19 @@ static void bench_report(const char *name, bench_stat s, double items, const cha
     if (items > 0) printf("  %.2f M%s/s", items / s.median * 1e-6, unit);
     printf("\n");
     fflush(stdout);
+}
+
+/* Least-squares slope of log y against log x: the growth exponent of a
+ * size ladder (1 = linear). */
+BENCH_UNUSED static double bench_loglog_slope(const double *x, const double *y, int n)
+{
+    double sx = 0, sy = 0, sxx = 0, sxy = 0;
+    int i;
+    for (i = 0; i < n; i++) {
+        double lx = log(x[i]), ly = log(y[i]);
+        sx += lx, sy += ly, sxx += lx * lx, sxy += lx * ly;
+    }
+    return (n * sxy - sx * sy) / (n * sxx - sx * sx);
 }
 
 #endif

@@ -173,18 +173,6 @@ static bench_stat time_runs(void (*fn)(void *), void *arg, int runs, int warm, d
     return bench_stats(t, runs);
 }
 
-/* Least-squares slope of log y against log x. */
-static double loglog_slope(const double *x, const double *y, int n)
-{
-    double sx = 0, sy = 0, sxx = 0, sxy = 0;
-    int i;
-    for (i = 0; i < n; i++) {
-        double lx = log(x[i]), ly = log(y[i]);
-        sx += lx, sy += ly, sxx += lx * lx, sxy += lx * ly;
-    }
-    return (n * sxy - sx * sy) / (n * sxx - sx * sx);
-}
-
 /* The single-layer baseline for the render: one paste holding every
  * triangle, with the coordinates of the topmost paste that contains it
  * (after hidden-face removal the topmost paste of a triangle is never
@@ -304,7 +292,7 @@ int main(int argc, char **argv)
         }
     }
     lapped_texture_free(&cj.t);
-    slope = loglog_slope(faces, secs, NRUNGS);
+    slope = bench_loglog_slope(faces, secs, NRUNGS);
     printf("growth: time ~ triangles^%.2f (log-log least squares over %d rungs; 1.00 = linear)\n", slope,
            NRUNGS);
     printf("  step exponents:");
@@ -312,7 +300,7 @@ int main(int argc, char **argv)
         printf(" %.0fK->%.0fK %.2f", faces[i - 1] / 1e3, faces[i] / 1e3,
                log(secs[i] / secs[i - 1]) / log(faces[i] / faces[i - 1]));
     printf("\n");
-    printf("  cpu-time growth: triangles^%.2f\n", loglog_slope(faces, cpu, NRUNGS));
+    printf("  cpu-time growth: triangles^%.2f\n", bench_loglog_slope(faces, cpu, NRUNGS));
     printf("target: 75K faces, >1000 pastes, <2 s: %s (%d triangles, %d pastes in %.3f s; cpu %.3f s)\n\n",
            npastes[TARGET_RUNG] > 1000 && secs[TARGET_RUNG] < 2.0 ? "met" : "not met",
            mesh[TARGET_RUNG].nfaces, npastes[TARGET_RUNG], secs[TARGET_RUNG], cpu[TARGET_RUNG]);

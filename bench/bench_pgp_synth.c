@@ -115,17 +115,6 @@ static double morph_time(const job *j, const pgp_tile *masks)
     return t0;
 }
 
-static double slope(const double *x, const double *y, int n)
-{
-    double sx = 0, sy = 0, sxx = 0, sxy = 0;
-    int i;
-    for (i = 0; i < n; i++) {
-        double lx = log(x[i]), ly = log(y[i]);
-        sx += lx, sy += ly, sxx += lx * lx, sxy += lx * ly;
-    }
-    return (n * sxy - sx * sy) / (n * sxx - sx * sx);
-}
-
 static void run_once(void *arg) { run((job *)arg, NULL); }
 
 int main(void)
@@ -161,7 +150,7 @@ int main(void)
         pgp_tile_free(&masks);
     }
     printf("growth: time ~ texels^%.2f (log-log least squares over %d rungs; 1.00 = linear)\n",
-           slope(texels, wall, NRUNGS), NRUNGS);
+           bench_loglog_slope(texels, wall, NRUNGS), NRUNGS);
     printf("target: 8 layers at %d^2 from two keys in %.1f s (target < %.0f s: %s; the paper: 300 s per morph)\n",
            TARGET_SIZE, target, TARGET_SECONDS, target < TARGET_SECONDS ? "met" : "NOT met");
     j.o = pgp_synth_default_options();

@@ -27,6 +27,35 @@
  *     rest with one; the tile is sampled with mipmaps, wrapping in s and t,
  *     clamped and interpolated in m.
  *
+ * TILE SYNTHESIS (§1; morph.c, synth.c)
+ *   pgp_synthesize_tile builds the material-space tile itself from two or
+ *   more key textures and their feature masks (painted by the user, or
+ *   computed from the luminance or its gradient, pgp_feature_mask):
+ *   - keys are resampled to size x size (never cropped) and made tileable
+ *     by graph-cut quilting onto a torus when their wrap-around seam shows;
+ *   - §1.1 the masks' periodic signed distances (exact EDT) are morphed
+ *     over N >> M steps: advection along grad phi_N by bilinear splatting,
+ *     interior dilation inside the target features, sweeping towards
+ *     phi_N; the M + 1 masks kept are the steps H(m) at which each layer
+ *     flips about as many texels as the next (speed-adaptive subsampling;
+ *     pgp_morph_masks alone);
+ *   - §1.2 each layer is synthesised under its mask from each end key on
+ *     indirection pyramids (coarse to fine, texels in random order, 5x5
+ *     colour and 3x3 mask neighbourhoods reduced by PCA, a kd-tree search
+ *     with a usage penalty that keeps the colour histograms, everything
+ *     periodic), and the two syntheses are blended by m/M;
+ *   - more keys chain pairwise morphs; single-tile mode (Fig. 14)
+ *     synthesises every layer under one key's mask, to hide its period.
+ *   It is the long computation of the family: a progress callback reports
+ *   and can cancel (8 layers of 256 x 256 take seconds, see the README).
+ *       pgp_key keys[2] = {{&spots, NULL}, {&stripes, NULL}};
+ *       pgp_synth_options so = pgp_synth_default_options();
+ *       so.size = 256;
+ *       so.layers = 8;
+ *       if (pgp_synthesize_tile(keys, 2, &so, &tile, NULL, &err) ||
+ *           pgp_save_tile("spots_to_stripes.nrrd", &tile, &err))
+ *           fprintf(stderr, "%s\n", err.message);
+ *
  * USAGE
  *   In exactly one C or C++ file:
  *       #define PGP_IMPLEMENTATION

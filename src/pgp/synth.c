@@ -9,9 +9,12 @@
  * its own colours and its key's mask; for the output, the colours of the
  * input texels its window points to and the target mask F_m. Each pass
  * visits the texels in random order and points each to the input texel of
- * least |vector difference|^2 + usage penalty, found exactly by a kd-tree
+ * least |vector difference|^2 + usage penalty, found by a kd-tree
  * (kdtree.h) whose per-point penalty charges each current use of an input
- * texel. Everything wraps around. */
+ * texel -- approximately by default, as the paper's ANN (within a factor
+ * 1 + search_eps of the nearest distance, at most search_buckets buckets
+ * scanned), exactly on request; a texel keeps its match unless another is
+ * strictly better. Everything wraps around. */
 #include "morph.c"
 #include "../common/kdtree.h"
 #include "../common/pca.h"
