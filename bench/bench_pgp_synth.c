@@ -7,7 +7,9 @@
  *      the §1.1 mask morph alone (pgp_morph_masks on the same masks), and
  *      the growth of time with the texel count (least-squares slope in
  *      log-log).
- *   2. target: 8 layers at 256^2 in under 20 s. The paper's anchor: 5
+ *   2. target: 8 layers at 256^2 in under 20 s, judged on the process CPU
+ *      time (the work of one core; on this shared 2-core machine the wall
+ *      time doubles when other sessions run). The paper's anchor: 5
  *      minutes for 8 layers at 256^2 per morph (2009 hardware, ANN).
  *   3. the same 256^2 tile with exact nearest neighbours (search_eps and
  *      search_buckets negative), for the price of the approximation.
@@ -122,10 +124,11 @@ int main(void)
     static const int sizes[NRUNGS] = {64, 128, 256, 512};
     pgp_image img[2];
     job j;
-    double texels[NRUNGS], wall[NRUNGS], target = 0.0;
+    double texels[NRUNGS], wall[NRUNGS], cpu[NRUNGS], target = 0.0, target_wall = 0.0;
     int i, r, real = load_keys(img);
     if (!real) builtin_keys(img);
-    printf("keys: %s; 8 layers, default options (levels while >= 32 texels, 20 coarse + 4 fine passes, ANN eps 1 and 64 buckets;\n      keys upsampled to each size)\n",
+    printf("keys: %s; 8 layers, default options (levels while >= 32 texels, 20 coarse + 4 fine passes, ANN eps 1 and 64 buckets;\n"
+           "      keys upsampled to each size)\n",
            real == 1 ? "GIMP leopard -> Stripes2px (data/textures)"
                      : (real == 2 ? "GIMP leopard -> wood1 (no Stripes2px.pam: rerun `make data`)"
                                   : "built-in spots -> stripes (no `make data`)"));
@@ -135,31 +138,40 @@ int main(void)
         char name[64];
         bench_stat st;
         pgp_tile masks;
+        double c0;
         j.o = pgp_synth_default_options();
         j.o.size = sizes[r];
         texels[r] = (double)sizes[r] * sizes[r] * 8;
-        run(&j, &masks); /* also the warm-up of the smaller rungs */
-        if (sizes[r] <= 128) st = bench_time(run_once, &j, 3);
-        else st = bench_stats(&j.wall, 1);
+        run(&j, &masks);
+        cpu[r] = j.cpu;
+        if (sizes[r] <= 128) { /* the run above was the warm-up */
+            c0 = cpu_seconds();
+            st = bench_time(run_once, &j, 3);
+            cpu[r] = (cpu_seconds() - c0) / 4.0;
+        } else
+            st = bench_stats(&j.wall, 1);
         wall[r] = st.median;
         snprintf(name, sizeof name, "pgp_synthesize_tile %dx%d x 8 layers", sizes[r], sizes[r]);
         bench_report(name, st, texels[r], "texels");
-        printf("  cpu %.2f s (last run); the morph of the masks alone: %.3f s\n", j.cpu, morph_time(&j, &masks));
+        printf("  process cpu %.2f s per run; the morph of the masks alone: %.3f s\n", cpu[r], morph_time(&j, &masks));
         fflush(stdout);
-        if (sizes[r] == TARGET_SIZE) target = wall[r];
+        if (sizes[r] == TARGET_SIZE) target = cpu[r], target_wall = wall[r];
         pgp_tile_free(&masks);
     }
-    printf("growth: time ~ texels^%.2f (log-log least squares over %d rungs; 1.00 = linear)\n",
-           bench_loglog_slope(texels, wall, NRUNGS), NRUNGS);
-    printf("target: 8 layers at %d^2 from two keys in %.1f s (target < %.0f s: %s; the paper: 300 s per morph)\n",
-           TARGET_SIZE, target, TARGET_SECONDS, target < TARGET_SECONDS ? "met" : "NOT met");
+    printf("growth: cpu time ~ texels^%.2f, wall time ~ texels^%.2f (log-log least squares over %d rungs; 1.00 = linear)\n",
+           bench_loglog_slope(texels, cpu, NRUNGS), bench_loglog_slope(texels, wall, NRUNGS), NRUNGS);
+    printf("  step exponents (cpu):");
+    for (r = 1; r < NRUNGS; r++) printf(" %.2f", log(cpu[r] / cpu[r - 1]) / log(texels[r] / texels[r - 1]));
+    printf("\n");
+    printf("target: 8 layers at %d^2 from two keys in %.1f s of cpu (%.1f s wall; target < %.0f s: %s; the paper: 300 s "
+           "per morph)\n", TARGET_SIZE, target, target_wall, TARGET_SECONDS, target < TARGET_SECONDS ? "met" : "NOT met");
     j.o = pgp_synth_default_options();
     j.o.size = TARGET_SIZE;
     j.o.search_eps = -1.0f;
     j.o.search_buckets = -1;
     run(&j, NULL);
-    printf("exact nearest neighbours at %d^2: %.1f s wall, %.1f s cpu (%.2fx the ANN time)\n", TARGET_SIZE, j.wall,
-           j.cpu, j.wall / target);
+    printf("exact nearest neighbours at %d^2: %.1f s cpu, %.1f s wall (%.2fx the ANN cpu time)\n", TARGET_SIZE, j.cpu,
+           j.wall, j.cpu / target);
     for (i = 0; i < 2; i++) pgp_image_free(&img[i]);
     return 0;
 }
