@@ -34,7 +34,7 @@ static const char *tile_usage =
     "  --exact              exact nearest neighbours (default: approximate, within a\n"
     "                       factor 2 and 64 kd-tree buckets, as the paper's ANN; slower)\n"
     "outputs:\n"
-    "  --out FILE.nrrd      the tile: NRRD, uint8, sizes C W H M\n"
+    "  --out FILE.nrrd      the tile: NRRD, uint8, sizes C W H M (W H M when gray)\n"
     "  --out-slices PREFIX  every layer as PREFIX_00.png, PREFIX_01.png, ... (PREFIX\n"
     "                       ending in .ppm or .png chooses the format)\n"
     "  --out-masks PREFIX   every layer's feature mask, the same way\n";
@@ -216,8 +216,9 @@ static pgp_result synthesize(tile_cmd *c, tile_outs *outs, pgp_error *err)
     }
     if (r == PGP_OK) r = pgp_synthesize_tile(keys, c->nkeys, &c->opt, &tile, c->masks ? &masks : NULL, err);
     if (r == PGP_OK) {
-        printf("pgp-tile: %d layers of %dx%d texels, %d channel%s, from %d key%s\n", tile.layers, tile.width,
-               tile.height, tile.channels, tile.channels == 1 ? "" : "s", c->nkeys, c->nkeys == 1 ? "" : "s");
+        printf("pgp-tile: %d layer%s of %dx%d texels, %d channel%s, from %d key%s\n", tile.layers,
+               tile.layers == 1 ? "" : "s", tile.width, tile.height, tile.channels, tile.channels == 1 ? "" : "s",
+               c->nkeys, c->nkeys == 1 ? "" : "s");
         r = write_one(outs, c->out, &tile, NULL, err);
     }
     if (r == PGP_OK && c->slices) r = write_slices(outs, c->slices, &tile, err);
