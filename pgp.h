@@ -2,9 +2,10 @@
  * Do not edit: change the sources and run `make headers`. */
 /* pgp.h - material-space texturing with a periodic global parameterization.
  *
- * A single-file C library implementing §2 and §3 of "Material Space
- * Texturing" (Nicolas Ray, Bruno Lévy, Huamin Wang, Greg Turk, Bruno
- * Vallet, Computer Graphics Forum 2009): a triangle mesh of any genus gets
+ * A single-file C library implementing "Material Space Texturing" (Nicolas
+ * Ray, Bruno Lévy, Huamin Wang, Greg Turk, Bruno Vallet, Computer Graphics
+ * Forum 2009): §1, a material-space tile synthesised from key textures
+ * (TILE SYNTHESIS below); §2 and §3, a triangle mesh of any genus gets
  * texture coordinates (s, t, m) into a material-space tile (a 3D texture
  * periodic in s and t, with a material axis m; a plain periodic 2D texture
  * is the one-layer case) that follow constraints on orientation, scale and
