@@ -14,11 +14,15 @@
 #   make clean
 #
 # CC and CFLAGS can be overridden; SANITIZE=1 builds with address and
-# undefined-behaviour sanitizers (into build-san/).
+# undefined-behaviour sanitizers (into build-san/, at -O1: half the compile time).
 
 CC       ?= cc
 CXX      ?= c++
+ifeq ($(SANITIZE),1)
+CFLAGS   ?= -O1 -g
+else
 CFLAGS   ?= -O2 -g
+endif
 WARN     := -std=c99 -Wall -Wextra -pedantic
 LDLIBS   := -lm
 FUZZ_CC  ?= clang
@@ -41,8 +45,8 @@ HEADERS        := tiled lapped pgp
 MODULES_tiled  := base vec rng image deflate png text mesh halfedge subdiv raster render graphcut quilt glue
 MODULES_lapped := base vec rng image deflate png text mesh shapes halfedge sparse raster render polyhull trimesh dirfield glue
 PARTS_lapped   := core field patch builtin grow render atlas io
-MODULES_pgp    := base vec rng image deflate png text mesh shapes halfedge sparse zsparse raster render trimesh dirfield nrrd tile3 glue
-PARTS_pgp      := core field solve render builtin io
+MODULES_pgp    := base vec rng image deflate png text mesh shapes halfedge sparse zsparse raster render trimesh dirfield nrrd tile3 glue graphcut quilt edt kdtree pca
+PARTS_pgp      := core field solve render builtin io morph synth
 
 COMMON_SRC := $(wildcard src/common/*.h)
 HEADER_FILES := $(addsuffix .h,$(HEADERS))

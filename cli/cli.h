@@ -71,5 +71,6 @@ int cmd_demo(int argc, char **argv);
 int cmd_convert(int argc, char **argv);
 int cmd_lapped(int argc, char **argv);
 int cmd_pgp(int argc, char **argv);
+int cmd_pgp_tile(int argc, char **argv);
 
 #endif

@@ -14,6 +14,7 @@ static void usage(FILE *f)
             "  tiled    seamless tiled textures on quad meshes (Kaur 2003)\n"
             "  lapped   lapped textures: patches pasted along a tangent field (Praun et al. 2000)\n"
             "  pgp      material-space texturing: periodic (s,t,m) tiles (Ray et al. 2009)\n"
+            "  pgp-tile material-space tile synthesis: keys morphed along m (Ray et al. 2009)\n"
             "  demo     render every method on built-in data into a folder (default out/)\n"
             "  convert  convert an image between PNG, PPM, PGM, PAM (and read GIMP .pat)\n"
             "\n"
@@ -39,6 +40,7 @@ int main(int argc, char **argv)
     if (!strcmp(argv[1], "tiled")) return cmd_tiled(argc - 1, argv + 1);
     if (!strcmp(argv[1], "lapped")) return cmd_lapped(argc - 1, argv + 1);
     if (!strcmp(argv[1], "pgp")) return cmd_pgp(argc - 1, argv + 1);
+    if (!strcmp(argv[1], "pgp-tile")) return cmd_pgp_tile(argc - 1, argv + 1);
     if (!strcmp(argv[1], "demo")) return cmd_demo(argc - 1, argv + 1);
     if (!strcmp(argv[1], "convert")) return cmd_convert(argc - 1, argv + 1);
     fprintf(stderr, "patchwork: unknown command '%s' (try patchwork --help)\n", argv[1]);
