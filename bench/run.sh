@@ -36,7 +36,15 @@ run() {
         grep -v -e '^ROW	' -e '^GROWTH	' -e '^PEER	' -e '^STATUS	'
 }
 
-[ -x "$build/bench/sysdump" ] && run sysdump "$build/bench/sysdump" "$BENCH_DATA/systems"
+# the dumped systems are inputs: made again when there are none or sysdump
+# (which carries the headers) is newer than them
+if [ -x "$build/bench/sysdump" ]; then
+    if [ -s "$BENCH_DATA/systems/index.txt" ] && [ "$BENCH_DATA/systems/index.txt" -nt "$build/bench/sysdump" ]; then
+        echo "== sysdump: the systems in $BENCH_DATA/systems are newer than sysdump, kept"
+    else
+        run sysdump "$build/bench/sysdump" "$BENCH_DATA/systems"
+    fi
+fi
 for b in "$build"/bench/bench_*; do
     [ -x "$b" ] || continue
     run "$(basename "$b")" "$b"
