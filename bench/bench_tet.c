@@ -30,12 +30,11 @@
 static const char *const surfaces[] = {"elephant", "knot", "eight", "femur", "dino", "cactus", "fandisk"};
 static const int targets[] = {5000, 20000, 100000};
 
-static double cpu_now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
+/* What one tetrahedralization gave: count, time, dihedral range. */
+typedef struct tet_result {
+    int nt;
+    double cpu, lo, hi; /* cpu: median CPU s (ours), TetGen's own "Total running seconds" */
+} tet_result;
 
 typedef struct job {
     const pw_mesh *m; /* triangles */
@@ -58,8 +57,9 @@ static void run_stuff(void *arg)
 
 /* Ours at one target (with `match`, the target is corrected once so that
  * the count lands near `match`): one row, and its throughput line. */
-static void bench_ours(const char *name, const pw_mesh *m, int target, int match, const char *label)
+static tet_result bench_ours(const char *name, const pw_mesh *m, int target, int match, const char *label)
 {
+    tet_result res;
     job j;
     double lo, hi, c0;
     char what[96];
@@ -67,17 +67,16 @@ static void bench_ours(const char *name, const pw_mesh *m, int target, int match
     pw_err e;
     bench_stat s;
     memset(&j, 0, sizeof j);
+    memset(&res, 0, sizeof res);
     j.m = m, j.target = target;
     if (match) {
         run_stuff(&j);
         if (j.status == PW_OK && j.out.nt > 0) j.target = (int)((double)target * match / j.out.nt);
     }
-    c0 = cpu_now();
-    s = bench_time(run_stuff, &j, 3); /* one warm-up run, then 3 */
-    c0 = (cpu_now() - c0) / 4.0;
+    s = bench_time_cpu(run_stuff, &j, 3, 1, &c0); /* one warm-up run, then 3 */
     if (j.status) {
         printf("%-10s %-9s failed\n", name, label);
-        return;
+        return res;
     }
     pw_tet_dihedral_range(&j.out, &lo, &hi);
     pw_err_clear(&e);
@@ -88,7 +87,9 @@ static void bench_ours(const char *name, const pw_mesh *m, int target, int match
     snprintf(what, sizeof what, "  stuffing %s %s", name, label);
     if (target == targets[2] && !match) bench_report(what, s, j.out.nt, "tets");
     fflush(stdout);
+    res.nt = j.out.nt, res.cpu = c0, res.lo = lo, res.hi = hi;
     pw_tetmesh_free(NULL, &j.out);
+    return res;
 }
 
 static int write_off(const char *path, const pw_mesh *m)
@@ -146,20 +147,22 @@ static double tetgen_seconds(const char *log)
     return s;
 }
 
-/* One TetGen run; returns its tetrahedron count (0 on failure). */
-static int bench_tetgen(const char *name, const pw_mesh *m, double maxvol, const char *label)
+/* One TetGen run (nt 0 on failure). */
+static tet_result bench_tetgen(const char *name, const pw_mesh *m, double maxvol, const char *label)
 {
+    tet_result res;
     char dir[128], cmd[1024], stem[256], log[256];
     pw_tetmesh t;
     double t0, wall, lo, hi;
     int n = 0;
+    memset(&res, 0, sizeof res);
     snprintf(dir, sizeof dir, "/tmp/pw_bench_tet_%ld", (long)getpid());
     snprintf(stem, sizeof stem, "%s/s.1", dir);
     snprintf(log, sizeof log, "%s/log", dir);
     snprintf(cmd, sizeof cmd, "mkdir -p %s", dir);
-    if (system(cmd) != 0) return 0;
+    if (system(cmd) != 0) return res;
     snprintf(cmd, sizeof cmd, "%s/s.off", dir);
-    if (!write_off(cmd, m)) return 0;
+    if (!write_off(cmd, m)) return res;
     if (maxvol > 0) snprintf(cmd, sizeof cmd, "cd %s && tetgen -pq1.414a%.6g s.off > log 2>&1", dir, maxvol);
     else snprintf(cmd, sizeof cmd, "cd %s && tetgen -pq1.414 s.off > log 2>&1", dir);
     t0 = bench_now();
@@ -169,13 +172,15 @@ static int bench_tetgen(const char *name, const pw_mesh *m, double maxvol, const
         printf("%-10s %-9s %8d tets %9.3f s (own %.3f)             dihedral %6.2f..%6.2f  (TetGen -pq1.414%s)\n",
                name, label, t.nt, wall, tetgen_seconds(log), lo, hi, maxvol > 0 ? "a" : "");
         n = t.nt;
+        res.cpu = tetgen_seconds(log), res.lo = lo, res.hi = hi;
         free(t.pos), free(t.tet);
     } else
         printf("%-10s %-9s TetGen failed (see its log in %s)\n", name, label, dir);
     fflush(stdout);
     snprintf(cmd, sizeof cmd, "rm -rf %s", dir);
     if (n && system(cmd) != 0) n = 0;
-    return n;
+    res.nt = n;
+    return res;
 }
 
 static double volume(const pw_mesh *m)
@@ -205,32 +210,57 @@ static int load(const char *name, pw_mesh *tri)
     return ok;
 }
 
-static void bench_surface(const char *name, const pw_mesh *m, int have_tetgen)
+/* The summary-table row: ours at TetGen's count against TetGen. */
+static void table_row(const char *name, const pw_mesh *m, const tet_result *ours, const tet_result *tg, const char *flags)
 {
-    int i, n;
+    char task[160], a[96], b[96], q[32];
+    snprintf(task, sizeof task, "tetrahedralize CGAL %s (%d triangles), about %d tetrahedra", name, m->nf, tg->nt);
+    snprintf(a, sizeof a, "cpu %.3g s, %d tets, dihedral %.1f..%.1f deg", ours->cpu, ours->nt, ours->lo, ours->hi);
+    snprintf(b, sizeof b, "%.3g s, %d tets, dihedral %.1f..%.1f deg", tg->cpu, tg->nt, tg->lo, tg->hi);
+    snprintf(q, sizeof q, "%.2f", tg->cpu > 0 ? ours->cpu / tg->cpu : 0.0);
+    bench_row(task, a, b, flags, q, "TetGen was the paper's mesher (2008)",
+              "ours: median of 3 after a warm-up; TetGen: 1 run, its own running time", NULL);
+}
+
+/* Ours at 5K, 20K and 100K (times, for the growth), then against TetGen. */
+static void bench_surface(const char *name, const pw_mesh *m, int have_tetgen, double *x, double *y)
+{
+    tet_result ours, tg;
+    int i;
     char label[32];
     for (i = 0; i < 3; i++) {
         snprintf(label, sizeof label, "ours@%dK", targets[i] / 1000);
-        bench_ours(name, m, targets[i], 0, label);
+        ours = bench_ours(name, m, targets[i], 0, label);
+        x[i] = ours.nt, y[i] = ours.cpu;
     }
     if (!have_tetgen) return;
-    if ((n = bench_tetgen(name, m, 0.0, "tetgen")) > 0) bench_ours(name, m, n, n, "ours@same");
+    if ((tg = bench_tetgen(name, m, 0.0, "tetgen")).nt > 0) {
+        ours = bench_ours(name, m, tg.nt, tg.nt, "ours@same");
+        if (ours.nt) table_row(name, m, &ours, &tg, "TetGen -pq1.414");
+    }
     /* TetGen's tetrahedra average about a tenth of the bound near a dense surface */
-    if ((n = bench_tetgen(name, m, 10.0 * volume(m) / 100000.0, "tetgen@a")) > 0) bench_ours(name, m, n, n, "ours@same");
+    if ((tg = bench_tetgen(name, m, 10.0 * volume(m) / 100000.0, "tetgen@a")).nt > 0) bench_ours(name, m, tg.nt, tg.nt, "ours@same");
 }
 
 int main(void)
 {
     int i, have_tetgen = system("command -v tetgen > /dev/null 2>&1") == 0, done = 0;
+    double x[3], y[3];
     pw_mesh m;
     pw_err e;
     printf("bench_tet: isosurface stuffing (src/common/stuffing.h) against TetGen; fit = max boundary->surface / "
            "surface->boundary distance over the diagonal\n");
-    if (!have_tetgen) printf("bench_tet: no `tetgen` binary on PATH: TetGen rows skipped (Debian package tetgen)\n");
+    if (!have_tetgen) {
+        printf("bench_tet: no `tetgen` binary on PATH: TetGen rows skipped (Debian package tetgen)\n");
+        bench_peer("TetGen", "skipped: no tetgen binary (Debian package tetgen)");
+    } else
+        bench_peer("TetGen", "tetgen (Debian package tetgen)");
     for (i = 0; i < (int)(sizeof surfaces / sizeof surfaces[0]); i++) {
         if (!load(surfaces[i], &m)) continue;
         printf("-- %s: %d triangles\n", surfaces[i], m.nf);
-        bench_surface(surfaces[i], &m, have_tetgen);
+        bench_surface(surfaces[i], &m, have_tetgen, x, y);
+        if (!done) bench_growth("stuffing (built-in tetrahedralizer)", bench_loglog_slope(x, y, 3),
+                                "tetrahedra, 5K..100K (CGAL elephant)", NULL);
         pw_mesh_free(NULL, &m);
         done++;
     }
@@ -241,7 +271,7 @@ int main(void)
         if (pw_shape_geosphere(NULL, 12, &g, &e) != PW_OK || pw_mesh_triangulate(NULL, &g, &m, NULL, &e) != PW_OK) return 1;
         pw_mesh_free(NULL, &g);
         printf("-- sphere: %d triangles\n", m.nf);
-        bench_surface("sphere", &m, have_tetgen);
+        bench_surface("sphere", &m, have_tetgen, x, y);
         pw_mesh_free(NULL, &m);
     }
     return 0;
