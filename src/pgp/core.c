@@ -133,6 +133,8 @@ struct pgp_map {
     float *mat;           /* nv: m_i */
     double *zs, *zt;      /* nv*2: the unit complex unknowns of s and t (§2.3) */
     float *stm;           /* nf*9: per corner s, t, m (Eq. 4) */
+    int *forder, *vorder; /* triangles and vertices in breadth-first order: the
+                             order of the unknowns of every solve */
     unsigned char *vsing; /* nv: singular 1-ring (§3) */
     unsigned char *fsing; /* nf: a corner's 1-ring is singular */
     int nsing;

@@ -143,7 +143,10 @@ static int pgp__harmonic(pgp_map *P, const unsigned char *vfree, const unsigned 
     pw_triplets t;
     int n = 0, v, h, r = id ? PW_OK : PW_ERR_NOMEM;
     memset(&t, 0, sizeof t);
-    for (v = 0; r == PW_OK && v < m->nv; v++) id[v] = vfree[v] && !locked[v] ? n++ : -1;
+    for (h = 0; r == PW_OK && h < m->nv; h++) { /* breadth-first order */
+        v = P->vorder[h];
+        id[v] = vfree[v] && !locked[v] ? n++ : -1;
+    }
     if (r == PW_OK && n > 0) {
         b = (double *)pw_calloc_array(&P->a, (size_t)n, sizeof(double), "interpolation", e);
         x = (double *)pw_alloc_array(&P->a, (size_t)n, sizeof(double), "interpolation", e);
@@ -229,7 +232,10 @@ static int pgp__dir_smooth(pgp_map *P, const unsigned char *free, const double *
     pw_triplets t;
     int n = 0, f, h, r = id ? PW_OK : PW_ERR_NOMEM;
     memset(&t, 0, sizeof t);
-    for (f = 0; r == PW_OK && f < m->nf; f++) id[f] = free[f] ? n++ : -1;
+    for (h = 0; r == PW_OK && h < m->nf; h++) { /* breadth-first order */
+        f = P->forder[h];
+        id[f] = free[f] ? n++ : -1;
+    }
     if (r == PW_OK && n > 0) {
         b = (double *)pw_calloc_array(&P->a, (size_t)n * 2, sizeof(double), "orientation", e);
         x = (double *)pw_alloc_array(&P->a, (size_t)n * 2, sizeof(double), "orientation", e);
