@@ -2,23 +2,33 @@
 #
 #   make            build the CLI, examples, tests and benchmarks into build/
 #   make demo       render every method on built-in data into out/
-#   make test       run the whole test suite (ends with "N passed, N failed")
-#   make bench      benchmarks (medians of several runs)
+#   make test       build and run the whole test suite, JOBS at a time (ends with
+#                   "N passed, N failed, N skipped")
+#   make bench      benchmarks (medians of several runs), against peers where
+#                   installed, ending with a summary table
+#   make bench-report  the same, also written to bench/results.md (and the
+#                   table into README.md's Performance section)
 #   make data       extract real test data from installed Debian packages into data/
 #   make headers    regenerate the single-file headers from src/
 #   make fuzz       run each libFuzzer target for FUZZ_SECONDS (needs clang)
 #   make clean
 #
 # CC and CFLAGS can be overridden; SANITIZE=1 builds with address and
-# undefined-behaviour sanitizers (into build-san/).
+# undefined-behaviour sanitizers (into build-san/, at -O1: half the compile time).
 
 CC       ?= cc
 CXX      ?= c++
+ifeq ($(SANITIZE),1)
+CFLAGS   ?= -O1 -g
+else
 CFLAGS   ?= -O2 -g
+endif
 WARN     := -std=c99 -Wall -Wextra -pedantic
 LDLIBS   := -lm
 FUZZ_CC  ?= clang
 FUZZ_SECONDS ?= 60
+# parallel builds and test runs (make test JOBS=1 for one at a time)
+JOBS     ?= $(shell getconf _NPROCESSORS_ONLN 2>/dev/null || echo 1)
 
 ifeq ($(SANITIZE),1)
 BUILD    := build-san
@@ -35,15 +45,15 @@ HEADERS        := tiled lapped pgp lst
 MODULES_tiled  := base vec rng image deflate png text mesh halfedge subdiv raster render graphcut quilt glue
 MODULES_lapped := base vec rng image deflate png text mesh shapes halfedge sparse raster render polyhull trimesh dirfield glue
 PARTS_lapped   := core field patch builtin grow render atlas io
-MODULES_pgp    := base vec rng image deflate png text mesh shapes halfedge sparse raster render trimesh dirfield nrrd tile3 glue
-PARTS_pgp      := core field solve render builtin io
-MODULES_lst    := base vec rng image deflate png text mesh shapes halfedge trimesh sparse raster render nrrd tetmesh tetio stuffing glue
+MODULES_pgp    := base vec rng image deflate png text mesh shapes halfedge sparse zsparse raster render trimesh dirfield nrrd tile3 glue graphcut quilt edt kdtree pca
+PARTS_pgp      := core field solve render builtin io morph synth
+MODULES_lst    := base vec rng image deflate png text mesh shapes halfedge trimesh sparse raster render nrrd tetmesh tetio stuffing edt pca glue
 PARTS_lst      := core exemplar field paste render cut builtin io
 
 COMMON_SRC := $(wildcard src/common/*.h)
 HEADER_FILES := $(addsuffix .h,$(HEADERS))
 
-.PHONY: all demo test bench data headers check-headers print-headers dev-header fuzz fuzz-build clean
+.PHONY: all demo test bench bench-report data headers check-headers print-headers dev-header fuzz fuzz-build clean
 
 CLI_SRC   := $(wildcard cli/*.c)
 TEST_SRC  := $(wildcard tests/test_*.c)
@@ -54,9 +64,9 @@ FUZZ_SRC  := $(wildcard fuzz/fuzz_*.c)
 TEST_BIN  := $(patsubst tests/%.c,$(BUILD)/tests/%,$(TEST_SRC))
 EX_BIN    := $(patsubst examples/%.c,$(BUILD)/examples/%,$(EX_SRC))
 BENCH_BIN := $(patsubst bench/%.c,$(BUILD)/bench/%,$(BENCH_SRC))
-FUZZ_BIN  := $(patsubst fuzz/%.c,$(BUILD)/fuzz/%,$(FUZZ_SRC))
+BENCH_TOOLS := $(BUILD)/bench/sysdump $(BUILD)/bench/meshinfo
 
-all: $(BUILD)/patchwork $(EX_BIN) $(TEST_BIN) $(BENCH_BIN)
+all: $(BUILD)/patchwork $(EX_BIN) $(TEST_BIN) $(BENCH_BIN) $(BENCH_TOOLS)
 
 # The shell command that writes header $(1) to stdout.
 gen_header = sh tools/amalgamate.sh $(1) $(MODULES_$(1)) -- $(or $(PARTS_$(1)),$(1))
@@ -92,31 +102,61 @@ $(BUILD)/examples/%: examples/%.c $(HEADER_FILES)
 	@mkdir -p $(BUILD)/examples
 	$(CC) $(ALL_CFLAGS) -o $@ $< $(LDLIBS)
 
-$(BUILD)/bench/%: bench/%.c bench/bench.h $(COMMON_SRC) $(HEADER_FILES)
+BENCH_CFLAGS := $(WARN) -O2 -g -DNDEBUG -I.
+
+$(BUILD)/bench/%: bench/%.c $(wildcard bench/*.h) $(COMMON_SRC) $(HEADER_FILES)
 	@mkdir -p $(BUILD)/bench
-	$(CC) $(WARN) -O2 -g -DNDEBUG -I. -o $@ $< $(LDLIBS)
+	$(CC) $(BENCH_CFLAGS) -o $@ $< $(LDLIBS)
+
+# Peers of the benchmarks (Debian packages, each optional): bench/probe.sh
+# decides at build time whether Eigen (libeigen3-dev) and OSMesa
+# (libosmesa6-dev) can be built against; without one, the benchmark builds
+# without that peer and says so when it runs. Peer code is in bench/ only.
+$(BUILD)/bench/bench_sparse: bench/bench_sparse.c bench/peer_eigen.cpp $(wildcard bench/*.h) $(COMMON_SRC)
+	@mkdir -p $(BUILD)/bench/obj
+	@if sh bench/probe.sh eigen "$(CXX)"; then set -x; \
+	  $(CXX) -Wall -Wextra -O2 -g -DNDEBUG $$(sh bench/probe.sh eigen-flags) -c bench/peer_eigen.cpp -o $(BUILD)/bench/obj/peer_eigen.o && \
+	  $(CC) $(BENCH_CFLAGS) -DBENCH_EIGEN -c $< -o $(BUILD)/bench/obj/bench_sparse.o && \
+	  $(CXX) -o $@ $(BUILD)/bench/obj/bench_sparse.o $(BUILD)/bench/obj/peer_eigen.o $(LDLIBS); \
+	else echo "bench_sparse: Eigen (libeigen3-dev) not found: built without its peer"; set -x; \
+	  $(CC) $(BENCH_CFLAGS) -o $@ $< $(LDLIBS); fi
+
+OSMESA_BENCH := $(BUILD)/bench/bench_render $(BUILD)/bench/bench_lapped
+$(OSMESA_BENCH): $(BUILD)/bench/%: bench/%.c $(wildcard bench/*.h) $(COMMON_SRC) $(HEADER_FILES)
+	@mkdir -p $(BUILD)/bench
+	@if sh bench/probe.sh osmesa "$(CC)"; then set -x; \
+	  $(CC) $(BENCH_CFLAGS) -DBENCH_OSMESA -o $@ $< $(LDLIBS) -lOSMesa; \
+	else echo "$*: OSMesa (libosmesa6-dev) not found: built without its peer"; set -x; \
+	  $(CC) $(BENCH_CFLAGS) -o $@ $< $(LDLIBS); fi
 
 demo: $(BUILD)/patchwork
 	./$(BUILD)/patchwork demo out
 
-test: $(BUILD)/patchwork $(TEST_BIN) $(EX_BIN)
-	@sh tests/run.sh $(BUILD)
+test:
+	@$(MAKE) --no-print-directory -j$(JOBS) $(BUILD)/patchwork $(TEST_BIN) $(EX_BIN)
+	@sh tests/run.sh $(BUILD) $(JOBS)
 
-bench: $(BENCH_BIN) $(BUILD)/patchwork
+bench: $(BENCH_BIN) $(BENCH_TOOLS) $(BUILD)/patchwork
 	@sh bench/run.sh $(BUILD)
+
+bench-report: $(BENCH_BIN) $(BENCH_TOOLS) $(BUILD)/patchwork
+	@sh bench/run.sh $(BUILD) bench/results.md README.md
 
 data: $(BUILD)/patchwork
 	@sh tools/make_data.sh $(BUILD)/patchwork
 
+FUZZ_DIR := build/fuzz
+FUZZ_TARGETS := $(patsubst fuzz/%.c,$(FUZZ_DIR)/%,$(FUZZ_SRC))
+
+$(FUZZ_DIR)/%: fuzz/%.c fuzz/fuzz.h $(HEADER_FILES) $(COMMON_SRC)
+	@mkdir -p $(FUZZ_DIR)
+	$(FUZZ_CC) -g -O1 -I. -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=all -o $@ $< -lm
+
 fuzz-build:
-	@mkdir -p build/fuzz
-	@for f in $(FUZZ_SRC); do \
-	  b=build/fuzz/$$(basename $$f .c); \
-	  $(FUZZ_CC) -g -O1 -I. -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=all -o $$b $$f -lm || exit 1; \
-	done
+	@$(MAKE) --no-print-directory -j$(JOBS) $(FUZZ_TARGETS)
 
 fuzz: fuzz-build
-	@sh fuzz/run.sh $(FUZZ_SECONDS)
+	@sh fuzz/run.sh $(FUZZ_SECONDS) $(JOBS)
 
 clean:
 	rm -rf build build-san out

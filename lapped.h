@@ -5546,6 +5546,16 @@ PW__DEF int pw_hmesh_valence(const pw_hmesh *hm, int v)
 #define PW__SPARSE_V1
 
 
+/* Instrumentation for benchmarks and experiments: a program that defines
+ * PW_SOLVE_HOOK(kind, A, b, x, opts) before including a header sees every
+ * system a solver is given, before it is solved: kind is "cg", "pcg" or
+ * "lsq" with A a const pw_csr *, or "zpcg" with A a const pw_zcsr *
+ * (zsparse.h); b the right-hand side, x the warm start, opts the
+ * pw_cg_options (tolerance) or NULL. Undefined, it costs nothing. */
+#ifndef PW_SOLVE_HOOK
+#define PW_SOLVE_HOOK(kind, A, b, x, opts) ((void)0)
+#endif
+
 /* ---- triplets ---------------------------------------------------------- */
 
 /* A growable list of (row, col, value) entries of an n x m matrix. */
@@ -6128,6 +6138,7 @@ PW__DEF int pw_cg_solve(const pw_alloc *a, const pw_csr *A, const double *b, dou
     if (A->m != n) return pw_fail(e, PW_ERR_INVALID, "CG needs a square matrix, not %dx%d", n, A->m);
     if (pw__check_vec(b, n, "CG right-hand side b", e) || pw__check_vec(x, n, "CG guess x", e))
         return PW_ERR_INVALID;
+    PW_SOLVE_HOOK("cg", A, b, x, o);
     pw__krylov_init(&k, n, o);
     k.bnorm = sqrt(pw__dot(b, b, n));
     if (k.bnorm == 0) {
@@ -6249,18 +6260,26 @@ PW__DEF void pw_ic0_apply(const pw_ic0 *L, const double *r, double *z)
     }
 }
 
-/* CG preconditioned by an IC(0) factor M of A; otherwise as pw_cg_solve
- * (same options, stopping rule, warm start and errors). */
-PW__DEF int pw_pcg_solve(const pw_alloc *a, const pw_csr *A, const pw_ic0 *M, const double *b, double *x,
-                         const pw_cg_options *o, pw_cg_stats *s, pw_err *e)
+/* A linear operator for the preconditioned CG core: mul computes y = A x
+ * and returns x . y, precond z = M^-1 r, both over n doubles. The complex
+ * Hermitian systems of zsparse.h run through the same core: with complex
+ * numbers stored as (re, im) pairs and real step lengths, every vector
+ * update is real, and Re(x^H y) is the real dot product of the pairs. */
+typedef struct pw__pcg_op {
+    int n;
+    double (*mul)(const void *ctx, const double *x, double *y);
+    void (*precond)(const void *ctx, const double *r, double *z);
+    const void *actx, *mctx;
+} pw__pcg_op;
+
+/* The PCG iterations shared by pw_pcg_solve and pw_zpcg_solve: b and x
+ * already checked; x is the warm start; `what` names the solver in errors. */
+PW__DEF int pw__pcg_run(const pw_alloc *a, const pw__pcg_op *op, const double *b, double *x,
+                        const pw_cg_options *o, pw_cg_stats *s, const char *what, pw_err *e)
 {
     pw__krylov k;
     double *r, *z, *p, *q, rz, rr;
-    int n = A->n, i, ret;
-    if (s) memset(s, 0, sizeof *s);
-    if (pw_csr_check(A, e) || pw__check_vec(b, n, "PCG right-hand side b", e) ||
-        pw__check_vec(x, n, "PCG guess x", e))
-        return PW_ERR_INVALID;
+    int n = op->n, i, ret;
     pw__krylov_init(&k, n, o);
     k.bnorm = sqrt(pw__dot(b, b, n));
     if (k.bnorm == 0) {
@@ -6270,28 +6289,56 @@ PW__DEF int pw_pcg_solve(const pw_alloc *a, const pw_csr *A, const pw_ic0 *M, co
     }
     if (!(r = (double *)pw_alloc_array(a, (size_t)n * 4, sizeof(double), "PCG vectors", e))) return PW_ERR_NOMEM;
     z = r + n, p = z + n, q = p + n;
-    pw__residual(A, b, x, r);
-    pw_ic0_apply(M, r, z);
+    op->mul(op->actx, x, r);
+    for (i = 0; i < n; i++) r[i] = b[i] - r[i];
+    op->precond(op->mctx, r, z);
     memcpy(p, z, sizeof(double) * (size_t)n);
     rz = pw__dot(r, z, n);
     for (rr = pw__dot(r, r, n); (k.rnorm = sqrt(rr)) > k.tol * k.bnorm && k.it < k.max_iter; k.it++) {
-        double pq = pw__mul_dot(A, p, q, 0), alpha, rz1;
+        double pq = op->mul(op->actx, p, q), alpha, rz1;
         if (!(pq > 0) || !pw_is_finite(rz / pq) || pw__krylov_report(&k, e)) {
             if (k.status == PW_OK) k.status = PW_ERR_NOCONVERGE;
             break;
         }
         alpha = rz / pq;
         for (i = 0; i < n; i++) x[i] += alpha * p[i], r[i] -= alpha * q[i];
-        pw_ic0_apply(M, r, z);
+        op->precond(op->mctx, r, z);
         rz1 = pw__dot(r, z, n);
         for (i = 0; i < n; i++) p[i] = z[i] + rz1 / rz * p[i];
         rz = rz1;
         rr = pw__dot(r, r, n);
     }
-    pw__residual(A, b, x, r); /* report what x achieves, not the recurrence */
-    ret = pw__krylov_finish(&k, sqrt(pw__dot(r, r, n)), "PCG", s, e);
+    op->mul(op->actx, x, r); /* report what x achieves, not the recurrence */
+    for (i = 0; i < n; i++) r[i] = b[i] - r[i];
+    ret = pw__krylov_finish(&k, sqrt(pw__dot(r, r, n)), what, s, e);
     pw_free(a, r);
     return ret;
+}
+
+PW__DEF double pw__csr_op_mul(const void *A, const double *x, double *y)
+{
+    return pw__mul_dot((const pw_csr *)A, x, y, 0);
+}
+
+PW__DEF void pw__ic0_op(const void *M, const double *r, double *z) { pw_ic0_apply((const pw_ic0 *)M, r, z); }
+
+/* CG preconditioned by an IC(0) factor M of A; otherwise as pw_cg_solve
+ * (same options, stopping rule, warm start and errors). */
+PW__DEF int pw_pcg_solve(const pw_alloc *a, const pw_csr *A, const pw_ic0 *M, const double *b, double *x,
+                         const pw_cg_options *o, pw_cg_stats *s, pw_err *e)
+{
+    pw__pcg_op op;
+    if (s) memset(s, 0, sizeof *s);
+    if (pw_csr_check(A, e) || pw__check_vec(b, A->n, "PCG right-hand side b", e) ||
+        pw__check_vec(x, A->n, "PCG guess x", e))
+        return PW_ERR_INVALID;
+    PW_SOLVE_HOOK("pcg", A, b, x, o);
+    op.n = A->n;
+    op.mul = pw__csr_op_mul;
+    op.precond = pw__ic0_op;
+    op.actx = A;
+    op.mctx = M;
+    return pw__pcg_run(a, &op, b, x, o, s, "PCG", e);
 }
 
 /* ---- least squares (CGLS) ---------------------------------------------- */
@@ -6390,6 +6437,7 @@ PW__DEF int pw_lsq_solve(const pw_alloc *a, const pw_csr *A, const double *b, do
     if (pw__check_vec(b, A->n, "least-squares right-hand side b", e) ||
         pw__check_vec(x, m, "least-squares guess x", e))
         return PW_ERR_INVALID;
+    PW_SOLVE_HOOK("lsq", A, b, x, o);
     pw__krylov_init(&k, m, o);
     w.r = (double *)pw_alloc_array(a, (size_t)A->n * 2 + (size_t)m * 3, sizeof(double),
                                    "least-squares vectors", e);
@@ -7786,27 +7834,37 @@ PW__DEF int pw__finite3(const float *p)
 
 /* Homogeneous screen coordinates of every vertex; W = -DBL_MAX marks a
  * vertex with non-finite coordinates (its triangles are skipped). */
+PW__DEF void pw__transform_vertex(const pw__view *v, const float *p, double *o)
+{
+    double q[3], xv, yv, w;
+    int k;
+    if (!pw__finite3(p)) {
+        o[0] = o[1] = o[3] = o[4] = 0.0;
+        o[2] = -DBL_MAX;
+        return;
+    }
+    for (k = 0; k < 3; k++) q[k] = (double)p[k] - v->eye[k];
+    xv = pw__dot3(q, v->r);
+    yv = pw__dot3(q, v->u);
+    w = pw__dot3(q, v->f);
+    o[0] = v->cx * w + v->fx * xv;
+    o[1] = v->cy * w - v->fy * yv;
+    o[2] = w;
+    o[3] = w >= v->znear ? o[0] / w : 0.0;
+    o[4] = w >= v->znear ? o[1] / w : 0.0;
+}
+
+/* Transforms the vertices the draw uses: all of them, or, when it draws
+ * few triangles of many vertices (a paste of a lapped texture is a small
+ * part of the whole mesh), only the corners of its triangles (a shared
+ * corner twice, which gives the same values). */
 PW__DEF void pw__transform(const pw__view *v, const pw_draw *d, double *vh)
 {
-    int i, k;
-    for (i = 0; i < d->nv; i++) {
-        const float *p = d->positions + 3 * i;
-        double q[3], xv, yv, w, *o = vh + 5 * i;
-        if (!pw__finite3(p)) {
-            o[0] = o[1] = o[3] = o[4] = 0.0;
-            o[2] = -DBL_MAX;
-            continue;
-        }
-        for (k = 0; k < 3; k++) q[k] = (double)p[k] - v->eye[k];
-        xv = pw__dot3(q, v->r);
-        yv = pw__dot3(q, v->u);
-        w = pw__dot3(q, v->f);
-        o[0] = v->cx * w + v->fx * xv;
-        o[1] = v->cy * w - v->fy * yv;
-        o[2] = w;
-        o[3] = w >= v->znear ? o[0] / w : 0.0;
-        o[4] = w >= v->znear ? o[1] / w : 0.0;
-    }
+    int i;
+    if ((size_t)d->ntris * 3 < (size_t)d->nv)
+        for (i = 0; i < 3 * d->ntris; i++) pw__transform_vertex(v, d->positions + 3 * d->tris[i], vh + 5 * d->tris[i]);
+    else
+        for (i = 0; i < d->nv; i++) pw__transform_vertex(v, d->positions + 3 * i, vh + 5 * i);
 }
 
 /* Unnormalised normal of triangle t (its area-weighted direction). */
@@ -11857,7 +11915,8 @@ static int lapped__lscm_rows(lapped__paster *P, int seed, pw_triplets *tr, doubl
  * threefold over Jacobi). A ridge of 1e-8 of the mean diagonal makes AᵀA
  * definite (the functional ignores translations); it moves nothing but the
  * translation, which lapped__optimize fixes afterwards. Hitting the
- * iteration cap is not an error here: the warm start is already a usable
+ * iteration cap (only patches of tens of thousands of triangles come near
+ * it) is not an error here: the warm start is already a usable
  * parametrisation and every iterate improves it. */
 static int lapped__solve(lapped__paster *P, const pw_triplets *tr, const double *b, double *x, int nrhs,
                          double *rhs, pw_err *e)
@@ -11869,7 +11928,7 @@ static int lapped__solve(lapped__paster *P, const pw_triplets *tr, const double 
     double mean = 0.0;
     int r, i, k, j;
     co.tol = 1e-4;
-    co.max_iter = 200;
+    co.max_iter = 1000; /* IC(0)-CG needs about sqrt(unknowns) iterations: enough up to ~10^5 */
     memset(&N, 0, sizeof N);
     memset(&M, 0, sizeof M);
     if ((r = pw_csr_from_triplets(P->a, tr, &A, e)) != PW_OK) return r;
@@ -14790,8 +14849,9 @@ static int lapped__read_constraint(pw__sc *s, lapped_constraint *c, int index)
         if ((r = pw__sc_num(s, &v[n], "constraint", index)) != PW_OK) return r;
     if (n < 3 || !pw__sc_eol(s))
         return pw__sc_fail(s, PW_ERR_PARSE, "constraint %d: expected 'face dx dy dz [scale [radius [weight]]]'", index);
-    for (k = 0; k < n; k++)
-        if (!pw_is_finite(v[k])) return pw__sc_fail(s, PW_ERR_INVALID, "constraint %d has a non-finite value", index);
+    for (k = 0; k < n; k++) /* finite as floats: 1e39 is finite as a double only */
+        if (!pw_is_finite(pw__num_to_float(v[k])))
+            return pw__sc_fail(s, PW_ERR_INVALID, "constraint %d has a non-finite value (or one beyond float range)", index);
     c->face = (int)face;
     for (k = 0; k < 3; k++) c->direction[k] = (float)v[k];
     c->scale = n > 3 ? (float)v[3] : 0.0f;

@@ -5822,6 +5822,16 @@ PW__DEF int pw_trimesh_init(const pw_alloc *a, const pw_mesh *in, pw_trimesh *m,
 #define PW__SPARSE_V1
 
 
+/* Instrumentation for benchmarks and experiments: a program that defines
+ * PW_SOLVE_HOOK(kind, A, b, x, opts) before including a header sees every
+ * system a solver is given, before it is solved: kind is "cg", "pcg" or
+ * "lsq" with A a const pw_csr *, or "zpcg" with A a const pw_zcsr *
+ * (zsparse.h); b the right-hand side, x the warm start, opts the
+ * pw_cg_options (tolerance) or NULL. Undefined, it costs nothing. */
+#ifndef PW_SOLVE_HOOK
+#define PW_SOLVE_HOOK(kind, A, b, x, opts) ((void)0)
+#endif
+
 /* ---- triplets ---------------------------------------------------------- */
 
 /* A growable list of (row, col, value) entries of an n x m matrix. */
@@ -6404,6 +6414,7 @@ PW__DEF int pw_cg_solve(const pw_alloc *a, const pw_csr *A, const double *b, dou
     if (A->m != n) return pw_fail(e, PW_ERR_INVALID, "CG needs a square matrix, not %dx%d", n, A->m);
     if (pw__check_vec(b, n, "CG right-hand side b", e) || pw__check_vec(x, n, "CG guess x", e))
         return PW_ERR_INVALID;
+    PW_SOLVE_HOOK("cg", A, b, x, o);
     pw__krylov_init(&k, n, o);
     k.bnorm = sqrt(pw__dot(b, b, n));
     if (k.bnorm == 0) {
@@ -6525,18 +6536,26 @@ PW__DEF void pw_ic0_apply(const pw_ic0 *L, const double *r, double *z)
     }
 }
 
-/* CG preconditioned by an IC(0) factor M of A; otherwise as pw_cg_solve
- * (same options, stopping rule, warm start and errors). */
-PW__DEF int pw_pcg_solve(const pw_alloc *a, const pw_csr *A, const pw_ic0 *M, const double *b, double *x,
-                         const pw_cg_options *o, pw_cg_stats *s, pw_err *e)
+/* A linear operator for the preconditioned CG core: mul computes y = A x
+ * and returns x . y, precond z = M^-1 r, both over n doubles. The complex
+ * Hermitian systems of zsparse.h run through the same core: with complex
+ * numbers stored as (re, im) pairs and real step lengths, every vector
+ * update is real, and Re(x^H y) is the real dot product of the pairs. */
+typedef struct pw__pcg_op {
+    int n;
+    double (*mul)(const void *ctx, const double *x, double *y);
+    void (*precond)(const void *ctx, const double *r, double *z);
+    const void *actx, *mctx;
+} pw__pcg_op;
+
+/* The PCG iterations shared by pw_pcg_solve and pw_zpcg_solve: b and x
+ * already checked; x is the warm start; `what` names the solver in errors. */
+PW__DEF int pw__pcg_run(const pw_alloc *a, const pw__pcg_op *op, const double *b, double *x,
+                        const pw_cg_options *o, pw_cg_stats *s, const char *what, pw_err *e)
 {
     pw__krylov k;
     double *r, *z, *p, *q, rz, rr;
-    int n = A->n, i, ret;
-    if (s) memset(s, 0, sizeof *s);
-    if (pw_csr_check(A, e) || pw__check_vec(b, n, "PCG right-hand side b", e) ||
-        pw__check_vec(x, n, "PCG guess x", e))
-        return PW_ERR_INVALID;
+    int n = op->n, i, ret;
     pw__krylov_init(&k, n, o);
     k.bnorm = sqrt(pw__dot(b, b, n));
     if (k.bnorm == 0) {
@@ -6546,28 +6565,56 @@ PW__DEF int pw_pcg_solve(const pw_alloc *a, const pw_csr *A, const pw_ic0 *M, co
     }
     if (!(r = (double *)pw_alloc_array(a, (size_t)n * 4, sizeof(double), "PCG vectors", e))) return PW_ERR_NOMEM;
     z = r + n, p = z + n, q = p + n;
-    pw__residual(A, b, x, r);
-    pw_ic0_apply(M, r, z);
+    op->mul(op->actx, x, r);
+    for (i = 0; i < n; i++) r[i] = b[i] - r[i];
+    op->precond(op->mctx, r, z);
     memcpy(p, z, sizeof(double) * (size_t)n);
     rz = pw__dot(r, z, n);
     for (rr = pw__dot(r, r, n); (k.rnorm = sqrt(rr)) > k.tol * k.bnorm && k.it < k.max_iter; k.it++) {
-        double pq = pw__mul_dot(A, p, q, 0), alpha, rz1;
+        double pq = op->mul(op->actx, p, q), alpha, rz1;
         if (!(pq > 0) || !pw_is_finite(rz / pq) || pw__krylov_report(&k, e)) {
             if (k.status == PW_OK) k.status = PW_ERR_NOCONVERGE;
             break;
         }
         alpha = rz / pq;
         for (i = 0; i < n; i++) x[i] += alpha * p[i], r[i] -= alpha * q[i];
-        pw_ic0_apply(M, r, z);
+        op->precond(op->mctx, r, z);
         rz1 = pw__dot(r, z, n);
         for (i = 0; i < n; i++) p[i] = z[i] + rz1 / rz * p[i];
         rz = rz1;
         rr = pw__dot(r, r, n);
     }
-    pw__residual(A, b, x, r); /* report what x achieves, not the recurrence */
-    ret = pw__krylov_finish(&k, sqrt(pw__dot(r, r, n)), "PCG", s, e);
+    op->mul(op->actx, x, r); /* report what x achieves, not the recurrence */
+    for (i = 0; i < n; i++) r[i] = b[i] - r[i];
+    ret = pw__krylov_finish(&k, sqrt(pw__dot(r, r, n)), what, s, e);
     pw_free(a, r);
     return ret;
+}
+
+PW__DEF double pw__csr_op_mul(const void *A, const double *x, double *y)
+{
+    return pw__mul_dot((const pw_csr *)A, x, y, 0);
+}
+
+PW__DEF void pw__ic0_op(const void *M, const double *r, double *z) { pw_ic0_apply((const pw_ic0 *)M, r, z); }
+
+/* CG preconditioned by an IC(0) factor M of A; otherwise as pw_cg_solve
+ * (same options, stopping rule, warm start and errors). */
+PW__DEF int pw_pcg_solve(const pw_alloc *a, const pw_csr *A, const pw_ic0 *M, const double *b, double *x,
+                         const pw_cg_options *o, pw_cg_stats *s, pw_err *e)
+{
+    pw__pcg_op op;
+    if (s) memset(s, 0, sizeof *s);
+    if (pw_csr_check(A, e) || pw__check_vec(b, A->n, "PCG right-hand side b", e) ||
+        pw__check_vec(x, A->n, "PCG guess x", e))
+        return PW_ERR_INVALID;
+    PW_SOLVE_HOOK("pcg", A, b, x, o);
+    op.n = A->n;
+    op.mul = pw__csr_op_mul;
+    op.precond = pw__ic0_op;
+    op.actx = A;
+    op.mctx = M;
+    return pw__pcg_run(a, &op, b, x, o, s, "PCG", e);
 }
 
 /* ---- least squares (CGLS) ---------------------------------------------- */
@@ -6666,6 +6713,7 @@ PW__DEF int pw_lsq_solve(const pw_alloc *a, const pw_csr *A, const double *b, do
     if (pw__check_vec(b, A->n, "least-squares right-hand side b", e) ||
         pw__check_vec(x, m, "least-squares guess x", e))
         return PW_ERR_INVALID;
+    PW_SOLVE_HOOK("lsq", A, b, x, o);
     pw__krylov_init(&k, m, o);
     w.r = (double *)pw_alloc_array(a, (size_t)A->n * 2 + (size_t)m * 3, sizeof(double),
                                    "least-squares vectors", e);
@@ -8062,27 +8110,37 @@ PW__DEF int pw__finite3(const float *p)
 
 /* Homogeneous screen coordinates of every vertex; W = -DBL_MAX marks a
  * vertex with non-finite coordinates (its triangles are skipped). */
+PW__DEF void pw__transform_vertex(const pw__view *v, const float *p, double *o)
+{
+    double q[3], xv, yv, w;
+    int k;
+    if (!pw__finite3(p)) {
+        o[0] = o[1] = o[3] = o[4] = 0.0;
+        o[2] = -DBL_MAX;
+        return;
+    }
+    for (k = 0; k < 3; k++) q[k] = (double)p[k] - v->eye[k];
+    xv = pw__dot3(q, v->r);
+    yv = pw__dot3(q, v->u);
+    w = pw__dot3(q, v->f);
+    o[0] = v->cx * w + v->fx * xv;
+    o[1] = v->cy * w - v->fy * yv;
+    o[2] = w;
+    o[3] = w >= v->znear ? o[0] / w : 0.0;
+    o[4] = w >= v->znear ? o[1] / w : 0.0;
+}
+
+/* Transforms the vertices the draw uses: all of them, or, when it draws
+ * few triangles of many vertices (a paste of a lapped texture is a small
+ * part of the whole mesh), only the corners of its triangles (a shared
+ * corner twice, which gives the same values). */
 PW__DEF void pw__transform(const pw__view *v, const pw_draw *d, double *vh)
 {
-    int i, k;
-    for (i = 0; i < d->nv; i++) {
-        const float *p = d->positions + 3 * i;
-        double q[3], xv, yv, w, *o = vh + 5 * i;
-        if (!pw__finite3(p)) {
-            o[0] = o[1] = o[3] = o[4] = 0.0;
-            o[2] = -DBL_MAX;
-            continue;
-        }
-        for (k = 0; k < 3; k++) q[k] = (double)p[k] - v->eye[k];
-        xv = pw__dot3(q, v->r);
-        yv = pw__dot3(q, v->u);
-        w = pw__dot3(q, v->f);
-        o[0] = v->cx * w + v->fx * xv;
-        o[1] = v->cy * w - v->fy * yv;
-        o[2] = w;
-        o[3] = w >= v->znear ? o[0] / w : 0.0;
-        o[4] = w >= v->znear ? o[1] / w : 0.0;
-    }
+    int i;
+    if ((size_t)d->ntris * 3 < (size_t)d->nv)
+        for (i = 0; i < 3 * d->ntris; i++) pw__transform_vertex(v, d->positions + 3 * d->tris[i], vh + 5 * d->tris[i]);
+    else
+        for (i = 0; i < d->nv; i++) pw__transform_vertex(v, d->positions + 3 * i, vh + 5 * i);
 }
 
 /* Unnormalised normal of triangle t (its area-weighted direction). */
@@ -10661,6 +10719,15 @@ PW__DEF int pw__st_one_side(const double *a, const double *b, const double *c, c
     return s != 0 && pw__st_orient3d(a, b, c, e) == s && pw__st_orient3d(a, b, c, f) == s;
 }
 
+PW__DEF void pw__st_cross(const double *u, const double *v, double *n)
+{
+    n[0] = u[1] * v[2] - u[2] * v[1];
+    n[1] = u[2] * v[0] - u[0] * v[2];
+    n[2] = u[0] * v[1] - u[1] * v[0];
+}
+
+PW__DEF double pw__st_dot(const double *u, const double *v) { return u[0] * v[0] + u[1] * v[1] + u[2] * v[2]; }
+
 /* ---- the surface and its bounding-volume hierarchy ---- */
 
 typedef struct pw__stsurf {
@@ -10672,7 +10739,7 @@ typedef struct pw__stsurf {
     int *node;  /* nnode*3: first slot, slot count, left child (-1: leaf; right = left + 1) */
     int *slot;  /* nt: a node's triangles are slot[first .. first+count) */
     double lo[3], hi[3], mag; /* bounding box; mag: its size plus its distance from 0 */
-    double volume; /* enclosed volume (positive) */
+    double volume, area; /* enclosed volume (positive), surface area */
     int *capfirst; /* nnode+1: node nd's boundary half-edges are cap[2*capfirst[nd] ..]; NULL: none */
     int *cap;      /* boundary half-edges of the nodes' triangle sets, 2 vertices each */
     int flip;   /* 1: the triangles face inward, winding numbers are negated */
@@ -10954,11 +11021,34 @@ PW__DEF int pw__st_check_closed(const pw_alloc *a, int nv, const int *tri, int n
     return r;
 }
 
-/* Zero-area triangles, then self-intersections, then the enclosed volume
- * (its sign tells the orientation). */
+/* Enclosed volume (signed: negative when the triangles face inward) and
+ * area, with coordinates taken from the box centre for precision. */
+PW__DEF void pw__st_measure(pw__stsurf *s, double *vol)
+{
+    double c[3];
+    int t, k;
+    for (k = 0; k < 3; k++) c[k] = 0.5 * (s->lo[k] + s->hi[k]);
+    *vol = s->area = 0.0;
+    for (t = 0; t < s->nt; t++) {
+        double u[3], v[3], w[3], n[3];
+        for (k = 0; k < 3; k++) {
+            u[k] = pw__st_corner(s, t, 0)[k] - c[k];
+            v[k] = pw__st_corner(s, t, 1)[k] - c[k];
+            w[k] = pw__st_corner(s, t, 2)[k] - c[k];
+        }
+        pw__st_cross(v, w, n);
+        *vol += pw__st_dot(u, n) / 6.0;
+        for (k = 0; k < 3; k++) v[k] -= u[k], w[k] -= u[k];
+        pw__st_cross(v, w, n);
+        s->area += 0.5 * sqrt(pw__st_dot(n, n));
+    }
+}
+
+/* Zero-area triangles, then self-intersections (when `pairs`), then the
+ * enclosed volume (its sign tells the orientation). */
 PW__DEF int pw__st_check_geometry(pw__stsurf *s, int pairs, pw_err *e)
 {
-    double vol = 0.0, c[3], size = 0.0;
+    double vol, size = 0.0;
     int t, k, hit[2] = {-1, -1};
     for (t = 0; t < s->nt; t++)
         if (pw__st_proj_axis(pw__st_corner(s, t, 0), pw__st_corner(s, t, 1), pw__st_corner(s, t, 2)) < 0)
@@ -10967,15 +11057,8 @@ PW__DEF int pw__st_check_geometry(pw__stsurf *s, int pairs, pw_err *e)
     if (pairs) pw__st_pairs(s, 0, 0, hit);
     if (hit[0] >= 0)
         return pw_fail(e, PW_ERR_TOPOLOGY, "surface intersects itself: triangles %d and %d cross", hit[0], hit[1]);
-    for (k = 0; k < 3; k++) c[k] = 0.5 * (s->lo[k] + s->hi[k]), size += (s->hi[k] - s->lo[k]) * (s->hi[k] - s->lo[k]);
-    for (t = 0; t < s->nt; t++) {
-        const double *p = pw__st_corner(s, t, 0), *q = pw__st_corner(s, t, 1), *r = pw__st_corner(s, t, 2);
-        double u[3], v[3], w[3];
-        for (k = 0; k < 3; k++) u[k] = p[k] - c[k], v[k] = q[k] - c[k], w[k] = r[k] - c[k];
-        vol += u[0] * (v[1] * w[2] - v[2] * w[1]) - u[1] * (v[0] * w[2] - v[2] * w[0]) +
-               u[2] * (v[0] * w[1] - v[1] * w[0]);
-    }
-    vol /= 6.0;
+    pw__st_measure(s, &vol);
+    for (k = 0; k < 3; k++) size += (s->hi[k] - s->lo[k]) * (s->hi[k] - s->lo[k]);
     if (!(fabs(vol) > 1e-12 * size * sqrt(size)))
         return pw_fail(e, PW_ERR_DEGENERATE, "surface encloses no volume (%g)", vol);
     s->flip = vol < 0.0;
@@ -10996,15 +11079,6 @@ PW__DEF void pw__st_fbox(const double *lo, const double *hi, double margin, floa
         b[k + 3] = (float)(hi[k] + margin + 1e-7 * fabs(hi[k]));
     }
 }
-
-PW__DEF void pw__st_cross(const double *u, const double *v, double *n)
-{
-    n[0] = u[1] * v[2] - u[2] * v[1];
-    n[1] = u[2] * v[0] - u[0] * v[2];
-    n[2] = u[0] * v[1] - u[1] * v[0];
-}
-
-PW__DEF double pw__st_dot(const double *u, const double *v) { return u[0] * v[0] + u[1] * v[1] + u[2] * v[2]; }
 
 /* Segment pq against triangle t, conservatively: 0 only when it certainly
  * misses by more than tol; PW__ST_HIT with *tp the crossing as a fraction
@@ -11329,15 +11403,23 @@ PW__DEF int pw__st_long_axis(const int *A, const int *B)
     return -1;
 }
 
-/* Cube root from + - * / (frexp and ldexp are exact), so that the lattice
- * is the same on every platform. y > 0. */
-PW__DEF double pw__st_cbrt(double y)
+/* The cell for about `target` tetrahedra: the inside holds volume * 12 /
+ * cell^3 lattice tetrahedra, and the cut ones near the surface add about
+ * 1.3 area / cell^2 (measured on CGAL meshes: 1.1 to 2 for most, so counts
+ * land within a few per cent). Newton on x = 1/cell from above (the cubic
+ * is increasing and convex), from + - * / only, so that the lattice is the
+ * same on every platform. */
+PW__DEF double pw__st_cell_for(double volume, double area, double target)
 {
-    int ex, i;
-    double m = frexp(y, &ex), x = 1.0;
-    while (ex % 3 != 0) m *= 2.0, ex--;
-    for (i = 0; i < 40; i++) x -= (x * x * x - m) / (3.0 * x * x);
-    return ldexp(x, ex / 3);
+    double x = 1.0, f;
+    int i;
+    for (i = 0; i < 200 && 12.0 * volume * x * x * x < target; i++) x *= 2.0;
+    for (i = 0; i < 200 && 12.0 * volume * x * x * x > 8.0 * target; i++) x *= 0.5;
+    for (i = 0; i < 60; i++) {
+        f = 12.0 * volume * x * x * x + 1.3 * area * x * x - target;
+        x -= f / (36.0 * volume * x * x + 2.6 * area * x);
+    }
+    return 1.0 / x;
 }
 
 /* Lattice spacing and extent: the surface's box centred in the lattice
@@ -11353,7 +11435,7 @@ PW__DEF int pw__st_lattice(pw__st *st, const pw_stuff_options *o)
         h = o->cell;
     } else {
         if (target < 0) return pw_fail(st->e, PW_ERR_INVALID, "tetrahedralize: target_tets %d is negative", target);
-        h = pw__st_cbrt(12.0 * st->s.volume / target); /* a lattice tetrahedron is cell^3 / 12 */
+        h = pw__st_cell_for(st->s.volume, st->s.area, target);
     }
     for (k = 0, count = 1.0; k < 3; k++) {
         double c = (st->s.hi[k] - st->s.lo[k]) / h;
@@ -11795,11 +11877,15 @@ PW__DEF int pw__st_emit(pw__st *st, int r0, int r1, int r2, int r3)
  * q inside, m outside, into the quadrilateral p, q, cut(q,m), cut(p,m).
  * Its diagonal depends on the face alone, so that both tetrahedra sharing
  * the face split it alike. When m's edge to p (or q) is long, the diagonal
- * joins the cut point on that long edge to the other inside vertex; when
- * pq is the long edge, a parity rule on the lattice coordinates picks the
- * end (it flips between the two faces at a long edge, so the two
- * quadrilaterals of one tetrahedron never cycle around a prism). Returns 1
- * for the diagonal p - cut(q, m), 2 for q - cut(p, m). */
+ * takes the cut point on that long edge (to the other inside corner) if the
+ * cut lies within PW__ST_LONG_SPLIT of the edge from p, else p itself (to
+ * the other cut point); the two faces at one long edge then decide alike,
+ * so a prism's diagonals cannot cycle. The adversarial search (see the top
+ * of the file) found the worst angles flat for splits from 0.55 to 0.7,
+ * and worse for a fixed choice either way (9.3 degrees). When pq is the
+ * long edge, a parity rule on the lattice coordinates picks the end (it
+ * flips between the two faces at a long edge). Returns 1 for the diagonal
+ * p - cut(q, m), 2 for q - cut(p, m). */
 PW__DEF int pw__st_diagonal(const pw__st *st, int p, int q, int m)
 {
     int P[3], Q[3], M[3], k, s = 0;
@@ -11924,8 +12010,25 @@ PW__DEF void pw__st_free(pw__st *st)
     memset(st, 0, sizeof *st);
 }
 
-/* The input checks, the lattice and the stencils: see the top of the file.
- * o may be NULL (defaults), p may be NULL. On failure *out is empty. */
+/* Tetrahedralizes the inside of a closed, oriented triangle surface (pos
+ * nv*3, tri nt*3, counter-clockwise seen from outside; a surface facing
+ * inward throughout is used reversed) into *out: positively oriented
+ * tetrahedra (tetmesh.h), freed with pw_tetmesh_free(a, out). o may be NULL
+ * (defaults); p may be NULL, else it sees the stages "surface checks",
+ * "lattice sides", "cut points" and "stencils" and may cancel. Same inputs,
+ * same bytes out. On failure *out is empty and e names the problem:
+ *   PW_ERR_INVALID     NULL arrays, a non-finite coordinate, an index out of
+ *                      range, a negative or non-finite option
+ *   PW_ERR_DEGENERATE  no triangles, a repeated corner, a zero-area
+ *                      triangle, no enclosed volume, a cell so coarse that
+ *                      no lattice vertex is inside
+ *   PW_ERR_TOPOLOGY    not closed (boundary edges), inconsistent
+ *                      orientation, a non-manifold edge or vertex, two
+ *                      triangles crossing (unless allowed)
+ *   PW_ERR_LIMIT       a lattice above PW_MAX_STUFF_LATTICE vertices, more
+ *                      than PW_MAX_MESH_ELEMENTS vertices, triangles or
+ *                      tetrahedra
+ *   PW_ERR_NOMEM, PW_ERR_CANCELLED */
 PW__DEF int pw_stuff_tetrahedralize(const pw_alloc *a, const float *pos, int nv, const int *tri, int nt,
                                     const pw_stuff_options *o, const pw_progress *p, pw_tetmesh *out, pw_err *e)
 {
@@ -12098,6 +12201,304 @@ PW__DEF int pw_stuff_fit_measure(const pw_alloc *a, const float *pos, int nv, co
 }
 
 #endif /* PW__STUFFING_V1 */
+
+/* ---- shared module src/common/edt.h ---- */
+/* edt: exact Euclidean distance transforms of binary images, plain or
+ * periodic (the image wraps around in both directions, as a tile does).
+ *
+ * The squared distance from every pixel to the nearest "site" pixel is
+ * computed exactly by the separable lower-envelope algorithm of Felzenszwalb
+ * and Huttenlocher ("Distance transforms of sampled functions", 2004): a 1D
+ * transform along every row, then along every column of the result. Each 1D
+ * pass builds the lower envelope of the parabolas (q - v)^2 + f(v) and reads
+ * it back; on a periodic line the input is laid out three times in a row and
+ * the middle copy is read, which is exact because the nearest copy of any
+ * site is at most half a period away. Distances are between pixel centres.
+ *
+ *   pw_edt_sq      squared distance to the nearest site (PW_EDT_FAR if none)
+ *   pw_edt_signed  signed distance to the boundary of a mask: positive
+ *                  inside, negative outside, |phi| = distance to the nearest
+ *                  pixel of the other kind minus 1/2, so that the zero level
+ *                  lies on the pixel edges between the two kinds
+ * Only sqrt is used (correctly rounded in IEEE arithmetic), so the results
+ * are the same on every platform. */
+#ifndef PW__EDT_V1
+#define PW__EDT_V1
+
+
+#define PW_EDT_FAR FLT_MAX /* squared distance where no site exists */
+
+/* 1D transform of f[0..n) (PW_EDT_FAR: no site) into d[0..n), using the
+ * scratch v (n ints) and z (n+1 doubles). Sites are the finite entries. */
+PW__DEF void pw__edt_1d(const float *f, int n, float *d, int *v, double *z)
+{
+    int q, k = -1;
+    for (q = 0; q < n; q++) {
+        double s = 0.0;
+        if (f[q] >= PW_EDT_FAR) continue;
+        while (k >= 0) {
+            int p = v[k];
+            s = (((double)f[q] + (double)q * q) - ((double)f[p] + (double)p * p)) / (2.0 * (q - p));
+            if (s > z[k]) break;
+            k--;
+        }
+        k++;
+        v[k] = q;
+        z[k] = k ? s : -DBL_MAX;
+        z[k + 1] = DBL_MAX;
+    }
+    if (k < 0) {
+        for (q = 0; q < n; q++) d[q] = PW_EDT_FAR;
+        return;
+    }
+    for (q = 0, k = 0; q < n; q++) {
+        double dq;
+        while (z[k + 1] < (double)q) k++;
+        dq = (double)(q - v[k]) * (q - v[k]) + f[v[k]];
+        d[q] = (float)dq;
+    }
+}
+
+/* One pass along lines of length n (count lines, element i of line l at
+ * data[l*ls + i*es]), in place; periodic lines are tripled. */
+PW__DEF void pw__edt_pass(float *data, int n, int count, size_t ls, size_t es, int wrap, float *f,
+                          float *d, int *v, double *z)
+{
+    int l, i, reps = wrap ? 3 : 1;
+    for (l = 0; l < count; l++) {
+        float *line = data + (size_t)l * ls;
+        for (i = 0; i < n * reps; i++) f[i] = line[(size_t)(i % n) * es];
+        pw__edt_1d(f, n * reps, d, v, z);
+        for (i = 0; i < n; i++) line[(size_t)i * es] = d[i + (wrap ? n : 0)];
+    }
+}
+
+/* out[y*w + x] = squared distance from (x, y) to the nearest pixel with
+ * site[] != 0, periodic in x and y when wrap is set; PW_EDT_FAR everywhere
+ * when there is no site. */
+PW__DEF int pw_edt_sq(const pw_alloc *a, const unsigned char *site, int w, int h, int wrap,
+                      float *out, pw_err *e)
+{
+    int m = (w > h ? w : h) * (wrap ? 3 : 1);
+    size_t i, n = (size_t)w * h;
+    float *f = (float *)pw_alloc_array(a, (size_t)m * 2, sizeof(float), "distance transform", e);
+    int *v = (int *)pw_alloc_array(a, (size_t)m, sizeof(int), "distance transform", e);
+    double *z = (double *)pw_alloc_array(a, (size_t)m + 1, sizeof(double), "distance transform", e);
+    if (!f || !v || !z) {
+        pw_free(a, f);
+        pw_free(a, v);
+        pw_free(a, z);
+        return PW_ERR_NOMEM;
+    }
+    for (i = 0; i < n; i++) out[i] = site[i] ? 0.0f : PW_EDT_FAR;
+    pw__edt_pass(out, w, h, (size_t)w, 1, wrap, f, f + m, v, z);
+    pw__edt_pass(out, h, w, 1, (size_t)w, wrap, f, f + m, v, z);
+    pw_free(a, f);
+    pw_free(a, v);
+    pw_free(a, z);
+    return PW_OK;
+}
+
+/* phi[i] > 0 where mask[i] != 0 (inside), < 0 elsewhere; |phi| is the
+ * distance to the nearest pixel of the other kind minus 1/2. A mask with no
+ * pixel of one kind gives +-sqrt(PW_EDT_FAR) on the other. */
+PW__DEF int pw_edt_signed(const pw_alloc *a, const unsigned char *mask, int w, int h, int wrap,
+                          float *phi, pw_err *e)
+{
+    size_t i, n = (size_t)w * h;
+    unsigned char *inv = (unsigned char *)pw_alloc_array(a, n, 1, "signed distance", e);
+    float *din = (float *)pw_alloc_array(a, n, sizeof(float), "signed distance", e);
+    int r = inv && din ? PW_OK : PW_ERR_NOMEM;
+    for (i = 0; r == PW_OK && i < n; i++) inv[i] = (unsigned char)!mask[i];
+    if (r == PW_OK) r = pw_edt_sq(a, mask, w, h, wrap, phi, e); /* outside: to the mask */
+    if (r == PW_OK) r = pw_edt_sq(a, inv, w, h, wrap, din, e);  /* inside: to the rest */
+    for (i = 0; r == PW_OK && i < n; i++)
+        phi[i] = mask[i] ? sqrtf(din[i]) - 0.5f : 0.5f - sqrtf(phi[i]);
+    pw_free(a, inv);
+    pw_free(a, din);
+    return r;
+}
+
+#endif /* PW__EDT_V1 */
+
+/* ---- shared module src/common/pca.h ---- */
+/* pca: principal component analysis of vectors streamed one at a time.
+ *
+ * pw_pca_add accumulates the sums of x and x x^T (in double); pw_pca_solve
+ * forms the covariance, diagonalises it with the cyclic Jacobi method
+ * (rotations from sqrt only, so the result is the same on every platform)
+ * and returns the mean, the k leading unit eigenvectors (largest variance
+ * first, each with its sign fixed so that its largest component is
+ * positive) and their variances. pw_pca_project maps a vector to its k
+ * coordinates (pw_pca_pack and pw_pca_project_packed: the same, faster, for
+ * k <= 8). Texture synthesis uses it to shorten neighbourhood vectors
+ * before nearest-neighbour search (Lefebvre and Hoppe 2006).
+ *
+ *   pw_pca_init, pw_pca_add, pw_pca_solve, pw_pca_free, pw_pca_project,
+ *   pw_pca_pack, pw_pca_project_packed */
+#ifndef PW__PCA_V1
+#define PW__PCA_V1
+
+
+typedef struct pw_pca {
+    int d;
+    double n;
+    double *sum;   /* d */
+    double *cross; /* d*d, upper triangle used */
+} pw_pca;
+
+PW__DEF void pw_pca_free(const pw_alloc *a, pw_pca *p)
+{
+    if (!p) return;
+    pw_free(a, p->sum);
+    pw_free(a, p->cross);
+    memset(p, 0, sizeof *p);
+}
+
+PW__DEF int pw_pca_init(const pw_alloc *a, pw_pca *p, int d, pw_err *e)
+{
+    memset(p, 0, sizeof *p);
+    p->sum = (double *)pw_calloc_array(a, (size_t)d, sizeof(double), "PCA sums", e);
+    p->cross = (double *)pw_calloc_array(a, (size_t)d * d, sizeof(double), "PCA covariance", e);
+    if (!p->sum || !p->cross) {
+        pw_pca_free(a, p);
+        return PW_ERR_NOMEM;
+    }
+    p->d = d;
+    return PW_OK;
+}
+
+PW__DEF void pw_pca_add(pw_pca *p, const float *x)
+{
+    int i, j, d = p->d;
+    for (i = 0; i < d; i++) {
+        double xi = x[i], *row = p->cross + (size_t)i * d;
+        p->sum[i] += xi;
+        for (j = i; j < d; j++) row[j] += xi * x[j];
+    }
+    p->n += 1.0;
+}
+
+/* One Jacobi rotation zeroing c[p][q] of the symmetric d x d matrix c,
+ * accumulated into the eigenvector columns of v. */
+PW__DEF void pw__pca_rotate(double *c, double *v, int d, int p, int q)
+{
+    double apq = c[(size_t)p * d + q], th, t, cs, sn;
+    int k;
+    th = (c[(size_t)q * d + q] - c[(size_t)p * d + p]) / (2.0 * apq);
+    t = (th >= 0.0 ? 1.0 : -1.0) / (fabs(th) + sqrt(th * th + 1.0));
+    cs = 1.0 / sqrt(t * t + 1.0);
+    sn = t * cs;
+    for (k = 0; k < d; k++) { /* columns p, q */
+        double ckp = c[(size_t)k * d + p], ckq = c[(size_t)k * d + q];
+        c[(size_t)k * d + p] = cs * ckp - sn * ckq;
+        c[(size_t)k * d + q] = sn * ckp + cs * ckq;
+    }
+    for (k = 0; k < d; k++) { /* rows p, q */
+        double cpk = c[(size_t)p * d + k], cqk = c[(size_t)q * d + k];
+        c[(size_t)p * d + k] = cs * cpk - sn * cqk;
+        c[(size_t)q * d + k] = sn * cpk + cs * cqk;
+    }
+    for (k = 0; k < d; k++) {
+        double vkp = v[(size_t)k * d + p], vkq = v[(size_t)k * d + q];
+        v[(size_t)k * d + p] = cs * vkp - sn * vkq;
+        v[(size_t)k * d + q] = sn * vkp + cs * vkq;
+    }
+}
+
+/* Cyclic Jacobi sweeps until the off-diagonal part is negligible. */
+PW__DEF void pw__pca_jacobi(double *c, double *v, int d)
+{
+    int sweep, p, q;
+    for (p = 0; p < d * d; p++) v[p] = 0.0;
+    for (p = 0; p < d; p++) v[(size_t)p * d + p] = 1.0;
+    for (sweep = 0; sweep < 60; sweep++) {
+        double off = 0.0, diag = 0.0;
+        for (p = 0; p < d; p++) {
+            diag += c[(size_t)p * d + p] * c[(size_t)p * d + p];
+            for (q = p + 1; q < d; q++) off += c[(size_t)p * d + q] * c[(size_t)p * d + q];
+        }
+        if (off <= 1e-24 * diag || off == 0.0) return;
+        for (p = 0; p < d; p++)
+            for (q = p + 1; q < d; q++)
+                if (c[(size_t)p * d + q] != 0.0) pw__pca_rotate(c, v, d, p, q);
+    }
+}
+
+/* The k (<= d) leading components: mean[d], basis[k*d] (row j is
+ * component j), var[k] (may be NULL). Needs at least one vector. */
+PW__DEF int pw_pca_solve(const pw_alloc *a, const pw_pca *p, int k, float *mean, float *basis, float *var,
+                         pw_err *e)
+{
+    int d = p->d, i, j, r;
+    double *c = (double *)pw_alloc_array(a, (size_t)d * d * 2, sizeof(double), "PCA eigenvectors", e);
+    double *v = c + (size_t)d * d;
+    if (!c) return PW_ERR_NOMEM;
+    if (p->n < 1.0 || k < 1 || k > d) {
+        pw_free(a, c);
+        return pw_fail(e, PW_ERR_INVALID, "PCA: %d components of %g vectors of dimension %d", k, p->n, d);
+    }
+    for (i = 0; i < d; i++) mean[i] = (float)(p->sum[i] / p->n);
+    for (i = 0; i < d; i++)
+        for (j = i; j < d; j++)
+            c[(size_t)i * d + j] = c[(size_t)j * d + i] =
+                p->cross[(size_t)i * d + j] / p->n - (p->sum[i] / p->n) * (p->sum[j] / p->n);
+    pw__pca_jacobi(c, v, d);
+    for (r = 0; r < k; r++) { /* selection of the largest remaining eigenvalue */
+        int best = -1, big = 0;
+        for (j = 0; j < d; j++)
+            if (c[(size_t)j * d + j] > -DBL_MAX && (best < 0 || c[(size_t)j * d + j] > c[(size_t)best * d + best])) best = j;
+        for (i = 1; i < d; i++)
+            if (fabs(v[(size_t)i * d + best]) > fabs(v[(size_t)big * d + best])) big = i;
+        for (i = 0; i < d; i++)
+            basis[(size_t)r * d + i] = (float)(v[(size_t)big * d + best] < 0.0 ? -v[(size_t)i * d + best] : v[(size_t)i * d + best]);
+        if (var) var[r] = (float)(c[(size_t)best * d + best] > 0.0 ? c[(size_t)best * d + best] : 0.0);
+        c[(size_t)best * d + best] = -DBL_MAX;
+    }
+    pw_free(a, c);
+    return PW_OK;
+}
+
+/* y[k] = basis (x - mean). */
+PW__DEF void pw_pca_project(const float *x, const float *mean, const float *basis, int d, int k, float *y)
+{
+    int i, j;
+    for (j = 0; j < k; j++) {
+        const float *b = basis + (size_t)j * d;
+        float s = 0.0f;
+        for (i = 0; i < d; i++) s += b[i] * (x[i] - mean[i]);
+        y[j] = s;
+    }
+}
+
+/* A basis of k <= PW_PCA_PACK components repacked for pw_pca_project_packed:
+ * packed[i*PW_PCA_PACK + j] = basis[j*d + i], zero for j >= k (d*PW_PCA_PACK
+ * floats). */
+#define PW_PCA_PACK 8
+PW__DEF void pw_pca_pack(const float *basis, int d, int k, float *packed)
+{
+    int i, j;
+    for (i = 0; i < d; i++)
+        for (j = 0; j < PW_PCA_PACK; j++) packed[(size_t)i * PW_PCA_PACK + j] = j < k ? basis[(size_t)j * d + i] : 0.0f;
+}
+
+/* y[PW_PCA_PACK] = packed basis (x - mean): the same coordinates (zeros past
+ * k), with every component's sum advancing in one fixed-width loop the
+ * compiler keeps in vector registers -- several times faster than one
+ * dot product after the other, for the short vectors of texture synthesis. */
+PW__DEF void pw_pca_project_packed(const float *x, const float *mean, const float *packed, int d, float *y)
+{
+    float acc[PW_PCA_PACK];
+    int i, j;
+    for (j = 0; j < PW_PCA_PACK; j++) acc[j] = 0.0f;
+    for (i = 0; i < d; i++) {
+        const float xi = x[i] - mean[i], *b = packed + (size_t)i * PW_PCA_PACK;
+        for (j = 0; j < PW_PCA_PACK; j++) acc[j] += b[j] * xi;
+    }
+    for (j = 0; j < PW_PCA_PACK; j++) y[j] = acc[j];
+}
+
+#endif /* PW__PCA_V1 */
 
 /* ---- shared module src/common/glue.h ---- */
 /* glue: what every method header needs between its public types and the
@@ -12588,33 +12989,16 @@ static double lst__inv3(const double m[9], double inv[9])
 }
 
 /* The unit eigenvector of the largest eigenvalue of a symmetric 3x3 matrix
- * (row-major), by cyclic Jacobi rotations (sqrt only); its largest
+ * (row-major), by the shared cyclic Jacobi method (sqrt only); its largest
  * component made positive so that the result does not depend on rounding. */
 static void lst__principal(const double s[9], double out[3])
 {
-    double a[9], v[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
-    int sweep, p, q, k, best = 0;
-    memcpy(a, s, sizeof a);
-    for (sweep = 0; sweep < 30; sweep++)
-        for (p = 0; p < 2; p++)
-            for (q = p + 1; q < 3; q++) {
-                double apq = a[3 * p + q], th, t, c, sn;
-                if (fabs(apq) < 1e-300) continue;
-                th = (a[3 * q + q] - a[3 * p + p]) / (2.0 * apq);
-                t = (th >= 0 ? 1.0 : -1.0) / (fabs(th) + sqrt(th * th + 1.0));
-                c = 1.0 / sqrt(t * t + 1.0), sn = t * c;
-                for (k = 0; k < 3; k++) { /* A <- A J, then J^T A; V <- V J */
-                    double akp = a[3 * k + p], akq = a[3 * k + q], vkp = v[3 * k + p], vkq = v[3 * k + q];
-                    a[3 * k + p] = c * akp - sn * akq, a[3 * k + q] = sn * akp + c * akq;
-                    v[3 * k + p] = c * vkp - sn * vkq, v[3 * k + q] = sn * vkp + c * vkq;
-                }
-                for (k = 0; k < 3; k++) {
-                    double apk = a[3 * p + k], aqk = a[3 * q + k];
-                    a[3 * p + k] = c * apk - sn * aqk, a[3 * q + k] = sn * apk + c * aqk;
-                }
-            }
+    double c[9], v[9];
+    int k, best = 0;
+    memcpy(c, s, sizeof c);
+    pw__pca_jacobi(c, v, 3);
     for (k = 1; k < 3; k++)
-        if (a[4 * k] > a[4 * best]) best = k;
+        if (c[4 * k] > c[4 * best]) best = k;
     for (k = 0; k < 3; k++) out[k] = v[3 * k + best];
     k = fabs(out[0]) >= fabs(out[1]) && fabs(out[0]) >= fabs(out[2]) ? 0 : (fabs(out[1]) >= fabs(out[2]) ? 1 : 2);
     if (out[k] < 0.0) out[0] = -out[0], out[1] = -out[1], out[2] = -out[2];
@@ -13058,58 +13442,29 @@ LSTDEF lst_result lst_make_masks(const lst_volume *exemplar, const lst_options *
 
 /* ---- distance fields of a mask ------------------------------------------------------------ */
 
-/* Felzenszwalb & Huttenlocher's 1D squared distance transform of f (n
- * values, stride st) in place; work: n doubles, n+1 doubles, n ints. */
-static void lst__edt_1d(float *f, int n, size_t st, double *d, double *zz, int *v)
-{
-    int q, k = 0;
-    for (q = 0; q < n; q++) d[q] = f[q * st];
-    v[0] = 0, zz[0] = -1e30, zz[1] = 1e30;
-    for (q = 1; q < n; q++) {
-        double s;
-        for (;;) {
-            s = ((d[q] + (double)q * q) - (d[v[k]] + (double)v[k] * v[k])) / (2.0 * q - 2.0 * v[k]);
-            if (s > zz[k] || k == 0) break;
-            k--;
-        }
-        if (s <= zz[k]) s = zz[k];
-        k++;
-        v[k] = q, zz[k] = s, zz[k + 1] = 1e30;
-    }
-    for (q = 0, k = 0; q < n; q++) {
-        while (zz[k + 1] < q) k++;
-        f[q * st] = (float)((q - v[k]) * (double)(q - v[k]) + d[v[k]]);
-    }
-}
-
 /* dist[i] = distance, in texture units (of the largest side), from voxel
- * i to the nearest voxel where `inside(alpha)` holds; the cube's outside
- * counts as such when `outside_counts` (1 voxel of padding). */
+ * i to the nearest voxel with alpha > 0 (want_positive) or with alpha < 1:
+ * the shared exact transform (edt.h) along x, y and z in turn. */
 static int lst__edt(const pw_alloc *a, const pw_volume *mask, int want_positive, float *dist, pw_err *e)
 {
-    int n[3] = {mask->x, mask->y, mask->z}, big = pw_maxi(n[0], pw_maxi(n[1], n[2])), ax, i, j;
-    size_t st[3], total = (size_t)n[0] * n[1] * n[2], k;
-    double *d = (double *)pw_alloc_array(a, (size_t)big * 2 + 2, sizeof(double), "distance transform", e);
-    int *v = (int *)pw_alloc_array(a, (size_t)big + 1, sizeof(int), "distance transform", e);
-    if (!d || !v) {
-        pw_free(a, d);
-        pw_free(a, v);
+    int X = mask->x, Y = mask->y, Z = mask->z, big = pw_maxi(X, pw_maxi(Y, Z)), z;
+    size_t total = (size_t)X * Y * Z, k;
+    float *f = (float *)pw_alloc_array(a, (size_t)big * 2, sizeof(float), "distance transform", e);
+    int *v = (int *)pw_alloc_array(a, (size_t)big, sizeof(int), "distance transform", e);
+    double *zz = (double *)pw_alloc_array(a, (size_t)big + 1, sizeof(double), "distance transform", e);
+    if (!f || !v || !zz) {
+        pw_free(a, f), pw_free(a, v), pw_free(a, zz);
         return PW_ERR_NOMEM;
     }
-    st[0] = 1, st[1] = (size_t)n[0], st[2] = (size_t)n[0] * n[1];
-    for (k = 0; k < total; k++) { /* 0 on the target set, "infinite" elsewhere */
+    for (k = 0; k < total; k++) { /* 0 on the sites, "far" elsewhere */
         int hit = want_positive ? mask->px[k] > 0.0f : mask->px[k] < 1.0f;
-        dist[k] = hit ? 0.0f : 1e12f;
+        dist[k] = hit ? 0.0f : PW_EDT_FAR;
     }
-    for (ax = 0; ax < 3; ax++) {
-        int o1 = (ax + 1) % 3, o2 = (ax + 2) % 3;
-        for (i = 0; i < n[o1]; i++)
-            for (j = 0; j < n[o2]; j++)
-                lst__edt_1d(dist + i * st[o1] + j * st[o2], n[ax], st[ax], d, d + big, v);
-    }
-    for (k = 0; k < total; k++) dist[k] = (float)(sqrt((double)dist[k]) / big);
-    pw_free(a, d);
-    pw_free(a, v);
+    pw__edt_pass(dist, X, Y * Z, (size_t)X, 1, 0, f, f + big, v, zz);
+    for (z = 0; z < Z; z++) pw__edt_pass(dist + (size_t)z * X * Y, Y, X, 1, (size_t)X, 0, f, f + big, v, zz);
+    pw__edt_pass(dist, Z, X * Y, 1, (size_t)X * Y, 0, f, f + big, v, zz);
+    for (k = 0; k < total; k++) dist[k] = dist[k] >= PW_EDT_FAR ? 1e6f : (float)(sqrt((double)dist[k]) / big);
+    pw_free(a, f), pw_free(a, v), pw_free(a, zz);
     return PW_OK;
 }
 

@@ -6797,27 +6797,37 @@ PW__DEF int pw__finite3(const float *p)
 
 /* Homogeneous screen coordinates of every vertex; W = -DBL_MAX marks a
  * vertex with non-finite coordinates (its triangles are skipped). */
+PW__DEF void pw__transform_vertex(const pw__view *v, const float *p, double *o)
+{
+    double q[3], xv, yv, w;
+    int k;
+    if (!pw__finite3(p)) {
+        o[0] = o[1] = o[3] = o[4] = 0.0;
+        o[2] = -DBL_MAX;
+        return;
+    }
+    for (k = 0; k < 3; k++) q[k] = (double)p[k] - v->eye[k];
+    xv = pw__dot3(q, v->r);
+    yv = pw__dot3(q, v->u);
+    w = pw__dot3(q, v->f);
+    o[0] = v->cx * w + v->fx * xv;
+    o[1] = v->cy * w - v->fy * yv;
+    o[2] = w;
+    o[3] = w >= v->znear ? o[0] / w : 0.0;
+    o[4] = w >= v->znear ? o[1] / w : 0.0;
+}
+
+/* Transforms the vertices the draw uses: all of them, or, when it draws
+ * few triangles of many vertices (a paste of a lapped texture is a small
+ * part of the whole mesh), only the corners of its triangles (a shared
+ * corner twice, which gives the same values). */
 PW__DEF void pw__transform(const pw__view *v, const pw_draw *d, double *vh)
 {
-    int i, k;
-    for (i = 0; i < d->nv; i++) {
-        const float *p = d->positions + 3 * i;
-        double q[3], xv, yv, w, *o = vh + 5 * i;
-        if (!pw__finite3(p)) {
-            o[0] = o[1] = o[3] = o[4] = 0.0;
-            o[2] = -DBL_MAX;
-            continue;
-        }
-        for (k = 0; k < 3; k++) q[k] = (double)p[k] - v->eye[k];
-        xv = pw__dot3(q, v->r);
-        yv = pw__dot3(q, v->u);
-        w = pw__dot3(q, v->f);
-        o[0] = v->cx * w + v->fx * xv;
-        o[1] = v->cy * w - v->fy * yv;
-        o[2] = w;
-        o[3] = w >= v->znear ? o[0] / w : 0.0;
-        o[4] = w >= v->znear ? o[1] / w : 0.0;
-    }
+    int i;
+    if ((size_t)d->ntris * 3 < (size_t)d->nv)
+        for (i = 0; i < 3 * d->ntris; i++) pw__transform_vertex(v, d->positions + 3 * d->tris[i], vh + 5 * d->tris[i]);
+    else
+        for (i = 0; i < d->nv; i++) pw__transform_vertex(v, d->positions + 3 * i, vh + 5 * i);
 }
 
 /* Unnormalised normal of triangle t (its area-weighted direction). */
@@ -8084,21 +8094,21 @@ PW__DEF int pw__tileable_near_wrap(int x, int n, int shift)
 }
 
 /* Makes an image tile seamlessly (periodic in x and y) by graph-cut
- * compositing of it with shifted copies of itself (see above). The output
- * has the input's size; images under 8 pixels wide or high are copied. */
-PW__DEF int pw_quilt_make_tileable(const pw_alloc *a, const pw_image *in, pw_image *out,
-                                   pw_err *e)
+ * compositing of it with shifted copies of itself (see above), on raw
+ * samples: px and out hold w*h pixels of c >= 1 channels (any number, so
+ * that a feature mask can travel as an extra channel and be cut with the
+ * colours). Images under 8 pixels wide or high are copied. */
+PW__DEF int pw_quilt_make_tileable_px(const pw_alloc *a, const float *px, int w, int h, int c,
+                                      float *out, pw_err *e)
 {
-    int w = in->w, h = in->h, c = in->c, x, y, l, r;
+    int x, y, l, r;
     size_t n = (size_t)w * h, i;
     float *src;
     uint32_t *allowed;
     int *label;
     pw_quilt q;
-    if ((r = pw_image_alloc(a, out, w, h, c, e)) != PW_OK) return r;
-    out->bits = in->bits;
     if (w < 8 || h < 8) {
-        memcpy(out->px, in->px, sizeof(float) * n * c);
+        memcpy(out, px, sizeof(float) * n * c);
         return PW_OK;
     }
     src = (float *)pw_alloc_array(a, n * 3 * c, sizeof(float), "tileable sources", e);
@@ -8115,7 +8125,7 @@ PW__DEF int pw_quilt_make_tileable(const pw_alloc *a, const pw_image *in, pw_ima
             for (l = 0; l < 3; l++) {
                 int sx = pw__tileable_shift(l, w), sy = pw__tileable_shift(l, h);
                 size_t j = (size_t)((y + sy) % h) * w + (size_t)((x + sx) % w);
-                memcpy(src + (l * n + i) * c, in->px + j * c, sizeof(float) * c);
+                memcpy(src + (l * n + i) * c, px + j * c, sizeof(float) * c);
                 if (!pw__tileable_near_wrap(x, w, sx) && !pw__tileable_near_wrap(y, h, sy))
                     allowed[i] |= 1u << l;
             }
@@ -8130,11 +8140,22 @@ PW__DEF int pw_quilt_make_tileable(const pw_alloc *a, const pw_image *in, pw_ima
     q.allowed = allowed;
     q.wrap_x = q.wrap_y = 1;
     r = pw_quilt_optimize(a, &q, 3, e);
-    if (r == PW_OK) pw_quilt_compose(&q, out->px);
+    if (r == PW_OK) pw_quilt_compose(&q, out);
 done:
     pw_free(a, src);
     pw_free(a, allowed);
     pw_free(a, label);
+    return r;
+}
+
+/* The same for an image: out is a new image of the input's size. */
+PW__DEF int pw_quilt_make_tileable(const pw_alloc *a, const pw_image *in, pw_image *out,
+                                   pw_err *e)
+{
+    int r;
+    if ((r = pw_image_alloc(a, out, in->w, in->h, in->c, e)) != PW_OK) return r;
+    out->bits = in->bits;
+    r = pw_quilt_make_tileable_px(a, in->px, in->w, in->h, in->c, out->px, e);
     if (r != PW_OK) pw_image_free(a, out);
     return r;
 }

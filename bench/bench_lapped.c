@@ -9,6 +9,11 @@
  *   2. target: the ~75K rung needs more than 1,000 pastes and takes < 2 s.
  *   3. runtime pasting (lapped_render, 1024x1024, no supersampling) of the
  *      ~75K rung against drawing the mesh once through the same function.
+ *   4. peer (when bench/probe.sh found OSMesa at build time): the same
+ *      lapped texture composited by Mesa's llvmpipe through OSMesa, the
+ *      GL way of the paper's runtime pasting (§4): the base pass, then one
+ *      blended, textured draw per paste, interleaved round by round with
+ *      lapped_render (bench/peer_gl.h).
  * Times are wall-clock medians (bench.h); lapped_create and the renders
  * also print the median process CPU time, which helps on a shared machine.
  * Without `make data` it falls back to the built-in "bumpy" mesh and
@@ -17,6 +22,9 @@
 #include "bench.h"
 #define LAPPED_IMPLEMENTATION
 #include "../lapped.h"
+#ifdef BENCH_OSMESA
+#include "peer_gl.h"
+#endif
 
 #define MESH_FILE "data/meshes/mushroom.off"
 #define TEXTURE_FILE "data/textures/cracked.ppm"
@@ -26,83 +34,6 @@
 #define SCALE_FRACTION 0.07f
 #define NRUNGS 4
 #define TARGET_RUNG 2
-
-/* ---- 1-to-4 midpoint subdivision ------------------------------------------ */
-
-/* Edge-midpoint table: open addressing on the (smaller, larger) vertex pair. */
-typedef struct edge_map {
-    long long *key;
-    int *mid;
-    size_t mask;
-} edge_map;
-
-static int edge_mid(edge_map *em, lapped_mesh *out, int a, int b)
-{
-    long long k = a < b ? (long long)a << 32 | (unsigned)b : (long long)b << 32 | (unsigned)a;
-    size_t h = (size_t)((unsigned long long)k * 0x9E3779B97F4A7C15ull >> 20) & em->mask;
-    int c;
-    while (em->key[h] != -1 && em->key[h] != k) h = (h + 1) & em->mask;
-    if (em->key[h] == k) return em->mid[h];
-    em->key[h] = k;
-    em->mid[h] = c = out->nverts++;
-    for (int i = 0; i < 3; i++)
-        out->positions[3 * c + i] = 0.5f * (out->positions[3 * a + i] + out->positions[3 * b + i]);
-    return c;
-}
-
-/* Every triangle of `in` (all faces must be triangles) split in four at its
- * edge midpoints: the surface stays the same flat triangles, which is all
- * the timing needs. Orientation is kept. */
-static int subdivide(const lapped_mesh *in, lapped_mesh *out)
-{
-    size_t cap = 1;
-    int ne = 3 * in->nfaces, f; /* at most this many edges */
-    edge_map em;
-    while (cap < (size_t)ne * 2) cap <<= 1;
-    memset(out, 0, sizeof *out);
-    em.key = (long long *)malloc(cap * sizeof *em.key);
-    em.mid = (int *)malloc(cap * sizeof *em.mid);
-    em.mask = cap - 1;
-    out->positions = (float *)malloc(sizeof(float) * 3 * ((size_t)in->nverts + ne));
-    out->face_start = (int *)malloc(sizeof(int) * (4 * (size_t)in->nfaces + 1));
-    out->face_verts = (int *)malloc(sizeof(int) * 12 * (size_t)in->nfaces);
-    if (!em.key || !em.mid || !out->positions || !out->face_start || !out->face_verts) return 1;
-    memset(em.key, 0xff, cap * sizeof *em.key);
-    memcpy(out->positions, in->positions, sizeof(float) * 3 * in->nverts);
-    out->nverts = in->nverts;
-    for (f = 0; f < in->nfaces; f++) {
-        const int *v = in->face_verts + in->face_start[f];
-        int m[3], t, k, q[4][3];
-        if (in->face_start[f + 1] - in->face_start[f] != 3) return 1;
-        for (k = 0; k < 3; k++) m[k] = edge_mid(&em, out, v[k], v[(k + 1) % 3]);
-        q[0][0] = v[0], q[0][1] = m[0], q[0][2] = m[2];
-        q[1][0] = m[0], q[1][1] = v[1], q[1][2] = m[1];
-        q[2][0] = m[2], q[2][1] = m[1], q[2][2] = v[2];
-        q[3][0] = m[0], q[3][1] = m[1], q[3][2] = m[2];
-        for (t = 0; t < 4; t++)
-            for (k = 0; k < 3; k++) out->face_verts[12 * f + 3 * t + k] = q[t][k];
-    }
-    out->nfaces = 4 * in->nfaces;
-    for (f = 0; f <= out->nfaces; f++) out->face_start[f] = 3 * f;
-    free(em.key);
-    free(em.mid);
-    return 0;
-}
-
-static float bbox_diagonal(const lapped_mesh *m)
-{
-    float lo[3], hi[3], d = 0.0f;
-    int v, k;
-    for (k = 0; k < 3; k++) lo[k] = hi[k] = m->positions[k];
-    for (v = 0; v < m->nverts; v++)
-        for (k = 0; k < 3; k++) {
-            float x = m->positions[3 * v + k];
-            lo[k] = x < lo[k] ? x : lo[k];
-            hi[k] = x > hi[k] ? x : hi[k];
-        }
-    for (k = 0; k < 3; k++) d += (hi[k] - lo[k]) * (hi[k] - lo[k]);
-    return sqrtf(d);
-}
 
 /* ---- timing ---------------------------------------------------------------- */
 
@@ -145,46 +76,6 @@ static void run_render(void *arg)
     lapped_image_free(&pic);
 }
 
-/* Process CPU time: the machine may be shared, and CPU time is what one
- * core spent whatever else runs (wall time stays the headline figure). */
-static double cpu_now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
-/* bench_time with the warm-up call optional (a big rung would spend a
- * whole run, seconds, warming caches that one run fills anyway), and the
- * CPU time's median too. */
-static bench_stat time_runs(void (*fn)(void *), void *arg, int runs, int warm, double *cpu_median)
-{
-    double t[64], c[64];
-    int i;
-    if (runs > 64) runs = 64;
-    if (warm) fn(arg);
-    for (i = 0; i < runs; i++) {
-        double t0 = bench_now(), c0 = cpu_now();
-        fn(arg);
-        c[i] = cpu_now() - c0;
-        t[i] = bench_now() - t0;
-    }
-    *cpu_median = bench_stats(c, runs).median;
-    return bench_stats(t, runs);
-}
-
-/* Least-squares slope of log y against log x. */
-static double loglog_slope(const double *x, const double *y, int n)
-{
-    double sx = 0, sy = 0, sxx = 0, sxy = 0;
-    int i;
-    for (i = 0; i < n; i++) {
-        double lx = log(x[i]), ly = log(y[i]);
-        sx += lx, sy += ly, sxx += lx * lx, sxy += lx * ly;
-    }
-    return (n * sxy - sx * sy) / (n * sxx - sx * sx);
-}
-
 /* The single-layer baseline for the render: one paste holding every
  * triangle, with the coordinates of the topmost paste that contains it
  * (after hidden-face removal the topmost paste of a triangle is never
@@ -214,6 +105,165 @@ static int single_layer(const lapped_texture *t, lapped_texture *one, lapped_pas
     return n != t->ntris;
 }
 
+/* Rows of the summary: the first rung (the paper's mesh size) and the
+ * target rung, with the paper's figure (§5). */
+static void summary_rows(const lapped_mesh *mesh, const int *npastes, const bench_stat *s, const double *cpu,
+                         int builtin)
+{
+    static const int rung[2] = {0, TARGET_RUNG};
+    static const char *const paper[2] = {"20 s - 6 min for meshes of ~5,000 faces (733 MHz Pentium III, 2000)", "-"};
+    char task[200], fig[80], t0[32], t1[32], sp[80];
+    int k;
+    for (k = 0; k < 2; k++) {
+        const bench_stat *q = &s[rung[k]];
+        snprintf(task, sizeof task, "lapped_create, %s %d triangles, %d pastes", builtin ? "built-in bumpy" : "mushroom",
+                 mesh[rung[k]].nfaces, npastes[rung[k]]);
+        snprintf(fig, sizeof fig, "%s (cpu %s)", bench_fmt_time(q->median, t0, sizeof t0),
+                 bench_fmt_time(cpu[rung[k]], t1, sizeof t1));
+        snprintf(sp, sizeof sp, "%d runs; %s..%s", q->runs, bench_fmt_time(q->min, t0, sizeof t0),
+                 bench_fmt_time(q->max, t1, sizeof t1));
+        bench_row(task, fig, "-", "no peer implements lapped textures", NULL, paper[k], sp, NULL);
+    }
+}
+
+/* ---- 4. the peer: the same pastes composited by Mesa's llvmpipe -------------- */
+
+#ifdef BENCH_OSMESA
+typedef struct gl_lapped {
+    gl_peer g;
+    gl_mesh mesh;
+    GLuint tex;
+    int *first, *count, n; /* index range of each paste; [0] is the base pass */
+    float bg[3];
+} gl_lapped;
+
+/* The mesh (base pass) and every paste in GL buffers, the patch as a
+ * texture, lapped_render's camera and lighting; 0 on success. */
+static int gl_lapped_setup(gl_lapped *L, const lapped_mesh *mesh, const lapped_texture *t, const lapped_image *patch,
+                           int size)
+{
+    int w = size, h = size, ss = 1, p, i, k, *tris;
+    float vd[3] = {0, 0, 0}, up[3] = {0, 0, 0}, *normals = (float *)malloc(sizeof(float) * 3 * (size_t)mesh->nverts);
+    pw_image pimg = lapped__pw_image(patch);
+    pw_camera cam;
+    pw_draw d;
+    memset(L, 0, sizeof *L);
+    pw_view_defaults(&w, &h, &ss, vd, up, L->bg); /* lapped_render's defaults */
+    cam = pw_camera_frame(mesh->positions, mesh->nverts, vd, up, 35.0f, (float)w / (float)h);
+    tris = (int *)malloc(sizeof(int) * 3 * (size_t)mesh->nfaces);
+    L->first = (int *)malloc(sizeof(int) * ((size_t)t->npastes + 1));
+    L->count = (int *)malloc(sizeof(int) * ((size_t)t->npastes + 1));
+    if (!normals || !tris || !L->first || !L->count || gl_peer_init(&L->g, w, h)) return free(normals), free(tris), 1;
+    for (i = 0; i < mesh->nfaces; i++) /* the ladder's faces are triangles */
+        for (k = 0; k < 3; k++) tris[3 * i + k] = mesh->face_verts[mesh->face_start[i] + k];
+    memset(&d, 0, sizeof d);
+    d.positions = mesh->positions, d.nv = mesh->nverts, d.tris = tris, d.ntris = mesh->nfaces;
+    pw__smooth_normals(&d, normals); /* as lapped_render: once, from the whole mesh */
+    L->first[0] = gl_mesh_add(&L->mesh, mesh->positions, normals, tris, mesh->nfaces, NULL);
+    L->count[0] = 3 * mesh->nfaces;
+    for (p = 0; p < t->npastes && L->first[p] >= 0; p++) {
+        const lapped_paste *q = &t->pastes[p];
+        for (i = 0; i < q->nfaces; i++)
+            for (k = 0; k < 3; k++) tris[3 * i + k] = mesh->face_verts[mesh->face_start[q->faces[i]] + k];
+        L->first[p + 1] = gl_mesh_add(&L->mesh, mesh->positions, normals, tris, q->nfaces, q->uvs);
+        L->count[p + 1] = 3 * q->nfaces;
+    }
+    L->n = p + 1;
+    free(normals);
+    free(tris);
+    if (L->first[L->n - 1] < 0 || L->n != t->npastes + 1) return 1;
+    gl_mesh_upload(&L->mesh);
+    L->tex = gl_peer_texture(&pimg, 1);
+    gl_peer_camera(&L->g, &cam);
+    return !L->tex || glGetError() != GL_NO_ERROR;
+}
+
+static void gl_lapped_free(gl_lapped *L)
+{
+    gl_peer_free(&L->g);
+    free(L->first);
+    free(L->count);
+}
+
+/* One frame: the grey base pass (lapped_render's colour and ambient), then
+ * each paste blended over it in order. */
+static void gl_lapped_frame(void *arg)
+{
+    static const float grey[4] = {0.5f, 0.5f, 0.5f, 1.0f}, white[4] = {1.0f, 1.0f, 1.0f, 1.0f};
+    gl_lapped *L = (gl_lapped *)arg;
+    int p;
+    gl_peer_begin(&L->g, 1, L->bg);
+    gl_peer_draw(&L->g, L->first[0], L->count[0], 0, grey, 0.3f, 0);
+    for (p = 1; p < L->n; p++)
+        if (L->count[p]) gl_peer_draw(&L->g, L->first[p], L->count[p], L->tex, white, 0.3f, 1);
+    gl_peer_end(&L->g, 1);
+}
+
+static void pw_lapped_frame(void *arg) { run_render(arg); }
+#endif
+
+/* Section 4: lapped_render against llvmpipe compositing the same pastes. */
+static void peer_compositing(render_job *rj, const lapped_texture *t, long drawn)
+{
+    char task[200];
+    snprintf(task, sizeof task, "composite a lapped texture (%d pastes, %ld paste triangles over %d) at %dx%d",
+             t->npastes, drawn, rj->mesh->nfaces, rj->ro.width, rj->ro.height);
+#ifdef BENCH_OSMESA
+    {
+        gl_lapped L;
+        bench_multi m;
+        void (*fn[2])(void *) = {pw_lapped_frame, gl_lapped_frame};
+        void *arg[2];
+        char path[256];
+        if (bench_peer_disabled("osmesa")) {
+            bench_peer("OSMesa", "skipped: disabled by BENCH_NO_PEERS");
+            return;
+        }
+        if (gl_lapped_setup(&L, rj->mesh, t, rj->patch, rj->ro.width)) {
+            printf("OSMesa setup failed\n");
+            bench_peer("OSMesa", "skipped: context or shader setup failed");
+            return;
+        }
+        bench_peer("OSMesa", L.g.renderer);
+        rj->t = t;
+        arg[0] = rj, arg[1] = &L;
+        bench_interleave(&m, fn, arg, 2, 5, 1);
+        printf("peer: %s (LP_NUM_THREADS=%d), base pass + one blended draw per paste:\n", L.g.renderer, L.g.threads);
+        bench_report("  patchwork lapped_render", bench_multi_stat(&m, 0, NULL), 0, "");
+        bench_report("  OSMesa llvmpipe, same pastes", bench_multi_stat(&m, 1, NULL), 0, "");
+        bench_row_pair(task, &m, 1, "Mesa llvmpipe (OSMesa), 1 thread", "\"display in real time\" (GeForce, 2000)",
+                       "lapped_render draws each paste with the whole mesh's vertex array, and pw_render_draw "
+                       "transforms every vertex of it each time (perf: that loop is most of the frame; 1,210 pastes "
+                       "x 37K vertices); drawing each paste with only its own vertices cut the frame from 852 to "
+                       "320 ms CPU in an experiment, near llvmpipe. The rest is scalar texture filtering");
+        snprintf(path, sizeof path, "%s/lapped-gl.ppm", bench_data_dir());
+        gl_peer_save_ppm(&L.g, path);
+        {
+            lapped_image pic;
+            lapped_error err;
+            snprintf(path, sizeof path, "%s/lapped-pw.png", bench_data_dir());
+            if (lapped_render(rj->mesh, t, rj->patch, NULL, &rj->ro, &pic, &err) == LAPPED_OK) {
+                pw_image im = lapped__pw_image(&pic);
+                printf("  the two pictures differ by %.2f/255 on average\n", gl_peer_diff(&L.g, &im));
+                lapped_save_image(path, &pic, &err);
+                lapped_image_free(&pic);
+            }
+        }
+        gl_lapped_free(&L);
+    }
+#else
+    {
+        char a[32];
+        bench_stat s;
+        rj->t = t;
+        s = bench_time(run_render, rj, 3);
+        bench_peer("OSMesa", "skipped: libosmesa6-dev not found when bench_lapped was built");
+        bench_row(task, bench_fmt_time(s.median, a, sizeof a), "skipped", "OSMesa (libosmesa6-dev) not found",
+                  NULL, "\"display in real time\" (GeForce, 2000)", NULL, NULL);
+    }
+#endif
+}
+
 int main(int argc, char **argv)
 {
     static const int runs[NRUNGS] = {7, 5, 3, 3};
@@ -232,7 +282,6 @@ int main(int argc, char **argv)
     lapped_paste all;
     long drawn = 0;
 
-    (void)bench_time; /* time_runs below also reports CPU time */
     memset(&cj, 0, sizeof cj);
     memset(mesh, 0, sizeof mesh);
     if (lapped_load_mesh(MESH_FILE, &opt, &mesh[0], &err)) {
@@ -255,15 +304,13 @@ int main(int argc, char **argv)
     }
     /* the first rung: the mesh, subdivided until it has at least ~4.5K
      * triangles (the built-in one is smaller); then three more rungs */
-    while (mesh[0].nfaces < 4500) {
-        lapped_mesh m;
-        if (subdivide(&mesh[0], &m)) return printf("subdivision failed\n"), 1;
-        lapped_mesh_free(&mesh[0]);
-        mesh[0] = m;
+    { /* the built-in mesh is smaller: subdivided up to the first rung */
+        bench_mesh base, rung[NRUNGS];
+        BENCH_MESH_COPY(base, mesh[0]);
+        if (bench_ladder(&base, rung, NRUNGS, 4500)) return printf("subdivision failed\n"), 1;
+        for (i = 0; i < NRUNGS; i++) BENCH_MESH_COPY(mesh[i], rung[i]);
     }
-    for (i = 1; i < NRUNGS; i++)
-        if (subdivide(&mesh[i - 1], &mesh[i])) return printf("subdivision failed\n"), 1;
-    diag = bbox_diagonal(&mesh[0]);
+    diag = bench_bbox_diagonal(mesh[0].positions, mesh[0].nverts);
     opt.field.mode = LAPPED_FIELD_UP;
     opt.field.scale = frac * diag;
     printf("mesh: %s (%d triangles), 1-to-4 midpoint subdivision per rung%s\n",
@@ -284,7 +331,7 @@ int main(int argc, char **argv)
     for (i = 0; i < NRUNGS; i++) {
         double r0 = bench_now();
         cj.mesh = &mesh[i];
-        s[i] = time_runs(run_create, &cj, runs[i], i < 2, &cpu[i]);
+        s[i] = bench_time_cpu(run_create, &cj, runs[i], i < 2, &cpu[i]);
         if (cj.fail) return 1;
         npastes[i] = cj.t.npastes;
         faces[i] = mesh[i].nfaces;
@@ -304,7 +351,7 @@ int main(int argc, char **argv)
         }
     }
     lapped_texture_free(&cj.t);
-    slope = loglog_slope(faces, secs, NRUNGS);
+    slope = bench_loglog_slope(faces, secs, NRUNGS);
     printf("growth: time ~ triangles^%.2f (log-log least squares over %d rungs; 1.00 = linear)\n", slope,
            NRUNGS);
     printf("  step exponents:");
@@ -312,10 +359,12 @@ int main(int argc, char **argv)
         printf(" %.0fK->%.0fK %.2f", faces[i - 1] / 1e3, faces[i] / 1e3,
                log(secs[i] / secs[i - 1]) / log(faces[i] / faces[i - 1]));
     printf("\n");
-    printf("  cpu-time growth: triangles^%.2f\n", loglog_slope(faces, cpu, NRUNGS));
+    printf("  cpu-time growth: triangles^%.2f\n", bench_loglog_slope(faces, cpu, NRUNGS));
     printf("target: 75K faces, >1000 pastes, <2 s: %s (%d triangles, %d pastes in %.3f s; cpu %.3f s)\n\n",
            npastes[TARGET_RUNG] > 1000 && secs[TARGET_RUNG] < 2.0 ? "met" : "not met",
            mesh[TARGET_RUNG].nfaces, npastes[TARGET_RUNG], secs[TARGET_RUNG], cpu[TARGET_RUNG]);
+    summary_rows(mesh, npastes, s, cpu, builtin_mesh);
+    bench_growth("lapped_create", slope, "triangles, 4 rungs 4.6K..295K (mushroom ladder, ~1,200 pastes each)", NULL);
 
     /* ---- 3. runtime pasting against drawing the mesh once ----------------
      * lapped_render always draws a base pass first (the whole mesh, mid-grey,
@@ -344,11 +393,11 @@ int main(int argc, char **argv)
         rj.ro.width = rj.ro.height = 1024;
         rj.ro.supersample = 1;
         rj.t = &bare;
-        rs_bare = time_runs(run_render, &rj, 7, 1, &rc_bare);
+        rs_bare = bench_time_cpu(run_render, &rj, 7, 1, &rc_bare);
         rj.t = &one;
-        rs_one = time_runs(run_render, &rj, 7, 1, &rc_one);
+        rs_one = bench_time_cpu(run_render, &rj, 7, 1, &rc_one);
         rj.t = &full;
-        rs_full = time_runs(run_render, &rj, 5, 1, &rc_full);
+        rs_full = bench_time_cpu(run_render, &rj, 5, 1, &rc_full);
         if (rj.fail) return 1;
         printf("lapped_render 1024x1024, supersample 1, %d triangles:\n", mesh[TARGET_RUNG].nfaces);
         bench_report("  bare mesh (base pass only, 0 pastes)", rs_bare, 0, "");
@@ -361,6 +410,8 @@ int main(int argc, char **argv)
                (rs_full.median - rs_one.median) / (full.npastes - 1) * 1e3);
         printf("  cpu medians: bare %.1f ms, 1 layer %.1f ms, lapped %.1f ms: ratios %.1fx and %.1fx\n\n",
                rc_bare * 1e3, rc_one * 1e3, rc_full * 1e3, rc_full / rc_bare, rc_full / rc_one);
+        peer_compositing(&rj, &full, drawn);
+        printf("\n");
         lapped_texture_free(&full);
         free(all.faces);
         free(all.uvs);

@@ -67,24 +67,6 @@ static void run_read(void *arg)
 
 static int bench_write(void *ctx, const void *data, size_t size) { return pw_buf_write(ctx, data, size); }
 
-/* A binary little-endian PLY of m (float xyz, uchar/int lists). */
-static void write_ply(const pw_mesh *m, pw_buf *b)
-{
-    char hdr[256];
-    int f;
-    snprintf(hdr, sizeof hdr,
-             "ply\nformat binary_little_endian 1.0\nelement vertex %d\nproperty float x\nproperty float y\n"
-             "property float z\nelement face %d\nproperty list uchar int vertex_indices\nend_header\n",
-             m->nv, m->nf);
-    pw_buf_write(b, hdr, strlen(hdr));
-    pw_buf_write(b, m->pos, (size_t)m->nv * 12); /* the bench runs on little-endian hosts */
-    for (f = 0; f < m->nf; f++) {
-        unsigned char d = 4;
-        pw_buf_write(b, &d, 1);
-        pw_buf_write(b, m->fv + 4 * f, 16);
-    }
-}
-
 int main(void)
 {
     int wrap;
@@ -112,7 +94,7 @@ int main(void)
             bench_report("OBJ read, 1M-quad torus", s, m.nf, " faces");
             free(j.buf.data);
             memset(&j.buf, 0, sizeof j.buf);
-            write_ply(&m, &j.buf);
+            bench_write_ply(bench_write, &j.buf, m.nv, m.pos, m.nf, m.fstart, m.fv);
             s = bench_time(run_read, &j, 5);
             bench_report("binary PLY read, 1M-quad torus", s, m.nf, " faces");
             free(j.buf.data);

@@ -2,9 +2,19 @@
  * 1024x1024 with 2x2 supersampling and trilinear filtering: one opaque
  * frame (clear, draw, resolve), and the lapped-texture runtime path (10
  * blended passes over the same surface, each with its own uvs and an RGBA
- * patch, depth-tested LEQUAL against the opaque pass). */
+ * patch, depth-tested LEQUAL against the opaque pass).
+ * Peer (when bench/probe.sh found OSMesa at build time): Mesa's llvmpipe
+ * through OSMesa drawing the same torus, texture, lighting and camera
+ * (bench/peer_gl.h), one frame at 1 sample per pixel and one at 4 (2x2
+ * supersampling against 4x MSAA), interleaved round by round; both
+ * pictures are written to build/bench-data/ (bench_data_dir) and their mean
+ * difference is printed. */
 #include "bench.h"
 #include "../src/common/render.h"
+#include "../src/common/png.h"
+#ifdef BENCH_OSMESA
+#include "peer_gl.h"
+#endif
 
 #define NU 250 /* around the ring */
 #define NV 200 /* around the tube: 2 * NU * NV = 100000 triangles */
@@ -81,15 +91,20 @@ static pw_draw base_draw(const scene *s)
     return d;
 }
 
-/* One opaque frame: clear, draw, resolve. */
+/* One opaque frame into fb: clear, draw, resolve. */
+static void frame_on(scene *s, pw_fb *fb)
+{
+    pw_draw d = base_draw(s);
+    pw_fb_clear(fb);
+    pw_render_draw(fb, &s->cam, &d, NULL);
+    pw_image_free(NULL, &s->out);
+    pw_fb_resolve(fb, &s->out, 3, NULL);
+}
+
 static void frame(void *arg)
 {
     scene *s = (scene *)arg;
-    pw_draw d = base_draw(s);
-    pw_fb_clear(&s->fb);
-    pw_render_draw(&s->fb, &s->cam, &d, NULL);
-    pw_image_free(NULL, &s->out);
-    pw_fb_resolve(&s->fb, &s->out, 3, NULL);
+    frame_on(s, &s->fb);
 }
 
 /* The draw alone (into an already drawn framebuffer: the depth test then
@@ -129,12 +144,122 @@ static void uv_update_only(void *arg)
         for (t = 0; t < 6 * s->nt; t++) s->puv[t] = s->uv[t] * 0.7f - 0.3f * (float)(p % 4);
 }
 
+/* ---- the peer: the same frame drawn by Mesa's llvmpipe ---------------------- */
+
+#ifdef BENCH_OSMESA
+typedef struct peer_job {
+    scene *s;
+    pw_fb *fb;  /* patchwork's side: its framebuffer */
+    gl_peer *g; /* the peer's side */
+    gl_mesh mesh;
+    GLuint tex;
+    int samples;
+} peer_job;
+
+static void pw_frame(void *arg)
+{
+    peer_job *j = (peer_job *)arg;
+    frame_on(j->s, j->fb);
+}
+
+static void gl_frame(void *arg)
+{
+    static const float bg[3] = {0.1f, 0.1f, 0.12f}, white[4] = {1.0f, 1.0f, 1.0f, 1.0f};
+    peer_job *j = (peer_job *)arg;
+    gl_peer_begin(j->g, j->samples, bg);
+    gl_peer_draw(j->g, 0, j->mesh.ni, j->tex, white, 0.25f, 0); /* pw_render_draw's default ambient */
+    gl_peer_end(j->g, j->samples);
+}
+
+/* The torus in GL buffers, its texture, the camera; 0 on success. */
+static int gl_setup(scene *s, const pw_image *img, gl_peer *g, peer_job *j)
+{
+    pw_draw d = base_draw(s);
+    float *normals = (float *)malloc(sizeof(float) * 3 * (size_t)s->nv);
+    if (!normals || gl_peer_init(g, 1024, 1024)) return free(normals), 1;
+    pw__smooth_normals(&d, normals); /* what pw_render_draw computes when given none */
+    memset(&j->mesh, 0, sizeof j->mesh);
+    if (gl_mesh_add(&j->mesh, s->pos, normals, s->tri, s->nt, s->uv) < 0) return free(normals), 1;
+    free(normals);
+    gl_mesh_upload(&j->mesh);
+    j->tex = gl_peer_texture(img, 0);
+    j->g = g;
+    gl_peer_camera(g, &s->cam);
+    return glGetError() != GL_NO_ERROR || !j->tex;
+}
+#endif
+
+/* Patchwork's frame against the peer's at 1 and 4 samples per pixel. */
+static void peer_rows(scene *s, const pw_image *img, double ss2_frame)
+{
+    static const char *const what[2] = {"1 sample per pixel", "4 samples per pixel (pw 2x2 supersampling, GL 4x MSAA)"};
+    float bg[4] = {0.1f, 0.1f, 0.12f, 1.0f};
+    char task[200];
+    pw_fb fb1;
+    int k;
+#ifdef BENCH_OSMESA
+    gl_peer g;
+    peer_job j;
+    void (*fn[2])(void *) = {pw_frame, gl_frame};
+    void *arg[2];
+    (void)ss2_frame;
+    if (bench_peer_disabled("osmesa")) {
+        bench_peer("OSMesa", "skipped: disabled by BENCH_NO_PEERS");
+        return;
+    }
+    memset(&j, 0, sizeof j);
+    j.s = s;
+    if (gl_setup(s, img, &g, &j) || pw_fb_create(NULL, &fb1, 1024, 1024, 1, bg, NULL)) {
+        printf("OSMesa setup failed\n");
+        bench_peer("OSMesa", "skipped: context or shader setup failed");
+        return;
+    }
+    bench_peer("OSMesa", g.renderer);
+    printf("peer: Mesa %s, LP_NUM_THREADS=%d; the same torus, texture (RGBA8, mipmapped), lighting, camera\n",
+           g.renderer, g.threads);
+    arg[0] = arg[1] = &j;
+    for (k = 0; k < 2; k++) {
+        bench_multi m;
+        char path[512];
+        pw_err e;
+        j.samples = k ? 4 : 1;
+        j.fb = k ? &s->fb : &fb1;
+        bench_interleave(&m, fn, arg, 2, 7, 1);
+        snprintf(task, sizeof task, "render a 100K-triangle textured, lit torus at 1024x1024, %s", what[k]);
+        printf("%s:\n", task);
+        bench_report("  patchwork pw_render_draw frame", bench_multi_stat(&m, 0, NULL), s->nt, "tri");
+        bench_report("  OSMesa llvmpipe frame", bench_multi_stat(&m, 1, NULL), s->nt, "tri");
+        bench_row_pair(task, &m, 1, "Mesa llvmpipe (OSMesa), 1 thread", NULL,
+                       "per-pixel texture filtering: perf puts half of patchwork's frame in pw__tex_bilinear, "
+                       "pw__tex_trilinear and pw__shade (scalar float, 8 texels of 16-bit RGBA per pixel), which "
+                       "llvmpipe runs as JIT-compiled SIMD over 4x4 pixel blocks; with 4 samples per pixel patchwork "
+                       "still shades once per pixel and the ranking reverses");
+        printf("  the two pictures differ by %.2f/255 on average\n", gl_peer_diff(&g, &s->out));
+        snprintf(path, sizeof path, "%s/render-pw-%dspp.png", bench_data_dir(), j.samples);
+        pw_err_clear(&e);
+        pw_image_save(path, &s->out, &e);
+        snprintf(path, sizeof path, "%s/render-gl-%dspp.ppm", bench_data_dir(), j.samples);
+        gl_peer_save_ppm(&g, path);
+    }
+    pw_fb_free(&fb1);
+    gl_peer_free(&g);
+#else
+    char t[32];
+    (void)s, (void)img, (void)bg, (void)fb1, (void)k;
+    bench_peer("OSMesa", "skipped: libosmesa6-dev not found when bench_render was built");
+    snprintf(task, sizeof task, "render a 100K-triangle textured, lit torus at 1024x1024, %s", what[1]);
+    bench_row(task, bench_fmt_time(ss2_frame, t, sizeof t), "skipped", "OSMesa (libosmesa6-dev) not found", NULL,
+              NULL, NULL, NULL);
+#endif
+}
+
 int main(void)
 {
     static scene s;
     pw_image img, pimg;
     float vd[3] = {0.0f, -0.8f, -1.0f}, bg[4] = {0.1f, 0.1f, 0.12f, 1.0f};
     bench_stat st, su;
+    double ss2_frame;
     make_torus(&s);
     make_texture(&img, 512, 0);
     make_texture(&pimg, 128, 1);
@@ -148,6 +273,7 @@ int main(void)
     printf("torus: %d triangles, %d vertices; 1024x1024, 2x2 samples, trilinear, lit\n", s.nt, s.nv);
     st = bench_time(frame, &s, 7);
     bench_report("render 100K tris 1024^2 ss2 frame", st, s.nt, "tri");
+    ss2_frame = st.median;
     st = bench_time(draw_only, &s, 7);
     bench_report("render 100K tris 1024^2 ss2 draw only", st, s.nt, "tri");
     frame(&s);
@@ -161,6 +287,7 @@ int main(void)
     st.min /= 10;
     st.max /= 10;
     bench_report("render one blended pass", st, s.nt, "tri");
+    peer_rows(&s, &img, ss2_frame);
     pw_image_free(NULL, &s.out);
     pw_fb_free(&s.fb);
     pw_texture_free(NULL, &s.tex);

@@ -42,6 +42,38 @@ static void run_synth(void *arg)
     tiled_tileset_free(&j->ts);
 }
 
+/* A row of the summary: no peer, and the thesis gives no timings. */
+static void row(const char *task, bench_stat s)
+{
+    char fig[32], sp[96], t0[32], t1[32];
+    snprintf(sp, sizeof sp, "%d runs; %s..%s", s.runs, bench_fmt_time(s.min, t0, sizeof t0),
+             bench_fmt_time(s.max, t1, sizeof t1));
+    bench_row(task, bench_fmt_time(s.median, fig, sizeof fig), "-", "no peer implements the method", NULL,
+              "the thesis reports no timings (SGI O2, interactive)", sp, NULL);
+}
+
+/* tiled_map on tori of 250^2, 500^2 and 1000^2 quads: the growth exponent. */
+static void map_growth(const job *base)
+{
+    static const int side[3] = {250, 500, 1000};
+    double quads[3], secs[3];
+    int i;
+    for (i = 0; i < 3; i++) {
+        job j = *base;
+        pw_alloc a;
+        pw_err e;
+        memset(&a, 0, sizeof a);
+        pw_err_clear(&e);
+        if (tiled__torus(&a, side[i], side[i], &j.mesh, &e)) return;
+        secs[i] = bench_time(run_map, &j, 3).median;
+        quads[i] = (double)side[i] * side[i];
+        tiled_mesh_free(&j.mesh);
+    }
+    printf("tiled: tiled_map growth, %.0fK..%.0fK quads: time ~ quads^%.2f\n", quads[0] / 1e3, quads[2] / 1e3,
+           bench_loglog_slope(quads, secs, 3));
+    bench_growth("tiled_map", bench_loglog_slope(quads, secs, 3), "quads, tori of 62.5K, 250K, 1M quads", NULL);
+}
+
 int main(void)
 {
     job j;
@@ -67,10 +99,13 @@ int main(void)
     bench_report("tiled: assign boundaries + coords, 1M quads", s, j.m.q.nf, " quads");
     s = bench_time(run_map, &j, 5);
     bench_report("tiled: tiled_map end to end, 1M quads", s, j.m.q.nf, " quads");
+    row("tiled_map end to end, 1M-quad torus (half-edges, boundaries, coordinates)", s);
+    map_growth(&j);
     j.opt.layout.tile_size = 128;
     if (tiled_builtin_exemplar("pebbles", 128, &j.opt, &j.ex, NULL)) return 1;
     s = bench_time(run_synth, &j, 5);
     bench_report("tiled: synthesis, 16 tiles of 128 px (pebbles)", s, 0, "");
+    row("tiled_synthesize, 16 tiles of 128 px from a 128 px exemplar (pebbles)", s);
     tiled_image_free(&j.ex);
     if (tiled_builtin_exemplar("spots", 128, &j.opt, &j.ex, NULL)) return 1;
     s = bench_time(run_synth, &j, 5);

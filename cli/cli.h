@@ -72,6 +72,7 @@ int cmd_demo(int argc, char **argv);
 int cmd_convert(int argc, char **argv);
 int cmd_lapped(int argc, char **argv);
 int cmd_pgp(int argc, char **argv);
+int cmd_pgp_tile(int argc, char **argv);
 int cmd_lst(int argc, char **argv);
 
 #endif

@@ -398,6 +398,36 @@ static tiled_result demo_lst_scene(const char *dir, const lst_scene *s, tiled_er
     return r;
 }
 
+/* Tile synthesis (pgp.h §1): the built-in bricks' first layer morphed into
+ * its last (pebbles) by pgp_synthesize_tile, 6 layers of 128 x 128, written
+ * side by side; a couple of seconds. */
+static tiled_result demo_pgp_synth(const char *dir, tiled_error *err)
+{
+    pgp_synth_options so = pgp_synth_default_options();
+    pgp_tile bricks, tile;
+    pgp_image key[2];
+    pgp_key keys[2];
+    pgp_error pe;
+    tiled_result r = TILED_OK;
+    int k;
+    if (pgp_builtin_tile("bricks", 128, NULL, &bricks, &pe) != PGP_OK) return demo_pgp_error(&pe, err);
+    for (k = 0; k < 2; k++) {
+        memset(&key[k], 0, sizeof key[k]);
+        key[k].width = key[k].height = 128;
+        key[k].channels = bricks.channels;
+        key[k].pixels = bricks.pixels + (size_t)k * (bricks.layers - 1) * 128 * 128 * bricks.channels;
+        keys[k].image = &key[k];
+        keys[k].mask = NULL;
+    }
+    so.size = 128;
+    so.layers = 6;
+    if (pgp_synthesize_tile(keys, 2, &so, &tile, NULL, &pe) != PGP_OK) r = demo_pgp_error(&pe, err);
+    else r = demo_pgp_tile(dir, "pgp_synth_bricks_pebbles", &tile, err);
+    pgp_tile_free(&tile);
+    pgp_tile_free(&bricks);
+    return r;
+}
+
 int cmd_demo(int argc, char **argv)
 {
     const char *dir = argc > 1 ? argv[1] : "out";
@@ -432,6 +462,10 @@ int cmd_demo(int argc, char **argv)
             cli_error("demo", "%s: %s", pgp_scenes[k].name, err.message);
             return 1;
         }
+    if (demo_pgp_synth(dir, &err) != TILED_OK) {
+        cli_error("demo", "pgp_synth_bricks_pebbles: %s", err.message);
+        return 1;
+    }
     for (k = 0; k < sizeof lst_scenes / sizeof lst_scenes[0]; k++)
         if (demo_lst_scene(dir, &lst_scenes[k], &err) != TILED_OK) {
             cli_error("demo", "%s: %s", lst_scenes[k].name, err.message);

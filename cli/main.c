@@ -14,6 +14,7 @@ static void usage(FILE *f)
             "  tiled    seamless tiled textures on quad meshes (Kaur 2003)\n"
             "  lapped   lapped textures: patches pasted along a tangent field (Praun et al. 2000)\n"
             "  pgp      material-space texturing: periodic (s,t,m) tiles (Ray et al. 2009)\n"
+            "  pgp-tile material-space tile synthesis: keys morphed along m (Ray et al. 2009)\n"
             "  lst      lapped solid textures: solid exemplars filling a model (Takayama et al. 2008)\n"
             "  demo     render every method on built-in data into a folder (default out/)\n"
             "  convert  convert an image between PNG, PPM, PGM, PAM (and read GIMP .pat)\n"
@@ -40,6 +41,7 @@ int main(int argc, char **argv)
     if (!strcmp(argv[1], "tiled")) return cmd_tiled(argc - 1, argv + 1);
     if (!strcmp(argv[1], "lapped")) return cmd_lapped(argc - 1, argv + 1);
     if (!strcmp(argv[1], "pgp")) return cmd_pgp(argc - 1, argv + 1);
+    if (!strcmp(argv[1], "pgp-tile")) return cmd_pgp_tile(argc - 1, argv + 1);
     if (!strcmp(argv[1], "lst")) return cmd_lst(argc - 1, argv + 1);
     if (!strcmp(argv[1], "demo")) return cmd_demo(argc - 1, argv + 1);
     if (!strcmp(argv[1], "convert")) return cmd_convert(argc - 1, argv + 1);

@@ -37,10 +37,8 @@
  *     that made it and none is left over. */
 #define LAPPED_IMPLEMENTATION
 #include "../lapped.h"
-#include <stdint.h>
-#include <stdio.h>
-#include <stdlib.h>
-#include <string.h>
+#define FZ_NAME "fuzz_lapped"
+#include "fuzz.h"
 
 #define FZ_MAX_TRIS 300
 #define FZ_MAX_VERTS 1000
@@ -54,125 +52,8 @@
 #define FZ_LOG(what, r, err) ((void)0)
 #endif
 
-#define FZ_CHECK(c)                                                                           \
-    do {                                                                                      \
-        if (!(c)) {                                                                           \
-            fprintf(stderr, "fuzz_lapped: check failed at line %d: %s\n", __LINE__, #c);      \
-            abort();                                                                          \
-        }                                                                                     \
-    } while (0)
-
-/* ---- a counting allocator: a tagged header before every block ---------------- */
-
-typedef struct fz_heap {
-    long live;
-} fz_heap;
-
-#define FZ_TAG 0x6c617070u /* "lapp" */
-#define FZ_HDR 16
-
-static void *fz_malloc(void *user, size_t n)
-{
-    unsigned char *p = (unsigned char *)malloc(n + FZ_HDR);
-    uint32_t tag = FZ_TAG;
-    if (!p) return NULL;
-    memcpy(p, &tag, 4);
-    ((fz_heap *)user)->live++;
-    return p + FZ_HDR;
-}
-
-static unsigned char *fz_header(void *ptr)
-{
-    unsigned char *p = (unsigned char *)ptr - FZ_HDR;
-    uint32_t tag;
-    memcpy(&tag, p, 4);
-    FZ_CHECK(tag == FZ_TAG); /* not one of ours: freed through the wrong allocator */
-    return p;
-}
-
-static void *fz_realloc(void *user, void *ptr, size_t n)
-{
-    unsigned char *p;
-    if (!ptr) return fz_malloc(user, n);
-    p = (unsigned char *)realloc(fz_header(ptr), n + FZ_HDR);
-    return p ? p + FZ_HDR : NULL;
-}
-
-static void fz_free(void *user, void *ptr)
-{
-    unsigned char *p;
-    if (!ptr) return;
-    p = fz_header(ptr);
-    memset(p, 0, 4);
-    free(p);
-    ((fz_heap *)user)->live--;
-}
-
-/* ---- helpers -------------------------------------------------------------------------- */
-
-static int fz_finite(float x) { return x == x && x - x == 0.0f; }
-
-static void fz_check_failure(lapped_result r, const lapped_error *err)
-{
-    FZ_CHECK(r > LAPPED_OK && r <= LAPPED_ERR_NOCONVERGE);
-    FZ_CHECK(err->code == r);
-    FZ_CHECK(err->message[0] != 0);
-    FZ_CHECK(memchr(err->message, 0, sizeof err->message) != NULL);
-}
-
-/* splitmix64: per-face data and derived textures from the seed bytes. */
-static uint64_t fz_next(uint64_t *s)
-{
-    uint64_t z = (*s += 0x9e3779b97f4a7c15ull);
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-    return z ^ (z >> 31);
-}
-
-static float fz_unit(uint64_t *s) { return (float)(fz_next(s) >> 40) / 16777216.0f; }
-
-static int fz_write(void *ctx, const void *data, size_t size)
-{
-    size_t *n = (size_t *)ctx;
-    (void)data;
-    *n += size;
-    return 0;
-}
-
-typedef struct fz_buf {
-    unsigned char *data;
-    size_t size, cap;
-} fz_buf;
-
-static int fz_append(void *ctx, const void *data, size_t size)
-{
-    fz_buf *b = (fz_buf *)ctx;
-    if (b->size + size > b->cap) {
-        size_t cap = b->cap ? b->cap : 256;
-        unsigned char *p;
-        while (cap < b->size + size) cap *= 2;
-        if (!(p = (unsigned char *)realloc(b->data, cap))) return 1;
-        b->data = p;
-        b->cap = cap;
-    }
-    memcpy(b->data + b->size, data, size);
-    b->size += size;
-    return 0;
-}
-
-/* Progress: cancels at call `cancel_at` (0: never) and after FZ_MAX_CALLS. */
-typedef struct fz_progress {
-    int calls, cancel_at;
-} fz_progress;
-
-static int fz_progress_fn(void *user, float done, const char *stage)
-{
-    fz_progress *p = (fz_progress *)user;
-    FZ_CHECK(stage && stage[0]);
-    FZ_CHECK(done >= 0.0f && done <= 1.0f);
-    p->calls++;
-    return p->calls == p->cancel_at || p->calls > FZ_MAX_CALLS;
-}
+/* lapped's result type through the shared check. */
+#define fz_lapped_failure(r, err) fz_check_failure((int)(r), (int)(err)->code, (err)->message, sizeof (err)->message)
 
 /* ---- the inputs ------------------------------------------------------------------------- */
 
@@ -352,6 +233,7 @@ static void fz_check_again(const lapped_mesh *mesh, const lapped_image *patches,
     lapped_error err;
     int p;
     memset(&prog, 0, sizeof prog);
+    prog.max_calls = FZ_MAX_CALLS;
     o2.progress_user = &prog;
     FZ_CHECK(lapped_create(mesh, patches, npatches, &o2, &u, &err) == LAPPED_OK);
     FZ_CHECK(u.ntris == t->ntris && u.npatches == t->npatches && u.npastes == t->npastes);
@@ -400,7 +282,7 @@ static void fz_render(const fz_input *in, const lapped_mesh *mesh, const lapped_
     r = lapped_render(mesh, t, patches, values, &ro, &pic, &err);
     FZ_LOG("render", r, &err);
     if (r != LAPPED_OK) {
-        fz_check_failure(r, &err);
+        fz_lapped_failure(r, &err);
         FZ_CHECK(pic.pixels == NULL);
         return;
     }
@@ -426,7 +308,7 @@ static void fz_bake(const fz_input *in, const lapped_mesh *mesh, const lapped_te
     r = lapped_bake_atlas(mesh, t, patches, values, &ao, o, &atlas, &err);
     FZ_LOG("atlas", r, &err);
     if (r != LAPPED_OK) {
-        fz_check_failure(r, &err);
+        fz_lapped_failure(r, &err);
         FZ_CHECK(atlas.uvs == NULL && atlas.image.pixels == NULL);
         return;
     }
@@ -436,7 +318,7 @@ static void fz_bake(const fz_input *in, const lapped_mesh *mesh, const lapped_te
         FZ_CHECK(fz_finite(atlas.uvs[i]) && atlas.uvs[i] >= 0.0f && atlas.uvs[i] <= 1.0f);
     n = (size_t)ao.size * ao.size * atlas.image.channels;
     for (i = 0; i < n; i++) FZ_CHECK(fz_finite(atlas.image.pixels[i]));
-    FZ_CHECK(lapped_write_obj_to_func(mesh, &atlas, "x.mtl", fz_write, &bytes, &err) == LAPPED_OK);
+    FZ_CHECK(lapped_write_obj_to_func(mesh, &atlas, "x.mtl", fz_count, &bytes, &err) == LAPPED_OK);
     FZ_CHECK(bytes > 0);
     lapped_atlas_free(&atlas);
 }
@@ -477,7 +359,7 @@ static void fz_pipeline(const fz_input *in, const lapped_mesh *mesh, int ntris, 
         r = lapped_make_patch(src, k == 0 && use_mask && mask.pixels ? &mask : NULL, &po, &patches[k], &err);
         FZ_LOG("patch", r, &err);
         if (r != LAPPED_OK) {
-            fz_check_failure(r, &err);
+            fz_lapped_failure(r, &err);
             FZ_CHECK(patches[k].pixels == NULL);
             goto done;
         }
@@ -495,6 +377,7 @@ static void fz_pipeline(const fz_input *in, const lapped_mesh *mesh, int ntris, 
         o.field.face_s = in->h[9] & 128 ? fs : NULL;
     }
     memset(&prog, 0, sizeof prog);
+    prog.max_calls = FZ_MAX_CALLS;
     prog.cancel_at = in->h[10] >> 5;
     o.progress = fz_progress_fn;
     o.progress_user = &prog;
@@ -504,7 +387,7 @@ static void fz_pipeline(const fz_input *in, const lapped_mesh *mesh, int ntris, 
     if (r == LAPPED_OK) fprintf(stderr, "  %d pastes, %d progress calls\n", t.npastes, prog.calls);
 #endif
     if (r != LAPPED_OK) {
-        fz_check_failure(r, &err);
+        fz_lapped_failure(r, &err);
         FZ_CHECK(t.pastes == NULL && t.npastes == 0 && t.patch_size == NULL);
         goto done;
     }
@@ -573,7 +456,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     }
     if (lapped_load_mesh_from_memory(in.mesh, in.mesh_size, "fuzz", &lo, &mesh, &err) != LAPPED_OK) {
         FZ_LOG("mesh", err.code, &err);
-        fz_check_failure(err.code, &err);
+        fz_lapped_failure(err.code, &err);
         FZ_CHECK(mesh.positions == NULL && mesh.face_start == NULL && mesh.face_verts == NULL);
         FZ_CHECK(heap.live == 0);
         return 0;

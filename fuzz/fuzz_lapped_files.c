@@ -16,101 +16,15 @@
  *     finite with t != 0;
  *   - with the counting allocator (bit 1), every block is freed through the
  *     allocator that made it and none is left over.
- * Build with -DFZ_SKIP_KNOWN to skip the checks that known, reported bugs
- * fail, so that a long run can look past them:
- *   - lapped_read_constraints_from_memory narrows finite doubles beyond
- *     FLT_MAX (e.g. "0 1e39 0 0") to infinite floats and accepts them;
- *   - lapped_render overruns pw_texture_create's scratch buffer for a
- *     patch 1 texel wide and at least 3 high. */
+ * (Two bugs it found are fixed and have regression tests: constraint
+ * values finite as doubles but not as floats, "0 1e39 0 0", were accepted;
+ * lapped_render overran a scratch buffer for patches 1 texel wide.) */
 #define LAPPED_IMPLEMENTATION
 #include "../lapped.h"
-#include <stdint.h>
-#include <stdio.h>
-#include <stdlib.h>
-#include <string.h>
+#define FZ_NAME "fuzz_lapped_files"
+#include "fuzz.h"
 
-#define FZ_CHECK(c)                                                                    \
-    do {                                                                               \
-        if (!(c)) {                                                                    \
-            fprintf(stderr, "fuzz_lapped_files: check failed at line %d: %s\n", __LINE__, #c); \
-            abort();                                                                   \
-        }                                                                              \
-    } while (0)
-
-/* ---- a counting allocator: a tagged header before every block ---------------- */
-
-typedef struct fz_heap {
-    long live;
-} fz_heap;
-
-#define FZ_TAG 0x6c617070u /* "lapp" */
-#define FZ_HDR 16
-
-static void *fz_malloc(void *user, size_t n)
-{
-    unsigned char *p = (unsigned char *)malloc(n + FZ_HDR);
-    uint32_t tag = FZ_TAG;
-    if (!p) return NULL;
-    memcpy(p, &tag, 4);
-    ((fz_heap *)user)->live++;
-    return p + FZ_HDR;
-}
-
-static unsigned char *fz_header(void *ptr)
-{
-    unsigned char *p = (unsigned char *)ptr - FZ_HDR;
-    uint32_t tag;
-    memcpy(&tag, p, 4);
-    FZ_CHECK(tag == FZ_TAG); /* not one of ours: freed through the wrong allocator */
-    return p;
-}
-
-static void *fz_realloc(void *user, void *ptr, size_t n)
-{
-    unsigned char *p;
-    if (!ptr) return fz_malloc(user, n);
-    p = (unsigned char *)realloc(fz_header(ptr), n + FZ_HDR);
-    return p ? p + FZ_HDR : NULL;
-}
-
-static void fz_free(void *user, void *ptr)
-{
-    unsigned char *p;
-    if (!ptr) return;
-    p = fz_header(ptr);
-    memset(p, 0, 4);
-    free(p);
-    ((fz_heap *)user)->live--;
-}
-
-/* ---- a growable output buffer ----------------------------------------------- */
-
-typedef struct fz_buf {
-    unsigned char *data;
-    size_t size, cap;
-} fz_buf;
-
-static int fz_write(void *ctx, const void *data, size_t size)
-{
-    fz_buf *b = (fz_buf *)ctx;
-    if (b->size + size > b->cap) {
-        size_t cap = b->cap ? b->cap : 256;
-        unsigned char *p;
-        while (cap < b->size + size) cap *= 2;
-        if (!(p = (unsigned char *)realloc(b->data, cap))) return 1;
-        b->data = p;
-        b->cap = cap;
-    }
-    memcpy(b->data + b->size, data, size);
-    b->size += size;
-    return 0;
-}
-
-static int fz_discard(void *ctx, const void *data, size_t size)
-{
-    (void)ctx, (void)data, (void)size;
-    return 0;
-}
+#define fz_lapped_failure(r, err) fz_check_failure((int)(r), (int)(err)->code, (err)->message, sizeof (err)->message)
 
 /* ---- a fixed mesh: the octahedron, 8 triangles --------------------------------- */
 
@@ -130,15 +44,6 @@ static lapped_mesh fz_octahedron(void)
     return m;
 }
 
-static int fz_finite(float x) { return x == x && x - x == 0.0f; }
-
-static void fz_check_failure(lapped_result r, const lapped_error *err)
-{
-    FZ_CHECK(r > LAPPED_OK && r <= LAPPED_ERR_NOCONVERGE);
-    FZ_CHECK(err->code == r);
-    FZ_CHECK(err->message[0] != 0);
-    FZ_CHECK(memchr(err->message, 0, sizeof err->message) != NULL);
-}
 
 /* ---- pastes ----------------------------------------------------------------------- */
 
@@ -182,14 +87,14 @@ static void fz_roundtrip(const lapped_texture *t, const lapped_options *o)
     lapped_error err;
     memset(&b1, 0, sizeof b1);
     memset(&b2, 0, sizeof b2);
-    FZ_CHECK(lapped_write_pastes_to_func(t, fz_write, &b1, &err) == LAPPED_OK);
+    FZ_CHECK(lapped_write_pastes_to_func(t, fz_append, &b1, &err) == LAPPED_OK);
     if (lapped_read_pastes_from_memory(b1.data, b1.size, "roundtrip", o, &r, &err) != LAPPED_OK) {
         fprintf(stderr, "fuzz_lapped_files: re-reading a written paste file failed: %s\n", err.message);
         abort();
     }
     fz_check_texture(&r);
     fz_same_texture(t, &r);
-    FZ_CHECK(lapped_write_pastes_to_func(&r, fz_write, &b2, &err) == LAPPED_OK);
+    FZ_CHECK(lapped_write_pastes_to_func(&r, fz_append, &b2, &err) == LAPPED_OK);
     FZ_CHECK(b1.size == b2.size && !memcmp(b1.data, b2.data, b1.size));
     lapped_texture_free(&r);
     free(b1.data);
@@ -225,7 +130,7 @@ static void fz_bake(lapped_texture *t, const lapped_mesh *mesh, const lapped_ima
     lapped_atlas atlas;
     lapped_error err;
     lapped_result r;
-    size_t i;
+    size_t i, discarded = 0;
     t->ntris = mesh->nfaces;
     memset(&ao, 0, sizeof ao);
     ao.size = 32;
@@ -237,10 +142,10 @@ static void fz_bake(lapped_texture *t, const lapped_mesh *mesh, const lapped_ima
         for (i = 0; i < (size_t)atlas.ntris * 6; i++)
             FZ_CHECK(fz_finite(atlas.uvs[i]) && atlas.uvs[i] >= 0.0f && atlas.uvs[i] <= 1.0f);
         for (i = 0; i < (size_t)32 * 32 * atlas.image.channels; i++) FZ_CHECK(fz_finite(atlas.image.pixels[i]));
-        FZ_CHECK(lapped_write_obj_to_func(mesh, &atlas, "x.mtl", fz_discard, NULL, &err) == LAPPED_OK);
+        FZ_CHECK(lapped_write_obj_to_func(mesh, &atlas, "x.mtl", fz_count, &discarded, &err) == LAPPED_OK);
         lapped_atlas_free(&atlas);
     } else {
-        fz_check_failure(r, &err);
+        fz_lapped_failure(r, &err);
         FZ_CHECK(atlas.uvs == NULL && atlas.image.pixels == NULL);
     }
     t->ntris = 0;
@@ -260,9 +165,6 @@ static void fz_use_texture(lapped_texture *t, unsigned flags, const lapped_optio
     if (n > 8) return;
     for (k = 0; k < n; k++) {
         if (t->patch_size[2 * k] > 32 || t->patch_size[2 * k + 1] > 32) return;
-#ifdef FZ_SKIP_KNOWN
-        if (t->patch_size[2 * k] == 1 && t->patch_size[2 * k + 1] >= 3) return;
-#endif
     }
     for (k = 0; k < t->npastes; k++) total += t->pastes[k].nfaces;
     if (total > 4096) return;
@@ -291,7 +193,7 @@ static void fz_use_texture(lapped_texture *t, unsigned flags, const lapped_optio
             for (i = 0; i < (size_t)pic.width * pic.height * pic.channels; i++) FZ_CHECK(fz_finite(pic.pixels[i]));
             lapped_image_free(&pic);
         } else {
-            fz_check_failure(r, &err);
+            fz_lapped_failure(r, &err);
             FZ_CHECK(pic.pixels == NULL);
         }
         if (flags & 128) fz_bake(t, &mesh, patches, use_values ? values : NULL, flags, o);
@@ -308,7 +210,7 @@ static void fz_pastes(const uint8_t *data, size_t size, unsigned flags, const la
     lapped_error err;
     lapped_result r = lapped_read_pastes_from_memory(data, size, "fuzz", o, &t, &err);
     if (r != LAPPED_OK) {
-        fz_check_failure(r, &err);
+        fz_lapped_failure(r, &err);
         FZ_CHECK(t.pastes == NULL && t.patch_size == NULL && t.npastes == 0 && t.npatches == 0);
         return;
     }
@@ -332,17 +234,15 @@ static void fz_constraints(const uint8_t *data, size_t size, unsigned flags, con
     int n = -1, i, k;
     r = lapped_read_constraints_from_memory(data, size, "fuzz", o, &c, &n, &err);
     if (r != LAPPED_OK) {
-        fz_check_failure(r, &err);
+        fz_lapped_failure(r, &err);
         FZ_CHECK(c == NULL && n == 0);
         return;
     }
     FZ_CHECK(c != NULL && n >= 1);
     for (i = 0; i < n; i++) {
         FZ_CHECK(c[i].face >= 0);
-#ifndef FZ_SKIP_KNOWN
         for (k = 0; k < 3; k++) FZ_CHECK(fz_finite(c[i].direction[k]));
         FZ_CHECK(fz_finite(c[i].scale) && fz_finite(c[i].radius) && fz_finite(c[i].weight));
-#endif
     }
     if (n <= 256) { /* the field over the octahedron: O(n) Dijkstra runs */
         fo.field.mode = LAPPED_FIELD_CONSTRAINTS;
@@ -356,7 +256,7 @@ static void fz_constraints(const uint8_t *data, size_t size, unsigned flags, con
                 FZ_CHECK(t[3 * i] != 0.0f || t[3 * i + 1] != 0.0f || t[3 * i + 2] != 0.0f);
             }
         } else {
-            fz_check_failure(r, &err);
+            fz_lapped_failure(r, &err);
         }
     }
     lapped_free_constraints(c, o);

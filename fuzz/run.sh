@@ -1,12 +1,13 @@
 #!/bin/sh
-# Runs every libFuzzer target in build/fuzz for $1 seconds each, seeded from
-# fuzz/corpus/<target>/ and tests/data/. A crash leaves its input in
-# build/fuzz/crashes/ and makes the run fail.
+# Runs every libFuzzer target in build/fuzz for $1 seconds each (default
+# 60), $2 at a time (default 1), seeded from fuzz/corpus/<target>/. Prints
+# one line per target with its execution count. A crash leaves its input in
+# build/fuzz/crashes/ and makes the run fail: turn it into a regression test.
 secs=${1:-60}
-status=0
+jobs=${2:-1}
 mkdir -p build/fuzz/crashes
-for f in build/fuzz/fuzz_*; do
-    [ -x "$f" ] || continue
+one() {
+    f=$1
     name=$(basename "$f")
     corpus=build/fuzz/corpus/$name
     mkdir -p "$corpus"
@@ -19,7 +20,30 @@ for f in build/fuzz/fuzz_*; do
     else
         echo "fuzz $name: FAILED, see build/fuzz/$name.log and build/fuzz/crashes/"
         tail -30 build/fuzz/"$name".log
-        status=1
+        return 1
     fi
+}
+targets=""
+for f in build/fuzz/fuzz_*; do
+    case "$f" in *.log) continue ;; esac
+    [ -x "$f" ] && targets="$targets $f"
 done
+status=0
+pids=""
+w=0
+while [ $w -lt "$jobs" ]; do
+    (
+        k=0 st=0
+        for f in $targets; do
+            if [ $((k % jobs)) -eq $w ]; then one "$f" || st=1; fi
+            k=$((k + 1))
+        done
+        exit $st
+    ) > build/fuzz/worker$w.out &
+    pids="$pids $!"
+    w=$((w + 1))
+done
+for p in $pids; do wait "$p" || status=1; done
+cat build/fuzz/worker*.out
+rm -f build/fuzz/worker*.out
 exit $status

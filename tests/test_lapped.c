@@ -318,6 +318,34 @@ static void t_pastes_malformed(void)
     }
 }
 
+/* Constraint files: the documented line format, then malformed lines,
+ * each refused with the file name and line. "0 1e39 0 0" is finite as a
+ * double but not as a float (fuzz_lapped_files found it accepted). */
+static void t_constraints_file(void)
+{
+    static const char good[] = "# face dx dy dz [scale [radius [weight]]]\n"
+                               "3 0 1 0\n"
+                               "7 1 0 0 0.5 2 0.25   # a comment\n";
+    static const char *bad[] = {
+        "", "# only a comment\n", "3 0 1\n", "3 0 1 0 1 1 1 1\n", "-1 0 1 0\n", "x 0 1 0\n",
+        "3 nan 1 0\n", "3 0 inf 0\n", "0 1e39 0 0\n", "0 0 1 0 -1e300\n",
+    };
+    lapped_constraint *c = NULL;
+    lapped_error err;
+    int n = 0;
+    size_t k;
+    REQUIRE(lapped_read_constraints_from_memory(good, sizeof good - 1, "good.txt", NULL, &c, &n, &err) == LAPPED_OK);
+    CHECK_EQ_INT(n, 2);
+    CHECK(c[0].face == 3 && c[0].direction[1] == 1.0f && c[0].scale == 0.0f && c[0].weight == 0.0f);
+    CHECK(c[1].face == 7 && c[1].scale == 0.5f && c[1].radius == 2.0f && c[1].weight == 0.25f);
+    lapped_free_constraints(c, NULL);
+    for (k = 0; k < sizeof bad / sizeof bad[0]; k++) {
+        lapped_result r = lapped_read_constraints_from_memory(bad[k], strlen(bad[k]), "bad.txt", NULL, &c, &n, &err);
+        CHECKF(r != LAPPED_OK, "case %d (%s) was accepted", (int)k, bad[k]);
+        CHECKF(strstr(err.message, "bad.txt") != NULL, "case %d: %s", (int)k, err.message);
+    }
+}
+
 /* ---- bad input ---------------------------------------------------------------------- */
 
 static lapped_result create_text(const char *obj, const lapped_image *patch, const lapped_options *o,
@@ -456,6 +484,7 @@ static const pwt_case cases[] = {
     {"lapped/determinism", t_determinism},
     {"lapped/pastes_roundtrip", t_pastes_roundtrip},
     {"lapped/pastes_malformed", t_pastes_malformed},
+    {"lapped/constraints_file", t_constraints_file},
     {"lapped/bad_input", t_bad_input},
     {"lapped/cancel", t_cancel},
     {"lapped/real_elephant", t_real_elephant},

@@ -342,7 +342,7 @@ static void t_builtin_tiles(void)
 static void t_builtin_meshes(void)
 {
     static const char *const names[4] = {"sphere", "torus", "bumpy", "grid"};
-    static const int nv[4] = {1442, 1536, 2562, 1089}, nf[4] = {2880, 3072, 5120, 2048};
+    static const int nv[4] = {1442, 8192, 2562, 1089}, nf[4] = {2880, 16384, 5120, 2048};
     pgp_mesh m;
     pgp_error err;
     int k, i, flat = 1;

@@ -880,6 +880,34 @@ static void t_render_texture_npot(void)
     pw_image_free(NULL, &img);
 }
 
+/* Textures one texel wide or high (fuzz_lapped_files found that the mip
+ * chain of a 1 x h texture overran its scratch buffer): every level keeps
+ * the mean, under the sanitizers nothing is written out of bounds. */
+static void t_render_texture_thin(void)
+{
+    static const int size[4][2] = {{1, 3}, {1, 17}, {9, 1}, {1, 1}};
+    pw_rng r = pw_rng_seed(9, 2);
+    int c, i, L;
+    for (c = 0; c < 4; c++) {
+        pw_image img;
+        pw_texture tex;
+        int n0 = size[c][0] * size[c][1];
+        double ref = 0.0;
+        REQUIRE(pw_image_alloc(NULL, &img, size[c][0], size[c][1], 1, NULL) == PW_OK);
+        for (i = 0; i < n0; i++) ref += (img.px[i] = pw_rng_float(&r)) / n0;
+        REQUIRE(pw_texture_create(NULL, &tex, &img, 0, NULL) == PW_OK);
+        for (L = 0; L < tex.nlevels; L++) {
+            double mean = 0.0;
+            int n = tex.lw[L] * tex.lh[L];
+            for (i = 0; i < n; i++) mean += tex.level[L][4 * i] / 65535.0 / n;
+            CHECKF(fabs(mean - ref) < 1e-4, "%dx%d level %d: mean %g vs %g", size[c][0], size[c][1], L, mean, ref);
+        }
+        CHECK_EQ_INT(tex.lw[tex.nlevels - 1] * tex.lh[tex.nlevels - 1], 1);
+        pw_texture_free(NULL, &tex);
+        pw_image_free(NULL, &img);
+    }
+}
+
 /* Supersampling gives fractional coverage along a slanted edge. */
 static void t_render_supersampling(void)
 {
@@ -1350,6 +1378,7 @@ static const pwt_case cases[] = {
     {"render_lequal", t_render_lequal},
     {"render_mip_levels", t_render_mip_levels},
     {"render_texture_npot", t_render_texture_npot},
+    {"render_texture_thin", t_render_texture_thin},
     {"render_supersampling", t_render_supersampling},
     {"render_camera_frame", t_render_camera_frame},
     {"render_near_clip", t_render_near_clip},

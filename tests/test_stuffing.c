@@ -20,10 +20,11 @@ typedef struct surf {
 static int surf_from_mesh(pw_mesh *in, surf *s)
 {
     pw_err e;
+    int ok;
     pw_err_clear(&e);
-    if (pw_mesh_triangulate(NULL, in, &s->m, NULL, &e) != PW_OK) return 0;
+    ok = pw_mesh_triangulate(NULL, in, &s->m, NULL, &e) == PW_OK;
     pw_mesh_free(NULL, in);
-    return 1;
+    return ok;
 }
 
 static int sphere(int n, surf *s)
@@ -36,16 +37,10 @@ static int sphere(int n, surf *s)
 
 static int load(const char *path, surf *s)
 {
-    unsigned char *d;
-    size_t n;
     pw_mesh m;
     pw_err e;
-    int ok;
     pw_err_clear(&e);
-    if (pw_read_file(NULL, path, &d, &n, &e) != PW_OK) return 0;
-    ok = pw_mesh_read_memory(NULL, d, n, path, &m, &e) == PW_OK && surf_from_mesh(&m, s);
-    free(d);
-    return ok;
+    return pw_mesh_load(NULL, path, &m, &e) == PW_OK && surf_from_mesh(&m, s);
 }
 
 static int stuff_with(const surf *s, const pw_stuff_options *o, pw_tetmesh *out, pw_err *e)

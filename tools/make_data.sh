@@ -3,7 +3,8 @@
 # data/ (git-ignored). Whatever is absent is skipped with a message; the
 # tests that need it skip too.
 #   data/meshes/*.off *.ply   CGAL's mesh corpus   (package libcgal-demo)
-#   data/textures/*.ppm        GIMP's patterns      (gimp-data, gimp-data-extras)
+#   data/textures/*.ppm        GIMP's patterns      (gimp-data, gimp-data-extras);
+#   data/textures/*.pam        those with transparency, alpha kept
 # Usage: tools/make_data.sh path/to/patchwork
 set -u
 cli=${1:-build/patchwork}
@@ -29,6 +30,10 @@ if [ -d /usr/share/gimp/2.0/patterns ]; then
     for p in $(find /usr/share/gimp/2.0/patterns -name '*.pat' | sort); do
         name=$(basename "$p" .pat)
         if "$cli" convert "$p" "data/textures/$name.ppm" >/dev/null; then n=$((n + 1)); fi
+        # PPM has no alpha: patterns drawn in their alpha channel (the stripes)
+        # are also kept whole, as PAM
+        if "$cli" convert "$p" "data/textures/$name.pam" >/dev/null &&
+            ! head -c 100 "data/textures/$name.pam" | grep -q '_ALPHA'; then rm -f "data/textures/$name.pam"; fi
     done
     echo "make data: $n GIMP patterns converted into data/textures/"
 else

@@ -888,27 +888,37 @@ PW__DEF int pw__finite3(const float *p)
 
 /* Homogeneous screen coordinates of every vertex; W = -DBL_MAX marks a
  * vertex with non-finite coordinates (its triangles are skipped). */
+PW__DEF void pw__transform_vertex(const pw__view *v, const float *p, double *o)
+{
+    double q[3], xv, yv, w;
+    int k;
+    if (!pw__finite3(p)) {
+        o[0] = o[1] = o[3] = o[4] = 0.0;
+        o[2] = -DBL_MAX;
+        return;
+    }
+    for (k = 0; k < 3; k++) q[k] = (double)p[k] - v->eye[k];
+    xv = pw__dot3(q, v->r);
+    yv = pw__dot3(q, v->u);
+    w = pw__dot3(q, v->f);
+    o[0] = v->cx * w + v->fx * xv;
+    o[1] = v->cy * w - v->fy * yv;
+    o[2] = w;
+    o[3] = w >= v->znear ? o[0] / w : 0.0;
+    o[4] = w >= v->znear ? o[1] / w : 0.0;
+}
+
+/* Transforms the vertices the draw uses: all of them, or, when it draws
+ * few triangles of many vertices (a paste of a lapped texture is a small
+ * part of the whole mesh), only the corners of its triangles (a shared
+ * corner twice, which gives the same values). */
 PW__DEF void pw__transform(const pw__view *v, const pw_draw *d, double *vh)
 {
-    int i, k;
-    for (i = 0; i < d->nv; i++) {
-        const float *p = d->positions + 3 * i;
-        double q[3], xv, yv, w, *o = vh + 5 * i;
-        if (!pw__finite3(p)) {
-            o[0] = o[1] = o[3] = o[4] = 0.0;
-            o[2] = -DBL_MAX;
-            continue;
-        }
-        for (k = 0; k < 3; k++) q[k] = (double)p[k] - v->eye[k];
-        xv = pw__dot3(q, v->r);
-        yv = pw__dot3(q, v->u);
-        w = pw__dot3(q, v->f);
-        o[0] = v->cx * w + v->fx * xv;
-        o[1] = v->cy * w - v->fy * yv;
-        o[2] = w;
-        o[3] = w >= v->znear ? o[0] / w : 0.0;
-        o[4] = w >= v->znear ? o[1] / w : 0.0;
-    }
+    int i;
+    if ((size_t)d->ntris * 3 < (size_t)d->nv)
+        for (i = 0; i < 3 * d->ntris; i++) pw__transform_vertex(v, d->positions + 3 * d->tris[i], vh + 5 * d->tris[i]);
+    else
+        for (i = 0; i < d->nv; i++) pw__transform_vertex(v, d->positions + 3 * i, vh + 5 * i);
 }
 
 /* Unnormalised normal of triangle t (its area-weighted direction). */

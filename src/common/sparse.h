@@ -37,6 +37,16 @@
 
 #include "base.h"
 
+/* Instrumentation for benchmarks and experiments: a program that defines
+ * PW_SOLVE_HOOK(kind, A, b, x, opts) before including a header sees every
+ * system a solver is given, before it is solved: kind is "cg", "pcg" or
+ * "lsq" with A a const pw_csr *, or "zpcg" with A a const pw_zcsr *
+ * (zsparse.h); b the right-hand side, x the warm start, opts the
+ * pw_cg_options (tolerance) or NULL. Undefined, it costs nothing. */
+#ifndef PW_SOLVE_HOOK
+#define PW_SOLVE_HOOK(kind, A, b, x, opts) ((void)0)
+#endif
+
 /* ---- triplets ---------------------------------------------------------- */
 
 /* A growable list of (row, col, value) entries of an n x m matrix. */
@@ -619,6 +629,7 @@ PW__DEF int pw_cg_solve(const pw_alloc *a, const pw_csr *A, const double *b, dou
     if (A->m != n) return pw_fail(e, PW_ERR_INVALID, "CG needs a square matrix, not %dx%d", n, A->m);
     if (pw__check_vec(b, n, "CG right-hand side b", e) || pw__check_vec(x, n, "CG guess x", e))
         return PW_ERR_INVALID;
+    PW_SOLVE_HOOK("cg", A, b, x, o);
     pw__krylov_init(&k, n, o);
     k.bnorm = sqrt(pw__dot(b, b, n));
     if (k.bnorm == 0) {
@@ -740,18 +751,26 @@ PW__DEF void pw_ic0_apply(const pw_ic0 *L, const double *r, double *z)
     }
 }
 
-/* CG preconditioned by an IC(0) factor M of A; otherwise as pw_cg_solve
- * (same options, stopping rule, warm start and errors). */
-PW__DEF int pw_pcg_solve(const pw_alloc *a, const pw_csr *A, const pw_ic0 *M, const double *b, double *x,
-                         const pw_cg_options *o, pw_cg_stats *s, pw_err *e)
+/* A linear operator for the preconditioned CG core: mul computes y = A x
+ * and returns x . y, precond z = M^-1 r, both over n doubles. The complex
+ * Hermitian systems of zsparse.h run through the same core: with complex
+ * numbers stored as (re, im) pairs and real step lengths, every vector
+ * update is real, and Re(x^H y) is the real dot product of the pairs. */
+typedef struct pw__pcg_op {
+    int n;
+    double (*mul)(const void *ctx, const double *x, double *y);
+    void (*precond)(const void *ctx, const double *r, double *z);
+    const void *actx, *mctx;
+} pw__pcg_op;
+
+/* The PCG iterations shared by pw_pcg_solve and pw_zpcg_solve: b and x
+ * already checked; x is the warm start; `what` names the solver in errors. */
+PW__DEF int pw__pcg_run(const pw_alloc *a, const pw__pcg_op *op, const double *b, double *x,
+                        const pw_cg_options *o, pw_cg_stats *s, const char *what, pw_err *e)
 {
     pw__krylov k;
     double *r, *z, *p, *q, rz, rr;
-    int n = A->n, i, ret;
-    if (s) memset(s, 0, sizeof *s);
-    if (pw_csr_check(A, e) || pw__check_vec(b, n, "PCG right-hand side b", e) ||
-        pw__check_vec(x, n, "PCG guess x", e))
-        return PW_ERR_INVALID;
+    int n = op->n, i, ret;
     pw__krylov_init(&k, n, o);
     k.bnorm = sqrt(pw__dot(b, b, n));
     if (k.bnorm == 0) {
@@ -761,28 +780,56 @@ PW__DEF int pw_pcg_solve(const pw_alloc *a, const pw_csr *A, const pw_ic0 *M, co
     }
     if (!(r = (double *)pw_alloc_array(a, (size_t)n * 4, sizeof(double), "PCG vectors", e))) return PW_ERR_NOMEM;
     z = r + n, p = z + n, q = p + n;
-    pw__residual(A, b, x, r);
-    pw_ic0_apply(M, r, z);
+    op->mul(op->actx, x, r);
+    for (i = 0; i < n; i++) r[i] = b[i] - r[i];
+    op->precond(op->mctx, r, z);
     memcpy(p, z, sizeof(double) * (size_t)n);
     rz = pw__dot(r, z, n);
     for (rr = pw__dot(r, r, n); (k.rnorm = sqrt(rr)) > k.tol * k.bnorm && k.it < k.max_iter; k.it++) {
-        double pq = pw__mul_dot(A, p, q, 0), alpha, rz1;
+        double pq = op->mul(op->actx, p, q), alpha, rz1;
         if (!(pq > 0) || !pw_is_finite(rz / pq) || pw__krylov_report(&k, e)) {
             if (k.status == PW_OK) k.status = PW_ERR_NOCONVERGE;
             break;
         }
         alpha = rz / pq;
         for (i = 0; i < n; i++) x[i] += alpha * p[i], r[i] -= alpha * q[i];
-        pw_ic0_apply(M, r, z);
+        op->precond(op->mctx, r, z);
         rz1 = pw__dot(r, z, n);
         for (i = 0; i < n; i++) p[i] = z[i] + rz1 / rz * p[i];
         rz = rz1;
         rr = pw__dot(r, r, n);
     }
-    pw__residual(A, b, x, r); /* report what x achieves, not the recurrence */
-    ret = pw__krylov_finish(&k, sqrt(pw__dot(r, r, n)), "PCG", s, e);
+    op->mul(op->actx, x, r); /* report what x achieves, not the recurrence */
+    for (i = 0; i < n; i++) r[i] = b[i] - r[i];
+    ret = pw__krylov_finish(&k, sqrt(pw__dot(r, r, n)), what, s, e);
     pw_free(a, r);
     return ret;
+}
+
+PW__DEF double pw__csr_op_mul(const void *A, const double *x, double *y)
+{
+    return pw__mul_dot((const pw_csr *)A, x, y, 0);
+}
+
+PW__DEF void pw__ic0_op(const void *M, const double *r, double *z) { pw_ic0_apply((const pw_ic0 *)M, r, z); }
+
+/* CG preconditioned by an IC(0) factor M of A; otherwise as pw_cg_solve
+ * (same options, stopping rule, warm start and errors). */
+PW__DEF int pw_pcg_solve(const pw_alloc *a, const pw_csr *A, const pw_ic0 *M, const double *b, double *x,
+                         const pw_cg_options *o, pw_cg_stats *s, pw_err *e)
+{
+    pw__pcg_op op;
+    if (s) memset(s, 0, sizeof *s);
+    if (pw_csr_check(A, e) || pw__check_vec(b, A->n, "PCG right-hand side b", e) ||
+        pw__check_vec(x, A->n, "PCG guess x", e))
+        return PW_ERR_INVALID;
+    PW_SOLVE_HOOK("pcg", A, b, x, o);
+    op.n = A->n;
+    op.mul = pw__csr_op_mul;
+    op.precond = pw__ic0_op;
+    op.actx = A;
+    op.mctx = M;
+    return pw__pcg_run(a, &op, b, x, o, s, "PCG", e);
 }
 
 /* ---- least squares (CGLS) ---------------------------------------------- */
@@ -881,6 +928,7 @@ PW__DEF int pw_lsq_solve(const pw_alloc *a, const pw_csr *A, const double *b, do
     if (pw__check_vec(b, A->n, "least-squares right-hand side b", e) ||
         pw__check_vec(x, m, "least-squares guess x", e))
         return PW_ERR_INVALID;
+    PW_SOLVE_HOOK("lsq", A, b, x, o);
     pw__krylov_init(&k, m, o);
     w.r = (double *)pw_alloc_array(a, (size_t)A->n * 2 + (size_t)m * 3, sizeof(double),
                                    "least-squares vectors", e);

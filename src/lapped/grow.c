@@ -697,7 +697,8 @@ static int lapped__lscm_rows(lapped__paster *P, int seed, pw_triplets *tr, doubl
  * threefold over Jacobi). A ridge of 1e-8 of the mean diagonal makes AᵀA
  * definite (the functional ignores translations); it moves nothing but the
  * translation, which lapped__optimize fixes afterwards. Hitting the
- * iteration cap is not an error here: the warm start is already a usable
+ * iteration cap (only patches of tens of thousands of triangles come near
+ * it) is not an error here: the warm start is already a usable
  * parametrisation and every iterate improves it. */
 static int lapped__solve(lapped__paster *P, const pw_triplets *tr, const double *b, double *x, int nrhs,
                          double *rhs, pw_err *e)
@@ -709,7 +710,7 @@ static int lapped__solve(lapped__paster *P, const pw_triplets *tr, const double 
     double mean = 0.0;
     int r, i, k, j;
     co.tol = 1e-4;
-    co.max_iter = 200;
+    co.max_iter = 1000; /* IC(0)-CG needs about sqrt(unknowns) iterations: enough up to ~10^5 */
     memset(&N, 0, sizeof N);
     memset(&M, 0, sizeof M);
     if ((r = pw_csr_from_triplets(P->a, tr, &A, e)) != PW_OK) return r;

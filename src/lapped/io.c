@@ -194,8 +194,9 @@ static int lapped__read_constraint(pw__sc *s, lapped_constraint *c, int index)
         if ((r = pw__sc_num(s, &v[n], "constraint", index)) != PW_OK) return r;
     if (n < 3 || !pw__sc_eol(s))
         return pw__sc_fail(s, PW_ERR_PARSE, "constraint %d: expected 'face dx dy dz [scale [radius [weight]]]'", index);
-    for (k = 0; k < n; k++)
-        if (!pw_is_finite(v[k])) return pw__sc_fail(s, PW_ERR_INVALID, "constraint %d has a non-finite value", index);
+    for (k = 0; k < n; k++) /* finite as floats: 1e39 is finite as a double only */
+        if (!pw_is_finite(pw__num_to_float(v[k])))
+            return pw__sc_fail(s, PW_ERR_INVALID, "constraint %d has a non-finite value (or one beyond float range)", index);
     c->face = (int)face;
     for (k = 0; k < 3; k++) c->direction[k] = (float)v[k];
     c->scale = n > 3 ? (float)v[3] : 0.0f;

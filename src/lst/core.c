@@ -20,6 +20,8 @@
 #include "../common/tetmesh.h"
 #include "../common/tetio.h"
 #include "../common/stuffing.h"
+#include "../common/edt.h"
+#include "../common/pca.h"
 #include "../common/glue.h"
 #include "lst.h"
 
@@ -357,33 +359,16 @@ static double lst__inv3(const double m[9], double inv[9])
 }
 
 /* The unit eigenvector of the largest eigenvalue of a symmetric 3x3 matrix
- * (row-major), by cyclic Jacobi rotations (sqrt only); its largest
+ * (row-major), by the shared cyclic Jacobi method (sqrt only); its largest
  * component made positive so that the result does not depend on rounding. */
 static void lst__principal(const double s[9], double out[3])
 {
-    double a[9], v[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
-    int sweep, p, q, k, best = 0;
-    memcpy(a, s, sizeof a);
-    for (sweep = 0; sweep < 30; sweep++)
-        for (p = 0; p < 2; p++)
-            for (q = p + 1; q < 3; q++) {
-                double apq = a[3 * p + q], th, t, c, sn;
-                if (fabs(apq) < 1e-300) continue;
-                th = (a[3 * q + q] - a[3 * p + p]) / (2.0 * apq);
-                t = (th >= 0 ? 1.0 : -1.0) / (fabs(th) + sqrt(th * th + 1.0));
-                c = 1.0 / sqrt(t * t + 1.0), sn = t * c;
-                for (k = 0; k < 3; k++) { /* A <- A J, then J^T A; V <- V J */
-                    double akp = a[3 * k + p], akq = a[3 * k + q], vkp = v[3 * k + p], vkq = v[3 * k + q];
-                    a[3 * k + p] = c * akp - sn * akq, a[3 * k + q] = sn * akp + c * akq;
-                    v[3 * k + p] = c * vkp - sn * vkq, v[3 * k + q] = sn * vkp + c * vkq;
-                }
-                for (k = 0; k < 3; k++) {
-                    double apk = a[3 * p + k], aqk = a[3 * q + k];
-                    a[3 * p + k] = c * apk - sn * aqk, a[3 * q + k] = sn * apk + c * aqk;
-                }
-            }
+    double c[9], v[9];
+    int k, best = 0;
+    memcpy(c, s, sizeof c);
+    pw__pca_jacobi(c, v, 3);
     for (k = 1; k < 3; k++)
-        if (a[4 * k] > a[4 * best]) best = k;
+        if (c[4 * k] > c[4 * best]) best = k;
     for (k = 0; k < 3; k++) out[k] = v[3 * k + best];
     k = fabs(out[0]) >= fabs(out[1]) && fabs(out[0]) >= fabs(out[2]) ? 0 : (fabs(out[1]) >= fabs(out[2]) ? 1 : 2);
     if (out[k] < 0.0) out[0] = -out[0], out[1] = -out[1], out[2] = -out[2];

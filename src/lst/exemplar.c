@@ -421,58 +421,29 @@ LSTDEF lst_result lst_make_masks(const lst_volume *exemplar, const lst_options *
 
 /* ---- distance fields of a mask ------------------------------------------------------------ */
 
-/* Felzenszwalb & Huttenlocher's 1D squared distance transform of f (n
- * values, stride st) in place; work: n doubles, n+1 doubles, n ints. */
-static void lst__edt_1d(float *f, int n, size_t st, double *d, double *zz, int *v)
-{
-    int q, k = 0;
-    for (q = 0; q < n; q++) d[q] = f[q * st];
-    v[0] = 0, zz[0] = -1e30, zz[1] = 1e30;
-    for (q = 1; q < n; q++) {
-        double s;
-        for (;;) {
-            s = ((d[q] + (double)q * q) - (d[v[k]] + (double)v[k] * v[k])) / (2.0 * q - 2.0 * v[k]);
-            if (s > zz[k] || k == 0) break;
-            k--;
-        }
-        if (s <= zz[k]) s = zz[k];
-        k++;
-        v[k] = q, zz[k] = s, zz[k + 1] = 1e30;
-    }
-    for (q = 0, k = 0; q < n; q++) {
-        while (zz[k + 1] < q) k++;
-        f[q * st] = (float)((q - v[k]) * (double)(q - v[k]) + d[v[k]]);
-    }
-}
-
 /* dist[i] = distance, in texture units (of the largest side), from voxel
- * i to the nearest voxel where `inside(alpha)` holds; the cube's outside
- * counts as such when `outside_counts` (1 voxel of padding). */
+ * i to the nearest voxel with alpha > 0 (want_positive) or with alpha < 1:
+ * the shared exact transform (edt.h) along x, y and z in turn. */
 static int lst__edt(const pw_alloc *a, const pw_volume *mask, int want_positive, float *dist, pw_err *e)
 {
-    int n[3] = {mask->x, mask->y, mask->z}, big = pw_maxi(n[0], pw_maxi(n[1], n[2])), ax, i, j;
-    size_t st[3], total = (size_t)n[0] * n[1] * n[2], k;
-    double *d = (double *)pw_alloc_array(a, (size_t)big * 2 + 2, sizeof(double), "distance transform", e);
-    int *v = (int *)pw_alloc_array(a, (size_t)big + 1, sizeof(int), "distance transform", e);
-    if (!d || !v) {
-        pw_free(a, d);
-        pw_free(a, v);
+    int X = mask->x, Y = mask->y, Z = mask->z, big = pw_maxi(X, pw_maxi(Y, Z)), z;
+    size_t total = (size_t)X * Y * Z, k;
+    float *f = (float *)pw_alloc_array(a, (size_t)big * 2, sizeof(float), "distance transform", e);
+    int *v = (int *)pw_alloc_array(a, (size_t)big, sizeof(int), "distance transform", e);
+    double *zz = (double *)pw_alloc_array(a, (size_t)big + 1, sizeof(double), "distance transform", e);
+    if (!f || !v || !zz) {
+        pw_free(a, f), pw_free(a, v), pw_free(a, zz);
         return PW_ERR_NOMEM;
     }
-    st[0] = 1, st[1] = (size_t)n[0], st[2] = (size_t)n[0] * n[1];
-    for (k = 0; k < total; k++) { /* 0 on the target set, "infinite" elsewhere */
+    for (k = 0; k < total; k++) { /* 0 on the sites, "far" elsewhere */
         int hit = want_positive ? mask->px[k] > 0.0f : mask->px[k] < 1.0f;
-        dist[k] = hit ? 0.0f : 1e12f;
+        dist[k] = hit ? 0.0f : PW_EDT_FAR;
     }
-    for (ax = 0; ax < 3; ax++) {
-        int o1 = (ax + 1) % 3, o2 = (ax + 2) % 3;
-        for (i = 0; i < n[o1]; i++)
-            for (j = 0; j < n[o2]; j++)
-                lst__edt_1d(dist + i * st[o1] + j * st[o2], n[ax], st[ax], d, d + big, v);
-    }
-    for (k = 0; k < total; k++) dist[k] = (float)(sqrt((double)dist[k]) / big);
-    pw_free(a, d);
-    pw_free(a, v);
+    pw__edt_pass(dist, X, Y * Z, (size_t)X, 1, 0, f, f + big, v, zz);
+    for (z = 0; z < Z; z++) pw__edt_pass(dist + (size_t)z * X * Y, Y, X, 1, (size_t)X, 0, f, f + big, v, zz);
+    pw__edt_pass(dist, Z, X * Y, 1, (size_t)X * Y, 0, f, f + big, v, zz);
+    for (k = 0; k < total; k++) dist[k] = dist[k] >= PW_EDT_FAR ? 1e6f : (float)(sqrt((double)dist[k]) / big);
+    pw_free(a, f), pw_free(a, v), pw_free(a, zz);
     return PW_OK;
 }
 

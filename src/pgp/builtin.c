@@ -35,7 +35,7 @@ PGPDEF pgp_result pgp_builtin_mesh(const char *name, const pgp_options *opt, pgp
     if (out) memset(out, 0, sizeof *out);
     if (!out || !name) pw_fail(&pe, PW_ERR_INVALID, "pgp_builtin_mesh: NULL argument");
     else if (!strcmp(name, "sphere")) r = pw_shape_geosphere(&a, 12, &m, &pe);
-    else if (!strcmp(name, "torus")) r = pw_shape_torus(&a, 48, 32, 0, &m, &pe);
+    else if (!strcmp(name, "torus")) r = pw_shape_torus(&a, 128, 64, 0, &m, &pe); /* fine: small singular 1-rings */
     else if (!strcmp(name, "bumpy")) r = pw_shape_bumpy(&a, 16, &m, &pe);
     else if (!strcmp(name, "grid")) r = pw_shape_grid(&a, 32, 0.0, 0, &m, &pe);
     else

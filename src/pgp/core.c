@@ -9,6 +9,7 @@
 #include "../common/mesh.h"
 #include "../common/halfedge.h"
 #include "../common/sparse.h"
+#include "../common/zsparse.h"
 #include "../common/render.h"
 #include "../common/nrrd.h"
 #include "../common/tile3.h"
@@ -132,6 +133,8 @@ struct pgp_map {
     float *mat;           /* nv: m_i */
     double *zs, *zt;      /* nv*2: the unit complex unknowns of s and t (§2.3) */
     float *stm;           /* nf*9: per corner s, t, m (Eq. 4) */
+    int *forder, *vorder; /* triangles and vertices in breadth-first order: the
+                             order of the unknowns of every solve */
     unsigned char *vsing; /* nv: singular 1-ring (§3) */
     unsigned char *fsing; /* nf: a corner's 1-ring is singular */
     int nsing;

@@ -6,20 +6,32 @@
 
 /* ---- sparse symmetric positive definite solves ----------------------------- */
 
-/* Solves the system collected in t (n x n, symmetric positive definite)
- * for x (warm start: x's current values) with IC(0)-preconditioned CG to a
- * relative residual tol. */
-static int pgp__spd_solve(const pw_alloc *a, const pw_triplets *t, const double *b, double *x, double tol,
-                          pw_err *e)
+/* Solves the system collected in t for x (warm start: x's current values)
+ * to a relative residual tol: real symmetric positive definite (n x n) by
+ * IC(0)-preconditioned CG, or, with `complex` set, complex Hermitian
+ * (zsparse.h: n x 2n triplets, b and x complex) by its complex
+ * counterpart. */
+static int pgp__pd_solve(const pw_alloc *a, const pw_triplets *t, int complex, const double *b, double *x,
+                         double tol, pw_err *e)
 {
     pw_csr A;
     pw_ic0 L;
+    pw_zcsr ZA;
+    pw_zic0 ZL;
     pw_cg_options o = pw_cg_default_options();
     int r;
-    memset(&L, 0, sizeof L);
-    if ((r = pw_csr_from_triplets(a, t, &A, e)) != PW_OK) return r;
     o.tol = tol;
     o.max_iter = 4000;
+    if (complex) {
+        memset(&ZL, 0, sizeof ZL);
+        if ((r = pw_zcsr_from_triplets(a, t, &ZA, e)) != PW_OK) return r;
+        if ((r = pw_zic0_factor(a, &ZA, &ZL, e)) == PW_OK) r = pw_zpcg_solve(a, &ZA, &ZL, b, x, &o, NULL, e);
+        pw_zic0_free(a, &ZL);
+        pw_zcsr_free(a, &ZA);
+        return r;
+    }
+    memset(&L, 0, sizeof L);
+    if ((r = pw_csr_from_triplets(a, t, &A, e)) != PW_OK) return r;
     if ((r = pw_ic0_factor(a, &A, &L, e)) == PW_OK) r = pw_pcg_solve(a, &A, &L, b, x, &o, NULL, e);
     pw_ic0_free(a, &L);
     pw_csr_free(a, &A);
@@ -131,7 +143,10 @@ static int pgp__harmonic(pgp_map *P, const unsigned char *vfree, const unsigned 
     pw_triplets t;
     int n = 0, v, h, r = id ? PW_OK : PW_ERR_NOMEM;
     memset(&t, 0, sizeof t);
-    for (v = 0; r == PW_OK && v < m->nv; v++) id[v] = vfree[v] && !locked[v] ? n++ : -1;
+    for (h = 0; r == PW_OK && h < m->nv; h++) { /* breadth-first order */
+        v = P->vorder[h];
+        id[v] = vfree[v] && !locked[v] ? n++ : -1;
+    }
     if (r == PW_OK && n > 0) {
         b = (double *)pw_calloc_array(&P->a, (size_t)n, sizeof(double), "interpolation", e);
         x = (double *)pw_alloc_array(&P->a, (size_t)n, sizeof(double), "interpolation", e);
@@ -155,7 +170,7 @@ static int pgp__harmonic(pgp_map *P, const unsigned char *vfree, const unsigned 
     for (v = 0; r == PW_OK && n > 0 && v < m->nv; v++) /* a faint pull towards the fallback */
         if (id[v] >= 0 && (r = pw_triplets_add(&t, id[v], id[v], PGP__PULL, e)) == PW_OK)
             b[id[v]] += PGP__PULL * fallback;
-    if (r == PW_OK && n > 0) r = pgp__spd_solve(&P->a, &t, b, x, 1e-8, e);
+    if (r == PW_OK && n > 0) r = pgp__pd_solve(&P->a, &t, 0, b, x, 1e-8, e);
     for (v = 0; r == PW_OK && n > 0 && v < m->nv; v++)
         if (id[v] >= 0) val[v] = (float)x[id[v]];
     pw_triplets_free(&t);
@@ -178,34 +193,30 @@ static double pgp__dir_weight(const pgp_map *P, int h)
 
 /* Adds one interior edge (half-edge h of triangle f, twin in g) to the
  * orientation system: w |z_f - c z_g|^2 with c the transport from g into f
- * (pw_df_connection). In real 2x2 blocks: diagonal w I, coupling -w C(c)
- * and its transpose, C(c) = [cx -cy; cy cx]; fixed neighbours go to b. */
+ * (pw_df_connection): w on both diagonals, -w c at (f, g) and its
+ * conjugate at (g, f); a fixed neighbour moves to b. */
 static int pgp__dir_edge(const pgp_map *P, const int *id, int h, pw_triplets *t, double *b, pw_err *e)
 {
     int f = h / 3, g = P->m.hm.twin[h] / 3, i = id[f], j = id[g], r = PW_OK;
     double w = pgp__dir_weight(P, h), cx = P->conn[2 * h], cy = P->conn[2 * h + 1];
-    double C[2][2];
-    int p, q;
-    C[0][0] = cx, C[0][1] = -cy, C[1][0] = cy, C[1][1] = cx;
-    for (p = 0; p < 2 && r == PW_OK; p++) {
-        if (i >= 0) r = pw_triplets_add(t, 2 * i + p, 2 * i + p, w, e);
-        if (r == PW_OK && j >= 0) r = pw_triplets_add(t, 2 * j + p, 2 * j + p, w, e);
+    const double *zf = P->dir + 2 * f, *zg = P->dir + 2 * g;
+    if (i >= 0) r = pw_ztriplets_add(t, i, i, w, 0.0, e);
+    if (r == PW_OK && j >= 0) r = pw_ztriplets_add(t, j, j, w, 0.0, e);
+    if (r == PW_OK && i >= 0 && j >= 0) {
+        r = pw_ztriplets_add(t, i, j, -w * cx, -w * cy, e);
+        if (r == PW_OK) r = pw_ztriplets_add(t, j, i, -w * cx, w * cy, e);
+    } else if (i >= 0) { /* b_f += w c z_g */
+        b[2 * i] += w * (cx * zg[0] - cy * zg[1]);
+        b[2 * i + 1] += w * (cx * zg[1] + cy * zg[0]);
+    } else if (j >= 0) { /* b_g += w conj(c) z_f */
+        b[2 * j] += w * (cx * zf[0] + cy * zf[1]);
+        b[2 * j + 1] += w * (cx * zf[1] - cy * zf[0]);
     }
-    for (p = 0; p < 2 && r == PW_OK; p++)
-        for (q = 0; q < 2 && r == PW_OK; q++) {
-            if (i >= 0 && j >= 0) {
-                r = pw_triplets_add(t, 2 * i + p, 2 * j + q, -w * C[p][q], e);
-                if (r == PW_OK) r = pw_triplets_add(t, 2 * j + q, 2 * i + p, -w * C[p][q], e);
-            } else if (i >= 0)
-                b[2 * i + p] += w * C[p][q] * P->dir[2 * g + q];
-            else if (j >= 0)
-                b[2 * j + q] += w * C[p][q] * P->dir[2 * f + p]; /* C^T z_f */
-        }
     return r;
 }
 
 /* Directions are normalised after the solve: a loose tolerance suffices. */
-#define PGP__DIR_TOL 1e-4
+#define PGP__DIR_TOL 3e-3
 
 /* Smooths the directions of the free triangles (free[f]) with the others
  * fixed, each pulled towards the default field with weight pull[f] (NULL:
@@ -221,23 +232,26 @@ static int pgp__dir_smooth(pgp_map *P, const unsigned char *free, const double *
     pw_triplets t;
     int n = 0, f, h, r = id ? PW_OK : PW_ERR_NOMEM;
     memset(&t, 0, sizeof t);
-    for (f = 0; r == PW_OK && f < m->nf; f++) id[f] = free[f] ? n++ : -1;
+    for (h = 0; r == PW_OK && h < m->nf; h++) { /* breadth-first order */
+        f = P->forder[h];
+        id[f] = free[f] ? n++ : -1;
+    }
     if (r == PW_OK && n > 0) {
         b = (double *)pw_calloc_array(&P->a, (size_t)n * 2, sizeof(double), "orientation", e);
         x = (double *)pw_alloc_array(&P->a, (size_t)n * 2, sizeof(double), "orientation", e);
-        if (!b || !x || pw_triplets_init(&t, &P->a, 2 * n, 2 * n, e) != PW_OK) r = PW_ERR_NOMEM;
+        if (!b || !x) r = PW_ERR_NOMEM;
+        else r = pw_triplets_init(&t, &P->a, n, 2 * n, e);
     }
     for (f = 0; r == PW_OK && n > 0 && f < m->nf; f++)
         if (id[f] >= 0) {
-            x[2 * id[f]] = P->dir[2 * f], x[2 * id[f] + 1] = P->dir[2 * f + 1];
             double w = pull ? pull[f] + PGP__PULL : PGP__PULL;
+            x[2 * id[f]] = P->dir[2 * f], x[2 * id[f] + 1] = P->dir[2 * f + 1];
             b[2 * id[f]] += w * P->base[2 * f], b[2 * id[f] + 1] += w * P->base[2 * f + 1];
-            r = pw_triplets_add(&t, 2 * id[f], 2 * id[f], w, e);
-            if (r == PW_OK) r = pw_triplets_add(&t, 2 * id[f] + 1, 2 * id[f] + 1, w, e);
+            r = pw_ztriplets_add(&t, id[f], id[f], w, 0.0, e);
         }
     for (h = 0; r == PW_OK && n > 0 && h < 3 * m->nf; h++)
         if (m->hm.twin[h] > h && (id[h / 3] >= 0 || id[m->hm.twin[h] / 3] >= 0)) r = pgp__dir_edge(P, id, h, &t, b, e);
-    if (r == PW_OK && n > 0) r = pgp__spd_solve(&P->a, &t, b, x, PGP__DIR_TOL, e);
+    if (r == PW_OK && n > 0) r = pgp__pd_solve(&P->a, &t, 1, b, x, PGP__DIR_TOL, e);
     for (f = 0; r == PW_OK && n > 0 && f < m->nf; f++)
         if (id[f] >= 0) {
             double *z = P->dir + 2 * f;

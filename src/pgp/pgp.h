@@ -1,8 +1,9 @@
 /* pgp.h - material-space texturing with a periodic global parameterization.
  *
- * A single-file C library implementing §2 and §3 of "Material Space
- * Texturing" (Nicolas Ray, Bruno Lévy, Huamin Wang, Greg Turk, Bruno
- * Vallet, Computer Graphics Forum 2009): a triangle mesh of any genus gets
+ * A single-file C library implementing "Material Space Texturing" (Nicolas
+ * Ray, Bruno Lévy, Huamin Wang, Greg Turk, Bruno Vallet, Computer Graphics
+ * Forum 2009): §1, a material-space tile synthesised from key textures
+ * (TILE SYNTHESIS below); §2 and §3, a triangle mesh of any genus gets
  * texture coordinates (s, t, m) into a material-space tile (a 3D texture
  * periodic in s and t, with a material axis m; a plain periodic 2D texture
  * is the one-layer case) that follow constraints on orientation, scale and
@@ -26,6 +27,35 @@
  *     lookups (one per corner's point of view) blended barycentrically, the
  *     rest with one; the tile is sampled with mipmaps, wrapping in s and t,
  *     clamped and interpolated in m.
+ *
+ * TILE SYNTHESIS (§1; morph.c, synth.c)
+ *   pgp_synthesize_tile builds the material-space tile itself from two or
+ *   more key textures and their feature masks (painted by the user, or
+ *   computed from the luminance or its gradient, pgp_feature_mask):
+ *   - keys are resampled to size x size (never cropped) and made tileable
+ *     by graph-cut quilting onto a torus when their wrap-around seam shows;
+ *   - §1.1 the masks' periodic signed distances (exact EDT) are morphed
+ *     over N >> M steps: advection along grad phi_N by bilinear splatting,
+ *     interior dilation inside the target features, sweeping towards
+ *     phi_N; the M + 1 masks kept are the steps H(m) at which each layer
+ *     flips about as many texels as the next (speed-adaptive subsampling;
+ *     pgp_morph_masks alone);
+ *   - §1.2 each layer is synthesised under its mask from each end key on
+ *     indirection pyramids (coarse to fine, texels in random order, 5x5
+ *     colour and 3x3 mask neighbourhoods reduced by PCA, a kd-tree search
+ *     with a usage penalty that keeps the colour histograms, everything
+ *     periodic), and the two syntheses are blended by m/M;
+ *   - more keys chain pairwise morphs; single-tile mode (Fig. 14)
+ *     synthesises every layer under one key's mask, to hide its period.
+ *   It is the long computation of the family: a progress callback reports
+ *   and can cancel (8 layers of 256 x 256: about 12 s on one core).
+ *       pgp_key keys[2] = {{&spots, NULL}, {&stripes, NULL}};
+ *       pgp_synth_options so = pgp_synth_default_options();
+ *       so.size = 256;
+ *       so.layers = 8;
+ *       if (pgp_synthesize_tile(keys, 2, &so, &tile, NULL, &err) ||
+ *           pgp_save_tile("spots_to_stripes.nrrd", &tile, &err))
+ *           fprintf(stderr, "%s\n", err.message);
  *
  * USAGE
  *   In exactly one C or C++ file:
@@ -279,6 +309,100 @@ PGPDEF pgp_result pgp_apply_constraints(pgp_map *map, const char *path, pgp_erro
 PGPDEF void pgp_mesh_free(pgp_mesh *m);
 PGPDEF void pgp_image_free(pgp_image *img);
 PGPDEF void pgp_tile_free(pgp_tile *t);
+
+/* ======================================================================
+ * §1 Material-space tile synthesis (morph.c, synth.c)
+ * ====================================================================== */
+
+/* A key texture and its feature mask (§1). */
+typedef struct pgp_key {
+    const pgp_image *image; /* the key texture, 1-4 channels, any size */
+    const pgp_image *mask;  /* its feature mask, the image's size: texels whose
+                               luminance is above 1/2 are features (a PGM painted by
+                               the user); NULL: computed, see auto_mask */
+} pgp_key;
+
+/* Masks computed from the key when none is given (§1: "constructed
+ * automatically"), on the luminance (colour over white where there is
+ * alpha) smoothed by a 3x3 binomial filter, thresholded by Otsu's method. */
+enum {
+    PGP_MASK_DARK = 0,    /* features are darker than the threshold (spots, grain, mortar) */
+    PGP_MASK_BRIGHT = 1,  /* features are brighter */
+    PGP_MASK_GRADIENT = 2 /* features are where the gradient magnitude is above its threshold */
+};
+
+/* Keys that do not tile are made tileable by graph-cut quilting onto a
+ * torus (§1, [KdE*03]; the mask is cut with the colours). */
+enum {
+    PGP_TILEABLE_AUTO = 0, /* quilt a key when its wrap-around seam (mean difference between
+                              the last and first column, or row) exceeds twice the mean
+                              difference between neighbouring columns (rows) inside it */
+    PGP_TILEABLE_KEEP = 1, /* take every key as it is */
+    PGP_TILEABLE_MAKE = 2  /* quilt every key */
+};
+
+typedef struct pgp_synth_options {
+    int size;            /* tile side in texels; every key (and mask) is resampled
+                            periodically to size x size (bilinear up, box filter down;
+                            never cropped); default 128, 16 to 4096 */
+    int layers;          /* layers of the tile (m from 0 to 1); the keys sit at evenly
+                            spaced layers, the first at 0 and the last at layers-1;
+                            default 8 */
+    int single;          /* 1: single-tile mode (Fig. 14): one key, every layer
+                            synthesised with the key's own mask, to hide periodicity */
+    int tileable;        /* PGP_TILEABLE_*; default AUTO */
+    int auto_mask;       /* PGP_MASK_*; default DARK */
+    int steps;           /* §1.1 advection steps N per morph; 0: at least 16 per layer and
+                            enough that dt <= 1/2 texel */
+    int uniform;         /* 1: layers at n = m N / M instead of the speed-adaptive H(m) */
+    int levels;          /* §1.2 pyramid levels; 0: halve while the side stays even and
+                            at least 32 texels */
+    int coarse_passes;   /* optimisation passes at the coarsest level; default 20 */
+    int fine_passes;     /* ... at every finer level; default 4 */
+    int color_window;    /* side of the colour neighbourhood (odd); default 5 */
+    int mask_window;     /* side of the mask neighbourhood (odd); default 3 */
+    int color_dims;      /* PCA coefficients kept of a colour neighbourhood; default 5, at
+                            most 8 */
+    int mask_dims;       /* ... of a mask neighbourhood; default 3, at most 8 */
+    float mask_weight;   /* scale of the mask coefficients ("scaled by two"); default 2 */
+    float usage_weight;  /* usage penalty: each current use of an input texel costs this
+                            fraction of the input vectors' total variance; default 0.2;
+                            negative: no penalty */
+    float search_eps;    /* nearest neighbours within a factor 1 + eps of the nearest
+                            distance, as the paper's ANN; default 1; negative: exact */
+    int search_buckets;  /* ... scanning at most this many kd-tree buckets (of 8 input
+                            texels) per search, ANN's bound on the points visited;
+                            default 64; negative: no bound. With search_eps < 0 and
+                            search_buckets < 0 every match is the exact nearest one */
+    unsigned long long seed; /* random pixel order and single-tile initialisation; default 0 */
+    pgp_allocator allocator;
+    pgp_progress_fn progress; /* may cancel: non-zero return stops with PGP_ERR_CANCELLED */
+    void *progress_user;
+} pgp_synth_options;
+
+PGPDEF pgp_synth_options pgp_synth_default_options(void);
+
+/* The feature mask of an image as computed when a key comes without one:
+ * one channel, 1 on features and 0 elsewhere, the image's size. */
+PGPDEF pgp_result pgp_feature_mask(const pgp_image *image, int mode, const pgp_synth_options *opt,
+                                   pgp_image *out, pgp_error *err);
+
+/* §1.1 alone: the feature masks F_0 .. F_M (M = layers - 1, layers >= 2) of
+ * the morph from mask0 to mask1 (same size, each with features and
+ * background), as a one-channel tile of 0/1 texels, layer 0 = mask0 and
+ * the last = mask1. */
+PGPDEF pgp_result pgp_morph_masks(const pgp_image *mask0, const pgp_image *mask1, int layers,
+                                  const pgp_synth_options *opt, pgp_tile *out, pgp_error *err);
+
+/* §1: the material-space tile of nkeys keys (>= 2; exactly 1 in single-tile
+ * mode): opt->layers layers of size x size texels, with the channels of the
+ * richest key (gray < RGB, plus alpha if any key has it); consecutive keys
+ * are morphed pairwise. masks (may be NULL) receives the feature mask of
+ * every layer (one channel, 0/1). Key masks must have features and
+ * background, except in single-tile mode. */
+PGPDEF pgp_result pgp_synthesize_tile(const pgp_key *keys, int nkeys, const pgp_synth_options *opt,
+                                      pgp_tile *out, pgp_tile *masks, pgp_error *err);
+/* ---- end of §1 tile synthesis ---- */
 
 #ifdef __cplusplus
 }

@@ -1,0 +1,118 @@
+/* edt: exact Euclidean distance transforms of binary images, plain or
+ * periodic (the image wraps around in both directions, as a tile does).
+ *
+ * The squared distance from every pixel to the nearest "site" pixel is
+ * computed exactly by the separable lower-envelope algorithm of Felzenszwalb
+ * and Huttenlocher ("Distance transforms of sampled functions", 2004): a 1D
+ * transform along every row, then along every column of the result. Each 1D
+ * pass builds the lower envelope of the parabolas (q - v)^2 + f(v) and reads
+ * it back; on a periodic line the input is laid out three times in a row and
+ * the middle copy is read, which is exact because the nearest copy of any
+ * site is at most half a period away. Distances are between pixel centres.
+ *
+ *   pw_edt_sq      squared distance to the nearest site (PW_EDT_FAR if none)
+ *   pw_edt_signed  signed distance to the boundary of a mask: positive
+ *                  inside, negative outside, |phi| = distance to the nearest
+ *                  pixel of the other kind minus 1/2, so that the zero level
+ *                  lies on the pixel edges between the two kinds
+ * Only sqrt is used (correctly rounded in IEEE arithmetic), so the results
+ * are the same on every platform. */
+#ifndef PW__EDT_V1
+#define PW__EDT_V1
+
+#include "base.h"
+
+#define PW_EDT_FAR FLT_MAX /* squared distance where no site exists */
+
+/* 1D transform of f[0..n) (PW_EDT_FAR: no site) into d[0..n), using the
+ * scratch v (n ints) and z (n+1 doubles). Sites are the finite entries. */
+PW__DEF void pw__edt_1d(const float *f, int n, float *d, int *v, double *z)
+{
+    int q, k = -1;
+    for (q = 0; q < n; q++) {
+        double s = 0.0;
+        if (f[q] >= PW_EDT_FAR) continue;
+        while (k >= 0) {
+            int p = v[k];
+            s = (((double)f[q] + (double)q * q) - ((double)f[p] + (double)p * p)) / (2.0 * (q - p));
+            if (s > z[k]) break;
+            k--;
+        }
+        k++;
+        v[k] = q;
+        z[k] = k ? s : -DBL_MAX;
+        z[k + 1] = DBL_MAX;
+    }
+    if (k < 0) {
+        for (q = 0; q < n; q++) d[q] = PW_EDT_FAR;
+        return;
+    }
+    for (q = 0, k = 0; q < n; q++) {
+        double dq;
+        while (z[k + 1] < (double)q) k++;
+        dq = (double)(q - v[k]) * (q - v[k]) + f[v[k]];
+        d[q] = (float)dq;
+    }
+}
+
+/* One pass along lines of length n (count lines, element i of line l at
+ * data[l*ls + i*es]), in place; periodic lines are tripled. */
+PW__DEF void pw__edt_pass(float *data, int n, int count, size_t ls, size_t es, int wrap, float *f,
+                          float *d, int *v, double *z)
+{
+    int l, i, reps = wrap ? 3 : 1;
+    for (l = 0; l < count; l++) {
+        float *line = data + (size_t)l * ls;
+        for (i = 0; i < n * reps; i++) f[i] = line[(size_t)(i % n) * es];
+        pw__edt_1d(f, n * reps, d, v, z);
+        for (i = 0; i < n; i++) line[(size_t)i * es] = d[i + (wrap ? n : 0)];
+    }
+}
+
+/* out[y*w + x] = squared distance from (x, y) to the nearest pixel with
+ * site[] != 0, periodic in x and y when wrap is set; PW_EDT_FAR everywhere
+ * when there is no site. */
+PW__DEF int pw_edt_sq(const pw_alloc *a, const unsigned char *site, int w, int h, int wrap,
+                      float *out, pw_err *e)
+{
+    int m = (w > h ? w : h) * (wrap ? 3 : 1);
+    size_t i, n = (size_t)w * h;
+    float *f = (float *)pw_alloc_array(a, (size_t)m * 2, sizeof(float), "distance transform", e);
+    int *v = (int *)pw_alloc_array(a, (size_t)m, sizeof(int), "distance transform", e);
+    double *z = (double *)pw_alloc_array(a, (size_t)m + 1, sizeof(double), "distance transform", e);
+    if (!f || !v || !z) {
+        pw_free(a, f);
+        pw_free(a, v);
+        pw_free(a, z);
+        return PW_ERR_NOMEM;
+    }
+    for (i = 0; i < n; i++) out[i] = site[i] ? 0.0f : PW_EDT_FAR;
+    pw__edt_pass(out, w, h, (size_t)w, 1, wrap, f, f + m, v, z);
+    pw__edt_pass(out, h, w, 1, (size_t)w, wrap, f, f + m, v, z);
+    pw_free(a, f);
+    pw_free(a, v);
+    pw_free(a, z);
+    return PW_OK;
+}
+
+/* phi[i] > 0 where mask[i] != 0 (inside), < 0 elsewhere; |phi| is the
+ * distance to the nearest pixel of the other kind minus 1/2. A mask with no
+ * pixel of one kind gives +-sqrt(PW_EDT_FAR) on the other. */
+PW__DEF int pw_edt_signed(const pw_alloc *a, const unsigned char *mask, int w, int h, int wrap,
+                          float *phi, pw_err *e)
+{
+    size_t i, n = (size_t)w * h;
+    unsigned char *inv = (unsigned char *)pw_alloc_array(a, n, 1, "signed distance", e);
+    float *din = (float *)pw_alloc_array(a, n, sizeof(float), "signed distance", e);
+    int r = inv && din ? PW_OK : PW_ERR_NOMEM;
+    for (i = 0; r == PW_OK && i < n; i++) inv[i] = (unsigned char)!mask[i];
+    if (r == PW_OK) r = pw_edt_sq(a, mask, w, h, wrap, phi, e); /* outside: to the mask */
+    if (r == PW_OK) r = pw_edt_sq(a, inv, w, h, wrap, din, e);  /* inside: to the rest */
+    for (i = 0; r == PW_OK && i < n; i++)
+        phi[i] = mask[i] ? sqrtf(din[i]) - 0.5f : 0.5f - sqrtf(phi[i]);
+    pw_free(a, inv);
+    pw_free(a, din);
+    return r;
+}
+
+#endif /* PW__EDT_V1 */

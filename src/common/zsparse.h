@@ -1,0 +1,254 @@
+/* zsparse: complex Hermitian sparse systems, solved by conjugate gradients
+ * preconditioned with a complex incomplete Cholesky factor.
+ *
+ * The direction-field smoothing and the periodic global parameterization
+ * of pgp.h minimise sums of w |z_i - c z_j|^2 over unit complex numbers:
+ * Hermitian positive (semi)definite systems. Written as real systems of
+ * twice the size they store every complex coefficient as a 2x2 block (four
+ * values, four column indices); here each is one (re, im) pair under one
+ * index, which halves the memory CG streams per iteration, and IC(0) of the
+ * complex matrix keeps the pairs together.
+ *
+ * Complex numbers are (re, im) pairs of doubles: vectors of n complex
+ * entries are 2n doubles. Entries are collected in an ordinary pw_triplets
+ * of n rows and 2n columns (pw_ztriplets_add writes the real part at
+ * column 2j and the imaginary part at 2j + 1, both always, so that the
+ * structure depends on positions only), then packed:
+ *
+ *     pw_triplets t;  pw_zcsr A;  pw_zic0 L;
+ *     pw_triplets_init(&t, NULL, n, 2 * n, &e);
+ *     pw_ztriplets_add(&t, i, j, re, im, &e);  ...   (duplicates summed)
+ *     pw_zcsr_from_triplets(NULL, &t, &A, &e);
+ *     pw_zic0_factor(NULL, &A, &L, &e);
+ *     pw_zpcg_solve(NULL, &A, &L, b, x, NULL, &stats, &e);   (b, x: 2n)
+ *
+ * The caller adds both (i, j) and its conjugate (j, i): nothing checks that
+ * the matrix is Hermitian, CG just fails to converge if it is not.
+ * Determinism as in sparse.h: fixed summation order, no threads. */
+#ifndef PW__ZSPARSE_V1
+#define PW__ZSPARSE_V1
+
+#include "sparse.h"
+
+/* Adds re + i im at (i, j) of the complex matrix collected in t. */
+PW__DEF int pw_ztriplets_add(pw_triplets *t, int i, int j, double re, double im, pw_err *e)
+{
+    int r = pw_triplets_add(t, i, 2 * j, re, e);
+    return r == PW_OK ? pw_triplets_add(t, i, 2 * j + 1, im, e) : r;
+}
+
+/* n x n complex CSR: row i holds col[k], (val[2k], val[2k+1]) for
+ * rowptr[i] <= k < rowptr[i+1], columns increasing. */
+typedef struct pw_zcsr {
+    int n;
+    int *rowptr, *col;
+    double *val; /* 2 per entry */
+} pw_zcsr;
+
+PW__DEF void pw_zcsr_free(const pw_alloc *a, pw_zcsr *A)
+{
+    if (!A) return;
+    pw_free(a, A->rowptr);
+    pw_free(a, A->col);
+    pw_free(a, A->val);
+    memset(A, 0, sizeof *A);
+}
+
+/* Packs t (n x 2n, filled by pw_ztriplets_add) into A. */
+PW__DEF int pw_zcsr_from_triplets(const pw_alloc *a, const pw_triplets *t, pw_zcsr *A, pw_err *e)
+{
+    pw_csr R;
+    int i, k, r;
+    memset(A, 0, sizeof *A);
+    if (t->m != 2 * t->n)
+        return pw_fail(e, PW_ERR_INVALID, "complex triplets of %dx%d: need n x 2n", t->n, t->m);
+    if ((r = pw_csr_from_triplets(a, t, &R, e)) != PW_OK) return r;
+    for (k = 0; k < R.rowptr[t->n]; k += 2)
+        if (R.col[k] % 2 != 0 || k + 1 >= R.rowptr[t->n] || R.col[k + 1] != R.col[k] + 1) {
+            pw_csr_free(a, &R);
+            return pw_fail(e, PW_ERR_INVALID, "complex triplets: entry %d lacks its real or imaginary "
+                           "part (add entries with pw_ztriplets_add)", k);
+        }
+    A->n = t->n;
+    A->rowptr = (int *)pw_alloc_array(a, (size_t)t->n + 1, sizeof(int), "complex CSR", e);
+    A->col = (int *)pw_alloc_array(a, (size_t)R.rowptr[t->n] / 2 + 1, sizeof(int), "complex CSR", e);
+    if (!A->rowptr || !A->col) {
+        pw_csr_free(a, &R);
+        pw_zcsr_free(a, A);
+        return PW_ERR_NOMEM;
+    }
+    /* every complex entry is the adjacent pair (2j, 2j+1) of R's row */
+    for (i = 0; i <= t->n; i++) A->rowptr[i] = R.rowptr[i] / 2;
+    for (k = 0; k < R.rowptr[t->n]; k += 2) A->col[k / 2] = R.col[k] / 2;
+    A->val = R.val; /* the pairs are already interleaved in order */
+    R.val = NULL;
+    pw_csr_free(a, &R);
+    return PW_OK;
+}
+
+/* y = A x over complex vectors (2n doubles); returns Re(x^H y). */
+PW__DEF double pw_zcsr_mul(const pw_zcsr *A, const double *x, double *y)
+{
+    double d = 0.0;
+    int i, k;
+    for (i = 0; i < A->n; i++) {
+        double sr = 0.0, si = 0.0;
+        for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++) {
+            const double *v = A->val + 2 * k, *xx = x + 2 * A->col[k];
+            sr += v[0] * xx[0] - v[1] * xx[1];
+            si += v[0] * xx[1] + v[1] * xx[0];
+        }
+        y[2 * i] = sr, y[2 * i + 1] = si;
+        d += x[2 * i] * sr + x[2 * i + 1] * si;
+    }
+    return d;
+}
+
+/* ---- complex IC(0) -------------------------------------------------------- */
+
+/* L lower triangular with A's lower sparsity and a real positive diagonal
+ * (stored last in each row, imaginary part 0), L L^H ~ A. */
+typedef struct pw_zic0 {
+    int n;
+    int *rowptr, *col;
+    double *val; /* 2 per entry */
+} pw_zic0;
+
+PW__DEF void pw_zic0_free(const pw_alloc *a, pw_zic0 *L)
+{
+    pw_free(a, L->rowptr);
+    pw_free(a, L->col);
+    pw_free(a, L->val);
+    memset(L, 0, sizeof *L);
+}
+
+/* sum over k < below of L_ik conj(L_jk), into (re, im). */
+PW__DEF void pw__zic0_dot(const pw_zic0 *L, int i, int j, int below, double *re, double *im)
+{
+    int a = L->rowptr[i], b = L->rowptr[j], ea = L->rowptr[i + 1], eb = L->rowptr[j + 1];
+    double sr = 0.0, si = 0.0;
+    while (a < ea && b < eb && L->col[a] < below && L->col[b] < below) {
+        if (L->col[a] == L->col[b]) {
+            const double *u = L->val + 2 * a++, *v = L->val + 2 * b++;
+            sr += u[0] * v[0] + u[1] * v[1];
+            si += u[1] * v[0] - u[0] * v[1];
+        } else if (L->col[a] < L->col[b])
+            a++;
+        else
+            b++;
+    }
+    *re = sr, *im = si;
+}
+
+/* Factors A + shift diag(A); 0 when a pivot is not positive. */
+PW__DEF int pw__zic0_try(const pw_zcsr *A, double shift, pw_zic0 *L)
+{
+    int i, k, out = 0;
+    for (i = 0; i < A->n; i++) {
+        double diag = 0.0, re, im;
+        for (k = A->rowptr[i]; k < A->rowptr[i + 1] && A->col[k] <= i; k++) {
+            int j = A->col[k];
+            if (j == i) diag = A->val[2 * k] * (1.0 + shift);
+            else { /* L_ij = (A_ij - sum_k L_ik conj(L_jk)) / L_jj, L_jj real */
+                double djj = L->val[2 * (L->rowptr[j + 1] - 1)];
+                pw__zic0_dot(L, i, j, j, &re, &im);
+                L->col[out] = j;
+                L->val[2 * out] = (A->val[2 * k] - re) / djj;
+                L->val[2 * out + 1] = (A->val[2 * k + 1] - im) / djj;
+                out++;
+                L->rowptr[i + 1] = out; /* rows read themselves while being filled */
+            }
+        }
+        L->rowptr[i + 1] = out;
+        pw__zic0_dot(L, i, i, i, &re, &im); /* sum |L_ik|^2: im is 0 */
+        diag -= re;
+        if (!(diag > 0.0) || !pw_is_finite(diag)) return 0;
+        L->col[out] = i;
+        L->val[2 * out] = sqrt(diag);
+        L->val[2 * out + 1] = 0.0;
+        L->rowptr[i + 1] = ++out;
+    }
+    return 1;
+}
+
+/* Factors a Hermitian positive (semi)definite A whose every diagonal entry
+ * is present (real); breakdowns are cured by a growing diagonal shift, as
+ * pw_ic0_factor does. */
+PW__DEF int pw_zic0_factor(const pw_alloc *a, const pw_zcsr *A, pw_zic0 *L, pw_err *e)
+{
+    int i, k, nnz = 0;
+    double shift = 0.0;
+    memset(L, 0, sizeof *L);
+    for (i = 0; i < A->n; i++)
+        for (k = A->rowptr[i]; k < A->rowptr[i + 1] && A->col[k] <= i; k++) nnz++;
+    L->n = A->n;
+    L->rowptr = (int *)pw_calloc_array(a, (size_t)A->n + 1, sizeof(int), "complex IC(0)", e);
+    L->col = (int *)pw_alloc_array(a, (size_t)nnz + (size_t)A->n, sizeof(int), "complex IC(0)", e);
+    L->val = (double *)pw_alloc_array(a, 2 * ((size_t)nnz + (size_t)A->n), sizeof(double), "complex IC(0)", e);
+    if (!L->rowptr || !L->col || !L->val) {
+        pw_zic0_free(a, L);
+        return PW_ERR_NOMEM;
+    }
+    for (k = 0; k < 40; k++, shift = shift > 0.0 ? 2.0 * shift : 1e-3)
+        if (pw__zic0_try(A, shift, L)) return PW_OK;
+    pw_zic0_free(a, L);
+    return pw_fail(e, PW_ERR_INVALID, "complex IC(0): the matrix is not positive definite");
+}
+
+/* z = (L L^H)^-1 r over complex vectors. */
+PW__DEF void pw_zic0_apply(const pw_zic0 *L, const double *r, double *z)
+{
+    int i, k;
+    for (i = 0; i < L->n; i++) { /* L y = r */
+        double sr = r[2 * i], si = r[2 * i + 1], d;
+        for (k = L->rowptr[i]; k < L->rowptr[i + 1] - 1; k++) {
+            const double *v = L->val + 2 * k, *y = z + 2 * L->col[k];
+            sr -= v[0] * y[0] - v[1] * y[1];
+            si -= v[0] * y[1] + v[1] * y[0];
+        }
+        d = L->val[2 * (L->rowptr[i + 1] - 1)];
+        z[2 * i] = sr / d, z[2 * i + 1] = si / d;
+    }
+    for (i = L->n - 1; i >= 0; i--) { /* L^H z = y, by columns of L^H = rows of L */
+        double d = L->val[2 * (L->rowptr[i + 1] - 1)], zr, zi;
+        zr = z[2 * i] /= d;
+        zi = z[2 * i + 1] /= d;
+        for (k = L->rowptr[i]; k < L->rowptr[i + 1] - 1; k++) { /* z_j -= conj(L_ij) z_i */
+            const double *v = L->val + 2 * k;
+            double *y = z + 2 * L->col[k];
+            y[0] -= v[0] * zr + v[1] * zi;
+            y[1] -= v[0] * zi - v[1] * zr;
+        }
+    }
+}
+
+PW__DEF double pw__zcsr_op_mul(const void *A, const double *x, double *y)
+{
+    return pw_zcsr_mul((const pw_zcsr *)A, x, y);
+}
+
+PW__DEF void pw__zic0_op(const void *M, const double *r, double *z) { pw_zic0_apply((const pw_zic0 *)M, r, z); }
+
+/* Solves A x = b (complex, 2n doubles each; x the warm start) for a
+ * Hermitian positive definite A, by CG preconditioned with M = pw_zic0 of
+ * A; options, stopping rule (|b - A x| <= tol |b|) and errors as
+ * pw_pcg_solve. */
+PW__DEF int pw_zpcg_solve(const pw_alloc *a, const pw_zcsr *A, const pw_zic0 *M, const double *b, double *x,
+                          const pw_cg_options *o, pw_cg_stats *s, pw_err *e)
+{
+    pw__pcg_op op;
+    if (s) memset(s, 0, sizeof *s);
+    if (pw__check_vec(b, 2 * A->n, "complex PCG right-hand side b", e) ||
+        pw__check_vec(x, 2 * A->n, "complex PCG guess x", e) ||
+        pw__check_vec(A->val, 2 * A->rowptr[A->n], "complex matrix", e))
+        return PW_ERR_INVALID;
+    PW_SOLVE_HOOK("zpcg", A, b, x, o);
+    op.n = 2 * A->n;
+    op.mul = pw__zcsr_op_mul;
+    op.precond = pw__zic0_op;
+    op.actx = A;
+    op.mctx = M;
+    return pw__pcg_run(a, &op, b, x, o, s, "complex PCG", e);
+}
+
+#endif /* PW__ZSPARSE_V1 */

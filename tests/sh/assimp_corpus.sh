@@ -1,0 +1,45 @@
+#!/bin/sh
+# Another project's corpus: every OBJ, OFF and PLY file under
+# /usr/share/assimp/models (Debian's assimp-testmodels), the malformed and
+# invalid ones included, goes through `patchwork pgp` and `patchwork tiled`.
+# Each run either succeeds (status 0, the output written) or fails cleanly
+# (status 1, one line on stderr naming the problem, nothing left behind);
+# no crash, no hang. Files under invalid/ must fail. Skipped when the
+# package is absent.
+bin=${BUILD:-build}/patchwork
+root=/usr/share/assimp/models
+if [ ! -d "$root" ]; then
+    echo "SKIP assimp_corpus: $root absent (Debian package assimp-testmodels)"
+    exit 0
+fi
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT INT TERM
+list=$(find "$root" -type f \( -iname '*.obj' -o -iname '*.off' -o -iname '*.ply' \) | sort)
+loaded=0 refused=0 bad=0
+for f in $list; do
+    rel=${f#"$root"/}
+    for cmd in pgp tiled; do
+        rm -rf "$tmp/out" && mkdir -p "$tmp/out"
+        if [ $cmd = pgp ]; then
+            timeout 120 "$bin" pgp --mesh "$f" --tile procedural:stripes --size 48x36 --out-image "$tmp/out/x.png" \
+                > /dev/null 2> "$tmp/err"
+        else
+            timeout 120 "$bin" tiled --mesh "$f" --out-obj "$tmp/out/x.obj" > /dev/null 2> "$tmp/err"
+        fi
+        status=$?
+        lines=$(wc -l < "$tmp/err")
+        left=$(ls "$tmp/out" | wc -l)
+        case "$rel" in invalid/*) must_fail=1 ;; *) must_fail=0 ;; esac
+        if [ $status -eq 0 ] && [ $must_fail -eq 0 ] && [ "$left" -gt 0 ]; then
+            loaded=$((loaded + 1))
+        elif [ $status -eq 1 ] && [ "$lines" -eq 1 ] && [ "$left" -eq 0 ] && grep -q "^patchwork $cmd: " "$tmp/err"; then
+            refused=$((refused + 1))
+        else
+            bad=$((bad + 1))
+            echo "FAIL assimp_corpus/$cmd/$rel: status $status, $lines stderr lines, $left files left: $(head -2 "$tmp/err" | tr '\n' '|')"
+        fi
+    done
+done
+n=$(echo "$list" | wc -l)
+echo "INFO assimp_corpus: $n files x 2 commands: $loaded runs succeeded, $refused refused cleanly, $bad wrong"
+[ $bad -eq 0 ] && [ $loaded -gt 0 ] && [ $refused -gt 0 ] && echo "PASS assimp_corpus" || echo "FAIL assimp_corpus: see above"

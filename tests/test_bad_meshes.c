@@ -1,0 +1,197 @@
+/* Every surface method on the meshes that go wrong in practice: each
+ * either gives a correct result or a clear error that names the problem
+ * (an element index or what is wrong), never a crash (the sanitizer build
+ * runs this too).
+ *
+ * Expectations, per mesh (the same for tiled, lapped and pgp unless noted):
+ *   non-manifold edge or vertex, inconsistent orientation
+ *                         -> PW_ERR_TOPOLOGY, naming the element;
+ *   a face using a vertex twice -> PW_ERR_DEGENERATE, naming the face;
+ *   a zero-area triangle  -> tiled works (its quads need no area);
+ *                            lapped and pgp refuse it, naming the triangle;
+ *   NaN or infinite coordinates, an empty file -> refused at load;
+ *   duplicate vertices (a seam), isolated vertices, an open boundary,
+ *   twenty components, a single triangle -> a result, checked below. */
+#define PATCHWORK_IMPLEMENTATION
+#include "tiled.h"
+#include "lapped.h"
+#include "pgp.h"
+#include "pwtest.h"
+
+/* A tetrahedron of side ~1 at (x, 0, 0), as OBJ text (1-based indices
+ * offset by base). */
+static int tet_obj(char *out, size_t cap, float x, int base)
+{
+    return snprintf(out, cap,
+                    "v %g 0 0\nv %g 1 0\nv %g 0 1\nv %g 0 0\n"
+                    "f %d %d %d\nf %d %d %d\nf %d %d %d\nf %d %d %d\n",
+                    x, x, x, x + 1.0f, base + 1, base + 3, base + 2, base + 1, base + 2, base + 4, base + 1,
+                    base + 4, base + 3, base + 2, base + 3, base + 4);
+}
+
+typedef struct bad_case {
+    const char *name, *obj;
+    int load_fails;      /* refused by the mesh reader */
+    int tiled, lapped, pgp; /* expected result code of each method (0: a result) */
+    const char *words;   /* '|'-separated: one of them must be in the message */
+} bad_case;
+
+/* Two squares sharing one vertex only (a bow tie of fans). */
+#define BOWTIE "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv -1 0 0\nv -1 -1 0\nv 0 -1 0\nf 1 2 3\nf 1 3 4\nf 1 5 6\nf 1 6 7\n"
+#define GRID3                                                                                                   \
+    "v 0 0 0\nv 1 0 0\nv 2 0 0\nv 0 1 0\nv 1 1 0.3\nv 2 1 0\nv 0 2 0\nv 1 2 0\nv 2 2 0\n"                        \
+    "f 1 2 5\nf 1 5 4\nf 2 3 6\nf 2 6 5\nf 4 5 8\nf 4 8 7\nf 5 6 9\nf 5 9 8\n"
+
+static const bad_case cases[] = {
+    {"nonmanifold_edge", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 -1 0\nv 0 0 1\nf 1 2 3\nf 2 1 4\nf 1 2 5\n", 0,
+     PW_ERR_TOPOLOGY, PW_ERR_TOPOLOGY, PW_ERR_TOPOLOGY, "non-manifold|edge"},
+    {"nonmanifold_vertex", BOWTIE, 0, PW_ERR_TOPOLOGY, PW_ERR_TOPOLOGY, PW_ERR_TOPOLOGY, "non-manifold vertex"},
+    {"inconsistent_orientation", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3\nf 1 4 3\n", 0, PW_ERR_TOPOLOGY,
+     PW_ERR_TOPOLOGY, PW_ERR_TOPOLOGY, "orientation"},
+    {"repeated_vertex", "v 0 0 0\nv 1 0 0\nv 1 1 0\nf 1 2 2\nf 1 2 3\n", 0, PW_ERR_DEGENERATE, PW_ERR_DEGENERATE,
+     PW_ERR_DEGENERATE, "twice"},
+    {"zero_area", "v 0 0 0\nv 1 0 0\nv 2 0 0\nv 1 1 0\nf 1 2 4\nf 2 3 4\nf 1 3 2\n", 0, 0, PW_ERR_DEGENERATE,
+     PW_ERR_DEGENERATE, "zero area|degenerate"},
+    {"nan", "v 0 0 0\nv nan 0 0\nv 0 1 0\nf 1 2 3\n", 1, 0, 0, 0, "finite|number"},
+    {"inf", "v 0 0 0\nv 1 0 0\nv 0 inf 0\nf 1 2 3\n", 1, 0, 0, 0, "finite|number"},
+    {"empty", "", 1, 0, 0, 0, "no faces"},
+    {"duplicate_vertices", /* the grid's middle column doubled: a seam, two boundaries */
+     "v 0 0 0\nv 1 0 0\nv 1 0 0\nv 2 0 0\nv 0 1 0\nv 1 1 0\nv 1 1 0\nv 2 1 0\n"
+     "f 1 2 6\nf 1 6 5\nf 3 4 8\nf 3 8 7\n",
+     0, 0, 0, 0, ""},
+    {"isolated_vertices", "v 5 5 5\n" GRID3 "v -3 2 1\n", 0, 0, 0, 0, ""},
+    {"open_boundary", GRID3, 0, 0, 0, 0, ""},
+    {"single_triangle", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", 0, 0, 0, 0, ""},
+};
+
+static int has_word(const char *msg, const char *words)
+{
+    char buf[256];
+    const char *p = words;
+    if (!*words) return 1;
+    while (*p) {
+        size_t n = strcspn(p, "|");
+        memcpy(buf, p, n);
+        buf[n] = 0;
+        if (strstr(msg, buf)) return 1;
+        p += n + (p[n] == '|');
+    }
+    return 0;
+}
+
+static void run_tiled(const char *obj, size_t len, const bad_case *c)
+{
+    tiled_options o = tiled_default_options();
+    tiled_layout l;
+    tiled_mesh m, q;
+    tiled_error err;
+    tiled_result r = tiled_load_mesh_from_memory(obj, len, c->name, &o, &m, &err);
+    if (c->load_fails) {
+        CHECKF(r != TILED_OK && has_word(err.message, c->words), "%s: tiled load: %s", c->name, err.message);
+        if (r == TILED_OK) tiled_mesh_free(&m);
+        return;
+    }
+    REQUIRE(r == TILED_OK);
+    memset(&l, 0, sizeof l);
+    l.tile_size = 16;
+    r = tiled_map(&m, &l, &o, &q, &err);
+    CHECKF((int)r == c->tiled, "%s: tiled gave %d (%s), expected %d", c->name, r, r ? err.message : "ok", c->tiled);
+    if (r != TILED_OK) CHECKF(has_word(err.message, c->words), "%s: tiled message: %s", c->name, err.message);
+    else {
+        int k;
+        CHECK(q.nfaces > 0 && q.uvs);
+        for (k = 0; k < 2 * q.face_start[q.nfaces]; k++) CHECK(q.uvs[k] >= 0.0f && q.uvs[k] <= 1.0f);
+        tiled_mesh_free(&q);
+    }
+    tiled_mesh_free(&m);
+}
+
+static void run_lapped(const char *obj, size_t len, const bad_case *c)
+{
+    lapped_options o = lapped_default_options();
+    lapped_mesh m;
+    lapped_image tex, patch;
+    lapped_texture t;
+    lapped_error err;
+    lapped_result r = lapped_load_mesh_from_memory(obj, len, c->name, &o, &m, &err);
+    if (c->load_fails) {
+        CHECKF(r != LAPPED_OK && has_word(err.message, c->words), "%s: lapped load: %s", c->name, err.message);
+        if (r == LAPPED_OK) lapped_mesh_free(&m);
+        return;
+    }
+    REQUIRE(r == LAPPED_OK);
+    REQUIRE(lapped_builtin_texture("dots", 32, &o, &tex, &err) == LAPPED_OK);
+    REQUIRE(lapped_make_patch(&tex, NULL, &o, &patch, &err) == LAPPED_OK);
+    o.field.mode = LAPPED_FIELD_ISOTROPIC;
+    o.field.scale = 0.8f;
+    r = lapped_create(&m, &patch, 1, &o, &t, &err);
+    CHECKF((int)r == c->lapped, "%s: lapped gave %d (%s), expected %d", c->name, r, r ? err.message : "ok", c->lapped);
+    if (r != LAPPED_OK) CHECKF(has_word(err.message, c->words), "%s: lapped message: %s", c->name, err.message);
+    else {
+        CHECK(t.npastes > 0 && t.ntris > 0);
+        lapped_texture_free(&t);
+    }
+    lapped_image_free(&tex);
+    lapped_image_free(&patch);
+    lapped_mesh_free(&m);
+}
+
+static void run_pgp(const char *obj, size_t len, const bad_case *c)
+{
+    pgp_options o = pgp_default_options();
+    pgp_mesh m;
+    pgp_map *P = NULL;
+    pgp_error err;
+    pgp_result r = pgp_load_mesh_from_memory(obj, len, c->name, &o, &m, &err);
+    if (c->load_fails) {
+        CHECKF(r != PGP_OK && has_word(err.message, c->words), "%s: pgp load: %s", c->name, err.message);
+        if (r == PGP_OK) pgp_mesh_free(&m);
+        return;
+    }
+    REQUIRE(r == PGP_OK);
+    r = pgp_create(&m, &o, &P, &err);
+    CHECKF((int)r == c->pgp, "%s: pgp gave %d (%s), expected %d", c->name, r, r ? err.message : "ok", c->pgp);
+    if (r != PGP_OK) CHECKF(has_word(err.message, c->words) && !P, "%s: pgp message: %s", c->name, err.message);
+    else {
+        int nf = pgp_triangle_count(P), k;
+        float *stm = (float *)malloc(sizeof(float) * 9 * (size_t)nf);
+        pgp_get_coords(P, stm);
+        for (k = 0; k < 9 * nf; k++) CHECK(stm[k] == stm[k] && stm[k] - stm[k] == 0.0f);
+        free(stm);
+        pgp_destroy(P);
+    }
+    pgp_mesh_free(&m);
+}
+
+static void t_cases(void)
+{
+    size_t k;
+    for (k = 0; k < sizeof cases / sizeof cases[0]; k++) {
+        const bad_case *c = &cases[k];
+        size_t len = strlen(c->obj);
+        run_tiled(c->obj, len, c);
+        run_lapped(c->obj, len, c);
+        run_pgp(c->obj, len, c);
+    }
+}
+
+/* Twenty separate tetrahedra: every method handles each component. */
+static void t_many_components(void)
+{
+    static char obj[20 * 200];
+    bad_case c;
+    int k, n = 0;
+    for (k = 0; k < 20; k++) n += tet_obj(obj + n, sizeof obj - (size_t)n, 3.0f * k, 4 * k);
+    memset(&c, 0, sizeof c);
+    c.name = "twenty_components";
+    c.words = "";
+    run_tiled(obj, (size_t)n, &c);
+    run_lapped(obj, (size_t)n, &c);
+    run_pgp(obj, (size_t)n, &c);
+}
+
+static const pwt_case tests[] = {
+    {"bad_meshes/cases", t_cases},
+    {"bad_meshes/many_components", t_many_components},
+};
+PWT_MAIN(tests)

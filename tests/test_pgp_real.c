@@ -1,0 +1,203 @@
+/* pgp.h on real meshes (CGAL's corpus, `make data`; skipped when absent)
+ * and the §3 rendering fix checked pixel by pixel.
+ *
+ * On every closed mesh, with the default field (up) and scale:
+ *   - Eq. (4): every vertex's coordinates differ between its triangles by
+ *     integers only, and an edge between two regular triangles carries the
+ *     same (s, t) difference on both sides;
+ *   - the parameterization follows the field: the medians over all
+ *     triangles of | |grad s| S - 1 | (and the same for t) stay at or below
+ *     0.15 and of the angle between grad s and d_s at or below 8 degrees
+ *     (measured: 0.055-0.122 and 2.0-5.5 degrees);
+ *   - the singular triangles (§3: a corner whose 1-ring holds a triangle
+ *     with |grad s - g_s|^2 > 0.5 |g_s|^2 or a mismatched edge) are
+ *     reported. The paper quotes 5-10% on its meshes; here they are 24-54%
+ *     on the 4.2K-5.8K-triangle meshes (74% on `eight`, 634 triangles):
+ *     the vortices that T-junctions need (each a disc of about a quarter
+ *     tile where |grad s - g| > 0.7 |g|) are dilated by whole 1-rings of
+ *     triangles that are large against the tile. The bound tested (65%,
+ *     85% for `eight`) only guards against regressions. */
+#define PGP_IMPLEMENTATION
+#include "pgp.h"
+#include "pwtest.h"
+
+static int cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return x < y ? -1 : x > y;
+}
+
+static double median(double *v, int n)
+{
+    qsort(v, (size_t)n, sizeof *v, cmp_double);
+    return n ? v[n / 2] : 0.0;
+}
+
+/* Integer jumps at every corner pair and agreement on regular edges. */
+static void check_jumps(const pgp_map *P, const char *name)
+{
+    int h, k, bad = 0, mism = 0;
+    for (h = 0; h < 3 * P->m.nf; h++) {
+        int t = P->m.hm.twin[h], f = h / 3, c = h % 3;
+        if (t < 0) continue;
+        for (k = 0; k < 2; k++) {
+            double jump = P->stm[9 * f + 3 * c + k] - P->stm[9 * (t / 3) + 3 * ((t % 3 + 1) % 3) + k];
+            if (fabs(jump - floor(jump + 0.5)) > 1e-4) bad++;
+        }
+        if (!P->fsing[f] && !P->fsing[t / 3]) mism += pgp__mismatch(P, h);
+    }
+    CHECKF(bad == 0, "%s: %d corner pairs differ by a non-integer", name, bad);
+    CHECKF(mism == 0, "%s: %d edges between regular triangles disagree", name, mism);
+}
+
+/* Medians of | |grad| S - 1 | and of the angle (degrees) to the field. */
+static void field_errors(const pgp_map *P, double *len_med, double *ang_med)
+{
+    int nf = P->m.nf, f, k, n = 0;
+    double *len = (double *)malloc(sizeof(double) * 2 * (size_t)nf), *ang = (double *)malloc(sizeof(double) * 2 * (size_t)nf);
+    for (f = 0; len && ang && f < nf; f++)
+        for (k = 0; k < 2; k++) {
+            const float *o = P->stm + 9 * f;
+            pw_v3 g = pgp__grad(P, f, k), gs = pgp__gradient(P, f, o[k], o[3 + k], o[6 + k]);
+            double L = pw_v3_len(gs), c = L > 0.0 ? pw_v3_dot(gs, g) / (L * pw_v3_len(g)) : -1.0;
+            len[n] = fabs(L * pgp__face_scale(P, f) - 1.0);
+            ang[n++] = acos(c > 1.0 ? 1.0 : (c < -1.0 ? -1.0 : c)) * (180.0 / 3.14159265358979);
+        }
+    *len_med = median(len, n);
+    *ang_med = median(ang, n);
+    free(len);
+    free(ang);
+}
+
+static void real_mesh(const char *file, double max_singular)
+{
+    const char *path = pwt_data(file);
+    pgp_options o = pgp_default_options();
+    pgp_mesh m;
+    pgp_map *P = NULL;
+    pgp_error err;
+    double lm, am, sing;
+    if (!path) return;
+    REQUIRE(pgp_load_mesh(path, &o, &m, &err) == PGP_OK);
+    CHECKF(pgp_create(&m, &o, &P, &err) == PGP_OK, "%s: %s", file, err.message);
+    if (P) {
+        check_jumps(P, file);
+        field_errors(P, &lm, &am);
+        sing = (double)pgp_get_singular(P, NULL) / P->m.nf;
+        pwt_info("%s: %d triangles, singular %.1f%% (paper: 5-10%%), median | |grad| S - 1 | %.3f, median angle "
+                 "%.2f deg", file, P->m.nf, 100.0 * sing, lm, am);
+        CHECKF(lm <= 0.15, "%s: median scale error %.3f", file, lm);
+        CHECKF(am <= 8.0, "%s: median angle error %.2f deg", file, am);
+        CHECKF(sing <= max_singular, "%s: %.1f%% singular triangles", file, 100.0 * sing);
+        pgp_destroy(P);
+    }
+    pgp_mesh_free(&m);
+}
+
+static void t_elephant(void) { real_mesh("meshes/elephant.off", 0.65); }
+static void t_cow(void) { real_mesh("meshes/cow.off", 0.65); }
+static void t_knot(void) { real_mesh("meshes/knot.off", 0.65); }
+static void t_eight(void) { real_mesh("meshes/eight.off", 0.85); }
+static void t_mushroom(void) { real_mesh("meshes/mushroom.off", 0.65); }
+
+/* A smooth periodic tile: a small coordinate error changes a colour a
+ * little, a lookup at a wrong tile position changes it a lot. */
+static void smooth_tile(pgp_tile *t)
+{
+    int i, j;
+    memset(t, 0, sizeof *t);
+    t->width = t->height = 64, t->layers = 1, t->channels = 3;
+    t->pixels = (float *)malloc(sizeof(float) * 3 * 64 * 64);
+    for (j = 0; j < 64; j++)
+        for (i = 0; i < 64; i++) {
+            double s = (i + 0.5) / 64.0, tt = 1.0 - (j + 0.5) / 64.0, tp = 6.283185307179586;
+            float *p = t->pixels + 3 * (j * 64 + i);
+            p[0] = (float)(0.5 + 0.5 * sin(tp * s));
+            p[1] = (float)(0.5 + 0.5 * cos(tp * tt));
+            p[2] = (float)(0.5 + 0.5 * sin(tp * (s + tt)));
+        }
+}
+
+/* Fraction of pixels whose colour differs by more than 0.25 in a channel. */
+static double differing(const pgp_image *a, const pgp_image *b)
+{
+    size_t i, n = (size_t)a->width * a->height, bad = 0;
+    int c;
+    for (i = 0; i < n; i++)
+        for (c = 0; c < 3; c++)
+            if (fabs(a->pixels[3 * i + c] - b->pixels[3 * i + c]) > 0.25f) {
+                bad++;
+                break;
+            }
+    return (double)bad / (double)n;
+}
+
+/* §3 on a closed mesh: with the fix, no pixel is a lookup from a wrong tile
+ * position, judged against the reference that takes three lookups on every
+ * triangle; without it, the singular triangles show such pixels (so the
+ * comparison can see them). */
+static void render_fix(pgp_mesh *m, const char *name)
+{
+    pgp_options o = pgp_default_options();
+    pgp_render_options ro;
+    pgp_map *P = NULL;
+    pgp_tile tile;
+    pgp_image fixed, ref, raw;
+    pgp_error err;
+    double d_fixed, d_raw;
+    smooth_tile(&tile);
+    memset(&ro, 0, sizeof ro);
+    ro.width = 400, ro.height = 300, ro.supersample = 1;
+    REQUIRE(pgp_create(m, &o, &P, &err) == PGP_OK);
+    ro.fix = 0;
+    CHECK(pgp_render(P, &tile, &ro, &fixed, &err) == PGP_OK);
+    ro.fix = 2;
+    CHECK(pgp_render(P, &tile, &ro, &ref, &err) == PGP_OK);
+    ro.fix = 1;
+    CHECK(pgp_render(P, &tile, &ro, &raw, &err) == PGP_OK);
+    d_fixed = differing(&fixed, &ref);
+    d_raw = differing(&raw, &ref);
+    pwt_info("%s: pixels off the three-lookup reference by > 0.25: %.4f%% with the fix, %.3f%% without", name,
+             100.0 * d_fixed, 100.0 * d_raw);
+    CHECKF(d_fixed <= 1e-4, "%s: %.4f%% of the pixels are wrong with the fix", name, 100.0 * d_fixed);
+    CHECKF(d_raw > 10.0 * d_fixed && d_raw > 0.0, "%s: the unfixed rendering shows no wrong lookups (%.4f%%)", name,
+           100.0 * d_raw);
+    pgp_image_free(&fixed);
+    pgp_image_free(&ref);
+    pgp_image_free(&raw);
+    pgp_tile_free(&tile);
+    pgp_destroy(P);
+}
+
+static void t_render_fix_torus(void)
+{
+    pgp_options o = pgp_default_options();
+    pgp_mesh m;
+    pgp_error err;
+    REQUIRE(pgp_builtin_mesh("torus", &o, &m, &err) == PGP_OK);
+    render_fix(&m, "built-in torus");
+    pgp_mesh_free(&m);
+}
+
+static void t_render_fix_real(void)
+{
+    const char *path = pwt_data("meshes/elephant.off");
+    pgp_options o = pgp_default_options();
+    pgp_mesh m;
+    pgp_error err;
+    if (!path) return;
+    REQUIRE(pgp_load_mesh(path, &o, &m, &err) == PGP_OK);
+    render_fix(&m, "CGAL elephant");
+    pgp_mesh_free(&m);
+}
+
+static const pwt_case cases[] = {
+    {"pgp_real/elephant", t_elephant},
+    {"pgp_real/cow", t_cow},
+    {"pgp_real/knot", t_knot},
+    {"pgp_real/eight", t_eight},
+    {"pgp_real/mushroom", t_mushroom},
+    {"pgp_real/render_fix_torus", t_render_fix_torus},
+    {"pgp_real/render_fix_elephant", t_render_fix_real},
+};
+PWT_MAIN(cases)
