@@ -10,20 +10,20 @@
  *      composite opacity at every sample point of every tetrahedron at least
  *      0.98), is cut by the plane, and renders a tiny image;
  *   3. its first bytes as the options of a fill with no constraints.
- * Every failure must carry a code and a message and leave no model.
+ * Every failure must carry a code and a message and leave no model. Fills
+ * run on fuzz.h's counting allocator (leaks and frees through the wrong
+ * allocator abort) and sometimes with a progress callback that cancels.
  *
  * Build: clang -g -O1 -fsanitize=fuzzer,address,undefined -I. fuzz/fuzz_lst.c -lm */
+#define FZ_NAME "fuzz_lst"
+#include "fuzz.h"
 #define LST_IMPLEMENTATION
 #include "../lst.h"
-#include <stdlib.h>
 
 static lst_tetmesh fz_mesh;
 static lst_volume fz_ex;
 
-static void fz_check_err(lst_result r, const lst_error *e)
-{
-    if (r <= 0 || r > LST_ERR_NOCONVERGE || e->code != r || !e->message[0]) abort();
-}
+static void fz_check_err(lst_result r, const lst_error *e) { fz_check_failure((int)r, (int)e->code, e->message, sizeof e->message); }
 
 static void fz_setup(void)
 {
@@ -34,9 +34,8 @@ static void fz_setup(void)
     if (fz_mesh.tets) return;
     memset(&to, 0, sizeof to);
     to.target_tets = 60;
-    if (lst_builtin_surface("sphere", &o, &s, &e) || lst_tetrahedralize(&s, &to, &o, &fz_mesh, &e) ||
-        lst_builtin_exemplar("rings", 8, &o, &fz_ex, NULL, &e))
-        abort();
+    FZ_CHECK(!lst_builtin_surface("sphere", &o, &s, &e) && !lst_tetrahedralize(&s, &to, &o, &fz_mesh, &e) &&
+             !lst_builtin_exemplar("rings", 8, &o, &fz_ex, NULL, &e));
     lst_mesh_free(&s);
 }
 
@@ -48,14 +47,14 @@ static void fz_model_file(const uint8_t *d, size_t n)
     lst_result r = lst_read_model_from_memory(d, n, "fuzz.lst", NULL, &m, &e);
     if (r != LST_OK) {
         fz_check_err(r, &e);
-        if (m.mesh.tets || m.pastes) abort();
+        FZ_CHECK(!m.mesh.tets && !m.pastes);
         return;
     }
     memset(&x, 0, sizeof x), memset(&y, 0, sizeof y);
-    if (lst_write_model_to_func(&m, pw_buf_write, &x, &e)) abort();
-    if (lst_read_model_from_memory(x.data, x.size, "again", NULL, &b, &e)) abort();
-    if (lst_write_model_to_func(&b, pw_buf_write, &y, &e)) abort();
-    if (x.size != y.size || memcmp(x.data, y.data, x.size)) abort();
+    FZ_CHECK(!lst_write_model_to_func(&m, pw_buf_write, &x, &e));
+    FZ_CHECK(!lst_read_model_from_memory(x.data, x.size, "again", NULL, &b, &e));
+    FZ_CHECK(!lst_write_model_to_func(&b, pw_buf_write, &y, &e));
+    FZ_CHECK(x.size == y.size && !memcmp(x.data, y.data, x.size));
     free(x.data), free(y.data);
     lst_model_free(&m), lst_model_free(&b);
 }
@@ -70,8 +69,13 @@ static void fz_fill(const uint8_t *d, size_t n, const lst_depth_constraint *dc, 
     lst_image img;
     lst_error e;
     lst_result r;
+    fz_heap heap = {0};
+    fz_progress prog = {0, 0, 1 << 30};
     float plane[4] = {0, 0, 1, 0};
     int t, k;
+    o.allocator.malloc_fn = fz_malloc, o.allocator.realloc_fn = fz_realloc, o.allocator.free_fn = fz_free;
+    o.allocator.user = &heap;
+    if (n > 7 && d[7] < 16) o.progress = fz_progress_fn, o.progress_user = &prog, prog.cancel_at = 1 + d[7];
     o.type = n > 0 ? d[0] % 5 : 0;
     o.seed = n > 1 ? d[1] : 0;
     o.samples = 1 + (n > 2 ? d[2] % 3 : 0);
@@ -82,7 +86,7 @@ static void fz_fill(const uint8_t *d, size_t n, const lst_depth_constraint *dc, 
     r = lst_create(&fz_mesh, NULL, &fz_ex, NULL, &o, &m, &e);
     if (r != LST_OK) {
         fz_check_err(r, &e);
-        if (m.mesh.tets || m.pastes) abort();
+        FZ_CHECK(!m.mesh.tets && !m.pastes && heap.live == 0);
         return;
     }
     {
@@ -93,13 +97,13 @@ static void fz_fill(const uint8_t *d, size_t n, const lst_depth_constraint *dc, 
         int q, ns, grp[9];
         memset(&a, 0, sizeof a);
         pw_err_clear(&pe);
-        if (lst__view_init(&a, &m, LST_SHOW_COLOR, &v, &pe) || (ns = lst__lattice(&a, o.samples, &lat, grp, &pe)) < 0) abort();
+        FZ_CHECK(!lst__view_init(&a, &m, LST_SHOW_COLOR, &v, &pe) && (ns = lst__lattice(&a, o.samples, &lat, grp, &pe)) >= 0);
         for (t = 0; t < m.mesh.ntets; t++)
             for (q = 0; q < ns; q++) {
                 double l[4];
                 for (k = 0; k < 4; k++) l[k] = lat[4 * q + k];
                 lst__eval(&v, t, l, rgba, NULL);
-                if (!(rgba[3] >= 0.98f)) abort();
+                FZ_CHECK(rgba[3] >= 0.98f);
             }
         pw_free(&a, lat);
         lst__view_free(&v);
@@ -112,6 +116,7 @@ static void fz_fill(const uint8_t *d, size_t n, const lst_depth_constraint *dc, 
     if (r == LST_OK) lst_image_free(&img);
     else fz_check_err(r, &e);
     lst_model_free(&m);
+    FZ_CHECK(heap.live == 0);
 }
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);

@@ -9,19 +9,20 @@
  *   - adjacency is symmetric; each boundary face is unpaired;
  *   - the barycentric coordinates of each tetrahedron's centroid found by
  *     point location are all positive and rebuild the point. */
+#define FZ_NAME "fuzz_tetio"
+#include "fuzz.h"
 #include "../src/common/tetio.h"
-#include <stdlib.h>
 
 static void fz_check_err(int r, const pw_err *e, const pw_tetmesh *m)
 {
-    if (r <= 0 || r >= PW_ERR__COUNT || e->code != r || !e->msg[0] || m->pos || m->tet) abort();
+    fz_check_failure(r, e->code, e->msg, sizeof e->msg);
+    FZ_CHECK(!m->pos && !m->tet);
 }
 
 static void fz_same(const pw_tetmesh *a, const pw_tetmesh *b)
 {
-    if (a->nv != b->nv || a->nt != b->nt || memcmp(a->pos, b->pos, sizeof(float) * 3 * (size_t)a->nv) ||
-        memcmp(a->tet, b->tet, sizeof(int) * 4 * (size_t)a->nt))
-        abort();
+    FZ_CHECK(a->nv == b->nv && a->nt == b->nt && !memcmp(a->pos, b->pos, sizeof(float) * 3 * (size_t)a->nv) &&
+             !memcmp(a->tet, b->tet, sizeof(int) * 4 * (size_t)a->nt));
 }
 
 static void fz_roundtrip(const pw_tetmesh *m)
@@ -32,13 +33,13 @@ static void fz_roundtrip(const pw_tetmesh *m)
     memset(&n, 0, sizeof n);
     memset(&el, 0, sizeof el);
     pw_err_clear(&e);
-    if (pw_tetgen_write_node(m, pw_buf_write, &n, &e) || pw_tetgen_write_ele(m, pw_buf_write, &el, &e)) abort();
-    if (pw_tetgen_read_memory(NULL, n.data, n.size, "n", el.data, el.size, "e", &r, &e)) abort();
+    FZ_CHECK(!(pw_tetgen_write_node(m, pw_buf_write, &n, &e) || pw_tetgen_write_ele(m, pw_buf_write, &el, &e)));
+    FZ_CHECK(pw_tetgen_read_memory(NULL, n.data, n.size, "n", el.data, el.size, "e", &r, &e) == PW_OK);
     fz_same(m, &r);
     pw_tetmesh_free(NULL, &r);
     free(n.data);
     memset(&n, 0, sizeof n);
-    if (pw_medit_write(m, pw_buf_write, &n, &e) || pw_medit_read_memory(NULL, n.data, n.size, "m", &r, &e)) abort();
+    FZ_CHECK(!(pw_medit_write(m, pw_buf_write, &n, &e) || pw_medit_read_memory(NULL, n.data, n.size, "m", &r, &e)));
     fz_same(m, &r);
     pw_tetmesh_free(NULL, &r);
     free(n.data);
@@ -52,31 +53,31 @@ static void fz_topology(pw_tetmesh *m)
     pw_err e;
     int *nb, *faces = NULL, nf, f, t;
     pw_err_clear(&e);
-    if (pw_tetmesh_check(m, "again", &e)) abort();
+    FZ_CHECK(pw_tetmesh_check(m, "again", &e) == PW_OK);
     for (t = 0; t < m->nt; t++)
-        if (!(pw_tet_volume6(m, t) > 0.0)) abort();
+        FZ_CHECK(pw_tet_volume6(m, t) > 0.0);
     nb = (int *)malloc(sizeof(int) * 4 * (size_t)m->nt);
     if (pw_tetmesh_neighbors(NULL, m, nb, &e) == PW_OK) {
         for (f = 0; f < 4 * m->nt; f++)
-            if (nb[f] >= 0 && nb[nb[f]] != f) abort();
-        if (pw_tetmesh_boundary(NULL, m, nb, &faces, &nf, &e)) abort();
+            FZ_CHECK(nb[f] < 0 || nb[nb[f]] == f);
+        FZ_CHECK(pw_tetmesh_boundary(NULL, m, nb, &faces, &nf, &e) == PW_OK);
         for (f = 0; f < nf; f++)
-            if (nb[faces[f]] >= 0) abort();
+            FZ_CHECK(nb[faces[f]] < 0);
         free(faces);
-    } else if (e.code != PW_ERR_TOPOLOGY || !e.msg[0]) {
-        abort();
+    } else {
+        FZ_CHECK(e.code == PW_ERR_TOPOLOGY && e.msg[0]);
     }
     free(nb);
-    if (pw_tetmesh_rings(NULL, m, &g, &e)) abort();
-    if (g.sstart[m->nv] != 4 * m->nt) abort();
+    FZ_CHECK(pw_tetmesh_rings(NULL, m, &g, &e) == PW_OK);
+    FZ_CHECK(g.sstart[m->nv] == 4 * m->nt);
     pw_tetrings_free(NULL, &g);
-    if (pw_tetgrid_build(NULL, m, &grid, &e)) abort();
+    FZ_CHECK(pw_tetgrid_build(NULL, m, &grid, &e) == PW_OK);
     for (t = 0; t < m->nt && t < 64; t++) {
         double c[3] = {0, 0, 0}, l[4];
         int k, j;
         for (k = 0; k < 4; k++)
             for (j = 0; j < 3; j++) c[j] += 0.25 * m->pos[3 * m->tet[4 * t + k] + j];
-        if (pw_tetgrid_locate(&grid, m, c, l) < 0) abort(); /* the centroid is inside t at least */
+        FZ_CHECK(pw_tetgrid_locate(&grid, m, c, l) >= 0); /* the centroid is inside t at least */
     }
     pw_tetgrid_free(NULL, &grid);
 }
