@@ -357,6 +357,29 @@ static void t_bad_surface(void)
     lst_mesh_free(&s);
     expect(lst_builtin_surface("cube", &o, &s, &err), LST_ERR_INVALID, &err, "unknown surface", "unknown built-in surface");
     {
+        static const char *const bad[][2] = {
+            /* a tetrahedron with one face turned over */
+            {"v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 3 2 4\n", "orientation"},
+            /* two tetrahedra sharing a vertex: a non-manifold vertex */
+            {"v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nv -1 0 0\nv 0 -1 0\nv 0 0 -1\n"
+             "f 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\nf 1 5 6\nf 1 7 5\nf 1 6 7\nf 5 7 6\n", "vertex"},
+            /* a face using a vertex twice */
+            {"v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 3\n", "face 3"},
+            /* a tetrahedron and a second one through it: self-intersecting */
+            {"v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nv 0.2 0.2 -0.5\nv 1.2 0.2 -0.5\nv 0.2 1.2 -0.5\nv 0.2 0.2 0.5\n"
+             "f 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\nf 5 7 6\nf 5 6 8\nf 5 8 7\nf 6 7 8\n", "intersect"},
+        };
+        size_t k;
+        for (k = 0; k < sizeof bad / sizeof bad[0]; k++) {
+            lst_result r;
+            REQUIRE(lst_load_mesh_from_memory(bad[k][0], strlen(bad[k][0]), "bad.obj", &o, &s, &err) == LST_OK);
+            r = lst_tetrahedralize(&s, NULL, &o, &m, &err);
+            CHECKF(r != LST_OK && strstr(err.message, bad[k][1]) && !m.tets, "bad surface %d: code %d '%s' (expected '%s')",
+                   (int)k, (int)r, err.message, bad[k][1]);
+            lst_mesh_free(&s);
+        }
+    }
+    {
         lst_volume v;
         expect(lst_builtin_exemplar("marble", 16, &o, &v, NULL, &err), LST_ERR_INVALID, &err, "unknown exemplar", "marble");
         expect(lst_builtin_exemplar("spots", 2, &o, &v, NULL, &err), LST_ERR_INVALID, &err, "tiny exemplar", "size 2");
