@@ -14,12 +14,13 @@
 #   make clean
 #
 # CC and CFLAGS can be overridden; SANITIZE=1 builds with address and
-# undefined-behaviour sanitizers (into build-san/, at -O1: half the compile time).
+# undefined-behaviour sanitizers (into build-san/, at -O1 with line tables
+# only: -g1 keeps file:line in the reports at 60% of the compile time of -g).
 
 CC       ?= cc
 CXX      ?= c++
 ifeq ($(SANITIZE),1)
-CFLAGS   ?= -O1 -g
+CFLAGS   ?= -O1 -g1
 else
 CFLAGS   ?= -O2 -g
 endif
@@ -134,7 +135,7 @@ demo: $(BUILD)/patchwork
 
 test:
 	@$(MAKE) --no-print-directory -j$(JOBS) $(BUILD)/patchwork $(TEST_BIN) $(EX_BIN)
-	@sh tests/run.sh $(BUILD) $(JOBS)
+	@SANITIZE=$(SANITIZE) sh tests/run.sh $(BUILD) $(JOBS)
 
 bench: $(BENCH_BIN) $(BENCH_TOOLS) $(BUILD)/patchwork
 	@sh bench/run.sh $(BUILD)
@@ -150,7 +151,7 @@ FUZZ_TARGETS := $(patsubst fuzz/%.c,$(FUZZ_DIR)/%,$(FUZZ_SRC))
 
 $(FUZZ_DIR)/%: fuzz/%.c fuzz/fuzz.h $(HEADER_FILES) $(COMMON_SRC)
 	@mkdir -p $(FUZZ_DIR)
-	$(FUZZ_CC) -g -O1 -I. -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=all -o $@ $< -lm
+	$(FUZZ_CC) -g1 -O1 -I. -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=all -o $@ $< -lm
 
 fuzz-build:
 	@$(MAKE) --no-print-directory -j$(JOBS) $(FUZZ_TARGETS)

@@ -1,4 +1,4 @@
-/* cmd_demo.c: `patchwork demo [DIR]`, every method on built-in data. */
+/* cmd_demo.c: `patchwork demo [--quick] [DIR]`, every method on built-in data. */
 #define _POSIX_C_SOURCE 200809L
 #include <errno.h>
 #include <math.h>
@@ -7,6 +7,23 @@
 #include <string.h>
 #include <sys/stat.h>
 #include "cli.h"
+
+/* --quick: every scene through the same calls with smaller images,
+ * exemplars, tiles and tetrahedral meshes (for runs under valgrind). */
+static int demo_quick;
+
+/* Quick mode: a size divided by `by`, at least `floor_`. */
+static int demo_size(int full, int by, int floor_)
+{
+    int q = full / by;
+    return demo_quick ? (q > floor_ ? q : floor_) : full;
+}
+
+/* Quick mode: a small picture with one sample per pixel. */
+#define DEMO_QUICK_VIEW(ro)                                      \
+    do {                                                         \
+        if (demo_quick) (ro).width = 200, (ro).height = 150, (ro).supersample = 1; \
+    } while (0)
 
 typedef struct demo_scene {
     const char *name, *mesh, *exemplar;
@@ -57,13 +74,14 @@ static tiled_result demo_tiled_scene(const char *dir, const demo_scene *s, tiled
     memset(&quads, 0, sizeof quads);
     memset(&pic, 0, sizeof pic);
     memcpy(ro.view_dir, s->view, sizeof ro.view_dir);
+    DEMO_QUICK_VIEW(ro);
     o.subdivide = s->subdivide;
     o.smooth = s->smooth;
     o.layout.case_number = s->case_number;
     if (s->case_number == 1) o.layout.grid = s->pairs_or_grid;
     else o.layout.pairs = s->pairs_or_grid;
     if ((r = tiled_builtin_mesh(s->mesh, &o, &mesh, err)) != TILED_OK) return r;
-    if ((r = tiled_builtin_exemplar(s->exemplar, s->exemplar_size, &o, &ex, err)) == TILED_OK &&
+    if ((r = tiled_builtin_exemplar(s->exemplar, demo_size(s->exemplar_size, 2, 32), &o, &ex, err)) == TILED_OK &&
         (r = tiled_synthesize(&ex, &o, &ts, err)) == TILED_OK &&
         (r = tiled_map(&mesh, &ts.layout, &o, &quads, err)) == TILED_OK &&
         (r = tiled_render(&quads, &ts, &ro, &pic, err)) == TILED_OK) {
@@ -128,10 +146,11 @@ static tiled_result demo_lapped_scene(const char *dir, const lapped_scene *s, ti
     memset(&patch, 0, sizeof patch);
     memset(&atlas, 0, sizeof atlas);
     memcpy(ro.view_dir, s->view, sizeof ro.view_dir);
+    DEMO_QUICK_VIEW(ro);
     o.field.mode = s->field;
     o.field.scale = s->scale;
     if (lapped_builtin_mesh(s->mesh, &o, &mesh, &le) != LAPPED_OK) return demo_lapped_error(&le, err);
-    if (lapped_builtin_texture(s->texture, 128, &o, &tex, &le) != LAPPED_OK ||
+    if (lapped_builtin_texture(s->texture, demo_size(128, 2, 64), &o, &tex, &le) != LAPPED_OK ||
         lapped_make_patch(&tex, NULL, &o, &patch, &le) != LAPPED_OK ||
         lapped_create(&mesh, &patch, 1, &o, &t, &le) != LAPPED_OK ||
         lapped_render(&mesh, &t, &patch, NULL, &ro, &pic, &le) != LAPPED_OK ||
@@ -246,10 +265,11 @@ static tiled_result demo_pgp_scene(const char *dir, const pgp_scene *s, tiled_er
     memset(pic, 0, sizeof pic);
     memset(&tile, 0, sizeof tile);
     memcpy(ro.view_dir, s->view, sizeof ro.view_dir);
+    DEMO_QUICK_VIEW(ro);
     o.field = s->field;
     o.scale = s->scale;
     if (pgp_builtin_mesh(s->mesh, &o, &mesh, &pe) != PGP_OK) return demo_pgp_error(&pe, err);
-    if (pgp_builtin_tile(s->tile, 256, &o, &tile, &pe) != PGP_OK || pgp_create(&mesh, &o, &map, &pe) != PGP_OK ||
+    if (pgp_builtin_tile(s->tile, demo_size(256, 4, 64), &o, &tile, &pe) != PGP_OK || pgp_create(&mesh, &o, &map, &pe) != PGP_OK ||
         (weather && demo_pgp_weather(s, &mesh, map, &pe) != PGP_OK))
         r = demo_pgp_error(&pe, err);
     for (k = 0; k < 3 && r == TILED_OK && suffix[weather][k]; k++) {
@@ -317,11 +337,11 @@ static lst_result demo_lst_model(const lst_scene *s, lst_options *o, lst_model *
     memset(&tets, 0, sizeof tets);
     memset(&ex, 0, sizeof ex);
     memset(&val, 0, sizeof val);
-    to.target_tets = s->tets;
+    to.target_tets = demo_size(s->tets, 5, 1000);
     o->type = s->type;
     if ((r = lst_builtin_surface(s->surface, o, &surf, le)) != LST_OK) return r;
     if ((r = lst_tetrahedralize(&surf, &to, o, &tets, le)) == LST_OK &&
-        (r = lst_builtin_exemplar(s->exemplar, 64, o, &ex, &val, le)) == LST_OK &&
+        (r = lst_builtin_exemplar(s->exemplar, demo_size(64, 2, 32), o, &ex, &val, le)) == LST_OK &&
         (strcmp(s->surface, "kiwi") && strcmp(s->surface, "tree") && strcmp(s->surface, "torus") ? LST_OK
          : (r = lst_builtin_constraints(s->surface, &surf, o, &dc, &o->ndepth, &fc, &o->nfield, le))) == LST_OK) {
         o->depth = dc, o->field = fc;
@@ -372,7 +392,7 @@ static tiled_result demo_lst_scene(const char *dir, const lst_scene *s, tiled_er
     memset(&ro, 0, sizeof ro);
     memset(&vo, 0, sizeof vo);
     memset(&pic, 0, sizeof pic);
-    ro.width = 600, ro.height = 500;
+    ro.width = demo_size(600, 4, 150), ro.height = demo_size(500, 4, 125);
     memcpy(ro.view_dir, s->view, sizeof ro.view_dir);
     memcpy(ro.up, s->up, sizeof ro.up);
     ro.displace = s->displace;
@@ -389,7 +409,8 @@ static tiled_result demo_lst_scene(const char *dir, const lst_scene *s, tiled_er
     if (r == TILED_OK) r = demo_write_lst(dir, name, &pic, err);
     lst_image_free(&pic);
     lst_uncut(&m);
-    ro.width = 400, ro.height = 330;
+    ro.width = demo_size(400, 4, 100), ro.height = demo_size(330, 4, 83);
+    vo.slices = demo_size(200, 4, 50);
     if (r == TILED_OK && s->volume && lst_render_volume(&m, &ro, &vo, &pic, &le) != LST_OK) r = demo_lst_error(&le, err);
     snprintf(name, sizeof name, "%s_volume", s->name);
     if (r == TILED_OK && s->volume) r = demo_write_lst(dir, name, &pic, err);
@@ -410,17 +431,18 @@ static tiled_result demo_pgp_synth(const char *dir, tiled_error *err)
     pgp_error pe;
     tiled_result r = TILED_OK;
     int k;
-    if (pgp_builtin_tile("bricks", 128, NULL, &bricks, &pe) != PGP_OK) return demo_pgp_error(&pe, err);
+    const int size = demo_size(128, 4, 32);
+    if (pgp_builtin_tile("bricks", size, NULL, &bricks, &pe) != PGP_OK) return demo_pgp_error(&pe, err);
     for (k = 0; k < 2; k++) {
         memset(&key[k], 0, sizeof key[k]);
-        key[k].width = key[k].height = 128;
+        key[k].width = key[k].height = size;
         key[k].channels = bricks.channels;
-        key[k].pixels = bricks.pixels + (size_t)k * (bricks.layers - 1) * 128 * 128 * bricks.channels;
+        key[k].pixels = bricks.pixels + (size_t)k * (bricks.layers - 1) * size * size * bricks.channels;
         keys[k].image = &key[k];
         keys[k].mask = NULL;
     }
-    so.size = 128;
-    so.layers = 6;
+    so.size = size;
+    so.layers = demo_size(6, 2, 3);
     if (pgp_synthesize_tile(keys, 2, &so, &tile, NULL, &pe) != PGP_OK) r = demo_pgp_error(&pe, err);
     else r = demo_pgp_tile(dir, "pgp_synth_bricks_pebbles", &tile, err);
     pgp_tile_free(&tile);
@@ -430,18 +452,23 @@ static tiled_result demo_pgp_synth(const char *dir, tiled_error *err)
 
 int cmd_demo(int argc, char **argv)
 {
-    const char *dir = argc > 1 ? argv[1] : "out";
+    const char *dir;
     tiled_error err;
     size_t k;
+    if (argc > 1 && (!strcmp(argv[1], "--help") || !strcmp(argv[1], "-h"))) {
+        printf("usage: patchwork demo [--quick] [DIR]\n\nRenders every method on built-in meshes and "
+               "exemplars into DIR (default out/), as PPM and PNG.\n"
+               "--quick: the same scenes and calls with small images, exemplars, tiles and\n"
+               "         tetrahedral meshes (a few seconds; for checkers such as valgrind).\n");
+        return 0;
+    }
+    demo_quick = argc > 1 && !strcmp(argv[1], "--quick");
+    argc -= demo_quick, argv += demo_quick;
     if (argc > 2 || (argc > 1 && argv[1][0] == '-')) {
-        if (argc > 1 && (!strcmp(argv[1], "--help") || !strcmp(argv[1], "-h"))) {
-            printf("usage: patchwork demo [DIR]\n\nRenders every method on built-in meshes and "
-                   "exemplars into DIR (default out/), as PPM and PNG.\n");
-            return 0;
-        }
-        cli_error("demo", "usage: patchwork demo [DIR]");
+        cli_error("demo", "usage: patchwork demo [--quick] [DIR]");
         return 1;
     }
+    dir = argc > 1 ? argv[1] : "out";
     if (mkdir(dir, 0777) != 0 && errno != EEXIST) {
         cli_error("demo", "%s: cannot create folder (%s)", dir, strerror(errno));
         return 1;

@@ -15,6 +15,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 #include <stdarg.h>
 #if defined(__unix__) || defined(__unix) || defined(__APPLE__)
 #include <unistd.h>
@@ -180,15 +181,20 @@ PWT_UNUSED static const char *pwt_tmp(const char *stem, int k, const char *ext)
     return p;
 }
 
+/* Runs the cases whose names contain argv[1] (all without it). With the
+ * environment variable PWT_TIME set, each case's CPU time goes to stderr
+ * ("TIME name seconds"), to find the slow ones. */
 static int pwt_run_(const pwt_case *cases, int n, int argc, char **argv)
 {
-    int i, nfail = 0;
+    int i, nfail = 0, timed = getenv("PWT_TIME") != NULL;
     for (i = 0; i < n; i++) {
+        clock_t t0 = clock();
         if (argc > 1 && !strstr(cases[i].name, argv[1])) continue;
         pwt_name_ = cases[i].name;
         pwt_failed_ = 0;
         pwt_skipped_ = 0;
         cases[i].fn();
+        if (timed) fprintf(stderr, "TIME %s %.2f\n", cases[i].name, (double)(clock() - t0) / CLOCKS_PER_SEC);
         if (pwt_failed_) nfail++;
         else if (!pwt_skipped_) printf("PASS %s\n", cases[i].name);
         fflush(stdout);

@@ -4,15 +4,19 @@
 # their PASS/FAIL/SKIP/INFO lines test by test in a fixed order, and closes
 # with "N passed, N failed, N skipped". Exit status 1 if anything failed.
 # Usage: tests/run.sh BUILD_DIR [JOBS]
+#
+# Each worker takes the next test from a shared queue, and the longest ones
+# (SLOW below, measured) are queued first, so that the workers finish
+# together instead of one running the longest test last.
 build=${1:-build}
 jobs=${2:-$(getconf _NPROCESSORS_ONLN 2>/dev/null || echo 1)}
-logs=$(mktemp -d)
-trap 'rm -rf "$logs"' EXIT INT TERM
+SLOW="headers.sh test_lapped_atlas test_alloc_failures test_lst_io test_stuffing pgp_cli.sh test_lst \
+    examples.sh test_pgp_synth assimp_corpus.sh lapped_cli.sh test_lapped test_lst_cut"
 
 # One test: its output to $logs/NAME.log; a binary that dies without
 # reporting a failure is a failure itself.
-run_one() {
-    t=$1
+if [ "${1:-}" = --one ]; then
+    build=$2 logs=$3 t=$4
     name=$(basename "$t")
     case "$t" in
         *.sh) BUILD="$build" sh "$t" > "$logs/$name.log" 2>&1 ;;
@@ -24,7 +28,11 @@ run_one() {
             fi
             ;;
     esac
-}
+    exit 0
+fi
+
+logs=$(mktemp -d)
+trap 'rm -rf "$logs"' EXIT INT TERM
 
 list=""
 for t in "$build"/tests/test_* tests/sh/*.sh; do
@@ -33,19 +41,15 @@ for t in "$build"/tests/test_* tests/sh/*.sh; do
     list="$list $t"
 done
 
-# A fixed number of workers, each taking every jobs-th test of the list.
-w=0
-while [ $w -lt "$jobs" ]; do
-    (
-        k=0
-        for t in $list; do
-            [ $((k % jobs)) -eq $w ] && run_one "$t"
-            k=$((k + 1))
-        done
-    ) &
-    w=$((w + 1))
+# The queue: the slow tests that exist, in SLOW's order, then the others.
+queue=""
+for s in $SLOW; do
+    for t in $list; do [ "$(basename "$t")" = "$s" ] && queue="$queue $t"; done
 done
-wait
+for t in $list; do
+    case " $SLOW " in *" $(basename "$t") "*) ;; *) queue="$queue $t" ;; esac
+done
+printf '%s\n' $queue | xargs -P "$jobs" -n 1 sh "$0" --one "$build" "$logs"
 
 for t in $list; do cat "$logs/$(basename "$t").log"; done > "$logs/all"
 cat "$logs/all"

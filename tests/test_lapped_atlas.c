@@ -913,7 +913,7 @@ static void t_homer(void) { data_case("meshes/homer.off", "homer", 1024, 0.5); }
 static void t_camel(void) { data_case("meshes/camel.off", "camel", 1024, 0.5); }
 static void t_armadillo(void) { data_case("meshes/armadillo.off", "armadillo", 1024, 0.5); }
 static void t_bunny(void) { data_case("meshes/bunny00.off", "bunny", 1024, 0.5); }
-static void t_elephant(void) { data_case("meshes/refined_elephant.off", "elephant", 1024, 0.5); }
+static void t_elephant(void) { data_case("meshes/elephant.off", "elephant", 1024, 0.5); }
 
 /* A small mesh and its hand-made texture, for the cases below. */
 static int small_setup(lapped_mesh *mesh, pw_trimesh *m, handmade *H)

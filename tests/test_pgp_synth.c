@@ -901,8 +901,10 @@ static void save_strip(const pgp_tile *t, const char *name)
     pgp_image_free(&s);
 }
 
-/* Runs keys (files under data/textures) through the whole pipeline at 128
- * texels and checks every layer tiles, the key layers are the keys and the
+#define REAL_SIZE 64
+
+/* Runs keys (files under data/textures) through the whole pipeline at
+ * REAL_SIZE texels and checks every layer tiles, the key layers are the keys and the
  * masks of each morph move monotonically. With PWT_SLICES=DIR the layers
  * are written side by side to DIR/NAME.png. */
 static void real_morph(const char *const *files, int nkeys, int layers, const char *name)
@@ -923,7 +925,7 @@ static void real_morph(const char *const *files, int nkeys, int layers, const ch
         over_white(&img[k]);
         keys[k].image = &img[k], keys[k].mask = NULL;
     }
-    o.size = 128, o.layers = layers;
+    o.size = REAL_SIZE, o.layers = layers;
     REQUIRE(pgp_synthesize_tile(keys, nkeys, &o, &t, &m, &err) == PGP_OK);
     check_layers_tile(&t, name);
     for (k = 0; k + 1 < nkeys; k++) {
@@ -933,13 +935,13 @@ static void real_morph(const char *const *files, int nkeys, int layers, const ch
             CHECKF(mask_diff(&m, j, e) <= mask_diff(&m, j - 1, e), "%s: layer %d farther from key %d's mask", name, j, k + 1);
         }
     }
-    for (k = 0; k < nkeys; k++) { /* the key layers are the keys, resampled to 128 */
+    for (k = 0; k < nkeys; k++) { /* the key layers are the keys, resampled to REAL_SIZE */
         pgp_image l = layer(&t, pgp__key_layer(k, nkeys, layers));
         pgp__key pk;
         pw_err e;
         pw_err_clear(&e);
         REQUIRE(pgp__prepare_key(NULL, &keys[k], 3, &o, &pk, &e) == PW_OK);
-        CHECKF(!memcmp(l.pixels, pk.color, sizeof(float) * 128 * 128 * 3), "%s: the layer of key %d is not the key", name, k);
+        CHECKF(!memcmp(l.pixels, pk.color, sizeof(float) * REAL_SIZE * REAL_SIZE * 3), "%s: the layer of key %d is not the key", name, k);
         pgp__key_free(NULL, &pk);
     }
     save_strip(&t, name);

@@ -398,7 +398,7 @@ static int lst__optimise(lst__fill *F, const lst__spec *s, const pw_progress *p,
     pw_triplets T;
     pw_csr A;
     pw_ic0 L;
-    double *coef, *b = NULL, *x = NULL, W;
+    double *coef, *b = NULL, *x = NULL, W = 0.0;
     int i, k, j, r;
     memset(&A, 0, sizeof A);
     memset(&L, 0, sizeof L);

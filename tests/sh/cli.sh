@@ -106,3 +106,18 @@ if [ -s "$tmp/plain.ppm" ] && [ -s "$tmp/other.ppm" ]; then
 else
     fail validate_mismatch "could not write the tile sets"
 fi
+
+# the quick demo: every method's scenes, PPM and PNG of each, the same bytes twice
+if "$bin" demo --quick "$tmp/demo1" > "$tmp/stdout" 2>&1 && "$bin" demo --quick "$tmp/demo2" > /dev/null 2>&1; then
+    n=$(ls "$tmp/demo1" | wc -l)
+    missing=""
+    for m in tiled lapped pgp lst; do ls "$tmp/demo1" | grep -q "^${m}_.*\.png$" || missing="$missing $m"; done
+    if [ -n "$missing" ]; then fail demo_quick "no images of:$missing"
+    elif [ "$(ls "$tmp/demo1" | grep -c '\.png$')" -ne "$(ls "$tmp/demo1" | grep -c '\.ppm$')" ]; then fail demo_quick "PNG and PPM counts differ"
+    elif ! diff -r "$tmp/demo1" "$tmp/demo2" > /dev/null; then fail demo_quick "two runs differ"
+    else pass demo_quick; fi
+    echo "INFO cli/demo_quick: $n files"
+else
+    fail demo_quick "$(tail -1 "$tmp/stdout")"
+fi
+expect_error demo_usage "usage: patchwork demo" demo --quick "$tmp/out/a" "$tmp/out/b"
