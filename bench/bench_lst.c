@@ -100,7 +100,17 @@ static size_t disk_size(const lst_model *model, const lst_volume *ex)
     return n;
 }
 
-static void cut_bench(lst_model *model, const char *label)
+/* A row of the summary table: patchwork's time, no peer, the paper's figure. */
+static void lst_row(const char *task, bench_stat st, const char *paper)
+{
+    char fig[32], sp[96], t0[32], t1[32];
+    snprintf(sp, sizeof sp, "%d run%s; %s..%s", st.runs, st.runs == 1 ? "" : "s", bench_fmt_time(st.min, t0, sizeof t0),
+             bench_fmt_time(st.max, t1, sizeof t1));
+    bench_row(task, bench_fmt_time(st.median, fig, sizeof fig), "-", "no peer implements the method", NULL, paper, sp, NULL);
+}
+
+/* One timed plane cut (it changes the model, so it is timed once); returns seconds. */
+static double cut_bench(lst_model *model, const char *label)
 {
     const float plane[4] = {0.2f, 0.1f, 1.0f, 0.05f};
     lst_error err;
@@ -110,17 +120,9 @@ static void cut_bench(lst_model *model, const char *label)
         fprintf(stderr, "bench_lst: %s\n", err.message);
         exit(1);
     }
-    printf("%-44s %9.3f ms  (%d -> %d tetrahedra)\n", label, 1e3 * (bench_now() - t0), nt, model->mesh.ntets);
-}
-
-/* log-log least-squares slope of time against size. */
-static double slope(const double *x, const double *y, int n)
-{
-    double mx = 0, my = 0, sxy = 0, sxx = 0;
-    int i;
-    for (i = 0; i < n; i++) mx += log(x[i]) / n, my += log(y[i]) / n;
-    for (i = 0; i < n; i++) sxy += (log(x[i]) - mx) * (log(y[i]) - my), sxx += (log(x[i]) - mx) * (log(x[i]) - mx);
-    return sxx > 0 ? sxy / sxx : 0.0;
+    t0 = bench_now() - t0;
+    printf("%-44s %9.3f ms  (%d -> %d tetrahedra)\n", label, 1e3 * t0, nt, model->mesh.ntets);
+    return t0;
 }
 
 typedef struct eval_job {
@@ -170,6 +172,8 @@ static void volume_bench(void)
     lst_builtin_exemplar("kiwi", 64, &o, &ex, &val, &err);
     st = fill_stat(&m, &s, &ex, &o, 3, &model, &cpu);
     bench_report("fill kiwi 2-b (painted depth), 5K", st, 0, NULL);
+    lst_row("lst fill, kiwi 5K tetrahedra (type 2-b, painted depth, 64^3)", st,
+            "Table 1: 18-416 s for 1,089-5,012 tetrahedra (64^3 exemplars, 2.3 GHz notebook, 2008)");
     printf("%-44s %d tetrahedra, %d pastes, %.2f per tetrahedron, cpu %.3f s\n", "", m.ntets, model.npastes, model.layers, cpu);
     printf("%-44s %.1f MB on disk\n", "kiwi model size", disk_size(&model, &ex) / 1048576.0);
     memset(&ro, 0, sizeof ro);
@@ -181,11 +185,16 @@ static void volume_bench(void)
         fprintf(stderr, "bench_lst: %s\n", err.message);
         exit(1);
     }
+    t0 = bench_now() - t0;
     printf("%-44s %9.3f ms  (cpu %.3f s; the paper: about 3 s on a GPU)\n", "volume rendering, 200 slices, 640x480",
-           1e3 * (bench_now() - t0), cpu_now() - c0);
+           1e3 * t0, cpu_now() - c0);
+    st.median = st.min = st.max = t0, st.runs = 1;
+    lst_row("lst volume rendering, 200 slices, 640x480 (kiwi 5K, one core)", st, "about 3 s (GPU, 2008)");
     lst_image_free(&img);
     eval_bench(&model);
-    cut_bench(&model, "cut, kiwi 5K");
+    t0 = cut_bench(&model, "cut, kiwi 5K");
+    st.median = st.min = st.max = t0, st.runs = 1;
+    lst_row("lst plane cut, kiwi 5K tetrahedra (mesh split, pastes updated)", st, "Table 1: 31-187 ms");
     lst_model_free(&model);
     lst_free_constraints(dc, fc, &o);
     lst_volume_free(&ex), lst_volume_free(&val), lst_tetmesh_free(&m), lst_mesh_free(&s);
@@ -194,7 +203,9 @@ static void volume_bench(void)
 int main(int argc, char **argv)
 {
     int nsizes = argc > 1 ? atoi(argv[1]) : NSIZES, k, t;
-    double times[5][NSIZES], counts[NSIZES];
+    double times[5][NSIZES], counts[NSIZES], cuts[NSIZES];
+    bench_stat slowest[NSIZES];
+    int slowest_type[NSIZES];
     lst_volume ex[5];
     lst_options o = lst_default_options();
     lst_error err;
@@ -206,6 +217,7 @@ int main(int argc, char **argv)
         char label[96];
         if (!tets_of("sphere", sizes[k], &s, &m)) return 1;
         counts[k] = m.ntets;
+        slowest[k].median = -1.0;
         for (t = 0; t < 5; t++) {
             lst_model model;
             double cpu;
@@ -214,22 +226,34 @@ int main(int argc, char **argv)
             o.type = t;
             st = fill_stat(&m, NULL, &ex[t], &o, runs[k], &model, &cpu);
             times[t][k] = st.median;
+            if (st.median > slowest[k].median) slowest[k] = st, slowest_type[k] = t;
             snprintf(label, sizeof label, "fill sphere %dK, type %s", sizes[k] / 1000, type_names[t]);
             bench_report(label, st, m.ntets, "tets");
             printf("%-44s %d pastes, %.2f per tetrahedron, cpu %.3f s, %.1f MB on disk\n", "", model.npastes, model.layers,
                    cpu, disk_size(&model, &ex[t]) / 1048576.0);
             if (t == LST_TYPE_2B) {
                 snprintf(label, sizeof label, "cut, sphere %dK", sizes[k] / 1000);
-                cut_bench(&model, label);
+                cuts[k] = cut_bench(&model, label);
             }
             lst_model_free(&model);
         }
         printf("%-44s %.1f MB after the %dK sizes\n", "peak resident set size", peak_rss_kb() / 1024.0, sizes[k] / 1000);
+        snprintf(label, sizeof label, "lst fill, sphere %d tetrahedra, slowest of the 5 types (%s), 64^3", m.ntets,
+                 type_names[slowest_type[k]]);
+        lst_row(label, slowest[k], k == 0 ? "Table 1: 18-416 s for 1,089-5,012 tetrahedra (2008)" : NULL);
+        snprintf(label, sizeof label, "lst plane cut, sphere %d tetrahedra", m.ntets);
+        slowest[k].median = slowest[k].min = slowest[k].max = cuts[k], slowest[k].runs = 1;
+        lst_row(label, slowest[k], k == 0 ? "Table 1: 31-187 ms" : NULL);
         lst_tetmesh_free(&m), lst_mesh_free(&s);
     }
     if (nsizes > 1)
-        for (t = 0; t < 5; t++)
-            printf("growth of the fill, type %-3s                   time ~ tets^%.2f\n", type_names[t], slope(counts, times[t], nsizes));
+        for (t = 0; t < 5; t++) {
+            char method[48];
+            double g = bench_loglog_slope(counts, times[t], nsizes);
+            printf("growth of the fill, type %-3s                   time ~ tets^%.2f\n", type_names[t], g);
+            snprintf(method, sizeof method, "lst_create, type %s", type_names[t]);
+            bench_growth(method, g, "tetrahedra, sphere 5K..100K", NULL);
+        }
     volume_bench();
     {
         double w5 = 0, w100 = 0;

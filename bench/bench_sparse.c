@@ -1,4 +1,4 @@
-/* bench_sparse: the sparse systems that lapped.h and pgp.h really build,
+/* bench_sparse: the sparse systems that lapped.h, pgp.h and lst.h really build,
  * dumped from real runs on real meshes by bench/sysdump (Matrix Market,
  * build/bench-data/systems), solved by patchwork's solvers exactly as the
  * headers call them and by Eigen's (libeigen3-dev, when bench/probe.sh
@@ -397,7 +397,7 @@ int main(int argc, char **argv)
     snprintf(path, sizeof path, "%s/index.txt", dir);
     if (!(idx = fopen(path, "r"))) {
         printf("bench_sparse: no systems in %s (bench/sysdump writes them; run.sh runs it first)\n", dir);
-        bench_row("solve the systems of lapped.h and pgp.h", "skipped", "-", "-", "-", "-", "-",
+        bench_row("solve the systems of lapped.h, pgp.h and lst.h", "skipped", "-", "-", "-", "-", "-",
                   "no dumped systems: `make data` for the CGAL meshes, then bench/sysdump");
         return 0;
     }
@@ -406,7 +406,7 @@ int main(int argc, char **argv)
         else bad = 1;
     fclose(idx);
     if (n == 0)
-        bench_row("solve the systems of lapped.h and pgp.h", "skipped", "-", "-", "-", "-", "-",
+        bench_row("solve the systems of lapped.h, pgp.h and lst.h", "skipped", "-", "-", "-", "-", "-",
                   "sysdump found no meshes to run the methods on: `make data` for the CGAL meshes");
     printf("%d systems from %s; times are medians of interleaved rounds (after a warm-up round below 400K "
            "nonzeros)\n", n, dir);
@@ -417,9 +417,6 @@ int main(int argc, char **argv)
         bench_system(&all[i], largest, &res[i]);
     }
     growth(all, res, n);
-    bench_row("lst.h: lapped solid textures (filling, and its least-squares systems)", "lst.h not yet merged", "-",
-              "-", "-", "Table 1: filling 1,089-5,012 tetrahedra in 18-416 s (2.3 GHz notebook, 2008)", "-",
-              "its systems join this table by one generator line in bench/sysdump.c");
     for (i = 0; i < n; i++) unload(&all[i]);
     printf("whole bench: %.1f s\n", bench_now() - t0);
     return bad;

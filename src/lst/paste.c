@@ -630,12 +630,15 @@ static void lst__seed_centre(lst__fill *F, int t, double *c)
     for (k = 0; k < 4; k++) c[k] = F->lattice[4 * best + k];
 }
 
-/* §5.2.3: pastes at random uncovered seeds until none is left. */
+/* §5.2.3: pastes at random uncovered seeds until none is left (a progress
+ * report before the first paste and every eighth after it). */
 static int lst__fill_run(lst__fill *F, const pw_progress *p, pw_err *e)
 {
     int r, nt = F->g->m.nt;
     while (F->nuncov > 0) {
         lst__spec s;
+        if ((F->npastes & 7) == 0 && pw_report(p, 0.35f + 0.6f * (float)(nt - F->nuncov) / (float)nt, "pasting", e))
+            return PW_ERR_CANCELLED;
         if (F->npastes >= F->o.max_pastes)
             return pw_fail(e, PW_ERR_LIMIT, "filling needs more than %d pastes (%d of %d tetrahedra still uncovered): "
                                             "a larger scale or a coarser mesh would do",
@@ -644,8 +647,6 @@ static int lst__fill_run(lst__fill *F, const pw_progress *p, pw_err *e)
         s.seed = F->uncov[pw_rng_below(&F->rng, (uint32_t)F->nuncov)];
         lst__seed_centre(F, s.seed, s.centre);
         if ((r = lst__paste_one(F, &s, 1, p, e)) != PW_OK) return r;
-        if ((F->npastes & 7) == 0 && pw_report(p, 0.35f + 0.6f * (float)(nt - F->nuncov) / (float)nt, "pasting", e))
-            return PW_ERR_CANCELLED;
     }
     return PW_OK;
 }
