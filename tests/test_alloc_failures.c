@@ -5,6 +5,9 @@
  * allocation, succeed), hand out nothing, leak nothing and not crash.
  * (tiled.h's sweep is in test_tiled.c, the atlas's in test_lapped_atlas.c,
  * the shared modules' in their own tests.) */
+/* static: only what the tests call is compiled */
+#define LAPPED_STATIC
+#define PGP_STATIC
 #define PATCHWORK_IMPLEMENTATION
 #include "lapped.h"
 #include "pgp.h"

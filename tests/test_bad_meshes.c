@@ -12,6 +12,10 @@
  *   NaN or infinite coordinates, an empty file -> refused at load;
  *   duplicate vertices (a seam), isolated vertices, an open boundary,
  *   twenty components, a single triangle -> a result, checked below. */
+/* static: only what the tests call is compiled */
+#define TILED_STATIC
+#define LAPPED_STATIC
+#define PGP_STATIC
 #define PATCHWORK_IMPLEMENTATION
 #include "tiled.h"
 #include "lapped.h"

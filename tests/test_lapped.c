@@ -1,6 +1,7 @@
 /* Tests of lapped.h's pasting (§3.3-3.6), its results and its files,
  * through the public API (and the implementation compiled in here where a
  * test needs to look inside). */
+#define LAPPED_STATIC /* static: only what the tests call is compiled */
 #define LAPPED_IMPLEMENTATION
 #include "lapped.h"
 #include "pwtest.h"

@@ -6,6 +6,7 @@
  *
  * Set LAPPED_ATLAS_OUT=/some/dir to also write each baked atlas and a
  * rendering of the textured mesh there (PNG) for a visual check. */
+#define LAPPED_STATIC /* static: only what the tests call is compiled */
 #define LAPPED_IMPLEMENTATION
 #include "lapped.h"
 #include "pwtest.h"

@@ -3,6 +3,7 @@
  * with the implementation). Meshes are built here: icosphere, cylinder,
  * flat grid, torus, subdivided cube, two disjoint spheres; the CGAL
  * elephant is used when `make data` has extracted it. */
+#define LAPPED_STATIC /* static: only what the tests call is compiled */
 #define LAPPED_IMPLEMENTATION
 #include "lapped.h"
 #include "pwtest.h"

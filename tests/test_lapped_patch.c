@@ -2,6 +2,7 @@
  * the transparent mipmap border (§4) and the built-in meshes and textures.
  * A few patches are written to /tmp/pw_lapped_patch_*.ppm for a visual
  * check (composited over a grey checkerboard). */
+#define LAPPED_STATIC /* static: only what the tests call is compiled */
 #define LAPPED_IMPLEMENTATION
 #include "lapped.h"
 #include "pwtest.h"

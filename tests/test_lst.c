@@ -5,6 +5,7 @@
  * the exemplar's outer skin on the surface (§5.2.7); the fields of §5.2.2
  * (RBF exactness, Laplacian constants, principal axis, depth-aware
  * weights); masks (§5.2.1, Fig. 14); manual pasting (§4.6); determinism. */
+#define LST_STATIC /* static: only what the tests call is compiled */
 #define LST_IMPLEMENTATION
 #include "../lst.h"
 #include "pwtest.h"

@@ -4,6 +4,7 @@
  * texture at the same points, in the split mesh and in the rendered image;
  * stroke fields cut along the stroke; volume rendering (§5.1.2); surface
  * rendering, displacement and the other views; determinism of images. */
+#define LST_STATIC /* static: only what the tests call is compiled */
 #define LST_IMPLEMENTATION
 #include "../lst.h"
 #include "pwtest.h"

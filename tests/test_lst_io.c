@@ -6,6 +6,7 @@
  * allocation failure at every allocation of a fill, a cut, the renderers
  * and the readers (NOMEM, nothing leaked). */
 #define _POSIX_C_SOURCE 200809L
+#define LST_STATIC /* static: only what the tests call is compiled */
 #define LST_IMPLEMENTATION
 #include "../lst.h"
 #include "pwtest.h"

@@ -1,6 +1,7 @@
 /* Tests of pgp.h's mapping (§2) and singularity detection (§3) through the
  * public API, with the implementation compiled in where a test looks
  * inside (the per-edge rotations, the singular flags). */
+#define PGP_STATIC /* static: only what the tests call is compiled */
 #define PGP_IMPLEMENTATION
 #include "pgp.h"
 #include "pwtest.h"

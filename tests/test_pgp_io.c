@@ -2,6 +2,7 @@
  * the built-in tiles (periodic, layered, deterministic) and meshes, the
  * textured OBJ and the constraints file. The implementation is compiled in
  * here so that the tile generator can be checked directly. */
+#define PGP_STATIC /* static: only what the tests call is compiled */
 #define PGP_IMPLEMENTATION
 #include "pgp.h"
 #include "pwtest.h"

@@ -11,6 +11,7 @@
  * distance between the two distributions of sample values, W1 = sum over
  * 256 bins of |CDF_a - CDF_b| / 256 (the mean shift of the values, in units
  * of the [0,1] range), averaged over the channels. */
+#define PGP_STATIC /* static: only what the tests call is compiled */
 #define PGP_IMPLEMENTATION
 #include "pgp.h"
 #include "pwtest.h"

@@ -1,5 +1,6 @@
 /* Tests of tiled.h through its public API (and, where a test needs to
  * look inside, the shared core compiled into this file). */
+#define TILED_STATIC /* static: only what the tests call is compiled */
 #define TILED_IMPLEMENTATION
 #include "../tiled.h"
 #include "pwtest.h"
