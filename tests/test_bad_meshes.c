@@ -3,7 +3,9 @@
  * (an element index or what is wrong), never a crash (the sanitizer build
  * runs this too).
  *
- * Expectations, per mesh (the same for tiled, lapped and pgp unless noted):
+ * Expectations, per mesh (the same for tiled, lapped, pgp and lst unless
+ * noted; lst tetrahedralizes the surface, so every open one is refused as
+ * "not closed", and fills the twenty closed components):
  *   non-manifold edge or vertex, inconsistent orientation
  *                         -> PW_ERR_TOPOLOGY, naming the element;
  *   a face using a vertex twice -> PW_ERR_DEGENERATE, naming the face;
@@ -11,15 +13,18 @@
  *                            lapped and pgp refuse it, naming the triangle;
  *   NaN or infinite coordinates, an empty file -> refused at load;
  *   duplicate vertices (a seam), isolated vertices, an open boundary,
- *   twenty components, a single triangle -> a result, checked below. */
+ *   twenty components, a single triangle -> a result (lst: open ones
+ *   refused), checked below. */
 /* static: only what the tests call is compiled */
 #define TILED_STATIC
 #define LAPPED_STATIC
 #define PGP_STATIC
+#define LST_STATIC
 #define PATCHWORK_IMPLEMENTATION
 #include "tiled.h"
 #include "lapped.h"
 #include "pgp.h"
+#include "lst.h"
 #include "pwtest.h"
 
 /* A tetrahedron of side ~1 at (x, 0, 0), as OBJ text (1-based indices
@@ -36,7 +41,8 @@ static int tet_obj(char *out, size_t cap, float x, int base)
 typedef struct bad_case {
     const char *name, *obj;
     int load_fails;      /* refused by the mesh reader */
-    int tiled, lapped, pgp; /* expected result code of each method (0: a result) */
+    int tiled, lapped, pgp, lst; /* expected result code of each method (0: a result); lst
+                                    tetrahedralizes, so it needs a closed surface */
     const char *words;   /* '|'-separated: one of them must be in the message */
 } bad_case;
 
@@ -46,27 +52,30 @@ typedef struct bad_case {
     "v 0 0 0\nv 1 0 0\nv 2 0 0\nv 0 1 0\nv 1 1 0.3\nv 2 1 0\nv 0 2 0\nv 1 2 0\nv 2 2 0\n"                        \
     "f 1 2 5\nf 1 5 4\nf 2 3 6\nf 2 6 5\nf 4 5 8\nf 4 8 7\nf 5 6 9\nf 5 9 8\n"
 
+#define T PW_ERR_TOPOLOGY
+#define D PW_ERR_DEGENERATE
 static const bad_case cases[] = {
-    {"nonmanifold_edge", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 -1 0\nv 0 0 1\nf 1 2 3\nf 2 1 4\nf 1 2 5\n", 0,
-     PW_ERR_TOPOLOGY, PW_ERR_TOPOLOGY, PW_ERR_TOPOLOGY, "non-manifold|edge"},
-    {"nonmanifold_vertex", BOWTIE, 0, PW_ERR_TOPOLOGY, PW_ERR_TOPOLOGY, PW_ERR_TOPOLOGY, "non-manifold vertex"},
-    {"inconsistent_orientation", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3\nf 1 4 3\n", 0, PW_ERR_TOPOLOGY,
-     PW_ERR_TOPOLOGY, PW_ERR_TOPOLOGY, "orientation"},
-    {"repeated_vertex", "v 0 0 0\nv 1 0 0\nv 1 1 0\nf 1 2 2\nf 1 2 3\n", 0, PW_ERR_DEGENERATE, PW_ERR_DEGENERATE,
-     PW_ERR_DEGENERATE, "twice"},
-    {"zero_area", "v 0 0 0\nv 1 0 0\nv 2 0 0\nv 1 1 0\nf 1 2 4\nf 2 3 4\nf 1 3 2\n", 0, 0, PW_ERR_DEGENERATE,
-     PW_ERR_DEGENERATE, "zero area|degenerate"},
-    {"nan", "v 0 0 0\nv nan 0 0\nv 0 1 0\nf 1 2 3\n", 1, 0, 0, 0, "finite|number"},
-    {"inf", "v 0 0 0\nv 1 0 0\nv 0 inf 0\nf 1 2 3\n", 1, 0, 0, 0, "finite|number"},
-    {"empty", "", 1, 0, 0, 0, "no faces"},
+    {"nonmanifold_edge", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 -1 0\nv 0 0 1\nf 1 2 3\nf 2 1 4\nf 1 2 5\n", 0, T, T, T, T,
+     "non-manifold|edge"},
+    {"nonmanifold_vertex", BOWTIE, 0, T, T, T, T, "non-manifold vertex|not closed"},
+    {"inconsistent_orientation", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3\nf 1 4 3\n", 0, T, T, T, T,
+     "orientation"},
+    {"repeated_vertex", "v 0 0 0\nv 1 0 0\nv 1 1 0\nf 1 2 2\nf 1 2 3\n", 0, D, D, D, D, "twice"},
+    {"zero_area", "v 0 0 0\nv 1 0 0\nv 2 0 0\nv 1 1 0\nf 1 2 4\nf 2 3 4\nf 1 3 2\n", 0, 0, D, D, T,
+     "zero area|degenerate|not closed"}, /* open, which lst refuses first (closed ones: test_lst_io) */
+    {"nan", "v 0 0 0\nv nan 0 0\nv 0 1 0\nf 1 2 3\n", 1, 0, 0, 0, 0, "finite|number"},
+    {"inf", "v 0 0 0\nv 1 0 0\nv 0 inf 0\nf 1 2 3\n", 1, 0, 0, 0, 0, "finite|number"},
+    {"empty", "", 1, 0, 0, 0, 0, "no faces"},
     {"duplicate_vertices", /* the grid's middle column doubled: a seam, two boundaries */
      "v 0 0 0\nv 1 0 0\nv 1 0 0\nv 2 0 0\nv 0 1 0\nv 1 1 0\nv 1 1 0\nv 2 1 0\n"
      "f 1 2 6\nf 1 6 5\nf 3 4 8\nf 3 8 7\n",
-     0, 0, 0, 0, ""},
-    {"isolated_vertices", "v 5 5 5\n" GRID3 "v -3 2 1\n", 0, 0, 0, 0, ""},
-    {"open_boundary", GRID3, 0, 0, 0, 0, ""},
-    {"single_triangle", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", 0, 0, 0, 0, ""},
+     0, 0, 0, 0, T, "not closed"},
+    {"isolated_vertices", "v 5 5 5\n" GRID3 "v -3 2 1\n", 0, 0, 0, 0, T, "not closed"},
+    {"open_boundary", GRID3, 0, 0, 0, 0, T, "not closed"},
+    {"single_triangle", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", 0, 0, 0, 0, T, "not closed"},
 };
+#undef T
+#undef D
 
 static int has_word(const char *msg, const char *words)
 {
@@ -167,6 +176,39 @@ static void run_pgp(const char *obj, size_t len, const bad_case *c)
     pgp_mesh_free(&m);
 }
 
+/* lst: the surface tetrahedralized, then filled (type 0, a small exemplar). */
+static void run_lst(const char *obj, size_t len, const bad_case *c)
+{
+    lst_options o = lst_default_options();
+    lst_tet_options to;
+    lst_mesh m;
+    lst_tetmesh tets;
+    lst_volume ex;
+    lst_model model;
+    lst_error err;
+    lst_result r = lst_load_mesh_from_memory(obj, len, c->name, &o, &m, &err);
+    if (c->load_fails) {
+        CHECKF(r != LST_OK && has_word(err.message, c->words), "%s: lst load: %s", c->name, err.message);
+        if (r == LST_OK) lst_mesh_free(&m);
+        return;
+    }
+    REQUIRE(r == LST_OK);
+    memset(&to, 0, sizeof to);
+    to.target_tets = 2000;
+    r = lst_tetrahedralize(&m, &to, &o, &tets, &err);
+    CHECKF((int)r == c->lst, "%s: lst gave %d (%s), expected %d", c->name, r, r ? err.message : "ok", c->lst);
+    if (r != LST_OK) CHECKF(has_word(err.message, c->words), "%s: lst message: %s", c->name, err.message);
+    else {
+        REQUIRE(lst_builtin_exemplar("spots", 16, &o, &ex, NULL, &err) == LST_OK);
+        r = lst_create(&tets, &m, &ex, NULL, &o, &model, &err);
+        CHECKF(r == LST_OK && model.npastes > 0, "%s: lst fill: %s", c->name, r ? err.message : "no pastes");
+        if (r == LST_OK) lst_model_free(&model);
+        lst_volume_free(&ex);
+        lst_tetmesh_free(&tets);
+    }
+    lst_mesh_free(&m);
+}
+
 static void t_cases(void)
 {
     size_t k;
@@ -176,6 +218,7 @@ static void t_cases(void)
         run_tiled(c->obj, len, c);
         run_lapped(c->obj, len, c);
         run_pgp(c->obj, len, c);
+        run_lst(c->obj, len, c);
     }
 }
 
@@ -192,6 +235,7 @@ static void t_many_components(void)
     run_tiled(obj, (size_t)n, &c);
     run_lapped(obj, (size_t)n, &c);
     run_pgp(obj, (size_t)n, &c);
+    run_lst(obj, (size_t)n, &c);
 }
 
 static const pwt_case tests[] = {
