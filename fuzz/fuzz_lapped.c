@@ -35,6 +35,7 @@
  *     coordinates lie in [0, 1];
  *   - with the counting allocator, every block goes back to the allocator
  *     that made it and none is left over. */
+#define LAPPED_STATIC /* static: only what the target calls is compiled */
 #define LAPPED_IMPLEMENTATION
 #include "../lapped.h"
 #define FZ_NAME "fuzz_lapped"

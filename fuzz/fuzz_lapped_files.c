@@ -19,6 +19,7 @@
  * (Two bugs it found are fixed and have regression tests: constraint
  * values finite as doubles but not as floats, "0 1e39 0 0", were accepted;
  * lapped_render overran a scratch buffer for patches 1 texel wide.) */
+#define LAPPED_STATIC /* static: only what the target calls is compiled */
 #define LAPPED_IMPLEMENTATION
 #include "../lapped.h"
 #define FZ_NAME "fuzz_lapped_files"

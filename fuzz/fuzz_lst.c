@@ -17,6 +17,7 @@
  * Build: clang -g -O1 -fsanitize=fuzzer,address,undefined -I. fuzz/fuzz_lst.c -lm */
 #define FZ_NAME "fuzz_lst"
 #include "fuzz.h"
+#define LST_STATIC /* static: only what the target calls is compiled */
 #define LST_IMPLEMENTATION
 #include "../lst.h"
 

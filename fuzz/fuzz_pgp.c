@@ -22,6 +22,7 @@
  *   - a rendering has the requested size and finite pixels;
  *   - with the counting allocator, every block goes back to the allocator
  *     that made it and none is left over. */
+#define PGP_STATIC /* static: only what the target calls is compiled */
 #define PGP_IMPLEMENTATION
 #include "../pgp.h"
 #define FZ_NAME "fuzz_pgp"

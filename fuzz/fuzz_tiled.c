@@ -3,6 +3,7 @@
  * an image, an exemplar (synthesised into small tiles) and a hand-made
  * tiled texture (validated and wrapped). Any result is fine; crashes,
  * leaks and sanitizer reports are not. */
+#define TILED_STATIC /* static: only what the target calls is compiled */
 #define TILED_IMPLEMENTATION
 #include "../tiled.h"
 #include <stdint.h>
