@@ -54,7 +54,7 @@ PARTS_lst      := core exemplar field paste render cut builtin io
 COMMON_SRC := $(wildcard src/common/*.h)
 HEADER_FILES := $(addsuffix .h,$(HEADERS))
 
-.PHONY: all demo test bench bench-report data headers check-headers print-headers dev-header fuzz fuzz-build clean
+.PHONY: all demo test test-build bench bench-report data headers check-headers print-headers dev-header fuzz fuzz-build fuzz-targets clean
 
 CLI_SRC   := $(wildcard cli/*.c)
 TEST_SRC  := $(wildcard tests/test_*.c)
@@ -133,8 +133,12 @@ $(OSMESA_BENCH): $(BUILD)/bench/%: bench/%.c $(wildcard bench/*.h) $(COMMON_SRC)
 demo: $(BUILD)/patchwork
 	./$(BUILD)/patchwork demo out
 
+# (test-build has a recipe so that make says nothing when all is built)
+test-build: $(BUILD)/patchwork $(TEST_BIN) $(EX_BIN)
+	@:
+
 test:
-	@$(MAKE) --no-print-directory -j$(JOBS) $(BUILD)/patchwork $(TEST_BIN) $(EX_BIN)
+	@$(MAKE) --no-print-directory -j$(JOBS) test-build
 	@SANITIZE=$(SANITIZE) sh tests/run.sh $(BUILD) $(JOBS)
 
 bench: $(BENCH_BIN) $(BENCH_TOOLS) $(BUILD)/patchwork
@@ -153,8 +157,11 @@ $(FUZZ_DIR)/%: fuzz/%.c fuzz/fuzz.h $(HEADER_FILES) $(COMMON_SRC)
 	@mkdir -p $(FUZZ_DIR)
 	$(FUZZ_CC) -g1 -O1 -I. -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=all -o $@ $< -lm
 
+fuzz-targets: $(FUZZ_TARGETS)
+	@:
+
 fuzz-build:
-	@$(MAKE) --no-print-directory -j$(JOBS) $(FUZZ_TARGETS)
+	@$(MAKE) --no-print-directory -j$(JOBS) fuzz-targets
 
 fuzz: fuzz-build
 	@sh fuzz/run.sh $(FUZZ_SECONDS) $(JOBS)
