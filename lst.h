@@ -17575,36 +17575,34 @@ static int lst__read_constraints(const pw_alloc *a, const void *data, size_t siz
     return PW_OK;
 }
 
-LSTDEF lst_result lst_read_depth_from_memory(const void *data, size_t size, const char *name, const lst_options *opt,
-                                             lst_depth_constraint **out, int *count, lst_error *err)
+/* The two public readers: arguments checked, fn over every line. */
+static lst_result lst__read_from_memory(const void *data, size_t size, const char *name, const char *fname,
+                                        const char *default_name, lst__line_fn fn, const lst_options *opt, void **out,
+                                        int *count, lst_error *err)
 {
     lst_options o = lst__options(opt);
     pw_alloc a = lst__alloc(&o.allocator);
     pw_err e;
-    void *c = NULL;
     pw_err_clear(&e);
     if (out) *out = NULL;
     if (count) *count = 0;
-    if (!out || !count || (!data && size)) pw_fail(&e, PW_ERR_INVALID, "lst_read_depth_from_memory: NULL argument");
-    else if (lst__read_constraints(&a, data, size, name ? name : "depth", lst__depth_line_v, &c, count, &e) == PW_OK)
-        *out = (lst_depth_constraint *)c;
+    if (!out || !count || (!data && size)) pw_fail(&e, PW_ERR_INVALID, "%s: NULL argument", fname);
+    else lst__read_constraints(&a, data, size, name ? name : default_name, fn, out, count, &e);
     return lst__done(&e, err);
+}
+
+LSTDEF lst_result lst_read_depth_from_memory(const void *data, size_t size, const char *name, const lst_options *opt,
+                                             lst_depth_constraint **out, int *count, lst_error *err)
+{
+    return lst__read_from_memory(data, size, name, "lst_read_depth_from_memory", "depth", lst__depth_line_v, opt,
+                                 (void **)out, count, err);
 }
 
 LSTDEF lst_result lst_read_directions_from_memory(const void *data, size_t size, const char *name, const lst_options *opt,
                                                   lst_field_constraint **out, int *count, lst_error *err)
 {
-    lst_options o = lst__options(opt);
-    pw_alloc a = lst__alloc(&o.allocator);
-    pw_err e;
-    void *c = NULL;
-    pw_err_clear(&e);
-    if (out) *out = NULL;
-    if (count) *count = 0;
-    if (!out || !count || (!data && size)) pw_fail(&e, PW_ERR_INVALID, "lst_read_directions_from_memory: NULL argument");
-    else if (lst__read_constraints(&a, data, size, name ? name : "directions", lst__field_line_v, &c, count, &e) == PW_OK)
-        *out = (lst_field_constraint *)c;
-    return lst__done(&e, err);
+    return lst__read_from_memory(data, size, name, "lst_read_directions_from_memory", "directions", lst__field_line_v,
+                                 opt, (void **)out, count, err);
 }
 
 LSTDEF void lst_free_constraints(lst_depth_constraint *depth, lst_field_constraint *field, const lst_options *opt)

@@ -60,6 +60,29 @@ static tiled_result demo_write(const char *dir, const char *name, const tiled_im
     return TILED_OK;
 }
 
+/* Any header's image (lapped_image, pgp_image, lst_image: the same fields)
+ * written by demo_write. */
+static tiled_result demo_write_pixels(const char *dir, const char *name, int width, int height, int channels,
+                                      float *pixels, tiled_error *err)
+{
+    tiled_image view;
+    memset(&view, 0, sizeof view);
+    view.width = width, view.height = height, view.channels = channels, view.pixels = pixels;
+    return demo_write(dir, name, &view, err);
+}
+#define DEMO_WRITE(dir, name, img, err) \
+    demo_write_pixels(dir, name, (img)->width, (img)->height, (img)->channels, (img)->pixels, err)
+
+/* Any header's error (lapped_error, pgp_error, lst_error) as the demo's;
+ * the result codes are the same numbers in every header. */
+static tiled_result demo_error(int code, const char *message, tiled_error *err)
+{
+    err->code = (tiled_result)code;
+    snprintf(err->message, sizeof err->message, "%s", message);
+    return err->code;
+}
+#define DEMO_ERROR(e, err) demo_error((int)(e)->code, (e)->message, err)
+
 static tiled_result demo_tiled_scene(const char *dir, const demo_scene *s, tiled_error *err)
 {
     tiled_options o = tiled_default_options();
@@ -108,25 +131,6 @@ static const lapped_scene lapped_scenes[] = {
     {"lapped_sphere_dots", "sphere", "dots", LAPPED_FIELD_ISOTROPIC, 0, 0.5f, {-0.4f, -0.3f, -0.85f}},
 };
 
-static tiled_result demo_write_lapped(const char *dir, const char *name, const lapped_image *img,
-                                      tiled_error *err)
-{
-    tiled_image view;
-    memset(&view, 0, sizeof view);
-    view.width = img->width;
-    view.height = img->height;
-    view.channels = img->channels;
-    view.pixels = img->pixels;
-    return demo_write(dir, name, &view, err);
-}
-
-static tiled_result demo_lapped_error(const lapped_error *le, tiled_error *err)
-{
-    err->code = (tiled_result)le->code;
-    memcpy(err->message, le->message, sizeof err->message);
-    return err->code;
-}
-
 /* A lapped scene: the patch, the runtime-pasting render and, for some, the
  * texture atlas. */
 static tiled_result demo_lapped_scene(const char *dir, const lapped_scene *s, tiled_error *err)
@@ -149,19 +153,19 @@ static tiled_result demo_lapped_scene(const char *dir, const lapped_scene *s, ti
     DEMO_QUICK_VIEW(ro);
     o.field.mode = s->field;
     o.field.scale = s->scale;
-    if (lapped_builtin_mesh(s->mesh, &o, &mesh, &le) != LAPPED_OK) return demo_lapped_error(&le, err);
+    if (lapped_builtin_mesh(s->mesh, &o, &mesh, &le) != LAPPED_OK) return DEMO_ERROR(&le, err);
     if (lapped_builtin_texture(s->texture, demo_size(128, 2, 64), &o, &tex, &le) != LAPPED_OK ||
         lapped_make_patch(&tex, NULL, &o, &patch, &le) != LAPPED_OK ||
         lapped_create(&mesh, &patch, 1, &o, &t, &le) != LAPPED_OK ||
         lapped_render(&mesh, &t, &patch, NULL, &ro, &pic, &le) != LAPPED_OK ||
         (s->atlas && lapped_bake_atlas(&mesh, &t, &patch, NULL, NULL, &o, &atlas, &le) != LAPPED_OK)) {
-        r = demo_lapped_error(&le, err);
+        r = DEMO_ERROR(&le, err);
     }
-    if (r == TILED_OK) r = demo_write_lapped(dir, s->name, &pic, err);
+    if (r == TILED_OK) r = DEMO_WRITE(dir, s->name, &pic, err);
     snprintf(name, sizeof name, "%s_patch", s->name);
-    if (r == TILED_OK) r = demo_write_lapped(dir, name, &patch, err);
+    if (r == TILED_OK) r = DEMO_WRITE(dir, name, &patch, err);
     snprintf(name, sizeof name, "%s_atlas", s->name);
-    if (r == TILED_OK && s->atlas) r = demo_write_lapped(dir, name, &atlas.image, err);
+    if (r == TILED_OK && s->atlas) r = DEMO_WRITE(dir, name, &atlas.image, err);
     lapped_atlas_free(&atlas);
     lapped_image_free(&pic);
     lapped_texture_free(&t);
@@ -182,24 +186,6 @@ static const pgp_scene pgp_scenes[] = {
     {"pgp_bumpy_bricks", "bumpy", "bricks", PGP_FIELD_UP, 0.5f, {-0.3f, -0.35f, -0.9f}, {-0.48f, 0.57f, 0.67f}, {0.92f, -0.26f, 0.28f}},
     {"pgp_torus_stripes", "torus", "stripes", PGP_FIELD_CURVATURE, 0.6f, {-0.2f, -0.6f, -0.75f}, {0.0f, 0.0f, 0.0f}, {0.0f, 0.0f, 0.0f}},
 };
-
-static tiled_result demo_write_pgp(const char *dir, const char *name, const pgp_image *img, tiled_error *err)
-{
-    tiled_image view;
-    memset(&view, 0, sizeof view);
-    view.width = img->width;
-    view.height = img->height;
-    view.channels = img->channels;
-    view.pixels = img->pixels;
-    return demo_write(dir, name, &view, err);
-}
-
-static tiled_result demo_pgp_error(const pgp_error *pe, tiled_error *err)
-{
-    err->code = (tiled_result)pe->code;
-    memcpy(err->message, pe->message, sizeof err->message);
-    return err->code;
-}
 
 /* The layers of a tile side by side, m growing to the right. */
 static tiled_result demo_pgp_tile(const char *dir, const char *name, const pgp_tile *t, tiled_error *err)
@@ -268,16 +254,16 @@ static tiled_result demo_pgp_scene(const char *dir, const pgp_scene *s, tiled_er
     DEMO_QUICK_VIEW(ro);
     o.field = s->field;
     o.scale = s->scale;
-    if (pgp_builtin_mesh(s->mesh, &o, &mesh, &pe) != PGP_OK) return demo_pgp_error(&pe, err);
+    if (pgp_builtin_mesh(s->mesh, &o, &mesh, &pe) != PGP_OK) return DEMO_ERROR(&pe, err);
     if (pgp_builtin_tile(s->tile, demo_size(256, 4, 64), &o, &tile, &pe) != PGP_OK || pgp_create(&mesh, &o, &map, &pe) != PGP_OK ||
         (weather && demo_pgp_weather(s, &mesh, map, &pe) != PGP_OK))
-        r = demo_pgp_error(&pe, err);
+        r = DEMO_ERROR(&pe, err);
     for (k = 0; k < 3 && r == TILED_OK && suffix[weather][k]; k++) {
         ro.show = k == 1 ? (weather ? 1 : 2) : 0;
         ro.fix = k == 2 ? 1 : 0;
-        if (pgp_render(map, &tile, &ro, &pic[k], &pe) != PGP_OK) r = demo_pgp_error(&pe, err);
+        if (pgp_render(map, &tile, &ro, &pic[k], &pe) != PGP_OK) r = DEMO_ERROR(&pe, err);
         snprintf(name, sizeof name, "%s%s", s->name, suffix[weather][k]);
-        if (r == TILED_OK) r = demo_write_pgp(dir, name, &pic[k], err);
+        if (r == TILED_OK) r = DEMO_WRITE(dir, name, &pic[k], err);
     }
     snprintf(name, sizeof name, "%s_tile", s->name);
     if (r == TILED_OK) r = demo_pgp_tile(dir, name, &tile, err);
@@ -303,24 +289,6 @@ static const lst_scene lst_scenes[] = {
     {"lst_fibers", "torus", "fibers", LST_TYPE_1A, 6000, {-0.3f, -0.5f, -0.8f}, {0, 1, 0}, {{1, 0, 0, 0.4f}, {0, 0, 0, 0}}, 0.0f, 0},
     {"lst_spots", "bumpy", "spots", LST_TYPE_0, 5000, {-0.3f, -0.35f, -0.9f}, {0, 1, 0}, {{0, 0, 1, 0}, {0, 0, 0, 0}}, 0.0f, 0},
 };
-
-static tiled_result demo_write_lst(const char *dir, const char *name, const lst_image *img, tiled_error *err)
-{
-    tiled_image view;
-    memset(&view, 0, sizeof view);
-    view.width = img->width;
-    view.height = img->height;
-    view.channels = img->channels;
-    view.pixels = img->pixels;
-    return demo_write(dir, name, &view, err);
-}
-
-static tiled_result demo_lst_error(const lst_error *le, tiled_error *err)
-{
-    err->code = (tiled_result)le->code;
-    memcpy(err->message, le->message, sizeof err->message);
-    return err->code;
-}
 
 /* The model of a scene: built-in surface, tetrahedralized, filled with its
  * built-in constraints (kiwi and tree) or the default fields. */
@@ -368,9 +336,9 @@ static tiled_result demo_lst_section(const char *dir, const lst_scene *s, int k,
     for (j = 0; j < 3; j++) ro.view_dir[j] = -s->cuts[k][j];
     if (fabsf(s->cuts[k][2]) > 0.9f) ro.up[0] = 0, ro.up[1] = 1, ro.up[2] = 0;
     ro.displace = 0.0f;
-    if (lst_cut_plane(m, s->cuts[k], &le) != LST_OK || lst_render(m, &ro, &pic, &le) != LST_OK) return demo_lst_error(&le, err);
+    if (lst_cut_plane(m, s->cuts[k], &le) != LST_OK || lst_render(m, &ro, &pic, &le) != LST_OK) return DEMO_ERROR(&le, err);
     snprintf(name, sizeof name, "%s_section%d", s->name, k + 1);
-    r = demo_write_lst(dir, name, &pic, err);
+    r = DEMO_WRITE(dir, name, &pic, err);
     lst_image_free(&pic);
     lst_uncut(m);
     return r;
@@ -396,24 +364,24 @@ static tiled_result demo_lst_scene(const char *dir, const lst_scene *s, tiled_er
     memcpy(ro.view_dir, s->view, sizeof ro.view_dir);
     memcpy(ro.up, s->up, sizeof ro.up);
     ro.displace = s->displace;
-    if (demo_lst_model(s, &o, &m, &le) != LST_OK) return demo_lst_error(&le, err);
-    if (lst_render(&m, &ro, &pic, &le) != LST_OK) r = demo_lst_error(&le, err);
-    if (r == TILED_OK) r = demo_write_lst(dir, s->name, &pic, err);
+    if (demo_lst_model(s, &o, &m, &le) != LST_OK) return DEMO_ERROR(&le, err);
+    if (lst_render(&m, &ro, &pic, &le) != LST_OK) r = DEMO_ERROR(&le, err);
+    if (r == TILED_OK) r = DEMO_WRITE(dir, s->name, &pic, err);
     lst_image_free(&pic);
     for (k = 0; k < 2 && r == TILED_OK; k++)
         if (s->cuts[k][0] || s->cuts[k][1] || s->cuts[k][2]) r = demo_lst_section(dir, s, k, &m, ro, err);
     ro.displace = 0.0f;
     if (r == TILED_OK && (lst_cut_plane(&m, s->cuts[0], &le) != LST_OK || lst_render(&m, &ro, &pic, &le) != LST_OK))
-        r = demo_lst_error(&le, err);
+        r = DEMO_ERROR(&le, err);
     snprintf(name, sizeof name, "%s_cut", s->name);
-    if (r == TILED_OK) r = demo_write_lst(dir, name, &pic, err);
+    if (r == TILED_OK) r = DEMO_WRITE(dir, name, &pic, err);
     lst_image_free(&pic);
     lst_uncut(&m);
     ro.width = demo_size(400, 4, 100), ro.height = demo_size(330, 4, 83);
     vo.slices = demo_size(200, 4, 50);
-    if (r == TILED_OK && s->volume && lst_render_volume(&m, &ro, &vo, &pic, &le) != LST_OK) r = demo_lst_error(&le, err);
+    if (r == TILED_OK && s->volume && lst_render_volume(&m, &ro, &vo, &pic, &le) != LST_OK) r = DEMO_ERROR(&le, err);
     snprintf(name, sizeof name, "%s_volume", s->name);
-    if (r == TILED_OK && s->volume) r = demo_write_lst(dir, name, &pic, err);
+    if (r == TILED_OK && s->volume) r = DEMO_WRITE(dir, name, &pic, err);
     lst_image_free(&pic);
     lst_model_free(&m);
     return r;
@@ -432,7 +400,7 @@ static tiled_result demo_pgp_synth(const char *dir, tiled_error *err)
     tiled_result r = TILED_OK;
     int k;
     const int size = demo_size(128, 4, 32);
-    if (pgp_builtin_tile("bricks", size, NULL, &bricks, &pe) != PGP_OK) return demo_pgp_error(&pe, err);
+    if (pgp_builtin_tile("bricks", size, NULL, &bricks, &pe) != PGP_OK) return DEMO_ERROR(&pe, err);
     for (k = 0; k < 2; k++) {
         memset(&key[k], 0, sizeof key[k]);
         key[k].width = key[k].height = size;
@@ -443,7 +411,7 @@ static tiled_result demo_pgp_synth(const char *dir, tiled_error *err)
     }
     so.size = size;
     so.layers = demo_size(6, 2, 3);
-    if (pgp_synthesize_tile(keys, 2, &so, &tile, NULL, &pe) != PGP_OK) r = demo_pgp_error(&pe, err);
+    if (pgp_synthesize_tile(keys, 2, &so, &tile, NULL, &pe) != PGP_OK) r = DEMO_ERROR(&pe, err);
     else r = demo_pgp_tile(dir, "pgp_synth_bricks_pebbles", &tile, err);
     pgp_tile_free(&tile);
     pgp_tile_free(&bricks);
