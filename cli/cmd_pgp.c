@@ -208,9 +208,10 @@ static pgp_result run(pgp_cmd *c, cli_outputs *outs, pgp_error *err)
     if ((r = load_tile(c, &tile, err)) != PGP_OK) return r;
     if ((r = load_mesh(c->mesh, &c->opt, &mesh, err)) == PGP_OK && (r = pgp_create(&mesh, &c->opt, &map, err)) == PGP_OK &&
         (!c->constraints || (r = pgp_apply_constraints(map, c->constraints, err)) == PGP_OK)) {
-        int n = pgp_triangle_count(map), s = pgp_get_singular(map, NULL);
-        printf("pgp: %d triangles, %d singular (%.1f%%), tile %dx%d with %d layer%s\n", n, s,
-               n ? 100.0 * s / n : 0.0, tile.width, tile.height, tile.layers, tile.layers == 1 ? "" : "s");
+        int n = pgp_triangle_count(map), s = pgp_get_singular(map, NULL), v = pgp_get_vortices(map, NULL);
+        printf("pgp: %d triangles, %d singular (%.1f%%) around %d vorti%s, tile %dx%d with %d layer%s\n", n, s,
+               n ? 100.0 * s / n : 0.0, v, v == 1 ? "ex" : "ces", tile.width, tile.height, tile.layers,
+               tile.layers == 1 ? "" : "s");
     }
     if (r == PGP_OK && c->out_tile) r = write_file(outs, c->out_tile, NULL, NULL, &tile, err);
     if (r == PGP_OK && c->out_obj) r = write_file(outs, c->out_obj, &mesh, map, NULL, err);

@@ -259,6 +259,11 @@ PGPDEF void pgp_get_coords(const pgp_map *map, float *stm);
 /* Singular triangles (§3, those with a corner whose 1-ring is singular):
  * flags[ntris] set to 0/1 when flags is not NULL; returns their number. */
 PGPDEF int pgp_get_singular(const pgp_map *map, unsigned char *flags);
+/* Vortices: triangles around which s or t winds by a whole period (the
+ * T-junctions and poles of the parameterization, the seeds of the singular
+ * 1-rings). flags[ntris] set to 0 or 1 (s winds) + 2 (t winds) when flags
+ * is not NULL; returns the number of triangles with a vortex. */
+PGPDEF int pgp_get_vortices(const pgp_map *map, unsigned char *flags);
 /* The interpolated fields: d_s per triangle (ntris*3, unit), scale and
  * material per vertex (nverts each); any pointer may be NULL. */
 PGPDEF void pgp_get_field(const pgp_map *map, float *ds, float *scale, float *material);
