@@ -17,8 +17,8 @@
  * Any result is fine; crashes, leaks, sanitizer reports and these are not:
  *   - a failure carries its code and a message and hands nothing out;
  *   - a map that is made has finite coordinates, materials in [0, 1],
- *     positive finite scales, unit directions and at most ntris singular
- *     triangles, and made again from the same inputs it is bit-identical;
+ *     positive finite scales, unit directions, at most ntris singular
+ *     triangles, vortex flags that match their count, and made again from the same inputs it is bit-identical;
  *   - a rendering has the requested size and finite pixels;
  *   - with the counting allocator, every block goes back to the allocator
  *     that made it and none is left over. */
@@ -88,6 +88,18 @@ static void fz_check_map(const pgp_map *P)
     for (i = 0; i < nv; i++) FZ_CHECK(fz_finite(sc[i]) && sc[i] > 0.0f && mat[i] >= 0.0f && mat[i] <= 1.0f);
     k = pgp_get_singular(P, NULL);
     FZ_CHECK(k >= 0 && k <= nf);
+    {
+        unsigned char *vort = (unsigned char *)malloc((size_t)nf + 1);
+        int nvort = 0;
+        FZ_CHECK(vort != NULL);
+        k = pgp_get_vortices(P, vort);
+        for (i = 0; i < nf; i++) {
+            FZ_CHECK(vort[i] <= 3);
+            nvort += vort[i] != 0;
+        }
+        FZ_CHECK(k == nvort);
+        free(vort);
+    }
     free(stm);
     free(ds);
     free(sc);
@@ -103,6 +115,7 @@ static void fz_same(const pgp_map *a, const pgp_map *b)
     pgp_get_coords(b, y);
     FZ_CHECK(memcmp(x, y, sizeof(float) * 9 * (size_t)nf) == 0);
     FZ_CHECK(pgp_get_singular(a, NULL) == pgp_get_singular(b, NULL));
+    FZ_CHECK(pgp_get_vortices(a, NULL) == pgp_get_vortices(b, NULL));
     free(x);
     free(y);
 }
