@@ -137,8 +137,7 @@ struct pgp_map {
                              order of the unknowns of every solve */
     unsigned char *vsing; /* nv: singular 1-ring (§3) */
     unsigned char *fsing; /* nf: a corner's 1-ring is singular */
-    unsigned char *fvort; /* nf: 1 if s winds around the triangle, + 2 if t does */
-    int nsing, nvort;
+    int nsing;
     float scale0;         /* default tile side */
     pgp__constraint *con;
     int ncon;
@@ -203,13 +202,6 @@ PGPDEF int pgp_get_singular(const pgp_map *map, unsigned char *flags)
     if (!map) return 0;
     if (flags) memcpy(flags, map->fsing, (size_t)map->m.nf);
     return map->nsing;
-}
-
-PGPDEF int pgp_get_vortices(const pgp_map *map, unsigned char *flags)
-{
-    if (!map) return 0;
-    if (flags) memcpy(flags, map->fvort, (size_t)map->m.nf);
-    return map->nvort;
 }
 
 PGPDEF void pgp_get_field(const pgp_map *map, float *ds, float *scale, float *material)

@@ -318,21 +318,26 @@ static int pgp__mismatch(const pgp_map *P, int h)
     return 0;
 }
 
-/* The winding of coordinate k around triangle f: the sum over its edges of
- * alpha plus the wrapped difference between what the unknowns give and
- * alpha, an integer (0 but at a vortex of the periodic parameterization). */
+/* The winding of coordinate k around triangle f, an integer (0 but at a
+ * vortex of the periodic parameterization): Eq. (4) brought corners 1 and 2
+ * next to corner 0 along the field, so the edge from 1 to 2 carries it all.
+ * The sum over the edges of alpha plus the wrapped rest is
+ * -round(s_2 - s_1 - alpha_12). */
 static int pgp__winding(const pgp_map *P, int f, int k)
 {
-    const double *z = k ? P->zt : P->zs;
-    double sum = 0.0;
-    int c;
-    for (c = 0; c < 3; c++) {
-        int a = P->m.tri[3 * f + c], b = P->m.tri[3 * f + (c + 1) % 3];
-        double al = pgp__alpha(P, 3 * f + c, k);
-        double d = pgp__turns(z[2 * b], z[2 * b + 1]) - pgp__turns(z[2 * a], z[2 * a + 1]) - al;
-        sum += al + d - floor(d + 0.5);
+    const float *o = P->stm + 9 * f;
+    return -(int)floor((double)o[6 + k] - o[3 + k] - pgp__alpha(P, 3 * f + 1, k) + 0.5);
+}
+
+PGPDEF int pgp_get_vortices(const pgp_map *map, unsigned char *flags)
+{
+    int f, n = 0;
+    for (f = 0; map && f < map->m.nf; f++) {
+        unsigned char v = (unsigned char)((pgp__winding(map, f, 0) != 0) + 2 * (pgp__winding(map, f, 1) != 0));
+        if (flags) flags[f] = v;
+        n += v != 0;
     }
-    return (int)floor(sum + 0.5);
+    return n;
 }
 
 /* §3: a vertex's 1-ring is singular if it holds a distorted triangle or a
@@ -350,10 +355,8 @@ static int pgp__singularities(pgp_map *P, pw_err *e)
         if (dist[f3]) P->vsing[P->m.tri[h]] = 1;
         if (pgp__mismatch(P, h)) P->vsing[P->m.tri[h]] = P->vsing[P->m.tri[3 * f3 + (c3 + 1) % 3]] = 1;
     }
-    P->nsing = P->nvort = 0;
+    P->nsing = 0;
     for (f = 0; f < P->m.nf; f++) {
-        P->fvort[f] = (unsigned char)((pgp__winding(P, f, 0) != 0) + 2 * (pgp__winding(P, f, 1) != 0));
-        P->nvort += P->fvort[f] != 0;
         P->fsing[f] = 0;
         for (c = 0; c < 3; c++) P->fsing[f] |= P->vsing[P->m.tri[3 * f + c]];
         P->nsing += P->fsing[f];
@@ -596,7 +599,7 @@ static int pgp__setup(pgp_map *P, const pgp_mesh *in, pw_err *e)
     P->base = (double *)pw_alloc_array(&P->a, 4 * nf, sizeof(double), "mapping", e);
     P->scale = (float *)pw_alloc_array(&P->a, 2 * nv + 9 * nf, sizeof(float), "mapping", e);
     P->zs = (double *)pw_alloc_array(&P->a, 4 * nv, sizeof(double), "mapping", e);
-    P->vsing = (unsigned char *)pw_calloc_array(&P->a, nv + 2 * nf, 1, "mapping", e);
+    P->vsing = (unsigned char *)pw_calloc_array(&P->a, nv + nf, 1, "mapping", e);
     P->forder = (int *)pw_alloc_array(&P->a, nf + nv, sizeof(int), "mapping", e);
     if (!P->dual || !P->base || !P->scale || !P->zs || !P->vsing || !P->forder) return PW_ERR_NOMEM;
     P->vorder = P->forder + nf;
@@ -606,7 +609,6 @@ static int pgp__setup(pgp_map *P, const pgp_mesh *in, pw_err *e)
     P->stm = P->mat + nv;
     P->zt = P->zs + 2 * nv;
     P->fsing = P->vsing + nv;
-    P->fvort = P->fsing + nf;
     pw_df_dual(&P->m, P->dual);
     return pw_df_connection(&P->a, &P->m, &P->conn, e);
 }
