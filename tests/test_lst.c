@@ -50,9 +50,9 @@ static int filled(int type, int n, unsigned long long seed, lst_tetmesh *m, lst_
     return ok;
 }
 
-/* The smallest composite opacity over the order-8 lattice points (the
- * paper's 165) of every tetrahedron. */
-static double min_coverage(const lst_model *model, int *worst)
+/* The smallest composite opacity over the lattice points of order `order`
+ * (8: the paper's 165) of every tetrahedron. */
+static double min_coverage(const lst_model *model, int order, int *worst)
 {
     pw_alloc a;
     lst__view v;
@@ -63,7 +63,7 @@ static double min_coverage(const lst_model *model, int *worst)
     memset(&a, 0, sizeof a);
     pw_err_clear(&e);
     if (lst__view_init(&a, model, LST_SHOW_COLOR, &v, &e)) return -1.0;
-    { int grp[9]; n = lst__lattice(&a, 8, &lat, grp, &e); }
+    { int grp[9]; n = lst__lattice(&a, order, &lat, grp, &e); }
     for (t = 0; t < model->mesh.ntets; t++)
         for (q = 0; q < n; q++) {
             double l[4] = {lat[4 * q], lat[4 * q + 1], lat[4 * q + 2], lat[4 * q + 3]};
@@ -84,7 +84,7 @@ static void t_coverage_all_types(void)
         int worst = -1;
         double c;
         REQUIRE(filled(type, 2500, 1, &m, &model));
-        c = min_coverage(&model, &worst);
+        c = min_coverage(&model, 8, &worst);
         pwt_info("type %d: %d tets, %d pastes, %.2f per tet (%.2f before pruning), min opacity %.4f", type,
                  model.mesh.ntets, model.npastes, model.layers, model.layers_before, c);
         CHECKF(c >= 0.985, "type %d: tetrahedron %d reaches only %.4f", type, worst, c);
@@ -241,7 +241,8 @@ static void t_alignment(void)
 /* §5.2.7 / §6 "our depth adjustment technique arranges solid textures
  * successfully so that such outer skin regions align precisely with the
  * surfaces": every paste's v coordinate at every boundary vertex is within
- * the skin (0 with the distance depth), and the surface shows the skin
+ * the skin (half a voxel: the depth coordinate stays on the exemplar's
+ * outermost voxel centres), and the surface shows the skin
  * colour of the layers exemplar. */
 static void t_skin_on_surface(void)
 {
@@ -691,11 +692,60 @@ static void t_cancel(void)
     lst_tetmesh_free(&m);
 }
 
+/* Depth-varying pastes take the depth as v (§5.2.7). Where the depth is
+ * exactly 0 or 1 (the surface; an RBF constraint of depth 1), v sat on the
+ * exemplar's face, and a sample point interpolated from corners there
+ * fell just outside it or just inside depending on rounding: the fill's
+ * coverage test counted it covered, the renderer saw nothing (fuzz_lst
+ * found it: 4 of 480 sample points of a 2-b fill with alpha 0). The depth
+ * coordinate now stays between the outermost voxel centres. The fuzzer's
+ * input first (its constraint file, with a byte-order mark, as it is in
+ * fuzz/corpus/fuzz_lst/depth_at_face), then both depth-varying types over
+ * seeds and lattice orders with the same constraints. */
+static void t_depth_at_exemplar_faces(void)
+{
+    static const char file[] = "\357\273\277face 3 0\nfill 0 0 40\npoint 0 0 0 1\nstroke 1 0 0 -0.5 0 0 0.5\n";
+    lst_options o = lst_default_options();
+    lst_depth_constraint *dc = NULL;
+    lst_tetmesh m;
+    lst_volume ex;
+    lst_error err;
+    double worst = 2.0;
+    int nd = 0, type, seed, order, bad = 0, fills = 0;
+    REQUIRE(sphere_tets(60, &m));
+    REQUIRE(lst_builtin_exemplar("rings", 8, &o, &ex, NULL, &err) == LST_OK);
+    REQUIRE(lst_read_depth_from_memory(file, sizeof file - 1, "depth_at_face", NULL, &dc, &nd, &err) == LST_OK);
+    for (type = LST_TYPE_1B; type <= LST_TYPE_2B; type += LST_TYPE_2B - LST_TYPE_1B)
+        for (seed = 0; seed < 4; seed++)
+            for (order = 1; order <= 3; order++) {
+                lst_model model;
+                int t;
+                double c;
+                o.type = type, o.seed = type == LST_TYPE_2B && seed == 0 ? 187 : (unsigned long long)seed;
+                o.samples = order, o.scale = 2.0f, o.depth = dc, o.ndepth = nd, o.max_pastes = 3000;
+                if (lst_create(&m, NULL, &ex, NULL, &o, &model, &err) != LST_OK) {
+                    CHECKF(0, "type %d seed %d order %d: %s", type, seed, order, err.message);
+                    continue;
+                }
+                c = min_coverage(&model, order, &t);
+                if (c < worst) worst = c;
+                bad += c < 0.98;
+                fills++;
+                lst_model_free(&model);
+            }
+    pwt_info("%d fills of types 1-b and 2-b with depth 1 at a point: least opacity at a sample point %.4f", fills, worst);
+    CHECK(fills == 24 && bad == 0);
+    lst_free_constraints(dc, NULL, NULL);
+    lst_volume_free(&ex);
+    lst_tetmesh_free(&m);
+}
+
 static const pwt_case cases[] = {
     {"coverage_all_types", t_coverage_all_types},
     {"alignment", t_alignment},
     {"skin_on_surface", t_skin_on_surface},
     {"skin_rbf", t_skin_rbf},
+    {"depth_at_exemplar_faces", t_depth_at_exemplar_faces},
     {"rbf_linear", t_rbf_linear},
     {"laplacian", t_laplacian},
     {"principal_axis", t_principal_axis},

@@ -191,15 +191,26 @@ static int lst__similar(const lst__fill *F, const lst__spec *s, const double *ax
 
 /* The affine map of §5.2.4 for paste s: texture coordinates of point p,
  * from the seed frame's inverse (tensor axes to texture axes) and the
- * centre; for depth-varying pastes v is the depth instead (dv). */
-static void lst__affine(const lst__fill *F, const lst__spec *s, const double *inv, const double *c, const double *p,
-                        double dv, double *out)
+ * centre (depth-varying pastes replace v, see lst__predict). */
+static void lst__affine(const lst__spec *s, const double *inv, const double *c, const double *p, double *out)
 {
     double d[3] = {p[0] - c[0], p[1] - c[1], p[2] - c[2]};
     int k;
     for (k = 0; k < 3; k++) out[k] = s->w0[k] + inv[3 * k] * d[0] + inv[3 * k + 1] * d[1] + inv[3 * k + 2] * d[2];
-    if (s->depth_coord) out[1] = dv;
-    (void)F;
+}
+
+/* §5.2.7: the v coordinate of depth d for a paste of mask m, the depth
+ * kept between the exemplar's outermost voxel centres. The lookups clamp
+ * to those centres anyway, so the colours are the same; but at exactly
+ * v = 0 or 1 (the surface, or an RBF depth constraint of 1) a sample
+ * point interpolated from its corners lands just outside the exemplar or
+ * just inside it depending on rounding, and the fill's coverage test and
+ * the renderer could disagree: a hole in a solid the fill called covered
+ * (found by fuzz_lst; tests/test_lst.c depth_at_exemplar_faces). */
+static double lst__depth_v(const lst__mask *m, double d)
+{
+    double lo = 0.5 / m->vol.y;
+    return d < lo ? lo : (d > 1.0 - lo ? 1.0 - lo : d);
 }
 
 /* ---- the mask over a mapped tetrahedron -------------------------------------------------- */
@@ -297,7 +308,7 @@ static void lst__predict(const lst__fill *F, const lst__spec *s, int id, const d
     for (k = 0; k < 4; k++) {
         int v = F->g->m.tet[4 * t + k];
         lst__vert(&F->g->m, v, p);
-        lst__affine(F, s, inv, ctr, p, F->depth ? F->depth[v] : 0.0, aff[k]);
+        lst__affine(s, inv, ctr, p, aff[k]);
         if (F->vstamp[v] == id) {
             for (i = 0; i < 3; i++) off[i] += F->w[3 * F->vlocal[v] + i] - aff[k][i];
             n++;
@@ -307,7 +318,7 @@ static void lst__predict(const lst__fill *F, const lst__spec *s, int id, const d
         int v = F->g->m.tet[4 * t + k];
         for (i = 0; i < 3; i++)
             c[k][i] = F->vstamp[v] == id ? F->w[3 * F->vlocal[v] + i] : aff[k][i] + (n ? off[i] / n : 0.0);
-        if (s->depth_coord) c[k][1] = F->depth[v];
+        if (s->depth_coord) c[k][1] = lst__depth_v(&F->mask[s->mask], F->depth[v]);
     }
 }
 
@@ -530,8 +541,8 @@ static int lst__spec_setup(lst__fill *F, lst__spec *s, double *inv, double *ctr)
     s->depth_coord = !s->manual && F->depth != NULL;
     if (s->depth_coord) {
         for (j = 0; j < 4; j++) d += s->centre[j] * F->depth[F->g->m.tet[4 * s->seed + j]];
-        s->w0[1] = d;
         s->mask = lst__mask_for_depth(d);
+        s->w0[1] = lst__depth_v(&F->mask[s->mask], d);
     }
     return 1;
 }
