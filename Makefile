@@ -11,6 +11,10 @@
 #   make data       extract real test data from installed Debian packages into data/
 #   make headers    regenerate the single-file headers from src/
 #   make fuzz       run each libFuzzer target for FUZZ_SECONDS (needs clang)
+#   make fuzz-long  a campaign: each target for FUZZ_SECONDS (default 1800) on
+#                   JOBS cores, the corpus kept and minimised in fuzz/work/,
+#                   seeds that grow coverage merged into fuzz/corpus/
+#                   (FUZZ_ONLY="fuzz_lst fuzz_mesh" for some only)
 #   make clean
 #
 # CC and CFLAGS can be overridden; SANITIZE=1 builds with address and
@@ -54,7 +58,7 @@ PARTS_lst      := core exemplar field paste render cut builtin io
 COMMON_SRC := $(wildcard src/common/*.h)
 HEADER_FILES := $(addsuffix .h,$(HEADERS))
 
-.PHONY: all demo test test-build bench bench-report data headers check-headers print-headers dev-header fuzz fuzz-build fuzz-targets clean
+.PHONY: all demo test test-build bench bench-report data headers check-headers print-headers dev-header fuzz fuzz-build fuzz-targets fuzz-long clean
 
 CLI_SRC   := $(wildcard cli/*.c)
 TEST_SRC  := $(wildcard tests/test_*.c)
@@ -165,6 +169,11 @@ fuzz-build:
 
 fuzz: fuzz-build
 	@sh fuzz/run.sh $(FUZZ_SECONDS) $(JOBS)
+
+# FUZZ_SECONDS from the command line or the environment, else half an hour
+FUZZ_LONG_SECONDS := $(if $(filter command line environment,$(origin FUZZ_SECONDS)),$(FUZZ_SECONDS),1800)
+fuzz-long: fuzz-build
+	@sh fuzz/long.sh $(FUZZ_LONG_SECONDS) $(JOBS) $(FUZZ_ONLY)
 
 clean:
 	rm -rf build build-san out
