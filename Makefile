@@ -9,6 +9,8 @@
 #   make bench-report  the same, also written to bench/results.md (and the
 #                   table into README.md's Performance section)
 #   make data       extract real test data from installed Debian packages into data/
+#   make js         npm packages of the browser checks (glTF validator, three.js,
+#                   puppeteer-core) into tests/js/node_modules, versions pinned
 #   make headers    regenerate the single-file headers from src/
 #   make fuzz       run each libFuzzer target for FUZZ_SECONDS (needs clang)
 #   make fuzz-long  a campaign: each target for FUZZ_SECONDS (default 1800) on
@@ -47,8 +49,8 @@ ALL_CFLAGS = $(WARN) $(CFLAGS) $(SANFLAGS) -I.
 
 # ---- single-file headers: name and the shared modules each one carries ----
 HEADERS        := tiled lapped pgp lst
-MODULES_tiled  := base vec rng image deflate png text mesh halfedge subdiv raster render graphcut quilt glue
-MODULES_lapped := base vec rng image deflate png text mesh shapes halfedge sparse raster render polyhull trimesh dirfield glue
+MODULES_tiled  := base vec rng image deflate png text mesh halfedge subdiv raster render graphcut quilt glue gltf
+MODULES_lapped := base vec rng image deflate png text mesh shapes halfedge sparse raster render polyhull trimesh dirfield glue gltf
 PARTS_lapped   := core field patch builtin grow render atlas io
 MODULES_pgp    := base vec rng image deflate png text mesh shapes halfedge sparse zsparse raster render trimesh dirfield nrrd tile3 glue graphcut quilt edt kdtree pca
 PARTS_pgp      := core field solve render builtin io morph synth
@@ -58,7 +60,7 @@ PARTS_lst      := core exemplar field paste render cut builtin io
 COMMON_SRC := $(wildcard src/common/*.h)
 HEADER_FILES := $(addsuffix .h,$(HEADERS))
 
-.PHONY: all demo test test-build bench bench-report data headers check-headers print-headers dev-header fuzz fuzz-build fuzz-targets fuzz-long clean
+.PHONY: all demo test test-build bench bench-report data headers check-headers print-headers dev-header fuzz fuzz-build fuzz-targets fuzz-long js clean
 
 CLI_SRC   := $(wildcard cli/*.c)
 TEST_SRC  := $(wildcard tests/test_*.c)
@@ -153,6 +155,10 @@ bench-report: $(BENCH_BIN) $(BENCH_TOOLS) $(BUILD)/patchwork
 
 data: $(BUILD)/patchwork
 	@sh tools/make_data.sh $(BUILD)/patchwork
+
+# the versions in tests/js/package-lock.json, exactly
+js:
+	cd tests/js && npm ci --no-audit --no-fund
 
 FUZZ_DIR := build/fuzz
 FUZZ_TARGETS := $(patsubst fuzz/%.c,$(FUZZ_DIR)/%,$(FUZZ_SRC))

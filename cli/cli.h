@@ -58,6 +58,10 @@ tiled_result cli_write_image(cli_outputs *o, const char *final_path, const tiled
 /* Format name ("png", "ppm", "pgm", "pam") for a path, NULL if unknown. */
 const char *cli_image_format(const char *path);
 
+/* A --out-glb path must end in .glb (checked before any work): else an
+ * error naming `cmd` and 0. */
+int cli_check_glb(const char *cmd, const char *path);
+
 /* `path` with its extension replaced by `ext`. */
 void cli_with_ext(const char *path, const char *ext, char *out, size_t size);
 /* How an MTL beside `obj` names `texture`: relative when in the same

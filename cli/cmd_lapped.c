@@ -38,6 +38,7 @@ static const char *lapped_usage =
     "  --out-obj FILE       triangulated mesh with texture-atlas coordinates, and\n"
     "                       FILE's .mtl naming the atlas (needs --out-atlas)\n"
     "  --out-atlas IMG      the lapped texture baked into the atlas (needs --out-obj)\n"
+    "  --out-glb FILE.glb   binary glTF 2.0: the mesh with the baked atlas inside\n"
     "  --atlas-size PX      atlas side (default 1024)\n"
     "  --out-channel-image IMG  the --channel images pasted the same way, rendered\n"
     "  --out-channel-atlas IMG  ... baked into an atlas of the same layout as\n"
@@ -47,7 +48,7 @@ static const char *lapped_usage =
 
 typedef struct lapped_cmd {
     const char *mesh, *textures[MAX_TEXTURES], *channels[MAX_TEXTURES], *mask, *constraints;
-    const char *out_pastes, *out_patch, *out_image, *out_obj, *out_atlas;
+    const char *out_pastes, *out_patch, *out_image, *out_obj, *out_atlas, *out_glb;
     const char *out_channel_image, *out_channel_atlas;
     int ntextures, nchannels;
     lapped_options opt;
@@ -124,6 +125,7 @@ static int parse_one(cli_args *a, lapped_cmd *c)
     if (cli_is(a, "--size")) return cli_size(a, &c->ro.width, &c->ro.height);
     if (cli_is(a, "--out-obj")) return cli_value(a, &c->out_obj);
     if (cli_is(a, "--out-atlas")) return cli_value(a, &c->out_atlas);
+    if (cli_is(a, "--out-glb")) return cli_value(a, &c->out_glb);
     if (cli_is(a, "--out-channel-image")) return cli_value(a, &c->out_channel_image);
     if (cli_is(a, "--out-channel-atlas")) return cli_value(a, &c->out_channel_atlas);
     if (cli_is(a, "--atlas-size")) return cli_int(a, 64, 16384, &c->ao.size);
@@ -163,9 +165,10 @@ static int parse(int argc, char **argv, lapped_cmd *c)
         cli_error("lapped", "--out-channel-atlas needs --out-obj and --out-atlas");
         return 0;
     }
-    if (!c->out_pastes && !c->out_patch && !c->out_image && !c->out_obj && !c->out_channel_image) {
+    if (c->out_glb && !cli_check_glb("lapped", c->out_glb)) return 0;
+    if (!c->out_pastes && !c->out_patch && !c->out_image && !c->out_obj && !c->out_channel_image && !c->out_glb) {
         cli_error("lapped", "nothing to write: give --out-pastes, --out-patch, --out-image, "
-                  "--out-obj or --out-channel-image");
+                  "--out-obj, --out-glb or --out-channel-image");
         return 0;
     }
     return 1;
@@ -255,19 +258,33 @@ static lapped_result write_obj(lapped_cmd *c, cli_outputs *outs, const lapped_me
     return err->code = r;
 }
 
+static lapped_result write_glb(cli_outputs *outs, const char *path, const lapped_mesh *mesh,
+                               const lapped_atlas *atlas, const lapped_render_options *view, lapped_error *err)
+{
+    FILE *f = cli_open(outs, path, err->message, sizeof err->message);
+    lapped_result r;
+    if (!f) return err->code = LAPPED_ERR_IO;
+    r = lapped_write_gltf_to_func(mesh, atlas, view, cli_fwrite, f, err);
+    if (!cli_close(f, r == LAPPED_OK, path, err->message, sizeof err->message)) r = LAPPED_ERR_IO;
+    return err->code = r;
+}
+
 /* The lapped texture (values NULL) or the extra channel baked into an atlas
- * image at `path`; with `obj`, also the OBJ + MTL. The layout depends only
- * on the mesh and the pastes, so both atlases share it. */
+ * image at `path` (if not NULL); with `obj`, also the OBJ + MTL, and with
+ * `glb` the binary glTF. The layout depends only on the mesh and the
+ * pastes, so both atlases share it. */
 static lapped_result write_atlas(lapped_cmd *c, cli_outputs *outs, const lapped_mesh *mesh,
                                  const lapped_texture *t, const lapped_image *patches,
-                                 const lapped_image *values, const char *path, int obj, lapped_error *err)
+                                 const lapped_image *values, const char *path, int obj, const char *glb,
+                                 lapped_error *err)
 {
     lapped_atlas atlas;
     lapped_result r = lapped_bake_atlas(mesh, t, patches, values, &c->ao, &c->opt, &atlas, err);
     if (r != LAPPED_OK) return r;
     if (obj) r = write_obj(c, outs, mesh, &atlas, err);
-    if (r == LAPPED_OK) r = write_image(outs, path, &atlas.image, err);
-    if (r == LAPPED_OK && obj)
+    if (r == LAPPED_OK && glb) r = write_glb(outs, glb, mesh, &atlas, &c->ro, err);
+    if (r == LAPPED_OK && path) r = write_image(outs, path, &atlas.image, err);
+    if (r == LAPPED_OK && (obj || glb))
         printf("lapped: atlas of %d charts, %.0f%% of %dx%d filled\n", atlas.ncharts, 100.0 * atlas.fill,
                atlas.image.width, atlas.image.height);
     lapped_atlas_free(&atlas);
@@ -315,9 +332,10 @@ static lapped_result run(lapped_cmd *c, cli_outputs *outs, lapped_error *err)
     if (r == LAPPED_OK && c->out_image) r = write_render(c, outs, &mesh, &t, patches, NULL, c->out_image, err);
     if (r == LAPPED_OK && c->out_channel_image)
         r = write_render(c, outs, &mesh, &t, patches, channels, c->out_channel_image, err);
-    if (r == LAPPED_OK && c->out_obj) r = write_atlas(c, outs, &mesh, &t, patches, NULL, c->out_atlas, 1, err);
+    if (r == LAPPED_OK && (c->out_obj || c->out_glb))
+        r = write_atlas(c, outs, &mesh, &t, patches, NULL, c->out_atlas, c->out_obj != NULL, c->out_glb, err);
     if (r == LAPPED_OK && c->out_channel_atlas)
-        r = write_atlas(c, outs, &mesh, &t, patches, channels, c->out_channel_atlas, 0, err);
+        r = write_atlas(c, outs, &mesh, &t, patches, channels, c->out_channel_atlas, 0, NULL, err);
     lapped_texture_free(&t);
     lapped_mesh_free(&mesh);
     lapped_free_constraints(cons, &c->opt);

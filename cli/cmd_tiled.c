@@ -36,10 +36,11 @@ static const char *tiled_usage =
     "  --out-tiles IMG     the tiled texture the OBJ indexes (default with --out-obj:\n"
     "                      the OBJ's name with .png)\n"
     "  --out-image IMG     a rendering (.png .ppm .pgm .pam)\n"
+    "  --out-glb FILE.glb  binary glTF 2.0: the mapped mesh with the tiled texture inside\n"
     "  --size WxH          rendering size (default 800x600)\n";
 
 typedef struct tiled_cmd {
-    const char *mesh, *exemplar, *tiles, *out_obj, *out_tiles, *out_image;
+    const char *mesh, *exemplar, *tiles, *out_obj, *out_tiles, *out_image, *out_glb;
     int validate_only;
     tiled_options opt;
     tiled_render_options ro;
@@ -72,6 +73,7 @@ static int parse_one(cli_args *a, tiled_cmd *c)
     if (cli_is(a, "--out-obj")) return cli_value(a, &c->out_obj);
     if (cli_is(a, "--out-tiles")) return cli_value(a, &c->out_tiles);
     if (cli_is(a, "--out-image")) return cli_value(a, &c->out_image);
+    if (cli_is(a, "--out-glb")) return cli_value(a, &c->out_glb);
     if (cli_is(a, "--case")) return cli_int(a, 1, 2, &l->case_number);
     if (cli_is(a, "--pairs")) return cli_int(a, 1, 8, &l->pairs);
     if (cli_is(a, "--grid")) return cli_int(a, 1, 256, &l->grid);
@@ -106,8 +108,9 @@ static int parse(int argc, char **argv, tiled_cmd *c)
         cli_error("tiled", c->validate_only ? "--validate needs --tiles" : "--mesh is required");
         return 0;
     }
-    if (!c->validate_only && !c->out_obj && !c->out_tiles && !c->out_image) {
-        cli_error("tiled", "nothing to write: give --out-obj, --out-tiles or --out-image");
+    if (c->out_glb && !cli_check_glb("tiled", c->out_glb)) return 0;
+    if (!c->validate_only && !c->out_obj && !c->out_tiles && !c->out_image && !c->out_glb) {
+        cli_error("tiled", "nothing to write: give --out-obj, --out-tiles, --out-image or --out-glb");
         return 0;
     }
     return 1;
@@ -162,9 +165,11 @@ static tiled_result make_tiles(tiled_cmd *c, tiled_tileset *ts, tiled_error *err
     return r;
 }
 
-/* Writes an OBJ and its MTL (naming the texture) to staged paths. */
+/* Writes an OBJ and its MTL (naming the texture) to staged paths; a glTF. */
 static tiled_result write_obj(cli_outputs *o, const char *obj, const char *texture,
                               const tiled_mesh *m, tiled_error *err);
+static tiled_result write_glb(cli_outputs *o, const char *path, const tiled_mesh *m, const tiled_image *texture,
+                              const tiled_render_options *view, tiled_error *err);
 
 static tiled_result run(tiled_cmd *c, cli_outputs *outs, tiled_error *err)
 {
@@ -193,6 +198,7 @@ static tiled_result run(tiled_cmd *c, cli_outputs *outs, tiled_error *err)
                ts.layout.guard < 0 ? 0 : ts.layout.guard);
         if (r == TILED_OK && c->out_tiles) r = cli_write_image(outs, c->out_tiles, &ts.atlas, err);
         if (r == TILED_OK && c->out_obj) r = write_obj(outs, c->out_obj, c->out_tiles, &quads, err);
+        if (r == TILED_OK && c->out_glb) r = write_glb(outs, c->out_glb, &quads, &ts.atlas, &c->ro, err);
         if (r == TILED_OK && c->out_image && (r = tiled_render(&quads, &ts, &c->ro, &pic, err)) == TILED_OK)
             r = cli_write_image(outs, c->out_image, &pic, err);
     }
@@ -212,6 +218,17 @@ static tiled_result write_one(cli_outputs *o, const char *path, int is_obj, cons
     r = is_obj ? tiled_write_obj_to_func(m, arg, cli_fwrite, f, err)
                : tiled_write_mtl_to_func(arg, cli_fwrite, f, err);
     if (r == TILED_ERR_IO) snprintf(err->message, sizeof err->message, "%.200s: write error (disk full?)", path);
+    if (!cli_close(f, r == TILED_OK, path, err->message, sizeof err->message)) r = TILED_ERR_IO;
+    return err->code = r;
+}
+
+static tiled_result write_glb(cli_outputs *o, const char *path, const tiled_mesh *m, const tiled_image *texture,
+                              const tiled_render_options *view, tiled_error *err)
+{
+    FILE *f = cli_open(o, path, err->message, sizeof err->message);
+    tiled_result r;
+    if (!f) return err->code = TILED_ERR_IO;
+    r = tiled_write_gltf_to_func(m, texture, view, cli_fwrite, f, err);
     if (!cli_close(f, r == TILED_OK, path, err->message, sizeof err->message)) r = TILED_ERR_IO;
     return err->code = r;
 }

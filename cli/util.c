@@ -131,20 +131,32 @@ void cli_abort(cli_outputs *o)
     o->n = 0;
 }
 
+/* Whether path ends in ext, ignoring case. */
+static int has_ext(const char *path, const char *ext)
+{
+    size_t n = strlen(path), m = strlen(ext), i;
+    if (n < m) return 0;
+    for (i = 0; i < m; i++) {
+        char c = path[n - m + i];
+        if ((c >= 'A' && c <= 'Z' ? c - 'A' + 'a' : c) != ext[i]) return 0;
+    }
+    return 1;
+}
+
+int cli_check_glb(const char *cmd, const char *path)
+{
+    if (has_ext(path, ".glb")) return 1;
+    cli_error(cmd, "%s: --out-glb writes binary glTF: give a .glb file", path);
+    return 0;
+}
+
 const char *cli_image_format(const char *path)
 {
     static const char *const ext[] = {".png", "png", ".ppm", "ppm", ".pnm", "ppm",
                                       ".pgm", "pgm", ".pam", "pam"};
-    size_t n = strlen(path), k;
-    for (k = 0; k < sizeof ext / sizeof ext[0]; k += 2) {
-        size_t m = strlen(ext[k]), i;
-        int same = n >= m;
-        for (i = 0; same && i < m; i++) {
-            char c = path[n - m + i];
-            same = (c >= 'A' && c <= 'Z' ? c - 'A' + 'a' : c) == ext[k][i];
-        }
-        if (same) return ext[k + 1];
-    }
+    size_t k;
+    for (k = 0; k < sizeof ext / sizeof ext[0]; k += 2)
+        if (has_ext(path, ext[k])) return ext[k + 1];
     return NULL;
 }
 

@@ -15,6 +15,7 @@
 #include "../common/polyhull.h"
 #include "../common/trimesh.h"
 #include "../common/glue.h"
+#include "../common/gltf.h"
 #include "lapped.h"
 
 /* ---- glue between the public types and the shared core ------------------ */

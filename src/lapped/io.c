@@ -291,6 +291,51 @@ LAPPEDDEF lapped_result lapped_write_image_to_func(const lapped_image *img, cons
     return lapped__done(&pe, err);
 }
 
+/* The atlas's mesh as one glTF part: the fan triangles with their
+ * per-corner atlas coordinates, the atlas image as the texture. */
+LAPPEDDEF lapped_result lapped_write_gltf_to_func(const lapped_mesh *mesh, const lapped_atlas *atlas,
+                                                  const lapped_render_options *view, lapped_write_fn fn, void *ctx,
+                                                  lapped_error *err)
+{
+    pw_alloc a;
+    pw_trimesh m;
+    pw_gltf_part part;
+    pw_gltf_scene scene;
+    pw_camera cam;
+    pw_image img;
+    int *fstart = NULL, f;
+    pw_err pe;
+    pw_err_clear(&pe);
+    memset(&m, 0, sizeof m);
+    memset(&part, 0, sizeof part);
+    memset(&scene, 0, sizeof scene);
+    if (!atlas || !atlas->uvs || !fn) {
+        pw_fail(&pe, PW_ERR_INVALID, "glTF: no atlas or no writer");
+        return lapped__done(&pe, err);
+    }
+    a = lapped__alloc(&atlas->image.allocator);
+    if (!lapped__mesh_init(&a, mesh, &m, &pe) && !lapped__check_image(&atlas->image, "atlas image", &pe)) {
+        if (atlas->ntris != m.nf)
+            pw_fail(&pe, PW_ERR_INVALID, "glTF: the atlas has %d triangles; the mesh has %d", atlas->ntris, m.nf);
+        else if ((fstart = (int *)pw_alloc_array(&a, (size_t)m.nf + 1, sizeof(int), "glTF faces", &pe)) != NULL) {
+            for (f = 0; f <= m.nf; f++) fstart[f] = 3 * f;
+            img = lapped__pw_image(&atlas->image);
+            part.name = "lapped";
+            part.nv = m.nv, part.pos = m.pos, part.nf = m.nf, part.fstart = fstart, part.fv = m.tri;
+            part.corner_uv = atlas->uvs, part.texture = &img;
+            scene.parts = &part, scene.nparts = 1, scene.generator = "patchwork lapped.h " LAPPED_VERSION_STRING;
+            if (view) {
+                cam = pw_gltf_view_camera(m.pos, m.nv, view->width, view->height, view->view_dir, view->up, &scene.aspect);
+                scene.camera = &cam;
+            }
+            pw_gltf_write(&a, &scene, fn, ctx, &pe);
+        }
+    }
+    pw_free(&a, fstart);
+    pw_trimesh_free(&a, &m);
+    return lapped__done(&pe, err);
+}
+
 #ifndef PW_NO_STDIO
 LAPPEDDEF lapped_result lapped_load_mesh(const char *path, const lapped_options *opt,
                                          lapped_mesh *out, lapped_error *err)
@@ -324,7 +369,31 @@ typedef struct lapped__job {
     const lapped_image *img;
     const char *format;
     const lapped_texture *tex;
+    const lapped_mesh *mesh;
+    const lapped_atlas *atlas;
+    const lapped_render_options *view;
 } lapped__job;
+
+static int lapped__gltf_job(void *arg, pw_write_fn w, void *ctx, pw_err *e)
+{
+    const lapped__job *j = (const lapped__job *)arg;
+    lapped_error le;
+    int r = (int)lapped_write_gltf_to_func(j->mesh, j->atlas, j->view, w, ctx, &le);
+    return r ? pw_fail(e, r, "%s", le.message) : PW_OK;
+}
+
+LAPPEDDEF lapped_result lapped_save_gltf(const char *path, const lapped_mesh *mesh, const lapped_atlas *atlas,
+                                         const lapped_render_options *view, lapped_error *err)
+{
+    lapped__job j;
+    pw_err pe;
+    pw_err_clear(&pe);
+    memset(&j, 0, sizeof j);
+    j.mesh = mesh, j.atlas = atlas, j.view = view;
+    if (!path) pw_fail(&pe, PW_ERR_INVALID, "lapped_save_gltf: NULL path");
+    else pw_write_file(path, lapped__gltf_job, &j, &pe);
+    return lapped__done(&pe, err);
+}
 
 static int lapped__image_job(void *arg, pw_write_fn w, void *ctx, pw_err *e)
 {

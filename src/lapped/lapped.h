@@ -326,6 +326,15 @@ LAPPEDDEF lapped_result lapped_write_image_to_func(const lapped_image *img, cons
 LAPPEDDEF lapped_result lapped_write_obj_to_func(const lapped_mesh *mesh, const lapped_atlas *atlas,
                                                  const char *mtl_name, lapped_write_fn fn,
                                                  void *ctx, lapped_error *err);
+/* Binary glTF 2.0 (.glb, one self-contained file): the triangulated mesh
+ * with the atlas's per-corner coordinates and the atlas image as its base
+ * colour (PNG inside), sampled LINEAR / LINEAR_MIPMAP_LINEAR with
+ * CLAMP_TO_EDGE (the gutters keep lookups inside a chart). With view (not
+ * NULL), the file also holds the camera lapped_render frames with those
+ * options. See src/common/gltf.h. */
+LAPPEDDEF lapped_result lapped_write_gltf_to_func(const lapped_mesh *mesh, const lapped_atlas *atlas,
+                                                  const lapped_render_options *view, lapped_write_fn fn, void *ctx,
+                                                  lapped_error *err);
 LAPPEDDEF lapped_result lapped_write_mtl_to_func(const char *texture_name, lapped_write_fn fn,
                                                  void *ctx, lapped_error *err);
 #ifndef PW_NO_STDIO
@@ -337,6 +346,9 @@ LAPPEDDEF lapped_result lapped_save_image(const char *path, const lapped_image *
                                           lapped_error *err);
 LAPPEDDEF lapped_result lapped_save_pastes(const char *path, const lapped_texture *t,
                                            lapped_error *err);
+/* lapped_write_gltf_to_func into the file path (.glb). */
+LAPPEDDEF lapped_result lapped_save_gltf(const char *path, const lapped_mesh *mesh, const lapped_atlas *atlas,
+                                         const lapped_render_options *view, lapped_error *err);
 LAPPEDDEF lapped_result lapped_load_pastes(const char *path, const lapped_options *opt,
                                            lapped_texture *out, lapped_error *err);
 LAPPEDDEF lapped_result lapped_load_constraints(const char *path, const lapped_options *opt,

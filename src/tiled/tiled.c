@@ -14,6 +14,7 @@
 #include "../common/graphcut.h"
 #include "../common/quilt.h"
 #include "../common/glue.h"
+#include "../common/gltf.h"
 #include "tiled.h"
 
 /* ---- glue between the public types and the shared core ------------------ */
@@ -1578,6 +1579,38 @@ TILEDDEF tiled_result tiled_write_obj_to_func(const tiled_mesh *m, const char *m
     return tiled__done(&pe, err);
 }
 
+TILEDDEF tiled_result tiled_write_gltf_to_func(const tiled_mesh *m, const tiled_image *texture,
+                                               const tiled_render_options *view, tiled_write_fn fn, void *ctx,
+                                               tiled_error *err)
+{
+    pw_alloc a = tiled__alloc(m ? &m->allocator : NULL);
+    pw_gltf_part part;
+    pw_gltf_scene scene;
+    pw_camera cam;
+    pw_image img;
+    pw_err pe;
+    pw_err_clear(&pe);
+    memset(&part, 0, sizeof part);
+    memset(&scene, 0, sizeof scene);
+    if (!fn) pw_fail(&pe, PW_ERR_INVALID, "tiled_write_gltf_to_func: NULL writer");
+    else if (texture && !m->uvs) pw_fail(&pe, PW_ERR_INVALID, "glTF: a texture for a mesh without texture coordinates");
+    else if (tiled__check_mesh(m, &pe) == PW_OK && (!texture || tiled__check_image(texture, "texture", &pe) == PW_OK)) {
+        part.name = "tiled";
+        part.nv = m->nverts, part.pos = m->positions;
+        part.nf = m->nfaces, part.fstart = m->face_start, part.fv = m->face_verts;
+        part.corner_uv = m->uvs;
+        if (texture) img = tiled__pw_image(texture), part.texture = &img;
+        scene.parts = &part, scene.nparts = 1, scene.generator = "patchwork tiled.h " TILED_VERSION_STRING;
+        if (view) {
+            cam = pw_gltf_view_camera(m->positions, m->nverts, view->width, view->height, view->view_dir, view->up,
+                                      &scene.aspect);
+            scene.camera = &cam;
+        }
+        pw_gltf_write(&a, &scene, fn, ctx, &pe);
+    }
+    return tiled__done(&pe, err);
+}
+
 TILEDDEF tiled_result tiled_write_mtl_to_func(const char *texture_name, tiled_write_fn fn,
                                               void *ctx, tiled_error *err)
 {
@@ -1623,6 +1656,7 @@ typedef struct tiled__job {
     const char *format;
     const tiled_mesh *mesh;
     const char *name; /* mtl name or texture name */
+    const tiled_render_options *view;
 } tiled__job;
 
 static int tiled__image_job(void *arg, pw_write_fn w, void *ctx, pw_err *e)
@@ -1646,6 +1680,15 @@ static int tiled__mtl_job(void *arg, pw_write_fn w, void *ctx, pw_err *e)
     return pw_mesh_write_mtl("tiled", j->name, w, ctx, e);
 }
 
+static int tiled__gltf_job(void *arg, pw_write_fn w, void *ctx, pw_err *e)
+{
+    const tiled__job *j = (const tiled__job *)arg;
+    tiled_error te;
+    int r = (int)tiled_write_gltf_to_func(j->mesh, j->img, j->view, w, ctx, &te);
+    if (r) pw_fail(e, r, "%s", te.message);
+    return r;
+}
+
 static const char *tiled__format_of(const char *path)
 {
     if (pw_has_ext(path, ".png")) return "png";
@@ -1667,6 +1710,19 @@ TILEDDEF tiled_result tiled_save_image(const char *path, const tiled_image *img,
         pw_fail(&pe, PW_ERR_UNSUPPORTED, "%s: unknown image extension (use .png, .ppm, .pgm, .pam)", path);
     else if (tiled__check_image(img, path, &pe) == PW_OK)
         pw_write_file(path, tiled__image_job, &j, &pe);
+    return tiled__done(&pe, err);
+}
+
+TILEDDEF tiled_result tiled_save_gltf(const char *path, const tiled_mesh *m, const tiled_image *texture,
+                                      const tiled_render_options *view, tiled_error *err)
+{
+    tiled__job j;
+    pw_err pe;
+    pw_err_clear(&pe);
+    memset(&j, 0, sizeof j);
+    j.mesh = m, j.img = texture, j.view = view;
+    if (!path) pw_fail(&pe, PW_ERR_INVALID, "tiled_save_gltf: NULL path");
+    else pw_write_file(path, tiled__gltf_job, &j, &pe);
     return tiled__done(&pe, err);
 }
 

@@ -323,6 +323,17 @@ TILEDDEF tiled_result tiled_write_image_to_func(const tiled_image *img, const ch
 /* OBJ with per-corner vt; mtllib/usemtl lines when mtl_name is not NULL. */
 TILEDDEF tiled_result tiled_write_obj_to_func(const tiled_mesh *m, const char *mtl_name,
                                               tiled_write_fn fn, void *ctx, tiled_error *err);
+/* Binary glTF 2.0 (.glb, one self-contained file): the mesh with its
+ * per-corner coordinates and, when texture is not NULL, the tiled texture
+ * as its base colour (PNG inside), sampled LINEAR / LINEAR_MIPMAP_LINEAR
+ * with CLAMP_TO_EDGE (the tiles' guard bands keep bilinear lookups at a
+ * tile's border inside that tile). Vertices are split at texture seams;
+ * normals are the mesh's smooth vertex normals. With view (not NULL), the
+ * file also holds the camera tiled_render frames with those options, so
+ * that a viewer opens it as tiled_render draws it. See src/common/gltf.h. */
+TILEDDEF tiled_result tiled_write_gltf_to_func(const tiled_mesh *m, const tiled_image *texture,
+                                               const tiled_render_options *view, tiled_write_fn fn, void *ctx,
+                                               tiled_error *err);
 /* An MTL file with one material "tiled" whose map_Kd is texture_name. */
 TILEDDEF tiled_result tiled_write_mtl_to_func(const char *texture_name, tiled_write_fn fn,
                                               void *ctx, tiled_error *err);
@@ -337,6 +348,9 @@ TILEDDEF tiled_result tiled_save_image(const char *path, const tiled_image *img,
  * (obj_path with .mtl) whose map_Kd names texture_path. */
 TILEDDEF tiled_result tiled_save_obj(const char *obj_path, const tiled_mesh *m,
                                      const char *texture_path, tiled_error *err);
+/* tiled_write_gltf_to_func into the file path (.glb). */
+TILEDDEF tiled_result tiled_save_gltf(const char *path, const tiled_mesh *m, const tiled_image *texture,
+                                      const tiled_render_options *view, tiled_error *err);
 #endif
 
 TILEDDEF void tiled_mesh_free(tiled_mesh *m);
