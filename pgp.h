@@ -3630,6 +3630,8 @@ PW__DEF int pw__wb_done(pw__wb *b, pw_err *e)
  *
  * Readers (all from memory; `name` is only used in messages, usually the
  * file name, and may be NULL):
+ *   STL  binary and ASCII (several solids allowed); corners with bit-identical
+ *        positions welded into one vertex; facet normals ignored.
  *   OBJ  v/vt/f (a, a/b, a//c, a/b/c, negative indices), any polygon degree,
  *        '\' line continuation; vn, o, g, s, usemtl, mtllib, l, p and the
  *        free-form statements are skipped; an unknown keyword is an error.
@@ -3653,7 +3655,7 @@ PW__DEF int pw__wb_done(pw__wb *b, pw_err *e)
  * with 9 significant digits, so a write -> read round trip is exact.
  *
  * API: pw_mesh_alloc/free/copy/validate/bounds/triangulate;
- * pw_mesh_read_obj/off/ply/memory (+ pw_mesh_load); pw_mesh_write_obj,
+ * pw_mesh_read_obj/off/ply/stl/memory (+ pw_mesh_load); pw_mesh_write_obj,
  * pw_mesh_write_mtl (+ pw_mesh_save_obj, pw_mesh_save_mtl). The file forms
  * are left out by PW_NO_STDIO. */
 #ifndef PW__MESH_V1
@@ -4757,15 +4759,228 @@ PW__DEF int pw_mesh_read_ply(const pw_alloc *a, const void *data, size_t size, c
     return r;
 }
 
+/* ---- STL ------------------------------------------------------------------ */
+
+/* STL lists each triangle with its own three corners; the readers weld
+ * corners with bit-identical positions into one vertex (an open-addressing
+ * table on the coordinates' bits), so the mesh is connected as the scanner
+ * or CAD program meant it. Facet normals are ignored (they are derived
+ * from the corner order anyway). */
+typedef struct pw__weld {
+    int *slot;
+    uint32_t mask;
+} pw__weld;
+
+PW__DEF int pw__weld_init(pw__weld *w, pw__mb *b, size_t corners)
+{
+    size_t cap = 64;
+    while (cap < 2 * corners && cap < ((size_t)1 << 30)) cap *= 2;
+    w->mask = (uint32_t)(cap - 1);
+    w->slot = (int *)pw_alloc_array(b->a, cap, sizeof(int), "STL vertex table", b->e);
+    if (!w->slot) return PW_ERR_NOMEM;
+    memset(w->slot, 0xFF, cap * sizeof(int));
+    return PW_OK;
+}
+
+/* Grows the table when half full (rehashing every vertex). */
+PW__DEF int pw__weld_grow(pw__weld *w, pw__mb *b)
+{
+    pw__weld n;
+    int v;
+    if ((uint32_t)b->m.nv < (w->mask + 1) / 2) return PW_OK;
+    if (pw__weld_init(&n, b, (size_t)w->mask + 1)) return PW_ERR_NOMEM;
+    for (v = 0; v < b->m.nv; v++) {
+        uint32_t h[3], i;
+        memcpy(h, b->m.pos + 3 * v, 12);
+        i = (uint32_t)pw_hash64(h[0] ^ ((uint64_t)h[1] << 32), h[2]) & n.mask;
+        while (n.slot[i] >= 0) i = (i + 1) & n.mask;
+        n.slot[i] = v;
+    }
+    pw_free(b->a, w->slot);
+    *w = n;
+    return PW_OK;
+}
+
+/* The vertex at xyz, added if new; -1 when out of memory. */
+PW__DEF int pw__weld_vertex(pw__weld *w, pw__mb *b, const float *xyz)
+{
+    uint32_t h[3], i;
+    if (pw__weld_grow(w, b)) return -1;
+    memcpy(h, xyz, 12);
+    i = (uint32_t)pw_hash64(h[0] ^ ((uint64_t)h[1] << 32), h[2]) & w->mask;
+    while (w->slot[i] >= 0) {
+        if (!memcmp(b->m.pos + 3 * w->slot[i], xyz, 12)) return w->slot[i];
+        i = (i + 1) & w->mask;
+    }
+    if (pw__mb_vertex(b, xyz)) return -1;
+    return w->slot[i] = b->m.nv - 1;
+}
+
+/* One triangle from three welded corners (-0.0 read as 0.0, so that the
+ * two zeros weld). */
+PW__DEF int pw__stl_triangle(pw__weld *w, pw__mb *b, float c[3][3])
+{
+    int k, j, v;
+    if (b->m.nf >= PW_MAX_MESH_ELEMENTS / 3)
+        return pw_fail(b->e, PW_ERR_LIMIT, "STL: more than %d triangles", PW_MAX_MESH_ELEMENTS / 3);
+    for (k = 0; k < 3; k++) {
+        for (j = 0; j < 3; j++) c[k][j] += 0.0f;
+        if ((v = pw__weld_vertex(w, b, c[k])) < 0 || pw__mb_corner(b, v, -1)) return PW_ERR_NOMEM;
+    }
+    return pw__mb_end_face(b);
+}
+
+PW__DEF float pw__le_float(const unsigned char *p)
+{
+    uint32_t u = p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 | (uint32_t)p[3] << 24;
+    float f;
+    memcpy(&f, &u, 4);
+    return f;
+}
+
+/* Binary STL: an 80-byte header, a little-endian uint32 triangle count,
+ * then 50 bytes per triangle (normal, three corners as float32, a 16-bit
+ * attribute). */
+PW__DEF int pw__stl_binary(const unsigned char *d, size_t size, const char *name, pw__mb *b)
+{
+    uint32_t n = d[80] | (uint32_t)d[81] << 8 | (uint32_t)d[82] << 16 | (uint32_t)d[83] << 24, t;
+    pw__weld w;
+    int r = PW_OK, k, j;
+    if (n == 0) return pw_fail(b->e, PW_ERR_DEGENERATE, "%s: binary STL with no triangle", name);
+    if ((size - 84) / 50 < n)
+        return pw_fail(b->e, PW_ERR_PARSE, "%s: binary STL: the header claims %lu triangles, the %lu bytes after it hold %lu (truncated file?)",
+                       name, (unsigned long)n, (unsigned long)(size - 84), (unsigned long)((size - 84) / 50));
+    if (n > (uint32_t)(PW_MAX_MESH_ELEMENTS / 3))
+        return pw_fail(b->e, PW_ERR_LIMIT, "%s: binary STL: %lu triangles (limit %d)", name, (unsigned long)n, PW_MAX_MESH_ELEMENTS / 3);
+    if (pw__weld_init(&w, b, (size_t)n)) return PW_ERR_NOMEM;
+    for (t = 0; t < n && r == PW_OK; t++) {
+        const unsigned char *p = d + 84 + 50 * (size_t)t + 12;
+        float c[3][3];
+        for (k = 0; k < 3; k++)
+            for (j = 0; j < 3; j++) {
+                c[k][j] = pw__le_float(p + 12 * k + 4 * j);
+                if (!pw_is_finite(c[k][j])) r = pw_fail(b->e, PW_ERR_INVALID, "%s: binary STL: triangle %lu has a non-finite coordinate", name, (unsigned long)t);
+            }
+        if (r == PW_OK) r = pw__stl_triangle(&w, b, c);
+    }
+    pw_free(b->a, w.slot);
+    return r;
+}
+
+/* Expects the keyword `kw` as the next word. */
+PW__DEF int pw__stl_expect(pw__sc *s, const char *kw)
+{
+    size_t n;
+    const char *w;
+    char tok[32];
+    pw__sc_skip_ws(s);
+    w = pw__sc_word(s, &n);
+    if (!pw__sc_is(w, n, kw))
+        return pw__sc_fail(s, PW_ERR_PARSE, n ? "expected '%s', found '%s'" : "expected '%s', found the end of the file", kw,
+                           pw__sc_tok(s, w, tok));
+    return PW_OK;
+}
+
+/* ASCII STL: "solid [name]", then facets "facet normal x y z / outer loop /
+ * vertex x y z (three) / endloop / endfacet", then "endsolid [name]"; more
+ * solids may follow. */
+PW__DEF int pw__stl_ascii(pw__sc *s, pw__mb *b)
+{
+    pw__weld w;
+    int r = PW_OK, k;
+    if (pw__weld_init(&w, b, 1024)) return PW_ERR_NOMEM;
+    while (r == PW_OK) {
+        size_t n;
+        const char *kw;
+        pw__sc_skip_ws(s);
+        if (s->p >= s->end) break;
+        kw = pw__sc_word(s, &n);
+        if (pw__sc_is(kw, n, "solid") || pw__sc_is(kw, n, "endsolid")) {
+            pw__sc_next_line(s); /* the name, if any */
+        } else if (pw__sc_is(kw, n, "facet")) {
+            float c[3][3], nrm[3];
+            if ((r = pw__stl_expect(s, "normal")) || (r = pw__sc_xyz(s, nrm, b->m.nf)) || (r = pw__stl_expect(s, "outer")) ||
+                (r = pw__stl_expect(s, "loop")))
+                break;
+            for (k = 0; k < 3 && r == PW_OK; k++)
+                if (!(r = pw__stl_expect(s, "vertex"))) r = pw__sc_xyz(s, c[k], b->m.nf);
+            if (r || (r = pw__stl_expect(s, "endloop")) || (r = pw__stl_expect(s, "endfacet"))) break;
+            r = pw__stl_triangle(&w, b, c);
+        } else {
+            char tok[32];
+            r = pw__sc_fail(s, PW_ERR_PARSE, "ASCII STL: expected 'facet' or 'endsolid', found '%s'", pw__sc_tok(s, kw, tok));
+        }
+    }
+    pw_free(b->a, w.slot);
+    return r;
+}
+
+/* Whether an STL is ASCII: it begins with "solid" and has no NUL byte in
+ * its first kilobyte (binary files may begin with "solid" too, but their
+ * header padding and counts hold zeros). */
+PW__DEF int pw__stl_is_ascii(const unsigned char *d, size_t size)
+{
+    size_t i, n = size < 1024 ? size : 1024;
+    for (i = 0; i < n; i++)
+        if (!d[i]) return 0;
+    return 1;
+}
+
+/* Reads an STL file, binary or ASCII, from memory. Binary when the size is
+ * exactly what its triangle count says, ASCII when it begins with "solid"
+ * and holds text (pw__stl_is_ascii), else binary. */
+PW__DEF int pw_mesh_read_stl(const pw_alloc *a, const void *data, size_t size, const char *name, pw_mesh *out, pw_err *e)
+{
+    const unsigned char *d = (const unsigned char *)data;
+    pw__sc s;
+    pw__mb b;
+    int r;
+    memset(out, 0, sizeof *out);
+    if ((r = pw__mb_init(&b, a, e))) return r;
+    pw__sc_init(&s, data, size, name, 0, e);
+    pw__sc_skip_ws(&s);
+    if (size >= 84 && (size - 84) % 50 == 0 && (size - 84) / 50 == (size_t)(d[80] | (uint32_t)d[81] << 8 | (uint32_t)d[82] << 16 | (uint32_t)d[83] << 24))
+        r = pw__stl_binary(d, size, s.name, &b);
+    else if (s.end - s.p >= 5 && !memcmp(s.p, "solid", 5) && pw__stl_is_ascii(d, size))
+        r = pw__stl_ascii(&s, &b);
+    else if (size >= 84)
+        r = pw__stl_binary(d, size, s.name, &b);
+    else
+        r = pw_fail(e, PW_ERR_PARSE, "%s: not an STL file (%lu bytes: neither 'solid' nor an 84-byte binary header)", s.name,
+                    (unsigned long)size);
+    if (r == PW_OK) r = pw__mb_finish(&b, out, s.name);
+    pw__mb_free(&b);
+    return r;
+}
+
 /* ---- format detection ---------------------------------------------------- */
 
-/* Reads OBJ, OFF or PLY, recognised by content: the "ply" magic line, an
- * OFF keyword as the first word (after comments), else by the extension of
- * `name` (.off, .ply), else OBJ. */
+/* STL by content: "solid" then "facet" (an OBJ cannot begin so), or a
+ * binary STL whose size is exactly what its triangle count says. */
+PW__DEF int pw__is_stl(pw__sc *s, const void *data, size_t size)
+{
+    const unsigned char *d = (const unsigned char *)data;
+    size_t n;
+    const char *w;
+    if (size >= 84 && (size - 84) % 50 == 0 &&
+        (size - 84) / 50 == (size_t)(d[80] | (uint32_t)d[81] << 8 | (uint32_t)d[82] << 16 | (uint32_t)d[83] << 24))
+        return 1;
+    w = pw__sc_word(s, &n);
+    if (!pw__sc_is(w, n, "solid")) return 0;
+    pw__sc_next_line(s);
+    pw__sc_skip_ws(s);
+    w = pw__sc_word(s, &n);
+    return pw__sc_is(w, n, "facet") || pw__sc_is(w, n, "endsolid");
+}
+
+/* Reads OBJ, OFF, PLY or STL, recognised by content: the "ply" magic line,
+ * an OFF keyword as the first word (after comments), "solid" followed by a
+ * "facet" line or a binary STL's exact size, else by the extension of `name`
+ * (.off, .ply, .stl), else OBJ. */
 PW__DEF int pw_mesh_read_memory(const pw_alloc *a, const void *data, size_t size, const char *name,
                                 pw_mesh *out, pw_err *e)
 {
-    pw__sc s;
+    pw__sc s, t;
     size_t n;
     const char *w;
     int flags;
@@ -4773,10 +4988,12 @@ PW__DEF int pw_mesh_read_memory(const pw_alloc *a, const void *data, size_t size
     if (s.end - s.p >= 4 && !memcmp(s.p, "ply", 3) && (s.p[3] == '\n' || s.p[3] == '\r'))
         return pw_mesh_read_ply(a, data, size, name, out, e);
     pw__sc_skip_empty(&s);
+    t = s;
     w = pw__sc_word(&s, &n);
     if (pw__off_keyword(w, n, &flags) || (name && pw_has_ext(name, ".off")))
         return pw_mesh_read_off(a, data, size, name, out, e);
     if (name && pw_has_ext(name, ".ply")) return pw_mesh_read_ply(a, data, size, name, out, e);
+    if (pw__is_stl(&t, data, size) || (name && pw_has_ext(name, ".stl"))) return pw_mesh_read_stl(a, data, size, name, out, e);
     return pw_mesh_read_obj(a, data, size, name, out, e);
 }
 

@@ -1,4 +1,4 @@
-/* fuzz_mesh: the OBJ/OFF/PLY readers, then the half-edge build and
+/* fuzz_mesh: the OBJ/OFF/PLY/STL readers, then the half-edge build and
  * Catmull-Clark on whatever they accept. Besides crashes it checks
  * properties, aborting when one fails:
  *   - a mesh a reader accepts passes pw_mesh_validate;
@@ -95,10 +95,10 @@ typedef int (*fz_reader)(const pw_alloc *, const void *, size_t, const char *, p
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
-    static const fz_reader readers[4] = {pw_mesh_read_memory, pw_mesh_read_obj, pw_mesh_read_off,
-                                         pw_mesh_read_ply};
+    static const fz_reader readers[5] = {pw_mesh_read_memory, pw_mesh_read_obj, pw_mesh_read_off,
+                                         pw_mesh_read_ply, pw_mesh_read_stl};
     int k;
-    for (k = 0; k < 4; k++) {
+    for (k = 0; k < 5; k++) {
         pw_mesh m;
         pw_err e;
         int r;

@@ -1,4 +1,4 @@
-/* Tests of src/common/mesh.h: the OBJ, OFF and PLY readers, the OBJ/MTL
+/* Tests of src/common/mesh.h: the OBJ, OFF, PLY and STL readers, the OBJ/MTL
  * writers, and the small mesh utilities. */
 #include "../src/common/mesh.h"
 #include "pwtest.h"
@@ -961,8 +961,96 @@ static void t_b9_point_cloud(void)
     CHECK(strstr(e.msg, "no faces") && strstr(e.msg, "22300 vertices"));
 }
 
+/* ---- STL ------------------------------------------------------------------- */
+
+/* A tetrahedron as ASCII STL: 4 facets, 12 corners on 4 positions (one of
+ * them written -0 in one facet and 0 in the others). */
+static const char stl_ascii[] =
+    "solid tet\n"
+    "  facet normal 0 0 -1\n    outer loop\n      vertex 0 0 0\n      vertex 0 1 0\n      vertex 1 0 0\n    endloop\n  endfacet\n"
+    "  facet normal 0 -1 0\n    outer loop\n      vertex -0 0 0\n      vertex 1 0 0\n      vertex 0 0 1\n    endloop\n  endfacet\n"
+    "  facet normal -1 0 0\n    outer loop\n      vertex 0 0 0\n      vertex 0 0 1\n      vertex 0 1 0\n    endloop\n  endfacet\n"
+    "  facet normal 1 1 1\n    outer loop\n      vertex 1 0 0\n      vertex 0 1 0\n      vertex 0 0 1\n    endloop\n  endfacet\n"
+    "endsolid tet\n";
+
+/* The same as binary STL (a header beginning with "solid", as exporters
+ * often write), into buf; returns its size. */
+static size_t stl_binary(unsigned char *buf, int count_delta)
+{
+    static const float c[4][3][3] = {{{0, 0, 0}, {0, 1, 0}, {1, 0, 0}},
+                                     {{-0.0f, 0, 0}, {1, 0, 0}, {0, 0, 1}},
+                                     {{0, 0, 0}, {0, 0, 1}, {0, 1, 0}},
+                                     {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}};
+    uint32_t n = 4 + count_delta;
+    int t, k, j;
+    memset(buf, 0, 84 + 4 * 50);
+    memcpy(buf, "solid exported by a CAD program", 31);
+    buf[80] = (unsigned char)n, buf[81] = (unsigned char)(n >> 8), buf[82] = (unsigned char)(n >> 16), buf[83] = (unsigned char)(n >> 24);
+    for (t = 0; t < 4; t++)
+        for (k = 0; k < 3; k++)
+            for (j = 0; j < 3; j++) {
+                uint32_t u;
+                memcpy(&u, &c[t][k][j], 4);
+                buf[84 + 50 * t + 12 + 12 * k + 4 * j] = (unsigned char)u;
+                buf[84 + 50 * t + 13 + 12 * k + 4 * j] = (unsigned char)(u >> 8);
+                buf[84 + 50 * t + 14 + 12 * k + 4 * j] = (unsigned char)(u >> 16);
+                buf[84 + 50 * t + 15 + 12 * k + 4 * j] = (unsigned char)(u >> 24);
+            }
+    return 84 + 4 * 50;
+}
+
+static void t_stl(void)
+{
+    unsigned char bin[84 + 4 * 50];
+    size_t n = stl_binary(bin, 0);
+    pw_mesh a, b;
+    pw_err e;
+    int k;
+    REQUIRE(rd(stl_ascii, "tet.stl", &a, &e) == PW_OK);
+    pw_err_clear(&e);
+    REQUIRE(pw_mesh_read_memory(NULL, bin, n, "tet.stl", &b, &e) == PW_OK);
+    CHECK(a.nv == 4 && a.nf == 4 && a.fstart[4] == 12 && !a.uv);
+    CHECK(b.nv == a.nv && b.nf == a.nf && !memcmp(a.pos, b.pos, 12 * sizeof(float)) && !memcmp(a.fv, b.fv, 12 * sizeof(int)));
+    for (k = 0; k < 12; k++) CHECK(a.fv[k] >= 0 && a.fv[k] < 4);
+    pw_mesh_free(NULL, &a);
+    pw_mesh_free(NULL, &b);
+    /* by content, whatever the name says */
+    CHECK(rd(stl_ascii, "scan.obj", &a, &e) == PW_OK && a.nf == 4);
+    pw_mesh_free(NULL, &a);
+    pw_err_clear(&e);
+    CHECK(pw_mesh_read_memory(NULL, bin, n, NULL, &b, &e) == PW_OK && b.nf == 4);
+    pw_mesh_free(NULL, &b);
+}
+
+static void t_stl_errors(void)
+{
+    unsigned char bin[84 + 4 * 50];
+    size_t n = stl_binary(bin, 1);
+    pw_mesh m;
+    pw_err e;
+    float nan = 0.0f / 0.0f;
+    uint32_t u;
+    pw_err_clear(&e);
+    CHECK(pw_mesh_read_memory(NULL, bin, n, "five.stl", &m, &e) == PW_ERR_PARSE && strstr(e.msg, "claims 5 triangles") &&
+          strstr(e.msg, "five.stl"));
+    n = stl_binary(bin, 0);
+    memcpy(&u, &nan, 4);
+    bin[84 + 50 + 12 + 4] = (unsigned char)u, bin[84 + 50 + 13 + 4] = (unsigned char)(u >> 8);
+    bin[84 + 50 + 14 + 4] = (unsigned char)(u >> 16), bin[84 + 50 + 15 + 4] = (unsigned char)(u >> 24);
+    pw_err_clear(&e);
+    CHECK(pw_mesh_read_memory(NULL, bin, n, "nan.stl", &m, &e) == PW_ERR_INVALID && strstr(e.msg, "triangle 1"));
+    EXPECT_ERR("solid x\n facet normal 0 0 1\n  outer loop\n   vertex 0 0 0\n   vertex 1 0 0\n   vertex 0 1 0\n  endfacet\nendsolid\n",
+               "x.stl", PW_ERR_PARSE, "x.stl:7", "expected 'endloop'");
+    EXPECT_ERR("solid x\n facet normal 0 0 1\n  outer loop\n   vertex 0 0 0\n   vertex 1 0 0\n", "x.stl", PW_ERR_PARSE, "x.stl",
+               "expected 'vertex'");
+    EXPECT_ERR("solid empty\nendsolid empty\n", "x.stl", PW_ERR_DEGENERATE, "x.stl", "");
+    EXPECT_ERR("tiny", "x.stl", PW_ERR_PARSE, "not an STL file", "x.stl");
+}
+
 static const pwt_case cases[] = {
     {"obj_basic", t_obj_basic},
+    {"stl", t_stl},
+    {"stl_errors", t_stl_errors},
     {"obj_forms", t_obj_forms},
     {"obj_continuation_and_skipped", t_obj_continuation_and_skipped},
     {"obj_errors", t_obj_errors},

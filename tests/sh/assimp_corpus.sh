@@ -1,5 +1,5 @@
 #!/bin/sh
-# Another project's corpus: every OBJ, OFF and PLY file under
+# Another project's corpus: every OBJ, OFF, PLY and STL file under
 # /usr/share/assimp/models (Debian's assimp-testmodels), the malformed and
 # invalid ones included, goes through `patchwork pgp` and `patchwork tiled`.
 # Each run either succeeds (status 0, the output written) or fails cleanly
@@ -14,7 +14,7 @@ if [ ! -d "$root" ]; then
 fi
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT INT TERM
-list=$(find "$root" -type f \( -iname '*.obj' -o -iname '*.off' -o -iname '*.ply' \) | sort)
+list=$(find "$root" -type f \( -iname '*.obj' -o -iname '*.off' -o -iname '*.ply' -o -iname '*.stl' \) | sort)
 loaded=0 refused=0 bad=0
 for f in $list; do
     rel=${f#"$root"/}
