@@ -24,6 +24,17 @@ int cli_value(cli_args *a, const char **value);
 int cli_int(cli_args *a, int lo, int hi, int *out);
 int cli_u64(cli_args *a, unsigned long long *out);
 int cli_size(cli_args *a, int *w, int *h);
+/* A direction "X,Y,Z" (finite, not all zero). */
+int cli_vec3(cli_args *a, float out[3]);
+/* The view flags of every subcommand that renders: --view X,Y,Z, the
+ * direction the camera looks along, and --view-up, the world direction
+ * shown upwards: X,Y,Z or an axis (x, y, z, -x, -y, -z; z for the Z-up
+ * scans of many scanners and CAD programs). Returns -1 when argv[i] is
+ * neither, else 1 (parsed) or 0 (an error, printed). */
+int cli_view_flag(cli_args *a, float view_dir[3], float up[3]);
+#define CLI_VIEW_USAGE                                                                                   \
+    "  --view X,Y,Z        the direction the camera looks along (default -0.55,-0.45,-0.7)\n"            \
+    "  --view-up X,Y,Z|z   the world direction shown upwards (default y; z for Z-up scans)\n"
 /* True if argv[i] is `name` or `name=...`. */
 int cli_is(const cli_args *a, const char *name);
 

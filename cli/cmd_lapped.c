@@ -35,6 +35,7 @@ static const char *lapped_usage =
     "  --out-patch FILE.pam the first patch with its final alpha (RGBA PAM)\n"
     "  --out-image IMG      a rendering by runtime pasting (.png .ppm .pgm .pam)\n"
     "  --size WxH           rendering size (default 800x600)\n"
+    CLI_VIEW_USAGE
     "  --out-obj FILE       triangulated mesh with texture-atlas coordinates, and\n"
     "                       FILE's .mtl naming the atlas (needs --out-atlas)\n"
     "  --out-atlas IMG      the lapped texture baked into the atlas (needs --out-obj)\n"
@@ -101,7 +102,9 @@ static int parse_float(cli_args *a, float lo, float hi, float *out)
 
 static int parse_one(cli_args *a, lapped_cmd *c)
 {
+    int v = cli_view_flag(a, c->ro.view_dir, c->ro.up);
     if (cli_is(a, "--help") || cli_is(a, "-h")) return -1;
+    if (v >= 0) return v;
     if (cli_is(a, "--mesh")) return cli_value(a, &c->mesh);
     if (cli_is(a, "--texture")) {
         if (c->ntextures == MAX_TEXTURES) return bad("--texture", "(more than 16)");

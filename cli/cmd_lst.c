@@ -48,8 +48,8 @@ static const char *lst_usage =
     "views:\n"
     "  --cut \"NX NY NZ D\"   cut away the side NX x + NY y + NZ z > D (repeatable)\n"
     "  --cut-stroke \"X Y Z X Y Z ...\"  cut along a stroke seen along the view\n"
-    "  --view X,Y,Z         view direction (default -0.55,-0.45,-0.7)\n"
-    "  --up X,Y,Z           up direction (default 0,1,0)\n"
+    CLI_VIEW_USAGE
+    "  --up X,Y,Z           the same as --view-up\n"
     "  --size WxH           image size (default 800x600)\n"
     "  --show WHAT          color (default), values, pastes, depth (u,v,w as RGB)\n"
     "  --displace A         displacement mapping of the surface by the extra channel\n"
@@ -165,6 +165,7 @@ static int parse_paste(cli_args *a, lst_cmd *c)
 
 static int parse_options(cli_args *a, lst_cmd *c)
 {
+    int r;
     if (cli_is(a, "--type")) return parse_type(a, c);
     if (cli_is(a, "--scale")) return parse_float(a, 1e-30f, 1e30f, &c->opt.scale);
     if (cli_is(a, "--depth")) return cli_value(a, &c->depth);
@@ -178,8 +179,8 @@ static int parse_options(cli_args *a, lst_cmd *c)
     if (cli_is(a, "--exemplar-size")) return cli_int(a, 4, 512, &c->exemplar_size);
     if (cli_is(a, "--cut")) return parse_cut(a, c);
     if (cli_is(a, "--cut-stroke")) return cli_value(a, &c->stroke);
-    if (cli_is(a, "--view")) return parse_vec(a, c->ro.view_dir);
-    if (cli_is(a, "--up")) return parse_vec(a, c->ro.up);
+    if (cli_is(a, "--up")) return cli_vec3(a, c->ro.up); /* the older name of --view-up */
+    if ((r = cli_view_flag(a, c->ro.view_dir, c->ro.up)) >= 0) return r;
     if (cli_is(a, "--size")) return cli_size(a, &c->ro.width, &c->ro.height);
     if (cli_is(a, "--show")) return parse_show(a, c);
     if (cli_is(a, "--displace")) return parse_float(a, -1e30f, 1e30f, &c->ro.displace);

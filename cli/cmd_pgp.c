@@ -32,6 +32,7 @@ static const char *pgp_usage =
     "outputs (at least one):\n"
     "  --out-image IMG      a rendering (.png .ppm .pgm .pam)\n"
     "  --size WxH           rendering size (default 800x600)\n"
+    CLI_VIEW_USAGE
     "  --show WHAT          tile (default), material (m in gray) or singular (the\n"
     "                       singular triangles in red)\n"
     "  --no-fix             one lookup everywhere: no singularity fix (section 3)\n"
@@ -97,7 +98,9 @@ static int parse_show(cli_args *a, pgp_cmd *c)
 
 static int parse_one(cli_args *a, pgp_cmd *c)
 {
+    int v = cli_view_flag(a, c->ro.view_dir, c->ro.up);
     if (cli_is(a, "--help") || cli_is(a, "-h")) return -1;
+    if (v >= 0) return v;
     if (cli_is(a, "--mesh")) return cli_value(a, &c->mesh);
     if (cli_is(a, "--tile")) return cli_value(a, &c->tile);
     if (cli_is(a, "--texture")) return cli_value(a, &c->texture);

@@ -37,7 +37,8 @@ static const char *tiled_usage =
     "                      the OBJ's name with .png)\n"
     "  --out-image IMG     a rendering (.png .ppm .pgm .pam)\n"
     "  --out-glb FILE.glb  binary glTF 2.0: the mapped mesh with the tiled texture inside\n"
-    "  --size WxH          rendering size (default 800x600)\n";
+    "  --size WxH          rendering size (default 800x600)\n"
+    CLI_VIEW_USAGE;
 
 typedef struct tiled_cmd {
     const char *mesh, *exemplar, *tiles, *out_obj, *out_tiles, *out_image, *out_glb;
@@ -65,8 +66,10 @@ static int parse_guard(cli_args *a, tiled_cmd *c)
 /* One option; returns 0 on a parse error, -1 for --help. */
 static int parse_one(cli_args *a, tiled_cmd *c)
 {
+    int v = cli_view_flag(a, c->ro.view_dir, c->ro.up);
     tiled_layout *l = &c->opt.layout;
     if (cli_is(a, "--help") || cli_is(a, "-h")) return -1;
+    if (v >= 0) return v;
     if (cli_is(a, "--mesh")) return cli_value(a, &c->mesh);
     if (cli_is(a, "--exemplar")) return cli_value(a, &c->exemplar);
     if (cli_is(a, "--tiles")) return cli_value(a, &c->tiles);

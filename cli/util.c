@@ -87,6 +87,50 @@ int cli_size(cli_args *a, int *w, int *h)
     return 1;
 }
 
+/* Three finite numbers "X,Y,Z" (commas or spaces), not all zero. */
+static int vec3(const char *v, float *out)
+{
+    const char *p = v;
+    char *end;
+    int k;
+    for (k = 0; k < 3; k++) {
+        while (*p == ' ' || (k > 0 && *p == ',')) p++;
+        out[k] = strtof(p, &end);
+        if (end == p || !(out[k] == out[k] && out[k] - out[k] == 0.0f)) return 0;
+        p = end;
+    }
+    while (*p == ' ') p++;
+    return !*p && (out[0] != 0.0f || out[1] != 0.0f || out[2] != 0.0f);
+}
+
+int cli_vec3(cli_args *a, float out[3])
+{
+    const char *flag = a->argv[a->i], *v;
+    if (!cli_value(a, &v)) return 0;
+    if (vec3(v, out)) return 1;
+    cli_error(a->cmd, "%.40s: '%s' is not a direction X,Y,Z (three finite numbers, not all zero)", flag, v);
+    return 0;
+}
+
+int cli_view_flag(cli_args *a, float view_dir[3], float up[3])
+{
+    static const char *const axes[6] = {"x", "y", "z", "-x", "-y", "-z"};
+    const char *v;
+    int k;
+    if (cli_is(a, "--view")) return cli_vec3(a, view_dir);
+    if (!cli_is(a, "--view-up")) return -1;
+    if (!cli_value(a, &v)) return 0;
+    for (k = 0; k < 6; k++)
+        if (!strcmp(v, axes[k])) {
+            up[0] = up[1] = up[2] = 0.0f;
+            up[k % 3] = k < 3 ? 1.0f : -1.0f;
+            return 1;
+        }
+    if (vec3(v, up)) return 1;
+    cli_error(a->cmd, "--view-up: '%s' is not x, y, z, -x, -y, -z or X,Y,Z", v);
+    return 0;
+}
+
 int cli_is_procedural(const char *s, const char **name)
 {
     if (strncmp(s, "procedural:", 11)) return 0;

@@ -121,3 +121,21 @@ else
     fail demo_quick "$(tail -1 "$tmp/stdout")"
 fi
 expect_error demo_usage "usage: patchwork demo" demo --quick "$tmp/out/a" "$tmp/out/b"
+
+# --view and --view-up, shared by every command that renders: a Z-up view
+# draws another picture than the default; an axis name and its vector are
+# the same; bad directions are refused naming the flag
+for m in tiled lapped pgp; do
+    case $m in
+        tiled) args="tiled --mesh procedural:torus --exemplar procedural:pebbles" ;;
+        lapped) args="lapped --mesh procedural:torus --texture procedural:dots" ;;
+        pgp) args="pgp --mesh procedural:torus --tile procedural:bricks" ;;
+    esac
+    if "$bin" $args --size 64x48 --out-image "$tmp/$m.y.ppm" > /dev/null 2>&1 &&
+        "$bin" $args --size 64x48 --view-up z --out-image "$tmp/$m.z.ppm" > /dev/null 2>&1 &&
+        "$bin" $args --size 64x48 --view-up 0,0,2 --out-image "$tmp/$m.z2.ppm" > /dev/null 2>&1 &&
+        ! cmp -s "$tmp/$m.y.ppm" "$tmp/$m.z.ppm" && cmp -s "$tmp/$m.z.ppm" "$tmp/$m.z2.ppm"; then pass "view_up_$m"
+    else fail "view_up_$m" "--view-up z did not change the picture, or differs from 0,0,2"; fi
+    expect_error "bad_view_$m" "is not a direction X,Y,Z" $args --view 0,0,0 --out-image "$tmp/out/x.png"
+    expect_error "bad_view_up_$m" "--view-up: 'w' is not" $args --view-up w --out-image "$tmp/out/x.png"
+done
