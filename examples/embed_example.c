@@ -1,0 +1,97 @@
+/* embed_example.c: what a program that embeds patchwork needs, shown with
+ * lapped.h (the other headers have the same hooks).
+ *
+ *   cc -O2 -I.. embed_example.c -lm && ./a.out
+ *
+ *   - memory I/O: the mesh is read from a string, the result is written as
+ *     a binary glTF into a growing buffer (no file is touched until the end);
+ *   - a progress callback that cancels: the first run stops at 30%, returns
+ *     LAPPED_ERR_CANCELLED and leaves nothing allocated;
+ *   - a custom allocator: every allocation goes through it (here: counting
+ *     live blocks and the peak of live bytes). */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#define LAPPED_IMPLEMENTATION
+#include "../lapped.h"
+
+typedef struct counter { long live; size_t bytes, peak; } counter;
+/* each block carries its size in front, so that free knows it */
+static void *my_malloc(void *user, size_t n)
+{
+    counter *c = (counter *)user;
+    size_t *p = (size_t *)malloc(n + sizeof(size_t));
+    if (!p) return NULL;
+    *p = n, c->live++, c->bytes += n;
+    if (c->bytes > c->peak) c->peak = c->bytes;
+    return p + 1;
+}
+static void my_free(void *user, void *ptr)
+{
+    counter *c = (counter *)user;
+    if (!ptr) return;
+    c->live--, c->bytes -= ((size_t *)ptr)[-1];
+    free((size_t *)ptr - 1);
+}
+static void *my_realloc(void *user, void *ptr, size_t n)
+{
+    void *q = my_malloc(user, n);
+    if (q && ptr) memcpy(q, ptr, ((size_t *)ptr)[-1] < n ? ((size_t *)ptr)[-1] : n), my_free(user, ptr);
+    return q;
+}
+
+static int stop_at_30(void *user, float done, const char *stage) { return *(int *)user && done > 0.3f && stage; }
+
+typedef struct buffer { unsigned char *data; size_t size; } buffer;
+static int to_buffer(void *ctx, const void *data, size_t n)
+{
+    buffer *b = (buffer *)ctx;
+    unsigned char *grown = (unsigned char *)realloc(b->data, b->size + n);
+    if (!grown) return -1; /* non-zero: the library reports LAPPED_ERR_IO */
+    memcpy(grown + b->size, data, n);
+    b->data = grown, b->size += n;
+    return 0;
+}
+
+/* a regular octahedron, as an OBJ held in memory */
+static const char octahedron[] = "v 1 0 0\nv -1 0 0\nv 0 1 0\nv 0 -1 0\nv 0 0 1\nv 0 0 -1\n"
+                                 "f 1 3 5\nf 3 2 5\nf 2 4 5\nf 4 1 5\nf 3 1 6\nf 2 3 6\nf 4 2 6\nf 1 4 6\n";
+
+int main(void)
+{
+    counter count = {0, 0, 0};
+    int cancel = 1, ok;    lapped_options opt = lapped_default_options();
+    lapped_atlas_options ao = {0};
+    lapped_mesh mesh = {0};
+    lapped_image texture = {0}, patch = {0};
+    lapped_texture lt = {0};  /* a failed call leaves its output zeroed: freeing is always safe */
+    lapped_atlas atlas = {0};
+    lapped_error err;
+    buffer glb = {NULL, 0};
+    FILE *f;
+    opt.allocator.malloc_fn = my_malloc, opt.allocator.realloc_fn = my_realloc, opt.allocator.free_fn = my_free;
+    opt.allocator.user = &count;
+    opt.progress = stop_at_30, opt.progress_user = &cancel;
+    opt.field.scale = 0.6f;
+    ao.size = 256;
+    ok = lapped_load_mesh_from_memory(octahedron, sizeof octahedron - 1, "octahedron.obj", &opt, &mesh, &err) == LAPPED_OK &&
+         lapped_builtin_texture("dots", 64, &opt, &texture, &err) == LAPPED_OK &&
+         lapped_make_patch(&texture, NULL, &opt, &patch, &err) == LAPPED_OK;
+    if (ok && lapped_create(&mesh, &patch, 1, &opt, &lt, &err) == LAPPED_ERR_CANCELLED)
+        printf("cancelled at 30%%: %s; %ld blocks live (the mesh, texture and patch)\n", err.message, count.live);
+    cancel = 0;
+    ok = ok && lapped_create(&mesh, &patch, 1, &opt, &lt, &err) == LAPPED_OK &&
+         lapped_bake_atlas(&mesh, &lt, &patch, NULL, &ao, &opt, &atlas, &err) == LAPPED_OK &&
+         lapped_write_gltf_to_func(&mesh, &atlas, NULL, to_buffer, &glb, &err) == LAPPED_OK;
+    if (ok && (f = fopen("embed_example.glb", "wb")) != NULL) {
+        ok = fwrite(glb.data, 1, glb.size, f) == glb.size;
+        ok = fclose(f) == 0 && ok;
+    }
+    if (ok) printf("%d pastes; %lu bytes of glTF in memory, saved as embed_example.glb; peak %lu bytes allocated\n",
+                   lt.npastes, (unsigned long)glb.size, (unsigned long)count.peak);
+    else fprintf(stderr, "embed_example: %s\n", err.message);
+    lapped_atlas_free(&atlas), lapped_texture_free(&lt), lapped_image_free(&patch), lapped_image_free(&texture);
+    lapped_mesh_free(&mesh), free(glb.data);
+    printf("%ld blocks still allocated after the frees\n", count.live);
+    return ok && count.live == 0 ? 0 : 1;
+}
