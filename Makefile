@@ -97,9 +97,20 @@ check-headers:
 	    echo "$(h).h is stale: run 'make headers' and commit it"; status=1; fi;) \
 	exit $$status
 
-$(BUILD)/patchwork: $(CLI_SRC) $(wildcard cli/*.h) $(HEADER_FILES)
-	@mkdir -p $(BUILD)
-	$(CC) $(ALL_CFLAGS) -o $@ $(CLI_SRC) $(LDLIBS)
+# The CLI: one object per source, each header's implementation in its own
+# (cli/impl_NAME.c), so that `make -j` compiles the four in parallel.
+CLI_OBJ := $(patsubst cli/%.c,$(BUILD)/cli/%.o,$(CLI_SRC))
+
+$(BUILD)/patchwork: $(CLI_OBJ)
+	$(CC) $(ALL_CFLAGS) -o $@ $(CLI_OBJ) $(LDLIBS)
+
+$(BUILD)/cli/impl_%.o: cli/impl_%.c %.h
+	@mkdir -p $(BUILD)/cli
+	$(CC) $(ALL_CFLAGS) -c -o $@ $<
+
+$(BUILD)/cli/%.o: cli/%.c $(wildcard cli/*.h) $(HEADER_FILES)
+	@mkdir -p $(BUILD)/cli
+	$(CC) $(ALL_CFLAGS) -c -o $@ $<
 
 $(BUILD)/tests/%: tests/%.c tests/pwtest.h $(COMMON_SRC) $(HEADER_FILES)
 	@mkdir -p $(BUILD)/tests
@@ -136,7 +147,8 @@ $(OSMESA_BENCH): $(BUILD)/bench/%: bench/%.c $(wildcard bench/*.h) $(COMMON_SRC)
 	else echo "$*: OSMesa (libosmesa6-dev) not found: built without its peer"; set -x; \
 	  $(CC) $(BENCH_CFLAGS) -o $@ $< $(LDLIBS); fi
 
-demo: $(BUILD)/patchwork
+demo:
+	@$(MAKE) --no-print-directory -j$(JOBS) $(BUILD)/patchwork
 	./$(BUILD)/patchwork demo out
 
 # (test-build has a recipe so that make says nothing when all is built)

@@ -1,0 +1,4 @@
+/* The pgp.h implementation, in a translation unit of its own so that the
+ * four compile in parallel. */
+#define PGP_IMPLEMENTATION
+#include "../pgp.h"

@@ -1,0 +1,4 @@
+/* The tiled.h implementation, in a translation unit of its own so that the
+ * four compile in parallel. */
+#define TILED_IMPLEMENTATION
+#include "../tiled.h"
