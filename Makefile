@@ -6,8 +6,7 @@
 #                   "N passed, N failed, N skipped")
 #   make bench      benchmarks (medians of several runs), against peers where
 #                   installed, ending with a summary table
-#   make bench-report  the same, also written to bench/results.md (and the
-#                   table into README.md's Performance section)
+#   make bench-report  the same, also written to bench/results.md
 #   make data       extract real test data from installed Debian packages into data/
 #   make js         npm packages of the browser checks (glTF validator, three.js,
 #                   puppeteer-core) into tests/js/node_modules, versions pinned
@@ -163,7 +162,7 @@ bench: $(BENCH_BIN) $(BENCH_TOOLS) $(BUILD)/patchwork
 	@sh bench/run.sh $(BUILD)
 
 bench-report: $(BENCH_BIN) $(BENCH_TOOLS) $(BUILD)/patchwork
-	@sh bench/run.sh $(BUILD) bench/results.md README.md
+	@sh bench/run.sh $(BUILD) bench/results.md
 
 data: $(BUILD)/patchwork
 	@sh tools/make_data.sh $(BUILD)/patchwork

@@ -284,7 +284,7 @@ PGPDEF pgp_result pgp_builtin_tile(const char *name, int size, const pgp_options
 
 /* Files and memory. Tiles: NRRD (uint8/uint16/float, dimension 4 with
  * sizes C W H M, or 3 with W H M, raw or gzip) or any 2D image (one
- * layer). The constraints file of the CLI is documented in the README. */
+ * layer). The constraints file of the CLI is documented in docs/pgp.md. */
 PGPDEF pgp_result pgp_tile_from_image(const pgp_image *img, const pgp_options *opt, pgp_tile *out,
                                       pgp_error *err);
 PGPDEF pgp_result pgp_load_tile_from_memory(const void *data, size_t size, const char *name,

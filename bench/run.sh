@@ -4,15 +4,12 @@
 # prints the summary table made of the ROW / GROWTH / PEER lines the
 # programs print (bench.h describes them; they are hidden from each
 # program's own output). With a second argument, also writes the table, the
-# machine and every program's full output to that Markdown file, and with a
-# third, replaces the block between the lines <!-- bench-report:begin -->
-# and <!-- bench-report:end --> of that file (the README) with the table:
-#   sh bench/run.sh build bench/results.md README.md    (make bench-report)
+# machine and every program's full output to that Markdown file:
+#   sh bench/run.sh build bench/results.md    (make bench-report)
 # BENCH_NO_PEERS="eigen osmesa assimp pnmtopng" (or "all") runs without
 # those peers, as on a machine that lacks them.
 build=${1:-build}
 report=$2
-readme=$3
 BENCH_DATA=$build/bench-data
 BENCH_BUILD=$build
 export BENCH_DATA BENCH_BUILD
@@ -108,14 +105,5 @@ if [ -n "$report" ]; then
         echo
         echo "</details>"
     } > "$report.tmp" && mv "$report.tmp" "$report" && echo "wrote $report"
-fi
-if [ -n "$readme" ] && grep -q '^<!-- bench-report:begin -->$' "$readme" && grep -q '^<!-- bench-report:end -->$' "$readme"; then
-    {
-        sed -n '1,/^<!-- bench-report:begin -->$/p' "$readme"
-        machine
-        echo
-        table
-        sed -n '/^<!-- bench-report:end -->$/,$p' "$readme"
-    } > "$readme.tmp" && mv "$readme.tmp" "$readme" && echo "updated the table in $readme"
 fi
 exit $status

@@ -31,7 +31,7 @@ static const char *lapped_usage =
     "  --lscm               isotropic: least-squares conformal parametrisation\n"
     "  --seed S             random seed (default 0)\n"
     "outputs (at least one):\n"
-    "  --out-pastes FILE    the ordered pastes (text format, see README)\n"
+    "  --out-pastes FILE    the ordered pastes (text format, see docs/lapped.md)\n"
     "  --out-patch FILE.pam the first patch with its final alpha (RGBA PAM)\n"
     "  --out-image IMG      a rendering by runtime pasting (.png .ppm .pgm .pam)\n"
     "  --size WxH           rendering size (default 800x600)\n"

@@ -56,7 +56,7 @@ static const char *lst_usage =
     "  --slices N           volume rendering slices (default 200)\n"
     "  --opacity A          volume rendering opacity (default 0.3)\n"
     "outputs (at least one):\n"
-    "  --out-lst FILE       the model (text format, see README)\n"
+    "  --out-lst FILE       the model (text format, see docs/lst.md)\n"
     "  --out-masks PREFIX   each exemplar's alpha as PREFIX<i>.nrrd\n"
     "  --out-exemplar FILE.nrrd  the exemplar's colour\n"
     "  --out-image IMG      the surface (after any cut)\n"

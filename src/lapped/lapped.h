@@ -296,8 +296,8 @@ LAPPEDDEF lapped_result lapped_builtin_mesh(const char *name, const lapped_optio
 LAPPEDDEF lapped_result lapped_builtin_texture(const char *name, int size, const lapped_options *opt,
                                                lapped_image *out, lapped_error *err);
 
-/* Files. The paste file format ("lapped-pastes 1") is documented in the
- * README. */
+/* Files. The paste file format ("lapped-pastes 1") is documented in
+ * docs/lapped.md. */
 LAPPEDDEF lapped_result lapped_write_pastes_to_func(const lapped_texture *t, lapped_write_fn fn,
                                                     void *ctx, lapped_error *err);
 LAPPEDDEF lapped_result lapped_read_pastes_from_memory(const void *data, size_t size,

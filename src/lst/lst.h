@@ -455,7 +455,7 @@ LSTDEF lst_result lst_builtin_constraints(const char *name, const lst_mesh *surf
 
 /* ---- files ---- */
 
-/* The model file ("lst 1", documented in the README): nodes, tetrahedra,
+/* The model file ("lst 1", documented in docs/lst.md): nodes, tetrahedra,
  * exemplar sizes, pastes with per-tetrahedron texture coordinates. Only
  * the visible tetrahedra are written (a cut model is saved as cut). */
 LSTDEF lst_result lst_write_model_to_func(const lst_model *model, lst_write_fn fn, void *ctx, lst_error *err);
@@ -464,7 +464,7 @@ LSTDEF lst_result lst_write_model_to_func(const lst_model *model, lst_write_fn f
  * empty until the caller fills them (lst_make_masks, lst_load_volume). */
 LSTDEF lst_result lst_read_model_from_memory(const void *data, size_t size, const char *name,
                                              const lst_options *opt, lst_model *out, lst_error *err);
-/* Constraint files (documented in the README): depth lines "face F D",
+/* Constraint files (documented in docs/lst.md): depth lines "face F D",
  * "fill F D [crease]", "point X Y Z D", "stroke D X Y Z X Y Z ..."; field
  * lines "dir X Y Z DX DY DZ", "stroke X Y Z X Y Z ..." (directions along
  * the polyline), "scale X Y Z S"; '#' comments. */

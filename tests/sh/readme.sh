@@ -1,22 +1,23 @@
 #!/bin/sh
-# The C programs quoted in README.md compile against the headers as they
-# are (warnings are errors), so the documentation cannot drift from the API.
+# The C programs quoted in README.md and the guides in docs/ compile
+# against the headers as they are (warnings are errors), so the
+# documentation cannot drift from the API.
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT INT TERM
 awk -v dir="$tmp" '
     /^```c$/ { n++; f = dir "/block" n ".c"; print "#include <stdio.h>" > f; inside = 1; next }
     /^```/   { inside = 0; next }
     inside   { print >> f }
-' README.md
+' README.md docs/*.md
 count=0
 for f in "$tmp"/block*.c; do
     [ -f "$f" ] || continue
     count=$((count + 1))
     what=$(grep -m1 -o '[a-z]*\.h"' "$f" | tr -d '"')
     if ${CC:-cc} -std=c99 -Wall -Wextra -Werror -I. -o "$tmp/a.out" "$f" -lm 2> "$tmp/err.txt"; then
-        echo "PASS readme: the $what quick start compiles"
+        echo "PASS readme: the $what quick start compiles ($(basename "$f"))"
     else
         echo "FAIL readme: the $what quick start does not compile: $(head -3 "$tmp/err.txt" | tr '\n' ' ')"
     fi
 done
-[ "$count" -gt 0 ] || echo "FAIL readme: no C program found in README.md"
+[ "$count" -ge 4 ] || echo "FAIL readme: $count C programs in README.md and docs/, one per header expected"
