@@ -58,7 +58,8 @@ static const char *lst_usage =
     "outputs (at least one):\n"
     "  --out-lst FILE       the model (text format, see docs/lst.md)\n"
     "  --out-masks PREFIX   each exemplar's alpha as PREFIX<i>.nrrd\n"
-    "  --out-exemplar FILE.nrrd  the exemplar's colour\n"
+    "  --out-exemplar FILE.nrrd  the exemplar's colour (alone, with no --mesh: only that,\n"
+    "                       e.g. a built-in exemplar to start from)\n"
     "  --out-image IMG      the surface (after any cut)\n"
     "  --out-section IMG    the last --cut seen face on\n"
     "  --out-volume IMG     a volume rendering (slices composited with alpha)\n"
@@ -217,10 +218,18 @@ static int ends_with(const char *s, const char *ext)
     return n > m && !strcmp(s + n - m, ext);
 }
 
+/* Only --out-exemplar asked for: the exemplar is written, nothing filled. */
+static int exemplar_only(const lst_cmd *c)
+{
+    return c->out_exemplar && !c->mesh && !c->tets && !c->out_lst && !c->out_masks && !c->out_image && !c->out_section &&
+           !c->out_volume && !c->out_tets;
+}
+
 /* What the options must agree on. */
 static int parse_check(const lst_cmd *c)
 {
     const char *name;
+    if (exemplar_only(c) && c->exemplar) return ends_with(c->out_exemplar, ".nrrd") ? 1 : bad("--out-exemplar (FILE.nrrd)", c->out_exemplar);
     if (!!c->mesh == !!c->tets || !c->exemplar) {
         cli_error("lst", "one of --mesh or --tets, and --exemplar, are required");
         return 0;
@@ -523,8 +532,10 @@ int cmd_lst(int argc, char **argv)
     if (!p) return 1;
     memset(&r, 0, sizeof r);
     memset(&outs, 0, sizeof outs);
-    if ((res = load_tets(&c, &r, &err)) == LST_OK && (res = load_exemplar(&c, &r, &err)) == LST_OK &&
-        (res = load_constraints(&c, &r, &err)) == LST_OK && (res = fill(&c, &r, &err)) == LST_OK)
+    if (exemplar_only(&c)) { /* a built-in exemplar to a file, e.g. to edit it */
+        if ((res = load_exemplar(&c, &r, &err)) == LST_OK) res = write_out(&outs, c.out_exemplar, w_volume, &r.ex, &err);
+    } else if ((res = load_tets(&c, &r, &err)) == LST_OK && (res = load_exemplar(&c, &r, &err)) == LST_OK &&
+               (res = load_constraints(&c, &r, &err)) == LST_OK && (res = fill(&c, &r, &err)) == LST_OK)
         res = outputs(&c, &r, &outs, &err);
     run_free(&r, &c.opt);
     if (res != LST_OK) {

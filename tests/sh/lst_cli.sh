@@ -149,3 +149,9 @@ expect_error out_tets_extension "--out-tets" $small --out-tets $tmp/out/x.vtk
 expect_error paste_outside "outside the model" $small --paste "5 0 0 1 0 0 0 1 0 0.5" --out-lst $tmp/out/x.lst
 expect_error cut_everything "cut away" $small --cut "1 0 0 -5" --out-image $tmp/out/x.png
 expect_error same_file "two outputs" $small --out-image $tmp/out/x.png --out-volume $tmp/out/x.png --slices 2
+
+# --out-exemplar alone writes a built-in exemplar without filling anything
+if "$bin" lst --exemplar procedural:layers --exemplar-size 16 --out-exemplar "$tmp/layers.nrrd" > "$tmp/stdout" 2>&1 &&
+    head -c 8 "$tmp/layers.nrrd" | grep -q NRRD0004 && grep -q 'sizes: 3 16 16 16' "$tmp/layers.nrrd" &&
+    ! grep -q 'tetrahedra' "$tmp/stdout"; then pass exemplar_only
+else fail exemplar_only "$(tail -1 "$tmp/stdout")"; fi
