@@ -119,6 +119,8 @@ static void t_seam_follows_agreement(void)
     q.label = label;
     q.allowed = allowed;
     q.wrap_x = q.wrap_y = 0;
+    q.motif = NULL;
+    q.motif_weight = 0.0f;
     REQUIRE(pw_quilt_optimize(NULL, &q, 3, &e) == PW_OK);
     for (y = 0; y < H; y++) {
         CHECK(label[y * W] == 0 && label[y * W + W - 1] == 1);
@@ -157,6 +159,8 @@ static void t_energy_decreases(void)
     q.label = label;
     q.allowed = allowed;
     q.wrap_x = q.wrap_y = 0;
+    q.motif = NULL;
+    q.motif_weight = 0.0f;
     before = pw_quilt_energy(&q);
     REQUIRE(pw_quilt_optimize(NULL, &q, 4, &e) == PW_OK);
     after = pw_quilt_energy(&q);

@@ -666,7 +666,7 @@ TILEDDEF tiled_result tiled_tileset_from_image(const tiled_image *tiles, const t
  *  - Each tile composites its four side diamonds and a random centre window
  *    with minimum-cost graph-cut seams (alpha-expansion, see quilt.h). The
  *    rows next to each side are constrained to that side's diamond, the
- *    centre disc to the centre window, everything else is free, so seams
+ *    centre square to the centre window, everything else is free, so seams
  *    fall where the sources agree and tiles with equal sides still differ.
  *  - Case 1 has one self-matching side: its diamond must look the same from
  *    both sides of the edge and, because tiles are mirrored, from both
@@ -677,19 +677,29 @@ typedef struct tiled__synth {
     int band;       /* rows from a side where its diamond may appear */
     int case1;
     int dx[8], dy[8]; /* diamond origins (pair k) in the source */
+    float *motif;         /* the periodic source's motif map (pw_quilt_motif_map) */
+    float motif_weight;   /* seam cost per source pixel inside a motif */
+    pw_seam_stats *stats; /* NULL, or where to add every tile's seam statistics */
+    float tau;            /* their colour threshold: the source's strong-edge gradient */
 } tiled__synth;
 
-static const float *tiled__src_px(const tiled__synth *s, int x, int y)
+/* Index of source pixel (x, y), wrapped: the source is periodic. */
+static size_t tiled__src_index(const tiled__synth *s, int x, int y)
 {
     x %= s->src.w;
     y %= s->src.h;
     if (x < 0) x += s->src.w;
     if (y < 0) y += s->src.h;
-    return s->src.px + ((size_t)y * s->src.w + x) * s->src.c;
+    return (size_t)y * s->src.w + x;
 }
 
-/* Colour of a side of boundary type `type` at side-frame point (a, b). */
-static const float *tiled__side_color(const tiled__synth *s, int type, int a, int b)
+static const float *tiled__src_px(const tiled__synth *s, int x, int y)
+{
+    return s->src.px + tiled__src_index(s, x, y) * s->src.c;
+}
+
+/* Source pixel shown by a side of boundary type `type` at side-frame point (a, b). */
+static size_t tiled__side_index(const tiled__synth *s, int type, int a, int b)
 {
     int T = s->T, k = type >> 1;
     if (s->case1) { /* symmetric under a -> T-1-a and b -> -1-b */
@@ -700,26 +710,31 @@ static const float *tiled__side_color(const tiled__synth *s, int type, int a, in
         a = T - 1 - a;
         b = -1 - b;
     }
-    return tiled__src_px(s, s->dx[k] + a, s->dy[k] - b); /* b up = source rows up */
+    return tiled__src_index(s, s->dx[k] + a, s->dy[k] - b); /* b up = source rows up */
 }
+
 
 /* Scratch of one tile composition: 5 label images, masks, labels. */
 typedef struct tiled__scratch {
     float *src;        /* 5*T*T*c */
+    float *motif;      /* 5*T*T: the sources' motif maps */
     uint32_t *allowed; /* T*T */
     int *label;        /* T*T */
 } tiled__scratch;
 
-/* Fills the four side labels' images of a tile with boundary types[4]. */
-static void tiled__side_sources(const tiled__synth *s, const int types[4], float *src)
+/* Fills the four side labels' images and motif maps of a tile with
+ * boundary types[4]. */
+static void tiled__side_sources(const tiled__synth *s, const int types[4], float *src, float *motif)
 {
     int T = s->T, c = s->src.c, l, i, j, a, b;
     for (l = 0; l < 4; l++)
         for (j = 0; j < T; j++)
             for (i = 0; i < T; i++) {
+                size_t k, p = (size_t)(l * T + j) * T + i;
                 tiled__to_side(l, T, i, j, &a, &b);
-                memcpy(src + ((size_t)(l * T + j) * T + i) * c, tiled__side_color(s, types[l], a, b),
-                       sizeof(float) * c);
+                k = tiled__side_index(s, types[l], a, b);
+                memcpy(src + p * c, s->src.px + k * c, sizeof(float) * c);
+                motif[p] = s->motif[k];
             }
 }
 
@@ -779,9 +794,11 @@ static void tiled__centre_source(const tiled__synth *s, pw_rng *rng, tiled__scra
         }
     }
     for (j = 0; j < T; j++)
-        for (i = 0; i < T; i++)
-            memcpy(sc->src + ((size_t)(4 * T + j) * T + i) * c, tiled__src_px(s, bx + i, by - j),
-                   sizeof(float) * c);
+        for (i = 0; i < T; i++) {
+            size_t p = (size_t)(4 * T + j) * T + i, k = tiled__src_index(s, bx + i, by - j);
+            memcpy(sc->src + p * c, s->src.px + k * c, sizeof(float) * c);
+            sc->motif[p] = s->motif[k];
+        }
 }
 
 /* Composes tile t into the atlas. */
@@ -791,7 +808,7 @@ static int tiled__compose(const pw_alloc *a, const tiled__synth *s, pw_rng *rng,
     int types[4], T = s->T, c = s->src.c, j, r;
     pw_quilt q;
     tiled__tile_types(gm, s->case1, t, types);
-    tiled__side_sources(s, types, sc->src);
+    tiled__side_sources(s, types, sc->src, sc->motif);
     tiled__constraints(s, sc);
     tiled__centre_source(s, rng, sc);
     q.w = q.h = T;
@@ -801,7 +818,10 @@ static int tiled__compose(const pw_alloc *a, const tiled__synth *s, pw_rng *rng,
     q.label = sc->label;
     q.allowed = sc->allowed;
     q.wrap_x = q.wrap_y = 0;
+    q.motif = sc->motif;
+    q.motif_weight = s->motif_weight;
     if ((r = pw_quilt_optimize(a, &q, 2, e)) != PW_OK) return r;
+    if (s->stats) pw_quilt_seam_stats(&q, s->tau, s->stats);
     for (j = 0; j < T; j++) { /* compose row by row into the atlas */
         int i;
         for (i = 0; i < T; i++)
@@ -848,7 +868,8 @@ static int tiled__synth_tiles(const pw_alloc *a, tiled__synth *s, const tiled_op
     sc.src = (float *)pw_alloc_array(a, tt * 5 * s->src.c, sizeof(float), "tile sources", e);
     sc.allowed = (uint32_t *)pw_alloc_array(a, tt, sizeof(uint32_t), "tile constraints", e);
     sc.label = (int *)pw_alloc_array(a, tt, sizeof(int), "tile labels", e);
-    if (!sc.src || !sc.allowed || !sc.label) r = PW_ERR_NOMEM;
+    sc.motif = (float *)pw_alloc_array(a, tt * 5, sizeof(float), "tile motif maps", e);
+    if (!sc.src || !sc.allowed || !sc.label || !sc.motif) r = PW_ERR_NOMEM;
     for (t = 0; t < gm->N * gm->N && r == PW_OK; t++) {
         r = pw_report(&pr, 0.1f + 0.9f * (float)t / (float)(gm->N * gm->N), "tile synthesis", e);
         if (r == PW_OK) r = tiled__compose(a, s, &rng, &sc, atlas, gm, t, e);
@@ -856,6 +877,53 @@ static int tiled__synth_tiles(const pw_alloc *a, tiled__synth *s, const tiled_op
     pw_free(a, sc.src);
     pw_free(a, sc.allowed);
     pw_free(a, sc.label);
+    pw_free(a, sc.motif);
+    return r;
+}
+
+/* Seam cost per source pixel inside a motif (pw_quilt.motif_weight): none
+ * yet, seams only follow colour agreement (issue 18 measures the motifs
+ * they cut). */
+#define TILED__MOTIF_WEIGHT 0.0f
+
+/* tiled_synthesize, also adding the seam statistics of every tile (see
+ * pw_quilt_seam_stats) to *stats when it is not NULL. */
+static int tiled__synthesize(const tiled_image *exemplar, const tiled_options *o,
+                             tiled_tileset *out, pw_seam_stats *stats, pw_err *pe)
+{
+    pw_alloc a = tiled__alloc(&o->allocator);
+    pw_progress pr = tiled__progress(o);
+    tiled_layout l;
+    tiled__synth s;
+    pw_image ex;
+    int r;
+    memset(&s, 0, sizeof s);
+    if ((r = tiled__check_image(exemplar, "exemplar", pe)) != PW_OK) return r;
+    ex = tiled__pw_image(exemplar);
+    if (ex.w < 8 || ex.h < 8)
+        return pw_fail(pe, PW_ERR_INVALID, "exemplar must be at least 8x8 pixels (got %dx%d)", ex.w, ex.h);
+    if ((r = tiled__resolve(&o->layout, pw_mini(ex.w, ex.h), &l, pe)) == PW_OK &&
+        (r = pw_report(&pr, 0.0f, "periodic source", pe)) == PW_OK &&
+        (r = pw_quilt_make_tileable(&a, &ex, &s.src, pe)) == PW_OK &&
+        (r = tiled__new_tileset(&a, &l, ex.c, out, pe)) == PW_OK) {
+        tiled__geom gm = tiled__geometry(&l);
+        pw_image atlas = tiled__pw_image(&out->atlas);
+        s.T = l.tile_size;
+        s.wc = pw_mini(pw_maxi(2, gm.g / 2), pw_maxi(1, s.T / 4));
+        s.band = pw_maxi(s.wc + 1, s.T / (l.case_number == 1 ? 5 : 4));
+        s.case1 = l.case_number == 1;
+        s.stats = stats;
+        s.motif_weight = TILED__MOTIF_WEIGHT;
+        s.motif = (float *)pw_alloc_array(&a, (size_t)s.src.w * s.src.h, sizeof(float), "motif map", pe);
+        r = s.motif ? pw_quilt_motif_map(&a, s.src.px, s.src.w, s.src.h, s.src.c, s.motif, &s.tau, pe)
+                    : PW_ERR_NOMEM;
+        if (r == PW_OK && (r = tiled__synth_tiles(&a, &s, o, &atlas, &gm, pe)) == PW_OK)
+            tiled__fill_guards(&atlas, &gm, s.case1);
+        else
+            tiled_tileset_free(out);
+    }
+    pw_image_free(&a, &s.src);
+    pw_free(&a, s.motif);
     return r;
 }
 
@@ -863,36 +931,11 @@ TILEDDEF tiled_result tiled_synthesize(const tiled_image *exemplar, const tiled_
                                        tiled_tileset *out, tiled_error *err)
 {
     tiled_options o = tiled__options(opt);
-    pw_alloc a = tiled__alloc(&o.allocator);
-    pw_progress pr = tiled__progress(&o);
-    tiled_layout l;
-    tiled__synth s;
     pw_err pe;
     pw_err_clear(&pe);
-    memset(&s, 0, sizeof s);
     if (out) memset(out, 0, sizeof *out);
     if (!out) pw_fail(&pe, PW_ERR_INVALID, "tiled_synthesize: NULL output");
-    else if (tiled__check_image(exemplar, "exemplar", &pe) == PW_OK) {
-        pw_image ex = tiled__pw_image(exemplar);
-        if (ex.w < 8 || ex.h < 8)
-            pw_fail(&pe, PW_ERR_INVALID, "exemplar must be at least 8x8 pixels (got %dx%d)", ex.w, ex.h);
-        else if (tiled__resolve(&o.layout, pw_mini(ex.w, ex.h), &l, &pe) == PW_OK &&
-                 pw_report(&pr, 0.0f, "periodic source", &pe) == PW_OK &&
-                 pw_quilt_make_tileable(&a, &ex, &s.src, &pe) == PW_OK &&
-                 tiled__new_tileset(&a, &l, ex.c, out, &pe) == PW_OK) {
-            tiled__geom gm = tiled__geometry(&l);
-            pw_image atlas = tiled__pw_image(&out->atlas);
-            s.T = l.tile_size;
-            s.wc = pw_mini(pw_maxi(2, gm.g / 2), pw_maxi(1, s.T / 4));
-            s.band = pw_maxi(s.wc + 1, s.T / (l.case_number == 1 ? 5 : 4));
-            s.case1 = l.case_number == 1;
-            if (tiled__synth_tiles(&a, &s, &o, &atlas, &gm, &pe) == PW_OK)
-                tiled__fill_guards(&atlas, &gm, s.case1);
-            else
-                tiled_tileset_free(out);
-        }
-        pw_image_free(&a, &s.src);
-    }
+    else tiled__synthesize(exemplar, &o, out, NULL, &pe);
     return tiled__done(&pe, err);
 }
 
