@@ -668,6 +668,13 @@ TILEDDEF tiled_result tiled_tileset_from_image(const tiled_image *tiles, const t
  *    rows next to each side are constrained to that side's diamond, the
  *    centre square to the centre window, everything else is free, so seams
  *    fall where the sources agree and tiles with equal sides still differ.
+ *  - Seams keep motifs whole (issue 18): the seam cost also charges every
+ *    source pixel inside a motif (quilt.h's motif map: what strong
+ *    outlines enclose, not the mortar around it), so seams run along
+ *    mortar and outlines instead of through pebbles; the diamonds reach
+ *    3/8 of the way in, which leaves a seam room to go round a motif; and
+ *    each diamond is placed so that its ends, which meet at every tile
+ *    corner along a fixed diagonal, show ground, not a motif.
  *  - Case 1 has one self-matching side: its diamond must look the same from
  *    both sides of the edge and, because tiles are mirrored, from both
  *    ends: it is made symmetric by reflection (C0, not C1, across edges). */
@@ -676,7 +683,7 @@ typedef struct tiled__synth {
     int T, wc;      /* tile size; rows next to a side constrained to it */
     int band;       /* rows from a side where its diamond may appear */
     int case1;
-    int dx[8], dy[8]; /* diamond origins (pair k) in the source */
+    int dx[9], dy[9]; /* diamond origins (pair k) in the source; [8]: scratch */
     float *motif;         /* the periodic source's motif map (pw_quilt_motif_map) */
     float motif_weight;   /* seam cost per source pixel inside a motif */
     pw_seam_stats *stats; /* NULL, or where to add every tile's seam statistics */
@@ -832,27 +839,73 @@ static int tiled__compose(const pw_alloc *a, const tiled__synth *s, pw_rng *rng,
     return PW_OK;
 }
 
-/* Places diamond k: the best of a few random origins, judged by how much
- * the source changes across the edge line. The two sides of every edge of
- * type pair k show the rows just above and below that line, so it should
- * not run along a cut seam of the periodic source. */
-static void tiled__place_diamond(tiled__synth *s, pw_rng *rng, int k)
+/* Cost of the corner between the bottom side (type t0) and the right side
+ * (type t1) of a tile: there the two sides' diamonds meet along the
+ * diagonal of the wc x wc square, a seam that no graph cut can move. It
+ * pays the colour jumps across that diagonal and, for every source pixel
+ * next to it inside a motif, the motif weight (pw_quilt_pair_cost). */
+static double tiled__corner_cost(const tiled__synth *s, int t0, int t1)
+{
+    int T = s->T, u, v, c = s->src.c, k;
+    double cost = 0.0;
+    for (v = 0; v < s->wc; v++)
+        for (u = 0; u + 1 < s->wc; u++) { /* pixel (T-1-u, v) and its left neighbour */
+            int i = T - 1 - u, j = v, a0, b0, a1, b1, w;
+            for (w = 0; w < 2; w++) {
+                int ii = i - w;
+                size_t p0, p1;
+                tiled__to_side(0, T, ii, j, &a0, &b0);
+                tiled__to_side(1, T, ii, j, &a1, &b1);
+                p0 = tiled__side_index(s, t0, a0, b0);
+                p1 = tiled__side_index(s, t1, a1, b1);
+                if (u != v && u + 1 != v) continue; /* only the pair straddling the diagonal */
+                for (k = 0; k < c; k++) cost += fabs(s->src.px[p0 * c + k] - s->src.px[p1 * c + k]);
+                cost += s->motif_weight * (s->motif[p0] + s->motif[p1]);
+            }
+        }
+    return cost;
+}
+
+/* Sum of the corner costs of every pair of types that involves pair k,
+ * with the pairs already placed (0..k). Case 1 has one type, k = 0. */
+static double tiled__corners_of(const tiled__synth *s, int k, int ntypes)
+{
+    int t0, t1;
+    double cost = 0.0;
+    for (t0 = 0; t0 < ntypes; t0++)
+        for (t1 = 0; t1 < ntypes; t1++)
+            if ((t0 >> 1) <= k && (t1 >> 1) <= k && ((t0 >> 1) == k || (t1 >> 1) == k))
+                cost += tiled__corner_cost(s, t0, t1);
+    return cost;
+}
+
+/* Places diamond k: the best of 32 random origins. A candidate pays how
+ * much the source changes across the edge line (the two sides of every
+ * edge of pair k show the rows just above and below it, so it should not
+ * run along a cut seam of the periodic source) and the cost of the tile
+ * corners its ends make with the diamonds placed before it: where a
+ * diamond's ends show mortar, the corners of tiles cut no pebble. */
+static void tiled__place_diamond(tiled__synth *s, pw_rng *rng, int k, int ntypes)
 {
     double best = -1.0;
     int cand, a, c;
-    for (cand = 0; cand < 8; cand++) {
+    for (cand = 0; cand < 32; cand++) {
         int ox = (int)pw_rng_below(rng, (uint32_t)s->src.w), oy = (int)pw_rng_below(rng, (uint32_t)s->src.h);
-        double jump = 0.0;
+        double cost = 0.0;
         for (a = 0; a < s->T; a++) {
             const float *p = tiled__src_px(s, ox + a, oy), *q = tiled__src_px(s, ox + a, oy + 1);
-            for (c = 0; c < s->src.c; c++) jump += fabs(p[c] - q[c]);
+            for (c = 0; c < s->src.c; c++) cost += fabs(p[c] - q[c]);
         }
-        if (best < 0.0 || jump < best) {
-            best = jump;
-            s->dx[k] = ox;
-            s->dy[k] = oy;
+        s->dx[k] = ox;
+        s->dy[k] = oy;
+        cost += tiled__corners_of(s, k, ntypes);
+        if (best < 0.0 || cost < best) {
+            best = cost;
+            s->dx[8] = ox, s->dy[8] = oy;
         }
     }
+    s->dx[k] = s->dx[8];
+    s->dy[k] = s->dy[8];
 }
 
 /* Builds every tile of a resolved layout from the periodic source. */
@@ -864,7 +917,7 @@ static int tiled__synth_tiles(const pw_alloc *a, tiled__synth *s, const tiled_op
     tiled__scratch sc;
     size_t tt = (size_t)s->T * s->T;
     int k, t, r = PW_OK;
-    for (k = 0; k < 8; k++) tiled__place_diamond(s, &rng, k);
+    for (k = 0; k < 8; k++) tiled__place_diamond(s, &rng, k, gm->n);
     sc.src = (float *)pw_alloc_array(a, tt * 5 * s->src.c, sizeof(float), "tile sources", e);
     sc.allowed = (uint32_t *)pw_alloc_array(a, tt, sizeof(uint32_t), "tile constraints", e);
     sc.label = (int *)pw_alloc_array(a, tt, sizeof(int), "tile labels", e);
@@ -881,10 +934,10 @@ static int tiled__synth_tiles(const pw_alloc *a, tiled__synth *s, const tiled_op
     return r;
 }
 
-/* Seam cost per source pixel inside a motif (pw_quilt.motif_weight): none
- * yet, seams only follow colour agreement (issue 18 measures the motifs
- * they cut). */
-#define TILED__MOTIF_WEIGHT 0.0f
+/* Seam cost per source pixel inside a motif (pw_quilt.motif_weight), in
+ * the units of colour distance (0..sqrt(3) per pixel and source pair): a
+ * seam through a pebble pays more than one through mortar of any shade. */
+#define TILED__MOTIF_WEIGHT 3.0f
 
 /* tiled_synthesize, also adding the seam statistics of every tile (see
  * pw_quilt_seam_stats) to *stats when it is not NULL. */
@@ -910,7 +963,7 @@ static int tiled__synthesize(const tiled_image *exemplar, const tiled_options *o
         pw_image atlas = tiled__pw_image(&out->atlas);
         s.T = l.tile_size;
         s.wc = pw_mini(pw_maxi(2, gm.g / 2), pw_maxi(1, s.T / 4));
-        s.band = pw_maxi(s.wc + 1, s.T / (l.case_number == 1 ? 5 : 4));
+        s.band = pw_maxi(s.wc + 1, s.T * 3 / (l.case_number == 1 ? 10 : 8));
         s.case1 = l.case_number == 1;
         s.stats = stats;
         s.motif_weight = TILED__MOTIF_WEIGHT;
