@@ -858,6 +858,41 @@ static void t_motif_cuts_gimp(void)
     }
 }
 
+/* The drawn tile size: tiles of the cube span its faces, so a tile is as
+ * wide on screen as a face; twice the picture height draws it twice as
+ * wide; a subdivision level about halves it; bad arguments are errors. */
+static void t_drawn_tile_size(void)
+{
+    tiled_tileset ts = layout_only(2, 1, 8);
+    tiled_options o = opts(2, 1);
+    tiled_render_options ro;
+    tiled_mesh mesh, q, q2;
+    tiled_error err;
+    float px, px2, px_fine;
+    ts.atlas.width = ts.atlas.height = 4 * (64 + 2 * 8); /* only its size is read */
+    memset(&ro, 0, sizeof ro);
+    ro.width = 400, ro.height = 300;
+    REQUIRE(tiled_builtin_mesh("cube", &o, &mesh, &err) == TILED_OK);
+    REQUIRE(tiled_map(&mesh, &ts.layout, &o, &q, &err) == TILED_OK);
+    REQUIRE(tiled_drawn_tile_size(&q, &ts, &ro, &px, &err) == TILED_OK);
+    ro.width = 800, ro.height = 600;
+    REQUIRE(tiled_drawn_tile_size(&q, &ts, &ro, &px2, &err) == TILED_OK);
+    o.subdivide = 1;
+    REQUIRE(tiled_map(&mesh, &ts.layout, &o, &q2, &err) == TILED_OK);
+    REQUIRE(tiled_drawn_tile_size(&q2, &ts, &ro, &px_fine, &err) == TILED_OK);
+    pwt_info("cube: tiles drawn %.1f px at 400x300, %.1f px at 800x600, %.1f px one level finer",
+             px, px2, px_fine);
+    CHECKF(px > 60.0f && px < 300.0f, "a cube face drawn %.1f px wide in a 400x300 picture", px);
+    CHECK_NEAR(px2 / px, 2.0, 1e-3);
+    CHECK_NEAR(px_fine / px2, 0.5, 0.05); /* Catmull-Clark rounds the cube: framed a bit closer */
+    CHECK(tiled_drawn_tile_size(&mesh, &ts, &ro, &px, &err) == TILED_ERR_INVALID); /* no uvs */
+    CHECK(tiled_drawn_tile_size(&q, NULL, &ro, &px, &err) == TILED_ERR_INVALID);
+    CHECK(tiled_drawn_tile_size(&q, &ts, &ro, NULL, &err) == TILED_ERR_INVALID);
+    tiled_mesh_free(&mesh);
+    tiled_mesh_free(&q);
+    tiled_mesh_free(&q2);
+}
+
 static const pwt_case cases[] = {
     {"tiled/fig29_formula", t_fig29_formula},
     {"tiled/edge_invariants", t_edge_invariants},
@@ -887,6 +922,7 @@ static const pwt_case cases[] = {
     {"tiled/real_java", t_real_java},
     {"tiled/real_pine", t_real_pine},
     {"tiled/real_marble3", t_real_marble3},
+    {"tiled/drawn_tile_size", t_drawn_tile_size},
     {"tiled/motif_cuts_pebbles", t_motif_cuts_pebbles},
     {"tiled/motif_cuts_gimp", t_motif_cuts_gimp},
 };
