@@ -9352,28 +9352,26 @@ static int tiled__compose(const pw_alloc *a, const tiled__synth *s, pw_rng *rng,
 
 /* Cost of the corner between the bottom side (type t0) and the right side
  * (type t1) of a tile: there the two sides' diamonds meet along the
- * diagonal of the wc x wc square, a seam that no graph cut can move. It
- * pays the colour jumps across that diagonal and, for every source pixel
- * next to it inside a motif, the motif weight (pw_quilt_pair_cost). */
+ * diagonal of the wc x wc square, a seam that no graph cut can move. In
+ * each row v < wc it sums, over the horizontal pixel pairs (T-2-u, v),
+ * (T-1-u, v) with u = v-1 and u = v (those next to the diagonal), the
+ * colour jumps between the two diamonds and, for every source pixel inside
+ * a motif, the motif weight (as pw_quilt_pair_cost does). */
 static double tiled__corner_cost(const tiled__synth *s, int t0, int t1)
 {
-    int T = s->T, u, v, c = s->src.c, k;
+    int T = s->T, u, v, w, k, c = s->src.c, a0, b0, a1, b1;
     double cost = 0.0;
     for (v = 0; v < s->wc; v++)
-        for (u = 0; u + 1 < s->wc; u++) { /* pixel (T-1-u, v) and its left neighbour */
-            int i = T - 1 - u, j = v, a0, b0, a1, b1, w;
+        for (u = v > 0 ? v - 1 : 0; u <= v && u + 1 < s->wc; u++)
             for (w = 0; w < 2; w++) {
-                int ii = i - w;
                 size_t p0, p1;
-                tiled__to_side(0, T, ii, j, &a0, &b0);
-                tiled__to_side(1, T, ii, j, &a1, &b1);
+                tiled__to_side(0, T, T - 1 - u - w, v, &a0, &b0);
+                tiled__to_side(1, T, T - 1 - u - w, v, &a1, &b1);
                 p0 = tiled__side_index(s, t0, a0, b0);
                 p1 = tiled__side_index(s, t1, a1, b1);
-                if (u != v && u + 1 != v) continue; /* only the pair straddling the diagonal */
                 for (k = 0; k < c; k++) cost += fabs(s->src.px[p0 * c + k] - s->src.px[p1 * c + k]);
                 cost += s->motif_weight * (s->motif[p0] + s->motif[p1]);
             }
-        }
     return cost;
 }
 
