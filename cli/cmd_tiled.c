@@ -174,6 +174,26 @@ static tiled_result write_obj(cli_outputs *o, const char *obj, const char *textu
 static tiled_result write_glb(cli_outputs *o, const char *path, const tiled_mesh *m, const tiled_image *texture,
                               const tiled_render_options *view, tiled_error *err);
 
+/* Tiles drawn under this many pixels wide show no texture. */
+#define MIN_TILE_PX 16.0f
+
+/* Warns when the rendering (at --size, or 800x600) would draw tiles too
+ * small to see: one tile per quad needs big quads (issue 18). */
+static tiled_result warn_small_tiles(const tiled_mesh *quads, const tiled_tileset *ts,
+                                     const tiled_render_options *ro, tiled_error *err)
+{
+    float px;
+    tiled_result r = tiled_drawn_tile_size(quads, ts, ro, &px, err);
+    if (r == TILED_OK && px < MIN_TILE_PX)
+        fprintf(stderr, "patchwork tiled: warning: tiles are drawn about %.1f px wide on %d quads "
+                "(under %.0f px the texture cannot be seen): tiled.h puts one tile on every quad, "
+                "so give it a coarser quad mesh (fewer, larger quads; --subdivide only makes tiles "
+                "smaller), or texture dense meshes such as scans with `patchwork pgp` or "
+                "`patchwork lapped`, whose texture scale does not follow the faces\n",
+                (double)px, quads->nfaces, (double)MIN_TILE_PX);
+    return r;
+}
+
 static tiled_result run(tiled_cmd *c, cli_outputs *outs, tiled_error *err)
 {
     tiled_mesh mesh, quads;
@@ -199,6 +219,7 @@ static tiled_result run(tiled_cmd *c, cli_outputs *outs, tiled_error *err)
         printf("tiled: %d faces -> %d quads; %d x %d tiles of %d px (guard %d)\n", mesh.nfaces,
                quads.nfaces, ts.tiles_per_side, ts.tiles_per_side, ts.layout.tile_size,
                ts.layout.guard < 0 ? 0 : ts.layout.guard);
+        if (r == TILED_OK) r = warn_small_tiles(&quads, &ts, &c->ro, err);
         if (r == TILED_OK && c->out_tiles) r = cli_write_image(outs, c->out_tiles, &ts.atlas, err);
         if (r == TILED_OK && c->out_obj) r = write_obj(outs, c->out_obj, c->out_tiles, &quads, err);
         if (r == TILED_OK && c->out_glb) r = write_glb(outs, c->out_glb, &quads, &ts.atlas, &c->ro, err);

@@ -119,6 +119,8 @@ static void t_seam_follows_agreement(void)
     q.label = label;
     q.allowed = allowed;
     q.wrap_x = q.wrap_y = 0;
+    q.motif = NULL;
+    q.motif_weight = 0.0f;
     REQUIRE(pw_quilt_optimize(NULL, &q, 3, &e) == PW_OK);
     for (y = 0; y < H; y++) {
         CHECK(label[y * W] == 0 && label[y * W + W - 1] == 1);
@@ -157,6 +159,8 @@ static void t_energy_decreases(void)
     q.label = label;
     q.allowed = allowed;
     q.wrap_x = q.wrap_y = 0;
+    q.motif = NULL;
+    q.motif_weight = 0.0f;
     before = pw_quilt_energy(&q);
     REQUIRE(pw_quilt_optimize(NULL, &q, 4, &e) == PW_OK);
     after = pw_quilt_energy(&q);
@@ -194,11 +198,72 @@ static void t_alloc_failures(void)
     pw_image_free(NULL, &in);
 }
 
+/* Discs of radius 10 at (16,16), (48,16), (16,48), (48,48) on a 64 x 64
+ * periodic ground; colour `disc` inside, 0.2 outside. */
+static void discs(float *px, float disc)
+{
+    int x, y;
+    for (y = 0; y < 64; y++)
+        for (x = 0; x < 64; x++) {
+            int dx = (x % 32) - 16, dy = (y % 32) - 16;
+            px[y * 64 + x] = dx * dx + dy * dy < 100 ? disc : 0.2f;
+        }
+}
+
+/* The motif map finds the discs' insides (1) and tells their outlines and
+ * the ground that wraps around them (0) apart; a seam through the discs,
+ * where the two sources' discs differ in colour, cuts motifs, and the
+ * optimised seam (colour and motif cost) runs through the ground and cuts
+ * none. */
+static void t_motif_map(void)
+{
+    static float src[2 * 64 * 64], motif[2 * 64 * 64];
+    int label[64 * 64], i, x, y;
+    uint32_t allowed[64 * 64];
+    float edge;
+    pw_seam_stats st = {0, 0};
+    pw_quilt q;
+    pw_err e;
+    pw_err_clear(&e);
+    discs(src, 0.8f);
+    discs(src + 64 * 64, 0.5f);
+    REQUIRE(pw_quilt_motif_map(NULL, src, 64, 64, 1, motif, &edge, &e) == PW_OK);
+    REQUIRE(pw_quilt_motif_map(NULL, src + 64 * 64, 64, 64, 1, motif + 64 * 64, &edge, &e) == PW_OK);
+    CHECK(motif[16 * 64 + 16] == 1.0f && motif[48 * 64 + 48] == 1.0f); /* disc centres */
+    CHECK(motif[16 * 64 + 26] == 0.0f && motif[16 * 64 + 6] == 0.0f); /* outlines */
+    CHECK(motif[0] == 0.0f && motif[32 * 64 + 32] == 0.0f);            /* ground */
+    CHECKF(edge > 0.0f, "edge threshold %g", edge);
+    /* left columns from source 0, right from 1; x < 3 and x >= 61 pinned */
+    for (y = 0; y < 64; y++)
+        for (x = 0; x < 64; x++) {
+            i = y * 64 + x;
+            allowed[i] = x < 3 ? 1u : (x >= 61 ? 2u : 3u);
+            label[i] = x < 16 ? 0 : 1; /* a seam at x = 16, through the discs */
+        }
+    memset(&q, 0, sizeof q);
+    q.w = q.h = 64;
+    q.c = 1;
+    q.nlabels = 2;
+    q.src = src;
+    q.label = label;
+    q.allowed = allowed;
+    q.motif = motif;
+    pw_quilt_seam_stats(&q, edge, &st);
+    CHECKF(st.pairs == 64 && st.cut > 0, "seam through the discs: %ld pairs, %ld cut", st.pairs, st.cut);
+    q.motif_weight = 1.0f;
+    REQUIRE(pw_quilt_optimize(NULL, &q, 3, &e) == PW_OK);
+    st.pairs = st.cut = 0;
+    pw_quilt_seam_stats(&q, edge, &st);
+    pwt_info("after optimising with the motif cost: %ld seam pairs, %ld cut a motif", st.pairs, st.cut);
+    CHECKF(st.pairs > 0 && st.cut == 0, "%ld of %ld seam pairs cut a disc", st.cut, st.pairs);
+}
+
 static const pwt_case cases[] = {
     {"quilt/make_tileable", t_make_tileable},
     {"quilt/make_tileable_real", t_make_tileable_real},
     {"quilt/seam_follows_agreement", t_seam_follows_agreement},
     {"quilt/energy_decreases", t_energy_decreases},
     {"quilt/alloc_failures", t_alloc_failures},
+    {"quilt/motif_map", t_motif_map},
 };
 PWT_MAIN(cases)

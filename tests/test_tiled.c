@@ -787,6 +787,112 @@ static void t_real_java(void) { real_exemplar("java"); }
 static void t_real_pine(void) { real_exemplar("pine"); }
 static void t_real_marble3(void) { real_exemplar("marble3"); }
 
+/* ---- motifs kept whole at seams (issue 18) ---------------------------------- */
+
+/* The share of seam pixel pairs inside the tiles of a case-2 tile set
+ * that cut a motif (pw_quilt_seam_stats: the seam passes a pixel or more
+ * inside a motif of either source, by quilt.h's motif map, and the two
+ * sources differ there by more than the exemplar's strong-edge gradient). */
+static double cut_share(const tiled_image *ex, const char *what)
+{
+    tiled_options o = opts(2, 1);
+    tiled_tileset ts;
+    pw_seam_stats st = {0, 0};
+    pw_err pe;
+    double share;
+    long ntiles;
+    pw_err_clear(&pe);
+    if (tiled__synthesize(ex, &o, &ts, &st, &pe) != PW_OK) {
+        CHECKF(0, "%s: %s", what, pe.msg);
+        return 1.0;
+    }
+    share = st.pairs ? (double)st.cut / (double)st.pairs : 0.0;
+    ntiles = (long)ts.tiles_per_side * ts.tiles_per_side;
+    pwt_info("%s (%dx%d, tiles of %d px): %ld of %ld seam pairs cut a motif (%.1f%%), %ld per tile",
+             what, ex->width, ex->height, ts.layout.tile_size, st.cut, st.pairs, 100.0 * share,
+             st.cut / ntiles);
+    tiled_tileset_free(&ts);
+    return share;
+}
+
+/* The demo's exemplar (procedural pebbles, 128 px as in `make demo`):
+ * before issue 18, 13.1% of its seam pairs cut a pebble. */
+static void t_motif_cuts_pebbles(void)
+{
+    tiled_options o = opts(2, 1);
+    tiled_image ex;
+    tiled_error err;
+    double share;
+    REQUIRE(tiled_builtin_exemplar("pebbles", 128, &o, &ex, &err) == TILED_OK);
+    share = cut_share(&ex, "procedural pebbles");
+    CHECKF(share <= 0.10, "%.1f%% of seam pairs cut a motif (at most 10%%)", 100.0 * share);
+    tiled_image_free(&ex);
+}
+
+/* GIMP's structured patterns (pebbles.ppm shows coffee beans), with the
+ * share of seam pairs that cut a motif before issue 18 and the most
+ * allowed now. Bricks are tiled at 64 px, where a 45 x 28 px brick leaves
+ * a seam little room to go round it. */
+static void t_motif_cuts_gimp(void)
+{
+    static const struct {
+        const char *name;
+        double before, limit;
+    } ex_[] = {{"pebbles", 0.298, 0.10}, {"stone33", 0.361, 0.10}, {"leaves3", 0.086, 0.04},
+               {"brick", 0.220, 0.15}};
+    tiled_options o = opts(2, 1);
+    int k;
+    for (k = 0; k < 4; k++) {
+        char rel[64];
+        const char *path;
+        tiled_image ex;
+        tiled_error err;
+        double share;
+        snprintf(rel, sizeof rel, "textures/%s.ppm", ex_[k].name);
+        if (!(path = pwt_data(rel))) return;
+        REQUIRE(tiled_load_image(path, &o, &ex, &err) == TILED_OK);
+        share = cut_share(&ex, ex_[k].name);
+        CHECKF(share <= ex_[k].limit, "%s: %.1f%% of seam pairs cut a motif (at most %.0f%%; %.1f%% before "
+               "issue 18)", ex_[k].name, 100.0 * share, 100.0 * ex_[k].limit, 100.0 * ex_[k].before);
+        tiled_image_free(&ex);
+    }
+}
+
+/* The drawn tile size: tiles of the cube span its faces, so a tile is as
+ * wide on screen as a face; twice the picture height draws it twice as
+ * wide; a subdivision level about halves it; bad arguments are errors. */
+static void t_drawn_tile_size(void)
+{
+    tiled_tileset ts = layout_only(2, 1, 8);
+    tiled_options o = opts(2, 1);
+    tiled_render_options ro;
+    tiled_mesh mesh, q, q2;
+    tiled_error err;
+    float px, px2, px_fine;
+    ts.atlas.width = ts.atlas.height = 4 * (64 + 2 * 8); /* only its size is read */
+    memset(&ro, 0, sizeof ro);
+    ro.width = 400, ro.height = 300;
+    REQUIRE(tiled_builtin_mesh("cube", &o, &mesh, &err) == TILED_OK);
+    REQUIRE(tiled_map(&mesh, &ts.layout, &o, &q, &err) == TILED_OK);
+    REQUIRE(tiled_drawn_tile_size(&q, &ts, &ro, &px, &err) == TILED_OK);
+    ro.width = 800, ro.height = 600;
+    REQUIRE(tiled_drawn_tile_size(&q, &ts, &ro, &px2, &err) == TILED_OK);
+    o.subdivide = 1;
+    REQUIRE(tiled_map(&mesh, &ts.layout, &o, &q2, &err) == TILED_OK);
+    REQUIRE(tiled_drawn_tile_size(&q2, &ts, &ro, &px_fine, &err) == TILED_OK);
+    pwt_info("cube: tiles drawn %.1f px at 400x300, %.1f px at 800x600, %.1f px one level finer",
+             px, px2, px_fine);
+    CHECKF(px > 60.0f && px < 300.0f, "a cube face drawn %.1f px wide in a 400x300 picture", px);
+    CHECK_NEAR(px2 / px, 2.0, 1e-3);
+    CHECK_NEAR(px_fine / px2, 0.5, 0.05); /* Catmull-Clark rounds the cube: framed a bit closer */
+    CHECK(tiled_drawn_tile_size(&mesh, &ts, &ro, &px, &err) == TILED_ERR_INVALID); /* no uvs */
+    CHECK(tiled_drawn_tile_size(&q, NULL, &ro, &px, &err) == TILED_ERR_INVALID);
+    CHECK(tiled_drawn_tile_size(&q, &ts, &ro, NULL, &err) == TILED_ERR_INVALID);
+    tiled_mesh_free(&mesh);
+    tiled_mesh_free(&q);
+    tiled_mesh_free(&q2);
+}
+
 static const pwt_case cases[] = {
     {"tiled/fig29_formula", t_fig29_formula},
     {"tiled/edge_invariants", t_edge_invariants},
@@ -816,5 +922,8 @@ static const pwt_case cases[] = {
     {"tiled/real_java", t_real_java},
     {"tiled/real_pine", t_real_pine},
     {"tiled/real_marble3", t_real_marble3},
+    {"tiled/drawn_tile_size", t_drawn_tile_size},
+    {"tiled/motif_cuts_pebbles", t_motif_cuts_pebbles},
+    {"tiled/motif_cuts_gimp", t_motif_cuts_gimp},
 };
 PWT_MAIN(cases)

@@ -10,7 +10,16 @@
  * move lets every pixel either keep its label or switch to label alpha, and
  * is solved exactly by one minimum cut. Hard constraints are per-pixel masks
  * of the labels a pixel may take. The grid may wrap around in x and/or y,
- * for textures that must tile. */
+ * for textures that must tile.
+ *
+ * Optionally the cost also follows the sources' structure: with a motif
+ * map (1 inside a motif, 0 on its outline or between motifs, from
+ * pw_quilt_motif_map) a seam between p and q also pays motif_weight for
+ * each of the four source pixels A(p), B(p), A(q), B(q) that lies inside a
+ * motif. Seams then run where both sources show outlines or mortar and
+ * keep pebbles, bricks and leaves whole (issue 18; the colour term alone
+ * happily cuts a pebble in two against a pebble of a similar colour). The
+ * extra term is a sum of per-label terms, so the cost stays a metric. */
 #ifndef PW__QUILT_V1
 #define PW__QUILT_V1
 
@@ -25,6 +34,8 @@ typedef struct pw_quilt {
     int *label;           /* w*h, in/out: the labelling (initial labels must be allowed) */
     const uint32_t *allowed; /* w*h bit masks (bit l: label l allowed) or NULL: all */
     int wrap_x, wrap_y;   /* non-zero: the grid is periodic in that direction */
+    const float *motif;   /* NULL or nlabels*w*h: source l's motif value at pixel i is motif[l*w*h + i] */
+    float motif_weight;   /* seam cost per source pixel inside a motif */
 } pw_quilt;
 
 /* |A(i) - B(i)|: distance between the colours of two labels at pixel i. */
@@ -39,11 +50,19 @@ PW__DEF float pw__quilt_diff(const pw_quilt *q, int la, int lb, int i)
     return sqrtf(s);
 }
 
+/* How far inside motifs sources la and lb are at pixel i (0..2). */
+PW__DEF float pw__quilt_motif(const pw_quilt *q, int la, int lb, int i)
+{
+    size_t n = (size_t)q->w * q->h;
+    return q->motif ? q->motif[la * n + i] + q->motif[lb * n + i] : 0.0f;
+}
+
 /* Seam cost between neighbours i, j labelled la, lb. */
 PW__DEF float pw_quilt_pair_cost(const pw_quilt *q, int i, int j, int la, int lb)
 {
     if (la == lb) return 0.0f;
-    return pw__quilt_diff(q, la, lb, i) + pw__quilt_diff(q, la, lb, j);
+    return pw__quilt_diff(q, la, lb, i) + pw__quilt_diff(q, la, lb, j) +
+           (q->motif ? q->motif_weight * (pw__quilt_motif(q, la, lb, i) + pw__quilt_motif(q, la, lb, j)) : 0.0f);
 }
 
 /* The right and upper neighbours of pixel i (-1 where the grid ends). */
@@ -65,6 +84,188 @@ PW__DEF double pw_quilt_energy(const pw_quilt *q)
             if (nb[k] >= 0) s += pw_quilt_pair_cost(q, i, nb[k], q->label[i], q->label[nb[k]]);
     }
     return s;
+}
+
+/* Seam statistics of a labelling, the measure of cut motifs: `pairs`
+ * counts neighbour pairs (p, q) whose labels A, B differ (seam pairs),
+ * `cut` those where, at p or at q, the seam passes inside a motif of A or
+ * of B (motif value above 1/2; without a motif map: anywhere) and the two
+ * sources differ by more than tau, |A(x) - B(x)| > tau. There the seam
+ * chops a pebble, brick or leaf off, or gives its outline a kink. Where
+ * both sources show outlines or mortar, or agree, it cannot be seen. */
+typedef struct pw_seam_stats {
+    long pairs, cut;
+} pw_seam_stats;
+
+/* 1 if pixel i of source l lies inside a motif with its 4 neighbours: a
+ * pixel or more away from the motif's outline. */
+PW__DEF int pw__quilt_deep(const pw_quilt *q, int l, int i)
+{
+    const float *m = q->motif + (size_t)l * q->w * q->h;
+    int x = i % q->w, y = i / q->w;
+    return m[i] > 0.5f && (x == 0 || m[i - 1] > 0.5f) && (x == q->w - 1 || m[i + 1] > 0.5f) &&
+           (y == 0 || m[i - q->w] > 0.5f) && (y == q->h - 1 || m[i + q->w] > 0.5f);
+}
+
+PW__DEF int pw__quilt_cuts_at(const pw_quilt *q, int la, int lb, int i, float tau)
+{
+    int inside = !q->motif || pw__quilt_deep(q, la, i) || pw__quilt_deep(q, lb, i);
+    return inside && pw__quilt_diff(q, la, lb, i) > tau;
+}
+
+PW__DEF void pw_quilt_seam_stats(const pw_quilt *q, float tau, pw_seam_stats *st)
+{
+    int i, k, n = q->w * q->h, nb[2];
+    for (i = 0; i < n; i++) {
+        pw__quilt_neighbours(q, i, nb);
+        for (k = 0; k < 2; k++) {
+            int j = nb[k], la = q->label[i], lb = j >= 0 ? q->label[j] : la;
+            if (la == lb) continue;
+            st->pairs++;
+            if (pw__quilt_cuts_at(q, la, lb, i, tau) || pw__quilt_cuts_at(q, la, lb, j, tau)) st->cut++;
+        }
+    }
+}
+
+/* Box blur of a periodic image, 3 taps, `passes` times along x and y. */
+PW__DEF void pw__quilt_blur(float *px, float *tmp, int w, int h, int c, int passes)
+{
+    int p, x, y, k, d;
+    for (p = 0; p < 2 * passes; p++) {
+        for (y = 0; y < h; y++)
+            for (x = 0; x < w; x++)
+                for (k = 0; k < c; k++) {
+                    float v = 0.0f;
+                    for (d = -1; d <= 1; d++)
+                        v += p & 1 ? px[((size_t)((y + d + h) % h) * w + x) * c + k]
+                                   : px[((size_t)y * w + (x + d + w) % w) * c + k];
+                    tmp[((size_t)y * w + x) * c + k] = v / 3.0f;
+                }
+        memcpy(px, tmp, sizeof(float) * (size_t)w * h * c);
+    }
+}
+
+/* Gradient magnitude (central differences, colour distance) of a periodic image. */
+PW__DEF void pw__quilt_gradient(const float *px, int w, int h, int c, float *g)
+{
+    int x, y, k;
+    for (y = 0; y < h; y++)
+        for (x = 0; x < w; x++) {
+            double gx = 0.0, gy = 0.0;
+            for (k = 0; k < c; k++) {
+                float a = px[((size_t)y * w + (x + 1) % w) * c + k] - px[((size_t)y * w + (x + w - 1) % w) * c + k];
+                float b = px[((size_t)((y + 1) % h) * w + x) * c + k] - px[((size_t)((y + h - 1) % h) * w + x) * c + k];
+                gx += a * a;
+                gy += b * b;
+            }
+            g[(size_t)y * w + x] = 0.5f * (float)sqrt(gx + gy);
+        }
+}
+
+PW__DEF int pw__quilt_cmp_float(const void *a, const void *b)
+{
+    float x = *(const float *)a, y = *(const float *)b;
+    return x < y ? -1 : x > y;
+}
+
+/* Floods the component of motif pixels (value 1) through `seed` on the
+ * torus, writing `stamp` into comp and each pixel's unwrapped position
+ * into ux, uy. Returns 1 if the component wraps around the torus (reaches
+ * a pixel again at another unwrapped position): a network such as mortar
+ * or the dark gaps between leaves, the ground, not a motif. */
+PW__DEF int pw__quilt_wraps(const float *m, int w, int h, int seed, int stamp, int *comp, int *ux, int *uy,
+                            int *stack, size_t *size)
+{
+    static const int dx[4] = {1, -1, 0, 0}, dy[4] = {0, 0, 1, -1};
+    int top = 0, wraps = 0, k;
+    *size = 0;
+    comp[seed] = stamp;
+    ux[seed] = seed % w;
+    uy[seed] = seed / w;
+    stack[top++] = seed;
+    while (top > 0) {
+        int i = stack[--top];
+        (*size)++;
+        for (k = 0; k < 4; k++) {
+            int u = ux[i] + dx[k], v = uy[i] + dy[k];
+            int j = ((v % h + h) % h) * w + (u % w + w) % w;
+            if (m[j] <= 0.5f) continue;
+            if (comp[j] == stamp) {
+                if (ux[j] != u || uy[j] != v) wraps = 1;
+                continue;
+            }
+            comp[j] = stamp;
+            ux[j] = u;
+            uy[j] = v;
+            stack[top++] = j;
+        }
+    }
+    return wraps;
+}
+
+/* Clears the motif value of every component that is ground, not a motif:
+ * one that wraps around the torus or covers a quarter of the image or
+ * more (mortar, the dark gaps between leaves: a network around motifs,
+ * which outlines that nearly touch may split), or one under 1/200 of the
+ * image (grain, a pocket of mortar). */
+PW__DEF int pw__quilt_clear_ground(const pw_alloc *a, float *m, int w, int h, pw_err *e)
+{
+    size_t n = (size_t)w * h, i, size;
+    int *buf = (int *)pw_alloc_array(a, n * 4, sizeof(int), "motif components", e);
+    int *comp = buf, *ux = buf + n, *uy = buf + 2 * n, *stack = buf + 3 * n;
+    if (!buf) return PW_ERR_NOMEM;
+    for (i = 0; i < n; i++) comp[i] = -1;
+    for (i = 0; i < n; i++)
+        if (m[i] > 0.5f && comp[i] < 0 &&
+            (pw__quilt_wraps(m, w, h, (int)i, (int)i, comp, ux, uy, stack, &size) || size * 4 >= n ||
+             size * 200 < n)) {
+            size_t j;
+            for (j = 0; j < n; j++)
+                if (comp[j] == (int)i) m[j] = 0.0f;
+        }
+    pw_free(a, buf);
+    return PW_OK;
+}
+
+/* The motif map of a periodic image (w, h >= 3): 1 inside motifs, 0 on
+ * their outlines (within a pixel of a strong edge) and on the ground.
+ * Strong edges are the top 30% of gradient magnitudes after a blur that
+ * removes grain (two 3-tap box passes), so outlines of pebbles, bricks and
+ * leaves count and the speckle inside them does not. What the outlines
+ * enclose is a motif; what stays connected around the whole (periodic)
+ * image is the ground between motifs (mortar, gaps). *edge gets the
+ * threshold (a colour change per pixel). */
+PW__DEF int pw_quilt_motif_map(const pw_alloc *a, const float *px, int w, int h, int c, float *motif,
+                               float *edge, pw_err *e)
+{
+    size_t n = (size_t)w * h;
+    float *blur = (float *)pw_alloc_array(a, n * 2 * c, sizeof(float), "motif map", e);
+    float *g = (float *)pw_alloc_array(a, n * 2, sizeof(float), "motif gradients", e);
+    int x, y, dx, dy;
+    float te;
+    if (!blur || !g) {
+        pw_free(a, blur);
+        pw_free(a, g);
+        return PW_ERR_NOMEM;
+    }
+    memcpy(blur, px, sizeof(float) * n * c);
+    pw__quilt_blur(blur, blur + n * c, w, h, c, 2);
+    pw__quilt_gradient(blur, w, h, c, g);
+    memcpy(g + n, g, sizeof(float) * n);
+    qsort(g + n, n, sizeof(float), pw__quilt_cmp_float);
+    te = g[n + (size_t)(0.7 * (double)(n - 1))];
+    for (y = 0; y < h; y++)
+        for (x = 0; x < w; x++) {
+            float m = 1.0f;
+            for (dy = -1; dy <= 1; dy++)
+                for (dx = -1; dx <= 1; dx++)
+                    if (g[(size_t)((y + dy + h) % h) * w + (x + dx + w) % w] > te) m = 0.0f;
+            motif[(size_t)y * w + x] = m;
+        }
+    if (edge) *edge = te;
+    pw_free(a, blur);
+    pw_free(a, g);
+    return pw__quilt_clear_ground(a, motif, w, h, e);
 }
 
 /* Adds the expansion-move energy of one neighbour pair to the graph.
@@ -232,6 +433,8 @@ PW__DEF int pw_quilt_make_tileable_px(const pw_alloc *a, const float *px, int w,
     q.label = label;
     q.allowed = allowed;
     q.wrap_x = q.wrap_y = 1;
+    q.motif = NULL;
+    q.motif_weight = 0.0f;
     r = pw_quilt_optimize(a, &q, 3, e);
     if (r == PW_OK) pw_quilt_compose(&q, out);
 done:

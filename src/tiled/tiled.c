@@ -667,8 +667,15 @@ TILEDDEF tiled_result tiled_tileset_from_image(const tiled_image *tiles, const t
  *  - Each tile composites its four side diamonds and a random centre window
  *    with minimum-cost graph-cut seams (alpha-expansion, see quilt.h). The
  *    rows next to each side are constrained to that side's diamond, the
- *    centre disc to the centre window, everything else is free, so seams
+ *    centre square to the centre window, everything else is free, so seams
  *    fall where the sources agree and tiles with equal sides still differ.
+ *  - Seams keep motifs whole (issue 18): the seam cost also charges every
+ *    source pixel inside a motif (quilt.h's motif map: what strong
+ *    outlines enclose, not the mortar around it), so seams run along
+ *    mortar and outlines instead of through pebbles; the diamonds reach
+ *    3/8 of the way in, which leaves a seam room to go round a motif; and
+ *    each diamond is placed so that its ends, which meet at every tile
+ *    corner along a fixed diagonal, show ground, not a motif.
  *  - Case 1 has one self-matching side: its diamond must look the same from
  *    both sides of the edge and, because tiles are mirrored, from both
  *    ends: it is made symmetric by reflection (C0, not C1, across edges). */
@@ -677,20 +684,30 @@ typedef struct tiled__synth {
     int T, wc;      /* tile size; rows next to a side constrained to it */
     int band;       /* rows from a side where its diamond may appear */
     int case1;
-    int dx[8], dy[8]; /* diamond origins (pair k) in the source */
+    int dx[9], dy[9]; /* diamond origins (pair k) in the source; [8]: scratch */
+    float *motif;         /* the periodic source's motif map (pw_quilt_motif_map) */
+    float motif_weight;   /* seam cost per source pixel inside a motif */
+    pw_seam_stats *stats; /* NULL, or where to add every tile's seam statistics */
+    float tau;            /* their colour threshold: the source's strong-edge gradient */
 } tiled__synth;
 
-static const float *tiled__src_px(const tiled__synth *s, int x, int y)
+/* Index of source pixel (x, y), wrapped: the source is periodic. */
+static size_t tiled__src_index(const tiled__synth *s, int x, int y)
 {
     x %= s->src.w;
     y %= s->src.h;
     if (x < 0) x += s->src.w;
     if (y < 0) y += s->src.h;
-    return s->src.px + ((size_t)y * s->src.w + x) * s->src.c;
+    return (size_t)y * s->src.w + x;
 }
 
-/* Colour of a side of boundary type `type` at side-frame point (a, b). */
-static const float *tiled__side_color(const tiled__synth *s, int type, int a, int b)
+static const float *tiled__src_px(const tiled__synth *s, int x, int y)
+{
+    return s->src.px + tiled__src_index(s, x, y) * s->src.c;
+}
+
+/* Source pixel shown by a side of boundary type `type` at side-frame point (a, b). */
+static size_t tiled__side_index(const tiled__synth *s, int type, int a, int b)
 {
     int T = s->T, k = type >> 1;
     if (s->case1) { /* symmetric under a -> T-1-a and b -> -1-b */
@@ -701,26 +718,31 @@ static const float *tiled__side_color(const tiled__synth *s, int type, int a, in
         a = T - 1 - a;
         b = -1 - b;
     }
-    return tiled__src_px(s, s->dx[k] + a, s->dy[k] - b); /* b up = source rows up */
+    return tiled__src_index(s, s->dx[k] + a, s->dy[k] - b); /* b up = source rows up */
 }
+
 
 /* Scratch of one tile composition: 5 label images, masks, labels. */
 typedef struct tiled__scratch {
     float *src;        /* 5*T*T*c */
+    float *motif;      /* 5*T*T: the sources' motif maps */
     uint32_t *allowed; /* T*T */
     int *label;        /* T*T */
 } tiled__scratch;
 
-/* Fills the four side labels' images of a tile with boundary types[4]. */
-static void tiled__side_sources(const tiled__synth *s, const int types[4], float *src)
+/* Fills the four side labels' images and motif maps of a tile with
+ * boundary types[4]. */
+static void tiled__side_sources(const tiled__synth *s, const int types[4], float *src, float *motif)
 {
     int T = s->T, c = s->src.c, l, i, j, a, b;
     for (l = 0; l < 4; l++)
         for (j = 0; j < T; j++)
             for (i = 0; i < T; i++) {
+                size_t k, p = (size_t)(l * T + j) * T + i;
                 tiled__to_side(l, T, i, j, &a, &b);
-                memcpy(src + ((size_t)(l * T + j) * T + i) * c, tiled__side_color(s, types[l], a, b),
-                       sizeof(float) * c);
+                k = tiled__side_index(s, types[l], a, b);
+                memcpy(src + p * c, s->src.px + k * c, sizeof(float) * c);
+                motif[p] = s->motif[k];
             }
 }
 
@@ -780,9 +802,11 @@ static void tiled__centre_source(const tiled__synth *s, pw_rng *rng, tiled__scra
         }
     }
     for (j = 0; j < T; j++)
-        for (i = 0; i < T; i++)
-            memcpy(sc->src + ((size_t)(4 * T + j) * T + i) * c, tiled__src_px(s, bx + i, by - j),
-                   sizeof(float) * c);
+        for (i = 0; i < T; i++) {
+            size_t p = (size_t)(4 * T + j) * T + i, k = tiled__src_index(s, bx + i, by - j);
+            memcpy(sc->src + p * c, s->src.px + k * c, sizeof(float) * c);
+            sc->motif[p] = s->motif[k];
+        }
 }
 
 /* Composes tile t into the atlas. */
@@ -792,7 +816,7 @@ static int tiled__compose(const pw_alloc *a, const tiled__synth *s, pw_rng *rng,
     int types[4], T = s->T, c = s->src.c, j, r;
     pw_quilt q;
     tiled__tile_types(gm, s->case1, t, types);
-    tiled__side_sources(s, types, sc->src);
+    tiled__side_sources(s, types, sc->src, sc->motif);
     tiled__constraints(s, sc);
     tiled__centre_source(s, rng, sc);
     q.w = q.h = T;
@@ -802,7 +826,10 @@ static int tiled__compose(const pw_alloc *a, const tiled__synth *s, pw_rng *rng,
     q.label = sc->label;
     q.allowed = sc->allowed;
     q.wrap_x = q.wrap_y = 0;
+    q.motif = sc->motif;
+    q.motif_weight = s->motif_weight;
     if ((r = pw_quilt_optimize(a, &q, 2, e)) != PW_OK) return r;
+    if (s->stats) pw_quilt_seam_stats(&q, s->tau, s->stats);
     for (j = 0; j < T; j++) { /* compose row by row into the atlas */
         int i;
         for (i = 0; i < T; i++)
@@ -813,27 +840,71 @@ static int tiled__compose(const pw_alloc *a, const tiled__synth *s, pw_rng *rng,
     return PW_OK;
 }
 
-/* Places diamond k: the best of a few random origins, judged by how much
- * the source changes across the edge line. The two sides of every edge of
- * type pair k show the rows just above and below that line, so it should
- * not run along a cut seam of the periodic source. */
-static void tiled__place_diamond(tiled__synth *s, pw_rng *rng, int k)
+/* Cost of the corner between the bottom side (type t0) and the right side
+ * (type t1) of a tile: there the two sides' diamonds meet along the
+ * diagonal of the wc x wc square, a seam that no graph cut can move. In
+ * each row v < wc it sums, over the horizontal pixel pairs (T-2-u, v),
+ * (T-1-u, v) with u = v-1 and u = v (those next to the diagonal), the
+ * colour jumps between the two diamonds and, for every source pixel inside
+ * a motif, the motif weight (as pw_quilt_pair_cost does). */
+static double tiled__corner_cost(const tiled__synth *s, int t0, int t1)
+{
+    int T = s->T, u, v, w, k, c = s->src.c, a0, b0, a1, b1;
+    double cost = 0.0;
+    for (v = 0; v < s->wc; v++)
+        for (u = v > 0 ? v - 1 : 0; u <= v && u + 1 < s->wc; u++)
+            for (w = 0; w < 2; w++) {
+                size_t p0, p1;
+                tiled__to_side(0, T, T - 1 - u - w, v, &a0, &b0);
+                tiled__to_side(1, T, T - 1 - u - w, v, &a1, &b1);
+                p0 = tiled__side_index(s, t0, a0, b0);
+                p1 = tiled__side_index(s, t1, a1, b1);
+                for (k = 0; k < c; k++) cost += fabs(s->src.px[p0 * c + k] - s->src.px[p1 * c + k]);
+                cost += s->motif_weight * (s->motif[p0] + s->motif[p1]);
+            }
+    return cost;
+}
+
+/* Sum of the corner costs of every pair of types that involves pair k,
+ * with the pairs already placed (0..k). Case 1 has one type, k = 0. */
+static double tiled__corners_of(const tiled__synth *s, int k, int ntypes)
+{
+    int t0, t1;
+    double cost = 0.0;
+    for (t0 = 0; t0 < ntypes; t0++)
+        for (t1 = 0; t1 < ntypes; t1++)
+            if ((t0 >> 1) <= k && (t1 >> 1) <= k && ((t0 >> 1) == k || (t1 >> 1) == k))
+                cost += tiled__corner_cost(s, t0, t1);
+    return cost;
+}
+
+/* Places diamond k: the best of 32 random origins. A candidate pays how
+ * much the source changes across the edge line (the two sides of every
+ * edge of pair k show the rows just above and below it, so it should not
+ * run along a cut seam of the periodic source) and the cost of the tile
+ * corners its ends make with the diamonds placed before it: where a
+ * diamond's ends show mortar, the corners of tiles cut no pebble. */
+static void tiled__place_diamond(tiled__synth *s, pw_rng *rng, int k, int ntypes)
 {
     double best = -1.0;
     int cand, a, c;
-    for (cand = 0; cand < 8; cand++) {
+    for (cand = 0; cand < 32; cand++) {
         int ox = (int)pw_rng_below(rng, (uint32_t)s->src.w), oy = (int)pw_rng_below(rng, (uint32_t)s->src.h);
-        double jump = 0.0;
+        double cost = 0.0;
         for (a = 0; a < s->T; a++) {
             const float *p = tiled__src_px(s, ox + a, oy), *q = tiled__src_px(s, ox + a, oy + 1);
-            for (c = 0; c < s->src.c; c++) jump += fabs(p[c] - q[c]);
+            for (c = 0; c < s->src.c; c++) cost += fabs(p[c] - q[c]);
         }
-        if (best < 0.0 || jump < best) {
-            best = jump;
-            s->dx[k] = ox;
-            s->dy[k] = oy;
+        s->dx[k] = ox;
+        s->dy[k] = oy;
+        cost += tiled__corners_of(s, k, ntypes);
+        if (best < 0.0 || cost < best) {
+            best = cost;
+            s->dx[8] = ox, s->dy[8] = oy;
         }
     }
+    s->dx[k] = s->dx[8];
+    s->dy[k] = s->dy[8];
 }
 
 /* Builds every tile of a resolved layout from the periodic source. */
@@ -845,11 +916,12 @@ static int tiled__synth_tiles(const pw_alloc *a, tiled__synth *s, const tiled_op
     tiled__scratch sc;
     size_t tt = (size_t)s->T * s->T;
     int k, t, r = PW_OK;
-    for (k = 0; k < 8; k++) tiled__place_diamond(s, &rng, k);
+    for (k = 0; k < 8; k++) tiled__place_diamond(s, &rng, k, gm->n);
     sc.src = (float *)pw_alloc_array(a, tt * 5 * s->src.c, sizeof(float), "tile sources", e);
     sc.allowed = (uint32_t *)pw_alloc_array(a, tt, sizeof(uint32_t), "tile constraints", e);
     sc.label = (int *)pw_alloc_array(a, tt, sizeof(int), "tile labels", e);
-    if (!sc.src || !sc.allowed || !sc.label) r = PW_ERR_NOMEM;
+    sc.motif = (float *)pw_alloc_array(a, tt * 5, sizeof(float), "tile motif maps", e);
+    if (!sc.src || !sc.allowed || !sc.label || !sc.motif) r = PW_ERR_NOMEM;
     for (t = 0; t < gm->N * gm->N && r == PW_OK; t++) {
         r = pw_report(&pr, 0.1f + 0.9f * (float)t / (float)(gm->N * gm->N), "tile synthesis", e);
         if (r == PW_OK) r = tiled__compose(a, s, &rng, &sc, atlas, gm, t, e);
@@ -857,6 +929,53 @@ static int tiled__synth_tiles(const pw_alloc *a, tiled__synth *s, const tiled_op
     pw_free(a, sc.src);
     pw_free(a, sc.allowed);
     pw_free(a, sc.label);
+    pw_free(a, sc.motif);
+    return r;
+}
+
+/* Seam cost per source pixel inside a motif (pw_quilt.motif_weight), in
+ * the units of colour distance (0..sqrt(3) per pixel and source pair): a
+ * seam through a pebble pays more than one through mortar of any shade. */
+#define TILED__MOTIF_WEIGHT 3.0f
+
+/* tiled_synthesize, also adding the seam statistics of every tile (see
+ * pw_quilt_seam_stats) to *stats when it is not NULL. */
+static int tiled__synthesize(const tiled_image *exemplar, const tiled_options *o,
+                             tiled_tileset *out, pw_seam_stats *stats, pw_err *pe)
+{
+    pw_alloc a = tiled__alloc(&o->allocator);
+    pw_progress pr = tiled__progress(o);
+    tiled_layout l;
+    tiled__synth s;
+    pw_image ex;
+    int r;
+    memset(&s, 0, sizeof s);
+    if ((r = tiled__check_image(exemplar, "exemplar", pe)) != PW_OK) return r;
+    ex = tiled__pw_image(exemplar);
+    if (ex.w < 8 || ex.h < 8)
+        return pw_fail(pe, PW_ERR_INVALID, "exemplar must be at least 8x8 pixels (got %dx%d)", ex.w, ex.h);
+    if ((r = tiled__resolve(&o->layout, pw_mini(ex.w, ex.h), &l, pe)) == PW_OK &&
+        (r = pw_report(&pr, 0.0f, "periodic source", pe)) == PW_OK &&
+        (r = pw_quilt_make_tileable(&a, &ex, &s.src, pe)) == PW_OK &&
+        (r = tiled__new_tileset(&a, &l, ex.c, out, pe)) == PW_OK) {
+        tiled__geom gm = tiled__geometry(&l);
+        pw_image atlas = tiled__pw_image(&out->atlas);
+        s.T = l.tile_size;
+        s.wc = pw_mini(pw_maxi(2, gm.g / 2), pw_maxi(1, s.T / 4));
+        s.band = pw_maxi(s.wc + 1, s.T * 3 / (l.case_number == 1 ? 10 : 8));
+        s.case1 = l.case_number == 1;
+        s.stats = stats;
+        s.motif_weight = TILED__MOTIF_WEIGHT;
+        s.motif = (float *)pw_alloc_array(&a, (size_t)s.src.w * s.src.h, sizeof(float), "motif map", pe);
+        r = s.motif ? pw_quilt_motif_map(&a, s.src.px, s.src.w, s.src.h, s.src.c, s.motif, &s.tau, pe)
+                    : PW_ERR_NOMEM;
+        if (r == PW_OK && (r = tiled__synth_tiles(&a, &s, o, &atlas, &gm, pe)) == PW_OK)
+            tiled__fill_guards(&atlas, &gm, s.case1);
+        else
+            tiled_tileset_free(out);
+    }
+    pw_image_free(&a, &s.src);
+    pw_free(&a, s.motif);
     return r;
 }
 
@@ -864,36 +983,11 @@ TILEDDEF tiled_result tiled_synthesize(const tiled_image *exemplar, const tiled_
                                        tiled_tileset *out, tiled_error *err)
 {
     tiled_options o = tiled__options(opt);
-    pw_alloc a = tiled__alloc(&o.allocator);
-    pw_progress pr = tiled__progress(&o);
-    tiled_layout l;
-    tiled__synth s;
     pw_err pe;
     pw_err_clear(&pe);
-    memset(&s, 0, sizeof s);
     if (out) memset(out, 0, sizeof *out);
     if (!out) pw_fail(&pe, PW_ERR_INVALID, "tiled_synthesize: NULL output");
-    else if (tiled__check_image(exemplar, "exemplar", &pe) == PW_OK) {
-        pw_image ex = tiled__pw_image(exemplar);
-        if (ex.w < 8 || ex.h < 8)
-            pw_fail(&pe, PW_ERR_INVALID, "exemplar must be at least 8x8 pixels (got %dx%d)", ex.w, ex.h);
-        else if (tiled__resolve(&o.layout, pw_mini(ex.w, ex.h), &l, &pe) == PW_OK &&
-                 pw_report(&pr, 0.0f, "periodic source", &pe) == PW_OK &&
-                 pw_quilt_make_tileable(&a, &ex, &s.src, &pe) == PW_OK &&
-                 tiled__new_tileset(&a, &l, ex.c, out, &pe) == PW_OK) {
-            tiled__geom gm = tiled__geometry(&l);
-            pw_image atlas = tiled__pw_image(&out->atlas);
-            s.T = l.tile_size;
-            s.wc = pw_mini(pw_maxi(2, gm.g / 2), pw_maxi(1, s.T / 4));
-            s.band = pw_maxi(s.wc + 1, s.T / (l.case_number == 1 ? 5 : 4));
-            s.case1 = l.case_number == 1;
-            if (tiled__synth_tiles(&a, &s, &o, &atlas, &gm, &pe) == PW_OK)
-                tiled__fill_guards(&atlas, &gm, s.case1);
-            else
-                tiled_tileset_free(out);
-        }
-        pw_image_free(&a, &s.src);
-    }
+    else tiled__synthesize(exemplar, &o, out, NULL, &pe);
     return tiled__done(&pe, err);
 }
 
@@ -1412,6 +1506,9 @@ static int tiled__triangles(const pw_alloc *a, const tiled_mesh *m, int **tris, 
     return PW_OK;
 }
 
+/* Vertical field of view of tiled_render's camera, degrees. */
+#define TILED__FOVY 35.0f
+
 /* Draws the triangles lit, textured from the atlas with mip levels capped
  * where they would mix tiles, and resolves the supersamples. */
 static int tiled__draw(const pw_alloc *a, const tiled_mesh *m, const tiled_tileset *ts,
@@ -1429,7 +1526,7 @@ static int tiled__draw(const pw_alloc *a, const tiled_mesh *m, const tiled_tiles
     bg[3] = 1.0f;
     if ((r = pw_texture_create(a, &tex, &atlas, ts->max_mip_level + 1, e)) != PW_OK) return r;
     if ((r = pw_fb_create(a, &fb, ro->width, ro->height, ro->supersample, bg, e)) == PW_OK) {
-        cam = pw_camera_frame(m->positions, m->nverts, ro->view_dir, ro->up, 35.0f,
+        cam = pw_camera_frame(m->positions, m->nverts, ro->view_dir, ro->up, TILED__FOVY,
                               (float)ro->width / (float)ro->height);
         memset(&d, 0, sizeof d);
         d.positions = m->positions;
@@ -1450,19 +1547,26 @@ static int tiled__draw(const pw_alloc *a, const tiled_mesh *m, const tiled_tiles
     return r;
 }
 
+/* Render settings with the defaults filled in. */
+static tiled_render_options tiled__render_options(const tiled_render_options *ro)
+{
+    tiled_render_options o;
+    if (ro) o = *ro;
+    else memset(&o, 0, sizeof o);
+    pw_view_defaults(&o.width, &o.height, &o.supersample, o.view_dir, o.up, o.background);
+    return o;
+}
+
 TILEDDEF tiled_result tiled_render(const tiled_mesh *mapped, const tiled_tileset *ts,
                                    const tiled_render_options *ro, tiled_image *out,
                                    tiled_error *err)
 {
-    tiled_render_options o;
+    tiled_render_options o = tiled__render_options(ro);
     pw_alloc a = tiled__alloc(ts ? &ts->atlas.allocator : NULL);
     pw_image pic;
     pw_err pe;
     int *tris = NULL, ntris = 0;
     float *uvs = NULL;
-    if (ro) o = *ro;
-    else memset(&o, 0, sizeof o);
-    pw_view_defaults(&o.width, &o.height, &o.supersample, o.view_dir, o.up, o.background);
     pw_err_clear(&pe);
     if (out) memset(out, 0, sizeof *out);
     if (!out || !ts || !mapped || !mapped->uvs)
@@ -1479,6 +1583,78 @@ TILEDDEF tiled_result tiled_render(const tiled_mesh *mapped, const tiled_tileset
             tiled__take_image(&pic, &a, out);
         pw_free(&a, tris);
         pw_free(&a, uvs);
+    }
+    return tiled__done(&pe, err);
+}
+
+/* Areas of face f in world and texture space (fan of triangles). */
+static void tiled__face_areas(const tiled_mesh *m, int f, double *world, double *tex)
+{
+    int c0 = m->face_start[f], k;
+    const float *p0 = m->positions + 3 * m->face_verts[c0], *t0 = m->uvs + 2 * c0;
+    *world = *tex = 0.0;
+    for (k = c0 + 1; k + 1 < m->face_start[f + 1]; k++) {
+        const float *p1 = m->positions + 3 * m->face_verts[k], *p2 = m->positions + 3 * m->face_verts[k + 1];
+        const float *t1 = m->uvs + 2 * k, *t2 = m->uvs + 2 * (k + 1);
+        double a[3], b[3], n[3];
+        int j;
+        for (j = 0; j < 3; j++) a[j] = p1[j] - p0[j], b[j] = p2[j] - p0[j];
+        n[0] = a[1] * b[2] - a[2] * b[1];
+        n[1] = a[2] * b[0] - a[0] * b[2];
+        n[2] = a[0] * b[1] - a[1] * b[0];
+        *world += 0.5 * sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+        *tex += 0.5 * fabs((t1[0] - t0[0]) * (t2[1] - t0[1]) - (t2[0] - t0[0]) * (t1[1] - t0[1]));
+    }
+}
+
+static int tiled__cmp_double(const void *x, const void *y)
+{
+    double a = *(const double *)x, b = *(const double *)y;
+    return a < b ? -1 : a > b;
+}
+
+/* Median over faces of the world length of a tile side: a face covers
+ * world/tex of world area per unit of texture area, and a tile side is
+ * T/W of the texture's width. 0 if no face has texture area. */
+static double tiled__tile_length(const pw_alloc *a, const tiled_mesh *m, const tiled_tileset *ts, pw_err *e)
+{
+    double *len = (double *)pw_alloc_array(a, (size_t)m->nfaces, sizeof(double), "tile lengths", e);
+    double side = (double)ts->layout.tile_size / ts->atlas.width, mid;
+    int f, n = 0;
+    if (!len) return -1.0;
+    for (f = 0; f < m->nfaces; f++) {
+        double w, t;
+        tiled__face_areas(m, f, &w, &t);
+        if (t > 0.0 && pw_is_finite(w / t)) len[n++] = sqrt(w / t) * side;
+    }
+    qsort(len, (size_t)n, sizeof *len, tiled__cmp_double);
+    mid = n ? len[n / 2] : 0.0;
+    pw_free(a, len);
+    return mid;
+}
+
+TILEDDEF tiled_result tiled_drawn_tile_size(const tiled_mesh *mapped, const tiled_tileset *ts,
+                                            const tiled_render_options *ro, float *pixels,
+                                            tiled_error *err)
+{
+    tiled_render_options o = tiled__render_options(ro);
+    pw_alloc a = tiled__alloc(ts ? &ts->atlas.allocator : NULL);
+    pw_err pe;
+    pw_err_clear(&pe);
+    if (pixels) *pixels = 0.0f;
+    if (!pixels || !ts || !mapped || !mapped->uvs || ts->atlas.width < 1 || o.width < 1 || o.height < 1)
+        pw_fail(&pe, PW_ERR_INVALID, "tiled_drawn_tile_size: needs a mapped mesh (with uvs), its "
+                "tile set, an output and a valid render size");
+    else if (tiled__check_mesh(mapped, &pe) == PW_OK) {
+        double len = tiled__tile_length(&a, mapped, ts, &pe), d[3], dist;
+        pw_camera cam = pw_camera_frame(mapped->positions, mapped->nverts, o.view_dir, o.up, TILED__FOVY,
+                                        (float)o.width / (float)o.height);
+        int k;
+        for (k = 0; k < 3; k++) d[k] = cam.eye[k] - cam.target[k];
+        dist = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+        /* pixels per world unit at the framed mesh's centre */
+        if (len >= 0.0 && dist > 0.0)
+            *pixels = (float)(len * o.height / (2.0 * dist * pw__tan_deg(0.5 * TILED__FOVY)));
     }
     return tiled__done(&pe, err);
 }

@@ -295,6 +295,15 @@ TILEDDEF tiled_result tiled_render(const tiled_mesh *mapped, const tiled_tileset
                                    const tiled_render_options *ro, tiled_image *out,
                                    tiled_error *err);
 
+/* How wide tiled_render draws a tile, in pixels: the median over faces of
+ * a tile side's world length (from each face's areas in world and texture
+ * space) at the distance of the framed mesh's centre. Below about 16
+ * pixels the texture cannot be seen: the mesh has too many quads for this
+ * method (one tile per quad), see tiled_map. */
+TILEDDEF tiled_result tiled_drawn_tile_size(const tiled_mesh *mapped, const tiled_tileset *ts,
+                                            const tiled_render_options *ro, float *pixels,
+                                            tiled_error *err);
+
 /* Built-in data ----------------------------------------------------------- */
 
 /* Procedural meshes, scaled to fit [-1,1]^3: "cube", "torus" (24x12 quads),
