@@ -65,11 +65,29 @@ PW__DEF double pw_df_dual_len(const pw_trimesh *m, int h)
            (double)pw_v3_len(pw_v3_sub(pw_df_centroid(m, m->hm.twin[h] / 3), mid));
 }
 
-/* The frame of triangle f: u along its first edge, v = N x u. */
+/* The frame of triangle f: u along its first edge, v = N x u. A degenerate
+ * triangle whose normal came from its neighbours (pw_trimesh_repair_normals)
+ * may have edges off that plane, or none at all: u is then the first edge
+ * that keeps a tangent part, projected, else the axis least aligned with N. */
 PW__DEF void pw_df_frame(const pw_trimesh *m, int f, pw_v3 *u, pw_v3 *v)
 {
-    *u = pw_v3_norm(pw_v3_sub(pw_trimesh_corner(m, f, 1), pw_trimesh_corner(m, f, 0)));
-    *v = pw_v3_cross(pw_df_normal(m, f), *u);
+    pw_v3 n = pw_df_normal(m, f), e = pw_v3_sub(pw_trimesh_corner(m, f, 1), pw_trimesh_corner(m, f, 0)), t;
+    int k;
+    float el = pw_v3_len(e);
+    if (!(el > 0.0f) || fabsf(pw_v3_dot(e, n)) > 1e-3f * el) {
+        for (k = 0, e = pw_v3_make(0, 0, 0); k < 3 && !(pw_v3_len(e) > 1e-3f * el); k++) {
+            t = pw_v3_sub(pw_trimesh_corner(m, f, (k + 1) % 3), pw_trimesh_corner(m, f, k));
+            el = pw_v3_len(t);
+            e = pw_v3_sub(t, pw_v3_scale(n, pw_v3_dot(t, n)));
+        }
+        if (!(pw_v3_len(e) > 1e-3f * el) || !(el > 0.0f)) { /* no edge has a tangent part */
+            k = fabsf(n.x) <= fabsf(n.y) && fabsf(n.x) <= fabsf(n.z) ? 0 : (fabsf(n.y) <= fabsf(n.z) ? 1 : 2);
+            t = pw_v3_make(k == 0, k == 1, k == 2);
+            e = pw_v3_sub(t, pw_v3_scale(n, pw_v3_dot(t, n)));
+        }
+    }
+    *u = pw_v3_norm(e);
+    *v = pw_v3_cross(n, *u);
 }
 
 /* Tangent vector x of the triangle across half-edge h, unfolded about the
