@@ -268,7 +268,7 @@ static void t_degenerate_curvature(void) { degenerate_case("degenerate bump, cur
 /* CGAL meshes with such triangles: triceratops (two near-collinear ones in
  * a foot, 1.8e-6 and 2.6e-6 L^2, which collapsed 2-3 pastes to ~1e-7 of
  * their area before) and mpi (two exactly zero-area ones, refused before). */
-static void real_case(const char *file, int mode, unsigned long long seed, int atlas)
+static void real_case(const char *file, int mode, unsigned long long seed, float scale, int atlas)
 {
     const char *mpath = pwt_data(file), *tpath;
     lapped_options o = lapped_default_options();
@@ -281,10 +281,11 @@ static void real_case(const char *file, int mode, unsigned long long seed, int a
     if (!mpath || !(tpath = pwt_data("textures/leopard.ppm"))) return;
     o.field.mode = mode;
     o.seed = seed;
+    o.field.scale = scale;
     REQUIRE(lapped_load_mesh(mpath, &o, &mesh, &err) == LAPPED_OK);
     REQUIRE(lapped_load_image(tpath, &o, &tex, &err) == LAPPED_OK);
     REQUIRE(lapped_make_patch(&tex, NULL, &o, &patch, &err) == LAPPED_OK);
-    snprintf(what, sizeof what, "%s field %d seed %llu", file, mode, seed);
+    snprintf(what, sizeof what, "%s field %d seed %llu scale %g", file, mode, seed, (double)scale);
     if (lapped_create(&mesh, &patch, 1, &o, &t, &err) != LAPPED_OK) {
         CHECKF(0, "%s: %s", what, err.message);
     } else {
@@ -298,14 +299,26 @@ static void real_case(const char *file, int mode, unsigned long long seed, int a
     lapped_mesh_free(&mesh);
 }
 
+/* LAPPED_SWEEP=1 runs the 15 configurations of docs/lapped.md (fields up,
+ * curvature, isotropic; seeds 0-4; scales 1, 4, 8 against the default
+ * 2.02) instead of three. */
 static void t_real_triceratops(void)
 {
-    real_case("meshes/triceratops.off", LAPPED_FIELD_UP, 0, 1);
-    real_case("meshes/triceratops.off", LAPPED_FIELD_CURVATURE, 3, 0);
-    real_case("meshes/triceratops.off", LAPPED_FIELD_ISOTROPIC, 1, 0);
+    static const int sweep[15][3] = {{0, 0, 0}, {0, 1, 0}, {0, 2, 0}, {0, 3, 0}, {0, 4, 0},
+                                     {4, 0, 0}, {4, 1, 0}, {4, 2, 0}, {1, 0, 0}, {1, 1, 0},
+                                     {0, 0, 1}, {0, 0, 4}, {0, 0, 8}, {4, 3, 8}, {1, 4, 1}};
+    int i;
+    if (getenv("LAPPED_SWEEP")) {
+        for (i = 0; i < 15; i++)
+            real_case("meshes/triceratops.off", sweep[i][0], (unsigned long long)sweep[i][1], (float)sweep[i][2], 0);
+        return;
+    }
+    real_case("meshes/triceratops.off", LAPPED_FIELD_UP, 0, 0.0f, 1);
+    real_case("meshes/triceratops.off", LAPPED_FIELD_CURVATURE, 3, 0.0f, 0);
+    real_case("meshes/triceratops.off", LAPPED_FIELD_ISOTROPIC, 1, 0.0f, 0);
 }
 
-static void t_real_mpi(void) { real_case("meshes/mpi.off", LAPPED_FIELD_UP, 0, 1); }
+static void t_real_mpi(void) { real_case("meshes/mpi.off", LAPPED_FIELD_UP, 0, 0.0f, 1); }
 
 static const pwt_case cases[] = {
     {"lapped_degenerate/up", t_degenerate_up},
