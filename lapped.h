@@ -13638,7 +13638,9 @@ static int lapped__atlas_flat_ok(const lapped__atlas_grower *G, int f, const dou
 /* §4 growth step: f joins the chart if its normal is within the cone of
  * the seed's, the chart stays a disc (§3.3) and f's flattened image neither
  * flips nor overlaps the chart (spatial hash). Faces refused for their
- * flattened shape are deferred. */
+ * flattened shape are deferred. A degenerate triangle (pw_trimesh_sliver)
+ * neither joins nor grows a chart: alone, it keeps its exact (line) shape,
+ * and no conformal map divides by its area. */
 static int lapped__atlas_grow_try(lapped__atlas_grower *G, int f)
 {
     const pw_trimesh *m = G->m;
