@@ -9791,9 +9791,40 @@ PW__DEF int pw_trimesh_across(const pw_trimesh *m, int f, int k)
     return t < 0 ? -1 : t / 3;
 }
 
-/* Normals, areas and the bounding box; zero-area triangles are refused:
- * neither a tangent field nor a parametrisation is defined on them. */
-PW__DEF int pw__trimesh_geometry(pw_trimesh *m, pw_err *e)
+/* Degenerate triangles (needles, caps, collinear or coincident corners):
+ * area below 1e-5 of the squared longest edge, or an angle whose sine is
+ * below sin 0.1 deg = 1.745e-3. Their own plane, normal and linear maps
+ * are numerically meaningless (a scan's near-collinear triple has a plane
+ * set by its noise), so methods that parametrise treat them apart. */
+#define PW_TRIMESH_SLIVER_AREA 1e-5
+#define PW_TRIMESH_SLIVER_SINE 1.745e-3
+
+PW__DEF int pw_trimesh_sliver(const pw_trimesh *m, int f)
+{
+    double l2[3], cr2, longest = 0.0;
+    pw_v3 p[3], e1, e2, n;
+    int k;
+    for (k = 0; k < 3; k++) p[k] = pw_trimesh_corner(m, f, k);
+    for (k = 0; k < 3; k++) {
+        pw_v3 d = pw_v3_sub(p[(k + 1) % 3], p[k]);
+        l2[k] = (double)d.x * d.x + (double)d.y * d.y + (double)d.z * d.z;
+        if (l2[k] > longest) longest = l2[k];
+    }
+    e1 = pw_v3_sub(p[1], p[0]);
+    e2 = pw_v3_sub(p[2], p[0]);
+    n = pw_v3_cross(e1, e2);
+    cr2 = (double)n.x * n.x + (double)n.y * n.y + (double)n.z * n.z; /* (2 area)^2 */
+    if (!(cr2 >= 4.0 * PW_TRIMESH_SLIVER_AREA * PW_TRIMESH_SLIVER_AREA * longest * longest)) return 1;
+    for (k = 0; k < 3; k++) /* sin^2 of the angle at corner k+1 (between edges k and k+1) */
+        if (cr2 < PW_TRIMESH_SLIVER_SINE * PW_TRIMESH_SLIVER_SINE * l2[k] * l2[(k + 1) % 3]) return 1;
+    return 0;
+}
+
+/* Normals, areas and the bounding box. Zero-area triangles are refused
+ * (neither a tangent field nor a parametrisation is defined on them)
+ * unless keep_degenerate, which gives them area 0 and a zero normal that
+ * pw_trimesh_repair_normals fills. */
+PW__DEF int pw__trimesh_geometry(pw_trimesh *m, int keep_degenerate, pw_err *e)
 {
     pw_v3 lo, hi;
     int f, v;
@@ -9803,13 +9834,16 @@ PW__DEF int pw__trimesh_geometry(pw_trimesh *m, pw_err *e)
         pw_v3 n = pw_v3_cross(pw_v3_sub(b, a), pw_v3_sub(c, a));
         float len = pw_v3_len(n), ref = pw_v3_dot(pw_v3_sub(b, a), pw_v3_sub(b, a)) +
                                         pw_v3_dot(pw_v3_sub(c, a), pw_v3_sub(c, a));
-        if (!(len > 1e-12f * ref) || !(len > 0.0f))
+        int zero = !(len > 1e-12f * ref) || !(len > 0.0f);
+        if (zero && !(keep_degenerate && pw_is_finite(len) && pw_is_finite(ref)))
             return pw_fail(e, PW_ERR_DEGENERATE, "triangle %d (vertices %d, %d, %d) has zero area", f,
                            m->tri[3 * f], m->tri[3 * f + 1], m->tri[3 * f + 2]);
-        pw_v3_store(m->normal + 3 * f, pw_v3_scale(n, 1.0f / len));
-        m->area[f] = 0.5f * len;
+        pw_v3_store(m->normal + 3 * f, zero ? pw_v3_make(0, 0, 0) : pw_v3_scale(n, 1.0f / len));
+        m->area[f] = zero ? 0.0f : 0.5f * len;
         m->total_area += m->area[f];
     }
+    if (!(m->total_area > 0.0))
+        return pw_fail(e, PW_ERR_DEGENERATE, "every triangle of the mesh has zero area");
     lo = hi = pw_trimesh_vert(m, m->tri[0]);
     for (v = 0; v < 3 * m->nf; v++) {
         lo = pw_v3_min(lo, pw_trimesh_vert(m, m->tri[v]));
@@ -9819,11 +9853,53 @@ PW__DEF int pw__trimesh_geometry(pw_trimesh *m, pw_err *e)
     return PW_OK;
 }
 
+/* One pass of pw_trimesh_repair_normals: each degenerate triangle not yet
+ * done (done[f] == 0) whose neighbours include done ones takes their mean
+ * normal; returns how many were done in this pass. */
+PW__DEF int pw__trimesh_repair_pass(pw_trimesh *m, unsigned char *done, int pass)
+{
+    int f, k, n = 0;
+    for (f = 0; f < m->nf; f++) {
+        pw_v3 sum = pw_v3_make(0, 0, 0);
+        if (done[f]) continue;
+        for (k = 0; k < 3; k++) {
+            int g = pw_trimesh_across(m, f, k);
+            if (g >= 0 && done[g] && done[g] < pass) sum = pw_v3_add(sum, pw_v3_load(m->normal + 3 * g));
+        }
+        if (!(pw_v3_len(sum) > 1e-6f)) continue;
+        pw_v3_store(m->normal + 3 * f, pw_v3_norm(sum));
+        done[f] = (unsigned char)pass;
+        n++;
+    }
+    return n;
+}
+
+/* Degenerate triangles (pw_trimesh_sliver) take the mean normal of their
+ * nearest non-degenerate neighbours, pass by pass outwards; a component
+ * made only of them keeps its own normals, and a zero normal left after
+ * that is an error naming the triangle. */
+PW__DEF int pw_trimesh_repair_normals(const pw_alloc *a, pw_trimesh *m, pw_err *e)
+{
+    unsigned char *done = (unsigned char *)pw_alloc_array(a, (size_t)m->nf, 1, "degenerate triangles", e);
+    int f, pass = 2, r = PW_OK;
+    if (!done) return PW_ERR_NOMEM;
+    for (f = 0; f < m->nf; f++) done[f] = (unsigned char)!pw_trimesh_sliver(m, f);
+    while (pass < 250 && pw__trimesh_repair_pass(m, done, pass) > 0) pass++;
+    for (f = 0; f < m->nf && r == PW_OK; f++)
+        if (!(pw_v3_len(pw_v3_load(m->normal + 3 * f)) > 0.5f))
+            r = pw_fail(e, PW_ERR_DEGENERATE, "triangle %d (vertices %d, %d, %d) has zero area and no "
+                        "neighbour with a normal", f, m->tri[3 * f], m->tri[3 * f + 1], m->tri[3 * f + 2]);
+    pw_free(a, done);
+    return r;
+}
+
 /* Fan-triangulates a polygon mesh (positions borrowed: they must outlive
  * the trimesh) and builds adjacency and geometry. Non-manifold or
  * inconsistently oriented meshes and zero-area triangles are errors that
- * name the element. */
-PW__DEF int pw_trimesh_init(const pw_alloc *a, const pw_mesh *in, pw_trimesh *m, pw_err *e)
+ * name the element; with keep_degenerate, zero-area triangles are kept
+ * (area 0) and every degenerate triangle takes its neighbours' normal. */
+PW__DEF int pw_trimesh_init_ex(const pw_alloc *a, const pw_mesh *in, int keep_degenerate, pw_trimesh *m,
+                               pw_err *e)
 {
     int f, k, t = 0, r, *fs;
     memset(m, 0, sizeof *m);
@@ -9846,10 +9922,16 @@ PW__DEF int pw_trimesh_init(const pw_alloc *a, const pw_mesh *in, pw_trimesh *m,
         }
     for (f = 0; r == PW_OK && f <= m->nf; f++) fs[f] = 3 * f;
     if (r == PW_OK) r = pw_hmesh_build(a, m->nv, m->nf, fs, m->tri, &m->hm, e);
-    if (r == PW_OK) r = pw__trimesh_geometry(m, e);
+    if (r == PW_OK) r = pw__trimesh_geometry(m, keep_degenerate, e);
+    if (r == PW_OK && keep_degenerate) r = pw_trimesh_repair_normals(a, m, e);
     pw_free(a, fs);
     if (r != PW_OK) pw_trimesh_free(a, m);
     return r;
+}
+
+PW__DEF int pw_trimesh_init(const pw_alloc *a, const pw_mesh *in, pw_trimesh *m, pw_err *e)
+{
+    return pw_trimesh_init_ex(a, in, 0, m, e);
 }
 
 #endif /* PW__TRIMESH_V1 */
@@ -9919,11 +10001,29 @@ PW__DEF double pw_df_dual_len(const pw_trimesh *m, int h)
            (double)pw_v3_len(pw_v3_sub(pw_df_centroid(m, m->hm.twin[h] / 3), mid));
 }
 
-/* The frame of triangle f: u along its first edge, v = N x u. */
+/* The frame of triangle f: u along its first edge, v = N x u. A degenerate
+ * triangle whose normal came from its neighbours (pw_trimesh_repair_normals)
+ * may have edges off that plane, or none at all: u is then the first edge
+ * that keeps a tangent part, projected, else the axis least aligned with N. */
 PW__DEF void pw_df_frame(const pw_trimesh *m, int f, pw_v3 *u, pw_v3 *v)
 {
-    *u = pw_v3_norm(pw_v3_sub(pw_trimesh_corner(m, f, 1), pw_trimesh_corner(m, f, 0)));
-    *v = pw_v3_cross(pw_df_normal(m, f), *u);
+    pw_v3 n = pw_df_normal(m, f), e = pw_v3_sub(pw_trimesh_corner(m, f, 1), pw_trimesh_corner(m, f, 0)), t;
+    int k;
+    float el = pw_v3_len(e);
+    if (!(el > 0.0f) || fabsf(pw_v3_dot(e, n)) > 1e-3f * el) {
+        for (k = 0, e = pw_v3_make(0, 0, 0); k < 3 && !(pw_v3_len(e) > 1e-3f * el); k++) {
+            t = pw_v3_sub(pw_trimesh_corner(m, f, (k + 1) % 3), pw_trimesh_corner(m, f, k));
+            el = pw_v3_len(t);
+            e = pw_v3_sub(t, pw_v3_scale(n, pw_v3_dot(t, n)));
+        }
+        if (!(pw_v3_len(e) > 1e-3f * el) || !(el > 0.0f)) { /* no edge has a tangent part */
+            k = fabsf(n.x) <= fabsf(n.y) && fabsf(n.x) <= fabsf(n.z) ? 0 : (fabsf(n.y) <= fabsf(n.z) ? 1 : 2);
+            t = pw_v3_make(k == 0, k == 1, k == 2);
+            e = pw_v3_sub(t, pw_v3_scale(n, pw_v3_dot(t, n)));
+        }
+    }
+    *u = pw_v3_norm(e);
+    *v = pw_v3_cross(n, *u);
 }
 
 /* Tangent vector x of the triangle across half-edge h, unfolded about the
@@ -10021,16 +10121,23 @@ PW__DEF void pw_df_halve(double *z)
 
 /* The 3D direction d projected onto triangle f, as a unit direction in its
  * frame. Returns 0 when d is (within 1e-4 radians) normal to the face:
- * "project the global up direction onto the surface" has no answer there. */
-PW__DEF int pw_df_project(const pw_trimesh *m, int f, pw_v3 d, double *z)
+ * "project the global up direction onto the surface" has no answer there.
+ * pw_df_project_tilt: the same with the bound on the squared sine of the
+ * angle between d and the face plane given. */
+PW__DEF int pw_df_project_tilt(const pw_trimesh *m, int f, pw_v3 d, double sin2, double *z)
 {
     pw_v3 u, v;
     double l2 = (double)pw_v3_dot(d, d);
     pw_df_frame(m, f, &u, &v);
     z[0] = pw_v3_dot(d, u);
     z[1] = pw_v3_dot(d, v);
-    if (!(z[0] * z[0] + z[1] * z[1] > 1e-8 * l2)) return 0;
+    if (!(z[0] * z[0] + z[1] * z[1] > sin2 * l2)) return 0;
     return pw_df_unit(z);
+}
+
+PW__DEF int pw_df_project(const pw_trimesh *m, int f, pw_v3 d, double *z)
+{
+    return pw_df_project_tilt(m, f, d, 1e-8, z);
 }
 
 /* A fixed direction for triangle f when nothing else defines one: the
@@ -10047,12 +10154,27 @@ PW__DEF void pw_df_axis(const pw_trimesh *m, int f, double *z)
     if (!pw_df_project(m, f, pw_v3_load(ax), z)) z[0] = 1.0, z[1] = 0.0;
 }
 
+/* Where propagation stops (pw_df_up_creased): half-edges marked in `edge`
+ * (nf*3) are not crossed, and `sin2` is the squared sine of the tilt below
+ * which up does not define a direction. NULL: every edge is crossed, and
+ * the tilt bound is 1e-4 radians. */
+typedef struct pw_df_cut {
+    const unsigned char *edge;
+    double sin2;
+} pw_df_cut;
+
+/* The triangle across edge k of f, or -1 on a boundary or a cut. */
+PW__DEF int pw_df_across(const pw_trimesh *m, const pw_df_cut *cut, int f, int k)
+{
+    return cut && cut->edge[3 * f + k] ? -1 : pw_trimesh_across(m, f, k);
+}
+
 /* Seeds a component in which no triangle has a direction yet (level -1 from
  * `start` on): every triangle where `up` projects gets that projection, as
  * in the up field; if none does (a flat piece normal to up), the lowest
  * triangle gets the fixed axis. Seeds go to the queue with level 0. */
-PW__DEF void pw_df_seed(const pw_trimesh *m, pw_v3 up, int power, double *z, int *level, int *queue,
-                             int *tail, int *stack, int start)
+PW__DEF void pw_df_seed(const pw_trimesh *m, pw_v3 up, int power, const pw_df_cut *cut, double *z, int *level,
+                        int *queue, int *tail, int *stack, int start)
 {
     int top = 1, n = 0, i, k, f, g, seeded = 0;
     stack[0] = start;
@@ -10060,12 +10182,12 @@ PW__DEF void pw_df_seed(const pw_trimesh *m, pw_v3 up, int power, double *z, int
     while (n < top) { /* flood the component, in a deterministic order */
         f = stack[n++];
         for (k = 0; k < 3; k++)
-            if ((g = pw_trimesh_across(m, f, k)) >= 0 && level[g] == -1) level[g] = -2, stack[top++] = g;
+            if ((g = pw_df_across(m, cut, f, k)) >= 0 && level[g] == -1) level[g] = -2, stack[top++] = g;
     }
     for (i = 0; i < top; i++) {
         f = stack[i];
         level[f] = -1;
-        if (pw_df_project(m, f, up, z + 2 * f)) {
+        if (pw_df_project_tilt(m, f, up, cut ? cut->sin2 : 1e-8, z + 2 * f)) {
             if (power == 2) pw_df_square(z + 2 * f);
             level[f] = 0;
             queue[(*tail)++] = f;
@@ -10084,13 +10206,13 @@ PW__DEF void pw_df_seed(const pw_trimesh *m, pw_v3 up, int power, double *z, int
  * ones: the unit average of their directions transported into f (§3.2
  * propagation: "projecting onto its face plane the average direction of
  * neighboring faces"); the first neighbour's if the average cancels. */
-PW__DEF void pw_df_average(const pw_trimesh *m, const float *conn, int power, const int *level,
-                                double *z, int f)
+PW__DEF void pw_df_average(const pw_trimesh *m, const float *conn, int power, const pw_df_cut *cut,
+                           const int *level, double *z, int f)
 {
     double sum[2] = {0.0, 0.0}, first[2] = {0.0, 0.0}, w[2];
     int k, g, n = 0;
     for (k = 0; k < 3; k++) {
-        g = pw_trimesh_across(m, f, k);
+        g = pw_df_across(m, cut, f, k);
         if (g < 0 || level[g] < 0 || level[g] >= level[f]) continue;
         pw_df_move(conn, 3 * f + k, power, z + 2 * g, w);
         if (n++ == 0) first[0] = w[0], first[1] = w[1];
@@ -10107,9 +10229,10 @@ PW__DEF void pw_df_average(const pw_trimesh *m, const float *conn, int power, co
  * the triangle frames; power 2: doubled angles) by breadth-first propagation
  * from the known ones, layer by layer, so that the result does not depend
  * on which known triangle is met first. Components without a known triangle
- * are seeded by pw_df_seed. Known directions must be unit. */
-PW__DEF int pw_df_fill(const pw_alloc *a, const pw_trimesh *m, const float *conn, int power, pw_v3 up,
-                            const unsigned char *known, double *z, pw_err *e)
+ * are seeded by pw_df_seed. Known directions must be unit. With a cut
+ * (pw_df_cut), propagation does not cross its edges. */
+PW__DEF int pw_df_fill_cut(const pw_alloc *a, const pw_trimesh *m, const float *conn, int power, pw_v3 up,
+                           const pw_df_cut *cut, const unsigned char *known, double *z, pw_err *e)
 {
     int *level = (int *)pw_alloc_array(a, (size_t)m->nf * 3, sizeof(int), "field propagation", e);
     int *queue, *stack, head = 0, tail = 0, next = 0, f, k, g;
@@ -10124,18 +10247,24 @@ PW__DEF int pw_df_fill(const pw_alloc *a, const pw_trimesh *m, const float *conn
         if (head == tail) {
             while (next < m->nf && level[next] >= 0) next++;
             if (next == m->nf) break;
-            pw_df_seed(m, up, power, z, level, queue, &tail, stack, next);
+            pw_df_seed(m, up, power, cut, z, level, queue, &tail, stack, next);
         }
         f = queue[head++];
-        if (level[f] > 0) pw_df_average(m, conn, power, level, z, f);
+        if (level[f] > 0) pw_df_average(m, conn, power, cut, level, z, f);
         for (k = 0; k < 3; k++)
-            if ((g = pw_trimesh_across(m, f, k)) >= 0 && level[g] == -1) {
+            if ((g = pw_df_across(m, cut, f, k)) >= 0 && level[g] == -1) {
                 level[g] = level[f] + 1;
                 queue[tail++] = g;
             }
     }
     pw_free(a, level);
     return PW_OK;
+}
+
+PW__DEF int pw_df_fill(const pw_alloc *a, const pw_trimesh *m, const float *conn, int power, pw_v3 up,
+                       const unsigned char *known, double *z, pw_err *e)
+{
+    return pw_df_fill_cut(a, m, conn, power, up, NULL, known, z, e);
 }
 
 /* §3.2: "project the global up direction onto the surface, and then
@@ -10152,6 +10281,80 @@ PW__DEF int pw_df_up(const pw_alloc *a, const pw_trimesh *m, const float *conn, 
     int f;
     for (f = 0; f < m->nf; f++) known[f] = (unsigned char)pw_df_project(m, f, up, z + 2 * f);
     return pw_df_fill(a, m, conn, 1, up, known, z, e);
+}
+
+/* The up field without bullseyes. Where up is (nearly) normal to the
+ * surface - a box top, a floor, a pole - the projection has no direction,
+ * and a field on a closed surface needs singularities of total index 2
+ * somewhere there. Breadth-first propagation from the sides (pw_df_up)
+ * puts it in the middle of a flat top and draws its layers as rings with
+ * creases along the medial axis. Here:
+ *   - triangles tilted less than PW_DF_UP_TILT degrees take no direction
+ *     from up (noise on a scanned floor would otherwise decide it);
+ *   - propagation does not cross edges sharper than PW_DF_UP_CREASE
+ *     degrees, so a flat up-facing region bounded by creases is a
+ *     component of its own, seeded once and transported across unchanged
+ *     (uniform on a plane: the singularity sits on the crease);
+ *   - the directions propagated into an up-facing region that no crease
+ *     bounds (a smooth cap: a pole, the top of a head) are relaxed by
+ *     Gauss-Seidel sweeps of the connection Laplacian (each the mean of
+ *     its neighbours transported, not normalised), the discrete harmonic
+ *     extension of its border, whose one zero is a clean point
+ *     singularity instead of the propagation's layers. */
+#define PW_DF_UP_TILT 8.0
+#define PW_DF_UP_CREASE 30.0
+#define PW_DF_UP_SWEEPS 200
+
+/* cut[h] for every half-edge whose dihedral angle exceeds PW_DF_UP_CREASE. */
+PW__DEF void pw_df_creases(const pw_trimesh *m, unsigned char *cut)
+{
+    double c = cos(PW_DF_UP_CREASE * 3.14159265358979323846 / 180.0);
+    int h;
+    for (h = 0; h < 3 * m->nf; h++) {
+        int t = m->hm.twin[h];
+        cut[h] = (unsigned char)(t >= 0 && pw_v3_dot(pw_df_normal(m, h / 3), pw_df_normal(m, t / 3)) < c);
+    }
+}
+
+/* One Gauss-Seidel sweep over the triangles not known: each becomes the
+ * mean of its uncut neighbours' directions transported into it. */
+PW__DEF void pw_df_relax(const pw_trimesh *m, const float *conn, const pw_df_cut *cut, const unsigned char *known,
+                         double *z)
+{
+    int f, k, g;
+    for (f = 0; f < m->nf; f++) {
+        double sum[2] = {0.0, 0.0}, w[2];
+        int n = 0;
+        if (known[f]) continue;
+        for (k = 0; k < 3; k++) {
+            if ((g = pw_df_across(m, cut, f, k)) < 0) continue;
+            pw_df_move(conn, 3 * f + k, 1, z + 2 * g, w);
+            sum[0] += w[0];
+            sum[1] += w[1];
+            n++;
+        }
+        if (n > 0 && sum[0] * sum[0] + sum[1] * sum[1] > 0.0) z[2 * f] = sum[0] / n, z[2 * f + 1] = sum[1] / n;
+    }
+}
+
+PW__DEF int pw_df_up_creased(const pw_alloc *a, const pw_trimesh *m, const float *conn, pw_v3 up, double *z,
+                             unsigned char *known, pw_err *e)
+{
+    unsigned char *edge = (unsigned char *)pw_alloc_array(a, (size_t)m->nf * 3, 1, "field creases", e);
+    double st = sin(PW_DF_UP_TILT * 3.14159265358979323846 / 180.0);
+    pw_df_cut cut;
+    int f, i, r;
+    if (!edge) return PW_ERR_NOMEM;
+    pw_df_creases(m, edge);
+    cut.edge = edge;
+    cut.sin2 = st * st;
+    for (f = 0; f < m->nf; f++) known[f] = (unsigned char)pw_df_project_tilt(m, f, up, cut.sin2, z + 2 * f);
+    r = pw_df_fill_cut(a, m, conn, 1, up, &cut, known, z, e);
+    for (i = 0; r == PW_OK && i < PW_DF_UP_SWEEPS; i++) pw_df_relax(m, conn, &cut, known, z);
+    for (f = 0; r == PW_OK && f < m->nf; f++)
+        if (!pw_df_unit(z + 2 * f)) pw_df_axis(m, f, z + 2 * f);
+    pw_free(a, edge);
+    return r;
 }
 
 /* Length of each dual edge: centroid to edge midpoint to centroid, a path
@@ -11226,7 +11429,11 @@ LAPPEDDEF void lapped_mesh_free(lapped_mesh *m)
 
 /* ---- the triangle mesh every stage works on ------------------------------ */
 
-/* The fan triangulation of the caller's mesh, with adjacency and geometry. */
+/* The fan triangulation of the caller's mesh, with adjacency and geometry.
+ * Degenerate triangles (pw_trimesh_sliver: zero-area, needles, caps) are
+ * kept: they take their neighbours' normal, and growth and the
+ * parametrisation treat them apart (grow.c), since real scans are full of
+ * them. */
 static int lapped__mesh_init(const pw_alloc *a, const lapped_mesh *in, pw_trimesh *m, pw_err *e)
 {
     pw_mesh v;
@@ -11238,7 +11445,7 @@ static int lapped__mesh_init(const pw_alloc *a, const lapped_mesh *in, pw_trimes
     v.nf = in->nfaces;
     v.fstart = in->face_start;
     v.fv = in->face_verts;
-    return pw_trimesh_init(a, &v, m, e);
+    return pw_trimesh_init_ex(a, &v, 1, m, e);
 }
 
 /* ---- pastes per triangle, and evaluating the lapped texture ---------------- */
@@ -11340,9 +11547,13 @@ static void lapped__eval(const lapped__index *ix, const lapped_texture *t, const
  * with |S| = |T|.
  *
  * Modes (details beside each function):
- *   UP           up projected onto each face; where up is normal to a face,
- *                the neighbours' direction by propagation; a component
- *                wholly normal to up (a flat sheet) takes a fixed axis.
+ *   UP           up projected onto each face; where up is (within 8
+ *                degrees) normal to a face, the neighbours' direction by
+ *                propagation that stops at creases sharper than 30 degrees
+ *                and is then relaxed to its harmonic extension
+ *                (pw_df_up_creased: no bullseye on box tops and caps); a
+ *                component wholly normal to up (a flat sheet) takes a
+ *                fixed axis.
  *   ISOTROPIC    the same field (only the scale matters; growth propagates
  *                its own orientation).
  *   CONSTRAINTS  Gaussian RBFs of Dijkstra distance over the dual graph
@@ -11691,7 +11902,7 @@ static int lapped__field(const pw_alloc *a, const pw_trimesh *m, const lapped_fi
     else if (fl->mode == LAPPED_FIELD_CURVATURE)
         r = pw_df_curvature(a, m, pw_v3_load(fl->up), fl->smoothing, conn, z, known, e);
     else
-        r = pw_df_up(a, m, conn, up, z, known, e);
+        r = pw_df_up_creased(a, m, conn, up, z, known, e);
     if (r == PW_OK) lapped__fld_output(m, z, scale, scales, s, t);
     pw_free(a, z);
     pw_free(a, known);
@@ -12522,6 +12733,8 @@ typedef struct lapped__patchbuf {
     float *heapk;        /* candidate queue: distance keys ... */
     int *heapf, nheap;   /* ... and triangles */
     int hard;            /* growth stopped somewhere at the distortion limit */
+    unsigned char *sliver; /* nf: 1 for a degenerate triangle (pw_trimesh_sliver) */
+    float *keep;         /* nv*2: the coordinates of verts before the last optimisation */
 } lapped__patchbuf;
 
 static void lapped__patchbuf_free(const pw_alloc *a, lapped__patchbuf *p)
@@ -12538,14 +12751,19 @@ static void lapped__patchbuf_free(const pw_alloc *a, lapped__patchbuf *p)
     pw_free(a, p->verts);
     pw_free(a, p->heapk);
     pw_free(a, p->heapf);
+    pw_free(a, p->sliver);
+    pw_free(a, p->keep);
     memset(p, 0, sizeof *p);
 }
 
 /* Every array sized for the whole mesh: a patch may cover all of it, and a
  * triangle waits in the candidate queue at most once at a time. */
-static int lapped__patchbuf_init(const pw_alloc *a, int nf, int nv, lapped__patchbuf *p, pw_err *e)
+static int lapped__patchbuf_init(const pw_alloc *a, const pw_trimesh *m, lapped__patchbuf *p, pw_err *e)
 {
+    int nf = m->nf, nv = m->nv, f;
     memset(p, 0, sizeof *p);
+    p->sliver = (unsigned char *)pw_alloc_array(a, (size_t)nf, 1, "degenerate triangles", e);
+    p->keep = (float *)pw_alloc_array(a, (size_t)nv * 2, sizeof(float), "patch coordinates", e);
     p->fin = (int *)pw_calloc_array(a, (size_t)nf, sizeof(int), "patch triangles", e);
     p->fout = (int *)pw_calloc_array(a, (size_t)nf, sizeof(int), "patch triangles", e);
     p->fq = (int *)pw_calloc_array(a, (size_t)nf, sizeof(int), "patch triangles", e);
@@ -12559,8 +12777,10 @@ static int lapped__patchbuf_init(const pw_alloc *a, int nf, int nv, lapped__patc
     p->heapk = (float *)pw_alloc_array(a, (size_t)nf, sizeof(float), "growth queue", e);
     p->heapf = (int *)pw_alloc_array(a, (size_t)nf, sizeof(int), "growth queue", e);
     if (p->fin && p->fout && p->fq && p->vin && p->vloc && p->vuv && p->fs && p->ft && p->faces && p->verts &&
-        p->heapk && p->heapf)
+        p->heapk && p->heapf && p->sliver && p->keep) {
+        for (f = 0; f < nf; f++) p->sliver[f] = (unsigned char)pw_trimesh_sliver(m, f);
         return PW_OK;
+    }
     lapped__patchbuf_free(a, p);
     return PW_ERR_NOMEM;
 }
@@ -12647,6 +12867,7 @@ static void lapped__phi(const pw_trimesh *m, const lapped__patchbuf *p, int f, p
 static float lapped__distortion(const pw_trimesh *m, const lapped__patchbuf *p, int f)
 {
     float ps[2], pt[2], a, b, c, d, det, fro, disc, s1, s2;
+    if (p->sliver[f]) return 1.0f; /* no shape to distort: its corners follow its neighbours */
     lapped__phi(m, p, f, pw_v3_load(p->fs + 3 * f), ps);
     lapped__phi(m, p, f, pw_v3_load(p->ft + 3 * f), pt);
     a = ps[0], b = pt[0], c = ps[1], d = pt[1];
@@ -12659,17 +12880,66 @@ static float lapped__distortion(const pw_trimesh *m, const lapped__patchbuf *p, 
     return s1 > 1.0f / s2 ? s1 : 1.0f / s2;
 }
 
+/* The texture displacement the frame (S, T) of triangle f asks for the 3D
+ * vector d: d = a S + b T solved in the least-squares sense (S and T need
+ * not be orthogonal; the part of d off their plane is ignored), out = (a, b)
+ * since phi(S) = (1, 0) and phi(T) = (0, 1) (§3.4). */
+static void lapped__frame_coords(const lapped__patchbuf *p, int f, pw_v3 d, float out[2])
+{
+    pw_v3 s = pw_v3_load(p->fs + 3 * f), t = pw_v3_load(p->ft + 3 * f);
+    double ss = pw_v3_dot(s, s), st = pw_v3_dot(s, t), tt = pw_v3_dot(t, t);
+    double ds = pw_v3_dot(d, s), dt = pw_v3_dot(d, t), det = ss * tt - st * st;
+    out[0] = (float)((ds * tt - dt * st) / det);
+    out[1] = (float)((dt * ss - ds * st) / det);
+}
+
 /* Texture coordinates of point x of the seed triangle f: the chosen point
  * maps to the patch centre and the face frame (S, T) to the texture axes. */
 static void lapped__seed_uv(const lapped__patchbuf *p, int f, pw_v3 x, pw_v3 centre3, const float c[2],
                             float out[2])
 {
-    pw_v3 s = pw_v3_load(p->fs + 3 * f), t = pw_v3_load(p->ft + 3 * f), d = pw_v3_sub(x, centre3);
-    /* solve d = a S + b T in the plane (S and T need not be orthogonal) */
-    double ss = pw_v3_dot(s, s), st = pw_v3_dot(s, t), tt = pw_v3_dot(t, t);
-    double ds = pw_v3_dot(d, s), dt = pw_v3_dot(d, t), det = ss * tt - st * st;
-    out[0] = c[0] + (float)((ds * tt - dt * st) / det);
-    out[1] = c[1] + (float)((dt * ss - ds * st) / det);
+    lapped__frame_coords(p, f, pw_v3_sub(x, centre3), out);
+    out[0] += c[0];
+    out[1] += c[1];
+}
+
+/* The texture layout of degenerate triangle f: out[2k], out[2k+1] is
+ * corner k's offset from corner 0. Its own plane means nothing, so it is
+ * laid flat isometrically: its longest edge along that edge's tangent
+ * direction (projected onto the frame's plane), the third corner at its
+ * true distance from that edge, on the side its orientation gives, all in
+ * the frame's texture units. Its texture area is then A / S^2 (§3.4's
+ * ideal), however its corners sit. */
+static void lapped__sliver_layout(const pw_trimesh *m, const lapped__patchbuf *p, int f, float out[6])
+{
+    pw_v3 q[3], e, n = pw_v3_load(m->normal + 3 * f), side;
+    float best = -1.0f, ae[2], as[2], x, y, own;
+    int k, i = 0;
+    for (k = 0; k < 3; k++) q[k] = pw_trimesh_corner(m, f, k);
+    for (k = 0; k < 3; k++) {
+        float l = pw_v3_len(pw_v3_sub(q[(k + 1) % 3], q[k]));
+        if (l > best) best = l, i = k;
+    }
+    e = pw_v3_sub(q[(i + 1) % 3], q[i]);
+    e = pw_v3_sub(e, pw_v3_scale(n, pw_v3_dot(e, n)));
+    e = pw_v3_len(e) > 1e-6f * best && best > 0.0f ? pw_v3_norm(e) : pw_v3_norm(pw_v3_load(p->fs + 3 * f));
+    side = pw_v3_cross(n, e);
+    lapped__frame_coords(p, f, e, ae);
+    lapped__frame_coords(p, f, side, as);
+    own = pw_v3_dot(pw_v3_cross(pw_v3_sub(q[1], q[0]), pw_v3_sub(q[2], q[0])), n);
+    for (k = 0; k < 3; k++) {
+        pw_v3 d = pw_v3_sub(q[k], q[i]), dir = pw_v3_sub(q[(i + 1) % 3], q[i]);
+        float dl = pw_v3_len(dir);
+        x = dl > 0.0f ? pw_v3_dot(d, dir) / dl : 0.0f;
+        y = pw_v3_len(pw_v3_sub(d, pw_v3_scale(dir, dl > 0.0f ? x / dl : 0.0f)));
+        y = own < 0.0f ? -y : y; /* the third corner lies left of the longest edge when counter-clockwise */
+        out[2 * k] = x * ae[0] + y * as[0];
+        out[2 * k + 1] = x * ae[1] + y * as[1];
+    }
+    for (k = 2; k >= 0; k--) {
+        out[2 * k] -= out[0];
+        out[2 * k + 1] -= out[1];
+    }
 }
 
 /* Maillot et al.'s prediction (§3.3): the texture position of corner k of
@@ -12683,6 +12953,15 @@ static void lapped__predict(const pw_trimesh *m, const lapped__patchbuf *p, int 
     float ee = pw_v3_dot(e, e), x = pw_v3_dot(d, e) / ee;
     float y = pw_v3_len(pw_v3_sub(d, pw_v3_scale(e, x))) / sqrtf(ee);
     float du = p->vuv[2 * ib] - p->vuv[2 * ia], dv = p->vuv[2 * ib + 1] - p->vuv[2 * ia + 1];
+    if (p->sliver[f]) { /* no usable shape (a needle's short edge amplifies noise): its flat layout */
+        float l[6];
+        int ka = (k + 1) % 3, kb = (k + 2) % 3;
+        lapped__sliver_layout(m, p, f, l);
+        out[0] = 0.5f * (p->vuv[2 * ia] + l[2 * k] - l[2 * ka] + p->vuv[2 * ib] + l[2 * k] - l[2 * kb]);
+        out[1] = 0.5f * (p->vuv[2 * ia + 1] + l[2 * k + 1] - l[2 * ka + 1] + p->vuv[2 * ib + 1] + l[2 * k + 1] -
+                         l[2 * kb + 1]);
+        return;
+    }
     /* (a, b, c) is counter-clockwise, so c lies to the left of a -> b */
     out[0] = p->vuv[2 * ia] + x * du - y * dv;
     out[1] = p->vuv[2 * ia + 1] + x * dv + y * du;
@@ -12694,7 +12973,8 @@ static void lapped__predict_from(const pw_trimesh *m, const lapped__patchbuf *p,
 {
     int f = h / 3, k = h % 3;
     float q[2];
-    if (p->vin[m->tri[3 * f + (k + 1) % 3]] != p->stamp || p->vin[m->tri[3 * f + (k + 2) % 3]] != p->stamp)
+    if (p->vin[m->tri[3 * f + (k + 1) % 3]] != p->stamp || p->vin[m->tri[3 * f + (k + 2) % 3]] != p->stamp ||
+        p->sliver[f])
         return;
     lapped__predict(m, p, f, k, q);
     sum[0] += q[0];
@@ -12703,8 +12983,9 @@ static void lapped__predict_from(const pw_trimesh *m, const lapped__patchbuf *p,
 }
 
 /* Maps the new vertex v at the centroid of the predictions of every
- * triangle around it that has its other two corners mapped (§3.3). h0 is
- * a half-edge leaving v in such a triangle. */
+ * non-degenerate triangle around it that has its other two corners mapped
+ * (§3.3); with none, the frame's prediction in the triangle of h0, a
+ * half-edge leaving v whose other two corners are mapped. */
 static void lapped__map_new_vertex(const pw_trimesh *m, lapped__patchbuf *p, int v, int h0)
 {
     float sum[2] = {0.0f, 0.0f};
@@ -12716,6 +12997,10 @@ static void lapped__map_new_vertex(const pw_trimesh *m, lapped__patchbuf *p, int
     if (h < 0) /* an open fan: the clockwise side too */
         for (h = pw_he_cw(&m->hm, h0); h >= 0 && ++guard < 8192; h = pw_he_cw(&m->hm, h))
             lapped__predict_from(m, p, h, sum, &n);
+    if (n == 0) {
+        lapped__predict(m, p, h0 / 3, h0 % 3, sum);
+        n = 1;
+    }
     lapped__map_vertex(p, v, sum[0] / (float)n, sum[1] / (float)n);
 }
 
@@ -12799,11 +13084,17 @@ static void lapped__start(lapped__paster *P, int f, const float b[3], int patch,
                                    pw_v3_scale(pw_trimesh_corner(&P->m, f, 1), b[1])),
                          pw_v3_scale(pw_trimesh_corner(&P->m, f, 2), b[2]));
     lapped__frame(P, f);
-    for (k = 0; k < 3; k++) {
-        float uv[2];
-        lapped__seed_uv(p, f, pw_trimesh_corner(&P->m, f, k), *centre3, P->centre + 2 * patch, uv);
-        lapped__map_vertex(p, P->m.tri[3 * f + k], uv[0], uv[1]);
-    }
+    if (p->sliver[f]) { /* its flat layout, with the chosen point at the patch centre */
+        float l[6], c[2];
+        lapped__sliver_layout(&P->m, p, f, l);
+        for (k = 0; k < 2; k++) c[k] = P->centre[2 * patch + k] - b[1] * l[2 + k] - b[2] * l[4 + k];
+        for (k = 0; k < 3; k++) lapped__map_vertex(p, P->m.tri[3 * f + k], c[0] + l[2 * k], c[1] + l[2 * k + 1]);
+    } else
+        for (k = 0; k < 3; k++) {
+            float uv[2];
+            lapped__seed_uv(p, f, pw_trimesh_corner(&P->m, f, k), *centre3, P->centre + 2 * patch, uv);
+            lapped__map_vertex(p, P->m.tri[3 * f + k], uv[0], uv[1]);
+        }
     p->fin[f] = p->stamp;
     p->faces[p->nfaces++] = f;
     lapped__push_neighbours(P, f, *centre3);
@@ -12888,23 +13179,130 @@ static void lapped__requeue_boundary(lapped__paster *P, pw_v3 centre3)
  * phi(T) as linear functions of the corner coordinates (coefficient rows
  * w_S, w_T). Field alignment (§3.4) asks phi(S) = s^ = (1,0) and
  * phi(T) = t^ = (0,1): u and v separate into two systems with the same
- * matrix. Texture coordinate j of vertex verts[i] is unknown i. */
+ * matrix. Texture coordinate j of vertex verts[i] is unknown i.
+ *
+ * A degenerate triangle has no usable w (they grow as 1/height: a scan's
+ * near-collinear triple weighted its two rows 10^5 times above the rest,
+ * and the ridge that follows the mean diagonal then shrank whole pastes to
+ * 1e-7 of their area). Its rows are written on its edges instead: each
+ * edge's texture vector is the one of its flat layout
+ * (lapped__sliver_layout), scaled by |T| / (longest edge) like an ordinary
+ * triangle's rows. */
+static int lapped__align_nrows(const lapped__patchbuf *p)
+{
+    int i, n = 0;
+    for (i = 0; i < p->nfaces; i++) n += p->sliver[p->faces[i]] ? 3 : 2;
+    return n;
+}
+
+/* |T| / (longest edge) of triangle f: the size of its rows. */
+static double lapped__row_weight(const lapped__paster *P, int f)
+{
+    double longest = 0.0, t = pw_v3_len(pw_v3_load(P->pb.ft + 3 * f));
+    int k;
+    for (k = 0; k < 3; k++) {
+        double l = pw_v3_len(pw_v3_sub(pw_trimesh_corner(&P->m, f, k), pw_trimesh_corner(&P->m, f, (k + 1) % 3)));
+        if (l > longest) longest = l;
+    }
+    return longest > 0.0 && t > 0.0 ? t / longest : 1.0;
+}
+
+/* The three edge rows of degenerate triangle f from row `row` on. */
+static int lapped__sliver_rows(lapped__paster *P, int f, int row, pw_triplets *tr, double *bu, double *bv,
+                               pw_err *e)
+{
+    double w = lapped__row_weight(P, f);
+    float l[6];
+    int k, r = PW_OK;
+    lapped__sliver_layout(&P->m, &P->pb, f, l);
+    for (k = 0; k < 3 && r == PW_OK; k++) {
+        int i = P->m.tri[3 * f + k], j = P->m.tri[3 * f + (k + 1) % 3], kj = (k + 1) % 3;
+        r = pw_triplets_add(tr, row + k, P->pb.vloc[j], w, e);
+        if (r == PW_OK) r = pw_triplets_add(tr, row + k, P->pb.vloc[i], -w, e);
+        bu[row + k] = w * (l[2 * kj] - l[2 * k]);
+        bv[row + k] = w * (l[2 * kj + 1] - l[2 * k + 1]);
+    }
+    return r;
+}
+
 static int lapped__align_rows(lapped__paster *P, pw_triplets *tr, double *bu, double *bv, pw_err *e)
 {
     lapped__patchbuf *p = &P->pb;
-    int i, k, r = PW_OK;
+    int i, k, row = 0, r = PW_OK;
     for (i = 0; i < p->nfaces && r == PW_OK; i++) {
         int f = p->faces[i];
         float ws[3], wt[3];
+        if (p->sliver[f]) {
+            r = lapped__sliver_rows(P, f, row, tr, bu, bv, e);
+            row += 3;
+            continue;
+        }
         lapped__coeffs(&P->m, f, pw_v3_load(p->fs + 3 * f), ws);
         lapped__coeffs(&P->m, f, pw_v3_load(p->ft + 3 * f), wt);
         for (k = 0; k < 3 && r == PW_OK; k++) {
             int col = p->vloc[P->m.tri[3 * f + k]];
-            r = pw_triplets_add(tr, 2 * i, col, ws[k], e);
-            if (r == PW_OK) r = pw_triplets_add(tr, 2 * i + 1, col, wt[k], e);
+            r = pw_triplets_add(tr, row, col, ws[k], e);
+            if (r == PW_OK) r = pw_triplets_add(tr, row + 1, col, wt[k], e);
         }
-        bu[2 * i] = 1.0, bu[2 * i + 1] = 0.0;
-        bv[2 * i] = 0.0, bv[2 * i + 1] = 1.0;
+        bu[row] = 1.0, bu[row + 1] = 0.0;
+        bv[row] = 0.0, bv[row + 1] = 1.0;
+        row += 2;
+    }
+    return r;
+}
+
+/* Conformal rows of degenerate triangle f (rows 2i, 2i+1): with z1, z2 its
+ * edges from corner 0 in its flat layout (complex), z2 (U1 - U0) =
+ * z1 (U2 - U0), Lévy et al.'s form, which needs no inverse; scaled by
+ * (|T| / longest edge)^2. */
+static int lapped__sliver_lscm(lapped__paster *P, int f, int i, pw_triplets *tr, pw_err *e)
+{
+    const int *t = P->m.tri + 3 * f;
+    double w = lapped__row_weight(P, f), cu[3], cv[3], iu[3], iv[3];
+    float l[6], *z1 = l + 2, *z2 = l + 4;
+    int k, n = P->pb.nverts, r = PW_OK;
+    w *= w;
+    lapped__sliver_layout(&P->m, &P->pb, f, l);
+    /* real part: a2 du1 - b2 dv1 - a1 du2 + b1 dv2; imaginary: b2 du1 + a2 dv1 - b1 du2 - a1 dv2 */
+    cu[1] = z2[0], cv[1] = -z2[1], cu[2] = -z1[0], cv[2] = z1[1];
+    iu[1] = z2[1], iv[1] = z2[0], iu[2] = -z1[1], iv[2] = -z1[0];
+    cu[0] = -cu[1] - cu[2], cv[0] = -cv[1] - cv[2], iu[0] = -iu[1] - iu[2], iv[0] = -iv[1] - iv[2];
+    for (k = 0; k < 3 && r == PW_OK; k++) {
+        int col = P->pb.vloc[t[k]];
+        r = pw_triplets_add(tr, 2 * i, col, w * cu[k], e);
+        if (r == PW_OK) r = pw_triplets_add(tr, 2 * i, n + col, w * cv[k], e);
+        if (r == PW_OK) r = pw_triplets_add(tr, 2 * i + 1, col, w * iu[k], e);
+        if (r == PW_OK) r = pw_triplets_add(tr, 2 * i + 1, n + col, w * iv[k], e);
+    }
+    return r;
+}
+
+/* The pins of the least-squares conformal map: phi(S), phi(T) of triangle
+ * f (the seed, or the first non-degenerate patch triangle when the seed is
+ * degenerate) equal to the texture axes; when every patch triangle is
+ * degenerate, the seed's two edges from corner 0 equal its flat layout's. */
+static int lapped__lscm_pins(lapped__paster *P, int seed, int rows, pw_triplets *tr, double *b, pw_err *e)
+{
+    lapped__patchbuf *p = &P->pb;
+    int i, k, f = seed, n = p->nverts, r = PW_OK;
+    for (i = 0; p->sliver[f] && i < p->nfaces; i++) f = p->faces[i];
+    for (i = 0; i < 2 && r == PW_OK; i++) { /* phi(S_f) = (1,0), phi(T_f) = (0,1) */
+        float w[3] = {0.0f, 0.0f, 0.0f}, q[2], l[6];
+        if (p->sliver[f]) { /* U_{i+1} - U_0 as in its flat layout */
+            w[0] = -1.0f, w[i + 1] = 1.0f;
+            lapped__sliver_layout(&P->m, p, f, l);
+            q[0] = l[2 * i + 2], q[1] = l[2 * i + 3];
+        } else {
+            lapped__coeffs(&P->m, f, pw_v3_load((i ? p->ft : p->fs) + 3 * f), w);
+            q[0] = i ? 0.0f : 1.0f, q[1] = i ? 1.0f : 0.0f;
+        }
+        for (k = 0; k < 3 && r == PW_OK; k++) {
+            int col = p->vloc[P->m.tri[3 * f + k]];
+            r = pw_triplets_add(tr, rows + 2 * i, col, w[k], e);
+            if (r == PW_OK) r = pw_triplets_add(tr, rows + 2 * i + 1, n + col, w[k], e);
+        }
+        b[rows + 2 * i] = q[0];
+        b[rows + 2 * i + 1] = q[1];
     }
     return r;
 }
@@ -12920,6 +13318,11 @@ static int lapped__lscm_rows(lapped__paster *P, int seed, pw_triplets *tr, doubl
     for (i = 0; i < p->nfaces && r == PW_OK; i++) {
         int f = p->faces[i];
         float ws[3], wt[3];
+        b[2 * i] = b[2 * i + 1] = 0.0;
+        if (p->sliver[f]) {
+            r = lapped__sliver_lscm(P, f, i, tr, e);
+            continue;
+        }
         lapped__coeffs(&P->m, f, pw_v3_load(p->fs + 3 * f), ws);
         lapped__coeffs(&P->m, f, pw_v3_load(p->ft + 3 * f), wt);
         for (k = 0; k < 3 && r == PW_OK; k++) {
@@ -12929,20 +13332,8 @@ static int lapped__lscm_rows(lapped__paster *P, int seed, pw_triplets *tr, doubl
             if (r == PW_OK) r = pw_triplets_add(tr, 2 * i + 1, n + col, ws[k], e);
             if (r == PW_OK) r = pw_triplets_add(tr, 2 * i + 1, col, wt[k], e);
         }
-        b[2 * i] = b[2 * i + 1] = 0.0;
     }
-    for (i = 0; i < 2 && r == PW_OK; i++) { /* phi(S_seed) = (1,0), phi(T_seed) = (0,1) */
-        float w[3];
-        lapped__coeffs(&P->m, seed, pw_v3_load((i ? p->ft : p->fs) + 3 * seed), w);
-        for (k = 0; k < 3 && r == PW_OK; k++) {
-            int col = p->vloc[P->m.tri[3 * seed + k]];
-            r = pw_triplets_add(tr, rows + 2 * i, col, w[k], e);
-            if (r == PW_OK) r = pw_triplets_add(tr, rows + 2 * i + 1, n + col, w[k], e);
-        }
-        b[rows + 2 * i] = i ? 0.0 : 1.0;
-        b[rows + 2 * i + 1] = i ? 1.0 : 0.0;
-    }
-    return r;
+    return r == PW_OK ? lapped__lscm_pins(P, seed, rows, tr, b, e) : r;
 }
 
 /* Solves the least-squares systems A x_j = b_j (nrhs right-hand sides of
@@ -13001,7 +13392,7 @@ static int lapped__optimize(lapped__paster *P, int seed, const float bary[3], in
     int n = p->nverts, i, j, r, lscm = P->o.lscm && P->o.field.mode == LAPPED_FIELD_ISOTROPIC;
     float du, dv;
     pw_triplets_clear(tr);
-    tr->n = lscm ? 2 * p->nfaces + 4 : 2 * p->nfaces;
+    tr->n = lscm ? 2 * p->nfaces + 4 : lapped__align_nrows(p);
     tr->m = lscm ? 2 * n : n;
     for (i = 0; i < n; i++) {
         x[i] = p->vuv[2 * p->verts[i]];
@@ -13079,8 +13470,107 @@ static void lapped__pick(lapped__paster *P, int early, int *f, float b[3])
     lapped__cover_hole(&P->cover, best, b);
 }
 
+/* ---- the area guarantee (§3.4) ------------------------------------------------------ */
+
+/* The field asks phi(T) = t^ (§3.4), so a triangle of area A at field
+ * scale |T| = S should take A / S^2 of texture (the patch is the unit
+ * square). Below LAPPED__AREA_SLACK of the patch (a hundredth of a texel
+ * of a 256-texel patch) the comparison means nothing: nothing is drawn
+ * there, and a degenerate triangle's surface area is zero. */
+#define LAPPED__AREA_SLACK 1e-7
+
+/* Triangle f with corner coordinates uv: its texture area *tex and its
+ * surface area over S^2, *surf, where S^2 = |S x T| (the area the frame
+ * maps to the unit square; |T|^2 for every field but a caller's FACES). */
+static void lapped__tri_areas(const pw_trimesh *m, const float *fs, const float *ft, int f, const float uv[6],
+                              double *tex, double *surf)
+{
+    pw_v3 c = pw_v3_cross(pw_v3_load(fs + 3 * f), pw_v3_load(ft + 3 * f));
+    double s2 = (double)c.x * c.x + (double)c.y * c.y + (double)c.z * c.z;
+    s2 = sqrt(s2);
+    *tex = 0.5 * fabs(((double)uv[2] - uv[0]) * ((double)uv[5] - uv[1]) -
+                      ((double)uv[4] - uv[0]) * ((double)uv[3] - uv[1]));
+    *surf = (double)m->area[f] / s2;
+}
+
+/* Whether texture area tex is within [lo, hi] times surf, up to the slack. */
+static int lapped__area_ok(double tex, double surf, double lo, double hi)
+{
+    return tex >= lo * surf - LAPPED__AREA_SLACK && tex <= hi * surf + LAPPED__AREA_SLACK;
+}
+
+/* For paste q (the tests and the fuzzer check the guarantee with it):
+ * *tex = its texture area, *surf = the sum of its A_f / S_f^2, *inside =
+ * the part of *surf whose triangles keep their own ratio within [lo, hi]. */
+static PW__UNUSED void lapped__paste_areas(const pw_trimesh *m, const float *fs, const float *ft,
+                                           const lapped_paste *q, double lo, double hi, double *tex, double *surf,
+                                           double *inside)
+{
+    int i;
+    *tex = *surf = *inside = 0.0;
+    for (i = 0; i < q->nfaces; i++) {
+        double ta, sa;
+        lapped__tri_areas(m, fs, ft, q->faces[i], q->uvs + 6 * i, &ta, &sa);
+        *tex += ta;
+        *surf += sa;
+        if (lapped__area_ok(ta, sa, lo, hi)) *inside += sa;
+    }
+}
+
+/* After the last optimisation: the distortion limit that growth applies
+ * to each new triangle (§3.3) applied again to all of them, since the
+ * least-squares compromise can stretch a triangle that was fine when it
+ * was added. Triangles beyond it leave the paste (later pastes cover
+ * them), except the seed, which keeps the pasting progressing. Distortion
+ * at most d bounds a triangle's texture area to [1/d^2, d^2] times
+ * A / S^2, so with the default d = 2 every pasted triangle, and hence
+ * every paste, keeps its area within [0.25, 4] times. A degenerate
+ * triangle has no distortion to measure; it leaves when its texture area
+ * leaves [1/d^2, d^2] times its surface's. */
+static int lapped__trim_out(lapped__paster *P, int f)
+{
+    lapped__patchbuf *p = &P->pb;
+    float uv[6];
+    double ta, sa, d2 = (double)P->o.max_distortion * P->o.max_distortion;
+    int k;
+    if (!p->sliver[f]) return lapped__distortion(&P->m, p, f) > P->o.max_distortion;
+    for (k = 0; k < 3; k++) {
+        uv[2 * k] = p->vuv[2 * P->m.tri[3 * f + k]];
+        uv[2 * k + 1] = p->vuv[2 * P->m.tri[3 * f + k] + 1];
+    }
+    lapped__tri_areas(&P->m, P->fs, P->ft, f, uv, &ta, &sa);
+    return !lapped__area_ok(ta, sa, 1.0 / d2, d2);
+}
+
+static void lapped__trim(lapped__paster *P, int seed)
+{
+    lapped__patchbuf *p = &P->pb;
+    int i, n = 0;
+    for (i = 0; i < p->nfaces; i++) {
+        int f = p->faces[i];
+        if (f != seed && lapped__trim_out(P, f)) {
+            p->fin[f] = 0;
+            p->hard = 1;
+            continue;
+        }
+        p->faces[n++] = f;
+    }
+    p->nfaces = n;
+}
+
+/* Saves (restore = 0) or restores (1) the patch's coordinates. */
+static void lapped__keep(lapped__patchbuf *p, int restore)
+{
+    int i;
+    for (i = 0; i < p->nverts; i++) {
+        float *uv = p->vuv + 2 * p->verts[i], *k = p->keep + 2 * i;
+        if (restore) uv[0] = k[0], uv[1] = k[1];
+        else k[0] = uv[0], k[1] = uv[1];
+    }
+}
+
 /* One paste: seed, grow, optimise, grow again where the optimisation
- * uncovered texture, up to three rounds (§3.3, §3.4), record. */
+ * uncovered texture, up to three rounds (§3.3, §3.4), trim, record. */
 static int lapped__paste(lapped__paster *P, int early, pw_triplets *tr, double *x, double *b, pw_err *e)
 {
     int f, patch, round, r = PW_OK;
@@ -13091,10 +13581,16 @@ static int lapped__paste(lapped__paster *P, int early, pw_triplets *tr, double *
     lapped__start(P, f, bary, patch, &centre3);
     lapped__grow(P, &P->hulls[patch], centre3);
     for (round = 0; round < 3 && r == PW_OK; round++) {
+        lapped__keep(&P->pb, 0);
         r = lapped__optimize(P, f, bary, patch, tr, x, b, x + 2 * P->m.nv, e);
+        if (r == PW_OK && lapped__trim_out(P, f)) {
+            lapped__keep(&P->pb, 1); /* the seed itself got distorted: the last coordinates stay */
+            break;
+        }
         lapped__requeue_boundary(P, centre3);
         if (r != PW_OK || lapped__grow(P, &P->hulls[patch], centre3) == 0) break;
     }
+    if (r == PW_OK) lapped__trim(P, f);
     return r == PW_OK ? lapped__record(P, patch, e) : r;
 }
 
@@ -13300,7 +13796,7 @@ static int lapped__setup(lapped__paster *P, const lapped_mesh *mesh, const lappe
                                P->difficulty, e)) != PW_OK ||
         (r = lapped__setup_patches(P, patches, npatches, e)) != PW_OK ||
         (r = lapped__cover_init(P->a, &P->m, P->ft, lapped__max_side(P), P->o.coverage, &P->cover, e)) != PW_OK ||
-        (r = lapped__patchbuf_init(P->a, nf, P->m.nv, &P->pb, e)) != PW_OK)
+        (r = lapped__patchbuf_init(P->a, &P->m, &P->pb, e)) != PW_OK)
         return r;
     *estimate = lapped__estimate(P);
     if (*estimate > P->o.max_pastes)
@@ -13319,7 +13815,7 @@ static int lapped__run(lapped__paster *P, double estimate, pw_err *e)
     pw_progress pr = lapped__progress(&P->o);
     pw_triplets tr;
     double *x = (double *)pw_alloc_array(P->a, (size_t)P->m.nv * 4, sizeof(double), "solver unknowns", e);
-    double *b = (double *)pw_alloc_array(P->a, (size_t)P->m.nf * 4 + 8, sizeof(double), "solver rows", e);
+    double *b = (double *)pw_alloc_array(P->a, (size_t)P->m.nf * 6 + 8, sizeof(double), "solver rows", e);
     int r = x && b ? pw_triplets_init(&tr, P->a, 1, 1, e) : PW_ERR_NOMEM;
     if (!x || !b) {
         pw_free(P->a, x);
@@ -13394,6 +13890,7 @@ LAPPEDDEF void lapped_texture_free(lapped_texture *t)
     pw_free(&a, t->patch_size);
     memset(t, 0, sizeof *t);
 }
+
 
 /* ---- src/lapped/render.c ---- */
 /* render.c: runtime pasting (§4): the mesh drawn once per paste, in paste
@@ -13970,6 +14467,26 @@ static void lapped__atlas_centroid(const pw_trimesh *m, int f, double *c)
     }
 }
 
+/* A triangle with collinear or coincident corners p, laid on the line of
+ * its longest edge (corner 0 at the origin; all at 0 when they coincide). */
+static void lapped__atlas_line(double p[3][3], double *x, double *y)
+{
+    double d[3], best = 0.0, len;
+    int k, j;
+    for (k = 0; k < 3; k++) {
+        double l2 = 0.0, e[3];
+        for (j = 0; j < 3; j++) e[j] = p[(k + 1) % 3][j] - p[k][j], l2 += e[j] * e[j];
+        if (l2 > best)
+            for (best = l2, j = 0; j < 3; j++) d[j] = e[j];
+    }
+    len = sqrt(best);
+    for (k = 0; k < 3; k++) {
+        x[k] = 0.0;
+        y[k] = 0.0;
+        for (j = 0; len > 0.0 && j < 3; j++) x[k] += (p[k][j] - p[0][j]) * d[j] / len;
+    }
+}
+
 /* Triangle f in its own plane: corner 0 at the origin, corner 1 on +x,
  * corner 2 at y > 0 (counter-clockwise seen from the normal's side). */
 static void lapped__atlas_frame(const pw_trimesh *m, int f, double *x, double *y)
@@ -13987,6 +14504,10 @@ static void lapped__atlas_frame(const pw_trimesh *m, int f, double *x, double *y
     n[1] = e1[2] * e2[0] - e1[0] * e2[2];
     n[2] = e1[0] * e2[1] - e1[1] * e2[0];
     nl = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    if (!(nl > 0.0) || !(len > 0.0)) { /* collinear or coincident corners: on a line */
+        lapped__atlas_line(p, x, y);
+        return;
+    }
     ey[0] = (n[1] * e1[2] - n[2] * e1[1]) / (nl * len); /* n x e1, unit */
     ey[1] = (n[2] * e1[0] - n[0] * e1[2]) / (nl * len);
     ey[2] = (n[0] * e1[1] - n[1] * e1[0]) / (nl * len);
@@ -14154,7 +14675,9 @@ static int lapped__atlas_flat_ok(const lapped__atlas_grower *G, int f, const dou
 /* §4 growth step: f joins the chart if its normal is within the cone of
  * the seed's, the chart stays a disc (§3.3) and f's flattened image neither
  * flips nor overlaps the chart (spatial hash). Faces refused for their
- * flattened shape are deferred. */
+ * flattened shape are deferred. A degenerate triangle (pw_trimesh_sliver)
+ * neither joins nor grows a chart: alone, it keeps its exact (line) shape,
+ * and no conformal map divides by its area. */
 static int lapped__atlas_grow_try(lapped__atlas_grower *G, int f)
 {
     const pw_trimesh *m = G->m;
@@ -14162,6 +14685,10 @@ static int lapped__atlas_grow_try(lapped__atlas_grower *G, int f)
     int k, shared = 0, sk = 0, v = -1;
     double t[6], V[2] = {0.0, 0.0};
     if (G->chart[f] >= 0 || G->cone[f] == G->cur) return PW_OK;
+    if (pw_trimesh_sliver(m, f) || pw_trimesh_sliver(m, G->seed)) { /* no shape to flatten: a chart alone */
+        G->cone[f] = G->cur;
+        return PW_OK;
+    }
     if ((double)n[0] * ns[0] + (double)n[1] * ns[1] + (double)n[2] * ns[2] < G->cos_cone) {
         G->cone[f] = G->cur;
         return PW_OK;
@@ -14477,7 +15004,7 @@ static int lapped__atlas_chart_finish(lapped__atlas_grower *G, lapped__atlas_cha
         a2 += 0.5 * lapped__atlas_area2(t);
         a3 += G->m->area[G->faces[i]];
     }
-    s = sqrt(a3 / a2);
+    s = a2 > 0.0 && a3 > 0.0 ? sqrt(a3 / a2) : 1.0; /* a degenerate triangle alone keeps its size */
     for (i = 0; i < G->nfc; i++) {
         int f = G->faces[i];
         lapped__atlas_grower_coords(G, f, t);

@@ -31,6 +31,10 @@
  *     patch and triangle indices in range, finite coordinates, every
  *     triangle in some paste, at most max_pastes pastes; its paste file
  *     reads back; made again from the same inputs it is bit-identical;
+ *   - the area guarantee (docs/lapped.md): every paste's texture area is
+ *     within [1/d^2, d^2] (d = max_distortion) of the surface it covers
+ *     over S^2 (up to LAPPED__AREA_SLACK and 0.1% of rounding), degenerate
+ *     triangles included;
  *   - renders and atlases have the requested sizes and finite pixels, atlas
  *     coordinates lie in [0, 1];
  *   - with the counting allocator, every block goes back to the allocator
@@ -224,6 +228,33 @@ static void fz_check_texture(const lapped_texture *t, int ntris, const lapped_im
     free(seen);
 }
 
+/* The area guarantee, per paste, against the field lapped_compute_field
+ * gives for the same options. */
+static void fz_check_areas(const lapped_mesh *mesh, const lapped_texture *t, const lapped_options *o)
+{
+    float *fs = (float *)malloc((size_t)t->ntris * 3 * sizeof(float));
+    float *ft = (float *)malloc((size_t)t->ntris * 3 * sizeof(float));
+    double d = o->max_distortion > 0.0f ? o->max_distortion : 2.0, lo = 0.999 / (d * d), hi = 1.001 * d * d;
+    lapped_error err;
+    pw_trimesh m;
+    pw_alloc a;
+    pw_err e;
+    int p;
+    FZ_CHECK(fs && ft);
+    memset(&a, 0, sizeof a);
+    pw_err_clear(&e);
+    FZ_CHECK(lapped_compute_field(mesh, o, fs, ft, &err) == LAPPED_OK);
+    FZ_CHECK(lapped__mesh_init(&a, mesh, &m, &e) == PW_OK);
+    for (p = 0; p < t->npastes; p++) {
+        double tex, surf, inside;
+        lapped__paste_areas(&m, fs, ft, &t->pastes[p], lo, hi, &tex, &surf, &inside);
+        FZ_CHECK(lapped__area_ok(tex, surf, lo, hi));
+    }
+    pw_trimesh_free(&a, &m);
+    free(fs);
+    free(ft);
+}
+
 /* Determinism: lapped_create again, the same result bit for bit. */
 static void fz_check_again(const lapped_mesh *mesh, const lapped_image *patches, int npatches,
                            const lapped_options *o, const lapped_texture *t)
@@ -393,6 +424,7 @@ static void fz_pipeline(const fz_input *in, const lapped_mesh *mesh, int ntris, 
         goto done;
     }
     fz_check_texture(&t, ntris, patches, npatches, &o);
+    fz_check_areas(mesh, &t, &o);
     fz_check_file(&t, &o);
     if (in->h[11] & 64) fz_check_again(mesh, patches, npatches, &o, &t);
     if (in->h[9] & 64) /* a value channel: the patch's first channel */

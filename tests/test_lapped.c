@@ -374,8 +374,8 @@ static void t_bad_input(void)
     /* three triangles on one edge */
     CHECK_EQ_INT(create_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 -1 0\nv 0 0 1\nf 1 2 3\nf 2 1 4\nf 1 2 5\n",
                              &patch, &o, &err), LAPPED_ERR_TOPOLOGY);
-    /* a zero-area triangle */
-    CHECK_EQ_INT(create_text("v 0 0 0\nv 1 0 0\nv 2 0 0\nv 0 1 0\nf 1 2 3\nf 2 1 4\n", &patch, &o, &err),
+    /* only zero-area triangles (one beside others is covered by their pastes: test_lapped_degenerate) */
+    CHECK_EQ_INT(create_text("v 0 0 0\nv 1 0 0\nv 2 0 0\nv 3 0 0\nf 1 2 3\nf 3 2 4\n", &patch, &o, &err),
                  LAPPED_ERR_DEGENERATE);
     CHECKF(strstr(err.message, "zero area") != NULL, "%s", err.message);
     REQUIRE(lapped_builtin_mesh("sphere", &o, &sphere, &err) == LAPPED_OK);

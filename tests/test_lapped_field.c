@@ -593,6 +593,146 @@ static void t_up_normal_to_surface(void)
     tm_free(&tm);
 }
 
+/* ---- no bullseye where up is normal to the surface (issue 18) ------------- */
+
+/* Largest angle (degrees) between T of any two triangles whose normal is
+ * within 1 degree of +y and whose centroid is above y0: the spread of the
+ * field over a flat up-facing region. *n gets how many there are. */
+static double up_spread(const lapped_mesh *m, const float *t, double y0, int *n)
+{
+    int f, g, *sel = (int *)malloc(sizeof(int) * m->nfaces);
+    double worst = 0.0;
+    *n = 0;
+    for (f = 0; f < m->nfaces; f++) {
+        double nn[3], c[3];
+        tnormal(m, f, nn);
+        tcentroid(m, f, c);
+        if (nn[1] > cos(PI / 180.0) && c[1] > y0) sel[(*n)++] = f;
+    }
+    for (f = 0; f < *n; f++)
+        for (g = f + 1; g < *n; g++) {
+            double a = fangle(t + 3 * sel[f], t + 3 * sel[g]);
+            if (a > worst) worst = a;
+        }
+    free(sel);
+    return worst;
+}
+
+/* Kinks of the field off the creases: neighbouring triangles (dihedral
+ * under 30 degrees) whose T turn by more than 30 degrees unfolded, among
+ * those with both centroids above y0; *far gets the largest horizontal
+ * distance of such an edge from the y axis (a point singularity on the
+ * axis keeps its kinks within a ring of it). */
+static int up_kinks(const lapped_mesh *m, const float *t, double y0, double *far)
+{
+    int *pairs, n = tpairs(m, &pairs), i, kinks = 0;
+    *far = 0.0;
+    for (i = 0; i < n; i++) {
+        double na[3], nb[3], ca[3], cb[3], r;
+        const int *q = pairs + 4 * i;
+        tnormal(m, q[0], na);
+        tnormal(m, q[1], nb);
+        tcentroid(m, q[0], ca);
+        tcentroid(m, q[1], cb);
+        if (na[0] * nb[0] + na[1] * nb[1] + na[2] * nb[2] < cos(PI / 6.0) || ca[1] <= y0 || cb[1] <= y0) continue;
+        if (unfolded_turn(m, q, t) <= 30.0) continue;
+        kinks++;
+        r = sqrt(0.25 * (ca[0] + cb[0]) * (ca[0] + cb[0]) + 0.25 * (ca[2] + cb[2]) * (ca[2] + cb[2]));
+        if (r > *far) *far = r;
+    }
+    free(pairs);
+    return kinks;
+}
+
+/* Runs UP (+y) on tm and reports the spread over its up-facing flats above
+ * y0 and the kinks above y1. */
+static void up_case(tmesh *tm, const char *what, double y0, double y1, double *spread, int *kinks, double *far)
+{
+    int *fs = (int *)malloc(sizeof(int) * (tm->nt + 1)), n;
+    lapped_mesh m = tm_view(tm, fs);
+    lapped_options o = field_opts(LAPPED_FIELD_UP, 0.2f);
+    lapped_error err;
+    float *s, *t;
+    REQUIRE(run(&m, &o, &s, &t, &err) == LAPPED_OK);
+    CHECK(check_frames(&m, s, t, 0.2, what) == 0);
+    *spread = up_spread(&m, t, y0, &n);
+    *kinks = up_kinks(&m, t, y1, far);
+    pwt_info("%s: %d up-facing flat triangles, spread %.2f deg; %d kinks above y = %g, within %.3f of the axis",
+             what, n, *spread, *kinks, y1, *far);
+    free(s), free(t), free(fs);
+}
+
+/* A box: the cube scaled by (sx, sy, sz). */
+static void box(tmesh *m, int n, double sx, double sy, double sz)
+{
+    int v;
+    memset(m, 0, sizeof *m);
+    cube(m, n);
+    for (v = 0; v < m->nv; v++) m->pos[3 * v] *= (float)sx, m->pos[3 * v + 1] *= (float)sy, m->pos[3 * v + 2] *= (float)sz;
+}
+
+/* The top of a cube and of a table-like slab: flat, bounded by 90-degree
+ * creases. The field jumps across the creases and stays uniform on top
+ * (issue 18: at most 15 degrees; propagation from the sides drew rings, a
+ * spread of 180 degrees). */
+static void t_up_box_tops(void)
+{
+    tmesh tm;
+    double spread, far;
+    int kinks;
+    box(&tm, 12, 1.0, 1.0, 1.0);
+    up_case(&tm, "cube top", 0.99, 0.99, &spread, &kinks, &far);
+    CHECKF(spread <= 15.0 && kinks == 0, "cube top: spread %.1f deg, %d kinks", spread, kinks);
+    tm_free(&tm);
+    box(&tm, 16, 2.0, 0.08, 1.0);
+    up_case(&tm, "table top", 0.079, 0.079, &spread, &kinks, &far);
+    CHECKF(spread <= 15.0 && kinks == 0, "table top: spread %.1f deg, %d kinks", spread, kinks);
+    tm_free(&tm);
+}
+
+/* A sphere's pole and the top of a sphere squashed to a fifth of its
+ * height (smooth caps, the second one wide and nearly flat): one clean
+ * point singularity on the axis, every kink within two rings of it. */
+static void t_up_sphere_pole(void)
+{
+    tmesh tm;
+    double spread, far;
+    int kinks, v;
+    memset(&tm, 0, sizeof tm);
+    icosphere(&tm, 4, 1.0, 0, 0, 0); /* edges ~0.08 */
+    up_case(&tm, "sphere pole", 2.0, 0.9, &spread, &kinks, &far);
+    CHECKF(kinks <= 12 && far <= 0.2, "sphere pole: %d kinks, as far as %.3f from the axis", kinks, far);
+    for (v = 0; v < tm.nv; v++) tm.pos[3 * v + 1] *= 0.2f; /* a flattened top, like a head's */
+    up_case(&tm, "squashed sphere top", 2.0, 0.19, &spread, &kinks, &far);
+    CHECKF(kinks <= 12 && far <= 0.2, "squashed sphere top: %d kinks, as far as %.3f from the axis", kinks, far);
+    tm_free(&tm);
+}
+
+/* A terrain: a 48 x 48 height field with a flat square mesa (y = 0.3,
+ * sides on grid lines, 45-degree cliffs: creases) and a smooth hill. The
+ * mesa top stays uniform; the hill's top keeps one point singularity. */
+static void t_up_terrain(void)
+{
+    tmesh tm;
+    double spread, far;
+    int kinks, v;
+    memset(&tm, 0, sizeof tm);
+    grid(&tm, 48);
+    for (v = 0; v < tm.nv; v++) {
+        float *p = tm.pos + 3 * v;
+        double dx = fabs(p[0] + 0.5), dz = fabs(p[2] + 0.5), rm = dx > dz ? dx : dz;
+        double rh = (p[0] - 0.5) * (p[0] - 0.5) + (p[2] - 0.5) * (p[2] - 0.5);
+        double mesa = rm < 0.25 ? 0.3 : (rm < 0.55 ? 0.3 - (rm - 0.25) : 0.0);
+        p[1] = (float)(mesa + 0.6 * exp(-rh / 0.04));
+    }
+    up_case(&tm, "terrain mesa", 0.29, 5.0, &spread, &kinks, &far);
+    CHECKF(spread <= 15.0, "terrain mesa: spread %.1f deg", spread);
+    for (v = 0; v < tm.nv; v++) tm.pos[3 * v] -= 0.5f, tm.pos[3 * v + 2] -= 0.5f; /* the hill on the axis */
+    up_case(&tm, "terrain hill", 5.0, 0.35, &spread, &kinks, &far);
+    CHECKF(kinks <= 12 && far <= 0.12, "terrain hill: %d kinks, as far as %.3f from its top", kinks, far);
+    tm_free(&tm);
+}
+
 /* Index of the grid triangle whose centroid is nearest to (x, z). */
 static int grid_face(const lapped_mesh *m, double x, double z)
 {
@@ -1120,6 +1260,9 @@ static const pwt_case cases[] = {
     {"polygons", t_polygons},
     {"up_sphere", t_up_sphere},
     {"up_normal_to_surface", t_up_normal_to_surface},
+    {"up_box_tops", t_up_box_tops},
+    {"up_sphere_pole", t_up_sphere_pole},
+    {"up_terrain", t_up_terrain},
     {"constraints_grid", t_constraints_grid},
     {"constraints_curved", t_constraints_curved},
     {"constraints_components", t_constraints_components},

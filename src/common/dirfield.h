@@ -65,11 +65,29 @@ PW__DEF double pw_df_dual_len(const pw_trimesh *m, int h)
            (double)pw_v3_len(pw_v3_sub(pw_df_centroid(m, m->hm.twin[h] / 3), mid));
 }
 
-/* The frame of triangle f: u along its first edge, v = N x u. */
+/* The frame of triangle f: u along its first edge, v = N x u. A degenerate
+ * triangle whose normal came from its neighbours (pw_trimesh_repair_normals)
+ * may have edges off that plane, or none at all: u is then the first edge
+ * that keeps a tangent part, projected, else the axis least aligned with N. */
 PW__DEF void pw_df_frame(const pw_trimesh *m, int f, pw_v3 *u, pw_v3 *v)
 {
-    *u = pw_v3_norm(pw_v3_sub(pw_trimesh_corner(m, f, 1), pw_trimesh_corner(m, f, 0)));
-    *v = pw_v3_cross(pw_df_normal(m, f), *u);
+    pw_v3 n = pw_df_normal(m, f), e = pw_v3_sub(pw_trimesh_corner(m, f, 1), pw_trimesh_corner(m, f, 0)), t;
+    int k;
+    float el = pw_v3_len(e);
+    if (!(el > 0.0f) || fabsf(pw_v3_dot(e, n)) > 1e-3f * el) {
+        for (k = 0, e = pw_v3_make(0, 0, 0); k < 3 && !(pw_v3_len(e) > 1e-3f * el); k++) {
+            t = pw_v3_sub(pw_trimesh_corner(m, f, (k + 1) % 3), pw_trimesh_corner(m, f, k));
+            el = pw_v3_len(t);
+            e = pw_v3_sub(t, pw_v3_scale(n, pw_v3_dot(t, n)));
+        }
+        if (!(pw_v3_len(e) > 1e-3f * el) || !(el > 0.0f)) { /* no edge has a tangent part */
+            k = fabsf(n.x) <= fabsf(n.y) && fabsf(n.x) <= fabsf(n.z) ? 0 : (fabsf(n.y) <= fabsf(n.z) ? 1 : 2);
+            t = pw_v3_make(k == 0, k == 1, k == 2);
+            e = pw_v3_sub(t, pw_v3_scale(n, pw_v3_dot(t, n)));
+        }
+    }
+    *u = pw_v3_norm(e);
+    *v = pw_v3_cross(n, *u);
 }
 
 /* Tangent vector x of the triangle across half-edge h, unfolded about the
@@ -167,16 +185,23 @@ PW__DEF void pw_df_halve(double *z)
 
 /* The 3D direction d projected onto triangle f, as a unit direction in its
  * frame. Returns 0 when d is (within 1e-4 radians) normal to the face:
- * "project the global up direction onto the surface" has no answer there. */
-PW__DEF int pw_df_project(const pw_trimesh *m, int f, pw_v3 d, double *z)
+ * "project the global up direction onto the surface" has no answer there.
+ * pw_df_project_tilt: the same with the bound on the squared sine of the
+ * angle between d and the face plane given. */
+PW__DEF int pw_df_project_tilt(const pw_trimesh *m, int f, pw_v3 d, double sin2, double *z)
 {
     pw_v3 u, v;
     double l2 = (double)pw_v3_dot(d, d);
     pw_df_frame(m, f, &u, &v);
     z[0] = pw_v3_dot(d, u);
     z[1] = pw_v3_dot(d, v);
-    if (!(z[0] * z[0] + z[1] * z[1] > 1e-8 * l2)) return 0;
+    if (!(z[0] * z[0] + z[1] * z[1] > sin2 * l2)) return 0;
     return pw_df_unit(z);
+}
+
+PW__DEF int pw_df_project(const pw_trimesh *m, int f, pw_v3 d, double *z)
+{
+    return pw_df_project_tilt(m, f, d, 1e-8, z);
 }
 
 /* A fixed direction for triangle f when nothing else defines one: the
@@ -193,12 +218,27 @@ PW__DEF void pw_df_axis(const pw_trimesh *m, int f, double *z)
     if (!pw_df_project(m, f, pw_v3_load(ax), z)) z[0] = 1.0, z[1] = 0.0;
 }
 
+/* Where propagation stops (pw_df_up_creased): half-edges marked in `edge`
+ * (nf*3) are not crossed, and `sin2` is the squared sine of the tilt below
+ * which up does not define a direction. NULL: every edge is crossed, and
+ * the tilt bound is 1e-4 radians. */
+typedef struct pw_df_cut {
+    const unsigned char *edge;
+    double sin2;
+} pw_df_cut;
+
+/* The triangle across edge k of f, or -1 on a boundary or a cut. */
+PW__DEF int pw_df_across(const pw_trimesh *m, const pw_df_cut *cut, int f, int k)
+{
+    return cut && cut->edge[3 * f + k] ? -1 : pw_trimesh_across(m, f, k);
+}
+
 /* Seeds a component in which no triangle has a direction yet (level -1 from
  * `start` on): every triangle where `up` projects gets that projection, as
  * in the up field; if none does (a flat piece normal to up), the lowest
  * triangle gets the fixed axis. Seeds go to the queue with level 0. */
-PW__DEF void pw_df_seed(const pw_trimesh *m, pw_v3 up, int power, double *z, int *level, int *queue,
-                             int *tail, int *stack, int start)
+PW__DEF void pw_df_seed(const pw_trimesh *m, pw_v3 up, int power, const pw_df_cut *cut, double *z, int *level,
+                        int *queue, int *tail, int *stack, int start)
 {
     int top = 1, n = 0, i, k, f, g, seeded = 0;
     stack[0] = start;
@@ -206,12 +246,12 @@ PW__DEF void pw_df_seed(const pw_trimesh *m, pw_v3 up, int power, double *z, int
     while (n < top) { /* flood the component, in a deterministic order */
         f = stack[n++];
         for (k = 0; k < 3; k++)
-            if ((g = pw_trimesh_across(m, f, k)) >= 0 && level[g] == -1) level[g] = -2, stack[top++] = g;
+            if ((g = pw_df_across(m, cut, f, k)) >= 0 && level[g] == -1) level[g] = -2, stack[top++] = g;
     }
     for (i = 0; i < top; i++) {
         f = stack[i];
         level[f] = -1;
-        if (pw_df_project(m, f, up, z + 2 * f)) {
+        if (pw_df_project_tilt(m, f, up, cut ? cut->sin2 : 1e-8, z + 2 * f)) {
             if (power == 2) pw_df_square(z + 2 * f);
             level[f] = 0;
             queue[(*tail)++] = f;
@@ -230,13 +270,13 @@ PW__DEF void pw_df_seed(const pw_trimesh *m, pw_v3 up, int power, double *z, int
  * ones: the unit average of their directions transported into f (§3.2
  * propagation: "projecting onto its face plane the average direction of
  * neighboring faces"); the first neighbour's if the average cancels. */
-PW__DEF void pw_df_average(const pw_trimesh *m, const float *conn, int power, const int *level,
-                                double *z, int f)
+PW__DEF void pw_df_average(const pw_trimesh *m, const float *conn, int power, const pw_df_cut *cut,
+                           const int *level, double *z, int f)
 {
     double sum[2] = {0.0, 0.0}, first[2] = {0.0, 0.0}, w[2];
     int k, g, n = 0;
     for (k = 0; k < 3; k++) {
-        g = pw_trimesh_across(m, f, k);
+        g = pw_df_across(m, cut, f, k);
         if (g < 0 || level[g] < 0 || level[g] >= level[f]) continue;
         pw_df_move(conn, 3 * f + k, power, z + 2 * g, w);
         if (n++ == 0) first[0] = w[0], first[1] = w[1];
@@ -253,9 +293,10 @@ PW__DEF void pw_df_average(const pw_trimesh *m, const float *conn, int power, co
  * the triangle frames; power 2: doubled angles) by breadth-first propagation
  * from the known ones, layer by layer, so that the result does not depend
  * on which known triangle is met first. Components without a known triangle
- * are seeded by pw_df_seed. Known directions must be unit. */
-PW__DEF int pw_df_fill(const pw_alloc *a, const pw_trimesh *m, const float *conn, int power, pw_v3 up,
-                            const unsigned char *known, double *z, pw_err *e)
+ * are seeded by pw_df_seed. Known directions must be unit. With a cut
+ * (pw_df_cut), propagation does not cross its edges. */
+PW__DEF int pw_df_fill_cut(const pw_alloc *a, const pw_trimesh *m, const float *conn, int power, pw_v3 up,
+                           const pw_df_cut *cut, const unsigned char *known, double *z, pw_err *e)
 {
     int *level = (int *)pw_alloc_array(a, (size_t)m->nf * 3, sizeof(int), "field propagation", e);
     int *queue, *stack, head = 0, tail = 0, next = 0, f, k, g;
@@ -270,18 +311,24 @@ PW__DEF int pw_df_fill(const pw_alloc *a, const pw_trimesh *m, const float *conn
         if (head == tail) {
             while (next < m->nf && level[next] >= 0) next++;
             if (next == m->nf) break;
-            pw_df_seed(m, up, power, z, level, queue, &tail, stack, next);
+            pw_df_seed(m, up, power, cut, z, level, queue, &tail, stack, next);
         }
         f = queue[head++];
-        if (level[f] > 0) pw_df_average(m, conn, power, level, z, f);
+        if (level[f] > 0) pw_df_average(m, conn, power, cut, level, z, f);
         for (k = 0; k < 3; k++)
-            if ((g = pw_trimesh_across(m, f, k)) >= 0 && level[g] == -1) {
+            if ((g = pw_df_across(m, cut, f, k)) >= 0 && level[g] == -1) {
                 level[g] = level[f] + 1;
                 queue[tail++] = g;
             }
     }
     pw_free(a, level);
     return PW_OK;
+}
+
+PW__DEF int pw_df_fill(const pw_alloc *a, const pw_trimesh *m, const float *conn, int power, pw_v3 up,
+                       const unsigned char *known, double *z, pw_err *e)
+{
+    return pw_df_fill_cut(a, m, conn, power, up, NULL, known, z, e);
 }
 
 /* §3.2: "project the global up direction onto the surface, and then
@@ -298,6 +345,80 @@ PW__DEF int pw_df_up(const pw_alloc *a, const pw_trimesh *m, const float *conn, 
     int f;
     for (f = 0; f < m->nf; f++) known[f] = (unsigned char)pw_df_project(m, f, up, z + 2 * f);
     return pw_df_fill(a, m, conn, 1, up, known, z, e);
+}
+
+/* The up field without bullseyes. Where up is (nearly) normal to the
+ * surface - a box top, a floor, a pole - the projection has no direction,
+ * and a field on a closed surface needs singularities of total index 2
+ * somewhere there. Breadth-first propagation from the sides (pw_df_up)
+ * puts it in the middle of a flat top and draws its layers as rings with
+ * creases along the medial axis. Here:
+ *   - triangles tilted less than PW_DF_UP_TILT degrees take no direction
+ *     from up (noise on a scanned floor would otherwise decide it);
+ *   - propagation does not cross edges sharper than PW_DF_UP_CREASE
+ *     degrees, so a flat up-facing region bounded by creases is a
+ *     component of its own, seeded once and transported across unchanged
+ *     (uniform on a plane: the singularity sits on the crease);
+ *   - the directions propagated into an up-facing region that no crease
+ *     bounds (a smooth cap: a pole, the top of a head) are relaxed by
+ *     Gauss-Seidel sweeps of the connection Laplacian (each the mean of
+ *     its neighbours transported, not normalised), the discrete harmonic
+ *     extension of its border, whose one zero is a clean point
+ *     singularity instead of the propagation's layers. */
+#define PW_DF_UP_TILT 8.0
+#define PW_DF_UP_CREASE 30.0
+#define PW_DF_UP_SWEEPS 200
+
+/* cut[h] for every half-edge whose dihedral angle exceeds PW_DF_UP_CREASE. */
+PW__DEF void pw_df_creases(const pw_trimesh *m, unsigned char *cut)
+{
+    double c = cos(PW_DF_UP_CREASE * 3.14159265358979323846 / 180.0);
+    int h;
+    for (h = 0; h < 3 * m->nf; h++) {
+        int t = m->hm.twin[h];
+        cut[h] = (unsigned char)(t >= 0 && pw_v3_dot(pw_df_normal(m, h / 3), pw_df_normal(m, t / 3)) < c);
+    }
+}
+
+/* One Gauss-Seidel sweep over the triangles not known: each becomes the
+ * mean of its uncut neighbours' directions transported into it. */
+PW__DEF void pw_df_relax(const pw_trimesh *m, const float *conn, const pw_df_cut *cut, const unsigned char *known,
+                         double *z)
+{
+    int f, k, g;
+    for (f = 0; f < m->nf; f++) {
+        double sum[2] = {0.0, 0.0}, w[2];
+        int n = 0;
+        if (known[f]) continue;
+        for (k = 0; k < 3; k++) {
+            if ((g = pw_df_across(m, cut, f, k)) < 0) continue;
+            pw_df_move(conn, 3 * f + k, 1, z + 2 * g, w);
+            sum[0] += w[0];
+            sum[1] += w[1];
+            n++;
+        }
+        if (n > 0 && sum[0] * sum[0] + sum[1] * sum[1] > 0.0) z[2 * f] = sum[0] / n, z[2 * f + 1] = sum[1] / n;
+    }
+}
+
+PW__DEF int pw_df_up_creased(const pw_alloc *a, const pw_trimesh *m, const float *conn, pw_v3 up, double *z,
+                             unsigned char *known, pw_err *e)
+{
+    unsigned char *edge = (unsigned char *)pw_alloc_array(a, (size_t)m->nf * 3, 1, "field creases", e);
+    double st = sin(PW_DF_UP_TILT * 3.14159265358979323846 / 180.0);
+    pw_df_cut cut;
+    int f, i, r;
+    if (!edge) return PW_ERR_NOMEM;
+    pw_df_creases(m, edge);
+    cut.edge = edge;
+    cut.sin2 = st * st;
+    for (f = 0; f < m->nf; f++) known[f] = (unsigned char)pw_df_project_tilt(m, f, up, cut.sin2, z + 2 * f);
+    r = pw_df_fill_cut(a, m, conn, 1, up, &cut, known, z, e);
+    for (i = 0; r == PW_OK && i < PW_DF_UP_SWEEPS; i++) pw_df_relax(m, conn, &cut, known, z);
+    for (f = 0; r == PW_OK && f < m->nf; f++)
+        if (!pw_df_unit(z + 2 * f)) pw_df_axis(m, f, z + 2 * f);
+    pw_free(a, edge);
+    return r;
 }
 
 /* Length of each dual edge: centroid to edge midpoint to centroid, a path

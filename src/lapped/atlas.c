@@ -419,6 +419,26 @@ static void lapped__atlas_centroid(const pw_trimesh *m, int f, double *c)
     }
 }
 
+/* A triangle with collinear or coincident corners p, laid on the line of
+ * its longest edge (corner 0 at the origin; all at 0 when they coincide). */
+static void lapped__atlas_line(double p[3][3], double *x, double *y)
+{
+    double d[3], best = 0.0, len;
+    int k, j;
+    for (k = 0; k < 3; k++) {
+        double l2 = 0.0, e[3];
+        for (j = 0; j < 3; j++) e[j] = p[(k + 1) % 3][j] - p[k][j], l2 += e[j] * e[j];
+        if (l2 > best)
+            for (best = l2, j = 0; j < 3; j++) d[j] = e[j];
+    }
+    len = sqrt(best);
+    for (k = 0; k < 3; k++) {
+        x[k] = 0.0;
+        y[k] = 0.0;
+        for (j = 0; len > 0.0 && j < 3; j++) x[k] += (p[k][j] - p[0][j]) * d[j] / len;
+    }
+}
+
 /* Triangle f in its own plane: corner 0 at the origin, corner 1 on +x,
  * corner 2 at y > 0 (counter-clockwise seen from the normal's side). */
 static void lapped__atlas_frame(const pw_trimesh *m, int f, double *x, double *y)
@@ -436,6 +456,10 @@ static void lapped__atlas_frame(const pw_trimesh *m, int f, double *x, double *y
     n[1] = e1[2] * e2[0] - e1[0] * e2[2];
     n[2] = e1[0] * e2[1] - e1[1] * e2[0];
     nl = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    if (!(nl > 0.0) || !(len > 0.0)) { /* collinear or coincident corners: on a line */
+        lapped__atlas_line(p, x, y);
+        return;
+    }
     ey[0] = (n[1] * e1[2] - n[2] * e1[1]) / (nl * len); /* n x e1, unit */
     ey[1] = (n[2] * e1[0] - n[0] * e1[2]) / (nl * len);
     ey[2] = (n[0] * e1[1] - n[1] * e1[0]) / (nl * len);
@@ -603,7 +627,9 @@ static int lapped__atlas_flat_ok(const lapped__atlas_grower *G, int f, const dou
 /* §4 growth step: f joins the chart if its normal is within the cone of
  * the seed's, the chart stays a disc (§3.3) and f's flattened image neither
  * flips nor overlaps the chart (spatial hash). Faces refused for their
- * flattened shape are deferred. */
+ * flattened shape are deferred. A degenerate triangle (pw_trimesh_sliver)
+ * neither joins nor grows a chart: alone, it keeps its exact (line) shape,
+ * and no conformal map divides by its area. */
 static int lapped__atlas_grow_try(lapped__atlas_grower *G, int f)
 {
     const pw_trimesh *m = G->m;
@@ -611,6 +637,10 @@ static int lapped__atlas_grow_try(lapped__atlas_grower *G, int f)
     int k, shared = 0, sk = 0, v = -1;
     double t[6], V[2] = {0.0, 0.0};
     if (G->chart[f] >= 0 || G->cone[f] == G->cur) return PW_OK;
+    if (pw_trimesh_sliver(m, f) || pw_trimesh_sliver(m, G->seed)) { /* no shape to flatten: a chart alone */
+        G->cone[f] = G->cur;
+        return PW_OK;
+    }
     if ((double)n[0] * ns[0] + (double)n[1] * ns[1] + (double)n[2] * ns[2] < G->cos_cone) {
         G->cone[f] = G->cur;
         return PW_OK;
@@ -926,7 +956,7 @@ static int lapped__atlas_chart_finish(lapped__atlas_grower *G, lapped__atlas_cha
         a2 += 0.5 * lapped__atlas_area2(t);
         a3 += G->m->area[G->faces[i]];
     }
-    s = sqrt(a3 / a2);
+    s = a2 > 0.0 && a3 > 0.0 ? sqrt(a3 / a2) : 1.0; /* a degenerate triangle alone keeps its size */
     for (i = 0; i < G->nfc; i++) {
         int f = G->faces[i];
         lapped__atlas_grower_coords(G, f, t);

@@ -98,7 +98,11 @@ LAPPEDDEF void lapped_mesh_free(lapped_mesh *m)
 
 /* ---- the triangle mesh every stage works on ------------------------------ */
 
-/* The fan triangulation of the caller's mesh, with adjacency and geometry. */
+/* The fan triangulation of the caller's mesh, with adjacency and geometry.
+ * Degenerate triangles (pw_trimesh_sliver: zero-area, needles, caps) are
+ * kept: they take their neighbours' normal, and growth and the
+ * parametrisation treat them apart (grow.c), since real scans are full of
+ * them. */
 static int lapped__mesh_init(const pw_alloc *a, const lapped_mesh *in, pw_trimesh *m, pw_err *e)
 {
     pw_mesh v;
@@ -110,7 +114,7 @@ static int lapped__mesh_init(const pw_alloc *a, const lapped_mesh *in, pw_trimes
     v.nf = in->nfaces;
     v.fstart = in->face_start;
     v.fv = in->face_verts;
-    return pw_trimesh_init(a, &v, m, e);
+    return pw_trimesh_init_ex(a, &v, 1, m, e);
 }
 
 /* ---- pastes per triangle, and evaluating the lapped texture ---------------- */

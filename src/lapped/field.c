@@ -15,9 +15,13 @@
  * with |S| = |T|.
  *
  * Modes (details beside each function):
- *   UP           up projected onto each face; where up is normal to a face,
- *                the neighbours' direction by propagation; a component
- *                wholly normal to up (a flat sheet) takes a fixed axis.
+ *   UP           up projected onto each face; where up is (within 8
+ *                degrees) normal to a face, the neighbours' direction by
+ *                propagation that stops at creases sharper than 30 degrees
+ *                and is then relaxed to its harmonic extension
+ *                (pw_df_up_creased: no bullseye on box tops and caps); a
+ *                component wholly normal to up (a flat sheet) takes a
+ *                fixed axis.
  *   ISOTROPIC    the same field (only the scale matters; growth propagates
  *                its own orientation).
  *   CONSTRAINTS  Gaussian RBFs of Dijkstra distance over the dual graph
@@ -368,7 +372,7 @@ static int lapped__field(const pw_alloc *a, const pw_trimesh *m, const lapped_fi
     else if (fl->mode == LAPPED_FIELD_CURVATURE)
         r = pw_df_curvature(a, m, pw_v3_load(fl->up), fl->smoothing, conn, z, known, e);
     else
-        r = pw_df_up(a, m, conn, up, z, known, e);
+        r = pw_df_up_creased(a, m, conn, up, z, known, e);
     if (r == PW_OK) lapped__fld_output(m, z, scale, scales, s, t);
     pw_free(a, z);
     pw_free(a, known);

@@ -267,6 +267,8 @@ typedef struct lapped__patchbuf {
     float *heapk;        /* candidate queue: distance keys ... */
     int *heapf, nheap;   /* ... and triangles */
     int hard;            /* growth stopped somewhere at the distortion limit */
+    unsigned char *sliver; /* nf: 1 for a degenerate triangle (pw_trimesh_sliver) */
+    float *keep;         /* nv*2: the coordinates of verts before the last optimisation */
 } lapped__patchbuf;
 
 static void lapped__patchbuf_free(const pw_alloc *a, lapped__patchbuf *p)
@@ -283,14 +285,19 @@ static void lapped__patchbuf_free(const pw_alloc *a, lapped__patchbuf *p)
     pw_free(a, p->verts);
     pw_free(a, p->heapk);
     pw_free(a, p->heapf);
+    pw_free(a, p->sliver);
+    pw_free(a, p->keep);
     memset(p, 0, sizeof *p);
 }
 
 /* Every array sized for the whole mesh: a patch may cover all of it, and a
  * triangle waits in the candidate queue at most once at a time. */
-static int lapped__patchbuf_init(const pw_alloc *a, int nf, int nv, lapped__patchbuf *p, pw_err *e)
+static int lapped__patchbuf_init(const pw_alloc *a, const pw_trimesh *m, lapped__patchbuf *p, pw_err *e)
 {
+    int nf = m->nf, nv = m->nv, f;
     memset(p, 0, sizeof *p);
+    p->sliver = (unsigned char *)pw_alloc_array(a, (size_t)nf, 1, "degenerate triangles", e);
+    p->keep = (float *)pw_alloc_array(a, (size_t)nv * 2, sizeof(float), "patch coordinates", e);
     p->fin = (int *)pw_calloc_array(a, (size_t)nf, sizeof(int), "patch triangles", e);
     p->fout = (int *)pw_calloc_array(a, (size_t)nf, sizeof(int), "patch triangles", e);
     p->fq = (int *)pw_calloc_array(a, (size_t)nf, sizeof(int), "patch triangles", e);
@@ -304,8 +311,10 @@ static int lapped__patchbuf_init(const pw_alloc *a, int nf, int nv, lapped__patc
     p->heapk = (float *)pw_alloc_array(a, (size_t)nf, sizeof(float), "growth queue", e);
     p->heapf = (int *)pw_alloc_array(a, (size_t)nf, sizeof(int), "growth queue", e);
     if (p->fin && p->fout && p->fq && p->vin && p->vloc && p->vuv && p->fs && p->ft && p->faces && p->verts &&
-        p->heapk && p->heapf)
+        p->heapk && p->heapf && p->sliver && p->keep) {
+        for (f = 0; f < nf; f++) p->sliver[f] = (unsigned char)pw_trimesh_sliver(m, f);
         return PW_OK;
+    }
     lapped__patchbuf_free(a, p);
     return PW_ERR_NOMEM;
 }
@@ -392,6 +401,7 @@ static void lapped__phi(const pw_trimesh *m, const lapped__patchbuf *p, int f, p
 static float lapped__distortion(const pw_trimesh *m, const lapped__patchbuf *p, int f)
 {
     float ps[2], pt[2], a, b, c, d, det, fro, disc, s1, s2;
+    if (p->sliver[f]) return 1.0f; /* no shape to distort: its corners follow its neighbours */
     lapped__phi(m, p, f, pw_v3_load(p->fs + 3 * f), ps);
     lapped__phi(m, p, f, pw_v3_load(p->ft + 3 * f), pt);
     a = ps[0], b = pt[0], c = ps[1], d = pt[1];
@@ -404,17 +414,66 @@ static float lapped__distortion(const pw_trimesh *m, const lapped__patchbuf *p, 
     return s1 > 1.0f / s2 ? s1 : 1.0f / s2;
 }
 
+/* The texture displacement the frame (S, T) of triangle f asks for the 3D
+ * vector d: d = a S + b T solved in the least-squares sense (S and T need
+ * not be orthogonal; the part of d off their plane is ignored), out = (a, b)
+ * since phi(S) = (1, 0) and phi(T) = (0, 1) (§3.4). */
+static void lapped__frame_coords(const lapped__patchbuf *p, int f, pw_v3 d, float out[2])
+{
+    pw_v3 s = pw_v3_load(p->fs + 3 * f), t = pw_v3_load(p->ft + 3 * f);
+    double ss = pw_v3_dot(s, s), st = pw_v3_dot(s, t), tt = pw_v3_dot(t, t);
+    double ds = pw_v3_dot(d, s), dt = pw_v3_dot(d, t), det = ss * tt - st * st;
+    out[0] = (float)((ds * tt - dt * st) / det);
+    out[1] = (float)((dt * ss - ds * st) / det);
+}
+
 /* Texture coordinates of point x of the seed triangle f: the chosen point
  * maps to the patch centre and the face frame (S, T) to the texture axes. */
 static void lapped__seed_uv(const lapped__patchbuf *p, int f, pw_v3 x, pw_v3 centre3, const float c[2],
                             float out[2])
 {
-    pw_v3 s = pw_v3_load(p->fs + 3 * f), t = pw_v3_load(p->ft + 3 * f), d = pw_v3_sub(x, centre3);
-    /* solve d = a S + b T in the plane (S and T need not be orthogonal) */
-    double ss = pw_v3_dot(s, s), st = pw_v3_dot(s, t), tt = pw_v3_dot(t, t);
-    double ds = pw_v3_dot(d, s), dt = pw_v3_dot(d, t), det = ss * tt - st * st;
-    out[0] = c[0] + (float)((ds * tt - dt * st) / det);
-    out[1] = c[1] + (float)((dt * ss - ds * st) / det);
+    lapped__frame_coords(p, f, pw_v3_sub(x, centre3), out);
+    out[0] += c[0];
+    out[1] += c[1];
+}
+
+/* The texture layout of degenerate triangle f: out[2k], out[2k+1] is
+ * corner k's offset from corner 0. Its own plane means nothing, so it is
+ * laid flat isometrically: its longest edge along that edge's tangent
+ * direction (projected onto the frame's plane), the third corner at its
+ * true distance from that edge, on the side its orientation gives, all in
+ * the frame's texture units. Its texture area is then A / S^2 (§3.4's
+ * ideal), however its corners sit. */
+static void lapped__sliver_layout(const pw_trimesh *m, const lapped__patchbuf *p, int f, float out[6])
+{
+    pw_v3 q[3], e, n = pw_v3_load(m->normal + 3 * f), side;
+    float best = -1.0f, ae[2], as[2], x, y, own;
+    int k, i = 0;
+    for (k = 0; k < 3; k++) q[k] = pw_trimesh_corner(m, f, k);
+    for (k = 0; k < 3; k++) {
+        float l = pw_v3_len(pw_v3_sub(q[(k + 1) % 3], q[k]));
+        if (l > best) best = l, i = k;
+    }
+    e = pw_v3_sub(q[(i + 1) % 3], q[i]);
+    e = pw_v3_sub(e, pw_v3_scale(n, pw_v3_dot(e, n)));
+    e = pw_v3_len(e) > 1e-6f * best && best > 0.0f ? pw_v3_norm(e) : pw_v3_norm(pw_v3_load(p->fs + 3 * f));
+    side = pw_v3_cross(n, e);
+    lapped__frame_coords(p, f, e, ae);
+    lapped__frame_coords(p, f, side, as);
+    own = pw_v3_dot(pw_v3_cross(pw_v3_sub(q[1], q[0]), pw_v3_sub(q[2], q[0])), n);
+    for (k = 0; k < 3; k++) {
+        pw_v3 d = pw_v3_sub(q[k], q[i]), dir = pw_v3_sub(q[(i + 1) % 3], q[i]);
+        float dl = pw_v3_len(dir);
+        x = dl > 0.0f ? pw_v3_dot(d, dir) / dl : 0.0f;
+        y = pw_v3_len(pw_v3_sub(d, pw_v3_scale(dir, dl > 0.0f ? x / dl : 0.0f)));
+        y = own < 0.0f ? -y : y; /* the third corner lies left of the longest edge when counter-clockwise */
+        out[2 * k] = x * ae[0] + y * as[0];
+        out[2 * k + 1] = x * ae[1] + y * as[1];
+    }
+    for (k = 2; k >= 0; k--) {
+        out[2 * k] -= out[0];
+        out[2 * k + 1] -= out[1];
+    }
 }
 
 /* Maillot et al.'s prediction (§3.3): the texture position of corner k of
@@ -428,6 +487,15 @@ static void lapped__predict(const pw_trimesh *m, const lapped__patchbuf *p, int 
     float ee = pw_v3_dot(e, e), x = pw_v3_dot(d, e) / ee;
     float y = pw_v3_len(pw_v3_sub(d, pw_v3_scale(e, x))) / sqrtf(ee);
     float du = p->vuv[2 * ib] - p->vuv[2 * ia], dv = p->vuv[2 * ib + 1] - p->vuv[2 * ia + 1];
+    if (p->sliver[f]) { /* no usable shape (a needle's short edge amplifies noise): its flat layout */
+        float l[6];
+        int ka = (k + 1) % 3, kb = (k + 2) % 3;
+        lapped__sliver_layout(m, p, f, l);
+        out[0] = 0.5f * (p->vuv[2 * ia] + l[2 * k] - l[2 * ka] + p->vuv[2 * ib] + l[2 * k] - l[2 * kb]);
+        out[1] = 0.5f * (p->vuv[2 * ia + 1] + l[2 * k + 1] - l[2 * ka + 1] + p->vuv[2 * ib + 1] + l[2 * k + 1] -
+                         l[2 * kb + 1]);
+        return;
+    }
     /* (a, b, c) is counter-clockwise, so c lies to the left of a -> b */
     out[0] = p->vuv[2 * ia] + x * du - y * dv;
     out[1] = p->vuv[2 * ia + 1] + x * dv + y * du;
@@ -439,7 +507,8 @@ static void lapped__predict_from(const pw_trimesh *m, const lapped__patchbuf *p,
 {
     int f = h / 3, k = h % 3;
     float q[2];
-    if (p->vin[m->tri[3 * f + (k + 1) % 3]] != p->stamp || p->vin[m->tri[3 * f + (k + 2) % 3]] != p->stamp)
+    if (p->vin[m->tri[3 * f + (k + 1) % 3]] != p->stamp || p->vin[m->tri[3 * f + (k + 2) % 3]] != p->stamp ||
+        p->sliver[f])
         return;
     lapped__predict(m, p, f, k, q);
     sum[0] += q[0];
@@ -448,8 +517,9 @@ static void lapped__predict_from(const pw_trimesh *m, const lapped__patchbuf *p,
 }
 
 /* Maps the new vertex v at the centroid of the predictions of every
- * triangle around it that has its other two corners mapped (§3.3). h0 is
- * a half-edge leaving v in such a triangle. */
+ * non-degenerate triangle around it that has its other two corners mapped
+ * (§3.3); with none, the frame's prediction in the triangle of h0, a
+ * half-edge leaving v whose other two corners are mapped. */
 static void lapped__map_new_vertex(const pw_trimesh *m, lapped__patchbuf *p, int v, int h0)
 {
     float sum[2] = {0.0f, 0.0f};
@@ -461,6 +531,10 @@ static void lapped__map_new_vertex(const pw_trimesh *m, lapped__patchbuf *p, int
     if (h < 0) /* an open fan: the clockwise side too */
         for (h = pw_he_cw(&m->hm, h0); h >= 0 && ++guard < 8192; h = pw_he_cw(&m->hm, h))
             lapped__predict_from(m, p, h, sum, &n);
+    if (n == 0) {
+        lapped__predict(m, p, h0 / 3, h0 % 3, sum);
+        n = 1;
+    }
     lapped__map_vertex(p, v, sum[0] / (float)n, sum[1] / (float)n);
 }
 
@@ -544,11 +618,17 @@ static void lapped__start(lapped__paster *P, int f, const float b[3], int patch,
                                    pw_v3_scale(pw_trimesh_corner(&P->m, f, 1), b[1])),
                          pw_v3_scale(pw_trimesh_corner(&P->m, f, 2), b[2]));
     lapped__frame(P, f);
-    for (k = 0; k < 3; k++) {
-        float uv[2];
-        lapped__seed_uv(p, f, pw_trimesh_corner(&P->m, f, k), *centre3, P->centre + 2 * patch, uv);
-        lapped__map_vertex(p, P->m.tri[3 * f + k], uv[0], uv[1]);
-    }
+    if (p->sliver[f]) { /* its flat layout, with the chosen point at the patch centre */
+        float l[6], c[2];
+        lapped__sliver_layout(&P->m, p, f, l);
+        for (k = 0; k < 2; k++) c[k] = P->centre[2 * patch + k] - b[1] * l[2 + k] - b[2] * l[4 + k];
+        for (k = 0; k < 3; k++) lapped__map_vertex(p, P->m.tri[3 * f + k], c[0] + l[2 * k], c[1] + l[2 * k + 1]);
+    } else
+        for (k = 0; k < 3; k++) {
+            float uv[2];
+            lapped__seed_uv(p, f, pw_trimesh_corner(&P->m, f, k), *centre3, P->centre + 2 * patch, uv);
+            lapped__map_vertex(p, P->m.tri[3 * f + k], uv[0], uv[1]);
+        }
     p->fin[f] = p->stamp;
     p->faces[p->nfaces++] = f;
     lapped__push_neighbours(P, f, *centre3);
@@ -633,23 +713,130 @@ static void lapped__requeue_boundary(lapped__paster *P, pw_v3 centre3)
  * phi(T) as linear functions of the corner coordinates (coefficient rows
  * w_S, w_T). Field alignment (§3.4) asks phi(S) = s^ = (1,0) and
  * phi(T) = t^ = (0,1): u and v separate into two systems with the same
- * matrix. Texture coordinate j of vertex verts[i] is unknown i. */
+ * matrix. Texture coordinate j of vertex verts[i] is unknown i.
+ *
+ * A degenerate triangle has no usable w (they grow as 1/height: a scan's
+ * near-collinear triple weighted its two rows 10^5 times above the rest,
+ * and the ridge that follows the mean diagonal then shrank whole pastes to
+ * 1e-7 of their area). Its rows are written on its edges instead: each
+ * edge's texture vector is the one of its flat layout
+ * (lapped__sliver_layout), scaled by |T| / (longest edge) like an ordinary
+ * triangle's rows. */
+static int lapped__align_nrows(const lapped__patchbuf *p)
+{
+    int i, n = 0;
+    for (i = 0; i < p->nfaces; i++) n += p->sliver[p->faces[i]] ? 3 : 2;
+    return n;
+}
+
+/* |T| / (longest edge) of triangle f: the size of its rows. */
+static double lapped__row_weight(const lapped__paster *P, int f)
+{
+    double longest = 0.0, t = pw_v3_len(pw_v3_load(P->pb.ft + 3 * f));
+    int k;
+    for (k = 0; k < 3; k++) {
+        double l = pw_v3_len(pw_v3_sub(pw_trimesh_corner(&P->m, f, k), pw_trimesh_corner(&P->m, f, (k + 1) % 3)));
+        if (l > longest) longest = l;
+    }
+    return longest > 0.0 && t > 0.0 ? t / longest : 1.0;
+}
+
+/* The three edge rows of degenerate triangle f from row `row` on. */
+static int lapped__sliver_rows(lapped__paster *P, int f, int row, pw_triplets *tr, double *bu, double *bv,
+                               pw_err *e)
+{
+    double w = lapped__row_weight(P, f);
+    float l[6];
+    int k, r = PW_OK;
+    lapped__sliver_layout(&P->m, &P->pb, f, l);
+    for (k = 0; k < 3 && r == PW_OK; k++) {
+        int i = P->m.tri[3 * f + k], j = P->m.tri[3 * f + (k + 1) % 3], kj = (k + 1) % 3;
+        r = pw_triplets_add(tr, row + k, P->pb.vloc[j], w, e);
+        if (r == PW_OK) r = pw_triplets_add(tr, row + k, P->pb.vloc[i], -w, e);
+        bu[row + k] = w * (l[2 * kj] - l[2 * k]);
+        bv[row + k] = w * (l[2 * kj + 1] - l[2 * k + 1]);
+    }
+    return r;
+}
+
 static int lapped__align_rows(lapped__paster *P, pw_triplets *tr, double *bu, double *bv, pw_err *e)
 {
     lapped__patchbuf *p = &P->pb;
-    int i, k, r = PW_OK;
+    int i, k, row = 0, r = PW_OK;
     for (i = 0; i < p->nfaces && r == PW_OK; i++) {
         int f = p->faces[i];
         float ws[3], wt[3];
+        if (p->sliver[f]) {
+            r = lapped__sliver_rows(P, f, row, tr, bu, bv, e);
+            row += 3;
+            continue;
+        }
         lapped__coeffs(&P->m, f, pw_v3_load(p->fs + 3 * f), ws);
         lapped__coeffs(&P->m, f, pw_v3_load(p->ft + 3 * f), wt);
         for (k = 0; k < 3 && r == PW_OK; k++) {
             int col = p->vloc[P->m.tri[3 * f + k]];
-            r = pw_triplets_add(tr, 2 * i, col, ws[k], e);
-            if (r == PW_OK) r = pw_triplets_add(tr, 2 * i + 1, col, wt[k], e);
+            r = pw_triplets_add(tr, row, col, ws[k], e);
+            if (r == PW_OK) r = pw_triplets_add(tr, row + 1, col, wt[k], e);
         }
-        bu[2 * i] = 1.0, bu[2 * i + 1] = 0.0;
-        bv[2 * i] = 0.0, bv[2 * i + 1] = 1.0;
+        bu[row] = 1.0, bu[row + 1] = 0.0;
+        bv[row] = 0.0, bv[row + 1] = 1.0;
+        row += 2;
+    }
+    return r;
+}
+
+/* Conformal rows of degenerate triangle f (rows 2i, 2i+1): with z1, z2 its
+ * edges from corner 0 in its flat layout (complex), z2 (U1 - U0) =
+ * z1 (U2 - U0), Lévy et al.'s form, which needs no inverse; scaled by
+ * (|T| / longest edge)^2. */
+static int lapped__sliver_lscm(lapped__paster *P, int f, int i, pw_triplets *tr, pw_err *e)
+{
+    const int *t = P->m.tri + 3 * f;
+    double w = lapped__row_weight(P, f), cu[3], cv[3], iu[3], iv[3];
+    float l[6], *z1 = l + 2, *z2 = l + 4;
+    int k, n = P->pb.nverts, r = PW_OK;
+    w *= w;
+    lapped__sliver_layout(&P->m, &P->pb, f, l);
+    /* real part: a2 du1 - b2 dv1 - a1 du2 + b1 dv2; imaginary: b2 du1 + a2 dv1 - b1 du2 - a1 dv2 */
+    cu[1] = z2[0], cv[1] = -z2[1], cu[2] = -z1[0], cv[2] = z1[1];
+    iu[1] = z2[1], iv[1] = z2[0], iu[2] = -z1[1], iv[2] = -z1[0];
+    cu[0] = -cu[1] - cu[2], cv[0] = -cv[1] - cv[2], iu[0] = -iu[1] - iu[2], iv[0] = -iv[1] - iv[2];
+    for (k = 0; k < 3 && r == PW_OK; k++) {
+        int col = P->pb.vloc[t[k]];
+        r = pw_triplets_add(tr, 2 * i, col, w * cu[k], e);
+        if (r == PW_OK) r = pw_triplets_add(tr, 2 * i, n + col, w * cv[k], e);
+        if (r == PW_OK) r = pw_triplets_add(tr, 2 * i + 1, col, w * iu[k], e);
+        if (r == PW_OK) r = pw_triplets_add(tr, 2 * i + 1, n + col, w * iv[k], e);
+    }
+    return r;
+}
+
+/* The pins of the least-squares conformal map: phi(S), phi(T) of triangle
+ * f (the seed, or the first non-degenerate patch triangle when the seed is
+ * degenerate) equal to the texture axes; when every patch triangle is
+ * degenerate, the seed's two edges from corner 0 equal its flat layout's. */
+static int lapped__lscm_pins(lapped__paster *P, int seed, int rows, pw_triplets *tr, double *b, pw_err *e)
+{
+    lapped__patchbuf *p = &P->pb;
+    int i, k, f = seed, n = p->nverts, r = PW_OK;
+    for (i = 0; p->sliver[f] && i < p->nfaces; i++) f = p->faces[i];
+    for (i = 0; i < 2 && r == PW_OK; i++) { /* phi(S_f) = (1,0), phi(T_f) = (0,1) */
+        float w[3] = {0.0f, 0.0f, 0.0f}, q[2], l[6];
+        if (p->sliver[f]) { /* U_{i+1} - U_0 as in its flat layout */
+            w[0] = -1.0f, w[i + 1] = 1.0f;
+            lapped__sliver_layout(&P->m, p, f, l);
+            q[0] = l[2 * i + 2], q[1] = l[2 * i + 3];
+        } else {
+            lapped__coeffs(&P->m, f, pw_v3_load((i ? p->ft : p->fs) + 3 * f), w);
+            q[0] = i ? 0.0f : 1.0f, q[1] = i ? 1.0f : 0.0f;
+        }
+        for (k = 0; k < 3 && r == PW_OK; k++) {
+            int col = p->vloc[P->m.tri[3 * f + k]];
+            r = pw_triplets_add(tr, rows + 2 * i, col, w[k], e);
+            if (r == PW_OK) r = pw_triplets_add(tr, rows + 2 * i + 1, n + col, w[k], e);
+        }
+        b[rows + 2 * i] = q[0];
+        b[rows + 2 * i + 1] = q[1];
     }
     return r;
 }
@@ -665,6 +852,11 @@ static int lapped__lscm_rows(lapped__paster *P, int seed, pw_triplets *tr, doubl
     for (i = 0; i < p->nfaces && r == PW_OK; i++) {
         int f = p->faces[i];
         float ws[3], wt[3];
+        b[2 * i] = b[2 * i + 1] = 0.0;
+        if (p->sliver[f]) {
+            r = lapped__sliver_lscm(P, f, i, tr, e);
+            continue;
+        }
         lapped__coeffs(&P->m, f, pw_v3_load(p->fs + 3 * f), ws);
         lapped__coeffs(&P->m, f, pw_v3_load(p->ft + 3 * f), wt);
         for (k = 0; k < 3 && r == PW_OK; k++) {
@@ -674,20 +866,8 @@ static int lapped__lscm_rows(lapped__paster *P, int seed, pw_triplets *tr, doubl
             if (r == PW_OK) r = pw_triplets_add(tr, 2 * i + 1, n + col, ws[k], e);
             if (r == PW_OK) r = pw_triplets_add(tr, 2 * i + 1, col, wt[k], e);
         }
-        b[2 * i] = b[2 * i + 1] = 0.0;
     }
-    for (i = 0; i < 2 && r == PW_OK; i++) { /* phi(S_seed) = (1,0), phi(T_seed) = (0,1) */
-        float w[3];
-        lapped__coeffs(&P->m, seed, pw_v3_load((i ? p->ft : p->fs) + 3 * seed), w);
-        for (k = 0; k < 3 && r == PW_OK; k++) {
-            int col = p->vloc[P->m.tri[3 * seed + k]];
-            r = pw_triplets_add(tr, rows + 2 * i, col, w[k], e);
-            if (r == PW_OK) r = pw_triplets_add(tr, rows + 2 * i + 1, n + col, w[k], e);
-        }
-        b[rows + 2 * i] = i ? 0.0 : 1.0;
-        b[rows + 2 * i + 1] = i ? 1.0 : 0.0;
-    }
-    return r;
+    return r == PW_OK ? lapped__lscm_pins(P, seed, rows, tr, b, e) : r;
 }
 
 /* Solves the least-squares systems A x_j = b_j (nrhs right-hand sides of
@@ -746,7 +926,7 @@ static int lapped__optimize(lapped__paster *P, int seed, const float bary[3], in
     int n = p->nverts, i, j, r, lscm = P->o.lscm && P->o.field.mode == LAPPED_FIELD_ISOTROPIC;
     float du, dv;
     pw_triplets_clear(tr);
-    tr->n = lscm ? 2 * p->nfaces + 4 : 2 * p->nfaces;
+    tr->n = lscm ? 2 * p->nfaces + 4 : lapped__align_nrows(p);
     tr->m = lscm ? 2 * n : n;
     for (i = 0; i < n; i++) {
         x[i] = p->vuv[2 * p->verts[i]];
@@ -824,8 +1004,107 @@ static void lapped__pick(lapped__paster *P, int early, int *f, float b[3])
     lapped__cover_hole(&P->cover, best, b);
 }
 
+/* ---- the area guarantee (§3.4) ------------------------------------------------------ */
+
+/* The field asks phi(T) = t^ (§3.4), so a triangle of area A at field
+ * scale |T| = S should take A / S^2 of texture (the patch is the unit
+ * square). Below LAPPED__AREA_SLACK of the patch (a hundredth of a texel
+ * of a 256-texel patch) the comparison means nothing: nothing is drawn
+ * there, and a degenerate triangle's surface area is zero. */
+#define LAPPED__AREA_SLACK 1e-7
+
+/* Triangle f with corner coordinates uv: its texture area *tex and its
+ * surface area over S^2, *surf, where S^2 = |S x T| (the area the frame
+ * maps to the unit square; |T|^2 for every field but a caller's FACES). */
+static void lapped__tri_areas(const pw_trimesh *m, const float *fs, const float *ft, int f, const float uv[6],
+                              double *tex, double *surf)
+{
+    pw_v3 c = pw_v3_cross(pw_v3_load(fs + 3 * f), pw_v3_load(ft + 3 * f));
+    double s2 = (double)c.x * c.x + (double)c.y * c.y + (double)c.z * c.z;
+    s2 = sqrt(s2);
+    *tex = 0.5 * fabs(((double)uv[2] - uv[0]) * ((double)uv[5] - uv[1]) -
+                      ((double)uv[4] - uv[0]) * ((double)uv[3] - uv[1]));
+    *surf = (double)m->area[f] / s2;
+}
+
+/* Whether texture area tex is within [lo, hi] times surf, up to the slack. */
+static int lapped__area_ok(double tex, double surf, double lo, double hi)
+{
+    return tex >= lo * surf - LAPPED__AREA_SLACK && tex <= hi * surf + LAPPED__AREA_SLACK;
+}
+
+/* For paste q (the tests and the fuzzer check the guarantee with it):
+ * *tex = its texture area, *surf = the sum of its A_f / S_f^2, *inside =
+ * the part of *surf whose triangles keep their own ratio within [lo, hi]. */
+static PW__UNUSED void lapped__paste_areas(const pw_trimesh *m, const float *fs, const float *ft,
+                                           const lapped_paste *q, double lo, double hi, double *tex, double *surf,
+                                           double *inside)
+{
+    int i;
+    *tex = *surf = *inside = 0.0;
+    for (i = 0; i < q->nfaces; i++) {
+        double ta, sa;
+        lapped__tri_areas(m, fs, ft, q->faces[i], q->uvs + 6 * i, &ta, &sa);
+        *tex += ta;
+        *surf += sa;
+        if (lapped__area_ok(ta, sa, lo, hi)) *inside += sa;
+    }
+}
+
+/* After the last optimisation: the distortion limit that growth applies
+ * to each new triangle (§3.3) applied again to all of them, since the
+ * least-squares compromise can stretch a triangle that was fine when it
+ * was added. Triangles beyond it leave the paste (later pastes cover
+ * them), except the seed, which keeps the pasting progressing. Distortion
+ * at most d bounds a triangle's texture area to [1/d^2, d^2] times
+ * A / S^2, so with the default d = 2 every pasted triangle, and hence
+ * every paste, keeps its area within [0.25, 4] times. A degenerate
+ * triangle has no distortion to measure; it leaves when its texture area
+ * leaves [1/d^2, d^2] times its surface's. */
+static int lapped__trim_out(lapped__paster *P, int f)
+{
+    lapped__patchbuf *p = &P->pb;
+    float uv[6];
+    double ta, sa, d2 = (double)P->o.max_distortion * P->o.max_distortion;
+    int k;
+    if (!p->sliver[f]) return lapped__distortion(&P->m, p, f) > P->o.max_distortion;
+    for (k = 0; k < 3; k++) {
+        uv[2 * k] = p->vuv[2 * P->m.tri[3 * f + k]];
+        uv[2 * k + 1] = p->vuv[2 * P->m.tri[3 * f + k] + 1];
+    }
+    lapped__tri_areas(&P->m, P->fs, P->ft, f, uv, &ta, &sa);
+    return !lapped__area_ok(ta, sa, 1.0 / d2, d2);
+}
+
+static void lapped__trim(lapped__paster *P, int seed)
+{
+    lapped__patchbuf *p = &P->pb;
+    int i, n = 0;
+    for (i = 0; i < p->nfaces; i++) {
+        int f = p->faces[i];
+        if (f != seed && lapped__trim_out(P, f)) {
+            p->fin[f] = 0;
+            p->hard = 1;
+            continue;
+        }
+        p->faces[n++] = f;
+    }
+    p->nfaces = n;
+}
+
+/* Saves (restore = 0) or restores (1) the patch's coordinates. */
+static void lapped__keep(lapped__patchbuf *p, int restore)
+{
+    int i;
+    for (i = 0; i < p->nverts; i++) {
+        float *uv = p->vuv + 2 * p->verts[i], *k = p->keep + 2 * i;
+        if (restore) uv[0] = k[0], uv[1] = k[1];
+        else k[0] = uv[0], k[1] = uv[1];
+    }
+}
+
 /* One paste: seed, grow, optimise, grow again where the optimisation
- * uncovered texture, up to three rounds (§3.3, §3.4), record. */
+ * uncovered texture, up to three rounds (§3.3, §3.4), trim, record. */
 static int lapped__paste(lapped__paster *P, int early, pw_triplets *tr, double *x, double *b, pw_err *e)
 {
     int f, patch, round, r = PW_OK;
@@ -836,10 +1115,16 @@ static int lapped__paste(lapped__paster *P, int early, pw_triplets *tr, double *
     lapped__start(P, f, bary, patch, &centre3);
     lapped__grow(P, &P->hulls[patch], centre3);
     for (round = 0; round < 3 && r == PW_OK; round++) {
+        lapped__keep(&P->pb, 0);
         r = lapped__optimize(P, f, bary, patch, tr, x, b, x + 2 * P->m.nv, e);
+        if (r == PW_OK && lapped__trim_out(P, f)) {
+            lapped__keep(&P->pb, 1); /* the seed itself got distorted: the last coordinates stay */
+            break;
+        }
         lapped__requeue_boundary(P, centre3);
         if (r != PW_OK || lapped__grow(P, &P->hulls[patch], centre3) == 0) break;
     }
+    if (r == PW_OK) lapped__trim(P, f);
     return r == PW_OK ? lapped__record(P, patch, e) : r;
 }
 
@@ -1045,7 +1330,7 @@ static int lapped__setup(lapped__paster *P, const lapped_mesh *mesh, const lappe
                                P->difficulty, e)) != PW_OK ||
         (r = lapped__setup_patches(P, patches, npatches, e)) != PW_OK ||
         (r = lapped__cover_init(P->a, &P->m, P->ft, lapped__max_side(P), P->o.coverage, &P->cover, e)) != PW_OK ||
-        (r = lapped__patchbuf_init(P->a, nf, P->m.nv, &P->pb, e)) != PW_OK)
+        (r = lapped__patchbuf_init(P->a, &P->m, &P->pb, e)) != PW_OK)
         return r;
     *estimate = lapped__estimate(P);
     if (*estimate > P->o.max_pastes)
@@ -1064,7 +1349,7 @@ static int lapped__run(lapped__paster *P, double estimate, pw_err *e)
     pw_progress pr = lapped__progress(&P->o);
     pw_triplets tr;
     double *x = (double *)pw_alloc_array(P->a, (size_t)P->m.nv * 4, sizeof(double), "solver unknowns", e);
-    double *b = (double *)pw_alloc_array(P->a, (size_t)P->m.nf * 4 + 8, sizeof(double), "solver rows", e);
+    double *b = (double *)pw_alloc_array(P->a, (size_t)P->m.nf * 6 + 8, sizeof(double), "solver rows", e);
     int r = x && b ? pw_triplets_init(&tr, P->a, 1, 1, e) : PW_ERR_NOMEM;
     if (!x || !b) {
         pw_free(P->a, x);
@@ -1139,3 +1424,4 @@ LAPPEDDEF void lapped_texture_free(lapped_texture *t)
     pw_free(&a, t->patch_size);
     memset(t, 0, sizeof *t);
 }
+
