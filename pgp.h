@@ -185,6 +185,16 @@ enum {
     PGP_FIELD_CURVATURE = 1 /* direction of least curvature, smoothed */
 };
 
+/* Edge weights of the §2.3 energy. */
+enum {
+    PGP_WEIGHTS_COTAN = 0, /* cotangent weights (cot a + cot b) / 2, floored at 0.05: the energy is
+                              the integral of |grad s - g|^2 over the surface, so distortion costs
+                              the same per unit area in small and large triangles */
+    PGP_WEIGHTS_AREA = 1   /* the paper's A_T + A_T': the energy per unit area grows with the
+                              triangles' area, and the solve pushes distortion into the small
+                              ones (kept for comparison) */
+};
+
 typedef struct pgp_options {
     int field;               /* PGP_FIELD_*; default UP */
     float up[3];             /* default (0,1,0): the tile's t axis follows it */
@@ -197,6 +207,7 @@ typedef struct pgp_options {
     float singular_distortion; /* §3: a triangle is distorted when
                                 |grad s - g_s|^2 / |g_s|^2 (or for t) exceeds this;
                                 default 0.5 */
+    int weights;             /* PGP_WEIGHTS_*; default COTAN */
     unsigned long long seed; /* default 0 (nothing is random yet; kept for the CLI) */
     pgp_allocator allocator;
     pgp_progress_fn progress;
@@ -12525,7 +12536,31 @@ static double pgp__alpha(const pgp_map *P, int h, int k)
 
 /* ---- §2.3 the least-squares system ----------------------------------------------------- */
 
-/* Adds the term (A_T + A_T') |z_j - R(alpha) z_i|^2 of edge h (i -> j) to
+/* The weight of edge h in F_PGP. The paper prints A_T + A_T' (kept as
+ * PGP_WEIGHTS_AREA): a term |z_j - R z_i|^2 ~ |e . (grad s - g)|^2 is then
+ * an integral of the distortion times A_T / |e|^2 ~ A_T per unit area, so
+ * large triangles cost more and the solve pushes the distortion into the
+ * small ones (on CGAL's meshes, where triangle sizes vary by 100x, that is
+ * where the singular share comes from). Cotangent weights make F_PGP the
+ * discrete integral of |grad s - g|^2 (the connection Laplacian of [KCPS15]
+ * "Stripe patterns" and of geogram's PGP), the same cost per unit area
+ * everywhere. Cotangents of obtuse angles can make a weight negative and
+ * the system indefinite: the weight is floored at 0.05, as the §2.2
+ * Laplacian's (pgp__lap_weight), which keeps IC(0) and CG well defined.
+ * CGAL's meshes are far from Delaunay: the floor holds 2% of the edges of
+ * elephant, 7% of knot, 12% of mushroom and 19% of cow (16% of cow's have
+ * a negative sum); floors from 0.001 to 0.1 give the same counts within
+ * 1 vortex and 0.5% singular. Cotangents of an intrinsic Delaunay
+ * triangulation would avoid the floor; they are not implemented. */
+static double pgp__pgp_weight(const pgp_map *P, int h)
+{
+    int tw = P->m.hm.twin[h];
+    if (P->o.weights == PGP_WEIGHTS_AREA)
+        return (double)P->m.area[h / 3] + (tw >= 0 ? (double)P->m.area[tw / 3] : 0.0);
+    return pgp__lap_weight(&P->m, h);
+}
+
+/* Adds the term w |z_j - R(alpha) z_i|^2 |z_j - R(alpha) z_i|^2 of edge h (i -> j) to
  * the system of the free vertices (id >= 0). R(alpha) is the rotation by
  * +alpha, [cos -sin; sin cos], i.e. the product with e^{i alpha}: with
  * z = e^{2 pi i s}, s_j = s_i + alpha/2pi is z_j = e^{i alpha} z_i. (The
@@ -12537,9 +12572,9 @@ static double pgp__alpha(const pgp_map *P, int h, int k)
 static int pgp__pgp_edge(const pgp_map *P, const double *z, const int *id, int h, int k, pw_triplets *t,
                          double *b, pw_err *e)
 {
-    int f = h / 3, tw = P->m.hm.twin[h];
+    int f = h / 3;
     int vi = P->m.tri[h], vj = P->m.tri[3 * f + (h % 3 + 1) % 3], i = id[vi], j = id[vj], r = PW_OK;
-    double w = (double)P->m.area[f] + (tw >= 0 ? (double)P->m.area[tw / 3] : 0.0);
+    double w = pgp__pgp_weight(P, h);
     double a = PGP__TWO_PI * pgp__alpha(P, h, k), c = pw_cos(a), sn = pw_sin(a);
     const double *zi = z + 2 * vi, *zj = z + 2 * vj;
     if (i >= 0) r = pw_ztriplets_add(t, i, i, w, 0.0, e);
@@ -12566,10 +12601,17 @@ static int pgp__pgp_edge(const pgp_map *P, const double *z, const int *id, int h
  * of PGP [RLL*06] is what these steps restore, one linear solve each. The
  * first, weak steps let the estimate relax over long distances (the
  * breadth-first start has seams along its tree); the later ones converge.
- * (On CGAL's elephant and cow, a fifth step at 0.1 or tighter solves
- * change neither the vortex count nor the singular triangles.) */
+ * The first step at mu = 1e-5 is nearly an inverse-iteration step towards
+ * the smallest eigenvector of F (the global optimum of [KCPS15]): with the
+ * cotangent weights, starting at 1e-3 instead leaves more vortices (CGAL's
+ * elephant, cow, knot, mushroom at S = diag/10: 46, 44, 67, 36 against 40,
+ * 46, 61, 32). Only the last step needs an accurate solve: the others are
+ * normalised and refined after, and a relative residual of 1e-3 there
+ * takes 40% fewer CG iterations for the same counts. (A fifth step at 0.1
+ * or tighter solves change neither the vortex count nor the singular
+ * triangles.) */
 #define PGP__STEPS 4
-static const double pgp__mu[PGP__STEPS] = {1e-3, 1e-2, 3e-2, 0.1};
+static const double pgp__mu[PGP__STEPS] = {1e-5, 1e-3, 1e-2, 0.1};
 
 /* Where each row's diagonal entry sits in A (every row has one). */
 static int pgp__diag_index(const pw_alloc *a, const pw_zcsr *A, int **out, pw_err *e)
@@ -12661,7 +12703,6 @@ static int pgp__pgp_solve(pgp_map *P, double *z, const int *id, int n, int k, pw
     if (r == PW_OK && (r = pw_zcsr_from_triplets(&P->a, &t, &A, e)) == PW_OK)
         r = pgp__diag_index(&P->a, &A, &dpos, e);
     if (r == PW_OK && !(rhs = (double *)pw_alloc_array(&P->a, (size_t)n * 2, sizeof(double), "PGP", e))) r = PW_ERR_NOMEM;
-    o.tol = 1e-4; /* each step is followed by a normalisation: no need for more */
     o.max_iter = 4000;
     for (step = 0; r == PW_OK && step < PGP__STEPS; step++) {
         double mu = pgp__mu[step];
@@ -12674,6 +12715,7 @@ static int pgp__pgp_solve(pgp_map *P, double *z, const int *id, int n, int k, pw
                 rhs[2 * q] = b[2 * q] + mu * dg[q] * z[2 * v];
                 rhs[2 * q + 1] = b[2 * q + 1] + mu * dg[q] * z[2 * v + 1];
             }
+        o.tol = step < PGP__STEPS - 1 ? 1e-3 : 1e-4; /* each step is normalised: no need for more */
         r = pw_zpcg_solve(&P->a, &A, &L, rhs, x, &o, NULL, e);
         for (v = 0; r == PW_OK && v < P->m.nv; v++)
             if ((q = id[v]) >= 0) {
@@ -13023,6 +13065,8 @@ static int pgp__check_options(const pgp_options *o, pw_err *e)
     if (!(o->singular_distortion > 0.0f) || !pw_is_finite(o->singular_distortion))
         return pw_fail(e, PW_ERR_INVALID, "singular_distortion %g is not positive", (double)o->singular_distortion);
     if (o->smoothing < 0) return pw_fail(e, PW_ERR_INVALID, "smoothing %d is negative", o->smoothing);
+    if (o->weights != PGP_WEIGHTS_COTAN && o->weights != PGP_WEIGHTS_AREA)
+        return pw_fail(e, PW_ERR_INVALID, "unknown weights %d", o->weights);
     return PW_OK;
 }
 

@@ -183,6 +183,16 @@ enum {
     PGP_FIELD_CURVATURE = 1 /* direction of least curvature, smoothed */
 };
 
+/* Edge weights of the §2.3 energy. */
+enum {
+    PGP_WEIGHTS_COTAN = 0, /* cotangent weights (cot a + cot b) / 2, floored at 0.05: the energy is
+                              the integral of |grad s - g|^2 over the surface, so distortion costs
+                              the same per unit area in small and large triangles */
+    PGP_WEIGHTS_AREA = 1   /* the paper's A_T + A_T': the energy per unit area grows with the
+                              triangles' area, and the solve pushes distortion into the small
+                              ones (kept for comparison) */
+};
+
 typedef struct pgp_options {
     int field;               /* PGP_FIELD_*; default UP */
     float up[3];             /* default (0,1,0): the tile's t axis follows it */
@@ -195,6 +205,7 @@ typedef struct pgp_options {
     float singular_distortion; /* §3: a triangle is distorted when
                                 |grad s - g_s|^2 / |g_s|^2 (or for t) exceeds this;
                                 default 0.5 */
+    int weights;             /* PGP_WEIGHTS_*; default COTAN */
     unsigned long long seed; /* default 0 (nothing is random yet; kept for the CLI) */
     pgp_allocator allocator;
     pgp_progress_fn progress;
