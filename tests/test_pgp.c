@@ -158,6 +158,7 @@ static void t_determinism(void)
     float *a, *b;
     grid(12, &m);
     m.positions[3 * 50 + 2] = 0.1f;
+    o.scale = 0.25f;
     CHECK(pgp_create(&m, &o, &P1, &err) == PGP_OK && pgp_create(&m, &o, &P2, &err) == PGP_OK);
     if (!P1 || !P2) return;
     a = (float *)malloc(sizeof(float) * 9 * (size_t)P1->m.nf);
@@ -184,7 +185,12 @@ static void t_bad_input(void)
     o.scale = 0.0f;
     o.material = 2.0f;
     CHECK(pgp_create(&m, &o, &P, &err) == PGP_ERR_INVALID && !P);
-    o = pgp_default_options();
+    o.material = 0.0f;
+    o.scale = 1e6f; /* over 10 diagonals (issue 17) */
+    CHECK(pgp_create(&m, &o, &P, &err) == PGP_ERR_INVALID && !P && strstr(err.message, "outside [0.5"));
+    o.scale = 0.001f; /* under 2 mean edge lengths */
+    CHECK(pgp_create(&m, &o, &P, &err) == PGP_ERR_INVALID && !P && strstr(err.message, "tile side 0.001"));
+    o = pgp_default_options(); /* the default side, under 2 mean edges here, is kept */
     CHECKF(pgp_create(&m, &o, &P, &err) == PGP_OK, "%s", err.message);
     if (P) {
         CHECK(pgp_add_orientation(P, 1000, (const float[3]){1, 0, 0}, 0.0f, NULL, NULL, &err) == PGP_ERR_INVALID);

@@ -646,6 +646,34 @@ static int pgp__setup(pgp_map *P, const pgp_mesh *in, pw_err *e)
     return pw_df_connection(&P->a, &P->m, &P->conn, e);
 }
 
+/* Mean edge length of the triangle mesh. */
+static double pgp__mean_edge(const pgp_map *P)
+{
+    double sum = 0.0;
+    int h, n = 0;
+    for (h = 0; h < 3 * P->m.nf; h++) {
+        int f = h / 3, c = h % 3;
+        if (P->m.hm.twin[h] > h) continue; /* each edge once */
+        sum += pw_v3_len(pw_v3_sub(pw_trimesh_corner(&P->m, f, (c + 1) % 3), pw_trimesh_corner(&P->m, f, c)));
+        n++;
+    }
+    return n ? sum / n : 0.0;
+}
+
+/* A tile side the mesh can carry: at most 10 bounding-box diagonals (beyond,
+ * the whole mesh is one colour) and at least 2 mean edge lengths (below, a
+ * period spans less than two triangles and Eq. 4 cannot recover it). Only
+ * a side the caller gave is refused: the default (diag / 10) is kept on
+ * meshes of a few triangles, where it is all one can do. */
+static int pgp__check_scale(const pgp_map *P, pw_err *e)
+{
+    double lo = 2.0 * pgp__mean_edge(P), hi = 10.0 * P->m.diag;
+    if (P->o.scale > 0.0f && (P->scale0 > hi || P->scale0 < lo))
+        return pw_fail(e, PW_ERR_INVALID, "tile side %g is outside [%g, %g] (2 mean edge lengths to 10 bounding-box "
+                       "diagonals)", (double)P->scale0, lo, hi);
+    return PW_OK;
+}
+
 PGPDEF pgp_result pgp_create(const pgp_mesh *mesh, const pgp_options *opt, pgp_map **out, pgp_error *err)
 {
     pgp_options o = pgp__options(opt);
@@ -664,11 +692,59 @@ PGPDEF pgp_result pgp_create(const pgp_mesh *mesh, const pgp_options *opt, pgp_m
             P->scale0 = o.scale > 0.0f ? o.scale : 0.1f * P->m.diag;
             for (v = 0; v < P->m.nv; v++) P->scale[v] = P->scale0, P->mat[v] = o.material;
             for (v = 0; v < P->m.nv; v++) P->zs[2 * v] = P->zt[2 * v] = 1.0, P->zs[2 * v + 1] = P->zt[2 * v + 1] = 0.0;
-            if (pgp__base_field(P, &pe) == PW_OK &&
+            if (pgp__check_scale(P, &pe) == PW_OK && pgp__base_field(P, &pe) == PW_OK &&
                 pgp__edit(P, PGP__ORIENT, NULL, 0, 0.0f, NULL, &pe) == PW_OK)
                 *out = P;
         }
         if (!*out) pgp_destroy(P);
     }
     return pgp__done(&pe, err);
+}
+
+/* ---- what happened (issue 17) ------------------------------------------------------------ */
+
+/* Stretch (1) and shear (2) flags of triangle f: the singular values of
+ * J = S (grad s; grad t) in the triangle's frame outside [1/1.3, 1.3], the
+ * angle between grad s and grad t more than 20 degrees off 90. */
+static int pgp__distortion(const pgp_map *P, int f)
+{
+    const float *o = P->stm + 9 * f;
+    double S = pgp__face_scale(P, f), a, b, c, d, tr, det, disc, s1, s2, cs;
+    pw_v3 u, v, gs = pgp__gradient(P, f, o[0], o[3], o[6]), gt = pgp__gradient(P, f, o[1], o[4], o[7]);
+    pgp__frame(P, f, &u, &v);
+    a = S * pw_v3_dot(gs, u), b = S * pw_v3_dot(gs, v), c = S * pw_v3_dot(gt, u), d = S * pw_v3_dot(gt, v);
+    tr = a * a + b * b + c * c + d * d, det = a * d - b * c; /* s1^2 + s2^2 and s1 s2 */
+    disc = tr * tr - 4.0 * det * det;
+    disc = sqrt(disc > 0.0 ? disc : 0.0);
+    s1 = sqrt(0.5 * (tr + disc)), s2 = tr > disc ? sqrt(0.5 * (tr - disc)) : 0.0;
+    cs = (a * c + b * d) / (sqrt(a * a + b * b) * sqrt(c * c + d * d) + 1e-300);
+    return (s1 > 1.3 || s2 < 1.0 / 1.3) + 2 * (fabs(cs) > 0.3420201433); /* sin 20 deg */
+}
+
+PGPDEF void pgp_get_stats(const pgp_map *map, pgp_stats *out)
+{
+    double total = 0.0, st = 0.0, sh = 0.0;
+    int f, d;
+    if (!out) return;
+    memset(out, 0, sizeof *out);
+    if (!map) return;
+    for (f = 0; f < map->m.nf; f++) {
+        d = pgp__distortion(map, f);
+        total += map->m.area[f];
+        st += (d & 1) ? map->m.area[f] : 0.0;
+        sh += (d & 2) ? map->m.area[f] : 0.0;
+    }
+    out->triangles = map->m.nf;
+    out->vortices = pgp_get_vortices(map, NULL);
+    out->singular = map->nsing;
+    out->stretched = total > 0.0 ? (float)(st / total) : 0.0f;
+    out->sheared = total > 0.0 ? (float)(sh / total) : 0.0f;
+    out->mean_edge = (float)pgp__mean_edge(map);
+    out->diagonal = map->m.diag;
+    out->scale = map->scale0;
+}
+
+PGPDEF void pgp_get_triangles(const pgp_map *map, int *tris)
+{
+    if (map && tris) memcpy(tris, map->m.tri, sizeof(int) * 3 * (size_t)map->m.nf);
 }
