@@ -216,6 +216,13 @@ typedef struct pgp_options {
                                 |grad s - g_s|^2 / |g_s|^2 (or for t) exceeds this;
                                 default 0.5 */
     int weights;             /* PGP_WEIGHTS_*; default COTAN */
+    float integrable;        /* beyond the paper: 0 (default) follows the field; > 0
+                                rotates the field and varies the tile side smoothly
+                                (within [1/2, 2] of `scale`, its mean kept) to cancel
+                                the curl of the gradients the PGP must follow (each
+                                uncancelled turn is a vortex): fewer vortices for less
+                                alignment. Larger values let the field stray further
+                                (1: the CLI's --field smooth) */
     unsigned long long seed; /* default 0 (nothing is random yet; kept for the CLI) */
     pgp_allocator allocator;
     pgp_progress_fn progress;
@@ -12091,6 +12098,8 @@ struct pgp_map {
     double *base;         /* nf*2: default field direction per triangle (frame) */
     double *dir;          /* nf*2: d_s per triangle, unit, in the triangle frame */
     float *scale;         /* nv: S_i */
+    float *sfac;          /* nv: the integrability factor of S_i (1 but with
+                             options.integrable, pgp__integrable) */
     float *mat;           /* nv: m_i */
     double *zs, *zt;      /* nv*2: the unit complex unknowns of s and t (§2.3) */
     float *stm;           /* nf*9: per corner s, t, m (Eq. 4) */
@@ -12123,11 +12132,13 @@ static pw_v3 pgp__dir3(const pgp_map *P, int f, int k)
     return d;
 }
 
-/* S^T = (S_i + S_j + S_k) / 3 (§2.3). */
+/* S^T = (S_i + S_j + S_k) / 3 (§2.3), each S_i times its integrability
+ * factor. */
 static double pgp__face_scale(const pgp_map *P, int f)
 {
     const int *t = P->m.tri + 3 * f;
-    return ((double)P->scale[t[0]] + P->scale[t[1]] + P->scale[t[2]]) / 3.0;
+    return ((double)P->scale[t[0]] * P->sfac[t[0]] + (double)P->scale[t[1]] * P->sfac[t[1]] +
+            (double)P->scale[t[2]] * P->sfac[t[2]]) / 3.0;
 }
 
 /* g = d / S^T for s (k = 0) or t (k = 1). */
@@ -13094,6 +13105,7 @@ PGPDEF void pgp_destroy(pgp_map *P)
     pw_free(&a, P->dual);
     pw_free(&a, P->base);
     pw_free(&a, P->scale);
+    pw_free(&a, P->sfac);
     pw_free(&a, P->zs);
     pw_free(&a, P->vsing);
     pw_free(&a, P->forder);
@@ -13116,6 +13128,8 @@ static int pgp__check_options(const pgp_options *o, pw_err *e)
     if (!(o->singular_distortion > 0.0f) || !pw_is_finite(o->singular_distortion))
         return pw_fail(e, PW_ERR_INVALID, "singular_distortion %g is not positive", (double)o->singular_distortion);
     if (o->smoothing < 0) return pw_fail(e, PW_ERR_INVALID, "smoothing %d is negative", o->smoothing);
+    if (!(o->integrable >= 0.0f && o->integrable <= 1e6f))
+        return pw_fail(e, PW_ERR_INVALID, "integrable %g is not in [0, 1e6]", (double)o->integrable);
     if (o->weights != PGP_WEIGHTS_COTAN && o->weights != PGP_WEIGHTS_AREA)
         return pw_fail(e, PW_ERR_INVALID, "unknown weights %d", o->weights);
     return PW_OK;
@@ -13166,10 +13180,11 @@ static int pgp__setup(pgp_map *P, const pgp_mesh *in, pw_err *e)
     P->dual = (double *)pw_alloc_array(&P->a, 3 * nf, sizeof(double), "mapping", e);
     P->base = (double *)pw_alloc_array(&P->a, 4 * nf, sizeof(double), "mapping", e);
     P->scale = (float *)pw_alloc_array(&P->a, 2 * nv + 9 * nf, sizeof(float), "mapping", e);
+    P->sfac = (float *)pw_alloc_array(&P->a, nv, sizeof(float), "mapping", e);
     P->zs = (double *)pw_alloc_array(&P->a, 4 * nv, sizeof(double), "mapping", e);
     P->vsing = (unsigned char *)pw_calloc_array(&P->a, nv + nf, 1, "mapping", e);
     P->forder = (int *)pw_alloc_array(&P->a, nf + nv, sizeof(int), "mapping", e);
-    if (!P->dual || !P->base || !P->scale || !P->zs || !P->vsing || !P->forder) return PW_ERR_NOMEM;
+    if (!P->dual || !P->base || !P->scale || !P->sfac || !P->zs || !P->vsing || !P->forder) return PW_ERR_NOMEM;
     P->vorder = P->forder + nf;
     pgp__bfs_order(P);
     P->dir = P->base + 2 * nf;
@@ -13179,6 +13194,119 @@ static int pgp__setup(pgp_map *P, const pgp_mesh *in, pw_err *e)
     P->fsing = P->vsing + nv;
     pw_df_dual(&P->m, P->dual);
     return pw_df_connection(&P->a, &P->m, &P->conn, e);
+}
+
+/* ---- beyond the paper: an integrable field --------------------------------------------- */
+
+/* Adds triangle f's two rows to the normal equations of the curl
+ * reduction. The circulation c = alpha_01 + alpha_12 + alpha_20 of s (and
+ * of t) around f is what the PGP cannot follow: every whole turn it sums to
+ * over a region is a vortex. A factor (1 + u) of the tile side and a
+ * rotation theta of the field change alpha_e by -alpha_e u_e (s and t) and
+ * +theta_e alpha^t_e (s) or -theta_e alpha^s_e (t), u_e and theta_e the
+ * means over the edge's ends; each row asks c + those = 0, weighted by
+ * 1 / area so that the sum is the integral of the squared curl. The part
+ * of u common to the triangle only scales c (larger tiles, fewer periods,
+ * fewer vortices: not what is asked) and is left out of the rows, so only
+ * the variation of the tile side cancels curl: the conformal factor that
+ * cancels the Gaussian curvature, which a rotation alone cannot (on CGAL's
+ * meshes rotation alone removes no vortex). Unknowns: u_i at 2 i, theta_i
+ * at 2 i + 1. */
+static int pgp__curl_rows(const pgp_map *P, int f, pw_triplets *t, double *b, pw_err *e)
+{
+    double al[2][3], row[6], c, w = 1.0 / ((double)P->m.area[f] + 1e-300);
+    int k, a, i, j, col[6], r = PW_OK;
+    for (k = 0; k < 2; k++)
+        for (a = 0; a < 3; a++) al[k][a] = pgp__alpha(P, 3 * f + a, k);
+    for (k = 0; k < 2 && r == PW_OK; k++) {
+        for (a = 0, c = 0.0; a < 3; a++) c += al[k][a];
+        for (a = 0; a < 3; a++) { /* corner a touches edges a and a - 1 */
+            int am = (a + 2) % 3;
+            col[2 * a] = 2 * P->m.tri[3 * f + a], col[2 * a + 1] = col[2 * a] + 1;
+            row[2 * a] = -0.5 * (al[k][a] + al[k][am]) + c / 3.0;
+            row[2 * a + 1] = (k ? -0.5 : 0.5) * (al[1 - k][a] + al[1 - k][am]);
+        }
+        for (i = 0; i < 6; i++) {
+            b[col[i]] -= w * row[i] * c;
+            for (j = 0; j < 6 && r == PW_OK; j++) r = pw_triplets_add(t, col[i], col[j], w * row[i] * row[j], e);
+        }
+    }
+    return r;
+}
+
+/* Adds the terms that keep the correction small and smooth: integrable^-1
+ * A_i / S^4 (u_i^2 + theta_i^2) (how far from the field; the rows above
+ * integrate curl^2 ~ |grad theta|^2 / S^2, so u and theta vary over about
+ * sqrt(integrable) tiles) and 0.01 / S^2 of the cotangent Dirichlet energy
+ * of u and theta. */
+static int pgp__curl_reg(const pgp_map *P, pw_triplets *t, pw_err *e)
+{
+    double S2 = (double)P->scale0 * P->scale0, lam = 1.0 / ((double)P->o.integrable * S2 * S2), w;
+    int h, k, i, j, r = PW_OK;
+    for (h = 0; h < 3 * P->m.nf && r == PW_OK; h++) {
+        i = P->m.tri[h], j = P->m.tri[3 * (h / 3) + (h % 3 + 1) % 3];
+        for (k = 0; k < 2 && r == PW_OK; k++) /* a third of the triangle's area to each corner */
+            r = pw_triplets_add(t, 2 * i + k, 2 * i + k, lam * P->m.area[h / 3] / 3.0, e);
+        if (P->m.hm.twin[h] >= 0 && P->m.hm.twin[h] < h) continue;
+        w = 0.01 * pgp__lap_weight(&P->m, h) / S2;
+        for (k = 0; k < 2 && r == PW_OK; k++) {
+            r = pw_triplets_add(t, 2 * i + k, 2 * i + k, w, e);
+            if (r == PW_OK) r = pw_triplets_add(t, 2 * j + k, 2 * j + k, w, e);
+            if (r == PW_OK) r = pw_triplets_add(t, 2 * i + k, 2 * j + k, -w, e);
+            if (r == PW_OK) r = pw_triplets_add(t, 2 * j + k, 2 * i + k, -w, e);
+        }
+    }
+    return r;
+}
+
+/* Applies the correction x (u, theta per vertex): the factor of every S_i
+ * (u less its area-weighted mean, the factor kept in [1/2, 2]) and the rotation of the default field of every
+ * triangle by the mean theta of its corners. */
+static void pgp__curl_apply(pgp_map *P, const double *x)
+{
+    double mean = 0.0, area = 0.0;
+    int v, f, h;
+    for (h = 0; h < 3 * P->m.nf; h++) /* the mean of u is 0: the tile side the user asked for */
+        mean += x[2 * P->m.tri[h]] * P->m.area[h / 3], area += P->m.area[h / 3];
+    mean = area > 0.0 ? mean / area : 0.0;
+    for (v = 0; v < P->m.nv; v++) {
+        double s = P->sfac[v] * (1.0 + x[2 * v] - mean);
+        P->sfac[v] = (float)(s < 0.5 ? 0.5 : (s > 2.0 ? 2.0 : s));
+    }
+    for (f = 0; f < P->m.nf; f++) {
+        const int *tr = P->m.tri + 3 * f;
+        double th = (x[2 * tr[0] + 1] + x[2 * tr[1] + 1] + x[2 * tr[2] + 1]) / 3.0, c, s, *d = P->base + 2 * f;
+        th = th > 0.5 ? 0.5 : (th < -0.5 ? -0.5 : th); /* at most ~30 degrees per step */
+        c = pw_cos(th), s = pw_sin(th);
+        th = c * d[0] - s * d[1], d[1] = s * d[0] + c * d[1], d[0] = th;
+        P->dir[2 * f] = d[0], P->dir[2 * f + 1] = d[1];
+    }
+}
+
+/* options.integrable > 0: three Gauss-Newton steps of the curl reduction
+ * (beyond the paper: the PGP of §2.3 follows a field whose gradients have
+ * curl, and each whole turn of it is a vortex; the trade is documented in
+ * docs/pgp.md). */
+#define PGP__CURL_STEPS 3
+static int pgp__integrable(pgp_map *P, pw_err *e)
+{
+    size_t n = 2 * (size_t)P->m.nv;
+    double *b = (double *)pw_alloc_array(&P->a, 2 * n, sizeof(double), "integrability", e), *x = b + n;
+    pw_triplets t;
+    int step, f, r = b ? PW_OK : PW_ERR_NOMEM;
+    memset(&t, 0, sizeof t);
+    memcpy(P->dir, P->base, sizeof(double) * 2 * (size_t)P->m.nf);
+    for (step = 0; step < PGP__CURL_STEPS && r == PW_OK; step++) {
+        memset(b, 0, sizeof(double) * 2 * n); /* b and x, a cold start: x is the step */
+        r = pw_triplets_init(&t, &P->a, (int)n, (int)n, e);
+        for (f = 0; f < P->m.nf && r == PW_OK; f++) r = pgp__curl_rows(P, f, &t, b, e);
+        if (r == PW_OK) r = pgp__curl_reg(P, &t, e);
+        if (r == PW_OK) r = pgp__pd_solve(&P->a, &t, 0, b, x, 1e-6, e);
+        if (r == PW_OK) pgp__curl_apply(P, x);
+        pw_triplets_free(&t);
+    }
+    pw_free(&P->a, b);
+    return r;
 }
 
 /* Mean edge length of the triangle mesh. */
@@ -13225,9 +13353,10 @@ PGPDEF pgp_result pgp_create(const pgp_mesh *mesh, const pgp_options *opt, pgp_m
         P->o = o;
         if (pgp__setup(P, mesh, &pe) == PW_OK) {
             P->scale0 = o.scale > 0.0f ? o.scale : 0.1f * P->m.diag;
-            for (v = 0; v < P->m.nv; v++) P->scale[v] = P->scale0, P->mat[v] = o.material;
+            for (v = 0; v < P->m.nv; v++) P->scale[v] = P->scale0, P->sfac[v] = 1.0f, P->mat[v] = o.material;
             for (v = 0; v < P->m.nv; v++) P->zs[2 * v] = P->zt[2 * v] = 1.0, P->zs[2 * v + 1] = P->zt[2 * v + 1] = 0.0;
             if (pgp__check_scale(P, &pe) == PW_OK && pgp__base_field(P, &pe) == PW_OK &&
+                (!(o.integrable > 0.0f) || pgp__integrable(P, &pe) == PW_OK) &&
                 pgp__edit(P, PGP__ORIENT, NULL, 0, 0.0f, NULL, &pe) == PW_OK)
                 *out = P;
         }
@@ -13239,12 +13368,14 @@ PGPDEF pgp_result pgp_create(const pgp_mesh *mesh, const pgp_options *opt, pgp_m
 /* ---- what happened (issue 17) ------------------------------------------------------------ */
 
 /* Stretch (1) and shear (2) flags of triangle f: the singular values of
- * J = S (grad s; grad t) in the triangle's frame outside [1/1.3, 1.3], the
+ * J = S (grad s; grad t) in the triangle's frame outside [1/1.3, 1.3], S
+ * the side the user asked for (without the integrability factor), the
  * angle between grad s and grad t more than 20 degrees off 90. */
 static int pgp__distortion(const pgp_map *P, int f)
 {
-    const float *o = P->stm + 9 * f;
-    double S = pgp__face_scale(P, f), a, b, c, d, tr, det, disc, s1, s2, cs;
+    const float *o = P->stm + 9 * f, *sc = P->scale;
+    const int *tr3 = P->m.tri + 3 * f;
+    double S = ((double)sc[tr3[0]] + sc[tr3[1]] + sc[tr3[2]]) / 3.0, a, b, c, d, tr, det, disc, s1, s2, cs;
     pw_v3 u, v, gs = pgp__gradient(P, f, o[0], o[3], o[6]), gt = pgp__gradient(P, f, o[1], o[4], o[7]);
     pgp__frame(P, f, &u, &v);
     a = S * pw_v3_dot(gs, u), b = S * pw_v3_dot(gs, v), c = S * pw_v3_dot(gt, u), d = S * pw_v3_dot(gt, v);

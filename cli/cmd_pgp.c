@@ -24,6 +24,11 @@ static const char *pgp_usage =
     "  --field up[:X,Y,Z]   the tile's t axis along this direction projected on the\n"
     "                       surface (default +Y)\n"
     "  --field curvature    the tile's t axis along the direction of least curvature\n"
+    "  --field smooth[:W]   up, rotated and the tile side varied (within 1/2 and 2x,\n"
+    "                       mean kept) where that cancels the curl the\n"
+    "                       parameterization cannot follow:\n"
+    "                       fewer vortices, less alignment (W, default 1: how far\n"
+    "                       from the field, in (0, 1e6])\n"
     "  --scale S            tile side in mesh units (default: 1/10 of the\n"
     "                       bounding-box diagonal)\n"
     "  --constraints FILE   lines 'orient F dx dy dz', 'scale V S', 'material V m'\n"
@@ -75,12 +80,18 @@ static int parse_vec3(const char *p, float out[3])
     return 1;
 }
 
-/* --field up[:X,Y,Z] | curvature */
+/* --field up[:X,Y,Z] | curvature | smooth[:W] */
 static int parse_field(cli_args *a, pgp_cmd *c)
 {
     const char *v;
     if (!cli_value(a, &v)) return 0;
-    if (!strcmp(v, "curvature")) c->opt.field = PGP_FIELD_CURVATURE;
+    if (!strcmp(v, "smooth")) c->opt.field = PGP_FIELD_UP, c->opt.integrable = 1.0f;
+    else if (!strncmp(v, "smooth:", 7)) {
+        char *end;
+        c->opt.field = PGP_FIELD_UP;
+        c->opt.integrable = strtof(v + 7, &end);
+        if (end == v + 7 || *end || !(c->opt.integrable > 0.0f && c->opt.integrable <= 1e6f)) return bad("--field", v);
+    } else if (!strcmp(v, "curvature")) c->opt.field = PGP_FIELD_CURVATURE;
     else if (!strcmp(v, "up")) c->opt.field = PGP_FIELD_UP;
     else if (!strncmp(v, "up:", 3)) {
         c->opt.field = PGP_FIELD_UP;

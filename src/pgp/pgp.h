@@ -214,6 +214,13 @@ typedef struct pgp_options {
                                 |grad s - g_s|^2 / |g_s|^2 (or for t) exceeds this;
                                 default 0.5 */
     int weights;             /* PGP_WEIGHTS_*; default COTAN */
+    float integrable;        /* beyond the paper: 0 (default) follows the field; > 0
+                                rotates the field and varies the tile side smoothly
+                                (within [1/2, 2] of `scale`, its mean kept) to cancel
+                                the curl of the gradients the PGP must follow (each
+                                uncancelled turn is a vortex): fewer vortices for less
+                                alignment. Larger values let the field stray further
+                                (1: the CLI's --field smooth) */
     unsigned long long seed; /* default 0 (nothing is random yet; kept for the CLI) */
     pgp_allocator allocator;
     pgp_progress_fn progress;
