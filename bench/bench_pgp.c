@@ -236,10 +236,30 @@ static int paper_rows(void)
 /* ---- issue 17: weights, integrability, the clean rendering ----------------------------- */
 
 typedef struct weights_job {
+    int fail; /* first: interleave3 reads it */
     const pgp_mesh *mesh;
     pgp_options opt;
-    int vortices, singular, fail;
+    int vortices, singular;
 } weights_job;
+
+/* CPU medians (med[3]) of `runs` runs of fn on each of three jobs (size
+ * bytes apart, each starting with its int fail flag), one of each in turn,
+ * so that the host's load hits the three alike; 1 if a run failed. */
+static int interleave3(void (*fn)(void *), void *jobs, size_t size, int runs, double med[3])
+{
+    double t[3][16];
+    int r, k;
+    for (r = 0; r < runs && r < 16; r++)
+        for (k = 0; k < 3; k++) {
+            void *job = (char *)jobs + (size_t)k * size;
+            double c0 = bench_cpu_now();
+            fn(job);
+            t[k][r] = bench_cpu_now() - c0;
+            if (*(int *)job) return 1;
+        }
+    for (k = 0; k < 3; k++) med[k] = bench_stats(t[k], r).median;
+    return 0;
+}
 
 static void run_weights(void *arg)
 {
@@ -264,11 +284,11 @@ static int weights_rows(const char *file)
 {
     static const char *const what[3] = {"area weights (paper)", "cotangent weights", "--field smooth"};
     weights_job j[3];
-    double t[3][7];
+    double med[3];
     pgp_options opt = pgp_default_options();
     pgp_mesh mesh;
     pgp_error err;
-    int r, k;
+    int k;
     if (pgp_load_mesh(file, &opt, &mesh, &err)) return printf("  %s skipped: %s\n", file, err.message), 0;
     for (k = 0; k < 3; k++) {
         memset(&j[k], 0, sizeof j[k]);
@@ -276,26 +296,19 @@ static int weights_rows(const char *file)
     }
     j[0].opt.weights = PGP_WEIGHTS_AREA;
     j[2].opt.integrable = 1.0f;
-    for (r = 0; r < 7; r++)
-        for (k = 0; k < 3; k++) {
-            double c0 = bench_cpu_now();
-            run_weights(&j[k]);
-            t[k][r] = bench_cpu_now() - c0;
-            if (j[k].fail) return 1;
-        }
+    if (interleave3(run_weights, j, sizeof j[0], 7, med)) return 1;
     for (k = 0; k < 3; k++)
         printf("  %-26s %-22s %6d triangles %4d vortices singular %5.1f%%  init %7.1f ms (%.2fx area)\n", file, what[k],
-               mesh.nfaces, j[k].vortices, 100.0 * j[k].singular / mesh.nfaces, 1e3 * bench_stats(t[k], 7).median,
-               bench_stats(t[k], 7).median / bench_stats(t[0], 7).median);
+               mesh.nfaces, j[k].vortices, 100.0 * j[k].singular / mesh.nfaces, 1e3 * med[k], med[k] / med[0]);
     pgp_mesh_free(&mesh);
     return 0;
 }
 
 typedef struct render_job {
+    int fail; /* first: interleave3 reads it */
     const pgp_map *map;
     const pgp_tile *tile;
     pgp_render_options ro;
-    int fail;
 } render_job;
 
 static void run_render(void *arg)
@@ -322,25 +335,18 @@ static int render_rows(const pgp_mesh *mesh, const char *name)
     pgp_tile tile;
     pgp_error err;
     render_job j[3];
-    double t[3][5];
-    int r, k;
+    double med[3];
+    int k;
     if (pgp_create(mesh, &opt, &map, &err) || pgp_builtin_tile("bricks", 256, &opt, &tile, &err))
         return printf("render rows failed: %s\n", err.message), 1;
     for (k = 0; k < 3; k++) {
         memset(&j[k], 0, sizeof j[k]);
         j[k].map = map, j[k].tile = &tile, j[k].ro.fix = fix[k];
     }
-    for (r = 0; r < 5; r++)
-        for (k = 0; k < 3; k++) {
-            double c0 = bench_cpu_now();
-            run_render(&j[k]);
-            t[k][r] = bench_cpu_now() - c0;
-            if (j[k].fail) return 1;
-        }
+    if (interleave3(run_render, j, sizeof j[0], 5, med)) return 1;
     for (k = 0; k < 3; k++)
         printf("  %-10s fix %-18s drawn specially %5.1f%%  frame %7.1f ms (%.2fx paper)\n", name, what[k],
-               100.0 * pgp_get_special(map, fix[k], NULL) / pgp_triangle_count(map), 1e3 * bench_stats(t[k], 5).median,
-               bench_stats(t[k], 5).median / bench_stats(t[1], 5).median);
+               100.0 * pgp_get_special(map, fix[k], NULL) / pgp_triangle_count(map), 1e3 * med[k], med[k] / med[1]);
     pgp_tile_free(&tile);
     pgp_destroy(map);
     return 0;
