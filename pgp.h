@@ -24,11 +24,16 @@
  *     vertex for s and one for t, solved in the least-squares sense from
  *     the per-edge rotations alpha_ij = 2 pi e_ij . (g_T + g_T')/2 with
  *     g = d / S; per-corner coordinates recovered with integer jumps (Eq. 4).
- *   - §3 rendering: singular 1-rings (distorted triangles or edges whose two
- *     triangles disagree) are detected; their triangles are drawn with three
- *     lookups (one per corner's point of view) blended barycentrically, the
- *     rest with one; the tile is sampled with mipmaps, wrapping in s and t,
- *     clamped and interpolated in m.
+ *   - §2.3 uses cotangent edge weights by default (the printed A_T + A_T'
+ *     pushes the distortion into small triangles; PGP_WEIGHTS_AREA keeps it).
+ *   - rendering: one lookup per pixel; in the vortex triangles (where s or t
+ *     winds, about 1% of them) the coordinates of Knöppel et al.'s stripe
+ *     patterns (2015), generalised to s and t, end or fork the pattern at a
+ *     point with no ghost and no seam (PGP_FIX_CLEAN, beyond the paper).
+ *     §3 is kept (PGP_FIX_PAPER): singular 1-rings (distorted triangles or
+ *     edges whose two triangles disagree) drawn with three lookups (one per
+ *     corner's point of view) blended barycentrically. The tile is sampled
+ *     with mipmaps, wrapping in s and t, clamped and interpolated in m.
  *
  * TILE SYNTHESIS (§1; morph.c, synth.c)
  *   pgp_synthesize_tile builds the material-space tile itself from two or
@@ -185,11 +190,24 @@ enum {
     PGP_FIELD_CURVATURE = 1 /* direction of least curvature, smoothed */
 };
 
+/* Edge weights of the §2.3 energy. */
+enum {
+    PGP_WEIGHTS_COTAN = 0, /* cotangent weights (cot a + cot b) / 2, floored at 0.05: the energy is
+                              the integral of |grad s - g|^2 over the surface, so distortion costs
+                              the same per unit area in small and large triangles */
+    PGP_WEIGHTS_AREA = 1   /* the paper's A_T + A_T': the energy per unit area grows with the
+                              triangles' area, and the solve pushes distortion into the small
+                              ones (kept for comparison) */
+};
+
 typedef struct pgp_options {
     int field;               /* PGP_FIELD_*; default UP */
     float up[3];             /* default (0,1,0): the tile's t axis follows it */
     float scale;             /* tile side in mesh units where no scale constraint
-                                reaches; 0: a tenth of the bounding-box diagonal */
+                                reaches; 0: a tenth of the bounding-box diagonal.
+                                pgp_create refuses a side given here over 10 diagonals
+                                (one flat colour) or under 2 mean edge lengths
+                                (periods the triangles cannot carry) */
     float material;          /* m where no material constraint reaches; default 0 */
     float min_scale;         /* floor of the interpolated scale (§2.2 epsilon), as a
                                 fraction of `scale`; default 0.05 */
@@ -197,6 +215,14 @@ typedef struct pgp_options {
     float singular_distortion; /* §3: a triangle is distorted when
                                 |grad s - g_s|^2 / |g_s|^2 (or for t) exceeds this;
                                 default 0.5 */
+    int weights;             /* PGP_WEIGHTS_*; default COTAN */
+    float integrable;        /* beyond the paper: 0 (default) follows the field; > 0
+                                rotates the field and varies the tile side smoothly
+                                (within [1/2, 2] of `scale`, its mean kept) to cancel
+                                the curl of the gradients the PGP must follow (each
+                                uncancelled turn is a vortex): fewer vortices for less
+                                alignment. Larger values let the field stray further
+                                (1: the CLI's --field smooth) */
     unsigned long long seed; /* default 0 (nothing is random yet; kept for the CLI) */
     pgp_allocator allocator;
     pgp_progress_fn progress;
@@ -213,17 +239,41 @@ typedef struct pgp_area {
     pgp_allocator allocator;
 } pgp_area;
 
+/* Rendering of the vortices (pgp_render_options.fix). */
+enum {
+    PGP_FIX_CLEAN = 0, /* beyond the paper: one lookup everywhere; in each vortex triangle the
+                          coordinates of Knöppel et al. 2015's stripe patterns, generalised to
+                          s and t, so the pattern ends or forks at a point, with no ghost and
+                          no seam (about 1% of the triangles on CGAL's meshes) */
+    PGP_FIX_OFF = 1,   /* one lookup of the Eq. (4) coordinates everywhere: a seam at every
+                          vortex */
+    PGP_FIX_ALL = 2,   /* §3's three blended lookups on every triangle (a reference) */
+    PGP_FIX_PAPER = 3  /* §3: three lookups, one per corner's point of view, blended, on the
+                          triangles with a singular corner (ghosts where they disagree) */
+};
+
+/* What pgp_render draws (pgp_render_options.show). */
+enum {
+    PGP_SHOW_TILE = 0,     /* the tile */
+    PGP_SHOW_MATERIAL = 1, /* the material m in gray */
+    PGP_SHOW_SPECIAL = 2,  /* the tile, the triangles drawn specially (see fix) in red */
+    PGP_SHOW_GHOSTS = 3    /* white, red where a final colour mixes lookups whose (s, t)
+                              differ by more than a tenth of a period */
+};
+
 typedef struct pgp_render_options {
     int width, height;       /* default 800 x 600 */
     int supersample;         /* default 2 */
     float view_dir[3];       /* default (-0.55,-0.45,-0.7) */
     float up[3];             /* default (0,1,0) */
     float background[3];     /* default white */
-    int fix;                 /* §3 singularity fix: 0 on (default), 1 off (one lookup
-                                everywhere), 2 three lookups on every triangle (the
-                                reference the fix is compared with) */
-    int show;                /* 0 the tile (default), 1 the material m in gray,
-                                2 singular triangles in red over the tile */
+    int fix;                 /* PGP_FIX_*: how vortices and singular triangles are
+                                drawn; default CLEAN */
+    int show;                /* PGP_SHOW_*; default TILE */
+    float zoom;              /* > 1: a close-up, the field of view divided by zoom,
+                                looking at `center` from the same direction; default 1
+                                (the whole mesh) */
+    float center[3];         /* the point a close-up looks at (used when zoom > 1) */
 } pgp_render_options;
 
 PGPDEF pgp_options pgp_default_options(void);
@@ -266,6 +316,25 @@ PGPDEF int pgp_get_singular(const pgp_map *map, unsigned char *flags);
  * 1-rings). flags[ntris] set to 0 or 1 (s winds) + 2 (t winds) when flags
  * is not NULL; returns the number of triangles with a vortex. */
 PGPDEF int pgp_get_vortices(const pgp_map *map, unsigned char *flags);
+/* What a mapping came to (issue 17: say what happened). Shares of the
+ * surface are area-weighted, over the Eq. (4) coordinates: stretched when
+ * the singular values of S (grad s, grad t) leave [1/1.3, 1.3] (more than
+ * 30% of stretch or compression), sheared when grad s and grad t are more
+ * than 20 degrees away from perpendicular. */
+typedef struct pgp_stats {
+    int triangles, vortices; /* pgp_get_vortices */
+    int singular;            /* §3's singular triangles (pgp_get_singular) */
+    float stretched, sheared; /* shares of the surface, in [0, 1] */
+    float mean_edge;         /* mean edge length */
+    float diagonal;          /* bounding-box diagonal */
+    float scale;             /* the default tile side (options.scale or its default) */
+} pgp_stats;
+PGPDEF void pgp_get_stats(const pgp_map *map, pgp_stats *out);
+/* The triangles' corners (ntris*3 vertex indices, counter-clockwise). */
+PGPDEF void pgp_get_triangles(const pgp_map *map, int *tris);
+/* Triangles pgp_render draws specially with fix mode `fix` (PGP_FIX_*):
+ * flags[ntris] set to 0/1 when flags is not NULL; returns their number. */
+PGPDEF int pgp_get_special(const pgp_map *map, int fix, unsigned char *flags);
 /* The interpolated fields: d_s per triangle (ntris*3, unit), scale and
  * material per vertex (nverts each); any pointer may be NULL. */
 PGPDEF void pgp_get_field(const pgp_map *map, float *ds, float *scale, float *material);
@@ -12912,6 +12981,8 @@ struct pgp_map {
     double *base;         /* nf*2: default field direction per triangle (frame) */
     double *dir;          /* nf*2: d_s per triangle, unit, in the triangle frame */
     float *scale;         /* nv: S_i */
+    float *sfac;          /* nv: the integrability factor of S_i (1 but with
+                             options.integrable, pgp__integrable) */
     float *mat;           /* nv: m_i */
     double *zs, *zt;      /* nv*2: the unit complex unknowns of s and t (§2.3) */
     float *stm;           /* nf*9: per corner s, t, m (Eq. 4) */
@@ -12944,11 +13015,13 @@ static pw_v3 pgp__dir3(const pgp_map *P, int f, int k)
     return d;
 }
 
-/* S^T = (S_i + S_j + S_k) / 3 (§2.3). */
+/* S^T = (S_i + S_j + S_k) / 3 (§2.3), each S_i times its integrability
+ * factor. */
 static double pgp__face_scale(const pgp_map *P, int f)
 {
     const int *t = P->m.tri + 3 * f;
-    return ((double)P->scale[t[0]] + P->scale[t[1]] + P->scale[t[2]]) / 3.0;
+    return ((double)P->scale[t[0]] * P->sfac[t[0]] + (double)P->scale[t[1]] * P->sfac[t[1]] +
+            (double)P->scale[t[2]] * P->sfac[t[2]]) / 3.0;
 }
 
 /* g = d / S^T for s (k = 0) or t (k = 1). */
@@ -13408,7 +13481,31 @@ static double pgp__alpha(const pgp_map *P, int h, int k)
 
 /* ---- §2.3 the least-squares system ----------------------------------------------------- */
 
-/* Adds the term (A_T + A_T') |z_j - R(alpha) z_i|^2 of edge h (i -> j) to
+/* The weight of edge h in F_PGP. The paper prints A_T + A_T' (kept as
+ * PGP_WEIGHTS_AREA): a term |z_j - R z_i|^2 ~ |e . (grad s - g)|^2 is then
+ * an integral of the distortion times A_T / |e|^2 ~ A_T per unit area, so
+ * large triangles cost more and the solve pushes the distortion into the
+ * small ones (on CGAL's meshes, where triangle sizes vary by 100x, that is
+ * where the singular share comes from). Cotangent weights make F_PGP the
+ * discrete integral of |grad s - g|^2 (the connection Laplacian of [KCPS15]
+ * "Stripe patterns" and of geogram's PGP), the same cost per unit area
+ * everywhere. Cotangents of obtuse angles can make a weight negative and
+ * the system indefinite: the weight is floored at 0.05, as the §2.2
+ * Laplacian's (pgp__lap_weight), which keeps IC(0) and CG well defined.
+ * CGAL's meshes are far from Delaunay: the floor holds 2% of the edges of
+ * elephant, 7% of knot, 12% of mushroom and 19% of cow (16% of cow's have
+ * a negative sum); floors from 0.001 to 0.1 give the same counts within
+ * 1 vortex and 0.5% singular. Cotangents of an intrinsic Delaunay
+ * triangulation would avoid the floor; they are not implemented. */
+static double pgp__pgp_weight(const pgp_map *P, int h)
+{
+    int tw = P->m.hm.twin[h];
+    if (P->o.weights == PGP_WEIGHTS_AREA)
+        return (double)P->m.area[h / 3] + (tw >= 0 ? (double)P->m.area[tw / 3] : 0.0);
+    return pgp__lap_weight(&P->m, h);
+}
+
+/* Adds the term w |z_j - R(alpha) z_i|^2 |z_j - R(alpha) z_i|^2 of edge h (i -> j) to
  * the system of the free vertices (id >= 0). R(alpha) is the rotation by
  * +alpha, [cos -sin; sin cos], i.e. the product with e^{i alpha}: with
  * z = e^{2 pi i s}, s_j = s_i + alpha/2pi is z_j = e^{i alpha} z_i. (The
@@ -13420,9 +13517,9 @@ static double pgp__alpha(const pgp_map *P, int h, int k)
 static int pgp__pgp_edge(const pgp_map *P, const double *z, const int *id, int h, int k, pw_triplets *t,
                          double *b, pw_err *e)
 {
-    int f = h / 3, tw = P->m.hm.twin[h];
+    int f = h / 3;
     int vi = P->m.tri[h], vj = P->m.tri[3 * f + (h % 3 + 1) % 3], i = id[vi], j = id[vj], r = PW_OK;
-    double w = (double)P->m.area[f] + (tw >= 0 ? (double)P->m.area[tw / 3] : 0.0);
+    double w = pgp__pgp_weight(P, h);
     double a = PGP__TWO_PI * pgp__alpha(P, h, k), c = pw_cos(a), sn = pw_sin(a);
     const double *zi = z + 2 * vi, *zj = z + 2 * vj;
     if (i >= 0) r = pw_ztriplets_add(t, i, i, w, 0.0, e);
@@ -13449,10 +13546,17 @@ static int pgp__pgp_edge(const pgp_map *P, const double *z, const int *id, int h
  * of PGP [RLL*06] is what these steps restore, one linear solve each. The
  * first, weak steps let the estimate relax over long distances (the
  * breadth-first start has seams along its tree); the later ones converge.
- * (On CGAL's elephant and cow, a fifth step at 0.1 or tighter solves
- * change neither the vortex count nor the singular triangles.) */
+ * The first step at mu = 1e-5 is nearly an inverse-iteration step towards
+ * the smallest eigenvector of F (the global optimum of [KCPS15]): with the
+ * cotangent weights, starting at 1e-3 instead leaves more vortices (CGAL's
+ * elephant, cow, knot, mushroom at S = diag/10: 46, 44, 67, 36 against 40,
+ * 46, 61, 32). Only the last step needs an accurate solve: the others are
+ * normalised and refined after, and a relative residual of 1e-3 there
+ * takes 40% fewer CG iterations for the same counts. (A fifth step at 0.1
+ * or tighter solves change neither the vortex count nor the singular
+ * triangles.) */
 #define PGP__STEPS 4
-static const double pgp__mu[PGP__STEPS] = {1e-3, 1e-2, 3e-2, 0.1};
+static const double pgp__mu[PGP__STEPS] = {1e-5, 1e-3, 1e-2, 0.1};
 
 /* Where each row's diagonal entry sits in A (every row has one). */
 static int pgp__diag_index(const pw_alloc *a, const pw_zcsr *A, int **out, pw_err *e)
@@ -13544,7 +13648,6 @@ static int pgp__pgp_solve(pgp_map *P, double *z, const int *id, int n, int k, pw
     if (r == PW_OK && (r = pw_zcsr_from_triplets(&P->a, &t, &A, e)) == PW_OK)
         r = pgp__diag_index(&P->a, &A, &dpos, e);
     if (r == PW_OK && !(rhs = (double *)pw_alloc_array(&P->a, (size_t)n * 2, sizeof(double), "PGP", e))) r = PW_ERR_NOMEM;
-    o.tol = 1e-4; /* each step is followed by a normalisation: no need for more */
     o.max_iter = 4000;
     for (step = 0; r == PW_OK && step < PGP__STEPS; step++) {
         double mu = pgp__mu[step];
@@ -13557,6 +13660,7 @@ static int pgp__pgp_solve(pgp_map *P, double *z, const int *id, int n, int k, pw
                 rhs[2 * q] = b[2 * q] + mu * dg[q] * z[2 * v];
                 rhs[2 * q + 1] = b[2 * q + 1] + mu * dg[q] * z[2 * v + 1];
             }
+        o.tol = step < PGP__STEPS - 1 ? 1e-3 : 1e-4; /* each step is normalised: no need for more */
         r = pw_zpcg_solve(&P->a, &A, &L, rhs, x, &o, NULL, e);
         for (v = 0; r == PW_OK && v < P->m.nv; v++)
             if ((q = id[v]) >= 0) {
@@ -13884,6 +13988,7 @@ PGPDEF void pgp_destroy(pgp_map *P)
     pw_free(&a, P->dual);
     pw_free(&a, P->base);
     pw_free(&a, P->scale);
+    pw_free(&a, P->sfac);
     pw_free(&a, P->zs);
     pw_free(&a, P->vsing);
     pw_free(&a, P->forder);
@@ -13906,6 +14011,10 @@ static int pgp__check_options(const pgp_options *o, pw_err *e)
     if (!(o->singular_distortion > 0.0f) || !pw_is_finite(o->singular_distortion))
         return pw_fail(e, PW_ERR_INVALID, "singular_distortion %g is not positive", (double)o->singular_distortion);
     if (o->smoothing < 0) return pw_fail(e, PW_ERR_INVALID, "smoothing %d is negative", o->smoothing);
+    if (!(o->integrable >= 0.0f && o->integrable <= 1e6f))
+        return pw_fail(e, PW_ERR_INVALID, "integrable %g is not in [0, 1e6]", (double)o->integrable);
+    if (o->weights != PGP_WEIGHTS_COTAN && o->weights != PGP_WEIGHTS_AREA)
+        return pw_fail(e, PW_ERR_INVALID, "unknown weights %d", o->weights);
     return PW_OK;
 }
 
@@ -13954,10 +14063,11 @@ static int pgp__setup(pgp_map *P, const pgp_mesh *in, pw_err *e)
     P->dual = (double *)pw_alloc_array(&P->a, 3 * nf, sizeof(double), "mapping", e);
     P->base = (double *)pw_alloc_array(&P->a, 4 * nf, sizeof(double), "mapping", e);
     P->scale = (float *)pw_alloc_array(&P->a, 2 * nv + 9 * nf, sizeof(float), "mapping", e);
+    P->sfac = (float *)pw_alloc_array(&P->a, nv, sizeof(float), "mapping", e);
     P->zs = (double *)pw_alloc_array(&P->a, 4 * nv, sizeof(double), "mapping", e);
     P->vsing = (unsigned char *)pw_calloc_array(&P->a, nv + nf, 1, "mapping", e);
     P->forder = (int *)pw_alloc_array(&P->a, nf + nv, sizeof(int), "mapping", e);
-    if (!P->dual || !P->base || !P->scale || !P->zs || !P->vsing || !P->forder) return PW_ERR_NOMEM;
+    if (!P->dual || !P->base || !P->scale || !P->sfac || !P->zs || !P->vsing || !P->forder) return PW_ERR_NOMEM;
     P->vorder = P->forder + nf;
     pgp__bfs_order(P);
     P->dir = P->base + 2 * nf;
@@ -13967,6 +14077,147 @@ static int pgp__setup(pgp_map *P, const pgp_mesh *in, pw_err *e)
     P->fsing = P->vsing + nv;
     pw_df_dual(&P->m, P->dual);
     return pw_df_connection(&P->a, &P->m, &P->conn, e);
+}
+
+/* ---- beyond the paper: an integrable field --------------------------------------------- */
+
+/* Adds triangle f's two rows to the normal equations of the curl
+ * reduction. The circulation c = alpha_01 + alpha_12 + alpha_20 of s (and
+ * of t) around f is what the PGP cannot follow: every whole turn it sums to
+ * over a region is a vortex. A factor (1 + u) of the tile side and a
+ * rotation theta of the field change alpha_e by -alpha_e u_e (s and t) and
+ * +theta_e alpha^t_e (s) or -theta_e alpha^s_e (t), u_e and theta_e the
+ * means over the edge's ends; each row asks c + those = 0, weighted by
+ * 1 / area so that the sum is the integral of the squared curl. The part
+ * of u common to the triangle only scales c (larger tiles, fewer periods,
+ * fewer vortices: not what is asked) and is left out of the rows, so only
+ * the variation of the tile side cancels curl: the conformal factor that
+ * cancels the Gaussian curvature, which a rotation alone cannot (on CGAL's
+ * meshes rotation alone removes no vortex). Unknowns: u_i at 2 i, theta_i
+ * at 2 i + 1. */
+static int pgp__curl_rows(const pgp_map *P, int f, pw_triplets *t, double *b, pw_err *e)
+{
+    double al[2][3], row[6], c, w = 1.0 / ((double)P->m.area[f] + 1e-300);
+    int k, a, i, j, col[6], r = PW_OK;
+    for (k = 0; k < 2; k++)
+        for (a = 0; a < 3; a++) al[k][a] = pgp__alpha(P, 3 * f + a, k);
+    for (k = 0; k < 2 && r == PW_OK; k++) {
+        for (a = 0, c = 0.0; a < 3; a++) c += al[k][a];
+        for (a = 0; a < 3; a++) { /* corner a touches edges a and a - 1 */
+            int am = (a + 2) % 3;
+            col[2 * a] = 2 * P->m.tri[3 * f + a], col[2 * a + 1] = col[2 * a] + 1;
+            row[2 * a] = -0.5 * (al[k][a] + al[k][am]) + c / 3.0;
+            row[2 * a + 1] = (k ? -0.5 : 0.5) * (al[1 - k][a] + al[1 - k][am]);
+        }
+        for (i = 0; i < 6; i++) {
+            b[col[i]] -= w * row[i] * c;
+            for (j = 0; j < 6 && r == PW_OK; j++) r = pw_triplets_add(t, col[i], col[j], w * row[i] * row[j], e);
+        }
+    }
+    return r;
+}
+
+/* Adds the terms that keep the correction small and smooth: integrable^-1
+ * A_i / S^4 (u_i^2 + theta_i^2) (how far from the field; the rows above
+ * integrate curl^2 ~ |grad theta|^2 / S^2, so u and theta vary over about
+ * sqrt(integrable) tiles) and 0.01 / S^2 of the cotangent Dirichlet energy
+ * of u and theta. */
+static int pgp__curl_reg(const pgp_map *P, pw_triplets *t, pw_err *e)
+{
+    double S2 = (double)P->scale0 * P->scale0, lam = 1.0 / ((double)P->o.integrable * S2 * S2), w;
+    int h, k, i, j, r = PW_OK;
+    for (h = 0; h < 3 * P->m.nf && r == PW_OK; h++) {
+        i = P->m.tri[h], j = P->m.tri[3 * (h / 3) + (h % 3 + 1) % 3];
+        for (k = 0; k < 2 && r == PW_OK; k++) /* a third of the triangle's area to each corner */
+            r = pw_triplets_add(t, 2 * i + k, 2 * i + k, lam * P->m.area[h / 3] / 3.0, e);
+        if (P->m.hm.twin[h] >= 0 && P->m.hm.twin[h] < h) continue;
+        w = 0.01 * pgp__lap_weight(&P->m, h) / S2;
+        for (k = 0; k < 2 && r == PW_OK; k++) {
+            r = pw_triplets_add(t, 2 * i + k, 2 * i + k, w, e);
+            if (r == PW_OK) r = pw_triplets_add(t, 2 * j + k, 2 * j + k, w, e);
+            if (r == PW_OK) r = pw_triplets_add(t, 2 * i + k, 2 * j + k, -w, e);
+            if (r == PW_OK) r = pw_triplets_add(t, 2 * j + k, 2 * i + k, -w, e);
+        }
+    }
+    return r;
+}
+
+/* Applies the correction x (u, theta per vertex): the factor of every S_i
+ * (u less its area-weighted mean, the factor kept in [1/2, 2]) and the rotation of the default field of every
+ * triangle by the mean theta of its corners. */
+static void pgp__curl_apply(pgp_map *P, const double *x)
+{
+    double mean = 0.0, area = 0.0;
+    int v, f, h;
+    for (h = 0; h < 3 * P->m.nf; h++) /* the mean of u is 0: the tile side the user asked for */
+        mean += x[2 * P->m.tri[h]] * P->m.area[h / 3], area += P->m.area[h / 3];
+    mean = area > 0.0 ? mean / area : 0.0;
+    for (v = 0; v < P->m.nv; v++) {
+        double s = P->sfac[v] * (1.0 + x[2 * v] - mean);
+        P->sfac[v] = (float)(s < 0.5 ? 0.5 : (s > 2.0 ? 2.0 : s));
+    }
+    for (f = 0; f < P->m.nf; f++) {
+        const int *tr = P->m.tri + 3 * f;
+        double th = (x[2 * tr[0] + 1] + x[2 * tr[1] + 1] + x[2 * tr[2] + 1]) / 3.0, c, s, *d = P->base + 2 * f;
+        th = th > 0.5 ? 0.5 : (th < -0.5 ? -0.5 : th); /* at most ~30 degrees per step */
+        c = pw_cos(th), s = pw_sin(th);
+        th = c * d[0] - s * d[1], d[1] = s * d[0] + c * d[1], d[0] = th;
+        P->dir[2 * f] = d[0], P->dir[2 * f + 1] = d[1];
+    }
+}
+
+/* options.integrable > 0: three Gauss-Newton steps of the curl reduction
+ * (beyond the paper: the PGP of §2.3 follows a field whose gradients have
+ * curl, and each whole turn of it is a vortex; the trade is documented in
+ * docs/pgp.md). */
+#define PGP__CURL_STEPS 3
+static int pgp__integrable(pgp_map *P, pw_err *e)
+{
+    size_t n = 2 * (size_t)P->m.nv;
+    double *b = (double *)pw_alloc_array(&P->a, 2 * n, sizeof(double), "integrability", e), *x = b + n;
+    pw_triplets t;
+    int step, f, r = b ? PW_OK : PW_ERR_NOMEM;
+    memset(&t, 0, sizeof t);
+    memcpy(P->dir, P->base, sizeof(double) * 2 * (size_t)P->m.nf);
+    for (step = 0; step < PGP__CURL_STEPS && r == PW_OK; step++) {
+        memset(b, 0, sizeof(double) * 2 * n); /* b and x, a cold start: x is the step */
+        r = pw_triplets_init(&t, &P->a, (int)n, (int)n, e);
+        for (f = 0; f < P->m.nf && r == PW_OK; f++) r = pgp__curl_rows(P, f, &t, b, e);
+        if (r == PW_OK) r = pgp__curl_reg(P, &t, e);
+        if (r == PW_OK) r = pgp__pd_solve(&P->a, &t, 0, b, x, 1e-6, e);
+        if (r == PW_OK) pgp__curl_apply(P, x);
+        pw_triplets_free(&t);
+    }
+    pw_free(&P->a, b);
+    return r;
+}
+
+/* Mean edge length of the triangle mesh. */
+static double pgp__mean_edge(const pgp_map *P)
+{
+    double sum = 0.0;
+    int h, n = 0;
+    for (h = 0; h < 3 * P->m.nf; h++) {
+        int f = h / 3, c = h % 3;
+        if (P->m.hm.twin[h] > h) continue; /* each edge once */
+        sum += pw_v3_len(pw_v3_sub(pw_trimesh_corner(&P->m, f, (c + 1) % 3), pw_trimesh_corner(&P->m, f, c)));
+        n++;
+    }
+    return n ? sum / n : 0.0;
+}
+
+/* A tile side the mesh can carry: at most 10 bounding-box diagonals (beyond,
+ * the whole mesh is one colour) and at least 2 mean edge lengths (below, a
+ * period spans less than two triangles and Eq. 4 cannot recover it). Only
+ * a side the caller gave is refused: the default (diag / 10) is kept on
+ * meshes of a few triangles, where it is all one can do. */
+static int pgp__check_scale(const pgp_map *P, pw_err *e)
+{
+    double lo = 2.0 * pgp__mean_edge(P), hi = 10.0 * P->m.diag;
+    if (P->o.scale > 0.0f && (P->scale0 > hi || P->scale0 < lo))
+        return pw_fail(e, PW_ERR_INVALID, "tile side %g is outside [%g, %g] (2 mean edge lengths to 10 bounding-box "
+                       "diagonals)", (double)P->scale0, lo, hi);
+    return PW_OK;
 }
 
 PGPDEF pgp_result pgp_create(const pgp_mesh *mesh, const pgp_options *opt, pgp_map **out, pgp_error *err)
@@ -13985,9 +14236,10 @@ PGPDEF pgp_result pgp_create(const pgp_mesh *mesh, const pgp_options *opt, pgp_m
         P->o = o;
         if (pgp__setup(P, mesh, &pe) == PW_OK) {
             P->scale0 = o.scale > 0.0f ? o.scale : 0.1f * P->m.diag;
-            for (v = 0; v < P->m.nv; v++) P->scale[v] = P->scale0, P->mat[v] = o.material;
+            for (v = 0; v < P->m.nv; v++) P->scale[v] = P->scale0, P->sfac[v] = 1.0f, P->mat[v] = o.material;
             for (v = 0; v < P->m.nv; v++) P->zs[2 * v] = P->zt[2 * v] = 1.0, P->zs[2 * v + 1] = P->zt[2 * v + 1] = 0.0;
-            if (pgp__base_field(P, &pe) == PW_OK &&
+            if (pgp__check_scale(P, &pe) == PW_OK && pgp__base_field(P, &pe) == PW_OK &&
+                (!(o.integrable > 0.0f) || pgp__integrable(P, &pe) == PW_OK) &&
                 pgp__edit(P, PGP__ORIENT, NULL, 0, 0.0f, NULL, &pe) == PW_OK)
                 *out = P;
         }
@@ -13996,22 +14248,90 @@ PGPDEF pgp_result pgp_create(const pgp_mesh *mesh, const pgp_options *opt, pgp_m
     return pgp__done(&pe, err);
 }
 
+/* ---- what happened (issue 17) ------------------------------------------------------------ */
+
+/* Stretch (1) and shear (2) flags of triangle f: the singular values of
+ * J = S (grad s; grad t) in the triangle's frame outside [1/1.3, 1.3], S
+ * the side the user asked for (without the integrability factor), the
+ * angle between grad s and grad t more than 20 degrees off 90. */
+static int pgp__distortion(const pgp_map *P, int f)
+{
+    const float *o = P->stm + 9 * f, *sc = P->scale;
+    const int *tr3 = P->m.tri + 3 * f;
+    double S = ((double)sc[tr3[0]] + sc[tr3[1]] + sc[tr3[2]]) / 3.0, a, b, c, d, tr, det, disc, s1, s2, cs;
+    pw_v3 u, v, gs = pgp__gradient(P, f, o[0], o[3], o[6]), gt = pgp__gradient(P, f, o[1], o[4], o[7]);
+    pgp__frame(P, f, &u, &v);
+    a = S * pw_v3_dot(gs, u), b = S * pw_v3_dot(gs, v), c = S * pw_v3_dot(gt, u), d = S * pw_v3_dot(gt, v);
+    tr = a * a + b * b + c * c + d * d, det = a * d - b * c; /* s1^2 + s2^2 and s1 s2 */
+    disc = tr * tr - 4.0 * det * det;
+    disc = sqrt(disc > 0.0 ? disc : 0.0);
+    s1 = sqrt(0.5 * (tr + disc)), s2 = tr > disc ? sqrt(0.5 * (tr - disc)) : 0.0;
+    cs = (a * c + b * d) / (sqrt(a * a + b * b) * sqrt(c * c + d * d) + 1e-300);
+    return (s1 > 1.3 || s2 < 1.0 / 1.3) + 2 * (fabs(cs) > 0.3420201433); /* sin 20 deg */
+}
+
+PGPDEF void pgp_get_stats(const pgp_map *map, pgp_stats *out)
+{
+    double total = 0.0, st = 0.0, sh = 0.0;
+    int f, d;
+    if (!out) return;
+    memset(out, 0, sizeof *out);
+    if (!map) return;
+    for (f = 0; f < map->m.nf; f++) {
+        d = pgp__distortion(map, f);
+        total += map->m.area[f];
+        st += (d & 1) ? map->m.area[f] : 0.0;
+        sh += (d & 2) ? map->m.area[f] : 0.0;
+    }
+    out->triangles = map->m.nf;
+    out->vortices = pgp_get_vortices(map, NULL);
+    out->singular = map->nsing;
+    out->stretched = total > 0.0 ? (float)(st / total) : 0.0f;
+    out->sheared = total > 0.0 ? (float)(sh / total) : 0.0f;
+    out->mean_edge = (float)pgp__mean_edge(map);
+    out->diagonal = map->m.diag;
+    out->scale = map->scale0;
+}
+
+PGPDEF void pgp_get_triangles(const pgp_map *map, int *tris)
+{
+    if (map && tris) memcpy(tris, map->m.tri, sizeof(int) * 3 * (size_t)map->m.nf);
+}
+
 /* ---- src/pgp/render.c ---- */
-/* render.c: §3 rendering. Regular triangles take one lookup at their
- * interpolated (s, t, m); a triangle with a singular corner takes three,
+/* render.c: §3 rendering, and a cleaner treatment of the vortices.
+ *
+ * PGP_FIX_CLEAN (the default, beyond the paper): every triangle takes one
+ * lookup. A triangle around which s (or t) winds (a vortex, pgp_get_vortices)
+ * cannot take a linear (s, t): its edges are given the differences its
+ * neighbours use (the integer nearest the field's alpha, Eq. 4), and its
+ * interior the "stripe patterns" interpolation of Knöppel, Crane, Pinkall
+ * and Schröder 2015, generalised to s and t: the zero of the linearly
+ * interpolated residual e^{2 pi i (s - L)} (L the field's linear function)
+ * is where the pattern ends or forks, and the residual is carried along
+ * rays from that zero. The coordinates then match the neighbours' along
+ * every edge exactly, modulo integers, and wind around the zero, so the
+ * extra stripe (or row of bricks) ends there without ghosting or a seam.
+ * Every other triangle is regular: its Eq. (4) coordinates agree with its
+ * neighbours' (an edge mismatch needs a winding on one side).
+ *
+ * PGP_FIX_PAPER (§3): a triangle with a singular corner takes three lookups,
  * one from each corner's point of view, blended by the barycentric
  * coordinates: "This makes the texture lookup use the optimal coordinates
- * at each vertex, and linearly interpolates the result between them." */
+ * at each vertex, and linearly interpolates the result between them."
+ * Where those points of view disagree the blend shows ghosts. */
 
-/* Everything the shader needs. views: per triangle that uses the fix,
- * 3 points of view x 3 corners x (s, t); NULL entries use the regular
- * coordinates. */
+#define PGP__FIXDATA 24 /* floats of fix data per triangle */
+
+/* Everything the shader needs. fix: per triangle that takes the special
+ * treatment, PGP__FIXDATA floats: PAPER (and ALL) 3 points of view x 3
+ * corners x (s, t); CLEAN pgp__clean_data's layout. */
 typedef struct pgp__shading {
     const pgp_map *P;
     const pw_tile3 *tile;
-    const float *views; /* nf*18 */
-    const unsigned char *fixed; /* nf: 1 where the three lookups are used */
-    int show;
+    const float *fix;
+    const unsigned char *fixed; /* nf: 1 where the special treatment is used */
+    int mode, show;
 } pgp__shading;
 
 /* Corner b of triangle f seen from corner a (§3): s'_{a,a} = s_a^T and
@@ -14041,45 +14361,163 @@ static void pgp__views(const pgp_map *P, int f, int all, float *out)
         }
 }
 
-/* One lookup at barycentric b of corner coordinates c (3 x (s, t) with
- * stride `st`), material m; the mip level from the pixel footprint. */
-static void pgp__lookup(const pgp__shading *S, const float *c, int st, const float *b, const float *db, float m,
-                        float *rgba)
+/* ---- the clean fix of a vortex triangle (beyond §3) ------------------------------------ */
+
+/* Layout of a vortex triangle's data, per coordinate k at offset 12 k:
+ * U[3] the boundary values at the corners walking 0 -> 1 -> 2 (U_0 = s_0),
+ * D[3] the difference along edge a -> a+1 (the integer shift nearest
+ * alpha, as every regular neighbour has it; U_2 + D_2 = U_0 - winding),
+ * V[3] the field's linear function L at the corners (corner 0's view, §3),
+ * Q[3] the barycentric coordinates of the zero. A coordinate that does not
+ * wind here has Q[0] < 0 and is linear in U. */
+static void pgp__clean_coord(const pgp_map *P, int f, int k, float *o)
 {
-    float s = b[0] * c[0] + b[1] * c[st] + b[2] * c[2 * st], t = b[0] * c[1] + b[1] * c[st + 1] + b[2] * c[2 * st + 1];
-    float W = (float)S->tile->w, H = (float)S->tile->h;
-    float sx = ((c[st] - c[0]) * db[0] + (c[2 * st] - c[0]) * db[2]) * W;
-    float sy = ((c[st] - c[0]) * db[1] + (c[2 * st] - c[0]) * db[3]) * W;
-    float tx = ((c[st + 1] - c[1]) * db[0] + (c[2 * st + 1] - c[1]) * db[2]) * H;
-    float ty = ((c[st + 1] - c[1]) * db[1] + (c[2 * st + 1] - c[1]) * db[3]) * H;
-    float rx = sx * sx + tx * tx, ry = sy * sy + ty * ty;
-    pw_tile3_sample(S->tile, s, t, m, 0.5f * pw__log2f(rx > ry ? rx : ry), rgba);
+    const float *c = P->stm + 9 * f;
+    double U[3], D[3], V[3], r[3], zr[3], zi[3], det, q1, q2;
+    int a;
+    for (a = 0; a < 3; a++) { /* the edge from corner a to a+1: half-edge 3f + a */
+        double d = (double)c[3 * ((a + 1) % 3) + k] - c[3 * a + k], al = pgp__alpha(P, 3 * f + a, k);
+        D[a] = d + floor(al - d + 0.5);
+    }
+    U[0] = c[k], U[1] = U[0] + D[0], U[2] = U[1] + D[1];
+    V[0] = c[k], V[1] = c[k] + pgp__alpha(P, 3 * f, k), V[2] = c[k] - pgp__alpha(P, 3 * f + 2, k);
+    for (a = 0; a < 3; a++) o[a] = (float)U[a], o[3 + a] = (float)D[a], o[6 + a] = (float)V[a];
+    o[9] = -1.0f, o[10] = o[11] = 0.0f;
+    if (pgp__winding(P, f, k) == 0) return;
+    for (a = 0; a < 3; a++) r[a] = PGP__TWO_PI * (U[a] - V[a]), zr[a] = pw_cos(r[a]), zi[a] = pw_sin(r[a]);
+    /* [KCPS15]: the zero of z_0 + q1 (z_1 - z_0) + q2 (z_2 - z_0) */
+    det = (zr[1] - zr[0]) * (zi[2] - zi[0]) - (zi[1] - zi[0]) * (zr[2] - zr[0]);
+    q1 = det != 0.0 ? (-zr[0] * (zi[2] - zi[0]) + zi[0] * (zr[2] - zr[0])) / det : 1.0 / 3.0;
+    q2 = det != 0.0 ? (-zi[0] * (zr[1] - zr[0]) + zr[0] * (zi[1] - zi[0])) / det : 1.0 / 3.0;
+    if (!(q1 >= 0.0 && q2 >= 0.0 && q1 + q2 <= 1.0)) q1 = q2 = 1.0 / 3.0; /* |winding| > 1: the centre */
+    /* kept off the edges, so that no sector of the fan is a sliver */
+    q1 = 0.1 + 0.7 * q1, q2 = 0.1 + 0.7 * q2;
+    o[9] = (float)(1.0 - q1 - q2), o[10] = (float)q1, o[11] = (float)q2;
+}
+
+/* The coordinate of a vortex triangle at barycentric b: the point x where
+ * the ray from the zero Q through b leaves the triangle takes the boundary
+ * value (linear along the edge, as the neighbour's), and b takes it plus
+ * L(b) - L(x): the field's gradient inside, the residual constant along
+ * rays, so the coordinate winds once (n times) around Q. */
+static double pgp__clean_eval(const float *o, const double *b)
+{
+    const float *U = o, *D = o + 3, *V = o + 6, *Q = o + 9;
+    double mu = 2.0, x[3], u;
+    int c, e = 0;
+    if (Q[0] < 0.0f) return b[0] * U[0] + b[1] * U[1] + b[2] * U[2];
+    for (c = 0; c < 3; c++) /* the edge the ray leaves by: opposite the smallest b_c / Q_c */
+        if (b[c] / Q[c] < mu) mu = b[c] / Q[c], e = (c + 1) % 3;
+    if (mu >= 1.0 - 1e-9) return U[0]; /* at the zero itself */
+    for (c = 0; c < 3; c++) x[c] = (b[c] - mu * Q[c]) / (1.0 - mu);
+    u = U[e] + x[(e + 1) % 3] * D[e];
+    for (c = 0; c < 3; c++) u += (b[c] - x[c]) * V[c];
+    return u;
+}
+
+/* Difference a - b brought into [-1/2, 1/2): coordinates wind by integers. */
+static double pgp__wrap(double d) { return d - floor(d + 0.5); }
+
+/* (s, t) at barycentric (b1, b2) of a vortex triangle, and their screen
+ * derivatives (ds/dx, ds/dy, dt/dx, dt/dy) by differences over a quarter
+ * pixel (the function is not linear), for the mip level. */
+static void pgp__clean_st(const float *o, float b1, float b2, const float db[4], double *st, double *d)
+{
+    double b[3], bx[3], by[3];
+    const double h = 0.25;
+    int k;
+    b[0] = 1.0 - b1 - b2, b[1] = b1, b[2] = b2;
+    bx[1] = b1 + h * db[0], bx[2] = b2 + h * db[2], bx[0] = 1.0 - bx[1] - bx[2];
+    by[1] = b1 + h * db[1], by[2] = b2 + h * db[3], by[0] = 1.0 - by[1] - by[2];
+    for (k = 0; k < 2; k++) {
+        st[k] = pgp__clean_eval(o + 12 * k, b);
+        d[2 * k] = pgp__wrap(pgp__clean_eval(o + 12 * k, bx) - st[k]) / h;
+        d[2 * k + 1] = pgp__wrap(pgp__clean_eval(o + 12 * k, by) - st[k]) / h;
+    }
+}
+
+/* ---- lookups -------------------------------------------------------------------------- */
+
+/* One lookup at (s, t, m), the mip level from the screen derivatives d
+ * (ds/dx, ds/dy, dt/dx, dt/dy) in periods. */
+static void pgp__sample(const pgp__shading *S, double s, double t, float m, const double *d, float *rgba)
+{
+    double W = (double)S->tile->w, H = (double)S->tile->h;
+    double rx = d[0] * d[0] * W * W + d[2] * d[2] * H * H, ry = d[1] * d[1] * W * W + d[3] * d[3] * H * H;
+    pw_tile3_sample(S->tile, (float)s, (float)t, m, 0.5f * pw__log2f((float)(rx > ry ? rx : ry)), rgba);
+}
+
+/* (s, t) at barycentric b of corner coordinates c (3 x (s, t) with stride
+ * `st`) and their screen derivatives. */
+static void pgp__linear_st(const float *c, int st, const float *b, const float *db, double *out, double *d)
+{
+    int k;
+    for (k = 0; k < 2; k++) {
+        double d1 = (double)c[st + k] - c[k], d2 = (double)c[2 * st + k] - c[k];
+        out[k] = b[0] * c[k] + b[1] * c[st + k] + b[2] * c[2 * st + k];
+        d[2 * k] = d1 * db[0] + d2 * db[2];
+        d[2 * k + 1] = d1 * db[1] + d2 * db[3];
+    }
+}
+
+/* Whether the §3 blend at b mixes points of view whose (s, t) differ by
+ * more than a tenth of a period (a ghost). */
+static int pgp__ghost(const float *views, const float *b)
+{
+    static const float db[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+    double st[3][2], d[4];
+    int a, c, k;
+    for (a = 0; a < 3; a++) pgp__linear_st(views + 6 * a, 2, b, db, st[a], d);
+    for (a = 0; a < 3; a++)
+        for (c = a + 1; c < 3; c++)
+            for (k = 0; k < 2; k++)
+                if (b[a] > 0.0f && b[c] > 0.0f && fabs(pgp__wrap(st[a][k] - st[c][k])) > 0.1) return 1;
+    return 0;
+}
+
+/* The colour of triangle f at barycentric b: one lookup, or §3's three. */
+static void pgp__color(const pgp__shading *S, int f, const float *b, const float *db, float m, float *rgba)
+{
+    const float *fx = S->fix + PGP__FIXDATA * (size_t)f;
+    double st[2], d[4];
+    float col[4];
+    int a, k;
+    if (!S->fixed[f] || S->mode == PGP_FIX_CLEAN) {
+        if (S->fixed[f]) pgp__clean_st(fx, b[1], b[2], db, st, d);
+        else pgp__linear_st(S->P->stm + 9 * f, 3, b, db, st, d);
+        pgp__sample(S, st[0], st[1], m, d, rgba);
+        return;
+    }
+    memset(rgba, 0, 4 * sizeof(float));
+    for (a = 0; a < 3; a++) {
+        pgp__linear_st(fx + 6 * a, 2, b, db, st, d);
+        pgp__sample(S, st[0], st[1], m, d, col);
+        for (k = 0; k < 4; k++) rgba[k] += b[a] * col[k];
+    }
 }
 
 static void pgp__shade(void *user, int f, float b1, float b2, const float db[4], float rgba[4])
 {
     const pgp__shading *S = (const pgp__shading *)user;
     const float *stm = S->P->stm + 9 * f;
-    float b[3], m, col[4];
-    int a, k;
+    float b[3], m;
+    int k;
     b[0] = 1.0f - b1 - b2, b[1] = b1, b[2] = b2;
     m = b[0] * stm[2] + b[1] * stm[5] + b[2] * stm[8];
-    if (S->show == 1) {
+    rgba[3] = 1.0f;
+    if (S->show == PGP_SHOW_MATERIAL) {
         rgba[0] = rgba[1] = rgba[2] = m;
-        rgba[3] = 1.0f;
         return;
     }
-    if (!S->fixed[f]) pgp__lookup(S, stm, 3, b, db, m, rgba);
-    else {
-        memset(rgba, 0, 4 * sizeof(float));
-        for (a = 0; a < 3; a++) {
-            pgp__lookup(S, S->views + 18 * (size_t)f + 6 * a, 2, b, db, m, col);
-            for (k = 0; k < 4; k++) rgba[k] += b[a] * col[k];
-        }
+    if (S->show == PGP_SHOW_GHOSTS) { /* red where the blend mixes disagreeing lookups */
+        int g = S->fixed[f] && S->mode != PGP_FIX_CLEAN && pgp__ghost(S->fix + PGP__FIXDATA * (size_t)f, b);
+        rgba[0] = 1.0f, rgba[1] = rgba[2] = g ? 0.0f : 1.0f;
+        return;
     }
+    pgp__color(S, f, b, db, m, rgba);
     if (rgba[3] > 0.0f) /* premultiplied -> straight */
         for (k = 0; k < 3; k++) rgba[k] /= rgba[3];
-    if (S->show == 2 && S->P->fsing[f]) rgba[0] = 0.5f + 0.5f * rgba[0], rgba[1] *= 0.5f, rgba[2] *= 0.5f;
+    if (S->show == PGP_SHOW_SPECIAL && S->fixed[f]) rgba[0] = 0.5f + 0.5f * rgba[0], rgba[1] *= 0.5f, rgba[2] *= 0.5f;
 }
 
 /* The tile as a pw_tile3 (layers of mip-mapped textures). */
@@ -14096,6 +14534,12 @@ static int pgp__draw(const pgp_map *P, pgp__shading *S, const pgp_render_options
 {
     pw_camera cam = pw_camera_frame(P->pos, P->m.nv, o->view_dir, o->up, 35.0f, (float)o->width / (float)o->height);
     float bg[4];
+    int k;
+    if (o->zoom > 1.0f) /* a close-up: the same direction and distance, looking at center */
+        for (cam.fovy_deg /= o->zoom, k = 0; k < 3; k++) {
+            cam.eye[k] += o->center[k] - cam.target[k];
+            cam.target[k] = o->center[k];
+        }
     pw_draw d;
     pw_fb fb;
     int r;
@@ -14116,6 +14560,39 @@ static int pgp__draw(const pgp_map *P, pgp__shading *S, const pgp_render_options
     return r;
 }
 
+/* Whether triangle f takes the special treatment of fix mode `mode`: a
+ * vortex (CLEAN), a singular corner (PAPER, §3), every triangle (ALL). */
+static int pgp__special(const pgp_map *P, int mode, int f)
+{
+    if (mode == PGP_FIX_CLEAN) return pgp__winding(P, f, 0) != 0 || pgp__winding(P, f, 1) != 0;
+    if (mode == PGP_FIX_PAPER) return P->fsing[f];
+    return mode == PGP_FIX_ALL;
+}
+
+PGPDEF int pgp_get_special(const pgp_map *map, int fix, unsigned char *flags)
+{
+    int f, n = 0, s;
+    for (f = 0; map && f < map->m.nf; f++) {
+        n += s = pgp__special(map, fix, f);
+        if (flags) flags[f] = (unsigned char)s;
+    }
+    return n;
+}
+
+/* The fix data of every triangle that takes the special treatment. */
+static void pgp__fix_data(const pgp_map *P, int mode, unsigned char *fixed, float *data)
+{
+    int f, k;
+    for (f = 0; f < P->m.nf; f++) {
+        float *o = data + PGP__FIXDATA * (size_t)f;
+        if (!(fixed[f] = (unsigned char)pgp__special(P, mode, f))) continue;
+        if (mode == PGP_FIX_CLEAN)
+            for (k = 0; k < 2; k++) pgp__clean_coord(P, f, k, o + 12 * k);
+        else
+            pgp__views(P, f, mode == PGP_FIX_ALL, o);
+    }
+}
+
 PGPDEF pgp_result pgp_render(const pgp_map *map, const pgp_tile *tile, const pgp_render_options *ro, pgp_image *out,
                              pgp_error *err)
 {
@@ -14124,9 +14601,8 @@ PGPDEF pgp_result pgp_render(const pgp_map *map, const pgp_tile *tile, const pgp
     pw_tile3 t3;
     pw_image pic;
     pw_err pe;
-    float *views = NULL;
+    float *data = NULL;
     unsigned char *fixed = NULL;
-    int f;
     if (ro) o = *ro;
     else memset(&o, 0, sizeof o);
     pw_view_defaults(&o.width, &o.height, &o.supersample, o.view_dir, o.up, o.background);
@@ -14134,21 +14610,19 @@ PGPDEF pgp_result pgp_render(const pgp_map *map, const pgp_tile *tile, const pgp
     memset(&t3, 0, sizeof t3);
     if (out) memset(out, 0, sizeof *out);
     if (!out || !map) pw_fail(&pe, PW_ERR_INVALID, "pgp_render: NULL map or output");
-    else if (o.width < 1 || o.height < 1 || o.supersample < 1 || o.supersample > 8 || o.fix < 0 || o.fix > 2 ||
-             o.show < 0 || o.show > 2)
-        pw_fail(&pe, PW_ERR_INVALID, "render options: size %dx%d, supersample %d, fix %d, show %d", o.width,
-                o.height, o.supersample, o.fix, o.show);
+    else if (o.width < 1 || o.height < 1 || o.supersample < 1 || o.supersample > 8 || o.fix < 0 ||
+             o.fix > PGP_FIX_PAPER || o.show < 0 || o.show > PGP_SHOW_GHOSTS || !(o.zoom <= 1e4f) ||
+             !pw_is_finite(o.center[0]) || !pw_is_finite(o.center[1]) || !pw_is_finite(o.center[2]))
+        pw_fail(&pe, PW_ERR_INVALID, "render options: size %dx%d, supersample %d, fix %d, show %d, zoom %g", o.width,
+                o.height, o.supersample, o.fix, o.show, (double)o.zoom);
     else if (pgp__tile3(&map->a, tile, &t3, &pe) == PW_OK &&
-             (views = (float *)pw_alloc_array(&map->a, (size_t)map->m.nf * 18, sizeof(float), "views", &pe)) != NULL &&
-             (fixed = (unsigned char *)pw_alloc_array(&map->a, (size_t)map->m.nf, 1, "views", &pe)) != NULL) {
-        for (f = 0; f < map->m.nf; f++) {
-            fixed[f] = (unsigned char)(o.fix == 2 || (o.fix == 0 && map->fsing[f]));
-            if (fixed[f]) pgp__views(map, f, o.fix == 2, views + 18 * (size_t)f);
-        }
-        S.P = map, S.tile = &t3, S.views = views, S.fixed = fixed, S.show = o.show;
+             (data = (float *)pw_alloc_array(&map->a, (size_t)map->m.nf * PGP__FIXDATA, sizeof(float), "fix", &pe)) != NULL &&
+             (fixed = (unsigned char *)pw_alloc_array(&map->a, (size_t)map->m.nf, 1, "fix", &pe)) != NULL) {
+        pgp__fix_data(map, o.fix, fixed, data);
+        S.P = map, S.tile = &t3, S.fix = data, S.fixed = fixed, S.mode = o.fix, S.show = o.show;
         if (pgp__draw(map, &S, &o, &pic, &pe) == PW_OK) pgp__take_image(&pic, &map->a, out);
     }
-    pw_free(map ? &map->a : NULL, views);
+    pw_free(map ? &map->a : NULL, data);
     pw_free(map ? &map->a : NULL, fixed);
     if (map) pw_tile3_free(&map->a, &t3);
     return pgp__done(&pe, err);

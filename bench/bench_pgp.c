@@ -15,6 +15,11 @@
  *      triangles, a raw scan) against the 50K-triangle "Dragon 2": the
  *      field stage against "Interpolate orientation", PGP against
  *      "Initialize (u,v)", and the three 25%-area constraints.
+ *   4. issue 17: pgp_create with the paper's area weights, the default
+ *      cotangent weights and --field smooth on CGAL's elephant, cow, knot
+ *      and mushroom at S = diag/10 (vortices, singular share, time), and
+ *      the cost of a frame with the clean fix against §3's rendering.
+ *   `bench_pgp issue17` runs section 4 alone.
  *   Targets: the whole initialisation of the ~75K rung under 1 s; a local
  *   update touching 10K triangles under 0.2 s.
  * Without `make data` it falls back to the built-in "bumpy" mesh. */
@@ -228,7 +233,146 @@ static int paper_rows(void)
     return 0;
 }
 
-int main(void)
+/* ---- issue 17: weights, integrability, the clean rendering ----------------------------- */
+
+typedef struct weights_job {
+    int fail; /* first: interleave3 reads it */
+    const pgp_mesh *mesh;
+    pgp_options opt;
+    int vortices, singular;
+} weights_job;
+
+/* CPU medians (med[3]) of `runs` runs of fn on each of three jobs (size
+ * bytes apart, each starting with its int fail flag), one of each in turn,
+ * so that the host's load hits the three alike; 1 if a run failed. */
+static int interleave3(void (*fn)(void *), void *jobs, size_t size, int runs, double med[3])
+{
+    double t[3][16];
+    int r, k;
+    for (r = 0; r < runs && r < 16; r++)
+        for (k = 0; k < 3; k++) {
+            void *job = (char *)jobs + (size_t)k * size;
+            double c0 = bench_cpu_now();
+            fn(job);
+            t[k][r] = bench_cpu_now() - c0;
+            if (*(int *)job) return 1;
+        }
+    for (k = 0; k < 3; k++) med[k] = bench_stats(t[k], r).median;
+    return 0;
+}
+
+static void run_weights(void *arg)
+{
+    weights_job *j = (weights_job *)arg;
+    pgp_map *map;
+    pgp_error err;
+    if (pgp_create(j->mesh, &j->opt, &map, &err)) {
+        printf("pgp_create failed: %s\n", err.message);
+        j->fail = 1;
+        return;
+    }
+    j->vortices = pgp_get_vortices(map, NULL);
+    j->singular = pgp_get_singular(map, NULL);
+    pgp_destroy(map);
+}
+
+/* CPU medians of pgp_create on one mesh at S = diag/10 with the paper's
+ * area weights, the default cotangent weights and options.integrable = 1,
+ * interleaved (one run of each in turn), so that the host's load hits the
+ * three alike. */
+static int weights_rows(const char *file)
+{
+    static const char *const what[3] = {"area weights (paper)", "cotangent weights", "--field smooth"};
+    weights_job j[3];
+    double med[3];
+    pgp_options opt = pgp_default_options();
+    pgp_mesh mesh;
+    pgp_error err;
+    int k;
+    if (pgp_load_mesh(file, &opt, &mesh, &err)) return printf("  %s skipped: %s\n", file, err.message), 0;
+    for (k = 0; k < 3; k++) {
+        memset(&j[k], 0, sizeof j[k]);
+        j[k].mesh = &mesh, j[k].opt = opt;
+    }
+    j[0].opt.weights = PGP_WEIGHTS_AREA;
+    j[2].opt.integrable = 1.0f;
+    if (interleave3(run_weights, j, sizeof j[0], 7, med)) return 1;
+    for (k = 0; k < 3; k++)
+        printf("  %-26s %-22s %6d triangles %4d vortices singular %5.1f%%  init %7.1f ms (%.2fx area)\n", file, what[k],
+               mesh.nfaces, j[k].vortices, 100.0 * j[k].singular / mesh.nfaces, 1e3 * med[k], med[k] / med[0]);
+    pgp_mesh_free(&mesh);
+    return 0;
+}
+
+typedef struct render_job {
+    int fail; /* first: interleave3 reads it */
+    const pgp_map *map;
+    const pgp_tile *tile;
+    pgp_render_options ro;
+} render_job;
+
+static void run_render(void *arg)
+{
+    render_job *j = (render_job *)arg;
+    pgp_image img;
+    pgp_error err;
+    if (pgp_render(j->map, j->tile, &j->ro, &img, &err)) {
+        printf("pgp_render failed: %s\n", err.message);
+        j->fail = 1;
+        return;
+    }
+    pgp_image_free(&img);
+}
+
+/* A frame of 800 x 600 (2 x 2 samples) with the clean fix against §3's
+ * three lookups, on the same map and tile, interleaved. */
+static int render_rows(const pgp_mesh *mesh, const char *name)
+{
+    static const int fix[3] = {PGP_FIX_CLEAN, PGP_FIX_PAPER, PGP_FIX_OFF};
+    static const char *const what[3] = {"clean (default)", "paper (section 3)", "none (one lookup)"};
+    pgp_options opt = pgp_default_options();
+    pgp_map *map;
+    pgp_tile tile;
+    pgp_error err;
+    render_job j[3];
+    double med[3];
+    int k;
+    if (pgp_create(mesh, &opt, &map, &err) || pgp_builtin_tile("bricks", 256, &opt, &tile, &err))
+        return printf("render rows failed: %s\n", err.message), 1;
+    for (k = 0; k < 3; k++) {
+        memset(&j[k], 0, sizeof j[k]);
+        j[k].map = map, j[k].tile = &tile, j[k].ro.fix = fix[k];
+    }
+    if (interleave3(run_render, j, sizeof j[0], 5, med)) return 1;
+    for (k = 0; k < 3; k++)
+        printf("  %-10s fix %-18s drawn specially %5.1f%%  frame %7.1f ms (%.2fx paper)\n", name, what[k],
+               100.0 * pgp_get_special(map, fix[k], NULL) / pgp_triangle_count(map), 1e3 * med[k], med[k] / med[1]);
+    pgp_tile_free(&tile);
+    pgp_destroy(map);
+    return 0;
+}
+
+static int issue17_rows(const pgp_mesh *rung0, const char *rung0_name)
+{
+    static const char *const files[4] = {"data/meshes/elephant.off", "data/meshes/cow.off", "data/meshes/knot.off",
+                                         "data/meshes/mushroom.off"};
+    pgp_options opt = pgp_default_options();
+    pgp_mesh m;
+    pgp_error err;
+    int i;
+    printf("weights and integrability at S = diag/10 (CPU medians of 7, interleaved):\n");
+    for (i = 0; i < 4; i++)
+        if (weights_rows(files[i])) return 1;
+    printf("rendering, 800x600 with 2x2 samples, bricks (CPU medians of 5, interleaved):\n");
+    if (pgp_load_mesh(files[0], &opt, &m, &err) == PGP_OK) {
+        i = render_rows(&m, "elephant");
+        pgp_mesh_free(&m);
+        if (i) return 1;
+    }
+    return render_rows(rung0, rung0_name);
+}
+
+int main(int argc, char **argv)
 {
     static const int runs[NRUNGS] = {7, 5, 3, 3};
     pgp_options opt = pgp_default_options();
@@ -251,6 +395,8 @@ int main(void)
         if (bench_ladder(&base, rung, NRUNGS, 4500)) return printf("subdivision failed\n"), 1;
         for (i = 0; i < NRUNGS; i++) BENCH_MESH_COPY(mesh[i], rung[i]);
     }
+    if (argc > 1 && !strcmp(argv[1], "issue17")) /* only section 4 */
+        return issue17_rows(&mesh[0], builtin ? "bumpy" : "mushroom");
     opt.scale = SCALE_FRACTION * bench_bbox_diagonal(mesh[0].positions, mesh[0].nverts);
     printf("mesh: %s (%d triangles), 1-to-4 midpoint subdivision per rung%s\n",
            builtin ? "built-in \"bumpy\"" : MESH_FILE, mesh[0].nfaces,
@@ -308,6 +454,8 @@ int main(void)
     }
     printf("target: a local update touching ~10K triangles < 0.2 s: %s (%.3f s at %d triangles)\n\n",
            upd10k < 0.2 ? "met" : "NOT met", upd10k, mesh[TARGET_RUNG].nfaces);
+    if (issue17_rows(&mesh[0], builtin ? "bumpy" : "mushroom")) return 1;
+    printf("\n");
     printf("the paper's Table 1 at its size:\n");
     if (paper_rows()) return 1;
     printf("\n");

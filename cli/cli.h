@@ -24,6 +24,9 @@ int cli_value(cli_args *a, const char **value);
 int cli_int(cli_args *a, int lo, int hi, int *out);
 int cli_u64(cli_args *a, unsigned long long *out);
 int cli_size(cli_args *a, int *w, int *h);
+/* Three finite numbers "X,Y,Z" (commas or blanks between them) and nothing
+ * else: 1, else 0. */
+int cli_parse_vec3(const char *s, float out[3]);
 /* A direction "X,Y,Z" (finite, not all zero). */
 int cli_vec3(cli_args *a, float out[3]);
 /* The view flags of every subcommand that renders: --view X,Y,Z, the

@@ -24,6 +24,11 @@ static const char *pgp_usage =
     "  --field up[:X,Y,Z]   the tile's t axis along this direction projected on the\n"
     "                       surface (default +Y)\n"
     "  --field curvature    the tile's t axis along the direction of least curvature\n"
+    "  --field smooth[:W]   up, rotated and the tile side varied (within 1/2 and 2x,\n"
+    "                       mean kept) where that cancels the curl the\n"
+    "                       parameterization cannot follow:\n"
+    "                       fewer vortices, less alignment (W, default 1: how far\n"
+    "                       from the field, in (0, 1e6])\n"
     "  --scale S            tile side in mesh units (default: 1/10 of the\n"
     "                       bounding-box diagonal)\n"
     "  --constraints FILE   lines 'orient F dx dy dz', 'scale V S', 'material V m'\n"
@@ -33,14 +38,26 @@ static const char *pgp_usage =
     "  --out-image IMG      a rendering (.png .ppm .pgm .pam)\n"
     "  --size WxH           rendering size (default 800x600)\n"
     CLI_VIEW_USAGE
-    "  --show WHAT          tile (default), material (m in gray) or singular (the\n"
-    "                       singular triangles in red)\n"
-    "  --no-fix             one lookup everywhere: no singularity fix (section 3)\n"
+    "  --show WHAT          tile (default), material (m in gray), special (the\n"
+    "                       triangles drawn specially in red; 'singular' is the same)\n"
+    "                       or ghosts (red where a colour mixes lookups whose (s,t)\n"
+    "                       differ by more than a tenth of a period)\n"
+    "  --fix HOW            how vortices are drawn: clean (default: one lookup; in\n"
+    "                       the vortex triangles the pattern ends or forks at a\n"
+    "                       point, after Knoppel et al. 2015), paper (section 3:\n"
+    "                       three blended lookups around singular vertices) or all\n"
+    "                       (three lookups on every triangle)\n"
+    "  --zoom Z             a close-up: the field of view divided by Z (1 to 1e4)\n"
+    "  --center X,Y,Z       the point the close-up looks at (default: the mesh's\n"
+    "                       centre); vortex:K the K-th vortex triangle (from 0)\n"
+    "  --no-fix             one lookup of the raw coordinates everywhere (a seam at\n"
+    "                       every vortex)\n"
     "  --out-obj FILE       the triangulated mesh with 'vt s t m' per corner, faces\n"
     "                       in groups 'regular' and 'singular'\n"
     "  --out-tile FILE.nrrd the tile, as NRRD (uint8)\n";
 
 typedef struct pgp_cmd {
+    int center_vortex; /* --center vortex:K: K + 1, 0 when not given */
     const char *mesh, *tile, *texture, *constraints, *out_image, *out_obj, *out_tile;
     pgp_options opt;
     pgp_render_options ro;
@@ -52,22 +69,22 @@ static int bad(const char *what, const char *value)
     return 0;
 }
 
-/* --field up[:X,Y,Z] | curvature */
+/* --field up[:X,Y,Z] | curvature | smooth[:W] */
 static int parse_field(cli_args *a, pgp_cmd *c)
 {
     const char *v;
     if (!cli_value(a, &v)) return 0;
-    if (!strcmp(v, "curvature")) c->opt.field = PGP_FIELD_CURVATURE;
+    if (!strcmp(v, "smooth")) c->opt.field = PGP_FIELD_UP, c->opt.integrable = 1.0f;
+    else if (!strncmp(v, "smooth:", 7)) {
+        char *end;
+        c->opt.field = PGP_FIELD_UP;
+        c->opt.integrable = strtof(v + 7, &end);
+        if (end == v + 7 || *end || !(c->opt.integrable > 0.0f && c->opt.integrable <= 1e6f)) return bad("--field", v);
+    } else if (!strcmp(v, "curvature")) c->opt.field = PGP_FIELD_CURVATURE;
     else if (!strcmp(v, "up")) c->opt.field = PGP_FIELD_UP;
     else if (!strncmp(v, "up:", 3)) {
-        char *end;
-        const char *p = v + 3;
-        int k;
         c->opt.field = PGP_FIELD_UP;
-        for (k = 0; k < 3; k++, p = end + 1) {
-            c->opt.up[k] = strtof(p, &end);
-            if (end == p || (k < 2 && *end != ',') || (k == 2 && *end)) return bad("--field", v);
-        }
+        if (!cli_parse_vec3(v + 3, c->opt.up)) return bad("--field", v);
         if (!(c->opt.up[0] != 0.0f || c->opt.up[1] != 0.0f || c->opt.up[2] != 0.0f))
             return bad("--field (zero up vector)", v);
     } else
@@ -89,10 +106,38 @@ static int parse_show(cli_args *a, pgp_cmd *c)
 {
     const char *v;
     if (!cli_value(a, &v)) return 0;
-    if (!strcmp(v, "tile")) c->ro.show = 0;
-    else if (!strcmp(v, "material")) c->ro.show = 1;
-    else if (!strcmp(v, "singular")) c->ro.show = 2;
-    else return bad("--show (tile, material or singular)", v);
+    if (!strcmp(v, "tile")) c->ro.show = PGP_SHOW_TILE;
+    else if (!strcmp(v, "material")) c->ro.show = PGP_SHOW_MATERIAL;
+    else if (!strcmp(v, "singular") || !strcmp(v, "special")) c->ro.show = PGP_SHOW_SPECIAL;
+    else if (!strcmp(v, "ghosts")) c->ro.show = PGP_SHOW_GHOSTS;
+    else return bad("--show (tile, material, special or ghosts)", v);
+    return 1;
+}
+
+/* --center X,Y,Z | vortex:K */
+static int parse_center(cli_args *a, pgp_cmd *c)
+{
+    const char *v;
+    char *end;
+    if (!cli_value(a, &v)) return 0;
+    if (!strncmp(v, "vortex:", 7)) {
+        long n = strtol(v + 7, &end, 10);
+        if (end == v + 7 || *end || n < 0 || n > 100000000L) return bad("--center", v);
+        c->center_vortex = (int)n + 1;
+        return 1;
+    }
+    return cli_parse_vec3(v, c->ro.center) ? 1 : bad("--center", v);
+}
+
+/* --fix clean | paper | all */
+static int parse_fix(cli_args *a, pgp_cmd *c)
+{
+    const char *v;
+    if (!cli_value(a, &v)) return 0;
+    if (!strcmp(v, "clean")) c->ro.fix = PGP_FIX_CLEAN;
+    else if (!strcmp(v, "paper")) c->ro.fix = PGP_FIX_PAPER;
+    else if (!strcmp(v, "all")) c->ro.fix = PGP_FIX_ALL;
+    else return bad("--fix (clean, paper or all)", v);
     return 1;
 }
 
@@ -108,7 +153,10 @@ static int parse_one(cli_args *a, pgp_cmd *c)
     if (cli_is(a, "--scale")) return parse_float(a, 1e-30f, 1e30f, &c->opt.scale);
     if (cli_is(a, "--constraints")) return cli_value(a, &c->constraints);
     if (cli_is(a, "--seed")) return cli_u64(a, &c->opt.seed);
-    if (cli_is(a, "--no-fix")) return (c->ro.fix = 1);
+    if (cli_is(a, "--no-fix")) return (c->ro.fix = PGP_FIX_OFF);
+    if (cli_is(a, "--fix")) return parse_fix(a, c);
+    if (cli_is(a, "--zoom")) return parse_float(a, 1.0f, 1e4f, &c->ro.zoom);
+    if (cli_is(a, "--center")) return parse_center(a, c);
     if (cli_is(a, "--out-obj")) return cli_value(a, &c->out_obj);
     if (cli_is(a, "--out-image")) return cli_value(a, &c->out_image);
     if (cli_is(a, "--size")) return cli_size(a, &c->ro.width, &c->ro.height);
@@ -199,6 +247,63 @@ static pgp_result write_file(cli_outputs *outs, const char *path, const pgp_mesh
     return err->code = r;
 }
 
+/* Issue 17: what happened, on stdout, with a warning when periods are
+ * short for the triangles (pgp_create refused anything worse). The
+ * warning is part of the report, on stdout: the built-in shapes are coarse
+ * enough to draw it at their default tile side. */
+static void report(const pgp_cmd *c, const pgp_map *map, const pgp_tile *tile)
+{
+    static const char *const fix[4] = {"clean", "none", "all", "paper"};
+    pgp_stats st;
+    int sp = pgp_get_special(map, c->ro.fix, NULL), n;
+    pgp_get_stats(map, &st);
+    n = st.triangles;
+    printf("pgp: %d triangles, %d singular (%.1f%%) around %d vorti%s, tile %dx%d with %d layer%s\n", n, st.singular,
+           n ? 100.0 * st.singular / n : 0.0, st.vortices, st.vortices == 1 ? "ex" : "ces", tile->width, tile->height,
+           tile->layers, tile->layers == 1 ? "" : "s");
+    printf("pgp: drawn specially (fix %s): %d triangles (%.1f%%); surface stretched by more than 30%%: %.1f%%, "
+           "sheared by more than 20 degrees: %.1f%%\n", fix[c->ro.fix], sp, n ? 100.0 * sp / n : 0.0,
+           100.0 * st.stretched, 100.0 * st.sheared);
+    if (st.scale < 8.0f * st.mean_edge)
+        printf("pgp: warning: tile side %g is under 8 mean edge lengths (%g): each period spans too few triangles "
+               "to follow the field\n", (double)st.scale, 8.0 * st.mean_edge);
+}
+
+/* --zoom without --center looks at the middle of the bounding box;
+ * --center vortex:K at the K-th vortex triangle's centroid. */
+static pgp_result set_center(pgp_cmd *c, const pgp_mesh *mesh, const pgp_map *map, pgp_error *err)
+{
+    int n = pgp_triangle_count(map), f, k, seen = 0;
+    unsigned char *v = (unsigned char *)malloc((size_t)n + 1);
+    int *tri = (int *)malloc(sizeof(int) * 3 * ((size_t)n + 1));
+    pgp_result r = v && tri ? PGP_OK : PGP_ERR_NOMEM;
+    float lo[3], hi[3];
+    for (k = 0; r == PGP_OK && !c->center_vortex && k < 3; k++) {
+        lo[k] = hi[k] = mesh->positions[k];
+        for (f = 1; f < mesh->nverts; f++) {
+            float p = mesh->positions[3 * f + k];
+            lo[k] = p < lo[k] ? p : lo[k], hi[k] = p > hi[k] ? p : hi[k];
+        }
+        c->ro.center[k] = 0.5f * (lo[k] + hi[k]);
+    }
+    if (r == PGP_OK && c->center_vortex) {
+        pgp_get_vortices(map, v);
+        pgp_get_triangles(map, tri);
+        for (f = 0; f < n && !(v[f] && seen++ == c->center_vortex - 1); f++) {}
+        if (f == n) {
+            snprintf(err->message, sizeof err->message, "--center vortex:%d: the map has %d vortices",
+                     c->center_vortex - 1, seen);
+            r = PGP_ERR_INVALID;
+        }
+        for (k = 0; r == PGP_OK && k < 3; k++)
+            c->ro.center[k] = (mesh->positions[3 * tri[3 * f] + k] + mesh->positions[3 * tri[3 * f + 1] + k] +
+                               mesh->positions[3 * tri[3 * f + 2] + k]) / 3.0f;
+    }
+    free(v);
+    free(tri);
+    return err->code = r;
+}
+
 static pgp_result run(pgp_cmd *c, cli_outputs *outs, pgp_error *err)
 {
     pgp_mesh mesh;
@@ -210,12 +315,9 @@ static pgp_result run(pgp_cmd *c, cli_outputs *outs, pgp_error *err)
     memset(&pic, 0, sizeof pic);
     if ((r = load_tile(c, &tile, err)) != PGP_OK) return r;
     if ((r = load_mesh(c->mesh, &c->opt, &mesh, err)) == PGP_OK && (r = pgp_create(&mesh, &c->opt, &map, err)) == PGP_OK &&
-        (!c->constraints || (r = pgp_apply_constraints(map, c->constraints, err)) == PGP_OK)) {
-        int n = pgp_triangle_count(map), s = pgp_get_singular(map, NULL), v = pgp_get_vortices(map, NULL);
-        printf("pgp: %d triangles, %d singular (%.1f%%) around %d vorti%s, tile %dx%d with %d layer%s\n", n, s,
-               n ? 100.0 * s / n : 0.0, v, v == 1 ? "ex" : "ces", tile.width, tile.height, tile.layers,
-               tile.layers == 1 ? "" : "s");
-    }
+        (!c->constraints || (r = pgp_apply_constraints(map, c->constraints, err)) == PGP_OK))
+        report(c, map, &tile);
+    if (r == PGP_OK && (c->ro.zoom > 1.0f || c->center_vortex)) r = set_center(c, &mesh, map, err);
     if (r == PGP_OK && c->out_tile) r = write_file(outs, c->out_tile, NULL, NULL, &tile, err);
     if (r == PGP_OK && c->out_obj) r = write_file(outs, c->out_obj, &mesh, map, NULL, err);
     if (r == PGP_OK && c->out_image && (r = pgp_render(map, &tile, &c->ro, &pic, err)) == PGP_OK)

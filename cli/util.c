@@ -87,8 +87,7 @@ int cli_size(cli_args *a, int *w, int *h)
     return 1;
 }
 
-/* Three finite numbers "X,Y,Z" (commas or spaces), not all zero. */
-static int vec3(const char *v, float *out)
+int cli_parse_vec3(const char *v, float out[3])
 {
     const char *p = v;
     char *end;
@@ -100,7 +99,13 @@ static int vec3(const char *v, float *out)
         p = end;
     }
     while (*p == ' ') p++;
-    return !*p && (out[0] != 0.0f || out[1] != 0.0f || out[2] != 0.0f);
+    return !*p;
+}
+
+/* A direction: three finite numbers, not all zero. */
+static int vec3(const char *v, float *out)
+{
+    return cli_parse_vec3(v, out) && (out[0] != 0.0f || out[1] != 0.0f || out[2] != 0.0f);
 }
 
 int cli_vec3(cli_args *a, float out[3])

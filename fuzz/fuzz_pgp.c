@@ -67,6 +67,8 @@ static void fz_options(const uint8_t *h, const pgp_mesh *m, pgp_options *o)
     o->smoothing = h[3] & 31;
     memcpy(o->up, up[h[4] & 7], sizeof o->up);
     o->singular_distortion = dist[h[4] >> 5 & 3];
+    o->weights = h[3] >> 5 & 1;                    /* cotangent or the paper's area weights */
+    o->integrable = (h[3] >> 6 & 1) ? 1.0f : 0.0f; /* --field smooth */
 }
 
 /* A made map is consistent. */
@@ -88,6 +90,14 @@ static void fz_check_map(const pgp_map *P)
     for (i = 0; i < nv; i++) FZ_CHECK(fz_finite(sc[i]) && sc[i] > 0.0f && mat[i] >= 0.0f && mat[i] <= 1.0f);
     k = pgp_get_singular(P, NULL);
     FZ_CHECK(k >= 0 && k <= nf);
+    { /* issue 17: the report is finite, the clean fix treats exactly the vortices */
+        pgp_stats st;
+        pgp_get_stats(P, &st);
+        FZ_CHECK(st.triangles == nf && st.singular == k && st.stretched >= 0.0f && st.stretched <= 1.0f &&
+                 st.sheared >= 0.0f && st.sheared <= 1.0f && fz_finite(st.mean_edge) && st.scale > 0.0f);
+        FZ_CHECK(pgp_get_special(P, PGP_FIX_CLEAN, NULL) == pgp_get_vortices(P, NULL));
+        FZ_CHECK(pgp_get_special(P, PGP_FIX_PAPER, NULL) == k && pgp_get_special(P, PGP_FIX_OFF, NULL) == 0);
+    }
     {
         unsigned char *vort = (unsigned char *)malloc((size_t)nf + 1);
         int nvort = 0;
@@ -131,8 +141,9 @@ static void fz_render(const uint8_t *h, const pgp_map *P)
     size_t i;
     memset(&ro, 0, sizeof ro);
     ro.width = 24, ro.height = 18, ro.supersample = 1;
-    ro.show = (h[0] >> 3 & 3) % 3;
-    ro.fix = (h[0] >> 3 & 3) == 3 ? 2 : 0;
+    ro.show = h[0] >> 3 & 3;
+    ro.fix = h[3] >> 1 & 3;
+    if (h[3] & 0x80) ro.zoom = 6.0f; /* a close-up of the origin */
     FZ_CHECK(pgp_builtin_tile(h[3] & 1 ? "stripes" : "bricks", 16, &o, &tile, &err) == PGP_OK);
     r = pgp_render(P, &tile, &ro, &img, &err);
     if (r == PGP_OK) {

@@ -130,6 +130,8 @@ struct pgp_map {
     double *base;         /* nf*2: default field direction per triangle (frame) */
     double *dir;          /* nf*2: d_s per triangle, unit, in the triangle frame */
     float *scale;         /* nv: S_i */
+    float *sfac;          /* nv: the integrability factor of S_i (1 but with
+                             options.integrable, pgp__integrable) */
     float *mat;           /* nv: m_i */
     double *zs, *zt;      /* nv*2: the unit complex unknowns of s and t (§2.3) */
     float *stm;           /* nf*9: per corner s, t, m (Eq. 4) */
@@ -162,11 +164,13 @@ static pw_v3 pgp__dir3(const pgp_map *P, int f, int k)
     return d;
 }
 
-/* S^T = (S_i + S_j + S_k) / 3 (§2.3). */
+/* S^T = (S_i + S_j + S_k) / 3 (§2.3), each S_i times its integrability
+ * factor. */
 static double pgp__face_scale(const pgp_map *P, int f)
 {
     const int *t = P->m.tri + 3 * f;
-    return ((double)P->scale[t[0]] + P->scale[t[1]] + P->scale[t[2]]) / 3.0;
+    return ((double)P->scale[t[0]] * P->sfac[t[0]] + (double)P->scale[t[1]] * P->sfac[t[1]] +
+            (double)P->scale[t[2]] * P->sfac[t[2]]) / 3.0;
 }
 
 /* g = d / S^T for s (k = 0) or t (k = 1). */

@@ -22,11 +22,16 @@
  *     vertex for s and one for t, solved in the least-squares sense from
  *     the per-edge rotations alpha_ij = 2 pi e_ij . (g_T + g_T')/2 with
  *     g = d / S; per-corner coordinates recovered with integer jumps (Eq. 4).
- *   - §3 rendering: singular 1-rings (distorted triangles or edges whose two
- *     triangles disagree) are detected; their triangles are drawn with three
- *     lookups (one per corner's point of view) blended barycentrically, the
- *     rest with one; the tile is sampled with mipmaps, wrapping in s and t,
- *     clamped and interpolated in m.
+ *   - §2.3 uses cotangent edge weights by default (the printed A_T + A_T'
+ *     pushes the distortion into small triangles; PGP_WEIGHTS_AREA keeps it).
+ *   - rendering: one lookup per pixel; in the vortex triangles (where s or t
+ *     winds, about 1% of them) the coordinates of Knöppel et al.'s stripe
+ *     patterns (2015), generalised to s and t, end or fork the pattern at a
+ *     point with no ghost and no seam (PGP_FIX_CLEAN, beyond the paper).
+ *     §3 is kept (PGP_FIX_PAPER): singular 1-rings (distorted triangles or
+ *     edges whose two triangles disagree) drawn with three lookups (one per
+ *     corner's point of view) blended barycentrically. The tile is sampled
+ *     with mipmaps, wrapping in s and t, clamped and interpolated in m.
  *
  * TILE SYNTHESIS (§1; morph.c, synth.c)
  *   pgp_synthesize_tile builds the material-space tile itself from two or
@@ -183,11 +188,24 @@ enum {
     PGP_FIELD_CURVATURE = 1 /* direction of least curvature, smoothed */
 };
 
+/* Edge weights of the §2.3 energy. */
+enum {
+    PGP_WEIGHTS_COTAN = 0, /* cotangent weights (cot a + cot b) / 2, floored at 0.05: the energy is
+                              the integral of |grad s - g|^2 over the surface, so distortion costs
+                              the same per unit area in small and large triangles */
+    PGP_WEIGHTS_AREA = 1   /* the paper's A_T + A_T': the energy per unit area grows with the
+                              triangles' area, and the solve pushes distortion into the small
+                              ones (kept for comparison) */
+};
+
 typedef struct pgp_options {
     int field;               /* PGP_FIELD_*; default UP */
     float up[3];             /* default (0,1,0): the tile's t axis follows it */
     float scale;             /* tile side in mesh units where no scale constraint
-                                reaches; 0: a tenth of the bounding-box diagonal */
+                                reaches; 0: a tenth of the bounding-box diagonal.
+                                pgp_create refuses a side given here over 10 diagonals
+                                (one flat colour) or under 2 mean edge lengths
+                                (periods the triangles cannot carry) */
     float material;          /* m where no material constraint reaches; default 0 */
     float min_scale;         /* floor of the interpolated scale (§2.2 epsilon), as a
                                 fraction of `scale`; default 0.05 */
@@ -195,6 +213,14 @@ typedef struct pgp_options {
     float singular_distortion; /* §3: a triangle is distorted when
                                 |grad s - g_s|^2 / |g_s|^2 (or for t) exceeds this;
                                 default 0.5 */
+    int weights;             /* PGP_WEIGHTS_*; default COTAN */
+    float integrable;        /* beyond the paper: 0 (default) follows the field; > 0
+                                rotates the field and varies the tile side smoothly
+                                (within [1/2, 2] of `scale`, its mean kept) to cancel
+                                the curl of the gradients the PGP must follow (each
+                                uncancelled turn is a vortex): fewer vortices for less
+                                alignment. Larger values let the field stray further
+                                (1: the CLI's --field smooth) */
     unsigned long long seed; /* default 0 (nothing is random yet; kept for the CLI) */
     pgp_allocator allocator;
     pgp_progress_fn progress;
@@ -211,17 +237,41 @@ typedef struct pgp_area {
     pgp_allocator allocator;
 } pgp_area;
 
+/* Rendering of the vortices (pgp_render_options.fix). */
+enum {
+    PGP_FIX_CLEAN = 0, /* beyond the paper: one lookup everywhere; in each vortex triangle the
+                          coordinates of Knöppel et al. 2015's stripe patterns, generalised to
+                          s and t, so the pattern ends or forks at a point, with no ghost and
+                          no seam (about 1% of the triangles on CGAL's meshes) */
+    PGP_FIX_OFF = 1,   /* one lookup of the Eq. (4) coordinates everywhere: a seam at every
+                          vortex */
+    PGP_FIX_ALL = 2,   /* §3's three blended lookups on every triangle (a reference) */
+    PGP_FIX_PAPER = 3  /* §3: three lookups, one per corner's point of view, blended, on the
+                          triangles with a singular corner (ghosts where they disagree) */
+};
+
+/* What pgp_render draws (pgp_render_options.show). */
+enum {
+    PGP_SHOW_TILE = 0,     /* the tile */
+    PGP_SHOW_MATERIAL = 1, /* the material m in gray */
+    PGP_SHOW_SPECIAL = 2,  /* the tile, the triangles drawn specially (see fix) in red */
+    PGP_SHOW_GHOSTS = 3    /* white, red where a final colour mixes lookups whose (s, t)
+                              differ by more than a tenth of a period */
+};
+
 typedef struct pgp_render_options {
     int width, height;       /* default 800 x 600 */
     int supersample;         /* default 2 */
     float view_dir[3];       /* default (-0.55,-0.45,-0.7) */
     float up[3];             /* default (0,1,0) */
     float background[3];     /* default white */
-    int fix;                 /* §3 singularity fix: 0 on (default), 1 off (one lookup
-                                everywhere), 2 three lookups on every triangle (the
-                                reference the fix is compared with) */
-    int show;                /* 0 the tile (default), 1 the material m in gray,
-                                2 singular triangles in red over the tile */
+    int fix;                 /* PGP_FIX_*: how vortices and singular triangles are
+                                drawn; default CLEAN */
+    int show;                /* PGP_SHOW_*; default TILE */
+    float zoom;              /* > 1: a close-up, the field of view divided by zoom,
+                                looking at `center` from the same direction; default 1
+                                (the whole mesh) */
+    float center[3];         /* the point a close-up looks at (used when zoom > 1) */
 } pgp_render_options;
 
 PGPDEF pgp_options pgp_default_options(void);
@@ -264,6 +314,25 @@ PGPDEF int pgp_get_singular(const pgp_map *map, unsigned char *flags);
  * 1-rings). flags[ntris] set to 0 or 1 (s winds) + 2 (t winds) when flags
  * is not NULL; returns the number of triangles with a vortex. */
 PGPDEF int pgp_get_vortices(const pgp_map *map, unsigned char *flags);
+/* What a mapping came to (issue 17: say what happened). Shares of the
+ * surface are area-weighted, over the Eq. (4) coordinates: stretched when
+ * the singular values of S (grad s, grad t) leave [1/1.3, 1.3] (more than
+ * 30% of stretch or compression), sheared when grad s and grad t are more
+ * than 20 degrees away from perpendicular. */
+typedef struct pgp_stats {
+    int triangles, vortices; /* pgp_get_vortices */
+    int singular;            /* §3's singular triangles (pgp_get_singular) */
+    float stretched, sheared; /* shares of the surface, in [0, 1] */
+    float mean_edge;         /* mean edge length */
+    float diagonal;          /* bounding-box diagonal */
+    float scale;             /* the default tile side (options.scale or its default) */
+} pgp_stats;
+PGPDEF void pgp_get_stats(const pgp_map *map, pgp_stats *out);
+/* The triangles' corners (ntris*3 vertex indices, counter-clockwise). */
+PGPDEF void pgp_get_triangles(const pgp_map *map, int *tris);
+/* Triangles pgp_render draws specially with fix mode `fix` (PGP_FIX_*):
+ * flags[ntris] set to 0/1 when flags is not NULL; returns their number. */
+PGPDEF int pgp_get_special(const pgp_map *map, int fix, unsigned char *flags);
 /* The interpolated fields: d_s per triangle (ntris*3, unit), scale and
  * material per vertex (nverts each); any pointer may be NULL. */
 PGPDEF void pgp_get_field(const pgp_map *map, float *ds, float *scale, float *material);

@@ -1,19 +1,37 @@
-/* render.c: §3 rendering. Regular triangles take one lookup at their
- * interpolated (s, t, m); a triangle with a singular corner takes three,
+/* render.c: §3 rendering, and a cleaner treatment of the vortices.
+ *
+ * PGP_FIX_CLEAN (the default, beyond the paper): every triangle takes one
+ * lookup. A triangle around which s (or t) winds (a vortex, pgp_get_vortices)
+ * cannot take a linear (s, t): its edges are given the differences its
+ * neighbours use (the integer nearest the field's alpha, Eq. 4), and its
+ * interior the "stripe patterns" interpolation of Knöppel, Crane, Pinkall
+ * and Schröder 2015, generalised to s and t: the zero of the linearly
+ * interpolated residual e^{2 pi i (s - L)} (L the field's linear function)
+ * is where the pattern ends or forks, and the residual is carried along
+ * rays from that zero. The coordinates then match the neighbours' along
+ * every edge exactly, modulo integers, and wind around the zero, so the
+ * extra stripe (or row of bricks) ends there without ghosting or a seam.
+ * Every other triangle is regular: its Eq. (4) coordinates agree with its
+ * neighbours' (an edge mismatch needs a winding on one side).
+ *
+ * PGP_FIX_PAPER (§3): a triangle with a singular corner takes three lookups,
  * one from each corner's point of view, blended by the barycentric
  * coordinates: "This makes the texture lookup use the optimal coordinates
- * at each vertex, and linearly interpolates the result between them." */
+ * at each vertex, and linearly interpolates the result between them."
+ * Where those points of view disagree the blend shows ghosts. */
 #include "solve.c"
 
-/* Everything the shader needs. views: per triangle that uses the fix,
- * 3 points of view x 3 corners x (s, t); NULL entries use the regular
- * coordinates. */
+#define PGP__FIXDATA 24 /* floats of fix data per triangle */
+
+/* Everything the shader needs. fix: per triangle that takes the special
+ * treatment, PGP__FIXDATA floats: PAPER (and ALL) 3 points of view x 3
+ * corners x (s, t); CLEAN pgp__clean_data's layout. */
 typedef struct pgp__shading {
     const pgp_map *P;
     const pw_tile3 *tile;
-    const float *views; /* nf*18 */
-    const unsigned char *fixed; /* nf: 1 where the three lookups are used */
-    int show;
+    const float *fix;
+    const unsigned char *fixed; /* nf: 1 where the special treatment is used */
+    int mode, show;
 } pgp__shading;
 
 /* Corner b of triangle f seen from corner a (§3): s'_{a,a} = s_a^T and
@@ -43,45 +61,163 @@ static void pgp__views(const pgp_map *P, int f, int all, float *out)
         }
 }
 
-/* One lookup at barycentric b of corner coordinates c (3 x (s, t) with
- * stride `st`), material m; the mip level from the pixel footprint. */
-static void pgp__lookup(const pgp__shading *S, const float *c, int st, const float *b, const float *db, float m,
-                        float *rgba)
+/* ---- the clean fix of a vortex triangle (beyond §3) ------------------------------------ */
+
+/* Layout of a vortex triangle's data, per coordinate k at offset 12 k:
+ * U[3] the boundary values at the corners walking 0 -> 1 -> 2 (U_0 = s_0),
+ * D[3] the difference along edge a -> a+1 (the integer shift nearest
+ * alpha, as every regular neighbour has it; U_2 + D_2 = U_0 - winding),
+ * V[3] the field's linear function L at the corners (corner 0's view, §3),
+ * Q[3] the barycentric coordinates of the zero. A coordinate that does not
+ * wind here has Q[0] < 0 and is linear in U. */
+static void pgp__clean_coord(const pgp_map *P, int f, int k, float *o)
 {
-    float s = b[0] * c[0] + b[1] * c[st] + b[2] * c[2 * st], t = b[0] * c[1] + b[1] * c[st + 1] + b[2] * c[2 * st + 1];
-    float W = (float)S->tile->w, H = (float)S->tile->h;
-    float sx = ((c[st] - c[0]) * db[0] + (c[2 * st] - c[0]) * db[2]) * W;
-    float sy = ((c[st] - c[0]) * db[1] + (c[2 * st] - c[0]) * db[3]) * W;
-    float tx = ((c[st + 1] - c[1]) * db[0] + (c[2 * st + 1] - c[1]) * db[2]) * H;
-    float ty = ((c[st + 1] - c[1]) * db[1] + (c[2 * st + 1] - c[1]) * db[3]) * H;
-    float rx = sx * sx + tx * tx, ry = sy * sy + ty * ty;
-    pw_tile3_sample(S->tile, s, t, m, 0.5f * pw__log2f(rx > ry ? rx : ry), rgba);
+    const float *c = P->stm + 9 * f;
+    double U[3], D[3], V[3], r[3], zr[3], zi[3], det, q1, q2;
+    int a;
+    for (a = 0; a < 3; a++) { /* the edge from corner a to a+1: half-edge 3f + a */
+        double d = (double)c[3 * ((a + 1) % 3) + k] - c[3 * a + k], al = pgp__alpha(P, 3 * f + a, k);
+        D[a] = d + floor(al - d + 0.5);
+    }
+    U[0] = c[k], U[1] = U[0] + D[0], U[2] = U[1] + D[1];
+    V[0] = c[k], V[1] = c[k] + pgp__alpha(P, 3 * f, k), V[2] = c[k] - pgp__alpha(P, 3 * f + 2, k);
+    for (a = 0; a < 3; a++) o[a] = (float)U[a], o[3 + a] = (float)D[a], o[6 + a] = (float)V[a];
+    o[9] = -1.0f, o[10] = o[11] = 0.0f;
+    if (pgp__winding(P, f, k) == 0) return;
+    for (a = 0; a < 3; a++) r[a] = PGP__TWO_PI * (U[a] - V[a]), zr[a] = pw_cos(r[a]), zi[a] = pw_sin(r[a]);
+    /* [KCPS15]: the zero of z_0 + q1 (z_1 - z_0) + q2 (z_2 - z_0) */
+    det = (zr[1] - zr[0]) * (zi[2] - zi[0]) - (zi[1] - zi[0]) * (zr[2] - zr[0]);
+    q1 = det != 0.0 ? (-zr[0] * (zi[2] - zi[0]) + zi[0] * (zr[2] - zr[0])) / det : 1.0 / 3.0;
+    q2 = det != 0.0 ? (-zi[0] * (zr[1] - zr[0]) + zr[0] * (zi[1] - zi[0])) / det : 1.0 / 3.0;
+    if (!(q1 >= 0.0 && q2 >= 0.0 && q1 + q2 <= 1.0)) q1 = q2 = 1.0 / 3.0; /* |winding| > 1: the centre */
+    /* kept off the edges, so that no sector of the fan is a sliver */
+    q1 = 0.1 + 0.7 * q1, q2 = 0.1 + 0.7 * q2;
+    o[9] = (float)(1.0 - q1 - q2), o[10] = (float)q1, o[11] = (float)q2;
+}
+
+/* The coordinate of a vortex triangle at barycentric b: the point x where
+ * the ray from the zero Q through b leaves the triangle takes the boundary
+ * value (linear along the edge, as the neighbour's), and b takes it plus
+ * L(b) - L(x): the field's gradient inside, the residual constant along
+ * rays, so the coordinate winds once (n times) around Q. */
+static double pgp__clean_eval(const float *o, const double *b)
+{
+    const float *U = o, *D = o + 3, *V = o + 6, *Q = o + 9;
+    double mu = 2.0, x[3], u;
+    int c, e = 0;
+    if (Q[0] < 0.0f) return b[0] * U[0] + b[1] * U[1] + b[2] * U[2];
+    for (c = 0; c < 3; c++) /* the edge the ray leaves by: opposite the smallest b_c / Q_c */
+        if (b[c] / Q[c] < mu) mu = b[c] / Q[c], e = (c + 1) % 3;
+    if (mu >= 1.0 - 1e-9) return U[0]; /* at the zero itself */
+    for (c = 0; c < 3; c++) x[c] = (b[c] - mu * Q[c]) / (1.0 - mu);
+    u = U[e] + x[(e + 1) % 3] * D[e];
+    for (c = 0; c < 3; c++) u += (b[c] - x[c]) * V[c];
+    return u;
+}
+
+/* Difference a - b brought into [-1/2, 1/2): coordinates wind by integers. */
+static double pgp__wrap(double d) { return d - floor(d + 0.5); }
+
+/* (s, t) at barycentric (b1, b2) of a vortex triangle, and their screen
+ * derivatives (ds/dx, ds/dy, dt/dx, dt/dy) by differences over a quarter
+ * pixel (the function is not linear), for the mip level. */
+static void pgp__clean_st(const float *o, float b1, float b2, const float db[4], double *st, double *d)
+{
+    double b[3], bx[3], by[3];
+    const double h = 0.25;
+    int k;
+    b[0] = 1.0 - b1 - b2, b[1] = b1, b[2] = b2;
+    bx[1] = b1 + h * db[0], bx[2] = b2 + h * db[2], bx[0] = 1.0 - bx[1] - bx[2];
+    by[1] = b1 + h * db[1], by[2] = b2 + h * db[3], by[0] = 1.0 - by[1] - by[2];
+    for (k = 0; k < 2; k++) {
+        st[k] = pgp__clean_eval(o + 12 * k, b);
+        d[2 * k] = pgp__wrap(pgp__clean_eval(o + 12 * k, bx) - st[k]) / h;
+        d[2 * k + 1] = pgp__wrap(pgp__clean_eval(o + 12 * k, by) - st[k]) / h;
+    }
+}
+
+/* ---- lookups -------------------------------------------------------------------------- */
+
+/* One lookup at (s, t, m), the mip level from the screen derivatives d
+ * (ds/dx, ds/dy, dt/dx, dt/dy) in periods. */
+static void pgp__sample(const pgp__shading *S, double s, double t, float m, const double *d, float *rgba)
+{
+    double W = (double)S->tile->w, H = (double)S->tile->h;
+    double rx = d[0] * d[0] * W * W + d[2] * d[2] * H * H, ry = d[1] * d[1] * W * W + d[3] * d[3] * H * H;
+    pw_tile3_sample(S->tile, (float)s, (float)t, m, 0.5f * pw__log2f((float)(rx > ry ? rx : ry)), rgba);
+}
+
+/* (s, t) at barycentric b of corner coordinates c (3 x (s, t) with stride
+ * `st`) and their screen derivatives. */
+static void pgp__linear_st(const float *c, int st, const float *b, const float *db, double *out, double *d)
+{
+    int k;
+    for (k = 0; k < 2; k++) {
+        double d1 = (double)c[st + k] - c[k], d2 = (double)c[2 * st + k] - c[k];
+        out[k] = b[0] * c[k] + b[1] * c[st + k] + b[2] * c[2 * st + k];
+        d[2 * k] = d1 * db[0] + d2 * db[2];
+        d[2 * k + 1] = d1 * db[1] + d2 * db[3];
+    }
+}
+
+/* Whether the §3 blend at b mixes points of view whose (s, t) differ by
+ * more than a tenth of a period (a ghost). */
+static int pgp__ghost(const float *views, const float *b)
+{
+    static const float db[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+    double st[3][2], d[4];
+    int a, c, k;
+    for (a = 0; a < 3; a++) pgp__linear_st(views + 6 * a, 2, b, db, st[a], d);
+    for (a = 0; a < 3; a++)
+        for (c = a + 1; c < 3; c++)
+            for (k = 0; k < 2; k++)
+                if (b[a] > 0.0f && b[c] > 0.0f && fabs(pgp__wrap(st[a][k] - st[c][k])) > 0.1) return 1;
+    return 0;
+}
+
+/* The colour of triangle f at barycentric b: one lookup, or §3's three. */
+static void pgp__color(const pgp__shading *S, int f, const float *b, const float *db, float m, float *rgba)
+{
+    const float *fx = S->fix + PGP__FIXDATA * (size_t)f;
+    double st[2], d[4];
+    float col[4];
+    int a, k;
+    if (!S->fixed[f] || S->mode == PGP_FIX_CLEAN) {
+        if (S->fixed[f]) pgp__clean_st(fx, b[1], b[2], db, st, d);
+        else pgp__linear_st(S->P->stm + 9 * f, 3, b, db, st, d);
+        pgp__sample(S, st[0], st[1], m, d, rgba);
+        return;
+    }
+    memset(rgba, 0, 4 * sizeof(float));
+    for (a = 0; a < 3; a++) {
+        pgp__linear_st(fx + 6 * a, 2, b, db, st, d);
+        pgp__sample(S, st[0], st[1], m, d, col);
+        for (k = 0; k < 4; k++) rgba[k] += b[a] * col[k];
+    }
 }
 
 static void pgp__shade(void *user, int f, float b1, float b2, const float db[4], float rgba[4])
 {
     const pgp__shading *S = (const pgp__shading *)user;
     const float *stm = S->P->stm + 9 * f;
-    float b[3], m, col[4];
-    int a, k;
+    float b[3], m;
+    int k;
     b[0] = 1.0f - b1 - b2, b[1] = b1, b[2] = b2;
     m = b[0] * stm[2] + b[1] * stm[5] + b[2] * stm[8];
-    if (S->show == 1) {
+    rgba[3] = 1.0f;
+    if (S->show == PGP_SHOW_MATERIAL) {
         rgba[0] = rgba[1] = rgba[2] = m;
-        rgba[3] = 1.0f;
         return;
     }
-    if (!S->fixed[f]) pgp__lookup(S, stm, 3, b, db, m, rgba);
-    else {
-        memset(rgba, 0, 4 * sizeof(float));
-        for (a = 0; a < 3; a++) {
-            pgp__lookup(S, S->views + 18 * (size_t)f + 6 * a, 2, b, db, m, col);
-            for (k = 0; k < 4; k++) rgba[k] += b[a] * col[k];
-        }
+    if (S->show == PGP_SHOW_GHOSTS) { /* red where the blend mixes disagreeing lookups */
+        int g = S->fixed[f] && S->mode != PGP_FIX_CLEAN && pgp__ghost(S->fix + PGP__FIXDATA * (size_t)f, b);
+        rgba[0] = 1.0f, rgba[1] = rgba[2] = g ? 0.0f : 1.0f;
+        return;
     }
+    pgp__color(S, f, b, db, m, rgba);
     if (rgba[3] > 0.0f) /* premultiplied -> straight */
         for (k = 0; k < 3; k++) rgba[k] /= rgba[3];
-    if (S->show == 2 && S->P->fsing[f]) rgba[0] = 0.5f + 0.5f * rgba[0], rgba[1] *= 0.5f, rgba[2] *= 0.5f;
+    if (S->show == PGP_SHOW_SPECIAL && S->fixed[f]) rgba[0] = 0.5f + 0.5f * rgba[0], rgba[1] *= 0.5f, rgba[2] *= 0.5f;
 }
 
 /* The tile as a pw_tile3 (layers of mip-mapped textures). */
@@ -98,6 +234,12 @@ static int pgp__draw(const pgp_map *P, pgp__shading *S, const pgp_render_options
 {
     pw_camera cam = pw_camera_frame(P->pos, P->m.nv, o->view_dir, o->up, 35.0f, (float)o->width / (float)o->height);
     float bg[4];
+    int k;
+    if (o->zoom > 1.0f) /* a close-up: the same direction and distance, looking at center */
+        for (cam.fovy_deg /= o->zoom, k = 0; k < 3; k++) {
+            cam.eye[k] += o->center[k] - cam.target[k];
+            cam.target[k] = o->center[k];
+        }
     pw_draw d;
     pw_fb fb;
     int r;
@@ -118,6 +260,39 @@ static int pgp__draw(const pgp_map *P, pgp__shading *S, const pgp_render_options
     return r;
 }
 
+/* Whether triangle f takes the special treatment of fix mode `mode`: a
+ * vortex (CLEAN), a singular corner (PAPER, §3), every triangle (ALL). */
+static int pgp__special(const pgp_map *P, int mode, int f)
+{
+    if (mode == PGP_FIX_CLEAN) return pgp__winding(P, f, 0) != 0 || pgp__winding(P, f, 1) != 0;
+    if (mode == PGP_FIX_PAPER) return P->fsing[f];
+    return mode == PGP_FIX_ALL;
+}
+
+PGPDEF int pgp_get_special(const pgp_map *map, int fix, unsigned char *flags)
+{
+    int f, n = 0, s;
+    for (f = 0; map && f < map->m.nf; f++) {
+        n += s = pgp__special(map, fix, f);
+        if (flags) flags[f] = (unsigned char)s;
+    }
+    return n;
+}
+
+/* The fix data of every triangle that takes the special treatment. */
+static void pgp__fix_data(const pgp_map *P, int mode, unsigned char *fixed, float *data)
+{
+    int f, k;
+    for (f = 0; f < P->m.nf; f++) {
+        float *o = data + PGP__FIXDATA * (size_t)f;
+        if (!(fixed[f] = (unsigned char)pgp__special(P, mode, f))) continue;
+        if (mode == PGP_FIX_CLEAN)
+            for (k = 0; k < 2; k++) pgp__clean_coord(P, f, k, o + 12 * k);
+        else
+            pgp__views(P, f, mode == PGP_FIX_ALL, o);
+    }
+}
+
 PGPDEF pgp_result pgp_render(const pgp_map *map, const pgp_tile *tile, const pgp_render_options *ro, pgp_image *out,
                              pgp_error *err)
 {
@@ -126,9 +301,8 @@ PGPDEF pgp_result pgp_render(const pgp_map *map, const pgp_tile *tile, const pgp
     pw_tile3 t3;
     pw_image pic;
     pw_err pe;
-    float *views = NULL;
+    float *data = NULL;
     unsigned char *fixed = NULL;
-    int f;
     if (ro) o = *ro;
     else memset(&o, 0, sizeof o);
     pw_view_defaults(&o.width, &o.height, &o.supersample, o.view_dir, o.up, o.background);
@@ -136,21 +310,19 @@ PGPDEF pgp_result pgp_render(const pgp_map *map, const pgp_tile *tile, const pgp
     memset(&t3, 0, sizeof t3);
     if (out) memset(out, 0, sizeof *out);
     if (!out || !map) pw_fail(&pe, PW_ERR_INVALID, "pgp_render: NULL map or output");
-    else if (o.width < 1 || o.height < 1 || o.supersample < 1 || o.supersample > 8 || o.fix < 0 || o.fix > 2 ||
-             o.show < 0 || o.show > 2)
-        pw_fail(&pe, PW_ERR_INVALID, "render options: size %dx%d, supersample %d, fix %d, show %d", o.width,
-                o.height, o.supersample, o.fix, o.show);
+    else if (o.width < 1 || o.height < 1 || o.supersample < 1 || o.supersample > 8 || o.fix < 0 ||
+             o.fix > PGP_FIX_PAPER || o.show < 0 || o.show > PGP_SHOW_GHOSTS || !(o.zoom <= 1e4f) ||
+             !pw_is_finite(o.center[0]) || !pw_is_finite(o.center[1]) || !pw_is_finite(o.center[2]))
+        pw_fail(&pe, PW_ERR_INVALID, "render options: size %dx%d, supersample %d, fix %d, show %d, zoom %g", o.width,
+                o.height, o.supersample, o.fix, o.show, (double)o.zoom);
     else if (pgp__tile3(&map->a, tile, &t3, &pe) == PW_OK &&
-             (views = (float *)pw_alloc_array(&map->a, (size_t)map->m.nf * 18, sizeof(float), "views", &pe)) != NULL &&
-             (fixed = (unsigned char *)pw_alloc_array(&map->a, (size_t)map->m.nf, 1, "views", &pe)) != NULL) {
-        for (f = 0; f < map->m.nf; f++) {
-            fixed[f] = (unsigned char)(o.fix == 2 || (o.fix == 0 && map->fsing[f]));
-            if (fixed[f]) pgp__views(map, f, o.fix == 2, views + 18 * (size_t)f);
-        }
-        S.P = map, S.tile = &t3, S.views = views, S.fixed = fixed, S.show = o.show;
+             (data = (float *)pw_alloc_array(&map->a, (size_t)map->m.nf * PGP__FIXDATA, sizeof(float), "fix", &pe)) != NULL &&
+             (fixed = (unsigned char *)pw_alloc_array(&map->a, (size_t)map->m.nf, 1, "fix", &pe)) != NULL) {
+        pgp__fix_data(map, o.fix, fixed, data);
+        S.P = map, S.tile = &t3, S.fix = data, S.fixed = fixed, S.mode = o.fix, S.show = o.show;
         if (pgp__draw(map, &S, &o, &pic, &pe) == PW_OK) pgp__take_image(&pic, &map->a, out);
     }
-    pw_free(map ? &map->a : NULL, views);
+    pw_free(map ? &map->a : NULL, data);
     pw_free(map ? &map->a : NULL, fixed);
     if (map) pw_tile3_free(&map->a, &t3);
     return pgp__done(&pe, err);

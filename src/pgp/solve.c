@@ -52,7 +52,31 @@ static double pgp__alpha(const pgp_map *P, int h, int k)
 
 /* ---- §2.3 the least-squares system ----------------------------------------------------- */
 
-/* Adds the term (A_T + A_T') |z_j - R(alpha) z_i|^2 of edge h (i -> j) to
+/* The weight of edge h in F_PGP. The paper prints A_T + A_T' (kept as
+ * PGP_WEIGHTS_AREA): a term |z_j - R z_i|^2 ~ |e . (grad s - g)|^2 is then
+ * an integral of the distortion times A_T / |e|^2 ~ A_T per unit area, so
+ * large triangles cost more and the solve pushes the distortion into the
+ * small ones (on CGAL's meshes, where triangle sizes vary by 100x, that is
+ * where the singular share comes from). Cotangent weights make F_PGP the
+ * discrete integral of |grad s - g|^2 (the connection Laplacian of [KCPS15]
+ * "Stripe patterns" and of geogram's PGP), the same cost per unit area
+ * everywhere. Cotangents of obtuse angles can make a weight negative and
+ * the system indefinite: the weight is floored at 0.05, as the §2.2
+ * Laplacian's (pgp__lap_weight), which keeps IC(0) and CG well defined.
+ * CGAL's meshes are far from Delaunay: the floor holds 2% of the edges of
+ * elephant, 7% of knot, 12% of mushroom and 19% of cow (16% of cow's have
+ * a negative sum); floors from 0.001 to 0.1 give the same counts within
+ * 1 vortex and 0.5% singular. Cotangents of an intrinsic Delaunay
+ * triangulation would avoid the floor; they are not implemented. */
+static double pgp__pgp_weight(const pgp_map *P, int h)
+{
+    int tw = P->m.hm.twin[h];
+    if (P->o.weights == PGP_WEIGHTS_AREA)
+        return (double)P->m.area[h / 3] + (tw >= 0 ? (double)P->m.area[tw / 3] : 0.0);
+    return pgp__lap_weight(&P->m, h);
+}
+
+/* Adds the term w |z_j - R(alpha) z_i|^2 |z_j - R(alpha) z_i|^2 of edge h (i -> j) to
  * the system of the free vertices (id >= 0). R(alpha) is the rotation by
  * +alpha, [cos -sin; sin cos], i.e. the product with e^{i alpha}: with
  * z = e^{2 pi i s}, s_j = s_i + alpha/2pi is z_j = e^{i alpha} z_i. (The
@@ -64,9 +88,9 @@ static double pgp__alpha(const pgp_map *P, int h, int k)
 static int pgp__pgp_edge(const pgp_map *P, const double *z, const int *id, int h, int k, pw_triplets *t,
                          double *b, pw_err *e)
 {
-    int f = h / 3, tw = P->m.hm.twin[h];
+    int f = h / 3;
     int vi = P->m.tri[h], vj = P->m.tri[3 * f + (h % 3 + 1) % 3], i = id[vi], j = id[vj], r = PW_OK;
-    double w = (double)P->m.area[f] + (tw >= 0 ? (double)P->m.area[tw / 3] : 0.0);
+    double w = pgp__pgp_weight(P, h);
     double a = PGP__TWO_PI * pgp__alpha(P, h, k), c = pw_cos(a), sn = pw_sin(a);
     const double *zi = z + 2 * vi, *zj = z + 2 * vj;
     if (i >= 0) r = pw_ztriplets_add(t, i, i, w, 0.0, e);
@@ -93,10 +117,17 @@ static int pgp__pgp_edge(const pgp_map *P, const double *z, const int *id, int h
  * of PGP [RLL*06] is what these steps restore, one linear solve each. The
  * first, weak steps let the estimate relax over long distances (the
  * breadth-first start has seams along its tree); the later ones converge.
- * (On CGAL's elephant and cow, a fifth step at 0.1 or tighter solves
- * change neither the vortex count nor the singular triangles.) */
+ * The first step at mu = 1e-5 is nearly an inverse-iteration step towards
+ * the smallest eigenvector of F (the global optimum of [KCPS15]): with the
+ * cotangent weights, starting at 1e-3 instead leaves more vortices (CGAL's
+ * elephant, cow, knot, mushroom at S = diag/10: 46, 44, 67, 36 against 40,
+ * 46, 61, 32). Only the last step needs an accurate solve: the others are
+ * normalised and refined after, and a relative residual of 1e-3 there
+ * takes 40% fewer CG iterations for the same counts. (A fifth step at 0.1
+ * or tighter solves change neither the vortex count nor the singular
+ * triangles.) */
 #define PGP__STEPS 4
-static const double pgp__mu[PGP__STEPS] = {1e-3, 1e-2, 3e-2, 0.1};
+static const double pgp__mu[PGP__STEPS] = {1e-5, 1e-3, 1e-2, 0.1};
 
 /* Where each row's diagonal entry sits in A (every row has one). */
 static int pgp__diag_index(const pw_alloc *a, const pw_zcsr *A, int **out, pw_err *e)
@@ -188,7 +219,6 @@ static int pgp__pgp_solve(pgp_map *P, double *z, const int *id, int n, int k, pw
     if (r == PW_OK && (r = pw_zcsr_from_triplets(&P->a, &t, &A, e)) == PW_OK)
         r = pgp__diag_index(&P->a, &A, &dpos, e);
     if (r == PW_OK && !(rhs = (double *)pw_alloc_array(&P->a, (size_t)n * 2, sizeof(double), "PGP", e))) r = PW_ERR_NOMEM;
-    o.tol = 1e-4; /* each step is followed by a normalisation: no need for more */
     o.max_iter = 4000;
     for (step = 0; r == PW_OK && step < PGP__STEPS; step++) {
         double mu = pgp__mu[step];
@@ -201,6 +231,7 @@ static int pgp__pgp_solve(pgp_map *P, double *z, const int *id, int n, int k, pw
                 rhs[2 * q] = b[2 * q] + mu * dg[q] * z[2 * v];
                 rhs[2 * q + 1] = b[2 * q + 1] + mu * dg[q] * z[2 * v + 1];
             }
+        o.tol = step < PGP__STEPS - 1 ? 1e-3 : 1e-4; /* each step is normalised: no need for more */
         r = pw_zpcg_solve(&P->a, &A, &L, rhs, x, &o, NULL, e);
         for (v = 0; r == PW_OK && v < P->m.nv; v++)
             if ((q = id[v]) >= 0) {
@@ -528,6 +559,7 @@ PGPDEF void pgp_destroy(pgp_map *P)
     pw_free(&a, P->dual);
     pw_free(&a, P->base);
     pw_free(&a, P->scale);
+    pw_free(&a, P->sfac);
     pw_free(&a, P->zs);
     pw_free(&a, P->vsing);
     pw_free(&a, P->forder);
@@ -550,6 +582,10 @@ static int pgp__check_options(const pgp_options *o, pw_err *e)
     if (!(o->singular_distortion > 0.0f) || !pw_is_finite(o->singular_distortion))
         return pw_fail(e, PW_ERR_INVALID, "singular_distortion %g is not positive", (double)o->singular_distortion);
     if (o->smoothing < 0) return pw_fail(e, PW_ERR_INVALID, "smoothing %d is negative", o->smoothing);
+    if (!(o->integrable >= 0.0f && o->integrable <= 1e6f))
+        return pw_fail(e, PW_ERR_INVALID, "integrable %g is not in [0, 1e6]", (double)o->integrable);
+    if (o->weights != PGP_WEIGHTS_COTAN && o->weights != PGP_WEIGHTS_AREA)
+        return pw_fail(e, PW_ERR_INVALID, "unknown weights %d", o->weights);
     return PW_OK;
 }
 
@@ -598,10 +634,11 @@ static int pgp__setup(pgp_map *P, const pgp_mesh *in, pw_err *e)
     P->dual = (double *)pw_alloc_array(&P->a, 3 * nf, sizeof(double), "mapping", e);
     P->base = (double *)pw_alloc_array(&P->a, 4 * nf, sizeof(double), "mapping", e);
     P->scale = (float *)pw_alloc_array(&P->a, 2 * nv + 9 * nf, sizeof(float), "mapping", e);
+    P->sfac = (float *)pw_alloc_array(&P->a, nv, sizeof(float), "mapping", e);
     P->zs = (double *)pw_alloc_array(&P->a, 4 * nv, sizeof(double), "mapping", e);
     P->vsing = (unsigned char *)pw_calloc_array(&P->a, nv + nf, 1, "mapping", e);
     P->forder = (int *)pw_alloc_array(&P->a, nf + nv, sizeof(int), "mapping", e);
-    if (!P->dual || !P->base || !P->scale || !P->zs || !P->vsing || !P->forder) return PW_ERR_NOMEM;
+    if (!P->dual || !P->base || !P->scale || !P->sfac || !P->zs || !P->vsing || !P->forder) return PW_ERR_NOMEM;
     P->vorder = P->forder + nf;
     pgp__bfs_order(P);
     P->dir = P->base + 2 * nf;
@@ -611,6 +648,147 @@ static int pgp__setup(pgp_map *P, const pgp_mesh *in, pw_err *e)
     P->fsing = P->vsing + nv;
     pw_df_dual(&P->m, P->dual);
     return pw_df_connection(&P->a, &P->m, &P->conn, e);
+}
+
+/* ---- beyond the paper: an integrable field --------------------------------------------- */
+
+/* Adds triangle f's two rows to the normal equations of the curl
+ * reduction. The circulation c = alpha_01 + alpha_12 + alpha_20 of s (and
+ * of t) around f is what the PGP cannot follow: every whole turn it sums to
+ * over a region is a vortex. A factor (1 + u) of the tile side and a
+ * rotation theta of the field change alpha_e by -alpha_e u_e (s and t) and
+ * +theta_e alpha^t_e (s) or -theta_e alpha^s_e (t), u_e and theta_e the
+ * means over the edge's ends; each row asks c + those = 0, weighted by
+ * 1 / area so that the sum is the integral of the squared curl. The part
+ * of u common to the triangle only scales c (larger tiles, fewer periods,
+ * fewer vortices: not what is asked) and is left out of the rows, so only
+ * the variation of the tile side cancels curl: the conformal factor that
+ * cancels the Gaussian curvature, which a rotation alone cannot (on CGAL's
+ * meshes rotation alone removes no vortex). Unknowns: u_i at 2 i, theta_i
+ * at 2 i + 1. */
+static int pgp__curl_rows(const pgp_map *P, int f, pw_triplets *t, double *b, pw_err *e)
+{
+    double al[2][3], row[6], c, w = 1.0 / ((double)P->m.area[f] + 1e-300);
+    int k, a, i, j, col[6], r = PW_OK;
+    for (k = 0; k < 2; k++)
+        for (a = 0; a < 3; a++) al[k][a] = pgp__alpha(P, 3 * f + a, k);
+    for (k = 0; k < 2 && r == PW_OK; k++) {
+        for (a = 0, c = 0.0; a < 3; a++) c += al[k][a];
+        for (a = 0; a < 3; a++) { /* corner a touches edges a and a - 1 */
+            int am = (a + 2) % 3;
+            col[2 * a] = 2 * P->m.tri[3 * f + a], col[2 * a + 1] = col[2 * a] + 1;
+            row[2 * a] = -0.5 * (al[k][a] + al[k][am]) + c / 3.0;
+            row[2 * a + 1] = (k ? -0.5 : 0.5) * (al[1 - k][a] + al[1 - k][am]);
+        }
+        for (i = 0; i < 6; i++) {
+            b[col[i]] -= w * row[i] * c;
+            for (j = 0; j < 6 && r == PW_OK; j++) r = pw_triplets_add(t, col[i], col[j], w * row[i] * row[j], e);
+        }
+    }
+    return r;
+}
+
+/* Adds the terms that keep the correction small and smooth: integrable^-1
+ * A_i / S^4 (u_i^2 + theta_i^2) (how far from the field; the rows above
+ * integrate curl^2 ~ |grad theta|^2 / S^2, so u and theta vary over about
+ * sqrt(integrable) tiles) and 0.01 / S^2 of the cotangent Dirichlet energy
+ * of u and theta. */
+static int pgp__curl_reg(const pgp_map *P, pw_triplets *t, pw_err *e)
+{
+    double S2 = (double)P->scale0 * P->scale0, lam = 1.0 / ((double)P->o.integrable * S2 * S2), w;
+    int h, k, i, j, r = PW_OK;
+    for (h = 0; h < 3 * P->m.nf && r == PW_OK; h++) {
+        i = P->m.tri[h], j = P->m.tri[3 * (h / 3) + (h % 3 + 1) % 3];
+        for (k = 0; k < 2 && r == PW_OK; k++) /* a third of the triangle's area to each corner */
+            r = pw_triplets_add(t, 2 * i + k, 2 * i + k, lam * P->m.area[h / 3] / 3.0, e);
+        if (P->m.hm.twin[h] >= 0 && P->m.hm.twin[h] < h) continue;
+        w = 0.01 * pgp__lap_weight(&P->m, h) / S2;
+        for (k = 0; k < 2 && r == PW_OK; k++) {
+            r = pw_triplets_add(t, 2 * i + k, 2 * i + k, w, e);
+            if (r == PW_OK) r = pw_triplets_add(t, 2 * j + k, 2 * j + k, w, e);
+            if (r == PW_OK) r = pw_triplets_add(t, 2 * i + k, 2 * j + k, -w, e);
+            if (r == PW_OK) r = pw_triplets_add(t, 2 * j + k, 2 * i + k, -w, e);
+        }
+    }
+    return r;
+}
+
+/* Applies the correction x (u, theta per vertex): the factor of every S_i
+ * (u less its area-weighted mean, the factor kept in [1/2, 2]) and the rotation of the default field of every
+ * triangle by the mean theta of its corners. */
+static void pgp__curl_apply(pgp_map *P, const double *x)
+{
+    double mean = 0.0, area = 0.0;
+    int v, f, h;
+    for (h = 0; h < 3 * P->m.nf; h++) /* the mean of u is 0: the tile side the user asked for */
+        mean += x[2 * P->m.tri[h]] * P->m.area[h / 3], area += P->m.area[h / 3];
+    mean = area > 0.0 ? mean / area : 0.0;
+    for (v = 0; v < P->m.nv; v++) {
+        double s = P->sfac[v] * (1.0 + x[2 * v] - mean);
+        P->sfac[v] = (float)(s < 0.5 ? 0.5 : (s > 2.0 ? 2.0 : s));
+    }
+    for (f = 0; f < P->m.nf; f++) {
+        const int *tr = P->m.tri + 3 * f;
+        double th = (x[2 * tr[0] + 1] + x[2 * tr[1] + 1] + x[2 * tr[2] + 1]) / 3.0, c, s, *d = P->base + 2 * f;
+        th = th > 0.5 ? 0.5 : (th < -0.5 ? -0.5 : th); /* at most ~30 degrees per step */
+        c = pw_cos(th), s = pw_sin(th);
+        th = c * d[0] - s * d[1], d[1] = s * d[0] + c * d[1], d[0] = th;
+        P->dir[2 * f] = d[0], P->dir[2 * f + 1] = d[1];
+    }
+}
+
+/* options.integrable > 0: three Gauss-Newton steps of the curl reduction
+ * (beyond the paper: the PGP of §2.3 follows a field whose gradients have
+ * curl, and each whole turn of it is a vortex; the trade is documented in
+ * docs/pgp.md). */
+#define PGP__CURL_STEPS 3
+static int pgp__integrable(pgp_map *P, pw_err *e)
+{
+    size_t n = 2 * (size_t)P->m.nv;
+    double *b = (double *)pw_alloc_array(&P->a, 2 * n, sizeof(double), "integrability", e), *x = b + n;
+    pw_triplets t;
+    int step, f, r = b ? PW_OK : PW_ERR_NOMEM;
+    memset(&t, 0, sizeof t);
+    memcpy(P->dir, P->base, sizeof(double) * 2 * (size_t)P->m.nf);
+    for (step = 0; step < PGP__CURL_STEPS && r == PW_OK; step++) {
+        memset(b, 0, sizeof(double) * 2 * n); /* b and x, a cold start: x is the step */
+        r = pw_triplets_init(&t, &P->a, (int)n, (int)n, e);
+        for (f = 0; f < P->m.nf && r == PW_OK; f++) r = pgp__curl_rows(P, f, &t, b, e);
+        if (r == PW_OK) r = pgp__curl_reg(P, &t, e);
+        if (r == PW_OK) r = pgp__pd_solve(&P->a, &t, 0, b, x, 1e-6, e);
+        if (r == PW_OK) pgp__curl_apply(P, x);
+        pw_triplets_free(&t);
+    }
+    pw_free(&P->a, b);
+    return r;
+}
+
+/* Mean edge length of the triangle mesh. */
+static double pgp__mean_edge(const pgp_map *P)
+{
+    double sum = 0.0;
+    int h, n = 0;
+    for (h = 0; h < 3 * P->m.nf; h++) {
+        int f = h / 3, c = h % 3;
+        if (P->m.hm.twin[h] > h) continue; /* each edge once */
+        sum += pw_v3_len(pw_v3_sub(pw_trimesh_corner(&P->m, f, (c + 1) % 3), pw_trimesh_corner(&P->m, f, c)));
+        n++;
+    }
+    return n ? sum / n : 0.0;
+}
+
+/* A tile side the mesh can carry: at most 10 bounding-box diagonals (beyond,
+ * the whole mesh is one colour) and at least 2 mean edge lengths (below, a
+ * period spans less than two triangles and Eq. 4 cannot recover it). Only
+ * a side the caller gave is refused: the default (diag / 10) is kept on
+ * meshes of a few triangles, where it is all one can do. */
+static int pgp__check_scale(const pgp_map *P, pw_err *e)
+{
+    double lo = 2.0 * pgp__mean_edge(P), hi = 10.0 * P->m.diag;
+    if (P->o.scale > 0.0f && (P->scale0 > hi || P->scale0 < lo))
+        return pw_fail(e, PW_ERR_INVALID, "tile side %g is outside [%g, %g] (2 mean edge lengths to 10 bounding-box "
+                       "diagonals)", (double)P->scale0, lo, hi);
+    return PW_OK;
 }
 
 PGPDEF pgp_result pgp_create(const pgp_mesh *mesh, const pgp_options *opt, pgp_map **out, pgp_error *err)
@@ -629,13 +807,64 @@ PGPDEF pgp_result pgp_create(const pgp_mesh *mesh, const pgp_options *opt, pgp_m
         P->o = o;
         if (pgp__setup(P, mesh, &pe) == PW_OK) {
             P->scale0 = o.scale > 0.0f ? o.scale : 0.1f * P->m.diag;
-            for (v = 0; v < P->m.nv; v++) P->scale[v] = P->scale0, P->mat[v] = o.material;
+            for (v = 0; v < P->m.nv; v++) P->scale[v] = P->scale0, P->sfac[v] = 1.0f, P->mat[v] = o.material;
             for (v = 0; v < P->m.nv; v++) P->zs[2 * v] = P->zt[2 * v] = 1.0, P->zs[2 * v + 1] = P->zt[2 * v + 1] = 0.0;
-            if (pgp__base_field(P, &pe) == PW_OK &&
+            if (pgp__check_scale(P, &pe) == PW_OK && pgp__base_field(P, &pe) == PW_OK &&
+                (!(o.integrable > 0.0f) || pgp__integrable(P, &pe) == PW_OK) &&
                 pgp__edit(P, PGP__ORIENT, NULL, 0, 0.0f, NULL, &pe) == PW_OK)
                 *out = P;
         }
         if (!*out) pgp_destroy(P);
     }
     return pgp__done(&pe, err);
+}
+
+/* ---- what happened (issue 17) ------------------------------------------------------------ */
+
+/* Stretch (1) and shear (2) flags of triangle f: the singular values of
+ * J = S (grad s; grad t) in the triangle's frame outside [1/1.3, 1.3], S
+ * the side the user asked for (without the integrability factor), the
+ * angle between grad s and grad t more than 20 degrees off 90. */
+static int pgp__distortion(const pgp_map *P, int f)
+{
+    const float *o = P->stm + 9 * f, *sc = P->scale;
+    const int *tr3 = P->m.tri + 3 * f;
+    double S = ((double)sc[tr3[0]] + sc[tr3[1]] + sc[tr3[2]]) / 3.0, a, b, c, d, tr, det, disc, s1, s2, cs;
+    pw_v3 u, v, gs = pgp__gradient(P, f, o[0], o[3], o[6]), gt = pgp__gradient(P, f, o[1], o[4], o[7]);
+    pgp__frame(P, f, &u, &v);
+    a = S * pw_v3_dot(gs, u), b = S * pw_v3_dot(gs, v), c = S * pw_v3_dot(gt, u), d = S * pw_v3_dot(gt, v);
+    tr = a * a + b * b + c * c + d * d, det = a * d - b * c; /* s1^2 + s2^2 and s1 s2 */
+    disc = tr * tr - 4.0 * det * det;
+    disc = sqrt(disc > 0.0 ? disc : 0.0);
+    s1 = sqrt(0.5 * (tr + disc)), s2 = tr > disc ? sqrt(0.5 * (tr - disc)) : 0.0;
+    cs = (a * c + b * d) / (sqrt(a * a + b * b) * sqrt(c * c + d * d) + 1e-300);
+    return (s1 > 1.3 || s2 < 1.0 / 1.3) + 2 * (fabs(cs) > 0.3420201433); /* sin 20 deg */
+}
+
+PGPDEF void pgp_get_stats(const pgp_map *map, pgp_stats *out)
+{
+    double total = 0.0, st = 0.0, sh = 0.0;
+    int f, d;
+    if (!out) return;
+    memset(out, 0, sizeof *out);
+    if (!map) return;
+    for (f = 0; f < map->m.nf; f++) {
+        d = pgp__distortion(map, f);
+        total += map->m.area[f];
+        st += (d & 1) ? map->m.area[f] : 0.0;
+        sh += (d & 2) ? map->m.area[f] : 0.0;
+    }
+    out->triangles = map->m.nf;
+    out->vortices = pgp_get_vortices(map, NULL);
+    out->singular = map->nsing;
+    out->stretched = total > 0.0 ? (float)(st / total) : 0.0f;
+    out->sheared = total > 0.0 ? (float)(sh / total) : 0.0f;
+    out->mean_edge = (float)pgp__mean_edge(map);
+    out->diagonal = map->m.diag;
+    out->scale = map->scale0;
+}
+
+PGPDEF void pgp_get_triangles(const pgp_map *map, int *tris)
+{
+    if (map && tris) memcpy(tris, map->m.tri, sizeof(int) * 3 * (size_t)map->m.nf);
 }

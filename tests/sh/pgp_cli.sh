@@ -157,6 +157,16 @@ run scale $bricks --scale 0.3 && differs scale_matters "$tmp/base.obj" "$tmp/sca
 run nofix $bricks --no-fix && differs no_fix_matters "$tmp/base.png" "$tmp/nofix.png"
 run material $bricks --show material && differs show_material "$tmp/base.png" "$tmp/material.png"
 run singular $bricks --show singular && differs show_singular "$tmp/base.png" "$tmp/singular.png"
+run paperfix $bricks --fix paper && differs fix_paper_matters "$tmp/base.png" "$tmp/paperfix.png"
+run allfix $bricks --fix all && differs fix_all_matters "$tmp/paperfix.png" "$tmp/allfix.png"
+run ghosts $bricks --fix paper --show ghosts && differs show_ghosts "$tmp/paperfix.png" "$tmp/ghosts.png"
+run zoomed $bricks --zoom 6 --center vortex:0 && differs zoom_matters "$tmp/base.png" "$tmp/zoomed.png"
+# issue 17's report: vortices, the share drawn specially (the vortex triangles with the clean fix,
+# section 3's singular ones with --fix paper), stretch and shear, and a warning for short periods
+if grep -q '^pgp: drawn specially (fix clean): [0-9]* triangles ([0-9.]*%); surface stretched by more than 30%: [0-9.]*%, sheared by more than 20 degrees: [0-9.]*%$' "$tmp/base.log" &&
+   [ "$(sed -n 's/^pgp: drawn specially (fix paper): \([0-9]*\) triangles.*/\1/p' "$tmp/paperfix.log")" = "$(reported "$tmp/base.log" singular)" ] &&
+   grep -q '^pgp: warning: tile side 0.5 is under 8 mean edge lengths' "$tmp/base.log"
+then pass report; else fail report "$(cat "$tmp/base.log" "$tmp/paperfix.log" | tr '\n' '|')"; fi
 run_tile seed0 $bricks && run_tile seed5 $bricks --seed 5 && differs seed_matters "$tmp/seed0.nrrd" "$tmp/seed5.nrrd"
 
 # constraints: materials change the m of the OBJ, comments and radius lines are fine
@@ -214,6 +224,14 @@ expect_error field_no_value "needs a value" $grid $bricks $out --field
 for s in 0 -1 1e31 nan abc; do
     expect_error "scale_$s" "scale" $grid $bricks --scale "$s" $out
 done
+# issue 17: tile sides the mesh cannot carry are refused with the range (the grid: diagonal 2.83,
+# mean edge 0.071)
+expect_error scale_huge "tile side 1e+06 is outside \[0.14[0-9]*, 28.28[0-9]*\]" $grid $bricks --scale 1e6 $out
+expect_error scale_tiny "tile side 0.001 is outside" $grid $bricks --scale 0.001 $out
+expect_error fix_unknown "--fix (clean, paper or all)" $grid $bricks --fix none $out
+expect_error zoom_small "--zoom" $grid $bricks --zoom 0.5 $out
+expect_error center_bad "--center" $grid $bricks --center 1,2 $out
+expect_error center_no_vortex "the map has 0 vortices" $grid $bricks --zoom 4 --center vortex:0 $out
 for s in 10x10 160 160x abc; do
     expect_error "size_$s" "--size" $grid $bricks --size "$s" $out
 done
