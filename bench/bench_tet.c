@@ -80,7 +80,7 @@ static tet_result bench_ours(const char *name, const pw_mesh *m, int target, int
     }
     pw_tet_dihedral_range(&j.out, &lo, &hi);
     pw_err_clear(&e);
-    if (pw_stuff_fit_measure(NULL, m->pos, m->nv, m->fv, m->nf, &j.out, &fit, &e) != PW_OK) fit.diag = 0.0;
+    if (pw_stuff_fit_measure(NULL, m->pos, m->nv, m->fv, m->nf, &j.out, 0, &fit, &e) != PW_OK) fit.diag = 0.0;
     printf("%-10s %-9s %8d tets %9.3f s (cpu %.3f, %.3f..%.3f) dihedral %6.2f..%6.2f  fit %.1e / %.1e\n", name,
            label, j.out.nt, s.median, c0, s.min, s.max, lo, hi,
            fit.diag > 0 ? fit.to_surface_max / fit.diag : -1.0, fit.diag > 0 ? fit.from_surface_max / fit.diag : -1.0);

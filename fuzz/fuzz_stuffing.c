@@ -6,7 +6,7 @@
  *         triangle, modulo the count), 1 a geosphere and 2 a torus whose
  *         vertices the rest moves (3 signed bytes each, scaled by h[3]),
  *         3 OFF text;
- *         bit 2 allow_self_intersections, bit 3 an explicit cell (h[2]),
+ *         bit 2 strict, bit 3 an explicit cell (h[2]),
  *         bit 4 a counting allocator, bit 5 tetrahedralize twice,
  *         bits 6-7 the progress call that cancels (0: none)
  *   h[1]  target_tets = 50 + 4 h[1]
@@ -125,7 +125,7 @@ static void fz_check_mesh(const pw_mesh *s, const pw_tetmesh *t)
     pw_free(NULL, btri);
     pw_tet_dihedral_range(t, &lo, &hi);
     if (lo < 10.2 - 1e-3 || hi > 161.7 + 1e-3) abort();
-    if (pw_stuff_fit_measure(NULL, s->pos, s->nv, s->fv, s->nf, t, &fit, &e) != PW_OK) abort();
+    if (pw_stuff_fit_measure(NULL, s->pos, s->nv, s->fv, s->nf, t, 2000, &fit, &e) != PW_OK) abort();
     for (k = 0; k < 3 * s->nv; k++) mag = fabs(s->pos[k]) > mag ? fabs(s->pos[k]) : mag;
     if (fit.to_surface_max > 1e-6 * (mag + fit.diag)) abort();
 }
@@ -148,7 +148,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     else if (mode == 3) ok = fz_off(data + 4, size - 4, &m);
     else ok = fz_shape(mode == 2, data + 4, size - 4, (float)data[3] / 256.0f * 0.3f / 128.0f, &m);
     if (!ok) return 0;
-    o.allow_self_intersections = (data[0] >> 2) & 1;
+    o.strict = (data[0] >> 2) & 1;
     o.target_tets = 50 + 4 * data[1];
     if (data[0] & 8) {
         float lo[3], hi[3], ext = 0.0f;

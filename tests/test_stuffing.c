@@ -134,7 +134,7 @@ static void t_sphere(void)
     ref = surf_volume(&s);
     CHECKF(fabs(vol - ref) < 0.02 * ref, "volume %g, surface encloses %g", vol, ref);
     CHECKF(t.nt > 15000 && t.nt < 25000, "%d tetrahedra for a target of 20000", t.nt);
-    REQUIRE(pw_stuff_fit_measure(NULL, s.m.pos, s.m.nv, s.m.fv, s.m.nf, &t, &fit, &e) == PW_OK);
+    REQUIRE(pw_stuff_fit_measure(NULL, s.m.pos, s.m.nv, s.m.fv, s.m.nf, &t, 20000, &fit, &e) == PW_OK);
     CHECKF(fit.to_surface_max < 1e-6 * fit.diag, "boundary vertex %g off the surface", fit.to_surface_max);
     CHECKF(fit.from_surface_max < 0.01 * fit.diag, "surface vertex %g from the boundary", fit.from_surface_max);
     pwt_info("sphere: %d tets, %d vertices, dihedral %.2f..%.2f, volume %.4f of %.4f, fit %.2g / %.2g of the diagonal",
@@ -179,19 +179,27 @@ static int join(const surf *a, const surf *b, float dx, float scale, surf *out)
     return 1;
 }
 
-/* Refusals, each naming the problem: open, flipped triangle, non-finite
- * coordinate, index out of range, repeated corner, zero area,
- * self-intersection. */
+/* Refusals, each naming the problem: open (with the hole count and
+ * place), flipped triangle, non-finite coordinate, index out of range, a
+ * repeated corner that opens the surface, self-intersection when strict;
+ * and what is no longer refused: a zero-area triangle (skipped, the same
+ * solid) and crossing triangles (filled, counted). */
 static void t_refusals(void)
 {
     surf s, two;
     pw_tetmesh t;
     pw_err e;
+    pw_stuff_options o = pw_stuff_default_options();
+    pw_stuff_info info;
+    double lo, hi;
     int k;
     float keep[3];
+    o.target_tets = 1000;
     REQUIRE(sphere(3, &s));
     s.m.nf--; /* a hole */
-    CHECKF(stuff(&s, 1000, &t, &e) == PW_ERR_TOPOLOGY && strstr(e.msg, "not closed"), "open: %s", e.msg);
+    CHECKF(stuff(&s, 1000, &t, &e) == PW_ERR_TOPOLOGY && strstr(e.msg, "not closed") && strstr(e.msg, "in 1 hole (") &&
+               strstr(e.msg, "3 edges around"),
+           "open: %s", e.msg);
     CHECK(t.nt == 0 && t.tet == NULL && t.pos == NULL);
     s.m.nf++;
     k = s.m.fv[0], s.m.fv[0] = s.m.fv[1], s.m.fv[1] = k; /* one triangle flipped */
@@ -203,17 +211,26 @@ static void t_refusals(void)
     k = s.m.fv[5], s.m.fv[5] = 100000;
     CHECKF(stuff(&s, 1000, &t, &e) == PW_ERR_INVALID && strstr(e.msg, "triangle 1"), "range: %s", e.msg);
     s.m.fv[5] = s.m.fv[4];
-    CHECKF(stuff(&s, 1000, &t, &e) == PW_ERR_DEGENERATE, "repeated corner: %s", e.msg);
+    CHECKF(stuff(&s, 1000, &t, &e) == PW_ERR_TOPOLOGY && strstr(e.msg, "not closed"), "repeated corner: %s", e.msg);
     s.m.fv[5] = k;
     /* corner 0 of triangle 0 onto corner 1: zero area (a float midpoint would not be exactly collinear) */
     for (k = 0; k < 3; k++) {
         keep[k] = s.m.pos[3 * s.m.fv[0] + k];
         s.m.pos[3 * s.m.fv[0] + k] = s.m.pos[3 * s.m.fv[1] + k];
     }
-    CHECKF(stuff(&s, 1000, &t, &e) != PW_OK && strstr(e.msg, "zero area"), "zero area: %s", e.msg);
+    o.info = &info;
+    /* both triangles on the collapsed edge have zero area */
+    CHECKF(stuff_with(&s, &o, &t, &e) == PW_OK && info.skipped_triangles == 2, "zero area: %d skipped, %s",
+           info.skipped_triangles, e.msg);
+    check_mesh(&t, &lo, &hi);
+    pw_tetmesh_free(NULL, &t);
     for (k = 0; k < 3; k++) s.m.pos[3 * s.m.fv[0] + k] = keep[k];
     REQUIRE(join(&s, &s, 0.5f, 1.0f, &two));
-    CHECKF(stuff(&two, 1000, &t, &e) == PW_ERR_TOPOLOGY && strstr(e.msg, "intersects itself"), "overlap: %s", e.msg);
+    CHECKF(stuff_with(&two, &o, &t, &e) == PW_OK && info.crossing_pairs > 0 && info.first_pair[0] >= 0, "overlap: %s",
+           e.msg);
+    pw_tetmesh_free(NULL, &t);
+    o.strict = 1;
+    CHECKF(stuff_with(&two, &o, &t, &e) == PW_ERR_TOPOLOGY && strstr(e.msg, "intersects itself"), "overlap: %s", e.msg);
     pw_mesh_free(NULL, &two.m);
     pw_mesh_free(NULL, &s.m);
 }
@@ -440,8 +457,9 @@ static void t_shells(void)
     CHECKF(fabs(vol - va) < 0.03 * va, "nested: %g, expected %g", vol, va);
     pw_tetmesh_free(NULL, &t), pw_mesh_free(NULL, &two.m);
     REQUIRE(join(&a, &a, 0.5f, 1.0f, &two));
+    o.strict = 1;
     CHECK(stuff_with(&two, &o, &t, &e) == PW_ERR_TOPOLOGY);
-    o.allow_self_intersections = 1;
+    o.strict = 0;
     REQUIRE(stuff_with(&two, &o, &t, &e) == PW_OK);
     vol = check_mesh(&t, &lo, &hi);
     { /* union of two unit balls 0.5 apart: two balls minus the lens pi (4r + d)(2r - d)^2 / 12 */
@@ -574,6 +592,51 @@ static void t_alloc_failures(void)
     pw_mesh_free(NULL, &s.m);
 }
 
+/* Corner k of the cube [c - h, c + h]^3 (bit 0: x, 1: y, 2: z). */
+static void cube_corner(int k, double c, double h, float *out)
+{
+    int i;
+    for (i = 0; i < 3; i++) out[i] = (float)(c + ((k >> i) & 1 ? h : -h));
+}
+
+/* The 12 outward triangles of a cube (corners as cube_corner) and its 6
+ * Kuhn tetrahedra around the diagonal 0-7, oriented positively. */
+static const int cube_tri[36] = {0, 2, 1, 1, 2, 3, 4, 5, 6, 5, 7, 6, 0, 1, 4, 1, 5, 4,
+                                 2, 6, 3, 3, 6, 7, 0, 4, 2, 2, 4, 6, 1, 3, 5, 3, 7, 5};
+static const int cube_kuhn[24] = {0, 1, 3, 7, 0, 3, 2, 7, 0, 2, 6, 7, 0, 6, 4, 7, 0, 4, 5, 7, 0, 5, 1, 7};
+
+/* pw_stuff_fit_measure on a known answer: the boundary of the cube of
+ * half-width 0.45 against the surface of the cube of half-width 0.5 is
+ * 0.05 from it everywhere (its corners included), while the outer cube's
+ * corners are 0.05 sqrt 3 from the inner one and its faces 0.05 but near their edges and corners; a
+ * second, disjoint inner cube makes two pieces. */
+static void t_fit_measure(void)
+{
+    float spos[24], tpos[48];
+    int ttet[48], i, k;
+    pw_tetmesh t;
+    pw_stuff_fit fit;
+    pw_err e;
+    for (k = 0; k < 8; k++) cube_corner(k, 0.0, 0.5, spos + 3 * k), cube_corner(k, 0.0, 0.45, tpos + 3 * k);
+    for (k = 0; k < 8; k++) cube_corner(k, 5.0, 0.45, tpos + 24 + 3 * k);
+    for (i = 0; i < 48; i++) ttet[i] = cube_kuhn[i % 24] + (i >= 24 ? 8 : 0);
+    t.nv = 8, t.nt = 6, t.pos = tpos, t.tet = ttet;
+    for (i = 0; i < t.nt; i++) CHECKF(pw_tet_volume6(&t, i) > 0.0, "Kuhn tetrahedron %d not positive", i);
+    pw_err_clear(&e);
+    REQUIRE(pw_stuff_fit_measure(NULL, spos, 8, cube_tri, 12, &t, 5000, &fit, &e) == PW_OK);
+    CHECK_NEAR(fit.to_max, 0.05, 1e-6);
+    CHECK_NEAR(fit.to_p99, 0.05, 1e-6);
+    CHECK_NEAR(fit.from_max, 0.05 * sqrt(3.0), 1e-6);
+    CHECKF(fit.from_p99 > 0.05 && fit.from_p99 < fit.from_max - 0.01, "from p99 %g", fit.from_p99);
+    CHECK_EQ_INT(fit.pieces, 1);
+    CHECKF(fit.samples >= 5000, "%d samples", fit.samples);
+    CHECK_NEAR(fit.diag, sqrt(3.0), 1e-6);
+    t.nv = 16, t.nt = 12;
+    REQUIRE(pw_stuff_fit_measure(NULL, spos, 8, cube_tri, 12, &t, 5000, &fit, &e) == PW_OK);
+    CHECK_EQ_INT(fit.pieces, 2);
+    CHECKF(fit.to_max > 4.0, "the far cube at %g", fit.to_max);
+}
+
 /* Real closed CGAL meshes at 5K and 100K tetrahedra. */
 static void t_cgal(void)
 {
@@ -594,7 +657,7 @@ static void t_cgal(void)
             double lo, hi, vol, ref = surf_volume(&s);
             CHECKF(stuff(&s, sizes[j], &t, &e) == PW_OK, "%s: %s", names[i], e.msg);
             vol = check_mesh(&t, &lo, &hi);
-            CHECKF(pw_stuff_fit_measure(NULL, s.m.pos, s.m.nv, s.m.fv, s.m.nf, &t, &fit, &e) == PW_OK, "%s", e.msg);
+            CHECKF(pw_stuff_fit_measure(NULL, s.m.pos, s.m.nv, s.m.fv, s.m.nf, &t, 20000, &fit, &e) == PW_OK, "%s", e.msg);
             CHECKF(fit.to_surface_max < 1e-6 * fit.diag, "%s: boundary vertex %g off the surface", names[i],
                    fit.to_surface_max);
             pwt_info("%s: %d tets, dihedral %.2f..%.2f, volume %.4g of %.4g, fit %.2g / %.2g of the diagonal", names[i],
@@ -608,7 +671,8 @@ static void t_cgal(void)
 }
 
 /* CGAL meshes that intersect themselves (confirmed with tetgen -d):
- * refused by default, filled as a union when allowed. */
+ * filled by default as a union (the crossing pairs counted), refused when
+ * strict. */
 static void t_cgal_union(void)
 {
     static const char *names[] = {"cow", "bull", "camel"};
@@ -621,19 +685,21 @@ static void t_cgal_union(void)
         pw_err e;
         pw_stuff_fit fit;
         pw_stuff_options o = pw_stuff_default_options();
+        pw_stuff_info info;
         double lo, hi;
         snprintf(rel, sizeof rel, "meshes/%s.off", names[i]);
         if (!(path = pwt_data_opt(rel))) continue;
         REQUIRE(load(path, &s));
+        o.strict = 1;
         CHECKF(stuff_with(&s, &o, &t, &e) == PW_ERR_TOPOLOGY && strstr(e.msg, "intersects itself"), "%s: %s",
                names[i], e.msg);
-        o.allow_self_intersections = 1, o.target_tets = 50000;
-        CHECKF(stuff_with(&s, &o, &t, &e) == PW_OK, "%s: %s", names[i], e.msg);
+        o.strict = 0, o.target_tets = 50000, o.info = &info;
+        CHECKF(stuff_with(&s, &o, &t, &e) == PW_OK && info.crossing_pairs > 0, "%s: %s", names[i], e.msg);
         check_mesh(&t, &lo, &hi);
-        CHECK(pw_stuff_fit_measure(NULL, s.m.pos, s.m.nv, s.m.fv, s.m.nf, &t, &fit, &e) == PW_OK);
+        CHECK(pw_stuff_fit_measure(NULL, s.m.pos, s.m.nv, s.m.fv, s.m.nf, &t, 20000, &fit, &e) == PW_OK);
         CHECKF(fit.to_surface_max < 1e-6 * fit.diag, "%s: boundary vertex %g off the surface", names[i], fit.to_surface_max);
-        pwt_info("%s (self-intersecting, united): %d tets, dihedral %.2f..%.2f, fit %.2g / %.2g of the diagonal",
-                 names[i], t.nt, lo, hi, fit.to_surface_max / fit.diag, fit.from_surface_max / fit.diag);
+        pwt_info("%s (%ld crossing pairs, united): %d tets, dihedral %.2f..%.2f, fit %.2g / %.2g of the diagonal",
+                 names[i], info.crossing_pairs, t.nt, lo, hi, fit.to_max / fit.diag, fit.from_max / fit.diag);
         pw_tetmesh_free(NULL, &t);
         pw_mesh_free(NULL, &s.m);
         done++;
@@ -647,6 +713,7 @@ static const pwt_case cases[] = {
     {"stuffing/adversary", t_adversary},
     {"stuffing/cgal", t_cgal},
     {"stuffing/sphere", t_sphere},
+    {"stuffing/fit_measure", t_fit_measure},
     {"stuffing/deterministic", t_deterministic},
     {"stuffing/refusals", t_refusals},
     {"stuffing/shells", t_shells},
