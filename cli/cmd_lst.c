@@ -298,8 +298,9 @@ static void report_fill(const lst_tetmesh *t, const lst_tet_report *rep, double 
     if (rep->skipped_triangles > 0)
         fprintf(stderr, "lst: warning: %d zero-area triangles skipped\n", rep->skipped_triangles);
     printf("lst: %d tetrahedra, %d vertices, boundary within %.2f%% of the surface (99%%: %.2f%%), %d piece%s, "
-           "dihedral angles %.1f..%.1f degrees (tetrahedralized, %.2f s)\n", t->ntets, t->nverts, 100.0 * rep->fit_max,
-           100.0 * rep->fit_p99, rep->pieces, rep->pieces == 1 ? "" : "s", lo, hi, s);
+           "dihedral angles %.1f..%.1f degrees (tetrahedralized and measured, %.2f s)\n",
+           t->ntets, t->nverts, 100.0 * rep->fit_max, 100.0 * rep->fit_p99, rep->pieces, rep->pieces == 1 ? "" : "s",
+           lo, hi, s);
 }
 
 /* The tetrahedral mesh: read, or the surface tetrahedralized; and the

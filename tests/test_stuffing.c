@@ -637,6 +637,67 @@ static void t_fit_measure(void)
     CHECKF(fit.to_max > 4.0, "the far cube at %g", fit.to_max);
 }
 
+/* Fills shape m at the default settings; its fit and pieces to *fit. */
+static int fill_and_fit(pw_mesh *m, const char *name, pw_stuff_fit *fit)
+{
+    surf s;
+    pw_tetmesh t;
+    pw_err e;
+    double lo, hi;
+    int ok = surf_from_mesh(m, &s);
+    CHECKF(ok, "%s: not triangulated", name);
+    if (!ok) return 0;
+    ok = stuff(&s, 20000, &t, &e) == PW_OK;
+    CHECKF(ok, "%s: %s", name, e.msg);
+    if (ok) {
+        check_mesh(&t, &lo, &hi);
+        ok = pw_stuff_fit_measure(NULL, s.m.pos, s.m.nv, s.m.fv, s.m.nf, &t, 50000, fit, &e) == PW_OK;
+        CHECKF(ok, "%s: %s", name, e.msg);
+        CHECKF(!ok || fit->to_surface_max < 1e-6 * fit->diag, "%s: boundary vertex %g off the surface", name,
+               fit->to_surface_max);
+        pwt_info("%s: %d tets, %d piece(s), fit %.2f%% (99%%: %.2f%%) surface->tets, %.2f%% (%.2f%%) tets->surface, "
+                 "dihedral %.1f..%.1f", name, t.nt, fit->pieces, 100.0 * fit->from_max / fit->diag,
+                 100.0 * fit->from_p99 / fit->diag, 100.0 * fit->to_max / fit->diag, 100.0 * fit->to_p99 / fit->diag,
+                 lo, hi);
+        pw_tetmesh_free(NULL, &t);
+    }
+    pw_mesh_free(NULL, &s.m);
+    return ok;
+}
+
+/* Thin synthetic shapes at the default 20K tetrahedra (issue 16). A torus
+ * whose tube radius is 1% of its diagonal keeps its shape (one piece, the
+ * boundary within 0.5% both ways, 99th percentile within 0.2%): its small
+ * volume makes the uniform cell fine. A dumbbell whose neck is 1% of the
+ * diagonal thick and a star of 12 long thin spikes are where the uniform
+ * lattice fails: thinner than a cell, the neck and spikes are lost. Their
+ * figures are reported, and the test checks that the measure sees the loss
+ * (pieces split, the fit above a cell) rather than hiding it; a graded
+ * lattice must turn these into the torus's checks. */
+static void t_thin_shapes(void)
+{
+    pw_mesh m;
+    pw_err e;
+    pw_stuff_fit fit;
+    pw_err_clear(&e);
+    REQUIRE(pw_shape_thin_torus(NULL, 192, 12, 0.0294, &m, &e) == PW_OK); /* diagonal 2.91: tube 1.0% of it */
+    if (fill_and_fit(&m, "torus, tube radius 1% of the diagonal", &fit)) {
+        CHECK_EQ_INT(fit.pieces, 1);
+        CHECKF(fit.from_max < 0.005 * fit.diag && fit.to_max < 0.005 * fit.diag, "torus fit %g / %g",
+               fit.from_max / fit.diag, fit.to_max / fit.diag);
+        CHECKF(fit.from_p99 < 0.002 * fit.diag && fit.to_p99 < 0.002 * fit.diag, "torus 99th percentile %g / %g",
+               fit.from_p99 / fit.diag, fit.to_p99 / fit.diag);
+    }
+    REQUIRE(pw_shape_dumbbell(NULL, 0.0332, 48, &m, &e) == PW_OK); /* diagonal 6.63: neck 0.066 thick, 1.0% */
+    if (fill_and_fit(&m, "dumbbell, neck 1% of the diagonal (uniform lattice: lost)", &fit))
+        CHECKF(fit.pieces == 2 && fit.from_max > 0.1 * fit.diag, "dumbbell: %d pieces, fit %g: the neck kept?",
+               fit.pieces, fit.from_max / fit.diag);
+    REQUIRE(pw_shape_star(NULL, 12, 3.0, &m, &e) == PW_OK);
+    if (fill_and_fit(&m, "star of 12 spikes (uniform lattice: tips lost)", &fit))
+        CHECKF(fit.pieces >= 1 && fit.from_max > 0.05 * fit.diag, "star: %d pieces, fit %g: the spikes kept?",
+               fit.pieces, fit.from_max / fit.diag);
+}
+
 /* Real closed CGAL meshes at 5K and 100K tetrahedra. */
 static void t_cgal(void)
 {
@@ -714,6 +775,7 @@ static const pwt_case cases[] = {
     {"stuffing/cgal", t_cgal},
     {"stuffing/sphere", t_sphere},
     {"stuffing/fit_measure", t_fit_measure},
+    {"stuffing/thin_shapes", t_thin_shapes},
     {"stuffing/deterministic", t_deterministic},
     {"stuffing/refusals", t_refusals},
     {"stuffing/shells", t_shells},
