@@ -15,7 +15,8 @@ static const char *lst_usage =
     "field, shown as the surface, cross-sections and a volume rendering.\n"
     "\n"
     "inputs:\n"
-    "  --mesh FILE          a closed surface (OBJ, OFF, PLY), tetrahedralized here,\n"
+    "  --mesh FILE          a closed surface (OBJ, OFF, PLY), tetrahedralized here\n"
+    "                       (holes up to 5% of the diagonal around are closed),\n"
     "                       or procedural:NAME (sphere, torus, bumpy, kiwi, tree)\n"
     "  --tets FILE          a tetrahedral mesh: TetGen FILE.node (with FILE.ele) or\n"
     "                       MEDIT FILE.mesh\n"
@@ -297,6 +298,8 @@ static void report_fill(const lst_tetmesh *t, const lst_tet_report *rep, double 
                 "number is at least 1/2 (--strict refuses)\n", rep->crossing_pairs);
     if (rep->skipped_triangles > 0)
         fprintf(stderr, "lst: warning: %d zero-area triangles skipped\n", rep->skipped_triangles);
+    if (rep->closed_holes > 0)
+        fprintf(stderr, "lst: warning: the surface was open: %d small holes closed\n", rep->closed_holes);
     printf("lst: %d tetrahedra, %d vertices, boundary within %.2f%% of the surface (99%%: %.2f%%), %d piece%s, "
            "dihedral angles %.1f..%.1f degrees (tetrahedralized and measured, %.2f s)\n",
            t->ntets, t->nverts, 100.0 * rep->fit_max, 100.0 * rep->fit_p99, rep->pieces, rep->pieces == 1 ? "" : "s",

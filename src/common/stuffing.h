@@ -68,6 +68,7 @@ typedef struct pw_stuff_info {
     long crossing_pairs;   /* pairs of triangles that cross (filled where the winding number is >= 1/2) */
     int first_pair[2];     /* the first crossing pair found, -1 -1 if none */
     int skipped_triangles; /* zero-area triangles (collinear or repeated corners) the solid does not depend on */
+    int closed_holes;      /* holes of an open surface closed by fans of triangles (all small, see max_hole) */
 } pw_stuff_info;
 
 typedef struct pw_stuff_options {
@@ -76,6 +77,10 @@ typedef struct pw_stuff_options {
     int strict;      /* 1: a closed surface whose triangles cross is refused with the first crossing pair;
                         0 (default): filled where its generalised winding number is at least 1/2
                         (overlapping parts unite, inner sheets vanish) and counted in info */
+    double max_hole; /* an open surface whose holes all have perimeters at most this fraction of the
+                        bounding-box diagonal is closed (fans from a vertex of each hole, filled by
+                        winding number) and counted in info; larger holes are refused. 0: 0.05;
+                        negative: every open surface is refused */
     pw_stuff_info *info; /* optional: filled with what the fill found (also on failure) */
 } pw_stuff_options;
 
@@ -85,6 +90,7 @@ PW__DEF pw_stuff_options pw_stuff_default_options(void)
     o.cell = 0.0;
     o.target_tets = 20000;
     o.strict = 0;
+    o.max_hole = 0.05;
     o.info = NULL;
     return o;
 }
@@ -556,48 +562,96 @@ PW__DEF int pw__st_check_values(const float *pos, int nv, const int *tri, int nt
     return PW_OK;
 }
 
-/* The refusal of an open surface: how many holes (boundary loops), the
- * largest one's edge count, centre and a vertex on it, and what is needed. */
-PW__DEF int pw__st_open_error(const pw_alloc *a, const pw_hmesh *hm, const float *pos, pw_err *e)
+/* Bounding-box diagonal of the vertices used by triangles tri[0..nt). */
+PW__DEF double pw__st_diag(const float *pos, const int *tri, int nt)
+{
+    double lo[3] = {DBL_MAX, DBL_MAX, DBL_MAX}, hi[3] = {-DBL_MAX, -DBL_MAX, -DBL_MAX}, d = 0.0;
+    int i, k;
+    for (i = 0; i < 3 * nt; i++)
+        for (k = 0; k < 3; k++) {
+            double x = pos[3 * tri[i] + k];
+            lo[k] = x < lo[k] ? x : lo[k], hi[k] = x > hi[k] ? x : hi[k];
+        }
+    for (k = 0; nt > 0 && k < 3; k++) d += (hi[k] - lo[k]) * (hi[k] - lo[k]);
+    return sqrt(d);
+}
+
+/* The boundary loop from boundary half-edge h: its edge count, perimeter
+ * and the centre of its vertices; marks its half-edges seen. With fan, its
+ * closing triangles (origin of h, then each later edge reversed) are
+ * appended at fan + 3 * *nfan. */
+PW__DEF int pw__st_loop(const pw_hmesh *hm, const float *pos, int h, unsigned char *seen, double *perim, double *c,
+                        int *fan, int *nfan)
+{
+    int g, k, len = 0, a0 = pw_he_origin(hm, h);
+    double d2;
+    *perim = c[0] = c[1] = c[2] = 0.0;
+    for (g = h; g >= 0 && !seen[g]; g = pw_he_boundary_next(hm, g), len++) {
+        int o = pw_he_origin(hm, g), t = pw_he_dest(hm, g);
+        seen[g] = 1;
+        for (d2 = 0.0, k = 0; k < 3; k++) c[k] += pos[3 * o + k], d2 += (double)(pos[3 * t + k] - pos[3 * o + k]) * (pos[3 * t + k] - pos[3 * o + k]);
+        *perim += sqrt(d2);
+        if (fan && g != h && t != a0) fan[3 * *nfan] = a0, fan[3 * *nfan + 1] = t, fan[3 * *nfan + 2] = o, ++*nfan;
+    }
+    for (k = 0; k < 3; k++) c[k] /= len > 0 ? len : 1;
+    return len;
+}
+
+/* The holes of an open surface: when every hole's perimeter is at most
+ * max_hole, the triangles that close them as fans (*fan, 3 * *nfan ints,
+ * allocated here); else the refusal: how many holes, the largest one's
+ * edge count, perimeter, centre and a vertex on it, and what is needed. */
+PW__DEF int pw__st_holes(const pw_alloc *a, const pw_hmesh *hm, const float *pos, double max_hole, int **fan,
+                         int *nfan, pw_err *e)
 {
     unsigned char *seen = (unsigned char *)pw_calloc_array(a, (size_t)hm->nh + 1, 1, "boundary loops", e);
-    double c[3] = {0, 0, 0}, best[3] = {0, 0, 0};
-    int h, g, k, len, most = 0, vert = -1;
+    double c[3], best[3] = {0, 0, 0}, perim, most = -1.0;
+    int h, k, len, blen = 0, vert = -1, r = PW_OK;
+    *fan = NULL, *nfan = 0;
     if (!seen) return PW_ERR_NOMEM;
     for (h = 0; h < hm->nh; h++) {
         if (hm->twin[h] >= 0 || seen[h]) continue;
-        for (g = h, len = 0, c[0] = c[1] = c[2] = 0.0; g >= 0 && !seen[g]; g = pw_he_boundary_next(hm, g), len++) {
-            seen[g] = 1;
-            for (k = 0; k < 3; k++) c[k] += pos[3 * pw_he_origin(hm, g) + k];
-        }
-        if (len > most)
-            for (most = len, vert = pw_he_origin(hm, h), k = 0; k < 3; k++) best[k] = c[k] / len;
+        len = pw__st_loop(hm, pos, h, seen, &perim, c, NULL, NULL);
+        if (perim > most)
+            for (most = perim, blen = len, vert = pw_he_origin(hm, h), k = 0; k < 3; k++) best[k] = c[k];
     }
+    if (most > max_hole)
+        r = pw_fail(e, PW_ERR_TOPOLOGY,
+                    "surface is not closed: %d boundary edges in %d hole%s (the largest: %d edges, perimeter %.4g, "
+                    "around (%.4g, %.4g, %.4g), through vertex %d); a solid needs a closed surface: close the holes "
+                    "(those of perimeter up to %.4g are closed here)",
+                    hm->nboundary, hm->nloops, hm->nloops == 1 ? "" : "s", blen, most, best[0], best[1], best[2],
+                    vert, max_hole);
+    else if (!(*fan = (int *)pw_alloc_array(a, 3 * (size_t)hm->nboundary + 3, sizeof(int), "hole fans", e)))
+        r = PW_ERR_NOMEM;
+    else
+        for (memset(seen, 0, (size_t)hm->nh), h = 0; h < hm->nh; h++)
+            if (hm->twin[h] < 0 && !seen[h]) pw__st_loop(hm, pos, h, seen, &perim, c, *fan, nfan);
     pw_free(a, seen);
-    return pw_fail(e, PW_ERR_TOPOLOGY,
-                   "surface is not closed: %d boundary edges in %d hole%s (the largest: %d edges around "
-                   "(%.4g, %.4g, %.4g), through vertex %d); a solid needs a closed surface: close the holes",
-                   hm->nboundary, hm->nloops, hm->nloops == 1 ? "" : "s", most, best[0], best[1], best[2], vert);
+    return r;
 }
 
 /* Closed and consistently oriented: every half-edge has a twin. The twins
  * (half-edge 3t+k runs from corner k to corner k+1 of triangle t) go to
- * *twin, for the winding-number caps. */
-PW__DEF int pw__st_check_closed(const pw_alloc *a, const float *pos, int nv, const int *tri, int nt, int **twin,
-                                pw_err *e)
+ * *twin, for the winding-number caps. An open surface whose holes are
+ * small (perimeter at most max_hole) gives the triangles that close them
+ * in *fan instead (3 * *nfan ints, allocated here), and their count in
+ * *nholes (when not NULL). */
+PW__DEF int pw__st_check_closed(const pw_alloc *a, const float *pos, int nv, const int *tri, int nt, double max_hole,
+                                int **twin, int **fan, int *nfan, int *nholes, pw_err *e)
 {
     pw_hmesh hm;
     int *fs = (int *)pw_alloc_array(a, (size_t)nt + 1, sizeof(int), "triangle offsets", e), i, r;
-    *twin = NULL;
+    *twin = NULL, *fan = NULL, *nfan = 0;
     if (!fs) return PW_ERR_NOMEM;
     for (i = 0; i <= nt; i++) fs[i] = 3 * i;
     r = pw_hmesh_build(a, nv, nt, fs, tri, &hm, e);
     pw_free(a, fs);
     if (r != PW_OK) return r;
-    if (hm.nboundary > 0) r = pw__st_open_error(a, &hm, pos, e);
-    if (r == PW_OK && !(*twin = (int *)pw_alloc_array(a, (size_t)hm.nh, sizeof(int), "half-edge twins", e)))
-        r = PW_ERR_NOMEM;
-    if (r == PW_OK) memcpy(*twin, hm.twin, sizeof(int) * (size_t)hm.nh);
+    if (hm.nboundary > 0 && nholes) *nholes = hm.nloops;
+    if (hm.nboundary > 0) r = pw__st_holes(a, &hm, pos, max_hole, fan, nfan, e);
+    else if (!(*twin = (int *)pw_alloc_array(a, (size_t)hm.nh, sizeof(int), "half-edge twins", e))) r = PW_ERR_NOMEM;
+    else memcpy(*twin, hm.twin, sizeof(int) * (size_t)hm.nh);
     pw_hmesh_free(a, &hm);
     return r;
 }
@@ -1599,12 +1653,13 @@ PW__DEF void pw__st_free(pw__st *st)
 /* Triangles with a repeated corner index, dropped before the closedness
  * check: their two real edges are one edge traversed both ways, so the
  * neighbours across them become twins. *out (3 * *n ints) and *map (the
- * caller's index of each) are allocated here. */
+ * caller's index of each) are allocated here, with room for 3 nt more
+ * triangles (the fans closing holes: fewer than the boundary edges). */
 PW__DEF int pw__st_drop_repeats(const pw_alloc *a, const int *tri, int nt, int **out, int **map, int *n, pw_err *e)
 {
     int t, k;
-    *out = (int *)pw_alloc_array(a, (size_t)nt * 3 + 3, sizeof(int), "triangles", e);
-    *map = (int *)pw_alloc_array(a, (size_t)nt + 1, sizeof(int), "triangle map", e);
+    *out = (int *)pw_alloc_array(a, (size_t)nt * 12 + 3, sizeof(int), "triangles", e); /* room for hole fans */
+    *map = (int *)pw_alloc_array(a, (size_t)nt * 4 + 1, sizeof(int), "triangle map", e);
     if (!*out || !*map) return PW_ERR_NOMEM;
     for (*n = 0, t = 0; t < nt; t++) {
         const int *c = tri + 3 * t;
@@ -1618,8 +1673,10 @@ PW__DEF int pw__st_drop_repeats(const pw_alloc *a, const int *tri, int nt, int *
 /* Drops the zero-area triangles (exactly collinear corners) from tri[0..*n)
  * in place, with their map entries, and renumbers twin (half-edge 3t+k) to
  * the kept triangles, -1 across a dropped one: for the winding number a
- * dropped triangle is a cap of zero solid angle, so the caps stay exact. */
-PW__DEF int pw__st_drop_flat(const pw_alloc *a, const float *pos, int *tri, int *map, int *twin, int *n, pw_err *e)
+ * dropped triangle is a cap of zero solid angle, so the caps stay exact.
+ * Dropped triangles of the caller's (map >= 0) are added to *count. */
+PW__DEF int pw__st_drop_flat(const pw_alloc *a, const float *pos, int *tri, int *map, int *twin, int *n, int *count,
+                             pw_err *e)
 {
     int *to = (int *)pw_alloc_array(a, (size_t)*n + 1, sizeof(int), "triangle renumbering", e), t, k, m = 0;
     double p[3][3];
@@ -1627,6 +1684,7 @@ PW__DEF int pw__st_drop_flat(const pw_alloc *a, const float *pos, int *tri, int 
     for (t = 0; t < *n; t++) {
         for (k = 0; k < 9; k++) p[k / 3][k % 3] = pos[3 * tri[3 * t + k / 3] + k % 3];
         to[t] = pw__st_proj_axis(p[0], p[1], p[2]) < 0 ? -1 : m++;
+        *count += to[t] < 0 && map[t] >= 0;
     }
     for (t = 0; t < *n; t++) {
         if (to[t] < 0) continue;
@@ -1642,21 +1700,45 @@ PW__DEF int pw__st_drop_flat(const pw_alloc *a, const float *pos, int *tri, int 
     return PW_OK;
 }
 
+/* Appends the hole-closing triangles fan[0 .. 3 nfan) to st->tri (which
+ * has room for them), with caller index -1. */
+PW__DEF void pw__st_add_fans(pw__st *st, const int *fan, int nfan, int *n)
+{
+    int i;
+    memcpy(st->tri + 3 * *n, fan, 3 * (size_t)nfan * sizeof(int));
+    for (i = 0; i < nfan; i++) st->map[*n + i] = -1;
+    *n += nfan;
+}
+
 /* The surface the fill uses: the caller's triangles without the zero-area
  * ones (counted in info), closed and consistently oriented, with its
  * hierarchy and winding-number caps. st->tri and st->map own the arrays. */
-PW__DEF int pw__st_surface(pw__st *st, const float *pos, int nv, const int *tri, int nt, pw_stuff_info *info)
+PW__DEF int pw__st_surface(pw__st *st, const float *pos, int nv, const int *tri, int nt, double max_hole,
+                           pw_stuff_info *info)
 {
-    int *twin = NULL, n = 0, r;
+    int *twin = NULL, *fan = NULL, n = 0, nfan = 0, r;
     r = pw__st_drop_repeats(st->a, tri, nt, &st->tri, &st->map, &n, st->e);
-    if (r == PW_OK) r = pw__st_check_closed(st->a, pos, nv, st->tri, n, &twin, st->e);
-    if (r == PW_OK) r = pw__st_drop_flat(st->a, pos, st->tri, st->map, twin, &n, st->e);
     info->skipped_triangles = nt - n;
+    if (r == PW_OK)
+        r = pw__st_check_closed(st->a, pos, nv, st->tri, n, max_hole * pw__st_diag(pos, st->tri, n), &twin, &fan,
+                                &nfan, &info->closed_holes, st->e);
+    if (r == PW_OK && fan) {
+        pw__st_add_fans(st, fan, nfan, &n);
+        pw_free(st->a, fan);
+        r = pw__st_check_closed(st->a, pos, nv, st->tri, n, -1.0, &twin, &fan, &nfan, NULL, st->e);
+    }
+    if (r == PW_OK) r = pw__st_drop_flat(st->a, pos, st->tri, st->map, twin, &n, &info->skipped_triangles, st->e);
     if (r == PW_OK && n == 0) r = pw_fail(st->e, PW_ERR_DEGENERATE, "surface encloses no volume (every triangle is flat)");
     if (r == PW_OK) r = pw__st_surf_init(st->a, pos, nv, st->tri, n, &st->s, st->e);
     if (r == PW_OK) r = pw__st_caps(st->a, &st->s, twin, st->e);
     pw_free(st->a, twin);
     return r;
+}
+
+/* The largest hole perimeter closed, as a fraction of the diagonal. */
+PW__DEF double pw__st_max_hole(const pw_stuff_options *o)
+{
+    return !o || o->max_hole == 0.0 ? 0.05 : o->max_hole;
 }
 
 /* Tetrahedralizes the inside of a closed, oriented triangle surface (pos
@@ -1690,8 +1772,10 @@ PW__DEF int pw_stuff_tetrahedralize(const pw_alloc *a, const float *pos, int nv,
     memset(&st, 0, sizeof st);
     st.a = a, st.prog = p, st.e = e;
     r = pw__st_check_values(pos, nv, tri, nt, e);
+    if (r == PW_OK && o && !pw_is_finite(o->max_hole))
+        r = pw_fail(e, PW_ERR_INVALID, "tetrahedralize: max_hole %g is not finite", o->max_hole);
     if (r == PW_OK) r = pw_report(p, 0.0f, "surface checks", e);
-    if (r == PW_OK) r = pw__st_surface(&st, pos, nv, tri, nt, info);
+    if (r == PW_OK) r = pw__st_surface(&st, pos, nv, tri, nt, pw__st_max_hole(o), info);
     if (r == PW_OK) r = pw__st_check_geometry(&st.s, st.map, o && o->strict, info, e);
     st.unite = info->crossing_pairs > 0;
     if (r == PW_OK) r = pw__st_lattice(&st, o);

@@ -17,6 +17,7 @@ static int lst__tet_report(const pw_alloc *a, const pw_mesh *tri, const pw_tetme
     int r = pw_stuff_fit_measure(a, tri->pos, tri->nv, tri->fv, tri->nf, tm, 30000, &fit, e);
     memset(rep, 0, sizeof *rep);
     rep->crossing_pairs = info->crossing_pairs, rep->skipped_triangles = info->skipped_triangles;
+    rep->closed_holes = info->closed_holes;
     if (r != PW_OK) return r;
     rep->pieces = fit.pieces;
     rep->fit_max = (fit.to_max > fit.from_max ? fit.to_max : fit.from_max) / fit.diag;
@@ -40,12 +41,13 @@ LSTDEF lst_result lst_tetrahedralize(const lst_mesh *surface, const lst_tet_opti
     memset(&tri, 0, sizeof tri);
     memset(&tm, 0, sizeof tm);
     if (to) {
-        so.cell = to->cell, so.strict = to->strict, so.info = &info;
+        so.cell = to->cell, so.strict = to->strict, so.max_hole = to->max_hole, so.info = &info;
         if (to->target_tets > 0) so.target_tets = to->target_tets;
     }
     if (!surface || !out) pw_fail(&e, PW_ERR_INVALID, "lst_tetrahedralize: NULL argument");
-    else if (!(so.cell >= 0.0) || !pw_is_finite(so.cell) || (to && to->target_tets < 0))
-        pw_fail(&e, PW_ERR_INVALID, "tetrahedralize: cell %g or target %d is invalid", so.cell, to ? to->target_tets : 0);
+    else if (!(so.cell >= 0.0) || !pw_is_finite(so.cell) || !pw_is_finite(so.max_hole) || (to && to->target_tets < 0))
+        pw_fail(&e, PW_ERR_INVALID, "tetrahedralize: cell %g, target %d or max_hole %g is invalid", so.cell,
+                to ? to->target_tets : 0, so.max_hole);
     else {
         m = lst__pw_mesh(surface);
         if (pw_mesh_validate(&m, &e) == PW_OK && pw_mesh_triangulate(&a, &m, &tri, NULL, &e) == PW_OK &&

@@ -351,12 +351,13 @@ LSTDEF const char *lst_result_string(lst_result r);
  * the boundary within about a cell of the surface). The solid is where the
  * surface's generalised winding number is at least 1/2, so a closed surface
  * whose triangles cross is filled (counted in the report) unless strict;
- * zero-area triangles are skipped. Open or non-manifold surfaces are
- * refused with a message naming the problem (for an open one: how many
- * holes, and where the largest is). */
+ * zero-area triangles are skipped; small holes are closed. Other open
+ * surfaces and non-manifold ones are refused with a message naming the
+ * problem (for an open one: how many holes, and where the largest is). */
 typedef struct lst_tet_report {
     long crossing_pairs;   /* triangle pairs of the surface that cross */
     int skipped_triangles; /* zero-area triangles the solid does not depend on */
+    int closed_holes;      /* small holes of an open surface closed (see max_hole) */
     int pieces;            /* connected components of the tetrahedra (joined by shared faces) */
     double fit_max;        /* two-sided distance between the boundary of the tetrahedra and the surface
                               (dense area-weighted samples both ways), largest, over the surface's
@@ -368,6 +369,8 @@ typedef struct lst_tet_options {
     int target_tets;              /* approximate tetrahedron count; 0: 20000 */
     int allow_self_intersections; /* accepted and ignored: crossing surfaces are filled by default */
     int strict;                   /* 1: refuse a surface whose triangles cross, naming the first pair */
+    double max_hole;              /* holes whose perimeters are at most this fraction of the bounding-box
+                                     diagonal are closed; 0: 0.05; negative: open surfaces refused */
     lst_tet_report *report;       /* optional: filled with what the input held and how well the
                                      tetrahedra fit it (the fit costs about 0.1-0.5 s) */
 } lst_tet_options;
