@@ -749,8 +749,10 @@ static void t_cgal(void)
             CHECKF(pw_stuff_fit_measure(NULL, s.m.pos, s.m.nv, s.m.fv, s.m.nf, &t, 20000, &fit, &e) == PW_OK, "%s", e.msg);
             CHECKF(fit.to_surface_max < 1e-6 * fit.diag, "%s: boundary vertex %g off the surface", names[i],
                    fit.to_surface_max);
-            pwt_info("%s: %d tets, dihedral %.2f..%.2f, volume %.4g of %.4g, fit %.2g / %.2g of the diagonal", names[i],
-                     t.nt, lo, hi, vol, ref, fit.to_surface_max / fit.diag, fit.from_surface_max / fit.diag);
+            pwt_info("%s: %d tets, dihedral %.2f..%.2f, volume %.4g of %.4g, %d piece(s), two-sided fit %.2f%% "
+                     "(99%%: %.2f%%) of the diagonal", names[i], t.nt, lo, hi, vol, ref, fit.pieces,
+                     100.0 * (fit.to_max > fit.from_max ? fit.to_max : fit.from_max) / fit.diag,
+                     100.0 * (fit.to_p99 > fit.from_p99 ? fit.to_p99 : fit.from_p99) / fit.diag);
             pw_tetmesh_free(NULL, &t);
         }
         pw_mesh_free(NULL, &s.m);
