@@ -298,6 +298,10 @@ static void report_fill(const lst_tetmesh *t, const lst_tet_report *rep, double 
                 "number is at least 1/2 (--strict refuses)\n", rep->crossing_pairs);
     if (rep->skipped_triangles > 0)
         fprintf(stderr, "lst: warning: %d zero-area triangles skipped\n", rep->skipped_triangles);
+    if (rep->surface_pieces >= 0 && rep->pieces != rep->surface_pieces && rep->crossing_pairs == 0)
+        fprintf(stderr, "lst: warning: the tetrahedra make %d pieces where the surface encloses %d: parts thinner "
+                "than the lattice cell are lost or cut off (a larger --tet-count keeps more)\n", rep->pieces,
+                rep->surface_pieces);
     if (rep->closed_holes > 0)
         fprintf(stderr, "lst: warning: the surface was open: %d small holes closed\n", rep->closed_holes);
     printf("lst: %d tetrahedra, %d vertices, boundary within %.2f%% of the surface (99%%: %.2f%%), %d piece%s, "

@@ -640,14 +640,16 @@ static const int cube_kuhn[24] = {0, 1, 3, 7, 0, 3, 2, 7, 0, 2, 6, 7, 0, 6, 4, 7
  * second, disjoint inner cube makes two pieces. */
 static void t_fit_measure(void)
 {
-    float spos[24], tpos[48];
-    int ttet[48], i, k;
+    float spos[24], tpos[48], spos2[48];
+    int ttet[48], cube_tri2[72], i, k;
     pw_tetmesh t;
     pw_stuff_fit fit;
     pw_err e;
     for (k = 0; k < 8; k++) cube_corner(k, 0.0, 0.5, spos + 3 * k), cube_corner(k, 0.0, 0.45, tpos + 3 * k);
     for (k = 0; k < 8; k++) cube_corner(k, 5.0, 0.45, tpos + 24 + 3 * k);
     for (i = 0; i < 48; i++) ttet[i] = cube_kuhn[i % 24] + (i >= 24 ? 8 : 0);
+    for (i = 0; i < 72; i++) cube_tri2[i] = cube_tri[i % 36] + (i >= 36 ? 8 : 0);
+    for (k = 0; k < 8; k++) cube_corner(k, 0.0, 0.5, spos2 + 3 * k), cube_corner(k, 0.0, 0.25, spos2 + 24 + 3 * k);
     t.nv = 8, t.nt = 6, t.pos = tpos, t.tet = ttet;
     for (i = 0; i < t.nt; i++) CHECKF(pw_tet_volume6(&t, i) > 0.0, "Kuhn tetrahedron %d not positive", i);
     pw_err_clear(&e);
@@ -657,12 +659,19 @@ static void t_fit_measure(void)
     CHECK_NEAR(fit.from_max, 0.05 * sqrt(3.0), 1e-6);
     CHECKF(fit.from_p99 > 0.05 && fit.from_p99 < fit.from_max - 0.01, "from p99 %g", fit.from_p99);
     CHECK_EQ_INT(fit.pieces, 1);
+    CHECK_EQ_INT(fit.surface_pieces, 1);
     CHECKF(fit.samples >= 5000, "%d samples", fit.samples);
     CHECK_NEAR(fit.diag, sqrt(3.0), 1e-6);
     t.nv = 16, t.nt = 12;
     REQUIRE(pw_stuff_fit_measure(NULL, spos, 8, cube_tri, 12, &t, 5000, &fit, &e) == PW_OK);
     CHECK_EQ_INT(fit.pieces, 2);
     CHECKF(fit.to_max > 4.0, "the far cube at %g", fit.to_max);
+    t.nv = 8, t.nt = 6;
+    REQUIRE(pw_stuff_fit_measure(NULL, tpos, 16, cube_tri2, 24, &t, 1000, &fit, &e) == PW_OK);
+    CHECK_EQ_INT(fit.surface_pieces, 2); /* two disjoint cubes enclose two pieces */
+    for (i = 36; i < 72; i += 3) k = cube_tri2[i + 1], cube_tri2[i + 1] = cube_tri2[i + 2], cube_tri2[i + 2] = k;
+    REQUIRE(pw_stuff_fit_measure(NULL, spos2, 16, cube_tri2, 24, &t, 1000, &fit, &e) == PW_OK);
+    CHECK_EQ_INT(fit.surface_pieces, 1); /* a cube with a cube-shaped cavity: one */
 }
 
 /* Fills shape m at the default settings; its fit and pieces to *fit. */
@@ -711,6 +720,7 @@ static void t_thin_shapes(void)
     REQUIRE(pw_shape_thin_torus(NULL, 192, 12, 0.0294, &m, &e) == PW_OK); /* diagonal 2.91: tube 1.0% of it */
     if (fill_and_fit(&m, "torus, tube radius 1% of the diagonal", &fit)) {
         CHECK_EQ_INT(fit.pieces, 1);
+        CHECK_EQ_INT(fit.surface_pieces, 1);
         CHECKF(fit.from_max < 0.005 * fit.diag && fit.to_max < 0.005 * fit.diag, "torus fit %g / %g",
                fit.from_max / fit.diag, fit.to_max / fit.diag);
         CHECKF(fit.from_p99 < 0.002 * fit.diag && fit.to_p99 < 0.002 * fit.diag, "torus 99th percentile %g / %g",
@@ -718,12 +728,14 @@ static void t_thin_shapes(void)
     }
     REQUIRE(pw_shape_dumbbell(NULL, 0.0332, 48, &m, &e) == PW_OK); /* diagonal 6.63: neck 0.066 thick, 1.0% */
     if (fill_and_fit(&m, "dumbbell, neck 1% of the diagonal (uniform lattice: lost)", &fit))
-        CHECKF(fit.pieces == 2 && fit.from_max > 0.1 * fit.diag, "dumbbell: %d pieces, fit %g: the neck kept?",
-               fit.pieces, fit.from_max / fit.diag);
+        CHECKF(fit.pieces == 2 && fit.surface_pieces == 1 && fit.from_max > 0.1 * fit.diag,
+               "dumbbell: %d pieces of %d, fit %g: the neck kept?", fit.pieces, fit.surface_pieces,
+               fit.from_max / fit.diag);
     REQUIRE(pw_shape_star(NULL, 12, 3.0, &m, &e) == PW_OK);
     if (fill_and_fit(&m, "star of 12 spikes (uniform lattice: tips lost)", &fit))
-        CHECKF(fit.pieces >= 1 && fit.from_max > 0.05 * fit.diag, "star: %d pieces, fit %g: the spikes kept?",
-               fit.pieces, fit.from_max / fit.diag);
+        CHECKF(fit.pieces > fit.surface_pieces && fit.surface_pieces == 1 && fit.from_max > 0.05 * fit.diag,
+               "star: %d pieces of %d, fit %g: the spikes kept?", fit.pieces, fit.surface_pieces,
+               fit.from_max / fit.diag);
 }
 
 /* Real closed CGAL meshes at 5K and 100K tetrahedra. */

@@ -1883,8 +1883,16 @@ typedef struct pw_stuff_fit {
     double diag;               /* the surface's bounding-box diagonal, for relative figures */
     int boundary_triangles;
     int pieces; /* connected components of the tetrahedra (joined by shared faces) */
+    int surface_pieces; /* pieces of the solid the surface encloses (pw_stuff_surface_pieces), -1: not counted */
     int samples; /* samples taken on each side */
 } pw_stuff_fit;
+
+/* Root of x in union-find array up, with path halving. */
+PW__DEF int pw__st_root(int *up, int x)
+{
+    while (up[x] != x) x = up[x] = up[up[x]];
+    return x;
+}
 
 /* Pieces of a tetrahedral mesh: tetrahedra joined by shared faces (nb from
  * pw_tetmesh_neighbors), by union-find with path halving. */
@@ -1894,15 +1902,88 @@ PW__DEF int pw_tetmesh_pieces(const pw_alloc *a, const pw_tetmesh *m, const int 
     if (!up) return -1;
     for (t = 0; t < m->nt; t++) up[t] = t;
     for (f = 0; f < 4 * m->nt; f++) {
-        int x = f >> 2, y = nb[f] >> 2;
+        int x, y;
         if (nb[f] < 0) continue;
-        while (up[x] != x) x = up[x] = up[up[x]];
-        while (up[y] != y) y = up[y] = up[up[y]];
+        x = pw__st_root(up, f >> 2), y = pw__st_root(up, nb[f] >> 2);
         if (x != y) up[x > y ? x : y] = x < y ? x : y;
     }
     for (t = 0; t < m->nt; t++) n += up[t] == t;
     pw_free(a, up);
     return n;
+}
+
+/* The surface's connected components (triangles sharing a vertex): comp[t]
+ * in 0 .. *nc-1, numbered in order of their first triangle. */
+PW__DEF int pw__st_components(const pw_alloc *a, int nv, const int *tri, int nt, int *comp, int *nc, pw_err *e)
+{
+    int *up = (int *)pw_alloc_array(a, (size_t)nv + 1, sizeof(int), "surface components", e), v, t, k;
+    if (!up) return PW_ERR_NOMEM;
+    for (v = 0; v < nv; v++) up[v] = -1;
+    for (t = 0; t < nt; t++)
+        for (k = 0; k < 3; k++) up[tri[3 * t + k]] = tri[3 * t + k];
+    for (t = 0; t < nt; t++)
+        for (k = 1; k < 3; k++) {
+            int x = pw__st_root(up, tri[3 * t]), y = pw__st_root(up, tri[3 * t + k]);
+            if (x != y) up[x > y ? x : y] = x < y ? x : y;
+        }
+    for (v = 0; v < nv; v++) up[v] = up[v] < 0 ? -1 : pw__st_root(up, v);
+    for (*nc = 0, t = 0; t < nt; t++) { /* roots relabelled -2 - component */
+        int r = up[tri[3 * t]];
+        if (r >= 0 && up[r] >= 0) up[r] = -2 - (*nc)++;
+        comp[t] = r >= 0 ? -2 - up[r] : -2 - up[tri[3 * t]];
+    }
+    pw_free(a, up);
+    return PW_OK;
+}
+
+/* Signed volume of component c and the winding number of the other
+ * components at a corner of its first triangle (solid angles summed, Van
+ * Oosterom & Strackee). */
+PW__DEF void pw__st_weigh(const float *pos, const int *tri, int nt, const int *comp, int c, double *vol, double *w)
+{
+    double p[3] = {0, 0, 0}, q[3][3];
+    int t, k, first = 1;
+    *vol = *w = 0.0;
+    for (t = 0; t < nt; t++) {
+        for (k = 0; k < 9; k++) q[k / 3][k % 3] = pos[3 * tri[3 * t + k / 3] + k % 3];
+        if (comp[t] == c && first)
+            for (first = 0, k = 0; k < 3; k++) p[k] = q[0][k];
+        if (comp[t] == c)
+            *vol += (q[0][0] * (q[1][1] * q[2][2] - q[1][2] * q[2][1]) - q[0][1] * (q[1][0] * q[2][2] - q[1][2] * q[2][0]) +
+                     q[0][2] * (q[1][0] * q[2][1] - q[1][1] * q[2][0])) / 6.0;
+    }
+    for (t = 0; t < nt; t++) {
+        if (comp[t] == c) continue;
+        for (k = 0; k < 9; k++) q[k / 3][k % 3] = pos[3 * tri[3 * t + k / 3] + k % 3];
+        *w += pw__st_solid_angle(p, q[0], q[1], q[2]) / (4.0 * 3.14159265358979323846);
+    }
+}
+
+/* Pieces of the solid that a closed surface without crossings encloses:
+ * its components that face outward (as the whole surface does) and lie
+ * outside the others (their winding number 0 there). A cavity faces
+ * inward; a shell inside a cavity is at winding number 0 again. Crossing
+ * components are counted apart (the solid may have fewer pieces). -1 when
+ * the count would cost more than 5e7 solid angles. */
+PW__DEF int pw_stuff_surface_pieces(const pw_alloc *a, const float *pos, int nv, const int *tri, int nt, int *pieces,
+                                    pw_err *e)
+{
+    int *comp = (int *)pw_alloc_array(a, (size_t)nt + 1, sizeof(int), "surface components", e), nc = 0, c, r;
+    double total = 0.0, *vol, *w;
+    *pieces = -1;
+    if (!comp) return PW_ERR_NOMEM;
+    r = pw__st_components(a, nv, tri, nt, comp, &nc, e);
+    vol = (double *)pw_alloc_array(a, 2 * (size_t)nc + 2, sizeof(double), "surface components", e);
+    if (r == PW_OK && !vol) r = PW_ERR_NOMEM;
+    if (r == PW_OK && (double)nc * nt <= 5e7) {
+        w = vol + nc;
+        for (c = 0; c < nc; c++) pw__st_weigh(pos, tri, nt, comp, c, vol + c, w + c), total += vol[c];
+        for (*pieces = 0, c = 0; c < nc; c++)
+            *pieces += (total < 0.0 ? -vol[c] : vol[c]) > 0.0 && fabs(w[c]) < 0.5;
+    }
+    pw_free(a, vol);
+    pw_free(a, comp);
+    return r;
 }
 
 /* A distance sample and its area weight. */
@@ -2056,6 +2137,7 @@ PW__DEF int pw_stuff_fit_measure(const pw_alloc *a, const float *pos, int nv, co
     if (r == PW_OK)
         r = pw__st_sampled_dist(a, pos, tri, nt, &b, samples, &fit->from_max, &fit->from_p99, &fit->samples, e);
     if (r == PW_OK) r = pw__st_pieces_of(a, m, &fit->pieces, e);
+    if (r == PW_OK) r = pw_stuff_surface_pieces(a, pos, nv, tri, nt, &fit->surface_pieces, e);
     for (k = 0; k < 3; k++) fit->diag += (s.hi[k] - s.lo[k]) * (s.hi[k] - s.lo[k]);
     fit->diag = sqrt(fit->diag);
     fit->boundary_triangles = nb;

@@ -19,7 +19,7 @@ static int lst__tet_report(const pw_alloc *a, const pw_mesh *tri, const pw_tetme
     rep->crossing_pairs = info->crossing_pairs, rep->skipped_triangles = info->skipped_triangles;
     rep->closed_holes = info->closed_holes;
     if (r != PW_OK) return r;
-    rep->pieces = fit.pieces;
+    rep->pieces = fit.pieces, rep->surface_pieces = fit.surface_pieces;
     rep->fit_max = (fit.to_max > fit.from_max ? fit.to_max : fit.from_max) / fit.diag;
     rep->fit_p99 = (fit.to_p99 > fit.from_p99 ? fit.to_p99 : fit.from_p99) / fit.diag;
     return PW_OK;

@@ -359,6 +359,8 @@ typedef struct lst_tet_report {
     int skipped_triangles; /* zero-area triangles the solid does not depend on */
     int closed_holes;      /* small holes of an open surface closed (see max_hole) */
     int pieces;            /* connected components of the tetrahedra (joined by shared faces) */
+    int surface_pieces;    /* pieces of the solid the surface encloses (crossing parts counted apart),
+                              -1: not counted (too many components) */
     double fit_max;        /* two-sided distance between the boundary of the tetrahedra and the surface
                               (dense area-weighted samples both ways), largest, over the surface's
                               bounding-box diagonal */
