@@ -463,7 +463,9 @@ LSTDEF lst_result lst_render_volume(const lst_model *model, const lst_render_opt
 /* ---- built-in data ---- */
 
 /* Surfaces: "sphere", "torus", "bumpy", "kiwi" (an egg-shaped fruit along
- * z), "tree" (a trunk along z with two branches). */
+ * z), "tree" (a trunk along z with two branches), and two thin shapes that
+ * test the tetrahedralizer: "dumbbell" (two unit balls, a neck 1% of the
+ * diagonal thick) and "star" (a ball with 12 long thin spikes). */
 LSTDEF lst_result lst_builtin_surface(const char *name, const lst_options *opt, lst_mesh *out, lst_error *err);
 /* The constraints that go with a built-in surface ("kiwi": depth 0 on the
  * skin and 1 along the axis, direction along the axis; "tree": depth 0 on
@@ -17565,9 +17567,13 @@ LSTDEF lst_result lst_builtin_surface(const char *name, const lst_options *opt, 
     else if (!strcmp(name, "sphere")) pw_shape_geosphere(&a, 8, &m, &e);
     else if (!strcmp(name, "torus")) pw_shape_torus(&a, 48, 24, 0, &m, &e);
     else if (!strcmp(name, "bumpy")) pw_shape_bumpy(&a, 12, &m, &e);
+    else if (!strcmp(name, "dumbbell")) pw_shape_dumbbell(&a, 0.0332, 48, &m, &e); /* neck 1% of the diagonal */
+    else if (!strcmp(name, "star")) pw_shape_star(&a, 12, 3.0, &m, &e);
     else if (!strcmp(name, "kiwi")) lst__implicit(&a, lst__kiwi_shape, kiwi_lo, 2.6 / 48, 48, &m, &e);
     else if (!strcmp(name, "tree")) lst__implicit(&a, lst__tree_shape, tree_lo, 3.4 / 64, 64, &m, &e);
-    else pw_fail(&e, PW_ERR_INVALID, "unknown built-in surface '%s' (sphere, torus, bumpy, kiwi, tree)", name);
+    else
+        pw_fail(&e, PW_ERR_INVALID, "unknown built-in surface '%s' (sphere, torus, bumpy, kiwi, tree, dumbbell, star)",
+                name);
     if (e.code == PW_OK) lst__take_mesh(&m, &a, out);
     else pw_mesh_free(&a, &m);
     return lst__done(&e, err);

@@ -332,9 +332,13 @@ LSTDEF lst_result lst_builtin_surface(const char *name, const lst_options *opt, 
     else if (!strcmp(name, "sphere")) pw_shape_geosphere(&a, 8, &m, &e);
     else if (!strcmp(name, "torus")) pw_shape_torus(&a, 48, 24, 0, &m, &e);
     else if (!strcmp(name, "bumpy")) pw_shape_bumpy(&a, 12, &m, &e);
+    else if (!strcmp(name, "dumbbell")) pw_shape_dumbbell(&a, 0.0332, 48, &m, &e); /* neck 1% of the diagonal */
+    else if (!strcmp(name, "star")) pw_shape_star(&a, 12, 3.0, &m, &e);
     else if (!strcmp(name, "kiwi")) lst__implicit(&a, lst__kiwi_shape, kiwi_lo, 2.6 / 48, 48, &m, &e);
     else if (!strcmp(name, "tree")) lst__implicit(&a, lst__tree_shape, tree_lo, 3.4 / 64, 64, &m, &e);
-    else pw_fail(&e, PW_ERR_INVALID, "unknown built-in surface '%s' (sphere, torus, bumpy, kiwi, tree)", name);
+    else
+        pw_fail(&e, PW_ERR_INVALID, "unknown built-in surface '%s' (sphere, torus, bumpy, kiwi, tree, dumbbell, star)",
+                name);
     if (e.code == PW_OK) lst__take_mesh(&m, &a, out);
     else pw_mesh_free(&a, &m);
     return lst__done(&e, err);

@@ -461,7 +461,9 @@ LSTDEF lst_result lst_render_volume(const lst_model *model, const lst_render_opt
 /* ---- built-in data ---- */
 
 /* Surfaces: "sphere", "torus", "bumpy", "kiwi" (an egg-shaped fruit along
- * z), "tree" (a trunk along z with two branches). */
+ * z), "tree" (a trunk along z with two branches), and two thin shapes that
+ * test the tetrahedralizer: "dumbbell" (two unit balls, a neck 1% of the
+ * diagonal thick) and "star" (a ball with 12 long thin spikes). */
 LSTDEF lst_result lst_builtin_surface(const char *name, const lst_options *opt, lst_mesh *out, lst_error *err);
 /* The constraints that go with a built-in surface ("kiwi": depth 0 on the
  * skin and 1 along the axis, direction along the axis; "tree": depth 0 on

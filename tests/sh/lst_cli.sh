@@ -134,6 +134,10 @@ if [ $? -eq 0 ] && grep -q 'crosses itself ([0-9]* triangle pairs)' $tmp/cross.e
 then pass crossing_filled; else fail crossing_filled "$(head -2 $tmp/cross.err | tr '\n' '|')"; fi
 if grep -q '^lst: [0-9]* tetrahedra, [0-9]* vertices, boundary within [0-9.]*% of the surface (99%: [0-9.]*%), 1 piece,' \
     $tmp/cross.log; then pass fit_reported; else fail fit_reported "$(head -1 $tmp/cross.log)"; fi
+"$bin" lst --mesh procedural:dumbbell --tet-count 3000 --exemplar procedural:spots --exemplar-size 16 \
+    --out-lst $tmp/db.lst > $tmp/db.log 2> $tmp/db.err
+if [ $? -eq 0 ] && grep -q 'warning: the tetrahedra make 2 pieces where the surface encloses 1' $tmp/db.err
+then pass pieces_warning; else fail pieces_warning "$(head -2 $tmp/db.err | tr '\n' '|')"; fi
 "$bin" lst $cross --allow-self-intersections --out-lst $tmp/c2.lst > /dev/null 2>&1
 if cmp -s $tmp/c1.lst $tmp/c2.lst; then pass allow_is_default; else fail allow_is_default "outputs differ"; fi
 
