@@ -15,14 +15,17 @@ static const char *lst_usage =
     "field, shown as the surface, cross-sections and a volume rendering.\n"
     "\n"
     "inputs:\n"
-    "  --mesh FILE          a closed surface (OBJ, OFF, PLY), tetrahedralized here,\n"
-    "                       or procedural:NAME (sphere, torus, bumpy, kiwi, tree)\n"
+    "  --mesh FILE          a closed surface (OBJ, OFF, PLY), tetrahedralized here\n"
+    "                       (holes up to 5% of the diagonal around are closed),\n"
+    "                       or procedural:NAME (sphere, torus, bumpy, kiwi, tree,\n"
+    "                       dumbbell, star)\n"
     "  --tets FILE          a tetrahedral mesh: TetGen FILE.node (with FILE.ele) or\n"
     "                       MEDIT FILE.mesh\n"
     "  --tet-count N        tetrahedra to aim for with --mesh (default 20000)\n"
     "  --cell H             or the lattice spacing, mesh units\n"
-    "  --allow-self-intersections  fill a self-intersecting closed surface where its\n"
-    "                       winding number is at least 1/2\n"
+    "  --strict             refuse a closed surface whose triangles cross (by default\n"
+    "                       it is filled where its winding number is at least 1/2,\n"
+    "                       with a warning; --allow-self-intersections is accepted)\n"
     "  --exemplar FILE      a solid exemplar: NRRD (sizes C X Y Z or X Y Z; RGBA:\n"
     "                       the alpha is the mask of homogeneous types) or\n"
     "                       procedural:NAME (layers, fibers, spots, rings, kiwi)\n"
@@ -176,7 +179,8 @@ static int parse_options(cli_args *a, lst_cmd *c)
     if (cli_is(a, "--seed")) return cli_u64(a, &c->opt.seed);
     if (cli_is(a, "--paste")) return parse_paste(a, c);
     if (cli_is(a, "--tet-count")) return cli_int(a, 10, 20000000, &c->to.target_tets);
-    if (cli_is(a, "--allow-self-intersections")) return (c->to.allow_self_intersections = 1);
+    if (cli_is(a, "--allow-self-intersections")) return 1; /* the default now, kept for old scripts */
+    if (cli_is(a, "--strict")) return (c->to.strict = 1);
     if (cli_is(a, "--exemplar-size")) return cli_int(a, 4, 512, &c->exemplar_size);
     if (cli_is(a, "--cut")) return parse_cut(a, c);
     if (cli_is(a, "--cut-stroke")) return cli_value(a, &c->stroke);
@@ -296,6 +300,27 @@ static double seconds(void)
     return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
 }
 
+/* The fill's report: the warnings about the input (stderr), then the count,
+ * the two-sided fit of the boundary, the pieces and the dihedral range. */
+static void report_fill(const lst_tetmesh *t, const lst_tet_report *rep, double lo, double hi, double s)
+{
+    if (rep->crossing_pairs > 0)
+        fprintf(stderr, "lst: warning: the surface crosses itself (%ld triangle pairs); filled where its winding "
+                "number is at least 1/2 (--strict refuses)\n", rep->crossing_pairs);
+    if (rep->skipped_triangles > 0)
+        fprintf(stderr, "lst: warning: %d zero-area triangles skipped\n", rep->skipped_triangles);
+    if (rep->surface_pieces >= 0 && rep->pieces != rep->surface_pieces && rep->crossing_pairs == 0)
+        fprintf(stderr, "lst: warning: the tetrahedra make %d pieces where the surface encloses %d: parts thinner "
+                "than the lattice cell are lost or cut off (a larger --tet-count keeps more)\n", rep->pieces,
+                rep->surface_pieces);
+    if (rep->closed_holes > 0)
+        fprintf(stderr, "lst: warning: the surface was open: %d small holes closed\n", rep->closed_holes);
+    printf("lst: %d tetrahedra, %d vertices, boundary within %.2f%% of the surface (99%%: %.2f%%), %d piece%s, "
+           "dihedral angles %.1f..%.1f degrees (tetrahedralized and measured, %.2f s)\n",
+           t->ntets, t->nverts, 100.0 * rep->fit_max, 100.0 * rep->fit_p99, rep->pieces, rep->pieces == 1 ? "" : "s",
+           lo, hi, s);
+}
+
 /* The tetrahedral mesh: read, or the surface tetrahedralized; and the
  * surface the depth constraints paint (the mesh's boundary with --tets). */
 static lst_result load_tets(const lst_cmd *c, lst_run *r, lst_error *err)
@@ -303,15 +328,19 @@ static lst_result load_tets(const lst_cmd *c, lst_run *r, lst_error *err)
     const char *name;
     lst_result res;
     double lo = 0, hi = 0, t0 = seconds();
+    lst_tet_options to = c->to;
+    lst_tet_report rep;
+    to.report = &rep;
     if (c->tets) res = lst_load_tetmesh(c->tets, &c->opt, &r->tets, err);
     else if (cli_is_procedural(c->mesh, &name)) res = lst_builtin_surface(name, &c->opt, &r->surface, err);
     else res = lst_load_mesh(c->mesh, &c->opt, &r->surface, err);
-    if (res == LST_OK && c->mesh) res = lst_tetrahedralize(&r->surface, &c->to, &c->opt, &r->tets, err);
+    if (res == LST_OK && c->mesh) res = lst_tetrahedralize(&r->surface, &to, &c->opt, &r->tets, err);
     if (res == LST_OK && c->tets) res = lst_tetmesh_surface(&r->tets, &c->opt, &r->surface, err);
     if (res == LST_OK) res = lst_tetmesh_check(&r->tets, &lo, &hi, err);
-    if (res == LST_OK)
-        printf("lst: %d tetrahedra, %d vertices, dihedral angles %.1f..%.1f degrees (%s, %.2f s)\n", r->tets.ntets,
-               r->tets.nverts, lo, hi, c->tets ? "read" : "tetrahedralized", seconds() - t0);
+    if (res == LST_OK && c->mesh) report_fill(&r->tets, &rep, lo, hi, seconds() - t0);
+    else if (res == LST_OK)
+        printf("lst: %d tetrahedra, %d vertices, dihedral angles %.1f..%.1f degrees (read, %.2f s)\n", r->tets.ntets,
+               r->tets.nverts, lo, hi, seconds() - t0);
     return res;
 }
 

@@ -16,7 +16,7 @@
 int main(int argc, char **argv)
 {
     lst_options opt = lst_default_options();
-    lst_tet_options tets = {0, 0, 0};            /* zero: about 20000 tetrahedra */
+    lst_tet_options tets = {0};                  /* zero: about 20000 tetrahedra */
     lst_render_options view;
     lst_volume_options vol;
     lst_mesh surface = {0};

@@ -226,9 +226,9 @@ static void t_tetgen_fill(void)
     lst_model_free(&model), lst_volume_free(&ex), lst_tetmesh_free(&m), lst_mesh_free(&s);
 }
 
-/* CGAL's meshes: the closed ones fill; the open ones (mushroom, pig) and
- * the self-intersecting cow are refused with the reason, the cow filled
- * when self-intersections are allowed. */
+/* CGAL's meshes: the closed ones fill; the open ones (mushroom, pig) are
+ * refused with the reason, the self-intersecting cow refused when strict
+ * and filled by default (its crossing pairs reported). */
 static void t_real_meshes(void)
 {
     static const char *const names[5] = {"elephant", "cow", "mushroom", "pig", "knot"};
@@ -239,6 +239,7 @@ static void t_real_meshes(void)
         const char *path;
         lst_options o = lst_default_options();
         lst_tet_options to;
+        lst_tet_report rep;
         lst_mesh s;
         lst_tetmesh m;
         lst_volume ex;
@@ -249,14 +250,16 @@ static void t_real_meshes(void)
         if (!(path = pwt_data_opt(rel))) continue;
         found++;
         memset(&to, 0, sizeof to);
-        to.target_tets = 2500;
+        to.target_tets = 2500, to.strict = k == 1;
         REQUIRE(lst_load_mesh(path, &o, &s, &err) == LST_OK);
         r = lst_tetrahedralize(&s, &to, &o, &m, &err);
         if (expect[k]) {
             CHECKF(r != LST_OK && strstr(err.message, expect[k]), "%s: '%s'", names[k], err.message);
-            if (k == 1) { /* the cow, allowed */
-                to.allow_self_intersections = 1;
+            if (k == 1) { /* the cow, by default */
+                to.strict = 0, to.report = &rep;
                 r = lst_tetrahedralize(&s, &to, &o, &m, &err);
+                CHECKF(r == LST_OK && rep.crossing_pairs > 0 && rep.pieces >= 1 && rep.fit_max > 0.0,
+                       "cow: %ld crossing pairs, %d pieces, fit %g", rep.crossing_pairs, rep.pieces, rep.fit_max);
             }
         }
         if (r == LST_OK) {
@@ -364,11 +367,8 @@ static void t_bad_surface(void)
             /* two tetrahedra sharing a vertex: a non-manifold vertex */
             {"v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nv -1 0 0\nv 0 -1 0\nv 0 0 -1\n"
              "f 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\nf 1 5 6\nf 1 7 5\nf 1 6 7\nf 5 7 6\n", "vertex"},
-            /* a face using a vertex twice */
-            {"v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 3\n", "face 3"},
-            /* a tetrahedron and a second one through it: self-intersecting */
-            {"v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nv 0.2 0.2 -0.5\nv 1.2 0.2 -0.5\nv 0.2 1.2 -0.5\nv 0.2 0.2 0.5\n"
-             "f 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\nf 5 7 6\nf 5 6 8\nf 5 8 7\nf 6 7 8\n", "intersect"},
+            /* a face using a vertex twice: skipped (zero area), which leaves a big hole */
+            {"v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 3\n", "not closed"},
         };
         size_t k;
         for (k = 0; k < sizeof bad / sizeof bad[0]; k++) {
@@ -379,6 +379,24 @@ static void t_bad_surface(void)
                    (int)k, (int)r, err.message, bad[k][1]);
             lst_mesh_free(&s);
         }
+    }
+    { /* a tetrahedron and a second one through it: filled by default, refused when strict */
+        static const char crossing[] =
+            "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nv 0.2 0.2 -0.5\nv 1.2 0.2 -0.5\nv 0.2 1.2 -0.5\nv 0.2 0.2 0.5\n"
+            "f 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\nf 5 7 6\nf 5 6 8\nf 5 8 7\nf 6 7 8\n";
+        lst_tet_options to;
+        lst_tet_report rep;
+        memset(&to, 0, sizeof to);
+        to.target_tets = 2000, to.report = &rep;
+        REQUIRE(lst_load_mesh_from_memory(crossing, strlen(crossing), "cross.obj", &o, &s, &err) == LST_OK);
+        CHECKF(lst_tetrahedralize(&s, &to, &o, &m, &err) == LST_OK && rep.crossing_pairs > 0 && rep.pieces == 1,
+               "crossing: %s, %ld pairs, %d pieces", err.message, rep.crossing_pairs, rep.pieces);
+        lst_tetmesh_free(&m);
+        to.strict = 1;
+        CHECKF(lst_tetrahedralize(&s, &to, &o, &m, &err) == LST_ERR_TOPOLOGY && strstr(err.message, "intersect") &&
+                   !m.tets,
+               "strict: '%s'", err.message);
+        lst_mesh_free(&s);
     }
     {
         lst_volume v;

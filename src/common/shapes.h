@@ -10,6 +10,11 @@
  *                       pseudo-random places, a little taller than wide
  *   pw_shape_torus      radii 1 and 0.4 around the z axis, nu x nv quads
  *                       (or each split in two triangles)
+ *   pw_shape_thin_torus the same with any tube radius (triangles)
+ *   pw_shape_dumbbell   two unit balls joined by a neck of a given radius,
+ *                       a surface of revolution about z
+ *   pw_shape_star       a geosphere with its 12 icosahedron corners pulled
+ *                       out into long thin spikes
  *   pw_shape_disc       a gently domed disc of radius 1 facing +z (boundary)
  *   pw_shape_grid       n x n quads (or triangle pairs) on [-1,1]^2 facing
  *                       +z, optionally waved (boundary) */
@@ -160,24 +165,39 @@ PW__DEF int pw_shape_bumpy(const pw_alloc *a, int n, pw_mesh *m, pw_err *e)
     return PW_OK;
 }
 
+PW__DEF int pw__shape_torus(const pw_alloc *a, int nu, int nv, int quads, double tube, pw_mesh *m, pw_err *e);
+
 /* Torus around the z axis: radii 1 and 0.4, nu x nv quads (quads != 0) or
  * each quad split in two triangles. Vertex i*nv + j sits at angle 2 pi i/nu
  * around the axis and 2 pi j/nv around the tube. */
 PW__DEF int pw_shape_torus(const pw_alloc *a, int nu, int nv, int quads, pw_mesh *m, pw_err *e)
+{
+    return pw__shape_torus(a, nu, nv, quads, 0.4, m, e);
+}
+
+/* The same torus of radius 1 with tube radius `tube` (0 < tube < 1), in
+ * triangles: a thin ring for the tetrahedralizer's tests. */
+PW__DEF int pw_shape_thin_torus(const pw_alloc *a, int nu, int nv, double tube, pw_mesh *m, pw_err *e)
+{
+    if (!(tube > 0.0 && tube < 1.0)) return pw_fail(e, PW_ERR_INVALID, "torus: tube radius %g not in (0, 1)", tube);
+    return pw__shape_torus(a, nu, nv, 0, tube, m, e);
+}
+
+PW__DEF int pw__shape_torus(const pw_alloc *a, int nu, int nv, int quads, double tube, pw_mesh *m, pw_err *e)
 {
     const double pi2 = 6.28318530717958647692;
     int d = quads ? 4 : 3, i, j, r = pw_shape_alloc(a, nu * nv, (quads ? 1 : 2) * nu * nv, d, m, e);
     if (r != PW_OK) return r;
     for (i = 0; i < nu; i++)
         for (j = 0; j < nv; j++) {
-            double u = pi2 * i / nu, v = pi2 * j / nv, rr = 1.0 + 0.4 * pw_cos(v);
+            double u = pi2 * i / nu, v = pi2 * j / nv, rr = 1.0 + tube * pw_cos(v);
             float *p = m->pos + 3 * (i * nv + j);
             int *t = m->fv + (size_t)(quads ? 4 : 6) * (i * nv + j);
             int a0 = i * nv + j, a1 = ((i + 1) % nu) * nv + j;
             int a2 = ((i + 1) % nu) * nv + (j + 1) % nv, a3 = i * nv + (j + 1) % nv;
             p[0] = (float)(rr * pw_cos(u));
             p[1] = (float)(rr * pw_sin(u));
-            p[2] = (float)(0.4 * pw_sin(v));
+            p[2] = (float)(tube * pw_sin(v));
             t[0] = a0, t[1] = a1, t[2] = a2; /* d/du x d/dv points outwards */
             if (quads) t[3] = a3;
             else t[3] = a0, t[4] = a2, t[5] = a3;
@@ -243,6 +263,88 @@ PW__DEF int pw_shape_grid(const pw_alloc *a, int n, double wave, int quads, pw_m
             if (quads) f[3] = v + n + 1;
             else f[3] = v, f[4] = v + n + 2, f[5] = v + n + 1;
         }
+    return PW_OK;
+}
+
+/* asin(x) for 0 <= x <= 1 by bisection on pw_sin: the same bits everywhere. */
+PW__DEF double pw__shape_asin(double x)
+{
+    double lo = 0.0, hi = 1.57079632679489661923;
+    int k;
+    for (k = 0; k < 60; k++) {
+        double mid = 0.5 * (lo + hi);
+        if (pw_sin(mid) < x) lo = mid;
+        else hi = mid;
+    }
+    return 0.5 * (lo + hi);
+}
+
+/* A closed surface of revolution about z: the profile (z[k], r[k]),
+ * k = 0..n-1, runs from the top pole to the bottom one (r > 0 between),
+ * each inner point a ring of `around` vertices; the poles are single
+ * vertices. Faces counter-clockwise seen from outside. */
+PW__DEF int pw__shape_revolve(const pw_alloc *a, const double *z, const double *r, int n, int around, pw_mesh *m,
+                              pw_err *e)
+{
+    const double pi2 = 6.28318530717958647692;
+    int rings = n - 2, nv = rings * around + 2, k, j, nt = 0, res;
+    int bot = nv - 1; /* vertex 0 is the top pole; ring k (1..rings) starts at 1 + (k-1) * around */
+    if ((res = pw_shape_alloc(a, nv, 2 * around * (rings - 1) + 2 * around, 3, m, e)) != PW_OK) return res;
+    m->pos[0] = m->pos[1] = 0.0f, m->pos[2] = (float)z[0];
+    m->pos[3 * bot] = m->pos[3 * bot + 1] = 0.0f, m->pos[3 * bot + 2] = (float)z[n - 1];
+    for (k = 1; k <= rings; k++)
+        for (j = 0; j < around; j++) {
+            float *p = m->pos + 3 * (1 + (k - 1) * around + j);
+            p[0] = (float)(r[k] * pw_cos(pi2 * j / around)), p[1] = (float)(r[k] * pw_sin(pi2 * j / around));
+            p[2] = (float)z[k];
+        }
+    for (j = 0; j < around; j++) {
+        int j1 = (j + 1) % around, *t;
+        t = m->fv + 3 * nt++, t[0] = 0, t[1] = 1 + j, t[2] = 1 + j1;
+        for (k = 1; k < rings; k++) {
+            int a0 = 1 + (k - 1) * around + j, a1 = 1 + (k - 1) * around + j1, b0 = a0 + around, b1 = a1 + around;
+            t = m->fv + 3 * nt++, t[0] = a0, t[1] = b0, t[2] = b1;
+            t = m->fv + 3 * nt++, t[0] = a0, t[1] = b1, t[2] = a1;
+        }
+        t = m->fv + 3 * nt++, t[0] = bot, t[1] = 1 + (rings - 1) * around + j1, t[2] = 1 + (rings - 1) * around + j;
+    }
+    return PW_OK;
+}
+
+/* Dumbbell: unit balls centred at z = +-2 joined by a cylinder of radius
+ * `neck` (0 < neck < 1), revolved with `around` vertices per ring; about
+ * 4 `around` rings along the profile, spaced about evenly by arc length. */
+PW__DEF int pw_shape_dumbbell(const pw_alloc *a, double neck, int around, pw_mesh *m, pw_err *e)
+{
+    const double pi = 3.14159265358979323846;
+    double *z, *r, tn, zn, step = 2.0 * pi / around, len;
+    int nb, nn, n, k, res;
+    if (!(neck > 0.0 && neck < 1.0) || around < 3)
+        return pw_fail(e, PW_ERR_INVALID, "dumbbell: neck %g not in (0, 1) or %d vertices around", neck, around);
+    tn = pi - pw__shape_asin(neck); /* polar angle where a ball meets the neck */
+    zn = 2.0 + pw_cos(tn);          /* the neck runs over |z| <= zn */
+    nb = (int)(tn / step) + 1, len = 2.0 * zn, nn = (int)(len / step) + 1;
+    n = 2 * nb + nn + 1;
+    z = (double *)pw_alloc_array(a, (size_t)n, sizeof(double), "profile", e);
+    r = (double *)pw_alloc_array(a, (size_t)n, sizeof(double), "profile", e);
+    if (!z || !r) return pw_free(a, z), pw_free(a, r), PW_ERR_NOMEM;
+    for (k = 0; k < nb; k++) z[k] = 2.0 + pw_cos(tn * k / nb), r[k] = pw_sin(tn * k / nb);
+    for (k = 0; k <= nn; k++) z[nb + k] = zn - len * k / nn, r[nb + k] = neck;
+    for (k = 0; k < nb; k++) z[n - 1 - k] = -z[k], r[n - 1 - k] = r[k];
+    res = pw__shape_revolve(a, z, r, n, around, m, e);
+    pw_free(a, z), pw_free(a, r);
+    return res;
+}
+
+/* Star: a geosphere (n as pw_shape_geosphere) whose 12 icosahedron corners
+ * move out to radius `reach`: 12 spikes, each as thin at its base as the
+ * geosphere's triangles are wide (about 1.1 / n) and pointed. */
+PW__DEF int pw_shape_star(const pw_alloc *a, int n, double reach, pw_mesh *m, pw_err *e)
+{
+    int k, i, res = pw_shape_geosphere(a, n, m, e);
+    if (res != PW_OK) return res;
+    for (k = 0; k < 12; k++)
+        for (i = 0; i < 3; i++) m->pos[3 * k + i] = (float)(m->pos[3 * k + i] * reach);
     return PW_OK;
 }
 

@@ -4,12 +4,14 @@
  * stuffing (Labelle & Shewchuk, "Isosurface stuffing: fast tetrahedral
  * meshes with good dihedral angles", SIGGRAPH 2007), uniform variant:
  *
- *  1. Input checks: finite coordinates, indices in range, no zero-area
- *     triangle, closed and consistently oriented (every edge has exactly two
- *     triangles, traversing it in opposite directions: halfedge.h), no two
- *     triangles intersecting except at shared vertices and edges (exact
- *     orientation predicates on the float input, candidate pairs from a
- *     bounding-volume hierarchy). Each refusal names the elements.
+ *  1. Input checks: finite coordinates, indices in range, closed and
+ *     consistently oriented (every edge has exactly two triangles,
+ *     traversing it in opposite directions: halfedge.h); zero-area
+ *     triangles are skipped (the solid does not depend on them); triangle
+ *     pairs intersecting except at shared vertices and edges are counted
+ *     (exact orientation predicates on the float input, candidate pairs
+ *     from a bounding-volume hierarchy) and refused only when strict. Each
+ *     refusal names the elements; an open surface, its holes.
  *  2. A body-centred cubic lattice of spacing `cell` covers the surface:
  *     black vertices at the cube corners, red ones at the cube centres.
  *     Every pair of cubes sharing a face gives four congruent tetrahedra
@@ -45,8 +47,9 @@
  * both zero corners moved alpha_short towards the outside corner. The
  * boundary follows the surface to within about one cell: features thinner
  * than a cell are lost, sharp edges are rounded, and two parts of the solid
- * may touch along lattice edges. Several components and nested shells are
- * fine: the inside is where the winding number is at least 1/2. A surface
+ * may touch along lattice edges. Several components, nested shells and
+ * crossing triangles are fine: the inside is where the winding number is at
+ * least 1/2. A surface
  * whose triangles all face inward (negative enclosed volume) is used as if
  * reversed.
  *
@@ -60,12 +63,25 @@
 #include "halfedge.h"
 #include "tetmesh.h"
 
+/* What a fill found in its input, for the caller to report. */
+typedef struct pw_stuff_info {
+    long crossing_pairs;   /* pairs of triangles that cross (filled where the winding number is >= 1/2) */
+    int first_pair[2];     /* the first crossing pair found, -1 -1 if none */
+    int skipped_triangles; /* zero-area triangles (collinear or repeated corners) the solid does not depend on */
+    int closed_holes;      /* holes of an open surface closed by fans of triangles (all small, see max_hole) */
+} pw_stuff_info;
+
 typedef struct pw_stuff_options {
     double cell;     /* lattice spacing (cube side = long-edge length) in mesh units; 0: chosen from target_tets */
     int target_tets; /* approximate tetrahedron count when cell is 0; 0: 20000 */
-    int allow_self_intersections; /* 1: a closed surface whose triangles cross is filled where its winding
-                                     number is at least 1/2 (overlapping parts unite, inner sheets vanish);
-                                     0: refused with the first crossing pair */
+    int strict;      /* 1: a closed surface whose triangles cross is refused with the first crossing pair;
+                        0 (default): filled where its generalised winding number is at least 1/2
+                        (overlapping parts unite, inner sheets vanish) and counted in info */
+    double max_hole; /* an open surface whose holes all have perimeters at most this fraction of the
+                        bounding-box diagonal is closed (fans from a vertex of each hole, filled by
+                        winding number) and counted in info; larger holes are refused. 0: 0.05;
+                        negative: every open surface is refused */
+    pw_stuff_info *info; /* optional: filled with what the fill found (also on failure) */
 } pw_stuff_options;
 
 PW__DEF pw_stuff_options pw_stuff_default_options(void)
@@ -73,7 +89,9 @@ PW__DEF pw_stuff_options pw_stuff_default_options(void)
     pw_stuff_options o;
     o.cell = 0.0;
     o.target_tets = 20000;
-    o.allow_self_intersections = 0;
+    o.strict = 0;
+    o.max_hole = 0.05;
+    o.info = NULL;
     return o;
 }
 
@@ -501,13 +519,13 @@ PW__DEF int pw__st_boxes_meet(const float *a, const float *b)
     return a[0] <= b[3] && b[0] <= a[3] && a[1] <= b[4] && b[1] <= a[4] && a[2] <= b[5] && b[2] <= a[5];
 }
 
-/* Intersecting triangle pairs among the leaves under nodes x and y; the
- * first found goes to hit[0..1]. */
-PW__DEF void pw__st_pairs(const pw__stsurf *s, int x, int y, int *hit)
+/* Counts the crossing triangle pairs among the leaves under nodes x and y
+ * in hit; the first found goes to hit->first_pair. */
+PW__DEF void pw__st_pairs(const pw__stsurf *s, int x, int y, pw_stuff_info *hit)
 {
     const int *nx = s->node + 3 * x, *ny = s->node + 3 * y;
     int i, j;
-    if (hit[0] >= 0 || !pw__st_boxes_meet(s->box + 6 * x, s->box + 6 * y)) return;
+    if (!pw__st_boxes_meet(s->box + 6 * x, s->box + 6 * y)) return;
     if (nx[2] >= 0 && (x == y || ny[2] < 0 || nx[1] >= ny[1])) {
         if (x == y) pw__st_pairs(s, nx[2], nx[2] + 1, hit);
         pw__st_pairs(s, nx[2], y == x ? nx[2] : y, hit);
@@ -522,7 +540,8 @@ PW__DEF void pw__st_pairs(const pw__stsurf *s, int x, int y, int *hit)
     for (i = nx[0]; i < nx[0] + nx[1]; i++)
         for (j = (x == y ? i + 1 : ny[0]); j < ny[0] + ny[1]; j++) {
             int t = s->slot[i], u = s->slot[j];
-            if (hit[0] < 0 && pw__st_tri_tri(s, t, u)) hit[0] = t < u ? t : u, hit[1] = t < u ? u : t;
+            if (!pw__st_tri_tri(s, t, u)) continue;
+            if (hit->crossing_pairs++ == 0) hit->first_pair[0] = t < u ? t : u, hit->first_pair[1] = t < u ? u : t;
         }
 }
 
@@ -543,28 +562,96 @@ PW__DEF int pw__st_check_values(const float *pos, int nv, const int *tri, int nt
     return PW_OK;
 }
 
+/* Bounding-box diagonal of the vertices used by triangles tri[0..nt). */
+PW__DEF double pw__st_diag(const float *pos, const int *tri, int nt)
+{
+    double lo[3] = {DBL_MAX, DBL_MAX, DBL_MAX}, hi[3] = {-DBL_MAX, -DBL_MAX, -DBL_MAX}, d = 0.0;
+    int i, k;
+    for (i = 0; i < 3 * nt; i++)
+        for (k = 0; k < 3; k++) {
+            double x = pos[3 * tri[i] + k];
+            lo[k] = x < lo[k] ? x : lo[k], hi[k] = x > hi[k] ? x : hi[k];
+        }
+    for (k = 0; nt > 0 && k < 3; k++) d += (hi[k] - lo[k]) * (hi[k] - lo[k]);
+    return sqrt(d);
+}
+
+/* The boundary loop from boundary half-edge h: its edge count, perimeter
+ * and the centre of its vertices; marks its half-edges seen. With fan, its
+ * closing triangles (origin of h, then each later edge reversed) are
+ * appended at fan + 3 * *nfan. */
+PW__DEF int pw__st_loop(const pw_hmesh *hm, const float *pos, int h, unsigned char *seen, double *perim, double *c,
+                        int *fan, int *nfan)
+{
+    int g, k, len = 0, a0 = pw_he_origin(hm, h);
+    double d2;
+    *perim = c[0] = c[1] = c[2] = 0.0;
+    for (g = h; g >= 0 && !seen[g]; g = pw_he_boundary_next(hm, g), len++) {
+        int o = pw_he_origin(hm, g), t = pw_he_dest(hm, g);
+        seen[g] = 1;
+        for (d2 = 0.0, k = 0; k < 3; k++) c[k] += pos[3 * o + k], d2 += (double)(pos[3 * t + k] - pos[3 * o + k]) * (pos[3 * t + k] - pos[3 * o + k]);
+        *perim += sqrt(d2);
+        if (fan && g != h && t != a0) fan[3 * *nfan] = a0, fan[3 * *nfan + 1] = t, fan[3 * *nfan + 2] = o, ++*nfan;
+    }
+    for (k = 0; k < 3; k++) c[k] /= len > 0 ? len : 1;
+    return len;
+}
+
+/* The holes of an open surface: when every hole's perimeter is at most
+ * max_hole, the triangles that close them as fans (*fan, 3 * *nfan ints,
+ * allocated here); else the refusal: how many holes, the largest one's
+ * edge count, perimeter, centre and a vertex on it, and what is needed. */
+PW__DEF int pw__st_holes(const pw_alloc *a, const pw_hmesh *hm, const float *pos, double max_hole, int **fan,
+                         int *nfan, pw_err *e)
+{
+    unsigned char *seen = (unsigned char *)pw_calloc_array(a, (size_t)hm->nh + 1, 1, "boundary loops", e);
+    double c[3], best[3] = {0, 0, 0}, perim, most = -1.0;
+    int h, k, len, blen = 0, vert = -1, r = PW_OK;
+    *fan = NULL, *nfan = 0;
+    if (!seen) return PW_ERR_NOMEM;
+    for (h = 0; h < hm->nh; h++) {
+        if (hm->twin[h] >= 0 || seen[h]) continue;
+        len = pw__st_loop(hm, pos, h, seen, &perim, c, NULL, NULL);
+        if (perim > most)
+            for (most = perim, blen = len, vert = pw_he_origin(hm, h), k = 0; k < 3; k++) best[k] = c[k];
+    }
+    if (most > max_hole)
+        r = pw_fail(e, PW_ERR_TOPOLOGY,
+                    "surface is not closed: %d boundary edges in %d hole%s (the largest: %d edges, perimeter %.4g, "
+                    "around (%.4g, %.4g, %.4g), through vertex %d); a solid needs a closed surface: close the holes "
+                    "(those of perimeter up to %.4g are closed here)",
+                    hm->nboundary, hm->nloops, hm->nloops == 1 ? "" : "s", blen, most, best[0], best[1], best[2],
+                    vert, max_hole);
+    else if (!(*fan = (int *)pw_alloc_array(a, 3 * (size_t)hm->nboundary + 3, sizeof(int), "hole fans", e)))
+        r = PW_ERR_NOMEM;
+    else
+        for (memset(seen, 0, (size_t)hm->nh), h = 0; h < hm->nh; h++)
+            if (hm->twin[h] < 0 && !seen[h]) pw__st_loop(hm, pos, h, seen, &perim, c, *fan, nfan);
+    pw_free(a, seen);
+    return r;
+}
+
 /* Closed and consistently oriented: every half-edge has a twin. The twins
  * (half-edge 3t+k runs from corner k to corner k+1 of triangle t) go to
- * *twin, for the winding-number caps. */
-PW__DEF int pw__st_check_closed(const pw_alloc *a, int nv, const int *tri, int nt, int **twin, pw_err *e)
+ * *twin, for the winding-number caps. An open surface whose holes are
+ * small (perimeter at most max_hole) gives the triangles that close them
+ * in *fan instead (3 * *nfan ints, allocated here), and their count in
+ * *nholes (when not NULL). */
+PW__DEF int pw__st_check_closed(const pw_alloc *a, const float *pos, int nv, const int *tri, int nt, double max_hole,
+                                int **twin, int **fan, int *nfan, int *nholes, pw_err *e)
 {
     pw_hmesh hm;
     int *fs = (int *)pw_alloc_array(a, (size_t)nt + 1, sizeof(int), "triangle offsets", e), i, r;
-    *twin = NULL;
+    *twin = NULL, *fan = NULL, *nfan = 0;
     if (!fs) return PW_ERR_NOMEM;
     for (i = 0; i <= nt; i++) fs[i] = 3 * i;
     r = pw_hmesh_build(a, nv, nt, fs, tri, &hm, e);
     pw_free(a, fs);
     if (r != PW_OK) return r;
-    for (i = 0; i < hm.nh && hm.twin[i] >= 0; i++) continue;
-    if (i < hm.nh)
-        r = pw_fail(e, PW_ERR_TOPOLOGY,
-                    "surface is not closed: %d boundary edges (the first: v%d-v%d of triangle %d); "
-                    "a solid needs a closed surface",
-                    hm.nboundary, tri[i], tri[3 * (i / 3) + (i % 3 + 1) % 3], i / 3);
-    if (r == PW_OK && !(*twin = (int *)pw_alloc_array(a, (size_t)hm.nh, sizeof(int), "half-edge twins", e)))
-        r = PW_ERR_NOMEM;
-    if (r == PW_OK) memcpy(*twin, hm.twin, sizeof(int) * (size_t)hm.nh);
+    if (hm.nboundary > 0 && nholes) *nholes = hm.nloops;
+    if (hm.nboundary > 0) r = pw__st_holes(a, &hm, pos, max_hole, fan, nfan, e);
+    else if (!(*twin = (int *)pw_alloc_array(a, (size_t)hm.nh, sizeof(int), "half-edge twins", e))) r = PW_ERR_NOMEM;
+    else memcpy(*twin, hm.twin, sizeof(int) * (size_t)hm.nh);
     pw_hmesh_free(a, &hm);
     return r;
 }
@@ -592,19 +679,20 @@ PW__DEF void pw__st_measure(pw__stsurf *s, double *vol)
     }
 }
 
-/* Zero-area triangles, then self-intersections (when `pairs`), then the
- * enclosed volume (its sign tells the orientation). */
-PW__DEF int pw__st_check_geometry(pw__stsurf *s, int pairs, pw_err *e)
+/* Self-intersections (counted in info; refused when `strict`, naming the
+ * first pair by the caller's triangle indices, map), then the enclosed
+ * volume (its sign tells the orientation). */
+PW__DEF int pw__st_check_geometry(pw__stsurf *s, const int *map, int strict, pw_stuff_info *info, pw_err *e)
 {
     double vol, size = 0.0;
-    int t, k, hit[2] = {-1, -1};
-    for (t = 0; t < s->nt; t++)
-        if (pw__st_proj_axis(pw__st_corner(s, t, 0), pw__st_corner(s, t, 1), pw__st_corner(s, t, 2)) < 0)
-            return pw_fail(e, PW_ERR_DEGENERATE, "triangle %d (vertices %d, %d, %d) has zero area", t, s->tri[3 * t],
-                           s->tri[3 * t + 1], s->tri[3 * t + 2]);
-    if (pairs) pw__st_pairs(s, 0, 0, hit);
-    if (hit[0] >= 0)
-        return pw_fail(e, PW_ERR_TOPOLOGY, "surface intersects itself: triangles %d and %d cross", hit[0], hit[1]);
+    int k;
+    pw__st_pairs(s, 0, 0, info);
+    if (info->crossing_pairs > 0) {
+        info->first_pair[0] = map[info->first_pair[0]], info->first_pair[1] = map[info->first_pair[1]];
+        if (strict)
+            return pw_fail(e, PW_ERR_TOPOLOGY, "surface intersects itself: %ld triangle pairs cross (the first: %d and %d)",
+                           info->crossing_pairs, info->first_pair[0], info->first_pair[1]);
+    }
     pw__st_measure(s, &vol);
     for (k = 0; k < 3; k++) size += (s->hi[k] - s->lo[k]) * (s->hi[k] - s->lo[k]);
     if (!(fabs(vol) > 1e-12 * size * sqrt(size)))
@@ -714,7 +802,8 @@ PW__DEF double pw__st_closest_tri(const double *p, const double *a, const double
     else if (d6 >= 0.0 && d5 <= d6) v = 0.0, w = 1.0;
     else if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0) v = 0.0, w = d2 / (d2 - d6);
     else if (va <= 0.0 && d4 - d3 >= 0.0 && d5 - d6 >= 0.0) w = (d4 - d3) / ((d4 - d3) + (d5 - d6)), v = 1.0 - w;
-    else v = vb / (va + vb + vc), w = vc / (va + vb + vc);
+    else if (va + vb + vc > 0.0) v = vb / (va + vb + vc), w = vc / (va + vb + vc);
+    else v = w = 0.0; /* a flat triangle: its edges belong to its neighbours too */
     for (k = 0; k < 3; k++) {
         x[k] = a[k] + v * ab[k] + w * ac[k];
         r += (p[k] - x[k]) * (p[k] - x[k]);
@@ -812,7 +901,7 @@ PW__DEF int pw__st_caps(const pw_alloc *a, pw__stsurf *s, const int *twin, pw_er
             if (nn[2] < 0) continue;
             for (i = nn[0]; i < nn[0] + nn[1]; i++)
                 for (k = 0; k < 3; k++) {
-                    int t = s->slot[i], u = where[twin[3 * t + k] / 3];
+                    int t = s->slot[i], tw = twin[3 * t + k], u = tw < 0 ? -1 : where[tw / 3];
                     if (u >= nn[0] && u < nn[0] + nn[1]) continue;
                     if (pass) s->cap[2 * n] = s->tri[3 * t + k], s->cap[2 * n + 1] = s->tri[3 * t + (k + 1) % 3];
                     n++;
@@ -891,7 +980,8 @@ typedef struct pw__st {
     pw_err *e;
     pw__stsurf s;
     int n[3], nb, nlv;   /* cubes per axis; black vertices; all lattice vertices */
-    int unite;           /* self-intersections allowed: cut where the winding number drops below 1/2 */
+    int unite;           /* the surface crosses itself: cut where the winding number drops below 1/2 */
+    int *tri, *map;      /* the triangles used (zero-area ones dropped), the caller's index of each */
     double org[3], h;
     signed char *side;   /* per lattice vertex: +1 inside, -1 outside, 0 not known yet */
     unsigned char *busy; /* per cube: the surface may meet it */
@@ -1548,6 +1638,8 @@ PW__DEF int pw__st_stencils(pw__st *st)
 PW__DEF void pw__st_free(pw__st *st)
 {
     pw__st_surf_free(st->a, &st->s);
+    pw_free(st->a, st->tri);
+    pw_free(st->a, st->map);
     pw_free(st->a, st->side);
     pw_free(st->a, st->busy);
     pw_free(st->a, st->warp);
@@ -1556,6 +1648,97 @@ PW__DEF void pw__st_free(pw__st *st)
     pw_free(st->a, st->opos);
     pw_free(st->a, st->otet);
     memset(st, 0, sizeof *st);
+}
+
+/* Triangles with a repeated corner index, dropped before the closedness
+ * check: their two real edges are one edge traversed both ways, so the
+ * neighbours across them become twins. *out (3 * *n ints) and *map (the
+ * caller's index of each) are allocated here, with room for 3 nt more
+ * triangles (the fans closing holes: fewer than the boundary edges). */
+PW__DEF int pw__st_drop_repeats(const pw_alloc *a, const int *tri, int nt, int **out, int **map, int *n, pw_err *e)
+{
+    int t, k;
+    *out = (int *)pw_alloc_array(a, (size_t)nt * 12 + 3, sizeof(int), "triangles", e); /* room for hole fans */
+    *map = (int *)pw_alloc_array(a, (size_t)nt * 4 + 1, sizeof(int), "triangle map", e);
+    if (!*out || !*map) return PW_ERR_NOMEM;
+    for (*n = 0, t = 0; t < nt; t++) {
+        const int *c = tri + 3 * t;
+        if (c[0] == c[1] || c[1] == c[2] || c[2] == c[0]) continue;
+        for (k = 0; k < 3; k++) (*out)[3 * *n + k] = c[k];
+        (*map)[(*n)++] = t;
+    }
+    return PW_OK;
+}
+
+/* Drops the zero-area triangles (exactly collinear corners) from tri[0..*n)
+ * in place, with their map entries, and renumbers twin (half-edge 3t+k) to
+ * the kept triangles, -1 across a dropped one: for the winding number a
+ * dropped triangle is a cap of zero solid angle, so the caps stay exact.
+ * Dropped triangles of the caller's (map >= 0) are added to *count. */
+PW__DEF int pw__st_drop_flat(const pw_alloc *a, const float *pos, int *tri, int *map, int *twin, int *n, int *count,
+                             pw_err *e)
+{
+    int *to = (int *)pw_alloc_array(a, (size_t)*n + 1, sizeof(int), "triangle renumbering", e), t, k, m = 0;
+    double p[3][3];
+    if (!to) return PW_ERR_NOMEM;
+    for (t = 0; t < *n; t++) {
+        for (k = 0; k < 9; k++) p[k / 3][k % 3] = pos[3 * tri[3 * t + k / 3] + k % 3];
+        to[t] = pw__st_proj_axis(p[0], p[1], p[2]) < 0 ? -1 : m++;
+        *count += to[t] < 0 && map[t] >= 0;
+    }
+    for (t = 0; t < *n; t++) {
+        if (to[t] < 0) continue;
+        for (k = 0; k < 3; k++) {
+            int tw = twin[3 * t + k];
+            tri[3 * to[t] + k] = tri[3 * t + k];
+            twin[3 * to[t] + k] = to[tw / 3] < 0 ? -1 : 3 * to[tw / 3] + tw % 3;
+        }
+        map[to[t]] = map[t];
+    }
+    *n = m;
+    pw_free(a, to);
+    return PW_OK;
+}
+
+/* Appends the hole-closing triangles fan[0 .. 3 nfan) to st->tri (which
+ * has room for them), with caller index -1. */
+PW__DEF void pw__st_add_fans(pw__st *st, const int *fan, int nfan, int *n)
+{
+    int i;
+    memcpy(st->tri + 3 * *n, fan, 3 * (size_t)nfan * sizeof(int));
+    for (i = 0; i < nfan; i++) st->map[*n + i] = -1;
+    *n += nfan;
+}
+
+/* The surface the fill uses: the caller's triangles without the zero-area
+ * ones (counted in info), closed and consistently oriented, with its
+ * hierarchy and winding-number caps. st->tri and st->map own the arrays. */
+PW__DEF int pw__st_surface(pw__st *st, const float *pos, int nv, const int *tri, int nt, double max_hole,
+                           pw_stuff_info *info)
+{
+    int *twin = NULL, *fan = NULL, n = 0, nfan = 0, r;
+    r = pw__st_drop_repeats(st->a, tri, nt, &st->tri, &st->map, &n, st->e);
+    info->skipped_triangles = nt - n;
+    if (r == PW_OK)
+        r = pw__st_check_closed(st->a, pos, nv, st->tri, n, max_hole * pw__st_diag(pos, st->tri, n), &twin, &fan,
+                                &nfan, &info->closed_holes, st->e);
+    if (r == PW_OK && fan) {
+        pw__st_add_fans(st, fan, nfan, &n);
+        pw_free(st->a, fan);
+        r = pw__st_check_closed(st->a, pos, nv, st->tri, n, -1.0, &twin, &fan, &nfan, NULL, st->e);
+    }
+    if (r == PW_OK) r = pw__st_drop_flat(st->a, pos, st->tri, st->map, twin, &n, &info->skipped_triangles, st->e);
+    if (r == PW_OK && n == 0) r = pw_fail(st->e, PW_ERR_DEGENERATE, "surface encloses no volume (every triangle is flat)");
+    if (r == PW_OK) r = pw__st_surf_init(st->a, pos, nv, st->tri, n, &st->s, st->e);
+    if (r == PW_OK) r = pw__st_caps(st->a, &st->s, twin, st->e);
+    pw_free(st->a, twin);
+    return r;
+}
+
+/* The largest hole perimeter closed, as a fraction of the diagonal. */
+PW__DEF double pw__st_max_hole(const pw_stuff_options *o)
+{
+    return !o || o->max_hole == 0.0 ? 0.05 : o->max_hole;
 }
 
 /* Tetrahedralizes the inside of a closed, oriented triangle surface (pos
@@ -1567,12 +1750,11 @@ PW__DEF void pw__st_free(pw__st *st)
  * same bytes out. On failure *out is empty and e names the problem:
  *   PW_ERR_INVALID     NULL arrays, a non-finite coordinate, an index out of
  *                      range, a negative or non-finite option
- *   PW_ERR_DEGENERATE  no triangles, a repeated corner, a zero-area
- *                      triangle, no enclosed volume, a cell so coarse that
- *                      no lattice vertex is inside
- *   PW_ERR_TOPOLOGY    not closed (boundary edges), inconsistent
- *                      orientation, a non-manifold edge or vertex, two
- *                      triangles crossing (unless allowed)
+ *   PW_ERR_DEGENERATE  no triangles, no enclosed volume, a cell so coarse
+ *                      that no lattice vertex is inside
+ *   PW_ERR_TOPOLOGY    not closed (the holes counted, the largest placed),
+ *                      inconsistent orientation, a non-manifold edge or
+ *                      vertex, two triangles crossing (only when strict)
  *   PW_ERR_LIMIT       a lattice above PW_MAX_STUFF_LATTICE vertices, more
  *                      than PW_MAX_MESH_ELEMENTS vertices, triangles or
  *                      tetrahedra
@@ -1581,19 +1763,21 @@ PW__DEF int pw_stuff_tetrahedralize(const pw_alloc *a, const float *pos, int nv,
                                     const pw_stuff_options *o, const pw_progress *p, pw_tetmesh *out, pw_err *e)
 {
     pw__st st;
-    int r, *twin = NULL;
+    pw_stuff_info scratch, *info = o && o->info ? o->info : &scratch;
+    int r;
+    memset(info, 0, sizeof *info);
+    info->first_pair[0] = info->first_pair[1] = -1;
     if (!out) return pw_fail(e, PW_ERR_INVALID, "tetrahedralize: no output mesh");
     memset(out, 0, sizeof *out);
     memset(&st, 0, sizeof st);
     st.a = a, st.prog = p, st.e = e;
     r = pw__st_check_values(pos, nv, tri, nt, e);
+    if (r == PW_OK && o && !pw_is_finite(o->max_hole))
+        r = pw_fail(e, PW_ERR_INVALID, "tetrahedralize: max_hole %g is not finite", o->max_hole);
     if (r == PW_OK) r = pw_report(p, 0.0f, "surface checks", e);
-    if (r == PW_OK) r = pw__st_check_closed(a, nv, tri, nt, &twin, e);
-    if (r == PW_OK) r = pw__st_surf_init(a, pos, nv, tri, nt, &st.s, e);
-    if (r == PW_OK) r = pw__st_caps(a, &st.s, twin, e);
-    pw_free(a, twin);
-    st.unite = o && o->allow_self_intersections;
-    if (r == PW_OK) r = pw__st_check_geometry(&st.s, !st.unite, e);
+    if (r == PW_OK) r = pw__st_surface(&st, pos, nv, tri, nt, pw__st_max_hole(o), info);
+    if (r == PW_OK) r = pw__st_check_geometry(&st.s, st.map, o && o->strict, info, e);
+    st.unite = info->crossing_pairs > 0;
     if (r == PW_OK) r = pw__st_lattice(&st, o);
     if (r == PW_OK) r = pw__st_sides(&st);
     if (r == PW_OK) r = pw__st_cuts(&st);
@@ -1688,13 +1872,209 @@ PW__DEF int pw_stuff_boundary(const pw_alloc *a, const pw_tetmesh *m, int **tri,
     return r;
 }
 
-/* How well the boundary of a tetrahedral mesh follows a surface. */
+/* How well the boundary of a tetrahedral mesh follows a surface. The
+ * sampled figures are the two-sided surface distance: area-weighted dense
+ * samples on one surface, exact point-triangle distance to the other. */
 typedef struct pw_stuff_fit {
     double to_surface_max, to_surface_mean;     /* boundary vertices of the tetrahedra -> surface */
     double from_surface_max, from_surface_mean; /* surface vertices -> boundary of the tetrahedra */
-    double diag;                                /* the surface's bounding-box diagonal, for relative figures */
+    double to_max, to_p99;     /* samples of the tetrahedra's boundary -> surface: largest, 99th percentile */
+    double from_max, from_p99; /* samples of the surface -> boundary of the tetrahedra */
+    double diag;               /* the surface's bounding-box diagonal, for relative figures */
     int boundary_triangles;
+    int pieces; /* connected components of the tetrahedra (joined by shared faces) */
+    int surface_pieces; /* pieces of the solid the surface encloses (pw_stuff_surface_pieces), -1: not counted */
+    int samples; /* samples taken on each side */
 } pw_stuff_fit;
+
+/* Root of x in union-find array up, with path halving. */
+PW__DEF int pw__st_root(int *up, int x)
+{
+    while (up[x] != x) x = up[x] = up[up[x]];
+    return x;
+}
+
+/* Pieces of a tetrahedral mesh: tetrahedra joined by shared faces (nb from
+ * pw_tetmesh_neighbors), by union-find with path halving. */
+PW__DEF int pw_tetmesh_pieces(const pw_alloc *a, const pw_tetmesh *m, const int *nb, pw_err *e)
+{
+    int *up = (int *)pw_alloc_array(a, (size_t)m->nt + 1, sizeof(int), "piece labels", e), t, f, n = 0;
+    if (!up) return -1;
+    for (t = 0; t < m->nt; t++) up[t] = t;
+    for (f = 0; f < 4 * m->nt; f++) {
+        int x, y;
+        if (nb[f] < 0) continue;
+        x = pw__st_root(up, f >> 2), y = pw__st_root(up, nb[f] >> 2);
+        if (x != y) up[x > y ? x : y] = x < y ? x : y;
+    }
+    for (t = 0; t < m->nt; t++) n += up[t] == t;
+    pw_free(a, up);
+    return n;
+}
+
+/* The surface's connected components (triangles sharing a vertex): comp[t]
+ * in 0 .. *nc-1, numbered in order of their first triangle. */
+PW__DEF int pw__st_components(const pw_alloc *a, int nv, const int *tri, int nt, int *comp, int *nc, pw_err *e)
+{
+    int *up = (int *)pw_alloc_array(a, (size_t)nv + 1, sizeof(int), "surface components", e), v, t, k;
+    if (!up) return PW_ERR_NOMEM;
+    for (v = 0; v < nv; v++) up[v] = -1;
+    for (t = 0; t < nt; t++)
+        for (k = 0; k < 3; k++) up[tri[3 * t + k]] = tri[3 * t + k];
+    for (t = 0; t < nt; t++)
+        for (k = 1; k < 3; k++) {
+            int x = pw__st_root(up, tri[3 * t]), y = pw__st_root(up, tri[3 * t + k]);
+            if (x != y) up[x > y ? x : y] = x < y ? x : y;
+        }
+    for (v = 0; v < nv; v++) up[v] = up[v] < 0 ? -1 : pw__st_root(up, v);
+    for (*nc = 0, t = 0; t < nt; t++) { /* roots relabelled -2 - component */
+        int r = up[tri[3 * t]];
+        if (r >= 0 && up[r] >= 0) up[r] = -2 - (*nc)++;
+        comp[t] = r >= 0 ? -2 - up[r] : -2 - up[tri[3 * t]];
+    }
+    pw_free(a, up);
+    return PW_OK;
+}
+
+/* Signed volume of component c and the winding number of the other
+ * components at a corner of its first triangle (solid angles summed, Van
+ * Oosterom & Strackee). */
+PW__DEF void pw__st_weigh(const float *pos, const int *tri, int nt, const int *comp, int c, double *vol, double *w)
+{
+    double p[3] = {0, 0, 0}, q[3][3];
+    int t, k, first = 1;
+    *vol = *w = 0.0;
+    for (t = 0; t < nt; t++) {
+        for (k = 0; k < 9; k++) q[k / 3][k % 3] = pos[3 * tri[3 * t + k / 3] + k % 3];
+        if (comp[t] == c && first)
+            for (first = 0, k = 0; k < 3; k++) p[k] = q[0][k];
+        if (comp[t] == c)
+            *vol += (q[0][0] * (q[1][1] * q[2][2] - q[1][2] * q[2][1]) - q[0][1] * (q[1][0] * q[2][2] - q[1][2] * q[2][0]) +
+                     q[0][2] * (q[1][0] * q[2][1] - q[1][1] * q[2][0])) / 6.0;
+    }
+    for (t = 0; t < nt; t++) {
+        if (comp[t] == c) continue;
+        for (k = 0; k < 9; k++) q[k / 3][k % 3] = pos[3 * tri[3 * t + k / 3] + k % 3];
+        *w += pw__st_solid_angle(p, q[0], q[1], q[2]) / (4.0 * 3.14159265358979323846);
+    }
+}
+
+/* Pieces of the solid that a closed surface without crossings encloses:
+ * its components that face outward (as the whole surface does) and lie
+ * outside the others (their winding number 0 there). A cavity faces
+ * inward; a shell inside a cavity is at winding number 0 again. Crossing
+ * components are counted apart (the solid may have fewer pieces). -1 when
+ * the count would cost more than 5e7 solid angles. */
+PW__DEF int pw_stuff_surface_pieces(const pw_alloc *a, const float *pos, int nv, const int *tri, int nt, int *pieces,
+                                    pw_err *e)
+{
+    int *comp = (int *)pw_alloc_array(a, (size_t)nt + 1, sizeof(int), "surface components", e), nc = 0, c, r;
+    double total = 0.0, *vol, *w;
+    *pieces = -1;
+    if (!comp) return PW_ERR_NOMEM;
+    r = pw__st_components(a, nv, tri, nt, comp, &nc, e);
+    vol = (double *)pw_alloc_array(a, 2 * (size_t)nc + 2, sizeof(double), "surface components", e);
+    if (r == PW_OK && !vol) r = PW_ERR_NOMEM;
+    if (r == PW_OK && (double)nc * nt <= 5e7) {
+        w = vol + nc;
+        for (c = 0; c < nc; c++) pw__st_weigh(pos, tri, nt, comp, c, vol + c, w + c), total += vol[c];
+        for (*pieces = 0, c = 0; c < nc; c++)
+            *pieces += (total < 0.0 ? -vol[c] : vol[c]) > 0.0 && fabs(w[c]) < 0.5;
+    }
+    pw_free(a, vol);
+    pw_free(a, comp);
+    return r;
+}
+
+/* A distance sample and its area weight. */
+typedef struct pw__stsample {
+    double d, w;
+} pw__stsample;
+
+PW__DEF int pw__st_sample_cmp(const void *x, const void *y)
+{
+    double a = ((const pw__stsample *)x)->d, b = ((const pw__stsample *)y)->d;
+    return (a > b) - (a < b);
+}
+
+/* Sub-triangle side count for triangle t of (pos, tri) so that its pieces
+ * have about area a0; *area gets the triangle's area. */
+PW__DEF int pw__st_sample_split(const float *pos, const int *tri, int t, double a0, double *area)
+{
+    double u[3], v[3], n[3], k;
+    int i;
+    for (i = 0; i < 3; i++) {
+        u[i] = (double)pos[3 * tri[3 * t + 1] + i] - pos[3 * tri[3 * t] + i];
+        v[i] = (double)pos[3 * tri[3 * t + 2] + i] - pos[3 * tri[3 * t] + i];
+    }
+    pw__st_cross(u, v, n);
+    *area = 0.5 * sqrt(pw__st_dot(n, n));
+    k = ceil(sqrt(*area / a0));
+    return k < 1.0 ? 1 : k > 256.0 ? 256 : (int)k;
+}
+
+/* The distance from barycentric point (l1, l2) of triangle t to surface s,
+ * recorded with weight w. */
+PW__DEF void pw__st_sample_at(const float *pos, const int *tri, int t, double l1, double l2, double w,
+                              const pw__stsurf *s, pw__stsample *out)
+{
+    double p[3], x[3];
+    int i;
+    for (i = 0; i < 3; i++)
+        p[i] = (1.0 - l1 - l2) * pos[3 * tri[3 * t] + i] + l1 * pos[3 * tri[3 * t + 1] + i] +
+               l2 * pos[3 * tri[3 * t + 2] + i];
+    out->d = sqrt(pw__st_closest(s, p, x)), out->w = w;
+}
+
+/* Samples of triangle t split into k*k congruent pieces: their centroids
+ * (weight: the piece's area) and the corners (weight 0, for the maximum). */
+PW__DEF size_t pw__st_sample_tri(const float *pos, const int *tri, int t, int k, double area, const pw__stsurf *s,
+                                 pw__stsample *out)
+{
+    double w = area / ((double)k * k);
+    size_t n = 0;
+    int i, j;
+    for (i = 0; i < k; i++)
+        for (j = 0; i + j < k; j++) {
+            pw__st_sample_at(pos, tri, t, (i + 1.0 / 3.0) / k, (j + 1.0 / 3.0) / k, w, s, out + n++);
+            if (i + j + 2 <= k) pw__st_sample_at(pos, tri, t, (i + 2.0 / 3.0) / k, (j + 2.0 / 3.0) / k, w, s, out + n++);
+        }
+    pw__st_sample_at(pos, tri, t, 0.0, 0.0, 0.0, s, out + n++);
+    pw__st_sample_at(pos, tri, t, 1.0, 0.0, 0.0, s, out + n++);
+    pw__st_sample_at(pos, tri, t, 0.0, 1.0, 0.0, s, out + n++);
+    return n;
+}
+
+/* Largest and area-weighted 99th-percentile distance from about `want`
+ * area-weighted samples on triangles tri of pos to surface s. */
+PW__DEF int pw__st_sampled_dist(const pw_alloc *a, const float *pos, const int *tri, int nt, const pw__stsurf *s,
+                                int want, double *dmax, double *p99, int *count, pw_err *e)
+{
+    double total = 0.0, area, a0, acc = 0.0;
+    size_t n = 0, i;
+    int t;
+    pw__stsample *sm;
+    for (t = 0; t < nt; t++) pw__st_sample_split(pos, tri, t, 1e300, &area), total += area;
+    a0 = total > 0.0 ? total / (want > 0 ? want : 1) : 1.0;
+    for (t = 0; t < nt; t++) {
+        int k = pw__st_sample_split(pos, tri, t, a0, &area);
+        n += (size_t)k * k + 3;
+    }
+    if (!(sm = (pw__stsample *)pw_alloc_array(a, n + 1, sizeof *sm, "fit samples", e))) return PW_ERR_NOMEM;
+    for (n = 0, t = 0; t < nt; t++) {
+        int k = pw__st_sample_split(pos, tri, t, a0, &area);
+        n += pw__st_sample_tri(pos, tri, t, k, area, s, sm + n);
+    }
+    qsort(sm, n, sizeof *sm, pw__st_sample_cmp);
+    *dmax = n ? sm[n - 1].d : 0.0, *p99 = *dmax, *count = (int)n;
+    for (i = 0; i < n; i++)
+        if ((acc += sm[i].w) >= 0.99 * total) {
+            *p99 = sm[i].d;
+            break;
+        }
+    pw_free(a, sm);
+    return PW_OK;
+}
 
 /* Largest and mean distance from the vertices used by triangles tri of
  * positions pos to surface s. */
@@ -1719,16 +2099,29 @@ PW__DEF int pw__st_vertex_dist(const pw_alloc *a, const float *pos, int nv, cons
     return PW_OK;
 }
 
+/* The piece count of m. */
+PW__DEF int pw__st_pieces_of(const pw_alloc *a, const pw_tetmesh *m, int *pieces, pw_err *e)
+{
+    int *nb = (int *)pw_alloc_array(a, (size_t)m->nt * 4 + 1, sizeof(int), "face adjacency", e), r;
+    if (!nb) return PW_ERR_NOMEM;
+    r = pw_tetmesh_neighbors(a, m, nb, e);
+    if (r == PW_OK && (*pieces = pw_tetmesh_pieces(a, m, nb, e)) < 0) r = PW_ERR_NOMEM;
+    pw_free(a, nb);
+    return r;
+}
+
 /* Measures how well the boundary of m matches the closed surface (pos, nv,
  * tri, nt): distances from the boundary vertices of m to the surface and
- * from the surface's vertices to the boundary of m, in mesh units (divide
- * by fit->diag for relative figures). */
+ * from the surface's vertices to the boundary of m, the two-sided sampled
+ * distance (about `samples` samples a side, 0: 100000) and the pieces of m,
+ * in mesh units (divide by fit->diag for relative figures). */
 PW__DEF int pw_stuff_fit_measure(const pw_alloc *a, const float *pos, int nv, const int *tri, int nt,
-                                 const pw_tetmesh *m, pw_stuff_fit *fit, pw_err *e)
+                                 const pw_tetmesh *m, int samples, pw_stuff_fit *fit, pw_err *e)
 {
     pw__stsurf s, b;
     int *btri = NULL, nb = 0, r, k;
     memset(fit, 0, sizeof *fit);
+    if (samples <= 0) samples = 100000;
     memset(&s, 0, sizeof s);
     memset(&b, 0, sizeof b);
     r = pw__st_check_values(pos, nv, tri, nt, e);
@@ -1739,6 +2132,12 @@ PW__DEF int pw_stuff_fit_measure(const pw_alloc *a, const float *pos, int nv, co
     if (r == PW_OK) r = pw__st_vertex_dist(a, m->pos, m->nv, btri, nb, &s, &fit->to_surface_max, &fit->to_surface_mean, e);
     if (r == PW_OK)
         r = pw__st_vertex_dist(a, pos, nv, tri, nt, &b, &fit->from_surface_max, &fit->from_surface_mean, e);
+    if (r == PW_OK)
+        r = pw__st_sampled_dist(a, m->pos, btri, nb, &s, samples, &fit->to_max, &fit->to_p99, &fit->samples, e);
+    if (r == PW_OK)
+        r = pw__st_sampled_dist(a, pos, tri, nt, &b, samples, &fit->from_max, &fit->from_p99, &fit->samples, e);
+    if (r == PW_OK) r = pw__st_pieces_of(a, m, &fit->pieces, e);
+    if (r == PW_OK) r = pw_stuff_surface_pieces(a, pos, nv, tri, nt, &fit->surface_pieces, e);
     for (k = 0; k < 3; k++) fit->diag += (s.hi[k] - s.lo[k]) * (s.hi[k] - s.lo[k]);
     fit->diag = sqrt(fit->diag);
     fit->boundary_triangles = nb;

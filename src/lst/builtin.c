@@ -8,6 +8,23 @@
 
 /* ---- tetrahedral meshes -------------------------------------------------------------------- */
 
+/* What the fill found, and the two-sided fit of its boundary (30000
+ * samples a side) relative to the surface's diagonal. */
+static int lst__tet_report(const pw_alloc *a, const pw_mesh *tri, const pw_tetmesh *tm, const pw_stuff_info *info,
+                           lst_tet_report *rep, pw_err *e)
+{
+    pw_stuff_fit fit;
+    int r = pw_stuff_fit_measure(a, tri->pos, tri->nv, tri->fv, tri->nf, tm, 30000, &fit, e);
+    memset(rep, 0, sizeof *rep);
+    rep->crossing_pairs = info->crossing_pairs, rep->skipped_triangles = info->skipped_triangles;
+    rep->closed_holes = info->closed_holes;
+    if (r != PW_OK) return r;
+    rep->pieces = fit.pieces, rep->surface_pieces = fit.surface_pieces;
+    rep->fit_max = (fit.to_max > fit.from_max ? fit.to_max : fit.from_max) / fit.diag;
+    rep->fit_p99 = (fit.to_p99 > fit.from_p99 ? fit.to_p99 : fit.from_p99) / fit.diag;
+    return PW_OK;
+}
+
 LSTDEF lst_result lst_tetrahedralize(const lst_mesh *surface, const lst_tet_options *to, const lst_options *opt,
                                      lst_tetmesh *out, lst_error *err)
 {
@@ -15,24 +32,30 @@ LSTDEF lst_result lst_tetrahedralize(const lst_mesh *surface, const lst_tet_opti
     pw_alloc a = lst__alloc(&o.allocator);
     pw_progress p = lst__progress(&o);
     pw_stuff_options so = pw_stuff_default_options();
+    pw_stuff_info info;
     pw_mesh m, tri;
     pw_tetmesh tm;
     pw_err e;
     pw_err_clear(&e);
     if (out) memset(out, 0, sizeof *out);
     memset(&tri, 0, sizeof tri);
+    memset(&tm, 0, sizeof tm);
     if (to) {
-        so.cell = to->cell, so.allow_self_intersections = to->allow_self_intersections;
+        so.cell = to->cell, so.strict = to->strict, so.max_hole = to->max_hole, so.info = &info;
         if (to->target_tets > 0) so.target_tets = to->target_tets;
     }
     if (!surface || !out) pw_fail(&e, PW_ERR_INVALID, "lst_tetrahedralize: NULL argument");
-    else if (!(so.cell >= 0.0) || !pw_is_finite(so.cell) || (to && to->target_tets < 0))
-        pw_fail(&e, PW_ERR_INVALID, "tetrahedralize: cell %g or target %d is invalid", so.cell, to ? to->target_tets : 0);
+    else if (!(so.cell >= 0.0) || !pw_is_finite(so.cell) || !pw_is_finite(so.max_hole) || (to && to->target_tets < 0))
+        pw_fail(&e, PW_ERR_INVALID, "tetrahedralize: cell %g, target %d or max_hole %g is invalid", so.cell,
+                to ? to->target_tets : 0, so.max_hole);
     else {
         m = lst__pw_mesh(surface);
         if (pw_mesh_validate(&m, &e) == PW_OK && pw_mesh_triangulate(&a, &m, &tri, NULL, &e) == PW_OK &&
-            pw_stuff_tetrahedralize(&a, tri.pos, tri.nv, tri.fv, tri.nf, &so, &p, &tm, &e) == PW_OK)
+            pw_stuff_tetrahedralize(&a, tri.pos, tri.nv, tri.fv, tri.nf, &so, &p, &tm, &e) == PW_OK &&
+            (!to || !to->report || lst__tet_report(&a, &tri, &tm, &info, to->report, &e) == PW_OK))
             lst__take_tets(&tm, &a, out);
+        else if (tm.tet)
+            pw_tetmesh_free(&a, &tm);
     }
     pw_mesh_free(&a, &tri);
     return lst__done(&e, err);
@@ -309,9 +332,13 @@ LSTDEF lst_result lst_builtin_surface(const char *name, const lst_options *opt, 
     else if (!strcmp(name, "sphere")) pw_shape_geosphere(&a, 8, &m, &e);
     else if (!strcmp(name, "torus")) pw_shape_torus(&a, 48, 24, 0, &m, &e);
     else if (!strcmp(name, "bumpy")) pw_shape_bumpy(&a, 12, &m, &e);
+    else if (!strcmp(name, "dumbbell")) pw_shape_dumbbell(&a, 0.0332, 48, &m, &e); /* neck 1% of the diagonal */
+    else if (!strcmp(name, "star")) pw_shape_star(&a, 12, 3.0, &m, &e);
     else if (!strcmp(name, "kiwi")) lst__implicit(&a, lst__kiwi_shape, kiwi_lo, 2.6 / 48, 48, &m, &e);
     else if (!strcmp(name, "tree")) lst__implicit(&a, lst__tree_shape, tree_lo, 3.4 / 64, 64, &m, &e);
-    else pw_fail(&e, PW_ERR_INVALID, "unknown built-in surface '%s' (sphere, torus, bumpy, kiwi, tree)", name);
+    else
+        pw_fail(&e, PW_ERR_INVALID, "unknown built-in surface '%s' (sphere, torus, bumpy, kiwi, tree, dumbbell, star)",
+                name);
     if (e.code == PW_OK) lst__take_mesh(&m, &a, out);
     else pw_mesh_free(&a, &m);
     return lst__done(&e, err);

@@ -348,14 +348,33 @@ LSTDEF const char *lst_result_string(lst_result r);
 
 /* Tetrahedralizes the inside of a closed, oriented surface (isosurface
  * stuffing, Labelle & Shewchuk 2007: dihedral angles 10.2-161.7 degrees,
- * the boundary within about a cell of the surface). Open, non-manifold or
- * self-intersecting surfaces are refused with a message naming the
- * problem (unless allow_self_intersections). */
+ * the boundary within about a cell of the surface). The solid is where the
+ * surface's generalised winding number is at least 1/2, so a closed surface
+ * whose triangles cross is filled (counted in the report) unless strict;
+ * zero-area triangles are skipped; small holes are closed. Other open
+ * surfaces and non-manifold ones are refused with a message naming the
+ * problem (for an open one: how many holes, and where the largest is). */
+typedef struct lst_tet_report {
+    long crossing_pairs;   /* triangle pairs of the surface that cross */
+    int skipped_triangles; /* zero-area triangles the solid does not depend on */
+    int closed_holes;      /* small holes of an open surface closed (see max_hole) */
+    int pieces;            /* connected components of the tetrahedra (joined by shared faces) */
+    int surface_pieces;    /* pieces of the solid the surface encloses (crossing parts counted apart),
+                              -1: not counted (too many components) */
+    double fit_max;        /* two-sided distance between the boundary of the tetrahedra and the surface
+                              (dense area-weighted samples both ways), largest, over the surface's
+                              bounding-box diagonal */
+    double fit_p99;        /* the same, the larger of the two 99th percentiles */
+} lst_tet_report;
 typedef struct lst_tet_options {
     double cell;                  /* lattice spacing, mesh units; 0: chosen from target_tets */
     int target_tets;              /* approximate tetrahedron count; 0: 20000 */
-    int allow_self_intersections; /* 1: a closed surface whose triangles cross is filled where
-                                     its winding number is at least 1/2 */
+    int allow_self_intersections; /* accepted and ignored: crossing surfaces are filled by default */
+    int strict;                   /* 1: refuse a surface whose triangles cross, naming the first pair */
+    double max_hole;              /* holes whose perimeters are at most this fraction of the bounding-box
+                                     diagonal are closed; 0: 0.05; negative: open surfaces refused */
+    lst_tet_report *report;       /* optional: filled with what the input held and how well the
+                                     tetrahedra fit it (the fit costs about 0.1-0.5 s) */
 } lst_tet_options;
 LSTDEF lst_result lst_tetrahedralize(const lst_mesh *surface, const lst_tet_options *to, const lst_options *opt,
                                      lst_tetmesh *out, lst_error *err);
@@ -442,7 +461,9 @@ LSTDEF lst_result lst_render_volume(const lst_model *model, const lst_render_opt
 /* ---- built-in data ---- */
 
 /* Surfaces: "sphere", "torus", "bumpy", "kiwi" (an egg-shaped fruit along
- * z), "tree" (a trunk along z with two branches). */
+ * z), "tree" (a trunk along z with two branches), and two thin shapes that
+ * test the tetrahedralizer: "dumbbell" (two unit balls, a neck 1% of the
+ * diagonal thick) and "star" (a ball with 12 long thin spikes). */
 LSTDEF lst_result lst_builtin_surface(const char *name, const lst_options *opt, lst_mesh *out, lst_error *err);
 /* The constraints that go with a built-in surface ("kiwi": depth 0 on the
  * skin and 1 along the axis, direction along the axis; "tree": depth 0 on

@@ -116,6 +116,31 @@ printf 'fill 0 0\npoint 0 0 0 1\n' > $tmp/depth.txt
 printf 'dir 0 0 0 0 0 1\nscale 0 0 0 0.5\n' > $tmp/dirs.txt
 run files $small --type 2b --depth $tmp/depth.txt --directions $tmp/dirs.txt --out-lst $tmp/d8.lst && pass constraint_files
 
+# ---- what the fill reports; self-intersecting surfaces ------------------------------
+
+# Two octahedra overlapping along x: closed, consistently oriented, crossing.
+oct() { # X: the 6 vertices of an octahedron of radius 1 centred at (X, 0, 0)
+    printf '%s 0 0\n%s 0 0\n%s 1 0\n%s -1 0\n%s 0 1\n%s 0 -1\n' $(($1 + 1)) $(($1 - 1)) $1 $1 $1 $1
+}
+octf() { # B: its 8 triangles, counter-clockwise seen from outside, vertex numbers from B
+    for f in "0 2 4" "2 1 4" "1 3 4" "3 0 4" "2 0 5" "1 2 5" "3 1 5" "0 3 5"; do
+        echo $f | awk -v b=$1 '{ print 3, $1 + b, $2 + b, $3 + b }'
+    done
+}
+{ printf 'OFF\n12 16 0\n'; oct 0; oct 1; octf 0; octf 6; } > $tmp/cross.off
+cross="--mesh $tmp/cross.off --tet-count 2000 --exemplar procedural:spots --exemplar-size 16"
+"$bin" lst $cross --out-lst $tmp/c1.lst > $tmp/cross.log 2> $tmp/cross.err
+if [ $? -eq 0 ] && grep -q 'crosses itself ([0-9]* triangle pairs)' $tmp/cross.err && [ "$(wc -l < $tmp/cross.err)" -eq 1 ]
+then pass crossing_filled; else fail crossing_filled "$(head -2 $tmp/cross.err | tr '\n' '|')"; fi
+if grep -q '^lst: [0-9]* tetrahedra, [0-9]* vertices, boundary within [0-9.]*% of the surface (99%: [0-9.]*%), 1 piece,' \
+    $tmp/cross.log; then pass fit_reported; else fail fit_reported "$(head -1 $tmp/cross.log)"; fi
+"$bin" lst --mesh procedural:dumbbell --tet-count 3000 --exemplar procedural:spots --exemplar-size 16 \
+    --out-lst $tmp/db.lst > $tmp/db.log 2> $tmp/db.err
+if [ $? -eq 0 ] && grep -q 'warning: the tetrahedra make 2 pieces where the surface encloses 1' $tmp/db.err
+then pass pieces_warning; else fail pieces_warning "$(head -2 $tmp/db.err | tr '\n' '|')"; fi
+"$bin" lst $cross --allow-self-intersections --out-lst $tmp/c2.lst > /dev/null 2>&1
+if cmp -s $tmp/c1.lst $tmp/c2.lst; then pass allow_is_default; else fail allow_is_default "outputs differ"; fi
+
 # ---- inputs read back from the command's own outputs ------------------------------
 
 if [ -f $o.node ]; then
@@ -139,7 +164,8 @@ expect_error bad_type "--type" $small --type 3c --out-lst $tmp/out/x.lst
 expect_error bad_cut "--cut" $small --cut "1 2 3" --out-lst $tmp/out/x.lst
 expect_error section_needs_cut "needs a --cut" $small --out-section $tmp/out/x.png
 expect_error missing_mesh "cannot open" --mesh $tmp/none.off --exemplar procedural:spots --out-lst $tmp/out/x.lst
-expect_error open_mesh "not closed" --mesh $tmp/open.off --exemplar procedural:spots --out-lst $tmp/out/x.lst
+expect_error open_mesh "not closed: 4 boundary edges in 1 hole (the largest: 4 edges" --mesh $tmp/open.off --exemplar procedural:spots --out-lst $tmp/out/x.lst
+expect_error strict "intersects itself: [0-9]* triangle pairs cross" $cross --strict --out-lst $tmp/out/x.lst
 expect_error unknown_surface "unknown built-in surface" --mesh procedural:cube --exemplar procedural:spots --out-lst $tmp/out/x.lst
 expect_error unknown_exemplar "unknown built-in exemplar" $small --exemplar procedural:marble --out-lst $tmp/out/x.lst
 expect_error bad_nrrd "bad.nrrd" --mesh procedural:sphere --tet-count 800 --exemplar $tmp/bad.nrrd --out-lst $tmp/out/x.lst
