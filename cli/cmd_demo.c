@@ -371,12 +371,14 @@ static tiled_result demo_lst_scene(const char *dir, const lst_scene *s, tiled_er
     for (k = 0; k < 2 && r == TILED_OK; k++)
         if (s->cuts[k][0] || s->cuts[k][1] || s->cuts[k][2]) r = demo_lst_section(dir, s, k, &m, ro, err);
     ro.displace = 0.0f;
+    for (k = 0; k < 3; k++) ro.view_dir[k] = s->view[k] - s->cuts[0][k]; /* tilted towards the cut face */
     if (r == TILED_OK && (lst_cut_plane(&m, s->cuts[0], &le) != LST_OK || lst_render(&m, &ro, &pic, &le) != LST_OK))
         r = DEMO_ERROR(&le, err);
     snprintf(name, sizeof name, "%s_cut", s->name);
     if (r == TILED_OK) r = DEMO_WRITE(dir, name, &pic, err);
     lst_image_free(&pic);
     lst_uncut(&m);
+    memcpy(ro.view_dir, s->view, sizeof ro.view_dir);
     ro.width = demo_size(400, 4, 100), ro.height = demo_size(330, 4, 83);
     vo.slices = demo_size(200, 4, 50);
     if (r == TILED_OK && s->volume && lst_render_volume(&m, &ro, &vo, &pic, &le) != LST_OK) r = DEMO_ERROR(&le, err);
