@@ -41,6 +41,8 @@ static const char *lapped_usage =
     "  --out-atlas IMG      the lapped texture baked into the atlas (needs --out-obj)\n"
     "  --out-glb FILE.glb   binary glTF 2.0: the mesh with the baked atlas inside\n"
     "  --atlas-size PX      atlas side (default 1024)\n"
+    "  --max-pastes N       refuse textures needing more pastes (default 200000;\n"
+    "                       a scale that would need more is refused before any work)\n"
     "  --out-channel-image IMG  the --channel images pasted the same way, rendered\n"
     "  --out-channel-atlas IMG  ... baked into an atlas of the same layout as\n"
     "                       --out-atlas (needs --out-obj)\n";
@@ -132,6 +134,7 @@ static int parse_one(cli_args *a, lapped_cmd *c)
     if (cli_is(a, "--out-channel-image")) return cli_value(a, &c->out_channel_image);
     if (cli_is(a, "--out-channel-atlas")) return cli_value(a, &c->out_channel_atlas);
     if (cli_is(a, "--atlas-size")) return cli_int(a, 64, 16384, &c->ao.size);
+    if (cli_is(a, "--max-pastes")) return cli_int(a, 1, 100000000, &c->opt.max_pastes);
     cli_error("lapped", "unknown option '%s' (try patchwork lapped --help)", a->argv[a->i]);
     return 0;
 }

@@ -1328,17 +1328,23 @@ static int lapped__setup(lapped__paster *P, const lapped_mesh *mesh, const lappe
     if ((r = lapped__field(P->a, &P->m, &P->o.field, P->fs, P->ft, e)) != PW_OK ||
         (r = lapped__difficulty(P->a, &P->m, P->o.field.mode == LAPPED_FIELD_ISOTROPIC ? NULL : P->ft,
                                P->difficulty, e)) != PW_OK ||
-        (r = lapped__setup_patches(P, patches, npatches, e)) != PW_OK ||
-        (r = lapped__cover_init(P->a, &P->m, P->ft, lapped__max_side(P), P->o.coverage, &P->cover, e)) != PW_OK ||
-        (r = lapped__patchbuf_init(P->a, &P->m, &P->pb, e)) != PW_OK)
+        (r = lapped__setup_patches(P, patches, npatches, e)) != PW_OK)
         return r;
+    /* before the coverage lattice, whose size grows as the scale shrinks:
+     * the count a fill would reach is 1.4-1.6 times the area estimate
+     * (CGAL's elephant, cow, knot and mushroom at four scales), so 1.5
+     * times it beyond the limit is refused at once, not after the limit */
     *estimate = lapped__estimate(P);
-    if (*estimate > P->o.max_pastes)
-        return pw_fail(e, PW_ERR_LIMIT, "the texture scale is too small for this mesh: covering it would "
-                       "take about %.0f pastes (limit %d, see max_pastes)", *estimate, P->o.max_pastes);
+    if (1.5 * *estimate > P->o.max_pastes)
+        return pw_fail(e, PW_ERR_LIMIT, "the texture scale is too small for this mesh: covering it would take about "
+                       "%.0f pastes, over the limit of %d (lapped_options.max_pastes; --max-pastes)", 1.5 * *estimate,
+                       P->o.max_pastes);
     if (lapped__len_d(P->ft) > 20.0 * P->m.diag)
         return pw_fail(e, PW_ERR_INVALID, "the texture scale %g is more than 20 times the mesh's size "
                        "(%g): one patch would have to cover the whole mesh", lapped__len_d(P->ft), P->m.diag);
+    if ((r = lapped__cover_init(P->a, &P->m, P->ft, lapped__max_side(P), P->o.coverage, &P->cover, e)) != PW_OK ||
+        (r = lapped__patchbuf_init(P->a, &P->m, &P->pb, e)) != PW_OK)
+        return r;
     P->rng = pw_rng_seed(P->o.seed, 5);
     return PW_OK;
 }
@@ -1359,7 +1365,7 @@ static int lapped__run(lapped__paster *P, double estimate, pw_err *e)
     while (r == PW_OK && P->cover.nopen > 0) {
         if (P->npastes >= (size_t)P->o.max_pastes)
             r = pw_fail(e, PW_ERR_LIMIT, "stopped after %d pastes with %d triangles still uncovered "
-                        "(see max_pastes)", P->o.max_pastes, P->cover.nopen);
+                        "(lapped_options.max_pastes; --max-pastes)", P->o.max_pastes, P->cover.nopen);
         else if (P->npastes % 16 == 0)
             r = pw_report(&pr, 1.0f - (float)P->cover.nopen / (float)P->m.nf, "pasting", e);
         if (r == PW_OK) r = lapped__paste(P, (double)P->npastes < P->o.early * estimate, &tr, x, b, e);

@@ -388,3 +388,11 @@ expect_error channel_alone "go together" $mesh $dots --channel "$tmp/ch_gray.pgm
 expect_error channel_size "size" $mesh $dots --channel "$tmp/ch_src.ppm" --out-channel-image "$tmp/out/cc.png"
 expect_error same_path "named by two outputs" $mesh $dots --out-image "$tmp/out/x.png" --out-pastes "$tmp/out/x.png"
 expect_error zero_up "zero up vector" $mesh $dots --field up:0,0,0 $out
+
+# a scale needing more pastes than --max-pastes is refused before any work,
+# with the estimate (the elephant at 0.006 used to run 71 s and 388 MB
+# before stopping at the limit)
+expect_error max_pastes_up_front "would take about [0-9]* pastes, over the limit of 50" \
+    --mesh procedural:bumpy --texture procedural:dots --max-pastes 50 --out-image "$tmp/out/x.png"
+expect_error max_pastes_range "--max-pastes: '0' is not a whole number in 1..100000000" \
+    --mesh procedural:bumpy --texture procedural:dots --max-pastes 0 --out-image "$tmp/out/x.png"
