@@ -72,9 +72,16 @@ tiled_result cli_write_image(cli_outputs *o, const char *final_path, const tiled
 /* Format name ("png", "ppm", "pgm", "pam") for a path, NULL if unknown. */
 const char *cli_image_format(const char *path);
 
-/* A --out-glb path must end in .glb (checked before any work): else an
- * error naming `cmd` and 0. */
-int cli_check_glb(const char *cmd, const char *path);
+/* The outputs of a command, checked before any work (cli_check_outputs):
+ * the extension fits the kind, and the folder accepts a file (else the
+ * reason, errno's text). NULL paths are skipped. Returns 0 after printing
+ * one error naming the flag. */
+enum { CLI_OUT_ANY, CLI_OUT_IMAGE, CLI_OUT_OBJ, CLI_OUT_GLB, CLI_OUT_NRRD, CLI_OUT_PAM, CLI_OUT_PREFIX };
+typedef struct cli_out {
+    const char *flag, *path;
+    int kind;
+} cli_out;
+int cli_check_outputs(const char *cmd, const cli_out *outs, int n);
 
 /* `path` with its extension replaced by `ext`. */
 void cli_with_ext(const char *path, const char *ext, char *out, size_t size);

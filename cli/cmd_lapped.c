@@ -171,7 +171,17 @@ static int parse(int argc, char **argv, lapped_cmd *c)
         cli_error("lapped", "--out-channel-atlas needs --out-obj and --out-atlas");
         return 0;
     }
-    if (c->out_glb && !cli_check_glb("lapped", c->out_glb)) return 0;
+    {
+        const cli_out outs[8] = {{"--out-pastes", c->out_pastes, CLI_OUT_ANY},
+                                 {"--out-patch", c->out_patch, CLI_OUT_PAM},
+                                 {"--out-image", c->out_image, CLI_OUT_IMAGE},
+                                 {"--out-obj", c->out_obj, CLI_OUT_OBJ},
+                                 {"--out-atlas", c->out_atlas, CLI_OUT_IMAGE},
+                                 {"--out-glb", c->out_glb, CLI_OUT_GLB},
+                                 {"--out-channel-image", c->out_channel_image, CLI_OUT_IMAGE},
+                                 {"--out-channel-atlas", c->out_channel_atlas, CLI_OUT_IMAGE}};
+        if (!cli_check_outputs("lapped", outs, 8)) return 0;
+    }
     if (!c->out_pastes && !c->out_patch && !c->out_image && !c->out_obj && !c->out_channel_image && !c->out_glb) {
         cli_error("lapped", "nothing to write: give --out-pastes, --out-patch, --out-image, "
                   "--out-obj, --out-glb or --out-channel-image");

@@ -244,6 +244,13 @@ static int parse_check(const lst_cmd *c)
     if (c->out_tets && !ends_with(c->out_tets, ".node") && !ends_with(c->out_tets, ".mesh"))
         return bad("--out-tets (FILE.node or FILE.mesh)", c->out_tets);
     if (c->out_exemplar && !ends_with(c->out_exemplar, ".nrrd")) return bad("--out-exemplar (FILE.nrrd)", c->out_exemplar);
+    {
+        const cli_out outs[7] = {{"--out-lst", c->out_lst, CLI_OUT_ANY},          {"--out-masks", c->out_masks, CLI_OUT_PREFIX},
+                                 {"--out-exemplar", c->out_exemplar, CLI_OUT_NRRD}, {"--out-image", c->out_image, CLI_OUT_IMAGE},
+                                 {"--out-section", c->out_section, CLI_OUT_IMAGE}, {"--out-volume", c->out_volume, CLI_OUT_IMAGE},
+                                 {"--out-tets", c->out_tets, CLI_OUT_ANY}};
+        if (!cli_check_outputs("lst", outs, 7)) return 0;
+    }
     if (c->out_section && !c->ncuts) {
         cli_error("lst", "--out-section needs a --cut");
         return 0;

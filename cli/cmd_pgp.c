@@ -186,9 +186,11 @@ static int parse(int argc, char **argv, pgp_cmd *c)
         cli_error("pgp", "--texture takes an image file; use --tile procedural:%s", name);
         return 0;
     }
-    if (c->out_tile && (strlen(c->out_tile) < 6 || strcmp(c->out_tile + strlen(c->out_tile) - 5, ".nrrd"))) {
-        cli_error("pgp", "--out-tile: '%s' does not end in .nrrd", c->out_tile);
-        return 0;
+    {
+        const cli_out outs[3] = {{"--out-image", c->out_image, CLI_OUT_IMAGE},
+                                 {"--out-obj", c->out_obj, CLI_OUT_OBJ},
+                                 {"--out-tile", c->out_tile, CLI_OUT_NRRD}};
+        if (!cli_check_outputs("pgp", outs, 3)) return 0;
     }
     if (!c->out_image && !c->out_obj && !c->out_tile) {
         cli_error("pgp", "nothing to write: give --out-image, --out-obj or --out-tile");

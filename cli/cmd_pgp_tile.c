@@ -115,9 +115,15 @@ static int parse(int argc, char **argv, tile_cmd *c)
                   c->nkeys);
         return 0;
     }
-    if (!c->out || strlen(c->out) < 6 || strcmp(c->out + strlen(c->out) - 5, ".nrrd")) {
-        cli_error("pgp-tile", c->out ? "--out: '%s' does not end in .nrrd" : "--out FILE.nrrd is required", c->out);
+    if (!c->out) {
+        cli_error("pgp-tile", "--out FILE.nrrd is required");
         return 0;
+    }
+    {
+        const cli_out outs[3] = {{"--out", c->out, CLI_OUT_NRRD},
+                                 {"--out-slices", c->slices, CLI_OUT_PREFIX},
+                                 {"--out-masks", c->masks, CLI_OUT_PREFIX}};
+        if (!cli_check_outputs("pgp-tile", outs, 3)) return 0;
     }
     if (c->slices && c->masks) {
         char a0[1100], b0[1100];

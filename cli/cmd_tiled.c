@@ -111,7 +111,13 @@ static int parse(int argc, char **argv, tiled_cmd *c)
         cli_error("tiled", c->validate_only ? "--validate needs --tiles" : "--mesh is required");
         return 0;
     }
-    if (c->out_glb && !cli_check_glb("tiled", c->out_glb)) return 0;
+    {
+        const cli_out outs[4] = {{"--out-obj", c->out_obj, CLI_OUT_OBJ},
+                                 {"--out-tiles", c->out_tiles, CLI_OUT_IMAGE},
+                                 {"--out-image", c->out_image, CLI_OUT_IMAGE},
+                                 {"--out-glb", c->out_glb, CLI_OUT_GLB}};
+        if (!cli_check_outputs("tiled", outs, 4)) return 0;
+    }
     if (!c->validate_only && !c->out_obj && !c->out_tiles && !c->out_image && !c->out_glb) {
         cli_error("tiled", "nothing to write: give --out-obj, --out-tiles, --out-image or --out-glb");
         return 0;

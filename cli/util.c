@@ -192,11 +192,46 @@ static int has_ext(const char *path, const char *ext)
     return 1;
 }
 
-int cli_check_glb(const char *cmd, const char *path)
+/* Whether a file can be created where path names one: the staged
+ * temporary name is created and removed again. 0 with errno set if not. */
+static int writable(const char *path)
 {
-    if (has_ext(path, ".glb")) return 1;
-    cli_error(cmd, "%s: --out-glb writes binary glTF: give a .glb file", path);
-    return 0;
+    char tmp[1100];
+    FILE *f;
+    snprintf(tmp, sizeof tmp, "%.1000s.partial", path);
+    if (!(f = fopen(tmp, "wb"))) return 0;
+    fclose(f);
+    remove(tmp);
+    return 1;
+}
+
+int cli_check_outputs(const char *cmd, const cli_out *outs, int n)
+{
+    static const char *const need[] = {NULL, "an image (.png .ppm .pgm .pam)", "an .obj file", "a .glb file (binary glTF)",
+                                       "a .nrrd file", "a .pam file", "a prefix (written as PREFIX_00.png, ...)"};
+    int k;
+    for (k = 0; k < n; k++) {
+        const cli_out *o = &outs[k];
+        int ok;
+        if (!o->path) continue;
+        switch (o->kind) {
+        case CLI_OUT_IMAGE: ok = cli_image_format(o->path) != NULL; break;
+        case CLI_OUT_OBJ: ok = has_ext(o->path, ".obj"); break;
+        case CLI_OUT_GLB: ok = has_ext(o->path, ".glb"); break;
+        case CLI_OUT_NRRD: ok = has_ext(o->path, ".nrrd"); break;
+        case CLI_OUT_PAM: ok = has_ext(o->path, ".pam"); break;
+        default: ok = 1;
+        }
+        if (!ok) {
+            cli_error(cmd, "%s %s: give %s", o->flag, o->path, need[o->kind]);
+            return 0;
+        }
+        if (!writable(o->path)) {
+            cli_error(cmd, "%s %s: cannot write there (%s)", o->flag, o->path, strerror(errno));
+            return 0;
+        }
+    }
+    return 1;
 }
 
 const char *cli_image_format(const char *path)
@@ -224,7 +259,7 @@ FILE *cli_open(cli_outputs *o, const char *path, char *msg, size_t size)
     }
     tmp = cli_stage(o, path);
     f = tmp ? fopen(tmp, "wb") : NULL;
-    if (!f) snprintf(msg, size, "%.200s: cannot open for writing", path);
+    if (!f) snprintf(msg, size, "%.200s: cannot open for writing (%s)", path, tmp ? strerror(errno) : "too many outputs");
     return f;
 }
 

@@ -33,8 +33,12 @@ expect_error no_mesh "mesh is required" tiled --out-image "$tmp/out/x.png"
 expect_error unknown_option "unknown option" tiled --mesh procedural:cube --frobnicate $out
 expect_error bad_number "not a whole number" tiled --mesh procedural:cube --pairs 0 $out
 expect_error missing_file "$tmp/nope.obj" tiled --mesh "$tmp/nope.obj" $out
+# outputs are checked before any work: the folder, with the reason
+expect_error no_folder "--out-image $tmp/out/nowhere/x.png: cannot write there (No such file or directory)" \
+    tiled --mesh procedural:cube --out-image "$tmp/out/nowhere/x.png"
+expect_error obj_extension "--out-obj $tmp/out/x.png: give an .obj file" tiled --mesh procedural:cube --out-obj "$tmp/out/x.png"
 expect_error nothing_to_do "nothing to write" tiled --mesh procedural:cube
-expect_error bad_extension "unknown image extension" tiled --mesh procedural:cube --out-image "$tmp/out/x.gif"
+expect_error bad_extension "give an image (.png .ppm .pgm .pam)" tiled --mesh procedural:cube --out-image "$tmp/out/x.gif"
 expect_error unknown_builtin "unknown built-in mesh" tiled --mesh procedural:teapot $out
 
 printf 'v 0 0 0\nv 1 0 0\nv 1 1 0\nf 1 2 x\n' > "$tmp/syntax.obj"

@@ -54,7 +54,7 @@ else
 fi
 
 "$bin" tiled --mesh procedural:torus --exemplar procedural:pebbles --out-glb "$tmp/x.gltf" > /dev/null 2> "$tmp/err"
-if [ $? -eq 1 ] && grep -q 'give a .glb file' "$tmp/err" && [ ! -e "$tmp/x.gltf" ]; then pass bad_extension
+if [ $? -eq 1 ] && grep -q "give a .glb file" "$tmp/err" && [ ! -e "$tmp/x.gltf" ]; then pass bad_extension
 else fail bad_extension "$(cat "$tmp/err")"; fi
 
 if ! command -v node > /dev/null 2>&1 || [ ! -d "$js/node_modules/gltf-validator" ]; then

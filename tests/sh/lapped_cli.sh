@@ -326,10 +326,10 @@ printf '0 1 0 0\n2880 0 1 0\n' > "$tmp/range_cons.txt" # the sphere has 2880 tri
 expect_error constraints_range "out of range" $mesh $dots --field "constraints:$tmp/range_cons.txt" $out $atlas
 expect_error constraints_missing "$tmp/nope.txt" $mesh $dots --field "constraints:$tmp/nope.txt" $out
 
-# failures after some outputs were written: none of them may stay
-expect_error late_bad_extension "unknown image extension" $mesh $dots --scale 0.8 \
+# bad outputs are refused before any work (nothing written, nothing left)
+expect_error early_bad_extension "give an image (.png .ppm .pgm .pam)" $mesh $dots --scale 0.8 \
     --out-pastes "$tmp/out/x.pastes" --out-patch "$tmp/out/p.pam" --out-image "$tmp/out/x.gif"
-expect_error late_no_folder "cannot open" $mesh $dots --scale 0.8 \
+expect_error early_no_folder "a.png: cannot write there (No such file or directory)" $mesh $dots --scale 0.8 \
     --out-pastes "$tmp/out/x.pastes" --out-image "$tmp/out/x.png" --out-obj "$tmp/out/x.obj" \
     --out-atlas "$tmp/out/nowhere/a.png" --atlas-size 64
 

@@ -213,7 +213,7 @@ expect_error missing_texture_file "$tmp/nope.png" $grid --texture "$tmp/nope.png
 expect_error unknown_builtin_mesh "unknown built-in mesh" --mesh procedural:teapot $bricks $out
 expect_error unknown_builtin_tile "unknown built-in tile" $grid --tile procedural:plaid $out
 expect_error texture_procedural "--tile procedural:bricks" $grid --texture procedural:bricks $out
-expect_error out_tile_extension "does not end in .nrrd" $grid $bricks --out-tile "$tmp/out/x.png"
+expect_error out_tile_extension "give a .nrrd file" $grid $bricks --out-tile "$tmp/out/x.png"
 expect_error show_unknown "--show" $grid $bricks --show everything $out
 expect_error field_unknown "--field: 'sideways'" $grid $bricks --field sideways $out
 expect_error field_isotropic "--field" $grid $bricks --field isotropic $out
@@ -262,9 +262,9 @@ cons_error cons_extra ":1: unexpected text" 'scale 3 0.5 0.6\n'
 cons_error cons_empty ": no constraints" '# nothing here\n'
 expect_error cons_missing "$tmp/nope.txt" $grid $bricks --constraints "$tmp/nope.txt" $out
 
-# failures after some outputs were written: none of them may stay
-expect_error late_bad_extension "unknown image extension" $grid $bricks \
+# bad outputs are refused before any work (nothing written, nothing left)
+expect_error early_bad_extension "give an image (.png .ppm .pgm .pam)" $grid $bricks \
     --out-tile "$tmp/out/x.nrrd" --out-obj "$tmp/out/x.obj" --out-image "$tmp/out/x.gif"
-expect_error late_no_folder "cannot open" $grid $bricks \
+expect_error early_no_folder "x.png: cannot write there (No such file or directory)" $grid $bricks \
     --out-tile "$tmp/out/x.nrrd" --out-obj "$tmp/out/x.obj" --out-image "$tmp/out/nowhere/x.png"
-expect_error same_path "named by two outputs" $grid $bricks --out-obj "$tmp/out/x.nrrd" --out-tile "$tmp/out/x.nrrd"
+expect_error obj_extension "give an .obj file" $grid $bricks --out-obj "$tmp/out/x.nrrd" --out-tile "$tmp/out/x.nrrd"

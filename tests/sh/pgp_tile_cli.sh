@@ -143,7 +143,7 @@ fi
 
 out="--out $tmp/out/t.nrrd"
 expect_error no_out '--out FILE.nrrd is required' $keys
-expect_error out_not_nrrd 'does not end in .nrrd' $keys --out "$tmp/out/t.png"
+expect_error out_not_nrrd 'give a .nrrd file' $keys --out "$tmp/out/t.png"
 expect_error one_key 'a morph needs two or more --key (1 given' --key "$spots" $out
 expect_error single_two_keys '--single takes exactly one --key (2 given)' $keys --single $out
 expect_error not_an_image 'unknown image format' --key "$tmp/junk.ppm" --key "$stripes" $out
@@ -158,4 +158,4 @@ expect_error bad_size "not a whole number in 16..4096" $keys --size 8 $out
 expect_error bad_mask_mode "mask-mode: 'stripy' is not valid" $keys --mask-mode stripy $out
 expect_error same_slices 'name the same files' $keys $out --out-slices "$tmp/out/a" --out-masks "$tmp/out/a.png"
 expect_error unknown_option "unknown option '--frobnicate'" $keys $out --frobnicate
-expect_error unwritable 'cannot open for writing' $keys --size 16 --layers 2 --out "$tmp/out/no/such/dir/t.nrrd"
+expect_error unwritable 'cannot write there (No such file or directory)' $keys --size 16 --layers 2 --out "$tmp/out/no/such/dir/t.nrrd"
