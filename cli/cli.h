@@ -22,6 +22,8 @@ void cli_error(const char *cmd, const char *fmt, ...);
  * On error prints a message and returns 0. */
 int cli_value(cli_args *a, const char **value);
 int cli_int(cli_args *a, int lo, int hi, int *out);
+/* A finite number in lo..hi; the message gives the range. */
+int cli_float(cli_args *a, float lo, float hi, float *out);
 int cli_u64(cli_args *a, unsigned long long *out);
 int cli_size(cli_args *a, int *w, int *h);
 /* Three finite numbers "X,Y,Z" (commas or blanks between them) and nothing

@@ -92,16 +92,6 @@ static int parse_field(cli_args *a, lapped_cmd *c)
     return 1;
 }
 
-static int parse_float(cli_args *a, float lo, float hi, float *out)
-{
-    const char *flag = a->argv[a->i], *v;
-    char *end;
-    if (!cli_value(a, &v)) return 0;
-    *out = strtof(v, &end);
-    if (end == v || *end || !(*out >= lo && *out <= hi)) return bad(flag, v);
-    return 1;
-}
-
 static int parse_one(cli_args *a, lapped_cmd *c)
 {
     int v = cli_view_flag(a, c->ro.view_dir, c->ro.up);
@@ -119,9 +109,9 @@ static int parse_one(cli_args *a, lapped_cmd *c)
     if (cli_is(a, "--mask")) return (c->opt.alpha = LAPPED_ALPHA_MASK), cli_value(a, &c->mask);
     if (cli_is(a, "--splotch")) return (c->opt.alpha = LAPPED_ALPHA_SPLOTCH), 1;
     if (cli_is(a, "--circle")) return (c->opt.alpha = LAPPED_ALPHA_CIRCLE), 1;
-    if (cli_is(a, "--falloff")) return parse_float(a, 0.0f, 1000.0f, &c->opt.falloff);
+    if (cli_is(a, "--falloff")) return cli_float(a, 0.0f, 1000.0f, &c->opt.falloff);
     if (cli_is(a, "--field")) return parse_field(a, c);
-    if (cli_is(a, "--scale")) return parse_float(a, 1e-30f, 1e30f, &c->opt.field.scale);
+    if (cli_is(a, "--scale")) return cli_float(a, 1e-30f, 1e30f, &c->opt.field.scale);
     if (cli_is(a, "--lscm")) return (c->opt.lscm = 1);
     if (cli_is(a, "--seed")) return cli_u64(a, &c->opt.seed);
     if (cli_is(a, "--out-pastes")) return cli_value(a, &c->out_pastes);

@@ -114,16 +114,6 @@ static int parse_vec(cli_args *a, float *out)
     return 1;
 }
 
-static int parse_float(cli_args *a, float lo, float hi, float *out)
-{
-    const char *flag = a->argv[a->i], *v;
-    char *end;
-    if (!cli_value(a, &v)) return 0;
-    *out = strtof(v, &end);
-    if (end == v || *end || !(*out >= lo && *out <= hi)) return bad(flag, v);
-    return 1;
-}
-
 static int parse_type(cli_args *a, lst_cmd *c)
 {
     static const char *const names[5] = {"0", "1a", "1b", "2a", "2b"};
@@ -171,7 +161,7 @@ static int parse_options(cli_args *a, lst_cmd *c)
 {
     int r;
     if (cli_is(a, "--type")) return parse_type(a, c);
-    if (cli_is(a, "--scale")) return parse_float(a, 1e-30f, 1e30f, &c->opt.scale);
+    if (cli_is(a, "--scale")) return cli_float(a, 1e-30f, 1e30f, &c->opt.scale);
     if (cli_is(a, "--depth")) return cli_value(a, &c->depth);
     if (cli_is(a, "--directions")) return cli_value(a, &c->directions);
     if (cli_is(a, "--axis")) return parse_vec(a, c->opt.axis);
@@ -188,9 +178,9 @@ static int parse_options(cli_args *a, lst_cmd *c)
     if ((r = cli_view_flag(a, c->ro.view_dir, c->ro.up)) >= 0) return r;
     if (cli_is(a, "--size")) return cli_size(a, &c->ro.width, &c->ro.height);
     if (cli_is(a, "--show")) return parse_show(a, c);
-    if (cli_is(a, "--displace")) return parse_float(a, -1e30f, 1e30f, &c->ro.displace);
+    if (cli_is(a, "--displace")) return cli_float(a, -1e30f, 1e30f, &c->ro.displace);
     if (cli_is(a, "--slices")) return cli_int(a, 1, 10000, &c->vo.slices);
-    if (cli_is(a, "--opacity")) return parse_float(a, 1e-6f, 1000.0f, &c->vo.opacity);
+    if (cli_is(a, "--opacity")) return cli_float(a, 1e-6f, 1000.0f, &c->vo.opacity);
     return -2;
 }
 
@@ -203,7 +193,7 @@ static int parse_one(cli_args *a, lst_cmd *c)
     if (cli_is(a, "--tets")) return cli_value(a, &c->tets);
     if (cli_is(a, "--exemplar")) return cli_value(a, &c->exemplar);
     if (cli_is(a, "--values")) return cli_value(a, &c->values);
-    if (cli_is(a, "--cell")) return parse_float(a, 1e-30f, 1e30f, &cell) && (c->to.cell = cell, 1);
+    if (cli_is(a, "--cell")) return cli_float(a, 1e-30f, 1e30f, &cell) && (c->to.cell = cell, 1);
     if (cli_is(a, "--out-lst")) return cli_value(a, &c->out_lst);
     if (cli_is(a, "--out-masks")) return cli_value(a, &c->out_masks);
     if (cli_is(a, "--out-exemplar")) return cli_value(a, &c->out_exemplar);

@@ -92,16 +92,6 @@ static int parse_field(cli_args *a, pgp_cmd *c)
     return 1;
 }
 
-static int parse_float(cli_args *a, float lo, float hi, float *out)
-{
-    const char *flag = a->argv[a->i], *v;
-    char *end;
-    if (!cli_value(a, &v)) return 0;
-    *out = strtof(v, &end);
-    if (end == v || *end || !(*out >= lo && *out <= hi)) return bad(flag, v);
-    return 1;
-}
-
 static int parse_show(cli_args *a, pgp_cmd *c)
 {
     const char *v;
@@ -150,12 +140,12 @@ static int parse_one(cli_args *a, pgp_cmd *c)
     if (cli_is(a, "--tile")) return cli_value(a, &c->tile);
     if (cli_is(a, "--texture")) return cli_value(a, &c->texture);
     if (cli_is(a, "--field")) return parse_field(a, c);
-    if (cli_is(a, "--scale")) return parse_float(a, 1e-30f, 1e30f, &c->opt.scale);
+    if (cli_is(a, "--scale")) return cli_float(a, 1e-30f, 1e30f, &c->opt.scale);
     if (cli_is(a, "--constraints")) return cli_value(a, &c->constraints);
     if (cli_is(a, "--seed")) return cli_u64(a, &c->opt.seed);
     if (cli_is(a, "--no-fix")) return (c->ro.fix = PGP_FIX_OFF);
     if (cli_is(a, "--fix")) return parse_fix(a, c);
-    if (cli_is(a, "--zoom")) return parse_float(a, 1.0f, 1e4f, &c->ro.zoom);
+    if (cli_is(a, "--zoom")) return cli_float(a, 1.0f, 1e4f, &c->ro.zoom);
     if (cli_is(a, "--center")) return parse_center(a, c);
     if (cli_is(a, "--out-obj")) return cli_value(a, &c->out_obj);
     if (cli_is(a, "--out-image")) return cli_value(a, &c->out_image);

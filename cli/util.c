@@ -55,6 +55,22 @@ int cli_int(cli_args *a, int lo, int hi, int *out)
     return 1;
 }
 
+int cli_float(cli_args *a, float lo, float hi, float *out)
+{
+    const char *flag = a->argv[a->i], *v;
+    char *end;
+    if (!cli_value(a, &v)) return 0;
+    *out = strtof(v, &end);
+    if (end == v || *end || !(*out >= lo && *out <= hi)) {
+        int n = (int)strcspn(flag, "=");
+        if (hi >= 1e20f && lo <= -1e20f) cli_error(a->cmd, "%.*s: '%s' is not a finite number", n, flag, v);
+        else if (hi >= 1e20f && lo > 0.0f && lo <= 1e-20f) cli_error(a->cmd, "%.*s: '%s' is not a positive number", n, flag, v);
+        else cli_error(a->cmd, "%.*s: '%s' is not a number in %g..%g", n, flag, v, (double)lo, (double)hi);
+        return 0;
+    }
+    return 1;
+}
+
 int cli_u64(cli_args *a, unsigned long long *out)
 {
     const char *flag = a->argv[a->i], *v;

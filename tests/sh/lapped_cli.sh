@@ -396,3 +396,5 @@ expect_error max_pastes_up_front "would take about [0-9]* pastes, over the limit
     --mesh procedural:bumpy --texture procedural:dots --max-pastes 50 --out-image "$tmp/out/x.png"
 expect_error max_pastes_range "--max-pastes: '0' is not a whole number in 1..100000000" \
     --mesh procedural:bumpy --texture procedural:dots --max-pastes 0 --out-image "$tmp/out/x.png"
+expect_error scale_positive "--scale: '0' is not a positive number" $mesh $dots --scale 0 --out-image "$tmp/out/x.png"
+expect_error falloff_range "--falloff: '2000' is not a number in 0..1000" $mesh $dots --falloff 2000 --out-image "$tmp/out/x.png"
