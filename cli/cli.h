@@ -32,14 +32,16 @@ int cli_parse_vec3(const char *s, float out[3]);
 /* A direction "X,Y,Z" (finite, not all zero). */
 int cli_vec3(cli_args *a, float out[3]);
 /* The view flags of every subcommand that renders: --view X,Y,Z, the
- * direction the camera looks along, and --view-up, the world direction
- * shown upwards: X,Y,Z or an axis (x, y, z, -x, -y, -z; z for the Z-up
- * scans of many scanners and CAD programs). Returns -1 when argv[i] is
- * neither, else 1 (parsed) or 0 (an error, printed). */
-int cli_view_flag(cli_args *a, float view_dir[3], float up[3]);
+ * direction the camera looks along; --view-up, the world direction shown
+ * upwards: X,Y,Z or an axis (x, y, z, -x, -y, -z; z for the Z-up scans of
+ * many scanners and CAD programs); --supersample N, N x N samples per
+ * pixel. Returns -1 when argv[i] is none of them, else 1 (parsed) or 0 (an
+ * error, printed). */
+int cli_view_flag(cli_args *a, float view_dir[3], float up[3], int *supersample);
 #define CLI_VIEW_USAGE                                                                                   \
     "  --view X,Y,Z        the direction the camera looks along (default -0.55,-0.45,-0.7)\n"            \
-    "  --view-up X,Y,Z|z   the world direction shown upwards (default y; z for Z-up scans)\n"
+    "  --view-up X,Y,Z|z   the world direction shown upwards (default y; z for Z-up scans)\n"           \
+    "  --supersample N     N x N samples per pixel, 1..8 (default 2)\n"
 /* True if argv[i] is `name` or `name=...`. */
 int cli_is(const cli_args *a, const char *name);
 

@@ -34,7 +34,7 @@ static const char *lapped_usage =
     "  --out-pastes FILE    the ordered pastes (text format, see docs/lapped.md)\n"
     "  --out-patch FILE.pam the first patch with its final alpha (RGBA PAM)\n"
     "  --out-image IMG      a rendering by runtime pasting (.png .ppm .pgm .pam)\n"
-    "  --size WxH           rendering size (default 800x600)\n"
+    "  --size WxH           rendering size (default 800x600; 16..8192 each)\n"
     CLI_VIEW_USAGE
     "  --out-obj FILE       triangulated mesh with texture-atlas coordinates, and\n"
     "                       FILE's .mtl naming the atlas (needs --out-atlas)\n"
@@ -94,7 +94,7 @@ static int parse_field(cli_args *a, lapped_cmd *c)
 
 static int parse_one(cli_args *a, lapped_cmd *c)
 {
-    int v = cli_view_flag(a, c->ro.view_dir, c->ro.up);
+    int v = cli_view_flag(a, c->ro.view_dir, c->ro.up, &c->ro.supersample);
     if (cli_is(a, "--help") || cli_is(a, "-h")) return -1;
     if (v >= 0) return v;
     if (cli_is(a, "--mesh")) return cli_value(a, &c->mesh);

@@ -53,7 +53,7 @@ static const char *lst_usage =
     "  --cut-stroke \"X Y Z X Y Z ...\"  cut along a stroke seen along the view\n"
     CLI_VIEW_USAGE
     "  --up X,Y,Z           the same as --view-up\n"
-    "  --size WxH           image size (default 800x600)\n"
+    "  --size WxH           image size (default 800x600; 16..8192 each)\n"
     "  --show WHAT          color (default), values, pastes, depth (u,v,w as RGB)\n"
     "  --displace A         displacement mapping of the surface by the extra channel\n"
     "  --slices N           volume rendering slices (default 200)\n"
@@ -175,7 +175,7 @@ static int parse_options(cli_args *a, lst_cmd *c)
     if (cli_is(a, "--cut")) return parse_cut(a, c);
     if (cli_is(a, "--cut-stroke")) return cli_value(a, &c->stroke);
     if (cli_is(a, "--up")) return cli_vec3(a, c->ro.up); /* the older name of --view-up */
-    if ((r = cli_view_flag(a, c->ro.view_dir, c->ro.up)) >= 0) return r;
+    if ((r = cli_view_flag(a, c->ro.view_dir, c->ro.up, &c->ro.supersample)) >= 0) return r;
     if (cli_is(a, "--size")) return cli_size(a, &c->ro.width, &c->ro.height);
     if (cli_is(a, "--show")) return parse_show(a, c);
     if (cli_is(a, "--displace")) return cli_float(a, -1e30f, 1e30f, &c->ro.displace);

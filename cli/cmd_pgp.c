@@ -36,7 +36,7 @@ static const char *pgp_usage =
     "  --seed S             seed of the procedural tiles (default 0)\n"
     "outputs (at least one):\n"
     "  --out-image IMG      a rendering (.png .ppm .pgm .pam)\n"
-    "  --size WxH           rendering size (default 800x600)\n"
+    "  --size WxH           rendering size (default 800x600; 16..8192 each)\n"
     CLI_VIEW_USAGE
     "  --show WHAT          tile (default), material (m in gray), special (the\n"
     "                       triangles drawn specially in red; 'singular' is the same)\n"
@@ -133,7 +133,7 @@ static int parse_fix(cli_args *a, pgp_cmd *c)
 
 static int parse_one(cli_args *a, pgp_cmd *c)
 {
-    int v = cli_view_flag(a, c->ro.view_dir, c->ro.up);
+    int v = cli_view_flag(a, c->ro.view_dir, c->ro.up, &c->ro.supersample);
     if (cli_is(a, "--help") || cli_is(a, "-h")) return -1;
     if (v >= 0) return v;
     if (cli_is(a, "--mesh")) return cli_value(a, &c->mesh);

@@ -37,7 +37,7 @@ static const char *tiled_usage =
     "                      the OBJ's name with .png)\n"
     "  --out-image IMG     a rendering (.png .ppm .pgm .pam)\n"
     "  --out-glb FILE.glb  binary glTF 2.0: the mapped mesh with the tiled texture inside\n"
-    "  --size WxH          rendering size (default 800x600)\n"
+    "  --size WxH          rendering size (default 800x600; 16..8192 each)\n"
     CLI_VIEW_USAGE;
 
 typedef struct tiled_cmd {
@@ -66,7 +66,7 @@ static int parse_guard(cli_args *a, tiled_cmd *c)
 /* One option; returns 0 on a parse error, -1 for --help. */
 static int parse_one(cli_args *a, tiled_cmd *c)
 {
-    int v = cli_view_flag(a, c->ro.view_dir, c->ro.up);
+    int v = cli_view_flag(a, c->ro.view_dir, c->ro.up, &c->ro.supersample);
     tiled_layout *l = &c->opt.layout;
     if (cli_is(a, "--help") || cli_is(a, "-h")) return -1;
     if (v >= 0) return v;

@@ -133,11 +133,12 @@ int cli_vec3(cli_args *a, float out[3])
     return 0;
 }
 
-int cli_view_flag(cli_args *a, float view_dir[3], float up[3])
+int cli_view_flag(cli_args *a, float view_dir[3], float up[3], int *supersample)
 {
     static const char *const axes[6] = {"x", "y", "z", "-x", "-y", "-z"};
     const char *v;
     int k;
+    if (cli_is(a, "--supersample")) return cli_int(a, 1, 8, supersample);
     if (cli_is(a, "--view")) return cli_vec3(a, view_dir);
     if (!cli_is(a, "--view-up")) return -1;
     if (!cli_value(a, &v)) return 0;

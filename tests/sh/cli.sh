@@ -142,4 +142,9 @@ for m in tiled lapped pgp; do
     else fail "view_up_$m" "--view-up z did not change the picture, or differs from 0,0,2"; fi
     expect_error "bad_view_$m" "is not a direction X,Y,Z" $args --view 0,0,0 --out-image "$tmp/out/x.png"
     expect_error "bad_view_up_$m" "--view-up: 'w' is not" $args --view-up w --out-image "$tmp/out/x.png"
+    if "$bin" $args --size 64x48 --supersample 1 --out-image "$tmp/$m.s1.ppm" > /dev/null 2>&1 &&
+        ! cmp -s "$tmp/$m.y.ppm" "$tmp/$m.s1.ppm"; then pass "supersample_$m"
+    else fail "supersample_$m" "--supersample 1 gave the default's picture, or failed"; fi
+    expect_error "bad_supersample_$m" "--supersample: '9' is not a whole number in 1..8" $args --supersample 9 \
+        --out-image "$tmp/out/x.png"
 done
