@@ -4,8 +4,9 @@
  *
  * Covers a mesh (a built-in bumpy sphere unless a file is given) with
  * pastes of one texture patch (a built-in "scales" texture unless a file is
- * given) whose "up" follows +Y, then writes the ordered pastes and a
- * rendering by runtime pasting (§4) as a PNG. */
+ * given) whose "up" follows +Y, then writes the ordered pastes, a
+ * rendering by runtime pasting (§4) as a PNG, and the texture baked into
+ * an atlas (§4) with the mesh as OBJ + MTL and as binary glTF. */
 #include <stdio.h>
 #define LAPPED_IMPLEMENTATION
 #include "../lapped.h"
@@ -17,6 +18,8 @@ int main(int argc, char **argv)
     lapped_mesh mesh = {0};
     lapped_image texture = {0}, patch = {0}, picture = {0};
     lapped_texture lt = {0};
+    lapped_atlas atlas = {0};
+    lapped_atlas_options ao = {0}; /* zero: 1024x1024, automatic packing */
     lapped_error err;
     int ok;
 
@@ -40,15 +43,22 @@ int main(int argc, char **argv)
          lapped_save_pastes("lapped_example.pastes", &lt, &err) == LAPPED_OK &&
          /* §4: draw the pastes in order, composited with the patch's alpha */
          lapped_render(&mesh, &lt, &patch, NULL, &view, &picture, &err) == LAPPED_OK &&
-         lapped_save_image("lapped_example.png", &picture, &err) == LAPPED_OK;
+         lapped_save_image("lapped_example.png", &picture, &err) == LAPPED_OK &&
+         /* §4: the same pastes baked into one texture, charts packed automatically */
+         lapped_bake_atlas(&mesh, &lt, &patch, NULL, &ao, &opt, &atlas, &err) == LAPPED_OK &&
+         lapped_save_image("lapped_example_atlas.png", &atlas.image, &err) == LAPPED_OK &&
+         lapped_save_obj("lapped_example.obj", &mesh, &atlas, "lapped_example_atlas.png", &err) == LAPPED_OK &&
+         lapped_save_gltf("lapped_example.glb", &mesh, &atlas, &view, &err) == LAPPED_OK;
     if (ok)
-        printf("%d triangles covered by %d pastes, %.2f layers per triangle (%.2f before removing "
-               "hidden faces); wrote lapped_example.pastes, lapped_example.png\n",
+        printf("%d triangles covered by %d pastes, %.2f layers per triangle (%.2f before removing hidden faces); "
+               "wrote lapped_example.pastes, lapped_example.png, lapped_example_atlas.png, lapped_example.obj, "
+               "lapped_example.mtl, lapped_example.glb\n",
                lt.ntris, lt.npastes, lt.layers, lt.layers_before);
     else
         fprintf(stderr, "lapped_example: %s (%s)\n", err.message, lapped_result_string(err.code));
 
     /* all start zeroed and a failed call leaves its output zeroed: freeing is always safe */
+    lapped_atlas_free(&atlas);
     lapped_image_free(&picture);
     lapped_texture_free(&lt);
     lapped_image_free(&patch);

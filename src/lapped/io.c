@@ -374,6 +374,49 @@ typedef struct lapped__job {
     const lapped_render_options *view;
 } lapped__job;
 
+static int lapped__obj_job(void *arg, pw_write_fn w, void *ctx, pw_err *e)
+{
+    const lapped__job *j = (const lapped__job *)arg;
+    lapped_error le;
+    int r = (int)lapped_write_obj_to_func(j->mesh, j->atlas, j->format, w, ctx, &le);
+    return r ? pw_fail(e, r, "%s", le.message) : PW_OK;
+}
+
+static int lapped__mtl_job(void *arg, pw_write_fn w, void *ctx, pw_err *e)
+{
+    const lapped__job *j = (const lapped__job *)arg;
+    return pw_mesh_write_mtl("lapped", j->format, w, ctx, e);
+}
+
+/* obj_path and, with texture_path, an MTL beside it (obj_path's name with
+ * .mtl) whose map_Kd names the atlas image. */
+LAPPEDDEF lapped_result lapped_save_obj(const char *obj_path, const lapped_mesh *mesh, const lapped_atlas *atlas,
+                                        const char *texture_path, lapped_error *err)
+{
+    char mtl[1024];
+    const char *dot, *slash;
+    size_t n;
+    lapped__job j;
+    pw_err pe;
+    pw_err_clear(&pe);
+    memset(&j, 0, sizeof j);
+    if (!obj_path || strlen(obj_path) + 5 > sizeof mtl) {
+        pw_fail(&pe, PW_ERR_INVALID, "lapped_save_obj: missing or too long path");
+        return lapped__done(&pe, err);
+    }
+    dot = strrchr(obj_path, '.'), slash = strrchr(obj_path, '/');
+    n = dot && (!slash || dot > slash) ? (size_t)(dot - obj_path) : strlen(obj_path);
+    memcpy(mtl, obj_path, n);
+    strcpy(mtl + n, ".mtl");
+    j.mesh = mesh, j.atlas = atlas;
+    j.format = texture_path ? (strrchr(mtl, '/') ? strrchr(mtl, '/') + 1 : mtl) : NULL; /* the mtllib name */
+    if (pw_write_file(obj_path, lapped__obj_job, &j, &pe) == PW_OK && texture_path) {
+        j.format = texture_path;
+        pw_write_file(mtl, lapped__mtl_job, &j, &pe);
+    }
+    return lapped__done(&pe, err);
+}
+
 static int lapped__gltf_job(void *arg, pw_write_fn w, void *ctx, pw_err *e)
 {
     const lapped__job *j = (const lapped__job *)arg;

@@ -346,6 +346,11 @@ LAPPEDDEF lapped_result lapped_save_image(const char *path, const lapped_image *
                                           lapped_error *err);
 LAPPEDDEF lapped_result lapped_save_pastes(const char *path, const lapped_texture *t,
                                            lapped_error *err);
+/* The OBJ of the atlas's mesh and, when texture_path is not NULL, an MTL
+ * beside it (obj_path with .mtl) whose map_Kd names texture_path (save the
+ * atlas image there with lapped_save_image). */
+LAPPEDDEF lapped_result lapped_save_obj(const char *obj_path, const lapped_mesh *mesh, const lapped_atlas *atlas,
+                                        const char *texture_path, lapped_error *err);
 /* lapped_write_gltf_to_func into the file path (.glb). */
 LAPPEDDEF lapped_result lapped_save_gltf(const char *path, const lapped_mesh *mesh, const lapped_atlas *atlas,
                                          const lapped_render_options *view, lapped_error *err);
