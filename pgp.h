@@ -5161,6 +5161,23 @@ PW__DEF int pw__mtl_body(void *arg, pw_write_fn w, void *ctx, pw_err *e)
     return pw_mesh_write_mtl(o->a, o->b, w, ctx, e);
 }
 
+/* The MTL file beside an OBJ: obj_path with its extension replaced by .mtl
+ * into mtl (size bytes); *name is the MTL's file name without folders, as
+ * the OBJ's mtllib line names it. Fails on a NULL or too long path. */
+PW__DEF int pw_obj_mtl_path(const char *obj_path, char *mtl, size_t size, const char **name, pw_err *e)
+{
+    const char *dot, *slash;
+    size_t n;
+    if (!obj_path || strlen(obj_path) + 5 > size) return pw_fail(e, PW_ERR_INVALID, "OBJ: missing or too long path");
+    dot = strrchr(obj_path, '.');
+    slash = strrchr(obj_path, '/');
+    n = dot && (!slash || dot > slash) ? (size_t)(dot - obj_path) : strlen(obj_path);
+    memcpy(mtl, obj_path, n);
+    strcpy(mtl + n, ".mtl");
+    *name = strrchr(mtl, '/') ? strrchr(mtl, '/') + 1 : mtl;
+    return PW_OK;
+}
+
 /* pw_mesh_write_obj into the file `path`. */
 PW__DEF int pw_mesh_save_obj(const char *path, const pw_mesh *m, const char *mtllib,
                              const char *material, pw_err *e)

@@ -5048,6 +5048,23 @@ PW__DEF int pw__mtl_body(void *arg, pw_write_fn w, void *ctx, pw_err *e)
     return pw_mesh_write_mtl(o->a, o->b, w, ctx, e);
 }
 
+/* The MTL file beside an OBJ: obj_path with its extension replaced by .mtl
+ * into mtl (size bytes); *name is the MTL's file name without folders, as
+ * the OBJ's mtllib line names it. Fails on a NULL or too long path. */
+PW__DEF int pw_obj_mtl_path(const char *obj_path, char *mtl, size_t size, const char **name, pw_err *e)
+{
+    const char *dot, *slash;
+    size_t n;
+    if (!obj_path || strlen(obj_path) + 5 > size) return pw_fail(e, PW_ERR_INVALID, "OBJ: missing or too long path");
+    dot = strrchr(obj_path, '.');
+    slash = strrchr(obj_path, '/');
+    n = dot && (!slash || dot > slash) ? (size_t)(dot - obj_path) : strlen(obj_path);
+    memcpy(mtl, obj_path, n);
+    strcpy(mtl + n, ".mtl");
+    *name = strrchr(mtl, '/') ? strrchr(mtl, '/') + 1 : mtl;
+    return PW_OK;
+}
+
 /* pw_mesh_write_obj into the file `path`. */
 PW__DEF int pw_mesh_save_obj(const char *path, const pw_mesh *m, const char *mtllib,
                              const char *material, pw_err *e)
@@ -11195,23 +11212,14 @@ TILEDDEF tiled_result tiled_save_obj(const char *obj_path, const tiled_mesh *m,
                                      const char *texture_path, tiled_error *err)
 {
     char mtl[1024];
-    const char *base, *dot;
+    const char *mtl_name = NULL;
     tiled__job j;
     pw_err pe;
-    size_t n;
     pw_err_clear(&pe);
     memset(&j, 0, sizeof j);
-    if (!obj_path || strlen(obj_path) + 5 > sizeof mtl) {
-        pw_fail(&pe, PW_ERR_INVALID, "tiled_save_obj: missing or too long path");
-        return tiled__done(&pe, err);
-    }
-    dot = strrchr(obj_path, '.');
-    base = strrchr(obj_path, '/');
-    n = dot && (!base || dot > base) ? (size_t)(dot - obj_path) : strlen(obj_path);
-    memcpy(mtl, obj_path, n);
-    strcpy(mtl + n, ".mtl");
+    if (pw_obj_mtl_path(obj_path, mtl, sizeof mtl, &mtl_name, &pe) != PW_OK) return tiled__done(&pe, err);
     j.mesh = m;
-    j.name = texture_path ? (strrchr(mtl, '/') ? strrchr(mtl, '/') + 1 : mtl) : NULL;
+    j.name = texture_path ? mtl_name : NULL;
     if (pw_write_file(obj_path, tiled__obj_job, &j, &pe) == PW_OK && texture_path) {
         j.name = texture_path;
         pw_write_file(mtl, tiled__mtl_job, &j, &pe);

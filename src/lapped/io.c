@@ -394,22 +394,14 @@ LAPPEDDEF lapped_result lapped_save_obj(const char *obj_path, const lapped_mesh 
                                         const char *texture_path, lapped_error *err)
 {
     char mtl[1024];
-    const char *dot, *slash;
-    size_t n;
+    const char *mtl_name = NULL;
     lapped__job j;
     pw_err pe;
     pw_err_clear(&pe);
     memset(&j, 0, sizeof j);
-    if (!obj_path || strlen(obj_path) + 5 > sizeof mtl) {
-        pw_fail(&pe, PW_ERR_INVALID, "lapped_save_obj: missing or too long path");
-        return lapped__done(&pe, err);
-    }
-    dot = strrchr(obj_path, '.'), slash = strrchr(obj_path, '/');
-    n = dot && (!slash || dot > slash) ? (size_t)(dot - obj_path) : strlen(obj_path);
-    memcpy(mtl, obj_path, n);
-    strcpy(mtl + n, ".mtl");
+    if (pw_obj_mtl_path(obj_path, mtl, sizeof mtl, &mtl_name, &pe) != PW_OK) return lapped__done(&pe, err);
     j.mesh = mesh, j.atlas = atlas;
-    j.format = texture_path ? (strrchr(mtl, '/') ? strrchr(mtl, '/') + 1 : mtl) : NULL; /* the mtllib name */
+    j.format = texture_path ? mtl_name : NULL; /* the mtllib name */
     if (pw_write_file(obj_path, lapped__obj_job, &j, &pe) == PW_OK && texture_path) {
         j.format = texture_path;
         pw_write_file(mtl, lapped__mtl_job, &j, &pe);
