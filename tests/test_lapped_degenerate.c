@@ -229,6 +229,23 @@ static void check_atlas(const char *what, const lapped_mesh *mesh, const lapped_
     lapped_atlas_free(&at);
 }
 
+/* One fill of mesh with patch, its paste areas checked (and its atlas's). */
+static void create_and_check(const char *what, const lapped_mesh *mesh, const lapped_image *patch, const lapped_options *o,
+                             int atlas)
+{
+    lapped_texture t;
+    lapped_error err;
+    areas r;
+    if (lapped_create(mesh, patch, 1, o, &t, &err) != LAPPED_OK) {
+        CHECKF(0, "%s: %s", what, err.message);
+        return;
+    }
+    r = measure(mesh, &t, o);
+    check_areas(what, &r, t.npastes);
+    if (atlas) check_atlas(what, mesh, &t, patch);
+    lapped_texture_free(&t);
+}
+
 /* ---- cases ------------------------------------------------------------------ */
 
 static void degenerate_case(const char *what, int mode, int lscm, int keep_hidden, int atlas)
@@ -236,9 +253,6 @@ static void degenerate_case(const char *what, int mode, int lscm, int keep_hidde
     lapped_options o = lapped_default_options();
     lapped_mesh mesh;
     lapped_image patch;
-    lapped_texture t;
-    lapped_error err;
-    areas r;
     int zero, n;
     degenerate_mesh(&mesh);
     n = count_degenerate(&mesh, &zero);
@@ -248,14 +262,7 @@ static void degenerate_case(const char *what, int mode, int lscm, int keep_hidde
     o.lscm = lscm;
     o.keep_hidden = keep_hidden;
     if (!make_patch("scales", 64, &o, &patch)) return;
-    if (lapped_create(&mesh, &patch, 1, &o, &t, &err) != LAPPED_OK) {
-        CHECKF(0, "%s: %s", what, err.message);
-    } else {
-        r = measure(&mesh, &t, &o);
-        check_areas(what, &r, t.npastes);
-        if (atlas) check_atlas(what, &mesh, &t, &patch);
-        lapped_texture_free(&t);
-    }
+    create_and_check(what, &mesh, &patch, &o, atlas);
     lapped_image_free(&patch);
     free_mesh(&mesh);
 }
@@ -274,9 +281,7 @@ static void real_case(const char *file, int mode, unsigned long long seed, float
     lapped_options o = lapped_default_options();
     lapped_mesh mesh;
     lapped_image tex, patch;
-    lapped_texture t;
     lapped_error err;
-    areas r;
     char what[128];
     if (!mpath || !(tpath = pwt_data("textures/leopard.ppm"))) return;
     o.field.mode = mode;
@@ -286,14 +291,7 @@ static void real_case(const char *file, int mode, unsigned long long seed, float
     REQUIRE(lapped_load_image(tpath, &o, &tex, &err) == LAPPED_OK);
     REQUIRE(lapped_make_patch(&tex, NULL, &o, &patch, &err) == LAPPED_OK);
     snprintf(what, sizeof what, "%s field %d seed %llu scale %g", file, mode, seed, (double)scale);
-    if (lapped_create(&mesh, &patch, 1, &o, &t, &err) != LAPPED_OK) {
-        CHECKF(0, "%s: %s", what, err.message);
-    } else {
-        r = measure(&mesh, &t, &o);
-        check_areas(what, &r, t.npastes);
-        if (atlas) check_atlas(what, &mesh, &t, &patch);
-        lapped_texture_free(&t);
-    }
+    create_and_check(what, &mesh, &patch, &o, atlas);
     lapped_image_free(&patch);
     lapped_image_free(&tex);
     lapped_mesh_free(&mesh);
