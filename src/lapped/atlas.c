@@ -2130,6 +2130,21 @@ static int lapped__atlas_mesh(const pw_alloc *a, const pw_trimesh *m, const lapp
     return lapped__atlas_dedup_uvs(a, atlas->uvs, 3 * m->nf, pm->uv, pm->fuv, &pm->nuv, e);
 }
 
+/* What every export of an atlas checks first (`what` names the format):
+ * an atlas and a writer, the mesh triangulated into m with the atlas's
+ * allocator (*a), as many triangles as the atlas has. */
+static int lapped__atlas_export_open(const lapped_mesh *mesh, const lapped_atlas *atlas, lapped_write_fn fn,
+                                     const char *what, pw_alloc *a, pw_trimesh *m, pw_err *e)
+{
+    memset(m, 0, sizeof *m);
+    *a = lapped__alloc(atlas ? &atlas->image.allocator : NULL);
+    if (!atlas || !atlas->uvs || !fn) return pw_fail(e, PW_ERR_INVALID, "%s: no atlas or no writer", what);
+    if (lapped__mesh_init(a, mesh, m, e)) return e->code;
+    if (atlas->ntris != m->nf)
+        return pw_fail(e, PW_ERR_INVALID, "%s: the atlas has %d triangles; the mesh has %d", what, atlas->ntris, m->nf);
+    return PW_OK;
+}
+
 LAPPEDDEF lapped_result lapped_write_obj_to_func(const lapped_mesh *mesh, const lapped_atlas *atlas,
                                                  const char *mtl_name, lapped_write_fn fn, void *ctx,
                                                  lapped_error *err)
@@ -2140,18 +2155,8 @@ LAPPEDDEF lapped_result lapped_write_obj_to_func(const lapped_mesh *mesh, const 
     pw_err pe;
     pw_err_clear(&pe);
     memset(&pm, 0, sizeof pm);
-    memset(&m, 0, sizeof m);
-    if (!atlas || !atlas->uvs || !fn) {
-        pw_fail(&pe, PW_ERR_INVALID, "OBJ: no atlas or no writer");
-        return lapped__done(&pe, err);
-    }
-    a = lapped__alloc(&atlas->image.allocator);
-    if (!lapped__mesh_init(&a, mesh, &m, &pe)) {
-        if (atlas->ntris != m.nf)
-            pw_fail(&pe, PW_ERR_INVALID, "OBJ: the atlas has %d triangles; the mesh has %d", atlas->ntris, m.nf);
-        else if (!lapped__atlas_mesh(&a, &m, atlas, &pm, &pe))
-            pw_mesh_write_obj(&pm, mtl_name, mtl_name ? "lapped" : NULL, fn, ctx, &pe);
-    }
+    if (!lapped__atlas_export_open(mesh, atlas, fn, "OBJ", &a, &m, &pe) && !lapped__atlas_mesh(&a, &m, atlas, &pm, &pe))
+        pw_mesh_write_obj(&pm, mtl_name, mtl_name ? "lapped" : NULL, fn, ctx, &pe);
     pw_free(&a, pm.fstart);
     pw_free(&a, pm.uv);
     pw_free(&a, pm.fuv);

@@ -306,18 +306,11 @@ LAPPEDDEF lapped_result lapped_write_gltf_to_func(const lapped_mesh *mesh, const
     int *fstart = NULL, f;
     pw_err pe;
     pw_err_clear(&pe);
-    memset(&m, 0, sizeof m);
     memset(&part, 0, sizeof part);
     memset(&scene, 0, sizeof scene);
-    if (!atlas || !atlas->uvs || !fn) {
-        pw_fail(&pe, PW_ERR_INVALID, "glTF: no atlas or no writer");
-        return lapped__done(&pe, err);
-    }
-    a = lapped__alloc(&atlas->image.allocator);
-    if (!lapped__mesh_init(&a, mesh, &m, &pe) && !lapped__check_image(&atlas->image, "atlas image", &pe)) {
-        if (atlas->ntris != m.nf)
-            pw_fail(&pe, PW_ERR_INVALID, "glTF: the atlas has %d triangles; the mesh has %d", atlas->ntris, m.nf);
-        else if ((fstart = (int *)pw_alloc_array(&a, (size_t)m.nf + 1, sizeof(int), "glTF faces", &pe)) != NULL) {
+    if (!lapped__atlas_export_open(mesh, atlas, fn, "glTF", &a, &m, &pe) &&
+        !lapped__check_image(&atlas->image, "atlas image", &pe)) {
+        if ((fstart = (int *)pw_alloc_array(&a, (size_t)m.nf + 1, sizeof(int), "glTF faces", &pe)) != NULL) {
             for (f = 0; f <= m.nf; f++) fstart[f] = 3 * f;
             img = lapped__pw_image(&atlas->image);
             part.name = "lapped";
