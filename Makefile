@@ -115,6 +115,9 @@ $(BUILD)/tests/%: tests/%.c tests/pwtest.h $(COMMON_SRC) $(HEADER_FILES)
 	@mkdir -p $(BUILD)/tests
 	$(CC) $(ALL_CFLAGS) -o $@ $< $(LDLIBS)
 
+# the renderer's tests and benchmark run its bands on POSIX threads (PW_THREADS)
+$(BUILD)/tests/test_render $(BUILD)/bench/bench_render: LDLIBS += -pthread
+
 $(BUILD)/examples/%: examples/%.c $(HEADER_FILES)
 	@mkdir -p $(BUILD)/examples
 	$(CC) $(ALL_CFLAGS) -o $@ $< $(LDLIBS)

@@ -8,8 +8,12 @@
  * (bench/peer_gl.h), one frame at 1 sample per pixel and one at 4 (2x2
  * supersampling against 4x MSAA), interleaved round by round; both
  * pictures are written to build/bench-data/ (bench_data_dir) and their mean
- * difference is printed. */
+ * difference is printed.
+ * Threads: the opaque frame plus the ten passes drawn by pw_render_frame
+ * (bands of rows) on 1 and 2 threads (PW_THREADS), wall time, and the
+ * pictures compared bit for bit. */
 #include "bench.h"
+#define PW_THREADS
 #include "../src/common/render.h"
 #include "../src/common/png.h"
 #ifdef BENCH_OSMESA
@@ -142,6 +146,73 @@ static void uv_update_only(void *arg)
     int p, t;
     for (p = 0; p < 10; p++)
         for (t = 0; t < 6 * s->nt; t++) s->puv[t] = s->uv[t] * 0.7f - 0.3f * (float)(p % 4);
+}
+
+/* ---- threads: the frame with its ten passes, band by band --------------- */
+
+typedef struct band_job {
+    scene *s;
+    pw_parallel par;
+    pw_image out;
+} band_job;
+
+static int band_draw(void *user, pw_fb *fb, pw_err *e)
+{
+    const scene *s = (const scene *)user;
+    pw_draw d = base_draw(s);
+    int p, r = pw_render_draw(fb, &s->cam, &d, e);
+    d.tex = &s->patch;
+    d.uvs = s->puv;
+    d.blend = PW_BLEND_OVER;
+    d.depth_test = PW_DEPTH_LEQUAL;
+    d.no_depth_write = 1;
+    d.wrap = PW_WRAP_CLAMP;
+    d.same_vertices = 1;
+    for (p = 0; p < 10 && r == PW_OK; p++) r = pw_render_draw(fb, &s->cam, &d, e);
+    return r;
+}
+
+static void band_frame(void *arg)
+{
+    band_job *j = (band_job *)arg;
+    pw_frame f;
+    memset(&f, 0, sizeof f);
+    f.w = f.h = 1024;
+    f.ss = 2;
+    f.bg[3] = 1.0f;
+    f.channels = 3;
+    f.draw = band_draw;
+    f.user = j->s;
+    f.par = &j->par;
+    pw_image_free(NULL, &j->out);
+    pw_render_frame(NULL, &f, &j->out, NULL);
+}
+
+static void thread_rows(scene *s)
+{
+    band_job j[2];
+    void (*fns[2])(void *);
+    void *args[2];
+    bench_multi m;
+    bench_stat a, b;
+    int k, same;
+    for (k = 0; k < 2; k++) {
+        memset(&j[k], 0, sizeof j[k]);
+        j[k].s = s;
+        j[k].par.threads = k + 1;
+        fns[k] = band_frame;
+        args[k] = &j[k];
+    }
+    bench_interleave(&m, fns, args, 2, 5, 1);
+    a = bench_multi_stat(&m, 0, NULL);
+    b = bench_multi_stat(&m, 1, NULL);
+    same = j[0].out.px && j[1].out.px &&
+           !memcmp(j[0].out.px, j[1].out.px, sizeof(float) * 3 * 1024 * 1024);
+    bench_report("render frame + 10 passes, bands, 1 thread", a, 11.0 * s->nt, "tri");
+    bench_report("render frame + 10 passes, bands, 2 threads", b, 11.0 * s->nt, "tri");
+    printf("threads: 2 threads take %.2fx the time of 1 (speed-up %.2fx); pictures %s\n",
+           b.median / a.median, a.median / b.median, same ? "identical" : "DIFFER");
+    for (k = 0; k < 2; k++) pw_image_free(NULL, &j[k].out);
 }
 
 /* ---- the peer: the same frame drawn by Mesa's llvmpipe ---------------------- */
@@ -288,6 +359,7 @@ int main(void)
     st.max /= 10;
     bench_report("render one blended pass", st, s.nt, "tri");
     peer_rows(&s, &img, ss2_frame);
+    thread_rows(&s);
     pw_image_free(NULL, &s.out);
     pw_fb_free(&s.fb);
     pw_texture_free(NULL, &s.tex);

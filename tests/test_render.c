@@ -1,6 +1,7 @@
 /* Tests of the rasterizer (src/common/raster.h) and the renderer
  * (src/common/render.h). A few scenes are written to /tmp/pw_render_*.ppm
  * for a visual check. */
+#define PW_THREADS
 #include "../src/common/render.h"
 #include "../src/common/rng.h"
 #include "pwtest.h"
@@ -1147,6 +1148,136 @@ static void t_render_determinism(void)
     mesh_free(&m);
 }
 
+/* Band rendering (pw_fb_create_band, pw_render_frame) and threads: the
+ * torus scene with lapped-style passes, drawn whole, band by band with
+ * bands of 1, 7 and 13 rows, by pw_render_frame on one thread, on 2 and 3
+ * threads, and through a caller's parallel-for that runs the bands in
+ * reverse: every picture is the same, bit for bit. */
+typedef struct band_scene {
+    const mesh *m;
+    const pw_texture *tex, *patch;
+    float *puv[6];
+    pw_camera cam;
+    int same;
+} band_scene;
+
+static int band_draw(void *user, pw_fb *fb, pw_err *e)
+{
+    band_scene *S = (band_scene *)user;
+    pw_draw d = draw_of(S->m);
+    int p, r;
+    d.tex = S->tex;
+    d.lighting = PW_LIGHT_CAMERA;
+    r = pw_render_draw(fb, &S->cam, &d, e);
+    d.tex = S->patch;
+    d.blend = PW_BLEND_OVER;
+    d.depth_test = PW_DEPTH_LEQUAL;
+    d.no_depth_write = 1;
+    d.wrap = PW_WRAP_CLAMP;
+    d.same_vertices = S->same;
+    for (p = 0; p < 6 && r == PW_OK; p++) {
+        d.uvs = S->puv[p];
+        r = pw_render_draw(fb, &S->cam, &d, e);
+    }
+    return r;
+}
+
+static void reverse_for(void *pool, int n, pw_task_fn task, void *ctx)
+{
+    int i;
+    *(int *)pool += n;
+    for (i = n - 1; i >= 0; i--) task(ctx, i);
+}
+
+static void t_render_bands(void)
+{
+    static const int rows[3] = {1, 7, 13};
+    mesh m;
+    pw_image img, pimg, ref, out;
+    pw_texture tex, patch;
+    pw_fb fb;
+    pw_frame f;
+    pw_parallel par;
+    band_scene S;
+    float vd[3] = {0.2f, -0.7f, -1.0f}, bg[4] = {0.15f, 0.15f, 0.2f, 1};
+    size_t bytes;
+    int i, p, t, k, y, size, calls = 0;
+    mesh_grid(&m, 60, p_torus, 1.0f);
+    make_checker(&img, 128, 16);
+    make_patch(&pimg, 64, 0.9f, 0.5f, 0.1f);
+    REQUIRE(pw_texture_create(NULL, &tex, &img, 0, NULL) == PW_OK);
+    REQUIRE(pw_texture_create(NULL, &patch, &pimg, 0, NULL) == PW_OK);
+    S.m = &m;
+    S.tex = &tex;
+    S.patch = &patch;
+    for (p = 0; p < 6; p++) {
+        float c[3], a = 6.283185307f * p / 6;
+        c[0] = cosf(a) * 1.2f;
+        c[1] = 0.3f;
+        c[2] = sinf(a) * 1.2f;
+        S.puv[p] = (float *)malloc(sizeof(float) * 6 * m.nt);
+        for (t = 0; t < m.nt; t++)
+            for (k = 0; k < 3; k++) {
+                const float *q = m.pos + 3 * m.tri[3 * t + k];
+                S.puv[p][6 * t + 2 * k] = 0.5f + (q[0] - c[0]) * 1.2f + 0.3f * (q[2] - c[2]);
+                S.puv[p][6 * t + 2 * k + 1] = 0.5f + (q[2] - c[2]) * 1.2f - 0.3f * (q[0] - c[0]);
+            }
+    }
+    for (size = 0; size < 2; size++) {
+        int W = size ? 301 : 320, H = size ? 157 : 240, ss = size ? 3 : 2;
+        S.cam = pw_camera_frame(m.pos, m.nv, vd, NULL, 35.0f, (float)W / H);
+        S.same = 0;
+        REQUIRE(pw_fb_create(NULL, &fb, W, H, ss, bg, NULL) == PW_OK);
+        REQUIRE(band_draw(&S, &fb, NULL) == PW_OK);
+        REQUIRE(pw_fb_resolve(&fb, &ref, 3, NULL) == PW_OK);
+        pw_fb_free(&fb);
+        bytes = sizeof(float) * 3 * W * H;
+        S.same = 1;
+        for (i = 0; i < 3; i++) {
+            REQUIRE(pw_image_alloc(NULL, &out, W, H, 3, NULL) == PW_OK);
+            REQUIRE(pw_fb_create_band(NULL, &fb, W, H, ss, rows[i], bg, NULL) == PW_OK);
+            for (y = 0; y < H; y += rows[i]) {
+                pw_fb_set_band(&fb, y);
+                REQUIRE(band_draw(&S, &fb, NULL) == PW_OK);
+                pw_fb_resolve_band(&fb, &out);
+            }
+            pw_fb_free(&fb);
+            CHECKF(memcmp(out.px, ref.px, bytes) == 0, "%dx%d: bands of %d rows differ from the whole frame",
+                      W, H, rows[i]);
+            pw_image_free(NULL, &out);
+        }
+        memset(&f, 0, sizeof f);
+        f.w = W;
+        f.h = H;
+        f.ss = ss;
+        memcpy(f.bg, bg, sizeof bg);
+        f.channels = 3;
+        f.draw = band_draw;
+        f.user = &S;
+        memset(&par, 0, sizeof par);
+        for (i = 0; i < 4; i++) {
+            par.threads = i < 3 ? i + 1 : 0;
+            par.run = i == 3 ? reverse_for : NULL;
+            par.pool = &calls;
+            f.par = i ? &par : NULL;
+            REQUIRE(pw_render_frame(NULL, &f, &out, NULL) == PW_OK);
+            CHECKF(memcmp(out.px, ref.px, bytes) == 0, "%dx%d: pw_render_frame (%s %d) differs", W, H,
+                      i == 3 ? "caller's parallel-for" : "threads", par.threads);
+            pw_image_free(NULL, &out);
+        }
+        pw_image_free(NULL, &ref);
+    }
+    CHECK(calls > 2); /* the caller's parallel-for ran the bands */
+    f.channels = 2;
+    CHECK(pw_render_frame(NULL, &f, &out, NULL) == PW_ERR_INVALID && out.px == NULL);
+    for (p = 0; p < 6; p++) free(S.puv[p]);
+    pw_texture_free(NULL, &tex);
+    pw_texture_free(NULL, &patch);
+    pw_image_free(NULL, &img);
+    pw_image_free(NULL, &pimg);
+    mesh_free(&m);
+}
+
 /* The blended path with opaque colours and depth writes draws what the
  * opaque (visibility-buffer) path draws, for several sample counts; with
  * the eye close to the mesh (near-plane clipping) too. */
@@ -1384,6 +1515,7 @@ static const pwt_case cases[] = {
     {"render_near_clip", t_render_near_clip},
     {"render_lighting", t_render_lighting},
     {"render_determinism", t_render_determinism},
+    {"render_bands", t_render_bands},
     {"render_paths_agree", t_render_paths_agree},
     {"render_garbage", t_render_garbage},
     {"render_errors", t_render_errors},

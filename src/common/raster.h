@@ -45,6 +45,9 @@
 /* The raster target: viewport size and the fixed-point precision it allows. */
 typedef struct pw_raster_grid {
     int w, h;     /* pixels [0, w) x [0, h) */
+    int row0, row1; /* rows rasterized: [row0, row1), default [0, h) (a band of the frame;
+                       snapping depends on w and h only, so a band covers exactly the
+                       pixels the whole frame would in its rows) */
     int bits;     /* sub-pixel bits: vertices snap to multiples of 2^-bits */
     double range; /* |coordinate| <= range is rasterized directly, beyond is clipped */
 } pw_raster_grid;
@@ -101,6 +104,7 @@ PW__DEF int pw_raster_grid_init(pw_raster_grid *g, int w, int h)
     while ((1 << k) < 2 * m + 64) k++;
     g->w = w;
     g->h = h;
+    g->row1 = h;
     g->bits = 29 - k < 16 ? 29 - k : 16;
     g->range = (double)(1 << (29 - g->bits)); /* >= 2^k */
     return 1;
@@ -244,6 +248,8 @@ PW__DEF int pw_raster_setup(pw_raster_edges *s, const pw_raster_grid *g, const d
     s->orient = s->area2 > 0 ? 1 : -1;
     pw__raster_centres(pw__raster_min3(X), pw__raster_max3(X), g->bits, g->w, &xlo, &xhi);
     pw__raster_centres(pw__raster_min3(Y), pw__raster_max3(Y), g->bits, g->h, &ylo, &yhi);
+    if (ylo < g->row0) ylo = g->row0;
+    if (yhi > g->row1 - 1) yhi = g->row1 - 1;
     if (xlo > xhi || ylo > yhi) return 0;
     s->x0 = xlo;
     s->x1 = xhi + 1;

@@ -10,6 +10,10 @@
  *                float depth per sample; pw_fb_resolve box-filters it into a
  *                pw_image.
  *   pw_render_draw draws one triangle mesh (pw_draw) into a framebuffer.
+ *   pw_render_frame renders a whole frame band by band (a band: a few rows
+ *                of the frame, every draw clipped to them), on several
+ *                threads when asked (pw_parallel: PW_THREADS or the
+ *                caller's parallel-for), the same picture bit for bit.
  *
  * Conventions. Image rows go down (row 0 at the top); texture coordinate
  * v = 0 is the BOTTOM row of the texture image (OBJ/OpenGL). Triangles whose
@@ -43,17 +47,24 @@
  * stored depth of each 8x8-sample tile, rebuilt only after depth changed)
  * and skip triangles that are hidden everywhere under it.
  *
- * Memory: 24 bytes per sample, i.e. 24 ss^2 bytes per pixel (96 at ss = 2):
- * 16 colour, 4 depth, 4 visibility id. Draws add scratch kept in the
+ * Memory: 24 bytes per sample held, i.e. 24 ss^2 bytes per pixel (96 at
+ * ss = 2): 16 colour (premultiplied float RGBA, so that hundreds of blended
+ * passes keep their precision), 4 depth, 4 visibility id. A framebuffer
+ * holds a band of the frame or all of it; pw_render_frame keeps the bands
+ * under way to a quarter of the frame (24 bytes per pixel of the frame at
+ * ss = 2, plus 12 for an RGB picture). Draws add scratch kept in the
  * framebuffer for the next draw: 40 bytes per vertex (+12 with computed
  * normals), 84 bytes per triangle, and for blended draws 8 bytes per pixel
  * column plus 4 ss bytes per sample column and 4 bytes per 64 samples. A
  * texture holds 8 bytes per texel (16-bit premultiplied RGBA), times about
  * 4/3 for the mip chain.
  *
- * Determinism: one thread, fixed orders, and no libm call whose rounding
- * varies across platforms on any path that reaches a pixel (tan and log2 are
- * computed here from + - * /; sqrt is exactly rounded by IEEE 754).
+ * Determinism: fixed orders within a band, bands that share nothing but the
+ * read-only inputs (every band sees every draw, and the sample grid, the
+ * snapping and the triangle planes do not depend on the band), and no libm
+ * call whose rounding varies across platforms on any path that reaches a
+ * pixel (tan and log2 are computed here from + - * /; sqrt is exactly
+ * rounded by IEEE 754). The same picture for any band size and thread count.
  *
  * Example: a textured, lit mesh to an RGB image.
  *
@@ -664,17 +675,21 @@ PW__DEF float pw__log2f(float x)
 typedef struct pw_fb {
     int w, h, ss;  /* pixels; ss x ss samples per pixel */
     int sw, sh;    /* sample grid: w*ss x h*ss, sample (x, y) centred at ((x+.5)/ss, (y+.5)/ss) pixels */
+    int y0, bh;    /* the sample rows held: [y0, y0 + bh), a band of the frame (all of it
+                      unless made by pw_fb_create_band); draws cover only these */
+    int band_rows; /* pixel rows a band can hold */
     float bg[4];   /* background, straight RGBA */
-    float *color;  /* sw*sh*4 premultiplied RGBA, sample (x, y) at (y*sw + x)*4, row 0 at the top */
-    float *depth;  /* sw*sh, q = 1/(distance along the view axis); 0 = nothing drawn */
-    uint32_t *vis; /* sw*sh triangle ids of the opaque draw under way; PW_FB_NONE between draws */
+    float *color;  /* sw*bh*4 premultiplied RGBA, sample (x, y) at ((y-y0)*sw + x)*4, row 0 at the top */
+    float *depth;  /* sw*bh, q = 1/(distance along the view axis); 0 = nothing drawn */
+    uint32_t *vis; /* sw*bh triangle ids of the opaque draw under way; PW_FB_NONE between draws */
     double *vbuf;  /* draw scratch: transformed vertices */
     float *nbuf;   /* draw scratch: computed normals */
     float *pbuf;   /* draw scratch: triangle planes */
     uint64_t *mbuf; /* draw scratch: sample masks of a pixel row (all zero between uses) */
     float *qbuf;   /* draw scratch: depths of ss sample rows */
-    float *zmin;   /* coarse depth: per tile of PW__ZT x PW__ZT samples, the smallest q */
+    float *zmin;   /* coarse depth: per tile of PW__ZT x PW__ZT samples of the band, the smallest q */
     int zvalid;    /* zmin matches depth; set 0 if you write depth yourself */
+    int vnv;       /* vertices transformed into vbuf by the last draw (0: none) */
     size_t vcap, ncap, pcap, mcap, qcap, zcap;
     const pw_alloc *alloc;
 } pw_fb;
@@ -686,13 +701,13 @@ PW__DEF void pw_fb_clear(pw_fb *fb)
     float c[4];
     PW_ASSERT(fb && fb->color);
     row = (size_t)fb->sw * 4;
-    n = (size_t)fb->sw * fb->sh;
+    n = (size_t)fb->sw * fb->bh;
     c[0] = fb->bg[0] * fb->bg[3];
     c[1] = fb->bg[1] * fb->bg[3];
     c[2] = fb->bg[2] * fb->bg[3];
     c[3] = fb->bg[3];
     for (i = 0; i < (size_t)fb->sw; i++) memcpy(fb->color + 4 * i, c, sizeof c);
-    for (i = 1; i < (size_t)fb->sh; i++) memcpy(fb->color + i * row, fb->color, row * sizeof(float));
+    for (i = 1; i < (size_t)fb->bh; i++) memcpy(fb->color + i * row, fb->color, row * sizeof(float));
     memset(fb->depth, 0, n * sizeof(float));
     fb->zvalid = 0;
 }
@@ -712,15 +727,17 @@ PW__DEF void pw_fb_free(pw_fb *fb)
     memset(fb, 0, sizeof *fb);
 }
 
-/* Creates a cleared w x h framebuffer with ss x ss samples per pixel
- * (1 <= ss <= PW_FB_MAX_SS) and background bg (straight RGBA; NULL: opaque
- * black). The allocator a (may be NULL) must outlive the framebuffer. */
-PW__DEF int pw_fb_create(const pw_alloc *a, pw_fb *fb, int w, int h, int ss, const float bg[4],
-                         pw_err *e)
+/* Creates a cleared framebuffer for a w x h frame with ss x ss samples per
+ * pixel (1 <= ss <= PW_FB_MAX_SS) and background bg (straight RGBA; NULL:
+ * opaque black) that holds band_rows pixel rows at a time (0 or >= h: the
+ * whole frame), the first band selected. The allocator a (may be NULL) must
+ * outlive the framebuffer. */
+PW__DEF int pw_fb_create_band(const pw_alloc *a, pw_fb *fb, int w, int h, int ss, int band_rows,
+                              const float bg[4], pw_err *e)
 {
     size_t n;
     memset(fb, 0, sizeof *fb);
-    if (w <= 0 || h <= 0 || ss < 1 || ss > PW_FB_MAX_SS)
+    if (w <= 0 || h <= 0 || ss < 1 || ss > PW_FB_MAX_SS || band_rows < 0)
         return pw_fail(e, PW_ERR_INVALID, "framebuffer: invalid size %dx%d with %dx%d samples", w,
                        h, ss, ss);
     if (w > PW_MAX_IMAGE_DIM || h > PW_MAX_IMAGE_DIM ||
@@ -732,10 +749,12 @@ PW__DEF int pw_fb_create(const pw_alloc *a, pw_fb *fb, int w, int h, int ss, con
     fb->ss = ss;
     fb->sw = w * ss;
     fb->sh = h * ss;
+    fb->band_rows = band_rows == 0 || band_rows > h ? h : band_rows;
+    fb->bh = fb->band_rows * ss;
     fb->alloc = a;
     fb->bg[3] = 1.0f;
     if (bg) memcpy(fb->bg, bg, sizeof fb->bg);
-    n = (size_t)fb->sw * fb->sh;
+    n = (size_t)fb->sw * fb->bh;
     fb->color = (float *)pw_alloc_array(a, n * 4, sizeof(float), "framebuffer colour", e);
     fb->depth = fb->color ? (float *)pw_alloc_array(a, n, sizeof(float), "framebuffer depth", e) : NULL;
     fb->vis = fb->depth ? (uint32_t *)pw_alloc_array(a, n, sizeof(uint32_t), "framebuffer ids", e) : NULL;
@@ -748,25 +767,37 @@ PW__DEF int pw_fb_create(const pw_alloc *a, pw_fb *fb, int w, int h, int ss, con
     return PW_OK;
 }
 
-/* Box-filters the samples of each pixel into out (allocated here with the
- * framebuffer's allocator; free with pw_image_free): channels 4 gives
- * straight RGBA, 3 gives the premultiplied colour (i.e. composited over
- * black, which is the colour itself wherever alpha is 1). Clamped to [0,1]. */
-PW__DEF int pw_fb_resolve(const pw_fb *fb, pw_image *out, int channels, pw_err *e)
+/* The same holding the whole frame. */
+PW__DEF int pw_fb_create(const pw_alloc *a, pw_fb *fb, int w, int h, int ss, const float bg[4],
+                         pw_err *e)
+{
+    return pw_fb_create_band(a, fb, w, h, ss, 0, bg, e);
+}
+
+/* Selects the band that starts at pixel row `row` (cleared). */
+PW__DEF void pw_fb_set_band(pw_fb *fb, int row)
+{
+    int rows = fb->h - row < fb->band_rows ? fb->h - row : fb->band_rows;
+    PW_ASSERT(row >= 0 && row < fb->h);
+    fb->y0 = row * fb->ss;
+    fb->bh = rows * fb->ss;
+    pw_fb_clear(fb);
+}
+
+/* Box-filters the samples of each pixel of the band into the same rows of
+ * out (the frame's size, 3 or 4 channels): 4 gives straight RGBA, 3 the
+ * premultiplied colour (i.e. composited over black, which is the colour
+ * itself wherever alpha is 1). Clamped to [0,1]. */
+PW__DEF void pw_fb_resolve_band(const pw_fb *fb, pw_image *out)
 {
     const size_t srow = (size_t)fb->sw * 4;
     const float inv = 1.0f / (float)(fb->ss * fb->ss);
-    int x, y, i, j, k, r;
-    PW_ASSERT(fb && fb->color && out);
-    if (channels != 3 && channels != 4) {
-        memset(out, 0, sizeof *out);
-        return pw_fail(e, PW_ERR_INVALID, "resolve: %d channels (need 3 or 4)", channels);
-    }
-    r = pw_image_alloc(fb->alloc, out, fb->w, fb->h, channels, e);
-    if (r) return r;
-    for (y = 0; y < fb->h; y++) {
+    const int channels = out->c, row0 = fb->y0 / fb->ss;
+    int x, y, i, j, k;
+    PW_ASSERT(fb->color && out->w == fb->w && out->h == fb->h && (channels == 3 || channels == 4));
+    for (y = 0; y < fb->bh / fb->ss; y++) {
         const float *blk = fb->color + (size_t)y * fb->ss * srow;
-        float *o = out->px + (size_t)y * fb->w * channels;
+        float *o = out->px + (size_t)(row0 + y) * fb->w * channels;
         for (x = 0; x < fb->w; x++, blk += 4 * fb->ss, o += channels) {
             float acc[4], r = 0.0f, g = 0.0f, b = 0.0f, a = 0.0f;
             for (j = 0; j < fb->ss; j++) {
@@ -787,6 +818,21 @@ PW__DEF int pw_fb_resolve(const pw_fb *fb, pw_image *out, int channels, pw_err *
             for (k = 0; k < channels; k++) o[k] = acc[k] > 0.0f ? (acc[k] < 1.0f ? acc[k] : 1.0f) : 0.0f;
         }
     }
+}
+
+/* A framebuffer holding the whole frame into out (allocated here with the
+ * framebuffer's allocator; free with pw_image_free), as pw_fb_resolve_band. */
+PW__DEF int pw_fb_resolve(const pw_fb *fb, pw_image *out, int channels, pw_err *e)
+{
+    int r;
+    PW_ASSERT(fb && fb->color && out && fb->bh == fb->sh);
+    if (channels != 3 && channels != 4) {
+        memset(out, 0, sizeof *out);
+        return pw_fail(e, PW_ERR_INVALID, "resolve: %d channels (need 3 or 4)", channels);
+    }
+    r = pw_image_alloc(fb->alloc, out, fb->w, fb->h, channels, e);
+    if (r) return r;
+    pw_fb_resolve_band(fb, out);
     return PW_OK;
 }
 
@@ -831,6 +877,9 @@ typedef struct pw_draw {
      * a texture lookup would be; uvs are not needed. */
     void (*shader)(void *user, int tri, float b1, float b2, const float db[4], float rgba[4]);
     void *shader_user;
+    int same_vertices;      /* 1: positions, nv and camera are those of the previous draw into
+                               this framebuffer, whose transformed vertices are reused (the
+                               passes of lapped textures) */
 } pw_draw;
 
 #define PW__ZT 8 /* coarse depth tile, in samples */
@@ -1097,8 +1146,8 @@ PW__DEF void pw__raster_vis(pw__ctx *c, pw_raster_edges *s, uint32_t id, const f
     int y, x, xa, xb;
     for (y = s->y0; y < s->y1; y++) {
         const float qrow = pl[1] * ((float)y + 0.5f - oy) + pl[2];
-        float *dp = fb->depth + (size_t)y * fb->sw, fx;
-        uint32_t *vp = fb->vis + (size_t)y * fb->sw;
+        float *dp = fb->depth + (size_t)(y - fb->y0) * fb->sw, fx;
+        uint32_t *vp = fb->vis + (size_t)(y - fb->y0) * fb->sw;
         if (!pw_raster_next(s, &xa, &xb)) continue;
         fx = (float)xa + 0.5f - ox;
         for (x = xa; x < xb; x++, fx += 1.0f) pw__vis_sample(c, dp + x, vp + x, qx * fx + qrow, id);
@@ -1191,7 +1240,7 @@ PW__DEF void pw__shade_vis(pw__ctx *c)
     int px, py, k, m;
     for (k = 0; k < n; k++) off[k] = (size_t)(k / ss) * fb->sw + (size_t)(k % ss);
     for (py = py0; py < py1; py++) {
-        size_t base = (size_t)py * ss * fb->sw + (size_t)px0 * ss;
+        size_t base = (size_t)(py * ss - fb->y0) * fb->sw + (size_t)px0 * ss;
         for (px = px0; px < px1; px++, base += ss) {
             uint32_t *vis = fb->vis + base, first = vis[0], any = first;
             int same = 1;
@@ -1246,7 +1295,7 @@ PW__DEF void pw__over_pixel(pw__ctx *c, int t, int px, int py, uint64_t mask, co
         size_t at;
         float *d;
         if (!(mask >> k & 1)) continue;
-        at = (size_t)(py * ss + k / ss) * fb->sw + (size_t)px * ss + k % ss;
+        at = (size_t)(py * ss + k / ss - fb->y0) * fb->sw + (size_t)px * ss + k % ss;
         d = fb->color + at * 4;
         d[0] = col[0] + keep * d[0];
         d[1] = col[1] + keep * d[1];
@@ -1271,7 +1320,7 @@ PW__DEF void pw__raster_over(pw__ctx *c, pw_raster_edges *s, int t, const float 
         for (j = 0; j < ss; j++) {
             const int y = py * ss + j;
             const float qrow = pl[1] * ((float)y + 0.5f - oy) + pl[2];
-            const float *dp = fb->depth + (size_t)y * fb->sw;
+            const float *dp = fb->depth + (size_t)(y - fb->y0) * fb->sw;
             float *qr = c->qbuf + (size_t)j * fb->sw, fx;
             int i;
             if (y < s->y0 || y >= s->y1 || !pw_raster_next(s, &xa, &xb)) continue;
@@ -1300,21 +1349,22 @@ PW__DEF void pw__raster_over(pw__ctx *c, pw_raster_edges *s, int t, const float 
     }
 }
 
-/* True if the projected triangle lies entirely on one side of the screen. */
+/* True if the projected triangle lies entirely on one side of the screen
+ * or of the band. */
 PW__DEF int pw__offscreen(const pw__ctx *c, const double *p)
 {
-    double w = c->fb->sw, h = c->fb->sh;
+    double w = c->fb->sw, y0 = c->fb->y0, y1 = c->fb->y0 + c->fb->bh;
     return (p[0] < 0 && p[2] < 0 && p[4] < 0) || (p[0] > w && p[2] > w && p[4] > w) ||
-           (p[1] < 0 && p[3] < 0 && p[5] < 0) || (p[1] > h && p[3] > h && p[5] > h);
+           (p[1] < y0 && p[3] < y0 && p[5] < y0) || (p[1] > y1 && p[3] > y1 && p[5] > y1);
 }
 
-/* Builds the coarse depth: the smallest stored q of each tile. */
+/* Builds the coarse depth: the smallest stored q of each tile of the band. */
 PW__DEF void pw__zmin_build(pw_fb *fb)
 {
     const int tw = (fb->sw + PW__ZT - 1) / PW__ZT;
     int x, y;
-    for (x = 0; x < tw * ((fb->sh + PW__ZT - 1) / PW__ZT); x++) fb->zmin[x] = FLT_MAX;
-    for (y = 0; y < fb->sh; y++) {
+    for (x = 0; x < tw * ((fb->bh + PW__ZT - 1) / PW__ZT); x++) fb->zmin[x] = FLT_MAX;
+    for (y = 0; y < fb->bh; y++) {
         const float *d = fb->depth + (size_t)y * fb->sw;
         float *z = fb->zmin + (size_t)(y / PW__ZT) * tw;
         for (x = 0; x < fb->sw; x++)
@@ -1329,13 +1379,14 @@ PW__DEF void pw__zmin_build(pw_fb *fb)
  * sample of the tiles under its box. Boxes of many tiles are not tested. */
 PW__DEF int pw__hidden(const pw__ctx *c, const double *const *h, const double *p)
 {
-    const int tw = (c->fb->sw + PW__ZT - 1) / PW__ZT, th = (c->fb->sh + PW__ZT - 1) / PW__ZT;
+    const int tw = (c->fb->sw + PW__ZT - 1) / PW__ZT, th = (c->fb->bh + PW__ZT - 1) / PW__ZT;
     double lo[2], hi[2], qmax = 0.0;
     float zm = FLT_MAX;
     int k, t0[2], t1[2], tx, ty;
     for (k = 0; k < 2; k++) {
-        lo[k] = p[k] < p[k + 2] ? (p[k] < p[k + 4] ? p[k] : p[k + 4]) : (p[k + 2] < p[k + 4] ? p[k + 2] : p[k + 4]);
-        hi[k] = p[k] > p[k + 2] ? (p[k] > p[k + 4] ? p[k] : p[k + 4]) : (p[k + 2] > p[k + 4] ? p[k + 2] : p[k + 4]);
+        double o = k ? c->fb->y0 : 0.0; /* tile rows count from the band's first row */
+        lo[k] = (p[k] < p[k + 2] ? (p[k] < p[k + 4] ? p[k] : p[k + 4]) : (p[k + 2] < p[k + 4] ? p[k + 2] : p[k + 4])) - o;
+        hi[k] = (p[k] > p[k + 2] ? (p[k] > p[k + 4] ? p[k] : p[k + 4]) : (p[k + 2] > p[k + 4] ? p[k + 2] : p[k + 4])) - o;
         t0[k] = (int)pw_clampf((float)lo[k], 0.0f, (float)(c->fb->sw + c->fb->sh)) / PW__ZT;
         t1[k] = (int)pw_clampf((float)hi[k], 0.0f, (float)(c->fb->sw + c->fb->sh)) / PW__ZT;
     }
@@ -1408,7 +1459,7 @@ PW__DEF int pw__draw_scratch(pw_fb *fb, const pw_draw *d, int need_normals, pw_e
     if (fb->mcap > oldm) memset(fb->mbuf, 0, fb->mcap * sizeof(uint64_t));
     if (d->no_depth_write && d->depth_test != PW_DEPTH_ALWAYS &&
         pw_grow(fb->alloc, (void **)&fb->zmin, &fb->zcap,
-                (size_t)((fb->sw + PW__ZT - 1) / PW__ZT) * ((fb->sh + PW__ZT - 1) / PW__ZT),
+                (size_t)((fb->sw + PW__ZT - 1) / PW__ZT) * ((fb->band_rows * fb->ss + PW__ZT - 1) / PW__ZT),
                 sizeof(float), "render coarse depth", e))
         return e ? e->code : PW_ERR_NOMEM;
     return PW_OK;
@@ -1467,10 +1518,13 @@ PW__DEF int pw_render_draw(pw_fb *fb, const pw_camera *cam, const pw_draw *d, pw
     if ((r = pw__draw_check(d, e)) != PW_OK) return r;
     if ((r = pw__view_init(&c.view, cam, fb->sw, fb->sh, e)) != PW_OK) return r;
     pw_raster_grid_init(&c.grid, fb->sw, fb->sh);
+    c.grid.row0 = fb->y0;
+    c.grid.row1 = fb->y0 + fb->bh;
     need_normals = d->lighting != PW_LIGHT_NONE && !d->flat && !d->normals;
     if ((r = pw__draw_scratch(fb, d, need_normals, e)) != PW_OK) return r;
     pw__ctx_init(&c, fb, d);
-    pw__transform(&c.view, d, fb->vbuf);
+    if (!d->same_vertices || fb->vnv != d->nv) pw__transform(&c.view, d, fb->vbuf);
+    fb->vnv = d->nv;
     c.vh = fb->vbuf;
     c.planes = fb->pbuf;
     c.mask = fb->mbuf;
@@ -1488,6 +1542,184 @@ PW__DEF int pw_render_draw(pw_fb *fb, const pw_camera *cam, const pw_draw *d, pw
     for (t = 0; t < d->ntris; t++) pw__draw_tri(&c, t);
     if (c.cwrite && c.blend == PW_BLEND_REPLACE && c.bx1 > c.bx0) pw__shade_vis(&c);
     return PW_OK;
+}
+
+/* ---------------------------------------------------------------- frames */
+
+/* A parallel for: runs task(ctx, i) once for every i in [0, n), in any
+ * order, on any threads, and returns when all have run. Results never
+ * depend on the order (each task writes its own part of the output). */
+typedef void (*pw_task_fn)(void *ctx, int index);
+typedef void (*pw_parallel_fn)(void *pool, int n, pw_task_fn task, void *ctx);
+
+/* Where work runs: the caller's parallel for (run, pool: an embedder's job
+ * system), else with PW_THREADS `threads` POSIX threads (0: one per
+ * processor), else one thread. */
+typedef struct pw_parallel {
+    pw_parallel_fn run;
+    void *pool;
+    int threads;
+} pw_parallel;
+
+#ifdef PW_THREADS
+#include <pthread.h>
+#include <unistd.h>
+
+typedef struct pw__pool {
+    pthread_mutex_t lock;
+    int next, n;
+    pw_task_fn task;
+    void *ctx;
+} pw__pool;
+
+PW__DEF void *pw__pool_worker(void *arg)
+{
+    pw__pool *p = (pw__pool *)arg;
+    for (;;) {
+        int i;
+        pthread_mutex_lock(&p->lock);
+        i = p->next < p->n ? p->next++ : -1;
+        pthread_mutex_unlock(&p->lock);
+        if (i < 0) return NULL;
+        p->task(p->ctx, i);
+    }
+}
+
+/* n tasks on up to `threads` threads (0: one per processor); the calling
+ * thread works too. Falls back to fewer threads if some cannot start. */
+PW__DEF void pw__pool_run(int threads, int n, pw_task_fn task, void *ctx)
+{
+    pthread_t th[64];
+    pw__pool p;
+    int k, started = 0;
+    if (threads <= 0) {
+        long np = sysconf(_SC_NPROCESSORS_ONLN);
+        threads = np > 0 ? (int)np : 1;
+    }
+    if (threads > n) threads = n;
+    if (threads > 64) threads = 64;
+    p.next = 0;
+    p.n = n;
+    p.task = task;
+    p.ctx = ctx;
+    pthread_mutex_init(&p.lock, NULL);
+    for (k = 1; k < threads; k++)
+        if (pthread_create(&th[started], NULL, pw__pool_worker, &p) == 0) started++;
+    pw__pool_worker(&p);
+    for (k = 0; k < started; k++) pthread_join(th[k], NULL);
+    pthread_mutex_destroy(&p.lock);
+}
+#endif
+
+/* The number of tasks that may run at once under par. */
+PW__DEF int pw_parallel_width(const pw_parallel *par)
+{
+    if (!par || par->threads == 1) return 1;
+    if (par->run) return par->threads > 1 ? par->threads : 8;
+#ifdef PW_THREADS
+    if (par->threads > 1) return par->threads;
+    {
+        long np = sysconf(_SC_NPROCESSORS_ONLN);
+        return np > 1 ? (int)np : 1;
+    }
+#else
+    return 1;
+#endif
+}
+
+/* Runs task(ctx, i) for i in [0, n) as par says (NULL: in order, here). */
+PW__DEF void pw_parallel_for(const pw_parallel *par, int n, pw_task_fn task, void *ctx)
+{
+    int i;
+    if (n <= 0) return;
+    if (par && par->run && par->threads != 1) {
+        par->run(par->pool, n, task, ctx);
+        return;
+    }
+#ifdef PW_THREADS
+    if (par && par->threads != 1 && n > 1) {
+        pw__pool_run(par->threads, n, task, ctx);
+        return;
+    }
+#endif
+    for (i = 0; i < n; i++) task(ctx, i);
+}
+
+/* Draws one band: the caller's draws into fb (a band of the frame, already
+ * cleared). Called once per band, maybe on several threads at once: it may
+ * only read what the bands share. */
+typedef int (*pw_frame_draw_fn)(void *user, pw_fb *fb, pw_err *e);
+
+typedef struct pw_frame {
+    int w, h, ss;            /* pixels, samples per pixel side */
+    float bg[4];             /* background, straight RGBA */
+    int channels;            /* of the picture: 3 or 4 (see pw_fb_resolve_band) */
+    pw_frame_draw_fn draw;
+    void *user;
+    const pw_parallel *par;  /* NULL: one thread */
+} pw_frame;
+
+typedef struct pw__frame_run {
+    const pw_alloc *a;
+    const pw_frame *f;
+    pw_image *out;
+    int rows;                /* pixel rows per band */
+    int *codes;              /* per band: its result */
+    pw_err *errs;            /* per band: its message */
+} pw__frame_run;
+
+PW__DEF void pw__frame_band(void *ctx, int band)
+{
+    pw__frame_run *R = (pw__frame_run *)ctx;
+    const pw_frame *f = R->f;
+    pw_fb fb;
+    pw_err_clear(&R->errs[band]);
+    R->codes[band] = pw_fb_create_band(R->a, &fb, f->w, f->h, f->ss, R->rows, f->bg, &R->errs[band]);
+    if (R->codes[band] != PW_OK) return;
+    pw_fb_set_band(&fb, band * R->rows);
+    R->codes[band] = f->draw(f->user, &fb, &R->errs[band]);
+    if (R->codes[band] == PW_OK) pw_fb_resolve_band(&fb, R->out);
+    pw_fb_free(&fb);
+}
+
+/* Renders a frame band by band into out (allocated here): the bands are
+ * small enough that those under way hold at most a quarter of the frame's
+ * samples (24 bytes each: at 2 x 2 samples, 24 bytes per pixel of the frame
+ * besides the picture's own 12 or 16), and band-parallel under f->par. The
+ * picture is the same, bit for bit, for any band size and thread count:
+ * bands split the rows of one sample grid, and every band sees every draw.
+ * An error is that of the first failing band. */
+PW__DEF int pw_render_frame(const pw_alloc *a, const pw_frame *f, pw_image *out, pw_err *e)
+{
+    pw__frame_run R;
+    int width = pw_parallel_width(f->par), nb, k, r;
+    memset(out, 0, sizeof *out);
+    if (f->channels != 3 && f->channels != 4)
+        return pw_fail(e, PW_ERR_INVALID, "render: %d channels (need 3 or 4)", f->channels);
+    if (f->w <= 0 || f->h <= 0 || f->ss < 1 || f->ss > PW_FB_MAX_SS)
+        return pw_fail(e, PW_ERR_INVALID, "framebuffer: invalid size %dx%d with %dx%d samples", f->w,
+                       f->h, f->ss, f->ss);
+    R.rows = (f->h + 4 * width - 1) / (4 * width);
+    if (R.rows < 8) R.rows = 8;
+    nb = (f->h + R.rows - 1) / R.rows;
+    if ((r = pw_image_alloc(a, out, f->w, f->h, f->channels, e)) != PW_OK) return r;
+    R.a = a;
+    R.f = f;
+    R.out = out;
+    R.codes = (int *)pw_alloc_array(a, (size_t)nb, sizeof(int), "render bands", e);
+    R.errs = R.codes ? (pw_err *)pw_alloc_array(a, (size_t)nb, sizeof(pw_err), "render bands", e) : NULL;
+    if (!R.errs) {
+        pw_free(a, R.codes);
+        pw_image_free(a, out);
+        return PW_ERR_NOMEM;
+    }
+    pw_parallel_for(f->par, nb, pw__frame_band, &R);
+    for (k = 0, r = PW_OK; k < nb && r == PW_OK; k++)
+        if ((r = R.codes[k]) != PW_OK && e) *e = R.errs[k];
+    pw_free(a, R.codes);
+    pw_free(a, R.errs);
+    if (r != PW_OK) pw_image_free(a, out);
+    return r;
 }
 
 #endif /* PW__RENDER_V1 */
