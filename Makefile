@@ -49,7 +49,7 @@ ALL_CFLAGS = $(WARN) $(CFLAGS) $(SANFLAGS) -I.
 # ---- single-file headers: name and the shared modules each one carries ----
 HEADERS        := tiled lapped pgp lst
 MODULES_tiled  := base vec rng image deflate png text mesh halfedge subdiv raster render graphcut quilt glue gltf
-MODULES_lapped := base vec rng image deflate png text mesh shapes halfedge sparse raster render polyhull trimesh dirfield glue gltf
+MODULES_lapped := base vec rng image deflate png text mesh shapes halfedge sparse raster render polyhull trimesh atlas dirfield glue gltf
 PARTS_lapped   := core field patch builtin grow render atlas io
 MODULES_pgp    := base vec rng image deflate png text mesh shapes halfedge sparse zsparse raster render trimesh dirfield nrrd tile3 glue graphcut quilt edt kdtree pca
 PARTS_pgp      := core field solve render builtin io morph synth

@@ -227,7 +227,7 @@ typedef struct peer_job {
     int samples;
 } peer_job;
 
-static void pw_frame(void *arg)
+static void patchwork_frame(void *arg)
 {
     peer_job *j = (peer_job *)arg;
     frame_on(j->s, j->fb);
@@ -271,7 +271,7 @@ static void peer_rows(scene *s, const pw_image *img, double ss2_frame)
 #ifdef BENCH_OSMESA
     gl_peer g;
     peer_job j;
-    void (*fn[2])(void *) = {pw_frame, gl_frame};
+    void (*fn[2])(void *) = {patchwork_frame, gl_frame};
     void *arg[2];
     (void)ss2_frame;
     if (bench_peer_disabled("osmesa")) {

@@ -431,7 +431,7 @@ static double rnd(unsigned long long *s)
 /* Every triangle in exactly one chart; each chart a connected disc
  * (Euler characteristic 1) whose normals lie within the cone around its
  * seed's, flattened without flips. Returns the number of charts. */
-static int check_partition(const pw_trimesh *m, const lapped__atlas_charts *C, double cone)
+static int check_partition(const pw_trimesh *m, const pw_atlas_charts *C, double cone)
 {
     int *seen = (int *)calloc((size_t)m->nf, sizeof(int)), *vmark = (int *)malloc(sizeof(int) * m->nv);
     int *queue = (int *)malloc(sizeof(int) * m->nf), c, i, k, bad_cone = 0, bad_disc = 0, bad_flip = 0;
@@ -449,7 +449,7 @@ static int check_partition(const pw_trimesh *m, const lapped__atlas_charts *C, d
             CHECK_EQ_INT(C->chart[f], c);
             if (n[0] * ns[0] + n[1] * ns[1] + n[2] * ns[2] < cosc) bad_cone++;
             for (k = 0; k < 6; k++) t[k] = C->uv[6 * f + k];
-            if (!(lapped__atlas_area2(t) > 0)) bad_flip++;
+            if (!(pw__atlas_area2(t) > 0)) bad_flip++;
             for (k = 0; k < 3; k++) {
                 int v = m->tri[3 * f + k], g = pw_trimesh_across(m, f, k);
                 if (vmark[v] != c) vmark[v] = c, V++;
@@ -496,7 +496,7 @@ static void id_texel(void *user, int x, int y, float b0, float b1, float b2)
  * that coordinates keep floor(gutter/2) pixels from the left and bottom
  * border and the rest of the gutter from the others, and that texels of
  * different charts are at least `gutter` apart. */
-static int *check_overlap(const pw_trimesh *m, const lapped__atlas_charts *C, const lapped_atlas *at, int g,
+static int *check_overlap(const pw_trimesh *m, const pw_atlas_charts *C, const lapped_atlas *at, int g,
                           int *ntexels)
 {
     int n = at->image.width, f, k, x, y, twice = 0, border = 0, close = 0;
@@ -538,7 +538,7 @@ static int *check_overlap(const pw_trimesh *m, const lapped__atlas_charts *C, co
 static void tri_sigma(const pw_trimesh *m, const float *uv, int f, double size, double *s1, double *s2)
 {
     double x[3], y[3], a, b, c, d, det, tr, disc, ia, ib, ic, id;
-    lapped__atlas_frame(m, f, x, y);
+    pw__atlas_frame(m, f, x, y);
     /* M maps (x1 - x0, y1 - y0) and (x2 - x0, y2 - y0) to the uv edges */
     det = x[1] * y[2] - x[2] * y[1];
     ia = y[2] / det, ib = -x[2] / det, ic = -y[1] / det, id = x[1] / det; /* inverse of [x1 x2; y1 y2] */
@@ -578,7 +578,7 @@ static double wquantile(wval *a, int n, double q)
 
 /* Distortion (singular-value ratio, area-weighted median and 95th
  * percentile) and the spread of texel density over charts. */
-static void measure_maps(const pw_trimesh *m, const lapped__atlas_charts *C, const lapped_atlas *at,
+static void measure_maps(const pw_trimesh *m, const pw_atlas_charts *C, const lapped_atlas *at,
                          double *med, double *p95, double *spread, double *density)
 {
     wval *r = (wval *)malloc(sizeof(wval) * m->nf);
@@ -663,7 +663,7 @@ static errstats quantiles(double *e, int n)
     return q;
 }
 
-static void check_samples(const pw_trimesh *m, const lapped__atlas_charts *C, const lapped__index *ix,
+static void check_samples(const pw_trimesh *m, const pw_atlas_charts *C, const lapped__index *ix,
                           const lapped_texture *t, const pw_image *pv, const pw_image *vv, const lapped_atlas *at,
                           const int *ids, errstats *in, errstats *all)
 {
@@ -769,7 +769,7 @@ static void check_mesh_with(const char *name, const lapped_mesh *mesh, int npast
                             double fill_floor)
 {
     pw_trimesh m;
-    lapped__atlas_charts C;
+    pw_atlas_charts C;
     lapped__index ix;
     handmade H;
     lapped_atlas at;
@@ -796,7 +796,7 @@ static void check_mesh_with(const char *name, const lapped_mesh *mesh, int npast
         pw_trimesh_free(NULL, &m);
         return;
     }
-    REQUIRE(lapped__atlas_charts_build(NULL, &m, cone, NULL, &C, &e) == PW_OK);
+    REQUIRE(pw_atlas_charts_build(NULL, &m, cone, NULL, &C, &e) == PW_OK);
     t2 = now();
     CHECK_EQ_INT(check_partition(&m, &C, cone), at.ncharts);
     CHECK_EQ_INT(at.ntris, m.nf);
@@ -824,7 +824,7 @@ static void check_mesh_with(const char *name, const lapped_mesh *mesh, int npast
     write_pictures(name, &m, &at);
     free(ids);
     lapped__index_free(NULL, &ix);
-    lapped__atlas_charts_free(NULL, &C);
+    pw_atlas_charts_free(NULL, &C);
     lapped_atlas_free(&at);
     handmade_free(&H);
     pw_trimesh_free(NULL, &m);
@@ -1307,11 +1307,11 @@ static void t_min_rect(void)
             double a = rnd(&s) * 6.283185307, r = trial % 3 ? sqrt(rnd(&s)) : 1.0;
             pts[2 * i] = r * cos(a) * (1 + trial % 5), pts[2 * i + 1] = r * sin(a);
         }
-        h = lapped__atlas_hull(pts, n, hull);
+        h = pw__atlas_hull(pts, n, hull);
         for (i = 0; i <= h; i++) { /* h: the calipers' edge; others: brute force */
             double d[2], area;
             if (i == h) {
-                lapped__atlas_min_rect_dir(hull, h, d);
+                pw__atlas_min_rect_dir(hull, h, d);
             } else {
                 double dx = hull[2 * ((i + 1) % h)] - hull[2 * i], dy = hull[2 * ((i + 1) % h) + 1] - hull[2 * i + 1];
                 d[0] = dx / sqrt(dx * dx + dy * dy), d[1] = dy / sqrt(dx * dx + dy * dy);
