@@ -918,6 +918,28 @@ PW__DEF pw_v3 pw_v3_max(pw_v3 a, pw_v3 b)
     return pw_v3_make(a.x > b.x ? a.x : b.x, a.y > b.y ? a.y : b.y, a.z > b.z ? a.z : b.z);
 }
 
+/* Double-precision 3-vectors as arrays. */
+PW__DEF double pw_dot3(const double *a, const double *b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+
+PW__DEF void pw_cross3(const double *a, const double *b, double *out)
+{
+    out[0] = a[1] * b[2] - a[2] * b[1];
+    out[1] = a[2] * b[0] - a[0] * b[2];
+    out[2] = a[0] * b[1] - a[1] * b[0];
+}
+
+/* Normalises v in place; returns its former length (a zero v stays zero). */
+PW__DEF double pw_norm3(double *v)
+{
+    double l = sqrt(pw_dot3(v, v));
+    if (l > 0.0) {
+        v[0] /= l;
+        v[1] /= l;
+        v[2] /= l;
+    }
+    return l;
+}
+
 /* sin and cos from + - * / only, so that procedural geometry is
  * bit-identical on every platform (libm results may differ in the last
  * bit). Taylor series to r^19 after reduction to [-pi/2, pi/2]: error below
@@ -8044,27 +8066,6 @@ typedef struct pw__view {
     double fx, fy, cx, cy, znear, zfar;
 } pw__view;
 
-PW__DEF double pw__dot3(const double *a, const double *b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
-
-PW__DEF void pw__cross3(const double *a, const double *b, double *out)
-{
-    out[0] = a[1] * b[2] - a[2] * b[1];
-    out[1] = a[2] * b[0] - a[0] * b[2];
-    out[2] = a[0] * b[1] - a[1] * b[0];
-}
-
-/* Normalises v in place; returns its former length. */
-PW__DEF double pw__norm3(double *v)
-{
-    double l = sqrt(pw__dot3(v, v));
-    if (l > 0.0) {
-        v[0] /= l;
-        v[1] /= l;
-        v[2] /= l;
-    }
-    return l;
-}
-
 /* double to float without the undefined behaviour of converting a value
  * beyond the float range (absurd inputs): clamps to +-FLT_MAX. */
 PW__DEF float pw__f(double x)
@@ -8098,11 +8099,11 @@ PW__DEF int pw__camera_basis(const pw_camera *cam, pw__view *v)
         v->f[k] = (double)cam->target[k] - cam->eye[k];
         up[k] = cam->up[k];
     }
-    if (!(pw__norm3(v->f) > 0.0) || !pw_is_finite(pw__dot3(v->f, v->f))) return 0;
-    pw__cross3(v->f, up, v->r);
-    if (!(pw__norm3(v->r) > 1e-9 * sqrt(pw__dot3(up, up)))) return 0;
-    pw__cross3(v->r, v->f, v->u);
-    return pw_is_finite(pw__dot3(v->r, v->r)) && pw_is_finite(pw__dot3(v->eye, v->eye));
+    if (!(pw_norm3(v->f) > 0.0) || !pw_is_finite(pw_dot3(v->f, v->f))) return 0;
+    pw_cross3(v->f, up, v->r);
+    if (!(pw_norm3(v->r) > 1e-9 * sqrt(pw_dot3(up, up)))) return 0;
+    pw_cross3(v->r, v->f, v->u);
+    return pw_is_finite(pw_dot3(v->r, v->r)) && pw_is_finite(pw_dot3(v->eye, v->eye));
 }
 
 /* Sets up the view for a sw x sh sample grid. */
@@ -8139,9 +8140,9 @@ PW__DEF int pw_camera_project(const pw_camera *cam, int w, int h, const float p[
     int k;
     if (w <= 0 || h <= 0 || pw__view_init(&v, cam, w, h, NULL) != PW_OK) return 0;
     for (k = 0; k < 3; k++) d[k] = (double)p[k] - v.eye[k];
-    xv = pw__dot3(d, v.r);
-    yv = pw__dot3(d, v.u);
-    wv = pw__dot3(d, v.f);
+    xv = pw_dot3(d, v.r);
+    yv = pw_dot3(d, v.u);
+    wv = pw_dot3(d, v.f);
     out[2] = pw__f(wv);
     if (!(wv >= v.znear)) return 0;
     out[0] = pw__f(v.cx + v.fx * xv / wv);
@@ -8171,10 +8172,10 @@ PW__DEF void pw__bounding_sphere(const float *pos, int nv, double *c, double *r)
         double d[3];
         if (!pw_is_finite(p[0]) || !pw_is_finite(p[1]) || !pw_is_finite(p[2])) continue;
         for (k = 0; k < 3; k++) d[k] = p[k] - c[k];
-        if (pw__dot3(d, d) > *r) *r = pw__dot3(d, d);
+        if (pw_dot3(d, d) > *r) *r = pw_dot3(d, d);
     }
     *r = sqrt(*r);
-    if (!(*r > 0.0)) *r = n ? 1e-3 * (1.0 + sqrt(pw__dot3(c, c))) : 1.0;
+    if (!(*r > 0.0)) *r = n ? 1e-3 * (1.0 + sqrt(pw_dot3(c, c))) : 1.0;
 }
 
 /* Where the finite vertices lie in a view basis (right rt, up up, view vd,
@@ -8190,9 +8191,9 @@ PW__DEF void pw__view_extent(const float *pos, int nv, const double c[3], const 
         double d[3], q[3];
         if (!pw_is_finite(p[0]) || !pw_is_finite(p[1]) || !pw_is_finite(p[2])) continue;
         for (k = 0; k < 3; k++) d[k] = p[k] - c[k];
-        q[0] = pw__dot3(d, rt);
-        q[1] = pw__dot3(d, up);
-        q[2] = pw__dot3(d, vd);
+        q[0] = pw_dot3(d, rt);
+        q[1] = pw_dot3(d, up);
+        q[2] = pw_dot3(d, vd);
         for (k = 0; k < 3; k++) {
             if (!n || q[k] < lo[k]) lo[k] = q[k];
             if (!n || q[k] > hi[k]) hi[k] = q[k];
@@ -8214,9 +8215,9 @@ PW__DEF void pw__projected_range(const float *pos, int nv, const double c[3], co
         double d[3], w, q[2];
         if (!pw_is_finite(p[0]) || !pw_is_finite(p[1]) || !pw_is_finite(p[2])) continue;
         for (k = 0; k < 3; k++) d[k] = p[k] - c[k];
-        w = dist + pw__dot3(d, vd);
-        q[0] = (pw__dot3(d, rt) - ox) / w;
-        q[1] = (pw__dot3(d, up) - oy) / w;
+        w = dist + pw_dot3(d, vd);
+        q[0] = (pw_dot3(d, rt) - ox) / w;
+        q[1] = (pw_dot3(d, up) - oy) / w;
         for (k = 0; k < 2; k++) {
             if (!n || q[k] < out[2 * k]) out[2 * k] = q[k];
             if (!n || q[k] > out[2 * k + 1]) out[2 * k + 1] = q[k];
@@ -8239,9 +8240,9 @@ PW__DEF double pw__fit_distance(const float *pos, int nv, const double c[3], con
         double d[3], need;
         if (!pw_is_finite(p[0]) || !pw_is_finite(p[1]) || !pw_is_finite(p[2])) continue;
         for (k = 0; k < 3; k++) d[k] = p[k] - c[k];
-        need = fabs(pw__dot3(d, rt) - ox) / tx - pw__dot3(d, vd);
-        if (fabs(pw__dot3(d, up) - oy) / ty - pw__dot3(d, vd) > need)
-            need = fabs(pw__dot3(d, up) - oy) / ty - pw__dot3(d, vd);
+        need = fabs(pw_dot3(d, rt) - ox) / tx - pw_dot3(d, vd);
+        if (fabs(pw_dot3(d, up) - oy) / ty - pw_dot3(d, vd) > need)
+            need = fabs(pw_dot3(d, up) - oy) / ty - pw_dot3(d, vd);
         if (need > dist) dist = need;
     }
     return dist;
@@ -8262,21 +8263,21 @@ PW__DEF pw_camera pw_camera_frame(const float *pos, int nv, const float view_dir
     int k;
     if (view_dir)
         for (k = 0; k < 3; k++) vd[k] = view_dir[k];
-    if (!(pw__norm3(vd) > 0.0) || !pw_is_finite(vd[0] + vd[1] + vd[2])) {
+    if (!(pw_norm3(vd) > 0.0) || !pw_is_finite(vd[0] + vd[1] + vd[2])) {
         vd[0] = vd[1] = 0.0;
         vd[2] = -1.0;
     }
     if (up)
         for (k = 0; k < 3; k++) u[k] = up[k];
-    pw__cross3(vd, u, x);
-    if (!(pw__dot3(x, x) > 1e-12 * pw__dot3(u, u)) || !pw_is_finite(pw__dot3(u, u))) {
+    pw_cross3(vd, u, x);
+    if (!(pw_dot3(x, x) > 1e-12 * pw_dot3(u, u)) || !pw_is_finite(pw_dot3(u, u))) {
         u[0] = fabs(vd[1]) < 0.9 ? 0.0 : 1.0; /* any up not along the view */
         u[1] = fabs(vd[1]) < 0.9 ? 1.0 : 0.0;
         u[2] = 0.0;
-        pw__cross3(vd, u, x);
+        pw_cross3(vd, u, x);
     }
-    pw__norm3(x);
-    pw__cross3(x, vd, y); /* unit: vd and x are orthonormal */
+    pw_norm3(x);
+    pw_cross3(x, vd, y); /* unit: vd and x are orthonormal */
     if (!(fovy_deg > 0.0f && fovy_deg < 180.0f)) fovy_deg = 45.0f;
     if (!(aspect > 0.0f) || !pw_is_finite(aspect)) aspect = 1.0f;
     pw__bounding_sphere(pos, pos ? nv : 0, c, &r);
@@ -8874,9 +8875,9 @@ PW__DEF void pw__transform_vertex(const pw__view *v, const float *p, double *o)
         return;
     }
     for (k = 0; k < 3; k++) q[k] = (double)p[k] - v->eye[k];
-    xv = pw__dot3(q, v->r);
-    yv = pw__dot3(q, v->u);
-    w = pw__dot3(q, v->f);
+    xv = pw_dot3(q, v->r);
+    yv = pw_dot3(q, v->u);
+    w = pw_dot3(q, v->f);
     o[0] = v->cx * w + v->fx * xv;
     o[1] = v->cy * w - v->fy * yv;
     o[2] = w;
@@ -8908,7 +8909,7 @@ PW__DEF void pw__face_normal(const pw_draw *d, int t, double *n)
         a[k] = (double)p1[k] - p0[k];
         b[k] = (double)p2[k] - p0[k];
     }
-    pw__cross3(a, b, n);
+    pw_cross3(a, b, n);
 }
 
 /* Smooth vertex normals: area-weighted sums of the face normals, unit length. */
@@ -8929,7 +8930,7 @@ PW__DEF void pw__smooth_normals(const pw_draw *d, float *out)
     for (i = 0; i < d->nv; i++) {
         double n[3];
         for (k = 0; k < 3; k++) n[k] = out[3 * i + k];
-        pw__norm3(n);
+        pw_norm3(n);
         for (k = 0; k < 3; k++) out[3 * i + k] = (float)n[k];
     }
 }
@@ -8958,11 +8959,11 @@ PW__DEF int pw__tri_adjugate(const pw__ctx *c, int t, double r[3][3], double *de
                  *h2 = c->vh + 5 * (size_t)ix[2];
     double scale;
     int i, j;
-    pw__cross3(h1, h2, r[0]);
-    pw__cross3(h2, h0, r[1]);
-    pw__cross3(h0, h1, r[2]);
-    *det = pw__dot3(h0, r[0]);
-    scale = sqrt(pw__dot3(h0, h0) * pw__dot3(h1, h1) * pw__dot3(h2, h2));
+    pw_cross3(h1, h2, r[0]);
+    pw_cross3(h2, h0, r[1]);
+    pw_cross3(h0, h1, r[2]);
+    *det = pw_dot3(h0, r[0]);
+    scale = sqrt(pw_dot3(h0, h0) * pw_dot3(h1, h1) * pw_dot3(h2, h2));
     if (!(fabs(*det) > 1e-12 * scale)) return 0;
     /* det < 0: counter-clockwise as seen by the viewer, i.e. front-facing */
     if ((c->cull == PW_CULL_BACK && *det > 0.0) || (c->cull == PW_CULL_FRONT && *det < 0.0)) return 0;
@@ -9424,7 +9425,7 @@ PW__DEF void pw__ctx_init(pw__ctx *c, pw_fb *fb, const pw_draw *d)
     }
     for (k = 0; k < 3; k++) /* camera space: x right, y up, z toward the viewer */
         lw[k] = cam ? l[0] * c->view.r[k] + l[1] * c->view.u[k] - l[2] * c->view.f[k] : l[k];
-    pw__norm3(lw);
+    pw_norm3(lw);
     for (k = 0; k < 3; k++) c->light[k] = (float)lw[k];
     c->ambient = d->ambient == 0.0f ? 0.25f : pw_clampf(d->ambient, 0.0f, 1.0f);
     c->bx0 = fb->sw;
@@ -10544,14 +10545,10 @@ PW__DEF void pw_tet_dihedral_range(const pw_tetmesh *m, double *min_deg, double 
                 v[i] = (double)c[i] - a[i];
                 w[i] = (double)d[i] - a[i];
             }
-            n1[0] = u[1] * v[2] - u[2] * v[1];
-            n1[1] = u[2] * v[0] - u[0] * v[2];
-            n1[2] = u[0] * v[1] - u[1] * v[0];
-            n2[0] = u[1] * w[2] - u[2] * w[1];
-            n2[1] = u[2] * w[0] - u[0] * w[2];
-            n2[2] = u[0] * w[1] - u[1] * w[0];
-            l1 = sqrt(n1[0] * n1[0] + n1[1] * n1[1] + n1[2] * n1[2]);
-            l2 = sqrt(n2[0] * n2[0] + n2[1] * n2[1] + n2[2] * n2[2]);
+            pw_cross3(u, v, n1);
+            pw_cross3(u, w, n2);
+            l1 = sqrt(pw_dot3(n1, n1));
+            l2 = sqrt(pw_dot3(n2, n2));
             if (l1 <= 0.0 || l2 <= 0.0) {
                 lo = 0.0;
                 continue;
@@ -10793,10 +10790,8 @@ PW__DEF double pw_tet_gradients(const pw_tetmesh *m, int t, double g[4][3])
     vol6 = d[0][0] * (d[1][1] * d[2][2] - d[1][2] * d[2][1]) - d[0][1] * (d[1][0] * d[2][2] - d[1][2] * d[2][0]) +
            d[0][2] * (d[1][0] * d[2][1] - d[1][1] * d[2][0]);
     for (i = 0; i < 3; i++) { /* the gradient of lambda_(i+1) is (d_j x d_k) / 6V */
-        const double *u = d[(i + 1) % 3], *w = d[(i + 2) % 3];
-        g[i + 1][0] = (u[1] * w[2] - u[2] * w[1]) / vol6;
-        g[i + 1][1] = (u[2] * w[0] - u[0] * w[2]) / vol6;
-        g[i + 1][2] = (u[0] * w[1] - u[1] * w[0]) / vol6;
+        pw_cross3(d[(i + 1) % 3], d[(i + 2) % 3], g[i + 1]);
+        for (k = 0; k < 3; k++) g[i + 1][k] /= vol6;
     }
     for (k = 0; k < 3; k++) g[0][k] = -(g[1][k] + g[2][k] + g[3][k]);
     return vol6;
@@ -11613,9 +11608,8 @@ PW__DEF int pw__st_proj_axis(const double *a, const double *b, const double *c)
     double n[3], u[3], v[3];
     int k, best = 0, tries;
     for (k = 0; k < 3; k++) u[k] = b[k] - a[k], v[k] = c[k] - a[k];
-    n[0] = fabs(u[1] * v[2] - u[2] * v[1]);
-    n[1] = fabs(u[2] * v[0] - u[0] * v[2]);
-    n[2] = fabs(u[0] * v[1] - u[1] * v[0]);
+    pw_cross3(u, v, n);
+    for (k = 0; k < 3; k++) n[k] = fabs(n[k]);
     if (n[1] > n[best]) best = 1;
     if (n[2] > n[best]) best = 2;
     for (tries = 0; tries < 3; tries++, best = (best + 1) % 3)
@@ -11673,15 +11667,6 @@ PW__DEF int pw__st_one_side(const double *a, const double *b, const double *c, c
     int s = pw__st_orient3d(a, b, c, d);
     return s != 0 && pw__st_orient3d(a, b, c, e) == s && pw__st_orient3d(a, b, c, f) == s;
 }
-
-PW__DEF void pw__st_cross(const double *u, const double *v, double *n)
-{
-    n[0] = u[1] * v[2] - u[2] * v[1];
-    n[1] = u[2] * v[0] - u[0] * v[2];
-    n[2] = u[0] * v[1] - u[1] * v[0];
-}
-
-PW__DEF double pw__st_dot(const double *u, const double *v) { return u[0] * v[0] + u[1] * v[1] + u[2] * v[2]; }
 
 /* ---- the surface and its bounding-volume hierarchy ---- */
 
@@ -12060,11 +12045,11 @@ PW__DEF void pw__st_measure(pw__stsurf *s, double *vol)
             v[k] = pw__st_corner(s, t, 1)[k] - c[k];
             w[k] = pw__st_corner(s, t, 2)[k] - c[k];
         }
-        pw__st_cross(v, w, n);
-        *vol += pw__st_dot(u, n) / 6.0;
+        pw_cross3(v, w, n);
+        *vol += pw_dot3(u, n) / 6.0;
         for (k = 0; k < 3; k++) v[k] -= u[k], w[k] -= u[k];
-        pw__st_cross(v, w, n);
-        s->area += 0.5 * sqrt(pw__st_dot(n, n));
+        pw_cross3(v, w, n);
+        s->area += 0.5 * sqrt(pw_dot3(n, n));
     }
 }
 
@@ -12115,11 +12100,11 @@ PW__DEF int pw__st_seg_cross(const pw__stsurf *s, int t, const double *p, const 
     int k, i;
     for (k = 0; k < 3; k++) c[k] = pw__st_corner(s, t, k);
     for (k = 0; k < 3; k++) u[k] = c[1][k] - c[0][k], v[k] = c[2][k] - c[0][k], x[k] = q[k] - p[k];
-    pw__st_cross(u, v, n);
-    len = sqrt(pw__st_dot(n, n));
-    seg = sqrt(pw__st_dot(x, x));
+    pw_cross3(u, v, n);
+    len = sqrt(pw_dot3(n, n));
+    seg = sqrt(pw_dot3(x, x));
     for (k = 0; k < 3; k++) n[k] /= len, u[k] = p[k] - c[0][k], v[k] = q[k] - c[0][k];
-    dp = pw__st_dot(u, n), dq = pw__st_dot(v, n);
+    dp = pw_dot3(u, n), dq = pw_dot3(v, n);
     if ((dp > tol && dq > tol) || (dp < -tol && dq < -tol)) return 0;
     if (fabs(dp - dq) <= 1e-5 * seg) return PW__ST_GRAZE;
     tt = dp / (dp - dq);
@@ -12129,8 +12114,8 @@ PW__DEF int pw__st_seg_cross(const pw__stsurf *s, int t, const double *p, const 
         const double *a = c[i], *b = c[(i + 1) % 3];
         double e[3], w[3], m[3];
         for (k = 0; k < 3; k++) e[k] = b[k] - a[k], w[k] = x[k] - a[k];
-        pw__st_cross(e, w, m);
-        if (pw__st_dot(m, n) < -tol * sqrt(pw__st_dot(e, e))) return 0;
+        pw_cross3(e, w, m);
+        if (pw_dot3(m, n) < -tol * sqrt(pw_dot3(e, e))) return 0;
     }
     *tp = tt;
     return PW__ST_HIT;
@@ -12182,8 +12167,8 @@ PW__DEF double pw__st_closest_tri(const double *p, const double *a, const double
     int k;
     for (k = 0; k < 3; k++)
         ab[k] = b[k] - a[k], ac[k] = c[k] - a[k], ap[k] = p[k] - a[k], bp[k] = p[k] - b[k], cp[k] = p[k] - c[k];
-    d1 = pw__st_dot(ab, ap), d2 = pw__st_dot(ac, ap), d3 = pw__st_dot(ab, bp), d4 = pw__st_dot(ac, bp);
-    d5 = pw__st_dot(ab, cp), d6 = pw__st_dot(ac, cp);
+    d1 = pw_dot3(ab, ap), d2 = pw_dot3(ac, ap), d3 = pw_dot3(ab, bp), d4 = pw_dot3(ac, bp);
+    d5 = pw_dot3(ab, cp), d6 = pw_dot3(ac, cp);
     vc = d1 * d4 - d3 * d2, vb = d5 * d2 - d1 * d6, va = d3 * d6 - d5 * d4;
     if (d1 <= 0.0 && d2 <= 0.0) v = w = 0.0;
     else if (d3 >= 0.0 && d4 <= d3) v = 1.0, w = 0.0;
@@ -12264,10 +12249,10 @@ PW__DEF double pw__st_solid_angle(const double *p, const double *a, const double
     double A[3], B[3], C[3], la, lb, lc, n[3], num, den;
     int k;
     for (k = 0; k < 3; k++) A[k] = a[k] - p[k], B[k] = b[k] - p[k], C[k] = c[k] - p[k];
-    la = sqrt(pw__st_dot(A, A)), lb = sqrt(pw__st_dot(B, B)), lc = sqrt(pw__st_dot(C, C));
-    pw__st_cross(B, C, n);
-    num = pw__st_dot(A, n);
-    den = la * lb * lc + pw__st_dot(A, B) * lc + pw__st_dot(B, C) * la + pw__st_dot(C, A) * lb;
+    la = sqrt(pw_dot3(A, A)), lb = sqrt(pw_dot3(B, B)), lc = sqrt(pw_dot3(C, C));
+    pw_cross3(B, C, n);
+    num = pw_dot3(A, n);
+    den = la * lb * lc + pw_dot3(A, B) * lc + pw_dot3(B, C) * la + pw_dot3(C, A) * lb;
     return 2.0 * pw__st_atan2(num, den);
 }
 
@@ -12502,12 +12487,12 @@ PW__DEF int pw__st_tri_box(const double *ctr, double hw, const double *a, const 
     }
     for (i = 0; i < 3; i++)
         for (k = 0; k < 3; k++) e[i][k] = v[(i + 1) % 3][k] - v[i][k];
-    pw__st_cross(e[0], e[1], n);
-    if (fabs(pw__st_dot(n, v[0])) > hw * (fabs(n[0]) + fabs(n[1]) + fabs(n[2]))) return 0;
+    pw_cross3(e[0], e[1], n);
+    if (fabs(pw_dot3(n, v[0])) > hw * (fabs(n[0]) + fabs(n[1]) + fabs(n[2]))) return 0;
     for (i = 0; i < 3; i++)
         for (j = 0; j < 3; j++) { /* axis: unit vector i cross edge j */
             ax[i] = 0.0, ax[(i + 1) % 3] = -e[j][(i + 2) % 3], ax[(i + 2) % 3] = e[j][(i + 1) % 3];
-            for (k = 0; k < 3; k++) p[k] = pw__st_dot(ax, v[k]);
+            for (k = 0; k < 3; k++) p[k] = pw_dot3(ax, v[k]);
             r = hw * (fabs(ax[0]) + fabs(ax[1]) + fabs(ax[2]));
             if ((p[0] > r && p[1] > r && p[2] > r) || (p[0] < -r && p[1] < -r && p[2] < -r)) return 0;
         }
@@ -12887,8 +12872,8 @@ PW__DEF int pw__st_emit(pw__st *st, int r0, int r1, int r2, int r3)
     r[0] = r0, r[1] = r1, r[2] = r2, r[3] = r3;
     for (k = 0; k < 4; k++) pw__st_ref_pos(st, r[k], p[k]);
     for (k = 0; k < 3; k++) u[k] = p[1][k] - p[0][k], v[k] = p[2][k] - p[0][k], w[k] = p[3][k] - p[0][k];
-    pw__st_cross(u, v, n);
-    if (pw__st_dot(n, w) < 0.0) r[0] = r1, r[1] = r0;
+    pw_cross3(u, v, n);
+    if (pw_dot3(n, w) < 0.0) r[0] = r1, r[1] = r0;
     for (k = 0; k < 4; k++)
         if ((id[k] = pw__st_ref_id(st, r[k])) < 0) return PW_ERR_NOMEM;
     if (st->notet >= PW_MAX_MESH_ELEMENTS)
@@ -13396,8 +13381,8 @@ PW__DEF int pw__st_sample_split(const float *pos, const int *tri, int t, double 
         u[i] = (double)pos[3 * tri[3 * t + 1] + i] - pos[3 * tri[3 * t] + i];
         v[i] = (double)pos[3 * tri[3 * t + 2] + i] - pos[3 * tri[3 * t] + i];
     }
-    pw__st_cross(u, v, n);
-    *area = 0.5 * sqrt(pw__st_dot(n, n));
+    pw_cross3(u, v, n);
+    *area = 0.5 * sqrt(pw_dot3(n, n));
     k = ceil(sqrt(*area / a0));
     return k < 1.0 ? 1 : k > 256.0 ? 256 : (int)k;
 }

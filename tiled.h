@@ -747,6 +747,28 @@ PW__DEF pw_v3 pw_v3_max(pw_v3 a, pw_v3 b)
     return pw_v3_make(a.x > b.x ? a.x : b.x, a.y > b.y ? a.y : b.y, a.z > b.z ? a.z : b.z);
 }
 
+/* Double-precision 3-vectors as arrays. */
+PW__DEF double pw_dot3(const double *a, const double *b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+
+PW__DEF void pw_cross3(const double *a, const double *b, double *out)
+{
+    out[0] = a[1] * b[2] - a[2] * b[1];
+    out[1] = a[2] * b[0] - a[0] * b[2];
+    out[2] = a[0] * b[1] - a[1] * b[0];
+}
+
+/* Normalises v in place; returns its former length (a zero v stays zero). */
+PW__DEF double pw_norm3(double *v)
+{
+    double l = sqrt(pw_dot3(v, v));
+    if (l > 0.0) {
+        v[0] /= l;
+        v[1] /= l;
+        v[2] /= l;
+    }
+    return l;
+}
+
 /* sin and cos from + - * / only, so that procedural geometry is
  * bit-identical on every platform (libm results may differ in the last
  * bit). Taylor series to r^19 after reduction to [-pi/2, pi/2]: error below
@@ -6289,27 +6311,6 @@ typedef struct pw__view {
     double fx, fy, cx, cy, znear, zfar;
 } pw__view;
 
-PW__DEF double pw__dot3(const double *a, const double *b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
-
-PW__DEF void pw__cross3(const double *a, const double *b, double *out)
-{
-    out[0] = a[1] * b[2] - a[2] * b[1];
-    out[1] = a[2] * b[0] - a[0] * b[2];
-    out[2] = a[0] * b[1] - a[1] * b[0];
-}
-
-/* Normalises v in place; returns its former length. */
-PW__DEF double pw__norm3(double *v)
-{
-    double l = sqrt(pw__dot3(v, v));
-    if (l > 0.0) {
-        v[0] /= l;
-        v[1] /= l;
-        v[2] /= l;
-    }
-    return l;
-}
-
 /* double to float without the undefined behaviour of converting a value
  * beyond the float range (absurd inputs): clamps to +-FLT_MAX. */
 PW__DEF float pw__f(double x)
@@ -6343,11 +6344,11 @@ PW__DEF int pw__camera_basis(const pw_camera *cam, pw__view *v)
         v->f[k] = (double)cam->target[k] - cam->eye[k];
         up[k] = cam->up[k];
     }
-    if (!(pw__norm3(v->f) > 0.0) || !pw_is_finite(pw__dot3(v->f, v->f))) return 0;
-    pw__cross3(v->f, up, v->r);
-    if (!(pw__norm3(v->r) > 1e-9 * sqrt(pw__dot3(up, up)))) return 0;
-    pw__cross3(v->r, v->f, v->u);
-    return pw_is_finite(pw__dot3(v->r, v->r)) && pw_is_finite(pw__dot3(v->eye, v->eye));
+    if (!(pw_norm3(v->f) > 0.0) || !pw_is_finite(pw_dot3(v->f, v->f))) return 0;
+    pw_cross3(v->f, up, v->r);
+    if (!(pw_norm3(v->r) > 1e-9 * sqrt(pw_dot3(up, up)))) return 0;
+    pw_cross3(v->r, v->f, v->u);
+    return pw_is_finite(pw_dot3(v->r, v->r)) && pw_is_finite(pw_dot3(v->eye, v->eye));
 }
 
 /* Sets up the view for a sw x sh sample grid. */
@@ -6384,9 +6385,9 @@ PW__DEF int pw_camera_project(const pw_camera *cam, int w, int h, const float p[
     int k;
     if (w <= 0 || h <= 0 || pw__view_init(&v, cam, w, h, NULL) != PW_OK) return 0;
     for (k = 0; k < 3; k++) d[k] = (double)p[k] - v.eye[k];
-    xv = pw__dot3(d, v.r);
-    yv = pw__dot3(d, v.u);
-    wv = pw__dot3(d, v.f);
+    xv = pw_dot3(d, v.r);
+    yv = pw_dot3(d, v.u);
+    wv = pw_dot3(d, v.f);
     out[2] = pw__f(wv);
     if (!(wv >= v.znear)) return 0;
     out[0] = pw__f(v.cx + v.fx * xv / wv);
@@ -6416,10 +6417,10 @@ PW__DEF void pw__bounding_sphere(const float *pos, int nv, double *c, double *r)
         double d[3];
         if (!pw_is_finite(p[0]) || !pw_is_finite(p[1]) || !pw_is_finite(p[2])) continue;
         for (k = 0; k < 3; k++) d[k] = p[k] - c[k];
-        if (pw__dot3(d, d) > *r) *r = pw__dot3(d, d);
+        if (pw_dot3(d, d) > *r) *r = pw_dot3(d, d);
     }
     *r = sqrt(*r);
-    if (!(*r > 0.0)) *r = n ? 1e-3 * (1.0 + sqrt(pw__dot3(c, c))) : 1.0;
+    if (!(*r > 0.0)) *r = n ? 1e-3 * (1.0 + sqrt(pw_dot3(c, c))) : 1.0;
 }
 
 /* Where the finite vertices lie in a view basis (right rt, up up, view vd,
@@ -6435,9 +6436,9 @@ PW__DEF void pw__view_extent(const float *pos, int nv, const double c[3], const 
         double d[3], q[3];
         if (!pw_is_finite(p[0]) || !pw_is_finite(p[1]) || !pw_is_finite(p[2])) continue;
         for (k = 0; k < 3; k++) d[k] = p[k] - c[k];
-        q[0] = pw__dot3(d, rt);
-        q[1] = pw__dot3(d, up);
-        q[2] = pw__dot3(d, vd);
+        q[0] = pw_dot3(d, rt);
+        q[1] = pw_dot3(d, up);
+        q[2] = pw_dot3(d, vd);
         for (k = 0; k < 3; k++) {
             if (!n || q[k] < lo[k]) lo[k] = q[k];
             if (!n || q[k] > hi[k]) hi[k] = q[k];
@@ -6459,9 +6460,9 @@ PW__DEF void pw__projected_range(const float *pos, int nv, const double c[3], co
         double d[3], w, q[2];
         if (!pw_is_finite(p[0]) || !pw_is_finite(p[1]) || !pw_is_finite(p[2])) continue;
         for (k = 0; k < 3; k++) d[k] = p[k] - c[k];
-        w = dist + pw__dot3(d, vd);
-        q[0] = (pw__dot3(d, rt) - ox) / w;
-        q[1] = (pw__dot3(d, up) - oy) / w;
+        w = dist + pw_dot3(d, vd);
+        q[0] = (pw_dot3(d, rt) - ox) / w;
+        q[1] = (pw_dot3(d, up) - oy) / w;
         for (k = 0; k < 2; k++) {
             if (!n || q[k] < out[2 * k]) out[2 * k] = q[k];
             if (!n || q[k] > out[2 * k + 1]) out[2 * k + 1] = q[k];
@@ -6484,9 +6485,9 @@ PW__DEF double pw__fit_distance(const float *pos, int nv, const double c[3], con
         double d[3], need;
         if (!pw_is_finite(p[0]) || !pw_is_finite(p[1]) || !pw_is_finite(p[2])) continue;
         for (k = 0; k < 3; k++) d[k] = p[k] - c[k];
-        need = fabs(pw__dot3(d, rt) - ox) / tx - pw__dot3(d, vd);
-        if (fabs(pw__dot3(d, up) - oy) / ty - pw__dot3(d, vd) > need)
-            need = fabs(pw__dot3(d, up) - oy) / ty - pw__dot3(d, vd);
+        need = fabs(pw_dot3(d, rt) - ox) / tx - pw_dot3(d, vd);
+        if (fabs(pw_dot3(d, up) - oy) / ty - pw_dot3(d, vd) > need)
+            need = fabs(pw_dot3(d, up) - oy) / ty - pw_dot3(d, vd);
         if (need > dist) dist = need;
     }
     return dist;
@@ -6507,21 +6508,21 @@ PW__DEF pw_camera pw_camera_frame(const float *pos, int nv, const float view_dir
     int k;
     if (view_dir)
         for (k = 0; k < 3; k++) vd[k] = view_dir[k];
-    if (!(pw__norm3(vd) > 0.0) || !pw_is_finite(vd[0] + vd[1] + vd[2])) {
+    if (!(pw_norm3(vd) > 0.0) || !pw_is_finite(vd[0] + vd[1] + vd[2])) {
         vd[0] = vd[1] = 0.0;
         vd[2] = -1.0;
     }
     if (up)
         for (k = 0; k < 3; k++) u[k] = up[k];
-    pw__cross3(vd, u, x);
-    if (!(pw__dot3(x, x) > 1e-12 * pw__dot3(u, u)) || !pw_is_finite(pw__dot3(u, u))) {
+    pw_cross3(vd, u, x);
+    if (!(pw_dot3(x, x) > 1e-12 * pw_dot3(u, u)) || !pw_is_finite(pw_dot3(u, u))) {
         u[0] = fabs(vd[1]) < 0.9 ? 0.0 : 1.0; /* any up not along the view */
         u[1] = fabs(vd[1]) < 0.9 ? 1.0 : 0.0;
         u[2] = 0.0;
-        pw__cross3(vd, u, x);
+        pw_cross3(vd, u, x);
     }
-    pw__norm3(x);
-    pw__cross3(x, vd, y); /* unit: vd and x are orthonormal */
+    pw_norm3(x);
+    pw_cross3(x, vd, y); /* unit: vd and x are orthonormal */
     if (!(fovy_deg > 0.0f && fovy_deg < 180.0f)) fovy_deg = 45.0f;
     if (!(aspect > 0.0f) || !pw_is_finite(aspect)) aspect = 1.0f;
     pw__bounding_sphere(pos, pos ? nv : 0, c, &r);
@@ -7119,9 +7120,9 @@ PW__DEF void pw__transform_vertex(const pw__view *v, const float *p, double *o)
         return;
     }
     for (k = 0; k < 3; k++) q[k] = (double)p[k] - v->eye[k];
-    xv = pw__dot3(q, v->r);
-    yv = pw__dot3(q, v->u);
-    w = pw__dot3(q, v->f);
+    xv = pw_dot3(q, v->r);
+    yv = pw_dot3(q, v->u);
+    w = pw_dot3(q, v->f);
     o[0] = v->cx * w + v->fx * xv;
     o[1] = v->cy * w - v->fy * yv;
     o[2] = w;
@@ -7153,7 +7154,7 @@ PW__DEF void pw__face_normal(const pw_draw *d, int t, double *n)
         a[k] = (double)p1[k] - p0[k];
         b[k] = (double)p2[k] - p0[k];
     }
-    pw__cross3(a, b, n);
+    pw_cross3(a, b, n);
 }
 
 /* Smooth vertex normals: area-weighted sums of the face normals, unit length. */
@@ -7174,7 +7175,7 @@ PW__DEF void pw__smooth_normals(const pw_draw *d, float *out)
     for (i = 0; i < d->nv; i++) {
         double n[3];
         for (k = 0; k < 3; k++) n[k] = out[3 * i + k];
-        pw__norm3(n);
+        pw_norm3(n);
         for (k = 0; k < 3; k++) out[3 * i + k] = (float)n[k];
     }
 }
@@ -7203,11 +7204,11 @@ PW__DEF int pw__tri_adjugate(const pw__ctx *c, int t, double r[3][3], double *de
                  *h2 = c->vh + 5 * (size_t)ix[2];
     double scale;
     int i, j;
-    pw__cross3(h1, h2, r[0]);
-    pw__cross3(h2, h0, r[1]);
-    pw__cross3(h0, h1, r[2]);
-    *det = pw__dot3(h0, r[0]);
-    scale = sqrt(pw__dot3(h0, h0) * pw__dot3(h1, h1) * pw__dot3(h2, h2));
+    pw_cross3(h1, h2, r[0]);
+    pw_cross3(h2, h0, r[1]);
+    pw_cross3(h0, h1, r[2]);
+    *det = pw_dot3(h0, r[0]);
+    scale = sqrt(pw_dot3(h0, h0) * pw_dot3(h1, h1) * pw_dot3(h2, h2));
     if (!(fabs(*det) > 1e-12 * scale)) return 0;
     /* det < 0: counter-clockwise as seen by the viewer, i.e. front-facing */
     if ((c->cull == PW_CULL_BACK && *det > 0.0) || (c->cull == PW_CULL_FRONT && *det < 0.0)) return 0;
@@ -7669,7 +7670,7 @@ PW__DEF void pw__ctx_init(pw__ctx *c, pw_fb *fb, const pw_draw *d)
     }
     for (k = 0; k < 3; k++) /* camera space: x right, y up, z toward the viewer */
         lw[k] = cam ? l[0] * c->view.r[k] + l[1] * c->view.u[k] - l[2] * c->view.f[k] : l[k];
-    pw__norm3(lw);
+    pw_norm3(lw);
     for (k = 0; k < 3; k++) c->light[k] = (float)lw[k];
     c->ambient = d->ambient == 0.0f ? 0.25f : pw_clampf(d->ambient, 0.0f, 1.0f);
     c->bx0 = fb->sw;
@@ -9129,9 +9130,7 @@ static int pw__gltf_normals(const pw_alloc *a, const pw_gltf_part *p, float **ou
                 u[k] = (double)p->pos[3 * t[1] + k] - p->pos[3 * t[0] + k];
                 w[k] = (double)p->pos[3 * t[2] + k] - p->pos[3 * t[0] + k];
             }
-            c[0] = u[1] * w[2] - u[2] * w[1];
-            c[1] = u[2] * w[0] - u[0] * w[2];
-            c[2] = u[0] * w[1] - u[1] * w[0];
+            pw_cross3(u, w, c);
             for (k = 0; k < 9; k++) acc[3 * t[k / 3] + k % 3] += c[k % 3];
         }
     for (i = 0; i < p->nv; i++) {
@@ -9417,10 +9416,10 @@ static void pw__gltf_camera_rotation(const pw_camera *c, double *q)
     double f[3], r[3], u[3], m[3][3], t;
     int k;
     for (k = 0; k < 3; k++) f[k] = (double)c->target[k] - c->eye[k], u[k] = c->up[k];
-    pw__norm3(f);
-    pw__cross3(f, u, r);
-    pw__norm3(r);
-    pw__cross3(r, f, u);
+    pw_norm3(f);
+    pw_cross3(f, u, r);
+    pw_norm3(r);
+    pw_cross3(r, f, u);
     for (k = 0; k < 3; k++) m[k][0] = r[k], m[k][1] = u[k], m[k][2] = -f[k];
     t = m[0][0] + m[1][1] + m[2][2];
     if (t > 0.0) { /* the largest of w, x, y, z divides: no cancellation */

@@ -123,9 +123,7 @@ static int pw__gltf_normals(const pw_alloc *a, const pw_gltf_part *p, float **ou
                 u[k] = (double)p->pos[3 * t[1] + k] - p->pos[3 * t[0] + k];
                 w[k] = (double)p->pos[3 * t[2] + k] - p->pos[3 * t[0] + k];
             }
-            c[0] = u[1] * w[2] - u[2] * w[1];
-            c[1] = u[2] * w[0] - u[0] * w[2];
-            c[2] = u[0] * w[1] - u[1] * w[0];
+            pw_cross3(u, w, c);
             for (k = 0; k < 9; k++) acc[3 * t[k / 3] + k % 3] += c[k % 3];
         }
     for (i = 0; i < p->nv; i++) {
@@ -411,10 +409,10 @@ static void pw__gltf_camera_rotation(const pw_camera *c, double *q)
     double f[3], r[3], u[3], m[3][3], t;
     int k;
     for (k = 0; k < 3; k++) f[k] = (double)c->target[k] - c->eye[k], u[k] = c->up[k];
-    pw__norm3(f);
-    pw__cross3(f, u, r);
-    pw__norm3(r);
-    pw__cross3(r, f, u);
+    pw_norm3(f);
+    pw_cross3(f, u, r);
+    pw_norm3(r);
+    pw_cross3(r, f, u);
     for (k = 0; k < 3; k++) m[k][0] = r[k], m[k][1] = u[k], m[k][2] = -f[k];
     t = m[0][0] + m[1][1] + m[2][2];
     if (t > 0.0) { /* the largest of w, x, y, z divides: no cancellation */

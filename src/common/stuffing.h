@@ -224,9 +224,8 @@ PW__DEF int pw__st_proj_axis(const double *a, const double *b, const double *c)
     double n[3], u[3], v[3];
     int k, best = 0, tries;
     for (k = 0; k < 3; k++) u[k] = b[k] - a[k], v[k] = c[k] - a[k];
-    n[0] = fabs(u[1] * v[2] - u[2] * v[1]);
-    n[1] = fabs(u[2] * v[0] - u[0] * v[2]);
-    n[2] = fabs(u[0] * v[1] - u[1] * v[0]);
+    pw_cross3(u, v, n);
+    for (k = 0; k < 3; k++) n[k] = fabs(n[k]);
     if (n[1] > n[best]) best = 1;
     if (n[2] > n[best]) best = 2;
     for (tries = 0; tries < 3; tries++, best = (best + 1) % 3)
@@ -284,15 +283,6 @@ PW__DEF int pw__st_one_side(const double *a, const double *b, const double *c, c
     int s = pw__st_orient3d(a, b, c, d);
     return s != 0 && pw__st_orient3d(a, b, c, e) == s && pw__st_orient3d(a, b, c, f) == s;
 }
-
-PW__DEF void pw__st_cross(const double *u, const double *v, double *n)
-{
-    n[0] = u[1] * v[2] - u[2] * v[1];
-    n[1] = u[2] * v[0] - u[0] * v[2];
-    n[2] = u[0] * v[1] - u[1] * v[0];
-}
-
-PW__DEF double pw__st_dot(const double *u, const double *v) { return u[0] * v[0] + u[1] * v[1] + u[2] * v[2]; }
 
 /* ---- the surface and its bounding-volume hierarchy ---- */
 
@@ -671,11 +661,11 @@ PW__DEF void pw__st_measure(pw__stsurf *s, double *vol)
             v[k] = pw__st_corner(s, t, 1)[k] - c[k];
             w[k] = pw__st_corner(s, t, 2)[k] - c[k];
         }
-        pw__st_cross(v, w, n);
-        *vol += pw__st_dot(u, n) / 6.0;
+        pw_cross3(v, w, n);
+        *vol += pw_dot3(u, n) / 6.0;
         for (k = 0; k < 3; k++) v[k] -= u[k], w[k] -= u[k];
-        pw__st_cross(v, w, n);
-        s->area += 0.5 * sqrt(pw__st_dot(n, n));
+        pw_cross3(v, w, n);
+        s->area += 0.5 * sqrt(pw_dot3(n, n));
     }
 }
 
@@ -726,11 +716,11 @@ PW__DEF int pw__st_seg_cross(const pw__stsurf *s, int t, const double *p, const 
     int k, i;
     for (k = 0; k < 3; k++) c[k] = pw__st_corner(s, t, k);
     for (k = 0; k < 3; k++) u[k] = c[1][k] - c[0][k], v[k] = c[2][k] - c[0][k], x[k] = q[k] - p[k];
-    pw__st_cross(u, v, n);
-    len = sqrt(pw__st_dot(n, n));
-    seg = sqrt(pw__st_dot(x, x));
+    pw_cross3(u, v, n);
+    len = sqrt(pw_dot3(n, n));
+    seg = sqrt(pw_dot3(x, x));
     for (k = 0; k < 3; k++) n[k] /= len, u[k] = p[k] - c[0][k], v[k] = q[k] - c[0][k];
-    dp = pw__st_dot(u, n), dq = pw__st_dot(v, n);
+    dp = pw_dot3(u, n), dq = pw_dot3(v, n);
     if ((dp > tol && dq > tol) || (dp < -tol && dq < -tol)) return 0;
     if (fabs(dp - dq) <= 1e-5 * seg) return PW__ST_GRAZE;
     tt = dp / (dp - dq);
@@ -740,8 +730,8 @@ PW__DEF int pw__st_seg_cross(const pw__stsurf *s, int t, const double *p, const 
         const double *a = c[i], *b = c[(i + 1) % 3];
         double e[3], w[3], m[3];
         for (k = 0; k < 3; k++) e[k] = b[k] - a[k], w[k] = x[k] - a[k];
-        pw__st_cross(e, w, m);
-        if (pw__st_dot(m, n) < -tol * sqrt(pw__st_dot(e, e))) return 0;
+        pw_cross3(e, w, m);
+        if (pw_dot3(m, n) < -tol * sqrt(pw_dot3(e, e))) return 0;
     }
     *tp = tt;
     return PW__ST_HIT;
@@ -793,8 +783,8 @@ PW__DEF double pw__st_closest_tri(const double *p, const double *a, const double
     int k;
     for (k = 0; k < 3; k++)
         ab[k] = b[k] - a[k], ac[k] = c[k] - a[k], ap[k] = p[k] - a[k], bp[k] = p[k] - b[k], cp[k] = p[k] - c[k];
-    d1 = pw__st_dot(ab, ap), d2 = pw__st_dot(ac, ap), d3 = pw__st_dot(ab, bp), d4 = pw__st_dot(ac, bp);
-    d5 = pw__st_dot(ab, cp), d6 = pw__st_dot(ac, cp);
+    d1 = pw_dot3(ab, ap), d2 = pw_dot3(ac, ap), d3 = pw_dot3(ab, bp), d4 = pw_dot3(ac, bp);
+    d5 = pw_dot3(ab, cp), d6 = pw_dot3(ac, cp);
     vc = d1 * d4 - d3 * d2, vb = d5 * d2 - d1 * d6, va = d3 * d6 - d5 * d4;
     if (d1 <= 0.0 && d2 <= 0.0) v = w = 0.0;
     else if (d3 >= 0.0 && d4 <= d3) v = 1.0, w = 0.0;
@@ -875,10 +865,10 @@ PW__DEF double pw__st_solid_angle(const double *p, const double *a, const double
     double A[3], B[3], C[3], la, lb, lc, n[3], num, den;
     int k;
     for (k = 0; k < 3; k++) A[k] = a[k] - p[k], B[k] = b[k] - p[k], C[k] = c[k] - p[k];
-    la = sqrt(pw__st_dot(A, A)), lb = sqrt(pw__st_dot(B, B)), lc = sqrt(pw__st_dot(C, C));
-    pw__st_cross(B, C, n);
-    num = pw__st_dot(A, n);
-    den = la * lb * lc + pw__st_dot(A, B) * lc + pw__st_dot(B, C) * la + pw__st_dot(C, A) * lb;
+    la = sqrt(pw_dot3(A, A)), lb = sqrt(pw_dot3(B, B)), lc = sqrt(pw_dot3(C, C));
+    pw_cross3(B, C, n);
+    num = pw_dot3(A, n);
+    den = la * lb * lc + pw_dot3(A, B) * lc + pw_dot3(B, C) * la + pw_dot3(C, A) * lb;
     return 2.0 * pw__st_atan2(num, den);
 }
 
@@ -1113,12 +1103,12 @@ PW__DEF int pw__st_tri_box(const double *ctr, double hw, const double *a, const 
     }
     for (i = 0; i < 3; i++)
         for (k = 0; k < 3; k++) e[i][k] = v[(i + 1) % 3][k] - v[i][k];
-    pw__st_cross(e[0], e[1], n);
-    if (fabs(pw__st_dot(n, v[0])) > hw * (fabs(n[0]) + fabs(n[1]) + fabs(n[2]))) return 0;
+    pw_cross3(e[0], e[1], n);
+    if (fabs(pw_dot3(n, v[0])) > hw * (fabs(n[0]) + fabs(n[1]) + fabs(n[2]))) return 0;
     for (i = 0; i < 3; i++)
         for (j = 0; j < 3; j++) { /* axis: unit vector i cross edge j */
             ax[i] = 0.0, ax[(i + 1) % 3] = -e[j][(i + 2) % 3], ax[(i + 2) % 3] = e[j][(i + 1) % 3];
-            for (k = 0; k < 3; k++) p[k] = pw__st_dot(ax, v[k]);
+            for (k = 0; k < 3; k++) p[k] = pw_dot3(ax, v[k]);
             r = hw * (fabs(ax[0]) + fabs(ax[1]) + fabs(ax[2]));
             if ((p[0] > r && p[1] > r && p[2] > r) || (p[0] < -r && p[1] < -r && p[2] < -r)) return 0;
         }
@@ -1498,8 +1488,8 @@ PW__DEF int pw__st_emit(pw__st *st, int r0, int r1, int r2, int r3)
     r[0] = r0, r[1] = r1, r[2] = r2, r[3] = r3;
     for (k = 0; k < 4; k++) pw__st_ref_pos(st, r[k], p[k]);
     for (k = 0; k < 3; k++) u[k] = p[1][k] - p[0][k], v[k] = p[2][k] - p[0][k], w[k] = p[3][k] - p[0][k];
-    pw__st_cross(u, v, n);
-    if (pw__st_dot(n, w) < 0.0) r[0] = r1, r[1] = r0;
+    pw_cross3(u, v, n);
+    if (pw_dot3(n, w) < 0.0) r[0] = r1, r[1] = r0;
     for (k = 0; k < 4; k++)
         if ((id[k] = pw__st_ref_id(st, r[k])) < 0) return PW_ERR_NOMEM;
     if (st->notet >= PW_MAX_MESH_ELEMENTS)
@@ -2007,8 +1997,8 @@ PW__DEF int pw__st_sample_split(const float *pos, const int *tri, int t, double 
         u[i] = (double)pos[3 * tri[3 * t + 1] + i] - pos[3 * tri[3 * t] + i];
         v[i] = (double)pos[3 * tri[3 * t + 2] + i] - pos[3 * tri[3 * t] + i];
     }
-    pw__st_cross(u, v, n);
-    *area = 0.5 * sqrt(pw__st_dot(n, n));
+    pw_cross3(u, v, n);
+    *area = 0.5 * sqrt(pw_dot3(n, n));
     k = ceil(sqrt(*area / a0));
     return k < 1.0 ? 1 : k > 256.0 ? 256 : (int)k;
 }

@@ -86,14 +86,10 @@ PW__DEF void pw_tet_dihedral_range(const pw_tetmesh *m, double *min_deg, double 
                 v[i] = (double)c[i] - a[i];
                 w[i] = (double)d[i] - a[i];
             }
-            n1[0] = u[1] * v[2] - u[2] * v[1];
-            n1[1] = u[2] * v[0] - u[0] * v[2];
-            n1[2] = u[0] * v[1] - u[1] * v[0];
-            n2[0] = u[1] * w[2] - u[2] * w[1];
-            n2[1] = u[2] * w[0] - u[0] * w[2];
-            n2[2] = u[0] * w[1] - u[1] * w[0];
-            l1 = sqrt(n1[0] * n1[0] + n1[1] * n1[1] + n1[2] * n1[2]);
-            l2 = sqrt(n2[0] * n2[0] + n2[1] * n2[1] + n2[2] * n2[2]);
+            pw_cross3(u, v, n1);
+            pw_cross3(u, w, n2);
+            l1 = sqrt(pw_dot3(n1, n1));
+            l2 = sqrt(pw_dot3(n2, n2));
             if (l1 <= 0.0 || l2 <= 0.0) {
                 lo = 0.0;
                 continue;
@@ -335,10 +331,8 @@ PW__DEF double pw_tet_gradients(const pw_tetmesh *m, int t, double g[4][3])
     vol6 = d[0][0] * (d[1][1] * d[2][2] - d[1][2] * d[2][1]) - d[0][1] * (d[1][0] * d[2][2] - d[1][2] * d[2][0]) +
            d[0][2] * (d[1][0] * d[2][1] - d[1][1] * d[2][0]);
     for (i = 0; i < 3; i++) { /* the gradient of lambda_(i+1) is (d_j x d_k) / 6V */
-        const double *u = d[(i + 1) % 3], *w = d[(i + 2) % 3];
-        g[i + 1][0] = (u[1] * w[2] - u[2] * w[1]) / vol6;
-        g[i + 1][1] = (u[2] * w[0] - u[0] * w[2]) / vol6;
-        g[i + 1][2] = (u[0] * w[1] - u[1] * w[0]) / vol6;
+        pw_cross3(d[(i + 1) % 3], d[(i + 2) % 3], g[i + 1]);
+        for (k = 0; k < 3; k++) g[i + 1][k] /= vol6;
     }
     for (k = 0; k < 3; k++) g[0][k] = -(g[1][k] + g[2][k] + g[3][k]);
     return vol6;

@@ -51,6 +51,28 @@ PW__DEF pw_v3 pw_v3_max(pw_v3 a, pw_v3 b)
     return pw_v3_make(a.x > b.x ? a.x : b.x, a.y > b.y ? a.y : b.y, a.z > b.z ? a.z : b.z);
 }
 
+/* Double-precision 3-vectors as arrays. */
+PW__DEF double pw_dot3(const double *a, const double *b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+
+PW__DEF void pw_cross3(const double *a, const double *b, double *out)
+{
+    out[0] = a[1] * b[2] - a[2] * b[1];
+    out[1] = a[2] * b[0] - a[0] * b[2];
+    out[2] = a[0] * b[1] - a[1] * b[0];
+}
+
+/* Normalises v in place; returns its former length (a zero v stays zero). */
+PW__DEF double pw_norm3(double *v)
+{
+    double l = sqrt(pw_dot3(v, v));
+    if (l > 0.0) {
+        v[0] /= l;
+        v[1] /= l;
+        v[2] /= l;
+    }
+    return l;
+}
+
 /* sin and cos from + - * / only, so that procedural geometry is
  * bit-identical on every platform (libm results may differ in the last
  * bit). Taylor series to r^19 after reduction to [-pi/2, pi/2]: error below
