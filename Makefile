@@ -51,8 +51,9 @@ HEADERS        := tiled lapped pgp lst
 MODULES_tiled  := base vec rng image deflate png text mesh halfedge subdiv raster render graphcut quilt glue gltf
 MODULES_lapped := base vec rng image deflate png text mesh shapes halfedge sparse raster render polyhull trimesh atlas dirfield glue gltf
 PARTS_lapped   := core field patch builtin grow render atlas io
+PARTS_tiled    := core layout map synth validate builtin render io
 MODULES_pgp    := base vec rng image deflate png text mesh shapes halfedge sparse zsparse raster render trimesh dirfield nrrd tile3 glue graphcut quilt edt kdtree pca
-PARTS_pgp      := core field solve render builtin io morph synth
+PARTS_pgp      := core field solve edit render builtin io morph synth
 MODULES_lst    := base vec rng image deflate png text mesh shapes halfedge trimesh sparse raster render nrrd tetmesh tetio stuffing edt pca glue
 PARTS_lst      := core exemplar field paste render cut builtin io
 
@@ -101,7 +102,7 @@ check-headers:
 CLI_OBJ := $(patsubst cli/%.c,$(BUILD)/cli/%.o,$(CLI_SRC))
 
 $(BUILD)/patchwork: $(CLI_OBJ)
-	$(CC) $(ALL_CFLAGS) -o $@ $(CLI_OBJ) $(LDLIBS)
+	$(CC) $(ALL_CFLAGS) -o $@ $(CLI_OBJ) $(LDLIBS) -pthread
 
 $(BUILD)/cli/impl_%.o: cli/impl_%.c %.h
 	@mkdir -p $(BUILD)/cli
@@ -116,7 +117,7 @@ $(BUILD)/tests/%: tests/%.c tests/pwtest.h $(COMMON_SRC) $(HEADER_FILES)
 	$(CC) $(ALL_CFLAGS) -o $@ $< $(LDLIBS)
 
 # the renderer's tests and benchmark run its bands on POSIX threads (PW_THREADS)
-$(BUILD)/tests/test_render $(BUILD)/bench/bench_render: LDLIBS += -pthread
+$(BUILD)/tests/test_render $(BUILD)/tests/test_threads $(BUILD)/bench/bench_render: LDLIBS += -pthread
 
 $(BUILD)/examples/%: examples/%.c $(HEADER_FILES)
 	@mkdir -p $(BUILD)/examples

@@ -33,30 +33,46 @@
  *       #include "lapped.h"
  *   PATCHWORK_IMPLEMENTATION turns on every patchwork header included after
  *   it. Build macros: LAPPED_STATIC (all functions static), PW_MALLOC /
- *   PW_REALLOC / PW_FREE (all or none), PW_ASSERT, PW_NO_STDIO, and the
- *   PW_MAX_* size limits, as in every patchwork header.
+ *   PW_REALLOC / PW_FREE (all or none), PW_ASSERT, PW_NO_STDIO, the PW_MAX_*
+ *   size limits, as in every patchwork header, and PW_THREADS: rendering on
+ *   several threads (POSIX threads; link with -pthread; lapped_render_options.
+ *   threads, 0 = one per processor), the same picture for any count.
  *
  * MINIMAL EXAMPLE
  *       lapped_options opt = lapped_default_options();
  *       lapped_mesh mesh;
  *       lapped_image texture, patch, picture;
+ *       lapped_source src;
  *       lapped_texture lt;
  *       lapped_error err;
- *       opt.field.mode = LAPPED_FIELD_UP;     (texture "up" follows +Y)
- *       opt.field.scale = 0.3f;               (patch side, in mesh units)
+ *       opt.field = LAPPED_FIELD_UP;          (texture "up" follows opt.up, +Y)
+ *       opt.scale = 0.3f;                     (patch side, in mesh units)
+ *       src.patches = &patch;                 (the patches to paste: one here)
+ *       src.npatches = 1;
+ *       src.values = NULL;
  *       if (lapped_load_mesh("bunny.obj", &opt, &mesh, &err) ||
  *           lapped_load_image("fur.png", &opt, &texture, &err) ||
  *           lapped_make_patch(&texture, NULL, &opt, &patch, &err) ||
- *           lapped_create(&mesh, &patch, 1, &opt, &lt, &err) ||
- *           lapped_render(&mesh, &lt, &patch, NULL, NULL, &picture, &err) ||
+ *           lapped_create(&mesh, &src, &opt, &lt, &err) ||
+ *           lapped_render(&mesh, &lt, &src, &opt.render, &picture, &err) ||
  *           lapped_save_image("bunny.png", &picture, &err))
  *           fprintf(stderr, "%s\n", err.message);
+ *       (then free everything with lapped_mesh_free, lapped_image_free,
+ *        lapped_texture_free)
+ *
+ *   Settings live in lapped_options: the §3.2 field (field, up, scale,
+ *   constraints, face_t/face_s, smoothing), the patches (alpha, falloff),
+ *   growth, and the sub-options render (lapped_render) and atlas
+ *   (lapped_bake_atlas), all filled by lapped_default_options(). Constraint
+ *   files hold "orient F DX DY DZ [SCALE [RADIUS [WEIGHT]]]" lines
+ *   (lapped_load_constraints; docs/lapped.md).
  *
  * CONVENTIONS
  *   Fallible calls return lapped_result (LAPPED_OK == 0) and fill
- *   err->message. Images are floats in [0,1], row 0 at the top; texture
- *   coordinates put (0,0) at the bottom-left of a patch image and (1,1) at
- *   its top-right. Meshes are flat arrays of polygons, counter-clockwise;
+ *   err->message; on success it is empty or holds a warning (a deprecated
+ *   constraint file format) that a program may show. Images are floats in
+ *   [0,1], row 0 at the top; texture coordinates put (0,0) at the
+ *   bottom-left of a patch image and (1,1) at its top-right. Meshes are flat arrays of polygons, counter-clockwise;
  *   polygons are fan-triangulated (corner 0, k, k+1) and every face index in
  *   a result is a triangle of that triangulation, in order. The same inputs
  *   and seed give byte-identical results.
@@ -66,10 +82,10 @@
 #ifndef LAPPED_H
 #define LAPPED_H
 
-#define LAPPED_VERSION_MAJOR 1
-#define LAPPED_VERSION_MINOR 0
+#define LAPPED_VERSION_MAJOR 0
+#define LAPPED_VERSION_MINOR 9
 #define LAPPED_VERSION_PATCH 0
-#define LAPPED_VERSION_STRING "1.0.0"
+#define LAPPED_VERSION_STRING "0.9.0"
 
 #include <stddef.h>
 
@@ -121,6 +137,13 @@ typedef struct lapped_allocator {
 typedef int (*lapped_progress_fn)(void *user, float done, const char *stage);
 typedef int (*lapped_write_fn)(void *ctx, const void *data, size_t size);
 
+/* Work split across threads (rendering: bands of the frame). A parallel
+ * for, for embedders with their own job system: run task(ctx, i) once for
+ * every i in [0, n), on any threads, in any order, and return when all
+ * have run. Results never depend on the order or the thread count. */
+typedef void (*lapped_task_fn)(void *ctx, int index);
+typedef void (*lapped_parallel_fn)(void *pool, int n, lapped_task_fn task, void *ctx);
+
 /* width*height pixels of `channels` floats in [0,1], row 0 at the top. */
 typedef struct lapped_image {
     int width, height, channels;
@@ -140,23 +163,23 @@ typedef struct lapped_mesh {
 } lapped_mesh;
 
 /* §3.1 alpha of a texture patch. */
-enum {
+typedef enum lapped_alpha {
     LAPPED_ALPHA_AUTO = 0, /* the image's alpha if it has one, else a splotch */
     LAPPED_ALPHA_IMAGE,    /* the image's alpha channel (2 or 4 channels) */
     LAPPED_ALPHA_MASK,     /* a separate mask image (its first channel) */
     LAPPED_ALPHA_CIRCLE,   /* the disc inscribed in the image */
     LAPPED_ALPHA_SPLOTCH   /* an irregular blob (the paper's "splotch") */
-};
+} lapped_alpha;
 
 /* §3.2 tangent field modes. */
-enum {
+typedef enum lapped_field_mode {
     LAPPED_FIELD_UP = 0,      /* `up` projected onto every face */
     LAPPED_FIELD_ISOTROPIC,   /* scale only; orientation propagated while growing */
     LAPPED_FIELD_CONSTRAINTS, /* constraints interpolated by Gaussian RBFs of
                                  geodesic (Dijkstra) distance */
     LAPPED_FIELD_FACES,       /* a frame per triangle given by the caller */
     LAPPED_FIELD_CURVATURE    /* direction of least curvature, smoothed */
-};
+} lapped_field_mode;
 
 /* A user constraint (§3.2): at triangle `face`, texture up along `direction`
  * (projected onto the face) and patch size `scale` (0: the field's scale);
@@ -168,8 +191,48 @@ typedef struct lapped_constraint {
     float scale, radius, weight;
 } lapped_constraint;
 
-typedef struct lapped_field {
-    int mode;                  /* LAPPED_FIELD_*; default LAPPED_FIELD_UP */
+/* The constraints of a constraint file (lapped_read_constraints), made by
+ * the library: count items, freed with lapped_constraints_free. */
+typedef struct lapped_constraints {
+    int count;
+    lapped_constraint *items;
+    lapped_allocator allocator;
+} lapped_constraints;
+
+/* Texture filtering of lapped_render. */
+typedef enum lapped_filter {
+    LAPPED_FILTER_TRILINEAR = 0, /* mipmapped (default) */
+    LAPPED_FILTER_BILINEAR,      /* level 0 only */
+    LAPPED_FILTER_NEAREST        /* level 0, nearest texel */
+} lapped_filter;
+
+typedef struct lapped_render_options {
+    int width, height;       /* default 800 x 600 */
+    int supersample;         /* default 2 */
+    float view_dir[3];       /* default (-0.55,-0.45,-0.7) */
+    float up[3];             /* default (0,1,0) */
+    float background[3];     /* default white */
+    lapped_filter filter;    /* default LAPPED_FILTER_TRILINEAR */
+    int threads;             /* rendering threads: 0 (default) one per processor when the
+                                implementation is built with PW_THREADS (POSIX threads;
+                                link with -pthread), else 1; n: at most n. With more
+                                than one, the allocator is called from several threads */
+    lapped_parallel_fn parallel; /* optional: the caller's parallel for, used instead of threads */
+    void *parallel_pool;     /* its first argument */
+} lapped_render_options;
+
+typedef struct lapped_atlas_options {
+    int size;                /* atlas image side, pixels; default 1024 */
+    float cone_angle;        /* max angle between a chart's normals and its
+                                centre's, degrees; default 60 */
+    int gutter;              /* pixels between charts (and to the image border), filled
+                                by dilation; default 2 (1 lets bilinear lookups at a
+                                border touch the neighbouring chart) */
+} lapped_atlas_options;
+
+typedef struct lapped_options {
+    /* §3.2 the tangent field */
+    lapped_field_mode field;   /* default LAPPED_FIELD_UP */
     float up[3];               /* UP: default (0,1,0) */
     float scale;               /* side of a texture patch on the surface, mesh units;
                                   0: a tenth of the bounding-box diagonal */
@@ -178,11 +241,7 @@ typedef struct lapped_field {
     const float *face_t;       /* FACES: ntris*3 "up" vectors (|T| = scale) */
     const float *face_s;       /* FACES: ntris*3 "right" vectors, or NULL for T x N */
     int smoothing;             /* CURVATURE: smoothing iterations; default 20 */
-} lapped_field;
-
-typedef struct lapped_options {
-    lapped_field field;
-    int alpha;                 /* lapped_make_patch: LAPPED_ALPHA_*; default AUTO */
+    lapped_alpha alpha;        /* lapped_make_patch; default LAPPED_ALPHA_AUTO */
     float falloff;             /* alpha fall-off width at the patch border, pixels;
                                   default 3 (§3.1) */
     int lscm;                  /* isotropic field: least-squares conformal maps
@@ -196,10 +255,31 @@ typedef struct lapped_options {
     int keep_hidden;           /* 1: keep triangles that later pastes hide (§4 removes
                                   them); each paste is then a whole surface patch */
     unsigned long long seed;   /* default 0 */
+    lapped_render_options render; /* lapped_render's settings (pass &opt.render) */
+    lapped_atlas_options atlas;   /* lapped_bake_atlas's settings */
     lapped_allocator allocator;
     lapped_progress_fn progress;
     void *progress_user;
 } lapped_options;
+
+/* §3.2 the field lapped_compute_field computes: per triangle of the fan
+ * triangulation, t ("up", |t| = scale) and s ("right"), ntris*3 each. */
+typedef struct lapped_field {
+    int ntris;
+    float *s;
+    float *t;
+    lapped_allocator allocator;
+} lapped_field;
+
+/* The texture patches a lapped texture pastes: npatches RGBA images (alpha
+ * in channel 4). values: NULL, or one image per patch, aligned with it,
+ * holding another channel (bump, displacement...) that lapped_render and
+ * lapped_bake_atlas show with the patches' alpha; lapped_create ignores it. */
+typedef struct lapped_source {
+    const lapped_image *patches;
+    int npatches;
+    const lapped_image *values;
+} lapped_source;
 
 /* One paste (§3.5): patch index and, per surface-patch triangle, the
  * texture coordinates of its three corners (in the triangle's vertex order). */
@@ -223,24 +303,6 @@ typedef struct lapped_texture {
     lapped_allocator allocator;
 } lapped_texture;
 
-typedef struct lapped_render_options {
-    int width, height;       /* default 800 x 600 */
-    int supersample;         /* default 2 */
-    float view_dir[3];       /* default (-0.55,-0.45,-0.7) */
-    float up[3];             /* default (0,1,0) */
-    float background[3];     /* default white */
-    int filter;              /* 0 trilinear (default), 1 bilinear, 2 nearest */
-} lapped_render_options;
-
-typedef struct lapped_atlas_options {
-    int size;                /* atlas image side, pixels; default 1024 */
-    float cone_angle;        /* max angle between a chart's normals and its
-                                centre's, degrees; default 60 */
-    int gutter;              /* pixels between charts (and to the image border), filled
-                                by dilation; default 2 (1 lets bilinear lookups at a
-                                border touch the neighbouring chart) */
-} lapped_atlas_options;
-
 /* A texture atlas (§4): per-triangle-corner coordinates into one image. */
 typedef struct lapped_atlas {
     int ntris;
@@ -253,40 +315,40 @@ typedef struct lapped_atlas {
 LAPPEDDEF lapped_options lapped_default_options(void);
 LAPPEDDEF const char *lapped_result_string(lapped_result r);
 
-/* §3.1: an RGBA patch from a texture: alpha per opt->alpha (and opt->mask),
- * then faded to zero over opt->falloff pixels at the border of the opaque
- * region. */
+/* §3.1: an RGBA patch from a texture: alpha per opt->alpha (from `mask`
+ * with LAPPED_ALPHA_MASK), then faded to zero over opt->falloff pixels at
+ * the border of the opaque region. */
 LAPPEDDEF lapped_result lapped_make_patch(const lapped_image *texture, const lapped_image *mask,
                                           const lapped_options *opt, lapped_image *out,
                                           lapped_error *err);
 
-/* §3.2: the field per triangle: t (ntris*3, |t| = scale) and s (ntris*3),
- * caller-allocated. For LAPPED_FIELD_ISOTROPIC, t is an arbitrary unit
- * direction times the scale (growth propagates its own). */
+/* §3.2: the field per triangle (opt->field and the fields after it),
+ * allocated with opt's allocator; free it with lapped_field_free. For
+ * LAPPED_FIELD_ISOTROPIC, t is an arbitrary unit direction times the scale
+ * (growth propagates its own). */
 LAPPEDDEF lapped_result lapped_compute_field(const lapped_mesh *mesh, const lapped_options *opt,
-                                             float *s, float *t, lapped_error *err);
+                                             lapped_field *out, lapped_error *err);
+LAPPEDDEF void lapped_field_free(lapped_field *f);
 
-/* §3: covers the mesh with pastes of the RGBA patches (alpha in channel 4;
- * one chosen at random per paste). */
-LAPPEDDEF lapped_result lapped_create(const lapped_mesh *mesh, const lapped_image *patches,
-                                      int npatches, const lapped_options *opt,
-                                      lapped_texture *out, lapped_error *err);
+/* §3: covers the mesh with pastes of src's patches (one chosen at random
+ * per paste; src->values is not used). */
+LAPPEDDEF lapped_result lapped_create(const lapped_mesh *mesh, const lapped_source *src,
+                                      const lapped_options *opt, lapped_texture *out,
+                                      lapped_error *err);
 LAPPEDDEF void lapped_texture_free(lapped_texture *t);
 
 /* §4 runtime pasting: the mesh drawn once per paste, in order, each paste's
- * triangles textured with its patch and composited with alpha. `values`
- * (NULL: the patches) may hold another channel aligned with each patch
- * (bump, displacement...), shown with the patches' alpha. */
+ * triangles textured with its patch (or with src->values when not NULL)
+ * and composited with the patch's alpha. ro: NULL for the defaults; callers
+ * with options pass &opt.render. */
 LAPPEDDEF lapped_result lapped_render(const lapped_mesh *mesh, const lapped_texture *t,
-                                      const lapped_image *patches, const lapped_image *values,
-                                      const lapped_render_options *ro, lapped_image *out,
-                                      lapped_error *err);
+                                      const lapped_source *src, const lapped_render_options *ro,
+                                      lapped_image *out, lapped_error *err);
 
-/* §4 texture atlas: charts, packing, and the lapped texture (or another
- * channel, `values` as above) baked into one image. */
+/* §4 texture atlas: charts, packing (opt->atlas; opt NULL: the defaults),
+ * and the lapped texture (or src->values, as above) baked into one image. */
 LAPPEDDEF lapped_result lapped_bake_atlas(const lapped_mesh *mesh, const lapped_texture *t,
-                                          const lapped_image *patches, const lapped_image *values,
-                                          const lapped_atlas_options *ao, const lapped_options *opt,
+                                          const lapped_source *src, const lapped_options *opt,
                                           lapped_atlas *out, lapped_error *err);
 LAPPEDDEF void lapped_atlas_free(lapped_atlas *a);
 
@@ -295,50 +357,53 @@ LAPPEDDEF void lapped_atlas_free(lapped_atlas *a);
  * Textures: "scales", "stripes", "dots". */
 LAPPEDDEF lapped_result lapped_builtin_mesh(const char *name, const lapped_options *opt,
                                             lapped_mesh *out, lapped_error *err);
-LAPPEDDEF lapped_result lapped_builtin_texture(const char *name, int size, const lapped_options *opt,
-                                               lapped_image *out, lapped_error *err);
+LAPPEDDEF lapped_result lapped_builtin_exemplar(const char *name, int size, const lapped_options *opt,
+                                                lapped_image *out, lapped_error *err);
 
 /* Files. The paste file format ("lapped-pastes 1") is documented in
  * docs/lapped.md. */
-LAPPEDDEF lapped_result lapped_write_pastes_to_func(const lapped_texture *t, lapped_write_fn fn,
-                                                    void *ctx, lapped_error *err);
-LAPPEDDEF lapped_result lapped_read_pastes_from_memory(const void *data, size_t size,
-                                                       const char *name, const lapped_options *opt,
-                                                       lapped_texture *out, lapped_error *err);
-/* Constraints file: one constraint per line, "face dx dy dz [scale [radius
- * [weight]]]" (0 or omitted: the defaults of lapped_constraint), '#'
- * comments. *out is allocated with opt's allocator; free it with
- * lapped_free_constraints. */
-LAPPEDDEF lapped_result lapped_read_constraints_from_memory(const void *data, size_t size,
-                                                           const char *name, const lapped_options *opt,
-                                                           lapped_constraint **out, int *count,
-                                                           lapped_error *err);
-LAPPEDDEF void lapped_free_constraints(lapped_constraint *c, const lapped_options *opt);
-LAPPEDDEF lapped_result lapped_load_mesh_from_memory(const void *data, size_t size, const char *name,
-                                                     const lapped_options *opt, lapped_mesh *out,
-                                                     lapped_error *err);
-LAPPEDDEF lapped_result lapped_load_image_from_memory(const void *data, size_t size,
-                                                      const char *name, const lapped_options *opt,
-                                                      lapped_image *out, lapped_error *err);
+LAPPEDDEF lapped_result lapped_write_pastes(const lapped_texture *t, lapped_write_fn fn,
+                                            void *ctx, lapped_error *err);
+LAPPEDDEF lapped_result lapped_read_pastes(const void *data, size_t size,
+                                           const char *name, const lapped_options *opt,
+                                           lapped_texture *out, lapped_error *err);
+/* Constraint file (UTF-8 text; a byte-order mark is skipped): one
+ * constraint per line, "orient F DX DY DZ [SCALE [RADIUS [WEIGHT]]]" (0 or
+ * omitted: the defaults of lapped_constraint), '#' starts a comment, blank
+ * lines are ignored; an unknown keyword is an error naming the line. Old
+ * positional lines ("F DX DY DZ ...", no keyword) are still read, and the
+ * call then succeeds with a warning in err->message (code LAPPED_OK).
+ * out->items is allocated with opt's allocator; free it with
+ * lapped_constraints_free. */
+LAPPEDDEF lapped_result lapped_read_constraints(const void *data, size_t size, const char *name,
+                                                const lapped_options *opt, lapped_constraints *out,
+                                                lapped_error *err);
+LAPPEDDEF void lapped_constraints_free(lapped_constraints *c);
+LAPPEDDEF lapped_result lapped_read_mesh(const void *data, size_t size, const char *name,
+                                         const lapped_options *opt, lapped_mesh *out,
+                                         lapped_error *err);
+LAPPEDDEF lapped_result lapped_read_image(const void *data, size_t size,
+                                          const char *name, const lapped_options *opt,
+                                          lapped_image *out, lapped_error *err);
 /* format: "png", "ppm", "pgm", "pam" */
-LAPPEDDEF lapped_result lapped_write_image_to_func(const lapped_image *img, const char *format,
-                                                   lapped_write_fn fn, void *ctx, lapped_error *err);
+LAPPEDDEF lapped_result lapped_write_image(const lapped_image *img, const char *format,
+                                           lapped_write_fn fn, void *ctx, lapped_error *err);
 /* OBJ of the triangulated mesh with the atlas's per-corner coordinates;
  * mtllib/usemtl when mtl_name is not NULL. */
-LAPPEDDEF lapped_result lapped_write_obj_to_func(const lapped_mesh *mesh, const lapped_atlas *atlas,
-                                                 const char *mtl_name, lapped_write_fn fn,
-                                                 void *ctx, lapped_error *err);
+LAPPEDDEF lapped_result lapped_write_obj(const lapped_mesh *mesh, const lapped_atlas *atlas,
+                                         const char *mtl_name, lapped_write_fn fn,
+                                         void *ctx, lapped_error *err);
 /* Binary glTF 2.0 (.glb, one self-contained file): the triangulated mesh
  * with the atlas's per-corner coordinates and the atlas image as its base
  * colour (PNG inside), sampled LINEAR / LINEAR_MIPMAP_LINEAR with
  * CLAMP_TO_EDGE (the gutters keep lookups inside a chart). With view (not
  * NULL), the file also holds the camera lapped_render frames with those
  * options. See src/common/gltf.h. */
-LAPPEDDEF lapped_result lapped_write_gltf_to_func(const lapped_mesh *mesh, const lapped_atlas *atlas,
-                                                  const lapped_render_options *view, lapped_write_fn fn, void *ctx,
-                                                  lapped_error *err);
-LAPPEDDEF lapped_result lapped_write_mtl_to_func(const char *texture_name, lapped_write_fn fn,
-                                                 void *ctx, lapped_error *err);
+LAPPEDDEF lapped_result lapped_write_gltf(const lapped_mesh *mesh, const lapped_atlas *atlas,
+                                          const lapped_render_options *view, lapped_write_fn fn, void *ctx,
+                                          lapped_error *err);
+LAPPEDDEF lapped_result lapped_write_mtl(const char *texture_name, lapped_write_fn fn,
+                                         void *ctx, lapped_error *err);
 #ifndef PW_NO_STDIO
 LAPPEDDEF lapped_result lapped_load_mesh(const char *path, const lapped_options *opt,
                                          lapped_mesh *out, lapped_error *err);
@@ -353,14 +418,13 @@ LAPPEDDEF lapped_result lapped_save_pastes(const char *path, const lapped_textur
  * atlas image there with lapped_save_image). */
 LAPPEDDEF lapped_result lapped_save_obj(const char *obj_path, const lapped_mesh *mesh, const lapped_atlas *atlas,
                                         const char *texture_path, lapped_error *err);
-/* lapped_write_gltf_to_func into the file path (.glb). */
+/* lapped_write_gltf into the file path (.glb). */
 LAPPEDDEF lapped_result lapped_save_gltf(const char *path, const lapped_mesh *mesh, const lapped_atlas *atlas,
                                          const lapped_render_options *view, lapped_error *err);
 LAPPEDDEF lapped_result lapped_load_pastes(const char *path, const lapped_options *opt,
                                            lapped_texture *out, lapped_error *err);
 LAPPEDDEF lapped_result lapped_load_constraints(const char *path, const lapped_options *opt,
-                                                lapped_constraint **out, int *count,
-                                                lapped_error *err);
+                                                lapped_constraints *out, lapped_error *err);
 #endif
 
 LAPPEDDEF void lapped_mesh_free(lapped_mesh *m);
@@ -8255,7 +8319,8 @@ typedef struct pw_fb {
     float *qbuf;   /* draw scratch: depths of ss sample rows */
     float *zmin;   /* coarse depth: per tile of PW__ZT x PW__ZT samples of the band, the smallest q */
     int zvalid;    /* zmin matches depth; set 0 if you write depth yourself */
-    int vnv;       /* vertices transformed into vbuf by the last draw (0: none) */
+    int vnv;       /* vertices of the last draw (0: none yet) */
+    int vall;      /* 1: all vnv of them are transformed in vbuf (not only the drawn corners) */
     size_t vcap, ncap, pcap, mcap, qcap, zcap;
     const pw_alloc *alloc;
 } pw_fb;
@@ -8444,8 +8509,9 @@ typedef struct pw_draw {
     void (*shader)(void *user, int tri, float b1, float b2, const float db[4], float rgba[4]);
     void *shader_user;
     int same_vertices;      /* 1: positions, nv and camera are those of the previous draw into
-                               this framebuffer, whose transformed vertices are reused (the
-                               passes of lapped textures) */
+                               this framebuffer; when that draw transformed all the vertices
+                               (it drew at least nv/3 triangles) they are reused (the passes of
+                               lapped textures after their base pass) */
 } pw_draw;
 
 #define PW__ZT 8 /* coarse depth tile, in samples */
@@ -9089,7 +9155,10 @@ PW__DEF int pw_render_draw(pw_fb *fb, const pw_camera *cam, const pw_draw *d, pw
     need_normals = d->lighting != PW_LIGHT_NONE && !d->flat && !d->normals;
     if ((r = pw__draw_scratch(fb, d, need_normals, e)) != PW_OK) return r;
     pw__ctx_init(&c, fb, d);
-    if (!d->same_vertices || fb->vnv != d->nv) pw__transform(&c.view, d, fb->vbuf);
+    if (!(d->same_vertices && fb->vnv == d->nv && fb->vall)) {
+        pw__transform(&c.view, d, fb->vbuf);
+        fb->vall = (size_t)d->ntris * 3 >= (size_t)d->nv;
+    }
     fb->vnv = d->nv;
     c.vh = fb->vbuf;
     c.planes = fb->pbuf;
@@ -9246,6 +9315,32 @@ PW__DEF void pw__frame_band(void *ctx, int band)
     R->codes[band] = f->draw(f->user, &fb, &R->errs[band]);
     if (R->codes[band] == PW_OK) pw_fb_resolve_band(&fb, R->out);
     pw_fb_free(&fb);
+}
+
+/* A frame of w x h pixels of ss x ss samples over an opaque background
+ * (RGB), an RGB picture, drawn by draw(user) under par (NULL: one thread). */
+PW__DEF void pw_frame_init(pw_frame *f, int w, int h, int ss, const float bg[3], const pw_parallel *par)
+{
+    memset(f, 0, sizeof *f);
+    f->w = w;
+    f->h = h;
+    f->ss = ss;
+    memcpy(f->bg, bg, 3 * sizeof(float));
+    f->bg[3] = 1.0f;
+    f->channels = 3;
+    f->par = par;
+}
+
+/* The usual band: one draw (pw_frame_draw1 as the user pointer). */
+typedef struct pw_frame_draw1 {
+    const pw_draw *d;
+    const pw_camera *cam;
+} pw_frame_draw1;
+
+PW__DEF int pw_frame_draw1_fn(void *user, pw_fb *fb, pw_err *e)
+{
+    const pw_frame_draw1 *D = (const pw_frame_draw1 *)user;
+    return pw_render_draw(fb, D->cam, D->d, e);
 }
 
 /* Renders a frame band by band into out (allocated here): the bands are
@@ -13697,13 +13792,18 @@ LAPPEDDEF lapped_options lapped_default_options(void)
 {
     lapped_options o;
     memset(&o, 0, sizeof o);
-    o.field.up[1] = 1.0f;
-    o.field.smoothing = 20;
+    o.up[1] = 1.0f;
+    o.smoothing = 20;
     o.falloff = 3.0f;
     o.coverage = 0.99f;
     o.max_distortion = 2.0f;
     o.early = 0.25f;
     o.max_pastes = 200000;
+    pw_view_defaults(&o.render.width, &o.render.height, &o.render.supersample, o.render.view_dir,
+                     o.render.up, o.render.background);
+    o.atlas.size = 1024;
+    o.atlas.cone_angle = 60.0f;
+    o.atlas.gutter = 2;
     return o;
 }
 
@@ -13713,8 +13813,8 @@ LAPPEDDEF const char *lapped_result_string(lapped_result r) { return pw_result_s
 static lapped_options lapped__options(const lapped_options *opt)
 {
     lapped_options d = lapped_default_options(), o = opt ? *opt : d;
-    if (!o.field.up[0] && !o.field.up[1] && !o.field.up[2]) o.field.up[1] = 1.0f;
-    if (!o.field.smoothing) o.field.smoothing = d.field.smoothing;
+    if (!o.up[0] && !o.up[1] && !o.up[2]) o.up[1] = 1.0f;
+    if (!o.smoothing) o.smoothing = d.smoothing;
     if (!(o.falloff > 0.0f)) o.falloff = d.falloff;
     if (!(o.coverage > 0.0f)) o.coverage = d.coverage;
     if (!(o.max_distortion > 0.0f)) o.max_distortion = d.max_distortion;
@@ -13901,8 +14001,8 @@ static void lapped__eval(const lapped__index *ix, const lapped_texture *t, const
 /* A tenth of the bounding-box diagonal: the documented default patch size. */
 static float lapped__default_scale(const pw_trimesh *m) { return 0.1f * m->diag; }
 
-/* field->scale: 0 means the default; negative or NaN is refused. */
-static int lapped__fld_scale(const pw_trimesh *m, const lapped_field *f, float *out, pw_err *e)
+/* opt->scale: 0 means the default; negative or NaN is refused. */
+static int lapped__fld_scale(const pw_trimesh *m, const lapped_options *f, float *out, pw_err *e)
 {
     if (f->scale == 0.0f) {
         *out = lapped__default_scale(m);
@@ -13961,7 +14061,7 @@ static int lapped__fld_tangent(const pw_trimesh *m, int f, const float *p, const
 /* §3.2: "The user could alternatively specify this tangential basis
  * directly": the caller's T per triangle (its length is the scale) and S,
  * or S = T x N when face_s is NULL. S parallel to T is refused (no frame). */
-static int lapped__fld_faces(const pw_trimesh *m, const lapped_field *fl, float *s, float *t, pw_err *e)
+static int lapped__fld_faces(const pw_trimesh *m, const lapped_options *fl, float *s, float *t, pw_err *e)
 {
     int f, r;
     if (!fl->face_t) return pw_fail(e, PW_ERR_INVALID, "FACES field: face_t is NULL");
@@ -14111,7 +14211,7 @@ static void lapped__fld_pin(const lapped__fld_con *c, int nc, lapped__fld_acc *a
 }
 
 /* Checks and resolves every constraint into c[]. */
-static int lapped__fld_checks(const pw_trimesh *m, const lapped_field *fl, float scale, lapped__fld_con *c,
+static int lapped__fld_checks(const pw_trimesh *m, const lapped_options *fl, float scale, lapped__fld_con *c,
                               pw_err *e)
 {
     int i, r;
@@ -14146,7 +14246,7 @@ static int lapped__fld_blend(const pw_alloc *a, const pw_trimesh *m, const float
  * weight_i exp(-d_i(f)^2 / (2 radius_i^2)); directions are blended in 3D
  * and projected onto f, scales blended linearly. One Dijkstra run per
  * constraint: O(nconstraints * nf log nf) time, O(nf) memory. */
-static int lapped__fld_constraints(const pw_alloc *a, const pw_trimesh *m, const lapped_field *fl,
+static int lapped__fld_constraints(const pw_alloc *a, const pw_trimesh *m, const lapped_options *fl,
                                    float scale, const float *conn, double *z, double *scales,
                                    unsigned char *known, pw_err *e)
 {
@@ -14199,8 +14299,8 @@ static int lapped__fld_constraints(const pw_alloc *a, const pw_trimesh *m, const
 
 /* ---- the field, the difficulty, and the public entry ----------------------- */
 
-/* §3.2: fills s and t (nf*3 each) for every mode of lapped_field. */
-static int lapped__field(const pw_alloc *a, const pw_trimesh *m, const lapped_field *fl, float *s, float *t,
+/* §3.2: fills s and t (nf*3 each) for every lapped_field_mode. */
+static int lapped__field(const pw_alloc *a, const pw_trimesh *m, const lapped_options *fl, float *s, float *t,
                          pw_err *e)
 {
     size_t n = (size_t)m->nf;
@@ -14210,9 +14310,9 @@ static int lapped__field(const pw_alloc *a, const pw_trimesh *m, const lapped_fi
     float scale = 0.0f, *conn = NULL;
     int r;
     if ((r = lapped__fld_scale(m, fl, &scale, e)) != PW_OK) return r;
-    if (fl->mode == LAPPED_FIELD_FACES) return lapped__fld_faces(m, fl, s, t, e);
-    if (fl->mode < LAPPED_FIELD_UP || fl->mode > LAPPED_FIELD_CURVATURE)
-        return pw_fail(e, PW_ERR_INVALID, "unknown field mode %d", fl->mode);
+    if (fl->field == LAPPED_FIELD_FACES) return lapped__fld_faces(m, fl, s, t, e);
+    if ((int)fl->field < LAPPED_FIELD_UP || (int)fl->field > LAPPED_FIELD_CURVATURE)
+        return pw_fail(e, PW_ERR_INVALID, "unknown field mode %d", (int)fl->field);
     if (!pw_is_finite(up.x) || !pw_is_finite(up.y) || !pw_is_finite(up.z) || !(pw_v3_dot(up, up) > 0.0f) ||
         !pw_is_finite(pw_v3_dot(up, up)))
         return pw_fail(e, PW_ERR_INVALID, "field up vector (%g, %g, %g) is zero or not finite", (double)up.x,
@@ -14221,9 +14321,9 @@ static int lapped__field(const pw_alloc *a, const pw_trimesh *m, const lapped_fi
     known = (unsigned char *)pw_alloc_array(a, n, 1, "field flags", e);
     if (!z || !known || pw_df_connection(a, m, &conn, e) != PW_OK)
         r = PW_ERR_NOMEM;
-    else if (fl->mode == LAPPED_FIELD_CONSTRAINTS)
+    else if (fl->field == LAPPED_FIELD_CONSTRAINTS)
         r = lapped__fld_constraints(a, m, fl, scale, conn, z, scales = z + 2 * n, known, e);
-    else if (fl->mode == LAPPED_FIELD_CURVATURE)
+    else if (fl->field == LAPPED_FIELD_CURVATURE)
         r = pw_df_curvature(a, m, pw_v3_load(fl->up), fl->smoothing, conn, z, known, e);
     else
         r = pw_df_up_creased(a, m, conn, up, z, known, e);
@@ -14279,21 +14379,36 @@ static int lapped__difficulty(const pw_alloc *a, const pw_trimesh *m, const floa
 }
 
 /* Public: lapped.h. */
-LAPPEDDEF lapped_result lapped_compute_field(const lapped_mesh *mesh, const lapped_options *opt, float *s,
-                                             float *t, lapped_error *err)
+LAPPEDDEF lapped_result lapped_compute_field(const lapped_mesh *mesh, const lapped_options *opt,
+                                             lapped_field *out, lapped_error *err)
 {
     lapped_options o = lapped__options(opt);
     pw_alloc a = lapped__alloc(&o.allocator);
     pw_trimesh m;
     pw_err e;
     pw_err_clear(&e);
-    if (!s || !t)
-        pw_fail(&e, PW_ERR_INVALID, "lapped_compute_field: output array %s is NULL", !s ? "s" : "t");
+    if (out) memset(out, 0, sizeof *out);
+    if (!out)
+        pw_fail(&e, PW_ERR_INVALID, "lapped_compute_field: NULL output");
     else if (lapped__mesh_init(&a, mesh, &m, &e) == PW_OK) {
-        lapped__field(&a, &m, &o.field, s, t, &e);
+        out->allocator = lapped__allocator(&a);
+        out->s = (float *)pw_alloc_array(&a, (size_t)m.nf * 3, sizeof(float), "field", &e);
+        out->t = (float *)pw_alloc_array(&a, (size_t)m.nf * 3, sizeof(float), "field", &e);
+        if (out->s && out->t && lapped__field(&a, &m, &o, out->s, out->t, &e) == PW_OK) out->ntris = m.nf;
+        else lapped_field_free(out);
         pw_trimesh_free(&a, &m);
     }
     return lapped__done(&e, err);
+}
+
+LAPPEDDEF void lapped_field_free(lapped_field *f)
+{
+    pw_alloc a;
+    if (!f) return;
+    a = lapped__alloc(&f->allocator);
+    pw_free(&a, f->s);
+    pw_free(&a, f->t);
+    memset(f, 0, sizeof *f);
 }
 
 /* ---- src/lapped/patch.c ---- */
@@ -14756,8 +14871,8 @@ static void lapped__dots(unsigned long long seed, float x, float y, float px, fl
     lapped__dot_layer(seed + 40, 6, 0.2f, 0.42f, x, y, px, rgb);
 }
 
-LAPPEDDEF lapped_result lapped_builtin_texture(const char *name, int size, const lapped_options *opt,
-                                               lapped_image *out, lapped_error *err)
+LAPPEDDEF lapped_result lapped_builtin_exemplar(const char *name, int size, const lapped_options *opt,
+                                                lapped_image *out, lapped_error *err)
 {
     lapped_options o = lapped__options(opt);
     pw_alloc a = lapped__alloc(&o.allocator);
@@ -15379,7 +15494,7 @@ static void lapped__frame(lapped__paster *P, int g)
     pw_v3 n = pw_v3_load(P->m.normal + 3 * g), t = pw_v3_make(0, 0, 0), s;
     float scale = pw_v3_len(pw_v3_load(P->ft + 3 * g));
     int k;
-    if (P->o.field.mode != LAPPED_FIELD_ISOTROPIC || p->nfaces == 0) {
+    if (P->o.field != LAPPED_FIELD_ISOTROPIC || p->nfaces == 0) {
         memcpy(p->fs + 3 * g, P->fs + 3 * g, sizeof(float) * 3);
         memcpy(p->ft + 3 * g, P->ft + 3 * g, sizeof(float) * 3);
         return;
@@ -15713,7 +15828,7 @@ static int lapped__optimize(lapped__paster *P, int seed, const float bary[3], in
                             double *x, double *b, double *rhs, pw_err *e)
 {
     lapped__patchbuf *p = &P->pb;
-    int n = p->nverts, i, j, r, lscm = P->o.lscm && P->o.field.mode == LAPPED_FIELD_ISOTROPIC;
+    int n = p->nverts, i, j, r, lscm = P->o.lscm && P->o.field == LAPPED_FIELD_ISOTROPIC;
     float du, dv;
     pw_triplets_clear(tr);
     tr->n = lscm ? 2 * p->nfaces + 4 : lapped__align_nrows(p);
@@ -16115,8 +16230,8 @@ static int lapped__setup(lapped__paster *P, const lapped_mesh *mesh, const lappe
     P->ft = (float *)pw_alloc_array(P->a, (size_t)nf * 3, sizeof(float), "field", e);
     P->difficulty = (float *)pw_alloc_array(P->a, (size_t)nf, sizeof(float), "difficulty", e);
     if (!P->fs || !P->ft || !P->difficulty) return PW_ERR_NOMEM;
-    if ((r = lapped__field(P->a, &P->m, &P->o.field, P->fs, P->ft, e)) != PW_OK ||
-        (r = lapped__difficulty(P->a, &P->m, P->o.field.mode == LAPPED_FIELD_ISOTROPIC ? NULL : P->ft,
+    if ((r = lapped__field(P->a, &P->m, &P->o, P->fs, P->ft, e)) != PW_OK ||
+        (r = lapped__difficulty(P->a, &P->m, P->o.field == LAPPED_FIELD_ISOTROPIC ? NULL : P->ft,
                                P->difficulty, e)) != PW_OK ||
         (r = lapped__setup_patches(P, patches, npatches, e)) != PW_OK)
         return r;
@@ -16189,9 +16304,9 @@ static int lapped__output(lapped__paster *P, lapped_texture *out, pw_err *e)
     return PW_OK;
 }
 
-LAPPEDDEF lapped_result lapped_create(const lapped_mesh *mesh, const lapped_image *patches,
-                                      int npatches, const lapped_options *opt,
-                                      lapped_texture *out, lapped_error *err)
+LAPPEDDEF lapped_result lapped_create(const lapped_mesh *mesh, const lapped_source *src,
+                                      const lapped_options *opt, lapped_texture *out,
+                                      lapped_error *err)
 {
     lapped__paster P;
     pw_alloc a;
@@ -16204,7 +16319,8 @@ LAPPEDDEF lapped_result lapped_create(const lapped_mesh *mesh, const lapped_imag
     P.a = &a;
     if (out) memset(out, 0, sizeof *out);
     if (!out) pw_fail(&pe, PW_ERR_INVALID, "lapped_create: NULL output");
-    else if (lapped__setup(&P, mesh, patches, npatches, &estimate, &pe) == PW_OK &&
+    else if (!src) pw_fail(&pe, PW_ERR_INVALID, "lapped_create: no source (texture patches)");
+    else if (lapped__setup(&P, mesh, src->patches, src->npatches, &estimate, &pe) == PW_OK &&
              lapped__run(&P, estimate, &pe) == PW_OK)
         lapped__output(&P, out, &pe);
     lapped__paster_free(&P);
@@ -16228,11 +16344,15 @@ LAPPEDDEF void lapped_texture_free(lapped_texture *t)
  * what is there. */
 
 /* Checks that a lapped texture belongs to this mesh and these patches. */
-static int lapped__check_texture(const pw_trimesh *m, const lapped_texture *t,
-                                 const lapped_image *patches, const lapped_image *values, pw_err *e)
+static int lapped__check_texture(const pw_trimesh *m, const lapped_texture *t, const lapped_source *src,
+                                 pw_err *e)
 {
+    const lapped_image *patches = src ? src->patches : NULL, *values = src ? src->values : NULL;
     int k, p, i;
     if (!t || !patches) return pw_fail(e, PW_ERR_INVALID, "missing lapped texture or patches");
+    if (src->npatches != t->npatches)
+        return pw_fail(e, PW_ERR_INVALID, "the lapped texture was made with %d patches, the source has %d",
+                       t->npatches, src->npatches);
     if (t->ntris && t->ntris != m->nf) /* 0: read from a file, triangle indices checked below */
         return pw_fail(e, PW_ERR_INVALID, "the lapped texture was made for %d triangles, the mesh has %d",
                        t->ntris, m->nf);
@@ -16286,89 +16406,124 @@ static void lapped__paste_draw(const pw_trimesh *m, const lapped_paste *p, int *
     d->uvs = p->uvs;
 }
 
-/* The base pass: the bare mesh, mid-grey, writing depth; then every paste
- * over it with depth test "less or equal" and no depth write. */
-static int lapped__draw_pastes(const pw_alloc *a, const pw_trimesh *m, const lapped_texture *t,
-                               const pw_texture *tex, const lapped_render_options *ro, pw_fb *fb,
-                               pw_err *e)
+/* What every band of a lapped rendering draws (read only: bands may run
+ * on several threads). */
+typedef struct lapped__picture {
+    const pw_alloc *a;
+    const pw_trimesh *m;
+    const lapped_texture *t;
+    const pw_texture *tex;
+    const float *normals; /* smooth vertex normals of the whole mesh */
+    pw_camera cam;
+    int filter;
+} lapped__picture;
+
+/* One band: the base pass, the bare mesh, mid-grey, writing depth; then
+ * every paste over it with depth test "less or equal" and no depth write,
+ * reusing the base pass's transformed vertices. */
+static int lapped__draw_band(void *user, pw_fb *fb, pw_err *e)
 {
-    pw_camera cam = pw_camera_frame(m->pos, m->nv, ro->view_dir, ro->up, 35.0f,
-                                    (float)ro->width / (float)ro->height);
-    int *tris = (int *)pw_alloc_array(a, (size_t)m->nf * 3, sizeof(int), "paste triangles", e);
-    float *normals = (float *)pw_alloc_array(a, (size_t)m->nv * 3, sizeof(float), "normals", e);
+    const lapped__picture *F = (const lapped__picture *)user;
+    const pw_trimesh *m = F->m;
+    int *tris = (int *)pw_alloc_array(F->a, (size_t)m->nf * 3, sizeof(int), "paste triangles", e);
     pw_draw d;
     int p, r;
-    if (!tris || !normals) {
-        pw_free(a, tris);
-        pw_free(a, normals);
-        return PW_ERR_NOMEM;
-    }
+    if (!tris) return PW_ERR_NOMEM;
     memset(&d, 0, sizeof d);
     d.positions = m->pos;
     d.nv = m->nv;
     d.tris = m->tri;
     d.ntris = m->nf;
-    pw__smooth_normals(&d, normals); /* once, from the whole mesh: every paste is lit as the surface */
-    d.normals = normals;
+    d.normals = F->normals;
     d.color[0] = d.color[1] = d.color[2] = 0.5f;
     d.color[3] = 1.0f;
     d.lighting = PW_LIGHT_CAMERA;
     d.ambient = 0.3f;
-    r = pw_render_draw(fb, &cam, &d, e);
+    r = pw_render_draw(fb, &F->cam, &d, e);
     d.color[0] = d.color[1] = d.color[2] = d.color[3] = 1.0f;
-    d.filter = ro->filter;
+    d.filter = F->filter;
     d.wrap = PW_WRAP_CLAMP;
     d.blend = PW_BLEND_OVER;
     d.depth_test = PW_DEPTH_LEQUAL;
     d.no_depth_write = 1;
-    for (p = 0; p < t->npastes && r == PW_OK; p++) {
-        if (t->pastes[p].nfaces == 0) continue;
-        lapped__paste_draw(m, &t->pastes[p], tris, &d);
-        d.tex = &tex[t->pastes[p].patch];
-        r = pw_render_draw(fb, &cam, &d, e);
+    d.same_vertices = 1;
+    for (p = 0; p < F->t->npastes && r == PW_OK; p++) {
+        if (F->t->pastes[p].nfaces == 0) continue;
+        lapped__paste_draw(m, &F->t->pastes[p], tris, &d);
+        d.tex = &F->tex[F->t->pastes[p].patch];
+        r = pw_render_draw(fb, &F->cam, &d, e);
     }
-    pw_free(a, tris);
+    pw_free(F->a, tris);
+    return r;
+}
+
+/* The frame, band by band (pw_render_frame): the normals once, from the
+ * whole mesh (every paste is lit as the surface), then the bands. */
+static int lapped__draw_pastes(const pw_alloc *a, const pw_trimesh *m, const lapped_texture *t,
+                               const pw_texture *tex, const lapped_render_options *ro, pw_image *pic,
+                               pw_err *e)
+{
+    lapped__picture F;
+    pw_frame f;
+    pw_parallel par;
+    pw_draw d;
+    float *normals = (float *)pw_alloc_array(a, (size_t)m->nv * 3, sizeof(float), "normals", e);
+    int r;
+    if (!normals) return PW_ERR_NOMEM;
+    memset(&d, 0, sizeof d);
+    d.positions = m->pos;
+    d.nv = m->nv;
+    d.tris = m->tri;
+    d.ntris = m->nf;
+    pw__smooth_normals(&d, normals);
+    F.a = a;
+    F.m = m;
+    F.t = t;
+    F.tex = tex;
+    F.normals = normals;
+    F.cam = pw_camera_frame(m->pos, m->nv, ro->view_dir, ro->up, 35.0f, (float)ro->width / (float)ro->height);
+    F.filter = (int)ro->filter;
+    par.threads = ro->threads;
+    par.run = ro->parallel;
+    par.pool = ro->parallel_pool;
+    pw_frame_init(&f, ro->width, ro->height, ro->supersample, ro->background, &par);
+    f.draw = lapped__draw_band;
+    f.user = &F;
+    r = pw_render_frame(a, &f, pic, e);
     pw_free(a, normals);
     return r;
 }
 
 LAPPEDDEF lapped_result lapped_render(const lapped_mesh *mesh, const lapped_texture *t,
-                                      const lapped_image *patches, const lapped_image *values,
-                                      const lapped_render_options *ro, lapped_image *out,
-                                      lapped_error *err)
+                                      const lapped_source *src, const lapped_render_options *ro,
+                                      lapped_image *out, lapped_error *err)
 {
     lapped_render_options o;
     pw_alloc a = lapped__alloc(t ? &t->allocator : NULL);
     pw_trimesh m;
     pw_texture *tex = NULL;
     pw_image pic;
-    pw_fb fb;
     pw_err pe;
-    float bg[4];
     int k, r;
     if (ro) o = *ro;
     else memset(&o, 0, sizeof o);
     pw_view_defaults(&o.width, &o.height, &o.supersample, o.view_dir, o.up, o.background);
     pw_err_clear(&pe);
     if (out) memset(out, 0, sizeof *out);
-    memcpy(bg, o.background, sizeof o.background);
-    bg[3] = 1.0f;
     if (!out) pw_fail(&pe, PW_ERR_INVALID, "lapped_render: NULL output");
-    else if (o.width < 1 || o.height < 1 || o.supersample < 1 || o.supersample > 8 || o.filter < 0 || o.filter > 2)
-        pw_fail(&pe, PW_ERR_INVALID, "render options: size %dx%d, supersample %d, filter %d", o.width,
-                o.height, o.supersample, o.filter);
+    else if (o.width < 1 || o.height < 1 || o.supersample < 1 || o.supersample > 8 || (int)o.filter < 0 ||
+             (int)o.filter > 2 || o.threads < 0)
+        pw_fail(&pe, PW_ERR_INVALID, "render options: size %dx%d, supersample %d, filter %d, threads %d", o.width,
+                o.height, o.supersample, (int)o.filter, o.threads);
     else if (lapped__mesh_init(&a, mesh, &m, &pe) == PW_OK) {
-        r = lapped__check_texture(&m, t, patches, values, &pe);
+        r = lapped__check_texture(&m, t, src, &pe);
         if (r == PW_OK && !(tex = (pw_texture *)pw_calloc_array(&a, (size_t)t->npatches, sizeof *tex, "textures", &pe)))
             r = PW_ERR_NOMEM;
         for (k = 0; r == PW_OK && k < t->npatches; k++)
-            r = lapped__patch_texture(&a, &patches[k], values ? &values[k] : &patches[k], &tex[k], &pe);
-        if (r == PW_OK && (r = pw_fb_create(&a, &fb, o.width, o.height, o.supersample, bg, &pe)) == PW_OK) {
-            if ((r = lapped__draw_pastes(&a, &m, t, tex, &o, &fb, &pe)) == PW_OK &&
-                pw_fb_resolve(&fb, &pic, 3, &pe) == PW_OK)
-                lapped__take_image(&pic, &a, out);
-            pw_fb_free(&fb);
-        }
+            r = lapped__patch_texture(&a, &src->patches[k], src->values ? &src->values[k] : &src->patches[k],
+                                      &tex[k], &pe);
+        if (r == PW_OK && lapped__draw_pastes(&a, &m, t, tex, &o, &pic, &pe) == PW_OK)
+            lapped__take_image(&pic, &a, out);
         for (k = 0; tex && k < t->npatches; k++) pw_texture_free(&a, &tex[k]);
         pw_free(&a, tex);
         pw_trimesh_free(&a, &m);
@@ -16393,8 +16548,8 @@ LAPPEDDEF lapped_result lapped_render(const lapped_mesh *mesh, const lapped_text
  * Extra channels: the same charts and the same pastes carry any per-texel
  * channel (`values`), composited with the patches' alpha.
  *
- * Export: lapped_write_obj_to_func (the triangulated mesh with per-corner
- * coordinates), lapped_write_mtl_to_func. */
+ * Export: lapped_write_obj (the triangulated mesh with per-corner
+ * coordinates), lapped_write_mtl. */
 
 /* ---- public functions ---------------------------------------------------------- */
 
@@ -16408,7 +16563,6 @@ static int lapped__atlas_options(const lapped_atlas_options *ao, lapped_atlas_op
     o->size = 1024;
     o->cone_angle = 60.0f;
     o->gutter = 2;
-    if (!ao) return PW_OK;
     if (ao->size) o->size = ao->size;
     if (ao->cone_angle != 0.0f) o->cone_angle = ao->cone_angle;
     if (ao->gutter) o->gutter = ao->gutter;
@@ -16540,10 +16694,10 @@ static int lapped__atlas_run(const pw_alloc *a, const pw_trimesh *m, const lappe
 }
 
 LAPPEDDEF lapped_result lapped_bake_atlas(const lapped_mesh *mesh, const lapped_texture *t,
-                                          const lapped_image *patches, const lapped_image *values,
-                                          const lapped_atlas_options *ao, const lapped_options *opt,
+                                          const lapped_source *src, const lapped_options *opt,
                                           lapped_atlas *out, lapped_error *err)
 {
+    const lapped_image *patches = src ? src->patches : NULL, *values = src ? src->values : NULL;
     lapped_options o = lapped__options(opt);
     lapped_atlas_options ato;
     pw_alloc a = lapped__alloc(&o.allocator);
@@ -16561,7 +16715,10 @@ LAPPEDDEF lapped_result lapped_bake_atlas(const lapped_mesh *mesh, const lapped_
     }
     memset(out, 0, sizeof *out);
     if (!t) pw_fail(&pe, PW_ERR_INVALID, "atlas: no lapped texture");
-    if (!pe.code && !lapped__atlas_options(ao, &ato, &pe) && !lapped__mesh_init(&a, mesh, &m, &pe) &&
+    else if (src && src->npatches != t->npatches)
+        pw_fail(&pe, PW_ERR_INVALID, "atlas: the lapped texture was made with %d patches, the source has %d",
+                t->npatches, src->npatches);
+    if (!pe.code && !lapped__atlas_options(&o.atlas, &ato, &pe) && !lapped__mesh_init(&a, mesh, &m, &pe) &&
         !lapped__atlas_check_pastes(t, m.nf, &pe) && !lapped__atlas_check_images(t, patches, values, &pe) &&
         (views = lapped__atlas_image_views(&a, t, patches, values, &pe)) != NULL) {
         int oc = values ? values[0].channels : 3; /* the patches' colour without their alpha */
@@ -16605,9 +16762,9 @@ static int lapped__atlas_export_open(const lapped_mesh *mesh, const lapped_atlas
     return PW_OK;
 }
 
-LAPPEDDEF lapped_result lapped_write_obj_to_func(const lapped_mesh *mesh, const lapped_atlas *atlas,
-                                                 const char *mtl_name, lapped_write_fn fn, void *ctx,
-                                                 lapped_error *err)
+LAPPEDDEF lapped_result lapped_write_obj(const lapped_mesh *mesh, const lapped_atlas *atlas,
+                                         const char *mtl_name, lapped_write_fn fn, void *ctx,
+                                         lapped_error *err)
 {
     pw_alloc a;
     pw_trimesh m;
@@ -16624,8 +16781,8 @@ LAPPEDDEF lapped_result lapped_write_obj_to_func(const lapped_mesh *mesh, const 
     return lapped__done(&pe, err);
 }
 
-LAPPEDDEF lapped_result lapped_write_mtl_to_func(const char *texture_name, lapped_write_fn fn, void *ctx,
-                                                 lapped_error *err)
+LAPPEDDEF lapped_result lapped_write_mtl(const char *texture_name, lapped_write_fn fn, void *ctx,
+                                         lapped_error *err)
 {
     pw_err pe;
     pw_err_clear(&pe);
@@ -16661,8 +16818,8 @@ static void lapped__wb_line(pw__wb *b, const char *word, const long long *v, int
     pw__wb_str(b, "\n");
 }
 
-LAPPEDDEF lapped_result lapped_write_pastes_to_func(const lapped_texture *t, lapped_write_fn fn,
-                                                    void *ctx, lapped_error *err)
+LAPPEDDEF lapped_result lapped_write_pastes(const lapped_texture *t, lapped_write_fn fn,
+                                            void *ctx, lapped_error *err)
 {
     pw__wb b;
     pw_err pe;
@@ -16670,7 +16827,7 @@ LAPPEDDEF lapped_result lapped_write_pastes_to_func(const lapped_texture *t, lap
     int p, i, k;
     pw_err_clear(&pe);
     if (!t || !fn) {
-        pw_fail(&pe, PW_ERR_INVALID, "lapped_write_pastes_to_func: NULL argument");
+        pw_fail(&pe, PW_ERR_INVALID, "lapped_write_pastes: NULL argument");
         return lapped__done(&pe, err);
     }
     memset(&b, 0, sizeof b);
@@ -16795,9 +16952,9 @@ static int lapped__read_pastes(pw__sc *s, const pw_alloc *a, lapped_texture *t, 
 /* A texture read from a file does not know its mesh's triangle count:
  * ntris is 0 ("unknown"), and every triangle index is checked when the
  * texture is used with a mesh. */
-LAPPEDDEF lapped_result lapped_read_pastes_from_memory(const void *data, size_t size,
-                                                       const char *name, const lapped_options *opt,
-                                                       lapped_texture *out, lapped_error *err)
+LAPPEDDEF lapped_result lapped_read_pastes(const void *data, size_t size,
+                                           const char *name, const lapped_options *opt,
+                                           lapped_texture *out, lapped_error *err)
 {
     lapped_options o = lapped__options(opt);
     pw_alloc a = lapped__alloc(&o.allocator);
@@ -16806,7 +16963,7 @@ LAPPEDDEF lapped_result lapped_read_pastes_from_memory(const void *data, size_t 
     pw_err_clear(&pe);
     if (out) memset(out, 0, sizeof *out);
     if (!out || (!data && size)) {
-        pw_fail(&pe, PW_ERR_INVALID, "lapped_read_pastes_from_memory: NULL argument");
+        pw_fail(&pe, PW_ERR_INVALID, "lapped_read_pastes: NULL argument");
         return lapped__done(&pe, err);
     }
     out->allocator = lapped__allocator(&a);
@@ -16816,8 +16973,10 @@ LAPPEDDEF lapped_result lapped_read_pastes_from_memory(const void *data, size_t 
     return lapped__done(&pe, err);
 }
 
-/* ---- constraints files --------------------------------------------------------- */
+/* ---- constraint files (docs/lapped.md) ------------------------------------------ */
 
+/* "F DX DY DZ [SCALE [RADIUS [WEIGHT]]]": the numbers of a constraint line,
+ * after its keyword. */
 static int lapped__read_constraint(pw__sc *s, lapped_constraint *c, int index)
 {
     double v[7];
@@ -16829,7 +16988,8 @@ static int lapped__read_constraint(pw__sc *s, lapped_constraint *c, int index)
     for (n = 0; n < 6 && !pw__sc_eol(s); n++)
         if ((r = pw__sc_num(s, &v[n], "constraint", index)) != PW_OK) return r;
     if (n < 3 || !pw__sc_eol(s))
-        return pw__sc_fail(s, PW_ERR_PARSE, "constraint %d: expected 'face dx dy dz [scale [radius [weight]]]'", index);
+        return pw__sc_fail(s, PW_ERR_PARSE, "constraint %d: expected 'orient face dx dy dz [scale [radius [weight]]]'",
+                           index);
     for (k = 0; k < n; k++) /* finite as floats: 1e39 is finite as a double only */
         if (!pw_is_finite(pw__num_to_float(v[k])))
             return pw__sc_fail(s, PW_ERR_INVALID, "constraint %d has a non-finite value (or one beyond float range)", index);
@@ -16842,52 +17002,76 @@ static int lapped__read_constraint(pw__sc *s, lapped_constraint *c, int index)
     return PW_OK;
 }
 
-LAPPEDDEF lapped_result lapped_read_constraints_from_memory(const void *data, size_t size,
-                                                           const char *name, const lapped_options *opt,
-                                                           lapped_constraint **out, int *count,
-                                                           lapped_error *err)
+/* One line: "orient ...", or an old positional line (no keyword: it starts
+ * with the face number), whose line number *old_line keeps for the warning
+ * (the first one). */
+static int lapped__constraint_line(pw__sc *s, lapped_constraint *c, int index, int *old_line)
+{
+    char tok[32];
+    const char *w;
+    size_t n;
+    pw__sc_blank(s);
+    if (*s->p && strchr("0123456789+-.", *s->p)) {
+        if (!*old_line) *old_line = s->line;
+        return lapped__read_constraint(s, c, index);
+    }
+    w = pw__sc_word(s, &n);
+    if (!pw__sc_is(w, n, "orient"))
+        return pw__sc_fail(s, PW_ERR_PARSE, "unknown keyword '%s' (a constraint line is 'orient face dx dy dz "
+                           "[scale [radius [weight]]]')", pw__sc_tok(s, w, tok));
+    return lapped__read_constraint(s, c, index);
+}
+
+LAPPEDDEF lapped_result lapped_read_constraints(const void *data, size_t size, const char *name,
+                                                const lapped_options *opt, lapped_constraints *out,
+                                                lapped_error *err)
 {
     lapped_options o = lapped__options(opt);
     pw_alloc a = lapped__alloc(&o.allocator);
     lapped_constraint *c = NULL;
     size_t cap = 0;
-    int n = 0;
+    int n = 0, old_line = 0;
     pw__sc s;
     pw_err pe;
     pw_err_clear(&pe);
-    if (out) *out = NULL;
-    if (count) *count = 0;
-    if (!out || !count || (!data && size)) {
-        pw_fail(&pe, PW_ERR_INVALID, "lapped_read_constraints_from_memory: NULL argument");
+    if (out) memset(out, 0, sizeof *out);
+    if (!out || (!data && size)) {
+        pw_fail(&pe, PW_ERR_INVALID, "lapped_read_constraints: NULL argument");
         return lapped__done(&pe, err);
     }
     pw__sc_init(&s, data, size, name ? name : "constraints", 0, &pe);
     for (pw__sc_skip_empty(&s); s.p < s.end && pe.code == PW_OK; pw__sc_skip_empty(&s))
         if (pw_grow(&a, (void **)&c, &cap, (size_t)n + 1, sizeof *c, "constraints", &pe) == PW_OK &&
-            lapped__read_constraint(&s, &c[n], n) == PW_OK)
+            lapped__constraint_line(&s, &c[n], n, &old_line) == PW_OK)
             n++;
     if (pe.code == PW_OK && n == 0) pw_fail(&pe, PW_ERR_PARSE, "%s: no constraints", s.name);
     if (pe.code != PW_OK) {
         pw_free(&a, c);
         return lapped__done(&pe, err);
     }
-    *out = c;
-    *count = n;
+    out->count = n;
+    out->items = c;
+    out->allocator = lapped__allocator(&a);
+    if (old_line) /* rule C1: a warning, the call succeeds */
+        pw_fail(&pe, PW_OK, "%s: line %d: positional constraint lines are deprecated; write 'orient F dx dy dz ...'",
+                s.name, old_line);
     return lapped__done(&pe, err);
 }
 
-LAPPEDDEF void lapped_free_constraints(lapped_constraint *c, const lapped_options *opt)
+LAPPEDDEF void lapped_constraints_free(lapped_constraints *c)
 {
-    lapped_options o = lapped__options(opt);
-    pw_alloc a = lapped__alloc(&o.allocator);
-    pw_free(&a, c);
+    pw_alloc a;
+    if (!c) return;
+    a = lapped__alloc(&c->allocator);
+    pw_free(&a, c->items);
+    memset(c, 0, sizeof *c);
 }
 
 /* ---- meshes and images --------------------------------------------------------- */
 
-LAPPEDDEF lapped_result lapped_load_mesh_from_memory(const void *data, size_t size, const char *name,
-                                                     const lapped_options *opt, lapped_mesh *out,
-                                                     lapped_error *err)
+LAPPEDDEF lapped_result lapped_read_mesh(const void *data, size_t size, const char *name,
+                                         const lapped_options *opt, lapped_mesh *out,
+                                         lapped_error *err)
 {
     lapped_options o = lapped__options(opt);
     pw_alloc a = lapped__alloc(&o.allocator);
@@ -16895,15 +17079,15 @@ LAPPEDDEF lapped_result lapped_load_mesh_from_memory(const void *data, size_t si
     pw_err pe;
     pw_err_clear(&pe);
     if (out) memset(out, 0, sizeof *out);
-    if (!out || (!data && size)) pw_fail(&pe, PW_ERR_INVALID, "lapped_load_mesh_from_memory: NULL argument");
+    if (!out || (!data && size)) pw_fail(&pe, PW_ERR_INVALID, "lapped_read_mesh: NULL argument");
     else if (pw_mesh_read_memory(&a, data, size, name ? name : "mesh", &m, &pe) == PW_OK)
         lapped__take_mesh(&m, &a, out);
     return lapped__done(&pe, err);
 }
 
-LAPPEDDEF lapped_result lapped_load_image_from_memory(const void *data, size_t size,
-                                                      const char *name, const lapped_options *opt,
-                                                      lapped_image *out, lapped_error *err)
+LAPPEDDEF lapped_result lapped_read_image(const void *data, size_t size,
+                                          const char *name, const lapped_options *opt,
+                                          lapped_image *out, lapped_error *err)
 {
     lapped_options o = lapped__options(opt);
     pw_alloc a = lapped__alloc(&o.allocator);
@@ -16911,27 +17095,27 @@ LAPPEDDEF lapped_result lapped_load_image_from_memory(const void *data, size_t s
     pw_err pe;
     pw_err_clear(&pe);
     if (out) memset(out, 0, sizeof *out);
-    if (!out || (!data && size)) pw_fail(&pe, PW_ERR_INVALID, "lapped_load_image_from_memory: NULL argument");
+    if (!out || (!data && size)) pw_fail(&pe, PW_ERR_INVALID, "lapped_read_image: NULL argument");
     else if (pw_image_read_memory(&a, (const unsigned char *)data, size, name ? name : "image", &img, &pe) == PW_OK)
         lapped__take_image(&img, &a, out);
     return lapped__done(&pe, err);
 }
 
-LAPPEDDEF lapped_result lapped_write_image_to_func(const lapped_image *img, const char *format,
-                                                   lapped_write_fn fn, void *ctx, lapped_error *err)
+LAPPEDDEF lapped_result lapped_write_image(const lapped_image *img, const char *format,
+                                           lapped_write_fn fn, void *ctx, lapped_error *err)
 {
     pw_err pe;
     pw_err_clear(&pe);
-    if (!fn) pw_fail(&pe, PW_ERR_INVALID, "lapped_write_image_to_func: NULL writer");
+    if (!fn) pw_fail(&pe, PW_ERR_INVALID, "lapped_write_image: NULL writer");
     else if (lapped__check_image(img, "image", &pe) == PW_OK) lapped__encode(img, format, fn, ctx, &pe);
     return lapped__done(&pe, err);
 }
 
 /* The atlas's mesh as one glTF part: the fan triangles with their
  * per-corner atlas coordinates, the atlas image as the texture. */
-LAPPEDDEF lapped_result lapped_write_gltf_to_func(const lapped_mesh *mesh, const lapped_atlas *atlas,
-                                                  const lapped_render_options *view, lapped_write_fn fn, void *ctx,
-                                                  lapped_error *err)
+LAPPEDDEF lapped_result lapped_write_gltf(const lapped_mesh *mesh, const lapped_atlas *atlas,
+                                          const lapped_render_options *view, lapped_write_fn fn, void *ctx,
+                                          lapped_error *err)
 {
     pw_alloc a;
     pw_trimesh m;
@@ -17007,7 +17191,7 @@ static int lapped__obj_job(void *arg, pw_write_fn w, void *ctx, pw_err *e)
 {
     const lapped__job *j = (const lapped__job *)arg;
     lapped_error le;
-    int r = (int)lapped_write_obj_to_func(j->mesh, j->atlas, j->format, w, ctx, &le);
+    int r = (int)lapped_write_obj(j->mesh, j->atlas, j->format, w, ctx, &le);
     return r ? pw_fail(e, r, "%s", le.message) : PW_OK;
 }
 
@@ -17042,7 +17226,7 @@ static int lapped__gltf_job(void *arg, pw_write_fn w, void *ctx, pw_err *e)
 {
     const lapped__job *j = (const lapped__job *)arg;
     lapped_error le;
-    int r = (int)lapped_write_gltf_to_func(j->mesh, j->atlas, j->view, w, ctx, &le);
+    int r = (int)lapped_write_gltf(j->mesh, j->atlas, j->view, w, ctx, &le);
     return r ? pw_fail(e, r, "%s", le.message) : PW_OK;
 }
 
@@ -17069,7 +17253,7 @@ static int lapped__pastes_job(void *arg, pw_write_fn w, void *ctx, pw_err *e)
 {
     const lapped__job *j = (const lapped__job *)arg;
     lapped_error le;
-    int r = (int)lapped_write_pastes_to_func(j->tex, w, ctx, &le);
+    int r = (int)lapped_write_pastes(j->tex, w, ctx, &le);
     return r ? pw_fail(e, r, "%s", le.message) : PW_OK;
 }
 
@@ -17102,8 +17286,7 @@ LAPPEDDEF lapped_result lapped_save_pastes(const char *path, const lapped_textur
 }
 
 LAPPEDDEF lapped_result lapped_load_constraints(const char *path, const lapped_options *opt,
-                                                lapped_constraint **out, int *count,
-                                                lapped_error *err)
+                                                lapped_constraints *out, lapped_error *err)
 {
     lapped_options o = lapped__options(opt);
     pw_alloc a = lapped__alloc(&o.allocator);
@@ -17111,11 +17294,12 @@ LAPPEDDEF lapped_result lapped_load_constraints(const char *path, const lapped_o
     size_t size;
     pw_err pe;
     pw_err_clear(&pe);
-    if (!path || !out || !count) pw_fail(&pe, PW_ERR_INVALID, "lapped_load_constraints: NULL argument");
+    if (out) memset(out, 0, sizeof *out);
+    if (!path || !out) pw_fail(&pe, PW_ERR_INVALID, "lapped_load_constraints: NULL argument");
     else if (pw_read_file(&a, path, &data, &size, &pe) == PW_OK) {
         lapped_error le;
-        if (lapped_read_constraints_from_memory(data, size, path, &o, out, count, &le) != LAPPED_OK)
-            pw_fail(&pe, (int)le.code, "%s", le.message);
+        if (lapped_read_constraints(data, size, path, &o, out, &le) != LAPPED_OK || le.message[0])
+            pw_fail(&pe, (int)le.code, "%s", le.message); /* an error, or the warning of a success */
         pw_free(&a, data);
     }
     return lapped__done(&pe, err);
@@ -17134,7 +17318,7 @@ LAPPEDDEF lapped_result lapped_load_pastes(const char *path, const lapped_option
     if (!path || !out) pw_fail(&pe, PW_ERR_INVALID, "lapped_load_pastes: NULL argument");
     else if (pw_read_file(&a, path, &data, &size, &pe) == PW_OK) {
         lapped_error le;
-        if (lapped_read_pastes_from_memory(data, size, path, &o, out, &le) != LAPPED_OK)
+        if (lapped_read_pastes(data, size, path, &o, out, &le) != LAPPED_OK)
             pw_fail(&pe, (int)le.code, "%s", le.message);
         pw_free(&a, data);
     }

@@ -54,25 +54,28 @@
  *       #include "lst.h"
  *   PATCHWORK_IMPLEMENTATION turns on every patchwork header included after
  *   it. Build macros: LST_STATIC (all functions static), PW_MALLOC /
- *   PW_REALLOC / PW_FREE (all or none), PW_ASSERT, PW_NO_STDIO, and the
- *   PW_MAX_* size limits, as in every patchwork header.
+ *   PW_REALLOC / PW_FREE (all or none), PW_ASSERT, PW_NO_STDIO, the PW_MAX_*
+ *   size limits, as in every patchwork header, and PW_THREADS: rendering on
+ *   several threads (POSIX threads; link with -pthread; lst_render_options.
+ *   threads, 0 = one per processor), the same picture for any count.
  *
  * MINIMAL EXAMPLE
  *       lst_options opt = lst_default_options();
  *       lst_mesh surface;
  *       lst_tetmesh tets;
  *       lst_volume texture;
+ *       lst_source src = {&texture, NULL};         (no extra channel)
  *       lst_model model;
  *       lst_image picture;
  *       lst_error err;
  *       const float cut[4] = {0, 0, 1, 0};          (keep z <= 0)
  *       opt.type = LST_TYPE_1B;                     (layers along the depth)
  *       if (lst_load_mesh("fruit.obj", &opt, &surface, &err) ||
- *           lst_tetrahedralize(&surface, NULL, &opt, &tets, &err) ||
+ *           lst_tetrahedralize(&surface, &opt, &tets, NULL, &err) ||
  *           lst_builtin_exemplar("layers", 64, &opt, &texture, NULL, &err) ||
- *           lst_create(&tets, &surface, &texture, NULL, &opt, &model, &err) ||
+ *           lst_create(&tets, &surface, &src, &opt, &model, &err) ||
  *           lst_cut_plane(&model, cut, &err) ||
- *           lst_render(&model, NULL, &picture, &err) ||
+ *           lst_render(&model, &opt.render, &picture, &err) ||
  *           lst_save_image("fruit.png", &picture, &err))
  *           fprintf(stderr, "%s\n", err.message);
  *
@@ -92,10 +95,10 @@
 #ifndef LST_H
 #define LST_H
 
-#define LST_VERSION_MAJOR 1
-#define LST_VERSION_MINOR 0
+#define LST_VERSION_MAJOR 0
+#define LST_VERSION_MINOR 9
 #define LST_VERSION_PATCH 0
-#define LST_VERSION_STRING "1.0.0"
+#define LST_VERSION_STRING "0.9.0"
 
 #include <stddef.h>
 
@@ -147,6 +150,13 @@ typedef struct lst_allocator {
 typedef int (*lst_progress_fn)(void *user, float done, const char *stage);
 typedef int (*lst_write_fn)(void *ctx, const void *data, size_t size);
 
+/* Work split across threads (rendering: bands of the frame). A parallel
+ * for, for embedders with their own job system: run task(ctx, i) once for
+ * every i in [0, n), on any threads, in any order, and return when all
+ * have run. Results never depend on the order or the thread count. */
+typedef void (*lst_task_fn)(void *ctx, int index);
+typedef void (*lst_parallel_fn)(void *pool, int n, lst_task_fn task, void *ctx);
+
 /* width*height pixels of `channels` floats in [0,1], row 0 at the top. */
 typedef struct lst_image {
     int width, height, channels;
@@ -192,7 +202,7 @@ typedef struct lst_volume {
 /* §3 texture types. 2-c and 2-d (variation along two or three axes) are
  * not supported: as the paper says, a tiling method is not effective for
  * textures that can be tiled along one axis or none. */
-enum {
+typedef enum lst_type {
     LST_TYPE_0 = 0,  /* isotropic: random orientation per paste; scale from the user */
     LST_TYPE_1A = 1, /* one axis (fibres): u along the direction field, the others random */
     LST_TYPE_1B = 2, /* depth-varying layers: v = depth, u and w random around it;
@@ -200,47 +210,55 @@ enum {
     LST_TYPE_2A = 3, /* three axes: v along grad depth, u along the direction field
                         (orthogonalised), w = u x v; scale from the user */
     LST_TYPE_2B = 4  /* as 2-a, and depth-varying: v = depth, scale 1/|grad depth| */
-};
+} lst_type;
 
-/* §4.3 depth constraints (0 outermost, 1 innermost). */
-enum {
-    LST_DEPTH_FACE = 0,  /* one surface triangle (single-face-fill tool) */
-    LST_DEPTH_FILL = 1,  /* the triangles reachable from `face` without crossing an
-                            edge sharper than `crease` (multi-face-fill tool) */
-    LST_DEPTH_POINT = 2  /* a point (the stroke tool: strokes are sampled points) */
-};
+/* §4.1-4.5 user guidance: depth constraints (§4.3, 0 outermost, 1
+ * innermost; they steer the RBF depth field), directions and scales
+ * (interpolated by Laplacian smoothing). */
+typedef enum lst_constraint_kind {
+    LST_CONSTRAINT_DEPTH_FACE = 0, /* one surface triangle (single-face-fill tool) */
+    LST_CONSTRAINT_DEPTH_FILL,     /* the triangles reachable from `face` without crossing an
+                                      edge sharper than `crease` (multi-face-fill tool) */
+    LST_CONSTRAINT_DEPTH_POINT,    /* a point (the stroke tool: strokes are sampled points) */
+    LST_CONSTRAINT_DIRECTION,      /* the exemplar's u axis at `point` (types 1-a, 2-a, 2-b) */
+    LST_CONSTRAINT_SCALE           /* the exemplar's side at `point` (types 0, 1-a, 2-a) */
+} lst_constraint_kind;
 
-typedef struct lst_depth_constraint {
-    int kind;       /* LST_DEPTH_* */
-    int face;       /* FACE, FILL: a triangle of the surface */
-    float point[3]; /* POINT */
-    float depth;    /* in [0, 1] */
-    float crease;   /* FILL: dihedral angle, degrees, at which the fill stops; 0: 30 */
-} lst_depth_constraint;
-
-/* §4.1-4.5 field constraints, interpolated by Laplacian smoothing. */
-enum {
-    LST_FIELD_DIRECTION = 0, /* the exemplar's u axis at `point` (types 1-a, 2-a, 2-b) */
-    LST_FIELD_SCALE = 1      /* the exemplar's side at `point`, mesh units (0, 1-a, 2-a) */
-};
-
-typedef struct lst_field_constraint {
-    int kind;           /* LST_FIELD_* */
-    float point[3];
+typedef struct lst_constraint {
+    lst_constraint_kind kind;
+    int face;           /* DEPTH_FACE, DEPTH_FILL: a triangle of the surface */
+    float point[3];     /* DEPTH_POINT, DIRECTION, SCALE */
     float direction[3]; /* DIRECTION (any length but 0) */
-    float scale;        /* SCALE (> 0) */
-} lst_field_constraint;
+    float value;        /* depth in [0,1] (DEPTH_*) or the exemplar's side, mesh units (SCALE, > 0) */
+    float crease;       /* DEPTH_FILL: dihedral angle, degrees, at which the fill stops; 0: 30 */
+} lst_constraint;
+
+/* Constraints allocated by the library (files, built-in ones); free with
+ * lst_constraints_free. */
+typedef struct lst_constraints {
+    int count;
+    lst_constraint *items;
+    lst_allocator allocator;
+} lst_constraints;
 
 /* §5.2.1 alpha masks. */
-enum {
+typedef enum lst_mask_mode {
     LST_MASK_AUTO = 0,    /* the exemplar's alpha (4 channels) for homogeneous types,
                              else the splotch (always for 1-b and 2-b) */
     LST_MASK_SPLOTCH = 1, /* the built-in splotch (and its outer/middle/inner copies) */
     LST_MASK_EXEMPLAR = 2 /* the exemplar's alpha (types 0, 1-a, 2-a; 4 channels) */
-};
+} lst_mask_mode;
+
+/* The masks pasting uses (one-channel alpha volumes), allocated by the
+ * library; free with lst_masks_free. */
+typedef struct lst_masks {
+    int count;
+    lst_volume *volumes;
+    lst_allocator allocator;
+} lst_masks;
 
 /* The fields of §5.2.2, per vertex and per tetrahedron. */
-typedef struct lst_fields {
+typedef struct lst_field {
     int nverts, ntets;
     float *depth; /* nverts depths in [0,1] (1-b, 2-a, 2-b), or NULL */
     float *frame; /* ntets*9: the images of the exemplar's u, v, w axes (columns R, S, T of
@@ -248,21 +266,65 @@ typedef struct lst_fields {
                      and 1-x the axes without a field are an arbitrary frame that pasting
                      re-draws at random */
     lst_allocator allocator;
-} lst_fields;
+} lst_field;
+
+/* What a render draws. */
+typedef enum lst_show {
+    LST_SHOW_COLOR = 0,  /* the texture */
+    LST_SHOW_VALUES = 1, /* the extra channel (its first component) in gray */
+    LST_SHOW_PASTES = 2, /* a flat colour per paste: where the clumps are */
+    LST_SHOW_DEPTH = 3   /* u, v, w of the topmost paste as red, green, blue */
+} lst_show;
+
+typedef struct lst_render_options {
+    int width, height;    /* default 800 x 600 */
+    int supersample;      /* default 2 */
+    float view_dir[3];    /* default (-0.55,-0.45,-0.7) */
+    float up[3];          /* default (0,1,0) */
+    float background[3];  /* default white */
+    lst_show show;        /* default LST_SHOW_COLOR */
+    int unlit;            /* 1: no shading, the texture as it is */
+    float displace;       /* displacement mapping: the surface moved along its normal by
+                             this times (values - 0.5), mesh units; 0: none */
+    int subdivide;        /* with displacement: each surface triangle split into 4^k; default 2 */
+    int threads;             /* rendering threads: 0 (default) one per processor when the
+                                implementation is built with PW_THREADS (POSIX threads;
+                                link with -pthread), else 1; n: at most n. With more
+                                than one, the allocator is called from several threads */
+    lst_parallel_fn parallel; /* optional: the caller's parallel for, used instead of threads */
+    void *parallel_pool;     /* its first argument */
+} lst_render_options;
+
+typedef struct lst_volume_options {
+    int slices;           /* §5.1.2: default 200 */
+    float opacity;        /* opacity of a slab one hundredth of the model's diagonal thick
+                             at full density; default 0.3 */
+    int density;          /* 0 (default): density = 1 - luminance of the colour (dark is
+                             dense); k >= 1: the extra channel's component k-1 */
+} lst_volume_options;
+
+/* Settings of the built-in tetrahedralizer (lst_tetrahedralize). */
+typedef struct lst_tet_options {
+    double cell;     /* lattice spacing, mesh units; 0: chosen from target_tets */
+    int target_tets; /* approximate tetrahedron count; default 20000 (0: 20000) */
+    int strict;      /* 1: refuse a surface whose triangles cross, naming the first pair */
+    double max_hole; /* holes whose perimeters are at most this fraction of the bounding-box diagonal
+                        are closed; default 0.05 (0: 0.05); negative: open surfaces refused */
+} lst_tet_options;
 
 typedef struct lst_options {
-    int type;                 /* LST_TYPE_*; default LST_TYPE_0 */
+    lst_type type;            /* default LST_TYPE_0 */
     float scale;              /* exemplar side in mesh units where no scale constraint
                                  reaches (0, 1-a, 2-a); 0: a fifth of the bounding-box
                                  diagonal */
-    const lst_depth_constraint *depth; /* NULL: depth = normalised distance to the surface */
-    int ndepth;
-    const lst_field_constraint *field; /* directions and scales; may be NULL */
-    int nfield;
+    const lst_constraint *constraints; /* depths, directions and scales; may be NULL. Without a
+                                          depth constraint, the depth is the normalised distance
+                                          to the surface */
+    int nconstraints;
     float axis[3];            /* the direction where no direction constraint is given;
                                  zero: the principal axis of the shape */
-    const lst_fields *fields; /* non-NULL: these fields instead of computing them */
-    int mask;                 /* LST_MASK_*; default AUTO */
+    const lst_field *field;   /* NULL: computed (lst_compute_field); else these fields */
+    lst_mask_mode mask;       /* default LST_MASK_AUTO */
     float mask_radius;        /* splotch mean radius, fraction of the side; default 0.4 */
     float falloff;            /* splotch fall-off width, fraction of the side; default 0.08 */
     int samples;              /* coverage samples per tetrahedron: the barycentric
@@ -282,6 +344,9 @@ typedef struct lst_options {
                                  paste's opaque core covers entirely (default: drop them) */
     int max_pastes;           /* refuse inputs needing more; default 200000 */
     unsigned long long seed;  /* default 0 */
+    lst_render_options render; /* lst_render's settings (callers pass &opt.render) */
+    lst_tet_options tet;       /* lst_tetrahedralize's */
+    lst_volume_options volume; /* lst_render_volume's (callers pass &opt.volume) */
     lst_allocator allocator;
     lst_progress_fn progress;
     void *progress_user;
@@ -306,42 +371,13 @@ typedef struct lst_model {
     int type;                 /* LST_TYPE_* it was made with (-1: read from a file) */
     lst_volume texture;       /* the exemplar's colour (1-3 channels: alpha was made a mask) */
     lst_volume values;        /* an extra channel (displacement...), or empty */
-    int nmasks;
-    lst_volume *masks;        /* one-channel alpha volumes; paste p uses masks[p.exemplar] */
+    lst_masks masks;          /* paste p uses masks.volumes[p.exemplar] */
     int npastes;
     lst_paste *pastes;        /* in compositing order: later over earlier */
     double layers;            /* mean pastes per tetrahedron */
     double layers_before;     /* ... before hidden entries were dropped */
     lst_allocator allocator;
 } lst_model;
-
-enum {
-    LST_SHOW_COLOR = 0,  /* the texture */
-    LST_SHOW_VALUES = 1, /* the extra channel (its first component) in gray */
-    LST_SHOW_PASTES = 2, /* a flat colour per paste: where the clumps are */
-    LST_SHOW_DEPTH = 3   /* u, v, w of the topmost paste as red, green, blue */
-};
-
-typedef struct lst_render_options {
-    int width, height;    /* default 800 x 600 */
-    int supersample;      /* default 2 */
-    float view_dir[3];    /* default (-0.55,-0.45,-0.7) */
-    float up[3];          /* default (0,1,0) */
-    float background[3];  /* default white */
-    int show;             /* LST_SHOW_*; default COLOR */
-    int unlit;            /* 1: no shading, the texture as it is */
-    float displace;       /* displacement mapping: the surface moved along its normal by
-                             this times (values - 0.5), mesh units; 0: none */
-    int subdivide;        /* with displacement: each surface triangle split into 4^k; default 2 */
-} lst_render_options;
-
-typedef struct lst_volume_options {
-    int slices;           /* §5.1.2: default 200 */
-    float opacity;        /* opacity of a slab one hundredth of the model's diagonal thick
-                             at full density; default 0.3 */
-    int density;          /* 0 (default): density = 1 - luminance of the colour (dark is
-                             dense); k >= 1: the extra channel's component k-1 */
-} lst_volume_options;
 
 LSTDEF lst_options lst_default_options(void);
 LSTDEF const char *lst_result_string(lst_result r);
@@ -353,7 +389,10 @@ LSTDEF const char *lst_result_string(lst_result r);
  * the boundary within about a cell of the surface). The solid is where the
  * surface's generalised winding number is at least 1/2, so a closed surface
  * whose triangles cross is filled (counted in the report) unless strict;
- * zero-area triangles are skipped; small holes are closed. Other open
+ * zero-area triangles are skipped; small holes are closed (each said in a
+ * warning in err->message, code LST_OK). Settings:
+ * opt->tet. report (may be NULL) receives what the input held and how well
+ * the tetrahedra fit it (the fit costs about 0.1-0.5 s). Other open
  * surfaces and non-manifold ones are refused with a message naming the
  * problem (for an open one: how many holes, and where the largest is). */
 typedef struct lst_tet_report {
@@ -368,18 +407,8 @@ typedef struct lst_tet_report {
                               bounding-box diagonal */
     double fit_p99;        /* the same, the larger of the two 99th percentiles */
 } lst_tet_report;
-typedef struct lst_tet_options {
-    double cell;                  /* lattice spacing, mesh units; 0: chosen from target_tets */
-    int target_tets;              /* approximate tetrahedron count; 0: 20000 */
-    int allow_self_intersections; /* accepted and ignored: crossing surfaces are filled by default */
-    int strict;                   /* 1: refuse a surface whose triangles cross, naming the first pair */
-    double max_hole;              /* holes whose perimeters are at most this fraction of the bounding-box
-                                     diagonal are closed; 0: 0.05; negative: open surfaces refused */
-    lst_tet_report *report;       /* optional: filled with what the input held and how well the
-                                     tetrahedra fit it (the fit costs about 0.1-0.5 s) */
-} lst_tet_options;
-LSTDEF lst_result lst_tetrahedralize(const lst_mesh *surface, const lst_tet_options *to, const lst_options *opt,
-                                     lst_tetmesh *out, lst_error *err);
+LSTDEF lst_result lst_tetrahedralize(const lst_mesh *surface, const lst_options *opt, lst_tetmesh *out,
+                                     lst_tet_report *report, lst_error *err);
 /* Checks a caller's mesh (indices, orientation, zero volumes, faces shared by
  * more than two tetrahedra, overlaps), flipping negative tetrahedra; reports
  * the dihedral angle range in degrees (either pointer may be NULL). */
@@ -399,27 +428,41 @@ LSTDEF lst_result lst_tetmesh_surface(const lst_tetmesh *mesh, const lst_options
 LSTDEF lst_result lst_builtin_exemplar(const char *name, int size, const lst_options *opt, lst_volume *color,
                                        lst_volume *values, lst_error *err);
 /* §5.2.1/§5.2.7 the masks pasting would use with this exemplar and these
- * options (1 or 3 one-channel volumes), allocated here. */
-LSTDEF lst_result lst_make_masks(const lst_volume *exemplar, const lst_options *opt, lst_volume **masks,
-                                 int *count, lst_error *err);
-LSTDEF void lst_free_masks(lst_volume *masks, int count);
+ * options (1 or 3 one-channel volumes). */
+LSTDEF lst_result lst_make_masks(const lst_volume *exemplar, const lst_options *opt, lst_masks *out,
+                                 lst_error *err);
+LSTDEF void lst_masks_free(lst_masks *masks);
 /* §5.2.2 the depth, vector, scale and tensor fields. surface: the surface
  * that depth constraints name faces of (NULL: the mesh's boundary). */
-LSTDEF lst_result lst_compute_fields(const lst_tetmesh *mesh, const lst_mesh *surface, const lst_options *opt,
-                                     lst_fields *out, lst_error *err);
-LSTDEF void lst_fields_free(lst_fields *f);
+LSTDEF lst_result lst_compute_field(const lst_tetmesh *mesh, const lst_mesh *surface, const lst_options *opt,
+                                    lst_field *out, lst_error *err);
+LSTDEF void lst_field_free(lst_field *f);
 
 /* ---- filling ---- */
 
-/* §5.2 fills the mesh: pastes until every tetrahedron is covered. values
- * (NULL or the same size as the exemplar) is carried along for rendering. */
-LSTDEF lst_result lst_create(const lst_tetmesh *mesh, const lst_mesh *surface, const lst_volume *exemplar,
-                             const lst_volume *values, const lst_options *opt, lst_model *out, lst_error *err);
-/* §4.6 manual pasting: one more paste on top, centred at `point`, its u
- * axis along u_axis and v along v_axis (made orthogonal), of side `scale`
- * (mesh units), with mask `mask`. */
-LSTDEF lst_result lst_paste_at(lst_model *model, const float point[3], const float u_axis[3], const float v_axis[3],
-                               float scale, int mask, const lst_options *opt, lst_error *err);
+/* The texture a model is made of: the solid exemplar, and optionally
+ * another channel of the same size (displacement...), carried along for
+ * rendering. */
+typedef struct lst_source {
+    const lst_volume *exemplar;
+    const lst_volume *values; /* NULL: none */
+} lst_source;
+
+/* §5.2 fills the mesh: pastes until every tetrahedron is covered. */
+LSTDEF lst_result lst_create(const lst_tetmesh *mesh, const lst_mesh *surface, const lst_source *src,
+                             const lst_options *opt, lst_model *out, lst_error *err);
+/* §4.6 a manual paste: centred at `point`, its u axis along u_axis and v
+ * along v_axis (made orthogonal), of side `scale` (mesh units), with mask
+ * `mask` (an index into the model's masks). */
+typedef struct lst_paste_spec {
+    float point[3];
+    float u_axis[3];
+    float v_axis[3];
+    float scale;
+    int mask;
+} lst_paste_spec;
+/* One more paste on top of the model. */
+LSTDEF lst_result lst_paste_at(lst_model *model, const lst_paste_spec *spec, const lst_options *opt, lst_error *err);
 LSTDEF void lst_model_free(lst_model *model);
 
 /* The model at points (n*3): straight RGB and total opacity in rgba (n*4;
@@ -453,10 +496,12 @@ LSTDEF void lst_uncut(lst_model *model);
 /* The visible boundary (surface and cut faces), each triangle composited
  * with its ordered pastes. Exemplars are sampled trilinearly without mip
  * levels (at the scales pasting uses they are magnified on screen; the
- * supersampling takes care of the rest). */
+ * supersampling takes care of the rest). ro: NULL or &opt.render (NULL:
+ * the defaults). */
 LSTDEF lst_result lst_render(const lst_model *model, const lst_render_options *ro, lst_image *out, lst_error *err);
 /* §5.1.2 volume rendering: slices perpendicular to the view, composited
- * back to front with an opacity from the density. */
+ * back to front with an opacity from the density. ro, vo: NULL (the
+ * defaults) or &opt.render, &opt.volume. */
 LSTDEF lst_result lst_render_volume(const lst_model *model, const lst_render_options *ro,
                                     const lst_volume_options *vo, lst_image *out, lst_error *err);
 
@@ -466,58 +511,61 @@ LSTDEF lst_result lst_render_volume(const lst_model *model, const lst_render_opt
  * z), "tree" (a trunk along z with two branches), and two thin shapes that
  * test the tetrahedralizer: "dumbbell" (two unit balls, a neck 1% of the
  * diagonal thick) and "star" (a ball with 12 long thin spikes). */
-LSTDEF lst_result lst_builtin_surface(const char *name, const lst_options *opt, lst_mesh *out, lst_error *err);
+LSTDEF lst_result lst_builtin_mesh(const char *name, const lst_options *opt, lst_mesh *out, lst_error *err);
 /* The constraints that go with a built-in surface ("kiwi": depth 0 on the
  * skin and 1 along the axis, direction along the axis; "tree": depth 0 on
  * the bark, 1 along the pith of trunk and branches, direction along
- * them; "torus": directions around the ring, no depth), allocated here;
- * free with lst_free_constraints. */
+ * them; "torus": directions around the ring, no depth). */
 LSTDEF lst_result lst_builtin_constraints(const char *name, const lst_mesh *surface, const lst_options *opt,
-                                          lst_depth_constraint **depth, int *ndepth, lst_field_constraint **field,
-                                          int *nfield, lst_error *err);
+                                          lst_constraints *out, lst_error *err);
 
 /* ---- files ---- */
 
 /* The model file ("lst 1", documented in docs/lst.md): nodes, tetrahedra,
  * exemplar sizes, pastes with per-tetrahedron texture coordinates. Only
  * the visible tetrahedra are written (a cut model is saved as cut). */
-LSTDEF lst_result lst_write_model_to_func(const lst_model *model, lst_write_fn fn, void *ctx, lst_error *err);
+LSTDEF lst_result lst_write_model(const lst_model *model, lst_write_fn fn, void *ctx, lst_error *err);
 /* Reads a model file: mesh and pastes; the texture and masks are not in
- * it (they are NRRD files): nmasks is set from the file, the volumes are
- * empty until the caller fills them (lst_make_masks, lst_load_volume). */
-LSTDEF lst_result lst_read_model_from_memory(const void *data, size_t size, const char *name,
-                                             const lst_options *opt, lst_model *out, lst_error *err);
-/* Constraint files (documented in docs/lst.md): depth lines "face F D",
- * "fill F D [crease]", "point X Y Z D", "stroke D X Y Z X Y Z ..."; field
- * lines "dir X Y Z DX DY DZ", "stroke X Y Z X Y Z ..." (directions along
- * the polyline), "scale X Y Z S"; '#' comments. */
-LSTDEF lst_result lst_read_depth_from_memory(const void *data, size_t size, const char *name, const lst_options *opt,
-                                             lst_depth_constraint **out, int *count, lst_error *err);
-LSTDEF lst_result lst_read_directions_from_memory(const void *data, size_t size, const char *name,
-                                                  const lst_options *opt, lst_field_constraint **out, int *count,
-                                                  lst_error *err);
-LSTDEF void lst_free_constraints(lst_depth_constraint *depth, lst_field_constraint *field, const lst_options *opt);
+ * it (they are NRRD files): masks.count is set from the file, the volumes
+ * are empty until the caller fills them (lst_make_masks, lst_load_volume). */
+LSTDEF lst_result lst_read_model(const void *data, size_t size, const char *name, const lst_options *opt,
+                                 lst_model *out, lst_error *err);
+/* Constraint files (documented in docs/lst.md), one constraint a line:
+ * "face F D", "fill F D [CREASE]", "point X Y Z D", "depth-stroke D X Y Z
+ * X Y Z ...", "dir X Y Z DX DY DZ", "dir-stroke X Y Z X Y Z ..."
+ * (directions along the polyline), "scale X Y Z S"; '#' comments, blank
+ * lines and a byte-order mark skipped. */
+LSTDEF lst_result lst_read_constraints(const void *data, size_t size, const char *name, const lst_options *opt,
+                                       lst_constraints *out, lst_error *err);
+LSTDEF void lst_constraints_free(lst_constraints *c);
 /* Tetrahedral meshes: TetGen .node + .ele, MEDIT .mesh. */
-LSTDEF lst_result lst_read_tetgen_from_memory(const void *node, size_t node_size, const void *ele, size_t ele_size,
-                                              const char *name, const lst_options *opt, lst_tetmesh *out,
-                                              lst_error *err);
-LSTDEF lst_result lst_read_medit_from_memory(const void *data, size_t size, const char *name, const lst_options *opt,
-                                             lst_tetmesh *out, lst_error *err);
-LSTDEF lst_result lst_write_tetgen_to_func(const lst_tetmesh *mesh, lst_write_fn node_fn, void *node_ctx,
-                                           lst_write_fn ele_fn, void *ele_ctx, lst_error *err);
-LSTDEF lst_result lst_write_medit_to_func(const lst_tetmesh *mesh, lst_write_fn fn, void *ctx, lst_error *err);
+LSTDEF lst_result lst_read_tetgen(const void *node, size_t node_size, const void *ele, size_t ele_size,
+                                  const char *name, const lst_options *opt, lst_tetmesh *out, lst_error *err);
+LSTDEF lst_result lst_read_medit(const void *data, size_t size, const char *name, const lst_options *opt,
+                                 lst_tetmesh *out, lst_error *err);
+LSTDEF lst_result lst_write_tetgen(const lst_tetmesh *mesh, lst_write_fn node_fn, void *node_ctx, lst_write_fn ele_fn,
+                                   void *ele_ctx, lst_error *err);
+LSTDEF lst_result lst_write_medit(const lst_tetmesh *mesh, lst_write_fn fn, void *ctx, lst_error *err);
 /* Volumes: NRRD (uint8, uint16 or float; sizes C X Y Z or X Y Z; raw or
  * gzip); written as uint8, gzip-compressed. */
-LSTDEF lst_result lst_read_volume_from_memory(const void *data, size_t size, const char *name, const lst_options *opt,
-                                              lst_volume *out, lst_error *err);
-LSTDEF lst_result lst_write_volume_to_func(const lst_volume *vol, lst_write_fn fn, void *ctx, lst_error *err);
-LSTDEF lst_result lst_load_mesh_from_memory(const void *data, size_t size, const char *name, const lst_options *opt,
-                                            lst_mesh *out, lst_error *err);
+LSTDEF lst_result lst_read_volume(const void *data, size_t size, const char *name, const lst_options *opt,
+                                  lst_volume *out, lst_error *err);
+LSTDEF lst_result lst_write_volume(const lst_volume *vol, lst_write_fn fn, void *ctx, lst_error *err);
+/* Surfaces: OBJ, OFF, PLY, STL. */
+LSTDEF lst_result lst_read_mesh(const void *data, size_t size, const char *name, const lst_options *opt,
+                                lst_mesh *out, lst_error *err);
+/* A surface (e.g. the boundary from lst_tetmesh_surface) as OBJ: positions
+ * and polygon faces. */
+LSTDEF lst_result lst_write_obj(const lst_mesh *mesh, lst_write_fn fn, void *ctx, lst_error *err);
+/* Images: PNG, PPM/PGM/PAM, GIMP .pat. */
+LSTDEF lst_result lst_read_image(const void *data, size_t size, const char *name, const lst_options *opt,
+                                 lst_image *out, lst_error *err);
 /* format: "png", "ppm", "pgm", "pam" */
-LSTDEF lst_result lst_write_image_to_func(const lst_image *img, const char *format, lst_write_fn fn, void *ctx,
-                                          lst_error *err);
+LSTDEF lst_result lst_write_image(const lst_image *img, const char *format, lst_write_fn fn, void *ctx,
+                                  lst_error *err);
 #ifndef PW_NO_STDIO
 LSTDEF lst_result lst_load_mesh(const char *path, const lst_options *opt, lst_mesh *out, lst_error *err);
+LSTDEF lst_result lst_save_obj(const char *path, const lst_mesh *mesh, lst_error *err);
 /* FILE.node (with FILE.ele beside it) or FILE.mesh. */
 LSTDEF lst_result lst_load_tetmesh(const char *path, const lst_options *opt, lst_tetmesh *out, lst_error *err);
 /* FILE.node (and FILE.ele) or FILE.mesh. */
@@ -526,10 +574,9 @@ LSTDEF lst_result lst_load_volume(const char *path, const lst_options *opt, lst_
 LSTDEF lst_result lst_save_volume(const char *path, const lst_volume *vol, lst_error *err);
 LSTDEF lst_result lst_save_model(const char *path, const lst_model *model, lst_error *err);
 LSTDEF lst_result lst_load_model(const char *path, const lst_options *opt, lst_model *out, lst_error *err);
-LSTDEF lst_result lst_load_depth(const char *path, const lst_options *opt, lst_depth_constraint **out, int *count,
-                                 lst_error *err);
-LSTDEF lst_result lst_load_directions(const char *path, const lst_options *opt, lst_field_constraint **out,
-                                      int *count, lst_error *err);
+LSTDEF lst_result lst_load_constraints(const char *path, const lst_options *opt, lst_constraints *out,
+                                       lst_error *err);
+LSTDEF lst_result lst_load_image(const char *path, const lst_options *opt, lst_image *out, lst_error *err);
 LSTDEF lst_result lst_save_image(const char *path, const lst_image *img, lst_error *err);
 #endif
 
@@ -8617,7 +8664,8 @@ typedef struct pw_fb {
     float *qbuf;   /* draw scratch: depths of ss sample rows */
     float *zmin;   /* coarse depth: per tile of PW__ZT x PW__ZT samples of the band, the smallest q */
     int zvalid;    /* zmin matches depth; set 0 if you write depth yourself */
-    int vnv;       /* vertices transformed into vbuf by the last draw (0: none) */
+    int vnv;       /* vertices of the last draw (0: none yet) */
+    int vall;      /* 1: all vnv of them are transformed in vbuf (not only the drawn corners) */
     size_t vcap, ncap, pcap, mcap, qcap, zcap;
     const pw_alloc *alloc;
 } pw_fb;
@@ -8806,8 +8854,9 @@ typedef struct pw_draw {
     void (*shader)(void *user, int tri, float b1, float b2, const float db[4], float rgba[4]);
     void *shader_user;
     int same_vertices;      /* 1: positions, nv and camera are those of the previous draw into
-                               this framebuffer, whose transformed vertices are reused (the
-                               passes of lapped textures) */
+                               this framebuffer; when that draw transformed all the vertices
+                               (it drew at least nv/3 triangles) they are reused (the passes of
+                               lapped textures after their base pass) */
 } pw_draw;
 
 #define PW__ZT 8 /* coarse depth tile, in samples */
@@ -9451,7 +9500,10 @@ PW__DEF int pw_render_draw(pw_fb *fb, const pw_camera *cam, const pw_draw *d, pw
     need_normals = d->lighting != PW_LIGHT_NONE && !d->flat && !d->normals;
     if ((r = pw__draw_scratch(fb, d, need_normals, e)) != PW_OK) return r;
     pw__ctx_init(&c, fb, d);
-    if (!d->same_vertices || fb->vnv != d->nv) pw__transform(&c.view, d, fb->vbuf);
+    if (!(d->same_vertices && fb->vnv == d->nv && fb->vall)) {
+        pw__transform(&c.view, d, fb->vbuf);
+        fb->vall = (size_t)d->ntris * 3 >= (size_t)d->nv;
+    }
     fb->vnv = d->nv;
     c.vh = fb->vbuf;
     c.planes = fb->pbuf;
@@ -9608,6 +9660,32 @@ PW__DEF void pw__frame_band(void *ctx, int band)
     R->codes[band] = f->draw(f->user, &fb, &R->errs[band]);
     if (R->codes[band] == PW_OK) pw_fb_resolve_band(&fb, R->out);
     pw_fb_free(&fb);
+}
+
+/* A frame of w x h pixels of ss x ss samples over an opaque background
+ * (RGB), an RGB picture, drawn by draw(user) under par (NULL: one thread). */
+PW__DEF void pw_frame_init(pw_frame *f, int w, int h, int ss, const float bg[3], const pw_parallel *par)
+{
+    memset(f, 0, sizeof *f);
+    f->w = w;
+    f->h = h;
+    f->ss = ss;
+    memcpy(f->bg, bg, 3 * sizeof(float));
+    f->bg[3] = 1.0f;
+    f->channels = 3;
+    f->par = par;
+}
+
+/* The usual band: one draw (pw_frame_draw1 as the user pointer). */
+typedef struct pw_frame_draw1 {
+    const pw_draw *d;
+    const pw_camera *cam;
+} pw_frame_draw1;
+
+PW__DEF int pw_frame_draw1_fn(void *user, pw_fb *fb, pw_err *e)
+{
+    const pw_frame_draw1 *D = (const pw_frame_draw1 *)user;
+    return pw_render_draw(fb, D->cam, D->d, e);
 }
 
 /* Renders a frame band by band into out (allocated here): the bands are
@@ -13994,6 +14072,13 @@ LSTDEF lst_options lst_default_options(void)
     o.constraint_weight = 10.0f;
     o.rbf_centers = 400;
     o.max_pastes = 200000;
+    pw_view_defaults(&o.render.width, &o.render.height, &o.render.supersample, o.render.view_dir, o.render.up,
+                     o.render.background);
+    o.render.subdivide = 2;
+    o.tet.target_tets = 20000;
+    o.tet.max_hole = 0.05;
+    o.volume.slices = 200;
+    o.volume.opacity = 0.3f;
     return o;
 }
 
@@ -14019,19 +14104,23 @@ static lst_options lst__options(const lst_options *opt)
 /* Options a caller may get wrong, named in the message. */
 static int lst__check_options(const lst_options *o, pw_err *e)
 {
+    int k;
     if (o->type < LST_TYPE_0 || o->type > LST_TYPE_2B)
-        return pw_fail(e, PW_ERR_INVALID, "texture type %d is not one of 0, 1-a, 1-b, 2-a, 2-b (0..4)", o->type);
+        return pw_fail(e, PW_ERR_INVALID, "texture type %d is not one of 0, 1-a, 1-b, 2-a, 2-b (0..4)", (int)o->type);
     if (!pw_is_finite(o->scale) || o->scale < 0.0f) return pw_fail(e, PW_ERR_INVALID, "scale %g is invalid", o->scale);
     if (o->mask < LST_MASK_AUTO || o->mask > LST_MASK_EXEMPLAR)
-        return pw_fail(e, PW_ERR_INVALID, "mask mode %d is invalid", o->mask);
+        return pw_fail(e, PW_ERR_INVALID, "mask mode %d is invalid", (int)o->mask);
     if (o->mask_radius > 0.5f || o->falloff > 0.4f || o->falloff >= o->mask_radius)
         return pw_fail(e, PW_ERR_INVALID, "mask radius %g and fall-off %g: need fall-off < radius <= 0.5",
                        o->mask_radius, o->falloff);
     if (o->samples > 32) return pw_fail(e, PW_ERR_LIMIT, "sample lattice order %d is over 32", o->samples);
     if (o->coverage > 1.0f) return pw_fail(e, PW_ERR_INVALID, "coverage %g is over 1", o->coverage);
     if (o->max_angle > 180.0f) return pw_fail(e, PW_ERR_INVALID, "max_angle %g is over 180 degrees", o->max_angle);
-    if ((o->ndepth < 0 || (o->ndepth > 0 && !o->depth)) || (o->nfield < 0 || (o->nfield > 0 && !o->field)))
-        return pw_fail(e, PW_ERR_INVALID, "constraint arrays and counts disagree");
+    if (o->nconstraints < 0 || (o->nconstraints > 0 && !o->constraints))
+        return pw_fail(e, PW_ERR_INVALID, "constraint array and count disagree");
+    for (k = 0; k < o->nconstraints; k++)
+        if (o->constraints[k].kind < LST_CONSTRAINT_DEPTH_FACE || o->constraints[k].kind > LST_CONSTRAINT_SCALE)
+            return pw_fail(e, PW_ERR_INVALID, "constraint %d: unknown kind %d", k, (int)o->constraints[k].kind);
     if (!pw_is_finite(o->axis[0]) || !pw_is_finite(o->axis[1]) || !pw_is_finite(o->axis[2]))
         return pw_fail(e, PW_ERR_INVALID, "axis is not finite");
     return PW_OK;
@@ -14201,7 +14290,7 @@ LSTDEF void lst_volume_free(lst_volume *v)
     memset(v, 0, sizeof *v);
 }
 
-LSTDEF void lst_fields_free(lst_fields *f)
+LSTDEF void lst_field_free(lst_field *f)
 {
     pw_alloc a;
     if (!f) return;
@@ -14211,14 +14300,15 @@ LSTDEF void lst_fields_free(lst_fields *f)
     memset(f, 0, sizeof *f);
 }
 
-LSTDEF void lst_free_masks(lst_volume *masks, int count)
+LSTDEF void lst_masks_free(lst_masks *masks)
 {
     pw_alloc a;
     int k;
     if (!masks) return;
-    a = lst__alloc(&masks[0].allocator);
-    for (k = 0; k < count; k++) lst_volume_free(&masks[k]);
-    pw_free(&a, masks);
+    a = lst__alloc(&masks->allocator);
+    for (k = 0; masks->volumes && k < masks->count; k++) lst_volume_free(&masks->volumes[k]);
+    pw_free(&a, masks->volumes);
+    memset(masks, 0, sizeof *masks);
 }
 
 static void lst__paste_free(const pw_alloc *a, lst_paste *p)
@@ -14238,7 +14328,7 @@ LSTDEF void lst_model_free(lst_model *m)
     a = lst__alloc(&m->allocator);
     for (p = 0; p < m->npastes; p++) lst__paste_free(&a, &m->pastes[p]);
     pw_free(&a, m->pastes);
-    if (m->masks) lst_free_masks(m->masks, m->nmasks);
+    lst_masks_free(&m->masks);
     lst_volume_free(&m->texture);
     lst_volume_free(&m->values);
     pw_free(&a, m->removed);
@@ -14738,26 +14828,33 @@ static int lst__masks(const pw_alloc *a, const lst_volume *ex, const lst_options
     return PW_OK;
 }
 
-LSTDEF lst_result lst_make_masks(const lst_volume *exemplar, const lst_options *opt, lst_volume **masks, int *count,
-                                 lst_error *err)
+/* The masks of an exemplar into out (empty on failure). */
+static int lst__make_masks(const pw_alloc *a, const lst_volume *ex, const lst_options *o, lst_masks *out, pw_err *e)
+{
+    pw_volume m[3];
+    int n = 0, k, r;
+    memset(m, 0, sizeof m);
+    r = lst__masks(a, ex, o, m, &n, e);
+    if (r == PW_OK && !(out->volumes = (lst_volume *)pw_calloc_array(a, (size_t)n, sizeof(lst_volume), "masks", e)))
+        r = PW_ERR_NOMEM;
+    for (k = 0; k < n; k++) {
+        if (r == PW_OK) lst__take_volume(&m[k], a, &out->volumes[k]);
+        pw_volume_free(a, &m[k]);
+    }
+    if (r == PW_OK) out->count = n, out->allocator = lst__allocator(a);
+    return r;
+}
+
+LSTDEF lst_result lst_make_masks(const lst_volume *exemplar, const lst_options *opt, lst_masks *out, lst_error *err)
 {
     lst_options o = lst__options(opt);
     pw_alloc a = lst__alloc(&o.allocator);
-    pw_volume m[3];
     pw_err e;
-    int n = 0, k;
     pw_err_clear(&e);
-    memset(m, 0, sizeof m);
-    if (masks) *masks = NULL;
-    if (count) *count = 0;
-    if (!masks || !count) pw_fail(&e, PW_ERR_INVALID, "lst_make_masks: NULL output");
-    else if (lst__check_options(&o, &e) == PW_OK && lst__check_volume(exemplar, "exemplar", &e) == PW_OK &&
-             lst__masks(&a, exemplar, &o, m, &n, &e) == PW_OK &&
-             (*masks = (lst_volume *)pw_calloc_array(&a, (size_t)n, sizeof(lst_volume), "masks", &e)) != NULL) {
-        for (k = 0; k < n; k++) lst__take_volume(&m[k], &a, &(*masks)[k]);
-        *count = n;
-    }
-    for (k = 0; k < n; k++) pw_volume_free(&a, &m[k]);
+    if (out) memset(out, 0, sizeof *out);
+    if (!out) pw_fail(&e, PW_ERR_INVALID, "lst_make_masks: NULL output");
+    else if (lst__check_options(&o, &e) == PW_OK && lst__check_volume(exemplar, "exemplar", &e) == PW_OK)
+        lst__make_masks(&a, exemplar, &o, out, &e);
     return lst__done(&e, err);
 }
 
@@ -15165,20 +15262,28 @@ static int lst__flood(const pw_alloc *a, const pw_trimesh *tm, int start, double
     return PW_OK;
 }
 
+/* How many of the options' constraints are of kinds lo..hi. */
+static int lst__count_kind(const lst_options *o, lst_constraint_kind lo, lst_constraint_kind hi)
+{
+    int i, n = 0;
+    for (i = 0; i < o->nconstraints; i++) n += o->constraints[i].kind >= lo && o->constraints[i].kind <= hi;
+    return n;
+}
+
 /* Paint per surface triangle (-1: none) from the face and fill
  * constraints, in order (a later one repaints). */
 static int lst__paint(const pw_alloc *a, const pw_trimesh *tm, const lst_options *o, double *paint, pw_err *e)
 {
     int i, f;
     for (f = 0; f < tm->nf; f++) paint[f] = -1.0;
-    for (i = 0; i < o->ndepth; i++) {
-        const lst_depth_constraint *c = &o->depth[i];
-        if (c->kind == LST_DEPTH_POINT) continue;
+    for (i = 0; i < o->nconstraints; i++) {
+        const lst_constraint *c = &o->constraints[i];
+        if (c->kind != LST_CONSTRAINT_DEPTH_FACE && c->kind != LST_CONSTRAINT_DEPTH_FILL) continue;
         if (c->face < 0 || c->face >= tm->nf)
             return pw_fail(e, PW_ERR_INVALID, "depth constraint %d: face %d is not a triangle of the surface (0..%d)", i,
                            c->face, tm->nf - 1);
-        if (c->kind == LST_DEPTH_FACE) paint[c->face] = c->depth;
-        else if (lst__flood(a, tm, c->face, c->crease > 0.0f ? c->crease : 30.0, c->depth, paint, e)) return PW_ERR_NOMEM;
+        if (c->kind == LST_CONSTRAINT_DEPTH_FACE) paint[c->face] = c->value;
+        else if (lst__flood(a, tm, c->face, c->crease > 0.0f ? c->crease : 30.0, c->value, paint, e)) return PW_ERR_NOMEM;
     }
     return PW_OK;
 }
@@ -15203,12 +15308,11 @@ static void lst__vertex_paint(const pw_trimesh *tm, const double *paint, double 
 static int lst__check_depth(const lst_options *o, pw_err *e)
 {
     int i, k;
-    for (i = 0; i < o->ndepth; i++) {
-        const lst_depth_constraint *c = &o->depth[i];
-        if (c->kind < LST_DEPTH_FACE || c->kind > LST_DEPTH_POINT)
-            return pw_fail(e, PW_ERR_INVALID, "depth constraint %d: unknown kind %d", i, c->kind);
-        if (!(c->depth >= 0.0f && c->depth <= 1.0f))
-            return pw_fail(e, PW_ERR_INVALID, "depth constraint %d: depth %g is outside [0, 1]", i, c->depth);
+    for (i = 0; i < o->nconstraints; i++) {
+        const lst_constraint *c = &o->constraints[i];
+        if (c->kind > LST_CONSTRAINT_DEPTH_POINT) continue;
+        if (!(c->value >= 0.0f && c->value <= 1.0f))
+            return pw_fail(e, PW_ERR_INVALID, "depth constraint %d: depth %g is outside [0, 1]", i, c->value);
         if (!pw_is_finite(c->crease) || c->crease < 0.0f || c->crease > 180.0f)
             return pw_fail(e, PW_ERR_INVALID, "depth constraint %d: crease angle %g is outside [0, 180]", i, c->crease);
         for (k = 0; k < 3; k++)
@@ -15235,10 +15339,10 @@ static int lst__depth_points(const pw_alloc *a, const pw_trimesh *tm, const lst_
                 p[k] = (tm->pos[3 * tm->tri[3 * f] + k] + tm->pos[3 * tm->tri[3 * f + 1] + k] + tm->pos[3 * tm->tri[3 * f + 2] + k]) / 3.0;
             if (lst__pts_add(a, pts, p, paint[f], e)) return PW_ERR_NOMEM;
         }
-    for (i = 0; i < o->ndepth; i++)
-        if (o->depth[i].kind == LST_DEPTH_POINT) {
-            for (k = 0; k < 3; k++) p[k] = o->depth[i].point[k];
-            if (lst__pts_add(a, pts, p, o->depth[i].depth, e)) return PW_ERR_NOMEM;
+    for (i = 0; i < o->nconstraints; i++)
+        if (o->constraints[i].kind == LST_CONSTRAINT_DEPTH_POINT) {
+            for (k = 0; k < 3; k++) p[k] = o->constraints[i].point[k];
+            if (lst__pts_add(a, pts, p, o->constraints[i].value, e)) return PW_ERR_NOMEM;
         }
     return PW_OK;
 }
@@ -15397,8 +15501,7 @@ static int lst__depth_rbf(const pw_alloc *a, const lst__geo *g, const lst_mesh *
     r = !paint || !vp ? PW_ERR_NOMEM : lst__paint(a, &tm, o, paint, e);
     if (r == PW_OK) lst__vertex_paint(&tm, paint, vp), r = lst__depth_points(a, &tm, o, paint, vp, &pts, e);
     if (r == PW_OK && pts.n < 1) r = pw_fail(e, PW_ERR_INVALID, "depth constraints: none applies");
-    for (k = 0, v = 0; k < o->ndepth; k++) v += o->depth[k].kind == LST_DEPTH_POINT;
-    if (r == PW_OK) lst__pts_thin(&pts, v, o->rbf_centers);
+    if (r == PW_OK) lst__pts_thin(&pts, lst__count_kind(o, LST_CONSTRAINT_DEPTH_POINT, LST_CONSTRAINT_DEPTH_POINT), o->rbf_centers);
     if (r == PW_OK) {
         for (k = 0; k < 3; k++) lo[k] = hi[k] = g->m.pos[k];
         for (v = 0; v < g->m.nv; v++)
@@ -15612,7 +15715,7 @@ static int lst__depth_field(const pw_alloc *a, const lst__geo *g, const lst_mesh
 {
     int r = lst__check_depth(o, e);
     if (r != PW_OK) return r;
-    return o->ndepth > 0 ? lst__depth_rbf(a, g, surface, o, depth, grad, e) : lst__depth_distance(a, g, depth, grad, e);
+    return lst__count_kind(o, LST_CONSTRAINT_DEPTH_FACE, LST_CONSTRAINT_DEPTH_POINT) > 0 ? lst__depth_rbf(a, g, surface, o, depth, grad, e) : lst__depth_distance(a, g, depth, grad, e);
 }
 
 /* ---- Laplacian smoothing (Eqs. 1-2) ---------------------------------------------------- */
@@ -15634,13 +15737,13 @@ static void lst__cons_free(const pw_alloc *a, lst__cons *c)
     memset(c, 0, sizeof *c);
 }
 
-/* The field constraints of `kind` (directions made unit, dim 3; scales,
- * dim 1), located. */
-static int lst__field_cons(const pw_alloc *a, const lst__geo *g, const lst_options *o, int kind, lst__cons *c, pw_err *e)
+/* The constraints of `kind`, DIRECTION or SCALE (directions made unit,
+ * dim 3; scales, dim 1), located. */
+static int lst__field_cons(const pw_alloc *a, const lst__geo *g, const lst_options *o, lst_constraint_kind kind,
+                           lst__cons *c, pw_err *e)
 {
-    int i, n = 0, dim = kind == LST_FIELD_DIRECTION ? 3 : 1, k;
+    int i, n = lst__count_kind(o, kind, kind), dim = kind == LST_CONSTRAINT_DIRECTION ? 3 : 1, k;
     memset(c, 0, sizeof *c);
-    for (i = 0; i < o->nfield; i++) n += o->field[i].kind == kind;
     c->tet = (int *)pw_alloc_array(a, (size_t)n, sizeof(int), "field constraints", e);
     c->bary = (double *)pw_alloc_array(a, (size_t)n * 4, sizeof(double), "field constraints", e);
     c->val = (double *)pw_alloc_array(a, (size_t)n * dim, sizeof(double), "field constraints", e);
@@ -15648,17 +15751,17 @@ static int lst__field_cons(const pw_alloc *a, const lst__geo *g, const lst_optio
         lst__cons_free(a, c);
         return PW_ERR_NOMEM;
     }
-    for (i = 0; i < o->nfield; i++) {
-        const lst_field_constraint *f = &o->field[i];
+    for (i = 0; i < o->nconstraints; i++) {
+        const lst_constraint *f = &o->constraints[i];
         double p[3], d[3];
         if (f->kind != kind) continue;
         for (k = 0; k < 3; k++) p[k] = f->point[k], d[k] = f->direction[k];
-        if (kind == LST_FIELD_DIRECTION && !(lst__norm3(d) > 0.0 && pw_is_finite(d[0] + d[1] + d[2])))
+        if (kind == LST_CONSTRAINT_DIRECTION && !(lst__norm3(d) > 0.0 && pw_is_finite(d[0] + d[1] + d[2])))
             return pw_fail(e, PW_ERR_INVALID, "field constraint %d: the direction is zero or not finite", i);
-        if (kind == LST_FIELD_SCALE && !(f->scale > 0.0f && pw_is_finite(f->scale)))
-            return pw_fail(e, PW_ERR_INVALID, "field constraint %d: scale %g is not positive", i, f->scale);
+        if (kind == LST_CONSTRAINT_SCALE && !(f->value > 0.0f && pw_is_finite(f->value)))
+            return pw_fail(e, PW_ERR_INVALID, "field constraint %d: scale %g is not positive", i, f->value);
         c->tet[c->n] = lst__locate(g, p, c->bary + 4 * c->n);
-        for (k = 0; k < dim; k++) c->val[dim * c->n + k] = kind == LST_FIELD_DIRECTION ? d[k] : f->scale;
+        for (k = 0; k < dim; k++) c->val[dim * c->n + k] = kind == LST_CONSTRAINT_DIRECTION ? d[k] : f->value;
         c->n++;
     }
     return PW_OK;
@@ -15759,7 +15862,7 @@ static int lst__direction_field(const pw_alloc *a, const lst__geo *g, const lst_
     if (!(lst__norm3(axis) > 0.0)) lst__principal_axis(&g->m, axis);
     for (v = 0; v < g->m.nv; v++) memcpy(dir + 3 * v, axis, sizeof axis);
     memset(&A, 0, sizeof A);
-    if ((r = lst__field_cons(a, g, o, LST_FIELD_DIRECTION, &c, e)) != PW_OK || c.n == 0) {
+    if ((r = lst__field_cons(a, g, o, LST_CONSTRAINT_DIRECTION, &c, e)) != PW_OK || c.n == 0) {
         lst__cons_free(a, &c);
         return r;
     }
@@ -15790,7 +15893,7 @@ static int lst__scale_field(const pw_alloc *a, const lst__geo *g, const lst_opti
     int v, r;
     for (v = 0; v < g->m.nv; v++) scale[v] = s0;
     memset(&A, 0, sizeof A);
-    if ((r = lst__field_cons(a, g, o, LST_FIELD_SCALE, &c, e)) != PW_OK || c.n == 0) {
+    if ((r = lst__field_cons(a, g, o, LST_CONSTRAINT_SCALE, &c, e)) != PW_OK || c.n == 0) {
         lst__cons_free(a, &c);
         return r;
     }
@@ -15895,8 +15998,8 @@ static int lst__fields(const pw_alloc *a, const lst__geo *g, const lst_mesh *sur
     return r;
 }
 
-LSTDEF lst_result lst_compute_fields(const lst_tetmesh *mesh, const lst_mesh *surface, const lst_options *opt,
-                                     lst_fields *out, lst_error *err)
+LSTDEF lst_result lst_compute_field(const lst_tetmesh *mesh, const lst_mesh *surface, const lst_options *opt,
+                                    lst_field *out, lst_error *err)
 {
     lst_options o = lst__options(opt);
     pw_alloc a = lst__alloc(&o.allocator);
@@ -15906,7 +16009,7 @@ LSTDEF lst_result lst_compute_fields(const lst_tetmesh *mesh, const lst_mesh *su
     pw_err e;
     pw_err_clear(&e);
     if (out) memset(out, 0, sizeof *out);
-    if (!out) pw_fail(&e, PW_ERR_INVALID, "lst_compute_fields: NULL output");
+    if (!out) pw_fail(&e, PW_ERR_INVALID, "lst_compute_field: NULL output");
     else if (lst__check_options(&o, &e) == PW_OK && lst__check_tets(mesh, &e) == PW_OK) {
         m = lst__pw_tets(mesh);
         if (lst__geo_init(&a, &m, &g, &e) == PW_OK) {
@@ -15923,28 +16026,16 @@ LSTDEF lst_result lst_compute_fields(const lst_tetmesh *mesh, const lst_mesh *su
 
 /* ---- growable constraint lists (files, built-in constraints) ---------------------------------- */
 
-static int lst__add_depth(const pw_alloc *a, lst_depth_constraint **c, size_t *cap, int *n, int kind, int face,
-                          const double *p, double d, double crease, pw_err *e)
+static int lst__add_constraint(const pw_alloc *a, lst_constraint **c, size_t *cap, int *n, lst_constraint_kind kind,
+                               int face, const double *p, const double *d, double value, double crease, pw_err *e)
 {
-    lst_depth_constraint *x;
-    if (pw_grow(a, (void **)c, cap, (size_t)*n + 1, sizeof **c, "depth constraints", e)) return PW_ERR_NOMEM;
-    x = &(*c)[(*n)++];
-    memset(x, 0, sizeof *x);
-    x->kind = kind, x->face = face, x->depth = (float)d, x->crease = (float)crease;
-    if (p) x->point[0] = (float)p[0], x->point[1] = (float)p[1], x->point[2] = (float)p[2];
-    return PW_OK;
-}
-
-static int lst__add_field(const pw_alloc *a, lst_field_constraint **c, size_t *cap, int *n, int kind, const double *p,
-                          const double *d, double sc, pw_err *e)
-{
-    lst_field_constraint *x;
+    lst_constraint *x;
     int k;
-    if (pw_grow(a, (void **)c, cap, (size_t)*n + 1, sizeof **c, "field constraints", e)) return PW_ERR_NOMEM;
+    if (pw_grow(a, (void **)c, cap, (size_t)*n + 1, sizeof **c, "constraints", e)) return PW_ERR_NOMEM;
     x = &(*c)[(*n)++];
     memset(x, 0, sizeof *x);
-    x->kind = kind, x->scale = (float)sc;
-    for (k = 0; k < 3; k++) x->point[k] = (float)p[k], x->direction[k] = d ? (float)d[k] : 0.0f;
+    x->kind = kind, x->face = face, x->value = (float)value, x->crease = (float)crease;
+    for (k = 0; k < 3; k++) x->point[k] = p ? (float)p[k] : 0.0f, x->direction[k] = d ? (float)d[k] : 0.0f;
     return PW_OK;
 }
 
@@ -16666,7 +16757,7 @@ static int lst__prune(lst__fill *F, double *before, double *after, pw_err *e)
 
 /* Fields given by the caller: sizes, finite non-degenerate frames, depth
  * in [0, 1] where the type needs one. */
-static int lst__check_fields(const lst_fields *f, const pw_tetmesh *m, int type, pw_err *e)
+static int lst__check_fields(const lst_field *f, const pw_tetmesh *m, int type, pw_err *e)
 {
     int t, k;
     if (f->nverts != m->nv || f->ntets != m->nt || !f->frame)
@@ -16702,8 +16793,7 @@ static int lst__copy_volume(const pw_alloc *a, const lst_volume *src, int channe
 static int lst__model_start(const pw_alloc *a, const lst_tetmesh *mesh, const lst_volume *ex, const lst_volume *values,
                             const lst_options *o, lst_model *out, pw_err *e)
 {
-    pw_volume m[3];
-    int n = 0, k, r;
+    int r;
     size_t nv = (size_t)mesh->nverts * 3, nt = (size_t)mesh->ntets * 4;
     out->allocator = lst__allocator(a);
     out->type = o->type;
@@ -16719,15 +16809,7 @@ static int lst__model_start(const pw_alloc *a, const lst_tetmesh *mesh, const ls
                               &out->texture, e)) != PW_OK ||
         (values && (r = lst__copy_volume(a, values, values->channels, &out->values, e)) != PW_OK))
         return r;
-    memset(m, 0, sizeof m);
-    r = lst__masks(a, ex, o, m, &n, e);
-    if (r == PW_OK && !(out->masks = (lst_volume *)pw_calloc_array(a, (size_t)n, sizeof(lst_volume), "masks", e))) r = PW_ERR_NOMEM;
-    for (k = 0; k < n; k++) {
-        if (r == PW_OK) lst__take_volume(&m[k], a, &out->masks[k]);
-        pw_volume_free(a, &m[k]);
-    }
-    if (r == PW_OK) out->nmasks = n;
-    return r;
+    return lst__make_masks(a, ex, o, &out->masks, e);
 }
 
 static int lst__check_inputs(const lst_tetmesh *mesh, const lst_volume *ex, const lst_volume *values, pw_err *e)
@@ -16751,13 +16833,13 @@ static int lst__create(const pw_alloc *a, const lst_mesh *surface, const lst_opt
     float *depth = NULL, *frame = NULL;
     int k, r;
     if ((r = lst__geo_init(a, &m, &g, e)) != PW_OK) return r;
-    if (o->fields) r = lst__check_fields(o->fields, &m, o->type, e);
+    if (o->field) r = lst__check_fields(o->field, &m, o->type, e);
     else r = lst__fields(a, &g, surface, o, &p, &depth, &frame, e);
-    for (k = 0; k < out->nmasks; k++) masks[k] = lst__pw_volume(&out->masks[k]);
-    if (r == PW_OK) r = lst__fill_init(&F, a, o, &g, masks, out->nmasks, 1, e);
+    for (k = 0; k < out->masks.count; k++) masks[k] = lst__pw_volume(&out->masks.volumes[k]);
+    if (r == PW_OK) r = lst__fill_init(&F, a, o, &g, masks, out->masks.count, 1, e);
     else memset(&F, 0, sizeof F), F.a = a;
-    F.frame = o->fields ? o->fields->frame : frame;
-    F.depth = lst__depth_varying(o->type) ? (o->fields ? o->fields->depth : depth) : NULL;
+    F.frame = o->field ? o->field->frame : frame;
+    F.depth = lst__depth_varying(o->type) ? (o->field ? o->field->depth : depth) : NULL;
     if (r == PW_OK) r = lst__fill_run(&F, &p, e);
     if (r == PW_OK) r = lst__prune(&F, &out->layers_before, &out->layers, e);
     if (r == PW_OK) {
@@ -16772,11 +16854,12 @@ static int lst__create(const pw_alloc *a, const lst_mesh *surface, const lst_opt
     return r;
 }
 
-LSTDEF lst_result lst_create(const lst_tetmesh *mesh, const lst_mesh *surface, const lst_volume *exemplar,
-                             const lst_volume *values, const lst_options *opt, lst_model *out, lst_error *err)
+LSTDEF lst_result lst_create(const lst_tetmesh *mesh, const lst_mesh *surface, const lst_source *src,
+                             const lst_options *opt, lst_model *out, lst_error *err)
 {
     lst_options o = lst__options(opt);
     pw_alloc a = lst__alloc(&o.allocator);
+    const lst_volume *exemplar = src ? src->exemplar : NULL, *values = src ? src->values : NULL;
     pw_err e;
     pw_err_clear(&e);
     if (out) memset(out, 0, sizeof *out);
@@ -16811,8 +16894,7 @@ static int lst__manual_spec(const lst__geo *g, const float *point, const float *
     return PW_OK;
 }
 
-LSTDEF lst_result lst_paste_at(lst_model *model, const float point[3], const float u_axis[3], const float v_axis[3],
-                               float scale, int mask, const lst_options *opt, lst_error *err)
+LSTDEF lst_result lst_paste_at(lst_model *model, const lst_paste_spec *spec, const lst_options *opt, lst_error *err)
 {
     lst_options o = lst__options(opt);
     pw_alloc a;
@@ -16823,22 +16905,24 @@ LSTDEF lst_result lst_paste_at(lst_model *model, const float point[3], const flo
     lst__spec s;
     lst_paste *grown;
     pw_err e;
+    int mask;
     pw_err_clear(&e);
-    if (!model || !model->mesh.tets || !point || !u_axis || !v_axis) {
+    if (!model || !model->mesh.tets || !spec) {
         pw_fail(&e, PW_ERR_INVALID, "lst_paste_at: NULL argument or empty model");
         return lst__done(&e, err);
     }
-    if (mask < 0 || mask >= model->nmasks || !model->masks[mask].voxels) {
-        pw_fail(&e, PW_ERR_INVALID, "lst_paste_at: mask %d does not exist (the model has %d)", mask, model->nmasks);
+    mask = spec->mask;
+    if (mask < 0 || mask >= model->masks.count || !model->masks.volumes[mask].voxels) {
+        pw_fail(&e, PW_ERR_INVALID, "lst_paste_at: mask %d does not exist (the model has %d)", mask, model->masks.count);
         return lst__done(&e, err);
     }
     a = lst__alloc(&model->allocator);
     m = lst__pw_tets(&model->mesh);
-    mv = lst__pw_volume(&model->masks[mask]);
+    mv = lst__pw_volume(&model->masks.volumes[mask]);
     memset(&F, 0, sizeof F);
     F.a = &a;
     if (lst__geo_init(&a, &m, &g, &e) != PW_OK) return lst__done(&e, err);
-    if (lst__manual_spec(&g, point, u_axis, v_axis, scale, &s, &e) == PW_OK &&
+    if (lst__manual_spec(&g, spec->point, spec->u_axis, spec->v_axis, spec->scale, &s, &e) == PW_OK &&
         lst__fill_init(&F, &a, &o, &g, &mv, 1, 0, &e) == PW_OK) {
         s.mask = 0; /* the one mask of this fill */
         if (lst__paste_one(&F, &s, 0, NULL, &e) == PW_OK &&
@@ -16928,14 +17012,14 @@ static int lst__check_model(const lst_model *m, pw_err *e)
     int p, k;
     if (!m || !m->mesh.tets || m->mesh.ntets < 1) return pw_fail(e, PW_ERR_INVALID, "empty model");
     if (!m->texture.voxels) return pw_fail(e, PW_ERR_INVALID, "the model has no texture (load the exemplar into it)");
-    if (m->nmasks < 1 || m->nmasks > 64) return pw_fail(e, PW_ERR_INVALID, "the model has %d masks", m->nmasks);
-    for (k = 0; k < m->nmasks; k++)
-        if (!m->masks[k].voxels || m->masks[k].channels != 1)
+    if (m->masks.count < 1 || m->masks.count > 64) return pw_fail(e, PW_ERR_INVALID, "the model has %d masks", m->masks.count);
+    for (k = 0; k < m->masks.count; k++)
+        if (!m->masks.volumes[k].voxels || m->masks.volumes[k].channels != 1)
             return pw_fail(e, PW_ERR_INVALID, "mask %d of the model is missing or has more than one channel", k);
     for (p = 0; p < m->npastes; p++) {
         const lst_paste *q = &m->pastes[p];
-        if (q->exemplar < 0 || q->exemplar >= m->nmasks)
-            return pw_fail(e, PW_ERR_INVALID, "paste %d uses mask %d of %d", p, q->exemplar, m->nmasks);
+        if (q->exemplar < 0 || q->exemplar >= m->masks.count)
+            return pw_fail(e, PW_ERR_INVALID, "paste %d uses mask %d of %d", p, q->exemplar, m->masks.count);
         for (k = 0; k < q->ntets; k++)
             if (q->tets[k] < 0 || q->tets[k] >= m->mesh.ntets)
                 return pw_fail(e, PW_ERR_INVALID, "paste %d uses tetrahedron %d of %d", p, q->tets[k], m->mesh.ntets);
@@ -16958,7 +17042,7 @@ static int lst__view_init(const pw_alloc *a, const lst_model *m, int show, lst__
     v->a = a;
     v->tex = lst__pw_volume(&m->texture);
     if (m->values.voxels) v->val = lst__pw_volume(&m->values);
-    for (k = 0; k < m->nmasks; k++) v->mask[k] = lst__pw_volume(&m->masks[k]);
+    for (k = 0; k < m->masks.count; k++) v->mask[k] = lst__pw_volume(&m->masks.volumes[k]);
     return lst__index_build(a, m, &v->ix, e);
 }
 
@@ -17155,7 +17239,7 @@ static lst_render_options lst__render_options(const lst_render_options *ro)
 
 static int lst__check_render(const lst_render_options *o, pw_err *e)
 {
-    if (o->show < LST_SHOW_COLOR || o->show > LST_SHOW_DEPTH) return pw_fail(e, PW_ERR_INVALID, "render: show %d is invalid", o->show);
+    if (o->show < LST_SHOW_COLOR || o->show > LST_SHOW_DEPTH) return pw_fail(e, PW_ERR_INVALID, "render: show %d is invalid", (int)o->show);
     if (!pw_is_finite(o->displace) || o->subdivide > 6)
         return pw_fail(e, PW_ERR_INVALID, "render: displacement %g or subdivision %d is invalid", o->displace, o->subdivide);
     if (o->width < 1 || o->height < 1 || o->width > PW_MAX_IMAGE_DIM || o->height > PW_MAX_IMAGE_DIM || o->supersample < 1 ||
@@ -17350,44 +17434,72 @@ static int lst__displace(const pw_alloc *a, const lst__view *v, const lst__tris 
 
 /* ---- lst_render ------------------------------------------------------------------------------------ */
 
-/* Frames the visible part and opens a framebuffer. */
-static int lst__frame(const pw_alloc *a, const lst_model *m, const lst_render_options *o, pw_camera *cam, pw_fb *fb,
-                      pw_err *e)
+/* The camera that frames the visible part. */
+static int lst__camera(const pw_alloc *a, const lst_model *m, const lst_render_options *o, pw_camera *cam, pw_err *e)
 {
-    float *pos, bg[4];
+    float *pos;
     int n, r;
     if ((r = lst__visible_positions(a, m, &pos, &n, e)) != PW_OK) return r;
     *cam = pw_camera_frame(pos, n, o->view_dir, o->up, 35.0f, (float)o->width / (float)o->height);
     pw_free(a, pos);
-    memcpy(bg, o->background, sizeof o->background);
-    bg[3] = 1.0f;
-    return pw_fb_create(a, fb, o->width, o->height, o->supersample, bg, e);
+    return PW_OK;
+}
+
+/* The picture, band by band (pw_render_frame), each band drawn by draw(user). */
+static int lst__render_frame(const pw_alloc *a, const lst_render_options *o, pw_frame_draw_fn draw, void *user,
+                             pw_image *pic, pw_err *e)
+{
+    pw_frame f;
+    pw_parallel par;
+    par.threads = o->threads;
+    par.run = o->parallel;
+    par.pool = o->parallel_pool;
+    pw_frame_init(&f, o->width, o->height, o->supersample, o->background, &par);
+    f.draw = draw;
+    f.user = user;
+    return pw_render_frame(a, &f, pic, e);
+}
+
+/* What every band of lst_render draws (read only: bands may run on
+ * several threads, each with its own shading state). */
+typedef struct lst__surface {
+    const lst_model *m;
+    const lst__view *v;
+    const lst__tris *outer, *cut;
+    const lst_render_options *o;
+    pw_camera cam;
+} lst__surface;
+
+static int lst__surface_band(void *user, pw_fb *fb, pw_err *e)
+{
+    const lst__surface *B = (const lst__surface *)user;
+    lst__shading S;
+    int r;
+    memset(&S, 0, sizeof S);
+    S.v = B->v;
+    r = lst__draw_tris(fb, &B->cam, B->m, B->outer, &S, B->o, e);
+    if (r == PW_OK) r = lst__draw_tris(fb, &B->cam, B->m, B->cut, &S, B->o, e);
+    return r;
 }
 
 static int lst__render(const pw_alloc *a, const lst_model *m, const lst_render_options *o, pw_image *pic, pw_err *e)
 {
     lst__view v;
     lst__tris outer, cut, disp;
-    lst__shading S;
-    pw_camera cam;
-    pw_fb fb;
+    lst__surface B;
     int *nb = NULL, r;
     pw_tetmesh tm = lst__pw_tets(&m->mesh);
-    memset(&outer, 0, sizeof outer), memset(&cut, 0, sizeof cut), memset(&disp, 0, sizeof disp), memset(&fb, 0, sizeof fb);
-    memset(&S, 0, sizeof S);
+    memset(&outer, 0, sizeof outer), memset(&cut, 0, sizeof cut), memset(&disp, 0, sizeof disp);
     if ((r = lst__view_init(a, m, o->show, &v, e)) != PW_OK) return r;
-    S.v = &v;
     if (o->displace != 0.0f && !m->values.voxels) r = pw_fail(e, PW_ERR_INVALID, "displacement needs the model's extra channel");
     if (r == PW_OK && !(nb = (int *)pw_alloc_array(a, (size_t)m->mesh.ntets * 4, sizeof(int), "face adjacency", e))) r = PW_ERR_NOMEM;
     if (r == PW_OK) r = pw_tetmesh_neighbors(a, &tm, nb, e);
     if (r == PW_OK) r = lst__boundary_tris(a, m, nb, 0, &outer, e);
     if (r == PW_OK) r = lst__boundary_tris(a, m, nb, 1, &cut, e);
     if (r == PW_OK && o->displace != 0.0f) r = lst__displace(a, &v, &outer, o, &disp, e);
-    if (r == PW_OK) r = lst__frame(a, m, o, &cam, &fb, e);
-    if (r == PW_OK) r = lst__draw_tris(&fb, &cam, m, o->displace != 0.0f ? &disp : &outer, &S, o, e);
-    if (r == PW_OK) r = lst__draw_tris(&fb, &cam, m, &cut, &S, o, e);
-    if (r == PW_OK) r = pw_fb_resolve(&fb, pic, 3, e);
-    pw_fb_free(&fb);
+    B.m = m, B.v = &v, B.outer = o->displace != 0.0f ? &disp : &outer, B.cut = &cut, B.o = o;
+    if (r == PW_OK) r = lst__camera(a, m, o, &B.cam, e);
+    if (r == PW_OK) r = lst__render_frame(a, o, lst__surface_band, &B, pic, e);
     lst__tris_free(a, &outer), lst__tris_free(a, &cut), lst__tris_free(a, &disp);
     pw_free(a, nb);
     lst__view_free(&v);
@@ -17452,46 +17564,96 @@ static int lst__slice_tet(const pw_alloc *a, const pw_tetmesh *m, int t, const d
     return PW_OK;
 }
 
+/* What every band of a volume rendering draws: the slices, back to front,
+ * of the tetrahedra whose picture (rows ylo..yhi) meets the band. */
+typedef struct lst__volume_frame {
+    const pw_alloc *a;
+    const lst_model *m;
+    const lst__view *v;
+    const lst_render_options *o;
+    pw_tetmesh tm;
+    const double *phi;     /* per vertex: the distance along the view */
+    const float *rows;     /* per tetrahedron: its first and last picture row */
+    double zmax, dz;
+    int slices, density;
+    float alpha_scale;
+    pw_camera cam;
+} lst__volume_frame;
+
+static int lst__volume_band(void *user, pw_fb *fb, pw_err *e)
+{
+    const lst__volume_frame *V = (const lst__volume_frame *)user;
+    const float r0 = (float)(fb->y0 / fb->ss) - 1.0f, r1 = (float)((fb->y0 + fb->bh) / fb->ss) + 1.0f;
+    lst__tris sl;
+    lst__shading S;
+    double ph[4];
+    int t, k, s, r = PW_OK;
+    memset(&sl, 0, sizeof sl), memset(&S, 0, sizeof S);
+    S.v = V->v, S.mode = 1, S.density = V->density, S.alpha_scale = V->alpha_scale;
+    for (s = 0; r == PW_OK && s < V->slices; s++) { /* back to front */
+        double z = V->zmax - (s + 0.5) * V->dz;
+        sl.n = sl.nv = 0;
+        for (t = 0; r == PW_OK && t < V->tm.nt; t++) {
+            if (V->m->removed[t] || V->rows[2 * t + 1] < r0 || V->rows[2 * t] > r1) continue;
+            for (k = 0; k < 4; k++) ph[k] = V->phi[V->tm.tet[4 * t + k]];
+            r = lst__slice_tet(V->a, &V->tm, t, ph, z, &sl, e);
+        }
+        if (r == PW_OK) r = lst__draw_tris(fb, &V->cam, V->m, &sl, &S, V->o, e);
+    }
+    lst__tris_free(V->a, &sl);
+    return r;
+}
+
+/* The picture rows each tetrahedron covers (all of them when a corner is
+ * not in front of the camera). */
+static void lst__tet_rows(const lst__volume_frame *V, float *rows)
+{
+    int t, k;
+    for (t = 0; t < V->tm.nt; t++) {
+        float lo = 3e38f, hi = -3e38f, q[3];
+        for (k = 0; k < 4; k++) {
+            if (!pw_camera_project(&V->cam, V->o->width, V->o->height, V->tm.pos + 3 * V->tm.tet[4 * t + k], q)) {
+                lo = -3e38f, hi = 3e38f;
+                break;
+            }
+            lo = q[1] < lo ? q[1] : lo, hi = q[1] > hi ? q[1] : hi;
+        }
+        rows[2 * t] = lo, rows[2 * t + 1] = hi;
+    }
+}
+
 static int lst__volume(const pw_alloc *a, const lst_model *m, const lst_render_options *o, const lst_volume_options *vo,
                        pw_image *pic, pw_err *e)
 {
-    pw_tetmesh tm = lst__pw_tets(&m->mesh);
     lst__view v;
-    lst__tris sl;
-    lst__shading S;
-    pw_camera cam;
-    pw_fb fb;
-    double f[3], *phi = NULL, zmin = 1e300, zmax = -1e300, dz, ph[4];
-    int t, k, s, r;
-    memset(&sl, 0, sizeof sl), memset(&fb, 0, sizeof fb), memset(&S, 0, sizeof S);
+    lst__volume_frame V;
+    double f[3], *phi = NULL, zmin = 1e300, zmax = -1e300;
+    float *rows = NULL;
+    int k, r;
+    memset(&V, 0, sizeof V);
+    V.tm = lst__pw_tets(&m->mesh);
     if ((r = lst__view_init(a, m, o->show, &v, e)) != PW_OK) return r;
     if (vo->density > 0 && (!m->values.voxels || vo->density > m->values.channels))
         r = pw_fail(e, PW_ERR_INVALID, "volume density from extra channel %d: the model has %d", vo->density,
                     m->values.voxels ? m->values.channels : 0);
-    if (r == PW_OK) r = lst__frame(a, m, o, &cam, &fb, e);
-    if (r == PW_OK && !(phi = (double *)pw_alloc_array(a, (size_t)tm.nv, sizeof(double), "volume slices", e))) r = PW_ERR_NOMEM;
-    for (k = 0; r == PW_OK && k < 3; k++) f[k] = (double)cam.target[k] - cam.eye[k];
+    if (r == PW_OK) r = lst__camera(a, m, o, &V.cam, e);
+    if (r == PW_OK && !(phi = (double *)pw_alloc_array(a, (size_t)V.tm.nv, sizeof(double), "volume slices", e))) r = PW_ERR_NOMEM;
+    if (r == PW_OK && !(rows = (float *)pw_alloc_array(a, (size_t)V.tm.nt * 2, sizeof(float), "volume slices", e))) r = PW_ERR_NOMEM;
+    for (k = 0; r == PW_OK && k < 3; k++) f[k] = (double)V.cam.target[k] - V.cam.eye[k];
     if (r == PW_OK) lst__norm3(f);
-    for (k = 0; r == PW_OK && k < tm.nv; k++) { /* §5.1.2: the distance from the camera along the view */
-        phi[k] = (tm.pos[3 * k] - cam.eye[0]) * f[0] + (tm.pos[3 * k + 1] - cam.eye[1]) * f[1] + (tm.pos[3 * k + 2] - cam.eye[2]) * f[2];
+    for (k = 0; r == PW_OK && k < V.tm.nv; k++) { /* §5.1.2: the distance from the camera along the view */
+        const float *p = V.tm.pos + 3 * k;
+        phi[k] = (p[0] - V.cam.eye[0]) * f[0] + (p[1] - V.cam.eye[1]) * f[1] + (p[2] - V.cam.eye[2]) * f[2];
         zmin = phi[k] < zmin ? phi[k] : zmin, zmax = phi[k] > zmax ? phi[k] : zmax;
     }
-    dz = (zmax - zmin) / vo->slices;
-    S.v = &v, S.mode = 1, S.density = vo->density;
-    S.alpha_scale = (float)(vo->opacity * dz / (0.01 * lst__diagonal(tm.pos, tm.nv)));
-    for (s = 0; r == PW_OK && s < vo->slices; s++) { /* back to front */
-        double z = zmax - (s + 0.5) * dz;
-        sl.n = sl.nv = 0;
-        for (t = 0; r == PW_OK && t < tm.nt; t++) {
-            if (m->removed[t]) continue;
-            for (k = 0; k < 4; k++) ph[k] = phi[tm.tet[4 * t + k]];
-            r = lst__slice_tet(a, &tm, t, ph, z, &sl, e);
-        }
-        if (r == PW_OK) r = lst__draw_tris(&fb, &cam, m, &sl, &S, o, e);
+    if (r == PW_OK) {
+        V.a = a, V.m = m, V.v = &v, V.o = o, V.phi = phi, V.rows = rows;
+        V.zmax = zmax, V.dz = (zmax - zmin) / vo->slices, V.slices = vo->slices, V.density = vo->density;
+        V.alpha_scale = (float)(vo->opacity * V.dz / (0.01 * lst__diagonal(V.tm.pos, V.tm.nv)));
+        lst__tet_rows(&V, rows);
+        r = lst__render_frame(a, o, lst__volume_band, &V, pic, e);
     }
-    if (r == PW_OK) r = pw_fb_resolve(&fb, pic, 3, e);
-    pw_fb_free(&fb);
-    lst__tris_free(a, &sl);
+    pw_free(a, rows);
     pw_free(a, phi);
     lst__view_free(&v);
     return r;
@@ -18070,8 +18232,24 @@ static int lst__tet_report(const pw_alloc *a, const pw_mesh *tri, const pw_tetme
     return PW_OK;
 }
 
-LSTDEF lst_result lst_tetrahedralize(const lst_mesh *surface, const lst_tet_options *to, const lst_options *opt,
-                                     lst_tetmesh *out, lst_error *err)
+/* Rule C1: what the fill repaired, as a warning with code OK (empty when
+ * nothing was). */
+static void lst__tet_warning(const pw_stuff_info *info, pw_err *e)
+{
+    size_t n = 0;
+    if (info->crossing_pairs > 0)
+        n += (size_t)snprintf(e->msg, sizeof e->msg, "the surface crosses itself (%ld triangle pairs); filled where its "
+                              "winding number is at least 1/2", info->crossing_pairs);
+    if (info->skipped_triangles > 0 && n < sizeof e->msg)
+        n += (size_t)snprintf(e->msg + n, sizeof e->msg - n, "%s%d zero-area triangles skipped", n ? "; " : "",
+                              info->skipped_triangles);
+    if (info->closed_holes > 0 && n < sizeof e->msg)
+        snprintf(e->msg + n, sizeof e->msg - n, "%sthe surface was open: %d small holes closed", n ? "; " : "",
+                 info->closed_holes);
+}
+
+LSTDEF lst_result lst_tetrahedralize(const lst_mesh *surface, const lst_options *opt, lst_tetmesh *out,
+                                     lst_tet_report *report, lst_error *err)
 {
     lst_options o = lst__options(opt);
     pw_alloc a = lst__alloc(&o.allocator);
@@ -18085,20 +18263,20 @@ LSTDEF lst_result lst_tetrahedralize(const lst_mesh *surface, const lst_tet_opti
     if (out) memset(out, 0, sizeof *out);
     memset(&tri, 0, sizeof tri);
     memset(&tm, 0, sizeof tm);
-    if (to) {
-        so.cell = to->cell, so.strict = to->strict, so.max_hole = to->max_hole, so.info = &info;
-        if (to->target_tets > 0) so.target_tets = to->target_tets;
-    }
+    so.cell = o.tet.cell, so.strict = o.tet.strict, so.max_hole = o.tet.max_hole, so.info = &info;
+    if (o.tet.target_tets > 0) so.target_tets = o.tet.target_tets;
     if (!surface || !out) pw_fail(&e, PW_ERR_INVALID, "lst_tetrahedralize: NULL argument");
-    else if (!(so.cell >= 0.0) || !pw_is_finite(so.cell) || !pw_is_finite(so.max_hole) || (to && to->target_tets < 0))
+    else if (!(so.cell >= 0.0) || !pw_is_finite(so.cell) || !pw_is_finite(so.max_hole) || o.tet.target_tets < 0)
         pw_fail(&e, PW_ERR_INVALID, "tetrahedralize: cell %g, target %d or max_hole %g is invalid", so.cell,
-                to ? to->target_tets : 0, so.max_hole);
+                o.tet.target_tets, so.max_hole);
     else {
         m = lst__pw_mesh(surface);
         if (pw_mesh_validate(&m, &e) == PW_OK && pw_mesh_triangulate(&a, &m, &tri, NULL, &e) == PW_OK &&
             pw_stuff_tetrahedralize(&a, tri.pos, tri.nv, tri.fv, tri.nf, &so, &p, &tm, &e) == PW_OK &&
-            (!to || !to->report || lst__tet_report(&a, &tri, &tm, &info, to->report, &e) == PW_OK))
+            (!report || lst__tet_report(&a, &tri, &tm, &info, report, &e) == PW_OK)) {
             lst__take_tets(&tm, &a, out);
+            lst__tet_warning(&info, &e);
+        }
         else if (tm.tet)
             pw_tetmesh_free(&a, &tm);
     }
@@ -18363,7 +18541,7 @@ static double lst__tree_shape(const double *p)
     return lst__smin(d, lst__part(lst__tree_parts[2], p, &t), 0.12);
 }
 
-LSTDEF lst_result lst_builtin_surface(const char *name, const lst_options *opt, lst_mesh *out, lst_error *err)
+LSTDEF lst_result lst_builtin_mesh(const char *name, const lst_options *opt, lst_mesh *out, lst_error *err)
 {
     static const double kiwi_lo[3] = {-1.0, -1.0, -1.3}, tree_lo[3] = {-1.7, -1.7, -1.4};
     lst_options o = lst__options(opt);
@@ -18373,7 +18551,7 @@ LSTDEF lst_result lst_builtin_surface(const char *name, const lst_options *opt, 
     pw_err_clear(&e);
     memset(&m, 0, sizeof m);
     if (out) memset(out, 0, sizeof *out);
-    if (!out || !name) pw_fail(&e, PW_ERR_INVALID, "lst_builtin_surface: NULL argument");
+    if (!out || !name) pw_fail(&e, PW_ERR_INVALID, "lst_builtin_mesh: NULL argument");
     else if (!strcmp(name, "sphere")) pw_shape_geosphere(&a, 8, &m, &e);
     else if (!strcmp(name, "torus")) pw_shape_torus(&a, 48, 24, 0, &m, &e);
     else if (!strcmp(name, "bumpy")) pw_shape_bumpy(&a, 12, &m, &e);
@@ -18392,10 +18570,9 @@ LSTDEF lst_result lst_builtin_surface(const char *name, const lst_options *opt, 
 /* ---- constraints that go with the built-in surfaces (§4.3-4.5) -------------------------------------- */
 
 typedef struct lst__cset {
-    lst_depth_constraint *d;
-    lst_field_constraint *f;
-    int nd, nf;
-    size_t dcap, fcap;
+    lst_constraint *c;
+    int n;
+    size_t cap;
 } lst__cset;
 
 /* Depth 1 and the direction along the axis of part c, at n points. */
@@ -18406,8 +18583,8 @@ static int lst__axis_constraints(const pw_alloc *a, const double *c, double t0, 
     for (i = 0; i < n; i++) {
         double t = t0 + (t1 - t0) * i / (n - 1);
         for (k = 0; k < 3; k++) p[k] = c[k] + t * c[3 + k];
-        if (lst__add_depth(a, &s->d, &s->dcap, &s->nd, LST_DEPTH_POINT, 0, p, 1.0, 0.0, e) ||
-            lst__add_field(a, &s->f, &s->fcap, &s->nf, LST_FIELD_DIRECTION, p, c + 3, 0.0, e))
+        if (lst__add_constraint(a, &s->c, &s->cap, &s->n, LST_CONSTRAINT_DEPTH_POINT, 0, p, NULL, 1.0, 0.0, e) ||
+            lst__add_constraint(a, &s->c, &s->cap, &s->n, LST_CONSTRAINT_DIRECTION, 0, p, c + 3, 0.0, 0.0, e))
             return PW_ERR_NOMEM;
     }
     return PW_OK;
@@ -18432,7 +18609,7 @@ static int lst__tree_constraints(const pw_alloc *a, const lst_mesh *surface, lst
                 double d = fabs(lst__part(lst__tree_parts[j], c, &t));
                 if (d < best) best = d, dn = fabs(lst__dot3(n, lst__tree_parts[j] + 3));
             }
-            if (dn < 0.6 && lst__add_depth(a, &s->d, &s->dcap, &s->nd, LST_DEPTH_FACE, tri, NULL, 0.0, 0.0, e))
+            if (dn < 0.6 && lst__add_constraint(a, &s->c, &s->cap, &s->n, LST_CONSTRAINT_DEPTH_FACE, tri, NULL, NULL, 0.0, 0.0, e))
                 return PW_ERR_NOMEM;
         }
     for (j = 0; j < 3; j++)
@@ -18449,14 +18626,13 @@ static int lst__torus_constraints(const pw_alloc *a, lst__cset *s, pw_err *e)
         double t = i * (2.0 * 3.14159265358979323846 / 24), p[3], d[3];
         p[0] = pw_cos(t), p[1] = pw_sin(t), p[2] = 0.0;
         d[0] = -p[1], d[1] = p[0], d[2] = 0.0;
-        if (lst__add_field(a, &s->f, &s->fcap, &s->nf, LST_FIELD_DIRECTION, p, d, 0.0, e)) return PW_ERR_NOMEM;
+        if (lst__add_constraint(a, &s->c, &s->cap, &s->n, LST_CONSTRAINT_DIRECTION, 0, p, d, 0.0, 0.0, e)) return PW_ERR_NOMEM;
     }
     return PW_OK;
 }
 
 LSTDEF lst_result lst_builtin_constraints(const char *name, const lst_mesh *surface, const lst_options *opt,
-                                          lst_depth_constraint **depth, int *ndepth, lst_field_constraint **field,
-                                          int *nfield, lst_error *err)
+                                          lst_constraints *out, lst_error *err)
 {
     static const double kiwi_axis[9] = {0.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0, 0, 0};
     lst_options o = lst__options(opt);
@@ -18465,12 +18641,11 @@ LSTDEF lst_result lst_builtin_constraints(const char *name, const lst_mesh *surf
     pw_err e;
     pw_err_clear(&e);
     memset(&s, 0, sizeof s);
-    if (depth) *depth = NULL, *ndepth = 0;
-    if (field) *field = NULL, *nfield = 0;
-    if (!name || !depth || !ndepth || !field || !nfield || (!surface && name && !strcmp(name, "tree")))
+    if (out) memset(out, 0, sizeof *out);
+    if (!name || !out || (!surface && name && !strcmp(name, "tree")))
         pw_fail(&e, PW_ERR_INVALID, "lst_builtin_constraints: NULL argument");
     else if (!strcmp(name, "kiwi")) { /* the skin (one fill) at 0, the core along z at 1 */
-        if (lst__add_depth(&a, &s.d, &s.dcap, &s.nd, LST_DEPTH_FILL, 0, NULL, 0.0, 60.0, &e) == PW_OK)
+        if (lst__add_constraint(&a, &s.c, &s.cap, &s.n, LST_CONSTRAINT_DEPTH_FILL, 0, NULL, NULL, 0.0, 60.0, &e) == PW_OK)
             lst__axis_constraints(&a, kiwi_axis, -0.9, 0.9, 13, &s, &e);
     } else if (!strcmp(name, "tree"))
         lst__tree_constraints(&a, surface, &s, &e);
@@ -18478,8 +18653,8 @@ LSTDEF lst_result lst_builtin_constraints(const char *name, const lst_mesh *surf
         lst__torus_constraints(&a, &s, &e);
     else
         pw_fail(&e, PW_ERR_INVALID, "no built-in constraints for '%s' (kiwi, tree, torus)", name);
-    if (e.code == PW_OK) *depth = s.d, *ndepth = s.nd, *field = s.f, *nfield = s.nf;
-    else pw_free(&a, s.d), pw_free(&a, s.f);
+    if (e.code == PW_OK) out->items = s.c, out->count = s.n, out->allocator = lst__allocator(&a);
+    else pw_free(&a, s.c);
     return lst__done(&e, err);
 }
 
@@ -18585,7 +18760,7 @@ static void lst__write_pastes_part(pw__wb *b, const lst_model *m, const int *tma
     }
 }
 
-LSTDEF lst_result lst_write_model_to_func(const lst_model *m, lst_write_fn fn, void *ctx, lst_error *err)
+LSTDEF lst_result lst_write_model(const lst_model *m, lst_write_fn fn, void *ctx, lst_error *err)
 {
     pw_alloc a;
     pw__wb b;
@@ -18594,7 +18769,7 @@ LSTDEF lst_result lst_write_model_to_func(const lst_model *m, lst_write_fn fn, v
     int *tmap = NULL, *vmap = NULL, nt, nv, k;
     pw_err_clear(&e);
     if (!m || !fn || !m->mesh.tets) {
-        pw_fail(&e, PW_ERR_INVALID, "lst_write_model_to_func: NULL argument or empty model");
+        pw_fail(&e, PW_ERR_INVALID, "lst_write_model: NULL argument or empty model");
         return lst__done(&e, err);
     }
     a = lst__alloc(&m->allocator);
@@ -18604,10 +18779,10 @@ LSTDEF lst_result lst_write_model_to_func(const lst_model *m, lst_write_fn fn, v
         b.ctx = ctx;
         pw__wb_str(&b, "lst 1\n");
         lst__write_mesh_part(&b, m, tmap, vmap, nt, nv);
-        v[0] = m->nmasks;
+        v[0] = m->masks.count;
         lst__wb_line(&b, "exemplars", v, 1);
-        for (k = 0; k < m->nmasks; k++) {
-            v[0] = k, v[1] = m->masks[k].width, v[2] = m->masks[k].height, v[3] = m->masks[k].depth;
+        for (k = 0; k < m->masks.count; k++) {
+            v[0] = k, v[1] = m->masks.volumes[k].width, v[2] = m->masks.volumes[k].height, v[3] = m->masks.volumes[k].depth;
             lst__wb_line(&b, "exemplar", v, 4);
         }
         lst__write_pastes_part(&b, m, tmap);
@@ -18686,15 +18861,16 @@ static int lst__read_exemplars_part(pw__sc *s, const pw_alloc *a, lst_model *m, 
     int n, k, r;
     if ((r = lst__read_count(s, "exemplars", 10, &n)) != PW_OK) return r;
     if (n < 1 || n > 64) return pw__sc_fail(s, PW_ERR_LIMIT, "%d exemplars (1 to 64 expected)", n);
-    if (!(m->masks = (lst_volume *)pw_calloc_array(a, (size_t)n, sizeof(lst_volume), "masks", e))) return PW_ERR_NOMEM;
-    m->nmasks = n;
+    if (!(m->masks.volumes = (lst_volume *)pw_calloc_array(a, (size_t)n, sizeof(lst_volume), "masks", e))) return PW_ERR_NOMEM;
+    m->masks.count = n;
+    m->masks.allocator = lst__allocator(a);
     for (k = 0; k < n; k++) {
         if ((r = lst__read_line(s, "exemplar", v, 4, 0, 65536)) != PW_OK) return r;
         if (v[0] != k) return pw__sc_fail(s, PW_ERR_PARSE, "exemplar %lld listed where exemplar %d belongs", v[0], k);
         if (v[1] < 1 || v[2] < 1 || v[3] < 1) return pw__sc_fail(s, PW_ERR_PARSE, "exemplar %d has an empty size", k);
-        m->masks[k].width = (int)v[1], m->masks[k].height = (int)v[2], m->masks[k].depth = (int)v[3];
-        m->masks[k].channels = 1;
-        m->masks[k].allocator = lst__allocator(a);
+        m->masks.volumes[k].width = (int)v[1], m->masks.volumes[k].height = (int)v[2], m->masks.volumes[k].depth = (int)v[3];
+        m->masks.volumes[k].channels = 1;
+        m->masks.volumes[k].allocator = lst__allocator(a);
     }
     return PW_OK;
 }
@@ -18757,7 +18933,7 @@ static int lst__read_pastes_part(pw__sc *s, const pw_alloc *a, lst_model *m, pw_
         size_t cap = 0;
         m->npastes = p + 1;
         if ((r = lst__read_line(s, "paste", v, 2, 0, PW_MAX_MESH_ELEMENTS)) != PW_OK) break;
-        if (v[0] >= m->nmasks) r = pw__sc_fail(s, PW_ERR_PARSE, "paste %d uses exemplar %lld of %d", p, v[0], m->nmasks);
+        if (v[0] >= m->masks.count) r = pw__sc_fail(s, PW_ERR_PARSE, "paste %d uses exemplar %lld of %d", p, v[0], m->masks.count);
         else if (v[1] < 1 || v[1] > (long long)(s->end - s->p) / 26 + 1)
             r = pw__sc_fail(s, PW_ERR_PARSE, "paste %d announces %lld tetrahedra, the file is too short for them", p, v[1]);
         if (r != PW_OK) break;
@@ -18785,8 +18961,8 @@ static void lst__model_stats(lst_model *m)
     m->layers = m->layers_before = m->mesh.ntets ? (double)tot / m->mesh.ntets : 0.0;
 }
 
-LSTDEF lst_result lst_read_model_from_memory(const void *data, size_t size, const char *name, const lst_options *opt,
-                                             lst_model *out, lst_error *err)
+LSTDEF lst_result lst_read_model(const void *data, size_t size, const char *name, const lst_options *opt,
+                                 lst_model *out, lst_error *err)
 {
     lst_options o = lst__options(opt);
     pw_alloc a = lst__alloc(&o.allocator);
@@ -18796,7 +18972,7 @@ LSTDEF lst_result lst_read_model_from_memory(const void *data, size_t size, cons
     pw_err_clear(&e);
     if (out) memset(out, 0, sizeof *out);
     if (!out || (!data && size)) {
-        pw_fail(&e, PW_ERR_INVALID, "lst_read_model_from_memory: NULL argument");
+        pw_fail(&e, PW_ERR_INVALID, "lst_read_model: NULL argument");
         return lst__done(&e, err);
     }
     out->allocator = out->mesh.allocator = lst__allocator(&a);
@@ -18831,151 +19007,146 @@ static int lst__read_numbers(pw__sc *s, double *v, int max, const char *what, in
 #define LST__LINE_MAX 3000 /* numbers on one constraint line (a stroke of 1000 points) */
 #define LST__STROKE_STEPS 8 /* samples per stroke segment */
 
-/* One line of a depth file. */
-static int lst__depth_line(pw__sc *s, const pw_alloc *a, double *v, lst_depth_constraint **c, size_t *cap, int *n,
-                           int line, pw_err *e)
+/* The keywords of a constraint file, and what each line holds. */
+static const char *const lst__keywords[7] = {"face", "fill", "point", "depth-stroke", "dir", "dir-stroke", "scale"};
+static const char *const lst__syntax[7] = {"face F D", "fill F D [CREASE]", "point X Y Z D", "depth-stroke D X Y Z X Y Z ...",
+                                           "dir X Y Z DX DY DZ", "dir-stroke X Y Z X Y Z ...", "scale X Y Z S"};
+
+/* Whether cnt numbers fit keyword k. */
+static int lst__count_ok(int k, int cnt)
+{
+    switch (k) {
+    case 0: return cnt == 2;
+    case 1: return cnt == 2 || cnt == 3;
+    case 3: return cnt >= 4 && (cnt - 1) % 3 == 0;
+    case 4: return cnt == 6;
+    case 5: return cnt >= 6 && cnt % 3 == 0;
+    default: return cnt == 4; /* point, scale */
+    }
+}
+
+/* §4.3 the stroke tool: a depth polyline, each segment sampled. */
+static int lst__depth_stroke(const pw_alloc *a, const double *v, int cnt, lst__cset *c, pw_err *e)
+{
+    int i, k, r = PW_OK;
+    for (i = 0; r == PW_OK && i < (cnt - 1) / 3; i++) {
+        const double *p = v + 1 + 3 * i, *q = i + 1 < (cnt - 1) / 3 ? p + 3 : p;
+        for (k = 0; r == PW_OK && k < (q == p ? 1 : LST__STROKE_STEPS); k++) {
+            double t = (double)k / LST__STROKE_STEPS, x[3] = {p[0] + t * (q[0] - p[0]), p[1] + t * (q[1] - p[1]), p[2] + t * (q[2] - p[2])};
+            r = lst__add_constraint(a, &c->c, &c->cap, &c->n, LST_CONSTRAINT_DEPTH_POINT, 0, x, NULL, v[0], 0.0, e);
+        }
+    }
+    return r;
+}
+
+/* A direction stroke: its direction along each segment, sampled. */
+static int lst__dir_stroke(const pw_alloc *a, const double *v, int cnt, lst__cset *c, pw_err *e)
+{
+    int i, k, r = PW_OK;
+    for (i = 0; r == PW_OK && i + 1 < cnt / 3; i++) {
+        const double *p = v + 3 * i, *q = p + 3;
+        double d[3] = {q[0] - p[0], q[1] - p[1], q[2] - p[2]};
+        if (d[0] == 0.0 && d[1] == 0.0 && d[2] == 0.0) continue;
+        for (k = 0; r == PW_OK && k < LST__STROKE_STEPS; k++) {
+            double t = (k + 0.5) / LST__STROKE_STEPS, x[3] = {p[0] + t * d[0], p[1] + t * d[1], p[2] + t * d[2]};
+            r = lst__add_constraint(a, &c->c, &c->cap, &c->n, LST_CONSTRAINT_DIRECTION, 0, x, d, 0.0, 0.0, e);
+        }
+    }
+    return r;
+}
+
+/* The constraints of keyword k from its numbers v (cnt of them, checked). */
+static int lst__add_line(pw__sc *s, const pw_alloc *a, int k, const double *v, int cnt, lst__cset *c, pw_err *e)
+{
+    double depth = k == 2 ? v[3] : (k == 3 ? v[0] : v[1]);
+    if (k <= 3 && !(depth >= 0.0 && depth <= 1.0)) return pw__sc_fail(s, PW_ERR_INVALID, "a depth is outside [0, 1]");
+    if (k <= 1 && (v[0] < 0 || v[0] > PW_MAX_MESH_ELEMENTS || v[0] != floor(v[0])))
+        return pw__sc_fail(s, PW_ERR_INVALID, "face %g is not a triangle index", v[0]);
+    if (k == 4 && v[3] == 0.0 && v[4] == 0.0 && v[5] == 0.0) return pw__sc_fail(s, PW_ERR_INVALID, "a zero direction");
+    if (k == 6 && !(v[3] > 0.0)) return pw__sc_fail(s, PW_ERR_INVALID, "scale %g is not positive", v[3]);
+    switch (k) {
+    case 0:
+    case 1:
+        return lst__add_constraint(a, &c->c, &c->cap, &c->n, k == 0 ? LST_CONSTRAINT_DEPTH_FACE : LST_CONSTRAINT_DEPTH_FILL,
+                                   (int)v[0], NULL, NULL, v[1], cnt == 3 ? v[2] : 0.0, e);
+    case 2: return lst__add_constraint(a, &c->c, &c->cap, &c->n, LST_CONSTRAINT_DEPTH_POINT, 0, v, NULL, v[3], 0.0, e);
+    case 3: return lst__depth_stroke(a, v, cnt, c, e);
+    case 4: return lst__add_constraint(a, &c->c, &c->cap, &c->n, LST_CONSTRAINT_DIRECTION, 0, v, v + 3, 0.0, 0.0, e);
+    case 5: return lst__dir_stroke(a, v, cnt, c, e);
+    default: return lst__add_constraint(a, &c->c, &c->cap, &c->n, LST_CONSTRAINT_SCALE, 0, v, NULL, v[3], 0.0, e);
+    }
+}
+
+/* One line of a constraint file. */
+static int lst__constraint_line(pw__sc *s, const pw_alloc *a, double *v, lst__cset *c, int line, pw_err *e)
 {
     size_t len;
     const char *w = pw__sc_word(s, &len);
     char tok[32];
-    int cnt, r, i, k, kind = pw__sc_is(w, len, "face") ? 0 : pw__sc_is(w, len, "fill") ? 1 : pw__sc_is(w, len, "point") ? 2
-                                                      : pw__sc_is(w, len, "stroke") ? 3 : -1;
-    if (kind < 0) return pw__sc_fail(s, PW_ERR_PARSE, "unknown depth constraint '%s' (face, fill, point, stroke)", pw__sc_tok(s, w, tok));
-    if ((r = lst__read_numbers(s, v, LST__LINE_MAX, "depth line", line, &cnt)) != PW_OK) return r;
+    int cnt, r, k;
+    for (k = 0; k < 7 && !pw__sc_is(w, len, lst__keywords[k]); k++) {
+    }
+    if (pw__sc_is(w, len, "stroke"))
+        return pw__sc_fail(s, PW_ERR_PARSE, "'stroke' is ambiguous: write 'depth-stroke D X Y Z X Y Z ...' for depths or "
+                                            "'dir-stroke X Y Z X Y Z ...' for directions");
+    if (k == 7)
+        return pw__sc_fail(s, PW_ERR_PARSE, "unknown constraint '%s' (face, fill, point, depth-stroke, dir, dir-stroke, scale)",
+                           pw__sc_tok(s, w, tok));
+    if ((r = lst__read_numbers(s, v, LST__LINE_MAX, "constraint line", line, &cnt)) != PW_OK) return r;
     s->line--; /* messages below name the line just read */
-    if ((kind == 0 && cnt != 2) || (kind == 1 && cnt != 2 && cnt != 3) || (kind == 2 && cnt != 4) ||
-        (kind == 3 && (cnt < 4 || (cnt - 1) % 3 != 0)))
-        r = pw__sc_fail(s, PW_ERR_PARSE, "expected 'face F D', 'fill F D [crease]', 'point X Y Z D' or 'stroke D X Y Z ...'");
-    else if (!(v[kind == 2 ? 3 : (kind == 3 ? 0 : 1)] >= 0.0 && v[kind == 2 ? 3 : (kind == 3 ? 0 : 1)] <= 1.0))
-        r = pw__sc_fail(s, PW_ERR_INVALID, "a depth is outside [0, 1]");
-    else if (kind < 2 && (v[0] < 0 || v[0] > PW_MAX_MESH_ELEMENTS || v[0] != floor(v[0])))
-        r = pw__sc_fail(s, PW_ERR_INVALID, "face %g is not a triangle index", v[0]);
-    else if (kind < 2)
-        r = lst__add_depth(a, c, cap, n, kind == 0 ? LST_DEPTH_FACE : LST_DEPTH_FILL, (int)v[0], NULL, v[1], cnt == 3 ? v[2] : 0.0, e);
-    else if (kind == 2)
-        r = lst__add_depth(a, c, cap, n, LST_DEPTH_POINT, 0, v, v[3], 0.0, e);
-    else /* §4.3 stroke tool: the polyline, each segment sampled */
-        for (i = 0; r == PW_OK && i < (cnt - 1) / 3; i++) {
-            const double *p = v + 1 + 3 * i, *q = i + 1 < (cnt - 1) / 3 ? p + 3 : p;
-            for (k = 0; r == PW_OK && k < (q == p ? 1 : LST__STROKE_STEPS); k++) {
-                double t = (double)k / LST__STROKE_STEPS, x[3] = {p[0] + t * (q[0] - p[0]), p[1] + t * (q[1] - p[1]), p[2] + t * (q[2] - p[2])};
-                r = lst__add_depth(a, c, cap, n, LST_DEPTH_POINT, 0, x, v[0], 0.0, e);
-            }
-        }
+    if (!lst__count_ok(k, cnt)) r = pw__sc_fail(s, PW_ERR_PARSE, "expected '%s'", lst__syntax[k]);
+    else r = lst__add_line(s, a, k, v, cnt, c, e);
     s->line++;
     return r;
 }
 
-/* One line of a directions file. */
-static int lst__field_line(pw__sc *s, const pw_alloc *a, double *v, lst_field_constraint **c, size_t *cap, int *n,
-                           int line, pw_err *e)
-{
-    size_t len;
-    const char *w = pw__sc_word(s, &len);
-    char tok[32];
-    int cnt, r, i, k, kind = pw__sc_is(w, len, "dir") ? 0 : pw__sc_is(w, len, "stroke") ? 1 : pw__sc_is(w, len, "scale") ? 2 : -1;
-    if (kind < 0) return pw__sc_fail(s, PW_ERR_PARSE, "unknown field constraint '%s' (dir, stroke, scale)", pw__sc_tok(s, w, tok));
-    if ((r = lst__read_numbers(s, v, LST__LINE_MAX, "field line", line, &cnt)) != PW_OK) return r;
-    s->line--;
-    if ((kind == 0 && cnt != 6) || (kind == 1 && (cnt < 6 || cnt % 3 != 0)) || (kind == 2 && cnt != 4))
-        r = pw__sc_fail(s, PW_ERR_PARSE, "expected 'dir X Y Z DX DY DZ', 'stroke X Y Z X Y Z ...' or 'scale X Y Z S'");
-    else if (kind == 0 && v[3] == 0.0 && v[4] == 0.0 && v[5] == 0.0)
-        r = pw__sc_fail(s, PW_ERR_INVALID, "a zero direction");
-    else if (kind == 2 && !(v[3] > 0.0))
-        r = pw__sc_fail(s, PW_ERR_INVALID, "scale %g is not positive", v[3]);
-    else if (kind == 0)
-        r = lst__add_field(a, c, cap, n, LST_FIELD_DIRECTION, v, v + 3, 0.0, e);
-    else if (kind == 2)
-        r = lst__add_field(a, c, cap, n, LST_FIELD_SCALE, v, NULL, v[3], e);
-    else /* a stroke: its direction along each segment, sampled */
-        for (i = 0; r == PW_OK && i + 1 < cnt / 3; i++) {
-            const double *p = v + 3 * i, *q = p + 3;
-            double d[3] = {q[0] - p[0], q[1] - p[1], q[2] - p[2]};
-            if (d[0] == 0.0 && d[1] == 0.0 && d[2] == 0.0) continue;
-            for (k = 0; r == PW_OK && k < LST__STROKE_STEPS; k++) {
-                double t = (k + 0.5) / LST__STROKE_STEPS, x[3] = {p[0] + t * d[0], p[1] + t * d[1], p[2] + t * d[2]};
-                r = lst__add_field(a, c, cap, n, LST_FIELD_DIRECTION, x, d, 0.0, e);
-            }
-        }
-    s->line++;
-    return r;
-}
-
-typedef int (*lst__line_fn)(pw__sc *s, const pw_alloc *a, double *v, void **c, size_t *cap, int *n, int line, pw_err *e);
-
-static int lst__depth_line_v(pw__sc *s, const pw_alloc *a, double *v, void **c, size_t *cap, int *n, int line, pw_err *e)
-{
-    return lst__depth_line(s, a, v, (lst_depth_constraint **)c, cap, n, line, e);
-}
-static int lst__field_line_v(pw__sc *s, const pw_alloc *a, double *v, void **c, size_t *cap, int *n, int line, pw_err *e)
-{
-    return lst__field_line(s, a, v, (lst_field_constraint **)c, cap, n, line, e);
-}
-
-/* Reads a constraint file line by line with fn; '#' comments. */
-static int lst__read_constraints(const pw_alloc *a, const void *data, size_t size, const char *name, lst__line_fn fn,
-                                 void **out, int *count, pw_err *e)
+/* Reads a constraint file line by line; '#' comments. */
+static int lst__read_constraints(const pw_alloc *a, const void *data, size_t size, const char *name, lst_constraints *out,
+                                 pw_err *e)
 {
     pw__sc s;
+    lst__cset c;
     double *v = (double *)pw_alloc_array(a, LST__LINE_MAX, sizeof(double), "constraint line", e);
-    size_t cap = 0;
-    int n = 0, line = 0, r = v ? PW_OK : PW_ERR_NOMEM;
-    *out = NULL;
+    int line = 0, r = v ? PW_OK : PW_ERR_NOMEM;
+    memset(&c, 0, sizeof c);
     pw__sc_init(&s, data, size, name, 0, e);
-    for (pw__sc_skip_empty(&s); r == PW_OK && s.p < s.end; pw__sc_skip_empty(&s)) r = fn(&s, a, v, out, &cap, &n, line++, e);
-    if (r == PW_OK && n == 0) r = pw_fail(e, PW_ERR_PARSE, "%s: no constraints", s.name);
+    for (pw__sc_skip_empty(&s); r == PW_OK && s.p < s.end; pw__sc_skip_empty(&s)) r = lst__constraint_line(&s, a, v, &c, line++, e);
+    if (r == PW_OK && c.n == 0) r = pw_fail(e, PW_ERR_PARSE, "%s: no constraints", s.name);
     pw_free(a, v);
     if (r != PW_OK) {
-        pw_free(a, *out);
-        *out = NULL;
+        pw_free(a, c.c);
         return r;
     }
-    *count = n;
+    out->items = c.c, out->count = c.n, out->allocator = lst__allocator(a);
     return PW_OK;
 }
 
-/* The two public readers: arguments checked, fn over every line. */
-static lst_result lst__read_from_memory(const void *data, size_t size, const char *name, const char *fname,
-                                        const char *default_name, lst__line_fn fn, const lst_options *opt, void **out,
-                                        int *count, lst_error *err)
+LSTDEF lst_result lst_read_constraints(const void *data, size_t size, const char *name, const lst_options *opt,
+                                       lst_constraints *out, lst_error *err)
 {
     lst_options o = lst__options(opt);
     pw_alloc a = lst__alloc(&o.allocator);
     pw_err e;
     pw_err_clear(&e);
-    if (out) *out = NULL;
-    if (count) *count = 0;
-    if (!out || !count || (!data && size)) pw_fail(&e, PW_ERR_INVALID, "%s: NULL argument", fname);
-    else lst__read_constraints(&a, data, size, name ? name : default_name, fn, out, count, &e);
+    if (out) memset(out, 0, sizeof *out);
+    if (!out || (!data && size)) pw_fail(&e, PW_ERR_INVALID, "lst_read_constraints: NULL argument");
+    else lst__read_constraints(&a, data, size, name ? name : "constraints", out, &e);
     return lst__done(&e, err);
 }
 
-LSTDEF lst_result lst_read_depth_from_memory(const void *data, size_t size, const char *name, const lst_options *opt,
-                                             lst_depth_constraint **out, int *count, lst_error *err)
+LSTDEF void lst_constraints_free(lst_constraints *c)
 {
-    return lst__read_from_memory(data, size, name, "lst_read_depth_from_memory", "depth", lst__depth_line_v, opt,
-                                 (void **)out, count, err);
-}
-
-LSTDEF lst_result lst_read_directions_from_memory(const void *data, size_t size, const char *name, const lst_options *opt,
-                                                  lst_field_constraint **out, int *count, lst_error *err)
-{
-    return lst__read_from_memory(data, size, name, "lst_read_directions_from_memory", "directions", lst__field_line_v,
-                                 opt, (void **)out, count, err);
-}
-
-LSTDEF void lst_free_constraints(lst_depth_constraint *depth, lst_field_constraint *field, const lst_options *opt)
-{
-    lst_options o = lst__options(opt);
-    pw_alloc a = lst__alloc(&o.allocator);
-    pw_free(&a, depth);
-    pw_free(&a, field);
+    pw_alloc a;
+    if (!c) return;
+    a = lst__alloc(&c->allocator);
+    pw_free(&a, c->items);
+    memset(c, 0, sizeof *c);
 }
 
 /* ---- meshes, volumes, images ------------------------------------------------------------------ */
 
-LSTDEF lst_result lst_read_tetgen_from_memory(const void *node, size_t node_size, const void *ele, size_t ele_size,
-                                              const char *name, const lst_options *opt, lst_tetmesh *out, lst_error *err)
+LSTDEF lst_result lst_read_tetgen(const void *node, size_t node_size, const void *ele, size_t ele_size,
+                                  const char *name, const lst_options *opt, lst_tetmesh *out, lst_error *err)
 {
     lst_options o = lst__options(opt);
     pw_alloc a = lst__alloc(&o.allocator);
@@ -18986,14 +19157,14 @@ LSTDEF lst_result lst_read_tetgen_from_memory(const void *node, size_t node_size
     if (out) memset(out, 0, sizeof *out);
     snprintf(nn, sizeof nn, "%s.node", name ? name : "tetgen");
     snprintf(en, sizeof en, "%s.ele", name ? name : "tetgen");
-    if (!out || (!node && node_size) || (!ele && ele_size)) pw_fail(&e, PW_ERR_INVALID, "lst_read_tetgen_from_memory: NULL argument");
+    if (!out || (!node && node_size) || (!ele && ele_size)) pw_fail(&e, PW_ERR_INVALID, "lst_read_tetgen: NULL argument");
     else if (pw_tetgen_read_memory(&a, node, node_size, nn, ele, ele_size, en, &m, &e) == PW_OK)
         lst__take_tets(&m, &a, out);
     return lst__done(&e, err);
 }
 
-LSTDEF lst_result lst_read_medit_from_memory(const void *data, size_t size, const char *name, const lst_options *opt,
-                                             lst_tetmesh *out, lst_error *err)
+LSTDEF lst_result lst_read_medit(const void *data, size_t size, const char *name, const lst_options *opt,
+                                 lst_tetmesh *out, lst_error *err)
 {
     lst_options o = lst__options(opt);
     pw_alloc a = lst__alloc(&o.allocator);
@@ -19001,19 +19172,19 @@ LSTDEF lst_result lst_read_medit_from_memory(const void *data, size_t size, cons
     pw_err e;
     pw_err_clear(&e);
     if (out) memset(out, 0, sizeof *out);
-    if (!out || (!data && size)) pw_fail(&e, PW_ERR_INVALID, "lst_read_medit_from_memory: NULL argument");
+    if (!out || (!data && size)) pw_fail(&e, PW_ERR_INVALID, "lst_read_medit: NULL argument");
     else if (pw_medit_read_memory(&a, data, size, name ? name : "mesh", &m, &e) == PW_OK)
         lst__take_tets(&m, &a, out);
     return lst__done(&e, err);
 }
 
-LSTDEF lst_result lst_write_tetgen_to_func(const lst_tetmesh *mesh, lst_write_fn node_fn, void *node_ctx,
-                                           lst_write_fn ele_fn, void *ele_ctx, lst_error *err)
+LSTDEF lst_result lst_write_tetgen(const lst_tetmesh *mesh, lst_write_fn node_fn, void *node_ctx,
+                                   lst_write_fn ele_fn, void *ele_ctx, lst_error *err)
 {
     pw_tetmesh m;
     pw_err e;
     pw_err_clear(&e);
-    if (!mesh || !node_fn || !ele_fn) pw_fail(&e, PW_ERR_INVALID, "lst_write_tetgen_to_func: NULL argument");
+    if (!mesh || !node_fn || !ele_fn) pw_fail(&e, PW_ERR_INVALID, "lst_write_tetgen: NULL argument");
     else if (lst__check_tets(mesh, &e) == PW_OK) {
         m = lst__pw_tets(mesh);
         if (pw_tetgen_write_node(&m, node_fn, node_ctx, &e) == PW_OK) pw_tetgen_write_ele(&m, ele_fn, ele_ctx, &e);
@@ -19021,12 +19192,12 @@ LSTDEF lst_result lst_write_tetgen_to_func(const lst_tetmesh *mesh, lst_write_fn
     return lst__done(&e, err);
 }
 
-LSTDEF lst_result lst_write_medit_to_func(const lst_tetmesh *mesh, lst_write_fn fn, void *ctx, lst_error *err)
+LSTDEF lst_result lst_write_medit(const lst_tetmesh *mesh, lst_write_fn fn, void *ctx, lst_error *err)
 {
     pw_tetmesh m;
     pw_err e;
     pw_err_clear(&e);
-    if (!mesh || !fn) pw_fail(&e, PW_ERR_INVALID, "lst_write_medit_to_func: NULL argument");
+    if (!mesh || !fn) pw_fail(&e, PW_ERR_INVALID, "lst_write_medit: NULL argument");
     else if (lst__check_tets(mesh, &e) == PW_OK) {
         m = lst__pw_tets(mesh);
         pw_medit_write(&m, fn, ctx, &e);
@@ -19034,8 +19205,8 @@ LSTDEF lst_result lst_write_medit_to_func(const lst_tetmesh *mesh, lst_write_fn 
     return lst__done(&e, err);
 }
 
-LSTDEF lst_result lst_read_volume_from_memory(const void *data, size_t size, const char *name, const lst_options *opt,
-                                              lst_volume *out, lst_error *err)
+LSTDEF lst_result lst_read_volume(const void *data, size_t size, const char *name, const lst_options *opt,
+                                  lst_volume *out, lst_error *err)
 {
     lst_options o = lst__options(opt);
     pw_alloc a = lst__alloc(&o.allocator);
@@ -19043,19 +19214,19 @@ LSTDEF lst_result lst_read_volume_from_memory(const void *data, size_t size, con
     pw_err e;
     pw_err_clear(&e);
     if (out) memset(out, 0, sizeof *out);
-    if (!out || (!data && size)) pw_fail(&e, PW_ERR_INVALID, "lst_read_volume_from_memory: NULL argument");
+    if (!out || (!data && size)) pw_fail(&e, PW_ERR_INVALID, "lst_read_volume: NULL argument");
     else if (pw_nrrd_read_memory(&a, (const unsigned char *)data, size, name ? name : "volume", &v, &e) == PW_OK)
         lst__take_volume(&v, &a, out);
     return lst__done(&e, err);
 }
 
-LSTDEF lst_result lst_write_volume_to_func(const lst_volume *vol, lst_write_fn fn, void *ctx, lst_error *err)
+LSTDEF lst_result lst_write_volume(const lst_volume *vol, lst_write_fn fn, void *ctx, lst_error *err)
 {
     pw_alloc a;
     pw_volume v;
     pw_err e;
     pw_err_clear(&e);
-    if (!vol || !fn) pw_fail(&e, PW_ERR_INVALID, "lst_write_volume_to_func: NULL argument");
+    if (!vol || !fn) pw_fail(&e, PW_ERR_INVALID, "lst_write_volume: NULL argument");
     else if (lst__check_volume(vol, "volume", &e) == PW_OK) {
         a = lst__alloc(&vol->allocator);
         v = lst__pw_volume(vol);
@@ -19064,8 +19235,8 @@ LSTDEF lst_result lst_write_volume_to_func(const lst_volume *vol, lst_write_fn f
     return lst__done(&e, err);
 }
 
-LSTDEF lst_result lst_load_mesh_from_memory(const void *data, size_t size, const char *name, const lst_options *opt,
-                                            lst_mesh *out, lst_error *err)
+LSTDEF lst_result lst_read_mesh(const void *data, size_t size, const char *name, const lst_options *opt,
+                                lst_mesh *out, lst_error *err)
 {
     lst_options o = lst__options(opt);
     pw_alloc a = lst__alloc(&o.allocator);
@@ -19073,18 +19244,46 @@ LSTDEF lst_result lst_load_mesh_from_memory(const void *data, size_t size, const
     pw_err e;
     pw_err_clear(&e);
     if (out) memset(out, 0, sizeof *out);
-    if (!out || (!data && size)) pw_fail(&e, PW_ERR_INVALID, "lst_load_mesh_from_memory: NULL argument");
+    if (!out || (!data && size)) pw_fail(&e, PW_ERR_INVALID, "lst_read_mesh: NULL argument");
     else if (pw_mesh_read_memory(&a, data, size, name ? name : "mesh", &m, &e) == PW_OK)
         lst__take_mesh(&m, &a, out);
     return lst__done(&e, err);
 }
 
-LSTDEF lst_result lst_write_image_to_func(const lst_image *img, const char *format, lst_write_fn fn, void *ctx,
-                                          lst_error *err)
+LSTDEF lst_result lst_read_image(const void *data, size_t size, const char *name, const lst_options *opt,
+                                 lst_image *out, lst_error *err)
+{
+    lst_options o = lst__options(opt);
+    pw_alloc a = lst__alloc(&o.allocator);
+    pw_image img;
+    pw_err e;
+    pw_err_clear(&e);
+    if (out) memset(out, 0, sizeof *out);
+    if (!out || (!data && size)) pw_fail(&e, PW_ERR_INVALID, "lst_read_image: NULL argument");
+    else if (pw_image_read_memory(&a, (const unsigned char *)data, size, name ? name : "image", &img, &e) == PW_OK)
+        lst__take_image(&img, &a, out);
+    return lst__done(&e, err);
+}
+
+LSTDEF lst_result lst_write_obj(const lst_mesh *mesh, lst_write_fn fn, void *ctx, lst_error *err)
+{
+    pw_mesh m;
+    pw_err e;
+    pw_err_clear(&e);
+    if (!mesh || !fn) pw_fail(&e, PW_ERR_INVALID, "lst_write_obj: NULL argument");
+    else {
+        m = lst__pw_mesh(mesh);
+        pw_mesh_write_obj(&m, NULL, NULL, fn, ctx, &e);
+    }
+    return lst__done(&e, err);
+}
+
+LSTDEF lst_result lst_write_image(const lst_image *img, const char *format, lst_write_fn fn, void *ctx,
+                                  lst_error *err)
 {
     pw_err e;
     pw_err_clear(&e);
-    if (!fn) pw_fail(&e, PW_ERR_INVALID, "lst_write_image_to_func: NULL writer");
+    if (!fn) pw_fail(&e, PW_ERR_INVALID, "lst_write_image: NULL writer");
     else if (lst__check_image(img, "image", &e) == PW_OK) lst__encode(img, format, fn, ctx, &e);
     return lst__done(&e, err);
 }
@@ -19114,35 +19313,28 @@ static lst_result lst__load(const char *path, const lst_options *opt, void *out,
 static int lst__rd_mesh(const pw_alloc *a, const unsigned char *d, size_t n, const char *p, void *out, const lst_options *o, lst_error *le)
 {
     (void)a;
-    return (int)lst_load_mesh_from_memory(d, n, p, o, (lst_mesh *)out, le);
+    return (int)lst_read_mesh(d, n, p, o, (lst_mesh *)out, le);
 }
 static int lst__rd_volume(const pw_alloc *a, const unsigned char *d, size_t n, const char *p, void *out, const lst_options *o, lst_error *le)
 {
     (void)a;
-    return (int)lst_read_volume_from_memory(d, n, p, o, (lst_volume *)out, le);
+    return (int)lst_read_volume(d, n, p, o, (lst_volume *)out, le);
 }
 static int lst__rd_model(const pw_alloc *a, const unsigned char *d, size_t n, const char *p, void *out, const lst_options *o, lst_error *le)
 {
     (void)a;
-    return (int)lst_read_model_from_memory(d, n, p, o, (lst_model *)out, le);
+    return (int)lst_read_model(d, n, p, o, (lst_model *)out, le);
 }
 
-typedef struct lst__cons_out {
-    void **c;
-    int *n;
-} lst__cons_out;
-
-static int lst__rd_depth(const pw_alloc *a, const unsigned char *d, size_t n, const char *p, void *out, const lst_options *o, lst_error *le)
+static int lst__rd_constraints(const pw_alloc *a, const unsigned char *d, size_t n, const char *p, void *out, const lst_options *o, lst_error *le)
 {
-    lst__cons_out *c = (lst__cons_out *)out;
     (void)a;
-    return (int)lst_read_depth_from_memory(d, n, p, o, (lst_depth_constraint **)c->c, c->n, le);
+    return (int)lst_read_constraints(d, n, p, o, (lst_constraints *)out, le);
 }
-static int lst__rd_dirs(const pw_alloc *a, const unsigned char *d, size_t n, const char *p, void *out, const lst_options *o, lst_error *le)
+static int lst__rd_image(const pw_alloc *a, const unsigned char *d, size_t n, const char *p, void *out, const lst_options *o, lst_error *le)
 {
-    lst__cons_out *c = (lst__cons_out *)out;
     (void)a;
-    return (int)lst_read_directions_from_memory(d, n, p, o, (lst_field_constraint **)c->c, c->n, le);
+    return (int)lst_read_image(d, n, p, o, (lst_image *)out, le);
 }
 
 LSTDEF lst_result lst_load_mesh(const char *path, const lst_options *opt, lst_mesh *out, lst_error *err)
@@ -19163,24 +19355,16 @@ LSTDEF lst_result lst_load_model(const char *path, const lst_options *opt, lst_m
     return lst__load(path, opt, out, lst__rd_model, "lst_load_model", err);
 }
 
-LSTDEF lst_result lst_load_depth(const char *path, const lst_options *opt, lst_depth_constraint **out, int *count,
-                                 lst_error *err)
+LSTDEF lst_result lst_load_constraints(const char *path, const lst_options *opt, lst_constraints *out, lst_error *err)
 {
-    lst__cons_out c;
-    c.c = (void **)out, c.n = count;
-    if (out) *out = NULL;
-    if (count) *count = 0;
-    return lst__load(path, opt, out && count ? &c : NULL, lst__rd_depth, "lst_load_depth", err);
+    if (out) memset(out, 0, sizeof *out);
+    return lst__load(path, opt, out, lst__rd_constraints, "lst_load_constraints", err);
 }
 
-LSTDEF lst_result lst_load_directions(const char *path, const lst_options *opt, lst_field_constraint **out, int *count,
-                                      lst_error *err)
+LSTDEF lst_result lst_load_image(const char *path, const lst_options *opt, lst_image *out, lst_error *err)
 {
-    lst__cons_out c;
-    c.c = (void **)out, c.n = count;
-    if (out) *out = NULL;
-    if (count) *count = 0;
-    return lst__load(path, opt, out && count ? &c : NULL, lst__rd_dirs, "lst_load_directions", err);
+    if (out) memset(out, 0, sizeof *out);
+    return lst__load(path, opt, out, lst__rd_image, "lst_load_image", err);
 }
 
 LSTDEF lst_result lst_load_tetmesh(const char *path, const lst_options *opt, lst_tetmesh *out, lst_error *err)
@@ -19214,6 +19398,7 @@ typedef struct lst__job {
     const char *format;
     const lst_volume *vol;
     const lst_model *model;
+    const lst_mesh *mesh;
 } lst__job;
 
 static int lst__job_body(void *arg, pw_write_fn w, void *ctx, pw_err *e)
@@ -19222,7 +19407,8 @@ static int lst__job_body(void *arg, pw_write_fn w, void *ctx, pw_err *e)
     lst_error le;
     int r;
     if (j->img) return lst__encode(j->img, j->format, w, ctx, e);
-    r = j->vol ? (int)lst_write_volume_to_func(j->vol, w, ctx, &le) : (int)lst_write_model_to_func(j->model, w, ctx, &le);
+    r = j->vol ? (int)lst_write_volume(j->vol, w, ctx, &le)
+               : j->mesh ? (int)lst_write_obj(j->mesh, w, ctx, &le) : (int)lst_write_model(j->model, w, ctx, &le);
     return r ? pw_fail(e, r, "%s", le.message) : PW_OK;
 }
 
@@ -19230,7 +19416,7 @@ static lst_result lst__save(const char *path, lst__job *j, lst_error *err)
 {
     pw_err e;
     pw_err_clear(&e);
-    if (!path || (!j->img && !j->vol && !j->model)) pw_fail(&e, PW_ERR_INVALID, "save: NULL argument");
+    if (!path || (!j->img && !j->vol && !j->model && !j->mesh)) pw_fail(&e, PW_ERR_INVALID, "save: NULL argument");
     else if (j->img && !(j->format = pw_has_ext(path, ".png") ? "png" : pw_has_ext(path, ".ppm") || pw_has_ext(path, ".pnm")
                                      ? "ppm" : pw_has_ext(path, ".pgm") ? "pgm" : pw_has_ext(path, ".pam") ? "pam" : NULL))
         pw_fail(&e, PW_ERR_UNSUPPORTED, "%s: unknown image extension (use .png, .ppm, .pgm, .pam)", path);
@@ -19260,6 +19446,13 @@ LSTDEF lst_result lst_save_model(const char *path, const lst_model *model, lst_e
     lst__job j;
     memset(&j, 0, sizeof j);
     j.model = model;
+    return lst__save(path, &j, err);
+}
+LSTDEF lst_result lst_save_obj(const char *path, const lst_mesh *mesh, lst_error *err)
+{
+    lst__job j;
+    memset(&j, 0, sizeof j);
+    j.mesh = mesh;
     return lst__save(path, &j, err);
 }
 #endif

@@ -57,10 +57,10 @@
  *   It is the long computation of the family: a progress callback reports
  *   and can cancel (8 layers of 256 x 256: about 12 s on one core).
  *       pgp_key keys[2] = {{&spots, NULL}, {&stripes, NULL}};
- *       pgp_synth_options so = pgp_synth_default_options();
- *       so.size = 256;
- *       so.layers = 8;
- *       if (pgp_synthesize_tile(keys, 2, &so, &tile, NULL, &err) ||
+ *       pgp_options opt = pgp_default_options();
+ *       opt.synth.size = 256;
+ *       opt.synth.layers = 8;
+ *       if (pgp_synthesize_tile(keys, 2, &opt.synth, &tile, NULL, &err) ||
  *           pgp_save_tile("spots_to_stripes.nrrd", &tile, &err))
  *           fprintf(stderr, "%s\n", err.message);
  *
@@ -70,24 +70,33 @@
  *       #include "pgp.h"
  *   PATCHWORK_IMPLEMENTATION turns on every patchwork header included after
  *   it. Build macros: PGP_STATIC (all functions static), PW_MALLOC /
- *   PW_REALLOC / PW_FREE (all or none), PW_ASSERT, PW_NO_STDIO, and the
- *   PW_MAX_* size limits, as in every patchwork header.
+ *   PW_REALLOC / PW_FREE (all or none), PW_ASSERT, PW_NO_STDIO, the PW_MAX_*
+ *   size limits, as in every patchwork header, and PW_THREADS: rendering on
+ *   several threads (POSIX threads; link with -pthread; pgp_render_options.
+ *   threads, 0 = one per processor), the same picture for any count.
  *
  * MINIMAL EXAMPLE
  *       pgp_options opt = pgp_default_options();
+ *       pgp_constraint fur = {PGP_CONSTRAINT_MATERIAL, 120, {1.0f, 0.0f, 0.0f}, 0.0f};
  *       pgp_mesh mesh;
  *       pgp_tile tile;
- *       pgp_map *map;
+ *       pgp_map map = {0};                     (zeroed: pgp_map_free is safe)
  *       pgp_image picture;
  *       pgp_error err;
  *       opt.scale = 0.2f;                      (tile side, mesh units)
+ *       opt.constraints = &fur;                (m = 1 at vertex 120)
+ *       opt.nconstraints = 1;
  *       if (pgp_load_mesh("bunny.obj", &opt, &mesh, &err) ||
  *           pgp_load_tile("fur.nrrd", &opt, &tile, &err) ||
  *           pgp_create(&mesh, &opt, &map, &err) ||
- *           pgp_add_material(map, 120, 1.0f, 0.0f, NULL, &err) ||
- *           pgp_render(map, &tile, NULL, &picture, &err) ||
+ *           pgp_render(&map, &tile, &opt.render, &picture, &err) ||
  *           pgp_save_image("bunny.png", &picture, &err))
  *           fprintf(stderr, "%s\n", err.message);
+ *       pgp_map_free(&map);                    (each object made has its _free)
+ *   Constraints can also be added, edited and removed after pgp_create
+ *   (pgp_add_constraint, pgp_edit_constraint, pgp_remove_constraint), or
+ *   read from a file (pgp_load_constraints, then opt.constraints =
+ *   cons.items, opt.nconstraints = cons.count).
  *
  * CONVENTIONS
  *   Fallible calls return pgp_result (PGP_OK == 0) and fill err->message.
@@ -102,10 +111,10 @@
 #ifndef PGP_H
 #define PGP_H
 
-#define PGP_VERSION_MAJOR 1
-#define PGP_VERSION_MINOR 0
+#define PGP_VERSION_MAJOR 0
+#define PGP_VERSION_MINOR 9
 #define PGP_VERSION_PATCH 0
-#define PGP_VERSION_STRING "1.0.0"
+#define PGP_VERSION_STRING "0.9.0"
 
 #include <stddef.h>
 
@@ -157,6 +166,13 @@ typedef struct pgp_allocator {
 typedef int (*pgp_progress_fn)(void *user, float done, const char *stage);
 typedef int (*pgp_write_fn)(void *ctx, const void *data, size_t size);
 
+/* Work split across threads (rendering: bands of the frame). A parallel
+ * for, for embedders with their own job system: run task(ctx, i) once for
+ * every i in [0, n), on any threads, in any order, and return when all
+ * have run. Results never depend on the order or the thread count. */
+typedef void (*pgp_task_fn)(void *ctx, int index);
+typedef void (*pgp_parallel_fn)(void *pool, int n, pgp_task_fn task, void *ctx);
+
 /* width*height pixels of `channels` floats in [0,1], row 0 at the top. */
 typedef struct pgp_image {
     int width, height, channels;
@@ -185,62 +201,23 @@ typedef struct pgp_tile {
 } pgp_tile;
 
 /* Orientation field where no orientation constraint reaches (§2.2). */
-enum {
+typedef enum pgp_field_mode {
     PGP_FIELD_UP = 0,       /* `up` projected onto every triangle */
     PGP_FIELD_CURVATURE = 1 /* direction of least curvature, smoothed */
-};
+} pgp_field_mode;
 
 /* Edge weights of the §2.3 energy. */
-enum {
+typedef enum pgp_weights {
     PGP_WEIGHTS_COTAN = 0, /* cotangent weights (cot a + cot b) / 2, floored at 0.05: the energy is
                               the integral of |grad s - g|^2 over the surface, so distortion costs
                               the same per unit area in small and large triangles */
     PGP_WEIGHTS_AREA = 1   /* the paper's A_T + A_T': the energy per unit area grows with the
                               triangles' area, and the solve pushes distortion into the small
                               ones (kept for comparison) */
-};
-
-typedef struct pgp_options {
-    int field;               /* PGP_FIELD_*; default UP */
-    float up[3];             /* default (0,1,0): the tile's t axis follows it */
-    float scale;             /* tile side in mesh units where no scale constraint
-                                reaches; 0: a tenth of the bounding-box diagonal.
-                                pgp_create refuses a side given here over 10 diagonals
-                                (one flat colour) or under 2 mean edge lengths
-                                (periods the triangles cannot carry) */
-    float material;          /* m where no material constraint reaches; default 0 */
-    float min_scale;         /* floor of the interpolated scale (§2.2 epsilon), as a
-                                fraction of `scale`; default 0.05 */
-    int smoothing;           /* CURVATURE: smoothing sweeps; default 20 */
-    float singular_distortion; /* §3: a triangle is distorted when
-                                |grad s - g_s|^2 / |g_s|^2 (or for t) exceeds this;
-                                default 0.5 */
-    int weights;             /* PGP_WEIGHTS_*; default COTAN */
-    float integrable;        /* beyond the paper: 0 (default) follows the field; > 0
-                                rotates the field and varies the tile side smoothly
-                                (within [1/2, 2] of `scale`, its mean kept) to cancel
-                                the curl of the gradients the PGP must follow (each
-                                uncancelled turn is a vortex): fewer vortices for less
-                                alignment. Larger values let the field stray further
-                                (1: the CLI's --field smooth) */
-    unsigned long long seed; /* default 0 (nothing is random yet; kept for the CLI) */
-    pgp_allocator allocator;
-    pgp_progress_fn progress;
-    void *progress_user;
-} pgp_options;
-
-/* The mapping: opaque; made by pgp_create, edited by the constraint calls. */
-typedef struct pgp_map pgp_map;
-
-/* Triangles an edit recomputed (§2.1), caller frees with pgp_area_free. */
-typedef struct pgp_area {
-    int nfaces;
-    int *faces;
-    pgp_allocator allocator;
-} pgp_area;
+} pgp_weights;
 
 /* Rendering of the vortices (pgp_render_options.fix). */
-enum {
+typedef enum pgp_fix {
     PGP_FIX_CLEAN = 0, /* beyond the paper: one lookup everywhere; in each vortex triangle the
                           coordinates of Knöppel et al. 2015's stripe patterns, generalised to
                           s and t, so the pattern ends or forks at a point, with no ghost and
@@ -250,173 +227,62 @@ enum {
     PGP_FIX_ALL = 2,   /* §3's three blended lookups on every triangle (a reference) */
     PGP_FIX_PAPER = 3  /* §3: three lookups, one per corner's point of view, blended, on the
                           triangles with a singular corner (ghosts where they disagree) */
-};
+} pgp_fix;
 
 /* What pgp_render draws (pgp_render_options.show). */
-enum {
+typedef enum pgp_show {
     PGP_SHOW_TILE = 0,     /* the tile */
     PGP_SHOW_MATERIAL = 1, /* the material m in gray */
     PGP_SHOW_SPECIAL = 2,  /* the tile, the triangles drawn specially (see fix) in red */
     PGP_SHOW_GHOSTS = 3    /* white, red where a final colour mixes lookups whose (s, t)
                               differ by more than a tenth of a period */
-};
+} pgp_show;
 
+/* Rendering settings (pgp_options.render; pgp_render takes a pointer to
+ * them, NULL for the defaults). The tile is always sampled one way:
+ * trilinear mipmaps in s and t, linear in m. */
 typedef struct pgp_render_options {
     int width, height;       /* default 800 x 600 */
     int supersample;         /* default 2 */
     float view_dir[3];       /* default (-0.55,-0.45,-0.7) */
     float up[3];             /* default (0,1,0) */
     float background[3];     /* default white */
-    int fix;                 /* PGP_FIX_*: how vortices and singular triangles are
-                                drawn; default CLEAN */
-    int show;                /* PGP_SHOW_*; default TILE */
+    pgp_fix fix;             /* how vortices and singular triangles are drawn; default
+                                CLEAN */
+    pgp_show show;           /* default TILE */
     float zoom;              /* > 1: a close-up, the field of view divided by zoom,
                                 looking at `center` from the same direction; default 1
-                                (the whole mesh) */
+                                (the whole mesh; 0 or less is the same) */
     float center[3];         /* the point a close-up looks at (used when zoom > 1) */
+    int threads;             /* rendering threads: 0 (default) one per processor when the
+                                implementation is built with PW_THREADS (POSIX threads;
+                                link with -pthread), else 1; n: at most n. With more
+                                than one, the allocator is called from several threads */
+    pgp_parallel_fn parallel; /* optional: the caller's parallel for, used instead of threads */
+    void *parallel_pool;     /* its first argument */
 } pgp_render_options;
 
-PGPDEF pgp_options pgp_default_options(void);
-PGPDEF const char *pgp_result_string(pgp_result r);
-
-/* Builds the mapping of a mesh: the default field, scale and material, and
- * the initial parameterization (one vertex locked, §2.3). */
-PGPDEF pgp_result pgp_create(const pgp_mesh *mesh, const pgp_options *opt, pgp_map **out,
-                             pgp_error *err);
-PGPDEF void pgp_destroy(pgp_map *map);
-
-/* Constraints (§2). Each call recomputes the effect area: the triangles
- * within `radius` (mesh units, geodesic; 0 or less: the whole mesh) of the
- * constraint, in order of distance; the rest is locked. On success *id (if
- * not NULL) names the constraint and *area (if not NULL) lists the
- * triangles recomputed. */
-PGPDEF pgp_result pgp_add_orientation(pgp_map *map, int face, const float dir[3], float radius,
-                                      int *id, pgp_area *area, pgp_error *err);
-PGPDEF pgp_result pgp_add_scale(pgp_map *map, int vertex, float scale, float radius, int *id,
-                                pgp_area *area, pgp_error *err);
-PGPDEF pgp_result pgp_add_material(pgp_map *map, int vertex, float m, float radius, int *id,
-                                   pgp_area *area, pgp_error *err);
-/* A new value for constraint `id` (dir for orientation, value[0] for scale
- * and material), recomputed over the same radius. */
-PGPDEF pgp_result pgp_edit_constraint(pgp_map *map, int id, const float value[3], pgp_area *area,
-                                      pgp_error *err);
-PGPDEF pgp_result pgp_remove_constraint(pgp_map *map, int id, pgp_area *area, pgp_error *err);
-PGPDEF void pgp_area_free(pgp_area *area);
-
-/* Queries. Per triangle corner (ntris*9): s, t, m of corners 0, 1, 2, the
- * PGP coordinates of Eq. (4) before the rendering fix. */
-PGPDEF int pgp_triangle_count(const pgp_map *map);
-PGPDEF int pgp_vertex_count(const pgp_map *map);
-PGPDEF void pgp_get_coords(const pgp_map *map, float *stm);
-/* Singular triangles (§3, those with a corner whose 1-ring is singular):
- * flags[ntris] set to 0/1 when flags is not NULL; returns their number. */
-PGPDEF int pgp_get_singular(const pgp_map *map, unsigned char *flags);
-/* Vortices: triangles around which s or t winds by a whole period (the
- * T-junctions and poles of the parameterization, the seeds of the singular
- * 1-rings). flags[ntris] set to 0 or 1 (s winds) + 2 (t winds) when flags
- * is not NULL; returns the number of triangles with a vortex. */
-PGPDEF int pgp_get_vortices(const pgp_map *map, unsigned char *flags);
-/* What a mapping came to (issue 17: say what happened). Shares of the
- * surface are area-weighted, over the Eq. (4) coordinates: stretched when
- * the singular values of S (grad s, grad t) leave [1/1.3, 1.3] (more than
- * 30% of stretch or compression), sheared when grad s and grad t are more
- * than 20 degrees away from perpendicular. */
-typedef struct pgp_stats {
-    int triangles, vortices; /* pgp_get_vortices */
-    int singular;            /* §3's singular triangles (pgp_get_singular) */
-    float stretched, sheared; /* shares of the surface, in [0, 1] */
-    float mean_edge;         /* mean edge length */
-    float diagonal;          /* bounding-box diagonal */
-    float scale;             /* the default tile side (options.scale or its default) */
-} pgp_stats;
-PGPDEF void pgp_get_stats(const pgp_map *map, pgp_stats *out);
-/* The triangles' corners (ntris*3 vertex indices, counter-clockwise). */
-PGPDEF void pgp_get_triangles(const pgp_map *map, int *tris);
-/* Triangles pgp_render draws specially with fix mode `fix` (PGP_FIX_*):
- * flags[ntris] set to 0/1 when flags is not NULL; returns their number. */
-PGPDEF int pgp_get_special(const pgp_map *map, int fix, unsigned char *flags);
-/* The interpolated fields: d_s per triangle (ntris*3, unit), scale and
- * material per vertex (nverts each); any pointer may be NULL. */
-PGPDEF void pgp_get_field(const pgp_map *map, float *ds, float *scale, float *material);
-
-/* §3: renders the mapped mesh textured with the tile. */
-PGPDEF pgp_result pgp_render(const pgp_map *map, const pgp_tile *tile, const pgp_render_options *ro,
-                             pgp_image *out, pgp_error *err);
-
-/* Built-in data for demos and tests. Meshes: "sphere", "torus", "bumpy",
- * "grid" (a flat square, with a boundary). Tiles: "bricks" (bricks that
- * weather into pebbles along m, 4 layers), "stripes" (1 layer). */
-PGPDEF pgp_result pgp_builtin_mesh(const char *name, const pgp_options *opt, pgp_mesh *out,
-                                   pgp_error *err);
-PGPDEF pgp_result pgp_builtin_tile(const char *name, int size, const pgp_options *opt, pgp_tile *out,
-                                   pgp_error *err);
-
-/* Files and memory. Tiles: NRRD (uint8/uint16/float, dimension 4 with
- * sizes C W H M, or 3 with W H M, raw or gzip) or any 2D image (one
- * layer). The constraints file of the CLI is documented in docs/pgp.md. */
-PGPDEF pgp_result pgp_tile_from_image(const pgp_image *img, const pgp_options *opt, pgp_tile *out,
-                                      pgp_error *err);
-PGPDEF pgp_result pgp_load_tile_from_memory(const void *data, size_t size, const char *name,
-                                            const pgp_options *opt, pgp_tile *out, pgp_error *err);
-PGPDEF pgp_result pgp_write_tile_to_func(const pgp_tile *tile, pgp_write_fn fn, void *ctx,
-                                         pgp_error *err);
-PGPDEF pgp_result pgp_load_mesh_from_memory(const void *data, size_t size, const char *name,
-                                            const pgp_options *opt, pgp_mesh *out, pgp_error *err);
-PGPDEF pgp_result pgp_write_image_to_func(const pgp_image *img, const char *format, pgp_write_fn fn,
-                                          void *ctx, pgp_error *err);
-/* OBJ: the triangulated mesh with `vt s t m` per corner, faces grouped as
- * `g regular` then `g singular`. */
-PGPDEF pgp_result pgp_write_obj_to_func(const pgp_mesh *mesh, const pgp_map *map, pgp_write_fn fn,
-                                        void *ctx, pgp_error *err);
-/* Applies a constraints file's text ("orient F dx dy dz", "scale V S",
- * "material V m", "radius R" for the following lines, '#' comments) to the
- * map, line by line. */
-PGPDEF pgp_result pgp_apply_constraints_from_memory(pgp_map *map, const void *data, size_t size,
-                                                    const char *name, pgp_error *err);
-#ifndef PW_NO_STDIO
-PGPDEF pgp_result pgp_load_mesh(const char *path, const pgp_options *opt, pgp_mesh *out, pgp_error *err);
-PGPDEF pgp_result pgp_load_image(const char *path, const pgp_options *opt, pgp_image *out, pgp_error *err);
-PGPDEF pgp_result pgp_load_tile(const char *path, const pgp_options *opt, pgp_tile *out, pgp_error *err);
-PGPDEF pgp_result pgp_save_tile(const char *path, const pgp_tile *tile, pgp_error *err);
-PGPDEF pgp_result pgp_save_image(const char *path, const pgp_image *img, pgp_error *err);
-PGPDEF pgp_result pgp_save_obj(const char *path, const pgp_mesh *mesh, const pgp_map *map, pgp_error *err);
-PGPDEF pgp_result pgp_apply_constraints(pgp_map *map, const char *path, pgp_error *err);
-#endif
-PGPDEF void pgp_mesh_free(pgp_mesh *m);
-PGPDEF void pgp_image_free(pgp_image *img);
-PGPDEF void pgp_tile_free(pgp_tile *t);
-
-/* ======================================================================
- * §1 Material-space tile synthesis (morph.c, synth.c)
- * ====================================================================== */
-
-/* A key texture and its feature mask (§1). */
-typedef struct pgp_key {
-    const pgp_image *image; /* the key texture, 1-4 channels, any size */
-    const pgp_image *mask;  /* its feature mask, the image's size: texels whose
-                               luminance is above 1/2 are features (a PGM painted by
-                               the user); NULL: computed, see auto_mask */
-} pgp_key;
-
-/* Masks computed from the key when none is given (§1: "constructed
+/* Masks computed from a key when none is given (§1: "constructed
  * automatically"), on the luminance (colour over white where there is
  * alpha) smoothed by a 3x3 binomial filter, thresholded by Otsu's method. */
-enum {
+typedef enum pgp_mask {
     PGP_MASK_DARK = 0,    /* features are darker than the threshold (spots, grain, mortar) */
     PGP_MASK_BRIGHT = 1,  /* features are brighter */
     PGP_MASK_GRADIENT = 2 /* features are where the gradient magnitude is above its threshold */
-};
+} pgp_mask;
 
 /* Keys that do not tile are made tileable by graph-cut quilting onto a
  * torus (§1, [KdE*03]; the mask is cut with the colours). */
-enum {
+typedef enum pgp_tileable {
     PGP_TILEABLE_AUTO = 0, /* quilt a key when its wrap-around seam (mean difference between
                               the last and first column, or row) exceeds twice the mean
                               difference between neighbouring columns (rows) inside it */
     PGP_TILEABLE_KEEP = 1, /* take every key as it is */
     PGP_TILEABLE_MAKE = 2  /* quilt every key */
-};
+} pgp_tileable;
 
+/* Tile synthesis settings (§1; pgp_options.synth; the synthesis calls take
+ * a pointer to them, NULL for the defaults). */
 typedef struct pgp_synth_options {
     int size;            /* tile side in texels; every key (and mask) is resampled
                             periodically to size x size (bilinear up, box filter down;
@@ -426,8 +292,8 @@ typedef struct pgp_synth_options {
                             default 8 */
     int single;          /* 1: single-tile mode (Fig. 14): one key, every layer
                             synthesised with the key's own mask, to hide periodicity */
-    int tileable;        /* PGP_TILEABLE_*; default AUTO */
-    int auto_mask;       /* PGP_MASK_*; default DARK */
+    pgp_tileable tileable; /* default AUTO */
+    pgp_mask auto_mask;  /* default DARK */
     int steps;           /* §1.1 advection steps N per morph; 0: at least 16 per layer and
                             enough that dt <= 1/2 texel */
     int uniform;         /* 1: layers at n = m N / M instead of the speed-adaptive H(m) */
@@ -450,17 +316,225 @@ typedef struct pgp_synth_options {
                             texels) per search, ANN's bound on the points visited;
                             default 64; negative: no bound. With search_eps < 0 and
                             search_buckets < 0 every match is the exact nearest one */
-    unsigned long long seed; /* random pixel order and single-tile initialisation; default 0 */
+    unsigned long long seed; /* random pixel order and single-tile initialisation, and the
+                            noise of the built-in tiles (pgp_builtin_tile); default 0 */
     pgp_allocator allocator;
     pgp_progress_fn progress; /* may cancel: non-zero return stops with PGP_ERR_CANCELLED */
     void *progress_user;
 } pgp_synth_options;
 
-PGPDEF pgp_synth_options pgp_synth_default_options(void);
+/* What a constraint sets (§2). */
+typedef enum pgp_constraint_kind {
+    PGP_CONSTRAINT_ORIENT = 0, /* the tile's s axis along value[0..2] at a triangle */
+    PGP_CONSTRAINT_SCALE,      /* the tile side value[0] (mesh units, > 0) at a vertex */
+    PGP_CONSTRAINT_MATERIAL    /* the material value[0] in [0, 1] at a vertex */
+} pgp_constraint_kind;
+
+/* A user constraint (§2). */
+typedef struct pgp_constraint {
+    pgp_constraint_kind kind;
+    int element;    /* ORIENT: a triangle; SCALE, MATERIAL: a vertex (0-based) */
+    float value[3]; /* ORIENT: the direction; SCALE, MATERIAL: value[0] */
+    float radius;   /* effect radius, mesh units, geodesic; 0 or less: the whole mesh */
+} pgp_constraint;
+
+/* Constraints read from a file (pgp_read_constraints), freed by
+ * pgp_constraints_free. */
+typedef struct pgp_constraints {
+    int count;
+    pgp_constraint *items; /* count */
+    pgp_allocator allocator;
+} pgp_constraints;
+
+typedef struct pgp_options {
+    pgp_field_mode field;    /* default UP */
+    float up[3];             /* default (0,1,0): the tile's t axis follows it */
+    float scale;             /* tile side in mesh units where no scale constraint
+                                reaches; 0: a tenth of the bounding-box diagonal.
+                                pgp_create refuses a side given here over 10 diagonals
+                                (one flat colour) or under 2 mean edge lengths
+                                (periods the triangles cannot carry) */
+    float material;          /* m where no material constraint reaches; default 0 */
+    float min_scale;         /* floor of the interpolated scale (§2.2 epsilon), as a
+                                fraction of `scale`; default 0.05 */
+    int smoothing;           /* CURVATURE: smoothing sweeps; default 20 */
+    float singular_distortion; /* §3: a triangle is distorted when
+                                |grad s - g_s|^2 / |g_s|^2 (or for t) exceeds this;
+                                default 0.5 */
+    pgp_weights weights;     /* default COTAN */
+    float integrable;        /* beyond the paper: 0 (default) follows the field; > 0
+                                rotates the field and varies the tile side smoothly
+                                (within [1/2, 2] of `scale`, its mean kept) to cancel
+                                the curl of the gradients the PGP must follow (each
+                                uncancelled turn is a vortex): fewer vortices for less
+                                alignment. Larger values let the field stray further
+                                (1: the CLI's --field smooth) */
+    const pgp_constraint *constraints; /* nconstraints constraints pgp_create applies
+                                after building the map, in order, each exactly as
+                                pgp_add_constraint would (its own effect area and
+                                solve); their ids are 0, 1, ...; default none */
+    int nconstraints;
+    pgp_render_options render; /* pgp_render's settings (pass &opt.render) */
+    pgp_synth_options synth; /* tile synthesis settings (pass &opt.synth) */
+    pgp_allocator allocator;
+    pgp_progress_fn progress;
+    void *progress_user;
+} pgp_options;
+
+/* The mapping of a mesh, made by pgp_create, edited by the constraint
+ * calls, freed by pgp_map_free. The fields are for reading. */
+typedef struct pgp_map {
+    int nverts, ntris;
+    int *tris;     /* ntris*3 vertex indices, counter-clockwise (the fan
+                      triangulation of the mesh's faces) */
+    float *coords; /* ntris*9: s, t, m of corners 0, 1, 2, the Eq. (4) coordinates
+                      (before the rendering fix), kept current by pgp_create and by
+                      every edit */
+    struct pgp_map_state *state; /* private: solver, fields, constraints */
+    pgp_allocator allocator;
+} pgp_map;
+
+/* Triangles an edit recomputed (§2.1), freed by pgp_area_free. */
+typedef struct pgp_area {
+    int nfaces;
+    int *faces;
+    pgp_allocator allocator;
+} pgp_area;
+
+/* The interpolated fields of a map after its edits (§2.2), freed by
+ * pgp_field_free. */
+typedef struct pgp_field {
+    int ntris, nverts;
+    float *dir;      /* ntris*3: d_s per triangle, unit */
+    float *scale;    /* nverts: the tile side S_i */
+    float *material; /* nverts: m_i */
+    pgp_allocator allocator;
+} pgp_field;
+
+/* What a mapping came to (issue 17: say what happened). Shares of the
+ * surface are area-weighted, over the Eq. (4) coordinates: stretched when
+ * the singular values of S (grad s, grad t) leave [1/1.3, 1.3] (more than
+ * 30% of stretch or compression), sheared when grad s and grad t are more
+ * than 20 degrees away from perpendicular. */
+typedef struct pgp_stats {
+    int triangles, vortices; /* pgp_map_vortices */
+    int singular;            /* §3's singular triangles (pgp_map_singular) */
+    float stretched, sheared; /* shares of the surface, in [0, 1] */
+    float mean_edge;         /* mean edge length */
+    float diagonal;          /* bounding-box diagonal */
+    float scale;             /* the default tile side (options.scale or its default) */
+} pgp_stats;
+
+/* Every field filled in, sub-options (render, synth) included. */
+PGPDEF pgp_options pgp_default_options(void);
+PGPDEF const char *pgp_result_string(pgp_result r);
+
+/* Builds the mapping of a mesh into *out: the default field, scale and
+ * material, the initial parameterization (one vertex locked, §2.3), then
+ * opt->constraints one by one. On failure *out is zeroed. */
+PGPDEF pgp_result pgp_create(const pgp_mesh *mesh, const pgp_options *opt, pgp_map *out, pgp_error *err);
+PGPDEF void pgp_map_free(pgp_map *map);
+
+/* Constraints (§2). Each call recomputes the effect area: the triangles
+ * within c->radius of the constraint, in order of distance; the rest is
+ * locked. On success *id (if not NULL) names the constraint and *area (if
+ * not NULL) lists the triangles recomputed. */
+PGPDEF pgp_result pgp_add_constraint(pgp_map *map, const pgp_constraint *c, int *id, pgp_area *area,
+                                     pgp_error *err);
+/* A new value for constraint `id` (the direction for ORIENT, value[0] for
+ * SCALE and MATERIAL), recomputed over the same radius. */
+PGPDEF pgp_result pgp_edit_constraint(pgp_map *map, int id, const float value[3], pgp_area *area,
+                                      pgp_error *err);
+PGPDEF pgp_result pgp_remove_constraint(pgp_map *map, int id, pgp_area *area, pgp_error *err);
+PGPDEF void pgp_area_free(pgp_area *area);
+
+/* Singular triangles (§3, those with a corner whose 1-ring is singular):
+ * flags[ntris] set to 0/1 when flags is not NULL; returns their number. */
+PGPDEF int pgp_map_singular(const pgp_map *map, unsigned char *flags);
+/* Vortices: triangles around which s or t winds by a whole period (the
+ * T-junctions and poles of the parameterization, the seeds of the singular
+ * 1-rings). flags[ntris] set to 0 or 1 (s winds) + 2 (t winds) when flags
+ * is not NULL; returns the number of triangles with a vortex. */
+PGPDEF int pgp_map_vortices(const pgp_map *map, unsigned char *flags);
+/* Triangles pgp_render draws specially with fix mode `fix`: flags[ntris]
+ * set to 0/1 when flags is not NULL; returns their number. */
+PGPDEF int pgp_map_special(const pgp_map *map, pgp_fix fix, unsigned char *flags);
+PGPDEF void pgp_map_stats(const pgp_map *map, pgp_stats *out);
+/* The interpolated fields, allocated with the map's allocator. */
+PGPDEF pgp_result pgp_map_field(const pgp_map *map, pgp_field *out, pgp_error *err);
+PGPDEF void pgp_field_free(pgp_field *field);
+
+/* §3: renders the mapped mesh textured with the tile (ro NULL: defaults). */
+PGPDEF pgp_result pgp_render(const pgp_map *map, const pgp_tile *tile, const pgp_render_options *ro,
+                             pgp_image *out, pgp_error *err);
+
+/* Built-in data for demos and tests. Meshes: "sphere", "torus", "bumpy",
+ * "grid" (a flat square, with a boundary). Tiles: "bricks" (bricks that
+ * weather into pebbles along m, 4 layers), "stripes" (1 layer); their
+ * noise follows opt->synth.seed. */
+PGPDEF pgp_result pgp_builtin_mesh(const char *name, const pgp_options *opt, pgp_mesh *out,
+                                   pgp_error *err);
+PGPDEF pgp_result pgp_builtin_tile(const char *name, int size, const pgp_options *opt, pgp_tile *out,
+                                   pgp_error *err);
+
+/* Files and memory. Tiles: NRRD (uint8/uint16/float, dimension 4 with
+ * sizes C W H M, or 3 with W H M, raw or gzip) or any 2D image (one
+ * layer). Meshes: OBJ, OFF, PLY, STL. Images: PNG, PPM/PGM/PAM, GIMP .pat;
+ * written as PNG, PPM, PGM or PAM (format "png", "ppm", "pgm", "pam"). */
+PGPDEF pgp_result pgp_tile_from_image(const pgp_image *img, const pgp_options *opt, pgp_tile *out,
+                                      pgp_error *err);
+PGPDEF pgp_result pgp_read_tile(const void *data, size_t size, const char *name, const pgp_options *opt,
+                                pgp_tile *out, pgp_error *err);
+PGPDEF pgp_result pgp_write_tile(const pgp_tile *tile, pgp_write_fn fn, void *ctx, pgp_error *err);
+PGPDEF pgp_result pgp_read_mesh(const void *data, size_t size, const char *name, const pgp_options *opt,
+                                pgp_mesh *out, pgp_error *err);
+PGPDEF pgp_result pgp_read_image(const void *data, size_t size, const char *name, const pgp_options *opt,
+                                 pgp_image *out, pgp_error *err);
+PGPDEF pgp_result pgp_write_image(const pgp_image *img, const char *format, pgp_write_fn fn, void *ctx,
+                                  pgp_error *err);
+/* OBJ: the triangulated mesh with `vt s t m` per corner, faces grouped as
+ * `g regular` then `g singular`. mesh may be NULL; if given it must be the
+ * map's. */
+PGPDEF pgp_result pgp_write_obj(const pgp_mesh *mesh, const pgp_map *map, pgp_write_fn fn, void *ctx,
+                                pgp_error *err);
+/* A constraints file (docs/pgp.md): UTF-8 text, one constraint per line,
+ * "orient F dx dy dz", "scale V S", "material V m", and "radius R" for the
+ * lines that follow (default 0: the whole mesh); '#' starts a comment. The
+ * values are checked (finite, S > 0, m in [0, 1], indices >= 0); whether
+ * the elements exist is checked when the constraints are applied. Errors
+ * name the file and line. */
+PGPDEF pgp_result pgp_read_constraints(const void *data, size_t size, const char *name, const pgp_options *opt,
+                                       pgp_constraints *out, pgp_error *err);
+#ifndef PW_NO_STDIO
+PGPDEF pgp_result pgp_load_mesh(const char *path, const pgp_options *opt, pgp_mesh *out, pgp_error *err);
+PGPDEF pgp_result pgp_load_image(const char *path, const pgp_options *opt, pgp_image *out, pgp_error *err);
+PGPDEF pgp_result pgp_load_tile(const char *path, const pgp_options *opt, pgp_tile *out, pgp_error *err);
+PGPDEF pgp_result pgp_load_constraints(const char *path, const pgp_options *opt, pgp_constraints *out,
+                                       pgp_error *err);
+PGPDEF pgp_result pgp_save_tile(const char *path, const pgp_tile *tile, pgp_error *err);
+PGPDEF pgp_result pgp_save_image(const char *path, const pgp_image *img, pgp_error *err);
+PGPDEF pgp_result pgp_save_obj(const char *path, const pgp_mesh *mesh, const pgp_map *map, pgp_error *err);
+#endif
+PGPDEF void pgp_mesh_free(pgp_mesh *m);
+PGPDEF void pgp_image_free(pgp_image *img);
+PGPDEF void pgp_tile_free(pgp_tile *t);
+PGPDEF void pgp_constraints_free(pgp_constraints *c);
+
+/* ======================================================================
+ * §1 Material-space tile synthesis (morph.c, synth.c)
+ * ====================================================================== */
+
+/* A key texture and its feature mask (§1). */
+typedef struct pgp_key {
+    const pgp_image *image; /* the key texture, 1-4 channels, any size */
+    const pgp_image *mask;  /* its feature mask, the image's size: texels whose
+                               luminance is above 1/2 are features (a PGM painted by
+                               the user); NULL: computed, see auto_mask */
+} pgp_key;
 
 /* The feature mask of an image as computed when a key comes without one:
  * one channel, 1 on features and 0 elsewhere, the image's size. */
-PGPDEF pgp_result pgp_feature_mask(const pgp_image *image, int mode, const pgp_synth_options *opt,
+PGPDEF pgp_result pgp_feature_mask(const pgp_image *image, pgp_mask mode, const pgp_synth_options *opt,
                                    pgp_image *out, pgp_error *err);
 
 /* §1.1 alone: the feature masks F_0 .. F_M (M = layers - 1, layers >= 2) of
@@ -8624,7 +8698,8 @@ typedef struct pw_fb {
     float *qbuf;   /* draw scratch: depths of ss sample rows */
     float *zmin;   /* coarse depth: per tile of PW__ZT x PW__ZT samples of the band, the smallest q */
     int zvalid;    /* zmin matches depth; set 0 if you write depth yourself */
-    int vnv;       /* vertices transformed into vbuf by the last draw (0: none) */
+    int vnv;       /* vertices of the last draw (0: none yet) */
+    int vall;      /* 1: all vnv of them are transformed in vbuf (not only the drawn corners) */
     size_t vcap, ncap, pcap, mcap, qcap, zcap;
     const pw_alloc *alloc;
 } pw_fb;
@@ -8813,8 +8888,9 @@ typedef struct pw_draw {
     void (*shader)(void *user, int tri, float b1, float b2, const float db[4], float rgba[4]);
     void *shader_user;
     int same_vertices;      /* 1: positions, nv and camera are those of the previous draw into
-                               this framebuffer, whose transformed vertices are reused (the
-                               passes of lapped textures) */
+                               this framebuffer; when that draw transformed all the vertices
+                               (it drew at least nv/3 triangles) they are reused (the passes of
+                               lapped textures after their base pass) */
 } pw_draw;
 
 #define PW__ZT 8 /* coarse depth tile, in samples */
@@ -9458,7 +9534,10 @@ PW__DEF int pw_render_draw(pw_fb *fb, const pw_camera *cam, const pw_draw *d, pw
     need_normals = d->lighting != PW_LIGHT_NONE && !d->flat && !d->normals;
     if ((r = pw__draw_scratch(fb, d, need_normals, e)) != PW_OK) return r;
     pw__ctx_init(&c, fb, d);
-    if (!d->same_vertices || fb->vnv != d->nv) pw__transform(&c.view, d, fb->vbuf);
+    if (!(d->same_vertices && fb->vnv == d->nv && fb->vall)) {
+        pw__transform(&c.view, d, fb->vbuf);
+        fb->vall = (size_t)d->ntris * 3 >= (size_t)d->nv;
+    }
     fb->vnv = d->nv;
     c.vh = fb->vbuf;
     c.planes = fb->pbuf;
@@ -9615,6 +9694,32 @@ PW__DEF void pw__frame_band(void *ctx, int band)
     R->codes[band] = f->draw(f->user, &fb, &R->errs[band]);
     if (R->codes[band] == PW_OK) pw_fb_resolve_band(&fb, R->out);
     pw_fb_free(&fb);
+}
+
+/* A frame of w x h pixels of ss x ss samples over an opaque background
+ * (RGB), an RGB picture, drawn by draw(user) under par (NULL: one thread). */
+PW__DEF void pw_frame_init(pw_frame *f, int w, int h, int ss, const float bg[3], const pw_parallel *par)
+{
+    memset(f, 0, sizeof *f);
+    f->w = w;
+    f->h = h;
+    f->ss = ss;
+    memcpy(f->bg, bg, 3 * sizeof(float));
+    f->bg[3] = 1.0f;
+    f->channels = 3;
+    f->par = par;
+}
+
+/* The usual band: one draw (pw_frame_draw1 as the user pointer). */
+typedef struct pw_frame_draw1 {
+    const pw_draw *d;
+    const pw_camera *cam;
+} pw_frame_draw1;
+
+PW__DEF int pw_frame_draw1_fn(void *user, pw_fb *fb, pw_err *e)
+{
+    const pw_frame_draw1 *D = (const pw_frame_draw1 *)user;
+    return pw_render_draw(fb, D->cam, D->d, e);
 }
 
 /* Renders a frame band by band into out (allocated here): the bands are
@@ -13245,6 +13350,26 @@ static void pgp__take_mesh(pw_mesh *m, const pw_alloc *a, pgp_mesh *t)
     memset(m, 0, sizeof *m);
 }
 
+/* The defaults of tile synthesis (pgp_options.synth). */
+static pgp_synth_options pgp__synth_defaults(void)
+{
+    pgp_synth_options o;
+    memset(&o, 0, sizeof o);
+    o.size = 128;
+    o.layers = 8;
+    o.coarse_passes = 20;
+    o.fine_passes = 4;
+    o.color_window = 5;
+    o.mask_window = 3;
+    o.color_dims = 5;
+    o.mask_dims = 3;
+    o.mask_weight = 2.0f;
+    o.usage_weight = 0.2f;
+    o.search_eps = 1.0f;
+    o.search_buckets = 64;
+    return o;
+}
+
 PGPDEF pgp_options pgp_default_options(void)
 {
     pgp_options o;
@@ -13253,6 +13378,10 @@ PGPDEF pgp_options pgp_default_options(void)
     o.min_scale = 0.05f;
     o.smoothing = 20;
     o.singular_distortion = 0.5f;
+    pw_view_defaults(&o.render.width, &o.render.height, &o.render.supersample, o.render.view_dir, o.render.up,
+                     o.render.background);
+    o.render.zoom = 1.0f;
+    o.synth = pgp__synth_defaults();
     return o;
 }
 
@@ -13317,19 +13446,61 @@ PGPDEF void pgp_area_free(pgp_area *area)
     memset(area, 0, sizeof *area);
 }
 
+PGPDEF void pgp_field_free(pgp_field *field)
+{
+    pw_alloc a;
+    if (!field) return;
+    a = pgp__alloc(&field->allocator);
+    pw_free(&a, field->dir);
+    pw_free(&a, field->scale);
+    pw_free(&a, field->material);
+    memset(field, 0, sizeof *field);
+}
+
+PGPDEF void pgp_constraints_free(pgp_constraints *c)
+{
+    pw_alloc a;
+    if (!c) return;
+    a = pgp__alloc(&c->allocator);
+    pw_free(&a, c->items);
+    memset(c, 0, sizeof *c);
+}
+
+/* The checks of a constraint that need no map (§2.2: m in [0, 1], S > 0, a
+ * direction that is finite and not zero, a finite radius, an index that
+ * can exist). The message names the element. */
+static int pgp__check_values(const pgp_constraint *c, pw_err *e)
+{
+    const char *what = c->kind == PGP_CONSTRAINT_ORIENT ? "triangle" : "vertex";
+    const float *v = c->value;
+    if (c->kind != PGP_CONSTRAINT_ORIENT && c->kind != PGP_CONSTRAINT_SCALE && c->kind != PGP_CONSTRAINT_MATERIAL)
+        return pw_fail(e, PW_ERR_INVALID, "unknown constraint kind %d", (int)c->kind);
+    if (c->element < 0) return pw_fail(e, PW_ERR_INVALID, "%s %d does not exist", what, c->element);
+    if (!pw_is_finite(c->radius)) return pw_fail(e, PW_ERR_INVALID, "effect radius %g is not finite", (double)c->radius);
+    if (c->kind == PGP_CONSTRAINT_ORIENT && (!pw_is_finite(v[0]) || !pw_is_finite(v[1]) || !pw_is_finite(v[2]) ||
+                                             (v[0] == 0.0f && v[1] == 0.0f && v[2] == 0.0f)))
+        return pw_fail(e, PW_ERR_INVALID, "orientation (%g, %g, %g) at triangle %d is zero or not finite", (double)v[0],
+                       (double)v[1], (double)v[2], c->element);
+    if (c->kind == PGP_CONSTRAINT_SCALE && !(v[0] > 0.0f && pw_is_finite(v[0])))
+        return pw_fail(e, PW_ERR_INVALID, "scale %g at vertex %d is not a positive finite number", (double)v[0], c->element);
+    if (c->kind == PGP_CONSTRAINT_MATERIAL && !(v[0] >= 0.0f && v[0] <= 1.0f))
+        return pw_fail(e, PW_ERR_INVALID, "material %g at vertex %d is not in [0, 1]", (double)v[0], c->element);
+    return PW_OK;
+}
+
 /* ---- the mapping ---------------------------------------------------------- */
 
-enum { PGP__ORIENT = 0, PGP__SCALE = 1, PGP__MATERIAL = 2 };
-
-/* A user constraint (§2): orientation at a triangle, scale or material at a
- * vertex; its effect radius; removed ones stay in the list, dead. */
+/* A constraint of the map (§2); removed ones stay in the list, dead, so
+ * that ids stay valid. */
 typedef struct pgp__constraint {
-    int kind, index, alive;
-    float value[3];
-    float radius;
+    pgp_constraint c;
+    int alive;
 } pgp__constraint;
 
-struct pgp_map {
+typedef struct pgp_map_state pgp__state;
+
+/* What pgp_map.state points to. */
+struct pgp_map_state {
     pw_alloc a;
     pgp_options o;
     float *pos;           /* nv*3, the map's own copy of the positions */
@@ -13343,7 +13514,7 @@ struct pgp_map {
                              options.integrable, pgp__integrable) */
     float *mat;           /* nv: m_i */
     double *zs, *zt;      /* nv*2: the unit complex unknowns of s and t (§2.3) */
-    float *stm;           /* nf*9: per corner s, t, m (Eq. 4) */
+    float *stm;           /* nf*9: per corner s, t, m (Eq. 4); pgp_map.coords */
     int *forder, *vorder; /* triangles and vertices in breadth-first order: the
                              order of the unknowns of every solve */
     unsigned char *vsing; /* nv: singular 1-ring (§3) */
@@ -13356,10 +13527,10 @@ struct pgp_map {
 };
 
 /* The frame of triangle f as 3D vectors (u along its first edge, v = N x u). */
-static void pgp__frame(const pgp_map *P, int f, pw_v3 *u, pw_v3 *v) { pw_df_frame(&P->m, f, u, v); }
+static void pgp__frame(const pgp__state *P, int f, pw_v3 *u, pw_v3 *v) { pw_df_frame(&P->m, f, u, v); }
 
 /* d_s (k = 0) or d_t = N x d_s (k = 1) of triangle f in 3D. */
-static pw_v3 pgp__dir3(const pgp_map *P, int f, int k)
+static pw_v3 pgp__dir3(const pgp__state *P, int f, int k)
 {
     pw_v3 u, v, d;
     double x = P->dir[2 * f], y = P->dir[2 * f + 1];
@@ -13375,7 +13546,7 @@ static pw_v3 pgp__dir3(const pgp_map *P, int f, int k)
 
 /* S^T = (S_i + S_j + S_k) / 3 (§2.3), each S_i times its integrability
  * factor. */
-static double pgp__face_scale(const pgp_map *P, int f)
+static double pgp__face_scale(const pgp__state *P, int f)
 {
     const int *t = P->m.tri + 3 * f;
     return ((double)P->scale[t[0]] * P->sfac[t[0]] + (double)P->scale[t[1]] * P->sfac[t[1]] +
@@ -13383,47 +13554,62 @@ static double pgp__face_scale(const pgp_map *P, int f)
 }
 
 /* g = d / S^T for s (k = 0) or t (k = 1). */
-static pw_v3 pgp__grad(const pgp_map *P, int f, int k)
+static pw_v3 pgp__grad(const pgp__state *P, int f, int k)
 {
     return pw_v3_scale(pgp__dir3(P, f, k), (float)(1.0 / pgp__face_scale(P, f)));
 }
 
-static int pgp__check_vertex(const pgp_map *P, int v, pw_err *e)
+static int pgp__check_vertex(const pgp__state *P, int v, pw_err *e)
 {
     if (v < 0 || v >= P->m.nv)
         return pw_fail(e, PW_ERR_INVALID, "vertex %d does not exist (the mesh has %d)", v, P->m.nv);
     return PW_OK;
 }
 
-static int pgp__check_face(const pgp_map *P, int f, pw_err *e)
+static int pgp__check_face(const pgp__state *P, int f, pw_err *e)
 {
     if (f < 0 || f >= P->m.nf)
         return pw_fail(e, PW_ERR_INVALID, "triangle %d does not exist (the mesh has %d)", f, P->m.nf);
     return PW_OK;
 }
 
-PGPDEF int pgp_triangle_count(const pgp_map *map) { return map ? map->m.nf : 0; }
-PGPDEF int pgp_vertex_count(const pgp_map *map) { return map ? map->m.nv : 0; }
+/* The map's state, or NULL for a NULL or zeroed map. */
+static const pgp__state *pgp__state_of(const pgp_map *map) { return map ? map->state : NULL; }
 
-PGPDEF void pgp_get_coords(const pgp_map *map, float *stm)
+PGPDEF int pgp_map_singular(const pgp_map *map, unsigned char *flags)
 {
-    if (map && stm) memcpy(stm, map->stm, sizeof(float) * 9 * (size_t)map->m.nf);
+    const pgp__state *P = pgp__state_of(map);
+    if (!P) return 0;
+    if (flags) memcpy(flags, P->fsing, (size_t)P->m.nf);
+    return P->nsing;
 }
 
-PGPDEF int pgp_get_singular(const pgp_map *map, unsigned char *flags)
+PGPDEF pgp_result pgp_map_field(const pgp_map *map, pgp_field *out, pgp_error *err)
 {
-    if (!map) return 0;
-    if (flags) memcpy(flags, map->fsing, (size_t)map->m.nf);
-    return map->nsing;
-}
-
-PGPDEF void pgp_get_field(const pgp_map *map, float *ds, float *scale, float *material)
-{
+    const pgp__state *P = pgp__state_of(map);
+    pw_alloc a;
+    pw_err pe;
     int f;
-    if (!map) return;
-    for (f = 0; ds && f < map->m.nf; f++) pw_v3_store(ds + 3 * f, pgp__dir3(map, f, 0));
-    if (scale) memcpy(scale, map->scale, sizeof(float) * (size_t)map->m.nv);
-    if (material) memcpy(material, map->mat, sizeof(float) * (size_t)map->m.nv);
+    pw_err_clear(&pe);
+    if (out) memset(out, 0, sizeof *out);
+    if (!out || !P) {
+        pw_fail(&pe, PW_ERR_INVALID, "pgp_map_field: NULL or empty map, or NULL output");
+        return pgp__done(&pe, err);
+    }
+    a = P->a;
+    out->dir = (float *)pw_alloc_array(&a, (size_t)P->m.nf * 3, sizeof(float), "field", &pe);
+    out->scale = (float *)pw_alloc_array(&a, (size_t)P->m.nv, sizeof(float), "field", &pe);
+    out->material = (float *)pw_alloc_array(&a, (size_t)P->m.nv, sizeof(float), "field", &pe);
+    out->allocator = pgp__allocator(&a);
+    if (!out->dir || !out->scale || !out->material) {
+        pgp_field_free(out);
+        return pgp__done(&pe, err);
+    }
+    out->ntris = P->m.nf, out->nverts = P->m.nv;
+    for (f = 0; f < P->m.nf; f++) pw_v3_store(out->dir + 3 * f, pgp__dir3(P, f, 0));
+    memcpy(out->scale, P->scale, sizeof(float) * (size_t)P->m.nv);
+    memcpy(out->material, P->mat, sizeof(float) * (size_t)P->m.nv);
+    return pgp__done(&pe, err);
 }
 
 /* ---- src/pgp/field.c ---- */
@@ -13473,7 +13659,7 @@ static int pgp__pd_solve(const pw_alloc *a, const pw_triplets *t, int complex, c
  * visits the triangles in order of increasing distance to the nearest
  * constraint"); radius <= 0 takes every triangle. in[f] = 1 for them;
  * order (nf) lists them, *n their number. */
-static int pgp__area(const pgp_map *P, const int *seeds, int nseeds, float radius, unsigned char *in,
+static int pgp__area(const pgp__state *P, const int *seeds, int nseeds, float radius, unsigned char *in,
                      int *order, int *n, pw_err *e)
 {
     const pw_trimesh *m = &P->m;
@@ -13518,7 +13704,7 @@ static int pgp__area(const pgp_map *P, const int *seeds, int nseeds, float radiu
 /* Vertices whose every triangle is in the area: the unknowns of an edit.
  * The others keep their values (§2.1: "all variables m, S, s, t associated
  * to the boundary are fixed to their initial value"). */
-static void pgp__free_vertices(const pgp_map *P, const unsigned char *in, unsigned char *vfree)
+static void pgp__free_vertices(const pgp__state *P, const unsigned char *in, unsigned char *vfree)
 {
     int f, k;
     memset(vfree, 0, (size_t)P->m.nv);
@@ -13562,7 +13748,7 @@ static double pgp__lap_weight(const pw_trimesh *m, int h)
  * (vfree, minus the `locked` ones) solve the Laplace equation with the
  * others as boundary values. Free vertices of a component without any
  * fixed vertex take `fallback`. */
-static int pgp__harmonic(pgp_map *P, const unsigned char *vfree, const unsigned char *locked, float fallback,
+static int pgp__harmonic(pgp__state *P, const unsigned char *vfree, const unsigned char *locked, float fallback,
                          float *val, pw_err *e)
 {
     const pw_trimesh *m = &P->m;
@@ -13612,7 +13798,7 @@ static int pgp__harmonic(pgp_map *P, const unsigned char *vfree, const unsigned 
 
 /* Weight of the edge of half-edge h in the orientation smoothing: its
  * length over the dual edge's (the cotangent weight of the dual mesh). */
-static double pgp__dir_weight(const pgp_map *P, int h)
+static double pgp__dir_weight(const pgp__state *P, int h)
 {
     int f = h / 3, k = h % 3;
     double len = pw_v3_len(pw_v3_sub(pw_trimesh_corner(&P->m, f, (k + 1) % 3), pw_trimesh_corner(&P->m, f, k)));
@@ -13623,7 +13809,7 @@ static double pgp__dir_weight(const pgp_map *P, int h)
  * orientation system: w |z_f - c z_g|^2 with c the transport from g into f
  * (pw_df_connection): w on both diagonals, -w c at (f, g) and its
  * conjugate at (g, f); a fixed neighbour moves to b. */
-static int pgp__dir_edge(const pgp_map *P, const int *id, int h, pw_triplets *t, double *b, pw_err *e)
+static int pgp__dir_edge(const pgp__state *P, const int *id, int h, pw_triplets *t, double *b, pw_err *e)
 {
     int f = h / 3, g = P->m.hm.twin[h] / 3, i = id[f], j = id[g], r = PW_OK;
     double w = pgp__dir_weight(P, h), cx = P->conn[2 * h], cy = P->conn[2 * h + 1];
@@ -13652,7 +13838,7 @@ static int pgp__dir_edge(const pgp_map *P, const int *id, int h, pw_triplets *t,
  * normalises: "orientations rather than vectors" (the scale is
  * interpolated separately). Singularities emerge where the fixed directions
  * force them. A free component with nothing fixed takes the default field. */
-static int pgp__dir_smooth(pgp_map *P, const unsigned char *free, const double *pull, pw_err *e)
+static int pgp__dir_smooth(pgp__state *P, const unsigned char *free, const double *pull, pw_err *e)
 {
     const pw_trimesh *m = &P->m;
     int *id = (int *)pw_alloc_array(&P->a, (size_t)m->nf, sizeof(int), "orientation", e);
@@ -13702,7 +13888,7 @@ static int pgp__dir_smooth(pgp_map *P, const unsigned char *free, const double *
  * projection (c_f = 1 - (up . n)^2 small: up nearly normal to the face) are
  * filled smoothly. A field that turns within a tile cannot be followed by a
  * periodic parameterization without distortion. */
-static int pgp__base_field(pgp_map *P, pw_err *e)
+static int pgp__base_field(pgp__state *P, pw_err *e)
 {
     size_t nf = (size_t)P->m.nf;
     unsigned char *known = (unsigned char *)pw_alloc_array(&P->a, nf, 1, "field", e);
@@ -13731,11 +13917,11 @@ static int pgp__base_field(pgp_map *P, pw_err *e)
 /* ---- re-interpolation over an effect area ------------------------------------------------ */
 
 /* Whether a live constraint of `kind` exists. */
-static int pgp__has(const pgp_map *P, int kind)
+static int pgp__has(const pgp__state *P, pgp_constraint_kind kind)
 {
     int i;
     for (i = 0; i < P->ncon; i++)
-        if (P->con[i].alive && P->con[i].kind == kind) return 1;
+        if (P->con[i].alive && P->con[i].c.kind == kind) return 1;
     return 0;
 }
 
@@ -13743,40 +13929,40 @@ static int pgp__has(const pgp_map *P, int kind)
  * stay fixed, the rest of the area is smoothed against them and against
  * the fixed outside. With the whole mesh in the area and no orientation
  * constraint, the default field. */
-static int pgp__interp_dir(pgp_map *P, const unsigned char *in, int whole, unsigned char *mark, pw_err *e)
+static int pgp__interp_dir(pgp__state *P, const unsigned char *in, int whole, unsigned char *mark, pw_err *e)
 {
     int f, i;
-    if (whole && !pgp__has(P, PGP__ORIENT)) {
+    if (whole && !pgp__has(P, PGP_CONSTRAINT_ORIENT)) {
         memcpy(P->dir, P->base, sizeof(double) * 2 * (size_t)P->m.nf);
         return PW_OK;
     }
     memcpy(mark, in, (size_t)P->m.nf);
     for (i = 0; i < P->ncon; i++) {
-        const pgp__constraint *c = &P->con[i];
-        if (!c->alive || c->kind != PGP__ORIENT) continue;
-        pw_df_project(&P->m, c->index, pw_v3_load(c->value), P->dir + 2 * c->index); /* checked when added */
-        mark[c->index] = 0;
+        const pgp_constraint *c = &P->con[i].c;
+        if (!P->con[i].alive || c->kind != PGP_CONSTRAINT_ORIENT) continue;
+        pw_df_project(&P->m, c->element, pw_v3_load(c->value), P->dir + 2 * c->element); /* checked when added */
+        mark[c->element] = 0;
     }
     for (f = 0; whole && f < P->m.nf; f++) /* nothing outside: start from the default */
         if (mark[f]) P->dir[2 * f] = P->base[2 * f], P->dir[2 * f + 1] = P->base[2 * f + 1];
     return pgp__dir_smooth(P, mark, NULL, e);
 }
 
-/* Scale (kind PGP__SCALE) or material over the area's free vertices:
+/* Scale (kind PGP_CONSTRAINT_SCALE) or material over the area's free vertices:
  * constraint vertices fixed to their value, harmonic in between; then the
  * §2.2 clamps (m in [0, 1], S >= min_scale * scale). */
-static int pgp__interp_vertex(pgp_map *P, int kind, const unsigned char *vfree, int whole, unsigned char *locked,
-                              pw_err *e)
+static int pgp__interp_vertex(pgp__state *P, pgp_constraint_kind kind, const unsigned char *vfree, int whole,
+                              unsigned char *locked, pw_err *e)
 {
-    float *val = kind == PGP__SCALE ? P->scale : P->mat;
-    float fallback = kind == PGP__SCALE ? P->scale0 : P->o.material;
-    float lo = kind == PGP__SCALE ? P->o.min_scale * P->scale0 : 0.0f, hi = kind == PGP__SCALE ? FLT_MAX : 1.0f;
+    float *val = kind == PGP_CONSTRAINT_SCALE ? P->scale : P->mat;
+    float fallback = kind == PGP_CONSTRAINT_SCALE ? P->scale0 : P->o.material;
+    float lo = kind == PGP_CONSTRAINT_SCALE ? P->o.min_scale * P->scale0 : 0.0f, hi = kind == PGP_CONSTRAINT_SCALE ? FLT_MAX : 1.0f;
     int v, i, r;
     memset(locked, 0, (size_t)P->m.nv);
     for (i = 0; i < P->ncon; i++)
-        if (P->con[i].alive && P->con[i].kind == kind) {
-            val[P->con[i].index] = P->con[i].value[0];
-            locked[P->con[i].index] = 1;
+        if (P->con[i].alive && P->con[i].c.kind == kind) {
+            val[P->con[i].c.element] = P->con[i].c.value[0];
+            locked[P->con[i].c.element] = 1;
         }
     for (v = 0; whole && v < P->m.nv; v++)
         if (!locked[v]) val[v] = fallback;
@@ -13787,8 +13973,9 @@ static int pgp__interp_vertex(pgp_map *P, int kind, const unsigned char *vfree, 
 
 /* ---- src/pgp/solve.c ---- */
 /* solve.c: §2.3 the periodic global parameterization, the recovery of
- * per-corner coordinates (Eq. 4), the §3 detection of singular 1-rings, and
- * the public entry points that create and edit a mapping. */
+ * per-corner coordinates (Eq. 4), the §3 detection of singular 1-rings, the
+ * recomputation of an effect area that every edit runs, and the map of a
+ * mesh before any constraint (edit.c holds the public editing calls). */
 
 #define PGP__TWO_PI 6.28318530717958647692
 
@@ -13828,7 +14015,7 @@ static double pgp__turns(double x, double y)
  * or t (k = 1): e_ij . (g_T + g_T') / 2, the gradient averaged over the two
  * triangles of the edge (the one triangle on a boundary). This is the
  * coordinate difference s_j - s_i the field asks for along the edge. */
-static double pgp__alpha(const pgp_map *P, int h, int k)
+static double pgp__alpha(const pgp__state *P, int h, int k)
 {
     int f = h / 3, c = h % 3, t = P->m.hm.twin[h];
     pw_v3 ed = pw_v3_sub(pw_trimesh_corner(&P->m, f, (c + 1) % 3), pw_trimesh_corner(&P->m, f, c));
@@ -13855,7 +14042,7 @@ static double pgp__alpha(const pgp_map *P, int h, int k)
  * a negative sum); floors from 0.001 to 0.1 give the same counts within
  * 1 vortex and 0.5% singular. Cotangents of an intrinsic Delaunay
  * triangulation would avoid the floor; they are not implemented. */
-static double pgp__pgp_weight(const pgp_map *P, int h)
+static double pgp__pgp_weight(const pgp__state *P, int h)
 {
     int tw = P->m.hm.twin[h];
     if (P->o.weights == PGP_WEIGHTS_AREA)
@@ -13872,7 +14059,7 @@ static double pgp__pgp_weight(const pgp_map *P, int h)
  * flat grid, where the exact answer is linear.) In the complex Hermitian
  * system: w on both diagonals, -w e^{i alpha} at (j, i) and its conjugate
  * at (i, j); a fixed end moves to the right-hand side. */
-static int pgp__pgp_edge(const pgp_map *P, const double *z, const int *id, int h, int k, pw_triplets *t,
+static int pgp__pgp_edge(const pgp__state *P, const double *z, const int *id, int h, int k, pw_triplets *t,
                          double *b, pw_err *e)
 {
     int f = h / 3;
@@ -13932,7 +14119,7 @@ static int pgp__diag_index(const pw_alloc *a, const pw_zcsr *A, int **out, pw_er
 
 /* A first estimate: z carried from the fixed vertices along a breadth-first
  * tree, z_j = e^{i alpha_ij} z_i, i.e. the field integrated along the tree. */
-static int pgp__propagate(pgp_map *P, double *z, const int *id, int k, pw_err *e)
+static int pgp__propagate(pgp__state *P, double *z, const int *id, int k, pw_err *e)
 {
     const pw_trimesh *m = &P->m;
     int nh = 3 * m->nf, *start = (int *)pw_calloc_array(&P->a, (size_t)m->nv + 1, sizeof(int), "PGP", e);
@@ -13984,7 +14171,7 @@ static int pgp__propagate(pgp_map *P, double *z, const int *id, int k, pw_err *e
 
 /* Solves for the unit complex numbers z (nv*2) of coordinate k at the free
  * vertices (id >= 0, n of them), the others fixed. */
-static int pgp__pgp_solve(pgp_map *P, double *z, const int *id, int n, int k, pw_err *e)
+static int pgp__pgp_solve(pgp__state *P, double *z, const int *id, int n, int k, pw_err *e)
 {
     double *b = (double *)pw_calloc_array(&P->a, (size_t)n * 5, sizeof(double), "PGP", e);
     double *x = b + 2 * n, *dg = b + 4 * n, *rhs = NULL;
@@ -14039,7 +14226,7 @@ static int pgp__pgp_solve(pgp_map *P, double *z, const int *id, int n, int k, pw
 /* §2.3 over the free vertices: "in the special case of initialization, we
  * lock a single vertex s_0 = 0 <=> z_0 = [1,0], else s is locked outside
  * the effect area" (whole: the first vertex of every component locked). */
-static int pgp__pgp(pgp_map *P, const unsigned char *vfree, int whole, pw_err *e)
+static int pgp__pgp(pgp__state *P, const unsigned char *vfree, int whole, pw_err *e)
 {
     int *id = (int *)pw_alloc_array(&P->a, (size_t)P->m.nv, sizeof(int), "PGP", e);
     int *comp = (int *)pw_calloc_array(&P->a, (size_t)P->m.nf * 2, sizeof(int), "PGP", e);
@@ -14072,7 +14259,7 @@ static int pgp__pgp(pgp_map *P, const unsigned char *vfree, int whole, pw_err *e
  * 2 add the integer p that brings their difference to corner 0 closest to
  * what the field asks for along the edge (alpha), so that every vertex
  * differs between its triangles by integers only. */
-static void pgp__recover(pgp_map *P, int f)
+static void pgp__recover(pgp__state *P, int f)
 {
     const int *tri = P->m.tri + 3 * f;
     float *o = P->stm + 9 * f;
@@ -14095,7 +14282,7 @@ static void pgp__recover(pgp_map *P, int f)
 
 /* The 3D gradient of the linear function with corner values w0, w1, w2 on
  * triangle f. */
-static pw_v3 pgp__gradient(const pgp_map *P, int f, double w0, double w1, double w2)
+static pw_v3 pgp__gradient(const pgp__state *P, int f, double w0, double w1, double w2)
 {
     pw_v3 p = pw_trimesh_corner(&P->m, f, 0);
     pw_v3 e1 = pw_v3_sub(pw_trimesh_corner(&P->m, f, 1), p), e2 = pw_v3_sub(pw_trimesh_corner(&P->m, f, 2), p);
@@ -14110,7 +14297,7 @@ static pw_v3 pgp__gradient(const pgp_map *P, int f, double w0, double w1, double
 /* "Highly distorted": ||grad s - g_s||^2 > threshold, or the same for t.
  * The paper's 0.5 is read relative to |g|^2 = 1/S^2 (the paper's tiles have
  * unit size), so that the test does not depend on the units of the mesh. */
-static int pgp__distorted(const pgp_map *P, int f)
+static int pgp__distorted(const pgp__state *P, int f)
 {
     const float *o = P->stm + 9 * f;
     int k;
@@ -14123,7 +14310,7 @@ static int pgp__distorted(const pgp_map *P, int f)
 
 /* Whether the two triangles of half-edge h disagree on the coordinate
  * difference along it (s_i^T - s_j^T != s_i^T' - s_j^T', or for t). */
-static int pgp__mismatch(const pgp_map *P, int h)
+static int pgp__mismatch(const pgp__state *P, int h)
 {
     int t = P->m.hm.twin[h], f = h / 3, g, c = h % 3, d, k;
     if (t < 0) return 0;
@@ -14141,17 +14328,18 @@ static int pgp__mismatch(const pgp_map *P, int h)
  * next to corner 0 along the field, so the edge from 1 to 2 carries it all.
  * The sum over the edges of alpha plus the wrapped rest is
  * -round(s_2 - s_1 - alpha_12). */
-static int pgp__winding(const pgp_map *P, int f, int k)
+static int pgp__winding(const pgp__state *P, int f, int k)
 {
     const float *o = P->stm + 9 * f;
     return -(int)floor((double)o[6 + k] - o[3 + k] - pgp__alpha(P, 3 * f + 1, k) + 0.5);
 }
 
-PGPDEF int pgp_get_vortices(const pgp_map *map, unsigned char *flags)
+PGPDEF int pgp_map_vortices(const pgp_map *map, unsigned char *flags)
 {
+    const pgp__state *P = pgp__state_of(map);
     int f, n = 0;
-    for (f = 0; map && f < map->m.nf; f++) {
-        unsigned char v = (unsigned char)((pgp__winding(map, f, 0) != 0) + 2 * (pgp__winding(map, f, 1) != 0));
+    for (f = 0; P && f < P->m.nf; f++) {
+        unsigned char v = (unsigned char)((pgp__winding(P, f, 0) != 0) + 2 * (pgp__winding(P, f, 1) != 0));
         if (flags) flags[f] = v;
         n += v != 0;
     }
@@ -14161,7 +14349,7 @@ PGPDEF int pgp_get_vortices(const pgp_map *map, unsigned char *flags)
 /* §3: a vertex's 1-ring is singular if it holds a distorted triangle or a
  * spoke edge whose two triangles disagree; a triangle is singular (drawn
  * with three lookups) if one of its corners is. */
-static int pgp__singularities(pgp_map *P, pw_err *e)
+static int pgp__singularities(pgp__state *P, pw_err *e)
 {
     unsigned char *dist = (unsigned char *)pw_alloc_array(&P->a, (size_t)P->m.nf, 1, "singularities", e);
     int f, c, h;
@@ -14187,8 +14375,8 @@ static int pgp__singularities(pgp_map *P, pw_err *e)
 
 /* Recomputes the fields of `kind` and the coordinates over the area around
  * the seed triangles (radius <= 0: the whole mesh). */
-static int pgp__edit(pgp_map *P, int kind, const int *seeds, int nseeds, float radius, pgp_area *area,
-                     pw_err *e)
+static int pgp__edit(pgp__state *P, pgp_constraint_kind kind, const int *seeds, int nseeds, float radius,
+                     pgp_area *area, pw_err *e)
 {
     size_t nf = (size_t)P->m.nf, nv = (size_t)P->m.nv;
     unsigned char *in = (unsigned char *)pw_alloc_array(&P->a, 2 * nf + 2 * nv, 1, "effect area", e);
@@ -14199,10 +14387,10 @@ static int pgp__edit(pgp_map *P, int kind, const int *seeds, int nseeds, float r
     if (r == PW_OK) r = pgp__area(P, seeds, nseeds, radius, in, order, &n, e);
     if (r == PW_OK) pgp__free_vertices(P, in, vfree);
     if (r == PW_OK) r = pw_report(&pr, 0.2f, "interpolation", e);
-    if (r == PW_OK && kind == PGP__ORIENT) r = pgp__interp_dir(P, in, whole, mark, e);
-    if (r == PW_OK && kind != PGP__ORIENT) r = pgp__interp_vertex(P, kind, vfree, whole, locked, e);
+    if (r == PW_OK && kind == PGP_CONSTRAINT_ORIENT) r = pgp__interp_dir(P, in, whole, mark, e);
+    if (r == PW_OK && kind != PGP_CONSTRAINT_ORIENT) r = pgp__interp_vertex(P, kind, vfree, whole, locked, e);
     if (r == PW_OK) r = pw_report(&pr, 0.4f, "periodic global parameterization", e);
-    if (r == PW_OK && kind != PGP__MATERIAL) r = pgp__pgp(P, vfree, whole, e);
+    if (r == PW_OK && kind != PGP_CONSTRAINT_MATERIAL) r = pgp__pgp(P, vfree, whole, e);
     for (i = 0; r == PW_OK && i < n; i++) pgp__recover(P, order[i]);
     if (r == PW_OK) r = pw_report(&pr, 0.9f, "singularities", e);
     if (r == PW_OK) r = pgp__singularities(P, e);
@@ -14217,125 +14405,9 @@ static int pgp__edit(pgp_map *P, int kind, const int *seeds, int nseeds, float r
     return r;
 }
 
-/* The triangles around a constraint: its triangle, or a vertex's fan. */
-static int pgp__edit_constraint(pgp_map *P, const pgp__constraint *c, pgp_area *area, pw_err *e)
-{
-    int *seeds, n = 0, h, r;
-    if (c->kind == PGP__ORIENT) return pgp__edit(P, c->kind, &c->index, 1, c->radius, area, e);
-    seeds = (int *)pw_alloc_array(&P->a, (size_t)P->m.nf, sizeof(int), "effect area", e);
-    if (!seeds) return PW_ERR_NOMEM;
-    for (h = 0; h < 3 * P->m.nf; h++)
-        if (P->m.tri[h] == c->index) seeds[n++] = h / 3;
-    r = pgp__edit(P, c->kind, seeds, n, c->radius, area, e);
-    pw_free(&P->a, seeds);
-    return r;
-}
-
-/* Checks a constraint's values (§2.2: m in [0, 1], S > 0, a direction that
- * is not normal to its triangle). */
-static int pgp__check_constraint(const pgp_map *P, const pgp__constraint *c, pw_err *e)
-{
-    double z[2];
-    int r = c->kind == PGP__ORIENT ? pgp__check_face(P, c->index, e) : pgp__check_vertex(P, c->index, e);
-    if (r != PW_OK) return r;
-    if (!pw_is_finite(c->radius)) return pw_fail(e, PW_ERR_INVALID, "effect radius %g is not finite", (double)c->radius);
-    if (c->kind == PGP__ORIENT) {
-        if (!pw_is_finite(c->value[0]) || !pw_is_finite(c->value[1]) || !pw_is_finite(c->value[2]) ||
-            !pw_df_project(&P->m, c->index, pw_v3_load(c->value), z))
-            return pw_fail(e, PW_ERR_INVALID, "orientation (%g, %g, %g) at triangle %d is zero, not finite or "
-                           "normal to the triangle", (double)c->value[0], (double)c->value[1], (double)c->value[2], c->index);
-    } else if (c->kind == PGP__SCALE && !(c->value[0] > 0.0f && pw_is_finite(c->value[0])))
-        return pw_fail(e, PW_ERR_INVALID, "scale %g at vertex %d is not a positive finite number", (double)c->value[0], c->index);
-    else if (c->kind == PGP__MATERIAL && !(c->value[0] >= 0.0f && c->value[0] <= 1.0f))
-        return pw_fail(e, PW_ERR_INVALID, "material %g at vertex %d is not in [0, 1]", (double)c->value[0], c->index);
-    return PW_OK;
-}
-
-/* Adds a constraint and applies it. */
-static pgp_result pgp__add(pgp_map *map, int kind, int index, const float *value, float radius, int *id,
-                           pgp_area *area, pgp_error *err)
-{
-    pgp__constraint c;
-    pw_err pe;
-    pw_err_clear(&pe);
-    if (area) memset(area, 0, sizeof *area);
-    if (!map || !value) {
-        pw_fail(&pe, PW_ERR_INVALID, "NULL map or value");
-        return pgp__done(&pe, err);
-    }
-    memset(&c, 0, sizeof c);
-    c.kind = kind, c.index = index, c.alive = 1, c.radius = radius;
-    memcpy(c.value, value, sizeof(float) * (kind == PGP__ORIENT ? 3 : 1));
-    if (pgp__check_constraint(map, &c, &pe) == PW_OK &&
-        pw_grow(&map->a, (void **)&map->con, &map->concap, (size_t)map->ncon + 1, sizeof c, "constraints", &pe) == PW_OK) {
-        map->con[map->ncon++] = c;
-        if (pgp__edit_constraint(map, &c, area, &pe) != PW_OK) map->con[--map->ncon].alive = 0;
-        else if (id) *id = map->ncon - 1;
-    }
-    return pgp__done(&pe, err);
-}
-
-PGPDEF pgp_result pgp_add_orientation(pgp_map *map, int face, const float dir[3], float radius, int *id,
-                                      pgp_area *area, pgp_error *err)
-{
-    return pgp__add(map, PGP__ORIENT, face, dir, radius, id, area, err);
-}
-
-PGPDEF pgp_result pgp_add_scale(pgp_map *map, int vertex, float scale, float radius, int *id, pgp_area *area,
-                                pgp_error *err)
-{
-    return pgp__add(map, PGP__SCALE, vertex, &scale, radius, id, area, err);
-}
-
-PGPDEF pgp_result pgp_add_material(pgp_map *map, int vertex, float m, float radius, int *id, pgp_area *area,
-                                   pgp_error *err)
-{
-    return pgp__add(map, PGP__MATERIAL, vertex, &m, radius, id, area, err);
-}
-
-/* The live constraint `id`, or an error. */
-static pgp__constraint *pgp__find(pgp_map *map, int id, pw_err *e)
-{
-    if (!map) return pw_fail(e, PW_ERR_INVALID, "NULL map"), (pgp__constraint *)NULL;
-    if (id < 0 || id >= map->ncon || !map->con[id].alive) {
-        pw_fail(e, PW_ERR_INVALID, "there is no constraint %d", id);
-        return NULL;
-    }
-    return &map->con[id];
-}
-
-PGPDEF pgp_result pgp_edit_constraint(pgp_map *map, int id, const float value[3], pgp_area *area, pgp_error *err)
-{
-    pgp__constraint *c, old;
-    pw_err pe;
-    pw_err_clear(&pe);
-    if (area) memset(area, 0, sizeof *area);
-    if ((c = pgp__find(map, id, &pe)) != NULL && !value) pw_fail(&pe, PW_ERR_INVALID, "NULL value");
-    if (pe.code == PW_OK) {
-        old = *c;
-        memcpy(c->value, value, sizeof(float) * (c->kind == PGP__ORIENT ? 3 : 1));
-        if (pgp__check_constraint(map, c, &pe) != PW_OK || pgp__edit_constraint(map, c, area, &pe) != PW_OK)
-            *c = old;
-    }
-    return pgp__done(&pe, err);
-}
-
-PGPDEF pgp_result pgp_remove_constraint(pgp_map *map, int id, pgp_area *area, pgp_error *err)
-{
-    pgp__constraint *c;
-    pw_err pe;
-    pw_err_clear(&pe);
-    if (area) memset(area, 0, sizeof *area);
-    if ((c = pgp__find(map, id, &pe)) != NULL) {
-        c->alive = 0;
-        if (pgp__edit_constraint(map, c, area, &pe) != PW_OK) c->alive = 1;
-    }
-    return pgp__done(&pe, err);
-}
-
 /* ---- creation -------------------------------------------------------------------------- */
 
-PGPDEF void pgp_destroy(pgp_map *P)
+static void pgp__state_free(pgp__state *P)
 {
     pw_alloc a;
     if (!P) return;
@@ -14352,6 +14424,13 @@ PGPDEF void pgp_destroy(pgp_map *P)
     pw_free(&a, P->forder);
     pw_free(&a, P->con);
     pw_free(&a, P);
+}
+
+PGPDEF void pgp_map_free(pgp_map *map)
+{
+    if (!map) return;
+    pgp__state_free(map->state);
+    memset(map, 0, sizeof *map);
 }
 
 static int pgp__check_options(const pgp_options *o, pw_err *e)
@@ -14382,7 +14461,7 @@ static int pgp__check_options(const pgp_options *o, pw_err *e)
  * incomplete-Cholesky elimination: on a subdivided mesh, whose new vertices
  * the file lists far from their neighbours, the solves take 40% less time.
  * vsing (all zero here) marks what has been placed. */
-static void pgp__bfs_order(pgp_map *P)
+static void pgp__bfs_order(pgp__state *P)
 {
     int nf = P->m.nf, nv = P->m.nv, head = 0, tail = 0, nvo = 0, s, k;
     unsigned char *fdone = P->vsing + nv, *vdone = P->vsing;
@@ -14404,7 +14483,7 @@ static void pgp__bfs_order(pgp_map *P)
 }
 
 /* Copies the mesh, builds the triangle mesh and allocates every array. */
-static int pgp__setup(pgp_map *P, const pgp_mesh *in, pw_err *e)
+static int pgp__setup(pgp__state *P, const pgp_mesh *in, pw_err *e)
 {
     size_t nf, nv;
     pw_mesh v;
@@ -14453,7 +14532,7 @@ static int pgp__setup(pgp_map *P, const pgp_mesh *in, pw_err *e)
  * cancels the Gaussian curvature, which a rotation alone cannot (on CGAL's
  * meshes rotation alone removes no vortex). Unknowns: u_i at 2 i, theta_i
  * at 2 i + 1. */
-static int pgp__curl_rows(const pgp_map *P, int f, pw_triplets *t, double *b, pw_err *e)
+static int pgp__curl_rows(const pgp__state *P, int f, pw_triplets *t, double *b, pw_err *e)
 {
     double al[2][3], row[6], c, w = 1.0 / ((double)P->m.area[f] + 1e-300);
     int k, a, i, j, col[6], r = PW_OK;
@@ -14480,7 +14559,7 @@ static int pgp__curl_rows(const pgp_map *P, int f, pw_triplets *t, double *b, pw
  * integrate curl^2 ~ |grad theta|^2 / S^2, so u and theta vary over about
  * sqrt(integrable) tiles) and 0.01 / S^2 of the cotangent Dirichlet energy
  * of u and theta. */
-static int pgp__curl_reg(const pgp_map *P, pw_triplets *t, pw_err *e)
+static int pgp__curl_reg(const pgp__state *P, pw_triplets *t, pw_err *e)
 {
     double S2 = (double)P->scale0 * P->scale0, lam = 1.0 / ((double)P->o.integrable * S2 * S2), w;
     int h, k, i, j, r = PW_OK;
@@ -14503,7 +14582,7 @@ static int pgp__curl_reg(const pgp_map *P, pw_triplets *t, pw_err *e)
 /* Applies the correction x (u, theta per vertex): the factor of every S_i
  * (u less its area-weighted mean, the factor kept in [1/2, 2]) and the rotation of the default field of every
  * triangle by the mean theta of its corners. */
-static void pgp__curl_apply(pgp_map *P, const double *x)
+static void pgp__curl_apply(pgp__state *P, const double *x)
 {
     double mean = 0.0, area = 0.0;
     int v, f, h;
@@ -14529,7 +14608,7 @@ static void pgp__curl_apply(pgp_map *P, const double *x)
  * curl, and each whole turn of it is a vortex; the trade is documented in
  * docs/pgp.md). */
 #define PGP__CURL_STEPS 3
-static int pgp__integrable(pgp_map *P, pw_err *e)
+static int pgp__integrable(pgp__state *P, pw_err *e)
 {
     size_t n = 2 * (size_t)P->m.nv;
     double *b = (double *)pw_alloc_array(&P->a, 2 * n, sizeof(double), "integrability", e), *x = b + n;
@@ -14551,7 +14630,7 @@ static int pgp__integrable(pgp_map *P, pw_err *e)
 }
 
 /* Mean edge length of the triangle mesh. */
-static double pgp__mean_edge(const pgp_map *P)
+static double pgp__mean_edge(const pgp__state *P)
 {
     double sum = 0.0;
     int h, n = 0;
@@ -14569,7 +14648,7 @@ static double pgp__mean_edge(const pgp_map *P)
  * period spans less than two triangles and Eq. 4 cannot recover it). Only
  * a side the caller gave is refused: the default (diag / 10) is kept on
  * meshes of a few triangles, where it is all one can do. */
-static int pgp__check_scale(const pgp_map *P, pw_err *e)
+static int pgp__check_scale(const pgp__state *P, pw_err *e)
 {
     double lo = 2.0 * pgp__mean_edge(P), hi = 10.0 * P->m.diag;
     if (P->o.scale > 0.0f && (P->scale0 > hi || P->scale0 < lo))
@@ -14578,32 +14657,32 @@ static int pgp__check_scale(const pgp_map *P, pw_err *e)
     return PW_OK;
 }
 
-PGPDEF pgp_result pgp_create(const pgp_mesh *mesh, const pgp_options *opt, pgp_map **out, pgp_error *err)
+/* The map of a mesh without constraints (pgp_create, edit.c, adds them):
+ * the default field, scale and material and the initial parameterization. */
+static int pgp__create_map(const pgp_mesh *mesh, const pgp_options *opt, pgp_map *out, pw_err *e)
 {
     pgp_options o = pgp__options(opt);
     pw_alloc a = pgp__alloc(&o.allocator);
-    pgp_map *P = NULL;
-    pw_err pe;
+    pgp__state *P;
     int v;
-    pw_err_clear(&pe);
-    if (out) *out = NULL;
-    if (!out) pw_fail(&pe, PW_ERR_INVALID, "pgp_create: NULL output");
-    else if (pgp__check_options(&o, &pe) == PW_OK &&
-             (P = (pgp_map *)pw_calloc_array(&a, 1, sizeof *P, "mapping", &pe)) != NULL) {
-        P->a = a;
-        P->o = o;
-        if (pgp__setup(P, mesh, &pe) == PW_OK) {
-            P->scale0 = o.scale > 0.0f ? o.scale : 0.1f * P->m.diag;
-            for (v = 0; v < P->m.nv; v++) P->scale[v] = P->scale0, P->sfac[v] = 1.0f, P->mat[v] = o.material;
-            for (v = 0; v < P->m.nv; v++) P->zs[2 * v] = P->zt[2 * v] = 1.0, P->zs[2 * v + 1] = P->zt[2 * v + 1] = 0.0;
-            if (pgp__check_scale(P, &pe) == PW_OK && pgp__base_field(P, &pe) == PW_OK &&
-                (!(o.integrable > 0.0f) || pgp__integrable(P, &pe) == PW_OK) &&
-                pgp__edit(P, PGP__ORIENT, NULL, 0, 0.0f, NULL, &pe) == PW_OK)
-                *out = P;
-        }
-        if (!*out) pgp_destroy(P);
-    }
-    return pgp__done(&pe, err);
+    if (pgp__check_options(&o, e) != PW_OK ||
+        (P = (pgp__state *)pw_calloc_array(&a, 1, sizeof *P, "mapping", e)) == NULL)
+        return e->code;
+    P->a = a;
+    P->o = o;
+    out->state = P;
+    out->allocator = pgp__allocator(&a);
+    if (pgp__setup(P, mesh, e) != PW_OK) return e->code;
+    P->scale0 = o.scale > 0.0f ? o.scale : 0.1f * P->m.diag;
+    for (v = 0; v < P->m.nv; v++) P->scale[v] = P->scale0, P->sfac[v] = 1.0f, P->mat[v] = o.material;
+    for (v = 0; v < P->m.nv; v++) P->zs[2 * v] = P->zt[2 * v] = 1.0, P->zs[2 * v + 1] = P->zt[2 * v + 1] = 0.0;
+    if (pgp__check_scale(P, e) != PW_OK || pgp__base_field(P, e) != PW_OK ||
+        (o.integrable > 0.0f && pgp__integrable(P, e) != PW_OK) ||
+        pgp__edit(P, PGP_CONSTRAINT_ORIENT, NULL, 0, 0.0f, NULL, e) != PW_OK)
+        return e->code;
+    out->nverts = P->m.nv, out->ntris = P->m.nf;
+    out->tris = P->m.tri, out->coords = P->stm;
+    return PW_OK;
 }
 
 /* ---- what happened (issue 17) ------------------------------------------------------------ */
@@ -14612,7 +14691,7 @@ PGPDEF pgp_result pgp_create(const pgp_mesh *mesh, const pgp_options *opt, pgp_m
  * J = S (grad s; grad t) in the triangle's frame outside [1/1.3, 1.3], S
  * the side the user asked for (without the integrability factor), the
  * angle between grad s and grad t more than 20 degrees off 90. */
-static int pgp__distortion(const pgp_map *P, int f)
+static int pgp__distortion(const pgp__state *P, int f)
 {
     const float *o = P->stm + 9 * f, *sc = P->scale;
     const int *tr3 = P->m.tri + 3 * f;
@@ -14628,39 +14707,170 @@ static int pgp__distortion(const pgp_map *P, int f)
     return (s1 > 1.3 || s2 < 1.0 / 1.3) + 2 * (fabs(cs) > 0.3420201433); /* sin 20 deg */
 }
 
-PGPDEF void pgp_get_stats(const pgp_map *map, pgp_stats *out)
+PGPDEF void pgp_map_stats(const pgp_map *map, pgp_stats *out)
 {
+    const pgp__state *P = pgp__state_of(map);
     double total = 0.0, st = 0.0, sh = 0.0;
     int f, d;
     if (!out) return;
     memset(out, 0, sizeof *out);
-    if (!map) return;
-    for (f = 0; f < map->m.nf; f++) {
-        d = pgp__distortion(map, f);
-        total += map->m.area[f];
-        st += (d & 1) ? map->m.area[f] : 0.0;
-        sh += (d & 2) ? map->m.area[f] : 0.0;
+    if (!P) return;
+    for (f = 0; f < P->m.nf; f++) {
+        d = pgp__distortion(P, f);
+        total += P->m.area[f];
+        st += (d & 1) ? P->m.area[f] : 0.0;
+        sh += (d & 2) ? P->m.area[f] : 0.0;
     }
-    out->triangles = map->m.nf;
-    out->vortices = pgp_get_vortices(map, NULL);
-    out->singular = map->nsing;
+    out->triangles = P->m.nf;
+    out->vortices = pgp_map_vortices(map, NULL);
+    out->singular = P->nsing;
     out->stretched = total > 0.0 ? (float)(st / total) : 0.0f;
     out->sheared = total > 0.0 ? (float)(sh / total) : 0.0f;
-    out->mean_edge = (float)pgp__mean_edge(map);
-    out->diagonal = map->m.diag;
-    out->scale = map->scale0;
+    out->mean_edge = (float)pgp__mean_edge(P);
+    out->diagonal = P->m.diag;
+    out->scale = P->scale0;
 }
 
-PGPDEF void pgp_get_triangles(const pgp_map *map, int *tris)
+/* ---- src/pgp/edit.c ---- */
+/* edit.c: the public editing calls of a mapping. §2.1 (Ray, Lévy, Wang,
+ * Turk and Vallet 2009, "Material Space Texturing"): "When the user
+ * specifies or edits a constraint, we compute an effect area around the
+ * constraint ... by a classical greedy algorithm that visits the triangles
+ * in order of increasing distance to the nearest constraint"; the
+ * interpolations and the (s,t) solve are then limited to that area, with
+ * everything on its boundary locked, so that an edit is local and
+ * continuous. Every call here (a constraint added, edited or removed, the
+ * constraints given to pgp_create) runs those steps (pgp__edit, solve.c)
+ * around its constraint. */
+
+/* The triangles around a constraint: its triangle, or a vertex's fan. */
+static int pgp__edit_constraint(pgp__state *P, const pgp_constraint *c, pgp_area *area, pw_err *e)
 {
-    if (map && tris) memcpy(tris, map->m.tri, sizeof(int) * 3 * (size_t)map->m.nf);
+    int *seeds, n = 0, h, r;
+    if (c->kind == PGP_CONSTRAINT_ORIENT) return pgp__edit(P, c->kind, &c->element, 1, c->radius, area, e);
+    seeds = (int *)pw_alloc_array(&P->a, (size_t)P->m.nf, sizeof(int), "effect area", e);
+    if (!seeds) return PW_ERR_NOMEM;
+    for (h = 0; h < 3 * P->m.nf; h++)
+        if (P->m.tri[h] == c->element) seeds[n++] = h / 3;
+    r = pgp__edit(P, c->kind, seeds, n, c->radius, area, e);
+    pw_free(&P->a, seeds);
+    return r;
+}
+
+/* Checks a constraint against the map: pgp__check_values, an element that
+ * exists, and a direction that is not normal to its triangle. */
+static int pgp__check_constraint(const pgp__state *P, const pgp_constraint *c, pw_err *e)
+{
+    double z[2];
+    int r = pgp__check_values(c, e);
+    if (r == PW_OK)
+        r = c->kind == PGP_CONSTRAINT_ORIENT ? pgp__check_face(P, c->element, e) : pgp__check_vertex(P, c->element, e);
+    if (r == PW_OK && c->kind == PGP_CONSTRAINT_ORIENT && !pw_df_project(&P->m, c->element, pw_v3_load(c->value), z))
+        return pw_fail(e, PW_ERR_INVALID, "orientation (%g, %g, %g) at triangle %d is normal to the triangle",
+                       (double)c->value[0], (double)c->value[1], (double)c->value[2], c->element);
+    return r;
+}
+
+/* Adds a constraint and applies it; *id its index. */
+static int pgp__add(pgp__state *P, const pgp_constraint *c, int *id, pgp_area *area, pw_err *e)
+{
+    pgp__constraint k;
+    k.c = *c;
+    k.alive = 1;
+    if (pgp__check_constraint(P, &k.c, e) != PW_OK ||
+        pw_grow(&P->a, (void **)&P->con, &P->concap, (size_t)P->ncon + 1, sizeof k, "constraints", e) != PW_OK)
+        return e->code;
+    P->con[P->ncon++] = k;
+    if (pgp__edit_constraint(P, &k.c, area, e) != PW_OK) P->con[--P->ncon].alive = 0;
+    else if (id) *id = P->ncon - 1;
+    return e->code;
+}
+
+/* pgp_options.constraints, one by one, each as pgp_add_constraint. */
+static int pgp__add_options(pgp__state *P, const pgp_options *o, pw_err *e)
+{
+    char msg[sizeof e->msg];
+    int i, code;
+    if (o->nconstraints < 0 || (o->nconstraints > 0 && !o->constraints))
+        return pw_fail(e, PW_ERR_INVALID, "options: %d constraints and %s array", o->nconstraints,
+                       o->constraints ? "an" : "no");
+    for (i = 0; i < o->nconstraints; i++)
+        if ((code = pgp__add(P, &o->constraints[i], NULL, NULL, e)) != PW_OK) { /* name it */
+            memcpy(msg, e->msg, sizeof msg);
+            pw_err_clear(e);
+            return pw_fail(e, code, "constraint %d: %s", i, msg);
+        }
+    return PW_OK;
+}
+
+PGPDEF pgp_result pgp_create(const pgp_mesh *mesh, const pgp_options *opt, pgp_map *out, pgp_error *err)
+{
+    pw_err pe;
+    pw_err_clear(&pe);
+    if (out) memset(out, 0, sizeof *out);
+    if (!out) pw_fail(&pe, PW_ERR_INVALID, "pgp_create: NULL output");
+    else if (pgp__create_map(mesh, opt, out, &pe) != PW_OK || (opt && pgp__add_options(out->state, opt, &pe) != PW_OK))
+        pgp_map_free(out);
+    return pgp__done(&pe, err);
+}
+
+PGPDEF pgp_result pgp_add_constraint(pgp_map *map, const pgp_constraint *c, int *id, pgp_area *area, pgp_error *err)
+{
+    pw_err pe;
+    pw_err_clear(&pe);
+    if (area) memset(area, 0, sizeof *area);
+    if (!map || !map->state || !c) pw_fail(&pe, PW_ERR_INVALID, "pgp_add_constraint: NULL or empty map, or NULL constraint");
+    else pgp__add(map->state, c, id, area, &pe);
+    return pgp__done(&pe, err);
+}
+
+/* The live constraint `id`, or an error. */
+static pgp__constraint *pgp__find(pgp_map *map, int id, pw_err *e)
+{
+    pgp__state *P = map ? map->state : NULL;
+    if (!P) return pw_fail(e, PW_ERR_INVALID, "NULL or empty map"), (pgp__constraint *)NULL;
+    if (id < 0 || id >= P->ncon || !P->con[id].alive) {
+        pw_fail(e, PW_ERR_INVALID, "there is no constraint %d", id);
+        return NULL;
+    }
+    return &P->con[id];
+}
+
+PGPDEF pgp_result pgp_edit_constraint(pgp_map *map, int id, const float value[3], pgp_area *area, pgp_error *err)
+{
+    pgp__constraint *c, old;
+    pw_err pe;
+    pw_err_clear(&pe);
+    if (area) memset(area, 0, sizeof *area);
+    if ((c = pgp__find(map, id, &pe)) != NULL && !value) pw_fail(&pe, PW_ERR_INVALID, "NULL value");
+    if (pe.code == PW_OK) {
+        old = *c;
+        memcpy(c->c.value, value, sizeof(float) * (c->c.kind == PGP_CONSTRAINT_ORIENT ? 3 : 1));
+        if (pgp__check_constraint(map->state, &c->c, &pe) != PW_OK ||
+            pgp__edit_constraint(map->state, &c->c, area, &pe) != PW_OK)
+            *c = old;
+    }
+    return pgp__done(&pe, err);
+}
+
+PGPDEF pgp_result pgp_remove_constraint(pgp_map *map, int id, pgp_area *area, pgp_error *err)
+{
+    pgp__constraint *c;
+    pw_err pe;
+    pw_err_clear(&pe);
+    if (area) memset(area, 0, sizeof *area);
+    if ((c = pgp__find(map, id, &pe)) != NULL) {
+        c->alive = 0;
+        if (pgp__edit_constraint(map->state, &c->c, area, &pe) != PW_OK) c->alive = 1;
+    }
+    return pgp__done(&pe, err);
 }
 
 /* ---- src/pgp/render.c ---- */
 /* render.c: §3 rendering, and a cleaner treatment of the vortices.
  *
  * PGP_FIX_CLEAN (the default, beyond the paper): every triangle takes one
- * lookup. A triangle around which s (or t) winds (a vortex, pgp_get_vortices)
+ * lookup. A triangle around which s (or t) winds (a vortex, pgp_map_vortices)
  * cannot take a linear (s, t): its edges are given the differences its
  * neighbours use (the integer nearest the field's alpha, Eq. 4), and its
  * interior the "stripe patterns" interpolation of Knöppel, Crane, Pinkall
@@ -14685,7 +14895,7 @@ PGPDEF void pgp_get_triangles(const pgp_map *map, int *tris)
  * treatment, PGP__FIXDATA floats: PAPER (and ALL) 3 points of view x 3
  * corners x (s, t); CLEAN pgp__clean_data's layout. */
 typedef struct pgp__shading {
-    const pgp_map *P;
+    const pgp__state *P;
     const pw_tile3 *tile;
     const float *fix;
     const unsigned char *fixed; /* nf: 1 where the special treatment is used */
@@ -14694,7 +14904,7 @@ typedef struct pgp__shading {
 
 /* Corner b of triangle f seen from corner a (§3): s'_{a,a} = s_a^T and
  * s'_{a,b} = s'_{a,a} + alpha_ab, for s and t, written to out[0..1]. */
-static void pgp__view(const pgp_map *P, int f, int a, int b, float *out)
+static void pgp__view(const pgp__state *P, int f, int a, int b, float *out)
 {
     int k;
     for (k = 0; k < 2; k++) {
@@ -14708,7 +14918,7 @@ static void pgp__view(const pgp_map *P, int f, int a, int b, float *out)
 /* The three points of view of triangle f: a singular corner sees its
  * neighbours through the field; a regular corner agrees with the
  * triangle's own coordinates. */
-static void pgp__views(const pgp_map *P, int f, int all, float *out)
+static void pgp__views(const pgp__state *P, int f, int all, float *out)
 {
     int a, b;
     for (a = 0; a < 3; a++)
@@ -14728,7 +14938,7 @@ static void pgp__views(const pgp_map *P, int f, int all, float *out)
  * V[3] the field's linear function L at the corners (corner 0's view, §3),
  * Q[3] the barycentric coordinates of the zero. A coordinate that does not
  * wind here has Q[0] < 0 and is linear in U. */
-static void pgp__clean_coord(const pgp_map *P, int f, int k, float *o)
+static void pgp__clean_coord(const pgp__state *P, int f, int k, float *o)
 {
     const float *c = P->stm + 9 * f;
     double U[3], D[3], V[3], r[3], zr[3], zi[3], det, q1, q2;
@@ -14888,10 +15098,9 @@ static int pgp__tile3(const pw_alloc *a, const pgp_tile *t, pw_tile3 *out, pw_er
     return pw_tile3_create(a, out, &v, 0, e);
 }
 
-static int pgp__draw(const pgp_map *P, pgp__shading *S, const pgp_render_options *o, pw_image *pic, pw_err *e)
+static int pgp__draw(const pgp__state *P, pgp__shading *S, const pgp_render_options *o, pw_image *pic, pw_err *e)
 {
     pw_camera cam = pw_camera_frame(P->pos, P->m.nv, o->view_dir, o->up, 35.0f, (float)o->width / (float)o->height);
-    float bg[4];
     int k;
     if (o->zoom > 1.0f) /* a close-up: the same direction and distance, looking at center */
         for (cam.fovy_deg /= o->zoom, k = 0; k < 3; k++) {
@@ -14899,10 +15108,9 @@ static int pgp__draw(const pgp_map *P, pgp__shading *S, const pgp_render_options
             cam.target[k] = o->center[k];
         }
     pw_draw d;
-    pw_fb fb;
-    int r;
-    memcpy(bg, o->background, sizeof o->background);
-    bg[3] = 1.0f;
+    pw_frame f;
+    pw_frame_draw1 one;
+    pw_parallel par;
     memset(&d, 0, sizeof d);
     d.positions = P->pos;
     d.nv = P->m.nv;
@@ -14912,33 +15120,39 @@ static int pgp__draw(const pgp_map *P, pgp__shading *S, const pgp_render_options
     d.ambient = 0.3f;
     d.shader = pgp__shade;
     d.shader_user = S;
-    if ((r = pw_fb_create(&P->a, &fb, o->width, o->height, o->supersample, bg, e)) != PW_OK) return r;
-    if ((r = pw_render_draw(&fb, &cam, &d, e)) == PW_OK) r = pw_fb_resolve(&fb, pic, 3, e);
-    pw_fb_free(&fb);
-    return r;
+    one.d = &d;
+    one.cam = &cam;
+    par.threads = o->threads;
+    par.run = o->parallel;
+    par.pool = o->parallel_pool;
+    pw_frame_init(&f, o->width, o->height, o->supersample, o->background, &par);
+    f.draw = pw_frame_draw1_fn;
+    f.user = &one;
+    return pw_render_frame(&P->a, &f, pic, e);
 }
 
 /* Whether triangle f takes the special treatment of fix mode `mode`: a
  * vortex (CLEAN), a singular corner (PAPER, §3), every triangle (ALL). */
-static int pgp__special(const pgp_map *P, int mode, int f)
+static int pgp__special(const pgp__state *P, int mode, int f)
 {
     if (mode == PGP_FIX_CLEAN) return pgp__winding(P, f, 0) != 0 || pgp__winding(P, f, 1) != 0;
     if (mode == PGP_FIX_PAPER) return P->fsing[f];
     return mode == PGP_FIX_ALL;
 }
 
-PGPDEF int pgp_get_special(const pgp_map *map, int fix, unsigned char *flags)
+PGPDEF int pgp_map_special(const pgp_map *map, pgp_fix fix, unsigned char *flags)
 {
+    const pgp__state *P = pgp__state_of(map);
     int f, n = 0, s;
-    for (f = 0; map && f < map->m.nf; f++) {
-        n += s = pgp__special(map, fix, f);
+    for (f = 0; P && f < P->m.nf; f++) {
+        n += s = pgp__special(P, fix, f);
         if (flags) flags[f] = (unsigned char)s;
     }
     return n;
 }
 
 /* The fix data of every triangle that takes the special treatment. */
-static void pgp__fix_data(const pgp_map *P, int mode, unsigned char *fixed, float *data)
+static void pgp__fix_data(const pgp__state *P, int mode, unsigned char *fixed, float *data)
 {
     int f, k;
     for (f = 0; f < P->m.nf; f++) {
@@ -14954,6 +15168,7 @@ static void pgp__fix_data(const pgp_map *P, int mode, unsigned char *fixed, floa
 PGPDEF pgp_result pgp_render(const pgp_map *map, const pgp_tile *tile, const pgp_render_options *ro, pgp_image *out,
                              pgp_error *err)
 {
+    const pgp__state *P = pgp__state_of(map);
     pgp_render_options o;
     pgp__shading S;
     pw_tile3 t3;
@@ -14967,22 +15182,22 @@ PGPDEF pgp_result pgp_render(const pgp_map *map, const pgp_tile *tile, const pgp
     pw_err_clear(&pe);
     memset(&t3, 0, sizeof t3);
     if (out) memset(out, 0, sizeof *out);
-    if (!out || !map) pw_fail(&pe, PW_ERR_INVALID, "pgp_render: NULL map or output");
-    else if (o.width < 1 || o.height < 1 || o.supersample < 1 || o.supersample > 8 || o.fix < 0 ||
+    if (!out || !P) pw_fail(&pe, PW_ERR_INVALID, "pgp_render: NULL map or output");
+    else if (o.width < 1 || o.height < 1 || o.supersample < 1 || o.supersample > 8 || o.threads < 0 || o.fix < 0 ||
              o.fix > PGP_FIX_PAPER || o.show < 0 || o.show > PGP_SHOW_GHOSTS || !(o.zoom <= 1e4f) ||
              !pw_is_finite(o.center[0]) || !pw_is_finite(o.center[1]) || !pw_is_finite(o.center[2]))
-        pw_fail(&pe, PW_ERR_INVALID, "render options: size %dx%d, supersample %d, fix %d, show %d, zoom %g", o.width,
-                o.height, o.supersample, o.fix, o.show, (double)o.zoom);
-    else if (pgp__tile3(&map->a, tile, &t3, &pe) == PW_OK &&
-             (data = (float *)pw_alloc_array(&map->a, (size_t)map->m.nf * PGP__FIXDATA, sizeof(float), "fix", &pe)) != NULL &&
-             (fixed = (unsigned char *)pw_alloc_array(&map->a, (size_t)map->m.nf, 1, "fix", &pe)) != NULL) {
-        pgp__fix_data(map, o.fix, fixed, data);
-        S.P = map, S.tile = &t3, S.fix = data, S.fixed = fixed, S.mode = o.fix, S.show = o.show;
-        if (pgp__draw(map, &S, &o, &pic, &pe) == PW_OK) pgp__take_image(&pic, &map->a, out);
+        pw_fail(&pe, PW_ERR_INVALID, "render options: size %dx%d, supersample %d, threads %d, fix %d, show %d, zoom %g",
+                o.width, o.height, o.supersample, o.threads, o.fix, o.show, (double)o.zoom);
+    else if (pgp__tile3(&P->a, tile, &t3, &pe) == PW_OK &&
+             (data = (float *)pw_alloc_array(&P->a, (size_t)P->m.nf * PGP__FIXDATA, sizeof(float), "fix", &pe)) != NULL &&
+             (fixed = (unsigned char *)pw_alloc_array(&P->a, (size_t)P->m.nf, 1, "fix", &pe)) != NULL) {
+        pgp__fix_data(P, o.fix, fixed, data);
+        S.P = P, S.tile = &t3, S.fix = data, S.fixed = fixed, S.mode = o.fix, S.show = o.show;
+        if (pgp__draw(P, &S, &o, &pic, &pe) == PW_OK) pgp__take_image(&pic, &P->a, out);
     }
-    pw_free(map ? &map->a : NULL, data);
-    pw_free(map ? &map->a : NULL, fixed);
-    if (map) pw_tile3_free(&map->a, &t3);
+    pw_free(P ? &P->a : NULL, data);
+    pw_free(P ? &P->a : NULL, fixed);
+    if (P) pw_tile3_free(&P->a, &t3);
     return pgp__done(&pe, err);
 }
 
@@ -14991,7 +15206,7 @@ PGPDEF pgp_result pgp_render(const pgp_map *map, const pgp_tile *tile, const pgp
  *
  * Meshes come from the shared shapes module ("sphere", "torus", "bumpy" as
  * in lapped.h, and "grid", a flat square with a boundary). Tiles are RGB,
- * follow opt->seed, and are periodic in s and t by construction: every
+ * follow opt->synth.seed, and are periodic in s and t by construction: every
  * feature is laid out on a lattice that divides the tile (3 bricks by 8
  * rows, 8 stripes) and every noise is value noise on a lattice whose period
  * divides the tile, so the texel after the last column is the texel of
@@ -15282,7 +15497,7 @@ PGPDEF pgp_result pgp_builtin_tile(const char *name, int size, const pgp_options
         for (z = 0; z < layers; z++)
             for (y = 0; y < size; y++)
                 for (x = 0; x < size; x++) /* texel centres; row 0 at the top, t = 0 at the bottom */
-                    pgp__tile_texel(kind, o.seed, z, layers, (x + 0.5) * px, 1.0 - (y + 0.5) * px, px,
+                    pgp__tile_texel(kind, o.synth.seed, z, layers, (x + 0.5) * px, 1.0 - (y + 0.5) * px, px,
                                     vol.px + (((size_t)z * size + y) * size + x) * 3);
         out->width = out->height = size;
         out->layers = layers;
@@ -15295,8 +15510,8 @@ PGPDEF pgp_result pgp_builtin_tile(const char *name, int size, const pgp_options
 
 /* ---- src/pgp/io.c ---- */
 /* io.c: files and memory for pgp.h: material-space tiles (NRRD, or any 2D
- * image as one layer), meshes, images, the textured OBJ and the
- * constraints file of the CLI.
+ * image as one layer), meshes, images, the textured OBJ and constraints
+ * files.
  *
  * Tiles and NRRD volumes share their layout (pw_volume, nrrd.h): x is s
  * (the width), y the rows from the top (t = 0 at the bottom row), z the
@@ -15312,14 +15527,15 @@ PGPDEF pgp_result pgp_builtin_tile(const char *name, int size, const pgp_options
  * with vertex and vt indices 1-based; numbers read back exactly whatever
  * the locale.
  *
- * A constraints file is applied line by line (§2); '#' starts a comment:
+ * A constraints file holds one constraint (§2) per line, in the order they
+ * are applied; '#' starts a comment, blank lines are ignored, a UTF-8
+ * byte-order mark is skipped:
  *     radius R                effect radius of the lines that follow, mesh
  *                             units (0 or less, the default: whole mesh)
  *     orient F dx dy dz       the tile's s axis along (dx, dy, dz) at triangle F
  *     scale V S               tile side S (mesh units, > 0) at vertex V
  *     material V m            material m in [0, 1] at vertex V
- * Triangles and vertices are 0-based. An error names the file and line;
- * the lines before it stay applied. */
+ * Triangles and vertices are 0-based. An error names the file and line. */
 
 /* ---- tiles ------------------------------------------------------------------ */
 
@@ -15372,7 +15588,7 @@ PGPDEF pgp_result pgp_tile_from_image(const pgp_image *img, const pgp_options *o
 }
 
 /* NRRD when the data starts with its magic, else a 2D image (one layer). */
-PGPDEF pgp_result pgp_load_tile_from_memory(const void *data, size_t size, const char *name, const pgp_options *opt,
+PGPDEF pgp_result pgp_read_tile(const void *data, size_t size, const char *name, const pgp_options *opt,
                                             pgp_tile *out, pgp_error *err)
 {
     pgp_options o = pgp__options(opt);
@@ -15384,7 +15600,7 @@ PGPDEF pgp_result pgp_load_tile_from_memory(const void *data, size_t size, const
     pw_err_clear(&pe);
     if (out) memset(out, 0, sizeof *out);
     if (!name) name = "tile";
-    if (!out || (!data && size)) pw_fail(&pe, PW_ERR_INVALID, "pgp_load_tile_from_memory: NULL argument");
+    if (!out || (!data && size)) pw_fail(&pe, PW_ERR_INVALID, "pgp_read_tile: NULL argument");
     else if (size >= 4 && !memcmp(d, "NRRD", 4)) {
         if (pw_nrrd_read_memory(&a, d, size, name, &vol, &pe) == PW_OK) pgp__take_volume(&vol, &a, out);
     } else if (pw_image_read_memory(&a, d, size, name, &img, &pe) == PW_OK) {
@@ -15394,13 +15610,13 @@ PGPDEF pgp_result pgp_load_tile_from_memory(const void *data, size_t size, const
     return pgp__done(&pe, err);
 }
 
-PGPDEF pgp_result pgp_write_tile_to_func(const pgp_tile *tile, pgp_write_fn fn, void *ctx, pgp_error *err)
+PGPDEF pgp_result pgp_write_tile(const pgp_tile *tile, pgp_write_fn fn, void *ctx, pgp_error *err)
 {
     pw_volume v;
     pw_alloc a;
     pw_err pe;
     pw_err_clear(&pe);
-    if (!fn) pw_fail(&pe, PW_ERR_INVALID, "pgp_write_tile_to_func: NULL writer");
+    if (!fn) pw_fail(&pe, PW_ERR_INVALID, "pgp_write_tile: NULL writer");
     else if (pgp__tile_view(tile, &v, &pe) == PW_OK) {
         a = pgp__alloc(&tile->allocator);
         pw_nrrd_write(&a, &v, 0, fn, ctx, &pe);
@@ -15410,7 +15626,7 @@ PGPDEF pgp_result pgp_write_tile_to_func(const pgp_tile *tile, pgp_write_fn fn, 
 
 /* ---- meshes and images --------------------------------------------------------- */
 
-PGPDEF pgp_result pgp_load_mesh_from_memory(const void *data, size_t size, const char *name, const pgp_options *opt,
+PGPDEF pgp_result pgp_read_mesh(const void *data, size_t size, const char *name, const pgp_options *opt,
                                             pgp_mesh *out, pgp_error *err)
 {
     pgp_options o = pgp__options(opt);
@@ -15419,18 +15635,33 @@ PGPDEF pgp_result pgp_load_mesh_from_memory(const void *data, size_t size, const
     pw_err pe;
     pw_err_clear(&pe);
     if (out) memset(out, 0, sizeof *out);
-    if (!out || (!data && size)) pw_fail(&pe, PW_ERR_INVALID, "pgp_load_mesh_from_memory: NULL argument");
+    if (!out || (!data && size)) pw_fail(&pe, PW_ERR_INVALID, "pgp_read_mesh: NULL argument");
     else if (pw_mesh_read_memory(&a, data, size, name ? name : "mesh", &m, &pe) == PW_OK)
         pgp__take_mesh(&m, &a, out);
     return pgp__done(&pe, err);
 }
 
-PGPDEF pgp_result pgp_write_image_to_func(const pgp_image *img, const char *format, pgp_write_fn fn, void *ctx,
-                                          pgp_error *err)
+PGPDEF pgp_result pgp_read_image(const void *data, size_t size, const char *name, const pgp_options *opt,
+                                 pgp_image *out, pgp_error *err)
+{
+    pgp_options o = pgp__options(opt);
+    pw_alloc a = pgp__alloc(&o.allocator);
+    pw_image img;
+    pw_err pe;
+    pw_err_clear(&pe);
+    if (out) memset(out, 0, sizeof *out);
+    if (!out || (!data && size)) pw_fail(&pe, PW_ERR_INVALID, "pgp_read_image: NULL argument");
+    else if (pw_image_read_memory(&a, (const unsigned char *)data, size, name ? name : "image", &img, &pe) == PW_OK)
+        pgp__take_image(&img, &a, out);
+    return pgp__done(&pe, err);
+}
+
+PGPDEF pgp_result pgp_write_image(const pgp_image *img, const char *format, pgp_write_fn fn, void *ctx,
+                                  pgp_error *err)
 {
     pw_err pe;
     pw_err_clear(&pe);
-    if (!fn) pw_fail(&pe, PW_ERR_INVALID, "pgp_write_image_to_func: NULL writer");
+    if (!fn) pw_fail(&pe, PW_ERR_INVALID, "pgp_write_image: NULL writer");
     else if (pgp__check_image(img, "image", &pe) == PW_OK) pgp__encode(img, format, fn, ctx, &pe);
     return pgp__done(&pe, err);
 }
@@ -15439,7 +15670,7 @@ PGPDEF pgp_result pgp_write_image_to_func(const pgp_image *img, const char *form
 
 /* The mesh given with a map must be the one it was made from: the same
  * vertices and the same fan triangulation. */
-static int pgp__same_mesh(const pgp_mesh *mesh, const pgp_map *P, pw_err *e)
+static int pgp__same_mesh(const pgp_mesh *mesh, const pgp__state *P, pw_err *e)
 {
     int f, k, t = 0;
     if (mesh->nverts != P->m.nv || mesh->nfaces < 0 || !mesh->face_start || !mesh->face_verts)
@@ -15457,7 +15688,7 @@ static int pgp__same_mesh(const pgp_mesh *mesh, const pgp_map *P, pw_err *e)
 }
 
 /* The faces of one group: regular (sing = 0) or singular (sing = 1). */
-static void pgp__obj_group(pw__wb *b, const pgp_map *P, int sing)
+static void pgp__obj_group(pw__wb *b, const pgp__state *P, int sing)
 {
     int f, k;
     pw__wb_str(b, sing ? "g singular\n" : "g regular\n");
@@ -15472,7 +15703,7 @@ static void pgp__obj_group(pw__wb *b, const pgp_map *P, int sing)
     }
 }
 
-static int pgp__write_obj(const pgp_map *P, pw_write_fn fn, void *ctx, pw_err *e)
+static int pgp__write_obj(const pgp__state *P, pw_write_fn fn, void *ctx, pw_err *e)
 {
     pw__wb b;
     int i, k;
@@ -15495,26 +15726,28 @@ static int pgp__write_obj(const pgp_map *P, pw_write_fn fn, void *ctx, pw_err *e
     return pw__wb_done(&b, e);
 }
 
-PGPDEF pgp_result pgp_write_obj_to_func(const pgp_mesh *mesh, const pgp_map *map, pgp_write_fn fn, void *ctx,
-                                        pgp_error *err)
+PGPDEF pgp_result pgp_write_obj(const pgp_mesh *mesh, const pgp_map *map, pgp_write_fn fn, void *ctx,
+                                pgp_error *err)
 {
+    const pgp__state *P = pgp__state_of(map);
     pw_err pe;
     pw_err_clear(&pe);
-    if (!map || !fn) pw_fail(&pe, PW_ERR_INVALID, "pgp_write_obj_to_func: NULL map or writer");
-    else if (!mesh || pgp__same_mesh(mesh, map, &pe) == PW_OK)
-        pgp__write_obj(map, fn, ctx, &pe);
+    if (!P || !fn) pw_fail(&pe, PW_ERR_INVALID, "pgp_write_obj: NULL or empty map, or NULL writer");
+    else if (!mesh || pgp__same_mesh(mesh, P, &pe) == PW_OK)
+        pgp__write_obj(P, fn, ctx, &pe);
     return pgp__done(&pe, err);
 }
 
 /* ---- constraints files -------------------------------------------------------------- */
 
-/* A triangle or vertex index, checked against the map. */
-static int pgp__con_index(pw__sc *s, const char *what, int n, int *out)
+/* A triangle or vertex index (whether it exists is checked when the
+ * constraint is applied: the file knows no mesh). */
+static int pgp__con_index(pw__sc *s, const char *what, int *out)
 {
     long long v;
     int r;
     if ((r = pw__sc_int(s, &v, what, -1)) != PW_OK) return r;
-    if (v < 0 || v >= n) return pw__sc_fail(s, PW_ERR_INVALID, "%s %lld does not exist (0 to %d)", what, v, n - 1);
+    if (v < 0 || v > PW_MAX_MESH_ELEMENTS) return pw__sc_fail(s, PW_ERR_INVALID, "%s %lld does not exist", what, v);
     *out = (int)v;
     return PW_OK;
 }
@@ -15532,55 +15765,66 @@ static int pgp__con_numbers(pw__sc *s, const char *what, float *v, int n)
     return PW_OK;
 }
 
-/* One line: reads it whole, then applies it. *count counts constraints. */
-static int pgp__con_line(pw__sc *s, pgp_map *P, float *radius, int *count)
+/* One line: a radius, or a constraint in *c, checked (pgp__check_values),
+ * and *got set. */
+static int pgp__con_line(pw__sc *s, float *radius, pgp_constraint *c, int *got)
 {
     static const char *const names[4] = {"radius", "orient", "scale", "material"};
     char tok[32];
     const char *w;
     size_t n;
     float v[3];
-    int kind, idx = 0, r;
-    pgp_error le;
-    pgp_result q;
+    int kind, r;
+    pw_err le;
     w = pw__sc_word(s, &n);
     kind = pw__sc_is(w, n, "radius") ? 0 : pw__sc_is(w, n, "orient") ? 1 : pw__sc_is(w, n, "scale") ? 2
            : pw__sc_is(w, n, "material") ? 3 : -1;
     if (kind < 0)
         return pw__sc_fail(s, PW_ERR_PARSE, "unknown keyword '%s' (orient, scale, material, radius)", pw__sc_tok(s, w, tok));
-    if (kind == 1) r = pgp__con_index(s, "orient: triangle", P->m.nf, &idx);
-    else if (kind > 1) r = pgp__con_index(s, kind == 2 ? "scale: vertex" : "material: vertex", P->m.nv, &idx);
+    memset(c, 0, sizeof *c);
+    if (kind == 1) r = pgp__con_index(s, "orient: triangle", &c->element);
+    else if (kind > 1) r = pgp__con_index(s, kind == 2 ? "scale: vertex" : "material: vertex", &c->element);
     else r = PW_OK;
     if (r != PW_OK || (r = pgp__con_numbers(s, names[kind], v, kind == 1 ? 3 : 1)) != PW_OK) return r;
     if (!pw__sc_eol(s)) return pw__sc_fail(s, PW_ERR_PARSE, "unexpected text after '%s'", names[kind]);
+    *got = kind > 0;
     if (kind == 0) *radius = v[0];
     else {
-        q = kind == 1 ? pgp_add_orientation(P, idx, v, *radius, NULL, NULL, &le)
-            : kind == 2 ? pgp_add_scale(P, idx, v[0], *radius, NULL, NULL, &le)
-                        : pgp_add_material(P, idx, v[0], *radius, NULL, NULL, &le);
-        if (q != PGP_OK) return pw__sc_fail(s, (int)q, "%s", le.message);
-        ++*count;
+        c->kind = kind == 1 ? PGP_CONSTRAINT_ORIENT : kind == 2 ? PGP_CONSTRAINT_SCALE : PGP_CONSTRAINT_MATERIAL;
+        memcpy(c->value, v, sizeof(float) * (kind == 1 ? 3 : 1));
+        c->radius = *radius;
+        pw_err_clear(&le);
+        if (pgp__check_values(c, &le) != PW_OK) return pw__sc_fail(s, le.code, "%s", le.msg);
     }
     pw__sc_next_line(s);
     return PW_OK;
 }
 
-PGPDEF pgp_result pgp_apply_constraints_from_memory(pgp_map *map, const void *data, size_t size, const char *name,
-                                                    pgp_error *err)
+PGPDEF pgp_result pgp_read_constraints(const void *data, size_t size, const char *name, const pgp_options *opt,
+                                       pgp_constraints *out, pgp_error *err)
 {
+    pgp_options o = pgp__options(opt);
+    pw_alloc a = pgp__alloc(&o.allocator);
+    pgp_constraint c;
     float radius = 0.0f;
-    int count = 0;
+    size_t cap = 0;
+    int got = 0;
     pw__sc s;
     pw_err pe;
     pw_err_clear(&pe);
-    if (!map || (!data && size)) {
-        pw_fail(&pe, PW_ERR_INVALID, "pgp_apply_constraints_from_memory: NULL argument");
+    if (out) memset(out, 0, sizeof *out);
+    if (!out || (!data && size)) {
+        pw_fail(&pe, PW_ERR_INVALID, "pgp_read_constraints: NULL argument");
         return pgp__done(&pe, err);
     }
+    out->allocator = pgp__allocator(&a);
     pw__sc_init(&s, data, size, name ? name : "constraints", 0, &pe);
     for (pw__sc_skip_empty(&s); s.p < s.end && pe.code == PW_OK; pw__sc_skip_empty(&s))
-        pgp__con_line(&s, map, &radius, &count);
-    if (pe.code == PW_OK && count == 0) pw_fail(&pe, PW_ERR_PARSE, "%s: no constraints", s.name);
+        if (pgp__con_line(&s, &radius, &c, &got) == PW_OK && got &&
+            pw_grow(&a, (void **)&out->items, &cap, (size_t)out->count + 1, sizeof c, "constraints", &pe) == PW_OK)
+            out->items[out->count++] = c;
+    if (pe.code == PW_OK && out->count == 0) pw_fail(&pe, PW_ERR_PARSE, "%s: no constraints", s.name);
+    if (pe.code != PW_OK) pgp_constraints_free(out);
     return pgp__done(&pe, err);
 }
 
@@ -15625,7 +15869,7 @@ PGPDEF pgp_result pgp_load_tile(const char *path, const pgp_options *opt, pgp_ti
     if (!out || !path) pw_fail(&pe, PW_ERR_INVALID, "pgp_load_tile: NULL argument");
     else if (pw_read_file(&a, path, &data, &size, &pe) == PW_OK) {
         pgp_error le;
-        if (pgp_load_tile_from_memory(data, size, path, &o, out, &le) != PGP_OK) pw_fail(&pe, (int)le.code, "%s", le.message);
+        if (pgp_read_tile(data, size, path, &o, out, &le) != PGP_OK) pw_fail(&pe, (int)le.code, "%s", le.message);
         pw_free(&a, data);
     }
     return pgp__done(&pe, err);
@@ -15644,9 +15888,9 @@ static int pgp__job_body(void *arg, pw_write_fn w, void *ctx, pw_err *e)
 {
     const pgp__job *j = (const pgp__job *)arg;
     pgp_error le;
-    pgp_result r = j->img ? pgp_write_image_to_func(j->img, j->format, w, ctx, &le)
-                   : j->tile ? pgp_write_tile_to_func(j->tile, w, ctx, &le)
-                             : pgp_write_obj_to_func(j->mesh, j->map, w, ctx, &le);
+    pgp_result r = j->img ? pgp_write_image(j->img, j->format, w, ctx, &le)
+                   : j->tile ? pgp_write_tile(j->tile, w, ctx, &le)
+                             : pgp_write_obj(j->mesh, j->map, w, ctx, &le);
     return r != PGP_OK ? pw_fail(e, (int)r, "%s", le.message) : PW_OK;
 }
 
@@ -15688,27 +15932,26 @@ PGPDEF pgp_result pgp_save_obj(const char *path, const pgp_mesh *mesh, const pgp
     memset(&j, 0, sizeof j);
     j.mesh = mesh;
     j.map = map;
-    if (!path || !map) pw_fail(&pe, PW_ERR_INVALID, "pgp_save_obj: NULL argument");
-    else if (!mesh || pgp__same_mesh(mesh, map, &pe) == PW_OK) pw_write_file(path, pgp__job_body, &j, &pe);
+    if (!path || !pgp__state_of(map)) pw_fail(&pe, PW_ERR_INVALID, "pgp_save_obj: NULL argument or empty map");
+    else if (!mesh || pgp__same_mesh(mesh, map->state, &pe) == PW_OK) pw_write_file(path, pgp__job_body, &j, &pe);
     return pgp__done(&pe, err);
 }
 
-PGPDEF pgp_result pgp_apply_constraints(pgp_map *map, const char *path, pgp_error *err)
+PGPDEF pgp_result pgp_load_constraints(const char *path, const pgp_options *opt, pgp_constraints *out,
+                                       pgp_error *err)
 {
-    pw_alloc a;
+    pgp_options o = pgp__options(opt);
+    pw_alloc a = pgp__alloc(&o.allocator);
     unsigned char *data;
     size_t size;
     pw_err pe;
     pw_err_clear(&pe);
-    if (!map || !path) pw_fail(&pe, PW_ERR_INVALID, "pgp_apply_constraints: NULL argument");
-    else {
-        a = map->a;
-        if (pw_read_file(&a, path, &data, &size, &pe) == PW_OK) {
-            pgp_error le;
-            if (pgp_apply_constraints_from_memory(map, data, size, path, &le) != PGP_OK)
-                pw_fail(&pe, (int)le.code, "%s", le.message);
-            pw_free(&a, data);
-        }
+    if (out) memset(out, 0, sizeof *out);
+    if (!out || !path) pw_fail(&pe, PW_ERR_INVALID, "pgp_load_constraints: NULL argument");
+    else if (pw_read_file(&a, path, &data, &size, &pe) == PW_OK) {
+        pgp_error le;
+        if (pgp_read_constraints(data, size, path, &o, out, &le) != PGP_OK) pw_fail(&pe, (int)le.code, "%s", le.message);
+        pw_free(&a, data);
     }
     return pgp__done(&pe, err);
 }
@@ -15722,29 +15965,10 @@ PGPDEF pgp_result pgp_apply_constraints(pgp_map *map, const char *path, pgp_erro
  * 2009 ("Material Space Texturing"). Everything is periodic: the tile wraps
  * in s and t. */
 
-PGPDEF pgp_synth_options pgp_synth_default_options(void)
-{
-    pgp_synth_options o;
-    memset(&o, 0, sizeof o);
-    o.size = 128;
-    o.layers = 8;
-    o.coarse_passes = 20;
-    o.fine_passes = 4;
-    o.color_window = 5;
-    o.mask_window = 3;
-    o.color_dims = 5;
-    o.mask_dims = 3;
-    o.mask_weight = 2.0f;
-    o.usage_weight = 0.2f;
-    o.search_eps = 1.0f;
-    o.search_buckets = 64;
-    return o;
-}
-
 /* Zero fields take their defaults. */
 static pgp_synth_options pgp__synth_options(const pgp_synth_options *opt)
 {
-    pgp_synth_options d = pgp_synth_default_options(), o;
+    pgp_synth_options d = pgp__synth_defaults(), o;
     if (!opt) return d;
     o = *opt;
     if (!o.size) o.size = d.size;
@@ -16292,7 +16516,7 @@ static int pgp__mask_tile(const pw_alloc *a, const unsigned char *masks, int n, 
     return PW_OK;
 }
 
-PGPDEF pgp_result pgp_feature_mask(const pgp_image *image, int mode, const pgp_synth_options *opt, pgp_image *out,
+PGPDEF pgp_result pgp_feature_mask(const pgp_image *image, pgp_mask mode, const pgp_synth_options *opt, pgp_image *out,
                                    pgp_error *err)
 {
     pgp_synth_options o = pgp__synth_options(opt);

@@ -38,6 +38,9 @@
  *   PW_ASSERT(x)           replace assert() (programmer errors only; bad
  *                          input never asserts)
  *   PW_NO_STDIO            drop the FILE* convenience functions
+ *   PW_THREADS             render on several threads (POSIX threads; link with
+ *                          -pthread): tiled_render_options.threads, 0 = one
+ *                          per processor; the picture is the same for any count
  *   PW_MAX_IMAGE_DIM, PW_MAX_IMAGE_PIXELS, PW_MAX_MESH_ELEMENTS,
  *   PW_MAX_FACE_DEGREE     size limits checked on input (see base module)
  *
@@ -53,7 +56,7 @@
  *           tiled_map(&mesh, &tiles.layout, &opt, &quads, &err) ||
  *           tiled_save_image("tiles.png", &tiles.atlas, &err) ||
  *           tiled_save_obj("cube_tiled.obj", &quads, "tiles.png", &err) ||
- *           tiled_render(&quads, &tiles, NULL, &picture, &err) ||
+ *           tiled_render(&quads, &tiles, &opt.render, &picture, &err) ||
  *           tiled_save_image("cube.png", &picture, &err))
  *           fprintf(stderr, "%s\n", err.message);
  *       (then free everything with tiled_mesh_free, tiled_image_free,
@@ -98,10 +101,10 @@
 #ifndef TILED_H
 #define TILED_H
 
-#define TILED_VERSION_MAJOR 1
-#define TILED_VERSION_MINOR 0
+#define TILED_VERSION_MAJOR 0
+#define TILED_VERSION_MINOR 9
 #define TILED_VERSION_PATCH 0
-#define TILED_VERSION_STRING "1.0.0"
+#define TILED_VERSION_STRING "0.9.0"
 
 #include <stddef.h>
 
@@ -154,8 +157,15 @@ typedef struct tiled_allocator {
 /* Progress callback: `done` in [0,1]; return non-zero to cancel. */
 typedef int (*tiled_progress_fn)(void *user, float done, const char *stage);
 
-/* Output sink for the *_to_func writers: return 0 on success. */
+/* Output sink for the tiled_write_* functions: return 0 on success. */
 typedef int (*tiled_write_fn)(void *ctx, const void *data, size_t size);
+
+/* Work split across threads (rendering: bands of the frame). A parallel
+ * for, for embedders with their own job system: run task(ctx, i) once for
+ * every i in [0, n), on any threads, in any order, and return when all
+ * have run. Results never depend on the order or the thread count. */
+typedef void (*tiled_task_fn)(void *ctx, int index);
+typedef void (*tiled_parallel_fn)(void *pool, int n, tiled_task_fn task, void *ctx);
 
 /* An image: width*height pixels of `channels` floats in [0,1] (1 gray,
  * 2 gray+alpha, 3 RGB, 4 RGBA), row 0 at the top. */
@@ -195,6 +205,29 @@ typedef struct tiled_layout {
                         TILED_NO_GUARD: none, the thesis's exact layout */
 } tiled_layout;
 
+/* Texture filtering of tiled_render. */
+typedef enum tiled_filter {
+    TILED_FILTER_TRILINEAR = 0, /* mipmapped, levels capped at max_mip_level (default) */
+    TILED_FILTER_BILINEAR = 1,  /* level 0 only */
+    TILED_FILTER_NEAREST = 2    /* level 0, nearest texel */
+} tiled_filter;
+
+/* Render settings. Zero-initialised means defaults. */
+typedef struct tiled_render_options {
+    int width, height;  /* default 800 x 600 */
+    int supersample;    /* samples per pixel along each axis; default 2 */
+    float view_dir[3];  /* direction the camera looks along; default (-0.55,-0.45,-0.7) */
+    float up[3];        /* world direction shown upwards; default (0,1,0) */
+    float background[3];/* default (1,1,1) */
+    tiled_filter filter;/* default TILED_FILTER_TRILINEAR */
+    int threads;             /* rendering threads: 0 (default) one per processor when the
+                                implementation is built with PW_THREADS (POSIX threads;
+                                link with -pthread), else 1; n: at most n. With more
+                                than one, the allocator is called from several threads */
+    tiled_parallel_fn parallel; /* optional: the caller's parallel for, used instead of threads */
+    void *parallel_pool;     /* its first argument */
+} tiled_render_options;
+
 /* Options. Zero-initialised means defaults; tiled_default_options() returns
  * them filled in. */
 typedef struct tiled_options {
@@ -211,6 +244,7 @@ typedef struct tiled_options {
     int fixed_start;         /* 1: always start the tile walk at a face's first
                                 corner instead of a random one (thesis's
                                 "further randomness" off); default 0 */
+    tiled_render_options render; /* tiled_render's settings (pass &opt.render) */
     tiled_allocator allocator;
     tiled_progress_fn progress; /* may be NULL */
     void *progress_user;
@@ -244,15 +278,6 @@ typedef struct tiled_validation {
     tiled_side_mismatch bad[TILED_MAX_MISMATCHES]; /* the first ones, worst first */
 } tiled_validation;
 
-/* Render settings. Zero-initialised means defaults. */
-typedef struct tiled_render_options {
-    int width, height;  /* default 800 x 600 */
-    int supersample;    /* samples per pixel along each axis; default 2 */
-    float view_dir[3];  /* direction the camera looks along; default (-0.55,-0.45,-0.7) */
-    float up[3];        /* world direction shown upwards; default (0,1,0) */
-    float background[3];/* default (1,1,1) */
-    int filter;         /* 0 trilinear (default), 1 bilinear, 2 nearest */
-} tiled_render_options;
 
 /* Defaults and messages. */
 TILEDDEF tiled_options tiled_default_options(void);
@@ -321,19 +346,19 @@ TILEDDEF tiled_result tiled_builtin_exemplar(const char *name, int size, const t
 /* Files ------------------------------------------------------------------ */
 
 /* Meshes: OBJ, OFF (COFF/NOFF...), PLY (ASCII and binary), by content. */
-TILEDDEF tiled_result tiled_load_mesh_from_memory(const void *data, size_t size, const char *name,
-                                                  const tiled_options *opt, tiled_mesh *out,
-                                                  tiled_error *err);
+TILEDDEF tiled_result tiled_read_mesh(const void *data, size_t size, const char *name,
+                                      const tiled_options *opt, tiled_mesh *out,
+                                      tiled_error *err);
 /* Images: PPM, PGM, PAM (8/16 bit), PNG, GIMP .pat, by content. */
-TILEDDEF tiled_result tiled_load_image_from_memory(const void *data, size_t size, const char *name,
-                                                   const tiled_options *opt, tiled_image *out,
-                                                   tiled_error *err);
+TILEDDEF tiled_result tiled_read_image(const void *data, size_t size, const char *name,
+                                       const tiled_options *opt, tiled_image *out,
+                                       tiled_error *err);
 /* format: "png", "ppm", "pgm", "pam" (ppm/pgm pick by channel count). */
-TILEDDEF tiled_result tiled_write_image_to_func(const tiled_image *img, const char *format,
-                                                tiled_write_fn fn, void *ctx, tiled_error *err);
+TILEDDEF tiled_result tiled_write_image(const tiled_image *img, const char *format,
+                                        tiled_write_fn fn, void *ctx, tiled_error *err);
 /* OBJ with per-corner vt; mtllib/usemtl lines when mtl_name is not NULL. */
-TILEDDEF tiled_result tiled_write_obj_to_func(const tiled_mesh *m, const char *mtl_name,
-                                              tiled_write_fn fn, void *ctx, tiled_error *err);
+TILEDDEF tiled_result tiled_write_obj(const tiled_mesh *m, const char *mtl_name,
+                                      tiled_write_fn fn, void *ctx, tiled_error *err);
 /* Binary glTF 2.0 (.glb, one self-contained file): the mesh with its
  * per-corner coordinates and, when texture is not NULL, the tiled texture
  * as its base colour (PNG inside), sampled LINEAR / LINEAR_MIPMAP_LINEAR
@@ -342,12 +367,12 @@ TILEDDEF tiled_result tiled_write_obj_to_func(const tiled_mesh *m, const char *m
  * normals are the mesh's smooth vertex normals. With view (not NULL), the
  * file also holds the camera tiled_render frames with those options, so
  * that a viewer opens it as tiled_render draws it. See src/common/gltf.h. */
-TILEDDEF tiled_result tiled_write_gltf_to_func(const tiled_mesh *m, const tiled_image *texture,
-                                               const tiled_render_options *view, tiled_write_fn fn, void *ctx,
-                                               tiled_error *err);
+TILEDDEF tiled_result tiled_write_gltf(const tiled_mesh *m, const tiled_image *texture,
+                                       const tiled_render_options *view, tiled_write_fn fn, void *ctx,
+                                       tiled_error *err);
 /* An MTL file with one material "tiled" whose map_Kd is texture_name. */
-TILEDDEF tiled_result tiled_write_mtl_to_func(const char *texture_name, tiled_write_fn fn,
-                                              void *ctx, tiled_error *err);
+TILEDDEF tiled_result tiled_write_mtl(const char *texture_name, tiled_write_fn fn,
+                                      void *ctx, tiled_error *err);
 #ifndef PW_NO_STDIO
 TILEDDEF tiled_result tiled_load_mesh(const char *path, const tiled_options *opt, tiled_mesh *out,
                                       tiled_error *err);
@@ -359,7 +384,7 @@ TILEDDEF tiled_result tiled_save_image(const char *path, const tiled_image *img,
  * (obj_path with .mtl) whose map_Kd names texture_path. */
 TILEDDEF tiled_result tiled_save_obj(const char *obj_path, const tiled_mesh *m,
                                      const char *texture_path, tiled_error *err);
-/* tiled_write_gltf_to_func into the file path (.glb). */
+/* tiled_write_gltf into the file path (.glb). */
 TILEDDEF tiled_result tiled_save_gltf(const char *path, const tiled_mesh *m, const tiled_image *texture,
                                       const tiled_render_options *view, tiled_error *err);
 #endif
@@ -6862,7 +6887,8 @@ typedef struct pw_fb {
     float *qbuf;   /* draw scratch: depths of ss sample rows */
     float *zmin;   /* coarse depth: per tile of PW__ZT x PW__ZT samples of the band, the smallest q */
     int zvalid;    /* zmin matches depth; set 0 if you write depth yourself */
-    int vnv;       /* vertices transformed into vbuf by the last draw (0: none) */
+    int vnv;       /* vertices of the last draw (0: none yet) */
+    int vall;      /* 1: all vnv of them are transformed in vbuf (not only the drawn corners) */
     size_t vcap, ncap, pcap, mcap, qcap, zcap;
     const pw_alloc *alloc;
 } pw_fb;
@@ -7051,8 +7077,9 @@ typedef struct pw_draw {
     void (*shader)(void *user, int tri, float b1, float b2, const float db[4], float rgba[4]);
     void *shader_user;
     int same_vertices;      /* 1: positions, nv and camera are those of the previous draw into
-                               this framebuffer, whose transformed vertices are reused (the
-                               passes of lapped textures) */
+                               this framebuffer; when that draw transformed all the vertices
+                               (it drew at least nv/3 triangles) they are reused (the passes of
+                               lapped textures after their base pass) */
 } pw_draw;
 
 #define PW__ZT 8 /* coarse depth tile, in samples */
@@ -7696,7 +7723,10 @@ PW__DEF int pw_render_draw(pw_fb *fb, const pw_camera *cam, const pw_draw *d, pw
     need_normals = d->lighting != PW_LIGHT_NONE && !d->flat && !d->normals;
     if ((r = pw__draw_scratch(fb, d, need_normals, e)) != PW_OK) return r;
     pw__ctx_init(&c, fb, d);
-    if (!d->same_vertices || fb->vnv != d->nv) pw__transform(&c.view, d, fb->vbuf);
+    if (!(d->same_vertices && fb->vnv == d->nv && fb->vall)) {
+        pw__transform(&c.view, d, fb->vbuf);
+        fb->vall = (size_t)d->ntris * 3 >= (size_t)d->nv;
+    }
     fb->vnv = d->nv;
     c.vh = fb->vbuf;
     c.planes = fb->pbuf;
@@ -7853,6 +7883,32 @@ PW__DEF void pw__frame_band(void *ctx, int band)
     R->codes[band] = f->draw(f->user, &fb, &R->errs[band]);
     if (R->codes[band] == PW_OK) pw_fb_resolve_band(&fb, R->out);
     pw_fb_free(&fb);
+}
+
+/* A frame of w x h pixels of ss x ss samples over an opaque background
+ * (RGB), an RGB picture, drawn by draw(user) under par (NULL: one thread). */
+PW__DEF void pw_frame_init(pw_frame *f, int w, int h, int ss, const float bg[3], const pw_parallel *par)
+{
+    memset(f, 0, sizeof *f);
+    f->w = w;
+    f->h = h;
+    f->ss = ss;
+    memcpy(f->bg, bg, 3 * sizeof(float));
+    f->bg[3] = 1.0f;
+    f->channels = 3;
+    f->par = par;
+}
+
+/* The usual band: one draw (pw_frame_draw1 as the user pointer). */
+typedef struct pw_frame_draw1 {
+    const pw_draw *d;
+    const pw_camera *cam;
+} pw_frame_draw1;
+
+PW__DEF int pw_frame_draw1_fn(void *user, pw_fb *fb, pw_err *e)
+{
+    const pw_frame_draw1 *D = (const pw_frame_draw1 *)user;
+    return pw_render_draw(fb, D->cam, D->d, e);
 }
 
 /* Renders a frame band by band into out (allocated here): the bands are
@@ -9556,9 +9612,14 @@ PW__DEF int pw_gltf_write(const pw_alloc *a, const pw_gltf_scene *S, pw_write_fn
 
 #endif /* PW__GLTF_V1 */
 
-/* ---- src/tiled/tiled.c ---- */
-/* tiled.c: the implementation of tiled.h (Kaur 2003, "Texture Mapping Using
- * Tiled Textures"). Chapter numbers refer to the thesis. */
+/* ---- src/tiled/core.c ---- */
+/* core.c: tiled.h's glue to the shared core, its defaults, result
+ * strings, frees, and the checks of caller-made input. The implementation
+ * follows Kaur 2003, "Texture Mapping Using Tiled Textures" (MS thesis,
+ * Texas A&M University); chapter numbers in every part refer to it, and
+ * the parts come in its order: layout (ch. III.1), mapping (ch. III.2,
+ * VI), synthesis (ch. III.1.3), validation, built-in data, rendering and
+ * files. */
 
 /* ---- glue between the public types and the shared core ------------------ */
 
@@ -9603,6 +9664,8 @@ TILEDDEF tiled_options tiled_default_options(void)
     o.layout.case_number = 2;
     o.layout.pairs = 1;
     o.layout.grid = 4;
+    pw_view_defaults(&o.render.width, &o.render.height, &o.render.supersample, o.render.view_dir,
+                     o.render.up, o.render.background);
     return o;
 }
 
@@ -9621,7 +9684,68 @@ static pw_progress tiled__progress(const tiled_options *o)
     return p;
 }
 
-/* ---- layout of the tiled texture (see the top of tiled.h) ------------------ */
+/* Checks a caller-made mesh before anything trusts it. */
+static int tiled__check_mesh(const tiled_mesh *m, pw_err *e)
+{
+    int f, k;
+    if (!m || !m->positions || !m->face_start || !m->face_verts)
+        return pw_fail(e, PW_ERR_INVALID, "mesh has NULL arrays");
+    if (m->nverts < 3 || m->nverts > PW_MAX_MESH_ELEMENTS || m->nfaces > PW_MAX_MESH_ELEMENTS)
+        return pw_fail(e, PW_ERR_INVALID, "mesh has %d vertices and %d faces", m->nverts,
+                       m->nfaces);
+    if (m->nfaces < 1) return pw_fail(e, PW_ERR_DEGENERATE, "mesh has no faces");
+    if (m->face_start[0] != 0)
+        return pw_fail(e, PW_ERR_INVALID, "face_start[0] must be 0 (got %d)", m->face_start[0]);
+    for (f = 0; f < m->nfaces; f++) {
+        int d = m->face_start[f + 1] - m->face_start[f];
+        if (d < 3 || d > PW_MAX_FACE_DEGREE || m->face_start[f + 1] > PW_MAX_MESH_ELEMENTS)
+            return pw_fail(e, PW_ERR_DEGENERATE, "face %d has %d corners", f, d);
+    }
+    for (k = 0; k < m->face_start[m->nfaces]; k++)
+        if (m->face_verts[k] < 0 || m->face_verts[k] >= m->nverts)
+            return pw_fail(e, PW_ERR_INVALID, "face corner %d refers to vertex %d of %d", k,
+                           m->face_verts[k], m->nverts);
+    for (k = 0; k < 3 * m->nverts; k++)
+        if (!pw_is_finite(m->positions[k]))
+            return pw_fail(e, PW_ERR_INVALID, "vertex %d has a non-finite coordinate", k / 3);
+    return PW_OK;
+}
+
+TILEDDEF void tiled_mesh_free(tiled_mesh *m)
+{
+    pw_alloc a;
+    if (!m) return;
+    a = tiled__alloc(&m->allocator);
+    pw_free(&a, m->positions);
+    pw_free(&a, m->face_start);
+    pw_free(&a, m->face_verts);
+    pw_free(&a, m->uvs);
+    pw_free(&a, m->corner_types);
+    pw_free(&a, m->face_tiles);
+    memset(m, 0, sizeof *m);
+}
+
+TILEDDEF void tiled_image_free(tiled_image *img)
+{
+    pw_alloc a;
+    if (!img) return;
+    a = tiled__alloc(&img->allocator);
+    pw_free(&a, img->pixels);
+    memset(img, 0, sizeof *img);
+}
+
+TILEDDEF void tiled_tileset_free(tiled_tileset *ts)
+{
+    if (!ts) return;
+    tiled_image_free(&ts->atlas);
+    memset(ts, 0, sizeof *ts);
+}
+
+/* ---- src/tiled/layout.c ---- */
+/* layout.c: ch. III.1, the boundary types and the tiled texture they
+ * index: the tile layout of case 1 (ch. III.1.1) and case 2 (ch. III.1.2,
+ * generalised to n pairs as ch. VI suggests), the atlas geometry with its
+ * guard bands, and the tile set that holds it. */
 
 /* The power of two nearest x (ties go down). */
 static int tiled__pow2_near(int x)
@@ -9721,34 +9845,160 @@ static void tiled__tile_types(const tiled__geom *gm, int case1, int tile, int ty
 /* The type that must face type t across an edge. */
 static int tiled__partner(int case1, int t) { return case1 ? t : t ^ 1; }
 
-/* ---- mapping (ch. III.2, Fig. 29) --------------------------------------- */
+/* ---- tiles: side frames and guard bands --------------------------------- */
 
-/* Checks a caller-made mesh before anything trusts it. */
-static int tiled__check_mesh(const tiled_mesh *m, pw_err *e)
+/* Tile pixels are addressed (i, j): column i from the left, row j from the
+ * BOTTOM, both 0..T-1. Side s has its own frame (a, b): a runs along the
+ * side in the counter-clockwise walk of the tile, b counts rows inward
+ * (b < 0 is outside the tile). Across an edge, the neighbour's frame is
+ * (a', b') = (T-1-a, -1-b): the two tiles walk the edge in opposite
+ * directions (DESIGN.md errata). */
+static void tiled__to_side(int side, int T, int i, int j, int *a, int *b)
 {
-    int f, k;
-    if (!m || !m->positions || !m->face_start || !m->face_verts)
-        return pw_fail(e, PW_ERR_INVALID, "mesh has NULL arrays");
-    if (m->nverts < 3 || m->nverts > PW_MAX_MESH_ELEMENTS || m->nfaces > PW_MAX_MESH_ELEMENTS)
-        return pw_fail(e, PW_ERR_INVALID, "mesh has %d vertices and %d faces", m->nverts,
-                       m->nfaces);
-    if (m->nfaces < 1) return pw_fail(e, PW_ERR_DEGENERATE, "mesh has no faces");
-    if (m->face_start[0] != 0)
-        return pw_fail(e, PW_ERR_INVALID, "face_start[0] must be 0 (got %d)", m->face_start[0]);
-    for (f = 0; f < m->nfaces; f++) {
-        int d = m->face_start[f + 1] - m->face_start[f];
-        if (d < 3 || d > PW_MAX_FACE_DEGREE || m->face_start[f + 1] > PW_MAX_MESH_ELEMENTS)
-            return pw_fail(e, PW_ERR_DEGENERATE, "face %d has %d corners", f, d);
+    switch (side) {
+    case 0: *a = i; *b = j; break;
+    case 1: *a = j; *b = T - 1 - i; break;
+    case 2: *a = T - 1 - i; *b = T - 1 - j; break;
+    default: *a = T - 1 - j; *b = i; break;
     }
-    for (k = 0; k < m->face_start[m->nfaces]; k++)
-        if (m->face_verts[k] < 0 || m->face_verts[k] >= m->nverts)
-            return pw_fail(e, PW_ERR_INVALID, "face corner %d refers to vertex %d of %d", k,
-                           m->face_verts[k], m->nverts);
-    for (k = 0; k < 3 * m->nverts; k++)
-        if (!pw_is_finite(m->positions[k]))
-            return pw_fail(e, PW_ERR_INVALID, "vertex %d has a non-finite coordinate", k / 3);
+}
+
+static void tiled__from_side(int side, int T, int a, int b, int *i, int *j)
+{
+    switch (side) {
+    case 0: *i = a; *j = b; break;
+    case 1: *j = a; *i = T - 1 - b; break;
+    case 2: *i = T - 1 - a; *j = T - 1 - b; break;
+    default: *j = T - 1 - a; *i = b; break;
+    }
+}
+
+/* Pixel (i, j) of tile (col, row) in an atlas; i, j may reach into the
+ * guard band (-g .. T+g-1). Cells count rows from the bottom of the image. */
+static float *tiled__atlas_px(const pw_image *atlas, const tiled__geom *gm, int tile, int i,
+                              int j)
+{
+    int col = tile % gm->N, row = tile / gm->N;
+    int x = col * gm->C + gm->g + i, y = row * gm->C + gm->g + j;
+    return atlas->px + ((size_t)(atlas->h - 1 - y) * atlas->w + x) * atlas->c;
+}
+
+/* For each boundary type, the first tile side that carries it: the pattern
+ * that continues across a side of the partner type. */
+static void tiled__representatives(const tiled__geom *gm, int case1, int *rep_tile, int *rep_side)
+{
+    int t, s, types[4];
+    for (t = 0; t < gm->n; t++) rep_tile[t] = -1;
+    for (t = 0; t < gm->N * gm->N; t++) {
+        tiled__tile_types(gm, case1, t, types);
+        for (s = 0; s < 4; s++)
+            if (rep_tile[types[s]] < 0) {
+                rep_tile[types[s]] = t;
+                rep_side[types[s]] = s;
+            }
+    }
+}
+
+/* The side a guard pixel (i, j) belongs to: the one it lies least far
+ * outside of (corners of the band split along the diagonal). */
+static int tiled__guard_side(int T, int i, int j, int *depth)
+{
+    int d[4], s, best = -1;
+    d[0] = -j;
+    d[1] = i - (T - 1);
+    d[2] = j - (T - 1);
+    d[3] = -i;
+    for (s = 0; s < 4; s++)
+        if (d[s] > 0 && (best < 0 || d[s] < d[best])) best = s;
+    *depth = best >= 0 ? d[best] : 0;
+    return best;
+}
+
+/* Fills every tile's guard band with what continues across each side: the
+ * rows just inside a tile of the partner type, turned by 180 degrees. For
+ * synthesised tiles this is exactly what any neighbour shows; for a
+ * hand-made set it is its first tile of the partner type. */
+static void tiled__fill_guards(pw_image *atlas, const tiled__geom *gm, int case1)
+{
+    int rep_tile[16], rep_side[16], t, i, j, types[4];
+    int T = gm->T, g = gm->g;
+    if (g == 0) return;
+    tiled__representatives(gm, case1, rep_tile, rep_side);
+    for (t = 0; t < gm->N * gm->N; t++) {
+        tiled__tile_types(gm, case1, t, types);
+        for (j = -g; j < T + g; j++)
+            for (i = -g; i < T + g; i++) {
+                int depth, s = tiled__guard_side(T, i, j, &depth), a, b, pt, pi, pj;
+                if (s < 0) continue;
+                if ((i < 0 || i >= T) && (j < 0 || j >= T)) {
+                    /* beyond a corner the pattern depends on the vertex's
+                     * valence: reflect the tile's own corner instead */
+                    memcpy(tiled__atlas_px(atlas, gm, t, i, j),
+                           tiled__atlas_px(atlas, gm, t, i < 0 ? -1 - i : 2 * T - 1 - i,
+                                           j < 0 ? -1 - j : 2 * T - 1 - j),
+                           sizeof(float) * atlas->c);
+                    continue;
+                }
+                tiled__to_side(s, T, pw_clampi(i, 0, T - 1), pw_clampi(j, 0, T - 1), &a, &b);
+                pt = tiled__partner(case1, types[s]);
+                tiled__from_side(rep_side[pt], T, T - 1 - a, depth - 1, &pi, &pj);
+                memcpy(tiled__atlas_px(atlas, gm, t, i, j),
+                       tiled__atlas_px(atlas, gm, rep_tile[pt], pi, pj), sizeof(float) * atlas->c);
+            }
+    }
+}
+
+/* Allocates a tile set's atlas for a resolved layout. */
+static int tiled__new_tileset(const pw_alloc *a, const tiled_layout *l, int channels,
+                              tiled_tileset *ts, pw_err *e)
+{
+    tiled__geom gm = tiled__geometry(l);
+    pw_image img;
+    int r = pw_image_alloc(a, &img, gm.W, gm.W, channels, e);
+    if (r != PW_OK) return r;
+    ts->layout = *l;
+    ts->tiles_per_side = gm.N;
+    ts->max_mip_level = tiled__max_mip(&gm);
+    tiled__take_image(&img, a, &ts->atlas);
     return PW_OK;
 }
+
+/* The resolved layout of a hand-made tiled texture (thesis layout: square,
+ * no guard bands); its tile size comes from the image, the guard band to
+ * add from `want`. */
+static int tiled__layout_of_image(const tiled_layout *want, const tiled_image *img,
+                                  tiled_layout *out, pw_err *e)
+{
+    tiled_layout l = *want;
+    tiled__geom gm;
+    int r;
+    l.tile_size = 4;
+    l.guard = TILED_NO_GUARD;
+    if ((r = tiled__check_image(img, "tiled texture", e)) != PW_OK ||
+        (r = tiled__resolve(&l, 0, &l, e)) != PW_OK)
+        return r;
+    gm = tiled__geometry(&l);
+    if (img->width != img->height || img->width % gm.N || img->width / gm.N < 4)
+        return pw_fail(e, PW_ERR_INVALID, "a tiled texture for this layout must be square with a "
+                       "side divisible by %d, tiles of 4 px or more (got %dx%d)", gm.N,
+                       img->width, img->height);
+    l.tile_size = img->width / gm.N;
+    l.guard = want->guard;
+    return tiled__resolve(&l, 0, out, e);
+}
+
+/* Pixel (i, j) (j from the bottom) of tile t of a thesis-layout image. */
+static const float *tiled__plain_px(const pw_image *img, const tiled__geom *gm, int t, int i, int j)
+{
+    int x = (t % gm->N) * gm->T + i, y = (t / gm->N) * gm->T + j;
+    return img->px + ((size_t)(img->h - 1 - y) * img->w + x) * img->c;
+}
+
+/* ---- src/tiled/map.c ---- */
+/* map.c: ch. III.2, the texture mapping algorithm of Fig. 29
+ * (AssignBoundaries, AssignTextureCoordinates), and ch. VI: Catmull-Clark
+ * subdivision before mapping (any polygon mesh made all quads) and after
+ * it, carrying the texture along (Figs. 30, 31). */
 
 static int tiled__all_quads(const pw_mesh *m)
 {
@@ -9851,20 +10101,6 @@ static void tiled__assign_uvs(const pw_mesh *q, const int *types, const tiled__g
         }
         face_tiles[f] = row * N + col;
     }
-}
-
-TILEDDEF void tiled_mesh_free(tiled_mesh *m)
-{
-    pw_alloc a;
-    if (!m) return;
-    a = tiled__alloc(&m->allocator);
-    pw_free(&a, m->positions);
-    pw_free(&a, m->face_start);
-    pw_free(&a, m->face_verts);
-    pw_free(&a, m->uvs);
-    pw_free(&a, m->corner_types);
-    pw_free(&a, m->face_tiles);
-    memset(m, 0, sizeof *m);
 }
 
 /* A quad mesh being mapped: geometry, its half-edges, and per corner the
@@ -10005,170 +10241,10 @@ TILEDDEF tiled_result tiled_map(const tiled_mesh *in, const tiled_layout *layout
     return tiled__done(&pe, err);
 }
 
-/* ---- tiles: side frames and guard bands --------------------------------- */
-
-/* Tile pixels are addressed (i, j): column i from the left, row j from the
- * BOTTOM, both 0..T-1. Side s has its own frame (a, b): a runs along the
- * side in the counter-clockwise walk of the tile, b counts rows inward
- * (b < 0 is outside the tile). Across an edge, the neighbour's frame is
- * (a', b') = (T-1-a, -1-b): the two tiles walk the edge in opposite
- * directions (DESIGN.md errata). */
-static void tiled__to_side(int side, int T, int i, int j, int *a, int *b)
-{
-    switch (side) {
-    case 0: *a = i; *b = j; break;
-    case 1: *a = j; *b = T - 1 - i; break;
-    case 2: *a = T - 1 - i; *b = T - 1 - j; break;
-    default: *a = T - 1 - j; *b = i; break;
-    }
-}
-
-static void tiled__from_side(int side, int T, int a, int b, int *i, int *j)
-{
-    switch (side) {
-    case 0: *i = a; *j = b; break;
-    case 1: *j = a; *i = T - 1 - b; break;
-    case 2: *i = T - 1 - a; *j = T - 1 - b; break;
-    default: *j = T - 1 - a; *i = b; break;
-    }
-}
-
-/* Pixel (i, j) of tile (col, row) in an atlas; i, j may reach into the
- * guard band (-g .. T+g-1). Cells count rows from the bottom of the image. */
-static float *tiled__atlas_px(const pw_image *atlas, const tiled__geom *gm, int tile, int i,
-                              int j)
-{
-    int col = tile % gm->N, row = tile / gm->N;
-    int x = col * gm->C + gm->g + i, y = row * gm->C + gm->g + j;
-    return atlas->px + ((size_t)(atlas->h - 1 - y) * atlas->w + x) * atlas->c;
-}
-
-/* For each boundary type, the first tile side that carries it: the pattern
- * that continues across a side of the partner type. */
-static void tiled__representatives(const tiled__geom *gm, int case1, int *rep_tile, int *rep_side)
-{
-    int t, s, types[4];
-    for (t = 0; t < gm->n; t++) rep_tile[t] = -1;
-    for (t = 0; t < gm->N * gm->N; t++) {
-        tiled__tile_types(gm, case1, t, types);
-        for (s = 0; s < 4; s++)
-            if (rep_tile[types[s]] < 0) {
-                rep_tile[types[s]] = t;
-                rep_side[types[s]] = s;
-            }
-    }
-}
-
-/* The side a guard pixel (i, j) belongs to: the one it lies least far
- * outside of (corners of the band split along the diagonal). */
-static int tiled__guard_side(int T, int i, int j, int *depth)
-{
-    int d[4], s, best = -1;
-    d[0] = -j;
-    d[1] = i - (T - 1);
-    d[2] = j - (T - 1);
-    d[3] = -i;
-    for (s = 0; s < 4; s++)
-        if (d[s] > 0 && (best < 0 || d[s] < d[best])) best = s;
-    *depth = best >= 0 ? d[best] : 0;
-    return best;
-}
-
-/* Fills every tile's guard band with what continues across each side: the
- * rows just inside a tile of the partner type, turned by 180 degrees. For
- * synthesised tiles this is exactly what any neighbour shows; for a
- * hand-made set it is its first tile of the partner type. */
-static void tiled__fill_guards(pw_image *atlas, const tiled__geom *gm, int case1)
-{
-    int rep_tile[16], rep_side[16], t, i, j, types[4];
-    int T = gm->T, g = gm->g;
-    if (g == 0) return;
-    tiled__representatives(gm, case1, rep_tile, rep_side);
-    for (t = 0; t < gm->N * gm->N; t++) {
-        tiled__tile_types(gm, case1, t, types);
-        for (j = -g; j < T + g; j++)
-            for (i = -g; i < T + g; i++) {
-                int depth, s = tiled__guard_side(T, i, j, &depth), a, b, pt, pi, pj;
-                if (s < 0) continue;
-                if ((i < 0 || i >= T) && (j < 0 || j >= T)) {
-                    /* beyond a corner the pattern depends on the vertex's
-                     * valence: reflect the tile's own corner instead */
-                    memcpy(tiled__atlas_px(atlas, gm, t, i, j),
-                           tiled__atlas_px(atlas, gm, t, i < 0 ? -1 - i : 2 * T - 1 - i,
-                                           j < 0 ? -1 - j : 2 * T - 1 - j),
-                           sizeof(float) * atlas->c);
-                    continue;
-                }
-                tiled__to_side(s, T, pw_clampi(i, 0, T - 1), pw_clampi(j, 0, T - 1), &a, &b);
-                pt = tiled__partner(case1, types[s]);
-                tiled__from_side(rep_side[pt], T, T - 1 - a, depth - 1, &pi, &pj);
-                memcpy(tiled__atlas_px(atlas, gm, t, i, j),
-                       tiled__atlas_px(atlas, gm, rep_tile[pt], pi, pj), sizeof(float) * atlas->c);
-            }
-    }
-}
-
-TILEDDEF void tiled_image_free(tiled_image *img)
-{
-    pw_alloc a;
-    if (!img) return;
-    a = tiled__alloc(&img->allocator);
-    pw_free(&a, img->pixels);
-    memset(img, 0, sizeof *img);
-}
-
-TILEDDEF void tiled_tileset_free(tiled_tileset *ts)
-{
-    if (!ts) return;
-    tiled_image_free(&ts->atlas);
-    memset(ts, 0, sizeof *ts);
-}
-
-/* Allocates a tile set's atlas for a resolved layout. */
-static int tiled__new_tileset(const pw_alloc *a, const tiled_layout *l, int channels,
-                              tiled_tileset *ts, pw_err *e)
-{
-    tiled__geom gm = tiled__geometry(l);
-    pw_image img;
-    int r = pw_image_alloc(a, &img, gm.W, gm.W, channels, e);
-    if (r != PW_OK) return r;
-    ts->layout = *l;
-    ts->tiles_per_side = gm.N;
-    ts->max_mip_level = tiled__max_mip(&gm);
-    tiled__take_image(&img, a, &ts->atlas);
-    return PW_OK;
-}
-
-/* The resolved layout of a hand-made tiled texture (thesis layout: square,
- * no guard bands); its tile size comes from the image, the guard band to
- * add from `want`. */
-static int tiled__layout_of_image(const tiled_layout *want, const tiled_image *img,
-                                  tiled_layout *out, pw_err *e)
-{
-    tiled_layout l = *want;
-    tiled__geom gm;
-    int r;
-    l.tile_size = 4;
-    l.guard = TILED_NO_GUARD;
-    if ((r = tiled__check_image(img, "tiled texture", e)) != PW_OK ||
-        (r = tiled__resolve(&l, 0, &l, e)) != PW_OK)
-        return r;
-    gm = tiled__geometry(&l);
-    if (img->width != img->height || img->width % gm.N || img->width / gm.N < 4)
-        return pw_fail(e, PW_ERR_INVALID, "a tiled texture for this layout must be square with a "
-                       "side divisible by %d, tiles of 4 px or more (got %dx%d)", gm.N,
-                       img->width, img->height);
-    l.tile_size = img->width / gm.N;
-    l.guard = want->guard;
-    return tiled__resolve(&l, 0, out, e);
-}
-
-/* Pixel (i, j) (j from the bottom) of tile t of a thesis-layout image. */
-static const float *tiled__plain_px(const pw_image *img, const tiled__geom *gm, int t, int i, int j)
-{
-    int x = (t % gm->N) * gm->T + i, y = (t / gm->N) * gm->T + j;
-    return img->px + ((size_t)(img->h - 1 - y) * img->w + x) * img->c;
-}
+/* ---- src/tiled/synth.c ---- */
+/* synth.c: ch. III.1.3, tiled texture image synthesis: an edge-matched
+ * tile set made from an exemplar, or wrapped around a tiled texture the
+ * user made (tiled_tileset_from_image). */
 
 TILEDDEF tiled_result tiled_tileset_from_image(const tiled_image *tiles, const tiled_options *opt,
                                                tiled_tileset *out, tiled_error *err)
@@ -10193,8 +10269,6 @@ TILEDDEF tiled_result tiled_tileset_from_image(const tiled_image *tiles, const t
     }
     return tiled__done(&pe, err);
 }
-
-/* ---- tile-set synthesis (ch. III.1.3) ------------------------------------ */
 
 /* The thesis made its tiled textures with "a variant of image quilting"
  * (Green 2003, unpublished). We follow the Wang-tile construction of Cohen
@@ -10263,7 +10337,6 @@ static size_t tiled__side_index(const tiled__synth *s, int type, int a, int b)
     }
     return tiled__src_index(s, s->dx[k] + a, s->dy[k] - b); /* b up = source rows up */
 }
-
 
 /* Scratch of one tile composition: 5 label images, masks, labels. */
 typedef struct tiled__scratch {
@@ -10534,7 +10607,10 @@ TILEDDEF tiled_result tiled_synthesize(const tiled_image *exemplar, const tiled_
     return tiled__done(&pe, err);
 }
 
-/* ---- validation of hand-made tile sets ------------------------------------ */
+/* ---- src/tiled/validate.c ---- */
+/* validate.c: checks a hand-made tiled texture (the thesis's Figs. 39,
+ * 40 were partly drawn by hand): against ch. III.1, every tile side must
+ * continue into every side it can meet on a mesh. */
 
 static float tiled__dist(const float *p, const float *q, int c)
 {
@@ -10648,7 +10724,11 @@ TILEDDEF tiled_result tiled_validate_tiles(const tiled_image *tiles, const tiled
     return tiled__done(&pe, err);
 }
 
-/* ---- built-in meshes and exemplars (for demos and tests) ------------------ */
+/* ---- src/tiled/builtin.c ---- */
+/* builtin.c: built-in meshes and exemplars for demos and tests: the
+ * kinds of surfaces of ch. V (a cube, a torus, a genus-2 "double donut",
+ * triangle meshes made quads by ch. VI's subdivision, an open grid) and
+ * homogeneous, isotropic exemplars for ch. III.1.3. */
 
 /* Allocates a mesh of nv vertices and nf faces of `deg` corners. */
 static int tiled__new_mesh(const pw_alloc *a, int nv, int nf, int deg, tiled_mesh *m, pw_err *e)
@@ -11018,7 +11098,9 @@ TILEDDEF tiled_result tiled_builtin_exemplar(const char *name, int size, const t
     return tiled__done(&pe, err);
 }
 
-/* ---- rendering ------------------------------------------------------------------ */
+/* ---- src/tiled/render.c ---- */
+/* render.c: a software rendering of a mapped mesh (the thesis rendered
+ * its results of ch. V in Maya), and the size tiles are drawn at. */
 
 /* Fan-triangulates a mapped mesh into triangles with per-corner texture
  * coordinates. */
@@ -11053,39 +11135,43 @@ static int tiled__triangles(const pw_alloc *a, const tiled_mesh *m, int **tris, 
 #define TILED__FOVY 35.0f
 
 /* Draws the triangles lit, textured from the atlas with mip levels capped
- * where they would mix tiles, and resolves the supersamples. */
+ * where they would mix tiles, band by band (pw_render_frame), and resolves
+ * the supersamples. */
 static int tiled__draw(const pw_alloc *a, const tiled_mesh *m, const tiled_tileset *ts,
                        const tiled_render_options *ro, const int *tris, const float *uvs, int ntris,
                        pw_image *out, pw_err *e)
 {
     pw_image atlas = tiled__pw_image(&ts->atlas);
     pw_texture tex;
-    pw_fb fb;
     pw_draw d;
     pw_camera cam;
-    float bg[4];
+    pw_frame f;
+    pw_frame_draw1 one;
+    pw_parallel par;
     int r;
-    memcpy(bg, ro->background, sizeof ro->background);
-    bg[3] = 1.0f;
     if ((r = pw_texture_create(a, &tex, &atlas, ts->max_mip_level + 1, e)) != PW_OK) return r;
-    if ((r = pw_fb_create(a, &fb, ro->width, ro->height, ro->supersample, bg, e)) == PW_OK) {
-        cam = pw_camera_frame(m->positions, m->nverts, ro->view_dir, ro->up, TILED__FOVY,
-                              (float)ro->width / (float)ro->height);
-        memset(&d, 0, sizeof d);
-        d.positions = m->positions;
-        d.nv = m->nverts;
-        d.tris = tris;
-        d.ntris = ntris;
-        d.uvs = uvs;
-        d.tex = &tex;
-        d.filter = ro->filter;
-        d.wrap = PW_WRAP_CLAMP;
-        d.lighting = PW_LIGHT_CAMERA;
-        d.ambient = 0.3f;
-        r = pw_render_draw(&fb, &cam, &d, e);
-        if (r == PW_OK) r = pw_fb_resolve(&fb, out, 3, e);
-        pw_fb_free(&fb);
-    }
+    cam = pw_camera_frame(m->positions, m->nverts, ro->view_dir, ro->up, TILED__FOVY,
+                          (float)ro->width / (float)ro->height);
+    memset(&d, 0, sizeof d);
+    d.positions = m->positions;
+    d.nv = m->nverts;
+    d.tris = tris;
+    d.ntris = ntris;
+    d.uvs = uvs;
+    d.tex = &tex;
+    d.filter = (int)ro->filter;
+    d.wrap = PW_WRAP_CLAMP;
+    d.lighting = PW_LIGHT_CAMERA;
+    d.ambient = 0.3f;
+    one.d = &d;
+    one.cam = &cam;
+    par.threads = ro->threads;
+    par.run = ro->parallel;
+    par.pool = ro->parallel_pool;
+    pw_frame_init(&f, ro->width, ro->height, ro->supersample, ro->background, &par);
+    f.draw = pw_frame_draw1_fn;
+    f.user = &one;
+    r = pw_render_frame(a, &f, out, e);
     pw_texture_free(a, &tex);
     return r;
 }
@@ -11116,9 +11202,9 @@ TILEDDEF tiled_result tiled_render(const tiled_mesh *mapped, const tiled_tileset
         pw_fail(&pe, PW_ERR_INVALID, "tiled_render: needs a mapped mesh (with uvs), a tile set "
                 "and an output image");
     else if (o.width < 1 || o.height < 1 || o.supersample < 1 || o.supersample > 8 ||
-             o.filter < 0 || o.filter > 2)
-        pw_fail(&pe, PW_ERR_INVALID, "render options: size %dx%d, supersample %d, filter %d",
-                o.width, o.height, o.supersample, o.filter);
+             (int)o.filter < 0 || (int)o.filter > 2 || o.threads < 0)
+        pw_fail(&pe, PW_ERR_INVALID, "render options: size %dx%d, supersample %d, filter %d, threads %d",
+                o.width, o.height, o.supersample, (int)o.filter, o.threads);
     else if (tiled__check_mesh(mapped, &pe) == PW_OK &&
              tiled__check_image(&ts->atlas, "tile set atlas", &pe) == PW_OK &&
              tiled__triangles(&a, mapped, &tris, &uvs, &ntris, &pe) == PW_OK) {
@@ -11202,11 +11288,14 @@ TILEDDEF tiled_result tiled_drawn_tile_size(const tiled_mesh *mapped, const tile
     return tiled__done(&pe, err);
 }
 
-/* ---- files --------------------------------------------------------------------- */
+/* ---- src/tiled/io.c ---- */
+/* io.c: files. Meshes and exemplars in; the mapped mesh with its texture
+ * coordinates out as OBJ + MTL or glTF, for other programs to render (the
+ * thesis took its meshes from and to Maya, ch. IV.2 and V), and images. */
 
-TILEDDEF tiled_result tiled_load_mesh_from_memory(const void *data, size_t size, const char *name,
-                                                  const tiled_options *opt, tiled_mesh *out,
-                                                  tiled_error *err)
+TILEDDEF tiled_result tiled_read_mesh(const void *data, size_t size, const char *name,
+                                      const tiled_options *opt, tiled_mesh *out,
+                                      tiled_error *err)
 {
     tiled_options o = tiled__options(opt);
     pw_alloc a = tiled__alloc(&o.allocator);
@@ -11214,15 +11303,15 @@ TILEDDEF tiled_result tiled_load_mesh_from_memory(const void *data, size_t size,
     pw_err pe;
     pw_err_clear(&pe);
     if (out) memset(out, 0, sizeof *out);
-    if (!out || (!data && size)) pw_fail(&pe, PW_ERR_INVALID, "tiled_load_mesh_from_memory: NULL argument");
+    if (!out || (!data && size)) pw_fail(&pe, PW_ERR_INVALID, "tiled_read_mesh: NULL argument");
     else if (pw_mesh_read_memory(&a, data, size, name ? name : "mesh", &m, &pe) == PW_OK)
         tiled__take_mesh(&m, &a, out);
     return tiled__done(&pe, err);
 }
 
-TILEDDEF tiled_result tiled_load_image_from_memory(const void *data, size_t size, const char *name,
-                                                   const tiled_options *opt, tiled_image *out,
-                                                   tiled_error *err)
+TILEDDEF tiled_result tiled_read_image(const void *data, size_t size, const char *name,
+                                       const tiled_options *opt, tiled_image *out,
+                                       tiled_error *err)
 {
     tiled_options o = tiled__options(opt);
     pw_alloc a = tiled__alloc(&o.allocator);
@@ -11230,19 +11319,19 @@ TILEDDEF tiled_result tiled_load_image_from_memory(const void *data, size_t size
     pw_err pe;
     pw_err_clear(&pe);
     if (out) memset(out, 0, sizeof *out);
-    if (!out || (!data && size)) pw_fail(&pe, PW_ERR_INVALID, "tiled_load_image_from_memory: NULL argument");
+    if (!out || (!data && size)) pw_fail(&pe, PW_ERR_INVALID, "tiled_read_image: NULL argument");
     else if (pw_image_read_memory(&a, (const unsigned char *)data, size, name ? name : "image", &img,
                                   &pe) == PW_OK)
         tiled__take_image(&img, &a, out);
     return tiled__done(&pe, err);
 }
 
-TILEDDEF tiled_result tiled_write_image_to_func(const tiled_image *img, const char *format,
-                                                tiled_write_fn fn, void *ctx, tiled_error *err)
+TILEDDEF tiled_result tiled_write_image(const tiled_image *img, const char *format,
+                                        tiled_write_fn fn, void *ctx, tiled_error *err)
 {
     pw_err pe;
     pw_err_clear(&pe);
-    if (!fn) pw_fail(&pe, PW_ERR_INVALID, "tiled_write_image_to_func: NULL writer");
+    if (!fn) pw_fail(&pe, PW_ERR_INVALID, "tiled_write_image: NULL writer");
     else if (tiled__check_image(img, "image", &pe) == PW_OK) tiled__encode(img, format, fn, ctx, &pe);
     return tiled__done(&pe, err);
 }
@@ -11278,14 +11367,14 @@ static int tiled__index_uvs(const pw_alloc *a, const tiled_mesh *m, pw_mesh *pm,
     return PW_OK;
 }
 
-TILEDDEF tiled_result tiled_write_obj_to_func(const tiled_mesh *m, const char *mtl_name,
-                                              tiled_write_fn fn, void *ctx, tiled_error *err)
+TILEDDEF tiled_result tiled_write_obj(const tiled_mesh *m, const char *mtl_name,
+                                      tiled_write_fn fn, void *ctx, tiled_error *err)
 {
     pw_alloc a = tiled__alloc(m ? &m->allocator : NULL);
     pw_mesh pm;
     pw_err pe;
     pw_err_clear(&pe);
-    if (!fn) pw_fail(&pe, PW_ERR_INVALID, "tiled_write_obj_to_func: NULL writer");
+    if (!fn) pw_fail(&pe, PW_ERR_INVALID, "tiled_write_obj: NULL writer");
     else if (tiled__check_mesh(m, &pe) == PW_OK) {
         pm = tiled__pw_mesh(m);
         if (!m->uvs || tiled__index_uvs(&a, m, &pm, &pe) == PW_OK)
@@ -11298,9 +11387,9 @@ TILEDDEF tiled_result tiled_write_obj_to_func(const tiled_mesh *m, const char *m
     return tiled__done(&pe, err);
 }
 
-TILEDDEF tiled_result tiled_write_gltf_to_func(const tiled_mesh *m, const tiled_image *texture,
-                                               const tiled_render_options *view, tiled_write_fn fn, void *ctx,
-                                               tiled_error *err)
+TILEDDEF tiled_result tiled_write_gltf(const tiled_mesh *m, const tiled_image *texture,
+                                       const tiled_render_options *view, tiled_write_fn fn, void *ctx,
+                                       tiled_error *err)
 {
     pw_alloc a = tiled__alloc(m ? &m->allocator : NULL);
     pw_gltf_part part;
@@ -11311,7 +11400,7 @@ TILEDDEF tiled_result tiled_write_gltf_to_func(const tiled_mesh *m, const tiled_
     pw_err_clear(&pe);
     memset(&part, 0, sizeof part);
     memset(&scene, 0, sizeof scene);
-    if (!fn) pw_fail(&pe, PW_ERR_INVALID, "tiled_write_gltf_to_func: NULL writer");
+    if (!fn) pw_fail(&pe, PW_ERR_INVALID, "tiled_write_gltf: NULL writer");
     else if (texture && !m->uvs) pw_fail(&pe, PW_ERR_INVALID, "glTF: a texture for a mesh without texture coordinates");
     else if (tiled__check_mesh(m, &pe) == PW_OK && (!texture || tiled__check_image(texture, "texture", &pe) == PW_OK)) {
         part.name = "tiled";
@@ -11330,12 +11419,12 @@ TILEDDEF tiled_result tiled_write_gltf_to_func(const tiled_mesh *m, const tiled_
     return tiled__done(&pe, err);
 }
 
-TILEDDEF tiled_result tiled_write_mtl_to_func(const char *texture_name, tiled_write_fn fn,
-                                              void *ctx, tiled_error *err)
+TILEDDEF tiled_result tiled_write_mtl(const char *texture_name, tiled_write_fn fn,
+                                      void *ctx, tiled_error *err)
 {
     pw_err pe;
     pw_err_clear(&pe);
-    if (!fn || !texture_name) pw_fail(&pe, PW_ERR_INVALID, "tiled_write_mtl_to_func: NULL argument");
+    if (!fn || !texture_name) pw_fail(&pe, PW_ERR_INVALID, "tiled_write_mtl: NULL argument");
     else pw_mesh_write_mtl("tiled", texture_name, fn, ctx, &pe);
     return tiled__done(&pe, err);
 }
@@ -11388,7 +11477,7 @@ static int tiled__obj_job(void *arg, pw_write_fn w, void *ctx, pw_err *e)
 {
     const tiled__job *j = (const tiled__job *)arg;
     tiled_error te;
-    int r = (int)tiled_write_obj_to_func(j->mesh, j->name, w, ctx, &te);
+    int r = (int)tiled_write_obj(j->mesh, j->name, w, ctx, &te);
     if (r) pw_fail(e, r, "%s", te.message);
     return r;
 }
@@ -11403,7 +11492,7 @@ static int tiled__gltf_job(void *arg, pw_write_fn w, void *ctx, pw_err *e)
 {
     const tiled__job *j = (const tiled__job *)arg;
     tiled_error te;
-    int r = (int)tiled_write_gltf_to_func(j->mesh, j->img, j->view, w, ctx, &te);
+    int r = (int)tiled_write_gltf(j->mesh, j->img, j->view, w, ctx, &te);
     if (r) pw_fail(e, r, "%s", te.message);
     return r;
 }

@@ -37,6 +37,16 @@
 
 /* ---- timing ---------------------------------------------------------------- */
 
+/* The source of lapped_create and lapped_render: one patch. */
+static lapped_source one_patch(const lapped_image *patch)
+{
+    lapped_source src;
+    src.patches = patch;
+    src.npatches = 1;
+    src.values = NULL;
+    return src;
+}
+
 typedef struct create_job {
     const lapped_mesh *mesh;
     const lapped_image *patch;
@@ -48,9 +58,10 @@ typedef struct create_job {
 static void run_create(void *arg)
 {
     create_job *j = (create_job *)arg;
+    lapped_source src = one_patch(j->patch);
     lapped_error err;
     lapped_texture_free(&j->t);
-    if (lapped_create(j->mesh, j->patch, 1, &j->opt, &j->t, &err)) {
+    if (lapped_create(j->mesh, &src, &j->opt, &j->t, &err)) {
         printf("lapped_create failed: %s\n", err.message);
         j->fail = 1;
     }
@@ -67,9 +78,10 @@ typedef struct render_job {
 static void run_render(void *arg)
 {
     render_job *j = (render_job *)arg;
+    lapped_source src = one_patch(j->patch);
     lapped_image pic;
     lapped_error err;
-    if (lapped_render(j->mesh, j->t, j->patch, NULL, &j->ro, &pic, &err)) {
+    if (lapped_render(j->mesh, j->t, &src, &j->ro, &pic, &err)) {
         printf("lapped_render failed: %s\n", err.message);
         j->fail = 1;
     }
@@ -240,9 +252,10 @@ static void peer_compositing(render_job *rj, const lapped_texture *t, long drawn
         gl_peer_save_ppm(&L.g, path);
         {
             lapped_image pic;
+            lapped_source src = one_patch(rj->patch);
             lapped_error err;
             snprintf(path, sizeof path, "%s/lapped-pw.png", bench_data_dir());
-            if (lapped_render(rj->mesh, t, rj->patch, NULL, &rj->ro, &pic, &err) == LAPPED_OK) {
+            if (lapped_render(rj->mesh, t, &src, &rj->ro, &pic, &err) == LAPPED_OK) {
                 pw_image im = lapped__pw_image(&pic);
                 printf("  the two pictures differ by %.2f/255 on average\n", gl_peer_diff(&L.g, &im));
                 lapped_save_image(path, &pic, &err);
@@ -293,7 +306,7 @@ int main(int argc, char **argv)
     }
     if (lapped_load_image(TEXTURE_FILE, &opt, &texture, &err)) {
         builtin_tex = 1;
-        if (lapped_builtin_texture("scales", 128, &opt, &texture, &err)) {
+        if (lapped_builtin_exemplar("scales", 128, &opt, &texture, &err)) {
             printf("no texture: %s\n", err.message);
             return 1;
         }
@@ -311,8 +324,8 @@ int main(int argc, char **argv)
         for (i = 0; i < NRUNGS; i++) BENCH_MESH_COPY(mesh[i], rung[i]);
     }
     diag = bench_bbox_diagonal(mesh[0].positions, mesh[0].nverts);
-    opt.field.mode = LAPPED_FIELD_UP;
-    opt.field.scale = frac * diag;
+    opt.field = LAPPED_FIELD_UP;
+    opt.scale = frac * diag;
     printf("mesh: %s (%d triangles), 1-to-4 midpoint subdivision per rung%s\n",
            builtin_mesh ? "built-in \"bumpy\"" : MESH_FILE, mesh[0].nfaces,
            builtin_mesh ? " [data/ absent: run `make data` for the real mesh]" : "");
@@ -320,7 +333,7 @@ int main(int argc, char **argv)
            "seed 0\n",
            builtin_tex ? "built-in \"scales\" 128 px" : TEXTURE_FILE, patch.width, patch.height,
            texture.channels % 2 == 0 ? "the image's" : "splotch", frac,
-           opt.field.scale);
+           opt.scale);
     printf("paper: 20 s to 6 min for ~5,000-face meshes on a 733 MHz Pentium III\n\n");
 
     printf("lapped_create, one core:\n");

@@ -47,11 +47,9 @@ static int count_write(void *ctx, const void *data, size_t size)
 static int tets_of(const char *surface, int n, lst_mesh *s, lst_tetmesh *m)
 {
     lst_options o = lst_default_options();
-    lst_tet_options to;
     lst_error err;
-    memset(&to, 0, sizeof to);
-    to.target_tets = n;
-    if (lst_builtin_surface(surface, &o, s, &err) || lst_tetrahedralize(s, &to, &o, m, &err)) {
+    o.tet.target_tets = n;
+    if (lst_builtin_mesh(surface, &o, s, &err) || lst_tetrahedralize(s, &o, m, NULL, &err)) {
         fprintf(stderr, "bench_lst: %s\n", err.message);
         return 0;
     }
@@ -63,7 +61,9 @@ static double fill(const lst_tetmesh *m, const lst_mesh *s, const lst_volume *ex
 {
     lst_error err;
     double t0 = bench_now(), c0 = cpu_now();
-    if (lst_create(m, s, ex, NULL, o, model, &err)) {
+    lst_source src;
+    src.exemplar = ex, src.values = NULL;
+    if (lst_create(m, s, &src, o, model, &err)) {
         fprintf(stderr, "bench_lst: %s\n", err.message);
         exit(1);
     }
@@ -94,9 +94,9 @@ static size_t disk_size(const lst_model *model, const lst_volume *ex)
     size_t n = 0;
     lst_error err;
     int k;
-    lst_write_model_to_func(model, count_write, &n, &err);
-    lst_write_volume_to_func(ex, count_write, &n, &err);
-    for (k = 0; k < model->nmasks; k++) lst_write_volume_to_func(&model->masks[k], count_write, &n, &err);
+    lst_write_model(model, count_write, &n, &err);
+    lst_write_volume(ex, count_write, &n, &err);
+    for (k = 0; k < model->masks.count; k++) lst_write_volume(&model->masks.volumes[k], count_write, &n, &err);
     return n;
 }
 
@@ -161,14 +161,13 @@ static void volume_bench(void)
     lst_volume_options vo;
     lst_image img;
     lst_error err;
-    lst_depth_constraint *dc;
-    lst_field_constraint *fc;
+    lst_constraints c;
     double cpu, t0, c0;
     bench_stat st;
     if (!tets_of("kiwi", 5000, &s, &m)) exit(1);
     o.type = LST_TYPE_2B;
-    lst_builtin_constraints("kiwi", &s, &o, &dc, &o.ndepth, &fc, &o.nfield, &err);
-    o.depth = dc, o.field = fc;
+    lst_builtin_constraints("kiwi", &s, &o, &c, &err);
+    o.constraints = c.items, o.nconstraints = c.count;
     lst_builtin_exemplar("kiwi", 64, &o, &ex, &val, &err);
     st = fill_stat(&m, &s, &ex, &o, 3, &model, &cpu);
     bench_report("fill kiwi 2-b (painted depth), 5K", st, 0, NULL);
@@ -196,7 +195,7 @@ static void volume_bench(void)
     st.median = st.min = st.max = t0, st.runs = 1;
     lst_row("lst plane cut, kiwi 5K tetrahedra (mesh split, pastes updated)", st, "Table 1: 31-187 ms");
     lst_model_free(&model);
-    lst_free_constraints(dc, fc, &o);
+    lst_constraints_free(&c);
     lst_volume_free(&ex), lst_volume_free(&val), lst_tetmesh_free(&m), lst_mesh_free(&s);
 }
 
@@ -223,7 +222,7 @@ int main(int argc, char **argv)
             double cpu;
             bench_stat st;
             o = lst_default_options();
-            o.type = t;
+            o.type = (lst_type)t;
             st = fill_stat(&m, NULL, &ex[t], &o, runs[k], &model, &cpu);
             times[t][k] = st.median;
             if (st.median > slowest[k].median) slowest[k] = st, slowest_type[k] = t;

@@ -60,7 +60,7 @@ typedef struct create_job {
 static void run_create(void *arg)
 {
     create_job *j = (create_job *)arg;
-    pgp_map *map;
+    pgp_map map;
     pgp_error err;
     j->opt.progress = on_progress;
     j->opt.progress_user = &j->clock;
@@ -77,8 +77,8 @@ static void run_create(void *arg)
         j->stage[2][j->n] = j->clock.mark[2] - j->clock.mark[1];
         j->n++;
     }
-    j->nsing = pgp_get_singular(map, NULL);
-    pgp_destroy(map);
+    j->nsing = pgp_map_singular(&map, NULL);
+    pgp_map_free(&map);
 }
 
 /* Total surface area, for the radius of an effect area of a given size. */
@@ -113,6 +113,7 @@ static void run_edit(void *arg)
     static int flip;
     pgp_area area;
     pgp_error err;
+    pgp_constraint c;
     float dir[3] = {1.0f, 0.0f, 0.0f}, value[3] = {0.0f, 0.0f, 0.0f};
     int r;
     flip = !flip;
@@ -120,9 +121,11 @@ static void run_edit(void *arg)
     value[0] = j->kind == 0 ? dir[0] : j->kind == 1 ? (flip ? 0.6f : 0.4f) : (flip ? 1.0f : 0.5f);
     value[1] = dir[1], value[2] = dir[2];
     if (j->id < 0) {
-        if (j->kind == 0) r = pgp_add_orientation(j->map, j->face, dir, j->radius, &j->id, &area, &err);
-        else if (j->kind == 1) r = pgp_add_scale(j->map, j->vertex, value[0], j->radius, &j->id, &area, &err);
-        else r = pgp_add_material(j->map, j->vertex, value[0], j->radius, &j->id, &area, &err);
+        c.kind = j->kind == 0 ? PGP_CONSTRAINT_ORIENT : j->kind == 1 ? PGP_CONSTRAINT_SCALE : PGP_CONSTRAINT_MATERIAL;
+        c.element = j->kind == 0 ? j->face : j->vertex;
+        memcpy(c.value, value, sizeof c.value);
+        c.radius = j->radius;
+        r = pgp_add_constraint(j->map, &c, &j->id, &area, &err);
     } else
         r = pgp_edit_constraint(j->map, j->id, value, &area, &err);
     if (r) {
@@ -158,10 +161,12 @@ static int edit_bench(pgp_map *map, const pgp_mesh *mesh, const pgp_options *opt
     (void)opt;
     { /* geodesic discs over the dual graph hold less than pi r^2: one
          correction from a trial edit brings the area near the target */
+        pgp_constraint c = {PGP_CONSTRAINT_ORIENT, 0, {1.0f, 0.0f, 0.0f}, 0.0f};
         pgp_area trial;
         pgp_error err;
         int id;
-        if (pgp_add_orientation(map, ej.face, (const float[3]){1.0f, 0.0f, 0.0f}, ej.radius, &id, &trial, &err) ||
+        c.element = ej.face, c.radius = ej.radius;
+        if (pgp_add_constraint(map, &c, &id, &trial, &err) ||
             pgp_remove_constraint(map, id, NULL, &err))
             return printf("trial edit failed: %s\n", err.message), 1;
         if (trial.nfaces > 0) ej.radius *= (float)sqrt(fraction * mesh->nfaces / trial.nfaces);
@@ -195,7 +200,7 @@ static int paper_rows(void)
     static const char *const stage[2] = {"field (orientation)", "PGP (u,v)"};
     pgp_options opt = pgp_default_options();
     pgp_mesh mesh;
-    pgp_map *map;
+    pgp_map map;
     pgp_error err;
     create_job *cj = (create_job *)calloc(1, sizeof *cj);
     double med[NSTAGES], cpu, upd;
@@ -226,8 +231,8 @@ static int paper_rows(void)
     }
     if (pgp_create(&mesh, &opt, &map, &err)) return printf("pgp_create failed: %s\n", err.message), 1;
     for (k = 0; k < 3; k++)
-        if (edit_bench(map, &mesh, &opt, 0.25, k, "25% area", &upd, paper_edit[k])) return 1;
-    pgp_destroy(map);
+        if (edit_bench(&map, &mesh, &opt, 0.25, k, "25% area", &upd, paper_edit[k])) return 1;
+    pgp_map_free(&map);
     pgp_mesh_free(&mesh);
     free(cj);
     return 0;
@@ -264,16 +269,16 @@ static int interleave3(void (*fn)(void *), void *jobs, size_t size, int runs, do
 static void run_weights(void *arg)
 {
     weights_job *j = (weights_job *)arg;
-    pgp_map *map;
+    pgp_map map;
     pgp_error err;
     if (pgp_create(j->mesh, &j->opt, &map, &err)) {
         printf("pgp_create failed: %s\n", err.message);
         j->fail = 1;
         return;
     }
-    j->vortices = pgp_get_vortices(map, NULL);
-    j->singular = pgp_get_singular(map, NULL);
-    pgp_destroy(map);
+    j->vortices = pgp_map_vortices(&map, NULL);
+    j->singular = pgp_map_singular(&map, NULL);
+    pgp_map_free(&map);
 }
 
 /* CPU medians of pgp_create on one mesh at S = diag/10 with the paper's
@@ -328,10 +333,10 @@ static void run_render(void *arg)
  * three lookups, on the same map and tile, interleaved. */
 static int render_rows(const pgp_mesh *mesh, const char *name)
 {
-    static const int fix[3] = {PGP_FIX_CLEAN, PGP_FIX_PAPER, PGP_FIX_OFF};
+    static const pgp_fix fix[3] = {PGP_FIX_CLEAN, PGP_FIX_PAPER, PGP_FIX_OFF};
     static const char *const what[3] = {"clean (default)", "paper (section 3)", "none (one lookup)"};
     pgp_options opt = pgp_default_options();
-    pgp_map *map;
+    pgp_map map;
     pgp_tile tile;
     pgp_error err;
     render_job j[3];
@@ -341,14 +346,14 @@ static int render_rows(const pgp_mesh *mesh, const char *name)
         return printf("render rows failed: %s\n", err.message), 1;
     for (k = 0; k < 3; k++) {
         memset(&j[k], 0, sizeof j[k]);
-        j[k].map = map, j[k].tile = &tile, j[k].ro.fix = fix[k];
+        j[k].map = &map, j[k].tile = &tile, j[k].ro.fix = fix[k];
     }
     if (interleave3(run_render, j, sizeof j[0], 5, med)) return 1;
     for (k = 0; k < 3; k++)
         printf("  %-10s fix %-18s drawn specially %5.1f%%  frame %7.1f ms (%.2fx paper)\n", name, what[k],
-               100.0 * pgp_get_special(map, fix[k], NULL) / pgp_triangle_count(map), 1e3 * med[k], med[k] / med[1]);
+               100.0 * pgp_map_special(&map, fix[k], NULL) / map.ntris, 1e3 * med[k], med[k] / med[1]);
     pgp_tile_free(&tile);
-    pgp_destroy(map);
+    pgp_map_free(&map);
     return 0;
 }
 
@@ -443,14 +448,14 @@ int main(int argc, char **argv)
 
     printf("local updates (§2.1), each an edit of one constraint recomputing its effect area:\n");
     for (i = 1; i < NRUNGS; i++) {
-        pgp_map *map;
+        pgp_map map;
         if (pgp_create(&mesh[i], &opt, &map, &err)) return printf("pgp_create failed: %s\n", err.message), 1;
         printf(" %d triangles:\n", mesh[i].nfaces);
         for (k = 0; k < 3; k++)
-            if (edit_bench(map, &mesh[i], &opt, 0.25, k, "25% area", &upd, NULL)) return 1;
-        if (edit_bench(map, &mesh[i], &opt, 10000.0 / mesh[i].nfaces, 0, "10K area", &upd, NULL)) return 1;
+            if (edit_bench(&map, &mesh[i], &opt, 0.25, k, "25% area", &upd, NULL)) return 1;
+        if (edit_bench(&map, &mesh[i], &opt, 10000.0 / mesh[i].nfaces, 0, "10K area", &upd, NULL)) return 1;
         if (i == TARGET_RUNG) upd10k = upd;
-        pgp_destroy(map);
+        pgp_map_free(&map);
     }
     printf("target: a local update touching ~10K triangles < 0.2 s: %s (%.3f s at %d triangles)\n\n",
            upd10k < 0.2 ? "met" : "NOT met", upd10k, mesh[TARGET_RUNG].nfaces);

@@ -138,7 +138,7 @@ int main(void)
         bench_stat st;
         pgp_tile masks;
         double c0;
-        j.o = pgp_synth_default_options();
+        j.o = pgp_default_options().synth;
         j.o.size = sizes[r];
         texels[r] = (double)sizes[r] * sizes[r] * 8;
         run(&j, &masks);
@@ -164,7 +164,7 @@ int main(void)
     printf("\n");
     printf("target: 8 layers at %d^2 from two keys in %.1f s of cpu (%.1f s wall; target < %.0f s: %s; the paper: 300 s "
            "per morph)\n", TARGET_SIZE, target, target_wall, TARGET_SECONDS, target < TARGET_SECONDS ? "met" : "NOT met");
-    j.o = pgp_synth_default_options();
+    j.o = pgp_default_options().synth;
     j.o.size = TARGET_SIZE;
     j.o.search_eps = -1.0f;
     j.o.search_buckets = -1;

@@ -146,20 +146,22 @@ static int lapped_run(const lapped_mesh *mesh, int atlas)
 {
     lapped_options opt = lapped_default_options();
     lapped_image texture, patch;
+    lapped_source src;
     lapped_texture t;
     lapped_error err;
     int r;
     if (lapped_load_image("data/textures/cracked.ppm", &opt, &texture, &err) &&
-        lapped_builtin_texture("scales", 128, &opt, &texture, &err))
+        lapped_builtin_exemplar("scales", 128, &opt, &texture, &err))
         return printf("sysdump: %s\n", err.message), 1;
-    opt.field.mode = LAPPED_FIELD_UP;
-    opt.field.scale = 0.07f * bench_bbox_diagonal(mesh->positions, mesh->nverts);
+    opt.field = LAPPED_FIELD_UP;
+    opt.scale = 0.07f * bench_bbox_diagonal(mesh->positions, mesh->nverts);
     opt.progress = on_progress;
-    r = lapped_make_patch(&texture, NULL, &opt, &patch, &err) || lapped_create(mesh, &patch, 1, &opt, &t, &err);
+    src.patches = &patch, src.npatches = 1, src.values = NULL;
+    r = lapped_make_patch(&texture, NULL, &opt, &patch, &err) || lapped_create(mesh, &src, &opt, &t, &err);
     if (!r && atlas) {
         lapped_atlas at;
         snprintf(G.stage, sizeof G.stage, "atlas");
-        if ((r = lapped_bake_atlas(mesh, &t, &patch, NULL, NULL, &opt, &at, &err)) == LAPPED_OK) lapped_atlas_free(&at);
+        if ((r = lapped_bake_atlas(mesh, &t, &src, &opt, &at, &err)) == LAPPED_OK) lapped_atlas_free(&at);
     }
     if (r) printf("sysdump: lapped: %s\n", err.message);
     else lapped_texture_free(&t);
@@ -178,14 +180,14 @@ static int gen_pgp(const lapped_mesh *mesh)
 {
     pgp_options opt = pgp_default_options();
     pgp_mesh m;
-    pgp_map *map;
+    pgp_map map;
     pgp_error err;
     memset(&m, 0, sizeof m);
     BENCH_MESH_COPY(m, *mesh);
     opt.scale = 0.05f * bench_bbox_diagonal(mesh->positions, mesh->nverts);
     opt.progress = on_progress;
     if (pgp_create(&m, &opt, &map, &err)) return printf("sysdump: pgp: %s\n", err.message), 1;
-    pgp_destroy(map);
+    pgp_map_free(&map);
     return 0;
 }
 
@@ -197,17 +199,16 @@ static int gen_pgp(const lapped_mesh *mesh)
 static int lst_run(const lapped_mesh *mesh, int tets)
 {
     lst_options opt = lst_default_options();
-    lst_tet_options to;
     lst_mesh s;
     lst_tetmesh m;
     lst_volume ex;
+    lst_source src;
     lst_model model;
     lst_error err;
-    lst_field_constraint fc[4];
+    lst_constraint fc[4];
     float lo[3] = {1e30f, 1e30f, 1e30f}, hi[3] = {-1e30f, -1e30f, -1e30f};
     int i, k, r;
     memset(&s, 0, sizeof s);
-    memset(&to, 0, sizeof to);
     BENCH_MESH_COPY(s, *mesh);
     for (i = 0; i < mesh->nverts; i++)
         for (k = 0; k < 3; k++) {
@@ -217,22 +218,23 @@ static int lst_run(const lapped_mesh *mesh, int tets)
     for (i = 0; i < 4; i++) { /* along the box's x extent, the direction turning from x to z */
         float f = (i + 0.5f) / 4.0f, a = 1.5707963f * f;
         memset(&fc[i], 0, sizeof fc[i]);
-        fc[i].kind = LST_FIELD_DIRECTION;
+        fc[i].kind = LST_CONSTRAINT_DIRECTION;
         for (k = 0; k < 3; k++) fc[i].point[k] = 0.5f * (lo[k] + hi[k]);
         fc[i].point[0] = lo[0] + f * (hi[0] - lo[0]);
         fc[i].direction[0] = cosf(a), fc[i].direction[2] = sinf(a);
     }
-    to.target_tets = tets;
-    if (lst_tetrahedralize(&s, &to, &opt, &m, &err)) return printf("sysdump: lst: %s\n", err.message), 1;
+    opt.tet.target_tets = tets;
+    if (lst_tetrahedralize(&s, &opt, &m, NULL, &err)) return printf("sysdump: lst: %s\n", err.message), 1;
     if (lst_builtin_exemplar("fibers", 32, &opt, &ex, NULL, &err)) {
         lst_tetmesh_free(&m);
         return printf("sysdump: lst: %s\n", err.message), 1;
     }
     opt.type = LST_TYPE_2A;
     opt.scale = 0.1f * bench_bbox_diagonal(mesh->positions, mesh->nverts);
-    opt.field = fc, opt.nfield = 4;
+    opt.constraints = fc, opt.nconstraints = 4;
     opt.progress = on_progress;
-    r = lst_create(&m, &s, &ex, NULL, &opt, &model, &err);
+    src.exemplar = &ex, src.values = NULL;
+    r = lst_create(&m, &s, &src, &opt, &model, &err);
     if (r) printf("sysdump: lst: %s\n", err.message);
     else lst_model_free(&model);
     lst_volume_free(&ex);

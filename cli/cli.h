@@ -37,7 +37,7 @@ int cli_vec3(cli_args *a, float out[3]);
  * many scanners and CAD programs); --supersample N, N x N samples per
  * pixel. Returns -1 when argv[i] is none of them, else 1 (parsed) or 0 (an
  * error, printed). */
-int cli_view_flag(cli_args *a, float view_dir[3], float up[3], int *supersample);
+int cli_view_flag(cli_args *a, float view_dir[3], float up[3], int *supersample, int *threads);
 #define CLI_VIEW_USAGE                                                                                   \
     "  --view X,Y,Z        the direction the camera looks along (default -0.55,-0.45,-0.7)\n"            \
     "  --view-up X,Y,Z|z   the world direction shown upwards (default y; z for Z-up scans)\n"           \

@@ -86,18 +86,16 @@ static tiled_result demo_error(int code, const char *message, tiled_error *err)
 static tiled_result demo_tiled_scene(const char *dir, const demo_scene *s, tiled_error *err)
 {
     tiled_options o = tiled_default_options();
-    tiled_render_options ro;
     tiled_mesh mesh, quads;
     tiled_image ex, pic;
     tiled_tileset ts;
     tiled_result r;
     char name[256];
-    memset(&ro, 0, sizeof ro);
     memset(&ts, 0, sizeof ts);
     memset(&quads, 0, sizeof quads);
     memset(&pic, 0, sizeof pic);
-    memcpy(ro.view_dir, s->view, sizeof ro.view_dir);
-    DEMO_QUICK_VIEW(ro);
+    memcpy(o.render.view_dir, s->view, sizeof o.render.view_dir);
+    DEMO_QUICK_VIEW(o.render);
     o.subdivide = s->subdivide;
     o.smooth = s->smooth;
     o.layout.case_number = s->case_number;
@@ -107,7 +105,7 @@ static tiled_result demo_tiled_scene(const char *dir, const demo_scene *s, tiled
     if ((r = tiled_builtin_exemplar(s->exemplar, demo_size(s->exemplar_size, 2, 32), &o, &ex, err)) == TILED_OK &&
         (r = tiled_synthesize(&ex, &o, &ts, err)) == TILED_OK &&
         (r = tiled_map(&mesh, &ts.layout, &o, &quads, err)) == TILED_OK &&
-        (r = tiled_render(&quads, &ts, &ro, &pic, err)) == TILED_OK) {
+        (r = tiled_render(&quads, &ts, &o.render, &pic, err)) == TILED_OK) {
         snprintf(name, sizeof name, "%s_tiles", s->name);
         if ((r = demo_write(dir, s->name, &pic, err)) == TILED_OK) r = demo_write(dir, name, &ts.atlas, err);
     }
@@ -136,7 +134,7 @@ static const lapped_scene lapped_scenes[] = {
 static tiled_result demo_lapped_scene(const char *dir, const lapped_scene *s, tiled_error *err)
 {
     lapped_options o = lapped_default_options();
-    lapped_render_options ro;
+    lapped_source src;
     lapped_mesh mesh;
     lapped_image tex, patch, pic;
     lapped_texture t;
@@ -144,21 +142,23 @@ static tiled_result demo_lapped_scene(const char *dir, const lapped_scene *s, ti
     lapped_error le;
     tiled_result r = TILED_OK;
     char name[256];
-    memset(&ro, 0, sizeof ro);
     memset(&t, 0, sizeof t);
     memset(&pic, 0, sizeof pic);
     memset(&patch, 0, sizeof patch);
     memset(&atlas, 0, sizeof atlas);
-    memcpy(ro.view_dir, s->view, sizeof ro.view_dir);
-    DEMO_QUICK_VIEW(ro);
-    o.field.mode = s->field;
-    o.field.scale = s->scale;
+    memcpy(o.render.view_dir, s->view, sizeof o.render.view_dir);
+    DEMO_QUICK_VIEW(o.render);
+    o.field = s->field;
+    o.scale = s->scale;
+    src.patches = &patch;
+    src.npatches = 1;
+    src.values = NULL;
     if (lapped_builtin_mesh(s->mesh, &o, &mesh, &le) != LAPPED_OK) return DEMO_ERROR(&le, err);
-    if (lapped_builtin_texture(s->texture, demo_size(128, 2, 64), &o, &tex, &le) != LAPPED_OK ||
+    if (lapped_builtin_exemplar(s->texture, demo_size(128, 2, 64), &o, &tex, &le) != LAPPED_OK ||
         lapped_make_patch(&tex, NULL, &o, &patch, &le) != LAPPED_OK ||
-        lapped_create(&mesh, &patch, 1, &o, &t, &le) != LAPPED_OK ||
-        lapped_render(&mesh, &t, &patch, NULL, &ro, &pic, &le) != LAPPED_OK ||
-        (s->atlas && lapped_bake_atlas(&mesh, &t, &patch, NULL, NULL, &o, &atlas, &le) != LAPPED_OK)) {
+        lapped_create(&mesh, &src, &o, &t, &le) != LAPPED_OK ||
+        lapped_render(&mesh, &t, &src, &o.render, &pic, &le) != LAPPED_OK ||
+        (s->atlas && lapped_bake_atlas(&mesh, &t, &src, &o, &atlas, &le) != LAPPED_OK)) {
         r = DEMO_ERROR(&le, err);
     }
     if (r == TILED_OK) r = DEMO_WRITE(dir, s->name, &pic, err);
@@ -177,7 +177,7 @@ static tiled_result demo_lapped_scene(const char *dir, const lapped_scene *s, ti
 
 typedef struct pgp_scene {
     const char *name, *mesh, *tile;
-    int field;
+    pgp_field_mode field;
     float scale, view[3];
     float fresh[3], weathered[3]; /* material 0 / 1 on the side of the mesh this way; 0: none */
 } pgp_scene;
@@ -218,16 +218,21 @@ static tiled_result demo_pgp_tile(const char *dir, const char *name, const pgp_t
 static pgp_result demo_pgp_weather(const pgp_scene *s, const pgp_mesh *mesh, pgp_map *map, pgp_error *pe)
 {
     pgp_result r = PGP_OK;
+    pgp_constraint c;
     int v, last = -1;
+    memset(&c, 0, sizeof c);
+    c.kind = PGP_CONSTRAINT_MATERIAL;
     for (v = 0; v < mesh->nverts && r == PGP_OK; v++) {
         const float *p = mesh->positions + 3 * v;
         float l = sqrtf(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
         float d0 = l > 0.0f ? (p[0] * s->fresh[0] + p[1] * s->fresh[1] + p[2] * s->fresh[2]) / l : 0.0f;
         float d1 = l > 0.0f ? (p[0] * s->weathered[0] + p[1] * s->weathered[1] + p[2] * s->weathered[2]) / l : 0.0f;
-        if (d0 > 0.8f || d1 > 0.8f) r = pgp_add_material(map, v, d1 > 0.8f ? 1.0f : 0.0f, 0.1f, NULL, NULL, pe);
+        c.element = v, c.value[0] = d1 > 0.8f ? 1.0f : 0.0f, c.radius = 0.1f;
+        if (d0 > 0.8f || d1 > 0.8f) r = pgp_add_constraint(map, &c, NULL, NULL, pe);
         if (d0 > 0.8f) last = v;
     }
-    if (r == PGP_OK && last >= 0) r = pgp_add_material(map, last, 0.0f, 0.0f, NULL, NULL, pe);
+    c.element = last, c.value[0] = 0.0f, c.radius = 0.0f;
+    if (r == PGP_OK && last >= 0) r = pgp_add_constraint(map, &c, NULL, NULL, pe);
     return r;
 }
 
@@ -241,7 +246,7 @@ static tiled_result demo_pgp_scene(const char *dir, const pgp_scene *s, tiled_er
     pgp_mesh mesh;
     pgp_tile tile;
     pgp_image pic[3];
-    pgp_map *map = NULL;
+    pgp_map map;
     pgp_error pe;
     tiled_result r = TILED_OK;
     int weather = s->weathered[0] != 0.0f || s->weathered[1] != 0.0f || s->weathered[2] != 0.0f, k;
@@ -250,25 +255,26 @@ static tiled_result demo_pgp_scene(const char *dir, const pgp_scene *s, tiled_er
     memset(&ro, 0, sizeof ro);
     memset(pic, 0, sizeof pic);
     memset(&tile, 0, sizeof tile);
+    memset(&map, 0, sizeof map);
     memcpy(ro.view_dir, s->view, sizeof ro.view_dir);
     DEMO_QUICK_VIEW(ro);
     o.field = s->field;
     o.scale = s->scale;
     if (pgp_builtin_mesh(s->mesh, &o, &mesh, &pe) != PGP_OK) return DEMO_ERROR(&pe, err);
     if (pgp_builtin_tile(s->tile, demo_size(256, 4, 64), &o, &tile, &pe) != PGP_OK || pgp_create(&mesh, &o, &map, &pe) != PGP_OK ||
-        (weather && demo_pgp_weather(s, &mesh, map, &pe) != PGP_OK))
+        (weather && demo_pgp_weather(s, &mesh, &map, &pe) != PGP_OK))
         r = DEMO_ERROR(&pe, err);
     for (k = 0; k < 3 && r == TILED_OK && suffix[weather][k]; k++) {
-        ro.show = k == 1 ? (weather ? 1 : 2) : 0;
-        ro.fix = k == 2 ? 1 : 0;
-        if (pgp_render(map, &tile, &ro, &pic[k], &pe) != PGP_OK) r = DEMO_ERROR(&pe, err);
+        ro.show = k == 1 ? (weather ? PGP_SHOW_MATERIAL : PGP_SHOW_SPECIAL) : PGP_SHOW_TILE;
+        ro.fix = k == 2 ? PGP_FIX_OFF : PGP_FIX_CLEAN;
+        if (pgp_render(&map, &tile, &ro, &pic[k], &pe) != PGP_OK) r = DEMO_ERROR(&pe, err);
         snprintf(name, sizeof name, "%s%s", s->name, suffix[weather][k]);
         if (r == TILED_OK) r = DEMO_WRITE(dir, name, &pic[k], err);
     }
     snprintf(name, sizeof name, "%s_tile", s->name);
     if (r == TILED_OK) r = demo_pgp_tile(dir, name, &tile, err);
     for (k = 0; k < 3; k++) pgp_image_free(&pic[k]);
-    pgp_destroy(map);
+    pgp_map_free(&map);
     pgp_tile_free(&tile);
     pgp_mesh_free(&mesh);
     return r;
@@ -297,25 +303,25 @@ static lst_result demo_lst_model(const lst_scene *s, lst_options *o, lst_model *
     lst_mesh surf;
     lst_tetmesh tets;
     lst_volume ex, val;
-    lst_tet_options to;
-    lst_depth_constraint *dc = NULL;
-    lst_field_constraint *fc = NULL;
+    lst_source src;
+    lst_constraints c;
     lst_result r;
-    memset(&to, 0, sizeof to);
+    memset(&c, 0, sizeof c);
     memset(&tets, 0, sizeof tets);
     memset(&ex, 0, sizeof ex);
     memset(&val, 0, sizeof val);
-    to.target_tets = demo_size(s->tets, 5, 1000);
+    o->tet.target_tets = demo_size(s->tets, 5, 1000);
     o->type = s->type;
-    if ((r = lst_builtin_surface(s->surface, o, &surf, le)) != LST_OK) return r;
-    if ((r = lst_tetrahedralize(&surf, &to, o, &tets, le)) == LST_OK &&
+    if ((r = lst_builtin_mesh(s->surface, o, &surf, le)) != LST_OK) return r;
+    if ((r = lst_tetrahedralize(&surf, o, &tets, NULL, le)) == LST_OK &&
         (r = lst_builtin_exemplar(s->exemplar, demo_size(64, 2, 32), o, &ex, &val, le)) == LST_OK &&
         (strcmp(s->surface, "kiwi") && strcmp(s->surface, "tree") && strcmp(s->surface, "torus") ? LST_OK
-         : (r = lst_builtin_constraints(s->surface, &surf, o, &dc, &o->ndepth, &fc, &o->nfield, le))) == LST_OK) {
-        o->depth = dc, o->field = fc;
-        r = lst_create(&tets, &surf, &ex, &val, o, m, le);
+         : (r = lst_builtin_constraints(s->surface, &surf, o, &c, le))) == LST_OK) {
+        o->constraints = c.items, o->nconstraints = c.count;
+        src.exemplar = &ex, src.values = &val;
+        r = lst_create(&tets, &surf, &src, o, m, le);
     }
-    lst_free_constraints(dc, fc, o);
+    lst_constraints_free(&c);
     lst_volume_free(&ex);
     lst_volume_free(&val);
     lst_tetmesh_free(&tets);
@@ -394,7 +400,7 @@ static tiled_result demo_lst_scene(const char *dir, const lst_scene *s, tiled_er
  * side by side; a couple of seconds. */
 static tiled_result demo_pgp_synth(const char *dir, tiled_error *err)
 {
-    pgp_synth_options so = pgp_synth_default_options();
+    pgp_synth_options so = pgp_default_options().synth;
     pgp_tile bricks, tile;
     pgp_image key[2];
     pgp_key keys[2];

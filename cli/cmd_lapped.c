@@ -25,7 +25,7 @@ static const char *lapped_usage =
     "  --field up[:X,Y,Z]   up direction projected on the surface (default +Y)\n"
     "  --field isotropic    scale only, orientation propagated while growing\n"
     "  --field curvature    along the direction of least curvature\n"
-    "  --field constraints:FILE  lines 'face dx dy dz [scale [radius [weight]]]'\n"
+    "  --field constraints:FILE  lines 'orient face dx dy dz [scale [radius [weight]]]'\n"
     "  --scale S            patch side length in mesh units (default: 1/10 of the\n"
     "                       bounding-box diagonal)\n"
     "  --lscm               isotropic: least-squares conformal parametrisation\n"
@@ -55,8 +55,6 @@ typedef struct lapped_cmd {
     const char *out_channel_image, *out_channel_atlas;
     int ntextures, nchannels;
     lapped_options opt;
-    lapped_render_options ro;
-    lapped_atlas_options ao;
 } lapped_cmd;
 
 static int bad(const char *what, const char *value)
@@ -69,19 +67,19 @@ static int bad(const char *what, const char *value)
 static int parse_field(cli_args *a, lapped_cmd *c)
 {
     const char *v;
-    lapped_field *f = &c->opt.field;
+    lapped_options *f = &c->opt;
     if (!cli_value(a, &v)) return 0;
-    if (!strcmp(v, "isotropic")) f->mode = LAPPED_FIELD_ISOTROPIC;
-    else if (!strcmp(v, "curvature")) f->mode = LAPPED_FIELD_CURVATURE;
+    if (!strcmp(v, "isotropic")) f->field = LAPPED_FIELD_ISOTROPIC;
+    else if (!strcmp(v, "curvature")) f->field = LAPPED_FIELD_CURVATURE;
     else if (!strncmp(v, "constraints:", 12) && v[12]) {
-        f->mode = LAPPED_FIELD_CONSTRAINTS;
+        f->field = LAPPED_FIELD_CONSTRAINTS;
         c->constraints = v + 12;
-    } else if (!strcmp(v, "up")) f->mode = LAPPED_FIELD_UP;
+    } else if (!strcmp(v, "up")) f->field = LAPPED_FIELD_UP;
     else if (!strncmp(v, "up:", 3)) {
         char *end;
         int k;
         const char *p = v + 3;
-        f->mode = LAPPED_FIELD_UP;
+        f->field = LAPPED_FIELD_UP;
         for (k = 0; k < 3; k++, p = end + 1) {
             f->up[k] = strtof(p, &end);
             if (end == p || (k < 2 && *end != ',') || (k == 2 && *end)) return bad("--field", v);
@@ -94,7 +92,7 @@ static int parse_field(cli_args *a, lapped_cmd *c)
 
 static int parse_one(cli_args *a, lapped_cmd *c)
 {
-    int v = cli_view_flag(a, c->ro.view_dir, c->ro.up, &c->ro.supersample);
+    int v = cli_view_flag(a, c->opt.render.view_dir, c->opt.render.up, &c->opt.render.supersample, &c->opt.render.threads);
     if (cli_is(a, "--help") || cli_is(a, "-h")) return -1;
     if (v >= 0) return v;
     if (cli_is(a, "--mesh")) return cli_value(a, &c->mesh);
@@ -111,19 +109,19 @@ static int parse_one(cli_args *a, lapped_cmd *c)
     if (cli_is(a, "--circle")) return (c->opt.alpha = LAPPED_ALPHA_CIRCLE), 1;
     if (cli_is(a, "--falloff")) return cli_float(a, 0.0f, 1000.0f, &c->opt.falloff);
     if (cli_is(a, "--field")) return parse_field(a, c);
-    if (cli_is(a, "--scale")) return cli_float(a, 1e-30f, 1e30f, &c->opt.field.scale);
+    if (cli_is(a, "--scale")) return cli_float(a, 1e-30f, 1e30f, &c->opt.scale);
     if (cli_is(a, "--lscm")) return (c->opt.lscm = 1);
     if (cli_is(a, "--seed")) return cli_u64(a, &c->opt.seed);
     if (cli_is(a, "--out-pastes")) return cli_value(a, &c->out_pastes);
     if (cli_is(a, "--out-patch")) return cli_value(a, &c->out_patch);
     if (cli_is(a, "--out-image")) return cli_value(a, &c->out_image);
-    if (cli_is(a, "--size")) return cli_size(a, &c->ro.width, &c->ro.height);
+    if (cli_is(a, "--size")) return cli_size(a, &c->opt.render.width, &c->opt.render.height);
     if (cli_is(a, "--out-obj")) return cli_value(a, &c->out_obj);
     if (cli_is(a, "--out-atlas")) return cli_value(a, &c->out_atlas);
     if (cli_is(a, "--out-glb")) return cli_value(a, &c->out_glb);
     if (cli_is(a, "--out-channel-image")) return cli_value(a, &c->out_channel_image);
     if (cli_is(a, "--out-channel-atlas")) return cli_value(a, &c->out_channel_atlas);
-    if (cli_is(a, "--atlas-size")) return cli_int(a, 64, 16384, &c->ao.size);
+    if (cli_is(a, "--atlas-size")) return cli_int(a, 64, 16384, &c->opt.atlas.size);
     if (cli_is(a, "--max-pastes")) return cli_int(a, 1, 100000000, &c->opt.max_pastes);
     cli_error("lapped", "unknown option '%s' (try patchwork lapped --help)", a->argv[a->i]);
     return 0;
@@ -191,7 +189,7 @@ static lapped_result load_image(const char *src, const lapped_options *o, lapped
                                 lapped_error *err)
 {
     const char *name;
-    if (cli_is_procedural(src, &name)) return lapped_builtin_texture(name, 128, o, img, err);
+    if (cli_is_procedural(src, &name)) return lapped_builtin_exemplar(name, 128, o, img, err);
     return lapped_load_image(src, o, img, err);
 }
 
@@ -240,7 +238,7 @@ static lapped_result write_pastes(cli_outputs *outs, const char *path, const lap
     FILE *f = cli_open(outs, path, err->message, sizeof err->message);
     lapped_result r;
     if (!f) return err->code = LAPPED_ERR_IO;
-    r = lapped_write_pastes_to_func(t, cli_fwrite, f, err);
+    r = lapped_write_pastes(t, cli_fwrite, f, err);
     if (!cli_close(f, r == LAPPED_OK, path, err->message, sizeof err->message)) r = LAPPED_ERR_IO;
     return err->code = r;
 }
@@ -254,11 +252,11 @@ static lapped_result write_obj(lapped_cmd *c, cli_outputs *outs, const lapped_me
     FILE *f;
     cli_with_ext(c->out_obj, ".mtl", mtl, sizeof mtl);
     if ((f = cli_open(outs, c->out_obj, err->message, sizeof err->message)) == NULL) return err->code = LAPPED_ERR_IO;
-    r = lapped_write_obj_to_func(mesh, atlas, cli_texture_ref(c->out_obj, mtl), cli_fwrite, f, err);
+    r = lapped_write_obj(mesh, atlas, cli_texture_ref(c->out_obj, mtl), cli_fwrite, f, err);
     if (!cli_close(f, r == LAPPED_OK, c->out_obj, err->message, sizeof err->message)) r = LAPPED_ERR_IO;
     if (r == LAPPED_OK && (f = cli_open(outs, mtl, err->message, sizeof err->message)) == NULL) r = LAPPED_ERR_IO;
     else if (r == LAPPED_OK) {
-        r = lapped_write_mtl_to_func(cli_texture_ref(c->out_obj, c->out_atlas), cli_fwrite, f, err);
+        r = lapped_write_mtl(cli_texture_ref(c->out_obj, c->out_atlas), cli_fwrite, f, err);
         if (!cli_close(f, r == LAPPED_OK, mtl, err->message, sizeof err->message)) r = LAPPED_ERR_IO;
     }
     return err->code = r;
@@ -270,25 +268,24 @@ static lapped_result write_glb(cli_outputs *outs, const char *path, const lapped
     FILE *f = cli_open(outs, path, err->message, sizeof err->message);
     lapped_result r;
     if (!f) return err->code = LAPPED_ERR_IO;
-    r = lapped_write_gltf_to_func(mesh, atlas, view, cli_fwrite, f, err);
+    r = lapped_write_gltf(mesh, atlas, view, cli_fwrite, f, err);
     if (!cli_close(f, r == LAPPED_OK, path, err->message, sizeof err->message)) r = LAPPED_ERR_IO;
     return err->code = r;
 }
 
-/* The lapped texture (values NULL) or the extra channel baked into an atlas
- * image at `path` (if not NULL); with `obj`, also the OBJ + MTL, and with
- * `glb` the binary glTF. The layout depends only on the mesh and the
+/* The lapped texture (src->values NULL) or the extra channel baked into an
+ * atlas image at `path` (if not NULL); with `obj`, also the OBJ + MTL, and
+ * with `glb` the binary glTF. The layout depends only on the mesh and the
  * pastes, so both atlases share it. */
 static lapped_result write_atlas(lapped_cmd *c, cli_outputs *outs, const lapped_mesh *mesh,
-                                 const lapped_texture *t, const lapped_image *patches,
-                                 const lapped_image *values, const char *path, int obj, const char *glb,
-                                 lapped_error *err)
+                                 const lapped_texture *t, const lapped_source *src, const char *path, int obj,
+                                 const char *glb, lapped_error *err)
 {
     lapped_atlas atlas;
-    lapped_result r = lapped_bake_atlas(mesh, t, patches, values, &c->ao, &c->opt, &atlas, err);
+    lapped_result r = lapped_bake_atlas(mesh, t, src, &c->opt, &atlas, err);
     if (r != LAPPED_OK) return r;
     if (obj) r = write_obj(c, outs, mesh, &atlas, err);
-    if (r == LAPPED_OK && glb) r = write_glb(outs, glb, mesh, &atlas, &c->ro, err);
+    if (r == LAPPED_OK && glb) r = write_glb(outs, glb, mesh, &atlas, &c->opt.render, err);
     if (r == LAPPED_OK && path) r = write_image(outs, path, &atlas.image, err);
     if (r == LAPPED_OK && (obj || glb))
         printf("lapped: atlas of %d charts, %.0f%% of %dx%d filled\n", atlas.ncharts, 100.0 * atlas.fill,
@@ -297,14 +294,14 @@ static lapped_result write_atlas(lapped_cmd *c, cli_outputs *outs, const lapped_
     return err->code = r;
 }
 
-/* The runtime-pasting rendering of the patches (values NULL) or of the
- * extra channel. */
+/* The runtime-pasting rendering of the patches (src->values NULL) or of
+ * the extra channel. */
 static lapped_result write_render(lapped_cmd *c, cli_outputs *outs, const lapped_mesh *mesh,
-                                  const lapped_texture *t, const lapped_image *patches,
-                                  const lapped_image *values, const char *path, lapped_error *err)
+                                  const lapped_texture *t, const lapped_source *src, const char *path,
+                                  lapped_error *err)
 {
     lapped_image pic;
-    lapped_result r = lapped_render(mesh, t, patches, values, &c->ro, &pic, err);
+    lapped_result r = lapped_render(mesh, t, src, &c->opt.render, &pic, err);
     if (r != LAPPED_OK) return r;
     r = write_image(outs, path, &pic, err);
     lapped_image_free(&pic);
@@ -314,7 +311,8 @@ static lapped_result write_render(lapped_cmd *c, cli_outputs *outs, const lapped
 static lapped_result run(lapped_cmd *c, cli_outputs *outs, lapped_error *err)
 {
     lapped_image patches[MAX_TEXTURES], channels[MAX_TEXTURES];
-    lapped_constraint *cons = NULL;
+    lapped_source src, channel_src;
+    lapped_constraints cons;
     lapped_texture t;
     lapped_mesh mesh;
     lapped_result r;
@@ -323,28 +321,36 @@ static lapped_result run(lapped_cmd *c, cli_outputs *outs, lapped_error *err)
     memset(channels, 0, sizeof channels);
     memset(&t, 0, sizeof t);
     memset(&mesh, 0, sizeof mesh);
+    memset(&cons, 0, sizeof cons);
+    src.patches = channel_src.patches = patches;
+    src.npatches = channel_src.npatches = c->ntextures;
+    src.values = NULL;
+    channel_src.values = channels;
     r = make_patches(c, patches, err);
     for (k = 0; k < c->nchannels && r == LAPPED_OK; k++) r = load_image(c->channels[k], &c->opt, &channels[k], err);
     if (r == LAPPED_OK && c->constraints &&
-        (r = lapped_load_constraints(c->constraints, &c->opt, &cons, &c->opt.field.nconstraints, err)) == LAPPED_OK)
-        c->opt.field.constraints = cons;
+        (r = lapped_load_constraints(c->constraints, &c->opt, &cons, err)) == LAPPED_OK) {
+        if (err->message[0]) fprintf(stderr, "patchwork lapped: warning: %s\n", err->message);
+        c->opt.constraints = cons.items;
+        c->opt.nconstraints = cons.count;
+    }
     if (r == LAPPED_OK) r = load_mesh(c->mesh, &c->opt, &mesh, err);
-    if (r == LAPPED_OK && (r = lapped_create(&mesh, patches, c->ntextures, &c->opt, &t, err)) == LAPPED_OK)
+    if (r == LAPPED_OK && (r = lapped_create(&mesh, &src, &c->opt, &t, err)) == LAPPED_OK)
         printf("lapped: %d triangles covered by %d pastes, %.2f layers per triangle (%.2f before "
                "removing hidden ones), %d with hard edges\n",
                t.ntris, t.npastes, t.layers, t.layers_before, t.hard_edges);
     if (r == LAPPED_OK && c->out_patch) r = write_image(outs, c->out_patch, &patches[0], err);
     if (r == LAPPED_OK && c->out_pastes) r = write_pastes(outs, c->out_pastes, &t, err);
-    if (r == LAPPED_OK && c->out_image) r = write_render(c, outs, &mesh, &t, patches, NULL, c->out_image, err);
+    if (r == LAPPED_OK && c->out_image) r = write_render(c, outs, &mesh, &t, &src, c->out_image, err);
     if (r == LAPPED_OK && c->out_channel_image)
-        r = write_render(c, outs, &mesh, &t, patches, channels, c->out_channel_image, err);
+        r = write_render(c, outs, &mesh, &t, &channel_src, c->out_channel_image, err);
     if (r == LAPPED_OK && (c->out_obj || c->out_glb))
-        r = write_atlas(c, outs, &mesh, &t, patches, NULL, c->out_atlas, c->out_obj != NULL, c->out_glb, err);
+        r = write_atlas(c, outs, &mesh, &t, &src, c->out_atlas, c->out_obj != NULL, c->out_glb, err);
     if (r == LAPPED_OK && c->out_channel_atlas)
-        r = write_atlas(c, outs, &mesh, &t, patches, channels, c->out_channel_atlas, 0, NULL, err);
+        r = write_atlas(c, outs, &mesh, &t, &channel_src, c->out_channel_atlas, 0, NULL, err);
     lapped_texture_free(&t);
     lapped_mesh_free(&mesh);
-    lapped_free_constraints(cons, &c->opt);
+    lapped_constraints_free(&cons);
     for (k = 0; k < MAX_TEXTURES; k++) {
         lapped_image_free(&patches[k]);
         lapped_image_free(&channels[k]);

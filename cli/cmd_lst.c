@@ -25,7 +25,8 @@ static const char *lst_usage =
     "  --cell H             or the lattice spacing, mesh units\n"
     "  --strict             refuse a closed surface whose triangles cross (by default\n"
     "                       it is filled where its winding number is at least 1/2,\n"
-    "                       with a warning; --allow-self-intersections is accepted)\n"
+    "                       with a warning; --allow-self-intersections is accepted\n"
+    "                       and does nothing)\n"
     "  --exemplar FILE      a solid exemplar: NRRD (sizes C X Y Z or X Y Z; RGBA:\n"
     "                       the alpha is the mask of homogeneous types) or\n"
     "                       procedural:NAME (layers, fibers, spots, rings, kiwi)\n"
@@ -36,14 +37,17 @@ static const char *lst_usage =
     "                       depth), 2a (three axes), 2b (three axes, depth-varying)\n"
     "  --scale S            exemplar side in mesh units (0, 1a, 2a; default 1/5 of\n"
     "                       the bounding-box diagonal)\n"
-    "  --depth FILE         depth constraints ('face F D', 'fill F D [crease]',\n"
-    "                       'point X Y Z D', 'stroke D X Y Z ...'), or\n"
-    "                       procedural:NAME (kiwi, tree); default: the normalised\n"
-    "                       distance from the surface\n"
-    "  --directions FILE    direction and scale constraints ('dir X Y Z DX DY DZ',\n"
-    "                       'stroke X Y Z ...', 'scale X Y Z S'), or procedural:NAME\n"
-    "                       (kiwi, tree, torus); default direction: the principal\n"
-    "                       axis of the shape\n"
+    "  --constraints FILE   a constraint file (repeatable), one constraint a line:\n"
+    "                       depths 'face F D', 'fill F D [CREASE]', 'point X Y Z D',\n"
+    "                       'depth-stroke D X Y Z X Y Z ...'; directions and scales\n"
+    "                       'dir X Y Z DX DY DZ', 'dir-stroke X Y Z X Y Z ...',\n"
+    "                       'scale X Y Z S'; or procedural:NAME (kiwi, tree, torus).\n"
+    "                       Default depth: the normalised distance from the surface;\n"
+    "                       default direction: the principal axis of the shape\n"
+    "  --depth FILE         the same as --constraints (procedural:NAME: only the depth\n"
+    "                       constraints of the built-in set)\n"
+    "  --directions FILE    the same as --constraints (procedural:NAME: only the\n"
+    "                       directions and scales of the built-in set)\n"
     "  --axis X,Y,Z         the default direction instead of the principal axis\n"
     "  --samples N          coverage lattice order (default 8: 165 points per tet)\n"
     "  --seed S             random seed (default 0)\n"
@@ -57,7 +61,11 @@ static const char *lst_usage =
     "  --show WHAT          color (default), values, pastes, depth (u,v,w as RGB)\n"
     "  --displace A         displacement mapping of the surface by the extra channel\n"
     "  --slices N           volume rendering slices (default 200)\n"
-    "  --opacity A          volume rendering opacity (default 0.3)\n"
+    "  --opacity A          volume rendering opacity (default 0.3)\n";
+
+/* The rest of the usage (a string literal of its own: C99 compilers need
+ * only take 4095 characters in one). */
+static const char *lst_usage_outputs =
     "outputs (at least one):\n"
     "  --out-lst FILE       the model (text format, see docs/lst.md)\n"
     "  --out-masks PREFIX   each exemplar's alpha as PREFIX<i>.nrrd\n"
@@ -66,21 +74,22 @@ static const char *lst_usage =
     "  --out-image IMG      the surface (after any cut)\n"
     "  --out-section IMG    the last --cut seen face on\n"
     "  --out-volume IMG     a volume rendering (slices composited with alpha)\n"
-    "  --out-tets FILE      the tetrahedral mesh filled: FILE.node (+ .ele) or .mesh\n";
+    "  --out-tets FILE      the tetrahedral mesh filled: FILE.node (+ .ele) or .mesh\n"
+    "  --out-surface FILE.obj  the boundary of the tetrahedral mesh filled, as OBJ\n";
 
 #define LST_MAX_CUTS 8
 #define LST_MAX_PASTES 16
+#define LST_MAX_CONSTRAINT_FILES 16
 
 typedef struct lst_cmd {
-    const char *mesh, *tets, *exemplar, *values, *depth, *directions;
-    const char *out_lst, *out_masks, *out_exemplar, *out_image, *out_section, *out_volume, *out_tets;
+    const char *mesh, *tets, *exemplar, *values;
+    const char *cons[LST_MAX_CONSTRAINT_FILES]; /* --constraints, --depth, --directions, in order */
+    char cons_flag[LST_MAX_CONSTRAINT_FILES];   /* 'c', 'd' or 'f': which flag gave it */
+    const char *out_lst, *out_masks, *out_exemplar, *out_image, *out_section, *out_volume, *out_tets, *out_surface;
     const char *pastes[LST_MAX_PASTES], *stroke;
     float cuts[LST_MAX_CUTS][4];
-    int ncuts, npastes, exemplar_size;
-    lst_options opt;
-    lst_tet_options to;
-    lst_render_options ro;
-    lst_volume_options vo;
+    int ncuts, npastes, ncons, exemplar_size;
+    lst_options opt; /* with the tetrahedralizer's, the render's and the volume rendering's settings */
 } lst_cmd;
 
 static int bad(const char *what, const char *value)
@@ -121,7 +130,7 @@ static int parse_type(cli_args *a, lst_cmd *c)
     int k;
     if (!cli_value(a, &v)) return 0;
     for (k = 0; k < 5; k++)
-        if (!strcmp(v, names[k])) return (c->opt.type = k), 1;
+        if (!strcmp(v, names[k])) return (c->opt.type = (lst_type)k), 1;
     return bad("--type (0, 1a, 1b, 2a, 2b)", v);
 }
 
@@ -132,7 +141,7 @@ static int parse_show(cli_args *a, lst_cmd *c)
     int k;
     if (!cli_value(a, &v)) return 0;
     for (k = 0; k < 4; k++)
-        if (!strcmp(v, names[k])) return (c->ro.show = k), 1;
+        if (!strcmp(v, names[k])) return (c->opt.render.show = (lst_show)k), 1;
     return bad("--show (color, values, pastes, depth)", v);
 }
 
@@ -157,30 +166,43 @@ static int parse_paste(cli_args *a, lst_cmd *c)
     return 1;
 }
 
+/* --constraints (flag 'c'), --depth ('d'), --directions ('f'). */
+static int parse_constraints(cli_args *a, lst_cmd *c, char flag)
+{
+    const char *v;
+    if (!cli_value(a, &v)) return 0;
+    if (c->ncons == LST_MAX_CONSTRAINT_FILES) return bad("--constraints (too many)", v);
+    c->cons_flag[c->ncons] = flag;
+    c->cons[c->ncons++] = v;
+    return 1;
+}
+
 static int parse_options(cli_args *a, lst_cmd *c)
 {
+    lst_render_options *ro = &c->opt.render;
     int r;
     if (cli_is(a, "--type")) return parse_type(a, c);
     if (cli_is(a, "--scale")) return cli_float(a, 1e-30f, 1e30f, &c->opt.scale);
-    if (cli_is(a, "--depth")) return cli_value(a, &c->depth);
-    if (cli_is(a, "--directions")) return cli_value(a, &c->directions);
+    if (cli_is(a, "--constraints")) return parse_constraints(a, c, 'c');
+    if (cli_is(a, "--depth")) return parse_constraints(a, c, 'd');
+    if (cli_is(a, "--directions")) return parse_constraints(a, c, 'f');
     if (cli_is(a, "--axis")) return parse_vec(a, c->opt.axis);
     if (cli_is(a, "--samples")) return cli_int(a, 1, 32, &c->opt.samples);
     if (cli_is(a, "--seed")) return cli_u64(a, &c->opt.seed);
     if (cli_is(a, "--paste")) return parse_paste(a, c);
-    if (cli_is(a, "--tet-count")) return cli_int(a, 10, 20000000, &c->to.target_tets);
+    if (cli_is(a, "--tet-count")) return cli_int(a, 10, 20000000, &c->opt.tet.target_tets);
     if (cli_is(a, "--allow-self-intersections")) return 1; /* the default now, kept for old scripts */
-    if (cli_is(a, "--strict")) return (c->to.strict = 1);
+    if (cli_is(a, "--strict")) return (c->opt.tet.strict = 1);
     if (cli_is(a, "--exemplar-size")) return cli_int(a, 4, 512, &c->exemplar_size);
     if (cli_is(a, "--cut")) return parse_cut(a, c);
     if (cli_is(a, "--cut-stroke")) return cli_value(a, &c->stroke);
-    if (cli_is(a, "--up")) return cli_vec3(a, c->ro.up); /* the older name of --view-up */
-    if ((r = cli_view_flag(a, c->ro.view_dir, c->ro.up, &c->ro.supersample)) >= 0) return r;
-    if (cli_is(a, "--size")) return cli_size(a, &c->ro.width, &c->ro.height);
+    if (cli_is(a, "--up")) return cli_vec3(a, ro->up); /* the older name of --view-up */
+    if ((r = cli_view_flag(a, ro->view_dir, ro->up, &ro->supersample, &ro->threads)) >= 0) return r;
+    if (cli_is(a, "--size")) return cli_size(a, &ro->width, &ro->height);
     if (cli_is(a, "--show")) return parse_show(a, c);
-    if (cli_is(a, "--displace")) return cli_float(a, -1e30f, 1e30f, &c->ro.displace);
-    if (cli_is(a, "--slices")) return cli_int(a, 1, 10000, &c->vo.slices);
-    if (cli_is(a, "--opacity")) return cli_float(a, 1e-6f, 1000.0f, &c->vo.opacity);
+    if (cli_is(a, "--displace")) return cli_float(a, -1e30f, 1e30f, &ro->displace);
+    if (cli_is(a, "--slices")) return cli_int(a, 1, 10000, &c->opt.volume.slices);
+    if (cli_is(a, "--opacity")) return cli_float(a, 1e-6f, 1000.0f, &c->opt.volume.opacity);
     return -2;
 }
 
@@ -193,7 +215,7 @@ static int parse_one(cli_args *a, lst_cmd *c)
     if (cli_is(a, "--tets")) return cli_value(a, &c->tets);
     if (cli_is(a, "--exemplar")) return cli_value(a, &c->exemplar);
     if (cli_is(a, "--values")) return cli_value(a, &c->values);
-    if (cli_is(a, "--cell")) return cli_float(a, 1e-30f, 1e30f, &cell) && (c->to.cell = cell, 1);
+    if (cli_is(a, "--cell")) return cli_float(a, 1e-30f, 1e30f, &cell) && (c->opt.tet.cell = cell, 1);
     if (cli_is(a, "--out-lst")) return cli_value(a, &c->out_lst);
     if (cli_is(a, "--out-masks")) return cli_value(a, &c->out_masks);
     if (cli_is(a, "--out-exemplar")) return cli_value(a, &c->out_exemplar);
@@ -201,6 +223,7 @@ static int parse_one(cli_args *a, lst_cmd *c)
     if (cli_is(a, "--out-section")) return cli_value(a, &c->out_section);
     if (cli_is(a, "--out-volume")) return cli_value(a, &c->out_volume);
     if (cli_is(a, "--out-tets")) return cli_value(a, &c->out_tets);
+    if (cli_is(a, "--out-surface")) return cli_value(a, &c->out_surface);
     if ((r = parse_options(a, c)) != -2) return r;
     cli_error("lst", "unknown option '%s' (try patchwork lst --help)", a->argv[a->i]);
     return 0;
@@ -216,7 +239,7 @@ static int ends_with(const char *s, const char *ext)
 static int exemplar_only(const lst_cmd *c)
 {
     return c->out_exemplar && !c->mesh && !c->tets && !c->out_lst && !c->out_masks && !c->out_image && !c->out_section &&
-           !c->out_volume && !c->out_tets;
+           !c->out_volume && !c->out_tets && !c->out_surface;
 }
 
 /* What the options must agree on. */
@@ -234,21 +257,22 @@ static int parse_check(const lst_cmd *c)
     if (c->out_tets && !ends_with(c->out_tets, ".node") && !ends_with(c->out_tets, ".mesh"))
         return bad("--out-tets (FILE.node or FILE.mesh)", c->out_tets);
     if (c->out_exemplar && !ends_with(c->out_exemplar, ".nrrd")) return bad("--out-exemplar (FILE.nrrd)", c->out_exemplar);
+    if (c->out_surface && !ends_with(c->out_surface, ".obj")) return bad("--out-surface (FILE.obj)", c->out_surface);
     {
-        const cli_out outs[7] = {{"--out-lst", c->out_lst, CLI_OUT_ANY},          {"--out-masks", c->out_masks, CLI_OUT_PREFIX},
+        const cli_out outs[8] = {{"--out-lst", c->out_lst, CLI_OUT_ANY},          {"--out-masks", c->out_masks, CLI_OUT_PREFIX},
                                  {"--out-exemplar", c->out_exemplar, CLI_OUT_NRRD}, {"--out-image", c->out_image, CLI_OUT_IMAGE},
                                  {"--out-section", c->out_section, CLI_OUT_IMAGE}, {"--out-volume", c->out_volume, CLI_OUT_IMAGE},
-                                 {"--out-tets", c->out_tets, CLI_OUT_ANY}};
-        if (!cli_check_outputs("lst", outs, 7)) return 0;
+                                 {"--out-tets", c->out_tets, CLI_OUT_ANY},          {"--out-surface", c->out_surface, CLI_OUT_ANY}};
+        if (!cli_check_outputs("lst", outs, 8)) return 0;
     }
     if (c->out_section && !c->ncuts) {
         cli_error("lst", "--out-section needs a --cut");
         return 0;
     }
     if (!c->out_lst && !c->out_masks && !c->out_exemplar && !c->out_image && !c->out_section && !c->out_volume &&
-        !c->out_tets) {
+        !c->out_tets && !c->out_surface) {
         cli_error("lst", "nothing to write: give --out-lst, --out-masks, --out-image, --out-section, --out-volume, "
-                         "--out-tets or --out-exemplar");
+                         "--out-tets, --out-surface or --out-exemplar");
         return 0;
     }
     return 1;
@@ -274,16 +298,15 @@ typedef struct lst_run {
     lst_mesh surface;
     lst_tetmesh tets;
     lst_volume ex, val;
-    lst_depth_constraint *dc;
-    lst_field_constraint *fc;
-    int nd, nf;
+    lst_constraint *cons; /* of every --constraints, --depth and --directions */
+    int ncons;
     lst_model model;
 } lst_run;
 
-static void run_free(lst_run *r, const lst_options *o)
+static void run_free(lst_run *r)
 {
     lst_model_free(&r->model);
-    lst_free_constraints(r->dc, r->fc, o);
+    free(r->cons);
     lst_volume_free(&r->ex);
     lst_volume_free(&r->val);
     lst_tetmesh_free(&r->tets);
@@ -325,13 +348,11 @@ static lst_result load_tets(const lst_cmd *c, lst_run *r, lst_error *err)
     const char *name;
     lst_result res;
     double lo = 0, hi = 0, t0 = seconds();
-    lst_tet_options to = c->to;
     lst_tet_report rep;
-    to.report = &rep;
     if (c->tets) res = lst_load_tetmesh(c->tets, &c->opt, &r->tets, err);
-    else if (cli_is_procedural(c->mesh, &name)) res = lst_builtin_surface(name, &c->opt, &r->surface, err);
+    else if (cli_is_procedural(c->mesh, &name)) res = lst_builtin_mesh(name, &c->opt, &r->surface, err);
     else res = lst_load_mesh(c->mesh, &c->opt, &r->surface, err);
-    if (res == LST_OK && c->mesh) res = lst_tetrahedralize(&r->surface, &to, &c->opt, &r->tets, err);
+    if (res == LST_OK && c->mesh) res = lst_tetrahedralize(&r->surface, &c->opt, &r->tets, &rep, err);
     if (res == LST_OK && c->tets) res = lst_tetmesh_surface(&r->tets, &c->opt, &r->surface, err);
     if (res == LST_OK) res = lst_tetmesh_check(&r->tets, &lo, &hi, err);
     if (res == LST_OK && c->mesh) report_fill(&r->tets, &rep, lo, hi, seconds() - t0);
@@ -352,22 +373,37 @@ static lst_result load_exemplar(const lst_cmd *c, lst_run *r, lst_error *err)
     return res;
 }
 
-/* --depth and --directions: files, or the constraints of a built-in shape. */
+/* Whether constraint kind k of a built-in set is taken by flag f (--depth:
+ * the depths, --directions: directions and scales, --constraints: all). */
+static int keeps(char f, lst_constraint_kind k)
+{
+    return f == 'c' || (f == 'd') == (k <= LST_CONSTRAINT_DEPTH_POINT);
+}
+
+/* --constraints, --depth and --directions in order: files (all three read
+ * the same syntax), or the constraints of a built-in shape. */
 static lst_result load_constraints(const lst_cmd *c, lst_run *r, lst_error *err)
 {
-    const char *dn = NULL, *fn = NULL;
-    lst_depth_constraint *d2 = NULL;
-    lst_field_constraint *f2 = NULL;
-    int n2 = 0, m2 = 0;
     lst_result res = LST_OK;
-    if (c->depth && cli_is_procedural(c->depth, &dn))
-        res = lst_builtin_constraints(dn, &r->surface, &c->opt, &r->dc, &r->nd, &f2, &m2, err);
-    else if (c->depth) res = lst_load_depth(c->depth, &c->opt, &r->dc, &r->nd, err);
-    lst_free_constraints(NULL, f2, &c->opt);
-    if (res == LST_OK && c->directions && cli_is_procedural(c->directions, &fn))
-        res = lst_builtin_constraints(fn, &r->surface, &c->opt, &d2, &n2, &r->fc, &r->nf, err);
-    else if (res == LST_OK && c->directions) res = lst_load_directions(c->directions, &c->opt, &r->fc, &r->nf, err);
-    lst_free_constraints(d2, NULL, &c->opt);
+    int k, j;
+    for (k = 0; k < c->ncons && res == LST_OK; k++) {
+        const char *name;
+        int builtin = cli_is_procedural(c->cons[k], &name);
+        lst_constraints got;
+        lst_constraint *grown;
+        if (builtin) res = lst_builtin_constraints(name, &r->surface, &c->opt, &got, err);
+        else res = lst_load_constraints(c->cons[k], &c->opt, &got, err);
+        if (res != LST_OK) break;
+        if (!(grown = (lst_constraint *)realloc(r->cons, sizeof *grown * (size_t)(r->ncons + got.count)))) {
+            snprintf(err->message, sizeof err->message, "out of memory");
+            res = err->code = LST_ERR_NOMEM;
+        } else {
+            r->cons = grown;
+            for (j = 0; j < got.count; j++)
+                if (!builtin || keeps(c->cons_flag[k], got.items[j].kind)) r->cons[r->ncons++] = got.items[j];
+        }
+        lst_constraints_free(&got);
+    }
     return res;
 }
 
@@ -377,9 +413,14 @@ static lst_result manual_pastes(const lst_cmd *c, lst_run *r, lst_error *err)
     int k, n;
     for (k = 0; k < c->npastes; k++) {
         float f[11];
+        lst_paste_spec spec;
         lst_result res;
         n = parse_floats(c->pastes[k], f, 10, 11);
-        res = lst_paste_at(&r->model, f, f + 3, f + 6, f[9], n == 11 ? (int)f[10] : 0, &c->opt, err);
+        memcpy(spec.point, f, sizeof spec.point);
+        memcpy(spec.u_axis, f + 3, sizeof spec.u_axis);
+        memcpy(spec.v_axis, f + 6, sizeof spec.v_axis);
+        spec.scale = f[9], spec.mask = n == 11 ? (int)f[10] : 0;
+        res = lst_paste_at(&r->model, &spec, &c->opt, err);
         if (res != LST_OK) return res;
     }
     return LST_OK;
@@ -388,15 +429,17 @@ static lst_result manual_pastes(const lst_cmd *c, lst_run *r, lst_error *err)
 static lst_result fill(lst_cmd *c, lst_run *r, lst_error *err)
 {
     static const char *const types[5] = {"0", "1-a", "1-b", "2-a", "2-b"};
+    lst_source src;
     lst_result res;
     double t0;
-    c->opt.depth = r->dc, c->opt.ndepth = r->nd, c->opt.field = r->fc, c->opt.nfield = r->nf;
+    c->opt.constraints = r->cons, c->opt.nconstraints = r->ncons;
     t0 = seconds();
-    res = lst_create(&r->tets, &r->surface, &r->ex, r->val.voxels ? &r->val : NULL, &c->opt, &r->model, err);
+    src.exemplar = &r->ex, src.values = r->val.voxels ? &r->val : NULL;
+    res = lst_create(&r->tets, &r->surface, &src, &c->opt, &r->model, err);
     if (res != LST_OK) return res;
     printf("lst: type %s, %d pastes, %.2f per tetrahedron (%.2f before hidden ones were dropped), %d masks, "
            "filled in %.2f s\n",
-           types[c->opt.type], r->model.npastes, r->model.layers, r->model.layers_before, r->model.nmasks,
+           types[c->opt.type], r->model.npastes, r->model.layers, r->model.layers_before, r->model.masks.count,
            seconds() - t0);
     return manual_pastes(c, r, err);
 }
@@ -407,15 +450,19 @@ typedef lst_result (*writer_fn)(const void *obj, lst_write_fn fn, void *ctx, lst
 
 static lst_result w_model(const void *o, lst_write_fn fn, void *ctx, lst_error *err)
 {
-    return lst_write_model_to_func((const lst_model *)o, fn, ctx, err);
+    return lst_write_model((const lst_model *)o, fn, ctx, err);
 }
 static lst_result w_volume(const void *o, lst_write_fn fn, void *ctx, lst_error *err)
 {
-    return lst_write_volume_to_func((const lst_volume *)o, fn, ctx, err);
+    return lst_write_volume((const lst_volume *)o, fn, ctx, err);
 }
 static lst_result w_medit(const void *o, lst_write_fn fn, void *ctx, lst_error *err)
 {
-    return lst_write_medit_to_func((const lst_tetmesh *)o, fn, ctx, err);
+    return lst_write_medit((const lst_tetmesh *)o, fn, ctx, err);
+}
+static lst_result w_obj(const void *o, lst_write_fn fn, void *ctx, lst_error *err)
+{
+    return lst_write_obj((const lst_mesh *)o, fn, ctx, err);
 }
 
 /* obj written by w to the staged file of path. */
@@ -444,11 +491,22 @@ static lst_result write_tets(cli_outputs *outs, const char *path, const lst_tetm
         fclose(f);
         return err->code = LST_ERR_IO;
     }
-    r = lst_write_tetgen_to_func(m, cli_fwrite, f, cli_fwrite, g, err);
+    r = lst_write_tetgen(m, cli_fwrite, f, cli_fwrite, g, err);
     if (r == LST_ERR_IO) snprintf(err->message, sizeof err->message, "%.200s: write error (disk full?)", path);
     ok = cli_close(f, r == LST_OK, path, err->message, sizeof err->message);
     ok = cli_close(g, ok, ele, err->message, sizeof err->message);
     return err->code = ok ? r : LST_ERR_IO;
+}
+
+/* --out-surface: the boundary of the tetrahedral mesh as OBJ. */
+static lst_result write_surface(cli_outputs *outs, const char *path, const lst_tetmesh *m, const lst_options *o,
+                                lst_error *err)
+{
+    lst_mesh s;
+    lst_result r = lst_tetmesh_surface(m, o, &s, err);
+    if (r == LST_OK) r = write_out(outs, path, w_obj, &s, err);
+    lst_mesh_free(&s);
+    return r;
 }
 
 static lst_result write_image(cli_outputs *outs, const char *path, const lst_image *img, lst_error *err)
@@ -468,9 +526,9 @@ static lst_result write_masks(cli_outputs *outs, const lst_cmd *c, const lst_mod
     char path[1024];
     int k;
     lst_result r = LST_OK;
-    for (k = 0; k < m->nmasks && r == LST_OK; k++) {
+    for (k = 0; k < m->masks.count && r == LST_OK; k++) {
         snprintf(path, sizeof path, "%s%d.nrrd", c->out_masks, k);
-        r = write_out(outs, path, w_volume, &m->masks[k], err);
+        r = write_out(outs, path, w_volume, &m->masks.volumes[k], err);
     }
     return r;
 }
@@ -480,7 +538,7 @@ static lst_result cuts(const lst_cmd *c, lst_run *r, lst_error *err)
 {
     static const float view0[3] = {-0.55f, -0.45f, -0.7f};
     float pts[3000], *phi;
-    const float *view = c->ro.view_dir[0] || c->ro.view_dir[1] || c->ro.view_dir[2] ? c->ro.view_dir : view0;
+    const float *v = c->opt.render.view_dir, *view = v[0] || v[1] || v[2] ? v : view0;
     int k, n;
     lst_result res = LST_OK;
     for (k = 0; k < c->ncuts && res == LST_OK; k++) res = lst_cut_plane(&r->model, c->cuts[k], err);
@@ -503,7 +561,7 @@ static lst_result cuts(const lst_cmd *c, lst_run *r, lst_error *err)
 /* The last plane cut seen face on (looking against its normal). */
 static lst_result section(const lst_cmd *c, const lst_run *r, lst_image *img, lst_error *err)
 {
-    lst_render_options ro = c->ro;
+    lst_render_options ro = c->opt.render;
     const float *n = c->cuts[c->ncuts - 1];
     float up[3] = {0, 1, 0}, len = n[0] * n[0] + n[1] * n[1] + n[2] * n[2];
     int k;
@@ -523,6 +581,7 @@ static lst_result outputs(const lst_cmd *c, lst_run *r, cli_outputs *outs, lst_e
     double t0;
     memset(&img, 0, sizeof img);
     if (c->out_tets) res = write_tets(outs, c->out_tets, &r->tets, err);
+    if (res == LST_OK && c->out_surface) res = write_surface(outs, c->out_surface, &r->tets, &c->opt, err);
     if (res == LST_OK && c->out_masks) res = write_masks(outs, c, &r->model, err);
     if (res == LST_OK && c->out_exemplar) res = write_out(outs, c->out_exemplar, w_volume, &r->ex, err);
     t0 = seconds();
@@ -530,13 +589,14 @@ static lst_result outputs(const lst_cmd *c, lst_run *r, cli_outputs *outs, lst_e
     if (res == LST_OK && (c->ncuts || c->stroke))
         printf("lst: cut in %.3f s, %d tetrahedra now\n", seconds() - t0, r->model.mesh.ntets);
     if (res == LST_OK && c->out_lst) res = write_out(outs, c->out_lst, w_model, &r->model, err);
-    if (res == LST_OK && c->out_image && (res = lst_render(&r->model, &c->ro, &img, err)) == LST_OK)
+    if (res == LST_OK && c->out_image && (res = lst_render(&r->model, &c->opt.render, &img, err)) == LST_OK)
         res = write_image(outs, c->out_image, &img, err);
     lst_image_free(&img);
     if (res == LST_OK && c->out_section && (res = section(c, r, &img, err)) == LST_OK)
         res = write_image(outs, c->out_section, &img, err);
     lst_image_free(&img);
-    if (res == LST_OK && c->out_volume && (res = lst_render_volume(&r->model, &c->ro, &c->vo, &img, err)) == LST_OK)
+    if (res == LST_OK && c->out_volume &&
+        (res = lst_render_volume(&r->model, &c->opt.render, &c->opt.volume, &img, err)) == LST_OK)
         res = write_image(outs, c->out_volume, &img, err);
     lst_image_free(&img);
     return res;
@@ -553,6 +613,7 @@ int cmd_lst(int argc, char **argv)
     int p = parse(argc, argv, &c);
     if (p < 0) {
         fputs(lst_usage, stdout);
+        fputs(lst_usage_outputs, stdout);
         return 0;
     }
     if (!p) return 1;
@@ -563,7 +624,7 @@ int cmd_lst(int argc, char **argv)
     } else if ((res = load_tets(&c, &r, &err)) == LST_OK && (res = load_exemplar(&c, &r, &err)) == LST_OK &&
                (res = load_constraints(&c, &r, &err)) == LST_OK && (res = fill(&c, &r, &err)) == LST_OK)
         res = outputs(&c, &r, &outs, &err);
-    run_free(&r, &c.opt);
+    run_free(&r);
     if (res != LST_OK) {
         cli_abort(&outs);
         cli_error("lst", "%s", err.message);

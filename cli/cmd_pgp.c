@@ -60,7 +60,6 @@ typedef struct pgp_cmd {
     int center_vortex; /* --center vortex:K: K + 1, 0 when not given */
     const char *mesh, *tile, *texture, *constraints, *out_image, *out_obj, *out_tile;
     pgp_options opt;
-    pgp_render_options ro;
 } pgp_cmd;
 
 static int bad(const char *what, const char *value)
@@ -96,10 +95,10 @@ static int parse_show(cli_args *a, pgp_cmd *c)
 {
     const char *v;
     if (!cli_value(a, &v)) return 0;
-    if (!strcmp(v, "tile")) c->ro.show = PGP_SHOW_TILE;
-    else if (!strcmp(v, "material")) c->ro.show = PGP_SHOW_MATERIAL;
-    else if (!strcmp(v, "singular") || !strcmp(v, "special")) c->ro.show = PGP_SHOW_SPECIAL;
-    else if (!strcmp(v, "ghosts")) c->ro.show = PGP_SHOW_GHOSTS;
+    if (!strcmp(v, "tile")) c->opt.render.show = PGP_SHOW_TILE;
+    else if (!strcmp(v, "material")) c->opt.render.show = PGP_SHOW_MATERIAL;
+    else if (!strcmp(v, "singular") || !strcmp(v, "special")) c->opt.render.show = PGP_SHOW_SPECIAL;
+    else if (!strcmp(v, "ghosts")) c->opt.render.show = PGP_SHOW_GHOSTS;
     else return bad("--show (tile, material, special or ghosts)", v);
     return 1;
 }
@@ -116,7 +115,7 @@ static int parse_center(cli_args *a, pgp_cmd *c)
         c->center_vortex = (int)n + 1;
         return 1;
     }
-    return cli_parse_vec3(v, c->ro.center) ? 1 : bad("--center", v);
+    return cli_parse_vec3(v, c->opt.render.center) ? 1 : bad("--center", v);
 }
 
 /* --fix clean | paper | all */
@@ -124,16 +123,16 @@ static int parse_fix(cli_args *a, pgp_cmd *c)
 {
     const char *v;
     if (!cli_value(a, &v)) return 0;
-    if (!strcmp(v, "clean")) c->ro.fix = PGP_FIX_CLEAN;
-    else if (!strcmp(v, "paper")) c->ro.fix = PGP_FIX_PAPER;
-    else if (!strcmp(v, "all")) c->ro.fix = PGP_FIX_ALL;
+    if (!strcmp(v, "clean")) c->opt.render.fix = PGP_FIX_CLEAN;
+    else if (!strcmp(v, "paper")) c->opt.render.fix = PGP_FIX_PAPER;
+    else if (!strcmp(v, "all")) c->opt.render.fix = PGP_FIX_ALL;
     else return bad("--fix (clean, paper or all)", v);
     return 1;
 }
 
 static int parse_one(cli_args *a, pgp_cmd *c)
 {
-    int v = cli_view_flag(a, c->ro.view_dir, c->ro.up, &c->ro.supersample);
+    int v = cli_view_flag(a, c->opt.render.view_dir, c->opt.render.up, &c->opt.render.supersample, &c->opt.render.threads);
     if (cli_is(a, "--help") || cli_is(a, "-h")) return -1;
     if (v >= 0) return v;
     if (cli_is(a, "--mesh")) return cli_value(a, &c->mesh);
@@ -142,14 +141,14 @@ static int parse_one(cli_args *a, pgp_cmd *c)
     if (cli_is(a, "--field")) return parse_field(a, c);
     if (cli_is(a, "--scale")) return cli_float(a, 1e-30f, 1e30f, &c->opt.scale);
     if (cli_is(a, "--constraints")) return cli_value(a, &c->constraints);
-    if (cli_is(a, "--seed")) return cli_u64(a, &c->opt.seed);
-    if (cli_is(a, "--no-fix")) return (c->ro.fix = PGP_FIX_OFF);
+    if (cli_is(a, "--seed")) return cli_u64(a, &c->opt.synth.seed);
+    if (cli_is(a, "--no-fix")) return (c->opt.render.fix = PGP_FIX_OFF);
     if (cli_is(a, "--fix")) return parse_fix(a, c);
-    if (cli_is(a, "--zoom")) return cli_float(a, 1.0f, 1e4f, &c->ro.zoom);
+    if (cli_is(a, "--zoom")) return cli_float(a, 1.0f, 1e4f, &c->opt.render.zoom);
     if (cli_is(a, "--center")) return parse_center(a, c);
     if (cli_is(a, "--out-obj")) return cli_value(a, &c->out_obj);
     if (cli_is(a, "--out-image")) return cli_value(a, &c->out_image);
-    if (cli_is(a, "--size")) return cli_size(a, &c->ro.width, &c->ro.height);
+    if (cli_is(a, "--size")) return cli_size(a, &c->opt.render.width, &c->opt.render.height);
     if (cli_is(a, "--out-tile")) return cli_value(a, &c->out_tile);
     if (cli_is(a, "--show")) return parse_show(a, c);
     cli_error("pgp", "unknown option '%s' (try patchwork pgp --help)", a->argv[a->i]);
@@ -233,7 +232,7 @@ static pgp_result write_file(cli_outputs *outs, const char *path, const pgp_mesh
     FILE *f = cli_open(outs, path, err->message, sizeof err->message);
     pgp_result r;
     if (!f) return err->code = PGP_ERR_IO;
-    r = tile ? pgp_write_tile_to_func(tile, cli_fwrite, f, err) : pgp_write_obj_to_func(mesh, map, cli_fwrite, f, err);
+    r = tile ? pgp_write_tile(tile, cli_fwrite, f, err) : pgp_write_obj(mesh, map, cli_fwrite, f, err);
     if (r == PGP_ERR_IO) snprintf(err->message, sizeof err->message, "%.200s: write error (disk full?)", path);
     if (!cli_close(f, r == PGP_OK, path, err->message, sizeof err->message)) r = PGP_ERR_IO;
     return err->code = r;
@@ -247,14 +246,14 @@ static void report(const pgp_cmd *c, const pgp_map *map, const pgp_tile *tile)
 {
     static const char *const fix[4] = {"clean", "none", "all", "paper"};
     pgp_stats st;
-    int sp = pgp_get_special(map, c->ro.fix, NULL), n;
-    pgp_get_stats(map, &st);
+    int sp = pgp_map_special(map, c->opt.render.fix, NULL), n;
+    pgp_map_stats(map, &st);
     n = st.triangles;
     printf("pgp: %d triangles, %d singular (%.1f%%) around %d vorti%s, tile %dx%d with %d layer%s\n", n, st.singular,
            n ? 100.0 * st.singular / n : 0.0, st.vortices, st.vortices == 1 ? "ex" : "ces", tile->width, tile->height,
            tile->layers, tile->layers == 1 ? "" : "s");
     printf("pgp: drawn specially (fix %s): %d triangles (%.1f%%); surface stretched by more than 30%%: %.1f%%, "
-           "sheared by more than 20 degrees: %.1f%%\n", fix[c->ro.fix], sp, n ? 100.0 * sp / n : 0.0,
+           "sheared by more than 20 degrees: %.1f%%\n", fix[c->opt.render.fix], sp, n ? 100.0 * sp / n : 0.0,
            100.0 * st.stretched, 100.0 * st.sheared);
     if (st.scale < 8.0f * st.mean_edge)
         printf("pgp: warning: tile side %g is under 8 mean edge lengths (%g): each period spans too few triangles "
@@ -265,10 +264,10 @@ static void report(const pgp_cmd *c, const pgp_map *map, const pgp_tile *tile)
  * --center vortex:K at the K-th vortex triangle's centroid. */
 static pgp_result set_center(pgp_cmd *c, const pgp_mesh *mesh, const pgp_map *map, pgp_error *err)
 {
-    int n = pgp_triangle_count(map), f, k, seen = 0;
+    int n = map->ntris, f, k, seen = 0;
+    const int *tri = map->tris;
     unsigned char *v = (unsigned char *)malloc((size_t)n + 1);
-    int *tri = (int *)malloc(sizeof(int) * 3 * ((size_t)n + 1));
-    pgp_result r = v && tri ? PGP_OK : PGP_ERR_NOMEM;
+    pgp_result r = v ? PGP_OK : PGP_ERR_NOMEM;
     float lo[3], hi[3];
     for (k = 0; r == PGP_OK && !c->center_vortex && k < 3; k++) {
         lo[k] = hi[k] = mesh->positions[k];
@@ -276,11 +275,10 @@ static pgp_result set_center(pgp_cmd *c, const pgp_mesh *mesh, const pgp_map *ma
             float p = mesh->positions[3 * f + k];
             lo[k] = p < lo[k] ? p : lo[k], hi[k] = p > hi[k] ? p : hi[k];
         }
-        c->ro.center[k] = 0.5f * (lo[k] + hi[k]);
+        c->opt.render.center[k] = 0.5f * (lo[k] + hi[k]);
     }
     if (r == PGP_OK && c->center_vortex) {
-        pgp_get_vortices(map, v);
-        pgp_get_triangles(map, tri);
+        pgp_map_vortices(map, v);
         for (f = 0; f < n && !(v[f] && seen++ == c->center_vortex - 1); f++) {}
         if (f == n) {
             snprintf(err->message, sizeof err->message, "--center vortex:%d: the map has %d vortices",
@@ -288,12 +286,45 @@ static pgp_result set_center(pgp_cmd *c, const pgp_mesh *mesh, const pgp_map *ma
             r = PGP_ERR_INVALID;
         }
         for (k = 0; r == PGP_OK && k < 3; k++)
-            c->ro.center[k] = (mesh->positions[3 * tri[3 * f] + k] + mesh->positions[3 * tri[3 * f + 1] + k] +
+            c->opt.render.center[k] = (mesh->positions[3 * tri[3 * f] + k] + mesh->positions[3 * tri[3 * f + 1] + k] +
                                mesh->positions[3 * tri[3 * f + 2] + k]) / 3.0f;
     }
     free(v);
-    free(tri);
     return err->code = r;
+}
+
+/* The line of constraints file `path` that holds constraint i (from 0),
+ * for messages. The file was read, so every line that is not blank, a
+ * comment or a 'radius' line (the only keyword starting with 'r') holds one
+ * constraint; bytes of the byte-order mark count as blanks. 0 if unknown. */
+static int constraint_line(const char *path, int i)
+{
+    FILE *f = fopen(path, "rb");
+    int ch, line = 1, start = 1, found = 0;
+    while (f && !found && (ch = getc(f)) != EOF) {
+        if (ch == '\n') line++, start = 1;
+        else if (start && !(ch == ' ' || ch == '\t' || ch == '\r' || ch == '\v' || ch == '\f' || (line == 1 && ch >= 0x80))) {
+            start = 0;
+            found = ch != '#' && ch != 'r' && i-- == 0;
+        }
+    }
+    if (f) fclose(f);
+    return found ? line : 0;
+}
+
+/* The file's constraints, one by one, each as the line it came from. */
+static pgp_result add_constraints(const pgp_cmd *c, const pgp_constraints *cons, pgp_map *map, pgp_error *err)
+{
+    char msg[sizeof err->message];
+    pgp_result r = PGP_OK;
+    int i;
+    for (i = 0; i < cons->count && r == PGP_OK; i++)
+        if ((r = pgp_add_constraint(map, &cons->items[i], NULL, NULL, err)) != PGP_OK) {
+            memcpy(msg, err->message, sizeof msg);
+            snprintf(err->message, sizeof err->message, "%.100s:%d: %.140s", c->constraints,
+                     constraint_line(c->constraints, i), msg);
+        }
+    return r;
 }
 
 static pgp_result run(pgp_cmd *c, cli_outputs *outs, pgp_error *err)
@@ -301,21 +332,26 @@ static pgp_result run(pgp_cmd *c, cli_outputs *outs, pgp_error *err)
     pgp_mesh mesh;
     pgp_tile tile;
     pgp_image pic;
-    pgp_map *map = NULL;
+    pgp_constraints cons;
+    pgp_map map;
     pgp_result r;
     memset(&mesh, 0, sizeof mesh);
     memset(&pic, 0, sizeof pic);
+    memset(&cons, 0, sizeof cons);
+    memset(&map, 0, sizeof map);
     if ((r = load_tile(c, &tile, err)) != PGP_OK) return r;
-    if ((r = load_mesh(c->mesh, &c->opt, &mesh, err)) == PGP_OK && (r = pgp_create(&mesh, &c->opt, &map, err)) == PGP_OK &&
-        (!c->constraints || (r = pgp_apply_constraints(map, c->constraints, err)) == PGP_OK))
-        report(c, map, &tile);
-    if (r == PGP_OK && (c->ro.zoom > 1.0f || c->center_vortex)) r = set_center(c, &mesh, map, err);
+    if ((r = load_mesh(c->mesh, &c->opt, &mesh, err)) == PGP_OK &&
+        (!c->constraints || (r = pgp_load_constraints(c->constraints, &c->opt, &cons, err)) == PGP_OK) &&
+        (r = pgp_create(&mesh, &c->opt, &map, err)) == PGP_OK && (r = add_constraints(c, &cons, &map, err)) == PGP_OK)
+        report(c, &map, &tile);
+    if (r == PGP_OK && (c->opt.render.zoom > 1.0f || c->center_vortex)) r = set_center(c, &mesh, &map, err);
     if (r == PGP_OK && c->out_tile) r = write_file(outs, c->out_tile, NULL, NULL, &tile, err);
-    if (r == PGP_OK && c->out_obj) r = write_file(outs, c->out_obj, &mesh, map, NULL, err);
-    if (r == PGP_OK && c->out_image && (r = pgp_render(map, &tile, &c->ro, &pic, err)) == PGP_OK)
+    if (r == PGP_OK && c->out_obj) r = write_file(outs, c->out_obj, &mesh, &map, NULL, err);
+    if (r == PGP_OK && c->out_image && (r = pgp_render(&map, &tile, &c->opt.render, &pic, err)) == PGP_OK)
         r = write_image(outs, c->out_image, &pic, err);
     pgp_image_free(&pic);
-    pgp_destroy(map);
+    pgp_map_free(&map);
+    pgp_constraints_free(&cons);
     pgp_mesh_free(&mesh);
     pgp_tile_free(&tile);
     return r;

@@ -66,14 +66,15 @@ static int parse_mode(cli_args *a, const char *const *names, int n, int *out)
 static int parse_one(cli_args *a, tile_cmd *c)
 {
     static const char *const masks[3] = {"dark", "bright", "gradient"}, *const tileable[3] = {"auto", "keep", "make"};
+    int k;
     if (cli_is(a, "--help") || cli_is(a, "-h")) return -1;
     if (cli_is(a, "--key")) {
         if (c->nkeys == 256) return bad("--key (at most 256 keys)", a->argv[a->i]);
         return cli_value(a, &c->key[c->nkeys++]);
     }
     if (cli_is(a, "--single")) return (c->opt.single = 1);
-    if (cli_is(a, "--mask-mode")) return parse_mode(a, masks, 3, &c->opt.auto_mask);
-    if (cli_is(a, "--tileable")) return parse_mode(a, tileable, 3, &c->opt.tileable);
+    if (cli_is(a, "--mask-mode")) return parse_mode(a, masks, 3, &k) ? (c->opt.auto_mask = (pgp_mask)k, 1) : 0;
+    if (cli_is(a, "--tileable")) return parse_mode(a, tileable, 3, &k) ? (c->opt.tileable = (pgp_tileable)k, 1) : 0;
     if (cli_is(a, "--layers")) return cli_int(a, 1, 1024, &c->opt.layers);
     if (cli_is(a, "--size")) return cli_int(a, 16, 4096, &c->opt.size);
     if (cli_is(a, "--seed")) return cli_u64(a, &c->opt.seed);
@@ -103,7 +104,7 @@ static int parse(int argc, char **argv, tile_cmd *c)
     cli_args a;
     int r;
     memset(c, 0, sizeof *c);
-    c->opt = pgp_synth_default_options();
+    c->opt = pgp_default_options().synth;
     a.argc = argc;
     a.argv = argv;
     a.cmd = "pgp-tile";
@@ -179,7 +180,7 @@ static pgp_result write_one(tile_outs *t, const char *path, const pgp_tile *tile
     FILE *f = cli_open(next_outs(t), path, err->message, sizeof err->message);
     pgp_result r;
     if (!f) return err->code = PGP_ERR_IO;
-    r = img ? pgp_write_image_to_func(img, fmt, cli_fwrite, f, err) : pgp_write_tile_to_func(tile, cli_fwrite, f, err);
+    r = img ? pgp_write_image(img, fmt, cli_fwrite, f, err) : pgp_write_tile(tile, cli_fwrite, f, err);
     if (r == PGP_ERR_IO) snprintf(err->message, sizeof err->message, "%.200s: write error (disk full?)", path);
     if (!cli_close(f, r == PGP_OK, path, err->message, sizeof err->message)) r = PGP_ERR_IO;
     return err->code = r;

@@ -44,7 +44,6 @@ typedef struct tiled_cmd {
     const char *mesh, *exemplar, *tiles, *out_obj, *out_tiles, *out_image, *out_glb;
     int validate_only;
     tiled_options opt;
-    tiled_render_options ro;
 } tiled_cmd;
 
 static int parse_guard(cli_args *a, tiled_cmd *c)
@@ -66,7 +65,7 @@ static int parse_guard(cli_args *a, tiled_cmd *c)
 /* One option; returns 0 on a parse error, -1 for --help. */
 static int parse_one(cli_args *a, tiled_cmd *c)
 {
-    int v = cli_view_flag(a, c->ro.view_dir, c->ro.up, &c->ro.supersample);
+    int v = cli_view_flag(a, c->opt.render.view_dir, c->opt.render.up, &c->opt.render.supersample, &c->opt.render.threads);
     tiled_layout *l = &c->opt.layout;
     if (cli_is(a, "--help") || cli_is(a, "-h")) return -1;
     if (v >= 0) return v;
@@ -85,7 +84,7 @@ static int parse_one(cli_args *a, tiled_cmd *c)
     if (cli_is(a, "--tile-size")) return cli_int(a, 4, 4096, &l->tile_size);
     if (cli_is(a, "--guard")) return parse_guard(a, c);
     if (cli_is(a, "--seed")) return cli_u64(a, &c->opt.seed);
-    if (cli_is(a, "--size")) return cli_size(a, &c->ro.width, &c->ro.height);
+    if (cli_is(a, "--size")) return cli_size(a, &c->opt.render.width, &c->opt.render.height);
     if (cli_is(a, "--no-mirror")) return (c->opt.no_mirror = 1);
     if (cli_is(a, "--validate")) return (c->validate_only = 1);
     cli_error(a->cmd, "unknown option '%s' (try patchwork tiled --help)", a->argv[a->i]);
@@ -225,11 +224,11 @@ static tiled_result run(tiled_cmd *c, cli_outputs *outs, tiled_error *err)
         printf("tiled: %d faces -> %d quads; %d x %d tiles of %d px (guard %d)\n", mesh.nfaces,
                quads.nfaces, ts.tiles_per_side, ts.tiles_per_side, ts.layout.tile_size,
                ts.layout.guard < 0 ? 0 : ts.layout.guard);
-        if (r == TILED_OK) r = warn_small_tiles(&quads, &ts, &c->ro, err);
+        if (r == TILED_OK) r = warn_small_tiles(&quads, &ts, &c->opt.render, err);
         if (r == TILED_OK && c->out_tiles) r = cli_write_image(outs, c->out_tiles, &ts.atlas, err);
         if (r == TILED_OK && c->out_obj) r = write_obj(outs, c->out_obj, c->out_tiles, &quads, err);
-        if (r == TILED_OK && c->out_glb) r = write_glb(outs, c->out_glb, &quads, &ts.atlas, &c->ro, err);
-        if (r == TILED_OK && c->out_image && (r = tiled_render(&quads, &ts, &c->ro, &pic, err)) == TILED_OK)
+        if (r == TILED_OK && c->out_glb) r = write_glb(outs, c->out_glb, &quads, &ts.atlas, &c->opt.render, err);
+        if (r == TILED_OK && c->out_image && (r = tiled_render(&quads, &ts, &c->opt.render, &pic, err)) == TILED_OK)
             r = cli_write_image(outs, c->out_image, &pic, err);
     }
     tiled_image_free(&pic);
@@ -245,8 +244,8 @@ static tiled_result write_one(cli_outputs *o, const char *path, int is_obj, cons
     FILE *f = cli_open(o, path, err->message, sizeof err->message);
     tiled_result r;
     if (!f) return err->code = TILED_ERR_IO;
-    r = is_obj ? tiled_write_obj_to_func(m, arg, cli_fwrite, f, err)
-               : tiled_write_mtl_to_func(arg, cli_fwrite, f, err);
+    r = is_obj ? tiled_write_obj(m, arg, cli_fwrite, f, err)
+               : tiled_write_mtl(arg, cli_fwrite, f, err);
     if (r == TILED_ERR_IO) snprintf(err->message, sizeof err->message, "%.200s: write error (disk full?)", path);
     if (!cli_close(f, r == TILED_OK, path, err->message, sizeof err->message)) r = TILED_ERR_IO;
     return err->code = r;
@@ -258,7 +257,7 @@ static tiled_result write_glb(cli_outputs *o, const char *path, const tiled_mesh
     FILE *f = cli_open(o, path, err->message, sizeof err->message);
     tiled_result r;
     if (!f) return err->code = TILED_ERR_IO;
-    r = tiled_write_gltf_to_func(m, texture, view, cli_fwrite, f, err);
+    r = tiled_write_gltf(m, texture, view, cli_fwrite, f, err);
     if (!cli_close(f, r == TILED_OK, path, err->message, sizeof err->message)) r = TILED_ERR_IO;
     return err->code = r;
 }

@@ -1,4 +1,5 @@
 /* The pgp.h implementation, in a translation unit of its own so that the
  * four compile in parallel. */
+#define PW_THREADS /* rendering on every core (POSIX threads) */
 #define PGP_IMPLEMENTATION
 #include "../pgp.h"

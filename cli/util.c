@@ -133,12 +133,13 @@ int cli_vec3(cli_args *a, float out[3])
     return 0;
 }
 
-int cli_view_flag(cli_args *a, float view_dir[3], float up[3], int *supersample)
+int cli_view_flag(cli_args *a, float view_dir[3], float up[3], int *supersample, int *threads)
 {
     static const char *const axes[6] = {"x", "y", "z", "-x", "-y", "-z"};
     const char *v;
     int k;
     if (cli_is(a, "--supersample")) return cli_int(a, 1, 8, supersample);
+    if (cli_is(a, "--threads")) return cli_int(a, 1, 256, threads);
     if (cli_is(a, "--view")) return cli_vec3(a, view_dir);
     if (!cli_is(a, "--view-up")) return -1;
     if (!cli_value(a, &v)) return 0;
@@ -302,7 +303,7 @@ tiled_result cli_write_image(cli_outputs *o, const char *final_path, const tiled
         return err->code;
     }
     if (!(f = cli_open(o, final_path, err->message, sizeof err->message))) return err->code = TILED_ERR_IO;
-    r = tiled_write_image_to_func(img, fmt, cli_fwrite, f, err);
+    r = tiled_write_image(img, fmt, cli_fwrite, f, err);
     if (r == TILED_ERR_IO) snprintf(err->message, sizeof err->message, "%.200s: write error (disk full?)", final_path);
     if (!cli_close(f, r == TILED_OK, final_path, err->message, sizeof err->message)) r = TILED_ERR_IO;
     return err->code = r;

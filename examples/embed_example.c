@@ -61,7 +61,7 @@ int main(void)
 {
     counter count = {0, 0, 0};
     int cancel = 1, ok;    lapped_options opt = lapped_default_options();
-    lapped_atlas_options ao = {0};
+    lapped_source src = {0};
     lapped_mesh mesh = {0};
     lapped_image texture = {0}, patch = {0};
     lapped_texture lt = {0};  /* a failed call leaves its output zeroed: freeing is always safe */
@@ -72,17 +72,18 @@ int main(void)
     opt.allocator.malloc_fn = my_malloc, opt.allocator.realloc_fn = my_realloc, opt.allocator.free_fn = my_free;
     opt.allocator.user = &count;
     opt.progress = stop_at_30, opt.progress_user = &cancel;
-    opt.field.scale = 0.6f;
-    ao.size = 256;
-    ok = lapped_load_mesh_from_memory(octahedron, sizeof octahedron - 1, "octahedron.obj", &opt, &mesh, &err) == LAPPED_OK &&
-         lapped_builtin_texture("dots", 64, &opt, &texture, &err) == LAPPED_OK &&
+    opt.scale = 0.6f;
+    opt.atlas.size = 256;
+    src.patches = &patch, src.npatches = 1;
+    ok = lapped_read_mesh(octahedron, sizeof octahedron - 1, "octahedron.obj", &opt, &mesh, &err) == LAPPED_OK &&
+         lapped_builtin_exemplar("dots", 64, &opt, &texture, &err) == LAPPED_OK &&
          lapped_make_patch(&texture, NULL, &opt, &patch, &err) == LAPPED_OK;
-    if (ok && lapped_create(&mesh, &patch, 1, &opt, &lt, &err) == LAPPED_ERR_CANCELLED)
+    if (ok && lapped_create(&mesh, &src, &opt, &lt, &err) == LAPPED_ERR_CANCELLED)
         printf("cancelled at 30%%: %s; %ld blocks live (the mesh, texture and patch)\n", err.message, count.live);
     cancel = 0;
-    ok = ok && lapped_create(&mesh, &patch, 1, &opt, &lt, &err) == LAPPED_OK &&
-         lapped_bake_atlas(&mesh, &lt, &patch, NULL, &ao, &opt, &atlas, &err) == LAPPED_OK &&
-         lapped_write_gltf_to_func(&mesh, &atlas, NULL, to_buffer, &glb, &err) == LAPPED_OK;
+    ok = ok && lapped_create(&mesh, &src, &opt, &lt, &err) == LAPPED_OK &&
+         lapped_bake_atlas(&mesh, &lt, &src, &opt, &atlas, &err) == LAPPED_OK &&
+         lapped_write_gltf(&mesh, &atlas, NULL, to_buffer, &glb, &err) == LAPPED_OK;
     if (ok && (f = fopen("embed_example.glb", "wb")) != NULL) {
         ok = fwrite(glb.data, 1, glb.size, f) == glb.size;
         ok = fclose(f) == 0 && ok;

@@ -13,14 +13,11 @@
 #define PGP_IMPLEMENTATION
 #include "../pgp.h"
 
-static pgp_result render(const pgp_map *map, const pgp_tile *tile, const char *path, pgp_error *err)
+static pgp_result render(const pgp_map *map, const pgp_tile *tile, const pgp_options *opt, const char *path,
+                         pgp_error *err)
 {
-    pgp_render_options view = {0}; /* zero: the defaults (800x600, 2x2 samples, ...) */
     pgp_image picture = {0};
-    pgp_result r;
-    view.width = 640;
-    view.height = 480;
-    r = pgp_render(map, tile, &view, &picture, err);
+    pgp_result r = pgp_render(map, tile, &opt->render, &picture, err);
     if (r == PGP_OK) r = pgp_save_image(path, &picture, err);
     pgp_image_free(&picture);
     return r;
@@ -46,37 +43,44 @@ int main(int argc, char **argv)
     pgp_options opt = pgp_default_options();
     pgp_mesh mesh = {0};
     pgp_tile tile = {0};
-    pgp_map *map = NULL;
+    pgp_map map = {0};
     pgp_area area = {0};
+    pgp_constraint c = {PGP_CONSTRAINT_ORIENT, 0, {1, 0, 0}, 0.6f}; /* kind, element, value, radius */
     pgp_error err;
-    const float across[3] = {1, 0, 0}, slanted[3] = {1, 1, 0};
+    const float slanted[3] = {1, 1, 0};
     int turn = -1, face, ok;
 
-    opt.field = PGP_FIELD_UP; /* the tile's t axis follows +Y, projected on the surface */
-    opt.scale = 0.0f;         /* 0: a tile side of 1/10 of the bounding-box diagonal */
+    opt.field = PGP_FIELD_UP;  /* the tile's t axis follows +Y, projected on the surface */
+    opt.scale = 0.0f;          /* 0: a tile side of 1/10 of the bounding-box diagonal */
+    opt.render.width = 640;    /* every other render setting keeps its default */
+    opt.render.height = 480;
 
     ok = (argc > 1 ? pgp_load_mesh(argv[1], &opt, &mesh, &err) : pgp_builtin_mesh("bumpy", &opt, &mesh, &err)) == PGP_OK &&
          (argc > 2 ? pgp_load_tile(argv[2], &opt, &tile, &err) : pgp_builtin_tile("bricks", 64, &opt, &tile, &err)) == PGP_OK &&
          /* the field, scale and material everywhere, then the parameterization */
-         pgp_create(&mesh, &opt, &map, &err) == PGP_OK && render(map, &tile, "pgp_example_before.png", &err) == PGP_OK;
+         pgp_create(&mesh, &opt, &map, &err) == PGP_OK && render(&map, &tile, &opt, "pgp_example_before.png", &err) == PGP_OK;
     /* bricks laid along X around the face in front, within a radius of 0.6 */
     face = ok ? facing_face(&mesh) : 0;
-    ok = ok && pgp_add_orientation(map, face, across, 0.6f, &turn, &area, &err) == PGP_OK;
-    if (ok) printf("the orientation constraint recomputed %d of %d triangles\n", area.nfaces, pgp_triangle_count(map));
+    c.element = face;
+    ok = ok && pgp_add_constraint(&map, &c, &turn, &area, &err) == PGP_OK;
+    if (ok) printf("the orientation constraint recomputed %d of %d triangles\n", area.nfaces, map.ntris);
     pgp_area_free(&area);
-    ok = ok &&
-         /* weathered bricks (m = 1: pebbles) around that face's first corner */
-         pgp_add_material(map, mesh.face_verts[mesh.face_start[face]], 1.0f, 0.8f, NULL, NULL, &err) == PGP_OK &&
-         /* the same constraint turned again: only its area changes */
-         pgp_edit_constraint(map, turn, slanted, NULL, &err) == PGP_OK &&
-         render(map, &tile, "pgp_example_after.png", &err) == PGP_OK;
+    /* weathered bricks (m = 1: pebbles) around that face's first corner */
+    c.kind = PGP_CONSTRAINT_MATERIAL;
+    c.element = mesh.face_verts[mesh.face_start[face]];
+    c.value[0] = 1.0f;
+    c.radius = 0.8f;
+    ok = ok && pgp_add_constraint(&map, &c, NULL, NULL, &err) == PGP_OK &&
+         /* the same orientation constraint turned again: only its area changes */
+         pgp_edit_constraint(&map, turn, slanted, NULL, &err) == PGP_OK &&
+         render(&map, &tile, &opt, "pgp_example_after.png", &err) == PGP_OK;
     if (ok)
         printf("%d triangles, %d singular, %d around vortices; wrote pgp_example_before.png, pgp_example_after.png\n",
-               pgp_triangle_count(map), pgp_get_singular(map, NULL), pgp_get_vortices(map, NULL));
+               map.ntris, pgp_map_singular(&map, NULL), pgp_map_vortices(&map, NULL));
     else
         fprintf(stderr, "pgp_example: %s (%s)\n", err.message, pgp_result_string(err.code));
 
-    pgp_destroy(map); /* NULL is fine, as for every free */
+    pgp_map_free(&map); /* a zeroed map is fine, as for every free */
     pgp_tile_free(&tile);
     pgp_mesh_free(&mesh);
     return ok ? 0 : 1;

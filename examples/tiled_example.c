@@ -12,7 +12,6 @@
 int main(int argc, char **argv)
 {
     tiled_options opt = tiled_default_options();
-    tiled_render_options view = {0};
     tiled_mesh mesh = {0}, mapped = {0};
     tiled_image exemplar = {0}, picture = {0};
     tiled_tileset tiles = {0};
@@ -22,8 +21,8 @@ int main(int argc, char **argv)
     opt.layout.pairs = 1; /* case 2, one boundary pair: 16 tiles */
     opt.smooth = 2;       /* smooth the quads after mapping, as the thesis does */
     opt.seed = 42;
-    view.width = 640;
-    view.height = 480;
+    opt.render.width = 640;
+    opt.render.height = 480;
 
     ok = (argc > 1 ? tiled_load_mesh(argv[1], &opt, &mesh, &err)
                    : tiled_builtin_mesh("double-torus", &opt, &mesh, &err)) == TILED_OK &&
@@ -32,7 +31,7 @@ int main(int argc, char **argv)
          tiled_map(&mesh, &tiles.layout, &opt, &mapped, &err) == TILED_OK &&
          tiled_save_image("example_tiles.ppm", &tiles.atlas, &err) == TILED_OK &&
          tiled_save_obj("example.obj", &mapped, "example_tiles.ppm", &err) == TILED_OK &&
-         tiled_render(&mapped, &tiles, &view, &picture, &err) == TILED_OK &&
+         tiled_render(&mapped, &tiles, &opt.render, &picture, &err) == TILED_OK &&
          tiled_save_image("example.ppm", &picture, &err) == TILED_OK;
     if (ok)
         printf("%d faces -> %d textured quads; wrote example_tiles.ppm, example.obj, example.mtl, "

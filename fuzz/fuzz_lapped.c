@@ -99,7 +99,7 @@ static int fz_texture(const fz_input *in, const lapped_options *o, lapped_image 
     memset(tex, 0, sizeof *tex);
     memset(mask, 0, sizeof *mask);
     if (kind < 3) {
-        lapped_result r = lapped_builtin_texture(names[kind], size, o, tex, &err);
+        lapped_result r = lapped_builtin_exemplar(names[kind], size, o, tex, &err);
         FZ_CHECK(r == LAPPED_OK && tex->width == size && tex->height == size && tex->pixels);
     } else {
         int empty_alpha = (in->seed & 15) == 0;
@@ -141,18 +141,18 @@ static void fz_options(const fz_input *in, float diag, lapped_options *o)
     const uint8_t *h = in->h;
     int mode = h[0] & 7;
     *o = lapped_default_options();
-    o->field.mode = mode == 5 ? LAPPED_FIELD_ISOTROPIC : mode == 6 ? LAPPED_FIELD_UP : mode == 7 ? 17 : mode;
+    o->field = (lapped_field_mode)(mode == 5 ? LAPPED_FIELD_ISOTROPIC : mode == 6 ? LAPPED_FIELD_UP : mode == 7 ? 17 : mode);
     o->lscm = h[0] >> 3 & 1;
     o->keep_hidden = h[0] >> 4 & 1;
-    if (h[1] == 255) memcpy(&o->field.scale, h + 4, 4);
-    else o->field.scale = h[1] ? diag * (float)h[1] / 64.0f : 0.0f;
-    o->alpha = (h[2] & 7) <= 4 ? h[2] & 7 : LAPPED_ALPHA_AUTO;
+    if (h[1] == 255) memcpy(&o->scale, h + 4, 4);
+    else o->scale = h[1] ? diag * (float)h[1] / 64.0f : 0.0f;
+    o->alpha = (lapped_alpha)((h[2] & 7) <= 4 ? h[2] & 7 : LAPPED_ALPHA_AUTO);
     o->falloff = falloff[h[2] >> 6];
     o->coverage = coverage[h[8] & 3];
     o->max_distortion = distortion[h[8] >> 2 & 3];
     o->early = early[h[8] >> 4 & 3];
-    memcpy(o->field.up, up[h[8] >> 6], sizeof o->field.up);
-    o->field.smoothing = h[10] >> 2 & 7; /* 0: the default, 20 */
+    memcpy(o->up, up[h[8] >> 6], sizeof o->up);
+    o->smoothing = h[10] >> 2 & 7; /* 0: the default, 20 */
     o->max_pastes = 1 + (h[11] >> 1 & 31);
     o->seed = in->seed;
 }
@@ -232,32 +232,29 @@ static void fz_check_texture(const lapped_texture *t, int ntris, const lapped_im
  * gives for the same options. */
 static void fz_check_areas(const lapped_mesh *mesh, const lapped_texture *t, const lapped_options *o)
 {
-    float *fs = (float *)malloc((size_t)t->ntris * 3 * sizeof(float));
-    float *ft = (float *)malloc((size_t)t->ntris * 3 * sizeof(float));
+    lapped_field f;
     double d = o->max_distortion > 0.0f ? o->max_distortion : 2.0, lo = 0.999 / (d * d), hi = 1.001 * d * d;
     lapped_error err;
     pw_trimesh m;
     pw_alloc a;
     pw_err e;
     int p;
-    FZ_CHECK(fs && ft);
     memset(&a, 0, sizeof a);
     pw_err_clear(&e);
-    FZ_CHECK(lapped_compute_field(mesh, o, fs, ft, &err) == LAPPED_OK);
+    FZ_CHECK(lapped_compute_field(mesh, o, &f, &err) == LAPPED_OK && f.ntris == t->ntris);
     FZ_CHECK(lapped__mesh_init(&a, mesh, &m, &e) == PW_OK);
     for (p = 0; p < t->npastes; p++) {
         double tex, surf, inside;
-        lapped__paste_areas(&m, fs, ft, &t->pastes[p], lo, hi, &tex, &surf, &inside);
+        lapped__paste_areas(&m, f.s, f.t, &t->pastes[p], lo, hi, &tex, &surf, &inside);
         FZ_CHECK(lapped__area_ok(tex, surf, lo, hi));
     }
     pw_trimesh_free(&a, &m);
-    free(fs);
-    free(ft);
+    lapped_field_free(&f);
 }
 
 /* Determinism: lapped_create again, the same result bit for bit. */
-static void fz_check_again(const lapped_mesh *mesh, const lapped_image *patches, int npatches,
-                           const lapped_options *o, const lapped_texture *t)
+static void fz_check_again(const lapped_mesh *mesh, const lapped_source *src, const lapped_options *o,
+                           const lapped_texture *t)
 {
     lapped_options o2 = *o;
     fz_progress prog;
@@ -267,7 +264,7 @@ static void fz_check_again(const lapped_mesh *mesh, const lapped_image *patches,
     memset(&prog, 0, sizeof prog);
     prog.max_calls = FZ_MAX_CALLS;
     o2.progress_user = &prog;
-    FZ_CHECK(lapped_create(mesh, patches, npatches, &o2, &u, &err) == LAPPED_OK);
+    FZ_CHECK(lapped_create(mesh, src, &o2, &u, &err) == LAPPED_OK);
     FZ_CHECK(u.ntris == t->ntris && u.npatches == t->npatches && u.npastes == t->npastes);
     FZ_CHECK(u.layers == t->layers && u.layers_before == t->layers_before && u.hard_edges == t->hard_edges);
     for (p = 0; p < t->npastes; p++) {
@@ -287,8 +284,8 @@ static void fz_check_file(const lapped_texture *t, const lapped_options *o)
     lapped_error err;
     int p;
     memset(&b, 0, sizeof b);
-    FZ_CHECK(lapped_write_pastes_to_func(t, fz_append, &b, &err) == LAPPED_OK);
-    FZ_CHECK(lapped_read_pastes_from_memory(b.data, b.size, "made", o, &r, &err) == LAPPED_OK);
+    FZ_CHECK(lapped_write_pastes(t, fz_append, &b, &err) == LAPPED_OK);
+    FZ_CHECK(lapped_read_pastes(b.data, b.size, "made", o, &r, &err) == LAPPED_OK);
     FZ_CHECK(r.npatches == t->npatches && r.npastes == t->npastes);
     for (p = 0; p < t->npastes; p++) {
         FZ_CHECK(r.pastes[p].nfaces == t->pastes[p].nfaces);
@@ -299,7 +296,7 @@ static void fz_check_file(const lapped_texture *t, const lapped_options *o)
 }
 
 static void fz_render(const fz_input *in, const lapped_mesh *mesh, const lapped_texture *t,
-                      const lapped_image *patches, const lapped_image *values)
+                      const lapped_source *src)
 {
     lapped_render_options ro;
     lapped_image pic;
@@ -310,8 +307,8 @@ static void fz_render(const fz_input *in, const lapped_mesh *mesh, const lapped_
     ro.width = 32;
     ro.height = 24;
     ro.supersample = 1 + (in->h[2] >> 5 & 1);
-    ro.filter = (in->h[2] >> 3 & 3) % 3;
-    r = lapped_render(mesh, t, patches, values, &ro, &pic, &err);
+    ro.filter = (lapped_filter)((in->h[2] >> 3 & 3) % 3);
+    r = lapped_render(mesh, t, src, &ro, &pic, &err);
     FZ_LOG("render", r, &err);
     if (r != LAPPED_OK) {
         fz_lapped_failure(r, &err);
@@ -324,10 +321,11 @@ static void fz_render(const fz_input *in, const lapped_mesh *mesh, const lapped_
 }
 
 static void fz_bake(const fz_input *in, const lapped_mesh *mesh, const lapped_texture *t,
-                    const lapped_image *patches, const lapped_image *values, const lapped_options *o)
+                    const lapped_source *src, const lapped_options *o)
 {
     static const int sizes[4] = {16, 24, 32, 40};
     static const float cones[4] = {0.0f, 10.0f, 90.0f, 180.0f};
+    lapped_options bo = *o;
     lapped_atlas_options ao;
     lapped_atlas atlas;
     lapped_error err;
@@ -337,7 +335,8 @@ static void fz_bake(const fz_input *in, const lapped_mesh *mesh, const lapped_te
     ao.size = sizes[in->h[9] & 3];
     ao.gutter = in->h[9] >> 2 & 3;
     ao.cone_angle = cones[in->h[9] >> 4 & 3];
-    r = lapped_bake_atlas(mesh, t, patches, values, &ao, o, &atlas, &err);
+    bo.atlas = ao;
+    r = lapped_bake_atlas(mesh, t, src, &bo, &atlas, &err);
     FZ_LOG("atlas", r, &err);
     if (r != LAPPED_OK) {
         fz_lapped_failure(r, &err);
@@ -350,7 +349,7 @@ static void fz_bake(const fz_input *in, const lapped_mesh *mesh, const lapped_te
         FZ_CHECK(fz_finite(atlas.uvs[i]) && atlas.uvs[i] >= 0.0f && atlas.uvs[i] <= 1.0f);
     n = (size_t)ao.size * ao.size * atlas.image.channels;
     for (i = 0; i < n; i++) FZ_CHECK(fz_finite(atlas.image.pixels[i]));
-    FZ_CHECK(lapped_write_obj_to_func(mesh, &atlas, "x.mtl", fz_count, &bytes, &err) == LAPPED_OK);
+    FZ_CHECK(lapped_write_obj(mesh, &atlas, "x.mtl", fz_count, &bytes, &err) == LAPPED_OK);
     FZ_CHECK(bytes > 0);
     lapped_atlas_free(&atlas);
 }
@@ -362,6 +361,7 @@ static void fz_pipeline(const fz_input *in, const lapped_mesh *mesh, int ntris, 
     lapped_options o;
     lapped_constraint con[4];
     lapped_image tex, tex2, mask, patches[2], values[2];
+    lapped_source src;
     lapped_texture t;
     lapped_error err;
     lapped_result r;
@@ -382,7 +382,7 @@ static void fz_pipeline(const fz_input *in, const lapped_mesh *mesh, int ntris, 
     use_mask = o.alpha == LAPPED_ALPHA_MASK || (o.alpha == LAPPED_ALPHA_AUTO && mask.pixels);
     if (npatches == 2) { /* the second patch: built-in dots of another size, in a circle */
         int side = 12 + 2 * (int)(in->seed >> 20 & 7);
-        FZ_CHECK(lapped_builtin_texture("dots", side, &o, &tex2, &err) == LAPPED_OK);
+        FZ_CHECK(lapped_builtin_exemplar("dots", side, &o, &tex2, &err) == LAPPED_OK);
     }
     for (k = 0; k < npatches; k++) {
         lapped_options po = o;
@@ -397,23 +397,24 @@ static void fz_pipeline(const fz_input *in, const lapped_mesh *mesh, int ntris, 
         }
         FZ_CHECK(patches[k].width == src->width && patches[k].height == src->height && patches[k].channels == 4);
     }
-    if (o.field.mode == LAPPED_FIELD_CONSTRAINTS) {
+    if (o.field == LAPPED_FIELD_CONSTRAINTS) {
         fz_constraints(in, ntris, diag, con);
-        o.field.constraints = con;
-        o.field.nconstraints = in->ncon;
-    } else if (o.field.mode == LAPPED_FIELD_FACES) {
-        if (!fz_faces(in, mesh, ntris, o.field.scale > 0.0f && o.field.scale < 1e30f ? o.field.scale : diag / 4,
+        o.constraints = con;
+        o.nconstraints = in->ncon;
+    } else if (o.field == LAPPED_FIELD_FACES) {
+        if (!fz_faces(in, mesh, ntris, o.scale > 0.0f && o.scale < 1e30f ? o.scale : diag / 4,
                       &ft, &fs))
             goto done;
-        o.field.face_t = ft;
-        o.field.face_s = in->h[9] & 128 ? fs : NULL;
+        o.face_t = ft;
+        o.face_s = in->h[9] & 128 ? fs : NULL;
     }
     memset(&prog, 0, sizeof prog);
     prog.max_calls = FZ_MAX_CALLS;
     prog.cancel_at = in->h[10] >> 5;
     o.progress = fz_progress_fn;
     o.progress_user = &prog;
-    r = lapped_create(mesh, patches, npatches, &o, &t, &err);
+    src.patches = patches, src.npatches = npatches, src.values = NULL;
+    r = lapped_create(mesh, &src, &o, &t, &err);
     FZ_LOG("create", r, &err);
 #ifdef FZ_VERBOSE
     if (r == LAPPED_OK) fprintf(stderr, "  %d pastes, %d progress calls\n", t.npastes, prog.calls);
@@ -426,7 +427,7 @@ static void fz_pipeline(const fz_input *in, const lapped_mesh *mesh, int ntris, 
     fz_check_texture(&t, ntris, patches, npatches, &o);
     fz_check_areas(mesh, &t, &o);
     fz_check_file(&t, &o);
-    if (in->h[11] & 64) fz_check_again(mesh, patches, npatches, &o, &t);
+    if (in->h[11] & 64) fz_check_again(mesh, &src, &o, &t);
     if (in->h[9] & 64) /* a value channel: the patch's first channel */
         for (k = 0; k < npatches; k++) {
             size_t i, n = (size_t)patches[k].width * patches[k].height;
@@ -436,11 +437,12 @@ static void fz_pipeline(const fz_input *in, const lapped_mesh *mesh, int ntris, 
             if (!(values[k].pixels = (float *)malloc(n * sizeof(float)))) goto free_texture;
             for (i = 0; i < n; i++) values[k].pixels[i] = patches[k].pixels[4 * i];
         }
-    fz_render(in, mesh, &t, patches, in->h[9] & 64 ? values : NULL);
+    src.values = in->h[9] & 64 ? values : NULL;
+    fz_render(in, mesh, &t, &src);
     if (in->h[0] & 128) {
         prog.calls = 0;
         prog.cancel_at = prog.cancel_at ? prog.cancel_at + 1 : 0;
-        fz_bake(in, mesh, &t, patches, in->h[9] & 64 ? values : NULL, &o);
+        fz_bake(in, mesh, &t, &src, &o);
     }
 free_texture:
     lapped_texture_free(&t);
@@ -487,7 +489,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         lo.allocator.free_fn = fz_free;
         lo.allocator.user = &heap;
     }
-    if (lapped_load_mesh_from_memory(in.mesh, in.mesh_size, "fuzz", &lo, &mesh, &err) != LAPPED_OK) {
+    if (lapped_read_mesh(in.mesh, in.mesh_size, "fuzz", &lo, &mesh, &err) != LAPPED_OK) {
         FZ_LOG("mesh", err.code, &err);
         fz_lapped_failure(err.code, &err);
         FZ_CHECK(mesh.positions == NULL && mesh.face_start == NULL && mesh.face_verts == NULL);

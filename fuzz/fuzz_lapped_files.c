@@ -5,7 +5,7 @@
  *   - a paste set that is read is well formed (ntris 0, patch sizes in
  *     range, patch indices below npatches, triangle indices >= 0, finite
  *     coordinates) and round-trips exactly: written with
- *     lapped_write_pastes_to_func (9 significant digits, enough for a
+ *     lapped_write_pastes (9 significant digits, enough for a
  *     float) and read back it gives the same counts and bit-identical
  *     values, and writing that again gives the same bytes;
  *   - a small paste set is then drawn (lapped_render) and, when bit 7 is
@@ -13,7 +13,8 @@
  *     it names: both either succeed with finite output or fail cleanly;
  *   - constraints that are read are finite, with faces in range, and the
  *     CONSTRAINTS field over the octahedron either fails cleanly or is
- *     finite with t != 0;
+ *     finite with t != 0; a success says nothing, or warns that positional
+ *     lines are deprecated;
  *   - with the counting allocator (bit 1), every block is freed through the
  *     allocator that made it and none is left over.
  * (Two bugs it found are fixed and have regression tests: constraint
@@ -88,14 +89,14 @@ static void fz_roundtrip(const lapped_texture *t, const lapped_options *o)
     lapped_error err;
     memset(&b1, 0, sizeof b1);
     memset(&b2, 0, sizeof b2);
-    FZ_CHECK(lapped_write_pastes_to_func(t, fz_append, &b1, &err) == LAPPED_OK);
-    if (lapped_read_pastes_from_memory(b1.data, b1.size, "roundtrip", o, &r, &err) != LAPPED_OK) {
+    FZ_CHECK(lapped_write_pastes(t, fz_append, &b1, &err) == LAPPED_OK);
+    if (lapped_read_pastes(b1.data, b1.size, "roundtrip", o, &r, &err) != LAPPED_OK) {
         fprintf(stderr, "fuzz_lapped_files: re-reading a written paste file failed: %s\n", err.message);
         abort();
     }
     fz_check_texture(&r);
     fz_same_texture(t, &r);
-    FZ_CHECK(lapped_write_pastes_to_func(&r, fz_append, &b2, &err) == LAPPED_OK);
+    FZ_CHECK(lapped_write_pastes(&r, fz_append, &b2, &err) == LAPPED_OK);
     FZ_CHECK(b1.size == b2.size && !memcmp(b1.data, b2.data, b1.size));
     lapped_texture_free(&r);
     free(b1.data);
@@ -124,26 +125,25 @@ static int fz_make_patch(int w, int h, int k, lapped_image *img)
 
 /* Bakes an atlas (the slow part, so only when bit 7 is set). Baking needs
  * the triangle count, which a paste file does not record. */
-static void fz_bake(lapped_texture *t, const lapped_mesh *mesh, const lapped_image *patches,
-                    const lapped_image *values, unsigned flags, const lapped_options *o)
+static void fz_bake(lapped_texture *t, const lapped_mesh *mesh, const lapped_source *src, unsigned flags,
+                    const lapped_options *o)
 {
-    lapped_atlas_options ao;
+    lapped_options bo = *o;
     lapped_atlas atlas;
     lapped_error err;
     lapped_result r;
     size_t i, discarded = 0;
     t->ntris = mesh->nfaces;
-    memset(&ao, 0, sizeof ao);
-    ao.size = 32;
-    ao.gutter = 1 + (int)(flags >> 5 & 1);
-    r = lapped_bake_atlas(mesh, t, patches, values, &ao, o, &atlas, &err);
+    bo.atlas.size = 32;
+    bo.atlas.gutter = 1 + (int)(flags >> 5 & 1);
+    r = lapped_bake_atlas(mesh, t, src, &bo, &atlas, &err);
     if (r == LAPPED_OK) {
         FZ_CHECK(atlas.ntris == mesh->nfaces && atlas.uvs && atlas.image.pixels);
         FZ_CHECK(atlas.image.width == 32 && atlas.image.height == 32);
         for (i = 0; i < (size_t)atlas.ntris * 6; i++)
             FZ_CHECK(fz_finite(atlas.uvs[i]) && atlas.uvs[i] >= 0.0f && atlas.uvs[i] <= 1.0f);
         for (i = 0; i < (size_t)32 * 32 * atlas.image.channels; i++) FZ_CHECK(fz_finite(atlas.image.pixels[i]));
-        FZ_CHECK(lapped_write_obj_to_func(mesh, &atlas, "x.mtl", fz_count, &discarded, &err) == LAPPED_OK);
+        FZ_CHECK(lapped_write_obj(mesh, &atlas, "x.mtl", fz_count, &discarded, &err) == LAPPED_OK);
         lapped_atlas_free(&atlas);
     } else {
         fz_lapped_failure(r, &err);
@@ -156,6 +156,7 @@ static void fz_bake(lapped_texture *t, const lapped_mesh *mesh, const lapped_ima
 static void fz_use_texture(lapped_texture *t, unsigned flags, const lapped_options *o)
 {
     lapped_image patches[8], values[8], pic;
+    lapped_source src;
     lapped_render_options ro;
     lapped_mesh mesh = fz_octahedron();
     lapped_error err;
@@ -187,8 +188,9 @@ static void fz_use_texture(lapped_texture *t, unsigned flags, const lapped_optio
         ro.width = 16 + (int)(flags >> 5 & 1) * 16;
         ro.height = 12;
         ro.supersample = 1 + (int)(flags >> 6 & 1);
-        ro.filter = (int)(flags >> 2 & 3) % 3;
-        r = lapped_render(&mesh, t, patches, use_values ? values : NULL, &ro, &pic, &err);
+        ro.filter = (lapped_filter)((int)(flags >> 2 & 3) % 3);
+        src.patches = patches, src.npatches = n, src.values = use_values ? values : NULL;
+        r = lapped_render(&mesh, t, &src, &ro, &pic, &err);
         if (r == LAPPED_OK) {
             FZ_CHECK(pic.width == ro.width && pic.height == ro.height && pic.pixels);
             for (i = 0; i < (size_t)pic.width * pic.height * pic.channels; i++) FZ_CHECK(fz_finite(pic.pixels[i]));
@@ -197,7 +199,7 @@ static void fz_use_texture(lapped_texture *t, unsigned flags, const lapped_optio
             fz_lapped_failure(r, &err);
             FZ_CHECK(pic.pixels == NULL);
         }
-        if (flags & 128) fz_bake(t, &mesh, patches, use_values ? values : NULL, flags, o);
+        if (flags & 128) fz_bake(t, &mesh, &src, flags, o);
     }
     for (k = 0; k < n; k++) {
         free(patches[k].pixels);
@@ -209,7 +211,7 @@ static void fz_pastes(const uint8_t *data, size_t size, unsigned flags, const la
 {
     lapped_texture t;
     lapped_error err;
-    lapped_result r = lapped_read_pastes_from_memory(data, size, "fuzz", o, &t, &err);
+    lapped_result r = lapped_read_pastes(data, size, "fuzz", o, &t, &err);
     if (r != LAPPED_OK) {
         fz_lapped_failure(r, &err);
         FZ_CHECK(t.pastes == NULL && t.patch_size == NULL && t.npastes == 0 && t.npatches == 0);
@@ -226,41 +228,47 @@ static void fz_pastes(const uint8_t *data, size_t size, unsigned flags, const la
 
 static void fz_constraints(const uint8_t *data, size_t size, unsigned flags, const lapped_options *o)
 {
-    lapped_constraint *c = (lapped_constraint *)1;
+    lapped_constraints cs;
+    lapped_constraint *c;
     lapped_options fo = *o;
     lapped_mesh mesh = fz_octahedron();
+    lapped_field f;
     lapped_error err;
     lapped_result r;
-    float s[24], t[24];
-    int n = -1, i, k;
-    r = lapped_read_constraints_from_memory(data, size, "fuzz", o, &c, &n, &err);
+    int n, i, k;
+    memset(&cs, 0xff, sizeof cs);
+    r = lapped_read_constraints(data, size, "fuzz", o, &cs, &err);
     if (r != LAPPED_OK) {
         fz_lapped_failure(r, &err);
-        FZ_CHECK(c == NULL && n == 0);
+        FZ_CHECK(cs.items == NULL && cs.count == 0);
         return;
     }
+    c = cs.items, n = cs.count;
     FZ_CHECK(c != NULL && n >= 1);
+    FZ_CHECK(!err.message[0] || strstr(err.message, ": positional constraint lines are deprecated; write 'orient"));
     for (i = 0; i < n; i++) {
         FZ_CHECK(c[i].face >= 0);
         for (k = 0; k < 3; k++) FZ_CHECK(fz_finite(c[i].direction[k]));
         FZ_CHECK(fz_finite(c[i].scale) && fz_finite(c[i].radius) && fz_finite(c[i].weight));
     }
     if (n <= 256) { /* the field over the octahedron: O(n) Dijkstra runs */
-        fo.field.mode = LAPPED_FIELD_CONSTRAINTS;
-        fo.field.constraints = c;
-        fo.field.nconstraints = n;
-        fo.field.scale = flags >> 2 & 1 ? 0.5f : 0.0f;
-        r = lapped_compute_field(&mesh, &fo, s, t, &err);
+        fo.field = LAPPED_FIELD_CONSTRAINTS;
+        fo.constraints = c;
+        fo.nconstraints = n;
+        fo.scale = flags >> 2 & 1 ? 0.5f : 0.0f;
+        r = lapped_compute_field(&mesh, &fo, &f, &err);
         if (r == LAPPED_OK) {
+            FZ_CHECK(f.ntris == 8);
             for (i = 0; i < 8; i++) { /* |t| may be tiny (a scale of 1e-30), never 0 */
-                for (k = 0; k < 3; k++) FZ_CHECK(fz_finite(s[3 * i + k]) && fz_finite(t[3 * i + k]));
-                FZ_CHECK(t[3 * i] != 0.0f || t[3 * i + 1] != 0.0f || t[3 * i + 2] != 0.0f);
+                for (k = 0; k < 3; k++) FZ_CHECK(fz_finite(f.s[3 * i + k]) && fz_finite(f.t[3 * i + k]));
+                FZ_CHECK(f.t[3 * i] != 0.0f || f.t[3 * i + 1] != 0.0f || f.t[3 * i + 2] != 0.0f);
             }
+            lapped_field_free(&f);
         } else {
             fz_lapped_failure(r, &err);
         }
     }
-    lapped_free_constraints(c, o);
+    lapped_constraints_free(&cs);
 }
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);

@@ -3,8 +3,7 @@
  * Each input is used three ways:
  *   1. as a model file: a model that reads is written back and read again,
  *      byte for byte the same file;
- *   2. as a depth constraint file and as a directions file: constraints that
- *      read steer a fill of a small built-in mesh (type, seed, mask size and
+ *   2. as a constraint file: constraints that read steer a fill of a small built-in mesh (type, seed, mask size and
  *      a cut plane from the input's first bytes), which must succeed or fail
  *      with a known code and a message; a model that fills is covered (its
  *      composite opacity at every sample point of every tetrahedron at least
@@ -29,13 +28,11 @@ static void fz_check_err(lst_result r, const lst_error *e) { fz_check_failure((i
 static void fz_setup(void)
 {
     lst_options o = lst_default_options();
-    lst_tet_options to;
     lst_mesh s;
     lst_error e;
     if (fz_mesh.tets) return;
-    memset(&to, 0, sizeof to);
-    to.target_tets = 60;
-    FZ_CHECK(!lst_builtin_surface("sphere", &o, &s, &e) && !lst_tetrahedralize(&s, &to, &o, &fz_mesh, &e) &&
+    o.tet.target_tets = 60;
+    FZ_CHECK(!lst_builtin_mesh("sphere", &o, &s, &e) && !lst_tetrahedralize(&s, &o, &fz_mesh, NULL, &e) &&
              !lst_builtin_exemplar("rings", 8, &o, &fz_ex, NULL, &e));
     lst_mesh_free(&s);
 }
@@ -45,27 +42,27 @@ static void fz_model_file(const uint8_t *d, size_t n)
     lst_model m, b;
     lst_error e;
     pw_buf x, y;
-    lst_result r = lst_read_model_from_memory(d, n, "fuzz.lst", NULL, &m, &e);
+    lst_result r = lst_read_model(d, n, "fuzz.lst", NULL, &m, &e);
     if (r != LST_OK) {
         fz_check_err(r, &e);
         FZ_CHECK(!m.mesh.tets && !m.pastes);
         return;
     }
     memset(&x, 0, sizeof x), memset(&y, 0, sizeof y);
-    FZ_CHECK(!lst_write_model_to_func(&m, pw_buf_write, &x, &e));
-    FZ_CHECK(!lst_read_model_from_memory(x.data, x.size, "again", NULL, &b, &e));
-    FZ_CHECK(!lst_write_model_to_func(&b, pw_buf_write, &y, &e));
+    FZ_CHECK(!lst_write_model(&m, pw_buf_write, &x, &e));
+    FZ_CHECK(!lst_read_model(x.data, x.size, "again", NULL, &b, &e));
+    FZ_CHECK(!lst_write_model(&b, pw_buf_write, &y, &e));
     FZ_CHECK(x.size == y.size && !memcmp(x.data, y.data, x.size));
     free(x.data), free(y.data);
     lst_model_free(&m), lst_model_free(&b);
 }
 
 /* A fill with options from the first bytes; the model's checks. */
-static void fz_fill(const uint8_t *d, size_t n, const lst_depth_constraint *dc, int nd, const lst_field_constraint *fc,
-                    int nf)
+static void fz_fill(const uint8_t *d, size_t n, const lst_constraint *c, int nc)
 {
     lst_options o = lst_default_options();
     lst_render_options ro;
+    lst_source src;
     lst_model m;
     lst_image img;
     lst_error e;
@@ -77,14 +74,15 @@ static void fz_fill(const uint8_t *d, size_t n, const lst_depth_constraint *dc, 
     o.allocator.malloc_fn = fz_malloc, o.allocator.realloc_fn = fz_realloc, o.allocator.free_fn = fz_free;
     o.allocator.user = &heap;
     if (n > 7 && d[7] < 16) o.progress = fz_progress_fn, o.progress_user = &prog, prog.cancel_at = 1 + d[7];
-    o.type = n > 0 ? d[0] % 5 : 0;
+    o.type = (lst_type)(n > 0 ? d[0] % 5 : 0);
     o.seed = n > 1 ? d[1] : 0;
     o.samples = 1 + (n > 2 ? d[2] % 3 : 0);
     o.scale = 0.8f + (n > 3 ? d[3] % 8 : 0) * 0.2f;
-    o.depth = dc, o.ndepth = nd, o.field = fc, o.nfield = nf;
+    o.constraints = c, o.nconstraints = nc;
     o.max_pastes = 3000;
     if (n > 6) plane[0] = (d[4] - 128) / 64.0f, plane[1] = (d[5] - 128) / 64.0f, plane[3] = (d[6] - 128) / 256.0f;
-    r = lst_create(&fz_mesh, NULL, &fz_ex, NULL, &o, &m, &e);
+    src.exemplar = &fz_ex, src.values = NULL;
+    r = lst_create(&fz_mesh, NULL, &src, &o, &m, &e);
     if (r != LST_OK) {
         fz_check_err(r, &e);
         FZ_CHECK(!m.mesh.tets && !m.pastes && heap.live == 0);
@@ -123,20 +121,18 @@ static void fz_fill(const uint8_t *d, size_t n, const lst_depth_constraint *dc, 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
-    lst_depth_constraint *dc = NULL;
-    lst_field_constraint *fc = NULL;
+    lst_constraints c;
     lst_error e;
     lst_result r;
-    int nd = 0, nf = 0;
     fz_setup();
     fz_model_file(data, size);
-    r = lst_read_depth_from_memory(data, size, "fuzz.depth", NULL, &dc, &nd, &e);
-    if (r != LST_OK) fz_check_err(r, &e);
-    else fz_fill(data, size, dc, nd, NULL, 0);
-    r = lst_read_directions_from_memory(data, size, "fuzz.dirs", NULL, &fc, &nf, &e);
-    if (r != LST_OK) fz_check_err(r, &e);
-    else fz_fill(data, size, NULL, 0, fc, nf);
-    if (size < 16) fz_fill(data, size, NULL, 0, NULL, 0);
-    lst_free_constraints(dc, fc, NULL);
+    r = lst_read_constraints(data, size, "fuzz.constraints", NULL, &c, &e);
+    if (r != LST_OK) {
+        fz_check_err(r, &e);
+        FZ_CHECK(!c.items && !c.count);
+    } else
+        fz_fill(data, size, c.items, c.count);
+    if (size < 16) fz_fill(data, size, NULL, 0);
+    lst_constraints_free(&c);
     return 0;
 }

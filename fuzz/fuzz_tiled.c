@@ -13,7 +13,7 @@ static void run_mesh(const uint8_t *data, size_t size, tiled_options *o)
     tiled_mesh mesh, q;
     tiled_layout l = o->layout;
     tiled_error err;
-    if (tiled_load_mesh_from_memory(data, size, "fuzz", o, &mesh, &err)) return;
+    if (tiled_read_mesh(data, size, "fuzz", o, &mesh, &err)) return;
     if (mesh.face_start[mesh.nfaces] <= 4096) {
         l.tile_size = 16;
         o->smooth = 1;
@@ -28,7 +28,7 @@ static void run_image(const uint8_t *data, size_t size, tiled_options *o)
     tiled_tileset ts;
     tiled_validation v;
     tiled_error err;
-    if (tiled_load_image_from_memory(data, size, "fuzz", o, &img, &err)) return;
+    if (tiled_read_image(data, size, "fuzz", o, &img, &err)) return;
     if (img.width <= 64 && img.height <= 64) {
         o->layout.tile_size = 8;
         if (tiled_synthesize(&img, o, &ts, &err) == TILED_OK) tiled_tileset_free(&ts);

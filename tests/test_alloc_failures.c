@@ -69,8 +69,8 @@ static int lapped_run(void *user, void *data)
 {
     lapped_job *j = (lapped_job *)data;
     lapped_options o = lapped_default_options();
-    lapped_render_options ro;
     lapped_image patch, pic;
+    lapped_source src;
     lapped_texture t;
     lapped_error err;
     size_t bytes = 0;
@@ -79,15 +79,15 @@ static int lapped_run(void *user, void *data)
     o.allocator.realloc_fn = pwt_realloc;
     o.allocator.free_fn = pwt_free;
     o.allocator.user = user;
-    o.field.scale = 2.0f;
-    memset(&ro, 0, sizeof ro);
-    ro.width = 32, ro.height = 24, ro.supersample = 1;
+    o.scale = 2.0f;
+    o.render.width = 32, o.render.height = 24, o.render.supersample = 1;
+    src.patches = &patch, src.npatches = 1, src.values = NULL;
     if ((r = lapped_make_patch(&j->texture, NULL, &o, &patch, &err)) != LAPPED_OK) return r;
-    if ((r = lapped_create(&j->mesh, &patch, 1, &o, &t, &err)) == LAPPED_OK) {
-        r = lapped_render(&j->mesh, &t, &patch, NULL, &ro, &pic, &err);
+    if ((r = lapped_create(&j->mesh, &src, &o, &t, &err)) == LAPPED_OK) {
+        r = lapped_render(&j->mesh, &t, &src, &o.render, &pic, &err);
         if (r == LAPPED_OK) {
             lapped_image_free(&pic);
-            r = lapped_write_pastes_to_func(&t, count_bytes, &bytes, &err);
+            r = lapped_write_pastes(&t, count_bytes, &bytes, &err);
         }
         lapped_texture_free(&t);
     }
@@ -101,8 +101,8 @@ static void t_lapped(void)
     lapped_error err;
     lapped_job j;
     long points;
-    REQUIRE(lapped_load_mesh_from_memory(octa_obj, sizeof octa_obj - 1, "octa.obj", &o, &j.mesh, &err) == LAPPED_OK);
-    REQUIRE(lapped_builtin_texture("scales", 24, &o, &j.texture, &err) == LAPPED_OK);
+    REQUIRE(lapped_read_mesh(octa_obj, sizeof octa_obj - 1, "octa.obj", &o, &j.mesh, &err) == LAPPED_OK);
+    REQUIRE(lapped_builtin_exemplar("scales", 24, &o, &j.texture, &err) == LAPPED_OK);
     points = sweep("lapped", lapped_run, &j, LAPPED_ERR_NOMEM);
     pwt_info("lapped_make_patch + lapped_create + lapped_render + paste file: %ld allocation failure points", points);
     CHECK(points > 50);
@@ -122,11 +122,12 @@ static int pgp_run(void *user, void *data)
     pgp_job *j = (pgp_job *)data;
     pgp_options o = pgp_default_options();
     pgp_render_options ro;
-    pgp_map *P = NULL;
+    pgp_map P;
+    pgp_constraint c[3];
+    pgp_constraints cons;
     pgp_area area;
     pgp_image pic;
     pgp_error err;
-    float dir[3] = {1.0f, 0.0f, 0.0f};
     size_t bytes = 0;
     int r, id = -1;
     o.allocator.malloc_fn = pwt_malloc;
@@ -135,15 +136,23 @@ static int pgp_run(void *user, void *data)
     o.allocator.user = user;
     memset(&ro, 0, sizeof ro);
     ro.width = 32, ro.height = 24, ro.supersample = 1;
-    if ((r = pgp_create(&j->mesh, &o, &P, &err)) != PGP_OK) return P ? -1 : r;
-    r = pgp_add_orientation(P, 10, dir, 0.8f, &id, &area, &err);
-    if (r == PGP_OK) pgp_area_free(&area), r = pgp_add_material(P, 3, 1.0f, 0.0f, NULL, NULL, &err);
-    if (r == PGP_OK) r = pgp_add_scale(P, 7, 0.3f, 0.4f, NULL, NULL, &err);
-    if (r == PGP_OK) r = pgp_remove_constraint(P, id, NULL, &err);
-    if (r == PGP_OK) r = pgp_apply_constraints_from_memory(P, "radius 0.3\nmaterial 5 0.5\n", 26, "c.txt", &err);
-    if (r == PGP_OK && (r = pgp_render(P, &j->tile, &ro, &pic, &err)) == PGP_OK) pgp_image_free(&pic);
-    if (r == PGP_OK) r = pgp_write_obj_to_func(&j->mesh, P, count_bytes, &bytes, &err);
-    pgp_destroy(P);
+    memset(c, 0, sizeof c);
+    c[0].kind = PGP_CONSTRAINT_MATERIAL, c[0].element = 3, c[0].value[0] = 1.0f;
+    c[1].kind = PGP_CONSTRAINT_ORIENT, c[1].element = 10, c[1].value[0] = 1.0f, c[1].radius = 0.8f;
+    c[2].kind = PGP_CONSTRAINT_SCALE, c[2].element = 7, c[2].value[0] = 0.3f, c[2].radius = 0.4f;
+    o.constraints = c;
+    o.nconstraints = 1;
+    if ((r = pgp_create(&j->mesh, &o, &P, &err)) != PGP_OK) return P.state ? -1 : r;
+    r = pgp_add_constraint(&P, &c[1], &id, &area, &err);
+    if (r == PGP_OK) pgp_area_free(&area), r = pgp_add_constraint(&P, &c[2], NULL, NULL, &err);
+    if (r == PGP_OK) r = pgp_remove_constraint(&P, id, NULL, &err);
+    if (r == PGP_OK && (r = pgp_read_constraints("radius 0.3\nmaterial 5 0.5\n", 26, "c.txt", &o, &cons, &err)) == PGP_OK) {
+        r = pgp_add_constraint(&P, &cons.items[0], NULL, NULL, &err);
+        pgp_constraints_free(&cons);
+    }
+    if (r == PGP_OK && (r = pgp_render(&P, &j->tile, &ro, &pic, &err)) == PGP_OK) pgp_image_free(&pic);
+    if (r == PGP_OK) r = pgp_write_obj(&j->mesh, &P, count_bytes, &bytes, &err);
+    pgp_map_free(&P);
     return r;
 }
 
@@ -153,10 +162,10 @@ static void t_pgp(void)
     pgp_error err;
     pgp_job j;
     long points;
-    REQUIRE(pgp_load_mesh_from_memory(octa_obj, sizeof octa_obj - 1, "octa.obj", &o, &j.mesh, &err) == PGP_OK);
+    REQUIRE(pgp_read_mesh(octa_obj, sizeof octa_obj - 1, "octa.obj", &o, &j.mesh, &err) == PGP_OK);
     REQUIRE(pgp_builtin_tile("bricks", 16, &o, &j.tile, &err) == PGP_OK);
     points = sweep("pgp", pgp_run, &j, PGP_ERR_NOMEM);
-    pwt_info("pgp_create + 3 constraints, a removal, a constraints file, pgp_render, OBJ: %ld allocation failure "
+    pwt_info("pgp_create with a constraint + 2 more, a removal, a constraints file, pgp_render, OBJ: %ld allocation failure "
              "points", points);
     CHECK(points > 50);
     pgp_mesh_free(&j.mesh);

@@ -29,6 +29,15 @@
 #include "lst.h"
 #include "pwtest.h"
 
+/* lst_create with the exemplar and its extra channel (may be NULL) as arguments. */
+static lst_result create_model(const lst_tetmesh *m, const lst_mesh *s, const lst_volume *ex, const lst_volume *val,
+                               const lst_options *o, lst_model *out, lst_error *err)
+{
+    lst_source src;
+    src.exemplar = ex, src.values = val;
+    return lst_create(m, s, &src, o, out, err);
+}
+
 /* A tetrahedron of side ~1 at (x, 0, 0), as OBJ text (1-based indices
  * offset by base). */
 static int tet_obj(char *out, size_t cap, float x, int base)
@@ -101,7 +110,7 @@ static void run_tiled(const char *obj, size_t len, const bad_case *c)
     tiled_layout l;
     tiled_mesh m, q;
     tiled_error err;
-    tiled_result r = tiled_load_mesh_from_memory(obj, len, c->name, &o, &m, &err);
+    tiled_result r = tiled_read_mesh(obj, len, c->name, &o, &m, &err);
     if (c->load_fails) {
         CHECKF(r != TILED_OK && has_word(err.message, c->words), "%s: tiled load: %s", c->name, err.message);
         if (r == TILED_OK) tiled_mesh_free(&m);
@@ -127,20 +136,22 @@ static void run_lapped(const char *obj, size_t len, const bad_case *c)
     lapped_options o = lapped_default_options();
     lapped_mesh m;
     lapped_image tex, patch;
+    lapped_source src;
     lapped_texture t;
     lapped_error err;
-    lapped_result r = lapped_load_mesh_from_memory(obj, len, c->name, &o, &m, &err);
+    lapped_result r = lapped_read_mesh(obj, len, c->name, &o, &m, &err);
     if (c->load_fails) {
         CHECKF(r != LAPPED_OK && has_word(err.message, c->words), "%s: lapped load: %s", c->name, err.message);
         if (r == LAPPED_OK) lapped_mesh_free(&m);
         return;
     }
     REQUIRE(r == LAPPED_OK);
-    REQUIRE(lapped_builtin_texture("dots", 32, &o, &tex, &err) == LAPPED_OK);
+    REQUIRE(lapped_builtin_exemplar("dots", 32, &o, &tex, &err) == LAPPED_OK);
     REQUIRE(lapped_make_patch(&tex, NULL, &o, &patch, &err) == LAPPED_OK);
-    o.field.mode = LAPPED_FIELD_ISOTROPIC;
-    o.field.scale = 0.8f;
-    r = lapped_create(&m, &patch, 1, &o, &t, &err);
+    o.field = LAPPED_FIELD_ISOTROPIC;
+    o.scale = 0.8f;
+    src.patches = &patch, src.npatches = 1, src.values = NULL;
+    r = lapped_create(&m, &src, &o, &t, &err);
     CHECKF((int)r == c->lapped, "%s: lapped gave %d (%s), expected %d", c->name, r, r ? err.message : "ok", c->lapped);
     if (r != LAPPED_OK) CHECKF(has_word(err.message, c->words), "%s: lapped message: %s", c->name, err.message);
     else {
@@ -156,9 +167,9 @@ static void run_pgp(const char *obj, size_t len, const bad_case *c)
 {
     pgp_options o = pgp_default_options();
     pgp_mesh m;
-    pgp_map *P = NULL;
+    pgp_map P;
     pgp_error err;
-    pgp_result r = pgp_load_mesh_from_memory(obj, len, c->name, &o, &m, &err);
+    pgp_result r = pgp_read_mesh(obj, len, c->name, &o, &m, &err);
     if (c->load_fails) {
         CHECKF(r != PGP_OK && has_word(err.message, c->words), "%s: pgp load: %s", c->name, err.message);
         if (r == PGP_OK) pgp_mesh_free(&m);
@@ -167,14 +178,11 @@ static void run_pgp(const char *obj, size_t len, const bad_case *c)
     REQUIRE(r == PGP_OK);
     r = pgp_create(&m, &o, &P, &err);
     CHECKF((int)r == c->pgp, "%s: pgp gave %d (%s), expected %d", c->name, r, r ? err.message : "ok", c->pgp);
-    if (r != PGP_OK) CHECKF(has_word(err.message, c->words) && !P, "%s: pgp message: %s", c->name, err.message);
+    if (r != PGP_OK) CHECKF(has_word(err.message, c->words) && !P.state, "%s: pgp message: %s", c->name, err.message);
     else {
-        int nf = pgp_triangle_count(P), k;
-        float *stm = (float *)malloc(sizeof(float) * 9 * (size_t)nf);
-        pgp_get_coords(P, stm);
-        for (k = 0; k < 9 * nf; k++) CHECK(stm[k] == stm[k] && stm[k] - stm[k] == 0.0f);
-        free(stm);
-        pgp_destroy(P);
+        int k;
+        for (k = 0; k < 9 * P.ntris; k++) CHECK(P.coords[k] == P.coords[k] && P.coords[k] - P.coords[k] == 0.0f);
+        pgp_map_free(&P);
     }
     pgp_mesh_free(&m);
 }
@@ -183,27 +191,25 @@ static void run_pgp(const char *obj, size_t len, const bad_case *c)
 static void run_lst(const char *obj, size_t len, const bad_case *c)
 {
     lst_options o = lst_default_options();
-    lst_tet_options to;
     lst_mesh m;
     lst_tetmesh tets;
     lst_volume ex;
     lst_model model;
     lst_error err;
-    lst_result r = lst_load_mesh_from_memory(obj, len, c->name, &o, &m, &err);
+    lst_result r = lst_read_mesh(obj, len, c->name, &o, &m, &err);
     if (c->load_fails) {
         CHECKF(r != LST_OK && has_word(err.message, c->words), "%s: lst load: %s", c->name, err.message);
         if (r == LST_OK) lst_mesh_free(&m);
         return;
     }
     REQUIRE(r == LST_OK);
-    memset(&to, 0, sizeof to);
-    to.target_tets = 2000;
-    r = lst_tetrahedralize(&m, &to, &o, &tets, &err);
+    o.tet.target_tets = 2000;
+    r = lst_tetrahedralize(&m, &o, &tets, NULL, &err);
     CHECKF((int)r == c->lst, "%s: lst gave %d (%s), expected %d", c->name, r, r ? err.message : "ok", c->lst);
     if (r != LST_OK) CHECKF(has_word(err.message, c->words), "%s: lst message: %s", c->name, err.message);
     else {
         REQUIRE(lst_builtin_exemplar("spots", 16, &o, &ex, NULL, &err) == LST_OK);
-        r = lst_create(&tets, &m, &ex, NULL, &o, &model, &err);
+        r = create_model(&tets, &m, &ex, NULL, &o, &model, &err);
         CHECKF(r == LST_OK && model.npastes > 0, "%s: lst fill: %s", c->name, r ? err.message : "no pastes");
         if (r == LST_OK) lst_model_free(&model);
         lst_volume_free(&ex);

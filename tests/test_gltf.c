@@ -64,9 +64,9 @@ static void t_container(void)
     uint32_t jl, bl;
     REQUIRE(torus(&q, &ts));
     memset(&view, 0, sizeof view);
-    REQUIRE(tiled_write_gltf_to_func(&q, &ts.atlas, &view, mem_write, &a, &e) == TILED_OK);
-    REQUIRE(tiled_write_gltf_to_func(&q, &ts.atlas, &view, mem_write, &b, &e) == TILED_OK);
-    REQUIRE(tiled_write_gltf_to_func(&q, NULL, NULL, mem_write, &c, &e) == TILED_OK);
+    REQUIRE(tiled_write_gltf(&q, &ts.atlas, &view, mem_write, &a, &e) == TILED_OK);
+    REQUIRE(tiled_write_gltf(&q, &ts.atlas, &view, mem_write, &b, &e) == TILED_OK);
+    REQUIRE(tiled_write_gltf(&q, NULL, NULL, mem_write, &c, &e) == TILED_OK);
     CHECK(a.size == b.size && !memcmp(a.data, b.data, a.size));
     REQUIRE(a.size > 28);
     CHECK(!memcmp(a.data, "glTF", 4) && le32(a.data + 4) == 2 && le32(a.data + 8) == a.size);
@@ -91,19 +91,19 @@ static void t_errors(void)
     mem m = {NULL, 0, 0, -1};
     float *uvs, keep;
     REQUIRE(torus(&q, &ts));
-    CHECK(tiled_write_gltf_to_func(&q, &ts.atlas, NULL, NULL, NULL, &e) == TILED_ERR_INVALID);
+    CHECK(tiled_write_gltf(&q, &ts.atlas, NULL, NULL, NULL, &e) == TILED_ERR_INVALID);
     uvs = q.uvs;
     q.uvs = NULL;
-    CHECK(tiled_write_gltf_to_func(&q, &ts.atlas, NULL, mem_write, &m, &e) == TILED_ERR_INVALID &&
+    CHECK(tiled_write_gltf(&q, &ts.atlas, NULL, mem_write, &m, &e) == TILED_ERR_INVALID &&
           strstr(e.message, "texture coordinates"));
     q.uvs = uvs;
     keep = q.positions[7];
     q.positions[7] = 0.0f / 0.0f;
-    CHECK(tiled_write_gltf_to_func(&q, &ts.atlas, NULL, mem_write, &m, &e) != TILED_OK && strstr(e.message, "vertex 2"));
+    CHECK(tiled_write_gltf(&q, &ts.atlas, NULL, mem_write, &m, &e) != TILED_OK && strstr(e.message, "vertex 2"));
     q.positions[7] = keep;
     CHECK(m.size == 0);
     m.fail_after = 1000;
-    CHECK(tiled_write_gltf_to_func(&q, &ts.atlas, NULL, mem_write, &m, &e) == TILED_ERR_IO);
+    CHECK(tiled_write_gltf(&q, &ts.atlas, NULL, mem_write, &m, &e) == TILED_ERR_IO);
     free(m.data);
     tiled_mesh_free(&q);
     tiled_tileset_free(&ts);
@@ -151,7 +151,7 @@ static void t_alloc_failures(void)
         mem m = {NULL, 0, 0, -1};
         tiled_result r;
         count = live = 0;
-        r = tiled_write_gltf_to_func(&q, &ts.atlas, &view, mem_write, &m, &e);
+        r = tiled_write_gltf(&q, &ts.atlas, &view, mem_write, &m, &e);
         free(m.data);
         if (live != 0 || (r != TILED_OK && r != TILED_ERR_NOMEM)) bad++;
         if (r == TILED_OK) break;

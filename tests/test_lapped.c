@@ -18,7 +18,7 @@ static int make_patch(const char *texture, int size, lapped_options *o, lapped_i
 {
     lapped_image tex;
     lapped_error err;
-    int ok = lapped_builtin_texture(texture, size, o, &tex, &err) == LAPPED_OK &&
+    int ok = lapped_builtin_exemplar(texture, size, o, &tex, &err) == LAPPED_OK &&
              lapped_make_patch(&tex, NULL, o, patch, &err) == LAPPED_OK;
     CHECKF(ok, "patch: %s", err.message);
     lapped_image_free(&tex);
@@ -60,17 +60,28 @@ static float dense_coverage(const lapped_texture *t, const lapped_image *patches
     return worst;
 }
 
+/* The source of n patches, without values. */
+static lapped_source patches_of(const lapped_image *patches, int n)
+{
+    lapped_source src;
+    src.patches = patches;
+    src.npatches = n;
+    src.values = NULL;
+    return src;
+}
+
 /* Runs lapped_create on a built-in mesh and texture. */
 static int create(const char *mesh_name, const char *texture, lapped_options *o, lapped_mesh *mesh,
                   lapped_image *patch, lapped_texture *t)
 {
     lapped_error err;
+    lapped_source src = patches_of(patch, 1);
     if (lapped_builtin_mesh(mesh_name, o, mesh, &err) != LAPPED_OK) {
         CHECKF(0, "mesh: %s", err.message);
         return 0;
     }
     if (!make_patch(texture, 64, o, patch)) return 0;
-    if (lapped_create(mesh, patch, 1, o, t, &err) != LAPPED_OK) {
+    if (lapped_create(mesh, &src, o, t, &err) != LAPPED_OK) {
         CHECKF(0, "create: %s", err.message);
         return 0;
     }
@@ -87,8 +98,8 @@ static void coverage_case(const char *mesh_name, const char *texture, int mode)
     lapped_texture t;
     double below;
     float worst;
-    o.field.mode = mode;
-    o.field.scale = 0.5f;
+    o.field = mode;
+    o.scale = 0.5f;
     o.keep_hidden = getenv("KEEP") != NULL;
     if (!create(mesh_name, texture, &o, &mesh, &patch, &t)) return;
     worst = dense_coverage(&t, &patch, 0.99f, &below);
@@ -116,14 +127,16 @@ static void alignment_errors(const lapped_mesh *mesh, const lapped_texture *t, c
     pw_trimesh m;
     pw_alloc a;
     pw_err e;
-    float *s = (float *)malloc(sizeof(float) * 3 * t->ntris), *tt = (float *)malloc(sizeof(float) * 3 * t->ntris);
+    lapped_field field;
+    float *s, *tt;
     double *errs;
     long n = 0, total = 0;
     int p, i, k;
     lapped_error le;
     memset(&a, 0, sizeof a);
     pw_err_clear(&e);
-    REQUIRE(lapped_compute_field(mesh, o, s, tt, &le) == LAPPED_OK);
+    REQUIRE(lapped_compute_field(mesh, o, &field, &le) == LAPPED_OK);
+    s = field.s, tt = field.t;
     REQUIRE(lapped__mesh_init(&a, mesh, &m, &e) == PW_OK);
     for (p = 0; p < t->npastes; p++) total += t->pastes[p].nfaces;
     errs = (double *)malloc(sizeof(double) * (size_t)total);
@@ -145,8 +158,7 @@ static void alignment_errors(const lapped_mesh *mesh, const lapped_texture *t, c
     *median = errs[n / 2];
     *p90 = errs[(long)(0.9 * (n - 1))];
     free(errs);
-    free(s);
-    free(tt);
+    lapped_field_free(&field);
     pw_trimesh_free(&a, &m);
 }
 
@@ -159,11 +171,11 @@ static void t_alignment(void)
     lapped_image patch;
     lapped_texture t;
     double med = 1.0, p90 = 1.0;
-    o.field.mode = LAPPED_FIELD_UP;
-    o.field.up[0] = 0.3f;
-    o.field.up[1] = 1.0f;
-    o.field.up[2] = 0.2f;
-    o.field.scale = 0.4f;
+    o.field = LAPPED_FIELD_UP;
+    o.up[0] = 0.3f;
+    o.up[1] = 1.0f;
+    o.up[2] = 0.2f;
+    o.scale = 0.4f;
     o.keep_hidden = 1;
     if (!create("bumpy", "scales", &o, &mesh, &patch, &t)) return;
     alignment_errors(&mesh, &t, &o, &med, &p90);
@@ -209,8 +221,8 @@ static void t_disc_topology(void)
     pw_alloc a;
     pw_err e;
     int p, bad = 0, *in_set, *vmark, *ends;
-    o.field.mode = LAPPED_FIELD_ISOTROPIC;
-    o.field.scale = 0.6f;
+    o.field = LAPPED_FIELD_ISOTROPIC;
+    o.scale = 0.6f;
     o.keep_hidden = 1;
     if (!create("torus", "dots", &o, &mesh, &patch, &t)) return;
     memset(&a, 0, sizeof a);
@@ -244,9 +256,9 @@ static void pastes_text(unsigned long long seed, pw_buf *out)
     lapped_error err;
     memset(out, 0, sizeof *out);
     o.seed = seed;
-    o.field.scale = 0.5f;
+    o.scale = 0.5f;
     if (!create("sphere", "scales", &o, &mesh, &patch, &t)) return;
-    CHECK(lapped_write_pastes_to_func(&t, buf_sink, out, &err) == LAPPED_OK);
+    CHECK(lapped_write_pastes(&t, buf_sink, out, &err) == LAPPED_OK);
     lapped_texture_free(&t);
     lapped_image_free(&patch);
     lapped_mesh_free(&mesh);
@@ -272,6 +284,7 @@ static void t_pastes_roundtrip(void)
     lapped_mesh mesh;
     lapped_image patch, p1, p2;
     lapped_texture t, back;
+    lapped_source src = patches_of(&patch, 1);
     lapped_error err;
     pw_buf a, b;
     memset(&a, 0, sizeof a);
@@ -279,14 +292,14 @@ static void t_pastes_roundtrip(void)
     memset(&ro, 0, sizeof ro);
     ro.width = 96;
     ro.height = 72;
-    o.field.scale = 0.5f;
+    o.scale = 0.5f;
     if (!create("torus", "stripes", &o, &mesh, &patch, &t)) return;
-    REQUIRE(lapped_write_pastes_to_func(&t, buf_sink, &a, &err) == LAPPED_OK);
-    REQUIRE(lapped_read_pastes_from_memory(a.data, a.size, "x.pastes", &o, &back, &err) == LAPPED_OK);
-    REQUIRE(lapped_write_pastes_to_func(&back, buf_sink, &b, &err) == LAPPED_OK);
+    REQUIRE(lapped_write_pastes(&t, buf_sink, &a, &err) == LAPPED_OK);
+    REQUIRE(lapped_read_pastes(a.data, a.size, "x.pastes", &o, &back, &err) == LAPPED_OK);
+    REQUIRE(lapped_write_pastes(&back, buf_sink, &b, &err) == LAPPED_OK);
     CHECK(a.size == b.size && !memcmp(a.data, b.data, a.size));
-    REQUIRE(lapped_render(&mesh, &t, &patch, NULL, &ro, &p1, &err) == LAPPED_OK);
-    REQUIRE(lapped_render(&mesh, &back, &patch, NULL, &ro, &p2, &err) == LAPPED_OK);
+    REQUIRE(lapped_render(&mesh, &t, &src, &ro, &p1, &err) == LAPPED_OK);
+    REQUIRE(lapped_render(&mesh, &back, &src, &ro, &p2, &err) == LAPPED_OK);
     CHECK(!memcmp(p1.pixels, p2.pixels, sizeof(float) * 96 * 72 * 3));
     lapped_image_free(&p1);
     lapped_image_free(&p2);
@@ -313,38 +326,71 @@ static void t_pastes_malformed(void)
     lapped_error err;
     size_t k;
     for (k = 0; k < sizeof bad / sizeof bad[0]; k++) {
-        lapped_result r = lapped_read_pastes_from_memory(bad[k], strlen(bad[k]), "bad.pastes", NULL, &t, &err);
+        lapped_result r = lapped_read_pastes(bad[k], strlen(bad[k]), "bad.pastes", NULL, &t, &err);
         CHECKF(r != LAPPED_OK, "case %d was accepted", (int)k);
         CHECKF(strstr(err.message, "bad.pastes") != NULL, "case %d: %s", (int)k, err.message);
     }
 }
 
-/* Constraint files: the documented line format, then malformed lines,
- * each refused with the file name and line. "0 1e39 0 0" is finite as a
- * double but not as a float (fuzz_lapped_files found it accepted). */
+/* Constraint files: the documented keyword lines (after a UTF-8
+ * byte-order mark), then malformed lines, each refused with the file name
+ * and line. "orient 0 1e39 0 0" is finite as a double but not as a float
+ * (fuzz_lapped_files found it accepted). */
 static void t_constraints_file(void)
 {
-    static const char good[] = "# face dx dy dz [scale [radius [weight]]]\n"
-                               "3 0 1 0\n"
-                               "7 1 0 0 0.5 2 0.25   # a comment\n";
+    static const char good[] = "\xEF\xBB\xBF# orient face dx dy dz [scale [radius [weight]]]\n"
+                               "orient 3 0 1 0\n"
+                               "\n"
+                               "  orient 7 1 0 0 0.5 2 0.25   # a comment\n";
     static const char *bad[] = {
-        "", "# only a comment\n", "3 0 1\n", "3 0 1 0 1 1 1 1\n", "-1 0 1 0\n", "x 0 1 0\n",
-        "3 nan 1 0\n", "3 0 inf 0\n", "0 1e39 0 0\n", "0 0 1 0 -1e300\n",
+        "", "# only a comment\n", "orient 3 0 1\n", "orient 3 0 1 0 1 1 1 1\n", "orient -1 0 1 0\n",
+        "orient x 0 1 0\n", "orient 3 nan 1 0\n", "orient 3 0 inf 0\n", "orient 0 1e39 0 0\n",
+        "orient 0 0 1 0 -1e300\n", "orient\n", "x 0 1 0\n",
     };
-    lapped_constraint *c = NULL;
+    static const char kw[] = "orient 1 0 1 0\nscale 2 0.5\n";
+    lapped_constraints c;
     lapped_error err;
-    int n = 0;
     size_t k;
-    REQUIRE(lapped_read_constraints_from_memory(good, sizeof good - 1, "good.txt", NULL, &c, &n, &err) == LAPPED_OK);
-    CHECK_EQ_INT(n, 2);
-    CHECK(c[0].face == 3 && c[0].direction[1] == 1.0f && c[0].scale == 0.0f && c[0].weight == 0.0f);
-    CHECK(c[1].face == 7 && c[1].scale == 0.5f && c[1].radius == 2.0f && c[1].weight == 0.25f);
-    lapped_free_constraints(c, NULL);
+    REQUIRE(lapped_read_constraints(good, sizeof good - 1, "good.txt", NULL, &c, &err) == LAPPED_OK);
+    CHECKF(err.message[0] == 0, "a warning for keyword lines: %s", err.message);
+    CHECK_EQ_INT(c.count, 2);
+    CHECK(c.items[0].face == 3 && c.items[0].direction[1] == 1.0f && c.items[0].scale == 0.0f &&
+          c.items[0].weight == 0.0f);
+    CHECK(c.items[1].face == 7 && c.items[1].scale == 0.5f && c.items[1].radius == 2.0f && c.items[1].weight == 0.25f);
+    lapped_constraints_free(&c);
+    CHECK(c.count == 0 && c.items == NULL);
+    lapped_constraints_free(&c); /* safe on a freed struct, and on NULL */
+    lapped_constraints_free(NULL);
     for (k = 0; k < sizeof bad / sizeof bad[0]; k++) {
-        lapped_result r = lapped_read_constraints_from_memory(bad[k], strlen(bad[k]), "bad.txt", NULL, &c, &n, &err);
+        lapped_result r = lapped_read_constraints(bad[k], strlen(bad[k]), "bad.txt", NULL, &c, &err);
         CHECKF(r != LAPPED_OK, "case %d (%s) was accepted", (int)k, bad[k]);
-        CHECKF(strstr(err.message, "bad.txt") != NULL, "case %d: %s", (int)k, err.message);
+        CHECKF(strstr(err.message, k < 2 ? "bad.txt: no constraints" : "bad.txt:1:") != NULL, "case %d: %s", (int)k,
+               err.message);
+        CHECK(c.count == 0 && c.items == NULL);
     }
+    /* an unknown keyword names itself and its line */
+    REQUIRE(lapped_read_constraints(kw, strlen(kw), "kw.txt", NULL, &c, &err) == LAPPED_ERR_PARSE);
+    CHECKF(strstr(err.message, "kw.txt:2:") && strstr(err.message, "unknown keyword 'scale'"), "%s", err.message);
+}
+
+/* The old positional lines (no keyword) are still read, with one warning
+ * naming the first of them; the call succeeds (rule C1). */
+static void t_constraints_positional(void)
+{
+    static const char old[] = "# the format before 0.9\n"
+                              "orient 1 0 1 0\n"
+                              "3 0 1 0\n"
+                              "7 1 0 0 0.5 2 0.25\n";
+    lapped_constraints c;
+    lapped_error err;
+    REQUIRE(lapped_read_constraints(old, sizeof old - 1, "old.txt", NULL, &c, &err) == LAPPED_OK);
+    CHECK_EQ_INT(err.code, LAPPED_OK);
+    CHECKF(!strcmp(err.message, "old.txt: line 3: positional constraint lines are deprecated; write 'orient F dx "
+                   "dy dz ...'"), "%s", err.message);
+    CHECK_EQ_INT(c.count, 3);
+    CHECK(c.items[1].face == 3 && c.items[1].direction[1] == 1.0f);
+    CHECK(c.items[2].face == 7 && c.items[2].scale == 0.5f && c.items[2].radius == 2.0f && c.items[2].weight == 0.25f);
+    lapped_constraints_free(&c);
 }
 
 /* ---- bad input ---------------------------------------------------------------------- */
@@ -354,9 +400,10 @@ static lapped_result create_text(const char *obj, const lapped_image *patch, con
 {
     lapped_mesh mesh;
     lapped_texture t;
-    lapped_result r = lapped_load_mesh_from_memory(obj, strlen(obj), "bad.obj", o, &mesh, err);
+    lapped_source src = patches_of(patch, 1);
+    lapped_result r = lapped_read_mesh(obj, strlen(obj), "bad.obj", o, &mesh, err);
     if (r != LAPPED_OK) return r;
-    r = lapped_create(&mesh, patch, 1, o, &t, err);
+    r = lapped_create(&mesh, &src, o, &t, err);
     lapped_texture_free(&t);
     lapped_mesh_free(&mesh);
     return r;
@@ -366,6 +413,7 @@ static void t_bad_input(void)
 {
     lapped_options o = lapped_default_options();
     lapped_image patch, clear;
+    lapped_source src = patches_of(&patch, 1), clear_src = patches_of(&clear, 1);
     lapped_mesh sphere;
     lapped_texture t;
     lapped_error err;
@@ -382,23 +430,26 @@ static void t_bad_input(void)
     /* a fully transparent patch */
     clear = patch;
     clear.pixels = (float *)calloc((size_t)patch.width * patch.height * 4, sizeof(float));
-    CHECK_EQ_INT(lapped_create(&sphere, &clear, 1, &o, &t, &err), LAPPED_ERR_INVALID);
+    CHECK_EQ_INT(lapped_create(&sphere, &clear_src, &o, &t, &err), LAPPED_ERR_INVALID);
     CHECKF(strstr(err.message, "transparent") != NULL, "%s", err.message);
     free(clear.pixels);
     /* absurd scales: refused up front, no hang */
-    o.field.scale = 1e-4f;
-    CHECK_EQ_INT(lapped_create(&sphere, &patch, 1, &o, &t, &err), LAPPED_ERR_LIMIT);
+    o.scale = 1e-4f;
+    CHECK_EQ_INT(lapped_create(&sphere, &src, &o, &t, &err), LAPPED_ERR_LIMIT);
     CHECKF(strstr(err.message, "pastes") != NULL, "%s", err.message);
-    o.field.scale = 1e4f;
-    CHECK_EQ_INT(lapped_create(&sphere, &patch, 1, &o, &t, &err), LAPPED_ERR_INVALID);
-    o.field.scale = -1.0f;
-    CHECK_EQ_INT(lapped_create(&sphere, &patch, 1, &o, &t, &err), LAPPED_ERR_INVALID);
-    o.field.scale = 0.5f;
+    o.scale = 1e4f;
+    CHECK_EQ_INT(lapped_create(&sphere, &src, &o, &t, &err), LAPPED_ERR_INVALID);
+    o.scale = -1.0f;
+    CHECK_EQ_INT(lapped_create(&sphere, &src, &o, &t, &err), LAPPED_ERR_INVALID);
+    o.scale = 0.5f;
     /* patches that are not RGBA, and no patches */
     clear = patch;
     clear.channels = 3;
-    CHECK_EQ_INT(lapped_create(&sphere, &clear, 1, &o, &t, &err), LAPPED_ERR_INVALID);
-    CHECK_EQ_INT(lapped_create(&sphere, &patch, 0, &o, &t, &err), LAPPED_ERR_INVALID);
+    CHECK_EQ_INT(lapped_create(&sphere, &clear_src, &o, &t, &err), LAPPED_ERR_INVALID);
+    src.npatches = 0;
+    CHECK_EQ_INT(lapped_create(&sphere, &src, &o, &t, &err), LAPPED_ERR_INVALID);
+    CHECK_EQ_INT(lapped_create(&sphere, NULL, &o, &t, &err), LAPPED_ERR_INVALID);
+    CHECKF(strstr(err.message, "no source") != NULL, "%s", err.message);
     for (k = 0; k < 1; k++) CHECK(t.pastes == NULL);
     lapped_mesh_free(&sphere);
     lapped_image_free(&patch);
@@ -417,15 +468,16 @@ static void t_cancel(void)
     lapped_options o = lapped_default_options();
     lapped_mesh mesh;
     lapped_image patch;
+    lapped_source src = patches_of(&patch, 1);
     lapped_texture t;
     lapped_error err;
     int calls = 0;
     o.progress = cancel_half;
     o.progress_user = &calls;
-    o.field.scale = 0.3f;
+    o.scale = 0.3f;
     REQUIRE(lapped_builtin_mesh("sphere", &o, &mesh, &err) == LAPPED_OK);
     if (make_patch("dots", 32, &o, &patch)) {
-        CHECK_EQ_INT(lapped_create(&mesh, &patch, 1, &o, &t, &err), LAPPED_ERR_CANCELLED);
+        CHECK_EQ_INT(lapped_create(&mesh, &src, &o, &t, &err), LAPPED_ERR_CANCELLED);
         CHECK(calls > 1 && t.pastes == NULL);
         lapped_image_free(&patch);
     }
@@ -442,17 +494,18 @@ static void real_case(const char *file, const char *texture, int mode)
     lapped_options o = lapped_default_options();
     lapped_mesh mesh;
     lapped_image tex, patch;
+    lapped_source src = patches_of(&patch, 1);
     lapped_texture t;
     lapped_error err;
     double below;
     float worst;
     snprintf(rel, sizeof rel, "textures/%s.ppm", texture);
     if (!mpath || !(tpath = pwt_data(rel))) return;
-    o.field.mode = mode;
+    o.field = mode;
     REQUIRE(lapped_load_mesh(mpath, &o, &mesh, &err) == LAPPED_OK);
     REQUIRE(lapped_load_image(tpath, &o, &tex, &err) == LAPPED_OK);
     REQUIRE(lapped_make_patch(&tex, NULL, &o, &patch, &err) == LAPPED_OK);
-    if (lapped_create(&mesh, &patch, 1, &o, &t, &err) != LAPPED_OK) {
+    if (lapped_create(&mesh, &src, &o, &t, &err) != LAPPED_OK) {
         CHECKF(0, "%s: %s", file, err.message);
     } else {
         worst = dense_coverage(&t, &patch, 0.99f, &below);
@@ -486,6 +539,7 @@ static const pwt_case cases[] = {
     {"lapped/pastes_roundtrip", t_pastes_roundtrip},
     {"lapped/pastes_malformed", t_pastes_malformed},
     {"lapped/constraints_file", t_constraints_file},
+    {"lapped/constraints_positional", t_constraints_positional},
     {"lapped/bad_input", t_bad_input},
     {"lapped/cancel", t_cancel},
     {"lapped/real_elephant", t_real_elephant},

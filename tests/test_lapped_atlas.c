@@ -763,6 +763,22 @@ static void write_pictures(const char *name, const pw_trimesh *m, const lapped_a
     pw_texture_free(NULL, &tex);
 }
 
+/* lapped_bake_atlas of the patches p (and values v, or NULL), as many as
+ * t has, with atlas options ao (NULL: those of o) and options o (NULL: the
+ * defaults). */
+static lapped_result bake(const lapped_mesh *mesh, const lapped_texture *t, const lapped_image *p,
+                          const lapped_image *v, const lapped_atlas_options *ao, const lapped_options *o,
+                          lapped_atlas *out, lapped_error *err)
+{
+    lapped_options opt = o ? *o : lapped_default_options();
+    lapped_source src;
+    src.patches = p;
+    src.npatches = t ? t->npatches : 0;
+    src.values = v;
+    if (ao) opt.atlas = *ao;
+    return lapped_bake_atlas(mesh, t, &src, &opt, out, err);
+}
+
 /* Bakes the hand-made lapped texture of `mesh` into an atlas (cone angle
  * `cone`, `gutter`) and checks everything; fill must reach fill_floor. */
 static void check_mesh_with(const char *name, const lapped_mesh *mesh, int npastes, int size, double cone, int gutter,
@@ -788,7 +804,7 @@ static void check_mesh_with(const char *name, const lapped_mesh *mesh, int npast
     ao.cone_angle = (float)cone;
     ao.gutter = gutter;
     t0 = now();
-    r = lapped_bake_atlas(mesh, &H.t, H.patches, NULL, &ao, NULL, &at, &err);
+    r = bake(mesh, &H.t, H.patches, NULL, &ao, NULL, &at, &err);
     t1 = now();
     CHECKF(r == LAPPED_OK, "%s: %s", name, err.message);
     if (r != LAPPED_OK) {
@@ -948,8 +964,8 @@ static void t_deterministic(void)
     make_texture(&m, 8, &H);
     memset(&ao, 0, sizeof ao);
     ao.size = 256;
-    REQUIRE(lapped_bake_atlas(&mesh, &H.t, H.patches, NULL, &ao, NULL, &a, &err) == LAPPED_OK);
-    REQUIRE(lapped_bake_atlas(&mesh, &H.t, H.patches, NULL, &ao, NULL, &b, &err) == LAPPED_OK);
+    REQUIRE(bake(&mesh, &H.t, H.patches, NULL, &ao, NULL, &a, &err) == LAPPED_OK);
+    REQUIRE(bake(&mesh, &H.t, H.patches, NULL, &ao, NULL, &b, &err) == LAPPED_OK);
     CHECK(a.ncharts == b.ncharts && a.fill == b.fill);
     CHECK(!memcmp(a.uvs, b.uvs, sizeof(float) * 6 * m.nf));
     CHECK(!memcmp(a.image.pixels, b.image.pixels, sizeof(float) * 3 * 256 * 256));
@@ -977,8 +993,8 @@ static void t_values(void)
     REQUIRE(small_setup(&mesh, &m, &H));
     memset(&ao, 0, sizeof ao);
     ao.size = 256;
-    REQUIRE(lapped_bake_atlas(&mesh, &H.t, H.patches, H.values, &ao, NULL, &a, &err) == LAPPED_OK);
-    REQUIRE(lapped_bake_atlas(&mesh, &H.t, H.patches, NULL, &ao, NULL, &rgb, &err) == LAPPED_OK);
+    REQUIRE(bake(&mesh, &H.t, H.patches, H.values, &ao, NULL, &a, &err) == LAPPED_OK);
+    REQUIRE(bake(&mesh, &H.t, H.patches, NULL, &ao, NULL, &rgb, &err) == LAPPED_OK);
     CHECK_EQ_INT(a.image.channels, 1);
     CHECK(!memcmp(a.uvs, rgb.uvs, sizeof(float) * 6 * m.nf)); /* the same charts */
     REQUIRE(lapped__index_build(NULL, &H.t, &ix, &e) == PW_OK);
@@ -1030,9 +1046,9 @@ static void t_obj(void)
     REQUIRE(small_setup(&mesh, &m, &H));
     memset(&ao, 0, sizeof ao);
     ao.size = 256;
-    REQUIRE(lapped_bake_atlas(&mesh, &H.t, H.patches, NULL, &ao, NULL, &a, &err) == LAPPED_OK);
-    REQUIRE(lapped_write_obj_to_func(&mesh, &a, "torus.mtl", mem_write, &obj, &err) == LAPPED_OK);
-    REQUIRE(lapped_write_mtl_to_func("torus.png", mem_write, &mtl, &err) == LAPPED_OK);
+    REQUIRE(bake(&mesh, &H.t, H.patches, NULL, &ao, NULL, &a, &err) == LAPPED_OK);
+    REQUIRE(lapped_write_obj(&mesh, &a, "torus.mtl", mem_write, &obj, &err) == LAPPED_OK);
+    REQUIRE(lapped_write_mtl("torus.png", mem_write, &mtl, &err) == LAPPED_OK);
     mem_write(&mtl, "", 1);
     CHECK(strstr(mtl.data, "newmtl lapped") && strstr(mtl.data, "map_Kd torus.png"));
     CHECK(obj.n > 0 && strstr(obj.data, "mtllib torus.mtl") && strstr(obj.data, "usemtl lapped"));
@@ -1056,7 +1072,7 @@ static void t_obj(void)
     CHECK(corners_ok);
     /* without a material: no mtllib, no usemtl */
     obj.n = 0;
-    REQUIRE(lapped_write_obj_to_func(&mesh, &a, NULL, mem_write, &obj, &err) == LAPPED_OK);
+    REQUIRE(lapped_write_obj(&mesh, &a, NULL, mem_write, &obj, &err) == LAPPED_OK);
     mem_write(&obj, "", 1);
     CHECK(!strstr(obj.data, "mtllib") && !strstr(obj.data, "usemtl"));
     free(sorted);
@@ -1076,7 +1092,7 @@ static void expect_bad(const char *what, const lapped_mesh *mesh, const lapped_t
     lapped_error err;
     lapped_result r;
     memset(&err, 0, sizeof err);
-    r = lapped_bake_atlas(mesh, t, p, v, ao, NULL, &a, &err);
+    r = bake(mesh, t, p, v, ao, NULL, &a, &err);
     CHECKF(r == code, "%s: got %d (%s), wanted %d", what, (int)r, err.message, (int)code);
     CHECKF(strstr(err.message, needle) != NULL, "%s: message \"%s\" does not name \"%s\"", what, err.message, needle);
     CHECKF(a.uvs == NULL && a.image.pixels == NULL && a.ntris == 0, "%s: atlas not zeroed", what);
@@ -1132,7 +1148,18 @@ static void t_bad_inputs(void)
     expect_bad("negative gutter", &mesh, &H.t, H.patches, NULL, &bad, LAPPED_ERR_INVALID, "gutter");
     bad = ao, bad.gutter = 65;
     expect_bad("wide gutter", &mesh, &H.t, H.patches, NULL, &bad, LAPPED_ERR_INVALID, "gutter");
-    CHECK(lapped_bake_atlas(&mesh, &H.t, H.patches, NULL, &ao, NULL, NULL, &err) == LAPPED_ERR_INVALID);
+    CHECK(bake(&mesh, &H.t, H.patches, NULL, &ao, NULL, NULL, &err) == LAPPED_ERR_INVALID);
+    { /* a source whose patch count is not the texture's, and none */
+        lapped_options o = lapped_default_options();
+        lapped_source src;
+        lapped_atlas a;
+        o.atlas = ao;
+        src.patches = H.patches, src.npatches = 1, src.values = NULL;
+        CHECKF(lapped_bake_atlas(&mesh, &H.t, &src, &o, &a, &err) == LAPPED_ERR_INVALID &&
+               strstr(err.message, "made with 2 patches, the source has 1"), "%s", err.message);
+        CHECKF(lapped_bake_atlas(&mesh, &H.t, NULL, &o, &a, &err) == LAPPED_ERR_INVALID &&
+               strstr(err.message, "no patches"), "%s", err.message);
+    }
     /* a mesh with too many charts for a tiny atlas */
     big = make_icosphere(4);
     {
@@ -1149,16 +1176,16 @@ static void t_bad_inputs(void)
     }
     free_mesh(&big);
     /* the OBJ writer checks the atlas against the mesh */
-    REQUIRE(lapped_bake_atlas(&mesh, &H.t, H.patches, NULL, &ao, NULL, &a, &err) == LAPPED_OK);
+    REQUIRE(bake(&mesh, &H.t, H.patches, NULL, &ao, NULL, &a, &err) == LAPPED_OK);
     {
         membuf b = {0, 0, 0};
         a.ntris--;
-        CHECK(lapped_write_obj_to_func(&mesh, &a, NULL, mem_write, &b, &err) == LAPPED_ERR_INVALID);
+        CHECK(lapped_write_obj(&mesh, &a, NULL, mem_write, &b, &err) == LAPPED_ERR_INVALID);
         CHECK(strstr(err.message, "triangles") != NULL);
         a.ntris++;
-        CHECK(lapped_write_obj_to_func(&mesh, &a, NULL, NULL, &b, &err) == LAPPED_ERR_INVALID);
-        CHECK(lapped_write_obj_to_func(&mesh, &a, "bad\nname", mem_write, &b, &err) == LAPPED_ERR_INVALID);
-        CHECK(lapped_write_mtl_to_func("x.png", NULL, &b, &err) == LAPPED_ERR_INVALID);
+        CHECK(lapped_write_obj(&mesh, &a, NULL, NULL, &b, &err) == LAPPED_ERR_INVALID);
+        CHECK(lapped_write_obj(&mesh, &a, "bad\nname", mem_write, &b, &err) == LAPPED_ERR_INVALID);
+        CHECK(lapped_write_mtl("x.png", NULL, &b, &err) == LAPPED_ERR_INVALID);
         free(b.data);
     }
     lapped_atlas_free(&a);
@@ -1185,14 +1212,14 @@ static void t_alloc_failures(void)
     ao.size = 64;
     o.allocator.malloc_fn = pwt_malloc, o.allocator.realloc_fn = pwt_realloc;
     o.allocator.free_fn = pwt_free, o.allocator.user = &st;
-    REQUIRE(lapped_bake_atlas(&mesh, &H.t, H.patches, NULL, &ao, &o, &a, &err) == LAPPED_OK);
+    REQUIRE(bake(&mesh, &H.t, H.patches, NULL, &ao, &o, &a, &err) == LAPPED_OK);
     lapped_atlas_free(&a);
     total = st.calls;
     CHECK_EQ_INT(st.live, 0);
     for (k = 0; k < total; k++) {
         lapped_result r;
         st.calls = 0, st.live = 0, st.fail_after = k;
-        r = lapped_bake_atlas(&mesh, &H.t, H.patches, NULL, &ao, &o, &a, &err);
+        r = bake(&mesh, &H.t, H.patches, NULL, &ao, &o, &a, &err);
         if (r == LAPPED_OK) lapped_atlas_free(&a);
         else if (r != LAPPED_ERR_NOMEM) bad++;
         if (st.live) leaks++;
@@ -1225,13 +1252,13 @@ static void t_cancel(void)
     memset(&ao, 0, sizeof ao);
     ao.size = 128;
     o.progress = cancel_after, o.progress_user = &calls;
-    REQUIRE(lapped_bake_atlas(&mesh, &H.t, H.patches, NULL, &ao, &o, &a, &err) == LAPPED_OK);
+    REQUIRE(bake(&mesh, &H.t, H.patches, NULL, &ao, &o, &a, &err) == LAPPED_OK);
     lapped_atlas_free(&a);
     n = 1000000 - calls;
     CHECK(n > 2);
     for (k = 0; k < n; k += n / 4 + 1) {
         calls = k;
-        CHECK(lapped_bake_atlas(&mesh, &H.t, H.patches, NULL, &ao, &o, &a, &err) == LAPPED_ERR_CANCELLED);
+        CHECK(bake(&mesh, &H.t, H.patches, NULL, &ao, &o, &a, &err) == LAPPED_ERR_CANCELLED);
         CHECK(a.uvs == NULL);
     }
     small_free(&mesh, &m, &H);
@@ -1246,6 +1273,7 @@ static void t_pipeline(void)
     lapped_options o = lapped_default_options();
     lapped_mesh mesh;
     lapped_image tex, patch;
+    lapped_source src;
     lapped_texture t;
     lapped_atlas at;
     lapped_error err;
@@ -1255,14 +1283,15 @@ static void t_pipeline(void)
     pw_err e;
     double t0;
     pw_err_clear(&e);
-    o.field.scale = 0.5f;
+    o.scale = 0.5f;
     REQUIRE(lapped_builtin_mesh("bumpy", &o, &mesh, &err) == LAPPED_OK);
-    REQUIRE(lapped_builtin_texture("scales", 96, &o, &tex, &err) == LAPPED_OK);
+    REQUIRE(lapped_builtin_exemplar("scales", 96, &o, &tex, &err) == LAPPED_OK);
     REQUIRE(lapped_make_patch(&tex, NULL, &o, &patch, &err) == LAPPED_OK);
-    CHECKF(lapped_create(&mesh, &patch, 1, &o, &t, &err) == LAPPED_OK, "lapped_create: %s", err.message);
+    src.patches = &patch, src.npatches = 1, src.values = NULL;
+    CHECKF(lapped_create(&mesh, &src, &o, &t, &err) == LAPPED_OK, "lapped_create: %s", err.message);
     if (err.code == LAPPED_OK) {
         t0 = now();
-        CHECKF(lapped_bake_atlas(&mesh, &t, &patch, NULL, NULL, &o, &at, &err) == LAPPED_OK, "%s", err.message);
+        CHECKF(bake(&mesh, &t, &patch, NULL, NULL, &o, &at, &err) == LAPPED_OK, "%s", err.message);
         if (err.code == LAPPED_OK) {
             REQUIRE(lapped__mesh_init(NULL, &mesh, &m, &e) == PW_OK);
             REQUIRE(lapped__index_build(NULL, &t, &ix, &e) == PW_OK);
@@ -1277,7 +1306,7 @@ static void t_pipeline(void)
                 snprintf(path, sizeof path, "%s/pipeline.obj", getenv("LAPPED_ATLAS_OUT"));
                 if ((f = fopen(path, "wb")) != NULL) {
                     membuf b = {0, 0, 0};
-                    lapped_write_obj_to_func(&mesh, &at, "pipeline.mtl", mem_write, &b, &err);
+                    lapped_write_obj(&mesh, &at, "pipeline.mtl", mem_write, &b, &err);
                     fwrite(b.data, 1, b.n, f);
                     fclose(f);
                     free(b.data);

@@ -124,8 +124,8 @@ static areas measure(const lapped_mesh *mesh, const lapped_texture *t, const lap
     pw_alloc a;
     pw_err e;
     lapped_error le;
-    float *s = (float *)malloc(sizeof(float) * 3 * (size_t)t->ntris);
-    float *ft = (float *)malloc(sizeof(float) * 3 * (size_t)t->ntris);
+    lapped_field field;
+    float *s, *ft;
     char *seen = (char *)calloc((size_t)t->ntris, 1);
     double in = 0.0, all = 0.0;
     int p, i;
@@ -133,11 +133,14 @@ static areas measure(const lapped_mesh *mesh, const lapped_texture *t, const lap
     memset(&a, 0, sizeof a);
     pw_err_clear(&e);
     r.lo = 1e30;
-    if (lapped_compute_field(mesh, o, s, ft, &le) != LAPPED_OK || lapped__mesh_init(&a, mesh, &m, &e) != PW_OK) {
+    if (lapped_compute_field(mesh, o, &field, &le) != LAPPED_OK || lapped__mesh_init(&a, mesh, &m, &e) != PW_OK) {
         CHECKF(0, "field: %s %s", le.message, e.msg);
         r.bad_pastes = -1;
+        lapped_field_free(&field);
+        free(seen);
         return r;
     }
+    s = field.s, ft = field.t;
     for (p = 0; p < t->npastes; p++) {
         const lapped_paste *q = &t->pastes[p];
         double tex, surf, inside;
@@ -153,8 +156,7 @@ static areas measure(const lapped_mesh *mesh, const lapped_texture *t, const lap
     for (i = 0; i < t->ntris; i++) r.uncovered += !seen[i];
     r.share = all > 0.0 ? in / all : 0.0;
     pw_trimesh_free(&a, &m);
-    free(s);
-    free(ft);
+    lapped_field_free(&field);
     free(seen);
     return r;
 }
@@ -176,7 +178,7 @@ static int make_patch(const char *texture, int size, lapped_options *o, lapped_i
 {
     lapped_image tex;
     lapped_error err;
-    int ok = lapped_builtin_texture(texture, size, o, &tex, &err) == LAPPED_OK &&
+    int ok = lapped_builtin_exemplar(texture, size, o, &tex, &err) == LAPPED_OK &&
              lapped_make_patch(&tex, NULL, o, patch, &err) == LAPPED_OK;
     CHECKF(ok, "patch: %s", err.message);
     lapped_image_free(&tex);
@@ -190,7 +192,8 @@ static int make_patch(const char *texture, int size, lapped_options *o, lapped_i
  * for 99% of the surface, and every coordinate finite. */
 static void check_atlas(const char *what, const lapped_mesh *mesh, const lapped_texture *t, const lapped_image *patch)
 {
-    lapped_atlas_options ao;
+    lapped_options o = lapped_default_options();
+    lapped_source src;
     lapped_atlas at;
     lapped_error err;
     pw_trimesh m;
@@ -198,11 +201,11 @@ static void check_atlas(const char *what, const lapped_mesh *mesh, const lapped_
     pw_err e;
     double tex = 0.0, surf = 0.0, in = 0.0, scale;
     int f, k, nonfinite = 0;
-    memset(&ao, 0, sizeof ao);
     memset(&a, 0, sizeof a);
     pw_err_clear(&e);
-    ao.size = 512;
-    if (lapped_bake_atlas(mesh, t, patch, NULL, &ao, NULL, &at, &err) != LAPPED_OK) {
+    o.atlas.size = 512;
+    src.patches = patch, src.npatches = 1, src.values = NULL;
+    if (lapped_bake_atlas(mesh, t, &src, &o, &at, &err) != LAPPED_OK) {
         CHECKF(0, "%s atlas: %s", what, err.message);
         return;
     }
@@ -234,9 +237,11 @@ static void create_and_check(const char *what, const lapped_mesh *mesh, const la
                              int atlas)
 {
     lapped_texture t;
+    lapped_source src;
     lapped_error err;
     areas r;
-    if (lapped_create(mesh, patch, 1, o, &t, &err) != LAPPED_OK) {
+    src.patches = patch, src.npatches = 1, src.values = NULL;
+    if (lapped_create(mesh, &src, o, &t, &err) != LAPPED_OK) {
         CHECKF(0, "%s: %s", what, err.message);
         return;
     }
@@ -257,8 +262,8 @@ static void degenerate_case(const char *what, int mode, int lscm, int keep_hidde
     degenerate_mesh(&mesh);
     n = count_degenerate(&mesh, &zero);
     CHECKF(n >= 6 && zero >= 3, "the test mesh has %d degenerate triangles (%d zero-area)", n, zero);
-    o.field.mode = mode;
-    o.field.scale = 0.3f;
+    o.field = mode;
+    o.scale = 0.3f;
     o.lscm = lscm;
     o.keep_hidden = keep_hidden;
     if (!make_patch("scales", 64, &o, &patch)) return;
@@ -284,9 +289,9 @@ static void real_case(const char *file, int mode, unsigned long long seed, float
     lapped_error err;
     char what[128];
     if (!mpath || !(tpath = pwt_data("textures/leopard.ppm"))) return;
-    o.field.mode = mode;
+    o.field = mode;
     o.seed = seed;
-    o.field.scale = scale;
+    o.scale = scale;
     REQUIRE(lapped_load_mesh(mpath, &o, &mesh, &err) == LAPPED_OK);
     REQUIRE(lapped_load_image(tpath, &o, &tex, &err) == LAPPED_OK);
     REQUIRE(lapped_make_patch(&tex, NULL, &o, &patch, &err) == LAPPED_OK);

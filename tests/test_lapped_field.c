@@ -364,20 +364,36 @@ static int check_frames(const lapped_mesh *m, const float *s, const float *t, do
     return bad;
 }
 
+/* lapped_compute_field into the caller's arrays s and t (ntris*3 each):
+ * the lapped_field's arrays copied there, then freed with its allocator. */
+static lapped_result field_into(const lapped_mesh *m, const lapped_options *o, float *s, float *t,
+                                lapped_error *err)
+{
+    lapped_field f;
+    lapped_result r = lapped_compute_field(m, o, &f, err);
+    if (r == LAPPED_OK) {
+        memcpy(s, f.s, sizeof(float) * 3 * (size_t)f.ntris);
+        memcpy(t, f.t, sizeof(float) * 3 * (size_t)f.ntris);
+    } else
+        CHECK(f.ntris == 0 && !f.s && !f.t); /* a failed call leaves its output zeroed */
+    lapped_field_free(&f);
+    return r;
+}
+
 /* Runs one field; returns the result code, s and t malloc'ed (ntris*3). */
 static lapped_result run(const lapped_mesh *m, const lapped_options *o, float **s, float **t,
                          lapped_error *err)
 {
     *s = (float *)malloc(sizeof(float) * 3 * m->nfaces);
     *t = (float *)malloc(sizeof(float) * 3 * m->nfaces);
-    return lapped_compute_field(m, o, *s, *t, err);
+    return field_into(m, o, *s, *t, err);
 }
 
 static lapped_options field_opts(int mode, float scale)
 {
     lapped_options o = lapped_default_options();
-    o.field.mode = mode;
-    o.field.scale = scale;
+    o.field = mode;
+    o.scale = scale;
     return o;
 }
 
@@ -434,8 +450,8 @@ static void t_frames_every_mode(void)
             char what[64];
             c[0] = con(0, 1, 0.3f, 0.2f, 0, 0);
             c[1] = con(tm.nt - 1, -0.2f, 0.1f, 1, 0, 0);
-            o.field.constraints = c;
-            o.field.nconstraints = 2;
+            o.constraints = c;
+            o.nconstraints = 2;
             snprintf(what, sizeof what, "%s %s", mesh_names[w], mode_names[i]);
             CHECKF(run(&m, &o, &s, &t, &err) == LAPPED_OK, "%s: %s", what, err.message);
             /* CONSTRAINTS blends the scales: both are the field's here */
@@ -476,14 +492,14 @@ static void t_faces_pass_through(void)
         S[1] = (float)(T[2] * n[0] - T[0] * n[2] + 0.3 * T[1]);
         S[2] = (float)(T[0] * n[1] - T[1] * n[0] + 0.3 * T[2]);
     }
-    o.field.face_t = ft;
-    o.field.face_s = fsv;
+    o.face_t = ft;
+    o.face_s = fsv;
     REQUIRE(run(&m, &o, &s, &t, &err) == LAPPED_OK);
     for (f = 0; f < 3 * tm.nt; f++)
         if (!(fabs(t[f] - ft[f]) <= 1e-5 && fabs(s[f] - fsv[f]) <= 1e-5)) bad++;
     CHECKF(bad == 0, "%d coordinates differ", bad);
-    o.field.face_s = NULL;
-    REQUIRE(lapped_compute_field(&m, &o, s, t, &err) == LAPPED_OK);
+    o.face_s = NULL;
+    REQUIRE(field_into(&m, &o, s, t, &err) == LAPPED_OK);
     CHECK(check_frames(&m, s, t, 0, "FACES S = T x N") == 0);
     for (bad = 0, f = 0; f < 3 * tm.nt; f++) bad += !(fabs(t[f] - ft[f]) <= 1e-5);
     CHECK(bad == 0);
@@ -516,16 +532,25 @@ static void t_polygons(void)
     fs[36] = 144;
     memset(&m, 0, sizeof m);
     m.nverts = 49, m.positions = pos, m.nfaces = 36, m.face_start = fs, m.face_verts = fv;
-    REQUIRE(lapped_compute_field(&m, &o, s, t, &err) == LAPPED_OK);
+    REQUIRE(field_into(&m, &o, s, t, &err) == LAPPED_OK);
     for (i = 0; i < nt; i++) {
         double a = fangle(t + 3 * i, y);
         CHECKF(a < 1.0, "triangle %d: %g deg from the axis", i, a);
     }
-    o.field.mode = LAPPED_FIELD_CONSTRAINTS;
+    { /* the lapped_field itself: one frame per triangle, not per polygon; freed to zeros */
+        lapped_field f;
+        REQUIRE(lapped_compute_field(&m, &o, &f, &err) == LAPPED_OK);
+        CHECK(f.ntris == nt && f.s && f.t && !memcmp(f.t, t, sizeof t) && !memcmp(f.s, s, sizeof s));
+        lapped_field_free(&f);
+        CHECK(f.ntris == 0 && !f.s && !f.t);
+        lapped_field_free(&f); /* safe on a freed field, and on NULL */
+        lapped_field_free(NULL);
+    }
+    o.field = LAPPED_FIELD_CONSTRAINTS;
     c[0] = con(nt - 1, 0, 1, 0, 0, 0);
-    o.field.constraints = c;
-    o.field.nconstraints = 1;
-    CHECKF(lapped_compute_field(&m, &o, s, t, &err) == LAPPED_OK, "%s", err.message);
+    o.constraints = c;
+    o.nconstraints = 1;
+    CHECKF(field_into(&m, &o, s, t, &err) == LAPPED_OK, "%s", err.message);
     c[0].face = nt;
     expect_error(&m, &o, s, t, LAPPED_ERR_INVALID, "triangle 72|has 72", "constraint on polygon index");
 }
@@ -544,7 +569,7 @@ static void t_up_sphere(void)
     build(M_SPHERE, &tm);
     fs = (int *)malloc(sizeof(int) * (tm.nt + 1));
     m = tm_view(&tm, fs);
-    o.field.up[0] = 0.0f, o.field.up[1] = 0.0f, o.field.up[2] = 2.0f; /* +z, not unit */
+    o.up[0] = 0.0f, o.up[1] = 0.0f, o.up[2] = 2.0f; /* +z, not unit */
     REQUIRE(run(&m, &o, &s, &t, &err) == LAPPED_OK);
     for (f = 0; f < tm.nt; f++) {
         double nn[3], up[3] = {0, 0, 1}, d, a;
@@ -764,13 +789,13 @@ static void t_constraints_grid(void)
     fa = grid_face(&m, -0.8, 0.0), fb = grid_face(&m, 0.8, 0.0), fm = grid_face(&m, 0.0, 0.0);
     c[0] = con(fa, 3, 0.5f, 0, 0.05f, 0.6f); /* x (the y part is normal to the grid) */
     c[1] = con(fb, 0, 0, 1, 0.2f, 0.6f);     /* z */
-    o.field.constraints = c;
-    o.field.nconstraints = 1;
+    o.constraints = c;
+    o.nconstraints = 1;
     REQUIRE(run(&m, &o, &s, &t, &err) == LAPPED_OK);
     CHECKF(fangle(t + 3 * fa, x) < 1e-3, "single constraint: %g deg off at its face", fangle(t + 3 * fa, x));
     CHECK(check_frames(&m, s, t, 0.05, "single constraint scale") == 0);
-    o.field.nconstraints = 2;
-    REQUIRE(lapped_compute_field(&m, &o, s, t, &err) == LAPPED_OK);
+    o.nconstraints = 2;
+    REQUIRE(field_into(&m, &o, s, t, &err) == LAPPED_OK);
     CHECK(check_frames(&m, s, t, 0, "two constraints") == 0);
     a = fangle(t + 3 * fm, x);
     CHECKF(fabs(a - 45.0) < 4.0 && fangle(t + 3 * fm, z) < 50.0, "halfway: %g deg from x", a);
@@ -810,14 +835,14 @@ static void t_constraints_curved(void)
         c[0] = con(0, 0, 1, 0, 0, 0.5f);
         c[1] = con(tm.nt / 3, 1, 0, 0, 0, 0.5f);
         c[2] = con(2 * tm.nt / 3, 0, 0, 1, 0, 0.5f);
-        o.field.constraints = c;
-        o.field.nconstraints = 3;
+        o.constraints = c;
+        o.nconstraints = 3;
         REQUIRE(run(&m, &o, &s, &t, &err) == LAPPED_OK);
         pwt_info("%s (%d tris), 3 constraints, radius 0.5: median turn between neighbours %.3f deg",
                  mesh_names[w ? M_TORUS : M_SPHERE], tm.nt, median_turn(&m, t));
         CHECK(median_turn(&m, t) < 5.0);
         c[0].radius = c[1].radius = c[2].radius = 1e-4f; /* exp(-d^2/2r^2) underflows everywhere else */
-        REQUIRE(lapped_compute_field(&m, &o, s, t, &err) == LAPPED_OK);
+        REQUIRE(field_into(&m, &o, s, t, &err) == LAPPED_OK);
         CHECK(check_frames(&m, s, t, 0.2, "tiny radii") == 0);
         for (bad = 0, f = 0; f < 3 * tm.nt; f++) bad += !pw_is_finite(t[f]) || !pw_is_finite(s[f]);
         CHECK(bad == 0);
@@ -848,8 +873,8 @@ static void t_constraints_components(void)
     m = tm_view(&tm, fs);
     c[0] = con(3, 0, 1, 0, 0, 0);
     c[0].direction[0] = 0.01f;
-    o.field.constraints = c;
-    o.field.nconstraints = 1;
+    o.constraints = c;
+    o.nconstraints = 1;
     REQUIRE(run(&m, &o, &s, &t, &err) == LAPPED_OK);
     CHECK(check_frames(&m, s, t, 0.2, "two spheres, one constraint") == 0);
     { /* the constraint as stated: its direction projected onto its face */
@@ -956,7 +981,7 @@ static void t_curvature_fallbacks(void)
     fs = (int *)malloc(sizeof(int) * (tm.nt + 1));
     m = tm_view(&tm, fs);
     REQUIRE(run(&m, &o, &s, &t, &err) == LAPPED_OK);
-    o.field.mode = LAPPED_FIELD_UP;
+    o.field = LAPPED_FIELD_UP;
     REQUIRE(run(&m, &o, &s2, &t2, &err) == LAPPED_OK);
     for (f = 0; f < tm.nt; f++) bad += !(fangle(t + 3 * f, t2 + 3 * f) < 1.0);
     pwt_info("icosphere: %d of %d faces differ from the up field by over 1 deg", bad, tm.nt);
@@ -982,7 +1007,7 @@ static void t_difficulty(void)
     build(M_CUBE, &tm);
     fs = (int *)malloc(sizeof(int) * (tm.nt + 1));
     m = tm_view(&tm, fs);
-    o.field.up[0] = 0.3f, o.field.up[1] = 1.0f, o.field.up[2] = 0.6f; /* no face normal to up */
+    o.up[0] = 0.3f, o.up[1] = 1.0f, o.up[2] = 0.6f; /* no face normal to up */
     REQUIRE(run(&m, &o, &s, &t, &err) == LAPPED_OK);
     memset(&a, 0, sizeof a);
     pw_err_clear(&e);
@@ -1037,7 +1062,7 @@ static void expect_error(const lapped_mesh *m, const lapped_options *o, float *s
     char buf[256], *p, *q;
     lapped_result r;
     memset(&err, 0, sizeof err);
-    r = lapped_compute_field(m, o, s, t, &err);
+    r = field_into(m, o, s, t, &err);
     CHECKF(r == code, "%s: result %d (%s), expected %d", what, (int)r, err.message, (int)code);
     snprintf(buf, sizeof buf, "%s", needles);
     for (p = buf; p && *p; p = q) {
@@ -1066,8 +1091,8 @@ static void t_bad_inputs(void)
     o = field_opts(LAPPED_FIELD_CONSTRAINTS, 0.2f);
     c[0] = con(5, 1, 0, 0, 0, 0);
     c[1] = con(99999, 1, 0, 0, 0, 0);
-    o.field.constraints = c;
-    o.field.nconstraints = 2;
+    o.constraints = c;
+    o.nconstraints = 2;
     expect_error(&m, &o, s, t, LAPPED_ERR_INVALID, "constraint 1|triangle 99999", "face out of range");
     c[1] = con(7, nan, 0, 0, 0, 0);
     expect_error(&m, &o, s, t, LAPPED_ERR_INVALID, "constraint 1|direction|not finite", "NaN direction");
@@ -1081,7 +1106,7 @@ static void t_bad_inputs(void)
     c[1].weight = nan;
     expect_error(&m, &o, s, t, LAPPED_ERR_INVALID, "constraint 1|weight", "NaN weight");
     c[1] = con(7, 1, 0, 0, 0, 0); /* radius 0 is the documented default (2 * scale) */
-    CHECK(lapped_compute_field(&m, &o, s, t, &err) == LAPPED_OK);
+    CHECK(field_into(&m, &o, s, t, &err) == LAPPED_OK);
     {
         double n[3];
         tnormal(&m, 7, n);
@@ -1089,11 +1114,11 @@ static void t_bad_inputs(void)
         expect_error(&m, &o, s, t, LAPPED_ERR_INVALID, "constraint 1|normal to triangle 7",
                      "normal direction");
     }
-    o.field.nconstraints = 0;
+    o.nconstraints = 0;
     expect_error(&m, &o, s, t, LAPPED_ERR_INVALID, "needs constraints", "no constraints");
     o = field_opts(LAPPED_FIELD_FACES, 0);
     expect_error(&m, &o, s, t, LAPPED_ERR_INVALID, "face_t is NULL", "FACES without arrays");
-    o.field.face_t = ft; /* all zero */
+    o.face_t = ft; /* all zero */
     expect_error(&m, &o, s, t, LAPPED_ERR_INVALID, "triangle 0|zero", "FACES zero vector");
     {
         int f, k;
@@ -1104,7 +1129,7 @@ static void t_bad_inputs(void)
             d = a[0] * n[0] + a[1] * n[1] + a[2] * n[2];
             for (k = 0; k < 3; k++) ft[3 * f + k] = (float)(a[k] - d * n[k]);
         }
-        CHECK(lapped_compute_field(&m, &o, s, t, &err) == LAPPED_OK);
+        CHECK(field_into(&m, &o, s, t, &err) == LAPPED_OK);
         ft[3 * 11 + 1] = nan;
         expect_error(&m, &o, s, t, LAPPED_ERR_INVALID, "triangle 11|not finite", "FACES NaN");
         ft[3 * 11] = ft[3 * 11 + 1] = ft[3 * 11 + 2] = 0;
@@ -1115,18 +1140,18 @@ static void t_bad_inputs(void)
     }
     o = field_opts(LAPPED_FIELD_UP, -1.0f);
     expect_error(&m, &o, s, t, LAPPED_ERR_INVALID, "scale", "negative scale");
-    o.field.scale = nan;
+    o.scale = nan;
     expect_error(&m, &o, s, t, LAPPED_ERR_INVALID, "scale", "NaN scale");
     o = field_opts(42, 0);
     expect_error(&m, &o, s, t, LAPPED_ERR_INVALID, "mode 42", "unknown mode");
     o = field_opts(LAPPED_FIELD_CURVATURE, 0);
-    o.field.smoothing = -3;
+    o.smoothing = -3;
     expect_error(&m, &o, s, t, LAPPED_ERR_INVALID, "smoothing -3", "negative smoothing");
     o = field_opts(LAPPED_FIELD_UP, 0);
-    o.field.up[1] = nan;
+    o.up[1] = nan;
     expect_error(&m, &o, s, t, LAPPED_ERR_INVALID, "up vector", "NaN up");
-    expect_error(&m, &o, NULL, t, LAPPED_ERR_INVALID, "output array s", "NULL s");
-    expect_error(&m, &o, s, NULL, LAPPED_ERR_INVALID, "output array t", "NULL t");
+    o = field_opts(LAPPED_FIELD_UP, 0);
+    CHECK(lapped_compute_field(&m, &o, NULL, &err) == LAPPED_ERR_INVALID && strstr(err.message, "NULL output"));
     free(s), free(t), free(ft), free(fs);
     tm_free(&tm);
 }
@@ -1156,9 +1181,9 @@ static void t_deterministic_and_allocation_failures(void)
     for (i = 0; i < 5; i++) {
         lapped_options o = field_opts(modes[i], 0.15f);
         pwt_alloc_state st;
-        o.field.constraints = c;
-        o.field.nconstraints = 2;
-        o.field.face_t = ft;
+        o.constraints = c;
+        o.nconstraints = 2;
+        o.face_t = ft;
         REQUIRE(run(&m, &o, &s, &t, &err) == LAPPED_OK);
         REQUIRE(run(&m, &o, &s2, &t2, &err) == LAPPED_OK);
         CHECKF(memcmp(s, s2, sizeof(float) * 3 * tm.nt) == 0 && memcmp(t, t2, sizeof(float) * 3 * tm.nt) == 0,
@@ -1168,7 +1193,7 @@ static void t_deterministic_and_allocation_failures(void)
             st.calls = 0, st.live = 0, st.fail_after = n;
             o.allocator.malloc_fn = pwt_malloc, o.allocator.realloc_fn = pwt_realloc;
             o.allocator.free_fn = pwt_free, o.allocator.user = &st;
-            r = lapped_compute_field(&m, &o, s2, t2, &err);
+            r = field_into(&m, &o, s2, t2, &err);
             CHECKF(st.live == 0, "mode %d, failing after %d: %ld blocks leaked", modes[i], n, st.live);
             if (r == LAPPED_OK) break;
             CHECKF(r == LAPPED_ERR_NOMEM, "mode %d, failing after %d: %s", modes[i], n, err.message);
@@ -1191,7 +1216,7 @@ static double best_ms(const lapped_mesh *m, const lapped_options *o, float *s, f
     for (i = 0; i < 5; i++) {
         lapped_error err;
         clock_t t0 = clock();
-        lapped_compute_field(m, o, s, t, &err);
+        field_into(m, o, s, t, &err);
         if (1e3 * (double)(clock() - t0) / CLOCKS_PER_SEC < best)
             best = 1e3 * (double)(clock() - t0) / CLOCKS_PER_SEC;
     }
@@ -1220,13 +1245,13 @@ static void elephant_case(const char *rel)
     t = (float *)malloc(sizeof(float) * 3 * nt);
     for (i = 0; i < 6; i++) c[i] = con(i * (nt / 6), (float)(i & 1), 1.0f, (float)(i % 3), 0, 0);
     o = field_opts(LAPPED_FIELD_UP, 0);
-    o.field.constraints = c;
-    o.field.nconstraints = 6;
-    CHECKF(lapped_compute_field(&m, &o, s, t, &err) == LAPPED_OK, "UP: %s", err.message);
+    o.constraints = c;
+    o.nconstraints = 6;
+    CHECKF(field_into(&m, &o, s, t, &err) == LAPPED_OK, "UP: %s", err.message);
     mu = median_turn(&m, t);
     tu = best_ms(&m, &o, s, t);
-    o.field.mode = LAPPED_FIELD_CURVATURE;
-    CHECKF(lapped_compute_field(&m, &o, s, t, &err) == LAPPED_OK, "CURVATURE: %s", err.message);
+    o.field = LAPPED_FIELD_CURVATURE;
+    CHECKF(field_into(&m, &o, s, t, &err) == LAPPED_OK, "CURVATURE: %s", err.message);
     CHECK(check_frames(&m, s, t, 0, "elephant CURVATURE") == 0);
     mk = median_turn(&m, t);
     {
@@ -1236,8 +1261,8 @@ static void elephant_case(const char *rel)
         free(pairs);
     }
     tk = best_ms(&m, &o, s, t);
-    o.field.mode = LAPPED_FIELD_CONSTRAINTS;
-    CHECKF(lapped_compute_field(&m, &o, s, t, &err) == LAPPED_OK, "CONSTRAINTS: %s", err.message);
+    o.field = LAPPED_FIELD_CONSTRAINTS;
+    CHECKF(field_into(&m, &o, s, t, &err) == LAPPED_OK, "CONSTRAINTS: %s", err.message);
     CHECK(check_frames(&m, s, t, 0, "elephant CONSTRAINTS") == 0);
     mc = median_turn(&m, t);
     tc = best_ms(&m, &o, s, t);

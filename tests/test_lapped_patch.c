@@ -328,7 +328,7 @@ static void t_allocator(void)
             lapped_mesh_free(&m);
         } else {
             REQUIRE((which == 0 ? lapped_make_patch(&tex, NULL, &o, &p, NULL)
-                                : lapped_builtin_texture("scales", 16, &o, &p, NULL)) == LAPPED_OK);
+                                : lapped_builtin_exemplar("scales", 16, &o, &p, NULL)) == LAPPED_OK);
             lapped_image_free(&p);
         }
         CHECK(st.live == 0);
@@ -339,7 +339,7 @@ static void t_allocator(void)
             st.fail_after = k;
             r = which == 0 ? lapped_make_patch(&tex, NULL, &o, &p, NULL)
                 : which == 1 ? lapped_builtin_mesh("bumpy", &o, &m, NULL)
-                             : lapped_builtin_texture("scales", 16, &o, &p, NULL);
+                             : lapped_builtin_exemplar("scales", 16, &o, &p, NULL);
             CHECKF(r == LAPPED_ERR_NOMEM, "call %d, failure at %ld: %d", which, k, (int)r);
             CHECKF(st.live == 0, "call %d: leak after a failure at %ld", which, k);
         }
@@ -360,7 +360,7 @@ static void t_hulls(void)
             long miss;
             o.alpha = mode;
             o.seed = (unsigned long long)(k * 10 + mode);
-            REQUIRE(lapped_builtin_texture(names[k], 96 + 80 * k, &o, &tex, NULL) == LAPPED_OK);
+            REQUIRE(lapped_builtin_exemplar(names[k], 96 + 80 * k, &o, &tex, NULL) == LAPPED_OK);
             REQUIRE(lapped_make_patch(&tex, NULL, &o, &p, NULL) == LAPPED_OK);
             miss = hull_misses(&p, &nv);
             CHECKF(miss == 0, "%s, mode %d: %ld pixel corners outside the hull", names[k], mode, miss);
@@ -508,13 +508,13 @@ static void t_textures(void)
         size_t n = 256 * 256 * 3;
         int inrange = 1;
         o.seed = 5;
-        REQUIRE(lapped_builtin_texture(names[k], 256, &o, &a, NULL) == LAPPED_OK);
-        REQUIRE(lapped_builtin_texture(names[k], 256, &o, &b, NULL) == LAPPED_OK);
+        REQUIRE(lapped_builtin_exemplar(names[k], 256, &o, &a, NULL) == LAPPED_OK);
+        REQUIRE(lapped_builtin_exemplar(names[k], 256, &o, &b, NULL) == LAPPED_OK);
         CHECK(a.width == 256 && a.height == 256 && a.channels == 3);
         CHECKF(!memcmp(a.pixels, b.pixels, sizeof(float) * n), "%s is not deterministic", names[k]);
         lapped_image_free(&b);
         o.seed = 6;
-        REQUIRE(lapped_builtin_texture(names[k], 256, &o, &b, NULL) == LAPPED_OK);
+        REQUIRE(lapped_builtin_exemplar(names[k], 256, &o, &b, NULL) == LAPPED_OK);
         CHECKF(memcmp(a.pixels, b.pixels, sizeof(float) * n) != 0, "%s ignores the seed", names[k]);
         for (i = 0; i < n; i++) {
             inrange &= a.pixels[i] >= 0 && a.pixels[i] <= 1;
@@ -533,13 +533,13 @@ static void t_textures(void)
         lapped_image_free(&a);
         lapped_image_free(&b);
     }
-    CHECK(lapped_builtin_texture("bricks", 64, NULL, &a, &err) == LAPPED_ERR_INVALID);
+    CHECK(lapped_builtin_exemplar("bricks", 64, NULL, &a, &err) == LAPPED_ERR_INVALID);
     CHECK(strstr(err.message, "scales, stripes, dots") != NULL);
-    CHECK(lapped_builtin_texture("dots", 7, NULL, &a, &err) == LAPPED_ERR_INVALID);
+    CHECK(lapped_builtin_exemplar("dots", 7, NULL, &a, &err) == LAPPED_ERR_INVALID);
     CHECK(strstr(err.message, "8..4096") != NULL);
-    CHECK(lapped_builtin_texture("dots", 4097, NULL, &a, NULL) == LAPPED_ERR_INVALID);
+    CHECK(lapped_builtin_exemplar("dots", 4097, NULL, &a, NULL) == LAPPED_ERR_INVALID);
     CHECK(a.pixels == NULL);
-    REQUIRE(lapped_builtin_texture("stripes", 8, NULL, &a, NULL) == LAPPED_OK);
+    REQUIRE(lapped_builtin_exemplar("stripes", 8, NULL, &a, NULL) == LAPPED_OK);
     lapped_image_free(&a);
 }
 
@@ -554,7 +554,7 @@ static void t_speed(void)
     clock_t t0;
     double tp, th;
     int nv;
-    REQUIRE(lapped_builtin_texture("scales", 512, &o, &tex, NULL) == LAPPED_OK);
+    REQUIRE(lapped_builtin_exemplar("scales", 512, &o, &tex, NULL) == LAPPED_OK);
     t0 = clock();
     REQUIRE(lapped_make_patch(&tex, NULL, &o, &p, NULL) == LAPPED_OK);
     tp = (double)(clock() - t0) / CLOCKS_PER_SEC;

@@ -10,18 +10,25 @@
 #include "../lst.h"
 #include "pwtest.h"
 
+/* lst_create with the exemplar and its extra channel (may be NULL) as arguments. */
+static lst_result create_model(const lst_tetmesh *m, const lst_mesh *s, const lst_volume *ex, const lst_volume *val,
+                               const lst_options *o, lst_model *out, lst_error *err)
+{
+    lst_source src;
+    src.exemplar = ex, src.values = val;
+    return lst_create(m, s, &src, o, out, err);
+}
+
 /* A sphere of about n tetrahedra from the built-in tetrahedralizer. */
 static int sphere_tets(int n, lst_tetmesh *m)
 {
     lst_options o = lst_default_options();
-    lst_tet_options to;
     lst_mesh s;
     lst_error err;
     int ok;
-    memset(&to, 0, sizeof to);
-    to.target_tets = n;
-    if (lst_builtin_surface("sphere", &o, &s, &err)) return 0;
-    ok = lst_tetrahedralize(&s, &to, &o, m, &err) == LST_OK;
+    o.tet.target_tets = n;
+    if (lst_builtin_mesh("sphere", &o, &s, &err)) return 0;
+    ok = lst_tetrahedralize(&s, &o, m, NULL, &err) == LST_OK;
     lst_mesh_free(&s);
     return ok;
 }
@@ -43,7 +50,7 @@ static int filled(int type, int n, unsigned long long seed, lst_tetmesh *m, lst_
     o.seed = seed;
     if (!sphere_tets(n, m)) return 0;
     if (lst_builtin_exemplar(exemplar_for(type), 32, &o, &ex, &val, &err)) return 0;
-    ok = lst_create(m, NULL, &ex, &val, &o, model, &err) == LST_OK;
+    ok = create_model(m, NULL, &ex, &val, &o, model, &err) == LST_OK;
     if (!ok) printf("     create: %s\n", err.message);
     lst_volume_free(&ex);
     lst_volume_free(&val);
@@ -123,24 +130,22 @@ static double slab_shape(const double *p)
     return m > d[2] ? m : d[2];
 }
 
-static int slab(int n, lst_mesh *s, lst_tetmesh *m, lst_depth_constraint **dc, int *nd)
+static int slab(int n, lst_mesh *s, lst_tetmesh *m, lst_constraint **dc, int *nd)
 {
     static const double lo[3] = {-1.5, -1.5, -0.7};
     lst_options o = lst_default_options();
-    lst_tet_options to;
     lst_error err;
     pw_alloc a;
     pw_mesh pm;
     pw_err e;
     int f, k;
     memset(&a, 0, sizeof a);
-    memset(&to, 0, sizeof to);
     pw_err_clear(&e);
-    to.target_tets = n;
+    o.tet.target_tets = n;
     if (lst__implicit(&a, slab_shape, lo, 3.0 / 40, 40, &pm, &e)) return 0;
     lst__take_mesh(&pm, &a, s);
-    if (lst_tetrahedralize(s, &to, &o, m, &err)) return 0;
-    *dc = (lst_depth_constraint *)calloc((size_t)s->nfaces, sizeof **dc);
+    if (lst_tetrahedralize(s, &o, m, NULL, &err)) return 0;
+    *dc = (lst_constraint *)calloc((size_t)s->nfaces, sizeof **dc);
     for (f = 0, *nd = 0; f < s->nfaces; f++) {
         const float *A = s->positions + 3 * s->face_verts[3 * f], *B = s->positions + 3 * s->face_verts[3 * f + 1];
         const float *C = s->positions + 3 * s->face_verts[3 * f + 2];
@@ -148,7 +153,7 @@ static int slab(int n, lst_mesh *s, lst_tetmesh *m, lst_depth_constraint **dc, i
         for (k = 0; k < 3; k++) u[k] = B[k] - A[k], w[k] = C[k] - A[k];
         nz = (u[0] * w[1] - u[1] * w[0]) / sqrt(pow(u[1] * w[2] - u[2] * w[1], 2) + pow(u[2] * w[0] - u[0] * w[2], 2) + pow(u[0] * w[1] - u[1] * w[0], 2));
         if (fabs(nz) < 0.95) continue;
-        (*dc)[*nd].kind = LST_DEPTH_FACE, (*dc)[*nd].face = f, (*dc)[(*nd)++].depth = nz > 0 ? 0.0f : 1.0f;
+        (*dc)[*nd].kind = LST_CONSTRAINT_DEPTH_FACE, (*dc)[*nd].face = f, (*dc)[(*nd)++].value = nz > 0 ? 0.0f : 1.0f;
     }
     return 1;
 }
@@ -163,14 +168,14 @@ static int slab(int n, lst_mesh *s, lst_tetmesh *m, lst_depth_constraint **dc, i
 static double alignment(const lst_tetmesh *m, const lst_mesh *s, const lst_options *o, double *p90)
 {
     lst_model model;
-    lst_fields f;
+    lst_field f;
     lst_error err;
     lst_volume ex, val;
     double *errs, med;
     size_t n = 0, cap = 0;
     int p, i, a, r, a0 = o->type == LST_TYPE_1B, a1 = o->type == LST_TYPE_1A ? 1 : (o->type == LST_TYPE_1B ? 2 : 3);
     lst_builtin_exemplar(exemplar_for(o->type), 32, o, &ex, &val, &err);
-    if (lst_create(m, s, &ex, &val, o, &model, &err) || lst_compute_fields(m, s, o, &f, &err)) return 9.0;
+    if (create_model(m, s, &ex, &val, o, &model, &err) || lst_compute_field(m, s, o, &f, &err)) return 9.0;
     lst_volume_free(&ex), lst_volume_free(&val);
     for (p = 0; p < model.npastes; p++) cap += (size_t)model.pastes[p].ntets;
     errs = (double *)malloc(sizeof(double) * cap);
@@ -190,7 +195,7 @@ static double alignment(const lst_tetmesh *m, const lst_mesh *s, const lst_optio
     med = errs[n / 2];
     *p90 = errs[n * 9 / 10];
     free(errs);
-    lst_fields_free(&f);
+    lst_field_free(&f);
     lst_model_free(&model);
     return med;
 }
@@ -209,11 +214,11 @@ static void t_alignment(void)
     lst_options o = lst_default_options();
     lst_mesh s;
     lst_tetmesh m;
-    lst_depth_constraint *dc;
+    lst_constraint *dc;
     double med, p90;
     int nd, type;
     REQUIRE(slab(3000, &s, &m, &dc, &nd));
-    o.depth = dc, o.ndepth = nd, o.axis[0] = 1.0f, o.axis[1] = 0.3f;
+    o.constraints = dc, o.nconstraints = nd, o.axis[0] = 1.0f, o.axis[1] = 0.3f;
     for (type = LST_TYPE_1A; type <= LST_TYPE_2B; type++) {
         o.type = type;
         med = alignment(&m, &s, &o, &p90);
@@ -300,21 +305,18 @@ static void t_skin_rbf(void)
     lst_options o = lst_default_options();
     lst_mesh s;
     lst_tetmesh m;
-    lst_fields f;
+    lst_field f;
     lst_error err;
-    lst_tet_options to;
-    lst_depth_constraint *dc;
-    lst_field_constraint *fc;
-    int nd, nf, k, bad = 0, t;
+    lst_constraints c;
+    int k, bad = 0, t;
     double dmax = 0.0;
-    memset(&to, 0, sizeof to);
-    to.target_tets = 2500;
+    o.tet.target_tets = 2500;
     o.type = LST_TYPE_2B;
-    REQUIRE(lst_builtin_surface("kiwi", &o, &s, &err) == LST_OK);
-    REQUIRE(lst_tetrahedralize(&s, &to, &o, &m, &err) == LST_OK);
-    REQUIRE(lst_builtin_constraints("kiwi", &s, &o, &dc, &nd, &fc, &nf, &err) == LST_OK);
-    o.depth = dc, o.ndepth = nd, o.field = fc, o.nfield = nf;
-    REQUIRE(lst_compute_fields(&m, &s, &o, &f, &err) == LST_OK);
+    REQUIRE(lst_builtin_mesh("kiwi", &o, &s, &err) == LST_OK);
+    REQUIRE(lst_tetrahedralize(&s, &o, &m, NULL, &err) == LST_OK);
+    REQUIRE(lst_builtin_constraints("kiwi", &s, &o, &c, &err) == LST_OK);
+    o.constraints = c.items, o.nconstraints = c.count;
+    REQUIRE(lst_compute_field(&m, &s, &o, &f, &err) == LST_OK);
     {
         pw_alloc a;
         lst__geo g;
@@ -334,8 +336,8 @@ static void t_skin_rbf(void)
     pwt_info("kiwi: %d boundary vertex depths not 0; deepest vertex %.3f", bad, dmax);
     CHECK_EQ_INT(bad, 0);
     CHECK(dmax > 0.9);
-    lst_fields_free(&f);
-    lst_free_constraints(dc, fc, &o);
+    lst_field_free(&f);
+    lst_constraints_free(&c);
     lst_tetmesh_free(&m);
     lst_mesh_free(&s);
 }
@@ -376,26 +378,26 @@ static void t_laplacian(void)
 {
     lst_options o = lst_default_options();
     lst_tetmesh m;
-    lst_fields f;
+    lst_field f;
     lst_error err;
-    lst_field_constraint fc[2];
+    lst_constraint fc[2];
     int t, bad = 0;
     double lo = 1e9, hi = 0;
     memset(fc, 0, sizeof fc);
     REQUIRE(sphere_tets(2000, &m));
-    fc[0].kind = LST_FIELD_SCALE, fc[0].point[0] = -0.7f, fc[0].scale = 0.2f;
-    fc[1].kind = LST_FIELD_SCALE, fc[1].point[0] = 0.7f, fc[1].scale = 0.6f;
-    o.field = fc, o.nfield = 1;
-    REQUIRE(lst_compute_fields(&m, NULL, &o, &f, &err) == LST_OK);
+    fc[0].kind = LST_CONSTRAINT_SCALE, fc[0].point[0] = -0.7f, fc[0].value = 0.2f;
+    fc[1].kind = LST_CONSTRAINT_SCALE, fc[1].point[0] = 0.7f, fc[1].value = 0.6f;
+    o.constraints = fc, o.nconstraints = 1;
+    REQUIRE(lst_compute_field(&m, NULL, &o, &f, &err) == LST_OK);
     for (t = 0; t < m.ntets; t++) {
         const float *u = f.frame + 9 * t;
         double s = sqrt((double)u[0] * u[0] + (double)u[1] * u[1] + (double)u[2] * u[2]);
         bad += fabs(s - 0.2) > 2e-3;
     }
     CHECK_EQ_INT(bad, 0);
-    lst_fields_free(&f);
-    o.nfield = 2;
-    REQUIRE(lst_compute_fields(&m, NULL, &o, &f, &err) == LST_OK);
+    lst_field_free(&f);
+    o.nconstraints = 2;
+    REQUIRE(lst_compute_field(&m, NULL, &o, &f, &err) == LST_OK);
     for (t = 0; t < m.ntets; t++) {
         const float *u = f.frame + 9 * t;
         double s = sqrt((double)u[0] * u[0] + (double)u[1] * u[1] + (double)u[2] * u[2]);
@@ -403,7 +405,7 @@ static void t_laplacian(void)
     }
     pwt_info("two scale constraints 0.2 and 0.6: the field spans %.3f..%.3f", lo, hi);
     CHECK(lo > 0.15 && lo < 0.3 && hi > 0.5 && hi < 0.65);
-    lst_fields_free(&f);
+    lst_field_free(&f);
     lst_tetmesh_free(&m);
 }
 
@@ -414,29 +416,27 @@ static void t_principal_axis(void)
     lst_options o = lst_default_options();
     lst_mesh s;
     lst_tetmesh m;
-    lst_fields f;
+    lst_field f;
     lst_error err;
-    lst_tet_options to;
-    lst_field_constraint fc;
+    lst_constraint fc;
     double worst = 1.0;
     int t;
-    memset(&to, 0, sizeof to);
-    to.target_tets = 2000;
+    o.tet.target_tets = 2000;
     o.type = LST_TYPE_1A;
-    REQUIRE(lst_builtin_surface("kiwi", &o, &s, &err) == LST_OK);
-    REQUIRE(lst_tetrahedralize(&s, &to, &o, &m, &err) == LST_OK);
-    REQUIRE(lst_compute_fields(&m, NULL, &o, &f, &err) == LST_OK);
+    REQUIRE(lst_builtin_mesh("kiwi", &o, &s, &err) == LST_OK);
+    REQUIRE(lst_tetrahedralize(&s, &o, &m, NULL, &err) == LST_OK);
+    REQUIRE(lst_compute_field(&m, NULL, &o, &f, &err) == LST_OK);
     for (t = 0; t < m.ntets; t++) {
         const float *u = f.frame + 9 * t;
         double c = fabs(u[2]) / sqrt((double)u[0] * u[0] + (double)u[1] * u[1] + (double)u[2] * u[2]);
         worst = c < worst ? c : worst;
     }
     CHECKF(worst > 0.9999, "the u axis leaves the kiwi's long axis (cos %g)", worst);
-    lst_fields_free(&f);
+    lst_field_free(&f);
     memset(&fc, 0, sizeof fc);
-    fc.kind = LST_FIELD_DIRECTION, fc.direction[0] = 1.0f;
-    o.field = &fc, o.nfield = 1;
-    REQUIRE(lst_compute_fields(&m, NULL, &o, &f, &err) == LST_OK);
+    fc.kind = LST_CONSTRAINT_DIRECTION, fc.direction[0] = 1.0f;
+    o.constraints = &fc, o.nconstraints = 1;
+    REQUIRE(lst_compute_field(&m, NULL, &o, &f, &err) == LST_OK);
     worst = 1.0;
     for (t = 0; t < m.ntets; t++) {
         const float *u = f.frame + 9 * t;
@@ -444,7 +444,7 @@ static void t_principal_axis(void)
         worst = c < worst ? c : worst;
     }
     CHECKF(worst > 0.999, "one direction constraint along x: cos %g", worst);
-    lst_fields_free(&f);
+    lst_field_free(&f);
     lst_tetmesh_free(&m);
     lst_mesh_free(&s);
 }
@@ -455,14 +455,14 @@ static void t_frames_orthonormal(void)
 {
     lst_options o = lst_default_options();
     lst_tetmesh m;
-    lst_fields f;
+    lst_field f;
     lst_error err;
     double worst = 0.0;
     int t, type, k;
     REQUIRE(sphere_tets(2000, &m));
     for (type = LST_TYPE_0; type <= LST_TYPE_2B; type++) {
         o.type = type;
-        REQUIRE(lst_compute_fields(&m, NULL, &o, &f, &err) == LST_OK);
+        REQUIRE(lst_compute_field(&m, NULL, &o, &f, &err) == LST_OK);
         for (t = 0; t < m.ntets; t++) {
             const float *a = f.frame + 9 * t;
             double s2 = a[0] * (double)a[0] + a[1] * (double)a[1] + a[2] * (double)a[2], d[3], det;
@@ -473,7 +473,7 @@ static void t_frames_orthonormal(void)
             for (k = 0; k < 3; k++) worst = fabs(d[k]) > worst ? fabs(d[k]) : worst;
             worst = fabs(det - 1.0) > worst ? fabs(det - 1.0) : worst;
         }
-        lst_fields_free(&f);
+        lst_field_free(&f);
     }
     CHECKF(worst < 1e-4, "frames not orthonormal and right-handed (%g)", worst);
     lst_tetmesh_free(&m);
@@ -485,7 +485,7 @@ static void t_flood_fill(void)
 {
     lst_mesh s;
     lst_tetmesh m;
-    lst_depth_constraint *dc, fill;
+    lst_constraint *dc, fill;
     lst_options o = lst_default_options();
     pw_alloc a;
     pw_trimesh tm;
@@ -504,14 +504,14 @@ static void t_flood_fill(void)
             if (top < 0) top = f;
         }
     memset(&fill, 0, sizeof fill);
-    fill.kind = LST_DEPTH_FILL, fill.face = top, fill.crease = 30.0f;
-    o.depth = &fill, o.ndepth = 1;
+    fill.kind = LST_CONSTRAINT_DEPTH_FILL, fill.face = top, fill.crease = 30.0f;
+    o.constraints = &fill, o.nconstraints = 1;
     paint = (double *)malloc(sizeof(double) * (size_t)tm.nf);
     REQUIRE(lst__paint(&a, &tm, &o, paint, &e) == PW_OK);
     for (f = 0; f < tm.nf; f++) painted += paint[f] == 0.0;
     pwt_info("fill from a top face: %d triangles painted, %d face up, %d in all", painted, tops, tm.nf);
     CHECK(painted >= tops && painted < tops + tm.nf / 10);
-    fill.kind = LST_DEPTH_FACE;
+    fill.kind = LST_CONSTRAINT_DEPTH_FACE;
     REQUIRE(lst__paint(&a, &tm, &o, paint, &e) == PW_OK);
     for (f = 0, painted = 0; f < tm.nf; f++) painted += paint[f] == 0.0;
     CHECK_EQ_INT(painted, 1);
@@ -592,32 +592,34 @@ static void t_exp(void)
 static void t_masks(void)
 {
     lst_options o = lst_default_options();
-    lst_volume ex, *masks;
+    lst_volume ex;
+    lst_masks masks;
     lst_error err;
     pw_volume m0, m2;
-    int n;
     REQUIRE(lst_builtin_exemplar("spots", 32, &o, &ex, NULL, &err) == LST_OK);
-    REQUIRE(lst_make_masks(&ex, &o, &masks, &n, &err) == LST_OK);
-    CHECK_EQ_INT(n, 1);
-    m0 = lst__pw_volume(&masks[0]);
+    REQUIRE(lst_make_masks(&ex, &o, &masks, &err) == LST_OK);
+    CHECK_EQ_INT(masks.count, 1);
+    m0 = lst__pw_volume(&masks.volumes[0]);
     CHECK(lst__mask_alpha(&m0, 0.5, 0.5, 0.5) == 1.0f);
     CHECK(lst__mask_alpha(&m0, 0.5, 0.5, 0.99) == 0.0f);
     CHECK(lst__mask_alpha(&m0, 0.01, 0.5, 0.5) == 0.0f);
-    lst_free_masks(masks, n);
+    lst_masks_free(&masks);
+    CHECK(masks.count == 0 && masks.volumes == NULL);
+    lst_masks_free(&masks);
     o.type = LST_TYPE_2B;
-    REQUIRE(lst_make_masks(&ex, &o, &masks, &n, &err) == LST_OK);
-    CHECK_EQ_INT(n, 3);
-    m0 = lst__pw_volume(&masks[0]);
-    m2 = lst__pw_volume(&masks[2]);
+    REQUIRE(lst_make_masks(&ex, &o, &masks, &err) == LST_OK);
+    CHECK_EQ_INT(masks.count, 3);
+    m0 = lst__pw_volume(&masks.volumes[0]);
+    m2 = lst__pw_volume(&masks.volumes[2]);
     CHECK(lst__mask_alpha(&m0, 0.5, 0.0, 0.5) == 1.0f && lst__mask_alpha(&m0, 0.5, 0.2, 0.5) == 1.0f);
     CHECK(lst__mask_alpha(&m0, 0.5, 0.9, 0.5) == 0.0f);
     CHECK(lst__mask_alpha(&m2, 0.5, 1.0, 0.5) == 1.0f && lst__mask_alpha(&m2, 0.5, 0.1, 0.5) == 0.0f);
     {
-        pw_volume m1 = lst__pw_volume(&masks[1]);
+        pw_volume m1 = lst__pw_volume(&masks.volumes[1]);
         float mid = lst__mask_alpha(&m1, 0.5, 0.5, 0.5), edge = lst__mask_alpha(&m1, 0.5, 0.5, 0.5 + 0.34);
         CHECK(mid == 1.0f && edge > 0.0f && edge < 1.0f);
     }
-    lst_free_masks(masks, n);
+    lst_masks_free(&masks);
     lst_volume_free(&ex);
 }
 
@@ -634,9 +636,9 @@ static void t_determinism(void)
     REQUIRE(filled(LST_TYPE_2B, 1500, 7, &m2, &b));
     lst_tetmesh_free(&m2);
     REQUIRE(filled(LST_TYPE_2B, 1500, 8, &m2, &c));
-    REQUIRE(lst_write_model_to_func(&a, pw_buf_write, &x, &err) == LST_OK);
-    REQUIRE(lst_write_model_to_func(&b, pw_buf_write, &y, &err) == LST_OK);
-    REQUIRE(lst_write_model_to_func(&c, pw_buf_write, &z, &err) == LST_OK);
+    REQUIRE(lst_write_model(&a, pw_buf_write, &x, &err) == LST_OK);
+    REQUIRE(lst_write_model(&b, pw_buf_write, &y, &err) == LST_OK);
+    REQUIRE(lst_write_model(&c, pw_buf_write, &z, &err) == LST_OK);
     CHECK(x.size == y.size && !memcmp(x.data, y.data, x.size));
     CHECK(x.size != z.size || memcmp(x.data, z.data, x.size));
     free(x.data), free(y.data), free(z.data);
@@ -651,20 +653,26 @@ static void t_manual_paste(void)
     lst_tetmesh m;
     lst_model model;
     lst_error err;
-    float pt[3] = {0.1f, 0.2f, -0.1f}, u[3] = {1, 0, 0}, v[3] = {0, 1, 0}, rgba[4], want[3], far[3] = {3, 0, 0};
+    lst_paste_spec spec;
+    float rgba[4], want[3];
     pw_volume tex;
     int n, k;
+    memset(&spec, 0, sizeof spec);
+    spec.point[0] = 0.1f, spec.point[1] = 0.2f, spec.point[2] = -0.1f;
+    spec.u_axis[0] = 1.0f, spec.v_axis[1] = 1.0f, spec.scale = 0.5f;
     REQUIRE(filled(LST_TYPE_0, 2000, 2, &m, &model));
     n = model.npastes;
-    REQUIRE(lst_paste_at(&model, pt, u, v, 0.5f, 0, NULL, &err) == LST_OK);
+    REQUIRE(lst_paste_at(&model, &spec, NULL, &err) == LST_OK);
     CHECK_EQ_INT(model.npastes, n + 1);
     CHECK(model.pastes[n].ntets > 10);
-    REQUIRE(lst_eval(&model, pt, 1, rgba, NULL, &err) == LST_OK);
+    REQUIRE(lst_eval(&model, spec.point, 1, rgba, NULL, &err) == LST_OK);
     tex = lst__pw_volume(&model.texture);
     lst__sample(&tex, 0.5, 0.5, 0.5, want);
     for (k = 0; k < 3; k++) CHECK_NEAR(rgba[k], want[k], 1e-3);
-    CHECK(lst_paste_at(&model, far, u, v, 0.5f, 0, NULL, &err) == LST_ERR_INVALID && strstr(err.message, "outside"));
-    CHECK(lst_paste_at(&model, pt, u, v, 0.5f, 3, NULL, &err) == LST_ERR_INVALID);
+    spec.point[0] = 3.0f, spec.point[1] = spec.point[2] = 0.0f;
+    CHECK(lst_paste_at(&model, &spec, NULL, &err) == LST_ERR_INVALID && strstr(err.message, "outside"));
+    spec.point[0] = 0.1f, spec.point[1] = 0.2f, spec.point[2] = -0.1f, spec.mask = 3;
+    CHECK(lst_paste_at(&model, &spec, NULL, &err) == LST_ERR_INVALID && strstr(err.message, "mask 3"));
     lst_model_free(&model);
     lst_tetmesh_free(&m);
 }
@@ -686,7 +694,7 @@ static void t_cancel(void)
     REQUIRE(sphere_tets(1500, &m));
     REQUIRE(lst_builtin_exemplar("spots", 16, &o, &ex, NULL, &err) == LST_OK);
     o.progress = cancel_after, o.progress_user = &calls;
-    CHECK(lst_create(&m, NULL, &ex, NULL, &o, &model, &err) == LST_ERR_CANCELLED);
+    CHECK(create_model(&m, NULL, &ex, NULL, &o, &model, &err) == LST_ERR_CANCELLED);
     CHECK(model.mesh.tets == NULL && model.pastes == NULL);
     lst_volume_free(&ex);
     lst_tetmesh_free(&m);
@@ -704,17 +712,17 @@ static void t_cancel(void)
  * seeds and lattice orders with the same constraints. */
 static void t_depth_at_exemplar_faces(void)
 {
-    static const char file[] = "\357\273\277face 3 0\nfill 0 0 40\npoint 0 0 0 1\nstroke 1 0 0 -0.5 0 0 0.5\n";
+    static const char file[] = "\357\273\277face 3 0\nfill 0 0 40\npoint 0 0 0 1\ndepth-stroke 1 0 0 -0.5 0 0 0.5\n";
     lst_options o = lst_default_options();
-    lst_depth_constraint *dc = NULL;
+    lst_constraints dc;
     lst_tetmesh m;
     lst_volume ex;
     lst_error err;
     double worst = 2.0;
-    int nd = 0, type, seed, order, bad = 0, fills = 0;
+    int type, seed, order, bad = 0, fills = 0;
     REQUIRE(sphere_tets(60, &m));
     REQUIRE(lst_builtin_exemplar("rings", 8, &o, &ex, NULL, &err) == LST_OK);
-    REQUIRE(lst_read_depth_from_memory(file, sizeof file - 1, "depth_at_face", NULL, &dc, &nd, &err) == LST_OK);
+    REQUIRE(lst_read_constraints(file, sizeof file - 1, "depth_at_face", NULL, &dc, &err) == LST_OK);
     for (type = LST_TYPE_1B; type <= LST_TYPE_2B; type += LST_TYPE_2B - LST_TYPE_1B)
         for (seed = 0; seed < 4; seed++)
             for (order = 1; order <= 3; order++) {
@@ -722,8 +730,8 @@ static void t_depth_at_exemplar_faces(void)
                 int t;
                 double c;
                 o.type = type, o.seed = type == LST_TYPE_2B && seed == 0 ? 187 : (unsigned long long)seed;
-                o.samples = order, o.scale = 2.0f, o.depth = dc, o.ndepth = nd, o.max_pastes = 3000;
-                if (lst_create(&m, NULL, &ex, NULL, &o, &model, &err) != LST_OK) {
+                o.samples = order, o.scale = 2.0f, o.constraints = dc.items, o.nconstraints = dc.count, o.max_pastes = 3000;
+                if (create_model(&m, NULL, &ex, NULL, &o, &model, &err) != LST_OK) {
                     CHECKF(0, "type %d seed %d order %d: %s", type, seed, order, err.message);
                     continue;
                 }
@@ -735,7 +743,7 @@ static void t_depth_at_exemplar_faces(void)
             }
     pwt_info("%d fills of types 1-b and 2-b with depth 1 at a point: least opacity at a sample point %.4f", fills, worst);
     CHECK(fills == 24 && bad == 0);
-    lst_free_constraints(dc, NULL, NULL);
+    lst_constraints_free(&dc);
     lst_volume_free(&ex);
     lst_tetmesh_free(&m);
 }

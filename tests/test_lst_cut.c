@@ -9,21 +9,28 @@
 #include "../lst.h"
 #include "pwtest.h"
 
+/* lst_create with the exemplar and its extra channel (may be NULL) as arguments. */
+static lst_result create_model(const lst_tetmesh *m, const lst_mesh *s, const lst_volume *ex, const lst_volume *val,
+                               const lst_options *o, lst_model *out, lst_error *err)
+{
+    lst_source src;
+    src.exemplar = ex, src.values = val;
+    return lst_create(m, s, &src, o, out, err);
+}
+
 static int make_model(const char *surface, int type, const char *exemplar, int n, lst_model *model)
 {
     lst_options o = lst_default_options();
-    lst_tet_options to;
     lst_mesh s;
     lst_tetmesh m;
     lst_volume ex, val;
     lst_error err;
     int ok;
-    memset(&to, 0, sizeof to);
-    to.target_tets = n;
+    o.tet.target_tets = n;
     o.type = type;
-    if (lst_builtin_surface(surface, &o, &s, &err) || lst_tetrahedralize(&s, &to, &o, &m, &err)) return 0;
+    if (lst_builtin_mesh(surface, &o, &s, &err) || lst_tetrahedralize(&s, &o, &m, NULL, &err)) return 0;
     if (lst_builtin_exemplar(exemplar, 32, &o, &ex, &val, &err)) return 0;
-    ok = lst_create(&m, &s, &ex, &val, &o, model, &err) == LST_OK;
+    ok = create_model(&m, &s, &ex, &val, &o, model, &err) == LST_OK;
     lst_volume_free(&ex), lst_volume_free(&val), lst_tetmesh_free(&m), lst_mesh_free(&s);
     return ok;
 }

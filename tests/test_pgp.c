@@ -31,6 +31,20 @@ static void grid(int n, pgp_mesh *m)
     for (k = 0; k <= m->nfaces; k++) m->face_start[k] = 3 * k;
 }
 
+/* A constraint (the fields of pgp_constraint in order). */
+static pgp_constraint con(pgp_constraint_kind kind, int element, float x, float y, float z, float radius)
+{
+    pgp_constraint c;
+    c.kind = kind, c.element = element, c.radius = radius;
+    c.value[0] = x, c.value[1] = y, c.value[2] = z;
+    return c;
+}
+
+static pgp_result add(pgp_map *map, pgp_constraint c, int *id, pgp_area *area, pgp_error *err)
+{
+    return pgp_add_constraint(map, &c, id, area, err);
+}
+
 static double frac_dist(double x) { return fabs(x - floor(x + 0.5)); }
 
 /* §2.3 on a flat square with a constant field: s = x / S and t = y / S up
@@ -47,7 +61,7 @@ static void flat_grid(float integrable)
 {
     pgp_mesh m;
     pgp_options o = pgp_default_options();
-    pgp_map *P = NULL;
+    pgp_map P;
     pgp_error err;
     float *stm;
     double worst = 0.0;
@@ -56,10 +70,9 @@ static void flat_grid(float integrable)
     o.scale = 0.25f;
     o.integrable = integrable;
     CHECKF(pgp_create(&m, &o, &P, &err) == PGP_OK, "%s", err.message);
-    if (!P) return;
-    stm = (float *)malloc(sizeof(float) * 9 * (size_t)pgp_triangle_count(P));
-    pgp_get_coords(P, stm);
-    for (f = 0; f < pgp_triangle_count(P); f++)
+    if (!P.state) return;
+    stm = P.coords;
+    for (f = 0; f < P.ntris; f++)
         for (c = 0; c < 3; c++) {
             const float *p = m.positions + 3 * m.face_verts[3 * f + c];
             double es = stm[9 * f + 3 * c] - stm[0] - p[0] / 0.25, et = stm[9 * f + 3 * c + 1] - stm[1] - p[1] / 0.25;
@@ -70,10 +83,9 @@ static void flat_grid(float integrable)
             worst = fabs(ws - wx) > worst ? fabs(ws - wx) : worst;
         }
     CHECKF(worst < 1e-5, "largest deviation from s = x/S, t = y/S: %g", worst);
-    CHECKF(pgp_get_singular(P, NULL) == 0, "%d singular triangles on a flat grid", pgp_get_singular(P, NULL));
-    CHECKF(pgp_get_vortices(P, NULL) == 0, "%d vortices on a flat grid", pgp_get_vortices(P, NULL));
-    free(stm);
-    pgp_destroy(P);
+    CHECKF(pgp_map_singular(&P, NULL) == 0, "%d singular triangles on a flat grid", pgp_map_singular(&P, NULL));
+    CHECKF(pgp_map_vortices(&P, NULL) == 0, "%d vortices on a flat grid", pgp_map_vortices(&P, NULL));
+    pgp_map_free(&P);
     pgp_mesh_free(&m);
 }
 
@@ -84,14 +96,16 @@ static void t_integer_jumps(void)
 {
     pgp_mesh m;
     pgp_options o = pgp_default_options();
-    pgp_map *P = NULL;
+    pgp_map map;
+    const pgp__state *P;
     pgp_error err;
     int h, k, bad = 0, mism = 0;
     grid(16, &m);
     m.positions[3 * 100 + 2] = 0.2f; /* a bump: the field is no longer a gradient */
     m.positions[3 * 101 + 2] = 0.15f;
     o.scale = 0.2f;
-    CHECKF(pgp_create(&m, &o, &P, &err) == PGP_OK, "%s", err.message);
+    CHECKF(pgp_create(&m, &o, &map, &err) == PGP_OK, "%s", err.message);
+    P = map.state;
     if (!P) return;
     for (h = 0; h < 3 * P->m.nf; h++) {
         int t = P->m.hm.twin[h], f = h / 3, c = h % 3;
@@ -105,7 +119,7 @@ static void t_integer_jumps(void)
     }
     CHECKF(bad == 0, "%d corner pairs differ by a non-integer", bad);
     CHECKF(mism == 0, "%d edges between regular triangles disagree", mism);
-    pgp_destroy(P);
+    pgp_map_free(&map);
     pgp_mesh_free(&m);
 }
 
@@ -115,45 +129,86 @@ static void t_local_edit(void)
 {
     pgp_mesh m;
     pgp_options o = pgp_default_options();
-    pgp_map *P = NULL;
+    pgp_map P;
+    pgp_field fd;
     pgp_error err;
     pgp_area area;
-    float *before, *after, mat[441];
+    float *before;
     unsigned char *in;
     int f, k, id = -1, changed_out = 0, changed_in = 0, v;
     grid(20, &m);
     o.scale = 0.2f;
     CHECKF(pgp_create(&m, &o, &P, &err) == PGP_OK, "%s", err.message);
-    if (!P) return;
-    before = (float *)malloc(sizeof(float) * 9 * (size_t)P->m.nf);
-    after = (float *)malloc(sizeof(float) * 9 * (size_t)P->m.nf);
-    in = (unsigned char *)calloc((size_t)P->m.nf, 1);
-    pgp_get_coords(P, before);
-    CHECKF(pgp_add_orientation(P, 400, (const float[3]){1.0f, 1.0f, 0.0f}, 0.3f, &id, &area, &err) == PGP_OK, "%s",
+    if (!P.state) return;
+    before = (float *)malloc(sizeof(float) * 9 * (size_t)P.ntris);
+    in = (unsigned char *)calloc((size_t)P.ntris, 1);
+    memcpy(before, P.coords, sizeof(float) * 9 * (size_t)P.ntris);
+    CHECKF(add(&P, con(PGP_CONSTRAINT_ORIENT, 400, 1.0f, 1.0f, 0.0f, 0.3f), &id, &area, &err) == PGP_OK, "%s",
            err.message);
-    CHECK(area.nfaces > 0 && area.nfaces < P->m.nf);
+    CHECK(area.nfaces > 0 && area.nfaces < P.ntris);
     for (k = 0; k < area.nfaces; k++) in[area.faces[k]] = 1;
-    pgp_get_coords(P, after);
-    for (f = 0; f < P->m.nf; f++)
+    for (f = 0; f < P.ntris; f++)
         for (k = 0; k < 9; k++)
-            if (before[9 * f + k] != after[9 * f + k]) {
+            if (before[9 * f + k] != P.coords[9 * f + k]) {
                 if (in[f]) changed_in++;
                 else changed_out++;
             }
     CHECKF(changed_out == 0, "%d coordinates outside the effect area changed", changed_out);
     CHECKF(changed_in > 0, "the edit changed nothing");
     pgp_area_free(&area);
-    CHECKF(pgp_add_material(P, 220, 1.0f, 0.0f, NULL, NULL, &err) == PGP_OK, "%s", err.message);
-    CHECKF(pgp_add_material(P, 20, 0.0f, 0.0f, NULL, NULL, &err) == PGP_OK, "%s", err.message);
-    pgp_get_field(P, NULL, NULL, mat);
-    for (v = 0; v < P->m.nv; v++) CHECKF(mat[v] >= 0.0f && mat[v] <= 1.0f, "material %g at vertex %d", mat[v], v);
-    CHECKF(mat[220] == 1.0f && mat[20] == 0.0f && mat[120] > 0.0f && mat[120] < 1.0f, "material not interpolated");
-    CHECKF(pgp_remove_constraint(P, id, NULL, &err) == PGP_OK, "%s", err.message);
-    CHECK(pgp_remove_constraint(P, id, NULL, &err) == PGP_ERR_INVALID);
+    CHECKF(add(&P, con(PGP_CONSTRAINT_MATERIAL, 220, 1.0f, 0.0f, 0.0f, 0.0f), NULL, NULL, &err) == PGP_OK, "%s",
+           err.message);
+    CHECKF(add(&P, con(PGP_CONSTRAINT_MATERIAL, 20, 0.0f, 0.0f, 0.0f, 0.0f), NULL, NULL, &err) == PGP_OK, "%s",
+           err.message);
+    REQUIRE(pgp_map_field(&P, &fd, &err) == PGP_OK);
+    CHECK(fd.ntris == P.ntris && fd.nverts == 441);
+    for (v = 0; v < P.nverts; v++)
+        CHECKF(fd.material[v] >= 0.0f && fd.material[v] <= 1.0f, "material %g at vertex %d", fd.material[v], v);
+    CHECKF(fd.material[220] == 1.0f && fd.material[20] == 0.0f && fd.material[120] > 0.0f && fd.material[120] < 1.0f,
+           "material not interpolated");
+    pgp_field_free(&fd);
+    CHECK(fd.material == NULL && fd.nverts == 0);
+    CHECKF(pgp_remove_constraint(&P, id, NULL, &err) == PGP_OK, "%s", err.message);
+    CHECK(pgp_remove_constraint(&P, id, NULL, &err) == PGP_ERR_INVALID);
     free(before);
-    free(after);
     free(in);
-    pgp_destroy(P);
+    pgp_map_free(&P);
+    CHECK(P.state == NULL && P.coords == NULL && P.ntris == 0);
+    pgp_map_free(&P); /* a zeroed map: nothing to do */
+    pgp_mesh_free(&m);
+}
+
+/* pgp_options.constraints are applied as if added one by one after
+ * creation: the same coordinates, the same ids; a bad one is named. */
+static void t_create_constraints(void)
+{
+    pgp_mesh m;
+    pgp_options o = pgp_default_options();
+    pgp_constraint cs[3];
+    pgp_map A, B;
+    pgp_error err;
+    int k, id = -1;
+    grid(16, &m);
+    o.scale = 0.25f;
+    cs[0] = con(PGP_CONSTRAINT_ORIENT, 100, 1.0f, 1.0f, 0.0f, 0.4f);
+    cs[1] = con(PGP_CONSTRAINT_SCALE, 40, 0.15f, 0.0f, 0.0f, 0.0f);
+    cs[2] = con(PGP_CONSTRAINT_MATERIAL, 200, 1.0f, 0.0f, 0.0f, 0.5f);
+    REQUIRE(pgp_create(&m, &o, &A, &err) == PGP_OK);
+    for (k = 0; k < 3; k++) CHECKF(pgp_add_constraint(&A, &cs[k], &id, NULL, &err) == PGP_OK, "%s", err.message);
+    CHECK(id == 2);
+    o.constraints = cs;
+    o.nconstraints = 3;
+    REQUIRE(pgp_create(&m, &o, &B, &err) == PGP_OK);
+    CHECK(A.ntris == B.ntris && !memcmp(A.coords, B.coords, sizeof(float) * 9 * (size_t)A.ntris));
+    CHECK(pgp_remove_constraint(&B, 2, NULL, &err) == PGP_OK); /* ids 0, 1, 2 */
+    CHECK(pgp_remove_constraint(&B, 3, NULL, &err) == PGP_ERR_INVALID);
+    pgp_map_free(&A);
+    pgp_map_free(&B);
+    cs[1].element = 5000;
+    CHECK(pgp_create(&m, &o, &B, &err) == PGP_ERR_INVALID && B.state == NULL);
+    CHECKF(strstr(err.message, "constraint 1: vertex 5000 does not exist") != NULL, "%s", err.message);
+    o.constraints = NULL;
+    CHECK(pgp_create(&m, &o, &B, &err) == PGP_ERR_INVALID && B.state == NULL);
     pgp_mesh_free(&m);
 }
 
@@ -161,23 +216,15 @@ static void t_determinism(void)
 {
     pgp_mesh m;
     pgp_options o = pgp_default_options();
-    pgp_map *P1 = NULL, *P2 = NULL;
+    pgp_map P1, P2;
     pgp_error err;
-    float *a, *b;
     grid(12, &m);
     m.positions[3 * 50 + 2] = 0.1f;
     o.scale = 0.25f;
     CHECK(pgp_create(&m, &o, &P1, &err) == PGP_OK && pgp_create(&m, &o, &P2, &err) == PGP_OK);
-    if (!P1 || !P2) return;
-    a = (float *)malloc(sizeof(float) * 9 * (size_t)P1->m.nf);
-    b = (float *)malloc(sizeof(float) * 9 * (size_t)P1->m.nf);
-    pgp_get_coords(P1, a);
-    pgp_get_coords(P2, b);
-    CHECK(memcmp(a, b, sizeof(float) * 9 * (size_t)P1->m.nf) == 0);
-    free(a);
-    free(b);
-    pgp_destroy(P1);
-    pgp_destroy(P2);
+    CHECK(P1.coords && P2.coords && memcmp(P1.coords, P2.coords, sizeof(float) * 9 * (size_t)P1.ntris) == 0);
+    pgp_map_free(&P1);
+    pgp_map_free(&P2);
     pgp_mesh_free(&m);
 }
 
@@ -185,32 +232,34 @@ static void t_bad_input(void)
 {
     pgp_mesh m;
     pgp_options o = pgp_default_options();
-    pgp_map *P = NULL;
+    pgp_map P;
     pgp_error err;
     grid(4, &m);
     o.scale = -1.0f;
-    CHECK(pgp_create(&m, &o, &P, &err) == PGP_ERR_INVALID && !P);
+    CHECK(pgp_create(&m, &o, &P, &err) == PGP_ERR_INVALID && !P.state);
     o.scale = 0.0f;
     o.material = 2.0f;
-    CHECK(pgp_create(&m, &o, &P, &err) == PGP_ERR_INVALID && !P);
+    CHECK(pgp_create(&m, &o, &P, &err) == PGP_ERR_INVALID && !P.state);
     o.material = 0.0f;
     o.scale = 1e6f; /* over 10 diagonals (issue 17) */
-    CHECK(pgp_create(&m, &o, &P, &err) == PGP_ERR_INVALID && !P && strstr(err.message, "outside [0.5"));
+    CHECK(pgp_create(&m, &o, &P, &err) == PGP_ERR_INVALID && !P.state && strstr(err.message, "outside [0.5"));
     o.scale = 0.001f; /* under 2 mean edge lengths */
-    CHECK(pgp_create(&m, &o, &P, &err) == PGP_ERR_INVALID && !P && strstr(err.message, "tile side 0.001"));
+    CHECK(pgp_create(&m, &o, &P, &err) == PGP_ERR_INVALID && !P.state && strstr(err.message, "tile side 0.001"));
     o = pgp_default_options(); /* the default side, under 2 mean edges here, is kept */
     CHECKF(pgp_create(&m, &o, &P, &err) == PGP_OK, "%s", err.message);
-    if (P) {
-        CHECK(pgp_add_orientation(P, 1000, (const float[3]){1, 0, 0}, 0.0f, NULL, NULL, &err) == PGP_ERR_INVALID);
+    if (P.state) {
+        CHECK(add(&P, con(PGP_CONSTRAINT_ORIENT, 1000, 1, 0, 0, 0.0f), NULL, NULL, &err) == PGP_ERR_INVALID);
         CHECK(strstr(err.message, "triangle 1000") != NULL);
-        CHECK(pgp_add_orientation(P, 0, (const float[3]){0, 0, 1}, 0.0f, NULL, NULL, &err) == PGP_ERR_INVALID);
-        CHECK(pgp_add_scale(P, 3, 0.0f, 0.0f, NULL, NULL, &err) == PGP_ERR_INVALID);
-        CHECK(pgp_add_scale(P, -1, 1.0f, 0.0f, NULL, NULL, &err) == PGP_ERR_INVALID);
-        CHECK(pgp_add_material(P, 3, 1.5f, 0.0f, NULL, NULL, &err) == PGP_ERR_INVALID);
-        pgp_destroy(P);
+        CHECK(add(&P, con(PGP_CONSTRAINT_ORIENT, 0, 0, 0, 1, 0.0f), NULL, NULL, &err) == PGP_ERR_INVALID);
+        CHECK(add(&P, con(PGP_CONSTRAINT_SCALE, 3, 0.0f, 0, 0, 0.0f), NULL, NULL, &err) == PGP_ERR_INVALID);
+        CHECK(add(&P, con(PGP_CONSTRAINT_SCALE, -1, 1.0f, 0, 0, 0.0f), NULL, NULL, &err) == PGP_ERR_INVALID);
+        CHECK(add(&P, con(PGP_CONSTRAINT_MATERIAL, 3, 1.5f, 0, 0, 0.0f), NULL, NULL, &err) == PGP_ERR_INVALID);
+        CHECK(add(&P, con((pgp_constraint_kind)7, 3, 0.5f, 0, 0, 0.0f), NULL, NULL, &err) == PGP_ERR_INVALID);
+        CHECK(pgp_add_constraint(&P, NULL, NULL, NULL, &err) == PGP_ERR_INVALID);
+        pgp_map_free(&P);
     }
     m.face_verts[4] = m.face_verts[1]; /* triangle 1 repeats a vertex: degenerate */
-    CHECK(pgp_create(&m, &o, &P, &err) != PGP_OK && !P);
+    CHECK(pgp_create(&m, &o, &P, &err) != PGP_OK && !P.state);
     pgp_mesh_free(&m);
 }
 
@@ -229,7 +278,8 @@ static void t_sphere_regime(void)
 {
     pw_alloc a;
     pgp_options o = pgp_default_options();
-    pgp_map *P = NULL;
+    pgp_map map;
+    const pgp__state *P;
     pgp_error err;
     pgp_mesh pm;
     pw_mesh m;
@@ -241,16 +291,17 @@ static void t_sphere_regime(void)
     pw_err_clear(&pe);
     REQUIRE(pw_shape_geosphere(&a, 64, &m, &pe) == PW_OK);
     pgp__take_mesh(&m, &a, &pm);
-    CHECKF(pgp_create(&pm, &o, &P, &err) == PGP_OK, "%s", err.message);
+    CHECKF(pgp_create(&pm, &o, &map, &err) == PGP_OK, "%s", err.message);
+    P = map.state;
     if (P && (vort = (unsigned char *)malloc((size_t)P->m.nf)) != NULL) {
         S = P->scale0;
-        pgp_get_vortices(P, vort);
+        pgp_map_vortices(&map, vort);
         for (f = 0; f < P->m.nf; f++) {
             ns += vort[f] & 1, nt += vort[f] >> 1;
             area += P->m.area[f];
             if (pgp__distorted(P, f)) dist += P->m.area[f];
         }
-        sing = (double)pgp_get_singular(P, NULL) / P->m.nf;
+        sing = (double)pgp_map_singular(&map, NULL) / P->m.nf;
         expect = 4.0 * 3.14159265358979 / S;
         pwt_info("sphere: %d triangles, %d s-vortices (expected %.1f), %d t-vortices, distorted area %.1f%% "
                  "(expected %.1f%%), singular %.1f%%", P->m.nf, ns, expect, nt, 100.0 * dist / area,
@@ -262,7 +313,7 @@ static void t_sphere_regime(void)
         CHECKF(sing >= 0.05 && sing <= 0.10, "singular %.1f%%, paper 5-10%%", 100.0 * sing);
         free(vort);
     }
-    pgp_destroy(P);
+    pgp_map_free(&map);
     pgp_mesh_free(&pm);
 }
 
@@ -270,6 +321,7 @@ static const pwt_case cases[] = {
     {"pgp/flat_grid_linear", t_flat_grid_linear},
     {"pgp/integer_jumps", t_integer_jumps},
     {"pgp/local_edit", t_local_edit},
+    {"pgp/create_constraints", t_create_constraints},
     {"pgp/determinism", t_determinism},
     {"pgp/bad_input", t_bad_input},
     {"pgp/sphere_regime", t_sphere_regime},

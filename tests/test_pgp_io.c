@@ -86,12 +86,12 @@ static void t_tile_nrrd_roundtrip(void)
         memset(&m1, 0, sizeof m1);
         memset(&m2, 0, sizeof m2);
         REQUIRE(make_tile(&a, 5, 4, 3, c));
-        CHECKF(pgp_write_tile_to_func(&a, mem_write, &m1, &err) == PGP_OK, "write: %s", err.message);
+        CHECKF(pgp_write_tile(&a, mem_write, &m1, &err) == PGP_OK, "write: %s", err.message);
         snprintf(sizes, sizeof sizes, c > 1 ? "sizes: %d 5 4 3\n" : "sizes: 5 4 3\n", c);
         CHECKF(m1.data && strstr((const char *)m1.data, sizes), "%d channels: no '%s' in the header", c, sizes);
         CHECK(m1.data && strstr((const char *)m1.data, c > 1 ? "dimension: 4\n" : "dimension: 3\n"));
         CHECK(m1.data && strstr((const char *)m1.data, "encoding: raw\n"));
-        CHECKF(pgp_load_tile_from_memory(m1.data, m1.size, "rt.nrrd", NULL, &b, &err) == PGP_OK, "read: %s", err.message);
+        CHECKF(pgp_read_tile(m1.data, m1.size, "rt.nrrd", NULL, &b, &err) == PGP_OK, "read: %s", err.message);
         CHECK_EQ_INT(b.width, 5);
         CHECK_EQ_INT(b.height, 4);
         CHECK_EQ_INT(b.layers, 3);
@@ -103,7 +103,7 @@ static void t_tile_nrrd_roundtrip(void)
                 break;
             }
         /* and written again, the same bytes */
-        CHECK(pgp_write_tile_to_func(&b, mem_write, &m2, &err) == PGP_OK && same_bytes(&m1, &m2));
+        CHECK(pgp_write_tile(&b, mem_write, &m2, &err) == PGP_OK && same_bytes(&m1, &m2));
         pgp_tile_free(&b);
         free(a.pixels);
         mem_free(&m1);
@@ -122,7 +122,7 @@ static void t_tile_nrrd_layout(void)
     int i, ok;
     memcpy(buf, head4, sizeof head4 - 1);
     for (i = 0; i < 24; i++) buf[sizeof head4 - 1 + i] = (unsigned char)(10 * i);
-    ok = pgp_load_tile_from_memory(buf, sizeof head4 - 1 + 24, "d4.nrrd", NULL, &t, &err) == PGP_OK;
+    ok = pgp_read_tile(buf, sizeof head4 - 1 + 24, "d4.nrrd", NULL, &t, &err) == PGP_OK;
     REQUIRE(ok);
     CHECK(t.width == 2 && t.height == 2 && t.layers == 2 && t.channels == 3);
     for (i = 0; i < 24; i++) CHECK_NEAR(t.pixels[i], 10 * i / 255.0, 1e-6);
@@ -131,7 +131,7 @@ static void t_tile_nrrd_layout(void)
     pgp_tile_free(&t);
     memcpy(buf, head3, sizeof head3 - 1);
     for (i = 0; i < 24; i++) buf[sizeof head3 - 1 + i] = (unsigned char)i;
-    REQUIRE(pgp_load_tile_from_memory(buf, sizeof head3 - 1 + 24, "d3.nrrd", NULL, &t, &err) == PGP_OK);
+    REQUIRE(pgp_read_tile(buf, sizeof head3 - 1 + 24, "d3.nrrd", NULL, &t, &err) == PGP_OK);
     CHECK(t.width == 4 && t.height == 3 && t.layers == 2 && t.channels == 1);
     CHECK_NEAR(t.pixels[13], 13 / 255.0, 1e-6); /* x 1, row 0, layer 1 */
     pgp_tile_free(&t);
@@ -145,30 +145,30 @@ static void t_tile_nrrd_errors(void)
     pgp_error err;
     membuf m;
     memset(&m, 0, sizeof m);
-    CHECK(pgp_load_tile_from_memory(trunc, sizeof trunc - 1, "short.nrrd", NULL, &t, &err) == PGP_ERR_PARSE);
+    CHECK(pgp_read_tile(trunc, sizeof trunc - 1, "short.nrrd", NULL, &t, &err) == PGP_ERR_PARSE);
     CHECKF(strstr(err.message, "short.nrrd") != NULL, "message: %s", err.message);
     CHECK(t.pixels == NULL && t.layers == 0);
-    CHECK(pgp_load_tile_from_memory(bad, sizeof bad - 1, "bad.nrrd", NULL, &t, &err) == PGP_ERR_PARSE);
+    CHECK(pgp_read_tile(bad, sizeof bad - 1, "bad.nrrd", NULL, &t, &err) == PGP_ERR_PARSE);
     CHECKF(strstr(err.message, "bad.nrrd:4") != NULL, "message: %s", err.message);
-    CHECK(pgp_load_tile_from_memory("hello", 5, "junk.bin", NULL, &t, &err) != PGP_OK);
-    CHECK(pgp_load_tile_from_memory(NULL, 4, "x", NULL, &t, &err) == PGP_ERR_INVALID);
-    CHECK(pgp_load_tile_from_memory("", 0, "empty", NULL, &t, &err) != PGP_OK);
+    CHECK(pgp_read_tile("hello", 5, "junk.bin", NULL, &t, &err) != PGP_OK);
+    CHECK(pgp_read_tile(NULL, 4, "x", NULL, &t, &err) == PGP_ERR_INVALID);
+    CHECK(pgp_read_tile("", 0, "empty", NULL, &t, &err) != PGP_OK);
     /* writing: bad shapes and samples are refused, writer failures reported */
     REQUIRE(make_tile(&nan, 3, 3, 2, 3));
     nan.channels = 5;
-    CHECK(pgp_write_tile_to_func(&nan, mem_write, &m, &err) == PGP_ERR_INVALID && m.size == 0);
+    CHECK(pgp_write_tile(&nan, mem_write, &m, &err) == PGP_ERR_INVALID && m.size == 0);
     nan.channels = 3;
     nan.layers = 0;
-    CHECK(pgp_write_tile_to_func(&nan, mem_write, &m, &err) == PGP_ERR_INVALID && m.size == 0);
+    CHECK(pgp_write_tile(&nan, mem_write, &m, &err) == PGP_ERR_INVALID && m.size == 0);
     nan.layers = 2;
     nan.pixels[7] = (float)NAN;
-    CHECK(pgp_write_tile_to_func(&nan, mem_write, &m, &err) == PGP_ERR_INVALID && m.size == 0);
+    CHECK(pgp_write_tile(&nan, mem_write, &m, &err) == PGP_ERR_INVALID && m.size == 0);
     CHECKF(strstr(err.message, "texel 2") != NULL, "message: %s", err.message);
     nan.pixels[7] = 0.5f;
     m.fail_after = 40;
-    CHECK(pgp_write_tile_to_func(&nan, mem_write, &m, &err) == PGP_ERR_IO);
-    CHECK(pgp_write_tile_to_func(NULL, mem_write, &m, &err) == PGP_ERR_INVALID);
-    CHECK(pgp_write_tile_to_func(&nan, NULL, &m, &err) == PGP_ERR_INVALID);
+    CHECK(pgp_write_tile(&nan, mem_write, &m, &err) == PGP_ERR_IO);
+    CHECK(pgp_write_tile(NULL, mem_write, &m, &err) == PGP_ERR_INVALID);
+    CHECK(pgp_write_tile(&nan, NULL, &m, &err) == PGP_ERR_INVALID);
     free(nan.pixels);
     mem_free(&m);
 }
@@ -192,14 +192,14 @@ static void t_tile_from_image(void)
     CHECK(t.pixels != px && !memcmp(t.pixels, px, sizeof px));
     pgp_tile_free(&t);
     /* through a PNG in memory: one layer with the image's texels */
-    REQUIRE(pgp_write_image_to_func(&img, "png", mem_write, &m, &err) == PGP_OK);
-    REQUIRE(pgp_load_tile_from_memory(m.data, m.size, "x.png", NULL, &t, &err) == PGP_OK);
+    REQUIRE(pgp_write_image(&img, "png", mem_write, &m, &err) == PGP_OK);
+    REQUIRE(pgp_read_tile(m.data, m.size, "x.png", NULL, &t, &err) == PGP_OK);
     CHECK(t.width == 3 && t.height == 2 && t.layers == 1 && t.channels == 3);
     for (i = 0; t.pixels && i < 18; i++) CHECK_NEAR(t.pixels[i], px[i], 1e-6);
     pgp_tile_free(&t);
     mem_free(&m);
     /* a gray PGM */
-    REQUIRE(pgp_load_tile_from_memory("P5\n2 1\n255\n\000\377", 13, "g.pgm", NULL, &t, &err) == PGP_OK);
+    REQUIRE(pgp_read_tile("P5\n2 1\n255\n\000\377", 13, "g.pgm", NULL, &t, &err) == PGP_OK);
     CHECK(t.width == 2 && t.height == 1 && t.layers == 1 && t.channels == 1);
     CHECK(t.pixels && t.pixels[0] == 0.0f && t.pixels[1] == 1.0f);
     pgp_tile_free(&t);
@@ -312,7 +312,7 @@ static void t_builtin_tiles(void)
     /* deterministic, and the seed matters */
     REQUIRE(pgp_builtin_tile("bricks", 64, &o, &b, &err) == PGP_OK);
     CHECK(!memcmp(a.pixels, b.pixels, sizeof(float) * n));
-    o.seed = 9;
+    o.synth.seed = 9;
     REQUIRE(pgp_builtin_tile("bricks", 64, &o, &c, &err) == PGP_OK);
     CHECK(memcmp(a.pixels, c.pixels, sizeof(float) * n) != 0);
     pgp_tile_free(&a);
@@ -372,16 +372,23 @@ static void t_mesh_image_memory(void)
     pgp_error err;
     membuf b;
     memset(&b, 0, sizeof b);
-    REQUIRE(pgp_load_mesh_from_memory(obj, sizeof obj - 1, "quad.obj", NULL, &m, &err) == PGP_OK);
+    REQUIRE(pgp_read_mesh(obj, sizeof obj - 1, "quad.obj", NULL, &m, &err) == PGP_OK);
     CHECK(m.nverts == 4 && m.nfaces == 1 && m.face_start[1] == 4);
     pgp_mesh_free(&m);
-    CHECK(pgp_load_mesh_from_memory("v 0 0 0\nf 1 2 x\n", 16, "bad.obj", NULL, &m, &err) != PGP_OK);
+    CHECK(pgp_read_mesh("v 0 0 0\nf 1 2 x\n", 16, "bad.obj", NULL, &m, &err) != PGP_OK);
     CHECKF(strstr(err.message, "bad.obj:2") != NULL, "message: %s", err.message);
     memset(&img, 0, sizeof img);
     img.width = 2, img.height = 2, img.channels = 1, img.pixels = px;
-    REQUIRE(pgp_write_image_to_func(&img, "pgm", mem_write, &b, &err) == PGP_OK);
+    REQUIRE(pgp_write_image(&img, "pgm", mem_write, &b, &err) == PGP_OK);
     CHECK(b.size == 11 + 4 && !memcmp(b.data, "P5\n2 2\n255\n", 11));
-    CHECK(pgp_write_image_to_func(&img, "gif", mem_write, &b, &err) == PGP_ERR_UNSUPPORTED);
+    REQUIRE(pgp_read_image(b.data, b.size, "x.pgm", NULL, &img, &err) == PGP_OK);
+    CHECK(img.width == 2 && img.height == 2 && img.channels == 1 && img.pixels[3] == 1.0f && img.pixels[0] == 0.0f);
+    pgp_image_free(&img);
+    CHECK(pgp_read_image("P5\n2 2\n255\n", 11, "short.pgm", NULL, &img, &err) == PGP_ERR_PARSE && !img.pixels);
+    CHECKF(strstr(err.message, "short.pgm") != NULL, "message: %s", err.message);
+    CHECK(pgp_read_image(NULL, 3, "x", NULL, &img, &err) == PGP_ERR_INVALID);
+    img.width = 2, img.height = 2, img.channels = 1, img.pixels = px;
+    CHECK(pgp_write_image(&img, "gif", mem_write, &b, &err) == PGP_ERR_UNSUPPORTED);
     mem_free(&b);
 }
 
@@ -389,16 +396,15 @@ static void t_mesh_image_memory(void)
 
 /* Parses the OBJ of a map: counts, groups in order, faces in triangle
  * order within each group with vt 3f+1..3f+3, and the vt values equal to
- * pgp_get_coords. */
+ * pgp_map.coords. */
 static void check_obj(const char *text, const pgp_map *map, const pgp_mesh *mesh)
 {
-    int nf = pgp_triangle_count(map), nv = pgp_vertex_count(map), nsing = pgp_get_singular(map, NULL);
-    float *stm = (float *)malloc(sizeof(float) * 9 * (size_t)nf);
+    int nf = map->ntris, nv = map->nverts, nsing = pgp_map_singular(map, NULL);
+    const float *stm = map->coords;
     unsigned char *sing = (unsigned char *)malloc((size_t)nf);
     int v = 0, vt = 0, f = 0, group = -1, last = -1, bad = 0, fsing = 0, badvt = 0, badv = 0, k;
     const char *p = text;
-    pgp_get_coords(map, stm);
-    pgp_get_singular(map, sing);
+    pgp_map_singular(map, sing);
     while (*p) {
         const char *e = strchr(p, '\n');
         if (!e) e = p + strlen(p);
@@ -446,7 +452,6 @@ static void check_obj(const char *text, const pgp_map *map, const pgp_mesh *mesh
     CHECK_EQ_INT(bad, 0);
     CHECK_EQ_INT(badv, 0);
     CHECK_EQ_INT(badvt, 0);
-    free(stm);
     free(sing);
 }
 
@@ -454,118 +459,139 @@ static void t_obj_writer(void)
 {
     pgp_options o = pgp_default_options();
     pgp_mesh mesh, grid;
-    pgp_map *map;
+    pgp_map map;
     pgp_error err;
     membuf b;
     memset(&b, 0, sizeof b);
     o.scale = 0.35f;
     REQUIRE(pgp_builtin_mesh("sphere", &o, &mesh, &err) == PGP_OK);
     REQUIRE(pgp_create(&mesh, &o, &map, &err) == PGP_OK);
-    CHECKF(pgp_get_singular(map, NULL) > 0, "the sphere has no singular triangles to group");
-    CHECKF(pgp_write_obj_to_func(&mesh, map, mem_write, &b, &err) == PGP_OK, "%s", err.message);
-    if (b.data) check_obj((const char *)b.data, map, &mesh);
+    CHECKF(pgp_map_singular(&map, NULL) > 0, "the sphere has no singular triangles to group");
+    CHECKF(pgp_write_obj(&mesh, &map, mem_write, &b, &err) == PGP_OK, "%s", err.message);
+    if (b.data) check_obj((const char *)b.data, &map, &mesh);
     /* the same without the mesh */
     {
         membuf c;
         memset(&c, 0, sizeof c);
-        CHECK(pgp_write_obj_to_func(NULL, map, mem_write, &c, &err) == PGP_OK && same_bytes(&b, &c));
+        CHECK(pgp_write_obj(NULL, &map, mem_write, &c, &err) == PGP_OK && same_bytes(&b, &c));
         mem_free(&c);
     }
     /* another mesh, a failing writer, NULL arguments */
     REQUIRE(pgp_builtin_mesh("grid", &o, &grid, &err) == PGP_OK);
-    CHECK(pgp_write_obj_to_func(&grid, map, mem_write, &b, &err) == PGP_ERR_INVALID);
+    CHECK(pgp_write_obj(&grid, &map, mem_write, &b, &err) == PGP_ERR_INVALID);
     mesh.face_verts[4] = mesh.face_verts[5];
-    CHECK(pgp_write_obj_to_func(&mesh, map, mem_write, &b, &err) == PGP_ERR_INVALID);
+    CHECK(pgp_write_obj(&mesh, &map, mem_write, &b, &err) == PGP_ERR_INVALID);
     CHECKF(strstr(err.message, "face 1") != NULL, "message: %s", err.message);
     mem_free(&b);
     b.fail_after = 100;
-    CHECK(pgp_write_obj_to_func(NULL, map, mem_write, &b, &err) == PGP_ERR_IO);
-    CHECK(pgp_write_obj_to_func(NULL, NULL, mem_write, &b, &err) == PGP_ERR_INVALID);
-    CHECK(pgp_write_obj_to_func(NULL, map, NULL, &b, &err) == PGP_ERR_INVALID);
+    CHECK(pgp_write_obj(NULL, &map, mem_write, &b, &err) == PGP_ERR_IO);
+    CHECK(pgp_write_obj(NULL, NULL, mem_write, &b, &err) == PGP_ERR_INVALID);
+    CHECK(pgp_write_obj(NULL, &map, NULL, &b, &err) == PGP_ERR_INVALID);
     mem_free(&b);
-    pgp_destroy(map);
+    pgp_map_free(&map);
+    CHECK(pgp_write_obj(NULL, &map, mem_write, &b, &err) == PGP_ERR_INVALID); /* a freed map is empty */
     pgp_mesh_free(&mesh);
     pgp_mesh_free(&grid);
 }
 
 /* ---- constraints files ---------------------------------------------------------------------- */
 
-static pgp_map *grid_map(pgp_mesh *mesh)
+/* The grid map with the constraints of a file's text (NULL text: none). */
+static pgp_result grid_map(const char *text, pgp_mesh *mesh, pgp_map *map, pgp_error *err)
 {
     pgp_options o = pgp_default_options();
-    pgp_map *map = NULL;
-    pgp_error err;
+    pgp_constraints cons;
+    pgp_result r;
+    memset(&cons, 0, sizeof cons);
     o.scale = 0.5f;
-    if (pgp_builtin_mesh("grid", &o, mesh, &err) != PGP_OK || pgp_create(mesh, &o, &map, &err) != PGP_OK) {
-        CHECKF(0, "grid map: %s", err.message);
-        return NULL;
-    }
-    return map;
+    memset(map, 0, sizeof *map);
+    if ((r = pgp_builtin_mesh("grid", &o, mesh, err)) != PGP_OK) return r;
+    if (text && (r = pgp_read_constraints(text, strlen(text), "c.txt", &o, &cons, err)) != PGP_OK) return r;
+    o.constraints = cons.items;
+    o.nconstraints = cons.count;
+    r = pgp_create(mesh, &o, map, err);
+    pgp_constraints_free(&cons);
+    return r;
 }
 
 static void t_constraints_good(void)
 {
-    static const char text[] = "# a constraints file\r\n\r\nradius 0.6\r\nmaterial 10 1\r\n"
+    static const char text[] = "\xEF\xBB\xBF# a constraints file\r\n\r\nradius 0.6\r\nmaterial 10 1\r\n"
                                "scale 500 0.3   # a comment\r\norient 700 1 1 0\r\nradius 0\r\n"
                                "  material\t1000 0.25\r\n";
-    float mat[1089], scale[1089], ds[2048 * 3];
+    pgp_constraints cons;
     pgp_mesh mesh;
-    pgp_map *map = grid_map(&mesh);
+    pgp_map map;
+    pgp_field fd;
     pgp_error err;
-    REQUIRE(map);
-    CHECKF(pgp_apply_constraints_from_memory(map, text, sizeof text - 1, "good.txt", &err) == PGP_OK, "%s", err.message);
-    pgp_get_field(map, ds, scale, mat);
-    CHECK_NEAR(mat[10], 1.0, 1e-6);
-    CHECK_NEAR(mat[1000], 0.25, 1e-6);
-    CHECK_NEAR(scale[500], 0.3, 1e-6);
+    REQUIRE(pgp_read_constraints(text, sizeof text - 1, "good.txt", NULL, &cons, &err) == PGP_OK);
+    CHECK_EQ_INT(cons.count, 4);
+    CHECK(cons.items[0].kind == PGP_CONSTRAINT_MATERIAL && cons.items[0].element == 10 && cons.items[0].value[0] == 1.0f &&
+          cons.items[0].radius == 0.6f);
+    CHECK(cons.items[1].kind == PGP_CONSTRAINT_SCALE && cons.items[1].element == 500 && cons.items[1].value[0] == 0.3f);
+    CHECK(cons.items[2].kind == PGP_CONSTRAINT_ORIENT && cons.items[2].element == 700 && cons.items[2].value[1] == 1.0f &&
+          cons.items[2].value[2] == 0.0f && cons.items[2].radius == 0.6f);
+    CHECK(cons.items[3].kind == PGP_CONSTRAINT_MATERIAL && cons.items[3].radius == 0.0f);
+    pgp_constraints_free(&cons);
+    CHECK(cons.items == NULL && cons.count == 0);
+    pgp_constraints_free(&cons); /* zeroed: nothing to do */
+    CHECKF(grid_map(text, &mesh, &map, &err) == PGP_OK, "%s", err.message);
+    REQUIRE(pgp_map_field(&map, &fd, &err) == PGP_OK);
+    CHECK_NEAR(fd.material[10], 1.0, 1e-6);
+    CHECK_NEAR(fd.material[1000], 0.25, 1e-6);
+    CHECK_NEAR(fd.scale[500], 0.3, 1e-6);
     /* triangle 700 points along (1, 1, 0) */
-    CHECK_NEAR(ds[3 * 700] * 0.70710678, 0.5, 1e-3);
-    CHECK_NEAR(ds[3 * 700 + 1] * 0.70710678, 0.5, 1e-3);
-    pgp_destroy(map);
+    CHECK_NEAR(fd.dir[3 * 700] * 0.70710678, 0.5, 1e-3);
+    CHECK_NEAR(fd.dir[3 * 700 + 1] * 0.70710678, 0.5, 1e-3);
+    pgp_field_free(&fd);
+    pgp_map_free(&map);
     pgp_mesh_free(&mesh);
 }
 
-/* Each bad file fails with its code, and the message names file:line. */
+/* Each bad file fails with its code, and the message names file:line; the
+ * elements that do not exist on the mesh fail when the constraints are
+ * applied, naming the constraint. */
 static void t_constraints_bad(void)
 {
     static const struct {
         const char *text, *where, *what;
         pgp_result code;
     } cases[] = {
-        {"material 3 0.5\ncolour 1 2 3\n", "bad.txt:2:", "unknown keyword 'colour'", PGP_ERR_PARSE},
-        {"scale 3 abc\n", "bad.txt:1:", "malformed", PGP_ERR_PARSE},
-        {"# c\nscale 3.5 1\n", "bad.txt:2:", "malformed integer", PGP_ERR_PARSE},
-        {"material 3 nan\n", "bad.txt:1:", "not a finite number", PGP_ERR_INVALID},
-        {"radius inf\nmaterial 3 1\n", "bad.txt:1:", "not a finite number", PGP_ERR_INVALID},
-        {"scale 3 1e99\n", "bad.txt:1:", "not a finite number", PGP_ERR_INVALID},
-        {"\n\norient 99999 1 0 0\n", "bad.txt:3:", "triangle 99999 does not exist", PGP_ERR_INVALID},
-        {"orient 2048 1 0 0\n", "bad.txt:1:", "triangle 2048", PGP_ERR_INVALID},
-        {"scale -1 0.5\n", "bad.txt:1:", "vertex -1 does not exist", PGP_ERR_INVALID},
-        {"material 1089 0.5\n", "bad.txt:1:", "vertex 1089", PGP_ERR_INVALID},
-        {"orient 5 1 0\n", "bad.txt:1:", "missing", PGP_ERR_PARSE},
-        {"scale 3 0.5 7\n", "bad.txt:1:", "unexpected text after 'scale'", PGP_ERR_PARSE},
-        {"material 3 1.5\n", "bad.txt:1:", "material", PGP_ERR_INVALID},
-        {"scale 3 0\n", "bad.txt:1:", "scale", PGP_ERR_INVALID},
-        {"orient 5 0 0 1\n", "bad.txt:1:", "orientation", PGP_ERR_INVALID},
-        {"# nothing\n\n", "bad.txt", "no constraints", PGP_ERR_PARSE},
-        {"radius 2\n", "bad.txt", "no constraints", PGP_ERR_PARSE},
-        {"", "bad.txt", "no constraints", PGP_ERR_PARSE},
+        {"material 3 0.5\ncolour 1 2 3\n", "c.txt:2:", "unknown keyword 'colour'", PGP_ERR_PARSE},
+        {"scale 3 abc\n", "c.txt:1:", "malformed", PGP_ERR_PARSE},
+        {"# c\nscale 3.5 1\n", "c.txt:2:", "malformed integer", PGP_ERR_PARSE},
+        {"material 3 nan\n", "c.txt:1:", "not a finite number", PGP_ERR_INVALID},
+        {"radius inf\nmaterial 3 1\n", "c.txt:1:", "not a finite number", PGP_ERR_INVALID},
+        {"scale 3 1e99\n", "c.txt:1:", "not a finite number", PGP_ERR_INVALID},
+        {"\n\norient 99999 1 0 0\n", "constraint 0:", "triangle 99999 does not exist", PGP_ERR_INVALID},
+        {"material 1 1\norient 2048 1 0 0\n", "constraint 1:", "triangle 2048", PGP_ERR_INVALID},
+        {"scale -1 0.5\n", "c.txt:1:", "vertex -1 does not exist", PGP_ERR_INVALID},
+        {"material 1089 0.5\n", "constraint 0:", "vertex 1089", PGP_ERR_INVALID},
+        {"orient 5 1 0\n", "c.txt:1:", "missing", PGP_ERR_PARSE},
+        {"scale 3 0.5 7\n", "c.txt:1:", "unexpected text after 'scale'", PGP_ERR_PARSE},
+        {"material 3 1.5\n", "c.txt:1:", "material", PGP_ERR_INVALID},
+        {"scale 3 0\n", "c.txt:1:", "scale", PGP_ERR_INVALID},
+        {"orient 5 0 0 0\n", "c.txt:1:", "orientation", PGP_ERR_INVALID},
+        {"orient 5 0 0 1\n", "constraint 0:", "normal to the triangle", PGP_ERR_INVALID},
+        {"# nothing\n\n", "c.txt", "no constraints", PGP_ERR_PARSE},
+        {"radius 2\n", "c.txt", "no constraints", PGP_ERR_PARSE},
+        {"", "c.txt", "no constraints", PGP_ERR_PARSE},
     };
+    pgp_constraints cons;
     pgp_mesh mesh;
-    pgp_map *map = grid_map(&mesh);
+    pgp_map map;
     pgp_error err;
     size_t k;
-    REQUIRE(map);
     for (k = 0; k < sizeof cases / sizeof cases[0]; k++) {
-        pgp_result r = pgp_apply_constraints_from_memory(map, cases[k].text, strlen(cases[k].text), "bad.txt", &err);
+        pgp_result r = grid_map(cases[k].text, &mesh, &map, &err);
         CHECKF(r == cases[k].code, "case %d: code %d, expected %d (%s)", (int)k, (int)r, (int)cases[k].code, err.message);
         CHECKF(!strncmp(err.message, cases[k].where, strlen(cases[k].where)) && strstr(err.message, cases[k].what),
                "case %d: message '%s' lacks '%s' or '%s'", (int)k, err.message, cases[k].where, cases[k].what);
+        CHECK(map.state == NULL);
+        pgp_mesh_free(&mesh);
     }
-    CHECK(pgp_apply_constraints_from_memory(NULL, "scale 1 1", 9, "x", &err) == PGP_ERR_INVALID);
-    CHECK(pgp_apply_constraints_from_memory(map, NULL, 9, "x", &err) == PGP_ERR_INVALID);
-    pgp_destroy(map);
-    pgp_mesh_free(&mesh);
+    CHECK(pgp_read_constraints(NULL, 9, "x", NULL, &cons, &err) == PGP_ERR_INVALID);
+    CHECK(pgp_read_constraints("scale 1 1", 9, "x", NULL, NULL, &err) == PGP_ERR_INVALID);
 }
 
 /* ---- files ------------------------------------------------------------------------------------- */
@@ -573,14 +599,14 @@ static void t_constraints_bad(void)
 static void t_files(void)
 {
     const char *nrrd = pwt_tmp("pgp_io", 0, ".nrrd"), *obj = pwt_tmp("pgp_io", 1, ".obj");
-    const char *cons = pwt_tmp("pgp_io", 2, ".txt"), *png = pwt_tmp("pgp_io", 3, ".png");
+    const char *cfile = pwt_tmp("pgp_io", 2, ".txt"), *png = pwt_tmp("pgp_io", 3, ".png");
     pgp_tile a, b;
     pgp_mesh mesh, back;
     pgp_image img;
-    pgp_map *map;
+    pgp_constraints cons;
+    pgp_map map;
     pgp_error err;
     FILE *f;
-    float mat[1089];
     REQUIRE(make_tile(&a, 6, 5, 2, 3));
     CHECKF(pgp_save_tile(nrrd, &a, &err) == PGP_OK, "%s", err.message);
     CHECKF(pgp_load_tile(nrrd, NULL, &b, &err) == PGP_OK, "%s", err.message);
@@ -591,24 +617,24 @@ static void t_files(void)
     CHECK(pgp_load_tile("/nonexistent/x.nrrd", NULL, &b, &err) == PGP_ERR_IO);
     CHECKF(strstr(err.message, "/nonexistent/x.nrrd") != NULL, "message: %s", err.message);
     free(a.pixels);
-    REQUIRE((map = grid_map(&mesh)) != NULL);
-    CHECKF(pgp_save_obj(obj, &mesh, map, &err) == PGP_OK, "%s", err.message);
+    REQUIRE(grid_map(NULL, &mesh, &map, &err) == PGP_OK);
+    CHECKF(pgp_save_obj(obj, &mesh, &map, &err) == PGP_OK, "%s", err.message);
     CHECKF(pgp_load_mesh(obj, NULL, &back, &err) == PGP_OK, "%s", err.message); /* it reads as a mesh */
     CHECK(back.nverts == mesh.nverts && back.nfaces == mesh.nfaces);
     pgp_mesh_free(&back);
-    REQUIRE((f = fopen(cons, "wb")) != NULL);
+    REQUIRE((f = fopen(cfile, "wb")) != NULL);
     fputs("radius 0\nmaterial 0 1\nmaterial 1088 0.5\n", f);
     fclose(f);
-    CHECKF(pgp_apply_constraints(map, cons, &err) == PGP_OK, "%s", err.message);
-    pgp_get_field(map, NULL, NULL, mat);
-    CHECK_NEAR(mat[0], 1.0, 1e-6);
-    CHECK_NEAR(mat[1088], 0.5, 1e-6);
-    CHECK(pgp_apply_constraints(map, "/nonexistent/c.txt", &err) == PGP_ERR_IO);
-    REQUIRE((f = fopen(cons, "wb")) != NULL);
+    CHECKF(pgp_load_constraints(cfile, NULL, &cons, &err) == PGP_OK, "%s", err.message);
+    CHECK(cons.count == 2 && cons.items[1].kind == PGP_CONSTRAINT_MATERIAL && cons.items[1].element == 1088 &&
+          cons.items[1].value[0] == 0.5f);
+    pgp_constraints_free(&cons);
+    CHECK(pgp_load_constraints("/nonexistent/c.txt", NULL, &cons, &err) == PGP_ERR_IO && !cons.items);
+    REQUIRE((f = fopen(cfile, "wb")) != NULL);
     fputs("material 0 1\nmaterial 1088 2\n", f);
     fclose(f);
-    CHECK(pgp_apply_constraints(map, cons, &err) == PGP_ERR_INVALID);
-    CHECKF(!strncmp(err.message, cons, strlen(cons)) && strstr(err.message, ":2:"), "message: %s", err.message);
+    CHECK(pgp_load_constraints(cfile, NULL, &cons, &err) == PGP_ERR_INVALID && !cons.items);
+    CHECKF(!strncmp(err.message, cfile, strlen(cfile)) && strstr(err.message, ":2:"), "message: %s", err.message);
     REQUIRE(pgp_builtin_tile("stripes", 16, NULL, &a, &err) == PGP_OK);
     memset(&img, 0, sizeof img);
     img.width = 16, img.height = 16, img.channels = 3, img.pixels = a.pixels;
@@ -617,11 +643,11 @@ static void t_files(void)
     CHECK(b.width == 16 && b.layers == 1 && b.channels == 3);
     pgp_tile_free(&b);
     pgp_tile_free(&a);
-    pgp_destroy(map);
+    pgp_map_free(&map);
     pgp_mesh_free(&mesh);
     remove(nrrd);
     remove(obj);
-    remove(cons);
+    remove(cfile);
     remove(png);
 }
 

@@ -45,7 +45,7 @@ static double median(double *v, int n)
 }
 
 /* Integer jumps at every corner pair and agreement on regular edges. */
-static void check_jumps(const pgp_map *P, const char *name)
+static void check_jumps(const pgp__state *P, const char *name)
 {
     int h, k, bad = 0, mism = 0;
     for (h = 0; h < 3 * P->m.nf; h++) {
@@ -62,7 +62,7 @@ static void check_jumps(const pgp_map *P, const char *name)
 }
 
 /* Medians of | |grad| S - 1 | and of the angle (degrees) to the field. */
-static void field_errors(const pgp_map *P, double *len_med, double *ang_med)
+static void field_errors(const pgp__state *P, double *len_med, double *ang_med)
 {
     int nf = P->m.nf, f, k, n = 0;
     double *len = (double *)malloc(sizeof(double) * 2 * (size_t)nf), *ang = (double *)malloc(sizeof(double) * 2 * (size_t)nf);
@@ -85,28 +85,28 @@ static void real_mesh(const char *file, double max_singular, int max_vortices)
     const char *path = pwt_data(file);
     pgp_options o = pgp_default_options();
     pgp_mesh m;
-    pgp_map *P = NULL;
+    pgp_map map, *P = &map;
     pgp_error err;
     double lm, am, sing, area;
     int f;
     if (!path) return;
     REQUIRE(pgp_load_mesh(path, &o, &m, &err) == PGP_OK);
-    CHECKF(pgp_create(&m, &o, &P, &err) == PGP_OK, "%s: %s", file, err.message);
-    if (P) {
-        check_jumps(P, file);
-        field_errors(P, &lm, &am);
-        sing = (double)pgp_get_singular(P, NULL) / P->m.nf;
-        for (f = 0, area = 0.0; f < P->m.nf; f++) area += P->m.area[f];
+    CHECKF(pgp_create(&m, &o, P, &err) == PGP_OK, "%s: %s", file, err.message);
+    if (P->state) {
+        check_jumps(P->state, file);
+        field_errors(P->state, &lm, &am);
+        sing = (double)pgp_map_singular(P, NULL) / P->state->m.nf;
+        for (f = 0, area = 0.0; f < P->state->m.nf; f++) area += P->state->m.area[f];
         pwt_info("%s: %d triangles, %.0f tiles, %d vortices, singular %.1f%% (paper: 5-10%%), median | |grad| S - 1 | "
-                 "%.3f, median angle %.2f deg", file, P->m.nf, area / ((double)P->scale0 * P->scale0),
-                 pgp_get_vortices(P, NULL), 100.0 * sing, lm, am);
+                 "%.3f, median angle %.2f deg", file, P->state->m.nf, area / ((double)P->state->scale0 * P->state->scale0),
+                 pgp_map_vortices(P, NULL), 100.0 * sing, lm, am);
         CHECKF(lm <= 0.15, "%s: median scale error %.3f", file, lm);
         CHECKF(am <= 8.0, "%s: median angle error %.2f deg", file, am);
         CHECKF(sing <= max_singular, "%s: %.1f%% singular triangles (at most %.0f%%)", file, 100.0 * sing,
                100.0 * max_singular);
-        CHECKF(pgp_get_vortices(P, NULL) <= max_vortices, "%s: %d vortices (at most %d)", file,
-               pgp_get_vortices(P, NULL), max_vortices);
-        pgp_destroy(P);
+        CHECKF(pgp_map_vortices(P, NULL) <= max_vortices, "%s: %d vortices (at most %d)", file,
+               pgp_map_vortices(P, NULL), max_vortices);
+        pgp_map_free(P);
     }
     pgp_mesh_free(&m);
 }
@@ -126,24 +126,24 @@ static void t_weights(void)
     const char *path = pwt_data("meshes/cow.off");
     pgp_options o = pgp_default_options();
     pgp_mesh m;
-    pgp_map *A = NULL, *C = NULL;
+    pgp_map a_map, c_map, *A = &a_map, *C = &c_map;
     pgp_error err;
     double sa, sc;
     if (!path) return;
     REQUIRE(pgp_load_mesh(path, &o, &m, &err) == PGP_OK);
-    CHECKF(pgp_create(&m, &o, &C, &err) == PGP_OK, "%s", err.message);
+    CHECKF(pgp_create(&m, &o, C, &err) == PGP_OK, "%s", err.message);
     o.weights = PGP_WEIGHTS_AREA;
-    CHECKF(pgp_create(&m, &o, &A, &err) == PGP_OK, "%s", err.message);
-    if (A && C) {
-        sa = (double)pgp_get_singular(A, NULL) / A->m.nf, sc = (double)pgp_get_singular(C, NULL) / C->m.nf;
+    CHECKF(pgp_create(&m, &o, A, &err) == PGP_OK, "%s", err.message);
+    if (A->state && C->state) {
+        sa = (double)pgp_map_singular(A, NULL) / A->ntris, sc = (double)pgp_map_singular(C, NULL) / C->ntris;
         pwt_info("cow: singular %.1f%% with area weights (%d vortices), %.1f%% with cotangent weights (%d)",
-                 100.0 * sa, pgp_get_vortices(A, NULL), 100.0 * sc, pgp_get_vortices(C, NULL));
+                 100.0 * sa, pgp_map_vortices(A, NULL), 100.0 * sc, pgp_map_vortices(C, NULL));
         CHECKF(sc < 0.67 * sa, "cotangent weights: %.1f%% singular, area weights %.1f%%", 100.0 * sc, 100.0 * sa);
     }
-    pgp_destroy(A);
-    o.weights = 7;
-    CHECK(pgp_create(&m, &o, &A, &err) == PGP_ERR_INVALID && !A && strstr(err.message, "weights"));
-    pgp_destroy(C);
+    pgp_map_free(A);
+    o.weights = (pgp_weights)7;
+    CHECK(pgp_create(&m, &o, A, &err) == PGP_ERR_INVALID && !A->state && strstr(err.message, "weights"));
+    pgp_map_free(C);
     pgp_mesh_free(&m);
 }
 
@@ -187,7 +187,7 @@ static void render_fix(pgp_mesh *m, const char *name)
 {
     pgp_options o = pgp_default_options();
     pgp_render_options ro;
-    pgp_map *P = NULL;
+    pgp_map map, *P = &map;
     pgp_tile tile;
     pgp_image fixed, ref, raw;
     pgp_error err;
@@ -195,7 +195,7 @@ static void render_fix(pgp_mesh *m, const char *name)
     smooth_tile(&tile);
     memset(&ro, 0, sizeof ro);
     ro.width = 400, ro.height = 300, ro.supersample = 1;
-    REQUIRE(pgp_create(m, &o, &P, &err) == PGP_OK);
+    REQUIRE(pgp_create(m, &o, P, &err) == PGP_OK);
     ro.fix = PGP_FIX_PAPER;
     CHECK(pgp_render(P, &tile, &ro, &fixed, &err) == PGP_OK);
     ro.fix = PGP_FIX_ALL;
@@ -213,7 +213,7 @@ static void render_fix(pgp_mesh *m, const char *name)
     pgp_image_free(&ref);
     pgp_image_free(&raw);
     pgp_tile_free(&tile);
-    pgp_destroy(P);
+    pgp_map_free(P);
 }
 
 static void t_render_fix_torus(void)
@@ -251,7 +251,7 @@ static void t_integrable(void)
     static const int most[4] = {38, 42, 50, 20};
     pgp_options o = pgp_default_options();
     pgp_mesh m;
-    pgp_map *P = NULL;
+    pgp_map map, *P = &map;
     pgp_error err;
     int i, plain;
     for (i = 0; i < 4; i++) {
@@ -259,21 +259,21 @@ static void t_integrable(void)
         if (!path) return;
         REQUIRE(pgp_load_mesh(path, &o, &m, &err) == PGP_OK);
         o.integrable = 0.0f;
-        REQUIRE(pgp_create(&m, &o, &P, &err) == PGP_OK);
-        plain = pgp_get_vortices(P, NULL);
-        pgp_destroy(P);
+        REQUIRE(pgp_create(&m, &o, P, &err) == PGP_OK);
+        plain = pgp_map_vortices(P, NULL);
+        pgp_map_free(P);
         o.integrable = 1.0f;
-        CHECKF(pgp_create(&m, &o, &P, &err) == PGP_OK, "%s: %s", files[i], err.message);
-        if (P) {
+        CHECKF(pgp_create(&m, &o, P, &err) == PGP_OK, "%s: %s", files[i], err.message);
+        if (P->state) {
             pgp_stats st;
-            pgp_get_stats(P, &st);
+            pgp_map_stats(P, &st);
             pwt_info("%s: %d vortices (%d following the field), singular %.1f%%, stretched %.1f%%, sheared %.1f%%",
                      files[i], st.vortices, plain, 100.0 * st.singular / st.triangles, 100.0 * st.stretched,
                      100.0 * st.sheared);
             CHECKF(st.vortices <= most[i], "%s: %d vortices (at most %d)", files[i], st.vortices, most[i]);
             check_clean(P, files[i]);
         }
-        pgp_destroy(P);
+        pgp_map_free(P);
         pgp_mesh_free(&m);
     }
 }
@@ -281,7 +281,7 @@ static void t_integrable(void)
 /* ---- issue 17: the clean fix of the vortices --------------------------------------------- */
 
 /* (s, t) drawn at barycentric (b1, b2) of triangle f with the clean fix. */
-static void drawn_st(const pgp_map *P, const unsigned char *fixed, const float *data, int f, double b1, double b2,
+static void drawn_st(const pgp__state *P, const unsigned char *fixed, const float *data, int f, double b1, double b2,
                      double *st)
 {
     double b[3];
@@ -305,15 +305,16 @@ static void along(int h, int c, double *b1, double *b2)
  * sides, modulo integers, at 9 points (no seam anywhere); and around the
  * zero of every vortex triangle the drawn coordinate winds by the
  * triangle's winding (the pattern ends or forks there). */
-static void check_clean(const pgp_map *P, const char *name)
+static void check_clean(const pgp_map *map, const char *name)
 {
+    const pgp__state *P = map->state;
     int nf = P->m.nf, h, c, k, f, seams = 0, raw = 0, unwound = 0, n;
     unsigned char *fixed = (unsigned char *)malloc((size_t)nf), *none = (unsigned char *)calloc((size_t)nf, 1);
     float *data = (float *)malloc(sizeof(float) * PGP__FIXDATA * (size_t)nf);
     double worst = 0.0, st0[2], st1[2], r0[2], r1[2], b1, b2;
     REQUIRE(fixed && data && none);
     pgp__fix_data(P, PGP_FIX_CLEAN, fixed, data);
-    n = pgp_get_special(P, PGP_FIX_CLEAN, NULL);
+    n = pgp_map_special(map, PGP_FIX_CLEAN, NULL);
     for (h = 0; h < 3 * nf; h++) {
         int t = P->m.hm.twin[h];
         if (t < h) continue;
@@ -347,9 +348,9 @@ static void check_clean(const pgp_map *P, const char *name)
             unwound += fabs(fabs(sum) - fabs((double)pgp__winding(P, f, k))) > 1e-6 || fabs(sum) < 0.5;
         }
     pwt_info("%s: %d triangles drawn specially (%.2f%%), %d vortices; largest (s, t) difference across an edge %.2g "
-             "(Eq. 4 alone: %d edge points off)", name, n, 100.0 * n / nf, pgp_get_vortices(P, NULL), worst, raw);
-    CHECKF(n == pgp_get_vortices(P, NULL), "%s: %d triangles drawn specially, %d vortices", name, n,
-           pgp_get_vortices(P, NULL));
+             "(Eq. 4 alone: %d edge points off)", name, n, 100.0 * n / nf, pgp_map_vortices(map, NULL), worst, raw);
+    CHECKF(n == pgp_map_vortices(map, NULL), "%s: %d triangles drawn specially, %d vortices", name, n,
+           pgp_map_vortices(map, NULL));
     CHECKF(n <= 0.10 * nf, "%s: %.1f%% drawn specially", name, 100.0 * n / nf);
     CHECKF(seams == 0, "%s: %d edge points where the two sides differ (up to %.3g)", name, seams, worst);
     CHECKF(n == 0 || raw > 0, "%s: Eq. (4) alone shows no seam at %d vortices", name, n);
@@ -362,11 +363,11 @@ static void check_clean(const pgp_map *P, const char *name)
 static void clean_mesh(pgp_mesh *m, const char *name)
 {
     pgp_options o = pgp_default_options();
-    pgp_map *P = NULL;
+    pgp_map map, *P = &map;
     pgp_error err;
-    CHECKF(pgp_create(m, &o, &P, &err) == PGP_OK, "%s: %s", name, err.message);
-    if (P) check_clean(P, name);
-    pgp_destroy(P);
+    CHECKF(pgp_create(m, &o, P, &err) == PGP_OK, "%s: %s", name, err.message);
+    if (P->state) check_clean(P, name);
+    pgp_map_free(P);
 }
 
 static void t_clean_builtin(void)
@@ -432,13 +433,13 @@ static void t_ghosts(void)
     const char *path = pwt_data("meshes/elephant.off");
     pgp_options o = pgp_default_options();
     pgp_mesh m;
-    pgp_map *P = NULL;
+    pgp_map map, *P = &map;
     pgp_tile tile;
     pgp_error err;
     int i, j;
     for (j = 0; j < (path ? 2 : 1); j++) {
         REQUIRE((j ? pgp_load_mesh(path, &o, &m, &err) : pgp_builtin_mesh("torus", &o, &m, &err)) == PGP_OK);
-        REQUIRE(pgp_create(&m, &o, &P, &err) == PGP_OK);
+        REQUIRE(pgp_create(&m, &o, P, &err) == PGP_OK);
         for (i = 0; i < 2; i++) {
             double clean, paper;
             REQUIRE(pgp_builtin_tile(tiles[i], 64, &o, &tile, &err) == PGP_OK);
@@ -449,7 +450,7 @@ static void t_ghosts(void)
             CHECKF(paper > 0.001, "%s: the measure sees no ghost in section 3's blend (%.3f%%)", tiles[i], 100.0 * paper);
             pgp_tile_free(&tile);
         }
-        pgp_destroy(P);
+        pgp_map_free(P);
         pgp_mesh_free(&m);
     }
 }

@@ -326,7 +326,7 @@ static void check_morph(const pgp_image *am, const pgp_image *bm, int layers, co
 {
     pgp_tile m[2];
     pgp_error err;
-    pgp_synth_options o = pgp_synth_default_options();
+    pgp_synth_options o = pgp_default_options().synth;
     int k, u, n = am->width, ends = 1;
     for (u = 0; u < 2; u++) {
         o.uniform = u;
@@ -438,7 +438,7 @@ static void t_tile_two_keys(void)
     pgp_key keys[2];
     pgp_tile t, m;
     pgp_error err;
-    pgp_synth_options o = pgp_synth_default_options();
+    pgp_synth_options o = pgp_default_options().synth;
     int k;
     double d0[6], d1[6];
     spots(64, 8.0f, 3, &a, &am);
@@ -563,7 +563,7 @@ static void t_single_tile(void)
     pgp_key key;
     pgp_tile t, m;
     pgp_error err;
-    pgp_synth_options o = pgp_synth_default_options();
+    pgp_synth_options o = pgp_default_options().synth;
     int k, i;
     spots(64, 8.0f, 7, &a, &am);
     key.image = &a, key.mask = &am;
@@ -593,7 +593,7 @@ static void t_determinism(void)
     pgp_key keys[2];
     pgp_tile t[3];
     pgp_error err;
-    pgp_synth_options o = pgp_synth_default_options();
+    pgp_synth_options o = pgp_default_options().synth;
     int k;
     spots(48, 7.0f, 8, &a, &am);
     stripes(48, 10, 9, &b, &bm);
@@ -618,7 +618,7 @@ static void t_key_sizes(void)
     pgp_key keys[2];
     pgp_tile t;
     pgp_error err;
-    pgp_synth_options o = pgp_synth_default_options();
+    pgp_synth_options o = pgp_default_options().synth;
     int x, y, crossings = 0, crossings_y = 0;
     for (y = 0; y < 20; y++)
         for (x = 0; x < 40; x++)
@@ -651,7 +651,7 @@ static void t_bad_input(void)
     pgp_key keys[2];
     pgp_tile t;
     pgp_error err;
-    pgp_synth_options o = pgp_synth_default_options();
+    pgp_synth_options o = pgp_default_options().synth;
     pgp_image img;
     int k;
     static const char junk[] = "this is not an image";
@@ -720,7 +720,7 @@ static void t_cancel(void)
     pgp_key keys[2];
     pgp_tile t;
     pgp_error err;
-    pgp_synth_options o = pgp_synth_default_options();
+    pgp_synth_options o = pgp_default_options().synth;
     pwt_alloc_state st = {0, 0, -1};
     int calls = 0;
     spots(32, 5.0f, 2, &a, &am);
@@ -747,7 +747,7 @@ static void t_alloc_failures(void)
     pgp_key keys[3];
     pgp_tile t, m;
     pgp_error err;
-    pgp_synth_options o = pgp_synth_default_options();
+    pgp_synth_options o = pgp_default_options().synth;
     pwt_alloc_state st = {0, 0, -1};
     long total, k, bad = 0;
     int x, y;
@@ -786,7 +786,7 @@ static void t_auto_masks(void)
     pgp_error err;
     int k, i, agree[3] = {0, 0, 0};
     spots(64, 9.0f, 6, &a, &am);
-    for (k = 0; k < 3; k++) REQUIRE(pgp_feature_mask(&a, k, NULL, &m[k], &err) == PGP_OK);
+    for (k = 0; k < 3; k++) REQUIRE(pgp_feature_mask(&a, (pgp_mask)k, NULL, &m[k], &err) == PGP_OK);
     for (i = 0; i < 64 * 64; i++) {
         int x = i % 64, y = i / 64, edge = 0, dx, dy;
         for (dy = -1; dy <= 1; dy++)
@@ -810,7 +810,7 @@ static void t_make_tileable(void)
     pgp_key keys[2];
     pgp_tile t;
     pgp_error err;
-    pgp_synth_options o = pgp_synth_default_options();
+    pgp_synth_options o = pgp_default_options().synth;
     pgp_image l;
     int x, y, k;
     double before;
@@ -841,7 +841,7 @@ static void t_nrrd_round_trip(void)
     pgp_key keys[2];
     pgp_tile t, back;
     pgp_error err;
-    pgp_synth_options o = pgp_synth_default_options();
+    pgp_synth_options o = pgp_default_options().synth;
     pw_buf buf;
     size_t i;
     int same = 1;
@@ -851,9 +851,9 @@ static void t_nrrd_round_trip(void)
     o.size = 32, o.layers = 3;
     REQUIRE(pgp_synthesize_tile(keys, 2, &o, &t, NULL, &err) == PGP_OK);
     memset(&buf, 0, sizeof buf);
-    REQUIRE(pgp_write_tile_to_func(&t, pw_buf_write, &buf, &err) == PGP_OK);
+    REQUIRE(pgp_write_tile(&t, pw_buf_write, &buf, &err) == PGP_OK);
     CHECK(strstr((const char *)buf.data, "sizes: 3 32 32 3") != NULL);
-    REQUIRE(pgp_load_tile_from_memory(buf.data, buf.size, "tile.nrrd", NULL, &back, &err) == PGP_OK);
+    REQUIRE(pgp_read_tile(buf.data, buf.size, "tile.nrrd", NULL, &back, &err) == PGP_OK);
     CHECK(back.width == 32 && back.height == 32 && back.layers == 3 && back.channels == 3);
     for (i = 0; i < (size_t)32 * 32 * 3 * 3; i++) same &= fabsf(back.pixels[i] - t.pixels[i]) <= 0.5f / 255.0f + 1e-6f;
     CHECK(same);
@@ -914,7 +914,7 @@ static void real_morph(const char *const *files, int nkeys, int layers, const ch
     pgp_key keys[4];
     pgp_tile t, m;
     pgp_error err;
-    pgp_synth_options o = pgp_synth_default_options();
+    pgp_synth_options o = pgp_default_options().synth;
     int k, j;
     for (k = 0; k < nkeys; k++) {
         const char *path = pwt_data(files[k]);

@@ -429,24 +429,22 @@ static int buf_sink(void *ctx, const void *data, size_t size)
 static void run_to_memory(unsigned long long seed, pw_buf *obj, pw_buf *png)
 {
     tiled_options o = opts(2, 1);
-    tiled_render_options ro;
     tiled_tileset ts;
     tiled_mesh mesh, q;
     tiled_image pic;
     tiled_error err;
-    memset(&ro, 0, sizeof ro);
-    ro.width = 160;
-    ro.height = 120;
+    o.render.width = 160;
+    o.render.height = 120;
     o.seed = seed;
     memset(obj, 0, sizeof *obj);
     memset(png, 0, sizeof *png);
     if (!synth("pebbles", &o, &ts)) return;
     REQUIRE(tiled_builtin_mesh("double-torus", &o, &mesh, &err) == TILED_OK);
     REQUIRE(tiled_map(&mesh, &ts.layout, &o, &q, &err) == TILED_OK);
-    REQUIRE(tiled_write_obj_to_func(&q, "x.mtl", buf_sink, obj, &err) == TILED_OK);
-    REQUIRE(tiled_render(&q, &ts, &ro, &pic, &err) == TILED_OK);
-    REQUIRE(tiled_write_image_to_func(&pic, "png", buf_sink, png, &err) == TILED_OK);
-    REQUIRE(tiled_write_image_to_func(&ts.atlas, "png", buf_sink, png, &err) == TILED_OK);
+    REQUIRE(tiled_write_obj(&q, "x.mtl", buf_sink, obj, &err) == TILED_OK);
+    REQUIRE(tiled_render(&q, &ts, &o.render, &pic, &err) == TILED_OK);
+    REQUIRE(tiled_write_image(&pic, "png", buf_sink, png, &err) == TILED_OK);
+    REQUIRE(tiled_write_image(&ts.atlas, "png", buf_sink, png, &err) == TILED_OK);
     tiled_image_free(&pic);
     tiled_tileset_free(&ts);
     tiled_mesh_free(&mesh);
@@ -576,7 +574,7 @@ static tiled_result map_text(const char *text, tiled_error *err)
 {
     tiled_tileset ts = layout_only(2, 1, 8);
     tiled_mesh mesh, q;
-    tiled_result r = tiled_load_mesh_from_memory(text, strlen(text), "bad.obj", NULL, &mesh, err);
+    tiled_result r = tiled_read_mesh(text, strlen(text), "bad.obj", NULL, &mesh, err);
     if (r != TILED_OK) return r;
     r = tiled_map(&mesh, &ts.layout, NULL, &q, err);
     tiled_mesh_free(&mesh);
@@ -669,13 +667,11 @@ static int sink_null(void *ctx, const void *data, size_t size)
 
 static int pipeline_with(tiled_options *o, tiled_error *err)
 {
-    tiled_render_options ro;
     tiled_image ex, pic;
     tiled_tileset ts;
     tiled_mesh mesh, q;
     int r;
-    memset(&ro, 0, sizeof ro);
-    ro.width = ro.height = 32;
+    o->render.width = o->render.height = 32;
     memset(&ts, 0, sizeof ts);
     memset(&q, 0, sizeof q);
     memset(&pic, 0, sizeof pic);
@@ -684,9 +680,9 @@ static int pipeline_with(tiled_options *o, tiled_error *err)
     if ((r = tiled_synthesize(&ex, o, &ts, err)) == TILED_OK &&
         (r = tiled_builtin_mesh("icosahedron", o, &mesh, err)) == TILED_OK &&
         (r = tiled_map(&mesh, &ts.layout, o, &q, err)) == TILED_OK &&
-        (r = tiled_render(&q, &ts, &ro, &pic, err)) == TILED_OK &&
-        (r = tiled_write_image_to_func(&pic, "png", sink_null, NULL, err)) == TILED_OK)
-        r = tiled_write_obj_to_func(&q, "x.mtl", sink_null, NULL, err);
+        (r = tiled_render(&q, &ts, &o->render, &pic, err)) == TILED_OK &&
+        (r = tiled_write_image(&pic, "png", sink_null, NULL, err)) == TILED_OK)
+        r = tiled_write_obj(&q, "x.mtl", sink_null, NULL, err);
     tiled_image_free(&pic);
     tiled_mesh_free(&q);
     tiled_mesh_free(&mesh);
@@ -893,6 +889,47 @@ static void t_drawn_tile_size(void)
     tiled_mesh_free(&q2);
 }
 
+/* opt.render holds the render defaults (rule O2): a zeroed struct, NULL and
+ * tiled_default_options().render draw the same picture; every filter of
+ * the enum draws, a value outside it is an error naming it. */
+static void t_render_options(void)
+{
+    tiled_options o = opts(2, 1);
+    tiled_render_options zero;
+    tiled_tileset ts;
+    tiled_mesh mesh, q;
+    tiled_image a, b, c;
+    tiled_error err;
+    int f;
+    CHECK(o.render.width == 800 && o.render.height == 600 && o.render.supersample == 2);
+    CHECK(o.render.filter == TILED_FILTER_TRILINEAR && o.render.up[1] == 1.0f && o.render.background[0] == 1.0f);
+    memset(&zero, 0, sizeof zero);
+    o.render.width = zero.width = 80;
+    o.render.height = zero.height = 60;
+    if (!synth("spots", &o, &ts)) return;
+    REQUIRE(tiled_builtin_mesh("cube", &o, &mesh, &err) == TILED_OK);
+    REQUIRE(tiled_map(&mesh, &ts.layout, &o, &q, &err) == TILED_OK);
+    REQUIRE(tiled_render(&q, &ts, &o.render, &a, &err) == TILED_OK);
+    REQUIRE(tiled_render(&q, &ts, &zero, &b, &err) == TILED_OK);
+    CHECK(a.width == b.width && a.height == b.height &&
+          !memcmp(a.pixels, b.pixels, sizeof(float) * 3 * (size_t)a.width * (size_t)a.height));
+    tiled_image_free(&b);
+    for (f = TILED_FILTER_TRILINEAR; f <= TILED_FILTER_NEAREST; f++) {
+        o.render.filter = (tiled_filter)f;
+        CHECKF(tiled_render(&q, &ts, &o.render, &c, &err) == TILED_OK, "filter %d: %s", f, err.message);
+        tiled_image_free(&c);
+    }
+    o.render.filter = (tiled_filter)3;
+    CHECK(tiled_render(&q, &ts, &o.render, &c, &err) == TILED_ERR_INVALID && strstr(err.message, "filter 3"));
+    REQUIRE(tiled_render(&q, &ts, NULL, &b, &err) == TILED_OK);
+    CHECK(b.width == 800 && b.height == 600);
+    tiled_image_free(&a);
+    tiled_image_free(&b);
+    tiled_tileset_free(&ts);
+    tiled_mesh_free(&mesh);
+    tiled_mesh_free(&q);
+}
+
 static const pwt_case cases[] = {
     {"tiled/fig29_formula", t_fig29_formula},
     {"tiled/edge_invariants", t_edge_invariants},
@@ -923,6 +960,7 @@ static const pwt_case cases[] = {
     {"tiled/real_pine", t_real_pine},
     {"tiled/real_marble3", t_real_marble3},
     {"tiled/drawn_tile_size", t_drawn_tile_size},
+    {"tiled/render_options", t_render_options},
     {"tiled/motif_cuts_pebbles", t_motif_cuts_pebbles},
     {"tiled/motif_cuts_gimp", t_motif_cuts_gimp},
 };

@@ -668,7 +668,8 @@ typedef struct pw_fb {
     float *qbuf;   /* draw scratch: depths of ss sample rows */
     float *zmin;   /* coarse depth: per tile of PW__ZT x PW__ZT samples of the band, the smallest q */
     int zvalid;    /* zmin matches depth; set 0 if you write depth yourself */
-    int vnv;       /* vertices transformed into vbuf by the last draw (0: none) */
+    int vnv;       /* vertices of the last draw (0: none yet) */
+    int vall;      /* 1: all vnv of them are transformed in vbuf (not only the drawn corners) */
     size_t vcap, ncap, pcap, mcap, qcap, zcap;
     const pw_alloc *alloc;
 } pw_fb;
@@ -857,8 +858,9 @@ typedef struct pw_draw {
     void (*shader)(void *user, int tri, float b1, float b2, const float db[4], float rgba[4]);
     void *shader_user;
     int same_vertices;      /* 1: positions, nv and camera are those of the previous draw into
-                               this framebuffer, whose transformed vertices are reused (the
-                               passes of lapped textures) */
+                               this framebuffer; when that draw transformed all the vertices
+                               (it drew at least nv/3 triangles) they are reused (the passes of
+                               lapped textures after their base pass) */
 } pw_draw;
 
 #define PW__ZT 8 /* coarse depth tile, in samples */
@@ -1502,7 +1504,10 @@ PW__DEF int pw_render_draw(pw_fb *fb, const pw_camera *cam, const pw_draw *d, pw
     need_normals = d->lighting != PW_LIGHT_NONE && !d->flat && !d->normals;
     if ((r = pw__draw_scratch(fb, d, need_normals, e)) != PW_OK) return r;
     pw__ctx_init(&c, fb, d);
-    if (!d->same_vertices || fb->vnv != d->nv) pw__transform(&c.view, d, fb->vbuf);
+    if (!(d->same_vertices && fb->vnv == d->nv && fb->vall)) {
+        pw__transform(&c.view, d, fb->vbuf);
+        fb->vall = (size_t)d->ntris * 3 >= (size_t)d->nv;
+    }
     fb->vnv = d->nv;
     c.vh = fb->vbuf;
     c.planes = fb->pbuf;
@@ -1659,6 +1664,32 @@ PW__DEF void pw__frame_band(void *ctx, int band)
     R->codes[band] = f->draw(f->user, &fb, &R->errs[band]);
     if (R->codes[band] == PW_OK) pw_fb_resolve_band(&fb, R->out);
     pw_fb_free(&fb);
+}
+
+/* A frame of w x h pixels of ss x ss samples over an opaque background
+ * (RGB), an RGB picture, drawn by draw(user) under par (NULL: one thread). */
+PW__DEF void pw_frame_init(pw_frame *f, int w, int h, int ss, const float bg[3], const pw_parallel *par)
+{
+    memset(f, 0, sizeof *f);
+    f->w = w;
+    f->h = h;
+    f->ss = ss;
+    memcpy(f->bg, bg, 3 * sizeof(float));
+    f->bg[3] = 1.0f;
+    f->channels = 3;
+    f->par = par;
+}
+
+/* The usual band: one draw (pw_frame_draw1 as the user pointer). */
+typedef struct pw_frame_draw1 {
+    const pw_draw *d;
+    const pw_camera *cam;
+} pw_frame_draw1;
+
+PW__DEF int pw_frame_draw1_fn(void *user, pw_fb *fb, pw_err *e)
+{
+    const pw_frame_draw1 *D = (const pw_frame_draw1 *)user;
+    return pw_render_draw(fb, D->cam, D->d, e);
 }
 
 /* Renders a frame band by band into out (allocated here): the bands are

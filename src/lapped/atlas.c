@@ -14,8 +14,8 @@
  * Extra channels: the same charts and the same pastes carry any per-texel
  * channel (`values`), composited with the patches' alpha.
  *
- * Export: lapped_write_obj_to_func (the triangulated mesh with per-corner
- * coordinates), lapped_write_mtl_to_func. */
+ * Export: lapped_write_obj (the triangulated mesh with per-corner
+ * coordinates), lapped_write_mtl. */
 #include "core.c"
 
 /* ---- public functions ---------------------------------------------------------- */
@@ -30,7 +30,6 @@ static int lapped__atlas_options(const lapped_atlas_options *ao, lapped_atlas_op
     o->size = 1024;
     o->cone_angle = 60.0f;
     o->gutter = 2;
-    if (!ao) return PW_OK;
     if (ao->size) o->size = ao->size;
     if (ao->cone_angle != 0.0f) o->cone_angle = ao->cone_angle;
     if (ao->gutter) o->gutter = ao->gutter;
@@ -162,10 +161,10 @@ static int lapped__atlas_run(const pw_alloc *a, const pw_trimesh *m, const lappe
 }
 
 LAPPEDDEF lapped_result lapped_bake_atlas(const lapped_mesh *mesh, const lapped_texture *t,
-                                          const lapped_image *patches, const lapped_image *values,
-                                          const lapped_atlas_options *ao, const lapped_options *opt,
+                                          const lapped_source *src, const lapped_options *opt,
                                           lapped_atlas *out, lapped_error *err)
 {
+    const lapped_image *patches = src ? src->patches : NULL, *values = src ? src->values : NULL;
     lapped_options o = lapped__options(opt);
     lapped_atlas_options ato;
     pw_alloc a = lapped__alloc(&o.allocator);
@@ -183,7 +182,10 @@ LAPPEDDEF lapped_result lapped_bake_atlas(const lapped_mesh *mesh, const lapped_
     }
     memset(out, 0, sizeof *out);
     if (!t) pw_fail(&pe, PW_ERR_INVALID, "atlas: no lapped texture");
-    if (!pe.code && !lapped__atlas_options(ao, &ato, &pe) && !lapped__mesh_init(&a, mesh, &m, &pe) &&
+    else if (src && src->npatches != t->npatches)
+        pw_fail(&pe, PW_ERR_INVALID, "atlas: the lapped texture was made with %d patches, the source has %d",
+                t->npatches, src->npatches);
+    if (!pe.code && !lapped__atlas_options(&o.atlas, &ato, &pe) && !lapped__mesh_init(&a, mesh, &m, &pe) &&
         !lapped__atlas_check_pastes(t, m.nf, &pe) && !lapped__atlas_check_images(t, patches, values, &pe) &&
         (views = lapped__atlas_image_views(&a, t, patches, values, &pe)) != NULL) {
         int oc = values ? values[0].channels : 3; /* the patches' colour without their alpha */
@@ -227,9 +229,9 @@ static int lapped__atlas_export_open(const lapped_mesh *mesh, const lapped_atlas
     return PW_OK;
 }
 
-LAPPEDDEF lapped_result lapped_write_obj_to_func(const lapped_mesh *mesh, const lapped_atlas *atlas,
-                                                 const char *mtl_name, lapped_write_fn fn, void *ctx,
-                                                 lapped_error *err)
+LAPPEDDEF lapped_result lapped_write_obj(const lapped_mesh *mesh, const lapped_atlas *atlas,
+                                         const char *mtl_name, lapped_write_fn fn, void *ctx,
+                                         lapped_error *err)
 {
     pw_alloc a;
     pw_trimesh m;
@@ -246,8 +248,8 @@ LAPPEDDEF lapped_result lapped_write_obj_to_func(const lapped_mesh *mesh, const 
     return lapped__done(&pe, err);
 }
 
-LAPPEDDEF lapped_result lapped_write_mtl_to_func(const char *texture_name, lapped_write_fn fn, void *ctx,
-                                                 lapped_error *err)
+LAPPEDDEF lapped_result lapped_write_mtl(const char *texture_name, lapped_write_fn fn, void *ctx,
+                                         lapped_error *err)
 {
     pw_err pe;
     pw_err_clear(&pe);

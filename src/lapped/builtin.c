@@ -171,8 +171,8 @@ static void lapped__dots(unsigned long long seed, float x, float y, float px, fl
     lapped__dot_layer(seed + 40, 6, 0.2f, 0.42f, x, y, px, rgb);
 }
 
-LAPPEDDEF lapped_result lapped_builtin_texture(const char *name, int size, const lapped_options *opt,
-                                               lapped_image *out, lapped_error *err)
+LAPPEDDEF lapped_result lapped_builtin_exemplar(const char *name, int size, const lapped_options *opt,
+                                                lapped_image *out, lapped_error *err)
 {
     lapped_options o = lapped__options(opt);
     pw_alloc a = lapped__alloc(&o.allocator);

@@ -42,13 +42,18 @@ LAPPEDDEF lapped_options lapped_default_options(void)
 {
     lapped_options o;
     memset(&o, 0, sizeof o);
-    o.field.up[1] = 1.0f;
-    o.field.smoothing = 20;
+    o.up[1] = 1.0f;
+    o.smoothing = 20;
     o.falloff = 3.0f;
     o.coverage = 0.99f;
     o.max_distortion = 2.0f;
     o.early = 0.25f;
     o.max_pastes = 200000;
+    pw_view_defaults(&o.render.width, &o.render.height, &o.render.supersample, o.render.view_dir,
+                     o.render.up, o.render.background);
+    o.atlas.size = 1024;
+    o.atlas.cone_angle = 60.0f;
+    o.atlas.gutter = 2;
     return o;
 }
 
@@ -58,8 +63,8 @@ LAPPEDDEF const char *lapped_result_string(lapped_result r) { return pw_result_s
 static lapped_options lapped__options(const lapped_options *opt)
 {
     lapped_options d = lapped_default_options(), o = opt ? *opt : d;
-    if (!o.field.up[0] && !o.field.up[1] && !o.field.up[2]) o.field.up[1] = 1.0f;
-    if (!o.field.smoothing) o.field.smoothing = d.field.smoothing;
+    if (!o.up[0] && !o.up[1] && !o.up[2]) o.up[1] = 1.0f;
+    if (!o.smoothing) o.smoothing = d.smoothing;
     if (!(o.falloff > 0.0f)) o.falloff = d.falloff;
     if (!(o.coverage > 0.0f)) o.coverage = d.coverage;
     if (!(o.max_distortion > 0.0f)) o.max_distortion = d.max_distortion;

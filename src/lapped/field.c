@@ -47,8 +47,8 @@
 /* A tenth of the bounding-box diagonal: the documented default patch size. */
 static float lapped__default_scale(const pw_trimesh *m) { return 0.1f * m->diag; }
 
-/* field->scale: 0 means the default; negative or NaN is refused. */
-static int lapped__fld_scale(const pw_trimesh *m, const lapped_field *f, float *out, pw_err *e)
+/* opt->scale: 0 means the default; negative or NaN is refused. */
+static int lapped__fld_scale(const pw_trimesh *m, const lapped_options *f, float *out, pw_err *e)
 {
     if (f->scale == 0.0f) {
         *out = lapped__default_scale(m);
@@ -107,7 +107,7 @@ static int lapped__fld_tangent(const pw_trimesh *m, int f, const float *p, const
 /* §3.2: "The user could alternatively specify this tangential basis
  * directly": the caller's T per triangle (its length is the scale) and S,
  * or S = T x N when face_s is NULL. S parallel to T is refused (no frame). */
-static int lapped__fld_faces(const pw_trimesh *m, const lapped_field *fl, float *s, float *t, pw_err *e)
+static int lapped__fld_faces(const pw_trimesh *m, const lapped_options *fl, float *s, float *t, pw_err *e)
 {
     int f, r;
     if (!fl->face_t) return pw_fail(e, PW_ERR_INVALID, "FACES field: face_t is NULL");
@@ -257,7 +257,7 @@ static void lapped__fld_pin(const lapped__fld_con *c, int nc, lapped__fld_acc *a
 }
 
 /* Checks and resolves every constraint into c[]. */
-static int lapped__fld_checks(const pw_trimesh *m, const lapped_field *fl, float scale, lapped__fld_con *c,
+static int lapped__fld_checks(const pw_trimesh *m, const lapped_options *fl, float scale, lapped__fld_con *c,
                               pw_err *e)
 {
     int i, r;
@@ -292,7 +292,7 @@ static int lapped__fld_blend(const pw_alloc *a, const pw_trimesh *m, const float
  * weight_i exp(-d_i(f)^2 / (2 radius_i^2)); directions are blended in 3D
  * and projected onto f, scales blended linearly. One Dijkstra run per
  * constraint: O(nconstraints * nf log nf) time, O(nf) memory. */
-static int lapped__fld_constraints(const pw_alloc *a, const pw_trimesh *m, const lapped_field *fl,
+static int lapped__fld_constraints(const pw_alloc *a, const pw_trimesh *m, const lapped_options *fl,
                                    float scale, const float *conn, double *z, double *scales,
                                    unsigned char *known, pw_err *e)
 {
@@ -345,8 +345,8 @@ static int lapped__fld_constraints(const pw_alloc *a, const pw_trimesh *m, const
 
 /* ---- the field, the difficulty, and the public entry ----------------------- */
 
-/* §3.2: fills s and t (nf*3 each) for every mode of lapped_field. */
-static int lapped__field(const pw_alloc *a, const pw_trimesh *m, const lapped_field *fl, float *s, float *t,
+/* §3.2: fills s and t (nf*3 each) for every lapped_field_mode. */
+static int lapped__field(const pw_alloc *a, const pw_trimesh *m, const lapped_options *fl, float *s, float *t,
                          pw_err *e)
 {
     size_t n = (size_t)m->nf;
@@ -356,9 +356,9 @@ static int lapped__field(const pw_alloc *a, const pw_trimesh *m, const lapped_fi
     float scale = 0.0f, *conn = NULL;
     int r;
     if ((r = lapped__fld_scale(m, fl, &scale, e)) != PW_OK) return r;
-    if (fl->mode == LAPPED_FIELD_FACES) return lapped__fld_faces(m, fl, s, t, e);
-    if (fl->mode < LAPPED_FIELD_UP || fl->mode > LAPPED_FIELD_CURVATURE)
-        return pw_fail(e, PW_ERR_INVALID, "unknown field mode %d", fl->mode);
+    if (fl->field == LAPPED_FIELD_FACES) return lapped__fld_faces(m, fl, s, t, e);
+    if ((int)fl->field < LAPPED_FIELD_UP || (int)fl->field > LAPPED_FIELD_CURVATURE)
+        return pw_fail(e, PW_ERR_INVALID, "unknown field mode %d", (int)fl->field);
     if (!pw_is_finite(up.x) || !pw_is_finite(up.y) || !pw_is_finite(up.z) || !(pw_v3_dot(up, up) > 0.0f) ||
         !pw_is_finite(pw_v3_dot(up, up)))
         return pw_fail(e, PW_ERR_INVALID, "field up vector (%g, %g, %g) is zero or not finite", (double)up.x,
@@ -367,9 +367,9 @@ static int lapped__field(const pw_alloc *a, const pw_trimesh *m, const lapped_fi
     known = (unsigned char *)pw_alloc_array(a, n, 1, "field flags", e);
     if (!z || !known || pw_df_connection(a, m, &conn, e) != PW_OK)
         r = PW_ERR_NOMEM;
-    else if (fl->mode == LAPPED_FIELD_CONSTRAINTS)
+    else if (fl->field == LAPPED_FIELD_CONSTRAINTS)
         r = lapped__fld_constraints(a, m, fl, scale, conn, z, scales = z + 2 * n, known, e);
-    else if (fl->mode == LAPPED_FIELD_CURVATURE)
+    else if (fl->field == LAPPED_FIELD_CURVATURE)
         r = pw_df_curvature(a, m, pw_v3_load(fl->up), fl->smoothing, conn, z, known, e);
     else
         r = pw_df_up_creased(a, m, conn, up, z, known, e);
@@ -425,19 +425,34 @@ static int lapped__difficulty(const pw_alloc *a, const pw_trimesh *m, const floa
 }
 
 /* Public: lapped.h. */
-LAPPEDDEF lapped_result lapped_compute_field(const lapped_mesh *mesh, const lapped_options *opt, float *s,
-                                             float *t, lapped_error *err)
+LAPPEDDEF lapped_result lapped_compute_field(const lapped_mesh *mesh, const lapped_options *opt,
+                                             lapped_field *out, lapped_error *err)
 {
     lapped_options o = lapped__options(opt);
     pw_alloc a = lapped__alloc(&o.allocator);
     pw_trimesh m;
     pw_err e;
     pw_err_clear(&e);
-    if (!s || !t)
-        pw_fail(&e, PW_ERR_INVALID, "lapped_compute_field: output array %s is NULL", !s ? "s" : "t");
+    if (out) memset(out, 0, sizeof *out);
+    if (!out)
+        pw_fail(&e, PW_ERR_INVALID, "lapped_compute_field: NULL output");
     else if (lapped__mesh_init(&a, mesh, &m, &e) == PW_OK) {
-        lapped__field(&a, &m, &o.field, s, t, &e);
+        out->allocator = lapped__allocator(&a);
+        out->s = (float *)pw_alloc_array(&a, (size_t)m.nf * 3, sizeof(float), "field", &e);
+        out->t = (float *)pw_alloc_array(&a, (size_t)m.nf * 3, sizeof(float), "field", &e);
+        if (out->s && out->t && lapped__field(&a, &m, &o, out->s, out->t, &e) == PW_OK) out->ntris = m.nf;
+        else lapped_field_free(out);
         pw_trimesh_free(&a, &m);
     }
     return lapped__done(&e, err);
+}
+
+LAPPEDDEF void lapped_field_free(lapped_field *f)
+{
+    pw_alloc a;
+    if (!f) return;
+    a = lapped__alloc(&f->allocator);
+    pw_free(&a, f->s);
+    pw_free(&a, f->t);
+    memset(f, 0, sizeof *f);
 }

@@ -1,7 +1,7 @@
 /* grow.c: pasting (§3.3-3.6): grow a surface patch around an uncovered
  * point, parametrise it over the texture patch, record the paste, update
  * the coverage, until every triangle is covered. */
-#include "core.c"
+#include "patch.c" /* and, through it, field.c and core.c */
 
 /* ---- coverage (§3.6) ------------------------------------------------------ */
 
@@ -589,7 +589,7 @@ static void lapped__frame(lapped__paster *P, int g)
     pw_v3 n = pw_v3_load(P->m.normal + 3 * g), t = pw_v3_make(0, 0, 0), s;
     float scale = pw_v3_len(pw_v3_load(P->ft + 3 * g));
     int k;
-    if (P->o.field.mode != LAPPED_FIELD_ISOTROPIC || p->nfaces == 0) {
+    if (P->o.field != LAPPED_FIELD_ISOTROPIC || p->nfaces == 0) {
         memcpy(p->fs + 3 * g, P->fs + 3 * g, sizeof(float) * 3);
         memcpy(p->ft + 3 * g, P->ft + 3 * g, sizeof(float) * 3);
         return;
@@ -923,7 +923,7 @@ static int lapped__optimize(lapped__paster *P, int seed, const float bary[3], in
                             double *x, double *b, double *rhs, pw_err *e)
 {
     lapped__patchbuf *p = &P->pb;
-    int n = p->nverts, i, j, r, lscm = P->o.lscm && P->o.field.mode == LAPPED_FIELD_ISOTROPIC;
+    int n = p->nverts, i, j, r, lscm = P->o.lscm && P->o.field == LAPPED_FIELD_ISOTROPIC;
     float du, dv;
     pw_triplets_clear(tr);
     tr->n = lscm ? 2 * p->nfaces + 4 : lapped__align_nrows(p);
@@ -1325,8 +1325,8 @@ static int lapped__setup(lapped__paster *P, const lapped_mesh *mesh, const lappe
     P->ft = (float *)pw_alloc_array(P->a, (size_t)nf * 3, sizeof(float), "field", e);
     P->difficulty = (float *)pw_alloc_array(P->a, (size_t)nf, sizeof(float), "difficulty", e);
     if (!P->fs || !P->ft || !P->difficulty) return PW_ERR_NOMEM;
-    if ((r = lapped__field(P->a, &P->m, &P->o.field, P->fs, P->ft, e)) != PW_OK ||
-        (r = lapped__difficulty(P->a, &P->m, P->o.field.mode == LAPPED_FIELD_ISOTROPIC ? NULL : P->ft,
+    if ((r = lapped__field(P->a, &P->m, &P->o, P->fs, P->ft, e)) != PW_OK ||
+        (r = lapped__difficulty(P->a, &P->m, P->o.field == LAPPED_FIELD_ISOTROPIC ? NULL : P->ft,
                                P->difficulty, e)) != PW_OK ||
         (r = lapped__setup_patches(P, patches, npatches, e)) != PW_OK)
         return r;
@@ -1399,9 +1399,9 @@ static int lapped__output(lapped__paster *P, lapped_texture *out, pw_err *e)
     return PW_OK;
 }
 
-LAPPEDDEF lapped_result lapped_create(const lapped_mesh *mesh, const lapped_image *patches,
-                                      int npatches, const lapped_options *opt,
-                                      lapped_texture *out, lapped_error *err)
+LAPPEDDEF lapped_result lapped_create(const lapped_mesh *mesh, const lapped_source *src,
+                                      const lapped_options *opt, lapped_texture *out,
+                                      lapped_error *err)
 {
     lapped__paster P;
     pw_alloc a;
@@ -1414,7 +1414,8 @@ LAPPEDDEF lapped_result lapped_create(const lapped_mesh *mesh, const lapped_imag
     P.a = &a;
     if (out) memset(out, 0, sizeof *out);
     if (!out) pw_fail(&pe, PW_ERR_INVALID, "lapped_create: NULL output");
-    else if (lapped__setup(&P, mesh, patches, npatches, &estimate, &pe) == PW_OK &&
+    else if (!src) pw_fail(&pe, PW_ERR_INVALID, "lapped_create: no source (texture patches)");
+    else if (lapped__setup(&P, mesh, src->patches, src->npatches, &estimate, &pe) == PW_OK &&
              lapped__run(&P, estimate, &pe) == PW_OK)
         lapped__output(&P, out, &pe);
     lapped__paster_free(&P);

@@ -25,8 +25,8 @@ static void lapped__wb_line(pw__wb *b, const char *word, const long long *v, int
     pw__wb_str(b, "\n");
 }
 
-LAPPEDDEF lapped_result lapped_write_pastes_to_func(const lapped_texture *t, lapped_write_fn fn,
-                                                    void *ctx, lapped_error *err)
+LAPPEDDEF lapped_result lapped_write_pastes(const lapped_texture *t, lapped_write_fn fn,
+                                            void *ctx, lapped_error *err)
 {
     pw__wb b;
     pw_err pe;
@@ -34,7 +34,7 @@ LAPPEDDEF lapped_result lapped_write_pastes_to_func(const lapped_texture *t, lap
     int p, i, k;
     pw_err_clear(&pe);
     if (!t || !fn) {
-        pw_fail(&pe, PW_ERR_INVALID, "lapped_write_pastes_to_func: NULL argument");
+        pw_fail(&pe, PW_ERR_INVALID, "lapped_write_pastes: NULL argument");
         return lapped__done(&pe, err);
     }
     memset(&b, 0, sizeof b);
@@ -159,9 +159,9 @@ static int lapped__read_pastes(pw__sc *s, const pw_alloc *a, lapped_texture *t, 
 /* A texture read from a file does not know its mesh's triangle count:
  * ntris is 0 ("unknown"), and every triangle index is checked when the
  * texture is used with a mesh. */
-LAPPEDDEF lapped_result lapped_read_pastes_from_memory(const void *data, size_t size,
-                                                       const char *name, const lapped_options *opt,
-                                                       lapped_texture *out, lapped_error *err)
+LAPPEDDEF lapped_result lapped_read_pastes(const void *data, size_t size,
+                                           const char *name, const lapped_options *opt,
+                                           lapped_texture *out, lapped_error *err)
 {
     lapped_options o = lapped__options(opt);
     pw_alloc a = lapped__alloc(&o.allocator);
@@ -170,7 +170,7 @@ LAPPEDDEF lapped_result lapped_read_pastes_from_memory(const void *data, size_t 
     pw_err_clear(&pe);
     if (out) memset(out, 0, sizeof *out);
     if (!out || (!data && size)) {
-        pw_fail(&pe, PW_ERR_INVALID, "lapped_read_pastes_from_memory: NULL argument");
+        pw_fail(&pe, PW_ERR_INVALID, "lapped_read_pastes: NULL argument");
         return lapped__done(&pe, err);
     }
     out->allocator = lapped__allocator(&a);
@@ -180,8 +180,10 @@ LAPPEDDEF lapped_result lapped_read_pastes_from_memory(const void *data, size_t 
     return lapped__done(&pe, err);
 }
 
-/* ---- constraints files --------------------------------------------------------- */
+/* ---- constraint files (docs/lapped.md) ------------------------------------------ */
 
+/* "F DX DY DZ [SCALE [RADIUS [WEIGHT]]]": the numbers of a constraint line,
+ * after its keyword. */
 static int lapped__read_constraint(pw__sc *s, lapped_constraint *c, int index)
 {
     double v[7];
@@ -193,7 +195,8 @@ static int lapped__read_constraint(pw__sc *s, lapped_constraint *c, int index)
     for (n = 0; n < 6 && !pw__sc_eol(s); n++)
         if ((r = pw__sc_num(s, &v[n], "constraint", index)) != PW_OK) return r;
     if (n < 3 || !pw__sc_eol(s))
-        return pw__sc_fail(s, PW_ERR_PARSE, "constraint %d: expected 'face dx dy dz [scale [radius [weight]]]'", index);
+        return pw__sc_fail(s, PW_ERR_PARSE, "constraint %d: expected 'orient face dx dy dz [scale [radius [weight]]]'",
+                           index);
     for (k = 0; k < n; k++) /* finite as floats: 1e39 is finite as a double only */
         if (!pw_is_finite(pw__num_to_float(v[k])))
             return pw__sc_fail(s, PW_ERR_INVALID, "constraint %d has a non-finite value (or one beyond float range)", index);
@@ -206,52 +209,76 @@ static int lapped__read_constraint(pw__sc *s, lapped_constraint *c, int index)
     return PW_OK;
 }
 
-LAPPEDDEF lapped_result lapped_read_constraints_from_memory(const void *data, size_t size,
-                                                           const char *name, const lapped_options *opt,
-                                                           lapped_constraint **out, int *count,
-                                                           lapped_error *err)
+/* One line: "orient ...", or an old positional line (no keyword: it starts
+ * with the face number), whose line number *old_line keeps for the warning
+ * (the first one). */
+static int lapped__constraint_line(pw__sc *s, lapped_constraint *c, int index, int *old_line)
+{
+    char tok[32];
+    const char *w;
+    size_t n;
+    pw__sc_blank(s);
+    if (*s->p && strchr("0123456789+-.", *s->p)) {
+        if (!*old_line) *old_line = s->line;
+        return lapped__read_constraint(s, c, index);
+    }
+    w = pw__sc_word(s, &n);
+    if (!pw__sc_is(w, n, "orient"))
+        return pw__sc_fail(s, PW_ERR_PARSE, "unknown keyword '%s' (a constraint line is 'orient face dx dy dz "
+                           "[scale [radius [weight]]]')", pw__sc_tok(s, w, tok));
+    return lapped__read_constraint(s, c, index);
+}
+
+LAPPEDDEF lapped_result lapped_read_constraints(const void *data, size_t size, const char *name,
+                                                const lapped_options *opt, lapped_constraints *out,
+                                                lapped_error *err)
 {
     lapped_options o = lapped__options(opt);
     pw_alloc a = lapped__alloc(&o.allocator);
     lapped_constraint *c = NULL;
     size_t cap = 0;
-    int n = 0;
+    int n = 0, old_line = 0;
     pw__sc s;
     pw_err pe;
     pw_err_clear(&pe);
-    if (out) *out = NULL;
-    if (count) *count = 0;
-    if (!out || !count || (!data && size)) {
-        pw_fail(&pe, PW_ERR_INVALID, "lapped_read_constraints_from_memory: NULL argument");
+    if (out) memset(out, 0, sizeof *out);
+    if (!out || (!data && size)) {
+        pw_fail(&pe, PW_ERR_INVALID, "lapped_read_constraints: NULL argument");
         return lapped__done(&pe, err);
     }
     pw__sc_init(&s, data, size, name ? name : "constraints", 0, &pe);
     for (pw__sc_skip_empty(&s); s.p < s.end && pe.code == PW_OK; pw__sc_skip_empty(&s))
         if (pw_grow(&a, (void **)&c, &cap, (size_t)n + 1, sizeof *c, "constraints", &pe) == PW_OK &&
-            lapped__read_constraint(&s, &c[n], n) == PW_OK)
+            lapped__constraint_line(&s, &c[n], n, &old_line) == PW_OK)
             n++;
     if (pe.code == PW_OK && n == 0) pw_fail(&pe, PW_ERR_PARSE, "%s: no constraints", s.name);
     if (pe.code != PW_OK) {
         pw_free(&a, c);
         return lapped__done(&pe, err);
     }
-    *out = c;
-    *count = n;
+    out->count = n;
+    out->items = c;
+    out->allocator = lapped__allocator(&a);
+    if (old_line) /* rule C1: a warning, the call succeeds */
+        pw_fail(&pe, PW_OK, "%s: line %d: positional constraint lines are deprecated; write 'orient F dx dy dz ...'",
+                s.name, old_line);
     return lapped__done(&pe, err);
 }
 
-LAPPEDDEF void lapped_free_constraints(lapped_constraint *c, const lapped_options *opt)
+LAPPEDDEF void lapped_constraints_free(lapped_constraints *c)
 {
-    lapped_options o = lapped__options(opt);
-    pw_alloc a = lapped__alloc(&o.allocator);
-    pw_free(&a, c);
+    pw_alloc a;
+    if (!c) return;
+    a = lapped__alloc(&c->allocator);
+    pw_free(&a, c->items);
+    memset(c, 0, sizeof *c);
 }
 
 /* ---- meshes and images --------------------------------------------------------- */
 
-LAPPEDDEF lapped_result lapped_load_mesh_from_memory(const void *data, size_t size, const char *name,
-                                                     const lapped_options *opt, lapped_mesh *out,
-                                                     lapped_error *err)
+LAPPEDDEF lapped_result lapped_read_mesh(const void *data, size_t size, const char *name,
+                                         const lapped_options *opt, lapped_mesh *out,
+                                         lapped_error *err)
 {
     lapped_options o = lapped__options(opt);
     pw_alloc a = lapped__alloc(&o.allocator);
@@ -259,15 +286,15 @@ LAPPEDDEF lapped_result lapped_load_mesh_from_memory(const void *data, size_t si
     pw_err pe;
     pw_err_clear(&pe);
     if (out) memset(out, 0, sizeof *out);
-    if (!out || (!data && size)) pw_fail(&pe, PW_ERR_INVALID, "lapped_load_mesh_from_memory: NULL argument");
+    if (!out || (!data && size)) pw_fail(&pe, PW_ERR_INVALID, "lapped_read_mesh: NULL argument");
     else if (pw_mesh_read_memory(&a, data, size, name ? name : "mesh", &m, &pe) == PW_OK)
         lapped__take_mesh(&m, &a, out);
     return lapped__done(&pe, err);
 }
 
-LAPPEDDEF lapped_result lapped_load_image_from_memory(const void *data, size_t size,
-                                                      const char *name, const lapped_options *opt,
-                                                      lapped_image *out, lapped_error *err)
+LAPPEDDEF lapped_result lapped_read_image(const void *data, size_t size,
+                                          const char *name, const lapped_options *opt,
+                                          lapped_image *out, lapped_error *err)
 {
     lapped_options o = lapped__options(opt);
     pw_alloc a = lapped__alloc(&o.allocator);
@@ -275,27 +302,27 @@ LAPPEDDEF lapped_result lapped_load_image_from_memory(const void *data, size_t s
     pw_err pe;
     pw_err_clear(&pe);
     if (out) memset(out, 0, sizeof *out);
-    if (!out || (!data && size)) pw_fail(&pe, PW_ERR_INVALID, "lapped_load_image_from_memory: NULL argument");
+    if (!out || (!data && size)) pw_fail(&pe, PW_ERR_INVALID, "lapped_read_image: NULL argument");
     else if (pw_image_read_memory(&a, (const unsigned char *)data, size, name ? name : "image", &img, &pe) == PW_OK)
         lapped__take_image(&img, &a, out);
     return lapped__done(&pe, err);
 }
 
-LAPPEDDEF lapped_result lapped_write_image_to_func(const lapped_image *img, const char *format,
-                                                   lapped_write_fn fn, void *ctx, lapped_error *err)
+LAPPEDDEF lapped_result lapped_write_image(const lapped_image *img, const char *format,
+                                           lapped_write_fn fn, void *ctx, lapped_error *err)
 {
     pw_err pe;
     pw_err_clear(&pe);
-    if (!fn) pw_fail(&pe, PW_ERR_INVALID, "lapped_write_image_to_func: NULL writer");
+    if (!fn) pw_fail(&pe, PW_ERR_INVALID, "lapped_write_image: NULL writer");
     else if (lapped__check_image(img, "image", &pe) == PW_OK) lapped__encode(img, format, fn, ctx, &pe);
     return lapped__done(&pe, err);
 }
 
 /* The atlas's mesh as one glTF part: the fan triangles with their
  * per-corner atlas coordinates, the atlas image as the texture. */
-LAPPEDDEF lapped_result lapped_write_gltf_to_func(const lapped_mesh *mesh, const lapped_atlas *atlas,
-                                                  const lapped_render_options *view, lapped_write_fn fn, void *ctx,
-                                                  lapped_error *err)
+LAPPEDDEF lapped_result lapped_write_gltf(const lapped_mesh *mesh, const lapped_atlas *atlas,
+                                          const lapped_render_options *view, lapped_write_fn fn, void *ctx,
+                                          lapped_error *err)
 {
     pw_alloc a;
     pw_trimesh m;
@@ -371,7 +398,7 @@ static int lapped__obj_job(void *arg, pw_write_fn w, void *ctx, pw_err *e)
 {
     const lapped__job *j = (const lapped__job *)arg;
     lapped_error le;
-    int r = (int)lapped_write_obj_to_func(j->mesh, j->atlas, j->format, w, ctx, &le);
+    int r = (int)lapped_write_obj(j->mesh, j->atlas, j->format, w, ctx, &le);
     return r ? pw_fail(e, r, "%s", le.message) : PW_OK;
 }
 
@@ -406,7 +433,7 @@ static int lapped__gltf_job(void *arg, pw_write_fn w, void *ctx, pw_err *e)
 {
     const lapped__job *j = (const lapped__job *)arg;
     lapped_error le;
-    int r = (int)lapped_write_gltf_to_func(j->mesh, j->atlas, j->view, w, ctx, &le);
+    int r = (int)lapped_write_gltf(j->mesh, j->atlas, j->view, w, ctx, &le);
     return r ? pw_fail(e, r, "%s", le.message) : PW_OK;
 }
 
@@ -433,7 +460,7 @@ static int lapped__pastes_job(void *arg, pw_write_fn w, void *ctx, pw_err *e)
 {
     const lapped__job *j = (const lapped__job *)arg;
     lapped_error le;
-    int r = (int)lapped_write_pastes_to_func(j->tex, w, ctx, &le);
+    int r = (int)lapped_write_pastes(j->tex, w, ctx, &le);
     return r ? pw_fail(e, r, "%s", le.message) : PW_OK;
 }
 
@@ -466,8 +493,7 @@ LAPPEDDEF lapped_result lapped_save_pastes(const char *path, const lapped_textur
 }
 
 LAPPEDDEF lapped_result lapped_load_constraints(const char *path, const lapped_options *opt,
-                                                lapped_constraint **out, int *count,
-                                                lapped_error *err)
+                                                lapped_constraints *out, lapped_error *err)
 {
     lapped_options o = lapped__options(opt);
     pw_alloc a = lapped__alloc(&o.allocator);
@@ -475,11 +501,12 @@ LAPPEDDEF lapped_result lapped_load_constraints(const char *path, const lapped_o
     size_t size;
     pw_err pe;
     pw_err_clear(&pe);
-    if (!path || !out || !count) pw_fail(&pe, PW_ERR_INVALID, "lapped_load_constraints: NULL argument");
+    if (out) memset(out, 0, sizeof *out);
+    if (!path || !out) pw_fail(&pe, PW_ERR_INVALID, "lapped_load_constraints: NULL argument");
     else if (pw_read_file(&a, path, &data, &size, &pe) == PW_OK) {
         lapped_error le;
-        if (lapped_read_constraints_from_memory(data, size, path, &o, out, count, &le) != LAPPED_OK)
-            pw_fail(&pe, (int)le.code, "%s", le.message);
+        if (lapped_read_constraints(data, size, path, &o, out, &le) != LAPPED_OK || le.message[0])
+            pw_fail(&pe, (int)le.code, "%s", le.message); /* an error, or the warning of a success */
         pw_free(&a, data);
     }
     return lapped__done(&pe, err);
@@ -498,7 +525,7 @@ LAPPEDDEF lapped_result lapped_load_pastes(const char *path, const lapped_option
     if (!path || !out) pw_fail(&pe, PW_ERR_INVALID, "lapped_load_pastes: NULL argument");
     else if (pw_read_file(&a, path, &data, &size, &pe) == PW_OK) {
         lapped_error le;
-        if (lapped_read_pastes_from_memory(data, size, path, &o, out, &le) != LAPPED_OK)
+        if (lapped_read_pastes(data, size, path, &o, out, &le) != LAPPED_OK)
             pw_fail(&pe, (int)le.code, "%s", le.message);
         pw_free(&a, data);
     }

@@ -4,7 +4,7 @@
  * splotch", then "an alpha mask that falls off near the patch boundary
  * (e.g. over a distance of 3 pixels)". Also the polygonal hull (§3.3) that
  * patch growth tests edges against. */
-#include "core.c"
+#include "field.c" /* precedes patch.c in lapped.h; grow.c, which includes this, uses both */
 
 /* ---- §3.1 predefined shapes ------------------------------------------------ */
 

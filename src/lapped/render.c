@@ -4,11 +4,15 @@
 #include "grow.c"
 
 /* Checks that a lapped texture belongs to this mesh and these patches. */
-static int lapped__check_texture(const pw_trimesh *m, const lapped_texture *t,
-                                 const lapped_image *patches, const lapped_image *values, pw_err *e)
+static int lapped__check_texture(const pw_trimesh *m, const lapped_texture *t, const lapped_source *src,
+                                 pw_err *e)
 {
+    const lapped_image *patches = src ? src->patches : NULL, *values = src ? src->values : NULL;
     int k, p, i;
     if (!t || !patches) return pw_fail(e, PW_ERR_INVALID, "missing lapped texture or patches");
+    if (src->npatches != t->npatches)
+        return pw_fail(e, PW_ERR_INVALID, "the lapped texture was made with %d patches, the source has %d",
+                       t->npatches, src->npatches);
     if (t->ntris && t->ntris != m->nf) /* 0: read from a file, triangle indices checked below */
         return pw_fail(e, PW_ERR_INVALID, "the lapped texture was made for %d triangles, the mesh has %d",
                        t->ntris, m->nf);
@@ -62,89 +66,124 @@ static void lapped__paste_draw(const pw_trimesh *m, const lapped_paste *p, int *
     d->uvs = p->uvs;
 }
 
-/* The base pass: the bare mesh, mid-grey, writing depth; then every paste
- * over it with depth test "less or equal" and no depth write. */
-static int lapped__draw_pastes(const pw_alloc *a, const pw_trimesh *m, const lapped_texture *t,
-                               const pw_texture *tex, const lapped_render_options *ro, pw_fb *fb,
-                               pw_err *e)
+/* What every band of a lapped rendering draws (read only: bands may run
+ * on several threads). */
+typedef struct lapped__picture {
+    const pw_alloc *a;
+    const pw_trimesh *m;
+    const lapped_texture *t;
+    const pw_texture *tex;
+    const float *normals; /* smooth vertex normals of the whole mesh */
+    pw_camera cam;
+    int filter;
+} lapped__picture;
+
+/* One band: the base pass, the bare mesh, mid-grey, writing depth; then
+ * every paste over it with depth test "less or equal" and no depth write,
+ * reusing the base pass's transformed vertices. */
+static int lapped__draw_band(void *user, pw_fb *fb, pw_err *e)
 {
-    pw_camera cam = pw_camera_frame(m->pos, m->nv, ro->view_dir, ro->up, 35.0f,
-                                    (float)ro->width / (float)ro->height);
-    int *tris = (int *)pw_alloc_array(a, (size_t)m->nf * 3, sizeof(int), "paste triangles", e);
-    float *normals = (float *)pw_alloc_array(a, (size_t)m->nv * 3, sizeof(float), "normals", e);
+    const lapped__picture *F = (const lapped__picture *)user;
+    const pw_trimesh *m = F->m;
+    int *tris = (int *)pw_alloc_array(F->a, (size_t)m->nf * 3, sizeof(int), "paste triangles", e);
     pw_draw d;
     int p, r;
-    if (!tris || !normals) {
-        pw_free(a, tris);
-        pw_free(a, normals);
-        return PW_ERR_NOMEM;
-    }
+    if (!tris) return PW_ERR_NOMEM;
     memset(&d, 0, sizeof d);
     d.positions = m->pos;
     d.nv = m->nv;
     d.tris = m->tri;
     d.ntris = m->nf;
-    pw__smooth_normals(&d, normals); /* once, from the whole mesh: every paste is lit as the surface */
-    d.normals = normals;
+    d.normals = F->normals;
     d.color[0] = d.color[1] = d.color[2] = 0.5f;
     d.color[3] = 1.0f;
     d.lighting = PW_LIGHT_CAMERA;
     d.ambient = 0.3f;
-    r = pw_render_draw(fb, &cam, &d, e);
+    r = pw_render_draw(fb, &F->cam, &d, e);
     d.color[0] = d.color[1] = d.color[2] = d.color[3] = 1.0f;
-    d.filter = ro->filter;
+    d.filter = F->filter;
     d.wrap = PW_WRAP_CLAMP;
     d.blend = PW_BLEND_OVER;
     d.depth_test = PW_DEPTH_LEQUAL;
     d.no_depth_write = 1;
-    for (p = 0; p < t->npastes && r == PW_OK; p++) {
-        if (t->pastes[p].nfaces == 0) continue;
-        lapped__paste_draw(m, &t->pastes[p], tris, &d);
-        d.tex = &tex[t->pastes[p].patch];
-        r = pw_render_draw(fb, &cam, &d, e);
+    d.same_vertices = 1;
+    for (p = 0; p < F->t->npastes && r == PW_OK; p++) {
+        if (F->t->pastes[p].nfaces == 0) continue;
+        lapped__paste_draw(m, &F->t->pastes[p], tris, &d);
+        d.tex = &F->tex[F->t->pastes[p].patch];
+        r = pw_render_draw(fb, &F->cam, &d, e);
     }
-    pw_free(a, tris);
+    pw_free(F->a, tris);
+    return r;
+}
+
+/* The frame, band by band (pw_render_frame): the normals once, from the
+ * whole mesh (every paste is lit as the surface), then the bands. */
+static int lapped__draw_pastes(const pw_alloc *a, const pw_trimesh *m, const lapped_texture *t,
+                               const pw_texture *tex, const lapped_render_options *ro, pw_image *pic,
+                               pw_err *e)
+{
+    lapped__picture F;
+    pw_frame f;
+    pw_parallel par;
+    pw_draw d;
+    float *normals = (float *)pw_alloc_array(a, (size_t)m->nv * 3, sizeof(float), "normals", e);
+    int r;
+    if (!normals) return PW_ERR_NOMEM;
+    memset(&d, 0, sizeof d);
+    d.positions = m->pos;
+    d.nv = m->nv;
+    d.tris = m->tri;
+    d.ntris = m->nf;
+    pw__smooth_normals(&d, normals);
+    F.a = a;
+    F.m = m;
+    F.t = t;
+    F.tex = tex;
+    F.normals = normals;
+    F.cam = pw_camera_frame(m->pos, m->nv, ro->view_dir, ro->up, 35.0f, (float)ro->width / (float)ro->height);
+    F.filter = (int)ro->filter;
+    par.threads = ro->threads;
+    par.run = ro->parallel;
+    par.pool = ro->parallel_pool;
+    pw_frame_init(&f, ro->width, ro->height, ro->supersample, ro->background, &par);
+    f.draw = lapped__draw_band;
+    f.user = &F;
+    r = pw_render_frame(a, &f, pic, e);
     pw_free(a, normals);
     return r;
 }
 
 LAPPEDDEF lapped_result lapped_render(const lapped_mesh *mesh, const lapped_texture *t,
-                                      const lapped_image *patches, const lapped_image *values,
-                                      const lapped_render_options *ro, lapped_image *out,
-                                      lapped_error *err)
+                                      const lapped_source *src, const lapped_render_options *ro,
+                                      lapped_image *out, lapped_error *err)
 {
     lapped_render_options o;
     pw_alloc a = lapped__alloc(t ? &t->allocator : NULL);
     pw_trimesh m;
     pw_texture *tex = NULL;
     pw_image pic;
-    pw_fb fb;
     pw_err pe;
-    float bg[4];
     int k, r;
     if (ro) o = *ro;
     else memset(&o, 0, sizeof o);
     pw_view_defaults(&o.width, &o.height, &o.supersample, o.view_dir, o.up, o.background);
     pw_err_clear(&pe);
     if (out) memset(out, 0, sizeof *out);
-    memcpy(bg, o.background, sizeof o.background);
-    bg[3] = 1.0f;
     if (!out) pw_fail(&pe, PW_ERR_INVALID, "lapped_render: NULL output");
-    else if (o.width < 1 || o.height < 1 || o.supersample < 1 || o.supersample > 8 || o.filter < 0 || o.filter > 2)
-        pw_fail(&pe, PW_ERR_INVALID, "render options: size %dx%d, supersample %d, filter %d", o.width,
-                o.height, o.supersample, o.filter);
+    else if (o.width < 1 || o.height < 1 || o.supersample < 1 || o.supersample > 8 || (int)o.filter < 0 ||
+             (int)o.filter > 2 || o.threads < 0)
+        pw_fail(&pe, PW_ERR_INVALID, "render options: size %dx%d, supersample %d, filter %d, threads %d", o.width,
+                o.height, o.supersample, (int)o.filter, o.threads);
     else if (lapped__mesh_init(&a, mesh, &m, &pe) == PW_OK) {
-        r = lapped__check_texture(&m, t, patches, values, &pe);
+        r = lapped__check_texture(&m, t, src, &pe);
         if (r == PW_OK && !(tex = (pw_texture *)pw_calloc_array(&a, (size_t)t->npatches, sizeof *tex, "textures", &pe)))
             r = PW_ERR_NOMEM;
         for (k = 0; r == PW_OK && k < t->npatches; k++)
-            r = lapped__patch_texture(&a, &patches[k], values ? &values[k] : &patches[k], &tex[k], &pe);
-        if (r == PW_OK && (r = pw_fb_create(&a, &fb, o.width, o.height, o.supersample, bg, &pe)) == PW_OK) {
-            if ((r = lapped__draw_pastes(&a, &m, t, tex, &o, &fb, &pe)) == PW_OK &&
-                pw_fb_resolve(&fb, &pic, 3, &pe) == PW_OK)
-                lapped__take_image(&pic, &a, out);
-            pw_fb_free(&fb);
-        }
+            r = lapped__patch_texture(&a, &src->patches[k], src->values ? &src->values[k] : &src->patches[k],
+                                      &tex[k], &pe);
+        if (r == PW_OK && lapped__draw_pastes(&a, &m, t, tex, &o, &pic, &pe) == PW_OK)
+            lapped__take_image(&pic, &a, out);
         for (k = 0; tex && k < t->npatches; k++) pw_texture_free(&a, &tex[k]);
         pw_free(&a, tex);
         pw_trimesh_free(&a, &m);

@@ -25,8 +25,24 @@ static int lst__tet_report(const pw_alloc *a, const pw_mesh *tri, const pw_tetme
     return PW_OK;
 }
 
-LSTDEF lst_result lst_tetrahedralize(const lst_mesh *surface, const lst_tet_options *to, const lst_options *opt,
-                                     lst_tetmesh *out, lst_error *err)
+/* Rule C1: what the fill repaired, as a warning with code OK (empty when
+ * nothing was). */
+static void lst__tet_warning(const pw_stuff_info *info, pw_err *e)
+{
+    size_t n = 0;
+    if (info->crossing_pairs > 0)
+        n += (size_t)snprintf(e->msg, sizeof e->msg, "the surface crosses itself (%ld triangle pairs); filled where its "
+                              "winding number is at least 1/2", info->crossing_pairs);
+    if (info->skipped_triangles > 0 && n < sizeof e->msg)
+        n += (size_t)snprintf(e->msg + n, sizeof e->msg - n, "%s%d zero-area triangles skipped", n ? "; " : "",
+                              info->skipped_triangles);
+    if (info->closed_holes > 0 && n < sizeof e->msg)
+        snprintf(e->msg + n, sizeof e->msg - n, "%sthe surface was open: %d small holes closed", n ? "; " : "",
+                 info->closed_holes);
+}
+
+LSTDEF lst_result lst_tetrahedralize(const lst_mesh *surface, const lst_options *opt, lst_tetmesh *out,
+                                     lst_tet_report *report, lst_error *err)
 {
     lst_options o = lst__options(opt);
     pw_alloc a = lst__alloc(&o.allocator);
@@ -40,20 +56,20 @@ LSTDEF lst_result lst_tetrahedralize(const lst_mesh *surface, const lst_tet_opti
     if (out) memset(out, 0, sizeof *out);
     memset(&tri, 0, sizeof tri);
     memset(&tm, 0, sizeof tm);
-    if (to) {
-        so.cell = to->cell, so.strict = to->strict, so.max_hole = to->max_hole, so.info = &info;
-        if (to->target_tets > 0) so.target_tets = to->target_tets;
-    }
+    so.cell = o.tet.cell, so.strict = o.tet.strict, so.max_hole = o.tet.max_hole, so.info = &info;
+    if (o.tet.target_tets > 0) so.target_tets = o.tet.target_tets;
     if (!surface || !out) pw_fail(&e, PW_ERR_INVALID, "lst_tetrahedralize: NULL argument");
-    else if (!(so.cell >= 0.0) || !pw_is_finite(so.cell) || !pw_is_finite(so.max_hole) || (to && to->target_tets < 0))
+    else if (!(so.cell >= 0.0) || !pw_is_finite(so.cell) || !pw_is_finite(so.max_hole) || o.tet.target_tets < 0)
         pw_fail(&e, PW_ERR_INVALID, "tetrahedralize: cell %g, target %d or max_hole %g is invalid", so.cell,
-                to ? to->target_tets : 0, so.max_hole);
+                o.tet.target_tets, so.max_hole);
     else {
         m = lst__pw_mesh(surface);
         if (pw_mesh_validate(&m, &e) == PW_OK && pw_mesh_triangulate(&a, &m, &tri, NULL, &e) == PW_OK &&
             pw_stuff_tetrahedralize(&a, tri.pos, tri.nv, tri.fv, tri.nf, &so, &p, &tm, &e) == PW_OK &&
-            (!to || !to->report || lst__tet_report(&a, &tri, &tm, &info, to->report, &e) == PW_OK))
+            (!report || lst__tet_report(&a, &tri, &tm, &info, report, &e) == PW_OK)) {
             lst__take_tets(&tm, &a, out);
+            lst__tet_warning(&info, &e);
+        }
         else if (tm.tet)
             pw_tetmesh_free(&a, &tm);
     }
@@ -318,7 +334,7 @@ static double lst__tree_shape(const double *p)
     return lst__smin(d, lst__part(lst__tree_parts[2], p, &t), 0.12);
 }
 
-LSTDEF lst_result lst_builtin_surface(const char *name, const lst_options *opt, lst_mesh *out, lst_error *err)
+LSTDEF lst_result lst_builtin_mesh(const char *name, const lst_options *opt, lst_mesh *out, lst_error *err)
 {
     static const double kiwi_lo[3] = {-1.0, -1.0, -1.3}, tree_lo[3] = {-1.7, -1.7, -1.4};
     lst_options o = lst__options(opt);
@@ -328,7 +344,7 @@ LSTDEF lst_result lst_builtin_surface(const char *name, const lst_options *opt, 
     pw_err_clear(&e);
     memset(&m, 0, sizeof m);
     if (out) memset(out, 0, sizeof *out);
-    if (!out || !name) pw_fail(&e, PW_ERR_INVALID, "lst_builtin_surface: NULL argument");
+    if (!out || !name) pw_fail(&e, PW_ERR_INVALID, "lst_builtin_mesh: NULL argument");
     else if (!strcmp(name, "sphere")) pw_shape_geosphere(&a, 8, &m, &e);
     else if (!strcmp(name, "torus")) pw_shape_torus(&a, 48, 24, 0, &m, &e);
     else if (!strcmp(name, "bumpy")) pw_shape_bumpy(&a, 12, &m, &e);
@@ -347,10 +363,9 @@ LSTDEF lst_result lst_builtin_surface(const char *name, const lst_options *opt, 
 /* ---- constraints that go with the built-in surfaces (§4.3-4.5) -------------------------------------- */
 
 typedef struct lst__cset {
-    lst_depth_constraint *d;
-    lst_field_constraint *f;
-    int nd, nf;
-    size_t dcap, fcap;
+    lst_constraint *c;
+    int n;
+    size_t cap;
 } lst__cset;
 
 /* Depth 1 and the direction along the axis of part c, at n points. */
@@ -361,8 +376,8 @@ static int lst__axis_constraints(const pw_alloc *a, const double *c, double t0, 
     for (i = 0; i < n; i++) {
         double t = t0 + (t1 - t0) * i / (n - 1);
         for (k = 0; k < 3; k++) p[k] = c[k] + t * c[3 + k];
-        if (lst__add_depth(a, &s->d, &s->dcap, &s->nd, LST_DEPTH_POINT, 0, p, 1.0, 0.0, e) ||
-            lst__add_field(a, &s->f, &s->fcap, &s->nf, LST_FIELD_DIRECTION, p, c + 3, 0.0, e))
+        if (lst__add_constraint(a, &s->c, &s->cap, &s->n, LST_CONSTRAINT_DEPTH_POINT, 0, p, NULL, 1.0, 0.0, e) ||
+            lst__add_constraint(a, &s->c, &s->cap, &s->n, LST_CONSTRAINT_DIRECTION, 0, p, c + 3, 0.0, 0.0, e))
             return PW_ERR_NOMEM;
     }
     return PW_OK;
@@ -387,7 +402,7 @@ static int lst__tree_constraints(const pw_alloc *a, const lst_mesh *surface, lst
                 double d = fabs(lst__part(lst__tree_parts[j], c, &t));
                 if (d < best) best = d, dn = fabs(lst__dot3(n, lst__tree_parts[j] + 3));
             }
-            if (dn < 0.6 && lst__add_depth(a, &s->d, &s->dcap, &s->nd, LST_DEPTH_FACE, tri, NULL, 0.0, 0.0, e))
+            if (dn < 0.6 && lst__add_constraint(a, &s->c, &s->cap, &s->n, LST_CONSTRAINT_DEPTH_FACE, tri, NULL, NULL, 0.0, 0.0, e))
                 return PW_ERR_NOMEM;
         }
     for (j = 0; j < 3; j++)
@@ -404,14 +419,13 @@ static int lst__torus_constraints(const pw_alloc *a, lst__cset *s, pw_err *e)
         double t = i * (2.0 * 3.14159265358979323846 / 24), p[3], d[3];
         p[0] = pw_cos(t), p[1] = pw_sin(t), p[2] = 0.0;
         d[0] = -p[1], d[1] = p[0], d[2] = 0.0;
-        if (lst__add_field(a, &s->f, &s->fcap, &s->nf, LST_FIELD_DIRECTION, p, d, 0.0, e)) return PW_ERR_NOMEM;
+        if (lst__add_constraint(a, &s->c, &s->cap, &s->n, LST_CONSTRAINT_DIRECTION, 0, p, d, 0.0, 0.0, e)) return PW_ERR_NOMEM;
     }
     return PW_OK;
 }
 
 LSTDEF lst_result lst_builtin_constraints(const char *name, const lst_mesh *surface, const lst_options *opt,
-                                          lst_depth_constraint **depth, int *ndepth, lst_field_constraint **field,
-                                          int *nfield, lst_error *err)
+                                          lst_constraints *out, lst_error *err)
 {
     static const double kiwi_axis[9] = {0.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0, 0, 0};
     lst_options o = lst__options(opt);
@@ -420,12 +434,11 @@ LSTDEF lst_result lst_builtin_constraints(const char *name, const lst_mesh *surf
     pw_err e;
     pw_err_clear(&e);
     memset(&s, 0, sizeof s);
-    if (depth) *depth = NULL, *ndepth = 0;
-    if (field) *field = NULL, *nfield = 0;
-    if (!name || !depth || !ndepth || !field || !nfield || (!surface && name && !strcmp(name, "tree")))
+    if (out) memset(out, 0, sizeof *out);
+    if (!name || !out || (!surface && name && !strcmp(name, "tree")))
         pw_fail(&e, PW_ERR_INVALID, "lst_builtin_constraints: NULL argument");
     else if (!strcmp(name, "kiwi")) { /* the skin (one fill) at 0, the core along z at 1 */
-        if (lst__add_depth(&a, &s.d, &s.dcap, &s.nd, LST_DEPTH_FILL, 0, NULL, 0.0, 60.0, &e) == PW_OK)
+        if (lst__add_constraint(&a, &s.c, &s.cap, &s.n, LST_CONSTRAINT_DEPTH_FILL, 0, NULL, NULL, 0.0, 60.0, &e) == PW_OK)
             lst__axis_constraints(&a, kiwi_axis, -0.9, 0.9, 13, &s, &e);
     } else if (!strcmp(name, "tree"))
         lst__tree_constraints(&a, surface, &s, &e);
@@ -433,7 +446,7 @@ LSTDEF lst_result lst_builtin_constraints(const char *name, const lst_mesh *surf
         lst__torus_constraints(&a, &s, &e);
     else
         pw_fail(&e, PW_ERR_INVALID, "no built-in constraints for '%s' (kiwi, tree, torus)", name);
-    if (e.code == PW_OK) *depth = s.d, *ndepth = s.nd, *field = s.f, *nfield = s.nf;
-    else pw_free(&a, s.d), pw_free(&a, s.f);
+    if (e.code == PW_OK) out->items = s.c, out->count = s.n, out->allocator = lst__allocator(&a);
+    else pw_free(&a, s.c);
     return lst__done(&e, err);
 }

@@ -43,6 +43,13 @@ LSTDEF lst_options lst_default_options(void)
     o.constraint_weight = 10.0f;
     o.rbf_centers = 400;
     o.max_pastes = 200000;
+    pw_view_defaults(&o.render.width, &o.render.height, &o.render.supersample, o.render.view_dir, o.render.up,
+                     o.render.background);
+    o.render.subdivide = 2;
+    o.tet.target_tets = 20000;
+    o.tet.max_hole = 0.05;
+    o.volume.slices = 200;
+    o.volume.opacity = 0.3f;
     return o;
 }
 
@@ -68,19 +75,23 @@ static lst_options lst__options(const lst_options *opt)
 /* Options a caller may get wrong, named in the message. */
 static int lst__check_options(const lst_options *o, pw_err *e)
 {
+    int k;
     if (o->type < LST_TYPE_0 || o->type > LST_TYPE_2B)
-        return pw_fail(e, PW_ERR_INVALID, "texture type %d is not one of 0, 1-a, 1-b, 2-a, 2-b (0..4)", o->type);
+        return pw_fail(e, PW_ERR_INVALID, "texture type %d is not one of 0, 1-a, 1-b, 2-a, 2-b (0..4)", (int)o->type);
     if (!pw_is_finite(o->scale) || o->scale < 0.0f) return pw_fail(e, PW_ERR_INVALID, "scale %g is invalid", o->scale);
     if (o->mask < LST_MASK_AUTO || o->mask > LST_MASK_EXEMPLAR)
-        return pw_fail(e, PW_ERR_INVALID, "mask mode %d is invalid", o->mask);
+        return pw_fail(e, PW_ERR_INVALID, "mask mode %d is invalid", (int)o->mask);
     if (o->mask_radius > 0.5f || o->falloff > 0.4f || o->falloff >= o->mask_radius)
         return pw_fail(e, PW_ERR_INVALID, "mask radius %g and fall-off %g: need fall-off < radius <= 0.5",
                        o->mask_radius, o->falloff);
     if (o->samples > 32) return pw_fail(e, PW_ERR_LIMIT, "sample lattice order %d is over 32", o->samples);
     if (o->coverage > 1.0f) return pw_fail(e, PW_ERR_INVALID, "coverage %g is over 1", o->coverage);
     if (o->max_angle > 180.0f) return pw_fail(e, PW_ERR_INVALID, "max_angle %g is over 180 degrees", o->max_angle);
-    if ((o->ndepth < 0 || (o->ndepth > 0 && !o->depth)) || (o->nfield < 0 || (o->nfield > 0 && !o->field)))
-        return pw_fail(e, PW_ERR_INVALID, "constraint arrays and counts disagree");
+    if (o->nconstraints < 0 || (o->nconstraints > 0 && !o->constraints))
+        return pw_fail(e, PW_ERR_INVALID, "constraint array and count disagree");
+    for (k = 0; k < o->nconstraints; k++)
+        if (o->constraints[k].kind < LST_CONSTRAINT_DEPTH_FACE || o->constraints[k].kind > LST_CONSTRAINT_SCALE)
+            return pw_fail(e, PW_ERR_INVALID, "constraint %d: unknown kind %d", k, (int)o->constraints[k].kind);
     if (!pw_is_finite(o->axis[0]) || !pw_is_finite(o->axis[1]) || !pw_is_finite(o->axis[2]))
         return pw_fail(e, PW_ERR_INVALID, "axis is not finite");
     return PW_OK;
@@ -250,7 +261,7 @@ LSTDEF void lst_volume_free(lst_volume *v)
     memset(v, 0, sizeof *v);
 }
 
-LSTDEF void lst_fields_free(lst_fields *f)
+LSTDEF void lst_field_free(lst_field *f)
 {
     pw_alloc a;
     if (!f) return;
@@ -260,14 +271,15 @@ LSTDEF void lst_fields_free(lst_fields *f)
     memset(f, 0, sizeof *f);
 }
 
-LSTDEF void lst_free_masks(lst_volume *masks, int count)
+LSTDEF void lst_masks_free(lst_masks *masks)
 {
     pw_alloc a;
     int k;
     if (!masks) return;
-    a = lst__alloc(&masks[0].allocator);
-    for (k = 0; k < count; k++) lst_volume_free(&masks[k]);
-    pw_free(&a, masks);
+    a = lst__alloc(&masks->allocator);
+    for (k = 0; masks->volumes && k < masks->count; k++) lst_volume_free(&masks->volumes[k]);
+    pw_free(&a, masks->volumes);
+    memset(masks, 0, sizeof *masks);
 }
 
 static void lst__paste_free(const pw_alloc *a, lst_paste *p)
@@ -287,7 +299,7 @@ LSTDEF void lst_model_free(lst_model *m)
     a = lst__alloc(&m->allocator);
     for (p = 0; p < m->npastes; p++) lst__paste_free(&a, &m->pastes[p]);
     pw_free(&a, m->pastes);
-    if (m->masks) lst_free_masks(m->masks, m->nmasks);
+    lst_masks_free(&m->masks);
     lst_volume_free(&m->texture);
     lst_volume_free(&m->values);
     pw_free(&a, m->removed);

@@ -396,26 +396,33 @@ static int lst__masks(const pw_alloc *a, const lst_volume *ex, const lst_options
     return PW_OK;
 }
 
-LSTDEF lst_result lst_make_masks(const lst_volume *exemplar, const lst_options *opt, lst_volume **masks, int *count,
-                                 lst_error *err)
+/* The masks of an exemplar into out (empty on failure). */
+static int lst__make_masks(const pw_alloc *a, const lst_volume *ex, const lst_options *o, lst_masks *out, pw_err *e)
+{
+    pw_volume m[3];
+    int n = 0, k, r;
+    memset(m, 0, sizeof m);
+    r = lst__masks(a, ex, o, m, &n, e);
+    if (r == PW_OK && !(out->volumes = (lst_volume *)pw_calloc_array(a, (size_t)n, sizeof(lst_volume), "masks", e)))
+        r = PW_ERR_NOMEM;
+    for (k = 0; k < n; k++) {
+        if (r == PW_OK) lst__take_volume(&m[k], a, &out->volumes[k]);
+        pw_volume_free(a, &m[k]);
+    }
+    if (r == PW_OK) out->count = n, out->allocator = lst__allocator(a);
+    return r;
+}
+
+LSTDEF lst_result lst_make_masks(const lst_volume *exemplar, const lst_options *opt, lst_masks *out, lst_error *err)
 {
     lst_options o = lst__options(opt);
     pw_alloc a = lst__alloc(&o.allocator);
-    pw_volume m[3];
     pw_err e;
-    int n = 0, k;
     pw_err_clear(&e);
-    memset(m, 0, sizeof m);
-    if (masks) *masks = NULL;
-    if (count) *count = 0;
-    if (!masks || !count) pw_fail(&e, PW_ERR_INVALID, "lst_make_masks: NULL output");
-    else if (lst__check_options(&o, &e) == PW_OK && lst__check_volume(exemplar, "exemplar", &e) == PW_OK &&
-             lst__masks(&a, exemplar, &o, m, &n, &e) == PW_OK &&
-             (*masks = (lst_volume *)pw_calloc_array(&a, (size_t)n, sizeof(lst_volume), "masks", &e)) != NULL) {
-        for (k = 0; k < n; k++) lst__take_volume(&m[k], &a, &(*masks)[k]);
-        *count = n;
-    }
-    for (k = 0; k < n; k++) pw_volume_free(&a, &m[k]);
+    if (out) memset(out, 0, sizeof *out);
+    if (!out) pw_fail(&e, PW_ERR_INVALID, "lst_make_masks: NULL output");
+    else if (lst__check_options(&o, &e) == PW_OK && lst__check_volume(exemplar, "exemplar", &e) == PW_OK)
+        lst__make_masks(&a, exemplar, &o, out, &e);
     return lst__done(&e, err);
 }
 

@@ -290,20 +290,28 @@ static int lst__flood(const pw_alloc *a, const pw_trimesh *tm, int start, double
     return PW_OK;
 }
 
+/* How many of the options' constraints are of kinds lo..hi. */
+static int lst__count_kind(const lst_options *o, lst_constraint_kind lo, lst_constraint_kind hi)
+{
+    int i, n = 0;
+    for (i = 0; i < o->nconstraints; i++) n += o->constraints[i].kind >= lo && o->constraints[i].kind <= hi;
+    return n;
+}
+
 /* Paint per surface triangle (-1: none) from the face and fill
  * constraints, in order (a later one repaints). */
 static int lst__paint(const pw_alloc *a, const pw_trimesh *tm, const lst_options *o, double *paint, pw_err *e)
 {
     int i, f;
     for (f = 0; f < tm->nf; f++) paint[f] = -1.0;
-    for (i = 0; i < o->ndepth; i++) {
-        const lst_depth_constraint *c = &o->depth[i];
-        if (c->kind == LST_DEPTH_POINT) continue;
+    for (i = 0; i < o->nconstraints; i++) {
+        const lst_constraint *c = &o->constraints[i];
+        if (c->kind != LST_CONSTRAINT_DEPTH_FACE && c->kind != LST_CONSTRAINT_DEPTH_FILL) continue;
         if (c->face < 0 || c->face >= tm->nf)
             return pw_fail(e, PW_ERR_INVALID, "depth constraint %d: face %d is not a triangle of the surface (0..%d)", i,
                            c->face, tm->nf - 1);
-        if (c->kind == LST_DEPTH_FACE) paint[c->face] = c->depth;
-        else if (lst__flood(a, tm, c->face, c->crease > 0.0f ? c->crease : 30.0, c->depth, paint, e)) return PW_ERR_NOMEM;
+        if (c->kind == LST_CONSTRAINT_DEPTH_FACE) paint[c->face] = c->value;
+        else if (lst__flood(a, tm, c->face, c->crease > 0.0f ? c->crease : 30.0, c->value, paint, e)) return PW_ERR_NOMEM;
     }
     return PW_OK;
 }
@@ -328,12 +336,11 @@ static void lst__vertex_paint(const pw_trimesh *tm, const double *paint, double 
 static int lst__check_depth(const lst_options *o, pw_err *e)
 {
     int i, k;
-    for (i = 0; i < o->ndepth; i++) {
-        const lst_depth_constraint *c = &o->depth[i];
-        if (c->kind < LST_DEPTH_FACE || c->kind > LST_DEPTH_POINT)
-            return pw_fail(e, PW_ERR_INVALID, "depth constraint %d: unknown kind %d", i, c->kind);
-        if (!(c->depth >= 0.0f && c->depth <= 1.0f))
-            return pw_fail(e, PW_ERR_INVALID, "depth constraint %d: depth %g is outside [0, 1]", i, c->depth);
+    for (i = 0; i < o->nconstraints; i++) {
+        const lst_constraint *c = &o->constraints[i];
+        if (c->kind > LST_CONSTRAINT_DEPTH_POINT) continue;
+        if (!(c->value >= 0.0f && c->value <= 1.0f))
+            return pw_fail(e, PW_ERR_INVALID, "depth constraint %d: depth %g is outside [0, 1]", i, c->value);
         if (!pw_is_finite(c->crease) || c->crease < 0.0f || c->crease > 180.0f)
             return pw_fail(e, PW_ERR_INVALID, "depth constraint %d: crease angle %g is outside [0, 180]", i, c->crease);
         for (k = 0; k < 3; k++)
@@ -360,10 +367,10 @@ static int lst__depth_points(const pw_alloc *a, const pw_trimesh *tm, const lst_
                 p[k] = (tm->pos[3 * tm->tri[3 * f] + k] + tm->pos[3 * tm->tri[3 * f + 1] + k] + tm->pos[3 * tm->tri[3 * f + 2] + k]) / 3.0;
             if (lst__pts_add(a, pts, p, paint[f], e)) return PW_ERR_NOMEM;
         }
-    for (i = 0; i < o->ndepth; i++)
-        if (o->depth[i].kind == LST_DEPTH_POINT) {
-            for (k = 0; k < 3; k++) p[k] = o->depth[i].point[k];
-            if (lst__pts_add(a, pts, p, o->depth[i].depth, e)) return PW_ERR_NOMEM;
+    for (i = 0; i < o->nconstraints; i++)
+        if (o->constraints[i].kind == LST_CONSTRAINT_DEPTH_POINT) {
+            for (k = 0; k < 3; k++) p[k] = o->constraints[i].point[k];
+            if (lst__pts_add(a, pts, p, o->constraints[i].value, e)) return PW_ERR_NOMEM;
         }
     return PW_OK;
 }
@@ -522,8 +529,7 @@ static int lst__depth_rbf(const pw_alloc *a, const lst__geo *g, const lst_mesh *
     r = !paint || !vp ? PW_ERR_NOMEM : lst__paint(a, &tm, o, paint, e);
     if (r == PW_OK) lst__vertex_paint(&tm, paint, vp), r = lst__depth_points(a, &tm, o, paint, vp, &pts, e);
     if (r == PW_OK && pts.n < 1) r = pw_fail(e, PW_ERR_INVALID, "depth constraints: none applies");
-    for (k = 0, v = 0; k < o->ndepth; k++) v += o->depth[k].kind == LST_DEPTH_POINT;
-    if (r == PW_OK) lst__pts_thin(&pts, v, o->rbf_centers);
+    if (r == PW_OK) lst__pts_thin(&pts, lst__count_kind(o, LST_CONSTRAINT_DEPTH_POINT, LST_CONSTRAINT_DEPTH_POINT), o->rbf_centers);
     if (r == PW_OK) {
         for (k = 0; k < 3; k++) lo[k] = hi[k] = g->m.pos[k];
         for (v = 0; v < g->m.nv; v++)
@@ -737,7 +743,7 @@ static int lst__depth_field(const pw_alloc *a, const lst__geo *g, const lst_mesh
 {
     int r = lst__check_depth(o, e);
     if (r != PW_OK) return r;
-    return o->ndepth > 0 ? lst__depth_rbf(a, g, surface, o, depth, grad, e) : lst__depth_distance(a, g, depth, grad, e);
+    return lst__count_kind(o, LST_CONSTRAINT_DEPTH_FACE, LST_CONSTRAINT_DEPTH_POINT) > 0 ? lst__depth_rbf(a, g, surface, o, depth, grad, e) : lst__depth_distance(a, g, depth, grad, e);
 }
 
 /* ---- Laplacian smoothing (Eqs. 1-2) ---------------------------------------------------- */
@@ -759,13 +765,13 @@ static void lst__cons_free(const pw_alloc *a, lst__cons *c)
     memset(c, 0, sizeof *c);
 }
 
-/* The field constraints of `kind` (directions made unit, dim 3; scales,
- * dim 1), located. */
-static int lst__field_cons(const pw_alloc *a, const lst__geo *g, const lst_options *o, int kind, lst__cons *c, pw_err *e)
+/* The constraints of `kind`, DIRECTION or SCALE (directions made unit,
+ * dim 3; scales, dim 1), located. */
+static int lst__field_cons(const pw_alloc *a, const lst__geo *g, const lst_options *o, lst_constraint_kind kind,
+                           lst__cons *c, pw_err *e)
 {
-    int i, n = 0, dim = kind == LST_FIELD_DIRECTION ? 3 : 1, k;
+    int i, n = lst__count_kind(o, kind, kind), dim = kind == LST_CONSTRAINT_DIRECTION ? 3 : 1, k;
     memset(c, 0, sizeof *c);
-    for (i = 0; i < o->nfield; i++) n += o->field[i].kind == kind;
     c->tet = (int *)pw_alloc_array(a, (size_t)n, sizeof(int), "field constraints", e);
     c->bary = (double *)pw_alloc_array(a, (size_t)n * 4, sizeof(double), "field constraints", e);
     c->val = (double *)pw_alloc_array(a, (size_t)n * dim, sizeof(double), "field constraints", e);
@@ -773,17 +779,17 @@ static int lst__field_cons(const pw_alloc *a, const lst__geo *g, const lst_optio
         lst__cons_free(a, c);
         return PW_ERR_NOMEM;
     }
-    for (i = 0; i < o->nfield; i++) {
-        const lst_field_constraint *f = &o->field[i];
+    for (i = 0; i < o->nconstraints; i++) {
+        const lst_constraint *f = &o->constraints[i];
         double p[3], d[3];
         if (f->kind != kind) continue;
         for (k = 0; k < 3; k++) p[k] = f->point[k], d[k] = f->direction[k];
-        if (kind == LST_FIELD_DIRECTION && !(lst__norm3(d) > 0.0 && pw_is_finite(d[0] + d[1] + d[2])))
+        if (kind == LST_CONSTRAINT_DIRECTION && !(lst__norm3(d) > 0.0 && pw_is_finite(d[0] + d[1] + d[2])))
             return pw_fail(e, PW_ERR_INVALID, "field constraint %d: the direction is zero or not finite", i);
-        if (kind == LST_FIELD_SCALE && !(f->scale > 0.0f && pw_is_finite(f->scale)))
-            return pw_fail(e, PW_ERR_INVALID, "field constraint %d: scale %g is not positive", i, f->scale);
+        if (kind == LST_CONSTRAINT_SCALE && !(f->value > 0.0f && pw_is_finite(f->value)))
+            return pw_fail(e, PW_ERR_INVALID, "field constraint %d: scale %g is not positive", i, f->value);
         c->tet[c->n] = lst__locate(g, p, c->bary + 4 * c->n);
-        for (k = 0; k < dim; k++) c->val[dim * c->n + k] = kind == LST_FIELD_DIRECTION ? d[k] : f->scale;
+        for (k = 0; k < dim; k++) c->val[dim * c->n + k] = kind == LST_CONSTRAINT_DIRECTION ? d[k] : f->value;
         c->n++;
     }
     return PW_OK;
@@ -884,7 +890,7 @@ static int lst__direction_field(const pw_alloc *a, const lst__geo *g, const lst_
     if (!(lst__norm3(axis) > 0.0)) lst__principal_axis(&g->m, axis);
     for (v = 0; v < g->m.nv; v++) memcpy(dir + 3 * v, axis, sizeof axis);
     memset(&A, 0, sizeof A);
-    if ((r = lst__field_cons(a, g, o, LST_FIELD_DIRECTION, &c, e)) != PW_OK || c.n == 0) {
+    if ((r = lst__field_cons(a, g, o, LST_CONSTRAINT_DIRECTION, &c, e)) != PW_OK || c.n == 0) {
         lst__cons_free(a, &c);
         return r;
     }
@@ -915,7 +921,7 @@ static int lst__scale_field(const pw_alloc *a, const lst__geo *g, const lst_opti
     int v, r;
     for (v = 0; v < g->m.nv; v++) scale[v] = s0;
     memset(&A, 0, sizeof A);
-    if ((r = lst__field_cons(a, g, o, LST_FIELD_SCALE, &c, e)) != PW_OK || c.n == 0) {
+    if ((r = lst__field_cons(a, g, o, LST_CONSTRAINT_SCALE, &c, e)) != PW_OK || c.n == 0) {
         lst__cons_free(a, &c);
         return r;
     }
@@ -1020,8 +1026,8 @@ static int lst__fields(const pw_alloc *a, const lst__geo *g, const lst_mesh *sur
     return r;
 }
 
-LSTDEF lst_result lst_compute_fields(const lst_tetmesh *mesh, const lst_mesh *surface, const lst_options *opt,
-                                     lst_fields *out, lst_error *err)
+LSTDEF lst_result lst_compute_field(const lst_tetmesh *mesh, const lst_mesh *surface, const lst_options *opt,
+                                    lst_field *out, lst_error *err)
 {
     lst_options o = lst__options(opt);
     pw_alloc a = lst__alloc(&o.allocator);
@@ -1031,7 +1037,7 @@ LSTDEF lst_result lst_compute_fields(const lst_tetmesh *mesh, const lst_mesh *su
     pw_err e;
     pw_err_clear(&e);
     if (out) memset(out, 0, sizeof *out);
-    if (!out) pw_fail(&e, PW_ERR_INVALID, "lst_compute_fields: NULL output");
+    if (!out) pw_fail(&e, PW_ERR_INVALID, "lst_compute_field: NULL output");
     else if (lst__check_options(&o, &e) == PW_OK && lst__check_tets(mesh, &e) == PW_OK) {
         m = lst__pw_tets(mesh);
         if (lst__geo_init(&a, &m, &g, &e) == PW_OK) {
@@ -1048,27 +1054,15 @@ LSTDEF lst_result lst_compute_fields(const lst_tetmesh *mesh, const lst_mesh *su
 
 /* ---- growable constraint lists (files, built-in constraints) ---------------------------------- */
 
-static int lst__add_depth(const pw_alloc *a, lst_depth_constraint **c, size_t *cap, int *n, int kind, int face,
-                          const double *p, double d, double crease, pw_err *e)
+static int lst__add_constraint(const pw_alloc *a, lst_constraint **c, size_t *cap, int *n, lst_constraint_kind kind,
+                               int face, const double *p, const double *d, double value, double crease, pw_err *e)
 {
-    lst_depth_constraint *x;
-    if (pw_grow(a, (void **)c, cap, (size_t)*n + 1, sizeof **c, "depth constraints", e)) return PW_ERR_NOMEM;
-    x = &(*c)[(*n)++];
-    memset(x, 0, sizeof *x);
-    x->kind = kind, x->face = face, x->depth = (float)d, x->crease = (float)crease;
-    if (p) x->point[0] = (float)p[0], x->point[1] = (float)p[1], x->point[2] = (float)p[2];
-    return PW_OK;
-}
-
-static int lst__add_field(const pw_alloc *a, lst_field_constraint **c, size_t *cap, int *n, int kind, const double *p,
-                          const double *d, double sc, pw_err *e)
-{
-    lst_field_constraint *x;
+    lst_constraint *x;
     int k;
-    if (pw_grow(a, (void **)c, cap, (size_t)*n + 1, sizeof **c, "field constraints", e)) return PW_ERR_NOMEM;
+    if (pw_grow(a, (void **)c, cap, (size_t)*n + 1, sizeof **c, "constraints", e)) return PW_ERR_NOMEM;
     x = &(*c)[(*n)++];
     memset(x, 0, sizeof *x);
-    x->kind = kind, x->scale = (float)sc;
-    for (k = 0; k < 3; k++) x->point[k] = (float)p[k], x->direction[k] = d ? (float)d[k] : 0.0f;
+    x->kind = kind, x->face = face, x->value = (float)value, x->crease = (float)crease;
+    for (k = 0; k < 3; k++) x->point[k] = p ? (float)p[k] : 0.0f, x->direction[k] = d ? (float)d[k] : 0.0f;
     return PW_OK;
 }

@@ -100,7 +100,7 @@ static void lst__write_pastes_part(pw__wb *b, const lst_model *m, const int *tma
     }
 }
 
-LSTDEF lst_result lst_write_model_to_func(const lst_model *m, lst_write_fn fn, void *ctx, lst_error *err)
+LSTDEF lst_result lst_write_model(const lst_model *m, lst_write_fn fn, void *ctx, lst_error *err)
 {
     pw_alloc a;
     pw__wb b;
@@ -109,7 +109,7 @@ LSTDEF lst_result lst_write_model_to_func(const lst_model *m, lst_write_fn fn, v
     int *tmap = NULL, *vmap = NULL, nt, nv, k;
     pw_err_clear(&e);
     if (!m || !fn || !m->mesh.tets) {
-        pw_fail(&e, PW_ERR_INVALID, "lst_write_model_to_func: NULL argument or empty model");
+        pw_fail(&e, PW_ERR_INVALID, "lst_write_model: NULL argument or empty model");
         return lst__done(&e, err);
     }
     a = lst__alloc(&m->allocator);
@@ -119,10 +119,10 @@ LSTDEF lst_result lst_write_model_to_func(const lst_model *m, lst_write_fn fn, v
         b.ctx = ctx;
         pw__wb_str(&b, "lst 1\n");
         lst__write_mesh_part(&b, m, tmap, vmap, nt, nv);
-        v[0] = m->nmasks;
+        v[0] = m->masks.count;
         lst__wb_line(&b, "exemplars", v, 1);
-        for (k = 0; k < m->nmasks; k++) {
-            v[0] = k, v[1] = m->masks[k].width, v[2] = m->masks[k].height, v[3] = m->masks[k].depth;
+        for (k = 0; k < m->masks.count; k++) {
+            v[0] = k, v[1] = m->masks.volumes[k].width, v[2] = m->masks.volumes[k].height, v[3] = m->masks.volumes[k].depth;
             lst__wb_line(&b, "exemplar", v, 4);
         }
         lst__write_pastes_part(&b, m, tmap);
@@ -201,15 +201,16 @@ static int lst__read_exemplars_part(pw__sc *s, const pw_alloc *a, lst_model *m, 
     int n, k, r;
     if ((r = lst__read_count(s, "exemplars", 10, &n)) != PW_OK) return r;
     if (n < 1 || n > 64) return pw__sc_fail(s, PW_ERR_LIMIT, "%d exemplars (1 to 64 expected)", n);
-    if (!(m->masks = (lst_volume *)pw_calloc_array(a, (size_t)n, sizeof(lst_volume), "masks", e))) return PW_ERR_NOMEM;
-    m->nmasks = n;
+    if (!(m->masks.volumes = (lst_volume *)pw_calloc_array(a, (size_t)n, sizeof(lst_volume), "masks", e))) return PW_ERR_NOMEM;
+    m->masks.count = n;
+    m->masks.allocator = lst__allocator(a);
     for (k = 0; k < n; k++) {
         if ((r = lst__read_line(s, "exemplar", v, 4, 0, 65536)) != PW_OK) return r;
         if (v[0] != k) return pw__sc_fail(s, PW_ERR_PARSE, "exemplar %lld listed where exemplar %d belongs", v[0], k);
         if (v[1] < 1 || v[2] < 1 || v[3] < 1) return pw__sc_fail(s, PW_ERR_PARSE, "exemplar %d has an empty size", k);
-        m->masks[k].width = (int)v[1], m->masks[k].height = (int)v[2], m->masks[k].depth = (int)v[3];
-        m->masks[k].channels = 1;
-        m->masks[k].allocator = lst__allocator(a);
+        m->masks.volumes[k].width = (int)v[1], m->masks.volumes[k].height = (int)v[2], m->masks.volumes[k].depth = (int)v[3];
+        m->masks.volumes[k].channels = 1;
+        m->masks.volumes[k].allocator = lst__allocator(a);
     }
     return PW_OK;
 }
@@ -272,7 +273,7 @@ static int lst__read_pastes_part(pw__sc *s, const pw_alloc *a, lst_model *m, pw_
         size_t cap = 0;
         m->npastes = p + 1;
         if ((r = lst__read_line(s, "paste", v, 2, 0, PW_MAX_MESH_ELEMENTS)) != PW_OK) break;
-        if (v[0] >= m->nmasks) r = pw__sc_fail(s, PW_ERR_PARSE, "paste %d uses exemplar %lld of %d", p, v[0], m->nmasks);
+        if (v[0] >= m->masks.count) r = pw__sc_fail(s, PW_ERR_PARSE, "paste %d uses exemplar %lld of %d", p, v[0], m->masks.count);
         else if (v[1] < 1 || v[1] > (long long)(s->end - s->p) / 26 + 1)
             r = pw__sc_fail(s, PW_ERR_PARSE, "paste %d announces %lld tetrahedra, the file is too short for them", p, v[1]);
         if (r != PW_OK) break;
@@ -300,8 +301,8 @@ static void lst__model_stats(lst_model *m)
     m->layers = m->layers_before = m->mesh.ntets ? (double)tot / m->mesh.ntets : 0.0;
 }
 
-LSTDEF lst_result lst_read_model_from_memory(const void *data, size_t size, const char *name, const lst_options *opt,
-                                             lst_model *out, lst_error *err)
+LSTDEF lst_result lst_read_model(const void *data, size_t size, const char *name, const lst_options *opt,
+                                 lst_model *out, lst_error *err)
 {
     lst_options o = lst__options(opt);
     pw_alloc a = lst__alloc(&o.allocator);
@@ -311,7 +312,7 @@ LSTDEF lst_result lst_read_model_from_memory(const void *data, size_t size, cons
     pw_err_clear(&e);
     if (out) memset(out, 0, sizeof *out);
     if (!out || (!data && size)) {
-        pw_fail(&e, PW_ERR_INVALID, "lst_read_model_from_memory: NULL argument");
+        pw_fail(&e, PW_ERR_INVALID, "lst_read_model: NULL argument");
         return lst__done(&e, err);
     }
     out->allocator = out->mesh.allocator = lst__allocator(&a);
@@ -346,151 +347,146 @@ static int lst__read_numbers(pw__sc *s, double *v, int max, const char *what, in
 #define LST__LINE_MAX 3000 /* numbers on one constraint line (a stroke of 1000 points) */
 #define LST__STROKE_STEPS 8 /* samples per stroke segment */
 
-/* One line of a depth file. */
-static int lst__depth_line(pw__sc *s, const pw_alloc *a, double *v, lst_depth_constraint **c, size_t *cap, int *n,
-                           int line, pw_err *e)
+/* The keywords of a constraint file, and what each line holds. */
+static const char *const lst__keywords[7] = {"face", "fill", "point", "depth-stroke", "dir", "dir-stroke", "scale"};
+static const char *const lst__syntax[7] = {"face F D", "fill F D [CREASE]", "point X Y Z D", "depth-stroke D X Y Z X Y Z ...",
+                                           "dir X Y Z DX DY DZ", "dir-stroke X Y Z X Y Z ...", "scale X Y Z S"};
+
+/* Whether cnt numbers fit keyword k. */
+static int lst__count_ok(int k, int cnt)
+{
+    switch (k) {
+    case 0: return cnt == 2;
+    case 1: return cnt == 2 || cnt == 3;
+    case 3: return cnt >= 4 && (cnt - 1) % 3 == 0;
+    case 4: return cnt == 6;
+    case 5: return cnt >= 6 && cnt % 3 == 0;
+    default: return cnt == 4; /* point, scale */
+    }
+}
+
+/* §4.3 the stroke tool: a depth polyline, each segment sampled. */
+static int lst__depth_stroke(const pw_alloc *a, const double *v, int cnt, lst__cset *c, pw_err *e)
+{
+    int i, k, r = PW_OK;
+    for (i = 0; r == PW_OK && i < (cnt - 1) / 3; i++) {
+        const double *p = v + 1 + 3 * i, *q = i + 1 < (cnt - 1) / 3 ? p + 3 : p;
+        for (k = 0; r == PW_OK && k < (q == p ? 1 : LST__STROKE_STEPS); k++) {
+            double t = (double)k / LST__STROKE_STEPS, x[3] = {p[0] + t * (q[0] - p[0]), p[1] + t * (q[1] - p[1]), p[2] + t * (q[2] - p[2])};
+            r = lst__add_constraint(a, &c->c, &c->cap, &c->n, LST_CONSTRAINT_DEPTH_POINT, 0, x, NULL, v[0], 0.0, e);
+        }
+    }
+    return r;
+}
+
+/* A direction stroke: its direction along each segment, sampled. */
+static int lst__dir_stroke(const pw_alloc *a, const double *v, int cnt, lst__cset *c, pw_err *e)
+{
+    int i, k, r = PW_OK;
+    for (i = 0; r == PW_OK && i + 1 < cnt / 3; i++) {
+        const double *p = v + 3 * i, *q = p + 3;
+        double d[3] = {q[0] - p[0], q[1] - p[1], q[2] - p[2]};
+        if (d[0] == 0.0 && d[1] == 0.0 && d[2] == 0.0) continue;
+        for (k = 0; r == PW_OK && k < LST__STROKE_STEPS; k++) {
+            double t = (k + 0.5) / LST__STROKE_STEPS, x[3] = {p[0] + t * d[0], p[1] + t * d[1], p[2] + t * d[2]};
+            r = lst__add_constraint(a, &c->c, &c->cap, &c->n, LST_CONSTRAINT_DIRECTION, 0, x, d, 0.0, 0.0, e);
+        }
+    }
+    return r;
+}
+
+/* The constraints of keyword k from its numbers v (cnt of them, checked). */
+static int lst__add_line(pw__sc *s, const pw_alloc *a, int k, const double *v, int cnt, lst__cset *c, pw_err *e)
+{
+    double depth = k == 2 ? v[3] : (k == 3 ? v[0] : v[1]);
+    if (k <= 3 && !(depth >= 0.0 && depth <= 1.0)) return pw__sc_fail(s, PW_ERR_INVALID, "a depth is outside [0, 1]");
+    if (k <= 1 && (v[0] < 0 || v[0] > PW_MAX_MESH_ELEMENTS || v[0] != floor(v[0])))
+        return pw__sc_fail(s, PW_ERR_INVALID, "face %g is not a triangle index", v[0]);
+    if (k == 4 && v[3] == 0.0 && v[4] == 0.0 && v[5] == 0.0) return pw__sc_fail(s, PW_ERR_INVALID, "a zero direction");
+    if (k == 6 && !(v[3] > 0.0)) return pw__sc_fail(s, PW_ERR_INVALID, "scale %g is not positive", v[3]);
+    switch (k) {
+    case 0:
+    case 1:
+        return lst__add_constraint(a, &c->c, &c->cap, &c->n, k == 0 ? LST_CONSTRAINT_DEPTH_FACE : LST_CONSTRAINT_DEPTH_FILL,
+                                   (int)v[0], NULL, NULL, v[1], cnt == 3 ? v[2] : 0.0, e);
+    case 2: return lst__add_constraint(a, &c->c, &c->cap, &c->n, LST_CONSTRAINT_DEPTH_POINT, 0, v, NULL, v[3], 0.0, e);
+    case 3: return lst__depth_stroke(a, v, cnt, c, e);
+    case 4: return lst__add_constraint(a, &c->c, &c->cap, &c->n, LST_CONSTRAINT_DIRECTION, 0, v, v + 3, 0.0, 0.0, e);
+    case 5: return lst__dir_stroke(a, v, cnt, c, e);
+    default: return lst__add_constraint(a, &c->c, &c->cap, &c->n, LST_CONSTRAINT_SCALE, 0, v, NULL, v[3], 0.0, e);
+    }
+}
+
+/* One line of a constraint file. */
+static int lst__constraint_line(pw__sc *s, const pw_alloc *a, double *v, lst__cset *c, int line, pw_err *e)
 {
     size_t len;
     const char *w = pw__sc_word(s, &len);
     char tok[32];
-    int cnt, r, i, k, kind = pw__sc_is(w, len, "face") ? 0 : pw__sc_is(w, len, "fill") ? 1 : pw__sc_is(w, len, "point") ? 2
-                                                      : pw__sc_is(w, len, "stroke") ? 3 : -1;
-    if (kind < 0) return pw__sc_fail(s, PW_ERR_PARSE, "unknown depth constraint '%s' (face, fill, point, stroke)", pw__sc_tok(s, w, tok));
-    if ((r = lst__read_numbers(s, v, LST__LINE_MAX, "depth line", line, &cnt)) != PW_OK) return r;
+    int cnt, r, k;
+    for (k = 0; k < 7 && !pw__sc_is(w, len, lst__keywords[k]); k++) {
+    }
+    if (pw__sc_is(w, len, "stroke"))
+        return pw__sc_fail(s, PW_ERR_PARSE, "'stroke' is ambiguous: write 'depth-stroke D X Y Z X Y Z ...' for depths or "
+                                            "'dir-stroke X Y Z X Y Z ...' for directions");
+    if (k == 7)
+        return pw__sc_fail(s, PW_ERR_PARSE, "unknown constraint '%s' (face, fill, point, depth-stroke, dir, dir-stroke, scale)",
+                           pw__sc_tok(s, w, tok));
+    if ((r = lst__read_numbers(s, v, LST__LINE_MAX, "constraint line", line, &cnt)) != PW_OK) return r;
     s->line--; /* messages below name the line just read */
-    if ((kind == 0 && cnt != 2) || (kind == 1 && cnt != 2 && cnt != 3) || (kind == 2 && cnt != 4) ||
-        (kind == 3 && (cnt < 4 || (cnt - 1) % 3 != 0)))
-        r = pw__sc_fail(s, PW_ERR_PARSE, "expected 'face F D', 'fill F D [crease]', 'point X Y Z D' or 'stroke D X Y Z ...'");
-    else if (!(v[kind == 2 ? 3 : (kind == 3 ? 0 : 1)] >= 0.0 && v[kind == 2 ? 3 : (kind == 3 ? 0 : 1)] <= 1.0))
-        r = pw__sc_fail(s, PW_ERR_INVALID, "a depth is outside [0, 1]");
-    else if (kind < 2 && (v[0] < 0 || v[0] > PW_MAX_MESH_ELEMENTS || v[0] != floor(v[0])))
-        r = pw__sc_fail(s, PW_ERR_INVALID, "face %g is not a triangle index", v[0]);
-    else if (kind < 2)
-        r = lst__add_depth(a, c, cap, n, kind == 0 ? LST_DEPTH_FACE : LST_DEPTH_FILL, (int)v[0], NULL, v[1], cnt == 3 ? v[2] : 0.0, e);
-    else if (kind == 2)
-        r = lst__add_depth(a, c, cap, n, LST_DEPTH_POINT, 0, v, v[3], 0.0, e);
-    else /* §4.3 stroke tool: the polyline, each segment sampled */
-        for (i = 0; r == PW_OK && i < (cnt - 1) / 3; i++) {
-            const double *p = v + 1 + 3 * i, *q = i + 1 < (cnt - 1) / 3 ? p + 3 : p;
-            for (k = 0; r == PW_OK && k < (q == p ? 1 : LST__STROKE_STEPS); k++) {
-                double t = (double)k / LST__STROKE_STEPS, x[3] = {p[0] + t * (q[0] - p[0]), p[1] + t * (q[1] - p[1]), p[2] + t * (q[2] - p[2])};
-                r = lst__add_depth(a, c, cap, n, LST_DEPTH_POINT, 0, x, v[0], 0.0, e);
-            }
-        }
+    if (!lst__count_ok(k, cnt)) r = pw__sc_fail(s, PW_ERR_PARSE, "expected '%s'", lst__syntax[k]);
+    else r = lst__add_line(s, a, k, v, cnt, c, e);
     s->line++;
     return r;
 }
 
-/* One line of a directions file. */
-static int lst__field_line(pw__sc *s, const pw_alloc *a, double *v, lst_field_constraint **c, size_t *cap, int *n,
-                           int line, pw_err *e)
-{
-    size_t len;
-    const char *w = pw__sc_word(s, &len);
-    char tok[32];
-    int cnt, r, i, k, kind = pw__sc_is(w, len, "dir") ? 0 : pw__sc_is(w, len, "stroke") ? 1 : pw__sc_is(w, len, "scale") ? 2 : -1;
-    if (kind < 0) return pw__sc_fail(s, PW_ERR_PARSE, "unknown field constraint '%s' (dir, stroke, scale)", pw__sc_tok(s, w, tok));
-    if ((r = lst__read_numbers(s, v, LST__LINE_MAX, "field line", line, &cnt)) != PW_OK) return r;
-    s->line--;
-    if ((kind == 0 && cnt != 6) || (kind == 1 && (cnt < 6 || cnt % 3 != 0)) || (kind == 2 && cnt != 4))
-        r = pw__sc_fail(s, PW_ERR_PARSE, "expected 'dir X Y Z DX DY DZ', 'stroke X Y Z X Y Z ...' or 'scale X Y Z S'");
-    else if (kind == 0 && v[3] == 0.0 && v[4] == 0.0 && v[5] == 0.0)
-        r = pw__sc_fail(s, PW_ERR_INVALID, "a zero direction");
-    else if (kind == 2 && !(v[3] > 0.0))
-        r = pw__sc_fail(s, PW_ERR_INVALID, "scale %g is not positive", v[3]);
-    else if (kind == 0)
-        r = lst__add_field(a, c, cap, n, LST_FIELD_DIRECTION, v, v + 3, 0.0, e);
-    else if (kind == 2)
-        r = lst__add_field(a, c, cap, n, LST_FIELD_SCALE, v, NULL, v[3], e);
-    else /* a stroke: its direction along each segment, sampled */
-        for (i = 0; r == PW_OK && i + 1 < cnt / 3; i++) {
-            const double *p = v + 3 * i, *q = p + 3;
-            double d[3] = {q[0] - p[0], q[1] - p[1], q[2] - p[2]};
-            if (d[0] == 0.0 && d[1] == 0.0 && d[2] == 0.0) continue;
-            for (k = 0; r == PW_OK && k < LST__STROKE_STEPS; k++) {
-                double t = (k + 0.5) / LST__STROKE_STEPS, x[3] = {p[0] + t * d[0], p[1] + t * d[1], p[2] + t * d[2]};
-                r = lst__add_field(a, c, cap, n, LST_FIELD_DIRECTION, x, d, 0.0, e);
-            }
-        }
-    s->line++;
-    return r;
-}
-
-typedef int (*lst__line_fn)(pw__sc *s, const pw_alloc *a, double *v, void **c, size_t *cap, int *n, int line, pw_err *e);
-
-static int lst__depth_line_v(pw__sc *s, const pw_alloc *a, double *v, void **c, size_t *cap, int *n, int line, pw_err *e)
-{
-    return lst__depth_line(s, a, v, (lst_depth_constraint **)c, cap, n, line, e);
-}
-static int lst__field_line_v(pw__sc *s, const pw_alloc *a, double *v, void **c, size_t *cap, int *n, int line, pw_err *e)
-{
-    return lst__field_line(s, a, v, (lst_field_constraint **)c, cap, n, line, e);
-}
-
-/* Reads a constraint file line by line with fn; '#' comments. */
-static int lst__read_constraints(const pw_alloc *a, const void *data, size_t size, const char *name, lst__line_fn fn,
-                                 void **out, int *count, pw_err *e)
+/* Reads a constraint file line by line; '#' comments. */
+static int lst__read_constraints(const pw_alloc *a, const void *data, size_t size, const char *name, lst_constraints *out,
+                                 pw_err *e)
 {
     pw__sc s;
+    lst__cset c;
     double *v = (double *)pw_alloc_array(a, LST__LINE_MAX, sizeof(double), "constraint line", e);
-    size_t cap = 0;
-    int n = 0, line = 0, r = v ? PW_OK : PW_ERR_NOMEM;
-    *out = NULL;
+    int line = 0, r = v ? PW_OK : PW_ERR_NOMEM;
+    memset(&c, 0, sizeof c);
     pw__sc_init(&s, data, size, name, 0, e);
-    for (pw__sc_skip_empty(&s); r == PW_OK && s.p < s.end; pw__sc_skip_empty(&s)) r = fn(&s, a, v, out, &cap, &n, line++, e);
-    if (r == PW_OK && n == 0) r = pw_fail(e, PW_ERR_PARSE, "%s: no constraints", s.name);
+    for (pw__sc_skip_empty(&s); r == PW_OK && s.p < s.end; pw__sc_skip_empty(&s)) r = lst__constraint_line(&s, a, v, &c, line++, e);
+    if (r == PW_OK && c.n == 0) r = pw_fail(e, PW_ERR_PARSE, "%s: no constraints", s.name);
     pw_free(a, v);
     if (r != PW_OK) {
-        pw_free(a, *out);
-        *out = NULL;
+        pw_free(a, c.c);
         return r;
     }
-    *count = n;
+    out->items = c.c, out->count = c.n, out->allocator = lst__allocator(a);
     return PW_OK;
 }
 
-/* The two public readers: arguments checked, fn over every line. */
-static lst_result lst__read_from_memory(const void *data, size_t size, const char *name, const char *fname,
-                                        const char *default_name, lst__line_fn fn, const lst_options *opt, void **out,
-                                        int *count, lst_error *err)
+LSTDEF lst_result lst_read_constraints(const void *data, size_t size, const char *name, const lst_options *opt,
+                                       lst_constraints *out, lst_error *err)
 {
     lst_options o = lst__options(opt);
     pw_alloc a = lst__alloc(&o.allocator);
     pw_err e;
     pw_err_clear(&e);
-    if (out) *out = NULL;
-    if (count) *count = 0;
-    if (!out || !count || (!data && size)) pw_fail(&e, PW_ERR_INVALID, "%s: NULL argument", fname);
-    else lst__read_constraints(&a, data, size, name ? name : default_name, fn, out, count, &e);
+    if (out) memset(out, 0, sizeof *out);
+    if (!out || (!data && size)) pw_fail(&e, PW_ERR_INVALID, "lst_read_constraints: NULL argument");
+    else lst__read_constraints(&a, data, size, name ? name : "constraints", out, &e);
     return lst__done(&e, err);
 }
 
-LSTDEF lst_result lst_read_depth_from_memory(const void *data, size_t size, const char *name, const lst_options *opt,
-                                             lst_depth_constraint **out, int *count, lst_error *err)
+LSTDEF void lst_constraints_free(lst_constraints *c)
 {
-    return lst__read_from_memory(data, size, name, "lst_read_depth_from_memory", "depth", lst__depth_line_v, opt,
-                                 (void **)out, count, err);
-}
-
-LSTDEF lst_result lst_read_directions_from_memory(const void *data, size_t size, const char *name, const lst_options *opt,
-                                                  lst_field_constraint **out, int *count, lst_error *err)
-{
-    return lst__read_from_memory(data, size, name, "lst_read_directions_from_memory", "directions", lst__field_line_v,
-                                 opt, (void **)out, count, err);
-}
-
-LSTDEF void lst_free_constraints(lst_depth_constraint *depth, lst_field_constraint *field, const lst_options *opt)
-{
-    lst_options o = lst__options(opt);
-    pw_alloc a = lst__alloc(&o.allocator);
-    pw_free(&a, depth);
-    pw_free(&a, field);
+    pw_alloc a;
+    if (!c) return;
+    a = lst__alloc(&c->allocator);
+    pw_free(&a, c->items);
+    memset(c, 0, sizeof *c);
 }
 
 /* ---- meshes, volumes, images ------------------------------------------------------------------ */
 
-LSTDEF lst_result lst_read_tetgen_from_memory(const void *node, size_t node_size, const void *ele, size_t ele_size,
-                                              const char *name, const lst_options *opt, lst_tetmesh *out, lst_error *err)
+LSTDEF lst_result lst_read_tetgen(const void *node, size_t node_size, const void *ele, size_t ele_size,
+                                  const char *name, const lst_options *opt, lst_tetmesh *out, lst_error *err)
 {
     lst_options o = lst__options(opt);
     pw_alloc a = lst__alloc(&o.allocator);
@@ -501,14 +497,14 @@ LSTDEF lst_result lst_read_tetgen_from_memory(const void *node, size_t node_size
     if (out) memset(out, 0, sizeof *out);
     snprintf(nn, sizeof nn, "%s.node", name ? name : "tetgen");
     snprintf(en, sizeof en, "%s.ele", name ? name : "tetgen");
-    if (!out || (!node && node_size) || (!ele && ele_size)) pw_fail(&e, PW_ERR_INVALID, "lst_read_tetgen_from_memory: NULL argument");
+    if (!out || (!node && node_size) || (!ele && ele_size)) pw_fail(&e, PW_ERR_INVALID, "lst_read_tetgen: NULL argument");
     else if (pw_tetgen_read_memory(&a, node, node_size, nn, ele, ele_size, en, &m, &e) == PW_OK)
         lst__take_tets(&m, &a, out);
     return lst__done(&e, err);
 }
 
-LSTDEF lst_result lst_read_medit_from_memory(const void *data, size_t size, const char *name, const lst_options *opt,
-                                             lst_tetmesh *out, lst_error *err)
+LSTDEF lst_result lst_read_medit(const void *data, size_t size, const char *name, const lst_options *opt,
+                                 lst_tetmesh *out, lst_error *err)
 {
     lst_options o = lst__options(opt);
     pw_alloc a = lst__alloc(&o.allocator);
@@ -516,19 +512,19 @@ LSTDEF lst_result lst_read_medit_from_memory(const void *data, size_t size, cons
     pw_err e;
     pw_err_clear(&e);
     if (out) memset(out, 0, sizeof *out);
-    if (!out || (!data && size)) pw_fail(&e, PW_ERR_INVALID, "lst_read_medit_from_memory: NULL argument");
+    if (!out || (!data && size)) pw_fail(&e, PW_ERR_INVALID, "lst_read_medit: NULL argument");
     else if (pw_medit_read_memory(&a, data, size, name ? name : "mesh", &m, &e) == PW_OK)
         lst__take_tets(&m, &a, out);
     return lst__done(&e, err);
 }
 
-LSTDEF lst_result lst_write_tetgen_to_func(const lst_tetmesh *mesh, lst_write_fn node_fn, void *node_ctx,
-                                           lst_write_fn ele_fn, void *ele_ctx, lst_error *err)
+LSTDEF lst_result lst_write_tetgen(const lst_tetmesh *mesh, lst_write_fn node_fn, void *node_ctx,
+                                   lst_write_fn ele_fn, void *ele_ctx, lst_error *err)
 {
     pw_tetmesh m;
     pw_err e;
     pw_err_clear(&e);
-    if (!mesh || !node_fn || !ele_fn) pw_fail(&e, PW_ERR_INVALID, "lst_write_tetgen_to_func: NULL argument");
+    if (!mesh || !node_fn || !ele_fn) pw_fail(&e, PW_ERR_INVALID, "lst_write_tetgen: NULL argument");
     else if (lst__check_tets(mesh, &e) == PW_OK) {
         m = lst__pw_tets(mesh);
         if (pw_tetgen_write_node(&m, node_fn, node_ctx, &e) == PW_OK) pw_tetgen_write_ele(&m, ele_fn, ele_ctx, &e);
@@ -536,12 +532,12 @@ LSTDEF lst_result lst_write_tetgen_to_func(const lst_tetmesh *mesh, lst_write_fn
     return lst__done(&e, err);
 }
 
-LSTDEF lst_result lst_write_medit_to_func(const lst_tetmesh *mesh, lst_write_fn fn, void *ctx, lst_error *err)
+LSTDEF lst_result lst_write_medit(const lst_tetmesh *mesh, lst_write_fn fn, void *ctx, lst_error *err)
 {
     pw_tetmesh m;
     pw_err e;
     pw_err_clear(&e);
-    if (!mesh || !fn) pw_fail(&e, PW_ERR_INVALID, "lst_write_medit_to_func: NULL argument");
+    if (!mesh || !fn) pw_fail(&e, PW_ERR_INVALID, "lst_write_medit: NULL argument");
     else if (lst__check_tets(mesh, &e) == PW_OK) {
         m = lst__pw_tets(mesh);
         pw_medit_write(&m, fn, ctx, &e);
@@ -549,8 +545,8 @@ LSTDEF lst_result lst_write_medit_to_func(const lst_tetmesh *mesh, lst_write_fn 
     return lst__done(&e, err);
 }
 
-LSTDEF lst_result lst_read_volume_from_memory(const void *data, size_t size, const char *name, const lst_options *opt,
-                                              lst_volume *out, lst_error *err)
+LSTDEF lst_result lst_read_volume(const void *data, size_t size, const char *name, const lst_options *opt,
+                                  lst_volume *out, lst_error *err)
 {
     lst_options o = lst__options(opt);
     pw_alloc a = lst__alloc(&o.allocator);
@@ -558,19 +554,19 @@ LSTDEF lst_result lst_read_volume_from_memory(const void *data, size_t size, con
     pw_err e;
     pw_err_clear(&e);
     if (out) memset(out, 0, sizeof *out);
-    if (!out || (!data && size)) pw_fail(&e, PW_ERR_INVALID, "lst_read_volume_from_memory: NULL argument");
+    if (!out || (!data && size)) pw_fail(&e, PW_ERR_INVALID, "lst_read_volume: NULL argument");
     else if (pw_nrrd_read_memory(&a, (const unsigned char *)data, size, name ? name : "volume", &v, &e) == PW_OK)
         lst__take_volume(&v, &a, out);
     return lst__done(&e, err);
 }
 
-LSTDEF lst_result lst_write_volume_to_func(const lst_volume *vol, lst_write_fn fn, void *ctx, lst_error *err)
+LSTDEF lst_result lst_write_volume(const lst_volume *vol, lst_write_fn fn, void *ctx, lst_error *err)
 {
     pw_alloc a;
     pw_volume v;
     pw_err e;
     pw_err_clear(&e);
-    if (!vol || !fn) pw_fail(&e, PW_ERR_INVALID, "lst_write_volume_to_func: NULL argument");
+    if (!vol || !fn) pw_fail(&e, PW_ERR_INVALID, "lst_write_volume: NULL argument");
     else if (lst__check_volume(vol, "volume", &e) == PW_OK) {
         a = lst__alloc(&vol->allocator);
         v = lst__pw_volume(vol);
@@ -579,8 +575,8 @@ LSTDEF lst_result lst_write_volume_to_func(const lst_volume *vol, lst_write_fn f
     return lst__done(&e, err);
 }
 
-LSTDEF lst_result lst_load_mesh_from_memory(const void *data, size_t size, const char *name, const lst_options *opt,
-                                            lst_mesh *out, lst_error *err)
+LSTDEF lst_result lst_read_mesh(const void *data, size_t size, const char *name, const lst_options *opt,
+                                lst_mesh *out, lst_error *err)
 {
     lst_options o = lst__options(opt);
     pw_alloc a = lst__alloc(&o.allocator);
@@ -588,18 +584,46 @@ LSTDEF lst_result lst_load_mesh_from_memory(const void *data, size_t size, const
     pw_err e;
     pw_err_clear(&e);
     if (out) memset(out, 0, sizeof *out);
-    if (!out || (!data && size)) pw_fail(&e, PW_ERR_INVALID, "lst_load_mesh_from_memory: NULL argument");
+    if (!out || (!data && size)) pw_fail(&e, PW_ERR_INVALID, "lst_read_mesh: NULL argument");
     else if (pw_mesh_read_memory(&a, data, size, name ? name : "mesh", &m, &e) == PW_OK)
         lst__take_mesh(&m, &a, out);
     return lst__done(&e, err);
 }
 
-LSTDEF lst_result lst_write_image_to_func(const lst_image *img, const char *format, lst_write_fn fn, void *ctx,
-                                          lst_error *err)
+LSTDEF lst_result lst_read_image(const void *data, size_t size, const char *name, const lst_options *opt,
+                                 lst_image *out, lst_error *err)
+{
+    lst_options o = lst__options(opt);
+    pw_alloc a = lst__alloc(&o.allocator);
+    pw_image img;
+    pw_err e;
+    pw_err_clear(&e);
+    if (out) memset(out, 0, sizeof *out);
+    if (!out || (!data && size)) pw_fail(&e, PW_ERR_INVALID, "lst_read_image: NULL argument");
+    else if (pw_image_read_memory(&a, (const unsigned char *)data, size, name ? name : "image", &img, &e) == PW_OK)
+        lst__take_image(&img, &a, out);
+    return lst__done(&e, err);
+}
+
+LSTDEF lst_result lst_write_obj(const lst_mesh *mesh, lst_write_fn fn, void *ctx, lst_error *err)
+{
+    pw_mesh m;
+    pw_err e;
+    pw_err_clear(&e);
+    if (!mesh || !fn) pw_fail(&e, PW_ERR_INVALID, "lst_write_obj: NULL argument");
+    else {
+        m = lst__pw_mesh(mesh);
+        pw_mesh_write_obj(&m, NULL, NULL, fn, ctx, &e);
+    }
+    return lst__done(&e, err);
+}
+
+LSTDEF lst_result lst_write_image(const lst_image *img, const char *format, lst_write_fn fn, void *ctx,
+                                  lst_error *err)
 {
     pw_err e;
     pw_err_clear(&e);
-    if (!fn) pw_fail(&e, PW_ERR_INVALID, "lst_write_image_to_func: NULL writer");
+    if (!fn) pw_fail(&e, PW_ERR_INVALID, "lst_write_image: NULL writer");
     else if (lst__check_image(img, "image", &e) == PW_OK) lst__encode(img, format, fn, ctx, &e);
     return lst__done(&e, err);
 }
@@ -629,35 +653,28 @@ static lst_result lst__load(const char *path, const lst_options *opt, void *out,
 static int lst__rd_mesh(const pw_alloc *a, const unsigned char *d, size_t n, const char *p, void *out, const lst_options *o, lst_error *le)
 {
     (void)a;
-    return (int)lst_load_mesh_from_memory(d, n, p, o, (lst_mesh *)out, le);
+    return (int)lst_read_mesh(d, n, p, o, (lst_mesh *)out, le);
 }
 static int lst__rd_volume(const pw_alloc *a, const unsigned char *d, size_t n, const char *p, void *out, const lst_options *o, lst_error *le)
 {
     (void)a;
-    return (int)lst_read_volume_from_memory(d, n, p, o, (lst_volume *)out, le);
+    return (int)lst_read_volume(d, n, p, o, (lst_volume *)out, le);
 }
 static int lst__rd_model(const pw_alloc *a, const unsigned char *d, size_t n, const char *p, void *out, const lst_options *o, lst_error *le)
 {
     (void)a;
-    return (int)lst_read_model_from_memory(d, n, p, o, (lst_model *)out, le);
+    return (int)lst_read_model(d, n, p, o, (lst_model *)out, le);
 }
 
-typedef struct lst__cons_out {
-    void **c;
-    int *n;
-} lst__cons_out;
-
-static int lst__rd_depth(const pw_alloc *a, const unsigned char *d, size_t n, const char *p, void *out, const lst_options *o, lst_error *le)
+static int lst__rd_constraints(const pw_alloc *a, const unsigned char *d, size_t n, const char *p, void *out, const lst_options *o, lst_error *le)
 {
-    lst__cons_out *c = (lst__cons_out *)out;
     (void)a;
-    return (int)lst_read_depth_from_memory(d, n, p, o, (lst_depth_constraint **)c->c, c->n, le);
+    return (int)lst_read_constraints(d, n, p, o, (lst_constraints *)out, le);
 }
-static int lst__rd_dirs(const pw_alloc *a, const unsigned char *d, size_t n, const char *p, void *out, const lst_options *o, lst_error *le)
+static int lst__rd_image(const pw_alloc *a, const unsigned char *d, size_t n, const char *p, void *out, const lst_options *o, lst_error *le)
 {
-    lst__cons_out *c = (lst__cons_out *)out;
     (void)a;
-    return (int)lst_read_directions_from_memory(d, n, p, o, (lst_field_constraint **)c->c, c->n, le);
+    return (int)lst_read_image(d, n, p, o, (lst_image *)out, le);
 }
 
 LSTDEF lst_result lst_load_mesh(const char *path, const lst_options *opt, lst_mesh *out, lst_error *err)
@@ -678,24 +695,16 @@ LSTDEF lst_result lst_load_model(const char *path, const lst_options *opt, lst_m
     return lst__load(path, opt, out, lst__rd_model, "lst_load_model", err);
 }
 
-LSTDEF lst_result lst_load_depth(const char *path, const lst_options *opt, lst_depth_constraint **out, int *count,
-                                 lst_error *err)
+LSTDEF lst_result lst_load_constraints(const char *path, const lst_options *opt, lst_constraints *out, lst_error *err)
 {
-    lst__cons_out c;
-    c.c = (void **)out, c.n = count;
-    if (out) *out = NULL;
-    if (count) *count = 0;
-    return lst__load(path, opt, out && count ? &c : NULL, lst__rd_depth, "lst_load_depth", err);
+    if (out) memset(out, 0, sizeof *out);
+    return lst__load(path, opt, out, lst__rd_constraints, "lst_load_constraints", err);
 }
 
-LSTDEF lst_result lst_load_directions(const char *path, const lst_options *opt, lst_field_constraint **out, int *count,
-                                      lst_error *err)
+LSTDEF lst_result lst_load_image(const char *path, const lst_options *opt, lst_image *out, lst_error *err)
 {
-    lst__cons_out c;
-    c.c = (void **)out, c.n = count;
-    if (out) *out = NULL;
-    if (count) *count = 0;
-    return lst__load(path, opt, out && count ? &c : NULL, lst__rd_dirs, "lst_load_directions", err);
+    if (out) memset(out, 0, sizeof *out);
+    return lst__load(path, opt, out, lst__rd_image, "lst_load_image", err);
 }
 
 LSTDEF lst_result lst_load_tetmesh(const char *path, const lst_options *opt, lst_tetmesh *out, lst_error *err)
@@ -729,6 +738,7 @@ typedef struct lst__job {
     const char *format;
     const lst_volume *vol;
     const lst_model *model;
+    const lst_mesh *mesh;
 } lst__job;
 
 static int lst__job_body(void *arg, pw_write_fn w, void *ctx, pw_err *e)
@@ -737,7 +747,8 @@ static int lst__job_body(void *arg, pw_write_fn w, void *ctx, pw_err *e)
     lst_error le;
     int r;
     if (j->img) return lst__encode(j->img, j->format, w, ctx, e);
-    r = j->vol ? (int)lst_write_volume_to_func(j->vol, w, ctx, &le) : (int)lst_write_model_to_func(j->model, w, ctx, &le);
+    r = j->vol ? (int)lst_write_volume(j->vol, w, ctx, &le)
+               : j->mesh ? (int)lst_write_obj(j->mesh, w, ctx, &le) : (int)lst_write_model(j->model, w, ctx, &le);
     return r ? pw_fail(e, r, "%s", le.message) : PW_OK;
 }
 
@@ -745,7 +756,7 @@ static lst_result lst__save(const char *path, lst__job *j, lst_error *err)
 {
     pw_err e;
     pw_err_clear(&e);
-    if (!path || (!j->img && !j->vol && !j->model)) pw_fail(&e, PW_ERR_INVALID, "save: NULL argument");
+    if (!path || (!j->img && !j->vol && !j->model && !j->mesh)) pw_fail(&e, PW_ERR_INVALID, "save: NULL argument");
     else if (j->img && !(j->format = pw_has_ext(path, ".png") ? "png" : pw_has_ext(path, ".ppm") || pw_has_ext(path, ".pnm")
                                      ? "ppm" : pw_has_ext(path, ".pgm") ? "pgm" : pw_has_ext(path, ".pam") ? "pam" : NULL))
         pw_fail(&e, PW_ERR_UNSUPPORTED, "%s: unknown image extension (use .png, .ppm, .pgm, .pam)", path);
@@ -775,6 +786,13 @@ LSTDEF lst_result lst_save_model(const char *path, const lst_model *model, lst_e
     lst__job j;
     memset(&j, 0, sizeof j);
     j.model = model;
+    return lst__save(path, &j, err);
+}
+LSTDEF lst_result lst_save_obj(const char *path, const lst_mesh *mesh, lst_error *err)
+{
+    lst__job j;
+    memset(&j, 0, sizeof j);
+    j.mesh = mesh;
     return lst__save(path, &j, err);
 }
 #endif

@@ -52,25 +52,28 @@
  *       #include "lst.h"
  *   PATCHWORK_IMPLEMENTATION turns on every patchwork header included after
  *   it. Build macros: LST_STATIC (all functions static), PW_MALLOC /
- *   PW_REALLOC / PW_FREE (all or none), PW_ASSERT, PW_NO_STDIO, and the
- *   PW_MAX_* size limits, as in every patchwork header.
+ *   PW_REALLOC / PW_FREE (all or none), PW_ASSERT, PW_NO_STDIO, the PW_MAX_*
+ *   size limits, as in every patchwork header, and PW_THREADS: rendering on
+ *   several threads (POSIX threads; link with -pthread; lst_render_options.
+ *   threads, 0 = one per processor), the same picture for any count.
  *
  * MINIMAL EXAMPLE
  *       lst_options opt = lst_default_options();
  *       lst_mesh surface;
  *       lst_tetmesh tets;
  *       lst_volume texture;
+ *       lst_source src = {&texture, NULL};         (no extra channel)
  *       lst_model model;
  *       lst_image picture;
  *       lst_error err;
  *       const float cut[4] = {0, 0, 1, 0};          (keep z <= 0)
  *       opt.type = LST_TYPE_1B;                     (layers along the depth)
  *       if (lst_load_mesh("fruit.obj", &opt, &surface, &err) ||
- *           lst_tetrahedralize(&surface, NULL, &opt, &tets, &err) ||
+ *           lst_tetrahedralize(&surface, &opt, &tets, NULL, &err) ||
  *           lst_builtin_exemplar("layers", 64, &opt, &texture, NULL, &err) ||
- *           lst_create(&tets, &surface, &texture, NULL, &opt, &model, &err) ||
+ *           lst_create(&tets, &surface, &src, &opt, &model, &err) ||
  *           lst_cut_plane(&model, cut, &err) ||
- *           lst_render(&model, NULL, &picture, &err) ||
+ *           lst_render(&model, &opt.render, &picture, &err) ||
  *           lst_save_image("fruit.png", &picture, &err))
  *           fprintf(stderr, "%s\n", err.message);
  *
@@ -90,10 +93,10 @@
 #ifndef LST_H
 #define LST_H
 
-#define LST_VERSION_MAJOR 1
-#define LST_VERSION_MINOR 0
+#define LST_VERSION_MAJOR 0
+#define LST_VERSION_MINOR 9
 #define LST_VERSION_PATCH 0
-#define LST_VERSION_STRING "1.0.0"
+#define LST_VERSION_STRING "0.9.0"
 
 #include <stddef.h>
 
@@ -145,6 +148,13 @@ typedef struct lst_allocator {
 typedef int (*lst_progress_fn)(void *user, float done, const char *stage);
 typedef int (*lst_write_fn)(void *ctx, const void *data, size_t size);
 
+/* Work split across threads (rendering: bands of the frame). A parallel
+ * for, for embedders with their own job system: run task(ctx, i) once for
+ * every i in [0, n), on any threads, in any order, and return when all
+ * have run. Results never depend on the order or the thread count. */
+typedef void (*lst_task_fn)(void *ctx, int index);
+typedef void (*lst_parallel_fn)(void *pool, int n, lst_task_fn task, void *ctx);
+
 /* width*height pixels of `channels` floats in [0,1], row 0 at the top. */
 typedef struct lst_image {
     int width, height, channels;
@@ -190,7 +200,7 @@ typedef struct lst_volume {
 /* §3 texture types. 2-c and 2-d (variation along two or three axes) are
  * not supported: as the paper says, a tiling method is not effective for
  * textures that can be tiled along one axis or none. */
-enum {
+typedef enum lst_type {
     LST_TYPE_0 = 0,  /* isotropic: random orientation per paste; scale from the user */
     LST_TYPE_1A = 1, /* one axis (fibres): u along the direction field, the others random */
     LST_TYPE_1B = 2, /* depth-varying layers: v = depth, u and w random around it;
@@ -198,47 +208,55 @@ enum {
     LST_TYPE_2A = 3, /* three axes: v along grad depth, u along the direction field
                         (orthogonalised), w = u x v; scale from the user */
     LST_TYPE_2B = 4  /* as 2-a, and depth-varying: v = depth, scale 1/|grad depth| */
-};
+} lst_type;
 
-/* §4.3 depth constraints (0 outermost, 1 innermost). */
-enum {
-    LST_DEPTH_FACE = 0,  /* one surface triangle (single-face-fill tool) */
-    LST_DEPTH_FILL = 1,  /* the triangles reachable from `face` without crossing an
-                            edge sharper than `crease` (multi-face-fill tool) */
-    LST_DEPTH_POINT = 2  /* a point (the stroke tool: strokes are sampled points) */
-};
+/* §4.1-4.5 user guidance: depth constraints (§4.3, 0 outermost, 1
+ * innermost; they steer the RBF depth field), directions and scales
+ * (interpolated by Laplacian smoothing). */
+typedef enum lst_constraint_kind {
+    LST_CONSTRAINT_DEPTH_FACE = 0, /* one surface triangle (single-face-fill tool) */
+    LST_CONSTRAINT_DEPTH_FILL,     /* the triangles reachable from `face` without crossing an
+                                      edge sharper than `crease` (multi-face-fill tool) */
+    LST_CONSTRAINT_DEPTH_POINT,    /* a point (the stroke tool: strokes are sampled points) */
+    LST_CONSTRAINT_DIRECTION,      /* the exemplar's u axis at `point` (types 1-a, 2-a, 2-b) */
+    LST_CONSTRAINT_SCALE           /* the exemplar's side at `point` (types 0, 1-a, 2-a) */
+} lst_constraint_kind;
 
-typedef struct lst_depth_constraint {
-    int kind;       /* LST_DEPTH_* */
-    int face;       /* FACE, FILL: a triangle of the surface */
-    float point[3]; /* POINT */
-    float depth;    /* in [0, 1] */
-    float crease;   /* FILL: dihedral angle, degrees, at which the fill stops; 0: 30 */
-} lst_depth_constraint;
-
-/* §4.1-4.5 field constraints, interpolated by Laplacian smoothing. */
-enum {
-    LST_FIELD_DIRECTION = 0, /* the exemplar's u axis at `point` (types 1-a, 2-a, 2-b) */
-    LST_FIELD_SCALE = 1      /* the exemplar's side at `point`, mesh units (0, 1-a, 2-a) */
-};
-
-typedef struct lst_field_constraint {
-    int kind;           /* LST_FIELD_* */
-    float point[3];
+typedef struct lst_constraint {
+    lst_constraint_kind kind;
+    int face;           /* DEPTH_FACE, DEPTH_FILL: a triangle of the surface */
+    float point[3];     /* DEPTH_POINT, DIRECTION, SCALE */
     float direction[3]; /* DIRECTION (any length but 0) */
-    float scale;        /* SCALE (> 0) */
-} lst_field_constraint;
+    float value;        /* depth in [0,1] (DEPTH_*) or the exemplar's side, mesh units (SCALE, > 0) */
+    float crease;       /* DEPTH_FILL: dihedral angle, degrees, at which the fill stops; 0: 30 */
+} lst_constraint;
+
+/* Constraints allocated by the library (files, built-in ones); free with
+ * lst_constraints_free. */
+typedef struct lst_constraints {
+    int count;
+    lst_constraint *items;
+    lst_allocator allocator;
+} lst_constraints;
 
 /* §5.2.1 alpha masks. */
-enum {
+typedef enum lst_mask_mode {
     LST_MASK_AUTO = 0,    /* the exemplar's alpha (4 channels) for homogeneous types,
                              else the splotch (always for 1-b and 2-b) */
     LST_MASK_SPLOTCH = 1, /* the built-in splotch (and its outer/middle/inner copies) */
     LST_MASK_EXEMPLAR = 2 /* the exemplar's alpha (types 0, 1-a, 2-a; 4 channels) */
-};
+} lst_mask_mode;
+
+/* The masks pasting uses (one-channel alpha volumes), allocated by the
+ * library; free with lst_masks_free. */
+typedef struct lst_masks {
+    int count;
+    lst_volume *volumes;
+    lst_allocator allocator;
+} lst_masks;
 
 /* The fields of §5.2.2, per vertex and per tetrahedron. */
-typedef struct lst_fields {
+typedef struct lst_field {
     int nverts, ntets;
     float *depth; /* nverts depths in [0,1] (1-b, 2-a, 2-b), or NULL */
     float *frame; /* ntets*9: the images of the exemplar's u, v, w axes (columns R, S, T of
@@ -246,21 +264,65 @@ typedef struct lst_fields {
                      and 1-x the axes without a field are an arbitrary frame that pasting
                      re-draws at random */
     lst_allocator allocator;
-} lst_fields;
+} lst_field;
+
+/* What a render draws. */
+typedef enum lst_show {
+    LST_SHOW_COLOR = 0,  /* the texture */
+    LST_SHOW_VALUES = 1, /* the extra channel (its first component) in gray */
+    LST_SHOW_PASTES = 2, /* a flat colour per paste: where the clumps are */
+    LST_SHOW_DEPTH = 3   /* u, v, w of the topmost paste as red, green, blue */
+} lst_show;
+
+typedef struct lst_render_options {
+    int width, height;    /* default 800 x 600 */
+    int supersample;      /* default 2 */
+    float view_dir[3];    /* default (-0.55,-0.45,-0.7) */
+    float up[3];          /* default (0,1,0) */
+    float background[3];  /* default white */
+    lst_show show;        /* default LST_SHOW_COLOR */
+    int unlit;            /* 1: no shading, the texture as it is */
+    float displace;       /* displacement mapping: the surface moved along its normal by
+                             this times (values - 0.5), mesh units; 0: none */
+    int subdivide;        /* with displacement: each surface triangle split into 4^k; default 2 */
+    int threads;             /* rendering threads: 0 (default) one per processor when the
+                                implementation is built with PW_THREADS (POSIX threads;
+                                link with -pthread), else 1; n: at most n. With more
+                                than one, the allocator is called from several threads */
+    lst_parallel_fn parallel; /* optional: the caller's parallel for, used instead of threads */
+    void *parallel_pool;     /* its first argument */
+} lst_render_options;
+
+typedef struct lst_volume_options {
+    int slices;           /* §5.1.2: default 200 */
+    float opacity;        /* opacity of a slab one hundredth of the model's diagonal thick
+                             at full density; default 0.3 */
+    int density;          /* 0 (default): density = 1 - luminance of the colour (dark is
+                             dense); k >= 1: the extra channel's component k-1 */
+} lst_volume_options;
+
+/* Settings of the built-in tetrahedralizer (lst_tetrahedralize). */
+typedef struct lst_tet_options {
+    double cell;     /* lattice spacing, mesh units; 0: chosen from target_tets */
+    int target_tets; /* approximate tetrahedron count; default 20000 (0: 20000) */
+    int strict;      /* 1: refuse a surface whose triangles cross, naming the first pair */
+    double max_hole; /* holes whose perimeters are at most this fraction of the bounding-box diagonal
+                        are closed; default 0.05 (0: 0.05); negative: open surfaces refused */
+} lst_tet_options;
 
 typedef struct lst_options {
-    int type;                 /* LST_TYPE_*; default LST_TYPE_0 */
+    lst_type type;            /* default LST_TYPE_0 */
     float scale;              /* exemplar side in mesh units where no scale constraint
                                  reaches (0, 1-a, 2-a); 0: a fifth of the bounding-box
                                  diagonal */
-    const lst_depth_constraint *depth; /* NULL: depth = normalised distance to the surface */
-    int ndepth;
-    const lst_field_constraint *field; /* directions and scales; may be NULL */
-    int nfield;
+    const lst_constraint *constraints; /* depths, directions and scales; may be NULL. Without a
+                                          depth constraint, the depth is the normalised distance
+                                          to the surface */
+    int nconstraints;
     float axis[3];            /* the direction where no direction constraint is given;
                                  zero: the principal axis of the shape */
-    const lst_fields *fields; /* non-NULL: these fields instead of computing them */
-    int mask;                 /* LST_MASK_*; default AUTO */
+    const lst_field *field;   /* NULL: computed (lst_compute_field); else these fields */
+    lst_mask_mode mask;       /* default LST_MASK_AUTO */
     float mask_radius;        /* splotch mean radius, fraction of the side; default 0.4 */
     float falloff;            /* splotch fall-off width, fraction of the side; default 0.08 */
     int samples;              /* coverage samples per tetrahedron: the barycentric
@@ -280,6 +342,9 @@ typedef struct lst_options {
                                  paste's opaque core covers entirely (default: drop them) */
     int max_pastes;           /* refuse inputs needing more; default 200000 */
     unsigned long long seed;  /* default 0 */
+    lst_render_options render; /* lst_render's settings (callers pass &opt.render) */
+    lst_tet_options tet;       /* lst_tetrahedralize's */
+    lst_volume_options volume; /* lst_render_volume's (callers pass &opt.volume) */
     lst_allocator allocator;
     lst_progress_fn progress;
     void *progress_user;
@@ -304,42 +369,13 @@ typedef struct lst_model {
     int type;                 /* LST_TYPE_* it was made with (-1: read from a file) */
     lst_volume texture;       /* the exemplar's colour (1-3 channels: alpha was made a mask) */
     lst_volume values;        /* an extra channel (displacement...), or empty */
-    int nmasks;
-    lst_volume *masks;        /* one-channel alpha volumes; paste p uses masks[p.exemplar] */
+    lst_masks masks;          /* paste p uses masks.volumes[p.exemplar] */
     int npastes;
     lst_paste *pastes;        /* in compositing order: later over earlier */
     double layers;            /* mean pastes per tetrahedron */
     double layers_before;     /* ... before hidden entries were dropped */
     lst_allocator allocator;
 } lst_model;
-
-enum {
-    LST_SHOW_COLOR = 0,  /* the texture */
-    LST_SHOW_VALUES = 1, /* the extra channel (its first component) in gray */
-    LST_SHOW_PASTES = 2, /* a flat colour per paste: where the clumps are */
-    LST_SHOW_DEPTH = 3   /* u, v, w of the topmost paste as red, green, blue */
-};
-
-typedef struct lst_render_options {
-    int width, height;    /* default 800 x 600 */
-    int supersample;      /* default 2 */
-    float view_dir[3];    /* default (-0.55,-0.45,-0.7) */
-    float up[3];          /* default (0,1,0) */
-    float background[3];  /* default white */
-    int show;             /* LST_SHOW_*; default COLOR */
-    int unlit;            /* 1: no shading, the texture as it is */
-    float displace;       /* displacement mapping: the surface moved along its normal by
-                             this times (values - 0.5), mesh units; 0: none */
-    int subdivide;        /* with displacement: each surface triangle split into 4^k; default 2 */
-} lst_render_options;
-
-typedef struct lst_volume_options {
-    int slices;           /* §5.1.2: default 200 */
-    float opacity;        /* opacity of a slab one hundredth of the model's diagonal thick
-                             at full density; default 0.3 */
-    int density;          /* 0 (default): density = 1 - luminance of the colour (dark is
-                             dense); k >= 1: the extra channel's component k-1 */
-} lst_volume_options;
 
 LSTDEF lst_options lst_default_options(void);
 LSTDEF const char *lst_result_string(lst_result r);
@@ -351,7 +387,10 @@ LSTDEF const char *lst_result_string(lst_result r);
  * the boundary within about a cell of the surface). The solid is where the
  * surface's generalised winding number is at least 1/2, so a closed surface
  * whose triangles cross is filled (counted in the report) unless strict;
- * zero-area triangles are skipped; small holes are closed. Other open
+ * zero-area triangles are skipped; small holes are closed (each said in a
+ * warning in err->message, code LST_OK). Settings:
+ * opt->tet. report (may be NULL) receives what the input held and how well
+ * the tetrahedra fit it (the fit costs about 0.1-0.5 s). Other open
  * surfaces and non-manifold ones are refused with a message naming the
  * problem (for an open one: how many holes, and where the largest is). */
 typedef struct lst_tet_report {
@@ -366,18 +405,8 @@ typedef struct lst_tet_report {
                               bounding-box diagonal */
     double fit_p99;        /* the same, the larger of the two 99th percentiles */
 } lst_tet_report;
-typedef struct lst_tet_options {
-    double cell;                  /* lattice spacing, mesh units; 0: chosen from target_tets */
-    int target_tets;              /* approximate tetrahedron count; 0: 20000 */
-    int allow_self_intersections; /* accepted and ignored: crossing surfaces are filled by default */
-    int strict;                   /* 1: refuse a surface whose triangles cross, naming the first pair */
-    double max_hole;              /* holes whose perimeters are at most this fraction of the bounding-box
-                                     diagonal are closed; 0: 0.05; negative: open surfaces refused */
-    lst_tet_report *report;       /* optional: filled with what the input held and how well the
-                                     tetrahedra fit it (the fit costs about 0.1-0.5 s) */
-} lst_tet_options;
-LSTDEF lst_result lst_tetrahedralize(const lst_mesh *surface, const lst_tet_options *to, const lst_options *opt,
-                                     lst_tetmesh *out, lst_error *err);
+LSTDEF lst_result lst_tetrahedralize(const lst_mesh *surface, const lst_options *opt, lst_tetmesh *out,
+                                     lst_tet_report *report, lst_error *err);
 /* Checks a caller's mesh (indices, orientation, zero volumes, faces shared by
  * more than two tetrahedra, overlaps), flipping negative tetrahedra; reports
  * the dihedral angle range in degrees (either pointer may be NULL). */
@@ -397,27 +426,41 @@ LSTDEF lst_result lst_tetmesh_surface(const lst_tetmesh *mesh, const lst_options
 LSTDEF lst_result lst_builtin_exemplar(const char *name, int size, const lst_options *opt, lst_volume *color,
                                        lst_volume *values, lst_error *err);
 /* §5.2.1/§5.2.7 the masks pasting would use with this exemplar and these
- * options (1 or 3 one-channel volumes), allocated here. */
-LSTDEF lst_result lst_make_masks(const lst_volume *exemplar, const lst_options *opt, lst_volume **masks,
-                                 int *count, lst_error *err);
-LSTDEF void lst_free_masks(lst_volume *masks, int count);
+ * options (1 or 3 one-channel volumes). */
+LSTDEF lst_result lst_make_masks(const lst_volume *exemplar, const lst_options *opt, lst_masks *out,
+                                 lst_error *err);
+LSTDEF void lst_masks_free(lst_masks *masks);
 /* §5.2.2 the depth, vector, scale and tensor fields. surface: the surface
  * that depth constraints name faces of (NULL: the mesh's boundary). */
-LSTDEF lst_result lst_compute_fields(const lst_tetmesh *mesh, const lst_mesh *surface, const lst_options *opt,
-                                     lst_fields *out, lst_error *err);
-LSTDEF void lst_fields_free(lst_fields *f);
+LSTDEF lst_result lst_compute_field(const lst_tetmesh *mesh, const lst_mesh *surface, const lst_options *opt,
+                                    lst_field *out, lst_error *err);
+LSTDEF void lst_field_free(lst_field *f);
 
 /* ---- filling ---- */
 
-/* §5.2 fills the mesh: pastes until every tetrahedron is covered. values
- * (NULL or the same size as the exemplar) is carried along for rendering. */
-LSTDEF lst_result lst_create(const lst_tetmesh *mesh, const lst_mesh *surface, const lst_volume *exemplar,
-                             const lst_volume *values, const lst_options *opt, lst_model *out, lst_error *err);
-/* §4.6 manual pasting: one more paste on top, centred at `point`, its u
- * axis along u_axis and v along v_axis (made orthogonal), of side `scale`
- * (mesh units), with mask `mask`. */
-LSTDEF lst_result lst_paste_at(lst_model *model, const float point[3], const float u_axis[3], const float v_axis[3],
-                               float scale, int mask, const lst_options *opt, lst_error *err);
+/* The texture a model is made of: the solid exemplar, and optionally
+ * another channel of the same size (displacement...), carried along for
+ * rendering. */
+typedef struct lst_source {
+    const lst_volume *exemplar;
+    const lst_volume *values; /* NULL: none */
+} lst_source;
+
+/* §5.2 fills the mesh: pastes until every tetrahedron is covered. */
+LSTDEF lst_result lst_create(const lst_tetmesh *mesh, const lst_mesh *surface, const lst_source *src,
+                             const lst_options *opt, lst_model *out, lst_error *err);
+/* §4.6 a manual paste: centred at `point`, its u axis along u_axis and v
+ * along v_axis (made orthogonal), of side `scale` (mesh units), with mask
+ * `mask` (an index into the model's masks). */
+typedef struct lst_paste_spec {
+    float point[3];
+    float u_axis[3];
+    float v_axis[3];
+    float scale;
+    int mask;
+} lst_paste_spec;
+/* One more paste on top of the model. */
+LSTDEF lst_result lst_paste_at(lst_model *model, const lst_paste_spec *spec, const lst_options *opt, lst_error *err);
 LSTDEF void lst_model_free(lst_model *model);
 
 /* The model at points (n*3): straight RGB and total opacity in rgba (n*4;
@@ -451,10 +494,12 @@ LSTDEF void lst_uncut(lst_model *model);
 /* The visible boundary (surface and cut faces), each triangle composited
  * with its ordered pastes. Exemplars are sampled trilinearly without mip
  * levels (at the scales pasting uses they are magnified on screen; the
- * supersampling takes care of the rest). */
+ * supersampling takes care of the rest). ro: NULL or &opt.render (NULL:
+ * the defaults). */
 LSTDEF lst_result lst_render(const lst_model *model, const lst_render_options *ro, lst_image *out, lst_error *err);
 /* §5.1.2 volume rendering: slices perpendicular to the view, composited
- * back to front with an opacity from the density. */
+ * back to front with an opacity from the density. ro, vo: NULL (the
+ * defaults) or &opt.render, &opt.volume. */
 LSTDEF lst_result lst_render_volume(const lst_model *model, const lst_render_options *ro,
                                     const lst_volume_options *vo, lst_image *out, lst_error *err);
 
@@ -464,58 +509,61 @@ LSTDEF lst_result lst_render_volume(const lst_model *model, const lst_render_opt
  * z), "tree" (a trunk along z with two branches), and two thin shapes that
  * test the tetrahedralizer: "dumbbell" (two unit balls, a neck 1% of the
  * diagonal thick) and "star" (a ball with 12 long thin spikes). */
-LSTDEF lst_result lst_builtin_surface(const char *name, const lst_options *opt, lst_mesh *out, lst_error *err);
+LSTDEF lst_result lst_builtin_mesh(const char *name, const lst_options *opt, lst_mesh *out, lst_error *err);
 /* The constraints that go with a built-in surface ("kiwi": depth 0 on the
  * skin and 1 along the axis, direction along the axis; "tree": depth 0 on
  * the bark, 1 along the pith of trunk and branches, direction along
- * them; "torus": directions around the ring, no depth), allocated here;
- * free with lst_free_constraints. */
+ * them; "torus": directions around the ring, no depth). */
 LSTDEF lst_result lst_builtin_constraints(const char *name, const lst_mesh *surface, const lst_options *opt,
-                                          lst_depth_constraint **depth, int *ndepth, lst_field_constraint **field,
-                                          int *nfield, lst_error *err);
+                                          lst_constraints *out, lst_error *err);
 
 /* ---- files ---- */
 
 /* The model file ("lst 1", documented in docs/lst.md): nodes, tetrahedra,
  * exemplar sizes, pastes with per-tetrahedron texture coordinates. Only
  * the visible tetrahedra are written (a cut model is saved as cut). */
-LSTDEF lst_result lst_write_model_to_func(const lst_model *model, lst_write_fn fn, void *ctx, lst_error *err);
+LSTDEF lst_result lst_write_model(const lst_model *model, lst_write_fn fn, void *ctx, lst_error *err);
 /* Reads a model file: mesh and pastes; the texture and masks are not in
- * it (they are NRRD files): nmasks is set from the file, the volumes are
- * empty until the caller fills them (lst_make_masks, lst_load_volume). */
-LSTDEF lst_result lst_read_model_from_memory(const void *data, size_t size, const char *name,
-                                             const lst_options *opt, lst_model *out, lst_error *err);
-/* Constraint files (documented in docs/lst.md): depth lines "face F D",
- * "fill F D [crease]", "point X Y Z D", "stroke D X Y Z X Y Z ..."; field
- * lines "dir X Y Z DX DY DZ", "stroke X Y Z X Y Z ..." (directions along
- * the polyline), "scale X Y Z S"; '#' comments. */
-LSTDEF lst_result lst_read_depth_from_memory(const void *data, size_t size, const char *name, const lst_options *opt,
-                                             lst_depth_constraint **out, int *count, lst_error *err);
-LSTDEF lst_result lst_read_directions_from_memory(const void *data, size_t size, const char *name,
-                                                  const lst_options *opt, lst_field_constraint **out, int *count,
-                                                  lst_error *err);
-LSTDEF void lst_free_constraints(lst_depth_constraint *depth, lst_field_constraint *field, const lst_options *opt);
+ * it (they are NRRD files): masks.count is set from the file, the volumes
+ * are empty until the caller fills them (lst_make_masks, lst_load_volume). */
+LSTDEF lst_result lst_read_model(const void *data, size_t size, const char *name, const lst_options *opt,
+                                 lst_model *out, lst_error *err);
+/* Constraint files (documented in docs/lst.md), one constraint a line:
+ * "face F D", "fill F D [CREASE]", "point X Y Z D", "depth-stroke D X Y Z
+ * X Y Z ...", "dir X Y Z DX DY DZ", "dir-stroke X Y Z X Y Z ..."
+ * (directions along the polyline), "scale X Y Z S"; '#' comments, blank
+ * lines and a byte-order mark skipped. */
+LSTDEF lst_result lst_read_constraints(const void *data, size_t size, const char *name, const lst_options *opt,
+                                       lst_constraints *out, lst_error *err);
+LSTDEF void lst_constraints_free(lst_constraints *c);
 /* Tetrahedral meshes: TetGen .node + .ele, MEDIT .mesh. */
-LSTDEF lst_result lst_read_tetgen_from_memory(const void *node, size_t node_size, const void *ele, size_t ele_size,
-                                              const char *name, const lst_options *opt, lst_tetmesh *out,
-                                              lst_error *err);
-LSTDEF lst_result lst_read_medit_from_memory(const void *data, size_t size, const char *name, const lst_options *opt,
-                                             lst_tetmesh *out, lst_error *err);
-LSTDEF lst_result lst_write_tetgen_to_func(const lst_tetmesh *mesh, lst_write_fn node_fn, void *node_ctx,
-                                           lst_write_fn ele_fn, void *ele_ctx, lst_error *err);
-LSTDEF lst_result lst_write_medit_to_func(const lst_tetmesh *mesh, lst_write_fn fn, void *ctx, lst_error *err);
+LSTDEF lst_result lst_read_tetgen(const void *node, size_t node_size, const void *ele, size_t ele_size,
+                                  const char *name, const lst_options *opt, lst_tetmesh *out, lst_error *err);
+LSTDEF lst_result lst_read_medit(const void *data, size_t size, const char *name, const lst_options *opt,
+                                 lst_tetmesh *out, lst_error *err);
+LSTDEF lst_result lst_write_tetgen(const lst_tetmesh *mesh, lst_write_fn node_fn, void *node_ctx, lst_write_fn ele_fn,
+                                   void *ele_ctx, lst_error *err);
+LSTDEF lst_result lst_write_medit(const lst_tetmesh *mesh, lst_write_fn fn, void *ctx, lst_error *err);
 /* Volumes: NRRD (uint8, uint16 or float; sizes C X Y Z or X Y Z; raw or
  * gzip); written as uint8, gzip-compressed. */
-LSTDEF lst_result lst_read_volume_from_memory(const void *data, size_t size, const char *name, const lst_options *opt,
-                                              lst_volume *out, lst_error *err);
-LSTDEF lst_result lst_write_volume_to_func(const lst_volume *vol, lst_write_fn fn, void *ctx, lst_error *err);
-LSTDEF lst_result lst_load_mesh_from_memory(const void *data, size_t size, const char *name, const lst_options *opt,
-                                            lst_mesh *out, lst_error *err);
+LSTDEF lst_result lst_read_volume(const void *data, size_t size, const char *name, const lst_options *opt,
+                                  lst_volume *out, lst_error *err);
+LSTDEF lst_result lst_write_volume(const lst_volume *vol, lst_write_fn fn, void *ctx, lst_error *err);
+/* Surfaces: OBJ, OFF, PLY, STL. */
+LSTDEF lst_result lst_read_mesh(const void *data, size_t size, const char *name, const lst_options *opt,
+                                lst_mesh *out, lst_error *err);
+/* A surface (e.g. the boundary from lst_tetmesh_surface) as OBJ: positions
+ * and polygon faces. */
+LSTDEF lst_result lst_write_obj(const lst_mesh *mesh, lst_write_fn fn, void *ctx, lst_error *err);
+/* Images: PNG, PPM/PGM/PAM, GIMP .pat. */
+LSTDEF lst_result lst_read_image(const void *data, size_t size, const char *name, const lst_options *opt,
+                                 lst_image *out, lst_error *err);
 /* format: "png", "ppm", "pgm", "pam" */
-LSTDEF lst_result lst_write_image_to_func(const lst_image *img, const char *format, lst_write_fn fn, void *ctx,
-                                          lst_error *err);
+LSTDEF lst_result lst_write_image(const lst_image *img, const char *format, lst_write_fn fn, void *ctx,
+                                  lst_error *err);
 #ifndef PW_NO_STDIO
 LSTDEF lst_result lst_load_mesh(const char *path, const lst_options *opt, lst_mesh *out, lst_error *err);
+LSTDEF lst_result lst_save_obj(const char *path, const lst_mesh *mesh, lst_error *err);
 /* FILE.node (with FILE.ele beside it) or FILE.mesh. */
 LSTDEF lst_result lst_load_tetmesh(const char *path, const lst_options *opt, lst_tetmesh *out, lst_error *err);
 /* FILE.node (and FILE.ele) or FILE.mesh. */
@@ -524,10 +572,9 @@ LSTDEF lst_result lst_load_volume(const char *path, const lst_options *opt, lst_
 LSTDEF lst_result lst_save_volume(const char *path, const lst_volume *vol, lst_error *err);
 LSTDEF lst_result lst_save_model(const char *path, const lst_model *model, lst_error *err);
 LSTDEF lst_result lst_load_model(const char *path, const lst_options *opt, lst_model *out, lst_error *err);
-LSTDEF lst_result lst_load_depth(const char *path, const lst_options *opt, lst_depth_constraint **out, int *count,
-                                 lst_error *err);
-LSTDEF lst_result lst_load_directions(const char *path, const lst_options *opt, lst_field_constraint **out,
-                                      int *count, lst_error *err);
+LSTDEF lst_result lst_load_constraints(const char *path, const lst_options *opt, lst_constraints *out,
+                                       lst_error *err);
+LSTDEF lst_result lst_load_image(const char *path, const lst_options *opt, lst_image *out, lst_error *err);
 LSTDEF lst_result lst_save_image(const char *path, const lst_image *img, lst_error *err);
 #endif
 

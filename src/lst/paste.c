@@ -716,7 +716,7 @@ static int lst__prune(lst__fill *F, double *before, double *after, pw_err *e)
 
 /* Fields given by the caller: sizes, finite non-degenerate frames, depth
  * in [0, 1] where the type needs one. */
-static int lst__check_fields(const lst_fields *f, const pw_tetmesh *m, int type, pw_err *e)
+static int lst__check_fields(const lst_field *f, const pw_tetmesh *m, int type, pw_err *e)
 {
     int t, k;
     if (f->nverts != m->nv || f->ntets != m->nt || !f->frame)
@@ -752,8 +752,7 @@ static int lst__copy_volume(const pw_alloc *a, const lst_volume *src, int channe
 static int lst__model_start(const pw_alloc *a, const lst_tetmesh *mesh, const lst_volume *ex, const lst_volume *values,
                             const lst_options *o, lst_model *out, pw_err *e)
 {
-    pw_volume m[3];
-    int n = 0, k, r;
+    int r;
     size_t nv = (size_t)mesh->nverts * 3, nt = (size_t)mesh->ntets * 4;
     out->allocator = lst__allocator(a);
     out->type = o->type;
@@ -769,15 +768,7 @@ static int lst__model_start(const pw_alloc *a, const lst_tetmesh *mesh, const ls
                               &out->texture, e)) != PW_OK ||
         (values && (r = lst__copy_volume(a, values, values->channels, &out->values, e)) != PW_OK))
         return r;
-    memset(m, 0, sizeof m);
-    r = lst__masks(a, ex, o, m, &n, e);
-    if (r == PW_OK && !(out->masks = (lst_volume *)pw_calloc_array(a, (size_t)n, sizeof(lst_volume), "masks", e))) r = PW_ERR_NOMEM;
-    for (k = 0; k < n; k++) {
-        if (r == PW_OK) lst__take_volume(&m[k], a, &out->masks[k]);
-        pw_volume_free(a, &m[k]);
-    }
-    if (r == PW_OK) out->nmasks = n;
-    return r;
+    return lst__make_masks(a, ex, o, &out->masks, e);
 }
 
 static int lst__check_inputs(const lst_tetmesh *mesh, const lst_volume *ex, const lst_volume *values, pw_err *e)
@@ -801,13 +792,13 @@ static int lst__create(const pw_alloc *a, const lst_mesh *surface, const lst_opt
     float *depth = NULL, *frame = NULL;
     int k, r;
     if ((r = lst__geo_init(a, &m, &g, e)) != PW_OK) return r;
-    if (o->fields) r = lst__check_fields(o->fields, &m, o->type, e);
+    if (o->field) r = lst__check_fields(o->field, &m, o->type, e);
     else r = lst__fields(a, &g, surface, o, &p, &depth, &frame, e);
-    for (k = 0; k < out->nmasks; k++) masks[k] = lst__pw_volume(&out->masks[k]);
-    if (r == PW_OK) r = lst__fill_init(&F, a, o, &g, masks, out->nmasks, 1, e);
+    for (k = 0; k < out->masks.count; k++) masks[k] = lst__pw_volume(&out->masks.volumes[k]);
+    if (r == PW_OK) r = lst__fill_init(&F, a, o, &g, masks, out->masks.count, 1, e);
     else memset(&F, 0, sizeof F), F.a = a;
-    F.frame = o->fields ? o->fields->frame : frame;
-    F.depth = lst__depth_varying(o->type) ? (o->fields ? o->fields->depth : depth) : NULL;
+    F.frame = o->field ? o->field->frame : frame;
+    F.depth = lst__depth_varying(o->type) ? (o->field ? o->field->depth : depth) : NULL;
     if (r == PW_OK) r = lst__fill_run(&F, &p, e);
     if (r == PW_OK) r = lst__prune(&F, &out->layers_before, &out->layers, e);
     if (r == PW_OK) {
@@ -822,11 +813,12 @@ static int lst__create(const pw_alloc *a, const lst_mesh *surface, const lst_opt
     return r;
 }
 
-LSTDEF lst_result lst_create(const lst_tetmesh *mesh, const lst_mesh *surface, const lst_volume *exemplar,
-                             const lst_volume *values, const lst_options *opt, lst_model *out, lst_error *err)
+LSTDEF lst_result lst_create(const lst_tetmesh *mesh, const lst_mesh *surface, const lst_source *src,
+                             const lst_options *opt, lst_model *out, lst_error *err)
 {
     lst_options o = lst__options(opt);
     pw_alloc a = lst__alloc(&o.allocator);
+    const lst_volume *exemplar = src ? src->exemplar : NULL, *values = src ? src->values : NULL;
     pw_err e;
     pw_err_clear(&e);
     if (out) memset(out, 0, sizeof *out);
@@ -861,8 +853,7 @@ static int lst__manual_spec(const lst__geo *g, const float *point, const float *
     return PW_OK;
 }
 
-LSTDEF lst_result lst_paste_at(lst_model *model, const float point[3], const float u_axis[3], const float v_axis[3],
-                               float scale, int mask, const lst_options *opt, lst_error *err)
+LSTDEF lst_result lst_paste_at(lst_model *model, const lst_paste_spec *spec, const lst_options *opt, lst_error *err)
 {
     lst_options o = lst__options(opt);
     pw_alloc a;
@@ -873,22 +864,24 @@ LSTDEF lst_result lst_paste_at(lst_model *model, const float point[3], const flo
     lst__spec s;
     lst_paste *grown;
     pw_err e;
+    int mask;
     pw_err_clear(&e);
-    if (!model || !model->mesh.tets || !point || !u_axis || !v_axis) {
+    if (!model || !model->mesh.tets || !spec) {
         pw_fail(&e, PW_ERR_INVALID, "lst_paste_at: NULL argument or empty model");
         return lst__done(&e, err);
     }
-    if (mask < 0 || mask >= model->nmasks || !model->masks[mask].voxels) {
-        pw_fail(&e, PW_ERR_INVALID, "lst_paste_at: mask %d does not exist (the model has %d)", mask, model->nmasks);
+    mask = spec->mask;
+    if (mask < 0 || mask >= model->masks.count || !model->masks.volumes[mask].voxels) {
+        pw_fail(&e, PW_ERR_INVALID, "lst_paste_at: mask %d does not exist (the model has %d)", mask, model->masks.count);
         return lst__done(&e, err);
     }
     a = lst__alloc(&model->allocator);
     m = lst__pw_tets(&model->mesh);
-    mv = lst__pw_volume(&model->masks[mask]);
+    mv = lst__pw_volume(&model->masks.volumes[mask]);
     memset(&F, 0, sizeof F);
     F.a = &a;
     if (lst__geo_init(&a, &m, &g, &e) != PW_OK) return lst__done(&e, err);
-    if (lst__manual_spec(&g, point, u_axis, v_axis, scale, &s, &e) == PW_OK &&
+    if (lst__manual_spec(&g, spec->point, spec->u_axis, spec->v_axis, spec->scale, &s, &e) == PW_OK &&
         lst__fill_init(&F, &a, &o, &g, &mv, 1, 0, &e) == PW_OK) {
         s.mask = 0; /* the one mask of this fill */
         if (lst__paste_one(&F, &s, 0, NULL, &e) == PW_OK &&

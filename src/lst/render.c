@@ -71,14 +71,14 @@ static int lst__check_model(const lst_model *m, pw_err *e)
     int p, k;
     if (!m || !m->mesh.tets || m->mesh.ntets < 1) return pw_fail(e, PW_ERR_INVALID, "empty model");
     if (!m->texture.voxels) return pw_fail(e, PW_ERR_INVALID, "the model has no texture (load the exemplar into it)");
-    if (m->nmasks < 1 || m->nmasks > 64) return pw_fail(e, PW_ERR_INVALID, "the model has %d masks", m->nmasks);
-    for (k = 0; k < m->nmasks; k++)
-        if (!m->masks[k].voxels || m->masks[k].channels != 1)
+    if (m->masks.count < 1 || m->masks.count > 64) return pw_fail(e, PW_ERR_INVALID, "the model has %d masks", m->masks.count);
+    for (k = 0; k < m->masks.count; k++)
+        if (!m->masks.volumes[k].voxels || m->masks.volumes[k].channels != 1)
             return pw_fail(e, PW_ERR_INVALID, "mask %d of the model is missing or has more than one channel", k);
     for (p = 0; p < m->npastes; p++) {
         const lst_paste *q = &m->pastes[p];
-        if (q->exemplar < 0 || q->exemplar >= m->nmasks)
-            return pw_fail(e, PW_ERR_INVALID, "paste %d uses mask %d of %d", p, q->exemplar, m->nmasks);
+        if (q->exemplar < 0 || q->exemplar >= m->masks.count)
+            return pw_fail(e, PW_ERR_INVALID, "paste %d uses mask %d of %d", p, q->exemplar, m->masks.count);
         for (k = 0; k < q->ntets; k++)
             if (q->tets[k] < 0 || q->tets[k] >= m->mesh.ntets)
                 return pw_fail(e, PW_ERR_INVALID, "paste %d uses tetrahedron %d of %d", p, q->tets[k], m->mesh.ntets);
@@ -101,7 +101,7 @@ static int lst__view_init(const pw_alloc *a, const lst_model *m, int show, lst__
     v->a = a;
     v->tex = lst__pw_volume(&m->texture);
     if (m->values.voxels) v->val = lst__pw_volume(&m->values);
-    for (k = 0; k < m->nmasks; k++) v->mask[k] = lst__pw_volume(&m->masks[k]);
+    for (k = 0; k < m->masks.count; k++) v->mask[k] = lst__pw_volume(&m->masks.volumes[k]);
     return lst__index_build(a, m, &v->ix, e);
 }
 
@@ -298,7 +298,7 @@ static lst_render_options lst__render_options(const lst_render_options *ro)
 
 static int lst__check_render(const lst_render_options *o, pw_err *e)
 {
-    if (o->show < LST_SHOW_COLOR || o->show > LST_SHOW_DEPTH) return pw_fail(e, PW_ERR_INVALID, "render: show %d is invalid", o->show);
+    if (o->show < LST_SHOW_COLOR || o->show > LST_SHOW_DEPTH) return pw_fail(e, PW_ERR_INVALID, "render: show %d is invalid", (int)o->show);
     if (!pw_is_finite(o->displace) || o->subdivide > 6)
         return pw_fail(e, PW_ERR_INVALID, "render: displacement %g or subdivision %d is invalid", o->displace, o->subdivide);
     if (o->width < 1 || o->height < 1 || o->width > PW_MAX_IMAGE_DIM || o->height > PW_MAX_IMAGE_DIM || o->supersample < 1 ||
@@ -493,44 +493,72 @@ static int lst__displace(const pw_alloc *a, const lst__view *v, const lst__tris 
 
 /* ---- lst_render ------------------------------------------------------------------------------------ */
 
-/* Frames the visible part and opens a framebuffer. */
-static int lst__frame(const pw_alloc *a, const lst_model *m, const lst_render_options *o, pw_camera *cam, pw_fb *fb,
-                      pw_err *e)
+/* The camera that frames the visible part. */
+static int lst__camera(const pw_alloc *a, const lst_model *m, const lst_render_options *o, pw_camera *cam, pw_err *e)
 {
-    float *pos, bg[4];
+    float *pos;
     int n, r;
     if ((r = lst__visible_positions(a, m, &pos, &n, e)) != PW_OK) return r;
     *cam = pw_camera_frame(pos, n, o->view_dir, o->up, 35.0f, (float)o->width / (float)o->height);
     pw_free(a, pos);
-    memcpy(bg, o->background, sizeof o->background);
-    bg[3] = 1.0f;
-    return pw_fb_create(a, fb, o->width, o->height, o->supersample, bg, e);
+    return PW_OK;
+}
+
+/* The picture, band by band (pw_render_frame), each band drawn by draw(user). */
+static int lst__render_frame(const pw_alloc *a, const lst_render_options *o, pw_frame_draw_fn draw, void *user,
+                             pw_image *pic, pw_err *e)
+{
+    pw_frame f;
+    pw_parallel par;
+    par.threads = o->threads;
+    par.run = o->parallel;
+    par.pool = o->parallel_pool;
+    pw_frame_init(&f, o->width, o->height, o->supersample, o->background, &par);
+    f.draw = draw;
+    f.user = user;
+    return pw_render_frame(a, &f, pic, e);
+}
+
+/* What every band of lst_render draws (read only: bands may run on
+ * several threads, each with its own shading state). */
+typedef struct lst__surface {
+    const lst_model *m;
+    const lst__view *v;
+    const lst__tris *outer, *cut;
+    const lst_render_options *o;
+    pw_camera cam;
+} lst__surface;
+
+static int lst__surface_band(void *user, pw_fb *fb, pw_err *e)
+{
+    const lst__surface *B = (const lst__surface *)user;
+    lst__shading S;
+    int r;
+    memset(&S, 0, sizeof S);
+    S.v = B->v;
+    r = lst__draw_tris(fb, &B->cam, B->m, B->outer, &S, B->o, e);
+    if (r == PW_OK) r = lst__draw_tris(fb, &B->cam, B->m, B->cut, &S, B->o, e);
+    return r;
 }
 
 static int lst__render(const pw_alloc *a, const lst_model *m, const lst_render_options *o, pw_image *pic, pw_err *e)
 {
     lst__view v;
     lst__tris outer, cut, disp;
-    lst__shading S;
-    pw_camera cam;
-    pw_fb fb;
+    lst__surface B;
     int *nb = NULL, r;
     pw_tetmesh tm = lst__pw_tets(&m->mesh);
-    memset(&outer, 0, sizeof outer), memset(&cut, 0, sizeof cut), memset(&disp, 0, sizeof disp), memset(&fb, 0, sizeof fb);
-    memset(&S, 0, sizeof S);
+    memset(&outer, 0, sizeof outer), memset(&cut, 0, sizeof cut), memset(&disp, 0, sizeof disp);
     if ((r = lst__view_init(a, m, o->show, &v, e)) != PW_OK) return r;
-    S.v = &v;
     if (o->displace != 0.0f && !m->values.voxels) r = pw_fail(e, PW_ERR_INVALID, "displacement needs the model's extra channel");
     if (r == PW_OK && !(nb = (int *)pw_alloc_array(a, (size_t)m->mesh.ntets * 4, sizeof(int), "face adjacency", e))) r = PW_ERR_NOMEM;
     if (r == PW_OK) r = pw_tetmesh_neighbors(a, &tm, nb, e);
     if (r == PW_OK) r = lst__boundary_tris(a, m, nb, 0, &outer, e);
     if (r == PW_OK) r = lst__boundary_tris(a, m, nb, 1, &cut, e);
     if (r == PW_OK && o->displace != 0.0f) r = lst__displace(a, &v, &outer, o, &disp, e);
-    if (r == PW_OK) r = lst__frame(a, m, o, &cam, &fb, e);
-    if (r == PW_OK) r = lst__draw_tris(&fb, &cam, m, o->displace != 0.0f ? &disp : &outer, &S, o, e);
-    if (r == PW_OK) r = lst__draw_tris(&fb, &cam, m, &cut, &S, o, e);
-    if (r == PW_OK) r = pw_fb_resolve(&fb, pic, 3, e);
-    pw_fb_free(&fb);
+    B.m = m, B.v = &v, B.outer = o->displace != 0.0f ? &disp : &outer, B.cut = &cut, B.o = o;
+    if (r == PW_OK) r = lst__camera(a, m, o, &B.cam, e);
+    if (r == PW_OK) r = lst__render_frame(a, o, lst__surface_band, &B, pic, e);
     lst__tris_free(a, &outer), lst__tris_free(a, &cut), lst__tris_free(a, &disp);
     pw_free(a, nb);
     lst__view_free(&v);
@@ -595,46 +623,96 @@ static int lst__slice_tet(const pw_alloc *a, const pw_tetmesh *m, int t, const d
     return PW_OK;
 }
 
+/* What every band of a volume rendering draws: the slices, back to front,
+ * of the tetrahedra whose picture (rows ylo..yhi) meets the band. */
+typedef struct lst__volume_frame {
+    const pw_alloc *a;
+    const lst_model *m;
+    const lst__view *v;
+    const lst_render_options *o;
+    pw_tetmesh tm;
+    const double *phi;     /* per vertex: the distance along the view */
+    const float *rows;     /* per tetrahedron: its first and last picture row */
+    double zmax, dz;
+    int slices, density;
+    float alpha_scale;
+    pw_camera cam;
+} lst__volume_frame;
+
+static int lst__volume_band(void *user, pw_fb *fb, pw_err *e)
+{
+    const lst__volume_frame *V = (const lst__volume_frame *)user;
+    const float r0 = (float)(fb->y0 / fb->ss) - 1.0f, r1 = (float)((fb->y0 + fb->bh) / fb->ss) + 1.0f;
+    lst__tris sl;
+    lst__shading S;
+    double ph[4];
+    int t, k, s, r = PW_OK;
+    memset(&sl, 0, sizeof sl), memset(&S, 0, sizeof S);
+    S.v = V->v, S.mode = 1, S.density = V->density, S.alpha_scale = V->alpha_scale;
+    for (s = 0; r == PW_OK && s < V->slices; s++) { /* back to front */
+        double z = V->zmax - (s + 0.5) * V->dz;
+        sl.n = sl.nv = 0;
+        for (t = 0; r == PW_OK && t < V->tm.nt; t++) {
+            if (V->m->removed[t] || V->rows[2 * t + 1] < r0 || V->rows[2 * t] > r1) continue;
+            for (k = 0; k < 4; k++) ph[k] = V->phi[V->tm.tet[4 * t + k]];
+            r = lst__slice_tet(V->a, &V->tm, t, ph, z, &sl, e);
+        }
+        if (r == PW_OK) r = lst__draw_tris(fb, &V->cam, V->m, &sl, &S, V->o, e);
+    }
+    lst__tris_free(V->a, &sl);
+    return r;
+}
+
+/* The picture rows each tetrahedron covers (all of them when a corner is
+ * not in front of the camera). */
+static void lst__tet_rows(const lst__volume_frame *V, float *rows)
+{
+    int t, k;
+    for (t = 0; t < V->tm.nt; t++) {
+        float lo = 3e38f, hi = -3e38f, q[3];
+        for (k = 0; k < 4; k++) {
+            if (!pw_camera_project(&V->cam, V->o->width, V->o->height, V->tm.pos + 3 * V->tm.tet[4 * t + k], q)) {
+                lo = -3e38f, hi = 3e38f;
+                break;
+            }
+            lo = q[1] < lo ? q[1] : lo, hi = q[1] > hi ? q[1] : hi;
+        }
+        rows[2 * t] = lo, rows[2 * t + 1] = hi;
+    }
+}
+
 static int lst__volume(const pw_alloc *a, const lst_model *m, const lst_render_options *o, const lst_volume_options *vo,
                        pw_image *pic, pw_err *e)
 {
-    pw_tetmesh tm = lst__pw_tets(&m->mesh);
     lst__view v;
-    lst__tris sl;
-    lst__shading S;
-    pw_camera cam;
-    pw_fb fb;
-    double f[3], *phi = NULL, zmin = 1e300, zmax = -1e300, dz, ph[4];
-    int t, k, s, r;
-    memset(&sl, 0, sizeof sl), memset(&fb, 0, sizeof fb), memset(&S, 0, sizeof S);
+    lst__volume_frame V;
+    double f[3], *phi = NULL, zmin = 1e300, zmax = -1e300;
+    float *rows = NULL;
+    int k, r;
+    memset(&V, 0, sizeof V);
+    V.tm = lst__pw_tets(&m->mesh);
     if ((r = lst__view_init(a, m, o->show, &v, e)) != PW_OK) return r;
     if (vo->density > 0 && (!m->values.voxels || vo->density > m->values.channels))
         r = pw_fail(e, PW_ERR_INVALID, "volume density from extra channel %d: the model has %d", vo->density,
                     m->values.voxels ? m->values.channels : 0);
-    if (r == PW_OK) r = lst__frame(a, m, o, &cam, &fb, e);
-    if (r == PW_OK && !(phi = (double *)pw_alloc_array(a, (size_t)tm.nv, sizeof(double), "volume slices", e))) r = PW_ERR_NOMEM;
-    for (k = 0; r == PW_OK && k < 3; k++) f[k] = (double)cam.target[k] - cam.eye[k];
+    if (r == PW_OK) r = lst__camera(a, m, o, &V.cam, e);
+    if (r == PW_OK && !(phi = (double *)pw_alloc_array(a, (size_t)V.tm.nv, sizeof(double), "volume slices", e))) r = PW_ERR_NOMEM;
+    if (r == PW_OK && !(rows = (float *)pw_alloc_array(a, (size_t)V.tm.nt * 2, sizeof(float), "volume slices", e))) r = PW_ERR_NOMEM;
+    for (k = 0; r == PW_OK && k < 3; k++) f[k] = (double)V.cam.target[k] - V.cam.eye[k];
     if (r == PW_OK) lst__norm3(f);
-    for (k = 0; r == PW_OK && k < tm.nv; k++) { /* §5.1.2: the distance from the camera along the view */
-        phi[k] = (tm.pos[3 * k] - cam.eye[0]) * f[0] + (tm.pos[3 * k + 1] - cam.eye[1]) * f[1] + (tm.pos[3 * k + 2] - cam.eye[2]) * f[2];
+    for (k = 0; r == PW_OK && k < V.tm.nv; k++) { /* §5.1.2: the distance from the camera along the view */
+        const float *p = V.tm.pos + 3 * k;
+        phi[k] = (p[0] - V.cam.eye[0]) * f[0] + (p[1] - V.cam.eye[1]) * f[1] + (p[2] - V.cam.eye[2]) * f[2];
         zmin = phi[k] < zmin ? phi[k] : zmin, zmax = phi[k] > zmax ? phi[k] : zmax;
     }
-    dz = (zmax - zmin) / vo->slices;
-    S.v = &v, S.mode = 1, S.density = vo->density;
-    S.alpha_scale = (float)(vo->opacity * dz / (0.01 * lst__diagonal(tm.pos, tm.nv)));
-    for (s = 0; r == PW_OK && s < vo->slices; s++) { /* back to front */
-        double z = zmax - (s + 0.5) * dz;
-        sl.n = sl.nv = 0;
-        for (t = 0; r == PW_OK && t < tm.nt; t++) {
-            if (m->removed[t]) continue;
-            for (k = 0; k < 4; k++) ph[k] = phi[tm.tet[4 * t + k]];
-            r = lst__slice_tet(a, &tm, t, ph, z, &sl, e);
-        }
-        if (r == PW_OK) r = lst__draw_tris(&fb, &cam, m, &sl, &S, o, e);
+    if (r == PW_OK) {
+        V.a = a, V.m = m, V.v = &v, V.o = o, V.phi = phi, V.rows = rows;
+        V.zmax = zmax, V.dz = (zmax - zmin) / vo->slices, V.slices = vo->slices, V.density = vo->density;
+        V.alpha_scale = (float)(vo->opacity * V.dz / (0.01 * lst__diagonal(V.tm.pos, V.tm.nv)));
+        lst__tet_rows(&V, rows);
+        r = lst__render_frame(a, o, lst__volume_band, &V, pic, e);
     }
-    if (r == PW_OK) r = pw_fb_resolve(&fb, pic, 3, e);
-    pw_fb_free(&fb);
-    lst__tris_free(a, &sl);
+    pw_free(a, rows);
     pw_free(a, phi);
     lst__view_free(&v);
     return r;

@@ -2,7 +2,7 @@
  *
  * Meshes come from the shared shapes module ("sphere", "torus", "bumpy" as
  * in lapped.h, and "grid", a flat square with a boundary). Tiles are RGB,
- * follow opt->seed, and are periodic in s and t by construction: every
+ * follow opt->synth.seed, and are periodic in s and t by construction: every
  * feature is laid out on a lattice that divides the tile (3 bricks by 8
  * rows, 8 stripes) and every noise is value noise on a lattice whose period
  * divides the tile, so the texel after the last column is the texel of
@@ -295,7 +295,7 @@ PGPDEF pgp_result pgp_builtin_tile(const char *name, int size, const pgp_options
         for (z = 0; z < layers; z++)
             for (y = 0; y < size; y++)
                 for (x = 0; x < size; x++) /* texel centres; row 0 at the top, t = 0 at the bottom */
-                    pgp__tile_texel(kind, o.seed, z, layers, (x + 0.5) * px, 1.0 - (y + 0.5) * px, px,
+                    pgp__tile_texel(kind, o.synth.seed, z, layers, (x + 0.5) * px, 1.0 - (y + 0.5) * px, px,
                                     vol.px + (((size_t)z * size + y) * size + x) * 3);
         out->width = out->height = size;
         out->layers = layers;

@@ -36,6 +36,26 @@ static void pgp__take_mesh(pw_mesh *m, const pw_alloc *a, pgp_mesh *t)
     memset(m, 0, sizeof *m);
 }
 
+/* The defaults of tile synthesis (pgp_options.synth). */
+static pgp_synth_options pgp__synth_defaults(void)
+{
+    pgp_synth_options o;
+    memset(&o, 0, sizeof o);
+    o.size = 128;
+    o.layers = 8;
+    o.coarse_passes = 20;
+    o.fine_passes = 4;
+    o.color_window = 5;
+    o.mask_window = 3;
+    o.color_dims = 5;
+    o.mask_dims = 3;
+    o.mask_weight = 2.0f;
+    o.usage_weight = 0.2f;
+    o.search_eps = 1.0f;
+    o.search_buckets = 64;
+    return o;
+}
+
 PGPDEF pgp_options pgp_default_options(void)
 {
     pgp_options o;
@@ -44,6 +64,10 @@ PGPDEF pgp_options pgp_default_options(void)
     o.min_scale = 0.05f;
     o.smoothing = 20;
     o.singular_distortion = 0.5f;
+    pw_view_defaults(&o.render.width, &o.render.height, &o.render.supersample, o.render.view_dir, o.render.up,
+                     o.render.background);
+    o.render.zoom = 1.0f;
+    o.synth = pgp__synth_defaults();
     return o;
 }
 
@@ -108,19 +132,61 @@ PGPDEF void pgp_area_free(pgp_area *area)
     memset(area, 0, sizeof *area);
 }
 
+PGPDEF void pgp_field_free(pgp_field *field)
+{
+    pw_alloc a;
+    if (!field) return;
+    a = pgp__alloc(&field->allocator);
+    pw_free(&a, field->dir);
+    pw_free(&a, field->scale);
+    pw_free(&a, field->material);
+    memset(field, 0, sizeof *field);
+}
+
+PGPDEF void pgp_constraints_free(pgp_constraints *c)
+{
+    pw_alloc a;
+    if (!c) return;
+    a = pgp__alloc(&c->allocator);
+    pw_free(&a, c->items);
+    memset(c, 0, sizeof *c);
+}
+
+/* The checks of a constraint that need no map (§2.2: m in [0, 1], S > 0, a
+ * direction that is finite and not zero, a finite radius, an index that
+ * can exist). The message names the element. */
+static int pgp__check_values(const pgp_constraint *c, pw_err *e)
+{
+    const char *what = c->kind == PGP_CONSTRAINT_ORIENT ? "triangle" : "vertex";
+    const float *v = c->value;
+    if (c->kind != PGP_CONSTRAINT_ORIENT && c->kind != PGP_CONSTRAINT_SCALE && c->kind != PGP_CONSTRAINT_MATERIAL)
+        return pw_fail(e, PW_ERR_INVALID, "unknown constraint kind %d", (int)c->kind);
+    if (c->element < 0) return pw_fail(e, PW_ERR_INVALID, "%s %d does not exist", what, c->element);
+    if (!pw_is_finite(c->radius)) return pw_fail(e, PW_ERR_INVALID, "effect radius %g is not finite", (double)c->radius);
+    if (c->kind == PGP_CONSTRAINT_ORIENT && (!pw_is_finite(v[0]) || !pw_is_finite(v[1]) || !pw_is_finite(v[2]) ||
+                                             (v[0] == 0.0f && v[1] == 0.0f && v[2] == 0.0f)))
+        return pw_fail(e, PW_ERR_INVALID, "orientation (%g, %g, %g) at triangle %d is zero or not finite", (double)v[0],
+                       (double)v[1], (double)v[2], c->element);
+    if (c->kind == PGP_CONSTRAINT_SCALE && !(v[0] > 0.0f && pw_is_finite(v[0])))
+        return pw_fail(e, PW_ERR_INVALID, "scale %g at vertex %d is not a positive finite number", (double)v[0], c->element);
+    if (c->kind == PGP_CONSTRAINT_MATERIAL && !(v[0] >= 0.0f && v[0] <= 1.0f))
+        return pw_fail(e, PW_ERR_INVALID, "material %g at vertex %d is not in [0, 1]", (double)v[0], c->element);
+    return PW_OK;
+}
+
 /* ---- the mapping ---------------------------------------------------------- */
 
-enum { PGP__ORIENT = 0, PGP__SCALE = 1, PGP__MATERIAL = 2 };
-
-/* A user constraint (§2): orientation at a triangle, scale or material at a
- * vertex; its effect radius; removed ones stay in the list, dead. */
+/* A constraint of the map (§2); removed ones stay in the list, dead, so
+ * that ids stay valid. */
 typedef struct pgp__constraint {
-    int kind, index, alive;
-    float value[3];
-    float radius;
+    pgp_constraint c;
+    int alive;
 } pgp__constraint;
 
-struct pgp_map {
+typedef struct pgp_map_state pgp__state;
+
+/* What pgp_map.state points to. */
+struct pgp_map_state {
     pw_alloc a;
     pgp_options o;
     float *pos;           /* nv*3, the map's own copy of the positions */
@@ -134,7 +200,7 @@ struct pgp_map {
                              options.integrable, pgp__integrable) */
     float *mat;           /* nv: m_i */
     double *zs, *zt;      /* nv*2: the unit complex unknowns of s and t (§2.3) */
-    float *stm;           /* nf*9: per corner s, t, m (Eq. 4) */
+    float *stm;           /* nf*9: per corner s, t, m (Eq. 4); pgp_map.coords */
     int *forder, *vorder; /* triangles and vertices in breadth-first order: the
                              order of the unknowns of every solve */
     unsigned char *vsing; /* nv: singular 1-ring (§3) */
@@ -147,10 +213,10 @@ struct pgp_map {
 };
 
 /* The frame of triangle f as 3D vectors (u along its first edge, v = N x u). */
-static void pgp__frame(const pgp_map *P, int f, pw_v3 *u, pw_v3 *v) { pw_df_frame(&P->m, f, u, v); }
+static void pgp__frame(const pgp__state *P, int f, pw_v3 *u, pw_v3 *v) { pw_df_frame(&P->m, f, u, v); }
 
 /* d_s (k = 0) or d_t = N x d_s (k = 1) of triangle f in 3D. */
-static pw_v3 pgp__dir3(const pgp_map *P, int f, int k)
+static pw_v3 pgp__dir3(const pgp__state *P, int f, int k)
 {
     pw_v3 u, v, d;
     double x = P->dir[2 * f], y = P->dir[2 * f + 1];
@@ -166,7 +232,7 @@ static pw_v3 pgp__dir3(const pgp_map *P, int f, int k)
 
 /* S^T = (S_i + S_j + S_k) / 3 (§2.3), each S_i times its integrability
  * factor. */
-static double pgp__face_scale(const pgp_map *P, int f)
+static double pgp__face_scale(const pgp__state *P, int f)
 {
     const int *t = P->m.tri + 3 * f;
     return ((double)P->scale[t[0]] * P->sfac[t[0]] + (double)P->scale[t[1]] * P->sfac[t[1]] +
@@ -174,45 +240,60 @@ static double pgp__face_scale(const pgp_map *P, int f)
 }
 
 /* g = d / S^T for s (k = 0) or t (k = 1). */
-static pw_v3 pgp__grad(const pgp_map *P, int f, int k)
+static pw_v3 pgp__grad(const pgp__state *P, int f, int k)
 {
     return pw_v3_scale(pgp__dir3(P, f, k), (float)(1.0 / pgp__face_scale(P, f)));
 }
 
-static int pgp__check_vertex(const pgp_map *P, int v, pw_err *e)
+static int pgp__check_vertex(const pgp__state *P, int v, pw_err *e)
 {
     if (v < 0 || v >= P->m.nv)
         return pw_fail(e, PW_ERR_INVALID, "vertex %d does not exist (the mesh has %d)", v, P->m.nv);
     return PW_OK;
 }
 
-static int pgp__check_face(const pgp_map *P, int f, pw_err *e)
+static int pgp__check_face(const pgp__state *P, int f, pw_err *e)
 {
     if (f < 0 || f >= P->m.nf)
         return pw_fail(e, PW_ERR_INVALID, "triangle %d does not exist (the mesh has %d)", f, P->m.nf);
     return PW_OK;
 }
 
-PGPDEF int pgp_triangle_count(const pgp_map *map) { return map ? map->m.nf : 0; }
-PGPDEF int pgp_vertex_count(const pgp_map *map) { return map ? map->m.nv : 0; }
+/* The map's state, or NULL for a NULL or zeroed map. */
+static const pgp__state *pgp__state_of(const pgp_map *map) { return map ? map->state : NULL; }
 
-PGPDEF void pgp_get_coords(const pgp_map *map, float *stm)
+PGPDEF int pgp_map_singular(const pgp_map *map, unsigned char *flags)
 {
-    if (map && stm) memcpy(stm, map->stm, sizeof(float) * 9 * (size_t)map->m.nf);
+    const pgp__state *P = pgp__state_of(map);
+    if (!P) return 0;
+    if (flags) memcpy(flags, P->fsing, (size_t)P->m.nf);
+    return P->nsing;
 }
 
-PGPDEF int pgp_get_singular(const pgp_map *map, unsigned char *flags)
+PGPDEF pgp_result pgp_map_field(const pgp_map *map, pgp_field *out, pgp_error *err)
 {
-    if (!map) return 0;
-    if (flags) memcpy(flags, map->fsing, (size_t)map->m.nf);
-    return map->nsing;
-}
-
-PGPDEF void pgp_get_field(const pgp_map *map, float *ds, float *scale, float *material)
-{
+    const pgp__state *P = pgp__state_of(map);
+    pw_alloc a;
+    pw_err pe;
     int f;
-    if (!map) return;
-    for (f = 0; ds && f < map->m.nf; f++) pw_v3_store(ds + 3 * f, pgp__dir3(map, f, 0));
-    if (scale) memcpy(scale, map->scale, sizeof(float) * (size_t)map->m.nv);
-    if (material) memcpy(material, map->mat, sizeof(float) * (size_t)map->m.nv);
+    pw_err_clear(&pe);
+    if (out) memset(out, 0, sizeof *out);
+    if (!out || !P) {
+        pw_fail(&pe, PW_ERR_INVALID, "pgp_map_field: NULL or empty map, or NULL output");
+        return pgp__done(&pe, err);
+    }
+    a = P->a;
+    out->dir = (float *)pw_alloc_array(&a, (size_t)P->m.nf * 3, sizeof(float), "field", &pe);
+    out->scale = (float *)pw_alloc_array(&a, (size_t)P->m.nv, sizeof(float), "field", &pe);
+    out->material = (float *)pw_alloc_array(&a, (size_t)P->m.nv, sizeof(float), "field", &pe);
+    out->allocator = pgp__allocator(&a);
+    if (!out->dir || !out->scale || !out->material) {
+        pgp_field_free(out);
+        return pgp__done(&pe, err);
+    }
+    out->ntris = P->m.nf, out->nverts = P->m.nv;
+    for (f = 0; f < P->m.nf; f++) pw_v3_store(out->dir + 3 * f, pgp__dir3(P, f, 0));
+    memcpy(out->scale, P->scale, sizeof(float) * (size_t)P->m.nv);
+    memcpy(out->material, P->mat, sizeof(float) * (size_t)P->m.nv);
+    return pgp__done(&pe, err);
 }

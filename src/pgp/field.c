@@ -45,7 +45,7 @@ static int pgp__pd_solve(const pw_alloc *a, const pw_triplets *t, int complex, c
  * visits the triangles in order of increasing distance to the nearest
  * constraint"); radius <= 0 takes every triangle. in[f] = 1 for them;
  * order (nf) lists them, *n their number. */
-static int pgp__area(const pgp_map *P, const int *seeds, int nseeds, float radius, unsigned char *in,
+static int pgp__area(const pgp__state *P, const int *seeds, int nseeds, float radius, unsigned char *in,
                      int *order, int *n, pw_err *e)
 {
     const pw_trimesh *m = &P->m;
@@ -90,7 +90,7 @@ static int pgp__area(const pgp_map *P, const int *seeds, int nseeds, float radiu
 /* Vertices whose every triangle is in the area: the unknowns of an edit.
  * The others keep their values (§2.1: "all variables m, S, s, t associated
  * to the boundary are fixed to their initial value"). */
-static void pgp__free_vertices(const pgp_map *P, const unsigned char *in, unsigned char *vfree)
+static void pgp__free_vertices(const pgp__state *P, const unsigned char *in, unsigned char *vfree)
 {
     int f, k;
     memset(vfree, 0, (size_t)P->m.nv);
@@ -134,7 +134,7 @@ static double pgp__lap_weight(const pw_trimesh *m, int h)
  * (vfree, minus the `locked` ones) solve the Laplace equation with the
  * others as boundary values. Free vertices of a component without any
  * fixed vertex take `fallback`. */
-static int pgp__harmonic(pgp_map *P, const unsigned char *vfree, const unsigned char *locked, float fallback,
+static int pgp__harmonic(pgp__state *P, const unsigned char *vfree, const unsigned char *locked, float fallback,
                          float *val, pw_err *e)
 {
     const pw_trimesh *m = &P->m;
@@ -184,7 +184,7 @@ static int pgp__harmonic(pgp_map *P, const unsigned char *vfree, const unsigned 
 
 /* Weight of the edge of half-edge h in the orientation smoothing: its
  * length over the dual edge's (the cotangent weight of the dual mesh). */
-static double pgp__dir_weight(const pgp_map *P, int h)
+static double pgp__dir_weight(const pgp__state *P, int h)
 {
     int f = h / 3, k = h % 3;
     double len = pw_v3_len(pw_v3_sub(pw_trimesh_corner(&P->m, f, (k + 1) % 3), pw_trimesh_corner(&P->m, f, k)));
@@ -195,7 +195,7 @@ static double pgp__dir_weight(const pgp_map *P, int h)
  * orientation system: w |z_f - c z_g|^2 with c the transport from g into f
  * (pw_df_connection): w on both diagonals, -w c at (f, g) and its
  * conjugate at (g, f); a fixed neighbour moves to b. */
-static int pgp__dir_edge(const pgp_map *P, const int *id, int h, pw_triplets *t, double *b, pw_err *e)
+static int pgp__dir_edge(const pgp__state *P, const int *id, int h, pw_triplets *t, double *b, pw_err *e)
 {
     int f = h / 3, g = P->m.hm.twin[h] / 3, i = id[f], j = id[g], r = PW_OK;
     double w = pgp__dir_weight(P, h), cx = P->conn[2 * h], cy = P->conn[2 * h + 1];
@@ -224,7 +224,7 @@ static int pgp__dir_edge(const pgp_map *P, const int *id, int h, pw_triplets *t,
  * normalises: "orientations rather than vectors" (the scale is
  * interpolated separately). Singularities emerge where the fixed directions
  * force them. A free component with nothing fixed takes the default field. */
-static int pgp__dir_smooth(pgp_map *P, const unsigned char *free, const double *pull, pw_err *e)
+static int pgp__dir_smooth(pgp__state *P, const unsigned char *free, const double *pull, pw_err *e)
 {
     const pw_trimesh *m = &P->m;
     int *id = (int *)pw_alloc_array(&P->a, (size_t)m->nf, sizeof(int), "orientation", e);
@@ -274,7 +274,7 @@ static int pgp__dir_smooth(pgp_map *P, const unsigned char *free, const double *
  * projection (c_f = 1 - (up . n)^2 small: up nearly normal to the face) are
  * filled smoothly. A field that turns within a tile cannot be followed by a
  * periodic parameterization without distortion. */
-static int pgp__base_field(pgp_map *P, pw_err *e)
+static int pgp__base_field(pgp__state *P, pw_err *e)
 {
     size_t nf = (size_t)P->m.nf;
     unsigned char *known = (unsigned char *)pw_alloc_array(&P->a, nf, 1, "field", e);
@@ -303,11 +303,11 @@ static int pgp__base_field(pgp_map *P, pw_err *e)
 /* ---- re-interpolation over an effect area ------------------------------------------------ */
 
 /* Whether a live constraint of `kind` exists. */
-static int pgp__has(const pgp_map *P, int kind)
+static int pgp__has(const pgp__state *P, pgp_constraint_kind kind)
 {
     int i;
     for (i = 0; i < P->ncon; i++)
-        if (P->con[i].alive && P->con[i].kind == kind) return 1;
+        if (P->con[i].alive && P->con[i].c.kind == kind) return 1;
     return 0;
 }
 
@@ -315,40 +315,40 @@ static int pgp__has(const pgp_map *P, int kind)
  * stay fixed, the rest of the area is smoothed against them and against
  * the fixed outside. With the whole mesh in the area and no orientation
  * constraint, the default field. */
-static int pgp__interp_dir(pgp_map *P, const unsigned char *in, int whole, unsigned char *mark, pw_err *e)
+static int pgp__interp_dir(pgp__state *P, const unsigned char *in, int whole, unsigned char *mark, pw_err *e)
 {
     int f, i;
-    if (whole && !pgp__has(P, PGP__ORIENT)) {
+    if (whole && !pgp__has(P, PGP_CONSTRAINT_ORIENT)) {
         memcpy(P->dir, P->base, sizeof(double) * 2 * (size_t)P->m.nf);
         return PW_OK;
     }
     memcpy(mark, in, (size_t)P->m.nf);
     for (i = 0; i < P->ncon; i++) {
-        const pgp__constraint *c = &P->con[i];
-        if (!c->alive || c->kind != PGP__ORIENT) continue;
-        pw_df_project(&P->m, c->index, pw_v3_load(c->value), P->dir + 2 * c->index); /* checked when added */
-        mark[c->index] = 0;
+        const pgp_constraint *c = &P->con[i].c;
+        if (!P->con[i].alive || c->kind != PGP_CONSTRAINT_ORIENT) continue;
+        pw_df_project(&P->m, c->element, pw_v3_load(c->value), P->dir + 2 * c->element); /* checked when added */
+        mark[c->element] = 0;
     }
     for (f = 0; whole && f < P->m.nf; f++) /* nothing outside: start from the default */
         if (mark[f]) P->dir[2 * f] = P->base[2 * f], P->dir[2 * f + 1] = P->base[2 * f + 1];
     return pgp__dir_smooth(P, mark, NULL, e);
 }
 
-/* Scale (kind PGP__SCALE) or material over the area's free vertices:
+/* Scale (kind PGP_CONSTRAINT_SCALE) or material over the area's free vertices:
  * constraint vertices fixed to their value, harmonic in between; then the
  * §2.2 clamps (m in [0, 1], S >= min_scale * scale). */
-static int pgp__interp_vertex(pgp_map *P, int kind, const unsigned char *vfree, int whole, unsigned char *locked,
-                              pw_err *e)
+static int pgp__interp_vertex(pgp__state *P, pgp_constraint_kind kind, const unsigned char *vfree, int whole,
+                              unsigned char *locked, pw_err *e)
 {
-    float *val = kind == PGP__SCALE ? P->scale : P->mat;
-    float fallback = kind == PGP__SCALE ? P->scale0 : P->o.material;
-    float lo = kind == PGP__SCALE ? P->o.min_scale * P->scale0 : 0.0f, hi = kind == PGP__SCALE ? FLT_MAX : 1.0f;
+    float *val = kind == PGP_CONSTRAINT_SCALE ? P->scale : P->mat;
+    float fallback = kind == PGP_CONSTRAINT_SCALE ? P->scale0 : P->o.material;
+    float lo = kind == PGP_CONSTRAINT_SCALE ? P->o.min_scale * P->scale0 : 0.0f, hi = kind == PGP_CONSTRAINT_SCALE ? FLT_MAX : 1.0f;
     int v, i, r;
     memset(locked, 0, (size_t)P->m.nv);
     for (i = 0; i < P->ncon; i++)
-        if (P->con[i].alive && P->con[i].kind == kind) {
-            val[P->con[i].index] = P->con[i].value[0];
-            locked[P->con[i].index] = 1;
+        if (P->con[i].alive && P->con[i].c.kind == kind) {
+            val[P->con[i].c.element] = P->con[i].c.value[0];
+            locked[P->con[i].c.element] = 1;
         }
     for (v = 0; whole && v < P->m.nv; v++)
         if (!locked[v]) val[v] = fallback;

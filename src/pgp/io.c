@@ -1,6 +1,6 @@
 /* io.c: files and memory for pgp.h: material-space tiles (NRRD, or any 2D
- * image as one layer), meshes, images, the textured OBJ and the
- * constraints file of the CLI.
+ * image as one layer), meshes, images, the textured OBJ and constraints
+ * files.
  *
  * Tiles and NRRD volumes share their layout (pw_volume, nrrd.h): x is s
  * (the width), y the rows from the top (t = 0 at the bottom row), z the
@@ -16,14 +16,15 @@
  * with vertex and vt indices 1-based; numbers read back exactly whatever
  * the locale.
  *
- * A constraints file is applied line by line (§2); '#' starts a comment:
+ * A constraints file holds one constraint (§2) per line, in the order they
+ * are applied; '#' starts a comment, blank lines are ignored, a UTF-8
+ * byte-order mark is skipped:
  *     radius R                effect radius of the lines that follow, mesh
  *                             units (0 or less, the default: whole mesh)
  *     orient F dx dy dz       the tile's s axis along (dx, dy, dz) at triangle F
  *     scale V S               tile side S (mesh units, > 0) at vertex V
  *     material V m            material m in [0, 1] at vertex V
- * Triangles and vertices are 0-based. An error names the file and line;
- * the lines before it stay applied. */
+ * Triangles and vertices are 0-based. An error names the file and line. */
 #include "builtin.c"
 
 /* ---- tiles ------------------------------------------------------------------ */
@@ -77,7 +78,7 @@ PGPDEF pgp_result pgp_tile_from_image(const pgp_image *img, const pgp_options *o
 }
 
 /* NRRD when the data starts with its magic, else a 2D image (one layer). */
-PGPDEF pgp_result pgp_load_tile_from_memory(const void *data, size_t size, const char *name, const pgp_options *opt,
+PGPDEF pgp_result pgp_read_tile(const void *data, size_t size, const char *name, const pgp_options *opt,
                                             pgp_tile *out, pgp_error *err)
 {
     pgp_options o = pgp__options(opt);
@@ -89,7 +90,7 @@ PGPDEF pgp_result pgp_load_tile_from_memory(const void *data, size_t size, const
     pw_err_clear(&pe);
     if (out) memset(out, 0, sizeof *out);
     if (!name) name = "tile";
-    if (!out || (!data && size)) pw_fail(&pe, PW_ERR_INVALID, "pgp_load_tile_from_memory: NULL argument");
+    if (!out || (!data && size)) pw_fail(&pe, PW_ERR_INVALID, "pgp_read_tile: NULL argument");
     else if (size >= 4 && !memcmp(d, "NRRD", 4)) {
         if (pw_nrrd_read_memory(&a, d, size, name, &vol, &pe) == PW_OK) pgp__take_volume(&vol, &a, out);
     } else if (pw_image_read_memory(&a, d, size, name, &img, &pe) == PW_OK) {
@@ -99,13 +100,13 @@ PGPDEF pgp_result pgp_load_tile_from_memory(const void *data, size_t size, const
     return pgp__done(&pe, err);
 }
 
-PGPDEF pgp_result pgp_write_tile_to_func(const pgp_tile *tile, pgp_write_fn fn, void *ctx, pgp_error *err)
+PGPDEF pgp_result pgp_write_tile(const pgp_tile *tile, pgp_write_fn fn, void *ctx, pgp_error *err)
 {
     pw_volume v;
     pw_alloc a;
     pw_err pe;
     pw_err_clear(&pe);
-    if (!fn) pw_fail(&pe, PW_ERR_INVALID, "pgp_write_tile_to_func: NULL writer");
+    if (!fn) pw_fail(&pe, PW_ERR_INVALID, "pgp_write_tile: NULL writer");
     else if (pgp__tile_view(tile, &v, &pe) == PW_OK) {
         a = pgp__alloc(&tile->allocator);
         pw_nrrd_write(&a, &v, 0, fn, ctx, &pe);
@@ -115,7 +116,7 @@ PGPDEF pgp_result pgp_write_tile_to_func(const pgp_tile *tile, pgp_write_fn fn, 
 
 /* ---- meshes and images --------------------------------------------------------- */
 
-PGPDEF pgp_result pgp_load_mesh_from_memory(const void *data, size_t size, const char *name, const pgp_options *opt,
+PGPDEF pgp_result pgp_read_mesh(const void *data, size_t size, const char *name, const pgp_options *opt,
                                             pgp_mesh *out, pgp_error *err)
 {
     pgp_options o = pgp__options(opt);
@@ -124,18 +125,33 @@ PGPDEF pgp_result pgp_load_mesh_from_memory(const void *data, size_t size, const
     pw_err pe;
     pw_err_clear(&pe);
     if (out) memset(out, 0, sizeof *out);
-    if (!out || (!data && size)) pw_fail(&pe, PW_ERR_INVALID, "pgp_load_mesh_from_memory: NULL argument");
+    if (!out || (!data && size)) pw_fail(&pe, PW_ERR_INVALID, "pgp_read_mesh: NULL argument");
     else if (pw_mesh_read_memory(&a, data, size, name ? name : "mesh", &m, &pe) == PW_OK)
         pgp__take_mesh(&m, &a, out);
     return pgp__done(&pe, err);
 }
 
-PGPDEF pgp_result pgp_write_image_to_func(const pgp_image *img, const char *format, pgp_write_fn fn, void *ctx,
-                                          pgp_error *err)
+PGPDEF pgp_result pgp_read_image(const void *data, size_t size, const char *name, const pgp_options *opt,
+                                 pgp_image *out, pgp_error *err)
+{
+    pgp_options o = pgp__options(opt);
+    pw_alloc a = pgp__alloc(&o.allocator);
+    pw_image img;
+    pw_err pe;
+    pw_err_clear(&pe);
+    if (out) memset(out, 0, sizeof *out);
+    if (!out || (!data && size)) pw_fail(&pe, PW_ERR_INVALID, "pgp_read_image: NULL argument");
+    else if (pw_image_read_memory(&a, (const unsigned char *)data, size, name ? name : "image", &img, &pe) == PW_OK)
+        pgp__take_image(&img, &a, out);
+    return pgp__done(&pe, err);
+}
+
+PGPDEF pgp_result pgp_write_image(const pgp_image *img, const char *format, pgp_write_fn fn, void *ctx,
+                                  pgp_error *err)
 {
     pw_err pe;
     pw_err_clear(&pe);
-    if (!fn) pw_fail(&pe, PW_ERR_INVALID, "pgp_write_image_to_func: NULL writer");
+    if (!fn) pw_fail(&pe, PW_ERR_INVALID, "pgp_write_image: NULL writer");
     else if (pgp__check_image(img, "image", &pe) == PW_OK) pgp__encode(img, format, fn, ctx, &pe);
     return pgp__done(&pe, err);
 }
@@ -144,7 +160,7 @@ PGPDEF pgp_result pgp_write_image_to_func(const pgp_image *img, const char *form
 
 /* The mesh given with a map must be the one it was made from: the same
  * vertices and the same fan triangulation. */
-static int pgp__same_mesh(const pgp_mesh *mesh, const pgp_map *P, pw_err *e)
+static int pgp__same_mesh(const pgp_mesh *mesh, const pgp__state *P, pw_err *e)
 {
     int f, k, t = 0;
     if (mesh->nverts != P->m.nv || mesh->nfaces < 0 || !mesh->face_start || !mesh->face_verts)
@@ -162,7 +178,7 @@ static int pgp__same_mesh(const pgp_mesh *mesh, const pgp_map *P, pw_err *e)
 }
 
 /* The faces of one group: regular (sing = 0) or singular (sing = 1). */
-static void pgp__obj_group(pw__wb *b, const pgp_map *P, int sing)
+static void pgp__obj_group(pw__wb *b, const pgp__state *P, int sing)
 {
     int f, k;
     pw__wb_str(b, sing ? "g singular\n" : "g regular\n");
@@ -177,7 +193,7 @@ static void pgp__obj_group(pw__wb *b, const pgp_map *P, int sing)
     }
 }
 
-static int pgp__write_obj(const pgp_map *P, pw_write_fn fn, void *ctx, pw_err *e)
+static int pgp__write_obj(const pgp__state *P, pw_write_fn fn, void *ctx, pw_err *e)
 {
     pw__wb b;
     int i, k;
@@ -200,26 +216,28 @@ static int pgp__write_obj(const pgp_map *P, pw_write_fn fn, void *ctx, pw_err *e
     return pw__wb_done(&b, e);
 }
 
-PGPDEF pgp_result pgp_write_obj_to_func(const pgp_mesh *mesh, const pgp_map *map, pgp_write_fn fn, void *ctx,
-                                        pgp_error *err)
+PGPDEF pgp_result pgp_write_obj(const pgp_mesh *mesh, const pgp_map *map, pgp_write_fn fn, void *ctx,
+                                pgp_error *err)
 {
+    const pgp__state *P = pgp__state_of(map);
     pw_err pe;
     pw_err_clear(&pe);
-    if (!map || !fn) pw_fail(&pe, PW_ERR_INVALID, "pgp_write_obj_to_func: NULL map or writer");
-    else if (!mesh || pgp__same_mesh(mesh, map, &pe) == PW_OK)
-        pgp__write_obj(map, fn, ctx, &pe);
+    if (!P || !fn) pw_fail(&pe, PW_ERR_INVALID, "pgp_write_obj: NULL or empty map, or NULL writer");
+    else if (!mesh || pgp__same_mesh(mesh, P, &pe) == PW_OK)
+        pgp__write_obj(P, fn, ctx, &pe);
     return pgp__done(&pe, err);
 }
 
 /* ---- constraints files -------------------------------------------------------------- */
 
-/* A triangle or vertex index, checked against the map. */
-static int pgp__con_index(pw__sc *s, const char *what, int n, int *out)
+/* A triangle or vertex index (whether it exists is checked when the
+ * constraint is applied: the file knows no mesh). */
+static int pgp__con_index(pw__sc *s, const char *what, int *out)
 {
     long long v;
     int r;
     if ((r = pw__sc_int(s, &v, what, -1)) != PW_OK) return r;
-    if (v < 0 || v >= n) return pw__sc_fail(s, PW_ERR_INVALID, "%s %lld does not exist (0 to %d)", what, v, n - 1);
+    if (v < 0 || v > PW_MAX_MESH_ELEMENTS) return pw__sc_fail(s, PW_ERR_INVALID, "%s %lld does not exist", what, v);
     *out = (int)v;
     return PW_OK;
 }
@@ -237,55 +255,66 @@ static int pgp__con_numbers(pw__sc *s, const char *what, float *v, int n)
     return PW_OK;
 }
 
-/* One line: reads it whole, then applies it. *count counts constraints. */
-static int pgp__con_line(pw__sc *s, pgp_map *P, float *radius, int *count)
+/* One line: a radius, or a constraint in *c, checked (pgp__check_values),
+ * and *got set. */
+static int pgp__con_line(pw__sc *s, float *radius, pgp_constraint *c, int *got)
 {
     static const char *const names[4] = {"radius", "orient", "scale", "material"};
     char tok[32];
     const char *w;
     size_t n;
     float v[3];
-    int kind, idx = 0, r;
-    pgp_error le;
-    pgp_result q;
+    int kind, r;
+    pw_err le;
     w = pw__sc_word(s, &n);
     kind = pw__sc_is(w, n, "radius") ? 0 : pw__sc_is(w, n, "orient") ? 1 : pw__sc_is(w, n, "scale") ? 2
            : pw__sc_is(w, n, "material") ? 3 : -1;
     if (kind < 0)
         return pw__sc_fail(s, PW_ERR_PARSE, "unknown keyword '%s' (orient, scale, material, radius)", pw__sc_tok(s, w, tok));
-    if (kind == 1) r = pgp__con_index(s, "orient: triangle", P->m.nf, &idx);
-    else if (kind > 1) r = pgp__con_index(s, kind == 2 ? "scale: vertex" : "material: vertex", P->m.nv, &idx);
+    memset(c, 0, sizeof *c);
+    if (kind == 1) r = pgp__con_index(s, "orient: triangle", &c->element);
+    else if (kind > 1) r = pgp__con_index(s, kind == 2 ? "scale: vertex" : "material: vertex", &c->element);
     else r = PW_OK;
     if (r != PW_OK || (r = pgp__con_numbers(s, names[kind], v, kind == 1 ? 3 : 1)) != PW_OK) return r;
     if (!pw__sc_eol(s)) return pw__sc_fail(s, PW_ERR_PARSE, "unexpected text after '%s'", names[kind]);
+    *got = kind > 0;
     if (kind == 0) *radius = v[0];
     else {
-        q = kind == 1 ? pgp_add_orientation(P, idx, v, *radius, NULL, NULL, &le)
-            : kind == 2 ? pgp_add_scale(P, idx, v[0], *radius, NULL, NULL, &le)
-                        : pgp_add_material(P, idx, v[0], *radius, NULL, NULL, &le);
-        if (q != PGP_OK) return pw__sc_fail(s, (int)q, "%s", le.message);
-        ++*count;
+        c->kind = kind == 1 ? PGP_CONSTRAINT_ORIENT : kind == 2 ? PGP_CONSTRAINT_SCALE : PGP_CONSTRAINT_MATERIAL;
+        memcpy(c->value, v, sizeof(float) * (kind == 1 ? 3 : 1));
+        c->radius = *radius;
+        pw_err_clear(&le);
+        if (pgp__check_values(c, &le) != PW_OK) return pw__sc_fail(s, le.code, "%s", le.msg);
     }
     pw__sc_next_line(s);
     return PW_OK;
 }
 
-PGPDEF pgp_result pgp_apply_constraints_from_memory(pgp_map *map, const void *data, size_t size, const char *name,
-                                                    pgp_error *err)
+PGPDEF pgp_result pgp_read_constraints(const void *data, size_t size, const char *name, const pgp_options *opt,
+                                       pgp_constraints *out, pgp_error *err)
 {
+    pgp_options o = pgp__options(opt);
+    pw_alloc a = pgp__alloc(&o.allocator);
+    pgp_constraint c;
     float radius = 0.0f;
-    int count = 0;
+    size_t cap = 0;
+    int got = 0;
     pw__sc s;
     pw_err pe;
     pw_err_clear(&pe);
-    if (!map || (!data && size)) {
-        pw_fail(&pe, PW_ERR_INVALID, "pgp_apply_constraints_from_memory: NULL argument");
+    if (out) memset(out, 0, sizeof *out);
+    if (!out || (!data && size)) {
+        pw_fail(&pe, PW_ERR_INVALID, "pgp_read_constraints: NULL argument");
         return pgp__done(&pe, err);
     }
+    out->allocator = pgp__allocator(&a);
     pw__sc_init(&s, data, size, name ? name : "constraints", 0, &pe);
     for (pw__sc_skip_empty(&s); s.p < s.end && pe.code == PW_OK; pw__sc_skip_empty(&s))
-        pgp__con_line(&s, map, &radius, &count);
-    if (pe.code == PW_OK && count == 0) pw_fail(&pe, PW_ERR_PARSE, "%s: no constraints", s.name);
+        if (pgp__con_line(&s, &radius, &c, &got) == PW_OK && got &&
+            pw_grow(&a, (void **)&out->items, &cap, (size_t)out->count + 1, sizeof c, "constraints", &pe) == PW_OK)
+            out->items[out->count++] = c;
+    if (pe.code == PW_OK && out->count == 0) pw_fail(&pe, PW_ERR_PARSE, "%s: no constraints", s.name);
+    if (pe.code != PW_OK) pgp_constraints_free(out);
     return pgp__done(&pe, err);
 }
 
@@ -330,7 +359,7 @@ PGPDEF pgp_result pgp_load_tile(const char *path, const pgp_options *opt, pgp_ti
     if (!out || !path) pw_fail(&pe, PW_ERR_INVALID, "pgp_load_tile: NULL argument");
     else if (pw_read_file(&a, path, &data, &size, &pe) == PW_OK) {
         pgp_error le;
-        if (pgp_load_tile_from_memory(data, size, path, &o, out, &le) != PGP_OK) pw_fail(&pe, (int)le.code, "%s", le.message);
+        if (pgp_read_tile(data, size, path, &o, out, &le) != PGP_OK) pw_fail(&pe, (int)le.code, "%s", le.message);
         pw_free(&a, data);
     }
     return pgp__done(&pe, err);
@@ -349,9 +378,9 @@ static int pgp__job_body(void *arg, pw_write_fn w, void *ctx, pw_err *e)
 {
     const pgp__job *j = (const pgp__job *)arg;
     pgp_error le;
-    pgp_result r = j->img ? pgp_write_image_to_func(j->img, j->format, w, ctx, &le)
-                   : j->tile ? pgp_write_tile_to_func(j->tile, w, ctx, &le)
-                             : pgp_write_obj_to_func(j->mesh, j->map, w, ctx, &le);
+    pgp_result r = j->img ? pgp_write_image(j->img, j->format, w, ctx, &le)
+                   : j->tile ? pgp_write_tile(j->tile, w, ctx, &le)
+                             : pgp_write_obj(j->mesh, j->map, w, ctx, &le);
     return r != PGP_OK ? pw_fail(e, (int)r, "%s", le.message) : PW_OK;
 }
 
@@ -393,27 +422,26 @@ PGPDEF pgp_result pgp_save_obj(const char *path, const pgp_mesh *mesh, const pgp
     memset(&j, 0, sizeof j);
     j.mesh = mesh;
     j.map = map;
-    if (!path || !map) pw_fail(&pe, PW_ERR_INVALID, "pgp_save_obj: NULL argument");
-    else if (!mesh || pgp__same_mesh(mesh, map, &pe) == PW_OK) pw_write_file(path, pgp__job_body, &j, &pe);
+    if (!path || !pgp__state_of(map)) pw_fail(&pe, PW_ERR_INVALID, "pgp_save_obj: NULL argument or empty map");
+    else if (!mesh || pgp__same_mesh(mesh, map->state, &pe) == PW_OK) pw_write_file(path, pgp__job_body, &j, &pe);
     return pgp__done(&pe, err);
 }
 
-PGPDEF pgp_result pgp_apply_constraints(pgp_map *map, const char *path, pgp_error *err)
+PGPDEF pgp_result pgp_load_constraints(const char *path, const pgp_options *opt, pgp_constraints *out,
+                                       pgp_error *err)
 {
-    pw_alloc a;
+    pgp_options o = pgp__options(opt);
+    pw_alloc a = pgp__alloc(&o.allocator);
     unsigned char *data;
     size_t size;
     pw_err pe;
     pw_err_clear(&pe);
-    if (!map || !path) pw_fail(&pe, PW_ERR_INVALID, "pgp_apply_constraints: NULL argument");
-    else {
-        a = map->a;
-        if (pw_read_file(&a, path, &data, &size, &pe) == PW_OK) {
-            pgp_error le;
-            if (pgp_apply_constraints_from_memory(map, data, size, path, &le) != PGP_OK)
-                pw_fail(&pe, (int)le.code, "%s", le.message);
-            pw_free(&a, data);
-        }
+    if (out) memset(out, 0, sizeof *out);
+    if (!out || !path) pw_fail(&pe, PW_ERR_INVALID, "pgp_load_constraints: NULL argument");
+    else if (pw_read_file(&a, path, &data, &size, &pe) == PW_OK) {
+        pgp_error le;
+        if (pgp_read_constraints(data, size, path, &o, out, &le) != PGP_OK) pw_fail(&pe, (int)le.code, "%s", le.message);
+        pw_free(&a, data);
     }
     return pgp__done(&pe, err);
 }

@@ -10,29 +10,10 @@
 #include "../common/quilt.h"
 #include "../common/edt.h"
 
-PGPDEF pgp_synth_options pgp_synth_default_options(void)
-{
-    pgp_synth_options o;
-    memset(&o, 0, sizeof o);
-    o.size = 128;
-    o.layers = 8;
-    o.coarse_passes = 20;
-    o.fine_passes = 4;
-    o.color_window = 5;
-    o.mask_window = 3;
-    o.color_dims = 5;
-    o.mask_dims = 3;
-    o.mask_weight = 2.0f;
-    o.usage_weight = 0.2f;
-    o.search_eps = 1.0f;
-    o.search_buckets = 64;
-    return o;
-}
-
 /* Zero fields take their defaults. */
 static pgp_synth_options pgp__synth_options(const pgp_synth_options *opt)
 {
-    pgp_synth_options d = pgp_synth_default_options(), o;
+    pgp_synth_options d = pgp__synth_defaults(), o;
     if (!opt) return d;
     o = *opt;
     if (!o.size) o.size = d.size;
@@ -580,7 +561,7 @@ static int pgp__mask_tile(const pw_alloc *a, const unsigned char *masks, int n, 
     return PW_OK;
 }
 
-PGPDEF pgp_result pgp_feature_mask(const pgp_image *image, int mode, const pgp_synth_options *opt, pgp_image *out,
+PGPDEF pgp_result pgp_feature_mask(const pgp_image *image, pgp_mask mode, const pgp_synth_options *opt, pgp_image *out,
                                    pgp_error *err)
 {
     pgp_synth_options o = pgp__synth_options(opt);

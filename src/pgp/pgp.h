@@ -55,10 +55,10 @@
  *   It is the long computation of the family: a progress callback reports
  *   and can cancel (8 layers of 256 x 256: about 12 s on one core).
  *       pgp_key keys[2] = {{&spots, NULL}, {&stripes, NULL}};
- *       pgp_synth_options so = pgp_synth_default_options();
- *       so.size = 256;
- *       so.layers = 8;
- *       if (pgp_synthesize_tile(keys, 2, &so, &tile, NULL, &err) ||
+ *       pgp_options opt = pgp_default_options();
+ *       opt.synth.size = 256;
+ *       opt.synth.layers = 8;
+ *       if (pgp_synthesize_tile(keys, 2, &opt.synth, &tile, NULL, &err) ||
  *           pgp_save_tile("spots_to_stripes.nrrd", &tile, &err))
  *           fprintf(stderr, "%s\n", err.message);
  *
@@ -68,24 +68,33 @@
  *       #include "pgp.h"
  *   PATCHWORK_IMPLEMENTATION turns on every patchwork header included after
  *   it. Build macros: PGP_STATIC (all functions static), PW_MALLOC /
- *   PW_REALLOC / PW_FREE (all or none), PW_ASSERT, PW_NO_STDIO, and the
- *   PW_MAX_* size limits, as in every patchwork header.
+ *   PW_REALLOC / PW_FREE (all or none), PW_ASSERT, PW_NO_STDIO, the PW_MAX_*
+ *   size limits, as in every patchwork header, and PW_THREADS: rendering on
+ *   several threads (POSIX threads; link with -pthread; pgp_render_options.
+ *   threads, 0 = one per processor), the same picture for any count.
  *
  * MINIMAL EXAMPLE
  *       pgp_options opt = pgp_default_options();
+ *       pgp_constraint fur = {PGP_CONSTRAINT_MATERIAL, 120, {1.0f, 0.0f, 0.0f}, 0.0f};
  *       pgp_mesh mesh;
  *       pgp_tile tile;
- *       pgp_map *map;
+ *       pgp_map map = {0};                     (zeroed: pgp_map_free is safe)
  *       pgp_image picture;
  *       pgp_error err;
  *       opt.scale = 0.2f;                      (tile side, mesh units)
+ *       opt.constraints = &fur;                (m = 1 at vertex 120)
+ *       opt.nconstraints = 1;
  *       if (pgp_load_mesh("bunny.obj", &opt, &mesh, &err) ||
  *           pgp_load_tile("fur.nrrd", &opt, &tile, &err) ||
  *           pgp_create(&mesh, &opt, &map, &err) ||
- *           pgp_add_material(map, 120, 1.0f, 0.0f, NULL, &err) ||
- *           pgp_render(map, &tile, NULL, &picture, &err) ||
+ *           pgp_render(&map, &tile, &opt.render, &picture, &err) ||
  *           pgp_save_image("bunny.png", &picture, &err))
  *           fprintf(stderr, "%s\n", err.message);
+ *       pgp_map_free(&map);                    (each object made has its _free)
+ *   Constraints can also be added, edited and removed after pgp_create
+ *   (pgp_add_constraint, pgp_edit_constraint, pgp_remove_constraint), or
+ *   read from a file (pgp_load_constraints, then opt.constraints =
+ *   cons.items, opt.nconstraints = cons.count).
  *
  * CONVENTIONS
  *   Fallible calls return pgp_result (PGP_OK == 0) and fill err->message.
@@ -100,10 +109,10 @@
 #ifndef PGP_H
 #define PGP_H
 
-#define PGP_VERSION_MAJOR 1
-#define PGP_VERSION_MINOR 0
+#define PGP_VERSION_MAJOR 0
+#define PGP_VERSION_MINOR 9
 #define PGP_VERSION_PATCH 0
-#define PGP_VERSION_STRING "1.0.0"
+#define PGP_VERSION_STRING "0.9.0"
 
 #include <stddef.h>
 
@@ -155,6 +164,13 @@ typedef struct pgp_allocator {
 typedef int (*pgp_progress_fn)(void *user, float done, const char *stage);
 typedef int (*pgp_write_fn)(void *ctx, const void *data, size_t size);
 
+/* Work split across threads (rendering: bands of the frame). A parallel
+ * for, for embedders with their own job system: run task(ctx, i) once for
+ * every i in [0, n), on any threads, in any order, and return when all
+ * have run. Results never depend on the order or the thread count. */
+typedef void (*pgp_task_fn)(void *ctx, int index);
+typedef void (*pgp_parallel_fn)(void *pool, int n, pgp_task_fn task, void *ctx);
+
 /* width*height pixels of `channels` floats in [0,1], row 0 at the top. */
 typedef struct pgp_image {
     int width, height, channels;
@@ -183,62 +199,23 @@ typedef struct pgp_tile {
 } pgp_tile;
 
 /* Orientation field where no orientation constraint reaches (§2.2). */
-enum {
+typedef enum pgp_field_mode {
     PGP_FIELD_UP = 0,       /* `up` projected onto every triangle */
     PGP_FIELD_CURVATURE = 1 /* direction of least curvature, smoothed */
-};
+} pgp_field_mode;
 
 /* Edge weights of the §2.3 energy. */
-enum {
+typedef enum pgp_weights {
     PGP_WEIGHTS_COTAN = 0, /* cotangent weights (cot a + cot b) / 2, floored at 0.05: the energy is
                               the integral of |grad s - g|^2 over the surface, so distortion costs
                               the same per unit area in small and large triangles */
     PGP_WEIGHTS_AREA = 1   /* the paper's A_T + A_T': the energy per unit area grows with the
                               triangles' area, and the solve pushes distortion into the small
                               ones (kept for comparison) */
-};
-
-typedef struct pgp_options {
-    int field;               /* PGP_FIELD_*; default UP */
-    float up[3];             /* default (0,1,0): the tile's t axis follows it */
-    float scale;             /* tile side in mesh units where no scale constraint
-                                reaches; 0: a tenth of the bounding-box diagonal.
-                                pgp_create refuses a side given here over 10 diagonals
-                                (one flat colour) or under 2 mean edge lengths
-                                (periods the triangles cannot carry) */
-    float material;          /* m where no material constraint reaches; default 0 */
-    float min_scale;         /* floor of the interpolated scale (§2.2 epsilon), as a
-                                fraction of `scale`; default 0.05 */
-    int smoothing;           /* CURVATURE: smoothing sweeps; default 20 */
-    float singular_distortion; /* §3: a triangle is distorted when
-                                |grad s - g_s|^2 / |g_s|^2 (or for t) exceeds this;
-                                default 0.5 */
-    int weights;             /* PGP_WEIGHTS_*; default COTAN */
-    float integrable;        /* beyond the paper: 0 (default) follows the field; > 0
-                                rotates the field and varies the tile side smoothly
-                                (within [1/2, 2] of `scale`, its mean kept) to cancel
-                                the curl of the gradients the PGP must follow (each
-                                uncancelled turn is a vortex): fewer vortices for less
-                                alignment. Larger values let the field stray further
-                                (1: the CLI's --field smooth) */
-    unsigned long long seed; /* default 0 (nothing is random yet; kept for the CLI) */
-    pgp_allocator allocator;
-    pgp_progress_fn progress;
-    void *progress_user;
-} pgp_options;
-
-/* The mapping: opaque; made by pgp_create, edited by the constraint calls. */
-typedef struct pgp_map pgp_map;
-
-/* Triangles an edit recomputed (§2.1), caller frees with pgp_area_free. */
-typedef struct pgp_area {
-    int nfaces;
-    int *faces;
-    pgp_allocator allocator;
-} pgp_area;
+} pgp_weights;
 
 /* Rendering of the vortices (pgp_render_options.fix). */
-enum {
+typedef enum pgp_fix {
     PGP_FIX_CLEAN = 0, /* beyond the paper: one lookup everywhere; in each vortex triangle the
                           coordinates of Knöppel et al. 2015's stripe patterns, generalised to
                           s and t, so the pattern ends or forks at a point, with no ghost and
@@ -248,173 +225,62 @@ enum {
     PGP_FIX_ALL = 2,   /* §3's three blended lookups on every triangle (a reference) */
     PGP_FIX_PAPER = 3  /* §3: three lookups, one per corner's point of view, blended, on the
                           triangles with a singular corner (ghosts where they disagree) */
-};
+} pgp_fix;
 
 /* What pgp_render draws (pgp_render_options.show). */
-enum {
+typedef enum pgp_show {
     PGP_SHOW_TILE = 0,     /* the tile */
     PGP_SHOW_MATERIAL = 1, /* the material m in gray */
     PGP_SHOW_SPECIAL = 2,  /* the tile, the triangles drawn specially (see fix) in red */
     PGP_SHOW_GHOSTS = 3    /* white, red where a final colour mixes lookups whose (s, t)
                               differ by more than a tenth of a period */
-};
+} pgp_show;
 
+/* Rendering settings (pgp_options.render; pgp_render takes a pointer to
+ * them, NULL for the defaults). The tile is always sampled one way:
+ * trilinear mipmaps in s and t, linear in m. */
 typedef struct pgp_render_options {
     int width, height;       /* default 800 x 600 */
     int supersample;         /* default 2 */
     float view_dir[3];       /* default (-0.55,-0.45,-0.7) */
     float up[3];             /* default (0,1,0) */
     float background[3];     /* default white */
-    int fix;                 /* PGP_FIX_*: how vortices and singular triangles are
-                                drawn; default CLEAN */
-    int show;                /* PGP_SHOW_*; default TILE */
+    pgp_fix fix;             /* how vortices and singular triangles are drawn; default
+                                CLEAN */
+    pgp_show show;           /* default TILE */
     float zoom;              /* > 1: a close-up, the field of view divided by zoom,
                                 looking at `center` from the same direction; default 1
-                                (the whole mesh) */
+                                (the whole mesh; 0 or less is the same) */
     float center[3];         /* the point a close-up looks at (used when zoom > 1) */
+    int threads;             /* rendering threads: 0 (default) one per processor when the
+                                implementation is built with PW_THREADS (POSIX threads;
+                                link with -pthread), else 1; n: at most n. With more
+                                than one, the allocator is called from several threads */
+    pgp_parallel_fn parallel; /* optional: the caller's parallel for, used instead of threads */
+    void *parallel_pool;     /* its first argument */
 } pgp_render_options;
 
-PGPDEF pgp_options pgp_default_options(void);
-PGPDEF const char *pgp_result_string(pgp_result r);
-
-/* Builds the mapping of a mesh: the default field, scale and material, and
- * the initial parameterization (one vertex locked, §2.3). */
-PGPDEF pgp_result pgp_create(const pgp_mesh *mesh, const pgp_options *opt, pgp_map **out,
-                             pgp_error *err);
-PGPDEF void pgp_destroy(pgp_map *map);
-
-/* Constraints (§2). Each call recomputes the effect area: the triangles
- * within `radius` (mesh units, geodesic; 0 or less: the whole mesh) of the
- * constraint, in order of distance; the rest is locked. On success *id (if
- * not NULL) names the constraint and *area (if not NULL) lists the
- * triangles recomputed. */
-PGPDEF pgp_result pgp_add_orientation(pgp_map *map, int face, const float dir[3], float radius,
-                                      int *id, pgp_area *area, pgp_error *err);
-PGPDEF pgp_result pgp_add_scale(pgp_map *map, int vertex, float scale, float radius, int *id,
-                                pgp_area *area, pgp_error *err);
-PGPDEF pgp_result pgp_add_material(pgp_map *map, int vertex, float m, float radius, int *id,
-                                   pgp_area *area, pgp_error *err);
-/* A new value for constraint `id` (dir for orientation, value[0] for scale
- * and material), recomputed over the same radius. */
-PGPDEF pgp_result pgp_edit_constraint(pgp_map *map, int id, const float value[3], pgp_area *area,
-                                      pgp_error *err);
-PGPDEF pgp_result pgp_remove_constraint(pgp_map *map, int id, pgp_area *area, pgp_error *err);
-PGPDEF void pgp_area_free(pgp_area *area);
-
-/* Queries. Per triangle corner (ntris*9): s, t, m of corners 0, 1, 2, the
- * PGP coordinates of Eq. (4) before the rendering fix. */
-PGPDEF int pgp_triangle_count(const pgp_map *map);
-PGPDEF int pgp_vertex_count(const pgp_map *map);
-PGPDEF void pgp_get_coords(const pgp_map *map, float *stm);
-/* Singular triangles (§3, those with a corner whose 1-ring is singular):
- * flags[ntris] set to 0/1 when flags is not NULL; returns their number. */
-PGPDEF int pgp_get_singular(const pgp_map *map, unsigned char *flags);
-/* Vortices: triangles around which s or t winds by a whole period (the
- * T-junctions and poles of the parameterization, the seeds of the singular
- * 1-rings). flags[ntris] set to 0 or 1 (s winds) + 2 (t winds) when flags
- * is not NULL; returns the number of triangles with a vortex. */
-PGPDEF int pgp_get_vortices(const pgp_map *map, unsigned char *flags);
-/* What a mapping came to (issue 17: say what happened). Shares of the
- * surface are area-weighted, over the Eq. (4) coordinates: stretched when
- * the singular values of S (grad s, grad t) leave [1/1.3, 1.3] (more than
- * 30% of stretch or compression), sheared when grad s and grad t are more
- * than 20 degrees away from perpendicular. */
-typedef struct pgp_stats {
-    int triangles, vortices; /* pgp_get_vortices */
-    int singular;            /* §3's singular triangles (pgp_get_singular) */
-    float stretched, sheared; /* shares of the surface, in [0, 1] */
-    float mean_edge;         /* mean edge length */
-    float diagonal;          /* bounding-box diagonal */
-    float scale;             /* the default tile side (options.scale or its default) */
-} pgp_stats;
-PGPDEF void pgp_get_stats(const pgp_map *map, pgp_stats *out);
-/* The triangles' corners (ntris*3 vertex indices, counter-clockwise). */
-PGPDEF void pgp_get_triangles(const pgp_map *map, int *tris);
-/* Triangles pgp_render draws specially with fix mode `fix` (PGP_FIX_*):
- * flags[ntris] set to 0/1 when flags is not NULL; returns their number. */
-PGPDEF int pgp_get_special(const pgp_map *map, int fix, unsigned char *flags);
-/* The interpolated fields: d_s per triangle (ntris*3, unit), scale and
- * material per vertex (nverts each); any pointer may be NULL. */
-PGPDEF void pgp_get_field(const pgp_map *map, float *ds, float *scale, float *material);
-
-/* §3: renders the mapped mesh textured with the tile. */
-PGPDEF pgp_result pgp_render(const pgp_map *map, const pgp_tile *tile, const pgp_render_options *ro,
-                             pgp_image *out, pgp_error *err);
-
-/* Built-in data for demos and tests. Meshes: "sphere", "torus", "bumpy",
- * "grid" (a flat square, with a boundary). Tiles: "bricks" (bricks that
- * weather into pebbles along m, 4 layers), "stripes" (1 layer). */
-PGPDEF pgp_result pgp_builtin_mesh(const char *name, const pgp_options *opt, pgp_mesh *out,
-                                   pgp_error *err);
-PGPDEF pgp_result pgp_builtin_tile(const char *name, int size, const pgp_options *opt, pgp_tile *out,
-                                   pgp_error *err);
-
-/* Files and memory. Tiles: NRRD (uint8/uint16/float, dimension 4 with
- * sizes C W H M, or 3 with W H M, raw or gzip) or any 2D image (one
- * layer). The constraints file of the CLI is documented in docs/pgp.md. */
-PGPDEF pgp_result pgp_tile_from_image(const pgp_image *img, const pgp_options *opt, pgp_tile *out,
-                                      pgp_error *err);
-PGPDEF pgp_result pgp_load_tile_from_memory(const void *data, size_t size, const char *name,
-                                            const pgp_options *opt, pgp_tile *out, pgp_error *err);
-PGPDEF pgp_result pgp_write_tile_to_func(const pgp_tile *tile, pgp_write_fn fn, void *ctx,
-                                         pgp_error *err);
-PGPDEF pgp_result pgp_load_mesh_from_memory(const void *data, size_t size, const char *name,
-                                            const pgp_options *opt, pgp_mesh *out, pgp_error *err);
-PGPDEF pgp_result pgp_write_image_to_func(const pgp_image *img, const char *format, pgp_write_fn fn,
-                                          void *ctx, pgp_error *err);
-/* OBJ: the triangulated mesh with `vt s t m` per corner, faces grouped as
- * `g regular` then `g singular`. */
-PGPDEF pgp_result pgp_write_obj_to_func(const pgp_mesh *mesh, const pgp_map *map, pgp_write_fn fn,
-                                        void *ctx, pgp_error *err);
-/* Applies a constraints file's text ("orient F dx dy dz", "scale V S",
- * "material V m", "radius R" for the following lines, '#' comments) to the
- * map, line by line. */
-PGPDEF pgp_result pgp_apply_constraints_from_memory(pgp_map *map, const void *data, size_t size,
-                                                    const char *name, pgp_error *err);
-#ifndef PW_NO_STDIO
-PGPDEF pgp_result pgp_load_mesh(const char *path, const pgp_options *opt, pgp_mesh *out, pgp_error *err);
-PGPDEF pgp_result pgp_load_image(const char *path, const pgp_options *opt, pgp_image *out, pgp_error *err);
-PGPDEF pgp_result pgp_load_tile(const char *path, const pgp_options *opt, pgp_tile *out, pgp_error *err);
-PGPDEF pgp_result pgp_save_tile(const char *path, const pgp_tile *tile, pgp_error *err);
-PGPDEF pgp_result pgp_save_image(const char *path, const pgp_image *img, pgp_error *err);
-PGPDEF pgp_result pgp_save_obj(const char *path, const pgp_mesh *mesh, const pgp_map *map, pgp_error *err);
-PGPDEF pgp_result pgp_apply_constraints(pgp_map *map, const char *path, pgp_error *err);
-#endif
-PGPDEF void pgp_mesh_free(pgp_mesh *m);
-PGPDEF void pgp_image_free(pgp_image *img);
-PGPDEF void pgp_tile_free(pgp_tile *t);
-
-/* ======================================================================
- * §1 Material-space tile synthesis (morph.c, synth.c)
- * ====================================================================== */
-
-/* A key texture and its feature mask (§1). */
-typedef struct pgp_key {
-    const pgp_image *image; /* the key texture, 1-4 channels, any size */
-    const pgp_image *mask;  /* its feature mask, the image's size: texels whose
-                               luminance is above 1/2 are features (a PGM painted by
-                               the user); NULL: computed, see auto_mask */
-} pgp_key;
-
-/* Masks computed from the key when none is given (§1: "constructed
+/* Masks computed from a key when none is given (§1: "constructed
  * automatically"), on the luminance (colour over white where there is
  * alpha) smoothed by a 3x3 binomial filter, thresholded by Otsu's method. */
-enum {
+typedef enum pgp_mask {
     PGP_MASK_DARK = 0,    /* features are darker than the threshold (spots, grain, mortar) */
     PGP_MASK_BRIGHT = 1,  /* features are brighter */
     PGP_MASK_GRADIENT = 2 /* features are where the gradient magnitude is above its threshold */
-};
+} pgp_mask;
 
 /* Keys that do not tile are made tileable by graph-cut quilting onto a
  * torus (§1, [KdE*03]; the mask is cut with the colours). */
-enum {
+typedef enum pgp_tileable {
     PGP_TILEABLE_AUTO = 0, /* quilt a key when its wrap-around seam (mean difference between
                               the last and first column, or row) exceeds twice the mean
                               difference between neighbouring columns (rows) inside it */
     PGP_TILEABLE_KEEP = 1, /* take every key as it is */
     PGP_TILEABLE_MAKE = 2  /* quilt every key */
-};
+} pgp_tileable;
 
+/* Tile synthesis settings (§1; pgp_options.synth; the synthesis calls take
+ * a pointer to them, NULL for the defaults). */
 typedef struct pgp_synth_options {
     int size;            /* tile side in texels; every key (and mask) is resampled
                             periodically to size x size (bilinear up, box filter down;
@@ -424,8 +290,8 @@ typedef struct pgp_synth_options {
                             default 8 */
     int single;          /* 1: single-tile mode (Fig. 14): one key, every layer
                             synthesised with the key's own mask, to hide periodicity */
-    int tileable;        /* PGP_TILEABLE_*; default AUTO */
-    int auto_mask;       /* PGP_MASK_*; default DARK */
+    pgp_tileable tileable; /* default AUTO */
+    pgp_mask auto_mask;  /* default DARK */
     int steps;           /* §1.1 advection steps N per morph; 0: at least 16 per layer and
                             enough that dt <= 1/2 texel */
     int uniform;         /* 1: layers at n = m N / M instead of the speed-adaptive H(m) */
@@ -448,17 +314,225 @@ typedef struct pgp_synth_options {
                             texels) per search, ANN's bound on the points visited;
                             default 64; negative: no bound. With search_eps < 0 and
                             search_buckets < 0 every match is the exact nearest one */
-    unsigned long long seed; /* random pixel order and single-tile initialisation; default 0 */
+    unsigned long long seed; /* random pixel order and single-tile initialisation, and the
+                            noise of the built-in tiles (pgp_builtin_tile); default 0 */
     pgp_allocator allocator;
     pgp_progress_fn progress; /* may cancel: non-zero return stops with PGP_ERR_CANCELLED */
     void *progress_user;
 } pgp_synth_options;
 
-PGPDEF pgp_synth_options pgp_synth_default_options(void);
+/* What a constraint sets (§2). */
+typedef enum pgp_constraint_kind {
+    PGP_CONSTRAINT_ORIENT = 0, /* the tile's s axis along value[0..2] at a triangle */
+    PGP_CONSTRAINT_SCALE,      /* the tile side value[0] (mesh units, > 0) at a vertex */
+    PGP_CONSTRAINT_MATERIAL    /* the material value[0] in [0, 1] at a vertex */
+} pgp_constraint_kind;
+
+/* A user constraint (§2). */
+typedef struct pgp_constraint {
+    pgp_constraint_kind kind;
+    int element;    /* ORIENT: a triangle; SCALE, MATERIAL: a vertex (0-based) */
+    float value[3]; /* ORIENT: the direction; SCALE, MATERIAL: value[0] */
+    float radius;   /* effect radius, mesh units, geodesic; 0 or less: the whole mesh */
+} pgp_constraint;
+
+/* Constraints read from a file (pgp_read_constraints), freed by
+ * pgp_constraints_free. */
+typedef struct pgp_constraints {
+    int count;
+    pgp_constraint *items; /* count */
+    pgp_allocator allocator;
+} pgp_constraints;
+
+typedef struct pgp_options {
+    pgp_field_mode field;    /* default UP */
+    float up[3];             /* default (0,1,0): the tile's t axis follows it */
+    float scale;             /* tile side in mesh units where no scale constraint
+                                reaches; 0: a tenth of the bounding-box diagonal.
+                                pgp_create refuses a side given here over 10 diagonals
+                                (one flat colour) or under 2 mean edge lengths
+                                (periods the triangles cannot carry) */
+    float material;          /* m where no material constraint reaches; default 0 */
+    float min_scale;         /* floor of the interpolated scale (§2.2 epsilon), as a
+                                fraction of `scale`; default 0.05 */
+    int smoothing;           /* CURVATURE: smoothing sweeps; default 20 */
+    float singular_distortion; /* §3: a triangle is distorted when
+                                |grad s - g_s|^2 / |g_s|^2 (or for t) exceeds this;
+                                default 0.5 */
+    pgp_weights weights;     /* default COTAN */
+    float integrable;        /* beyond the paper: 0 (default) follows the field; > 0
+                                rotates the field and varies the tile side smoothly
+                                (within [1/2, 2] of `scale`, its mean kept) to cancel
+                                the curl of the gradients the PGP must follow (each
+                                uncancelled turn is a vortex): fewer vortices for less
+                                alignment. Larger values let the field stray further
+                                (1: the CLI's --field smooth) */
+    const pgp_constraint *constraints; /* nconstraints constraints pgp_create applies
+                                after building the map, in order, each exactly as
+                                pgp_add_constraint would (its own effect area and
+                                solve); their ids are 0, 1, ...; default none */
+    int nconstraints;
+    pgp_render_options render; /* pgp_render's settings (pass &opt.render) */
+    pgp_synth_options synth; /* tile synthesis settings (pass &opt.synth) */
+    pgp_allocator allocator;
+    pgp_progress_fn progress;
+    void *progress_user;
+} pgp_options;
+
+/* The mapping of a mesh, made by pgp_create, edited by the constraint
+ * calls, freed by pgp_map_free. The fields are for reading. */
+typedef struct pgp_map {
+    int nverts, ntris;
+    int *tris;     /* ntris*3 vertex indices, counter-clockwise (the fan
+                      triangulation of the mesh's faces) */
+    float *coords; /* ntris*9: s, t, m of corners 0, 1, 2, the Eq. (4) coordinates
+                      (before the rendering fix), kept current by pgp_create and by
+                      every edit */
+    struct pgp_map_state *state; /* private: solver, fields, constraints */
+    pgp_allocator allocator;
+} pgp_map;
+
+/* Triangles an edit recomputed (§2.1), freed by pgp_area_free. */
+typedef struct pgp_area {
+    int nfaces;
+    int *faces;
+    pgp_allocator allocator;
+} pgp_area;
+
+/* The interpolated fields of a map after its edits (§2.2), freed by
+ * pgp_field_free. */
+typedef struct pgp_field {
+    int ntris, nverts;
+    float *dir;      /* ntris*3: d_s per triangle, unit */
+    float *scale;    /* nverts: the tile side S_i */
+    float *material; /* nverts: m_i */
+    pgp_allocator allocator;
+} pgp_field;
+
+/* What a mapping came to (issue 17: say what happened). Shares of the
+ * surface are area-weighted, over the Eq. (4) coordinates: stretched when
+ * the singular values of S (grad s, grad t) leave [1/1.3, 1.3] (more than
+ * 30% of stretch or compression), sheared when grad s and grad t are more
+ * than 20 degrees away from perpendicular. */
+typedef struct pgp_stats {
+    int triangles, vortices; /* pgp_map_vortices */
+    int singular;            /* §3's singular triangles (pgp_map_singular) */
+    float stretched, sheared; /* shares of the surface, in [0, 1] */
+    float mean_edge;         /* mean edge length */
+    float diagonal;          /* bounding-box diagonal */
+    float scale;             /* the default tile side (options.scale or its default) */
+} pgp_stats;
+
+/* Every field filled in, sub-options (render, synth) included. */
+PGPDEF pgp_options pgp_default_options(void);
+PGPDEF const char *pgp_result_string(pgp_result r);
+
+/* Builds the mapping of a mesh into *out: the default field, scale and
+ * material, the initial parameterization (one vertex locked, §2.3), then
+ * opt->constraints one by one. On failure *out is zeroed. */
+PGPDEF pgp_result pgp_create(const pgp_mesh *mesh, const pgp_options *opt, pgp_map *out, pgp_error *err);
+PGPDEF void pgp_map_free(pgp_map *map);
+
+/* Constraints (§2). Each call recomputes the effect area: the triangles
+ * within c->radius of the constraint, in order of distance; the rest is
+ * locked. On success *id (if not NULL) names the constraint and *area (if
+ * not NULL) lists the triangles recomputed. */
+PGPDEF pgp_result pgp_add_constraint(pgp_map *map, const pgp_constraint *c, int *id, pgp_area *area,
+                                     pgp_error *err);
+/* A new value for constraint `id` (the direction for ORIENT, value[0] for
+ * SCALE and MATERIAL), recomputed over the same radius. */
+PGPDEF pgp_result pgp_edit_constraint(pgp_map *map, int id, const float value[3], pgp_area *area,
+                                      pgp_error *err);
+PGPDEF pgp_result pgp_remove_constraint(pgp_map *map, int id, pgp_area *area, pgp_error *err);
+PGPDEF void pgp_area_free(pgp_area *area);
+
+/* Singular triangles (§3, those with a corner whose 1-ring is singular):
+ * flags[ntris] set to 0/1 when flags is not NULL; returns their number. */
+PGPDEF int pgp_map_singular(const pgp_map *map, unsigned char *flags);
+/* Vortices: triangles around which s or t winds by a whole period (the
+ * T-junctions and poles of the parameterization, the seeds of the singular
+ * 1-rings). flags[ntris] set to 0 or 1 (s winds) + 2 (t winds) when flags
+ * is not NULL; returns the number of triangles with a vortex. */
+PGPDEF int pgp_map_vortices(const pgp_map *map, unsigned char *flags);
+/* Triangles pgp_render draws specially with fix mode `fix`: flags[ntris]
+ * set to 0/1 when flags is not NULL; returns their number. */
+PGPDEF int pgp_map_special(const pgp_map *map, pgp_fix fix, unsigned char *flags);
+PGPDEF void pgp_map_stats(const pgp_map *map, pgp_stats *out);
+/* The interpolated fields, allocated with the map's allocator. */
+PGPDEF pgp_result pgp_map_field(const pgp_map *map, pgp_field *out, pgp_error *err);
+PGPDEF void pgp_field_free(pgp_field *field);
+
+/* §3: renders the mapped mesh textured with the tile (ro NULL: defaults). */
+PGPDEF pgp_result pgp_render(const pgp_map *map, const pgp_tile *tile, const pgp_render_options *ro,
+                             pgp_image *out, pgp_error *err);
+
+/* Built-in data for demos and tests. Meshes: "sphere", "torus", "bumpy",
+ * "grid" (a flat square, with a boundary). Tiles: "bricks" (bricks that
+ * weather into pebbles along m, 4 layers), "stripes" (1 layer); their
+ * noise follows opt->synth.seed. */
+PGPDEF pgp_result pgp_builtin_mesh(const char *name, const pgp_options *opt, pgp_mesh *out,
+                                   pgp_error *err);
+PGPDEF pgp_result pgp_builtin_tile(const char *name, int size, const pgp_options *opt, pgp_tile *out,
+                                   pgp_error *err);
+
+/* Files and memory. Tiles: NRRD (uint8/uint16/float, dimension 4 with
+ * sizes C W H M, or 3 with W H M, raw or gzip) or any 2D image (one
+ * layer). Meshes: OBJ, OFF, PLY, STL. Images: PNG, PPM/PGM/PAM, GIMP .pat;
+ * written as PNG, PPM, PGM or PAM (format "png", "ppm", "pgm", "pam"). */
+PGPDEF pgp_result pgp_tile_from_image(const pgp_image *img, const pgp_options *opt, pgp_tile *out,
+                                      pgp_error *err);
+PGPDEF pgp_result pgp_read_tile(const void *data, size_t size, const char *name, const pgp_options *opt,
+                                pgp_tile *out, pgp_error *err);
+PGPDEF pgp_result pgp_write_tile(const pgp_tile *tile, pgp_write_fn fn, void *ctx, pgp_error *err);
+PGPDEF pgp_result pgp_read_mesh(const void *data, size_t size, const char *name, const pgp_options *opt,
+                                pgp_mesh *out, pgp_error *err);
+PGPDEF pgp_result pgp_read_image(const void *data, size_t size, const char *name, const pgp_options *opt,
+                                 pgp_image *out, pgp_error *err);
+PGPDEF pgp_result pgp_write_image(const pgp_image *img, const char *format, pgp_write_fn fn, void *ctx,
+                                  pgp_error *err);
+/* OBJ: the triangulated mesh with `vt s t m` per corner, faces grouped as
+ * `g regular` then `g singular`. mesh may be NULL; if given it must be the
+ * map's. */
+PGPDEF pgp_result pgp_write_obj(const pgp_mesh *mesh, const pgp_map *map, pgp_write_fn fn, void *ctx,
+                                pgp_error *err);
+/* A constraints file (docs/pgp.md): UTF-8 text, one constraint per line,
+ * "orient F dx dy dz", "scale V S", "material V m", and "radius R" for the
+ * lines that follow (default 0: the whole mesh); '#' starts a comment. The
+ * values are checked (finite, S > 0, m in [0, 1], indices >= 0); whether
+ * the elements exist is checked when the constraints are applied. Errors
+ * name the file and line. */
+PGPDEF pgp_result pgp_read_constraints(const void *data, size_t size, const char *name, const pgp_options *opt,
+                                       pgp_constraints *out, pgp_error *err);
+#ifndef PW_NO_STDIO
+PGPDEF pgp_result pgp_load_mesh(const char *path, const pgp_options *opt, pgp_mesh *out, pgp_error *err);
+PGPDEF pgp_result pgp_load_image(const char *path, const pgp_options *opt, pgp_image *out, pgp_error *err);
+PGPDEF pgp_result pgp_load_tile(const char *path, const pgp_options *opt, pgp_tile *out, pgp_error *err);
+PGPDEF pgp_result pgp_load_constraints(const char *path, const pgp_options *opt, pgp_constraints *out,
+                                       pgp_error *err);
+PGPDEF pgp_result pgp_save_tile(const char *path, const pgp_tile *tile, pgp_error *err);
+PGPDEF pgp_result pgp_save_image(const char *path, const pgp_image *img, pgp_error *err);
+PGPDEF pgp_result pgp_save_obj(const char *path, const pgp_mesh *mesh, const pgp_map *map, pgp_error *err);
+#endif
+PGPDEF void pgp_mesh_free(pgp_mesh *m);
+PGPDEF void pgp_image_free(pgp_image *img);
+PGPDEF void pgp_tile_free(pgp_tile *t);
+PGPDEF void pgp_constraints_free(pgp_constraints *c);
+
+/* ======================================================================
+ * §1 Material-space tile synthesis (morph.c, synth.c)
+ * ====================================================================== */
+
+/* A key texture and its feature mask (§1). */
+typedef struct pgp_key {
+    const pgp_image *image; /* the key texture, 1-4 channels, any size */
+    const pgp_image *mask;  /* its feature mask, the image's size: texels whose
+                               luminance is above 1/2 are features (a PGM painted by
+                               the user); NULL: computed, see auto_mask */
+} pgp_key;
 
 /* The feature mask of an image as computed when a key comes without one:
  * one channel, 1 on features and 0 elsewhere, the image's size. */
-PGPDEF pgp_result pgp_feature_mask(const pgp_image *image, int mode, const pgp_synth_options *opt,
+PGPDEF pgp_result pgp_feature_mask(const pgp_image *image, pgp_mask mode, const pgp_synth_options *opt,
                                    pgp_image *out, pgp_error *err);
 
 /* §1.1 alone: the feature masks F_0 .. F_M (M = layers - 1, layers >= 2) of

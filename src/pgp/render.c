@@ -1,7 +1,7 @@
 /* render.c: §3 rendering, and a cleaner treatment of the vortices.
  *
  * PGP_FIX_CLEAN (the default, beyond the paper): every triangle takes one
- * lookup. A triangle around which s (or t) winds (a vortex, pgp_get_vortices)
+ * lookup. A triangle around which s (or t) winds (a vortex, pgp_map_vortices)
  * cannot take a linear (s, t): its edges are given the differences its
  * neighbours use (the integer nearest the field's alpha, Eq. 4), and its
  * interior the "stripe patterns" interpolation of Knöppel, Crane, Pinkall
@@ -27,7 +27,7 @@
  * treatment, PGP__FIXDATA floats: PAPER (and ALL) 3 points of view x 3
  * corners x (s, t); CLEAN pgp__clean_data's layout. */
 typedef struct pgp__shading {
-    const pgp_map *P;
+    const pgp__state *P;
     const pw_tile3 *tile;
     const float *fix;
     const unsigned char *fixed; /* nf: 1 where the special treatment is used */
@@ -36,7 +36,7 @@ typedef struct pgp__shading {
 
 /* Corner b of triangle f seen from corner a (§3): s'_{a,a} = s_a^T and
  * s'_{a,b} = s'_{a,a} + alpha_ab, for s and t, written to out[0..1]. */
-static void pgp__view(const pgp_map *P, int f, int a, int b, float *out)
+static void pgp__view(const pgp__state *P, int f, int a, int b, float *out)
 {
     int k;
     for (k = 0; k < 2; k++) {
@@ -50,7 +50,7 @@ static void pgp__view(const pgp_map *P, int f, int a, int b, float *out)
 /* The three points of view of triangle f: a singular corner sees its
  * neighbours through the field; a regular corner agrees with the
  * triangle's own coordinates. */
-static void pgp__views(const pgp_map *P, int f, int all, float *out)
+static void pgp__views(const pgp__state *P, int f, int all, float *out)
 {
     int a, b;
     for (a = 0; a < 3; a++)
@@ -70,7 +70,7 @@ static void pgp__views(const pgp_map *P, int f, int all, float *out)
  * V[3] the field's linear function L at the corners (corner 0's view, §3),
  * Q[3] the barycentric coordinates of the zero. A coordinate that does not
  * wind here has Q[0] < 0 and is linear in U. */
-static void pgp__clean_coord(const pgp_map *P, int f, int k, float *o)
+static void pgp__clean_coord(const pgp__state *P, int f, int k, float *o)
 {
     const float *c = P->stm + 9 * f;
     double U[3], D[3], V[3], r[3], zr[3], zi[3], det, q1, q2;
@@ -230,10 +230,9 @@ static int pgp__tile3(const pw_alloc *a, const pgp_tile *t, pw_tile3 *out, pw_er
     return pw_tile3_create(a, out, &v, 0, e);
 }
 
-static int pgp__draw(const pgp_map *P, pgp__shading *S, const pgp_render_options *o, pw_image *pic, pw_err *e)
+static int pgp__draw(const pgp__state *P, pgp__shading *S, const pgp_render_options *o, pw_image *pic, pw_err *e)
 {
     pw_camera cam = pw_camera_frame(P->pos, P->m.nv, o->view_dir, o->up, 35.0f, (float)o->width / (float)o->height);
-    float bg[4];
     int k;
     if (o->zoom > 1.0f) /* a close-up: the same direction and distance, looking at center */
         for (cam.fovy_deg /= o->zoom, k = 0; k < 3; k++) {
@@ -241,10 +240,9 @@ static int pgp__draw(const pgp_map *P, pgp__shading *S, const pgp_render_options
             cam.target[k] = o->center[k];
         }
     pw_draw d;
-    pw_fb fb;
-    int r;
-    memcpy(bg, o->background, sizeof o->background);
-    bg[3] = 1.0f;
+    pw_frame f;
+    pw_frame_draw1 one;
+    pw_parallel par;
     memset(&d, 0, sizeof d);
     d.positions = P->pos;
     d.nv = P->m.nv;
@@ -254,33 +252,39 @@ static int pgp__draw(const pgp_map *P, pgp__shading *S, const pgp_render_options
     d.ambient = 0.3f;
     d.shader = pgp__shade;
     d.shader_user = S;
-    if ((r = pw_fb_create(&P->a, &fb, o->width, o->height, o->supersample, bg, e)) != PW_OK) return r;
-    if ((r = pw_render_draw(&fb, &cam, &d, e)) == PW_OK) r = pw_fb_resolve(&fb, pic, 3, e);
-    pw_fb_free(&fb);
-    return r;
+    one.d = &d;
+    one.cam = &cam;
+    par.threads = o->threads;
+    par.run = o->parallel;
+    par.pool = o->parallel_pool;
+    pw_frame_init(&f, o->width, o->height, o->supersample, o->background, &par);
+    f.draw = pw_frame_draw1_fn;
+    f.user = &one;
+    return pw_render_frame(&P->a, &f, pic, e);
 }
 
 /* Whether triangle f takes the special treatment of fix mode `mode`: a
  * vortex (CLEAN), a singular corner (PAPER, §3), every triangle (ALL). */
-static int pgp__special(const pgp_map *P, int mode, int f)
+static int pgp__special(const pgp__state *P, int mode, int f)
 {
     if (mode == PGP_FIX_CLEAN) return pgp__winding(P, f, 0) != 0 || pgp__winding(P, f, 1) != 0;
     if (mode == PGP_FIX_PAPER) return P->fsing[f];
     return mode == PGP_FIX_ALL;
 }
 
-PGPDEF int pgp_get_special(const pgp_map *map, int fix, unsigned char *flags)
+PGPDEF int pgp_map_special(const pgp_map *map, pgp_fix fix, unsigned char *flags)
 {
+    const pgp__state *P = pgp__state_of(map);
     int f, n = 0, s;
-    for (f = 0; map && f < map->m.nf; f++) {
-        n += s = pgp__special(map, fix, f);
+    for (f = 0; P && f < P->m.nf; f++) {
+        n += s = pgp__special(P, fix, f);
         if (flags) flags[f] = (unsigned char)s;
     }
     return n;
 }
 
 /* The fix data of every triangle that takes the special treatment. */
-static void pgp__fix_data(const pgp_map *P, int mode, unsigned char *fixed, float *data)
+static void pgp__fix_data(const pgp__state *P, int mode, unsigned char *fixed, float *data)
 {
     int f, k;
     for (f = 0; f < P->m.nf; f++) {
@@ -296,6 +300,7 @@ static void pgp__fix_data(const pgp_map *P, int mode, unsigned char *fixed, floa
 PGPDEF pgp_result pgp_render(const pgp_map *map, const pgp_tile *tile, const pgp_render_options *ro, pgp_image *out,
                              pgp_error *err)
 {
+    const pgp__state *P = pgp__state_of(map);
     pgp_render_options o;
     pgp__shading S;
     pw_tile3 t3;
@@ -309,21 +314,21 @@ PGPDEF pgp_result pgp_render(const pgp_map *map, const pgp_tile *tile, const pgp
     pw_err_clear(&pe);
     memset(&t3, 0, sizeof t3);
     if (out) memset(out, 0, sizeof *out);
-    if (!out || !map) pw_fail(&pe, PW_ERR_INVALID, "pgp_render: NULL map or output");
-    else if (o.width < 1 || o.height < 1 || o.supersample < 1 || o.supersample > 8 || o.fix < 0 ||
+    if (!out || !P) pw_fail(&pe, PW_ERR_INVALID, "pgp_render: NULL map or output");
+    else if (o.width < 1 || o.height < 1 || o.supersample < 1 || o.supersample > 8 || o.threads < 0 || o.fix < 0 ||
              o.fix > PGP_FIX_PAPER || o.show < 0 || o.show > PGP_SHOW_GHOSTS || !(o.zoom <= 1e4f) ||
              !pw_is_finite(o.center[0]) || !pw_is_finite(o.center[1]) || !pw_is_finite(o.center[2]))
-        pw_fail(&pe, PW_ERR_INVALID, "render options: size %dx%d, supersample %d, fix %d, show %d, zoom %g", o.width,
-                o.height, o.supersample, o.fix, o.show, (double)o.zoom);
-    else if (pgp__tile3(&map->a, tile, &t3, &pe) == PW_OK &&
-             (data = (float *)pw_alloc_array(&map->a, (size_t)map->m.nf * PGP__FIXDATA, sizeof(float), "fix", &pe)) != NULL &&
-             (fixed = (unsigned char *)pw_alloc_array(&map->a, (size_t)map->m.nf, 1, "fix", &pe)) != NULL) {
-        pgp__fix_data(map, o.fix, fixed, data);
-        S.P = map, S.tile = &t3, S.fix = data, S.fixed = fixed, S.mode = o.fix, S.show = o.show;
-        if (pgp__draw(map, &S, &o, &pic, &pe) == PW_OK) pgp__take_image(&pic, &map->a, out);
+        pw_fail(&pe, PW_ERR_INVALID, "render options: size %dx%d, supersample %d, threads %d, fix %d, show %d, zoom %g",
+                o.width, o.height, o.supersample, o.threads, o.fix, o.show, (double)o.zoom);
+    else if (pgp__tile3(&P->a, tile, &t3, &pe) == PW_OK &&
+             (data = (float *)pw_alloc_array(&P->a, (size_t)P->m.nf * PGP__FIXDATA, sizeof(float), "fix", &pe)) != NULL &&
+             (fixed = (unsigned char *)pw_alloc_array(&P->a, (size_t)P->m.nf, 1, "fix", &pe)) != NULL) {
+        pgp__fix_data(P, o.fix, fixed, data);
+        S.P = P, S.tile = &t3, S.fix = data, S.fixed = fixed, S.mode = o.fix, S.show = o.show;
+        if (pgp__draw(P, &S, &o, &pic, &pe) == PW_OK) pgp__take_image(&pic, &P->a, out);
     }
-    pw_free(map ? &map->a : NULL, data);
-    pw_free(map ? &map->a : NULL, fixed);
-    if (map) pw_tile3_free(&map->a, &t3);
+    pw_free(P ? &P->a : NULL, data);
+    pw_free(P ? &P->a : NULL, fixed);
+    if (P) pw_tile3_free(&P->a, &t3);
     return pgp__done(&pe, err);
 }

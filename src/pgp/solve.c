@@ -1,6 +1,7 @@
 /* solve.c: §2.3 the periodic global parameterization, the recovery of
- * per-corner coordinates (Eq. 4), the §3 detection of singular 1-rings, and
- * the public entry points that create and edit a mapping. */
+ * per-corner coordinates (Eq. 4), the §3 detection of singular 1-rings, the
+ * recomputation of an effect area that every edit runs, and the map of a
+ * mesh before any constraint (edit.c holds the public editing calls). */
 #include "field.c"
 
 #define PGP__TWO_PI 6.28318530717958647692
@@ -41,7 +42,7 @@ static double pgp__turns(double x, double y)
  * or t (k = 1): e_ij . (g_T + g_T') / 2, the gradient averaged over the two
  * triangles of the edge (the one triangle on a boundary). This is the
  * coordinate difference s_j - s_i the field asks for along the edge. */
-static double pgp__alpha(const pgp_map *P, int h, int k)
+static double pgp__alpha(const pgp__state *P, int h, int k)
 {
     int f = h / 3, c = h % 3, t = P->m.hm.twin[h];
     pw_v3 ed = pw_v3_sub(pw_trimesh_corner(&P->m, f, (c + 1) % 3), pw_trimesh_corner(&P->m, f, c));
@@ -68,7 +69,7 @@ static double pgp__alpha(const pgp_map *P, int h, int k)
  * a negative sum); floors from 0.001 to 0.1 give the same counts within
  * 1 vortex and 0.5% singular. Cotangents of an intrinsic Delaunay
  * triangulation would avoid the floor; they are not implemented. */
-static double pgp__pgp_weight(const pgp_map *P, int h)
+static double pgp__pgp_weight(const pgp__state *P, int h)
 {
     int tw = P->m.hm.twin[h];
     if (P->o.weights == PGP_WEIGHTS_AREA)
@@ -85,7 +86,7 @@ static double pgp__pgp_weight(const pgp_map *P, int h)
  * flat grid, where the exact answer is linear.) In the complex Hermitian
  * system: w on both diagonals, -w e^{i alpha} at (j, i) and its conjugate
  * at (i, j); a fixed end moves to the right-hand side. */
-static int pgp__pgp_edge(const pgp_map *P, const double *z, const int *id, int h, int k, pw_triplets *t,
+static int pgp__pgp_edge(const pgp__state *P, const double *z, const int *id, int h, int k, pw_triplets *t,
                          double *b, pw_err *e)
 {
     int f = h / 3;
@@ -145,7 +146,7 @@ static int pgp__diag_index(const pw_alloc *a, const pw_zcsr *A, int **out, pw_er
 
 /* A first estimate: z carried from the fixed vertices along a breadth-first
  * tree, z_j = e^{i alpha_ij} z_i, i.e. the field integrated along the tree. */
-static int pgp__propagate(pgp_map *P, double *z, const int *id, int k, pw_err *e)
+static int pgp__propagate(pgp__state *P, double *z, const int *id, int k, pw_err *e)
 {
     const pw_trimesh *m = &P->m;
     int nh = 3 * m->nf, *start = (int *)pw_calloc_array(&P->a, (size_t)m->nv + 1, sizeof(int), "PGP", e);
@@ -197,7 +198,7 @@ static int pgp__propagate(pgp_map *P, double *z, const int *id, int k, pw_err *e
 
 /* Solves for the unit complex numbers z (nv*2) of coordinate k at the free
  * vertices (id >= 0, n of them), the others fixed. */
-static int pgp__pgp_solve(pgp_map *P, double *z, const int *id, int n, int k, pw_err *e)
+static int pgp__pgp_solve(pgp__state *P, double *z, const int *id, int n, int k, pw_err *e)
 {
     double *b = (double *)pw_calloc_array(&P->a, (size_t)n * 5, sizeof(double), "PGP", e);
     double *x = b + 2 * n, *dg = b + 4 * n, *rhs = NULL;
@@ -252,7 +253,7 @@ static int pgp__pgp_solve(pgp_map *P, double *z, const int *id, int n, int k, pw
 /* §2.3 over the free vertices: "in the special case of initialization, we
  * lock a single vertex s_0 = 0 <=> z_0 = [1,0], else s is locked outside
  * the effect area" (whole: the first vertex of every component locked). */
-static int pgp__pgp(pgp_map *P, const unsigned char *vfree, int whole, pw_err *e)
+static int pgp__pgp(pgp__state *P, const unsigned char *vfree, int whole, pw_err *e)
 {
     int *id = (int *)pw_alloc_array(&P->a, (size_t)P->m.nv, sizeof(int), "PGP", e);
     int *comp = (int *)pw_calloc_array(&P->a, (size_t)P->m.nf * 2, sizeof(int), "PGP", e);
@@ -285,7 +286,7 @@ static int pgp__pgp(pgp_map *P, const unsigned char *vfree, int whole, pw_err *e
  * 2 add the integer p that brings their difference to corner 0 closest to
  * what the field asks for along the edge (alpha), so that every vertex
  * differs between its triangles by integers only. */
-static void pgp__recover(pgp_map *P, int f)
+static void pgp__recover(pgp__state *P, int f)
 {
     const int *tri = P->m.tri + 3 * f;
     float *o = P->stm + 9 * f;
@@ -308,7 +309,7 @@ static void pgp__recover(pgp_map *P, int f)
 
 /* The 3D gradient of the linear function with corner values w0, w1, w2 on
  * triangle f. */
-static pw_v3 pgp__gradient(const pgp_map *P, int f, double w0, double w1, double w2)
+static pw_v3 pgp__gradient(const pgp__state *P, int f, double w0, double w1, double w2)
 {
     pw_v3 p = pw_trimesh_corner(&P->m, f, 0);
     pw_v3 e1 = pw_v3_sub(pw_trimesh_corner(&P->m, f, 1), p), e2 = pw_v3_sub(pw_trimesh_corner(&P->m, f, 2), p);
@@ -323,7 +324,7 @@ static pw_v3 pgp__gradient(const pgp_map *P, int f, double w0, double w1, double
 /* "Highly distorted": ||grad s - g_s||^2 > threshold, or the same for t.
  * The paper's 0.5 is read relative to |g|^2 = 1/S^2 (the paper's tiles have
  * unit size), so that the test does not depend on the units of the mesh. */
-static int pgp__distorted(const pgp_map *P, int f)
+static int pgp__distorted(const pgp__state *P, int f)
 {
     const float *o = P->stm + 9 * f;
     int k;
@@ -336,7 +337,7 @@ static int pgp__distorted(const pgp_map *P, int f)
 
 /* Whether the two triangles of half-edge h disagree on the coordinate
  * difference along it (s_i^T - s_j^T != s_i^T' - s_j^T', or for t). */
-static int pgp__mismatch(const pgp_map *P, int h)
+static int pgp__mismatch(const pgp__state *P, int h)
 {
     int t = P->m.hm.twin[h], f = h / 3, g, c = h % 3, d, k;
     if (t < 0) return 0;
@@ -354,17 +355,18 @@ static int pgp__mismatch(const pgp_map *P, int h)
  * next to corner 0 along the field, so the edge from 1 to 2 carries it all.
  * The sum over the edges of alpha plus the wrapped rest is
  * -round(s_2 - s_1 - alpha_12). */
-static int pgp__winding(const pgp_map *P, int f, int k)
+static int pgp__winding(const pgp__state *P, int f, int k)
 {
     const float *o = P->stm + 9 * f;
     return -(int)floor((double)o[6 + k] - o[3 + k] - pgp__alpha(P, 3 * f + 1, k) + 0.5);
 }
 
-PGPDEF int pgp_get_vortices(const pgp_map *map, unsigned char *flags)
+PGPDEF int pgp_map_vortices(const pgp_map *map, unsigned char *flags)
 {
+    const pgp__state *P = pgp__state_of(map);
     int f, n = 0;
-    for (f = 0; map && f < map->m.nf; f++) {
-        unsigned char v = (unsigned char)((pgp__winding(map, f, 0) != 0) + 2 * (pgp__winding(map, f, 1) != 0));
+    for (f = 0; P && f < P->m.nf; f++) {
+        unsigned char v = (unsigned char)((pgp__winding(P, f, 0) != 0) + 2 * (pgp__winding(P, f, 1) != 0));
         if (flags) flags[f] = v;
         n += v != 0;
     }
@@ -374,7 +376,7 @@ PGPDEF int pgp_get_vortices(const pgp_map *map, unsigned char *flags)
 /* §3: a vertex's 1-ring is singular if it holds a distorted triangle or a
  * spoke edge whose two triangles disagree; a triangle is singular (drawn
  * with three lookups) if one of its corners is. */
-static int pgp__singularities(pgp_map *P, pw_err *e)
+static int pgp__singularities(pgp__state *P, pw_err *e)
 {
     unsigned char *dist = (unsigned char *)pw_alloc_array(&P->a, (size_t)P->m.nf, 1, "singularities", e);
     int f, c, h;
@@ -400,8 +402,8 @@ static int pgp__singularities(pgp_map *P, pw_err *e)
 
 /* Recomputes the fields of `kind` and the coordinates over the area around
  * the seed triangles (radius <= 0: the whole mesh). */
-static int pgp__edit(pgp_map *P, int kind, const int *seeds, int nseeds, float radius, pgp_area *area,
-                     pw_err *e)
+static int pgp__edit(pgp__state *P, pgp_constraint_kind kind, const int *seeds, int nseeds, float radius,
+                     pgp_area *area, pw_err *e)
 {
     size_t nf = (size_t)P->m.nf, nv = (size_t)P->m.nv;
     unsigned char *in = (unsigned char *)pw_alloc_array(&P->a, 2 * nf + 2 * nv, 1, "effect area", e);
@@ -412,10 +414,10 @@ static int pgp__edit(pgp_map *P, int kind, const int *seeds, int nseeds, float r
     if (r == PW_OK) r = pgp__area(P, seeds, nseeds, radius, in, order, &n, e);
     if (r == PW_OK) pgp__free_vertices(P, in, vfree);
     if (r == PW_OK) r = pw_report(&pr, 0.2f, "interpolation", e);
-    if (r == PW_OK && kind == PGP__ORIENT) r = pgp__interp_dir(P, in, whole, mark, e);
-    if (r == PW_OK && kind != PGP__ORIENT) r = pgp__interp_vertex(P, kind, vfree, whole, locked, e);
+    if (r == PW_OK && kind == PGP_CONSTRAINT_ORIENT) r = pgp__interp_dir(P, in, whole, mark, e);
+    if (r == PW_OK && kind != PGP_CONSTRAINT_ORIENT) r = pgp__interp_vertex(P, kind, vfree, whole, locked, e);
     if (r == PW_OK) r = pw_report(&pr, 0.4f, "periodic global parameterization", e);
-    if (r == PW_OK && kind != PGP__MATERIAL) r = pgp__pgp(P, vfree, whole, e);
+    if (r == PW_OK && kind != PGP_CONSTRAINT_MATERIAL) r = pgp__pgp(P, vfree, whole, e);
     for (i = 0; r == PW_OK && i < n; i++) pgp__recover(P, order[i]);
     if (r == PW_OK) r = pw_report(&pr, 0.9f, "singularities", e);
     if (r == PW_OK) r = pgp__singularities(P, e);
@@ -430,125 +432,9 @@ static int pgp__edit(pgp_map *P, int kind, const int *seeds, int nseeds, float r
     return r;
 }
 
-/* The triangles around a constraint: its triangle, or a vertex's fan. */
-static int pgp__edit_constraint(pgp_map *P, const pgp__constraint *c, pgp_area *area, pw_err *e)
-{
-    int *seeds, n = 0, h, r;
-    if (c->kind == PGP__ORIENT) return pgp__edit(P, c->kind, &c->index, 1, c->radius, area, e);
-    seeds = (int *)pw_alloc_array(&P->a, (size_t)P->m.nf, sizeof(int), "effect area", e);
-    if (!seeds) return PW_ERR_NOMEM;
-    for (h = 0; h < 3 * P->m.nf; h++)
-        if (P->m.tri[h] == c->index) seeds[n++] = h / 3;
-    r = pgp__edit(P, c->kind, seeds, n, c->radius, area, e);
-    pw_free(&P->a, seeds);
-    return r;
-}
-
-/* Checks a constraint's values (§2.2: m in [0, 1], S > 0, a direction that
- * is not normal to its triangle). */
-static int pgp__check_constraint(const pgp_map *P, const pgp__constraint *c, pw_err *e)
-{
-    double z[2];
-    int r = c->kind == PGP__ORIENT ? pgp__check_face(P, c->index, e) : pgp__check_vertex(P, c->index, e);
-    if (r != PW_OK) return r;
-    if (!pw_is_finite(c->radius)) return pw_fail(e, PW_ERR_INVALID, "effect radius %g is not finite", (double)c->radius);
-    if (c->kind == PGP__ORIENT) {
-        if (!pw_is_finite(c->value[0]) || !pw_is_finite(c->value[1]) || !pw_is_finite(c->value[2]) ||
-            !pw_df_project(&P->m, c->index, pw_v3_load(c->value), z))
-            return pw_fail(e, PW_ERR_INVALID, "orientation (%g, %g, %g) at triangle %d is zero, not finite or "
-                           "normal to the triangle", (double)c->value[0], (double)c->value[1], (double)c->value[2], c->index);
-    } else if (c->kind == PGP__SCALE && !(c->value[0] > 0.0f && pw_is_finite(c->value[0])))
-        return pw_fail(e, PW_ERR_INVALID, "scale %g at vertex %d is not a positive finite number", (double)c->value[0], c->index);
-    else if (c->kind == PGP__MATERIAL && !(c->value[0] >= 0.0f && c->value[0] <= 1.0f))
-        return pw_fail(e, PW_ERR_INVALID, "material %g at vertex %d is not in [0, 1]", (double)c->value[0], c->index);
-    return PW_OK;
-}
-
-/* Adds a constraint and applies it. */
-static pgp_result pgp__add(pgp_map *map, int kind, int index, const float *value, float radius, int *id,
-                           pgp_area *area, pgp_error *err)
-{
-    pgp__constraint c;
-    pw_err pe;
-    pw_err_clear(&pe);
-    if (area) memset(area, 0, sizeof *area);
-    if (!map || !value) {
-        pw_fail(&pe, PW_ERR_INVALID, "NULL map or value");
-        return pgp__done(&pe, err);
-    }
-    memset(&c, 0, sizeof c);
-    c.kind = kind, c.index = index, c.alive = 1, c.radius = radius;
-    memcpy(c.value, value, sizeof(float) * (kind == PGP__ORIENT ? 3 : 1));
-    if (pgp__check_constraint(map, &c, &pe) == PW_OK &&
-        pw_grow(&map->a, (void **)&map->con, &map->concap, (size_t)map->ncon + 1, sizeof c, "constraints", &pe) == PW_OK) {
-        map->con[map->ncon++] = c;
-        if (pgp__edit_constraint(map, &c, area, &pe) != PW_OK) map->con[--map->ncon].alive = 0;
-        else if (id) *id = map->ncon - 1;
-    }
-    return pgp__done(&pe, err);
-}
-
-PGPDEF pgp_result pgp_add_orientation(pgp_map *map, int face, const float dir[3], float radius, int *id,
-                                      pgp_area *area, pgp_error *err)
-{
-    return pgp__add(map, PGP__ORIENT, face, dir, radius, id, area, err);
-}
-
-PGPDEF pgp_result pgp_add_scale(pgp_map *map, int vertex, float scale, float radius, int *id, pgp_area *area,
-                                pgp_error *err)
-{
-    return pgp__add(map, PGP__SCALE, vertex, &scale, radius, id, area, err);
-}
-
-PGPDEF pgp_result pgp_add_material(pgp_map *map, int vertex, float m, float radius, int *id, pgp_area *area,
-                                   pgp_error *err)
-{
-    return pgp__add(map, PGP__MATERIAL, vertex, &m, radius, id, area, err);
-}
-
-/* The live constraint `id`, or an error. */
-static pgp__constraint *pgp__find(pgp_map *map, int id, pw_err *e)
-{
-    if (!map) return pw_fail(e, PW_ERR_INVALID, "NULL map"), (pgp__constraint *)NULL;
-    if (id < 0 || id >= map->ncon || !map->con[id].alive) {
-        pw_fail(e, PW_ERR_INVALID, "there is no constraint %d", id);
-        return NULL;
-    }
-    return &map->con[id];
-}
-
-PGPDEF pgp_result pgp_edit_constraint(pgp_map *map, int id, const float value[3], pgp_area *area, pgp_error *err)
-{
-    pgp__constraint *c, old;
-    pw_err pe;
-    pw_err_clear(&pe);
-    if (area) memset(area, 0, sizeof *area);
-    if ((c = pgp__find(map, id, &pe)) != NULL && !value) pw_fail(&pe, PW_ERR_INVALID, "NULL value");
-    if (pe.code == PW_OK) {
-        old = *c;
-        memcpy(c->value, value, sizeof(float) * (c->kind == PGP__ORIENT ? 3 : 1));
-        if (pgp__check_constraint(map, c, &pe) != PW_OK || pgp__edit_constraint(map, c, area, &pe) != PW_OK)
-            *c = old;
-    }
-    return pgp__done(&pe, err);
-}
-
-PGPDEF pgp_result pgp_remove_constraint(pgp_map *map, int id, pgp_area *area, pgp_error *err)
-{
-    pgp__constraint *c;
-    pw_err pe;
-    pw_err_clear(&pe);
-    if (area) memset(area, 0, sizeof *area);
-    if ((c = pgp__find(map, id, &pe)) != NULL) {
-        c->alive = 0;
-        if (pgp__edit_constraint(map, c, area, &pe) != PW_OK) c->alive = 1;
-    }
-    return pgp__done(&pe, err);
-}
-
 /* ---- creation -------------------------------------------------------------------------- */
 
-PGPDEF void pgp_destroy(pgp_map *P)
+static void pgp__state_free(pgp__state *P)
 {
     pw_alloc a;
     if (!P) return;
@@ -565,6 +451,13 @@ PGPDEF void pgp_destroy(pgp_map *P)
     pw_free(&a, P->forder);
     pw_free(&a, P->con);
     pw_free(&a, P);
+}
+
+PGPDEF void pgp_map_free(pgp_map *map)
+{
+    if (!map) return;
+    pgp__state_free(map->state);
+    memset(map, 0, sizeof *map);
 }
 
 static int pgp__check_options(const pgp_options *o, pw_err *e)
@@ -595,7 +488,7 @@ static int pgp__check_options(const pgp_options *o, pw_err *e)
  * incomplete-Cholesky elimination: on a subdivided mesh, whose new vertices
  * the file lists far from their neighbours, the solves take 40% less time.
  * vsing (all zero here) marks what has been placed. */
-static void pgp__bfs_order(pgp_map *P)
+static void pgp__bfs_order(pgp__state *P)
 {
     int nf = P->m.nf, nv = P->m.nv, head = 0, tail = 0, nvo = 0, s, k;
     unsigned char *fdone = P->vsing + nv, *vdone = P->vsing;
@@ -617,7 +510,7 @@ static void pgp__bfs_order(pgp_map *P)
 }
 
 /* Copies the mesh, builds the triangle mesh and allocates every array. */
-static int pgp__setup(pgp_map *P, const pgp_mesh *in, pw_err *e)
+static int pgp__setup(pgp__state *P, const pgp_mesh *in, pw_err *e)
 {
     size_t nf, nv;
     pw_mesh v;
@@ -666,7 +559,7 @@ static int pgp__setup(pgp_map *P, const pgp_mesh *in, pw_err *e)
  * cancels the Gaussian curvature, which a rotation alone cannot (on CGAL's
  * meshes rotation alone removes no vortex). Unknowns: u_i at 2 i, theta_i
  * at 2 i + 1. */
-static int pgp__curl_rows(const pgp_map *P, int f, pw_triplets *t, double *b, pw_err *e)
+static int pgp__curl_rows(const pgp__state *P, int f, pw_triplets *t, double *b, pw_err *e)
 {
     double al[2][3], row[6], c, w = 1.0 / ((double)P->m.area[f] + 1e-300);
     int k, a, i, j, col[6], r = PW_OK;
@@ -693,7 +586,7 @@ static int pgp__curl_rows(const pgp_map *P, int f, pw_triplets *t, double *b, pw
  * integrate curl^2 ~ |grad theta|^2 / S^2, so u and theta vary over about
  * sqrt(integrable) tiles) and 0.01 / S^2 of the cotangent Dirichlet energy
  * of u and theta. */
-static int pgp__curl_reg(const pgp_map *P, pw_triplets *t, pw_err *e)
+static int pgp__curl_reg(const pgp__state *P, pw_triplets *t, pw_err *e)
 {
     double S2 = (double)P->scale0 * P->scale0, lam = 1.0 / ((double)P->o.integrable * S2 * S2), w;
     int h, k, i, j, r = PW_OK;
@@ -716,7 +609,7 @@ static int pgp__curl_reg(const pgp_map *P, pw_triplets *t, pw_err *e)
 /* Applies the correction x (u, theta per vertex): the factor of every S_i
  * (u less its area-weighted mean, the factor kept in [1/2, 2]) and the rotation of the default field of every
  * triangle by the mean theta of its corners. */
-static void pgp__curl_apply(pgp_map *P, const double *x)
+static void pgp__curl_apply(pgp__state *P, const double *x)
 {
     double mean = 0.0, area = 0.0;
     int v, f, h;
@@ -742,7 +635,7 @@ static void pgp__curl_apply(pgp_map *P, const double *x)
  * curl, and each whole turn of it is a vortex; the trade is documented in
  * docs/pgp.md). */
 #define PGP__CURL_STEPS 3
-static int pgp__integrable(pgp_map *P, pw_err *e)
+static int pgp__integrable(pgp__state *P, pw_err *e)
 {
     size_t n = 2 * (size_t)P->m.nv;
     double *b = (double *)pw_alloc_array(&P->a, 2 * n, sizeof(double), "integrability", e), *x = b + n;
@@ -764,7 +657,7 @@ static int pgp__integrable(pgp_map *P, pw_err *e)
 }
 
 /* Mean edge length of the triangle mesh. */
-static double pgp__mean_edge(const pgp_map *P)
+static double pgp__mean_edge(const pgp__state *P)
 {
     double sum = 0.0;
     int h, n = 0;
@@ -782,7 +675,7 @@ static double pgp__mean_edge(const pgp_map *P)
  * period spans less than two triangles and Eq. 4 cannot recover it). Only
  * a side the caller gave is refused: the default (diag / 10) is kept on
  * meshes of a few triangles, where it is all one can do. */
-static int pgp__check_scale(const pgp_map *P, pw_err *e)
+static int pgp__check_scale(const pgp__state *P, pw_err *e)
 {
     double lo = 2.0 * pgp__mean_edge(P), hi = 10.0 * P->m.diag;
     if (P->o.scale > 0.0f && (P->scale0 > hi || P->scale0 < lo))
@@ -791,32 +684,32 @@ static int pgp__check_scale(const pgp_map *P, pw_err *e)
     return PW_OK;
 }
 
-PGPDEF pgp_result pgp_create(const pgp_mesh *mesh, const pgp_options *opt, pgp_map **out, pgp_error *err)
+/* The map of a mesh without constraints (pgp_create, edit.c, adds them):
+ * the default field, scale and material and the initial parameterization. */
+static int pgp__create_map(const pgp_mesh *mesh, const pgp_options *opt, pgp_map *out, pw_err *e)
 {
     pgp_options o = pgp__options(opt);
     pw_alloc a = pgp__alloc(&o.allocator);
-    pgp_map *P = NULL;
-    pw_err pe;
+    pgp__state *P;
     int v;
-    pw_err_clear(&pe);
-    if (out) *out = NULL;
-    if (!out) pw_fail(&pe, PW_ERR_INVALID, "pgp_create: NULL output");
-    else if (pgp__check_options(&o, &pe) == PW_OK &&
-             (P = (pgp_map *)pw_calloc_array(&a, 1, sizeof *P, "mapping", &pe)) != NULL) {
-        P->a = a;
-        P->o = o;
-        if (pgp__setup(P, mesh, &pe) == PW_OK) {
-            P->scale0 = o.scale > 0.0f ? o.scale : 0.1f * P->m.diag;
-            for (v = 0; v < P->m.nv; v++) P->scale[v] = P->scale0, P->sfac[v] = 1.0f, P->mat[v] = o.material;
-            for (v = 0; v < P->m.nv; v++) P->zs[2 * v] = P->zt[2 * v] = 1.0, P->zs[2 * v + 1] = P->zt[2 * v + 1] = 0.0;
-            if (pgp__check_scale(P, &pe) == PW_OK && pgp__base_field(P, &pe) == PW_OK &&
-                (!(o.integrable > 0.0f) || pgp__integrable(P, &pe) == PW_OK) &&
-                pgp__edit(P, PGP__ORIENT, NULL, 0, 0.0f, NULL, &pe) == PW_OK)
-                *out = P;
-        }
-        if (!*out) pgp_destroy(P);
-    }
-    return pgp__done(&pe, err);
+    if (pgp__check_options(&o, e) != PW_OK ||
+        (P = (pgp__state *)pw_calloc_array(&a, 1, sizeof *P, "mapping", e)) == NULL)
+        return e->code;
+    P->a = a;
+    P->o = o;
+    out->state = P;
+    out->allocator = pgp__allocator(&a);
+    if (pgp__setup(P, mesh, e) != PW_OK) return e->code;
+    P->scale0 = o.scale > 0.0f ? o.scale : 0.1f * P->m.diag;
+    for (v = 0; v < P->m.nv; v++) P->scale[v] = P->scale0, P->sfac[v] = 1.0f, P->mat[v] = o.material;
+    for (v = 0; v < P->m.nv; v++) P->zs[2 * v] = P->zt[2 * v] = 1.0, P->zs[2 * v + 1] = P->zt[2 * v + 1] = 0.0;
+    if (pgp__check_scale(P, e) != PW_OK || pgp__base_field(P, e) != PW_OK ||
+        (o.integrable > 0.0f && pgp__integrable(P, e) != PW_OK) ||
+        pgp__edit(P, PGP_CONSTRAINT_ORIENT, NULL, 0, 0.0f, NULL, e) != PW_OK)
+        return e->code;
+    out->nverts = P->m.nv, out->ntris = P->m.nf;
+    out->tris = P->m.tri, out->coords = P->stm;
+    return PW_OK;
 }
 
 /* ---- what happened (issue 17) ------------------------------------------------------------ */
@@ -825,7 +718,7 @@ PGPDEF pgp_result pgp_create(const pgp_mesh *mesh, const pgp_options *opt, pgp_m
  * J = S (grad s; grad t) in the triangle's frame outside [1/1.3, 1.3], S
  * the side the user asked for (without the integrability factor), the
  * angle between grad s and grad t more than 20 degrees off 90. */
-static int pgp__distortion(const pgp_map *P, int f)
+static int pgp__distortion(const pgp__state *P, int f)
 {
     const float *o = P->stm + 9 * f, *sc = P->scale;
     const int *tr3 = P->m.tri + 3 * f;
@@ -841,30 +734,26 @@ static int pgp__distortion(const pgp_map *P, int f)
     return (s1 > 1.3 || s2 < 1.0 / 1.3) + 2 * (fabs(cs) > 0.3420201433); /* sin 20 deg */
 }
 
-PGPDEF void pgp_get_stats(const pgp_map *map, pgp_stats *out)
+PGPDEF void pgp_map_stats(const pgp_map *map, pgp_stats *out)
 {
+    const pgp__state *P = pgp__state_of(map);
     double total = 0.0, st = 0.0, sh = 0.0;
     int f, d;
     if (!out) return;
     memset(out, 0, sizeof *out);
-    if (!map) return;
-    for (f = 0; f < map->m.nf; f++) {
-        d = pgp__distortion(map, f);
-        total += map->m.area[f];
-        st += (d & 1) ? map->m.area[f] : 0.0;
-        sh += (d & 2) ? map->m.area[f] : 0.0;
+    if (!P) return;
+    for (f = 0; f < P->m.nf; f++) {
+        d = pgp__distortion(P, f);
+        total += P->m.area[f];
+        st += (d & 1) ? P->m.area[f] : 0.0;
+        sh += (d & 2) ? P->m.area[f] : 0.0;
     }
-    out->triangles = map->m.nf;
-    out->vortices = pgp_get_vortices(map, NULL);
-    out->singular = map->nsing;
+    out->triangles = P->m.nf;
+    out->vortices = pgp_map_vortices(map, NULL);
+    out->singular = P->nsing;
     out->stretched = total > 0.0 ? (float)(st / total) : 0.0f;
     out->sheared = total > 0.0 ? (float)(sh / total) : 0.0f;
-    out->mean_edge = (float)pgp__mean_edge(map);
-    out->diagonal = map->m.diag;
-    out->scale = map->scale0;
-}
-
-PGPDEF void pgp_get_triangles(const pgp_map *map, int *tris)
-{
-    if (map && tris) memcpy(tris, map->m.tri, sizeof(int) * 3 * (size_t)map->m.nf);
+    out->mean_edge = (float)pgp__mean_edge(P);
+    out->diagonal = P->m.diag;
+    out->scale = P->scale0;
 }

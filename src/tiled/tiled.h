@@ -36,6 +36,9 @@
  *   PW_ASSERT(x)           replace assert() (programmer errors only; bad
  *                          input never asserts)
  *   PW_NO_STDIO            drop the FILE* convenience functions
+ *   PW_THREADS             render on several threads (POSIX threads; link with
+ *                          -pthread): tiled_render_options.threads, 0 = one
+ *                          per processor; the picture is the same for any count
  *   PW_MAX_IMAGE_DIM, PW_MAX_IMAGE_PIXELS, PW_MAX_MESH_ELEMENTS,
  *   PW_MAX_FACE_DEGREE     size limits checked on input (see base module)
  *
@@ -51,7 +54,7 @@
  *           tiled_map(&mesh, &tiles.layout, &opt, &quads, &err) ||
  *           tiled_save_image("tiles.png", &tiles.atlas, &err) ||
  *           tiled_save_obj("cube_tiled.obj", &quads, "tiles.png", &err) ||
- *           tiled_render(&quads, &tiles, NULL, &picture, &err) ||
+ *           tiled_render(&quads, &tiles, &opt.render, &picture, &err) ||
  *           tiled_save_image("cube.png", &picture, &err))
  *           fprintf(stderr, "%s\n", err.message);
  *       (then free everything with tiled_mesh_free, tiled_image_free,
@@ -96,10 +99,10 @@
 #ifndef TILED_H
 #define TILED_H
 
-#define TILED_VERSION_MAJOR 1
-#define TILED_VERSION_MINOR 0
+#define TILED_VERSION_MAJOR 0
+#define TILED_VERSION_MINOR 9
 #define TILED_VERSION_PATCH 0
-#define TILED_VERSION_STRING "1.0.0"
+#define TILED_VERSION_STRING "0.9.0"
 
 #include <stddef.h>
 
@@ -152,8 +155,15 @@ typedef struct tiled_allocator {
 /* Progress callback: `done` in [0,1]; return non-zero to cancel. */
 typedef int (*tiled_progress_fn)(void *user, float done, const char *stage);
 
-/* Output sink for the *_to_func writers: return 0 on success. */
+/* Output sink for the tiled_write_* functions: return 0 on success. */
 typedef int (*tiled_write_fn)(void *ctx, const void *data, size_t size);
+
+/* Work split across threads (rendering: bands of the frame). A parallel
+ * for, for embedders with their own job system: run task(ctx, i) once for
+ * every i in [0, n), on any threads, in any order, and return when all
+ * have run. Results never depend on the order or the thread count. */
+typedef void (*tiled_task_fn)(void *ctx, int index);
+typedef void (*tiled_parallel_fn)(void *pool, int n, tiled_task_fn task, void *ctx);
 
 /* An image: width*height pixels of `channels` floats in [0,1] (1 gray,
  * 2 gray+alpha, 3 RGB, 4 RGBA), row 0 at the top. */
@@ -193,6 +203,29 @@ typedef struct tiled_layout {
                         TILED_NO_GUARD: none, the thesis's exact layout */
 } tiled_layout;
 
+/* Texture filtering of tiled_render. */
+typedef enum tiled_filter {
+    TILED_FILTER_TRILINEAR = 0, /* mipmapped, levels capped at max_mip_level (default) */
+    TILED_FILTER_BILINEAR = 1,  /* level 0 only */
+    TILED_FILTER_NEAREST = 2    /* level 0, nearest texel */
+} tiled_filter;
+
+/* Render settings. Zero-initialised means defaults. */
+typedef struct tiled_render_options {
+    int width, height;  /* default 800 x 600 */
+    int supersample;    /* samples per pixel along each axis; default 2 */
+    float view_dir[3];  /* direction the camera looks along; default (-0.55,-0.45,-0.7) */
+    float up[3];        /* world direction shown upwards; default (0,1,0) */
+    float background[3];/* default (1,1,1) */
+    tiled_filter filter;/* default TILED_FILTER_TRILINEAR */
+    int threads;             /* rendering threads: 0 (default) one per processor when the
+                                implementation is built with PW_THREADS (POSIX threads;
+                                link with -pthread), else 1; n: at most n. With more
+                                than one, the allocator is called from several threads */
+    tiled_parallel_fn parallel; /* optional: the caller's parallel for, used instead of threads */
+    void *parallel_pool;     /* its first argument */
+} tiled_render_options;
+
 /* Options. Zero-initialised means defaults; tiled_default_options() returns
  * them filled in. */
 typedef struct tiled_options {
@@ -209,6 +242,7 @@ typedef struct tiled_options {
     int fixed_start;         /* 1: always start the tile walk at a face's first
                                 corner instead of a random one (thesis's
                                 "further randomness" off); default 0 */
+    tiled_render_options render; /* tiled_render's settings (pass &opt.render) */
     tiled_allocator allocator;
     tiled_progress_fn progress; /* may be NULL */
     void *progress_user;
@@ -242,15 +276,6 @@ typedef struct tiled_validation {
     tiled_side_mismatch bad[TILED_MAX_MISMATCHES]; /* the first ones, worst first */
 } tiled_validation;
 
-/* Render settings. Zero-initialised means defaults. */
-typedef struct tiled_render_options {
-    int width, height;  /* default 800 x 600 */
-    int supersample;    /* samples per pixel along each axis; default 2 */
-    float view_dir[3];  /* direction the camera looks along; default (-0.55,-0.45,-0.7) */
-    float up[3];        /* world direction shown upwards; default (0,1,0) */
-    float background[3];/* default (1,1,1) */
-    int filter;         /* 0 trilinear (default), 1 bilinear, 2 nearest */
-} tiled_render_options;
 
 /* Defaults and messages. */
 TILEDDEF tiled_options tiled_default_options(void);
@@ -319,19 +344,19 @@ TILEDDEF tiled_result tiled_builtin_exemplar(const char *name, int size, const t
 /* Files ------------------------------------------------------------------ */
 
 /* Meshes: OBJ, OFF (COFF/NOFF...), PLY (ASCII and binary), by content. */
-TILEDDEF tiled_result tiled_load_mesh_from_memory(const void *data, size_t size, const char *name,
-                                                  const tiled_options *opt, tiled_mesh *out,
-                                                  tiled_error *err);
+TILEDDEF tiled_result tiled_read_mesh(const void *data, size_t size, const char *name,
+                                      const tiled_options *opt, tiled_mesh *out,
+                                      tiled_error *err);
 /* Images: PPM, PGM, PAM (8/16 bit), PNG, GIMP .pat, by content. */
-TILEDDEF tiled_result tiled_load_image_from_memory(const void *data, size_t size, const char *name,
-                                                   const tiled_options *opt, tiled_image *out,
-                                                   tiled_error *err);
+TILEDDEF tiled_result tiled_read_image(const void *data, size_t size, const char *name,
+                                       const tiled_options *opt, tiled_image *out,
+                                       tiled_error *err);
 /* format: "png", "ppm", "pgm", "pam" (ppm/pgm pick by channel count). */
-TILEDDEF tiled_result tiled_write_image_to_func(const tiled_image *img, const char *format,
-                                                tiled_write_fn fn, void *ctx, tiled_error *err);
+TILEDDEF tiled_result tiled_write_image(const tiled_image *img, const char *format,
+                                        tiled_write_fn fn, void *ctx, tiled_error *err);
 /* OBJ with per-corner vt; mtllib/usemtl lines when mtl_name is not NULL. */
-TILEDDEF tiled_result tiled_write_obj_to_func(const tiled_mesh *m, const char *mtl_name,
-                                              tiled_write_fn fn, void *ctx, tiled_error *err);
+TILEDDEF tiled_result tiled_write_obj(const tiled_mesh *m, const char *mtl_name,
+                                      tiled_write_fn fn, void *ctx, tiled_error *err);
 /* Binary glTF 2.0 (.glb, one self-contained file): the mesh with its
  * per-corner coordinates and, when texture is not NULL, the tiled texture
  * as its base colour (PNG inside), sampled LINEAR / LINEAR_MIPMAP_LINEAR
@@ -340,12 +365,12 @@ TILEDDEF tiled_result tiled_write_obj_to_func(const tiled_mesh *m, const char *m
  * normals are the mesh's smooth vertex normals. With view (not NULL), the
  * file also holds the camera tiled_render frames with those options, so
  * that a viewer opens it as tiled_render draws it. See src/common/gltf.h. */
-TILEDDEF tiled_result tiled_write_gltf_to_func(const tiled_mesh *m, const tiled_image *texture,
-                                               const tiled_render_options *view, tiled_write_fn fn, void *ctx,
-                                               tiled_error *err);
+TILEDDEF tiled_result tiled_write_gltf(const tiled_mesh *m, const tiled_image *texture,
+                                       const tiled_render_options *view, tiled_write_fn fn, void *ctx,
+                                       tiled_error *err);
 /* An MTL file with one material "tiled" whose map_Kd is texture_name. */
-TILEDDEF tiled_result tiled_write_mtl_to_func(const char *texture_name, tiled_write_fn fn,
-                                              void *ctx, tiled_error *err);
+TILEDDEF tiled_result tiled_write_mtl(const char *texture_name, tiled_write_fn fn,
+                                      void *ctx, tiled_error *err);
 #ifndef PW_NO_STDIO
 TILEDDEF tiled_result tiled_load_mesh(const char *path, const tiled_options *opt, tiled_mesh *out,
                                       tiled_error *err);
@@ -357,7 +382,7 @@ TILEDDEF tiled_result tiled_save_image(const char *path, const tiled_image *img,
  * (obj_path with .mtl) whose map_Kd names texture_path. */
 TILEDDEF tiled_result tiled_save_obj(const char *obj_path, const tiled_mesh *m,
                                      const char *texture_path, tiled_error *err);
-/* tiled_write_gltf_to_func into the file path (.glb). */
+/* tiled_write_gltf into the file path (.glb). */
 TILEDDEF tiled_result tiled_save_gltf(const char *path, const tiled_mesh *m, const tiled_image *texture,
                                       const tiled_render_options *view, tiled_error *err);
 #endif

@@ -200,7 +200,8 @@ field_run() {
     pass "$name"
 }
 
-printf '# face dx dy dz [scale [radius [weight]]]\n0 1 0 0\n700 0 0 1 0.6 1.5 2\n\n2000 0 1 0 0.9\n' > "$tmp/cons.txt"
+printf '# orient face dx dy dz [scale [radius [weight]]]\norient 0 1 0 0\norient 700 0 0 1 0.6 1.5 2\n\norient 2000 0 1 0 0.9\n' > "$tmp/cons.txt"
+printf '# face dx dy dz [scale [radius [weight]]]\n0 1 0 0\n700 0 0 1 0.6 1.5 2\n\n2000 0 1 0 0.9\n' > "$tmp/old_cons.txt"
 field_run field_default procedural:sphere --scale 0.8
 field_run field_up procedural:sphere --scale 0.8 --field up
 field_run field_up_x procedural:sphere --scale 0.8 --field up:1,0,0
@@ -225,6 +226,17 @@ differs field_equals_form field_up_x field_equals same
 differs field_up_matters field_up field_up_x
 differs field_lscm_matters field_isotropic field_lscm
 differs field_constraints_matter field_up field_constraints
+
+# the old positional constraint lines: the same field, and one warning naming the first such line
+"$bin" lapped --mesh procedural:sphere $dots --size 64x48 --scale 0.8 --field "constraints:$tmp/old_cons.txt" \
+    --out-pastes "$tmp/field_constraints_old.pastes" > "$tmp/old.log" 2> "$tmp/old.err"
+status=$?
+if [ $status -ne 0 ]; then fail field_constraints_positional "exit status $status: $(head -2 "$tmp/old.err" | tr '\n' '|')"
+elif [ "$(wc -l < "$tmp/old.err")" -ne 1 ] ||
+    ! grep -q "^patchwork lapped: warning: $tmp/old_cons.txt: line 2: positional constraint lines are deprecated; write 'orient F dx dy dz \.\.\.'\$" "$tmp/old.err"; then
+    fail field_constraints_positional "stderr: $(cat "$tmp/old.err")"
+else pass field_constraints_positional; fi
+differs field_constraints_positional_same field_constraints field_constraints_old same
 
 # ---- alpha modes -----------------------------------------------------------------
 
@@ -310,21 +322,24 @@ expect_error field_up_nan "up vector" $mesh $dots --field up:nan,0,0 $out
 expect_error field_constraints_no_file "--field" $mesh $dots --field constraints: $out
 expect_error field_no_value "needs a value" $mesh $dots $out --field
 
-printf '0 1 0\n' > "$tmp/short_cons.txt"
+printf 'orient 0 1 0\n' > "$tmp/short_cons.txt"
 expect_error constraints_short "short_cons.txt:1" $mesh $dots --field "constraints:$tmp/short_cons.txt" $out
-printf '0 1 0 0\n1 0 x 0\n' > "$tmp/bad_cons.txt"
+printf 'orient 0 1 0 0\norient 1 0 x 0\n' > "$tmp/bad_cons.txt"
 expect_error constraints_syntax "bad_cons.txt:2" $mesh $dots --field "constraints:$tmp/bad_cons.txt" $out
-printf '0 nan 0 0\n' > "$tmp/nan_cons.txt"
+printf 'orient 0 nan 0 0\n' > "$tmp/nan_cons.txt"
 expect_error constraints_nan "non-finite" $mesh $dots --field "constraints:$tmp/nan_cons.txt" $out
-printf '0 0 0 0\n' > "$tmp/zero_cons.txt"
+printf 'orient 0 0 0 0\n' > "$tmp/zero_cons.txt"
 expect_error constraints_zero_direction "direction" $mesh $dots --field "constraints:$tmp/zero_cons.txt" $out
-printf '0 1 0 0 -1\n' > "$tmp/neg_cons.txt"
+printf 'orient 0 1 0 0 -1\n' > "$tmp/neg_cons.txt"
 expect_error constraints_negative_scale "scale" $mesh $dots --field "constraints:$tmp/neg_cons.txt" $out
 printf '# nothing\n' > "$tmp/empty_cons.txt"
 expect_error constraints_empty "no constraints" $mesh $dots --field "constraints:$tmp/empty_cons.txt" $out
-printf '0 1 0 0\n2880 0 1 0\n' > "$tmp/range_cons.txt" # the sphere has 2880 triangles
+printf 'orient 0 1 0 0\norient 2880 0 1 0\n' > "$tmp/range_cons.txt" # the sphere has 2880 triangles
 expect_error constraints_range "out of range" $mesh $dots --field "constraints:$tmp/range_cons.txt" $out $atlas
 expect_error constraints_missing "$tmp/nope.txt" $mesh $dots --field "constraints:$tmp/nope.txt" $out
+printf 'orient 0 1 0 0\nscale 3 0.5\n' > "$tmp/keyword_cons.txt"
+expect_error constraints_unknown_keyword "keyword_cons.txt:2: unknown keyword 'scale'" $mesh $dots \
+    --field "constraints:$tmp/keyword_cons.txt" $out
 
 # bad outputs are refused before any work (nothing written, nothing left)
 expect_error early_bad_extension "give an image (.png .ppm .pgm .pam)" $mesh $dots --scale 0.8 \

@@ -115,6 +115,12 @@ run show $small --show pastes --out-image $tmp/d7.png --size 64x48 && { cmp -s $
 printf 'fill 0 0\npoint 0 0 0 1\n' > $tmp/depth.txt
 printf 'dir 0 0 0 0 0 1\nscale 0 0 0 0.5\n' > $tmp/dirs.txt
 run files $small --type 2b --depth $tmp/depth.txt --directions $tmp/dirs.txt --out-lst $tmp/d8.lst && pass constraint_files
+cat $tmp/depth.txt $tmp/dirs.txt > $tmp/both.txt
+run one_file $small --type 2b --constraints $tmp/both.txt --out-lst $tmp/d9.lst &&
+if cmp -s $tmp/d8.lst $tmp/d9.lst; then pass constraints_one_file; else fail constraints_one_file "--constraints gives another model"; fi
+run surface $small --out-surface $tmp/s.obj &&
+if grep -q '^v ' $tmp/s.obj && [ "$(grep -c '^f [0-9]* [0-9]* [0-9]*$' $tmp/s.obj)" -gt 100 ]; then pass out_surface
+else fail out_surface "no vertices or triangles in $tmp/s.obj"; fi
 
 # ---- what the fill reports; self-intersecting surfaces ------------------------------
 
@@ -156,6 +162,7 @@ fi
 mkdir -p "$tmp/out"
 printf 'OFF\n4 2 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 1 2\n3 0 3 1\n' > $tmp/open.off
 printf 'face 0 0\nfill x 1\n' > $tmp/baddepth.txt
+printf 'stroke 1 0 0 0 0 0 1\n' > $tmp/oldstroke.txt
 printf 'NRRD0004\ntype: float\n' > $tmp/bad.nrrd
 expect_error no_input "required" --exemplar procedural:spots --out-lst $tmp/out/x.lst
 expect_error no_output "nothing to write" $small
@@ -170,6 +177,8 @@ expect_error unknown_surface "unknown built-in surface" --mesh procedural:cube -
 expect_error unknown_exemplar "unknown built-in exemplar" $small --exemplar procedural:marble --out-lst $tmp/out/x.lst
 expect_error bad_nrrd "bad.nrrd" --mesh procedural:sphere --tet-count 800 --exemplar $tmp/bad.nrrd --out-lst $tmp/out/x.lst
 expect_error bad_depth "baddepth.txt:2" $small --type 1b --depth $tmp/baddepth.txt --out-lst $tmp/out/x.lst
+expect_error old_stroke "oldstroke.txt:1: 'stroke' is ambiguous: write 'depth-stroke" $small --type 1b --constraints $tmp/oldstroke.txt --out-lst $tmp/out/x.lst
+expect_error out_surface_extension "--out-surface" $small --out-surface $tmp/out/x.off
 expect_error tets_extension "--tets" --tets $tmp/x.off --exemplar procedural:spots --out-lst $tmp/out/x.lst
 expect_error out_tets_extension "--out-tets" $small --out-tets $tmp/out/x.vtk
 expect_error paste_outside "outside the model" $small --paste "5 0 0 1 0 0 0 1 0 0.5" --out-lst $tmp/out/x.lst

@@ -1,0 +1,309 @@
+/* Rendering band by band on threads (issues 20, 21), through each header's
+ * public API: every method's picture is the same, bit for bit, on 1, 2 and
+ * 3 threads and through a caller's parallel-for that runs the bands in
+ * reverse; and what rendering allocates per pixel of the picture, measured
+ * with a counting allocator as the growth between two picture sizes, stays
+ * within 48 bytes at the default 2 x 2 samples (the bands under way hold a
+ * quarter of the frame's samples of 24 bytes, 24 bytes per pixel; the RGB
+ * picture 12). */
+#define PW_THREADS
+#define PATCHWORK_IMPLEMENTATION
+#include "../tiled.h"
+#include "../lapped.h"
+#include "../pgp.h"
+#include "../lst.h"
+#include <pthread.h>
+#include "pwtest.h"
+
+/* ---- a counting, thread-safe allocator: live bytes and their peak ---- */
+
+typedef struct counter {
+    pthread_mutex_t lock;
+    size_t bytes, peak;
+} counter;
+
+static counter C = {PTHREAD_MUTEX_INITIALIZER, 0, 0};
+
+static void *c_malloc(void *user, size_t n)
+{
+    counter *c = (counter *)user;
+    size_t *p = (size_t *)malloc(n + sizeof(size_t));
+    if (!p) return NULL;
+    *p = n;
+    pthread_mutex_lock(&c->lock);
+    c->bytes += n;
+    if (c->bytes > c->peak) c->peak = c->bytes;
+    pthread_mutex_unlock(&c->lock);
+    return p + 1;
+}
+
+static void c_free(void *user, void *ptr)
+{
+    counter *c = (counter *)user;
+    if (!ptr) return;
+    pthread_mutex_lock(&c->lock);
+    c->bytes -= ((size_t *)ptr)[-1];
+    pthread_mutex_unlock(&c->lock);
+    free((size_t *)ptr - 1);
+}
+
+static void *c_realloc(void *user, void *ptr, size_t n)
+{
+    void *q = c_malloc(user, n);
+    if (q && ptr) {
+        size_t old = ((size_t *)ptr)[-1];
+        memcpy(q, ptr, old < n ? old : n);
+        c_free(user, ptr);
+    }
+    return q;
+}
+
+#define SET_ALLOC(al) ((al).malloc_fn = c_malloc, (al).realloc_fn = c_realloc, (al).free_fn = c_free, (al).user = &C)
+
+/* The peak of live bytes from now on, over what is live now. */
+static size_t peak_start(void)
+{
+    size_t now;
+    pthread_mutex_lock(&C.lock);
+    C.peak = now = C.bytes;
+    pthread_mutex_unlock(&C.lock);
+    return now;
+}
+
+static size_t peak_since(size_t base) { return C.peak - base; }
+
+/* ---- the parallel-for of an embedder: the bands in reverse ---- */
+
+static int reverse_calls;
+
+static void reverse_for(void *pool, int n, void (*task)(void *ctx, int i), void *ctx)
+{
+    int i;
+    (void)pool;
+    reverse_calls++;
+    for (i = n - 1; i >= 0; i--) task(ctx, i);
+}
+
+/* ---- one method: its render under each way of running, compared ---- */
+
+/* A render of the scene at w x h on `threads` threads (0: the reverse
+ * parallel-for) into a fresh image; 0 on success. */
+typedef int (*render_fn)(void *scene, int w, int h, int threads, float **px, size_t *bytes);
+
+static void check_method(const char *name, render_fn render, void *scene)
+{
+    float *ref = NULL, *px = NULL;
+    size_t bytes, n = (size_t)160 * 120 * 3, small, large;
+    int threads, calls = reverse_calls;
+    double slope;
+    REQUIRE(render(scene, 160, 120, 1, &ref, &bytes) == 0);
+    for (threads = 2; threads <= 4; threads++) {
+        REQUIRE(render(scene, 160, 120, threads == 4 ? 0 : threads, &px, &bytes) == 0);
+        CHECKF(memcmp(px, ref, n * sizeof(float)) == 0, "%s: the picture %s differs from one thread's", name,
+               threads == 4 ? "through a reversed parallel-for" : threads == 2 ? "on 2 threads" : "on 3 threads");
+        free(px);
+    }
+    CHECKF(reverse_calls > calls, "%s: the caller's parallel-for was not used", name);
+    free(ref);
+    for (threads = 1; threads <= 2; threads++) {
+        REQUIRE(render(scene, 400, 300, threads, &px, &small) == 0);
+        free(px);
+        REQUIRE(render(scene, 800, 600, threads, &px, &large) == 0);
+        free(px);
+        slope = ((double)large - (double)small) / (800.0 * 600.0 - 400.0 * 300.0);
+        pwt_info("%s, %d thread%s: %.1f bytes per pixel at 2x2 samples (peak %.1f MB at 800x600)", name, threads,
+                 threads > 1 ? "s" : "", slope, large / 1048576.0);
+        CHECKF(slope <= 48.0, "%s: %.1f bytes per pixel", name, slope);
+    }
+}
+
+/* The peak bytes of one render and a copy of its pixels (malloc). */
+#define KEEP_PIXELS(img, w, h, px)                                                          \
+    do {                                                                                    \
+        *(px) = (float *)malloc(sizeof(float) * 3 * (size_t)(w) * (size_t)(h));             \
+        if (*(px)) memcpy(*(px), (img).pixels, sizeof(float) * 3 * (size_t)(w) * (size_t)(h)); \
+    } while (0)
+
+/* ---- tiled ---- */
+
+typedef struct tiled_scene {
+    tiled_mesh quads;
+    tiled_tileset tiles;
+} tiled_scene;
+
+static int tiled_draw(void *scene, int w, int h, int threads, float **px, size_t *bytes)
+{
+    tiled_scene *S = (tiled_scene *)scene;
+    tiled_render_options ro = tiled_default_options().render;
+    tiled_image out;
+    size_t base = peak_start();
+    ro.width = w, ro.height = h, ro.threads = threads, ro.parallel = threads ? NULL : reverse_for;
+    if (tiled_render(&S->quads, &S->tiles, &ro, &out, NULL) != TILED_OK) return 1;
+    *bytes = peak_since(base);
+    KEEP_PIXELS(out, w, h, px);
+    tiled_image_free(&out);
+    return *px == NULL;
+}
+
+static void t_tiled(void)
+{
+    tiled_options opt = tiled_default_options();
+    tiled_mesh mesh;
+    tiled_image ex;
+    tiled_scene S;
+    SET_ALLOC(opt.allocator);
+    REQUIRE(tiled_builtin_mesh("torus", &opt, &mesh, NULL) == TILED_OK);
+    REQUIRE(tiled_builtin_exemplar("pebbles", 64, &opt, &ex, NULL) == TILED_OK);
+    REQUIRE(tiled_synthesize(&ex, &opt, &S.tiles, NULL) == TILED_OK);
+    REQUIRE(tiled_map(&mesh, &S.tiles.layout, &opt, &S.quads, NULL) == TILED_OK);
+    check_method("tiled", tiled_draw, &S);
+    tiled_mesh_free(&mesh);
+    tiled_mesh_free(&S.quads);
+    tiled_image_free(&ex);
+    tiled_tileset_free(&S.tiles);
+}
+
+/* ---- lapped ---- */
+
+typedef struct lapped_scene {
+    lapped_mesh mesh;
+    lapped_image patch;
+    lapped_texture lt;
+} lapped_scene;
+
+static int lapped_draw(void *scene, int w, int h, int threads, float **px, size_t *bytes)
+{
+    lapped_scene *S = (lapped_scene *)scene;
+    lapped_render_options ro = lapped_default_options().render;
+    lapped_source src;
+    lapped_image out;
+    size_t base = peak_start();
+    memset(&src, 0, sizeof src);
+    src.patches = &S->patch;
+    src.npatches = 1;
+    ro.width = w, ro.height = h, ro.threads = threads, ro.parallel = threads ? NULL : reverse_for;
+    if (lapped_render(&S->mesh, &S->lt, &src, &ro, &out, NULL) != LAPPED_OK) return 1;
+    *bytes = peak_since(base);
+    KEEP_PIXELS(out, w, h, px);
+    lapped_image_free(&out);
+    return *px == NULL;
+}
+
+static void t_lapped(void)
+{
+    lapped_options opt = lapped_default_options();
+    lapped_image ex;
+    lapped_source src;
+    lapped_scene S;
+    SET_ALLOC(opt.allocator);
+    REQUIRE(lapped_builtin_mesh("bumpy", &opt, &S.mesh, NULL) == LAPPED_OK);
+    REQUIRE(lapped_builtin_exemplar("scales", 64, &opt, &ex, NULL) == LAPPED_OK);
+    REQUIRE(lapped_make_patch(&ex, NULL, &opt, &S.patch, NULL) == LAPPED_OK);
+    memset(&src, 0, sizeof src);
+    src.patches = &S.patch;
+    src.npatches = 1;
+    opt.scale = 0.6f;
+    REQUIRE(lapped_create(&S.mesh, &src, &opt, &S.lt, NULL) == LAPPED_OK);
+    check_method("lapped", lapped_draw, &S);
+    lapped_texture_free(&S.lt);
+    lapped_image_free(&S.patch);
+    lapped_image_free(&ex);
+    lapped_mesh_free(&S.mesh);
+}
+
+/* ---- pgp ---- */
+
+typedef struct pgp_scene {
+    pgp_map map;
+    pgp_tile tile;
+} pgp_scene;
+
+static int pgp_draw(void *scene, int w, int h, int threads, float **px, size_t *bytes)
+{
+    pgp_scene *S = (pgp_scene *)scene;
+    pgp_render_options ro = pgp_default_options().render;
+    pgp_image out;
+    size_t base = peak_start();
+    ro.width = w, ro.height = h, ro.threads = threads, ro.parallel = threads ? NULL : reverse_for;
+    if (pgp_render(&S->map, &S->tile, &ro, &out, NULL) != PGP_OK) return 1;
+    *bytes = peak_since(base);
+    KEEP_PIXELS(out, w, h, px);
+    pgp_image_free(&out);
+    return *px == NULL;
+}
+
+static void t_pgp(void)
+{
+    pgp_options opt = pgp_default_options();
+    pgp_mesh mesh;
+    pgp_scene S;
+    SET_ALLOC(opt.allocator);
+    REQUIRE(pgp_builtin_mesh("torus", &opt, &mesh, NULL) == PGP_OK);
+    REQUIRE(pgp_builtin_tile("bricks", 64, &opt, &S.tile, NULL) == PGP_OK);
+    REQUIRE(pgp_create(&mesh, &opt, &S.map, NULL) == PGP_OK);
+    check_method("pgp", pgp_draw, &S);
+    pgp_map_free(&S.map);
+    pgp_tile_free(&S.tile);
+    pgp_mesh_free(&mesh);
+}
+
+/* ---- lst: the surface and the volume ---- */
+
+typedef struct lst_scene {
+    lst_model model;
+    int volume;
+} lst_scene;
+
+static int lst_draw(void *scene, int w, int h, int threads, float **px, size_t *bytes)
+{
+    lst_scene *S = (lst_scene *)scene;
+    lst_options opt = lst_default_options();
+    lst_image out;
+    size_t base = peak_start();
+    lst_result r;
+    opt.render.width = w, opt.render.height = h;
+    opt.render.threads = threads, opt.render.parallel = threads ? NULL : reverse_for;
+    opt.volume.slices = 24;
+    r = S->volume ? lst_render_volume(&S->model, &opt.render, &opt.volume, &out, NULL)
+                  : lst_render(&S->model, &opt.render, &out, NULL);
+    if (r != LST_OK) return 1;
+    *bytes = peak_since(base);
+    KEEP_PIXELS(out, w, h, px);
+    lst_image_free(&out);
+    return *px == NULL;
+}
+
+static void t_lst(void)
+{
+    lst_options opt = lst_default_options();
+    lst_mesh surface;
+    lst_tetmesh tets;
+    lst_volume ex;
+    lst_source src;
+    lst_scene S;
+    const float cut[4] = {0.3f, 0.2f, 1.0f, 0.1f};
+    SET_ALLOC(opt.allocator);
+    opt.tet.target_tets = 3000;
+    REQUIRE(lst_builtin_mesh("sphere", &opt, &surface, NULL) == LST_OK);
+    REQUIRE(lst_tetrahedralize(&surface, &opt, &tets, NULL, NULL) == LST_OK);
+    REQUIRE(lst_builtin_exemplar("spots", 32, &opt, &ex, NULL, NULL) == LST_OK);
+    src.exemplar = &ex, src.values = NULL;
+    REQUIRE(lst_create(&tets, &surface, &src, &opt, &S.model, NULL) == LST_OK);
+    REQUIRE(lst_cut_plane(&S.model, cut, NULL) == LST_OK); /* the cut faces are drawn too */
+    S.volume = 0;
+    check_method("lst", lst_draw, &S);
+    S.volume = 1;
+    check_method("lst volume", lst_draw, &S);
+    lst_model_free(&S.model);
+    lst_volume_free(&ex);
+    lst_tetmesh_free(&tets);
+    lst_mesh_free(&surface);
+}
+
+static const pwt_case cases[] = {
+    {"threads_tiled", t_tiled},
+    {"threads_lapped", t_lapped},
+    {"threads_pgp", t_pgp},
+    {"threads_lst", t_lst},
+};
+PWT_MAIN(cases)
