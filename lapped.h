@@ -15932,10 +15932,12 @@ static void lapped__tri_areas(const pw_trimesh *m, const float *fs, const float 
     *surf = (double)m->area[f] / s2;
 }
 
-/* Whether texture area tex is within [lo, hi] times surf, up to the slack. */
-static int lapped__area_ok(double tex, double surf, double lo, double hi)
+/* Whether texture area tex, summed over n triangles, is within [lo, hi]
+ * times their surf, up to the slack of each triangle: two degenerate
+ * triangles of one paste may each hold just under the slack. */
+static int lapped__area_ok(double tex, double surf, double lo, double hi, int n)
 {
-    return tex >= lo * surf - LAPPED__AREA_SLACK && tex <= hi * surf + LAPPED__AREA_SLACK;
+    return tex >= lo * surf - n * LAPPED__AREA_SLACK && tex <= hi * surf + n * LAPPED__AREA_SLACK;
 }
 
 /* For paste q (the tests and the fuzzer check the guarantee with it):
@@ -15952,7 +15954,7 @@ static PW__UNUSED void lapped__paste_areas(const pw_trimesh *m, const float *fs,
         lapped__tri_areas(m, fs, ft, q->faces[i], q->uvs + 6 * i, &ta, &sa);
         *tex += ta;
         *surf += sa;
-        if (lapped__area_ok(ta, sa, lo, hi)) *inside += sa;
+        if (lapped__area_ok(ta, sa, lo, hi, 1)) *inside += sa;
     }
 }
 
@@ -15978,7 +15980,7 @@ static int lapped__trim_out(lapped__paster *P, int f)
         uv[2 * k + 1] = p->vuv[2 * P->m.tri[3 * f + k] + 1];
     }
     lapped__tri_areas(&P->m, P->fs, P->ft, f, uv, &ta, &sa);
-    return !lapped__area_ok(ta, sa, 1.0 / d2, d2);
+    return !lapped__area_ok(ta, sa, 1.0 / d2, d2, 1);
 }
 
 static void lapped__trim(lapped__paster *P, int seed)

@@ -33,8 +33,8 @@
  *     reads back; made again from the same inputs it is bit-identical;
  *   - the area guarantee (docs/lapped.md): every paste's texture area is
  *     within [1/d^2, d^2] (d = max_distortion) of the surface it covers
- *     over S^2 (up to LAPPED__AREA_SLACK and 0.1% of rounding), degenerate
- *     triangles included;
+ *     over S^2 (up to LAPPED__AREA_SLACK per triangle and 0.1% of
+ *     rounding), degenerate triangles included;
  *   - renders and atlases have the requested sizes and finite pixels, atlas
  *     coordinates lie in [0, 1];
  *   - with the counting allocator, every block goes back to the allocator
@@ -246,7 +246,7 @@ static void fz_check_areas(const lapped_mesh *mesh, const lapped_texture *t, con
     for (p = 0; p < t->npastes; p++) {
         double tex, surf, inside;
         lapped__paste_areas(&m, f.s, f.t, &t->pastes[p], lo, hi, &tex, &surf, &inside);
-        FZ_CHECK(lapped__area_ok(tex, surf, lo, hi));
+        FZ_CHECK(lapped__area_ok(tex, surf, lo, hi, t->pastes[p].nfaces));
     }
     pw_trimesh_free(&a, &m);
     lapped_field_free(&f);
