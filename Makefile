@@ -49,12 +49,12 @@ ALL_CFLAGS = $(WARN) $(CFLAGS) $(SANFLAGS) -I.
 # ---- single-file headers: name and the shared modules each one carries ----
 HEADERS        := tiled lapped pgp lst
 MODULES_tiled  := base vec rng image deflate png text mesh halfedge subdiv raster render graphcut quilt glue gltf
-MODULES_lapped := base vec rng image deflate png text mesh shapes halfedge sparse raster render polyhull trimesh atlas dirfield glue gltf
+MODULES_lapped := base vec rng image deflate png text mesh shapes halfedge sparse raster render polyhull trimesh heap atlas dirfield glue gltf
 PARTS_lapped   := core field patch builtin grow render atlas io
 PARTS_tiled    := core layout map synth validate builtin render io
-MODULES_pgp    := base vec rng image deflate png text mesh shapes halfedge sparse zsparse raster render trimesh dirfield nrrd tile3 glue graphcut quilt edt kdtree pca
+MODULES_pgp    := base vec rng image deflate png text mesh shapes halfedge sparse zsparse raster render trimesh heap dirfield nrrd tile3 glue graphcut quilt edt kdtree pca
 PARTS_pgp      := core field solve edit render builtin io morph synth
-MODULES_lst    := base vec rng image deflate png text mesh shapes halfedge trimesh sparse raster render nrrd tetmesh tetio stuffing edt pca glue
+MODULES_lst    := base vec rng image deflate png text mesh shapes halfedge trimesh heap sparse raster render nrrd tetmesh tetio stuffing edt pca glue
 PARTS_lst      := core exemplar field paste render cut builtin io
 
 COMMON_SRC := $(wildcard src/common/*.h)

@@ -10394,6 +10394,91 @@ PW__DEF int pw_trimesh_init(const pw_alloc *a, const pw_mesh *in, pw_trimesh *m,
 
 #endif /* PW__TRIMESH_V1 */
 
+/* ---- shared module src/common/heap.h ---- */
+/* heap: a binary min-heap of (key, item) pairs, ties broken by the smaller
+ * item, so that the order in which entries come out depends on nothing but
+ * the entries (Dijkstra's distances over a mesh, region growing by
+ * distance). Equal pairs are interchangeable, so every correct heap pops
+ * the same sequence: the methods' results do not depend on this code's
+ * sifting. The arrays grow (pw_heap_push) or are the caller's, of a
+ * capacity it knows (pw_heap_insert). */
+#ifndef PW__HEAP_V1
+#define PW__HEAP_V1
+
+
+typedef struct pw_heap {
+    double *key;
+    int *item;
+    int n;             /* entries */
+    size_t kcap, icap; /* capacities of key and item, for pw_heap_push */
+} pw_heap;
+
+/* Whether entry i comes out before entry j. */
+PW__DEF int pw_heap_before(const pw_heap *h, int i, int j)
+{
+    return h->key[i] < h->key[j] || (h->key[i] == h->key[j] && h->item[i] < h->item[j]);
+}
+
+PW__DEF void pw__heap_swap(pw_heap *h, int i, int j)
+{
+    double k = h->key[i];
+    int t = h->item[i];
+    h->key[i] = h->key[j];
+    h->item[i] = h->item[j];
+    h->key[j] = k;
+    h->item[j] = t;
+}
+
+/* Adds an entry; the arrays must have room for it. */
+PW__DEF void pw_heap_insert(pw_heap *h, double key, int item)
+{
+    int i = h->n++;
+    h->key[i] = key;
+    h->item[i] = item;
+    while (i > 0 && pw_heap_before(h, i, (i - 1) / 2)) {
+        pw__heap_swap(h, i, (i - 1) / 2);
+        i = (i - 1) / 2;
+    }
+}
+
+/* Adds an entry, growing the arrays. */
+PW__DEF int pw_heap_push(const pw_alloc *a, pw_heap *h, double key, int item, pw_err *e)
+{
+    if (pw_grow(a, (void **)&h->key, &h->kcap, (size_t)h->n + 1, sizeof(double), "queue", e) ||
+        pw_grow(a, (void **)&h->item, &h->icap, (size_t)h->n + 1, sizeof(int), "queue", e))
+        return PW_ERR_NOMEM;
+    pw_heap_insert(h, key, item);
+    return PW_OK;
+}
+
+/* Removes the first entry (key[0], item[0]; n > 0) and returns its item. */
+PW__DEF int pw_heap_pop(pw_heap *h)
+{
+    int top = h->item[0], i = 0;
+    h->n--;
+    h->key[0] = h->key[h->n];
+    h->item[0] = h->item[h->n];
+    for (;;) {
+        int l = 2 * i + 1, r = l + 1, s = i;
+        if (l < h->n && pw_heap_before(h, l, s)) s = l;
+        if (r < h->n && pw_heap_before(h, r, s)) s = r;
+        if (s == i) break;
+        pw__heap_swap(h, i, s);
+        i = s;
+    }
+    return top;
+}
+
+/* Frees arrays that pw_heap_push grew. */
+PW__DEF void pw_heap_free(const pw_alloc *a, pw_heap *h)
+{
+    pw_free(a, h->key);
+    pw_free(a, h->item);
+    memset(h, 0, sizeof *h);
+}
+
+#endif /* PW__HEAP_V1 */
+
 /* ---- shared module src/common/atlas.h ---- */
 /* atlas: texture atlases of triangle meshes — charts, packing, baking.
  *
@@ -10510,71 +10595,6 @@ PW__DEF int pw__atlas_tris_overlap(const double *a, const double *b, double tol)
             if (ahi <= blo + tol * len || bhi <= alo + tol * len) return 0;
         }
     return 1;
-}
-
-/* ---- a binary heap of faces keyed by distance ------------------------------ */
-
-typedef struct pw__atlas_heap {
-    double *key;
-    int *item;
-    int n;
-    size_t kcap, icap;
-} pw__atlas_heap;
-
-/* Smaller key first; equal keys by face index, so the order is total. */
-PW__DEF int pw__atlas_heap_before(const pw__atlas_heap *h, int i, int j)
-{
-    return h->key[i] < h->key[j] || (h->key[i] == h->key[j] && h->item[i] < h->item[j]);
-}
-
-PW__DEF void pw__atlas_heap_swap(pw__atlas_heap *h, int i, int j)
-{
-    double k = h->key[i];
-    int t = h->item[i];
-    h->key[i] = h->key[j];
-    h->item[i] = h->item[j];
-    h->key[j] = k;
-    h->item[j] = t;
-}
-
-PW__DEF int pw__atlas_heap_push(const pw_alloc *a, pw__atlas_heap *h, double key, int item, pw_err *e)
-{
-    int i;
-    if (pw_grow(a, (void **)&h->key, &h->kcap, (size_t)h->n + 1, sizeof(double), "chart queue", e) ||
-        pw_grow(a, (void **)&h->item, &h->icap, (size_t)h->n + 1, sizeof(int), "chart queue", e))
-        return PW_ERR_NOMEM;
-    i = h->n++;
-    h->key[i] = key;
-    h->item[i] = item;
-    while (i > 0 && pw__atlas_heap_before(h, i, (i - 1) / 2)) {
-        pw__atlas_heap_swap(h, i, (i - 1) / 2);
-        i = (i - 1) / 2;
-    }
-    return PW_OK;
-}
-
-PW__DEF int pw__atlas_heap_pop(pw__atlas_heap *h)
-{
-    int top = h->item[0], i = 0;
-    h->n--;
-    h->key[0] = h->key[h->n];
-    h->item[0] = h->item[h->n];
-    for (;;) {
-        int l = 2 * i + 1, r = l + 1, s = i;
-        if (l < h->n && pw__atlas_heap_before(h, l, s)) s = l;
-        if (r < h->n && pw__atlas_heap_before(h, r, s)) s = r;
-        if (s == i) break;
-        pw__atlas_heap_swap(h, i, s);
-        i = s;
-    }
-    return top;
-}
-
-PW__DEF void pw__atlas_heap_free(const pw_alloc *a, pw__atlas_heap *h)
-{
-    pw_free(a, h->key);
-    pw_free(a, h->item);
-    memset(h, 0, sizeof *h);
 }
 
 /* ---- spatial hash of a chart's flattened triangles ---------------------- */
@@ -10776,7 +10796,7 @@ typedef struct pw__atlas_grower {
     size_t uvcap;
     int *deferred, nd;
     size_t dcap;
-    pw__atlas_heap heap;
+    pw_heap heap;
     pw__atlas_hash hash;
 } pw__atlas_grower;
 
@@ -10902,7 +10922,7 @@ PW__DEF int pw__atlas_push_neighbours(pw__atlas_grower *G, int f)
     for (k = 0; k < 3; k++) {
         int g = pw_trimesh_across(G->m, f, k);
         if (g < 0 || G->chart[g] >= 0 || G->cone[g] == G->cur) continue;
-        if (pw__atlas_heap_push(G->a, &G->heap, pw__atlas_key(G, g), g, G->e)) return PW_ERR_NOMEM;
+        if (pw_heap_push(G->a, &G->heap, pw__atlas_key(G, g), g, G->e)) return PW_ERR_NOMEM;
     }
     return PW_OK;
 }
@@ -11308,7 +11328,7 @@ PW__DEF int pw__atlas_retry_deferred(pw__atlas_grower *G)
     for (i = 0; i < nd; i++) {
         int f = G->deferred[i];
         if (G->chart[f] >= 0) continue;
-        if (pw__atlas_heap_push(G->a, &G->heap, pw__atlas_key(G, f), f, G->e)) return PW_ERR_NOMEM;
+        if (pw_heap_push(G->a, &G->heap, pw__atlas_key(G, f), f, G->e)) return PW_ERR_NOMEM;
     }
     return PW_OK;
 }
@@ -11328,7 +11348,7 @@ PW__DEF int pw__atlas_grow_chart(pw__atlas_grower *G, int f)
             if ((r = pw__atlas_relax(G, &cut)) || (!cut && (r = pw__atlas_retry_deferred(G)))) return r;
             continue;
         }
-        if ((r = pw__atlas_grow_try(G, pw__atlas_heap_pop(&G->heap)))) return r;
+        if ((r = pw__atlas_grow_try(G, pw_heap_pop(&G->heap)))) return r;
         if (G->nfc >= next) {
             next = G->nfc + G->nfc / 2;
             if ((r = pw__atlas_relax(G, &cut)) || (!cut && (r = pw__atlas_retry_deferred(G)))) return r;
@@ -11375,7 +11395,7 @@ PW__DEF void pw__atlas_grower_free(pw__atlas_grower *G)
     pw_free(a, G->verts);
     pw_free(a, G->uv);
     pw_free(a, G->deferred);
-    pw__atlas_heap_free(a, &G->heap);
+    pw_heap_free(a, &G->heap);
     pw__atlas_hash_free(a, &G->hash);
 }
 
@@ -12787,74 +12807,28 @@ PW__DEF void pw_df_dual(const pw_trimesh *m, double *len)
     for (h = 0; h < 3 * m->nf; h++) len[h] = m->hm.twin[h] < 0 ? 0.0 : pw_df_dual_len(m, h);
 }
 
-/* A binary min-heap of (distance, triangle), ties broken by the lower
- * triangle index so that the order never depends on anything else. */
-typedef struct pw_df_heap {
-    double *d;
-    int *f, n;
-} pw_df_heap;
-
-PW__DEF int pw_df_less(const pw_df_heap *hp, int i, int j)
-{
-    return hp->d[i] < hp->d[j] || (hp->d[i] == hp->d[j] && hp->f[i] < hp->f[j]);
-}
-
-PW__DEF void pw_df_swap(pw_df_heap *hp, int i, int j)
-{
-    double d = hp->d[i];
-    int f = hp->f[i];
-    hp->d[i] = hp->d[j], hp->f[i] = hp->f[j];
-    hp->d[j] = d, hp->f[j] = f;
-}
-
-PW__DEF void pw_df_push(pw_df_heap *hp, double d, int f)
-{
-    int i = hp->n++;
-    hp->d[i] = d;
-    hp->f[i] = f;
-    while (i > 0 && pw_df_less(hp, i, (i - 1) / 2)) {
-        pw_df_swap(hp, i, (i - 1) / 2);
-        i = (i - 1) / 2;
-    }
-}
-
-PW__DEF void pw_df_pop(pw_df_heap *hp)
-{
-    int i = 0;
-    pw_df_swap(hp, 0, --hp->n);
-    for (;;) {
-        int l = 2 * i + 1, r = l + 1, b = i;
-        if (l < hp->n && pw_df_less(hp, l, b)) b = l;
-        if (r < hp->n && pw_df_less(hp, r, b)) b = r;
-        if (b == i) break;
-        pw_df_swap(hp, i, b);
-        i = b;
-    }
-}
-
 /* §3.2 "radius is defined as distance over the mesh, as computed using
  * Dijkstra's algorithm": distances over the dual graph (triangle centroids
  * joined through edge midpoints) from triangle src; DBL_MAX where
  * unreachable. The heap holds at most 3*nf+1 entries (a triangle is pushed
  * only when one of its <= 3 neighbours improves it). */
 PW__DEF void pw_df_dijkstra(const pw_trimesh *m, const double *len, int src, double *dist,
-                                 pw_df_heap *hp)
+                                 pw_heap *hp)
 {
     int f, k, g;
     for (f = 0; f < m->nf; f++) dist[f] = DBL_MAX;
     dist[src] = 0.0;
     hp->n = 0;
-    pw_df_push(hp, 0.0, src);
+    pw_heap_insert(hp, 0.0, src);
     while (hp->n > 0) {
-        double d = hp->d[0];
-        f = hp->f[0];
-        pw_df_pop(hp);
+        double d = hp->key[0];
+        f = pw_heap_pop(hp);
         if (d > dist[f]) continue; /* stale entry */
         for (k = 0; k < 3; k++) {
             double nd = d + len[3 * f + k];
             if ((g = pw_trimesh_across(m, f, k)) >= 0 && nd < dist[g]) {
                 dist[g] = nd;
-                pw_df_push(hp, nd, g);
+                pw_heap_insert(hp, nd, g);
             }
         }
     }
@@ -12972,7 +12946,7 @@ PW__DEF int pw_df_smooth(const pw_alloc *a, const pw_trimesh *m, const float *co
  * walk: a neighbour's key is 1 - |cos| of the angle between its line and
  * f's direction carried over, the smallest key (best agreement) kept. */
 PW__DEF void pw_df_offer(const pw_trimesh *m, const float *conn, const double *z, int f,
-                              const unsigned char *seen, double *best, int *via, pw_df_heap *hp)
+                              const unsigned char *seen, double *best, int *via, pw_heap *hp)
 {
     int k, g, th;
     double w[2], key;
@@ -12983,7 +12957,7 @@ PW__DEF void pw_df_offer(const pw_trimesh *m, const float *conn, const double *z
         if (key < best[g]) {
             best[g] = key;
             via[g] = th;
-            pw_df_push(hp, key, g);
+            pw_heap_insert(hp, key, g);
         }
     }
 }
@@ -12991,7 +12965,7 @@ PW__DEF void pw_df_offer(const pw_trimesh *m, const float *conn, const double *z
 /* The walk of pw_df_orient (best: nf keys, via: nf half-edges,
  * hp: room for 3 nf + 1 entries). */
 PW__DEF void pw_df_walk(const pw_trimesh *m, const float *conn, pw_v3 up, double *z,
-                             unsigned char *seen, double *best, int *via, pw_df_heap *hp)
+                             unsigned char *seen, double *best, int *via, pw_heap *hp)
 {
     double w[2];
     int s, f;
@@ -13003,8 +12977,7 @@ PW__DEF void pw_df_walk(const pw_trimesh *m, const float *conn, pw_v3 up, double
         seen[s] = 1;
         pw_df_offer(m, conn, z, s, seen, best, via, hp);
         while (hp->n > 0) {
-            f = hp->f[0];
-            pw_df_pop(hp);
+            f = pw_heap_pop(hp);
             if (seen[f]) continue; /* stale entry */
             pw_df_move(conn, via[f], 1, z + 2 * (m->hm.twin[via[f]] / 3), w);
             if (w[0] * z[2 * f] + w[1] * z[2 * f + 1] < 0.0)
@@ -13030,9 +13003,10 @@ PW__DEF int pw_df_orient(const pw_alloc *a, const pw_trimesh *m, const float *co
     int *ints = (int *)pw_alloc_array(a, 4 * n + 1, sizeof(int), "field orientation", e);
     unsigned char *seen = (unsigned char *)pw_calloc_array(a, n, 1, "field orientation", e);
     int r = dbl && ints && seen ? PW_OK : PW_ERR_NOMEM;
-    pw_df_heap hp;
+    pw_heap hp;
     if (r == PW_OK) { /* dbl: best keys, then the heap's; ints: via, then the heap's */
-        hp.d = dbl + n, hp.f = ints + n, hp.n = 0;
+        memset(&hp, 0, sizeof hp);
+        hp.key = dbl + n, hp.item = ints + n;
         pw_df_walk(m, conn, up, z, seen, dbl, ints, &hp);
     }
     pw_free(a, dbl);
@@ -14255,19 +14229,20 @@ static int lapped__fld_constraints(const pw_alloc *a, const pw_trimesh *m, const
     lapped__fld_con *c;
     double *len, *dist;
     lapped__fld_acc acc;
-    pw_df_heap hp;
+    pw_heap hp;
     if (nc < 1 || !fl->constraints)
         return pw_fail(e, PW_ERR_INVALID, "CONSTRAINTS field needs constraints (nconstraints %d%s)", nc,
                        fl->constraints ? "" : ", constraints NULL");
     c = (lapped__fld_con *)pw_alloc_array(a, (size_t)nc, sizeof *c, "constraints", e);
     len = (double *)pw_alloc_array(a, 13 * n + 1, sizeof(double), "geodesic distances", e);
-    hp.f = (int *)pw_alloc_array(a, 3 * n + 1, sizeof(int), "Dijkstra heap", e);
-    if (!c || !len || !hp.f) r = PW_ERR_NOMEM;
+    memset(&hp, 0, sizeof hp);
+    hp.item = (int *)pw_alloc_array(a, 3 * n + 1, sizeof(int), "Dijkstra heap", e);
+    if (!c || !len || !hp.item) r = PW_ERR_NOMEM;
     if (r == PW_OK) r = lapped__fld_checks(m, fl, scale, c, e);
     if (r == PW_OK) {
         dist = len + 3 * n;
-        hp.d = dist + n;
-        acc.q = hp.d + 3 * n + 1;
+        hp.key = dist + n;
+        acc.q = hp.key + 3 * n + 1;
         acc.w = acc.q + n;
         acc.sc = acc.w + n;
         acc.dir = acc.sc + n;
@@ -14279,12 +14254,12 @@ static int lapped__fld_constraints(const pw_alloc *a, const pw_trimesh *m, const
             lapped__fld_accumulate(m->nf, dist, c + i, &acc);
         }
         lapped__fld_pin(c, nc, &acc);
-        lapped__fld_orphans(m, c, nc, &acc, hp.f);
+        lapped__fld_orphans(m, c, nc, &acc, hp.item);
         r = lapped__fld_blend(a, m, conn, pw_v3_load(fl->up), &acc, z, scales, known, e);
     }
     pw_free(a, c);
     pw_free(a, len);
-    pw_free(a, hp.f);
+    pw_free(a, hp.item);
     return r;
 }
 
@@ -15169,8 +15144,7 @@ typedef struct lapped__patchbuf {
     float *fs, *ft;      /* nf*3 the frame each patch triangle aligns with */
     int *faces, nfaces;  /* patch triangles in the order they were added */
     int *verts, nverts;  /* patch vertices in the order they were mapped */
-    float *heapk;        /* candidate queue: distance keys ... */
-    int *heapf, nheap;   /* ... and triangles */
+    pw_heap queue;       /* candidate triangles by distance (room for nf) */
     int hard;            /* growth stopped somewhere at the distortion limit */
     unsigned char *sliver; /* nf: 1 for a degenerate triangle (pw_trimesh_sliver) */
     float *keep;         /* nv*2: the coordinates of verts before the last optimisation */
@@ -15188,8 +15162,8 @@ static void lapped__patchbuf_free(const pw_alloc *a, lapped__patchbuf *p)
     pw_free(a, p->ft);
     pw_free(a, p->faces);
     pw_free(a, p->verts);
-    pw_free(a, p->heapk);
-    pw_free(a, p->heapf);
+    pw_free(a, p->queue.key);
+    pw_free(a, p->queue.item);
     pw_free(a, p->sliver);
     pw_free(a, p->keep);
     memset(p, 0, sizeof *p);
@@ -15213,51 +15187,15 @@ static int lapped__patchbuf_init(const pw_alloc *a, const pw_trimesh *m, lapped_
     p->ft = (float *)pw_alloc_array(a, (size_t)nf * 3, sizeof(float), "patch frames", e);
     p->faces = (int *)pw_alloc_array(a, (size_t)nf, sizeof(int), "patch triangles", e);
     p->verts = (int *)pw_alloc_array(a, (size_t)nv, sizeof(int), "patch vertices", e);
-    p->heapk = (float *)pw_alloc_array(a, (size_t)nf, sizeof(float), "growth queue", e);
-    p->heapf = (int *)pw_alloc_array(a, (size_t)nf, sizeof(int), "growth queue", e);
+    p->queue.key = (double *)pw_alloc_array(a, (size_t)nf, sizeof(double), "growth queue", e);
+    p->queue.item = (int *)pw_alloc_array(a, (size_t)nf, sizeof(int), "growth queue", e);
     if (p->fin && p->fout && p->fq && p->vin && p->vloc && p->vuv && p->fs && p->ft && p->faces && p->verts &&
-        p->heapk && p->heapf && p->sliver && p->keep) {
+        p->queue.key && p->queue.item && p->sliver && p->keep) {
         for (f = 0; f < nf; f++) p->sliver[f] = (unsigned char)pw_trimesh_sliver(m, f);
         return PW_OK;
     }
     lapped__patchbuf_free(a, p);
     return PW_ERR_NOMEM;
-}
-
-/* Binary min-heap of candidate triangles keyed by distance. */
-static void lapped__heap_push(lapped__patchbuf *p, float key, int f)
-{
-    int i = p->nheap++;
-    while (i > 0) {
-        int up = (i - 1) / 2;
-        if (p->heapk[up] < key || (p->heapk[up] == key && p->heapf[up] <= f)) break;
-        p->heapk[i] = p->heapk[up];
-        p->heapf[i] = p->heapf[up];
-        i = up;
-    }
-    p->heapk[i] = key;
-    p->heapf[i] = f;
-}
-
-static int lapped__heap_pop(lapped__patchbuf *p)
-{
-    int top = p->heapf[0], i = 0, n = --p->nheap;
-    float key = p->heapk[n];
-    int f = p->heapf[n];
-    for (;;) {
-        int c = 2 * i + 1;
-        if (c >= n) break;
-        if (c + 1 < n && (p->heapk[c + 1] < p->heapk[c] ||
-                          (p->heapk[c + 1] == p->heapk[c] && p->heapf[c + 1] < p->heapf[c])))
-            c++;
-        if (key < p->heapk[c] || (key == p->heapk[c] && f <= p->heapf[c])) break;
-        p->heapk[i] = p->heapk[c];
-        p->heapf[i] = p->heapf[c];
-        i = c;
-    }
-    p->heapk[i] = key;
-    p->heapf[i] = f;
-    return top;
 }
 
 static void lapped__map_vertex(lapped__patchbuf *p, int v, float u, float w)
@@ -15481,7 +15419,7 @@ static void lapped__push_neighbours(lapped__paster *P, int f, pw_v3 centre3)
         int g = pw_trimesh_across(&P->m, f, k);
         if (g < 0 || p->fin[g] == p->stamp || p->fout[g] == p->stamp || p->fq[g] == p->stamp) continue;
         p->fq[g] = p->stamp;
-        lapped__heap_push(p, pw_v3_len(pw_v3_sub(lapped__centroid(&P->m, g), centre3)), g);
+        pw_heap_insert(&p->queue, pw_v3_len(pw_v3_sub(lapped__centroid(&P->m, g), centre3)), g);
     }
 }
 
@@ -15518,7 +15456,7 @@ static void lapped__start(lapped__paster *P, int f, const float b[3], int patch,
     lapped__patchbuf *p = &P->pb;
     int k;
     p->stamp++;
-    p->nfaces = p->nverts = p->nheap = p->hard = 0;
+    p->nfaces = p->nverts = p->queue.n = p->hard = 0;
     *centre3 = pw_v3_add(pw_v3_add(pw_v3_scale(pw_trimesh_corner(&P->m, f, 0), b[0]),
                                    pw_v3_scale(pw_trimesh_corner(&P->m, f, 1), b[1])),
                          pw_v3_scale(pw_trimesh_corner(&P->m, f, 2), b[2]));
@@ -15595,8 +15533,8 @@ static int lapped__grow(lapped__paster *P, const pw_polyhull *hull, pw_v3 centre
 {
     lapped__patchbuf *p = &P->pb;
     int before = p->nfaces;
-    while (p->nheap > 0) {
-        int g = lapped__heap_pop(p);
+    while (p->queue.n > 0) {
+        int g = pw_heap_pop(&p->queue);
         p->fq[g] = 0;
         if (p->fin[g] != p->stamp && p->fout[g] != p->stamp) lapped__try_add(P, g, hull, centre3);
     }

@@ -6291,6 +6291,91 @@ PW__DEF int pw_trimesh_init(const pw_alloc *a, const pw_mesh *in, pw_trimesh *m,
 
 #endif /* PW__TRIMESH_V1 */
 
+/* ---- shared module src/common/heap.h ---- */
+/* heap: a binary min-heap of (key, item) pairs, ties broken by the smaller
+ * item, so that the order in which entries come out depends on nothing but
+ * the entries (Dijkstra's distances over a mesh, region growing by
+ * distance). Equal pairs are interchangeable, so every correct heap pops
+ * the same sequence: the methods' results do not depend on this code's
+ * sifting. The arrays grow (pw_heap_push) or are the caller's, of a
+ * capacity it knows (pw_heap_insert). */
+#ifndef PW__HEAP_V1
+#define PW__HEAP_V1
+
+
+typedef struct pw_heap {
+    double *key;
+    int *item;
+    int n;             /* entries */
+    size_t kcap, icap; /* capacities of key and item, for pw_heap_push */
+} pw_heap;
+
+/* Whether entry i comes out before entry j. */
+PW__DEF int pw_heap_before(const pw_heap *h, int i, int j)
+{
+    return h->key[i] < h->key[j] || (h->key[i] == h->key[j] && h->item[i] < h->item[j]);
+}
+
+PW__DEF void pw__heap_swap(pw_heap *h, int i, int j)
+{
+    double k = h->key[i];
+    int t = h->item[i];
+    h->key[i] = h->key[j];
+    h->item[i] = h->item[j];
+    h->key[j] = k;
+    h->item[j] = t;
+}
+
+/* Adds an entry; the arrays must have room for it. */
+PW__DEF void pw_heap_insert(pw_heap *h, double key, int item)
+{
+    int i = h->n++;
+    h->key[i] = key;
+    h->item[i] = item;
+    while (i > 0 && pw_heap_before(h, i, (i - 1) / 2)) {
+        pw__heap_swap(h, i, (i - 1) / 2);
+        i = (i - 1) / 2;
+    }
+}
+
+/* Adds an entry, growing the arrays. */
+PW__DEF int pw_heap_push(const pw_alloc *a, pw_heap *h, double key, int item, pw_err *e)
+{
+    if (pw_grow(a, (void **)&h->key, &h->kcap, (size_t)h->n + 1, sizeof(double), "queue", e) ||
+        pw_grow(a, (void **)&h->item, &h->icap, (size_t)h->n + 1, sizeof(int), "queue", e))
+        return PW_ERR_NOMEM;
+    pw_heap_insert(h, key, item);
+    return PW_OK;
+}
+
+/* Removes the first entry (key[0], item[0]; n > 0) and returns its item. */
+PW__DEF int pw_heap_pop(pw_heap *h)
+{
+    int top = h->item[0], i = 0;
+    h->n--;
+    h->key[0] = h->key[h->n];
+    h->item[0] = h->item[h->n];
+    for (;;) {
+        int l = 2 * i + 1, r = l + 1, s = i;
+        if (l < h->n && pw_heap_before(h, l, s)) s = l;
+        if (r < h->n && pw_heap_before(h, r, s)) s = r;
+        if (s == i) break;
+        pw__heap_swap(h, i, s);
+        i = s;
+    }
+    return top;
+}
+
+/* Frees arrays that pw_heap_push grew. */
+PW__DEF void pw_heap_free(const pw_alloc *a, pw_heap *h)
+{
+    pw_free(a, h->key);
+    pw_free(a, h->item);
+    memset(h, 0, sizeof *h);
+}
+
+#endif /* PW__HEAP_V1 */
+
 /* ---- shared module src/common/sparse.h ---- */
 /* sparse: sparse matrices and a Jacobi-preconditioned conjugate gradient.
  *
@@ -15582,56 +15667,16 @@ static double lst__face_dist(const lst__geo *g, int f, const double *p, double *
     return lst__dist3(p, q);
 }
 
-/* A binary min-heap of (key, vertex), ties broken by vertex. */
-typedef struct lst__heap {
-    double *key;
-    int *item, n;
-} lst__heap;
-
-static int lst__heap_less(const lst__heap *h, int i, int j)
-{
-    return h->key[i] < h->key[j] || (h->key[i] == h->key[j] && h->item[i] < h->item[j]);
-}
-
-static void lst__heap_swap(lst__heap *h, int i, int j)
-{
-    double k = h->key[i];
-    int t = h->item[i];
-    h->key[i] = h->key[j], h->item[i] = h->item[j], h->key[j] = k, h->item[j] = t;
-}
-
-static void lst__heap_push(lst__heap *h, double key, int item)
-{
-    int i = h->n++;
-    h->key[i] = key, h->item[i] = item;
-    while (i > 0 && lst__heap_less(h, i, (i - 1) / 2)) lst__heap_swap(h, i, (i - 1) / 2), i = (i - 1) / 2;
-}
-
-static void lst__heap_pop(lst__heap *h, double *key, int *item)
-{
-    int i = 0;
-    *key = h->key[0], *item = h->item[0];
-    h->n--;
-    h->key[0] = h->key[h->n], h->item[0] = h->item[h->n];
-    for (;;) {
-        int l = 2 * i + 1, r = l + 1, m = i;
-        if (l < h->n && lst__heap_less(h, l, m)) m = l;
-        if (r < h->n && lst__heap_less(h, r, m)) m = r;
-        if (m == i) return;
-        lst__heap_swap(h, i, m), i = m;
-    }
-}
-
 /* Every vertex's distance to the boundary by closest-point propagation:
  * each vertex inherits the nearest boundary face of the neighbour that
  * reaches it first (Dijkstra order), measured exactly. near: nv faces. */
 static int lst__boundary_distance(const pw_alloc *a, const lst__geo *g, double *dist, int *near, pw_err *e)
 {
-    lst__heap h;
+    pw_heap h;
     int f, k, v, j;
     double q[3], p[3], d;
     size_t cap = (size_t)g->m.nv + (size_t)g->rings.start[g->m.nv] + 1;
-    h.n = 0;
+    memset(&h, 0, sizeof h);
     h.key = (double *)pw_alloc_array(a, cap, sizeof(double), "distance heap", e);
     h.item = (int *)pw_alloc_array(a, cap, sizeof(int), "distance heap", e);
     if (!h.key || !h.item) {
@@ -15643,16 +15688,17 @@ static int lst__boundary_distance(const pw_alloc *a, const lst__geo *g, double *
         int c[3];
         lst__face_verts(&g->m, g->bface[f], c);
         for (k = 0; k < 3; k++)
-            if (near[c[k]] < 0) dist[c[k]] = 0.0, near[c[k]] = f, lst__heap_push(&h, 0.0, c[k]);
+            if (near[c[k]] < 0) dist[c[k]] = 0.0, near[c[k]] = f, pw_heap_insert(&h, 0.0, c[k]);
     }
     while (h.n > 0) {
-        lst__heap_pop(&h, &d, &v);
+        d = h.key[0];
+        v = pw_heap_pop(&h);
         if (d > dist[v]) continue; /* a stale entry */
         for (j = g->rings.start[v]; j < g->rings.start[v + 1]; j++) {
             int u = g->rings.adj[j];
             lst__vert(&g->m, u, p);
             d = lst__face_dist(g, near[v], p, q);
-            if (d < dist[u] && (size_t)h.n < cap) dist[u] = d, near[u] = near[v], lst__heap_push(&h, d, u);
+            if (d < dist[u] && (size_t)h.n < cap) dist[u] = d, near[u] = near[v], pw_heap_insert(&h, d, u);
         }
     }
     pw_free(a, h.key), pw_free(a, h.item);

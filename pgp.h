@@ -9954,6 +9954,91 @@ PW__DEF int pw_trimesh_init(const pw_alloc *a, const pw_mesh *in, pw_trimesh *m,
 
 #endif /* PW__TRIMESH_V1 */
 
+/* ---- shared module src/common/heap.h ---- */
+/* heap: a binary min-heap of (key, item) pairs, ties broken by the smaller
+ * item, so that the order in which entries come out depends on nothing but
+ * the entries (Dijkstra's distances over a mesh, region growing by
+ * distance). Equal pairs are interchangeable, so every correct heap pops
+ * the same sequence: the methods' results do not depend on this code's
+ * sifting. The arrays grow (pw_heap_push) or are the caller's, of a
+ * capacity it knows (pw_heap_insert). */
+#ifndef PW__HEAP_V1
+#define PW__HEAP_V1
+
+
+typedef struct pw_heap {
+    double *key;
+    int *item;
+    int n;             /* entries */
+    size_t kcap, icap; /* capacities of key and item, for pw_heap_push */
+} pw_heap;
+
+/* Whether entry i comes out before entry j. */
+PW__DEF int pw_heap_before(const pw_heap *h, int i, int j)
+{
+    return h->key[i] < h->key[j] || (h->key[i] == h->key[j] && h->item[i] < h->item[j]);
+}
+
+PW__DEF void pw__heap_swap(pw_heap *h, int i, int j)
+{
+    double k = h->key[i];
+    int t = h->item[i];
+    h->key[i] = h->key[j];
+    h->item[i] = h->item[j];
+    h->key[j] = k;
+    h->item[j] = t;
+}
+
+/* Adds an entry; the arrays must have room for it. */
+PW__DEF void pw_heap_insert(pw_heap *h, double key, int item)
+{
+    int i = h->n++;
+    h->key[i] = key;
+    h->item[i] = item;
+    while (i > 0 && pw_heap_before(h, i, (i - 1) / 2)) {
+        pw__heap_swap(h, i, (i - 1) / 2);
+        i = (i - 1) / 2;
+    }
+}
+
+/* Adds an entry, growing the arrays. */
+PW__DEF int pw_heap_push(const pw_alloc *a, pw_heap *h, double key, int item, pw_err *e)
+{
+    if (pw_grow(a, (void **)&h->key, &h->kcap, (size_t)h->n + 1, sizeof(double), "queue", e) ||
+        pw_grow(a, (void **)&h->item, &h->icap, (size_t)h->n + 1, sizeof(int), "queue", e))
+        return PW_ERR_NOMEM;
+    pw_heap_insert(h, key, item);
+    return PW_OK;
+}
+
+/* Removes the first entry (key[0], item[0]; n > 0) and returns its item. */
+PW__DEF int pw_heap_pop(pw_heap *h)
+{
+    int top = h->item[0], i = 0;
+    h->n--;
+    h->key[0] = h->key[h->n];
+    h->item[0] = h->item[h->n];
+    for (;;) {
+        int l = 2 * i + 1, r = l + 1, s = i;
+        if (l < h->n && pw_heap_before(h, l, s)) s = l;
+        if (r < h->n && pw_heap_before(h, r, s)) s = r;
+        if (s == i) break;
+        pw__heap_swap(h, i, s);
+        i = s;
+    }
+    return top;
+}
+
+/* Frees arrays that pw_heap_push grew. */
+PW__DEF void pw_heap_free(const pw_alloc *a, pw_heap *h)
+{
+    pw_free(a, h->key);
+    pw_free(a, h->item);
+    memset(h, 0, sizeof *h);
+}
+
+#endif /* PW__HEAP_V1 */
+
 /* ---- shared module src/common/dirfield.h ---- */
 /* dirfield: direction fields on a triangle mesh, one direction per
  * triangle, shared by the surface methods (lapped §3.2, pgp §2.2).
@@ -10384,74 +10469,28 @@ PW__DEF void pw_df_dual(const pw_trimesh *m, double *len)
     for (h = 0; h < 3 * m->nf; h++) len[h] = m->hm.twin[h] < 0 ? 0.0 : pw_df_dual_len(m, h);
 }
 
-/* A binary min-heap of (distance, triangle), ties broken by the lower
- * triangle index so that the order never depends on anything else. */
-typedef struct pw_df_heap {
-    double *d;
-    int *f, n;
-} pw_df_heap;
-
-PW__DEF int pw_df_less(const pw_df_heap *hp, int i, int j)
-{
-    return hp->d[i] < hp->d[j] || (hp->d[i] == hp->d[j] && hp->f[i] < hp->f[j]);
-}
-
-PW__DEF void pw_df_swap(pw_df_heap *hp, int i, int j)
-{
-    double d = hp->d[i];
-    int f = hp->f[i];
-    hp->d[i] = hp->d[j], hp->f[i] = hp->f[j];
-    hp->d[j] = d, hp->f[j] = f;
-}
-
-PW__DEF void pw_df_push(pw_df_heap *hp, double d, int f)
-{
-    int i = hp->n++;
-    hp->d[i] = d;
-    hp->f[i] = f;
-    while (i > 0 && pw_df_less(hp, i, (i - 1) / 2)) {
-        pw_df_swap(hp, i, (i - 1) / 2);
-        i = (i - 1) / 2;
-    }
-}
-
-PW__DEF void pw_df_pop(pw_df_heap *hp)
-{
-    int i = 0;
-    pw_df_swap(hp, 0, --hp->n);
-    for (;;) {
-        int l = 2 * i + 1, r = l + 1, b = i;
-        if (l < hp->n && pw_df_less(hp, l, b)) b = l;
-        if (r < hp->n && pw_df_less(hp, r, b)) b = r;
-        if (b == i) break;
-        pw_df_swap(hp, i, b);
-        i = b;
-    }
-}
-
 /* §3.2 "radius is defined as distance over the mesh, as computed using
  * Dijkstra's algorithm": distances over the dual graph (triangle centroids
  * joined through edge midpoints) from triangle src; DBL_MAX where
  * unreachable. The heap holds at most 3*nf+1 entries (a triangle is pushed
  * only when one of its <= 3 neighbours improves it). */
 PW__DEF void pw_df_dijkstra(const pw_trimesh *m, const double *len, int src, double *dist,
-                                 pw_df_heap *hp)
+                                 pw_heap *hp)
 {
     int f, k, g;
     for (f = 0; f < m->nf; f++) dist[f] = DBL_MAX;
     dist[src] = 0.0;
     hp->n = 0;
-    pw_df_push(hp, 0.0, src);
+    pw_heap_insert(hp, 0.0, src);
     while (hp->n > 0) {
-        double d = hp->d[0];
-        f = hp->f[0];
-        pw_df_pop(hp);
+        double d = hp->key[0];
+        f = pw_heap_pop(hp);
         if (d > dist[f]) continue; /* stale entry */
         for (k = 0; k < 3; k++) {
             double nd = d + len[3 * f + k];
             if ((g = pw_trimesh_across(m, f, k)) >= 0 && nd < dist[g]) {
                 dist[g] = nd;
-                pw_df_push(hp, nd, g);
+                pw_heap_insert(hp, nd, g);
             }
         }
     }
@@ -10569,7 +10608,7 @@ PW__DEF int pw_df_smooth(const pw_alloc *a, const pw_trimesh *m, const float *co
  * walk: a neighbour's key is 1 - |cos| of the angle between its line and
  * f's direction carried over, the smallest key (best agreement) kept. */
 PW__DEF void pw_df_offer(const pw_trimesh *m, const float *conn, const double *z, int f,
-                              const unsigned char *seen, double *best, int *via, pw_df_heap *hp)
+                              const unsigned char *seen, double *best, int *via, pw_heap *hp)
 {
     int k, g, th;
     double w[2], key;
@@ -10580,7 +10619,7 @@ PW__DEF void pw_df_offer(const pw_trimesh *m, const float *conn, const double *z
         if (key < best[g]) {
             best[g] = key;
             via[g] = th;
-            pw_df_push(hp, key, g);
+            pw_heap_insert(hp, key, g);
         }
     }
 }
@@ -10588,7 +10627,7 @@ PW__DEF void pw_df_offer(const pw_trimesh *m, const float *conn, const double *z
 /* The walk of pw_df_orient (best: nf keys, via: nf half-edges,
  * hp: room for 3 nf + 1 entries). */
 PW__DEF void pw_df_walk(const pw_trimesh *m, const float *conn, pw_v3 up, double *z,
-                             unsigned char *seen, double *best, int *via, pw_df_heap *hp)
+                             unsigned char *seen, double *best, int *via, pw_heap *hp)
 {
     double w[2];
     int s, f;
@@ -10600,8 +10639,7 @@ PW__DEF void pw_df_walk(const pw_trimesh *m, const float *conn, pw_v3 up, double
         seen[s] = 1;
         pw_df_offer(m, conn, z, s, seen, best, via, hp);
         while (hp->n > 0) {
-            f = hp->f[0];
-            pw_df_pop(hp);
+            f = pw_heap_pop(hp);
             if (seen[f]) continue; /* stale entry */
             pw_df_move(conn, via[f], 1, z + 2 * (m->hm.twin[via[f]] / 3), w);
             if (w[0] * z[2 * f] + w[1] * z[2 * f + 1] < 0.0)
@@ -10627,9 +10665,10 @@ PW__DEF int pw_df_orient(const pw_alloc *a, const pw_trimesh *m, const float *co
     int *ints = (int *)pw_alloc_array(a, 4 * n + 1, sizeof(int), "field orientation", e);
     unsigned char *seen = (unsigned char *)pw_calloc_array(a, n, 1, "field orientation", e);
     int r = dbl && ints && seen ? PW_OK : PW_ERR_NOMEM;
-    pw_df_heap hp;
+    pw_heap hp;
     if (r == PW_OK) { /* dbl: best keys, then the heap's; ints: via, then the heap's */
-        hp.d = dbl + n, hp.f = ints + n, hp.n = 0;
+        memset(&hp, 0, sizeof hp);
+        hp.key = dbl + n, hp.item = ints + n;
         pw_df_walk(m, conn, up, z, seen, dbl, ints, &hp);
     }
     pw_free(a, dbl);
@@ -13665,7 +13704,7 @@ static int pgp__area(const pgp__state *P, const int *seeds, int nseeds, float ra
     const pw_trimesh *m = &P->m;
     double *dist = (double *)pw_alloc_array(&P->a, (size_t)m->nf * 4 + 1, sizeof(double), "effect area", e);
     int *hf = (int *)pw_alloc_array(&P->a, (size_t)m->nf * 3 + 1 + (size_t)nseeds, sizeof(int), "effect area", e);
-    pw_df_heap hp;
+    pw_heap hp;
     int f, k, g, i;
     *n = 0;
     memset(in, 0, (size_t)m->nf);
@@ -13674,14 +13713,14 @@ static int pgp__area(const pgp__state *P, const int *seeds, int nseeds, float ra
         pw_free(&P->a, hf);
         return PW_ERR_NOMEM;
     }
-    hp.d = dist + m->nf, hp.f = hf, hp.n = 0;
+    memset(&hp, 0, sizeof hp);
+    hp.key = dist + m->nf, hp.item = hf;
     for (f = 0; f < m->nf; f++) dist[f] = DBL_MAX;
     for (i = 0; i < nseeds; i++)
-        if (dist[seeds[i]] > 0.0) dist[seeds[i]] = 0.0, pw_df_push(&hp, 0.0, seeds[i]);
+        if (dist[seeds[i]] > 0.0) dist[seeds[i]] = 0.0, pw_heap_insert(&hp, 0.0, seeds[i]);
     while (hp.n > 0) {
-        double d = hp.d[0];
-        f = hp.f[0];
-        pw_df_pop(&hp);
+        double d = hp.key[0];
+        f = pw_heap_pop(&hp);
         if (d > dist[f] || in[f]) continue; /* stale entry */
         if (radius > 0.0f && d > radius) break;
         in[f] = 1;
@@ -13690,7 +13729,7 @@ static int pgp__area(const pgp__state *P, const int *seeds, int nseeds, float ra
             double nd = d + P->dual[3 * f + k];
             if ((g = pw_trimesh_across(m, f, k)) >= 0 && !in[g] && nd < dist[g]) {
                 dist[g] = nd;
-                pw_df_push(&hp, nd, g);
+                pw_heap_insert(&hp, nd, g);
             }
         }
     }

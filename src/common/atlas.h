@@ -69,6 +69,7 @@
 #include "trimesh.h"
 #include "sparse.h"
 #include "raster.h"
+#include "heap.h"
 
 /* ---- 2D triangles --------------------------------------------------------- */
 
@@ -120,71 +121,6 @@ PW__DEF int pw__atlas_tris_overlap(const double *a, const double *b, double tol)
             if (ahi <= blo + tol * len || bhi <= alo + tol * len) return 0;
         }
     return 1;
-}
-
-/* ---- a binary heap of faces keyed by distance ------------------------------ */
-
-typedef struct pw__atlas_heap {
-    double *key;
-    int *item;
-    int n;
-    size_t kcap, icap;
-} pw__atlas_heap;
-
-/* Smaller key first; equal keys by face index, so the order is total. */
-PW__DEF int pw__atlas_heap_before(const pw__atlas_heap *h, int i, int j)
-{
-    return h->key[i] < h->key[j] || (h->key[i] == h->key[j] && h->item[i] < h->item[j]);
-}
-
-PW__DEF void pw__atlas_heap_swap(pw__atlas_heap *h, int i, int j)
-{
-    double k = h->key[i];
-    int t = h->item[i];
-    h->key[i] = h->key[j];
-    h->item[i] = h->item[j];
-    h->key[j] = k;
-    h->item[j] = t;
-}
-
-PW__DEF int pw__atlas_heap_push(const pw_alloc *a, pw__atlas_heap *h, double key, int item, pw_err *e)
-{
-    int i;
-    if (pw_grow(a, (void **)&h->key, &h->kcap, (size_t)h->n + 1, sizeof(double), "chart queue", e) ||
-        pw_grow(a, (void **)&h->item, &h->icap, (size_t)h->n + 1, sizeof(int), "chart queue", e))
-        return PW_ERR_NOMEM;
-    i = h->n++;
-    h->key[i] = key;
-    h->item[i] = item;
-    while (i > 0 && pw__atlas_heap_before(h, i, (i - 1) / 2)) {
-        pw__atlas_heap_swap(h, i, (i - 1) / 2);
-        i = (i - 1) / 2;
-    }
-    return PW_OK;
-}
-
-PW__DEF int pw__atlas_heap_pop(pw__atlas_heap *h)
-{
-    int top = h->item[0], i = 0;
-    h->n--;
-    h->key[0] = h->key[h->n];
-    h->item[0] = h->item[h->n];
-    for (;;) {
-        int l = 2 * i + 1, r = l + 1, s = i;
-        if (l < h->n && pw__atlas_heap_before(h, l, s)) s = l;
-        if (r < h->n && pw__atlas_heap_before(h, r, s)) s = r;
-        if (s == i) break;
-        pw__atlas_heap_swap(h, i, s);
-        i = s;
-    }
-    return top;
-}
-
-PW__DEF void pw__atlas_heap_free(const pw_alloc *a, pw__atlas_heap *h)
-{
-    pw_free(a, h->key);
-    pw_free(a, h->item);
-    memset(h, 0, sizeof *h);
 }
 
 /* ---- spatial hash of a chart's flattened triangles ---------------------- */
@@ -386,7 +322,7 @@ typedef struct pw__atlas_grower {
     size_t uvcap;
     int *deferred, nd;
     size_t dcap;
-    pw__atlas_heap heap;
+    pw_heap heap;
     pw__atlas_hash hash;
 } pw__atlas_grower;
 
@@ -512,7 +448,7 @@ PW__DEF int pw__atlas_push_neighbours(pw__atlas_grower *G, int f)
     for (k = 0; k < 3; k++) {
         int g = pw_trimesh_across(G->m, f, k);
         if (g < 0 || G->chart[g] >= 0 || G->cone[g] == G->cur) continue;
-        if (pw__atlas_heap_push(G->a, &G->heap, pw__atlas_key(G, g), g, G->e)) return PW_ERR_NOMEM;
+        if (pw_heap_push(G->a, &G->heap, pw__atlas_key(G, g), g, G->e)) return PW_ERR_NOMEM;
     }
     return PW_OK;
 }
@@ -918,7 +854,7 @@ PW__DEF int pw__atlas_retry_deferred(pw__atlas_grower *G)
     for (i = 0; i < nd; i++) {
         int f = G->deferred[i];
         if (G->chart[f] >= 0) continue;
-        if (pw__atlas_heap_push(G->a, &G->heap, pw__atlas_key(G, f), f, G->e)) return PW_ERR_NOMEM;
+        if (pw_heap_push(G->a, &G->heap, pw__atlas_key(G, f), f, G->e)) return PW_ERR_NOMEM;
     }
     return PW_OK;
 }
@@ -938,7 +874,7 @@ PW__DEF int pw__atlas_grow_chart(pw__atlas_grower *G, int f)
             if ((r = pw__atlas_relax(G, &cut)) || (!cut && (r = pw__atlas_retry_deferred(G)))) return r;
             continue;
         }
-        if ((r = pw__atlas_grow_try(G, pw__atlas_heap_pop(&G->heap)))) return r;
+        if ((r = pw__atlas_grow_try(G, pw_heap_pop(&G->heap)))) return r;
         if (G->nfc >= next) {
             next = G->nfc + G->nfc / 2;
             if ((r = pw__atlas_relax(G, &cut)) || (!cut && (r = pw__atlas_retry_deferred(G)))) return r;
@@ -985,7 +921,7 @@ PW__DEF void pw__atlas_grower_free(pw__atlas_grower *G)
     pw_free(a, G->verts);
     pw_free(a, G->uv);
     pw_free(a, G->deferred);
-    pw__atlas_heap_free(a, &G->heap);
+    pw_heap_free(a, &G->heap);
     pw__atlas_hash_free(a, &G->hash);
 }
 

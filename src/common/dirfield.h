@@ -22,6 +22,7 @@
 #include "base.h"
 #include "vec.h"
 #include "trimesh.h"
+#include "heap.h"
 
 /* e^-x for x >= 0 from + - * / and an exact power of two: x = n ln2 - r
  * with |r| <= ln2/2, e^r by its Taylor series to r^14 (truncation below
@@ -430,74 +431,28 @@ PW__DEF void pw_df_dual(const pw_trimesh *m, double *len)
     for (h = 0; h < 3 * m->nf; h++) len[h] = m->hm.twin[h] < 0 ? 0.0 : pw_df_dual_len(m, h);
 }
 
-/* A binary min-heap of (distance, triangle), ties broken by the lower
- * triangle index so that the order never depends on anything else. */
-typedef struct pw_df_heap {
-    double *d;
-    int *f, n;
-} pw_df_heap;
-
-PW__DEF int pw_df_less(const pw_df_heap *hp, int i, int j)
-{
-    return hp->d[i] < hp->d[j] || (hp->d[i] == hp->d[j] && hp->f[i] < hp->f[j]);
-}
-
-PW__DEF void pw_df_swap(pw_df_heap *hp, int i, int j)
-{
-    double d = hp->d[i];
-    int f = hp->f[i];
-    hp->d[i] = hp->d[j], hp->f[i] = hp->f[j];
-    hp->d[j] = d, hp->f[j] = f;
-}
-
-PW__DEF void pw_df_push(pw_df_heap *hp, double d, int f)
-{
-    int i = hp->n++;
-    hp->d[i] = d;
-    hp->f[i] = f;
-    while (i > 0 && pw_df_less(hp, i, (i - 1) / 2)) {
-        pw_df_swap(hp, i, (i - 1) / 2);
-        i = (i - 1) / 2;
-    }
-}
-
-PW__DEF void pw_df_pop(pw_df_heap *hp)
-{
-    int i = 0;
-    pw_df_swap(hp, 0, --hp->n);
-    for (;;) {
-        int l = 2 * i + 1, r = l + 1, b = i;
-        if (l < hp->n && pw_df_less(hp, l, b)) b = l;
-        if (r < hp->n && pw_df_less(hp, r, b)) b = r;
-        if (b == i) break;
-        pw_df_swap(hp, i, b);
-        i = b;
-    }
-}
-
 /* §3.2 "radius is defined as distance over the mesh, as computed using
  * Dijkstra's algorithm": distances over the dual graph (triangle centroids
  * joined through edge midpoints) from triangle src; DBL_MAX where
  * unreachable. The heap holds at most 3*nf+1 entries (a triangle is pushed
  * only when one of its <= 3 neighbours improves it). */
 PW__DEF void pw_df_dijkstra(const pw_trimesh *m, const double *len, int src, double *dist,
-                                 pw_df_heap *hp)
+                                 pw_heap *hp)
 {
     int f, k, g;
     for (f = 0; f < m->nf; f++) dist[f] = DBL_MAX;
     dist[src] = 0.0;
     hp->n = 0;
-    pw_df_push(hp, 0.0, src);
+    pw_heap_insert(hp, 0.0, src);
     while (hp->n > 0) {
-        double d = hp->d[0];
-        f = hp->f[0];
-        pw_df_pop(hp);
+        double d = hp->key[0];
+        f = pw_heap_pop(hp);
         if (d > dist[f]) continue; /* stale entry */
         for (k = 0; k < 3; k++) {
             double nd = d + len[3 * f + k];
             if ((g = pw_trimesh_across(m, f, k)) >= 0 && nd < dist[g]) {
                 dist[g] = nd;
-                pw_df_push(hp, nd, g);
+                pw_heap_insert(hp, nd, g);
             }
         }
     }
@@ -615,7 +570,7 @@ PW__DEF int pw_df_smooth(const pw_alloc *a, const pw_trimesh *m, const float *co
  * walk: a neighbour's key is 1 - |cos| of the angle between its line and
  * f's direction carried over, the smallest key (best agreement) kept. */
 PW__DEF void pw_df_offer(const pw_trimesh *m, const float *conn, const double *z, int f,
-                              const unsigned char *seen, double *best, int *via, pw_df_heap *hp)
+                              const unsigned char *seen, double *best, int *via, pw_heap *hp)
 {
     int k, g, th;
     double w[2], key;
@@ -626,7 +581,7 @@ PW__DEF void pw_df_offer(const pw_trimesh *m, const float *conn, const double *z
         if (key < best[g]) {
             best[g] = key;
             via[g] = th;
-            pw_df_push(hp, key, g);
+            pw_heap_insert(hp, key, g);
         }
     }
 }
@@ -634,7 +589,7 @@ PW__DEF void pw_df_offer(const pw_trimesh *m, const float *conn, const double *z
 /* The walk of pw_df_orient (best: nf keys, via: nf half-edges,
  * hp: room for 3 nf + 1 entries). */
 PW__DEF void pw_df_walk(const pw_trimesh *m, const float *conn, pw_v3 up, double *z,
-                             unsigned char *seen, double *best, int *via, pw_df_heap *hp)
+                             unsigned char *seen, double *best, int *via, pw_heap *hp)
 {
     double w[2];
     int s, f;
@@ -646,8 +601,7 @@ PW__DEF void pw_df_walk(const pw_trimesh *m, const float *conn, pw_v3 up, double
         seen[s] = 1;
         pw_df_offer(m, conn, z, s, seen, best, via, hp);
         while (hp->n > 0) {
-            f = hp->f[0];
-            pw_df_pop(hp);
+            f = pw_heap_pop(hp);
             if (seen[f]) continue; /* stale entry */
             pw_df_move(conn, via[f], 1, z + 2 * (m->hm.twin[via[f]] / 3), w);
             if (w[0] * z[2 * f] + w[1] * z[2 * f + 1] < 0.0)
@@ -673,9 +627,10 @@ PW__DEF int pw_df_orient(const pw_alloc *a, const pw_trimesh *m, const float *co
     int *ints = (int *)pw_alloc_array(a, 4 * n + 1, sizeof(int), "field orientation", e);
     unsigned char *seen = (unsigned char *)pw_calloc_array(a, n, 1, "field orientation", e);
     int r = dbl && ints && seen ? PW_OK : PW_ERR_NOMEM;
-    pw_df_heap hp;
+    pw_heap hp;
     if (r == PW_OK) { /* dbl: best keys, then the heap's; ints: via, then the heap's */
-        hp.d = dbl + n, hp.f = ints + n, hp.n = 0;
+        memset(&hp, 0, sizeof hp);
+        hp.key = dbl + n, hp.item = ints + n;
         pw_df_walk(m, conn, up, z, seen, dbl, ints, &hp);
     }
     pw_free(a, dbl);

@@ -301,19 +301,20 @@ static int lapped__fld_constraints(const pw_alloc *a, const pw_trimesh *m, const
     lapped__fld_con *c;
     double *len, *dist;
     lapped__fld_acc acc;
-    pw_df_heap hp;
+    pw_heap hp;
     if (nc < 1 || !fl->constraints)
         return pw_fail(e, PW_ERR_INVALID, "CONSTRAINTS field needs constraints (nconstraints %d%s)", nc,
                        fl->constraints ? "" : ", constraints NULL");
     c = (lapped__fld_con *)pw_alloc_array(a, (size_t)nc, sizeof *c, "constraints", e);
     len = (double *)pw_alloc_array(a, 13 * n + 1, sizeof(double), "geodesic distances", e);
-    hp.f = (int *)pw_alloc_array(a, 3 * n + 1, sizeof(int), "Dijkstra heap", e);
-    if (!c || !len || !hp.f) r = PW_ERR_NOMEM;
+    memset(&hp, 0, sizeof hp);
+    hp.item = (int *)pw_alloc_array(a, 3 * n + 1, sizeof(int), "Dijkstra heap", e);
+    if (!c || !len || !hp.item) r = PW_ERR_NOMEM;
     if (r == PW_OK) r = lapped__fld_checks(m, fl, scale, c, e);
     if (r == PW_OK) {
         dist = len + 3 * n;
-        hp.d = dist + n;
-        acc.q = hp.d + 3 * n + 1;
+        hp.key = dist + n;
+        acc.q = hp.key + 3 * n + 1;
         acc.w = acc.q + n;
         acc.sc = acc.w + n;
         acc.dir = acc.sc + n;
@@ -325,12 +326,12 @@ static int lapped__fld_constraints(const pw_alloc *a, const pw_trimesh *m, const
             lapped__fld_accumulate(m->nf, dist, c + i, &acc);
         }
         lapped__fld_pin(c, nc, &acc);
-        lapped__fld_orphans(m, c, nc, &acc, hp.f);
+        lapped__fld_orphans(m, c, nc, &acc, hp.item);
         r = lapped__fld_blend(a, m, conn, pw_v3_load(fl->up), &acc, z, scales, known, e);
     }
     pw_free(a, c);
     pw_free(a, len);
-    pw_free(a, hp.f);
+    pw_free(a, hp.item);
     return r;
 }
 

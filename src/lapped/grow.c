@@ -264,8 +264,7 @@ typedef struct lapped__patchbuf {
     float *fs, *ft;      /* nf*3 the frame each patch triangle aligns with */
     int *faces, nfaces;  /* patch triangles in the order they were added */
     int *verts, nverts;  /* patch vertices in the order they were mapped */
-    float *heapk;        /* candidate queue: distance keys ... */
-    int *heapf, nheap;   /* ... and triangles */
+    pw_heap queue;       /* candidate triangles by distance (room for nf) */
     int hard;            /* growth stopped somewhere at the distortion limit */
     unsigned char *sliver; /* nf: 1 for a degenerate triangle (pw_trimesh_sliver) */
     float *keep;         /* nv*2: the coordinates of verts before the last optimisation */
@@ -283,8 +282,8 @@ static void lapped__patchbuf_free(const pw_alloc *a, lapped__patchbuf *p)
     pw_free(a, p->ft);
     pw_free(a, p->faces);
     pw_free(a, p->verts);
-    pw_free(a, p->heapk);
-    pw_free(a, p->heapf);
+    pw_free(a, p->queue.key);
+    pw_free(a, p->queue.item);
     pw_free(a, p->sliver);
     pw_free(a, p->keep);
     memset(p, 0, sizeof *p);
@@ -308,51 +307,15 @@ static int lapped__patchbuf_init(const pw_alloc *a, const pw_trimesh *m, lapped_
     p->ft = (float *)pw_alloc_array(a, (size_t)nf * 3, sizeof(float), "patch frames", e);
     p->faces = (int *)pw_alloc_array(a, (size_t)nf, sizeof(int), "patch triangles", e);
     p->verts = (int *)pw_alloc_array(a, (size_t)nv, sizeof(int), "patch vertices", e);
-    p->heapk = (float *)pw_alloc_array(a, (size_t)nf, sizeof(float), "growth queue", e);
-    p->heapf = (int *)pw_alloc_array(a, (size_t)nf, sizeof(int), "growth queue", e);
+    p->queue.key = (double *)pw_alloc_array(a, (size_t)nf, sizeof(double), "growth queue", e);
+    p->queue.item = (int *)pw_alloc_array(a, (size_t)nf, sizeof(int), "growth queue", e);
     if (p->fin && p->fout && p->fq && p->vin && p->vloc && p->vuv && p->fs && p->ft && p->faces && p->verts &&
-        p->heapk && p->heapf && p->sliver && p->keep) {
+        p->queue.key && p->queue.item && p->sliver && p->keep) {
         for (f = 0; f < nf; f++) p->sliver[f] = (unsigned char)pw_trimesh_sliver(m, f);
         return PW_OK;
     }
     lapped__patchbuf_free(a, p);
     return PW_ERR_NOMEM;
-}
-
-/* Binary min-heap of candidate triangles keyed by distance. */
-static void lapped__heap_push(lapped__patchbuf *p, float key, int f)
-{
-    int i = p->nheap++;
-    while (i > 0) {
-        int up = (i - 1) / 2;
-        if (p->heapk[up] < key || (p->heapk[up] == key && p->heapf[up] <= f)) break;
-        p->heapk[i] = p->heapk[up];
-        p->heapf[i] = p->heapf[up];
-        i = up;
-    }
-    p->heapk[i] = key;
-    p->heapf[i] = f;
-}
-
-static int lapped__heap_pop(lapped__patchbuf *p)
-{
-    int top = p->heapf[0], i = 0, n = --p->nheap;
-    float key = p->heapk[n];
-    int f = p->heapf[n];
-    for (;;) {
-        int c = 2 * i + 1;
-        if (c >= n) break;
-        if (c + 1 < n && (p->heapk[c + 1] < p->heapk[c] ||
-                          (p->heapk[c + 1] == p->heapk[c] && p->heapf[c + 1] < p->heapf[c])))
-            c++;
-        if (key < p->heapk[c] || (key == p->heapk[c] && f <= p->heapf[c])) break;
-        p->heapk[i] = p->heapk[c];
-        p->heapf[i] = p->heapf[c];
-        i = c;
-    }
-    p->heapk[i] = key;
-    p->heapf[i] = f;
-    return top;
 }
 
 static void lapped__map_vertex(lapped__patchbuf *p, int v, float u, float w)
@@ -576,7 +539,7 @@ static void lapped__push_neighbours(lapped__paster *P, int f, pw_v3 centre3)
         int g = pw_trimesh_across(&P->m, f, k);
         if (g < 0 || p->fin[g] == p->stamp || p->fout[g] == p->stamp || p->fq[g] == p->stamp) continue;
         p->fq[g] = p->stamp;
-        lapped__heap_push(p, pw_v3_len(pw_v3_sub(lapped__centroid(&P->m, g), centre3)), g);
+        pw_heap_insert(&p->queue, pw_v3_len(pw_v3_sub(lapped__centroid(&P->m, g), centre3)), g);
     }
 }
 
@@ -613,7 +576,7 @@ static void lapped__start(lapped__paster *P, int f, const float b[3], int patch,
     lapped__patchbuf *p = &P->pb;
     int k;
     p->stamp++;
-    p->nfaces = p->nverts = p->nheap = p->hard = 0;
+    p->nfaces = p->nverts = p->queue.n = p->hard = 0;
     *centre3 = pw_v3_add(pw_v3_add(pw_v3_scale(pw_trimesh_corner(&P->m, f, 0), b[0]),
                                    pw_v3_scale(pw_trimesh_corner(&P->m, f, 1), b[1])),
                          pw_v3_scale(pw_trimesh_corner(&P->m, f, 2), b[2]));
@@ -690,8 +653,8 @@ static int lapped__grow(lapped__paster *P, const pw_polyhull *hull, pw_v3 centre
 {
     lapped__patchbuf *p = &P->pb;
     int before = p->nfaces;
-    while (p->nheap > 0) {
-        int g = lapped__heap_pop(p);
+    while (p->queue.n > 0) {
+        int g = pw_heap_pop(&p->queue);
         p->fq[g] = 0;
         if (p->fin[g] != p->stamp && p->fout[g] != p->stamp) lapped__try_add(P, g, hull, centre3);
     }

@@ -13,6 +13,7 @@
 #include "../common/shapes.h"
 #include "../common/halfedge.h"
 #include "../common/trimesh.h"
+#include "../common/heap.h"
 #include "../common/sparse.h"
 #include "../common/raster.h"
 #include "../common/render.h"

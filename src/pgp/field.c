@@ -51,7 +51,7 @@ static int pgp__area(const pgp__state *P, const int *seeds, int nseeds, float ra
     const pw_trimesh *m = &P->m;
     double *dist = (double *)pw_alloc_array(&P->a, (size_t)m->nf * 4 + 1, sizeof(double), "effect area", e);
     int *hf = (int *)pw_alloc_array(&P->a, (size_t)m->nf * 3 + 1 + (size_t)nseeds, sizeof(int), "effect area", e);
-    pw_df_heap hp;
+    pw_heap hp;
     int f, k, g, i;
     *n = 0;
     memset(in, 0, (size_t)m->nf);
@@ -60,14 +60,14 @@ static int pgp__area(const pgp__state *P, const int *seeds, int nseeds, float ra
         pw_free(&P->a, hf);
         return PW_ERR_NOMEM;
     }
-    hp.d = dist + m->nf, hp.f = hf, hp.n = 0;
+    memset(&hp, 0, sizeof hp);
+    hp.key = dist + m->nf, hp.item = hf;
     for (f = 0; f < m->nf; f++) dist[f] = DBL_MAX;
     for (i = 0; i < nseeds; i++)
-        if (dist[seeds[i]] > 0.0) dist[seeds[i]] = 0.0, pw_df_push(&hp, 0.0, seeds[i]);
+        if (dist[seeds[i]] > 0.0) dist[seeds[i]] = 0.0, pw_heap_insert(&hp, 0.0, seeds[i]);
     while (hp.n > 0) {
-        double d = hp.d[0];
-        f = hp.f[0];
-        pw_df_pop(&hp);
+        double d = hp.key[0];
+        f = pw_heap_pop(&hp);
         if (d > dist[f] || in[f]) continue; /* stale entry */
         if (radius > 0.0f && d > radius) break;
         in[f] = 1;
@@ -76,7 +76,7 @@ static int pgp__area(const pgp__state *P, const int *seeds, int nseeds, float ra
             double nd = d + P->dual[3 * f + k];
             if ((g = pw_trimesh_across(m, f, k)) >= 0 && !in[g] && nd < dist[g]) {
                 dist[g] = nd;
-                pw_df_push(&hp, nd, g);
+                pw_heap_insert(&hp, nd, g);
             }
         }
     }
