@@ -9,6 +9,11 @@
 #   - one line: executions, coverage (edges and features of the whole kept
 #     corpus, as libFuzzer counts them) and the crashes, timeouts and
 #     out-of-memory inputs found, which are kept in fuzz/work/crashes/.
+#     Timeouts and slow units are run again alone: on a loaded machine (the
+#     campaign runs beside other work, or niced) an input can wait past the
+#     timeout without being slow. Those that finish alone within it move to
+#     fuzz/work/crashes/unreproduced/ and are counted apart, with the
+#     longest time alone.
 # The campaign goes on past a crash and fails at the end if any target
 # found one: turn each into a regression test.
 # Usage: fuzz/long.sh SECONDS [JOBS] [TARGET...]
@@ -27,7 +32,8 @@ one() {
     name=$(basename "$f")
     corpus=$work/$name seeds=fuzz/corpus/$name log=$work/$name.log
     mkdir -p "$corpus" "$seeds" "$work/$name.min"
-    before=$(ls "$work/crashes" | grep -c "^$name-")
+    ls "$work/crashes" | grep "^$name-" > "$work/$name.before"
+    before=$(wc -l < "$work/$name.before")
     # fork mode: $jobs processes share the corpus; -ignore_*: keep going and
     # keep every finding
     "$f" -fork="$jobs" -ignore_crashes=1 -ignore_timeouts=1 -ignore_ooms=1 -max_total_time="$secs" $opts \
@@ -44,10 +50,22 @@ one() {
     # coverage of the whole kept corpus, as one run over it reports it
     "$f" -runs=0 $opts "$corpus" > "$work/$name.cov.log" 2>&1
     cov=$(grep -o 'INITED cov: [0-9]* ft: [0-9]*' "$work/$name.cov.log" | tail -1 | awk '{print $3, $5}')
+    mkdir -p "$work/crashes/unreproduced"
+    unrep=0 slowest=0
+    for t in $(ls "$work/crashes" | grep "^$name-\(timeout\|slow-unit\)-" | grep -vxF -f "$work/$name.before"); do
+        t0=$(date +%s.%N)
+        if "$f" -timeout=10 -rss_limit_mb=2048 "$work/crashes/$t" > /dev/null 2>&1; then
+            slowest=$(awk -v a="$t0" -v b="$(date +%s.%N)" -v m="$slowest" 'BEGIN { d = b - a; print (d > m ? d : m) }')
+            mv "$work/crashes/$t" "$work/crashes/unreproduced/"
+            unrep=$((unrep + 1))
+        fi
+    done
     found=$(($(ls "$work/crashes" | grep -c "^$name-") - before))
     set -- $cov
-    printf '%-18s %8ss %12s runs  cov %6s  ft %6s  corpus %5s  seeds +%-4s  found %s\n' "$name" "$secs" "$runs" \
+    printf '%-18s %8ss %12s runs  cov %6s  ft %6s  corpus %5s  seeds +%-4s  found %s' "$name" "$secs" "$runs" \
         "${1:-?}" "${2:-?}" "$(ls "$corpus" | wc -l)" "$added" "$found"
+    [ $unrep -gt 0 ] && printf '  (%s timeouts under load that finish alone in %.2f s at most)' $unrep "$slowest"
+    printf '\n'
     [ "$found" -eq 0 ]
 }
 
