@@ -54,11 +54,19 @@ static const char *pgp_usage =
     "                       every vortex)\n"
     "  --out-obj FILE       the triangulated mesh with 'vt s t m' per corner, faces\n"
     "                       in groups 'regular' and 'singular'\n"
-    "  --out-tile FILE.nrrd the tile, as NRRD (uint8)\n";
+    "  --out-tile FILE.nrrd the tile, as NRRD (uint8)\n"
+    "  --out-glb FILE.glb   binary glTF 2.0: the mesh with an atlas of the rendering\n"
+    "                       (--fix, --show) baked inside, and the camera of --out-image\n"
+    "  --atlas-size PX      its side (default 1024; 16..8192)\n"
+    "  --out-glb-st FILE.glb binary glTF 2.0 with the raw (s,t) per corner and the\n"
+    "                       tile's layer at --glb-material M (0..1, default 0), wrapped:\n"
+    "                       for a viewer with its own material-space shader (the\n"
+    "                       singular triangles show seams)\n";
 
 typedef struct pgp_cmd {
     int center_vortex; /* --center vortex:K: K + 1, 0 when not given */
-    const char *mesh, *tile, *texture, *constraints, *out_image, *out_obj, *out_tile;
+    const char *mesh, *tile, *texture, *constraints, *out_image, *out_obj, *out_tile, *out_glb, *out_glb_st;
+    float glb_material;
     pgp_options opt;
 } pgp_cmd;
 
@@ -147,6 +155,10 @@ static int parse_one(cli_args *a, pgp_cmd *c)
     if (cli_is(a, "--zoom")) return cli_float(a, 1.0f, 1e4f, &c->opt.render.zoom);
     if (cli_is(a, "--center")) return parse_center(a, c);
     if (cli_is(a, "--out-obj")) return cli_value(a, &c->out_obj);
+    if (cli_is(a, "--out-glb")) return cli_value(a, &c->out_glb);
+    if (cli_is(a, "--out-glb-st")) return cli_value(a, &c->out_glb_st);
+    if (cli_is(a, "--glb-material")) return cli_float(a, 0.0f, 1.0f, &c->glb_material);
+    if (cli_is(a, "--atlas-size")) return cli_int(a, 16, 8192, &c->opt.atlas.size);
     if (cli_is(a, "--out-image")) return cli_value(a, &c->out_image);
     if (cli_is(a, "--size")) return cli_size(a, &c->opt.render.width, &c->opt.render.height);
     if (cli_is(a, "--out-tile")) return cli_value(a, &c->out_tile);
@@ -176,13 +188,15 @@ static int parse(int argc, char **argv, pgp_cmd *c)
         return 0;
     }
     {
-        const cli_out outs[3] = {{"--out-image", c->out_image, CLI_OUT_IMAGE},
+        const cli_out outs[5] = {{"--out-image", c->out_image, CLI_OUT_IMAGE},
                                  {"--out-obj", c->out_obj, CLI_OUT_OBJ},
-                                 {"--out-tile", c->out_tile, CLI_OUT_NRRD}};
-        if (!cli_check_outputs("pgp", outs, 3)) return 0;
+                                 {"--out-tile", c->out_tile, CLI_OUT_NRRD},
+                                 {"--out-glb", c->out_glb, CLI_OUT_GLB},
+                                 {"--out-glb-st", c->out_glb_st, CLI_OUT_GLB}};
+        if (!cli_check_outputs("pgp", outs, 5)) return 0;
     }
-    if (!c->out_image && !c->out_obj && !c->out_tile) {
-        cli_error("pgp", "nothing to write: give --out-image, --out-obj or --out-tile");
+    if (!c->out_image && !c->out_obj && !c->out_tile && !c->out_glb && !c->out_glb_st) {
+        cli_error("pgp", "nothing to write: give --out-image, --out-obj, --out-tile, --out-glb or --out-glb-st");
         return 0;
     }
     return 1;
@@ -223,6 +237,31 @@ static pgp_result write_image(cli_outputs *outs, const char *path, const pgp_ima
     err->code = (pgp_result)terr.code;
     memcpy(err->message, terr.message, sizeof err->message);
     return err->code;
+}
+
+/* The mapping as glTF with the atlas, to a staged file. */
+static pgp_result write_glb(cli_outputs *outs, const char *path, const pgp_map *map, const pgp_atlas *atlas,
+                            const pgp_render_options *view, pgp_error *err)
+{
+    FILE *f = cli_open(outs, path, err->message, sizeof err->message);
+    pgp_result r;
+    if (!f) return err->code = PGP_ERR_IO;
+    r = pgp_write_gltf(map, atlas, view, cli_fwrite, f, err);
+    if (r == PGP_ERR_IO) snprintf(err->message, sizeof err->message, "%.200s: write error (disk full?)", path);
+    if (!cli_close(f, r == PGP_OK, path, err->message, sizeof err->message)) r = PGP_ERR_IO;
+    return err->code = r;
+}
+
+/* --out-glb (baked) or --out-glb-st (raw coordinates). */
+static pgp_result write_gltf_out(const pgp_cmd *c, cli_outputs *outs, const pgp_map *map, const pgp_tile *tile, int raw,
+                                 pgp_error *err)
+{
+    pgp_atlas atlas;
+    pgp_result r = raw ? pgp_tile_atlas(map, tile, c->glb_material, &atlas, err)
+                       : pgp_bake_atlas(map, tile, &c->opt, &atlas, err);
+    if (r == PGP_OK) r = write_glb(outs, raw ? c->out_glb_st : c->out_glb, map, &atlas, &c->opt.render, err);
+    pgp_atlas_free(&atlas);
+    return r;
 }
 
 /* The OBJ (tile NULL) or the tile, to a staged file. */
@@ -347,6 +386,8 @@ static pgp_result run(pgp_cmd *c, cli_outputs *outs, pgp_error *err)
     if (r == PGP_OK && (c->opt.render.zoom > 1.0f || c->center_vortex)) r = set_center(c, &mesh, &map, err);
     if (r == PGP_OK && c->out_tile) r = write_file(outs, c->out_tile, NULL, NULL, &tile, err);
     if (r == PGP_OK && c->out_obj) r = write_file(outs, c->out_obj, &mesh, &map, NULL, err);
+    if (r == PGP_OK && c->out_glb) r = write_gltf_out(c, outs, &map, &tile, 0, err);
+    if (r == PGP_OK && c->out_glb_st) r = write_gltf_out(c, outs, &map, &tile, 1, err);
     if (r == PGP_OK && c->out_image && (r = pgp_render(&map, &tile, &c->opt.render, &pic, err)) == PGP_OK)
         r = write_image(outs, c->out_image, &pic, err);
     pgp_image_free(&pic);

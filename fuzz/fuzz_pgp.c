@@ -122,6 +122,32 @@ static void fz_same(const pgp_map *a, const pgp_map *b)
     FZ_CHECK(pgp_map_vortices(a, NULL) == pgp_map_vortices(b, NULL));
 }
 
+/* An atlas (baked, or the raw coordinates) and its glTF file: made, or a
+ * clean failure; baked coordinates in [0, 1], finite pixels. */
+static void fz_gltf(const pgp_map *P, const pgp_tile *tile, pgp_options *o, const pgp_render_options *ro)
+{
+    pgp_atlas a;
+    pgp_error err;
+    pgp_result r;
+    size_t i, bytes = 0;
+    int raw = ro->show == PGP_SHOW_MATERIAL;
+    o->atlas.size = 32;
+    o->render = *ro;
+    r = raw ? pgp_tile_atlas(P, tile, 0.5f, &a, &err) : pgp_bake_atlas(P, tile, o, &a, &err);
+    if (r != PGP_OK) {
+        fz_pgp_failure(r, &err);
+        FZ_CHECK(a.uvs == NULL && a.image.pixels == NULL);
+        return;
+    }
+    FZ_CHECK(a.ntris == P->ntris && a.image.pixels);
+    for (i = 0; i < (size_t)6 * a.ntris; i++) FZ_CHECK(fz_finite(a.uvs[i]) && (raw || (a.uvs[i] >= 0.0f && a.uvs[i] <= 1.0f)));
+    for (i = 0; i < (size_t)a.image.width * a.image.height * a.image.channels; i++) FZ_CHECK(fz_finite(a.image.pixels[i]));
+    r = pgp_write_gltf(P, &a, ro, fz_count, &bytes, &err);
+    if (r == PGP_OK) FZ_CHECK(bytes > 0);
+    else fz_pgp_failure(r, &err);
+    pgp_atlas_free(&a);
+}
+
 static void fz_render(const uint8_t *h, const pgp_map *P)
 {
     pgp_render_options ro;
@@ -144,6 +170,7 @@ static void fz_render(const uint8_t *h, const pgp_map *P)
         pgp_image_free(&img);
     } else
         fz_pgp_failure(r, &err);
+    if (h[3] & 0x40) fz_gltf(P, &tile, &o, &ro);
     pgp_tile_free(&tile);
 }
 

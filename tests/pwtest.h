@@ -181,6 +181,39 @@ PWT_UNUSED static const char *pwt_tmp(const char *stem, int k, const char *ext)
     return p;
 }
 
+/* An allocator (for a header's X_allocator: malloc_fn, realloc_fn,
+ * free_fn) whose call number pwt_alloc_fail_at (from 0; -1: none) fails,
+ * counting the calls (pwt_alloc_calls) and the blocks still live
+ * (pwt_alloc_live): a test runs an operation with each call failing in
+ * turn and checks it reports running out of memory and leaks nothing. */
+static int pwt_alloc_live, pwt_alloc_fail_at = -1, pwt_alloc_calls;
+
+static PWT_UNUSED void *pwt_alloc_malloc(void *u, size_t n)
+{
+    void *p;
+    (void)u;
+    if (pwt_alloc_calls++ == pwt_alloc_fail_at) return NULL;
+    if ((p = malloc(n)) != NULL) pwt_alloc_live++;
+    return p;
+}
+
+static PWT_UNUSED void *pwt_alloc_realloc(void *u, void *p, size_t n)
+{
+    void *q;
+    (void)u;
+    if (pwt_alloc_calls++ == pwt_alloc_fail_at) return NULL;
+    q = realloc(p, n);
+    if (q && !p) pwt_alloc_live++;
+    return q;
+}
+
+static PWT_UNUSED void pwt_alloc_free(void *u, void *p)
+{
+    (void)u;
+    if (p) pwt_alloc_live--;
+    free(p);
+}
+
 /* Runs the cases whose names contain argv[1] (all without it). With the
  * environment variable PWT_TIME set, each case's CPU time goes to stderr
  * ("TIME name seconds"), to find the slow ones. */

@@ -10,7 +10,7 @@
 # together instead of one running the longest test last.
 build=${1:-build}
 jobs=${2:-$(getconf _NPROCESSORS_ONLN 2>/dev/null || echo 1)}
-SLOW="headers.sh gltf.sh test_lapped_atlas test_alloc_failures test_lst_io test_stuffing pgp_cli.sh test_lst \
+SLOW="headers.sh gltf.sh test_lapped_atlas test_pgp_gltf test_alloc_failures test_lst_io test_stuffing pgp_cli.sh test_lst \
     examples.sh test_pgp_synth assimp_corpus.sh lapped_cli.sh test_lapped test_lst_cut"
 
 # One test: its output to $logs/NAME.log; a binary that dies without

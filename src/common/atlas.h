@@ -1901,4 +1901,50 @@ PW__DEF int pw_atlas_mesh(const pw_alloc *a, const pw_trimesh *m, const float *u
     return pw__atlas_dedup_uvs(a, uvs, 3 * m->nf, pm->uv, pm->fuv, &pm->nuv, e);
 }
 
+/* ---- settings ----------------------------------------------------------------- */
+
+#define PW_ATLAS_MIN 16
+#define PW_ATLAS_MAX 8192
+#define PW_ATLAS_GUTTER_MAX 64
+
+/* An atlas's settings, zero fields replaced by their defaults (size 1024,
+ * cone 60 degrees, gutter 2), then checked. */
+PW__DEF int pw_atlas_settings(int *size, float *cone, int *gutter, pw_err *e)
+{
+    if (*size == 0) *size = 1024;
+    if (*cone == 0.0f) *cone = 60.0f;
+    if (*gutter == 0) *gutter = 2;
+    if (*size < PW_ATLAS_MIN || *size > PW_ATLAS_MAX)
+        return pw_fail(e, *size > PW_ATLAS_MAX ? PW_ERR_LIMIT : PW_ERR_INVALID, "atlas size %d is outside %d..%d", *size,
+                       PW_ATLAS_MIN, PW_ATLAS_MAX);
+    if (!(*cone > 0.0f && *cone <= 180.0f))
+        return pw_fail(e, PW_ERR_INVALID, "atlas cone angle %g is outside (0, 180] degrees", (double)*cone);
+    if (*gutter < 0 || *gutter > PW_ATLAS_GUTTER_MAX || 8 * *gutter > *size)
+        return pw_fail(e, PW_ERR_INVALID, "atlas gutter %d is outside 1..%d (and at most an eighth of the size)", *gutter,
+                       PW_ATLAS_GUTTER_MAX);
+    return PW_OK;
+}
+
+/* Charts of m (cone in degrees) packed into a size x size atlas with
+ * `gutter` pixels between them: per-corner coordinates uvs (m->nf * 6,
+ * allocated here), the chart count and the fraction of the image covered. */
+PW__DEF int pw_atlas_layout(const pw_alloc *a, const pw_trimesh *m, float cone, int size, int gutter,
+                            const pw_progress *prog, float **uvs, int *ncharts, float *fill, pw_err *e)
+{
+    pw_atlas_charts C;
+    int r;
+    *uvs = (float *)pw_alloc_array(a, (size_t)m->nf * 6, sizeof(float), "atlas coordinates", e);
+    if (!*uvs) return PW_ERR_NOMEM;
+    if ((r = pw_atlas_charts_build(a, m, cone, prog, &C, e)) == PW_OK) {
+        *ncharts = C.n;
+        r = pw_atlas_pack(a, m, &C, size, gutter, prog, *uvs, fill, e);
+        pw_atlas_charts_free(a, &C);
+    }
+    if (r != PW_OK) {
+        pw_free(a, *uvs);
+        *uvs = NULL;
+    }
+    return r;
+}
+
 #endif /* PW__ATLAS_V1 */

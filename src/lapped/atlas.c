@@ -20,28 +20,11 @@
 
 /* ---- public functions ---------------------------------------------------------- */
 
-#define LAPPED__ATLAS_MIN 16
-#define LAPPED__ATLAS_MAX 8192
-#define LAPPED__ATLAS_GUTTER_MAX 64
-
 /* Atlas options with zero fields replaced by their defaults, checked. */
 static int lapped__atlas_options(const lapped_atlas_options *ao, lapped_atlas_options *o, pw_err *e)
 {
-    o->size = 1024;
-    o->cone_angle = 60.0f;
-    o->gutter = 2;
-    if (ao->size) o->size = ao->size;
-    if (ao->cone_angle != 0.0f) o->cone_angle = ao->cone_angle;
-    if (ao->gutter) o->gutter = ao->gutter;
-    if (o->size < LAPPED__ATLAS_MIN || o->size > LAPPED__ATLAS_MAX)
-        return pw_fail(e, o->size > LAPPED__ATLAS_MAX ? PW_ERR_LIMIT : PW_ERR_INVALID, "atlas size %d is outside %d..%d",
-                       o->size, LAPPED__ATLAS_MIN, LAPPED__ATLAS_MAX);
-    if (!(o->cone_angle > 0.0f && o->cone_angle <= 180.0f))
-        return pw_fail(e, PW_ERR_INVALID, "atlas cone angle %g is outside (0, 180] degrees", (double)o->cone_angle);
-    if (o->gutter < 0 || o->gutter > LAPPED__ATLAS_GUTTER_MAX || 8 * o->gutter > o->size)
-        return pw_fail(e, PW_ERR_INVALID, "atlas gutter %d is outside 1..%d (and at most an eighth of the size)",
-                       o->gutter, LAPPED__ATLAS_GUTTER_MAX);
-    return PW_OK;
+    *o = *ao;
+    return pw_atlas_settings(&o->size, &o->cone_angle, &o->gutter, e);
 }
 
 /* Checks that the pastes refer to existing triangles and patches. */
@@ -137,17 +120,11 @@ static int lapped__atlas_run(const pw_alloc *a, const pw_trimesh *m, const lappe
                              const pw_image *views, int oc, const lapped_atlas_options *o, const pw_progress *prog,
                              lapped_atlas *out, pw_image *img, pw_err *e)
 {
-    pw_atlas_charts C;
     lapped__index ix;
     lapped__atlas_texel T;
     int r;
     memset(&ix, 0, sizeof ix);
-    out->uvs = (float *)pw_alloc_array(a, (size_t)m->nf * 6, sizeof(float), "atlas coordinates", e);
-    if (!out->uvs) return PW_ERR_NOMEM;
-    if ((r = pw_atlas_charts_build(a, m, o->cone_angle, prog, &C, e))) return r;
-    out->ncharts = C.n;
-    r = pw_atlas_pack(a, m, &C, o->size, o->gutter, prog, out->uvs, &out->fill, e);
-    pw_atlas_charts_free(a, &C);
+    r = pw_atlas_layout(a, m, o->cone_angle, o->size, o->gutter, prog, &out->uvs, &out->ncharts, &out->fill, e);
     if (r == PW_OK) r = lapped__index_build(a, t, &ix, e);
     T.ix = &ix;
     T.t = t;

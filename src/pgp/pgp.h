@@ -344,6 +344,14 @@ typedef struct pgp_constraints {
     pgp_allocator allocator;
 } pgp_constraints;
 
+/* A texture atlas of the mapping (pgp_bake_atlas), as lapped.h's. */
+typedef struct pgp_atlas_options {
+    int size;                /* atlas image side, pixels; default 1024 (16..8192) */
+    float cone_angle;        /* max angle between a chart's normals and its centre's,
+                                degrees; default 60 */
+    int gutter;              /* pixels between charts, filled by dilation; default 2 */
+} pgp_atlas_options;
+
 typedef struct pgp_options {
     pgp_field_mode field;    /* default UP */
     float up[3];             /* default (0,1,0): the tile's t axis follows it */
@@ -374,6 +382,7 @@ typedef struct pgp_options {
     int nconstraints;
     pgp_render_options render; /* pgp_render's settings (pass &opt.render) */
     pgp_synth_options synth; /* tile synthesis settings (pass &opt.synth) */
+    pgp_atlas_options atlas; /* pgp_bake_atlas's */
     pgp_allocator allocator;
     pgp_progress_fn progress;
     void *progress_user;
@@ -466,6 +475,41 @@ PGPDEF void pgp_field_free(pgp_field *field);
 PGPDEF pgp_result pgp_render(const pgp_map *map, const pgp_tile *tile, const pgp_render_options *ro,
                              pgp_image *out, pgp_error *err);
 
+/* The mapping for other programs: per-corner texture coordinates and one
+ * image. From pgp_bake_atlas, charts of the mesh and the image of what
+ * pgp_render draws (the tile through the coordinates, with the rendering
+ * of vortices that opt->render.fix asks for, unlit); from pgp_tile_atlas,
+ * the raw (s, t) of Eq. (4) and one layer of the tile, wrapped (repeat),
+ * for a program with its own material-space shader (singular triangles
+ * then show their seams, §3). */
+typedef struct pgp_atlas {
+    int ntris;
+    float *uvs;              /* ntris*6, per corner, v = 0 at the bottom of the image */
+    int ncharts;             /* charts of a baked atlas (0 for the raw coordinates) */
+    float fill;              /* fraction of the image the charts cover (1 for the raw) */
+    int repeat;              /* 1: the coordinates wrap (the raw (s, t)); 0: within [0, 1] */
+    pgp_image image;
+} pgp_atlas;
+
+/* Bakes the rendering into an atlas of opt->atlas's size (charts, packing
+ * and baking as lapped.h's §4 atlas, src/common/atlas.h), each texel the
+ * tile's colour there, mip level from the texel's footprint, as
+ * opt->render.fix and .show say (over black where the tile has alpha). */
+PGPDEF pgp_result pgp_bake_atlas(const pgp_map *map, const pgp_tile *tile, const pgp_options *opt, pgp_atlas *out,
+                                 pgp_error *err);
+/* The raw (s, t) per corner and the tile's layer at material m (0..1,
+ * the two nearest layers blended). */
+PGPDEF pgp_result pgp_tile_atlas(const pgp_map *map, const pgp_tile *tile, float m, pgp_atlas *out, pgp_error *err);
+PGPDEF void pgp_atlas_free(pgp_atlas *atlas);
+
+/* Binary glTF 2.0 (.glb, one self-contained file, src/common/gltf.h): the
+ * triangulated mesh with the atlas's coordinates and image as its base
+ * colour (sampled LINEAR / LINEAR_MIPMAP_LINEAR, CLAMP_TO_EDGE, or REPEAT
+ * for pgp_tile_atlas's). With view (not NULL), the camera pgp_render frames
+ * with those options (zoom included). */
+PGPDEF pgp_result pgp_write_gltf(const pgp_map *map, const pgp_atlas *atlas, const pgp_render_options *view,
+                                 pgp_write_fn fn, void *ctx, pgp_error *err);
+
 /* Built-in data for demos and tests. Meshes: "sphere", "torus", "bumpy",
  * "grid" (a flat square, with a boundary). Tiles: "bricks" (bricks that
  * weather into pebbles along m, 4 layers), "stripes" (1 layer); their
@@ -512,6 +556,9 @@ PGPDEF pgp_result pgp_load_constraints(const char *path, const pgp_options *opt,
 PGPDEF pgp_result pgp_save_tile(const char *path, const pgp_tile *tile, pgp_error *err);
 PGPDEF pgp_result pgp_save_image(const char *path, const pgp_image *img, pgp_error *err);
 PGPDEF pgp_result pgp_save_obj(const char *path, const pgp_mesh *mesh, const pgp_map *map, pgp_error *err);
+/* pgp_write_gltf into the file path (.glb). */
+PGPDEF pgp_result pgp_save_gltf(const char *path, const pgp_map *map, const pgp_atlas *atlas,
+                                const pgp_render_options *view, pgp_error *err);
 #endif
 PGPDEF void pgp_mesh_free(pgp_mesh *m);
 PGPDEF void pgp_image_free(pgp_image *img);

@@ -230,15 +230,24 @@ static int pgp__tile3(const pw_alloc *a, const pgp_tile *t, pw_tile3 *out, pw_er
     return pw_tile3_create(a, out, &v, 0, e);
 }
 
-static int pgp__draw(const pgp__state *P, pgp__shading *S, const pgp_render_options *o, pw_image *pic, pw_err *e)
+/* The camera of render options o (defaults filled in): the mesh framed,
+ * or with zoom > 1 a close-up from the same direction and distance,
+ * looking at center. */
+static pw_camera pgp__camera(const pgp__state *P, const pgp_render_options *o)
 {
     pw_camera cam = pw_camera_frame(P->pos, P->m.nv, o->view_dir, o->up, 35.0f, (float)o->width / (float)o->height);
     int k;
-    if (o->zoom > 1.0f) /* a close-up: the same direction and distance, looking at center */
+    if (o->zoom > 1.0f)
         for (cam.fovy_deg /= o->zoom, k = 0; k < 3; k++) {
             cam.eye[k] += o->center[k] - cam.target[k];
             cam.target[k] = o->center[k];
         }
+    return cam;
+}
+
+static int pgp__draw(const pgp__state *P, pgp__shading *S, const pgp_render_options *o, pw_image *pic, pw_err *e)
+{
+    pw_camera cam = pgp__camera(P, o);
     pw_draw d;
     pw_frame f;
     pw_frame_draw1 one;
@@ -297,38 +306,65 @@ static void pgp__fix_data(const pgp__state *P, int mode, unsigned char *fixed, f
     }
 }
 
+/* Render options with the defaults filled in, checked. */
+static int pgp__render_options(const pgp_render_options *ro, pgp_render_options *o, pw_err *e)
+{
+    if (ro) *o = *ro;
+    else memset(o, 0, sizeof *o);
+    pw_view_defaults(&o->width, &o->height, &o->supersample, o->view_dir, o->up, o->background);
+    if (o->width < 1 || o->height < 1 || o->supersample < 1 || o->supersample > 8 || o->threads < 0 || o->fix < 0 ||
+        o->fix > PGP_FIX_PAPER || o->show < 0 || o->show > PGP_SHOW_GHOSTS || !(o->zoom <= 1e4f) ||
+        !pw_is_finite(o->center[0]) || !pw_is_finite(o->center[1]) || !pw_is_finite(o->center[2]))
+        return pw_fail(e, PW_ERR_INVALID, "render options: size %dx%d, supersample %d, threads %d, fix %d, show %d, zoom %g",
+                       o->width, o->height, o->supersample, o->threads, o->fix, o->show, (double)o->zoom);
+    return PW_OK;
+}
+
+/* The shading of the tile with fix mode `fix` and what `show` asks for:
+ * the tile as a pw_tile3 and the fix data (free with pgp__shading_free). */
+static int pgp__shading_init(const pgp__state *P, const pgp_tile *tile, pgp_fix fix, pgp_show show, pgp__shading *S,
+                             pw_err *e)
+{
+    pw_tile3 *t3 = (pw_tile3 *)pw_calloc_array(&P->a, 1, sizeof *t3, "tile", e);
+    float *data = NULL;
+    unsigned char *fixed = NULL;
+    memset(S, 0, sizeof *S);
+    if (!t3) return PW_ERR_NOMEM;
+    S->tile = t3;
+    if (pgp__tile3(&P->a, tile, t3, e) != PW_OK) return e->code;
+    data = (float *)pw_alloc_array(&P->a, (size_t)P->m.nf * PGP__FIXDATA, sizeof(float), "fix", e);
+    fixed = (unsigned char *)pw_alloc_array(&P->a, (size_t)P->m.nf, 1, "fix", e);
+    S->fix = data, S->fixed = fixed;
+    if (!data || !fixed) return PW_ERR_NOMEM;
+    pgp__fix_data(P, fix, fixed, data);
+    S->P = P, S->mode = fix, S->show = show;
+    return PW_OK;
+}
+
+static void pgp__shading_free(const pgp__state *P, pgp__shading *S)
+{
+    if (S->tile) pw_tile3_free(&P->a, (pw_tile3 *)S->tile);
+    pw_free(&P->a, (void *)S->tile);
+    pw_free(&P->a, (void *)S->fix);
+    pw_free(&P->a, (void *)S->fixed);
+    memset(S, 0, sizeof *S);
+}
+
 PGPDEF pgp_result pgp_render(const pgp_map *map, const pgp_tile *tile, const pgp_render_options *ro, pgp_image *out,
                              pgp_error *err)
 {
     const pgp__state *P = pgp__state_of(map);
     pgp_render_options o;
     pgp__shading S;
-    pw_tile3 t3;
     pw_image pic;
     pw_err pe;
-    float *data = NULL;
-    unsigned char *fixed = NULL;
-    if (ro) o = *ro;
-    else memset(&o, 0, sizeof o);
-    pw_view_defaults(&o.width, &o.height, &o.supersample, o.view_dir, o.up, o.background);
     pw_err_clear(&pe);
-    memset(&t3, 0, sizeof t3);
+    memset(&S, 0, sizeof S);
     if (out) memset(out, 0, sizeof *out);
     if (!out || !P) pw_fail(&pe, PW_ERR_INVALID, "pgp_render: NULL map or output");
-    else if (o.width < 1 || o.height < 1 || o.supersample < 1 || o.supersample > 8 || o.threads < 0 || o.fix < 0 ||
-             o.fix > PGP_FIX_PAPER || o.show < 0 || o.show > PGP_SHOW_GHOSTS || !(o.zoom <= 1e4f) ||
-             !pw_is_finite(o.center[0]) || !pw_is_finite(o.center[1]) || !pw_is_finite(o.center[2]))
-        pw_fail(&pe, PW_ERR_INVALID, "render options: size %dx%d, supersample %d, threads %d, fix %d, show %d, zoom %g",
-                o.width, o.height, o.supersample, o.threads, o.fix, o.show, (double)o.zoom);
-    else if (pgp__tile3(&P->a, tile, &t3, &pe) == PW_OK &&
-             (data = (float *)pw_alloc_array(&P->a, (size_t)P->m.nf * PGP__FIXDATA, sizeof(float), "fix", &pe)) != NULL &&
-             (fixed = (unsigned char *)pw_alloc_array(&P->a, (size_t)P->m.nf, 1, "fix", &pe)) != NULL) {
-        pgp__fix_data(P, o.fix, fixed, data);
-        S.P = P, S.tile = &t3, S.fix = data, S.fixed = fixed, S.mode = o.fix, S.show = o.show;
-        if (pgp__draw(P, &S, &o, &pic, &pe) == PW_OK) pgp__take_image(&pic, &P->a, out);
-    }
-    pw_free(P ? &P->a : NULL, data);
-    pw_free(P ? &P->a : NULL, fixed);
-    if (P) pw_tile3_free(&P->a, &t3);
+    else if (pgp__render_options(ro, &o, &pe) == PW_OK && pgp__shading_init(P, tile, o.fix, o.show, &S, &pe) == PW_OK &&
+             pgp__draw(P, &S, &o, &pic, &pe) == PW_OK)
+        pgp__take_image(&pic, &P->a, out);
+    if (P) pgp__shading_free(P, &S);
     return pgp__done(&pe, err);
 }

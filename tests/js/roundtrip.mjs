@@ -1,7 +1,8 @@
 // Reads a patchwork .glb back and compares it with the OBJ the same command
-// wrote: every triangle (the OBJ's faces fan-triangulated, in order) has
-// the same three corner positions and texture coordinates, bit for bit
-// (glTF's v is 1 - OBJ's v), and every normal is unit length.
+// wrote: the same triangles (the OBJ's faces fan-triangulated, in any
+// order), each with the same three corner positions and texture
+// coordinates, bit for bit (glTF's v is 1 - OBJ's v), and every normal is
+// unit length.
 // Usage: node roundtrip.mjs NAME.glb NAME.obj  ->  "PASS|FAIL gltf_roundtrip/NAME: ..."
 import { readFile } from 'node:fs/promises';
 import { basename } from 'node:path';
@@ -47,16 +48,27 @@ try {
     const idx = read(prim.indices), pos = read(prim.attributes.POSITION), nrm = read(prim.attributes.NORMAL);
     const uv = read(prim.attributes.TEXCOORD_0);
     if (idx.length !== 3 * obj.tris.length) throw new Error(`${idx.length / 3} triangles, the OBJ has ${obj.tris.length}`);
-    let bad = 0;
-    for (let t = 0; t < obj.tris.length; t++)
+    // each triangle as its three corners (position, coordinate), both files'
+    // in float32 (the OBJ's v as glTF's 1 - v); compared as sorted lists, so
+    // that an OBJ may order its faces differently (pgp's groups them)
+    const glbTris = [], objTris = [];
+    for (let t = 0; t < obj.tris.length; t++) {
+        const a = [], b = [];
         for (let k = 0; k < 3; k++) {
             const g = idx[3 * t + k], [pv, pt] = obj.tris[t][k];
-            for (let j = 0; j < 3; j++) if (pos[3 * g + j] !== Math.fround(obj.v[pv][j])) bad++;
-            if (uv[2 * g] !== Math.fround(obj.vt[pt][0]) || uv[2 * g + 1] !== Math.fround(1 - Math.fround(obj.vt[pt][1]))) bad++;
+            a.push(pos[3 * g], pos[3 * g + 1], pos[3 * g + 2], uv[2 * g], uv[2 * g + 1]);
+            b.push(...obj.v[pv].map(Math.fround), Math.fround(obj.vt[pt][0]), Math.fround(1 - Math.fround(obj.vt[pt][1])));
         }
+        glbTris.push(a.join(' '));
+        objTris.push(b.join(' '));
+    }
+    glbTris.sort();
+    objTris.sort();
+    let bad = 0;
+    for (let t = 0; t < glbTris.length; t++) if (glbTris[t] !== objTris[t]) bad++;
     let worst = 0;
     for (let i = 0; i < nrm.length; i += 3) worst = Math.max(worst, Math.abs(Math.hypot(nrm[i], nrm[i + 1], nrm[i + 2]) - 1));
-    if (bad || worst > 1e-6) console.log(`FAIL gltf_roundtrip/${name}: ${bad} corner values differ from the OBJ; normals off unit length by ${worst}`);
+    if (bad || worst > 1e-6) console.log(`FAIL gltf_roundtrip/${name}: ${bad} triangles differ from the OBJ's; normals off unit length by ${worst}`);
     else {
         console.log(`PASS gltf_roundtrip/${name}`);
         console.log(`INFO gltf_roundtrip/${name}: ${obj.tris.length} triangles, ${pos.length / 3} vertices (${obj.v.length} in the OBJ, split at seams), positions and coordinates bit for bit`);
