@@ -1,28 +1,8 @@
 #!/bin/sh
 # CLI tests: usage, outputs, determinism, and clear one-line errors (exit
 # status 1, no output file left behind) on bad input of every kind.
-bin=${BUILD:-build}/patchwork
-tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT INT TERM
-pass() { echo "PASS cli/$1"; }
-fail() { echo "FAIL cli/$1: $2"; }
-
-# expect_error NAME PATTERN ARGS...: exit 1, one stderr line matching
-# PATTERN, and no file under $tmp/out.
-expect_error() {
-    name=$1 pattern=$2
-    shift 2
-    rm -rf "$tmp/out" && mkdir -p "$tmp/out"
-    "$bin" "$@" > "$tmp/stdout" 2> "$tmp/stderr"
-    status=$?
-    lines=$(wc -l < "$tmp/stderr")
-    left=$(ls "$tmp/out" | wc -l)
-    if [ $status -ne 1 ]; then fail "$name" "exit status $status, expected 1"
-    elif [ "$lines" -ne 1 ]; then fail "$name" "$lines lines on stderr: $(head -3 "$tmp/stderr" | tr '\n' '|')"
-    elif ! grep -q -- "$pattern" "$tmp/stderr"; then fail "$name" "stderr lacks '$pattern': $(cat "$tmp/stderr")"
-    elif [ "$left" -ne 0 ]; then fail "$name" "left files behind: $(ls "$tmp/out" | tr '\n' ' ')"
-    else pass "$name"; fi
-}
+suite=cli cmd=
+. "$(dirname "$0")/lib.sh"
 
 "$bin" --version | grep -q '^patchwork [0-9]' && pass version || fail version "no version line"
 "$bin" --help | grep -q 'tiled' && pass help || fail help "no command list"

@@ -12,11 +12,9 @@ if [ "${SANITIZE:-0}" = 1 ]; then
 fi
 CC=${CC:-cc}
 CXX=${CXX:-c++}
-tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT INT TERM
+suite=headers cmd=
+. "$(dirname "$0")/lib.sh"
 headers=$(make -s print-headers)
-pass() { echo "PASS headers/$1"; }
-fail() { echo "FAIL headers/$1: $2"; }
 
 if make -s check-headers > "$tmp/log" 2>&1; then pass current; else fail current "$(head -1 "$tmp/log")"; fi
 

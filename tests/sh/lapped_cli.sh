@@ -3,45 +3,14 @@
 # structure, determinism, every field and alpha mode, several textures, and
 # clear one-line errors (no crash, no output or .partial file left behind) on
 # bad input of every kind. Real data from `make data` when present.
-bin=${BUILD:-build}/patchwork
-tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT INT TERM
-pass() { echo "PASS lapped_cli/$1"; }
-fail() { echo "FAIL lapped_cli/$1: $2"; }
-skip() { echo "SKIP lapped_cli/$1: $2"; }
+suite=lapped_cli cmd=lapped
+. "$(dirname "$0")/lib.sh"
 
 # ---- helpers -------------------------------------------------------------
 
-# expect_error NAME PATTERN ARGS...: `patchwork lapped ARGS` exits non-zero
-# without crashing (status < 128), prints one stderr line matching PATTERN,
-# and leaves nothing (no output, no NAME.partial) under $tmp/out.
-expect_error() {
-    name=$1 pattern=$2
-    shift 2
-    rm -rf "$tmp/out" && mkdir -p "$tmp/out"
-    "$bin" lapped "$@" > "$tmp/stdout" 2> "$tmp/stderr"
-    status=$?
-    lines=$(wc -l < "$tmp/stderr")
-    left=$(ls -A "$tmp/out" | wc -l)
-    if [ $status -eq 0 ]; then fail "$name" "exit status 0, expected an error"
-    elif [ $status -ge 128 ]; then fail "$name" "crashed (exit status $status): $(head -3 "$tmp/stderr" | tr '\n' '|')"
-    elif [ "$lines" -ne 1 ]; then fail "$name" "$lines lines on stderr: $(head -3 "$tmp/stderr" | tr '\n' '|')"
-    elif ! grep -q -- "$pattern" "$tmp/stderr"; then fail "$name" "stderr lacks '$pattern': $(cat "$tmp/stderr")"
-    elif [ "$left" -ne 0 ]; then fail "$name" "left files behind: $(ls -A "$tmp/out" | tr '\n' ' ')"
-    else pass "$name"; fi
-}
-
 # lapped NAME ARGS...: runs `patchwork lapped ARGS` (stdout in $tmp/NAME.log);
 # prints a FAIL line and returns 1 unless it exits 0 with a quiet stderr.
-lapped() {
-    name=$1
-    shift
-    "$bin" lapped "$@" > "$tmp/$name.log" 2> "$tmp/$name.err"
-    status=$?
-    if [ $status -ne 0 ]; then fail "$name" "exit status $status: $(head -2 "$tmp/$name.err" | tr '\n' '|')"; return 1; fi
-    if [ -s "$tmp/$name.err" ]; then fail "$name" "stderr not empty: $(head -2 "$tmp/$name.err" | tr '\n' '|')"; return 1; fi
-    return 0
-}
+lapped() { run_ok "$@"; }
 
 # reported LOG WORD: the number before WORD in the summary line
 # "lapped: T triangles covered by K pastes, ..." of a run's stdout.
@@ -100,11 +69,6 @@ check_pastes() {
 }
 
 # png_size FILE: "WxH" from a PNG's IHDR, or nothing if FILE is no PNG.
-png_size() {
-    sig=$(head -c 8 "$1" | od -An -tx1 | tr -d ' \n')
-    [ "$sig" = "89504e470d0a1a0a" ] || return 0
-    od -An -tu1 -j16 -N8 "$1" | awk '{ printf "%dx%d\n", (($1*256+$2)*256+$3)*256+$4, (($5*256+$6)*256+$7)*256+$8 }'
-}
 
 # pam_header FILE: the text header of a PAM (up to ENDHDR), one line each.
 pam_header() { head -c 200 "$1" | awk '{ print } /^ENDHDR$/ { exit }'; }

@@ -5,44 +5,14 @@
 # constraints), tiles from NRRD files, images and --texture, and clear
 # one-line errors (no crash, no output or .partial file left behind) on bad
 # input of every kind.
-bin=${BUILD:-build}/patchwork
-tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT INT TERM
-pass() { echo "PASS pgp_cli/$1"; }
-fail() { echo "FAIL pgp_cli/$1: $2"; }
+suite=pgp_cli cmd=pgp
+. "$(dirname "$0")/lib.sh"
 
 # ---- helpers -------------------------------------------------------------
 
-# expect_error NAME PATTERN ARGS...: `patchwork pgp ARGS` exits non-zero
-# without crashing (status < 128), prints one stderr line matching PATTERN,
-# and leaves nothing (no output, no .partial) under $tmp/out.
-expect_error() {
-    name=$1 pattern=$2
-    shift 2
-    rm -rf "$tmp/out" && mkdir -p "$tmp/out"
-    "$bin" pgp "$@" > "$tmp/stdout" 2> "$tmp/stderr"
-    status=$?
-    lines=$(wc -l < "$tmp/stderr")
-    left=$(ls -A "$tmp/out" | wc -l)
-    if [ $status -eq 0 ]; then fail "$name" "exit status 0, expected an error"
-    elif [ $status -ge 128 ]; then fail "$name" "crashed (exit status $status): $(head -3 "$tmp/stderr" | tr '\n' '|')"
-    elif [ "$lines" -ne 1 ]; then fail "$name" "$lines lines on stderr: $(head -3 "$tmp/stderr" | tr '\n' '|')"
-    elif ! grep -q -- "$pattern" "$tmp/stderr"; then fail "$name" "stderr lacks '$pattern': $(cat "$tmp/stderr")"
-    elif [ "$left" -ne 0 ]; then fail "$name" "left files behind: $(ls -A "$tmp/out" | tr '\n' ' ')"
-    else pass "$name"; fi
-}
-
 # pgp NAME ARGS...: runs `patchwork pgp ARGS` (stdout in $tmp/NAME.log);
 # prints a FAIL line and returns 1 unless it exits 0 with a quiet stderr.
-pgp() {
-    name=$1
-    shift
-    "$bin" pgp "$@" > "$tmp/$name.log" 2> "$tmp/$name.err"
-    status=$?
-    if [ $status -ne 0 ]; then fail "$name" "exit status $status: $(head -2 "$tmp/$name.err" | tr '\n' '|')"; return 1; fi
-    if [ -s "$tmp/$name.err" ]; then fail "$name" "stderr not empty: $(head -2 "$tmp/$name.err" | tr '\n' '|')"; return 1; fi
-    return 0
-}
+pgp() { run_ok "$@"; }
 
 # reported LOG triangles|singular: from "pgp: T triangles, K singular (P%), ..."
 reported() {
@@ -95,11 +65,6 @@ check_obj() {
 }
 
 # png_size FILE: "WxH" from a PNG's IHDR, or nothing if FILE is no PNG.
-png_size() {
-    sig=$(head -c 8 "$1" | od -An -tx1 | tr -d ' \n')
-    [ "$sig" = "89504e470d0a1a0a" ] || return 0
-    od -An -tu1 -j16 -N8 "$1" | awk '{ printf "%dx%d\n", (($1*256+$2)*256+$3)*256+$4, (($5*256+$6)*256+$7)*256+$8 }'
-}
 
 # nrrd_field FILE NAME: the value of a NRRD header field.
 nrrd_field() { head -c 400 "$1" | awk -v f="$2" 'NF == 0 { exit } index($0, f ": ") == 1 { print substr($0, length(f) + 3) }'; }

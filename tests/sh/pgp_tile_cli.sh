@@ -6,50 +6,17 @@
 # real GIMP exemplars (spots to stripes and back, when `make data` was run),
 # and clear one-line errors with no output or .partial file left behind on
 # bad input of every kind.
-bin=${BUILD:-build}/patchwork
+suite=pgp_tile_cli cmd=pgp-tile
+. "$(dirname "$0")/lib.sh"
 data=${PW_DATA:-data}
-tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT INT TERM
-pass() { echo "PASS pgp_tile_cli/$1"; }
-fail() { echo "FAIL pgp_tile_cli/$1: $2"; }
-skip() { echo "SKIP pgp_tile_cli/$1: $2"; }
 
 # ---- helpers -------------------------------------------------------------
 
-# expect_error NAME PATTERN ARGS...: `patchwork pgp-tile ARGS` exits
-# non-zero without crashing, prints one stderr line matching PATTERN, and
-# leaves nothing under $tmp/out.
-expect_error() {
-    name=$1 pattern=$2
-    shift 2
-    rm -rf "$tmp/out" && mkdir -p "$tmp/out"
-    "$bin" pgp-tile "$@" > "$tmp/stdout" 2> "$tmp/stderr"
-    status=$?
-    lines=$(wc -l < "$tmp/stderr")
-    left=$(ls -A "$tmp/out" | wc -l)
-    if [ $status -eq 0 ]; then fail "$name" "exit status 0, expected an error"
-    elif [ $status -ge 128 ]; then fail "$name" "crashed (exit status $status): $(head -3 "$tmp/stderr" | tr '\n' '|')"
-    elif [ "$lines" -ne 1 ]; then fail "$name" "$lines lines on stderr: $(head -3 "$tmp/stderr" | tr '\n' '|')"
-    elif ! grep -q -- "$pattern" "$tmp/stderr"; then fail "$name" "stderr lacks '$pattern': $(cat "$tmp/stderr")"
-    elif [ "$left" -ne 0 ]; then fail "$name" "left files behind: $(ls -A "$tmp/out" | tr '\n' ' ')"
-    else pass "$name"; fi
-}
-
 # tile NAME ARGS...: runs `patchwork pgp-tile ARGS`; a FAIL line and status
 # 1 unless it exits 0 with a quiet stderr.
-tile() {
-    name=$1
-    shift
-    "$bin" pgp-tile "$@" > "$tmp/$name.log" 2> "$tmp/$name.err"
-    status=$?
-    if [ $status -ne 0 ]; then fail "$name" "exit status $status: $(head -2 "$tmp/$name.err" | tr '\n' '|')"; return 1; fi
-    if [ -s "$tmp/$name.err" ]; then fail "$name" "stderr not empty: $(head -2 "$tmp/$name.err" | tr '\n' '|')"; return 1; fi
-    return 0
-}
+tile() { run_ok "$@"; }
 
 nrrd_field() { head -c 400 "$1" | awk -v f="$2" 'NF == 0 { exit } index($0, f ": ") == 1 { print substr($0, length(f) + 3) }'; }
-
-png_size() { od -An -tu1 -j16 -N8 "$1" | awk '{ printf "%dx%d\n", (($1*256+$2)*256+$3)*256+$4, (($5*256+$6)*256+$7)*256+$8 }'; }
 
 differs() {
     if [ -s "$2" ] && [ -s "$3" ]; then

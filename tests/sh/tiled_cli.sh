@@ -2,11 +2,8 @@
 # tiled CLI on dense meshes (issue 18): when one tile per quad would be
 # drawn under 16 px, `patchwork tiled` still writes its outputs but warns,
 # naming the size and what to do; coarse meshes get no warning.
-bin=${BUILD:-build}/patchwork
-tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT INT TERM
-pass() { echo "PASS tiled_cli/$1"; }
-fail() { echo "FAIL tiled_cli/$1: $2"; }
+suite=tiled_cli cmd=tiled
+. "$(dirname "$0")/lib.sh"
 
 # dense: the built-in torus (288 quads) three levels finer, 18,432 quads
 "$bin" tiled --mesh procedural:torus --subdivide 3 --out-image "$tmp/dense.png" --size 200x150 \
