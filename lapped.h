@@ -10460,6 +10460,36 @@ PW__DEF int pw_trimesh_init(const pw_alloc *a, const pw_mesh *in, pw_trimesh *m,
 #define PW__ATLAS_V1
 
 
+/* ---- options ---------------------------------------------------------------- */
+
+/* The atlas settings every header exposes (X_atlas_options: size, cone
+ * angle, gutter), their defaults and ranges. */
+#define PW_ATLAS_SIZE 1024
+#define PW_ATLAS_CONE 60.0f
+#define PW_ATLAS_GUTTER 2
+#define PW_ATLAS_MIN 16
+#define PW_ATLAS_MAX 8192
+#define PW_ATLAS_GUTTER_MAX 64
+
+/* Zero fields replaced by their defaults, then checked: size in
+ * PW_ATLAS_MIN..PW_ATLAS_MAX, cone angle in (0, 180] degrees, gutter in
+ * 1..PW_ATLAS_GUTTER_MAX and at most an eighth of the size. */
+PW__DEF int pw_atlas_options(int *size, float *cone_angle, int *gutter, pw_err *e)
+{
+    if (!*size) *size = PW_ATLAS_SIZE;
+    if (*cone_angle == 0.0f) *cone_angle = PW_ATLAS_CONE;
+    if (!*gutter) *gutter = PW_ATLAS_GUTTER;
+    if (*size < PW_ATLAS_MIN || *size > PW_ATLAS_MAX)
+        return pw_fail(e, *size > PW_ATLAS_MAX ? PW_ERR_LIMIT : PW_ERR_INVALID, "atlas size %d is outside %d..%d",
+                       *size, PW_ATLAS_MIN, PW_ATLAS_MAX);
+    if (!(*cone_angle > 0.0f && *cone_angle <= 180.0f))
+        return pw_fail(e, PW_ERR_INVALID, "atlas cone angle %g is outside (0, 180] degrees", (double)*cone_angle);
+    if (*gutter < 0 || *gutter > PW_ATLAS_GUTTER_MAX || 8 * *gutter > *size)
+        return pw_fail(e, PW_ERR_INVALID, "atlas gutter %d is outside 1..%d (and at most an eighth of the size)",
+                       *gutter, PW_ATLAS_GUTTER_MAX);
+    return PW_OK;
+}
+
 /* ---- 2D triangles --------------------------------------------------------- */
 
 /* Twice the signed area of the 2D triangle t (three xy pairs), positive
@@ -13801,9 +13831,9 @@ LAPPEDDEF lapped_options lapped_default_options(void)
     o.max_pastes = 200000;
     pw_view_defaults(&o.render.width, &o.render.height, &o.render.supersample, o.render.view_dir,
                      o.render.up, o.render.background);
-    o.atlas.size = 1024;
-    o.atlas.cone_angle = 60.0f;
-    o.atlas.gutter = 2;
+    o.atlas.size = PW_ATLAS_SIZE;
+    o.atlas.cone_angle = PW_ATLAS_CONE;
+    o.atlas.gutter = PW_ATLAS_GUTTER;
     return o;
 }
 
@@ -16555,28 +16585,12 @@ LAPPEDDEF lapped_result lapped_render(const lapped_mesh *mesh, const lapped_text
 
 /* ---- public functions ---------------------------------------------------------- */
 
-#define LAPPED__ATLAS_MIN 16
-#define LAPPED__ATLAS_MAX 8192
-#define LAPPED__ATLAS_GUTTER_MAX 64
-
-/* Atlas options with zero fields replaced by their defaults, checked. */
+/* Atlas options with zero fields replaced by their defaults, checked
+ * (pw_atlas_options). */
 static int lapped__atlas_options(const lapped_atlas_options *ao, lapped_atlas_options *o, pw_err *e)
 {
-    o->size = 1024;
-    o->cone_angle = 60.0f;
-    o->gutter = 2;
-    if (ao->size) o->size = ao->size;
-    if (ao->cone_angle != 0.0f) o->cone_angle = ao->cone_angle;
-    if (ao->gutter) o->gutter = ao->gutter;
-    if (o->size < LAPPED__ATLAS_MIN || o->size > LAPPED__ATLAS_MAX)
-        return pw_fail(e, o->size > LAPPED__ATLAS_MAX ? PW_ERR_LIMIT : PW_ERR_INVALID, "atlas size %d is outside %d..%d",
-                       o->size, LAPPED__ATLAS_MIN, LAPPED__ATLAS_MAX);
-    if (!(o->cone_angle > 0.0f && o->cone_angle <= 180.0f))
-        return pw_fail(e, PW_ERR_INVALID, "atlas cone angle %g is outside (0, 180] degrees", (double)o->cone_angle);
-    if (o->gutter < 0 || o->gutter > LAPPED__ATLAS_GUTTER_MAX || 8 * o->gutter > o->size)
-        return pw_fail(e, PW_ERR_INVALID, "atlas gutter %d is outside 1..%d (and at most an eighth of the size)",
-                       o->gutter, LAPPED__ATLAS_GUTTER_MAX);
-    return PW_OK;
+    *o = *ao;
+    return pw_atlas_options(&o->size, &o->cone_angle, &o->gutter, e);
 }
 
 /* Checks that the pastes refer to existing triangles and patches. */

@@ -70,6 +70,36 @@
 #include "sparse.h"
 #include "raster.h"
 
+/* ---- options ---------------------------------------------------------------- */
+
+/* The atlas settings every header exposes (X_atlas_options: size, cone
+ * angle, gutter), their defaults and ranges. */
+#define PW_ATLAS_SIZE 1024
+#define PW_ATLAS_CONE 60.0f
+#define PW_ATLAS_GUTTER 2
+#define PW_ATLAS_MIN 16
+#define PW_ATLAS_MAX 8192
+#define PW_ATLAS_GUTTER_MAX 64
+
+/* Zero fields replaced by their defaults, then checked: size in
+ * PW_ATLAS_MIN..PW_ATLAS_MAX, cone angle in (0, 180] degrees, gutter in
+ * 1..PW_ATLAS_GUTTER_MAX and at most an eighth of the size. */
+PW__DEF int pw_atlas_options(int *size, float *cone_angle, int *gutter, pw_err *e)
+{
+    if (!*size) *size = PW_ATLAS_SIZE;
+    if (*cone_angle == 0.0f) *cone_angle = PW_ATLAS_CONE;
+    if (!*gutter) *gutter = PW_ATLAS_GUTTER;
+    if (*size < PW_ATLAS_MIN || *size > PW_ATLAS_MAX)
+        return pw_fail(e, *size > PW_ATLAS_MAX ? PW_ERR_LIMIT : PW_ERR_INVALID, "atlas size %d is outside %d..%d",
+                       *size, PW_ATLAS_MIN, PW_ATLAS_MAX);
+    if (!(*cone_angle > 0.0f && *cone_angle <= 180.0f))
+        return pw_fail(e, PW_ERR_INVALID, "atlas cone angle %g is outside (0, 180] degrees", (double)*cone_angle);
+    if (*gutter < 0 || *gutter > PW_ATLAS_GUTTER_MAX || 8 * *gutter > *size)
+        return pw_fail(e, PW_ERR_INVALID, "atlas gutter %d is outside 1..%d (and at most an eighth of the size)",
+                       *gutter, PW_ATLAS_GUTTER_MAX);
+    return PW_OK;
+}
+
 /* ---- 2D triangles --------------------------------------------------------- */
 
 /* Twice the signed area of the 2D triangle t (three xy pairs), positive

@@ -20,28 +20,12 @@
 
 /* ---- public functions ---------------------------------------------------------- */
 
-#define LAPPED__ATLAS_MIN 16
-#define LAPPED__ATLAS_MAX 8192
-#define LAPPED__ATLAS_GUTTER_MAX 64
-
-/* Atlas options with zero fields replaced by their defaults, checked. */
+/* Atlas options with zero fields replaced by their defaults, checked
+ * (pw_atlas_options). */
 static int lapped__atlas_options(const lapped_atlas_options *ao, lapped_atlas_options *o, pw_err *e)
 {
-    o->size = 1024;
-    o->cone_angle = 60.0f;
-    o->gutter = 2;
-    if (ao->size) o->size = ao->size;
-    if (ao->cone_angle != 0.0f) o->cone_angle = ao->cone_angle;
-    if (ao->gutter) o->gutter = ao->gutter;
-    if (o->size < LAPPED__ATLAS_MIN || o->size > LAPPED__ATLAS_MAX)
-        return pw_fail(e, o->size > LAPPED__ATLAS_MAX ? PW_ERR_LIMIT : PW_ERR_INVALID, "atlas size %d is outside %d..%d",
-                       o->size, LAPPED__ATLAS_MIN, LAPPED__ATLAS_MAX);
-    if (!(o->cone_angle > 0.0f && o->cone_angle <= 180.0f))
-        return pw_fail(e, PW_ERR_INVALID, "atlas cone angle %g is outside (0, 180] degrees", (double)o->cone_angle);
-    if (o->gutter < 0 || o->gutter > LAPPED__ATLAS_GUTTER_MAX || 8 * o->gutter > o->size)
-        return pw_fail(e, PW_ERR_INVALID, "atlas gutter %d is outside 1..%d (and at most an eighth of the size)",
-                       o->gutter, LAPPED__ATLAS_GUTTER_MAX);
-    return PW_OK;
+    *o = *ao;
+    return pw_atlas_options(&o->size, &o->cone_angle, &o->gutter, e);
 }
 
 /* Checks that the pastes refer to existing triangles and patches. */
