@@ -121,6 +121,10 @@ if cmp -s $tmp/d8.lst $tmp/d9.lst; then pass constraints_one_file; else fail con
 run surface $small --out-surface $tmp/s.obj &&
 if grep -q '^v ' $tmp/s.obj && [ "$(grep -c '^f [0-9]* [0-9]* [0-9]*$' $tmp/s.obj)" -gt 100 ]; then pass out_surface
 else fail out_surface "no vertices or triangles in $tmp/s.obj"; fi
+run atlas $small --cut "0 0 1 0" --out-glb $tmp/g.glb --out-obj $tmp/g.obj --out-atlas $tmp/g.png --atlas-size 128 &&
+if [ "$(head -c 4 $tmp/g.glb)" = glTF ] && grep -q '^vt ' $tmp/g.obj && grep -q '^f [0-9]*/[0-9]* ' $tmp/g.obj &&
+    grep -q '^map_Kd g.png$' $tmp/g.mtl && grep -q 'atlas of [0-9]* charts, [0-9]*% of 128x128 filled' $tmp/atlas.log
+then pass out_glb_obj_atlas; else fail out_glb_obj_atlas "$(tail -1 $tmp/atlas.log)"; fi
 
 # ---- what the fill reports; self-intersecting surfaces ------------------------------
 
@@ -183,6 +187,9 @@ expect_error tets_extension "--tets" --tets $tmp/x.off --exemplar procedural:spo
 expect_error out_tets_extension "--out-tets" $small --out-tets $tmp/out/x.vtk
 expect_error paste_outside "outside the model" $small --paste "5 0 0 1 0 0 0 1 0 0.5" --out-lst $tmp/out/x.lst
 expect_error cut_everything "cut away" $small --cut "1 0 0 -5" --out-image $tmp/out/x.png
+expect_error glb_extension "give a .glb file" $small --out-glb $tmp/out/x.gltf
+expect_error obj_needs_atlas "--out-obj and --out-atlas go together" $small --out-obj $tmp/out/x.obj
+expect_error glb_cut_everything "cut away" $small --cut "1 0 0 -5" --out-glb $tmp/out/x.glb
 expect_error same_file "two outputs" $small --out-image $tmp/out/x.png --out-volume $tmp/out/x.png --slices 2
 
 # --out-exemplar alone writes a built-in exemplar without filling anything
