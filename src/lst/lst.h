@@ -45,6 +45,9 @@
  *     that later cuts work; §5.1.2 volume rendering by slices composited
  *     with alpha; an extra channel (displacement) carried like colour, and
  *     displacement mapping of the surface (Figs. 1c, 4d).
+ *   - glTF 2.0 export: the visible boundary (surface and cut faces) with
+ *     the model's colour baked into a texture atlas (lst_bake_atlas,
+ *     lst_save_gltf), and the camera lst_render uses.
  *
  * USAGE
  *   In exactly one C or C++ file:
