@@ -419,6 +419,37 @@ static void t_lst_nonmanifold(void)
     lst_model_free(&model);
 }
 
+/* Every allocation of a bake and a write failing in turn: NOMEM, nothing
+ * leaked. */
+static void t_lst_alloc_failures(void)
+{
+    lst_model model;
+    lst_options o = lst_default_options();
+    lst_error e;
+    const float cut[4] = {0, 1, 0, 0.2f};
+    int points = 0, bad = 0;
+    REQUIRE(lst_sphere(400, &model));
+    REQUIRE(lst_cut_plane(&model, cut, &e) == LST_OK);
+    o.atlas.size = 64;
+    o.allocator.malloc_fn = cnt_malloc, o.allocator.realloc_fn = cnt_realloc, o.allocator.free_fn = cnt_free;
+    for (fail_at = 0;; fail_at++) {
+        mem m = {NULL, 0, 0, -1};
+        lst_atlas at;
+        lst_result r;
+        count = live = 0;
+        r = lst_bake_atlas(&model, &o, &at, &e);
+        if (r == LST_OK) r = lst_write_gltf(&at, &o.render, mem_write, &m, &e);
+        lst_atlas_free(&at);
+        free(m.data);
+        if (live != 0 || (r != LST_OK && (r != LST_ERR_NOMEM || !e.message[0]))) bad++;
+        if (r == LST_OK) break;
+        points++;
+    }
+    pwt_info("%d allocation points, each failing in turn: NOMEM, no leak", points);
+    CHECK(points > 20 && bad == 0);
+    lst_model_free(&model);
+}
+
 static const pwt_case cases[] = {
     {"container", t_container},
     {"errors", t_errors},
@@ -427,5 +458,6 @@ static const pwt_case cases[] = {
     {"lst_deterministic", t_lst_deterministic},
     {"lst_errors", t_lst_errors},
     {"lst_nonmanifold", t_lst_nonmanifold},
+    {"lst_alloc_failures", t_lst_alloc_failures},
 };
 PWT_MAIN(cases)
