@@ -1,6 +1,7 @@
 #!/bin/sh
 # glTF output read by other people's programs. For tiled, lapped and lst results
-# on built-in data (and on CGAL and GIMP data when `make data` has run):
+# on built-in data (and on CGAL and GIMP data when `make data` has run; lst's
+# after cuts, the cut faces included):
 #   - `patchwork ... --out-glb` writes a .glb, the same run an OBJ and a PPM
 #     rendering; the .glb is deterministic;
 #   - gltf_roundtrip: the .glb read back matches the OBJ bit for bit;
@@ -59,6 +60,12 @@ if [ -f "$data/meshes/elephant.off" ] && [ -f "$data/textures/leopard.ppm" ]; th
         --size 400x300
 else
     echo "SKIP gltf/lapped_cgal_elephant: needs make data (CGAL meshes, GIMP patterns)"
+fi
+if [ -f "$data/meshes/elephant.off" ]; then
+    make_case lst_cgal_elephant lst --mesh "$data/meshes/elephant.off" --exemplar procedural:spots --cut "0 0 1 0.05" \
+        --size 400x300
+else
+    echo "SKIP gltf/lst_cgal_elephant: needs make data (CGAL meshes)"
 fi
 
 "$bin" tiled --mesh procedural:torus --exemplar procedural:pebbles --out-glb "$tmp/x.gltf" > /dev/null 2> "$tmp/err"
