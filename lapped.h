@@ -10545,6 +10545,36 @@ PW__DEF void pw_heap_free(const pw_alloc *a, pw_heap *h)
 #define PW__ATLAS_V1
 
 
+/* ---- options ---------------------------------------------------------------- */
+
+/* The atlas settings every header exposes (X_atlas_options: size, cone
+ * angle, gutter), their defaults and ranges. */
+#define PW_ATLAS_SIZE 1024
+#define PW_ATLAS_CONE 60.0f
+#define PW_ATLAS_GUTTER 2
+#define PW_ATLAS_MIN 16
+#define PW_ATLAS_MAX 8192
+#define PW_ATLAS_GUTTER_MAX 64
+
+/* Zero fields replaced by their defaults, then checked: size in
+ * PW_ATLAS_MIN..PW_ATLAS_MAX, cone angle in (0, 180] degrees, gutter in
+ * 1..PW_ATLAS_GUTTER_MAX and at most an eighth of the size. */
+PW__DEF int pw_atlas_options(int *size, float *cone_angle, int *gutter, pw_err *e)
+{
+    if (!*size) *size = PW_ATLAS_SIZE;
+    if (*cone_angle == 0.0f) *cone_angle = PW_ATLAS_CONE;
+    if (!*gutter) *gutter = PW_ATLAS_GUTTER;
+    if (*size < PW_ATLAS_MIN || *size > PW_ATLAS_MAX)
+        return pw_fail(e, *size > PW_ATLAS_MAX ? PW_ERR_LIMIT : PW_ERR_INVALID, "atlas size %d is outside %d..%d",
+                       *size, PW_ATLAS_MIN, PW_ATLAS_MAX);
+    if (!(*cone_angle > 0.0f && *cone_angle <= 180.0f))
+        return pw_fail(e, PW_ERR_INVALID, "atlas cone angle %g is outside (0, 180] degrees", (double)*cone_angle);
+    if (*gutter < 0 || *gutter > PW_ATLAS_GUTTER_MAX || 8 * *gutter > *size)
+        return pw_fail(e, PW_ERR_INVALID, "atlas gutter %d is outside 1..%d (and at most an eighth of the size)",
+                       *gutter, PW_ATLAS_GUTTER_MAX);
+    return PW_OK;
+}
+
 /* ---- 2D triangles --------------------------------------------------------- */
 
 /* Twice the signed area of the 2D triangle t (three xy pairs), positive
@@ -12375,29 +12405,7 @@ PW__DEF int pw_atlas_mesh(const pw_alloc *a, const pw_trimesh *m, const float *u
     return pw__atlas_dedup_uvs(a, uvs, 3 * m->nf, pm->uv, pm->fuv, &pm->nuv, e);
 }
 
-/* ---- settings ----------------------------------------------------------------- */
-
-#define PW_ATLAS_MIN 16
-#define PW_ATLAS_MAX 8192
-#define PW_ATLAS_GUTTER_MAX 64
-
-/* An atlas's settings, zero fields replaced by their defaults (size 1024,
- * cone 60 degrees, gutter 2), then checked. */
-PW__DEF int pw_atlas_settings(int *size, float *cone, int *gutter, pw_err *e)
-{
-    if (*size == 0) *size = 1024;
-    if (*cone == 0.0f) *cone = 60.0f;
-    if (*gutter == 0) *gutter = 2;
-    if (*size < PW_ATLAS_MIN || *size > PW_ATLAS_MAX)
-        return pw_fail(e, *size > PW_ATLAS_MAX ? PW_ERR_LIMIT : PW_ERR_INVALID, "atlas size %d is outside %d..%d", *size,
-                       PW_ATLAS_MIN, PW_ATLAS_MAX);
-    if (!(*cone > 0.0f && *cone <= 180.0f))
-        return pw_fail(e, PW_ERR_INVALID, "atlas cone angle %g is outside (0, 180] degrees", (double)*cone);
-    if (*gutter < 0 || *gutter > PW_ATLAS_GUTTER_MAX || 8 * *gutter > *size)
-        return pw_fail(e, PW_ERR_INVALID, "atlas gutter %d is outside 1..%d (and at most an eighth of the size)", *gutter,
-                       PW_ATLAS_GUTTER_MAX);
-    return PW_OK;
-}
+/* ---- layout ------------------------------------------------------------------- */
 
 /* Charts of m (cone in degrees) packed into a size x size atlas with
  * `gutter` pixels between them: per-corner coordinates uvs (m->nf * 6,
@@ -13821,9 +13829,9 @@ LAPPEDDEF lapped_options lapped_default_options(void)
     o.max_pastes = 200000;
     pw_view_defaults(&o.render.width, &o.render.height, &o.render.supersample, o.render.view_dir,
                      o.render.up, o.render.background);
-    o.atlas.size = 1024;
-    o.atlas.cone_angle = 60.0f;
-    o.atlas.gutter = 2;
+    o.atlas.size = PW_ATLAS_SIZE;
+    o.atlas.cone_angle = PW_ATLAS_CONE;
+    o.atlas.gutter = PW_ATLAS_GUTTER;
     return o;
 }
 
@@ -16539,11 +16547,12 @@ LAPPEDDEF lapped_result lapped_render(const lapped_mesh *mesh, const lapped_text
 
 /* ---- public functions ---------------------------------------------------------- */
 
-/* Atlas options with zero fields replaced by their defaults, checked. */
+/* Atlas options with zero fields replaced by their defaults, checked
+ * (pw_atlas_options). */
 static int lapped__atlas_options(const lapped_atlas_options *ao, lapped_atlas_options *o, pw_err *e)
 {
     *o = *ao;
-    return pw_atlas_settings(&o->size, &o->cone_angle, &o->gutter, e);
+    return pw_atlas_options(&o->size, &o->cone_angle, &o->gutter, e);
 }
 
 /* Checks that the pastes refer to existing triangles and patches. */

@@ -10152,6 +10152,36 @@ PW__DEF void pw_heap_free(const pw_alloc *a, pw_heap *h)
 #define PW__ATLAS_V1
 
 
+/* ---- options ---------------------------------------------------------------- */
+
+/* The atlas settings every header exposes (X_atlas_options: size, cone
+ * angle, gutter), their defaults and ranges. */
+#define PW_ATLAS_SIZE 1024
+#define PW_ATLAS_CONE 60.0f
+#define PW_ATLAS_GUTTER 2
+#define PW_ATLAS_MIN 16
+#define PW_ATLAS_MAX 8192
+#define PW_ATLAS_GUTTER_MAX 64
+
+/* Zero fields replaced by their defaults, then checked: size in
+ * PW_ATLAS_MIN..PW_ATLAS_MAX, cone angle in (0, 180] degrees, gutter in
+ * 1..PW_ATLAS_GUTTER_MAX and at most an eighth of the size. */
+PW__DEF int pw_atlas_options(int *size, float *cone_angle, int *gutter, pw_err *e)
+{
+    if (!*size) *size = PW_ATLAS_SIZE;
+    if (*cone_angle == 0.0f) *cone_angle = PW_ATLAS_CONE;
+    if (!*gutter) *gutter = PW_ATLAS_GUTTER;
+    if (*size < PW_ATLAS_MIN || *size > PW_ATLAS_MAX)
+        return pw_fail(e, *size > PW_ATLAS_MAX ? PW_ERR_LIMIT : PW_ERR_INVALID, "atlas size %d is outside %d..%d",
+                       *size, PW_ATLAS_MIN, PW_ATLAS_MAX);
+    if (!(*cone_angle > 0.0f && *cone_angle <= 180.0f))
+        return pw_fail(e, PW_ERR_INVALID, "atlas cone angle %g is outside (0, 180] degrees", (double)*cone_angle);
+    if (*gutter < 0 || *gutter > PW_ATLAS_GUTTER_MAX || 8 * *gutter > *size)
+        return pw_fail(e, PW_ERR_INVALID, "atlas gutter %d is outside 1..%d (and at most an eighth of the size)",
+                       *gutter, PW_ATLAS_GUTTER_MAX);
+    return PW_OK;
+}
+
 /* ---- 2D triangles --------------------------------------------------------- */
 
 /* Twice the signed area of the 2D triangle t (three xy pairs), positive
@@ -11982,29 +12012,7 @@ PW__DEF int pw_atlas_mesh(const pw_alloc *a, const pw_trimesh *m, const float *u
     return pw__atlas_dedup_uvs(a, uvs, 3 * m->nf, pm->uv, pm->fuv, &pm->nuv, e);
 }
 
-/* ---- settings ----------------------------------------------------------------- */
-
-#define PW_ATLAS_MIN 16
-#define PW_ATLAS_MAX 8192
-#define PW_ATLAS_GUTTER_MAX 64
-
-/* An atlas's settings, zero fields replaced by their defaults (size 1024,
- * cone 60 degrees, gutter 2), then checked. */
-PW__DEF int pw_atlas_settings(int *size, float *cone, int *gutter, pw_err *e)
-{
-    if (*size == 0) *size = 1024;
-    if (*cone == 0.0f) *cone = 60.0f;
-    if (*gutter == 0) *gutter = 2;
-    if (*size < PW_ATLAS_MIN || *size > PW_ATLAS_MAX)
-        return pw_fail(e, *size > PW_ATLAS_MAX ? PW_ERR_LIMIT : PW_ERR_INVALID, "atlas size %d is outside %d..%d", *size,
-                       PW_ATLAS_MIN, PW_ATLAS_MAX);
-    if (!(*cone > 0.0f && *cone <= 180.0f))
-        return pw_fail(e, PW_ERR_INVALID, "atlas cone angle %g is outside (0, 180] degrees", (double)*cone);
-    if (*gutter < 0 || *gutter > PW_ATLAS_GUTTER_MAX || 8 * *gutter > *size)
-        return pw_fail(e, PW_ERR_INVALID, "atlas gutter %d is outside 1..%d (and at most an eighth of the size)", *gutter,
-                       PW_ATLAS_GUTTER_MAX);
-    return PW_OK;
-}
+/* ---- layout ------------------------------------------------------------------- */
 
 /* Charts of m (cone in degrees) packed into a size x size atlas with
  * `gutter` pixels between them: per-corner coordinates uvs (m->nf * 6,
@@ -18625,7 +18633,7 @@ PGPDEF pgp_result pgp_bake_atlas(const pgp_map *map, const pgp_tile *tile, const
         pw_fail(&pe, PW_ERR_INVALID, "pgp_bake_atlas: NULL map or output");
         return pgp__done(&pe, err);
     }
-    if (pw_atlas_settings(&o.atlas.size, &o.atlas.cone_angle, &o.atlas.gutter, &pe) == PW_OK &&
+    if (pw_atlas_options(&o.atlas.size, &o.atlas.cone_angle, &o.atlas.gutter, &pe) == PW_OK &&
         pgp__render_options(&o.render, &ro, &pe) == PW_OK && pgp__shading_init(P, tile, ro.fix, ro.show, &S, &pe) == PW_OK &&
         pw_atlas_layout(&P->a, &P->m, o.atlas.cone_angle, o.atlas.size, o.atlas.gutter, &prog, &out->uvs, &out->ncharts,
                         &out->fill, &pe) == PW_OK) {

@@ -75,7 +75,14 @@ static const char *lst_usage_outputs =
     "  --out-section IMG    the last --cut seen face on\n"
     "  --out-volume IMG     a volume rendering (slices composited with alpha)\n"
     "  --out-tets FILE      the tetrahedral mesh filled: FILE.node (+ .ele) or .mesh\n"
-    "  --out-surface FILE.obj  the boundary of the tetrahedral mesh filled, as OBJ\n";
+    "  --out-surface FILE.obj  the boundary of the tetrahedral mesh filled, as OBJ\n"
+    "  --out-glb FILE.glb   binary glTF 2.0: the surface after any cut (and the cut\n"
+    "                       faces) with the model's colour baked into a texture\n"
+    "                       atlas inside, and the camera of --out-image\n"
+    "  --out-obj FILE.obj   the same mesh with its atlas coordinates, and FILE's .mtl\n"
+    "                       naming the atlas (needs --out-atlas)\n"
+    "  --out-atlas IMG      the baked atlas (needs --out-obj)\n"
+    "  --atlas-size PX      atlas side (default 1024)\n";
 
 #define LST_MAX_CUTS 8
 #define LST_MAX_PASTES 16
@@ -86,6 +93,7 @@ typedef struct lst_cmd {
     const char *cons[LST_MAX_CONSTRAINT_FILES]; /* --constraints, --depth, --directions, in order */
     char cons_flag[LST_MAX_CONSTRAINT_FILES];   /* 'c', 'd' or 'f': which flag gave it */
     const char *out_lst, *out_masks, *out_exemplar, *out_image, *out_section, *out_volume, *out_tets, *out_surface;
+    const char *out_glb, *out_obj, *out_atlas;
     const char *pastes[LST_MAX_PASTES], *stroke;
     float cuts[LST_MAX_CUTS][4];
     int ncuts, npastes, ncons, exemplar_size;
@@ -224,6 +232,10 @@ static int parse_one(cli_args *a, lst_cmd *c)
     if (cli_is(a, "--out-volume")) return cli_value(a, &c->out_volume);
     if (cli_is(a, "--out-tets")) return cli_value(a, &c->out_tets);
     if (cli_is(a, "--out-surface")) return cli_value(a, &c->out_surface);
+    if (cli_is(a, "--out-glb")) return cli_value(a, &c->out_glb);
+    if (cli_is(a, "--out-obj")) return cli_value(a, &c->out_obj);
+    if (cli_is(a, "--out-atlas")) return cli_value(a, &c->out_atlas);
+    if (cli_is(a, "--atlas-size")) return cli_int(a, 16, 8192, &c->opt.atlas.size);
     if ((r = parse_options(a, c)) != -2) return r;
     cli_error("lst", "unknown option '%s' (try patchwork lst --help)", a->argv[a->i]);
     return 0;
@@ -239,7 +251,7 @@ static int ends_with(const char *s, const char *ext)
 static int exemplar_only(const lst_cmd *c)
 {
     return c->out_exemplar && !c->mesh && !c->tets && !c->out_lst && !c->out_masks && !c->out_image && !c->out_section &&
-           !c->out_volume && !c->out_tets && !c->out_surface;
+           !c->out_volume && !c->out_tets && !c->out_surface && !c->out_glb && !c->out_obj;
 }
 
 /* What the options must agree on. */
@@ -259,20 +271,26 @@ static int parse_check(const lst_cmd *c)
     if (c->out_exemplar && !ends_with(c->out_exemplar, ".nrrd")) return bad("--out-exemplar (FILE.nrrd)", c->out_exemplar);
     if (c->out_surface && !ends_with(c->out_surface, ".obj")) return bad("--out-surface (FILE.obj)", c->out_surface);
     {
-        const cli_out outs[8] = {{"--out-lst", c->out_lst, CLI_OUT_ANY},          {"--out-masks", c->out_masks, CLI_OUT_PREFIX},
-                                 {"--out-exemplar", c->out_exemplar, CLI_OUT_NRRD}, {"--out-image", c->out_image, CLI_OUT_IMAGE},
-                                 {"--out-section", c->out_section, CLI_OUT_IMAGE}, {"--out-volume", c->out_volume, CLI_OUT_IMAGE},
-                                 {"--out-tets", c->out_tets, CLI_OUT_ANY},          {"--out-surface", c->out_surface, CLI_OUT_ANY}};
-        if (!cli_check_outputs("lst", outs, 8)) return 0;
+        const cli_out outs[11] = {{"--out-lst", c->out_lst, CLI_OUT_ANY},          {"--out-masks", c->out_masks, CLI_OUT_PREFIX},
+                                  {"--out-exemplar", c->out_exemplar, CLI_OUT_NRRD}, {"--out-image", c->out_image, CLI_OUT_IMAGE},
+                                  {"--out-section", c->out_section, CLI_OUT_IMAGE}, {"--out-volume", c->out_volume, CLI_OUT_IMAGE},
+                                  {"--out-tets", c->out_tets, CLI_OUT_ANY},          {"--out-surface", c->out_surface, CLI_OUT_ANY},
+                                  {"--out-glb", c->out_glb, CLI_OUT_GLB},            {"--out-obj", c->out_obj, CLI_OUT_OBJ},
+                                  {"--out-atlas", c->out_atlas, CLI_OUT_IMAGE}};
+        if (!cli_check_outputs("lst", outs, 11)) return 0;
+    }
+    if (!!c->out_obj != !!c->out_atlas) {
+        cli_error("lst", "--out-obj and --out-atlas go together");
+        return 0;
     }
     if (c->out_section && !c->ncuts) {
         cli_error("lst", "--out-section needs a --cut");
         return 0;
     }
     if (!c->out_lst && !c->out_masks && !c->out_exemplar && !c->out_image && !c->out_section && !c->out_volume &&
-        !c->out_tets && !c->out_surface) {
+        !c->out_tets && !c->out_surface && !c->out_glb && !c->out_obj) {
         cli_error("lst", "nothing to write: give --out-lst, --out-masks, --out-image, --out-section, --out-volume, "
-                         "--out-tets, --out-surface or --out-exemplar");
+                         "--out-tets, --out-surface, --out-glb, --out-obj or --out-exemplar");
         return 0;
     }
     return 1;
@@ -533,6 +551,51 @@ static lst_result write_masks(cli_outputs *outs, const lst_cmd *c, const lst_mod
     return r;
 }
 
+/* What --out-glb writes: the atlas, seen as --out-image sees the model. */
+typedef struct glb_job {
+    const lst_atlas *atlas;
+    const lst_render_options *view;
+} glb_job;
+
+static lst_result w_gltf(const void *o, lst_write_fn fn, void *ctx, lst_error *err)
+{
+    const glb_job *j = (const glb_job *)o;
+    return lst_write_gltf(j->atlas, j->view, fn, ctx, err);
+}
+
+/* --out-glb, --out-obj with its MTL and --out-atlas: the visible boundary
+ * with the model's colour baked into an atlas. */
+static lst_result write_atlas(const lst_cmd *c, lst_model *model, cli_outputs *outs, lst_error *err)
+{
+    char mtl[1024];
+    glb_job job;
+    lst_atlas atlas;
+    lst_result r = lst_bake_atlas(model, &c->opt, &atlas, err);
+    FILE *f;
+    if (r != LST_OK) return r;
+    job.atlas = &atlas, job.view = &c->opt.render;
+    if (c->out_glb) r = write_out(outs, c->out_glb, w_gltf, &job, err);
+    if (r == LST_OK && c->out_obj) {
+        cli_with_ext(c->out_obj, ".mtl", mtl, sizeof mtl);
+        if ((f = cli_open(outs, c->out_obj, err->message, sizeof err->message)) == NULL) r = LST_ERR_IO;
+        else {
+            r = lst_write_atlas_obj(&atlas, cli_texture_ref(c->out_obj, mtl), cli_fwrite, f, err);
+            if (!cli_close(f, r == LST_OK, c->out_obj, err->message, sizeof err->message)) r = LST_ERR_IO;
+        }
+        if (r == LST_OK && (f = cli_open(outs, mtl, err->message, sizeof err->message)) == NULL) r = LST_ERR_IO;
+        else if (r == LST_OK) {
+            r = lst_write_mtl(cli_texture_ref(c->out_obj, c->out_atlas), cli_fwrite, f, err);
+            if (!cli_close(f, r == LST_OK, mtl, err->message, sizeof err->message)) r = LST_ERR_IO;
+        }
+        if (r == LST_OK) r = write_image(outs, c->out_atlas, &atlas.image, err);
+    }
+    if (r == LST_OK)
+        printf("lst: atlas of %d charts, %.0f%% of %dx%d filled\n", atlas.ncharts, 100.0 * atlas.fill, atlas.image.width,
+               atlas.image.height);
+    lst_atlas_free(&atlas);
+    return err->code = r;
+}
+
 /* --cut planes, then --cut-stroke along the view. */
 static lst_result cuts(const lst_cmd *c, lst_run *r, lst_error *err)
 {
@@ -599,6 +662,7 @@ static lst_result outputs(const lst_cmd *c, lst_run *r, cli_outputs *outs, lst_e
         (res = lst_render_volume(&r->model, &c->opt.render, &c->opt.volume, &img, err)) == LST_OK)
         res = write_image(outs, c->out_volume, &img, err);
     lst_image_free(&img);
+    if (res == LST_OK && (c->out_glb || c->out_obj)) res = write_atlas(c, &r->model, outs, err);
     return res;
 }
 

@@ -7,7 +7,8 @@
  *      a cut plane from the input's first bytes), which must succeed or fail
  *      with a known code and a message; a model that fills is covered (its
  *      composite opacity at every sample point of every tetrahedron at least
- *      0.98), is cut by the plane, and renders a tiny image;
+ *      0.98), is cut by the plane, renders a tiny image, and bakes a
+ *      64x64 atlas of what is left, written as glTF to memory;
  *   3. its first bytes as the options of a fill with no constraints.
  * Every failure must carry a code and a message and leave no model. Fills
  * run on fuzz.h's counting allocator (leaks and frees through the wrong
@@ -55,6 +56,31 @@ static void fz_model_file(const uint8_t *d, size_t n)
     FZ_CHECK(x.size == y.size && !memcmp(x.data, y.data, x.size));
     free(x.data), free(y.data);
     lst_model_free(&m), lst_model_free(&b);
+}
+
+/* A small atlas of what is left after the cut, written as glTF to memory:
+ * it succeeds or fails with a code and a message, leaving nothing. */
+static void fz_atlas(const lst_model *m, const lst_options *opt)
+{
+    lst_options o = *opt;
+    lst_atlas at;
+    lst_error e;
+    lst_result r;
+    pw_buf x;
+    o.atlas.size = 64;
+    o.progress = NULL;
+    r = lst_bake_atlas(m, &o, &at, &e);
+    if (r != LST_OK) {
+        fz_check_err(r, &e);
+        FZ_CHECK(!at.positions && !at.tris && !at.uvs && !at.image.pixels);
+        return;
+    }
+    memset(&x, 0, sizeof x);
+    r = lst_write_gltf(&at, &o.render, pw_buf_write, &x, &e);
+    if (r != LST_OK) fz_check_err(r, &e);
+    else FZ_CHECK(x.size > 28 && !memcmp(x.data, "glTF", 4));
+    free(x.data);
+    lst_atlas_free(&at);
 }
 
 /* A fill with options from the first bytes; the model's checks. */
@@ -114,6 +140,7 @@ static void fz_fill(const uint8_t *d, size_t n, const lst_constraint *c, int nc)
     r = lst_render(&m, &ro, &img, &e);
     if (r == LST_OK) lst_image_free(&img);
     else fz_check_err(r, &e);
+    fz_atlas(&m, &o);
     lst_model_free(&m);
     FZ_CHECK(heap.live == 0);
 }

@@ -20,11 +20,12 @@
 
 /* ---- public functions ---------------------------------------------------------- */
 
-/* Atlas options with zero fields replaced by their defaults, checked. */
+/* Atlas options with zero fields replaced by their defaults, checked
+ * (pw_atlas_options). */
 static int lapped__atlas_options(const lapped_atlas_options *ao, lapped_atlas_options *o, pw_err *e)
 {
     *o = *ao;
-    return pw_atlas_settings(&o->size, &o->cone_angle, &o->gutter, e);
+    return pw_atlas_options(&o->size, &o->cone_angle, &o->gutter, e);
 }
 
 /* Checks that the pastes refer to existing triangles and patches. */

@@ -14,6 +14,7 @@
 #include "../common/render.h"
 #include "../common/polyhull.h"
 #include "../common/trimesh.h"
+#include "../common/atlas.h"
 #include "../common/glue.h"
 #include "../common/gltf.h"
 #include "lapped.h"
@@ -51,9 +52,9 @@ LAPPEDDEF lapped_options lapped_default_options(void)
     o.max_pastes = 200000;
     pw_view_defaults(&o.render.width, &o.render.height, &o.render.supersample, o.render.view_dir,
                      o.render.up, o.render.background);
-    o.atlas.size = 1024;
-    o.atlas.cone_angle = 60.0f;
-    o.atlas.gutter = 2;
+    o.atlas.size = PW_ATLAS_SIZE;
+    o.atlas.cone_angle = PW_ATLAS_CONE;
+    o.atlas.gutter = PW_ATLAS_GUTTER;
     return o;
 }
 

@@ -17,6 +17,7 @@
 #include "../common/sparse.h"
 #include "../common/raster.h"
 #include "../common/render.h"
+#include "../common/atlas.h"
 #include "../common/nrrd.h"
 #include "../common/tetmesh.h"
 #include "../common/tetio.h"
@@ -24,6 +25,7 @@
 #include "../common/edt.h"
 #include "../common/pca.h"
 #include "../common/glue.h"
+#include "../common/gltf.h"
 #include "lst.h"
 
 typedef char lst__codes_match[(int)LST_ERR_NOCONVERGE == PW_ERR_NOCONVERGE ? 1 : -1];
@@ -51,6 +53,9 @@ LSTDEF lst_options lst_default_options(void)
     o.tet.max_hole = 0.05;
     o.volume.slices = 200;
     o.volume.opacity = 0.3f;
+    o.atlas.size = PW_ATLAS_SIZE;
+    o.atlas.cone_angle = PW_ATLAS_CONE;
+    o.atlas.gutter = PW_ATLAS_GUTTER;
     return o;
 }
 

@@ -45,6 +45,9 @@
  *     that later cuts work; §5.1.2 volume rendering by slices composited
  *     with alpha; an extra channel (displacement) carried like colour, and
  *     displacement mapping of the surface (Figs. 1c, 4d).
+ *   - glTF 2.0 export: the visible boundary (surface and cut faces) with
+ *     the model's colour baked into a texture atlas (lst_bake_atlas,
+ *     lst_save_gltf), and the camera lst_render uses.
  *
  * USAGE
  *   In exactly one C or C++ file:
@@ -310,6 +313,15 @@ typedef struct lst_tet_options {
                         are closed; default 0.05 (0: 0.05); negative: open surfaces refused */
 } lst_tet_options;
 
+/* Settings of the texture atlas (lst_bake_atlas), as lapped.h's. */
+typedef struct lst_atlas_options {
+    int size;                /* atlas image side, pixels (16..8192); default 1024 */
+    float cone_angle;        /* max angle between a chart's normals and its
+                                centre's, degrees, in (0, 180]; default 60 */
+    int gutter;              /* pixels between charts (and to the image border), filled
+                                by dilation, 1..64 and at most size/8; default 2 */
+} lst_atlas_options;
+
 typedef struct lst_options {
     lst_type type;            /* default LST_TYPE_0 */
     float scale;              /* exemplar side in mesh units where no scale constraint
@@ -345,6 +357,7 @@ typedef struct lst_options {
     lst_render_options render; /* lst_render's settings (callers pass &opt.render) */
     lst_tet_options tet;       /* lst_tetrahedralize's */
     lst_volume_options volume; /* lst_render_volume's (callers pass &opt.volume) */
+    lst_atlas_options atlas;   /* lst_bake_atlas's */
     lst_allocator allocator;
     lst_progress_fn progress;
     void *progress_user;
@@ -576,6 +589,56 @@ LSTDEF lst_result lst_load_constraints(const char *path, const lst_options *opt,
                                        lst_error *err);
 LSTDEF lst_result lst_load_image(const char *path, const lst_options *opt, lst_image *out, lst_error *err);
 LSTDEF lst_result lst_save_image(const char *path, const lst_image *img, lst_error *err);
+#endif
+
+/* ---- glTF export: the visible boundary with a baked atlas ---- */
+
+/* The visible boundary (what lst_render draws: the surface triangles left
+ * after the cuts, then the faces the cuts opened) as its own triangle mesh
+ * with a texture atlas. Vertices are only those the triangles use; a
+ * vertex is written once per side (surface or cut) and once per fan where
+ * pieces of the solid touch along an edge or at a vertex, so that the
+ * mesh is a manifold. */
+typedef struct lst_atlas {
+    int nverts;
+    float *positions;        /* nverts*3 */
+    int ntris;
+    int *tris;               /* ntris*3, counter-clockwise seen from outside */
+    float *uvs;              /* ntris*6, per corner, (0,0) bottom-left of the image */
+    int ncharts;
+    float fill;              /* fraction of the image covered by charts */
+    lst_image image;         /* RGB: the model's colour (show = COLOR), unlit */
+    lst_allocator allocator;
+} lst_atlas;
+/* Charts of the visible boundary (opt->atlas; opt NULL: the defaults),
+ * packed into one image, each texel the model's colour at that point of
+ * the boundary as lst_render shows it with show = LST_SHOW_COLOR and
+ * unlit (the albedo: the composite of the pastes there). Displacement
+ * (render.displace) is not baked. */
+LSTDEF lst_result lst_bake_atlas(const lst_model *model, const lst_options *opt, lst_atlas *out, lst_error *err);
+LSTDEF void lst_atlas_free(lst_atlas *atlas);
+/* Binary glTF 2.0 (.glb, one self-contained file): the atlas's mesh with
+ * its per-corner coordinates and the atlas image as its base colour (PNG
+ * inside), sampled LINEAR / LINEAR_MIPMAP_LINEAR with CLAMP_TO_EDGE. With
+ * view (not NULL), the file also holds the camera lst_render frames with
+ * those options. See docs/gltf.md. */
+LSTDEF lst_result lst_write_gltf(const lst_atlas *atlas, const lst_render_options *view, lst_write_fn fn, void *ctx,
+                                 lst_error *err);
+/* The atlas's mesh as OBJ with its per-corner coordinates; mtllib/usemtl
+ * when mtl_name is not NULL. */
+LSTDEF lst_result lst_write_atlas_obj(const lst_atlas *atlas, const char *mtl_name, lst_write_fn fn, void *ctx,
+                                      lst_error *err);
+/* The MTL an atlas OBJ names: material "lst" whose map_Kd is texture_name. */
+LSTDEF lst_result lst_write_mtl(const char *texture_name, lst_write_fn fn, void *ctx, lst_error *err);
+#ifndef PW_NO_STDIO
+/* lst_write_gltf into the file path (.glb). */
+LSTDEF lst_result lst_save_gltf(const char *path, const lst_atlas *atlas, const lst_render_options *view,
+                                lst_error *err);
+/* The OBJ of the atlas's mesh and, when texture_path is not NULL, an MTL
+ * beside it (obj_path with .mtl) whose map_Kd names texture_path (save the
+ * atlas image there with lst_save_image). */
+LSTDEF lst_result lst_save_atlas_obj(const char *obj_path, const lst_atlas *atlas, const char *texture_path,
+                                     lst_error *err);
 #endif
 
 LSTDEF void lst_mesh_free(lst_mesh *m);

@@ -54,7 +54,7 @@ PGPDEF pgp_result pgp_bake_atlas(const pgp_map *map, const pgp_tile *tile, const
         pw_fail(&pe, PW_ERR_INVALID, "pgp_bake_atlas: NULL map or output");
         return pgp__done(&pe, err);
     }
-    if (pw_atlas_settings(&o.atlas.size, &o.atlas.cone_angle, &o.atlas.gutter, &pe) == PW_OK &&
+    if (pw_atlas_options(&o.atlas.size, &o.atlas.cone_angle, &o.atlas.gutter, &pe) == PW_OK &&
         pgp__render_options(&o.render, &ro, &pe) == PW_OK && pgp__shading_init(P, tile, ro.fix, ro.show, &S, &pe) == PW_OK &&
         pw_atlas_layout(&P->a, &P->m, o.atlas.cone_angle, o.atlas.size, o.atlas.gutter, &prog, &out->uvs, &out->ncharts,
                         &out->fill, &pe) == PW_OK) {

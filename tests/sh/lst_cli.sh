@@ -5,41 +5,11 @@
 # pastes, cuts, views), meshes and exemplars read back from the files the
 # command wrote, and clear one-line errors (no crash, no output or
 # .partial file left behind) on bad input of every kind.
-bin=${BUILD:-build}/patchwork
-tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT INT TERM
-pass() { echo "PASS lst_cli/$1"; }
-fail() { echo "FAIL lst_cli/$1: $2"; }
-
-# expect_error NAME PATTERN ARGS...: `patchwork lst ARGS` exits non-zero
-# without crashing, prints one stderr line matching PATTERN, and leaves
-# nothing under $tmp/out.
-expect_error() {
-    name=$1 pattern=$2
-    shift 2
-    rm -rf "$tmp/out" && mkdir -p "$tmp/out"
-    "$bin" lst "$@" > "$tmp/stdout" 2> "$tmp/stderr"
-    status=$?
-    lines=$(wc -l < "$tmp/stderr")
-    left=$(ls -A "$tmp/out" | wc -l)
-    if [ $status -eq 0 ]; then fail "$name" "exit status 0, expected an error"
-    elif [ $status -ge 128 ]; then fail "$name" "crashed (exit status $status): $(head -3 "$tmp/stderr" | tr '\n' '|')"
-    elif [ "$lines" -ne 1 ]; then fail "$name" "$lines lines on stderr: $(head -3 "$tmp/stderr" | tr '\n' '|')"
-    elif ! grep -q -- "$pattern" "$tmp/stderr"; then fail "$name" "stderr lacks '$pattern': $(cat "$tmp/stderr")"
-    elif [ "$left" -ne 0 ]; then fail "$name" "left files behind: $(ls -A "$tmp/out" | tr '\n' ' ')"
-    else pass "$name"; fi
-}
+suite=lst_cli cmd=lst
+. "$(dirname "$0")/lib.sh"
 
 # run NAME ARGS...: `patchwork lst ARGS` must exit 0 with a quiet stderr.
-run() {
-    name=$1
-    shift
-    "$bin" lst "$@" > "$tmp/$name.log" 2> "$tmp/$name.err"
-    status=$?
-    if [ $status -ne 0 ]; then fail "$name" "exit status $status: $(head -2 "$tmp/$name.err" | tr '\n' '|')"; return 1; fi
-    if [ -s "$tmp/$name.err" ]; then fail "$name" "stderr not empty: $(head -2 "$tmp/$name.err" | tr '\n' '|')"; return 1; fi
-    return 0
-}
+run() { run_ok "$@"; }
 
 # reported LOG: the tetrahedron count of "lst: N tetrahedra, ..."
 reported() { sed -n 's/^lst: \([0-9]*\) tetrahedra,.*/\1/p' "$1"; }
@@ -71,9 +41,7 @@ check_lst() {
     ' "$1"
 }
 
-is_png() { [ "$(head -c 8 "$1" | od -An -tx1 | tr -d ' \n')" = "89504e470d0a1a0a" ]; }
 
-png_size() { od -An -tu1 -j16 -N8 "$1" | awk '{ print $3 * 256 + $4 "x" $7 * 256 + $8 }'; }
 
 # ---- the whole pipeline ------------------------------------------------------
 
@@ -121,6 +89,10 @@ if cmp -s $tmp/d8.lst $tmp/d9.lst; then pass constraints_one_file; else fail con
 run surface $small --out-surface $tmp/s.obj &&
 if grep -q '^v ' $tmp/s.obj && [ "$(grep -c '^f [0-9]* [0-9]* [0-9]*$' $tmp/s.obj)" -gt 100 ]; then pass out_surface
 else fail out_surface "no vertices or triangles in $tmp/s.obj"; fi
+run atlas $small --cut "0 0 1 0" --out-glb $tmp/g.glb --out-obj $tmp/g.obj --out-atlas $tmp/g.png --atlas-size 128 &&
+if [ "$(head -c 4 $tmp/g.glb)" = glTF ] && grep -q '^vt ' $tmp/g.obj && grep -q '^f [0-9]*/[0-9]* ' $tmp/g.obj &&
+    grep -q '^map_Kd g.png$' $tmp/g.mtl && grep -q 'atlas of [0-9]* charts, [0-9]*% of 128x128 filled' $tmp/atlas.log
+then pass out_glb_obj_atlas; else fail out_glb_obj_atlas "$(tail -1 $tmp/atlas.log)"; fi
 
 # ---- what the fill reports; self-intersecting surfaces ------------------------------
 
@@ -183,6 +155,9 @@ expect_error tets_extension "--tets" --tets $tmp/x.off --exemplar procedural:spo
 expect_error out_tets_extension "--out-tets" $small --out-tets $tmp/out/x.vtk
 expect_error paste_outside "outside the model" $small --paste "5 0 0 1 0 0 0 1 0 0.5" --out-lst $tmp/out/x.lst
 expect_error cut_everything "cut away" $small --cut "1 0 0 -5" --out-image $tmp/out/x.png
+expect_error glb_extension "give a .glb file" $small --out-glb $tmp/out/x.gltf
+expect_error obj_needs_atlas "--out-obj and --out-atlas go together" $small --out-obj $tmp/out/x.obj
+expect_error glb_cut_everything "cut away" $small --cut "1 0 0 -5" --out-glb $tmp/out/x.glb
 expect_error same_file "two outputs" $small --out-image $tmp/out/x.png --out-volume $tmp/out/x.png --slices 2
 
 # --out-exemplar alone writes a built-in exemplar without filling anything
