@@ -177,6 +177,7 @@ static void t_gltf(void)
     raw.ntris++;
     CHECK(pgp_write_gltf(NULL, &raw, NULL, mem_write, &m3, &e) == PGP_ERR_INVALID);
     CHECK(pgp_write_gltf(&s.map, NULL, NULL, mem_write, &m3, &e) == PGP_ERR_INVALID);
+    pgp_atlas_free(&baked);
     o.atlas.size = 9000;
     CHECK(pgp_bake_atlas(&s.map, &s.tile, &o, &baked, &e) == PGP_ERR_LIMIT && strstr(e.message, "atlas size") &&
           baked.uvs == NULL);
