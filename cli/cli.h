@@ -60,6 +60,9 @@ const char *cli_stage(cli_outputs *o, const char *path);
 int cli_staged(const cli_outputs *o, const char *path);
 tiled_result cli_commit(cli_outputs *o, tiled_error *err);
 void cli_abort(cli_outputs *o);
+/* The end of a command: when it failed, its outputs removed and `message`
+ * printed; else its outputs moved into place. Returns the exit status. */
+int cli_finish(const char *cmd, cli_outputs *o, int failed, const char *message);
 
 /* Staged output files: cli_open opens the temporary file of `path` (NULL and
  * a message on failure); cli_close closes it and returns 1 if it was fully

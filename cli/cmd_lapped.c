@@ -363,7 +363,6 @@ int cmd_lapped(int argc, char **argv)
     lapped_cmd c;
     cli_outputs outs;
     lapped_error err;
-    tiled_error terr;
     int p = parse(argc, argv, &c);
     if (p < 0) {
         fputs(lapped_usage, stdout);
@@ -371,14 +370,5 @@ int cmd_lapped(int argc, char **argv)
     }
     if (!p) return 1;
     memset(&outs, 0, sizeof outs);
-    if (run(&c, &outs, &err) != LAPPED_OK) {
-        cli_abort(&outs);
-        cli_error("lapped", "%s", err.message);
-        return 1;
-    }
-    if (cli_commit(&outs, &terr) != TILED_OK) {
-        cli_error("lapped", "%s", terr.message);
-        return 1;
-    }
-    return 0;
+    return cli_finish("lapped", &outs, run(&c, &outs, &err) != LAPPED_OK, err.message);
 }

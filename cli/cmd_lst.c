@@ -672,7 +672,6 @@ int cmd_lst(int argc, char **argv)
     lst_run r;
     cli_outputs outs;
     lst_error err;
-    tiled_error terr;
     lst_result res;
     int p = parse(argc, argv, &c);
     if (p < 0) {
@@ -689,14 +688,5 @@ int cmd_lst(int argc, char **argv)
                (res = load_constraints(&c, &r, &err)) == LST_OK && (res = fill(&c, &r, &err)) == LST_OK)
         res = outputs(&c, &r, &outs, &err);
     run_free(&r);
-    if (res != LST_OK) {
-        cli_abort(&outs);
-        cli_error("lst", "%s", err.message);
-        return 1;
-    }
-    if (cli_commit(&outs, &terr) != TILED_OK) {
-        cli_error("lst", "%s", terr.message);
-        return 1;
-    }
-    return 0;
+    return cli_finish("lst", &outs, res != LST_OK, err.message);
 }

@@ -403,7 +403,6 @@ int cmd_pgp(int argc, char **argv)
     pgp_cmd c;
     cli_outputs outs;
     pgp_error err;
-    tiled_error terr;
     int p = parse(argc, argv, &c);
     if (p < 0) {
         fputs(pgp_usage, stdout);
@@ -411,14 +410,5 @@ int cmd_pgp(int argc, char **argv)
     }
     if (!p) return 1;
     memset(&outs, 0, sizeof outs);
-    if (run(&c, &outs, &err) != PGP_OK) {
-        cli_abort(&outs);
-        cli_error("pgp", "%s", err.message);
-        return 1;
-    }
-    if (cli_commit(&outs, &terr) != TILED_OK) {
-        cli_error("pgp", "%s", terr.message);
-        return 1;
-    }
-    return 0;
+    return cli_finish("pgp", &outs, run(&c, &outs, &err) != PGP_OK, err.message);
 }

@@ -285,14 +285,5 @@ int cmd_tiled(int argc, char **argv)
     }
     if (!p) return 1;
     memset(&outs, 0, sizeof outs);
-    if (run(&c, &outs, &err) != TILED_OK) {
-        cli_abort(&outs);
-        cli_error("tiled", "%s", err.message);
-        return 1;
-    }
-    if (cli_commit(&outs, &err) != TILED_OK) {
-        cli_error("tiled", "%s", err.message);
-        return 1;
-    }
-    return 0;
+    return cli_finish("tiled", &outs, run(&c, &outs, &err) != TILED_OK, err.message);
 }

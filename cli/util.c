@@ -198,6 +198,21 @@ void cli_abort(cli_outputs *o)
     o->n = 0;
 }
 
+int cli_finish(const char *cmd, cli_outputs *o, int failed, const char *message)
+{
+    tiled_error err;
+    if (failed) {
+        cli_abort(o);
+        cli_error(cmd, "%s", message);
+        return 1;
+    }
+    if (cli_commit(o, &err) != TILED_OK) {
+        cli_error(cmd, "%s", err.message);
+        return 1;
+    }
+    return 0;
+}
+
 /* Whether path ends in ext, ignoring case. */
 static int has_ext(const char *path, const char *ext)
 {
