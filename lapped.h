@@ -16,21 +16,21 @@
  *   5981: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
  *   7198: src/common/raster.h, exact scan conversion of 2D triangles.
  *   7686: src/common/render.h, a small deterministic software renderer for textured trian
- *   9420: src/common/polyhull.h, the polygonal hull of a texture patch (Praun, Finkelstein 
- *  10239: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
- *  10429: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
- *  10514: src/common/atlas.h, texture atlases of triangle meshes — charts, packing, ba
- *  12466: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
- *  13131: src/common/glue.h, what every method header needs between its public types an
- *  13280: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  13826: src/lapped/core.c, lapped.h's glue to the shared core, its defaults, and the 
- *  14016: src/lapped/field.c, §3.2 the tangent field, one frame (S, T) per triangle, an
- *  14475: src/lapped/patch.c, §3.1 texture patches. A patch is the texture as RGBA whos
- *  14763: src/lapped/builtin.c, built-in meshes (made by the shared shapes module) and tex
- *  14967: src/lapped/grow.c, pasting (§3.3-3.6): grow a surface patch around an uncove
- *  16367: src/lapped/render.c, runtime pasting (§4): the mesh drawn once per paste, in p
- *  16560: src/lapped/atlas.c, §4 "Rendering with a texture atlas".
- *  16798: src/lapped/io.c, the paste file format and the file conveniences of lapped.
+ *   9431: src/common/polyhull.h, the polygonal hull of a texture patch (Praun, Finkelstein 
+ *  10250: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
+ *  10440: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
+ *  10525: src/common/atlas.h, texture atlases of triangle meshes — charts, packing, ba
+ *  12477: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
+ *  13142: src/common/glue.h, what every method header needs between its public types an
+ *  13291: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  13837: src/lapped/core.c, lapped.h's glue to the shared core, its defaults, and the 
+ *  14027: src/lapped/field.c, §3.2 the tangent field, one frame (S, T) per triangle, an
+ *  14486: src/lapped/patch.c, §3.1 texture patches. A patch is the texture as RGBA whos
+ *  14774: src/lapped/builtin.c, built-in meshes (made by the shared shapes module) and tex
+ *  14978: src/lapped/grow.c, pasting (§3.3-3.6): grow a surface patch around an uncove
+ *  16378: src/lapped/render.c, runtime pasting (§4): the mesh drawn once per paste, in p
+ *  16571: src/lapped/atlas.c, §4 "Rendering with a texture atlas".
+ *  16809: src/lapped/io.c, the paste file format and the file conveniences of lapped.
  */
 /* lapped.h - lapped textures: overlapping texture patches pasted over a mesh.
  *
@@ -9209,6 +9209,17 @@ PW__DEF int pw_render_draw(pw_fb *fb, const pw_camera *cam, const pw_draw *d, pw
     for (t = 0; t < d->ntris; t++) pw__draw_tri(&c, t);
     if (c.cwrite && c.blend == PW_BLEND_REPLACE && c.bx1 > c.bx0) pw__shade_vis(&c);
     return PW_OK;
+}
+
+/* The smooth vertex normals a lit draw of d without normals computes
+ * (area-weighted), allocated (free with pw_free): for a frame drawn in
+ * bands, computed once and given to every band's draw (d->normals). NULL if
+ * out of memory. */
+PW__DEF float *pw_draw_normals(const pw_alloc *a, const pw_draw *d, pw_err *e)
+{
+    float *n = (float *)pw_alloc_array(a, (size_t)d->nv * 3 + 1, sizeof(float), "vertex normals", e);
+    if (n) pw__smooth_normals(d, n);
+    return n;
 }
 
 /* ---------------------------------------------------------------- frames */

@@ -18,24 +18,24 @@
  *   6479: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
  *   7696: src/common/raster.h, exact scan conversion of 2D triangles.
  *   8184: src/common/render.h, a small deterministic software renderer for textured trian
- *   9918: src/common/atlas.h, texture atlases of triangle meshes — charts, packing, ba
- *  11870: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
- *  12676: src/common/tetmesh.h, the tetrahedral mesh that lapped solid textures work on, a
- *  13146: src/common/tetio.h, tetrahedral mesh files, TetGen .node/.ele and MEDIT .mesh.
- *  13602: src/common/stuffing.h, the built-in tetrahedralizer of lst.h, so that no external
- *  15741: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
- *  15860: src/common/pca.h, principal component analysis of vectors streamed one at a 
- *  16039: src/common/glue.h, what every method header needs between its public types an
- *  16188: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  16734: src/lst/core.c, lst.h's glue to the shared core, its defaults, the convers
- *  17119: src/lst/exemplar.c, solid exemplars (§5): sampling, the procedural exemplars 
- *  17659: src/lst/field.c, §5.2.2, the fields that orient and scale the pastes. The 
- *  18689: src/lst/paste.c, §5.2.3-5.2.7, filling the model. Each paste picks a rando
- *  19589: src/lst/render.c, §5.1, showing a model. Every point of a tetrahedron is th
- *  20335: src/lst/cut.c, §5.1.1, cutting a model along the zero set of a scalar fi
- *  20855: src/lst/builtin.c, the tetrahedralizer entry point, checks of caller meshes, 
- *  21308: src/lst/io.c, the model file, the constraint files and the file convenie
- *  22107: src/lst/export.c, the visible boundary with a baked texture atlas, for glTF.
+ *   9929: src/common/atlas.h, texture atlases of triangle meshes — charts, packing, ba
+ *  11881: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
+ *  12687: src/common/tetmesh.h, the tetrahedral mesh that lapped solid textures work on, a
+ *  13157: src/common/tetio.h, tetrahedral mesh files, TetGen .node/.ele and MEDIT .mesh.
+ *  13613: src/common/stuffing.h, the built-in tetrahedralizer of lst.h, so that no external
+ *  15752: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
+ *  15871: src/common/pca.h, principal component analysis of vectors streamed one at a 
+ *  16050: src/common/glue.h, what every method header needs between its public types an
+ *  16199: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  16745: src/lst/core.c, lst.h's glue to the shared core, its defaults, the convers
+ *  17130: src/lst/exemplar.c, solid exemplars (§5): sampling, the procedural exemplars 
+ *  17670: src/lst/field.c, §5.2.2, the fields that orient and scale the pastes. The 
+ *  18700: src/lst/paste.c, §5.2.3-5.2.7, filling the model. Each paste picks a rando
+ *  19600: src/lst/render.c, §5.1, showing a model. Every point of a tetrahedron is th
+ *  20361: src/lst/cut.c, §5.1.1, cutting a model along the zero set of a scalar fi
+ *  20881: src/lst/builtin.c, the tetrahedralizer entry point, checks of caller meshes, 
+ *  21334: src/lst/io.c, the model file, the constraint files and the file convenie
+ *  22133: src/lst/export.c, the visible boundary with a baked texture atlas, for glTF.
  */
 /* lst.h - lapped solid textures: solid exemplars pasted inside a model.
  *
@@ -9707,6 +9707,17 @@ PW__DEF int pw_render_draw(pw_fb *fb, const pw_camera *cam, const pw_draw *d, pw
     for (t = 0; t < d->ntris; t++) pw__draw_tri(&c, t);
     if (c.cwrite && c.blend == PW_BLEND_REPLACE && c.bx1 > c.bx0) pw__shade_vis(&c);
     return PW_OK;
+}
+
+/* The smooth vertex normals a lit draw of d without normals computes
+ * (area-weighted), allocated (free with pw_free): for a frame drawn in
+ * bands, computed once and given to every band's draw (d->normals). NULL if
+ * out of memory. */
+PW__DEF float *pw_draw_normals(const pw_alloc *a, const pw_draw *d, pw_err *e)
+{
+    float *n = (float *)pw_alloc_array(a, (size_t)d->nv * 3 + 1, sizeof(float), "vertex normals", e);
+    if (n) pw__smooth_normals(d, n);
+    return n;
 }
 
 /* ---------------------------------------------------------------- frames */
@@ -19784,6 +19795,7 @@ typedef struct lst__tris {
     int *tri;     /* n*3 */
     int *tet;     /* n */
     float *bary;  /* n*12 */
+    float *normals; /* nv*3 smooth vertex normals (lst__tris_normals), or NULL: computed per draw */
     size_t ncap, vcap;
 } lst__tris;
 
@@ -19793,6 +19805,7 @@ static void lst__tris_free(const pw_alloc *a, lst__tris *t)
     pw_free(a, t->tri);
     pw_free(a, t->tet);
     pw_free(a, t->bary);
+    pw_free(a, t->normals);
     memset(t, 0, sizeof *t);
 }
 
@@ -19907,10 +19920,21 @@ static int lst__draw_tris(pw_fb *fb, const pw_camera *cam, const lst_model *m, c
     d.positions = t->pos ? t->pos : m->mesh.positions, d.nv = t->nv, d.tris = t->tri, d.ntris = t->n;
     d.lighting = o->unlit || S->mode ? PW_LIGHT_NONE : PW_LIGHT_CAMERA;
     d.ambient = 0.35f;
+    d.normals = t->normals;
     d.shader = lst__shade;
     d.shader_user = S;
     if (S->mode) d.blend = PW_BLEND_OVER, d.depth_test = PW_DEPTH_ALWAYS, d.no_depth_write = 1;
     return pw_render_draw(fb, cam, &d, e);
+}
+
+/* The smooth normals of a lit triangle list, once for every band. */
+static int lst__tris_normals(const pw_alloc *a, const lst_model *m, lst__tris *t, pw_err *e)
+{
+    pw_draw d;
+    if (t->n == 0) return PW_OK;
+    memset(&d, 0, sizeof d);
+    d.positions = t->pos ? t->pos : m->mesh.positions, d.nv = t->nv, d.tris = t->tri, d.ntris = t->n;
+    return (t->normals = pw_draw_normals(a, &d, e)) != NULL ? PW_OK : PW_ERR_NOMEM;
 }
 
 /* The positions of the vertices of visible tetrahedra (for framing). */
@@ -20144,6 +20168,8 @@ static int lst__render(const pw_alloc *a, const lst_model *m, const lst_render_o
     if (r == PW_OK) r = lst__boundary_tris(a, m, nb, 0, &outer, e);
     if (r == PW_OK) r = lst__boundary_tris(a, m, nb, 1, &cut, e);
     if (r == PW_OK && o->displace != 0.0f) r = lst__displace(a, &v, &outer, o, &disp, e);
+    if (r == PW_OK && !o->unlit) r = lst__tris_normals(a, m, o->displace != 0.0f ? &disp : &outer, e);
+    if (r == PW_OK && !o->unlit) r = lst__tris_normals(a, m, &cut, e);
     B.m = m, B.v = &v, B.outer = o->displace != 0.0f ? &disp : &outer, B.cut = &cut, B.o = o;
     if (r == PW_OK) r = lst__camera(a, m, o, &B.cam, e);
     if (r == PW_OK) r = lst__render_frame(a, o, lst__surface_band, &B, pic, e);

@@ -17,29 +17,29 @@
  *   7378: src/common/zsparse.h, complex Hermitian sparse systems, solved by conjugate grad
  *   7633: src/common/raster.h, exact scan conversion of 2D triangles.
  *   8121: src/common/render.h, a small deterministic software renderer for textured trian
- *   9855: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
- *  10045: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
- *  10130: src/common/atlas.h, texture atlases of triangle meshes — charts, packing, ba
- *  12082: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
- *  12747: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
- *  13553: src/common/tile3.h, sampling a material-space tile (Ray et al. 2009, §2: "a 3
- *  13667: src/common/glue.h, what every method header needs between its public types an
- *  13816: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  14362: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
- *  14868: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
- *  15326: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
- *  15445: src/common/kdtree.h, nearest-neighbour search among n points of dimension d, wi
- *  15776: src/common/pca.h, principal component analysis of vectors streamed one at a 
- *  15955: src/pgp/core.c, pgp.h's glue to the shared core, its defaults, and the map
- *  16240: src/pgp/field.c, §2.1 effect areas and §2.2 interpolation of the constrai
- *  16599: src/pgp/solve.c, §2.3 the periodic global parameterization, the recovery o
- *  17359: src/pgp/edit.c, the public editing calls of a mapping. §2.1 (Ray, Lévy, 
- *  17494: src/pgp/render.c, §3 rendering, and a cleaner treatment of the vortices.
- *  17865: src/pgp/builtin.c, built-in meshes and material-space tiles for demos and tes
- *  18172: src/pgp/io.c, files and memory for pgp.h: material-space tiles (NRRD, or
- *  18621: src/pgp/export.c, the mapping for other programs. A viewer that knows nothin
- *  18820: src/pgp/morph.c, the inputs of §1 (keys brought to the tile size, made til
- *  19435: src/pgp/synth.c, §1.2 constrained tile synthesis, and the whole of §1: ke
+ *   9866: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
+ *  10056: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
+ *  10141: src/common/atlas.h, texture atlases of triangle meshes — charts, packing, ba
+ *  12093: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
+ *  12758: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
+ *  13564: src/common/tile3.h, sampling a material-space tile (Ray et al. 2009, §2: "a 3
+ *  13678: src/common/glue.h, what every method header needs between its public types an
+ *  13827: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  14373: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
+ *  14879: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
+ *  15337: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
+ *  15456: src/common/kdtree.h, nearest-neighbour search among n points of dimension d, wi
+ *  15787: src/common/pca.h, principal component analysis of vectors streamed one at a 
+ *  15966: src/pgp/core.c, pgp.h's glue to the shared core, its defaults, and the map
+ *  16251: src/pgp/field.c, §2.1 effect areas and §2.2 interpolation of the constrai
+ *  16610: src/pgp/solve.c, §2.3 the periodic global parameterization, the recovery o
+ *  17370: src/pgp/edit.c, the public editing calls of a mapping. §2.1 (Ray, Lévy, 
+ *  17505: src/pgp/render.c, §3 rendering, and a cleaner treatment of the vortices.
+ *  17882: src/pgp/builtin.c, built-in meshes and material-space tiles for demos and tes
+ *  18189: src/pgp/io.c, files and memory for pgp.h: material-space tiles (NRRD, or
+ *  18638: src/pgp/export.c, the mapping for other programs. A viewer that knows nothin
+ *  18837: src/pgp/morph.c, the inputs of §1 (keys brought to the tile size, made til
+ *  19452: src/pgp/synth.c, §1.2 constrained tile synthesis, and the whole of §1: ke
  */
 /* pgp.h - material-space texturing with a periodic global parameterization.
  *
@@ -9646,6 +9646,17 @@ PW__DEF int pw_render_draw(pw_fb *fb, const pw_camera *cam, const pw_draw *d, pw
     return PW_OK;
 }
 
+/* The smooth vertex normals a lit draw of d without normals computes
+ * (area-weighted), allocated (free with pw_free): for a frame drawn in
+ * bands, computed once and given to every band's draw (d->normals). NULL if
+ * out of memory. */
+PW__DEF float *pw_draw_normals(const pw_alloc *a, const pw_draw *d, pw_err *e)
+{
+    float *n = (float *)pw_alloc_array(a, (size_t)d->nv * 3 + 1, sizeof(float), "vertex normals", e);
+    if (n) pw__smooth_normals(d, n);
+    return n;
+}
+
 /* ---------------------------------------------------------------- frames */
 
 /* A parallel for: runs task(ctx, i) once for every i in [0, n), in any
@@ -17745,6 +17756,8 @@ static int pgp__draw(const pgp__state *P, pgp__shading *S, const pgp_render_opti
     pw_frame f;
     pw_frame_draw1 one;
     pw_parallel par;
+    float *normals;
+    int r;
     memset(&d, 0, sizeof d);
     d.positions = P->pos;
     d.nv = P->m.nv;
@@ -17754,6 +17767,8 @@ static int pgp__draw(const pgp__state *P, pgp__shading *S, const pgp_render_opti
     d.ambient = 0.3f;
     d.shader = pgp__shade;
     d.shader_user = S;
+    if (!(normals = pw_draw_normals(&P->a, &d, e))) return PW_ERR_NOMEM;
+    d.normals = normals; /* once, not per band */
     one.d = &d;
     one.cam = &cam;
     par.threads = o->threads;
@@ -17762,7 +17777,9 @@ static int pgp__draw(const pgp__state *P, pgp__shading *S, const pgp_render_opti
     pw_frame_init(&f, o->width, o->height, o->supersample, o->background, &par);
     f.draw = pw_frame_draw1_fn;
     f.user = &one;
-    return pw_render_frame(&P->a, &f, pic, e);
+    r = pw_render_frame(&P->a, &f, pic, e);
+    pw_free(&P->a, normals);
+    return r;
 }
 
 /* Whether triangle f takes the special treatment of fix mode `mode`: a

@@ -15,18 +15,18 @@
  *   5590: src/common/subdiv.h, Catmull-Clark subdivision (Catmull and Clark 1978) with
  *   5762: src/common/raster.h, exact scan conversion of 2D triangles.
  *   6250: src/common/render.h, a small deterministic software renderer for textured trian
- *   7984: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
- *   8490: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
- *   8948: src/common/glue.h, what every method header needs between its public types an
- *   9097: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *   9643: src/tiled/core.c, tiled.h's glue to the shared core, its defaults, result
- *   9772: src/tiled/layout.c, ch. III.1, the boundary types and the tiled texture they
- *  10025: src/tiled/map.c, ch. III.2, the texture mapping algorithm of Fig. 29
- *  10272: src/tiled/synth.c, ch. III.1.3, tiled texture image synthesis: an edge-matche
- *  10638: src/tiled/validate.c, checks a hand-made tiled texture (the thesis's Figs. 39,
- *  10755: src/tiled/builtin.c, built-in meshes and exemplars for demos and tests: the
- *  11129: src/tiled/render.c, a software rendering of a mapped mesh (the thesis rendered
- *  11319: src/tiled/io.c, files. Meshes and exemplars in; the mapped mesh with its t
+ *   7995: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
+ *   8501: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
+ *   8959: src/common/glue.h, what every method header needs between its public types an
+ *   9108: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *   9654: src/tiled/core.c, tiled.h's glue to the shared core, its defaults, result
+ *   9783: src/tiled/layout.c, ch. III.1, the boundary types and the tiled texture they
+ *  10036: src/tiled/map.c, ch. III.2, the texture mapping algorithm of Fig. 29
+ *  10283: src/tiled/synth.c, ch. III.1.3, tiled texture image synthesis: an edge-matche
+ *  10649: src/tiled/validate.c, checks a hand-made tiled texture (the thesis's Figs. 39,
+ *  10766: src/tiled/builtin.c, built-in meshes and exemplars for demos and tests: the
+ *  11140: src/tiled/render.c, a software rendering of a mapped mesh (the thesis rendered
+ *  11337: src/tiled/io.c, files. Meshes and exemplars in; the mapped mesh with its t
  */
 /* tiled.h - seamless, singularity-free tiled textures on quad meshes.
  *
@@ -7775,6 +7775,17 @@ PW__DEF int pw_render_draw(pw_fb *fb, const pw_camera *cam, const pw_draw *d, pw
     return PW_OK;
 }
 
+/* The smooth vertex normals a lit draw of d without normals computes
+ * (area-weighted), allocated (free with pw_free): for a frame drawn in
+ * bands, computed once and given to every band's draw (d->normals). NULL if
+ * out of memory. */
+PW__DEF float *pw_draw_normals(const pw_alloc *a, const pw_draw *d, pw_err *e)
+{
+    float *n = (float *)pw_alloc_array(a, (size_t)d->nv * 3 + 1, sizeof(float), "vertex normals", e);
+    if (n) pw__smooth_normals(d, n);
+    return n;
+}
+
 /* ---------------------------------------------------------------- frames */
 
 /* A parallel for: runs task(ctx, i) once for every i in [0, n), in any
@@ -11176,6 +11187,7 @@ static int tiled__draw(const pw_alloc *a, const tiled_mesh *m, const tiled_tiles
     pw_frame f;
     pw_frame_draw1 one;
     pw_parallel par;
+    float *normals;
     int r;
     if ((r = pw_texture_create(a, &tex, &atlas, ts->max_mip_level + 1, e)) != PW_OK) return r;
     cam = pw_camera_frame(m->positions, m->nverts, ro->view_dir, ro->up, TILED__FOVY,
@@ -11191,6 +11203,11 @@ static int tiled__draw(const pw_alloc *a, const tiled_mesh *m, const tiled_tiles
     d.wrap = PW_WRAP_CLAMP;
     d.lighting = PW_LIGHT_CAMERA;
     d.ambient = 0.3f;
+    if (!(normals = pw_draw_normals(a, &d, e))) {
+        pw_texture_free(a, &tex);
+        return PW_ERR_NOMEM;
+    }
+    d.normals = normals; /* once, not per band */
     one.d = &d;
     one.cam = &cam;
     par.threads = ro->threads;
@@ -11200,6 +11217,7 @@ static int tiled__draw(const pw_alloc *a, const tiled_mesh *m, const tiled_tiles
     f.draw = pw_frame_draw1_fn;
     f.user = &one;
     r = pw_render_frame(a, &f, out, e);
+    pw_free(a, normals);
     pw_texture_free(a, &tex);
     return r;
 }

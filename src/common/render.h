@@ -1528,6 +1528,17 @@ PW__DEF int pw_render_draw(pw_fb *fb, const pw_camera *cam, const pw_draw *d, pw
     return PW_OK;
 }
 
+/* The smooth vertex normals a lit draw of d without normals computes
+ * (area-weighted), allocated (free with pw_free): for a frame drawn in
+ * bands, computed once and given to every band's draw (d->normals). NULL if
+ * out of memory. */
+PW__DEF float *pw_draw_normals(const pw_alloc *a, const pw_draw *d, pw_err *e)
+{
+    float *n = (float *)pw_alloc_array(a, (size_t)d->nv * 3 + 1, sizeof(float), "vertex normals", e);
+    if (n) pw__smooth_normals(d, n);
+    return n;
+}
+
 /* ---------------------------------------------------------------- frames */
 
 /* A parallel for: runs task(ctx, i) once for every i in [0, n), in any

@@ -196,6 +196,7 @@ typedef struct lst__tris {
     int *tri;     /* n*3 */
     int *tet;     /* n */
     float *bary;  /* n*12 */
+    float *normals; /* nv*3 smooth vertex normals (lst__tris_normals), or NULL: computed per draw */
     size_t ncap, vcap;
 } lst__tris;
 
@@ -205,6 +206,7 @@ static void lst__tris_free(const pw_alloc *a, lst__tris *t)
     pw_free(a, t->tri);
     pw_free(a, t->tet);
     pw_free(a, t->bary);
+    pw_free(a, t->normals);
     memset(t, 0, sizeof *t);
 }
 
@@ -319,10 +321,21 @@ static int lst__draw_tris(pw_fb *fb, const pw_camera *cam, const lst_model *m, c
     d.positions = t->pos ? t->pos : m->mesh.positions, d.nv = t->nv, d.tris = t->tri, d.ntris = t->n;
     d.lighting = o->unlit || S->mode ? PW_LIGHT_NONE : PW_LIGHT_CAMERA;
     d.ambient = 0.35f;
+    d.normals = t->normals;
     d.shader = lst__shade;
     d.shader_user = S;
     if (S->mode) d.blend = PW_BLEND_OVER, d.depth_test = PW_DEPTH_ALWAYS, d.no_depth_write = 1;
     return pw_render_draw(fb, cam, &d, e);
+}
+
+/* The smooth normals of a lit triangle list, once for every band. */
+static int lst__tris_normals(const pw_alloc *a, const lst_model *m, lst__tris *t, pw_err *e)
+{
+    pw_draw d;
+    if (t->n == 0) return PW_OK;
+    memset(&d, 0, sizeof d);
+    d.positions = t->pos ? t->pos : m->mesh.positions, d.nv = t->nv, d.tris = t->tri, d.ntris = t->n;
+    return (t->normals = pw_draw_normals(a, &d, e)) != NULL ? PW_OK : PW_ERR_NOMEM;
 }
 
 /* The positions of the vertices of visible tetrahedra (for framing). */
@@ -556,6 +569,8 @@ static int lst__render(const pw_alloc *a, const lst_model *m, const lst_render_o
     if (r == PW_OK) r = lst__boundary_tris(a, m, nb, 0, &outer, e);
     if (r == PW_OK) r = lst__boundary_tris(a, m, nb, 1, &cut, e);
     if (r == PW_OK && o->displace != 0.0f) r = lst__displace(a, &v, &outer, o, &disp, e);
+    if (r == PW_OK && !o->unlit) r = lst__tris_normals(a, m, o->displace != 0.0f ? &disp : &outer, e);
+    if (r == PW_OK && !o->unlit) r = lst__tris_normals(a, m, &cut, e);
     B.m = m, B.v = &v, B.outer = o->displace != 0.0f ? &disp : &outer, B.cut = &cut, B.o = o;
     if (r == PW_OK) r = lst__camera(a, m, o, &B.cam, e);
     if (r == PW_OK) r = lst__render_frame(a, o, lst__surface_band, &B, pic, e);

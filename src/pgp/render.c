@@ -252,6 +252,8 @@ static int pgp__draw(const pgp__state *P, pgp__shading *S, const pgp_render_opti
     pw_frame f;
     pw_frame_draw1 one;
     pw_parallel par;
+    float *normals;
+    int r;
     memset(&d, 0, sizeof d);
     d.positions = P->pos;
     d.nv = P->m.nv;
@@ -261,6 +263,8 @@ static int pgp__draw(const pgp__state *P, pgp__shading *S, const pgp_render_opti
     d.ambient = 0.3f;
     d.shader = pgp__shade;
     d.shader_user = S;
+    if (!(normals = pw_draw_normals(&P->a, &d, e))) return PW_ERR_NOMEM;
+    d.normals = normals; /* once, not per band */
     one.d = &d;
     one.cam = &cam;
     par.threads = o->threads;
@@ -269,7 +273,9 @@ static int pgp__draw(const pgp__state *P, pgp__shading *S, const pgp_render_opti
     pw_frame_init(&f, o->width, o->height, o->supersample, o->background, &par);
     f.draw = pw_frame_draw1_fn;
     f.user = &one;
-    return pw_render_frame(&P->a, &f, pic, e);
+    r = pw_render_frame(&P->a, &f, pic, e);
+    pw_free(&P->a, normals);
+    return r;
 }
 
 /* Whether triangle f takes the special treatment of fix mode `mode`: a

@@ -48,6 +48,7 @@ static int tiled__draw(const pw_alloc *a, const tiled_mesh *m, const tiled_tiles
     pw_frame f;
     pw_frame_draw1 one;
     pw_parallel par;
+    float *normals;
     int r;
     if ((r = pw_texture_create(a, &tex, &atlas, ts->max_mip_level + 1, e)) != PW_OK) return r;
     cam = pw_camera_frame(m->positions, m->nverts, ro->view_dir, ro->up, TILED__FOVY,
@@ -63,6 +64,11 @@ static int tiled__draw(const pw_alloc *a, const tiled_mesh *m, const tiled_tiles
     d.wrap = PW_WRAP_CLAMP;
     d.lighting = PW_LIGHT_CAMERA;
     d.ambient = 0.3f;
+    if (!(normals = pw_draw_normals(a, &d, e))) {
+        pw_texture_free(a, &tex);
+        return PW_ERR_NOMEM;
+    }
+    d.normals = normals; /* once, not per band */
     one.d = &d;
     one.cam = &cam;
     par.threads = ro->threads;
@@ -72,6 +78,7 @@ static int tiled__draw(const pw_alloc *a, const tiled_mesh *m, const tiled_tiles
     f.draw = pw_frame_draw1_fn;
     f.user = &one;
     r = pw_render_frame(a, &f, out, e);
+    pw_free(a, normals);
     pw_texture_free(a, &tex);
     return r;
 }
