@@ -57,7 +57,7 @@ PARTS_pgp      := core field solve edit render builtin io export morph synth
 MODULES_lst    := base vec rng image deflate png text mesh shapes halfedge trimesh heap sparse raster render atlas nrrd tetmesh tetio stuffing edt pca glue gltf
 PARTS_lst      := core exemplar field paste render cut builtin io export
 
-COMMON_SRC := $(wildcard src/common/*.h)
+COMMON_SRC := $(wildcard src/common/*.h src/*/*.h)
 HEADER_FILES := $(addsuffix .h,$(HEADERS))
 
 .PHONY: all demo test test-build bench bench-report data headers check-headers print-headers dev-header fuzz fuzz-build fuzz-targets fuzz-long js clean

@@ -16,7 +16,7 @@
  *   5981: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
  *   7198: src/common/raster.h, exact scan conversion of 2D triangles.
  *   7686: src/common/render.h, a small deterministic software renderer for textured trian
- *   9431: src/common/polyhull.h, the polygonal hull of a texture patch (Praun, Finkelstein 
+ *   9431: src/lapped/polyhull.h, the polygonal hull of a texture patch (Praun, Finkelstein 
  *  10250: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
  *  10440: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
  *  10525: src/common/atlas.h, texture atlases of triangle meshes — charts, packing, ba
@@ -9428,7 +9428,7 @@ PW__DEF int pw_render_frame(const pw_alloc *a, const pw_frame *f, pw_image *out,
 
 #endif /* PW__RENDER_V1 */
 
-/* ---- shared module src/common/polyhull.h ---- */
+/* ---- module src/lapped/polyhull.h ---- */
 /* polyhull: the polygonal hull of a texture patch (Praun, Finkelstein and
  * Hoppe 2000, §3.3 and Fig. 4): a simple polygon with few vertices that
  * contains every pixel of the patch with non-zero alpha. Surface-patch growth

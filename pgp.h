@@ -22,7 +22,7 @@
  *  10141: src/common/atlas.h, texture atlases of triangle meshes — charts, packing, ba
  *  12093: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
  *  12758: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
- *  13564: src/common/tile3.h, sampling a material-space tile (Ray et al. 2009, §2: "a 3
+ *  13564: src/pgp/tile3.h, sampling a material-space tile (Ray et al. 2009, §2: "a 3
  *  13678: src/common/glue.h, what every method header needs between its public types an
  *  13827: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
  *  14373: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
@@ -13561,7 +13561,7 @@ PW__DEF int pw_nrrd_save(const pw_alloc *a, const pw_volume *vol, int gzip, cons
 
 #endif /* PW__NRRD_V1 */
 
-/* ---- shared module src/common/tile3.h ---- */
+/* ---- module src/pgp/tile3.h ---- */
 /* tile3: sampling a material-space tile (Ray et al. 2009, §2: "a 3D
  * texture, indexed by (s,t,m) coordinates, where (s,t) denote the tileable
  * spatial coordinates, and where m denotes the material axis").

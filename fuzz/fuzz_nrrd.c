@@ -1,5 +1,5 @@
 /* libFuzzer target for the NRRD reader (src/common/nrrd.h), the gzip code
- * under it and the material-space tile sampler (tile3.h) over what it reads.
+ * under it and the material-space tile sampler (src/pgp/tile3.h) over what it reads.
  *
  * Each input is used four ways:
  *   1. as a NRRD file, as given;
@@ -17,7 +17,7 @@
  *
  * Build: clang -g -O1 -fsanitize=fuzzer,address,undefined -I. fuzz/fuzz_nrrd.c -lm */
 #define PW_MAX_VOLUME_VOXELS (1 << 20) /* keeps memory within the fuzzer's limits */
-#include "../src/common/tile3.h"
+#include "../src/pgp/tile3.h"
 #include <stdlib.h>
 
 /* uint8 round trip: the samples quantised to bytes must come back. */

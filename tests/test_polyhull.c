@@ -1,8 +1,8 @@
-/* Tests of the polygonal hull of a texture patch (src/common/polyhull.h,
+/* Tests of the polygonal hull of a texture patch (src/lapped/polyhull.h,
  * Praun et al. 2000 §3.3): containment of every non-transparent pixel,
  * simplicity, orientation, vertex counts, added area, queries against brute
  * force, speed. */
-#include "../src/common/polyhull.h"
+#include "../src/lapped/polyhull.h"
 #include "../src/common/rng.h"
 #include "../src/common/vec.h"
 #include "../src/common/image.h"

@@ -1,7 +1,7 @@
-/* Tests of src/common/tile3.h: sampling material-space tiles (s, t
+/* Tests of src/pgp/tile3.h: sampling material-space tiles (s, t
  * periodic, m clamped and blended between layers, mip levels). */
 #include "../src/common/rng.h"
-#include "../src/common/tile3.h"
+#include "../src/pgp/tile3.h"
 #include "pwtest.h"
 
 /* Texel (x, y) of layer l, channel k: multiples of 1/255, so that 16-bit

@@ -12,7 +12,7 @@
 #include "../common/sparse.h"
 #include "../common/raster.h"
 #include "../common/render.h"
-#include "../common/polyhull.h"
+#include "polyhull.h"
 #include "../common/trimesh.h"
 #include "../common/atlas.h"
 #include "../common/glue.h"

@@ -12,7 +12,7 @@
 #include "../common/zsparse.h"
 #include "../common/render.h"
 #include "../common/nrrd.h"
-#include "../common/tile3.h"
+#include "tile3.h"
 #include "../common/trimesh.h"
 #include "../common/dirfield.h"
 #include "../common/glue.h"

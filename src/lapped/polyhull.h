@@ -47,7 +47,7 @@
 #ifndef PW__POLYHULL_V1
 #define PW__POLYHULL_V1
 
-#include "base.h"
+#include "../common/base.h"
 
 typedef struct pw_polyhull {
     int n;     /* vertices */

@@ -31,8 +31,8 @@
 #ifndef PW__TILE3_V1
 #define PW__TILE3_V1
 
-#include "nrrd.h"
-#include "render.h"
+#include "../common/nrrd.h"
+#include "../common/render.h"
 
 typedef struct pw_tile3 {
     int w, h;          /* texels per layer, at level 0 */
