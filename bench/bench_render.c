@@ -156,11 +156,21 @@ typedef struct band_job {
     pw_image out;
 } band_job;
 
+/* The bands' draws share the smooth normals, computed once per frame as the
+ * methods' renderers do (pw_draw_normals). */
+typedef struct band_scene {
+    const scene *s;
+    const float *normals;
+} band_scene;
+
 static int band_draw(void *user, pw_fb *fb, pw_err *e)
 {
-    const scene *s = (const scene *)user;
+    const band_scene *b = (const band_scene *)user;
+    const scene *s = b->s;
     pw_draw d = base_draw(s);
-    int p, r = pw_render_draw(fb, &s->cam, &d, e);
+    int p, r;
+    d.normals = b->normals;
+    r = pw_render_draw(fb, &s->cam, &d, e);
     d.tex = &s->patch;
     d.uvs = s->puv;
     d.blend = PW_BLEND_OVER;
@@ -175,17 +185,22 @@ static int band_draw(void *user, pw_fb *fb, pw_err *e)
 static void band_frame(void *arg)
 {
     band_job *j = (band_job *)arg;
+    pw_draw d = base_draw(j->s);
+    band_scene b;
     pw_frame f;
+    b.s = j->s;
+    b.normals = pw_draw_normals(NULL, &d, NULL);
     memset(&f, 0, sizeof f);
     f.w = f.h = 1024;
     f.ss = 2;
     f.bg[3] = 1.0f;
     f.channels = 3;
     f.draw = band_draw;
-    f.user = j->s;
+    f.user = &b;
     f.par = &j->par;
     pw_image_free(NULL, &j->out);
     pw_render_frame(NULL, &f, &j->out, NULL);
+    pw_free(NULL, (void *)b.normals);
 }
 
 static void thread_rows(scene *s)
