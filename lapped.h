@@ -22,15 +22,15 @@
  *  10525: src/common/atlas.h, texture atlases of triangle meshes — charts, packing, ba
  *  12477: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
  *  13142: src/common/glue.h, what every method header needs between its public types an
- *  13291: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  13837: src/lapped/core.c, lapped.h's glue to the shared core, its defaults, and the 
- *  14027: src/lapped/field.c, §3.2 the tangent field, one frame (S, T) per triangle, an
- *  14486: src/lapped/patch.c, §3.1 texture patches. A patch is the texture as RGBA whos
- *  14774: src/lapped/builtin.c, built-in meshes (made by the shared shapes module) and tex
- *  14978: src/lapped/grow.c, pasting (§3.3-3.6): grow a surface patch around an uncove
- *  16378: src/lapped/render.c, runtime pasting (§4): the mesh drawn once per paste, in p
- *  16571: src/lapped/atlas.c, §4 "Rendering with a texture atlas".
- *  16809: src/lapped/io.c, the paste file format and the file conveniences of lapped.
+ *  13330: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  13876: src/lapped/core.c, lapped.h's glue to the shared core, its defaults, and the 
+ *  14034: src/lapped/field.c, §3.2 the tangent field, one frame (S, T) per triangle, an
+ *  14493: src/lapped/patch.c, §3.1 texture patches. A patch is the texture as RGBA whos
+ *  14781: src/lapped/builtin.c, built-in meshes (made by the shared shapes module) and tex
+ *  14985: src/lapped/grow.c, pasting (§3.3-3.6): grow a surface patch around an uncove
+ *  16385: src/lapped/render.c, runtime pasting (§4): the mesh drawn once per paste, in p
+ *  16578: src/lapped/atlas.c, §4 "Rendering with a texture atlas".
+ *  16816: src/lapped/io.c, the paste file format and the file conveniences of lapped.
  */
 /* lapped.h - lapped textures: overlapping texture patches pasted over a mesh.
  *
@@ -13284,7 +13284,46 @@ PW__DEF void pw_view_defaults(int *width, int *height, int *supersample, float v
         pw_alloc a = p##__alloc(&t->allocator);                                                  \
         return pw_image_encode(&a, &v, format, fn, ctx, e);                                      \
     }                                                                                            \
+    static PW__UNUSED void p##__take_mesh(pw_mesh *m, const pw_alloc *a, p##_mesh *t)            \
+    {                                                                                            \
+        memset(t, 0, sizeof *t);                                                                 \
+        t->nverts = m->nv;                                                                       \
+        t->positions = m->pos;                                                                   \
+        t->nfaces = m->nf;                                                                       \
+        t->face_start = m->fstart;                                                               \
+        t->face_verts = m->fv;                                                                   \
+        t->allocator = p##__allocator(a);                                                        \
+        pw_free(a, m->uv);                                                                       \
+        pw_free(a, m->fuv);                                                                      \
+        memset(m, 0, sizeof *m);                                                                 \
+    }                                                                                            \
     typedef int p##__glue_defined /* so that the use ends with a semicolon */
+
+/* The public frees of an image and of a mesh with the shared fields only
+ * (DEF: the header's XDEF): with the allocator the object remembers, then
+ * zeroed; NULL and zeroed objects are fine. */
+#define PW_PUBLIC_IMAGE_FREE(p, DEF)                                                             \
+    DEF void p##_image_free(p##_image *img)                                                      \
+    {                                                                                            \
+        pw_alloc a;                                                                              \
+        if (!img) return;                                                                        \
+        a = p##__alloc(&img->allocator);                                                         \
+        pw_free(&a, img->pixels);                                                                \
+        memset(img, 0, sizeof *img);                                                             \
+    }                                                                                            \
+    typedef int p##__image_free_defined
+#define PW_PUBLIC_MESH_FREE(p, DEF)                                                              \
+    DEF void p##_mesh_free(p##_mesh *m)                                                          \
+    {                                                                                            \
+        pw_alloc a;                                                                              \
+        if (!m) return;                                                                          \
+        a = p##__alloc(&m->allocator);                                                           \
+        pw_free(&a, m->positions);                                                               \
+        pw_free(&a, m->face_start);                                                              \
+        pw_free(&a, m->face_verts);                                                              \
+        memset(m, 0, sizeof *m);                                                                 \
+    }                                                                                            \
+    typedef int p##__mesh_free_defined
 
 #endif /* PW__GLUE_V1 */
 
@@ -13844,20 +13883,8 @@ PW__DEF int pw_gltf_write(const pw_alloc *a, const pw_gltf_scene *S, pw_write_fn
 typedef char lapped__codes_match[(int)LAPPED_ERR_NOCONVERGE == PW_ERR_NOCONVERGE ? 1 : -1];
 
 PW_PUBLIC_GLUE(lapped);
-
-static void lapped__take_mesh(pw_mesh *m, const pw_alloc *a, lapped_mesh *t)
-{
-    memset(t, 0, sizeof *t);
-    t->nverts = m->nv;
-    t->positions = m->pos;
-    t->nfaces = m->nf;
-    t->face_start = m->fstart;
-    t->face_verts = m->fv;
-    t->allocator = lapped__allocator(a);
-    pw_free(a, m->uv);
-    pw_free(a, m->fuv);
-    memset(m, 0, sizeof *m);
-}
+PW_PUBLIC_IMAGE_FREE(lapped, LAPPEDDEF);
+PW_PUBLIC_MESH_FREE(lapped, LAPPEDDEF);
 
 LAPPEDDEF lapped_options lapped_default_options(void)
 {
@@ -13900,26 +13927,6 @@ static pw_progress lapped__progress(const lapped_options *o)
     p.fn = o->progress;
     p.user = o->progress_user;
     return p;
-}
-
-LAPPEDDEF void lapped_image_free(lapped_image *img)
-{
-    pw_alloc a;
-    if (!img) return;
-    a = lapped__alloc(&img->allocator);
-    pw_free(&a, img->pixels);
-    memset(img, 0, sizeof *img);
-}
-
-LAPPEDDEF void lapped_mesh_free(lapped_mesh *m)
-{
-    pw_alloc a;
-    if (!m) return;
-    a = lapped__alloc(&m->allocator);
-    pw_free(&a, m->positions);
-    pw_free(&a, m->face_start);
-    pw_free(&a, m->face_verts);
-    memset(m, 0, sizeof *m);
 }
 
 /* ---- the triangle mesh every stage works on ------------------------------ */

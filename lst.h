@@ -26,16 +26,16 @@
  *  15752: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
  *  15871: src/common/pca.h, principal component analysis of vectors streamed one at a 
  *  16050: src/common/glue.h, what every method header needs between its public types an
- *  16199: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  16745: src/lst/core.c, lst.h's glue to the shared core, its defaults, the convers
- *  17130: src/lst/exemplar.c, solid exemplars (§5): sampling, the procedural exemplars 
- *  17670: src/lst/field.c, §5.2.2, the fields that orient and scale the pastes. The 
- *  18700: src/lst/paste.c, §5.2.3-5.2.7, filling the model. Each paste picks a rando
- *  19600: src/lst/render.c, §5.1, showing a model. Every point of a tetrahedron is th
- *  20361: src/lst/cut.c, §5.1.1, cutting a model along the zero set of a scalar fi
- *  20881: src/lst/builtin.c, the tetrahedralizer entry point, checks of caller meshes, 
- *  21334: src/lst/io.c, the model file, the constraint files and the file convenie
- *  22133: src/lst/export.c, the visible boundary with a baked texture atlas, for glTF.
+ *  16238: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  16784: src/lst/core.c, lst.h's glue to the shared core, its defaults, the convers
+ *  17137: src/lst/exemplar.c, solid exemplars (§5): sampling, the procedural exemplars 
+ *  17677: src/lst/field.c, §5.2.2, the fields that orient and scale the pastes. The 
+ *  18707: src/lst/paste.c, §5.2.3-5.2.7, filling the model. Each paste picks a rando
+ *  19607: src/lst/render.c, §5.1, showing a model. Every point of a tetrahedron is th
+ *  20368: src/lst/cut.c, §5.1.1, cutting a model along the zero set of a scalar fi
+ *  20888: src/lst/builtin.c, the tetrahedralizer entry point, checks of caller meshes, 
+ *  21341: src/lst/io.c, the model file, the constraint files and the file convenie
+ *  22140: src/lst/export.c, the visible boundary with a baked texture atlas, for glTF.
  */
 /* lst.h - lapped solid textures: solid exemplars pasted inside a model.
  *
@@ -16192,7 +16192,46 @@ PW__DEF void pw_view_defaults(int *width, int *height, int *supersample, float v
         pw_alloc a = p##__alloc(&t->allocator);                                                  \
         return pw_image_encode(&a, &v, format, fn, ctx, e);                                      \
     }                                                                                            \
+    static PW__UNUSED void p##__take_mesh(pw_mesh *m, const pw_alloc *a, p##_mesh *t)            \
+    {                                                                                            \
+        memset(t, 0, sizeof *t);                                                                 \
+        t->nverts = m->nv;                                                                       \
+        t->positions = m->pos;                                                                   \
+        t->nfaces = m->nf;                                                                       \
+        t->face_start = m->fstart;                                                               \
+        t->face_verts = m->fv;                                                                   \
+        t->allocator = p##__allocator(a);                                                        \
+        pw_free(a, m->uv);                                                                       \
+        pw_free(a, m->fuv);                                                                      \
+        memset(m, 0, sizeof *m);                                                                 \
+    }                                                                                            \
     typedef int p##__glue_defined /* so that the use ends with a semicolon */
+
+/* The public frees of an image and of a mesh with the shared fields only
+ * (DEF: the header's XDEF): with the allocator the object remembers, then
+ * zeroed; NULL and zeroed objects are fine. */
+#define PW_PUBLIC_IMAGE_FREE(p, DEF)                                                             \
+    DEF void p##_image_free(p##_image *img)                                                      \
+    {                                                                                            \
+        pw_alloc a;                                                                              \
+        if (!img) return;                                                                        \
+        a = p##__alloc(&img->allocator);                                                         \
+        pw_free(&a, img->pixels);                                                                \
+        memset(img, 0, sizeof *img);                                                             \
+    }                                                                                            \
+    typedef int p##__image_free_defined
+#define PW_PUBLIC_MESH_FREE(p, DEF)                                                              \
+    DEF void p##_mesh_free(p##_mesh *m)                                                          \
+    {                                                                                            \
+        pw_alloc a;                                                                              \
+        if (!m) return;                                                                          \
+        a = p##__alloc(&m->allocator);                                                           \
+        pw_free(&a, m->positions);                                                               \
+        pw_free(&a, m->face_start);                                                              \
+        pw_free(&a, m->face_verts);                                                              \
+        memset(m, 0, sizeof *m);                                                                 \
+    }                                                                                            \
+    typedef int p##__mesh_free_defined
 
 #endif /* PW__GLUE_V1 */
 
@@ -16751,6 +16790,8 @@ PW__DEF int pw_gltf_write(const pw_alloc *a, const pw_gltf_scene *S, pw_write_fn
 typedef char lst__codes_match[(int)LST_ERR_NOCONVERGE == PW_ERR_NOCONVERGE ? 1 : -1];
 
 PW_PUBLIC_GLUE(lst);
+PW_PUBLIC_IMAGE_FREE(lst, LSTDEF);
+PW_PUBLIC_MESH_FREE(lst, LSTDEF);
 
 LSTDEF lst_options lst_default_options(void)
 {
@@ -16882,20 +16923,6 @@ static void lst__take_volume(pw_volume *p, const pw_alloc *a, lst_volume *v)
     memset(p, 0, sizeof *p);
 }
 
-static void lst__take_mesh(pw_mesh *m, const pw_alloc *a, lst_mesh *t)
-{
-    memset(t, 0, sizeof *t);
-    t->nverts = m->nv;
-    t->positions = m->pos;
-    t->nfaces = m->nf;
-    t->face_start = m->fstart;
-    t->face_verts = m->fv;
-    t->allocator = lst__allocator(a);
-    pw_free(a, m->uv);
-    pw_free(a, m->fuv);
-    memset(m, 0, sizeof *m);
-}
-
 static pw_mesh lst__pw_mesh(const lst_mesh *t)
 {
     pw_mesh m;
@@ -16946,26 +16973,6 @@ static int lst__check_tets(const lst_tetmesh *t, pw_err *e)
             return pw_fail(e, PW_ERR_DEGENERATE, "tetrahedron %d is degenerate or negatively oriented", k);
     }
     return PW_OK;
-}
-
-LSTDEF void lst_image_free(lst_image *img)
-{
-    pw_alloc a;
-    if (!img) return;
-    a = lst__alloc(&img->allocator);
-    pw_free(&a, img->pixels);
-    memset(img, 0, sizeof *img);
-}
-
-LSTDEF void lst_mesh_free(lst_mesh *m)
-{
-    pw_alloc a;
-    if (!m) return;
-    a = lst__alloc(&m->allocator);
-    pw_free(&a, m->positions);
-    pw_free(&a, m->face_start);
-    pw_free(&a, m->face_verts);
-    memset(m, 0, sizeof *m);
 }
 
 LSTDEF void lst_tetmesh_free(lst_tetmesh *m)

@@ -24,22 +24,22 @@
  *  12758: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
  *  13564: src/pgp/tile3.h, sampling a material-space tile (Ray et al. 2009, §2: "a 3
  *  13678: src/common/glue.h, what every method header needs between its public types an
- *  13827: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  14373: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
- *  14879: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
- *  15337: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
- *  15456: src/common/kdtree.h, nearest-neighbour search among n points of dimension d, wi
- *  15787: src/common/pca.h, principal component analysis of vectors streamed one at a 
- *  15966: src/pgp/core.c, pgp.h's glue to the shared core, its defaults, and the map
- *  16251: src/pgp/field.c, §2.1 effect areas and §2.2 interpolation of the constrai
- *  16610: src/pgp/solve.c, §2.3 the periodic global parameterization, the recovery o
- *  17370: src/pgp/edit.c, the public editing calls of a mapping. §2.1 (Ray, Lévy, 
- *  17505: src/pgp/render.c, §3 rendering, and a cleaner treatment of the vortices.
- *  17882: src/pgp/builtin.c, built-in meshes and material-space tiles for demos and tes
- *  18189: src/pgp/io.c, files and memory for pgp.h: material-space tiles (NRRD, or
- *  18638: src/pgp/export.c, the mapping for other programs. A viewer that knows nothin
- *  18837: src/pgp/morph.c, the inputs of §1 (keys brought to the tile size, made til
- *  19452: src/pgp/synth.c, §1.2 constrained tile synthesis, and the whole of §1: ke
+ *  13866: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  14412: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
+ *  14918: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
+ *  15376: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
+ *  15495: src/common/kdtree.h, nearest-neighbour search among n points of dimension d, wi
+ *  15826: src/common/pca.h, principal component analysis of vectors streamed one at a 
+ *  16005: src/pgp/core.c, pgp.h's glue to the shared core, its defaults, and the map
+ *  16258: src/pgp/field.c, §2.1 effect areas and §2.2 interpolation of the constrai
+ *  16617: src/pgp/solve.c, §2.3 the periodic global parameterization, the recovery o
+ *  17377: src/pgp/edit.c, the public editing calls of a mapping. §2.1 (Ray, Lévy, 
+ *  17512: src/pgp/render.c, §3 rendering, and a cleaner treatment of the vortices.
+ *  17889: src/pgp/builtin.c, built-in meshes and material-space tiles for demos and tes
+ *  18196: src/pgp/io.c, files and memory for pgp.h: material-space tiles (NRRD, or
+ *  18645: src/pgp/export.c, the mapping for other programs. A viewer that knows nothin
+ *  18844: src/pgp/morph.c, the inputs of §1 (keys brought to the tile size, made til
+ *  19459: src/pgp/synth.c, §1.2 constrained tile synthesis, and the whole of §1: ke
  */
 /* pgp.h - material-space texturing with a periodic global parameterization.
  *
@@ -13820,7 +13820,46 @@ PW__DEF void pw_view_defaults(int *width, int *height, int *supersample, float v
         pw_alloc a = p##__alloc(&t->allocator);                                                  \
         return pw_image_encode(&a, &v, format, fn, ctx, e);                                      \
     }                                                                                            \
+    static PW__UNUSED void p##__take_mesh(pw_mesh *m, const pw_alloc *a, p##_mesh *t)            \
+    {                                                                                            \
+        memset(t, 0, sizeof *t);                                                                 \
+        t->nverts = m->nv;                                                                       \
+        t->positions = m->pos;                                                                   \
+        t->nfaces = m->nf;                                                                       \
+        t->face_start = m->fstart;                                                               \
+        t->face_verts = m->fv;                                                                   \
+        t->allocator = p##__allocator(a);                                                        \
+        pw_free(a, m->uv);                                                                       \
+        pw_free(a, m->fuv);                                                                      \
+        memset(m, 0, sizeof *m);                                                                 \
+    }                                                                                            \
     typedef int p##__glue_defined /* so that the use ends with a semicolon */
+
+/* The public frees of an image and of a mesh with the shared fields only
+ * (DEF: the header's XDEF): with the allocator the object remembers, then
+ * zeroed; NULL and zeroed objects are fine. */
+#define PW_PUBLIC_IMAGE_FREE(p, DEF)                                                             \
+    DEF void p##_image_free(p##_image *img)                                                      \
+    {                                                                                            \
+        pw_alloc a;                                                                              \
+        if (!img) return;                                                                        \
+        a = p##__alloc(&img->allocator);                                                         \
+        pw_free(&a, img->pixels);                                                                \
+        memset(img, 0, sizeof *img);                                                             \
+    }                                                                                            \
+    typedef int p##__image_free_defined
+#define PW_PUBLIC_MESH_FREE(p, DEF)                                                              \
+    DEF void p##_mesh_free(p##_mesh *m)                                                          \
+    {                                                                                            \
+        pw_alloc a;                                                                              \
+        if (!m) return;                                                                          \
+        a = p##__alloc(&m->allocator);                                                           \
+        pw_free(&a, m->positions);                                                               \
+        pw_free(&a, m->face_start);                                                              \
+        pw_free(&a, m->face_verts);                                                              \
+        memset(m, 0, sizeof *m);                                                                 \
+    }                                                                                            \
+    typedef int p##__mesh_free_defined
 
 #endif /* PW__GLUE_V1 */
 
@@ -15971,20 +16010,8 @@ PW__DEF void pw_pca_project_packed(const float *x, const float *mean, const floa
 typedef char pgp__codes_match[(int)PGP_ERR_NOCONVERGE == PW_ERR_NOCONVERGE ? 1 : -1];
 
 PW_PUBLIC_GLUE(pgp);
-
-static void pgp__take_mesh(pw_mesh *m, const pw_alloc *a, pgp_mesh *t)
-{
-    memset(t, 0, sizeof *t);
-    t->nverts = m->nv;
-    t->positions = m->pos;
-    t->nfaces = m->nf;
-    t->face_start = m->fstart;
-    t->face_verts = m->fv;
-    t->allocator = pgp__allocator(a);
-    pw_free(a, m->uv);
-    pw_free(a, m->fuv);
-    memset(m, 0, sizeof *m);
-}
+PW_PUBLIC_IMAGE_FREE(pgp, PGPDEF);
+PW_PUBLIC_MESH_FREE(pgp, PGPDEF);
 
 /* The defaults of tile synthesis (pgp_options.synth). */
 static pgp_synth_options pgp__synth_defaults(void)
@@ -16042,26 +16069,6 @@ static pw_progress pgp__progress(const pgp_options *o)
     p.fn = o->progress;
     p.user = o->progress_user;
     return p;
-}
-
-PGPDEF void pgp_image_free(pgp_image *img)
-{
-    pw_alloc a;
-    if (!img) return;
-    a = pgp__alloc(&img->allocator);
-    pw_free(&a, img->pixels);
-    memset(img, 0, sizeof *img);
-}
-
-PGPDEF void pgp_mesh_free(pgp_mesh *m)
-{
-    pw_alloc a;
-    if (!m) return;
-    a = pgp__alloc(&m->allocator);
-    pw_free(&a, m->positions);
-    pw_free(&a, m->face_start);
-    pw_free(&a, m->face_verts);
-    memset(m, 0, sizeof *m);
 }
 
 PGPDEF void pgp_tile_free(pgp_tile *t)

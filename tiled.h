@@ -18,15 +18,15 @@
  *   7995: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
  *   8501: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
  *   8959: src/common/glue.h, what every method header needs between its public types an
- *   9108: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *   9654: src/tiled/core.c, tiled.h's glue to the shared core, its defaults, result
- *   9783: src/tiled/layout.c, ch. III.1, the boundary types and the tiled texture they
- *  10036: src/tiled/map.c, ch. III.2, the texture mapping algorithm of Fig. 29
- *  10283: src/tiled/synth.c, ch. III.1.3, tiled texture image synthesis: an edge-matche
- *  10649: src/tiled/validate.c, checks a hand-made tiled texture (the thesis's Figs. 39,
- *  10766: src/tiled/builtin.c, built-in meshes and exemplars for demos and tests: the
- *  11140: src/tiled/render.c, a software rendering of a mapped mesh (the thesis rendered
- *  11337: src/tiled/io.c, files. Meshes and exemplars in; the mapped mesh with its t
+ *   9147: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *   9693: src/tiled/core.c, tiled.h's glue to the shared core, its defaults, result
+ *   9800: src/tiled/layout.c, ch. III.1, the boundary types and the tiled texture they
+ *  10053: src/tiled/map.c, ch. III.2, the texture mapping algorithm of Fig. 29
+ *  10300: src/tiled/synth.c, ch. III.1.3, tiled texture image synthesis: an edge-matche
+ *  10666: src/tiled/validate.c, checks a hand-made tiled texture (the thesis's Figs. 39,
+ *  10783: src/tiled/builtin.c, built-in meshes and exemplars for demos and tests: the
+ *  11157: src/tiled/render.c, a software rendering of a mapped mesh (the thesis rendered
+ *  11354: src/tiled/io.c, files. Meshes and exemplars in; the mapped mesh with its t
  */
 /* tiled.h - seamless, singularity-free tiled textures on quad meshes.
  *
@@ -9101,7 +9101,46 @@ PW__DEF void pw_view_defaults(int *width, int *height, int *supersample, float v
         pw_alloc a = p##__alloc(&t->allocator);                                                  \
         return pw_image_encode(&a, &v, format, fn, ctx, e);                                      \
     }                                                                                            \
+    static PW__UNUSED void p##__take_mesh(pw_mesh *m, const pw_alloc *a, p##_mesh *t)            \
+    {                                                                                            \
+        memset(t, 0, sizeof *t);                                                                 \
+        t->nverts = m->nv;                                                                       \
+        t->positions = m->pos;                                                                   \
+        t->nfaces = m->nf;                                                                       \
+        t->face_start = m->fstart;                                                               \
+        t->face_verts = m->fv;                                                                   \
+        t->allocator = p##__allocator(a);                                                        \
+        pw_free(a, m->uv);                                                                       \
+        pw_free(a, m->fuv);                                                                      \
+        memset(m, 0, sizeof *m);                                                                 \
+    }                                                                                            \
     typedef int p##__glue_defined /* so that the use ends with a semicolon */
+
+/* The public frees of an image and of a mesh with the shared fields only
+ * (DEF: the header's XDEF): with the allocator the object remembers, then
+ * zeroed; NULL and zeroed objects are fine. */
+#define PW_PUBLIC_IMAGE_FREE(p, DEF)                                                             \
+    DEF void p##_image_free(p##_image *img)                                                      \
+    {                                                                                            \
+        pw_alloc a;                                                                              \
+        if (!img) return;                                                                        \
+        a = p##__alloc(&img->allocator);                                                         \
+        pw_free(&a, img->pixels);                                                                \
+        memset(img, 0, sizeof *img);                                                             \
+    }                                                                                            \
+    typedef int p##__image_free_defined
+#define PW_PUBLIC_MESH_FREE(p, DEF)                                                              \
+    DEF void p##_mesh_free(p##_mesh *m)                                                          \
+    {                                                                                            \
+        pw_alloc a;                                                                              \
+        if (!m) return;                                                                          \
+        a = p##__alloc(&m->allocator);                                                           \
+        pw_free(&a, m->positions);                                                               \
+        pw_free(&a, m->face_start);                                                              \
+        pw_free(&a, m->face_verts);                                                              \
+        memset(m, 0, sizeof *m);                                                                 \
+    }                                                                                            \
+    typedef int p##__mesh_free_defined
 
 #endif /* PW__GLUE_V1 */
 
@@ -9666,6 +9705,7 @@ PW__DEF int pw_gltf_write(const pw_alloc *a, const pw_gltf_scene *S, pw_write_fn
 typedef char tiled__codes_match[(int)TILED_ERR_NOCONVERGE == PW_ERR_NOCONVERGE ? 1 : -1];
 
 PW_PUBLIC_GLUE(tiled);
+PW_PUBLIC_IMAGE_FREE(tiled, TILEDDEF);
 
 /* A pw_mesh view of a public mesh (no copy, no texture coordinates). */
 static pw_mesh tiled__pw_mesh(const tiled_mesh *t)
@@ -9682,20 +9722,6 @@ static pw_mesh tiled__pw_mesh(const tiled_mesh *t)
 
 /* Moves a pw_mesh's geometry into a public mesh (texture coordinates of a
  * loaded file are dropped: tiled.h computes its own). */
-static void tiled__take_mesh(pw_mesh *m, const pw_alloc *a, tiled_mesh *t)
-{
-    memset(t, 0, sizeof *t);
-    t->nverts = m->nv;
-    t->positions = m->pos;
-    t->nfaces = m->nf;
-    t->face_start = m->fstart;
-    t->face_verts = m->fv;
-    t->allocator = tiled__allocator(a);
-    pw_free(a, m->uv);
-    pw_free(a, m->fuv);
-    memset(m, 0, sizeof *m);
-}
-
 TILEDDEF tiled_options tiled_default_options(void)
 {
     tiled_options o;
@@ -9762,15 +9788,6 @@ TILEDDEF void tiled_mesh_free(tiled_mesh *m)
     pw_free(&a, m->corner_types);
     pw_free(&a, m->face_tiles);
     memset(m, 0, sizeof *m);
-}
-
-TILEDDEF void tiled_image_free(tiled_image *img)
-{
-    pw_alloc a;
-    if (!img) return;
-    a = tiled__alloc(&img->allocator);
-    pw_free(&a, img->pixels);
-    memset(img, 0, sizeof *img);
 }
 
 TILEDDEF void tiled_tileset_free(tiled_tileset *ts)

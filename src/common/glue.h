@@ -145,6 +145,45 @@ PW__DEF void pw_view_defaults(int *width, int *height, int *supersample, float v
         pw_alloc a = p##__alloc(&t->allocator);                                                  \
         return pw_image_encode(&a, &v, format, fn, ctx, e);                                      \
     }                                                                                            \
+    static PW__UNUSED void p##__take_mesh(pw_mesh *m, const pw_alloc *a, p##_mesh *t)            \
+    {                                                                                            \
+        memset(t, 0, sizeof *t);                                                                 \
+        t->nverts = m->nv;                                                                       \
+        t->positions = m->pos;                                                                   \
+        t->nfaces = m->nf;                                                                       \
+        t->face_start = m->fstart;                                                               \
+        t->face_verts = m->fv;                                                                   \
+        t->allocator = p##__allocator(a);                                                        \
+        pw_free(a, m->uv);                                                                       \
+        pw_free(a, m->fuv);                                                                      \
+        memset(m, 0, sizeof *m);                                                                 \
+    }                                                                                            \
     typedef int p##__glue_defined /* so that the use ends with a semicolon */
+
+/* The public frees of an image and of a mesh with the shared fields only
+ * (DEF: the header's XDEF): with the allocator the object remembers, then
+ * zeroed; NULL and zeroed objects are fine. */
+#define PW_PUBLIC_IMAGE_FREE(p, DEF)                                                             \
+    DEF void p##_image_free(p##_image *img)                                                      \
+    {                                                                                            \
+        pw_alloc a;                                                                              \
+        if (!img) return;                                                                        \
+        a = p##__alloc(&img->allocator);                                                         \
+        pw_free(&a, img->pixels);                                                                \
+        memset(img, 0, sizeof *img);                                                             \
+    }                                                                                            \
+    typedef int p##__image_free_defined
+#define PW_PUBLIC_MESH_FREE(p, DEF)                                                              \
+    DEF void p##_mesh_free(p##_mesh *m)                                                          \
+    {                                                                                            \
+        pw_alloc a;                                                                              \
+        if (!m) return;                                                                          \
+        a = p##__alloc(&m->allocator);                                                           \
+        pw_free(&a, m->positions);                                                               \
+        pw_free(&a, m->face_start);                                                              \
+        pw_free(&a, m->face_verts);                                                              \
+        memset(m, 0, sizeof *m);                                                                 \
+    }                                                                                            \
+    typedef int p##__mesh_free_defined
 
 #endif /* PW__GLUE_V1 */

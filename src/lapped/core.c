@@ -24,20 +24,8 @@
 typedef char lapped__codes_match[(int)LAPPED_ERR_NOCONVERGE == PW_ERR_NOCONVERGE ? 1 : -1];
 
 PW_PUBLIC_GLUE(lapped);
-
-static void lapped__take_mesh(pw_mesh *m, const pw_alloc *a, lapped_mesh *t)
-{
-    memset(t, 0, sizeof *t);
-    t->nverts = m->nv;
-    t->positions = m->pos;
-    t->nfaces = m->nf;
-    t->face_start = m->fstart;
-    t->face_verts = m->fv;
-    t->allocator = lapped__allocator(a);
-    pw_free(a, m->uv);
-    pw_free(a, m->fuv);
-    memset(m, 0, sizeof *m);
-}
+PW_PUBLIC_IMAGE_FREE(lapped, LAPPEDDEF);
+PW_PUBLIC_MESH_FREE(lapped, LAPPEDDEF);
 
 LAPPEDDEF lapped_options lapped_default_options(void)
 {
@@ -80,26 +68,6 @@ static pw_progress lapped__progress(const lapped_options *o)
     p.fn = o->progress;
     p.user = o->progress_user;
     return p;
-}
-
-LAPPEDDEF void lapped_image_free(lapped_image *img)
-{
-    pw_alloc a;
-    if (!img) return;
-    a = lapped__alloc(&img->allocator);
-    pw_free(&a, img->pixels);
-    memset(img, 0, sizeof *img);
-}
-
-LAPPEDDEF void lapped_mesh_free(lapped_mesh *m)
-{
-    pw_alloc a;
-    if (!m) return;
-    a = lapped__alloc(&m->allocator);
-    pw_free(&a, m->positions);
-    pw_free(&a, m->face_start);
-    pw_free(&a, m->face_verts);
-    memset(m, 0, sizeof *m);
 }
 
 /* ---- the triangle mesh every stage works on ------------------------------ */

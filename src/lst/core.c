@@ -31,6 +31,8 @@
 typedef char lst__codes_match[(int)LST_ERR_NOCONVERGE == PW_ERR_NOCONVERGE ? 1 : -1];
 
 PW_PUBLIC_GLUE(lst);
+PW_PUBLIC_IMAGE_FREE(lst, LSTDEF);
+PW_PUBLIC_MESH_FREE(lst, LSTDEF);
 
 LSTDEF lst_options lst_default_options(void)
 {
@@ -162,20 +164,6 @@ static void lst__take_volume(pw_volume *p, const pw_alloc *a, lst_volume *v)
     memset(p, 0, sizeof *p);
 }
 
-static void lst__take_mesh(pw_mesh *m, const pw_alloc *a, lst_mesh *t)
-{
-    memset(t, 0, sizeof *t);
-    t->nverts = m->nv;
-    t->positions = m->pos;
-    t->nfaces = m->nf;
-    t->face_start = m->fstart;
-    t->face_verts = m->fv;
-    t->allocator = lst__allocator(a);
-    pw_free(a, m->uv);
-    pw_free(a, m->fuv);
-    memset(m, 0, sizeof *m);
-}
-
 static pw_mesh lst__pw_mesh(const lst_mesh *t)
 {
     pw_mesh m;
@@ -226,26 +214,6 @@ static int lst__check_tets(const lst_tetmesh *t, pw_err *e)
             return pw_fail(e, PW_ERR_DEGENERATE, "tetrahedron %d is degenerate or negatively oriented", k);
     }
     return PW_OK;
-}
-
-LSTDEF void lst_image_free(lst_image *img)
-{
-    pw_alloc a;
-    if (!img) return;
-    a = lst__alloc(&img->allocator);
-    pw_free(&a, img->pixels);
-    memset(img, 0, sizeof *img);
-}
-
-LSTDEF void lst_mesh_free(lst_mesh *m)
-{
-    pw_alloc a;
-    if (!m) return;
-    a = lst__alloc(&m->allocator);
-    pw_free(&a, m->positions);
-    pw_free(&a, m->face_start);
-    pw_free(&a, m->face_verts);
-    memset(m, 0, sizeof *m);
 }
 
 LSTDEF void lst_tetmesh_free(lst_tetmesh *m)

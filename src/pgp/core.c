@@ -21,20 +21,8 @@
 typedef char pgp__codes_match[(int)PGP_ERR_NOCONVERGE == PW_ERR_NOCONVERGE ? 1 : -1];
 
 PW_PUBLIC_GLUE(pgp);
-
-static void pgp__take_mesh(pw_mesh *m, const pw_alloc *a, pgp_mesh *t)
-{
-    memset(t, 0, sizeof *t);
-    t->nverts = m->nv;
-    t->positions = m->pos;
-    t->nfaces = m->nf;
-    t->face_start = m->fstart;
-    t->face_verts = m->fv;
-    t->allocator = pgp__allocator(a);
-    pw_free(a, m->uv);
-    pw_free(a, m->fuv);
-    memset(m, 0, sizeof *m);
-}
+PW_PUBLIC_IMAGE_FREE(pgp, PGPDEF);
+PW_PUBLIC_MESH_FREE(pgp, PGPDEF);
 
 /* The defaults of tile synthesis (pgp_options.synth). */
 static pgp_synth_options pgp__synth_defaults(void)
@@ -92,26 +80,6 @@ static pw_progress pgp__progress(const pgp_options *o)
     p.fn = o->progress;
     p.user = o->progress_user;
     return p;
-}
-
-PGPDEF void pgp_image_free(pgp_image *img)
-{
-    pw_alloc a;
-    if (!img) return;
-    a = pgp__alloc(&img->allocator);
-    pw_free(&a, img->pixels);
-    memset(img, 0, sizeof *img);
-}
-
-PGPDEF void pgp_mesh_free(pgp_mesh *m)
-{
-    pw_alloc a;
-    if (!m) return;
-    a = pgp__alloc(&m->allocator);
-    pw_free(&a, m->positions);
-    pw_free(&a, m->face_start);
-    pw_free(&a, m->face_verts);
-    memset(m, 0, sizeof *m);
 }
 
 PGPDEF void pgp_tile_free(pgp_tile *t)

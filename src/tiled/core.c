@@ -28,6 +28,7 @@
 typedef char tiled__codes_match[(int)TILED_ERR_NOCONVERGE == PW_ERR_NOCONVERGE ? 1 : -1];
 
 PW_PUBLIC_GLUE(tiled);
+PW_PUBLIC_IMAGE_FREE(tiled, TILEDDEF);
 
 /* A pw_mesh view of a public mesh (no copy, no texture coordinates). */
 static pw_mesh tiled__pw_mesh(const tiled_mesh *t)
@@ -44,20 +45,6 @@ static pw_mesh tiled__pw_mesh(const tiled_mesh *t)
 
 /* Moves a pw_mesh's geometry into a public mesh (texture coordinates of a
  * loaded file are dropped: tiled.h computes its own). */
-static void tiled__take_mesh(pw_mesh *m, const pw_alloc *a, tiled_mesh *t)
-{
-    memset(t, 0, sizeof *t);
-    t->nverts = m->nv;
-    t->positions = m->pos;
-    t->nfaces = m->nf;
-    t->face_start = m->fstart;
-    t->face_verts = m->fv;
-    t->allocator = tiled__allocator(a);
-    pw_free(a, m->uv);
-    pw_free(a, m->fuv);
-    memset(m, 0, sizeof *m);
-}
-
 TILEDDEF tiled_options tiled_default_options(void)
 {
     tiled_options o;
@@ -124,15 +111,6 @@ TILEDDEF void tiled_mesh_free(tiled_mesh *m)
     pw_free(&a, m->corner_types);
     pw_free(&a, m->face_tiles);
     memset(m, 0, sizeof *m);
-}
-
-TILEDDEF void tiled_image_free(tiled_image *img)
-{
-    pw_alloc a;
-    if (!img) return;
-    a = tiled__alloc(&img->allocator);
-    pw_free(&a, img->pixels);
-    memset(img, 0, sizeof *img);
 }
 
 TILEDDEF void tiled_tileset_free(tiled_tileset *ts)
