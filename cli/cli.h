@@ -76,6 +76,11 @@ int cli_fwrite(void *ctx, const void *data, size_t size);
  * staged temporary path. Returns TILED_OK or an error (message in err). */
 tiled_result cli_write_image(cli_outputs *o, const char *final_path, const tiled_image *img,
                              tiled_error *err);
+/* The same for an image of another header (they share the fields): a
+ * tiled_image view of it (no copy), and cli_write_image with the error
+ * message into that header's message (256 bytes); returns the code. */
+tiled_image cli_image_view(int width, int height, int channels, float *pixels, int bits);
+int cli_write_view(cli_outputs *o, const char *final_path, const tiled_image *view, char message[256]);
 /* Format name ("png", "ppm", "pgm", "pam") for a path, NULL if unknown. */
 const char *cli_image_format(const char *path);
 

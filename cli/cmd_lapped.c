@@ -197,18 +197,8 @@ static lapped_result load_image(const char *src, const lapped_options *o, lapped
 static lapped_result write_image(cli_outputs *outs, const char *path, const lapped_image *img,
                                  lapped_error *err)
 {
-    tiled_image view;
-    tiled_error terr;
-    memset(&view, 0, sizeof view);
-    view.width = img->width;
-    view.height = img->height;
-    view.channels = img->channels;
-    view.pixels = img->pixels;
-    view.bits = img->bits;
-    if (cli_write_image(outs, path, &view, &terr) == TILED_OK) return LAPPED_OK;
-    err->code = (lapped_result)terr.code;
-    memcpy(err->message, terr.message, sizeof err->message);
-    return err->code;
+    tiled_image view = cli_image_view(img->width, img->height, img->channels, img->pixels, img->bits);
+    return err->code = (lapped_result)cli_write_view(outs, path, &view, err->message);
 }
 
 /* The RGBA patches from the textures (the mask applies to the first). */

@@ -529,14 +529,8 @@ static lst_result write_surface(cli_outputs *outs, const char *path, const lst_t
 
 static lst_result write_image(cli_outputs *outs, const char *path, const lst_image *img, lst_error *err)
 {
-    tiled_image view;
-    tiled_error terr;
-    memset(&view, 0, sizeof view);
-    view.width = img->width, view.height = img->height, view.channels = img->channels, view.pixels = img->pixels;
-    if (cli_write_image(outs, path, &view, &terr) == TILED_OK) return LST_OK;
-    err->code = (lst_result)terr.code;
-    memcpy(err->message, terr.message, sizeof err->message);
-    return err->code;
+    tiled_image view = cli_image_view(img->width, img->height, img->channels, img->pixels, img->bits);
+    return err->code = (lst_result)cli_write_view(outs, path, &view, err->message);
 }
 
 static lst_result write_masks(cli_outputs *outs, const lst_cmd *c, const lst_model *m, lst_error *err)

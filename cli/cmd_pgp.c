@@ -225,18 +225,8 @@ static pgp_result load_mesh(const char *src, const pgp_options *o, pgp_mesh *m, 
 /* Writes a pgp image through the shared image writer. */
 static pgp_result write_image(cli_outputs *outs, const char *path, const pgp_image *img, pgp_error *err)
 {
-    tiled_image view;
-    tiled_error terr;
-    memset(&view, 0, sizeof view);
-    view.width = img->width;
-    view.height = img->height;
-    view.channels = img->channels;
-    view.pixels = img->pixels;
-    view.bits = img->bits;
-    if (cli_write_image(outs, path, &view, &terr) == TILED_OK) return PGP_OK;
-    err->code = (pgp_result)terr.code;
-    memcpy(err->message, terr.message, sizeof err->message);
-    return err->code;
+    tiled_image view = cli_image_view(img->width, img->height, img->channels, img->pixels, img->bits);
+    return err->code = (pgp_result)cli_write_view(outs, path, &view, err->message);
 }
 
 /* The mapping as glTF with the atlas, to a staged file. */

@@ -305,6 +305,26 @@ int cli_close(FILE *f, int ok, const char *path, char *msg, size_t size)
     return ok;
 }
 
+tiled_image cli_image_view(int width, int height, int channels, float *pixels, int bits)
+{
+    tiled_image v;
+    memset(&v, 0, sizeof v);
+    v.width = width;
+    v.height = height;
+    v.channels = channels;
+    v.pixels = pixels;
+    v.bits = bits;
+    return v;
+}
+
+int cli_write_view(cli_outputs *o, const char *final_path, const tiled_image *view, char message[256])
+{
+    tiled_error err;
+    if (cli_write_image(o, final_path, view, &err) == TILED_OK) return 0;
+    memcpy(message, err.message, sizeof err.message);
+    return (int)err.code;
+}
+
 tiled_result cli_write_image(cli_outputs *o, const char *final_path, const tiled_image *img,
                              tiled_error *err)
 {
