@@ -48,7 +48,7 @@ ALL_CFLAGS = $(WARN) $(CFLAGS) $(SANFLAGS) -I.
 
 # ---- single-file headers: name and the shared modules each one carries ----
 HEADERS        := tiled lapped pgp lst
-MODULES_tiled  := base vec rng image deflate png text mesh halfedge subdiv raster render graphcut quilt glue gltf
+MODULES_tiled  := base vec rng image deflate png text mesh shapes halfedge subdiv raster render graphcut quilt glue gltf
 MODULES_lapped := base vec rng image deflate png text mesh shapes halfedge sparse raster render polyhull trimesh heap atlas dirfield glue gltf
 PARTS_lapped   := core field patch builtin grow render atlas io
 PARTS_tiled    := core layout map synth validate builtin render io

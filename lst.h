@@ -12,30 +12,30 @@
  *   3535: src/common/text.h, locale-independent number parsing and formatting, a line s
  *   3918: src/common/mesh.h, polygon meshes as flat arrays, and their file formats.
  *   5433: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
- *   5782: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
- *   6204: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
- *   6394: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
- *   6479: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
- *   7696: src/common/raster.h, exact scan conversion of 2D triangles.
- *   8184: src/common/render.h, a small deterministic software renderer for textured trian
- *   9929: src/common/atlas.h, texture atlases of triangle meshes — charts, packing, ba
- *  11881: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
- *  12687: src/common/tetmesh.h, the tetrahedral mesh that lapped solid textures work on, a
- *  13157: src/common/tetio.h, tetrahedral mesh files, TetGen .node/.ele and MEDIT .mesh.
- *  13613: src/common/stuffing.h, the built-in tetrahedralizer of lst.h, so that no external
- *  15752: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
- *  15871: src/common/pca.h, principal component analysis of vectors streamed one at a 
- *  16050: src/common/glue.h, what every method header needs between its public types an
- *  16238: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  16784: src/lst/core.c, lst.h's glue to the shared core, its defaults, the convers
- *  17137: src/lst/exemplar.c, solid exemplars (§5): sampling, the procedural exemplars 
- *  17677: src/lst/field.c, §5.2.2, the fields that orient and scale the pastes. The 
- *  18707: src/lst/paste.c, §5.2.3-5.2.7, filling the model. Each paste picks a rando
- *  19607: src/lst/render.c, §5.1, showing a model. Every point of a tetrahedron is th
- *  20368: src/lst/cut.c, §5.1.1, cutting a model along the zero set of a scalar fi
- *  20888: src/lst/builtin.c, the tetrahedralizer entry point, checks of caller meshes, 
- *  21341: src/lst/io.c, the model file, the constraint files and the file convenie
- *  22140: src/lst/export.c, the visible boundary with a baked texture atlas, for glTF.
+ *   5879: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
+ *   6301: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
+ *   6491: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
+ *   6576: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
+ *   7793: src/common/raster.h, exact scan conversion of 2D triangles.
+ *   8281: src/common/render.h, a small deterministic software renderer for textured trian
+ *  10026: src/common/atlas.h, texture atlases of triangle meshes — charts, packing, ba
+ *  11978: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
+ *  12784: src/common/tetmesh.h, the tetrahedral mesh that lapped solid textures work on, a
+ *  13254: src/common/tetio.h, tetrahedral mesh files, TetGen .node/.ele and MEDIT .mesh.
+ *  13710: src/common/stuffing.h, the built-in tetrahedralizer of lst.h, so that no external
+ *  15849: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
+ *  15968: src/common/pca.h, principal component analysis of vectors streamed one at a 
+ *  16147: src/common/glue.h, what every method header needs between its public types an
+ *  16335: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  16881: src/lst/core.c, lst.h's glue to the shared core, its defaults, the convers
+ *  17234: src/lst/exemplar.c, solid exemplars (§5): sampling, the procedural exemplars 
+ *  17774: src/lst/field.c, §5.2.2, the fields that orient and scale the pastes. The 
+ *  18804: src/lst/paste.c, §5.2.3-5.2.7, filling the model. Each paste picks a rando
+ *  19704: src/lst/render.c, §5.1, showing a model. Every point of a tetrahedron is th
+ *  20465: src/lst/cut.c, §5.1.1, cutting a model along the zero set of a scalar fi
+ *  20985: src/lst/builtin.c, the tetrahedralizer entry point, checks of caller meshes, 
+ *  21438: src/lst/io.c, the model file, the constraint files and the file convenie
+ *  22237: src/lst/export.c, the visible boundary with a baked texture atlas, for glTF.
  */
 /* lst.h - lapped solid textures: solid exemplars pasted inside a model.
  *
@@ -5664,6 +5664,103 @@ PW__DEF int pw_shape_disc(const pw_alloc *a, int K, pw_mesh *m, pw_err *e)
         }
     }
     return PW_OK;
+}
+
+/* The icosahedron itself: corners (0, +-1, +-phi) and their cyclic
+ * permutations, 20 triangles counter-clockwise seen from outside. */
+PW__DEF int pw_shape_icosahedron(const pw_alloc *a, pw_mesh *m, pw_err *e)
+{
+    const float phi = 1.61803398874989485f;
+    int k, r = pw_shape_alloc(a, 12, 20, 3, m, e);
+    if (r != PW_OK) return r;
+    for (k = 0; k < 36; k++) { /* the table's 2 stands for the golden ratio */
+        int c = pw__ico_v[k / 3][k % 3];
+        m->pos[k] = c == 2 ? phi : (c == -2 ? -phi : (float)c);
+    }
+    for (k = 0; k < 60; k++) m->fv[k] = pw__ico_f[k / 3][k % 3];
+    return PW_OK;
+}
+
+/* The surface of a union of unit voxels (an X x Y x Z array vox, x fastest,
+ * non-zero = solid): one outward quad per voxel face that touches empty
+ * space, in lattice units. A first pass counts (m == NULL), a second
+ * writes; vertices are numbered in order of first use. */
+typedef struct pw__voxels {
+    int X, Y, Z;
+    const unsigned char *vox;
+    int *map; /* lattice point -> vertex, -1 if unused */
+    pw_mesh *m;
+    int nv, nf;
+} pw__voxels;
+
+PW__DEF int pw__voxel_solid(const pw__voxels *v, const int p[3])
+{
+    return p[0] >= 0 && p[1] >= 0 && p[2] >= 0 && p[0] < v->X && p[1] < v->Y && p[2] < v->Z &&
+           v->vox[(p[2] * v->Y + p[1]) * v->X + p[0]];
+}
+
+/* Emits the face of voxel p facing direction d (axis d/2, sign by d&1),
+ * counter-clockwise seen from outside. */
+PW__DEF void pw__voxel_face(pw__voxels *v, const int p[3], int d)
+{
+    static const int du[4] = {0, 1, 1, 0}, dv[4] = {0, 0, 1, 1};
+    int ax = d >> 1, neg = d & 1, u = (ax + 1) % 3, w = (ax + 2) % 3, k, c[3], li;
+    for (k = 0; k < 4; k++) {
+        int kk = neg ? (4 - k) & 3 : k; /* reversed walk on the negative side */
+        memcpy(c, p, sizeof c);
+        c[ax] += !neg;
+        c[u] += du[kk];
+        c[w] += dv[kk];
+        li = (c[2] * (v->Y + 1) + c[1]) * (v->X + 1) + c[0];
+        if (v->map[li] < 0) {
+            if (v->m) {
+                v->m->pos[3 * v->nv] = (float)c[0];
+                v->m->pos[3 * v->nv + 1] = (float)c[1];
+                v->m->pos[3 * v->nv + 2] = (float)c[2];
+            }
+            v->map[li] = v->nv++;
+        }
+        if (v->m) v->m->fv[4 * v->nf + k] = v->map[li];
+    }
+    v->nf++;
+}
+
+PW__DEF void pw__voxel_pass(pw__voxels *v)
+{
+    int p[3], q[3], d, k, nl = (v->X + 1) * (v->Y + 1) * (v->Z + 1);
+    for (k = 0; k < nl; k++) v->map[k] = -1;
+    v->nv = v->nf = 0;
+    for (p[2] = 0; p[2] < v->Z; p[2]++)
+        for (p[1] = 0; p[1] < v->Y; p[1]++)
+            for (p[0] = 0; p[0] < v->X; p[0]++) {
+                if (!pw__voxel_solid(v, p)) continue;
+                for (d = 0; d < 6; d++) {
+                    memcpy(q, p, sizeof q);
+                    q[d >> 1] += d & 1 ? -1 : 1;
+                    if (!pw__voxel_solid(v, q)) pw__voxel_face(v, p, d);
+                }
+            }
+}
+
+PW__DEF int pw_shape_polycube(const pw_alloc *a, int X, int Y, int Z, const unsigned char *vox, pw_mesh *m,
+                              pw_err *e)
+{
+    pw__voxels v;
+    int r;
+    v.X = X;
+    v.Y = Y;
+    v.Z = Z;
+    v.vox = vox;
+    v.m = NULL;
+    v.map = (int *)pw_alloc_array(a, (size_t)(X + 1) * (Y + 1) * (Z + 1), sizeof(int), "lattice", e);
+    if (!v.map) return PW_ERR_NOMEM;
+    pw__voxel_pass(&v);
+    if ((r = pw_shape_alloc(a, v.nv, v.nf, 4, m, e)) == PW_OK) {
+        v.m = m;
+        pw__voxel_pass(&v);
+    }
+    pw_free(a, v.map);
+    return r;
 }
 
 /* An n x n grid of quads (quads != 0) or triangle pairs on [-1,1]^2 facing

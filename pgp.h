@@ -12,34 +12,34 @@
  *   3492: src/common/text.h, locale-independent number parsing and formatting, a line s
  *   3875: src/common/mesh.h, polygon meshes as flat arrays, and their file formats.
  *   5390: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
- *   5739: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
- *   6161: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
- *   7378: src/common/zsparse.h, complex Hermitian sparse systems, solved by conjugate grad
- *   7633: src/common/raster.h, exact scan conversion of 2D triangles.
- *   8121: src/common/render.h, a small deterministic software renderer for textured trian
- *   9866: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
- *  10056: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
- *  10141: src/common/atlas.h, texture atlases of triangle meshes — charts, packing, ba
- *  12093: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
- *  12758: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
- *  13564: src/pgp/tile3.h, sampling a material-space tile (Ray et al. 2009, §2: "a 3
- *  13678: src/common/glue.h, what every method header needs between its public types an
- *  13866: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  14412: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
- *  14918: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
- *  15376: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
- *  15495: src/common/kdtree.h, nearest-neighbour search among n points of dimension d, wi
- *  15826: src/common/pca.h, principal component analysis of vectors streamed one at a 
- *  16005: src/pgp/core.c, pgp.h's glue to the shared core, its defaults, and the map
- *  16258: src/pgp/field.c, §2.1 effect areas and §2.2 interpolation of the constrai
- *  16617: src/pgp/solve.c, §2.3 the periodic global parameterization, the recovery o
- *  17377: src/pgp/edit.c, the public editing calls of a mapping. §2.1 (Ray, Lévy, 
- *  17512: src/pgp/render.c, §3 rendering, and a cleaner treatment of the vortices.
- *  17889: src/pgp/builtin.c, built-in meshes and material-space tiles for demos and tes
- *  18196: src/pgp/io.c, files and memory for pgp.h: material-space tiles (NRRD, or
- *  18645: src/pgp/export.c, the mapping for other programs. A viewer that knows nothin
- *  18844: src/pgp/morph.c, the inputs of §1 (keys brought to the tile size, made til
- *  19459: src/pgp/synth.c, §1.2 constrained tile synthesis, and the whole of §1: ke
+ *   5836: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
+ *   6258: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
+ *   7475: src/common/zsparse.h, complex Hermitian sparse systems, solved by conjugate grad
+ *   7730: src/common/raster.h, exact scan conversion of 2D triangles.
+ *   8218: src/common/render.h, a small deterministic software renderer for textured trian
+ *   9963: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
+ *  10153: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
+ *  10238: src/common/atlas.h, texture atlases of triangle meshes — charts, packing, ba
+ *  12190: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
+ *  12855: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
+ *  13661: src/pgp/tile3.h, sampling a material-space tile (Ray et al. 2009, §2: "a 3
+ *  13775: src/common/glue.h, what every method header needs between its public types an
+ *  13963: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  14509: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
+ *  15015: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
+ *  15473: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
+ *  15592: src/common/kdtree.h, nearest-neighbour search among n points of dimension d, wi
+ *  15923: src/common/pca.h, principal component analysis of vectors streamed one at a 
+ *  16102: src/pgp/core.c, pgp.h's glue to the shared core, its defaults, and the map
+ *  16355: src/pgp/field.c, §2.1 effect areas and §2.2 interpolation of the constrai
+ *  16714: src/pgp/solve.c, §2.3 the periodic global parameterization, the recovery o
+ *  17474: src/pgp/edit.c, the public editing calls of a mapping. §2.1 (Ray, Lévy, 
+ *  17609: src/pgp/render.c, §3 rendering, and a cleaner treatment of the vortices.
+ *  17986: src/pgp/builtin.c, built-in meshes and material-space tiles for demos and tes
+ *  18293: src/pgp/io.c, files and memory for pgp.h: material-space tiles (NRRD, or
+ *  18742: src/pgp/export.c, the mapping for other programs. A viewer that knows nothin
+ *  18941: src/pgp/morph.c, the inputs of §1 (keys brought to the tile size, made til
+ *  19556: src/pgp/synth.c, §1.2 constrained tile synthesis, and the whole of §1: ke
  */
 /* pgp.h - material-space texturing with a periodic global parameterization.
  *
@@ -5621,6 +5621,103 @@ PW__DEF int pw_shape_disc(const pw_alloc *a, int K, pw_mesh *m, pw_err *e)
         }
     }
     return PW_OK;
+}
+
+/* The icosahedron itself: corners (0, +-1, +-phi) and their cyclic
+ * permutations, 20 triangles counter-clockwise seen from outside. */
+PW__DEF int pw_shape_icosahedron(const pw_alloc *a, pw_mesh *m, pw_err *e)
+{
+    const float phi = 1.61803398874989485f;
+    int k, r = pw_shape_alloc(a, 12, 20, 3, m, e);
+    if (r != PW_OK) return r;
+    for (k = 0; k < 36; k++) { /* the table's 2 stands for the golden ratio */
+        int c = pw__ico_v[k / 3][k % 3];
+        m->pos[k] = c == 2 ? phi : (c == -2 ? -phi : (float)c);
+    }
+    for (k = 0; k < 60; k++) m->fv[k] = pw__ico_f[k / 3][k % 3];
+    return PW_OK;
+}
+
+/* The surface of a union of unit voxels (an X x Y x Z array vox, x fastest,
+ * non-zero = solid): one outward quad per voxel face that touches empty
+ * space, in lattice units. A first pass counts (m == NULL), a second
+ * writes; vertices are numbered in order of first use. */
+typedef struct pw__voxels {
+    int X, Y, Z;
+    const unsigned char *vox;
+    int *map; /* lattice point -> vertex, -1 if unused */
+    pw_mesh *m;
+    int nv, nf;
+} pw__voxels;
+
+PW__DEF int pw__voxel_solid(const pw__voxels *v, const int p[3])
+{
+    return p[0] >= 0 && p[1] >= 0 && p[2] >= 0 && p[0] < v->X && p[1] < v->Y && p[2] < v->Z &&
+           v->vox[(p[2] * v->Y + p[1]) * v->X + p[0]];
+}
+
+/* Emits the face of voxel p facing direction d (axis d/2, sign by d&1),
+ * counter-clockwise seen from outside. */
+PW__DEF void pw__voxel_face(pw__voxels *v, const int p[3], int d)
+{
+    static const int du[4] = {0, 1, 1, 0}, dv[4] = {0, 0, 1, 1};
+    int ax = d >> 1, neg = d & 1, u = (ax + 1) % 3, w = (ax + 2) % 3, k, c[3], li;
+    for (k = 0; k < 4; k++) {
+        int kk = neg ? (4 - k) & 3 : k; /* reversed walk on the negative side */
+        memcpy(c, p, sizeof c);
+        c[ax] += !neg;
+        c[u] += du[kk];
+        c[w] += dv[kk];
+        li = (c[2] * (v->Y + 1) + c[1]) * (v->X + 1) + c[0];
+        if (v->map[li] < 0) {
+            if (v->m) {
+                v->m->pos[3 * v->nv] = (float)c[0];
+                v->m->pos[3 * v->nv + 1] = (float)c[1];
+                v->m->pos[3 * v->nv + 2] = (float)c[2];
+            }
+            v->map[li] = v->nv++;
+        }
+        if (v->m) v->m->fv[4 * v->nf + k] = v->map[li];
+    }
+    v->nf++;
+}
+
+PW__DEF void pw__voxel_pass(pw__voxels *v)
+{
+    int p[3], q[3], d, k, nl = (v->X + 1) * (v->Y + 1) * (v->Z + 1);
+    for (k = 0; k < nl; k++) v->map[k] = -1;
+    v->nv = v->nf = 0;
+    for (p[2] = 0; p[2] < v->Z; p[2]++)
+        for (p[1] = 0; p[1] < v->Y; p[1]++)
+            for (p[0] = 0; p[0] < v->X; p[0]++) {
+                if (!pw__voxel_solid(v, p)) continue;
+                for (d = 0; d < 6; d++) {
+                    memcpy(q, p, sizeof q);
+                    q[d >> 1] += d & 1 ? -1 : 1;
+                    if (!pw__voxel_solid(v, q)) pw__voxel_face(v, p, d);
+                }
+            }
+}
+
+PW__DEF int pw_shape_polycube(const pw_alloc *a, int X, int Y, int Z, const unsigned char *vox, pw_mesh *m,
+                              pw_err *e)
+{
+    pw__voxels v;
+    int r;
+    v.X = X;
+    v.Y = Y;
+    v.Z = Z;
+    v.vox = vox;
+    v.m = NULL;
+    v.map = (int *)pw_alloc_array(a, (size_t)(X + 1) * (Y + 1) * (Z + 1), sizeof(int), "lattice", e);
+    if (!v.map) return PW_ERR_NOMEM;
+    pw__voxel_pass(&v);
+    if ((r = pw_shape_alloc(a, v.nv, v.nf, 4, m, e)) == PW_OK) {
+        v.m = m;
+        pw__voxel_pass(&v);
+    }
+    pw_free(a, v.map);
+    return r;
 }
 
 /* An n x n grid of quads (quads != 0) or triangle pairs on [-1,1]^2 facing

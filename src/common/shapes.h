@@ -237,6 +237,103 @@ PW__DEF int pw_shape_disc(const pw_alloc *a, int K, pw_mesh *m, pw_err *e)
     return PW_OK;
 }
 
+/* The icosahedron itself: corners (0, +-1, +-phi) and their cyclic
+ * permutations, 20 triangles counter-clockwise seen from outside. */
+PW__DEF int pw_shape_icosahedron(const pw_alloc *a, pw_mesh *m, pw_err *e)
+{
+    const float phi = 1.61803398874989485f;
+    int k, r = pw_shape_alloc(a, 12, 20, 3, m, e);
+    if (r != PW_OK) return r;
+    for (k = 0; k < 36; k++) { /* the table's 2 stands for the golden ratio */
+        int c = pw__ico_v[k / 3][k % 3];
+        m->pos[k] = c == 2 ? phi : (c == -2 ? -phi : (float)c);
+    }
+    for (k = 0; k < 60; k++) m->fv[k] = pw__ico_f[k / 3][k % 3];
+    return PW_OK;
+}
+
+/* The surface of a union of unit voxels (an X x Y x Z array vox, x fastest,
+ * non-zero = solid): one outward quad per voxel face that touches empty
+ * space, in lattice units. A first pass counts (m == NULL), a second
+ * writes; vertices are numbered in order of first use. */
+typedef struct pw__voxels {
+    int X, Y, Z;
+    const unsigned char *vox;
+    int *map; /* lattice point -> vertex, -1 if unused */
+    pw_mesh *m;
+    int nv, nf;
+} pw__voxels;
+
+PW__DEF int pw__voxel_solid(const pw__voxels *v, const int p[3])
+{
+    return p[0] >= 0 && p[1] >= 0 && p[2] >= 0 && p[0] < v->X && p[1] < v->Y && p[2] < v->Z &&
+           v->vox[(p[2] * v->Y + p[1]) * v->X + p[0]];
+}
+
+/* Emits the face of voxel p facing direction d (axis d/2, sign by d&1),
+ * counter-clockwise seen from outside. */
+PW__DEF void pw__voxel_face(pw__voxels *v, const int p[3], int d)
+{
+    static const int du[4] = {0, 1, 1, 0}, dv[4] = {0, 0, 1, 1};
+    int ax = d >> 1, neg = d & 1, u = (ax + 1) % 3, w = (ax + 2) % 3, k, c[3], li;
+    for (k = 0; k < 4; k++) {
+        int kk = neg ? (4 - k) & 3 : k; /* reversed walk on the negative side */
+        memcpy(c, p, sizeof c);
+        c[ax] += !neg;
+        c[u] += du[kk];
+        c[w] += dv[kk];
+        li = (c[2] * (v->Y + 1) + c[1]) * (v->X + 1) + c[0];
+        if (v->map[li] < 0) {
+            if (v->m) {
+                v->m->pos[3 * v->nv] = (float)c[0];
+                v->m->pos[3 * v->nv + 1] = (float)c[1];
+                v->m->pos[3 * v->nv + 2] = (float)c[2];
+            }
+            v->map[li] = v->nv++;
+        }
+        if (v->m) v->m->fv[4 * v->nf + k] = v->map[li];
+    }
+    v->nf++;
+}
+
+PW__DEF void pw__voxel_pass(pw__voxels *v)
+{
+    int p[3], q[3], d, k, nl = (v->X + 1) * (v->Y + 1) * (v->Z + 1);
+    for (k = 0; k < nl; k++) v->map[k] = -1;
+    v->nv = v->nf = 0;
+    for (p[2] = 0; p[2] < v->Z; p[2]++)
+        for (p[1] = 0; p[1] < v->Y; p[1]++)
+            for (p[0] = 0; p[0] < v->X; p[0]++) {
+                if (!pw__voxel_solid(v, p)) continue;
+                for (d = 0; d < 6; d++) {
+                    memcpy(q, p, sizeof q);
+                    q[d >> 1] += d & 1 ? -1 : 1;
+                    if (!pw__voxel_solid(v, q)) pw__voxel_face(v, p, d);
+                }
+            }
+}
+
+PW__DEF int pw_shape_polycube(const pw_alloc *a, int X, int Y, int Z, const unsigned char *vox, pw_mesh *m,
+                              pw_err *e)
+{
+    pw__voxels v;
+    int r;
+    v.X = X;
+    v.Y = Y;
+    v.Z = Z;
+    v.vox = vox;
+    v.m = NULL;
+    v.map = (int *)pw_alloc_array(a, (size_t)(X + 1) * (Y + 1) * (Z + 1), sizeof(int), "lattice", e);
+    if (!v.map) return PW_ERR_NOMEM;
+    pw__voxel_pass(&v);
+    if ((r = pw_shape_alloc(a, v.nv, v.nf, 4, m, e)) == PW_OK) {
+        v.m = m;
+        pw__voxel_pass(&v);
+    }
+    pw_free(a, v.map);
+    return r;
+}
+
 /* An n x n grid of quads (quads != 0) or triangle pairs on [-1,1]^2 facing
  * +z, with a boundary; z = wave sin(pi x) sin(pi y) (0: flat). Vertex
  * j*(n+1) + i sits at x = -1 + 2i/n, y = -1 + 2j/n; the triangles of cell

@@ -4,174 +4,6 @@
  * homogeneous, isotropic exemplars for ch. III.1.3. */
 #include "core.c"
 
-/* Allocates a mesh of nv vertices and nf faces of `deg` corners. */
-static int tiled__new_mesh(const pw_alloc *a, int nv, int nf, int deg, tiled_mesh *m, pw_err *e)
-{
-    int f;
-    memset(m, 0, sizeof *m);
-    m->allocator = tiled__allocator(a);
-    m->positions = (float *)pw_alloc_array(a, (size_t)nv * 3, sizeof(float), "positions", e);
-    m->face_start = (int *)pw_alloc_array(a, (size_t)nf + 1, sizeof(int), "faces", e);
-    m->face_verts = (int *)pw_alloc_array(a, (size_t)nf * deg, sizeof(int), "face corners", e);
-    if (!m->positions || !m->face_start || !m->face_verts) {
-        tiled_mesh_free(m);
-        return PW_ERR_NOMEM;
-    }
-    m->nverts = nv;
-    m->nfaces = nf;
-    for (f = 0; f <= nf; f++) m->face_start[f] = f * deg;
-    return PW_OK;
-}
-
-/* The surface of a union of unit voxels: one outward quad per voxel face
- * that touches empty space. A first pass counts (m == NULL), a second
- * writes; vertices are numbered in order of first use. */
-typedef struct tiled__voxels {
-    int X, Y, Z;
-    const unsigned char *vox;
-    int *map; /* lattice point -> vertex, -1 if unused */
-    tiled_mesh *m;
-    int nv, nf;
-} tiled__voxels;
-
-static int tiled__solid(const tiled__voxels *v, const int p[3])
-{
-    return p[0] >= 0 && p[1] >= 0 && p[2] >= 0 && p[0] < v->X && p[1] < v->Y && p[2] < v->Z &&
-           v->vox[(p[2] * v->Y + p[1]) * v->X + p[0]];
-}
-
-/* Emits the face of voxel p facing direction d (axis d/2, sign by d&1),
- * counter-clockwise seen from outside. */
-static void tiled__voxel_face(tiled__voxels *v, const int p[3], int d)
-{
-    static const int du[4] = {0, 1, 1, 0}, dv[4] = {0, 0, 1, 1};
-    int ax = d >> 1, neg = d & 1, u = (ax + 1) % 3, w = (ax + 2) % 3, k, c[3], li;
-    for (k = 0; k < 4; k++) {
-        int kk = neg ? (4 - k) & 3 : k; /* reversed walk on the negative side */
-        memcpy(c, p, sizeof c);
-        c[ax] += !neg;
-        c[u] += du[kk];
-        c[w] += dv[kk];
-        li = (c[2] * (v->Y + 1) + c[1]) * (v->X + 1) + c[0];
-        if (v->map[li] < 0) {
-            if (v->m) {
-                v->m->positions[3 * v->nv] = (float)c[0];
-                v->m->positions[3 * v->nv + 1] = (float)c[1];
-                v->m->positions[3 * v->nv + 2] = (float)c[2];
-            }
-            v->map[li] = v->nv++;
-        }
-        if (v->m) v->m->face_verts[4 * v->nf + k] = v->map[li];
-    }
-    v->nf++;
-}
-
-static void tiled__voxel_pass(tiled__voxels *v)
-{
-    int p[3], q[3], d, k, nl = (v->X + 1) * (v->Y + 1) * (v->Z + 1);
-    for (k = 0; k < nl; k++) v->map[k] = -1;
-    v->nv = v->nf = 0;
-    for (p[2] = 0; p[2] < v->Z; p[2]++)
-        for (p[1] = 0; p[1] < v->Y; p[1]++)
-            for (p[0] = 0; p[0] < v->X; p[0]++) {
-                if (!tiled__solid(v, p)) continue;
-                for (d = 0; d < 6; d++) {
-                    memcpy(q, p, sizeof q);
-                    q[d >> 1] += d & 1 ? -1 : 1;
-                    if (!tiled__solid(v, q)) tiled__voxel_face(v, p, d);
-                }
-            }
-}
-
-static int tiled__polycube(const pw_alloc *a, int X, int Y, int Z, const unsigned char *vox,
-                           tiled_mesh *m, pw_err *e)
-{
-    tiled__voxels v;
-    int r;
-    v.X = X;
-    v.Y = Y;
-    v.Z = Z;
-    v.vox = vox;
-    v.m = NULL;
-    v.map = (int *)pw_alloc_array(a, (size_t)(X + 1) * (Y + 1) * (Z + 1), sizeof(int), "lattice", e);
-    if (!v.map) return PW_ERR_NOMEM;
-    tiled__voxel_pass(&v);
-    if ((r = tiled__new_mesh(a, v.nv, v.nf, 4, m, e)) == PW_OK) {
-        v.m = m;
-        tiled__voxel_pass(&v);
-    }
-    pw_free(a, v.map);
-    return r;
-}
-
-/* Torus: R = 1, r = 0.4, nu x nv quads (u around the axis, v around the tube). */
-static int tiled__torus(const pw_alloc *a, int nu, int nv, tiled_mesh *m, pw_err *e)
-{
-    const double pi2 = 6.28318530717958647692;
-    int i, j, r = tiled__new_mesh(a, nu * nv, nu * nv, 4, m, e);
-    if (r != PW_OK) return r;
-    for (i = 0; i < nu; i++)
-        for (j = 0; j < nv; j++) {
-            double u = pi2 * i / nu, v = pi2 * j / nv, rr = 1.0 + 0.4 * pw_cos(v);
-            float *p = m->positions + 3 * (i * nv + j);
-            int *f = m->face_verts + 4 * (i * nv + j);
-            p[0] = (float)(rr * pw_cos(u));
-            p[1] = (float)(rr * pw_sin(u));
-            p[2] = (float)(0.4 * pw_sin(v));
-            f[0] = i * nv + j;
-            f[1] = ((i + 1) % nu) * nv + j;
-            f[2] = ((i + 1) % nu) * nv + (j + 1) % nv;
-            f[3] = i * nv + (j + 1) % nv;
-        }
-    return PW_OK;
-}
-
-/* Icosahedron: 20 triangles (Catmull-Clark turns them into quads). */
-static int tiled__icosahedron(const pw_alloc *a, tiled_mesh *m, pw_err *e)
-{
-    static const signed char vs[12][3] = {{-1, 2, 0}, {1, 2, 0}, {-1, -2, 0}, {1, -2, 0},
-                                          {0, -1, 2}, {0, 1, 2}, {0, -1, -2}, {0, 1, -2},
-                                          {2, 0, -1}, {2, 0, 1}, {-2, 0, -1}, {-2, 0, 1}};
-    static const unsigned char fs[20][3] = {
-        {0, 11, 5}, {0, 5, 1}, {0, 1, 7}, {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
-        {11, 10, 2}, {10, 7, 6}, {7, 1, 8}, {3, 9, 4}, {3, 4, 2}, {3, 2, 6}, {3, 6, 8},
-        {3, 8, 9}, {4, 9, 5}, {2, 4, 11}, {6, 2, 10}, {8, 6, 7}, {9, 8, 1}};
-    const float phi = 1.61803398874989485f;
-    int k, r = tiled__new_mesh(a, 12, 20, 3, m, e);
-    if (r != PW_OK) return r;
-    for (k = 0; k < 36; k++) { /* the table's 2 stands for the golden ratio */
-        int c = vs[k / 3][k % 3];
-        m->positions[k] = c == 2 ? phi : (c == -2 ? -phi : (float)c);
-    }
-    for (k = 0; k < 60; k++) m->face_verts[k] = fs[k / 3][k % 3];
-    return PW_OK;
-}
-
-/* An open, gently waved n x n quad grid on [-1,1]^2: a mesh with a boundary. */
-static int tiled__grid(const pw_alloc *a, int n, tiled_mesh *m, pw_err *e)
-{
-    const double pi = 3.14159265358979323846;
-    int i, j, r = tiled__new_mesh(a, (n + 1) * (n + 1), n * n, 4, m, e);
-    if (r != PW_OK) return r;
-    for (j = 0; j <= n; j++)
-        for (i = 0; i <= n; i++) {
-            double x = -1.0 + 2.0 * i / n, y = -1.0 + 2.0 * j / n;
-            float *p = m->positions + 3 * (j * (n + 1) + i);
-            p[0] = (float)x;
-            p[1] = (float)y;
-            p[2] = (float)(0.2 * pw_sin(pi * x) * pw_sin(pi * y));
-        }
-    for (j = 0; j < n; j++)
-        for (i = 0; i < n; i++) {
-            int *f = m->face_verts + 4 * (j * n + i), v = j * (n + 1) + i;
-            f[0] = v;
-            f[1] = v + 1;
-            f[2] = v + n + 2;
-            f[3] = v + n + 1;
-        }
-    return PW_OK;
-}
-
 /* Moves a mesh's bounding-box centre to the origin and scales it to fit
  * [-1,1]^3 (voxel meshes come in lattice units). */
 static void tiled__normalise(tiled_mesh *m)
@@ -201,18 +33,21 @@ TILEDDEF tiled_result tiled_builtin_mesh(const char *name, const tiled_options *
     static const unsigned char one = 1;
     tiled_options o = tiled__options(opt);
     pw_alloc a = tiled__alloc(&o.allocator);
+    pw_mesh pm;
     pw_err pe;
     pw_err_clear(&pe);
+    memset(&pm, 0, sizeof pm);
     if (out) memset(out, 0, sizeof *out);
     if (!out || !name) pw_fail(&pe, PW_ERR_INVALID, "tiled_builtin_mesh: NULL argument");
-    else if (!strcmp(name, "cube")) tiled__polycube(&a, 1, 1, 1, &one, out, &pe);
-    else if (!strcmp(name, "double-torus")) tiled__polycube(&a, 5, 3, 2, slab, out, &pe);
-    else if (!strcmp(name, "torus")) tiled__torus(&a, 24, 12, out, &pe);
-    else if (!strcmp(name, "icosahedron")) tiled__icosahedron(&a, out, &pe);
-    else if (!strcmp(name, "grid")) tiled__grid(&a, 12, out, &pe);
+    else if (!strcmp(name, "cube")) pw_shape_polycube(&a, 1, 1, 1, &one, &pm, &pe);
+    else if (!strcmp(name, "double-torus")) pw_shape_polycube(&a, 5, 3, 2, slab, &pm, &pe);
+    else if (!strcmp(name, "torus")) pw_shape_torus(&a, 24, 12, 1, &pm, &pe);
+    else if (!strcmp(name, "icosahedron")) pw_shape_icosahedron(&a, &pm, &pe);
+    else if (!strcmp(name, "grid")) pw_shape_grid(&a, 12, 0.2, 1, &pm, &pe);
     else
         pw_fail(&pe, PW_ERR_INVALID, "unknown built-in mesh '%s' (cube, torus, double-torus, "
                 "icosahedron, grid)", name);
+    if (pe.code == PW_OK) tiled__take_mesh(&pm, &a, out);
     if (pe.code == PW_OK) tiled__normalise(out);
     return tiled__done(&pe, err);
 }

@@ -12,6 +12,7 @@
 #include "../common/deflate.h"
 #include "../common/png.h"
 #include "../common/mesh.h"
+#include "../common/shapes.h"
 #include "../common/halfedge.h"
 #include "../common/subdiv.h"
 #include "../common/raster.h"
