@@ -234,3 +234,11 @@ expect_error early_bad_extension "give an image (.png .ppm .pgm .pam)" $grid $br
 expect_error early_no_folder "x.png: cannot write there (No such file or directory)" $grid $bricks \
     --out-tile "$tmp/out/x.nrrd" --out-obj "$tmp/out/x.obj" --out-image "$tmp/out/nowhere/x.png"
 expect_error obj_extension "give an .obj file" $grid $bricks --out-obj "$tmp/out/x.nrrd" --out-tile "$tmp/out/x.nrrd"
+expect_error glb_extension "give a .glb file" $grid $bricks --out-glb "$tmp/out/x.gltf"
+expect_error glb_st_extension "give a .glb file" $grid $bricks --out-glb-st "$tmp/out/x.gltf"
+expect_error glb_no_folder "x.glb: cannot write there (No such file or directory)" $grid $bricks \
+    --out-glb "$tmp/out/nowhere/x.glb"
+expect_error atlas_size "--atlas-size: '5' is not a whole number in 16..8192" $grid $bricks --atlas-size 5 \
+    --out-glb "$tmp/out/x.glb"
+expect_error glb_material "--glb-material: '2' is not a number in 0..1" $grid $bricks --glb-material 2 \
+    --out-glb-st "$tmp/out/x.glb"
