@@ -28,14 +28,14 @@
  *  16147: src/common/glue.h, what every method header needs between its public types an
  *  16335: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
  *  16881: src/lst/core.c, lst.h's glue to the shared core, its defaults, the convers
- *  17234: src/lst/exemplar.c, solid exemplars (§5): sampling, the procedural exemplars 
- *  17774: src/lst/field.c, §5.2.2, the fields that orient and scale the pastes. The 
- *  18804: src/lst/paste.c, §5.2.3-5.2.7, filling the model. Each paste picks a rando
- *  19704: src/lst/render.c, §5.1, showing a model. Every point of a tetrahedron is th
- *  20465: src/lst/cut.c, §5.1.1, cutting a model along the zero set of a scalar fi
- *  20985: src/lst/builtin.c, the tetrahedralizer entry point, checks of caller meshes, 
- *  21438: src/lst/io.c, the model file, the constraint files and the file convenie
- *  22237: src/lst/export.c, the visible boundary with a baked texture atlas, for glTF.
+ *  17218: src/lst/exemplar.c, solid exemplars (§5): sampling, the procedural exemplars 
+ *  17758: src/lst/field.c, §5.2.2, the fields that orient and scale the pastes. The 
+ *  18788: src/lst/paste.c, §5.2.3-5.2.7, filling the model. Each paste picks a rando
+ *  19688: src/lst/render.c, §5.1, showing a model. Every point of a tetrahedron is th
+ *  20449: src/lst/cut.c, §5.1.1, cutting a model along the zero set of a scalar fi
+ *  20969: src/lst/builtin.c, the tetrahedralizer entry point, checks of caller meshes, 
+ *  21422: src/lst/io.c, the model file, the constraint files and the file convenie
+ *  22221: src/lst/export.c, the visible boundary with a baked texture atlas, for glTF.
  */
 /* lst.h - lapped solid textures: solid exemplars pasted inside a model.
  *
@@ -17153,23 +17153,7 @@ static double lst__exp_neg(double x)
     return s;
 }
 
-static double lst__dot3(const double *a, const double *b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
-
-static void lst__cross3(const double *a, const double *b, double *o)
-{
-    o[0] = a[1] * b[2] - a[2] * b[1];
-    o[1] = a[2] * b[0] - a[0] * b[2];
-    o[2] = a[0] * b[1] - a[1] * b[0];
-}
-
 /* Normalises v; returns its former length (0 leaves it unchanged). */
-static double lst__norm3(double *v)
-{
-    double l = sqrt(lst__dot3(v, v));
-    if (l > 0.0) v[0] /= l, v[1] /= l, v[2] /= l;
-    return l;
-}
-
 /* A unit vector orthogonal to unit n: the cross product with the axis n
  * is least aligned with (deterministic). */
 static void lst__any_perp(const double *n, double *out)
@@ -17177,8 +17161,8 @@ static void lst__any_perp(const double *n, double *out)
     double ax[3] = {0, 0, 0};
     int k = fabs(n[0]) <= fabs(n[1]) && fabs(n[0]) <= fabs(n[2]) ? 0 : (fabs(n[1]) <= fabs(n[2]) ? 1 : 2);
     ax[k] = 1.0;
-    lst__cross3(n, ax, out);
-    lst__norm3(out);
+    pw_cross3(n, ax, out);
+    pw_norm3(out);
 }
 
 /* Inverse of the 3x3 matrix m (row-major); returns the determinant (0:
@@ -17547,7 +17531,7 @@ static double lst__splotch_radius(const double *lobes, double r, const double *d
     double s = 1.0;
     int k;
     for (k = 0; k < 8; k++) {
-        double c = lst__dot3(lobes + 4 * k, d), t = c > 0.5 ? (c - 0.5) / 0.5 : 0.0;
+        double c = pw_dot3(lobes + 4 * k, d), t = c > 0.5 ? (c - 0.5) / 0.5 : 0.0;
         s += lobes[4 * k + 3] * t * t * (3.0 - 2.0 * t);
     }
     return r * s;
@@ -17561,9 +17545,9 @@ static void lst__splotch_lobes(unsigned long long seed, double *lobes)
         double *l = lobes + 4 * k, n2;
         do {
             l[0] = 2.0 * pw_rng_double(&rng) - 1.0, l[1] = 2.0 * pw_rng_double(&rng) - 1.0;
-            l[2] = 2.0 * pw_rng_double(&rng) - 1.0, n2 = lst__dot3(l, l);
+            l[2] = 2.0 * pw_rng_double(&rng) - 1.0, n2 = pw_dot3(l, l);
         } while (n2 > 1.0 || n2 < 1e-4);
-        lst__norm3(l);
+        pw_norm3(l);
         l[3] = 0.24 * pw_rng_double(&rng) - 0.12;
     }
 }
@@ -17581,7 +17565,7 @@ static void lst__splotch(pw_volume *mask, const double *lobes, double radius, do
                 d[0] = (x + 0.5) / mask->x - centre[0];
                 d[1] = 1.0 - (y + 0.5) / mask->y - centre[1];
                 d[2] = (z + 0.5) / mask->z - centre[2];
-                len = lst__norm3(d);
+                len = pw_norm3(d);
                 r = len > 0.0 ? lst__splotch_radius(lobes, radius, d) : radius;
                 if (r > 0.5 - 0.5 / mask->x) r = 0.5 - 0.5 / mask->x; /* stays inside the cube's sides */
                 mask->px[((size_t)z * mask->y + y) * mask->x + x] = (float)lst__smooth(r, r - falloff, len);
@@ -17973,7 +17957,7 @@ static double lst__rbf_eval(const lst__rbf *r, const double *x, double *grad)
     for (i = 0; i < r->n; i++) {
         double d[3], len;
         for (k = 0; k < 3; k++) d[k] = y[k] - r->c[3 * i + k];
-        len = sqrt(lst__dot3(d, d));
+        len = sqrt(pw_dot3(d, d));
         f += r->w[i] * len * len * len;
         for (k = 0; k < 3; k++) g[k] += 3.0 * r->w[i] * len * d[k];
     }
@@ -18331,10 +18315,10 @@ static void lst__closest_tri(const double *p, const double *a, const double *b, 
     double ab[3], ac[3], ap[3], bp[3], cp[3], d1, d2, d3, d4, d5, d6, va, vb, vc, den, v, w;
     int k;
     for (k = 0; k < 3; k++) ab[k] = b[k] - a[k], ac[k] = c[k] - a[k], ap[k] = p[k] - a[k];
-    d1 = lst__dot3(ab, ap), d2 = lst__dot3(ac, ap);
+    d1 = pw_dot3(ab, ap), d2 = pw_dot3(ac, ap);
     if (d1 <= 0.0 && d2 <= 0.0) goto corner_a;
     for (k = 0; k < 3; k++) bp[k] = p[k] - b[k];
-    d3 = lst__dot3(ab, bp), d4 = lst__dot3(ac, bp);
+    d3 = pw_dot3(ab, bp), d4 = pw_dot3(ac, bp);
     if (d3 >= 0.0 && d4 <= d3) {
         memcpy(q, b, 3 * sizeof(double));
         return;
@@ -18346,7 +18330,7 @@ static void lst__closest_tri(const double *p, const double *a, const double *b, 
         return;
     }
     for (k = 0; k < 3; k++) cp[k] = p[k] - c[k];
-    d5 = lst__dot3(ab, cp), d6 = lst__dot3(ac, cp);
+    d5 = pw_dot3(ab, cp), d6 = pw_dot3(ac, cp);
     if (d6 >= 0.0 && d5 <= d6) {
         memcpy(q, c, 3 * sizeof(double));
         return;
@@ -18453,7 +18437,7 @@ static int lst__depth_distance(const pw_alloc *a, const lst__geo *g, double *dep
         lst__face_verts(&g->m, g->bface[f], c);
         lst__vert(&g->m, c[0], A), lst__vert(&g->m, c[1], B), lst__vert(&g->m, c[2], C);
         for (k = 0; k < 3; k++) u[k] = B[k] - A[k], w[k] = C[k] - A[k];
-        lst__cross3(u, w, n);
+        pw_cross3(u, w, n);
         for (k = 0; k < 3; k++) grad[3 * c[0] + k] -= n[k], grad[3 * c[1] + k] -= n[k], grad[3 * c[2] + k] -= n[k];
     }
     for (v = 0; v < g->m.nv; v++) {
@@ -18463,7 +18447,7 @@ static int lst__depth_distance(const pw_alloc *a, const lst__geo *g, double *dep
             lst__face_dist(g, near[v], p, q);
             for (k = 0; k < 3; k++) gr[k] = p[k] - q[k];
         }
-        lst__norm3(gr);
+        pw_norm3(gr);
         for (k = 0; k < 3; k++) gr[k] /= M;
         depth[v] = depth[v] < 1e300 ? depth[v] / M : 1.0; /* an unconnected vertex: deepest */
         if (depth[v] > 1.0) depth[v] = 1.0;
@@ -18518,7 +18502,7 @@ static int lst__field_cons(const pw_alloc *a, const lst__geo *g, const lst_optio
         double p[3], d[3];
         if (f->kind != kind) continue;
         for (k = 0; k < 3; k++) p[k] = f->point[k], d[k] = f->direction[k];
-        if (kind == LST_CONSTRAINT_DIRECTION && !(lst__norm3(d) > 0.0 && pw_is_finite(d[0] + d[1] + d[2])))
+        if (kind == LST_CONSTRAINT_DIRECTION && !(pw_norm3(d) > 0.0 && pw_is_finite(d[0] + d[1] + d[2])))
             return pw_fail(e, PW_ERR_INVALID, "field constraint %d: the direction is zero or not finite", i);
         if (kind == LST_CONSTRAINT_SCALE && !(f->value > 0.0f && pw_is_finite(f->value)))
             return pw_fail(e, PW_ERR_INVALID, "field constraint %d: scale %g is not positive", i, f->value);
@@ -18621,7 +18605,7 @@ static int lst__direction_field(const pw_alloc *a, const lst__geo *g, const lst_
     double axis[3], *x = NULL;
     int v, k, r;
     for (k = 0; k < 3; k++) axis[k] = o->axis[k];
-    if (!(lst__norm3(axis) > 0.0)) lst__principal_axis(&g->m, axis);
+    if (!(pw_norm3(axis) > 0.0)) lst__principal_axis(&g->m, axis);
     for (v = 0; v < g->m.nv; v++) memcpy(dir + 3 * v, axis, sizeof axis);
     memset(&A, 0, sizeof A);
     if ((r = lst__field_cons(a, g, o, LST_CONSTRAINT_DIRECTION, &c, e)) != PW_OK || c.n == 0) {
@@ -18638,7 +18622,7 @@ static int lst__direction_field(const pw_alloc *a, const lst__geo *g, const lst_
             for (v = 0; v < g->m.nv; v++) dir[3 * v + k] = x[v];
     }
     for (v = 0; r == PW_OK && v < g->m.nv; v++)
-        if (!(lst__norm3(dir + 3 * v) > 1e-12)) memcpy(dir + 3 * v, axis, sizeof axis);
+        if (!(pw_norm3(dir + 3 * v) > 1e-12)) memcpy(dir + 3 * v, axis, sizeof axis);
     pw_csr_free(a, &A);
     pw_free(a, x);
     lst__cons_free(a, &c);
@@ -18678,11 +18662,11 @@ static void lst__orthonormal(double *u, double *v, double *w, int first, int sec
 {
     double *p = first == 0 ? u : v, *q = first == 0 ? v : u, d;
     int k;
-    if (!(lst__norm3(p) > 0.0)) p[0] = first == 0, p[1] = first == 1, p[2] = 0.0;
-    d = lst__dot3(p, q);
+    if (!(pw_norm3(p) > 0.0)) p[0] = first == 0, p[1] = first == 1, p[2] = 0.0;
+    d = pw_dot3(p, q);
     for (k = 0; k < 3; k++) q[k] -= d * p[k];
-    if (!second_given || !(lst__norm3(q) > 1e-9)) lst__any_perp(p, q);
-    lst__cross3(u, v, w);
+    if (!second_given || !(pw_norm3(q) > 1e-9)) lst__any_perp(p, q);
+    pw_cross3(u, v, w);
 }
 
 /* Per tetrahedron: the average of its vertices' direction (u axis),
@@ -18743,7 +18727,7 @@ static int lst__fields(const pw_alloc *a, const lst__geo *g, const lst_mesh *sur
     if (r == PW_OK && dir) r = lst__direction_field(a, g, o, depth, p, dir, e);
     if (r == PW_OK && lst__depth_varying(o->type)) /* §5.2.7: scale = 1 / |grad depth| */
         for (v = 0; v < nv; v++) {
-            double gl = sqrt(lst__dot3(grad + 3 * v, grad + 3 * v)), s = gl > 0.0 ? 1.0 / gl : 2.0 * g->diag;
+            double gl = sqrt(pw_dot3(grad + 3 * v, grad + 3 * v)), s = gl > 0.0 ? 1.0 / gl : 2.0 * g->diag;
             scale[v] = s < 1e-3 * g->diag ? 1e-3 * g->diag : (s > 2.0 * g->diag ? 2.0 * g->diag : s);
         }
     else if (r == PW_OK)
@@ -18920,10 +18904,10 @@ static int lst__lattice(const pw_alloc *a, int n, float **out, int *group, pw_er
  * if that vanishes). */
 static void lst__perp_to(const double *n, const double *v, double *out)
 {
-    double d = lst__dot3(n, v);
+    double d = pw_dot3(n, v);
     int k;
     for (k = 0; k < 3; k++) out[k] = v[k] - d * n[k];
-    if (!(lst__norm3(out) > 1e-9)) lst__any_perp(n, out);
+    if (!(pw_norm3(out) > 1e-9)) lst__any_perp(n, out);
 }
 
 /* A random unit vector (rejection sampling in the ball: no libm). */
@@ -18965,12 +18949,12 @@ static void lst__frame_of(const lst__fill *F, const lst__spec *s, int t, double 
         return;
     }
     for (k = 0; k < 3; k++) u[k] = f[k], v[k] = f[3 + k];
-    len = lst__norm3(u);
-    lst__norm3(v);
+    len = pw_norm3(u);
+    pw_norm3(v);
     if (type == LST_TYPE_0) memcpy(u, s->rot, 3 * sizeof u[0]), memcpy(v, s->rot + 3, 3 * sizeof v[0]);
     else if (type == LST_TYPE_1A) lst__perp_to(u, s->rnd, v);
     else if (type == LST_TYPE_1B) lst__perp_to(v, s->rnd, u);
-    lst__cross3(u, v, w);
+    pw_cross3(u, v, w);
     for (k = 0; k < 3; k++) ax[k] = len * u[k], ax[3 + k] = len * v[k], ax[6 + k] = len * w[k];
 }
 
@@ -18982,12 +18966,12 @@ static int lst__similar(const lst__fill *F, const lst__spec *s, const double *ax
     double c = pw_cos(F->o.max_angle * (3.14159265358979323846 / 180.0)), su, st, k;
     int type = F->o.type, a;
     if (s->manual) return 1;
-    su = sqrt(lst__dot3(s->axes, s->axes)), st = sqrt(lst__dot3(ax, ax));
+    su = sqrt(pw_dot3(s->axes, s->axes)), st = sqrt(pw_dot3(ax, ax));
     k = st / su;
     if (k > F->o.max_stretch || k * F->o.max_stretch < 1.0) return 0;
     for (a = 0; a < 2; a++) {
         int field = a == 0 ? lst__has_direction(type) : lst__has_depth(type);
-        if (field && lst__dot3(ax + 3 * a, s->axes + 3 * a) < c * st * su) return 0;
+        if (field && pw_dot3(ax + 3 * a, s->axes + 3 * a) < c * st * su) return 0;
     }
     return 1;
 }
@@ -19179,7 +19163,7 @@ static double lst__normal_matrix(lst__fill *F, const lst__spec *s, double *coef,
         for (a = 0; a < 3; a++) {
             double n2 = 0.0;
             for (k = 0; k < 4; k++) {
-                double v = lst__dot3(g[k], ax + 3 * a);
+                double v = pw_dot3(g[k], ax + 3 * a);
                 coef[12 * i + 4 * a + k] = v;
                 n2 += v * v;
             }
@@ -19644,10 +19628,10 @@ static int lst__manual_spec(const lst__geo *g, const float *point, const float *
     for (k = 0; k < 3; k++) p[k] = point[k], u[k] = u_axis[k], v[k] = v_axis[k];
     if (!pw_is_finite(p[0] + p[1] + p[2]) || !(scale > 0.0f && pw_is_finite(scale)))
         return pw_fail(e, PW_ERR_INVALID, "manual paste: the point or the scale is not valid");
-    if (!(lst__norm3(u) > 0.0) || !pw_is_finite(u[0] + u[1] + u[2]) || !pw_is_finite(v[0] + v[1] + v[2]))
+    if (!(pw_norm3(u) > 0.0) || !pw_is_finite(u[0] + u[1] + u[2]) || !pw_is_finite(v[0] + v[1] + v[2]))
         return pw_fail(e, PW_ERR_INVALID, "manual paste: the u axis is zero or not finite");
     lst__perp_to(u, v, v);
-    lst__cross3(u, v, w);
+    pw_cross3(u, v, w);
     for (k = 0; k < 3; k++) s->axes[k] = scale * u[k], s->axes[3 + k] = scale * v[k], s->axes[6 + k] = scale * w[k];
     s->manual = 1;
     s->seed = pw_tetgrid_locate(&g->grid, &g->m, p, s->centre);
@@ -20077,7 +20061,7 @@ static int lst__vertex_normals(const pw_alloc *a, const lst_model *m, const lst_
         for (k = 0; k < 3; k++)
             for (j = 0; j < 3; j++) p[k][j] = m->mesh.positions[3 * t->tri[3 * i + k] + j];
         for (j = 0; j < 3; j++) u[j] = p[1][j] - p[0][j], w[j] = p[2][j] - p[0][j];
-        lst__cross3(u, w, n);
+        pw_cross3(u, w, n);
         for (k = 0; k < 3; k++)
             for (j = 0; j < 3; j++) (*out)[3 * t->tri[3 * i + k] + j] += (float)n[j];
     }
@@ -20115,7 +20099,7 @@ static int lst__displaced_point(const pw_alloc *a, const lst__view *v, const lst
     for (q = 0; q < 4; q++) l[q] = b[0] * s->bary[12 * f + q] + b[1] * s->bary[12 * f + 4 + q] + b[2] * s->bary[12 * f + 8 + q];
     for (q = 0; q < 3; q++)
         for (r = 0; r < 3; r++) p[r] += b[q] * v->m->mesh.positions[3 * c[q] + r], n[r] += b[q] * vn[3 * c[q] + r];
-    lst__norm3(n);
+    pw_norm3(n);
     lst__eval(v, s->tet[f], l, rgba, val);
     for (r = 0; r < 3; r++) p[r] += n[r] * amount * (val[0] - 0.5);
     return lst__tris_vertex(a, out, p, e);
@@ -20417,7 +20401,7 @@ static int lst__volume(const pw_alloc *a, const lst_model *m, const lst_render_o
     if (r == PW_OK && !(phi = (double *)pw_alloc_array(a, (size_t)V.tm.nv, sizeof(double), "volume slices", e))) r = PW_ERR_NOMEM;
     if (r == PW_OK && !(rows = (float *)pw_alloc_array(a, (size_t)V.tm.nt * 2, sizeof(float), "volume slices", e))) r = PW_ERR_NOMEM;
     for (k = 0; r == PW_OK && k < 3; k++) f[k] = (double)V.cam.target[k] - V.cam.eye[k];
-    if (r == PW_OK) lst__norm3(f);
+    if (r == PW_OK) pw_norm3(f);
     for (k = 0; r == PW_OK && k < V.tm.nv; k++) { /* §5.1.2: the distance from the camera along the view */
         const float *p = V.tm.pos + 3 * k;
         phi[k] = (p[0] - V.cam.eye[0]) * f[0] + (p[1] - V.cam.eye[1]) * f[1] + (p[2] - V.cam.eye[2]) * f[2];
@@ -20883,7 +20867,7 @@ LSTDEF lst_result lst_cut_plane(lst_model *model, const float plane[4], lst_erro
     pw_err_clear(&e);
     if (!plane || lst__check_cuttable(model, &e)) return lst__done(e.code ? &e : (pw_fail(&e, PW_ERR_INVALID, "cut: NULL plane"), &e), err);
     for (k = 0; k < 3; k++) n[k] = plane[k];
-    if (!(lst__norm3(n) > 0.0) || !pw_is_finite(n[0] + n[1] + n[2] + plane[3])) {
+    if (!(pw_norm3(n) > 0.0) || !pw_is_finite(n[0] + n[1] + n[2] + plane[3])) {
         pw_fail(&e, PW_ERR_INVALID, "cut: the plane (%g %g %g %g) has no normal or is not finite", plane[0], plane[1], plane[2],
                 plane[3]);
         return lst__done(&e, err);
@@ -20934,8 +20918,8 @@ static int lst__stroke_points(const pw_alloc *a, const float *pts, int n, const 
         const float *p0 = pts + 3 * (i > 0 ? i - 1 : 0), *p1 = pts + 3 * (i + 1 < n ? i + 1 : n - 1);
         double t[3], r[3], q[3];
         for (k = 0; k < 3; k++) t[k] = (double)p1[k] - p0[k];
-        lst__cross3(view, t, r);
-        if (!(lst__norm3(r) > 0.0)) continue;
+        pw_cross3(view, t, r);
+        if (!(pw_norm3(r) > 0.0)) continue;
         for (s = -2; s <= 2; s++)
             for (side = -1; side <= 1; side++) {
                 for (k = 0; k < 3; k++) q[k] = pts[3 * i + k] + 0.5 * s * L * view[k] + side * h * r[k];
@@ -20963,7 +20947,7 @@ LSTDEF lst_result lst_stroke_field(const lst_model *model, const float *points, 
     for (k = 0; k < 3; k++) view[k] = view_dir[k];
     for (k = 0; k < 3 * n; k++)
         if (!pw_is_finite(points[k])) pw_fail(&e, PW_ERR_INVALID, "stroke point %d is not finite", k / 3);
-    if (e.code == PW_OK && !(lst__norm3(view) > 0.0)) pw_fail(&e, PW_ERR_INVALID, "stroke: the view direction is zero");
+    if (e.code == PW_OK && !(pw_norm3(view) > 0.0)) pw_fail(&e, PW_ERR_INVALID, "stroke: the view direction is zero");
     if (e.code != PW_OK) return lst__done(&e, err);
     a = lst__alloc(&model->allocator);
     diag = lst__diagonal(model->mesh.positions, model->mesh.nverts);
@@ -21191,13 +21175,13 @@ static int lst__grid_tri(lst__grid *G, int e[3][2])
         if ((v[k] = lst__grid_vertex_on(G, e[k][0], e[k][1])) < 0) return PW_ERR_NOMEM;
     P = G->b.m.pos; /* after the vertices were added: they may move it */
     for (k = 0; k < 3; k++) u[k] = P[3 * v[1] + k] - P[3 * v[0] + k], w[k] = P[3 * v[2] + k] - P[3 * v[0] + k];
-    lst__cross3(u, w, n);
+    pw_cross3(u, w, n);
     for (k = 0; k < 3; k++) {
         int j;
         lst__grid_pos(G, e[k][0], p);
         lst__grid_pos(G, e[k][1], q);
         for (j = 0; j < 3; j++) q[j] -= p[j];
-        side += lst__dot3(n, q);
+        side += pw_dot3(n, q);
     }
     if (side < 0.0) k = v[1], v[1] = v[2], v[2] = k;
     if (pw__mb_room(&G->b, 3)) return PW_ERR_NOMEM;
@@ -21302,11 +21286,11 @@ static double lst__part(const double *c, const double *p, double *t)
     double d[3], r, radial, axial;
     int k;
     for (k = 0; k < 3; k++) d[k] = p[k] - c[k];
-    *t = lst__dot3(d, c + 3);
+    *t = pw_dot3(d, c + 3);
     for (k = 0; k < 3; k++) d[k] -= *t * c[3 + k];
     r = c[7] + (c[8] - c[7]) * pw_clampf((float)(*t / c[6]), 0.0f, 1.0f);
     if (*t < 0.6) r += c[9] * (0.6 - *t) * (0.6 - *t);
-    radial = sqrt(lst__dot3(d, d)) - r;
+    radial = sqrt(pw_dot3(d, d)) - r;
     axial = *t < 0.0 ? -*t : *t - c[6];
     return radial > axial ? radial : axial;
 }
@@ -21380,11 +21364,11 @@ static int lst__tree_constraints(const pw_alloc *a, const lst_mesh *surface, lst
             const float *A = m.pos + 3 * m.fv[m.fstart[f]], *B = m.pos + 3 * m.fv[k], *C = m.pos + 3 * m.fv[k + 1];
             double u[3], w[3], n[3], c[3], t, best = 1e300, dn = 0.0;
             for (j = 0; j < 3; j++) u[j] = B[j] - A[j], w[j] = C[j] - A[j], c[j] = (A[j] + B[j] + C[j]) / 3.0;
-            lst__cross3(u, w, n);
-            lst__norm3(n);
+            pw_cross3(u, w, n);
+            pw_norm3(n);
             for (j = 0; j < 3; j++) {
                 double d = fabs(lst__part(lst__tree_parts[j], c, &t));
-                if (d < best) best = d, dn = fabs(lst__dot3(n, lst__tree_parts[j] + 3));
+                if (d < best) best = d, dn = fabs(pw_dot3(n, lst__tree_parts[j] + 3));
             }
             if (dn < 0.6 && lst__add_constraint(a, &s->c, &s->cap, &s->n, LST_CONSTRAINT_DEPTH_FACE, tri, NULL, NULL, 0.0, 0.0, e))
                 return PW_ERR_NOMEM;

@@ -207,13 +207,13 @@ static int lst__grid_tri(lst__grid *G, int e[3][2])
         if ((v[k] = lst__grid_vertex_on(G, e[k][0], e[k][1])) < 0) return PW_ERR_NOMEM;
     P = G->b.m.pos; /* after the vertices were added: they may move it */
     for (k = 0; k < 3; k++) u[k] = P[3 * v[1] + k] - P[3 * v[0] + k], w[k] = P[3 * v[2] + k] - P[3 * v[0] + k];
-    lst__cross3(u, w, n);
+    pw_cross3(u, w, n);
     for (k = 0; k < 3; k++) {
         int j;
         lst__grid_pos(G, e[k][0], p);
         lst__grid_pos(G, e[k][1], q);
         for (j = 0; j < 3; j++) q[j] -= p[j];
-        side += lst__dot3(n, q);
+        side += pw_dot3(n, q);
     }
     if (side < 0.0) k = v[1], v[1] = v[2], v[2] = k;
     if (pw__mb_room(&G->b, 3)) return PW_ERR_NOMEM;
@@ -318,11 +318,11 @@ static double lst__part(const double *c, const double *p, double *t)
     double d[3], r, radial, axial;
     int k;
     for (k = 0; k < 3; k++) d[k] = p[k] - c[k];
-    *t = lst__dot3(d, c + 3);
+    *t = pw_dot3(d, c + 3);
     for (k = 0; k < 3; k++) d[k] -= *t * c[3 + k];
     r = c[7] + (c[8] - c[7]) * pw_clampf((float)(*t / c[6]), 0.0f, 1.0f);
     if (*t < 0.6) r += c[9] * (0.6 - *t) * (0.6 - *t);
-    radial = sqrt(lst__dot3(d, d)) - r;
+    radial = sqrt(pw_dot3(d, d)) - r;
     axial = *t < 0.0 ? -*t : *t - c[6];
     return radial > axial ? radial : axial;
 }
@@ -396,11 +396,11 @@ static int lst__tree_constraints(const pw_alloc *a, const lst_mesh *surface, lst
             const float *A = m.pos + 3 * m.fv[m.fstart[f]], *B = m.pos + 3 * m.fv[k], *C = m.pos + 3 * m.fv[k + 1];
             double u[3], w[3], n[3], c[3], t, best = 1e300, dn = 0.0;
             for (j = 0; j < 3; j++) u[j] = B[j] - A[j], w[j] = C[j] - A[j], c[j] = (A[j] + B[j] + C[j]) / 3.0;
-            lst__cross3(u, w, n);
-            lst__norm3(n);
+            pw_cross3(u, w, n);
+            pw_norm3(n);
             for (j = 0; j < 3; j++) {
                 double d = fabs(lst__part(lst__tree_parts[j], c, &t));
-                if (d < best) best = d, dn = fabs(lst__dot3(n, lst__tree_parts[j] + 3));
+                if (d < best) best = d, dn = fabs(pw_dot3(n, lst__tree_parts[j] + 3));
             }
             if (dn < 0.6 && lst__add_constraint(a, &s->c, &s->cap, &s->n, LST_CONSTRAINT_DEPTH_FACE, tri, NULL, NULL, 0.0, 0.0, e))
                 return PW_ERR_NOMEM;

@@ -297,23 +297,7 @@ static double lst__exp_neg(double x)
     return s;
 }
 
-static double lst__dot3(const double *a, const double *b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
-
-static void lst__cross3(const double *a, const double *b, double *o)
-{
-    o[0] = a[1] * b[2] - a[2] * b[1];
-    o[1] = a[2] * b[0] - a[0] * b[2];
-    o[2] = a[0] * b[1] - a[1] * b[0];
-}
-
 /* Normalises v; returns its former length (0 leaves it unchanged). */
-static double lst__norm3(double *v)
-{
-    double l = sqrt(lst__dot3(v, v));
-    if (l > 0.0) v[0] /= l, v[1] /= l, v[2] /= l;
-    return l;
-}
-
 /* A unit vector orthogonal to unit n: the cross product with the axis n
  * is least aligned with (deterministic). */
 static void lst__any_perp(const double *n, double *out)
@@ -321,8 +305,8 @@ static void lst__any_perp(const double *n, double *out)
     double ax[3] = {0, 0, 0};
     int k = fabs(n[0]) <= fabs(n[1]) && fabs(n[0]) <= fabs(n[2]) ? 0 : (fabs(n[1]) <= fabs(n[2]) ? 1 : 2);
     ax[k] = 1.0;
-    lst__cross3(n, ax, out);
-    lst__norm3(out);
+    pw_cross3(n, ax, out);
+    pw_norm3(out);
 }
 
 /* Inverse of the 3x3 matrix m (row-major); returns the determinant (0:

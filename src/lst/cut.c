@@ -419,7 +419,7 @@ LSTDEF lst_result lst_cut_plane(lst_model *model, const float plane[4], lst_erro
     pw_err_clear(&e);
     if (!plane || lst__check_cuttable(model, &e)) return lst__done(e.code ? &e : (pw_fail(&e, PW_ERR_INVALID, "cut: NULL plane"), &e), err);
     for (k = 0; k < 3; k++) n[k] = plane[k];
-    if (!(lst__norm3(n) > 0.0) || !pw_is_finite(n[0] + n[1] + n[2] + plane[3])) {
+    if (!(pw_norm3(n) > 0.0) || !pw_is_finite(n[0] + n[1] + n[2] + plane[3])) {
         pw_fail(&e, PW_ERR_INVALID, "cut: the plane (%g %g %g %g) has no normal or is not finite", plane[0], plane[1], plane[2],
                 plane[3]);
         return lst__done(&e, err);
@@ -470,8 +470,8 @@ static int lst__stroke_points(const pw_alloc *a, const float *pts, int n, const 
         const float *p0 = pts + 3 * (i > 0 ? i - 1 : 0), *p1 = pts + 3 * (i + 1 < n ? i + 1 : n - 1);
         double t[3], r[3], q[3];
         for (k = 0; k < 3; k++) t[k] = (double)p1[k] - p0[k];
-        lst__cross3(view, t, r);
-        if (!(lst__norm3(r) > 0.0)) continue;
+        pw_cross3(view, t, r);
+        if (!(pw_norm3(r) > 0.0)) continue;
         for (s = -2; s <= 2; s++)
             for (side = -1; side <= 1; side++) {
                 for (k = 0; k < 3; k++) q[k] = pts[3 * i + k] + 0.5 * s * L * view[k] + side * h * r[k];
@@ -499,7 +499,7 @@ LSTDEF lst_result lst_stroke_field(const lst_model *model, const float *points, 
     for (k = 0; k < 3; k++) view[k] = view_dir[k];
     for (k = 0; k < 3 * n; k++)
         if (!pw_is_finite(points[k])) pw_fail(&e, PW_ERR_INVALID, "stroke point %d is not finite", k / 3);
-    if (e.code == PW_OK && !(lst__norm3(view) > 0.0)) pw_fail(&e, PW_ERR_INVALID, "stroke: the view direction is zero");
+    if (e.code == PW_OK && !(pw_norm3(view) > 0.0)) pw_fail(&e, PW_ERR_INVALID, "stroke: the view direction is zero");
     if (e.code != PW_OK) return lst__done(&e, err);
     a = lst__alloc(&model->allocator);
     diag = lst__diagonal(model->mesh.positions, model->mesh.nverts);

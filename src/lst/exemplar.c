@@ -314,7 +314,7 @@ static double lst__splotch_radius(const double *lobes, double r, const double *d
     double s = 1.0;
     int k;
     for (k = 0; k < 8; k++) {
-        double c = lst__dot3(lobes + 4 * k, d), t = c > 0.5 ? (c - 0.5) / 0.5 : 0.0;
+        double c = pw_dot3(lobes + 4 * k, d), t = c > 0.5 ? (c - 0.5) / 0.5 : 0.0;
         s += lobes[4 * k + 3] * t * t * (3.0 - 2.0 * t);
     }
     return r * s;
@@ -328,9 +328,9 @@ static void lst__splotch_lobes(unsigned long long seed, double *lobes)
         double *l = lobes + 4 * k, n2;
         do {
             l[0] = 2.0 * pw_rng_double(&rng) - 1.0, l[1] = 2.0 * pw_rng_double(&rng) - 1.0;
-            l[2] = 2.0 * pw_rng_double(&rng) - 1.0, n2 = lst__dot3(l, l);
+            l[2] = 2.0 * pw_rng_double(&rng) - 1.0, n2 = pw_dot3(l, l);
         } while (n2 > 1.0 || n2 < 1e-4);
-        lst__norm3(l);
+        pw_norm3(l);
         l[3] = 0.24 * pw_rng_double(&rng) - 0.12;
     }
 }
@@ -348,7 +348,7 @@ static void lst__splotch(pw_volume *mask, const double *lobes, double radius, do
                 d[0] = (x + 0.5) / mask->x - centre[0];
                 d[1] = 1.0 - (y + 0.5) / mask->y - centre[1];
                 d[2] = (z + 0.5) / mask->z - centre[2];
-                len = lst__norm3(d);
+                len = pw_norm3(d);
                 r = len > 0.0 ? lst__splotch_radius(lobes, radius, d) : radius;
                 if (r > 0.5 - 0.5 / mask->x) r = 0.5 - 0.5 / mask->x; /* stays inside the cube's sides */
                 mask->px[((size_t)z * mask->y + y) * mask->x + x] = (float)lst__smooth(r, r - falloff, len);

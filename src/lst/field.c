@@ -200,7 +200,7 @@ static double lst__rbf_eval(const lst__rbf *r, const double *x, double *grad)
     for (i = 0; i < r->n; i++) {
         double d[3], len;
         for (k = 0; k < 3; k++) d[k] = y[k] - r->c[3 * i + k];
-        len = sqrt(lst__dot3(d, d));
+        len = sqrt(pw_dot3(d, d));
         f += r->w[i] * len * len * len;
         for (k = 0; k < 3; k++) g[k] += 3.0 * r->w[i] * len * d[k];
     }
@@ -558,10 +558,10 @@ static void lst__closest_tri(const double *p, const double *a, const double *b, 
     double ab[3], ac[3], ap[3], bp[3], cp[3], d1, d2, d3, d4, d5, d6, va, vb, vc, den, v, w;
     int k;
     for (k = 0; k < 3; k++) ab[k] = b[k] - a[k], ac[k] = c[k] - a[k], ap[k] = p[k] - a[k];
-    d1 = lst__dot3(ab, ap), d2 = lst__dot3(ac, ap);
+    d1 = pw_dot3(ab, ap), d2 = pw_dot3(ac, ap);
     if (d1 <= 0.0 && d2 <= 0.0) goto corner_a;
     for (k = 0; k < 3; k++) bp[k] = p[k] - b[k];
-    d3 = lst__dot3(ab, bp), d4 = lst__dot3(ac, bp);
+    d3 = pw_dot3(ab, bp), d4 = pw_dot3(ac, bp);
     if (d3 >= 0.0 && d4 <= d3) {
         memcpy(q, b, 3 * sizeof(double));
         return;
@@ -573,7 +573,7 @@ static void lst__closest_tri(const double *p, const double *a, const double *b, 
         return;
     }
     for (k = 0; k < 3; k++) cp[k] = p[k] - c[k];
-    d5 = lst__dot3(ab, cp), d6 = lst__dot3(ac, cp);
+    d5 = pw_dot3(ab, cp), d6 = pw_dot3(ac, cp);
     if (d6 >= 0.0 && d5 <= d6) {
         memcpy(q, c, 3 * sizeof(double));
         return;
@@ -680,7 +680,7 @@ static int lst__depth_distance(const pw_alloc *a, const lst__geo *g, double *dep
         lst__face_verts(&g->m, g->bface[f], c);
         lst__vert(&g->m, c[0], A), lst__vert(&g->m, c[1], B), lst__vert(&g->m, c[2], C);
         for (k = 0; k < 3; k++) u[k] = B[k] - A[k], w[k] = C[k] - A[k];
-        lst__cross3(u, w, n);
+        pw_cross3(u, w, n);
         for (k = 0; k < 3; k++) grad[3 * c[0] + k] -= n[k], grad[3 * c[1] + k] -= n[k], grad[3 * c[2] + k] -= n[k];
     }
     for (v = 0; v < g->m.nv; v++) {
@@ -690,7 +690,7 @@ static int lst__depth_distance(const pw_alloc *a, const lst__geo *g, double *dep
             lst__face_dist(g, near[v], p, q);
             for (k = 0; k < 3; k++) gr[k] = p[k] - q[k];
         }
-        lst__norm3(gr);
+        pw_norm3(gr);
         for (k = 0; k < 3; k++) gr[k] /= M;
         depth[v] = depth[v] < 1e300 ? depth[v] / M : 1.0; /* an unconnected vertex: deepest */
         if (depth[v] > 1.0) depth[v] = 1.0;
@@ -745,7 +745,7 @@ static int lst__field_cons(const pw_alloc *a, const lst__geo *g, const lst_optio
         double p[3], d[3];
         if (f->kind != kind) continue;
         for (k = 0; k < 3; k++) p[k] = f->point[k], d[k] = f->direction[k];
-        if (kind == LST_CONSTRAINT_DIRECTION && !(lst__norm3(d) > 0.0 && pw_is_finite(d[0] + d[1] + d[2])))
+        if (kind == LST_CONSTRAINT_DIRECTION && !(pw_norm3(d) > 0.0 && pw_is_finite(d[0] + d[1] + d[2])))
             return pw_fail(e, PW_ERR_INVALID, "field constraint %d: the direction is zero or not finite", i);
         if (kind == LST_CONSTRAINT_SCALE && !(f->value > 0.0f && pw_is_finite(f->value)))
             return pw_fail(e, PW_ERR_INVALID, "field constraint %d: scale %g is not positive", i, f->value);
@@ -848,7 +848,7 @@ static int lst__direction_field(const pw_alloc *a, const lst__geo *g, const lst_
     double axis[3], *x = NULL;
     int v, k, r;
     for (k = 0; k < 3; k++) axis[k] = o->axis[k];
-    if (!(lst__norm3(axis) > 0.0)) lst__principal_axis(&g->m, axis);
+    if (!(pw_norm3(axis) > 0.0)) lst__principal_axis(&g->m, axis);
     for (v = 0; v < g->m.nv; v++) memcpy(dir + 3 * v, axis, sizeof axis);
     memset(&A, 0, sizeof A);
     if ((r = lst__field_cons(a, g, o, LST_CONSTRAINT_DIRECTION, &c, e)) != PW_OK || c.n == 0) {
@@ -865,7 +865,7 @@ static int lst__direction_field(const pw_alloc *a, const lst__geo *g, const lst_
             for (v = 0; v < g->m.nv; v++) dir[3 * v + k] = x[v];
     }
     for (v = 0; r == PW_OK && v < g->m.nv; v++)
-        if (!(lst__norm3(dir + 3 * v) > 1e-12)) memcpy(dir + 3 * v, axis, sizeof axis);
+        if (!(pw_norm3(dir + 3 * v) > 1e-12)) memcpy(dir + 3 * v, axis, sizeof axis);
     pw_csr_free(a, &A);
     pw_free(a, x);
     lst__cons_free(a, &c);
@@ -905,11 +905,11 @@ static void lst__orthonormal(double *u, double *v, double *w, int first, int sec
 {
     double *p = first == 0 ? u : v, *q = first == 0 ? v : u, d;
     int k;
-    if (!(lst__norm3(p) > 0.0)) p[0] = first == 0, p[1] = first == 1, p[2] = 0.0;
-    d = lst__dot3(p, q);
+    if (!(pw_norm3(p) > 0.0)) p[0] = first == 0, p[1] = first == 1, p[2] = 0.0;
+    d = pw_dot3(p, q);
     for (k = 0; k < 3; k++) q[k] -= d * p[k];
-    if (!second_given || !(lst__norm3(q) > 1e-9)) lst__any_perp(p, q);
-    lst__cross3(u, v, w);
+    if (!second_given || !(pw_norm3(q) > 1e-9)) lst__any_perp(p, q);
+    pw_cross3(u, v, w);
 }
 
 /* Per tetrahedron: the average of its vertices' direction (u axis),
@@ -970,7 +970,7 @@ static int lst__fields(const pw_alloc *a, const lst__geo *g, const lst_mesh *sur
     if (r == PW_OK && dir) r = lst__direction_field(a, g, o, depth, p, dir, e);
     if (r == PW_OK && lst__depth_varying(o->type)) /* §5.2.7: scale = 1 / |grad depth| */
         for (v = 0; v < nv; v++) {
-            double gl = sqrt(lst__dot3(grad + 3 * v, grad + 3 * v)), s = gl > 0.0 ? 1.0 / gl : 2.0 * g->diag;
+            double gl = sqrt(pw_dot3(grad + 3 * v, grad + 3 * v)), s = gl > 0.0 ? 1.0 / gl : 2.0 * g->diag;
             scale[v] = s < 1e-3 * g->diag ? 1e-3 * g->diag : (s > 2.0 * g->diag ? 2.0 * g->diag : s);
         }
     else if (r == PW_OK)

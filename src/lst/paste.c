@@ -117,10 +117,10 @@ static int lst__lattice(const pw_alloc *a, int n, float **out, int *group, pw_er
  * if that vanishes). */
 static void lst__perp_to(const double *n, const double *v, double *out)
 {
-    double d = lst__dot3(n, v);
+    double d = pw_dot3(n, v);
     int k;
     for (k = 0; k < 3; k++) out[k] = v[k] - d * n[k];
-    if (!(lst__norm3(out) > 1e-9)) lst__any_perp(n, out);
+    if (!(pw_norm3(out) > 1e-9)) lst__any_perp(n, out);
 }
 
 /* A random unit vector (rejection sampling in the ball: no libm). */
@@ -162,12 +162,12 @@ static void lst__frame_of(const lst__fill *F, const lst__spec *s, int t, double 
         return;
     }
     for (k = 0; k < 3; k++) u[k] = f[k], v[k] = f[3 + k];
-    len = lst__norm3(u);
-    lst__norm3(v);
+    len = pw_norm3(u);
+    pw_norm3(v);
     if (type == LST_TYPE_0) memcpy(u, s->rot, 3 * sizeof u[0]), memcpy(v, s->rot + 3, 3 * sizeof v[0]);
     else if (type == LST_TYPE_1A) lst__perp_to(u, s->rnd, v);
     else if (type == LST_TYPE_1B) lst__perp_to(v, s->rnd, u);
-    lst__cross3(u, v, w);
+    pw_cross3(u, v, w);
     for (k = 0; k < 3; k++) ax[k] = len * u[k], ax[3 + k] = len * v[k], ax[6 + k] = len * w[k];
 }
 
@@ -179,12 +179,12 @@ static int lst__similar(const lst__fill *F, const lst__spec *s, const double *ax
     double c = pw_cos(F->o.max_angle * (3.14159265358979323846 / 180.0)), su, st, k;
     int type = F->o.type, a;
     if (s->manual) return 1;
-    su = sqrt(lst__dot3(s->axes, s->axes)), st = sqrt(lst__dot3(ax, ax));
+    su = sqrt(pw_dot3(s->axes, s->axes)), st = sqrt(pw_dot3(ax, ax));
     k = st / su;
     if (k > F->o.max_stretch || k * F->o.max_stretch < 1.0) return 0;
     for (a = 0; a < 2; a++) {
         int field = a == 0 ? lst__has_direction(type) : lst__has_depth(type);
-        if (field && lst__dot3(ax + 3 * a, s->axes + 3 * a) < c * st * su) return 0;
+        if (field && pw_dot3(ax + 3 * a, s->axes + 3 * a) < c * st * su) return 0;
     }
     return 1;
 }
@@ -376,7 +376,7 @@ static double lst__normal_matrix(lst__fill *F, const lst__spec *s, double *coef,
         for (a = 0; a < 3; a++) {
             double n2 = 0.0;
             for (k = 0; k < 4; k++) {
-                double v = lst__dot3(g[k], ax + 3 * a);
+                double v = pw_dot3(g[k], ax + 3 * a);
                 coef[12 * i + 4 * a + k] = v;
                 n2 += v * v;
             }
@@ -841,10 +841,10 @@ static int lst__manual_spec(const lst__geo *g, const float *point, const float *
     for (k = 0; k < 3; k++) p[k] = point[k], u[k] = u_axis[k], v[k] = v_axis[k];
     if (!pw_is_finite(p[0] + p[1] + p[2]) || !(scale > 0.0f && pw_is_finite(scale)))
         return pw_fail(e, PW_ERR_INVALID, "manual paste: the point or the scale is not valid");
-    if (!(lst__norm3(u) > 0.0) || !pw_is_finite(u[0] + u[1] + u[2]) || !pw_is_finite(v[0] + v[1] + v[2]))
+    if (!(pw_norm3(u) > 0.0) || !pw_is_finite(u[0] + u[1] + u[2]) || !pw_is_finite(v[0] + v[1] + v[2]))
         return pw_fail(e, PW_ERR_INVALID, "manual paste: the u axis is zero or not finite");
     lst__perp_to(u, v, v);
-    lst__cross3(u, v, w);
+    pw_cross3(u, v, w);
     for (k = 0; k < 3; k++) s->axes[k] = scale * u[k], s->axes[3 + k] = scale * v[k], s->axes[6 + k] = scale * w[k];
     s->manual = 1;
     s->seed = pw_tetgrid_locate(&g->grid, &g->m, p, s->centre);

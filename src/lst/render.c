@@ -374,7 +374,7 @@ static int lst__vertex_normals(const pw_alloc *a, const lst_model *m, const lst_
         for (k = 0; k < 3; k++)
             for (j = 0; j < 3; j++) p[k][j] = m->mesh.positions[3 * t->tri[3 * i + k] + j];
         for (j = 0; j < 3; j++) u[j] = p[1][j] - p[0][j], w[j] = p[2][j] - p[0][j];
-        lst__cross3(u, w, n);
+        pw_cross3(u, w, n);
         for (k = 0; k < 3; k++)
             for (j = 0; j < 3; j++) (*out)[3 * t->tri[3 * i + k] + j] += (float)n[j];
     }
@@ -412,7 +412,7 @@ static int lst__displaced_point(const pw_alloc *a, const lst__view *v, const lst
     for (q = 0; q < 4; q++) l[q] = b[0] * s->bary[12 * f + q] + b[1] * s->bary[12 * f + 4 + q] + b[2] * s->bary[12 * f + 8 + q];
     for (q = 0; q < 3; q++)
         for (r = 0; r < 3; r++) p[r] += b[q] * v->m->mesh.positions[3 * c[q] + r], n[r] += b[q] * vn[3 * c[q] + r];
-    lst__norm3(n);
+    pw_norm3(n);
     lst__eval(v, s->tet[f], l, rgba, val);
     for (r = 0; r < 3; r++) p[r] += n[r] * amount * (val[0] - 0.5);
     return lst__tris_vertex(a, out, p, e);
@@ -714,7 +714,7 @@ static int lst__volume(const pw_alloc *a, const lst_model *m, const lst_render_o
     if (r == PW_OK && !(phi = (double *)pw_alloc_array(a, (size_t)V.tm.nv, sizeof(double), "volume slices", e))) r = PW_ERR_NOMEM;
     if (r == PW_OK && !(rows = (float *)pw_alloc_array(a, (size_t)V.tm.nt * 2, sizeof(float), "volume slices", e))) r = PW_ERR_NOMEM;
     for (k = 0; r == PW_OK && k < 3; k++) f[k] = (double)V.cam.target[k] - V.cam.eye[k];
-    if (r == PW_OK) lst__norm3(f);
+    if (r == PW_OK) pw_norm3(f);
     for (k = 0; r == PW_OK && k < V.tm.nv; k++) { /* §5.1.2: the distance from the camera along the view */
         const float *p = V.tm.pos + 3 * k;
         phi[k] = (p[0] - V.cam.eye[0]) * f[0] + (p[1] - V.cam.eye[1]) * f[1] + (p[2] - V.cam.eye[2]) * f[2];
