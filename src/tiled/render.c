@@ -135,10 +135,8 @@ static void tiled__face_areas(const tiled_mesh *m, int f, double *world, double 
         double a[3], b[3], n[3];
         int j;
         for (j = 0; j < 3; j++) a[j] = p1[j] - p0[j], b[j] = p2[j] - p0[j];
-        n[0] = a[1] * b[2] - a[2] * b[1];
-        n[1] = a[2] * b[0] - a[0] * b[2];
-        n[2] = a[0] * b[1] - a[1] * b[0];
-        *world += 0.5 * sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+        pw_cross3(a, b, n);
+        *world += 0.5 * sqrt(pw_dot3(n, n));
         *tex += 0.5 * fabs((t1[0] - t0[0]) * (t2[1] - t0[1]) - (t2[0] - t0[0]) * (t1[1] - t0[1]));
     }
 }
