@@ -22,15 +22,15 @@
  *  10622: src/common/atlas.h, texture atlases of triangle meshes — charts, packing, ba
  *  12574: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
  *  13239: src/common/glue.h, what every method header needs between its public types an
- *  13427: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  13973: src/lapped/core.c, lapped.h's glue to the shared core, its defaults, and the 
- *  14131: src/lapped/field.c, §3.2 the tangent field, one frame (S, T) per triangle, an
- *  14590: src/lapped/patch.c, §3.1 texture patches. A patch is the texture as RGBA whos
- *  14878: src/lapped/builtin.c, built-in meshes (made by the shared shapes module) and tex
- *  15082: src/lapped/grow.c, pasting (§3.3-3.6): grow a surface patch around an uncove
- *  16482: src/lapped/render.c, runtime pasting (§4): the mesh drawn once per paste, in p
- *  16675: src/lapped/atlas.c, §4 "Rendering with a texture atlas".
- *  16913: src/lapped/io.c, the paste file format and the file conveniences of lapped.
+ *  13435: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  13981: src/lapped/core.c, lapped.h's glue to the shared core, its defaults, and the 
+ *  14139: src/lapped/field.c, §3.2 the tangent field, one frame (S, T) per triangle, an
+ *  14598: src/lapped/patch.c, §3.1 texture patches. A patch is the texture as RGBA whos
+ *  14886: src/lapped/builtin.c, built-in meshes (made by the shared shapes module) and tex
+ *  15090: src/lapped/grow.c, pasting (§3.3-3.6): grow a surface patch around an uncove
+ *  16490: src/lapped/render.c, runtime pasting (§4): the mesh drawn once per paste, in p
+ *  16681: src/lapped/atlas.c, §4 "Rendering with a texture atlas".
+ *  16919: src/lapped/io.c, the paste file format and the file conveniences of lapped.
  */
 /* lapped.h - lapped textures: overlapping texture patches pasted over a mesh.
  *
@@ -13394,6 +13394,14 @@ PW__DEF void pw_view_defaults(int *width, int *height, int *supersample, float v
         pw_free(a, m->fuv);                                                                      \
         memset(m, 0, sizeof *m);                                                                 \
     }                                                                                            \
+    static PW__UNUSED pw_parallel p##__parallel(const p##_render_options *ro)                   \
+    {                                                                                            \
+        pw_parallel par;                                                                         \
+        par.threads = ro->threads;                                                               \
+        par.run = ro->parallel;                                                                  \
+        par.pool = ro->parallel_pool;                                                            \
+        return par;                                                                              \
+    }                                                                                            \
     typedef int p##__glue_defined /* so that the use ends with a semicolon */
 
 /* The public frees of an image and of a mesh with the shared fields only
@@ -16624,9 +16632,7 @@ static int lapped__draw_pastes(const pw_alloc *a, const pw_trimesh *m, const lap
     F.normals = normals;
     F.cam = pw_camera_frame(m->pos, m->nv, ro->view_dir, ro->up, 35.0f, (float)ro->width / (float)ro->height);
     F.filter = (int)ro->filter;
-    par.threads = ro->threads;
-    par.run = ro->parallel;
-    par.pool = ro->parallel_pool;
+    par = lapped__parallel(ro);
     pw_frame_init(&f, ro->width, ro->height, ro->supersample, ro->background, &par);
     f.draw = lapped__draw_band;
     f.user = &F;

@@ -26,16 +26,16 @@
  *  15849: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
  *  15968: src/common/pca.h, principal component analysis of vectors streamed one at a 
  *  16147: src/common/glue.h, what every method header needs between its public types an
- *  16335: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  16881: src/lst/core.c, lst.h's glue to the shared core, its defaults, the convers
- *  17218: src/lst/exemplar.c, solid exemplars (§5): sampling, the procedural exemplars 
- *  17758: src/lst/field.c, §5.2.2, the fields that orient and scale the pastes. The 
- *  18788: src/lst/paste.c, §5.2.3-5.2.7, filling the model. Each paste picks a rando
- *  19688: src/lst/render.c, §5.1, showing a model. Every point of a tetrahedron is th
- *  20449: src/lst/cut.c, §5.1.1, cutting a model along the zero set of a scalar fi
- *  20969: src/lst/builtin.c, the tetrahedralizer entry point, checks of caller meshes, 
- *  21422: src/lst/io.c, the model file, the constraint files and the file convenie
- *  22221: src/lst/export.c, the visible boundary with a baked texture atlas, for glTF.
+ *  16343: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  16889: src/lst/core.c, lst.h's glue to the shared core, its defaults, the convers
+ *  17226: src/lst/exemplar.c, solid exemplars (§5): sampling, the procedural exemplars 
+ *  17766: src/lst/field.c, §5.2.2, the fields that orient and scale the pastes. The 
+ *  18796: src/lst/paste.c, §5.2.3-5.2.7, filling the model. Each paste picks a rando
+ *  19696: src/lst/render.c, §5.1, showing a model. Every point of a tetrahedron is th
+ *  20455: src/lst/cut.c, §5.1.1, cutting a model along the zero set of a scalar fi
+ *  20975: src/lst/builtin.c, the tetrahedralizer entry point, checks of caller meshes, 
+ *  21428: src/lst/io.c, the model file, the constraint files and the file convenie
+ *  22227: src/lst/export.c, the visible boundary with a baked texture atlas, for glTF.
  */
 /* lst.h - lapped solid textures: solid exemplars pasted inside a model.
  *
@@ -16302,6 +16302,14 @@ PW__DEF void pw_view_defaults(int *width, int *height, int *supersample, float v
         pw_free(a, m->fuv);                                                                      \
         memset(m, 0, sizeof *m);                                                                 \
     }                                                                                            \
+    static PW__UNUSED pw_parallel p##__parallel(const p##_render_options *ro)                   \
+    {                                                                                            \
+        pw_parallel par;                                                                         \
+        par.threads = ro->threads;                                                               \
+        par.run = ro->parallel;                                                                  \
+        par.pool = ro->parallel_pool;                                                            \
+        return par;                                                                              \
+    }                                                                                            \
     typedef int p##__glue_defined /* so that the use ends with a semicolon */
 
 /* The public frees of an image and of a mesh with the shared fields only
@@ -20210,9 +20218,7 @@ static int lst__render_frame(const pw_alloc *a, const lst_render_options *o, pw_
 {
     pw_frame f;
     pw_parallel par;
-    par.threads = o->threads;
-    par.run = o->parallel;
-    par.pool = o->parallel_pool;
+    par = lst__parallel(o);
     pw_frame_init(&f, o->width, o->height, o->supersample, o->background, &par);
     f.draw = draw;
     f.user = user;

@@ -24,22 +24,22 @@
  *  12855: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
  *  13661: src/pgp/tile3.h, sampling a material-space tile (Ray et al. 2009, §2: "a 3
  *  13775: src/common/glue.h, what every method header needs between its public types an
- *  13963: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  14509: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
- *  15015: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
- *  15473: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
- *  15592: src/common/kdtree.h, nearest-neighbour search among n points of dimension d, wi
- *  15923: src/common/pca.h, principal component analysis of vectors streamed one at a 
- *  16102: src/pgp/core.c, pgp.h's glue to the shared core, its defaults, and the map
- *  16355: src/pgp/field.c, §2.1 effect areas and §2.2 interpolation of the constrai
- *  16714: src/pgp/solve.c, §2.3 the periodic global parameterization, the recovery o
- *  17474: src/pgp/edit.c, the public editing calls of a mapping. §2.1 (Ray, Lévy, 
- *  17609: src/pgp/render.c, §3 rendering, and a cleaner treatment of the vortices.
- *  17986: src/pgp/builtin.c, built-in meshes and material-space tiles for demos and tes
- *  18293: src/pgp/io.c, files and memory for pgp.h: material-space tiles (NRRD, or
- *  18742: src/pgp/export.c, the mapping for other programs. A viewer that knows nothin
- *  18941: src/pgp/morph.c, the inputs of §1 (keys brought to the tile size, made til
- *  19556: src/pgp/synth.c, §1.2 constrained tile synthesis, and the whole of §1: ke
+ *  13971: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  14517: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
+ *  15023: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
+ *  15481: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
+ *  15600: src/common/kdtree.h, nearest-neighbour search among n points of dimension d, wi
+ *  15931: src/common/pca.h, principal component analysis of vectors streamed one at a 
+ *  16110: src/pgp/core.c, pgp.h's glue to the shared core, its defaults, and the map
+ *  16363: src/pgp/field.c, §2.1 effect areas and §2.2 interpolation of the constrai
+ *  16722: src/pgp/solve.c, §2.3 the periodic global parameterization, the recovery o
+ *  17482: src/pgp/edit.c, the public editing calls of a mapping. §2.1 (Ray, Lévy, 
+ *  17617: src/pgp/render.c, §3 rendering, and a cleaner treatment of the vortices.
+ *  17992: src/pgp/builtin.c, built-in meshes and material-space tiles for demos and tes
+ *  18299: src/pgp/io.c, files and memory for pgp.h: material-space tiles (NRRD, or
+ *  18748: src/pgp/export.c, the mapping for other programs. A viewer that knows nothin
+ *  18947: src/pgp/morph.c, the inputs of §1 (keys brought to the tile size, made til
+ *  19562: src/pgp/synth.c, §1.2 constrained tile synthesis, and the whole of §1: ke
  */
 /* pgp.h - material-space texturing with a periodic global parameterization.
  *
@@ -13930,6 +13930,14 @@ PW__DEF void pw_view_defaults(int *width, int *height, int *supersample, float v
         pw_free(a, m->fuv);                                                                      \
         memset(m, 0, sizeof *m);                                                                 \
     }                                                                                            \
+    static PW__UNUSED pw_parallel p##__parallel(const p##_render_options *ro)                   \
+    {                                                                                            \
+        pw_parallel par;                                                                         \
+        par.threads = ro->threads;                                                               \
+        par.run = ro->parallel;                                                                  \
+        par.pool = ro->parallel_pool;                                                            \
+        return par;                                                                              \
+    }                                                                                            \
     typedef int p##__glue_defined /* so that the use ends with a semicolon */
 
 /* The public frees of an image and of a mesh with the shared fields only
@@ -17875,9 +17883,7 @@ static int pgp__draw(const pgp__state *P, pgp__shading *S, const pgp_render_opti
     d.normals = normals; /* once, not per band */
     one.d = &d;
     one.cam = &cam;
-    par.threads = o->threads;
-    par.run = o->parallel;
-    par.pool = o->parallel_pool;
+    par = pgp__parallel(o);
     pw_frame_init(&f, o->width, o->height, o->supersample, o->background, &par);
     f.draw = pw_frame_draw1_fn;
     f.user = &one;

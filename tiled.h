@@ -19,15 +19,15 @@
  *   8442: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
  *   8948: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
  *   9406: src/common/glue.h, what every method header needs between its public types an
- *   9594: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  10140: src/tiled/core.c, tiled.h's glue to the shared core, its defaults, result
- *  10247: src/tiled/layout.c, ch. III.1, the boundary types and the tiled texture they
- *  10500: src/tiled/map.c, ch. III.2, the texture mapping algorithm of Fig. 29
- *  10747: src/tiled/synth.c, ch. III.1.3, tiled texture image synthesis: an edge-matche
- *  11113: src/tiled/validate.c, checks a hand-made tiled texture (the thesis's Figs. 39,
- *  11230: src/tiled/builtin.c, built-in meshes and exemplars for demos and tests: the
- *  11439: src/tiled/render.c, a software rendering of a mapped mesh (the thesis rendered
- *  11634: src/tiled/io.c, files. Meshes and exemplars in; the mapped mesh with its t
+ *   9602: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  10148: src/tiled/core.c, tiled.h's glue to the shared core, its defaults, result
+ *  10255: src/tiled/layout.c, ch. III.1, the boundary types and the tiled texture they
+ *  10508: src/tiled/map.c, ch. III.2, the texture mapping algorithm of Fig. 29
+ *  10755: src/tiled/synth.c, ch. III.1.3, tiled texture image synthesis: an edge-matche
+ *  11121: src/tiled/validate.c, checks a hand-made tiled texture (the thesis's Figs. 39,
+ *  11238: src/tiled/builtin.c, built-in meshes and exemplars for demos and tests: the
+ *  11447: src/tiled/render.c, a software rendering of a mapped mesh (the thesis rendered
+ *  11640: src/tiled/io.c, files. Meshes and exemplars in; the mapped mesh with its t
  */
 /* tiled.h - seamless, singularity-free tiled textures on quad meshes.
  *
@@ -9561,6 +9561,14 @@ PW__DEF void pw_view_defaults(int *width, int *height, int *supersample, float v
         pw_free(a, m->fuv);                                                                      \
         memset(m, 0, sizeof *m);                                                                 \
     }                                                                                            \
+    static PW__UNUSED pw_parallel p##__parallel(const p##_render_options *ro)                   \
+    {                                                                                            \
+        pw_parallel par;                                                                         \
+        par.threads = ro->threads;                                                               \
+        par.run = ro->parallel;                                                                  \
+        par.pool = ro->parallel_pool;                                                            \
+        return par;                                                                              \
+    }                                                                                            \
     typedef int p##__glue_defined /* so that the use ends with a semicolon */
 
 /* The public frees of an image and of a mesh with the shared fields only
@@ -11509,9 +11517,7 @@ static int tiled__draw(const pw_alloc *a, const tiled_mesh *m, const tiled_tiles
     d.normals = normals; /* once, not per band */
     one.d = &d;
     one.cam = &cam;
-    par.threads = ro->threads;
-    par.run = ro->parallel;
-    par.pool = ro->parallel_pool;
+    par = tiled__parallel(ro);
     pw_frame_init(&f, ro->width, ro->height, ro->supersample, ro->background, &par);
     f.draw = pw_frame_draw1_fn;
     f.user = &one;

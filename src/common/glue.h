@@ -13,6 +13,7 @@
 #include "base.h"
 #include "image.h"
 #include "png.h"
+#include "render.h"
 
 /* Checks an image that came from a caller: size, channel count, and every
  * sample a finite number. `what` names it in the message. */
@@ -157,6 +158,14 @@ PW__DEF void pw_view_defaults(int *width, int *height, int *supersample, float v
         pw_free(a, m->uv);                                                                       \
         pw_free(a, m->fuv);                                                                      \
         memset(m, 0, sizeof *m);                                                                 \
+    }                                                                                            \
+    static PW__UNUSED pw_parallel p##__parallel(const p##_render_options *ro)                   \
+    {                                                                                            \
+        pw_parallel par;                                                                         \
+        par.threads = ro->threads;                                                               \
+        par.run = ro->parallel;                                                                  \
+        par.pool = ro->parallel_pool;                                                            \
+        return par;                                                                              \
     }                                                                                            \
     typedef int p##__glue_defined /* so that the use ends with a semicolon */
 

@@ -143,9 +143,7 @@ static int lapped__draw_pastes(const pw_alloc *a, const pw_trimesh *m, const lap
     F.normals = normals;
     F.cam = pw_camera_frame(m->pos, m->nv, ro->view_dir, ro->up, 35.0f, (float)ro->width / (float)ro->height);
     F.filter = (int)ro->filter;
-    par.threads = ro->threads;
-    par.run = ro->parallel;
-    par.pool = ro->parallel_pool;
+    par = lapped__parallel(ro);
     pw_frame_init(&f, ro->width, ro->height, ro->supersample, ro->background, &par);
     f.draw = lapped__draw_band;
     f.user = &F;

@@ -523,9 +523,7 @@ static int lst__render_frame(const pw_alloc *a, const lst_render_options *o, pw_
 {
     pw_frame f;
     pw_parallel par;
-    par.threads = o->threads;
-    par.run = o->parallel;
-    par.pool = o->parallel_pool;
+    par = lst__parallel(o);
     pw_frame_init(&f, o->width, o->height, o->supersample, o->background, &par);
     f.draw = draw;
     f.user = user;

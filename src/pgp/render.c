@@ -267,9 +267,7 @@ static int pgp__draw(const pgp__state *P, pgp__shading *S, const pgp_render_opti
     d.normals = normals; /* once, not per band */
     one.d = &d;
     one.cam = &cam;
-    par.threads = o->threads;
-    par.run = o->parallel;
-    par.pool = o->parallel_pool;
+    par = pgp__parallel(o);
     pw_frame_init(&f, o->width, o->height, o->supersample, o->background, &par);
     f.draw = pw_frame_draw1_fn;
     f.user = &one;

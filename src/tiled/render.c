@@ -71,9 +71,7 @@ static int tiled__draw(const pw_alloc *a, const tiled_mesh *m, const tiled_tiles
     d.normals = normals; /* once, not per band */
     one.d = &d;
     one.cam = &cam;
-    par.threads = ro->threads;
-    par.run = ro->parallel;
-    par.pool = ro->parallel_pool;
+    par = tiled__parallel(ro);
     pw_frame_init(&f, ro->width, ro->height, ro->supersample, ro->background, &par);
     f.draw = pw_frame_draw1_fn;
     f.user = &one;
