@@ -54,7 +54,7 @@ PARTS_lapped   := core field patch builtin grow render atlas io
 PARTS_tiled    := core layout map synth validate builtin render io
 MODULES_pgp    := base vec rng image deflate png text mesh shapes halfedge sparse zsparse raster render trimesh heap atlas dirfield nrrd tile3 glue gltf graphcut quilt edt kdtree pca
 PARTS_pgp      := core field solve edit render builtin io export morph synth
-MODULES_lst    := base vec rng image deflate png text mesh shapes halfedge trimesh heap sparse raster render atlas nrrd tetmesh tetio stuffing edt pca glue gltf
+MODULES_lst    := base vec rng image deflate png text mesh shapes halfedge trimesh heap sparse raster render atlas nrrd tetmesh tetio bisect stuffing edt pca glue gltf
 PARTS_lst      := core exemplar field paste render cut builtin io export
 
 COMMON_SRC := $(wildcard src/common/*.h src/*/*.h)

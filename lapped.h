@@ -5,32 +5,32 @@
  *     35: src/lapped/lapped.h, the public API and its documentation
  *    478: src/common/base.h, allocation hooks, result codes, error messages, limits, he
  *    792: src/common/vec.h, small vector math on float[3] arrays and a 3-float struct.
- *    913: src/common/rng.h, seeded random numbers with the same output on every platfo
- *    990: src/common/image.h, float images and their file formats.
- *   1719: src/common/deflate.h, zlib (RFC 1950) and deflate (RFC 1951) compression and
- *   2747: src/common/png.h, PNG writer and reader, and the image front end.
- *   3312: src/common/text.h, locale-independent number parsing and formatting, a line s
- *   3695: src/common/mesh.h, polygon meshes as flat arrays, and their file formats.
- *   5210: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
- *   5656: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
- *   6078: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
- *   7295: src/common/raster.h, exact scan conversion of 2D triangles.
- *   7783: src/common/render.h, a small deterministic software renderer for textured trian
- *   9528: src/lapped/polyhull.h, the polygonal hull of a texture patch (Praun, Finkelstein 
- *  10347: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
- *  10537: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
- *  10622: src/common/atlas.h, texture atlases of triangle meshes — charts, packing, ba
- *  12574: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
- *  13239: src/common/glue.h, what every method header needs between its public types an
- *  13435: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  13981: src/lapped/core.c, lapped.h's glue to the shared core, its defaults, and the 
- *  14139: src/lapped/field.c, §3.2 the tangent field, one frame (S, T) per triangle, an
- *  14598: src/lapped/patch.c, §3.1 texture patches. A patch is the texture as RGBA whos
- *  14886: src/lapped/builtin.c, built-in meshes (made by the shared shapes module) and tex
- *  15090: src/lapped/grow.c, pasting (§3.3-3.6): grow a surface patch around an uncove
- *  16490: src/lapped/render.c, runtime pasting (§4): the mesh drawn once per paste, in p
- *  16681: src/lapped/atlas.c, §4 "Rendering with a texture atlas".
- *  16919: src/lapped/io.c, the paste file format and the file conveniences of lapped.
+ *    919: src/common/rng.h, seeded random numbers with the same output on every platfo
+ *    996: src/common/image.h, float images and their file formats.
+ *   1725: src/common/deflate.h, zlib (RFC 1950) and deflate (RFC 1951) compression and
+ *   2753: src/common/png.h, PNG writer and reader, and the image front end.
+ *   3318: src/common/text.h, locale-independent number parsing and formatting, a line s
+ *   3701: src/common/mesh.h, polygon meshes as flat arrays, and their file formats.
+ *   5216: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
+ *   5662: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
+ *   6084: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
+ *   7301: src/common/raster.h, exact scan conversion of 2D triangles.
+ *   7789: src/common/render.h, a small deterministic software renderer for textured trian
+ *   9534: src/lapped/polyhull.h, the polygonal hull of a texture patch (Praun, Finkelstein 
+ *  10353: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
+ *  10543: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
+ *  10628: src/common/atlas.h, texture atlases of triangle meshes — charts, packing, ba
+ *  12580: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
+ *  13245: src/common/glue.h, what every method header needs between its public types an
+ *  13441: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  13987: src/lapped/core.c, lapped.h's glue to the shared core, its defaults, and the 
+ *  14145: src/lapped/field.c, §3.2 the tangent field, one frame (S, T) per triangle, an
+ *  14604: src/lapped/patch.c, §3.1 texture patches. A patch is the texture as RGBA whos
+ *  14892: src/lapped/builtin.c, built-in meshes (made by the shared shapes module) and tex
+ *  15096: src/lapped/grow.c, pasting (§3.3-3.6): grow a surface patch around an uncove
+ *  16496: src/lapped/render.c, runtime pasting (§4): the mesh drawn once per paste, in p
+ *  16687: src/lapped/atlas.c, §4 "Rendering with a texture atlas".
+ *  16925: src/lapped/io.c, the paste file format and the file conveniences of lapped.
  */
 /* lapped.h - lapped textures: overlapping texture patches pasted over a mesh.
  *
@@ -850,6 +850,12 @@ PW__DEF void pw_cross3(const double *a, const double *b, double *out)
     out[0] = a[1] * b[2] - a[2] * b[1];
     out[1] = a[2] * b[0] - a[0] * b[2];
     out[2] = a[0] * b[1] - a[1] * b[0];
+}
+
+PW__DEF double pw_dist3(const double *a, const double *b)
+{
+    double x = a[0] - b[0], y = a[1] - b[1], z = a[2] - b[2];
+    return sqrt(x * x + y * y + z * z);
 }
 
 /* Normalises v in place; returns its former length (a zero v stays zero). */

@@ -5,41 +5,41 @@
  *     44: src/pgp/pgp.h, the public API and its documentation
  *    658: src/common/base.h, allocation hooks, result codes, error messages, limits, he
  *    972: src/common/vec.h, small vector math on float[3] arrays and a 3-float struct.
- *   1093: src/common/rng.h, seeded random numbers with the same output on every platfo
- *   1170: src/common/image.h, float images and their file formats.
- *   1899: src/common/deflate.h, zlib (RFC 1950) and deflate (RFC 1951) compression and
- *   2927: src/common/png.h, PNG writer and reader, and the image front end.
- *   3492: src/common/text.h, locale-independent number parsing and formatting, a line s
- *   3875: src/common/mesh.h, polygon meshes as flat arrays, and their file formats.
- *   5390: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
- *   5836: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
- *   6258: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
- *   7475: src/common/zsparse.h, complex Hermitian sparse systems, solved by conjugate grad
- *   7730: src/common/raster.h, exact scan conversion of 2D triangles.
- *   8218: src/common/render.h, a small deterministic software renderer for textured trian
- *   9963: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
- *  10153: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
- *  10238: src/common/atlas.h, texture atlases of triangle meshes — charts, packing, ba
- *  12190: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
- *  12855: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
- *  13661: src/pgp/tile3.h, sampling a material-space tile (Ray et al. 2009, §2: "a 3
- *  13775: src/common/glue.h, what every method header needs between its public types an
- *  13971: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  14517: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
- *  15023: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
- *  15481: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
- *  15600: src/common/kdtree.h, nearest-neighbour search among n points of dimension d, wi
- *  15931: src/common/pca.h, principal component analysis of vectors streamed one at a 
- *  16110: src/pgp/core.c, pgp.h's glue to the shared core, its defaults, and the map
- *  16363: src/pgp/field.c, §2.1 effect areas and §2.2 interpolation of the constrai
- *  16722: src/pgp/solve.c, §2.3 the periodic global parameterization, the recovery o
- *  17482: src/pgp/edit.c, the public editing calls of a mapping. §2.1 (Ray, Lévy, 
- *  17617: src/pgp/render.c, §3 rendering, and a cleaner treatment of the vortices.
- *  17992: src/pgp/builtin.c, built-in meshes and material-space tiles for demos and tes
- *  18299: src/pgp/io.c, files and memory for pgp.h: material-space tiles (NRRD, or
- *  18748: src/pgp/export.c, the mapping for other programs. A viewer that knows nothin
- *  18947: src/pgp/morph.c, the inputs of §1 (keys brought to the tile size, made til
- *  19562: src/pgp/synth.c, §1.2 constrained tile synthesis, and the whole of §1: ke
+ *   1099: src/common/rng.h, seeded random numbers with the same output on every platfo
+ *   1176: src/common/image.h, float images and their file formats.
+ *   1905: src/common/deflate.h, zlib (RFC 1950) and deflate (RFC 1951) compression and
+ *   2933: src/common/png.h, PNG writer and reader, and the image front end.
+ *   3498: src/common/text.h, locale-independent number parsing and formatting, a line s
+ *   3881: src/common/mesh.h, polygon meshes as flat arrays, and their file formats.
+ *   5396: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
+ *   5842: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
+ *   6264: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
+ *   7481: src/common/zsparse.h, complex Hermitian sparse systems, solved by conjugate grad
+ *   7736: src/common/raster.h, exact scan conversion of 2D triangles.
+ *   8224: src/common/render.h, a small deterministic software renderer for textured trian
+ *   9969: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
+ *  10159: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
+ *  10244: src/common/atlas.h, texture atlases of triangle meshes — charts, packing, ba
+ *  12196: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
+ *  12861: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
+ *  13667: src/pgp/tile3.h, sampling a material-space tile (Ray et al. 2009, §2: "a 3
+ *  13781: src/common/glue.h, what every method header needs between its public types an
+ *  13977: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  14523: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
+ *  15029: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
+ *  15487: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
+ *  15606: src/common/kdtree.h, nearest-neighbour search among n points of dimension d, wi
+ *  15937: src/common/pca.h, principal component analysis of vectors streamed one at a 
+ *  16116: src/pgp/core.c, pgp.h's glue to the shared core, its defaults, and the map
+ *  16369: src/pgp/field.c, §2.1 effect areas and §2.2 interpolation of the constrai
+ *  16728: src/pgp/solve.c, §2.3 the periodic global parameterization, the recovery o
+ *  17488: src/pgp/edit.c, the public editing calls of a mapping. §2.1 (Ray, Lévy, 
+ *  17623: src/pgp/render.c, §3 rendering, and a cleaner treatment of the vortices.
+ *  17998: src/pgp/builtin.c, built-in meshes and material-space tiles for demos and tes
+ *  18305: src/pgp/io.c, files and memory for pgp.h: material-space tiles (NRRD, or
+ *  18754: src/pgp/export.c, the mapping for other programs. A viewer that knows nothin
+ *  18953: src/pgp/morph.c, the inputs of §1 (keys brought to the tile size, made til
+ *  19568: src/pgp/synth.c, §1.2 constrained tile synthesis, and the whole of §1: ke
  */
 /* pgp.h - material-space texturing with a periodic global parameterization.
  *
@@ -1030,6 +1030,12 @@ PW__DEF void pw_cross3(const double *a, const double *b, double *out)
     out[0] = a[1] * b[2] - a[2] * b[1];
     out[1] = a[2] * b[0] - a[0] * b[2];
     out[2] = a[0] * b[1] - a[1] * b[0];
+}
+
+PW__DEF double pw_dist3(const double *a, const double *b)
+{
+    double x = a[0] - b[0], y = a[1] - b[1], z = a[2] - b[2];
+    return sqrt(x * x + y * y + z * z);
 }
 
 /* Normalises v in place; returns its former length (a zero v stays zero). */

@@ -5,29 +5,29 @@
  *     32: src/tiled/tiled.h, the public API and its documentation
  *    437: src/common/base.h, allocation hooks, result codes, error messages, limits, he
  *    751: src/common/vec.h, small vector math on float[3] arrays and a 3-float struct.
- *    872: src/common/rng.h, seeded random numbers with the same output on every platfo
- *    949: src/common/image.h, float images and their file formats.
- *   1678: src/common/deflate.h, zlib (RFC 1950) and deflate (RFC 1951) compression and
- *   2706: src/common/png.h, PNG writer and reader, and the image front end.
- *   3271: src/common/text.h, locale-independent number parsing and formatting, a line s
- *   3654: src/common/mesh.h, polygon meshes as flat arrays, and their file formats.
- *   5169: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
- *   5615: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
- *   6037: src/common/subdiv.h, Catmull-Clark subdivision (Catmull and Clark 1978) with
- *   6209: src/common/raster.h, exact scan conversion of 2D triangles.
- *   6697: src/common/render.h, a small deterministic software renderer for textured trian
- *   8442: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
- *   8948: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
- *   9406: src/common/glue.h, what every method header needs between its public types an
- *   9602: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  10148: src/tiled/core.c, tiled.h's glue to the shared core, its defaults, result
- *  10255: src/tiled/layout.c, ch. III.1, the boundary types and the tiled texture they
- *  10508: src/tiled/map.c, ch. III.2, the texture mapping algorithm of Fig. 29
- *  10755: src/tiled/synth.c, ch. III.1.3, tiled texture image synthesis: an edge-matche
- *  11121: src/tiled/validate.c, checks a hand-made tiled texture (the thesis's Figs. 39,
- *  11238: src/tiled/builtin.c, built-in meshes and exemplars for demos and tests: the
- *  11447: src/tiled/render.c, a software rendering of a mapped mesh (the thesis rendered
- *  11640: src/tiled/io.c, files. Meshes and exemplars in; the mapped mesh with its t
+ *    878: src/common/rng.h, seeded random numbers with the same output on every platfo
+ *    955: src/common/image.h, float images and their file formats.
+ *   1684: src/common/deflate.h, zlib (RFC 1950) and deflate (RFC 1951) compression and
+ *   2712: src/common/png.h, PNG writer and reader, and the image front end.
+ *   3277: src/common/text.h, locale-independent number parsing and formatting, a line s
+ *   3660: src/common/mesh.h, polygon meshes as flat arrays, and their file formats.
+ *   5175: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
+ *   5621: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
+ *   6043: src/common/subdiv.h, Catmull-Clark subdivision (Catmull and Clark 1978) with
+ *   6215: src/common/raster.h, exact scan conversion of 2D triangles.
+ *   6703: src/common/render.h, a small deterministic software renderer for textured trian
+ *   8448: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
+ *   8954: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
+ *   9412: src/common/glue.h, what every method header needs between its public types an
+ *   9608: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  10154: src/tiled/core.c, tiled.h's glue to the shared core, its defaults, result
+ *  10261: src/tiled/layout.c, ch. III.1, the boundary types and the tiled texture they
+ *  10514: src/tiled/map.c, ch. III.2, the texture mapping algorithm of Fig. 29
+ *  10761: src/tiled/synth.c, ch. III.1.3, tiled texture image synthesis: an edge-matche
+ *  11127: src/tiled/validate.c, checks a hand-made tiled texture (the thesis's Figs. 39,
+ *  11244: src/tiled/builtin.c, built-in meshes and exemplars for demos and tests: the
+ *  11453: src/tiled/render.c, a software rendering of a mapped mesh (the thesis rendered
+ *  11646: src/tiled/io.c, files. Meshes and exemplars in; the mapped mesh with its t
  */
 /* tiled.h - seamless, singularity-free tiled textures on quad meshes.
  *
@@ -809,6 +809,12 @@ PW__DEF void pw_cross3(const double *a, const double *b, double *out)
     out[0] = a[1] * b[2] - a[2] * b[1];
     out[1] = a[2] * b[0] - a[0] * b[2];
     out[2] = a[0] * b[1] - a[1] * b[0];
+}
+
+PW__DEF double pw_dist3(const double *a, const double *b)
+{
+    double x = a[0] - b[0], y = a[1] - b[1], z = a[2] - b[2];
+    return sqrt(x * x + y * y + z * z);
 }
 
 /* Normalises v in place; returns its former length (a zero v stays zero). */

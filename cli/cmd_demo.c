@@ -311,6 +311,7 @@ static lst_result demo_lst_model(const lst_scene *s, lst_options *o, lst_model *
     memset(&ex, 0, sizeof ex);
     memset(&val, 0, sizeof val);
     o->tet.target_tets = demo_size(s->tets, 5, 1000);
+    if (demo_quick) o->tet.fit = 0.02; /* the graded lattice, coarser */
     o->type = s->type;
     if ((r = lst_builtin_mesh(s->surface, o, &surf, le)) != LST_OK) return r;
     if ((r = lst_tetrahedralize(&surf, o, &tets, NULL, le)) == LST_OK &&

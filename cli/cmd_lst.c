@@ -21,8 +21,15 @@ static const char *lst_usage =
     "                       dumbbell, star)\n"
     "  --tets FILE          a tetrahedral mesh: TetGen FILE.node (with FILE.ele) or\n"
     "                       MEDIT FILE.mesh\n"
-    "  --tet-count N        tetrahedra to aim for with --mesh (default 20000)\n"
-    "  --cell H             or the lattice spacing, mesh units\n"
+    "  --tet-count N        tetrahedra to aim for inside with --mesh (default 20000;\n"
+    "                       the lattice is finer near the surface where it bends,\n"
+    "                       is thin or nearly touches itself, so there are more)\n"
+    "  --cell H             or the lattice spacing inside, mesh units\n"
+    "  --tet-fit F          the bend of the surface one lattice tetrahedron may hold,\n"
+    "                       as a fraction of the diagonal (default 0.0025: the\n"
+    "                       boundary lands within about 0.4%); larger: fewer\n"
+    "  --tet-uniform        a uniform lattice of --tet-count tetrahedra instead\n"
+    "                       (proven dihedral bounds; parts thinner than a cell lost)\n"
     "  --strict             refuse a closed surface whose triangles cross (by default\n"
     "                       it is filled where its winding number is at least 1/2,\n"
     "                       with a warning; --allow-self-intersections is accepted\n"
@@ -51,7 +58,11 @@ static const char *lst_usage =
     "  --axis X,Y,Z         the default direction instead of the principal axis\n"
     "  --samples N          coverage lattice order (default 8: 165 points per tet)\n"
     "  --seed S             random seed (default 0)\n"
-    "  --paste \"X Y Z UX UY UZ VX VY VZ S [MASK]\"  a manual paste on top (repeatable)\n"
+    "  --paste \"X Y Z UX UY UZ VX VY VZ S [MASK]\"  a manual paste on top (repeatable)\n";
+
+/* The rest of the usage, in string literals of their own (C99 compilers
+ * need only take 4095 characters in one). */
+static const char *lst_usage_views =
     "views:\n"
     "  --cut \"NX NY NZ D\"   cut away the side NX x + NY y + NZ z > D (repeatable)\n"
     "  --cut-stroke \"X Y Z X Y Z ...\"  cut along a stroke seen along the view\n"
@@ -63,8 +74,6 @@ static const char *lst_usage =
     "  --slices N           volume rendering slices (default 200)\n"
     "  --opacity A          volume rendering opacity (default 0.3)\n";
 
-/* The rest of the usage (a string literal of its own: C99 compilers need
- * only take 4095 characters in one). */
 static const char *lst_usage_outputs =
     "outputs (at least one):\n"
     "  --out-lst FILE       the model (text format, see docs/lst.md)\n"
@@ -199,6 +208,7 @@ static int parse_options(cli_args *a, lst_cmd *c)
     if (cli_is(a, "--seed")) return cli_u64(a, &c->opt.seed);
     if (cli_is(a, "--paste")) return parse_paste(a, c);
     if (cli_is(a, "--tet-count")) return cli_int(a, 10, 20000000, &c->opt.tet.target_tets);
+    if (cli_is(a, "--tet-uniform")) return (c->opt.tet.uniform = 1);
     if (cli_is(a, "--allow-self-intersections")) return 1; /* the default now, kept for old scripts */
     if (cli_is(a, "--strict")) return (c->opt.tet.strict = 1);
     if (cli_is(a, "--exemplar-size")) return cli_int(a, 4, 512, &c->exemplar_size);
@@ -224,6 +234,7 @@ static int parse_one(cli_args *a, lst_cmd *c)
     if (cli_is(a, "--exemplar")) return cli_value(a, &c->exemplar);
     if (cli_is(a, "--values")) return cli_value(a, &c->values);
     if (cli_is(a, "--cell")) return cli_float(a, 1e-30f, 1e30f, &cell) && (c->opt.tet.cell = cell, 1);
+    if (cli_is(a, "--tet-fit")) return cli_float(a, 1e-5f, 0.1f, &cell) && (c->opt.tet.fit = cell, 1);
     if (cli_is(a, "--out-lst")) return cli_value(a, &c->out_lst);
     if (cli_is(a, "--out-masks")) return cli_value(a, &c->out_masks);
     if (cli_is(a, "--out-exemplar")) return cli_value(a, &c->out_exemplar);
@@ -340,7 +351,7 @@ static double seconds(void)
 
 /* The fill's report: the warnings about the input (stderr), then the count,
  * the two-sided fit of the boundary, the pieces and the dihedral range. */
-static void report_fill(const lst_tetmesh *t, const lst_tet_report *rep, double lo, double hi, double s)
+static void report_fill(const lst_tetmesh *t, const lst_tet_report *rep, int uniform, double lo, double hi, double s)
 {
     if (rep->crossing_pairs > 0)
         fprintf(stderr, "lst: warning: the surface crosses itself (%ld triangle pairs); filled where its winding "
@@ -349,8 +360,12 @@ static void report_fill(const lst_tetmesh *t, const lst_tet_report *rep, double 
         fprintf(stderr, "lst: warning: %d zero-area triangles skipped\n", rep->skipped_triangles);
     if (rep->surface_pieces >= 0 && rep->pieces != rep->surface_pieces && rep->crossing_pairs == 0)
         fprintf(stderr, "lst: warning: the tetrahedra make %d pieces where the surface encloses %d: parts thinner "
-                "than the lattice cell are lost or cut off (a larger --tet-count keeps more)\n", rep->pieces,
-                rep->surface_pieces);
+                "than the lattice cell are lost or cut off (%s)\n", rep->pieces, rep->surface_pieces,
+                uniform ? "a larger --tet-count keeps more; the default graded lattice keeps thin parts"
+                        : "a smaller --tet-fit keeps more");
+    if (rep->fragments > 0)
+        fprintf(stderr, "lst: note: %d bits of parts thinner than the smallest cell were cut off and dropped\n",
+                rep->fragments);
     if (rep->closed_holes > 0)
         fprintf(stderr, "lst: warning: the surface was open: %d small holes closed\n", rep->closed_holes);
     printf("lst: %d tetrahedra, %d vertices, boundary within %.2f%% of the surface (99%%: %.2f%%), %d piece%s, "
@@ -373,7 +388,7 @@ static lst_result load_tets(const lst_cmd *c, lst_run *r, lst_error *err)
     if (res == LST_OK && c->mesh) res = lst_tetrahedralize(&r->surface, &c->opt, &r->tets, &rep, err);
     if (res == LST_OK && c->tets) res = lst_tetmesh_surface(&r->tets, &c->opt, &r->surface, err);
     if (res == LST_OK) res = lst_tetmesh_check(&r->tets, &lo, &hi, err);
-    if (res == LST_OK && c->mesh) report_fill(&r->tets, &rep, lo, hi, seconds() - t0);
+    if (res == LST_OK && c->mesh) report_fill(&r->tets, &rep, c->opt.tet.uniform, lo, hi, seconds() - t0);
     else if (res == LST_OK)
         printf("lst: %d tetrahedra, %d vertices, dihedral angles %.1f..%.1f degrees (read, %.2f s)\n", r->tets.ntets,
                r->tets.nverts, lo, hi, seconds() - t0);
@@ -670,6 +685,7 @@ int cmd_lst(int argc, char **argv)
     int p = parse(argc, argv, &c);
     if (p < 0) {
         fputs(lst_usage, stdout);
+        fputs(lst_usage_views, stdout);
         fputs(lst_usage_outputs, stdout);
         return 0;
     }

@@ -9,21 +9,25 @@
  *         bit 2 strict, bit 3 an explicit cell (h[2]),
  *         bit 4 a counting allocator, bit 5 tetrahedralize twice,
  *         bits 6-7 the progress call that cancels (0: none)
- *   h[1]  target_tets = 50 + 4 h[1]
+ *   h[1]  target_tets = 50 + 4 (h[1] >> 1); bit 0: the uniform lattice (else
+ *         the graded one, at a coarse fit of 0.02 + 0.08 h[2] / 256)
  *   h[2]  cell = (32 + h[2]) / 256 of the largest box extent
  *   h[3]  how far the bytes move the built-in shapes' vertices
  *
  * Work is bounded: at most FZ_MAX_TRIS triangles, about 1K tetrahedra or a
- * cell of at least 1/8 of the box. Any refusal is fine; crashes, leaks,
+ * cell of at least 1/8 of the box, a coarse graded fit, and lattices of at
+ * most 2^17 vertices (uniform) or tetrahedra (graded). Any refusal is fine; crashes, leaks,
  * sanitizer reports and the following are not:
  *   - a refusal carries its code and a message and hands nothing out;
  *   - a result has positively oriented tetrahedra with indices in range and
  *     finite coordinates, is conforming (pw_stuff_boundary), keeps its
- *     dihedral angles within the documented 10.2..161.7 degrees, and has
+ *     dihedral angles within the documented 10.2..161.7 degrees (uniform)
+ *     or the tested 8..168 (graded), and has
  *     every boundary vertex on the input surface (or, when small holes were
  *     closed, on the closing fans: that check is skipped then);
  *   - made twice from the same input it is bit-identical;
  *   - with the counting allocator, every block goes back. */
+#define PW_MAX_STUFF_LATTICE (1 << 17) /* bounded work: larger lattices are refused */
 #include "../src/common/stuffing.h"
 #include "../src/common/shapes.h"
 #include <stdint.h>
@@ -108,7 +112,7 @@ static int fz_off(const uint8_t *d, size_t n, pw_mesh *m)
     return ok && m->nf <= FZ_MAX_TRIS;
 }
 
-static void fz_check_mesh(const pw_mesh *s, const pw_tetmesh *t, int closed_holes)
+static void fz_check_mesh(const pw_mesh *s, const pw_tetmesh *t, int closed_holes, int uniform)
 {
     int k, *btri = NULL, nb = 0;
     double lo, hi, mag = 0.0;
@@ -125,7 +129,7 @@ static void fz_check_mesh(const pw_mesh *s, const pw_tetmesh *t, int closed_hole
     if (pw_stuff_boundary(NULL, t, &btri, &nb, &e) != PW_OK || nb == 0) abort();
     pw_free(NULL, btri);
     pw_tet_dihedral_range(t, &lo, &hi);
-    if (lo < 10.2 - 1e-3 || hi > 161.7 + 1e-3) abort();
+    if (uniform ? lo < 10.2 - 1e-3 || hi > 161.7 + 1e-3 : lo < 8.0 || hi > 168.0) abort();
     if (pw_stuff_fit_measure(NULL, s->pos, s->nv, s->fv, s->nf, t, 2000, &fit, &e) != PW_OK) abort();
     for (k = 0; k < 3 * s->nv; k++) mag = fabs(s->pos[k]) > mag ? fabs(s->pos[k]) : mag;
     if (!closed_holes && fit.to_surface_max > 1e-6 * (mag + fit.diag)) abort();
@@ -151,7 +155,9 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     else ok = fz_shape(mode == 2, data + 4, size - 4, (float)data[3] / 256.0f * 0.3f / 128.0f, &m);
     if (!ok) return 0;
     o.strict = (data[0] >> 2) & 1, o.info = &info;
-    o.target_tets = 50 + 4 * data[1];
+    o.target_tets = 50 + 4 * (data[1] >> 1);
+    o.uniform = data[1] & 1;
+    if (!o.uniform) o.fit = 0.02 + 0.08 * data[2] / 256.0;
     if (data[0] & 8) {
         float lo[3], hi[3], ext = 0.0f;
         int k;
@@ -168,7 +174,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     if (r != PW_OK) {
         if (r <= 0 || r >= PW_ERR__COUNT || e.code != r || !e.msg[0] || t.pos || t.tet || t.nt || t.nv) abort();
     } else {
-        fz_check_mesh(&m, &t, info.closed_holes);
+        fz_check_mesh(&m, &t, info.closed_holes, o.uniform);
         if (data[0] & 32) {
             pw_err_clear(&e);
             if (pw_stuff_tetrahedralize(NULL, m.pos, m.nv, m.fv, m.nf, &o, NULL, &u, &e) != PW_OK) abort();

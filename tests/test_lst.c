@@ -26,7 +26,7 @@ static int sphere_tets(int n, lst_tetmesh *m)
     lst_mesh s;
     lst_error err;
     int ok;
-    o.tet.target_tets = n;
+    o.tet.target_tets = n, o.tet.uniform = 1; /* a small uniform fill: stuffing tests cover the graded one */
     if (lst_builtin_mesh("sphere", &o, &s, &err)) return 0;
     ok = lst_tetrahedralize(&s, &o, m, NULL, &err) == LST_OK;
     lst_mesh_free(&s);
@@ -141,7 +141,7 @@ static int slab(int n, lst_mesh *s, lst_tetmesh *m, lst_constraint **dc, int *nd
     int f, k;
     memset(&a, 0, sizeof a);
     pw_err_clear(&e);
-    o.tet.target_tets = n;
+    o.tet.target_tets = n, o.tet.uniform = 1; /* a small uniform fill: stuffing tests cover the graded one */
     if (lst__implicit(&a, slab_shape, lo, 3.0 / 40, 40, &pm, &e)) return 0;
     lst__take_mesh(&pm, &a, s);
     if (lst_tetrahedralize(s, &o, m, NULL, &err)) return 0;
@@ -310,7 +310,7 @@ static void t_skin_rbf(void)
     lst_constraints c;
     int k, bad = 0, t;
     double dmax = 0.0;
-    o.tet.target_tets = 2500;
+    o.tet.target_tets = 2500, o.tet.uniform = 1; /* a small uniform fill: stuffing tests cover the graded one */
     o.type = LST_TYPE_2B;
     REQUIRE(lst_builtin_mesh("kiwi", &o, &s, &err) == LST_OK);
     REQUIRE(lst_tetrahedralize(&s, &o, &m, NULL, &err) == LST_OK);
@@ -421,7 +421,7 @@ static void t_principal_axis(void)
     lst_constraint fc;
     double worst = 1.0;
     int t;
-    o.tet.target_tets = 2000;
+    o.tet.target_tets = 2000, o.tet.uniform = 1; /* a small uniform fill: stuffing tests cover the graded one */
     o.type = LST_TYPE_1A;
     REQUIRE(lst_builtin_mesh("kiwi", &o, &s, &err) == LST_OK);
     REQUIRE(lst_tetrahedralize(&s, &o, &m, NULL, &err) == LST_OK);

@@ -26,7 +26,7 @@ static int make_model(const char *surface, int type, const char *exemplar, int n
     lst_volume ex, val;
     lst_error err;
     int ok;
-    o.tet.target_tets = n;
+    o.tet.target_tets = n, o.tet.uniform = 1; /* a small uniform fill: stuffing tests cover the graded one */
     o.type = type;
     if (lst_builtin_mesh(surface, &o, &s, &err) || lst_tetrahedralize(&s, &o, &m, NULL, &err)) return 0;
     if (lst_builtin_exemplar(exemplar, 32, &o, &ex, &val, &err)) return 0;

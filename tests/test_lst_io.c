@@ -26,7 +26,7 @@ static int small_tets(int n, lst_tetmesh *m)
     lst_mesh s;
     lst_error err;
     int ok;
-    o.tet.target_tets = n;
+    o.tet.target_tets = n, o.tet.uniform = 1; /* a small uniform fill: stuffing tests cover the graded one */
     if (lst_builtin_mesh("sphere", &o, &s, &err)) return 0;
     ok = lst_tetrahedralize(&s, &o, m, NULL, &err) == LST_OK && !err.message[0]; /* a clean surface: no warning */
     lst_mesh_free(&s);
@@ -305,7 +305,7 @@ static void t_real_meshes(void)
         snprintf(rel, sizeof rel, "meshes/%s.off", names[k]);
         if (!(path = pwt_data_opt(rel))) continue;
         found++;
-        o.tet.target_tets = 2500, o.tet.strict = k == 1;
+        o.tet.target_tets = 2500, o.tet.uniform = 1, o.tet.strict = k == 1;
         REQUIRE(lst_load_mesh(path, &o, &s, &err) == LST_OK);
         r = lst_tetrahedralize(&s, &o, &m, NULL, &err);
         if (expect[k]) {
@@ -326,6 +326,16 @@ static void t_real_meshes(void)
             pwt_info("%s: %d tetrahedra (dihedral %.1f..%.1f), %d pastes", names[k], m.ntets, lo, hi, model.npastes);
             CHECK(lo > 10.0);
             lst_model_free(&model), lst_volume_free(&ex), lst_tetmesh_free(&m);
+        }
+        if (k == 0) { /* the elephant at the defaults: graded, its legs, tusks and trunk kept */
+            lst_options d = lst_default_options();
+            CHECKF(lst_tetrahedralize(&s, &d, &m, &rep, &err) == LST_OK && rep.fit_max < 0.005 &&
+                       rep.pieces == 1 && rep.surface_pieces == 1,
+                   "elephant, defaults: %s, fit %g, %d pieces of %d", err.message, rep.fit_max, rep.pieces,
+                   rep.surface_pieces);
+            pwt_info("elephant at the defaults: %d tetrahedra, boundary within %.2f%% of the diagonal", m.ntets,
+                     100.0 * rep.fit_max);
+            lst_tetmesh_free(&m);
         }
         lst_mesh_free(&s);
     }
@@ -442,7 +452,7 @@ static void t_bad_surface(void)
             "f 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\nf 5 7 6\nf 5 6 8\nf 5 8 7\nf 6 7 8\n";
         lst_options to = lst_default_options();
         lst_tet_report rep;
-        to.tet.target_tets = 2000;
+        to.tet.target_tets = 2000, to.tet.uniform = 1; /* a small uniform fill: stuffing tests cover the graded one */
         REQUIRE(lst_read_mesh(crossing, strlen(crossing), "cross.obj", &o, &s, &err) == LST_OK);
         CHECKF(lst_tetrahedralize(&s, &to, &m, &rep, &err) == LST_OK && rep.crossing_pairs > 0 && rep.pieces == 1,
                "crossing: %s, %ld pairs, %d pieces", err.message, rep.crossing_pairs, rep.pieces);

@@ -283,7 +283,7 @@ static void t_lst(void)
     lst_scene S;
     const float cut[4] = {0.3f, 0.2f, 1.0f, 0.1f};
     SET_ALLOC(opt.allocator);
-    opt.tet.target_tets = 3000;
+    opt.tet.target_tets = 3000, opt.tet.uniform = 1; /* a small uniform fill: stuffing tests cover the graded one */
     REQUIRE(lst_builtin_mesh("sphere", &opt, &surface, NULL) == LST_OK);
     REQUIRE(lst_tetrahedralize(&surface, &opt, &tets, NULL, NULL) == LST_OK);
     REQUIRE(lst_builtin_exemplar("spots", 32, &opt, &ex, NULL, NULL) == LST_OK);

@@ -62,54 +62,64 @@ PW__DEF void pw_tet_face(int k, int out[3])
     out[2] = face[k][2];
 }
 
+/* The cosines of the smallest (*clo) and largest (*chi) dihedral angle of
+ * the tetrahedron with corners p[0..3] (a flat one: 1 and -1): from
+ * + - * / and sqrt, so that decisions taken on them are the same on every
+ * platform. */
+PW__DEF void pw_tet_cosines(const double (*p)[3], double *clo, double *chi)
+{
+    static const int edge[6][4] = {{0, 1, 2, 3}, {0, 2, 1, 3}, {0, 3, 1, 2},
+                                   {1, 2, 0, 3}, {1, 3, 0, 2}, {2, 3, 0, 1}};
+    int k, i;
+    *clo = -1.0, *chi = 1.0;
+    for (k = 0; k < 6; k++) { /* the angle along edge (a,b) between the faces (a,b,c) and (a,b,d) */
+        const double *a = p[edge[k][0]], *b = p[edge[k][1]], *c = p[edge[k][2]], *d = p[edge[k][3]];
+        double u[3], v[3], w[3], n1[3], n2[3], l1, l2, cs;
+        for (i = 0; i < 3; i++) u[i] = b[i] - a[i], v[i] = c[i] - a[i], w[i] = d[i] - a[i];
+        pw_cross3(u, v, n1);
+        pw_cross3(u, w, n2);
+        l1 = sqrt(pw_dot3(n1, n1));
+        l2 = sqrt(pw_dot3(n2, n2));
+        if (l1 <= 0.0 || l2 <= 0.0) {
+            *clo = 1.0, *chi = -1.0;
+            return;
+        }
+        cs = pw_dot3(n1, n2) / (l1 * l2);
+        cs = cs > 1.0 ? 1.0 : cs < -1.0 ? -1.0 : cs;
+        *clo = cs > *clo ? cs : *clo;
+        *chi = cs < *chi ? cs : *chi;
+    }
+}
+
+/* The same as angles in degrees (acos from libm). */
+PW__DEF void pw_tet_angles(const double (*p)[3], double *lo, double *hi)
+{
+    double clo, chi;
+    pw_tet_cosines(p, &clo, &chi);
+    *lo = acos(clo) * (180.0 / 3.14159265358979323846);
+    *hi = acos(chi) * (180.0 / 3.14159265358979323846);
+}
+
 /* The smallest and largest dihedral angle, in degrees, over all
  * tetrahedra (the quality figures the lst paper and TetGen report). An
  * empty mesh gives 0 and 0. Uses acos from libm: this is a report, not a
  * result that has to be bit-identical across platforms. */
 PW__DEF void pw_tet_dihedral_range(const pw_tetmesh *m, double *min_deg, double *max_deg)
 {
-    static const int edge[6][4] = {{0, 1, 2, 3}, {0, 2, 1, 3}, {0, 3, 1, 2},
-                                   {1, 2, 0, 3}, {1, 3, 0, 2}, {2, 3, 0, 1}};
-    double lo = 180.0, hi = 0.0;
-    int t, k;
+    double lo = 180.0, hi = 0.0, p[4][3], a, b;
+    int t, k, i;
     for (t = 0; t < m->nt; t++) {
-        for (k = 0; k < 6; k++) {
-            /* the angle along edge (a,b) between the faces (a,b,c) and (a,b,d) */
-            const float *a = m->pos + 3 * m->tet[4 * t + edge[k][0]];
-            const float *b = m->pos + 3 * m->tet[4 * t + edge[k][1]];
-            const float *c = m->pos + 3 * m->tet[4 * t + edge[k][2]];
-            const float *d = m->pos + 3 * m->tet[4 * t + edge[k][3]];
-            double u[3], v[3], w[3], n1[3], n2[3], l1, l2, cosang, ang;
-            int i;
-            for (i = 0; i < 3; i++) {
-                u[i] = (double)b[i] - a[i];
-                v[i] = (double)c[i] - a[i];
-                w[i] = (double)d[i] - a[i];
-            }
-            pw_cross3(u, v, n1);
-            pw_cross3(u, w, n2);
-            l1 = sqrt(pw_dot3(n1, n1));
-            l2 = sqrt(pw_dot3(n2, n2));
-            if (l1 <= 0.0 || l2 <= 0.0) {
-                lo = 0.0;
-                continue;
-            }
-            cosang = (n1[0] * n2[0] + n1[1] * n2[1] + n1[2] * n2[2]) / (l1 * l2);
-            if (cosang > 1.0) cosang = 1.0;
-            if (cosang < -1.0) cosang = -1.0;
-            ang = acos(cosang) * (180.0 / 3.14159265358979323846);
-            if (ang < lo) lo = ang;
-            if (ang > hi) hi = ang;
-        }
+        for (k = 0; k < 4; k++)
+            for (i = 0; i < 3; i++) p[k][i] = m->pos[3 * m->tet[4 * t + k] + i];
+        pw_tet_angles((const double(*)[3])p, &a, &b);
+        lo = a < lo ? a : lo;
+        hi = b > hi ? b : hi;
     }
     if (m->nt == 0) lo = hi = 0.0;
     *min_deg = lo;
     *max_deg = hi;
 }
 
-/* ---- checks ------------------------------------------------------------------ */
-
-/* The longest edge of tetrahedron t (double precision). */
 PW__DEF double pw__tet_longest_edge(const pw_tetmesh *m, int t)
 {
     double best = 0.0;

@@ -61,6 +61,12 @@ PW__DEF void pw_cross3(const double *a, const double *b, double *out)
     out[2] = a[0] * b[1] - a[1] * b[0];
 }
 
+PW__DEF double pw_dist3(const double *a, const double *b)
+{
+    double x = a[0] - b[0], y = a[1] - b[1], z = a[2] - b[2];
+    return sqrt(x * x + y * y + z * z);
+}
+
 /* Normalises v in place; returns its former length (a zero v stays zero). */
 PW__DEF double pw_norm3(double *v)
 {

@@ -17,7 +17,7 @@ static int lst__tet_report(const pw_alloc *a, const pw_mesh *tri, const pw_tetme
     int r = pw_stuff_fit_measure(a, tri->pos, tri->nv, tri->fv, tri->nf, tm, 30000, &fit, e);
     memset(rep, 0, sizeof *rep);
     rep->crossing_pairs = info->crossing_pairs, rep->skipped_triangles = info->skipped_triangles;
-    rep->closed_holes = info->closed_holes;
+    rep->closed_holes = info->closed_holes, rep->fragments = info->fragments;
     if (r != PW_OK) return r;
     rep->pieces = fit.pieces, rep->surface_pieces = fit.surface_pieces;
     rep->fit_max = (fit.to_max > fit.from_max ? fit.to_max : fit.from_max) / fit.diag;
@@ -57,6 +57,7 @@ LSTDEF lst_result lst_tetrahedralize(const lst_mesh *surface, const lst_options 
     memset(&tri, 0, sizeof tri);
     memset(&tm, 0, sizeof tm);
     so.cell = o.tet.cell, so.strict = o.tet.strict, so.max_hole = o.tet.max_hole, so.info = &info;
+    so.uniform = o.tet.uniform, so.fit = o.tet.fit;
     if (o.tet.target_tets > 0) so.target_tets = o.tet.target_tets;
     if (!surface || !out) pw_fail(&e, PW_ERR_INVALID, "lst_tetrahedralize: NULL argument");
     else if (!(so.cell >= 0.0) || !pw_is_finite(so.cell) || !pw_is_finite(so.max_hole) || o.tet.target_tets < 0)

@@ -53,6 +53,7 @@ LSTDEF lst_options lst_default_options(void)
     o.render.subdivide = 2;
     o.tet.target_tets = 20000;
     o.tet.max_hole = 0.05;
+    o.tet.fit = 0.0025;
     o.volume.slices = 200;
     o.volume.opacity = 0.3f;
     o.atlas.size = PW_ATLAS_SIZE;

@@ -307,7 +307,14 @@ typedef struct lst_volume_options {
 /* Settings of the built-in tetrahedralizer (lst_tetrahedralize). */
 typedef struct lst_tet_options {
     double cell;     /* lattice spacing, mesh units; 0: chosen from target_tets */
-    int target_tets; /* approximate tetrahedron count; default 20000 (0: 20000) */
+    int target_tets; /* approximate tetrahedron count of the inside (the uniform lattice's whole
+                        count); default 20000 (0: 20000) */
+    int uniform;     /* 1: the uniform body-centred cubic lattice (proven dihedral bounds
+                        10.2..161.7, parts thinner than a cell lost); 0 (default): graded, finer
+                        where the surface bends, is thin or nearly touches itself */
+    double fit;      /* graded: the bend of the surface allowed inside one lattice tetrahedron,
+                        as a fraction of the bounding-box diagonal (the boundary lands within
+                        about 1.5 times it); default 0.0025 (0: 0.0025), at most 0.1 */
     int strict;      /* 1: refuse a surface whose triangles cross, naming the first pair */
     double max_hole; /* holes whose perimeters are at most this fraction of the bounding-box diagonal
                         are closed; default 0.05 (0: 0.05); negative: open surfaces refused */
@@ -417,6 +424,8 @@ typedef struct lst_tet_report {
                               (dense area-weighted samples both ways), largest, over the surface's
                               bounding-box diagonal */
     double fit_p99;        /* the same, the larger of the two 99th percentiles */
+    int fragments;         /* graded: bits of parts thinner than the smallest cell, cut off from
+                              the rest and dropped */
 } lst_tet_report;
 LSTDEF lst_result lst_tetrahedralize(const lst_mesh *surface, const lst_options *opt, lst_tetmesh *out,
                                      lst_tet_report *report, lst_error *err);

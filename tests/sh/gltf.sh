@@ -52,8 +52,8 @@ make_case pgp_torus pgp --mesh procedural:torus --tile procedural:bricks --size 
 make_case pgp_torus_st pgp-st --mesh procedural:torus --tile procedural:bricks --size 400x300
 # lst: the surface after cuts and the cut faces
 make_case lst_kiwi_cut lst --mesh procedural:kiwi --type 2b --exemplar procedural:kiwi \
-    --constraints procedural:kiwi --tet-count 4000 --cut "1 0 0.3 0" --size 400x300
-make_case lst_torus_cuts lst --mesh procedural:torus --exemplar procedural:spots --tet-count 3000 \
+    --constraints procedural:kiwi --tet-count 4000 --tet-uniform --cut "1 0 0.3 0" --size 400x300
+make_case lst_torus_cuts lst --mesh procedural:torus --exemplar procedural:spots --tet-count 3000 --tet-uniform \
     --cut "0 0 1 0.1" --cut "0.2 1 0 0.3" --size 400x300
 data=$(dirname "$0")/../../data
 if [ -f "$data/meshes/double-torus-example.off" ] && [ -f "$data/textures/leopard.ppm" ]; then

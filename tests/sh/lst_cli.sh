@@ -47,7 +47,7 @@ check_lst() {
 
 o=$tmp/k
 kiwi="--mesh procedural:kiwi --exemplar procedural:kiwi --exemplar-size 32 --type 2b --depth procedural:kiwi
-      --directions procedural:kiwi --tet-count 1500"
+      --directions procedural:kiwi --tet-count 1500 --tet-uniform"
 if run all $kiwi --cut "0 0 1 0.1" --out-lst $o.lst --out-masks $o.mask --out-tets $o.node --out-image $o.png \
        --out-section $o.sec.png --out-volume $o.vol.png --out-exemplar $o.ex.nrrd --size 160x120 --slices 20; then
     nt=$(reported "$tmp/all.log")
@@ -67,7 +67,7 @@ fi
 
 # ---- determinism and options that must matter --------------------------------
 
-small="--mesh procedural:sphere --tet-count 800 --exemplar procedural:spots --exemplar-size 16"
+small="--mesh procedural:sphere --tet-count 800 --tet-uniform --exemplar procedural:spots --exemplar-size 16"
 run det1 $small --out-lst $tmp/d1.lst --out-image $tmp/d1.png --size 64x48 &&
 run det2 $small --out-lst $tmp/d2.lst --out-image $tmp/d2.png --size 64x48 &&
 if cmp -s $tmp/d1.lst $tmp/d2.lst && cmp -s $tmp/d1.png $tmp/d2.png; then pass determinism; else fail determinism "outputs differ"; fi
@@ -112,10 +112,23 @@ if [ $? -eq 0 ] && grep -q 'crosses itself ([0-9]* triangle pairs)' $tmp/cross.e
 then pass crossing_filled; else fail crossing_filled "$(head -2 $tmp/cross.err | tr '\n' '|')"; fi
 if grep -q '^lst: [0-9]* tetrahedra, [0-9]* vertices, boundary within [0-9.]*% of the surface (99%: [0-9.]*%), 1 piece,' \
     $tmp/cross.log; then pass fit_reported; else fail fit_reported "$(head -1 $tmp/cross.log)"; fi
-"$bin" lst --mesh procedural:dumbbell --tet-count 3000 --exemplar procedural:spots --exemplar-size 16 \
+"$bin" lst --mesh procedural:dumbbell --tet-count 3000 --tet-uniform --exemplar procedural:spots --exemplar-size 16 \
     --out-lst $tmp/db.lst > $tmp/db.log 2> $tmp/db.err
 if [ $? -eq 0 ] && grep -q 'warning: the tetrahedra make 2 pieces where the surface encloses 1' $tmp/db.err
 then pass pieces_warning; else fail pieces_warning "$(head -2 $tmp/db.err | tr '\n' '|')"; fi
+# the default graded lattice keeps the neck: one piece, within 0.5% of the diagonal, no warning
+"$bin" lst --mesh procedural:dumbbell --tet-count 3000 --exemplar procedural:spots --exemplar-size 16 \
+    --out-lst $tmp/dg.lst > $tmp/dg.log 2> $tmp/dg.err
+fit=$(sed -n 's/.*boundary within \([0-9.]*\)% .*/\1/p' $tmp/dg.log)
+if [ -n "$fit" ] && grep -q ', 1 piece,' $tmp/dg.log && [ ! -s $tmp/dg.err ] &&
+    awk -v f="$fit" 'BEGIN { exit !(f < 0.5) }'
+then pass graded_keeps_neck; else fail graded_keeps_neck "$(head -1 $tmp/dg.log) $(head -1 $tmp/dg.err)"; fi
+"$bin" lst --mesh procedural:dumbbell --tet-fit 0.02 --exemplar procedural:spots --exemplar-size 16 \
+    --out-lst $tmp/dl.lst > $tmp/dl.log 2>&1
+n1=$(sed -n 's/^lst: \([0-9]*\) tetrahedra.*/\1/p' $tmp/dg.log)
+n2=$(sed -n 's/^lst: \([0-9]*\) tetrahedra.*/\1/p' $tmp/dl.log)
+if [ -n "$n1" ] && [ -n "$n2" ] && [ "$n2" -lt "$n1" ]; then pass tet_fit; else fail tet_fit "counts $n1 / $n2"; fi
+expect_error bad_tet_fit "tet-fit" --mesh procedural:sphere --tet-fit 0.5 --exemplar procedural:spots --out-lst $tmp/out/x.lst
 "$bin" lst $cross --allow-self-intersections --out-lst $tmp/c2.lst > /dev/null 2>&1
 if cmp -s $tmp/c1.lst $tmp/c2.lst; then pass allow_is_default; else fail allow_is_default "outputs differ"; fi
 
