@@ -23,20 +23,20 @@
  *  12800: src/common/tetmesh.h, the tetrahedral mesh that lapped solid textures work on, a
  *  13280: src/common/tetio.h, tetrahedral mesh files, TetGen .node/.ele and MEDIT .mesh.
  *  13736: src/common/bisect.h, graded, conforming tetrahedral meshes of a box by newest-v
- *  14035: src/common/stuffing.h, the built-in tetrahedralizer of lst.h, so that no external
- *  16819: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
- *  16938: src/common/pca.h, principal component analysis of vectors streamed one at a 
- *  17117: src/common/glue.h, what every method header needs between its public types an
- *  17313: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  17859: src/lst/core.c, lst.h's glue to the shared core, its defaults, the convers
- *  18197: src/lst/exemplar.c, solid exemplars (§5): sampling, the procedural exemplars 
- *  18737: src/lst/field.c, §5.2.2, the fields that orient and scale the pastes. The 
- *  19767: src/lst/paste.c, §5.2.3-5.2.7, filling the model. Each paste picks a rando
- *  20667: src/lst/render.c, §5.1, showing a model. Every point of a tetrahedron is th
- *  21426: src/lst/cut.c, §5.1.1, cutting a model along the zero set of a scalar fi
- *  21946: src/lst/builtin.c, the tetrahedralizer entry point, checks of caller meshes, 
- *  22400: src/lst/io.c, the model file, the constraint files and the file convenie
- *  23199: src/lst/export.c, the visible boundary with a baked texture atlas, for glTF.
+ *  14037: src/common/stuffing.h, the built-in tetrahedralizer of lst.h, so that no external
+ *  16857: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
+ *  16976: src/common/pca.h, principal component analysis of vectors streamed one at a 
+ *  17155: src/common/glue.h, what every method header needs between its public types an
+ *  17351: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  17897: src/lst/core.c, lst.h's glue to the shared core, its defaults, the convers
+ *  18235: src/lst/exemplar.c, solid exemplars (§5): sampling, the procedural exemplars 
+ *  18775: src/lst/field.c, §5.2.2, the fields that orient and scale the pastes. The 
+ *  19805: src/lst/paste.c, §5.2.3-5.2.7, filling the model. Each paste picks a rando
+ *  20705: src/lst/render.c, §5.1, showing a model. Every point of a tetrahedron is th
+ *  21464: src/lst/cut.c, §5.1.1, cutting a model along the zero set of a scalar fi
+ *  21984: src/lst/builtin.c, the tetrahedralizer entry point, checks of caller meshes, 
+ *  22438: src/lst/io.c, the model file, the constraint files and the file convenie
+ *  23237: src/lst/export.c, the visible boundary with a baked texture atlas, for glTF.
  */
 /* lst.h - lapped solid textures: solid exemplars pasted inside a model.
  *
@@ -13767,6 +13767,7 @@ typedef struct pw_bstet {
     int tag;   /* refinement edge v[0] - v[tag] */
     int depth; /* bisections from the coarse mesh */
     int kept;  /* pw_bisect_refine was told to keep it */
+    int mark;  /* the caller's (need() may set it; 0 in new tetrahedra) */
 } pw_bstet;
 
 typedef struct pw_bisect {
@@ -13788,8 +13789,9 @@ typedef struct pw_bisect {
     size_t cap_head, ns, cap_stet, cap_snext, nq, capq;
 } pw_bisect;
 
-/* 1: bisect t; 0: keep it; negative: an error code (stops the refinement). */
-typedef int (*pw_bisect_need)(void *user, const pw_bisect *b, const pw_bstet *t);
+/* 1: bisect t; 0: keep it; negative: an error code (stops the refinement).
+ * It may set t->mark. */
+typedef int (*pw_bisect_need)(void *user, const pw_bisect *b, pw_bstet *t);
 
 PW__DEF void pw_bisect_free(pw_bisect *b)
 {
@@ -13900,7 +13902,7 @@ PW__DEF int pw_bisect_kuhn(pw_bisect *b, const int *n, int side)
                     pw_bstet t;
                     int i, r;
                     for (k = 0; k < 3; k++) x[k] = c[k] * side;
-                    t.tag = 3, t.depth = 0, t.kept = 0;
+                    t.tag = 3, t.depth = 0, t.kept = t.mark = 0;
                     if ((t.v[0] = pw__bs_vertex(b, x)) < 0) return b->e ? b->e->code : PW_ERR_NOMEM;
                     for (i = 0; i < 3; i++) {
                         x[perm[p][i]] += side;
@@ -13949,7 +13951,7 @@ PW__DEF int pw__bs_split(pw_bisect *b, size_t i)
     c1.v[k] = c2.v[k] = m;
     c1.tag = c2.tag = k > 1 ? k - 1 : 3;
     c1.depth = c2.depth = t.depth + 1;
-    c1.kept = c2.kept = 0;
+    c1.kept = c2.kept = c1.mark = c2.mark = 0;
     b->t[i] = c1;
     if ((r = pw__bs_push(b, &c2)) || !b->head) return r;
     if (pw_grow(b->a, (void **)&b->head, &b->cap_head, (size_t)b->nv, sizeof(int), "vertex stars", b->e))
@@ -14057,10 +14059,11 @@ PW__DEF int pw_bisect_conform(pw_bisect *b)
  *     Graded (default): cubes of side `cell` cut into six Kuhn tetrahedra,
  *     refined by newest-vertex bisection (bisect.h: three shapes, dihedral
  *     angles 45..120 degrees) wherever the surface within reach of a
- *     tetrahedron bends by more than `fit` times the diagonal (sagitta
- *     estimated from the spread of the triangle normals, twice as strictly
- *     at sharp edges) or faces two ways (a thin part, a narrow gap between
- *     parts), down to edges of PW__ST_MIN_CELL times the diagonal; then
+ *     tetrahedron bends by more than `fit` times the diagonal (the width of
+ *     the slab that holds the triangles clipped to its box, across their
+ *     mean normal, times PW__ST_BEND) or faces two ways (a thin part, a
+ *     narrow gap between parts), down to edges of PW__ST_MIN_CELL times the
+ *     diagonal; then
  *     made conforming. Cells are small where the shape is thin, curved or
  *     nearly touches itself, large inside.
  *  3. Inside or outside for every lattice vertex from the generalised
@@ -14104,8 +14107,8 @@ PW__DEF int pw_bisect_conform(pw_bisect *b)
  * rounded, and two parts of the solid may touch along lattice edges.
  * Graded lattice: no proven bound; tests/test_stuffing.c holds it to 8..168
  * degrees over random shapes, placements and fits and over the CGAL
- * corpus (measured 13.5..166.3 there), and its boundary to within 0.5% of
- * the diagonal of the CGAL surfaces (measured 0.22-0.37%), their pieces
+ * corpus (measured 15.0..163.8 there), and its boundary to within 0.5% of
+ * the diagonal of the CGAL surfaces (measured 0.18-0.37%), their pieces
  * kept; the tips of spikes thinner than the smallest cell are lost. Several
  * components, nested shells and crossing triangles are fine: the inside is
  * where the winding number is at least 1/2. A surface whose triangles all
@@ -14172,9 +14175,7 @@ PW__DEF pw_stuff_options pw_stuff_default_options(void)
  * sizing constants. */
 #define PW__ST_ALPHA_GRADED 0.3
 #define PW__ST_REACH 1.5
-#define PW__ST_BEND 0.25       /* sagitta per (edge length x sine of the normal spread) */
-#define PW__ST_BEND_SHARP 0.5  /* the same at a sharp edge */
-#define PW__ST_SHARP_COS 0.5   /* triangles whose normals are more than 60 degrees apart meet at a sharp edge */
+#define PW__ST_BEND 0.4       /* fit bound per width of the slab holding the surface near a tetrahedron */
 #define PW__ST_MIN_CELL 0.000625 /* no bisection of tetrahedra shorter than this (or fit / 4), over the diagonal */
 /* Quadrilateral faces with a long cut edge take the diagonal from that
  * edge's cut point when it lies within this fraction of the edge from its
@@ -14778,6 +14779,15 @@ PW__DEF void pw__st_fbox(const double *lo, const double *hi, double margin, floa
     }
 }
 
+/* The corner of triangle t with the smallest vertex index: computations
+ * started there give a reversed triangle exactly the negated normal, so
+ * that an inward surface fills exactly like the outward one. */
+PW__DEF int pw__st_first_corner(const pw__stsurf *s, int t)
+{
+    const int *f = s->tri + 3 * t;
+    return f[1] < f[0] ? (f[2] < f[1] ? 2 : 1) : (f[2] < f[0] ? 2 : 0);
+}
+
 /* Segment pq against triangle t, conservatively: 0 only when it certainly
  * misses by more than tol; PW__ST_HIT with *tp the crossing as a fraction
  * of pq; PW__ST_GRAZE when it runs (nearly) within the plane. */
@@ -14785,8 +14795,8 @@ PW__DEF int pw__st_seg_cross(const pw__stsurf *s, int t, const double *p, const 
 {
     const double *c[3];
     double u[3], v[3], n[3], x[3], len, dp, dq, seg, tt;
-    int k, i;
-    for (k = 0; k < 3; k++) c[k] = pw__st_corner(s, t, k);
+    int k, i, j = pw__st_first_corner(s, t);
+    for (k = 0; k < 3; k++) c[k] = pw__st_corner(s, t, (j + k) % 3);
     for (k = 0; k < 3; k++) u[k] = c[1][k] - c[0][k], v[k] = c[2][k] - c[0][k], x[k] = q[k] - p[k];
     pw_cross3(u, v, n);
     len = sqrt(pw_dot3(n, n));
@@ -15069,7 +15079,6 @@ typedef struct pw__st {
     int *scratch;        /* graded: triangles meeting a box */
     double *tnorm;       /* graded: per triangle, unit normal and area */
     float *tbox;         /* graded: per triangle, its box (lo xyz, hi xyz) */
-    unsigned char *tsharp; /* graded: per triangle, at a sharp edge */
     size_t capscratch;
     signed char *side;   /* per lattice vertex: +1 inside, -1 outside, 0 not known yet */
     unsigned char *busy; /* per cube: the surface may meet it */
@@ -15832,19 +15841,17 @@ PW__DEF int pw__st_stencils(pw__st *st)
 /* ---- the graded lattice ----
  * Newest-vertex bisection of a Kuhn lattice (bisect.h): coarse cubes of
  * the cell chosen from target_tets, every tetrahedron the surface meets
- * bisected while the surface inside its box bends by more than st->tol
- * (half its longest edge times the sine of the largest angle between a
- * triangle's normal and their mean: the sagitta of a curve, the rounding of
- * a sharp edge), or holds sheets facing opposite ways (a thin part, a
- * narrow gap), down to edges of st->lmin. Then the same stages as the
+ * bisected while the surface within its reach bends by more than st->tol
+ * (pw__st_need), down to edges of st->lmin. Then the same stages as the
  * uniform lattice over an explicit edge list: sides, cut points, warping
  * with one alpha for every edge, stencils with quadrilateral diagonals
- * from the inside corner of smaller index. */
+ * from the inside corner whose cut point is nearer. */
 
 /* The triangles that meet the box lo..hi: with PW__ST_ANY, 1 if there is
  * one (0 if none); with PW__ST_NEAR, all of them in st->scratch, and their
  * count (-1 without memory). */
 enum { PW__ST_ANY, PW__ST_NEAR };
+enum { PW__ST_FAR = 1 }; /* pw_bstet.mark: no triangle within reach (pw__st_need) */
 PW__DEF int pw__st_box_tris(pw__st *st, const double *lo, const double *hi, int mode)
 {
     const pw__stsurf *s = &st->s;
@@ -15890,15 +15897,51 @@ PW__DEF double pw__st_gbox(const pw__st *st, const pw_bisect *b, const int *v, d
 }
 
 /* pw_bisect_need: the surface in t's box bends by more than st->tol. */
-PW__DEF int pw__st_need(void *user, const pw_bisect *b, const pw_bstet *t)
+/* Triangle t clipped to the box lo..hi (Sutherland-Hodgman): its corners
+ * to out (room for 9), their count. */
+PW__DEF int pw__st_clip(const pw__st *st, int t, const double *lo, const double *hi, double (*out)[3])
+{
+    double buf[2][9][3];
+    int n = 3, k, side, i, j, cur = 0;
+    for (i = 0; i < 3; i++) memcpy(buf[0][i], pw__st_corner(&st->s, t, i), sizeof buf[0][i]);
+    for (k = 0; k < 3 && n > 0; k++)
+        for (side = 0; side < 2 && n > 0; side++) {
+            double (*a)[3] = buf[cur], (*b)[3] = buf[1 - cur], c = side ? hi[k] : lo[k], sg = side ? -1.0 : 1.0;
+            int m = 0;
+            for (i = 0; i < n; i++) {
+                const double *p = a[i], *q = a[(i + 1) % n];
+                double dp = sg * (p[k] - c), dq = sg * (q[k] - c);
+                if (dp >= 0.0) memcpy(b[m++], p, sizeof b[0]);
+                if ((dp >= 0.0) != (dq >= 0.0) && m < 9) { /* from the smaller end: the same point either way round */
+                    int sw = memcmp(p, q, sizeof(double) * 3) > 0;
+                    const double *u = sw ? q : p, *w = sw ? p : q;
+                    double du = sw ? dq : dp, dw = sw ? dp : dq;
+                    for (j = 0; j < 3; j++) b[m][j] = u[j] + du / (du - dw) * (w[j] - u[j]);
+                    m++;
+                }
+            }
+            n = m, cur = 1 - cur;
+        }
+    memcpy(out, buf[cur], (size_t)n * sizeof buf[0][0]);
+    return n;
+}
+
+/* pw_bisect_need: the surface within reach of t (its box grown by how far
+ * warping may move a corner) lies in a slab, across its mean normal, wider
+ * than st->tol / PW__ST_BEND (the parts of the triangles inside the box: a
+ * curve's sagitta, a crease's rise, exact on faceted input and blind to
+ * the normals of slivers), or faces two ways (a thin part, a narrow gap). */
+PW__DEF int pw__st_need(void *user, const pw_bisect *b, pw_bstet *t)
 {
     pw__st *st = (pw__st *)user;
-    double lo[3], hi[3], len = pw__st_gbox(st, b, t->v, lo, hi), N[3] = {0.0, 0.0, 0.0}, A = 0.0, nn, worst = 0.0;
-    int n, i, k, sharp = 0;
+    double lo[3], hi[3], len = pw__st_gbox(st, b, t->v, lo, hi), N[3] = {0.0, 0.0, 0.0}, A = 0.0, nn;
+    double wlo = DBL_MAX, whi = -DBL_MAX, poly[9][3];
+    int n, i, j, k;
     if (len <= st->lmin) return 0;
     for (k = 0; k < 3; k++) /* the reach of warping: corners may move onto the surface that far */
         lo[k] -= PW__ST_ALPHA_GRADED * PW__ST_REACH * len, hi[k] += PW__ST_ALPHA_GRADED * PW__ST_REACH * len;
     if ((n = pw__st_box_tris(st, lo, hi, PW__ST_NEAR)) < 0) return PW_ERR_NOMEM;
+    t->mark = n == 0 ? PW__ST_FAR : 0;
     if (n == 0) return 0;
     for (i = 0; i < n; i++) {
         const double *c = st->tnorm + 4 * (size_t)st->scratch[i];
@@ -15907,13 +15950,16 @@ PW__DEF int pw__st_need(void *user, const pw_bisect *b, const pw_bstet *t)
     }
     nn = sqrt(pw_dot3(N, N));
     if (nn < 0.5 * A) return 1; /* sheets facing opposite ways */
+    for (k = 0; k < 3; k++) N[k] /= nn;
     for (i = 0; i < n; i++) {
-        double cs = pw_dot3(st->tnorm + 4 * (size_t)st->scratch[i], N) / nn;
-        double sn = cs <= 0.0 ? 1.0 : sqrt(1.0 - (cs > 1.0 ? 1.0 : cs * cs));
-        worst = sn > worst ? sn : worst;
-        sharp |= st->tsharp[st->scratch[i]];
+        int m = pw__st_clip(st, st->scratch[i], lo, hi, poly);
+        for (j = 0; j < m; j++) {
+            double d = pw_dot3(poly[j], N);
+            wlo = d < wlo ? d : wlo, whi = d > whi ? d : whi;
+        }
+        if (PW__ST_BEND * (whi - wlo) > st->tol) return 1;
     }
-    return (sharp ? PW__ST_BEND_SHARP : PW__ST_BEND) * len * worst > st->tol;
+    return 0;
 }
 
 /* The tetrahedra at each vertex, which tetrahedra the surface may meet,
@@ -15932,7 +15978,7 @@ PW__DEF int pw__st_gedges(pw__st *st)
     for (i = 0; r == PW_OK && i < st->bs.nt; i++) {
         double lo[3], hi[3];
         pw__st_gbox(st, &st->bs, st->bs.t[i].v, lo, hi);
-        st->tbusy[i] = (unsigned char)pw__st_box_tris(st, lo, hi, PW__ST_ANY);
+        st->tbusy[i] = st->bs.t[i].mark != PW__ST_FAR && pw__st_box_tris(st, lo, hi, PW__ST_ANY);
         for (k = 0; k < 4; k++) st->vtoff[st->bs.t[i].v[k] + 2]++;
     }
     if (r == PW_OK) {
@@ -15969,6 +16015,31 @@ PW__DEF int pw__st_gedges(pw__st *st)
     return r;
 }
 
+/* Unit normal, area and box of every triangle, for the sizing of the
+ * graded lattice. */
+PW__DEF int pw__st_tri_frames(pw__st *st)
+{
+    int t, k;
+    st->tnorm = (double *)pw_alloc_array(st->a, 4 * (size_t)st->s.nt, sizeof(double), "triangle normals", st->e);
+    st->tbox = (float *)pw_alloc_array(st->a, 6 * (size_t)st->s.nt, sizeof(float), "triangle boxes", st->e);
+    if (!st->tnorm || !st->tbox) return PW_ERR_NOMEM;
+    for (t = 0; t < st->s.nt; t++) {
+        int j = pw__st_first_corner(&st->s, t);
+        const double *a = pw__st_corner(&st->s, t, j), *b = pw__st_corner(&st->s, t, (j + 1) % 3);
+        const double *c = pw__st_corner(&st->s, t, (j + 2) % 3);
+        double u[3], v[3], *n = st->tnorm + 4 * (size_t)t, lo[3], hi[3];
+        for (k = 0; k < 3; k++) {
+            u[k] = b[k] - a[k], v[k] = c[k] - a[k];
+            lo[k] = a[k] < b[k] ? a[k] : b[k], hi[k] = a[k] > b[k] ? a[k] : b[k];
+            lo[k] = c[k] < lo[k] ? c[k] : lo[k], hi[k] = c[k] > hi[k] ? c[k] : hi[k];
+        }
+        pw_cross3(u, v, n);
+        n[3] = pw_norm3(n);
+        pw__st_fbox(lo, hi, 0.0, st->tbox + 6 * (size_t)t);
+    }
+    return PW_OK;
+}
+
 /* The graded lattice: coarse Kuhn cubes, refined near the surface, made
  * conforming; vertex positions and per-vertex arrays. */
 PW__DEF int pw__st_glattice(pw__st *st, const pw_stuff_options *o, double fit)
@@ -15993,6 +16064,7 @@ PW__DEF int pw__st_glattice(pw__st *st, const pw_stuff_options *o, double fit)
     st->tol = fit * sqrt(diag), st->lmin = (fit > 4.0 * PW__ST_MIN_CELL ? 0.25 * fit : PW__ST_MIN_CELL) * sqrt(diag);
     for (k = 0; k < 3; k++) st->org[k] = 0.5 * (st->s.lo[k] + st->s.hi[k]) - 0.5 * h * n[k];
     st->bs.a = st->a, st->bs.e = st->e, st->bs.max_tets = PW_MAX_STUFF_LATTICE;
+    if ((r = pw__st_tri_frames(st))) return r;
     r = pw_bisect_kuhn(&st->bs, n, 1 << SIDE_LOG);
     if (r == PW_OK) r = pw_report(st->prog, 0.1f, "graded lattice", st->e);
     for (round = 0; r == PW_OK && round < 4; round++) { /* the closure's tetrahedra are sized too */
@@ -16171,9 +16243,7 @@ PW__DEF int pw__st_drop_fragments(pw__st *st)
  * surface neighbours, then onto the nearest point of the surface, so that
  * the boundary stays on it) makes the worst angle of their tetrahedra
  * better, never creating an inverted one. */
-#ifndef PW__ST_GOAL
 #define PW__ST_GOAL 0.96592582628906829 /* cos 15 degrees */
-#endif
 
 /* The largest |cos| of a dihedral angle over the tetrahedra of v with v
  * at x (2: one of them is not positive); the worst tetrahedron to *worst_tet
@@ -16315,7 +16385,6 @@ PW__DEF void pw__st_free(pw__st *st)
     pw_free(st->a, st->scratch);
     pw_free(st->a, st->tnorm);
     pw_free(st->a, st->tbox);
-    pw_free(st->a, st->tsharp);
     pw_bisect_free(&st->bs);
     memset(st, 0, sizeof *st);
 }
@@ -16380,36 +16449,6 @@ PW__DEF void pw__st_add_fans(pw__st *st, const int *fan, int nfan, int *n)
     *n += nfan;
 }
 
-/* Unit normal, area and box of every triangle, and whether it is at a
- * sharp edge (its normal and a neighbour's more than 45 degrees apart), for
- * the sizing of the graded lattice. */
-PW__DEF int pw__st_tri_frames(pw__st *st, const int *twin)
-{
-    int t, k;
-    st->tnorm = (double *)pw_alloc_array(st->a, 4 * (size_t)st->s.nt, sizeof(double), "triangle normals", st->e);
-    st->tbox = (float *)pw_alloc_array(st->a, 6 * (size_t)st->s.nt, sizeof(float), "triangle boxes", st->e);
-    st->tsharp = (unsigned char *)pw_calloc_array(st->a, (size_t)st->s.nt, 1, "triangle creases", st->e);
-    if (!st->tnorm || !st->tbox || !st->tsharp) return PW_ERR_NOMEM;
-    for (t = 0; t < st->s.nt; t++) {
-        const double *a = pw__st_corner(&st->s, t, 0), *b = pw__st_corner(&st->s, t, 1), *c = pw__st_corner(&st->s, t, 2);
-        double u[3], v[3], *n = st->tnorm + 4 * (size_t)t, lo[3], hi[3];
-        for (k = 0; k < 3; k++) {
-            u[k] = b[k] - a[k], v[k] = c[k] - a[k];
-            lo[k] = a[k] < b[k] ? a[k] : b[k], hi[k] = a[k] > b[k] ? a[k] : b[k];
-            lo[k] = c[k] < lo[k] ? c[k] : lo[k], hi[k] = c[k] > hi[k] ? c[k] : hi[k];
-        }
-        pw_cross3(u, v, n);
-        n[3] = pw_norm3(n);
-        pw__st_fbox(lo, hi, 0.0, st->tbox + 6 * (size_t)t);
-    }
-    for (t = 0; t < st->s.nt; t++)
-        for (k = 0; k < 3; k++) {
-            int u = twin[3 * t + k] / 3;
-            if (twin[3 * t + k] >= 0 && pw_dot3(st->tnorm + 4 * (size_t)t, st->tnorm + 4 * (size_t)u) < PW__ST_SHARP_COS)
-                st->tsharp[t] = 1;
-        }
-    return PW_OK;
-}
 
 /* The surface the fill uses: the caller's triangles without the zero-area
  * ones (counted in info), closed and consistently oriented, with its
@@ -16432,7 +16471,6 @@ PW__DEF int pw__st_surface(pw__st *st, const float *pos, int nv, const int *tri,
     if (r == PW_OK && n == 0) r = pw_fail(st->e, PW_ERR_DEGENERATE, "surface encloses no volume (every triangle is flat)");
     if (r == PW_OK) r = pw__st_surf_init(st->a, pos, nv, st->tri, n, &st->s, st->e);
     if (r == PW_OK) r = pw__st_caps(st->a, &st->s, twin, st->e);
-    if (r == PW_OK) r = pw__st_tri_frames(st, twin);
     pw_free(st->a, twin);
     return r;
 }

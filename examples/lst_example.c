@@ -31,7 +31,7 @@ int main(int argc, char **argv)
     view->width = 360, view->height = 300;
     opt.type = LST_TYPE_2B;      /* three distinct axes, depth-varying (kiwi, carrot, tree) */
     opt.seed = 42;               /* same seed, same model, byte for byte */
-    opt.tet.target_tets = 3000;  /* default: about 20000 tetrahedra */
+    opt.tet.target_tets = 3000;  /* inside (default 20000); finer near the surface */
 
     /* Each call returns LST_OK (0) or an error code with err.message naming
      * what went wrong; && stops at the first failure. */

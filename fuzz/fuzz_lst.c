@@ -32,7 +32,7 @@ static void fz_setup(void)
     lst_mesh s;
     lst_error e;
     if (fz_mesh.tets) return;
-    o.tet.target_tets = 60;
+    o.tet.target_tets = 60, o.tet.uniform = 1; /* a small mesh: this target is about model files */
     FZ_CHECK(!lst_builtin_mesh("sphere", &o, &s, &e) && !lst_tetrahedralize(&s, &o, &fz_mesh, NULL, &e) &&
              !lst_builtin_exemplar("rings", 8, &o, &fz_ex, NULL, &e));
     lst_mesh_free(&s);

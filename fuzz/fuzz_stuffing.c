@@ -10,13 +10,13 @@
  *         bit 4 a counting allocator, bit 5 tetrahedralize twice,
  *         bits 6-7 the progress call that cancels (0: none)
  *   h[1]  target_tets = 50 + 4 (h[1] >> 1); bit 0: the uniform lattice (else
- *         the graded one, at a coarse fit of 0.02 + 0.08 h[2] / 256)
+ *         the graded one, at a coarse fit of 0.05 + 0.05 h[2] / 256)
  *   h[2]  cell = (32 + h[2]) / 256 of the largest box extent
  *   h[3]  how far the bytes move the built-in shapes' vertices
  *
  * Work is bounded: at most FZ_MAX_TRIS triangles, about 1K tetrahedra or a
  * cell of at least 1/8 of the box, a coarse graded fit, and lattices of at
- * most 2^17 vertices (uniform) or tetrahedra (graded). Any refusal is fine; crashes, leaks,
+ * most 2^13 vertices (uniform) or tetrahedra (graded). Any refusal is fine; crashes, leaks,
  * sanitizer reports and the following are not:
  *   - a refusal carries its code and a message and hands nothing out;
  *   - a result has positively oriented tetrahedra with indices in range and
@@ -27,7 +27,7 @@
  *     closed, on the closing fans: that check is skipped then);
  *   - made twice from the same input it is bit-identical;
  *   - with the counting allocator, every block goes back. */
-#define PW_MAX_STUFF_LATTICE (1 << 17) /* bounded work: larger lattices are refused */
+#define PW_MAX_STUFF_LATTICE (1 << 13) /* bounded work: larger lattices are refused */
 #include "../src/common/stuffing.h"
 #include "../src/common/shapes.h"
 #include <stdint.h>
@@ -157,7 +157,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     o.strict = (data[0] >> 2) & 1, o.info = &info;
     o.target_tets = 50 + 4 * (data[1] >> 1);
     o.uniform = data[1] & 1;
-    if (!o.uniform) o.fit = 0.02 + 0.08 * data[2] / 256.0;
+    if (!o.uniform) o.fit = 0.05 + 0.05 * data[2] / 256.0;
     if (data[0] & 8) {
         float lo[3], hi[3], ext = 0.0f;
         int k;

@@ -459,7 +459,7 @@ static void t_adversary(void)
 
 /* ---- bisect.h: the graded lattice ---- */
 
-static int random_need(void *user, const pw_bisect *b, const pw_bstet *t)
+static int random_need(void *user, const pw_bisect *b, pw_bstet *t)
 {
     (void)user, (void)b;
     return pw_rng_below(&rng, 100) < (uint32_t)(t->depth < 3 ? 60 : 25);

@@ -32,6 +32,7 @@ typedef struct pw_bstet {
     int tag;   /* refinement edge v[0] - v[tag] */
     int depth; /* bisections from the coarse mesh */
     int kept;  /* pw_bisect_refine was told to keep it */
+    int mark;  /* the caller's (need() may set it; 0 in new tetrahedra) */
 } pw_bstet;
 
 typedef struct pw_bisect {
@@ -53,8 +54,9 @@ typedef struct pw_bisect {
     size_t cap_head, ns, cap_stet, cap_snext, nq, capq;
 } pw_bisect;
 
-/* 1: bisect t; 0: keep it; negative: an error code (stops the refinement). */
-typedef int (*pw_bisect_need)(void *user, const pw_bisect *b, const pw_bstet *t);
+/* 1: bisect t; 0: keep it; negative: an error code (stops the refinement).
+ * It may set t->mark. */
+typedef int (*pw_bisect_need)(void *user, const pw_bisect *b, pw_bstet *t);
 
 PW__DEF void pw_bisect_free(pw_bisect *b)
 {
@@ -165,7 +167,7 @@ PW__DEF int pw_bisect_kuhn(pw_bisect *b, const int *n, int side)
                     pw_bstet t;
                     int i, r;
                     for (k = 0; k < 3; k++) x[k] = c[k] * side;
-                    t.tag = 3, t.depth = 0, t.kept = 0;
+                    t.tag = 3, t.depth = 0, t.kept = t.mark = 0;
                     if ((t.v[0] = pw__bs_vertex(b, x)) < 0) return b->e ? b->e->code : PW_ERR_NOMEM;
                     for (i = 0; i < 3; i++) {
                         x[perm[p][i]] += side;
@@ -214,7 +216,7 @@ PW__DEF int pw__bs_split(pw_bisect *b, size_t i)
     c1.v[k] = c2.v[k] = m;
     c1.tag = c2.tag = k > 1 ? k - 1 : 3;
     c1.depth = c2.depth = t.depth + 1;
-    c1.kept = c2.kept = 0;
+    c1.kept = c2.kept = c1.mark = c2.mark = 0;
     b->t[i] = c1;
     if ((r = pw__bs_push(b, &c2)) || !b->head) return r;
     if (pw_grow(b->a, (void **)&b->head, &b->cap_head, (size_t)b->nv, sizeof(int), "vertex stars", b->e))
