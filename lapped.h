@@ -2,35 +2,36 @@
  * Do not edit: change the sources and run `make headers`.
  *
  * CONTENTS (line: source, what it holds)
- *     35: src/lapped/lapped.h, the public API and its documentation
- *    478: src/common/base.h, allocation hooks, result codes, error messages, limits, he
- *    792: src/common/vec.h, small vector math on float[3] arrays and a 3-float struct.
- *    919: src/common/rng.h, seeded random numbers with the same output on every platfo
- *    996: src/common/image.h, float images and their file formats.
- *   1725: src/common/deflate.h, zlib (RFC 1950) and deflate (RFC 1951) compression and
- *   2753: src/common/png.h, PNG writer and reader, and the image front end.
- *   3318: src/common/text.h, locale-independent number parsing and formatting, a line s
- *   3701: src/common/mesh.h, polygon meshes as flat arrays, and their file formats.
- *   5216: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
- *   5662: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
- *   6084: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
- *   7301: src/common/raster.h, exact scan conversion of 2D triangles.
- *   7789: src/common/render.h, a small deterministic software renderer for textured trian
- *   9534: src/lapped/polyhull.h, the polygonal hull of a texture patch (Praun, Finkelstein 
- *  10353: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
- *  10543: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
- *  10628: src/common/atlas.h, texture atlases of triangle meshes — charts, packing, ba
- *  12580: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
- *  13245: src/common/glue.h, what every method header needs between its public types an
- *  13441: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  13987: src/lapped/core.c, lapped.h's glue to the shared core, its defaults, and the 
- *  14145: src/lapped/field.c, §3.2 the tangent field, one frame (S, T) per triangle, an
- *  14604: src/lapped/patch.c, §3.1 texture patches. A patch is the texture as RGBA whos
- *  14892: src/lapped/builtin.c, built-in meshes (made by the shared shapes module) and tex
- *  15096: src/lapped/grow.c, pasting (§3.3-3.6): grow a surface patch around an uncove
- *  16496: src/lapped/render.c, runtime pasting (§4): the mesh drawn once per paste, in p
- *  16687: src/lapped/atlas.c, §4 "Rendering with a texture atlas".
- *  16925: src/lapped/io.c, the paste file format and the file conveniences of lapped.
+ *     36: src/lapped/lapped.h, the public API and its documentation
+ *    479: src/common/base.h, allocation hooks, result codes, error messages, limits, he
+ *    793: src/common/vec.h, small vector math on float[3] arrays and a 3-float struct.
+ *    920: src/common/rng.h, seeded random numbers with the same output on every platfo
+ *    997: src/common/noise.h, value noise and its fractal sum, for the built-in procedur
+ *   1099: src/common/image.h, float images and their file formats.
+ *   1828: src/common/deflate.h, zlib (RFC 1950) and deflate (RFC 1951) compression and
+ *   2856: src/common/png.h, PNG writer and reader, and the image front end.
+ *   3421: src/common/text.h, locale-independent number parsing and formatting, a line s
+ *   3804: src/common/mesh.h, polygon meshes as flat arrays, and their file formats.
+ *   5319: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
+ *   5765: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
+ *   6187: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
+ *   7404: src/common/raster.h, exact scan conversion of 2D triangles.
+ *   7892: src/common/render.h, a small deterministic software renderer for textured trian
+ *   9637: src/lapped/polyhull.h, the polygonal hull of a texture patch (Praun, Finkelstein 
+ *  10456: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
+ *  10646: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
+ *  10731: src/common/atlas.h, texture atlases of triangle meshes — charts, packing, ba
+ *  12683: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
+ *  13348: src/common/glue.h, what every method header needs between its public types an
+ *  13544: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  14090: src/lapped/core.c, lapped.h's glue to the shared core, its defaults, and the 
+ *  14248: src/lapped/field.c, §3.2 the tangent field, one frame (S, T) per triangle, an
+ *  14707: src/lapped/patch.c, §3.1 texture patches. A patch is the texture as RGBA whos
+ *  14995: src/lapped/builtin.c, built-in meshes (made by the shared shapes module) and tex
+ *  15161: src/lapped/grow.c, pasting (§3.3-3.6): grow a surface patch around an uncove
+ *  16561: src/lapped/render.c, runtime pasting (§4): the mesh drawn once per paste, in p
+ *  16752: src/lapped/atlas.c, §4 "Rendering with a texture atlas".
+ *  16990: src/lapped/io.c, the paste file format and the file conveniences of lapped.
  */
 /* lapped.h - lapped textures: overlapping texture patches pasted over a mesh.
  *
@@ -992,6 +993,108 @@ PW__DEF void pw_rng_shuffle(pw_rng *r, int *a, int n)
 }
 
 #endif /* PW__RNG_V1 */
+
+/* ---- shared module src/common/noise.h ---- */
+/* noise: value noise and its fractal sum, for the built-in procedural
+ * exemplars of every method (tiled's pebbles and lichen, lapped's scales and
+ * stripes, pgp's stone walls, lst's wood, fibres and kiwi). Value noise
+ * (Perlin 1985 "An image synthesizer", its lattice form): a random value at
+ * each integer lattice point, blended with a quintic fade (Perlin 2002) so
+ * the noise is C2 between cells. The lattice values come from the
+ * counter-based hash of rng.h, so the noise is the same on every platform
+ * and independent of evaluation order. */
+#ifndef PW__NOISE_V1
+#define PW__NOISE_V1
+
+#include <math.h>
+
+/* A uniform value in [0, 1) for integer lattice point (x, y, z); the
+ * coordinates are taken modulo 2^21, far beyond any exemplar's lattice. */
+PW__DEF double pw_lattice01(uint64_t seed, long x, long y, long z)
+{
+    uint64_t key = (uint64_t)(x & 0x1FFFFF) | (uint64_t)(y & 0x1FFFFF) << 21 | (uint64_t)(z & 0x1FFFFF) << 42;
+    return (double)(pw_hash64(seed, key) >> 11) * (1.0 / 9007199254740992.0);
+}
+
+/* The quintic fade 6t^5 - 15t^4 + 10t^3 on [0, 1]. */
+PW__DEF double pw_fade(double t) { return t * t * t * (t * (t * 6.0 - 15.0) + 10.0); }
+
+/* Hermite smoothstep: 0 below e0, 1 above e1, C1 between. */
+PW__DEF double pw_smoothstep(double e0, double e1, double x)
+{
+    double t = (x - e0) / (e1 - e0);
+    t = t < 0.0 ? 0.0 : (t > 1.0 ? 1.0 : t);
+    return t * t * (3.0 - 2.0 * t);
+}
+
+/* Lattice cell and position within it for coordinate x, the lattice
+ * wrapped to `period` cells when period > 0 (so the noise repeats every
+ * `period` units); *i0, *i1 are the cell's two lattice coordinates. */
+PW__DEF double pw__noise_cell(double x, long period, long *i0, long *i1)
+{
+    double f = floor(x);
+    long i = (long)f;
+    if (period > 0) {
+        i %= period;
+        i += i < 0 ? period : 0;
+        *i1 = i + 1 < period ? i + 1 : 0;
+    } else {
+        *i1 = i + 1;
+    }
+    *i0 = i;
+    return pw_fade(x - f);
+}
+
+/* 2D value noise in [0, 1] with lattice spacing 1, repeating every
+ * `period` units in x and y when period > 0. */
+PW__DEF double pw_noise2(uint64_t seed, double x, double y, long period)
+{
+    long x0, x1, y0, y1;
+    double tx = pw__noise_cell(x, period, &x0, &x1), ty = pw__noise_cell(y, period, &y0, &y1);
+    double a = pw_lattice01(seed, x0, y0, 0), b = pw_lattice01(seed, x1, y0, 0);
+    double c = pw_lattice01(seed, x0, y1, 0), d = pw_lattice01(seed, x1, y1, 0);
+    a += (b - a) * tx;
+    c += (d - c) * tx;
+    return a + (c - a) * ty;
+}
+
+/* 3D value noise in [0, 1] with lattice spacing 1 (not periodic). */
+PW__DEF double pw_noise3(uint64_t seed, double x, double y, double z)
+{
+    long x0, x1, y0, y1, z0, z1;
+    double tx = pw__noise_cell(x, 0, &x0, &x1), ty = pw__noise_cell(y, 0, &y0, &y1);
+    double tz = pw__noise_cell(z, 0, &z0, &z1), c[2];
+    int k;
+    for (k = 0; k < 2; k++) {
+        long zk = k ? z1 : z0;
+        double a = pw_lattice01(seed, x0, y0, zk), b = pw_lattice01(seed, x1, y0, zk);
+        double d = pw_lattice01(seed, x0, y1, zk), e = pw_lattice01(seed, x1, y1, zk);
+        a += (b - a) * tx;
+        d += (e - d) * tx;
+        c[k] = a + (d - a) * ty;
+    }
+    return c[0] + (c[1] - c[0]) * tz;
+}
+
+/* Fractal sums in [0, 1]: three octaves of the noise above at frequencies
+ * 1, 2 and 4 with weights 4/7, 2/7 and 1/7 (each octave half the amplitude
+ * of the one below, seeds seed, seed + 1, seed + 2). pw_fbm2's octaves
+ * repeat every period, period/2 and period/4 units when period > 0. */
+PW__DEF double pw_fbm2(uint64_t seed, double x, double y, long period)
+{
+    return (4.0 * pw_noise2(seed, x, y, period) + 2.0 * pw_noise2(seed + 1, 2.0 * x, 2.0 * y, 2 * period) +
+            pw_noise2(seed + 2, 4.0 * x, 4.0 * y, 4 * period)) /
+           7.0;
+}
+
+PW__DEF double pw_fbm3(uint64_t seed, double x, double y, double z)
+{
+    return (4.0 * pw_noise3(seed, x, y, z) + 2.0 * pw_noise3(seed + 1, 2.0 * x, 2.0 * y, 2.0 * z) +
+            pw_noise3(seed + 2, 4.0 * x, 4.0 * y, 4.0 * z)) /
+           7.0;
+}
+
+#endif
 
 /* ---- shared module src/common/image.h ---- */
 /* image: float images and their file formats.
@@ -14925,48 +15028,10 @@ LAPPEDDEF lapped_result lapped_builtin_mesh(const char *name, const lapped_optio
 
 /* ---- textures ----------------------------------------------------------------- */
 
-static float lapped__smooth(float e0, float e1, float x)
-{
-    float t = pw_clampf((x - e0) / (e1 - e0), 0.0f, 1.0f);
-    return t * t * (3.0f - 2.0f * t);
-}
-
 static void lapped__mix(float *out, const float *a, const float *b, float t)
 {
     int k;
     for (k = 0; k < 3; k++) out[k] = a[k] + (b[k] - a[k]) * t;
-}
-
-/* A uniform value in [0, 1) for integer lattice point (x, y). */
-static float lapped__hash01(unsigned long long seed, int x, int y)
-{
-    uint64_t key = ((uint64_t)(uint32_t)y << 32) | (uint32_t)x;
-    return (float)(pw_hash64(seed, key) >> 40) * (1.0f / 16777216.0f);
-}
-
-/* Value noise with a quintic fade, lattice spacing 1, values in [0, 1]. */
-static float lapped__noise(unsigned long long seed, float x, float y)
-{
-    float fx = x < 0 ? x - 1.0f : x, fy = y < 0 ? y - 1.0f : y, tx, ty, v00, v10, v01, v11;
-    int ix = (int)fx, iy = (int)fy;
-    tx = x - (float)ix;
-    ty = y - (float)iy;
-    tx = tx * tx * tx * (tx * (tx * 6.0f - 15.0f) + 10.0f);
-    ty = ty * ty * ty * (ty * (ty * 6.0f - 15.0f) + 10.0f);
-    v00 = lapped__hash01(seed, ix, iy);
-    v10 = lapped__hash01(seed, ix + 1, iy);
-    v01 = lapped__hash01(seed, ix, iy + 1);
-    v11 = lapped__hash01(seed, ix + 1, iy + 1);
-    v00 += (v10 - v00) * tx;
-    v01 += (v11 - v01) * tx;
-    return v00 + (v01 - v00) * ty;
-}
-
-/* Three octaves of value noise, in [0, 1]. */
-static float lapped__fbm(unsigned long long seed, float x, float y)
-{
-    return 0.57f * lapped__noise(seed, x, y) + 0.29f * lapped__noise(seed + 1, 2.0f * x, 2.0f * y) +
-           0.14f * lapped__noise(seed + 2, 4.0f * x, 4.0f * y);
 }
 
 /* "scales": overlapping scales in rows like roof tiles: the rows above lie
@@ -14993,13 +15058,13 @@ static void lapped__scales(unsigned long long seed, float x, float y, float px, 
         up = d < up ? d : up;
     }
     rho = sqrtf(dx * dx + dy * dy) / R;
-    h = lapped__hash01(seed, ci, cj);
+    h = (float)pw_lattice01(seed, ci, cj, 0);
     lapped__mix(base, lo, hi, 0.25f + 0.5f * h + 0.35f * (dy / R));
-    shade = (0.55f + 0.45f * lapped__smooth(0.0f, 0.22f, up)) * (0.85f + 0.3f * lapped__hash01(seed + 5, ci, cj));
-    shade *= 0.9f + 0.2f * lapped__fbm(seed + 9, 24.0f * x, 6.0f * y); /* fine striations */
-    shade += 0.25f * lapped__smooth(0.45f, 0.0f, rho) * lapped__smooth(0.0f, 0.3f, up); /* sheen */
+    shade = (0.55f + 0.45f * (float)pw_smoothstep(0.0f, 0.22f, up)) * (0.85f + 0.3f * (float)pw_lattice01(seed + 5, ci, cj, 0));
+    shade *= 0.9f + 0.2f * (float)pw_fbm2(seed + 9, 24.0f * x, 6.0f * y, 0); /* fine striations */
+    shade += 0.25f * (float)pw_smoothstep(0.45f, 0.0f, rho) * (float)pw_smoothstep(0.0f, 0.3f, up); /* sheen */
     base[0] *= shade, base[1] *= shade, base[2] *= shade;
-    lapped__mix(rgb, base, edge, lapped__smooth(1.0f - 0.09f - px, 1.0f - 0.02f, rho));
+    lapped__mix(rgb, base, edge, (float)pw_smoothstep(1.0f - 0.09f - px, 1.0f - 0.02f, rho));
 }
 
 /* "stripes": zebra-like, roughly horizontal dark stripes warped by noise,
@@ -15009,10 +15074,10 @@ static void lapped__scales(unsigned long long seed, float x, float y, float px, 
 static float lapped__stripe_inside(unsigned long long seed, float x, float y)
 {
     const float tau = 6.28318530717958647692f;
-    float warp = 0.9f * (lapped__fbm(seed, 2.5f * x, 2.5f * y) - 0.5f) +
+    float warp = 0.9f * ((float)pw_fbm2(seed, 2.5f * x, 2.5f * y, 0) - 0.5f) +
                  0.25f * (float)pw_sin(tau * (1.3f * x + 0.2f)) * (float)pw_cos(tau * 0.7f * y);
     float phase = 7.0f * y + 2.2f * warp, f = phase - (float)((int)(phase + 100.0f) - 100), d = f - 0.5f;
-    float half = 0.25f + 0.75f * (lapped__fbm(seed + 3, 3.0f * x, 3.0f * y) - 0.5f);
+    float half = 0.25f + 0.75f * ((float)pw_fbm2(seed + 3, 3.0f * x, 3.0f * y, 0) - 0.5f);
     return half - (d < 0.0f ? -d : d); /* |d|: 0 on a stripe's centre line, 0.5 halfway to the next */
 }
 
@@ -15026,7 +15091,7 @@ static void lapped__stripes(unsigned long long seed, float x, float y, float px,
     float gy = lapped__stripe_inside(seed, x, y + px) - v, g = sqrtf(gx * gx + gy * gy);
     float t = g > 1e-6f ? pw_clampf(v / g + 0.5f, 0.0f, 1.0f) : (v > 0.0f ? 1.0f : 0.0f);
     lapped__mix(rgb, light, dark, t);
-    g = 0.92f + 0.16f * lapped__fbm(seed + 7, 40.0f * x, 12.0f * y); /* hair grain */
+    g = 0.92f + 0.16f * (float)pw_fbm2(seed + 7, 40.0f * x, 12.0f * y, 0); /* hair grain */
     rgb[0] *= g, rgb[1] *= g, rgb[2] *= g;
 }
 
@@ -15040,13 +15105,13 @@ static void lapped__dot_layer(unsigned long long seed, int cells, float rmin, fl
                                     {0.25f, 0.63f, 0.4f},  {0.55f, 0.33f, 0.72f}, {0.95f, 0.5f, 0.22f}};
     float gx = x * (float)cells, gy = y * (float)cells;
     int ix = (int)gx, iy = (int)gy, c;
-    float rad = (rmin + (rmax - rmin) * lapped__hash01(seed, ix, iy)) / (float)cells, room = 0.5f / (float)cells - rad;
-    float cx = ((float)ix + 0.5f) / (float)cells + room * (2.0f * lapped__hash01(seed + 1, ix, iy) - 1.0f);
-    float cy = ((float)iy + 0.5f) / (float)cells + room * (2.0f * lapped__hash01(seed + 2, ix, iy) - 1.0f);
+    float rad = (rmin + (rmax - rmin) * (float)pw_lattice01(seed, ix, iy, 0)) / (float)cells, room = 0.5f / (float)cells - rad;
+    float cx = ((float)ix + 0.5f) / (float)cells + room * (2.0f * (float)pw_lattice01(seed + 1, ix, iy, 0) - 1.0f);
+    float cy = ((float)iy + 0.5f) / (float)cells + room * (2.0f * (float)pw_lattice01(seed + 2, ix, iy, 0) - 1.0f);
     float d = sqrtf((x - cx) * (x - cx) + (y - cy) * (y - cy)), cover = pw_clampf((rad - d) / px + 0.5f, 0.0f, 1.0f);
-    float col[3], light = 1.0f + 0.25f * lapped__smooth(rad, 0.0f, sqrtf((x - cx + 0.3f * rad) * (x - cx + 0.3f * rad) +
+    float col[3], light = 1.0f + 0.25f * (float)pw_smoothstep(rad, 0.0f, sqrtf((x - cx + 0.3f * rad) * (x - cx + 0.3f * rad) +
                                                                    (y - cy + 0.3f * rad) * (y - cy + 0.3f * rad)));
-    c = (int)(6.0f * lapped__hash01(seed + 3, ix, iy)) % 6;
+    c = (int)(6.0f * (float)pw_lattice01(seed + 3, ix, iy, 0)) % 6;
     col[0] = pw_clampf(pal[c][0] * light, 0.0f, 1.0f);
     col[1] = pw_clampf(pal[c][1] * light, 0.0f, 1.0f);
     col[2] = pw_clampf(pal[c][2] * light, 0.0f, 1.0f);
@@ -15055,7 +15120,7 @@ static void lapped__dot_layer(unsigned long long seed, int cells, float rmin, fl
 
 static void lapped__dots(unsigned long long seed, float x, float y, float px, float *rgb)
 {
-    float g = 0.94f + 0.06f * lapped__fbm(seed + 11, 20.0f * x, 20.0f * y);
+    float g = 0.94f + 0.06f * (float)pw_fbm2(seed + 11, 20.0f * x, 20.0f * y, 0);
     rgb[0] = 0.97f * g, rgb[1] = 0.94f * g, rgb[2] = 0.86f * g;
     lapped__dot_layer(seed + 20, 13, 0.12f, 0.22f, x, y, px, rgb);
     lapped__dot_layer(seed + 40, 6, 0.2f, 0.42f, x, y, px, rgb);

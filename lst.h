@@ -2,41 +2,42 @@
  * Do not edit: change the sources and run `make headers`.
  *
  * CONTENTS (line: source, what it holds)
- *     41: src/lst/lst.h, the public API and its documentation
- *    711: src/common/base.h, allocation hooks, result codes, error messages, limits, he
- *   1025: src/common/vec.h, small vector math on float[3] arrays and a 3-float struct.
- *   1152: src/common/rng.h, seeded random numbers with the same output on every platfo
- *   1229: src/common/image.h, float images and their file formats.
- *   1958: src/common/deflate.h, zlib (RFC 1950) and deflate (RFC 1951) compression and
- *   2986: src/common/png.h, PNG writer and reader, and the image front end.
- *   3551: src/common/text.h, locale-independent number parsing and formatting, a line s
- *   3934: src/common/mesh.h, polygon meshes as flat arrays, and their file formats.
- *   5449: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
- *   5895: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
- *   6317: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
- *   6507: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
- *   6592: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
- *   7809: src/common/raster.h, exact scan conversion of 2D triangles.
- *   8297: src/common/render.h, a small deterministic software renderer for textured trian
- *  10042: src/common/atlas.h, texture atlases of triangle meshes — charts, packing, ba
- *  11994: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
- *  12800: src/common/tetmesh.h, the tetrahedral mesh that lapped solid textures work on, a
- *  13280: src/common/tetio.h, tetrahedral mesh files, TetGen .node/.ele and MEDIT .mesh.
- *  13736: src/common/bisect.h, graded, conforming tetrahedral meshes of a box by newest-v
- *  14037: src/common/stuffing.h, the built-in tetrahedralizer of lst.h, so that no external
- *  16857: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
- *  16976: src/common/pca.h, principal component analysis of vectors streamed one at a 
- *  17155: src/common/glue.h, what every method header needs between its public types an
- *  17351: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  17897: src/lst/core.c, lst.h's glue to the shared core, its defaults, the convers
- *  18235: src/lst/exemplar.c, solid exemplars (§5): sampling, the procedural exemplars 
- *  18775: src/lst/field.c, §5.2.2, the fields that orient and scale the pastes. The 
- *  19805: src/lst/paste.c, §5.2.3-5.2.7, filling the model. Each paste picks a rando
- *  20705: src/lst/render.c, §5.1, showing a model. Every point of a tetrahedron is th
- *  21464: src/lst/cut.c, §5.1.1, cutting a model along the zero set of a scalar fi
- *  21984: src/lst/builtin.c, the tetrahedralizer entry point, checks of caller meshes, 
- *  22438: src/lst/io.c, the model file, the constraint files and the file convenie
- *  23237: src/lst/export.c, the visible boundary with a baked texture atlas, for glTF.
+ *     42: src/lst/lst.h, the public API and its documentation
+ *    712: src/common/base.h, allocation hooks, result codes, error messages, limits, he
+ *   1026: src/common/vec.h, small vector math on float[3] arrays and a 3-float struct.
+ *   1153: src/common/rng.h, seeded random numbers with the same output on every platfo
+ *   1230: src/common/noise.h, value noise and its fractal sum, for the built-in procedur
+ *   1332: src/common/image.h, float images and their file formats.
+ *   2061: src/common/deflate.h, zlib (RFC 1950) and deflate (RFC 1951) compression and
+ *   3089: src/common/png.h, PNG writer and reader, and the image front end.
+ *   3654: src/common/text.h, locale-independent number parsing and formatting, a line s
+ *   4037: src/common/mesh.h, polygon meshes as flat arrays, and their file formats.
+ *   5552: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
+ *   5998: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
+ *   6420: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
+ *   6610: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
+ *   6695: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
+ *   7912: src/common/raster.h, exact scan conversion of 2D triangles.
+ *   8400: src/common/render.h, a small deterministic software renderer for textured trian
+ *  10145: src/common/atlas.h, texture atlases of triangle meshes — charts, packing, ba
+ *  12097: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
+ *  12903: src/common/tetmesh.h, the tetrahedral mesh that lapped solid textures work on, a
+ *  13383: src/common/tetio.h, tetrahedral mesh files, TetGen .node/.ele and MEDIT .mesh.
+ *  13839: src/common/bisect.h, graded, conforming tetrahedral meshes of a box by newest-v
+ *  14140: src/common/stuffing.h, the built-in tetrahedralizer of lst.h, so that no external
+ *  16960: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
+ *  17079: src/common/pca.h, principal component analysis of vectors streamed one at a 
+ *  17258: src/common/glue.h, what every method header needs between its public types an
+ *  17454: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  18000: src/lst/core.c, lst.h's glue to the shared core, its defaults, the convers
+ *  18338: src/lst/exemplar.c, solid exemplars (§5): sampling, the procedural exemplars 
+ *  18839: src/lst/field.c, §5.2.2, the fields that orient and scale the pastes. The 
+ *  19869: src/lst/paste.c, §5.2.3-5.2.7, filling the model. Each paste picks a rando
+ *  20769: src/lst/render.c, §5.1, showing a model. Every point of a tetrahedron is th
+ *  21528: src/lst/cut.c, §5.1.1, cutting a model along the zero set of a scalar fi
+ *  22048: src/lst/builtin.c, the tetrahedralizer entry point, checks of caller meshes, 
+ *  22502: src/lst/io.c, the model file, the constraint files and the file convenie
+ *  23301: src/lst/export.c, the visible boundary with a baked texture atlas, for glTF.
  */
 /* lst.h - lapped solid textures: solid exemplars pasted inside a model.
  *
@@ -1225,6 +1226,108 @@ PW__DEF void pw_rng_shuffle(pw_rng *r, int *a, int n)
 }
 
 #endif /* PW__RNG_V1 */
+
+/* ---- shared module src/common/noise.h ---- */
+/* noise: value noise and its fractal sum, for the built-in procedural
+ * exemplars of every method (tiled's pebbles and lichen, lapped's scales and
+ * stripes, pgp's stone walls, lst's wood, fibres and kiwi). Value noise
+ * (Perlin 1985 "An image synthesizer", its lattice form): a random value at
+ * each integer lattice point, blended with a quintic fade (Perlin 2002) so
+ * the noise is C2 between cells. The lattice values come from the
+ * counter-based hash of rng.h, so the noise is the same on every platform
+ * and independent of evaluation order. */
+#ifndef PW__NOISE_V1
+#define PW__NOISE_V1
+
+#include <math.h>
+
+/* A uniform value in [0, 1) for integer lattice point (x, y, z); the
+ * coordinates are taken modulo 2^21, far beyond any exemplar's lattice. */
+PW__DEF double pw_lattice01(uint64_t seed, long x, long y, long z)
+{
+    uint64_t key = (uint64_t)(x & 0x1FFFFF) | (uint64_t)(y & 0x1FFFFF) << 21 | (uint64_t)(z & 0x1FFFFF) << 42;
+    return (double)(pw_hash64(seed, key) >> 11) * (1.0 / 9007199254740992.0);
+}
+
+/* The quintic fade 6t^5 - 15t^4 + 10t^3 on [0, 1]. */
+PW__DEF double pw_fade(double t) { return t * t * t * (t * (t * 6.0 - 15.0) + 10.0); }
+
+/* Hermite smoothstep: 0 below e0, 1 above e1, C1 between. */
+PW__DEF double pw_smoothstep(double e0, double e1, double x)
+{
+    double t = (x - e0) / (e1 - e0);
+    t = t < 0.0 ? 0.0 : (t > 1.0 ? 1.0 : t);
+    return t * t * (3.0 - 2.0 * t);
+}
+
+/* Lattice cell and position within it for coordinate x, the lattice
+ * wrapped to `period` cells when period > 0 (so the noise repeats every
+ * `period` units); *i0, *i1 are the cell's two lattice coordinates. */
+PW__DEF double pw__noise_cell(double x, long period, long *i0, long *i1)
+{
+    double f = floor(x);
+    long i = (long)f;
+    if (period > 0) {
+        i %= period;
+        i += i < 0 ? period : 0;
+        *i1 = i + 1 < period ? i + 1 : 0;
+    } else {
+        *i1 = i + 1;
+    }
+    *i0 = i;
+    return pw_fade(x - f);
+}
+
+/* 2D value noise in [0, 1] with lattice spacing 1, repeating every
+ * `period` units in x and y when period > 0. */
+PW__DEF double pw_noise2(uint64_t seed, double x, double y, long period)
+{
+    long x0, x1, y0, y1;
+    double tx = pw__noise_cell(x, period, &x0, &x1), ty = pw__noise_cell(y, period, &y0, &y1);
+    double a = pw_lattice01(seed, x0, y0, 0), b = pw_lattice01(seed, x1, y0, 0);
+    double c = pw_lattice01(seed, x0, y1, 0), d = pw_lattice01(seed, x1, y1, 0);
+    a += (b - a) * tx;
+    c += (d - c) * tx;
+    return a + (c - a) * ty;
+}
+
+/* 3D value noise in [0, 1] with lattice spacing 1 (not periodic). */
+PW__DEF double pw_noise3(uint64_t seed, double x, double y, double z)
+{
+    long x0, x1, y0, y1, z0, z1;
+    double tx = pw__noise_cell(x, 0, &x0, &x1), ty = pw__noise_cell(y, 0, &y0, &y1);
+    double tz = pw__noise_cell(z, 0, &z0, &z1), c[2];
+    int k;
+    for (k = 0; k < 2; k++) {
+        long zk = k ? z1 : z0;
+        double a = pw_lattice01(seed, x0, y0, zk), b = pw_lattice01(seed, x1, y0, zk);
+        double d = pw_lattice01(seed, x0, y1, zk), e = pw_lattice01(seed, x1, y1, zk);
+        a += (b - a) * tx;
+        d += (e - d) * tx;
+        c[k] = a + (d - a) * ty;
+    }
+    return c[0] + (c[1] - c[0]) * tz;
+}
+
+/* Fractal sums in [0, 1]: three octaves of the noise above at frequencies
+ * 1, 2 and 4 with weights 4/7, 2/7 and 1/7 (each octave half the amplitude
+ * of the one below, seeds seed, seed + 1, seed + 2). pw_fbm2's octaves
+ * repeat every period, period/2 and period/4 units when period > 0. */
+PW__DEF double pw_fbm2(uint64_t seed, double x, double y, long period)
+{
+    return (4.0 * pw_noise2(seed, x, y, period) + 2.0 * pw_noise2(seed + 1, 2.0 * x, 2.0 * y, 2 * period) +
+            pw_noise2(seed + 2, 4.0 * x, 4.0 * y, 4 * period)) /
+           7.0;
+}
+
+PW__DEF double pw_fbm3(uint64_t seed, double x, double y, double z)
+{
+    return (4.0 * pw_noise3(seed, x, y, z) + 2.0 * pw_noise3(seed + 1, 2.0 * x, 2.0 * y, 2.0 * z) +
+            pw_noise3(seed + 2, 4.0 * x, 4.0 * y, 4.0 * z)) /
+           7.0;
+}
+
+#endif
 
 /* ---- shared module src/common/image.h ---- */
 /* image: float images and their file formats.
@@ -18308,45 +18411,6 @@ static float lst__mask_alpha(const pw_volume *mask, double u, double v, double w
     return lst__mask_alpha_vox(mask, x[0], x[1], x[2]);
 }
 
-/* ---- noise for the procedural exemplars --------------------------------------------- */
-
-static double lst__smooth(double e0, double e1, double x)
-{
-    double t = (x - e0) / (e1 - e0);
-    t = t < 0.0 ? 0.0 : (t > 1.0 ? 1.0 : t);
-    return t * t * (3.0 - 2.0 * t);
-}
-
-static double lst__hash01(unsigned long long seed, long x, long y, long z)
-{
-    uint64_t k = (uint64_t)(x & 0xFFFFF) | (uint64_t)(y & 0xFFFFF) << 20 | (uint64_t)(z & 0xFFFFF) << 40;
-    return (double)(pw_hash64(seed, k) >> 11) * (1.0 / 9007199254740992.0);
-}
-
-/* Value noise in [0, 1] on the integer lattice, smoothly interpolated. */
-static double lst__noise(unsigned long long seed, double x, double y, double z)
-{
-    double fx = floor(x), fy = floor(y), fz = floor(z), tx = lst__smooth(0, 1, x - fx), ty = lst__smooth(0, 1, y - fy);
-    double tz = lst__smooth(0, 1, z - fz), c[2];
-    long ix = (long)fx, iy = (long)fy, iz = (long)fz;
-    int k;
-    for (k = 0; k < 2; k++) {
-        double a = lst__hash01(seed, ix, iy, iz + k), b = lst__hash01(seed, ix + 1, iy, iz + k);
-        double d = lst__hash01(seed, ix, iy + 1, iz + k), e = lst__hash01(seed, ix + 1, iy + 1, iz + k);
-        double ab = a + tx * (b - a), de = d + tx * (e - d);
-        c[k] = ab + ty * (de - ab);
-    }
-    return c[0] + tz * (c[1] - c[0]);
-}
-
-/* Three octaves of noise, frequency f, in [0, 1]. */
-static double lst__fbm(unsigned long long seed, double x, double y, double z, double f)
-{
-    return (4.0 * lst__noise(seed, x * f, y * f, z * f) + 2.0 * lst__noise(seed + 1, x * 2 * f, y * 2 * f, z * 2 * f) +
-            lst__noise(seed + 2, x * 4 * f, y * 4 * f, z * 4 * f)) /
-           7.0;
-}
-
 static void lst__mix3(double *o, const double *a, const double *b, double t)
 {
     int k;
@@ -18361,13 +18425,13 @@ static void lst__layers(unsigned long long seed, double u, double v, double w, d
     static const double pal[6][3] = {{0.91, 0.82, 0.62}, {0.72, 0.36, 0.20}, {0.96, 0.93, 0.84},
                                      {0.45, 0.30, 0.22}, {0.80, 0.62, 0.30}, {0.58, 0.60, 0.55}};
     static const double skin[3] = {0.20, 0.32, 0.14};
-    double band = v * 6.0 + 0.3 * (lst__fbm(seed, u, 0.0, w, 2.0) - 0.5), g = lst__fbm(seed + 7, u, v, w, 24.0);
+    double band = v * 6.0 + 0.3 * (pw_fbm3(seed, 2.0 * u, 0.0, 2.0 * w) - 0.5), g = pw_fbm3(seed + 7, 24.0 * u, 24.0 * v, 24.0 * w);
     int b = (int)floor(band);
     b = ((b % 6) + 6) % 6;
     lst__mix3(c, pal[b], pal[b], 0.0);
     c[0] *= 0.85 + 0.3 * g, c[1] *= 0.85 + 0.3 * g, c[2] *= 0.85 + 0.3 * g;
     if (v < 0.035) lst__mix3(c, skin, skin, 0.0);
-    *val = v < 0.035 ? 0.5 + 0.4 * (lst__fbm(seed + 9, u, 0.0, w, 12.0) - 0.5) : 0.5;
+    *val = v < 0.035 ? 0.5 + 0.4 * (pw_fbm3(seed + 9, 12.0 * u, 0.0, 12.0 * w) - 0.5) : 0.5;
 }
 
 /* 1-a: fibres along u (muscle): bundles, cells of a jittered grid in the
@@ -18381,13 +18445,13 @@ static void lst__fibers(unsigned long long seed, double u, double v, double w, d
     long cv = (long)floor(v * cells), cw = (long)floor(w * cells), i, k;
     for (i = cv - 1; i <= cv + 1; i++)
         for (k = cw - 1; k <= cw + 1; k++) {
-            double pv = (i + 0.15 + 0.7 * lst__hash01(seed, 0, i, k)) / cells - v;
-            double pw_ = (k + 0.15 + 0.7 * lst__hash01(seed + 1, 0, i, k)) / cells - w;
+            double pv = (i + 0.15 + 0.7 * pw_lattice01(seed, 0, i, k)) / cells - v;
+            double pw_ = (k + 0.15 + 0.7 * pw_lattice01(seed + 1, 0, i, k)) / cells - w;
             double d = sqrt(pv * pv + pw_ * pw_);
-            if (d < d1) d2 = d1, d1 = d, shade = lst__hash01(seed + 2, 0, i, k);
+            if (d < d1) d2 = d1, d1 = d, shade = pw_lattice01(seed + 2, 0, i, k);
             else if (d < d2) d2 = d;
         }
-    streak = lst__fbm(seed + 3, u * 0.12, v, w, 30.0);
+    streak = pw_fbm3(seed + 3, 3.6 * u, 30.0 * v, 30.0 * w);
     lst__mix3(c, dark, light, 0.25 + 0.45 * shade + 0.5 * (streak - 0.5));
     if (d2 - d1 < 0.012) lst__mix3(c, c, sheath, 0.85);
     *val = 0.35 + 0.3 * streak;
@@ -18399,19 +18463,19 @@ static void lst__spots(unsigned long long seed, double u, double v, double w, do
     static const double matrix[3] = {0.72, 0.70, 0.66}, stone[4][3] = {
         {0.45, 0.40, 0.36}, {0.62, 0.50, 0.38}, {0.30, 0.30, 0.32}, {0.80, 0.74, 0.62}};
     const double cells = 6.0;
-    double g = lst__fbm(seed, u, v, w, 20.0), best = 1e9;
+    double g = pw_fbm3(seed, 20.0 * u, 20.0 * v, 20.0 * w), best = 1e9;
     long cx = (long)floor(u * cells), cy = (long)floor(v * cells), cz = (long)floor(w * cells), i, j, k, id = 0;
     for (i = cx - 1; i <= cx + 1; i++)
         for (j = cy - 1; j <= cy + 1; j++)
             for (k = cz - 1; k <= cz + 1; k++) { /* a jittered stone per cell, radius 0.3-0.45 cells */
-                double px = (i + 0.2 + 0.6 * lst__hash01(seed, i, j, k)) / cells - u;
-                double py = (j + 0.2 + 0.6 * lst__hash01(seed + 1, i, j, k)) / cells - v;
-                double pz = (k + 0.2 + 0.6 * lst__hash01(seed + 2, i, j, k)) / cells - w;
-                double r = (0.3 + 0.15 * lst__hash01(seed + 3, i, j, k)) / cells, d = sqrt(px * px + py * py + pz * pz) / r;
+                double px = (i + 0.2 + 0.6 * pw_lattice01(seed, i, j, k)) / cells - u;
+                double py = (j + 0.2 + 0.6 * pw_lattice01(seed + 1, i, j, k)) / cells - v;
+                double pz = (k + 0.2 + 0.6 * pw_lattice01(seed + 2, i, j, k)) / cells - w;
+                double r = (0.3 + 0.15 * pw_lattice01(seed + 3, i, j, k)) / cells, d = sqrt(px * px + py * py + pz * pz) / r;
                 if (d < best) best = d, id = (i * 7 + j * 13 + k * 29) & 3;
             }
     lst__mix3(c, matrix, matrix, 0.0);
-    if (best < 1.0) lst__mix3(c, matrix, stone[id], lst__smooth(1.0, 0.85, best));
+    if (best < 1.0) lst__mix3(c, matrix, stone[id], pw_smoothstep(1.0, 0.85, best));
     c[0] *= 0.9 + 0.2 * g, c[1] *= 0.9 + 0.2 * g, c[2] *= 0.9 + 0.2 * g;
     *val = best < 1.0 ? 0.5 + 0.4 * (1.0 - best) : 0.45 + 0.1 * g;
 }
@@ -18423,22 +18487,22 @@ static void lst__rings(unsigned long long seed, double u, double v, double w, do
 {
     static const double bark[3] = {0.30, 0.21, 0.15}, barkhi[3] = {0.55, 0.47, 0.40}, cambium[3] = {0.80, 0.78, 0.45};
     static const double early[3] = {0.89, 0.72, 0.50}, late[3] = {0.62, 0.38, 0.19}, heart[3] = {0.70, 0.45, 0.26};
-    double furrow = lst__noise(seed + 4, u * 2.0, 0.0, w * 9.0 + 0.6 * lst__noise(seed + 5, u * 3.0, 0.0, w * 3.0));
+    double furrow = pw_noise3(seed + 4, u * 2.0, 0.0, w * 9.0 + 0.6 * pw_noise3(seed + 5, u * 3.0, 0.0, w * 3.0));
     double ridge = 1.0 - fabs(2.0 * furrow - 1.0), phase, ring, grain;
-    *val = 0.5 + 0.45 * (ridge - 0.5) * 2.0 * (1.0 - lst__smooth(0.05, 0.09, v));
+    *val = 0.5 + 0.45 * (ridge - 0.5) * 2.0 * (1.0 - pw_smoothstep(0.05, 0.09, v));
     if (v < 0.075 - 0.025 * ridge) {
-        lst__mix3(c, bark, barkhi, ridge * (0.6 + 0.4 * lst__fbm(seed + 6, u, v, w, 16.0)));
+        lst__mix3(c, bark, barkhi, ridge * (0.6 + 0.4 * pw_fbm3(seed + 6, 16.0 * u, 16.0 * v, 16.0 * w)));
         return;
     }
     if (v < 0.09) {
         lst__mix3(c, cambium, early, (v - 0.05) / 0.04);
         return;
     }
-    phase = v * 11.0 + 0.35 * (lst__fbm(seed, u * 0.3, v, w, 4.0) - 0.5);
-    ring = lst__smooth(0.55, 0.85, phase - floor(phase)) * (1.0 - lst__smooth(0.9, 1.0, phase - floor(phase)));
-    grain = lst__fbm(seed + 8, u * 0.08, v, w, 40.0);
+    phase = v * 11.0 + 0.35 * (pw_fbm3(seed, 1.2 * u, 4.0 * v, 4.0 * w) - 0.5);
+    ring = pw_smoothstep(0.55, 0.85, phase - floor(phase)) * (1.0 - pw_smoothstep(0.9, 1.0, phase - floor(phase)));
+    grain = pw_fbm3(seed + 8, 3.2 * u, 40.0 * v, 40.0 * w);
     lst__mix3(c, early, late, ring);
-    if (v > 0.55) lst__mix3(c, c, heart, lst__smooth(0.55, 0.7, v) * 0.6);
+    if (v > 0.55) lst__mix3(c, c, heart, pw_smoothstep(0.55, 0.7, v) * 0.6);
     c[0] *= 0.88 + 0.24 * grain, c[1] *= 0.88 + 0.24 * grain, c[2] *= 0.88 + 0.24 * grain;
     if (v > 0.975) lst__mix3(c, c, late, 0.8);
 }
@@ -18451,10 +18515,10 @@ static void lst__kiwi(unsigned long long seed, double u, double v, double w, dou
     static const double skin[3] = {0.42, 0.30, 0.15}, flesh[3] = {0.35, 0.62, 0.10}, pale[3] = {0.66, 0.82, 0.30};
     static const double core[3] = {0.94, 0.93, 0.74}, seedc[3] = {0.06, 0.05, 0.04}, ray[3] = {0.86, 0.92, 0.62};
     const double cells = 17.0;
-    double g = lst__fbm(seed, u, v, w, 18.0), edge = 0.90 + 0.03 * (lst__noise(seed + 2, u * 6, 0, w * 6) - 0.5);
+    double g = pw_fbm3(seed, 18.0 * u, 18.0 * v, 18.0 * w), edge = 0.90 + 0.03 * (pw_noise3(seed + 2, u * 6, 0, w * 6) - 0.5);
     double best = 9.0, raydist = 9.0;
     long cu = (long)floor(u * cells), cw = (long)floor(w * cells), i, k;
-    *val = v < 0.04 ? 0.5 + 0.45 * (lst__fbm(seed + 3, u, 0.0, w, 30.0) - 0.5) : 0.5;
+    *val = v < 0.04 ? 0.5 + 0.45 * (pw_fbm3(seed + 3, 30.0 * u, 0.0, 30.0 * w) - 0.5) : 0.5;
     if (v < 0.028 + 0.01 * g) {
         lst__mix3(c, skin, skin, 0.0);
         c[0] *= 0.8 + 0.4 * g, c[1] *= 0.8 + 0.4 * g, c[2] *= 0.8 + 0.4 * g;
@@ -18466,18 +18530,18 @@ static void lst__kiwi(unsigned long long seed, double u, double v, double w, dou
     }
     for (i = cu - 1; i <= cu + 1; i++)
         for (k = cw - 1; k <= cw + 1; k++) { /* a seed (and a ray) per jittered cell of the (u, w) plane */
-            double su = (i + 0.2 + 0.6 * lst__hash01(seed, i, 0, k)) / cells - u;
-            double sw = (k + 0.2 + 0.6 * lst__hash01(seed + 1, i, 0, k)) / cells - w;
-            double sv = 0.80 + 0.05 * (lst__hash01(seed + 4, i, 0, k) - 0.5) - v;
+            double su = (i + 0.2 + 0.6 * pw_lattice01(seed, i, 0, k)) / cells - u;
+            double sw = (k + 0.2 + 0.6 * pw_lattice01(seed + 1, i, 0, k)) / cells - w;
+            double sv = 0.80 + 0.05 * (pw_lattice01(seed + 4, i, 0, k) - 0.5) - v;
             double d = sqrt((su / 0.026) * (su / 0.026) + (sv / 0.055) * (sv / 0.055) + (sw / 0.02) * (sw / 0.02));
             double r = sqrt(su * su + sw * sw);
             if (d < best) best = d;
             if (r < raydist) raydist = r;
         }
-    lst__mix3(c, flesh, pale, lst__smooth(0.1, 0.85, v) * 0.75 + 0.25 * g);
-    if (v > 0.4 && raydist < 0.008) lst__mix3(c, c, ray, 0.75 * lst__smooth(0.4, 0.7, v));
-    if (v > 0.7) lst__mix3(c, c, core, 0.35 * lst__smooth(0.7, edge, v));
-    if (best < 1.0) lst__mix3(c, c, seedc, lst__smooth(1.0, 0.7, best));
+    lst__mix3(c, flesh, pale, pw_smoothstep(0.1, 0.85, v) * 0.75 + 0.25 * g);
+    if (v > 0.4 && raydist < 0.008) lst__mix3(c, c, ray, 0.75 * pw_smoothstep(0.4, 0.7, v));
+    if (v > 0.7) lst__mix3(c, c, core, 0.35 * pw_smoothstep(0.7, edge, v));
+    if (best < 1.0) lst__mix3(c, c, seedc, pw_smoothstep(1.0, 0.7, best));
 }
 
 typedef void (*lst__exemplar_fn)(unsigned long long seed, double u, double v, double w, double *c, double *val);
@@ -18585,7 +18649,7 @@ static void lst__splotch(pw_volume *mask, const double *lobes, double radius, do
                 len = pw_norm3(d);
                 r = len > 0.0 ? lst__splotch_radius(lobes, radius, d) : radius;
                 if (r > 0.5 - 0.5 / mask->x) r = 0.5 - 0.5 / mask->x; /* stays inside the cube's sides */
-                mask->px[((size_t)z * mask->y + y) * mask->x + x] = (float)lst__smooth(r, r - falloff, len);
+                mask->px[((size_t)z * mask->y + y) * mask->x + x] = (float)pw_smoothstep(r, r - falloff, len);
             }
 }
 

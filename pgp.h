@@ -2,44 +2,45 @@
  * Do not edit: change the sources and run `make headers`.
  *
  * CONTENTS (line: source, what it holds)
- *     44: src/pgp/pgp.h, the public API and its documentation
- *    658: src/common/base.h, allocation hooks, result codes, error messages, limits, he
- *    972: src/common/vec.h, small vector math on float[3] arrays and a 3-float struct.
- *   1099: src/common/rng.h, seeded random numbers with the same output on every platfo
- *   1176: src/common/image.h, float images and their file formats.
- *   1905: src/common/deflate.h, zlib (RFC 1950) and deflate (RFC 1951) compression and
- *   2933: src/common/png.h, PNG writer and reader, and the image front end.
- *   3498: src/common/text.h, locale-independent number parsing and formatting, a line s
- *   3881: src/common/mesh.h, polygon meshes as flat arrays, and their file formats.
- *   5396: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
- *   5842: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
- *   6264: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
- *   7481: src/common/zsparse.h, complex Hermitian sparse systems, solved by conjugate grad
- *   7736: src/common/raster.h, exact scan conversion of 2D triangles.
- *   8224: src/common/render.h, a small deterministic software renderer for textured trian
- *   9969: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
- *  10159: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
- *  10244: src/common/atlas.h, texture atlases of triangle meshes — charts, packing, ba
- *  12196: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
- *  12861: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
- *  13667: src/pgp/tile3.h, sampling a material-space tile (Ray et al. 2009, §2: "a 3
- *  13781: src/common/glue.h, what every method header needs between its public types an
- *  13977: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  14523: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
- *  15029: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
- *  15487: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
- *  15606: src/common/kdtree.h, nearest-neighbour search among n points of dimension d, wi
- *  15937: src/common/pca.h, principal component analysis of vectors streamed one at a 
- *  16116: src/pgp/core.c, pgp.h's glue to the shared core, its defaults, and the map
- *  16369: src/pgp/field.c, §2.1 effect areas and §2.2 interpolation of the constrai
- *  16728: src/pgp/solve.c, §2.3 the periodic global parameterization, the recovery o
- *  17488: src/pgp/edit.c, the public editing calls of a mapping. §2.1 (Ray, Lévy, 
- *  17623: src/pgp/render.c, §3 rendering, and a cleaner treatment of the vortices.
- *  17998: src/pgp/builtin.c, built-in meshes and material-space tiles for demos and tes
- *  18305: src/pgp/io.c, files and memory for pgp.h: material-space tiles (NRRD, or
- *  18754: src/pgp/export.c, the mapping for other programs. A viewer that knows nothin
- *  18953: src/pgp/morph.c, the inputs of §1 (keys brought to the tile size, made til
- *  19568: src/pgp/synth.c, §1.2 constrained tile synthesis, and the whole of §1: ke
+ *     45: src/pgp/pgp.h, the public API and its documentation
+ *    659: src/common/base.h, allocation hooks, result codes, error messages, limits, he
+ *    973: src/common/vec.h, small vector math on float[3] arrays and a 3-float struct.
+ *   1100: src/common/rng.h, seeded random numbers with the same output on every platfo
+ *   1177: src/common/noise.h, value noise and its fractal sum, for the built-in procedur
+ *   1279: src/common/image.h, float images and their file formats.
+ *   2008: src/common/deflate.h, zlib (RFC 1950) and deflate (RFC 1951) compression and
+ *   3036: src/common/png.h, PNG writer and reader, and the image front end.
+ *   3601: src/common/text.h, locale-independent number parsing and formatting, a line s
+ *   3984: src/common/mesh.h, polygon meshes as flat arrays, and their file formats.
+ *   5499: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
+ *   5945: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
+ *   6367: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
+ *   7584: src/common/zsparse.h, complex Hermitian sparse systems, solved by conjugate grad
+ *   7839: src/common/raster.h, exact scan conversion of 2D triangles.
+ *   8327: src/common/render.h, a small deterministic software renderer for textured trian
+ *  10072: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
+ *  10262: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
+ *  10347: src/common/atlas.h, texture atlases of triangle meshes — charts, packing, ba
+ *  12299: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
+ *  12964: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
+ *  13770: src/pgp/tile3.h, sampling a material-space tile (Ray et al. 2009, §2: "a 3
+ *  13884: src/common/glue.h, what every method header needs between its public types an
+ *  14080: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  14626: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
+ *  15132: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
+ *  15590: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
+ *  15709: src/common/kdtree.h, nearest-neighbour search among n points of dimension d, wi
+ *  16040: src/common/pca.h, principal component analysis of vectors streamed one at a 
+ *  16219: src/pgp/core.c, pgp.h's glue to the shared core, its defaults, and the map
+ *  16472: src/pgp/field.c, §2.1 effect areas and §2.2 interpolation of the constrai
+ *  16831: src/pgp/solve.c, §2.3 the periodic global parameterization, the recovery o
+ *  17591: src/pgp/edit.c, the public editing calls of a mapping. §2.1 (Ray, Lévy, 
+ *  17726: src/pgp/render.c, §3 rendering, and a cleaner treatment of the vortices.
+ *  18101: src/pgp/builtin.c, built-in meshes and material-space tiles for demos and tes
+ *  18363: src/pgp/io.c, files and memory for pgp.h: material-space tiles (NRRD, or
+ *  18812: src/pgp/export.c, the mapping for other programs. A viewer that knows nothin
+ *  19011: src/pgp/morph.c, the inputs of §1 (keys brought to the tile size, made til
+ *  19626: src/pgp/synth.c, §1.2 constrained tile synthesis, and the whole of §1: ke
  */
 /* pgp.h - material-space texturing with a periodic global parameterization.
  *
@@ -1172,6 +1173,108 @@ PW__DEF void pw_rng_shuffle(pw_rng *r, int *a, int n)
 }
 
 #endif /* PW__RNG_V1 */
+
+/* ---- shared module src/common/noise.h ---- */
+/* noise: value noise and its fractal sum, for the built-in procedural
+ * exemplars of every method (tiled's pebbles and lichen, lapped's scales and
+ * stripes, pgp's stone walls, lst's wood, fibres and kiwi). Value noise
+ * (Perlin 1985 "An image synthesizer", its lattice form): a random value at
+ * each integer lattice point, blended with a quintic fade (Perlin 2002) so
+ * the noise is C2 between cells. The lattice values come from the
+ * counter-based hash of rng.h, so the noise is the same on every platform
+ * and independent of evaluation order. */
+#ifndef PW__NOISE_V1
+#define PW__NOISE_V1
+
+#include <math.h>
+
+/* A uniform value in [0, 1) for integer lattice point (x, y, z); the
+ * coordinates are taken modulo 2^21, far beyond any exemplar's lattice. */
+PW__DEF double pw_lattice01(uint64_t seed, long x, long y, long z)
+{
+    uint64_t key = (uint64_t)(x & 0x1FFFFF) | (uint64_t)(y & 0x1FFFFF) << 21 | (uint64_t)(z & 0x1FFFFF) << 42;
+    return (double)(pw_hash64(seed, key) >> 11) * (1.0 / 9007199254740992.0);
+}
+
+/* The quintic fade 6t^5 - 15t^4 + 10t^3 on [0, 1]. */
+PW__DEF double pw_fade(double t) { return t * t * t * (t * (t * 6.0 - 15.0) + 10.0); }
+
+/* Hermite smoothstep: 0 below e0, 1 above e1, C1 between. */
+PW__DEF double pw_smoothstep(double e0, double e1, double x)
+{
+    double t = (x - e0) / (e1 - e0);
+    t = t < 0.0 ? 0.0 : (t > 1.0 ? 1.0 : t);
+    return t * t * (3.0 - 2.0 * t);
+}
+
+/* Lattice cell and position within it for coordinate x, the lattice
+ * wrapped to `period` cells when period > 0 (so the noise repeats every
+ * `period` units); *i0, *i1 are the cell's two lattice coordinates. */
+PW__DEF double pw__noise_cell(double x, long period, long *i0, long *i1)
+{
+    double f = floor(x);
+    long i = (long)f;
+    if (period > 0) {
+        i %= period;
+        i += i < 0 ? period : 0;
+        *i1 = i + 1 < period ? i + 1 : 0;
+    } else {
+        *i1 = i + 1;
+    }
+    *i0 = i;
+    return pw_fade(x - f);
+}
+
+/* 2D value noise in [0, 1] with lattice spacing 1, repeating every
+ * `period` units in x and y when period > 0. */
+PW__DEF double pw_noise2(uint64_t seed, double x, double y, long period)
+{
+    long x0, x1, y0, y1;
+    double tx = pw__noise_cell(x, period, &x0, &x1), ty = pw__noise_cell(y, period, &y0, &y1);
+    double a = pw_lattice01(seed, x0, y0, 0), b = pw_lattice01(seed, x1, y0, 0);
+    double c = pw_lattice01(seed, x0, y1, 0), d = pw_lattice01(seed, x1, y1, 0);
+    a += (b - a) * tx;
+    c += (d - c) * tx;
+    return a + (c - a) * ty;
+}
+
+/* 3D value noise in [0, 1] with lattice spacing 1 (not periodic). */
+PW__DEF double pw_noise3(uint64_t seed, double x, double y, double z)
+{
+    long x0, x1, y0, y1, z0, z1;
+    double tx = pw__noise_cell(x, 0, &x0, &x1), ty = pw__noise_cell(y, 0, &y0, &y1);
+    double tz = pw__noise_cell(z, 0, &z0, &z1), c[2];
+    int k;
+    for (k = 0; k < 2; k++) {
+        long zk = k ? z1 : z0;
+        double a = pw_lattice01(seed, x0, y0, zk), b = pw_lattice01(seed, x1, y0, zk);
+        double d = pw_lattice01(seed, x0, y1, zk), e = pw_lattice01(seed, x1, y1, zk);
+        a += (b - a) * tx;
+        d += (e - d) * tx;
+        c[k] = a + (d - a) * ty;
+    }
+    return c[0] + (c[1] - c[0]) * tz;
+}
+
+/* Fractal sums in [0, 1]: three octaves of the noise above at frequencies
+ * 1, 2 and 4 with weights 4/7, 2/7 and 1/7 (each octave half the amplitude
+ * of the one below, seeds seed, seed + 1, seed + 2). pw_fbm2's octaves
+ * repeat every period, period/2 and period/4 units when period > 0. */
+PW__DEF double pw_fbm2(uint64_t seed, double x, double y, long period)
+{
+    return (4.0 * pw_noise2(seed, x, y, period) + 2.0 * pw_noise2(seed + 1, 2.0 * x, 2.0 * y, 2 * period) +
+            pw_noise2(seed + 2, 4.0 * x, 4.0 * y, 4 * period)) /
+           7.0;
+}
+
+PW__DEF double pw_fbm3(uint64_t seed, double x, double y, double z)
+{
+    return (4.0 * pw_noise3(seed, x, y, z) + 2.0 * pw_noise3(seed + 1, 2.0 * x, 2.0 * y, 2.0 * z) +
+            pw_noise3(seed + 2, 4.0 * x, 4.0 * y, 4.0 * z)) /
+           7.0;
+}
+
+#endif
 
 /* ---- shared module src/common/image.h ---- */
 /* image: float images and their file formats.
@@ -18042,51 +18145,6 @@ PGPDEF pgp_result pgp_builtin_mesh(const char *name, const pgp_options *opt, pgp
 
 /* ---- periodic noise ----------------------------------------------------------- */
 
-/* A uniform value in [0, 1) for point (x, y), 0 <= x, y < p, of a lattice
- * of period p. */
-static double pgp__lattice(unsigned long long seed, int x, int y)
-{
-    uint64_t key = ((uint64_t)(uint32_t)y << 32) | (uint32_t)x;
-    return (double)(pw_hash64(seed, key) >> 11) * (1.0 / 9007199254740992.0);
-}
-
-/* Value noise with a quintic fade on a lattice of period p (in lattice
- * units), at tile coordinates (s, t): the lattice points are wrapped, so
- * the noise has period 1 in s and t. In [0, 1]. */
-static double pgp__noise(unsigned long long seed, double s, double t, int p)
-{
-    double x = s * p, y = t * p, fx = floor(x), fy = floor(y), tx = x - fx, ty = y - fy;
-    double v00, v10, v01, v11;
-    int x0 = (int)fx % p, y0 = (int)fy % p, x1, y1;
-    x0 += x0 < 0 ? p : 0;
-    y0 += y0 < 0 ? p : 0;
-    x1 = x0 + 1 < p ? x0 + 1 : 0;
-    y1 = y0 + 1 < p ? y0 + 1 : 0;
-    tx = tx * tx * tx * (tx * (tx * 6.0 - 15.0) + 10.0);
-    ty = ty * ty * ty * (ty * (ty * 6.0 - 15.0) + 10.0);
-    v00 = pgp__lattice(seed, x0, y0);
-    v10 = pgp__lattice(seed, x1, y0);
-    v01 = pgp__lattice(seed, x0, y1);
-    v11 = pgp__lattice(seed, x1, y1);
-    v00 += (v10 - v00) * tx;
-    v01 += (v11 - v01) * tx;
-    return v00 + (v01 - v00) * ty;
-}
-
-/* Three octaves (periods p, 2p, 4p), in [0, 1]. */
-static double pgp__fbm(unsigned long long seed, double s, double t, int p)
-{
-    return 0.57 * pgp__noise(seed, s, t, p) + 0.29 * pgp__noise(seed + 1, s, t, 2 * p) +
-           0.14 * pgp__noise(seed + 2, s, t, 4 * p);
-}
-
-static double pgp__smooth(double e0, double e1, double x)
-{
-    double t = (x - e0) / (e1 - e0);
-    t = t < 0.0 ? 0.0 : t > 1.0 ? 1.0 : t;
-    return t * t * (3.0 - 2.0 * t);
-}
-
 static void pgp__mix(double *out, const double *a, const double *b, double t)
 {
     int k;
@@ -18133,7 +18191,7 @@ static void pgp__stone(unsigned long long seed, double w, double s, double t, do
     double mw = 0.045 + 0.12 * w, r1 = pgp__rand(seed, o->id, 1), r2 = pgp__rand(seed, o->id, 2);
     double bx = 0.5 * L - mw - 0.4 * w * r1, by = 0.5 - mw - 0.12 * w * r2;
     double cx = 0.3 * w * r1 * (pgp__rand(seed, o->id, 3) - 0.5), cy = 0.07 * w * (pgp__rand(seed, o->id, 4) - 0.5);
-    double pinch = pgp__rand(seed, o->id, 5) < 0.4 ? 0.3 * pgp__smooth(0.4, 1.0, w) : 0.0;
+    double pinch = pgp__rand(seed, o->id, 5) < 0.4 ? 0.3 * pw_smoothstep(0.4, 1.0, w) : 0.0;
     double ang = 0.14 * w * (pgp__rand(seed, o->id, 6) - 0.5), ca = pw_cos(ang), sa = pw_sin(ang);
     double px = ca * (x - cx) + sa * (y - cy), py = ca * (y - cy) - sa * (x - cx), u = px / (0.6 * bx), waist, rc;
     waist = u > -1.0 && u < 1.0 ? (1.0 - u * u) * (1.0 - u * u) : 0.0;
@@ -18141,7 +18199,7 @@ static void pgp__stone(unsigned long long seed, double w, double s, double t, do
     rc = (0.03 + 0.97 * w) * by;
     o->hy = by;
     o->d = pgp__round_box(px, py, bx, by, rc);
-    o->d += (0.012 + 0.07 * w) * (2.0 * pgp__fbm(seed + 10, s, t, 16) - 1.0);
+    o->d += (0.012 + 0.07 * w) * (2.0 * pw_fbm2(seed + 10, s * 16, t * 16, 16) - 1.0);
 }
 
 /* The wall at (s, t): cell, stone, anti-aliased coverage (px: a texel in
@@ -18158,14 +18216,14 @@ static void pgp__wall_at(unsigned long long seed, double w, double s, double t, 
     col = ((col % PGP__BX) + PGP__BX) % PGP__BX;
     o->id = row * PGP__BX + col;
     pgp__stone(seed, w, s, t, x - off - (fx + 0.5) * L, y - fy - 0.5, o);
-    o->cover = pgp__smooth(-0.5, 0.5, -o->d / px);
+    o->cover = pw_smoothstep(-0.5, 0.5, -o->d / px);
     in = -o->d;
     bevel = 0.035 + 0.9 * w * o->hy;
     a = in <= 0.0 ? 0.0 : in >= bevel ? 1.0 : in / bevel;
     prof = (1.0 - w) * a * a * (3.0 - 2.0 * a) + w * sqrt(a * (2.0 - a)); /* bevel .. dome */
     /* each height only where it shows (the noise is most of the cost) */
-    top = o->cover > 0.0 ? (0.05 + 0.16 * w) * prof + 0.012 * pgp__fbm(seed + 20, s, t, 64) : 0.0;
-    mortar = o->cover < 1.0 ? -0.04 - 0.05 * w + 0.03 * pgp__fbm(seed + 21, s, t, 48) : 0.0;
+    top = o->cover > 0.0 ? (0.05 + 0.16 * w) * prof + 0.012 * pw_fbm2(seed + 20, s * 64, t * 64, 64) : 0.0;
+    mortar = o->cover < 1.0 ? -0.04 - 0.05 * w + 0.03 * pw_fbm2(seed + 21, s * 48, t * 48, 48) : 0.0;
     o->h = o->cover >= 1.0 ? top : mortar + (top - mortar) * o->cover;
 }
 
@@ -18198,8 +18256,8 @@ static void pgp__stone_colour(unsigned long long seed, double w, double s, doubl
     pgp__mix(b, brick[(int)(5.0 * pgp__rand(seed, id, 10))], burnt, pgp__rand(seed, id, 7) < 0.1 ? 0.8 : 0.0);
     memcpy(st, stone[(int)(6.0 * pgp__rand(seed, id, 9))], sizeof st);
     pgp__mix(c, b, st, w);
-    grain = 0.9 + 0.2 * pgp__fbm(seed + 30, s, t, 96) * (1.0 + w);
-    blotch = 1.0 - (0.1 + 0.5 * w * (1.0 - w)) * pgp__smooth(0.45, 0.8, pgp__fbm(seed + 31, s, t, 12));
+    grain = 0.9 + 0.2 * pw_fbm2(seed + 30, s * 96, t * 96, 96) * (1.0 + w);
+    blotch = 1.0 - (0.1 + 0.5 * w * (1.0 - w)) * pw_smoothstep(0.45, 0.8, pw_fbm2(seed + 31, s * 12, t * 12, 12));
     for (k = 0; k < 3; k++) c[k] *= v * grain * blotch;
 }
 
@@ -18207,10 +18265,10 @@ static void pgp__stone_colour(unsigned long long seed, double w, double s, doubl
 static void pgp__mortar_colour(unsigned long long seed, double w, double s, double t, double *c)
 {
     static const double fresh[3] = {0.80, 0.78, 0.73}, old[3] = {0.43, 0.39, 0.31}, moss[3] = {0.31, 0.41, 0.17};
-    double g = 0.85 + 0.3 * pgp__fbm(seed + 40, s, t, 128);
+    double g = 0.85 + 0.3 * pw_fbm2(seed + 40, s * 128, t * 128, 128);
     int k;
     pgp__mix(c, fresh, old, w);
-    if (w > 0.0) pgp__mix(c, c, moss, w * pgp__smooth(0.5, 0.68, pgp__fbm(seed + 41, s, t, 8)));
+    if (w > 0.0) pgp__mix(c, c, moss, w * pw_smoothstep(0.5, 0.68, pw_fbm2(seed + 41, s * 8, t * 8, 8)));
     for (k = 0; k < 3; k++) c[k] *= g;
 }
 
@@ -18225,7 +18283,7 @@ static void pgp__bricks(unsigned long long seed, double w, double s, double t, d
     memset(mortar, 0, sizeof mortar);
     if (o.cover > 0.0) pgp__stone_colour(seed, w, s, t, o.id, stone);
     if (o.cover < 1.0) pgp__mortar_colour(seed, w, s, t, mortar);
-    ao = 0.55 + 0.45 * pgp__smooth(0.0, 0.05 + 0.1 * w, o.d); /* the mortar is dark beside the stones */
+    ao = 0.55 + 0.45 * pw_smoothstep(0.0, 0.05 + 0.1 * w, o.d); /* the mortar is dark beside the stones */
     for (k = 0; k < 3; k++) rgb[k] = (mortar[k] * ao + (stone[k] - mortar[k] * ao) * o.cover) * light;
 }
 
@@ -18243,11 +18301,11 @@ static void pgp__stripes(unsigned long long seed, double s, double t, double px,
     int band = (((int)fy % N) + N) % N, k;
     half = 0.22 + 0.16 * pgp__rand(seed, band, 0);
     memcpy(col, pal[(int)(6.0 * pgp__rand(seed, band, 1))], sizeof col);
-    cov = pgp__smooth(-0.5, 0.5, (half - (v < 0.5 ? 0.5 - v : v - 0.5)) / (px * N)); /* px: a texel in t */
-    pin = pgp__smooth(-0.5, 0.5, (0.018 - (v < 0.93 ? 0.93 - v : v - 0.93)) / (px * N));
+    cov = pw_smoothstep(-0.5, 0.5, (half - (v < 0.5 ? 0.5 - v : v - 0.5)) / (px * N)); /* px: a texel in t */
+    pin = pw_smoothstep(-0.5, 0.5, (0.018 - (v < 0.93 ? 0.93 - v : v - 0.93)) / (px * N));
     for (k = 0; k < 3; k++) rgb[k] = cream[k] + (col[k] - cream[k]) * cov;
     for (k = 0; k < 3; k++) rgb[k] += (0.55 * col[k] - rgb[k]) * pin * (1.0 - cov);
-    weave = 0.93 + 0.1 * pgp__fbm(seed + 50, s, t, 8) + 0.05 * pgp__noise(seed + 51, s, t, 256);
+    weave = 0.93 + 0.1 * pw_fbm2(seed + 50, s * 8, t * 8, 8) + 0.05 * pw_noise2(seed + 51, s * 256, t * 256, 256);
     for (k = 0; k < 3; k++) rgb[k] *= weave;
 }
 

@@ -2,32 +2,33 @@
  * Do not edit: change the sources and run `make headers`.
  *
  * CONTENTS (line: source, what it holds)
- *     32: src/tiled/tiled.h, the public API and its documentation
- *    437: src/common/base.h, allocation hooks, result codes, error messages, limits, he
- *    751: src/common/vec.h, small vector math on float[3] arrays and a 3-float struct.
- *    878: src/common/rng.h, seeded random numbers with the same output on every platfo
- *    955: src/common/image.h, float images and their file formats.
- *   1684: src/common/deflate.h, zlib (RFC 1950) and deflate (RFC 1951) compression and
- *   2712: src/common/png.h, PNG writer and reader, and the image front end.
- *   3277: src/common/text.h, locale-independent number parsing and formatting, a line s
- *   3660: src/common/mesh.h, polygon meshes as flat arrays, and their file formats.
- *   5175: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
- *   5621: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
- *   6043: src/common/subdiv.h, Catmull-Clark subdivision (Catmull and Clark 1978) with
- *   6215: src/common/raster.h, exact scan conversion of 2D triangles.
- *   6703: src/common/render.h, a small deterministic software renderer for textured trian
- *   8448: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
- *   8954: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
- *   9412: src/common/glue.h, what every method header needs between its public types an
- *   9608: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  10154: src/tiled/core.c, tiled.h's glue to the shared core, its defaults, result
- *  10261: src/tiled/layout.c, ch. III.1, the boundary types and the tiled texture they
- *  10514: src/tiled/map.c, ch. III.2, the texture mapping algorithm of Fig. 29
- *  10761: src/tiled/synth.c, ch. III.1.3, tiled texture image synthesis: an edge-matche
- *  11127: src/tiled/validate.c, checks a hand-made tiled texture (the thesis's Figs. 39,
- *  11244: src/tiled/builtin.c, built-in meshes and exemplars for demos and tests: the
- *  11453: src/tiled/render.c, a software rendering of a mapped mesh (the thesis rendered
- *  11646: src/tiled/io.c, files. Meshes and exemplars in; the mapped mesh with its t
+ *     33: src/tiled/tiled.h, the public API and its documentation
+ *    438: src/common/base.h, allocation hooks, result codes, error messages, limits, he
+ *    752: src/common/vec.h, small vector math on float[3] arrays and a 3-float struct.
+ *    879: src/common/rng.h, seeded random numbers with the same output on every platfo
+ *    956: src/common/noise.h, value noise and its fractal sum, for the built-in procedur
+ *   1058: src/common/image.h, float images and their file formats.
+ *   1787: src/common/deflate.h, zlib (RFC 1950) and deflate (RFC 1951) compression and
+ *   2815: src/common/png.h, PNG writer and reader, and the image front end.
+ *   3380: src/common/text.h, locale-independent number parsing and formatting, a line s
+ *   3763: src/common/mesh.h, polygon meshes as flat arrays, and their file formats.
+ *   5278: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
+ *   5724: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
+ *   6146: src/common/subdiv.h, Catmull-Clark subdivision (Catmull and Clark 1978) with
+ *   6318: src/common/raster.h, exact scan conversion of 2D triangles.
+ *   6806: src/common/render.h, a small deterministic software renderer for textured trian
+ *   8551: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
+ *   9057: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
+ *   9515: src/common/glue.h, what every method header needs between its public types an
+ *   9711: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  10257: src/tiled/core.c, tiled.h's glue to the shared core, its defaults, result
+ *  10364: src/tiled/layout.c, ch. III.1, the boundary types and the tiled texture they
+ *  10617: src/tiled/map.c, ch. III.2, the texture mapping algorithm of Fig. 29
+ *  10864: src/tiled/synth.c, ch. III.1.3, tiled texture image synthesis: an edge-matche
+ *  11230: src/tiled/validate.c, checks a hand-made tiled texture (the thesis's Figs. 39,
+ *  11347: src/tiled/builtin.c, built-in meshes and exemplars for demos and tests: the
+ *  11533: src/tiled/render.c, a software rendering of a mapped mesh (the thesis rendered
+ *  11726: src/tiled/io.c, files. Meshes and exemplars in; the mapped mesh with its t
  */
 /* tiled.h - seamless, singularity-free tiled textures on quad meshes.
  *
@@ -951,6 +952,108 @@ PW__DEF void pw_rng_shuffle(pw_rng *r, int *a, int n)
 }
 
 #endif /* PW__RNG_V1 */
+
+/* ---- shared module src/common/noise.h ---- */
+/* noise: value noise and its fractal sum, for the built-in procedural
+ * exemplars of every method (tiled's pebbles and lichen, lapped's scales and
+ * stripes, pgp's stone walls, lst's wood, fibres and kiwi). Value noise
+ * (Perlin 1985 "An image synthesizer", its lattice form): a random value at
+ * each integer lattice point, blended with a quintic fade (Perlin 2002) so
+ * the noise is C2 between cells. The lattice values come from the
+ * counter-based hash of rng.h, so the noise is the same on every platform
+ * and independent of evaluation order. */
+#ifndef PW__NOISE_V1
+#define PW__NOISE_V1
+
+#include <math.h>
+
+/* A uniform value in [0, 1) for integer lattice point (x, y, z); the
+ * coordinates are taken modulo 2^21, far beyond any exemplar's lattice. */
+PW__DEF double pw_lattice01(uint64_t seed, long x, long y, long z)
+{
+    uint64_t key = (uint64_t)(x & 0x1FFFFF) | (uint64_t)(y & 0x1FFFFF) << 21 | (uint64_t)(z & 0x1FFFFF) << 42;
+    return (double)(pw_hash64(seed, key) >> 11) * (1.0 / 9007199254740992.0);
+}
+
+/* The quintic fade 6t^5 - 15t^4 + 10t^3 on [0, 1]. */
+PW__DEF double pw_fade(double t) { return t * t * t * (t * (t * 6.0 - 15.0) + 10.0); }
+
+/* Hermite smoothstep: 0 below e0, 1 above e1, C1 between. */
+PW__DEF double pw_smoothstep(double e0, double e1, double x)
+{
+    double t = (x - e0) / (e1 - e0);
+    t = t < 0.0 ? 0.0 : (t > 1.0 ? 1.0 : t);
+    return t * t * (3.0 - 2.0 * t);
+}
+
+/* Lattice cell and position within it for coordinate x, the lattice
+ * wrapped to `period` cells when period > 0 (so the noise repeats every
+ * `period` units); *i0, *i1 are the cell's two lattice coordinates. */
+PW__DEF double pw__noise_cell(double x, long period, long *i0, long *i1)
+{
+    double f = floor(x);
+    long i = (long)f;
+    if (period > 0) {
+        i %= period;
+        i += i < 0 ? period : 0;
+        *i1 = i + 1 < period ? i + 1 : 0;
+    } else {
+        *i1 = i + 1;
+    }
+    *i0 = i;
+    return pw_fade(x - f);
+}
+
+/* 2D value noise in [0, 1] with lattice spacing 1, repeating every
+ * `period` units in x and y when period > 0. */
+PW__DEF double pw_noise2(uint64_t seed, double x, double y, long period)
+{
+    long x0, x1, y0, y1;
+    double tx = pw__noise_cell(x, period, &x0, &x1), ty = pw__noise_cell(y, period, &y0, &y1);
+    double a = pw_lattice01(seed, x0, y0, 0), b = pw_lattice01(seed, x1, y0, 0);
+    double c = pw_lattice01(seed, x0, y1, 0), d = pw_lattice01(seed, x1, y1, 0);
+    a += (b - a) * tx;
+    c += (d - c) * tx;
+    return a + (c - a) * ty;
+}
+
+/* 3D value noise in [0, 1] with lattice spacing 1 (not periodic). */
+PW__DEF double pw_noise3(uint64_t seed, double x, double y, double z)
+{
+    long x0, x1, y0, y1, z0, z1;
+    double tx = pw__noise_cell(x, 0, &x0, &x1), ty = pw__noise_cell(y, 0, &y0, &y1);
+    double tz = pw__noise_cell(z, 0, &z0, &z1), c[2];
+    int k;
+    for (k = 0; k < 2; k++) {
+        long zk = k ? z1 : z0;
+        double a = pw_lattice01(seed, x0, y0, zk), b = pw_lattice01(seed, x1, y0, zk);
+        double d = pw_lattice01(seed, x0, y1, zk), e = pw_lattice01(seed, x1, y1, zk);
+        a += (b - a) * tx;
+        d += (e - d) * tx;
+        c[k] = a + (d - a) * ty;
+    }
+    return c[0] + (c[1] - c[0]) * tz;
+}
+
+/* Fractal sums in [0, 1]: three octaves of the noise above at frequencies
+ * 1, 2 and 4 with weights 4/7, 2/7 and 1/7 (each octave half the amplitude
+ * of the one below, seeds seed, seed + 1, seed + 2). pw_fbm2's octaves
+ * repeat every period, period/2 and period/4 units when period > 0. */
+PW__DEF double pw_fbm2(uint64_t seed, double x, double y, long period)
+{
+    return (4.0 * pw_noise2(seed, x, y, period) + 2.0 * pw_noise2(seed + 1, 2.0 * x, 2.0 * y, 2 * period) +
+            pw_noise2(seed + 2, 4.0 * x, 4.0 * y, 4 * period)) /
+           7.0;
+}
+
+PW__DEF double pw_fbm3(uint64_t seed, double x, double y, double z)
+{
+    return (4.0 * pw_noise3(seed, x, y, z) + 2.0 * pw_noise3(seed + 1, 2.0 * x, 2.0 * y, 2.0 * z) +
+            pw_noise3(seed + 2, 4.0 * x, 4.0 * y, 4.0 * z)) /
+           7.0;
+}
+
+#endif
 
 /* ---- shared module src/common/image.h ---- */
 /* image: float images and their file formats.
@@ -11340,29 +11443,6 @@ static void tiled__cells_eval(const tiled__cells *c, float x, float y, float *f1
         }
 }
 
-/* Periodic value noise with a smooth (quintic) fade, `lattice` cells per
- * side, values in [0,1]. */
-static float tiled__noise(uint64_t seed, int lattice, float x, float y)
-{
-    float fx = x * (float)lattice, fy = y * (float)lattice, tx, ty, v[4];
-    int ix = (int)fx, iy = (int)fy, k;
-    tx = fx - (float)ix;
-    ty = fy - (float)iy;
-    for (k = 0; k < 4; k++) {
-        int gx = (ix + (k & 1)) % lattice, gy = (iy + (k >> 1)) % lattice;
-        v[k] = (float)(pw_hash64(seed, (uint64_t)(gy * lattice + gx)) >> 40) / 16777216.0f;
-    }
-    tx = tx * tx * tx * (tx * (tx * 6.0f - 15.0f) + 10.0f);
-    ty = ty * ty * ty * (ty * (ty * 6.0f - 15.0f) + 10.0f);
-    return (v[0] + (v[1] - v[0]) * tx) + ((v[2] + (v[3] - v[2]) * tx) - (v[0] + (v[1] - v[0]) * tx)) * ty;
-}
-
-static float tiled__fbm(uint64_t seed, float x, float y)
-{
-    return 0.5f * tiled__noise(seed, 4, x, y) + 0.25f * tiled__noise(seed + 1, 8, x, y) +
-           0.15f * tiled__noise(seed + 2, 16, x, y) + 0.1f * tiled__noise(seed + 3, 32, x, y);
-}
-
 static void tiled__mix(float *out, const float *a, const float *b, float t)
 {
     int k;
@@ -11377,7 +11457,7 @@ static void tiled__pebbles(const tiled__cells *c, uint64_t seed, float x, float 
     float f1, f2, stone[3], edge, grain;
     int id, k;
     tiled__cells_eval(c, x, y, &f1, &f2, &id);
-    grain = tiled__fbm(seed, x, y);
+    grain = (float)pw_fbm2(seed, 4.0 * x, 4.0 * y, 4);
     for (k = 0; k < 3; k++) /* warm greys: shared brightness, a little hue */
         stone[k] = 0.35f + 0.35f * c->col[id][0] + 0.12f * (c->col[id][k] - 0.5f) + 0.25f * (grain - 0.5f);
     edge = (f2 - f1) * (float)c->m * 3.0f; /* 0 on the cell border */
@@ -11390,12 +11470,12 @@ static void tiled__spots(const tiled__cells *c, uint64_t seed, float x, float y,
 {
     static const float ground[3] = {0.86f, 0.67f, 0.37f}, ring[3] = {0.1f, 0.07f, 0.05f},
                        centre[3] = {0.6f, 0.4f, 0.19f};
-    float f1, f2, r, base[3], n = tiled__fbm(seed, x, y), broken, k;
+    float f1, f2, r, base[3], n = (float)pw_fbm2(seed, 4.0 * x, 4.0 * y, 4), broken, k;
     int id;
     tiled__cells_eval(c, x, y, &f1, &f2, &id);
     r = (0.25f + 0.12f * c->col[id][0]) / (float)c->m; /* rosette radius */
     k = 40.0f * (float)c->m;                             /* edge sharpness */
-    broken = tiled__noise(seed + 11, 16, x, y) > 0.3f ? 1.0f : 0.0f;
+    broken = (float)pw_noise2(seed + 11, 16 * x, 16 * y, 16) > 0.3f ? 1.0f : 0.0f;
     tiled__mix(base, ground, centre, (0.5f * r - f1) * k);
     tiled__mix(rgb, base, ring, broken * pw_clampf((f1 - 0.5f * r) * k, 0.0f, 1.0f) *
                                     pw_clampf((r - f1) * k, 0.0f, 1.0f));
@@ -11409,7 +11489,7 @@ static void tiled__lichen(uint64_t seed, float x, float y, float *rgb)
 {
     static const float stone[3] = {0.5f, 0.5f, 0.48f}, moss[3] = {0.55f, 0.62f, 0.2f},
                        dark[3] = {0.2f, 0.22f, 0.12f};
-    float n = tiled__fbm(seed, x, y), d = tiled__fbm(seed + 7, x, y), base[3];
+    float n = (float)pw_fbm2(seed, 4.0 * x, 4.0 * y, 4), d = (float)pw_fbm2(seed + 7, 4.0 * x, 4.0 * y, 4), base[3];
     tiled__mix(base, stone, moss, (n - 0.5f) * 12.0f);
     tiled__mix(rgb, base, dark, (d - 0.62f) * 8.0f);
 }

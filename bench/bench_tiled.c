@@ -52,6 +52,15 @@ static void row(const char *task, bench_stat s)
               "the thesis reports no timings (SGI O2, interactive)", sp, NULL);
 }
 
+/* An n x n quad torus as a tiled_mesh. */
+static int bench_torus(const pw_alloc *a, int n, tiled_mesh *out, pw_err *e)
+{
+    pw_mesh m;
+    if (pw_shape_torus(a, n, n, 1, &m, e)) return 1;
+    tiled__take_mesh(&m, a, out);
+    return 0;
+}
+
 /* tiled_map on tori of 250^2, 500^2 and 1000^2 quads: the growth exponent. */
 static void map_growth(const job *base)
 {
@@ -64,7 +73,7 @@ static void map_growth(const job *base)
         pw_err e;
         memset(&a, 0, sizeof a);
         pw_err_clear(&e);
-        if (tiled__torus(&a, side[i], side[i], &j.mesh, &e)) return;
+        if (bench_torus(&a, side[i], &j.mesh, &e)) return;
         secs[i] = bench_time(run_map, &j, 3).median;
         quads[i] = (double)side[i] * side[i];
         tiled_mesh_free(&j.mesh);
@@ -86,7 +95,7 @@ int main(void)
     j.opt = tiled_default_options();
     j.layout = j.opt.layout;
     j.layout.tile_size = 64;
-    if (tiled__resolve(&j.layout, 0, &j.layout, &e) || tiled__torus(&a, 1000, 1000, &j.mesh, &e) ||
+    if (tiled__resolve(&j.layout, 0, &j.layout, &e) || bench_torus(&a, 1000, &j.mesh, &e) ||
         tiled__quadrangulate(&a, &j.mesh, 0, 0, NULL, &j.m.q, &j.m.hm, &e) ||
         tiled__mapped_arrays(&a, j.m.q.fstart[j.m.q.nf], j.m.q.nf, &j.m.uv, &j.m.types, &j.m.tiles, &e)) {
         printf("setup failed: %s\n", e.msg);

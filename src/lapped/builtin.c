@@ -8,6 +8,7 @@
  * (for LAPPED_FIELD_ISOTROPIC). */
 #include "core.c"
 #include "../common/shapes.h"
+#include "../common/noise.h"
 
 /* ---- meshes ----------------------------------------------------------------- */
 
@@ -35,48 +36,10 @@ LAPPEDDEF lapped_result lapped_builtin_mesh(const char *name, const lapped_optio
 
 /* ---- textures ----------------------------------------------------------------- */
 
-static float lapped__smooth(float e0, float e1, float x)
-{
-    float t = pw_clampf((x - e0) / (e1 - e0), 0.0f, 1.0f);
-    return t * t * (3.0f - 2.0f * t);
-}
-
 static void lapped__mix(float *out, const float *a, const float *b, float t)
 {
     int k;
     for (k = 0; k < 3; k++) out[k] = a[k] + (b[k] - a[k]) * t;
-}
-
-/* A uniform value in [0, 1) for integer lattice point (x, y). */
-static float lapped__hash01(unsigned long long seed, int x, int y)
-{
-    uint64_t key = ((uint64_t)(uint32_t)y << 32) | (uint32_t)x;
-    return (float)(pw_hash64(seed, key) >> 40) * (1.0f / 16777216.0f);
-}
-
-/* Value noise with a quintic fade, lattice spacing 1, values in [0, 1]. */
-static float lapped__noise(unsigned long long seed, float x, float y)
-{
-    float fx = x < 0 ? x - 1.0f : x, fy = y < 0 ? y - 1.0f : y, tx, ty, v00, v10, v01, v11;
-    int ix = (int)fx, iy = (int)fy;
-    tx = x - (float)ix;
-    ty = y - (float)iy;
-    tx = tx * tx * tx * (tx * (tx * 6.0f - 15.0f) + 10.0f);
-    ty = ty * ty * ty * (ty * (ty * 6.0f - 15.0f) + 10.0f);
-    v00 = lapped__hash01(seed, ix, iy);
-    v10 = lapped__hash01(seed, ix + 1, iy);
-    v01 = lapped__hash01(seed, ix, iy + 1);
-    v11 = lapped__hash01(seed, ix + 1, iy + 1);
-    v00 += (v10 - v00) * tx;
-    v01 += (v11 - v01) * tx;
-    return v00 + (v01 - v00) * ty;
-}
-
-/* Three octaves of value noise, in [0, 1]. */
-static float lapped__fbm(unsigned long long seed, float x, float y)
-{
-    return 0.57f * lapped__noise(seed, x, y) + 0.29f * lapped__noise(seed + 1, 2.0f * x, 2.0f * y) +
-           0.14f * lapped__noise(seed + 2, 4.0f * x, 4.0f * y);
 }
 
 /* "scales": overlapping scales in rows like roof tiles: the rows above lie
@@ -103,13 +66,13 @@ static void lapped__scales(unsigned long long seed, float x, float y, float px, 
         up = d < up ? d : up;
     }
     rho = sqrtf(dx * dx + dy * dy) / R;
-    h = lapped__hash01(seed, ci, cj);
+    h = (float)pw_lattice01(seed, ci, cj, 0);
     lapped__mix(base, lo, hi, 0.25f + 0.5f * h + 0.35f * (dy / R));
-    shade = (0.55f + 0.45f * lapped__smooth(0.0f, 0.22f, up)) * (0.85f + 0.3f * lapped__hash01(seed + 5, ci, cj));
-    shade *= 0.9f + 0.2f * lapped__fbm(seed + 9, 24.0f * x, 6.0f * y); /* fine striations */
-    shade += 0.25f * lapped__smooth(0.45f, 0.0f, rho) * lapped__smooth(0.0f, 0.3f, up); /* sheen */
+    shade = (0.55f + 0.45f * (float)pw_smoothstep(0.0f, 0.22f, up)) * (0.85f + 0.3f * (float)pw_lattice01(seed + 5, ci, cj, 0));
+    shade *= 0.9f + 0.2f * (float)pw_fbm2(seed + 9, 24.0f * x, 6.0f * y, 0); /* fine striations */
+    shade += 0.25f * (float)pw_smoothstep(0.45f, 0.0f, rho) * (float)pw_smoothstep(0.0f, 0.3f, up); /* sheen */
     base[0] *= shade, base[1] *= shade, base[2] *= shade;
-    lapped__mix(rgb, base, edge, lapped__smooth(1.0f - 0.09f - px, 1.0f - 0.02f, rho));
+    lapped__mix(rgb, base, edge, (float)pw_smoothstep(1.0f - 0.09f - px, 1.0f - 0.02f, rho));
 }
 
 /* "stripes": zebra-like, roughly horizontal dark stripes warped by noise,
@@ -119,10 +82,10 @@ static void lapped__scales(unsigned long long seed, float x, float y, float px, 
 static float lapped__stripe_inside(unsigned long long seed, float x, float y)
 {
     const float tau = 6.28318530717958647692f;
-    float warp = 0.9f * (lapped__fbm(seed, 2.5f * x, 2.5f * y) - 0.5f) +
+    float warp = 0.9f * ((float)pw_fbm2(seed, 2.5f * x, 2.5f * y, 0) - 0.5f) +
                  0.25f * (float)pw_sin(tau * (1.3f * x + 0.2f)) * (float)pw_cos(tau * 0.7f * y);
     float phase = 7.0f * y + 2.2f * warp, f = phase - (float)((int)(phase + 100.0f) - 100), d = f - 0.5f;
-    float half = 0.25f + 0.75f * (lapped__fbm(seed + 3, 3.0f * x, 3.0f * y) - 0.5f);
+    float half = 0.25f + 0.75f * ((float)pw_fbm2(seed + 3, 3.0f * x, 3.0f * y, 0) - 0.5f);
     return half - (d < 0.0f ? -d : d); /* |d|: 0 on a stripe's centre line, 0.5 halfway to the next */
 }
 
@@ -136,7 +99,7 @@ static void lapped__stripes(unsigned long long seed, float x, float y, float px,
     float gy = lapped__stripe_inside(seed, x, y + px) - v, g = sqrtf(gx * gx + gy * gy);
     float t = g > 1e-6f ? pw_clampf(v / g + 0.5f, 0.0f, 1.0f) : (v > 0.0f ? 1.0f : 0.0f);
     lapped__mix(rgb, light, dark, t);
-    g = 0.92f + 0.16f * lapped__fbm(seed + 7, 40.0f * x, 12.0f * y); /* hair grain */
+    g = 0.92f + 0.16f * (float)pw_fbm2(seed + 7, 40.0f * x, 12.0f * y, 0); /* hair grain */
     rgb[0] *= g, rgb[1] *= g, rgb[2] *= g;
 }
 
@@ -150,13 +113,13 @@ static void lapped__dot_layer(unsigned long long seed, int cells, float rmin, fl
                                     {0.25f, 0.63f, 0.4f},  {0.55f, 0.33f, 0.72f}, {0.95f, 0.5f, 0.22f}};
     float gx = x * (float)cells, gy = y * (float)cells;
     int ix = (int)gx, iy = (int)gy, c;
-    float rad = (rmin + (rmax - rmin) * lapped__hash01(seed, ix, iy)) / (float)cells, room = 0.5f / (float)cells - rad;
-    float cx = ((float)ix + 0.5f) / (float)cells + room * (2.0f * lapped__hash01(seed + 1, ix, iy) - 1.0f);
-    float cy = ((float)iy + 0.5f) / (float)cells + room * (2.0f * lapped__hash01(seed + 2, ix, iy) - 1.0f);
+    float rad = (rmin + (rmax - rmin) * (float)pw_lattice01(seed, ix, iy, 0)) / (float)cells, room = 0.5f / (float)cells - rad;
+    float cx = ((float)ix + 0.5f) / (float)cells + room * (2.0f * (float)pw_lattice01(seed + 1, ix, iy, 0) - 1.0f);
+    float cy = ((float)iy + 0.5f) / (float)cells + room * (2.0f * (float)pw_lattice01(seed + 2, ix, iy, 0) - 1.0f);
     float d = sqrtf((x - cx) * (x - cx) + (y - cy) * (y - cy)), cover = pw_clampf((rad - d) / px + 0.5f, 0.0f, 1.0f);
-    float col[3], light = 1.0f + 0.25f * lapped__smooth(rad, 0.0f, sqrtf((x - cx + 0.3f * rad) * (x - cx + 0.3f * rad) +
+    float col[3], light = 1.0f + 0.25f * (float)pw_smoothstep(rad, 0.0f, sqrtf((x - cx + 0.3f * rad) * (x - cx + 0.3f * rad) +
                                                                    (y - cy + 0.3f * rad) * (y - cy + 0.3f * rad)));
-    c = (int)(6.0f * lapped__hash01(seed + 3, ix, iy)) % 6;
+    c = (int)(6.0f * (float)pw_lattice01(seed + 3, ix, iy, 0)) % 6;
     col[0] = pw_clampf(pal[c][0] * light, 0.0f, 1.0f);
     col[1] = pw_clampf(pal[c][1] * light, 0.0f, 1.0f);
     col[2] = pw_clampf(pal[c][2] * light, 0.0f, 1.0f);
@@ -165,7 +128,7 @@ static void lapped__dot_layer(unsigned long long seed, int cells, float rmin, fl
 
 static void lapped__dots(unsigned long long seed, float x, float y, float px, float *rgb)
 {
-    float g = 0.94f + 0.06f * lapped__fbm(seed + 11, 20.0f * x, 20.0f * y);
+    float g = 0.94f + 0.06f * (float)pw_fbm2(seed + 11, 20.0f * x, 20.0f * y, 0);
     rgb[0] = 0.97f * g, rgb[1] = 0.94f * g, rgb[2] = 0.86f * g;
     lapped__dot_layer(seed + 20, 13, 0.12f, 0.22f, x, y, px, rgb);
     lapped__dot_layer(seed + 40, 6, 0.2f, 0.42f, x, y, px, rgb);

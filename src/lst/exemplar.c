@@ -4,6 +4,7 @@
  * the sample points of tetrahedra wholly outside a mask or inside its
  * opaque core. */
 #include "core.c"
+#include "../common/noise.h"
 
 /* ---- sampling ------------------------------------------------------------------ */
 
@@ -74,45 +75,6 @@ static float lst__mask_alpha(const pw_volume *mask, double u, double v, double w
     return lst__mask_alpha_vox(mask, x[0], x[1], x[2]);
 }
 
-/* ---- noise for the procedural exemplars --------------------------------------------- */
-
-static double lst__smooth(double e0, double e1, double x)
-{
-    double t = (x - e0) / (e1 - e0);
-    t = t < 0.0 ? 0.0 : (t > 1.0 ? 1.0 : t);
-    return t * t * (3.0 - 2.0 * t);
-}
-
-static double lst__hash01(unsigned long long seed, long x, long y, long z)
-{
-    uint64_t k = (uint64_t)(x & 0xFFFFF) | (uint64_t)(y & 0xFFFFF) << 20 | (uint64_t)(z & 0xFFFFF) << 40;
-    return (double)(pw_hash64(seed, k) >> 11) * (1.0 / 9007199254740992.0);
-}
-
-/* Value noise in [0, 1] on the integer lattice, smoothly interpolated. */
-static double lst__noise(unsigned long long seed, double x, double y, double z)
-{
-    double fx = floor(x), fy = floor(y), fz = floor(z), tx = lst__smooth(0, 1, x - fx), ty = lst__smooth(0, 1, y - fy);
-    double tz = lst__smooth(0, 1, z - fz), c[2];
-    long ix = (long)fx, iy = (long)fy, iz = (long)fz;
-    int k;
-    for (k = 0; k < 2; k++) {
-        double a = lst__hash01(seed, ix, iy, iz + k), b = lst__hash01(seed, ix + 1, iy, iz + k);
-        double d = lst__hash01(seed, ix, iy + 1, iz + k), e = lst__hash01(seed, ix + 1, iy + 1, iz + k);
-        double ab = a + tx * (b - a), de = d + tx * (e - d);
-        c[k] = ab + ty * (de - ab);
-    }
-    return c[0] + tz * (c[1] - c[0]);
-}
-
-/* Three octaves of noise, frequency f, in [0, 1]. */
-static double lst__fbm(unsigned long long seed, double x, double y, double z, double f)
-{
-    return (4.0 * lst__noise(seed, x * f, y * f, z * f) + 2.0 * lst__noise(seed + 1, x * 2 * f, y * 2 * f, z * 2 * f) +
-            lst__noise(seed + 2, x * 4 * f, y * 4 * f, z * 4 * f)) /
-           7.0;
-}
-
 static void lst__mix3(double *o, const double *a, const double *b, double t)
 {
     int k;
@@ -127,13 +89,13 @@ static void lst__layers(unsigned long long seed, double u, double v, double w, d
     static const double pal[6][3] = {{0.91, 0.82, 0.62}, {0.72, 0.36, 0.20}, {0.96, 0.93, 0.84},
                                      {0.45, 0.30, 0.22}, {0.80, 0.62, 0.30}, {0.58, 0.60, 0.55}};
     static const double skin[3] = {0.20, 0.32, 0.14};
-    double band = v * 6.0 + 0.3 * (lst__fbm(seed, u, 0.0, w, 2.0) - 0.5), g = lst__fbm(seed + 7, u, v, w, 24.0);
+    double band = v * 6.0 + 0.3 * (pw_fbm3(seed, 2.0 * u, 0.0, 2.0 * w) - 0.5), g = pw_fbm3(seed + 7, 24.0 * u, 24.0 * v, 24.0 * w);
     int b = (int)floor(band);
     b = ((b % 6) + 6) % 6;
     lst__mix3(c, pal[b], pal[b], 0.0);
     c[0] *= 0.85 + 0.3 * g, c[1] *= 0.85 + 0.3 * g, c[2] *= 0.85 + 0.3 * g;
     if (v < 0.035) lst__mix3(c, skin, skin, 0.0);
-    *val = v < 0.035 ? 0.5 + 0.4 * (lst__fbm(seed + 9, u, 0.0, w, 12.0) - 0.5) : 0.5;
+    *val = v < 0.035 ? 0.5 + 0.4 * (pw_fbm3(seed + 9, 12.0 * u, 0.0, 12.0 * w) - 0.5) : 0.5;
 }
 
 /* 1-a: fibres along u (muscle): bundles, cells of a jittered grid in the
@@ -147,13 +109,13 @@ static void lst__fibers(unsigned long long seed, double u, double v, double w, d
     long cv = (long)floor(v * cells), cw = (long)floor(w * cells), i, k;
     for (i = cv - 1; i <= cv + 1; i++)
         for (k = cw - 1; k <= cw + 1; k++) {
-            double pv = (i + 0.15 + 0.7 * lst__hash01(seed, 0, i, k)) / cells - v;
-            double pw_ = (k + 0.15 + 0.7 * lst__hash01(seed + 1, 0, i, k)) / cells - w;
+            double pv = (i + 0.15 + 0.7 * pw_lattice01(seed, 0, i, k)) / cells - v;
+            double pw_ = (k + 0.15 + 0.7 * pw_lattice01(seed + 1, 0, i, k)) / cells - w;
             double d = sqrt(pv * pv + pw_ * pw_);
-            if (d < d1) d2 = d1, d1 = d, shade = lst__hash01(seed + 2, 0, i, k);
+            if (d < d1) d2 = d1, d1 = d, shade = pw_lattice01(seed + 2, 0, i, k);
             else if (d < d2) d2 = d;
         }
-    streak = lst__fbm(seed + 3, u * 0.12, v, w, 30.0);
+    streak = pw_fbm3(seed + 3, 3.6 * u, 30.0 * v, 30.0 * w);
     lst__mix3(c, dark, light, 0.25 + 0.45 * shade + 0.5 * (streak - 0.5));
     if (d2 - d1 < 0.012) lst__mix3(c, c, sheath, 0.85);
     *val = 0.35 + 0.3 * streak;
@@ -165,19 +127,19 @@ static void lst__spots(unsigned long long seed, double u, double v, double w, do
     static const double matrix[3] = {0.72, 0.70, 0.66}, stone[4][3] = {
         {0.45, 0.40, 0.36}, {0.62, 0.50, 0.38}, {0.30, 0.30, 0.32}, {0.80, 0.74, 0.62}};
     const double cells = 6.0;
-    double g = lst__fbm(seed, u, v, w, 20.0), best = 1e9;
+    double g = pw_fbm3(seed, 20.0 * u, 20.0 * v, 20.0 * w), best = 1e9;
     long cx = (long)floor(u * cells), cy = (long)floor(v * cells), cz = (long)floor(w * cells), i, j, k, id = 0;
     for (i = cx - 1; i <= cx + 1; i++)
         for (j = cy - 1; j <= cy + 1; j++)
             for (k = cz - 1; k <= cz + 1; k++) { /* a jittered stone per cell, radius 0.3-0.45 cells */
-                double px = (i + 0.2 + 0.6 * lst__hash01(seed, i, j, k)) / cells - u;
-                double py = (j + 0.2 + 0.6 * lst__hash01(seed + 1, i, j, k)) / cells - v;
-                double pz = (k + 0.2 + 0.6 * lst__hash01(seed + 2, i, j, k)) / cells - w;
-                double r = (0.3 + 0.15 * lst__hash01(seed + 3, i, j, k)) / cells, d = sqrt(px * px + py * py + pz * pz) / r;
+                double px = (i + 0.2 + 0.6 * pw_lattice01(seed, i, j, k)) / cells - u;
+                double py = (j + 0.2 + 0.6 * pw_lattice01(seed + 1, i, j, k)) / cells - v;
+                double pz = (k + 0.2 + 0.6 * pw_lattice01(seed + 2, i, j, k)) / cells - w;
+                double r = (0.3 + 0.15 * pw_lattice01(seed + 3, i, j, k)) / cells, d = sqrt(px * px + py * py + pz * pz) / r;
                 if (d < best) best = d, id = (i * 7 + j * 13 + k * 29) & 3;
             }
     lst__mix3(c, matrix, matrix, 0.0);
-    if (best < 1.0) lst__mix3(c, matrix, stone[id], lst__smooth(1.0, 0.85, best));
+    if (best < 1.0) lst__mix3(c, matrix, stone[id], pw_smoothstep(1.0, 0.85, best));
     c[0] *= 0.9 + 0.2 * g, c[1] *= 0.9 + 0.2 * g, c[2] *= 0.9 + 0.2 * g;
     *val = best < 1.0 ? 0.5 + 0.4 * (1.0 - best) : 0.45 + 0.1 * g;
 }
@@ -189,22 +151,22 @@ static void lst__rings(unsigned long long seed, double u, double v, double w, do
 {
     static const double bark[3] = {0.30, 0.21, 0.15}, barkhi[3] = {0.55, 0.47, 0.40}, cambium[3] = {0.80, 0.78, 0.45};
     static const double early[3] = {0.89, 0.72, 0.50}, late[3] = {0.62, 0.38, 0.19}, heart[3] = {0.70, 0.45, 0.26};
-    double furrow = lst__noise(seed + 4, u * 2.0, 0.0, w * 9.0 + 0.6 * lst__noise(seed + 5, u * 3.0, 0.0, w * 3.0));
+    double furrow = pw_noise3(seed + 4, u * 2.0, 0.0, w * 9.0 + 0.6 * pw_noise3(seed + 5, u * 3.0, 0.0, w * 3.0));
     double ridge = 1.0 - fabs(2.0 * furrow - 1.0), phase, ring, grain;
-    *val = 0.5 + 0.45 * (ridge - 0.5) * 2.0 * (1.0 - lst__smooth(0.05, 0.09, v));
+    *val = 0.5 + 0.45 * (ridge - 0.5) * 2.0 * (1.0 - pw_smoothstep(0.05, 0.09, v));
     if (v < 0.075 - 0.025 * ridge) {
-        lst__mix3(c, bark, barkhi, ridge * (0.6 + 0.4 * lst__fbm(seed + 6, u, v, w, 16.0)));
+        lst__mix3(c, bark, barkhi, ridge * (0.6 + 0.4 * pw_fbm3(seed + 6, 16.0 * u, 16.0 * v, 16.0 * w)));
         return;
     }
     if (v < 0.09) {
         lst__mix3(c, cambium, early, (v - 0.05) / 0.04);
         return;
     }
-    phase = v * 11.0 + 0.35 * (lst__fbm(seed, u * 0.3, v, w, 4.0) - 0.5);
-    ring = lst__smooth(0.55, 0.85, phase - floor(phase)) * (1.0 - lst__smooth(0.9, 1.0, phase - floor(phase)));
-    grain = lst__fbm(seed + 8, u * 0.08, v, w, 40.0);
+    phase = v * 11.0 + 0.35 * (pw_fbm3(seed, 1.2 * u, 4.0 * v, 4.0 * w) - 0.5);
+    ring = pw_smoothstep(0.55, 0.85, phase - floor(phase)) * (1.0 - pw_smoothstep(0.9, 1.0, phase - floor(phase)));
+    grain = pw_fbm3(seed + 8, 3.2 * u, 40.0 * v, 40.0 * w);
     lst__mix3(c, early, late, ring);
-    if (v > 0.55) lst__mix3(c, c, heart, lst__smooth(0.55, 0.7, v) * 0.6);
+    if (v > 0.55) lst__mix3(c, c, heart, pw_smoothstep(0.55, 0.7, v) * 0.6);
     c[0] *= 0.88 + 0.24 * grain, c[1] *= 0.88 + 0.24 * grain, c[2] *= 0.88 + 0.24 * grain;
     if (v > 0.975) lst__mix3(c, c, late, 0.8);
 }
@@ -217,10 +179,10 @@ static void lst__kiwi(unsigned long long seed, double u, double v, double w, dou
     static const double skin[3] = {0.42, 0.30, 0.15}, flesh[3] = {0.35, 0.62, 0.10}, pale[3] = {0.66, 0.82, 0.30};
     static const double core[3] = {0.94, 0.93, 0.74}, seedc[3] = {0.06, 0.05, 0.04}, ray[3] = {0.86, 0.92, 0.62};
     const double cells = 17.0;
-    double g = lst__fbm(seed, u, v, w, 18.0), edge = 0.90 + 0.03 * (lst__noise(seed + 2, u * 6, 0, w * 6) - 0.5);
+    double g = pw_fbm3(seed, 18.0 * u, 18.0 * v, 18.0 * w), edge = 0.90 + 0.03 * (pw_noise3(seed + 2, u * 6, 0, w * 6) - 0.5);
     double best = 9.0, raydist = 9.0;
     long cu = (long)floor(u * cells), cw = (long)floor(w * cells), i, k;
-    *val = v < 0.04 ? 0.5 + 0.45 * (lst__fbm(seed + 3, u, 0.0, w, 30.0) - 0.5) : 0.5;
+    *val = v < 0.04 ? 0.5 + 0.45 * (pw_fbm3(seed + 3, 30.0 * u, 0.0, 30.0 * w) - 0.5) : 0.5;
     if (v < 0.028 + 0.01 * g) {
         lst__mix3(c, skin, skin, 0.0);
         c[0] *= 0.8 + 0.4 * g, c[1] *= 0.8 + 0.4 * g, c[2] *= 0.8 + 0.4 * g;
@@ -232,18 +194,18 @@ static void lst__kiwi(unsigned long long seed, double u, double v, double w, dou
     }
     for (i = cu - 1; i <= cu + 1; i++)
         for (k = cw - 1; k <= cw + 1; k++) { /* a seed (and a ray) per jittered cell of the (u, w) plane */
-            double su = (i + 0.2 + 0.6 * lst__hash01(seed, i, 0, k)) / cells - u;
-            double sw = (k + 0.2 + 0.6 * lst__hash01(seed + 1, i, 0, k)) / cells - w;
-            double sv = 0.80 + 0.05 * (lst__hash01(seed + 4, i, 0, k) - 0.5) - v;
+            double su = (i + 0.2 + 0.6 * pw_lattice01(seed, i, 0, k)) / cells - u;
+            double sw = (k + 0.2 + 0.6 * pw_lattice01(seed + 1, i, 0, k)) / cells - w;
+            double sv = 0.80 + 0.05 * (pw_lattice01(seed + 4, i, 0, k) - 0.5) - v;
             double d = sqrt((su / 0.026) * (su / 0.026) + (sv / 0.055) * (sv / 0.055) + (sw / 0.02) * (sw / 0.02));
             double r = sqrt(su * su + sw * sw);
             if (d < best) best = d;
             if (r < raydist) raydist = r;
         }
-    lst__mix3(c, flesh, pale, lst__smooth(0.1, 0.85, v) * 0.75 + 0.25 * g);
-    if (v > 0.4 && raydist < 0.008) lst__mix3(c, c, ray, 0.75 * lst__smooth(0.4, 0.7, v));
-    if (v > 0.7) lst__mix3(c, c, core, 0.35 * lst__smooth(0.7, edge, v));
-    if (best < 1.0) lst__mix3(c, c, seedc, lst__smooth(1.0, 0.7, best));
+    lst__mix3(c, flesh, pale, pw_smoothstep(0.1, 0.85, v) * 0.75 + 0.25 * g);
+    if (v > 0.4 && raydist < 0.008) lst__mix3(c, c, ray, 0.75 * pw_smoothstep(0.4, 0.7, v));
+    if (v > 0.7) lst__mix3(c, c, core, 0.35 * pw_smoothstep(0.7, edge, v));
+    if (best < 1.0) lst__mix3(c, c, seedc, pw_smoothstep(1.0, 0.7, best));
 }
 
 typedef void (*lst__exemplar_fn)(unsigned long long seed, double u, double v, double w, double *c, double *val);
@@ -351,7 +313,7 @@ static void lst__splotch(pw_volume *mask, const double *lobes, double radius, do
                 len = pw_norm3(d);
                 r = len > 0.0 ? lst__splotch_radius(lobes, radius, d) : radius;
                 if (r > 0.5 - 0.5 / mask->x) r = 0.5 - 0.5 / mask->x; /* stays inside the cube's sides */
-                mask->px[((size_t)z * mask->y + y) * mask->x + x] = (float)lst__smooth(r, r - falloff, len);
+                mask->px[((size_t)z * mask->y + y) * mask->x + x] = (float)pw_smoothstep(r, r - falloff, len);
             }
 }
 

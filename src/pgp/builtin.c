@@ -19,6 +19,7 @@
  *              stripes and a faint weave. */
 #include "render.c"
 #include "../common/shapes.h"
+#include "../common/noise.h"
 
 /* ---- meshes ----------------------------------------------------------------- */
 
@@ -45,51 +46,6 @@ PGPDEF pgp_result pgp_builtin_mesh(const char *name, const pgp_options *opt, pgp
 }
 
 /* ---- periodic noise ----------------------------------------------------------- */
-
-/* A uniform value in [0, 1) for point (x, y), 0 <= x, y < p, of a lattice
- * of period p. */
-static double pgp__lattice(unsigned long long seed, int x, int y)
-{
-    uint64_t key = ((uint64_t)(uint32_t)y << 32) | (uint32_t)x;
-    return (double)(pw_hash64(seed, key) >> 11) * (1.0 / 9007199254740992.0);
-}
-
-/* Value noise with a quintic fade on a lattice of period p (in lattice
- * units), at tile coordinates (s, t): the lattice points are wrapped, so
- * the noise has period 1 in s and t. In [0, 1]. */
-static double pgp__noise(unsigned long long seed, double s, double t, int p)
-{
-    double x = s * p, y = t * p, fx = floor(x), fy = floor(y), tx = x - fx, ty = y - fy;
-    double v00, v10, v01, v11;
-    int x0 = (int)fx % p, y0 = (int)fy % p, x1, y1;
-    x0 += x0 < 0 ? p : 0;
-    y0 += y0 < 0 ? p : 0;
-    x1 = x0 + 1 < p ? x0 + 1 : 0;
-    y1 = y0 + 1 < p ? y0 + 1 : 0;
-    tx = tx * tx * tx * (tx * (tx * 6.0 - 15.0) + 10.0);
-    ty = ty * ty * ty * (ty * (ty * 6.0 - 15.0) + 10.0);
-    v00 = pgp__lattice(seed, x0, y0);
-    v10 = pgp__lattice(seed, x1, y0);
-    v01 = pgp__lattice(seed, x0, y1);
-    v11 = pgp__lattice(seed, x1, y1);
-    v00 += (v10 - v00) * tx;
-    v01 += (v11 - v01) * tx;
-    return v00 + (v01 - v00) * ty;
-}
-
-/* Three octaves (periods p, 2p, 4p), in [0, 1]. */
-static double pgp__fbm(unsigned long long seed, double s, double t, int p)
-{
-    return 0.57 * pgp__noise(seed, s, t, p) + 0.29 * pgp__noise(seed + 1, s, t, 2 * p) +
-           0.14 * pgp__noise(seed + 2, s, t, 4 * p);
-}
-
-static double pgp__smooth(double e0, double e1, double x)
-{
-    double t = (x - e0) / (e1 - e0);
-    t = t < 0.0 ? 0.0 : t > 1.0 ? 1.0 : t;
-    return t * t * (3.0 - 2.0 * t);
-}
 
 static void pgp__mix(double *out, const double *a, const double *b, double t)
 {
@@ -137,7 +93,7 @@ static void pgp__stone(unsigned long long seed, double w, double s, double t, do
     double mw = 0.045 + 0.12 * w, r1 = pgp__rand(seed, o->id, 1), r2 = pgp__rand(seed, o->id, 2);
     double bx = 0.5 * L - mw - 0.4 * w * r1, by = 0.5 - mw - 0.12 * w * r2;
     double cx = 0.3 * w * r1 * (pgp__rand(seed, o->id, 3) - 0.5), cy = 0.07 * w * (pgp__rand(seed, o->id, 4) - 0.5);
-    double pinch = pgp__rand(seed, o->id, 5) < 0.4 ? 0.3 * pgp__smooth(0.4, 1.0, w) : 0.0;
+    double pinch = pgp__rand(seed, o->id, 5) < 0.4 ? 0.3 * pw_smoothstep(0.4, 1.0, w) : 0.0;
     double ang = 0.14 * w * (pgp__rand(seed, o->id, 6) - 0.5), ca = pw_cos(ang), sa = pw_sin(ang);
     double px = ca * (x - cx) + sa * (y - cy), py = ca * (y - cy) - sa * (x - cx), u = px / (0.6 * bx), waist, rc;
     waist = u > -1.0 && u < 1.0 ? (1.0 - u * u) * (1.0 - u * u) : 0.0;
@@ -145,7 +101,7 @@ static void pgp__stone(unsigned long long seed, double w, double s, double t, do
     rc = (0.03 + 0.97 * w) * by;
     o->hy = by;
     o->d = pgp__round_box(px, py, bx, by, rc);
-    o->d += (0.012 + 0.07 * w) * (2.0 * pgp__fbm(seed + 10, s, t, 16) - 1.0);
+    o->d += (0.012 + 0.07 * w) * (2.0 * pw_fbm2(seed + 10, s * 16, t * 16, 16) - 1.0);
 }
 
 /* The wall at (s, t): cell, stone, anti-aliased coverage (px: a texel in
@@ -162,14 +118,14 @@ static void pgp__wall_at(unsigned long long seed, double w, double s, double t, 
     col = ((col % PGP__BX) + PGP__BX) % PGP__BX;
     o->id = row * PGP__BX + col;
     pgp__stone(seed, w, s, t, x - off - (fx + 0.5) * L, y - fy - 0.5, o);
-    o->cover = pgp__smooth(-0.5, 0.5, -o->d / px);
+    o->cover = pw_smoothstep(-0.5, 0.5, -o->d / px);
     in = -o->d;
     bevel = 0.035 + 0.9 * w * o->hy;
     a = in <= 0.0 ? 0.0 : in >= bevel ? 1.0 : in / bevel;
     prof = (1.0 - w) * a * a * (3.0 - 2.0 * a) + w * sqrt(a * (2.0 - a)); /* bevel .. dome */
     /* each height only where it shows (the noise is most of the cost) */
-    top = o->cover > 0.0 ? (0.05 + 0.16 * w) * prof + 0.012 * pgp__fbm(seed + 20, s, t, 64) : 0.0;
-    mortar = o->cover < 1.0 ? -0.04 - 0.05 * w + 0.03 * pgp__fbm(seed + 21, s, t, 48) : 0.0;
+    top = o->cover > 0.0 ? (0.05 + 0.16 * w) * prof + 0.012 * pw_fbm2(seed + 20, s * 64, t * 64, 64) : 0.0;
+    mortar = o->cover < 1.0 ? -0.04 - 0.05 * w + 0.03 * pw_fbm2(seed + 21, s * 48, t * 48, 48) : 0.0;
     o->h = o->cover >= 1.0 ? top : mortar + (top - mortar) * o->cover;
 }
 
@@ -202,8 +158,8 @@ static void pgp__stone_colour(unsigned long long seed, double w, double s, doubl
     pgp__mix(b, brick[(int)(5.0 * pgp__rand(seed, id, 10))], burnt, pgp__rand(seed, id, 7) < 0.1 ? 0.8 : 0.0);
     memcpy(st, stone[(int)(6.0 * pgp__rand(seed, id, 9))], sizeof st);
     pgp__mix(c, b, st, w);
-    grain = 0.9 + 0.2 * pgp__fbm(seed + 30, s, t, 96) * (1.0 + w);
-    blotch = 1.0 - (0.1 + 0.5 * w * (1.0 - w)) * pgp__smooth(0.45, 0.8, pgp__fbm(seed + 31, s, t, 12));
+    grain = 0.9 + 0.2 * pw_fbm2(seed + 30, s * 96, t * 96, 96) * (1.0 + w);
+    blotch = 1.0 - (0.1 + 0.5 * w * (1.0 - w)) * pw_smoothstep(0.45, 0.8, pw_fbm2(seed + 31, s * 12, t * 12, 12));
     for (k = 0; k < 3; k++) c[k] *= v * grain * blotch;
 }
 
@@ -211,10 +167,10 @@ static void pgp__stone_colour(unsigned long long seed, double w, double s, doubl
 static void pgp__mortar_colour(unsigned long long seed, double w, double s, double t, double *c)
 {
     static const double fresh[3] = {0.80, 0.78, 0.73}, old[3] = {0.43, 0.39, 0.31}, moss[3] = {0.31, 0.41, 0.17};
-    double g = 0.85 + 0.3 * pgp__fbm(seed + 40, s, t, 128);
+    double g = 0.85 + 0.3 * pw_fbm2(seed + 40, s * 128, t * 128, 128);
     int k;
     pgp__mix(c, fresh, old, w);
-    if (w > 0.0) pgp__mix(c, c, moss, w * pgp__smooth(0.5, 0.68, pgp__fbm(seed + 41, s, t, 8)));
+    if (w > 0.0) pgp__mix(c, c, moss, w * pw_smoothstep(0.5, 0.68, pw_fbm2(seed + 41, s * 8, t * 8, 8)));
     for (k = 0; k < 3; k++) c[k] *= g;
 }
 
@@ -229,7 +185,7 @@ static void pgp__bricks(unsigned long long seed, double w, double s, double t, d
     memset(mortar, 0, sizeof mortar);
     if (o.cover > 0.0) pgp__stone_colour(seed, w, s, t, o.id, stone);
     if (o.cover < 1.0) pgp__mortar_colour(seed, w, s, t, mortar);
-    ao = 0.55 + 0.45 * pgp__smooth(0.0, 0.05 + 0.1 * w, o.d); /* the mortar is dark beside the stones */
+    ao = 0.55 + 0.45 * pw_smoothstep(0.0, 0.05 + 0.1 * w, o.d); /* the mortar is dark beside the stones */
     for (k = 0; k < 3; k++) rgb[k] = (mortar[k] * ao + (stone[k] - mortar[k] * ao) * o.cover) * light;
 }
 
@@ -247,11 +203,11 @@ static void pgp__stripes(unsigned long long seed, double s, double t, double px,
     int band = (((int)fy % N) + N) % N, k;
     half = 0.22 + 0.16 * pgp__rand(seed, band, 0);
     memcpy(col, pal[(int)(6.0 * pgp__rand(seed, band, 1))], sizeof col);
-    cov = pgp__smooth(-0.5, 0.5, (half - (v < 0.5 ? 0.5 - v : v - 0.5)) / (px * N)); /* px: a texel in t */
-    pin = pgp__smooth(-0.5, 0.5, (0.018 - (v < 0.93 ? 0.93 - v : v - 0.93)) / (px * N));
+    cov = pw_smoothstep(-0.5, 0.5, (half - (v < 0.5 ? 0.5 - v : v - 0.5)) / (px * N)); /* px: a texel in t */
+    pin = pw_smoothstep(-0.5, 0.5, (0.018 - (v < 0.93 ? 0.93 - v : v - 0.93)) / (px * N));
     for (k = 0; k < 3; k++) rgb[k] = cream[k] + (col[k] - cream[k]) * cov;
     for (k = 0; k < 3; k++) rgb[k] += (0.55 * col[k] - rgb[k]) * pin * (1.0 - cov);
-    weave = 0.93 + 0.1 * pgp__fbm(seed + 50, s, t, 8) + 0.05 * pgp__noise(seed + 51, s, t, 256);
+    weave = 0.93 + 0.1 * pw_fbm2(seed + 50, s * 8, t * 8, 8) + 0.05 * pw_noise2(seed + 51, s * 256, t * 256, 256);
     for (k = 0; k < 3; k++) rgb[k] *= weave;
 }
 

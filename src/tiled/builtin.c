@@ -3,6 +3,7 @@
  * triangle meshes made quads by ch. VI's subdivision, an open grid) and
  * homogeneous, isotropic exemplars for ch. III.1.3. */
 #include "core.c"
+#include "../common/noise.h"
 
 /* Moves a mesh's bounding-box centre to the origin and scales it to fit
  * [-1,1]^3 (voxel meshes come in lattice units). */
@@ -97,29 +98,6 @@ static void tiled__cells_eval(const tiled__cells *c, float x, float y, float *f1
         }
 }
 
-/* Periodic value noise with a smooth (quintic) fade, `lattice` cells per
- * side, values in [0,1]. */
-static float tiled__noise(uint64_t seed, int lattice, float x, float y)
-{
-    float fx = x * (float)lattice, fy = y * (float)lattice, tx, ty, v[4];
-    int ix = (int)fx, iy = (int)fy, k;
-    tx = fx - (float)ix;
-    ty = fy - (float)iy;
-    for (k = 0; k < 4; k++) {
-        int gx = (ix + (k & 1)) % lattice, gy = (iy + (k >> 1)) % lattice;
-        v[k] = (float)(pw_hash64(seed, (uint64_t)(gy * lattice + gx)) >> 40) / 16777216.0f;
-    }
-    tx = tx * tx * tx * (tx * (tx * 6.0f - 15.0f) + 10.0f);
-    ty = ty * ty * ty * (ty * (ty * 6.0f - 15.0f) + 10.0f);
-    return (v[0] + (v[1] - v[0]) * tx) + ((v[2] + (v[3] - v[2]) * tx) - (v[0] + (v[1] - v[0]) * tx)) * ty;
-}
-
-static float tiled__fbm(uint64_t seed, float x, float y)
-{
-    return 0.5f * tiled__noise(seed, 4, x, y) + 0.25f * tiled__noise(seed + 1, 8, x, y) +
-           0.15f * tiled__noise(seed + 2, 16, x, y) + 0.1f * tiled__noise(seed + 3, 32, x, y);
-}
-
 static void tiled__mix(float *out, const float *a, const float *b, float t)
 {
     int k;
@@ -134,7 +112,7 @@ static void tiled__pebbles(const tiled__cells *c, uint64_t seed, float x, float 
     float f1, f2, stone[3], edge, grain;
     int id, k;
     tiled__cells_eval(c, x, y, &f1, &f2, &id);
-    grain = tiled__fbm(seed, x, y);
+    grain = (float)pw_fbm2(seed, 4.0 * x, 4.0 * y, 4);
     for (k = 0; k < 3; k++) /* warm greys: shared brightness, a little hue */
         stone[k] = 0.35f + 0.35f * c->col[id][0] + 0.12f * (c->col[id][k] - 0.5f) + 0.25f * (grain - 0.5f);
     edge = (f2 - f1) * (float)c->m * 3.0f; /* 0 on the cell border */
@@ -147,12 +125,12 @@ static void tiled__spots(const tiled__cells *c, uint64_t seed, float x, float y,
 {
     static const float ground[3] = {0.86f, 0.67f, 0.37f}, ring[3] = {0.1f, 0.07f, 0.05f},
                        centre[3] = {0.6f, 0.4f, 0.19f};
-    float f1, f2, r, base[3], n = tiled__fbm(seed, x, y), broken, k;
+    float f1, f2, r, base[3], n = (float)pw_fbm2(seed, 4.0 * x, 4.0 * y, 4), broken, k;
     int id;
     tiled__cells_eval(c, x, y, &f1, &f2, &id);
     r = (0.25f + 0.12f * c->col[id][0]) / (float)c->m; /* rosette radius */
     k = 40.0f * (float)c->m;                             /* edge sharpness */
-    broken = tiled__noise(seed + 11, 16, x, y) > 0.3f ? 1.0f : 0.0f;
+    broken = (float)pw_noise2(seed + 11, 16 * x, 16 * y, 16) > 0.3f ? 1.0f : 0.0f;
     tiled__mix(base, ground, centre, (0.5f * r - f1) * k);
     tiled__mix(rgb, base, ring, broken * pw_clampf((f1 - 0.5f * r) * k, 0.0f, 1.0f) *
                                     pw_clampf((r - f1) * k, 0.0f, 1.0f));
@@ -166,7 +144,7 @@ static void tiled__lichen(uint64_t seed, float x, float y, float *rgb)
 {
     static const float stone[3] = {0.5f, 0.5f, 0.48f}, moss[3] = {0.55f, 0.62f, 0.2f},
                        dark[3] = {0.2f, 0.22f, 0.12f};
-    float n = tiled__fbm(seed, x, y), d = tiled__fbm(seed + 7, x, y), base[3];
+    float n = (float)pw_fbm2(seed, 4.0 * x, 4.0 * y, 4), d = (float)pw_fbm2(seed + 7, 4.0 * x, 4.0 * y, 4), base[3];
     tiled__mix(base, stone, moss, (n - 0.5f) * 12.0f);
     tiled__mix(rgb, base, dark, (d - 0.62f) * 8.0f);
 }
