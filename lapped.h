@@ -5,33 +5,33 @@
  *     36: src/lapped/lapped.h, the public API and its documentation
  *    479: src/common/base.h, allocation hooks, result codes, error messages, limits, he
  *    793: src/common/vec.h, small vector math on float[3] arrays and a 3-float struct.
- *    920: src/common/rng.h, seeded random numbers with the same output on every platfo
- *    997: src/common/noise.h, value noise and its fractal sum, for the built-in procedur
- *   1099: src/common/image.h, float images and their file formats.
- *   1828: src/common/deflate.h, zlib (RFC 1950) and deflate (RFC 1951) compression and
- *   2856: src/common/png.h, PNG writer and reader, and the image front end.
- *   3421: src/common/text.h, locale-independent number parsing and formatting, a line s
- *   3804: src/common/mesh.h, polygon meshes as flat arrays, and their file formats.
- *   5319: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
- *   5765: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
- *   6187: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
- *   7404: src/common/raster.h, exact scan conversion of 2D triangles.
- *   7892: src/common/render.h, a small deterministic software renderer for textured trian
- *   9637: src/lapped/polyhull.h, the polygonal hull of a texture patch (Praun, Finkelstein 
- *  10456: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
- *  10646: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
- *  10731: src/common/atlas.h, texture atlases of triangle meshes — charts, packing, ba
- *  12683: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
- *  13348: src/common/glue.h, what every method header needs between its public types an
- *  13544: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  14090: src/lapped/core.c, lapped.h's glue to the shared core, its defaults, and the 
- *  14248: src/lapped/field.c, §3.2 the tangent field, one frame (S, T) per triangle, an
- *  14707: src/lapped/patch.c, §3.1 texture patches. A patch is the texture as RGBA whos
- *  14995: src/lapped/builtin.c, built-in meshes (made by the shared shapes module) and tex
- *  15161: src/lapped/grow.c, pasting (§3.3-3.6): grow a surface patch around an uncove
- *  16561: src/lapped/render.c, runtime pasting (§4): the mesh drawn once per paste, in p
- *  16752: src/lapped/atlas.c, §4 "Rendering with a texture atlas".
- *  16990: src/lapped/io.c, the paste file format and the file conveniences of lapped.
+ *    890: src/common/rng.h, seeded random numbers with the same output on every platfo
+ *    967: src/common/noise.h, value noise and its fractal sum, for the built-in procedur
+ *   1069: src/common/image.h, float images and their file formats.
+ *   1798: src/common/deflate.h, zlib (RFC 1950) and deflate (RFC 1951) compression and
+ *   2826: src/common/png.h, PNG writer and reader, and the image front end.
+ *   3391: src/common/text.h, locale-independent number parsing and formatting, a line s
+ *   3774: src/common/mesh.h, polygon meshes as flat arrays, and their file formats.
+ *   5289: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
+ *   5735: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
+ *   6157: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
+ *   7374: src/common/raster.h, exact scan conversion of 2D triangles.
+ *   7862: src/common/render.h, a small deterministic software renderer for textured trian
+ *   9607: src/lapped/polyhull.h, the polygonal hull of a texture patch (Praun, Finkelstein 
+ *  10426: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
+ *  10616: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
+ *  10701: src/common/atlas.h, texture atlases of triangle meshes — charts, packing, ba
+ *  12653: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
+ *  13318: src/common/glue.h, what every method header needs between its public types an
+ *  13514: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  14060: src/lapped/core.c, lapped.h's glue to the shared core, its defaults, and the 
+ *  14218: src/lapped/field.c, §3.2 the tangent field, one frame (S, T) per triangle, an
+ *  14677: src/lapped/patch.c, §3.1 texture patches. A patch is the texture as RGBA whos
+ *  14965: src/lapped/builtin.c, built-in meshes (made by the shared shapes module) and tex
+ *  15131: src/lapped/grow.c, pasting (§3.3-3.6): grow a surface patch around an uncove
+ *  16531: src/lapped/render.c, runtime pasting (§4): the mesh drawn once per paste, in p
+ *  16722: src/lapped/atlas.c, §4 "Rendering with a texture atlas".
+ *  16960: src/lapped/io.c, the paste file format and the file conveniences of lapped.
  */
 /* lapped.h - lapped textures: overlapping texture patches pasted over a mesh.
  *
@@ -830,10 +830,6 @@ PW__DEF pw_v3 pw_v3_norm(pw_v3 a)
     float l = pw_v3_len(a);
     return l > 0.0f ? pw_v3_scale(a, 1.0f / l) : a;
 }
-PW__DEF pw_v3 pw_v3_lerp(pw_v3 a, pw_v3 b, float t)
-{
-    return pw_v3_make(a.x + (b.x - a.x) * t, a.y + (b.y - a.y) * t, a.z + (b.z - a.z) * t);
-}
 PW__DEF pw_v3 pw_v3_min(pw_v3 a, pw_v3 b)
 {
     return pw_v3_make(a.x < b.x ? a.x : b.x, a.y < b.y ? a.y : b.y, a.z < b.z ? a.z : b.z);
@@ -888,32 +884,6 @@ PW__DEF double pw_sin(double x)
     return (n & 1) ? -s : s;
 }
 PW__DEF double pw_cos(double x) { return pw_sin(x + 1.57079632679489661923); }
-
-/* Row-major 4x4 matrix, m[row*4+col], acting on column vectors. */
-typedef struct pw_m4 {
-    float m[16];
-} pw_m4;
-
-PW__DEF pw_m4 pw_m4_mul(const pw_m4 *a, const pw_m4 *b)
-{
-    pw_m4 r;
-    int i, j, k;
-    for (i = 0; i < 4; i++)
-        for (j = 0; j < 4; j++) {
-            float s = 0.0f;
-            for (k = 0; k < 4; k++) s += a->m[i * 4 + k] * b->m[k * 4 + j];
-            r.m[i * 4 + j] = s;
-        }
-    return r;
-}
-
-/* Applies m to (p, 1); returns x,y,z,w in out[4]. */
-PW__DEF void pw_m4_apply(const pw_m4 *m, pw_v3 p, float out[4])
-{
-    int i;
-    for (i = 0; i < 4; i++)
-        out[i] = m->m[i * 4] * p.x + m->m[i * 4 + 1] * p.y + m->m[i * 4 + 2] * p.z + m->m[i * 4 + 3];
-}
 
 #endif /* PW__VEC_V1 */
 

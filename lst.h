@@ -5,39 +5,39 @@
  *     42: src/lst/lst.h, the public API and its documentation
  *    712: src/common/base.h, allocation hooks, result codes, error messages, limits, he
  *   1026: src/common/vec.h, small vector math on float[3] arrays and a 3-float struct.
- *   1153: src/common/rng.h, seeded random numbers with the same output on every platfo
- *   1230: src/common/noise.h, value noise and its fractal sum, for the built-in procedur
- *   1332: src/common/image.h, float images and their file formats.
- *   2061: src/common/deflate.h, zlib (RFC 1950) and deflate (RFC 1951) compression and
- *   3089: src/common/png.h, PNG writer and reader, and the image front end.
- *   3654: src/common/text.h, locale-independent number parsing and formatting, a line s
- *   4037: src/common/mesh.h, polygon meshes as flat arrays, and their file formats.
- *   5552: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
- *   5998: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
- *   6420: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
- *   6610: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
- *   6695: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
- *   7912: src/common/raster.h, exact scan conversion of 2D triangles.
- *   8400: src/common/render.h, a small deterministic software renderer for textured trian
- *  10145: src/common/atlas.h, texture atlases of triangle meshes — charts, packing, ba
- *  12097: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
- *  12903: src/common/tetmesh.h, the tetrahedral mesh that lapped solid textures work on, a
- *  13383: src/common/tetio.h, tetrahedral mesh files, TetGen .node/.ele and MEDIT .mesh.
- *  13839: src/common/bisect.h, graded, conforming tetrahedral meshes of a box by newest-v
- *  14140: src/common/stuffing.h, the built-in tetrahedralizer of lst.h, so that no external
- *  16960: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
- *  17079: src/common/pca.h, principal component analysis of vectors streamed one at a 
- *  17258: src/common/glue.h, what every method header needs between its public types an
- *  17454: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  18000: src/lst/core.c, lst.h's glue to the shared core, its defaults, the convers
- *  18338: src/lst/exemplar.c, solid exemplars (§5): sampling, the procedural exemplars 
- *  18839: src/lst/field.c, §5.2.2, the fields that orient and scale the pastes. The 
- *  19869: src/lst/paste.c, §5.2.3-5.2.7, filling the model. Each paste picks a rando
- *  20769: src/lst/render.c, §5.1, showing a model. Every point of a tetrahedron is th
- *  21528: src/lst/cut.c, §5.1.1, cutting a model along the zero set of a scalar fi
- *  22048: src/lst/builtin.c, the tetrahedralizer entry point, checks of caller meshes, 
- *  22502: src/lst/io.c, the model file, the constraint files and the file convenie
- *  23301: src/lst/export.c, the visible boundary with a baked texture atlas, for glTF.
+ *   1123: src/common/rng.h, seeded random numbers with the same output on every platfo
+ *   1200: src/common/noise.h, value noise and its fractal sum, for the built-in procedur
+ *   1302: src/common/image.h, float images and their file formats.
+ *   2031: src/common/deflate.h, zlib (RFC 1950) and deflate (RFC 1951) compression and
+ *   3059: src/common/png.h, PNG writer and reader, and the image front end.
+ *   3624: src/common/text.h, locale-independent number parsing and formatting, a line s
+ *   4007: src/common/mesh.h, polygon meshes as flat arrays, and their file formats.
+ *   5522: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
+ *   5968: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
+ *   6390: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
+ *   6580: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
+ *   6665: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
+ *   7882: src/common/raster.h, exact scan conversion of 2D triangles.
+ *   8370: src/common/render.h, a small deterministic software renderer for textured trian
+ *  10115: src/common/atlas.h, texture atlases of triangle meshes — charts, packing, ba
+ *  12067: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
+ *  12873: src/common/tetmesh.h, the tetrahedral mesh that lapped solid textures work on, a
+ *  13353: src/common/tetio.h, tetrahedral mesh files, TetGen .node/.ele and MEDIT .mesh.
+ *  13809: src/common/bisect.h, graded, conforming tetrahedral meshes of a box by newest-v
+ *  14110: src/common/stuffing.h, the built-in tetrahedralizer of lst.h, so that no external
+ *  16930: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
+ *  17049: src/common/pca.h, principal component analysis of vectors streamed one at a 
+ *  17228: src/common/glue.h, what every method header needs between its public types an
+ *  17424: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  17970: src/lst/core.c, lst.h's glue to the shared core, its defaults, the convers
+ *  18308: src/lst/exemplar.c, solid exemplars (§5): sampling, the procedural exemplars 
+ *  18809: src/lst/field.c, §5.2.2, the fields that orient and scale the pastes. The 
+ *  19839: src/lst/paste.c, §5.2.3-5.2.7, filling the model. Each paste picks a rando
+ *  20739: src/lst/render.c, §5.1, showing a model. Every point of a tetrahedron is th
+ *  21498: src/lst/cut.c, §5.1.1, cutting a model along the zero set of a scalar fi
+ *  22018: src/lst/builtin.c, the tetrahedralizer entry point, checks of caller meshes, 
+ *  22472: src/lst/io.c, the model file, the constraint files and the file convenie
+ *  23271: src/lst/export.c, the visible boundary with a baked texture atlas, for glTF.
  */
 /* lst.h - lapped solid textures: solid exemplars pasted inside a model.
  *
@@ -1063,10 +1063,6 @@ PW__DEF pw_v3 pw_v3_norm(pw_v3 a)
     float l = pw_v3_len(a);
     return l > 0.0f ? pw_v3_scale(a, 1.0f / l) : a;
 }
-PW__DEF pw_v3 pw_v3_lerp(pw_v3 a, pw_v3 b, float t)
-{
-    return pw_v3_make(a.x + (b.x - a.x) * t, a.y + (b.y - a.y) * t, a.z + (b.z - a.z) * t);
-}
 PW__DEF pw_v3 pw_v3_min(pw_v3 a, pw_v3 b)
 {
     return pw_v3_make(a.x < b.x ? a.x : b.x, a.y < b.y ? a.y : b.y, a.z < b.z ? a.z : b.z);
@@ -1121,32 +1117,6 @@ PW__DEF double pw_sin(double x)
     return (n & 1) ? -s : s;
 }
 PW__DEF double pw_cos(double x) { return pw_sin(x + 1.57079632679489661923); }
-
-/* Row-major 4x4 matrix, m[row*4+col], acting on column vectors. */
-typedef struct pw_m4 {
-    float m[16];
-} pw_m4;
-
-PW__DEF pw_m4 pw_m4_mul(const pw_m4 *a, const pw_m4 *b)
-{
-    pw_m4 r;
-    int i, j, k;
-    for (i = 0; i < 4; i++)
-        for (j = 0; j < 4; j++) {
-            float s = 0.0f;
-            for (k = 0; k < 4; k++) s += a->m[i * 4 + k] * b->m[k * 4 + j];
-            r.m[i * 4 + j] = s;
-        }
-    return r;
-}
-
-/* Applies m to (p, 1); returns x,y,z,w in out[4]. */
-PW__DEF void pw_m4_apply(const pw_m4 *m, pw_v3 p, float out[4])
-{
-    int i;
-    for (i = 0; i < 4; i++)
-        out[i] = m->m[i * 4] * p.x + m->m[i * 4 + 1] * p.y + m->m[i * 4 + 2] * p.z + m->m[i * 4 + 3];
-}
 
 #endif /* PW__VEC_V1 */
 

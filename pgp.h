@@ -5,42 +5,42 @@
  *     45: src/pgp/pgp.h, the public API and its documentation
  *    659: src/common/base.h, allocation hooks, result codes, error messages, limits, he
  *    973: src/common/vec.h, small vector math on float[3] arrays and a 3-float struct.
- *   1100: src/common/rng.h, seeded random numbers with the same output on every platfo
- *   1177: src/common/noise.h, value noise and its fractal sum, for the built-in procedur
- *   1279: src/common/image.h, float images and their file formats.
- *   2008: src/common/deflate.h, zlib (RFC 1950) and deflate (RFC 1951) compression and
- *   3036: src/common/png.h, PNG writer and reader, and the image front end.
- *   3601: src/common/text.h, locale-independent number parsing and formatting, a line s
- *   3984: src/common/mesh.h, polygon meshes as flat arrays, and their file formats.
- *   5499: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
- *   5945: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
- *   6367: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
- *   7584: src/common/zsparse.h, complex Hermitian sparse systems, solved by conjugate grad
- *   7839: src/common/raster.h, exact scan conversion of 2D triangles.
- *   8327: src/common/render.h, a small deterministic software renderer for textured trian
- *  10072: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
- *  10262: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
- *  10347: src/common/atlas.h, texture atlases of triangle meshes — charts, packing, ba
- *  12299: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
- *  12964: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
- *  13770: src/pgp/tile3.h, sampling a material-space tile (Ray et al. 2009, §2: "a 3
- *  13884: src/common/glue.h, what every method header needs between its public types an
- *  14080: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  14626: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
- *  15132: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
- *  15590: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
- *  15709: src/common/kdtree.h, nearest-neighbour search among n points of dimension d, wi
- *  16040: src/common/pca.h, principal component analysis of vectors streamed one at a 
- *  16219: src/pgp/core.c, pgp.h's glue to the shared core, its defaults, and the map
- *  16472: src/pgp/field.c, §2.1 effect areas and §2.2 interpolation of the constrai
- *  16831: src/pgp/solve.c, §2.3 the periodic global parameterization, the recovery o
- *  17591: src/pgp/edit.c, the public editing calls of a mapping. §2.1 (Ray, Lévy, 
- *  17726: src/pgp/render.c, §3 rendering, and a cleaner treatment of the vortices.
- *  18101: src/pgp/builtin.c, built-in meshes and material-space tiles for demos and tes
- *  18363: src/pgp/io.c, files and memory for pgp.h: material-space tiles (NRRD, or
- *  18812: src/pgp/export.c, the mapping for other programs. A viewer that knows nothin
- *  19011: src/pgp/morph.c, the inputs of §1 (keys brought to the tile size, made til
- *  19626: src/pgp/synth.c, §1.2 constrained tile synthesis, and the whole of §1: ke
+ *   1070: src/common/rng.h, seeded random numbers with the same output on every platfo
+ *   1147: src/common/noise.h, value noise and its fractal sum, for the built-in procedur
+ *   1249: src/common/image.h, float images and their file formats.
+ *   1978: src/common/deflate.h, zlib (RFC 1950) and deflate (RFC 1951) compression and
+ *   3006: src/common/png.h, PNG writer and reader, and the image front end.
+ *   3571: src/common/text.h, locale-independent number parsing and formatting, a line s
+ *   3954: src/common/mesh.h, polygon meshes as flat arrays, and their file formats.
+ *   5469: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
+ *   5915: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
+ *   6337: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
+ *   7554: src/common/zsparse.h, complex Hermitian sparse systems, solved by conjugate grad
+ *   7809: src/common/raster.h, exact scan conversion of 2D triangles.
+ *   8297: src/common/render.h, a small deterministic software renderer for textured trian
+ *  10042: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
+ *  10232: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
+ *  10317: src/common/atlas.h, texture atlases of triangle meshes — charts, packing, ba
+ *  12269: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
+ *  12934: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
+ *  13740: src/pgp/tile3.h, sampling a material-space tile (Ray et al. 2009, §2: "a 3
+ *  13854: src/common/glue.h, what every method header needs between its public types an
+ *  14050: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  14596: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
+ *  15102: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
+ *  15560: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
+ *  15679: src/common/kdtree.h, nearest-neighbour search among n points of dimension d, wi
+ *  16010: src/common/pca.h, principal component analysis of vectors streamed one at a 
+ *  16189: src/pgp/core.c, pgp.h's glue to the shared core, its defaults, and the map
+ *  16442: src/pgp/field.c, §2.1 effect areas and §2.2 interpolation of the constrai
+ *  16801: src/pgp/solve.c, §2.3 the periodic global parameterization, the recovery o
+ *  17561: src/pgp/edit.c, the public editing calls of a mapping. §2.1 (Ray, Lévy, 
+ *  17696: src/pgp/render.c, §3 rendering, and a cleaner treatment of the vortices.
+ *  18071: src/pgp/builtin.c, built-in meshes and material-space tiles for demos and tes
+ *  18333: src/pgp/io.c, files and memory for pgp.h: material-space tiles (NRRD, or
+ *  18782: src/pgp/export.c, the mapping for other programs. A viewer that knows nothin
+ *  18981: src/pgp/morph.c, the inputs of §1 (keys brought to the tile size, made til
+ *  19596: src/pgp/synth.c, §1.2 constrained tile synthesis, and the whole of §1: ke
  */
 /* pgp.h - material-space texturing with a periodic global parameterization.
  *
@@ -1010,10 +1010,6 @@ PW__DEF pw_v3 pw_v3_norm(pw_v3 a)
     float l = pw_v3_len(a);
     return l > 0.0f ? pw_v3_scale(a, 1.0f / l) : a;
 }
-PW__DEF pw_v3 pw_v3_lerp(pw_v3 a, pw_v3 b, float t)
-{
-    return pw_v3_make(a.x + (b.x - a.x) * t, a.y + (b.y - a.y) * t, a.z + (b.z - a.z) * t);
-}
 PW__DEF pw_v3 pw_v3_min(pw_v3 a, pw_v3 b)
 {
     return pw_v3_make(a.x < b.x ? a.x : b.x, a.y < b.y ? a.y : b.y, a.z < b.z ? a.z : b.z);
@@ -1068,32 +1064,6 @@ PW__DEF double pw_sin(double x)
     return (n & 1) ? -s : s;
 }
 PW__DEF double pw_cos(double x) { return pw_sin(x + 1.57079632679489661923); }
-
-/* Row-major 4x4 matrix, m[row*4+col], acting on column vectors. */
-typedef struct pw_m4 {
-    float m[16];
-} pw_m4;
-
-PW__DEF pw_m4 pw_m4_mul(const pw_m4 *a, const pw_m4 *b)
-{
-    pw_m4 r;
-    int i, j, k;
-    for (i = 0; i < 4; i++)
-        for (j = 0; j < 4; j++) {
-            float s = 0.0f;
-            for (k = 0; k < 4; k++) s += a->m[i * 4 + k] * b->m[k * 4 + j];
-            r.m[i * 4 + j] = s;
-        }
-    return r;
-}
-
-/* Applies m to (p, 1); returns x,y,z,w in out[4]. */
-PW__DEF void pw_m4_apply(const pw_m4 *m, pw_v3 p, float out[4])
-{
-    int i;
-    for (i = 0; i < 4; i++)
-        out[i] = m->m[i * 4] * p.x + m->m[i * 4 + 1] * p.y + m->m[i * 4 + 2] * p.z + m->m[i * 4 + 3];
-}
 
 #endif /* PW__VEC_V1 */
 

@@ -5,30 +5,30 @@
  *     33: src/tiled/tiled.h, the public API and its documentation
  *    438: src/common/base.h, allocation hooks, result codes, error messages, limits, he
  *    752: src/common/vec.h, small vector math on float[3] arrays and a 3-float struct.
- *    879: src/common/rng.h, seeded random numbers with the same output on every platfo
- *    956: src/common/noise.h, value noise and its fractal sum, for the built-in procedur
- *   1058: src/common/image.h, float images and their file formats.
- *   1787: src/common/deflate.h, zlib (RFC 1950) and deflate (RFC 1951) compression and
- *   2815: src/common/png.h, PNG writer and reader, and the image front end.
- *   3380: src/common/text.h, locale-independent number parsing and formatting, a line s
- *   3763: src/common/mesh.h, polygon meshes as flat arrays, and their file formats.
- *   5278: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
- *   5724: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
- *   6146: src/common/subdiv.h, Catmull-Clark subdivision (Catmull and Clark 1978) with
- *   6318: src/common/raster.h, exact scan conversion of 2D triangles.
- *   6806: src/common/render.h, a small deterministic software renderer for textured trian
- *   8551: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
- *   9057: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
- *   9515: src/common/glue.h, what every method header needs between its public types an
- *   9711: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  10257: src/tiled/core.c, tiled.h's glue to the shared core, its defaults, result
- *  10364: src/tiled/layout.c, ch. III.1, the boundary types and the tiled texture they
- *  10617: src/tiled/map.c, ch. III.2, the texture mapping algorithm of Fig. 29
- *  10864: src/tiled/synth.c, ch. III.1.3, tiled texture image synthesis: an edge-matche
- *  11230: src/tiled/validate.c, checks a hand-made tiled texture (the thesis's Figs. 39,
- *  11347: src/tiled/builtin.c, built-in meshes and exemplars for demos and tests: the
- *  11533: src/tiled/render.c, a software rendering of a mapped mesh (the thesis rendered
- *  11726: src/tiled/io.c, files. Meshes and exemplars in; the mapped mesh with its t
+ *    849: src/common/rng.h, seeded random numbers with the same output on every platfo
+ *    926: src/common/noise.h, value noise and its fractal sum, for the built-in procedur
+ *   1028: src/common/image.h, float images and their file formats.
+ *   1757: src/common/deflate.h, zlib (RFC 1950) and deflate (RFC 1951) compression and
+ *   2785: src/common/png.h, PNG writer and reader, and the image front end.
+ *   3350: src/common/text.h, locale-independent number parsing and formatting, a line s
+ *   3733: src/common/mesh.h, polygon meshes as flat arrays, and their file formats.
+ *   5248: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
+ *   5694: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
+ *   6116: src/common/subdiv.h, Catmull-Clark subdivision (Catmull and Clark 1978) with
+ *   6257: src/common/raster.h, exact scan conversion of 2D triangles.
+ *   6745: src/common/render.h, a small deterministic software renderer for textured trian
+ *   8490: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
+ *   8996: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
+ *   9454: src/common/glue.h, what every method header needs between its public types an
+ *   9650: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  10196: src/tiled/core.c, tiled.h's glue to the shared core, its defaults, result
+ *  10303: src/tiled/layout.c, ch. III.1, the boundary types and the tiled texture they
+ *  10556: src/tiled/map.c, ch. III.2, the texture mapping algorithm of Fig. 29
+ *  10803: src/tiled/synth.c, ch. III.1.3, tiled texture image synthesis: an edge-matche
+ *  11169: src/tiled/validate.c, checks a hand-made tiled texture (the thesis's Figs. 39,
+ *  11286: src/tiled/builtin.c, built-in meshes and exemplars for demos and tests: the
+ *  11472: src/tiled/render.c, a software rendering of a mapped mesh (the thesis rendered
+ *  11665: src/tiled/io.c, files. Meshes and exemplars in; the mapped mesh with its t
  */
 /* tiled.h - seamless, singularity-free tiled textures on quad meshes.
  *
@@ -789,10 +789,6 @@ PW__DEF pw_v3 pw_v3_norm(pw_v3 a)
     float l = pw_v3_len(a);
     return l > 0.0f ? pw_v3_scale(a, 1.0f / l) : a;
 }
-PW__DEF pw_v3 pw_v3_lerp(pw_v3 a, pw_v3 b, float t)
-{
-    return pw_v3_make(a.x + (b.x - a.x) * t, a.y + (b.y - a.y) * t, a.z + (b.z - a.z) * t);
-}
 PW__DEF pw_v3 pw_v3_min(pw_v3 a, pw_v3 b)
 {
     return pw_v3_make(a.x < b.x ? a.x : b.x, a.y < b.y ? a.y : b.y, a.z < b.z ? a.z : b.z);
@@ -847,32 +843,6 @@ PW__DEF double pw_sin(double x)
     return (n & 1) ? -s : s;
 }
 PW__DEF double pw_cos(double x) { return pw_sin(x + 1.57079632679489661923); }
-
-/* Row-major 4x4 matrix, m[row*4+col], acting on column vectors. */
-typedef struct pw_m4 {
-    float m[16];
-} pw_m4;
-
-PW__DEF pw_m4 pw_m4_mul(const pw_m4 *a, const pw_m4 *b)
-{
-    pw_m4 r;
-    int i, j, k;
-    for (i = 0; i < 4; i++)
-        for (j = 0; j < 4; j++) {
-            float s = 0.0f;
-            for (k = 0; k < 4; k++) s += a->m[i * 4 + k] * b->m[k * 4 + j];
-            r.m[i * 4 + j] = s;
-        }
-    return r;
-}
-
-/* Applies m to (p, 1); returns x,y,z,w in out[4]. */
-PW__DEF void pw_m4_apply(const pw_m4 *m, pw_v3 p, float out[4])
-{
-    int i;
-    for (i = 0; i < 4; i++)
-        out[i] = m->m[i * 4] * p.x + m->m[i * 4 + 1] * p.y + m->m[i * 4 + 2] * p.z + m->m[i * 4 + 3];
-}
 
 #endif /* PW__VEC_V1 */
 
@@ -6279,37 +6249,6 @@ PW__DEF int pw_catmull_clark(const pw_alloc *a, const pw_hmesh *hm, const float 
     pw__cc_quads(hm, out);
     pw_free(a, acc);
     pw_free(a, cnt);
-    return PW_OK;
-}
-
-/* `levels` Catmull-Clark steps of a polygon mesh (0 copies it); fails with
- * the half-edge build's errors on meshes it cannot represent. */
-PW__DEF int pw_subdivide(const pw_alloc *a, const pw_mesh *m, int levels, pw_mesh *out, pw_err *e)
-{
-    pw_mesh cur, next;
-    pw_hmesh hm;
-    int i, r;
-    memset(out, 0, sizeof *out);
-    if (levels < 0) return pw_fail(e, PW_ERR_INVALID, "subdivide: negative level count %d", levels);
-    if ((r = pw_mesh_copy(a, m, &cur, e))) return r;
-    pw_free(a, cur.uv); /* not carried */
-    pw_free(a, cur.fuv);
-    cur.uv = NULL;
-    cur.fuv = NULL;
-    cur.nuv = 0;
-    for (i = 0; i < levels; i++) {
-        if ((r = pw_hmesh_from_mesh(a, &cur, &hm, e))) break;
-        r = pw_catmull_clark(a, &hm, cur.pos, &next, e);
-        pw_hmesh_free(a, &hm);
-        if (r) break;
-        pw_mesh_free(a, &cur);
-        cur = next;
-    }
-    if (r) {
-        pw_mesh_free(a, &cur);
-        return r;
-    }
-    *out = cur;
     return PW_OK;
 }
 

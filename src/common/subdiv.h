@@ -137,35 +137,4 @@ PW__DEF int pw_catmull_clark(const pw_alloc *a, const pw_hmesh *hm, const float 
     return PW_OK;
 }
 
-/* `levels` Catmull-Clark steps of a polygon mesh (0 copies it); fails with
- * the half-edge build's errors on meshes it cannot represent. */
-PW__DEF int pw_subdivide(const pw_alloc *a, const pw_mesh *m, int levels, pw_mesh *out, pw_err *e)
-{
-    pw_mesh cur, next;
-    pw_hmesh hm;
-    int i, r;
-    memset(out, 0, sizeof *out);
-    if (levels < 0) return pw_fail(e, PW_ERR_INVALID, "subdivide: negative level count %d", levels);
-    if ((r = pw_mesh_copy(a, m, &cur, e))) return r;
-    pw_free(a, cur.uv); /* not carried */
-    pw_free(a, cur.fuv);
-    cur.uv = NULL;
-    cur.fuv = NULL;
-    cur.nuv = 0;
-    for (i = 0; i < levels; i++) {
-        if ((r = pw_hmesh_from_mesh(a, &cur, &hm, e))) break;
-        r = pw_catmull_clark(a, &hm, cur.pos, &next, e);
-        pw_hmesh_free(a, &hm);
-        if (r) break;
-        pw_mesh_free(a, &cur);
-        cur = next;
-    }
-    if (r) {
-        pw_mesh_free(a, &cur);
-        return r;
-    }
-    *out = cur;
-    return PW_OK;
-}
-
 #endif /* PW__SUBDIV_V1 */

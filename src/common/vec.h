@@ -38,10 +38,6 @@ PW__DEF pw_v3 pw_v3_norm(pw_v3 a)
     float l = pw_v3_len(a);
     return l > 0.0f ? pw_v3_scale(a, 1.0f / l) : a;
 }
-PW__DEF pw_v3 pw_v3_lerp(pw_v3 a, pw_v3 b, float t)
-{
-    return pw_v3_make(a.x + (b.x - a.x) * t, a.y + (b.y - a.y) * t, a.z + (b.z - a.z) * t);
-}
 PW__DEF pw_v3 pw_v3_min(pw_v3 a, pw_v3 b)
 {
     return pw_v3_make(a.x < b.x ? a.x : b.x, a.y < b.y ? a.y : b.y, a.z < b.z ? a.z : b.z);
@@ -96,31 +92,5 @@ PW__DEF double pw_sin(double x)
     return (n & 1) ? -s : s;
 }
 PW__DEF double pw_cos(double x) { return pw_sin(x + 1.57079632679489661923); }
-
-/* Row-major 4x4 matrix, m[row*4+col], acting on column vectors. */
-typedef struct pw_m4 {
-    float m[16];
-} pw_m4;
-
-PW__DEF pw_m4 pw_m4_mul(const pw_m4 *a, const pw_m4 *b)
-{
-    pw_m4 r;
-    int i, j, k;
-    for (i = 0; i < 4; i++)
-        for (j = 0; j < 4; j++) {
-            float s = 0.0f;
-            for (k = 0; k < 4; k++) s += a->m[i * 4 + k] * b->m[k * 4 + j];
-            r.m[i * 4 + j] = s;
-        }
-    return r;
-}
-
-/* Applies m to (p, 1); returns x,y,z,w in out[4]. */
-PW__DEF void pw_m4_apply(const pw_m4 *m, pw_v3 p, float out[4])
-{
-    int i;
-    for (i = 0; i < 4; i++)
-        out[i] = m->m[i * 4] * p.x + m->m[i * 4 + 1] * p.y + m->m[i * 4 + 2] * p.z + m->m[i * 4 + 3];
-}
 
 #endif /* PW__VEC_V1 */
