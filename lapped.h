@@ -3,34 +3,34 @@
  *
  * CONTENTS (line: source, what it holds)
  *     35: src/lapped/lapped.h, the public API and its documentation
- *    478: src/common/base.h, allocation hooks, result codes, error messages, limits, he
- *    792: src/common/vec.h, small vector math on float[3] arrays and a 3-float struct.
- *    919: src/common/rng.h, seeded random numbers with the same output on every platfo
- *    996: src/common/image.h, float images and their file formats.
- *   1725: src/common/deflate.h, zlib (RFC 1950) and deflate (RFC 1951) compression and
- *   2753: src/common/png.h, PNG writer and reader, and the image front end.
- *   3318: src/common/text.h, locale-independent number parsing and formatting, a line s
- *   3701: src/common/mesh.h, polygon meshes as flat arrays, and their file formats.
- *   5216: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
- *   5662: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
- *   6084: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
- *   7301: src/common/raster.h, exact scan conversion of 2D triangles.
- *   7789: src/common/render.h, a small deterministic software renderer for textured trian
- *   9534: src/lapped/polyhull.h, the polygonal hull of a texture patch (Praun, Finkelstein 
- *  10353: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
- *  10543: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
- *  10628: src/common/atlas.h, texture atlases of triangle meshes — charts, packing, ba
- *  12580: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
- *  13245: src/common/glue.h, what every method header needs between its public types an
- *  13441: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  13987: src/lapped/core.c, lapped.h's glue to the shared core, its defaults, and the 
- *  14145: src/lapped/field.c, §3.2 the tangent field, one frame (S, T) per triangle, an
- *  14604: src/lapped/patch.c, §3.1 texture patches. A patch is the texture as RGBA whos
- *  14892: src/lapped/builtin.c, built-in meshes (made by the shared shapes module) and tex
- *  15096: src/lapped/grow.c, pasting (§3.3-3.6): grow a surface patch around an uncove
- *  16496: src/lapped/render.c, runtime pasting (§4): the mesh drawn once per paste, in p
- *  16687: src/lapped/atlas.c, §4 "Rendering with a texture atlas".
- *  16925: src/lapped/io.c, the paste file format and the file conveniences of lapped.
+ *    481: src/common/base.h, allocation hooks, result codes, error messages, limits, he
+ *    800: src/common/vec.h, small vector math on float[3] arrays and a 3-float struct.
+ *    927: src/common/rng.h, seeded random numbers with the same output on every platfo
+ *   1004: src/common/image.h, float images and their file formats.
+ *   1733: src/common/deflate.h, zlib (RFC 1950) and deflate (RFC 1951) compression and
+ *   2763: src/common/png.h, PNG writer and reader, and the image front end.
+ *   3350: src/common/text.h, locale-independent number parsing and formatting, a line s
+ *   3733: src/common/mesh.h, polygon meshes as flat arrays, and their file formats.
+ *   5248: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
+ *   5694: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
+ *   6116: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
+ *   7333: src/common/raster.h, exact scan conversion of 2D triangles.
+ *   7821: src/common/render.h, a small deterministic software renderer for textured trian
+ *   9577: src/lapped/polyhull.h, the polygonal hull of a texture patch (Praun, Finkelstein 
+ *  10396: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
+ *  10586: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
+ *  10671: src/common/atlas.h, texture atlases of triangle meshes — charts, packing, ba
+ *  12623: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
+ *  13288: src/common/glue.h, what every method header needs between its public types an
+ *  13495: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  14041: src/lapped/core.c, lapped.h's glue to the shared core, its defaults, and the 
+ *  14199: src/lapped/field.c, §3.2 the tangent field, one frame (S, T) per triangle, an
+ *  14658: src/lapped/patch.c, §3.1 texture patches. A patch is the texture as RGBA whos
+ *  14946: src/lapped/builtin.c, built-in meshes (made by the shared shapes module) and tex
+ *  15150: src/lapped/grow.c, pasting (§3.3-3.6): grow a surface patch around an uncove
+ *  16550: src/lapped/render.c, runtime pasting (§4): the mesh drawn once per paste, in p
+ *  16753: src/lapped/atlas.c, §4 "Rendering with a texture atlas".
+ *  16991: src/lapped/io.c, the paste file format and the file conveniences of lapped.
  */
 /* lapped.h - lapped textures: overlapping texture patches pasted over a mesh.
  *
@@ -69,6 +69,9 @@
  *   size limits, as in every patchwork header, and PW_THREADS: rendering on
  *   several threads (POSIX threads; link with -pthread; lapped_render_options.
  *   threads, 0 = one per processor), the same picture for any count.
+ *   PW_NO_RENDER and PW_NO_PNG leave out the renderer (lapped_render fails
+ *   with LAPPED_ERR_UNSUPPORTED) and the PNG codec (loading or saving PNG fails
+ *   the same way): faster builds for programs that only compute (docs/api.md).
  *
  * MINIMAL EXAMPLE
  *       lapped_options opt = lapped_default_options();
@@ -760,6 +763,11 @@ PW__DEF int pw_write_file(const char *path,
     pw_err_clear(&local);
     r = body(arg, pw__file_write, f, &local);
     if (fclose(f) != 0 && r == PW_OK) r = local.code = PW_ERR_IO;
+#ifdef PW_NO_PNG
+    /* a body that needed the compiled-out PNG encoder refused before writing
+     * a byte: leave no empty file behind */
+    if (r == PW_ERR_UNSUPPORTED) remove(path);
+#endif
     if (r == PW_ERR_IO) return pw_fail(e, PW_ERR_IO, "%s: write error (disk full?)", path);
     if (r != PW_OK) return pw_fail(e, r, "%s", local.msg);
     return PW_OK;
@@ -1723,6 +1731,7 @@ PW__DEF int pw_image_write_pnm(const pw_image *img, int bits, int ascii, pw_writ
 #endif /* PW__IMAGE_V1 */
 
 /* ---- shared module src/common/deflate.h ---- */
+#ifndef PW_NO_PNG
 /* deflate: zlib (RFC 1950) and deflate (RFC 1951) compression and
  * decompression, CRC-32 and Adler-32. PNG needs all of them.
  *
@@ -2749,6 +2758,7 @@ PW__DEF int pw_zlib_decompress(const pw_alloc *a, const unsigned char *data, siz
 }
 
 #endif /* PW__DEFLATE_V1 */
+#endif /* PW_NO_PNG */
 
 /* ---- shared module src/common/png.h ---- */
 /* png: PNG writer and reader, and the image front end.
@@ -2778,6 +2788,11 @@ PW__DEF int pw_zlib_decompress(const pw_alloc *a, const unsigned char *data, siz
 
 
 static const unsigned char pw__png_sig[8] = {137, 80, 78, 71, 13, 10, 26, 10};
+
+/* PW_NO_PNG leaves out the codec (and, where nothing else needs it,
+ * deflate.h): the two entry points below refuse instead, and the front end
+ * still tells a PNG file by its signature so that loading one fails clearly. */
+#ifndef PW_NO_PNG
 
 PW__DEF void pw__put_be32(unsigned char *p, uint32_t v)
 {
@@ -3239,6 +3254,23 @@ PW__DEF int pw_png_read_memory(const pw_alloc *a, const unsigned char *data, siz
     pw_free(a, raw);
     return rc;
 }
+
+#else
+PW__DEF int pw_png_write(const pw_alloc *a, const pw_image *img, int bits, pw_write_fn w,
+                         void *ctx, pw_err *e)
+{
+    (void)a, (void)img, (void)bits, (void)w, (void)ctx;
+    return pw_fail(e, PW_ERR_UNSUPPORTED, "PNG compiled out (PW_NO_PNG)");
+}
+
+PW__DEF int pw_png_read_memory(const pw_alloc *a, const unsigned char *data, size_t size,
+                               const char *name, pw_image *out, pw_err *e)
+{
+    (void)a, (void)data, (void)size;
+    memset(out, 0, sizeof *out);
+    return pw_fail(e, PW_ERR_UNSUPPORTED, "%s: PNG compiled out (PW_NO_PNG)", name ? name : "image");
+}
+#endif /* PW_NO_PNG */
 
 /* ======================================================================
  * Front end: any format
@@ -8435,6 +8467,12 @@ PW__DEF float pw__log2f(float x)
            s * (2.8853900818f + s2 * (0.9617966939f + s2 * (0.5770780164f + s2 * 0.4121985831f)));
 }
 
+/* PW_NO_RENDER leaves out the rest but the pw_parallel type the public
+ * render options convert to: what the methods compute without drawing still
+ * needs the camera (glTF export frames its view with pw_camera_frame) and
+ * the textures (pgp's tile3.h samples its tile through them). */
+#ifndef PW_NO_RENDER
+
 /* ----------------------------------------------------------- framebuffer */
 
 typedef struct pw_fb {
@@ -9325,6 +9363,8 @@ PW__DEF float *pw_draw_normals(const pw_alloc *a, const pw_draw *d, pw_err *e)
     return n;
 }
 
+#endif /* PW_NO_RENDER */
+
 /* ---------------------------------------------------------------- frames */
 
 /* A parallel for: runs task(ctx, i) once for every i in [0, n), in any
@@ -9342,6 +9382,7 @@ typedef struct pw_parallel {
     int threads;
 } pw_parallel;
 
+#ifndef PW_NO_RENDER
 #ifdef PW_THREADS
 #include <pthread.h>
 #include <unistd.h>
@@ -9528,6 +9569,8 @@ PW__DEF int pw_render_frame(const pw_alloc *a, const pw_frame *f, pw_image *out,
     if (r != PW_OK) pw_image_free(a, out);
     return r;
 }
+
+#endif /* PW_NO_RENDER */
 
 #endif /* PW__RENDER_V1 */
 
@@ -13322,7 +13365,10 @@ PW__DEF void pw_view_defaults(int *width, int *height, int *supersample, float v
  *   pw_image    p__pw_image(const p_image *)        a view, no copy
  *   void        p__take_image(pw_image *, const pw_alloc *, p_image *)  moves pixels out
  *   int         p__check_image(const p_image *, const char *what, pw_err *)
- *   int         p__encode(const p_image *, const char *format, pw_write_fn, void *, pw_err *) */
+ *   int         p__encode(const p_image *, const char *format, pw_write_fn, void *, pw_err *)
+ *   p_result    p__left_out(const char *what, const char *macro, p_error *)
+ *               PW_ERR_UNSUPPORTED, "what compiled out (macro)": the stubs that stand
+ *               for the calls PW_NO_RENDER leaves out */
 #define PW_PUBLIC_GLUE(p)                                                                        \
     static PW__UNUSED pw_alloc p##__alloc(const p##_allocator *t)                                \
     {                                                                                            \
@@ -13399,6 +13445,14 @@ PW__DEF void pw_view_defaults(int *width, int *height, int *supersample, float v
         pw_free(a, m->uv);                                                                       \
         pw_free(a, m->fuv);                                                                      \
         memset(m, 0, sizeof *m);                                                                 \
+    }                                                                                            \
+    static PW__UNUSED p##_result p##__left_out(const char *what, const char *macro,             \
+                                               p##_error *err)                                   \
+    {                                                                                            \
+        pw_err pe;                                                                               \
+        pw_err_clear(&pe);                                                                       \
+        pw_fail(&pe, PW_ERR_UNSUPPORTED, "%s compiled out (%s)", what, macro);                   \
+        return p##__done(&pe, err);                                                              \
     }                                                                                            \
     static PW__UNUSED pw_parallel p##__parallel(const p##_render_options *ro)                   \
     {                                                                                            \
@@ -16498,6 +16552,7 @@ LAPPEDDEF void lapped_texture_free(lapped_texture *t)
  * order, each paste's triangles textured with its patch and composited over
  * what is there. */
 
+#ifndef PW_NO_RENDER
 /* Checks that a lapped texture belongs to this mesh and these patches. */
 static int lapped__check_texture(const pw_trimesh *m, const lapped_texture *t, const lapped_source *src,
                                  pw_err *e)
@@ -16683,6 +16738,17 @@ LAPPEDDEF lapped_result lapped_render(const lapped_mesh *mesh, const lapped_text
     }
     return lapped__done(&pe, err);
 }
+
+#else
+LAPPEDDEF lapped_result lapped_render(const lapped_mesh *mesh, const lapped_texture *t,
+                                      const lapped_source *src, const lapped_render_options *ro,
+                                      lapped_image *out, lapped_error *err)
+{
+    (void)mesh, (void)t, (void)src, (void)ro;
+    if (out) memset(out, 0, sizeof *out);
+    return lapped__left_out("rendering", "PW_NO_RENDER", err);
+}
+#endif /* PW_NO_RENDER */
 
 /* ---- src/lapped/atlas.c ---- */
 /* atlas.c: §4 "Rendering with a texture atlas".

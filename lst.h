@@ -3,40 +3,40 @@
  *
  * CONTENTS (line: source, what it holds)
  *     41: src/lst/lst.h, the public API and its documentation
- *    711: src/common/base.h, allocation hooks, result codes, error messages, limits, he
- *   1025: src/common/vec.h, small vector math on float[3] arrays and a 3-float struct.
- *   1152: src/common/rng.h, seeded random numbers with the same output on every platfo
- *   1229: src/common/image.h, float images and their file formats.
- *   1958: src/common/deflate.h, zlib (RFC 1950) and deflate (RFC 1951) compression and
- *   2986: src/common/png.h, PNG writer and reader, and the image front end.
- *   3551: src/common/text.h, locale-independent number parsing and formatting, a line s
- *   3934: src/common/mesh.h, polygon meshes as flat arrays, and their file formats.
- *   5449: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
- *   5895: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
- *   6317: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
- *   6507: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
- *   6592: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
- *   7809: src/common/raster.h, exact scan conversion of 2D triangles.
- *   8297: src/common/render.h, a small deterministic software renderer for textured trian
- *  10042: src/common/atlas.h, texture atlases of triangle meshes — charts, packing, ba
- *  11994: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
- *  12800: src/common/tetmesh.h, the tetrahedral mesh that lapped solid textures work on, a
- *  13280: src/common/tetio.h, tetrahedral mesh files, TetGen .node/.ele and MEDIT .mesh.
- *  13736: src/common/bisect.h, graded, conforming tetrahedral meshes of a box by newest-v
- *  14037: src/common/stuffing.h, the built-in tetrahedralizer of lst.h, so that no external
- *  16857: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
- *  16976: src/common/pca.h, principal component analysis of vectors streamed one at a 
- *  17155: src/common/glue.h, what every method header needs between its public types an
- *  17351: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  17897: src/lst/core.c, lst.h's glue to the shared core, its defaults, the convers
- *  18235: src/lst/exemplar.c, solid exemplars (§5): sampling, the procedural exemplars 
- *  18775: src/lst/field.c, §5.2.2, the fields that orient and scale the pastes. The 
- *  19805: src/lst/paste.c, §5.2.3-5.2.7, filling the model. Each paste picks a rando
- *  20705: src/lst/render.c, §5.1, showing a model. Every point of a tetrahedron is th
- *  21464: src/lst/cut.c, §5.1.1, cutting a model along the zero set of a scalar fi
- *  21984: src/lst/builtin.c, the tetrahedralizer entry point, checks of caller meshes, 
- *  22438: src/lst/io.c, the model file, the constraint files and the file convenie
- *  23237: src/lst/export.c, the visible boundary with a baked texture atlas, for glTF.
+ *    714: src/common/base.h, allocation hooks, result codes, error messages, limits, he
+ *   1033: src/common/vec.h, small vector math on float[3] arrays and a 3-float struct.
+ *   1160: src/common/rng.h, seeded random numbers with the same output on every platfo
+ *   1237: src/common/image.h, float images and their file formats.
+ *   1966: src/common/deflate.h, zlib (RFC 1950) and deflate (RFC 1951) compression and
+ *   2994: src/common/png.h, PNG writer and reader, and the image front end.
+ *   3581: src/common/text.h, locale-independent number parsing and formatting, a line s
+ *   3964: src/common/mesh.h, polygon meshes as flat arrays, and their file formats.
+ *   5479: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
+ *   5925: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
+ *   6347: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
+ *   6537: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
+ *   6622: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
+ *   7839: src/common/raster.h, exact scan conversion of 2D triangles.
+ *   8327: src/common/render.h, a small deterministic software renderer for textured trian
+ *  10083: src/common/atlas.h, texture atlases of triangle meshes — charts, packing, ba
+ *  12035: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
+ *  12841: src/common/tetmesh.h, the tetrahedral mesh that lapped solid textures work on, a
+ *  13321: src/common/tetio.h, tetrahedral mesh files, TetGen .node/.ele and MEDIT .mesh.
+ *  13777: src/common/bisect.h, graded, conforming tetrahedral meshes of a box by newest-v
+ *  14078: src/common/stuffing.h, the built-in tetrahedralizer of lst.h, so that no external
+ *  16898: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
+ *  17017: src/common/pca.h, principal component analysis of vectors streamed one at a 
+ *  17196: src/common/glue.h, what every method header needs between its public types an
+ *  17403: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  17949: src/lst/core.c, lst.h's glue to the shared core, its defaults, the convers
+ *  18287: src/lst/exemplar.c, solid exemplars (§5): sampling, the procedural exemplars 
+ *  18827: src/lst/field.c, §5.2.2, the fields that orient and scale the pastes. The 
+ *  19857: src/lst/paste.c, §5.2.3-5.2.7, filling the model. Each paste picks a rando
+ *  20757: src/lst/render.c, §5.1, showing a model. Every point of a tetrahedron is th
+ *  21536: src/lst/cut.c, §5.1.1, cutting a model along the zero set of a scalar fi
+ *  22056: src/lst/builtin.c, the tetrahedralizer entry point, checks of caller meshes, 
+ *  22510: src/lst/io.c, the model file, the constraint files and the file convenie
+ *  23309: src/lst/export.c, the visible boundary with a baked texture atlas, for glTF.
  */
 /* lst.h - lapped solid textures: solid exemplars pasted inside a model.
  *
@@ -99,6 +99,9 @@
  *   size limits, as in every patchwork header, and PW_THREADS: rendering on
  *   several threads (POSIX threads; link with -pthread; lst_render_options.
  *   threads, 0 = one per processor), the same picture for any count.
+ *   PW_NO_RENDER and PW_NO_PNG leave out the renderer (lst_render and
+ *   lst_render_volume fail with LST_ERR_UNSUPPORTED) and the PNG codec
+ *   (loading or saving PNG fails the same way): faster builds for programs that only compute (docs/api.md).
  *
  * MINIMAL EXAMPLE
  *       lst_options opt = lst_default_options();
@@ -993,6 +996,11 @@ PW__DEF int pw_write_file(const char *path,
     pw_err_clear(&local);
     r = body(arg, pw__file_write, f, &local);
     if (fclose(f) != 0 && r == PW_OK) r = local.code = PW_ERR_IO;
+#ifdef PW_NO_PNG
+    /* a body that needed the compiled-out PNG encoder refused before writing
+     * a byte: leave no empty file behind */
+    if (r == PW_ERR_UNSUPPORTED) remove(path);
+#endif
     if (r == PW_ERR_IO) return pw_fail(e, PW_ERR_IO, "%s: write error (disk full?)", path);
     if (r != PW_OK) return pw_fail(e, r, "%s", local.msg);
     return PW_OK;
@@ -3012,6 +3020,11 @@ PW__DEF int pw_zlib_decompress(const pw_alloc *a, const unsigned char *data, siz
 
 static const unsigned char pw__png_sig[8] = {137, 80, 78, 71, 13, 10, 26, 10};
 
+/* PW_NO_PNG leaves out the codec (and, where nothing else needs it,
+ * deflate.h): the two entry points below refuse instead, and the front end
+ * still tells a PNG file by its signature so that loading one fails clearly. */
+#ifndef PW_NO_PNG
+
 PW__DEF void pw__put_be32(unsigned char *p, uint32_t v)
 {
     p[0] = (unsigned char)(v >> 24);
@@ -3472,6 +3485,23 @@ PW__DEF int pw_png_read_memory(const pw_alloc *a, const unsigned char *data, siz
     pw_free(a, raw);
     return rc;
 }
+
+#else
+PW__DEF int pw_png_write(const pw_alloc *a, const pw_image *img, int bits, pw_write_fn w,
+                         void *ctx, pw_err *e)
+{
+    (void)a, (void)img, (void)bits, (void)w, (void)ctx;
+    return pw_fail(e, PW_ERR_UNSUPPORTED, "PNG compiled out (PW_NO_PNG)");
+}
+
+PW__DEF int pw_png_read_memory(const pw_alloc *a, const unsigned char *data, size_t size,
+                               const char *name, pw_image *out, pw_err *e)
+{
+    (void)a, (void)data, (void)size;
+    memset(out, 0, sizeof *out);
+    return pw_fail(e, PW_ERR_UNSUPPORTED, "%s: PNG compiled out (PW_NO_PNG)", name ? name : "image");
+}
+#endif /* PW_NO_PNG */
 
 /* ======================================================================
  * Front end: any format
@@ -8943,6 +8973,12 @@ PW__DEF float pw__log2f(float x)
            s * (2.8853900818f + s2 * (0.9617966939f + s2 * (0.5770780164f + s2 * 0.4121985831f)));
 }
 
+/* PW_NO_RENDER leaves out the rest but the pw_parallel type the public
+ * render options convert to: what the methods compute without drawing still
+ * needs the camera (glTF export frames its view with pw_camera_frame) and
+ * the textures (pgp's tile3.h samples its tile through them). */
+#ifndef PW_NO_RENDER
+
 /* ----------------------------------------------------------- framebuffer */
 
 typedef struct pw_fb {
@@ -9833,6 +9869,8 @@ PW__DEF float *pw_draw_normals(const pw_alloc *a, const pw_draw *d, pw_err *e)
     return n;
 }
 
+#endif /* PW_NO_RENDER */
+
 /* ---------------------------------------------------------------- frames */
 
 /* A parallel for: runs task(ctx, i) once for every i in [0, n), in any
@@ -9850,6 +9888,7 @@ typedef struct pw_parallel {
     int threads;
 } pw_parallel;
 
+#ifndef PW_NO_RENDER
 #ifdef PW_THREADS
 #include <pthread.h>
 #include <unistd.h>
@@ -10036,6 +10075,8 @@ PW__DEF int pw_render_frame(const pw_alloc *a, const pw_frame *f, pw_image *out,
     if (r != PW_OK) pw_image_free(a, out);
     return r;
 }
+
+#endif /* PW_NO_RENDER */
 
 #endif /* PW__RENDER_V1 */
 
@@ -17232,7 +17273,10 @@ PW__DEF void pw_view_defaults(int *width, int *height, int *supersample, float v
  *   pw_image    p__pw_image(const p_image *)        a view, no copy
  *   void        p__take_image(pw_image *, const pw_alloc *, p_image *)  moves pixels out
  *   int         p__check_image(const p_image *, const char *what, pw_err *)
- *   int         p__encode(const p_image *, const char *format, pw_write_fn, void *, pw_err *) */
+ *   int         p__encode(const p_image *, const char *format, pw_write_fn, void *, pw_err *)
+ *   p_result    p__left_out(const char *what, const char *macro, p_error *)
+ *               PW_ERR_UNSUPPORTED, "what compiled out (macro)": the stubs that stand
+ *               for the calls PW_NO_RENDER leaves out */
 #define PW_PUBLIC_GLUE(p)                                                                        \
     static PW__UNUSED pw_alloc p##__alloc(const p##_allocator *t)                                \
     {                                                                                            \
@@ -17309,6 +17353,14 @@ PW__DEF void pw_view_defaults(int *width, int *height, int *supersample, float v
         pw_free(a, m->uv);                                                                       \
         pw_free(a, m->fuv);                                                                      \
         memset(m, 0, sizeof *m);                                                                 \
+    }                                                                                            \
+    static PW__UNUSED p##_result p##__left_out(const char *what, const char *macro,             \
+                                               p##_error *err)                                   \
+    {                                                                                            \
+        pw_err pe;                                                                               \
+        pw_err_clear(&pe);                                                                       \
+        pw_fail(&pe, PW_ERR_UNSUPPORTED, "%s compiled out (%s)", what, macro);                   \
+        return p##__done(&pe, err);                                                              \
     }                                                                                            \
     static PW__UNUSED pw_parallel p##__parallel(const p##_render_options *ro)                   \
     {                                                                                            \
@@ -20932,6 +20984,7 @@ nomem:
     return pw_fail(e, PW_ERR_NOMEM, "out of memory growing a triangle list to %lu", (unsigned long)cap);
 }
 
+#ifndef PW_NO_RENDER /* only the renderer adds vertices of its own */
 /* Adds a vertex at p (own positions); returns its index or -1. */
 static int lst__tris_vertex(const pw_alloc *a, lst__tris *t, const double *p, pw_err *e)
 {
@@ -20939,6 +20992,7 @@ static int lst__tris_vertex(const pw_alloc *a, lst__tris *t, const double *p, pw
     t->pos[3 * t->nv] = (float)p[0], t->pos[3 * t->nv + 1] = (float)p[1], t->pos[3 * t->nv + 2] = (float)p[2];
     return t->nv++;
 }
+#endif
 
 /* The visible boundary faces: cut = 0 those on the model's surface, 1 those
  * a cut opened (the neighbour across was removed). Vertices are the
@@ -20962,6 +21016,7 @@ static int lst__boundary_tris(const pw_alloc *a, const lst_model *m, const int *
     return PW_OK;
 }
 
+#ifndef PW_NO_RENDER
 typedef struct lst__shading {
     const lst__view *v;
     const lst__tris *tris;
@@ -21460,6 +21515,23 @@ LSTDEF lst_result lst_render_volume(const lst_model *model, const lst_render_opt
     }
     return lst__done(&e, err);
 }
+
+#else
+LSTDEF lst_result lst_render(const lst_model *model, const lst_render_options *ro, lst_image *out, lst_error *err)
+{
+    (void)model, (void)ro;
+    if (out) memset(out, 0, sizeof *out);
+    return lst__left_out("rendering", "PW_NO_RENDER", err);
+}
+
+LSTDEF lst_result lst_render_volume(const lst_model *model, const lst_render_options *ro, const lst_volume_options *vopt,
+                                    lst_image *out, lst_error *err)
+{
+    (void)model, (void)ro, (void)vopt;
+    if (out) memset(out, 0, sizeof *out);
+    return lst__left_out("rendering", "PW_NO_RENDER", err);
+}
+#endif /* PW_NO_RENDER */
 
 /* ---- src/lst/cut.c ---- */
 /* cut.c: §5.1.1, cutting a model along the zero set of a scalar field
