@@ -85,6 +85,8 @@ static void t_tiled(void)
     CHECK(!file_exists(png));
     CHECK_LEFT_OUT(tiled_save_gltf(glb, &mapped, &tiles.atlas, NULL, &err), err, "PW_NO_PNG");
     CHECK(!file_exists(glb));
+    CHECK(tiled_save_gltf(glb, &mapped, NULL, NULL, &err) == TILED_OK && file_exists(glb)); /* untextured */
+    remove(glb);
     tiled_image_free(&loaded);
     CHECK_LEFT_OUT(tiled_read_image(png_1x1, sizeof png_1x1, "x.png", &opt, &loaded, &err), err, "PW_NO_PNG");
     CHECK_LEFT_OUT(tiled_load_image(png_file(), &opt, &loaded, &err), err, "PW_NO_PNG");
