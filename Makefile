@@ -48,8 +48,8 @@ ALL_CFLAGS = $(WARN) $(CFLAGS) $(SANFLAGS) -I.
 
 # ---- single-file headers: name and the shared modules each one carries ----
 HEADERS        := tiled lapped pgp lst
-MODULES_tiled  := base vec rng noise image deflate png text mesh shapes halfedge subdiv raster render graphcut quilt glue gltf
-MODULES_lapped := base vec rng noise image deflate png text mesh shapes halfedge sparse raster render polyhull trimesh heap atlas dirfield glue gltf
+MODULES_tiled  := base vec rng noise image deflate:PW_NO_PNG png text mesh shapes halfedge subdiv raster:PW_NO_RENDER render graphcut quilt glue gltf
+MODULES_lapped := base vec rng noise image deflate:PW_NO_PNG png text mesh shapes halfedge sparse raster render polyhull trimesh heap atlas dirfield glue gltf
 PARTS_lapped   := core field patch builtin grow render atlas io
 PARTS_tiled    := core layout map synth validate builtin render io
 MODULES_pgp    := base vec rng noise image deflate png text mesh shapes halfedge sparse zsparse raster render trimesh heap atlas dirfield nrrd tile3 glue gltf graphcut quilt edt kdtree pca

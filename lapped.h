@@ -3,35 +3,35 @@
  *
  * CONTENTS (line: source, what it holds)
  *     36: src/lapped/lapped.h, the public API and its documentation
- *    479: src/common/base.h, allocation hooks, result codes, error messages, limits, he
- *    793: src/common/vec.h, small vector math on float[3] arrays and a 3-float struct.
- *    890: src/common/rng.h, seeded random numbers with the same output on every platfo
- *    967: src/common/noise.h, value noise and its fractal sum, for the built-in procedur
- *   1069: src/common/image.h, float images and their file formats.
- *   1798: src/common/deflate.h, zlib (RFC 1950) and deflate (RFC 1951) compression and
- *   2826: src/common/png.h, PNG writer and reader, and the image front end.
- *   3391: src/common/text.h, locale-independent number parsing and formatting, a line s
- *   3774: src/common/mesh.h, polygon meshes as flat arrays, and their file formats.
- *   5289: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
- *   5735: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
- *   6157: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
- *   7374: src/common/raster.h, exact scan conversion of 2D triangles.
- *   7862: src/common/render.h, a small deterministic software renderer for textured trian
- *   9607: src/lapped/polyhull.h, the polygonal hull of a texture patch (Praun, Finkelstein 
- *  10426: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
- *  10616: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
- *  10701: src/common/atlas.h, texture atlases of triangle meshes — charts, packing, ba
- *  12653: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
- *  13318: src/common/glue.h, what every method header needs between its public types an
- *  13514: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  14060: src/lapped/core.c, lapped.h's glue to the shared core, its defaults, and the 
- *  14218: src/lapped/field.c, §3.2 the tangent field, one frame (S, T) per triangle, an
- *  14677: src/lapped/patch.c, §3.1 texture patches. A patch is the texture as RGBA whos
- *  14965: src/lapped/builtin.c, built-in meshes (made by the shared shapes module) and tex
- *  15131: src/lapped/grow.c, pasting (§3.3-3.6): grow a surface patch around an uncove
- *  16531: src/lapped/render.c, runtime pasting (§4): the mesh drawn once per paste, in p
- *  16722: src/lapped/atlas.c, §4 "Rendering with a texture atlas".
- *  16960: src/lapped/io.c, the paste file format and the file conveniences of lapped.
+ *    482: src/common/base.h, allocation hooks, result codes, error messages, limits, he
+ *    801: src/common/vec.h, small vector math on float[3] arrays and a 3-float struct.
+ *    898: src/common/rng.h, seeded random numbers with the same output on every platfo
+ *    975: src/common/noise.h, value noise and its fractal sum, for the built-in procedur
+ *   1077: src/common/image.h, float images and their file formats.
+ *   1806: src/common/deflate.h, zlib (RFC 1950) and deflate (RFC 1951) compression and
+ *   2836: src/common/png.h, PNG writer and reader, and the image front end.
+ *   3423: src/common/text.h, locale-independent number parsing and formatting, a line s
+ *   3806: src/common/mesh.h, polygon meshes as flat arrays, and their file formats.
+ *   5321: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
+ *   5767: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
+ *   6189: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
+ *   7406: src/common/raster.h, exact scan conversion of 2D triangles.
+ *   7894: src/common/render.h, a small deterministic software renderer for textured trian
+ *   9650: src/lapped/polyhull.h, the polygonal hull of a texture patch (Praun, Finkelstein 
+ *  10469: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
+ *  10659: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
+ *  10744: src/common/atlas.h, texture atlases of triangle meshes — charts, packing, ba
+ *  12696: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
+ *  13361: src/common/glue.h, what every method header needs between its public types an
+ *  13568: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  14114: src/lapped/core.c, lapped.h's glue to the shared core, its defaults, and the 
+ *  14272: src/lapped/field.c, §3.2 the tangent field, one frame (S, T) per triangle, an
+ *  14731: src/lapped/patch.c, §3.1 texture patches. A patch is the texture as RGBA whos
+ *  15019: src/lapped/builtin.c, built-in meshes (made by the shared shapes module) and tex
+ *  15185: src/lapped/grow.c, pasting (§3.3-3.6): grow a surface patch around an uncove
+ *  16585: src/lapped/render.c, runtime pasting (§4): the mesh drawn once per paste, in p
+ *  16788: src/lapped/atlas.c, §4 "Rendering with a texture atlas".
+ *  17026: src/lapped/io.c, the paste file format and the file conveniences of lapped.
  */
 /* lapped.h - lapped textures: overlapping texture patches pasted over a mesh.
  *
@@ -70,6 +70,9 @@
  *   size limits, as in every patchwork header, and PW_THREADS: rendering on
  *   several threads (POSIX threads; link with -pthread; lapped_render_options.
  *   threads, 0 = one per processor), the same picture for any count.
+ *   PW_NO_RENDER and PW_NO_PNG leave out the renderer (lapped_render fails
+ *   with LAPPED_ERR_UNSUPPORTED) and the PNG codec (loading or saving PNG fails
+ *   the same way): faster builds for programs that only compute (docs/api.md).
  *
  * MINIMAL EXAMPLE
  *       lapped_options opt = lapped_default_options();
@@ -761,6 +764,11 @@ PW__DEF int pw_write_file(const char *path,
     pw_err_clear(&local);
     r = body(arg, pw__file_write, f, &local);
     if (fclose(f) != 0 && r == PW_OK) r = local.code = PW_ERR_IO;
+#ifdef PW_NO_PNG
+    /* a body that needed the compiled-out PNG encoder refused before writing
+     * a byte: leave no empty file behind */
+    if (r == PW_ERR_UNSUPPORTED) remove(path);
+#endif
     if (r == PW_ERR_IO) return pw_fail(e, PW_ERR_IO, "%s: write error (disk full?)", path);
     if (r != PW_OK) return pw_fail(e, r, "%s", local.msg);
     return PW_OK;
@@ -1796,6 +1804,7 @@ PW__DEF int pw_image_write_pnm(const pw_image *img, int bits, int ascii, pw_writ
 #endif /* PW__IMAGE_V1 */
 
 /* ---- shared module src/common/deflate.h ---- */
+#ifndef PW_NO_PNG
 /* deflate: zlib (RFC 1950) and deflate (RFC 1951) compression and
  * decompression, CRC-32 and Adler-32. PNG needs all of them.
  *
@@ -2822,6 +2831,7 @@ PW__DEF int pw_zlib_decompress(const pw_alloc *a, const unsigned char *data, siz
 }
 
 #endif /* PW__DEFLATE_V1 */
+#endif /* PW_NO_PNG */
 
 /* ---- shared module src/common/png.h ---- */
 /* png: PNG writer and reader, and the image front end.
@@ -2851,6 +2861,11 @@ PW__DEF int pw_zlib_decompress(const pw_alloc *a, const unsigned char *data, siz
 
 
 static const unsigned char pw__png_sig[8] = {137, 80, 78, 71, 13, 10, 26, 10};
+
+/* PW_NO_PNG leaves out the codec (and, where nothing else needs it,
+ * deflate.h): the two entry points below refuse instead, and the front end
+ * still tells a PNG file by its signature so that loading one fails clearly. */
+#ifndef PW_NO_PNG
 
 PW__DEF void pw__put_be32(unsigned char *p, uint32_t v)
 {
@@ -3312,6 +3327,23 @@ PW__DEF int pw_png_read_memory(const pw_alloc *a, const unsigned char *data, siz
     pw_free(a, raw);
     return rc;
 }
+
+#else
+PW__DEF int pw_png_write(const pw_alloc *a, const pw_image *img, int bits, pw_write_fn w,
+                         void *ctx, pw_err *e)
+{
+    (void)a, (void)img, (void)bits, (void)w, (void)ctx;
+    return pw_fail(e, PW_ERR_UNSUPPORTED, "PNG compiled out (PW_NO_PNG)");
+}
+
+PW__DEF int pw_png_read_memory(const pw_alloc *a, const unsigned char *data, size_t size,
+                               const char *name, pw_image *out, pw_err *e)
+{
+    (void)a, (void)data, (void)size;
+    memset(out, 0, sizeof *out);
+    return pw_fail(e, PW_ERR_UNSUPPORTED, "%s: PNG compiled out (PW_NO_PNG)", name ? name : "image");
+}
+#endif /* PW_NO_PNG */
 
 /* ======================================================================
  * Front end: any format
@@ -8508,6 +8540,12 @@ PW__DEF float pw__log2f(float x)
            s * (2.8853900818f + s2 * (0.9617966939f + s2 * (0.5770780164f + s2 * 0.4121985831f)));
 }
 
+/* PW_NO_RENDER leaves out the rest but the pw_parallel type the public
+ * render options convert to: what the methods compute without drawing still
+ * needs the camera (glTF export frames its view with pw_camera_frame) and
+ * the textures (pgp's tile3.h samples its tile through them). */
+#ifndef PW_NO_RENDER
+
 /* ----------------------------------------------------------- framebuffer */
 
 typedef struct pw_fb {
@@ -9398,6 +9436,8 @@ PW__DEF float *pw_draw_normals(const pw_alloc *a, const pw_draw *d, pw_err *e)
     return n;
 }
 
+#endif /* PW_NO_RENDER */
+
 /* ---------------------------------------------------------------- frames */
 
 /* A parallel for: runs task(ctx, i) once for every i in [0, n), in any
@@ -9415,6 +9455,7 @@ typedef struct pw_parallel {
     int threads;
 } pw_parallel;
 
+#ifndef PW_NO_RENDER
 #ifdef PW_THREADS
 #include <pthread.h>
 #include <unistd.h>
@@ -9601,6 +9642,8 @@ PW__DEF int pw_render_frame(const pw_alloc *a, const pw_frame *f, pw_image *out,
     if (r != PW_OK) pw_image_free(a, out);
     return r;
 }
+
+#endif /* PW_NO_RENDER */
 
 #endif /* PW__RENDER_V1 */
 
@@ -13395,7 +13438,10 @@ PW__DEF void pw_view_defaults(int *width, int *height, int *supersample, float v
  *   pw_image    p__pw_image(const p_image *)        a view, no copy
  *   void        p__take_image(pw_image *, const pw_alloc *, p_image *)  moves pixels out
  *   int         p__check_image(const p_image *, const char *what, pw_err *)
- *   int         p__encode(const p_image *, const char *format, pw_write_fn, void *, pw_err *) */
+ *   int         p__encode(const p_image *, const char *format, pw_write_fn, void *, pw_err *)
+ *   p_result    p__left_out(const char *what, const char *macro, p_error *)
+ *               PW_ERR_UNSUPPORTED, "what compiled out (macro)": the stubs that stand
+ *               for the calls PW_NO_RENDER leaves out */
 #define PW_PUBLIC_GLUE(p)                                                                        \
     static PW__UNUSED pw_alloc p##__alloc(const p##_allocator *t)                                \
     {                                                                                            \
@@ -13472,6 +13518,14 @@ PW__DEF void pw_view_defaults(int *width, int *height, int *supersample, float v
         pw_free(a, m->uv);                                                                       \
         pw_free(a, m->fuv);                                                                      \
         memset(m, 0, sizeof *m);                                                                 \
+    }                                                                                            \
+    static PW__UNUSED p##_result p##__left_out(const char *what, const char *macro,             \
+                                               p##_error *err)                                   \
+    {                                                                                            \
+        pw_err pe;                                                                               \
+        pw_err_clear(&pe);                                                                       \
+        pw_fail(&pe, PW_ERR_UNSUPPORTED, "%s compiled out (%s)", what, macro);                   \
+        return p##__done(&pe, err);                                                              \
     }                                                                                            \
     static PW__UNUSED pw_parallel p##__parallel(const p##_render_options *ro)                   \
     {                                                                                            \
@@ -16533,6 +16587,7 @@ LAPPEDDEF void lapped_texture_free(lapped_texture *t)
  * order, each paste's triangles textured with its patch and composited over
  * what is there. */
 
+#ifndef PW_NO_RENDER
 /* Checks that a lapped texture belongs to this mesh and these patches. */
 static int lapped__check_texture(const pw_trimesh *m, const lapped_texture *t, const lapped_source *src,
                                  pw_err *e)
@@ -16718,6 +16773,17 @@ LAPPEDDEF lapped_result lapped_render(const lapped_mesh *mesh, const lapped_text
     }
     return lapped__done(&pe, err);
 }
+
+#else
+LAPPEDDEF lapped_result lapped_render(const lapped_mesh *mesh, const lapped_texture *t,
+                                      const lapped_source *src, const lapped_render_options *ro,
+                                      lapped_image *out, lapped_error *err)
+{
+    (void)mesh, (void)t, (void)src, (void)ro;
+    if (out) memset(out, 0, sizeof *out);
+    return lapped__left_out("rendering", "PW_NO_RENDER", err);
+}
+#endif /* PW_NO_RENDER */
 
 /* ---- src/lapped/atlas.c ---- */
 /* atlas.c: §4 "Rendering with a texture atlas".

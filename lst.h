@@ -3,41 +3,41 @@
  *
  * CONTENTS (line: source, what it holds)
  *     42: src/lst/lst.h, the public API and its documentation
- *    712: src/common/base.h, allocation hooks, result codes, error messages, limits, he
- *   1026: src/common/vec.h, small vector math on float[3] arrays and a 3-float struct.
- *   1123: src/common/rng.h, seeded random numbers with the same output on every platfo
- *   1200: src/common/noise.h, value noise and its fractal sum, for the built-in procedur
- *   1302: src/common/image.h, float images and their file formats.
- *   2031: src/common/deflate.h, zlib (RFC 1950) and deflate (RFC 1951) compression and
- *   3059: src/common/png.h, PNG writer and reader, and the image front end.
- *   3624: src/common/text.h, locale-independent number parsing and formatting, a line s
- *   4007: src/common/mesh.h, polygon meshes as flat arrays, and their file formats.
- *   5522: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
- *   5968: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
- *   6390: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
- *   6580: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
- *   6665: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
- *   7882: src/common/raster.h, exact scan conversion of 2D triangles.
- *   8370: src/common/render.h, a small deterministic software renderer for textured trian
- *  10115: src/common/atlas.h, texture atlases of triangle meshes — charts, packing, ba
- *  12067: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
- *  12873: src/common/tetmesh.h, the tetrahedral mesh that lapped solid textures work on, a
- *  13353: src/common/tetio.h, tetrahedral mesh files, TetGen .node/.ele and MEDIT .mesh.
- *  13809: src/common/bisect.h, graded, conforming tetrahedral meshes of a box by newest-v
- *  14110: src/common/stuffing.h, the built-in tetrahedralizer of lst.h, so that no external
- *  16930: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
- *  17049: src/common/pca.h, principal component analysis of vectors streamed one at a 
- *  17228: src/common/glue.h, what every method header needs between its public types an
- *  17424: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  17970: src/lst/core.c, lst.h's glue to the shared core, its defaults, the convers
- *  18308: src/lst/exemplar.c, solid exemplars (§5): sampling, the procedural exemplars 
- *  18809: src/lst/field.c, §5.2.2, the fields that orient and scale the pastes. The 
- *  19839: src/lst/paste.c, §5.2.3-5.2.7, filling the model. Each paste picks a rando
- *  20739: src/lst/render.c, §5.1, showing a model. Every point of a tetrahedron is th
- *  21498: src/lst/cut.c, §5.1.1, cutting a model along the zero set of a scalar fi
- *  22018: src/lst/builtin.c, the tetrahedralizer entry point, checks of caller meshes, 
- *  22472: src/lst/io.c, the model file, the constraint files and the file convenie
- *  23271: src/lst/export.c, the visible boundary with a baked texture atlas, for glTF.
+ *    715: src/common/base.h, allocation hooks, result codes, error messages, limits, he
+ *   1034: src/common/vec.h, small vector math on float[3] arrays and a 3-float struct.
+ *   1131: src/common/rng.h, seeded random numbers with the same output on every platfo
+ *   1208: src/common/noise.h, value noise and its fractal sum, for the built-in procedur
+ *   1310: src/common/image.h, float images and their file formats.
+ *   2039: src/common/deflate.h, zlib (RFC 1950) and deflate (RFC 1951) compression and
+ *   3067: src/common/png.h, PNG writer and reader, and the image front end.
+ *   3654: src/common/text.h, locale-independent number parsing and formatting, a line s
+ *   4037: src/common/mesh.h, polygon meshes as flat arrays, and their file formats.
+ *   5552: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
+ *   5998: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
+ *   6420: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
+ *   6610: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
+ *   6695: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
+ *   7912: src/common/raster.h, exact scan conversion of 2D triangles.
+ *   8400: src/common/render.h, a small deterministic software renderer for textured trian
+ *  10156: src/common/atlas.h, texture atlases of triangle meshes — charts, packing, ba
+ *  12108: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
+ *  12914: src/common/tetmesh.h, the tetrahedral mesh that lapped solid textures work on, a
+ *  13394: src/common/tetio.h, tetrahedral mesh files, TetGen .node/.ele and MEDIT .mesh.
+ *  13850: src/common/bisect.h, graded, conforming tetrahedral meshes of a box by newest-v
+ *  14151: src/common/stuffing.h, the built-in tetrahedralizer of lst.h, so that no external
+ *  16971: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
+ *  17090: src/common/pca.h, principal component analysis of vectors streamed one at a 
+ *  17269: src/common/glue.h, what every method header needs between its public types an
+ *  17476: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  18022: src/lst/core.c, lst.h's glue to the shared core, its defaults, the convers
+ *  18360: src/lst/exemplar.c, solid exemplars (§5): sampling, the procedural exemplars 
+ *  18861: src/lst/field.c, §5.2.2, the fields that orient and scale the pastes. The 
+ *  19891: src/lst/paste.c, §5.2.3-5.2.7, filling the model. Each paste picks a rando
+ *  20791: src/lst/render.c, §5.1, showing a model. Every point of a tetrahedron is th
+ *  21570: src/lst/cut.c, §5.1.1, cutting a model along the zero set of a scalar fi
+ *  22090: src/lst/builtin.c, the tetrahedralizer entry point, checks of caller meshes, 
+ *  22544: src/lst/io.c, the model file, the constraint files and the file convenie
+ *  23343: src/lst/export.c, the visible boundary with a baked texture atlas, for glTF.
  */
 /* lst.h - lapped solid textures: solid exemplars pasted inside a model.
  *
@@ -100,6 +100,9 @@
  *   size limits, as in every patchwork header, and PW_THREADS: rendering on
  *   several threads (POSIX threads; link with -pthread; lst_render_options.
  *   threads, 0 = one per processor), the same picture for any count.
+ *   PW_NO_RENDER and PW_NO_PNG leave out the renderer (lst_render and
+ *   lst_render_volume fail with LST_ERR_UNSUPPORTED) and the PNG codec
+ *   (loading or saving PNG fails the same way): faster builds for programs that only compute (docs/api.md).
  *
  * MINIMAL EXAMPLE
  *       lst_options opt = lst_default_options();
@@ -994,6 +997,11 @@ PW__DEF int pw_write_file(const char *path,
     pw_err_clear(&local);
     r = body(arg, pw__file_write, f, &local);
     if (fclose(f) != 0 && r == PW_OK) r = local.code = PW_ERR_IO;
+#ifdef PW_NO_PNG
+    /* a body that needed the compiled-out PNG encoder refused before writing
+     * a byte: leave no empty file behind */
+    if (r == PW_ERR_UNSUPPORTED) remove(path);
+#endif
     if (r == PW_ERR_IO) return pw_fail(e, PW_ERR_IO, "%s: write error (disk full?)", path);
     if (r != PW_OK) return pw_fail(e, r, "%s", local.msg);
     return PW_OK;
@@ -3085,6 +3093,11 @@ PW__DEF int pw_zlib_decompress(const pw_alloc *a, const unsigned char *data, siz
 
 static const unsigned char pw__png_sig[8] = {137, 80, 78, 71, 13, 10, 26, 10};
 
+/* PW_NO_PNG leaves out the codec (and, where nothing else needs it,
+ * deflate.h): the two entry points below refuse instead, and the front end
+ * still tells a PNG file by its signature so that loading one fails clearly. */
+#ifndef PW_NO_PNG
+
 PW__DEF void pw__put_be32(unsigned char *p, uint32_t v)
 {
     p[0] = (unsigned char)(v >> 24);
@@ -3545,6 +3558,23 @@ PW__DEF int pw_png_read_memory(const pw_alloc *a, const unsigned char *data, siz
     pw_free(a, raw);
     return rc;
 }
+
+#else
+PW__DEF int pw_png_write(const pw_alloc *a, const pw_image *img, int bits, pw_write_fn w,
+                         void *ctx, pw_err *e)
+{
+    (void)a, (void)img, (void)bits, (void)w, (void)ctx;
+    return pw_fail(e, PW_ERR_UNSUPPORTED, "PNG compiled out (PW_NO_PNG)");
+}
+
+PW__DEF int pw_png_read_memory(const pw_alloc *a, const unsigned char *data, size_t size,
+                               const char *name, pw_image *out, pw_err *e)
+{
+    (void)a, (void)data, (void)size;
+    memset(out, 0, sizeof *out);
+    return pw_fail(e, PW_ERR_UNSUPPORTED, "%s: PNG compiled out (PW_NO_PNG)", name ? name : "image");
+}
+#endif /* PW_NO_PNG */
 
 /* ======================================================================
  * Front end: any format
@@ -9016,6 +9046,12 @@ PW__DEF float pw__log2f(float x)
            s * (2.8853900818f + s2 * (0.9617966939f + s2 * (0.5770780164f + s2 * 0.4121985831f)));
 }
 
+/* PW_NO_RENDER leaves out the rest but the pw_parallel type the public
+ * render options convert to: what the methods compute without drawing still
+ * needs the camera (glTF export frames its view with pw_camera_frame) and
+ * the textures (pgp's tile3.h samples its tile through them). */
+#ifndef PW_NO_RENDER
+
 /* ----------------------------------------------------------- framebuffer */
 
 typedef struct pw_fb {
@@ -9906,6 +9942,8 @@ PW__DEF float *pw_draw_normals(const pw_alloc *a, const pw_draw *d, pw_err *e)
     return n;
 }
 
+#endif /* PW_NO_RENDER */
+
 /* ---------------------------------------------------------------- frames */
 
 /* A parallel for: runs task(ctx, i) once for every i in [0, n), in any
@@ -9923,6 +9961,7 @@ typedef struct pw_parallel {
     int threads;
 } pw_parallel;
 
+#ifndef PW_NO_RENDER
 #ifdef PW_THREADS
 #include <pthread.h>
 #include <unistd.h>
@@ -10109,6 +10148,8 @@ PW__DEF int pw_render_frame(const pw_alloc *a, const pw_frame *f, pw_image *out,
     if (r != PW_OK) pw_image_free(a, out);
     return r;
 }
+
+#endif /* PW_NO_RENDER */
 
 #endif /* PW__RENDER_V1 */
 
@@ -17305,7 +17346,10 @@ PW__DEF void pw_view_defaults(int *width, int *height, int *supersample, float v
  *   pw_image    p__pw_image(const p_image *)        a view, no copy
  *   void        p__take_image(pw_image *, const pw_alloc *, p_image *)  moves pixels out
  *   int         p__check_image(const p_image *, const char *what, pw_err *)
- *   int         p__encode(const p_image *, const char *format, pw_write_fn, void *, pw_err *) */
+ *   int         p__encode(const p_image *, const char *format, pw_write_fn, void *, pw_err *)
+ *   p_result    p__left_out(const char *what, const char *macro, p_error *)
+ *               PW_ERR_UNSUPPORTED, "what compiled out (macro)": the stubs that stand
+ *               for the calls PW_NO_RENDER leaves out */
 #define PW_PUBLIC_GLUE(p)                                                                        \
     static PW__UNUSED pw_alloc p##__alloc(const p##_allocator *t)                                \
     {                                                                                            \
@@ -17382,6 +17426,14 @@ PW__DEF void pw_view_defaults(int *width, int *height, int *supersample, float v
         pw_free(a, m->uv);                                                                       \
         pw_free(a, m->fuv);                                                                      \
         memset(m, 0, sizeof *m);                                                                 \
+    }                                                                                            \
+    static PW__UNUSED p##_result p##__left_out(const char *what, const char *macro,             \
+                                               p##_error *err)                                   \
+    {                                                                                            \
+        pw_err pe;                                                                               \
+        pw_err_clear(&pe);                                                                       \
+        pw_fail(&pe, PW_ERR_UNSUPPORTED, "%s compiled out (%s)", what, macro);                   \
+        return p##__done(&pe, err);                                                              \
     }                                                                                            \
     static PW__UNUSED pw_parallel p##__parallel(const p##_render_options *ro)                   \
     {                                                                                            \
@@ -20966,6 +21018,7 @@ nomem:
     return pw_fail(e, PW_ERR_NOMEM, "out of memory growing a triangle list to %lu", (unsigned long)cap);
 }
 
+#ifndef PW_NO_RENDER /* only the renderer adds vertices of its own */
 /* Adds a vertex at p (own positions); returns its index or -1. */
 static int lst__tris_vertex(const pw_alloc *a, lst__tris *t, const double *p, pw_err *e)
 {
@@ -20973,6 +21026,7 @@ static int lst__tris_vertex(const pw_alloc *a, lst__tris *t, const double *p, pw
     t->pos[3 * t->nv] = (float)p[0], t->pos[3 * t->nv + 1] = (float)p[1], t->pos[3 * t->nv + 2] = (float)p[2];
     return t->nv++;
 }
+#endif
 
 /* The visible boundary faces: cut = 0 those on the model's surface, 1 those
  * a cut opened (the neighbour across was removed). Vertices are the
@@ -20996,6 +21050,7 @@ static int lst__boundary_tris(const pw_alloc *a, const lst_model *m, const int *
     return PW_OK;
 }
 
+#ifndef PW_NO_RENDER
 typedef struct lst__shading {
     const lst__view *v;
     const lst__tris *tris;
@@ -21494,6 +21549,23 @@ LSTDEF lst_result lst_render_volume(const lst_model *model, const lst_render_opt
     }
     return lst__done(&e, err);
 }
+
+#else
+LSTDEF lst_result lst_render(const lst_model *model, const lst_render_options *ro, lst_image *out, lst_error *err)
+{
+    (void)model, (void)ro;
+    if (out) memset(out, 0, sizeof *out);
+    return lst__left_out("rendering", "PW_NO_RENDER", err);
+}
+
+LSTDEF lst_result lst_render_volume(const lst_model *model, const lst_render_options *ro, const lst_volume_options *vopt,
+                                    lst_image *out, lst_error *err)
+{
+    (void)model, (void)ro, (void)vopt;
+    if (out) memset(out, 0, sizeof *out);
+    return lst__left_out("rendering", "PW_NO_RENDER", err);
+}
+#endif /* PW_NO_RENDER */
 
 /* ---- src/lst/cut.c ---- */
 /* cut.c: §5.1.1, cutting a model along the zero set of a scalar field

@@ -3,44 +3,44 @@
  *
  * CONTENTS (line: source, what it holds)
  *     45: src/pgp/pgp.h, the public API and its documentation
- *    659: src/common/base.h, allocation hooks, result codes, error messages, limits, he
- *    973: src/common/vec.h, small vector math on float[3] arrays and a 3-float struct.
- *   1070: src/common/rng.h, seeded random numbers with the same output on every platfo
- *   1147: src/common/noise.h, value noise and its fractal sum, for the built-in procedur
- *   1249: src/common/image.h, float images and their file formats.
- *   1978: src/common/deflate.h, zlib (RFC 1950) and deflate (RFC 1951) compression and
- *   3006: src/common/png.h, PNG writer and reader, and the image front end.
- *   3571: src/common/text.h, locale-independent number parsing and formatting, a line s
- *   3954: src/common/mesh.h, polygon meshes as flat arrays, and their file formats.
- *   5469: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
- *   5915: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
- *   6337: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
- *   7554: src/common/zsparse.h, complex Hermitian sparse systems, solved by conjugate grad
- *   7809: src/common/raster.h, exact scan conversion of 2D triangles.
- *   8297: src/common/render.h, a small deterministic software renderer for textured trian
- *  10042: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
- *  10232: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
- *  10317: src/common/atlas.h, texture atlases of triangle meshes — charts, packing, ba
- *  12269: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
- *  12934: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
- *  13740: src/pgp/tile3.h, sampling a material-space tile (Ray et al. 2009, §2: "a 3
- *  13854: src/common/glue.h, what every method header needs between its public types an
- *  14050: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  14596: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
- *  15102: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
- *  15560: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
- *  15679: src/common/kdtree.h, nearest-neighbour search among n points of dimension d, wi
- *  16010: src/common/pca.h, principal component analysis of vectors streamed one at a 
- *  16189: src/pgp/core.c, pgp.h's glue to the shared core, its defaults, and the map
- *  16442: src/pgp/field.c, §2.1 effect areas and §2.2 interpolation of the constrai
- *  16801: src/pgp/solve.c, §2.3 the periodic global parameterization, the recovery o
- *  17561: src/pgp/edit.c, the public editing calls of a mapping. §2.1 (Ray, Lévy, 
- *  17696: src/pgp/render.c, §3 rendering, and a cleaner treatment of the vortices.
- *  18071: src/pgp/builtin.c, built-in meshes and material-space tiles for demos and tes
- *  18333: src/pgp/io.c, files and memory for pgp.h: material-space tiles (NRRD, or
- *  18782: src/pgp/export.c, the mapping for other programs. A viewer that knows nothin
- *  18981: src/pgp/morph.c, the inputs of §1 (keys brought to the tile size, made til
- *  19596: src/pgp/synth.c, §1.2 constrained tile synthesis, and the whole of §1: ke
+ *    662: src/common/base.h, allocation hooks, result codes, error messages, limits, he
+ *    981: src/common/vec.h, small vector math on float[3] arrays and a 3-float struct.
+ *   1078: src/common/rng.h, seeded random numbers with the same output on every platfo
+ *   1155: src/common/noise.h, value noise and its fractal sum, for the built-in procedur
+ *   1257: src/common/image.h, float images and their file formats.
+ *   1986: src/common/deflate.h, zlib (RFC 1950) and deflate (RFC 1951) compression and
+ *   3014: src/common/png.h, PNG writer and reader, and the image front end.
+ *   3601: src/common/text.h, locale-independent number parsing and formatting, a line s
+ *   3984: src/common/mesh.h, polygon meshes as flat arrays, and their file formats.
+ *   5499: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
+ *   5945: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
+ *   6367: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
+ *   7584: src/common/zsparse.h, complex Hermitian sparse systems, solved by conjugate grad
+ *   7839: src/common/raster.h, exact scan conversion of 2D triangles.
+ *   8327: src/common/render.h, a small deterministic software renderer for textured trian
+ *  10083: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
+ *  10273: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
+ *  10358: src/common/atlas.h, texture atlases of triangle meshes — charts, packing, ba
+ *  12310: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
+ *  12975: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
+ *  13781: src/pgp/tile3.h, sampling a material-space tile (Ray et al. 2009, §2: "a 3
+ *  13895: src/common/glue.h, what every method header needs between its public types an
+ *  14102: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  14648: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
+ *  15154: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
+ *  15612: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
+ *  15731: src/common/kdtree.h, nearest-neighbour search among n points of dimension d, wi
+ *  16062: src/common/pca.h, principal component analysis of vectors streamed one at a 
+ *  16241: src/pgp/core.c, pgp.h's glue to the shared core, its defaults, and the map
+ *  16494: src/pgp/field.c, §2.1 effect areas and §2.2 interpolation of the constrai
+ *  16853: src/pgp/solve.c, §2.3 the periodic global parameterization, the recovery o
+ *  17613: src/pgp/edit.c, the public editing calls of a mapping. §2.1 (Ray, Lévy, 
+ *  17748: src/pgp/render.c, §3 rendering, and a cleaner treatment of the vortices.
+ *  18136: src/pgp/builtin.c, built-in meshes and material-space tiles for demos and tes
+ *  18398: src/pgp/io.c, files and memory for pgp.h: material-space tiles (NRRD, or
+ *  18847: src/pgp/export.c, the mapping for other programs. A viewer that knows nothin
+ *  19046: src/pgp/morph.c, the inputs of §1 (keys brought to the tile size, made til
+ *  19661: src/pgp/synth.c, §1.2 constrained tile synthesis, and the whole of §1: ke
  */
 /* pgp.h - material-space texturing with a periodic global parameterization.
  *
@@ -116,6 +116,9 @@
  *   size limits, as in every patchwork header, and PW_THREADS: rendering on
  *   several threads (POSIX threads; link with -pthread; pgp_render_options.
  *   threads, 0 = one per processor), the same picture for any count.
+ *   PW_NO_RENDER and PW_NO_PNG leave out the renderer (pgp_render fails
+ *   with PGP_ERR_UNSUPPORTED) and the PNG codec (loading or saving PNG fails
+ *   the same way): faster builds for programs that only compute (docs/api.md).
  *
  * MINIMAL EXAMPLE
  *       pgp_options opt = pgp_default_options();
@@ -941,6 +944,11 @@ PW__DEF int pw_write_file(const char *path,
     pw_err_clear(&local);
     r = body(arg, pw__file_write, f, &local);
     if (fclose(f) != 0 && r == PW_OK) r = local.code = PW_ERR_IO;
+#ifdef PW_NO_PNG
+    /* a body that needed the compiled-out PNG encoder refused before writing
+     * a byte: leave no empty file behind */
+    if (r == PW_ERR_UNSUPPORTED) remove(path);
+#endif
     if (r == PW_ERR_IO) return pw_fail(e, PW_ERR_IO, "%s: write error (disk full?)", path);
     if (r != PW_OK) return pw_fail(e, r, "%s", local.msg);
     return PW_OK;
@@ -3032,6 +3040,11 @@ PW__DEF int pw_zlib_decompress(const pw_alloc *a, const unsigned char *data, siz
 
 static const unsigned char pw__png_sig[8] = {137, 80, 78, 71, 13, 10, 26, 10};
 
+/* PW_NO_PNG leaves out the codec (and, where nothing else needs it,
+ * deflate.h): the two entry points below refuse instead, and the front end
+ * still tells a PNG file by its signature so that loading one fails clearly. */
+#ifndef PW_NO_PNG
+
 PW__DEF void pw__put_be32(unsigned char *p, uint32_t v)
 {
     p[0] = (unsigned char)(v >> 24);
@@ -3492,6 +3505,23 @@ PW__DEF int pw_png_read_memory(const pw_alloc *a, const unsigned char *data, siz
     pw_free(a, raw);
     return rc;
 }
+
+#else
+PW__DEF int pw_png_write(const pw_alloc *a, const pw_image *img, int bits, pw_write_fn w,
+                         void *ctx, pw_err *e)
+{
+    (void)a, (void)img, (void)bits, (void)w, (void)ctx;
+    return pw_fail(e, PW_ERR_UNSUPPORTED, "PNG compiled out (PW_NO_PNG)");
+}
+
+PW__DEF int pw_png_read_memory(const pw_alloc *a, const unsigned char *data, size_t size,
+                               const char *name, pw_image *out, pw_err *e)
+{
+    (void)a, (void)data, (void)size;
+    memset(out, 0, sizeof *out);
+    return pw_fail(e, PW_ERR_UNSUPPORTED, "%s: PNG compiled out (PW_NO_PNG)", name ? name : "image");
+}
+#endif /* PW_NO_PNG */
 
 /* ======================================================================
  * Front end: any format
@@ -8943,6 +8973,12 @@ PW__DEF float pw__log2f(float x)
            s * (2.8853900818f + s2 * (0.9617966939f + s2 * (0.5770780164f + s2 * 0.4121985831f)));
 }
 
+/* PW_NO_RENDER leaves out the rest but the pw_parallel type the public
+ * render options convert to: what the methods compute without drawing still
+ * needs the camera (glTF export frames its view with pw_camera_frame) and
+ * the textures (pgp's tile3.h samples its tile through them). */
+#ifndef PW_NO_RENDER
+
 /* ----------------------------------------------------------- framebuffer */
 
 typedef struct pw_fb {
@@ -9833,6 +9869,8 @@ PW__DEF float *pw_draw_normals(const pw_alloc *a, const pw_draw *d, pw_err *e)
     return n;
 }
 
+#endif /* PW_NO_RENDER */
+
 /* ---------------------------------------------------------------- frames */
 
 /* A parallel for: runs task(ctx, i) once for every i in [0, n), in any
@@ -9850,6 +9888,7 @@ typedef struct pw_parallel {
     int threads;
 } pw_parallel;
 
+#ifndef PW_NO_RENDER
 #ifdef PW_THREADS
 #include <pthread.h>
 #include <unistd.h>
@@ -10036,6 +10075,8 @@ PW__DEF int pw_render_frame(const pw_alloc *a, const pw_frame *f, pw_image *out,
     if (r != PW_OK) pw_image_free(a, out);
     return r;
 }
+
+#endif /* PW_NO_RENDER */
 
 #endif /* PW__RENDER_V1 */
 
@@ -13931,7 +13972,10 @@ PW__DEF void pw_view_defaults(int *width, int *height, int *supersample, float v
  *   pw_image    p__pw_image(const p_image *)        a view, no copy
  *   void        p__take_image(pw_image *, const pw_alloc *, p_image *)  moves pixels out
  *   int         p__check_image(const p_image *, const char *what, pw_err *)
- *   int         p__encode(const p_image *, const char *format, pw_write_fn, void *, pw_err *) */
+ *   int         p__encode(const p_image *, const char *format, pw_write_fn, void *, pw_err *)
+ *   p_result    p__left_out(const char *what, const char *macro, p_error *)
+ *               PW_ERR_UNSUPPORTED, "what compiled out (macro)": the stubs that stand
+ *               for the calls PW_NO_RENDER leaves out */
 #define PW_PUBLIC_GLUE(p)                                                                        \
     static PW__UNUSED pw_alloc p##__alloc(const p##_allocator *t)                                \
     {                                                                                            \
@@ -14008,6 +14052,14 @@ PW__DEF void pw_view_defaults(int *width, int *height, int *supersample, float v
         pw_free(a, m->uv);                                                                       \
         pw_free(a, m->fuv);                                                                      \
         memset(m, 0, sizeof *m);                                                                 \
+    }                                                                                            \
+    static PW__UNUSED p##_result p##__left_out(const char *what, const char *macro,             \
+                                               p##_error *err)                                   \
+    {                                                                                            \
+        pw_err pe;                                                                               \
+        pw_err_clear(&pe);                                                                       \
+        pw_fail(&pe, PW_ERR_UNSUPPORTED, "%s compiled out (%s)", what, macro);                   \
+        return p##__done(&pe, err);                                                              \
     }                                                                                            \
     static PW__UNUSED pw_parallel p##__parallel(const p##_render_options *ro)                   \
     {                                                                                            \
@@ -17940,6 +17992,7 @@ static pw_camera pgp__camera(const pgp__state *P, const pgp_render_options *o)
     return cam;
 }
 
+#ifndef PW_NO_RENDER
 static int pgp__draw(const pgp__state *P, pgp__shading *S, const pgp_render_options *o, pw_image *pic, pw_err *e)
 {
     pw_camera cam = pgp__camera(P, o);
@@ -17970,6 +18023,8 @@ static int pgp__draw(const pgp__state *P, pgp__shading *S, const pgp_render_opti
     pw_free(&P->a, normals);
     return r;
 }
+
+#endif /* PW_NO_RENDER */
 
 /* Whether triangle f takes the special treatment of fix mode `mode`: a
  * vortex (CLEAN), a singular corner (PAPER, §3), every triangle (ALL). */
@@ -18049,6 +18104,7 @@ static void pgp__shading_free(const pgp__state *P, pgp__shading *S)
     memset(S, 0, sizeof *S);
 }
 
+#ifndef PW_NO_RENDER
 PGPDEF pgp_result pgp_render(const pgp_map *map, const pgp_tile *tile, const pgp_render_options *ro, pgp_image *out,
                              pgp_error *err)
 {
@@ -18067,6 +18123,15 @@ PGPDEF pgp_result pgp_render(const pgp_map *map, const pgp_tile *tile, const pgp
     if (P) pgp__shading_free(P, &S);
     return pgp__done(&pe, err);
 }
+#else
+PGPDEF pgp_result pgp_render(const pgp_map *map, const pgp_tile *tile, const pgp_render_options *ro, pgp_image *out,
+                             pgp_error *err)
+{
+    (void)map, (void)tile, (void)ro;
+    if (out) memset(out, 0, sizeof *out);
+    return pgp__left_out("rendering", "PW_NO_RENDER", err);
+}
+#endif /* PW_NO_RENDER */
 
 /* ---- src/pgp/builtin.c ---- */
 /* builtin.c: built-in meshes and material-space tiles for demos and tests.

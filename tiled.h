@@ -3,32 +3,32 @@
  *
  * CONTENTS (line: source, what it holds)
  *     33: src/tiled/tiled.h, the public API and its documentation
- *    438: src/common/base.h, allocation hooks, result codes, error messages, limits, he
- *    752: src/common/vec.h, small vector math on float[3] arrays and a 3-float struct.
- *    849: src/common/rng.h, seeded random numbers with the same output on every platfo
- *    926: src/common/noise.h, value noise and its fractal sum, for the built-in procedur
- *   1028: src/common/image.h, float images and their file formats.
- *   1757: src/common/deflate.h, zlib (RFC 1950) and deflate (RFC 1951) compression and
- *   2785: src/common/png.h, PNG writer and reader, and the image front end.
- *   3350: src/common/text.h, locale-independent number parsing and formatting, a line s
- *   3733: src/common/mesh.h, polygon meshes as flat arrays, and their file formats.
- *   5248: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
- *   5694: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
- *   6116: src/common/subdiv.h, Catmull-Clark subdivision (Catmull and Clark 1978) with
- *   6257: src/common/raster.h, exact scan conversion of 2D triangles.
- *   6745: src/common/render.h, a small deterministic software renderer for textured trian
- *   8490: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
- *   8996: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
- *   9454: src/common/glue.h, what every method header needs between its public types an
- *   9650: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  10196: src/tiled/core.c, tiled.h's glue to the shared core, its defaults, result
- *  10303: src/tiled/layout.c, ch. III.1, the boundary types and the tiled texture they
- *  10556: src/tiled/map.c, ch. III.2, the texture mapping algorithm of Fig. 29
- *  10803: src/tiled/synth.c, ch. III.1.3, tiled texture image synthesis: an edge-matche
- *  11169: src/tiled/validate.c, checks a hand-made tiled texture (the thesis's Figs. 39,
- *  11286: src/tiled/builtin.c, built-in meshes and exemplars for demos and tests: the
- *  11472: src/tiled/render.c, a software rendering of a mapped mesh (the thesis rendered
- *  11665: src/tiled/io.c, files. Meshes and exemplars in; the mapped mesh with its t
+ *    442: src/common/base.h, allocation hooks, result codes, error messages, limits, he
+ *    761: src/common/vec.h, small vector math on float[3] arrays and a 3-float struct.
+ *    858: src/common/rng.h, seeded random numbers with the same output on every platfo
+ *    935: src/common/noise.h, value noise and its fractal sum, for the built-in procedur
+ *   1037: src/common/image.h, float images and their file formats.
+ *   1766: src/common/deflate.h, zlib (RFC 1950) and deflate (RFC 1951) compression and
+ *   2796: src/common/png.h, PNG writer and reader, and the image front end.
+ *   3383: src/common/text.h, locale-independent number parsing and formatting, a line s
+ *   3766: src/common/mesh.h, polygon meshes as flat arrays, and their file formats.
+ *   5281: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
+ *   5727: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
+ *   6149: src/common/subdiv.h, Catmull-Clark subdivision (Catmull and Clark 1978) with
+ *   6290: src/common/raster.h, exact scan conversion of 2D triangles.
+ *   6780: src/common/render.h, a small deterministic software renderer for textured trian
+ *   8536: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
+ *   9042: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
+ *   9500: src/common/glue.h, what every method header needs between its public types an
+ *   9707: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  10253: src/tiled/core.c, tiled.h's glue to the shared core, its defaults, result
+ *  10360: src/tiled/layout.c, ch. III.1, the boundary types and the tiled texture they
+ *  10613: src/tiled/map.c, ch. III.2, the texture mapping algorithm of Fig. 29
+ *  10860: src/tiled/synth.c, ch. III.1.3, tiled texture image synthesis: an edge-matche
+ *  11226: src/tiled/validate.c, checks a hand-made tiled texture (the thesis's Figs. 39,
+ *  11343: src/tiled/builtin.c, built-in meshes and exemplars for demos and tests: the
+ *  11529: src/tiled/render.c, a software rendering of a mapped mesh (the thesis rendered
+ *  11737: src/tiled/io.c, files. Meshes and exemplars in; the mapped mesh with its t
  */
 /* tiled.h - seamless, singularity-free tiled textures on quad meshes.
  *
@@ -68,6 +68,10 @@
  *   PW_ASSERT(x)           replace assert() (programmer errors only; bad
  *                          input never asserts)
  *   PW_NO_STDIO            drop the FILE* convenience functions
+ *   PW_NO_RENDER, PW_NO_PNG  leave out the renderer (tiled_render fails with
+ *                          TILED_ERR_UNSUPPORTED) and the PNG codec (loading
+ *                          or saving PNG fails the same way): faster builds
+ *                          for programs that only compute (docs/api.md)
  *   PW_THREADS             render on several threads (POSIX threads; link with
  *                          -pthread): tiled_render_options.threads, 0 = one
  *                          per processor; the picture is the same for any count
@@ -720,6 +724,11 @@ PW__DEF int pw_write_file(const char *path,
     pw_err_clear(&local);
     r = body(arg, pw__file_write, f, &local);
     if (fclose(f) != 0 && r == PW_OK) r = local.code = PW_ERR_IO;
+#ifdef PW_NO_PNG
+    /* a body that needed the compiled-out PNG encoder refused before writing
+     * a byte: leave no empty file behind */
+    if (r == PW_ERR_UNSUPPORTED) remove(path);
+#endif
     if (r == PW_ERR_IO) return pw_fail(e, PW_ERR_IO, "%s: write error (disk full?)", path);
     if (r != PW_OK) return pw_fail(e, r, "%s", local.msg);
     return PW_OK;
@@ -1755,6 +1764,7 @@ PW__DEF int pw_image_write_pnm(const pw_image *img, int bits, int ascii, pw_writ
 #endif /* PW__IMAGE_V1 */
 
 /* ---- shared module src/common/deflate.h ---- */
+#ifndef PW_NO_PNG
 /* deflate: zlib (RFC 1950) and deflate (RFC 1951) compression and
  * decompression, CRC-32 and Adler-32. PNG needs all of them.
  *
@@ -2781,6 +2791,7 @@ PW__DEF int pw_zlib_decompress(const pw_alloc *a, const unsigned char *data, siz
 }
 
 #endif /* PW__DEFLATE_V1 */
+#endif /* PW_NO_PNG */
 
 /* ---- shared module src/common/png.h ---- */
 /* png: PNG writer and reader, and the image front end.
@@ -2810,6 +2821,11 @@ PW__DEF int pw_zlib_decompress(const pw_alloc *a, const unsigned char *data, siz
 
 
 static const unsigned char pw__png_sig[8] = {137, 80, 78, 71, 13, 10, 26, 10};
+
+/* PW_NO_PNG leaves out the codec (and, where nothing else needs it,
+ * deflate.h): the two entry points below refuse instead, and the front end
+ * still tells a PNG file by its signature so that loading one fails clearly. */
+#ifndef PW_NO_PNG
 
 PW__DEF void pw__put_be32(unsigned char *p, uint32_t v)
 {
@@ -3271,6 +3287,23 @@ PW__DEF int pw_png_read_memory(const pw_alloc *a, const unsigned char *data, siz
     pw_free(a, raw);
     return rc;
 }
+
+#else
+PW__DEF int pw_png_write(const pw_alloc *a, const pw_image *img, int bits, pw_write_fn w,
+                         void *ctx, pw_err *e)
+{
+    (void)a, (void)img, (void)bits, (void)w, (void)ctx;
+    return pw_fail(e, PW_ERR_UNSUPPORTED, "PNG compiled out (PW_NO_PNG)");
+}
+
+PW__DEF int pw_png_read_memory(const pw_alloc *a, const unsigned char *data, size_t size,
+                               const char *name, pw_image *out, pw_err *e)
+{
+    (void)a, (void)data, (void)size;
+    memset(out, 0, sizeof *out);
+    return pw_fail(e, PW_ERR_UNSUPPORTED, "%s: PNG compiled out (PW_NO_PNG)", name ? name : "image");
+}
+#endif /* PW_NO_PNG */
 
 /* ======================================================================
  * Front end: any format
@@ -6255,6 +6288,7 @@ PW__DEF int pw_catmull_clark(const pw_alloc *a, const pw_hmesh *hm, const float 
 #endif /* PW__SUBDIV_V1 */
 
 /* ---- shared module src/common/raster.h ---- */
+#ifndef PW_NO_RENDER
 /* raster: exact scan conversion of 2D triangles.
  *
  * Coordinates are in pixels: pixel (x, y) is the square [x, x+1) x [y, y+1)
@@ -6741,6 +6775,7 @@ PW__DEF void pw_raster_tri_spans(float x0, float y0, float x1, float y1, float x
 }
 
 #endif /* PW__RASTER_V1 */
+#endif /* PW_NO_RENDER */
 
 /* ---- shared module src/common/render.h ---- */
 /* render: a small deterministic software renderer for textured triangle meshes.
@@ -7390,6 +7425,12 @@ PW__DEF float pw__log2f(float x)
     return (float)ex +
            s * (2.8853900818f + s2 * (0.9617966939f + s2 * (0.5770780164f + s2 * 0.4121985831f)));
 }
+
+/* PW_NO_RENDER leaves out the rest but the pw_parallel type the public
+ * render options convert to: what the methods compute without drawing still
+ * needs the camera (glTF export frames its view with pw_camera_frame) and
+ * the textures (pgp's tile3.h samples its tile through them). */
+#ifndef PW_NO_RENDER
 
 /* ----------------------------------------------------------- framebuffer */
 
@@ -8281,6 +8322,8 @@ PW__DEF float *pw_draw_normals(const pw_alloc *a, const pw_draw *d, pw_err *e)
     return n;
 }
 
+#endif /* PW_NO_RENDER */
+
 /* ---------------------------------------------------------------- frames */
 
 /* A parallel for: runs task(ctx, i) once for every i in [0, n), in any
@@ -8298,6 +8341,7 @@ typedef struct pw_parallel {
     int threads;
 } pw_parallel;
 
+#ifndef PW_NO_RENDER
 #ifdef PW_THREADS
 #include <pthread.h>
 #include <unistd.h>
@@ -8484,6 +8528,8 @@ PW__DEF int pw_render_frame(const pw_alloc *a, const pw_frame *f, pw_image *out,
     if (r != PW_OK) pw_image_free(a, out);
     return r;
 }
+
+#endif /* PW_NO_RENDER */
 
 #endif /* PW__RENDER_V1 */
 
@@ -9531,7 +9577,10 @@ PW__DEF void pw_view_defaults(int *width, int *height, int *supersample, float v
  *   pw_image    p__pw_image(const p_image *)        a view, no copy
  *   void        p__take_image(pw_image *, const pw_alloc *, p_image *)  moves pixels out
  *   int         p__check_image(const p_image *, const char *what, pw_err *)
- *   int         p__encode(const p_image *, const char *format, pw_write_fn, void *, pw_err *) */
+ *   int         p__encode(const p_image *, const char *format, pw_write_fn, void *, pw_err *)
+ *   p_result    p__left_out(const char *what, const char *macro, p_error *)
+ *               PW_ERR_UNSUPPORTED, "what compiled out (macro)": the stubs that stand
+ *               for the calls PW_NO_RENDER leaves out */
 #define PW_PUBLIC_GLUE(p)                                                                        \
     static PW__UNUSED pw_alloc p##__alloc(const p##_allocator *t)                                \
     {                                                                                            \
@@ -9608,6 +9657,14 @@ PW__DEF void pw_view_defaults(int *width, int *height, int *supersample, float v
         pw_free(a, m->uv);                                                                       \
         pw_free(a, m->fuv);                                                                      \
         memset(m, 0, sizeof *m);                                                                 \
+    }                                                                                            \
+    static PW__UNUSED p##_result p##__left_out(const char *what, const char *macro,             \
+                                               p##_error *err)                                   \
+    {                                                                                            \
+        pw_err pe;                                                                               \
+        pw_err_clear(&pe);                                                                       \
+        pw_fail(&pe, PW_ERR_UNSUPPORTED, "%s compiled out (%s)", what, macro);                   \
+        return p##__done(&pe, err);                                                              \
     }                                                                                            \
     static PW__UNUSED pw_parallel p##__parallel(const p##_render_options *ro)                   \
     {                                                                                            \
@@ -11473,6 +11530,10 @@ TILEDDEF tiled_result tiled_builtin_exemplar(const char *name, int size, const t
 /* render.c: a software rendering of a mapped mesh (the thesis rendered
  * its results of ch. V in Maya), and the size tiles are drawn at. */
 
+/* Vertical field of view of tiled_render's camera, degrees. */
+#define TILED__FOVY 35.0f
+
+#ifndef PW_NO_RENDER
 /* Fan-triangulates a mapped mesh into triangles with per-corner texture
  * coordinates. */
 static int tiled__triangles(const pw_alloc *a, const tiled_mesh *m, int **tris, float **uvs,
@@ -11501,9 +11562,6 @@ static int tiled__triangles(const pw_alloc *a, const tiled_mesh *m, int **tris, 
     *ntris = n;
     return PW_OK;
 }
-
-/* Vertical field of view of tiled_render's camera, degrees. */
-#define TILED__FOVY 35.0f
 
 /* Draws the triangles lit, textured from the atlas with mip levels capped
  * where they would mix tiles, band by band (pw_render_frame), and resolves
@@ -11552,6 +11610,8 @@ static int tiled__draw(const pw_alloc *a, const tiled_mesh *m, const tiled_tiles
     return r;
 }
 
+#endif /* PW_NO_RENDER */
+
 /* Render settings with the defaults filled in. */
 static tiled_render_options tiled__render_options(const tiled_render_options *ro)
 {
@@ -11562,6 +11622,7 @@ static tiled_render_options tiled__render_options(const tiled_render_options *ro
     return o;
 }
 
+#ifndef PW_NO_RENDER
 TILEDDEF tiled_result tiled_render(const tiled_mesh *mapped, const tiled_tileset *ts,
                                    const tiled_render_options *ro, tiled_image *out,
                                    tiled_error *err)
@@ -11591,6 +11652,17 @@ TILEDDEF tiled_result tiled_render(const tiled_mesh *mapped, const tiled_tileset
     }
     return tiled__done(&pe, err);
 }
+
+#else
+TILEDDEF tiled_result tiled_render(const tiled_mesh *mapped, const tiled_tileset *ts,
+                                   const tiled_render_options *ro, tiled_image *out,
+                                   tiled_error *err)
+{
+    (void)mapped, (void)ts, (void)ro;
+    if (out) memset(out, 0, sizeof *out);
+    return tiled__left_out("rendering", "PW_NO_RENDER", err);
+}
+#endif /* PW_NO_RENDER */
 
 /* Areas of face f in world and texture space (fan of triangles). */
 static void tiled__face_areas(const tiled_mesh *m, int f, double *world, double *tex)

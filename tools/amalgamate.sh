@@ -1,6 +1,9 @@
 #!/bin/sh
 # amalgamate.sh NAME MODULE... [-- PART...] : writes the single-header library
 # NAME.h to stdout. PARTS default to NAME.
+# A MODULE or PART written NAME:MACRO is left out when MACRO is defined (it
+# goes inside #ifndef MACRO): PW_NO_RENDER and PW_NO_PNG drop whole modules
+# this way, from the one list in the Makefile, instead of guards in each file.
 #
 # Layout of the output:
 #   src/NAME/NAME.h            documentation and public API (inside its include guard)
@@ -22,6 +25,9 @@ up=$(printf '%s' "$name" | tr 'a-z' 'A-Z')
 here=$(dirname "$0")
 src="$here/../src"
 strip() { grep -v '^#include "' "$1" || true; }
+# guard_open SPEC / guard_close SPEC: the #ifndef around a NAME:MACRO section
+guard_open() { case $1 in *:*) printf '#ifndef %s\n' "${1#*:}" ;; esac; }
+guard_close() { case $1 in *:*) printf '#endif /* %s */\n' "${1#*:}" ;; esac; }
 
 # The body, then a CONTENTS block in front of it: each section's first line
 # in the generated file and the first line of its own comment (which names
@@ -35,18 +41,25 @@ trap 'rm -f "$body"' EXIT
     printf ' * ====================================================================== */\n'
     printf '#if defined(%s_IMPLEMENTATION) || defined(PATCHWORK_IMPLEMENTATION)\n' "$up"
     printf '#ifndef %s__IMPLEMENTATION_DONE\n#define %s__IMPLEMENTATION_DONE\n' "$up" "$up"
-    for m in $modules; do # shared (src/common) or the method's own (src/NAME)
+    for spec in $modules; do # shared (src/common) or the method's own (src/NAME)
+        m=${spec%%:*}
         if [ -f "$src/common/$m.h" ]; then
             printf '\n/* ---- shared module src/common/%s.h ---- */\n' "$m"
+            guard_open "$spec"
             strip "$src/common/$m.h"
         else
             printf '\n/* ---- module src/%s/%s.h ---- */\n' "$name" "$m"
+            guard_open "$spec"
             strip "$src/$name/$m.h"
         fi
+        guard_close "$spec"
     done
-    for p in $parts; do
+    for spec in $parts; do
+        p=${spec%%:*}
         printf '\n/* ---- src/%s/%s.c ---- */\n' "$name" "$p"
+        guard_open "$spec"
         strip "$src/$name/$p.c"
+        guard_close "$spec"
     done
     printf '#endif /* %s__IMPLEMENTATION_DONE */\n' "$up"
     printf '#endif /* %s_IMPLEMENTATION || PATCHWORK_IMPLEMENTATION */\n\n' "$up"

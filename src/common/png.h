@@ -29,6 +29,11 @@
 
 static const unsigned char pw__png_sig[8] = {137, 80, 78, 71, 13, 10, 26, 10};
 
+/* PW_NO_PNG leaves out the codec (and, where nothing else needs it,
+ * deflate.h): the two entry points below refuse instead, and the front end
+ * still tells a PNG file by its signature so that loading one fails clearly. */
+#ifndef PW_NO_PNG
+
 PW__DEF void pw__put_be32(unsigned char *p, uint32_t v)
 {
     p[0] = (unsigned char)(v >> 24);
@@ -489,6 +494,23 @@ PW__DEF int pw_png_read_memory(const pw_alloc *a, const unsigned char *data, siz
     pw_free(a, raw);
     return rc;
 }
+
+#else
+PW__DEF int pw_png_write(const pw_alloc *a, const pw_image *img, int bits, pw_write_fn w,
+                         void *ctx, pw_err *e)
+{
+    (void)a, (void)img, (void)bits, (void)w, (void)ctx;
+    return pw_fail(e, PW_ERR_UNSUPPORTED, "PNG compiled out (PW_NO_PNG)");
+}
+
+PW__DEF int pw_png_read_memory(const pw_alloc *a, const unsigned char *data, size_t size,
+                               const char *name, pw_image *out, pw_err *e)
+{
+    (void)a, (void)data, (void)size;
+    memset(out, 0, sizeof *out);
+    return pw_fail(e, PW_ERR_UNSUPPORTED, "%s: PNG compiled out (PW_NO_PNG)", name ? name : "image");
+}
+#endif /* PW_NO_PNG */
 
 /* ======================================================================
  * Front end: any format

@@ -649,6 +649,12 @@ PW__DEF float pw__log2f(float x)
            s * (2.8853900818f + s2 * (0.9617966939f + s2 * (0.5770780164f + s2 * 0.4121985831f)));
 }
 
+/* PW_NO_RENDER leaves out the rest but the pw_parallel type the public
+ * render options convert to: what the methods compute without drawing still
+ * needs the camera (glTF export frames its view with pw_camera_frame) and
+ * the textures (pgp's tile3.h samples its tile through them). */
+#ifndef PW_NO_RENDER
+
 /* ----------------------------------------------------------- framebuffer */
 
 typedef struct pw_fb {
@@ -1539,6 +1545,8 @@ PW__DEF float *pw_draw_normals(const pw_alloc *a, const pw_draw *d, pw_err *e)
     return n;
 }
 
+#endif /* PW_NO_RENDER */
+
 /* ---------------------------------------------------------------- frames */
 
 /* A parallel for: runs task(ctx, i) once for every i in [0, n), in any
@@ -1556,6 +1564,7 @@ typedef struct pw_parallel {
     int threads;
 } pw_parallel;
 
+#ifndef PW_NO_RENDER
 #ifdef PW_THREADS
 #include <pthread.h>
 #include <unistd.h>
@@ -1742,5 +1751,7 @@ PW__DEF int pw_render_frame(const pw_alloc *a, const pw_frame *f, pw_image *out,
     if (r != PW_OK) pw_image_free(a, out);
     return r;
 }
+
+#endif /* PW_NO_RENDER */
 
 #endif /* PW__RENDER_V1 */

@@ -35,6 +35,9 @@
  *   size limits, as in every patchwork header, and PW_THREADS: rendering on
  *   several threads (POSIX threads; link with -pthread; lapped_render_options.
  *   threads, 0 = one per processor), the same picture for any count.
+ *   PW_NO_RENDER and PW_NO_PNG leave out the renderer (lapped_render fails
+ *   with LAPPED_ERR_UNSUPPORTED) and the PNG codec (loading or saving PNG fails
+ *   the same way): faster builds for programs that only compute (docs/api.md).
  *
  * MINIMAL EXAMPLE
  *       lapped_options opt = lapped_default_options();

@@ -3,6 +3,7 @@
  * what is there. */
 #include "grow.c"
 
+#ifndef PW_NO_RENDER
 /* Checks that a lapped texture belongs to this mesh and these patches. */
 static int lapped__check_texture(const pw_trimesh *m, const lapped_texture *t, const lapped_source *src,
                                  pw_err *e)
@@ -188,3 +189,14 @@ LAPPEDDEF lapped_result lapped_render(const lapped_mesh *mesh, const lapped_text
     }
     return lapped__done(&pe, err);
 }
+
+#else
+LAPPEDDEF lapped_result lapped_render(const lapped_mesh *mesh, const lapped_texture *t,
+                                      const lapped_source *src, const lapped_render_options *ro,
+                                      lapped_image *out, lapped_error *err)
+{
+    (void)mesh, (void)t, (void)src, (void)ro;
+    if (out) memset(out, 0, sizeof *out);
+    return lapped__left_out("rendering", "PW_NO_RENDER", err);
+}
+#endif /* PW_NO_RENDER */

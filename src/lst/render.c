@@ -228,6 +228,7 @@ nomem:
     return pw_fail(e, PW_ERR_NOMEM, "out of memory growing a triangle list to %lu", (unsigned long)cap);
 }
 
+#ifndef PW_NO_RENDER /* only the renderer adds vertices of its own */
 /* Adds a vertex at p (own positions); returns its index or -1. */
 static int lst__tris_vertex(const pw_alloc *a, lst__tris *t, const double *p, pw_err *e)
 {
@@ -235,6 +236,7 @@ static int lst__tris_vertex(const pw_alloc *a, lst__tris *t, const double *p, pw
     t->pos[3 * t->nv] = (float)p[0], t->pos[3 * t->nv + 1] = (float)p[1], t->pos[3 * t->nv + 2] = (float)p[2];
     return t->nv++;
 }
+#endif
 
 /* The visible boundary faces: cut = 0 those on the model's surface, 1 those
  * a cut opened (the neighbour across was removed). Vertices are the
@@ -258,6 +260,7 @@ static int lst__boundary_tris(const pw_alloc *a, const lst_model *m, const int *
     return PW_OK;
 }
 
+#ifndef PW_NO_RENDER
 typedef struct lst__shading {
     const lst__view *v;
     const lst__tris *tris;
@@ -756,3 +759,20 @@ LSTDEF lst_result lst_render_volume(const lst_model *model, const lst_render_opt
     }
     return lst__done(&e, err);
 }
+
+#else
+LSTDEF lst_result lst_render(const lst_model *model, const lst_render_options *ro, lst_image *out, lst_error *err)
+{
+    (void)model, (void)ro;
+    if (out) memset(out, 0, sizeof *out);
+    return lst__left_out("rendering", "PW_NO_RENDER", err);
+}
+
+LSTDEF lst_result lst_render_volume(const lst_model *model, const lst_render_options *ro, const lst_volume_options *vopt,
+                                    lst_image *out, lst_error *err)
+{
+    (void)model, (void)ro, (void)vopt;
+    if (out) memset(out, 0, sizeof *out);
+    return lst__left_out("rendering", "PW_NO_RENDER", err);
+}
+#endif /* PW_NO_RENDER */

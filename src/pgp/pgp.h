@@ -72,6 +72,9 @@
  *   size limits, as in every patchwork header, and PW_THREADS: rendering on
  *   several threads (POSIX threads; link with -pthread; pgp_render_options.
  *   threads, 0 = one per processor), the same picture for any count.
+ *   PW_NO_RENDER and PW_NO_PNG leave out the renderer (pgp_render fails
+ *   with PGP_ERR_UNSUPPORTED) and the PNG codec (loading or saving PNG fails
+ *   the same way): faster builds for programs that only compute (docs/api.md).
  *
  * MINIMAL EXAMPLE
  *       pgp_options opt = pgp_default_options();

@@ -245,6 +245,7 @@ static pw_camera pgp__camera(const pgp__state *P, const pgp_render_options *o)
     return cam;
 }
 
+#ifndef PW_NO_RENDER
 static int pgp__draw(const pgp__state *P, pgp__shading *S, const pgp_render_options *o, pw_image *pic, pw_err *e)
 {
     pw_camera cam = pgp__camera(P, o);
@@ -275,6 +276,8 @@ static int pgp__draw(const pgp__state *P, pgp__shading *S, const pgp_render_opti
     pw_free(&P->a, normals);
     return r;
 }
+
+#endif /* PW_NO_RENDER */
 
 /* Whether triangle f takes the special treatment of fix mode `mode`: a
  * vortex (CLEAN), a singular corner (PAPER, §3), every triangle (ALL). */
@@ -354,6 +357,7 @@ static void pgp__shading_free(const pgp__state *P, pgp__shading *S)
     memset(S, 0, sizeof *S);
 }
 
+#ifndef PW_NO_RENDER
 PGPDEF pgp_result pgp_render(const pgp_map *map, const pgp_tile *tile, const pgp_render_options *ro, pgp_image *out,
                              pgp_error *err)
 {
@@ -372,3 +376,12 @@ PGPDEF pgp_result pgp_render(const pgp_map *map, const pgp_tile *tile, const pgp
     if (P) pgp__shading_free(P, &S);
     return pgp__done(&pe, err);
 }
+#else
+PGPDEF pgp_result pgp_render(const pgp_map *map, const pgp_tile *tile, const pgp_render_options *ro, pgp_image *out,
+                             pgp_error *err)
+{
+    (void)map, (void)tile, (void)ro;
+    if (out) memset(out, 0, sizeof *out);
+    return pgp__left_out("rendering", "PW_NO_RENDER", err);
+}
+#endif /* PW_NO_RENDER */

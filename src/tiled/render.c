@@ -2,6 +2,10 @@
  * its results of ch. V in Maya), and the size tiles are drawn at. */
 #include "core.c"
 
+/* Vertical field of view of tiled_render's camera, degrees. */
+#define TILED__FOVY 35.0f
+
+#ifndef PW_NO_RENDER
 /* Fan-triangulates a mapped mesh into triangles with per-corner texture
  * coordinates. */
 static int tiled__triangles(const pw_alloc *a, const tiled_mesh *m, int **tris, float **uvs,
@@ -30,9 +34,6 @@ static int tiled__triangles(const pw_alloc *a, const tiled_mesh *m, int **tris, 
     *ntris = n;
     return PW_OK;
 }
-
-/* Vertical field of view of tiled_render's camera, degrees. */
-#define TILED__FOVY 35.0f
 
 /* Draws the triangles lit, textured from the atlas with mip levels capped
  * where they would mix tiles, band by band (pw_render_frame), and resolves
@@ -81,6 +82,8 @@ static int tiled__draw(const pw_alloc *a, const tiled_mesh *m, const tiled_tiles
     return r;
 }
 
+#endif /* PW_NO_RENDER */
+
 /* Render settings with the defaults filled in. */
 static tiled_render_options tiled__render_options(const tiled_render_options *ro)
 {
@@ -91,6 +94,7 @@ static tiled_render_options tiled__render_options(const tiled_render_options *ro
     return o;
 }
 
+#ifndef PW_NO_RENDER
 TILEDDEF tiled_result tiled_render(const tiled_mesh *mapped, const tiled_tileset *ts,
                                    const tiled_render_options *ro, tiled_image *out,
                                    tiled_error *err)
@@ -120,6 +124,17 @@ TILEDDEF tiled_result tiled_render(const tiled_mesh *mapped, const tiled_tileset
     }
     return tiled__done(&pe, err);
 }
+
+#else
+TILEDDEF tiled_result tiled_render(const tiled_mesh *mapped, const tiled_tileset *ts,
+                                   const tiled_render_options *ro, tiled_image *out,
+                                   tiled_error *err)
+{
+    (void)mapped, (void)ts, (void)ro;
+    if (out) memset(out, 0, sizeof *out);
+    return tiled__left_out("rendering", "PW_NO_RENDER", err);
+}
+#endif /* PW_NO_RENDER */
 
 /* Areas of face f in world and texture space (fan of triangles). */
 static void tiled__face_areas(const tiled_mesh *m, int f, double *world, double *tex)

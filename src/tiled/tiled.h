@@ -36,6 +36,10 @@
  *   PW_ASSERT(x)           replace assert() (programmer errors only; bad
  *                          input never asserts)
  *   PW_NO_STDIO            drop the FILE* convenience functions
+ *   PW_NO_RENDER, PW_NO_PNG  leave out the renderer (tiled_render fails with
+ *                          TILED_ERR_UNSUPPORTED) and the PNG codec (loading
+ *                          or saving PNG fails the same way): faster builds
+ *                          for programs that only compute (docs/api.md)
  *   PW_THREADS             render on several threads (POSIX threads; link with
  *                          -pthread): tiled_render_options.threads, 0 = one
  *                          per processor; the picture is the same for any count

@@ -1,9 +1,9 @@
 #!/bin/sh
 # Header checks: every generated header is current, compiles alone as C99
 # and as C++ with warnings as errors, exports nothing when made static, can
-# be included twice, and all of them compile together in one translation
-# unit (C++ and the allocator-macro variants through the front end only:
-# -fsyntax-only). Generic over the Makefile's HEADERS list. The checks compile with
+# be included twice, compiles with PW_NO_RENDER, PW_NO_PNG and both, and all
+# of them compile together in one translation unit (C++ and the
+# allocator-macro variants through the front end only: -fsyntax-only). Generic over the Makefile's HEADERS list. The checks compile with
 # their own flags, not the build's, so the sanitizer run (SANITIZE=1) skips
 # them: plain `make test` runs them.
 if [ "${SANITIZE:-0}" = 1 ]; then
@@ -40,6 +40,14 @@ for h in $headers; do
     printf '#define PW_MALLOC(s) malloc(s)\n#define %s_IMPLEMENTATION\n#include "%s.h"\n' "$up" "$h" > "$tmp/half.c"
     if $CC $cflags -fsyntax-only "$tmp/half.c" > "$tmp/log" 2>&1; then fail "$h/alloc_macros_partial" "compiled with only PW_MALLOC defined";
     elif grep -q 'define all of PW_MALLOC' "$tmp/log"; then pass "$h/alloc_macros_partial"; else fail "$h/alloc_macros_partial" "$(head -2 "$tmp/log" | tr '\n' ' ')"; fi
+    # compute-only builds: the renderer and/or PNG left out, the API still declared and linked
+    for opts in PW_NO_RENDER PW_NO_PNG "PW_NO_RENDER PW_NO_PNG"; do
+        tag=$(echo "$opts" | tr 'A-Z ' 'a-z+' | sed 's/pw_//g')
+        printf '#define %s\n' $opts > "$tmp/compute.c"
+        printf '#define %s_IMPLEMENTATION\n#include "%s.h"\nint main(void) { return 0; }\n' "$up" "$h" >> "$tmp/compute.c"
+        if $CC $cflags -o "$tmp/a.out" "$tmp/compute.c" -lm > "$tmp/log" 2>&1; then pass "$h/$tag/c99"; else fail "$h/$tag/c99" "$(head -3 "$tmp/log" | tr '\n' ' ')"; fi
+        if $CXX $cxxflags -fsyntax-only "$tmp/compute.c" > "$tmp/log" 2>&1; then pass "$h/$tag/c++"; else fail "$h/$tag/c++" "$(head -3 "$tmp/log" | tr '\n' ' ')"; fi
+    done
     printf '#define PW_NO_STDIO\n#define %s_IMPLEMENTATION\n#include "%s.h"\nint main(void) { return 0; }\n' "$up" "$h" > "$tmp/nostdio.c"
     if $CC $cflags -o "$tmp/a.out" "$tmp/nostdio.c" -lm > "$tmp/log" 2>&1 && ! nm "$tmp/a.out" | grep -q ' U fopen'; then pass "$h/no_stdio"; else fail "$h/no_stdio" "$(head -3 "$tmp/log" | tr '\n' ' ')"; fi
 done
@@ -51,3 +59,7 @@ for h in $headers; do echo "#include \"$h.h\"" >> "$tmp/all.c"; done
 echo 'int main(void) { return 0; }' >> "$tmp/all.c"
 if $CC $cflags -o "$tmp/a.out" "$tmp/all.c" -lm > "$tmp/log" 2>&1; then pass all_together_c99; else fail all_together_c99 "$(head -3 "$tmp/log" | tr '\n' ' ')"; fi
 if $CXX $cxxflags -fsyntax-only "$tmp/all.c" > "$tmp/log" 2>&1; then pass all_together_c++; else fail all_together_c++ "$(head -3 "$tmp/log" | tr '\n' ' ')"; fi
+# and all of them compute-only
+{ printf '#define PW_NO_RENDER\n#define PW_NO_PNG\n'; cat "$tmp/all.c"; } > "$tmp/all_compute.c"
+if $CC $cflags -o "$tmp/a.out" "$tmp/all_compute.c" -lm > "$tmp/log" 2>&1; then pass all_together_no_render+no_png_c99; else fail all_together_no_render+no_png_c99 "$(head -3 "$tmp/log" | tr '\n' ' ')"; fi
+if $CXX $cxxflags -fsyntax-only "$tmp/all_compute.c" > "$tmp/log" 2>&1; then pass all_together_no_render+no_png_c++; else fail all_together_no_render+no_png_c++ "$(head -3 "$tmp/log" | tr '\n' ' ')"; fi
