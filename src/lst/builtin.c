@@ -10,11 +10,11 @@
 
 /* What the fill found, and the two-sided fit of its boundary (30000
  * samples a side) relative to the surface's diagonal. */
-static int lst__tet_report(const pw_alloc *a, const pw_mesh *tri, const pw_tetmesh *tm, const pw_stuff_info *info,
-                           lst_tet_report *rep, pw_err *e)
+static int lst__tet_report(const pw_alloc *a, const pw_stuff_tris *tri, const pw_tetmesh *tm,
+                           const pw_stuff_info *info, lst_tet_report *rep, pw_err *e)
 {
     pw_stuff_fit fit;
-    int r = pw_stuff_fit_measure(a, tri->pos, tri->nv, tri->fv, tri->nf, tm, 30000, &fit, e);
+    int r = pw_stuff_fit_measure(a, tri, tm, 30000, &fit, e);
     memset(rep, 0, sizeof *rep);
     rep->crossing_pairs = info->crossing_pairs, rep->skipped_triangles = info->skipped_triangles;
     rep->closed_holes = info->closed_holes, rep->fragments = info->fragments;
@@ -65,14 +65,16 @@ LSTDEF lst_result lst_tetrahedralize(const lst_mesh *surface, const lst_options 
                 o.tet.target_tets, so.max_hole);
     else {
         m = lst__pw_mesh(surface);
-        if (pw_mesh_validate(&m, &e) == PW_OK && pw_mesh_triangulate(&a, &m, &tri, NULL, &e) == PW_OK &&
-            pw_stuff_tetrahedralize(&a, tri.pos, tri.nv, tri.fv, tri.nf, &so, &p, &tm, &e) == PW_OK &&
-            (!report || lst__tet_report(&a, &tri, &tm, &info, report, &e) == PW_OK)) {
-            lst__take_tets(&tm, &a, out);
-            lst__tet_warning(&info, &e);
+        if (pw_mesh_validate(&m, &e) == PW_OK && pw_mesh_triangulate(&a, &m, &tri, NULL, &e) == PW_OK) {
+            pw_stuff_tris in = pw_stuff_tris_of(tri.pos, tri.nv, tri.fv, tri.nf);
+            if (pw_stuff_tetrahedralize(&a, &in, &so, &p, &tm, &e) == PW_OK &&
+                (!report || lst__tet_report(&a, &in, &tm, &info, report, &e) == PW_OK)) {
+                lst__take_tets(&tm, &a, out);
+                lst__tet_warning(&info, &e);
+            }
+            else if (tm.tet)
+                pw_tetmesh_free(&a, &tm);
         }
-        else if (tm.tet)
-            pw_tetmesh_free(&a, &tm);
     }
     pw_mesh_free(&a, &tri);
     return lst__done(&e, err);
