@@ -25,18 +25,18 @@
  *  13736: src/common/bisect.h, graded, conforming tetrahedral meshes of a box by newest-v
  *  14037: src/common/stuffing.h, the built-in tetrahedralizer of lst.h, so that no external
  *  16933: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
- *  17052: src/common/pca.h, principal component analysis of vectors streamed one at a 
- *  17231: src/common/glue.h, what every method header needs between its public types an
- *  17427: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  17973: src/lst/core.c, lst.h's glue to the shared core, its defaults, the convers
- *  18311: src/lst/exemplar.c, solid exemplars (§5): sampling, the procedural exemplars 
- *  18851: src/lst/field.c, §5.2.2, the fields that orient and scale the pastes. The 
- *  19881: src/lst/paste.c, §5.2.3-5.2.7, filling the model. Each paste picks a rando
- *  20781: src/lst/render.c, §5.1, showing a model. Every point of a tetrahedron is th
- *  21540: src/lst/cut.c, §5.1.1, cutting a model along the zero set of a scalar fi
- *  22060: src/lst/builtin.c, the tetrahedralizer entry point, checks of caller meshes, 
- *  22516: src/lst/io.c, the model file, the constraint files and the file convenie
- *  23315: src/lst/export.c, the visible boundary with a baked texture atlas, for glTF.
+ *  17073: src/common/pca.h, principal component analysis of vectors streamed one at a 
+ *  17252: src/common/glue.h, what every method header needs between its public types an
+ *  17448: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  17994: src/lst/core.c, lst.h's glue to the shared core, its defaults, the convers
+ *  18332: src/lst/exemplar.c, solid exemplars (§5): sampling, the procedural exemplars 
+ *  18874: src/lst/field.c, §5.2.2, the fields that orient and scale the pastes. The 
+ *  19977: src/lst/paste.c, §5.2.3-5.2.7, filling the model. Each paste picks a rando
+ *  20885: src/lst/render.c, §5.1, showing a model. Every point of a tetrahedron is th
+ *  21660: src/lst/cut.c, §5.1.1, cutting a model along the zero set of a scalar fi
+ *  22205: src/lst/builtin.c, the tetrahedralizer entry point, checks of caller meshes, 
+ *  22672: src/lst/io.c, the model file, the constraint files and the file convenie
+ *  23494: src/lst/export.c, the visible boundary with a baked texture atlas, for glTF.
  */
 /* lst.h - lapped solid textures: solid exemplars pasted inside a model.
  *
@@ -16987,11 +16987,29 @@ PW__DEF void pw__edt_1d(const float *f, int n, float *d, int *v, double *z)
     }
 }
 
+/* A binary image: w x h pixels px (row-major, nonzero: set); wrap: periodic
+ * in x and y (a tile). */
+typedef struct pw_edt_image {
+    const unsigned char *px;
+    int w, h, wrap;
+} pw_edt_image;
+
+/* The scratch of the 1D transforms of one distance transform, for lines of
+ * up to m pixels (3m when they wrap), and whether they wrap. */
+typedef struct pw__edt_ws {
+    float *f, *d; /* a line's values and its transform */
+    int *v;       /* the parabolas' sites */
+    double *z;    /* their boundaries (one more) */
+    int wrap;     /* periodic lines, tripled */
+} pw__edt_ws;
+
 /* One pass along lines of length n (count lines, element i of line l at
- * data[l*ls + i*es]), in place; periodic lines are tripled. */
-PW__DEF void pw__edt_pass(float *data, int n, int count, size_t ls, size_t es, int wrap, float *f,
-                          float *d, int *v, double *z)
+ * data[l*ls + i*es]), in place. */
+PW__DEF void pw__edt_pass(float *data, int n, int count, size_t ls, size_t es, const pw__edt_ws *ws)
 {
+    float *f = ws->f, *d = ws->d;
+    int *v = ws->v, wrap = ws->wrap;
+    double *z = ws->z;
     int l, i, reps = wrap ? 3 : 1;
     for (l = 0; l < count; l++) {
         float *line = data + (size_t)l * ls;
@@ -17004,11 +17022,11 @@ PW__DEF void pw__edt_pass(float *data, int n, int count, size_t ls, size_t es, i
 /* out[y*w + x] = squared distance from (x, y) to the nearest pixel with
  * site[] != 0, periodic in x and y when wrap is set; PW_EDT_FAR everywhere
  * when there is no site. */
-PW__DEF int pw_edt_sq(const pw_alloc *a, const unsigned char *site, int w, int h, int wrap,
-                      float *out, pw_err *e)
+PW__DEF int pw_edt_sq(const pw_alloc *a, const pw_edt_image *site, float *out, pw_err *e)
 {
-    int m = (w > h ? w : h) * (wrap ? 3 : 1);
+    int w = site->w, h = site->h, m = (w > h ? w : h) * (site->wrap ? 3 : 1);
     size_t i, n = (size_t)w * h;
+    pw__edt_ws ws;
     float *f = (float *)pw_alloc_array(a, (size_t)m * 2, sizeof(float), "distance transform", e);
     int *v = (int *)pw_alloc_array(a, (size_t)m, sizeof(int), "distance transform", e);
     double *z = (double *)pw_alloc_array(a, (size_t)m + 1, sizeof(double), "distance transform", e);
@@ -17018,9 +17036,10 @@ PW__DEF int pw_edt_sq(const pw_alloc *a, const unsigned char *site, int w, int h
         pw_free(a, z);
         return PW_ERR_NOMEM;
     }
-    for (i = 0; i < n; i++) out[i] = site[i] ? 0.0f : PW_EDT_FAR;
-    pw__edt_pass(out, w, h, (size_t)w, 1, wrap, f, f + m, v, z);
-    pw__edt_pass(out, h, w, 1, (size_t)w, wrap, f, f + m, v, z);
+    ws.f = f, ws.d = f + m, ws.v = v, ws.z = z, ws.wrap = site->wrap;
+    for (i = 0; i < n; i++) out[i] = site->px[i] ? 0.0f : PW_EDT_FAR;
+    pw__edt_pass(out, w, h, (size_t)w, 1, &ws);
+    pw__edt_pass(out, h, w, 1, (size_t)w, &ws);
     pw_free(a, f);
     pw_free(a, v);
     pw_free(a, z);
@@ -17030,16 +17049,18 @@ PW__DEF int pw_edt_sq(const pw_alloc *a, const unsigned char *site, int w, int h
 /* phi[i] > 0 where mask[i] != 0 (inside), < 0 elsewhere; |phi| is the
  * distance to the nearest pixel of the other kind minus 1/2. A mask with no
  * pixel of one kind gives +-sqrt(PW_EDT_FAR) on the other. */
-PW__DEF int pw_edt_signed(const pw_alloc *a, const unsigned char *mask, int w, int h, int wrap,
-                          float *phi, pw_err *e)
+PW__DEF int pw_edt_signed(const pw_alloc *a, const pw_edt_image *im, float *phi, pw_err *e)
 {
-    size_t i, n = (size_t)w * h;
+    const unsigned char *mask = im->px;
+    size_t i, n = (size_t)im->w * im->h;
     unsigned char *inv = (unsigned char *)pw_alloc_array(a, n, 1, "signed distance", e);
     float *din = (float *)pw_alloc_array(a, n, sizeof(float), "signed distance", e);
+    pw_edt_image rest = *im; /* the other kind */
     int r = inv && din ? PW_OK : PW_ERR_NOMEM;
+    rest.px = inv;
     for (i = 0; r == PW_OK && i < n; i++) inv[i] = (unsigned char)!mask[i];
-    if (r == PW_OK) r = pw_edt_sq(a, mask, w, h, wrap, phi, e); /* outside: to the mask */
-    if (r == PW_OK) r = pw_edt_sq(a, inv, w, h, wrap, din, e);  /* inside: to the rest */
+    if (r == PW_OK) r = pw_edt_sq(a, im, phi, e);    /* outside: to the mask */
+    if (r == PW_OK) r = pw_edt_sq(a, &rest, din, e); /* inside: to the rest */
     for (i = 0; r == PW_OK && i < n; i++)
         phi[i] = mask[i] ? sqrtf(din[i]) - 0.5f : 0.5f - sqrtf(phi[i]);
     pw_free(a, inv);
@@ -18745,6 +18766,7 @@ static int lst__edt(const pw_alloc *a, const pw_volume *mask, int want_positive,
 {
     int X = mask->x, Y = mask->y, Z = mask->z, big = pw_maxi(X, pw_maxi(Y, Z)), z;
     size_t total = (size_t)X * Y * Z, k;
+    pw__edt_ws ws;
     float *f = (float *)pw_alloc_array(a, (size_t)big * 2, sizeof(float), "distance transform", e);
     int *v = (int *)pw_alloc_array(a, (size_t)big, sizeof(int), "distance transform", e);
     double *zz = (double *)pw_alloc_array(a, (size_t)big + 1, sizeof(double), "distance transform", e);
@@ -18756,9 +18778,10 @@ static int lst__edt(const pw_alloc *a, const pw_volume *mask, int want_positive,
         int hit = want_positive ? mask->px[k] > 0.0f : mask->px[k] < 1.0f;
         dist[k] = hit ? 0.0f : PW_EDT_FAR;
     }
-    pw__edt_pass(dist, X, Y * Z, (size_t)X, 1, 0, f, f + big, v, zz);
-    for (z = 0; z < Z; z++) pw__edt_pass(dist + (size_t)z * X * Y, Y, X, 1, (size_t)X, 0, f, f + big, v, zz);
-    pw__edt_pass(dist, Z, X * Y, 1, (size_t)X * Y, 0, f, f + big, v, zz);
+    ws.f = f, ws.d = f + big, ws.v = v, ws.z = zz, ws.wrap = 0;
+    pw__edt_pass(dist, X, Y * Z, (size_t)X, 1, &ws);
+    for (z = 0; z < Z; z++) pw__edt_pass(dist + (size_t)z * X * Y, Y, X, 1, (size_t)X, &ws);
+    pw__edt_pass(dist, Z, X * Y, 1, (size_t)X * Y, &ws);
     for (k = 0; k < total; k++) dist[k] = dist[k] >= PW_EDT_FAR ? 1e6f : (float)(sqrt((double)dist[k]) / big);
     pw_free(a, f), pw_free(a, v), pw_free(a, zz);
     return PW_OK;
@@ -18925,6 +18948,15 @@ static int lst__locate(const lst__geo *g, const double p[3], double l[4])
 
 /* ---- thin-plate RBF in 3D (phi(r) = r^3 plus a linear polynomial) ------------------- */
 
+/* A growable list of constrained points with values. */
+typedef struct lst__pts {
+    int n;
+    size_t cap;
+    double *p;   /* n*3 */
+    double *val; /* n, in a parallel array grown with p */
+    size_t vcap;
+} lst__pts;
+
 typedef struct lst__rbf {
     int n;
     double *c;      /* n*3 centres, in normalised coordinates */
@@ -19000,12 +19032,16 @@ static int lst__farthest(const double *p, int n, int k, double *dmin, int *pick)
     return cnt;
 }
 
-/* Fits the RBF through values val at up to maxc of the points p (n*3). */
-static int lst__rbf_fit(const pw_alloc *a, const double *p, const double *val, int n, int maxc, const double o[3],
-                        double s, lst__rbf *r, pw_err *e)
+/* Fits the RBF through the values of up to maxc of the points pts. The
+ * caller sets the normalisation (r->o, r->s); the rest is filled here. */
+static int lst__rbf_fit(const pw_alloc *a, const lst__pts *pts, int maxc, lst__rbf *r, pw_err *e)
 {
+    const double *p = pts->p, *val = pts->val;
+    int n = pts->n;
+    double o[3], s = r->s;
     double *dmin = (double *)pw_alloc_array(a, (size_t)n, sizeof(double), "RBF", e), *m = NULL;
     int *pick = (int *)pw_alloc_array(a, (size_t)(maxc < n ? maxc : n), sizeof(int), "RBF", e), i, j, k, N;
+    memcpy(o, r->o, sizeof o);
     memset(r, 0, sizeof *r);
     memcpy(r->o, o, sizeof r->o);
     r->s = s;
@@ -19061,15 +19097,6 @@ static double lst__rbf_eval(const lst__rbf *r, const double *x, double *grad)
 
 /* ---- depth constraints (§4.3) as points ------------------------------------------------- */
 
-/* A growable list of constrained points with values. */
-typedef struct lst__pts {
-    int n;
-    size_t cap;
-    double *p;   /* n*3 */
-    double *val; /* n, in a parallel array grown with p */
-    size_t vcap;
-} lst__pts;
-
 static void lst__pts_free(const pw_alloc *a, lst__pts *s)
 {
     pw_free(a, s->p);
@@ -19112,11 +19139,13 @@ static int lst__paint_surface(const pw_alloc *a, const lst__geo *g, const lst_me
     return r;
 }
 
-/* §4.3 multi-face fill: the triangles reachable from `start` across edges
- * whose dihedral angle is at most `crease` degrees get value v. */
-static int lst__flood(const pw_alloc *a, const pw_trimesh *tm, int start, double crease, double v, double *paint,
-                      pw_err *e)
+/* §4.3 multi-face fill (constraint c): the triangles reachable from
+ * c->face across edges whose dihedral angle is at most c->crease degrees
+ * (0: 30) get c->value. */
+static int lst__flood(const pw_alloc *a, const pw_trimesh *tm, const lst_constraint *c, double *paint, pw_err *e)
 {
+    int start = c->face;
+    double crease = c->crease > 0.0f ? c->crease : 30.0, v = c->value;
     int *queue = (int *)pw_alloc_array(a, (size_t)tm->nf, sizeof(int), "flood fill", e), head = 0, tail = 0, k;
     unsigned char *seen = (unsigned char *)pw_calloc_array(a, (size_t)tm->nf, 1, "flood fill", e);
     double cmin = pw_cos(crease * (3.14159265358979323846 / 180.0));
@@ -19161,7 +19190,7 @@ static int lst__paint(const pw_alloc *a, const pw_trimesh *tm, const lst_options
             return pw_fail(e, PW_ERR_INVALID, "depth constraint %d: face %d is not a triangle of the surface (0..%d)", i,
                            c->face, tm->nf - 1);
         if (c->kind == LST_CONSTRAINT_DEPTH_FACE) paint[c->face] = c->value;
-        else if (lst__flood(a, tm, c->face, c->crease > 0.0f ? c->crease : 30.0, c->value, paint, e)) return PW_ERR_NOMEM;
+        else if (lst__flood(a, tm, c, paint, e)) return PW_ERR_NOMEM;
     }
     return PW_OK;
 }
@@ -19199,11 +19228,19 @@ static int lst__check_depth(const lst_options *o, pw_err *e)
     return PW_OK;
 }
 
+/* The surface with the depth the face and fill constraints paint on it. */
+typedef struct lst__painted {
+    pw_trimesh tm;
+    double *face; /* per triangle: painted depth, -1: none (lst__paint) */
+    double *vert; /* per vertex: from its triangles, -1: none (lst__vertex_paint) */
+} lst__painted;
+
 /* The constraint points: painted vertices, painted triangles' centroids,
  * then the point constraints. */
-static int lst__depth_points(const pw_alloc *a, const pw_trimesh *tm, const lst_options *o, const double *paint,
-                             const double *vp, lst__pts *pts, pw_err *e)
+static int lst__depth_points(const pw_alloc *a, const lst__painted *ps, const lst_options *o, lst__pts *pts, pw_err *e)
 {
+    const pw_trimesh *tm = &ps->tm;
+    const double *paint = ps->face, *vp = ps->vert;
     double p[3];
     int f, v, i, k;
     for (v = 0; v < tm->nv; v++)
@@ -19264,10 +19301,12 @@ static size_t lst__hash_cell(const lst__hash *h, const double *p, int off[3])
     return ((size_t)c[2] * h->n[1] + c[1]) * h->n[0] + c[0];
 }
 
-/* Buckets of side `cell` over the points of pos (n*3, floats) that keep[] selects. */
-static int lst__hash_build(const pw_alloc *a, const float *pos, int n, const double *keep, double cell, lst__hash *h,
+/* Buckets of side `cell` over the vertices of tm that keep[] selects (>= 0). */
+static int lst__hash_build(const pw_alloc *a, const pw_trimesh *tm, const double *keep, double cell, lst__hash *h,
                            pw_err *e)
 {
+    const float *pos = tm->pos;
+    int n = tm->nv;
     size_t cells, c;
     int i, k;
     double hi[3];
@@ -19337,7 +19376,7 @@ static int lst__depth_snap(const pw_alloc *a, const lst__geo *g, const pw_trimes
             if (d > reach) reach = d;
         }
     if (!(done = (unsigned char *)pw_calloc_array(a, (size_t)g->m.nv, 1, "depth snap", e))) return PW_ERR_NOMEM;
-    if (lst__hash_build(a, tm->pos, tm->nv, vp, reach, &h, e)) {
+    if (lst__hash_build(a, tm, vp, reach, &h, e)) {
         pw_free(a, done);
         return PW_ERR_NOMEM;
     }
@@ -19360,44 +19399,60 @@ static int lst__depth_snap(const pw_alloc *a, const lst__geo *g, const pw_trimes
 
 /* ---- the depth field ----------------------------------------------------------------------- */
 
+/* What one computation of the fields (§5.2.2) works from: the mesh with its
+ * adjacency, the surface the depth constraints are painted on, the
+ * options, and where allocation, progress and errors go. */
+typedef struct lst__field_job {
+    const pw_alloc *a;
+    const lst__geo *g;
+    const lst_mesh *surface;
+    const lst_options *o;
+    const pw_progress *p;
+    pw_err *e;
+} lst__field_job;
+
 /* §5.2.2 thin-plate RBF interpolation of the depth constraints, with its
  * analytic gradient at every vertex; then the boundary snapped to the
  * painted values. */
-static int lst__depth_rbf(const pw_alloc *a, const lst__geo *g, const lst_mesh *surface, const lst_options *o,
-                          double *depth, double *grad, pw_err *e)
+static int lst__depth_rbf(const lst__field_job *j, double *depth, double *grad)
 {
-    pw_trimesh tm;
+    const pw_alloc *a = j->a;
+    const lst__geo *g = j->g;
+    const lst_options *o = j->o;
+    pw_err *e = j->e;
+    lst__painted ps;
     lst__pts pts;
     lst__rbf rbf;
-    double *paint = NULL, *vp = NULL, org[3], lo[3], hi[3], p[3];
+    double lo[3], hi[3], p[3];
     int v, k, r;
     memset(&pts, 0, sizeof pts);
     memset(&rbf, 0, sizeof rbf);
-    if ((r = lst__paint_surface(a, g, surface, &tm, e)) != PW_OK) return r;
-    paint = (double *)pw_alloc_array(a, (size_t)tm.nf, sizeof(double), "depth paint", e);
-    vp = (double *)pw_alloc_array(a, (size_t)tm.nv, sizeof(double), "depth paint", e);
-    r = !paint || !vp ? PW_ERR_NOMEM : lst__paint(a, &tm, o, paint, e);
-    if (r == PW_OK) lst__vertex_paint(&tm, paint, vp), r = lst__depth_points(a, &tm, o, paint, vp, &pts, e);
+    if ((r = lst__paint_surface(a, g, j->surface, &ps.tm, e)) != PW_OK) return r;
+    ps.face = (double *)pw_alloc_array(a, (size_t)ps.tm.nf, sizeof(double), "depth paint", e);
+    ps.vert = (double *)pw_alloc_array(a, (size_t)ps.tm.nv, sizeof(double), "depth paint", e);
+    r = !ps.face || !ps.vert ? PW_ERR_NOMEM : lst__paint(a, &ps.tm, o, ps.face, e);
+    if (r == PW_OK) lst__vertex_paint(&ps.tm, ps.face, ps.vert), r = lst__depth_points(a, &ps, o, &pts, e);
     if (r == PW_OK && pts.n < 1) r = pw_fail(e, PW_ERR_INVALID, "depth constraints: none applies");
     if (r == PW_OK) lst__pts_thin(&pts, lst__count_kind(o, LST_CONSTRAINT_DEPTH_POINT, LST_CONSTRAINT_DEPTH_POINT), o->rbf_centers);
     if (r == PW_OK) {
         for (k = 0; k < 3; k++) lo[k] = hi[k] = g->m.pos[k];
         for (v = 0; v < g->m.nv; v++)
             for (k = 0; k < 3; k++) lo[k] = g->m.pos[3 * v + k] < lo[k] ? g->m.pos[3 * v + k] : lo[k], hi[k] = g->m.pos[3 * v + k] > hi[k] ? g->m.pos[3 * v + k] : hi[k];
-        for (k = 0; k < 3; k++) org[k] = 0.5 * (lo[k] + hi[k]);
-        r = lst__rbf_fit(a, pts.p, pts.val, pts.n, o->rbf_centers, org, g->diag > 0.0 ? g->diag : 1.0, &rbf, e);
+        for (k = 0; k < 3; k++) rbf.o[k] = 0.5 * (lo[k] + hi[k]);
+        rbf.s = g->diag > 0.0 ? g->diag : 1.0;
+        r = lst__rbf_fit(a, &pts, o->rbf_centers, &rbf, e);
     }
     for (v = 0; r == PW_OK && v < g->m.nv; v++) {
         lst__vert(&g->m, v, p);
         depth[v] = lst__rbf_eval(&rbf, p, grad + 3 * v);
         depth[v] = depth[v] < 0.0 ? 0.0 : (depth[v] > 1.0 ? 1.0 : depth[v]);
     }
-    if (r == PW_OK) r = lst__depth_snap(a, g, &tm, vp, depth, e);
+    if (r == PW_OK) r = lst__depth_snap(a, g, &ps.tm, ps.vert, depth, e);
     lst__rbf_free(a, &rbf);
     lst__pts_free(a, &pts);
-    pw_free(a, paint);
-    pw_free(a, vp);
-    pw_trimesh_free(a, &tm);
+    pw_free(a, ps.face);
+    pw_free(a, ps.vert);
+    pw_trimesh_free(a, &ps.tm);
     return r;
 }
 
@@ -19549,12 +19604,13 @@ static int lst__depth_distance(const pw_alloc *a, const lst__geo *g, double *dep
     return PW_OK;
 }
 
-static int lst__depth_field(const pw_alloc *a, const lst__geo *g, const lst_mesh *surface, const lst_options *o,
-                            double *depth, double *grad, pw_err *e)
+static int lst__depth_field(const lst__field_job *j, double *depth, double *grad)
 {
-    int r = lst__check_depth(o, e);
+    int r = lst__check_depth(j->o, j->e);
     if (r != PW_OK) return r;
-    return lst__count_kind(o, LST_CONSTRAINT_DEPTH_FACE, LST_CONSTRAINT_DEPTH_POINT) > 0 ? lst__depth_rbf(a, g, surface, o, depth, grad, e) : lst__depth_distance(a, g, depth, grad, e);
+    return lst__count_kind(j->o, LST_CONSTRAINT_DEPTH_FACE, LST_CONSTRAINT_DEPTH_POINT) > 0
+               ? lst__depth_rbf(j, depth, grad)
+               : lst__depth_distance(j->a, j->g, depth, grad, j->e);
 }
 
 /* ---- Laplacian smoothing (Eqs. 1-2) ---------------------------------------------------- */
@@ -19574,6 +19630,20 @@ static void lst__cons_free(const pw_alloc *a, lst__cons *c)
     pw_free(a, c->bary);
     pw_free(a, c->val);
     memset(c, 0, sizeof *c);
+}
+
+/* One smoothing system (Eqs. 1-2): the located constraints, their weight
+ * W and the least-squares matrix built from them. */
+typedef struct lst__lsq {
+    lst__cons c;
+    double W;
+    pw_csr A;
+} lst__lsq;
+
+static void lst__lsq_free(const pw_alloc *a, lst__lsq *s)
+{
+    pw_csr_free(a, &s->A);
+    lst__cons_free(a, &s->c);
 }
 
 /* The constraints of `kind`, DIRECTION or SCALE (directions made unit,
@@ -19606,45 +19676,55 @@ static int lst__field_cons(const pw_alloc *a, const lst__geo *g, const lst_optio
     return PW_OK;
 }
 
-/* The least-squares system: a Laplacian row per vertex (Eq. 1: x_i minus
- * the weighted mean of its one-ring; weights uniform, or exp(-(k(d_i -
- * d_j))^2) normalised when depth is given, §5.2.2), then W times each
+/* The least-squares system s->A: a Laplacian row per vertex (Eq. 1: x_i
+ * minus the weighted mean of its one-ring; weights uniform, or exp(-(kw(d_i
+ * - d_j))^2) normalised when depth is given, §5.2.2), then W times each
  * constraint row (Eq. 2). */
-static int lst__smooth_matrix(const pw_alloc *a, const lst__geo *g, const double *depth, double kw, const lst__cons *c,
-                              double W, pw_csr *A, pw_err *e)
+static int lst__smooth_matrix(const lst__field_job *j, const double *depth, double kw, lst__lsq *s)
 {
+    const pw_alloc *a = j->a;
+    const lst__geo *g = j->g;
+    const lst__cons *c = &s->c;
+    double W = s->W;
+    pw_err *e = j->e;
     pw_triplets t;
-    int v, j, i, k, r;
+    int v, jj, i, k, r;
     if ((r = pw_triplets_init(&t, a, g->m.nv + c->n, g->m.nv, e)) != PW_OK) return r;
     for (v = 0; v < g->m.nv && r == PW_OK; v++) {
         double sum = 0.0;
         int lo = g->rings.start[v], hi = g->rings.start[v + 1];
         if (lo == hi) continue; /* an unused vertex keeps its guess */
-        for (j = lo; j < hi; j++) {
-            double dd = depth ? kw * (depth[v] - depth[g->rings.adj[j]]) : 0.0;
+        for (jj = lo; jj < hi; jj++) {
+            double dd = depth ? kw * (depth[v] - depth[g->rings.adj[jj]]) : 0.0;
             sum += depth ? lst__exp_neg(-dd * dd) : 1.0;
         }
         r = pw_triplets_add(&t, v, v, 1.0, e);
-        for (j = lo; j < hi && r == PW_OK; j++) {
-            double dd = depth ? kw * (depth[v] - depth[g->rings.adj[j]]) : 0.0;
-            r = pw_triplets_add(&t, v, g->rings.adj[j], -(depth ? lst__exp_neg(-dd * dd) : 1.0) / sum, e);
+        for (jj = lo; jj < hi && r == PW_OK; jj++) {
+            double dd = depth ? kw * (depth[v] - depth[g->rings.adj[jj]]) : 0.0;
+            r = pw_triplets_add(&t, v, g->rings.adj[jj], -(depth ? lst__exp_neg(-dd * dd) : 1.0) / sum, e);
         }
     }
     for (i = 0; i < c->n && r == PW_OK; i++)
         for (k = 0; k < 4 && r == PW_OK; k++)
             r = pw_triplets_add(&t, g->m.nv + i, g->m.tet[4 * c->tet[i] + k], W * c->bary[4 * i + k], e);
-    if (r == PW_OK) r = pw_csr_from_triplets(a, &t, A, e);
+    if (r == PW_OK) r = pw_csr_from_triplets(a, &t, &s->A, e);
     pw_triplets_free(&t);
     return r;
 }
 
 /* Solves one component: x (nv, holding the guess) minimising the rows of
- * A with right-hand side 0 for the Laplacian rows and W val[dim*i + comp]
- * for constraint i. A solver that stops short of its tolerance still gives
- * a usable smooth field; only memory and cancellation are errors. */
-static int lst__smooth_solve(const pw_alloc *a, const pw_csr *A, int nv, const lst__cons *c, int dim, int comp, double W,
-                             const pw_progress *p, double *x, pw_err *e)
+ * s->A with right-hand side 0 for the Laplacian rows and W val[dim*i +
+ * comp] for constraint i. A solver that stops short of its tolerance still
+ * gives a usable smooth field; only memory and cancellation are errors. */
+static int lst__smooth_solve(const lst__field_job *j, const lst__lsq *s, int dim, int comp, double *x)
 {
+    const pw_alloc *a = j->a;
+    const pw_csr *A = &s->A;
+    const lst__cons *c = &s->c;
+    const pw_progress *p = j->p;
+    double W = s->W;
+    int nv = j->g->m.nv;
+    pw_err *e = j->e;
     double *b = (double *)pw_calloc_array(a, (size_t)A->n, sizeof(double), "smoothing", e);
     pw_cg_options co = pw_cg_default_options();
     pw_cg_stats st;
@@ -19690,58 +19770,57 @@ static void lst__principal_axis(const pw_tetmesh *m, double *axis)
 /* §5.2.2 the direction field (unit, per vertex): the constraints smoothed
  * per component (depth-aware weights for 2-a/2-b), normalised; without
  * constraints the given or principal axis everywhere. */
-static int lst__direction_field(const pw_alloc *a, const lst__geo *g, const lst_options *o, const double *depth,
-                                const pw_progress *p, double *dir, pw_err *e)
+static int lst__direction_field(const lst__field_job *j, const double *depth, double *dir)
 {
-    lst__cons c;
-    pw_csr A;
+    const pw_alloc *a = j->a;
+    const lst__geo *g = j->g;
+    const lst_options *o = j->o;
+    pw_err *e = j->e;
+    lst__lsq s;
     double axis[3], *x = NULL;
     int v, k, r;
     for (k = 0; k < 3; k++) axis[k] = o->axis[k];
     if (!(pw_norm3(axis) > 0.0)) lst__principal_axis(&g->m, axis);
     for (v = 0; v < g->m.nv; v++) memcpy(dir + 3 * v, axis, sizeof axis);
-    memset(&A, 0, sizeof A);
-    if ((r = lst__field_cons(a, g, o, LST_CONSTRAINT_DIRECTION, &c, e)) != PW_OK || c.n == 0) {
-        lst__cons_free(a, &c);
+    memset(&s, 0, sizeof s);
+    s.W = o->constraint_weight;
+    if ((r = lst__field_cons(a, g, o, LST_CONSTRAINT_DIRECTION, &s.c, e)) != PW_OK || s.c.n == 0) {
+        lst__cons_free(a, &s.c);
         return r;
     }
     if (!(x = (double *)pw_alloc_array(a, (size_t)g->m.nv, sizeof(double), "direction field", e))) r = PW_ERR_NOMEM;
     if (r == PW_OK)
-        r = lst__smooth_matrix(a, g, o->type == LST_TYPE_2A || o->type == LST_TYPE_2B ? depth : NULL, o->layer_weight, &c,
-                               o->constraint_weight, &A, e);
+        r = lst__smooth_matrix(j, o->type == LST_TYPE_2A || o->type == LST_TYPE_2B ? depth : NULL, o->layer_weight, &s);
     for (k = 0; k < 3 && r == PW_OK; k++) {
         for (v = 0; v < g->m.nv; v++) x[v] = axis[k];
-        if ((r = lst__smooth_solve(a, &A, g->m.nv, &c, 3, k, o->constraint_weight, p, x, e)) == PW_OK)
+        if ((r = lst__smooth_solve(j, &s, 3, k, x)) == PW_OK)
             for (v = 0; v < g->m.nv; v++) dir[3 * v + k] = x[v];
     }
     for (v = 0; r == PW_OK && v < g->m.nv; v++)
         if (!(pw_norm3(dir + 3 * v) > 1e-12)) memcpy(dir + 3 * v, axis, sizeof axis);
-    pw_csr_free(a, &A);
     pw_free(a, x);
-    lst__cons_free(a, &c);
+    lst__lsq_free(a, &s);
     return r;
 }
 
 /* The user's scale field (types 0, 1-a, 2-a): constraints smoothed, or
  * the default everywhere; kept above a thousandth of the default. */
-static int lst__scale_field(const pw_alloc *a, const lst__geo *g, const lst_options *o, double s0, const pw_progress *p,
-                            double *scale, pw_err *e)
+static int lst__scale_field(const lst__field_job *j, double s0, double *scale)
 {
-    lst__cons c;
-    pw_csr A;
+    const lst__geo *g = j->g;
+    lst__lsq s;
     int v, r;
     for (v = 0; v < g->m.nv; v++) scale[v] = s0;
-    memset(&A, 0, sizeof A);
-    if ((r = lst__field_cons(a, g, o, LST_CONSTRAINT_SCALE, &c, e)) != PW_OK || c.n == 0) {
-        lst__cons_free(a, &c);
+    memset(&s, 0, sizeof s);
+    s.W = j->o->constraint_weight;
+    if ((r = lst__field_cons(j->a, g, j->o, LST_CONSTRAINT_SCALE, &s.c, j->e)) != PW_OK || s.c.n == 0) {
+        lst__cons_free(j->a, &s.c);
         return r;
     }
-    if ((r = lst__smooth_matrix(a, g, NULL, 1.0, &c, o->constraint_weight, &A, e)) == PW_OK)
-        r = lst__smooth_solve(a, &A, g->m.nv, &c, 1, 0, o->constraint_weight, p, scale, e);
+    if ((r = lst__smooth_matrix(j, NULL, 1.0, &s)) == PW_OK) r = lst__smooth_solve(j, &s, 1, 0, scale);
     for (v = 0; v < g->m.nv; v++)
         if (!(scale[v] > 1e-3 * s0)) scale[v] = 1e-3 * s0;
-    pw_csr_free(a, &A);
-    lst__cons_free(a, &c);
+    lst__lsq_free(j->a, &s);
     return r;
 }
 
@@ -19798,9 +19877,12 @@ static double lst__default_scale(const lst__geo *g, const lst_options *o)
 
 /* All of §5.2.2: depth (float per vertex, for types that have one; NULL
  * otherwise) and the frame of every tetrahedron, allocated here. */
-static int lst__fields(const pw_alloc *a, const lst__geo *g, const lst_mesh *surface, const lst_options *o,
-                       const pw_progress *p, float **depth_out, float **frame_out, pw_err *e)
+static int lst__fields(const lst__field_job *j, float **depth_out, float **frame_out)
 {
+    const pw_alloc *a = j->a;
+    const lst__geo *g = j->g;
+    const lst_options *o = j->o;
+    pw_err *e = j->e;
     int nv = g->m.nv, v, r = PW_OK, hd = lst__has_depth(o->type);
     double *depth = NULL, *grad = NULL, *dir = NULL, *scale, s0 = lst__default_scale(g, o);
     *depth_out = NULL;
@@ -19815,16 +19897,16 @@ static int lst__fields(const pw_alloc *a, const lst__geo *g, const lst_mesh *sur
     if (lst__has_direction(o->type) && !(dir = (double *)pw_alloc_array(a, (size_t)nv * 3, sizeof(double), "direction field", e)))
         r = PW_ERR_NOMEM;
     if (!*frame_out || !scale) r = PW_ERR_NOMEM;
-    if (r == PW_OK && hd) r = lst__depth_field(a, g, surface, o, depth, grad, e);
-    if (r == PW_OK && pw_report(p, 0.3f, "fields", e) != PW_OK) r = PW_ERR_CANCELLED;
-    if (r == PW_OK && dir) r = lst__direction_field(a, g, o, depth, p, dir, e);
+    if (r == PW_OK && hd) r = lst__depth_field(j, depth, grad);
+    if (r == PW_OK && pw_report(j->p, 0.3f, "fields", e) != PW_OK) r = PW_ERR_CANCELLED;
+    if (r == PW_OK && dir) r = lst__direction_field(j, depth, dir);
     if (r == PW_OK && lst__depth_varying(o->type)) /* §5.2.7: scale = 1 / |grad depth| */
         for (v = 0; v < nv; v++) {
             double gl = sqrt(pw_dot3(grad + 3 * v, grad + 3 * v)), s = gl > 0.0 ? 1.0 / gl : 2.0 * g->diag;
             scale[v] = s < 1e-3 * g->diag ? 1e-3 * g->diag : (s > 2.0 * g->diag ? 2.0 * g->diag : s);
         }
     else if (r == PW_OK)
-        r = lst__scale_field(a, g, o, s0, p, scale, e);
+        r = lst__scale_field(j, s0, scale);
     if (r == PW_OK) {
         lst__tet_frames(&g->m, o->type, dir, grad, scale, *frame_out);
         for (v = 0; hd && v < nv; v++) (*depth_out)[v] = (float)depth[v];
@@ -19845,14 +19927,16 @@ LSTDEF lst_result lst_compute_field(const lst_tetmesh *mesh, const lst_mesh *sur
     pw_progress p = lst__progress(&o);
     pw_tetmesh m;
     lst__geo g;
+    lst__field_job job;
     pw_err e;
     pw_err_clear(&e);
+    job.a = &a, job.g = &g, job.surface = surface, job.o = &o, job.p = &p, job.e = &e;
     if (out) memset(out, 0, sizeof *out);
     if (!out) pw_fail(&e, PW_ERR_INVALID, "lst_compute_field: NULL output");
     else if (lst__check_options(&o, &e) == PW_OK && lst__check_tets(mesh, &e) == PW_OK) {
         m = lst__pw_tets(mesh);
         if (lst__geo_init(&a, &m, &g, &e) == PW_OK) {
-            if (lst__fields(&a, &g, surface, &o, &p, &out->depth, &out->frame, &e) == PW_OK) {
+            if (lst__fields(&job, &out->depth, &out->frame) == PW_OK) {
                 out->nverts = m.nv;
                 out->ntets = m.nt;
                 out->allocator = lst__allocator(&a);
@@ -19865,16 +19949,28 @@ LSTDEF lst_result lst_compute_field(const lst_tetmesh *mesh, const lst_mesh *sur
 
 /* ---- growable constraint lists (files, built-in constraints) ---------------------------------- */
 
-static int lst__add_constraint(const pw_alloc *a, lst_constraint **c, size_t *cap, int *n, lst_constraint_kind kind,
-                               int face, const double *p, const double *d, double value, double crease, pw_err *e)
+typedef struct lst__cset {
+    lst_constraint *c;
+    int n;
+    size_t cap;
+} lst__cset;
+
+/* A constraint from its parts (p, d: NULL for none). */
+static lst_constraint lst__constraint(lst_constraint_kind kind, int face, const double *p, const double *d, double value,
+                                      double crease)
 {
-    lst_constraint *x;
+    lst_constraint x;
     int k;
-    if (pw_grow(a, (void **)c, cap, (size_t)*n + 1, sizeof **c, "constraints", e)) return PW_ERR_NOMEM;
-    x = &(*c)[(*n)++];
-    memset(x, 0, sizeof *x);
-    x->kind = kind, x->face = face, x->value = (float)value, x->crease = (float)crease;
-    for (k = 0; k < 3; k++) x->point[k] = p ? (float)p[k] : 0.0f, x->direction[k] = d ? (float)d[k] : 0.0f;
+    memset(&x, 0, sizeof x);
+    x.kind = kind, x.face = face, x.value = (float)value, x.crease = (float)crease;
+    for (k = 0; k < 3; k++) x.point[k] = p ? (float)p[k] : 0.0f, x.direction[k] = d ? (float)d[k] : 0.0f;
+    return x;
+}
+
+static int lst__add_constraint(const pw_alloc *a, lst__cset *s, lst_constraint x, pw_err *e)
+{
+    if (pw_grow(a, (void **)&s->c, &s->cap, (size_t)s->n + 1, sizeof *s->c, "constraints", e)) return PW_ERR_NOMEM;
+    s->c[s->n++] = x;
     return PW_OK;
 }
 
@@ -19900,6 +19996,8 @@ typedef struct lst__spec {
     int mask;          /* mask index */
     int manual;        /* §4.6: one rigid frame for the whole clump */
     int depth_coord;   /* v is the depth (§5.2.7), not solved */
+    double inv[9];     /* the affine map (lst__spec_setup): the frame's inverse (tensor axes to texture axes) */
+    double ctr[3];     /* and the texture centre in mesh coordinates */
 } lst__spec;
 
 /* The state of a fill. */
@@ -20072,8 +20170,9 @@ static int lst__similar(const lst__fill *F, const lst__spec *s, const double *ax
 /* The affine map of §5.2.4 for paste s: texture coordinates of point p,
  * from the seed frame's inverse (tensor axes to texture axes) and the
  * centre (depth-varying pastes replace v, see lst__predict). */
-static void lst__affine(const lst__spec *s, const double *inv, const double *c, const double *p, double *out)
+static void lst__affine(const lst__spec *s, const double *p, double *out)
 {
+    const double *inv = s->inv, *c = s->ctr;
     double d[3] = {p[0] - c[0], p[1] - c[1], p[2] - c[2]};
     int k;
     for (k = 0; k < 3; k++) out[k] = s->w0[k] + inv[3 * k] * d[0] + inv[3 * k + 1] * d[1] + inv[3 * k + 2] * d[2];
@@ -20180,15 +20279,14 @@ static int lst__clump_add(lst__fill *F, int id, int t, double c[4][3], pw_err *e
 /* The texture coordinates of t's corners: the clump's where the corner is
  * in it, else the affine map moved by the mean offset of the clump's
  * corners from it (so that regrowth continues the warped map). */
-static void lst__predict(const lst__fill *F, const lst__spec *s, int id, const double *inv, const double *ctr, int t,
-                         double c[4][3])
+static void lst__predict(const lst__fill *F, const lst__spec *s, int id, int t, double c[4][3])
 {
     double off[3] = {0, 0, 0}, p[3], aff[4][3];
     int k, i, n = 0;
     for (k = 0; k < 4; k++) {
         int v = F->g->m.tet[4 * t + k];
         lst__vert(&F->g->m, v, p);
-        lst__affine(s, inv, ctr, p, aff[k]);
+        lst__affine(s, p, aff[k]);
         if (F->vstamp[v] == id) {
             for (i = 0; i < 3; i++) off[i] += F->w[3 * F->vlocal[v] + i] - aff[k][i];
             n++;
@@ -20207,8 +20305,7 @@ static void lst__predict(const lst__fill *F, const lst__spec *s, int id, const d
  * round joins when it is partly inside the mask under the (predicted) map.
  * Breadth first over the clump as it grows; returns the number added or -1
  * on failure. tstate: 1 in the clump, 2 refused, 16 + round tested outside. */
-static int lst__grow(lst__fill *F, const lst__spec *s, int id, const double *inv, const double *ctr, int round,
-                     pw_err *e)
+static int lst__grow(lst__fill *F, const lst__spec *s, int id, int round, pw_err *e)
 {
     int i, k, added = 0;
     for (i = 0; i < F->nct; i++) {
@@ -20228,7 +20325,7 @@ static int lst__grow(lst__fill *F, const lst__spec *s, int id, const double *inv
                 }
             }
             F->tstate[u] = 16 + round;
-            lst__predict(F, s, id, inv, ctr, u, c);
+            lst__predict(F, s, id, u, c);
             if (lst__overlap(F, &F->mask[s->mask], c) == LST__OUT) continue;
             if (lst__clump_add(F, id, u, c, e)) return -1;
             added++;
@@ -20401,8 +20498,9 @@ static int lst__store(lst__fill *F, const lst__spec *s, pw_err *e)
 /* ---- one paste ---------------------------------------------------------------------------------- */
 
 /* Seed frame, map and mask of paste s (s->seed, centre, manual frame set). */
-static int lst__spec_setup(lst__fill *F, lst__spec *s, double *inv, double *ctr)
+static int lst__spec_setup(lst__fill *F, lst__spec *s)
 {
+    double *inv = s->inv, *ctr = s->ctr;
     double m[9], d = 0.0;
     int k, j;
     if (!s->manual) {
@@ -20434,17 +20532,17 @@ static int lst__spec_setup(lst__fill *F, lst__spec *s, double *inv, double *ctr)
  * again. */
 static int lst__paste_one(lst__fill *F, lst__spec *s, int coverage, const pw_progress *p, pw_err *e)
 {
-    double inv[9], ctr[3], c[4][3];
+    double c[4][3];
     int id = F->npastes, round, added, r;
     F->nct = F->ncv = 0;
-    if (!lst__spec_setup(F, s, inv, ctr)) return pw_fail(e, PW_ERR_DEGENERATE, "tetrahedron %d has a degenerate tensor", s->seed);
-    lst__predict(F, s, id, inv, ctr, s->seed, c);
+    if (!lst__spec_setup(F, s)) return pw_fail(e, PW_ERR_DEGENERATE, "tetrahedron %d has a degenerate tensor", s->seed);
+    lst__predict(F, s, id, s->seed, c);
     F->tstamp[s->seed] = id;
     if ((r = lst__clump_add(F, id, s->seed, c, e)) != PW_OK) return r;
-    if (lst__grow(F, s, id, inv, ctr, 0, e) < 0) return PW_ERR_NOMEM;
+    if (lst__grow(F, s, id, 0, e) < 0) return PW_ERR_NOMEM;
     for (round = 1; round <= 5; round++) {
         if ((r = lst__optimise(F, s, p, e)) != PW_OK) return r;
-        if (round == 5 || (added = lst__grow(F, s, id, inv, ctr, round, e)) == 0) break;
+        if (round == 5 || (added = lst__grow(F, s, id, round, e)) == 0) break;
         if (added < 0) return PW_ERR_NOMEM;
         if (added * 20 < F->nct) break;
     }
@@ -20468,14 +20566,14 @@ static void lst__fill_free(lst__fill *F)
     memset(F, 0, sizeof *F);
 }
 
-/* The scratch of a fill over mesh g with masks (coverage: the sample
- * points and the uncovered list too). */
-static int lst__fill_init(lst__fill *F, const pw_alloc *a, const lst_options *o, const lst__geo *g,
-                          const pw_volume *masks, int nmasks, int coverage, pw_err *e)
+/* The scratch of a fill with masks (nmasks of them; coverage: the sample
+ * points and the uncovered list too). The caller zeroes *F and sets what
+ * the fill works on: F->a, F->o and the mesh F->g. */
+static int lst__fill_init(lst__fill *F, const pw_volume *masks, int nmasks, int coverage, pw_err *e)
 {
-    int nt = g->m.nt, nv = g->m.nv, k;
-    memset(F, 0, sizeof *F);
-    F->a = a, F->o = *o, F->g = g;
+    const pw_alloc *a = F->a;
+    const lst_options *o = &F->o;
+    int nt = F->g->m.nt, nv = F->g->m.nv, k;
     F->rng = pw_rng_seed(o->seed, 0x157);
     F->threshold = (int)(o->coverage * 255.0f + 0.999f);
     F->tstamp = (int *)pw_alloc_array(a, (size_t)nt, sizeof(int), "fill", e);
@@ -20629,9 +20727,10 @@ static int lst__copy_volume(const pw_alloc *a, const lst_volume *src, int channe
 }
 
 /* The model's own mesh, texture (alpha, now a mask, dropped), values and masks. */
-static int lst__model_start(const pw_alloc *a, const lst_tetmesh *mesh, const lst_volume *ex, const lst_volume *values,
-                            const lst_options *o, lst_model *out, pw_err *e)
+static int lst__model_start(const pw_alloc *a, const lst_tetmesh *mesh, const lst_source *src, const lst_options *o,
+                            lst_model *out, pw_err *e)
 {
+    const lst_volume *ex = src->exemplar, *values = src->values;
     int r;
     size_t nv = (size_t)mesh->nverts * 3, nt = (size_t)mesh->ntets * 4;
     out->allocator = lst__allocator(a);
@@ -20673,10 +20772,15 @@ static int lst__create(const pw_alloc *a, const lst_mesh *surface, const lst_opt
     int k, r;
     if ((r = lst__geo_init(a, &m, &g, e)) != PW_OK) return r;
     if (o->field) r = lst__check_fields(o->field, &m, o->type, e);
-    else r = lst__fields(a, &g, surface, o, &p, &depth, &frame, e);
+    else {
+        lst__field_job job;
+        job.a = a, job.g = &g, job.surface = surface, job.o = o, job.p = &p, job.e = e;
+        r = lst__fields(&job, &depth, &frame);
+    }
     for (k = 0; k < out->masks.count; k++) masks[k] = lst__pw_volume(&out->masks.volumes[k]);
-    if (r == PW_OK) r = lst__fill_init(&F, a, o, &g, masks, out->masks.count, 1, e);
-    else memset(&F, 0, sizeof F), F.a = a;
+    memset(&F, 0, sizeof F);
+    F.a = a, F.o = *o, F.g = &g;
+    if (r == PW_OK) r = lst__fill_init(&F, masks, out->masks.count, 1, e);
     F.frame = o->field ? o->field->frame : frame;
     F.depth = lst__depth_varying(o->type) ? (o->field ? o->field->depth : depth) : NULL;
     if (r == PW_OK) r = lst__fill_run(&F, &p, e);
@@ -20704,7 +20808,7 @@ LSTDEF lst_result lst_create(const lst_tetmesh *mesh, const lst_mesh *surface, c
     if (out) memset(out, 0, sizeof *out);
     if (!out) pw_fail(&e, PW_ERR_INVALID, "lst_create: NULL output");
     else if (lst__check_options(&o, &e) == PW_OK && lst__check_inputs(mesh, exemplar, values, &e) == PW_OK &&
-             lst__model_start(&a, mesh, exemplar, values, &o, out, &e) == PW_OK)
+             lst__model_start(&a, mesh, src, &o, out, &e) == PW_OK)
         lst__create(&a, surface, &o, out, &e);
     if (out && e.code != PW_OK) lst_model_free(out);
     return lst__done(&e, err);
@@ -20712,13 +20816,13 @@ LSTDEF lst_result lst_create(const lst_tetmesh *mesh, const lst_mesh *surface, c
 
 /* ---- §4.6 manual pasting --------------------------------------------------------------------------- */
 
-static int lst__manual_spec(const lst__geo *g, const float *point, const float *u_axis, const float *v_axis, float scale,
-                            lst__spec *s, pw_err *e)
+static int lst__manual_spec(const lst__geo *g, const lst_paste_spec *spec, lst__spec *s, pw_err *e)
 {
     double p[3], u[3], v[3], w[3];
+    float scale = spec->scale;
     int k;
     memset(s, 0, sizeof *s);
-    for (k = 0; k < 3; k++) p[k] = point[k], u[k] = u_axis[k], v[k] = v_axis[k];
+    for (k = 0; k < 3; k++) p[k] = spec->point[k], u[k] = spec->u_axis[k], v[k] = spec->v_axis[k];
     if (!pw_is_finite(p[0] + p[1] + p[2]) || !(scale > 0.0f && pw_is_finite(scale)))
         return pw_fail(e, PW_ERR_INVALID, "manual paste: the point or the scale is not valid");
     if (!(pw_norm3(u) > 0.0) || !pw_is_finite(u[0] + u[1] + u[2]) || !pw_is_finite(v[0] + v[1] + v[2]))
@@ -20761,8 +20865,8 @@ LSTDEF lst_result lst_paste_at(lst_model *model, const lst_paste_spec *spec, con
     memset(&F, 0, sizeof F);
     F.a = &a;
     if (lst__geo_init(&a, &m, &g, &e) != PW_OK) return lst__done(&e, err);
-    if (lst__manual_spec(&g, spec->point, spec->u_axis, spec->v_axis, spec->scale, &s, &e) == PW_OK &&
-        lst__fill_init(&F, &a, &o, &g, &mv, 1, 0, &e) == PW_OK) {
+    F.o = o, F.g = &g;
+    if (lst__manual_spec(&g, spec, &s, &e) == PW_OK && lst__fill_init(&F, &mv, 1, 0, &e) == PW_OK) {
         s.mask = 0; /* the one mask of this fill */
         if (lst__paste_one(&F, &s, 0, NULL, &e) == PW_OK &&
             (grown = (lst_paste *)pw_realloc(&a, model->pastes, sizeof(lst_paste) * ((size_t)model->npastes + 1))) != NULL) {
@@ -21090,10 +21194,12 @@ static int lst__check_render(const lst_render_options *o, pw_err *e)
     return PW_OK;
 }
 
-/* Draws triangle list t (positions: its own or the mesh's). */
-static int lst__draw_tris(pw_fb *fb, const pw_camera *cam, const lst_model *m, const lst__tris *t, lst__shading *S,
+/* Draws triangle list t (positions: its own or those of the mesh of the
+ * model S->v shows). */
+static int lst__draw_tris(pw_fb *fb, const pw_camera *cam, const lst__tris *t, lst__shading *S,
                           const lst_render_options *o, pw_err *e)
 {
+    const lst_model *m = S->v->m;
     pw_draw d;
     if (t->n == 0) return PW_OK;
     S->tris = t;
@@ -21161,14 +21267,23 @@ static int lst__vertex_normals(const pw_alloc *a, const lst_model *m, const lst_
     return PW_OK;
 }
 
-/* Shared vertices of the subdivided surface: mesh corners by index, edge
- * points by (lower vertex, upper vertex, step from the lower one) in an
- * open-addressing table, interior points unshared. */
+/* The surface s being subdivided k x k and displaced into out, and its
+ * shared vertices: mesh corners by index, edge points by (lower vertex,
+ * upper vertex, step from the lower one) in an open-addressing table,
+ * interior points unshared. */
 typedef struct lst__subdiv {
     int *corner;    /* nv: subdivided vertex of each mesh vertex, or -1 */
     uint64_t *key;  /* table of edge points */
     int *val;
     size_t mask;
+    const pw_alloc *a;
+    const lst__view *v;  /* evaluates the displacement channel */
+    const lst__tris *s;  /* the surface triangles */
+    const float *vn;     /* their smooth vertex normals */
+    int k;               /* grid steps per triangle side */
+    double amount;       /* displacement per unit of (value - 0.5) */
+    lst__tris *out;
+    pw_err *e;
 } lst__subdiv;
 
 static int *lst__edge_slot(lst__subdiv *sd, int a, int b, int step)
@@ -21181,10 +21296,13 @@ static int *lst__edge_slot(lst__subdiv *sd, int a, int b, int step)
 }
 
 /* Point (i, j) of the k x k grid on surface triangle f, displaced along
- * the interpolated normal by displace * (value - 0.5). */
-static int lst__displaced_point(const pw_alloc *a, const lst__view *v, const lst__tris *s, const float *vn, int f, int i,
-                                int j, int k, double amount, lst__tris *out, pw_err *e)
+ * the interpolated normal by amount * (value - 0.5). */
+static int lst__displaced_point(const lst__subdiv *sd, int f, int i, int j)
 {
+    const lst__view *v = sd->v;
+    const lst__tris *s = sd->s;
+    const float *vn = sd->vn;
+    int k = sd->k;
     const int *c = s->tri + 3 * f;
     double b[3] = {1.0 - (double)(i + j) / k, (double)i / k, (double)j / k}, p[3] = {0, 0, 0}, n[3] = {0, 0, 0}, l[4];
     float rgba[4], val[4] = {0.5f, 0.5f, 0.5f, 0.5f};
@@ -21194,16 +21312,16 @@ static int lst__displaced_point(const pw_alloc *a, const lst__view *v, const lst
         for (r = 0; r < 3; r++) p[r] += b[q] * v->m->mesh.positions[3 * c[q] + r], n[r] += b[q] * vn[3 * c[q] + r];
     pw_norm3(n);
     lst__eval(v, s->tet[f], l, rgba, val);
-    for (r = 0; r < 3; r++) p[r] += n[r] * amount * (val[0] - 0.5);
-    return lst__tris_vertex(a, out, p, e);
+    for (r = 0; r < 3; r++) p[r] += n[r] * sd->amount * (val[0] - 0.5);
+    return lst__tris_vertex(sd->a, sd->out, p, sd->e);
 }
 
 /* The index of grid point (i, j) of triangle f, shared where the point is
  * a corner or on an edge. */
-static int lst__grid_vertex(const pw_alloc *a, lst__subdiv *sd, const lst__view *v, const lst__tris *s, const float *vn,
-                            int f, int i, int j, int k, double amount, lst__tris *out, pw_err *e)
+static int lst__grid_vertex(lst__subdiv *sd, int f, int i, int j)
 {
-    const int *c = s->tri + 3 * f;
+    const int *c = sd->s->tri + 3 * f;
+    int k = sd->k;
     int *slot = NULL, x, y, step;
     if (i + j == 0 || i == k || j == k) slot = &sd->corner[c[i == k ? 1 : (j == k ? 2 : 0)]];
     else if (j == 0 || i == 0 || i + j == k) { /* on edge (x, y) at `step` from x */
@@ -21217,18 +21335,19 @@ static int lst__grid_vertex(const pw_alloc *a, lst__subdiv *sd, const lst__view 
         slot = lst__edge_slot(sd, x, y, step);
     }
     if (slot && *slot >= 0) return *slot;
-    x = lst__displaced_point(a, v, s, vn, f, i, j, k, amount, out, e);
+    x = lst__displaced_point(sd, f, i, j);
     if (slot) *slot = x;
     return x;
 }
 
 /* Adds sub-triangle (p, q, r) of surface triangle f, grid points given as
  * (i, j) pairs, with their barycentric coordinates in f's tetrahedron. */
-static int lst__sub_tri(const pw_alloc *a, const lst__tris *s, int f, const int *idx, int ij[3][2], int k,
-                        lst__tris *out, pw_err *e)
+static int lst__sub_tri(const lst__subdiv *sd, int f, const int *idx, int ij[3][2])
 {
-    int q, r;
-    if (lst__tris_room(a, out, e)) return PW_ERR_NOMEM;
+    const lst__tris *s = sd->s;
+    lst__tris *out = sd->out;
+    int q, r, k = sd->k;
+    if (lst__tris_room(sd->a, out, sd->e)) return PW_ERR_NOMEM;
     for (q = 0; q < 3; q++) {
         double b[3] = {1.0 - (double)(ij[q][0] + ij[q][1]) / k, (double)ij[q][0] / k, (double)ij[q][1] / k};
         out->tri[3 * out->n + q] = idx[q];
@@ -21240,10 +21359,9 @@ static int lst__sub_tri(const pw_alloc *a, const lst__tris *s, int f, const int 
     return PW_OK;
 }
 
-static int lst__subdivide_face(const pw_alloc *a, lst__subdiv *sd, const lst__view *v, const lst__tris *s, const float *vn,
-                               int f, int k, double amount, lst__tris *out, pw_err *e)
+static int lst__subdivide_face(lst__subdiv *sd, int f)
 {
-    int i, j, idx[3], tri, q;
+    int i, j, idx[3], tri, q, k = sd->k;
     for (j = 0; j < k; j++)
         for (i = 0; i + j < k; i++)
             for (tri = 0; tri < (i + j + 1 < k ? 2 : 1); tri++) {
@@ -21251,9 +21369,8 @@ static int lst__subdivide_face(const pw_alloc *a, lst__subdiv *sd, const lst__vi
                 if (tri == 0) ij[0][0] = i, ij[0][1] = j, ij[1][0] = i + 1, ij[1][1] = j, ij[2][0] = i, ij[2][1] = j + 1;
                 else ij[0][0] = i + 1, ij[0][1] = j, ij[1][0] = i + 1, ij[1][1] = j + 1, ij[2][0] = i, ij[2][1] = j + 1;
                 for (q = 0; q < 3; q++)
-                    if ((idx[q] = lst__grid_vertex(a, sd, v, s, vn, f, ij[q][0], ij[q][1], k, amount, out, e)) < 0)
-                        return PW_ERR_NOMEM;
-                if (lst__sub_tri(a, s, f, idx, ij, k, out, e)) return PW_ERR_NOMEM;
+                    if ((idx[q] = lst__grid_vertex(sd, f, ij[q][0], ij[q][1])) < 0) return PW_ERR_NOMEM;
+                if (lst__sub_tri(sd, f, idx, ij)) return PW_ERR_NOMEM;
             }
     return PW_OK;
 }
@@ -21277,8 +21394,9 @@ static int lst__displace(const pw_alloc *a, const lst__view *v, const lst__tris 
     sd.key = (uint64_t *)pw_calloc_array(a, cap, sizeof(uint64_t), "subdivision", e);
     sd.val = (int *)pw_alloc_array(a, cap, sizeof(int), "subdivision", e);
     if (!sd.corner || !sd.key || !sd.val || lst__vertex_normals(a, v->m, s, &vn, e)) r = PW_ERR_NOMEM;
+    sd.a = a, sd.v = v, sd.s = s, sd.vn = vn, sd.k = k, sd.amount = o->displace, sd.out = out, sd.e = e;
     for (f = 0; r == PW_OK && f < v->m->mesh.nverts; f++) sd.corner[f] = -1;
-    for (f = 0; r == PW_OK && f < s->n; f++) r = lst__subdivide_face(a, &sd, v, s, vn, f, k, o->displace, out, e);
+    for (f = 0; r == PW_OK && f < s->n; f++) r = lst__subdivide_face(&sd, f);
     pw_free(a, sd.corner), pw_free(a, sd.key), pw_free(a, sd.val), pw_free(a, vn);
     if (r != PW_OK) lst__tris_free(a, out);
     return r;
@@ -21327,8 +21445,8 @@ static int lst__surface_band(void *user, pw_fb *fb, pw_err *e)
     int r;
     memset(&S, 0, sizeof S);
     S.v = B->v;
-    r = lst__draw_tris(fb, &B->cam, B->m, B->outer, &S, B->o, e);
-    if (r == PW_OK) r = lst__draw_tris(fb, &B->cam, B->m, B->cut, &S, B->o, e);
+    r = lst__draw_tris(fb, &B->cam, B->outer, &S, B->o, e);
+    if (r == PW_OK) r = lst__draw_tris(fb, &B->cam, B->cut, &S, B->o, e);
     return r;
 }
 
@@ -21378,11 +21496,29 @@ LSTDEF lst_result lst_render(const lst_model *model, const lst_render_options *r
 
 /* ---- §5.1.2 volume rendering --------------------------------------------------------------------- */
 
-/* Marching tetrahedra on one tetrahedron: the triangles (1 or 2) of the
- * level set phi = z, their corners on the edges, appended to out with
- * their own vertices. */
-static int lst__slice_tet(const pw_alloc *a, const pw_tetmesh *m, int t, const double *phi, double z, lst__tris *out, pw_err *e)
+/* What every band of a volume rendering draws: the slices, back to front,
+ * of the tetrahedra whose picture (rows ylo..yhi) meets the band. */
+typedef struct lst__volume_frame {
+    const pw_alloc *a;
+    const lst_model *m;
+    const lst__view *v;
+    const lst_render_options *o;
+    pw_tetmesh tm;
+    const double *phi;     /* per vertex: the distance along the view */
+    const float *rows;     /* per tetrahedron: its first and last picture row */
+    double zmax, dz;
+    int slices, density;
+    float alpha_scale;
+    pw_camera cam;
+} lst__volume_frame;
+
+/* Marching tetrahedra on tetrahedron t of V->tm: the triangles (1 or 2)
+ * of the level set phi = z (phi: at its corners), their corners on the
+ * edges, appended to out with their own vertices. */
+static int lst__slice_tet(const lst__volume_frame *V, int t, const double *phi, double z, lst__tris *out, pw_err *e)
 {
+    const pw_alloc *a = V->a;
+    const pw_tetmesh *m = &V->tm;
     int neg[4], pos[4], nn = 0, np = 0, k, q, r, cnt, edges[4][2];
     for (k = 0; k < 4; k++) {
         if (phi[k] < z) neg[nn++] = k;
@@ -21416,22 +21552,6 @@ static int lst__slice_tet(const pw_alloc *a, const pw_tetmesh *m, int t, const d
     return PW_OK;
 }
 
-/* What every band of a volume rendering draws: the slices, back to front,
- * of the tetrahedra whose picture (rows ylo..yhi) meets the band. */
-typedef struct lst__volume_frame {
-    const pw_alloc *a;
-    const lst_model *m;
-    const lst__view *v;
-    const lst_render_options *o;
-    pw_tetmesh tm;
-    const double *phi;     /* per vertex: the distance along the view */
-    const float *rows;     /* per tetrahedron: its first and last picture row */
-    double zmax, dz;
-    int slices, density;
-    float alpha_scale;
-    pw_camera cam;
-} lst__volume_frame;
-
 static int lst__volume_band(void *user, pw_fb *fb, pw_err *e)
 {
     const lst__volume_frame *V = (const lst__volume_frame *)user;
@@ -21448,9 +21568,9 @@ static int lst__volume_band(void *user, pw_fb *fb, pw_err *e)
         for (t = 0; r == PW_OK && t < V->tm.nt; t++) {
             if (V->m->removed[t] || V->rows[2 * t + 1] < r0 || V->rows[2 * t] > r1) continue;
             for (k = 0; k < 4; k++) ph[k] = V->phi[V->tm.tet[4 * t + k]];
-            r = lst__slice_tet(V->a, &V->tm, t, ph, z, &sl, e);
+            r = lst__slice_tet(V, t, ph, z, &sl, e);
         }
-        if (r == PW_OK) r = lst__draw_tris(fb, &V->cam, V->m, &sl, &S, V->o, e);
+        if (r == PW_OK) r = lst__draw_tris(fb, &V->cam, &sl, &S, V->o, e);
     }
     lst__tris_free(V->a, &sl);
     return r;
@@ -21809,13 +21929,26 @@ static int lst__cut_mesh(lst__cutter *C, pw_err *e)
     return PW_OK;
 }
 
-/* The local vertex of paste q for mesh vertex g, a corner of old
+/* One paste while its vertices are added (cutting it, reading it): paste
+ * q (number id), the capacity of its growing vertex arrays, and per mesh
+ * vertex the paste that last added it (stamp) and its local index there
+ * (loc). */
+typedef struct lst__paste_build {
+    lst_paste *q;
+    int id;
+    int *stamp, *loc;
+    size_t cap;
+} lst__paste_build;
+
+/* The local vertex of paste P->q for mesh vertex g, a corner of old
  * tetrahedron c (corners local in lc): an old vertex is that corner's; a
  * new one is added once per paste, its texture coordinates interpolated
- * along the cut edge. stamp/loc: per new vertex. Returns -1 on failure. */
-static int lst__cut_local(lst__cutter *C, lst_paste *q, int id, const int *c, const int *lc, int g, int *stamp, int *loc,
-                          size_t *cap, pw_err *e)
+ * along the cut edge. Returns -1 on failure. */
+static int lst__cut_local(lst__cutter *C, lst__paste_build *P, const int *c, const int *lc, int g, pw_err *e)
 {
+    lst_paste *q = P->q;
+    int *stamp = P->stamp, *loc = P->loc, id = P->id;
+    size_t *cap = &P->cap;
     int k, ka = 0, kb = 0, n = g - C->nv0, j;
     size_t old;
     if (g < C->nv0) {
@@ -21852,7 +21985,8 @@ static int lst__cut_paste(lst__cutter *C, int id, int *stamp, int *loc, pw_err *
     lst_paste *q = &C->m->pastes[id];
     const int *old = C->m->mesh.tets;
     int i, j, k, extra = 0, n = 0, *tets, *corners;
-    size_t cap = (size_t)q->nverts;
+    lst__paste_build P;
+    P.q = q, P.id = id, P.stamp = stamp, P.loc = loc, P.cap = (size_t)q->nverts;
     for (i = 0; i < q->ntets; i++) extra += lst__nsub(C, q->tets[i]) > 0 ? lst__nsub(C, q->tets[i]) - 1 : 0;
     C->ptets[id] = tets = (int *)pw_alloc_array(C->a, (size_t)q->ntets + extra, sizeof(int), "cut paste", e);
     C->pcorners[id] = corners = (int *)pw_alloc_array(C->a, ((size_t)q->ntets + extra) * 4, sizeof(int), "cut paste", e);
@@ -21869,7 +22003,7 @@ static int lst__cut_paste(lst__cutter *C, int id, int *stamp, int *loc, pw_err *
             tets[n] = j == 0 ? t : C->first_new[t] + j - 1;
             for (k = 0; k < 4; k++) {
                 int g = C->sub[4 * (C->sub_start[t] + j) + k];
-                if ((corners[4 * n + k] = lst__cut_local(C, q, id, old + 4 * t, lc, g, stamp, loc, &cap, e)) < 0)
+                if ((corners[4 * n + k] = lst__cut_local(C, &P, old + 4 * t, lc, g, e)) < 0)
                     return e->code ? e->code : PW_ERR_NOMEM;
             }
         }
@@ -21998,13 +22132,21 @@ LSTDEF void lst_uncut(lst_model *model)
     if (model && model->removed) memset(model->removed, 0, (size_t)model->mesh.ntets);
 }
 
+/* A stroke as drawn: n points (xyz) seen along view. */
+typedef struct lst__stroke {
+    const float *pts;
+    int n;
+    double view[3];
+} lst__stroke;
+
 /* The stroke's constraints (Turk & O'Brien's normal constraints): 0 on each
- * stroke point and on its copies swept along the view, +h and -h at
- * offsets h to its right and left (right: view x tangent). */
-static int lst__stroke_points(const pw_alloc *a, const float *pts, int n, const double *view, double h, double L, lst__pts *out,
-                              pw_err *e)
+ * stroke point and on its copies swept along the view (up to L either way), +h and -h
+ * at offsets h to its right and left (right: view x tangent). */
+static int lst__stroke_points(const pw_alloc *a, const lst__stroke *st, double h, double L, lst__pts *out, pw_err *e)
 {
-    int i, k, s, side;
+    const float *pts = st->pts;
+    const double *view = st->view;
+    int n = st->n, i, k, s, side;
     for (i = 0; i < n; i++) {
         const float *p0 = pts + 3 * (i > 0 ? i - 1 : 0), *p1 = pts + 3 * (i + 1 < n ? i + 1 : n - 1);
         double t[3], r[3], q[3];
@@ -22027,7 +22169,8 @@ LSTDEF lst_result lst_stroke_field(const lst_model *model, const float *points, 
     pw_err e;
     lst__pts pts;
     lst__rbf rbf;
-    double view[3], diag, org[3] = {0, 0, 0}, p[3];
+    lst__stroke st;
+    double diag, org[3] = {0, 0, 0}, p[3];
     int k, v;
     pw_err_clear(&e);
     memset(&pts, 0, sizeof pts);
@@ -22035,18 +22178,20 @@ LSTDEF lst_result lst_stroke_field(const lst_model *model, const float *points, 
         pw_fail(&e, PW_ERR_INVALID, "lst_stroke_field: NULL argument or fewer than 2 points");
         return lst__done(&e, err);
     }
-    for (k = 0; k < 3; k++) view[k] = view_dir[k];
+    st.pts = points, st.n = n;
+    for (k = 0; k < 3; k++) st.view[k] = view_dir[k];
     for (k = 0; k < 3 * n; k++)
         if (!pw_is_finite(points[k])) pw_fail(&e, PW_ERR_INVALID, "stroke point %d is not finite", k / 3);
-    if (e.code == PW_OK && !(pw_norm3(view) > 0.0)) pw_fail(&e, PW_ERR_INVALID, "stroke: the view direction is zero");
+    if (e.code == PW_OK && !(pw_norm3(st.view) > 0.0)) pw_fail(&e, PW_ERR_INVALID, "stroke: the view direction is zero");
     if (e.code != PW_OK) return lst__done(&e, err);
     a = lst__alloc(&model->allocator);
     diag = lst__diagonal(model->mesh.positions, model->mesh.nverts);
     if (!(diag > 0.0)) diag = 1.0;
     for (k = 0; k < 3 * n; k++) org[k % 3] += points[k] / n;
-    if (lst__stroke_points(&a, points, n, view, 0.02 * diag, diag, &pts, &e) == PW_OK && pts.n == 0)
+    if (lst__stroke_points(&a, &st, 0.02 * diag, diag, &pts, &e) == PW_OK && pts.n == 0)
         pw_fail(&e, PW_ERR_INVALID, "stroke: every segment is parallel to the view");
-    if (e.code == PW_OK && lst__rbf_fit(&a, pts.p, pts.val, pts.n, 600, org, diag, &rbf, &e) == PW_OK) {
+    memcpy(rbf.o, org, sizeof rbf.o), rbf.s = diag;
+    if (e.code == PW_OK && lst__rbf_fit(&a, &pts, 600, &rbf, &e) == PW_OK) {
         for (v = 0; v < model->mesh.nverts; v++) {
             for (k = 0; k < 3; k++) p[k] = model->mesh.positions[3 * v + k];
             phi[v] = (float)lst__rbf_eval(&rbf, p, NULL);
@@ -22225,6 +22370,14 @@ static void lst__root(lst__shape_fn f, const double *p, const double *q, double 
     for (k = 0; k < 3; k++) out[k] = p[k] + t * (q[k] - p[k]);
 }
 
+/* An implicit shape and the grid it is sampled on: f over the box lo ..
+ * lo + n h, n cells per axis. */
+typedef struct lst__shape_grid {
+    lst__shape_fn f;
+    double lo[3], h;
+    int n;
+} lst__shape_grid;
+
 typedef struct lst__grid {
     lst__shape_fn f;
     double lo[3], h;
@@ -22312,8 +22465,11 @@ static int lst__grid_tet(lst__grid *G, const int *c)
  * neighbouring cubes share, so the surface is closed and manifold. Values
  * within a twentieth of a cell of zero move outward, so that no surface
  * vertex comes near a grid vertex and no triangle degenerates. */
-static int lst__implicit(const pw_alloc *a, lst__shape_fn f, const double lo[3], double h, int n, pw_mesh *out, pw_err *e)
+static int lst__implicit(const pw_alloc *a, const lst__shape_grid *s, pw_mesh *out, pw_err *e)
 {
+    lst__shape_fn f = s->f;
+    double h = s->h;
+    int n = s->n;
     static const int split[6][4] = {{0, 1, 2, 6}, {0, 2, 3, 6}, {0, 3, 7, 6}, {0, 7, 4, 6}, {0, 4, 5, 6}, {0, 5, 1, 6}};
     static const int cor[8][3] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
     lst__grid G;
@@ -22321,7 +22477,7 @@ static int lst__implicit(const pw_alloc *a, lst__shape_fn f, const double lo[3],
     int x, y, z, k, j, r = PW_OK;
     memset(&G, 0, sizeof G);
     G.f = f, G.h = h, G.n = n;
-    memcpy(G.lo, lo, sizeof G.lo);
+    memcpy(G.lo, s->lo, sizeof G.lo);
     while (cap < 8 * nvals / (size_t)n) cap *= 2;
     G.E.mask = cap - 1;
     G.val = (double *)pw_alloc_array(a, nvals, sizeof(double), "implicit surface", e);
@@ -22398,7 +22554,8 @@ static double lst__tree_shape(const double *p)
 
 LSTDEF lst_result lst_builtin_mesh(const char *name, const lst_options *opt, lst_mesh *out, lst_error *err)
 {
-    static const double kiwi_lo[3] = {-1.0, -1.0, -1.3}, tree_lo[3] = {-1.7, -1.7, -1.4};
+    static const lst__shape_grid kiwi = {lst__kiwi_shape, {-1.0, -1.0, -1.3}, 2.6 / 48, 48};
+    static const lst__shape_grid tree = {lst__tree_shape, {-1.7, -1.7, -1.4}, 3.4 / 64, 64};
     lst_options o = lst__options(opt);
     pw_alloc a = lst__alloc(&o.allocator);
     pw_mesh m;
@@ -22412,8 +22569,8 @@ LSTDEF lst_result lst_builtin_mesh(const char *name, const lst_options *opt, lst
     else if (!strcmp(name, "bumpy")) pw_shape_bumpy(&a, 12, &m, &e);
     else if (!strcmp(name, "dumbbell")) pw_shape_dumbbell(&a, 0.0332, 48, &m, &e); /* neck 1% of the diagonal */
     else if (!strcmp(name, "star")) pw_shape_star(&a, 12, 3.0, &m, &e);
-    else if (!strcmp(name, "kiwi")) lst__implicit(&a, lst__kiwi_shape, kiwi_lo, 2.6 / 48, 48, &m, &e);
-    else if (!strcmp(name, "tree")) lst__implicit(&a, lst__tree_shape, tree_lo, 3.4 / 64, 64, &m, &e);
+    else if (!strcmp(name, "kiwi")) lst__implicit(&a, &kiwi, &m, &e);
+    else if (!strcmp(name, "tree")) lst__implicit(&a, &tree, &m, &e);
     else
         pw_fail(&e, PW_ERR_INVALID, "unknown built-in surface '%s' (sphere, torus, bumpy, kiwi, tree, dumbbell, star)",
                 name);
@@ -22424,22 +22581,17 @@ LSTDEF lst_result lst_builtin_mesh(const char *name, const lst_options *opt, lst
 
 /* ---- constraints that go with the built-in surfaces (§4.3-4.5) -------------------------------------- */
 
-typedef struct lst__cset {
-    lst_constraint *c;
-    int n;
-    size_t cap;
-} lst__cset;
-
-/* Depth 1 and the direction along the axis of part c, at n points. */
-static int lst__axis_constraints(const pw_alloc *a, const double *c, double t0, double t1, int n, lst__cset *s, pw_err *e)
+/* Depth 1 and the direction along the axis of part c, at n points evenly
+ * over the interval span[0] .. span[1] of its parameter. */
+static int lst__axis_constraints(const pw_alloc *a, const double *c, const double span[2], int n, lst__cset *s, pw_err *e)
 {
-    double p[3];
+    double p[3], t0 = span[0], t1 = span[1];
     int i, k;
     for (i = 0; i < n; i++) {
         double t = t0 + (t1 - t0) * i / (n - 1);
         for (k = 0; k < 3; k++) p[k] = c[k] + t * c[3 + k];
-        if (lst__add_constraint(a, &s->c, &s->cap, &s->n, LST_CONSTRAINT_DEPTH_POINT, 0, p, NULL, 1.0, 0.0, e) ||
-            lst__add_constraint(a, &s->c, &s->cap, &s->n, LST_CONSTRAINT_DIRECTION, 0, p, c + 3, 0.0, 0.0, e))
+        if (lst__add_constraint(a, s, lst__constraint(LST_CONSTRAINT_DEPTH_POINT, 0, p, NULL, 1.0, 0.0), e) ||
+            lst__add_constraint(a, s, lst__constraint(LST_CONSTRAINT_DIRECTION, 0, p, c + 3, 0.0, 0.0), e))
             return PW_ERR_NOMEM;
     }
     return PW_OK;
@@ -22464,11 +22616,14 @@ static int lst__tree_constraints(const pw_alloc *a, const lst_mesh *surface, lst
                 double d = fabs(lst__part(lst__tree_parts[j], c, &t));
                 if (d < best) best = d, dn = fabs(pw_dot3(n, lst__tree_parts[j] + 3));
             }
-            if (dn < 0.6 && lst__add_constraint(a, &s->c, &s->cap, &s->n, LST_CONSTRAINT_DEPTH_FACE, tri, NULL, NULL, 0.0, 0.0, e))
+            if (dn < 0.6 && lst__add_constraint(a, s, lst__constraint(LST_CONSTRAINT_DEPTH_FACE, tri, NULL, NULL, 0.0, 0.0), e))
                 return PW_ERR_NOMEM;
         }
-    for (j = 0; j < 3; j++)
-        if (lst__axis_constraints(a, lst__tree_parts[j], j ? 0.3 : 0.0, lst__tree_parts[j][6], 12, s, e)) return PW_ERR_NOMEM;
+    for (j = 0; j < 3; j++) {
+        double span[2];
+        span[0] = j ? 0.3 : 0.0, span[1] = lst__tree_parts[j][6];
+        if (lst__axis_constraints(a, lst__tree_parts[j], span, 12, s, e)) return PW_ERR_NOMEM;
+    }
     return PW_OK;
 }
 
@@ -22481,7 +22636,7 @@ static int lst__torus_constraints(const pw_alloc *a, lst__cset *s, pw_err *e)
         double t = i * (2.0 * 3.14159265358979323846 / 24), p[3], d[3];
         p[0] = pw_cos(t), p[1] = pw_sin(t), p[2] = 0.0;
         d[0] = -p[1], d[1] = p[0], d[2] = 0.0;
-        if (lst__add_constraint(a, &s->c, &s->cap, &s->n, LST_CONSTRAINT_DIRECTION, 0, p, d, 0.0, 0.0, e)) return PW_ERR_NOMEM;
+        if (lst__add_constraint(a, s, lst__constraint(LST_CONSTRAINT_DIRECTION, 0, p, d, 0.0, 0.0), e)) return PW_ERR_NOMEM;
     }
     return PW_OK;
 }
@@ -22490,6 +22645,7 @@ LSTDEF lst_result lst_builtin_constraints(const char *name, const lst_mesh *surf
                                           lst_constraints *out, lst_error *err)
 {
     static const double kiwi_axis[9] = {0.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0, 0, 0};
+    static const double kiwi_span[2] = {-0.9, 0.9};
     lst_options o = lst__options(opt);
     pw_alloc a = lst__alloc(&o.allocator);
     lst__cset s;
@@ -22500,8 +22656,8 @@ LSTDEF lst_result lst_builtin_constraints(const char *name, const lst_mesh *surf
     if (!name || !out || (!surface && name && !strcmp(name, "tree")))
         pw_fail(&e, PW_ERR_INVALID, "lst_builtin_constraints: NULL argument");
     else if (!strcmp(name, "kiwi")) { /* the skin (one fill) at 0, the core along z at 1 */
-        if (lst__add_constraint(&a, &s.c, &s.cap, &s.n, LST_CONSTRAINT_DEPTH_FILL, 0, NULL, NULL, 0.0, 60.0, &e) == PW_OK)
-            lst__axis_constraints(&a, kiwi_axis, -0.9, 0.9, 13, &s, &e);
+        if (lst__add_constraint(&a, &s, lst__constraint(LST_CONSTRAINT_DEPTH_FILL, 0, NULL, NULL, 0.0, 60.0), &e) == PW_OK)
+            lst__axis_constraints(&a, kiwi_axis, kiwi_span, 13, &s, &e);
     } else if (!strcmp(name, "tree"))
         lst__tree_constraints(&a, surface, &s, &e);
     else if (!strcmp(name, "torus"))
@@ -22545,28 +22701,36 @@ static void lst__wb_line(pw__wb *b, const char *word, const long long *v, int n)
     pw__wb_str(b, "\n");
 }
 
-/* New numbers of the visible tetrahedra and of the nodes they use (-1:
- * not written); returns 0 on allocation failure. */
-static int lst__visible(const pw_alloc *a, const lst_model *m, int **tmap, int **vmap, int *nt, int *nv, pw_err *e)
+/* The numbering of what a model file holds: the visible tetrahedra and
+ * the nodes they use (-1: not written). */
+typedef struct lst__visible_part {
+    int *tmap, *vmap; /* per tetrahedron, per node: its new number or -1 */
+    int nt, nv;       /* how many are written */
+} lst__visible_part;
+
+/* Fills *vis (its maps allocated here); returns 0 on allocation failure. */
+static int lst__visible(const pw_alloc *a, const lst_model *m, lst__visible_part *vis, pw_err *e)
 {
-    int t, k;
-    *tmap = (int *)pw_alloc_array(a, (size_t)m->mesh.ntets, sizeof(int), "model writer", e);
-    *vmap = (int *)pw_alloc_array(a, (size_t)m->mesh.nverts, sizeof(int), "model writer", e);
-    if (!*tmap || !*vmap) return 0;
-    *nt = *nv = 0;
-    for (k = 0; k < m->mesh.nverts; k++) (*vmap)[k] = -1;
+    int t, k, *tmap, *vmap;
+    vis->tmap = tmap = (int *)pw_alloc_array(a, (size_t)m->mesh.ntets, sizeof(int), "model writer", e);
+    vis->vmap = vmap = (int *)pw_alloc_array(a, (size_t)m->mesh.nverts, sizeof(int), "model writer", e);
+    if (!tmap || !vmap) return 0;
+    vis->nt = vis->nv = 0;
+    for (k = 0; k < m->mesh.nverts; k++) vmap[k] = -1;
     for (t = 0; t < m->mesh.ntets; t++) {
-        (*tmap)[t] = m->removed && m->removed[t] ? -1 : (*nt)++;
-        for (k = 0; (*tmap)[t] >= 0 && k < 4; k++)
-            if ((*vmap)[m->mesh.tets[4 * t + k]] < 0) (*vmap)[m->mesh.tets[4 * t + k]] = 0;
+        tmap[t] = m->removed && m->removed[t] ? -1 : vis->nt++;
+        for (k = 0; tmap[t] >= 0 && k < 4; k++)
+            if (vmap[m->mesh.tets[4 * t + k]] < 0) vmap[m->mesh.tets[4 * t + k]] = 0;
     }
     for (k = 0; k < m->mesh.nverts; k++)
-        if ((*vmap)[k] == 0) (*vmap)[k] = (*nv)++;
+        if (vmap[k] == 0) vmap[k] = vis->nv++;
     return 1;
 }
 
-static void lst__write_mesh_part(pw__wb *b, const lst_model *m, const int *tmap, const int *vmap, int nt, int nv)
+static void lst__write_mesh_part(pw__wb *b, const lst_model *m, const lst__visible_part *vis)
 {
+    const int *tmap = vis->tmap, *vmap = vis->vmap;
+    int nt = vis->nt, nv = vis->nv;
     long long v[4];
     int t, k;
     v[0] = nv;
@@ -22621,30 +22785,32 @@ LSTDEF lst_result lst_write_model(const lst_model *m, lst_write_fn fn, void *ctx
     pw__wb b;
     pw_err e;
     long long v[4];
-    int *tmap = NULL, *vmap = NULL, nt, nv, k;
+    lst__visible_part vis;
+    int k;
     pw_err_clear(&e);
+    vis.tmap = vis.vmap = NULL;
     if (!m || !fn || !m->mesh.tets) {
         pw_fail(&e, PW_ERR_INVALID, "lst_write_model: NULL argument or empty model");
         return lst__done(&e, err);
     }
     a = lst__alloc(&m->allocator);
-    if (lst__visible(&a, m, &tmap, &vmap, &nt, &nv, &e)) {
+    if (lst__visible(&a, m, &vis, &e)) {
         memset(&b, 0, sizeof b);
         b.w = fn;
         b.ctx = ctx;
         pw__wb_str(&b, "lst 1\n");
-        lst__write_mesh_part(&b, m, tmap, vmap, nt, nv);
+        lst__write_mesh_part(&b, m, &vis);
         v[0] = m->masks.count;
         lst__wb_line(&b, "exemplars", v, 1);
         for (k = 0; k < m->masks.count; k++) {
             v[0] = k, v[1] = m->masks.volumes[k].width, v[2] = m->masks.volumes[k].height, v[3] = m->masks.volumes[k].depth;
             lst__wb_line(&b, "exemplar", v, 4);
         }
-        lst__write_pastes_part(&b, m, tmap);
+        lst__write_pastes_part(&b, m, vis.tmap);
         pw__wb_done(&b, &e);
     }
-    pw_free(&a, tmap);
-    pw_free(&a, vmap);
+    pw_free(&a, vis.tmap);
+    pw_free(&a, vis.vmap);
     return lst__done(&e, err);
 }
 
@@ -22730,12 +22896,14 @@ static int lst__read_exemplars_part(pw__sc *s, const pw_alloc *a, lst_model *m, 
     return PW_OK;
 }
 
-/* One "<tet> u0 v0 w0 ... u3 v3 w3" line of paste q: corners that share a
- * node and its coordinates share a vertex (vmark: per node, 1 + its local
- * index in this paste, for the paste whose stamp is in vstamp). */
-static int lst__read_entry(pw__sc *s, const pw_alloc *a, const lst_model *m, lst_paste *q, int i, int id, int *vstamp,
-                           int *vloc, size_t *cap, pw_err *e)
+/* One "<tet> u0 v0 w0 ... u3 v3 w3" line (entry i) of paste P->q: corners
+ * that share a node and its coordinates share a vertex (P->loc: per node,
+ * its local index in the paste whose number is in P->stamp). */
+static int lst__read_entry(pw__sc *s, const pw_alloc *a, const lst_model *m, lst__paste_build *P, int i, pw_err *e)
 {
+    lst_paste *q = P->q;
+    int *vstamp = P->stamp, *vloc = P->loc, id = P->id;
+    size_t *cap = &P->cap;
     long long t;
     double x;
     float w[12];
@@ -22785,7 +22953,8 @@ static int lst__read_pastes_part(pw__sc *s, const pw_alloc *a, lst_model *m, pw_
     for (i = 0; r == PW_OK && i < m->mesh.nverts; i++) vstamp[i] = -1;
     for (p = 0; p < n && r == PW_OK; p++) {
         lst_paste *q = &m->pastes[p];
-        size_t cap = 0;
+        lst__paste_build P;
+        P.q = q, P.id = p, P.stamp = vstamp, P.loc = vloc, P.cap = 0;
         m->npastes = p + 1;
         if ((r = lst__read_line(s, "paste", v, 2, 0, PW_MAX_MESH_ELEMENTS)) != PW_OK) break;
         if (v[0] >= m->masks.count) r = pw__sc_fail(s, PW_ERR_PARSE, "paste %d uses exemplar %lld of %d", p, v[0], m->masks.count);
@@ -22797,7 +22966,7 @@ static int lst__read_pastes_part(pw__sc *s, const pw_alloc *a, lst_model *m, pw_
         q->corners = (int *)pw_alloc_array(a, (size_t)v[1] * 4, sizeof(int), "paste", e);
         if (!q->tets || !q->corners) r = PW_ERR_NOMEM;
         q->ntets = r == PW_OK ? (int)v[1] : 0;
-        for (i = 0; i < q->ntets && r == PW_OK; i++) r = lst__read_entry(s, a, m, q, i, p, vstamp, vloc, &cap, e);
+        for (i = 0; i < q->ntets && r == PW_OK; i++) r = lst__read_entry(s, a, m, &P, i, e);
     }
     pw_free(a, vstamp);
     pw_free(a, vloc);
@@ -22888,7 +23057,7 @@ static int lst__depth_stroke(const pw_alloc *a, const double *v, int cnt, lst__c
         const double *p = v + 1 + 3 * i, *q = i + 1 < (cnt - 1) / 3 ? p + 3 : p;
         for (k = 0; r == PW_OK && k < (q == p ? 1 : LST__STROKE_STEPS); k++) {
             double t = (double)k / LST__STROKE_STEPS, x[3] = {p[0] + t * (q[0] - p[0]), p[1] + t * (q[1] - p[1]), p[2] + t * (q[2] - p[2])};
-            r = lst__add_constraint(a, &c->c, &c->cap, &c->n, LST_CONSTRAINT_DEPTH_POINT, 0, x, NULL, v[0], 0.0, e);
+            r = lst__add_constraint(a, c, lst__constraint(LST_CONSTRAINT_DEPTH_POINT, 0, x, NULL, v[0], 0.0), e);
         }
     }
     return r;
@@ -22904,15 +23073,25 @@ static int lst__dir_stroke(const pw_alloc *a, const double *v, int cnt, lst__cse
         if (d[0] == 0.0 && d[1] == 0.0 && d[2] == 0.0) continue;
         for (k = 0; r == PW_OK && k < LST__STROKE_STEPS; k++) {
             double t = (k + 0.5) / LST__STROKE_STEPS, x[3] = {p[0] + t * d[0], p[1] + t * d[1], p[2] + t * d[2]};
-            r = lst__add_constraint(a, &c->c, &c->cap, &c->n, LST_CONSTRAINT_DIRECTION, 0, x, d, 0.0, 0.0, e);
+            r = lst__add_constraint(a, c, lst__constraint(LST_CONSTRAINT_DIRECTION, 0, x, d, 0.0, 0.0), e);
         }
     }
     return r;
 }
 
-/* The constraints of keyword k from its numbers v (cnt of them, checked). */
-static int lst__add_line(pw__sc *s, const pw_alloc *a, int k, const double *v, int cnt, lst__cset *c, pw_err *e)
+/* One line of a constraint file as read: keyword k (in lst__keywords)
+ * and its numbers v (cnt of them). */
+typedef struct lst__cline {
+    int k;
+    const double *v;
+    int cnt;
+} lst__cline;
+
+/* The constraints of line ln (its count checked). */
+static int lst__add_line(pw__sc *s, const pw_alloc *a, const lst__cline *ln, lst__cset *c, pw_err *e)
 {
+    const double *v = ln->v;
+    int k = ln->k, cnt = ln->cnt;
     double depth = k == 2 ? v[3] : (k == 3 ? v[0] : v[1]);
     if (k <= 3 && !(depth >= 0.0 && depth <= 1.0)) return pw__sc_fail(s, PW_ERR_INVALID, "a depth is outside [0, 1]");
     if (k <= 1 && (v[0] < 0 || v[0] > PW_MAX_MESH_ELEMENTS || v[0] != floor(v[0])))
@@ -22922,13 +23101,13 @@ static int lst__add_line(pw__sc *s, const pw_alloc *a, int k, const double *v, i
     switch (k) {
     case 0:
     case 1:
-        return lst__add_constraint(a, &c->c, &c->cap, &c->n, k == 0 ? LST_CONSTRAINT_DEPTH_FACE : LST_CONSTRAINT_DEPTH_FILL,
-                                   (int)v[0], NULL, NULL, v[1], cnt == 3 ? v[2] : 0.0, e);
-    case 2: return lst__add_constraint(a, &c->c, &c->cap, &c->n, LST_CONSTRAINT_DEPTH_POINT, 0, v, NULL, v[3], 0.0, e);
+        return lst__add_constraint(a, c, lst__constraint(k == 0 ? LST_CONSTRAINT_DEPTH_FACE : LST_CONSTRAINT_DEPTH_FILL,
+                                   (int)v[0], NULL, NULL, v[1], cnt == 3 ? v[2] : 0.0), e);
+    case 2: return lst__add_constraint(a, c, lst__constraint(LST_CONSTRAINT_DEPTH_POINT, 0, v, NULL, v[3], 0.0), e);
     case 3: return lst__depth_stroke(a, v, cnt, c, e);
-    case 4: return lst__add_constraint(a, &c->c, &c->cap, &c->n, LST_CONSTRAINT_DIRECTION, 0, v, v + 3, 0.0, 0.0, e);
+    case 4: return lst__add_constraint(a, c, lst__constraint(LST_CONSTRAINT_DIRECTION, 0, v, v + 3, 0.0, 0.0), e);
     case 5: return lst__dir_stroke(a, v, cnt, c, e);
-    default: return lst__add_constraint(a, &c->c, &c->cap, &c->n, LST_CONSTRAINT_SCALE, 0, v, NULL, v[3], 0.0, e);
+    default: return lst__add_constraint(a, c, lst__constraint(LST_CONSTRAINT_SCALE, 0, v, NULL, v[3], 0.0), e);
     }
 }
 
@@ -22950,7 +23129,11 @@ static int lst__constraint_line(pw__sc *s, const pw_alloc *a, double *v, lst__cs
     if ((r = lst__read_numbers(s, v, LST__LINE_MAX, "constraint line", line, &cnt)) != PW_OK) return r;
     s->line--; /* messages below name the line just read */
     if (!lst__count_ok(k, cnt)) r = pw__sc_fail(s, PW_ERR_PARSE, "expected '%s'", lst__syntax[k]);
-    else r = lst__add_line(s, a, k, v, cnt, c, e);
+    else {
+        lst__cline ln;
+        ln.k = k, ln.v = v, ln.cnt = cnt;
+        r = lst__add_line(s, a, &ln, c, e);
+    }
     s->line++;
     return r;
 }
@@ -23144,9 +23327,10 @@ LSTDEF lst_result lst_write_image(const lst_image *img, const char *format, lst_
 }
 
 #ifndef PW_NO_STDIO
-/* Runs a from-memory reader on a whole file. */
-typedef int (*lst__reader)(const pw_alloc *a, const unsigned char *data, size_t size, const char *path, void *out,
-                           const lst_options *o, lst_error *le);
+/* Runs a from-memory reader (lst_read_X with its output untyped) on a
+ * whole file. */
+typedef int (*lst__reader)(const unsigned char *data, size_t size, const char *path, void *out, const lst_options *o,
+                           lst_error *le);
 
 static lst_result lst__load(const char *path, const lst_options *opt, void *out, lst__reader fn, const char *what, lst_error *err)
 {
@@ -23159,36 +23343,31 @@ static lst_result lst__load(const char *path, const lst_options *opt, void *out,
     if (!path || !out) pw_fail(&e, PW_ERR_INVALID, "%s: NULL argument", what);
     else if (pw_read_file(&a, path, &data, &size, &e) == PW_OK) {
         lst_error le;
-        if (fn(&a, data, size, path, out, &o, &le) != LST_OK) pw_fail(&e, (int)le.code, "%s", le.message);
+        if (fn(data, size, path, out, &o, &le) != LST_OK) pw_fail(&e, (int)le.code, "%s", le.message);
         pw_free(&a, data);
     }
     return lst__done(&e, err);
 }
 
-static int lst__rd_mesh(const pw_alloc *a, const unsigned char *d, size_t n, const char *p, void *out, const lst_options *o, lst_error *le)
+static int lst__rd_mesh(const unsigned char *d, size_t n, const char *p, void *out, const lst_options *o, lst_error *le)
 {
-    (void)a;
     return (int)lst_read_mesh(d, n, p, o, (lst_mesh *)out, le);
 }
-static int lst__rd_volume(const pw_alloc *a, const unsigned char *d, size_t n, const char *p, void *out, const lst_options *o, lst_error *le)
+static int lst__rd_volume(const unsigned char *d, size_t n, const char *p, void *out, const lst_options *o, lst_error *le)
 {
-    (void)a;
     return (int)lst_read_volume(d, n, p, o, (lst_volume *)out, le);
 }
-static int lst__rd_model(const pw_alloc *a, const unsigned char *d, size_t n, const char *p, void *out, const lst_options *o, lst_error *le)
+static int lst__rd_model(const unsigned char *d, size_t n, const char *p, void *out, const lst_options *o, lst_error *le)
 {
-    (void)a;
     return (int)lst_read_model(d, n, p, o, (lst_model *)out, le);
 }
 
-static int lst__rd_constraints(const pw_alloc *a, const unsigned char *d, size_t n, const char *p, void *out, const lst_options *o, lst_error *le)
+static int lst__rd_constraints(const unsigned char *d, size_t n, const char *p, void *out, const lst_options *o, lst_error *le)
 {
-    (void)a;
     return (int)lst_read_constraints(d, n, p, o, (lst_constraints *)out, le);
 }
-static int lst__rd_image(const pw_alloc *a, const unsigned char *d, size_t n, const char *p, void *out, const lst_options *o, lst_error *le)
+static int lst__rd_image(const unsigned char *d, size_t n, const char *p, void *out, const lst_options *o, lst_error *le)
 {
-    (void)a;
     return (int)lst_read_image(d, n, p, o, (lst_image *)out, le);
 }
 
@@ -23491,10 +23670,16 @@ static void lst__atlas_eval(void *user, int f, const float b[3], float *px)
     memcpy(px, rgba, 3 * sizeof(float));
 }
 
-/* Charts, packing and baking of the atlas's mesh. */
-static int lst__atlas_run(const pw_alloc *a, const lst_model *m, const lst__tris *tris, const lst_atlas_options *o,
-                          const pw_progress *prog, lst_atlas *out, pw_image *img, pw_err *e)
+/* Charts, packing and baking of the atlas's mesh (out, from the boundary
+ * tris of m), by options opt (its atlas settings checked); the picture
+ * goes to out->image. */
+static int lst__atlas_run(const pw_alloc *a, const lst_model *m, const lst__tris *tris, const lst_options *opt,
+                          lst_atlas *out, pw_err *e)
 {
+    const lst_atlas_options *o = &opt->atlas;
+    pw_progress progress = lst__progress(opt);
+    const pw_progress *prog = &progress;
+    pw_image pic, *img = &pic;
     pw_mesh pm;
     pw_trimesh tm;
     pw_atlas_charts C;
@@ -23504,6 +23689,7 @@ static int lst__atlas_run(const pw_alloc *a, const lst_model *m, const lst__tris
     memset(&pm, 0, sizeof pm);
     memset(&tm, 0, sizeof tm);
     memset(&v, 0, sizeof v);
+    memset(&pic, 0, sizeof pic);
     out->uvs = (float *)pw_alloc_array(a, (size_t)out->ntris * 6, sizeof(float), "atlas coordinates", e);
     if (!fstart || !out->uvs) {
         pw_free(a, fstart);
@@ -23526,39 +23712,33 @@ static int lst__atlas_run(const pw_alloc *a, const lst_model *m, const lst__tris
     pw_trimesh_free(a, &tm);
     pw_free(a, fstart);
     if (r == PW_OK) r = pw_report(prog, 1.0f, "atlas", e);
+    if (r == PW_OK) lst__take_image(&pic, a, &out->image);
+    else pw_image_free(a, &pic);
     return r;
 }
 
 LSTDEF lst_result lst_bake_atlas(const lst_model *model, const lst_options *opt, lst_atlas *out, lst_error *err)
 {
     lst_options o = lst__options(opt);
-    lst_atlas_options ao = o.atlas;
     pw_alloc a = lst__alloc(&o.allocator);
-    pw_progress prog = lst__progress(&o);
     lst__tris tris;
-    pw_image img;
     pw_err e;
     pw_err_clear(&e);
     memset(&tris, 0, sizeof tris);
-    memset(&img, 0, sizeof img);
     if (!out) {
         pw_fail(&e, PW_ERR_INVALID, "atlas: no output");
         return lst__done(&e, err);
     }
     memset(out, 0, sizeof *out);
     if (!model) pw_fail(&e, PW_ERR_INVALID, "atlas: no model");
-    else if (!pw_atlas_options(&ao.size, &ao.cone_angle, &ao.gutter, &e) && !lst__check_model(model, &e) &&
-             !lst__atlas_boundary(&a, model, &tris, out, &e)) {
-        int r = lst__atlas_run(&a, model, &tris, &ao, &prog, out, &img, &e);
+    else if (!pw_atlas_options(&o.atlas.size, &o.atlas.cone_angle, &o.atlas.gutter, &e) &&
+             !lst__check_model(model, &e) && !lst__atlas_boundary(&a, model, &tris, out, &e)) {
+        int r = lst__atlas_run(&a, model, &tris, &o, out, &e);
         if (r != PW_OK) pw_fail(&e, r, "atlas: %s", pw_result_string(r)); /* keeps a recorded message */
-        else lst__take_image(&img, &a, &out->image);
     }
     lst__tris_free(&a, &tris);
     out->allocator = lst__allocator(&a);
-    if (e.code) {
-        pw_image_free(&a, &img);
-        lst_atlas_free(out);
-    }
+    if (e.code) lst_atlas_free(out);
     return lst__done(&e, err);
 }
 

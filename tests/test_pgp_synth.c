@@ -177,11 +177,13 @@ static void t_edt_brute_force(void)
     int w = 37, h = 23, wrap, trial, x, y, bad = 0;
     unsigned char site[37 * 23];
     float d[37 * 23];
+    pw_edt_image im;
     for (trial = 0; trial < 6; trial++)
         for (wrap = 0; wrap < 2; wrap++) {
             for (x = 0; x < w * h; x++) site[x] = noise(x, trial, 9) < 0.02f * (trial + 1) * (trial + 1) * 0.3f;
             site[(trial * 131) % (w * h)] = 1;
-            CHECK(pw_edt_sq(NULL, site, w, h, wrap, d, NULL) == PW_OK);
+            im.px = site, im.w = w, im.h = h, im.wrap = wrap;
+            CHECK(pw_edt_sq(NULL, &im, d, NULL) == PW_OK);
             for (y = 0; y < h; y++)
                 for (x = 0; x < w; x++) {
                     float best = FLT_MAX;
@@ -206,9 +208,11 @@ static void t_edt_signed_disc(void)
     int n = 64, x, y, bad = 0;
     unsigned char m[64 * 64];
     float phi[64 * 64], worst = 0.0f;
+    pw_edt_image im;
     for (y = 0; y < n; y++)
         for (x = 0; x < n; x++) m[y * n + x] = (x - 31.5f) * (x - 31.5f) + (y - 31.5f) * (y - 31.5f) < 15.0f * 15.0f;
-    CHECK(pw_edt_signed(NULL, m, n, n, 1, phi, NULL) == PW_OK);
+    im.px = m, im.w = im.h = n, im.wrap = 1;
+    CHECK(pw_edt_signed(NULL, &im, phi, NULL) == PW_OK);
     for (y = 0; y < n; y++)
         for (x = 0; x < n; x++) {
             float r = sqrtf((x - 31.5f) * (x - 31.5f) + (y - 31.5f) * (y - 31.5f)), err = fabsf(phi[y * n + x] - (15.0f - r));
