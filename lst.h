@@ -20,23 +20,23 @@
  *   8297: src/common/render.h, a small deterministic software renderer for textured trian
  *  10042: src/common/atlas.h, texture atlases of triangle meshes — charts, packing, ba
  *  11994: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
- *  12800: src/common/tetmesh.h, the tetrahedral mesh that lapped solid textures work on, a
- *  13280: src/common/tetio.h, tetrahedral mesh files, TetGen .node/.ele and MEDIT .mesh.
- *  13736: src/common/bisect.h, graded, conforming tetrahedral meshes of a box by newest-v
- *  14037: src/common/stuffing.h, the built-in tetrahedralizer of lst.h, so that no external
- *  16933: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
- *  17073: src/common/pca.h, principal component analysis of vectors streamed one at a 
- *  17252: src/common/glue.h, what every method header needs between its public types an
- *  17448: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  17994: src/lst/core.c, lst.h's glue to the shared core, its defaults, the convers
- *  18332: src/lst/exemplar.c, solid exemplars (§5): sampling, the procedural exemplars 
- *  18874: src/lst/field.c, §5.2.2, the fields that orient and scale the pastes. The 
- *  19977: src/lst/paste.c, §5.2.3-5.2.7, filling the model. Each paste picks a rando
- *  20885: src/lst/render.c, §5.1, showing a model. Every point of a tetrahedron is th
- *  21660: src/lst/cut.c, §5.1.1, cutting a model along the zero set of a scalar fi
- *  22205: src/lst/builtin.c, the tetrahedralizer entry point, checks of caller meshes, 
- *  22672: src/lst/io.c, the model file, the constraint files and the file convenie
- *  23494: src/lst/export.c, the visible boundary with a baked texture atlas, for glTF.
+ *  12802: src/common/tetmesh.h, the tetrahedral mesh that lapped solid textures work on, a
+ *  13282: src/common/tetio.h, tetrahedral mesh files, TetGen .node/.ele and MEDIT .mesh.
+ *  13755: src/common/bisect.h, graded, conforming tetrahedral meshes of a box by newest-v
+ *  14056: src/common/stuffing.h, the built-in tetrahedralizer of lst.h, so that no external
+ *  16952: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
+ *  17092: src/common/pca.h, principal component analysis of vectors streamed one at a 
+ *  17277: src/common/glue.h, what every method header needs between its public types an
+ *  17473: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  18019: src/lst/core.c, lst.h's glue to the shared core, its defaults, the convers
+ *  18357: src/lst/exemplar.c, solid exemplars (§5): sampling, the procedural exemplars 
+ *  18899: src/lst/field.c, §5.2.2, the fields that orient and scale the pastes. The 
+ *  20002: src/lst/paste.c, §5.2.3-5.2.7, filling the model. Each paste picks a rando
+ *  20910: src/lst/render.c, §5.1, showing a model. Every point of a tetrahedron is th
+ *  21685: src/lst/cut.c, §5.1.1, cutting a model along the zero set of a scalar fi
+ *  22230: src/lst/builtin.c, the tetrahedralizer entry point, checks of caller meshes, 
+ *  22697: src/lst/io.c, the model file, the constraint files and the file convenie
+ *  23521: src/lst/export.c, the visible boundary with a baked texture atlas, for glTF.
  */
 /* lst.h - lapped solid textures: solid exemplars pasted inside a model.
  *
@@ -12189,27 +12189,27 @@ PW__DEF int pw__gzip_header(const unsigned char *d, size_t n, size_t *hlen, pw_e
 }
 
 /* Appends m bytes to the growing output of pw_gzip_decompress. */
-PW__DEF int pw__gzip_append(const pw_alloc *a, unsigned char **out, size_t *outn, size_t *cap,
-                            const unsigned char *m, size_t mn, pw_err *e)
+PW__DEF int pw__gzip_append(pw_buf *out, const unsigned char *m, size_t mn, pw_err *e)
 {
-    if (pw_grow(a, (void **)out, cap, *outn + mn, 1, "gzip data", e))
+    if (pw_grow(out->alloc, (void **)&out->data, &out->cap, out->size + mn, 1, "gzip data", e))
         return e && e->code ? e->code : PW_ERR_NOMEM;
-    if (mn) memcpy(*out + *outn, m, mn);
-    *outn += mn;
+    if (mn) memcpy(out->data + out->size, m, mn);
+    out->size += mn;
     return PW_OK;
 }
 
 /* Decodes a gzip stream of one or more members into a new buffer of at most
- * max_out bytes (PW_ERR_LIMIT beyond). Every member's CRC-32 and length are
- * checked; bytes after the last member are an error. Free *out with
+ * max_out bytes (PW_ERR_LIMIT beyond): out->data (out->size bytes; out is
+ * set up here, with allocator a). Every member's CRC-32 and length are
+ * checked; bytes after the last member are an error. Free out->data with
  * pw_free(a, ...). */
-PW__DEF int pw_gzip_decompress(const pw_alloc *a, const unsigned char *data, size_t n,
-                               size_t max_out, unsigned char **out, size_t *outn, pw_err *e)
+PW__DEF int pw_gzip_decompress(const pw_alloc *a, const unsigned char *data, size_t n, size_t max_out, pw_buf *out,
+                               pw_err *e)
 {
-    size_t pos = 0, cap = 0;
+    size_t pos = 0;
     int r = PW_OK, member = 0;
-    *out = NULL;
-    *outn = 0;
+    memset(out, 0, sizeof *out);
+    out->alloc = a;
     do {
         size_t hlen = 0, used = 0, mn = 0;
         unsigned char *m = NULL;
@@ -12221,7 +12221,7 @@ PW__DEF int pw_gzip_decompress(const pw_alloc *a, const unsigned char *data, siz
         }
         if ((r = pw__gzip_header(data + pos, n - pos, &hlen, e))) break;
         pos += hlen;
-        r = pw_inflate(a, data + pos, n - pos, max_out - *outn, &m, &mn, &used, e);
+        r = pw_inflate(a, data + pos, n - pos, max_out - out->size, &m, &mn, &used, e);
         if (r) break;
         pos += used;
         t = data + pos;
@@ -12235,35 +12235,35 @@ PW__DEF int pw_gzip_decompress(const pw_alloc *a, const unsigned char *data, siz
                         "gzip data: member %d holds %lu bytes, its trailer says %lu", member + 1,
                         (unsigned long)mn, (unsigned long)pw__le32(t + 4));
         else if (member == 0 && pos + 8 == n) { /* the usual single member: no copy */
-            *out = m;
-            *outn = mn;
+            out->data = m;
+            out->size = out->cap = mn;
             return PW_OK;
         } else {
-            r = pw__gzip_append(a, out, outn, &cap, m, mn, e);
+            r = pw__gzip_append(out, m, mn, e);
         }
         pw_free(a, m);
         pos += 8;
         member++;
     } while (!r && pos < n);
     if (r) {
-        pw_free(a, *out);
-        *out = NULL;
-        *outn = 0;
+        pw_free(a, out->data);
+        out->data = NULL;
+        out->size = out->cap = 0;
     }
     return r;
 }
 
-/* One gzip member holding data[0..n) at deflate `level` (0-9, -1 = 6). */
-PW__DEF int pw_gzip_compress(const pw_alloc *a, const unsigned char *data, size_t n, int level,
-                             unsigned char **out, size_t *outn, pw_err *e)
+/* One gzip member holding data[0..n) at deflate `level` (0-9, -1 = 6), in
+ * out->data (out->size bytes; out is set up here, with allocator a). */
+PW__DEF int pw_gzip_compress(const pw_alloc *a, const unsigned char *data, size_t n, int level, pw_buf *out, pw_err *e)
 {
     /* MTIME 0 and OS 255 (unknown): the bytes depend on the data alone */
     static const unsigned char head[10] = {0x1f, 0x8b, 8, 0, 0, 0, 0, 0, 0, 255};
     unsigned char *z, *g;
     size_t zn;
     int r;
-    *out = NULL;
-    *outn = 0;
+    memset(out, 0, sizeof *out);
+    out->alloc = a;
     if ((r = pw_deflate(a, data, n, level, &z, &zn, e))) return r;
     g = zn <= (size_t)-1 - 18 ? (unsigned char *)pw_realloc(a, z, zn + 18) : NULL;
     if (!g) {
@@ -12274,8 +12274,8 @@ PW__DEF int pw_gzip_compress(const pw_alloc *a, const unsigned char *data, size_
     memcpy(g, head, 10);
     pw__put_le32(g + 10 + zn, pw_crc32(0, data, n));
     pw__put_le32(g + 14 + zn, (uint32_t)n);
-    *out = g;
-    *outn = zn + 18;
+    out->data = g;
+    out->size = out->cap = zn + 18;
     return PW_OK;
 }
 
@@ -12669,8 +12669,10 @@ PW__DEF int pw__nrrd_data(const pw_alloc *a, pw__nrrd *r, pw_volume *out)
                        (unsigned long long)need);
     if (r->gzip) {
         pw_err local;
+        pw_buf unz;
         pw_err_clear(&local);
-        rc = pw_gzip_decompress(a, src, have, (size_t)need, &buf, &have, &local);
+        rc = pw_gzip_decompress(a, src, have, (size_t)need, &unz, &local);
+        buf = unz.data, have = unz.size;
         if (rc == PW_ERR_LIMIT)
             return pw_fail(r->e, PW_ERR_PARSE,
                            "%s:%d: the gzip data holds more than the %llu bytes that sizes and "
@@ -12739,16 +12741,16 @@ PW__DEF int pw_nrrd_write(const pw_alloc *a, const pw_volume *vol, int gzip, pw_
     pw__sink_init(&s, w, ctx);
     pw__sink_put(&s, head, (size_t)k);
     if (gzip) {
-        unsigned char *b, *z;
-        size_t zn;
+        unsigned char *b;
+        pw_buf z;
         b = (unsigned char *)pw_alloc_array(a, n, 1, "NRRD samples", e);
         if (!b) return PW_ERR_NOMEM;
         for (i = 0; i < n; i++) b[i] = (unsigned char)pw_image_quantize(vol->px[i], 255);
-        rc = pw_gzip_compress(a, b, n, -1, &z, &zn, e);
+        rc = pw_gzip_compress(a, b, n, -1, &z, e);
         pw_free(a, b);
         if (rc) return rc;
-        pw__sink_put(&s, z, zn);
-        pw_free(a, z);
+        pw__sink_put(&s, z.data, z.size);
+        pw_free(a, z.data);
     } else {
         for (i = 0; i < n; i++) pw__sink_byte(&s, pw_image_quantize(vol->px[i], 255));
     }
@@ -13436,21 +13438,36 @@ PW__DEF int pw__tetgen_tets(const pw_alloc *a, pw__sc *s, pw_tetmesh *m, long lo
     return PW_OK;
 }
 
-/* Reads a TetGen .node file and its .ele file (names for messages). */
-PW__DEF int pw_tetgen_read_memory(const pw_alloc *a, const void *node, size_t node_size, const char *node_name,
-                                  const void *ele, size_t ele_size, const char *ele_name, pw_tetmesh *out, pw_err *e)
+/* A file's bytes held in memory, and its name for messages (NULL: none). */
+typedef struct pw_memfile {
+    const void *data;
+    size_t size;
+    const char *name;
+} pw_memfile;
+
+PW__DEF pw_memfile pw_memfile_of(const void *data, size_t size, const char *name)
 {
+    pw_memfile f;
+    f.data = data, f.size = size, f.name = name;
+    return f;
+}
+
+/* Reads a TetGen .node file and its .ele file. */
+PW__DEF int pw_tetgen_read_memory(const pw_alloc *a, const pw_memfile *node, const pw_memfile *ele, pw_tetmesh *out,
+                                  pw_err *e)
+{
+    const char *ele_name = ele->name ? ele->name : "ele";
     pw__sc s;
     long long base = 0;
     int extra, r;
     memset(out, 0, sizeof *out);
-    pw__sc_init(&s, node, node_size, node_name ? node_name : "node", 0, e);
+    pw__sc_init(&s, node->data, node->size, node->name ? node->name : "node", 0, e);
     r = pw__tetgen_nodes(a, &s, out, &base, &extra, e);
     if (r == PW_OK) {
-        pw__sc_init(&s, ele, ele_size, ele_name ? ele_name : "ele", 0, e);
+        pw__sc_init(&s, ele->data, ele->size, ele_name, 0, e);
         r = pw__tetgen_tets(a, &s, out, base, e);
     }
-    if (r == PW_OK) r = pw_tetmesh_check(out, ele_name ? ele_name : "ele", e);
+    if (r == PW_OK) r = pw_tetmesh_check(out, ele_name, e);
     if (r != PW_OK) pw_tetmesh_free(a, out);
     return r;
 }
@@ -13696,8 +13713,10 @@ PW__DEF int pw_tetmesh_load(const pw_alloc *a, const char *path, pw_tetmesh *out
         return pw_fail(e, PW_ERR_UNSUPPORTED, "%s: tetrahedral meshes are .node (with .ele) or .mesh files", path);
     if (!pw__tio_sibling(path, ".node", node, sizeof node) || !pw__tio_sibling(path, ".ele", ele, sizeof ele))
         return pw_fail(e, PW_ERR_INVALID, "%s: path too long", path);
-    if ((r = pw_read_file(a, node, &d1, &n1, e)) == PW_OK && (r = pw_read_file(a, ele, &d2, &n2, e)) == PW_OK)
-        r = pw_tetgen_read_memory(a, d1, n1, node, d2, n2, ele, out, e);
+    if ((r = pw_read_file(a, node, &d1, &n1, e)) == PW_OK && (r = pw_read_file(a, ele, &d2, &n2, e)) == PW_OK) {
+        pw_memfile fn = pw_memfile_of(d1, n1, node), fe = pw_memfile_of(d2, n2, ele);
+        r = pw_tetgen_read_memory(a, &fn, &fe, out, e);
+    }
     pw_free(a, d1);
     pw_free(a, d2);
     return r;
@@ -17174,12 +17193,18 @@ PW__DEF void pw__pca_jacobi(double *c, double *v, int d)
     }
 }
 
-/* The k (<= d) leading components: mean[d], basis[k*d] (row j is
- * component j), var[k] (may be NULL). Needs at least one vector. */
-PW__DEF int pw_pca_solve(const pw_alloc *a, const pw_pca *p, int k, float *mean, float *basis, float *var,
-                         pw_err *e)
+/* Where pw_pca_solve puts the k (<= d) leading components: the caller's
+ * arrays mean[d], basis[k*d] (row j is component j), var[k] (may be NULL). */
+typedef struct pw_pca_out {
+    int k;
+    float *mean, *basis, *var;
+} pw_pca_out;
+
+/* The leading components into out. Needs at least one vector. */
+PW__DEF int pw_pca_solve(const pw_alloc *a, const pw_pca *p, const pw_pca_out *out, pw_err *e)
 {
-    int d = p->d, i, j, r;
+    float *mean = out->mean, *basis = out->basis, *var = out->var;
+    int d = p->d, k = out->k, i, j, r;
     double *c = (double *)pw_alloc_array(a, (size_t)d * d * 2, sizeof(double), "PCA eigenvectors", e);
     double *v = c + (size_t)d * d;
     if (!c) return PW_ERR_NOMEM;
@@ -23196,8 +23221,10 @@ LSTDEF lst_result lst_read_tetgen(const void *node, size_t node_size, const void
     snprintf(nn, sizeof nn, "%s.node", name ? name : "tetgen");
     snprintf(en, sizeof en, "%s.ele", name ? name : "tetgen");
     if (!out || (!node && node_size) || (!ele && ele_size)) pw_fail(&e, PW_ERR_INVALID, "lst_read_tetgen: NULL argument");
-    else if (pw_tetgen_read_memory(&a, node, node_size, nn, ele, ele_size, en, &m, &e) == PW_OK)
-        lst__take_tets(&m, &a, out);
+    else {
+        pw_memfile fn = pw_memfile_of(node, node_size, nn), fe = pw_memfile_of(ele, ele_size, en);
+        if (pw_tetgen_read_memory(&a, &fn, &fe, &m, &e) == PW_OK) lst__take_tets(&m, &a, out);
+    }
     return lst__done(&e, err);
 }
 

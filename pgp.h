@@ -22,24 +22,24 @@
  *  10244: src/common/atlas.h, texture atlases of triangle meshes — charts, packing, ba
  *  12196: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
  *  12861: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
- *  13667: src/pgp/tile3.h, sampling a material-space tile (Ray et al. 2009, §2: "a 3
- *  13781: src/common/glue.h, what every method header needs between its public types an
- *  13977: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  14523: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
- *  15029: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
- *  15487: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
- *  15627: src/common/kdtree.h, nearest-neighbour search among n points of dimension d, wi
- *  15958: src/common/pca.h, principal component analysis of vectors streamed one at a 
- *  16137: src/pgp/core.c, pgp.h's glue to the shared core, its defaults, and the map
- *  16390: src/pgp/field.c, §2.1 effect areas and §2.2 interpolation of the constrai
- *  16749: src/pgp/solve.c, §2.3 the periodic global parameterization, the recovery o
- *  17509: src/pgp/edit.c, the public editing calls of a mapping. §2.1 (Ray, Lévy, 
- *  17644: src/pgp/render.c, §3 rendering, and a cleaner treatment of the vortices.
- *  18019: src/pgp/builtin.c, built-in meshes and material-space tiles for demos and tes
- *  18326: src/pgp/io.c, files and memory for pgp.h: material-space tiles (NRRD, or
- *  18775: src/pgp/export.c, the mapping for other programs. A viewer that knows nothin
- *  18974: src/pgp/morph.c, the inputs of §1 (keys brought to the tile size, made til
- *  19590: src/pgp/synth.c, §1.2 constrained tile synthesis, and the whole of §1: ke
+ *  13669: src/pgp/tile3.h, sampling a material-space tile (Ray et al. 2009, §2: "a 3
+ *  13783: src/common/glue.h, what every method header needs between its public types an
+ *  13979: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  14525: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
+ *  15031: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
+ *  15489: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
+ *  15629: src/common/kdtree.h, nearest-neighbour search among n points of dimension d, wi
+ *  15963: src/common/pca.h, principal component analysis of vectors streamed one at a 
+ *  16148: src/pgp/core.c, pgp.h's glue to the shared core, its defaults, and the map
+ *  16401: src/pgp/field.c, §2.1 effect areas and §2.2 interpolation of the constrai
+ *  16760: src/pgp/solve.c, §2.3 the periodic global parameterization, the recovery o
+ *  17520: src/pgp/edit.c, the public editing calls of a mapping. §2.1 (Ray, Lévy, 
+ *  17655: src/pgp/render.c, §3 rendering, and a cleaner treatment of the vortices.
+ *  18030: src/pgp/builtin.c, built-in meshes and material-space tiles for demos and tes
+ *  18337: src/pgp/io.c, files and memory for pgp.h: material-space tiles (NRRD, or
+ *  18786: src/pgp/export.c, the mapping for other programs. A viewer that knows nothin
+ *  18985: src/pgp/morph.c, the inputs of §1 (keys brought to the tile size, made til
+ *  19601: src/pgp/synth.c, §1.2 constrained tile synthesis, and the whole of §1: ke
  */
 /* pgp.h - material-space texturing with a periodic global parameterization.
  *
@@ -13056,27 +13056,27 @@ PW__DEF int pw__gzip_header(const unsigned char *d, size_t n, size_t *hlen, pw_e
 }
 
 /* Appends m bytes to the growing output of pw_gzip_decompress. */
-PW__DEF int pw__gzip_append(const pw_alloc *a, unsigned char **out, size_t *outn, size_t *cap,
-                            const unsigned char *m, size_t mn, pw_err *e)
+PW__DEF int pw__gzip_append(pw_buf *out, const unsigned char *m, size_t mn, pw_err *e)
 {
-    if (pw_grow(a, (void **)out, cap, *outn + mn, 1, "gzip data", e))
+    if (pw_grow(out->alloc, (void **)&out->data, &out->cap, out->size + mn, 1, "gzip data", e))
         return e && e->code ? e->code : PW_ERR_NOMEM;
-    if (mn) memcpy(*out + *outn, m, mn);
-    *outn += mn;
+    if (mn) memcpy(out->data + out->size, m, mn);
+    out->size += mn;
     return PW_OK;
 }
 
 /* Decodes a gzip stream of one or more members into a new buffer of at most
- * max_out bytes (PW_ERR_LIMIT beyond). Every member's CRC-32 and length are
- * checked; bytes after the last member are an error. Free *out with
+ * max_out bytes (PW_ERR_LIMIT beyond): out->data (out->size bytes; out is
+ * set up here, with allocator a). Every member's CRC-32 and length are
+ * checked; bytes after the last member are an error. Free out->data with
  * pw_free(a, ...). */
-PW__DEF int pw_gzip_decompress(const pw_alloc *a, const unsigned char *data, size_t n,
-                               size_t max_out, unsigned char **out, size_t *outn, pw_err *e)
+PW__DEF int pw_gzip_decompress(const pw_alloc *a, const unsigned char *data, size_t n, size_t max_out, pw_buf *out,
+                               pw_err *e)
 {
-    size_t pos = 0, cap = 0;
+    size_t pos = 0;
     int r = PW_OK, member = 0;
-    *out = NULL;
-    *outn = 0;
+    memset(out, 0, sizeof *out);
+    out->alloc = a;
     do {
         size_t hlen = 0, used = 0, mn = 0;
         unsigned char *m = NULL;
@@ -13088,7 +13088,7 @@ PW__DEF int pw_gzip_decompress(const pw_alloc *a, const unsigned char *data, siz
         }
         if ((r = pw__gzip_header(data + pos, n - pos, &hlen, e))) break;
         pos += hlen;
-        r = pw_inflate(a, data + pos, n - pos, max_out - *outn, &m, &mn, &used, e);
+        r = pw_inflate(a, data + pos, n - pos, max_out - out->size, &m, &mn, &used, e);
         if (r) break;
         pos += used;
         t = data + pos;
@@ -13102,35 +13102,35 @@ PW__DEF int pw_gzip_decompress(const pw_alloc *a, const unsigned char *data, siz
                         "gzip data: member %d holds %lu bytes, its trailer says %lu", member + 1,
                         (unsigned long)mn, (unsigned long)pw__le32(t + 4));
         else if (member == 0 && pos + 8 == n) { /* the usual single member: no copy */
-            *out = m;
-            *outn = mn;
+            out->data = m;
+            out->size = out->cap = mn;
             return PW_OK;
         } else {
-            r = pw__gzip_append(a, out, outn, &cap, m, mn, e);
+            r = pw__gzip_append(out, m, mn, e);
         }
         pw_free(a, m);
         pos += 8;
         member++;
     } while (!r && pos < n);
     if (r) {
-        pw_free(a, *out);
-        *out = NULL;
-        *outn = 0;
+        pw_free(a, out->data);
+        out->data = NULL;
+        out->size = out->cap = 0;
     }
     return r;
 }
 
-/* One gzip member holding data[0..n) at deflate `level` (0-9, -1 = 6). */
-PW__DEF int pw_gzip_compress(const pw_alloc *a, const unsigned char *data, size_t n, int level,
-                             unsigned char **out, size_t *outn, pw_err *e)
+/* One gzip member holding data[0..n) at deflate `level` (0-9, -1 = 6), in
+ * out->data (out->size bytes; out is set up here, with allocator a). */
+PW__DEF int pw_gzip_compress(const pw_alloc *a, const unsigned char *data, size_t n, int level, pw_buf *out, pw_err *e)
 {
     /* MTIME 0 and OS 255 (unknown): the bytes depend on the data alone */
     static const unsigned char head[10] = {0x1f, 0x8b, 8, 0, 0, 0, 0, 0, 0, 255};
     unsigned char *z, *g;
     size_t zn;
     int r;
-    *out = NULL;
-    *outn = 0;
+    memset(out, 0, sizeof *out);
+    out->alloc = a;
     if ((r = pw_deflate(a, data, n, level, &z, &zn, e))) return r;
     g = zn <= (size_t)-1 - 18 ? (unsigned char *)pw_realloc(a, z, zn + 18) : NULL;
     if (!g) {
@@ -13141,8 +13141,8 @@ PW__DEF int pw_gzip_compress(const pw_alloc *a, const unsigned char *data, size_
     memcpy(g, head, 10);
     pw__put_le32(g + 10 + zn, pw_crc32(0, data, n));
     pw__put_le32(g + 14 + zn, (uint32_t)n);
-    *out = g;
-    *outn = zn + 18;
+    out->data = g;
+    out->size = out->cap = zn + 18;
     return PW_OK;
 }
 
@@ -13536,8 +13536,10 @@ PW__DEF int pw__nrrd_data(const pw_alloc *a, pw__nrrd *r, pw_volume *out)
                        (unsigned long long)need);
     if (r->gzip) {
         pw_err local;
+        pw_buf unz;
         pw_err_clear(&local);
-        rc = pw_gzip_decompress(a, src, have, (size_t)need, &buf, &have, &local);
+        rc = pw_gzip_decompress(a, src, have, (size_t)need, &unz, &local);
+        buf = unz.data, have = unz.size;
         if (rc == PW_ERR_LIMIT)
             return pw_fail(r->e, PW_ERR_PARSE,
                            "%s:%d: the gzip data holds more than the %llu bytes that sizes and "
@@ -13606,16 +13608,16 @@ PW__DEF int pw_nrrd_write(const pw_alloc *a, const pw_volume *vol, int gzip, pw_
     pw__sink_init(&s, w, ctx);
     pw__sink_put(&s, head, (size_t)k);
     if (gzip) {
-        unsigned char *b, *z;
-        size_t zn;
+        unsigned char *b;
+        pw_buf z;
         b = (unsigned char *)pw_alloc_array(a, n, 1, "NRRD samples", e);
         if (!b) return PW_ERR_NOMEM;
         for (i = 0; i < n; i++) b[i] = (unsigned char)pw_image_quantize(vol->px[i], 255);
-        rc = pw_gzip_compress(a, b, n, -1, &z, &zn, e);
+        rc = pw_gzip_compress(a, b, n, -1, &z, e);
         pw_free(a, b);
         if (rc) return rc;
-        pw__sink_put(&s, z, zn);
-        pw_free(a, z);
+        pw__sink_put(&s, z.data, z.size);
+        pw_free(a, z.data);
     } else {
         for (i = 0; i < n; i++) pw__sink_byte(&s, pw_image_quantize(vol->px[i], 255));
     }
@@ -15922,35 +15924,38 @@ PW__DEF void pw__kd_search(const pw_kdtree *t, int ni, float rd, pw__kdsearch *s
     while (nu-- > 0) s->off[undo_dim[nu]] = undo_off[nu];
 }
 
-/* The caller's index of the point minimising |q - p|^2 + pen, starting from
- * candidate `start` (caller's index, or -1) whose cost is start_cost; its
- * cost in *cost (may be NULL). At most `buckets` buckets are scanned
- * (negative: no limit), in the depth-first, nearest-cell-first order of the
- * search, as ANN's bound on the points visited: the cost of a query is then
- * bounded where many points are nearly equidistant (smooth images). off:
- * scratch of d floats. */
-PW__DEF int pw_kdtree_nearest_budget(const pw_kdtree *t, const float *q, float eps, int buckets, int start,
-                                     float start_cost, float *off, float *cost)
+/* A nearest-point query: the point q (d floats), the approximation eps (a
+ * cell is skipped unless (1 + eps)^2 times its distance beats the best
+ * cost), at most `buckets` buckets scanned (negative: no limit), in the
+ * depth-first, nearest-cell-first order of the search, as ANN's bound on
+ * the points visited: the cost of a query is then bounded where many points
+ * are nearly equidistant (smooth images); the candidate to beat, `start`
+ * (caller's index, or -1) of cost start_cost; off: scratch of d floats. */
+typedef struct pw_kdquery {
+    const float *q;
+    float eps;
+    int buckets;
+    int start;
+    float start_cost;
+    float *off;
+} pw_kdquery;
+
+/* The caller's index of the point minimising |q - p|^2 + pen for query qy;
+ * its cost in *cost (may be NULL). */
+PW__DEF int pw_kdtree_nearest(const pw_kdtree *t, const pw_kdquery *qy, float *cost)
 {
     pw__kdsearch s;
-    int k;
-    for (k = 0; k < t->d; k++) off[k] = 0.0f;
-    s.q = q;
-    s.off = off;
-    s.scale = (1.0f + eps) * (1.0f + eps);
-    s.best = start >= 0 ? start_cost : FLT_MAX;
+    int k, start = qy->start;
+    for (k = 0; k < t->d; k++) qy->off[k] = 0.0f;
+    s.q = qy->q;
+    s.off = qy->off;
+    s.scale = (1.0f + qy->eps) * (1.0f + qy->eps);
+    s.best = start >= 0 ? qy->start_cost : FLT_MAX;
     s.bi = start >= 0 ? t->pos[start] : -1;
-    s.budget = buckets;
+    s.budget = qy->buckets;
     if (t->node[0].minpen < s.best) pw__kd_search(t, 0, 0.0f, &s);
     if (cost) *cost = s.best;
     return s.bi >= 0 ? t->idx[s.bi] : -1;
-}
-
-/* The same without a bound on the buckets scanned. */
-PW__DEF int pw_kdtree_nearest(const pw_kdtree *t, const float *q, float eps, int start, float start_cost,
-                              float *off, float *cost)
-{
-    return pw_kdtree_nearest_budget(t, q, eps, -1, start, start_cost, off, cost);
 }
 
 #endif /* PW__KDTREE_V1 */
@@ -16059,12 +16064,18 @@ PW__DEF void pw__pca_jacobi(double *c, double *v, int d)
     }
 }
 
-/* The k (<= d) leading components: mean[d], basis[k*d] (row j is
- * component j), var[k] (may be NULL). Needs at least one vector. */
-PW__DEF int pw_pca_solve(const pw_alloc *a, const pw_pca *p, int k, float *mean, float *basis, float *var,
-                         pw_err *e)
+/* Where pw_pca_solve puts the k (<= d) leading components: the caller's
+ * arrays mean[d], basis[k*d] (row j is component j), var[k] (may be NULL). */
+typedef struct pw_pca_out {
+    int k;
+    float *mean, *basis, *var;
+} pw_pca_out;
+
+/* The leading components into out. Needs at least one vector. */
+PW__DEF int pw_pca_solve(const pw_alloc *a, const pw_pca *p, const pw_pca_out *out, pw_err *e)
 {
-    int d = p->d, i, j, r;
+    float *mean = out->mean, *basis = out->basis, *var = out->var;
+    int d = p->d, k = out->k, i, j, r;
     double *c = (double *)pw_alloc_array(a, (size_t)d * d * 2, sizeof(double), "PCA eigenvectors", e);
     double *v = c + (size_t)d * d;
     if (!c) return PW_ERR_NOMEM;
@@ -19734,6 +19745,7 @@ static int pgp__ex_pca(const pw_alloc *a, pgp__ex *ex, pgp__exlevel *L, float us
     float *basis = buf ? buf + ex->dc + ex->dm : NULL, *var = basis ? basis + (size_t)(ex->dc + ex->dm) * PW_PCA_PACK : NULL;
     float *mm;
     pw_pca pc, pm;
+    pw_pca_out oc, om;
     int r, j;
     memset(&pc, 0, sizeof pc);
     memset(&pm, 0, sizeof pm);
@@ -19747,9 +19759,11 @@ static int pgp__ex_pca(const pw_alloc *a, pgp__ex *ex, pgp__exlevel *L, float us
         pw_pca_add(&pm, buf);
     }
     mm = L->pca ? L->pca + (size_t)ex->dc * (1 + PW_PCA_PACK) : NULL;
-    if (r == PW_OK && (r = pw_pca_solve(a, &pc, ex->cd, L->pca, basis, var, e)) == PW_OK)
+    oc.k = ex->cd, oc.mean = L->pca, oc.basis = basis, oc.var = var;
+    om.k = ex->md, om.mean = mm, om.basis = basis, om.var = var + ex->cd;
+    if (r == PW_OK && (r = pw_pca_solve(a, &pc, &oc, e)) == PW_OK)
         pw_pca_pack(basis, ex->dc, ex->cd, L->pca + ex->dc);
-    if (r == PW_OK && (r = pw_pca_solve(a, &pm, ex->md, mm, basis, var + ex->cd, e)) == PW_OK)
+    if (r == PW_OK && (r = pw_pca_solve(a, &pm, &om, e)) == PW_OK)
         pw_pca_pack(basis, ex->dm, ex->md, mm + ex->dm);
     for (j = 0, L->lambda = 0.0f; r == PW_OK && j < ex->D; j++)
         L->lambda += var[j] * (j < ex->cd ? 1.0f : ex->weight * ex->weight);
@@ -19875,10 +19889,11 @@ static void pgp__count_uses(pgp__exlevel *L, const int *ind)
 static void pgp__update_texel(pgp__synth *S, pgp__exlevel *L, int *ind, const float *target, int p)
 {
     int u0 = ind[p], u;
-    float c0;
+    pw_kdquery qy;
     pgp__vector(S->ex, L, ind, target, p % L->n, p / L->n, S->buf, S->q);
-    c0 = pw_kdtree_cost(&L->tree, S->q, u0) - L->lambda;
-    u = pw_kdtree_nearest_budget(&L->tree, S->q, S->o->search_eps, S->o->search_buckets, u0, c0, S->off, NULL);
+    qy.q = S->q, qy.eps = S->o->search_eps, qy.buckets = S->o->search_buckets, qy.off = S->off;
+    qy.start = u0, qy.start_cost = pw_kdtree_cost(&L->tree, S->q, u0) - L->lambda;
+    u = pw_kdtree_nearest(&L->tree, &qy, NULL);
     if (u == u0) return;
     L->count[u0]--;
     pw_kdtree_set_penalty(&L->tree, u0, L->lambda * (float)L->count[u0]);

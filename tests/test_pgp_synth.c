@@ -230,6 +230,7 @@ static void t_edt_signed_disc(void)
 static void t_kdtree_penalties(void)
 {
     pw_kdtree t;
+    pw_kdquery qy;
     pw_rng r = pw_rng_seed(5, 1);
     int n = 3000, d = 6, i, k, qn, bad = 0, worse = 0, dup;
     float *p = (float *)malloc(sizeof(float) * n * d), *pen = (float *)calloc((size_t)n, sizeof(float)), q[6], off[6];
@@ -248,12 +249,15 @@ static void t_kdtree_penalties(void)
             for (k = 0, c = pen[i]; k < d; k++) c += (q[k] - p[i * d + k]) * (q[k] - p[i * d + k]);
             if (c < best) best = c, bi = i;
         }
-        u = pw_kdtree_nearest(&t, q, 0.0f, -1, 0.0f, off, &got);
+        qy.q = q, qy.eps = 0.0f, qy.buckets = -1, qy.start = -1, qy.start_cost = 0.0f, qy.off = off;
+        u = pw_kdtree_nearest(&t, &qy, &got);
         bad += got != best || (u != bi && pw_kdtree_cost(&t, q, u) != best);
-        pw_kdtree_nearest(&t, q, 1.0f, -1, 0.0f, off, &got);
+        qy.eps = 1.0f;
+        pw_kdtree_nearest(&t, &qy, &got);
         worse += got > 4.0f * best + 1e-6f;
         c = pw_kdtree_cost(&t, q, qn); /* a bounded search never ends worse than its start */
-        pw_kdtree_nearest_budget(&t, q, 0.0f, 2, qn, c, off, &got);
+        qy.eps = 0.0f, qy.buckets = 2, qy.start = qn, qy.start_cost = c;
+        pw_kdtree_nearest(&t, &qy, &got);
         worse += got > c || got < best;
     }
     CHECKF(bad == 0, "%d of 400 exact queries differ from brute force", bad);
@@ -261,7 +265,8 @@ static void t_kdtree_penalties(void)
     for (i = 0; i < n; i++) pw_kdtree_set_penalty(&t, i, 0.0f);
     for (k = 0; k < d; k++) q[k] = 0.25f; /* exactly the duplicated point */
     dup = 7 * 11;
-    CHECK(pw_kdtree_nearest(&t, q, 0.0f, dup, 0.0f, off, NULL) == dup);
+    qy.q = q, qy.eps = 0.0f, qy.buckets = -1, qy.start = dup, qy.start_cost = 0.0f, qy.off = off;
+    CHECK(pw_kdtree_nearest(&t, &qy, NULL) == dup);
     pw_kdtree_free(NULL, &t);
     free(p);
     free(pen);
@@ -272,6 +277,7 @@ static void t_kdtree_penalties(void)
 static void t_pca_axes(void)
 {
     pw_pca pc;
+    pw_pca_out out;
     pw_rng r = pw_rng_seed(3, 3);
     float axes[3][4] = {{0.5f, 0.5f, 0.5f, 0.5f}, {0.5f, -0.5f, 0.5f, -0.5f}, {0.5f, 0.5f, -0.5f, -0.5f}};
     float mean[4], basis[12], var[3], x[4], sd[3] = {3.0f, 2.0f, 1.0f}, proj[3];
@@ -287,7 +293,8 @@ static void t_pca_axes(void)
         }
         pw_pca_add(&pc, x);
     }
-    REQUIRE(pw_pca_solve(NULL, &pc, 3, mean, basis, var, NULL) == PW_OK);
+    out.k = 3, out.mean = mean, out.basis = basis, out.var = var;
+    REQUIRE(pw_pca_solve(NULL, &pc, &out, NULL) == PW_OK);
     for (j = 0; j < 3; j++) {
         float dot = 0.0f;
         for (k = 0; k < 4; k++) dot += basis[j * 4 + k] * axes[j][k];

@@ -525,8 +525,10 @@ LSTDEF lst_result lst_read_tetgen(const void *node, size_t node_size, const void
     snprintf(nn, sizeof nn, "%s.node", name ? name : "tetgen");
     snprintf(en, sizeof en, "%s.ele", name ? name : "tetgen");
     if (!out || (!node && node_size) || (!ele && ele_size)) pw_fail(&e, PW_ERR_INVALID, "lst_read_tetgen: NULL argument");
-    else if (pw_tetgen_read_memory(&a, node, node_size, nn, ele, ele_size, en, &m, &e) == PW_OK)
-        lst__take_tets(&m, &a, out);
+    else {
+        pw_memfile fn = pw_memfile_of(node, node_size, nn), fe = pw_memfile_of(ele, ele_size, en);
+        if (pw_tetgen_read_memory(&a, &fn, &fe, &m, &e) == PW_OK) lst__take_tets(&m, &a, out);
+    }
     return lst__done(&e, err);
 }
 
