@@ -31,12 +31,12 @@
  *  18019: src/lst/core.c, lst.h's glue to the shared core, its defaults, the convers
  *  18357: src/lst/exemplar.c, solid exemplars (§5): sampling, the procedural exemplars 
  *  18899: src/lst/field.c, §5.2.2, the fields that orient and scale the pastes. The 
- *  20002: src/lst/paste.c, §5.2.3-5.2.7, filling the model. Each paste picks a rando
- *  20910: src/lst/render.c, §5.1, showing a model. Every point of a tetrahedron is th
- *  21685: src/lst/cut.c, §5.1.1, cutting a model along the zero set of a scalar fi
- *  22230: src/lst/builtin.c, the tetrahedralizer entry point, checks of caller meshes, 
- *  22697: src/lst/io.c, the model file, the constraint files and the file convenie
- *  23521: src/lst/export.c, the visible boundary with a baked texture atlas, for glTF.
+ *  20003: src/lst/paste.c, §5.2.3-5.2.7, filling the model. Each paste picks a rando
+ *  20911: src/lst/render.c, §5.1, showing a model. Every point of a tetrahedron is th
+ *  21686: src/lst/cut.c, §5.1.1, cutting a model along the zero set of a scalar fi
+ *  22231: src/lst/builtin.c, the tetrahedralizer entry point, checks of caller meshes, 
+ *  22698: src/lst/io.c, the model file, the constraint files and the file convenie
+ *  23522: src/lst/export.c, the visible boundary with a baked texture atlas, for glTF.
  */
 /* lst.h - lapped solid textures: solid exemplars pasted inside a model.
  *
@@ -18973,7 +18973,8 @@ static int lst__locate(const lst__geo *g, const double p[3], double l[4])
 
 /* ---- thin-plate RBF in 3D (phi(r) = r^3 plus a linear polynomial) ------------------- */
 
-/* A growable list of constrained points with values. */
+/* A growable list of constrained points with values: what an RBF is fitted
+ * through (the depth constraints, §4.3; a stroke's constraints). */
 typedef struct lst__pts {
     int n;
     size_t cap;

@@ -75,7 +75,8 @@ static int lst__locate(const lst__geo *g, const double p[3], double l[4])
 
 /* ---- thin-plate RBF in 3D (phi(r) = r^3 plus a linear polynomial) ------------------- */
 
-/* A growable list of constrained points with values. */
+/* A growable list of constrained points with values: what an RBF is fitted
+ * through (the depth constraints, §4.3; a stroke's constraints). */
 typedef struct lst__pts {
     int n;
     size_t cap;
