@@ -21,23 +21,6 @@
 #include <stdlib.h>
 
 /* uint8 round trip: the samples quantised to bytes must come back. */
-/* pw_gzip_decompress and pw_gzip_compress into a plain array. */
-static int gunzip(const unsigned char *d, size_t n, size_t max, unsigned char **out, size_t *outn, pw_err *e)
-{
-    pw_buf b;
-    int r = pw_gzip_decompress(NULL, d, n, max, &b, e);
-    *out = b.data, *outn = b.size;
-    return r;
-}
-
-static int gzip_mem(const unsigned char *d, size_t n, int level, unsigned char **out, size_t *outn, pw_err *e)
-{
-    pw_buf b;
-    int r = pw_gzip_compress(NULL, d, n, level, &b, e);
-    *out = b.data, *outn = b.size;
-    return r;
-}
-
 static void roundtrip(const pw_volume *v, int gzip)
 {
     pw_buf b;
@@ -143,13 +126,12 @@ static void synth_nrrd(const unsigned char *d, size_t n)
     memset(&b, 0, sizeof b);
     pw_buf_write(&b, head, (size_t)k);
     if (gz) {
-        unsigned char *z8;
-        size_t zn;
+        pw_buf z8;
         pw_err e;
         pw_err_clear(&e);
-        if (gzip_mem(raw, need, d[7] % 10, &z8, &zn, &e)) abort();
-        pw_buf_write(&b, z8, zn);
-        free(z8);
+        if (pw_gzip_compress(NULL, raw, need, d[7] % 10, &z8, &e)) abort();
+        pw_buf_write(&b, z8.data, z8.size);
+        free(z8.data);
     } else {
         pw_buf_write(&b, raw, need);
     }
@@ -161,27 +143,25 @@ static void synth_nrrd(const unsigned char *d, size_t n)
 /* gzip round trip of the input at a level it chooses. */
 static void gzip_roundtrip(const unsigned char *data, size_t size)
 {
-    unsigned char *z, *back;
-    size_t zn, bn;
+    pw_buf z, back;
     pw_err e;
     pw_err_clear(&e);
-    if (gzip_mem(data, size, size ? data[0] % 10 : 6, &z, &zn, &e)) abort();
-    if (gunzip(z, zn, size, &back, &bn, &e)) abort();
-    if (bn != size || (size && memcmp(back, data, size))) abort();
-    free(z);
-    free(back);
+    if (pw_gzip_compress(NULL, data, size, size ? data[0] % 10 : 6, &z, &e)) abort();
+    if (pw_gzip_decompress(NULL, z.data, z.size, size, &back, &e)) abort();
+    if (back.size != size || (size && memcmp(back.data, data, size))) abort();
+    free(z.data);
+    free(back.data);
 }
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
-    unsigned char *out;
-    size_t outn;
+    pw_buf out;
     pw_err e;
     read_and_check(data, size);
     synth_nrrd(data, size);
     pw_err_clear(&e);
-    if (gunzip(data, size, 1 << 20, &out, &outn, &e) == PW_OK) free(out);
+    if (pw_gzip_decompress(NULL, data, size, 1 << 20, &out, &e) == PW_OK) free(out.data);
     if (size <= 4096) gzip_roundtrip(data, size);
     return 0;
 }
