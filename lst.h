@@ -21,23 +21,23 @@
  *   8400: src/common/render.h, a small deterministic software renderer for textured trian
  *  10156: src/common/atlas.h, texture atlases of triangle meshes — charts, packing, ba
  *  12108: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
- *  12914: src/common/tetmesh.h, the tetrahedral mesh that lapped solid textures work on, a
- *  13394: src/common/tetio.h, tetrahedral mesh files, TetGen .node/.ele and MEDIT .mesh.
- *  13850: src/common/bisect.h, graded, conforming tetrahedral meshes of a box by newest-v
- *  14151: src/common/stuffing.h, the built-in tetrahedralizer of lst.h, so that no external
- *  16971: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
- *  17090: src/common/pca.h, principal component analysis of vectors streamed one at a 
- *  17269: src/common/glue.h, what every method header needs between its public types an
- *  17476: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  18022: src/lst/core.c, lst.h's glue to the shared core, its defaults, the convers
- *  18360: src/lst/exemplar.c, solid exemplars (§5): sampling, the procedural exemplars 
- *  18861: src/lst/field.c, §5.2.2, the fields that orient and scale the pastes. The 
- *  19891: src/lst/paste.c, §5.2.3-5.2.7, filling the model. Each paste picks a rando
- *  20791: src/lst/render.c, §5.1, showing a model. Every point of a tetrahedron is th
- *  21570: src/lst/cut.c, §5.1.1, cutting a model along the zero set of a scalar fi
- *  22090: src/lst/builtin.c, the tetrahedralizer entry point, checks of caller meshes, 
- *  22544: src/lst/io.c, the model file, the constraint files and the file convenie
- *  23343: src/lst/export.c, the visible boundary with a baked texture atlas, for glTF.
+ *  12916: src/common/tetmesh.h, the tetrahedral mesh that lapped solid textures work on, a
+ *  13396: src/common/tetio.h, tetrahedral mesh files, TetGen .node/.ele and MEDIT .mesh.
+ *  13869: src/common/bisect.h, graded, conforming tetrahedral meshes of a box by newest-v
+ *  14170: src/common/stuffing.h, the built-in tetrahedralizer of lst.h, so that no external
+ *  17066: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
+ *  17206: src/common/pca.h, principal component analysis of vectors streamed one at a 
+ *  17391: src/common/glue.h, what every method header needs between its public types an
+ *  17598: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  18144: src/lst/core.c, lst.h's glue to the shared core, its defaults, the convers
+ *  18482: src/lst/exemplar.c, solid exemplars (§5): sampling, the procedural exemplars 
+ *  18985: src/lst/field.c, §5.2.2, the fields that orient and scale the pastes. The 
+ *  20089: src/lst/paste.c, §5.2.3-5.2.7, filling the model. Each paste picks a rando
+ *  20997: src/lst/render.c, §5.1, showing a model. Every point of a tetrahedron is th
+ *  21792: src/lst/cut.c, §5.1.1, cutting a model along the zero set of a scalar fi
+ *  22337: src/lst/builtin.c, the tetrahedralizer entry point, checks of caller meshes, 
+ *  22804: src/lst/io.c, the model file, the constraint files and the file convenie
+ *  23628: src/lst/export.c, the visible boundary with a baked texture atlas, for glTF.
  */
 /* lst.h - lapped solid textures: solid exemplars pasted inside a model.
  *
@@ -12303,27 +12303,27 @@ PW__DEF int pw__gzip_header(const unsigned char *d, size_t n, size_t *hlen, pw_e
 }
 
 /* Appends m bytes to the growing output of pw_gzip_decompress. */
-PW__DEF int pw__gzip_append(const pw_alloc *a, unsigned char **out, size_t *outn, size_t *cap,
-                            const unsigned char *m, size_t mn, pw_err *e)
+PW__DEF int pw__gzip_append(pw_buf *out, const unsigned char *m, size_t mn, pw_err *e)
 {
-    if (pw_grow(a, (void **)out, cap, *outn + mn, 1, "gzip data", e))
+    if (pw_grow(out->alloc, (void **)&out->data, &out->cap, out->size + mn, 1, "gzip data", e))
         return e && e->code ? e->code : PW_ERR_NOMEM;
-    if (mn) memcpy(*out + *outn, m, mn);
-    *outn += mn;
+    if (mn) memcpy(out->data + out->size, m, mn);
+    out->size += mn;
     return PW_OK;
 }
 
 /* Decodes a gzip stream of one or more members into a new buffer of at most
- * max_out bytes (PW_ERR_LIMIT beyond). Every member's CRC-32 and length are
- * checked; bytes after the last member are an error. Free *out with
+ * max_out bytes (PW_ERR_LIMIT beyond): out->data (out->size bytes; out is
+ * set up here, with allocator a). Every member's CRC-32 and length are
+ * checked; bytes after the last member are an error. Free out->data with
  * pw_free(a, ...). */
-PW__DEF int pw_gzip_decompress(const pw_alloc *a, const unsigned char *data, size_t n,
-                               size_t max_out, unsigned char **out, size_t *outn, pw_err *e)
+PW__DEF int pw_gzip_decompress(const pw_alloc *a, const unsigned char *data, size_t n, size_t max_out, pw_buf *out,
+                               pw_err *e)
 {
-    size_t pos = 0, cap = 0;
+    size_t pos = 0;
     int r = PW_OK, member = 0;
-    *out = NULL;
-    *outn = 0;
+    memset(out, 0, sizeof *out);
+    out->alloc = a;
     do {
         size_t hlen = 0, used = 0, mn = 0;
         unsigned char *m = NULL;
@@ -12335,7 +12335,7 @@ PW__DEF int pw_gzip_decompress(const pw_alloc *a, const unsigned char *data, siz
         }
         if ((r = pw__gzip_header(data + pos, n - pos, &hlen, e))) break;
         pos += hlen;
-        r = pw_inflate(a, data + pos, n - pos, max_out - *outn, &m, &mn, &used, e);
+        r = pw_inflate(a, data + pos, n - pos, max_out - out->size, &m, &mn, &used, e);
         if (r) break;
         pos += used;
         t = data + pos;
@@ -12349,35 +12349,35 @@ PW__DEF int pw_gzip_decompress(const pw_alloc *a, const unsigned char *data, siz
                         "gzip data: member %d holds %lu bytes, its trailer says %lu", member + 1,
                         (unsigned long)mn, (unsigned long)pw__le32(t + 4));
         else if (member == 0 && pos + 8 == n) { /* the usual single member: no copy */
-            *out = m;
-            *outn = mn;
+            out->data = m;
+            out->size = out->cap = mn;
             return PW_OK;
         } else {
-            r = pw__gzip_append(a, out, outn, &cap, m, mn, e);
+            r = pw__gzip_append(out, m, mn, e);
         }
         pw_free(a, m);
         pos += 8;
         member++;
     } while (!r && pos < n);
     if (r) {
-        pw_free(a, *out);
-        *out = NULL;
-        *outn = 0;
+        pw_free(a, out->data);
+        out->data = NULL;
+        out->size = out->cap = 0;
     }
     return r;
 }
 
-/* One gzip member holding data[0..n) at deflate `level` (0-9, -1 = 6). */
-PW__DEF int pw_gzip_compress(const pw_alloc *a, const unsigned char *data, size_t n, int level,
-                             unsigned char **out, size_t *outn, pw_err *e)
+/* One gzip member holding data[0..n) at deflate `level` (0-9, -1 = 6), in
+ * out->data (out->size bytes; out is set up here, with allocator a). */
+PW__DEF int pw_gzip_compress(const pw_alloc *a, const unsigned char *data, size_t n, int level, pw_buf *out, pw_err *e)
 {
     /* MTIME 0 and OS 255 (unknown): the bytes depend on the data alone */
     static const unsigned char head[10] = {0x1f, 0x8b, 8, 0, 0, 0, 0, 0, 0, 255};
     unsigned char *z, *g;
     size_t zn;
     int r;
-    *out = NULL;
-    *outn = 0;
+    memset(out, 0, sizeof *out);
+    out->alloc = a;
     if ((r = pw_deflate(a, data, n, level, &z, &zn, e))) return r;
     g = zn <= (size_t)-1 - 18 ? (unsigned char *)pw_realloc(a, z, zn + 18) : NULL;
     if (!g) {
@@ -12388,8 +12388,8 @@ PW__DEF int pw_gzip_compress(const pw_alloc *a, const unsigned char *data, size_
     memcpy(g, head, 10);
     pw__put_le32(g + 10 + zn, pw_crc32(0, data, n));
     pw__put_le32(g + 14 + zn, (uint32_t)n);
-    *out = g;
-    *outn = zn + 18;
+    out->data = g;
+    out->size = out->cap = zn + 18;
     return PW_OK;
 }
 
@@ -12783,8 +12783,10 @@ PW__DEF int pw__nrrd_data(const pw_alloc *a, pw__nrrd *r, pw_volume *out)
                        (unsigned long long)need);
     if (r->gzip) {
         pw_err local;
+        pw_buf unz;
         pw_err_clear(&local);
-        rc = pw_gzip_decompress(a, src, have, (size_t)need, &buf, &have, &local);
+        rc = pw_gzip_decompress(a, src, have, (size_t)need, &unz, &local);
+        buf = unz.data, have = unz.size;
         if (rc == PW_ERR_LIMIT)
             return pw_fail(r->e, PW_ERR_PARSE,
                            "%s:%d: the gzip data holds more than the %llu bytes that sizes and "
@@ -12853,16 +12855,16 @@ PW__DEF int pw_nrrd_write(const pw_alloc *a, const pw_volume *vol, int gzip, pw_
     pw__sink_init(&s, w, ctx);
     pw__sink_put(&s, head, (size_t)k);
     if (gzip) {
-        unsigned char *b, *z;
-        size_t zn;
+        unsigned char *b;
+        pw_buf z;
         b = (unsigned char *)pw_alloc_array(a, n, 1, "NRRD samples", e);
         if (!b) return PW_ERR_NOMEM;
         for (i = 0; i < n; i++) b[i] = (unsigned char)pw_image_quantize(vol->px[i], 255);
-        rc = pw_gzip_compress(a, b, n, -1, &z, &zn, e);
+        rc = pw_gzip_compress(a, b, n, -1, &z, e);
         pw_free(a, b);
         if (rc) return rc;
-        pw__sink_put(&s, z, zn);
-        pw_free(a, z);
+        pw__sink_put(&s, z.data, z.size);
+        pw_free(a, z.data);
     } else {
         for (i = 0; i < n; i++) pw__sink_byte(&s, pw_image_quantize(vol->px[i], 255));
     }
@@ -13550,21 +13552,36 @@ PW__DEF int pw__tetgen_tets(const pw_alloc *a, pw__sc *s, pw_tetmesh *m, long lo
     return PW_OK;
 }
 
-/* Reads a TetGen .node file and its .ele file (names for messages). */
-PW__DEF int pw_tetgen_read_memory(const pw_alloc *a, const void *node, size_t node_size, const char *node_name,
-                                  const void *ele, size_t ele_size, const char *ele_name, pw_tetmesh *out, pw_err *e)
+/* A file's bytes held in memory, and its name for messages (NULL: none). */
+typedef struct pw_memfile {
+    const void *data;
+    size_t size;
+    const char *name;
+} pw_memfile;
+
+PW__DEF pw_memfile pw_memfile_of(const void *data, size_t size, const char *name)
 {
+    pw_memfile f;
+    f.data = data, f.size = size, f.name = name;
+    return f;
+}
+
+/* Reads a TetGen .node file and its .ele file. */
+PW__DEF int pw_tetgen_read_memory(const pw_alloc *a, const pw_memfile *node, const pw_memfile *ele, pw_tetmesh *out,
+                                  pw_err *e)
+{
+    const char *ele_name = ele->name ? ele->name : "ele";
     pw__sc s;
     long long base = 0;
     int extra, r;
     memset(out, 0, sizeof *out);
-    pw__sc_init(&s, node, node_size, node_name ? node_name : "node", 0, e);
+    pw__sc_init(&s, node->data, node->size, node->name ? node->name : "node", 0, e);
     r = pw__tetgen_nodes(a, &s, out, &base, &extra, e);
     if (r == PW_OK) {
-        pw__sc_init(&s, ele, ele_size, ele_name ? ele_name : "ele", 0, e);
+        pw__sc_init(&s, ele->data, ele->size, ele_name, 0, e);
         r = pw__tetgen_tets(a, &s, out, base, e);
     }
-    if (r == PW_OK) r = pw_tetmesh_check(out, ele_name ? ele_name : "ele", e);
+    if (r == PW_OK) r = pw_tetmesh_check(out, ele_name, e);
     if (r != PW_OK) pw_tetmesh_free(a, out);
     return r;
 }
@@ -13810,8 +13827,10 @@ PW__DEF int pw_tetmesh_load(const pw_alloc *a, const char *path, pw_tetmesh *out
         return pw_fail(e, PW_ERR_UNSUPPORTED, "%s: tetrahedral meshes are .node (with .ele) or .mesh files", path);
     if (!pw__tio_sibling(path, ".node", node, sizeof node) || !pw__tio_sibling(path, ".ele", ele, sizeof ele))
         return pw_fail(e, PW_ERR_INVALID, "%s: path too long", path);
-    if ((r = pw_read_file(a, node, &d1, &n1, e)) == PW_OK && (r = pw_read_file(a, ele, &d2, &n2, e)) == PW_OK)
-        r = pw_tetgen_read_memory(a, d1, n1, node, d2, n2, ele, out, e);
+    if ((r = pw_read_file(a, node, &d1, &n1, e)) == PW_OK && (r = pw_read_file(a, ele, &d2, &n2, e)) == PW_OK) {
+        pw_memfile fn = pw_memfile_of(d1, n1, node), fe = pw_memfile_of(d2, n2, ele);
+        r = pw_tetgen_read_memory(a, &fn, &fe, out, e);
+    }
     pw_free(a, d1);
     pw_free(a, d2);
     return r;
@@ -14244,6 +14263,22 @@ typedef struct pw_stuff_info {
     int fragments;         /* graded: bits of parts thinner than the smallest cell, cut off and dropped */
 } pw_stuff_info;
 
+/* A triangle surface as the caller holds it (borrowed): nv vertices (pos,
+ * nv*3 floats) and nt triangles (tri, nt*3 vertex indices). */
+typedef struct pw_stuff_tris {
+    const float *pos;
+    int nv;
+    const int *tri;
+    int nt;
+} pw_stuff_tris;
+
+PW__DEF pw_stuff_tris pw_stuff_tris_of(const float *pos, int nv, const int *tri, int nt)
+{
+    pw_stuff_tris m;
+    m.pos = pos, m.nv = nv, m.tri = tri, m.nt = nt;
+    return m;
+}
+
 typedef struct pw_stuff_options {
     double cell;     /* lattice spacing (cube side = long-edge length) in mesh units; 0: chosen from target_tets */
     int target_tets; /* approximate tetrahedron count when cell is 0; 0: 20000 */
@@ -14572,9 +14607,11 @@ PW__DEF void pw__st_bvh_node(pw__stsurf *s, const double *cen, int nd, int first
 
 /* Copies the positions, builds the hierarchy and the bounding box. The
  * triangle array is borrowed. Indices must be in range. */
-PW__DEF int pw__st_surf_init(const pw_alloc *a, const float *pos, int nv, const int *tri, int nt, pw__stsurf *s,
-                             pw_err *e)
+PW__DEF int pw__st_surf_init(const pw_alloc *a, const pw_stuff_tris *m, pw__stsurf *s, pw_err *e)
 {
+    const float *pos = m->pos;
+    const int *tri = m->tri;
+    int nv = m->nv, nt = m->nt;
     double *cen;
     int i, k;
     memset(s, 0, sizeof *s);
@@ -14753,44 +14790,62 @@ PW__DEF double pw__st_diag(const float *pos, const int *tri, int nt)
     return sqrt(d);
 }
 
-/* The boundary loop from boundary half-edge h: its edge count, perimeter
- * and the centre of its vertices; marks its half-edges seen. With fan, its
- * closing triangles (origin of h, then each later edge reversed) are
- * appended at fan + 3 * *nfan. */
-PW__DEF int pw__st_loop(const pw_hmesh *hm, const float *pos, int h, unsigned char *seen, double *perim, double *c,
-                        int *fan, int *nfan)
+/* What the closedness check found: the half-edge twins of a closed
+ * surface, or the triangles closing the holes of an open one. */
+typedef struct pw__st_closure {
+    int *twin;  /* closed: hm.nh twins (half-edge 3t+k runs from corner k to k+1 of t), allocated; else NULL */
+    int *fan;   /* small holes: 3 * nfan indices closing them as fans, allocated; else NULL */
+    int nfan;
+    int nholes; /* boundary loops of an open surface */
+} pw__st_closure;
+
+/* One boundary loop: its edge count, perimeter and the centre of its vertices. */
+typedef struct pw__st_hole {
+    int len;
+    double perim, c[3];
+} pw__st_hole;
+
+/* Walks the boundary loop from boundary half-edge h into *hl and marks its
+ * half-edges seen. With cl, its closing triangles (origin of h, then each
+ * later edge reversed) are appended at cl->fan + 3 * cl->nfan. */
+PW__DEF void pw__st_loop(const pw_hmesh *hm, const float *pos, int h, unsigned char *seen, pw__st_hole *hl,
+                         pw__st_closure *cl)
 {
-    int g, k, len = 0, a0 = pw_he_origin(hm, h);
-    double d2;
-    *perim = c[0] = c[1] = c[2] = 0.0;
-    for (g = h; g >= 0 && !seen[g]; g = pw_he_boundary_next(hm, g), len++) {
+    int g, k, a0 = pw_he_origin(hm, h);
+    double d2, *c = hl->c;
+    hl->len = 0, hl->perim = c[0] = c[1] = c[2] = 0.0;
+    for (g = h; g >= 0 && !seen[g]; g = pw_he_boundary_next(hm, g), hl->len++) {
         int o = pw_he_origin(hm, g), t = pw_he_dest(hm, g);
         seen[g] = 1;
         for (d2 = 0.0, k = 0; k < 3; k++) c[k] += pos[3 * o + k], d2 += (double)(pos[3 * t + k] - pos[3 * o + k]) * (pos[3 * t + k] - pos[3 * o + k]);
-        *perim += sqrt(d2);
-        if (fan && g != h && t != a0) fan[3 * *nfan] = a0, fan[3 * *nfan + 1] = t, fan[3 * *nfan + 2] = o, ++*nfan;
+        hl->perim += sqrt(d2);
+        if (cl && g != h && t != a0) {
+            int *f = cl->fan + 3 * cl->nfan++;
+            f[0] = a0, f[1] = t, f[2] = o;
+        }
     }
-    for (k = 0; k < 3; k++) c[k] /= len > 0 ? len : 1;
-    return len;
+    for (k = 0; k < 3; k++) c[k] /= hl->len > 0 ? hl->len : 1;
 }
 
 /* The holes of an open surface: when every hole's perimeter is at most
- * max_hole, the triangles that close them as fans (*fan, 3 * *nfan ints,
- * allocated here); else the refusal: how many holes, the largest one's
- * edge count, perimeter, centre and a vertex on it, and what is needed. */
-PW__DEF int pw__st_holes(const pw_alloc *a, const pw_hmesh *hm, const float *pos, double max_hole, int **fan,
-                         int *nfan, pw_err *e)
+ * max_hole, the triangles that close them as fans (cl->fan, 3 * cl->nfan
+ * ints, allocated here); else the refusal: how many holes, the largest
+ * one's edge count, perimeter, centre and a vertex on it, and what is
+ * needed. */
+PW__DEF int pw__st_holes(const pw_alloc *a, const pw_hmesh *hm, const float *pos, double max_hole, pw__st_closure *cl,
+                         pw_err *e)
 {
     unsigned char *seen = (unsigned char *)pw_calloc_array(a, (size_t)hm->nh + 1, 1, "boundary loops", e);
-    double c[3], best[3] = {0, 0, 0}, perim, most = -1.0;
-    int h, k, len, blen = 0, vert = -1, r = PW_OK;
-    *fan = NULL, *nfan = 0;
+    double best[3] = {0, 0, 0}, most = -1.0;
+    pw__st_hole hl;
+    int h, k, blen = 0, vert = -1, r = PW_OK;
+    cl->fan = NULL, cl->nfan = 0;
     if (!seen) return PW_ERR_NOMEM;
     for (h = 0; h < hm->nh; h++) {
         if (hm->twin[h] >= 0 || seen[h]) continue;
-        len = pw__st_loop(hm, pos, h, seen, &perim, c, NULL, NULL);
-        if (perim > most)
-            for (most = perim, blen = len, vert = pw_he_origin(hm, h), k = 0; k < 3; k++) best[k] = c[k];
+        pw__st_loop(hm, pos, h, seen, &hl, NULL);
+        if (hl.perim > most)
+            for (most = hl.perim, blen = hl.len, vert = pw_he_origin(hm, h), k = 0; k < 3; k++) best[k] = hl.c[k];
     }
     if (most > max_hole)
         r = pw_fail(e, PW_ERR_TOPOLOGY,
@@ -14799,36 +14854,34 @@ PW__DEF int pw__st_holes(const pw_alloc *a, const pw_hmesh *hm, const float *pos
                     "(those of perimeter up to %.4g are closed here)",
                     hm->nboundary, hm->nloops, hm->nloops == 1 ? "" : "s", blen, most, best[0], best[1], best[2],
                     vert, max_hole);
-    else if (!(*fan = (int *)pw_alloc_array(a, 3 * (size_t)hm->nboundary + 3, sizeof(int), "hole fans", e)))
+    else if (!(cl->fan = (int *)pw_alloc_array(a, 3 * (size_t)hm->nboundary + 3, sizeof(int), "hole fans", e)))
         r = PW_ERR_NOMEM;
     else
         for (memset(seen, 0, (size_t)hm->nh), h = 0; h < hm->nh; h++)
-            if (hm->twin[h] < 0 && !seen[h]) pw__st_loop(hm, pos, h, seen, &perim, c, *fan, nfan);
+            if (hm->twin[h] < 0 && !seen[h]) pw__st_loop(hm, pos, h, seen, &hl, cl);
     pw_free(a, seen);
     return r;
 }
 
 /* Closed and consistently oriented: every half-edge has a twin. The twins
- * (half-edge 3t+k runs from corner k to corner k+1 of triangle t) go to
- * *twin, for the winding-number caps. An open surface whose holes are
- * small (perimeter at most max_hole) gives the triangles that close them
- * in *fan instead (3 * *nfan ints, allocated here), and their count in
- * *nholes (when not NULL). */
-PW__DEF int pw__st_check_closed(const pw_alloc *a, const float *pos, int nv, const int *tri, int nt, double max_hole,
-                                int **twin, int **fan, int *nfan, int *nholes, pw_err *e)
+ * go to cl->twin, for the winding-number caps. An open surface whose holes
+ * are small (perimeter at most max_hole) gives the triangles that close
+ * them in cl->fan instead, and their count in cl->nholes. */
+PW__DEF int pw__st_check_closed(const pw_alloc *a, const pw_stuff_tris *m, double max_hole, pw__st_closure *cl,
+                                pw_err *e)
 {
     pw_hmesh hm;
-    int *fs = (int *)pw_alloc_array(a, (size_t)nt + 1, sizeof(int), "triangle offsets", e), i, r;
-    *twin = NULL, *fan = NULL, *nfan = 0;
+    int *fs = (int *)pw_alloc_array(a, (size_t)m->nt + 1, sizeof(int), "triangle offsets", e), i, r;
+    memset(cl, 0, sizeof *cl);
     if (!fs) return PW_ERR_NOMEM;
-    for (i = 0; i <= nt; i++) fs[i] = 3 * i;
-    r = pw_hmesh_build(a, nv, nt, fs, tri, &hm, e);
+    for (i = 0; i <= m->nt; i++) fs[i] = 3 * i;
+    r = pw_hmesh_build(a, m->nv, m->nt, fs, m->tri, &hm, e);
     pw_free(a, fs);
     if (r != PW_OK) return r;
-    if (hm.nboundary > 0 && nholes) *nholes = hm.nloops;
-    if (hm.nboundary > 0) r = pw__st_holes(a, &hm, pos, max_hole, fan, nfan, e);
-    else if (!(*twin = (int *)pw_alloc_array(a, (size_t)hm.nh, sizeof(int), "half-edge twins", e))) r = PW_ERR_NOMEM;
-    else memcpy(*twin, hm.twin, sizeof(int) * (size_t)hm.nh);
+    if (hm.nboundary > 0) cl->nholes = hm.nloops;
+    if (hm.nboundary > 0) r = pw__st_holes(a, &hm, m->pos, max_hole, cl, e);
+    else if (!(cl->twin = (int *)pw_alloc_array(a, (size_t)hm.nh, sizeof(int), "half-edge twins", e))) r = PW_ERR_NOMEM;
+    else memcpy(cl->twin, hm.twin, sizeof(int) * (size_t)hm.nh);
     pw_hmesh_free(a, &hm);
     return r;
 }
@@ -14950,12 +15003,17 @@ PW__DEF int pw__st_next_leaf(const pw__stsurf *s, const float *b, int *stack, in
     return -1;
 }
 
+/* Where a segment hits the surface: the first `cap` hit parameters go to
+ * t, n counts them all. */
+typedef struct pw__st_hits {
+    double *t;
+    int cap, n;
+} pw__st_hits;
+
 /* All crossings of segment pq with the surface: PW__ST_HIT and/or
  * PW__ST_GRAZE bits (0: pq certainly misses the surface); *tfirst is the
- * hit nearest to p; when all is not NULL, the first `cap` hits go there
- * (*nall counts them all). */
-PW__DEF int pw__st_crossings(const pw__stsurf *s, const double *p, const double *q, double *tfirst, double *all,
-                             int cap, int *nall)
+ * hit nearest to p; when all is not NULL, the hits are listed there. */
+PW__DEF int pw__st_crossings(const pw__stsurf *s, const double *p, const double *q, double *tfirst, pw__st_hits *all)
 {
     double lo[3], hi[3], tol = 1e-9 * s->mag, t;
     float sb[6];
@@ -14969,7 +15027,7 @@ PW__DEF int pw__st_crossings(const pw__stsurf *s, const double *p, const double 
             int r = pw__st_seg_cross(s, s->slot[i], p, q, tol, &t);
             res |= r;
             if (r == PW__ST_HIT && t < *tfirst) *tfirst = t;
-            if (r == PW__ST_HIT && all && (*nall)++ < cap) all[*nall - 1] = t;
+            if (r == PW__ST_HIT && all && all->n++ < all->cap) all->t[all->n - 1] = t;
         }
     }
     return res;
@@ -14977,7 +15035,7 @@ PW__DEF int pw__st_crossings(const pw__stsurf *s, const double *p, const double 
 
 PW__DEF int pw__st_segment(const pw__stsurf *s, const double *p, const double *q, double *tfirst)
 {
-    return pw__st_crossings(s, p, q, tfirst, NULL, 0, NULL);
+    return pw__st_crossings(s, p, q, tfirst, NULL);
 }
 
 /* Squared distance from p to triangle abc; the nearest point to x
@@ -15493,8 +15551,11 @@ PW__DEF void pw__st_lerp(const double *p, const double *q, double t, double *x)
 PW__DEF double pw__st_cut_union(const pw__st *st, const double *pin, const double *pout)
 {
     double hits[64], t, x[3];
-    int n = 0, i, j;
-    pw__st_crossings(&st->s, pin, pout, &t, hits, 64, &n);
+    pw__st_hits all;
+    int n, i, j;
+    all.t = hits, all.cap = 64, all.n = 0;
+    pw__st_crossings(&st->s, pin, pout, &t, &all);
+    n = all.n;
     if (n > 64) return -1.0;
     qsort(hits, (size_t)n, sizeof(double), pw__st_cmp_double);
     if (n > 0 && hits[n - 1] - hits[0] < 1e-9) return hits[0]; /* one crossing: the side changes there */
@@ -16256,8 +16317,10 @@ PW__DEF int pw_tetmesh_pieces(const pw_alloc *a, const pw_tetmesh *m, const int 
 
 /* The surface's connected components (triangles sharing a vertex): comp[t]
  * in 0 .. *nc-1, numbered in order of their first triangle. */
-PW__DEF int pw__st_components(const pw_alloc *a, int nv, const int *tri, int nt, int *comp, int *nc, pw_err *e)
+PW__DEF int pw__st_components(const pw_alloc *a, const pw_stuff_tris *m, int *comp, int *nc, pw_err *e)
 {
+    const int *tri = m->tri;
+    int nv = m->nv, nt = m->nt;
     int *up = (int *)pw_alloc_array(a, (size_t)nv + 1, sizeof(int), "surface components", e), v, t, k;
     if (!up) return PW_ERR_NOMEM;
     for (v = 0; v < nv; v++) up[v] = -1;
@@ -16299,7 +16362,8 @@ PW__DEF int pw__st_drop_fragments(pw__st *st)
     if (!nb || !up || !comp || !pc || !vol) r = PW_ERR_NOMEM;
     if (r == PW_OK) r = pw_tetmesh_neighbors(st->a, &m, nb, st->e);
     if (r == PW_OK && (npieces = pw__st_piece_labels(&m, nb, up)) > 1) {
-        r = pw__st_components(st->a, st->s.nv, st->s.tri, st->s.nt, comp, &nc, st->e);
+        pw_stuff_tris surf = pw_stuff_tris_of(NULL, st->s.nv, st->s.tri, st->s.nt); /* positions not needed */
+        r = pw__st_components(st->a, &surf, comp, &nc, st->e);
         best = (int *)pw_alloc_array(st->a, (size_t)nc + 1, sizeof(int), "component pieces", st->e);
         to = (int *)pw_alloc_array(st->a, (size_t)m.nv + 1, sizeof(int), "vertex renumbering", st->e);
         if (r == PW_OK && (!best || !to)) r = PW_ERR_NOMEM;
@@ -16505,33 +16569,34 @@ PW__DEF void pw__st_free(pw__st *st)
 
 /* Triangles with a repeated corner index, dropped before the closedness
  * check: their two real edges are one edge traversed both ways, so the
- * neighbours across them become twins. *out (3 * *n ints) and *map (the
- * caller's index of each) are allocated here, with room for 3 nt more
+ * neighbours across them become twins. st->tri (3 * *n ints) and st->map
+ * (the caller's index of each) are allocated here, with room for 3 nt more
  * triangles (the fans closing holes: fewer than the boundary edges). */
-PW__DEF int pw__st_drop_repeats(const pw_alloc *a, const int *tri, int nt, int **out, int **map, int *n, pw_err *e)
+PW__DEF int pw__st_drop_repeats(pw__st *st, const int *tri, int nt, int *n)
 {
     int t, k;
-    *out = (int *)pw_alloc_array(a, (size_t)nt * 12 + 3, sizeof(int), "triangles", e); /* room for hole fans */
-    *map = (int *)pw_alloc_array(a, (size_t)nt * 4 + 1, sizeof(int), "triangle map", e);
-    if (!*out || !*map) return PW_ERR_NOMEM;
+    st->tri = (int *)pw_alloc_array(st->a, (size_t)nt * 12 + 3, sizeof(int), "triangles", st->e); /* room for hole fans */
+    st->map = (int *)pw_alloc_array(st->a, (size_t)nt * 4 + 1, sizeof(int), "triangle map", st->e);
+    if (!st->tri || !st->map) return PW_ERR_NOMEM;
     for (*n = 0, t = 0; t < nt; t++) {
         const int *c = tri + 3 * t;
         if (c[0] == c[1] || c[1] == c[2] || c[2] == c[0]) continue;
-        for (k = 0; k < 3; k++) (*out)[3 * *n + k] = c[k];
-        (*map)[(*n)++] = t;
+        for (k = 0; k < 3; k++) st->tri[3 * *n + k] = c[k];
+        st->map[(*n)++] = t;
     }
     return PW_OK;
 }
 
-/* Drops the zero-area triangles (exactly collinear corners) from tri[0..*n)
- * in place, with their map entries, and renumbers twin (half-edge 3t+k) to
- * the kept triangles, -1 across a dropped one: for the winding number a
- * dropped triangle is a cap of zero solid angle, so the caps stay exact.
- * Dropped triangles of the caller's (map >= 0) are added to *count. */
-PW__DEF int pw__st_drop_flat(const pw_alloc *a, const float *pos, int *tri, int *map, int *twin, int *n, int *count,
-                             pw_err *e)
+/* Drops the zero-area triangles (exactly collinear corners) from
+ * st->tri[0..*n) in place, with their st->map entries, and renumbers twin
+ * (half-edge 3t+k) to the kept triangles, -1 across a dropped one: for the
+ * winding number a dropped triangle is a cap of zero solid angle, so the
+ * caps stay exact. Dropped triangles of the caller's (map >= 0) are added
+ * to *count. */
+PW__DEF int pw__st_drop_flat(pw__st *st, const float *pos, int *twin, int *n, int *count)
 {
-    int *to = (int *)pw_alloc_array(a, (size_t)*n + 1, sizeof(int), "triangle renumbering", e), t, k, m = 0;
+    int *tri = st->tri, *map = st->map, t, k, m = 0;
+    int *to = (int *)pw_alloc_array(st->a, (size_t)*n + 1, sizeof(int), "triangle renumbering", st->e);
     double p[3][3];
     if (!to) return PW_ERR_NOMEM;
     for (t = 0; t < *n; t++) {
@@ -16549,7 +16614,7 @@ PW__DEF int pw__st_drop_flat(const pw_alloc *a, const float *pos, int *tri, int 
         map[to[t]] = map[t];
     }
     *n = m;
-    pw_free(a, to);
+    pw_free(st->a, to);
     return PW_OK;
 }
 
@@ -16567,25 +16632,33 @@ PW__DEF void pw__st_add_fans(pw__st *st, const int *fan, int nfan, int *n)
 /* The surface the fill uses: the caller's triangles without the zero-area
  * ones (counted in info), closed and consistently oriented, with its
  * hierarchy and winding-number caps. st->tri and st->map own the arrays. */
-PW__DEF int pw__st_surface(pw__st *st, const float *pos, int nv, const int *tri, int nt, double max_hole,
-                           pw_stuff_info *info)
+PW__DEF int pw__st_surface(pw__st *st, const pw_stuff_tris *m, double max_hole, pw_stuff_info *info)
 {
-    int *twin = NULL, *fan = NULL, n = 0, nfan = 0, r;
-    r = pw__st_drop_repeats(st->a, tri, nt, &st->tri, &st->map, &n, st->e);
-    info->skipped_triangles = nt - n;
-    if (r == PW_OK)
-        r = pw__st_check_closed(st->a, pos, nv, st->tri, n, max_hole * pw__st_diag(pos, st->tri, n), &twin, &fan,
-                                &nfan, &info->closed_holes, st->e);
-    if (r == PW_OK && fan) {
-        pw__st_add_fans(st, fan, nfan, &n);
-        pw_free(st->a, fan);
-        r = pw__st_check_closed(st->a, pos, nv, st->tri, n, -1.0, &twin, &fan, &nfan, NULL, st->e);
+    pw__st_closure cl;
+    pw_stuff_tris used; /* the triangles kept so far, in st->tri */
+    int n = 0, r;
+    memset(&cl, 0, sizeof cl);
+    r = pw__st_drop_repeats(st, m->tri, m->nt, &n);
+    info->skipped_triangles = m->nt - n;
+    used = pw_stuff_tris_of(m->pos, m->nv, st->tri, n);
+    if (r == PW_OK) {
+        r = pw__st_check_closed(st->a, &used, max_hole * pw__st_diag(m->pos, st->tri, n), &cl, st->e);
+        info->closed_holes = cl.nholes;
     }
-    if (r == PW_OK) r = pw__st_drop_flat(st->a, pos, st->tri, st->map, twin, &n, &info->skipped_triangles, st->e);
+    if (r == PW_OK && cl.fan) {
+        pw__st_add_fans(st, cl.fan, cl.nfan, &n);
+        pw_free(st->a, cl.fan);
+        used.nt = n;
+        r = pw__st_check_closed(st->a, &used, -1.0, &cl, st->e);
+    }
+    if (r == PW_OK) r = pw__st_drop_flat(st, m->pos, cl.twin, &n, &info->skipped_triangles);
     if (r == PW_OK && n == 0) r = pw_fail(st->e, PW_ERR_DEGENERATE, "surface encloses no volume (every triangle is flat)");
-    if (r == PW_OK) r = pw__st_surf_init(st->a, pos, nv, st->tri, n, &st->s, st->e);
-    if (r == PW_OK) r = pw__st_caps(st->a, &st->s, twin, st->e);
-    pw_free(st->a, twin);
+    if (r == PW_OK) {
+        pw_stuff_tris used = pw_stuff_tris_of(m->pos, m->nv, st->tri, n);
+        r = pw__st_surf_init(st->a, &used, &st->s, st->e);
+    }
+    if (r == PW_OK) r = pw__st_caps(st->a, &st->s, cl.twin, st->e);
+    pw_free(st->a, cl.twin);
     return r;
 }
 
@@ -16595,8 +16668,8 @@ PW__DEF double pw__st_max_hole(const pw_stuff_options *o)
     return !o || o->max_hole == 0.0 ? 0.05 : o->max_hole;
 }
 
-/* Tetrahedralizes the inside of a closed, oriented triangle surface (pos
- * nv*3, tri nt*3, counter-clockwise seen from outside; a surface facing
+/* Tetrahedralizes the inside of a closed, oriented triangle surface (in:
+ * its triangles counter-clockwise seen from outside; a surface facing
  * inward throughout is used reversed) into *out: positively oriented
  * tetrahedra (tetmesh.h), freed with pw_tetmesh_free(a, out). o may be NULL
  * (defaults); p may be NULL, else it sees the stages "surface checks",
@@ -16614,8 +16687,8 @@ PW__DEF double pw__st_max_hole(const pw_stuff_options *o)
  *                      than PW_MAX_MESH_ELEMENTS vertices, triangles or
  *                      tetrahedra
  *   PW_ERR_NOMEM, PW_ERR_CANCELLED */
-PW__DEF int pw_stuff_tetrahedralize(const pw_alloc *a, const float *pos, int nv, const int *tri, int nt,
-                                    const pw_stuff_options *o, const pw_progress *p, pw_tetmesh *out, pw_err *e)
+PW__DEF int pw_stuff_tetrahedralize(const pw_alloc *a, const pw_stuff_tris *in, const pw_stuff_options *o,
+                                    const pw_progress *p, pw_tetmesh *out, pw_err *e)
 {
     pw__st st;
     pw_stuff_info scratch, *info = o && o->info ? o->info : &scratch;
@@ -16626,13 +16699,14 @@ PW__DEF int pw_stuff_tetrahedralize(const pw_alloc *a, const float *pos, int nv,
     memset(out, 0, sizeof *out);
     memset(&st, 0, sizeof st);
     st.a = a, st.prog = p, st.e = e;
-    r = pw__st_check_values(pos, nv, tri, nt, e);
+    r = in ? pw__st_check_values(in->pos, in->nv, in->tri, in->nt, e)
+           : pw_fail(e, PW_ERR_INVALID, "tetrahedralize: NULL positions or triangles");
     if (r == PW_OK && o && !pw_is_finite(o->max_hole))
         r = pw_fail(e, PW_ERR_INVALID, "tetrahedralize: max_hole %g is not finite", o->max_hole);
     if (r == PW_OK && o && !(o->fit >= 0.0 && o->fit <= 0.1))
         r = pw_fail(e, PW_ERR_INVALID, "tetrahedralize: fit %g is not in [0, 0.1] (a fraction of the diagonal)", o->fit);
     if (r == PW_OK) r = pw_report(p, 0.0f, "surface checks", e);
-    if (r == PW_OK) r = pw__st_surface(&st, pos, nv, tri, nt, pw__st_max_hole(o), info);
+    if (r == PW_OK) r = pw__st_surface(&st, in, pw__st_max_hole(o), info);
     if (r == PW_OK) r = pw__st_check_geometry(&st.s, st.map, o && o->strict, info, e);
     st.unite = info->crossing_pairs > 0;
     if (o && o->uniform) {
@@ -16758,8 +16832,11 @@ typedef struct pw_stuff_fit {
 /* Signed volume of component c and the winding number of the other
  * components at a corner of its first triangle (solid angles summed, Van
  * Oosterom & Strackee). */
-PW__DEF void pw__st_weigh(const float *pos, const int *tri, int nt, const int *comp, int c, double *vol, double *w)
+PW__DEF void pw__st_weigh(const pw_stuff_tris *m, const int *comp, int c, double *vol, double *w)
 {
+    const float *pos = m->pos;
+    const int *tri = m->tri;
+    int nt = m->nt;
     double p[3] = {0, 0, 0}, q[3][3];
     int t, k, first = 1;
     *vol = *w = 0.0;
@@ -16784,19 +16861,19 @@ PW__DEF void pw__st_weigh(const float *pos, const int *tri, int nt, const int *c
  * inward; a shell inside a cavity is at winding number 0 again. Crossing
  * components are counted apart (the solid may have fewer pieces). -1 when
  * the count would cost more than 5e7 solid angles. */
-PW__DEF int pw_stuff_surface_pieces(const pw_alloc *a, const float *pos, int nv, const int *tri, int nt, int *pieces,
-                                    pw_err *e)
+PW__DEF int pw_stuff_surface_pieces(const pw_alloc *a, const pw_stuff_tris *m, int *pieces, pw_err *e)
 {
+    int nt = m->nt;
     int *comp = (int *)pw_alloc_array(a, (size_t)nt + 1, sizeof(int), "surface components", e), nc = 0, c, r;
     double total = 0.0, *vol, *w;
     *pieces = -1;
     if (!comp) return PW_ERR_NOMEM;
-    r = pw__st_components(a, nv, tri, nt, comp, &nc, e);
+    r = pw__st_components(a, m, comp, &nc, e);
     vol = (double *)pw_alloc_array(a, 2 * (size_t)nc + 2, sizeof(double), "surface components", e);
     if (r == PW_OK && !vol) r = PW_ERR_NOMEM;
     if (r == PW_OK && (double)nc * nt <= 5e7) {
         w = vol + nc;
-        for (c = 0; c < nc; c++) pw__st_weigh(pos, tri, nt, comp, c, vol + c, w + c), total += vol[c];
+        for (c = 0; c < nc; c++) pw__st_weigh(m, comp, c, vol + c, w + c), total += vol[c];
         for (*pieces = 0, c = 0; c < nc; c++)
             *pieces += (total < 0.0 ? -vol[c] : vol[c]) > 0.0 && fabs(w[c]) < 0.5;
     }
@@ -16809,6 +16886,16 @@ PW__DEF int pw_stuff_surface_pieces(const pw_alloc *a, const float *pos, int nv,
 typedef struct pw__stsample {
     double d, w;
 } pw__stsample;
+
+/* One side of the fit: distances from the triangles `from` to the surface
+ * `to`, and what they measured. */
+typedef struct pw__st_dist {
+    pw_stuff_tris from;
+    const pw__stsurf *to;
+    double vmax, vmean; /* pw__st_vertex_dist: over the vertices the triangles use */
+    double smax, p99;   /* pw__st_sampled_dist: over area samples (p99: area-weighted 99th percentile) */
+    int samples;
+} pw__st_dist;
 
 PW__DEF int pw__st_sample_cmp(const void *x, const void *y)
 {
@@ -16832,46 +16919,48 @@ PW__DEF int pw__st_sample_split(const float *pos, const int *tri, int t, double 
     return k < 1.0 ? 1 : k > 256.0 ? 256 : (int)k;
 }
 
-/* The distance from barycentric point (l1, l2) of triangle t to surface s,
- * recorded with weight w. */
-PW__DEF void pw__st_sample_at(const float *pos, const int *tri, int t, double l1, double l2, double w,
-                              const pw__stsurf *s, pw__stsample *out)
+/* The distance from barycentric point (l1, l2) of triangle t of d->from to
+ * d->to, recorded with weight w. */
+PW__DEF void pw__st_sample_at(const pw__st_dist *d, int t, double l1, double l2, double w, pw__stsample *out)
 {
+    const float *pos = d->from.pos;
+    const int *c = d->from.tri + 3 * t;
     double p[3], x[3];
     int i;
     for (i = 0; i < 3; i++)
-        p[i] = (1.0 - l1 - l2) * pos[3 * tri[3 * t] + i] + l1 * pos[3 * tri[3 * t + 1] + i] +
-               l2 * pos[3 * tri[3 * t + 2] + i];
-    out->d = sqrt(pw__st_closest(s, p, x, NULL)), out->w = w;
+        p[i] = (1.0 - l1 - l2) * pos[3 * c[0] + i] + l1 * pos[3 * c[1] + i] + l2 * pos[3 * c[2] + i];
+    out->d = sqrt(pw__st_closest(d->to, p, x, NULL)), out->w = w;
 }
 
-/* Samples of triangle t split into k*k congruent pieces: their centroids
- * (weight: the piece's area) and the corners (weight 0, for the maximum). */
-PW__DEF size_t pw__st_sample_tri(const float *pos, const int *tri, int t, int k, double area, const pw__stsurf *s,
-                                 pw__stsample *out)
+/* Samples of triangle t of d->from split into k*k congruent pieces: their
+ * centroids (weight: the piece's area) and the corners (weight 0, for the
+ * maximum). */
+PW__DEF size_t pw__st_sample_tri(const pw__st_dist *d, int t, int k, double area, pw__stsample *out)
 {
     double w = area / ((double)k * k);
     size_t n = 0;
     int i, j;
     for (i = 0; i < k; i++)
         for (j = 0; i + j < k; j++) {
-            pw__st_sample_at(pos, tri, t, (i + 1.0 / 3.0) / k, (j + 1.0 / 3.0) / k, w, s, out + n++);
-            if (i + j + 2 <= k) pw__st_sample_at(pos, tri, t, (i + 2.0 / 3.0) / k, (j + 2.0 / 3.0) / k, w, s, out + n++);
+            pw__st_sample_at(d, t, (i + 1.0 / 3.0) / k, (j + 1.0 / 3.0) / k, w, out + n++);
+            if (i + j + 2 <= k) pw__st_sample_at(d, t, (i + 2.0 / 3.0) / k, (j + 2.0 / 3.0) / k, w, out + n++);
         }
-    pw__st_sample_at(pos, tri, t, 0.0, 0.0, 0.0, s, out + n++);
-    pw__st_sample_at(pos, tri, t, 1.0, 0.0, 0.0, s, out + n++);
-    pw__st_sample_at(pos, tri, t, 0.0, 1.0, 0.0, s, out + n++);
+    pw__st_sample_at(d, t, 0.0, 0.0, 0.0, out + n++);
+    pw__st_sample_at(d, t, 1.0, 0.0, 0.0, out + n++);
+    pw__st_sample_at(d, t, 0.0, 1.0, 0.0, out + n++);
     return n;
 }
 
-/* Largest and area-weighted 99th-percentile distance from about `want`
- * area-weighted samples on triangles tri of pos to surface s. */
-PW__DEF int pw__st_sampled_dist(const pw_alloc *a, const float *pos, const int *tri, int nt, const pw__stsurf *s,
-                                int want, double *dmax, double *p99, int *count, pw_err *e)
+/* Largest (d->smax) and area-weighted 99th-percentile (d->p99) distance
+ * from about `want` area-weighted samples on d->from to d->to; their count
+ * in d->samples. */
+PW__DEF int pw__st_sampled_dist(const pw_alloc *a, pw__st_dist *d, int want, pw_err *e)
 {
+    const float *pos = d->from.pos;
+    const int *tri = d->from.tri;
+    int nt = d->from.nt, t;
     double total = 0.0, area, a0, acc = 0.0;
     size_t n = 0, i;
-    int t;
     pw__stsample *sm;
     for (t = 0; t < nt; t++) pw__st_sample_split(pos, tri, t, 1e300, &area), total += area;
     a0 = total > 0.0 ? total / (want > 0 ? want : 1) : 1.0;
@@ -16882,38 +16971,38 @@ PW__DEF int pw__st_sampled_dist(const pw_alloc *a, const float *pos, const int *
     if (!(sm = (pw__stsample *)pw_alloc_array(a, n + 1, sizeof *sm, "fit samples", e))) return PW_ERR_NOMEM;
     for (n = 0, t = 0; t < nt; t++) {
         int k = pw__st_sample_split(pos, tri, t, a0, &area);
-        n += pw__st_sample_tri(pos, tri, t, k, area, s, sm + n);
+        n += pw__st_sample_tri(d, t, k, area, sm + n);
     }
     qsort(sm, n, sizeof *sm, pw__st_sample_cmp);
-    *dmax = n ? sm[n - 1].d : 0.0, *p99 = *dmax, *count = (int)n;
+    d->smax = n ? sm[n - 1].d : 0.0, d->p99 = d->smax, d->samples = (int)n;
     for (i = 0; i < n; i++)
         if ((acc += sm[i].w) >= 0.99 * total) {
-            *p99 = sm[i].d;
+            d->p99 = sm[i].d;
             break;
         }
     pw_free(a, sm);
     return PW_OK;
 }
 
-/* Largest and mean distance from the vertices used by triangles tri of
- * positions pos to surface s. */
-PW__DEF int pw__st_vertex_dist(const pw_alloc *a, const float *pos, int nv, const int *tri, int nt,
-                               const pw__stsurf *s, double *dmax, double *dmean, pw_err *e)
+/* Largest (d->vmax) and mean (d->vmean) distance from the vertices used by
+ * the triangles d->from to d->to. */
+PW__DEF int pw__st_vertex_dist(const pw_alloc *a, pw__st_dist *d, pw_err *e)
 {
-    unsigned char *used = (unsigned char *)pw_calloc_array(a, (size_t)nv + 1, 1, "used vertices", e);
-    double x[3], p[3], sum = 0.0, d;
+    const pw_stuff_tris *m = &d->from;
+    unsigned char *used = (unsigned char *)pw_calloc_array(a, (size_t)m->nv + 1, 1, "used vertices", e);
+    double x[3], p[3], sum = 0.0, dist;
     int v, k, n = 0;
     if (!used) return PW_ERR_NOMEM;
-    for (k = 0; k < 3 * nt; k++) used[tri[k]] = 1;
-    *dmax = 0.0;
-    for (v = 0; v < nv; v++) {
+    for (k = 0; k < 3 * m->nt; k++) used[m->tri[k]] = 1;
+    d->vmax = 0.0;
+    for (v = 0; v < m->nv; v++) {
         if (!used[v]) continue;
-        for (k = 0; k < 3; k++) p[k] = pos[3 * v + k];
-        d = sqrt(pw__st_closest(s, p, x, NULL));
-        sum += d, n++;
-        if (d > *dmax) *dmax = d;
+        for (k = 0; k < 3; k++) p[k] = m->pos[3 * v + k];
+        dist = sqrt(pw__st_closest(d->to, p, x, NULL));
+        sum += dist, n++;
+        if (dist > d->vmax) d->vmax = dist;
     }
-    *dmean = n ? sum / n : 0.0;
+    d->vmean = n ? sum / n : 0.0;
     pw_free(a, used);
     return PW_OK;
 }
@@ -16929,34 +17018,40 @@ PW__DEF int pw__st_pieces_of(const pw_alloc *a, const pw_tetmesh *m, int *pieces
     return r;
 }
 
-/* Measures how well the boundary of m matches the closed surface (pos, nv,
- * tri, nt): distances from the boundary vertices of m to the surface and
+/* Measures how well the boundary of m matches the closed surface in:
+ * distances from the boundary vertices of m to the surface and
  * from the surface's vertices to the boundary of m, the two-sided sampled
  * distance (about `samples` samples a side, 0: 100000) and the pieces of m,
  * in mesh units (divide by fit->diag for relative figures). */
-PW__DEF int pw_stuff_fit_measure(const pw_alloc *a, const float *pos, int nv, const int *tri, int nt,
-                                 const pw_tetmesh *m, int samples, pw_stuff_fit *fit, pw_err *e)
+PW__DEF int pw_stuff_fit_measure(const pw_alloc *a, const pw_stuff_tris *in, const pw_tetmesh *m, int samples,
+                                 pw_stuff_fit *fit, pw_err *e)
 {
     pw__stsurf s, b;
+    pw__st_dist to, from; /* boundary of m to the surface, surface to the boundary */
     int *btri = NULL, nb = 0, r, k;
     memset(fit, 0, sizeof *fit);
     if (samples <= 0) samples = 100000;
     memset(&s, 0, sizeof s);
     memset(&b, 0, sizeof b);
-    r = pw__st_check_values(pos, nv, tri, nt, e);
+    memset(&to, 0, sizeof to);
+    memset(&from, 0, sizeof from);
+    r = pw__st_check_values(in->pos, in->nv, in->tri, in->nt, e);
     if (r == PW_OK) r = pw_stuff_boundary(a, m, &btri, &nb, e);
     if (r == PW_OK && nb == 0) r = pw_fail(e, PW_ERR_DEGENERATE, "fit: the tetrahedral mesh has no boundary");
-    if (r == PW_OK) r = pw__st_surf_init(a, pos, nv, tri, nt, &s, e);
-    if (r == PW_OK) r = pw__st_surf_init(a, m->pos, m->nv, btri, nb, &b, e);
-    if (r == PW_OK) r = pw__st_vertex_dist(a, m->pos, m->nv, btri, nb, &s, &fit->to_surface_max, &fit->to_surface_mean, e);
-    if (r == PW_OK)
-        r = pw__st_vertex_dist(a, pos, nv, tri, nt, &b, &fit->from_surface_max, &fit->from_surface_mean, e);
-    if (r == PW_OK)
-        r = pw__st_sampled_dist(a, m->pos, btri, nb, &s, samples, &fit->to_max, &fit->to_p99, &fit->samples, e);
-    if (r == PW_OK)
-        r = pw__st_sampled_dist(a, pos, tri, nt, &b, samples, &fit->from_max, &fit->from_p99, &fit->samples, e);
+    to.from = pw_stuff_tris_of(m->pos, m->nv, btri, nb), to.to = &s;
+    from.from = *in, from.to = &b;
+    if (r == PW_OK) r = pw__st_surf_init(a, in, &s, e);
+    if (r == PW_OK) r = pw__st_surf_init(a, &to.from, &b, e);
+    if (r == PW_OK && (r = pw__st_vertex_dist(a, &to, e)) == PW_OK)
+        fit->to_surface_max = to.vmax, fit->to_surface_mean = to.vmean;
+    if (r == PW_OK && (r = pw__st_vertex_dist(a, &from, e)) == PW_OK)
+        fit->from_surface_max = from.vmax, fit->from_surface_mean = from.vmean;
+    if (r == PW_OK && (r = pw__st_sampled_dist(a, &to, samples, e)) == PW_OK)
+        fit->to_max = to.smax, fit->to_p99 = to.p99, fit->samples = to.samples;
+    if (r == PW_OK && (r = pw__st_sampled_dist(a, &from, samples, e)) == PW_OK)
+        fit->from_max = from.smax, fit->from_p99 = from.p99, fit->samples = from.samples;
     if (r == PW_OK) r = pw__st_pieces_of(a, m, &fit->pieces, e);
-    if (r == PW_OK) r = pw_stuff_surface_pieces(a, pos, nv, tri, nt, &fit->surface_pieces, e);
+    if (r == PW_OK) r = pw_stuff_surface_pieces(a, in, &fit->surface_pieces, e);
     for (k = 0; k < 3; k++) fit->diag += (s.hi[k] - s.lo[k]) * (s.hi[k] - s.lo[k]);
     fit->diag = sqrt(fit->diag);
     fit->boundary_triangles = nb;
@@ -17025,11 +17120,29 @@ PW__DEF void pw__edt_1d(const float *f, int n, float *d, int *v, double *z)
     }
 }
 
+/* A binary image: w x h pixels px (row-major, nonzero: set); wrap: periodic
+ * in x and y (a tile). */
+typedef struct pw_edt_image {
+    const unsigned char *px;
+    int w, h, wrap;
+} pw_edt_image;
+
+/* The scratch of the 1D transforms of one distance transform, for lines of
+ * up to m pixels (3m when they wrap), and whether they wrap. */
+typedef struct pw__edt_ws {
+    float *f, *d; /* a line's values and its transform */
+    int *v;       /* the parabolas' sites */
+    double *z;    /* their boundaries (one more) */
+    int wrap;     /* periodic lines, tripled */
+} pw__edt_ws;
+
 /* One pass along lines of length n (count lines, element i of line l at
- * data[l*ls + i*es]), in place; periodic lines are tripled. */
-PW__DEF void pw__edt_pass(float *data, int n, int count, size_t ls, size_t es, int wrap, float *f,
-                          float *d, int *v, double *z)
+ * data[l*ls + i*es]), in place. */
+PW__DEF void pw__edt_pass(float *data, int n, int count, size_t ls, size_t es, const pw__edt_ws *ws)
 {
+    float *f = ws->f, *d = ws->d;
+    int *v = ws->v, wrap = ws->wrap;
+    double *z = ws->z;
     int l, i, reps = wrap ? 3 : 1;
     for (l = 0; l < count; l++) {
         float *line = data + (size_t)l * ls;
@@ -17042,11 +17155,11 @@ PW__DEF void pw__edt_pass(float *data, int n, int count, size_t ls, size_t es, i
 /* out[y*w + x] = squared distance from (x, y) to the nearest pixel with
  * site[] != 0, periodic in x and y when wrap is set; PW_EDT_FAR everywhere
  * when there is no site. */
-PW__DEF int pw_edt_sq(const pw_alloc *a, const unsigned char *site, int w, int h, int wrap,
-                      float *out, pw_err *e)
+PW__DEF int pw_edt_sq(const pw_alloc *a, const pw_edt_image *site, float *out, pw_err *e)
 {
-    int m = (w > h ? w : h) * (wrap ? 3 : 1);
+    int w = site->w, h = site->h, m = (w > h ? w : h) * (site->wrap ? 3 : 1);
     size_t i, n = (size_t)w * h;
+    pw__edt_ws ws;
     float *f = (float *)pw_alloc_array(a, (size_t)m * 2, sizeof(float), "distance transform", e);
     int *v = (int *)pw_alloc_array(a, (size_t)m, sizeof(int), "distance transform", e);
     double *z = (double *)pw_alloc_array(a, (size_t)m + 1, sizeof(double), "distance transform", e);
@@ -17056,9 +17169,10 @@ PW__DEF int pw_edt_sq(const pw_alloc *a, const unsigned char *site, int w, int h
         pw_free(a, z);
         return PW_ERR_NOMEM;
     }
-    for (i = 0; i < n; i++) out[i] = site[i] ? 0.0f : PW_EDT_FAR;
-    pw__edt_pass(out, w, h, (size_t)w, 1, wrap, f, f + m, v, z);
-    pw__edt_pass(out, h, w, 1, (size_t)w, wrap, f, f + m, v, z);
+    ws.f = f, ws.d = f + m, ws.v = v, ws.z = z, ws.wrap = site->wrap;
+    for (i = 0; i < n; i++) out[i] = site->px[i] ? 0.0f : PW_EDT_FAR;
+    pw__edt_pass(out, w, h, (size_t)w, 1, &ws);
+    pw__edt_pass(out, h, w, 1, (size_t)w, &ws);
     pw_free(a, f);
     pw_free(a, v);
     pw_free(a, z);
@@ -17068,16 +17182,18 @@ PW__DEF int pw_edt_sq(const pw_alloc *a, const unsigned char *site, int w, int h
 /* phi[i] > 0 where mask[i] != 0 (inside), < 0 elsewhere; |phi| is the
  * distance to the nearest pixel of the other kind minus 1/2. A mask with no
  * pixel of one kind gives +-sqrt(PW_EDT_FAR) on the other. */
-PW__DEF int pw_edt_signed(const pw_alloc *a, const unsigned char *mask, int w, int h, int wrap,
-                          float *phi, pw_err *e)
+PW__DEF int pw_edt_signed(const pw_alloc *a, const pw_edt_image *im, float *phi, pw_err *e)
 {
-    size_t i, n = (size_t)w * h;
+    const unsigned char *mask = im->px;
+    size_t i, n = (size_t)im->w * im->h;
     unsigned char *inv = (unsigned char *)pw_alloc_array(a, n, 1, "signed distance", e);
     float *din = (float *)pw_alloc_array(a, n, sizeof(float), "signed distance", e);
+    pw_edt_image rest = *im; /* the other kind */
     int r = inv && din ? PW_OK : PW_ERR_NOMEM;
+    rest.px = inv;
     for (i = 0; r == PW_OK && i < n; i++) inv[i] = (unsigned char)!mask[i];
-    if (r == PW_OK) r = pw_edt_sq(a, mask, w, h, wrap, phi, e); /* outside: to the mask */
-    if (r == PW_OK) r = pw_edt_sq(a, inv, w, h, wrap, din, e);  /* inside: to the rest */
+    if (r == PW_OK) r = pw_edt_sq(a, im, phi, e);    /* outside: to the mask */
+    if (r == PW_OK) r = pw_edt_sq(a, &rest, din, e); /* inside: to the rest */
     for (i = 0; r == PW_OK && i < n; i++)
         phi[i] = mask[i] ? sqrtf(din[i]) - 0.5f : 0.5f - sqrtf(phi[i]);
     pw_free(a, inv);
@@ -17191,12 +17307,18 @@ PW__DEF void pw__pca_jacobi(double *c, double *v, int d)
     }
 }
 
-/* The k (<= d) leading components: mean[d], basis[k*d] (row j is
- * component j), var[k] (may be NULL). Needs at least one vector. */
-PW__DEF int pw_pca_solve(const pw_alloc *a, const pw_pca *p, int k, float *mean, float *basis, float *var,
-                         pw_err *e)
+/* Where pw_pca_solve puts the k (<= d) leading components: the caller's
+ * arrays mean[d], basis[k*d] (row j is component j), var[k] (may be NULL). */
+typedef struct pw_pca_out {
+    int k;
+    float *mean, *basis, *var;
+} pw_pca_out;
+
+/* The leading components into out. Needs at least one vector. */
+PW__DEF int pw_pca_solve(const pw_alloc *a, const pw_pca *p, const pw_pca_out *out, pw_err *e)
 {
-    int d = p->d, i, j, r;
+    float *mean = out->mean, *basis = out->basis, *var = out->var;
+    int d = p->d, k = out->k, i, j, r;
     double *c = (double *)pw_alloc_array(a, (size_t)d * d * 2, sizeof(double), "PCA eigenvectors", e);
     double *v = c + (size_t)d * d;
     if (!c) return PW_ERR_NOMEM;
@@ -18755,6 +18877,7 @@ static int lst__edt(const pw_alloc *a, const pw_volume *mask, int want_positive,
 {
     int X = mask->x, Y = mask->y, Z = mask->z, big = pw_maxi(X, pw_maxi(Y, Z)), z;
     size_t total = (size_t)X * Y * Z, k;
+    pw__edt_ws ws;
     float *f = (float *)pw_alloc_array(a, (size_t)big * 2, sizeof(float), "distance transform", e);
     int *v = (int *)pw_alloc_array(a, (size_t)big, sizeof(int), "distance transform", e);
     double *zz = (double *)pw_alloc_array(a, (size_t)big + 1, sizeof(double), "distance transform", e);
@@ -18766,9 +18889,10 @@ static int lst__edt(const pw_alloc *a, const pw_volume *mask, int want_positive,
         int hit = want_positive ? mask->px[k] > 0.0f : mask->px[k] < 1.0f;
         dist[k] = hit ? 0.0f : PW_EDT_FAR;
     }
-    pw__edt_pass(dist, X, Y * Z, (size_t)X, 1, 0, f, f + big, v, zz);
-    for (z = 0; z < Z; z++) pw__edt_pass(dist + (size_t)z * X * Y, Y, X, 1, (size_t)X, 0, f, f + big, v, zz);
-    pw__edt_pass(dist, Z, X * Y, 1, (size_t)X * Y, 0, f, f + big, v, zz);
+    ws.f = f, ws.d = f + big, ws.v = v, ws.z = zz, ws.wrap = 0;
+    pw__edt_pass(dist, X, Y * Z, (size_t)X, 1, &ws);
+    for (z = 0; z < Z; z++) pw__edt_pass(dist + (size_t)z * X * Y, Y, X, 1, (size_t)X, &ws);
+    pw__edt_pass(dist, Z, X * Y, 1, (size_t)X * Y, &ws);
     for (k = 0; k < total; k++) dist[k] = dist[k] >= PW_EDT_FAR ? 1e6f : (float)(sqrt((double)dist[k]) / big);
     pw_free(a, f), pw_free(a, v), pw_free(a, zz);
     return PW_OK;
@@ -18935,6 +19059,16 @@ static int lst__locate(const lst__geo *g, const double p[3], double l[4])
 
 /* ---- thin-plate RBF in 3D (phi(r) = r^3 plus a linear polynomial) ------------------- */
 
+/* A growable list of constrained points with values: what an RBF is fitted
+ * through (the depth constraints, §4.3; a stroke's constraints). */
+typedef struct lst__pts {
+    int n;
+    size_t cap;
+    double *p;   /* n*3 */
+    double *val; /* n, in a parallel array grown with p */
+    size_t vcap;
+} lst__pts;
+
 typedef struct lst__rbf {
     int n;
     double *c;      /* n*3 centres, in normalised coordinates */
@@ -19010,12 +19144,16 @@ static int lst__farthest(const double *p, int n, int k, double *dmin, int *pick)
     return cnt;
 }
 
-/* Fits the RBF through values val at up to maxc of the points p (n*3). */
-static int lst__rbf_fit(const pw_alloc *a, const double *p, const double *val, int n, int maxc, const double o[3],
-                        double s, lst__rbf *r, pw_err *e)
+/* Fits the RBF through the values of up to maxc of the points pts. The
+ * caller sets the normalisation (r->o, r->s); the rest is filled here. */
+static int lst__rbf_fit(const pw_alloc *a, const lst__pts *pts, int maxc, lst__rbf *r, pw_err *e)
 {
+    const double *p = pts->p, *val = pts->val;
+    int n = pts->n;
+    double o[3], s = r->s;
     double *dmin = (double *)pw_alloc_array(a, (size_t)n, sizeof(double), "RBF", e), *m = NULL;
     int *pick = (int *)pw_alloc_array(a, (size_t)(maxc < n ? maxc : n), sizeof(int), "RBF", e), i, j, k, N;
+    memcpy(o, r->o, sizeof o);
     memset(r, 0, sizeof *r);
     memcpy(r->o, o, sizeof r->o);
     r->s = s;
@@ -19071,15 +19209,6 @@ static double lst__rbf_eval(const lst__rbf *r, const double *x, double *grad)
 
 /* ---- depth constraints (§4.3) as points ------------------------------------------------- */
 
-/* A growable list of constrained points with values. */
-typedef struct lst__pts {
-    int n;
-    size_t cap;
-    double *p;   /* n*3 */
-    double *val; /* n, in a parallel array grown with p */
-    size_t vcap;
-} lst__pts;
-
 static void lst__pts_free(const pw_alloc *a, lst__pts *s)
 {
     pw_free(a, s->p);
@@ -19122,11 +19251,13 @@ static int lst__paint_surface(const pw_alloc *a, const lst__geo *g, const lst_me
     return r;
 }
 
-/* §4.3 multi-face fill: the triangles reachable from `start` across edges
- * whose dihedral angle is at most `crease` degrees get value v. */
-static int lst__flood(const pw_alloc *a, const pw_trimesh *tm, int start, double crease, double v, double *paint,
-                      pw_err *e)
+/* §4.3 multi-face fill (constraint c): the triangles reachable from
+ * c->face across edges whose dihedral angle is at most c->crease degrees
+ * (0: 30) get c->value. */
+static int lst__flood(const pw_alloc *a, const pw_trimesh *tm, const lst_constraint *c, double *paint, pw_err *e)
 {
+    int start = c->face;
+    double crease = c->crease > 0.0f ? c->crease : 30.0, v = c->value;
     int *queue = (int *)pw_alloc_array(a, (size_t)tm->nf, sizeof(int), "flood fill", e), head = 0, tail = 0, k;
     unsigned char *seen = (unsigned char *)pw_calloc_array(a, (size_t)tm->nf, 1, "flood fill", e);
     double cmin = pw_cos(crease * (3.14159265358979323846 / 180.0));
@@ -19171,7 +19302,7 @@ static int lst__paint(const pw_alloc *a, const pw_trimesh *tm, const lst_options
             return pw_fail(e, PW_ERR_INVALID, "depth constraint %d: face %d is not a triangle of the surface (0..%d)", i,
                            c->face, tm->nf - 1);
         if (c->kind == LST_CONSTRAINT_DEPTH_FACE) paint[c->face] = c->value;
-        else if (lst__flood(a, tm, c->face, c->crease > 0.0f ? c->crease : 30.0, c->value, paint, e)) return PW_ERR_NOMEM;
+        else if (lst__flood(a, tm, c, paint, e)) return PW_ERR_NOMEM;
     }
     return PW_OK;
 }
@@ -19209,11 +19340,19 @@ static int lst__check_depth(const lst_options *o, pw_err *e)
     return PW_OK;
 }
 
+/* The surface with the depth the face and fill constraints paint on it. */
+typedef struct lst__painted {
+    pw_trimesh tm;
+    double *face; /* per triangle: painted depth, -1: none (lst__paint) */
+    double *vert; /* per vertex: from its triangles, -1: none (lst__vertex_paint) */
+} lst__painted;
+
 /* The constraint points: painted vertices, painted triangles' centroids,
  * then the point constraints. */
-static int lst__depth_points(const pw_alloc *a, const pw_trimesh *tm, const lst_options *o, const double *paint,
-                             const double *vp, lst__pts *pts, pw_err *e)
+static int lst__depth_points(const pw_alloc *a, const lst__painted *ps, const lst_options *o, lst__pts *pts, pw_err *e)
 {
+    const pw_trimesh *tm = &ps->tm;
+    const double *paint = ps->face, *vp = ps->vert;
     double p[3];
     int f, v, i, k;
     for (v = 0; v < tm->nv; v++)
@@ -19274,10 +19413,12 @@ static size_t lst__hash_cell(const lst__hash *h, const double *p, int off[3])
     return ((size_t)c[2] * h->n[1] + c[1]) * h->n[0] + c[0];
 }
 
-/* Buckets of side `cell` over the points of pos (n*3, floats) that keep[] selects. */
-static int lst__hash_build(const pw_alloc *a, const float *pos, int n, const double *keep, double cell, lst__hash *h,
+/* Buckets of side `cell` over the vertices of tm that keep[] selects (>= 0). */
+static int lst__hash_build(const pw_alloc *a, const pw_trimesh *tm, const double *keep, double cell, lst__hash *h,
                            pw_err *e)
 {
+    const float *pos = tm->pos;
+    int n = tm->nv;
     size_t cells, c;
     int i, k;
     double hi[3];
@@ -19347,7 +19488,7 @@ static int lst__depth_snap(const pw_alloc *a, const lst__geo *g, const pw_trimes
             if (d > reach) reach = d;
         }
     if (!(done = (unsigned char *)pw_calloc_array(a, (size_t)g->m.nv, 1, "depth snap", e))) return PW_ERR_NOMEM;
-    if (lst__hash_build(a, tm->pos, tm->nv, vp, reach, &h, e)) {
+    if (lst__hash_build(a, tm, vp, reach, &h, e)) {
         pw_free(a, done);
         return PW_ERR_NOMEM;
     }
@@ -19370,44 +19511,60 @@ static int lst__depth_snap(const pw_alloc *a, const lst__geo *g, const pw_trimes
 
 /* ---- the depth field ----------------------------------------------------------------------- */
 
+/* What one computation of the fields (§5.2.2) works from: the mesh with its
+ * adjacency, the surface the depth constraints are painted on, the
+ * options, and where allocation, progress and errors go. */
+typedef struct lst__field_job {
+    const pw_alloc *a;
+    const lst__geo *g;
+    const lst_mesh *surface;
+    const lst_options *o;
+    const pw_progress *p;
+    pw_err *e;
+} lst__field_job;
+
 /* §5.2.2 thin-plate RBF interpolation of the depth constraints, with its
  * analytic gradient at every vertex; then the boundary snapped to the
  * painted values. */
-static int lst__depth_rbf(const pw_alloc *a, const lst__geo *g, const lst_mesh *surface, const lst_options *o,
-                          double *depth, double *grad, pw_err *e)
+static int lst__depth_rbf(const lst__field_job *j, double *depth, double *grad)
 {
-    pw_trimesh tm;
+    const pw_alloc *a = j->a;
+    const lst__geo *g = j->g;
+    const lst_options *o = j->o;
+    pw_err *e = j->e;
+    lst__painted ps;
     lst__pts pts;
     lst__rbf rbf;
-    double *paint = NULL, *vp = NULL, org[3], lo[3], hi[3], p[3];
+    double lo[3], hi[3], p[3];
     int v, k, r;
     memset(&pts, 0, sizeof pts);
     memset(&rbf, 0, sizeof rbf);
-    if ((r = lst__paint_surface(a, g, surface, &tm, e)) != PW_OK) return r;
-    paint = (double *)pw_alloc_array(a, (size_t)tm.nf, sizeof(double), "depth paint", e);
-    vp = (double *)pw_alloc_array(a, (size_t)tm.nv, sizeof(double), "depth paint", e);
-    r = !paint || !vp ? PW_ERR_NOMEM : lst__paint(a, &tm, o, paint, e);
-    if (r == PW_OK) lst__vertex_paint(&tm, paint, vp), r = lst__depth_points(a, &tm, o, paint, vp, &pts, e);
+    if ((r = lst__paint_surface(a, g, j->surface, &ps.tm, e)) != PW_OK) return r;
+    ps.face = (double *)pw_alloc_array(a, (size_t)ps.tm.nf, sizeof(double), "depth paint", e);
+    ps.vert = (double *)pw_alloc_array(a, (size_t)ps.tm.nv, sizeof(double), "depth paint", e);
+    r = !ps.face || !ps.vert ? PW_ERR_NOMEM : lst__paint(a, &ps.tm, o, ps.face, e);
+    if (r == PW_OK) lst__vertex_paint(&ps.tm, ps.face, ps.vert), r = lst__depth_points(a, &ps, o, &pts, e);
     if (r == PW_OK && pts.n < 1) r = pw_fail(e, PW_ERR_INVALID, "depth constraints: none applies");
     if (r == PW_OK) lst__pts_thin(&pts, lst__count_kind(o, LST_CONSTRAINT_DEPTH_POINT, LST_CONSTRAINT_DEPTH_POINT), o->rbf_centers);
     if (r == PW_OK) {
         for (k = 0; k < 3; k++) lo[k] = hi[k] = g->m.pos[k];
         for (v = 0; v < g->m.nv; v++)
             for (k = 0; k < 3; k++) lo[k] = g->m.pos[3 * v + k] < lo[k] ? g->m.pos[3 * v + k] : lo[k], hi[k] = g->m.pos[3 * v + k] > hi[k] ? g->m.pos[3 * v + k] : hi[k];
-        for (k = 0; k < 3; k++) org[k] = 0.5 * (lo[k] + hi[k]);
-        r = lst__rbf_fit(a, pts.p, pts.val, pts.n, o->rbf_centers, org, g->diag > 0.0 ? g->diag : 1.0, &rbf, e);
+        for (k = 0; k < 3; k++) rbf.o[k] = 0.5 * (lo[k] + hi[k]);
+        rbf.s = g->diag > 0.0 ? g->diag : 1.0;
+        r = lst__rbf_fit(a, &pts, o->rbf_centers, &rbf, e);
     }
     for (v = 0; r == PW_OK && v < g->m.nv; v++) {
         lst__vert(&g->m, v, p);
         depth[v] = lst__rbf_eval(&rbf, p, grad + 3 * v);
         depth[v] = depth[v] < 0.0 ? 0.0 : (depth[v] > 1.0 ? 1.0 : depth[v]);
     }
-    if (r == PW_OK) r = lst__depth_snap(a, g, &tm, vp, depth, e);
+    if (r == PW_OK) r = lst__depth_snap(a, g, &ps.tm, ps.vert, depth, e);
     lst__rbf_free(a, &rbf);
     lst__pts_free(a, &pts);
-    pw_free(a, paint);
-    pw_free(a, vp);
-    pw_trimesh_free(a, &tm);
+    pw_free(a, ps.face);
+    pw_free(a, ps.vert);
+    pw_trimesh_free(a, &ps.tm);
     return r;
 }
 
@@ -19559,12 +19716,13 @@ static int lst__depth_distance(const pw_alloc *a, const lst__geo *g, double *dep
     return PW_OK;
 }
 
-static int lst__depth_field(const pw_alloc *a, const lst__geo *g, const lst_mesh *surface, const lst_options *o,
-                            double *depth, double *grad, pw_err *e)
+static int lst__depth_field(const lst__field_job *j, double *depth, double *grad)
 {
-    int r = lst__check_depth(o, e);
+    int r = lst__check_depth(j->o, j->e);
     if (r != PW_OK) return r;
-    return lst__count_kind(o, LST_CONSTRAINT_DEPTH_FACE, LST_CONSTRAINT_DEPTH_POINT) > 0 ? lst__depth_rbf(a, g, surface, o, depth, grad, e) : lst__depth_distance(a, g, depth, grad, e);
+    return lst__count_kind(j->o, LST_CONSTRAINT_DEPTH_FACE, LST_CONSTRAINT_DEPTH_POINT) > 0
+               ? lst__depth_rbf(j, depth, grad)
+               : lst__depth_distance(j->a, j->g, depth, grad, j->e);
 }
 
 /* ---- Laplacian smoothing (Eqs. 1-2) ---------------------------------------------------- */
@@ -19584,6 +19742,20 @@ static void lst__cons_free(const pw_alloc *a, lst__cons *c)
     pw_free(a, c->bary);
     pw_free(a, c->val);
     memset(c, 0, sizeof *c);
+}
+
+/* One smoothing system (Eqs. 1-2): the located constraints, their weight
+ * W and the least-squares matrix built from them. */
+typedef struct lst__lsq {
+    lst__cons c;
+    double W;
+    pw_csr A;
+} lst__lsq;
+
+static void lst__lsq_free(const pw_alloc *a, lst__lsq *s)
+{
+    pw_csr_free(a, &s->A);
+    lst__cons_free(a, &s->c);
 }
 
 /* The constraints of `kind`, DIRECTION or SCALE (directions made unit,
@@ -19616,45 +19788,55 @@ static int lst__field_cons(const pw_alloc *a, const lst__geo *g, const lst_optio
     return PW_OK;
 }
 
-/* The least-squares system: a Laplacian row per vertex (Eq. 1: x_i minus
- * the weighted mean of its one-ring; weights uniform, or exp(-(k(d_i -
- * d_j))^2) normalised when depth is given, §5.2.2), then W times each
+/* The least-squares system s->A: a Laplacian row per vertex (Eq. 1: x_i
+ * minus the weighted mean of its one-ring; weights uniform, or exp(-(kw(d_i
+ * - d_j))^2) normalised when depth is given, §5.2.2), then W times each
  * constraint row (Eq. 2). */
-static int lst__smooth_matrix(const pw_alloc *a, const lst__geo *g, const double *depth, double kw, const lst__cons *c,
-                              double W, pw_csr *A, pw_err *e)
+static int lst__smooth_matrix(const lst__field_job *j, const double *depth, double kw, lst__lsq *s)
 {
+    const pw_alloc *a = j->a;
+    const lst__geo *g = j->g;
+    const lst__cons *c = &s->c;
+    double W = s->W;
+    pw_err *e = j->e;
     pw_triplets t;
-    int v, j, i, k, r;
+    int v, jj, i, k, r;
     if ((r = pw_triplets_init(&t, a, g->m.nv + c->n, g->m.nv, e)) != PW_OK) return r;
     for (v = 0; v < g->m.nv && r == PW_OK; v++) {
         double sum = 0.0;
         int lo = g->rings.start[v], hi = g->rings.start[v + 1];
         if (lo == hi) continue; /* an unused vertex keeps its guess */
-        for (j = lo; j < hi; j++) {
-            double dd = depth ? kw * (depth[v] - depth[g->rings.adj[j]]) : 0.0;
+        for (jj = lo; jj < hi; jj++) {
+            double dd = depth ? kw * (depth[v] - depth[g->rings.adj[jj]]) : 0.0;
             sum += depth ? lst__exp_neg(-dd * dd) : 1.0;
         }
         r = pw_triplets_add(&t, v, v, 1.0, e);
-        for (j = lo; j < hi && r == PW_OK; j++) {
-            double dd = depth ? kw * (depth[v] - depth[g->rings.adj[j]]) : 0.0;
-            r = pw_triplets_add(&t, v, g->rings.adj[j], -(depth ? lst__exp_neg(-dd * dd) : 1.0) / sum, e);
+        for (jj = lo; jj < hi && r == PW_OK; jj++) {
+            double dd = depth ? kw * (depth[v] - depth[g->rings.adj[jj]]) : 0.0;
+            r = pw_triplets_add(&t, v, g->rings.adj[jj], -(depth ? lst__exp_neg(-dd * dd) : 1.0) / sum, e);
         }
     }
     for (i = 0; i < c->n && r == PW_OK; i++)
         for (k = 0; k < 4 && r == PW_OK; k++)
             r = pw_triplets_add(&t, g->m.nv + i, g->m.tet[4 * c->tet[i] + k], W * c->bary[4 * i + k], e);
-    if (r == PW_OK) r = pw_csr_from_triplets(a, &t, A, e);
+    if (r == PW_OK) r = pw_csr_from_triplets(a, &t, &s->A, e);
     pw_triplets_free(&t);
     return r;
 }
 
 /* Solves one component: x (nv, holding the guess) minimising the rows of
- * A with right-hand side 0 for the Laplacian rows and W val[dim*i + comp]
- * for constraint i. A solver that stops short of its tolerance still gives
- * a usable smooth field; only memory and cancellation are errors. */
-static int lst__smooth_solve(const pw_alloc *a, const pw_csr *A, int nv, const lst__cons *c, int dim, int comp, double W,
-                             const pw_progress *p, double *x, pw_err *e)
+ * s->A with right-hand side 0 for the Laplacian rows and W val[dim*i +
+ * comp] for constraint i. A solver that stops short of its tolerance still
+ * gives a usable smooth field; only memory and cancellation are errors. */
+static int lst__smooth_solve(const lst__field_job *j, const lst__lsq *s, int dim, int comp, double *x)
 {
+    const pw_alloc *a = j->a;
+    const pw_csr *A = &s->A;
+    const lst__cons *c = &s->c;
+    const pw_progress *p = j->p;
+    double W = s->W;
+    int nv = j->g->m.nv;
+    pw_err *e = j->e;
     double *b = (double *)pw_calloc_array(a, (size_t)A->n, sizeof(double), "smoothing", e);
     pw_cg_options co = pw_cg_default_options();
     pw_cg_stats st;
@@ -19700,58 +19882,57 @@ static void lst__principal_axis(const pw_tetmesh *m, double *axis)
 /* §5.2.2 the direction field (unit, per vertex): the constraints smoothed
  * per component (depth-aware weights for 2-a/2-b), normalised; without
  * constraints the given or principal axis everywhere. */
-static int lst__direction_field(const pw_alloc *a, const lst__geo *g, const lst_options *o, const double *depth,
-                                const pw_progress *p, double *dir, pw_err *e)
+static int lst__direction_field(const lst__field_job *j, const double *depth, double *dir)
 {
-    lst__cons c;
-    pw_csr A;
+    const pw_alloc *a = j->a;
+    const lst__geo *g = j->g;
+    const lst_options *o = j->o;
+    pw_err *e = j->e;
+    lst__lsq s;
     double axis[3], *x = NULL;
     int v, k, r;
     for (k = 0; k < 3; k++) axis[k] = o->axis[k];
     if (!(pw_norm3(axis) > 0.0)) lst__principal_axis(&g->m, axis);
     for (v = 0; v < g->m.nv; v++) memcpy(dir + 3 * v, axis, sizeof axis);
-    memset(&A, 0, sizeof A);
-    if ((r = lst__field_cons(a, g, o, LST_CONSTRAINT_DIRECTION, &c, e)) != PW_OK || c.n == 0) {
-        lst__cons_free(a, &c);
+    memset(&s, 0, sizeof s);
+    s.W = o->constraint_weight;
+    if ((r = lst__field_cons(a, g, o, LST_CONSTRAINT_DIRECTION, &s.c, e)) != PW_OK || s.c.n == 0) {
+        lst__cons_free(a, &s.c);
         return r;
     }
     if (!(x = (double *)pw_alloc_array(a, (size_t)g->m.nv, sizeof(double), "direction field", e))) r = PW_ERR_NOMEM;
     if (r == PW_OK)
-        r = lst__smooth_matrix(a, g, o->type == LST_TYPE_2A || o->type == LST_TYPE_2B ? depth : NULL, o->layer_weight, &c,
-                               o->constraint_weight, &A, e);
+        r = lst__smooth_matrix(j, o->type == LST_TYPE_2A || o->type == LST_TYPE_2B ? depth : NULL, o->layer_weight, &s);
     for (k = 0; k < 3 && r == PW_OK; k++) {
         for (v = 0; v < g->m.nv; v++) x[v] = axis[k];
-        if ((r = lst__smooth_solve(a, &A, g->m.nv, &c, 3, k, o->constraint_weight, p, x, e)) == PW_OK)
+        if ((r = lst__smooth_solve(j, &s, 3, k, x)) == PW_OK)
             for (v = 0; v < g->m.nv; v++) dir[3 * v + k] = x[v];
     }
     for (v = 0; r == PW_OK && v < g->m.nv; v++)
         if (!(pw_norm3(dir + 3 * v) > 1e-12)) memcpy(dir + 3 * v, axis, sizeof axis);
-    pw_csr_free(a, &A);
     pw_free(a, x);
-    lst__cons_free(a, &c);
+    lst__lsq_free(a, &s);
     return r;
 }
 
 /* The user's scale field (types 0, 1-a, 2-a): constraints smoothed, or
  * the default everywhere; kept above a thousandth of the default. */
-static int lst__scale_field(const pw_alloc *a, const lst__geo *g, const lst_options *o, double s0, const pw_progress *p,
-                            double *scale, pw_err *e)
+static int lst__scale_field(const lst__field_job *j, double s0, double *scale)
 {
-    lst__cons c;
-    pw_csr A;
+    const lst__geo *g = j->g;
+    lst__lsq s;
     int v, r;
     for (v = 0; v < g->m.nv; v++) scale[v] = s0;
-    memset(&A, 0, sizeof A);
-    if ((r = lst__field_cons(a, g, o, LST_CONSTRAINT_SCALE, &c, e)) != PW_OK || c.n == 0) {
-        lst__cons_free(a, &c);
+    memset(&s, 0, sizeof s);
+    s.W = j->o->constraint_weight;
+    if ((r = lst__field_cons(j->a, g, j->o, LST_CONSTRAINT_SCALE, &s.c, j->e)) != PW_OK || s.c.n == 0) {
+        lst__cons_free(j->a, &s.c);
         return r;
     }
-    if ((r = lst__smooth_matrix(a, g, NULL, 1.0, &c, o->constraint_weight, &A, e)) == PW_OK)
-        r = lst__smooth_solve(a, &A, g->m.nv, &c, 1, 0, o->constraint_weight, p, scale, e);
+    if ((r = lst__smooth_matrix(j, NULL, 1.0, &s)) == PW_OK) r = lst__smooth_solve(j, &s, 1, 0, scale);
     for (v = 0; v < g->m.nv; v++)
         if (!(scale[v] > 1e-3 * s0)) scale[v] = 1e-3 * s0;
-    pw_csr_free(a, &A);
-    lst__cons_free(a, &c);
+    lst__lsq_free(j->a, &s);
     return r;
 }
 
@@ -19808,9 +19989,12 @@ static double lst__default_scale(const lst__geo *g, const lst_options *o)
 
 /* All of §5.2.2: depth (float per vertex, for types that have one; NULL
  * otherwise) and the frame of every tetrahedron, allocated here. */
-static int lst__fields(const pw_alloc *a, const lst__geo *g, const lst_mesh *surface, const lst_options *o,
-                       const pw_progress *p, float **depth_out, float **frame_out, pw_err *e)
+static int lst__fields(const lst__field_job *j, float **depth_out, float **frame_out)
 {
+    const pw_alloc *a = j->a;
+    const lst__geo *g = j->g;
+    const lst_options *o = j->o;
+    pw_err *e = j->e;
     int nv = g->m.nv, v, r = PW_OK, hd = lst__has_depth(o->type);
     double *depth = NULL, *grad = NULL, *dir = NULL, *scale, s0 = lst__default_scale(g, o);
     *depth_out = NULL;
@@ -19825,16 +20009,16 @@ static int lst__fields(const pw_alloc *a, const lst__geo *g, const lst_mesh *sur
     if (lst__has_direction(o->type) && !(dir = (double *)pw_alloc_array(a, (size_t)nv * 3, sizeof(double), "direction field", e)))
         r = PW_ERR_NOMEM;
     if (!*frame_out || !scale) r = PW_ERR_NOMEM;
-    if (r == PW_OK && hd) r = lst__depth_field(a, g, surface, o, depth, grad, e);
-    if (r == PW_OK && pw_report(p, 0.3f, "fields", e) != PW_OK) r = PW_ERR_CANCELLED;
-    if (r == PW_OK && dir) r = lst__direction_field(a, g, o, depth, p, dir, e);
+    if (r == PW_OK && hd) r = lst__depth_field(j, depth, grad);
+    if (r == PW_OK && pw_report(j->p, 0.3f, "fields", e) != PW_OK) r = PW_ERR_CANCELLED;
+    if (r == PW_OK && dir) r = lst__direction_field(j, depth, dir);
     if (r == PW_OK && lst__depth_varying(o->type)) /* §5.2.7: scale = 1 / |grad depth| */
         for (v = 0; v < nv; v++) {
             double gl = sqrt(pw_dot3(grad + 3 * v, grad + 3 * v)), s = gl > 0.0 ? 1.0 / gl : 2.0 * g->diag;
             scale[v] = s < 1e-3 * g->diag ? 1e-3 * g->diag : (s > 2.0 * g->diag ? 2.0 * g->diag : s);
         }
     else if (r == PW_OK)
-        r = lst__scale_field(a, g, o, s0, p, scale, e);
+        r = lst__scale_field(j, s0, scale);
     if (r == PW_OK) {
         lst__tet_frames(&g->m, o->type, dir, grad, scale, *frame_out);
         for (v = 0; hd && v < nv; v++) (*depth_out)[v] = (float)depth[v];
@@ -19855,14 +20039,16 @@ LSTDEF lst_result lst_compute_field(const lst_tetmesh *mesh, const lst_mesh *sur
     pw_progress p = lst__progress(&o);
     pw_tetmesh m;
     lst__geo g;
+    lst__field_job job;
     pw_err e;
     pw_err_clear(&e);
+    job.a = &a, job.g = &g, job.surface = surface, job.o = &o, job.p = &p, job.e = &e;
     if (out) memset(out, 0, sizeof *out);
     if (!out) pw_fail(&e, PW_ERR_INVALID, "lst_compute_field: NULL output");
     else if (lst__check_options(&o, &e) == PW_OK && lst__check_tets(mesh, &e) == PW_OK) {
         m = lst__pw_tets(mesh);
         if (lst__geo_init(&a, &m, &g, &e) == PW_OK) {
-            if (lst__fields(&a, &g, surface, &o, &p, &out->depth, &out->frame, &e) == PW_OK) {
+            if (lst__fields(&job, &out->depth, &out->frame) == PW_OK) {
                 out->nverts = m.nv;
                 out->ntets = m.nt;
                 out->allocator = lst__allocator(&a);
@@ -19875,16 +20061,28 @@ LSTDEF lst_result lst_compute_field(const lst_tetmesh *mesh, const lst_mesh *sur
 
 /* ---- growable constraint lists (files, built-in constraints) ---------------------------------- */
 
-static int lst__add_constraint(const pw_alloc *a, lst_constraint **c, size_t *cap, int *n, lst_constraint_kind kind,
-                               int face, const double *p, const double *d, double value, double crease, pw_err *e)
+typedef struct lst__cset {
+    lst_constraint *c;
+    int n;
+    size_t cap;
+} lst__cset;
+
+/* A constraint from its parts (p, d: NULL for none). */
+static lst_constraint lst__constraint(lst_constraint_kind kind, int face, const double *p, const double *d, double value,
+                                      double crease)
 {
-    lst_constraint *x;
+    lst_constraint x;
     int k;
-    if (pw_grow(a, (void **)c, cap, (size_t)*n + 1, sizeof **c, "constraints", e)) return PW_ERR_NOMEM;
-    x = &(*c)[(*n)++];
-    memset(x, 0, sizeof *x);
-    x->kind = kind, x->face = face, x->value = (float)value, x->crease = (float)crease;
-    for (k = 0; k < 3; k++) x->point[k] = p ? (float)p[k] : 0.0f, x->direction[k] = d ? (float)d[k] : 0.0f;
+    memset(&x, 0, sizeof x);
+    x.kind = kind, x.face = face, x.value = (float)value, x.crease = (float)crease;
+    for (k = 0; k < 3; k++) x.point[k] = p ? (float)p[k] : 0.0f, x.direction[k] = d ? (float)d[k] : 0.0f;
+    return x;
+}
+
+static int lst__add_constraint(const pw_alloc *a, lst__cset *s, lst_constraint x, pw_err *e)
+{
+    if (pw_grow(a, (void **)&s->c, &s->cap, (size_t)s->n + 1, sizeof *s->c, "constraints", e)) return PW_ERR_NOMEM;
+    s->c[s->n++] = x;
     return PW_OK;
 }
 
@@ -19910,6 +20108,8 @@ typedef struct lst__spec {
     int mask;          /* mask index */
     int manual;        /* §4.6: one rigid frame for the whole clump */
     int depth_coord;   /* v is the depth (§5.2.7), not solved */
+    double inv[9];     /* the affine map (lst__spec_setup): the frame's inverse (tensor axes to texture axes) */
+    double ctr[3];     /* and the texture centre in mesh coordinates */
 } lst__spec;
 
 /* The state of a fill. */
@@ -20082,8 +20282,9 @@ static int lst__similar(const lst__fill *F, const lst__spec *s, const double *ax
 /* The affine map of §5.2.4 for paste s: texture coordinates of point p,
  * from the seed frame's inverse (tensor axes to texture axes) and the
  * centre (depth-varying pastes replace v, see lst__predict). */
-static void lst__affine(const lst__spec *s, const double *inv, const double *c, const double *p, double *out)
+static void lst__affine(const lst__spec *s, const double *p, double *out)
 {
+    const double *inv = s->inv, *c = s->ctr;
     double d[3] = {p[0] - c[0], p[1] - c[1], p[2] - c[2]};
     int k;
     for (k = 0; k < 3; k++) out[k] = s->w0[k] + inv[3 * k] * d[0] + inv[3 * k + 1] * d[1] + inv[3 * k + 2] * d[2];
@@ -20190,15 +20391,14 @@ static int lst__clump_add(lst__fill *F, int id, int t, double c[4][3], pw_err *e
 /* The texture coordinates of t's corners: the clump's where the corner is
  * in it, else the affine map moved by the mean offset of the clump's
  * corners from it (so that regrowth continues the warped map). */
-static void lst__predict(const lst__fill *F, const lst__spec *s, int id, const double *inv, const double *ctr, int t,
-                         double c[4][3])
+static void lst__predict(const lst__fill *F, const lst__spec *s, int id, int t, double c[4][3])
 {
     double off[3] = {0, 0, 0}, p[3], aff[4][3];
     int k, i, n = 0;
     for (k = 0; k < 4; k++) {
         int v = F->g->m.tet[4 * t + k];
         lst__vert(&F->g->m, v, p);
-        lst__affine(s, inv, ctr, p, aff[k]);
+        lst__affine(s, p, aff[k]);
         if (F->vstamp[v] == id) {
             for (i = 0; i < 3; i++) off[i] += F->w[3 * F->vlocal[v] + i] - aff[k][i];
             n++;
@@ -20217,8 +20417,7 @@ static void lst__predict(const lst__fill *F, const lst__spec *s, int id, const d
  * round joins when it is partly inside the mask under the (predicted) map.
  * Breadth first over the clump as it grows; returns the number added or -1
  * on failure. tstate: 1 in the clump, 2 refused, 16 + round tested outside. */
-static int lst__grow(lst__fill *F, const lst__spec *s, int id, const double *inv, const double *ctr, int round,
-                     pw_err *e)
+static int lst__grow(lst__fill *F, const lst__spec *s, int id, int round, pw_err *e)
 {
     int i, k, added = 0;
     for (i = 0; i < F->nct; i++) {
@@ -20238,7 +20437,7 @@ static int lst__grow(lst__fill *F, const lst__spec *s, int id, const double *inv
                 }
             }
             F->tstate[u] = 16 + round;
-            lst__predict(F, s, id, inv, ctr, u, c);
+            lst__predict(F, s, id, u, c);
             if (lst__overlap(F, &F->mask[s->mask], c) == LST__OUT) continue;
             if (lst__clump_add(F, id, u, c, e)) return -1;
             added++;
@@ -20411,8 +20610,9 @@ static int lst__store(lst__fill *F, const lst__spec *s, pw_err *e)
 /* ---- one paste ---------------------------------------------------------------------------------- */
 
 /* Seed frame, map and mask of paste s (s->seed, centre, manual frame set). */
-static int lst__spec_setup(lst__fill *F, lst__spec *s, double *inv, double *ctr)
+static int lst__spec_setup(lst__fill *F, lst__spec *s)
 {
+    double *inv = s->inv, *ctr = s->ctr;
     double m[9], d = 0.0;
     int k, j;
     if (!s->manual) {
@@ -20444,17 +20644,17 @@ static int lst__spec_setup(lst__fill *F, lst__spec *s, double *inv, double *ctr)
  * again. */
 static int lst__paste_one(lst__fill *F, lst__spec *s, int coverage, const pw_progress *p, pw_err *e)
 {
-    double inv[9], ctr[3], c[4][3];
+    double c[4][3];
     int id = F->npastes, round, added, r;
     F->nct = F->ncv = 0;
-    if (!lst__spec_setup(F, s, inv, ctr)) return pw_fail(e, PW_ERR_DEGENERATE, "tetrahedron %d has a degenerate tensor", s->seed);
-    lst__predict(F, s, id, inv, ctr, s->seed, c);
+    if (!lst__spec_setup(F, s)) return pw_fail(e, PW_ERR_DEGENERATE, "tetrahedron %d has a degenerate tensor", s->seed);
+    lst__predict(F, s, id, s->seed, c);
     F->tstamp[s->seed] = id;
     if ((r = lst__clump_add(F, id, s->seed, c, e)) != PW_OK) return r;
-    if (lst__grow(F, s, id, inv, ctr, 0, e) < 0) return PW_ERR_NOMEM;
+    if (lst__grow(F, s, id, 0, e) < 0) return PW_ERR_NOMEM;
     for (round = 1; round <= 5; round++) {
         if ((r = lst__optimise(F, s, p, e)) != PW_OK) return r;
-        if (round == 5 || (added = lst__grow(F, s, id, inv, ctr, round, e)) == 0) break;
+        if (round == 5 || (added = lst__grow(F, s, id, round, e)) == 0) break;
         if (added < 0) return PW_ERR_NOMEM;
         if (added * 20 < F->nct) break;
     }
@@ -20478,14 +20678,14 @@ static void lst__fill_free(lst__fill *F)
     memset(F, 0, sizeof *F);
 }
 
-/* The scratch of a fill over mesh g with masks (coverage: the sample
- * points and the uncovered list too). */
-static int lst__fill_init(lst__fill *F, const pw_alloc *a, const lst_options *o, const lst__geo *g,
-                          const pw_volume *masks, int nmasks, int coverage, pw_err *e)
+/* The scratch of a fill with masks (nmasks of them; coverage: the sample
+ * points and the uncovered list too). The caller zeroes *F and sets what
+ * the fill works on: F->a, F->o and the mesh F->g. */
+static int lst__fill_init(lst__fill *F, const pw_volume *masks, int nmasks, int coverage, pw_err *e)
 {
-    int nt = g->m.nt, nv = g->m.nv, k;
-    memset(F, 0, sizeof *F);
-    F->a = a, F->o = *o, F->g = g;
+    const pw_alloc *a = F->a;
+    const lst_options *o = &F->o;
+    int nt = F->g->m.nt, nv = F->g->m.nv, k;
     F->rng = pw_rng_seed(o->seed, 0x157);
     F->threshold = (int)(o->coverage * 255.0f + 0.999f);
     F->tstamp = (int *)pw_alloc_array(a, (size_t)nt, sizeof(int), "fill", e);
@@ -20639,9 +20839,10 @@ static int lst__copy_volume(const pw_alloc *a, const lst_volume *src, int channe
 }
 
 /* The model's own mesh, texture (alpha, now a mask, dropped), values and masks. */
-static int lst__model_start(const pw_alloc *a, const lst_tetmesh *mesh, const lst_volume *ex, const lst_volume *values,
-                            const lst_options *o, lst_model *out, pw_err *e)
+static int lst__model_start(const pw_alloc *a, const lst_tetmesh *mesh, const lst_source *src, const lst_options *o,
+                            lst_model *out, pw_err *e)
 {
+    const lst_volume *ex = src->exemplar, *values = src->values;
     int r;
     size_t nv = (size_t)mesh->nverts * 3, nt = (size_t)mesh->ntets * 4;
     out->allocator = lst__allocator(a);
@@ -20683,10 +20884,15 @@ static int lst__create(const pw_alloc *a, const lst_mesh *surface, const lst_opt
     int k, r;
     if ((r = lst__geo_init(a, &m, &g, e)) != PW_OK) return r;
     if (o->field) r = lst__check_fields(o->field, &m, o->type, e);
-    else r = lst__fields(a, &g, surface, o, &p, &depth, &frame, e);
+    else {
+        lst__field_job job;
+        job.a = a, job.g = &g, job.surface = surface, job.o = o, job.p = &p, job.e = e;
+        r = lst__fields(&job, &depth, &frame);
+    }
     for (k = 0; k < out->masks.count; k++) masks[k] = lst__pw_volume(&out->masks.volumes[k]);
-    if (r == PW_OK) r = lst__fill_init(&F, a, o, &g, masks, out->masks.count, 1, e);
-    else memset(&F, 0, sizeof F), F.a = a;
+    memset(&F, 0, sizeof F);
+    F.a = a, F.o = *o, F.g = &g;
+    if (r == PW_OK) r = lst__fill_init(&F, masks, out->masks.count, 1, e);
     F.frame = o->field ? o->field->frame : frame;
     F.depth = lst__depth_varying(o->type) ? (o->field ? o->field->depth : depth) : NULL;
     if (r == PW_OK) r = lst__fill_run(&F, &p, e);
@@ -20714,7 +20920,7 @@ LSTDEF lst_result lst_create(const lst_tetmesh *mesh, const lst_mesh *surface, c
     if (out) memset(out, 0, sizeof *out);
     if (!out) pw_fail(&e, PW_ERR_INVALID, "lst_create: NULL output");
     else if (lst__check_options(&o, &e) == PW_OK && lst__check_inputs(mesh, exemplar, values, &e) == PW_OK &&
-             lst__model_start(&a, mesh, exemplar, values, &o, out, &e) == PW_OK)
+             lst__model_start(&a, mesh, src, &o, out, &e) == PW_OK)
         lst__create(&a, surface, &o, out, &e);
     if (out && e.code != PW_OK) lst_model_free(out);
     return lst__done(&e, err);
@@ -20722,13 +20928,13 @@ LSTDEF lst_result lst_create(const lst_tetmesh *mesh, const lst_mesh *surface, c
 
 /* ---- §4.6 manual pasting --------------------------------------------------------------------------- */
 
-static int lst__manual_spec(const lst__geo *g, const float *point, const float *u_axis, const float *v_axis, float scale,
-                            lst__spec *s, pw_err *e)
+static int lst__manual_spec(const lst__geo *g, const lst_paste_spec *spec, lst__spec *s, pw_err *e)
 {
     double p[3], u[3], v[3], w[3];
+    float scale = spec->scale;
     int k;
     memset(s, 0, sizeof *s);
-    for (k = 0; k < 3; k++) p[k] = point[k], u[k] = u_axis[k], v[k] = v_axis[k];
+    for (k = 0; k < 3; k++) p[k] = spec->point[k], u[k] = spec->u_axis[k], v[k] = spec->v_axis[k];
     if (!pw_is_finite(p[0] + p[1] + p[2]) || !(scale > 0.0f && pw_is_finite(scale)))
         return pw_fail(e, PW_ERR_INVALID, "manual paste: the point or the scale is not valid");
     if (!(pw_norm3(u) > 0.0) || !pw_is_finite(u[0] + u[1] + u[2]) || !pw_is_finite(v[0] + v[1] + v[2]))
@@ -20771,8 +20977,8 @@ LSTDEF lst_result lst_paste_at(lst_model *model, const lst_paste_spec *spec, con
     memset(&F, 0, sizeof F);
     F.a = &a;
     if (lst__geo_init(&a, &m, &g, &e) != PW_OK) return lst__done(&e, err);
-    if (lst__manual_spec(&g, spec->point, spec->u_axis, spec->v_axis, spec->scale, &s, &e) == PW_OK &&
-        lst__fill_init(&F, &a, &o, &g, &mv, 1, 0, &e) == PW_OK) {
+    F.o = o, F.g = &g;
+    if (lst__manual_spec(&g, spec, &s, &e) == PW_OK && lst__fill_init(&F, &mv, 1, 0, &e) == PW_OK) {
         s.mask = 0; /* the one mask of this fill */
         if (lst__paste_one(&F, &s, 0, NULL, &e) == PW_OK &&
             (grown = (lst_paste *)pw_realloc(&a, model->pastes, sizeof(lst_paste) * ((size_t)model->npastes + 1))) != NULL) {
@@ -21103,10 +21309,12 @@ static int lst__check_render(const lst_render_options *o, pw_err *e)
     return PW_OK;
 }
 
-/* Draws triangle list t (positions: its own or the mesh's). */
-static int lst__draw_tris(pw_fb *fb, const pw_camera *cam, const lst_model *m, const lst__tris *t, lst__shading *S,
+/* Draws triangle list t (positions: its own or those of the mesh of the
+ * model S->v shows). */
+static int lst__draw_tris(pw_fb *fb, const pw_camera *cam, const lst__tris *t, lst__shading *S,
                           const lst_render_options *o, pw_err *e)
 {
+    const lst_model *m = S->v->m;
     pw_draw d;
     if (t->n == 0) return PW_OK;
     S->tris = t;
@@ -21174,14 +21382,23 @@ static int lst__vertex_normals(const pw_alloc *a, const lst_model *m, const lst_
     return PW_OK;
 }
 
-/* Shared vertices of the subdivided surface: mesh corners by index, edge
- * points by (lower vertex, upper vertex, step from the lower one) in an
- * open-addressing table, interior points unshared. */
+/* The surface s being subdivided k x k and displaced into out, and its
+ * shared vertices: mesh corners by index, edge points by (lower vertex,
+ * upper vertex, step from the lower one) in an open-addressing table,
+ * interior points unshared. */
 typedef struct lst__subdiv {
     int *corner;    /* nv: subdivided vertex of each mesh vertex, or -1 */
     uint64_t *key;  /* table of edge points */
     int *val;
     size_t mask;
+    const pw_alloc *a;
+    const lst__view *v;  /* evaluates the displacement channel */
+    const lst__tris *s;  /* the surface triangles */
+    const float *vn;     /* their smooth vertex normals */
+    int k;               /* grid steps per triangle side */
+    double amount;       /* displacement per unit of (value - 0.5) */
+    lst__tris *out;
+    pw_err *e;
 } lst__subdiv;
 
 static int *lst__edge_slot(lst__subdiv *sd, int a, int b, int step)
@@ -21194,10 +21411,13 @@ static int *lst__edge_slot(lst__subdiv *sd, int a, int b, int step)
 }
 
 /* Point (i, j) of the k x k grid on surface triangle f, displaced along
- * the interpolated normal by displace * (value - 0.5). */
-static int lst__displaced_point(const pw_alloc *a, const lst__view *v, const lst__tris *s, const float *vn, int f, int i,
-                                int j, int k, double amount, lst__tris *out, pw_err *e)
+ * the interpolated normal by amount * (value - 0.5). */
+static int lst__displaced_point(const lst__subdiv *sd, int f, int i, int j)
 {
+    const lst__view *v = sd->v;
+    const lst__tris *s = sd->s;
+    const float *vn = sd->vn;
+    int k = sd->k;
     const int *c = s->tri + 3 * f;
     double b[3] = {1.0 - (double)(i + j) / k, (double)i / k, (double)j / k}, p[3] = {0, 0, 0}, n[3] = {0, 0, 0}, l[4];
     float rgba[4], val[4] = {0.5f, 0.5f, 0.5f, 0.5f};
@@ -21207,16 +21427,16 @@ static int lst__displaced_point(const pw_alloc *a, const lst__view *v, const lst
         for (r = 0; r < 3; r++) p[r] += b[q] * v->m->mesh.positions[3 * c[q] + r], n[r] += b[q] * vn[3 * c[q] + r];
     pw_norm3(n);
     lst__eval(v, s->tet[f], l, rgba, val);
-    for (r = 0; r < 3; r++) p[r] += n[r] * amount * (val[0] - 0.5);
-    return lst__tris_vertex(a, out, p, e);
+    for (r = 0; r < 3; r++) p[r] += n[r] * sd->amount * (val[0] - 0.5);
+    return lst__tris_vertex(sd->a, sd->out, p, sd->e);
 }
 
 /* The index of grid point (i, j) of triangle f, shared where the point is
  * a corner or on an edge. */
-static int lst__grid_vertex(const pw_alloc *a, lst__subdiv *sd, const lst__view *v, const lst__tris *s, const float *vn,
-                            int f, int i, int j, int k, double amount, lst__tris *out, pw_err *e)
+static int lst__grid_vertex(lst__subdiv *sd, int f, int i, int j)
 {
-    const int *c = s->tri + 3 * f;
+    const int *c = sd->s->tri + 3 * f;
+    int k = sd->k;
     int *slot = NULL, x, y, step;
     if (i + j == 0 || i == k || j == k) slot = &sd->corner[c[i == k ? 1 : (j == k ? 2 : 0)]];
     else if (j == 0 || i == 0 || i + j == k) { /* on edge (x, y) at `step` from x */
@@ -21230,18 +21450,19 @@ static int lst__grid_vertex(const pw_alloc *a, lst__subdiv *sd, const lst__view 
         slot = lst__edge_slot(sd, x, y, step);
     }
     if (slot && *slot >= 0) return *slot;
-    x = lst__displaced_point(a, v, s, vn, f, i, j, k, amount, out, e);
+    x = lst__displaced_point(sd, f, i, j);
     if (slot) *slot = x;
     return x;
 }
 
 /* Adds sub-triangle (p, q, r) of surface triangle f, grid points given as
  * (i, j) pairs, with their barycentric coordinates in f's tetrahedron. */
-static int lst__sub_tri(const pw_alloc *a, const lst__tris *s, int f, const int *idx, int ij[3][2], int k,
-                        lst__tris *out, pw_err *e)
+static int lst__sub_tri(const lst__subdiv *sd, int f, const int *idx, int ij[3][2])
 {
-    int q, r;
-    if (lst__tris_room(a, out, e)) return PW_ERR_NOMEM;
+    const lst__tris *s = sd->s;
+    lst__tris *out = sd->out;
+    int q, r, k = sd->k;
+    if (lst__tris_room(sd->a, out, sd->e)) return PW_ERR_NOMEM;
     for (q = 0; q < 3; q++) {
         double b[3] = {1.0 - (double)(ij[q][0] + ij[q][1]) / k, (double)ij[q][0] / k, (double)ij[q][1] / k};
         out->tri[3 * out->n + q] = idx[q];
@@ -21253,10 +21474,9 @@ static int lst__sub_tri(const pw_alloc *a, const lst__tris *s, int f, const int 
     return PW_OK;
 }
 
-static int lst__subdivide_face(const pw_alloc *a, lst__subdiv *sd, const lst__view *v, const lst__tris *s, const float *vn,
-                               int f, int k, double amount, lst__tris *out, pw_err *e)
+static int lst__subdivide_face(lst__subdiv *sd, int f)
 {
-    int i, j, idx[3], tri, q;
+    int i, j, idx[3], tri, q, k = sd->k;
     for (j = 0; j < k; j++)
         for (i = 0; i + j < k; i++)
             for (tri = 0; tri < (i + j + 1 < k ? 2 : 1); tri++) {
@@ -21264,9 +21484,8 @@ static int lst__subdivide_face(const pw_alloc *a, lst__subdiv *sd, const lst__vi
                 if (tri == 0) ij[0][0] = i, ij[0][1] = j, ij[1][0] = i + 1, ij[1][1] = j, ij[2][0] = i, ij[2][1] = j + 1;
                 else ij[0][0] = i + 1, ij[0][1] = j, ij[1][0] = i + 1, ij[1][1] = j + 1, ij[2][0] = i, ij[2][1] = j + 1;
                 for (q = 0; q < 3; q++)
-                    if ((idx[q] = lst__grid_vertex(a, sd, v, s, vn, f, ij[q][0], ij[q][1], k, amount, out, e)) < 0)
-                        return PW_ERR_NOMEM;
-                if (lst__sub_tri(a, s, f, idx, ij, k, out, e)) return PW_ERR_NOMEM;
+                    if ((idx[q] = lst__grid_vertex(sd, f, ij[q][0], ij[q][1])) < 0) return PW_ERR_NOMEM;
+                if (lst__sub_tri(sd, f, idx, ij)) return PW_ERR_NOMEM;
             }
     return PW_OK;
 }
@@ -21290,8 +21509,9 @@ static int lst__displace(const pw_alloc *a, const lst__view *v, const lst__tris 
     sd.key = (uint64_t *)pw_calloc_array(a, cap, sizeof(uint64_t), "subdivision", e);
     sd.val = (int *)pw_alloc_array(a, cap, sizeof(int), "subdivision", e);
     if (!sd.corner || !sd.key || !sd.val || lst__vertex_normals(a, v->m, s, &vn, e)) r = PW_ERR_NOMEM;
+    sd.a = a, sd.v = v, sd.s = s, sd.vn = vn, sd.k = k, sd.amount = o->displace, sd.out = out, sd.e = e;
     for (f = 0; r == PW_OK && f < v->m->mesh.nverts; f++) sd.corner[f] = -1;
-    for (f = 0; r == PW_OK && f < s->n; f++) r = lst__subdivide_face(a, &sd, v, s, vn, f, k, o->displace, out, e);
+    for (f = 0; r == PW_OK && f < s->n; f++) r = lst__subdivide_face(&sd, f);
     pw_free(a, sd.corner), pw_free(a, sd.key), pw_free(a, sd.val), pw_free(a, vn);
     if (r != PW_OK) lst__tris_free(a, out);
     return r;
@@ -21340,8 +21560,8 @@ static int lst__surface_band(void *user, pw_fb *fb, pw_err *e)
     int r;
     memset(&S, 0, sizeof S);
     S.v = B->v;
-    r = lst__draw_tris(fb, &B->cam, B->m, B->outer, &S, B->o, e);
-    if (r == PW_OK) r = lst__draw_tris(fb, &B->cam, B->m, B->cut, &S, B->o, e);
+    r = lst__draw_tris(fb, &B->cam, B->outer, &S, B->o, e);
+    if (r == PW_OK) r = lst__draw_tris(fb, &B->cam, B->cut, &S, B->o, e);
     return r;
 }
 
@@ -21391,11 +21611,29 @@ LSTDEF lst_result lst_render(const lst_model *model, const lst_render_options *r
 
 /* ---- §5.1.2 volume rendering --------------------------------------------------------------------- */
 
-/* Marching tetrahedra on one tetrahedron: the triangles (1 or 2) of the
- * level set phi = z, their corners on the edges, appended to out with
- * their own vertices. */
-static int lst__slice_tet(const pw_alloc *a, const pw_tetmesh *m, int t, const double *phi, double z, lst__tris *out, pw_err *e)
+/* What every band of a volume rendering draws: the slices, back to front,
+ * of the tetrahedra whose picture (rows ylo..yhi) meets the band. */
+typedef struct lst__volume_frame {
+    const pw_alloc *a;
+    const lst_model *m;
+    const lst__view *v;
+    const lst_render_options *o;
+    pw_tetmesh tm;
+    const double *phi;     /* per vertex: the distance along the view */
+    const float *rows;     /* per tetrahedron: its first and last picture row */
+    double zmax, dz;
+    int slices, density;
+    float alpha_scale;
+    pw_camera cam;
+} lst__volume_frame;
+
+/* Marching tetrahedra on tetrahedron t of V->tm: the triangles (1 or 2)
+ * of the level set phi = z (phi: at its corners), their corners on the
+ * edges, appended to out with their own vertices. */
+static int lst__slice_tet(const lst__volume_frame *V, int t, const double *phi, double z, lst__tris *out, pw_err *e)
 {
+    const pw_alloc *a = V->a;
+    const pw_tetmesh *m = &V->tm;
     int neg[4], pos[4], nn = 0, np = 0, k, q, r, cnt, edges[4][2];
     for (k = 0; k < 4; k++) {
         if (phi[k] < z) neg[nn++] = k;
@@ -21429,22 +21667,6 @@ static int lst__slice_tet(const pw_alloc *a, const pw_tetmesh *m, int t, const d
     return PW_OK;
 }
 
-/* What every band of a volume rendering draws: the slices, back to front,
- * of the tetrahedra whose picture (rows ylo..yhi) meets the band. */
-typedef struct lst__volume_frame {
-    const pw_alloc *a;
-    const lst_model *m;
-    const lst__view *v;
-    const lst_render_options *o;
-    pw_tetmesh tm;
-    const double *phi;     /* per vertex: the distance along the view */
-    const float *rows;     /* per tetrahedron: its first and last picture row */
-    double zmax, dz;
-    int slices, density;
-    float alpha_scale;
-    pw_camera cam;
-} lst__volume_frame;
-
 static int lst__volume_band(void *user, pw_fb *fb, pw_err *e)
 {
     const lst__volume_frame *V = (const lst__volume_frame *)user;
@@ -21461,9 +21683,9 @@ static int lst__volume_band(void *user, pw_fb *fb, pw_err *e)
         for (t = 0; r == PW_OK && t < V->tm.nt; t++) {
             if (V->m->removed[t] || V->rows[2 * t + 1] < r0 || V->rows[2 * t] > r1) continue;
             for (k = 0; k < 4; k++) ph[k] = V->phi[V->tm.tet[4 * t + k]];
-            r = lst__slice_tet(V->a, &V->tm, t, ph, z, &sl, e);
+            r = lst__slice_tet(V, t, ph, z, &sl, e);
         }
-        if (r == PW_OK) r = lst__draw_tris(fb, &V->cam, V->m, &sl, &S, V->o, e);
+        if (r == PW_OK) r = lst__draw_tris(fb, &V->cam, &sl, &S, V->o, e);
     }
     lst__tris_free(V->a, &sl);
     return r;
@@ -21839,13 +22061,26 @@ static int lst__cut_mesh(lst__cutter *C, pw_err *e)
     return PW_OK;
 }
 
-/* The local vertex of paste q for mesh vertex g, a corner of old
+/* One paste while its vertices are added (cutting it, reading it): paste
+ * q (number id), the capacity of its growing vertex arrays, and per mesh
+ * vertex the paste that last added it (stamp) and its local index there
+ * (loc). */
+typedef struct lst__paste_build {
+    lst_paste *q;
+    int id;
+    int *stamp, *loc;
+    size_t cap;
+} lst__paste_build;
+
+/* The local vertex of paste P->q for mesh vertex g, a corner of old
  * tetrahedron c (corners local in lc): an old vertex is that corner's; a
  * new one is added once per paste, its texture coordinates interpolated
- * along the cut edge. stamp/loc: per new vertex. Returns -1 on failure. */
-static int lst__cut_local(lst__cutter *C, lst_paste *q, int id, const int *c, const int *lc, int g, int *stamp, int *loc,
-                          size_t *cap, pw_err *e)
+ * along the cut edge. Returns -1 on failure. */
+static int lst__cut_local(lst__cutter *C, lst__paste_build *P, const int *c, const int *lc, int g, pw_err *e)
 {
+    lst_paste *q = P->q;
+    int *stamp = P->stamp, *loc = P->loc, id = P->id;
+    size_t *cap = &P->cap;
     int k, ka = 0, kb = 0, n = g - C->nv0, j;
     size_t old;
     if (g < C->nv0) {
@@ -21882,7 +22117,8 @@ static int lst__cut_paste(lst__cutter *C, int id, int *stamp, int *loc, pw_err *
     lst_paste *q = &C->m->pastes[id];
     const int *old = C->m->mesh.tets;
     int i, j, k, extra = 0, n = 0, *tets, *corners;
-    size_t cap = (size_t)q->nverts;
+    lst__paste_build P;
+    P.q = q, P.id = id, P.stamp = stamp, P.loc = loc, P.cap = (size_t)q->nverts;
     for (i = 0; i < q->ntets; i++) extra += lst__nsub(C, q->tets[i]) > 0 ? lst__nsub(C, q->tets[i]) - 1 : 0;
     C->ptets[id] = tets = (int *)pw_alloc_array(C->a, (size_t)q->ntets + extra, sizeof(int), "cut paste", e);
     C->pcorners[id] = corners = (int *)pw_alloc_array(C->a, ((size_t)q->ntets + extra) * 4, sizeof(int), "cut paste", e);
@@ -21899,7 +22135,7 @@ static int lst__cut_paste(lst__cutter *C, int id, int *stamp, int *loc, pw_err *
             tets[n] = j == 0 ? t : C->first_new[t] + j - 1;
             for (k = 0; k < 4; k++) {
                 int g = C->sub[4 * (C->sub_start[t] + j) + k];
-                if ((corners[4 * n + k] = lst__cut_local(C, q, id, old + 4 * t, lc, g, stamp, loc, &cap, e)) < 0)
+                if ((corners[4 * n + k] = lst__cut_local(C, &P, old + 4 * t, lc, g, e)) < 0)
                     return e->code ? e->code : PW_ERR_NOMEM;
             }
         }
@@ -22028,13 +22264,21 @@ LSTDEF void lst_uncut(lst_model *model)
     if (model && model->removed) memset(model->removed, 0, (size_t)model->mesh.ntets);
 }
 
+/* A stroke as drawn: n points (xyz) seen along view. */
+typedef struct lst__stroke {
+    const float *pts;
+    int n;
+    double view[3];
+} lst__stroke;
+
 /* The stroke's constraints (Turk & O'Brien's normal constraints): 0 on each
- * stroke point and on its copies swept along the view, +h and -h at
- * offsets h to its right and left (right: view x tangent). */
-static int lst__stroke_points(const pw_alloc *a, const float *pts, int n, const double *view, double h, double L, lst__pts *out,
-                              pw_err *e)
+ * stroke point and on its copies swept along the view (up to L either way), +h and -h
+ * at offsets h to its right and left (right: view x tangent). */
+static int lst__stroke_points(const pw_alloc *a, const lst__stroke *st, double h, double L, lst__pts *out, pw_err *e)
 {
-    int i, k, s, side;
+    const float *pts = st->pts;
+    const double *view = st->view;
+    int n = st->n, i, k, s, side;
     for (i = 0; i < n; i++) {
         const float *p0 = pts + 3 * (i > 0 ? i - 1 : 0), *p1 = pts + 3 * (i + 1 < n ? i + 1 : n - 1);
         double t[3], r[3], q[3];
@@ -22057,7 +22301,8 @@ LSTDEF lst_result lst_stroke_field(const lst_model *model, const float *points, 
     pw_err e;
     lst__pts pts;
     lst__rbf rbf;
-    double view[3], diag, org[3] = {0, 0, 0}, p[3];
+    lst__stroke st;
+    double diag, org[3] = {0, 0, 0}, p[3];
     int k, v;
     pw_err_clear(&e);
     memset(&pts, 0, sizeof pts);
@@ -22065,18 +22310,20 @@ LSTDEF lst_result lst_stroke_field(const lst_model *model, const float *points, 
         pw_fail(&e, PW_ERR_INVALID, "lst_stroke_field: NULL argument or fewer than 2 points");
         return lst__done(&e, err);
     }
-    for (k = 0; k < 3; k++) view[k] = view_dir[k];
+    st.pts = points, st.n = n;
+    for (k = 0; k < 3; k++) st.view[k] = view_dir[k];
     for (k = 0; k < 3 * n; k++)
         if (!pw_is_finite(points[k])) pw_fail(&e, PW_ERR_INVALID, "stroke point %d is not finite", k / 3);
-    if (e.code == PW_OK && !(pw_norm3(view) > 0.0)) pw_fail(&e, PW_ERR_INVALID, "stroke: the view direction is zero");
+    if (e.code == PW_OK && !(pw_norm3(st.view) > 0.0)) pw_fail(&e, PW_ERR_INVALID, "stroke: the view direction is zero");
     if (e.code != PW_OK) return lst__done(&e, err);
     a = lst__alloc(&model->allocator);
     diag = lst__diagonal(model->mesh.positions, model->mesh.nverts);
     if (!(diag > 0.0)) diag = 1.0;
     for (k = 0; k < 3 * n; k++) org[k % 3] += points[k] / n;
-    if (lst__stroke_points(&a, points, n, view, 0.02 * diag, diag, &pts, &e) == PW_OK && pts.n == 0)
+    if (lst__stroke_points(&a, &st, 0.02 * diag, diag, &pts, &e) == PW_OK && pts.n == 0)
         pw_fail(&e, PW_ERR_INVALID, "stroke: every segment is parallel to the view");
-    if (e.code == PW_OK && lst__rbf_fit(&a, pts.p, pts.val, pts.n, 600, org, diag, &rbf, &e) == PW_OK) {
+    memcpy(rbf.o, org, sizeof rbf.o), rbf.s = diag;
+    if (e.code == PW_OK && lst__rbf_fit(&a, &pts, 600, &rbf, &e) == PW_OK) {
         for (v = 0; v < model->mesh.nverts; v++) {
             for (k = 0; k < 3; k++) p[k] = model->mesh.positions[3 * v + k];
             phi[v] = (float)lst__rbf_eval(&rbf, p, NULL);
@@ -22099,11 +22346,11 @@ LSTDEF lst_result lst_stroke_field(const lst_model *model, const float *points, 
 
 /* What the fill found, and the two-sided fit of its boundary (30000
  * samples a side) relative to the surface's diagonal. */
-static int lst__tet_report(const pw_alloc *a, const pw_mesh *tri, const pw_tetmesh *tm, const pw_stuff_info *info,
-                           lst_tet_report *rep, pw_err *e)
+static int lst__tet_report(const pw_alloc *a, const pw_stuff_tris *tri, const pw_tetmesh *tm,
+                           const pw_stuff_info *info, lst_tet_report *rep, pw_err *e)
 {
     pw_stuff_fit fit;
-    int r = pw_stuff_fit_measure(a, tri->pos, tri->nv, tri->fv, tri->nf, tm, 30000, &fit, e);
+    int r = pw_stuff_fit_measure(a, tri, tm, 30000, &fit, e);
     memset(rep, 0, sizeof *rep);
     rep->crossing_pairs = info->crossing_pairs, rep->skipped_triangles = info->skipped_triangles;
     rep->closed_holes = info->closed_holes, rep->fragments = info->fragments;
@@ -22154,14 +22401,16 @@ LSTDEF lst_result lst_tetrahedralize(const lst_mesh *surface, const lst_options 
                 o.tet.target_tets, so.max_hole);
     else {
         m = lst__pw_mesh(surface);
-        if (pw_mesh_validate(&m, &e) == PW_OK && pw_mesh_triangulate(&a, &m, &tri, NULL, &e) == PW_OK &&
-            pw_stuff_tetrahedralize(&a, tri.pos, tri.nv, tri.fv, tri.nf, &so, &p, &tm, &e) == PW_OK &&
-            (!report || lst__tet_report(&a, &tri, &tm, &info, report, &e) == PW_OK)) {
-            lst__take_tets(&tm, &a, out);
-            lst__tet_warning(&info, &e);
+        if (pw_mesh_validate(&m, &e) == PW_OK && pw_mesh_triangulate(&a, &m, &tri, NULL, &e) == PW_OK) {
+            pw_stuff_tris in = pw_stuff_tris_of(tri.pos, tri.nv, tri.fv, tri.nf);
+            if (pw_stuff_tetrahedralize(&a, &in, &so, &p, &tm, &e) == PW_OK &&
+                (!report || lst__tet_report(&a, &in, &tm, &info, report, &e) == PW_OK)) {
+                lst__take_tets(&tm, &a, out);
+                lst__tet_warning(&info, &e);
+            }
+            else if (tm.tet)
+                pw_tetmesh_free(&a, &tm);
         }
-        else if (tm.tet)
-            pw_tetmesh_free(&a, &tm);
     }
     pw_mesh_free(&a, &tri);
     return lst__done(&e, err);
@@ -22253,6 +22502,14 @@ static void lst__root(lst__shape_fn f, const double *p, const double *q, double 
     for (k = 0; k < 3; k++) out[k] = p[k] + t * (q[k] - p[k]);
 }
 
+/* An implicit shape and the grid it is sampled on: f over the box lo ..
+ * lo + n h, n cells per axis. */
+typedef struct lst__shape_grid {
+    lst__shape_fn f;
+    double lo[3], h;
+    int n;
+} lst__shape_grid;
+
 typedef struct lst__grid {
     lst__shape_fn f;
     double lo[3], h;
@@ -22340,8 +22597,11 @@ static int lst__grid_tet(lst__grid *G, const int *c)
  * neighbouring cubes share, so the surface is closed and manifold. Values
  * within a twentieth of a cell of zero move outward, so that no surface
  * vertex comes near a grid vertex and no triangle degenerates. */
-static int lst__implicit(const pw_alloc *a, lst__shape_fn f, const double lo[3], double h, int n, pw_mesh *out, pw_err *e)
+static int lst__implicit(const pw_alloc *a, const lst__shape_grid *s, pw_mesh *out, pw_err *e)
 {
+    lst__shape_fn f = s->f;
+    double h = s->h;
+    int n = s->n;
     static const int split[6][4] = {{0, 1, 2, 6}, {0, 2, 3, 6}, {0, 3, 7, 6}, {0, 7, 4, 6}, {0, 4, 5, 6}, {0, 5, 1, 6}};
     static const int cor[8][3] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
     lst__grid G;
@@ -22349,7 +22609,7 @@ static int lst__implicit(const pw_alloc *a, lst__shape_fn f, const double lo[3],
     int x, y, z, k, j, r = PW_OK;
     memset(&G, 0, sizeof G);
     G.f = f, G.h = h, G.n = n;
-    memcpy(G.lo, lo, sizeof G.lo);
+    memcpy(G.lo, s->lo, sizeof G.lo);
     while (cap < 8 * nvals / (size_t)n) cap *= 2;
     G.E.mask = cap - 1;
     G.val = (double *)pw_alloc_array(a, nvals, sizeof(double), "implicit surface", e);
@@ -22426,7 +22686,8 @@ static double lst__tree_shape(const double *p)
 
 LSTDEF lst_result lst_builtin_mesh(const char *name, const lst_options *opt, lst_mesh *out, lst_error *err)
 {
-    static const double kiwi_lo[3] = {-1.0, -1.0, -1.3}, tree_lo[3] = {-1.7, -1.7, -1.4};
+    static const lst__shape_grid kiwi = {lst__kiwi_shape, {-1.0, -1.0, -1.3}, 2.6 / 48, 48};
+    static const lst__shape_grid tree = {lst__tree_shape, {-1.7, -1.7, -1.4}, 3.4 / 64, 64};
     lst_options o = lst__options(opt);
     pw_alloc a = lst__alloc(&o.allocator);
     pw_mesh m;
@@ -22440,8 +22701,8 @@ LSTDEF lst_result lst_builtin_mesh(const char *name, const lst_options *opt, lst
     else if (!strcmp(name, "bumpy")) pw_shape_bumpy(&a, 12, &m, &e);
     else if (!strcmp(name, "dumbbell")) pw_shape_dumbbell(&a, 0.0332, 48, &m, &e); /* neck 1% of the diagonal */
     else if (!strcmp(name, "star")) pw_shape_star(&a, 12, 3.0, &m, &e);
-    else if (!strcmp(name, "kiwi")) lst__implicit(&a, lst__kiwi_shape, kiwi_lo, 2.6 / 48, 48, &m, &e);
-    else if (!strcmp(name, "tree")) lst__implicit(&a, lst__tree_shape, tree_lo, 3.4 / 64, 64, &m, &e);
+    else if (!strcmp(name, "kiwi")) lst__implicit(&a, &kiwi, &m, &e);
+    else if (!strcmp(name, "tree")) lst__implicit(&a, &tree, &m, &e);
     else
         pw_fail(&e, PW_ERR_INVALID, "unknown built-in surface '%s' (sphere, torus, bumpy, kiwi, tree, dumbbell, star)",
                 name);
@@ -22452,22 +22713,17 @@ LSTDEF lst_result lst_builtin_mesh(const char *name, const lst_options *opt, lst
 
 /* ---- constraints that go with the built-in surfaces (§4.3-4.5) -------------------------------------- */
 
-typedef struct lst__cset {
-    lst_constraint *c;
-    int n;
-    size_t cap;
-} lst__cset;
-
-/* Depth 1 and the direction along the axis of part c, at n points. */
-static int lst__axis_constraints(const pw_alloc *a, const double *c, double t0, double t1, int n, lst__cset *s, pw_err *e)
+/* Depth 1 and the direction along the axis of part c, at n points evenly
+ * over the interval span[0] .. span[1] of its parameter. */
+static int lst__axis_constraints(const pw_alloc *a, const double *c, const double span[2], int n, lst__cset *s, pw_err *e)
 {
-    double p[3];
+    double p[3], t0 = span[0], t1 = span[1];
     int i, k;
     for (i = 0; i < n; i++) {
         double t = t0 + (t1 - t0) * i / (n - 1);
         for (k = 0; k < 3; k++) p[k] = c[k] + t * c[3 + k];
-        if (lst__add_constraint(a, &s->c, &s->cap, &s->n, LST_CONSTRAINT_DEPTH_POINT, 0, p, NULL, 1.0, 0.0, e) ||
-            lst__add_constraint(a, &s->c, &s->cap, &s->n, LST_CONSTRAINT_DIRECTION, 0, p, c + 3, 0.0, 0.0, e))
+        if (lst__add_constraint(a, s, lst__constraint(LST_CONSTRAINT_DEPTH_POINT, 0, p, NULL, 1.0, 0.0), e) ||
+            lst__add_constraint(a, s, lst__constraint(LST_CONSTRAINT_DIRECTION, 0, p, c + 3, 0.0, 0.0), e))
             return PW_ERR_NOMEM;
     }
     return PW_OK;
@@ -22492,11 +22748,14 @@ static int lst__tree_constraints(const pw_alloc *a, const lst_mesh *surface, lst
                 double d = fabs(lst__part(lst__tree_parts[j], c, &t));
                 if (d < best) best = d, dn = fabs(pw_dot3(n, lst__tree_parts[j] + 3));
             }
-            if (dn < 0.6 && lst__add_constraint(a, &s->c, &s->cap, &s->n, LST_CONSTRAINT_DEPTH_FACE, tri, NULL, NULL, 0.0, 0.0, e))
+            if (dn < 0.6 && lst__add_constraint(a, s, lst__constraint(LST_CONSTRAINT_DEPTH_FACE, tri, NULL, NULL, 0.0, 0.0), e))
                 return PW_ERR_NOMEM;
         }
-    for (j = 0; j < 3; j++)
-        if (lst__axis_constraints(a, lst__tree_parts[j], j ? 0.3 : 0.0, lst__tree_parts[j][6], 12, s, e)) return PW_ERR_NOMEM;
+    for (j = 0; j < 3; j++) {
+        double span[2];
+        span[0] = j ? 0.3 : 0.0, span[1] = lst__tree_parts[j][6];
+        if (lst__axis_constraints(a, lst__tree_parts[j], span, 12, s, e)) return PW_ERR_NOMEM;
+    }
     return PW_OK;
 }
 
@@ -22509,7 +22768,7 @@ static int lst__torus_constraints(const pw_alloc *a, lst__cset *s, pw_err *e)
         double t = i * (2.0 * 3.14159265358979323846 / 24), p[3], d[3];
         p[0] = pw_cos(t), p[1] = pw_sin(t), p[2] = 0.0;
         d[0] = -p[1], d[1] = p[0], d[2] = 0.0;
-        if (lst__add_constraint(a, &s->c, &s->cap, &s->n, LST_CONSTRAINT_DIRECTION, 0, p, d, 0.0, 0.0, e)) return PW_ERR_NOMEM;
+        if (lst__add_constraint(a, s, lst__constraint(LST_CONSTRAINT_DIRECTION, 0, p, d, 0.0, 0.0), e)) return PW_ERR_NOMEM;
     }
     return PW_OK;
 }
@@ -22518,6 +22777,7 @@ LSTDEF lst_result lst_builtin_constraints(const char *name, const lst_mesh *surf
                                           lst_constraints *out, lst_error *err)
 {
     static const double kiwi_axis[9] = {0.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0, 0, 0};
+    static const double kiwi_span[2] = {-0.9, 0.9};
     lst_options o = lst__options(opt);
     pw_alloc a = lst__alloc(&o.allocator);
     lst__cset s;
@@ -22528,8 +22788,8 @@ LSTDEF lst_result lst_builtin_constraints(const char *name, const lst_mesh *surf
     if (!name || !out || (!surface && name && !strcmp(name, "tree")))
         pw_fail(&e, PW_ERR_INVALID, "lst_builtin_constraints: NULL argument");
     else if (!strcmp(name, "kiwi")) { /* the skin (one fill) at 0, the core along z at 1 */
-        if (lst__add_constraint(&a, &s.c, &s.cap, &s.n, LST_CONSTRAINT_DEPTH_FILL, 0, NULL, NULL, 0.0, 60.0, &e) == PW_OK)
-            lst__axis_constraints(&a, kiwi_axis, -0.9, 0.9, 13, &s, &e);
+        if (lst__add_constraint(&a, &s, lst__constraint(LST_CONSTRAINT_DEPTH_FILL, 0, NULL, NULL, 0.0, 60.0), &e) == PW_OK)
+            lst__axis_constraints(&a, kiwi_axis, kiwi_span, 13, &s, &e);
     } else if (!strcmp(name, "tree"))
         lst__tree_constraints(&a, surface, &s, &e);
     else if (!strcmp(name, "torus"))
@@ -22573,28 +22833,36 @@ static void lst__wb_line(pw__wb *b, const char *word, const long long *v, int n)
     pw__wb_str(b, "\n");
 }
 
-/* New numbers of the visible tetrahedra and of the nodes they use (-1:
- * not written); returns 0 on allocation failure. */
-static int lst__visible(const pw_alloc *a, const lst_model *m, int **tmap, int **vmap, int *nt, int *nv, pw_err *e)
+/* The numbering of what a model file holds: the visible tetrahedra and
+ * the nodes they use (-1: not written). */
+typedef struct lst__visible_part {
+    int *tmap, *vmap; /* per tetrahedron, per node: its new number or -1 */
+    int nt, nv;       /* how many are written */
+} lst__visible_part;
+
+/* Fills *vis (its maps allocated here); returns 0 on allocation failure. */
+static int lst__visible(const pw_alloc *a, const lst_model *m, lst__visible_part *vis, pw_err *e)
 {
-    int t, k;
-    *tmap = (int *)pw_alloc_array(a, (size_t)m->mesh.ntets, sizeof(int), "model writer", e);
-    *vmap = (int *)pw_alloc_array(a, (size_t)m->mesh.nverts, sizeof(int), "model writer", e);
-    if (!*tmap || !*vmap) return 0;
-    *nt = *nv = 0;
-    for (k = 0; k < m->mesh.nverts; k++) (*vmap)[k] = -1;
+    int t, k, *tmap, *vmap;
+    vis->tmap = tmap = (int *)pw_alloc_array(a, (size_t)m->mesh.ntets, sizeof(int), "model writer", e);
+    vis->vmap = vmap = (int *)pw_alloc_array(a, (size_t)m->mesh.nverts, sizeof(int), "model writer", e);
+    if (!tmap || !vmap) return 0;
+    vis->nt = vis->nv = 0;
+    for (k = 0; k < m->mesh.nverts; k++) vmap[k] = -1;
     for (t = 0; t < m->mesh.ntets; t++) {
-        (*tmap)[t] = m->removed && m->removed[t] ? -1 : (*nt)++;
-        for (k = 0; (*tmap)[t] >= 0 && k < 4; k++)
-            if ((*vmap)[m->mesh.tets[4 * t + k]] < 0) (*vmap)[m->mesh.tets[4 * t + k]] = 0;
+        tmap[t] = m->removed && m->removed[t] ? -1 : vis->nt++;
+        for (k = 0; tmap[t] >= 0 && k < 4; k++)
+            if (vmap[m->mesh.tets[4 * t + k]] < 0) vmap[m->mesh.tets[4 * t + k]] = 0;
     }
     for (k = 0; k < m->mesh.nverts; k++)
-        if ((*vmap)[k] == 0) (*vmap)[k] = (*nv)++;
+        if (vmap[k] == 0) vmap[k] = vis->nv++;
     return 1;
 }
 
-static void lst__write_mesh_part(pw__wb *b, const lst_model *m, const int *tmap, const int *vmap, int nt, int nv)
+static void lst__write_mesh_part(pw__wb *b, const lst_model *m, const lst__visible_part *vis)
 {
+    const int *tmap = vis->tmap, *vmap = vis->vmap;
+    int nt = vis->nt, nv = vis->nv;
     long long v[4];
     int t, k;
     v[0] = nv;
@@ -22649,30 +22917,32 @@ LSTDEF lst_result lst_write_model(const lst_model *m, lst_write_fn fn, void *ctx
     pw__wb b;
     pw_err e;
     long long v[4];
-    int *tmap = NULL, *vmap = NULL, nt, nv, k;
+    lst__visible_part vis;
+    int k;
     pw_err_clear(&e);
+    vis.tmap = vis.vmap = NULL;
     if (!m || !fn || !m->mesh.tets) {
         pw_fail(&e, PW_ERR_INVALID, "lst_write_model: NULL argument or empty model");
         return lst__done(&e, err);
     }
     a = lst__alloc(&m->allocator);
-    if (lst__visible(&a, m, &tmap, &vmap, &nt, &nv, &e)) {
+    if (lst__visible(&a, m, &vis, &e)) {
         memset(&b, 0, sizeof b);
         b.w = fn;
         b.ctx = ctx;
         pw__wb_str(&b, "lst 1\n");
-        lst__write_mesh_part(&b, m, tmap, vmap, nt, nv);
+        lst__write_mesh_part(&b, m, &vis);
         v[0] = m->masks.count;
         lst__wb_line(&b, "exemplars", v, 1);
         for (k = 0; k < m->masks.count; k++) {
             v[0] = k, v[1] = m->masks.volumes[k].width, v[2] = m->masks.volumes[k].height, v[3] = m->masks.volumes[k].depth;
             lst__wb_line(&b, "exemplar", v, 4);
         }
-        lst__write_pastes_part(&b, m, tmap);
+        lst__write_pastes_part(&b, m, vis.tmap);
         pw__wb_done(&b, &e);
     }
-    pw_free(&a, tmap);
-    pw_free(&a, vmap);
+    pw_free(&a, vis.tmap);
+    pw_free(&a, vis.vmap);
     return lst__done(&e, err);
 }
 
@@ -22758,12 +23028,14 @@ static int lst__read_exemplars_part(pw__sc *s, const pw_alloc *a, lst_model *m, 
     return PW_OK;
 }
 
-/* One "<tet> u0 v0 w0 ... u3 v3 w3" line of paste q: corners that share a
- * node and its coordinates share a vertex (vmark: per node, 1 + its local
- * index in this paste, for the paste whose stamp is in vstamp). */
-static int lst__read_entry(pw__sc *s, const pw_alloc *a, const lst_model *m, lst_paste *q, int i, int id, int *vstamp,
-                           int *vloc, size_t *cap, pw_err *e)
+/* One "<tet> u0 v0 w0 ... u3 v3 w3" line (entry i) of paste P->q: corners
+ * that share a node and its coordinates share a vertex (P->loc: per node,
+ * its local index in the paste whose number is in P->stamp). */
+static int lst__read_entry(pw__sc *s, const pw_alloc *a, const lst_model *m, lst__paste_build *P, int i, pw_err *e)
 {
+    lst_paste *q = P->q;
+    int *vstamp = P->stamp, *vloc = P->loc, id = P->id;
+    size_t *cap = &P->cap;
     long long t;
     double x;
     float w[12];
@@ -22813,7 +23085,8 @@ static int lst__read_pastes_part(pw__sc *s, const pw_alloc *a, lst_model *m, pw_
     for (i = 0; r == PW_OK && i < m->mesh.nverts; i++) vstamp[i] = -1;
     for (p = 0; p < n && r == PW_OK; p++) {
         lst_paste *q = &m->pastes[p];
-        size_t cap = 0;
+        lst__paste_build P;
+        P.q = q, P.id = p, P.stamp = vstamp, P.loc = vloc, P.cap = 0;
         m->npastes = p + 1;
         if ((r = lst__read_line(s, "paste", v, 2, 0, PW_MAX_MESH_ELEMENTS)) != PW_OK) break;
         if (v[0] >= m->masks.count) r = pw__sc_fail(s, PW_ERR_PARSE, "paste %d uses exemplar %lld of %d", p, v[0], m->masks.count);
@@ -22825,7 +23098,7 @@ static int lst__read_pastes_part(pw__sc *s, const pw_alloc *a, lst_model *m, pw_
         q->corners = (int *)pw_alloc_array(a, (size_t)v[1] * 4, sizeof(int), "paste", e);
         if (!q->tets || !q->corners) r = PW_ERR_NOMEM;
         q->ntets = r == PW_OK ? (int)v[1] : 0;
-        for (i = 0; i < q->ntets && r == PW_OK; i++) r = lst__read_entry(s, a, m, q, i, p, vstamp, vloc, &cap, e);
+        for (i = 0; i < q->ntets && r == PW_OK; i++) r = lst__read_entry(s, a, m, &P, i, e);
     }
     pw_free(a, vstamp);
     pw_free(a, vloc);
@@ -22916,7 +23189,7 @@ static int lst__depth_stroke(const pw_alloc *a, const double *v, int cnt, lst__c
         const double *p = v + 1 + 3 * i, *q = i + 1 < (cnt - 1) / 3 ? p + 3 : p;
         for (k = 0; r == PW_OK && k < (q == p ? 1 : LST__STROKE_STEPS); k++) {
             double t = (double)k / LST__STROKE_STEPS, x[3] = {p[0] + t * (q[0] - p[0]), p[1] + t * (q[1] - p[1]), p[2] + t * (q[2] - p[2])};
-            r = lst__add_constraint(a, &c->c, &c->cap, &c->n, LST_CONSTRAINT_DEPTH_POINT, 0, x, NULL, v[0], 0.0, e);
+            r = lst__add_constraint(a, c, lst__constraint(LST_CONSTRAINT_DEPTH_POINT, 0, x, NULL, v[0], 0.0), e);
         }
     }
     return r;
@@ -22932,15 +23205,25 @@ static int lst__dir_stroke(const pw_alloc *a, const double *v, int cnt, lst__cse
         if (d[0] == 0.0 && d[1] == 0.0 && d[2] == 0.0) continue;
         for (k = 0; r == PW_OK && k < LST__STROKE_STEPS; k++) {
             double t = (k + 0.5) / LST__STROKE_STEPS, x[3] = {p[0] + t * d[0], p[1] + t * d[1], p[2] + t * d[2]};
-            r = lst__add_constraint(a, &c->c, &c->cap, &c->n, LST_CONSTRAINT_DIRECTION, 0, x, d, 0.0, 0.0, e);
+            r = lst__add_constraint(a, c, lst__constraint(LST_CONSTRAINT_DIRECTION, 0, x, d, 0.0, 0.0), e);
         }
     }
     return r;
 }
 
-/* The constraints of keyword k from its numbers v (cnt of them, checked). */
-static int lst__add_line(pw__sc *s, const pw_alloc *a, int k, const double *v, int cnt, lst__cset *c, pw_err *e)
+/* One line of a constraint file as read: keyword k (in lst__keywords)
+ * and its numbers v (cnt of them). */
+typedef struct lst__cline {
+    int k;
+    const double *v;
+    int cnt;
+} lst__cline;
+
+/* The constraints of line ln (its count checked). */
+static int lst__add_line(pw__sc *s, const pw_alloc *a, const lst__cline *ln, lst__cset *c, pw_err *e)
 {
+    const double *v = ln->v;
+    int k = ln->k, cnt = ln->cnt;
     double depth = k == 2 ? v[3] : (k == 3 ? v[0] : v[1]);
     if (k <= 3 && !(depth >= 0.0 && depth <= 1.0)) return pw__sc_fail(s, PW_ERR_INVALID, "a depth is outside [0, 1]");
     if (k <= 1 && (v[0] < 0 || v[0] > PW_MAX_MESH_ELEMENTS || v[0] != floor(v[0])))
@@ -22950,13 +23233,13 @@ static int lst__add_line(pw__sc *s, const pw_alloc *a, int k, const double *v, i
     switch (k) {
     case 0:
     case 1:
-        return lst__add_constraint(a, &c->c, &c->cap, &c->n, k == 0 ? LST_CONSTRAINT_DEPTH_FACE : LST_CONSTRAINT_DEPTH_FILL,
-                                   (int)v[0], NULL, NULL, v[1], cnt == 3 ? v[2] : 0.0, e);
-    case 2: return lst__add_constraint(a, &c->c, &c->cap, &c->n, LST_CONSTRAINT_DEPTH_POINT, 0, v, NULL, v[3], 0.0, e);
+        return lst__add_constraint(a, c, lst__constraint(k == 0 ? LST_CONSTRAINT_DEPTH_FACE : LST_CONSTRAINT_DEPTH_FILL,
+                                   (int)v[0], NULL, NULL, v[1], cnt == 3 ? v[2] : 0.0), e);
+    case 2: return lst__add_constraint(a, c, lst__constraint(LST_CONSTRAINT_DEPTH_POINT, 0, v, NULL, v[3], 0.0), e);
     case 3: return lst__depth_stroke(a, v, cnt, c, e);
-    case 4: return lst__add_constraint(a, &c->c, &c->cap, &c->n, LST_CONSTRAINT_DIRECTION, 0, v, v + 3, 0.0, 0.0, e);
+    case 4: return lst__add_constraint(a, c, lst__constraint(LST_CONSTRAINT_DIRECTION, 0, v, v + 3, 0.0, 0.0), e);
     case 5: return lst__dir_stroke(a, v, cnt, c, e);
-    default: return lst__add_constraint(a, &c->c, &c->cap, &c->n, LST_CONSTRAINT_SCALE, 0, v, NULL, v[3], 0.0, e);
+    default: return lst__add_constraint(a, c, lst__constraint(LST_CONSTRAINT_SCALE, 0, v, NULL, v[3], 0.0), e);
     }
 }
 
@@ -22978,7 +23261,11 @@ static int lst__constraint_line(pw__sc *s, const pw_alloc *a, double *v, lst__cs
     if ((r = lst__read_numbers(s, v, LST__LINE_MAX, "constraint line", line, &cnt)) != PW_OK) return r;
     s->line--; /* messages below name the line just read */
     if (!lst__count_ok(k, cnt)) r = pw__sc_fail(s, PW_ERR_PARSE, "expected '%s'", lst__syntax[k]);
-    else r = lst__add_line(s, a, k, v, cnt, c, e);
+    else {
+        lst__cline ln;
+        ln.k = k, ln.v = v, ln.cnt = cnt;
+        r = lst__add_line(s, a, &ln, c, e);
+    }
     s->line++;
     return r;
 }
@@ -23041,8 +23328,10 @@ LSTDEF lst_result lst_read_tetgen(const void *node, size_t node_size, const void
     snprintf(nn, sizeof nn, "%s.node", name ? name : "tetgen");
     snprintf(en, sizeof en, "%s.ele", name ? name : "tetgen");
     if (!out || (!node && node_size) || (!ele && ele_size)) pw_fail(&e, PW_ERR_INVALID, "lst_read_tetgen: NULL argument");
-    else if (pw_tetgen_read_memory(&a, node, node_size, nn, ele, ele_size, en, &m, &e) == PW_OK)
-        lst__take_tets(&m, &a, out);
+    else {
+        pw_memfile fn = pw_memfile_of(node, node_size, nn), fe = pw_memfile_of(ele, ele_size, en);
+        if (pw_tetgen_read_memory(&a, &fn, &fe, &m, &e) == PW_OK) lst__take_tets(&m, &a, out);
+    }
     return lst__done(&e, err);
 }
 
@@ -23172,9 +23461,10 @@ LSTDEF lst_result lst_write_image(const lst_image *img, const char *format, lst_
 }
 
 #ifndef PW_NO_STDIO
-/* Runs a from-memory reader on a whole file. */
-typedef int (*lst__reader)(const pw_alloc *a, const unsigned char *data, size_t size, const char *path, void *out,
-                           const lst_options *o, lst_error *le);
+/* Runs a from-memory reader (lst_read_X with its output untyped) on a
+ * whole file. */
+typedef int (*lst__reader)(const unsigned char *data, size_t size, const char *path, void *out, const lst_options *o,
+                           lst_error *le);
 
 static lst_result lst__load(const char *path, const lst_options *opt, void *out, lst__reader fn, const char *what, lst_error *err)
 {
@@ -23187,36 +23477,31 @@ static lst_result lst__load(const char *path, const lst_options *opt, void *out,
     if (!path || !out) pw_fail(&e, PW_ERR_INVALID, "%s: NULL argument", what);
     else if (pw_read_file(&a, path, &data, &size, &e) == PW_OK) {
         lst_error le;
-        if (fn(&a, data, size, path, out, &o, &le) != LST_OK) pw_fail(&e, (int)le.code, "%s", le.message);
+        if (fn(data, size, path, out, &o, &le) != LST_OK) pw_fail(&e, (int)le.code, "%s", le.message);
         pw_free(&a, data);
     }
     return lst__done(&e, err);
 }
 
-static int lst__rd_mesh(const pw_alloc *a, const unsigned char *d, size_t n, const char *p, void *out, const lst_options *o, lst_error *le)
+static int lst__rd_mesh(const unsigned char *d, size_t n, const char *p, void *out, const lst_options *o, lst_error *le)
 {
-    (void)a;
     return (int)lst_read_mesh(d, n, p, o, (lst_mesh *)out, le);
 }
-static int lst__rd_volume(const pw_alloc *a, const unsigned char *d, size_t n, const char *p, void *out, const lst_options *o, lst_error *le)
+static int lst__rd_volume(const unsigned char *d, size_t n, const char *p, void *out, const lst_options *o, lst_error *le)
 {
-    (void)a;
     return (int)lst_read_volume(d, n, p, o, (lst_volume *)out, le);
 }
-static int lst__rd_model(const pw_alloc *a, const unsigned char *d, size_t n, const char *p, void *out, const lst_options *o, lst_error *le)
+static int lst__rd_model(const unsigned char *d, size_t n, const char *p, void *out, const lst_options *o, lst_error *le)
 {
-    (void)a;
     return (int)lst_read_model(d, n, p, o, (lst_model *)out, le);
 }
 
-static int lst__rd_constraints(const pw_alloc *a, const unsigned char *d, size_t n, const char *p, void *out, const lst_options *o, lst_error *le)
+static int lst__rd_constraints(const unsigned char *d, size_t n, const char *p, void *out, const lst_options *o, lst_error *le)
 {
-    (void)a;
     return (int)lst_read_constraints(d, n, p, o, (lst_constraints *)out, le);
 }
-static int lst__rd_image(const pw_alloc *a, const unsigned char *d, size_t n, const char *p, void *out, const lst_options *o, lst_error *le)
+static int lst__rd_image(const unsigned char *d, size_t n, const char *p, void *out, const lst_options *o, lst_error *le)
 {
-    (void)a;
     return (int)lst_read_image(d, n, p, o, (lst_image *)out, le);
 }
 
@@ -23519,10 +23804,16 @@ static void lst__atlas_eval(void *user, int f, const float b[3], float *px)
     memcpy(px, rgba, 3 * sizeof(float));
 }
 
-/* Charts, packing and baking of the atlas's mesh. */
-static int lst__atlas_run(const pw_alloc *a, const lst_model *m, const lst__tris *tris, const lst_atlas_options *o,
-                          const pw_progress *prog, lst_atlas *out, pw_image *img, pw_err *e)
+/* Charts, packing and baking of the atlas's mesh (out, from the boundary
+ * tris of m), by options opt (its atlas settings checked); the picture
+ * goes to out->image. */
+static int lst__atlas_run(const pw_alloc *a, const lst_model *m, const lst__tris *tris, const lst_options *opt,
+                          lst_atlas *out, pw_err *e)
 {
+    const lst_atlas_options *o = &opt->atlas;
+    pw_progress progress = lst__progress(opt);
+    const pw_progress *prog = &progress;
+    pw_image pic, *img = &pic;
     pw_mesh pm;
     pw_trimesh tm;
     pw_atlas_charts C;
@@ -23532,6 +23823,7 @@ static int lst__atlas_run(const pw_alloc *a, const lst_model *m, const lst__tris
     memset(&pm, 0, sizeof pm);
     memset(&tm, 0, sizeof tm);
     memset(&v, 0, sizeof v);
+    memset(&pic, 0, sizeof pic);
     out->uvs = (float *)pw_alloc_array(a, (size_t)out->ntris * 6, sizeof(float), "atlas coordinates", e);
     if (!fstart || !out->uvs) {
         pw_free(a, fstart);
@@ -23554,39 +23846,33 @@ static int lst__atlas_run(const pw_alloc *a, const lst_model *m, const lst__tris
     pw_trimesh_free(a, &tm);
     pw_free(a, fstart);
     if (r == PW_OK) r = pw_report(prog, 1.0f, "atlas", e);
+    if (r == PW_OK) lst__take_image(&pic, a, &out->image);
+    else pw_image_free(a, &pic);
     return r;
 }
 
 LSTDEF lst_result lst_bake_atlas(const lst_model *model, const lst_options *opt, lst_atlas *out, lst_error *err)
 {
     lst_options o = lst__options(opt);
-    lst_atlas_options ao = o.atlas;
     pw_alloc a = lst__alloc(&o.allocator);
-    pw_progress prog = lst__progress(&o);
     lst__tris tris;
-    pw_image img;
     pw_err e;
     pw_err_clear(&e);
     memset(&tris, 0, sizeof tris);
-    memset(&img, 0, sizeof img);
     if (!out) {
         pw_fail(&e, PW_ERR_INVALID, "atlas: no output");
         return lst__done(&e, err);
     }
     memset(out, 0, sizeof *out);
     if (!model) pw_fail(&e, PW_ERR_INVALID, "atlas: no model");
-    else if (!pw_atlas_options(&ao.size, &ao.cone_angle, &ao.gutter, &e) && !lst__check_model(model, &e) &&
-             !lst__atlas_boundary(&a, model, &tris, out, &e)) {
-        int r = lst__atlas_run(&a, model, &tris, &ao, &prog, out, &img, &e);
+    else if (!pw_atlas_options(&o.atlas.size, &o.atlas.cone_angle, &o.atlas.gutter, &e) &&
+             !lst__check_model(model, &e) && !lst__atlas_boundary(&a, model, &tris, out, &e)) {
+        int r = lst__atlas_run(&a, model, &tris, &o, out, &e);
         if (r != PW_OK) pw_fail(&e, r, "atlas: %s", pw_result_string(r)); /* keeps a recorded message */
-        else lst__take_image(&img, &a, &out->image);
     }
     lst__tris_free(&a, &tris);
     out->allocator = lst__allocator(&a);
-    if (e.code) {
-        pw_image_free(&a, &img);
-        lst_atlas_free(out);
-    }
+    if (e.code) lst_atlas_free(out);
     return lst__done(&e, err);
 }
 

@@ -23,24 +23,24 @@
  *  10358: src/common/atlas.h, texture atlases of triangle meshes — charts, packing, ba
  *  12310: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
  *  12975: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
- *  13781: src/pgp/tile3.h, sampling a material-space tile (Ray et al. 2009, §2: "a 3
- *  13895: src/common/glue.h, what every method header needs between its public types an
- *  14102: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  14648: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
- *  15154: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
- *  15612: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
- *  15731: src/common/kdtree.h, nearest-neighbour search among n points of dimension d, wi
- *  16062: src/common/pca.h, principal component analysis of vectors streamed one at a 
- *  16241: src/pgp/core.c, pgp.h's glue to the shared core, its defaults, and the map
- *  16494: src/pgp/field.c, §2.1 effect areas and §2.2 interpolation of the constrai
- *  16853: src/pgp/solve.c, §2.3 the periodic global parameterization, the recovery o
- *  17613: src/pgp/edit.c, the public editing calls of a mapping. §2.1 (Ray, Lévy, 
- *  17748: src/pgp/render.c, §3 rendering, and a cleaner treatment of the vortices.
- *  18136: src/pgp/builtin.c, built-in meshes and material-space tiles for demos and tes
- *  18398: src/pgp/io.c, files and memory for pgp.h: material-space tiles (NRRD, or
- *  18847: src/pgp/export.c, the mapping for other programs. A viewer that knows nothin
- *  19046: src/pgp/morph.c, the inputs of §1 (keys brought to the tile size, made til
- *  19661: src/pgp/synth.c, §1.2 constrained tile synthesis, and the whole of §1: ke
+ *  13783: src/pgp/tile3.h, sampling a material-space tile (Ray et al. 2009, §2: "a 3
+ *  13897: src/common/glue.h, what every method header needs between its public types an
+ *  14104: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  14650: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
+ *  15156: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
+ *  15614: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
+ *  15754: src/common/kdtree.h, nearest-neighbour search among n points of dimension d, wi
+ *  16088: src/common/pca.h, principal component analysis of vectors streamed one at a 
+ *  16273: src/pgp/core.c, pgp.h's glue to the shared core, its defaults, and the map
+ *  16526: src/pgp/field.c, §2.1 effect areas and §2.2 interpolation of the constrai
+ *  16885: src/pgp/solve.c, §2.3 the periodic global parameterization, the recovery o
+ *  17645: src/pgp/edit.c, the public editing calls of a mapping. §2.1 (Ray, Lévy, 
+ *  17780: src/pgp/render.c, §3 rendering, and a cleaner treatment of the vortices.
+ *  18168: src/pgp/builtin.c, built-in meshes and material-space tiles for demos and tes
+ *  18430: src/pgp/io.c, files and memory for pgp.h: material-space tiles (NRRD, or
+ *  18879: src/pgp/export.c, the mapping for other programs. A viewer that knows nothin
+ *  19078: src/pgp/morph.c, the inputs of §1 (keys brought to the tile size, made til
+ *  19694: src/pgp/synth.c, §1.2 constrained tile synthesis, and the whole of §1: ke
  */
 /* pgp.h - material-space texturing with a periodic global parameterization.
  *
@@ -13170,27 +13170,27 @@ PW__DEF int pw__gzip_header(const unsigned char *d, size_t n, size_t *hlen, pw_e
 }
 
 /* Appends m bytes to the growing output of pw_gzip_decompress. */
-PW__DEF int pw__gzip_append(const pw_alloc *a, unsigned char **out, size_t *outn, size_t *cap,
-                            const unsigned char *m, size_t mn, pw_err *e)
+PW__DEF int pw__gzip_append(pw_buf *out, const unsigned char *m, size_t mn, pw_err *e)
 {
-    if (pw_grow(a, (void **)out, cap, *outn + mn, 1, "gzip data", e))
+    if (pw_grow(out->alloc, (void **)&out->data, &out->cap, out->size + mn, 1, "gzip data", e))
         return e && e->code ? e->code : PW_ERR_NOMEM;
-    if (mn) memcpy(*out + *outn, m, mn);
-    *outn += mn;
+    if (mn) memcpy(out->data + out->size, m, mn);
+    out->size += mn;
     return PW_OK;
 }
 
 /* Decodes a gzip stream of one or more members into a new buffer of at most
- * max_out bytes (PW_ERR_LIMIT beyond). Every member's CRC-32 and length are
- * checked; bytes after the last member are an error. Free *out with
+ * max_out bytes (PW_ERR_LIMIT beyond): out->data (out->size bytes; out is
+ * set up here, with allocator a). Every member's CRC-32 and length are
+ * checked; bytes after the last member are an error. Free out->data with
  * pw_free(a, ...). */
-PW__DEF int pw_gzip_decompress(const pw_alloc *a, const unsigned char *data, size_t n,
-                               size_t max_out, unsigned char **out, size_t *outn, pw_err *e)
+PW__DEF int pw_gzip_decompress(const pw_alloc *a, const unsigned char *data, size_t n, size_t max_out, pw_buf *out,
+                               pw_err *e)
 {
-    size_t pos = 0, cap = 0;
+    size_t pos = 0;
     int r = PW_OK, member = 0;
-    *out = NULL;
-    *outn = 0;
+    memset(out, 0, sizeof *out);
+    out->alloc = a;
     do {
         size_t hlen = 0, used = 0, mn = 0;
         unsigned char *m = NULL;
@@ -13202,7 +13202,7 @@ PW__DEF int pw_gzip_decompress(const pw_alloc *a, const unsigned char *data, siz
         }
         if ((r = pw__gzip_header(data + pos, n - pos, &hlen, e))) break;
         pos += hlen;
-        r = pw_inflate(a, data + pos, n - pos, max_out - *outn, &m, &mn, &used, e);
+        r = pw_inflate(a, data + pos, n - pos, max_out - out->size, &m, &mn, &used, e);
         if (r) break;
         pos += used;
         t = data + pos;
@@ -13216,35 +13216,35 @@ PW__DEF int pw_gzip_decompress(const pw_alloc *a, const unsigned char *data, siz
                         "gzip data: member %d holds %lu bytes, its trailer says %lu", member + 1,
                         (unsigned long)mn, (unsigned long)pw__le32(t + 4));
         else if (member == 0 && pos + 8 == n) { /* the usual single member: no copy */
-            *out = m;
-            *outn = mn;
+            out->data = m;
+            out->size = out->cap = mn;
             return PW_OK;
         } else {
-            r = pw__gzip_append(a, out, outn, &cap, m, mn, e);
+            r = pw__gzip_append(out, m, mn, e);
         }
         pw_free(a, m);
         pos += 8;
         member++;
     } while (!r && pos < n);
     if (r) {
-        pw_free(a, *out);
-        *out = NULL;
-        *outn = 0;
+        pw_free(a, out->data);
+        out->data = NULL;
+        out->size = out->cap = 0;
     }
     return r;
 }
 
-/* One gzip member holding data[0..n) at deflate `level` (0-9, -1 = 6). */
-PW__DEF int pw_gzip_compress(const pw_alloc *a, const unsigned char *data, size_t n, int level,
-                             unsigned char **out, size_t *outn, pw_err *e)
+/* One gzip member holding data[0..n) at deflate `level` (0-9, -1 = 6), in
+ * out->data (out->size bytes; out is set up here, with allocator a). */
+PW__DEF int pw_gzip_compress(const pw_alloc *a, const unsigned char *data, size_t n, int level, pw_buf *out, pw_err *e)
 {
     /* MTIME 0 and OS 255 (unknown): the bytes depend on the data alone */
     static const unsigned char head[10] = {0x1f, 0x8b, 8, 0, 0, 0, 0, 0, 0, 255};
     unsigned char *z, *g;
     size_t zn;
     int r;
-    *out = NULL;
-    *outn = 0;
+    memset(out, 0, sizeof *out);
+    out->alloc = a;
     if ((r = pw_deflate(a, data, n, level, &z, &zn, e))) return r;
     g = zn <= (size_t)-1 - 18 ? (unsigned char *)pw_realloc(a, z, zn + 18) : NULL;
     if (!g) {
@@ -13255,8 +13255,8 @@ PW__DEF int pw_gzip_compress(const pw_alloc *a, const unsigned char *data, size_
     memcpy(g, head, 10);
     pw__put_le32(g + 10 + zn, pw_crc32(0, data, n));
     pw__put_le32(g + 14 + zn, (uint32_t)n);
-    *out = g;
-    *outn = zn + 18;
+    out->data = g;
+    out->size = out->cap = zn + 18;
     return PW_OK;
 }
 
@@ -13650,8 +13650,10 @@ PW__DEF int pw__nrrd_data(const pw_alloc *a, pw__nrrd *r, pw_volume *out)
                        (unsigned long long)need);
     if (r->gzip) {
         pw_err local;
+        pw_buf unz;
         pw_err_clear(&local);
-        rc = pw_gzip_decompress(a, src, have, (size_t)need, &buf, &have, &local);
+        rc = pw_gzip_decompress(a, src, have, (size_t)need, &unz, &local);
+        buf = unz.data, have = unz.size;
         if (rc == PW_ERR_LIMIT)
             return pw_fail(r->e, PW_ERR_PARSE,
                            "%s:%d: the gzip data holds more than the %llu bytes that sizes and "
@@ -13720,16 +13722,16 @@ PW__DEF int pw_nrrd_write(const pw_alloc *a, const pw_volume *vol, int gzip, pw_
     pw__sink_init(&s, w, ctx);
     pw__sink_put(&s, head, (size_t)k);
     if (gzip) {
-        unsigned char *b, *z;
-        size_t zn;
+        unsigned char *b;
+        pw_buf z;
         b = (unsigned char *)pw_alloc_array(a, n, 1, "NRRD samples", e);
         if (!b) return PW_ERR_NOMEM;
         for (i = 0; i < n; i++) b[i] = (unsigned char)pw_image_quantize(vol->px[i], 255);
-        rc = pw_gzip_compress(a, b, n, -1, &z, &zn, e);
+        rc = pw_gzip_compress(a, b, n, -1, &z, e);
         pw_free(a, b);
         if (rc) return rc;
-        pw__sink_put(&s, z, zn);
-        pw_free(a, z);
+        pw__sink_put(&s, z.data, z.size);
+        pw_free(a, z.data);
     } else {
         for (i = 0; i < n; i++) pw__sink_byte(&s, pw_image_quantize(vol->px[i], 255));
     }
@@ -15666,11 +15668,29 @@ PW__DEF void pw__edt_1d(const float *f, int n, float *d, int *v, double *z)
     }
 }
 
+/* A binary image: w x h pixels px (row-major, nonzero: set); wrap: periodic
+ * in x and y (a tile). */
+typedef struct pw_edt_image {
+    const unsigned char *px;
+    int w, h, wrap;
+} pw_edt_image;
+
+/* The scratch of the 1D transforms of one distance transform, for lines of
+ * up to m pixels (3m when they wrap), and whether they wrap. */
+typedef struct pw__edt_ws {
+    float *f, *d; /* a line's values and its transform */
+    int *v;       /* the parabolas' sites */
+    double *z;    /* their boundaries (one more) */
+    int wrap;     /* periodic lines, tripled */
+} pw__edt_ws;
+
 /* One pass along lines of length n (count lines, element i of line l at
- * data[l*ls + i*es]), in place; periodic lines are tripled. */
-PW__DEF void pw__edt_pass(float *data, int n, int count, size_t ls, size_t es, int wrap, float *f,
-                          float *d, int *v, double *z)
+ * data[l*ls + i*es]), in place. */
+PW__DEF void pw__edt_pass(float *data, int n, int count, size_t ls, size_t es, const pw__edt_ws *ws)
 {
+    float *f = ws->f, *d = ws->d;
+    int *v = ws->v, wrap = ws->wrap;
+    double *z = ws->z;
     int l, i, reps = wrap ? 3 : 1;
     for (l = 0; l < count; l++) {
         float *line = data + (size_t)l * ls;
@@ -15683,11 +15703,11 @@ PW__DEF void pw__edt_pass(float *data, int n, int count, size_t ls, size_t es, i
 /* out[y*w + x] = squared distance from (x, y) to the nearest pixel with
  * site[] != 0, periodic in x and y when wrap is set; PW_EDT_FAR everywhere
  * when there is no site. */
-PW__DEF int pw_edt_sq(const pw_alloc *a, const unsigned char *site, int w, int h, int wrap,
-                      float *out, pw_err *e)
+PW__DEF int pw_edt_sq(const pw_alloc *a, const pw_edt_image *site, float *out, pw_err *e)
 {
-    int m = (w > h ? w : h) * (wrap ? 3 : 1);
+    int w = site->w, h = site->h, m = (w > h ? w : h) * (site->wrap ? 3 : 1);
     size_t i, n = (size_t)w * h;
+    pw__edt_ws ws;
     float *f = (float *)pw_alloc_array(a, (size_t)m * 2, sizeof(float), "distance transform", e);
     int *v = (int *)pw_alloc_array(a, (size_t)m, sizeof(int), "distance transform", e);
     double *z = (double *)pw_alloc_array(a, (size_t)m + 1, sizeof(double), "distance transform", e);
@@ -15697,9 +15717,10 @@ PW__DEF int pw_edt_sq(const pw_alloc *a, const unsigned char *site, int w, int h
         pw_free(a, z);
         return PW_ERR_NOMEM;
     }
-    for (i = 0; i < n; i++) out[i] = site[i] ? 0.0f : PW_EDT_FAR;
-    pw__edt_pass(out, w, h, (size_t)w, 1, wrap, f, f + m, v, z);
-    pw__edt_pass(out, h, w, 1, (size_t)w, wrap, f, f + m, v, z);
+    ws.f = f, ws.d = f + m, ws.v = v, ws.z = z, ws.wrap = site->wrap;
+    for (i = 0; i < n; i++) out[i] = site->px[i] ? 0.0f : PW_EDT_FAR;
+    pw__edt_pass(out, w, h, (size_t)w, 1, &ws);
+    pw__edt_pass(out, h, w, 1, (size_t)w, &ws);
     pw_free(a, f);
     pw_free(a, v);
     pw_free(a, z);
@@ -15709,16 +15730,18 @@ PW__DEF int pw_edt_sq(const pw_alloc *a, const unsigned char *site, int w, int h
 /* phi[i] > 0 where mask[i] != 0 (inside), < 0 elsewhere; |phi| is the
  * distance to the nearest pixel of the other kind minus 1/2. A mask with no
  * pixel of one kind gives +-sqrt(PW_EDT_FAR) on the other. */
-PW__DEF int pw_edt_signed(const pw_alloc *a, const unsigned char *mask, int w, int h, int wrap,
-                          float *phi, pw_err *e)
+PW__DEF int pw_edt_signed(const pw_alloc *a, const pw_edt_image *im, float *phi, pw_err *e)
 {
-    size_t i, n = (size_t)w * h;
+    const unsigned char *mask = im->px;
+    size_t i, n = (size_t)im->w * im->h;
     unsigned char *inv = (unsigned char *)pw_alloc_array(a, n, 1, "signed distance", e);
     float *din = (float *)pw_alloc_array(a, n, sizeof(float), "signed distance", e);
+    pw_edt_image rest = *im; /* the other kind */
     int r = inv && din ? PW_OK : PW_ERR_NOMEM;
+    rest.px = inv;
     for (i = 0; r == PW_OK && i < n; i++) inv[i] = (unsigned char)!mask[i];
-    if (r == PW_OK) r = pw_edt_sq(a, mask, w, h, wrap, phi, e); /* outside: to the mask */
-    if (r == PW_OK) r = pw_edt_sq(a, inv, w, h, wrap, din, e);  /* inside: to the rest */
+    if (r == PW_OK) r = pw_edt_sq(a, im, phi, e);    /* outside: to the mask */
+    if (r == PW_OK) r = pw_edt_sq(a, &rest, din, e); /* inside: to the rest */
     for (i = 0; r == PW_OK && i < n; i++)
         phi[i] = mask[i] ? sqrtf(din[i]) - 0.5f : 0.5f - sqrtf(phi[i]);
     pw_free(a, inv);
@@ -16026,35 +16049,38 @@ PW__DEF void pw__kd_search(const pw_kdtree *t, int ni, float rd, pw__kdsearch *s
     while (nu-- > 0) s->off[undo_dim[nu]] = undo_off[nu];
 }
 
-/* The caller's index of the point minimising |q - p|^2 + pen, starting from
- * candidate `start` (caller's index, or -1) whose cost is start_cost; its
- * cost in *cost (may be NULL). At most `buckets` buckets are scanned
- * (negative: no limit), in the depth-first, nearest-cell-first order of the
- * search, as ANN's bound on the points visited: the cost of a query is then
- * bounded where many points are nearly equidistant (smooth images). off:
- * scratch of d floats. */
-PW__DEF int pw_kdtree_nearest_budget(const pw_kdtree *t, const float *q, float eps, int buckets, int start,
-                                     float start_cost, float *off, float *cost)
+/* A nearest-point query: the point q (d floats), the approximation eps (a
+ * cell is skipped unless (1 + eps)^2 times its distance beats the best
+ * cost), at most `buckets` buckets scanned (negative: no limit), in the
+ * depth-first, nearest-cell-first order of the search, as ANN's bound on
+ * the points visited: the cost of a query is then bounded where many points
+ * are nearly equidistant (smooth images); the candidate to beat, `start`
+ * (caller's index, or -1) of cost start_cost; off: scratch of d floats. */
+typedef struct pw_kdquery {
+    const float *q;
+    float eps;
+    int buckets;
+    int start;
+    float start_cost;
+    float *off;
+} pw_kdquery;
+
+/* The caller's index of the point minimising |q - p|^2 + pen for query qy;
+ * its cost in *cost (may be NULL). */
+PW__DEF int pw_kdtree_nearest(const pw_kdtree *t, const pw_kdquery *qy, float *cost)
 {
     pw__kdsearch s;
-    int k;
-    for (k = 0; k < t->d; k++) off[k] = 0.0f;
-    s.q = q;
-    s.off = off;
-    s.scale = (1.0f + eps) * (1.0f + eps);
-    s.best = start >= 0 ? start_cost : FLT_MAX;
+    int k, start = qy->start;
+    for (k = 0; k < t->d; k++) qy->off[k] = 0.0f;
+    s.q = qy->q;
+    s.off = qy->off;
+    s.scale = (1.0f + qy->eps) * (1.0f + qy->eps);
+    s.best = start >= 0 ? qy->start_cost : FLT_MAX;
     s.bi = start >= 0 ? t->pos[start] : -1;
-    s.budget = buckets;
+    s.budget = qy->buckets;
     if (t->node[0].minpen < s.best) pw__kd_search(t, 0, 0.0f, &s);
     if (cost) *cost = s.best;
     return s.bi >= 0 ? t->idx[s.bi] : -1;
-}
-
-/* The same without a bound on the buckets scanned. */
-PW__DEF int pw_kdtree_nearest(const pw_kdtree *t, const float *q, float eps, int start, float start_cost,
-                              float *off, float *cost)
-{
-    return pw_kdtree_nearest_budget(t, q, eps, -1, start, start_cost, off, cost);
 }
 
 #endif /* PW__KDTREE_V1 */
@@ -16163,12 +16189,18 @@ PW__DEF void pw__pca_jacobi(double *c, double *v, int d)
     }
 }
 
-/* The k (<= d) leading components: mean[d], basis[k*d] (row j is
- * component j), var[k] (may be NULL). Needs at least one vector. */
-PW__DEF int pw_pca_solve(const pw_alloc *a, const pw_pca *p, int k, float *mean, float *basis, float *var,
-                         pw_err *e)
+/* Where pw_pca_solve puts the k (<= d) leading components: the caller's
+ * arrays mean[d], basis[k*d] (row j is component j), var[k] (may be NULL). */
+typedef struct pw_pca_out {
+    int k;
+    float *mean, *basis, *var;
+} pw_pca_out;
+
+/* The leading components into out. Needs at least one vector. */
+PW__DEF int pw_pca_solve(const pw_alloc *a, const pw_pca *p, const pw_pca_out *out, pw_err *e)
 {
-    int d = p->d, i, j, r;
+    float *mean = out->mean, *basis = out->basis, *var = out->var;
+    int d = p->d, k = out->k, i, j, r;
     double *c = (double *)pw_alloc_array(a, (size_t)d * d * 2, sizeof(double), "PCA eigenvectors", e);
     double *v = c + (size_t)d * d;
     if (!c) return PW_ERR_NOMEM;
@@ -19403,6 +19435,7 @@ static long pgp__flips(const pgp__morph *m, int i, int j)
 static int pgp__morph_init(const pw_alloc *a, pgp__morph *m, const unsigned char *f0, const unsigned char *f1, int n,
                            int M, int steps, pw_err *e)
 {
+    pw_edt_image im0, im1;
     size_t i;
     int x, y, r;
     float lo = 0.0f;
@@ -19413,8 +19446,8 @@ static int pgp__morph_init(const pw_alloc *a, pgp__morph *m, const unsigned char
     if (!(m->phi0 = (float *)pw_alloc_array(a, m->nn * 6, sizeof(float), "morph fields", e))) return PW_ERR_NOMEM;
     m->psi = m->phi0 + m->nn, m->gx = m->psi + m->nn, m->gy = m->gx + m->nn;
     m->phi = m->gy + m->nn, m->next = m->phi + m->nn;
-    if ((r = pw_edt_signed(a, f0, n, n, 1, m->phi0, e)) != PW_OK || (r = pw_edt_signed(a, f1, n, n, 1, m->psi, e)) != PW_OK)
-        return r;
+    im0.px = f0, im1.px = f1, im0.w = im0.h = im1.w = im1.h = n, im0.wrap = im1.wrap = 1; /* tiles */
+    if ((r = pw_edt_signed(a, &im0, m->phi0, e)) != PW_OK || (r = pw_edt_signed(a, &im1, m->psi, e)) != PW_OK) return r;
     for (i = 0; i < m->nn; i++) {
         lo = m->psi[i] < lo ? m->psi[i] : lo;
         m->sup = fabsf(m->psi[i]) > m->sup ? fabsf(m->psi[i]) : m->sup;
@@ -19805,6 +19838,7 @@ static int pgp__ex_pca(const pw_alloc *a, pgp__ex *ex, pgp__exlevel *L, float us
     float *basis = buf ? buf + ex->dc + ex->dm : NULL, *var = basis ? basis + (size_t)(ex->dc + ex->dm) * PW_PCA_PACK : NULL;
     float *mm;
     pw_pca pc, pm;
+    pw_pca_out oc, om;
     int r, j;
     memset(&pc, 0, sizeof pc);
     memset(&pm, 0, sizeof pm);
@@ -19818,9 +19852,11 @@ static int pgp__ex_pca(const pw_alloc *a, pgp__ex *ex, pgp__exlevel *L, float us
         pw_pca_add(&pm, buf);
     }
     mm = L->pca ? L->pca + (size_t)ex->dc * (1 + PW_PCA_PACK) : NULL;
-    if (r == PW_OK && (r = pw_pca_solve(a, &pc, ex->cd, L->pca, basis, var, e)) == PW_OK)
+    oc.k = ex->cd, oc.mean = L->pca, oc.basis = basis, oc.var = var;
+    om.k = ex->md, om.mean = mm, om.basis = basis, om.var = var + ex->cd;
+    if (r == PW_OK && (r = pw_pca_solve(a, &pc, &oc, e)) == PW_OK)
         pw_pca_pack(basis, ex->dc, ex->cd, L->pca + ex->dc);
-    if (r == PW_OK && (r = pw_pca_solve(a, &pm, ex->md, mm, basis, var + ex->cd, e)) == PW_OK)
+    if (r == PW_OK && (r = pw_pca_solve(a, &pm, &om, e)) == PW_OK)
         pw_pca_pack(basis, ex->dm, ex->md, mm + ex->dm);
     for (j = 0, L->lambda = 0.0f; r == PW_OK && j < ex->D; j++)
         L->lambda += var[j] * (j < ex->cd ? 1.0f : ex->weight * ex->weight);
@@ -19946,10 +19982,11 @@ static void pgp__count_uses(pgp__exlevel *L, const int *ind)
 static void pgp__update_texel(pgp__synth *S, pgp__exlevel *L, int *ind, const float *target, int p)
 {
     int u0 = ind[p], u;
-    float c0;
+    pw_kdquery qy;
     pgp__vector(S->ex, L, ind, target, p % L->n, p / L->n, S->buf, S->q);
-    c0 = pw_kdtree_cost(&L->tree, S->q, u0) - L->lambda;
-    u = pw_kdtree_nearest_budget(&L->tree, S->q, S->o->search_eps, S->o->search_buckets, u0, c0, S->off, NULL);
+    qy.q = S->q, qy.eps = S->o->search_eps, qy.buckets = S->o->search_buckets, qy.off = S->off;
+    qy.start = u0, qy.start_cost = pw_kdtree_cost(&L->tree, S->q, u0) - L->lambda;
+    u = pw_kdtree_nearest(&L->tree, &qy, NULL);
     if (u == u0) return;
     L->count[u0]--;
     pw_kdtree_set_penalty(&L->tree, u0, L->lambda * (float)L->count[u0]);

@@ -47,10 +47,11 @@ typedef struct tet_result {
 static void measure_fit(const pw_mesh *m, const pw_tetmesh *t, tet_result *r)
 {
     pw_stuff_fit fit;
+    pw_stuff_tris in = pw_stuff_tris_of(m->pos, m->nv, m->fv, m->nf);
     pw_err e;
     pw_err_clear(&e);
     r->fit_max = r->fit_p99 = -1.0, r->pieces = 0;
-    if (pw_stuff_fit_measure(NULL, m->pos, m->nv, m->fv, m->nf, t, 0, &fit, &e) != PW_OK) return;
+    if (pw_stuff_fit_measure(NULL, &in, t, 0, &fit, &e) != PW_OK) return;
     r->fit_max = (fit.to_max > fit.from_max ? fit.to_max : fit.from_max) / fit.diag;
     r->fit_p99 = (fit.to_p99 > fit.from_p99 ? fit.to_p99 : fit.from_p99) / fit.diag;
     r->pieces = fit.pieces;
@@ -68,11 +69,12 @@ static void run_stuff(void *arg)
 {
     job *j = (job *)arg;
     pw_stuff_options o = pw_stuff_default_options();
+    pw_stuff_tris in = pw_stuff_tris_of(j->m->pos, j->m->nv, j->m->fv, j->m->nf);
     pw_err e;
     pw_tetmesh_free(NULL, &j->out);
     o.target_tets = j->target, o.uniform = j->uniform, o.fit = j->fit;
     pw_err_clear(&e);
-    j->status = pw_stuff_tetrahedralize(NULL, j->m->pos, j->m->nv, j->m->fv, j->m->nf, &o, NULL, &j->out, &e);
+    j->status = pw_stuff_tetrahedralize(NULL, &in, &o, NULL, &j->out, &e);
     if (j->status) fprintf(stderr, "bench_tet: %s\n", e.msg);
 }
 

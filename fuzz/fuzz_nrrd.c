@@ -126,13 +126,12 @@ static void synth_nrrd(const unsigned char *d, size_t n)
     memset(&b, 0, sizeof b);
     pw_buf_write(&b, head, (size_t)k);
     if (gz) {
-        unsigned char *z8;
-        size_t zn;
+        pw_buf z8;
         pw_err e;
         pw_err_clear(&e);
-        if (pw_gzip_compress(NULL, raw, need, d[7] % 10, &z8, &zn, &e)) abort();
-        pw_buf_write(&b, z8, zn);
-        free(z8);
+        if (pw_gzip_compress(NULL, raw, need, d[7] % 10, &z8, &e)) abort();
+        pw_buf_write(&b, z8.data, z8.size);
+        free(z8.data);
     } else {
         pw_buf_write(&b, raw, need);
     }
@@ -144,27 +143,25 @@ static void synth_nrrd(const unsigned char *d, size_t n)
 /* gzip round trip of the input at a level it chooses. */
 static void gzip_roundtrip(const unsigned char *data, size_t size)
 {
-    unsigned char *z, *back;
-    size_t zn, bn;
+    pw_buf z, back;
     pw_err e;
     pw_err_clear(&e);
-    if (pw_gzip_compress(NULL, data, size, size ? data[0] % 10 : 6, &z, &zn, &e)) abort();
-    if (pw_gzip_decompress(NULL, z, zn, size, &back, &bn, &e)) abort();
-    if (bn != size || (size && memcmp(back, data, size))) abort();
-    free(z);
-    free(back);
+    if (pw_gzip_compress(NULL, data, size, size ? data[0] % 10 : 6, &z, &e)) abort();
+    if (pw_gzip_decompress(NULL, z.data, z.size, size, &back, &e)) abort();
+    if (back.size != size || (size && memcmp(back.data, data, size))) abort();
+    free(z.data);
+    free(back.data);
 }
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
-    unsigned char *out;
-    size_t outn;
+    pw_buf out;
     pw_err e;
     read_and_check(data, size);
     synth_nrrd(data, size);
     pw_err_clear(&e);
-    if (pw_gzip_decompress(NULL, data, size, 1 << 20, &out, &outn, &e) == PW_OK) free(out);
+    if (pw_gzip_decompress(NULL, data, size, 1 << 20, &out, &e) == PW_OK) free(out.data);
     if (size <= 4096) gzip_roundtrip(data, size);
     return 0;
 }

@@ -117,6 +117,7 @@ static void fz_check_mesh(const pw_mesh *s, const pw_tetmesh *t, int closed_hole
     int k, *btri = NULL, nb = 0;
     double lo, hi, mag = 0.0;
     pw_stuff_fit fit;
+    pw_stuff_tris in;
     pw_err e;
     if (t->nv <= 0 || t->nt <= 0 || !t->pos || !t->tet) abort();
     for (k = 0; k < 3 * t->nv; k++)
@@ -130,7 +131,8 @@ static void fz_check_mesh(const pw_mesh *s, const pw_tetmesh *t, int closed_hole
     pw_free(NULL, btri);
     pw_tet_dihedral_range(t, &lo, &hi);
     if (uniform ? lo < 10.2 - 1e-3 || hi > 161.7 + 1e-3 : lo < 8.0 || hi > 168.0) abort();
-    if (pw_stuff_fit_measure(NULL, s->pos, s->nv, s->fv, s->nf, t, 2000, &fit, &e) != PW_OK) abort();
+    in = pw_stuff_tris_of(s->pos, s->nv, s->fv, s->nf);
+    if (pw_stuff_fit_measure(NULL, &in, t, 2000, &fit, &e) != PW_OK) abort();
     for (k = 0; k < 3 * s->nv; k++) mag = fabs(s->pos[k]) > mag ? fabs(s->pos[k]) : mag;
     if (!closed_holes && fit.to_surface_max > 1e-6 * (mag + fit.diag)) abort();
 }
@@ -140,6 +142,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
     pw_mesh m;
     pw_tetmesh t, u;
+    pw_stuff_tris in;
     pw_err e;
     pw_stuff_options o = pw_stuff_default_options();
     pw_stuff_info info;
@@ -170,14 +173,15 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     calls = data[0] >> 6;
     p.fn = fz_cancel, p.user = &calls;
     pw_err_clear(&e);
-    r = pw_stuff_tetrahedralize((data[0] & 16) ? &al : NULL, m.pos, m.nv, m.fv, m.nf, &o, calls ? &p : NULL, &t, &e);
+    in = pw_stuff_tris_of(m.pos, m.nv, m.fv, m.nf);
+    r = pw_stuff_tetrahedralize((data[0] & 16) ? &al : NULL, &in, &o, calls ? &p : NULL, &t, &e);
     if (r != PW_OK) {
         if (r <= 0 || r >= PW_ERR__COUNT || e.code != r || !e.msg[0] || t.pos || t.tet || t.nt || t.nv) abort();
     } else {
         fz_check_mesh(&m, &t, info.closed_holes, o.uniform);
         if (data[0] & 32) {
             pw_err_clear(&e);
-            if (pw_stuff_tetrahedralize(NULL, m.pos, m.nv, m.fv, m.nf, &o, NULL, &u, &e) != PW_OK) abort();
+            if (pw_stuff_tetrahedralize(NULL, &in, &o, NULL, &u, &e) != PW_OK) abort();
             if (u.nv != t.nv || u.nt != t.nt || memcmp(u.pos, t.pos, sizeof(float) * 3 * (size_t)t.nv) ||
                 memcmp(u.tet, t.tet, sizeof(int) * 4 * (size_t)t.nt))
                 abort();

@@ -13,6 +13,12 @@
 #include "fuzz.h"
 #include "../src/common/tetio.h"
 
+/* pw_tetgen_read_memory on two files given by value. */
+static int tg_read(const pw_alloc *a, pw_memfile node, pw_memfile ele, pw_tetmesh *out, pw_err *e)
+{
+    return pw_tetgen_read_memory(a, &node, &ele, out, e);
+}
+
 static void fz_check_err(int r, const pw_err *e, const pw_tetmesh *m)
 {
     fz_check_failure(r, e->code, e->msg, sizeof e->msg);
@@ -34,7 +40,8 @@ static void fz_roundtrip(const pw_tetmesh *m)
     memset(&el, 0, sizeof el);
     pw_err_clear(&e);
     FZ_CHECK(!(pw_tetgen_write_node(m, pw_buf_write, &n, &e) || pw_tetgen_write_ele(m, pw_buf_write, &el, &e)));
-    FZ_CHECK(pw_tetgen_read_memory(NULL, n.data, n.size, "n", el.data, el.size, "e", &r, &e) == PW_OK);
+    FZ_CHECK(tg_read(NULL, pw_memfile_of(n.data, n.size, "n"), pw_memfile_of(el.data, el.size, "e"), &r, &e) ==
+             PW_OK);
     fz_same(m, &r);
     pw_tetmesh_free(NULL, &r);
     free(n.data);
@@ -106,7 +113,9 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     if (at) {
         size_t n = (size_t)(at - data);
         pw_err_clear(&e);
-        fz_use(pw_tetgen_read_memory(NULL, data, n, "fuzz.node", at + 1, size - n - 1, "fuzz.ele", &m, &e), &m, &e);
+        fz_use(tg_read(NULL, pw_memfile_of(data, n, "fuzz.node"), pw_memfile_of(at + 1, size - n - 1, "fuzz.ele"), &m,
+                       &e),
+               &m, &e);
     }
     return 0;
 }

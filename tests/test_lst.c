@@ -132,7 +132,7 @@ static double slab_shape(const double *p)
 
 static int slab(int n, lst_mesh *s, lst_tetmesh *m, lst_constraint **dc, int *nd)
 {
-    static const double lo[3] = {-1.5, -1.5, -0.7};
+    static const lst__shape_grid slab = {slab_shape, {-1.5, -1.5, -0.7}, 3.0 / 40, 40};
     lst_options o = lst_default_options();
     lst_error err;
     pw_alloc a;
@@ -142,7 +142,7 @@ static int slab(int n, lst_mesh *s, lst_tetmesh *m, lst_constraint **dc, int *nd
     memset(&a, 0, sizeof a);
     pw_err_clear(&e);
     o.tet.target_tets = n, o.tet.uniform = 1; /* a small uniform fill: stuffing tests cover the graded one */
-    if (lst__implicit(&a, slab_shape, lo, 3.0 / 40, 40, &pm, &e)) return 0;
+    if (lst__implicit(&a, &slab, &pm, &e)) return 0;
     lst__take_mesh(&pm, &a, s);
     if (lst_tetrahedralize(s, &o, m, NULL, &err)) return 0;
     *dc = (lst_constraint *)calloc((size_t)s->nfaces, sizeof **dc);
@@ -348,6 +348,7 @@ static void t_rbf_linear(void)
 {
     pw_alloc a;
     lst__rbf rbf;
+    lst__pts pts;
     pw_err e;
     double p[60 * 3], val[60], o[3] = {0, 0, 0}, worst = 0.0;
     pw_rng r = pw_rng_seed(4, 2);
@@ -358,7 +359,9 @@ static void t_rbf_linear(void)
         for (k = 0; k < 3; k++) p[3 * i + k] = 2.0 * pw_rng_double(&r) - 1.0;
         val[i] = 0.3 + 0.2 * p[3 * i] - 0.5 * p[3 * i + 1] + 0.1 * p[3 * i + 2];
     }
-    REQUIRE(lst__rbf_fit(&a, p, val, 60, 40, o, 2.0, &rbf, &e) == PW_OK);
+    pts.n = 60, pts.p = p, pts.val = val;
+    memcpy(rbf.o, o, sizeof rbf.o), rbf.s = 2.0;
+    REQUIRE(lst__rbf_fit(&a, &pts, 40, &rbf, &e) == PW_OK);
     for (i = 0; i < 200; i++) {
         double x[3], g[3], f;
         for (k = 0; k < 3; k++) x[k] = 1.6 * pw_rng_double(&r) - 0.8;
@@ -530,22 +533,28 @@ static void t_layer_weights(void)
     lst_tetmesh m;
     pw_alloc a;
     lst__geo g;
-    lst__cons c;
+    lst__lsq sa, sb; /* no constraints */
+    lst__field_job job;
     pw_csr A, B;
     pw_err e;
     pw_tetmesh tm;
     double *depth, worst = 0.0;
     int v, k;
     memset(&a, 0, sizeof a);
-    memset(&c, 0, sizeof c);
+    memset(&sa, 0, sizeof sa);
+    memset(&sb, 0, sizeof sb);
+    memset(&job, 0, sizeof job);
+    sa.W = sb.W = 10.0;
+    job.a = &a, job.g = &g, job.e = &e;
     pw_err_clear(&e);
     REQUIRE(sphere_tets(800, &m));
     tm = lst__pw_tets(&m);
     REQUIRE(lst__geo_init(&a, &tm, &g, &e) == PW_OK);
     depth = (double *)malloc(sizeof(double) * (size_t)tm.nv);
     for (v = 0; v < tm.nv; v++) depth[v] = 0.5 + 0.5 * tm.pos[3 * v]; /* varies along x */
-    REQUIRE(lst__smooth_matrix(&a, &g, depth, 3.0, &c, 10.0, &A, &e) == PW_OK);
-    REQUIRE(lst__smooth_matrix(&a, &g, NULL, 1.0, &c, 10.0, &B, &e) == PW_OK);
+    REQUIRE(lst__smooth_matrix(&job, depth, 3.0, &sa) == PW_OK);
+    REQUIRE(lst__smooth_matrix(&job, NULL, 1.0, &sb) == PW_OK);
+    A = sa.A, B = sb.A;
     for (v = 0; v < tm.nv; v++) {
         double sum = 0.0, sumw = 0.0, row = 0.0;
         for (k = g.rings.start[v]; k < g.rings.start[v + 1]; k++) {

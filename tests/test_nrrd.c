@@ -15,6 +15,23 @@
 #include "../src/common/rng.h"
 #include "pwtest.h"
 
+/* pw_gzip_decompress and pw_gzip_compress into a plain array. */
+static int gunzip(const unsigned char *d, size_t n, size_t max, unsigned char **out, size_t *outn, pw_err *e)
+{
+    pw_buf b;
+    int r = pw_gzip_decompress(NULL, d, n, max, &b, e);
+    *out = b.data, *outn = b.size;
+    return r;
+}
+
+static int gzip_mem(const unsigned char *d, size_t n, int level, unsigned char **out, size_t *outn, pw_err *e)
+{
+    pw_buf b;
+    int r = pw_gzip_compress(NULL, d, n, level, &b, e);
+    *out = b.data, *outn = b.size;
+    return r;
+}
+
 static const unsigned char gz_plain[130] = {
     0x1f, 0x8b, 0x08, 0x00, 0x00, 0x00, 0x00, 0x00, 0x02, 0x03, 0x63, 0xe0, 0x12, 0x91, 0xd3,
     0x30, 0xb2, 0x71, 0x0b, 0x88, 0x4a, 0xc9, 0xab, 0x68, 0xea, 0x99, 0xb6, 0x60, 0xd5, 0x96,
@@ -391,7 +408,7 @@ static void t_gzip_python(void)
         pw_err e;
         size_t n = make_file(f, sizeof f, head, gz[i].d, gz[i].n);
         pw_err_clear(&e);
-        CHECKF(pw_gzip_decompress(NULL, gz[i].d, gz[i].n, 1000, &out, &outn, &e) == PW_OK, "%s: %s",
+        CHECKF(gunzip(gz[i].d, gz[i].n, 1000, &out, &outn, &e) == PW_OK, "%s: %s",
                gz[i].name, e.msg);
         CHECK_EQ_INT(outn, 192);
         for (k = 0; k < 192 && k < (int)outn; k++) CHECK(out[k] == payload_byte(k));
@@ -421,7 +438,7 @@ static void gz_fail(const unsigned char *d, size_t n, int code, const char *what
     pw_err e;
     int rc;
     pw_err_clear(&e);
-    rc = pw_gzip_decompress(NULL, d, n, 1000, &out, &outn, &e);
+    rc = gunzip(d, n, 1000, &out, &outn, &e);
     if (rc != code || !strstr(e.msg, what))
         pwt_fail_(__FILE__, line, "got %d '%s', expected %d '%s'", rc, e.msg, code, what);
     if (rc == PW_OK)
@@ -473,10 +490,10 @@ static void t_gzip_errors(void)
         size_t outn;
         pw_err e;
         pw_err_clear(&e);
-        CHECK(pw_gzip_decompress(NULL, gz_plain, n, 191, &out, &outn, &e) == PW_ERR_LIMIT);
+        CHECK(gunzip(gz_plain, n, 191, &out, &outn, &e) == PW_ERR_LIMIT);
         CHECK(out == NULL);
         pw_err_clear(&e);
-        CHECK(pw_gzip_decompress(NULL, gz_two, sizeof gz_two, 150, &out, &outn, &e) ==
+        CHECK(gunzip(gz_two, sizeof gz_two, 150, &out, &outn, &e) ==
               PW_ERR_LIMIT);
         CHECK(out == NULL);
     }
@@ -493,16 +510,16 @@ static void t_gzip_own(void)
     for (i = 0; i < sizeof data; i++) data[i] = (unsigned char)((i * i) >> 5);
     for (level = -1; level <= 9; level += 5) {
         pw_err_clear(&e);
-        REQUIRE(pw_gzip_compress(NULL, data, sizeof data, level, &z, &zn, &e) == PW_OK);
+        REQUIRE(gzip_mem(data, sizeof data, level, &z, &zn, &e) == PW_OK);
         CHECK(zn > 18 && z[0] == 0x1f && z[1] == 0x8b && z[2] == 8 && z[3] == 0 && z[9] == 255);
         CHECK(z[zn - 4] == (sizeof data & 255) && z[zn - 3] == (sizeof data >> 8));
-        REQUIRE(pw_gzip_decompress(NULL, z, zn, sizeof data, &back, &bn, &e) == PW_OK);
+        REQUIRE(gunzip(z, zn, sizeof data, &back, &bn, &e) == PW_OK);
         CHECK(bn == sizeof data && memcmp(back, data, bn) == 0);
         free(z);
         free(back);
     }
-    REQUIRE(pw_gzip_compress(NULL, data, 0, 6, &z, &zn, &e) == PW_OK);
-    REQUIRE(pw_gzip_decompress(NULL, z, zn, 0, &back, &bn, &e) == PW_OK);
+    REQUIRE(gzip_mem(data, 0, 6, &z, &zn, &e) == PW_OK);
+    REQUIRE(gunzip(z, zn, 0, &back, &bn, &e) == PW_OK);
     CHECK(bn == 0);
     free(z);
     free(back);

@@ -177,11 +177,13 @@ static void t_edt_brute_force(void)
     int w = 37, h = 23, wrap, trial, x, y, bad = 0;
     unsigned char site[37 * 23];
     float d[37 * 23];
+    pw_edt_image im;
     for (trial = 0; trial < 6; trial++)
         for (wrap = 0; wrap < 2; wrap++) {
             for (x = 0; x < w * h; x++) site[x] = noise(x, trial, 9) < 0.02f * (trial + 1) * (trial + 1) * 0.3f;
             site[(trial * 131) % (w * h)] = 1;
-            CHECK(pw_edt_sq(NULL, site, w, h, wrap, d, NULL) == PW_OK);
+            im.px = site, im.w = w, im.h = h, im.wrap = wrap;
+            CHECK(pw_edt_sq(NULL, &im, d, NULL) == PW_OK);
             for (y = 0; y < h; y++)
                 for (x = 0; x < w; x++) {
                     float best = FLT_MAX;
@@ -206,9 +208,11 @@ static void t_edt_signed_disc(void)
     int n = 64, x, y, bad = 0;
     unsigned char m[64 * 64];
     float phi[64 * 64], worst = 0.0f;
+    pw_edt_image im;
     for (y = 0; y < n; y++)
         for (x = 0; x < n; x++) m[y * n + x] = (x - 31.5f) * (x - 31.5f) + (y - 31.5f) * (y - 31.5f) < 15.0f * 15.0f;
-    CHECK(pw_edt_signed(NULL, m, n, n, 1, phi, NULL) == PW_OK);
+    im.px = m, im.w = im.h = n, im.wrap = 1;
+    CHECK(pw_edt_signed(NULL, &im, phi, NULL) == PW_OK);
     for (y = 0; y < n; y++)
         for (x = 0; x < n; x++) {
             float r = sqrtf((x - 31.5f) * (x - 31.5f) + (y - 31.5f) * (y - 31.5f)), err = fabsf(phi[y * n + x] - (15.0f - r));
@@ -226,6 +230,7 @@ static void t_edt_signed_disc(void)
 static void t_kdtree_penalties(void)
 {
     pw_kdtree t;
+    pw_kdquery qy;
     pw_rng r = pw_rng_seed(5, 1);
     int n = 3000, d = 6, i, k, qn, bad = 0, worse = 0, dup;
     float *p = (float *)malloc(sizeof(float) * n * d), *pen = (float *)calloc((size_t)n, sizeof(float)), q[6], off[6];
@@ -244,12 +249,15 @@ static void t_kdtree_penalties(void)
             for (k = 0, c = pen[i]; k < d; k++) c += (q[k] - p[i * d + k]) * (q[k] - p[i * d + k]);
             if (c < best) best = c, bi = i;
         }
-        u = pw_kdtree_nearest(&t, q, 0.0f, -1, 0.0f, off, &got);
+        qy.q = q, qy.eps = 0.0f, qy.buckets = -1, qy.start = -1, qy.start_cost = 0.0f, qy.off = off;
+        u = pw_kdtree_nearest(&t, &qy, &got);
         bad += got != best || (u != bi && pw_kdtree_cost(&t, q, u) != best);
-        pw_kdtree_nearest(&t, q, 1.0f, -1, 0.0f, off, &got);
+        qy.eps = 1.0f;
+        pw_kdtree_nearest(&t, &qy, &got);
         worse += got > 4.0f * best + 1e-6f;
         c = pw_kdtree_cost(&t, q, qn); /* a bounded search never ends worse than its start */
-        pw_kdtree_nearest_budget(&t, q, 0.0f, 2, qn, c, off, &got);
+        qy.eps = 0.0f, qy.buckets = 2, qy.start = qn, qy.start_cost = c;
+        pw_kdtree_nearest(&t, &qy, &got);
         worse += got > c || got < best;
     }
     CHECKF(bad == 0, "%d of 400 exact queries differ from brute force", bad);
@@ -257,7 +265,8 @@ static void t_kdtree_penalties(void)
     for (i = 0; i < n; i++) pw_kdtree_set_penalty(&t, i, 0.0f);
     for (k = 0; k < d; k++) q[k] = 0.25f; /* exactly the duplicated point */
     dup = 7 * 11;
-    CHECK(pw_kdtree_nearest(&t, q, 0.0f, dup, 0.0f, off, NULL) == dup);
+    qy.q = q, qy.eps = 0.0f, qy.buckets = -1, qy.start = dup, qy.start_cost = 0.0f, qy.off = off;
+    CHECK(pw_kdtree_nearest(&t, &qy, NULL) == dup);
     pw_kdtree_free(NULL, &t);
     free(p);
     free(pen);
@@ -268,6 +277,7 @@ static void t_kdtree_penalties(void)
 static void t_pca_axes(void)
 {
     pw_pca pc;
+    pw_pca_out out;
     pw_rng r = pw_rng_seed(3, 3);
     float axes[3][4] = {{0.5f, 0.5f, 0.5f, 0.5f}, {0.5f, -0.5f, 0.5f, -0.5f}, {0.5f, 0.5f, -0.5f, -0.5f}};
     float mean[4], basis[12], var[3], x[4], sd[3] = {3.0f, 2.0f, 1.0f}, proj[3];
@@ -283,7 +293,8 @@ static void t_pca_axes(void)
         }
         pw_pca_add(&pc, x);
     }
-    REQUIRE(pw_pca_solve(NULL, &pc, 3, mean, basis, var, NULL) == PW_OK);
+    out.k = 3, out.mean = mean, out.basis = basis, out.var = var;
+    REQUIRE(pw_pca_solve(NULL, &pc, &out, NULL) == PW_OK);
     for (j = 0; j < 3; j++) {
         float dot = 0.0f;
         for (k = 0; k < 4; k++) dot += basis[j * 4 + k] * axes[j][k];

@@ -31,6 +31,20 @@ static int surf_from_mesh(pw_mesh *in, surf *s)
     return ok;
 }
 
+/* pw_stuff_tetrahedralize and pw_stuff_fit_measure on the triangles of s. */
+static int fill(const pw_alloc *a, const surf *s, const pw_stuff_options *o, const pw_progress *p, pw_tetmesh *out,
+                pw_err *e)
+{
+    pw_stuff_tris in = pw_stuff_tris_of(s->m.pos, s->m.nv, s->m.fv, s->m.nf);
+    return pw_stuff_tetrahedralize(a, &in, o, p, out, e);
+}
+
+static int fit_of(const surf *s, const pw_tetmesh *t, int samples, pw_stuff_fit *fit, pw_err *e)
+{
+    pw_stuff_tris in = pw_stuff_tris_of(s->m.pos, s->m.nv, s->m.fv, s->m.nf);
+    return pw_stuff_fit_measure(NULL, &in, t, samples, fit, e);
+}
+
 static int sphere(int n, surf *s)
 {
     pw_mesh m;
@@ -50,7 +64,7 @@ static int load(const char *path, surf *s)
 static int stuff_with(const surf *s, const pw_stuff_options *o, pw_tetmesh *out, pw_err *e)
 {
     pw_err_clear(e);
-    return pw_stuff_tetrahedralize(NULL, s->m.pos, s->m.nv, s->m.fv, s->m.nf, o, NULL, out, e);
+    return fill(NULL, s, o, NULL, out, e);
 }
 
 static int stuff(const surf *s, int target, pw_tetmesh *out, pw_err *e)
@@ -159,7 +173,7 @@ static void t_sphere(void)
         vol = uniform ? check_mesh(&t, &lo, &hi) : check_graded(&t, &lo, &hi);
         CHECKF(fabs(vol - ref) < 0.02 * ref, "volume %g, surface encloses %g", vol, ref);
         CHECKF(!uniform || (t.nt > 15000 && t.nt < 25000), "%d tetrahedra for a target of 20000", t.nt);
-        REQUIRE(pw_stuff_fit_measure(NULL, s.m.pos, s.m.nv, s.m.fv, s.m.nf, &t, 20000, &fit, &e) == PW_OK);
+        REQUIRE(fit_of(&s, &t, 20000, &fit, &e) == PW_OK);
         CHECKF(fit.to_surface_max < 1e-6 * fit.diag, "boundary vertex %g off the surface", fit.to_surface_max);
         CHECKF(fit.from_surface_max < 0.01 * fit.diag, "surface vertex %g from the boundary", fit.from_surface_max);
         CHECKF(uniform || (fit.to_max < 0.005 * fit.diag && fit.from_max < 0.005 * fit.diag), "graded fit %g / %g",
@@ -742,9 +756,9 @@ static void t_options(void)
     CHECKF(stuff_with(&s, &o, &t, &e) == PW_ERR_DEGENERATE && strstr(e.msg, "smaller cell"), "%s", e.msg);
     o.cell = 0.0, o.target_tets = -5;
     CHECK(stuff_with(&s, &o, &t, &e) == PW_ERR_INVALID);
-    CHECK(pw_stuff_tetrahedralize(NULL, s.m.pos, s.m.nv, s.m.fv, s.m.nf, NULL, NULL, &t, &e) == PW_OK && t.nt > 15000);
+    CHECK(fill(NULL, &s, NULL, NULL, &t, &e) == PW_OK && t.nt > 15000);
     pw_tetmesh_free(NULL, &t);
-    CHECK(pw_stuff_tetrahedralize(NULL, s.m.pos, s.m.nv, s.m.fv, s.m.nf, NULL, NULL, NULL, &e) == PW_ERR_INVALID);
+    CHECK(fill(NULL, &s, NULL, NULL, NULL, &e) == PW_ERR_INVALID);
     pw_mesh_free(NULL, &s.m);
 }
 
@@ -766,14 +780,14 @@ static void t_cancel(void)
     p.fn = cancel_after, p.user = &calls;
     calls = 1 << 30;
     pw_err_clear(&e);
-    REQUIRE(pw_stuff_tetrahedralize(NULL, s.m.pos, s.m.nv, s.m.fv, s.m.nf, NULL, &p, &t, &e) == PW_OK);
+    REQUIRE(fill(NULL, &s, NULL, &p, &t, &e) == PW_OK);
     pw_tetmesh_free(NULL, &t);
     total = (1 << 30) - calls;
     CHECKF(total >= 4, "%d progress calls", total);
     for (n = 0; n < total; n++) {
         calls = n;
         pw_err_clear(&e);
-        CHECKF(pw_stuff_tetrahedralize(NULL, s.m.pos, s.m.nv, s.m.fv, s.m.nf, NULL, &p, &t, &e) == PW_ERR_CANCELLED &&
+        CHECKF(fill(NULL, &s, NULL, &p, &t, &e) == PW_ERR_CANCELLED &&
                    t.nt == 0 && t.tet == NULL && strstr(e.msg, "cancelled"),
                "call %d: %s", n, e.msg);
     }
@@ -794,7 +808,7 @@ static void t_alloc_failures(void)
     al.malloc_fn = pwt_malloc, al.realloc_fn = pwt_realloc, al.free_fn = pwt_free, al.user = &st;
     o.target_tets = 400;
     pw_err_clear(&e);
-    REQUIRE(pw_stuff_tetrahedralize(&al, s.m.pos, s.m.nv, s.m.fv, s.m.nf, &o, NULL, &t, &e) == PW_OK);
+    REQUIRE(fill(&al, &s, &o, NULL, &t, &e) == PW_OK);
     pw_tetmesh_free(&al, &t);
     total = st.calls;
     CHECK_EQ_INT(st.live, 0);
@@ -802,7 +816,7 @@ static void t_alloc_failures(void)
         int r;
         st.calls = 0, st.live = 0, st.fail_after = k;
         pw_err_clear(&e);
-        r = pw_stuff_tetrahedralize(&al, s.m.pos, s.m.nv, s.m.fv, s.m.nf, &o, NULL, &t, &e);
+        r = fill(&al, &s, &o, NULL, &t, &e);
         if (r == PW_OK) pw_tetmesh_free(&al, &t);
         else if (r != PW_ERR_NOMEM || t.tet || t.pos) bad++;
         if (st.live) leaks++;
@@ -838,6 +852,8 @@ static void t_fit_measure(void)
     pw_tetmesh t;
     pw_stuff_fit fit;
     pw_err e;
+    pw_stuff_tris cube = pw_stuff_tris_of(spos, 8, cube_tri, 12), two = pw_stuff_tris_of(tpos, 16, cube_tri2, 24);
+    pw_stuff_tris nested = pw_stuff_tris_of(spos2, 16, cube_tri2, 24);
     for (k = 0; k < 8; k++) cube_corner(k, 0.0, 0.5, spos + 3 * k), cube_corner(k, 0.0, 0.45, tpos + 3 * k);
     for (k = 0; k < 8; k++) cube_corner(k, 5.0, 0.45, tpos + 24 + 3 * k);
     for (i = 0; i < 48; i++) ttet[i] = cube_kuhn[i % 24] + (i >= 24 ? 8 : 0);
@@ -846,7 +862,7 @@ static void t_fit_measure(void)
     t.nv = 8, t.nt = 6, t.pos = tpos, t.tet = ttet;
     for (i = 0; i < t.nt; i++) CHECKF(pw_tet_volume6(&t, i) > 0.0, "Kuhn tetrahedron %d not positive", i);
     pw_err_clear(&e);
-    REQUIRE(pw_stuff_fit_measure(NULL, spos, 8, cube_tri, 12, &t, 5000, &fit, &e) == PW_OK);
+    REQUIRE(pw_stuff_fit_measure(NULL, &cube, &t, 5000, &fit, &e) == PW_OK);
     CHECK_NEAR(fit.to_max, 0.05, 1e-6);
     CHECK_NEAR(fit.to_p99, 0.05, 1e-6);
     CHECK_NEAR(fit.from_max, 0.05 * sqrt(3.0), 1e-6);
@@ -856,14 +872,14 @@ static void t_fit_measure(void)
     CHECKF(fit.samples >= 5000, "%d samples", fit.samples);
     CHECK_NEAR(fit.diag, sqrt(3.0), 1e-6);
     t.nv = 16, t.nt = 12;
-    REQUIRE(pw_stuff_fit_measure(NULL, spos, 8, cube_tri, 12, &t, 5000, &fit, &e) == PW_OK);
+    REQUIRE(pw_stuff_fit_measure(NULL, &cube, &t, 5000, &fit, &e) == PW_OK);
     CHECK_EQ_INT(fit.pieces, 2);
     CHECKF(fit.to_max > 4.0, "the far cube at %g", fit.to_max);
     t.nv = 8, t.nt = 6;
-    REQUIRE(pw_stuff_fit_measure(NULL, tpos, 16, cube_tri2, 24, &t, 1000, &fit, &e) == PW_OK);
+    REQUIRE(pw_stuff_fit_measure(NULL, &two, &t, 1000, &fit, &e) == PW_OK);
     CHECK_EQ_INT(fit.surface_pieces, 2); /* two disjoint cubes enclose two pieces */
     for (i = 36; i < 72; i += 3) k = cube_tri2[i + 1], cube_tri2[i + 1] = cube_tri2[i + 2], cube_tri2[i + 2] = k;
-    REQUIRE(pw_stuff_fit_measure(NULL, spos2, 16, cube_tri2, 24, &t, 1000, &fit, &e) == PW_OK);
+    REQUIRE(pw_stuff_fit_measure(NULL, &nested, &t, 1000, &fit, &e) == PW_OK);
     CHECK_EQ_INT(fit.surface_pieces, 1); /* a cube with a cube-shaped cavity: one */
 }
 
@@ -882,7 +898,7 @@ static int fill_and_fit(pw_mesh *m, const char *name, int uniform, pw_stuff_fit 
     if (ok) {
         if (uniform) check_mesh(&t, &lo, &hi);
         else check_graded(&t, &lo, &hi);
-        ok = pw_stuff_fit_measure(NULL, s.m.pos, s.m.nv, s.m.fv, s.m.nf, &t, 50000, fit, &e) == PW_OK;
+        ok = fit_of(&s, &t, 50000, fit, &e) == PW_OK;
         CHECKF(ok, "%s: %s", name, e.msg);
         CHECKF(!ok || fit->to_surface_max < 1e-6 * fit->diag, "%s: boundary vertex %g off the surface", name,
                fit->to_surface_max);
@@ -953,7 +969,7 @@ static void t_cgal(void)
         ref = surf_volume(&s);
         CHECKF(stuff(&s, 20000, &t, &e) == PW_OK, "%s: %s", names[i], e.msg);
         vol = check_graded(&t, &lo, &hi);
-        CHECKF(pw_stuff_fit_measure(NULL, s.m.pos, s.m.nv, s.m.fv, s.m.nf, &t, 50000, &fit, &e) == PW_OK, "%s", e.msg);
+        CHECKF(fit_of(&s, &t, 50000, &fit, &e) == PW_OK, "%s", e.msg);
         worst = (fit.to_max > fit.from_max ? fit.to_max : fit.from_max) / fit.diag;
         p99 = (fit.to_p99 > fit.from_p99 ? fit.to_p99 : fit.from_p99) / fit.diag;
         CHECKF(fit.to_surface_max < 1e-6 * fit.diag, "%s: boundary vertex %g off the surface", names[i],
@@ -996,7 +1012,7 @@ static void t_cgal_union(void)
         o.strict = 0, o.info = &info;
         CHECKF(stuff_with(&s, &o, &t, &e) == PW_OK && info.crossing_pairs > 0, "%s: %s", names[i], e.msg);
         check_graded(&t, &lo, &hi);
-        CHECK(pw_stuff_fit_measure(NULL, s.m.pos, s.m.nv, s.m.fv, s.m.nf, &t, 20000, &fit, &e) == PW_OK);
+        CHECK(fit_of(&s, &t, 20000, &fit, &e) == PW_OK);
         CHECKF(fit.to_surface_max < 1e-6 * fit.diag, "%s: boundary vertex %g off the surface", names[i], fit.to_surface_max);
         pwt_info("%s (%ld crossing pairs, united): %d tets, dihedral %.2f..%.2f, fit %.2g / %.2g of the diagonal",
                  names[i], info.crossing_pairs, t.nt, lo, hi, fit.to_max / fit.diag, fit.from_max / fit.diag);

@@ -8,6 +8,12 @@
 #include "pwtest.h"
 
 /* Two tetrahedra sharing face (1 2 3): a bipyramid. */
+/* pw_tetgen_read_memory on two files given by value. */
+static int tg_read(const pw_alloc *a, pw_memfile node, pw_memfile ele, pw_tetmesh *out, pw_err *e)
+{
+    return pw_tetgen_read_memory(a, &node, &ele, out, e);
+}
+
 static const float bipyr_pos[15] = {0, 0, -1, 1, 0, 0, 0, 1, 0, -1, -1, 0, 0, 0, 1};
 static const int bipyr_tet[8] = {0, 1, 2, 3, 4, 1, 3, 2};
 
@@ -220,7 +226,8 @@ static void t_tetgen_roundtrip(void)
     memset(&ele, 0, sizeof ele);
     REQUIRE(pw_tetgen_write_node(&m, pw_buf_write, &node, &e) == PW_OK);
     REQUIRE(pw_tetgen_write_ele(&m, pw_buf_write, &ele, &e) == PW_OK);
-    REQUIRE(pw_tetgen_read_memory(NULL, node.data, node.size, "c.node", ele.data, ele.size, "c.ele", &back, &e) == PW_OK);
+    REQUIRE(tg_read(NULL, pw_memfile_of(node.data, node.size, "c.node"), pw_memfile_of(ele.data, ele.size, "c.ele"),
+                    &back, &e) == PW_OK);
     CHECK(same_mesh(&m, &back));
     free_mesh(&back);
     free(node.data);
@@ -245,7 +252,8 @@ static void t_tetgen_variants(void)
     pw_tetmesh m;
     pw_err e;
     pw_err_clear(&e);
-    REQUIRE(pw_tetgen_read_memory(NULL, node, sizeof node - 1, "v.node", ele, sizeof ele - 1, "v.ele", &m, &e) == PW_OK);
+    REQUIRE(tg_read(NULL, pw_memfile_of(node, sizeof node - 1, "v.node"), pw_memfile_of(ele, sizeof ele - 1, "v.ele"),
+                    &m, &e) == PW_OK);
     CHECK_EQ_INT(m.nv, 5);
     CHECK_EQ_INT(m.nt, 2);
     CHECK_EQ_INT(m.tet[4], 4);
@@ -291,8 +299,8 @@ static void t_tetgen_bad(void)
         pw_err e;
         int r;
         pw_err_clear(&e);
-        r = pw_tetgen_read_memory(NULL, cases[k].node, strlen(cases[k].node), "b.node", cases[k].ele,
-                                  strlen(cases[k].ele), "b.ele", &m, &e);
+        r = tg_read(NULL, pw_memfile_of(cases[k].node, strlen(cases[k].node), "b.node"),
+                    pw_memfile_of(cases[k].ele, strlen(cases[k].ele), "b.ele"), &m, &e);
         CHECKF(r == cases[k].code && strstr(e.msg, cases[k].what) && !m.pos && !m.tet,
                "case %d: code %d, message '%s' (expected %d, '%s')", (int)k, r, e.msg, cases[k].code, cases[k].what);
     }
@@ -340,7 +348,8 @@ static void t_tetio_nomem(void)
     memset(&medit, 0, sizeof medit);
     REQUIRE(pw_tetgen_write_node(&m, pw_buf_write, &node, &e) == PW_OK && pw_tetgen_write_ele(&m, pw_buf_write, &ele, &e) == PW_OK);
     REQUIRE(pw_medit_write(&m, pw_buf_write, &medit, &e) == PW_OK);
-    REQUIRE(pw_tetgen_read_memory(&al, node.data, node.size, "n", ele.data, ele.size, "e", &back, &e) == PW_OK);
+    REQUIRE(tg_read(&al, pw_memfile_of(node.data, node.size, "n"), pw_memfile_of(ele.data, ele.size, "e"), &back,
+                    &e) == PW_OK);
     pw_tetmesh_free(&al, &back);
     REQUIRE(pw_medit_read_memory(&al, medit.data, medit.size, "m", &back, &e) == PW_OK);
     pw_tetmesh_free(&al, &back);
@@ -349,7 +358,7 @@ static void t_tetio_nomem(void)
         int r1, r2;
         st.calls = 0, st.live = 0, st.fail_after = k;
         pw_err_clear(&e);
-        r1 = pw_tetgen_read_memory(&al, node.data, node.size, "n", ele.data, ele.size, "e", &back, &e);
+        r1 = tg_read(&al, pw_memfile_of(node.data, node.size, "n"), pw_memfile_of(ele.data, ele.size, "e"), &back, &e);
         if (r1 == PW_OK) pw_tetmesh_free(&al, &back);
         pw_err_clear(&e);
         r2 = pw_medit_read_memory(&al, medit.data, medit.size, "m", &back, &e);

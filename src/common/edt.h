@@ -55,11 +55,29 @@ PW__DEF void pw__edt_1d(const float *f, int n, float *d, int *v, double *z)
     }
 }
 
+/* A binary image: w x h pixels px (row-major, nonzero: set); wrap: periodic
+ * in x and y (a tile). */
+typedef struct pw_edt_image {
+    const unsigned char *px;
+    int w, h, wrap;
+} pw_edt_image;
+
+/* The scratch of the 1D transforms of one distance transform, for lines of
+ * up to m pixels (3m when they wrap), and whether they wrap. */
+typedef struct pw__edt_ws {
+    float *f, *d; /* a line's values and its transform */
+    int *v;       /* the parabolas' sites */
+    double *z;    /* their boundaries (one more) */
+    int wrap;     /* periodic lines, tripled */
+} pw__edt_ws;
+
 /* One pass along lines of length n (count lines, element i of line l at
- * data[l*ls + i*es]), in place; periodic lines are tripled. */
-PW__DEF void pw__edt_pass(float *data, int n, int count, size_t ls, size_t es, int wrap, float *f,
-                          float *d, int *v, double *z)
+ * data[l*ls + i*es]), in place. */
+PW__DEF void pw__edt_pass(float *data, int n, int count, size_t ls, size_t es, const pw__edt_ws *ws)
 {
+    float *f = ws->f, *d = ws->d;
+    int *v = ws->v, wrap = ws->wrap;
+    double *z = ws->z;
     int l, i, reps = wrap ? 3 : 1;
     for (l = 0; l < count; l++) {
         float *line = data + (size_t)l * ls;
@@ -72,11 +90,11 @@ PW__DEF void pw__edt_pass(float *data, int n, int count, size_t ls, size_t es, i
 /* out[y*w + x] = squared distance from (x, y) to the nearest pixel with
  * site[] != 0, periodic in x and y when wrap is set; PW_EDT_FAR everywhere
  * when there is no site. */
-PW__DEF int pw_edt_sq(const pw_alloc *a, const unsigned char *site, int w, int h, int wrap,
-                      float *out, pw_err *e)
+PW__DEF int pw_edt_sq(const pw_alloc *a, const pw_edt_image *site, float *out, pw_err *e)
 {
-    int m = (w > h ? w : h) * (wrap ? 3 : 1);
+    int w = site->w, h = site->h, m = (w > h ? w : h) * (site->wrap ? 3 : 1);
     size_t i, n = (size_t)w * h;
+    pw__edt_ws ws;
     float *f = (float *)pw_alloc_array(a, (size_t)m * 2, sizeof(float), "distance transform", e);
     int *v = (int *)pw_alloc_array(a, (size_t)m, sizeof(int), "distance transform", e);
     double *z = (double *)pw_alloc_array(a, (size_t)m + 1, sizeof(double), "distance transform", e);
@@ -86,9 +104,10 @@ PW__DEF int pw_edt_sq(const pw_alloc *a, const unsigned char *site, int w, int h
         pw_free(a, z);
         return PW_ERR_NOMEM;
     }
-    for (i = 0; i < n; i++) out[i] = site[i] ? 0.0f : PW_EDT_FAR;
-    pw__edt_pass(out, w, h, (size_t)w, 1, wrap, f, f + m, v, z);
-    pw__edt_pass(out, h, w, 1, (size_t)w, wrap, f, f + m, v, z);
+    ws.f = f, ws.d = f + m, ws.v = v, ws.z = z, ws.wrap = site->wrap;
+    for (i = 0; i < n; i++) out[i] = site->px[i] ? 0.0f : PW_EDT_FAR;
+    pw__edt_pass(out, w, h, (size_t)w, 1, &ws);
+    pw__edt_pass(out, h, w, 1, (size_t)w, &ws);
     pw_free(a, f);
     pw_free(a, v);
     pw_free(a, z);
@@ -98,16 +117,18 @@ PW__DEF int pw_edt_sq(const pw_alloc *a, const unsigned char *site, int w, int h
 /* phi[i] > 0 where mask[i] != 0 (inside), < 0 elsewhere; |phi| is the
  * distance to the nearest pixel of the other kind minus 1/2. A mask with no
  * pixel of one kind gives +-sqrt(PW_EDT_FAR) on the other. */
-PW__DEF int pw_edt_signed(const pw_alloc *a, const unsigned char *mask, int w, int h, int wrap,
-                          float *phi, pw_err *e)
+PW__DEF int pw_edt_signed(const pw_alloc *a, const pw_edt_image *im, float *phi, pw_err *e)
 {
-    size_t i, n = (size_t)w * h;
+    const unsigned char *mask = im->px;
+    size_t i, n = (size_t)im->w * im->h;
     unsigned char *inv = (unsigned char *)pw_alloc_array(a, n, 1, "signed distance", e);
     float *din = (float *)pw_alloc_array(a, n, sizeof(float), "signed distance", e);
+    pw_edt_image rest = *im; /* the other kind */
     int r = inv && din ? PW_OK : PW_ERR_NOMEM;
+    rest.px = inv;
     for (i = 0; r == PW_OK && i < n; i++) inv[i] = (unsigned char)!mask[i];
-    if (r == PW_OK) r = pw_edt_sq(a, mask, w, h, wrap, phi, e); /* outside: to the mask */
-    if (r == PW_OK) r = pw_edt_sq(a, inv, w, h, wrap, din, e);  /* inside: to the rest */
+    if (r == PW_OK) r = pw_edt_sq(a, im, phi, e);    /* outside: to the mask */
+    if (r == PW_OK) r = pw_edt_sq(a, &rest, din, e); /* inside: to the rest */
     for (i = 0; r == PW_OK && i < n; i++)
         phi[i] = mask[i] ? sqrtf(din[i]) - 0.5f : 0.5f - sqrtf(phi[i]);
     pw_free(a, inv);

@@ -296,35 +296,38 @@ PW__DEF void pw__kd_search(const pw_kdtree *t, int ni, float rd, pw__kdsearch *s
     while (nu-- > 0) s->off[undo_dim[nu]] = undo_off[nu];
 }
 
-/* The caller's index of the point minimising |q - p|^2 + pen, starting from
- * candidate `start` (caller's index, or -1) whose cost is start_cost; its
- * cost in *cost (may be NULL). At most `buckets` buckets are scanned
- * (negative: no limit), in the depth-first, nearest-cell-first order of the
- * search, as ANN's bound on the points visited: the cost of a query is then
- * bounded where many points are nearly equidistant (smooth images). off:
- * scratch of d floats. */
-PW__DEF int pw_kdtree_nearest_budget(const pw_kdtree *t, const float *q, float eps, int buckets, int start,
-                                     float start_cost, float *off, float *cost)
+/* A nearest-point query: the point q (d floats), the approximation eps (a
+ * cell is skipped unless (1 + eps)^2 times its distance beats the best
+ * cost), at most `buckets` buckets scanned (negative: no limit), in the
+ * depth-first, nearest-cell-first order of the search, as ANN's bound on
+ * the points visited: the cost of a query is then bounded where many points
+ * are nearly equidistant (smooth images); the candidate to beat, `start`
+ * (caller's index, or -1) of cost start_cost; off: scratch of d floats. */
+typedef struct pw_kdquery {
+    const float *q;
+    float eps;
+    int buckets;
+    int start;
+    float start_cost;
+    float *off;
+} pw_kdquery;
+
+/* The caller's index of the point minimising |q - p|^2 + pen for query qy;
+ * its cost in *cost (may be NULL). */
+PW__DEF int pw_kdtree_nearest(const pw_kdtree *t, const pw_kdquery *qy, float *cost)
 {
     pw__kdsearch s;
-    int k;
-    for (k = 0; k < t->d; k++) off[k] = 0.0f;
-    s.q = q;
-    s.off = off;
-    s.scale = (1.0f + eps) * (1.0f + eps);
-    s.best = start >= 0 ? start_cost : FLT_MAX;
+    int k, start = qy->start;
+    for (k = 0; k < t->d; k++) qy->off[k] = 0.0f;
+    s.q = qy->q;
+    s.off = qy->off;
+    s.scale = (1.0f + qy->eps) * (1.0f + qy->eps);
+    s.best = start >= 0 ? qy->start_cost : FLT_MAX;
     s.bi = start >= 0 ? t->pos[start] : -1;
-    s.budget = buckets;
+    s.budget = qy->buckets;
     if (t->node[0].minpen < s.best) pw__kd_search(t, 0, 0.0f, &s);
     if (cost) *cost = s.best;
     return s.bi >= 0 ? t->idx[s.bi] : -1;
-}
-
-/* The same without a bound on the buckets scanned. */
-PW__DEF int pw_kdtree_nearest(const pw_kdtree *t, const float *q, float eps, int start, float start_cost,
-                              float *off, float *cost)
-{
-    return pw_kdtree_nearest_budget(t, q, eps, -1, start, start_cost, off, cost);
 }
 
 #endif /* PW__KDTREE_V1 */

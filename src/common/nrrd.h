@@ -197,27 +197,27 @@ PW__DEF int pw__gzip_header(const unsigned char *d, size_t n, size_t *hlen, pw_e
 }
 
 /* Appends m bytes to the growing output of pw_gzip_decompress. */
-PW__DEF int pw__gzip_append(const pw_alloc *a, unsigned char **out, size_t *outn, size_t *cap,
-                            const unsigned char *m, size_t mn, pw_err *e)
+PW__DEF int pw__gzip_append(pw_buf *out, const unsigned char *m, size_t mn, pw_err *e)
 {
-    if (pw_grow(a, (void **)out, cap, *outn + mn, 1, "gzip data", e))
+    if (pw_grow(out->alloc, (void **)&out->data, &out->cap, out->size + mn, 1, "gzip data", e))
         return e && e->code ? e->code : PW_ERR_NOMEM;
-    if (mn) memcpy(*out + *outn, m, mn);
-    *outn += mn;
+    if (mn) memcpy(out->data + out->size, m, mn);
+    out->size += mn;
     return PW_OK;
 }
 
 /* Decodes a gzip stream of one or more members into a new buffer of at most
- * max_out bytes (PW_ERR_LIMIT beyond). Every member's CRC-32 and length are
- * checked; bytes after the last member are an error. Free *out with
+ * max_out bytes (PW_ERR_LIMIT beyond): out->data (out->size bytes; out is
+ * set up here, with allocator a). Every member's CRC-32 and length are
+ * checked; bytes after the last member are an error. Free out->data with
  * pw_free(a, ...). */
-PW__DEF int pw_gzip_decompress(const pw_alloc *a, const unsigned char *data, size_t n,
-                               size_t max_out, unsigned char **out, size_t *outn, pw_err *e)
+PW__DEF int pw_gzip_decompress(const pw_alloc *a, const unsigned char *data, size_t n, size_t max_out, pw_buf *out,
+                               pw_err *e)
 {
-    size_t pos = 0, cap = 0;
+    size_t pos = 0;
     int r = PW_OK, member = 0;
-    *out = NULL;
-    *outn = 0;
+    memset(out, 0, sizeof *out);
+    out->alloc = a;
     do {
         size_t hlen = 0, used = 0, mn = 0;
         unsigned char *m = NULL;
@@ -229,7 +229,7 @@ PW__DEF int pw_gzip_decompress(const pw_alloc *a, const unsigned char *data, siz
         }
         if ((r = pw__gzip_header(data + pos, n - pos, &hlen, e))) break;
         pos += hlen;
-        r = pw_inflate(a, data + pos, n - pos, max_out - *outn, &m, &mn, &used, e);
+        r = pw_inflate(a, data + pos, n - pos, max_out - out->size, &m, &mn, &used, e);
         if (r) break;
         pos += used;
         t = data + pos;
@@ -243,35 +243,35 @@ PW__DEF int pw_gzip_decompress(const pw_alloc *a, const unsigned char *data, siz
                         "gzip data: member %d holds %lu bytes, its trailer says %lu", member + 1,
                         (unsigned long)mn, (unsigned long)pw__le32(t + 4));
         else if (member == 0 && pos + 8 == n) { /* the usual single member: no copy */
-            *out = m;
-            *outn = mn;
+            out->data = m;
+            out->size = out->cap = mn;
             return PW_OK;
         } else {
-            r = pw__gzip_append(a, out, outn, &cap, m, mn, e);
+            r = pw__gzip_append(out, m, mn, e);
         }
         pw_free(a, m);
         pos += 8;
         member++;
     } while (!r && pos < n);
     if (r) {
-        pw_free(a, *out);
-        *out = NULL;
-        *outn = 0;
+        pw_free(a, out->data);
+        out->data = NULL;
+        out->size = out->cap = 0;
     }
     return r;
 }
 
-/* One gzip member holding data[0..n) at deflate `level` (0-9, -1 = 6). */
-PW__DEF int pw_gzip_compress(const pw_alloc *a, const unsigned char *data, size_t n, int level,
-                             unsigned char **out, size_t *outn, pw_err *e)
+/* One gzip member holding data[0..n) at deflate `level` (0-9, -1 = 6), in
+ * out->data (out->size bytes; out is set up here, with allocator a). */
+PW__DEF int pw_gzip_compress(const pw_alloc *a, const unsigned char *data, size_t n, int level, pw_buf *out, pw_err *e)
 {
     /* MTIME 0 and OS 255 (unknown): the bytes depend on the data alone */
     static const unsigned char head[10] = {0x1f, 0x8b, 8, 0, 0, 0, 0, 0, 0, 255};
     unsigned char *z, *g;
     size_t zn;
     int r;
-    *out = NULL;
-    *outn = 0;
+    memset(out, 0, sizeof *out);
+    out->alloc = a;
     if ((r = pw_deflate(a, data, n, level, &z, &zn, e))) return r;
     g = zn <= (size_t)-1 - 18 ? (unsigned char *)pw_realloc(a, z, zn + 18) : NULL;
     if (!g) {
@@ -282,8 +282,8 @@ PW__DEF int pw_gzip_compress(const pw_alloc *a, const unsigned char *data, size_
     memcpy(g, head, 10);
     pw__put_le32(g + 10 + zn, pw_crc32(0, data, n));
     pw__put_le32(g + 14 + zn, (uint32_t)n);
-    *out = g;
-    *outn = zn + 18;
+    out->data = g;
+    out->size = out->cap = zn + 18;
     return PW_OK;
 }
 
@@ -677,8 +677,10 @@ PW__DEF int pw__nrrd_data(const pw_alloc *a, pw__nrrd *r, pw_volume *out)
                        (unsigned long long)need);
     if (r->gzip) {
         pw_err local;
+        pw_buf unz;
         pw_err_clear(&local);
-        rc = pw_gzip_decompress(a, src, have, (size_t)need, &buf, &have, &local);
+        rc = pw_gzip_decompress(a, src, have, (size_t)need, &unz, &local);
+        buf = unz.data, have = unz.size;
         if (rc == PW_ERR_LIMIT)
             return pw_fail(r->e, PW_ERR_PARSE,
                            "%s:%d: the gzip data holds more than the %llu bytes that sizes and "
@@ -747,16 +749,16 @@ PW__DEF int pw_nrrd_write(const pw_alloc *a, const pw_volume *vol, int gzip, pw_
     pw__sink_init(&s, w, ctx);
     pw__sink_put(&s, head, (size_t)k);
     if (gzip) {
-        unsigned char *b, *z;
-        size_t zn;
+        unsigned char *b;
+        pw_buf z;
         b = (unsigned char *)pw_alloc_array(a, n, 1, "NRRD samples", e);
         if (!b) return PW_ERR_NOMEM;
         for (i = 0; i < n; i++) b[i] = (unsigned char)pw_image_quantize(vol->px[i], 255);
-        rc = pw_gzip_compress(a, b, n, -1, &z, &zn, e);
+        rc = pw_gzip_compress(a, b, n, -1, &z, e);
         pw_free(a, b);
         if (rc) return rc;
-        pw__sink_put(&s, z, zn);
-        pw_free(a, z);
+        pw__sink_put(&s, z.data, z.size);
+        pw_free(a, z.data);
     } else {
         for (i = 0; i < n; i++) pw__sink_byte(&s, pw_image_quantize(vol->px[i], 255));
     }

@@ -102,12 +102,18 @@ PW__DEF void pw__pca_jacobi(double *c, double *v, int d)
     }
 }
 
-/* The k (<= d) leading components: mean[d], basis[k*d] (row j is
- * component j), var[k] (may be NULL). Needs at least one vector. */
-PW__DEF int pw_pca_solve(const pw_alloc *a, const pw_pca *p, int k, float *mean, float *basis, float *var,
-                         pw_err *e)
+/* Where pw_pca_solve puts the k (<= d) leading components: the caller's
+ * arrays mean[d], basis[k*d] (row j is component j), var[k] (may be NULL). */
+typedef struct pw_pca_out {
+    int k;
+    float *mean, *basis, *var;
+} pw_pca_out;
+
+/* The leading components into out. Needs at least one vector. */
+PW__DEF int pw_pca_solve(const pw_alloc *a, const pw_pca *p, const pw_pca_out *out, pw_err *e)
 {
-    int d = p->d, i, j, r;
+    float *mean = out->mean, *basis = out->basis, *var = out->var;
+    int d = p->d, k = out->k, i, j, r;
     double *c = (double *)pw_alloc_array(a, (size_t)d * d * 2, sizeof(double), "PCA eigenvectors", e);
     double *v = c + (size_t)d * d;
     if (!c) return PW_ERR_NOMEM;

@@ -97,6 +97,22 @@ typedef struct pw_stuff_info {
     int fragments;         /* graded: bits of parts thinner than the smallest cell, cut off and dropped */
 } pw_stuff_info;
 
+/* A triangle surface as the caller holds it (borrowed): nv vertices (pos,
+ * nv*3 floats) and nt triangles (tri, nt*3 vertex indices). */
+typedef struct pw_stuff_tris {
+    const float *pos;
+    int nv;
+    const int *tri;
+    int nt;
+} pw_stuff_tris;
+
+PW__DEF pw_stuff_tris pw_stuff_tris_of(const float *pos, int nv, const int *tri, int nt)
+{
+    pw_stuff_tris m;
+    m.pos = pos, m.nv = nv, m.tri = tri, m.nt = nt;
+    return m;
+}
+
 typedef struct pw_stuff_options {
     double cell;     /* lattice spacing (cube side = long-edge length) in mesh units; 0: chosen from target_tets */
     int target_tets; /* approximate tetrahedron count when cell is 0; 0: 20000 */
@@ -425,9 +441,11 @@ PW__DEF void pw__st_bvh_node(pw__stsurf *s, const double *cen, int nd, int first
 
 /* Copies the positions, builds the hierarchy and the bounding box. The
  * triangle array is borrowed. Indices must be in range. */
-PW__DEF int pw__st_surf_init(const pw_alloc *a, const float *pos, int nv, const int *tri, int nt, pw__stsurf *s,
-                             pw_err *e)
+PW__DEF int pw__st_surf_init(const pw_alloc *a, const pw_stuff_tris *m, pw__stsurf *s, pw_err *e)
 {
+    const float *pos = m->pos;
+    const int *tri = m->tri;
+    int nv = m->nv, nt = m->nt;
     double *cen;
     int i, k;
     memset(s, 0, sizeof *s);
@@ -606,44 +624,62 @@ PW__DEF double pw__st_diag(const float *pos, const int *tri, int nt)
     return sqrt(d);
 }
 
-/* The boundary loop from boundary half-edge h: its edge count, perimeter
- * and the centre of its vertices; marks its half-edges seen. With fan, its
- * closing triangles (origin of h, then each later edge reversed) are
- * appended at fan + 3 * *nfan. */
-PW__DEF int pw__st_loop(const pw_hmesh *hm, const float *pos, int h, unsigned char *seen, double *perim, double *c,
-                        int *fan, int *nfan)
+/* What the closedness check found: the half-edge twins of a closed
+ * surface, or the triangles closing the holes of an open one. */
+typedef struct pw__st_closure {
+    int *twin;  /* closed: hm.nh twins (half-edge 3t+k runs from corner k to k+1 of t), allocated; else NULL */
+    int *fan;   /* small holes: 3 * nfan indices closing them as fans, allocated; else NULL */
+    int nfan;
+    int nholes; /* boundary loops of an open surface */
+} pw__st_closure;
+
+/* One boundary loop: its edge count, perimeter and the centre of its vertices. */
+typedef struct pw__st_hole {
+    int len;
+    double perim, c[3];
+} pw__st_hole;
+
+/* Walks the boundary loop from boundary half-edge h into *hl and marks its
+ * half-edges seen. With cl, its closing triangles (origin of h, then each
+ * later edge reversed) are appended at cl->fan + 3 * cl->nfan. */
+PW__DEF void pw__st_loop(const pw_hmesh *hm, const float *pos, int h, unsigned char *seen, pw__st_hole *hl,
+                         pw__st_closure *cl)
 {
-    int g, k, len = 0, a0 = pw_he_origin(hm, h);
-    double d2;
-    *perim = c[0] = c[1] = c[2] = 0.0;
-    for (g = h; g >= 0 && !seen[g]; g = pw_he_boundary_next(hm, g), len++) {
+    int g, k, a0 = pw_he_origin(hm, h);
+    double d2, *c = hl->c;
+    hl->len = 0, hl->perim = c[0] = c[1] = c[2] = 0.0;
+    for (g = h; g >= 0 && !seen[g]; g = pw_he_boundary_next(hm, g), hl->len++) {
         int o = pw_he_origin(hm, g), t = pw_he_dest(hm, g);
         seen[g] = 1;
         for (d2 = 0.0, k = 0; k < 3; k++) c[k] += pos[3 * o + k], d2 += (double)(pos[3 * t + k] - pos[3 * o + k]) * (pos[3 * t + k] - pos[3 * o + k]);
-        *perim += sqrt(d2);
-        if (fan && g != h && t != a0) fan[3 * *nfan] = a0, fan[3 * *nfan + 1] = t, fan[3 * *nfan + 2] = o, ++*nfan;
+        hl->perim += sqrt(d2);
+        if (cl && g != h && t != a0) {
+            int *f = cl->fan + 3 * cl->nfan++;
+            f[0] = a0, f[1] = t, f[2] = o;
+        }
     }
-    for (k = 0; k < 3; k++) c[k] /= len > 0 ? len : 1;
-    return len;
+    for (k = 0; k < 3; k++) c[k] /= hl->len > 0 ? hl->len : 1;
 }
 
 /* The holes of an open surface: when every hole's perimeter is at most
- * max_hole, the triangles that close them as fans (*fan, 3 * *nfan ints,
- * allocated here); else the refusal: how many holes, the largest one's
- * edge count, perimeter, centre and a vertex on it, and what is needed. */
-PW__DEF int pw__st_holes(const pw_alloc *a, const pw_hmesh *hm, const float *pos, double max_hole, int **fan,
-                         int *nfan, pw_err *e)
+ * max_hole, the triangles that close them as fans (cl->fan, 3 * cl->nfan
+ * ints, allocated here); else the refusal: how many holes, the largest
+ * one's edge count, perimeter, centre and a vertex on it, and what is
+ * needed. */
+PW__DEF int pw__st_holes(const pw_alloc *a, const pw_hmesh *hm, const float *pos, double max_hole, pw__st_closure *cl,
+                         pw_err *e)
 {
     unsigned char *seen = (unsigned char *)pw_calloc_array(a, (size_t)hm->nh + 1, 1, "boundary loops", e);
-    double c[3], best[3] = {0, 0, 0}, perim, most = -1.0;
-    int h, k, len, blen = 0, vert = -1, r = PW_OK;
-    *fan = NULL, *nfan = 0;
+    double best[3] = {0, 0, 0}, most = -1.0;
+    pw__st_hole hl;
+    int h, k, blen = 0, vert = -1, r = PW_OK;
+    cl->fan = NULL, cl->nfan = 0;
     if (!seen) return PW_ERR_NOMEM;
     for (h = 0; h < hm->nh; h++) {
         if (hm->twin[h] >= 0 || seen[h]) continue;
-        len = pw__st_loop(hm, pos, h, seen, &perim, c, NULL, NULL);
-        if (perim > most)
-            for (most = perim, blen = len, vert = pw_he_origin(hm, h), k = 0; k < 3; k++) best[k] = c[k];
+        pw__st_loop(hm, pos, h, seen, &hl, NULL);
+        if (hl.perim > most)
+            for (most = hl.perim, blen = hl.len, vert = pw_he_origin(hm, h), k = 0; k < 3; k++) best[k] = hl.c[k];
     }
     if (most > max_hole)
         r = pw_fail(e, PW_ERR_TOPOLOGY,
@@ -652,36 +688,34 @@ PW__DEF int pw__st_holes(const pw_alloc *a, const pw_hmesh *hm, const float *pos
                     "(those of perimeter up to %.4g are closed here)",
                     hm->nboundary, hm->nloops, hm->nloops == 1 ? "" : "s", blen, most, best[0], best[1], best[2],
                     vert, max_hole);
-    else if (!(*fan = (int *)pw_alloc_array(a, 3 * (size_t)hm->nboundary + 3, sizeof(int), "hole fans", e)))
+    else if (!(cl->fan = (int *)pw_alloc_array(a, 3 * (size_t)hm->nboundary + 3, sizeof(int), "hole fans", e)))
         r = PW_ERR_NOMEM;
     else
         for (memset(seen, 0, (size_t)hm->nh), h = 0; h < hm->nh; h++)
-            if (hm->twin[h] < 0 && !seen[h]) pw__st_loop(hm, pos, h, seen, &perim, c, *fan, nfan);
+            if (hm->twin[h] < 0 && !seen[h]) pw__st_loop(hm, pos, h, seen, &hl, cl);
     pw_free(a, seen);
     return r;
 }
 
 /* Closed and consistently oriented: every half-edge has a twin. The twins
- * (half-edge 3t+k runs from corner k to corner k+1 of triangle t) go to
- * *twin, for the winding-number caps. An open surface whose holes are
- * small (perimeter at most max_hole) gives the triangles that close them
- * in *fan instead (3 * *nfan ints, allocated here), and their count in
- * *nholes (when not NULL). */
-PW__DEF int pw__st_check_closed(const pw_alloc *a, const float *pos, int nv, const int *tri, int nt, double max_hole,
-                                int **twin, int **fan, int *nfan, int *nholes, pw_err *e)
+ * go to cl->twin, for the winding-number caps. An open surface whose holes
+ * are small (perimeter at most max_hole) gives the triangles that close
+ * them in cl->fan instead, and their count in cl->nholes. */
+PW__DEF int pw__st_check_closed(const pw_alloc *a, const pw_stuff_tris *m, double max_hole, pw__st_closure *cl,
+                                pw_err *e)
 {
     pw_hmesh hm;
-    int *fs = (int *)pw_alloc_array(a, (size_t)nt + 1, sizeof(int), "triangle offsets", e), i, r;
-    *twin = NULL, *fan = NULL, *nfan = 0;
+    int *fs = (int *)pw_alloc_array(a, (size_t)m->nt + 1, sizeof(int), "triangle offsets", e), i, r;
+    memset(cl, 0, sizeof *cl);
     if (!fs) return PW_ERR_NOMEM;
-    for (i = 0; i <= nt; i++) fs[i] = 3 * i;
-    r = pw_hmesh_build(a, nv, nt, fs, tri, &hm, e);
+    for (i = 0; i <= m->nt; i++) fs[i] = 3 * i;
+    r = pw_hmesh_build(a, m->nv, m->nt, fs, m->tri, &hm, e);
     pw_free(a, fs);
     if (r != PW_OK) return r;
-    if (hm.nboundary > 0 && nholes) *nholes = hm.nloops;
-    if (hm.nboundary > 0) r = pw__st_holes(a, &hm, pos, max_hole, fan, nfan, e);
-    else if (!(*twin = (int *)pw_alloc_array(a, (size_t)hm.nh, sizeof(int), "half-edge twins", e))) r = PW_ERR_NOMEM;
-    else memcpy(*twin, hm.twin, sizeof(int) * (size_t)hm.nh);
+    if (hm.nboundary > 0) cl->nholes = hm.nloops;
+    if (hm.nboundary > 0) r = pw__st_holes(a, &hm, m->pos, max_hole, cl, e);
+    else if (!(cl->twin = (int *)pw_alloc_array(a, (size_t)hm.nh, sizeof(int), "half-edge twins", e))) r = PW_ERR_NOMEM;
+    else memcpy(cl->twin, hm.twin, sizeof(int) * (size_t)hm.nh);
     pw_hmesh_free(a, &hm);
     return r;
 }
@@ -803,12 +837,17 @@ PW__DEF int pw__st_next_leaf(const pw__stsurf *s, const float *b, int *stack, in
     return -1;
 }
 
+/* Where a segment hits the surface: the first `cap` hit parameters go to
+ * t, n counts them all. */
+typedef struct pw__st_hits {
+    double *t;
+    int cap, n;
+} pw__st_hits;
+
 /* All crossings of segment pq with the surface: PW__ST_HIT and/or
  * PW__ST_GRAZE bits (0: pq certainly misses the surface); *tfirst is the
- * hit nearest to p; when all is not NULL, the first `cap` hits go there
- * (*nall counts them all). */
-PW__DEF int pw__st_crossings(const pw__stsurf *s, const double *p, const double *q, double *tfirst, double *all,
-                             int cap, int *nall)
+ * hit nearest to p; when all is not NULL, the hits are listed there. */
+PW__DEF int pw__st_crossings(const pw__stsurf *s, const double *p, const double *q, double *tfirst, pw__st_hits *all)
 {
     double lo[3], hi[3], tol = 1e-9 * s->mag, t;
     float sb[6];
@@ -822,7 +861,7 @@ PW__DEF int pw__st_crossings(const pw__stsurf *s, const double *p, const double 
             int r = pw__st_seg_cross(s, s->slot[i], p, q, tol, &t);
             res |= r;
             if (r == PW__ST_HIT && t < *tfirst) *tfirst = t;
-            if (r == PW__ST_HIT && all && (*nall)++ < cap) all[*nall - 1] = t;
+            if (r == PW__ST_HIT && all && all->n++ < all->cap) all->t[all->n - 1] = t;
         }
     }
     return res;
@@ -830,7 +869,7 @@ PW__DEF int pw__st_crossings(const pw__stsurf *s, const double *p, const double 
 
 PW__DEF int pw__st_segment(const pw__stsurf *s, const double *p, const double *q, double *tfirst)
 {
-    return pw__st_crossings(s, p, q, tfirst, NULL, 0, NULL);
+    return pw__st_crossings(s, p, q, tfirst, NULL);
 }
 
 /* Squared distance from p to triangle abc; the nearest point to x
@@ -1346,8 +1385,11 @@ PW__DEF void pw__st_lerp(const double *p, const double *q, double t, double *x)
 PW__DEF double pw__st_cut_union(const pw__st *st, const double *pin, const double *pout)
 {
     double hits[64], t, x[3];
-    int n = 0, i, j;
-    pw__st_crossings(&st->s, pin, pout, &t, hits, 64, &n);
+    pw__st_hits all;
+    int n, i, j;
+    all.t = hits, all.cap = 64, all.n = 0;
+    pw__st_crossings(&st->s, pin, pout, &t, &all);
+    n = all.n;
     if (n > 64) return -1.0;
     qsort(hits, (size_t)n, sizeof(double), pw__st_cmp_double);
     if (n > 0 && hits[n - 1] - hits[0] < 1e-9) return hits[0]; /* one crossing: the side changes there */
@@ -2109,8 +2151,10 @@ PW__DEF int pw_tetmesh_pieces(const pw_alloc *a, const pw_tetmesh *m, const int 
 
 /* The surface's connected components (triangles sharing a vertex): comp[t]
  * in 0 .. *nc-1, numbered in order of their first triangle. */
-PW__DEF int pw__st_components(const pw_alloc *a, int nv, const int *tri, int nt, int *comp, int *nc, pw_err *e)
+PW__DEF int pw__st_components(const pw_alloc *a, const pw_stuff_tris *m, int *comp, int *nc, pw_err *e)
 {
+    const int *tri = m->tri;
+    int nv = m->nv, nt = m->nt;
     int *up = (int *)pw_alloc_array(a, (size_t)nv + 1, sizeof(int), "surface components", e), v, t, k;
     if (!up) return PW_ERR_NOMEM;
     for (v = 0; v < nv; v++) up[v] = -1;
@@ -2152,7 +2196,8 @@ PW__DEF int pw__st_drop_fragments(pw__st *st)
     if (!nb || !up || !comp || !pc || !vol) r = PW_ERR_NOMEM;
     if (r == PW_OK) r = pw_tetmesh_neighbors(st->a, &m, nb, st->e);
     if (r == PW_OK && (npieces = pw__st_piece_labels(&m, nb, up)) > 1) {
-        r = pw__st_components(st->a, st->s.nv, st->s.tri, st->s.nt, comp, &nc, st->e);
+        pw_stuff_tris surf = pw_stuff_tris_of(NULL, st->s.nv, st->s.tri, st->s.nt); /* positions not needed */
+        r = pw__st_components(st->a, &surf, comp, &nc, st->e);
         best = (int *)pw_alloc_array(st->a, (size_t)nc + 1, sizeof(int), "component pieces", st->e);
         to = (int *)pw_alloc_array(st->a, (size_t)m.nv + 1, sizeof(int), "vertex renumbering", st->e);
         if (r == PW_OK && (!best || !to)) r = PW_ERR_NOMEM;
@@ -2358,33 +2403,34 @@ PW__DEF void pw__st_free(pw__st *st)
 
 /* Triangles with a repeated corner index, dropped before the closedness
  * check: their two real edges are one edge traversed both ways, so the
- * neighbours across them become twins. *out (3 * *n ints) and *map (the
- * caller's index of each) are allocated here, with room for 3 nt more
+ * neighbours across them become twins. st->tri (3 * *n ints) and st->map
+ * (the caller's index of each) are allocated here, with room for 3 nt more
  * triangles (the fans closing holes: fewer than the boundary edges). */
-PW__DEF int pw__st_drop_repeats(const pw_alloc *a, const int *tri, int nt, int **out, int **map, int *n, pw_err *e)
+PW__DEF int pw__st_drop_repeats(pw__st *st, const int *tri, int nt, int *n)
 {
     int t, k;
-    *out = (int *)pw_alloc_array(a, (size_t)nt * 12 + 3, sizeof(int), "triangles", e); /* room for hole fans */
-    *map = (int *)pw_alloc_array(a, (size_t)nt * 4 + 1, sizeof(int), "triangle map", e);
-    if (!*out || !*map) return PW_ERR_NOMEM;
+    st->tri = (int *)pw_alloc_array(st->a, (size_t)nt * 12 + 3, sizeof(int), "triangles", st->e); /* room for hole fans */
+    st->map = (int *)pw_alloc_array(st->a, (size_t)nt * 4 + 1, sizeof(int), "triangle map", st->e);
+    if (!st->tri || !st->map) return PW_ERR_NOMEM;
     for (*n = 0, t = 0; t < nt; t++) {
         const int *c = tri + 3 * t;
         if (c[0] == c[1] || c[1] == c[2] || c[2] == c[0]) continue;
-        for (k = 0; k < 3; k++) (*out)[3 * *n + k] = c[k];
-        (*map)[(*n)++] = t;
+        for (k = 0; k < 3; k++) st->tri[3 * *n + k] = c[k];
+        st->map[(*n)++] = t;
     }
     return PW_OK;
 }
 
-/* Drops the zero-area triangles (exactly collinear corners) from tri[0..*n)
- * in place, with their map entries, and renumbers twin (half-edge 3t+k) to
- * the kept triangles, -1 across a dropped one: for the winding number a
- * dropped triangle is a cap of zero solid angle, so the caps stay exact.
- * Dropped triangles of the caller's (map >= 0) are added to *count. */
-PW__DEF int pw__st_drop_flat(const pw_alloc *a, const float *pos, int *tri, int *map, int *twin, int *n, int *count,
-                             pw_err *e)
+/* Drops the zero-area triangles (exactly collinear corners) from
+ * st->tri[0..*n) in place, with their st->map entries, and renumbers twin
+ * (half-edge 3t+k) to the kept triangles, -1 across a dropped one: for the
+ * winding number a dropped triangle is a cap of zero solid angle, so the
+ * caps stay exact. Dropped triangles of the caller's (map >= 0) are added
+ * to *count. */
+PW__DEF int pw__st_drop_flat(pw__st *st, const float *pos, int *twin, int *n, int *count)
 {
-    int *to = (int *)pw_alloc_array(a, (size_t)*n + 1, sizeof(int), "triangle renumbering", e), t, k, m = 0;
+    int *tri = st->tri, *map = st->map, t, k, m = 0;
+    int *to = (int *)pw_alloc_array(st->a, (size_t)*n + 1, sizeof(int), "triangle renumbering", st->e);
     double p[3][3];
     if (!to) return PW_ERR_NOMEM;
     for (t = 0; t < *n; t++) {
@@ -2402,7 +2448,7 @@ PW__DEF int pw__st_drop_flat(const pw_alloc *a, const float *pos, int *tri, int 
         map[to[t]] = map[t];
     }
     *n = m;
-    pw_free(a, to);
+    pw_free(st->a, to);
     return PW_OK;
 }
 
@@ -2420,25 +2466,33 @@ PW__DEF void pw__st_add_fans(pw__st *st, const int *fan, int nfan, int *n)
 /* The surface the fill uses: the caller's triangles without the zero-area
  * ones (counted in info), closed and consistently oriented, with its
  * hierarchy and winding-number caps. st->tri and st->map own the arrays. */
-PW__DEF int pw__st_surface(pw__st *st, const float *pos, int nv, const int *tri, int nt, double max_hole,
-                           pw_stuff_info *info)
+PW__DEF int pw__st_surface(pw__st *st, const pw_stuff_tris *m, double max_hole, pw_stuff_info *info)
 {
-    int *twin = NULL, *fan = NULL, n = 0, nfan = 0, r;
-    r = pw__st_drop_repeats(st->a, tri, nt, &st->tri, &st->map, &n, st->e);
-    info->skipped_triangles = nt - n;
-    if (r == PW_OK)
-        r = pw__st_check_closed(st->a, pos, nv, st->tri, n, max_hole * pw__st_diag(pos, st->tri, n), &twin, &fan,
-                                &nfan, &info->closed_holes, st->e);
-    if (r == PW_OK && fan) {
-        pw__st_add_fans(st, fan, nfan, &n);
-        pw_free(st->a, fan);
-        r = pw__st_check_closed(st->a, pos, nv, st->tri, n, -1.0, &twin, &fan, &nfan, NULL, st->e);
+    pw__st_closure cl;
+    pw_stuff_tris used; /* the triangles kept so far, in st->tri */
+    int n = 0, r;
+    memset(&cl, 0, sizeof cl);
+    r = pw__st_drop_repeats(st, m->tri, m->nt, &n);
+    info->skipped_triangles = m->nt - n;
+    used = pw_stuff_tris_of(m->pos, m->nv, st->tri, n);
+    if (r == PW_OK) {
+        r = pw__st_check_closed(st->a, &used, max_hole * pw__st_diag(m->pos, st->tri, n), &cl, st->e);
+        info->closed_holes = cl.nholes;
     }
-    if (r == PW_OK) r = pw__st_drop_flat(st->a, pos, st->tri, st->map, twin, &n, &info->skipped_triangles, st->e);
+    if (r == PW_OK && cl.fan) {
+        pw__st_add_fans(st, cl.fan, cl.nfan, &n);
+        pw_free(st->a, cl.fan);
+        used.nt = n;
+        r = pw__st_check_closed(st->a, &used, -1.0, &cl, st->e);
+    }
+    if (r == PW_OK) r = pw__st_drop_flat(st, m->pos, cl.twin, &n, &info->skipped_triangles);
     if (r == PW_OK && n == 0) r = pw_fail(st->e, PW_ERR_DEGENERATE, "surface encloses no volume (every triangle is flat)");
-    if (r == PW_OK) r = pw__st_surf_init(st->a, pos, nv, st->tri, n, &st->s, st->e);
-    if (r == PW_OK) r = pw__st_caps(st->a, &st->s, twin, st->e);
-    pw_free(st->a, twin);
+    if (r == PW_OK) {
+        pw_stuff_tris used = pw_stuff_tris_of(m->pos, m->nv, st->tri, n);
+        r = pw__st_surf_init(st->a, &used, &st->s, st->e);
+    }
+    if (r == PW_OK) r = pw__st_caps(st->a, &st->s, cl.twin, st->e);
+    pw_free(st->a, cl.twin);
     return r;
 }
 
@@ -2448,8 +2502,8 @@ PW__DEF double pw__st_max_hole(const pw_stuff_options *o)
     return !o || o->max_hole == 0.0 ? 0.05 : o->max_hole;
 }
 
-/* Tetrahedralizes the inside of a closed, oriented triangle surface (pos
- * nv*3, tri nt*3, counter-clockwise seen from outside; a surface facing
+/* Tetrahedralizes the inside of a closed, oriented triangle surface (in:
+ * its triangles counter-clockwise seen from outside; a surface facing
  * inward throughout is used reversed) into *out: positively oriented
  * tetrahedra (tetmesh.h), freed with pw_tetmesh_free(a, out). o may be NULL
  * (defaults); p may be NULL, else it sees the stages "surface checks",
@@ -2467,8 +2521,8 @@ PW__DEF double pw__st_max_hole(const pw_stuff_options *o)
  *                      than PW_MAX_MESH_ELEMENTS vertices, triangles or
  *                      tetrahedra
  *   PW_ERR_NOMEM, PW_ERR_CANCELLED */
-PW__DEF int pw_stuff_tetrahedralize(const pw_alloc *a, const float *pos, int nv, const int *tri, int nt,
-                                    const pw_stuff_options *o, const pw_progress *p, pw_tetmesh *out, pw_err *e)
+PW__DEF int pw_stuff_tetrahedralize(const pw_alloc *a, const pw_stuff_tris *in, const pw_stuff_options *o,
+                                    const pw_progress *p, pw_tetmesh *out, pw_err *e)
 {
     pw__st st;
     pw_stuff_info scratch, *info = o && o->info ? o->info : &scratch;
@@ -2479,13 +2533,14 @@ PW__DEF int pw_stuff_tetrahedralize(const pw_alloc *a, const float *pos, int nv,
     memset(out, 0, sizeof *out);
     memset(&st, 0, sizeof st);
     st.a = a, st.prog = p, st.e = e;
-    r = pw__st_check_values(pos, nv, tri, nt, e);
+    r = in ? pw__st_check_values(in->pos, in->nv, in->tri, in->nt, e)
+           : pw_fail(e, PW_ERR_INVALID, "tetrahedralize: NULL positions or triangles");
     if (r == PW_OK && o && !pw_is_finite(o->max_hole))
         r = pw_fail(e, PW_ERR_INVALID, "tetrahedralize: max_hole %g is not finite", o->max_hole);
     if (r == PW_OK && o && !(o->fit >= 0.0 && o->fit <= 0.1))
         r = pw_fail(e, PW_ERR_INVALID, "tetrahedralize: fit %g is not in [0, 0.1] (a fraction of the diagonal)", o->fit);
     if (r == PW_OK) r = pw_report(p, 0.0f, "surface checks", e);
-    if (r == PW_OK) r = pw__st_surface(&st, pos, nv, tri, nt, pw__st_max_hole(o), info);
+    if (r == PW_OK) r = pw__st_surface(&st, in, pw__st_max_hole(o), info);
     if (r == PW_OK) r = pw__st_check_geometry(&st.s, st.map, o && o->strict, info, e);
     st.unite = info->crossing_pairs > 0;
     if (o && o->uniform) {
@@ -2611,8 +2666,11 @@ typedef struct pw_stuff_fit {
 /* Signed volume of component c and the winding number of the other
  * components at a corner of its first triangle (solid angles summed, Van
  * Oosterom & Strackee). */
-PW__DEF void pw__st_weigh(const float *pos, const int *tri, int nt, const int *comp, int c, double *vol, double *w)
+PW__DEF void pw__st_weigh(const pw_stuff_tris *m, const int *comp, int c, double *vol, double *w)
 {
+    const float *pos = m->pos;
+    const int *tri = m->tri;
+    int nt = m->nt;
     double p[3] = {0, 0, 0}, q[3][3];
     int t, k, first = 1;
     *vol = *w = 0.0;
@@ -2637,19 +2695,19 @@ PW__DEF void pw__st_weigh(const float *pos, const int *tri, int nt, const int *c
  * inward; a shell inside a cavity is at winding number 0 again. Crossing
  * components are counted apart (the solid may have fewer pieces). -1 when
  * the count would cost more than 5e7 solid angles. */
-PW__DEF int pw_stuff_surface_pieces(const pw_alloc *a, const float *pos, int nv, const int *tri, int nt, int *pieces,
-                                    pw_err *e)
+PW__DEF int pw_stuff_surface_pieces(const pw_alloc *a, const pw_stuff_tris *m, int *pieces, pw_err *e)
 {
+    int nt = m->nt;
     int *comp = (int *)pw_alloc_array(a, (size_t)nt + 1, sizeof(int), "surface components", e), nc = 0, c, r;
     double total = 0.0, *vol, *w;
     *pieces = -1;
     if (!comp) return PW_ERR_NOMEM;
-    r = pw__st_components(a, nv, tri, nt, comp, &nc, e);
+    r = pw__st_components(a, m, comp, &nc, e);
     vol = (double *)pw_alloc_array(a, 2 * (size_t)nc + 2, sizeof(double), "surface components", e);
     if (r == PW_OK && !vol) r = PW_ERR_NOMEM;
     if (r == PW_OK && (double)nc * nt <= 5e7) {
         w = vol + nc;
-        for (c = 0; c < nc; c++) pw__st_weigh(pos, tri, nt, comp, c, vol + c, w + c), total += vol[c];
+        for (c = 0; c < nc; c++) pw__st_weigh(m, comp, c, vol + c, w + c), total += vol[c];
         for (*pieces = 0, c = 0; c < nc; c++)
             *pieces += (total < 0.0 ? -vol[c] : vol[c]) > 0.0 && fabs(w[c]) < 0.5;
     }
@@ -2662,6 +2720,16 @@ PW__DEF int pw_stuff_surface_pieces(const pw_alloc *a, const float *pos, int nv,
 typedef struct pw__stsample {
     double d, w;
 } pw__stsample;
+
+/* One side of the fit: distances from the triangles `from` to the surface
+ * `to`, and what they measured. */
+typedef struct pw__st_dist {
+    pw_stuff_tris from;
+    const pw__stsurf *to;
+    double vmax, vmean; /* pw__st_vertex_dist: over the vertices the triangles use */
+    double smax, p99;   /* pw__st_sampled_dist: over area samples (p99: area-weighted 99th percentile) */
+    int samples;
+} pw__st_dist;
 
 PW__DEF int pw__st_sample_cmp(const void *x, const void *y)
 {
@@ -2685,46 +2753,48 @@ PW__DEF int pw__st_sample_split(const float *pos, const int *tri, int t, double 
     return k < 1.0 ? 1 : k > 256.0 ? 256 : (int)k;
 }
 
-/* The distance from barycentric point (l1, l2) of triangle t to surface s,
- * recorded with weight w. */
-PW__DEF void pw__st_sample_at(const float *pos, const int *tri, int t, double l1, double l2, double w,
-                              const pw__stsurf *s, pw__stsample *out)
+/* The distance from barycentric point (l1, l2) of triangle t of d->from to
+ * d->to, recorded with weight w. */
+PW__DEF void pw__st_sample_at(const pw__st_dist *d, int t, double l1, double l2, double w, pw__stsample *out)
 {
+    const float *pos = d->from.pos;
+    const int *c = d->from.tri + 3 * t;
     double p[3], x[3];
     int i;
     for (i = 0; i < 3; i++)
-        p[i] = (1.0 - l1 - l2) * pos[3 * tri[3 * t] + i] + l1 * pos[3 * tri[3 * t + 1] + i] +
-               l2 * pos[3 * tri[3 * t + 2] + i];
-    out->d = sqrt(pw__st_closest(s, p, x, NULL)), out->w = w;
+        p[i] = (1.0 - l1 - l2) * pos[3 * c[0] + i] + l1 * pos[3 * c[1] + i] + l2 * pos[3 * c[2] + i];
+    out->d = sqrt(pw__st_closest(d->to, p, x, NULL)), out->w = w;
 }
 
-/* Samples of triangle t split into k*k congruent pieces: their centroids
- * (weight: the piece's area) and the corners (weight 0, for the maximum). */
-PW__DEF size_t pw__st_sample_tri(const float *pos, const int *tri, int t, int k, double area, const pw__stsurf *s,
-                                 pw__stsample *out)
+/* Samples of triangle t of d->from split into k*k congruent pieces: their
+ * centroids (weight: the piece's area) and the corners (weight 0, for the
+ * maximum). */
+PW__DEF size_t pw__st_sample_tri(const pw__st_dist *d, int t, int k, double area, pw__stsample *out)
 {
     double w = area / ((double)k * k);
     size_t n = 0;
     int i, j;
     for (i = 0; i < k; i++)
         for (j = 0; i + j < k; j++) {
-            pw__st_sample_at(pos, tri, t, (i + 1.0 / 3.0) / k, (j + 1.0 / 3.0) / k, w, s, out + n++);
-            if (i + j + 2 <= k) pw__st_sample_at(pos, tri, t, (i + 2.0 / 3.0) / k, (j + 2.0 / 3.0) / k, w, s, out + n++);
+            pw__st_sample_at(d, t, (i + 1.0 / 3.0) / k, (j + 1.0 / 3.0) / k, w, out + n++);
+            if (i + j + 2 <= k) pw__st_sample_at(d, t, (i + 2.0 / 3.0) / k, (j + 2.0 / 3.0) / k, w, out + n++);
         }
-    pw__st_sample_at(pos, tri, t, 0.0, 0.0, 0.0, s, out + n++);
-    pw__st_sample_at(pos, tri, t, 1.0, 0.0, 0.0, s, out + n++);
-    pw__st_sample_at(pos, tri, t, 0.0, 1.0, 0.0, s, out + n++);
+    pw__st_sample_at(d, t, 0.0, 0.0, 0.0, out + n++);
+    pw__st_sample_at(d, t, 1.0, 0.0, 0.0, out + n++);
+    pw__st_sample_at(d, t, 0.0, 1.0, 0.0, out + n++);
     return n;
 }
 
-/* Largest and area-weighted 99th-percentile distance from about `want`
- * area-weighted samples on triangles tri of pos to surface s. */
-PW__DEF int pw__st_sampled_dist(const pw_alloc *a, const float *pos, const int *tri, int nt, const pw__stsurf *s,
-                                int want, double *dmax, double *p99, int *count, pw_err *e)
+/* Largest (d->smax) and area-weighted 99th-percentile (d->p99) distance
+ * from about `want` area-weighted samples on d->from to d->to; their count
+ * in d->samples. */
+PW__DEF int pw__st_sampled_dist(const pw_alloc *a, pw__st_dist *d, int want, pw_err *e)
 {
+    const float *pos = d->from.pos;
+    const int *tri = d->from.tri;
+    int nt = d->from.nt, t;
     double total = 0.0, area, a0, acc = 0.0;
     size_t n = 0, i;
-    int t;
     pw__stsample *sm;
     for (t = 0; t < nt; t++) pw__st_sample_split(pos, tri, t, 1e300, &area), total += area;
     a0 = total > 0.0 ? total / (want > 0 ? want : 1) : 1.0;
@@ -2735,38 +2805,38 @@ PW__DEF int pw__st_sampled_dist(const pw_alloc *a, const float *pos, const int *
     if (!(sm = (pw__stsample *)pw_alloc_array(a, n + 1, sizeof *sm, "fit samples", e))) return PW_ERR_NOMEM;
     for (n = 0, t = 0; t < nt; t++) {
         int k = pw__st_sample_split(pos, tri, t, a0, &area);
-        n += pw__st_sample_tri(pos, tri, t, k, area, s, sm + n);
+        n += pw__st_sample_tri(d, t, k, area, sm + n);
     }
     qsort(sm, n, sizeof *sm, pw__st_sample_cmp);
-    *dmax = n ? sm[n - 1].d : 0.0, *p99 = *dmax, *count = (int)n;
+    d->smax = n ? sm[n - 1].d : 0.0, d->p99 = d->smax, d->samples = (int)n;
     for (i = 0; i < n; i++)
         if ((acc += sm[i].w) >= 0.99 * total) {
-            *p99 = sm[i].d;
+            d->p99 = sm[i].d;
             break;
         }
     pw_free(a, sm);
     return PW_OK;
 }
 
-/* Largest and mean distance from the vertices used by triangles tri of
- * positions pos to surface s. */
-PW__DEF int pw__st_vertex_dist(const pw_alloc *a, const float *pos, int nv, const int *tri, int nt,
-                               const pw__stsurf *s, double *dmax, double *dmean, pw_err *e)
+/* Largest (d->vmax) and mean (d->vmean) distance from the vertices used by
+ * the triangles d->from to d->to. */
+PW__DEF int pw__st_vertex_dist(const pw_alloc *a, pw__st_dist *d, pw_err *e)
 {
-    unsigned char *used = (unsigned char *)pw_calloc_array(a, (size_t)nv + 1, 1, "used vertices", e);
-    double x[3], p[3], sum = 0.0, d;
+    const pw_stuff_tris *m = &d->from;
+    unsigned char *used = (unsigned char *)pw_calloc_array(a, (size_t)m->nv + 1, 1, "used vertices", e);
+    double x[3], p[3], sum = 0.0, dist;
     int v, k, n = 0;
     if (!used) return PW_ERR_NOMEM;
-    for (k = 0; k < 3 * nt; k++) used[tri[k]] = 1;
-    *dmax = 0.0;
-    for (v = 0; v < nv; v++) {
+    for (k = 0; k < 3 * m->nt; k++) used[m->tri[k]] = 1;
+    d->vmax = 0.0;
+    for (v = 0; v < m->nv; v++) {
         if (!used[v]) continue;
-        for (k = 0; k < 3; k++) p[k] = pos[3 * v + k];
-        d = sqrt(pw__st_closest(s, p, x, NULL));
-        sum += d, n++;
-        if (d > *dmax) *dmax = d;
+        for (k = 0; k < 3; k++) p[k] = m->pos[3 * v + k];
+        dist = sqrt(pw__st_closest(d->to, p, x, NULL));
+        sum += dist, n++;
+        if (dist > d->vmax) d->vmax = dist;
     }
-    *dmean = n ? sum / n : 0.0;
+    d->vmean = n ? sum / n : 0.0;
     pw_free(a, used);
     return PW_OK;
 }
@@ -2782,34 +2852,40 @@ PW__DEF int pw__st_pieces_of(const pw_alloc *a, const pw_tetmesh *m, int *pieces
     return r;
 }
 
-/* Measures how well the boundary of m matches the closed surface (pos, nv,
- * tri, nt): distances from the boundary vertices of m to the surface and
+/* Measures how well the boundary of m matches the closed surface in:
+ * distances from the boundary vertices of m to the surface and
  * from the surface's vertices to the boundary of m, the two-sided sampled
  * distance (about `samples` samples a side, 0: 100000) and the pieces of m,
  * in mesh units (divide by fit->diag for relative figures). */
-PW__DEF int pw_stuff_fit_measure(const pw_alloc *a, const float *pos, int nv, const int *tri, int nt,
-                                 const pw_tetmesh *m, int samples, pw_stuff_fit *fit, pw_err *e)
+PW__DEF int pw_stuff_fit_measure(const pw_alloc *a, const pw_stuff_tris *in, const pw_tetmesh *m, int samples,
+                                 pw_stuff_fit *fit, pw_err *e)
 {
     pw__stsurf s, b;
+    pw__st_dist to, from; /* boundary of m to the surface, surface to the boundary */
     int *btri = NULL, nb = 0, r, k;
     memset(fit, 0, sizeof *fit);
     if (samples <= 0) samples = 100000;
     memset(&s, 0, sizeof s);
     memset(&b, 0, sizeof b);
-    r = pw__st_check_values(pos, nv, tri, nt, e);
+    memset(&to, 0, sizeof to);
+    memset(&from, 0, sizeof from);
+    r = pw__st_check_values(in->pos, in->nv, in->tri, in->nt, e);
     if (r == PW_OK) r = pw_stuff_boundary(a, m, &btri, &nb, e);
     if (r == PW_OK && nb == 0) r = pw_fail(e, PW_ERR_DEGENERATE, "fit: the tetrahedral mesh has no boundary");
-    if (r == PW_OK) r = pw__st_surf_init(a, pos, nv, tri, nt, &s, e);
-    if (r == PW_OK) r = pw__st_surf_init(a, m->pos, m->nv, btri, nb, &b, e);
-    if (r == PW_OK) r = pw__st_vertex_dist(a, m->pos, m->nv, btri, nb, &s, &fit->to_surface_max, &fit->to_surface_mean, e);
-    if (r == PW_OK)
-        r = pw__st_vertex_dist(a, pos, nv, tri, nt, &b, &fit->from_surface_max, &fit->from_surface_mean, e);
-    if (r == PW_OK)
-        r = pw__st_sampled_dist(a, m->pos, btri, nb, &s, samples, &fit->to_max, &fit->to_p99, &fit->samples, e);
-    if (r == PW_OK)
-        r = pw__st_sampled_dist(a, pos, tri, nt, &b, samples, &fit->from_max, &fit->from_p99, &fit->samples, e);
+    to.from = pw_stuff_tris_of(m->pos, m->nv, btri, nb), to.to = &s;
+    from.from = *in, from.to = &b;
+    if (r == PW_OK) r = pw__st_surf_init(a, in, &s, e);
+    if (r == PW_OK) r = pw__st_surf_init(a, &to.from, &b, e);
+    if (r == PW_OK && (r = pw__st_vertex_dist(a, &to, e)) == PW_OK)
+        fit->to_surface_max = to.vmax, fit->to_surface_mean = to.vmean;
+    if (r == PW_OK && (r = pw__st_vertex_dist(a, &from, e)) == PW_OK)
+        fit->from_surface_max = from.vmax, fit->from_surface_mean = from.vmean;
+    if (r == PW_OK && (r = pw__st_sampled_dist(a, &to, samples, e)) == PW_OK)
+        fit->to_max = to.smax, fit->to_p99 = to.p99, fit->samples = to.samples;
+    if (r == PW_OK && (r = pw__st_sampled_dist(a, &from, samples, e)) == PW_OK)
+        fit->from_max = from.smax, fit->from_p99 = from.p99, fit->samples = from.samples;
     if (r == PW_OK) r = pw__st_pieces_of(a, m, &fit->pieces, e);
-    if (r == PW_OK) r = pw_stuff_surface_pieces(a, pos, nv, tri, nt, &fit->surface_pieces, e);
+    if (r == PW_OK) r = pw_stuff_surface_pieces(a, in, &fit->surface_pieces, e);
     for (k = 0; k < 3; k++) fit->diag += (s.hi[k] - s.lo[k]) * (s.hi[k] - s.lo[k]);
     fit->diag = sqrt(fit->diag);
     fit->boundary_triangles = nb;

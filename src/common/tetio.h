@@ -159,21 +159,36 @@ PW__DEF int pw__tetgen_tets(const pw_alloc *a, pw__sc *s, pw_tetmesh *m, long lo
     return PW_OK;
 }
 
-/* Reads a TetGen .node file and its .ele file (names for messages). */
-PW__DEF int pw_tetgen_read_memory(const pw_alloc *a, const void *node, size_t node_size, const char *node_name,
-                                  const void *ele, size_t ele_size, const char *ele_name, pw_tetmesh *out, pw_err *e)
+/* A file's bytes held in memory, and its name for messages (NULL: none). */
+typedef struct pw_memfile {
+    const void *data;
+    size_t size;
+    const char *name;
+} pw_memfile;
+
+PW__DEF pw_memfile pw_memfile_of(const void *data, size_t size, const char *name)
 {
+    pw_memfile f;
+    f.data = data, f.size = size, f.name = name;
+    return f;
+}
+
+/* Reads a TetGen .node file and its .ele file. */
+PW__DEF int pw_tetgen_read_memory(const pw_alloc *a, const pw_memfile *node, const pw_memfile *ele, pw_tetmesh *out,
+                                  pw_err *e)
+{
+    const char *ele_name = ele->name ? ele->name : "ele";
     pw__sc s;
     long long base = 0;
     int extra, r;
     memset(out, 0, sizeof *out);
-    pw__sc_init(&s, node, node_size, node_name ? node_name : "node", 0, e);
+    pw__sc_init(&s, node->data, node->size, node->name ? node->name : "node", 0, e);
     r = pw__tetgen_nodes(a, &s, out, &base, &extra, e);
     if (r == PW_OK) {
-        pw__sc_init(&s, ele, ele_size, ele_name ? ele_name : "ele", 0, e);
+        pw__sc_init(&s, ele->data, ele->size, ele_name, 0, e);
         r = pw__tetgen_tets(a, &s, out, base, e);
     }
-    if (r == PW_OK) r = pw_tetmesh_check(out, ele_name ? ele_name : "ele", e);
+    if (r == PW_OK) r = pw_tetmesh_check(out, ele_name, e);
     if (r != PW_OK) pw_tetmesh_free(a, out);
     return r;
 }
@@ -419,8 +434,10 @@ PW__DEF int pw_tetmesh_load(const pw_alloc *a, const char *path, pw_tetmesh *out
         return pw_fail(e, PW_ERR_UNSUPPORTED, "%s: tetrahedral meshes are .node (with .ele) or .mesh files", path);
     if (!pw__tio_sibling(path, ".node", node, sizeof node) || !pw__tio_sibling(path, ".ele", ele, sizeof ele))
         return pw_fail(e, PW_ERR_INVALID, "%s: path too long", path);
-    if ((r = pw_read_file(a, node, &d1, &n1, e)) == PW_OK && (r = pw_read_file(a, ele, &d2, &n2, e)) == PW_OK)
-        r = pw_tetgen_read_memory(a, d1, n1, node, d2, n2, ele, out, e);
+    if ((r = pw_read_file(a, node, &d1, &n1, e)) == PW_OK && (r = pw_read_file(a, ele, &d2, &n2, e)) == PW_OK) {
+        pw_memfile fn = pw_memfile_of(d1, n1, node), fe = pw_memfile_of(d2, n2, ele);
+        r = pw_tetgen_read_memory(a, &fn, &fe, out, e);
+    }
     pw_free(a, d1);
     pw_free(a, d2);
     return r;

@@ -10,11 +10,11 @@
 
 /* What the fill found, and the two-sided fit of its boundary (30000
  * samples a side) relative to the surface's diagonal. */
-static int lst__tet_report(const pw_alloc *a, const pw_mesh *tri, const pw_tetmesh *tm, const pw_stuff_info *info,
-                           lst_tet_report *rep, pw_err *e)
+static int lst__tet_report(const pw_alloc *a, const pw_stuff_tris *tri, const pw_tetmesh *tm,
+                           const pw_stuff_info *info, lst_tet_report *rep, pw_err *e)
 {
     pw_stuff_fit fit;
-    int r = pw_stuff_fit_measure(a, tri->pos, tri->nv, tri->fv, tri->nf, tm, 30000, &fit, e);
+    int r = pw_stuff_fit_measure(a, tri, tm, 30000, &fit, e);
     memset(rep, 0, sizeof *rep);
     rep->crossing_pairs = info->crossing_pairs, rep->skipped_triangles = info->skipped_triangles;
     rep->closed_holes = info->closed_holes, rep->fragments = info->fragments;
@@ -65,14 +65,16 @@ LSTDEF lst_result lst_tetrahedralize(const lst_mesh *surface, const lst_options 
                 o.tet.target_tets, so.max_hole);
     else {
         m = lst__pw_mesh(surface);
-        if (pw_mesh_validate(&m, &e) == PW_OK && pw_mesh_triangulate(&a, &m, &tri, NULL, &e) == PW_OK &&
-            pw_stuff_tetrahedralize(&a, tri.pos, tri.nv, tri.fv, tri.nf, &so, &p, &tm, &e) == PW_OK &&
-            (!report || lst__tet_report(&a, &tri, &tm, &info, report, &e) == PW_OK)) {
-            lst__take_tets(&tm, &a, out);
-            lst__tet_warning(&info, &e);
+        if (pw_mesh_validate(&m, &e) == PW_OK && pw_mesh_triangulate(&a, &m, &tri, NULL, &e) == PW_OK) {
+            pw_stuff_tris in = pw_stuff_tris_of(tri.pos, tri.nv, tri.fv, tri.nf);
+            if (pw_stuff_tetrahedralize(&a, &in, &so, &p, &tm, &e) == PW_OK &&
+                (!report || lst__tet_report(&a, &in, &tm, &info, report, &e) == PW_OK)) {
+                lst__take_tets(&tm, &a, out);
+                lst__tet_warning(&info, &e);
+            }
+            else if (tm.tet)
+                pw_tetmesh_free(&a, &tm);
         }
-        else if (tm.tet)
-            pw_tetmesh_free(&a, &tm);
     }
     pw_mesh_free(&a, &tri);
     return lst__done(&e, err);
@@ -164,6 +166,14 @@ static void lst__root(lst__shape_fn f, const double *p, const double *q, double 
     for (k = 0; k < 3; k++) out[k] = p[k] + t * (q[k] - p[k]);
 }
 
+/* An implicit shape and the grid it is sampled on: f over the box lo ..
+ * lo + n h, n cells per axis. */
+typedef struct lst__shape_grid {
+    lst__shape_fn f;
+    double lo[3], h;
+    int n;
+} lst__shape_grid;
+
 typedef struct lst__grid {
     lst__shape_fn f;
     double lo[3], h;
@@ -251,8 +261,11 @@ static int lst__grid_tet(lst__grid *G, const int *c)
  * neighbouring cubes share, so the surface is closed and manifold. Values
  * within a twentieth of a cell of zero move outward, so that no surface
  * vertex comes near a grid vertex and no triangle degenerates. */
-static int lst__implicit(const pw_alloc *a, lst__shape_fn f, const double lo[3], double h, int n, pw_mesh *out, pw_err *e)
+static int lst__implicit(const pw_alloc *a, const lst__shape_grid *s, pw_mesh *out, pw_err *e)
 {
+    lst__shape_fn f = s->f;
+    double h = s->h;
+    int n = s->n;
     static const int split[6][4] = {{0, 1, 2, 6}, {0, 2, 3, 6}, {0, 3, 7, 6}, {0, 7, 4, 6}, {0, 4, 5, 6}, {0, 5, 1, 6}};
     static const int cor[8][3] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
     lst__grid G;
@@ -260,7 +273,7 @@ static int lst__implicit(const pw_alloc *a, lst__shape_fn f, const double lo[3],
     int x, y, z, k, j, r = PW_OK;
     memset(&G, 0, sizeof G);
     G.f = f, G.h = h, G.n = n;
-    memcpy(G.lo, lo, sizeof G.lo);
+    memcpy(G.lo, s->lo, sizeof G.lo);
     while (cap < 8 * nvals / (size_t)n) cap *= 2;
     G.E.mask = cap - 1;
     G.val = (double *)pw_alloc_array(a, nvals, sizeof(double), "implicit surface", e);
@@ -337,7 +350,8 @@ static double lst__tree_shape(const double *p)
 
 LSTDEF lst_result lst_builtin_mesh(const char *name, const lst_options *opt, lst_mesh *out, lst_error *err)
 {
-    static const double kiwi_lo[3] = {-1.0, -1.0, -1.3}, tree_lo[3] = {-1.7, -1.7, -1.4};
+    static const lst__shape_grid kiwi = {lst__kiwi_shape, {-1.0, -1.0, -1.3}, 2.6 / 48, 48};
+    static const lst__shape_grid tree = {lst__tree_shape, {-1.7, -1.7, -1.4}, 3.4 / 64, 64};
     lst_options o = lst__options(opt);
     pw_alloc a = lst__alloc(&o.allocator);
     pw_mesh m;
@@ -351,8 +365,8 @@ LSTDEF lst_result lst_builtin_mesh(const char *name, const lst_options *opt, lst
     else if (!strcmp(name, "bumpy")) pw_shape_bumpy(&a, 12, &m, &e);
     else if (!strcmp(name, "dumbbell")) pw_shape_dumbbell(&a, 0.0332, 48, &m, &e); /* neck 1% of the diagonal */
     else if (!strcmp(name, "star")) pw_shape_star(&a, 12, 3.0, &m, &e);
-    else if (!strcmp(name, "kiwi")) lst__implicit(&a, lst__kiwi_shape, kiwi_lo, 2.6 / 48, 48, &m, &e);
-    else if (!strcmp(name, "tree")) lst__implicit(&a, lst__tree_shape, tree_lo, 3.4 / 64, 64, &m, &e);
+    else if (!strcmp(name, "kiwi")) lst__implicit(&a, &kiwi, &m, &e);
+    else if (!strcmp(name, "tree")) lst__implicit(&a, &tree, &m, &e);
     else
         pw_fail(&e, PW_ERR_INVALID, "unknown built-in surface '%s' (sphere, torus, bumpy, kiwi, tree, dumbbell, star)",
                 name);
@@ -363,22 +377,17 @@ LSTDEF lst_result lst_builtin_mesh(const char *name, const lst_options *opt, lst
 
 /* ---- constraints that go with the built-in surfaces (§4.3-4.5) -------------------------------------- */
 
-typedef struct lst__cset {
-    lst_constraint *c;
-    int n;
-    size_t cap;
-} lst__cset;
-
-/* Depth 1 and the direction along the axis of part c, at n points. */
-static int lst__axis_constraints(const pw_alloc *a, const double *c, double t0, double t1, int n, lst__cset *s, pw_err *e)
+/* Depth 1 and the direction along the axis of part c, at n points evenly
+ * over the interval span[0] .. span[1] of its parameter. */
+static int lst__axis_constraints(const pw_alloc *a, const double *c, const double span[2], int n, lst__cset *s, pw_err *e)
 {
-    double p[3];
+    double p[3], t0 = span[0], t1 = span[1];
     int i, k;
     for (i = 0; i < n; i++) {
         double t = t0 + (t1 - t0) * i / (n - 1);
         for (k = 0; k < 3; k++) p[k] = c[k] + t * c[3 + k];
-        if (lst__add_constraint(a, &s->c, &s->cap, &s->n, LST_CONSTRAINT_DEPTH_POINT, 0, p, NULL, 1.0, 0.0, e) ||
-            lst__add_constraint(a, &s->c, &s->cap, &s->n, LST_CONSTRAINT_DIRECTION, 0, p, c + 3, 0.0, 0.0, e))
+        if (lst__add_constraint(a, s, lst__constraint(LST_CONSTRAINT_DEPTH_POINT, 0, p, NULL, 1.0, 0.0), e) ||
+            lst__add_constraint(a, s, lst__constraint(LST_CONSTRAINT_DIRECTION, 0, p, c + 3, 0.0, 0.0), e))
             return PW_ERR_NOMEM;
     }
     return PW_OK;
@@ -403,11 +412,14 @@ static int lst__tree_constraints(const pw_alloc *a, const lst_mesh *surface, lst
                 double d = fabs(lst__part(lst__tree_parts[j], c, &t));
                 if (d < best) best = d, dn = fabs(pw_dot3(n, lst__tree_parts[j] + 3));
             }
-            if (dn < 0.6 && lst__add_constraint(a, &s->c, &s->cap, &s->n, LST_CONSTRAINT_DEPTH_FACE, tri, NULL, NULL, 0.0, 0.0, e))
+            if (dn < 0.6 && lst__add_constraint(a, s, lst__constraint(LST_CONSTRAINT_DEPTH_FACE, tri, NULL, NULL, 0.0, 0.0), e))
                 return PW_ERR_NOMEM;
         }
-    for (j = 0; j < 3; j++)
-        if (lst__axis_constraints(a, lst__tree_parts[j], j ? 0.3 : 0.0, lst__tree_parts[j][6], 12, s, e)) return PW_ERR_NOMEM;
+    for (j = 0; j < 3; j++) {
+        double span[2];
+        span[0] = j ? 0.3 : 0.0, span[1] = lst__tree_parts[j][6];
+        if (lst__axis_constraints(a, lst__tree_parts[j], span, 12, s, e)) return PW_ERR_NOMEM;
+    }
     return PW_OK;
 }
 
@@ -420,7 +432,7 @@ static int lst__torus_constraints(const pw_alloc *a, lst__cset *s, pw_err *e)
         double t = i * (2.0 * 3.14159265358979323846 / 24), p[3], d[3];
         p[0] = pw_cos(t), p[1] = pw_sin(t), p[2] = 0.0;
         d[0] = -p[1], d[1] = p[0], d[2] = 0.0;
-        if (lst__add_constraint(a, &s->c, &s->cap, &s->n, LST_CONSTRAINT_DIRECTION, 0, p, d, 0.0, 0.0, e)) return PW_ERR_NOMEM;
+        if (lst__add_constraint(a, s, lst__constraint(LST_CONSTRAINT_DIRECTION, 0, p, d, 0.0, 0.0), e)) return PW_ERR_NOMEM;
     }
     return PW_OK;
 }
@@ -429,6 +441,7 @@ LSTDEF lst_result lst_builtin_constraints(const char *name, const lst_mesh *surf
                                           lst_constraints *out, lst_error *err)
 {
     static const double kiwi_axis[9] = {0.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0, 0, 0};
+    static const double kiwi_span[2] = {-0.9, 0.9};
     lst_options o = lst__options(opt);
     pw_alloc a = lst__alloc(&o.allocator);
     lst__cset s;
@@ -439,8 +452,8 @@ LSTDEF lst_result lst_builtin_constraints(const char *name, const lst_mesh *surf
     if (!name || !out || (!surface && name && !strcmp(name, "tree")))
         pw_fail(&e, PW_ERR_INVALID, "lst_builtin_constraints: NULL argument");
     else if (!strcmp(name, "kiwi")) { /* the skin (one fill) at 0, the core along z at 1 */
-        if (lst__add_constraint(&a, &s.c, &s.cap, &s.n, LST_CONSTRAINT_DEPTH_FILL, 0, NULL, NULL, 0.0, 60.0, &e) == PW_OK)
-            lst__axis_constraints(&a, kiwi_axis, -0.9, 0.9, 13, &s, &e);
+        if (lst__add_constraint(&a, &s, lst__constraint(LST_CONSTRAINT_DEPTH_FILL, 0, NULL, NULL, 0.0, 60.0), &e) == PW_OK)
+            lst__axis_constraints(&a, kiwi_axis, kiwi_span, 13, &s, &e);
     } else if (!strcmp(name, "tree"))
         lst__tree_constraints(&a, surface, &s, &e);
     else if (!strcmp(name, "torus"))

@@ -270,13 +270,26 @@ static int lst__cut_mesh(lst__cutter *C, pw_err *e)
     return PW_OK;
 }
 
-/* The local vertex of paste q for mesh vertex g, a corner of old
+/* One paste while its vertices are added (cutting it, reading it): paste
+ * q (number id), the capacity of its growing vertex arrays, and per mesh
+ * vertex the paste that last added it (stamp) and its local index there
+ * (loc). */
+typedef struct lst__paste_build {
+    lst_paste *q;
+    int id;
+    int *stamp, *loc;
+    size_t cap;
+} lst__paste_build;
+
+/* The local vertex of paste P->q for mesh vertex g, a corner of old
  * tetrahedron c (corners local in lc): an old vertex is that corner's; a
  * new one is added once per paste, its texture coordinates interpolated
- * along the cut edge. stamp/loc: per new vertex. Returns -1 on failure. */
-static int lst__cut_local(lst__cutter *C, lst_paste *q, int id, const int *c, const int *lc, int g, int *stamp, int *loc,
-                          size_t *cap, pw_err *e)
+ * along the cut edge. Returns -1 on failure. */
+static int lst__cut_local(lst__cutter *C, lst__paste_build *P, const int *c, const int *lc, int g, pw_err *e)
 {
+    lst_paste *q = P->q;
+    int *stamp = P->stamp, *loc = P->loc, id = P->id;
+    size_t *cap = &P->cap;
     int k, ka = 0, kb = 0, n = g - C->nv0, j;
     size_t old;
     if (g < C->nv0) {
@@ -313,7 +326,8 @@ static int lst__cut_paste(lst__cutter *C, int id, int *stamp, int *loc, pw_err *
     lst_paste *q = &C->m->pastes[id];
     const int *old = C->m->mesh.tets;
     int i, j, k, extra = 0, n = 0, *tets, *corners;
-    size_t cap = (size_t)q->nverts;
+    lst__paste_build P;
+    P.q = q, P.id = id, P.stamp = stamp, P.loc = loc, P.cap = (size_t)q->nverts;
     for (i = 0; i < q->ntets; i++) extra += lst__nsub(C, q->tets[i]) > 0 ? lst__nsub(C, q->tets[i]) - 1 : 0;
     C->ptets[id] = tets = (int *)pw_alloc_array(C->a, (size_t)q->ntets + extra, sizeof(int), "cut paste", e);
     C->pcorners[id] = corners = (int *)pw_alloc_array(C->a, ((size_t)q->ntets + extra) * 4, sizeof(int), "cut paste", e);
@@ -330,7 +344,7 @@ static int lst__cut_paste(lst__cutter *C, int id, int *stamp, int *loc, pw_err *
             tets[n] = j == 0 ? t : C->first_new[t] + j - 1;
             for (k = 0; k < 4; k++) {
                 int g = C->sub[4 * (C->sub_start[t] + j) + k];
-                if ((corners[4 * n + k] = lst__cut_local(C, q, id, old + 4 * t, lc, g, stamp, loc, &cap, e)) < 0)
+                if ((corners[4 * n + k] = lst__cut_local(C, &P, old + 4 * t, lc, g, e)) < 0)
                     return e->code ? e->code : PW_ERR_NOMEM;
             }
         }
@@ -459,13 +473,21 @@ LSTDEF void lst_uncut(lst_model *model)
     if (model && model->removed) memset(model->removed, 0, (size_t)model->mesh.ntets);
 }
 
+/* A stroke as drawn: n points (xyz) seen along view. */
+typedef struct lst__stroke {
+    const float *pts;
+    int n;
+    double view[3];
+} lst__stroke;
+
 /* The stroke's constraints (Turk & O'Brien's normal constraints): 0 on each
- * stroke point and on its copies swept along the view, +h and -h at
- * offsets h to its right and left (right: view x tangent). */
-static int lst__stroke_points(const pw_alloc *a, const float *pts, int n, const double *view, double h, double L, lst__pts *out,
-                              pw_err *e)
+ * stroke point and on its copies swept along the view (up to L either way), +h and -h
+ * at offsets h to its right and left (right: view x tangent). */
+static int lst__stroke_points(const pw_alloc *a, const lst__stroke *st, double h, double L, lst__pts *out, pw_err *e)
 {
-    int i, k, s, side;
+    const float *pts = st->pts;
+    const double *view = st->view;
+    int n = st->n, i, k, s, side;
     for (i = 0; i < n; i++) {
         const float *p0 = pts + 3 * (i > 0 ? i - 1 : 0), *p1 = pts + 3 * (i + 1 < n ? i + 1 : n - 1);
         double t[3], r[3], q[3];
@@ -488,7 +510,8 @@ LSTDEF lst_result lst_stroke_field(const lst_model *model, const float *points, 
     pw_err e;
     lst__pts pts;
     lst__rbf rbf;
-    double view[3], diag, org[3] = {0, 0, 0}, p[3];
+    lst__stroke st;
+    double diag, org[3] = {0, 0, 0}, p[3];
     int k, v;
     pw_err_clear(&e);
     memset(&pts, 0, sizeof pts);
@@ -496,18 +519,20 @@ LSTDEF lst_result lst_stroke_field(const lst_model *model, const float *points, 
         pw_fail(&e, PW_ERR_INVALID, "lst_stroke_field: NULL argument or fewer than 2 points");
         return lst__done(&e, err);
     }
-    for (k = 0; k < 3; k++) view[k] = view_dir[k];
+    st.pts = points, st.n = n;
+    for (k = 0; k < 3; k++) st.view[k] = view_dir[k];
     for (k = 0; k < 3 * n; k++)
         if (!pw_is_finite(points[k])) pw_fail(&e, PW_ERR_INVALID, "stroke point %d is not finite", k / 3);
-    if (e.code == PW_OK && !(pw_norm3(view) > 0.0)) pw_fail(&e, PW_ERR_INVALID, "stroke: the view direction is zero");
+    if (e.code == PW_OK && !(pw_norm3(st.view) > 0.0)) pw_fail(&e, PW_ERR_INVALID, "stroke: the view direction is zero");
     if (e.code != PW_OK) return lst__done(&e, err);
     a = lst__alloc(&model->allocator);
     diag = lst__diagonal(model->mesh.positions, model->mesh.nverts);
     if (!(diag > 0.0)) diag = 1.0;
     for (k = 0; k < 3 * n; k++) org[k % 3] += points[k] / n;
-    if (lst__stroke_points(&a, points, n, view, 0.02 * diag, diag, &pts, &e) == PW_OK && pts.n == 0)
+    if (lst__stroke_points(&a, &st, 0.02 * diag, diag, &pts, &e) == PW_OK && pts.n == 0)
         pw_fail(&e, PW_ERR_INVALID, "stroke: every segment is parallel to the view");
-    if (e.code == PW_OK && lst__rbf_fit(&a, pts.p, pts.val, pts.n, 600, org, diag, &rbf, &e) == PW_OK) {
+    memcpy(rbf.o, org, sizeof rbf.o), rbf.s = diag;
+    if (e.code == PW_OK && lst__rbf_fit(&a, &pts, 600, &rbf, &e) == PW_OK) {
         for (v = 0; v < model->mesh.nverts; v++) {
             for (k = 0; k < 3; k++) p[k] = model->mesh.positions[3 * v + k];
             phi[v] = (float)lst__rbf_eval(&rbf, p, NULL);

@@ -397,6 +397,7 @@ static int lst__edt(const pw_alloc *a, const pw_volume *mask, int want_positive,
 {
     int X = mask->x, Y = mask->y, Z = mask->z, big = pw_maxi(X, pw_maxi(Y, Z)), z;
     size_t total = (size_t)X * Y * Z, k;
+    pw__edt_ws ws;
     float *f = (float *)pw_alloc_array(a, (size_t)big * 2, sizeof(float), "distance transform", e);
     int *v = (int *)pw_alloc_array(a, (size_t)big, sizeof(int), "distance transform", e);
     double *zz = (double *)pw_alloc_array(a, (size_t)big + 1, sizeof(double), "distance transform", e);
@@ -408,9 +409,10 @@ static int lst__edt(const pw_alloc *a, const pw_volume *mask, int want_positive,
         int hit = want_positive ? mask->px[k] > 0.0f : mask->px[k] < 1.0f;
         dist[k] = hit ? 0.0f : PW_EDT_FAR;
     }
-    pw__edt_pass(dist, X, Y * Z, (size_t)X, 1, 0, f, f + big, v, zz);
-    for (z = 0; z < Z; z++) pw__edt_pass(dist + (size_t)z * X * Y, Y, X, 1, (size_t)X, 0, f, f + big, v, zz);
-    pw__edt_pass(dist, Z, X * Y, 1, (size_t)X * Y, 0, f, f + big, v, zz);
+    ws.f = f, ws.d = f + big, ws.v = v, ws.z = zz, ws.wrap = 0;
+    pw__edt_pass(dist, X, Y * Z, (size_t)X, 1, &ws);
+    for (z = 0; z < Z; z++) pw__edt_pass(dist + (size_t)z * X * Y, Y, X, 1, (size_t)X, &ws);
+    pw__edt_pass(dist, Z, X * Y, 1, (size_t)X * Y, &ws);
     for (k = 0; k < total; k++) dist[k] = dist[k] >= PW_EDT_FAR ? 1e6f : (float)(sqrt((double)dist[k]) / big);
     pw_free(a, f), pw_free(a, v), pw_free(a, zz);
     return PW_OK;

@@ -177,10 +177,16 @@ static void lst__atlas_eval(void *user, int f, const float b[3], float *px)
     memcpy(px, rgba, 3 * sizeof(float));
 }
 
-/* Charts, packing and baking of the atlas's mesh. */
-static int lst__atlas_run(const pw_alloc *a, const lst_model *m, const lst__tris *tris, const lst_atlas_options *o,
-                          const pw_progress *prog, lst_atlas *out, pw_image *img, pw_err *e)
+/* Charts, packing and baking of the atlas's mesh (out, from the boundary
+ * tris of m), by options opt (its atlas settings checked); the picture
+ * goes to out->image. */
+static int lst__atlas_run(const pw_alloc *a, const lst_model *m, const lst__tris *tris, const lst_options *opt,
+                          lst_atlas *out, pw_err *e)
 {
+    const lst_atlas_options *o = &opt->atlas;
+    pw_progress progress = lst__progress(opt);
+    const pw_progress *prog = &progress;
+    pw_image pic, *img = &pic;
     pw_mesh pm;
     pw_trimesh tm;
     pw_atlas_charts C;
@@ -190,6 +196,7 @@ static int lst__atlas_run(const pw_alloc *a, const lst_model *m, const lst__tris
     memset(&pm, 0, sizeof pm);
     memset(&tm, 0, sizeof tm);
     memset(&v, 0, sizeof v);
+    memset(&pic, 0, sizeof pic);
     out->uvs = (float *)pw_alloc_array(a, (size_t)out->ntris * 6, sizeof(float), "atlas coordinates", e);
     if (!fstart || !out->uvs) {
         pw_free(a, fstart);
@@ -212,39 +219,33 @@ static int lst__atlas_run(const pw_alloc *a, const lst_model *m, const lst__tris
     pw_trimesh_free(a, &tm);
     pw_free(a, fstart);
     if (r == PW_OK) r = pw_report(prog, 1.0f, "atlas", e);
+    if (r == PW_OK) lst__take_image(&pic, a, &out->image);
+    else pw_image_free(a, &pic);
     return r;
 }
 
 LSTDEF lst_result lst_bake_atlas(const lst_model *model, const lst_options *opt, lst_atlas *out, lst_error *err)
 {
     lst_options o = lst__options(opt);
-    lst_atlas_options ao = o.atlas;
     pw_alloc a = lst__alloc(&o.allocator);
-    pw_progress prog = lst__progress(&o);
     lst__tris tris;
-    pw_image img;
     pw_err e;
     pw_err_clear(&e);
     memset(&tris, 0, sizeof tris);
-    memset(&img, 0, sizeof img);
     if (!out) {
         pw_fail(&e, PW_ERR_INVALID, "atlas: no output");
         return lst__done(&e, err);
     }
     memset(out, 0, sizeof *out);
     if (!model) pw_fail(&e, PW_ERR_INVALID, "atlas: no model");
-    else if (!pw_atlas_options(&ao.size, &ao.cone_angle, &ao.gutter, &e) && !lst__check_model(model, &e) &&
-             !lst__atlas_boundary(&a, model, &tris, out, &e)) {
-        int r = lst__atlas_run(&a, model, &tris, &ao, &prog, out, &img, &e);
+    else if (!pw_atlas_options(&o.atlas.size, &o.atlas.cone_angle, &o.atlas.gutter, &e) &&
+             !lst__check_model(model, &e) && !lst__atlas_boundary(&a, model, &tris, out, &e)) {
+        int r = lst__atlas_run(&a, model, &tris, &o, out, &e);
         if (r != PW_OK) pw_fail(&e, r, "atlas: %s", pw_result_string(r)); /* keeps a recorded message */
-        else lst__take_image(&img, &a, &out->image);
     }
     lst__tris_free(&a, &tris);
     out->allocator = lst__allocator(&a);
-    if (e.code) {
-        pw_image_free(&a, &img);
-        lst_atlas_free(out);
-    }
+    if (e.code) lst_atlas_free(out);
     return lst__done(&e, err);
 }
 

@@ -75,6 +75,16 @@ static int lst__locate(const lst__geo *g, const double p[3], double l[4])
 
 /* ---- thin-plate RBF in 3D (phi(r) = r^3 plus a linear polynomial) ------------------- */
 
+/* A growable list of constrained points with values: what an RBF is fitted
+ * through (the depth constraints, §4.3; a stroke's constraints). */
+typedef struct lst__pts {
+    int n;
+    size_t cap;
+    double *p;   /* n*3 */
+    double *val; /* n, in a parallel array grown with p */
+    size_t vcap;
+} lst__pts;
+
 typedef struct lst__rbf {
     int n;
     double *c;      /* n*3 centres, in normalised coordinates */
@@ -150,12 +160,16 @@ static int lst__farthest(const double *p, int n, int k, double *dmin, int *pick)
     return cnt;
 }
 
-/* Fits the RBF through values val at up to maxc of the points p (n*3). */
-static int lst__rbf_fit(const pw_alloc *a, const double *p, const double *val, int n, int maxc, const double o[3],
-                        double s, lst__rbf *r, pw_err *e)
+/* Fits the RBF through the values of up to maxc of the points pts. The
+ * caller sets the normalisation (r->o, r->s); the rest is filled here. */
+static int lst__rbf_fit(const pw_alloc *a, const lst__pts *pts, int maxc, lst__rbf *r, pw_err *e)
 {
+    const double *p = pts->p, *val = pts->val;
+    int n = pts->n;
+    double o[3], s = r->s;
     double *dmin = (double *)pw_alloc_array(a, (size_t)n, sizeof(double), "RBF", e), *m = NULL;
     int *pick = (int *)pw_alloc_array(a, (size_t)(maxc < n ? maxc : n), sizeof(int), "RBF", e), i, j, k, N;
+    memcpy(o, r->o, sizeof o);
     memset(r, 0, sizeof *r);
     memcpy(r->o, o, sizeof r->o);
     r->s = s;
@@ -211,15 +225,6 @@ static double lst__rbf_eval(const lst__rbf *r, const double *x, double *grad)
 
 /* ---- depth constraints (§4.3) as points ------------------------------------------------- */
 
-/* A growable list of constrained points with values. */
-typedef struct lst__pts {
-    int n;
-    size_t cap;
-    double *p;   /* n*3 */
-    double *val; /* n, in a parallel array grown with p */
-    size_t vcap;
-} lst__pts;
-
 static void lst__pts_free(const pw_alloc *a, lst__pts *s)
 {
     pw_free(a, s->p);
@@ -262,11 +267,13 @@ static int lst__paint_surface(const pw_alloc *a, const lst__geo *g, const lst_me
     return r;
 }
 
-/* §4.3 multi-face fill: the triangles reachable from `start` across edges
- * whose dihedral angle is at most `crease` degrees get value v. */
-static int lst__flood(const pw_alloc *a, const pw_trimesh *tm, int start, double crease, double v, double *paint,
-                      pw_err *e)
+/* §4.3 multi-face fill (constraint c): the triangles reachable from
+ * c->face across edges whose dihedral angle is at most c->crease degrees
+ * (0: 30) get c->value. */
+static int lst__flood(const pw_alloc *a, const pw_trimesh *tm, const lst_constraint *c, double *paint, pw_err *e)
 {
+    int start = c->face;
+    double crease = c->crease > 0.0f ? c->crease : 30.0, v = c->value;
     int *queue = (int *)pw_alloc_array(a, (size_t)tm->nf, sizeof(int), "flood fill", e), head = 0, tail = 0, k;
     unsigned char *seen = (unsigned char *)pw_calloc_array(a, (size_t)tm->nf, 1, "flood fill", e);
     double cmin = pw_cos(crease * (3.14159265358979323846 / 180.0));
@@ -311,7 +318,7 @@ static int lst__paint(const pw_alloc *a, const pw_trimesh *tm, const lst_options
             return pw_fail(e, PW_ERR_INVALID, "depth constraint %d: face %d is not a triangle of the surface (0..%d)", i,
                            c->face, tm->nf - 1);
         if (c->kind == LST_CONSTRAINT_DEPTH_FACE) paint[c->face] = c->value;
-        else if (lst__flood(a, tm, c->face, c->crease > 0.0f ? c->crease : 30.0, c->value, paint, e)) return PW_ERR_NOMEM;
+        else if (lst__flood(a, tm, c, paint, e)) return PW_ERR_NOMEM;
     }
     return PW_OK;
 }
@@ -349,11 +356,19 @@ static int lst__check_depth(const lst_options *o, pw_err *e)
     return PW_OK;
 }
 
+/* The surface with the depth the face and fill constraints paint on it. */
+typedef struct lst__painted {
+    pw_trimesh tm;
+    double *face; /* per triangle: painted depth, -1: none (lst__paint) */
+    double *vert; /* per vertex: from its triangles, -1: none (lst__vertex_paint) */
+} lst__painted;
+
 /* The constraint points: painted vertices, painted triangles' centroids,
  * then the point constraints. */
-static int lst__depth_points(const pw_alloc *a, const pw_trimesh *tm, const lst_options *o, const double *paint,
-                             const double *vp, lst__pts *pts, pw_err *e)
+static int lst__depth_points(const pw_alloc *a, const lst__painted *ps, const lst_options *o, lst__pts *pts, pw_err *e)
 {
+    const pw_trimesh *tm = &ps->tm;
+    const double *paint = ps->face, *vp = ps->vert;
     double p[3];
     int f, v, i, k;
     for (v = 0; v < tm->nv; v++)
@@ -414,10 +429,12 @@ static size_t lst__hash_cell(const lst__hash *h, const double *p, int off[3])
     return ((size_t)c[2] * h->n[1] + c[1]) * h->n[0] + c[0];
 }
 
-/* Buckets of side `cell` over the points of pos (n*3, floats) that keep[] selects. */
-static int lst__hash_build(const pw_alloc *a, const float *pos, int n, const double *keep, double cell, lst__hash *h,
+/* Buckets of side `cell` over the vertices of tm that keep[] selects (>= 0). */
+static int lst__hash_build(const pw_alloc *a, const pw_trimesh *tm, const double *keep, double cell, lst__hash *h,
                            pw_err *e)
 {
+    const float *pos = tm->pos;
+    int n = tm->nv;
     size_t cells, c;
     int i, k;
     double hi[3];
@@ -487,7 +504,7 @@ static int lst__depth_snap(const pw_alloc *a, const lst__geo *g, const pw_trimes
             if (d > reach) reach = d;
         }
     if (!(done = (unsigned char *)pw_calloc_array(a, (size_t)g->m.nv, 1, "depth snap", e))) return PW_ERR_NOMEM;
-    if (lst__hash_build(a, tm->pos, tm->nv, vp, reach, &h, e)) {
+    if (lst__hash_build(a, tm, vp, reach, &h, e)) {
         pw_free(a, done);
         return PW_ERR_NOMEM;
     }
@@ -510,44 +527,60 @@ static int lst__depth_snap(const pw_alloc *a, const lst__geo *g, const pw_trimes
 
 /* ---- the depth field ----------------------------------------------------------------------- */
 
+/* What one computation of the fields (§5.2.2) works from: the mesh with its
+ * adjacency, the surface the depth constraints are painted on, the
+ * options, and where allocation, progress and errors go. */
+typedef struct lst__field_job {
+    const pw_alloc *a;
+    const lst__geo *g;
+    const lst_mesh *surface;
+    const lst_options *o;
+    const pw_progress *p;
+    pw_err *e;
+} lst__field_job;
+
 /* §5.2.2 thin-plate RBF interpolation of the depth constraints, with its
  * analytic gradient at every vertex; then the boundary snapped to the
  * painted values. */
-static int lst__depth_rbf(const pw_alloc *a, const lst__geo *g, const lst_mesh *surface, const lst_options *o,
-                          double *depth, double *grad, pw_err *e)
+static int lst__depth_rbf(const lst__field_job *j, double *depth, double *grad)
 {
-    pw_trimesh tm;
+    const pw_alloc *a = j->a;
+    const lst__geo *g = j->g;
+    const lst_options *o = j->o;
+    pw_err *e = j->e;
+    lst__painted ps;
     lst__pts pts;
     lst__rbf rbf;
-    double *paint = NULL, *vp = NULL, org[3], lo[3], hi[3], p[3];
+    double lo[3], hi[3], p[3];
     int v, k, r;
     memset(&pts, 0, sizeof pts);
     memset(&rbf, 0, sizeof rbf);
-    if ((r = lst__paint_surface(a, g, surface, &tm, e)) != PW_OK) return r;
-    paint = (double *)pw_alloc_array(a, (size_t)tm.nf, sizeof(double), "depth paint", e);
-    vp = (double *)pw_alloc_array(a, (size_t)tm.nv, sizeof(double), "depth paint", e);
-    r = !paint || !vp ? PW_ERR_NOMEM : lst__paint(a, &tm, o, paint, e);
-    if (r == PW_OK) lst__vertex_paint(&tm, paint, vp), r = lst__depth_points(a, &tm, o, paint, vp, &pts, e);
+    if ((r = lst__paint_surface(a, g, j->surface, &ps.tm, e)) != PW_OK) return r;
+    ps.face = (double *)pw_alloc_array(a, (size_t)ps.tm.nf, sizeof(double), "depth paint", e);
+    ps.vert = (double *)pw_alloc_array(a, (size_t)ps.tm.nv, sizeof(double), "depth paint", e);
+    r = !ps.face || !ps.vert ? PW_ERR_NOMEM : lst__paint(a, &ps.tm, o, ps.face, e);
+    if (r == PW_OK) lst__vertex_paint(&ps.tm, ps.face, ps.vert), r = lst__depth_points(a, &ps, o, &pts, e);
     if (r == PW_OK && pts.n < 1) r = pw_fail(e, PW_ERR_INVALID, "depth constraints: none applies");
     if (r == PW_OK) lst__pts_thin(&pts, lst__count_kind(o, LST_CONSTRAINT_DEPTH_POINT, LST_CONSTRAINT_DEPTH_POINT), o->rbf_centers);
     if (r == PW_OK) {
         for (k = 0; k < 3; k++) lo[k] = hi[k] = g->m.pos[k];
         for (v = 0; v < g->m.nv; v++)
             for (k = 0; k < 3; k++) lo[k] = g->m.pos[3 * v + k] < lo[k] ? g->m.pos[3 * v + k] : lo[k], hi[k] = g->m.pos[3 * v + k] > hi[k] ? g->m.pos[3 * v + k] : hi[k];
-        for (k = 0; k < 3; k++) org[k] = 0.5 * (lo[k] + hi[k]);
-        r = lst__rbf_fit(a, pts.p, pts.val, pts.n, o->rbf_centers, org, g->diag > 0.0 ? g->diag : 1.0, &rbf, e);
+        for (k = 0; k < 3; k++) rbf.o[k] = 0.5 * (lo[k] + hi[k]);
+        rbf.s = g->diag > 0.0 ? g->diag : 1.0;
+        r = lst__rbf_fit(a, &pts, o->rbf_centers, &rbf, e);
     }
     for (v = 0; r == PW_OK && v < g->m.nv; v++) {
         lst__vert(&g->m, v, p);
         depth[v] = lst__rbf_eval(&rbf, p, grad + 3 * v);
         depth[v] = depth[v] < 0.0 ? 0.0 : (depth[v] > 1.0 ? 1.0 : depth[v]);
     }
-    if (r == PW_OK) r = lst__depth_snap(a, g, &tm, vp, depth, e);
+    if (r == PW_OK) r = lst__depth_snap(a, g, &ps.tm, ps.vert, depth, e);
     lst__rbf_free(a, &rbf);
     lst__pts_free(a, &pts);
-    pw_free(a, paint);
-    pw_free(a, vp);
-    pw_trimesh_free(a, &tm);
+    pw_free(a, ps.face);
+    pw_free(a, ps.vert);
+    pw_trimesh_free(a, &ps.tm);
     return r;
 }
 
@@ -699,12 +732,13 @@ static int lst__depth_distance(const pw_alloc *a, const lst__geo *g, double *dep
     return PW_OK;
 }
 
-static int lst__depth_field(const pw_alloc *a, const lst__geo *g, const lst_mesh *surface, const lst_options *o,
-                            double *depth, double *grad, pw_err *e)
+static int lst__depth_field(const lst__field_job *j, double *depth, double *grad)
 {
-    int r = lst__check_depth(o, e);
+    int r = lst__check_depth(j->o, j->e);
     if (r != PW_OK) return r;
-    return lst__count_kind(o, LST_CONSTRAINT_DEPTH_FACE, LST_CONSTRAINT_DEPTH_POINT) > 0 ? lst__depth_rbf(a, g, surface, o, depth, grad, e) : lst__depth_distance(a, g, depth, grad, e);
+    return lst__count_kind(j->o, LST_CONSTRAINT_DEPTH_FACE, LST_CONSTRAINT_DEPTH_POINT) > 0
+               ? lst__depth_rbf(j, depth, grad)
+               : lst__depth_distance(j->a, j->g, depth, grad, j->e);
 }
 
 /* ---- Laplacian smoothing (Eqs. 1-2) ---------------------------------------------------- */
@@ -724,6 +758,20 @@ static void lst__cons_free(const pw_alloc *a, lst__cons *c)
     pw_free(a, c->bary);
     pw_free(a, c->val);
     memset(c, 0, sizeof *c);
+}
+
+/* One smoothing system (Eqs. 1-2): the located constraints, their weight
+ * W and the least-squares matrix built from them. */
+typedef struct lst__lsq {
+    lst__cons c;
+    double W;
+    pw_csr A;
+} lst__lsq;
+
+static void lst__lsq_free(const pw_alloc *a, lst__lsq *s)
+{
+    pw_csr_free(a, &s->A);
+    lst__cons_free(a, &s->c);
 }
 
 /* The constraints of `kind`, DIRECTION or SCALE (directions made unit,
@@ -756,45 +804,55 @@ static int lst__field_cons(const pw_alloc *a, const lst__geo *g, const lst_optio
     return PW_OK;
 }
 
-/* The least-squares system: a Laplacian row per vertex (Eq. 1: x_i minus
- * the weighted mean of its one-ring; weights uniform, or exp(-(k(d_i -
- * d_j))^2) normalised when depth is given, §5.2.2), then W times each
+/* The least-squares system s->A: a Laplacian row per vertex (Eq. 1: x_i
+ * minus the weighted mean of its one-ring; weights uniform, or exp(-(kw(d_i
+ * - d_j))^2) normalised when depth is given, §5.2.2), then W times each
  * constraint row (Eq. 2). */
-static int lst__smooth_matrix(const pw_alloc *a, const lst__geo *g, const double *depth, double kw, const lst__cons *c,
-                              double W, pw_csr *A, pw_err *e)
+static int lst__smooth_matrix(const lst__field_job *j, const double *depth, double kw, lst__lsq *s)
 {
+    const pw_alloc *a = j->a;
+    const lst__geo *g = j->g;
+    const lst__cons *c = &s->c;
+    double W = s->W;
+    pw_err *e = j->e;
     pw_triplets t;
-    int v, j, i, k, r;
+    int v, jj, i, k, r;
     if ((r = pw_triplets_init(&t, a, g->m.nv + c->n, g->m.nv, e)) != PW_OK) return r;
     for (v = 0; v < g->m.nv && r == PW_OK; v++) {
         double sum = 0.0;
         int lo = g->rings.start[v], hi = g->rings.start[v + 1];
         if (lo == hi) continue; /* an unused vertex keeps its guess */
-        for (j = lo; j < hi; j++) {
-            double dd = depth ? kw * (depth[v] - depth[g->rings.adj[j]]) : 0.0;
+        for (jj = lo; jj < hi; jj++) {
+            double dd = depth ? kw * (depth[v] - depth[g->rings.adj[jj]]) : 0.0;
             sum += depth ? lst__exp_neg(-dd * dd) : 1.0;
         }
         r = pw_triplets_add(&t, v, v, 1.0, e);
-        for (j = lo; j < hi && r == PW_OK; j++) {
-            double dd = depth ? kw * (depth[v] - depth[g->rings.adj[j]]) : 0.0;
-            r = pw_triplets_add(&t, v, g->rings.adj[j], -(depth ? lst__exp_neg(-dd * dd) : 1.0) / sum, e);
+        for (jj = lo; jj < hi && r == PW_OK; jj++) {
+            double dd = depth ? kw * (depth[v] - depth[g->rings.adj[jj]]) : 0.0;
+            r = pw_triplets_add(&t, v, g->rings.adj[jj], -(depth ? lst__exp_neg(-dd * dd) : 1.0) / sum, e);
         }
     }
     for (i = 0; i < c->n && r == PW_OK; i++)
         for (k = 0; k < 4 && r == PW_OK; k++)
             r = pw_triplets_add(&t, g->m.nv + i, g->m.tet[4 * c->tet[i] + k], W * c->bary[4 * i + k], e);
-    if (r == PW_OK) r = pw_csr_from_triplets(a, &t, A, e);
+    if (r == PW_OK) r = pw_csr_from_triplets(a, &t, &s->A, e);
     pw_triplets_free(&t);
     return r;
 }
 
 /* Solves one component: x (nv, holding the guess) minimising the rows of
- * A with right-hand side 0 for the Laplacian rows and W val[dim*i + comp]
- * for constraint i. A solver that stops short of its tolerance still gives
- * a usable smooth field; only memory and cancellation are errors. */
-static int lst__smooth_solve(const pw_alloc *a, const pw_csr *A, int nv, const lst__cons *c, int dim, int comp, double W,
-                             const pw_progress *p, double *x, pw_err *e)
+ * s->A with right-hand side 0 for the Laplacian rows and W val[dim*i +
+ * comp] for constraint i. A solver that stops short of its tolerance still
+ * gives a usable smooth field; only memory and cancellation are errors. */
+static int lst__smooth_solve(const lst__field_job *j, const lst__lsq *s, int dim, int comp, double *x)
 {
+    const pw_alloc *a = j->a;
+    const pw_csr *A = &s->A;
+    const lst__cons *c = &s->c;
+    const pw_progress *p = j->p;
+    double W = s->W;
+    int nv = j->g->m.nv;
+    pw_err *e = j->e;
     double *b = (double *)pw_calloc_array(a, (size_t)A->n, sizeof(double), "smoothing", e);
     pw_cg_options co = pw_cg_default_options();
     pw_cg_stats st;
@@ -840,58 +898,57 @@ static void lst__principal_axis(const pw_tetmesh *m, double *axis)
 /* §5.2.2 the direction field (unit, per vertex): the constraints smoothed
  * per component (depth-aware weights for 2-a/2-b), normalised; without
  * constraints the given or principal axis everywhere. */
-static int lst__direction_field(const pw_alloc *a, const lst__geo *g, const lst_options *o, const double *depth,
-                                const pw_progress *p, double *dir, pw_err *e)
+static int lst__direction_field(const lst__field_job *j, const double *depth, double *dir)
 {
-    lst__cons c;
-    pw_csr A;
+    const pw_alloc *a = j->a;
+    const lst__geo *g = j->g;
+    const lst_options *o = j->o;
+    pw_err *e = j->e;
+    lst__lsq s;
     double axis[3], *x = NULL;
     int v, k, r;
     for (k = 0; k < 3; k++) axis[k] = o->axis[k];
     if (!(pw_norm3(axis) > 0.0)) lst__principal_axis(&g->m, axis);
     for (v = 0; v < g->m.nv; v++) memcpy(dir + 3 * v, axis, sizeof axis);
-    memset(&A, 0, sizeof A);
-    if ((r = lst__field_cons(a, g, o, LST_CONSTRAINT_DIRECTION, &c, e)) != PW_OK || c.n == 0) {
-        lst__cons_free(a, &c);
+    memset(&s, 0, sizeof s);
+    s.W = o->constraint_weight;
+    if ((r = lst__field_cons(a, g, o, LST_CONSTRAINT_DIRECTION, &s.c, e)) != PW_OK || s.c.n == 0) {
+        lst__cons_free(a, &s.c);
         return r;
     }
     if (!(x = (double *)pw_alloc_array(a, (size_t)g->m.nv, sizeof(double), "direction field", e))) r = PW_ERR_NOMEM;
     if (r == PW_OK)
-        r = lst__smooth_matrix(a, g, o->type == LST_TYPE_2A || o->type == LST_TYPE_2B ? depth : NULL, o->layer_weight, &c,
-                               o->constraint_weight, &A, e);
+        r = lst__smooth_matrix(j, o->type == LST_TYPE_2A || o->type == LST_TYPE_2B ? depth : NULL, o->layer_weight, &s);
     for (k = 0; k < 3 && r == PW_OK; k++) {
         for (v = 0; v < g->m.nv; v++) x[v] = axis[k];
-        if ((r = lst__smooth_solve(a, &A, g->m.nv, &c, 3, k, o->constraint_weight, p, x, e)) == PW_OK)
+        if ((r = lst__smooth_solve(j, &s, 3, k, x)) == PW_OK)
             for (v = 0; v < g->m.nv; v++) dir[3 * v + k] = x[v];
     }
     for (v = 0; r == PW_OK && v < g->m.nv; v++)
         if (!(pw_norm3(dir + 3 * v) > 1e-12)) memcpy(dir + 3 * v, axis, sizeof axis);
-    pw_csr_free(a, &A);
     pw_free(a, x);
-    lst__cons_free(a, &c);
+    lst__lsq_free(a, &s);
     return r;
 }
 
 /* The user's scale field (types 0, 1-a, 2-a): constraints smoothed, or
  * the default everywhere; kept above a thousandth of the default. */
-static int lst__scale_field(const pw_alloc *a, const lst__geo *g, const lst_options *o, double s0, const pw_progress *p,
-                            double *scale, pw_err *e)
+static int lst__scale_field(const lst__field_job *j, double s0, double *scale)
 {
-    lst__cons c;
-    pw_csr A;
+    const lst__geo *g = j->g;
+    lst__lsq s;
     int v, r;
     for (v = 0; v < g->m.nv; v++) scale[v] = s0;
-    memset(&A, 0, sizeof A);
-    if ((r = lst__field_cons(a, g, o, LST_CONSTRAINT_SCALE, &c, e)) != PW_OK || c.n == 0) {
-        lst__cons_free(a, &c);
+    memset(&s, 0, sizeof s);
+    s.W = j->o->constraint_weight;
+    if ((r = lst__field_cons(j->a, g, j->o, LST_CONSTRAINT_SCALE, &s.c, j->e)) != PW_OK || s.c.n == 0) {
+        lst__cons_free(j->a, &s.c);
         return r;
     }
-    if ((r = lst__smooth_matrix(a, g, NULL, 1.0, &c, o->constraint_weight, &A, e)) == PW_OK)
-        r = lst__smooth_solve(a, &A, g->m.nv, &c, 1, 0, o->constraint_weight, p, scale, e);
+    if ((r = lst__smooth_matrix(j, NULL, 1.0, &s)) == PW_OK) r = lst__smooth_solve(j, &s, 1, 0, scale);
     for (v = 0; v < g->m.nv; v++)
         if (!(scale[v] > 1e-3 * s0)) scale[v] = 1e-3 * s0;
-    pw_csr_free(a, &A);
-    lst__cons_free(a, &c);
+    lst__lsq_free(j->a, &s);
     return r;
 }
 
@@ -948,9 +1005,12 @@ static double lst__default_scale(const lst__geo *g, const lst_options *o)
 
 /* All of §5.2.2: depth (float per vertex, for types that have one; NULL
  * otherwise) and the frame of every tetrahedron, allocated here. */
-static int lst__fields(const pw_alloc *a, const lst__geo *g, const lst_mesh *surface, const lst_options *o,
-                       const pw_progress *p, float **depth_out, float **frame_out, pw_err *e)
+static int lst__fields(const lst__field_job *j, float **depth_out, float **frame_out)
 {
+    const pw_alloc *a = j->a;
+    const lst__geo *g = j->g;
+    const lst_options *o = j->o;
+    pw_err *e = j->e;
     int nv = g->m.nv, v, r = PW_OK, hd = lst__has_depth(o->type);
     double *depth = NULL, *grad = NULL, *dir = NULL, *scale, s0 = lst__default_scale(g, o);
     *depth_out = NULL;
@@ -965,16 +1025,16 @@ static int lst__fields(const pw_alloc *a, const lst__geo *g, const lst_mesh *sur
     if (lst__has_direction(o->type) && !(dir = (double *)pw_alloc_array(a, (size_t)nv * 3, sizeof(double), "direction field", e)))
         r = PW_ERR_NOMEM;
     if (!*frame_out || !scale) r = PW_ERR_NOMEM;
-    if (r == PW_OK && hd) r = lst__depth_field(a, g, surface, o, depth, grad, e);
-    if (r == PW_OK && pw_report(p, 0.3f, "fields", e) != PW_OK) r = PW_ERR_CANCELLED;
-    if (r == PW_OK && dir) r = lst__direction_field(a, g, o, depth, p, dir, e);
+    if (r == PW_OK && hd) r = lst__depth_field(j, depth, grad);
+    if (r == PW_OK && pw_report(j->p, 0.3f, "fields", e) != PW_OK) r = PW_ERR_CANCELLED;
+    if (r == PW_OK && dir) r = lst__direction_field(j, depth, dir);
     if (r == PW_OK && lst__depth_varying(o->type)) /* §5.2.7: scale = 1 / |grad depth| */
         for (v = 0; v < nv; v++) {
             double gl = sqrt(pw_dot3(grad + 3 * v, grad + 3 * v)), s = gl > 0.0 ? 1.0 / gl : 2.0 * g->diag;
             scale[v] = s < 1e-3 * g->diag ? 1e-3 * g->diag : (s > 2.0 * g->diag ? 2.0 * g->diag : s);
         }
     else if (r == PW_OK)
-        r = lst__scale_field(a, g, o, s0, p, scale, e);
+        r = lst__scale_field(j, s0, scale);
     if (r == PW_OK) {
         lst__tet_frames(&g->m, o->type, dir, grad, scale, *frame_out);
         for (v = 0; hd && v < nv; v++) (*depth_out)[v] = (float)depth[v];
@@ -995,14 +1055,16 @@ LSTDEF lst_result lst_compute_field(const lst_tetmesh *mesh, const lst_mesh *sur
     pw_progress p = lst__progress(&o);
     pw_tetmesh m;
     lst__geo g;
+    lst__field_job job;
     pw_err e;
     pw_err_clear(&e);
+    job.a = &a, job.g = &g, job.surface = surface, job.o = &o, job.p = &p, job.e = &e;
     if (out) memset(out, 0, sizeof *out);
     if (!out) pw_fail(&e, PW_ERR_INVALID, "lst_compute_field: NULL output");
     else if (lst__check_options(&o, &e) == PW_OK && lst__check_tets(mesh, &e) == PW_OK) {
         m = lst__pw_tets(mesh);
         if (lst__geo_init(&a, &m, &g, &e) == PW_OK) {
-            if (lst__fields(&a, &g, surface, &o, &p, &out->depth, &out->frame, &e) == PW_OK) {
+            if (lst__fields(&job, &out->depth, &out->frame) == PW_OK) {
                 out->nverts = m.nv;
                 out->ntets = m.nt;
                 out->allocator = lst__allocator(&a);
@@ -1015,15 +1077,27 @@ LSTDEF lst_result lst_compute_field(const lst_tetmesh *mesh, const lst_mesh *sur
 
 /* ---- growable constraint lists (files, built-in constraints) ---------------------------------- */
 
-static int lst__add_constraint(const pw_alloc *a, lst_constraint **c, size_t *cap, int *n, lst_constraint_kind kind,
-                               int face, const double *p, const double *d, double value, double crease, pw_err *e)
+typedef struct lst__cset {
+    lst_constraint *c;
+    int n;
+    size_t cap;
+} lst__cset;
+
+/* A constraint from its parts (p, d: NULL for none). */
+static lst_constraint lst__constraint(lst_constraint_kind kind, int face, const double *p, const double *d, double value,
+                                      double crease)
 {
-    lst_constraint *x;
+    lst_constraint x;
     int k;
-    if (pw_grow(a, (void **)c, cap, (size_t)*n + 1, sizeof **c, "constraints", e)) return PW_ERR_NOMEM;
-    x = &(*c)[(*n)++];
-    memset(x, 0, sizeof *x);
-    x->kind = kind, x->face = face, x->value = (float)value, x->crease = (float)crease;
-    for (k = 0; k < 3; k++) x->point[k] = p ? (float)p[k] : 0.0f, x->direction[k] = d ? (float)d[k] : 0.0f;
+    memset(&x, 0, sizeof x);
+    x.kind = kind, x.face = face, x.value = (float)value, x.crease = (float)crease;
+    for (k = 0; k < 3; k++) x.point[k] = p ? (float)p[k] : 0.0f, x.direction[k] = d ? (float)d[k] : 0.0f;
+    return x;
+}
+
+static int lst__add_constraint(const pw_alloc *a, lst__cset *s, lst_constraint x, pw_err *e)
+{
+    if (pw_grow(a, (void **)&s->c, &s->cap, (size_t)s->n + 1, sizeof *s->c, "constraints", e)) return PW_ERR_NOMEM;
+    s->c[s->n++] = x;
     return PW_OK;
 }

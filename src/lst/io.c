@@ -30,28 +30,36 @@ static void lst__wb_line(pw__wb *b, const char *word, const long long *v, int n)
     pw__wb_str(b, "\n");
 }
 
-/* New numbers of the visible tetrahedra and of the nodes they use (-1:
- * not written); returns 0 on allocation failure. */
-static int lst__visible(const pw_alloc *a, const lst_model *m, int **tmap, int **vmap, int *nt, int *nv, pw_err *e)
+/* The numbering of what a model file holds: the visible tetrahedra and
+ * the nodes they use (-1: not written). */
+typedef struct lst__visible_part {
+    int *tmap, *vmap; /* per tetrahedron, per node: its new number or -1 */
+    int nt, nv;       /* how many are written */
+} lst__visible_part;
+
+/* Fills *vis (its maps allocated here); returns 0 on allocation failure. */
+static int lst__visible(const pw_alloc *a, const lst_model *m, lst__visible_part *vis, pw_err *e)
 {
-    int t, k;
-    *tmap = (int *)pw_alloc_array(a, (size_t)m->mesh.ntets, sizeof(int), "model writer", e);
-    *vmap = (int *)pw_alloc_array(a, (size_t)m->mesh.nverts, sizeof(int), "model writer", e);
-    if (!*tmap || !*vmap) return 0;
-    *nt = *nv = 0;
-    for (k = 0; k < m->mesh.nverts; k++) (*vmap)[k] = -1;
+    int t, k, *tmap, *vmap;
+    vis->tmap = tmap = (int *)pw_alloc_array(a, (size_t)m->mesh.ntets, sizeof(int), "model writer", e);
+    vis->vmap = vmap = (int *)pw_alloc_array(a, (size_t)m->mesh.nverts, sizeof(int), "model writer", e);
+    if (!tmap || !vmap) return 0;
+    vis->nt = vis->nv = 0;
+    for (k = 0; k < m->mesh.nverts; k++) vmap[k] = -1;
     for (t = 0; t < m->mesh.ntets; t++) {
-        (*tmap)[t] = m->removed && m->removed[t] ? -1 : (*nt)++;
-        for (k = 0; (*tmap)[t] >= 0 && k < 4; k++)
-            if ((*vmap)[m->mesh.tets[4 * t + k]] < 0) (*vmap)[m->mesh.tets[4 * t + k]] = 0;
+        tmap[t] = m->removed && m->removed[t] ? -1 : vis->nt++;
+        for (k = 0; tmap[t] >= 0 && k < 4; k++)
+            if (vmap[m->mesh.tets[4 * t + k]] < 0) vmap[m->mesh.tets[4 * t + k]] = 0;
     }
     for (k = 0; k < m->mesh.nverts; k++)
-        if ((*vmap)[k] == 0) (*vmap)[k] = (*nv)++;
+        if (vmap[k] == 0) vmap[k] = vis->nv++;
     return 1;
 }
 
-static void lst__write_mesh_part(pw__wb *b, const lst_model *m, const int *tmap, const int *vmap, int nt, int nv)
+static void lst__write_mesh_part(pw__wb *b, const lst_model *m, const lst__visible_part *vis)
 {
+    const int *tmap = vis->tmap, *vmap = vis->vmap;
+    int nt = vis->nt, nv = vis->nv;
     long long v[4];
     int t, k;
     v[0] = nv;
@@ -106,30 +114,32 @@ LSTDEF lst_result lst_write_model(const lst_model *m, lst_write_fn fn, void *ctx
     pw__wb b;
     pw_err e;
     long long v[4];
-    int *tmap = NULL, *vmap = NULL, nt, nv, k;
+    lst__visible_part vis;
+    int k;
     pw_err_clear(&e);
+    vis.tmap = vis.vmap = NULL;
     if (!m || !fn || !m->mesh.tets) {
         pw_fail(&e, PW_ERR_INVALID, "lst_write_model: NULL argument or empty model");
         return lst__done(&e, err);
     }
     a = lst__alloc(&m->allocator);
-    if (lst__visible(&a, m, &tmap, &vmap, &nt, &nv, &e)) {
+    if (lst__visible(&a, m, &vis, &e)) {
         memset(&b, 0, sizeof b);
         b.w = fn;
         b.ctx = ctx;
         pw__wb_str(&b, "lst 1\n");
-        lst__write_mesh_part(&b, m, tmap, vmap, nt, nv);
+        lst__write_mesh_part(&b, m, &vis);
         v[0] = m->masks.count;
         lst__wb_line(&b, "exemplars", v, 1);
         for (k = 0; k < m->masks.count; k++) {
             v[0] = k, v[1] = m->masks.volumes[k].width, v[2] = m->masks.volumes[k].height, v[3] = m->masks.volumes[k].depth;
             lst__wb_line(&b, "exemplar", v, 4);
         }
-        lst__write_pastes_part(&b, m, tmap);
+        lst__write_pastes_part(&b, m, vis.tmap);
         pw__wb_done(&b, &e);
     }
-    pw_free(&a, tmap);
-    pw_free(&a, vmap);
+    pw_free(&a, vis.tmap);
+    pw_free(&a, vis.vmap);
     return lst__done(&e, err);
 }
 
@@ -215,12 +225,14 @@ static int lst__read_exemplars_part(pw__sc *s, const pw_alloc *a, lst_model *m, 
     return PW_OK;
 }
 
-/* One "<tet> u0 v0 w0 ... u3 v3 w3" line of paste q: corners that share a
- * node and its coordinates share a vertex (vmark: per node, 1 + its local
- * index in this paste, for the paste whose stamp is in vstamp). */
-static int lst__read_entry(pw__sc *s, const pw_alloc *a, const lst_model *m, lst_paste *q, int i, int id, int *vstamp,
-                           int *vloc, size_t *cap, pw_err *e)
+/* One "<tet> u0 v0 w0 ... u3 v3 w3" line (entry i) of paste P->q: corners
+ * that share a node and its coordinates share a vertex (P->loc: per node,
+ * its local index in the paste whose number is in P->stamp). */
+static int lst__read_entry(pw__sc *s, const pw_alloc *a, const lst_model *m, lst__paste_build *P, int i, pw_err *e)
 {
+    lst_paste *q = P->q;
+    int *vstamp = P->stamp, *vloc = P->loc, id = P->id;
+    size_t *cap = &P->cap;
     long long t;
     double x;
     float w[12];
@@ -270,7 +282,8 @@ static int lst__read_pastes_part(pw__sc *s, const pw_alloc *a, lst_model *m, pw_
     for (i = 0; r == PW_OK && i < m->mesh.nverts; i++) vstamp[i] = -1;
     for (p = 0; p < n && r == PW_OK; p++) {
         lst_paste *q = &m->pastes[p];
-        size_t cap = 0;
+        lst__paste_build P;
+        P.q = q, P.id = p, P.stamp = vstamp, P.loc = vloc, P.cap = 0;
         m->npastes = p + 1;
         if ((r = lst__read_line(s, "paste", v, 2, 0, PW_MAX_MESH_ELEMENTS)) != PW_OK) break;
         if (v[0] >= m->masks.count) r = pw__sc_fail(s, PW_ERR_PARSE, "paste %d uses exemplar %lld of %d", p, v[0], m->masks.count);
@@ -282,7 +295,7 @@ static int lst__read_pastes_part(pw__sc *s, const pw_alloc *a, lst_model *m, pw_
         q->corners = (int *)pw_alloc_array(a, (size_t)v[1] * 4, sizeof(int), "paste", e);
         if (!q->tets || !q->corners) r = PW_ERR_NOMEM;
         q->ntets = r == PW_OK ? (int)v[1] : 0;
-        for (i = 0; i < q->ntets && r == PW_OK; i++) r = lst__read_entry(s, a, m, q, i, p, vstamp, vloc, &cap, e);
+        for (i = 0; i < q->ntets && r == PW_OK; i++) r = lst__read_entry(s, a, m, &P, i, e);
     }
     pw_free(a, vstamp);
     pw_free(a, vloc);
@@ -373,7 +386,7 @@ static int lst__depth_stroke(const pw_alloc *a, const double *v, int cnt, lst__c
         const double *p = v + 1 + 3 * i, *q = i + 1 < (cnt - 1) / 3 ? p + 3 : p;
         for (k = 0; r == PW_OK && k < (q == p ? 1 : LST__STROKE_STEPS); k++) {
             double t = (double)k / LST__STROKE_STEPS, x[3] = {p[0] + t * (q[0] - p[0]), p[1] + t * (q[1] - p[1]), p[2] + t * (q[2] - p[2])};
-            r = lst__add_constraint(a, &c->c, &c->cap, &c->n, LST_CONSTRAINT_DEPTH_POINT, 0, x, NULL, v[0], 0.0, e);
+            r = lst__add_constraint(a, c, lst__constraint(LST_CONSTRAINT_DEPTH_POINT, 0, x, NULL, v[0], 0.0), e);
         }
     }
     return r;
@@ -389,15 +402,25 @@ static int lst__dir_stroke(const pw_alloc *a, const double *v, int cnt, lst__cse
         if (d[0] == 0.0 && d[1] == 0.0 && d[2] == 0.0) continue;
         for (k = 0; r == PW_OK && k < LST__STROKE_STEPS; k++) {
             double t = (k + 0.5) / LST__STROKE_STEPS, x[3] = {p[0] + t * d[0], p[1] + t * d[1], p[2] + t * d[2]};
-            r = lst__add_constraint(a, &c->c, &c->cap, &c->n, LST_CONSTRAINT_DIRECTION, 0, x, d, 0.0, 0.0, e);
+            r = lst__add_constraint(a, c, lst__constraint(LST_CONSTRAINT_DIRECTION, 0, x, d, 0.0, 0.0), e);
         }
     }
     return r;
 }
 
-/* The constraints of keyword k from its numbers v (cnt of them, checked). */
-static int lst__add_line(pw__sc *s, const pw_alloc *a, int k, const double *v, int cnt, lst__cset *c, pw_err *e)
+/* One line of a constraint file as read: keyword k (in lst__keywords)
+ * and its numbers v (cnt of them). */
+typedef struct lst__cline {
+    int k;
+    const double *v;
+    int cnt;
+} lst__cline;
+
+/* The constraints of line ln (its count checked). */
+static int lst__add_line(pw__sc *s, const pw_alloc *a, const lst__cline *ln, lst__cset *c, pw_err *e)
 {
+    const double *v = ln->v;
+    int k = ln->k, cnt = ln->cnt;
     double depth = k == 2 ? v[3] : (k == 3 ? v[0] : v[1]);
     if (k <= 3 && !(depth >= 0.0 && depth <= 1.0)) return pw__sc_fail(s, PW_ERR_INVALID, "a depth is outside [0, 1]");
     if (k <= 1 && (v[0] < 0 || v[0] > PW_MAX_MESH_ELEMENTS || v[0] != floor(v[0])))
@@ -407,13 +430,13 @@ static int lst__add_line(pw__sc *s, const pw_alloc *a, int k, const double *v, i
     switch (k) {
     case 0:
     case 1:
-        return lst__add_constraint(a, &c->c, &c->cap, &c->n, k == 0 ? LST_CONSTRAINT_DEPTH_FACE : LST_CONSTRAINT_DEPTH_FILL,
-                                   (int)v[0], NULL, NULL, v[1], cnt == 3 ? v[2] : 0.0, e);
-    case 2: return lst__add_constraint(a, &c->c, &c->cap, &c->n, LST_CONSTRAINT_DEPTH_POINT, 0, v, NULL, v[3], 0.0, e);
+        return lst__add_constraint(a, c, lst__constraint(k == 0 ? LST_CONSTRAINT_DEPTH_FACE : LST_CONSTRAINT_DEPTH_FILL,
+                                   (int)v[0], NULL, NULL, v[1], cnt == 3 ? v[2] : 0.0), e);
+    case 2: return lst__add_constraint(a, c, lst__constraint(LST_CONSTRAINT_DEPTH_POINT, 0, v, NULL, v[3], 0.0), e);
     case 3: return lst__depth_stroke(a, v, cnt, c, e);
-    case 4: return lst__add_constraint(a, &c->c, &c->cap, &c->n, LST_CONSTRAINT_DIRECTION, 0, v, v + 3, 0.0, 0.0, e);
+    case 4: return lst__add_constraint(a, c, lst__constraint(LST_CONSTRAINT_DIRECTION, 0, v, v + 3, 0.0, 0.0), e);
     case 5: return lst__dir_stroke(a, v, cnt, c, e);
-    default: return lst__add_constraint(a, &c->c, &c->cap, &c->n, LST_CONSTRAINT_SCALE, 0, v, NULL, v[3], 0.0, e);
+    default: return lst__add_constraint(a, c, lst__constraint(LST_CONSTRAINT_SCALE, 0, v, NULL, v[3], 0.0), e);
     }
 }
 
@@ -435,7 +458,11 @@ static int lst__constraint_line(pw__sc *s, const pw_alloc *a, double *v, lst__cs
     if ((r = lst__read_numbers(s, v, LST__LINE_MAX, "constraint line", line, &cnt)) != PW_OK) return r;
     s->line--; /* messages below name the line just read */
     if (!lst__count_ok(k, cnt)) r = pw__sc_fail(s, PW_ERR_PARSE, "expected '%s'", lst__syntax[k]);
-    else r = lst__add_line(s, a, k, v, cnt, c, e);
+    else {
+        lst__cline ln;
+        ln.k = k, ln.v = v, ln.cnt = cnt;
+        r = lst__add_line(s, a, &ln, c, e);
+    }
     s->line++;
     return r;
 }
@@ -498,8 +525,10 @@ LSTDEF lst_result lst_read_tetgen(const void *node, size_t node_size, const void
     snprintf(nn, sizeof nn, "%s.node", name ? name : "tetgen");
     snprintf(en, sizeof en, "%s.ele", name ? name : "tetgen");
     if (!out || (!node && node_size) || (!ele && ele_size)) pw_fail(&e, PW_ERR_INVALID, "lst_read_tetgen: NULL argument");
-    else if (pw_tetgen_read_memory(&a, node, node_size, nn, ele, ele_size, en, &m, &e) == PW_OK)
-        lst__take_tets(&m, &a, out);
+    else {
+        pw_memfile fn = pw_memfile_of(node, node_size, nn), fe = pw_memfile_of(ele, ele_size, en);
+        if (pw_tetgen_read_memory(&a, &fn, &fe, &m, &e) == PW_OK) lst__take_tets(&m, &a, out);
+    }
     return lst__done(&e, err);
 }
 
@@ -629,9 +658,10 @@ LSTDEF lst_result lst_write_image(const lst_image *img, const char *format, lst_
 }
 
 #ifndef PW_NO_STDIO
-/* Runs a from-memory reader on a whole file. */
-typedef int (*lst__reader)(const pw_alloc *a, const unsigned char *data, size_t size, const char *path, void *out,
-                           const lst_options *o, lst_error *le);
+/* Runs a from-memory reader (lst_read_X with its output untyped) on a
+ * whole file. */
+typedef int (*lst__reader)(const unsigned char *data, size_t size, const char *path, void *out, const lst_options *o,
+                           lst_error *le);
 
 static lst_result lst__load(const char *path, const lst_options *opt, void *out, lst__reader fn, const char *what, lst_error *err)
 {
@@ -644,36 +674,31 @@ static lst_result lst__load(const char *path, const lst_options *opt, void *out,
     if (!path || !out) pw_fail(&e, PW_ERR_INVALID, "%s: NULL argument", what);
     else if (pw_read_file(&a, path, &data, &size, &e) == PW_OK) {
         lst_error le;
-        if (fn(&a, data, size, path, out, &o, &le) != LST_OK) pw_fail(&e, (int)le.code, "%s", le.message);
+        if (fn(data, size, path, out, &o, &le) != LST_OK) pw_fail(&e, (int)le.code, "%s", le.message);
         pw_free(&a, data);
     }
     return lst__done(&e, err);
 }
 
-static int lst__rd_mesh(const pw_alloc *a, const unsigned char *d, size_t n, const char *p, void *out, const lst_options *o, lst_error *le)
+static int lst__rd_mesh(const unsigned char *d, size_t n, const char *p, void *out, const lst_options *o, lst_error *le)
 {
-    (void)a;
     return (int)lst_read_mesh(d, n, p, o, (lst_mesh *)out, le);
 }
-static int lst__rd_volume(const pw_alloc *a, const unsigned char *d, size_t n, const char *p, void *out, const lst_options *o, lst_error *le)
+static int lst__rd_volume(const unsigned char *d, size_t n, const char *p, void *out, const lst_options *o, lst_error *le)
 {
-    (void)a;
     return (int)lst_read_volume(d, n, p, o, (lst_volume *)out, le);
 }
-static int lst__rd_model(const pw_alloc *a, const unsigned char *d, size_t n, const char *p, void *out, const lst_options *o, lst_error *le)
+static int lst__rd_model(const unsigned char *d, size_t n, const char *p, void *out, const lst_options *o, lst_error *le)
 {
-    (void)a;
     return (int)lst_read_model(d, n, p, o, (lst_model *)out, le);
 }
 
-static int lst__rd_constraints(const pw_alloc *a, const unsigned char *d, size_t n, const char *p, void *out, const lst_options *o, lst_error *le)
+static int lst__rd_constraints(const unsigned char *d, size_t n, const char *p, void *out, const lst_options *o, lst_error *le)
 {
-    (void)a;
     return (int)lst_read_constraints(d, n, p, o, (lst_constraints *)out, le);
 }
-static int lst__rd_image(const pw_alloc *a, const unsigned char *d, size_t n, const char *p, void *out, const lst_options *o, lst_error *le)
+static int lst__rd_image(const unsigned char *d, size_t n, const char *p, void *out, const lst_options *o, lst_error *le)
 {
-    (void)a;
     return (int)lst_read_image(d, n, p, o, (lst_image *)out, le);
 }
 

@@ -20,6 +20,8 @@ typedef struct lst__spec {
     int mask;          /* mask index */
     int manual;        /* §4.6: one rigid frame for the whole clump */
     int depth_coord;   /* v is the depth (§5.2.7), not solved */
+    double inv[9];     /* the affine map (lst__spec_setup): the frame's inverse (tensor axes to texture axes) */
+    double ctr[3];     /* and the texture centre in mesh coordinates */
 } lst__spec;
 
 /* The state of a fill. */
@@ -192,8 +194,9 @@ static int lst__similar(const lst__fill *F, const lst__spec *s, const double *ax
 /* The affine map of §5.2.4 for paste s: texture coordinates of point p,
  * from the seed frame's inverse (tensor axes to texture axes) and the
  * centre (depth-varying pastes replace v, see lst__predict). */
-static void lst__affine(const lst__spec *s, const double *inv, const double *c, const double *p, double *out)
+static void lst__affine(const lst__spec *s, const double *p, double *out)
 {
+    const double *inv = s->inv, *c = s->ctr;
     double d[3] = {p[0] - c[0], p[1] - c[1], p[2] - c[2]};
     int k;
     for (k = 0; k < 3; k++) out[k] = s->w0[k] + inv[3 * k] * d[0] + inv[3 * k + 1] * d[1] + inv[3 * k + 2] * d[2];
@@ -300,15 +303,14 @@ static int lst__clump_add(lst__fill *F, int id, int t, double c[4][3], pw_err *e
 /* The texture coordinates of t's corners: the clump's where the corner is
  * in it, else the affine map moved by the mean offset of the clump's
  * corners from it (so that regrowth continues the warped map). */
-static void lst__predict(const lst__fill *F, const lst__spec *s, int id, const double *inv, const double *ctr, int t,
-                         double c[4][3])
+static void lst__predict(const lst__fill *F, const lst__spec *s, int id, int t, double c[4][3])
 {
     double off[3] = {0, 0, 0}, p[3], aff[4][3];
     int k, i, n = 0;
     for (k = 0; k < 4; k++) {
         int v = F->g->m.tet[4 * t + k];
         lst__vert(&F->g->m, v, p);
-        lst__affine(s, inv, ctr, p, aff[k]);
+        lst__affine(s, p, aff[k]);
         if (F->vstamp[v] == id) {
             for (i = 0; i < 3; i++) off[i] += F->w[3 * F->vlocal[v] + i] - aff[k][i];
             n++;
@@ -327,8 +329,7 @@ static void lst__predict(const lst__fill *F, const lst__spec *s, int id, const d
  * round joins when it is partly inside the mask under the (predicted) map.
  * Breadth first over the clump as it grows; returns the number added or -1
  * on failure. tstate: 1 in the clump, 2 refused, 16 + round tested outside. */
-static int lst__grow(lst__fill *F, const lst__spec *s, int id, const double *inv, const double *ctr, int round,
-                     pw_err *e)
+static int lst__grow(lst__fill *F, const lst__spec *s, int id, int round, pw_err *e)
 {
     int i, k, added = 0;
     for (i = 0; i < F->nct; i++) {
@@ -348,7 +349,7 @@ static int lst__grow(lst__fill *F, const lst__spec *s, int id, const double *inv
                 }
             }
             F->tstate[u] = 16 + round;
-            lst__predict(F, s, id, inv, ctr, u, c);
+            lst__predict(F, s, id, u, c);
             if (lst__overlap(F, &F->mask[s->mask], c) == LST__OUT) continue;
             if (lst__clump_add(F, id, u, c, e)) return -1;
             added++;
@@ -521,8 +522,9 @@ static int lst__store(lst__fill *F, const lst__spec *s, pw_err *e)
 /* ---- one paste ---------------------------------------------------------------------------------- */
 
 /* Seed frame, map and mask of paste s (s->seed, centre, manual frame set). */
-static int lst__spec_setup(lst__fill *F, lst__spec *s, double *inv, double *ctr)
+static int lst__spec_setup(lst__fill *F, lst__spec *s)
 {
+    double *inv = s->inv, *ctr = s->ctr;
     double m[9], d = 0.0;
     int k, j;
     if (!s->manual) {
@@ -554,17 +556,17 @@ static int lst__spec_setup(lst__fill *F, lst__spec *s, double *inv, double *ctr)
  * again. */
 static int lst__paste_one(lst__fill *F, lst__spec *s, int coverage, const pw_progress *p, pw_err *e)
 {
-    double inv[9], ctr[3], c[4][3];
+    double c[4][3];
     int id = F->npastes, round, added, r;
     F->nct = F->ncv = 0;
-    if (!lst__spec_setup(F, s, inv, ctr)) return pw_fail(e, PW_ERR_DEGENERATE, "tetrahedron %d has a degenerate tensor", s->seed);
-    lst__predict(F, s, id, inv, ctr, s->seed, c);
+    if (!lst__spec_setup(F, s)) return pw_fail(e, PW_ERR_DEGENERATE, "tetrahedron %d has a degenerate tensor", s->seed);
+    lst__predict(F, s, id, s->seed, c);
     F->tstamp[s->seed] = id;
     if ((r = lst__clump_add(F, id, s->seed, c, e)) != PW_OK) return r;
-    if (lst__grow(F, s, id, inv, ctr, 0, e) < 0) return PW_ERR_NOMEM;
+    if (lst__grow(F, s, id, 0, e) < 0) return PW_ERR_NOMEM;
     for (round = 1; round <= 5; round++) {
         if ((r = lst__optimise(F, s, p, e)) != PW_OK) return r;
-        if (round == 5 || (added = lst__grow(F, s, id, inv, ctr, round, e)) == 0) break;
+        if (round == 5 || (added = lst__grow(F, s, id, round, e)) == 0) break;
         if (added < 0) return PW_ERR_NOMEM;
         if (added * 20 < F->nct) break;
     }
@@ -588,14 +590,14 @@ static void lst__fill_free(lst__fill *F)
     memset(F, 0, sizeof *F);
 }
 
-/* The scratch of a fill over mesh g with masks (coverage: the sample
- * points and the uncovered list too). */
-static int lst__fill_init(lst__fill *F, const pw_alloc *a, const lst_options *o, const lst__geo *g,
-                          const pw_volume *masks, int nmasks, int coverage, pw_err *e)
+/* The scratch of a fill with masks (nmasks of them; coverage: the sample
+ * points and the uncovered list too). The caller zeroes *F and sets what
+ * the fill works on: F->a, F->o and the mesh F->g. */
+static int lst__fill_init(lst__fill *F, const pw_volume *masks, int nmasks, int coverage, pw_err *e)
 {
-    int nt = g->m.nt, nv = g->m.nv, k;
-    memset(F, 0, sizeof *F);
-    F->a = a, F->o = *o, F->g = g;
+    const pw_alloc *a = F->a;
+    const lst_options *o = &F->o;
+    int nt = F->g->m.nt, nv = F->g->m.nv, k;
     F->rng = pw_rng_seed(o->seed, 0x157);
     F->threshold = (int)(o->coverage * 255.0f + 0.999f);
     F->tstamp = (int *)pw_alloc_array(a, (size_t)nt, sizeof(int), "fill", e);
@@ -749,9 +751,10 @@ static int lst__copy_volume(const pw_alloc *a, const lst_volume *src, int channe
 }
 
 /* The model's own mesh, texture (alpha, now a mask, dropped), values and masks. */
-static int lst__model_start(const pw_alloc *a, const lst_tetmesh *mesh, const lst_volume *ex, const lst_volume *values,
-                            const lst_options *o, lst_model *out, pw_err *e)
+static int lst__model_start(const pw_alloc *a, const lst_tetmesh *mesh, const lst_source *src, const lst_options *o,
+                            lst_model *out, pw_err *e)
 {
+    const lst_volume *ex = src->exemplar, *values = src->values;
     int r;
     size_t nv = (size_t)mesh->nverts * 3, nt = (size_t)mesh->ntets * 4;
     out->allocator = lst__allocator(a);
@@ -793,10 +796,15 @@ static int lst__create(const pw_alloc *a, const lst_mesh *surface, const lst_opt
     int k, r;
     if ((r = lst__geo_init(a, &m, &g, e)) != PW_OK) return r;
     if (o->field) r = lst__check_fields(o->field, &m, o->type, e);
-    else r = lst__fields(a, &g, surface, o, &p, &depth, &frame, e);
+    else {
+        lst__field_job job;
+        job.a = a, job.g = &g, job.surface = surface, job.o = o, job.p = &p, job.e = e;
+        r = lst__fields(&job, &depth, &frame);
+    }
     for (k = 0; k < out->masks.count; k++) masks[k] = lst__pw_volume(&out->masks.volumes[k]);
-    if (r == PW_OK) r = lst__fill_init(&F, a, o, &g, masks, out->masks.count, 1, e);
-    else memset(&F, 0, sizeof F), F.a = a;
+    memset(&F, 0, sizeof F);
+    F.a = a, F.o = *o, F.g = &g;
+    if (r == PW_OK) r = lst__fill_init(&F, masks, out->masks.count, 1, e);
     F.frame = o->field ? o->field->frame : frame;
     F.depth = lst__depth_varying(o->type) ? (o->field ? o->field->depth : depth) : NULL;
     if (r == PW_OK) r = lst__fill_run(&F, &p, e);
@@ -824,7 +832,7 @@ LSTDEF lst_result lst_create(const lst_tetmesh *mesh, const lst_mesh *surface, c
     if (out) memset(out, 0, sizeof *out);
     if (!out) pw_fail(&e, PW_ERR_INVALID, "lst_create: NULL output");
     else if (lst__check_options(&o, &e) == PW_OK && lst__check_inputs(mesh, exemplar, values, &e) == PW_OK &&
-             lst__model_start(&a, mesh, exemplar, values, &o, out, &e) == PW_OK)
+             lst__model_start(&a, mesh, src, &o, out, &e) == PW_OK)
         lst__create(&a, surface, &o, out, &e);
     if (out && e.code != PW_OK) lst_model_free(out);
     return lst__done(&e, err);
@@ -832,13 +840,13 @@ LSTDEF lst_result lst_create(const lst_tetmesh *mesh, const lst_mesh *surface, c
 
 /* ---- §4.6 manual pasting --------------------------------------------------------------------------- */
 
-static int lst__manual_spec(const lst__geo *g, const float *point, const float *u_axis, const float *v_axis, float scale,
-                            lst__spec *s, pw_err *e)
+static int lst__manual_spec(const lst__geo *g, const lst_paste_spec *spec, lst__spec *s, pw_err *e)
 {
     double p[3], u[3], v[3], w[3];
+    float scale = spec->scale;
     int k;
     memset(s, 0, sizeof *s);
-    for (k = 0; k < 3; k++) p[k] = point[k], u[k] = u_axis[k], v[k] = v_axis[k];
+    for (k = 0; k < 3; k++) p[k] = spec->point[k], u[k] = spec->u_axis[k], v[k] = spec->v_axis[k];
     if (!pw_is_finite(p[0] + p[1] + p[2]) || !(scale > 0.0f && pw_is_finite(scale)))
         return pw_fail(e, PW_ERR_INVALID, "manual paste: the point or the scale is not valid");
     if (!(pw_norm3(u) > 0.0) || !pw_is_finite(u[0] + u[1] + u[2]) || !pw_is_finite(v[0] + v[1] + v[2]))
@@ -881,8 +889,8 @@ LSTDEF lst_result lst_paste_at(lst_model *model, const lst_paste_spec *spec, con
     memset(&F, 0, sizeof F);
     F.a = &a;
     if (lst__geo_init(&a, &m, &g, &e) != PW_OK) return lst__done(&e, err);
-    if (lst__manual_spec(&g, spec->point, spec->u_axis, spec->v_axis, spec->scale, &s, &e) == PW_OK &&
-        lst__fill_init(&F, &a, &o, &g, &mv, 1, 0, &e) == PW_OK) {
+    F.o = o, F.g = &g;
+    if (lst__manual_spec(&g, spec, &s, &e) == PW_OK && lst__fill_init(&F, &mv, 1, 0, &e) == PW_OK) {
         s.mask = 0; /* the one mask of this fill */
         if (lst__paste_one(&F, &s, 0, NULL, &e) == PW_OK &&
             (grown = (lst_paste *)pw_realloc(&a, model->pastes, sizeof(lst_paste) * ((size_t)model->npastes + 1))) != NULL) {

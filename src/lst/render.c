@@ -313,10 +313,12 @@ static int lst__check_render(const lst_render_options *o, pw_err *e)
     return PW_OK;
 }
 
-/* Draws triangle list t (positions: its own or the mesh's). */
-static int lst__draw_tris(pw_fb *fb, const pw_camera *cam, const lst_model *m, const lst__tris *t, lst__shading *S,
+/* Draws triangle list t (positions: its own or those of the mesh of the
+ * model S->v shows). */
+static int lst__draw_tris(pw_fb *fb, const pw_camera *cam, const lst__tris *t, lst__shading *S,
                           const lst_render_options *o, pw_err *e)
 {
+    const lst_model *m = S->v->m;
     pw_draw d;
     if (t->n == 0) return PW_OK;
     S->tris = t;
@@ -384,14 +386,23 @@ static int lst__vertex_normals(const pw_alloc *a, const lst_model *m, const lst_
     return PW_OK;
 }
 
-/* Shared vertices of the subdivided surface: mesh corners by index, edge
- * points by (lower vertex, upper vertex, step from the lower one) in an
- * open-addressing table, interior points unshared. */
+/* The surface s being subdivided k x k and displaced into out, and its
+ * shared vertices: mesh corners by index, edge points by (lower vertex,
+ * upper vertex, step from the lower one) in an open-addressing table,
+ * interior points unshared. */
 typedef struct lst__subdiv {
     int *corner;    /* nv: subdivided vertex of each mesh vertex, or -1 */
     uint64_t *key;  /* table of edge points */
     int *val;
     size_t mask;
+    const pw_alloc *a;
+    const lst__view *v;  /* evaluates the displacement channel */
+    const lst__tris *s;  /* the surface triangles */
+    const float *vn;     /* their smooth vertex normals */
+    int k;               /* grid steps per triangle side */
+    double amount;       /* displacement per unit of (value - 0.5) */
+    lst__tris *out;
+    pw_err *e;
 } lst__subdiv;
 
 static int *lst__edge_slot(lst__subdiv *sd, int a, int b, int step)
@@ -404,10 +415,13 @@ static int *lst__edge_slot(lst__subdiv *sd, int a, int b, int step)
 }
 
 /* Point (i, j) of the k x k grid on surface triangle f, displaced along
- * the interpolated normal by displace * (value - 0.5). */
-static int lst__displaced_point(const pw_alloc *a, const lst__view *v, const lst__tris *s, const float *vn, int f, int i,
-                                int j, int k, double amount, lst__tris *out, pw_err *e)
+ * the interpolated normal by amount * (value - 0.5). */
+static int lst__displaced_point(const lst__subdiv *sd, int f, int i, int j)
 {
+    const lst__view *v = sd->v;
+    const lst__tris *s = sd->s;
+    const float *vn = sd->vn;
+    int k = sd->k;
     const int *c = s->tri + 3 * f;
     double b[3] = {1.0 - (double)(i + j) / k, (double)i / k, (double)j / k}, p[3] = {0, 0, 0}, n[3] = {0, 0, 0}, l[4];
     float rgba[4], val[4] = {0.5f, 0.5f, 0.5f, 0.5f};
@@ -417,16 +431,16 @@ static int lst__displaced_point(const pw_alloc *a, const lst__view *v, const lst
         for (r = 0; r < 3; r++) p[r] += b[q] * v->m->mesh.positions[3 * c[q] + r], n[r] += b[q] * vn[3 * c[q] + r];
     pw_norm3(n);
     lst__eval(v, s->tet[f], l, rgba, val);
-    for (r = 0; r < 3; r++) p[r] += n[r] * amount * (val[0] - 0.5);
-    return lst__tris_vertex(a, out, p, e);
+    for (r = 0; r < 3; r++) p[r] += n[r] * sd->amount * (val[0] - 0.5);
+    return lst__tris_vertex(sd->a, sd->out, p, sd->e);
 }
 
 /* The index of grid point (i, j) of triangle f, shared where the point is
  * a corner or on an edge. */
-static int lst__grid_vertex(const pw_alloc *a, lst__subdiv *sd, const lst__view *v, const lst__tris *s, const float *vn,
-                            int f, int i, int j, int k, double amount, lst__tris *out, pw_err *e)
+static int lst__grid_vertex(lst__subdiv *sd, int f, int i, int j)
 {
-    const int *c = s->tri + 3 * f;
+    const int *c = sd->s->tri + 3 * f;
+    int k = sd->k;
     int *slot = NULL, x, y, step;
     if (i + j == 0 || i == k || j == k) slot = &sd->corner[c[i == k ? 1 : (j == k ? 2 : 0)]];
     else if (j == 0 || i == 0 || i + j == k) { /* on edge (x, y) at `step` from x */
@@ -440,18 +454,19 @@ static int lst__grid_vertex(const pw_alloc *a, lst__subdiv *sd, const lst__view 
         slot = lst__edge_slot(sd, x, y, step);
     }
     if (slot && *slot >= 0) return *slot;
-    x = lst__displaced_point(a, v, s, vn, f, i, j, k, amount, out, e);
+    x = lst__displaced_point(sd, f, i, j);
     if (slot) *slot = x;
     return x;
 }
 
 /* Adds sub-triangle (p, q, r) of surface triangle f, grid points given as
  * (i, j) pairs, with their barycentric coordinates in f's tetrahedron. */
-static int lst__sub_tri(const pw_alloc *a, const lst__tris *s, int f, const int *idx, int ij[3][2], int k,
-                        lst__tris *out, pw_err *e)
+static int lst__sub_tri(const lst__subdiv *sd, int f, const int *idx, int ij[3][2])
 {
-    int q, r;
-    if (lst__tris_room(a, out, e)) return PW_ERR_NOMEM;
+    const lst__tris *s = sd->s;
+    lst__tris *out = sd->out;
+    int q, r, k = sd->k;
+    if (lst__tris_room(sd->a, out, sd->e)) return PW_ERR_NOMEM;
     for (q = 0; q < 3; q++) {
         double b[3] = {1.0 - (double)(ij[q][0] + ij[q][1]) / k, (double)ij[q][0] / k, (double)ij[q][1] / k};
         out->tri[3 * out->n + q] = idx[q];
@@ -463,10 +478,9 @@ static int lst__sub_tri(const pw_alloc *a, const lst__tris *s, int f, const int 
     return PW_OK;
 }
 
-static int lst__subdivide_face(const pw_alloc *a, lst__subdiv *sd, const lst__view *v, const lst__tris *s, const float *vn,
-                               int f, int k, double amount, lst__tris *out, pw_err *e)
+static int lst__subdivide_face(lst__subdiv *sd, int f)
 {
-    int i, j, idx[3], tri, q;
+    int i, j, idx[3], tri, q, k = sd->k;
     for (j = 0; j < k; j++)
         for (i = 0; i + j < k; i++)
             for (tri = 0; tri < (i + j + 1 < k ? 2 : 1); tri++) {
@@ -474,9 +488,8 @@ static int lst__subdivide_face(const pw_alloc *a, lst__subdiv *sd, const lst__vi
                 if (tri == 0) ij[0][0] = i, ij[0][1] = j, ij[1][0] = i + 1, ij[1][1] = j, ij[2][0] = i, ij[2][1] = j + 1;
                 else ij[0][0] = i + 1, ij[0][1] = j, ij[1][0] = i + 1, ij[1][1] = j + 1, ij[2][0] = i, ij[2][1] = j + 1;
                 for (q = 0; q < 3; q++)
-                    if ((idx[q] = lst__grid_vertex(a, sd, v, s, vn, f, ij[q][0], ij[q][1], k, amount, out, e)) < 0)
-                        return PW_ERR_NOMEM;
-                if (lst__sub_tri(a, s, f, idx, ij, k, out, e)) return PW_ERR_NOMEM;
+                    if ((idx[q] = lst__grid_vertex(sd, f, ij[q][0], ij[q][1])) < 0) return PW_ERR_NOMEM;
+                if (lst__sub_tri(sd, f, idx, ij)) return PW_ERR_NOMEM;
             }
     return PW_OK;
 }
@@ -500,8 +513,9 @@ static int lst__displace(const pw_alloc *a, const lst__view *v, const lst__tris 
     sd.key = (uint64_t *)pw_calloc_array(a, cap, sizeof(uint64_t), "subdivision", e);
     sd.val = (int *)pw_alloc_array(a, cap, sizeof(int), "subdivision", e);
     if (!sd.corner || !sd.key || !sd.val || lst__vertex_normals(a, v->m, s, &vn, e)) r = PW_ERR_NOMEM;
+    sd.a = a, sd.v = v, sd.s = s, sd.vn = vn, sd.k = k, sd.amount = o->displace, sd.out = out, sd.e = e;
     for (f = 0; r == PW_OK && f < v->m->mesh.nverts; f++) sd.corner[f] = -1;
-    for (f = 0; r == PW_OK && f < s->n; f++) r = lst__subdivide_face(a, &sd, v, s, vn, f, k, o->displace, out, e);
+    for (f = 0; r == PW_OK && f < s->n; f++) r = lst__subdivide_face(&sd, f);
     pw_free(a, sd.corner), pw_free(a, sd.key), pw_free(a, sd.val), pw_free(a, vn);
     if (r != PW_OK) lst__tris_free(a, out);
     return r;
@@ -550,8 +564,8 @@ static int lst__surface_band(void *user, pw_fb *fb, pw_err *e)
     int r;
     memset(&S, 0, sizeof S);
     S.v = B->v;
-    r = lst__draw_tris(fb, &B->cam, B->m, B->outer, &S, B->o, e);
-    if (r == PW_OK) r = lst__draw_tris(fb, &B->cam, B->m, B->cut, &S, B->o, e);
+    r = lst__draw_tris(fb, &B->cam, B->outer, &S, B->o, e);
+    if (r == PW_OK) r = lst__draw_tris(fb, &B->cam, B->cut, &S, B->o, e);
     return r;
 }
 
@@ -601,11 +615,29 @@ LSTDEF lst_result lst_render(const lst_model *model, const lst_render_options *r
 
 /* ---- §5.1.2 volume rendering --------------------------------------------------------------------- */
 
-/* Marching tetrahedra on one tetrahedron: the triangles (1 or 2) of the
- * level set phi = z, their corners on the edges, appended to out with
- * their own vertices. */
-static int lst__slice_tet(const pw_alloc *a, const pw_tetmesh *m, int t, const double *phi, double z, lst__tris *out, pw_err *e)
+/* What every band of a volume rendering draws: the slices, back to front,
+ * of the tetrahedra whose picture (rows ylo..yhi) meets the band. */
+typedef struct lst__volume_frame {
+    const pw_alloc *a;
+    const lst_model *m;
+    const lst__view *v;
+    const lst_render_options *o;
+    pw_tetmesh tm;
+    const double *phi;     /* per vertex: the distance along the view */
+    const float *rows;     /* per tetrahedron: its first and last picture row */
+    double zmax, dz;
+    int slices, density;
+    float alpha_scale;
+    pw_camera cam;
+} lst__volume_frame;
+
+/* Marching tetrahedra on tetrahedron t of V->tm: the triangles (1 or 2)
+ * of the level set phi = z (phi: at its corners), their corners on the
+ * edges, appended to out with their own vertices. */
+static int lst__slice_tet(const lst__volume_frame *V, int t, const double *phi, double z, lst__tris *out, pw_err *e)
 {
+    const pw_alloc *a = V->a;
+    const pw_tetmesh *m = &V->tm;
     int neg[4], pos[4], nn = 0, np = 0, k, q, r, cnt, edges[4][2];
     for (k = 0; k < 4; k++) {
         if (phi[k] < z) neg[nn++] = k;
@@ -639,22 +671,6 @@ static int lst__slice_tet(const pw_alloc *a, const pw_tetmesh *m, int t, const d
     return PW_OK;
 }
 
-/* What every band of a volume rendering draws: the slices, back to front,
- * of the tetrahedra whose picture (rows ylo..yhi) meets the band. */
-typedef struct lst__volume_frame {
-    const pw_alloc *a;
-    const lst_model *m;
-    const lst__view *v;
-    const lst_render_options *o;
-    pw_tetmesh tm;
-    const double *phi;     /* per vertex: the distance along the view */
-    const float *rows;     /* per tetrahedron: its first and last picture row */
-    double zmax, dz;
-    int slices, density;
-    float alpha_scale;
-    pw_camera cam;
-} lst__volume_frame;
-
 static int lst__volume_band(void *user, pw_fb *fb, pw_err *e)
 {
     const lst__volume_frame *V = (const lst__volume_frame *)user;
@@ -671,9 +687,9 @@ static int lst__volume_band(void *user, pw_fb *fb, pw_err *e)
         for (t = 0; r == PW_OK && t < V->tm.nt; t++) {
             if (V->m->removed[t] || V->rows[2 * t + 1] < r0 || V->rows[2 * t] > r1) continue;
             for (k = 0; k < 4; k++) ph[k] = V->phi[V->tm.tet[4 * t + k]];
-            r = lst__slice_tet(V->a, &V->tm, t, ph, z, &sl, e);
+            r = lst__slice_tet(V, t, ph, z, &sl, e);
         }
-        if (r == PW_OK) r = lst__draw_tris(fb, &V->cam, V->m, &sl, &S, V->o, e);
+        if (r == PW_OK) r = lst__draw_tris(fb, &V->cam, &sl, &S, V->o, e);
     }
     lst__tris_free(V->a, &sl);
     return r;

@@ -362,6 +362,7 @@ static long pgp__flips(const pgp__morph *m, int i, int j)
 static int pgp__morph_init(const pw_alloc *a, pgp__morph *m, const unsigned char *f0, const unsigned char *f1, int n,
                            int M, int steps, pw_err *e)
 {
+    pw_edt_image im0, im1;
     size_t i;
     int x, y, r;
     float lo = 0.0f;
@@ -372,8 +373,8 @@ static int pgp__morph_init(const pw_alloc *a, pgp__morph *m, const unsigned char
     if (!(m->phi0 = (float *)pw_alloc_array(a, m->nn * 6, sizeof(float), "morph fields", e))) return PW_ERR_NOMEM;
     m->psi = m->phi0 + m->nn, m->gx = m->psi + m->nn, m->gy = m->gx + m->nn;
     m->phi = m->gy + m->nn, m->next = m->phi + m->nn;
-    if ((r = pw_edt_signed(a, f0, n, n, 1, m->phi0, e)) != PW_OK || (r = pw_edt_signed(a, f1, n, n, 1, m->psi, e)) != PW_OK)
-        return r;
+    im0.px = f0, im1.px = f1, im0.w = im0.h = im1.w = im1.h = n, im0.wrap = im1.wrap = 1; /* tiles */
+    if ((r = pw_edt_signed(a, &im0, m->phi0, e)) != PW_OK || (r = pw_edt_signed(a, &im1, m->psi, e)) != PW_OK) return r;
     for (i = 0; i < m->nn; i++) {
         lo = m->psi[i] < lo ? m->psi[i] : lo;
         m->sup = fabsf(m->psi[i]) > m->sup ? fabsf(m->psi[i]) : m->sup;

@@ -147,6 +147,7 @@ static int pgp__ex_pca(const pw_alloc *a, pgp__ex *ex, pgp__exlevel *L, float us
     float *basis = buf ? buf + ex->dc + ex->dm : NULL, *var = basis ? basis + (size_t)(ex->dc + ex->dm) * PW_PCA_PACK : NULL;
     float *mm;
     pw_pca pc, pm;
+    pw_pca_out oc, om;
     int r, j;
     memset(&pc, 0, sizeof pc);
     memset(&pm, 0, sizeof pm);
@@ -160,9 +161,11 @@ static int pgp__ex_pca(const pw_alloc *a, pgp__ex *ex, pgp__exlevel *L, float us
         pw_pca_add(&pm, buf);
     }
     mm = L->pca ? L->pca + (size_t)ex->dc * (1 + PW_PCA_PACK) : NULL;
-    if (r == PW_OK && (r = pw_pca_solve(a, &pc, ex->cd, L->pca, basis, var, e)) == PW_OK)
+    oc.k = ex->cd, oc.mean = L->pca, oc.basis = basis, oc.var = var;
+    om.k = ex->md, om.mean = mm, om.basis = basis, om.var = var + ex->cd;
+    if (r == PW_OK && (r = pw_pca_solve(a, &pc, &oc, e)) == PW_OK)
         pw_pca_pack(basis, ex->dc, ex->cd, L->pca + ex->dc);
-    if (r == PW_OK && (r = pw_pca_solve(a, &pm, ex->md, mm, basis, var + ex->cd, e)) == PW_OK)
+    if (r == PW_OK && (r = pw_pca_solve(a, &pm, &om, e)) == PW_OK)
         pw_pca_pack(basis, ex->dm, ex->md, mm + ex->dm);
     for (j = 0, L->lambda = 0.0f; r == PW_OK && j < ex->D; j++)
         L->lambda += var[j] * (j < ex->cd ? 1.0f : ex->weight * ex->weight);
@@ -288,10 +291,11 @@ static void pgp__count_uses(pgp__exlevel *L, const int *ind)
 static void pgp__update_texel(pgp__synth *S, pgp__exlevel *L, int *ind, const float *target, int p)
 {
     int u0 = ind[p], u;
-    float c0;
+    pw_kdquery qy;
     pgp__vector(S->ex, L, ind, target, p % L->n, p / L->n, S->buf, S->q);
-    c0 = pw_kdtree_cost(&L->tree, S->q, u0) - L->lambda;
-    u = pw_kdtree_nearest_budget(&L->tree, S->q, S->o->search_eps, S->o->search_buckets, u0, c0, S->off, NULL);
+    qy.q = S->q, qy.eps = S->o->search_eps, qy.buckets = S->o->search_buckets, qy.off = S->off;
+    qy.start = u0, qy.start_cost = pw_kdtree_cost(&L->tree, S->q, u0) - L->lambda;
+    u = pw_kdtree_nearest(&L->tree, &qy, NULL);
     if (u == u0) return;
     L->count[u0]--;
     pw_kdtree_set_penalty(&L->tree, u0, L->lambda * (float)L->count[u0]);
