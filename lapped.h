@@ -15,23 +15,23 @@
  *   5321: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
  *   5767: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
  *   6189: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
- *   7406: src/common/raster.h, exact scan conversion of 2D triangles.
- *   7894: src/common/render.h, a small deterministic software renderer for textured trian
- *   9650: src/lapped/polyhull.h, the polygonal hull of a texture patch (Praun, Finkelstein 
- *  10469: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
- *  10659: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
- *  10744: src/common/atlas.h, texture atlases of triangle meshes — charts, packing, ba
- *  12696: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
- *  13361: src/common/glue.h, what every method header needs between its public types an
- *  13568: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  14114: src/lapped/core.c, lapped.h's glue to the shared core, its defaults, and the 
- *  14272: src/lapped/field.c, §3.2 the tangent field, one frame (S, T) per triangle, an
- *  14731: src/lapped/patch.c, §3.1 texture patches. A patch is the texture as RGBA whos
- *  15019: src/lapped/builtin.c, built-in meshes (made by the shared shapes module) and tex
- *  15185: src/lapped/grow.c, pasting (§3.3-3.6): grow a surface patch around an uncove
- *  16585: src/lapped/render.c, runtime pasting (§4): the mesh drawn once per paste, in p
- *  16788: src/lapped/atlas.c, §4 "Rendering with a texture atlas".
- *  17026: src/lapped/io.c, the paste file format and the file conveniences of lapped.
+ *   7426: src/common/raster.h, exact scan conversion of 2D triangles.
+ *   7906: src/common/render.h, a small deterministic software renderer for textured trian
+ *   9687: src/lapped/polyhull.h, the polygonal hull of a texture patch (Praun, Finkelstein 
+ *  10506: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
+ *  10696: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
+ *  10781: src/common/atlas.h, texture atlases of triangle meshes — charts, packing, ba
+ *  12733: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
+ *  13461: src/common/glue.h, what every method header needs between its public types an
+ *  13668: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  14214: src/lapped/core.c, lapped.h's glue to the shared core, its defaults, and the 
+ *  14372: src/lapped/field.c, §3.2 the tangent field, one frame (S, T) per triangle, an
+ *  14832: src/lapped/patch.c, §3.1 texture patches. A patch is the texture as RGBA whos
+ *  15120: src/lapped/builtin.c, built-in meshes (made by the shared shapes module) and tex
+ *  15286: src/lapped/grow.c, pasting (§3.3-3.6): grow a surface patch around an uncove
+ *  16686: src/lapped/render.c, runtime pasting (§4): the mesh drawn once per paste, in p
+ *  16889: src/lapped/atlas.c, §4 "Rendering with a texture atlas".
+ *  17127: src/lapped/io.c, the paste file format and the file conveniences of lapped.
  */
 /* lapped.h - lapped textures: overlapping texture patches pasted over a mesh.
  *
@@ -6942,23 +6942,29 @@ PW__DEF void pw_ic0_apply(const pw_ic0 *L, const double *r, double *z)
     }
 }
 
-/* A linear operator for the preconditioned CG core: mul computes y = A x
- * and returns x . y, precond z = M^-1 r, both over n doubles. The complex
- * Hermitian systems of zsparse.h run through the same core: with complex
- * numbers stored as (re, im) pairs and real step lengths, every vector
- * update is real, and Re(x^H y) is the real dot product of the pairs. */
+/* A preconditioned system A x = b for the CG core: mul computes y = A x
+ * and returns x . y, precond z = M^-1 r, both over n doubles; b and x (the
+ * warm start, then the solution) hold n doubles; `what` names the solver in
+ * errors. The complex Hermitian systems of zsparse.h run through the same
+ * core: with complex numbers stored as (re, im) pairs and real step
+ * lengths, every vector update is real, and Re(x^H y) is the real dot
+ * product of the pairs. */
 typedef struct pw__pcg_op {
     int n;
     double (*mul)(const void *ctx, const double *x, double *y);
     void (*precond)(const void *ctx, const double *r, double *z);
     const void *actx, *mctx;
+    const double *b;
+    double *x;
+    const char *what;
 } pw__pcg_op;
 
 /* The PCG iterations shared by pw_pcg_solve and pw_zpcg_solve: b and x
- * already checked; x is the warm start; `what` names the solver in errors. */
-PW__DEF int pw__pcg_run(const pw_alloc *a, const pw__pcg_op *op, const double *b, double *x,
-                        const pw_cg_options *o, pw_cg_stats *s, const char *what, pw_err *e)
+ * already checked. */
+PW__DEF int pw__pcg_run(const pw_alloc *a, const pw__pcg_op *op, const pw_cg_options *o, pw_cg_stats *s, pw_err *e)
 {
+    const double *b = op->b;
+    double *x = op->x;
     pw__krylov k;
     double *r, *z, *p, *q, rz, rr;
     int n = op->n, i, ret;
@@ -6992,7 +6998,7 @@ PW__DEF int pw__pcg_run(const pw_alloc *a, const pw__pcg_op *op, const double *b
     }
     op->mul(op->actx, x, r); /* report what x achieves, not the recurrence */
     for (i = 0; i < n; i++) r[i] = b[i] - r[i];
-    ret = pw__krylov_finish(&k, sqrt(pw__dot(r, r, n)), what, s, e);
+    ret = pw__krylov_finish(&k, sqrt(pw__dot(r, r, n)), op->what, s, e);
     pw_free(a, r);
     return ret;
 }
@@ -7020,7 +7026,8 @@ PW__DEF int pw_pcg_solve(const pw_alloc *a, const pw_csr *A, const pw_ic0 *M, co
     op.precond = pw__ic0_op;
     op.actx = A;
     op.mctx = M;
-    return pw__pcg_run(a, &op, b, x, o, s, "PCG", e);
+    op.b = b, op.x = x, op.what = "PCG";
+    return pw__pcg_run(a, &op, o, s, e);
 }
 
 /* ---- least squares (CGLS) ---------------------------------------------- */
@@ -7317,9 +7324,20 @@ PW__DEF void pw__ldlt_symbolic(const pw_csr *A, const int *perm, const int *iper
  * the reach of its entries, in topological order). Returns 0 on a pivot
  * that is not positive, or not above 1e-14 of the diagonal entry it came
  * from (what a singular matrix leaves after cancellation). */
-PW__DEF int pw__ldlt_row(pw_ldlt *F, const pw_csr *A, const int *iperm, const int *parent, int *len, int *flag,
-                        int *pattern, double *y, int k)
+/* The scratch of pw_ldlt_factor (n entries each): the inverse ordering, the
+ * elimination tree, the entries of each column of L so far, visit marks,
+ * the reach of a row, and the dense row being solved (zero between rows). */
+typedef struct pw__ldlt_work {
+    const int *iperm, *parent;
+    int *len, *flag, *pattern;
+    double *y;
+} pw__ldlt_work;
+
+PW__DEF int pw__ldlt_row(pw_ldlt *F, const pw_csr *A, const pw__ldlt_work *W, int k)
 {
+    const int *iperm = W->iperm, *parent = W->parent;
+    int *len = W->len, *flag = W->flag, *pattern = W->pattern;
+    double *y = W->y;
     int old = F->perm[k], p, top = F->n;
     double akk;
     flag[k] = k;
@@ -7354,6 +7372,7 @@ PW__DEF int pw_ldlt_factor(const pw_alloc *a, const pw_csr *A, pw_ldlt *F, pw_er
 {
     int n = A->n, k, r = PW_OK, *iperm, *parent, *flag, *len, *pattern;
     double *y;
+    pw__ldlt_work W;
     memset(F, 0, sizeof *F);
     if (A->n != A->m) return pw_fail(e, PW_ERR_INVALID, "LDLT needs a square matrix, not %dx%d", A->n, A->m);
     F->n = n;
@@ -7374,8 +7393,9 @@ PW__DEF int pw_ldlt_factor(const pw_alloc *a, const pw_csr *A, pw_ldlt *F, pw_er
         F->Lx = (double *)pw_alloc_array(a, (size_t)F->Lp[n] + 1, sizeof(double), "LDLT factor", e);
         if (!F->Li || !F->Lx) r = PW_ERR_NOMEM;
         for (k = 0; k < n; k++) len[k] = 0;
+        W.iperm = iperm, W.parent = parent, W.len = len, W.flag = flag, W.pattern = pattern, W.y = y;
         for (k = 0; k < n && r == PW_OK; k++)
-            if (!pw__ldlt_row(F, A, iperm, parent, len, flag, pattern, y, k))
+            if (!pw__ldlt_row(F, A, &W, k))
                 r = pw_fail(e, PW_ERR_DEGENERATE, "LDLT: the matrix is not positive definite (pivot %d of %d, unknown %d, is %g)",
                             k, n, F->perm[k], F->D[k]);
     }
@@ -7835,17 +7855,11 @@ PW__DEF void pw__raster_emit(pw_raster_edges *s, const double *planes, pw_raster
 /* Snaps a triangle given in floats into pieces; *clipped tells whether the
  * pieces are a clipped fan (their own barycentrics are then not the
  * triangle's). Returns the number of pieces. */
-PW__DEF int pw__raster_pieces(float x0, float y0, float x1, float y1, float x2, float y2,
-                              const pw_raster_grid *g, double *v, pw_raster_edges *pieces,
+PW__DEF int pw__raster_pieces(const float xy[6], const pw_raster_grid *g, double *v, pw_raster_edges *pieces,
                               int *clipped)
 {
     int k;
-    v[0] = x0;
-    v[1] = y0;
-    v[2] = x1;
-    v[3] = y1;
-    v[4] = x2;
-    v[5] = y2;
+    for (k = 0; k < 6; k++) v[k] = xy[k];
     *clipped = 0;
     for (k = 0; k < 6; k++) {
         if (!pw_is_finite(v[k])) return 0;
@@ -7856,18 +7870,17 @@ PW__DEF int pw__raster_pieces(float x0, float y0, float x1, float y1, float x2, 
 }
 
 /* Calls fn(user, x, y, b0, b1, b2) for every pixel of [0,w) x [0,h) whose
- * centre the triangle covers (top-left rule, either winding), row by row.
+ * centre the triangle xy = (x0, y0, x1, y1, x2, y2) covers (top-left rule, either winding), row by row.
  * b0 + b1 + b2 = 1 and b0 v0 + b1 v1 + b2 v2 is the pixel centre, up to the
  * snapping of the vertices (2^-17 pixel at most on viewports up to 2048). */
-PW__DEF void pw_raster_tri(float x0, float y0, float x1, float y1, float x2, float y2, int w,
-                           int h, pw_raster_fn fn, void *user)
+PW__DEF void pw_raster_tri(const float xy[6], int w, int h, pw_raster_fn fn, void *user)
 {
     pw_raster_grid g;
     pw_raster_edges pieces[PW_RASTER_MAX_PIECES];
     double v[6], planes[9];
     int n, i, clipped;
     if (!pw_raster_grid_init(&g, w, h)) return;
-    n = pw__raster_pieces(x0, y0, x1, y1, x2, y2, &g, v, pieces, &clipped);
+    n = pw__raster_pieces(xy, &g, v, pieces, &clipped);
     if (clipped && !pw__raster_bary_planes(v, planes)) return;
     for (i = 0; i < n; i++) pw__raster_emit(pieces + i, clipped ? planes : NULL, fn, user);
 }
@@ -7875,15 +7888,14 @@ PW__DEF void pw_raster_tri(float x0, float y0, float x1, float y1, float x2, flo
 /* Same coverage as pw_raster_tri, reported as runs: fn(user, y, xa, xb) for
  * the pixels [xa, xb) of row y. A clipped triangle may report a row in
  * several adjacent runs. */
-PW__DEF void pw_raster_tri_spans(float x0, float y0, float x1, float y1, float x2, float y2,
-                                 int w, int h, pw_raster_span_fn fn, void *user)
+PW__DEF void pw_raster_tri_spans(const float xy[6], int w, int h, pw_raster_span_fn fn, void *user)
 {
     pw_raster_grid g;
     pw_raster_edges pieces[PW_RASTER_MAX_PIECES];
     double v[6];
     int n, i, y, xa, xb, clipped;
     if (!pw_raster_grid_init(&g, w, h)) return;
-    n = pw__raster_pieces(x0, y0, x1, y1, x2, y2, &g, v, pieces, &clipped);
+    n = pw__raster_pieces(xy, &g, v, pieces, &clipped);
     for (i = 0; i < n; i++)
         for (y = pieces[i].y0; y < pieces[i].y1; y++)
             if (pw_raster_next(pieces + i, &xa, &xb)) fn(user, y, xa, xb);
@@ -8120,12 +8132,19 @@ PW__DEF void pw__bounding_sphere(const float *pos, int nv, double *c, double *r)
     if (!(*r > 0.0)) *r = n ? 1e-3 * (1.0 + sqrt(pw_dot3(c, c))) : 1.0;
 }
 
-/* Where the finite vertices lie in a view basis (right rt, up up, view vd,
- * from centre c): the lateral extent (lo, hi in x and y) and the depth
- * range along the view. */
-PW__DEF void pw__view_extent(const float *pos, int nv, const double c[3], const double rt[3],
-                             const double up[3], const double vd[3], double lo[3], double hi[3])
+/* The orthonormal basis pw_camera_frame measures the mesh in: right rt, up
+ * up and view vd from the centre c, with the image centre at lateral offset
+ * (ox, oy) from c (0 until the framing has found it). */
+typedef struct pw__view_basis {
+    double c[3], rt[3], up[3], vd[3];
+    double ox, oy;
+} pw__view_basis;
+
+/* Where the finite vertices lie in view basis b: the lateral extent (lo, hi
+ * in x and y) and the depth range along the view. */
+PW__DEF void pw__view_extent(const float *pos, int nv, const pw__view_basis *b, double lo[3], double hi[3])
 {
+    const double *c = b->c, *rt = b->rt, *up = b->up, *vd = b->vd;
     int i, k, n = 0;
     for (k = 0; k < 3; k++) lo[k] = hi[k] = 0.0;
     for (i = 0; i < nv; i++) {
@@ -8145,11 +8164,11 @@ PW__DEF void pw__view_extent(const float *pos, int nv, const double c[3], const 
 }
 
 /* The range of projected tangents (x - ox)/(dist + z) of the vertices in
- * the view basis, in out[0..1] (x) and out[2..3] (y). */
-PW__DEF void pw__projected_range(const float *pos, int nv, const double c[3], const double rt[3],
-                                 const double up[3], const double vd[3], double ox, double oy,
-                                 double dist, double out[4])
+ * view basis b, in out[0..1] (x) and out[2..3] (y). */
+PW__DEF void pw__projected_range(const float *pos, int nv, const pw__view_basis *b, double dist, double out[4])
 {
+    const double *c = b->c, *rt = b->rt, *up = b->up, *vd = b->vd;
+    double ox = b->ox, oy = b->oy;
     int i, k, n = 0;
     for (k = 0; k < 4; k++) out[k] = 0.0;
     for (i = 0; i < nv; i++) {
@@ -8171,10 +8190,10 @@ PW__DEF void pw__projected_range(const float *pos, int nv, const double c[3], co
 /* The smallest distance from the framing centre at which every vertex
  * (lateral offset x, y from the image centre ox, oy; depth z toward the
  * far side) fits in half-angles with tangents tx, ty. */
-PW__DEF double pw__fit_distance(const float *pos, int nv, const double c[3], const double rt[3],
-                                const double up[3], const double vd[3], double ox, double oy,
-                                double tx, double ty)
+PW__DEF double pw__fit_distance(const float *pos, int nv, const pw__view_basis *b, double tx, double ty)
 {
+    const double *c = b->c, *rt = b->rt, *up = b->up, *vd = b->vd;
+    double ox = b->ox, oy = b->oy;
     double dist = 0.0;
     int i, k;
     for (i = 0; i < nv; i++) {
@@ -8201,6 +8220,7 @@ PW__DEF pw_camera pw_camera_frame(const float *pos, int nv, const float view_dir
                                   const float up[3], float fovy_deg, float aspect)
 {
     pw_camera cam;
+    pw__view_basis B;
     double c[3], r, vd[3] = {0, 0, -1}, u[3] = {0, 1, 0}, x[3], y[3], lo[3], hi[3], t, tx, dist, ox, oy;
     int k;
     if (view_dir)
@@ -8225,18 +8245,21 @@ PW__DEF pw_camera pw_camera_frame(const float *pos, int nv, const float view_dir
     pw__bounding_sphere(pos, pos ? nv : 0, c, &r);
     t = 0.95 * pw__tan_deg(0.5 * fovy_deg);
     tx = t * aspect;
-    pw__view_extent(pos, pos ? nv : 0, c, x, y, vd, lo, hi);
-    ox = 0.5 * (lo[0] + hi[0]);
-    oy = 0.5 * (lo[1] + hi[1]);
+    for (k = 0; k < 3; k++) B.c[k] = c[k], B.rt[k] = x[k], B.up[k] = y[k], B.vd[k] = vd[k];
+    B.ox = B.oy = 0.0;
+    pw__view_extent(pos, pos ? nv : 0, &B, lo, hi);
+    B.ox = 0.5 * (lo[0] + hi[0]);
+    B.oy = 0.5 * (lo[1] + hi[1]);
     for (k = 0; k < 4; k++) { /* centre the perspective image, not the orthographic one */
         double range[4];
-        dist = pos ? pw__fit_distance(pos, nv, c, x, y, vd, ox, oy, tx, t) : 0.0;
+        dist = pos ? pw__fit_distance(pos, nv, &B, tx, t) : 0.0;
         if (dist < -lo[2] + 0.05 * r) dist = -lo[2] + 0.05 * r; /* the eye stays outside */
         if (!pos || k == 3) break;
-        pw__projected_range(pos, nv, c, x, y, vd, ox, oy, dist, range);
-        ox += 0.5 * (range[0] + range[1]) * dist;
-        oy += 0.5 * (range[2] + range[3]) * dist;
+        pw__projected_range(pos, nv, &B, dist, range);
+        B.ox += 0.5 * (range[0] + range[1]) * dist;
+        B.oy += 0.5 * (range[2] + range[3]) * dist;
     }
+    ox = B.ox, oy = B.oy;
     for (k = 0; k < 3; k++) {
         cam.target[k] = pw__f(c[k] + ox * x[k] + oy * y[k]);
         cam.eye[k] = pw__f(cam.target[k] - vd[k] * dist);
@@ -8280,10 +8303,11 @@ PW__DEF void pw__box_1d(const float *src, int n, ptrdiff_t sst, float *dst, int 
     }
 }
 
-/* Box-filters the W x H float level src into the W2 x H2 level dst:
- * horizontal pass into tmp (W2 x H), then vertical. */
-PW__DEF void pw__mip_down(const float *src, int W, int H, float *dst, int W2, int H2, float *tmp)
+/* Box-filters level L of t, held as floats in src, into level L + 1 in dst:
+ * horizontal pass into tmp (lw[L + 1] x lh[L]), then vertical. */
+PW__DEF void pw__mip_down(const pw_texture *t, int L, const float *src, float *dst, float *tmp)
 {
+    int W = t->lw[L], H = t->lh[L], W2 = t->lw[L + 1], H2 = t->lh[L + 1];
     int y, x;
     for (y = 0; y < H; y++)
         pw__box_1d(src + (size_t)y * W * 4, W, 4, tmp + (size_t)y * W2 * 4, W2, 4);
@@ -8381,7 +8405,7 @@ PW__DEF int pw_texture_create(const pw_alloc *a, pw_texture *t, const pw_image *
         pw__tex_quantise(cur, n, t->level[L]);
         if (L + 1 < t->nlevels) {
             float *sw;
-            pw__mip_down(cur, t->lw[L], t->lh[L], next, t->lw[L + 1], t->lh[L + 1], tmp);
+            pw__mip_down(t, L, cur, next, tmp);
             sw = cur;
             cur = next;
             next = sw;
@@ -9036,12 +9060,21 @@ PW__DEF void pw__raster_vis(pw__ctx *c, pw_raster_edges *s, uint32_t id, const f
     if (s->y1 > c->by1) c->by1 = s->y1;
 }
 
+/* A shading point of triangle t: its attribute planes pl (PW__NPL floats),
+ * the sample's offset (dx, dy) from the planes' origin, and iq = 1/q, the
+ * perspective divisor there. */
+typedef struct pw__shade_pt {
+    int t;
+    const float *pl;
+    float dx, dy, iq;
+} pw__shade_pt;
+
 /* Texture colour at a shading point: perspective-correct (u, v) and their
  * exact screen derivatives from the planes (d(U/q)/dx = (U_x - u q_x) / q),
  * scaled to one pixel, give the mip level. Multiplies col. */
-PW__DEF void pw__shade_tex(const pw__ctx *c, const float *pl, float dx, float dy, float iq,
-                           float *col)
+PW__DEF void pw__shade_tex(const pw__ctx *c, const pw__shade_pt *P, float *col)
 {
+    const float *pl = P->pl, dx = P->dx, dy = P->dy, iq = P->iq;
     const pw_texture *t = c->tex;
     float u = (pl[3] * dx + pl[4] * dy + pl[5]) * iq, v = (pl[6] * dx + pl[7] * dy + pl[8]) * iq;
     float tx[4];
@@ -9061,9 +9094,9 @@ PW__DEF void pw__shade_tex(const pw__ctx *c, const float *pl, float dx, float dy
 
 /* The caller's shader at a shading point: barycentric coordinates and
  * their derivatives per pixel, as pw__shade_tex finds u, v. Multiplies col. */
-PW__DEF void pw__shade_custom(const pw__ctx *c, int t, const float *pl, float dx, float dy, float iq,
-                              float *col)
+PW__DEF void pw__shade_custom(const pw__ctx *c, const pw__shade_pt *P, float *col)
 {
+    const float *pl = P->pl, dx = P->dx, dy = P->dy, iq = P->iq;
     float b1 = (pl[3] * dx + pl[4] * dy + pl[5]) * iq, b2 = (pl[6] * dx + pl[7] * dy + pl[8]) * iq;
     float db[4], rgba[4], s = c->ss * iq;
     int k;
@@ -9071,7 +9104,7 @@ PW__DEF void pw__shade_custom(const pw__ctx *c, int t, const float *pl, float dx
     db[1] = (pl[4] - b1 * pl[1]) * s;
     db[2] = (pl[6] - b2 * pl[0]) * s;
     db[3] = (pl[7] - b2 * pl[1]) * s;
-    c->d->shader(c->d->shader_user, t, b1, b2, db, rgba);
+    c->d->shader(c->d->shader_user, P->t, b1, b2, db, rgba);
     for (k = 0; k < 3; k++) col[k] *= rgba[k] * rgba[3];
     col[3] *= rgba[3];
 }
@@ -9089,8 +9122,12 @@ PW__DEF void pw__shade(const pw__ctx *c, int t, float x, float y, float *out)
     col[3] = c->tint[3];
     if (pl[PW__READY] == 0.0f) pw__attr_planes(c, t, pl);
     if (!(q > 1e-30f)) q = 1e-30f; /* only reachable through rounding at a near-plane edge */
-    if (c->d->shader) pw__shade_custom(c, t, pl, dx, dy, 1.0f / q, col);
-    else if (c->tex) pw__shade_tex(c, pl, dx, dy, 1.0f / q, col);
+    if (c->d->shader || c->tex) {
+        pw__shade_pt P;
+        P.t = t, P.pl = pl, P.dx = dx, P.dy = dy, P.iq = 1.0f / q;
+        if (c->d->shader) pw__shade_custom(c, &P, col);
+        else pw__shade_tex(c, &P, col);
+    }
     if (c->lit) {
         float n0 = pl[9] * dx + pl[10] * dy + pl[11], n1 = pl[12] * dx + pl[13] * dy + pl[14];
         float n2 = pl[15] * dx + pl[16] * dy + pl[17], nn = n0 * n0 + n1 * n1 + n2 * n2;
@@ -12596,7 +12633,7 @@ PW__DEF int pw_atlas_bake(const pw_alloc *a, const pw_trimesh *m, const float *u
         float p[6];
         pw__atlas_bake_px(&B, f, p);
         B.f = f;
-        pw_raster_tri(p[0], p[1], p[2], p[3], p[4], p[5], size, size, pw__atlas_bake_texel, &B);
+        pw_raster_tri(p, size, size, pw__atlas_bake_texel, &B);
         if ((f & 4095) == 4095) r = pw_report(prog, 0.7f + 0.25f * (float)f / (float)m->nf, "atlas baking", e);
     }
     for (f = 0; f < m->nf && r == PW_OK; f++) pw__atlas_bake_ring(&B, f);
@@ -12920,6 +12957,31 @@ typedef struct pw_df_cut {
     double sin2;
 } pw_df_cut;
 
+/* A direction field being built on a mesh: z (nf*2) holds each triangle's
+ * direction in its frame (pw_df_frame), conn (pw_df_connection) carries
+ * directions across edges, and known (nf) marks the triangles whose
+ * direction is given rather than propagated. The fill and relax steps below
+ * all work on the same three arrays, so they travel together. */
+typedef struct pw_df_field {
+    const pw_trimesh *m;
+    const float *conn;
+    double *z;
+    unsigned char *known;
+} pw_df_field;
+
+/* One breadth-first propagation (pw_df_fill_cut): the field, how directions
+ * are seeded and carried (power 2: doubled angles; up; the cut or NULL),
+ * and the work arrays: level (nf; -1 not reached yet), the queue (nf) with
+ * its tail, and a stack (nf) for flooding a component. */
+typedef struct pw_df_prop {
+    const pw_df_field *F;
+    int power;
+    pw_v3 up;
+    const pw_df_cut *cut;
+    int *level, *queue, *stack;
+    int tail;
+} pw_df_prop;
+
 /* The triangle across edge k of f, or -1 on a boundary or a cut. */
 PW__DEF int pw_df_across(const pw_trimesh *m, const pw_df_cut *cut, int f, int k)
 {
@@ -12930,9 +12992,13 @@ PW__DEF int pw_df_across(const pw_trimesh *m, const pw_df_cut *cut, int f, int k
  * `start` on): every triangle where `up` projects gets that projection, as
  * in the up field; if none does (a flat piece normal to up), the lowest
  * triangle gets the fixed axis. Seeds go to the queue with level 0. */
-PW__DEF void pw_df_seed(const pw_trimesh *m, pw_v3 up, int power, const pw_df_cut *cut, double *z, int *level,
-                        int *queue, int *tail, int *stack, int start)
+PW__DEF void pw_df_seed(pw_df_prop *P, int start)
 {
+    const pw_trimesh *m = P->F->m;
+    const pw_df_cut *cut = P->cut;
+    double *z = P->F->z;
+    int *level = P->level, *queue = P->queue, *stack = P->stack, power = P->power;
+    pw_v3 up = P->up;
     int top = 1, n = 0, i, k, f, g, seeded = 0;
     stack[0] = start;
     level[start] = -2;
@@ -12947,7 +13013,7 @@ PW__DEF void pw_df_seed(const pw_trimesh *m, pw_v3 up, int power, const pw_df_cu
         if (pw_df_project_tilt(m, f, up, cut ? cut->sin2 : 1e-8, z + 2 * f)) {
             if (power == 2) pw_df_square(z + 2 * f);
             level[f] = 0;
-            queue[(*tail)++] = f;
+            queue[P->tail++] = f;
             seeded = 1;
         }
     }
@@ -12955,7 +13021,7 @@ PW__DEF void pw_df_seed(const pw_trimesh *m, pw_v3 up, int power, const pw_df_cu
         pw_df_axis(m, start, z + 2 * start);
         if (power == 2) pw_df_square(z + 2 * start);
         level[start] = 0;
-        queue[(*tail)++] = start;
+        queue[P->tail++] = start;
     }
 }
 
@@ -12963,9 +13029,14 @@ PW__DEF void pw_df_seed(const pw_trimesh *m, pw_v3 up, int power, const pw_df_cu
  * ones: the unit average of their directions transported into f (§3.2
  * propagation: "projecting onto its face plane the average direction of
  * neighboring faces"); the first neighbour's if the average cancels. */
-PW__DEF void pw_df_average(const pw_trimesh *m, const float *conn, int power, const pw_df_cut *cut,
-                           const int *level, double *z, int f)
+PW__DEF void pw_df_average(const pw_df_prop *P, int f)
 {
+    const pw_trimesh *m = P->F->m;
+    const float *conn = P->F->conn;
+    const pw_df_cut *cut = P->cut;
+    const int *level = P->level;
+    double *z = P->F->z;
+    int power = P->power;
     double sum[2] = {0.0, 0.0}, first[2] = {0.0, 0.0}, w[2];
     int k, g, n = 0;
     for (k = 0; k < 3; k++) {
@@ -12988,40 +13059,45 @@ PW__DEF void pw_df_average(const pw_trimesh *m, const float *conn, int power, co
  * on which known triangle is met first. Components without a known triangle
  * are seeded by pw_df_seed. Known directions must be unit. With a cut
  * (pw_df_cut), propagation does not cross its edges. */
-PW__DEF int pw_df_fill_cut(const pw_alloc *a, const pw_trimesh *m, const float *conn, int power, pw_v3 up,
-                           const pw_df_cut *cut, const unsigned char *known, double *z, pw_err *e)
+PW__DEF int pw_df_fill_cut(const pw_alloc *a, const pw_df_field *F, int power, pw_v3 up, const pw_df_cut *cut,
+                           pw_err *e)
 {
+    const pw_trimesh *m = F->m;
+    const unsigned char *known = F->known;
     int *level = (int *)pw_alloc_array(a, (size_t)m->nf * 3, sizeof(int), "field propagation", e);
-    int *queue, *stack, head = 0, tail = 0, next = 0, f, k, g;
+    int head = 0, next = 0, f, k, g;
+    pw_df_prop P;
     if (!level) return PW_ERR_NOMEM;
-    queue = level + m->nf;
-    stack = queue + m->nf;
+    P.F = F, P.power = power, P.up = up, P.cut = cut;
+    P.level = level;
+    P.queue = level + m->nf;
+    P.stack = P.queue + m->nf;
+    P.tail = 0;
     for (f = 0; f < m->nf; f++) {
         level[f] = known[f] ? 0 : -1;
-        if (known[f]) queue[tail++] = f;
+        if (known[f]) P.queue[P.tail++] = f;
     }
     for (;;) {
-        if (head == tail) {
+        if (head == P.tail) {
             while (next < m->nf && level[next] >= 0) next++;
             if (next == m->nf) break;
-            pw_df_seed(m, up, power, cut, z, level, queue, &tail, stack, next);
+            pw_df_seed(&P, next);
         }
-        f = queue[head++];
-        if (level[f] > 0) pw_df_average(m, conn, power, cut, level, z, f);
+        f = P.queue[head++];
+        if (level[f] > 0) pw_df_average(&P, f);
         for (k = 0; k < 3; k++)
             if ((g = pw_df_across(m, cut, f, k)) >= 0 && level[g] == -1) {
                 level[g] = level[f] + 1;
-                queue[tail++] = g;
+                P.queue[P.tail++] = g;
             }
     }
     pw_free(a, level);
     return PW_OK;
 }
 
-PW__DEF int pw_df_fill(const pw_alloc *a, const pw_trimesh *m, const float *conn, int power, pw_v3 up,
-                       const unsigned char *known, double *z, pw_err *e)
+PW__DEF int pw_df_fill(const pw_alloc *a, const pw_df_field *F, int power, pw_v3 up, pw_err *e)
 {
-    return pw_df_fill_cut(a, m, conn, power, up, NULL, known, z, e);
+    return pw_df_fill_cut(a, F, power, up, NULL, e);
 }
 
 /* §3.2: "project the global up direction onto the surface, and then
@@ -13032,12 +13108,11 @@ PW__DEF int pw_df_fill(const pw_alloc *a, const pw_trimesh *m, const float *conn
  * (pw_df_axis). ISOTROPIC uses the same field: growth replaces the
  * orientation by its own propagation, and a smooth start keeps the
  * discontinuity part of lapped__difficulty quiet. */
-PW__DEF int pw_df_up(const pw_alloc *a, const pw_trimesh *m, const float *conn, pw_v3 up, double *z,
-                          unsigned char *known, pw_err *e)
+PW__DEF int pw_df_up(const pw_alloc *a, const pw_df_field *F, pw_v3 up, pw_err *e)
 {
     int f;
-    for (f = 0; f < m->nf; f++) known[f] = (unsigned char)pw_df_project(m, f, up, z + 2 * f);
-    return pw_df_fill(a, m, conn, 1, up, known, z, e);
+    for (f = 0; f < F->m->nf; f++) F->known[f] = (unsigned char)pw_df_project(F->m, f, up, F->z + 2 * f);
+    return pw_df_fill(a, F, 1, up, e);
 }
 
 /* The up field without bullseyes. Where up is (nearly) normal to the
@@ -13075,9 +13150,12 @@ PW__DEF void pw_df_creases(const pw_trimesh *m, unsigned char *cut)
 
 /* One Gauss-Seidel sweep over the triangles not known: each becomes the
  * mean of its uncut neighbours' directions transported into it. */
-PW__DEF void pw_df_relax(const pw_trimesh *m, const float *conn, const pw_df_cut *cut, const unsigned char *known,
-                         double *z)
+PW__DEF void pw_df_relax(const pw_df_field *F, const pw_df_cut *cut)
 {
+    const pw_trimesh *m = F->m;
+    const float *conn = F->conn;
+    const unsigned char *known = F->known;
+    double *z = F->z;
     int f, k, g;
     for (f = 0; f < m->nf; f++) {
         double sum[2] = {0.0, 0.0}, w[2];
@@ -13094,9 +13172,10 @@ PW__DEF void pw_df_relax(const pw_trimesh *m, const float *conn, const pw_df_cut
     }
 }
 
-PW__DEF int pw_df_up_creased(const pw_alloc *a, const pw_trimesh *m, const float *conn, pw_v3 up, double *z,
-                             unsigned char *known, pw_err *e)
+PW__DEF int pw_df_up_creased(const pw_alloc *a, const pw_df_field *F, pw_v3 up, pw_err *e)
 {
+    const pw_trimesh *m = F->m;
+    double *z = F->z;
     unsigned char *edge = (unsigned char *)pw_alloc_array(a, (size_t)m->nf * 3, 1, "field creases", e);
     double st = sin(PW_DF_UP_TILT * 3.14159265358979323846 / 180.0);
     pw_df_cut cut;
@@ -13105,9 +13184,9 @@ PW__DEF int pw_df_up_creased(const pw_alloc *a, const pw_trimesh *m, const float
     pw_df_creases(m, edge);
     cut.edge = edge;
     cut.sin2 = st * st;
-    for (f = 0; f < m->nf; f++) known[f] = (unsigned char)pw_df_project_tilt(m, f, up, cut.sin2, z + 2 * f);
-    r = pw_df_fill_cut(a, m, conn, 1, up, &cut, known, z, e);
-    for (i = 0; r == PW_OK && i < PW_DF_UP_SWEEPS; i++) pw_df_relax(m, conn, &cut, known, z);
+    for (f = 0; f < m->nf; f++) F->known[f] = (unsigned char)pw_df_project_tilt(m, f, up, cut.sin2, z + 2 * f);
+    r = pw_df_fill_cut(a, F, 1, up, &cut, e);
+    for (i = 0; r == PW_OK && i < PW_DF_UP_SWEEPS; i++) pw_df_relax(F, &cut);
     for (f = 0; r == PW_OK && f < m->nf; f++)
         if (!pw_df_unit(z + 2 * f)) pw_df_axis(m, f, z + 2 * f);
     pw_free(a, edge);
@@ -13261,9 +13340,21 @@ PW__DEF int pw_df_smooth(const pw_alloc *a, const pw_trimesh *m, const float *co
 /* Relaxes the neighbours of triangle f (just oriented) in the orientation
  * walk: a neighbour's key is 1 - |cos| of the angle between its line and
  * f's direction carried over, the smallest key (best agreement) kept. */
-PW__DEF void pw_df_offer(const pw_trimesh *m, const float *conn, const double *z, int f,
-                              const unsigned char *seen, double *best, int *via, pw_heap *hp)
+/* The orientation walk's state: seen (nf) marks oriented triangles, best
+ * (nf) the smallest key offered to each, via (nf) the half-edge it came
+ * through, hp the heap of offers (room for 3 nf + 1 entries). */
+typedef struct pw_df_walker {
+    unsigned char *seen;
+    double *best;
+    int *via;
+    pw_heap *hp;
+} pw_df_walker;
+
+PW__DEF void pw_df_offer(const pw_trimesh *m, const float *conn, const double *z, int f, const pw_df_walker *W)
 {
+    const unsigned char *seen = W->seen;
+    double *best = W->best;
+    int *via = W->via;
     int k, g, th;
     double w[2], key;
     for (k = 0; k < 3; k++) {
@@ -13273,16 +13364,20 @@ PW__DEF void pw_df_offer(const pw_trimesh *m, const float *conn, const double *z
         if (key < best[g]) {
             best[g] = key;
             via[g] = th;
-            pw_heap_insert(hp, key, g);
+            pw_heap_insert(W->hp, key, g);
         }
     }
 }
 
-/* The walk of pw_df_orient (best: nf keys, via: nf half-edges,
- * hp: room for 3 nf + 1 entries). */
-PW__DEF void pw_df_walk(const pw_trimesh *m, const float *conn, pw_v3 up, double *z,
-                             unsigned char *seen, double *best, int *via, pw_heap *hp)
+/* The walk of pw_df_orient over the field z (nf*2, no known flags). */
+PW__DEF void pw_df_walk(const pw_df_field *F, pw_v3 up, const pw_df_walker *W)
 {
+    const pw_trimesh *m = F->m;
+    const float *conn = F->conn;
+    double *z = F->z, *best = W->best;
+    unsigned char *seen = W->seen;
+    int *via = W->via;
+    pw_heap *hp = W->hp;
     double w[2];
     int s, f;
     for (f = 0; f < m->nf; f++) best[f] = 2.0;
@@ -13291,7 +13386,7 @@ PW__DEF void pw_df_walk(const pw_trimesh *m, const float *conn, pw_v3 up, double
         if (pw_df_project(m, s, up, w) && w[0] * z[2 * s] + w[1] * z[2 * s + 1] < 0.0)
             z[2 * s] = -z[2 * s], z[2 * s + 1] = -z[2 * s + 1];
         seen[s] = 1;
-        pw_df_offer(m, conn, z, s, seen, best, via, hp);
+        pw_df_offer(m, conn, z, s, W);
         while (hp->n > 0) {
             f = pw_heap_pop(hp);
             if (seen[f]) continue; /* stale entry */
@@ -13299,7 +13394,7 @@ PW__DEF void pw_df_walk(const pw_trimesh *m, const float *conn, pw_v3 up, double
             if (w[0] * z[2 * f] + w[1] * z[2 * f + 1] < 0.0)
                 z[2 * f] = -z[2 * f], z[2 * f + 1] = -z[2 * f + 1];
             seen[f] = 1;
-            pw_df_offer(m, conn, z, f, seen, best, via, hp);
+            pw_df_offer(m, conn, z, f, W);
         }
     }
 }
@@ -13320,10 +13415,14 @@ PW__DEF int pw_df_orient(const pw_alloc *a, const pw_trimesh *m, const float *co
     unsigned char *seen = (unsigned char *)pw_calloc_array(a, n, 1, "field orientation", e);
     int r = dbl && ints && seen ? PW_OK : PW_ERR_NOMEM;
     pw_heap hp;
+    pw_df_field F;
+    pw_df_walker W;
     if (r == PW_OK) { /* dbl: best keys, then the heap's; ints: via, then the heap's */
         memset(&hp, 0, sizeof hp);
         hp.key = dbl + n, hp.item = ints + n;
-        pw_df_walk(m, conn, up, z, seen, dbl, ints, &hp);
+        F.m = m, F.conn = conn, F.z = z, F.known = NULL;
+        W.seen = seen, W.best = dbl, W.via = ints, W.hp = &hp;
+        pw_df_walk(&F, up, &W);
     }
     pw_free(a, dbl);
     pw_free(a, ints);
@@ -13335,10 +13434,11 @@ PW__DEF int pw_df_orient(const pw_alloc *a, const pw_trimesh *m, const float *co
  * 1e-3 / diagonal, i.e. radii of curvature over a thousand mesh sizes),
  * smoothing, unit length, gaps filled (components with no direction at all,
  * like a sphere or a plane, get the up field), halved to vectors, oriented. */
-PW__DEF int pw_df_curvature(const pw_alloc *a, const pw_trimesh *m, pw_v3 up, int smoothing,
-                            const float *conn, double *z, unsigned char *known, pw_err *e)
+PW__DEF int pw_df_curvature(const pw_alloc *a, const pw_df_field *F, pw_v3 up, int smoothing, pw_err *e)
 {
-    double *vn, abc[3];
+    const pw_trimesh *m = F->m;
+    const float *conn = F->conn;
+    double *z = F->z, *vn, abc[3];
     int f, r;
     if (smoothing < 0)
         return pw_fail(e, PW_ERR_INVALID, "curvature field: smoothing %d is negative", smoothing);
@@ -13349,8 +13449,8 @@ PW__DEF int pw_df_curvature(const pw_alloc *a, const pw_trimesh *m, pw_v3 up, in
     }
     pw_free(a, vn);
     if ((r = pw_df_smooth(a, m, conn, smoothing, z, e)) != PW_OK) return r;
-    for (f = 0; f < m->nf; f++) known[f] = (unsigned char)pw_df_unit(z + 2 * f);
-    if ((r = pw_df_fill(a, m, conn, 2, up, known, z, e)) != PW_OK) return r;
+    for (f = 0; f < m->nf; f++) F->known[f] = (unsigned char)pw_df_unit(z + 2 * f);
+    if ((r = pw_df_fill(a, F, 2, up, e)) != PW_OK) return r;
     for (f = 0; f < m->nf; f++) pw_df_halve(z + 2 * f);
     return pw_df_orient(a, m, conn, up, z, e);
 }
@@ -14539,19 +14639,19 @@ static int lapped__fld_checks(const pw_trimesh *m, const lapped_options *fl, flo
 /* The blended 3D directions projected onto each face (§3.2: vectors "at
  * the remaining faces"), and the blended scales. A blend that cancels or is
  * normal to its face is filled from the neighbours. */
-static int lapped__fld_blend(const pw_alloc *a, const pw_trimesh *m, const float *conn, pw_v3 up,
-                             const lapped__fld_acc *acc, double *z, double *scales, unsigned char *known,
-                             pw_err *e)
+static int lapped__fld_blend(const pw_alloc *a, const pw_df_field *F, pw_v3 up, const lapped__fld_acc *acc,
+                             double *scales, pw_err *e)
 {
+    const pw_trimesh *m = F->m;
     int f;
     for (f = 0; f < m->nf; f++) {
         double w = acc->w[f];
         pw_v3 d = pw_v3_make((float)(acc->dir[3 * f] / w), (float)(acc->dir[3 * f + 1] / w),
                              (float)(acc->dir[3 * f + 2] / w));
-        known[f] = (unsigned char)(pw_v3_dot(d, d) > 1e-8f && pw_df_project(m, f, d, z + 2 * f));
+        F->known[f] = (unsigned char)(pw_v3_dot(d, d) > 1e-8f && pw_df_project(m, f, d, F->z + 2 * f));
         scales[f] = acc->sc[f] / w;
     }
-    return pw_df_fill(a, m, conn, 1, up, known, z, e);
+    return pw_df_fill(a, F, 1, up, e);
 }
 
 /* §3.2: "the user specifies vectors at a few faces. We interpolate vectors
@@ -14562,10 +14662,10 @@ static int lapped__fld_blend(const pw_alloc *a, const pw_trimesh *m, const float
  * weight_i exp(-d_i(f)^2 / (2 radius_i^2)); directions are blended in 3D
  * and projected onto f, scales blended linearly. One Dijkstra run per
  * constraint: O(nconstraints * nf log nf) time, O(nf) memory. */
-static int lapped__fld_constraints(const pw_alloc *a, const pw_trimesh *m, const lapped_options *fl,
-                                   float scale, const float *conn, double *z, double *scales,
-                                   unsigned char *known, pw_err *e)
+static int lapped__fld_constraints(const pw_alloc *a, const pw_df_field *F, const lapped_options *fl, float scale,
+                                   double *scales, pw_err *e)
 {
+    const pw_trimesh *m = F->m;
     size_t n = (size_t)m->nf;
     int nc = fl->nconstraints, i, f, r = PW_OK;
     lapped__fld_con *c;
@@ -14597,7 +14697,7 @@ static int lapped__fld_constraints(const pw_alloc *a, const pw_trimesh *m, const
         }
         lapped__fld_pin(c, nc, &acc);
         lapped__fld_orphans(m, c, nc, &acc, hp.item);
-        r = lapped__fld_blend(a, m, conn, pw_v3_load(fl->up), &acc, z, scales, known, e);
+        r = lapped__fld_blend(a, F, pw_v3_load(fl->up), &acc, scales, e);
     }
     pw_free(a, c);
     pw_free(a, len);
@@ -14625,6 +14725,7 @@ static int lapped__field(const pw_alloc *a, const pw_trimesh *m, const lapped_op
     double *z, *scales = NULL;
     unsigned char *known;
     float scale = 0.0f, *conn = NULL;
+    pw_df_field F;
     int r;
     if ((r = lapped__fld_scale(m, fl, &scale, e)) != PW_OK) return r;
     if (fl->field == LAPPED_FIELD_FACES) return lapped__fld_faces(m, fl, s, t, e);
@@ -14636,14 +14737,14 @@ static int lapped__field(const pw_alloc *a, const pw_trimesh *m, const lapped_op
                        (double)up.y, (double)up.z);
     z = (double *)pw_alloc_array(a, 3 * n, sizeof(double), "field directions", e);
     known = (unsigned char *)pw_alloc_array(a, n, 1, "field flags", e);
-    if (!z || !known || pw_df_connection(a, m, &conn, e) != PW_OK)
-        r = PW_ERR_NOMEM;
-    else if (fl->field == LAPPED_FIELD_CONSTRAINTS)
-        r = lapped__fld_constraints(a, m, fl, scale, conn, z, scales = z + 2 * n, known, e);
-    else if (fl->field == LAPPED_FIELD_CURVATURE)
-        r = pw_df_curvature(a, m, pw_v3_load(fl->up), fl->smoothing, conn, z, known, e);
-    else
-        r = pw_df_up_creased(a, m, conn, up, z, known, e);
+    if (!z || !known || pw_df_connection(a, m, &conn, e) != PW_OK) r = PW_ERR_NOMEM;
+    F.m = m, F.conn = conn, F.z = z, F.known = known;
+    if (r == PW_OK && fl->field == LAPPED_FIELD_CONSTRAINTS)
+        r = lapped__fld_constraints(a, &F, fl, scale, scales = z + 2 * n, e);
+    else if (r == PW_OK && fl->field == LAPPED_FIELD_CURVATURE)
+        r = pw_df_curvature(a, &F, pw_v3_load(fl->up), fl->smoothing, e);
+    else if (r == PW_OK)
+        r = pw_df_up_creased(a, &F, up, e);
     if (r == PW_OK) lapped__fld_output(m, z, scale, scales, s, t);
     pw_free(a, z);
     pw_free(a, known);

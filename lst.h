@@ -17,27 +17,27 @@
  *   6420: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
  *   6610: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
  *   6695: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
- *   7912: src/common/raster.h, exact scan conversion of 2D triangles.
- *   8400: src/common/render.h, a small deterministic software renderer for textured trian
- *  10156: src/common/atlas.h, texture atlases of triangle meshes — charts, packing, ba
- *  12108: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
- *  12916: src/common/tetmesh.h, the tetrahedral mesh that lapped solid textures work on, a
- *  13396: src/common/tetio.h, tetrahedral mesh files, TetGen .node/.ele and MEDIT .mesh.
- *  13869: src/common/bisect.h, graded, conforming tetrahedral meshes of a box by newest-v
- *  14170: src/common/stuffing.h, the built-in tetrahedralizer of lst.h, so that no external
- *  17066: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
- *  17206: src/common/pca.h, principal component analysis of vectors streamed one at a 
- *  17391: src/common/glue.h, what every method header needs between its public types an
- *  17598: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  18144: src/lst/core.c, lst.h's glue to the shared core, its defaults, the convers
- *  18482: src/lst/exemplar.c, solid exemplars (§5): sampling, the procedural exemplars 
- *  18985: src/lst/field.c, §5.2.2, the fields that orient and scale the pastes. The 
- *  20089: src/lst/paste.c, §5.2.3-5.2.7, filling the model. Each paste picks a rando
- *  20997: src/lst/render.c, §5.1, showing a model. Every point of a tetrahedron is th
- *  21792: src/lst/cut.c, §5.1.1, cutting a model along the zero set of a scalar fi
- *  22337: src/lst/builtin.c, the tetrahedralizer entry point, checks of caller meshes, 
- *  22804: src/lst/io.c, the model file, the constraint files and the file convenie
- *  23628: src/lst/export.c, the visible boundary with a baked texture atlas, for glTF.
+ *   7932: src/common/raster.h, exact scan conversion of 2D triangles.
+ *   8412: src/common/render.h, a small deterministic software renderer for textured trian
+ *  10193: src/common/atlas.h, texture atlases of triangle meshes — charts, packing, ba
+ *  12145: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
+ *  12953: src/common/tetmesh.h, the tetrahedral mesh that lapped solid textures work on, a
+ *  13433: src/common/tetio.h, tetrahedral mesh files, TetGen .node/.ele and MEDIT .mesh.
+ *  13906: src/common/bisect.h, graded, conforming tetrahedral meshes of a box by newest-v
+ *  14207: src/common/stuffing.h, the built-in tetrahedralizer of lst.h, so that no external
+ *  17103: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
+ *  17243: src/common/pca.h, principal component analysis of vectors streamed one at a 
+ *  17428: src/common/glue.h, what every method header needs between its public types an
+ *  17635: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  18181: src/lst/core.c, lst.h's glue to the shared core, its defaults, the convers
+ *  18519: src/lst/exemplar.c, solid exemplars (§5): sampling, the procedural exemplars 
+ *  19022: src/lst/field.c, §5.2.2, the fields that orient and scale the pastes. The 
+ *  20126: src/lst/paste.c, §5.2.3-5.2.7, filling the model. Each paste picks a rando
+ *  21034: src/lst/render.c, §5.1, showing a model. Every point of a tetrahedron is th
+ *  21829: src/lst/cut.c, §5.1.1, cutting a model along the zero set of a scalar fi
+ *  22374: src/lst/builtin.c, the tetrahedralizer entry point, checks of caller meshes, 
+ *  22841: src/lst/io.c, the model file, the constraint files and the file convenie
+ *  23665: src/lst/export.c, the visible boundary with a baked texture atlas, for glTF.
  */
 /* lst.h - lapped solid textures: solid exemplars pasted inside a model.
  *
@@ -7448,23 +7448,29 @@ PW__DEF void pw_ic0_apply(const pw_ic0 *L, const double *r, double *z)
     }
 }
 
-/* A linear operator for the preconditioned CG core: mul computes y = A x
- * and returns x . y, precond z = M^-1 r, both over n doubles. The complex
- * Hermitian systems of zsparse.h run through the same core: with complex
- * numbers stored as (re, im) pairs and real step lengths, every vector
- * update is real, and Re(x^H y) is the real dot product of the pairs. */
+/* A preconditioned system A x = b for the CG core: mul computes y = A x
+ * and returns x . y, precond z = M^-1 r, both over n doubles; b and x (the
+ * warm start, then the solution) hold n doubles; `what` names the solver in
+ * errors. The complex Hermitian systems of zsparse.h run through the same
+ * core: with complex numbers stored as (re, im) pairs and real step
+ * lengths, every vector update is real, and Re(x^H y) is the real dot
+ * product of the pairs. */
 typedef struct pw__pcg_op {
     int n;
     double (*mul)(const void *ctx, const double *x, double *y);
     void (*precond)(const void *ctx, const double *r, double *z);
     const void *actx, *mctx;
+    const double *b;
+    double *x;
+    const char *what;
 } pw__pcg_op;
 
 /* The PCG iterations shared by pw_pcg_solve and pw_zpcg_solve: b and x
- * already checked; x is the warm start; `what` names the solver in errors. */
-PW__DEF int pw__pcg_run(const pw_alloc *a, const pw__pcg_op *op, const double *b, double *x,
-                        const pw_cg_options *o, pw_cg_stats *s, const char *what, pw_err *e)
+ * already checked. */
+PW__DEF int pw__pcg_run(const pw_alloc *a, const pw__pcg_op *op, const pw_cg_options *o, pw_cg_stats *s, pw_err *e)
 {
+    const double *b = op->b;
+    double *x = op->x;
     pw__krylov k;
     double *r, *z, *p, *q, rz, rr;
     int n = op->n, i, ret;
@@ -7498,7 +7504,7 @@ PW__DEF int pw__pcg_run(const pw_alloc *a, const pw__pcg_op *op, const double *b
     }
     op->mul(op->actx, x, r); /* report what x achieves, not the recurrence */
     for (i = 0; i < n; i++) r[i] = b[i] - r[i];
-    ret = pw__krylov_finish(&k, sqrt(pw__dot(r, r, n)), what, s, e);
+    ret = pw__krylov_finish(&k, sqrt(pw__dot(r, r, n)), op->what, s, e);
     pw_free(a, r);
     return ret;
 }
@@ -7526,7 +7532,8 @@ PW__DEF int pw_pcg_solve(const pw_alloc *a, const pw_csr *A, const pw_ic0 *M, co
     op.precond = pw__ic0_op;
     op.actx = A;
     op.mctx = M;
-    return pw__pcg_run(a, &op, b, x, o, s, "PCG", e);
+    op.b = b, op.x = x, op.what = "PCG";
+    return pw__pcg_run(a, &op, o, s, e);
 }
 
 /* ---- least squares (CGLS) ---------------------------------------------- */
@@ -7823,9 +7830,20 @@ PW__DEF void pw__ldlt_symbolic(const pw_csr *A, const int *perm, const int *iper
  * the reach of its entries, in topological order). Returns 0 on a pivot
  * that is not positive, or not above 1e-14 of the diagonal entry it came
  * from (what a singular matrix leaves after cancellation). */
-PW__DEF int pw__ldlt_row(pw_ldlt *F, const pw_csr *A, const int *iperm, const int *parent, int *len, int *flag,
-                        int *pattern, double *y, int k)
+/* The scratch of pw_ldlt_factor (n entries each): the inverse ordering, the
+ * elimination tree, the entries of each column of L so far, visit marks,
+ * the reach of a row, and the dense row being solved (zero between rows). */
+typedef struct pw__ldlt_work {
+    const int *iperm, *parent;
+    int *len, *flag, *pattern;
+    double *y;
+} pw__ldlt_work;
+
+PW__DEF int pw__ldlt_row(pw_ldlt *F, const pw_csr *A, const pw__ldlt_work *W, int k)
 {
+    const int *iperm = W->iperm, *parent = W->parent;
+    int *len = W->len, *flag = W->flag, *pattern = W->pattern;
+    double *y = W->y;
     int old = F->perm[k], p, top = F->n;
     double akk;
     flag[k] = k;
@@ -7860,6 +7878,7 @@ PW__DEF int pw_ldlt_factor(const pw_alloc *a, const pw_csr *A, pw_ldlt *F, pw_er
 {
     int n = A->n, k, r = PW_OK, *iperm, *parent, *flag, *len, *pattern;
     double *y;
+    pw__ldlt_work W;
     memset(F, 0, sizeof *F);
     if (A->n != A->m) return pw_fail(e, PW_ERR_INVALID, "LDLT needs a square matrix, not %dx%d", A->n, A->m);
     F->n = n;
@@ -7880,8 +7899,9 @@ PW__DEF int pw_ldlt_factor(const pw_alloc *a, const pw_csr *A, pw_ldlt *F, pw_er
         F->Lx = (double *)pw_alloc_array(a, (size_t)F->Lp[n] + 1, sizeof(double), "LDLT factor", e);
         if (!F->Li || !F->Lx) r = PW_ERR_NOMEM;
         for (k = 0; k < n; k++) len[k] = 0;
+        W.iperm = iperm, W.parent = parent, W.len = len, W.flag = flag, W.pattern = pattern, W.y = y;
         for (k = 0; k < n && r == PW_OK; k++)
-            if (!pw__ldlt_row(F, A, iperm, parent, len, flag, pattern, y, k))
+            if (!pw__ldlt_row(F, A, &W, k))
                 r = pw_fail(e, PW_ERR_DEGENERATE, "LDLT: the matrix is not positive definite (pivot %d of %d, unknown %d, is %g)",
                             k, n, F->perm[k], F->D[k]);
     }
@@ -8341,17 +8361,11 @@ PW__DEF void pw__raster_emit(pw_raster_edges *s, const double *planes, pw_raster
 /* Snaps a triangle given in floats into pieces; *clipped tells whether the
  * pieces are a clipped fan (their own barycentrics are then not the
  * triangle's). Returns the number of pieces. */
-PW__DEF int pw__raster_pieces(float x0, float y0, float x1, float y1, float x2, float y2,
-                              const pw_raster_grid *g, double *v, pw_raster_edges *pieces,
+PW__DEF int pw__raster_pieces(const float xy[6], const pw_raster_grid *g, double *v, pw_raster_edges *pieces,
                               int *clipped)
 {
     int k;
-    v[0] = x0;
-    v[1] = y0;
-    v[2] = x1;
-    v[3] = y1;
-    v[4] = x2;
-    v[5] = y2;
+    for (k = 0; k < 6; k++) v[k] = xy[k];
     *clipped = 0;
     for (k = 0; k < 6; k++) {
         if (!pw_is_finite(v[k])) return 0;
@@ -8362,18 +8376,17 @@ PW__DEF int pw__raster_pieces(float x0, float y0, float x1, float y1, float x2, 
 }
 
 /* Calls fn(user, x, y, b0, b1, b2) for every pixel of [0,w) x [0,h) whose
- * centre the triangle covers (top-left rule, either winding), row by row.
+ * centre the triangle xy = (x0, y0, x1, y1, x2, y2) covers (top-left rule, either winding), row by row.
  * b0 + b1 + b2 = 1 and b0 v0 + b1 v1 + b2 v2 is the pixel centre, up to the
  * snapping of the vertices (2^-17 pixel at most on viewports up to 2048). */
-PW__DEF void pw_raster_tri(float x0, float y0, float x1, float y1, float x2, float y2, int w,
-                           int h, pw_raster_fn fn, void *user)
+PW__DEF void pw_raster_tri(const float xy[6], int w, int h, pw_raster_fn fn, void *user)
 {
     pw_raster_grid g;
     pw_raster_edges pieces[PW_RASTER_MAX_PIECES];
     double v[6], planes[9];
     int n, i, clipped;
     if (!pw_raster_grid_init(&g, w, h)) return;
-    n = pw__raster_pieces(x0, y0, x1, y1, x2, y2, &g, v, pieces, &clipped);
+    n = pw__raster_pieces(xy, &g, v, pieces, &clipped);
     if (clipped && !pw__raster_bary_planes(v, planes)) return;
     for (i = 0; i < n; i++) pw__raster_emit(pieces + i, clipped ? planes : NULL, fn, user);
 }
@@ -8381,15 +8394,14 @@ PW__DEF void pw_raster_tri(float x0, float y0, float x1, float y1, float x2, flo
 /* Same coverage as pw_raster_tri, reported as runs: fn(user, y, xa, xb) for
  * the pixels [xa, xb) of row y. A clipped triangle may report a row in
  * several adjacent runs. */
-PW__DEF void pw_raster_tri_spans(float x0, float y0, float x1, float y1, float x2, float y2,
-                                 int w, int h, pw_raster_span_fn fn, void *user)
+PW__DEF void pw_raster_tri_spans(const float xy[6], int w, int h, pw_raster_span_fn fn, void *user)
 {
     pw_raster_grid g;
     pw_raster_edges pieces[PW_RASTER_MAX_PIECES];
     double v[6];
     int n, i, y, xa, xb, clipped;
     if (!pw_raster_grid_init(&g, w, h)) return;
-    n = pw__raster_pieces(x0, y0, x1, y1, x2, y2, &g, v, pieces, &clipped);
+    n = pw__raster_pieces(xy, &g, v, pieces, &clipped);
     for (i = 0; i < n; i++)
         for (y = pieces[i].y0; y < pieces[i].y1; y++)
             if (pw_raster_next(pieces + i, &xa, &xb)) fn(user, y, xa, xb);
@@ -8626,12 +8638,19 @@ PW__DEF void pw__bounding_sphere(const float *pos, int nv, double *c, double *r)
     if (!(*r > 0.0)) *r = n ? 1e-3 * (1.0 + sqrt(pw_dot3(c, c))) : 1.0;
 }
 
-/* Where the finite vertices lie in a view basis (right rt, up up, view vd,
- * from centre c): the lateral extent (lo, hi in x and y) and the depth
- * range along the view. */
-PW__DEF void pw__view_extent(const float *pos, int nv, const double c[3], const double rt[3],
-                             const double up[3], const double vd[3], double lo[3], double hi[3])
+/* The orthonormal basis pw_camera_frame measures the mesh in: right rt, up
+ * up and view vd from the centre c, with the image centre at lateral offset
+ * (ox, oy) from c (0 until the framing has found it). */
+typedef struct pw__view_basis {
+    double c[3], rt[3], up[3], vd[3];
+    double ox, oy;
+} pw__view_basis;
+
+/* Where the finite vertices lie in view basis b: the lateral extent (lo, hi
+ * in x and y) and the depth range along the view. */
+PW__DEF void pw__view_extent(const float *pos, int nv, const pw__view_basis *b, double lo[3], double hi[3])
 {
+    const double *c = b->c, *rt = b->rt, *up = b->up, *vd = b->vd;
     int i, k, n = 0;
     for (k = 0; k < 3; k++) lo[k] = hi[k] = 0.0;
     for (i = 0; i < nv; i++) {
@@ -8651,11 +8670,11 @@ PW__DEF void pw__view_extent(const float *pos, int nv, const double c[3], const 
 }
 
 /* The range of projected tangents (x - ox)/(dist + z) of the vertices in
- * the view basis, in out[0..1] (x) and out[2..3] (y). */
-PW__DEF void pw__projected_range(const float *pos, int nv, const double c[3], const double rt[3],
-                                 const double up[3], const double vd[3], double ox, double oy,
-                                 double dist, double out[4])
+ * view basis b, in out[0..1] (x) and out[2..3] (y). */
+PW__DEF void pw__projected_range(const float *pos, int nv, const pw__view_basis *b, double dist, double out[4])
 {
+    const double *c = b->c, *rt = b->rt, *up = b->up, *vd = b->vd;
+    double ox = b->ox, oy = b->oy;
     int i, k, n = 0;
     for (k = 0; k < 4; k++) out[k] = 0.0;
     for (i = 0; i < nv; i++) {
@@ -8677,10 +8696,10 @@ PW__DEF void pw__projected_range(const float *pos, int nv, const double c[3], co
 /* The smallest distance from the framing centre at which every vertex
  * (lateral offset x, y from the image centre ox, oy; depth z toward the
  * far side) fits in half-angles with tangents tx, ty. */
-PW__DEF double pw__fit_distance(const float *pos, int nv, const double c[3], const double rt[3],
-                                const double up[3], const double vd[3], double ox, double oy,
-                                double tx, double ty)
+PW__DEF double pw__fit_distance(const float *pos, int nv, const pw__view_basis *b, double tx, double ty)
 {
+    const double *c = b->c, *rt = b->rt, *up = b->up, *vd = b->vd;
+    double ox = b->ox, oy = b->oy;
     double dist = 0.0;
     int i, k;
     for (i = 0; i < nv; i++) {
@@ -8707,6 +8726,7 @@ PW__DEF pw_camera pw_camera_frame(const float *pos, int nv, const float view_dir
                                   const float up[3], float fovy_deg, float aspect)
 {
     pw_camera cam;
+    pw__view_basis B;
     double c[3], r, vd[3] = {0, 0, -1}, u[3] = {0, 1, 0}, x[3], y[3], lo[3], hi[3], t, tx, dist, ox, oy;
     int k;
     if (view_dir)
@@ -8731,18 +8751,21 @@ PW__DEF pw_camera pw_camera_frame(const float *pos, int nv, const float view_dir
     pw__bounding_sphere(pos, pos ? nv : 0, c, &r);
     t = 0.95 * pw__tan_deg(0.5 * fovy_deg);
     tx = t * aspect;
-    pw__view_extent(pos, pos ? nv : 0, c, x, y, vd, lo, hi);
-    ox = 0.5 * (lo[0] + hi[0]);
-    oy = 0.5 * (lo[1] + hi[1]);
+    for (k = 0; k < 3; k++) B.c[k] = c[k], B.rt[k] = x[k], B.up[k] = y[k], B.vd[k] = vd[k];
+    B.ox = B.oy = 0.0;
+    pw__view_extent(pos, pos ? nv : 0, &B, lo, hi);
+    B.ox = 0.5 * (lo[0] + hi[0]);
+    B.oy = 0.5 * (lo[1] + hi[1]);
     for (k = 0; k < 4; k++) { /* centre the perspective image, not the orthographic one */
         double range[4];
-        dist = pos ? pw__fit_distance(pos, nv, c, x, y, vd, ox, oy, tx, t) : 0.0;
+        dist = pos ? pw__fit_distance(pos, nv, &B, tx, t) : 0.0;
         if (dist < -lo[2] + 0.05 * r) dist = -lo[2] + 0.05 * r; /* the eye stays outside */
         if (!pos || k == 3) break;
-        pw__projected_range(pos, nv, c, x, y, vd, ox, oy, dist, range);
-        ox += 0.5 * (range[0] + range[1]) * dist;
-        oy += 0.5 * (range[2] + range[3]) * dist;
+        pw__projected_range(pos, nv, &B, dist, range);
+        B.ox += 0.5 * (range[0] + range[1]) * dist;
+        B.oy += 0.5 * (range[2] + range[3]) * dist;
     }
+    ox = B.ox, oy = B.oy;
     for (k = 0; k < 3; k++) {
         cam.target[k] = pw__f(c[k] + ox * x[k] + oy * y[k]);
         cam.eye[k] = pw__f(cam.target[k] - vd[k] * dist);
@@ -8786,10 +8809,11 @@ PW__DEF void pw__box_1d(const float *src, int n, ptrdiff_t sst, float *dst, int 
     }
 }
 
-/* Box-filters the W x H float level src into the W2 x H2 level dst:
- * horizontal pass into tmp (W2 x H), then vertical. */
-PW__DEF void pw__mip_down(const float *src, int W, int H, float *dst, int W2, int H2, float *tmp)
+/* Box-filters level L of t, held as floats in src, into level L + 1 in dst:
+ * horizontal pass into tmp (lw[L + 1] x lh[L]), then vertical. */
+PW__DEF void pw__mip_down(const pw_texture *t, int L, const float *src, float *dst, float *tmp)
 {
+    int W = t->lw[L], H = t->lh[L], W2 = t->lw[L + 1], H2 = t->lh[L + 1];
     int y, x;
     for (y = 0; y < H; y++)
         pw__box_1d(src + (size_t)y * W * 4, W, 4, tmp + (size_t)y * W2 * 4, W2, 4);
@@ -8887,7 +8911,7 @@ PW__DEF int pw_texture_create(const pw_alloc *a, pw_texture *t, const pw_image *
         pw__tex_quantise(cur, n, t->level[L]);
         if (L + 1 < t->nlevels) {
             float *sw;
-            pw__mip_down(cur, t->lw[L], t->lh[L], next, t->lw[L + 1], t->lh[L + 1], tmp);
+            pw__mip_down(t, L, cur, next, tmp);
             sw = cur;
             cur = next;
             next = sw;
@@ -9542,12 +9566,21 @@ PW__DEF void pw__raster_vis(pw__ctx *c, pw_raster_edges *s, uint32_t id, const f
     if (s->y1 > c->by1) c->by1 = s->y1;
 }
 
+/* A shading point of triangle t: its attribute planes pl (PW__NPL floats),
+ * the sample's offset (dx, dy) from the planes' origin, and iq = 1/q, the
+ * perspective divisor there. */
+typedef struct pw__shade_pt {
+    int t;
+    const float *pl;
+    float dx, dy, iq;
+} pw__shade_pt;
+
 /* Texture colour at a shading point: perspective-correct (u, v) and their
  * exact screen derivatives from the planes (d(U/q)/dx = (U_x - u q_x) / q),
  * scaled to one pixel, give the mip level. Multiplies col. */
-PW__DEF void pw__shade_tex(const pw__ctx *c, const float *pl, float dx, float dy, float iq,
-                           float *col)
+PW__DEF void pw__shade_tex(const pw__ctx *c, const pw__shade_pt *P, float *col)
 {
+    const float *pl = P->pl, dx = P->dx, dy = P->dy, iq = P->iq;
     const pw_texture *t = c->tex;
     float u = (pl[3] * dx + pl[4] * dy + pl[5]) * iq, v = (pl[6] * dx + pl[7] * dy + pl[8]) * iq;
     float tx[4];
@@ -9567,9 +9600,9 @@ PW__DEF void pw__shade_tex(const pw__ctx *c, const float *pl, float dx, float dy
 
 /* The caller's shader at a shading point: barycentric coordinates and
  * their derivatives per pixel, as pw__shade_tex finds u, v. Multiplies col. */
-PW__DEF void pw__shade_custom(const pw__ctx *c, int t, const float *pl, float dx, float dy, float iq,
-                              float *col)
+PW__DEF void pw__shade_custom(const pw__ctx *c, const pw__shade_pt *P, float *col)
 {
+    const float *pl = P->pl, dx = P->dx, dy = P->dy, iq = P->iq;
     float b1 = (pl[3] * dx + pl[4] * dy + pl[5]) * iq, b2 = (pl[6] * dx + pl[7] * dy + pl[8]) * iq;
     float db[4], rgba[4], s = c->ss * iq;
     int k;
@@ -9577,7 +9610,7 @@ PW__DEF void pw__shade_custom(const pw__ctx *c, int t, const float *pl, float dx
     db[1] = (pl[4] - b1 * pl[1]) * s;
     db[2] = (pl[6] - b2 * pl[0]) * s;
     db[3] = (pl[7] - b2 * pl[1]) * s;
-    c->d->shader(c->d->shader_user, t, b1, b2, db, rgba);
+    c->d->shader(c->d->shader_user, P->t, b1, b2, db, rgba);
     for (k = 0; k < 3; k++) col[k] *= rgba[k] * rgba[3];
     col[3] *= rgba[3];
 }
@@ -9595,8 +9628,12 @@ PW__DEF void pw__shade(const pw__ctx *c, int t, float x, float y, float *out)
     col[3] = c->tint[3];
     if (pl[PW__READY] == 0.0f) pw__attr_planes(c, t, pl);
     if (!(q > 1e-30f)) q = 1e-30f; /* only reachable through rounding at a near-plane edge */
-    if (c->d->shader) pw__shade_custom(c, t, pl, dx, dy, 1.0f / q, col);
-    else if (c->tex) pw__shade_tex(c, pl, dx, dy, 1.0f / q, col);
+    if (c->d->shader || c->tex) {
+        pw__shade_pt P;
+        P.t = t, P.pl = pl, P.dx = dx, P.dy = dy, P.iq = 1.0f / q;
+        if (c->d->shader) pw__shade_custom(c, &P, col);
+        else pw__shade_tex(c, &P, col);
+    }
     if (c->lit) {
         float n0 = pl[9] * dx + pl[10] * dy + pl[11], n1 = pl[12] * dx + pl[13] * dy + pl[14];
         float n2 = pl[15] * dx + pl[16] * dy + pl[17], nn = n0 * n0 + n1 * n1 + n2 * n2;
@@ -12008,7 +12045,7 @@ PW__DEF int pw_atlas_bake(const pw_alloc *a, const pw_trimesh *m, const float *u
         float p[6];
         pw__atlas_bake_px(&B, f, p);
         B.f = f;
-        pw_raster_tri(p[0], p[1], p[2], p[3], p[4], p[5], size, size, pw__atlas_bake_texel, &B);
+        pw_raster_tri(p, size, size, pw__atlas_bake_texel, &B);
         if ((f & 4095) == 4095) r = pw_report(prog, 0.7f + 0.25f * (float)f / (float)m->nf, "atlas baking", e);
     }
     for (f = 0; f < m->nf && r == PW_OK; f++) pw__atlas_bake_ring(&B, f);

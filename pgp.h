@@ -15,32 +15,32 @@
  *   5499: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
  *   5945: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
  *   6367: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
- *   7584: src/common/zsparse.h, complex Hermitian sparse systems, solved by conjugate grad
- *   7839: src/common/raster.h, exact scan conversion of 2D triangles.
- *   8327: src/common/render.h, a small deterministic software renderer for textured trian
- *  10083: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
- *  10273: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
- *  10358: src/common/atlas.h, texture atlases of triangle meshes — charts, packing, ba
- *  12310: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
- *  12975: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
- *  13783: src/pgp/tile3.h, sampling a material-space tile (Ray et al. 2009, §2: "a 3
- *  13897: src/common/glue.h, what every method header needs between its public types an
- *  14104: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  14650: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
- *  15156: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
- *  15614: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
- *  15754: src/common/kdtree.h, nearest-neighbour search among n points of dimension d, wi
- *  16088: src/common/pca.h, principal component analysis of vectors streamed one at a 
- *  16273: src/pgp/core.c, pgp.h's glue to the shared core, its defaults, and the map
- *  16526: src/pgp/field.c, §2.1 effect areas and §2.2 interpolation of the constrai
- *  16885: src/pgp/solve.c, §2.3 the periodic global parameterization, the recovery o
- *  17645: src/pgp/edit.c, the public editing calls of a mapping. §2.1 (Ray, Lévy, 
- *  17780: src/pgp/render.c, §3 rendering, and a cleaner treatment of the vortices.
- *  18168: src/pgp/builtin.c, built-in meshes and material-space tiles for demos and tes
- *  18430: src/pgp/io.c, files and memory for pgp.h: material-space tiles (NRRD, or
- *  18879: src/pgp/export.c, the mapping for other programs. A viewer that knows nothin
- *  19078: src/pgp/morph.c, the inputs of §1 (keys brought to the tile size, made til
- *  19694: src/pgp/synth.c, §1.2 constrained tile synthesis, and the whole of §1: ke
+ *   7604: src/common/zsparse.h, complex Hermitian sparse systems, solved by conjugate grad
+ *   7860: src/common/raster.h, exact scan conversion of 2D triangles.
+ *   8340: src/common/render.h, a small deterministic software renderer for textured trian
+ *  10121: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
+ *  10311: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
+ *  10396: src/common/atlas.h, texture atlases of triangle meshes — charts, packing, ba
+ *  12348: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
+ *  13076: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
+ *  13884: src/pgp/tile3.h, sampling a material-space tile (Ray et al. 2009, §2: "a 3
+ *  13998: src/common/glue.h, what every method header needs between its public types an
+ *  14205: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  14751: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
+ *  15257: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
+ *  15751: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
+ *  15891: src/common/kdtree.h, nearest-neighbour search among n points of dimension d, wi
+ *  16225: src/common/pca.h, principal component analysis of vectors streamed one at a 
+ *  16410: src/pgp/core.c, pgp.h's glue to the shared core, its defaults, and the map
+ *  16663: src/pgp/field.c, §2.1 effect areas and §2.2 interpolation of the constrai
+ *  17024: src/pgp/solve.c, §2.3 the periodic global parameterization, the recovery o
+ *  17784: src/pgp/edit.c, the public editing calls of a mapping. §2.1 (Ray, Lévy, 
+ *  17919: src/pgp/render.c, §3 rendering, and a cleaner treatment of the vortices.
+ *  18307: src/pgp/builtin.c, built-in meshes and material-space tiles for demos and tes
+ *  18569: src/pgp/io.c, files and memory for pgp.h: material-space tiles (NRRD, or
+ *  19018: src/pgp/export.c, the mapping for other programs. A viewer that knows nothin
+ *  19217: src/pgp/morph.c, the inputs of §1 (keys brought to the tile size, made til
+ *  19857: src/pgp/synth.c, §1.2 constrained tile synthesis, and the whole of §1: ke
  */
 /* pgp.h - material-space texturing with a periodic global parameterization.
  *
@@ -7120,23 +7120,29 @@ PW__DEF void pw_ic0_apply(const pw_ic0 *L, const double *r, double *z)
     }
 }
 
-/* A linear operator for the preconditioned CG core: mul computes y = A x
- * and returns x . y, precond z = M^-1 r, both over n doubles. The complex
- * Hermitian systems of zsparse.h run through the same core: with complex
- * numbers stored as (re, im) pairs and real step lengths, every vector
- * update is real, and Re(x^H y) is the real dot product of the pairs. */
+/* A preconditioned system A x = b for the CG core: mul computes y = A x
+ * and returns x . y, precond z = M^-1 r, both over n doubles; b and x (the
+ * warm start, then the solution) hold n doubles; `what` names the solver in
+ * errors. The complex Hermitian systems of zsparse.h run through the same
+ * core: with complex numbers stored as (re, im) pairs and real step
+ * lengths, every vector update is real, and Re(x^H y) is the real dot
+ * product of the pairs. */
 typedef struct pw__pcg_op {
     int n;
     double (*mul)(const void *ctx, const double *x, double *y);
     void (*precond)(const void *ctx, const double *r, double *z);
     const void *actx, *mctx;
+    const double *b;
+    double *x;
+    const char *what;
 } pw__pcg_op;
 
 /* The PCG iterations shared by pw_pcg_solve and pw_zpcg_solve: b and x
- * already checked; x is the warm start; `what` names the solver in errors. */
-PW__DEF int pw__pcg_run(const pw_alloc *a, const pw__pcg_op *op, const double *b, double *x,
-                        const pw_cg_options *o, pw_cg_stats *s, const char *what, pw_err *e)
+ * already checked. */
+PW__DEF int pw__pcg_run(const pw_alloc *a, const pw__pcg_op *op, const pw_cg_options *o, pw_cg_stats *s, pw_err *e)
 {
+    const double *b = op->b;
+    double *x = op->x;
     pw__krylov k;
     double *r, *z, *p, *q, rz, rr;
     int n = op->n, i, ret;
@@ -7170,7 +7176,7 @@ PW__DEF int pw__pcg_run(const pw_alloc *a, const pw__pcg_op *op, const double *b
     }
     op->mul(op->actx, x, r); /* report what x achieves, not the recurrence */
     for (i = 0; i < n; i++) r[i] = b[i] - r[i];
-    ret = pw__krylov_finish(&k, sqrt(pw__dot(r, r, n)), what, s, e);
+    ret = pw__krylov_finish(&k, sqrt(pw__dot(r, r, n)), op->what, s, e);
     pw_free(a, r);
     return ret;
 }
@@ -7198,7 +7204,8 @@ PW__DEF int pw_pcg_solve(const pw_alloc *a, const pw_csr *A, const pw_ic0 *M, co
     op.precond = pw__ic0_op;
     op.actx = A;
     op.mctx = M;
-    return pw__pcg_run(a, &op, b, x, o, s, "PCG", e);
+    op.b = b, op.x = x, op.what = "PCG";
+    return pw__pcg_run(a, &op, o, s, e);
 }
 
 /* ---- least squares (CGLS) ---------------------------------------------- */
@@ -7495,9 +7502,20 @@ PW__DEF void pw__ldlt_symbolic(const pw_csr *A, const int *perm, const int *iper
  * the reach of its entries, in topological order). Returns 0 on a pivot
  * that is not positive, or not above 1e-14 of the diagonal entry it came
  * from (what a singular matrix leaves after cancellation). */
-PW__DEF int pw__ldlt_row(pw_ldlt *F, const pw_csr *A, const int *iperm, const int *parent, int *len, int *flag,
-                        int *pattern, double *y, int k)
+/* The scratch of pw_ldlt_factor (n entries each): the inverse ordering, the
+ * elimination tree, the entries of each column of L so far, visit marks,
+ * the reach of a row, and the dense row being solved (zero between rows). */
+typedef struct pw__ldlt_work {
+    const int *iperm, *parent;
+    int *len, *flag, *pattern;
+    double *y;
+} pw__ldlt_work;
+
+PW__DEF int pw__ldlt_row(pw_ldlt *F, const pw_csr *A, const pw__ldlt_work *W, int k)
 {
+    const int *iperm = W->iperm, *parent = W->parent;
+    int *len = W->len, *flag = W->flag, *pattern = W->pattern;
+    double *y = W->y;
     int old = F->perm[k], p, top = F->n;
     double akk;
     flag[k] = k;
@@ -7532,6 +7550,7 @@ PW__DEF int pw_ldlt_factor(const pw_alloc *a, const pw_csr *A, pw_ldlt *F, pw_er
 {
     int n = A->n, k, r = PW_OK, *iperm, *parent, *flag, *len, *pattern;
     double *y;
+    pw__ldlt_work W;
     memset(F, 0, sizeof *F);
     if (A->n != A->m) return pw_fail(e, PW_ERR_INVALID, "LDLT needs a square matrix, not %dx%d", A->n, A->m);
     F->n = n;
@@ -7552,8 +7571,9 @@ PW__DEF int pw_ldlt_factor(const pw_alloc *a, const pw_csr *A, pw_ldlt *F, pw_er
         F->Lx = (double *)pw_alloc_array(a, (size_t)F->Lp[n] + 1, sizeof(double), "LDLT factor", e);
         if (!F->Li || !F->Lx) r = PW_ERR_NOMEM;
         for (k = 0; k < n; k++) len[k] = 0;
+        W.iperm = iperm, W.parent = parent, W.len = len, W.flag = flag, W.pattern = pattern, W.y = y;
         for (k = 0; k < n && r == PW_OK; k++)
-            if (!pw__ldlt_row(F, A, iperm, parent, len, flag, pattern, y, k))
+            if (!pw__ldlt_row(F, A, &W, k))
                 r = pw_fail(e, PW_ERR_DEGENERATE, "LDLT: the matrix is not positive definite (pivot %d of %d, unknown %d, is %g)",
                             k, n, F->perm[k], F->D[k]);
     }
@@ -7831,7 +7851,8 @@ PW__DEF int pw_zpcg_solve(const pw_alloc *a, const pw_zcsr *A, const pw_zic0 *M,
     op.precond = pw__zic0_op;
     op.actx = A;
     op.mctx = M;
-    return pw__pcg_run(a, &op, b, x, o, s, "complex PCG", e);
+    op.b = b, op.x = x, op.what = "complex PCG";
+    return pw__pcg_run(a, &op, o, s, e);
 }
 
 #endif /* PW__ZSPARSE_V1 */
@@ -8268,17 +8289,11 @@ PW__DEF void pw__raster_emit(pw_raster_edges *s, const double *planes, pw_raster
 /* Snaps a triangle given in floats into pieces; *clipped tells whether the
  * pieces are a clipped fan (their own barycentrics are then not the
  * triangle's). Returns the number of pieces. */
-PW__DEF int pw__raster_pieces(float x0, float y0, float x1, float y1, float x2, float y2,
-                              const pw_raster_grid *g, double *v, pw_raster_edges *pieces,
+PW__DEF int pw__raster_pieces(const float xy[6], const pw_raster_grid *g, double *v, pw_raster_edges *pieces,
                               int *clipped)
 {
     int k;
-    v[0] = x0;
-    v[1] = y0;
-    v[2] = x1;
-    v[3] = y1;
-    v[4] = x2;
-    v[5] = y2;
+    for (k = 0; k < 6; k++) v[k] = xy[k];
     *clipped = 0;
     for (k = 0; k < 6; k++) {
         if (!pw_is_finite(v[k])) return 0;
@@ -8289,18 +8304,17 @@ PW__DEF int pw__raster_pieces(float x0, float y0, float x1, float y1, float x2, 
 }
 
 /* Calls fn(user, x, y, b0, b1, b2) for every pixel of [0,w) x [0,h) whose
- * centre the triangle covers (top-left rule, either winding), row by row.
+ * centre the triangle xy = (x0, y0, x1, y1, x2, y2) covers (top-left rule, either winding), row by row.
  * b0 + b1 + b2 = 1 and b0 v0 + b1 v1 + b2 v2 is the pixel centre, up to the
  * snapping of the vertices (2^-17 pixel at most on viewports up to 2048). */
-PW__DEF void pw_raster_tri(float x0, float y0, float x1, float y1, float x2, float y2, int w,
-                           int h, pw_raster_fn fn, void *user)
+PW__DEF void pw_raster_tri(const float xy[6], int w, int h, pw_raster_fn fn, void *user)
 {
     pw_raster_grid g;
     pw_raster_edges pieces[PW_RASTER_MAX_PIECES];
     double v[6], planes[9];
     int n, i, clipped;
     if (!pw_raster_grid_init(&g, w, h)) return;
-    n = pw__raster_pieces(x0, y0, x1, y1, x2, y2, &g, v, pieces, &clipped);
+    n = pw__raster_pieces(xy, &g, v, pieces, &clipped);
     if (clipped && !pw__raster_bary_planes(v, planes)) return;
     for (i = 0; i < n; i++) pw__raster_emit(pieces + i, clipped ? planes : NULL, fn, user);
 }
@@ -8308,15 +8322,14 @@ PW__DEF void pw_raster_tri(float x0, float y0, float x1, float y1, float x2, flo
 /* Same coverage as pw_raster_tri, reported as runs: fn(user, y, xa, xb) for
  * the pixels [xa, xb) of row y. A clipped triangle may report a row in
  * several adjacent runs. */
-PW__DEF void pw_raster_tri_spans(float x0, float y0, float x1, float y1, float x2, float y2,
-                                 int w, int h, pw_raster_span_fn fn, void *user)
+PW__DEF void pw_raster_tri_spans(const float xy[6], int w, int h, pw_raster_span_fn fn, void *user)
 {
     pw_raster_grid g;
     pw_raster_edges pieces[PW_RASTER_MAX_PIECES];
     double v[6];
     int n, i, y, xa, xb, clipped;
     if (!pw_raster_grid_init(&g, w, h)) return;
-    n = pw__raster_pieces(x0, y0, x1, y1, x2, y2, &g, v, pieces, &clipped);
+    n = pw__raster_pieces(xy, &g, v, pieces, &clipped);
     for (i = 0; i < n; i++)
         for (y = pieces[i].y0; y < pieces[i].y1; y++)
             if (pw_raster_next(pieces + i, &xa, &xb)) fn(user, y, xa, xb);
@@ -8553,12 +8566,19 @@ PW__DEF void pw__bounding_sphere(const float *pos, int nv, double *c, double *r)
     if (!(*r > 0.0)) *r = n ? 1e-3 * (1.0 + sqrt(pw_dot3(c, c))) : 1.0;
 }
 
-/* Where the finite vertices lie in a view basis (right rt, up up, view vd,
- * from centre c): the lateral extent (lo, hi in x and y) and the depth
- * range along the view. */
-PW__DEF void pw__view_extent(const float *pos, int nv, const double c[3], const double rt[3],
-                             const double up[3], const double vd[3], double lo[3], double hi[3])
+/* The orthonormal basis pw_camera_frame measures the mesh in: right rt, up
+ * up and view vd from the centre c, with the image centre at lateral offset
+ * (ox, oy) from c (0 until the framing has found it). */
+typedef struct pw__view_basis {
+    double c[3], rt[3], up[3], vd[3];
+    double ox, oy;
+} pw__view_basis;
+
+/* Where the finite vertices lie in view basis b: the lateral extent (lo, hi
+ * in x and y) and the depth range along the view. */
+PW__DEF void pw__view_extent(const float *pos, int nv, const pw__view_basis *b, double lo[3], double hi[3])
 {
+    const double *c = b->c, *rt = b->rt, *up = b->up, *vd = b->vd;
     int i, k, n = 0;
     for (k = 0; k < 3; k++) lo[k] = hi[k] = 0.0;
     for (i = 0; i < nv; i++) {
@@ -8578,11 +8598,11 @@ PW__DEF void pw__view_extent(const float *pos, int nv, const double c[3], const 
 }
 
 /* The range of projected tangents (x - ox)/(dist + z) of the vertices in
- * the view basis, in out[0..1] (x) and out[2..3] (y). */
-PW__DEF void pw__projected_range(const float *pos, int nv, const double c[3], const double rt[3],
-                                 const double up[3], const double vd[3], double ox, double oy,
-                                 double dist, double out[4])
+ * view basis b, in out[0..1] (x) and out[2..3] (y). */
+PW__DEF void pw__projected_range(const float *pos, int nv, const pw__view_basis *b, double dist, double out[4])
 {
+    const double *c = b->c, *rt = b->rt, *up = b->up, *vd = b->vd;
+    double ox = b->ox, oy = b->oy;
     int i, k, n = 0;
     for (k = 0; k < 4; k++) out[k] = 0.0;
     for (i = 0; i < nv; i++) {
@@ -8604,10 +8624,10 @@ PW__DEF void pw__projected_range(const float *pos, int nv, const double c[3], co
 /* The smallest distance from the framing centre at which every vertex
  * (lateral offset x, y from the image centre ox, oy; depth z toward the
  * far side) fits in half-angles with tangents tx, ty. */
-PW__DEF double pw__fit_distance(const float *pos, int nv, const double c[3], const double rt[3],
-                                const double up[3], const double vd[3], double ox, double oy,
-                                double tx, double ty)
+PW__DEF double pw__fit_distance(const float *pos, int nv, const pw__view_basis *b, double tx, double ty)
 {
+    const double *c = b->c, *rt = b->rt, *up = b->up, *vd = b->vd;
+    double ox = b->ox, oy = b->oy;
     double dist = 0.0;
     int i, k;
     for (i = 0; i < nv; i++) {
@@ -8634,6 +8654,7 @@ PW__DEF pw_camera pw_camera_frame(const float *pos, int nv, const float view_dir
                                   const float up[3], float fovy_deg, float aspect)
 {
     pw_camera cam;
+    pw__view_basis B;
     double c[3], r, vd[3] = {0, 0, -1}, u[3] = {0, 1, 0}, x[3], y[3], lo[3], hi[3], t, tx, dist, ox, oy;
     int k;
     if (view_dir)
@@ -8658,18 +8679,21 @@ PW__DEF pw_camera pw_camera_frame(const float *pos, int nv, const float view_dir
     pw__bounding_sphere(pos, pos ? nv : 0, c, &r);
     t = 0.95 * pw__tan_deg(0.5 * fovy_deg);
     tx = t * aspect;
-    pw__view_extent(pos, pos ? nv : 0, c, x, y, vd, lo, hi);
-    ox = 0.5 * (lo[0] + hi[0]);
-    oy = 0.5 * (lo[1] + hi[1]);
+    for (k = 0; k < 3; k++) B.c[k] = c[k], B.rt[k] = x[k], B.up[k] = y[k], B.vd[k] = vd[k];
+    B.ox = B.oy = 0.0;
+    pw__view_extent(pos, pos ? nv : 0, &B, lo, hi);
+    B.ox = 0.5 * (lo[0] + hi[0]);
+    B.oy = 0.5 * (lo[1] + hi[1]);
     for (k = 0; k < 4; k++) { /* centre the perspective image, not the orthographic one */
         double range[4];
-        dist = pos ? pw__fit_distance(pos, nv, c, x, y, vd, ox, oy, tx, t) : 0.0;
+        dist = pos ? pw__fit_distance(pos, nv, &B, tx, t) : 0.0;
         if (dist < -lo[2] + 0.05 * r) dist = -lo[2] + 0.05 * r; /* the eye stays outside */
         if (!pos || k == 3) break;
-        pw__projected_range(pos, nv, c, x, y, vd, ox, oy, dist, range);
-        ox += 0.5 * (range[0] + range[1]) * dist;
-        oy += 0.5 * (range[2] + range[3]) * dist;
+        pw__projected_range(pos, nv, &B, dist, range);
+        B.ox += 0.5 * (range[0] + range[1]) * dist;
+        B.oy += 0.5 * (range[2] + range[3]) * dist;
     }
+    ox = B.ox, oy = B.oy;
     for (k = 0; k < 3; k++) {
         cam.target[k] = pw__f(c[k] + ox * x[k] + oy * y[k]);
         cam.eye[k] = pw__f(cam.target[k] - vd[k] * dist);
@@ -8713,10 +8737,11 @@ PW__DEF void pw__box_1d(const float *src, int n, ptrdiff_t sst, float *dst, int 
     }
 }
 
-/* Box-filters the W x H float level src into the W2 x H2 level dst:
- * horizontal pass into tmp (W2 x H), then vertical. */
-PW__DEF void pw__mip_down(const float *src, int W, int H, float *dst, int W2, int H2, float *tmp)
+/* Box-filters level L of t, held as floats in src, into level L + 1 in dst:
+ * horizontal pass into tmp (lw[L + 1] x lh[L]), then vertical. */
+PW__DEF void pw__mip_down(const pw_texture *t, int L, const float *src, float *dst, float *tmp)
 {
+    int W = t->lw[L], H = t->lh[L], W2 = t->lw[L + 1], H2 = t->lh[L + 1];
     int y, x;
     for (y = 0; y < H; y++)
         pw__box_1d(src + (size_t)y * W * 4, W, 4, tmp + (size_t)y * W2 * 4, W2, 4);
@@ -8814,7 +8839,7 @@ PW__DEF int pw_texture_create(const pw_alloc *a, pw_texture *t, const pw_image *
         pw__tex_quantise(cur, n, t->level[L]);
         if (L + 1 < t->nlevels) {
             float *sw;
-            pw__mip_down(cur, t->lw[L], t->lh[L], next, t->lw[L + 1], t->lh[L + 1], tmp);
+            pw__mip_down(t, L, cur, next, tmp);
             sw = cur;
             cur = next;
             next = sw;
@@ -9469,12 +9494,21 @@ PW__DEF void pw__raster_vis(pw__ctx *c, pw_raster_edges *s, uint32_t id, const f
     if (s->y1 > c->by1) c->by1 = s->y1;
 }
 
+/* A shading point of triangle t: its attribute planes pl (PW__NPL floats),
+ * the sample's offset (dx, dy) from the planes' origin, and iq = 1/q, the
+ * perspective divisor there. */
+typedef struct pw__shade_pt {
+    int t;
+    const float *pl;
+    float dx, dy, iq;
+} pw__shade_pt;
+
 /* Texture colour at a shading point: perspective-correct (u, v) and their
  * exact screen derivatives from the planes (d(U/q)/dx = (U_x - u q_x) / q),
  * scaled to one pixel, give the mip level. Multiplies col. */
-PW__DEF void pw__shade_tex(const pw__ctx *c, const float *pl, float dx, float dy, float iq,
-                           float *col)
+PW__DEF void pw__shade_tex(const pw__ctx *c, const pw__shade_pt *P, float *col)
 {
+    const float *pl = P->pl, dx = P->dx, dy = P->dy, iq = P->iq;
     const pw_texture *t = c->tex;
     float u = (pl[3] * dx + pl[4] * dy + pl[5]) * iq, v = (pl[6] * dx + pl[7] * dy + pl[8]) * iq;
     float tx[4];
@@ -9494,9 +9528,9 @@ PW__DEF void pw__shade_tex(const pw__ctx *c, const float *pl, float dx, float dy
 
 /* The caller's shader at a shading point: barycentric coordinates and
  * their derivatives per pixel, as pw__shade_tex finds u, v. Multiplies col. */
-PW__DEF void pw__shade_custom(const pw__ctx *c, int t, const float *pl, float dx, float dy, float iq,
-                              float *col)
+PW__DEF void pw__shade_custom(const pw__ctx *c, const pw__shade_pt *P, float *col)
 {
+    const float *pl = P->pl, dx = P->dx, dy = P->dy, iq = P->iq;
     float b1 = (pl[3] * dx + pl[4] * dy + pl[5]) * iq, b2 = (pl[6] * dx + pl[7] * dy + pl[8]) * iq;
     float db[4], rgba[4], s = c->ss * iq;
     int k;
@@ -9504,7 +9538,7 @@ PW__DEF void pw__shade_custom(const pw__ctx *c, int t, const float *pl, float dx
     db[1] = (pl[4] - b1 * pl[1]) * s;
     db[2] = (pl[6] - b2 * pl[0]) * s;
     db[3] = (pl[7] - b2 * pl[1]) * s;
-    c->d->shader(c->d->shader_user, t, b1, b2, db, rgba);
+    c->d->shader(c->d->shader_user, P->t, b1, b2, db, rgba);
     for (k = 0; k < 3; k++) col[k] *= rgba[k] * rgba[3];
     col[3] *= rgba[3];
 }
@@ -9522,8 +9556,12 @@ PW__DEF void pw__shade(const pw__ctx *c, int t, float x, float y, float *out)
     col[3] = c->tint[3];
     if (pl[PW__READY] == 0.0f) pw__attr_planes(c, t, pl);
     if (!(q > 1e-30f)) q = 1e-30f; /* only reachable through rounding at a near-plane edge */
-    if (c->d->shader) pw__shade_custom(c, t, pl, dx, dy, 1.0f / q, col);
-    else if (c->tex) pw__shade_tex(c, pl, dx, dy, 1.0f / q, col);
+    if (c->d->shader || c->tex) {
+        pw__shade_pt P;
+        P.t = t, P.pl = pl, P.dx = dx, P.dy = dy, P.iq = 1.0f / q;
+        if (c->d->shader) pw__shade_custom(c, &P, col);
+        else pw__shade_tex(c, &P, col);
+    }
     if (c->lit) {
         float n0 = pl[9] * dx + pl[10] * dy + pl[11], n1 = pl[12] * dx + pl[13] * dy + pl[14];
         float n2 = pl[15] * dx + pl[16] * dy + pl[17], nn = n0 * n0 + n1 * n1 + n2 * n2;
@@ -12210,7 +12248,7 @@ PW__DEF int pw_atlas_bake(const pw_alloc *a, const pw_trimesh *m, const float *u
         float p[6];
         pw__atlas_bake_px(&B, f, p);
         B.f = f;
-        pw_raster_tri(p[0], p[1], p[2], p[3], p[4], p[5], size, size, pw__atlas_bake_texel, &B);
+        pw_raster_tri(p, size, size, pw__atlas_bake_texel, &B);
         if ((f & 4095) == 4095) r = pw_report(prog, 0.7f + 0.25f * (float)f / (float)m->nf, "atlas baking", e);
     }
     for (f = 0; f < m->nf && r == PW_OK; f++) pw__atlas_bake_ring(&B, f);
@@ -12534,6 +12572,31 @@ typedef struct pw_df_cut {
     double sin2;
 } pw_df_cut;
 
+/* A direction field being built on a mesh: z (nf*2) holds each triangle's
+ * direction in its frame (pw_df_frame), conn (pw_df_connection) carries
+ * directions across edges, and known (nf) marks the triangles whose
+ * direction is given rather than propagated. The fill and relax steps below
+ * all work on the same three arrays, so they travel together. */
+typedef struct pw_df_field {
+    const pw_trimesh *m;
+    const float *conn;
+    double *z;
+    unsigned char *known;
+} pw_df_field;
+
+/* One breadth-first propagation (pw_df_fill_cut): the field, how directions
+ * are seeded and carried (power 2: doubled angles; up; the cut or NULL),
+ * and the work arrays: level (nf; -1 not reached yet), the queue (nf) with
+ * its tail, and a stack (nf) for flooding a component. */
+typedef struct pw_df_prop {
+    const pw_df_field *F;
+    int power;
+    pw_v3 up;
+    const pw_df_cut *cut;
+    int *level, *queue, *stack;
+    int tail;
+} pw_df_prop;
+
 /* The triangle across edge k of f, or -1 on a boundary or a cut. */
 PW__DEF int pw_df_across(const pw_trimesh *m, const pw_df_cut *cut, int f, int k)
 {
@@ -12544,9 +12607,13 @@ PW__DEF int pw_df_across(const pw_trimesh *m, const pw_df_cut *cut, int f, int k
  * `start` on): every triangle where `up` projects gets that projection, as
  * in the up field; if none does (a flat piece normal to up), the lowest
  * triangle gets the fixed axis. Seeds go to the queue with level 0. */
-PW__DEF void pw_df_seed(const pw_trimesh *m, pw_v3 up, int power, const pw_df_cut *cut, double *z, int *level,
-                        int *queue, int *tail, int *stack, int start)
+PW__DEF void pw_df_seed(pw_df_prop *P, int start)
 {
+    const pw_trimesh *m = P->F->m;
+    const pw_df_cut *cut = P->cut;
+    double *z = P->F->z;
+    int *level = P->level, *queue = P->queue, *stack = P->stack, power = P->power;
+    pw_v3 up = P->up;
     int top = 1, n = 0, i, k, f, g, seeded = 0;
     stack[0] = start;
     level[start] = -2;
@@ -12561,7 +12628,7 @@ PW__DEF void pw_df_seed(const pw_trimesh *m, pw_v3 up, int power, const pw_df_cu
         if (pw_df_project_tilt(m, f, up, cut ? cut->sin2 : 1e-8, z + 2 * f)) {
             if (power == 2) pw_df_square(z + 2 * f);
             level[f] = 0;
-            queue[(*tail)++] = f;
+            queue[P->tail++] = f;
             seeded = 1;
         }
     }
@@ -12569,7 +12636,7 @@ PW__DEF void pw_df_seed(const pw_trimesh *m, pw_v3 up, int power, const pw_df_cu
         pw_df_axis(m, start, z + 2 * start);
         if (power == 2) pw_df_square(z + 2 * start);
         level[start] = 0;
-        queue[(*tail)++] = start;
+        queue[P->tail++] = start;
     }
 }
 
@@ -12577,9 +12644,14 @@ PW__DEF void pw_df_seed(const pw_trimesh *m, pw_v3 up, int power, const pw_df_cu
  * ones: the unit average of their directions transported into f (§3.2
  * propagation: "projecting onto its face plane the average direction of
  * neighboring faces"); the first neighbour's if the average cancels. */
-PW__DEF void pw_df_average(const pw_trimesh *m, const float *conn, int power, const pw_df_cut *cut,
-                           const int *level, double *z, int f)
+PW__DEF void pw_df_average(const pw_df_prop *P, int f)
 {
+    const pw_trimesh *m = P->F->m;
+    const float *conn = P->F->conn;
+    const pw_df_cut *cut = P->cut;
+    const int *level = P->level;
+    double *z = P->F->z;
+    int power = P->power;
     double sum[2] = {0.0, 0.0}, first[2] = {0.0, 0.0}, w[2];
     int k, g, n = 0;
     for (k = 0; k < 3; k++) {
@@ -12602,40 +12674,45 @@ PW__DEF void pw_df_average(const pw_trimesh *m, const float *conn, int power, co
  * on which known triangle is met first. Components without a known triangle
  * are seeded by pw_df_seed. Known directions must be unit. With a cut
  * (pw_df_cut), propagation does not cross its edges. */
-PW__DEF int pw_df_fill_cut(const pw_alloc *a, const pw_trimesh *m, const float *conn, int power, pw_v3 up,
-                           const pw_df_cut *cut, const unsigned char *known, double *z, pw_err *e)
+PW__DEF int pw_df_fill_cut(const pw_alloc *a, const pw_df_field *F, int power, pw_v3 up, const pw_df_cut *cut,
+                           pw_err *e)
 {
+    const pw_trimesh *m = F->m;
+    const unsigned char *known = F->known;
     int *level = (int *)pw_alloc_array(a, (size_t)m->nf * 3, sizeof(int), "field propagation", e);
-    int *queue, *stack, head = 0, tail = 0, next = 0, f, k, g;
+    int head = 0, next = 0, f, k, g;
+    pw_df_prop P;
     if (!level) return PW_ERR_NOMEM;
-    queue = level + m->nf;
-    stack = queue + m->nf;
+    P.F = F, P.power = power, P.up = up, P.cut = cut;
+    P.level = level;
+    P.queue = level + m->nf;
+    P.stack = P.queue + m->nf;
+    P.tail = 0;
     for (f = 0; f < m->nf; f++) {
         level[f] = known[f] ? 0 : -1;
-        if (known[f]) queue[tail++] = f;
+        if (known[f]) P.queue[P.tail++] = f;
     }
     for (;;) {
-        if (head == tail) {
+        if (head == P.tail) {
             while (next < m->nf && level[next] >= 0) next++;
             if (next == m->nf) break;
-            pw_df_seed(m, up, power, cut, z, level, queue, &tail, stack, next);
+            pw_df_seed(&P, next);
         }
-        f = queue[head++];
-        if (level[f] > 0) pw_df_average(m, conn, power, cut, level, z, f);
+        f = P.queue[head++];
+        if (level[f] > 0) pw_df_average(&P, f);
         for (k = 0; k < 3; k++)
             if ((g = pw_df_across(m, cut, f, k)) >= 0 && level[g] == -1) {
                 level[g] = level[f] + 1;
-                queue[tail++] = g;
+                P.queue[P.tail++] = g;
             }
     }
     pw_free(a, level);
     return PW_OK;
 }
 
-PW__DEF int pw_df_fill(const pw_alloc *a, const pw_trimesh *m, const float *conn, int power, pw_v3 up,
-                       const unsigned char *known, double *z, pw_err *e)
+PW__DEF int pw_df_fill(const pw_alloc *a, const pw_df_field *F, int power, pw_v3 up, pw_err *e)
 {
-    return pw_df_fill_cut(a, m, conn, power, up, NULL, known, z, e);
+    return pw_df_fill_cut(a, F, power, up, NULL, e);
 }
 
 /* §3.2: "project the global up direction onto the surface, and then
@@ -12646,12 +12723,11 @@ PW__DEF int pw_df_fill(const pw_alloc *a, const pw_trimesh *m, const float *conn
  * (pw_df_axis). ISOTROPIC uses the same field: growth replaces the
  * orientation by its own propagation, and a smooth start keeps the
  * discontinuity part of lapped__difficulty quiet. */
-PW__DEF int pw_df_up(const pw_alloc *a, const pw_trimesh *m, const float *conn, pw_v3 up, double *z,
-                          unsigned char *known, pw_err *e)
+PW__DEF int pw_df_up(const pw_alloc *a, const pw_df_field *F, pw_v3 up, pw_err *e)
 {
     int f;
-    for (f = 0; f < m->nf; f++) known[f] = (unsigned char)pw_df_project(m, f, up, z + 2 * f);
-    return pw_df_fill(a, m, conn, 1, up, known, z, e);
+    for (f = 0; f < F->m->nf; f++) F->known[f] = (unsigned char)pw_df_project(F->m, f, up, F->z + 2 * f);
+    return pw_df_fill(a, F, 1, up, e);
 }
 
 /* The up field without bullseyes. Where up is (nearly) normal to the
@@ -12689,9 +12765,12 @@ PW__DEF void pw_df_creases(const pw_trimesh *m, unsigned char *cut)
 
 /* One Gauss-Seidel sweep over the triangles not known: each becomes the
  * mean of its uncut neighbours' directions transported into it. */
-PW__DEF void pw_df_relax(const pw_trimesh *m, const float *conn, const pw_df_cut *cut, const unsigned char *known,
-                         double *z)
+PW__DEF void pw_df_relax(const pw_df_field *F, const pw_df_cut *cut)
 {
+    const pw_trimesh *m = F->m;
+    const float *conn = F->conn;
+    const unsigned char *known = F->known;
+    double *z = F->z;
     int f, k, g;
     for (f = 0; f < m->nf; f++) {
         double sum[2] = {0.0, 0.0}, w[2];
@@ -12708,9 +12787,10 @@ PW__DEF void pw_df_relax(const pw_trimesh *m, const float *conn, const pw_df_cut
     }
 }
 
-PW__DEF int pw_df_up_creased(const pw_alloc *a, const pw_trimesh *m, const float *conn, pw_v3 up, double *z,
-                             unsigned char *known, pw_err *e)
+PW__DEF int pw_df_up_creased(const pw_alloc *a, const pw_df_field *F, pw_v3 up, pw_err *e)
 {
+    const pw_trimesh *m = F->m;
+    double *z = F->z;
     unsigned char *edge = (unsigned char *)pw_alloc_array(a, (size_t)m->nf * 3, 1, "field creases", e);
     double st = sin(PW_DF_UP_TILT * 3.14159265358979323846 / 180.0);
     pw_df_cut cut;
@@ -12719,9 +12799,9 @@ PW__DEF int pw_df_up_creased(const pw_alloc *a, const pw_trimesh *m, const float
     pw_df_creases(m, edge);
     cut.edge = edge;
     cut.sin2 = st * st;
-    for (f = 0; f < m->nf; f++) known[f] = (unsigned char)pw_df_project_tilt(m, f, up, cut.sin2, z + 2 * f);
-    r = pw_df_fill_cut(a, m, conn, 1, up, &cut, known, z, e);
-    for (i = 0; r == PW_OK && i < PW_DF_UP_SWEEPS; i++) pw_df_relax(m, conn, &cut, known, z);
+    for (f = 0; f < m->nf; f++) F->known[f] = (unsigned char)pw_df_project_tilt(m, f, up, cut.sin2, z + 2 * f);
+    r = pw_df_fill_cut(a, F, 1, up, &cut, e);
+    for (i = 0; r == PW_OK && i < PW_DF_UP_SWEEPS; i++) pw_df_relax(F, &cut);
     for (f = 0; r == PW_OK && f < m->nf; f++)
         if (!pw_df_unit(z + 2 * f)) pw_df_axis(m, f, z + 2 * f);
     pw_free(a, edge);
@@ -12875,9 +12955,21 @@ PW__DEF int pw_df_smooth(const pw_alloc *a, const pw_trimesh *m, const float *co
 /* Relaxes the neighbours of triangle f (just oriented) in the orientation
  * walk: a neighbour's key is 1 - |cos| of the angle between its line and
  * f's direction carried over, the smallest key (best agreement) kept. */
-PW__DEF void pw_df_offer(const pw_trimesh *m, const float *conn, const double *z, int f,
-                              const unsigned char *seen, double *best, int *via, pw_heap *hp)
+/* The orientation walk's state: seen (nf) marks oriented triangles, best
+ * (nf) the smallest key offered to each, via (nf) the half-edge it came
+ * through, hp the heap of offers (room for 3 nf + 1 entries). */
+typedef struct pw_df_walker {
+    unsigned char *seen;
+    double *best;
+    int *via;
+    pw_heap *hp;
+} pw_df_walker;
+
+PW__DEF void pw_df_offer(const pw_trimesh *m, const float *conn, const double *z, int f, const pw_df_walker *W)
 {
+    const unsigned char *seen = W->seen;
+    double *best = W->best;
+    int *via = W->via;
     int k, g, th;
     double w[2], key;
     for (k = 0; k < 3; k++) {
@@ -12887,16 +12979,20 @@ PW__DEF void pw_df_offer(const pw_trimesh *m, const float *conn, const double *z
         if (key < best[g]) {
             best[g] = key;
             via[g] = th;
-            pw_heap_insert(hp, key, g);
+            pw_heap_insert(W->hp, key, g);
         }
     }
 }
 
-/* The walk of pw_df_orient (best: nf keys, via: nf half-edges,
- * hp: room for 3 nf + 1 entries). */
-PW__DEF void pw_df_walk(const pw_trimesh *m, const float *conn, pw_v3 up, double *z,
-                             unsigned char *seen, double *best, int *via, pw_heap *hp)
+/* The walk of pw_df_orient over the field z (nf*2, no known flags). */
+PW__DEF void pw_df_walk(const pw_df_field *F, pw_v3 up, const pw_df_walker *W)
 {
+    const pw_trimesh *m = F->m;
+    const float *conn = F->conn;
+    double *z = F->z, *best = W->best;
+    unsigned char *seen = W->seen;
+    int *via = W->via;
+    pw_heap *hp = W->hp;
     double w[2];
     int s, f;
     for (f = 0; f < m->nf; f++) best[f] = 2.0;
@@ -12905,7 +13001,7 @@ PW__DEF void pw_df_walk(const pw_trimesh *m, const float *conn, pw_v3 up, double
         if (pw_df_project(m, s, up, w) && w[0] * z[2 * s] + w[1] * z[2 * s + 1] < 0.0)
             z[2 * s] = -z[2 * s], z[2 * s + 1] = -z[2 * s + 1];
         seen[s] = 1;
-        pw_df_offer(m, conn, z, s, seen, best, via, hp);
+        pw_df_offer(m, conn, z, s, W);
         while (hp->n > 0) {
             f = pw_heap_pop(hp);
             if (seen[f]) continue; /* stale entry */
@@ -12913,7 +13009,7 @@ PW__DEF void pw_df_walk(const pw_trimesh *m, const float *conn, pw_v3 up, double
             if (w[0] * z[2 * f] + w[1] * z[2 * f + 1] < 0.0)
                 z[2 * f] = -z[2 * f], z[2 * f + 1] = -z[2 * f + 1];
             seen[f] = 1;
-            pw_df_offer(m, conn, z, f, seen, best, via, hp);
+            pw_df_offer(m, conn, z, f, W);
         }
     }
 }
@@ -12934,10 +13030,14 @@ PW__DEF int pw_df_orient(const pw_alloc *a, const pw_trimesh *m, const float *co
     unsigned char *seen = (unsigned char *)pw_calloc_array(a, n, 1, "field orientation", e);
     int r = dbl && ints && seen ? PW_OK : PW_ERR_NOMEM;
     pw_heap hp;
+    pw_df_field F;
+    pw_df_walker W;
     if (r == PW_OK) { /* dbl: best keys, then the heap's; ints: via, then the heap's */
         memset(&hp, 0, sizeof hp);
         hp.key = dbl + n, hp.item = ints + n;
-        pw_df_walk(m, conn, up, z, seen, dbl, ints, &hp);
+        F.m = m, F.conn = conn, F.z = z, F.known = NULL;
+        W.seen = seen, W.best = dbl, W.via = ints, W.hp = &hp;
+        pw_df_walk(&F, up, &W);
     }
     pw_free(a, dbl);
     pw_free(a, ints);
@@ -12949,10 +13049,11 @@ PW__DEF int pw_df_orient(const pw_alloc *a, const pw_trimesh *m, const float *co
  * 1e-3 / diagonal, i.e. radii of curvature over a thousand mesh sizes),
  * smoothing, unit length, gaps filled (components with no direction at all,
  * like a sphere or a plane, get the up field), halved to vectors, oriented. */
-PW__DEF int pw_df_curvature(const pw_alloc *a, const pw_trimesh *m, pw_v3 up, int smoothing,
-                            const float *conn, double *z, unsigned char *known, pw_err *e)
+PW__DEF int pw_df_curvature(const pw_alloc *a, const pw_df_field *F, pw_v3 up, int smoothing, pw_err *e)
 {
-    double *vn, abc[3];
+    const pw_trimesh *m = F->m;
+    const float *conn = F->conn;
+    double *z = F->z, *vn, abc[3];
     int f, r;
     if (smoothing < 0)
         return pw_fail(e, PW_ERR_INVALID, "curvature field: smoothing %d is negative", smoothing);
@@ -12963,8 +13064,8 @@ PW__DEF int pw_df_curvature(const pw_alloc *a, const pw_trimesh *m, pw_v3 up, in
     }
     pw_free(a, vn);
     if ((r = pw_df_smooth(a, m, conn, smoothing, z, e)) != PW_OK) return r;
-    for (f = 0; f < m->nf; f++) known[f] = (unsigned char)pw_df_unit(z + 2 * f);
-    if ((r = pw_df_fill(a, m, conn, 2, up, known, z, e)) != PW_OK) return r;
+    for (f = 0; f < m->nf; f++) F->known[f] = (unsigned char)pw_df_unit(z + 2 * f);
+    if ((r = pw_df_fill(a, F, 2, up, e)) != PW_OK) return r;
     for (f = 0; f < m->nf; f++) pw_df_halve(z + 2 * f);
     return pw_df_orient(a, m, conn, up, z, e);
 }
@@ -15321,15 +15422,25 @@ PW__DEF int pw__quilt_cmp_float(const void *a, const void *b)
     return x < y ? -1 : x > y;
 }
 
+/* The components of a w x h motif map m on the torus: comp (w*h) holds the
+ * stamp of the component each pixel was flooded with (-1: none yet), ux
+ * and uy its unwrapped position, stack the pixels to visit. */
+typedef struct pw__quilt_flood {
+    const float *m;
+    int w, h;
+    int *comp, *ux, *uy, *stack;
+} pw__quilt_flood;
+
 /* Floods the component of motif pixels (value 1) through `seed` on the
- * torus, writing `stamp` into comp and each pixel's unwrapped position
- * into ux, uy. Returns 1 if the component wraps around the torus (reaches
- * a pixel again at another unwrapped position): a network such as mortar
- * or the dark gaps between leaves, the ground, not a motif. */
-PW__DEF int pw__quilt_wraps(const float *m, int w, int h, int seed, int stamp, int *comp, int *ux, int *uy,
-                            int *stack, size_t *size)
+ * torus, stamping it with seed's index. Returns 1 if the component wraps
+ * around the torus (reaches a pixel again at another unwrapped position):
+ * a network such as mortar or the dark gaps between leaves, the ground, not
+ * a motif. *size gets its pixel count. */
+PW__DEF int pw__quilt_wraps(const pw__quilt_flood *F, int seed, size_t *size)
 {
     static const int dx[4] = {1, -1, 0, 0}, dy[4] = {0, 0, 1, -1};
+    const float *m = F->m;
+    int w = F->w, h = F->h, stamp = seed, *comp = F->comp, *ux = F->ux, *uy = F->uy, *stack = F->stack;
     int top = 0, wraps = 0, k;
     *size = 0;
     comp[seed] = stamp;
@@ -15365,12 +15476,14 @@ PW__DEF int pw__quilt_clear_ground(const pw_alloc *a, float *m, int w, int h, pw
 {
     size_t n = (size_t)w * h, i, size;
     int *buf = (int *)pw_alloc_array(a, n * 4, sizeof(int), "motif components", e);
-    int *comp = buf, *ux = buf + n, *uy = buf + 2 * n, *stack = buf + 3 * n;
+    int *comp = buf;
+    pw__quilt_flood F;
     if (!buf) return PW_ERR_NOMEM;
+    F.m = m, F.w = w, F.h = h;
+    F.comp = comp, F.ux = buf + n, F.uy = buf + 2 * n, F.stack = buf + 3 * n;
     for (i = 0; i < n; i++) comp[i] = -1;
     for (i = 0; i < n; i++)
-        if (m[i] > 0.5f && comp[i] < 0 &&
-            (pw__quilt_wraps(m, w, h, (int)i, (int)i, comp, ux, uy, stack, &size) || size * 4 >= n ||
+        if (m[i] > 0.5f && comp[i] < 0 && (pw__quilt_wraps(&F, (int)i, &size) || size * 4 >= n ||
              size * 200 < n)) {
             size_t j;
             for (j = 0; j < n; j++)
@@ -15387,10 +15500,11 @@ PW__DEF int pw__quilt_clear_ground(const pw_alloc *a, float *m, int w, int h, pw
  * leaves count and the speckle inside them does not. What the outlines
  * enclose is a motif; what stays connected around the whole (periodic)
  * image is the ground between motifs (mortar, gaps). *edge gets the
- * threshold (a colour change per pixel). */
-PW__DEF int pw_quilt_motif_map(const pw_alloc *a, const float *px, int w, int h, int c, float *motif,
-                               float *edge, pw_err *e)
+ * threshold (a colour change per pixel). motif holds src's w*h pixels. */
+PW__DEF int pw_quilt_motif_map(const pw_alloc *a, const pw_image *src, float *motif, float *edge, pw_err *e)
 {
+    const float *px = src->px;
+    int w = src->w, h = src->h, c = src->c;
     size_t n = (size_t)w * h;
     float *blur = (float *)pw_alloc_array(a, n * 2 * c, sizeof(float), "motif map", e);
     float *g = (float *)pw_alloc_array(a, n * 2, sizeof(float), "motif gradients", e);
@@ -15421,11 +15535,26 @@ PW__DEF int pw_quilt_motif_map(const pw_alloc *a, const float *px, int w, int h,
     return pw__quilt_clear_ground(a, motif, w, h, e);
 }
 
+/* One alpha-expansion move being built: the quilt, the label alpha, the
+ * graph g, node[i] (w*h) the graph variable of pixel i or -1 for a pixel
+ * that cannot switch, and u0, u1 (per variable) the unary costs of keeping
+ * and of switching. The arrays are caller scratch. */
+typedef struct pw__quilt_move {
+    const pw_quilt *q;
+    int alpha;
+    pw_graph *g;
+    int *node;
+    double *u0, *u1;
+} pw__quilt_move;
+
 /* Adds the expansion-move energy of one neighbour pair to the graph.
  * Variable x = 1 means "switch to alpha"; node[i] < 0 marks a constant. */
-PW__DEF int pw__quilt_add_pair(const pw_quilt *q, pw_graph *g, const int *node, double *u0,
-                               double *u1, int i, int j, int alpha, pw_err *e)
+PW__DEF int pw__quilt_add_pair(const pw__quilt_move *M, int i, int j, pw_err *e)
 {
+    const pw_quilt *q = M->q;
+    const int *node = M->node;
+    double *u0 = M->u0, *u1 = M->u1;
+    int alpha = M->alpha;
     int li = q->label[i], lj = q->label[j], vi = node[i], vj = node[j];
     if (vi >= 0 && vj >= 0) {
         /* E00 = V(li,lj), E01 = V(li,a), E10 = V(a,lj), E11 = 0 */
@@ -15436,7 +15565,7 @@ PW__DEF int pw__quilt_add_pair(const pw_quilt *q, pw_graph *g, const int *node, 
         u0[vi] += a00;              /* E = a00 + (a10-a00) xi - a10 xj + w [xi=0,xj=1] */
         u1[vi] += a10;
         u0[vj] += a10;
-        return pw_graph_add_edge(g, vi, vj, w > 0.0 ? (float)w : 0.0f, 0.0f, e);
+        return pw_graph_add_edge(M->g, vi, vj, w > 0.0 ? (float)w : 0.0f, 0.0f, e);
     }
     if (vi >= 0) {
         u0[vi] += pw_quilt_pair_cost(q, i, j, li, lj);
@@ -15460,11 +15589,14 @@ PW__DEF void pw__quilt_tlinks(pw_graph *g, const double *u0, const double *u1, i
     }
 }
 
-/* One alpha-expansion move. `node` and the u arrays are caller scratch of
- * w*h entries. Returns the number of pixels that switched in *changed. */
-PW__DEF int pw__quilt_expand_one(const pw_quilt *q, int alpha, int *node, double *u0,
-                                 double *u1, int *changed, const pw_alloc *a, pw_err *e)
+/* One alpha-expansion move (M: its label and scratch of w*h entries, the
+ * graph made here). Returns the number of pixels that switched in
+ * *changed. */
+PW__DEF int pw__quilt_expand_one(pw__quilt_move *M, int *changed, const pw_alloc *a, pw_err *e)
 {
+    const pw_quilt *q = M->q;
+    int alpha = M->alpha, *node = M->node;
+    double *u0 = M->u0, *u1 = M->u1;
     pw_graph g;
     int i, k, n = q->w * q->h, nvar = 0, nb[2], r;
     double flow;
@@ -15475,10 +15607,11 @@ PW__DEF int pw__quilt_expand_one(const pw_quilt *q, int alpha, int *node, double
     if (nvar == 0) return PW_OK;
     for (i = 0; i < nvar; i++) u0[i] = u1[i] = 0.0;
     if ((r = pw_graph_init(&g, a, nvar, 2 * nvar, e)) != PW_OK) return r;
+    M->g = &g;
     for (i = 0; i < n && r == PW_OK; i++) {
         pw__quilt_neighbours(q, i, nb);
         for (k = 0; k < 2 && r == PW_OK; k++)
-            if (nb[k] >= 0) r = pw__quilt_add_pair(q, &g, node, u0, u1, i, nb[k], alpha, e);
+            if (nb[k] >= 0) r = pw__quilt_add_pair(M, i, nb[k], e);
     }
     if (r == PW_OK) {
         pw__quilt_tlinks(&g, u0, u1, nvar);
@@ -15490,6 +15623,7 @@ PW__DEF int pw__quilt_expand_one(const pw_quilt *q, int alpha, int *node, double
             (*changed)++;
         }
     pw_graph_free(&g);
+    M->g = NULL;
     return r;
 }
 
@@ -15500,6 +15634,7 @@ PW__DEF int pw_quilt_optimize(const pw_alloc *a, pw_quilt *q, int cycles, pw_err
     int n = q->w * q->h, c, l, r = PW_OK, changed, total;
     int *node = (int *)pw_alloc_array(a, (size_t)n, sizeof(int), "quilt nodes", e);
     double *u = (double *)pw_alloc_array(a, (size_t)n * 2, sizeof(double), "quilt costs", e);
+    pw__quilt_move M;
     if (!node || !u) {
         pw_free(a, node);
         pw_free(a, u);
@@ -15508,7 +15643,8 @@ PW__DEF int pw_quilt_optimize(const pw_alloc *a, pw_quilt *q, int cycles, pw_err
     for (c = 0; c < cycles && r == PW_OK; c++) {
         total = 0;
         for (l = 0; l < q->nlabels && r == PW_OK; l++) {
-            r = pw__quilt_expand_one(q, l, node, u, u + n, &changed, a, e);
+            M.q = q, M.alpha = l, M.g = NULL, M.node = node, M.u0 = u, M.u1 = u + n;
+            r = pw__quilt_expand_one(&M, &changed, a, e);
             total += changed;
         }
         if (total == 0) break;
@@ -15542,12 +15678,13 @@ PW__DEF int pw__tileable_near_wrap(int x, int n, int shift)
 
 /* Makes an image tile seamlessly (periodic in x and y) by graph-cut
  * compositing of it with shifted copies of itself (see above), on raw
- * samples: px and out hold w*h pixels of c >= 1 channels (any number, so
+ * samples: in and out hold w*h pixels of c >= 1 channels (any number, so
  * that a feature mask can travel as an extra channel and be cut with the
  * colours). Images under 8 pixels wide or high are copied. */
-PW__DEF int pw_quilt_make_tileable_px(const pw_alloc *a, const float *px, int w, int h, int c,
-                                      float *out, pw_err *e)
+PW__DEF int pw_quilt_make_tileable_px(const pw_alloc *a, const pw_image *in, float *out, pw_err *e)
 {
+    const float *px = in->px;
+    int w = in->w, h = in->h, c = in->c;
     int x, y, l, r;
     size_t n = (size_t)w * h, i;
     float *src;
@@ -15604,7 +15741,7 @@ PW__DEF int pw_quilt_make_tileable(const pw_alloc *a, const pw_image *in, pw_ima
     int r;
     if ((r = pw_image_alloc(a, out, in->w, in->h, in->c, e)) != PW_OK) return r;
     out->bits = in->bits;
-    r = pw_quilt_make_tileable_px(a, in->px, in->w, in->h, in->c, out->px, e);
+    r = pw_quilt_make_tileable_px(a, in, out->px, e);
     if (r != PW_OK) pw_image_free(a, out);
     return r;
 }
@@ -16806,10 +16943,12 @@ static int pgp__base_field(pgp__state *P, pw_err *e)
     double *pull = (double *)pw_alloc_array(&P->a, nf, sizeof(double), "field", e);
     pw_v3 up = pw_v3_norm(pw_v3_load(P->o.up));
     int r = known && pull ? PW_OK : PW_ERR_NOMEM, f;
+    pw_df_field F;
+    F.m = &P->m, F.conn = P->conn, F.z = P->base, F.known = known;
     if (r == PW_OK && P->o.field == PGP_FIELD_CURVATURE)
-        r = pw_df_curvature(&P->a, &P->m, up, P->o.smoothing, P->conn, P->base, known, e);
+        r = pw_df_curvature(&P->a, &F, up, P->o.smoothing, e);
     else if (r == PW_OK)
-        r = pw_df_up(&P->a, &P->m, P->conn, up, P->base, known, e);
+        r = pw_df_up(&P->a, &F, up, e);
     for (f = 0; r == PW_OK && f < P->m.nf; f++) { /* that is d_t; d_s = rot(-90)(d_t) */
         double x = P->base[2 * f], c = pw_v3_dot(up, pw_v3_load(P->m.normal + 3 * f));
         P->base[2 * f] = P->base[2 * f + 1];
@@ -19143,9 +19282,11 @@ static void pgp__resample_line(const float *in, int from, size_t stride, int c, 
     }
 }
 
-/* w x h x c samples to n x n, rows then columns. */
-static int pgp__resample(const pw_alloc *a, const float *px, int w, int h, int c, int n, float *out, pw_err *e)
+/* The samples of src (w x h x c) to n x n, rows then columns. */
+static int pgp__resample(const pw_alloc *a, const pw_image *src, int n, float *out, pw_err *e)
 {
+    const float *px = src->px;
+    int w = src->w, h = src->h, c = src->c;
     float *tmp = (float *)pw_alloc_array(a, (size_t)n * h * c, sizeof(float), "resampled key", e);
     int y, x;
     if (!tmp) return PW_ERR_NOMEM;
@@ -19156,9 +19297,11 @@ static int pgp__resample(const pw_alloc *a, const float *px, int w, int h, int c
 }
 
 /* Mean absolute difference between columns x0 and x1 (dx = 1) or rows
- * (dx = 0) of a w x h x c image. */
-static double pgp__line_diff(const float *px, int w, int h, int c, int dx, int i0, int i1)
+ * (dx = 0) of an image. */
+static double pgp__line_diff(const pw_image *img, int dx, int i0, int i1)
 {
+    const float *px = img->px;
+    int w = img->w, h = img->h, c = img->c;
     int j, k, len = dx ? h : w;
     double s = 0.0;
     for (j = 0; j < len; j++)
@@ -19171,16 +19314,16 @@ static double pgp__line_diff(const float *px, int w, int h, int c, int dx, int i
 
 /* PGP_TILEABLE_AUTO's test: is the wrap-around seam within twice the mean
  * difference of neighbouring lines inside, in both directions? */
-static int pgp__tiles(const float *px, int w, int h, int c)
+static int pgp__tiles(const pw_image *img)
 {
     int dx, i;
     for (dx = 0; dx < 2; dx++) {
-        int len = dx ? w : h;
+        int len = dx ? img->w : img->h;
         double inner = 0.0;
         if (len < 3) continue;
-        for (i = 0; i + 1 < len; i++) inner += pgp__line_diff(px, w, h, c, dx, i, i + 1);
+        for (i = 0; i + 1 < len; i++) inner += pgp__line_diff(img, dx, i, i + 1);
         inner /= len - 1;
-        if (pgp__line_diff(px, w, h, c, dx, len - 1, 0) > 2.0 * inner + 1e-6) return 0;
+        if (pgp__line_diff(img, dx, len - 1, 0) > 2.0 * inner + 1e-6) return 0;
     }
     return 1;
 }
@@ -19278,9 +19421,10 @@ static float pgp__otsu(const float *v, size_t n)
 
 /* §1: "constructed automatically": mask[i] = 1 on the features of a w x h
  * image (PGP_MASK_*). */
-static int pgp__auto_mask(const pw_alloc *a, const float *px, int w, int h, int c, int mode, unsigned char *mask,
-                          pw_err *e)
+static int pgp__auto_mask(const pw_alloc *a, const pw_image *img, int mode, unsigned char *mask, pw_err *e)
 {
+    const float *px = img->px;
+    int w = img->w, h = img->h, c = img->c;
     size_t i, nn = (size_t)w * h;
     float *lum = (float *)pw_alloc_array(a, nn * 3, sizeof(float), "automatic mask", e), *g, thr;
     int x, y;
@@ -19356,13 +19500,16 @@ static int pgp__prepare_key(const pw_alloc *a, const pgp_key *key, int c, const 
     int n = o->size, cs = c + (key->mask ? 1 : 0), r;
     size_t i, nn = (size_t)n * n;
     float *st = NULL, *cut = NULL, *rs = NULL;
+    pw_image sv, tile; /* views: the stacked key (cs channels), and its n x n colour */
     r = pgp__stack_key(a, key, c, &st, e);
-    if (r == PW_OK && (o->tileable == PGP_TILEABLE_MAKE || (o->tileable == PGP_TILEABLE_AUTO && !pgp__tiles(st, img.w, img.h, cs)))) {
+    sv = img, sv.c = cs, sv.px = st;
+    if (r == PW_OK && (o->tileable == PGP_TILEABLE_MAKE || (o->tileable == PGP_TILEABLE_AUTO && !pgp__tiles(&sv)))) {
         cut = (float *)pw_alloc_array(a, (size_t)img.w * img.h * cs, sizeof(float), "tileable key", e);
-        r = cut ? pw_quilt_make_tileable_px(a, st, img.w, img.h, cs, cut, e) : PW_ERR_NOMEM;
+        r = cut ? pw_quilt_make_tileable_px(a, &sv, cut, e) : PW_ERR_NOMEM;
     }
     if (r == PW_OK && !(rs = (float *)pw_alloc_array(a, nn * cs, sizeof(float), "key", e))) r = PW_ERR_NOMEM;
-    if (r == PW_OK) r = pgp__resample(a, cut ? cut : st, img.w, img.h, cs, n, rs, e);
+    if (cut) sv.px = cut;
+    if (r == PW_OK) r = pgp__resample(a, &sv, n, rs, e);
     out->color = r == PW_OK ? (float *)pw_alloc_array(a, nn * c, sizeof(float), "key colour", e) : NULL;
     out->mask = r == PW_OK ? (unsigned char *)pw_alloc_array(a, nn, 1, "key mask", e) : NULL;
     if (r == PW_OK && (!out->color || !out->mask)) r = PW_ERR_NOMEM;
@@ -19370,7 +19517,8 @@ static int pgp__prepare_key(const pw_alloc *a, const pgp_key *key, int c, const 
         memcpy(out->color + i * c, rs + i * cs, sizeof(float) * c);
         if (key->mask) out->mask[i] = (unsigned char)(rs[i * cs + c] > 0.5f);
     }
-    if (r == PW_OK && !key->mask) r = pgp__auto_mask(a, out->color, n, n, c, o->auto_mask, out->mask, e);
+    tile = img, tile.w = tile.h = n, tile.c = c, tile.px = out->color;
+    if (r == PW_OK && !key->mask) r = pgp__auto_mask(a, &tile, o->auto_mask, out->mask, e);
     pw_free(a, st);
     pw_free(a, cut);
     pw_free(a, rs);
@@ -19429,12 +19577,24 @@ static long pgp__flips(const pgp__morph *m, int i, int j)
     return s;
 }
 
+/* One §1.1 morph as the synthesis asks for it: from mask f0 to mask f1
+ * (n x n, 0/1) in M layers, written to masks ((M+1)*n*n: F_0 = f0 ... F_M
+ * = f1), reporting progress over [p0, p1] of prog. */
+typedef struct pgp__morph_job {
+    const unsigned char *f0, *f1;
+    int n, M;
+    unsigned char *masks;
+    const pw_progress *prog;
+    float p0, p1;
+} pgp__morph_job;
+
 /* Signed distances (periodic, exact), the gradient of psi by central
  * differences, dt = -min psi / N (§1.1 "material space oversampling") and
  * sup |psi|. */
-static int pgp__morph_init(const pw_alloc *a, pgp__morph *m, const unsigned char *f0, const unsigned char *f1, int n,
-                           int M, int steps, pw_err *e)
+static int pgp__morph_init(const pw_alloc *a, pgp__morph *m, const pgp__morph_job *J, int steps, pw_err *e)
 {
+    const unsigned char *f0 = J->f0, *f1 = J->f1;
+    int n = J->n, M = J->M;
     pw_edt_image im0, im1;
     size_t i;
     int x, y, r;
@@ -19587,17 +19747,17 @@ static void pgp__subsample(const pgp__morph *m, int M, int uniform, int *H)
         }
 }
 
-/* §1.1: masks (M+1)*n*n of 0/1, F_0 = f0 ... F_M = f1. */
-static int pgp__morph_masks(const pw_alloc *a, const unsigned char *f0, const unsigned char *f1, int n, int M,
-                            const pgp_synth_options *o, const pw_progress *prog, float p0, float p1,
-                            unsigned char *masks, pw_err *e)
+/* §1.1: the masks of job J. */
+static int pgp__morph_masks(const pw_alloc *a, const pgp__morph_job *J, const pgp_synth_options *o, pw_err *e)
 {
+    int M = J->M;
+    unsigned char *masks = J->masks;
     pgp__morph m;
     int *H = (int *)pw_alloc_array(a, (size_t)M + 1, sizeof(int), "subsampling", e), r, j;
     size_t i;
     if (!H) return PW_ERR_NOMEM;
-    r = pgp__morph_init(a, &m, f0, f1, n, M, o->steps, e);
-    if (r == PW_OK) r = pgp__morph_run(&m, prog, p0, p1, e);
+    r = pgp__morph_init(a, &m, J, o->steps, e);
+    if (r == PW_OK) r = pgp__morph_run(&m, J->prog, J->p0, J->p1, e);
     if (r == PW_OK) pgp__subsample(&m, M, o->uniform, H);
     for (j = 0; r == PW_OK && j <= M; j++) {
         const uint64_t *b = m.bits + (size_t)H[j] * m.words;
@@ -19652,7 +19812,7 @@ PGPDEF pgp_result pgp_feature_mask(const pgp_image *image, pgp_mask mode, const 
     else if (pgp__check_image(image, "image", &pe) == PW_OK && (v = pgp__pw_image(image),
              pw_image_alloc(&a, &res, v.w, v.h, 1, &pe) == PW_OK) &&
              (mask = (unsigned char *)pw_alloc_array(&a, (size_t)v.w * v.h, 1, "mask", &pe)) != NULL &&
-             pgp__auto_mask(&a, v.px, v.w, v.h, v.c, mode, mask, &pe) == PW_OK) {
+             pgp__auto_mask(&a, &v, mode, mask, &pe) == PW_OK) {
         for (i = 0; i < (size_t)v.w * v.h; i++) res.px[i] = mask[i] ? 1.0f : 0.0f;
         pgp__take_image(&res, &a, out);
     }
@@ -19670,6 +19830,7 @@ PGPDEF pgp_result pgp_morph_masks(const pgp_image *mask0, const pgp_image *mask1
     unsigned char *f = NULL;
     int n = 0;
     size_t nn = 0;
+    pgp__morph_job J;
     pw_err pe;
     pw_err_clear(&pe);
     if (out) memset(out, 0, sizeof *out);
@@ -19683,9 +19844,11 @@ PGPDEF pgp_result pgp_morph_masks(const pgp_image *mask0, const pgp_image *mask1
         n = mask0->width, nn = (size_t)n * n;
         f = (unsigned char *)pw_alloc_array(&a, nn * (layers + 2), 1, "masks", &pe);
     }
+    J.f0 = f, J.f1 = f + nn, J.n = n, J.M = layers - 1, J.masks = f + 2 * nn;
+    J.prog = &prog, J.p0 = 0.0f, J.p1 = 1.0f;
     if (f && pgp__binary_mask(&a, mask0, f, &pe) == PW_OK && pgp__binary_mask(&a, mask1, f + nn, &pe) == PW_OK &&
         pgp__check_mask(f, nn, "mask 0", &pe) == PW_OK && pgp__check_mask(f + nn, nn, "mask 1", &pe) == PW_OK &&
-        pgp__morph_masks(&a, f, f + nn, n, layers - 1, &o, &prog, 0.0f, 1.0f, f + 2 * nn, &pe) == PW_OK)
+        pgp__morph_masks(&a, &J, &o, &pe) == PW_OK)
         pgp__mask_tile(&a, f + 2 * nn, n, layers, out, &pe);
     pw_free(&a, f);
     return pgp__done(&pe, err);
@@ -20149,9 +20312,13 @@ static int pgp__layer_masks(const pw_alloc *a, const pgp__key *keys, int nkeys, 
         r = pgp__check_mask(keys[k].mask, nn, what, e);
     }
     for (k = 0; k + 1 < nkeys && r == PW_OK; k++) {
-        int b = pgp__key_layer(k, nkeys, o->layers), M = pgp__key_layer(k + 1, nkeys, o->layers) - b;
-        r = pgp__morph_masks(a, keys[k].mask, keys[k + 1].mask, o->size, M, o, prog, 0.05f * k / (nkeys - 1),
-                             0.05f * (k + 1) / (nkeys - 1), masks + b * nn, e);
+        int b = pgp__key_layer(k, nkeys, o->layers);
+        pgp__morph_job J;
+        J.f0 = keys[k].mask, J.f1 = keys[k + 1].mask, J.n = o->size;
+        J.M = pgp__key_layer(k + 1, nkeys, o->layers) - b;
+        J.masks = masks + b * nn;
+        J.prog = prog, J.p0 = 0.05f * k / (nkeys - 1), J.p1 = 0.05f * (k + 1) / (nkeys - 1);
+        r = pgp__morph_masks(a, &J, o, e);
     }
     return r;
 }

@@ -16,19 +16,19 @@
  *   5727: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
  *   6149: src/common/subdiv.h, Catmull-Clark subdivision (Catmull and Clark 1978) with
  *   6290: src/common/raster.h, exact scan conversion of 2D triangles.
- *   6780: src/common/render.h, a small deterministic software renderer for textured trian
- *   8536: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
- *   9042: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
- *   9500: src/common/glue.h, what every method header needs between its public types an
- *   9707: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  10253: src/tiled/core.c, tiled.h's glue to the shared core, its defaults, result
- *  10360: src/tiled/layout.c, ch. III.1, the boundary types and the tiled texture they
- *  10613: src/tiled/map.c, ch. III.2, the texture mapping algorithm of Fig. 29
- *  10860: src/tiled/synth.c, ch. III.1.3, tiled texture image synthesis: an edge-matche
- *  11226: src/tiled/validate.c, checks a hand-made tiled texture (the thesis's Figs. 39,
- *  11343: src/tiled/builtin.c, built-in meshes and exemplars for demos and tests: the
- *  11529: src/tiled/render.c, a software rendering of a mapped mesh (the thesis rendered
- *  11737: src/tiled/io.c, files. Meshes and exemplars in; the mapped mesh with its t
+ *   6772: src/common/render.h, a small deterministic software renderer for textured trian
+ *   8553: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
+ *   9059: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
+ *   9553: src/common/glue.h, what every method header needs between its public types an
+ *   9760: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  10306: src/tiled/core.c, tiled.h's glue to the shared core, its defaults, result
+ *  10413: src/tiled/layout.c, ch. III.1, the boundary types and the tiled texture they
+ *  10666: src/tiled/map.c, ch. III.2, the texture mapping algorithm of Fig. 29
+ *  10913: src/tiled/synth.c, ch. III.1.3, tiled texture image synthesis: an edge-matche
+ *  11279: src/tiled/validate.c, checks a hand-made tiled texture (the thesis's Figs. 39,
+ *  11407: src/tiled/builtin.c, built-in meshes and exemplars for demos and tests: the
+ *  11593: src/tiled/render.c, a software rendering of a mapped mesh (the thesis rendered
+ *  11801: src/tiled/io.c, files. Meshes and exemplars in; the mapped mesh with its t
  */
 /* tiled.h - seamless, singularity-free tiled textures on quad meshes.
  *
@@ -6720,17 +6720,11 @@ PW__DEF void pw__raster_emit(pw_raster_edges *s, const double *planes, pw_raster
 /* Snaps a triangle given in floats into pieces; *clipped tells whether the
  * pieces are a clipped fan (their own barycentrics are then not the
  * triangle's). Returns the number of pieces. */
-PW__DEF int pw__raster_pieces(float x0, float y0, float x1, float y1, float x2, float y2,
-                              const pw_raster_grid *g, double *v, pw_raster_edges *pieces,
+PW__DEF int pw__raster_pieces(const float xy[6], const pw_raster_grid *g, double *v, pw_raster_edges *pieces,
                               int *clipped)
 {
     int k;
-    v[0] = x0;
-    v[1] = y0;
-    v[2] = x1;
-    v[3] = y1;
-    v[4] = x2;
-    v[5] = y2;
+    for (k = 0; k < 6; k++) v[k] = xy[k];
     *clipped = 0;
     for (k = 0; k < 6; k++) {
         if (!pw_is_finite(v[k])) return 0;
@@ -6741,18 +6735,17 @@ PW__DEF int pw__raster_pieces(float x0, float y0, float x1, float y1, float x2, 
 }
 
 /* Calls fn(user, x, y, b0, b1, b2) for every pixel of [0,w) x [0,h) whose
- * centre the triangle covers (top-left rule, either winding), row by row.
+ * centre the triangle xy = (x0, y0, x1, y1, x2, y2) covers (top-left rule, either winding), row by row.
  * b0 + b1 + b2 = 1 and b0 v0 + b1 v1 + b2 v2 is the pixel centre, up to the
  * snapping of the vertices (2^-17 pixel at most on viewports up to 2048). */
-PW__DEF void pw_raster_tri(float x0, float y0, float x1, float y1, float x2, float y2, int w,
-                           int h, pw_raster_fn fn, void *user)
+PW__DEF void pw_raster_tri(const float xy[6], int w, int h, pw_raster_fn fn, void *user)
 {
     pw_raster_grid g;
     pw_raster_edges pieces[PW_RASTER_MAX_PIECES];
     double v[6], planes[9];
     int n, i, clipped;
     if (!pw_raster_grid_init(&g, w, h)) return;
-    n = pw__raster_pieces(x0, y0, x1, y1, x2, y2, &g, v, pieces, &clipped);
+    n = pw__raster_pieces(xy, &g, v, pieces, &clipped);
     if (clipped && !pw__raster_bary_planes(v, planes)) return;
     for (i = 0; i < n; i++) pw__raster_emit(pieces + i, clipped ? planes : NULL, fn, user);
 }
@@ -6760,15 +6753,14 @@ PW__DEF void pw_raster_tri(float x0, float y0, float x1, float y1, float x2, flo
 /* Same coverage as pw_raster_tri, reported as runs: fn(user, y, xa, xb) for
  * the pixels [xa, xb) of row y. A clipped triangle may report a row in
  * several adjacent runs. */
-PW__DEF void pw_raster_tri_spans(float x0, float y0, float x1, float y1, float x2, float y2,
-                                 int w, int h, pw_raster_span_fn fn, void *user)
+PW__DEF void pw_raster_tri_spans(const float xy[6], int w, int h, pw_raster_span_fn fn, void *user)
 {
     pw_raster_grid g;
     pw_raster_edges pieces[PW_RASTER_MAX_PIECES];
     double v[6];
     int n, i, y, xa, xb, clipped;
     if (!pw_raster_grid_init(&g, w, h)) return;
-    n = pw__raster_pieces(x0, y0, x1, y1, x2, y2, &g, v, pieces, &clipped);
+    n = pw__raster_pieces(xy, &g, v, pieces, &clipped);
     for (i = 0; i < n; i++)
         for (y = pieces[i].y0; y < pieces[i].y1; y++)
             if (pw_raster_next(pieces + i, &xa, &xb)) fn(user, y, xa, xb);
@@ -7006,12 +6998,19 @@ PW__DEF void pw__bounding_sphere(const float *pos, int nv, double *c, double *r)
     if (!(*r > 0.0)) *r = n ? 1e-3 * (1.0 + sqrt(pw_dot3(c, c))) : 1.0;
 }
 
-/* Where the finite vertices lie in a view basis (right rt, up up, view vd,
- * from centre c): the lateral extent (lo, hi in x and y) and the depth
- * range along the view. */
-PW__DEF void pw__view_extent(const float *pos, int nv, const double c[3], const double rt[3],
-                             const double up[3], const double vd[3], double lo[3], double hi[3])
+/* The orthonormal basis pw_camera_frame measures the mesh in: right rt, up
+ * up and view vd from the centre c, with the image centre at lateral offset
+ * (ox, oy) from c (0 until the framing has found it). */
+typedef struct pw__view_basis {
+    double c[3], rt[3], up[3], vd[3];
+    double ox, oy;
+} pw__view_basis;
+
+/* Where the finite vertices lie in view basis b: the lateral extent (lo, hi
+ * in x and y) and the depth range along the view. */
+PW__DEF void pw__view_extent(const float *pos, int nv, const pw__view_basis *b, double lo[3], double hi[3])
 {
+    const double *c = b->c, *rt = b->rt, *up = b->up, *vd = b->vd;
     int i, k, n = 0;
     for (k = 0; k < 3; k++) lo[k] = hi[k] = 0.0;
     for (i = 0; i < nv; i++) {
@@ -7031,11 +7030,11 @@ PW__DEF void pw__view_extent(const float *pos, int nv, const double c[3], const 
 }
 
 /* The range of projected tangents (x - ox)/(dist + z) of the vertices in
- * the view basis, in out[0..1] (x) and out[2..3] (y). */
-PW__DEF void pw__projected_range(const float *pos, int nv, const double c[3], const double rt[3],
-                                 const double up[3], const double vd[3], double ox, double oy,
-                                 double dist, double out[4])
+ * view basis b, in out[0..1] (x) and out[2..3] (y). */
+PW__DEF void pw__projected_range(const float *pos, int nv, const pw__view_basis *b, double dist, double out[4])
 {
+    const double *c = b->c, *rt = b->rt, *up = b->up, *vd = b->vd;
+    double ox = b->ox, oy = b->oy;
     int i, k, n = 0;
     for (k = 0; k < 4; k++) out[k] = 0.0;
     for (i = 0; i < nv; i++) {
@@ -7057,10 +7056,10 @@ PW__DEF void pw__projected_range(const float *pos, int nv, const double c[3], co
 /* The smallest distance from the framing centre at which every vertex
  * (lateral offset x, y from the image centre ox, oy; depth z toward the
  * far side) fits in half-angles with tangents tx, ty. */
-PW__DEF double pw__fit_distance(const float *pos, int nv, const double c[3], const double rt[3],
-                                const double up[3], const double vd[3], double ox, double oy,
-                                double tx, double ty)
+PW__DEF double pw__fit_distance(const float *pos, int nv, const pw__view_basis *b, double tx, double ty)
 {
+    const double *c = b->c, *rt = b->rt, *up = b->up, *vd = b->vd;
+    double ox = b->ox, oy = b->oy;
     double dist = 0.0;
     int i, k;
     for (i = 0; i < nv; i++) {
@@ -7087,6 +7086,7 @@ PW__DEF pw_camera pw_camera_frame(const float *pos, int nv, const float view_dir
                                   const float up[3], float fovy_deg, float aspect)
 {
     pw_camera cam;
+    pw__view_basis B;
     double c[3], r, vd[3] = {0, 0, -1}, u[3] = {0, 1, 0}, x[3], y[3], lo[3], hi[3], t, tx, dist, ox, oy;
     int k;
     if (view_dir)
@@ -7111,18 +7111,21 @@ PW__DEF pw_camera pw_camera_frame(const float *pos, int nv, const float view_dir
     pw__bounding_sphere(pos, pos ? nv : 0, c, &r);
     t = 0.95 * pw__tan_deg(0.5 * fovy_deg);
     tx = t * aspect;
-    pw__view_extent(pos, pos ? nv : 0, c, x, y, vd, lo, hi);
-    ox = 0.5 * (lo[0] + hi[0]);
-    oy = 0.5 * (lo[1] + hi[1]);
+    for (k = 0; k < 3; k++) B.c[k] = c[k], B.rt[k] = x[k], B.up[k] = y[k], B.vd[k] = vd[k];
+    B.ox = B.oy = 0.0;
+    pw__view_extent(pos, pos ? nv : 0, &B, lo, hi);
+    B.ox = 0.5 * (lo[0] + hi[0]);
+    B.oy = 0.5 * (lo[1] + hi[1]);
     for (k = 0; k < 4; k++) { /* centre the perspective image, not the orthographic one */
         double range[4];
-        dist = pos ? pw__fit_distance(pos, nv, c, x, y, vd, ox, oy, tx, t) : 0.0;
+        dist = pos ? pw__fit_distance(pos, nv, &B, tx, t) : 0.0;
         if (dist < -lo[2] + 0.05 * r) dist = -lo[2] + 0.05 * r; /* the eye stays outside */
         if (!pos || k == 3) break;
-        pw__projected_range(pos, nv, c, x, y, vd, ox, oy, dist, range);
-        ox += 0.5 * (range[0] + range[1]) * dist;
-        oy += 0.5 * (range[2] + range[3]) * dist;
+        pw__projected_range(pos, nv, &B, dist, range);
+        B.ox += 0.5 * (range[0] + range[1]) * dist;
+        B.oy += 0.5 * (range[2] + range[3]) * dist;
     }
+    ox = B.ox, oy = B.oy;
     for (k = 0; k < 3; k++) {
         cam.target[k] = pw__f(c[k] + ox * x[k] + oy * y[k]);
         cam.eye[k] = pw__f(cam.target[k] - vd[k] * dist);
@@ -7166,10 +7169,11 @@ PW__DEF void pw__box_1d(const float *src, int n, ptrdiff_t sst, float *dst, int 
     }
 }
 
-/* Box-filters the W x H float level src into the W2 x H2 level dst:
- * horizontal pass into tmp (W2 x H), then vertical. */
-PW__DEF void pw__mip_down(const float *src, int W, int H, float *dst, int W2, int H2, float *tmp)
+/* Box-filters level L of t, held as floats in src, into level L + 1 in dst:
+ * horizontal pass into tmp (lw[L + 1] x lh[L]), then vertical. */
+PW__DEF void pw__mip_down(const pw_texture *t, int L, const float *src, float *dst, float *tmp)
 {
+    int W = t->lw[L], H = t->lh[L], W2 = t->lw[L + 1], H2 = t->lh[L + 1];
     int y, x;
     for (y = 0; y < H; y++)
         pw__box_1d(src + (size_t)y * W * 4, W, 4, tmp + (size_t)y * W2 * 4, W2, 4);
@@ -7267,7 +7271,7 @@ PW__DEF int pw_texture_create(const pw_alloc *a, pw_texture *t, const pw_image *
         pw__tex_quantise(cur, n, t->level[L]);
         if (L + 1 < t->nlevels) {
             float *sw;
-            pw__mip_down(cur, t->lw[L], t->lh[L], next, t->lw[L + 1], t->lh[L + 1], tmp);
+            pw__mip_down(t, L, cur, next, tmp);
             sw = cur;
             cur = next;
             next = sw;
@@ -7922,12 +7926,21 @@ PW__DEF void pw__raster_vis(pw__ctx *c, pw_raster_edges *s, uint32_t id, const f
     if (s->y1 > c->by1) c->by1 = s->y1;
 }
 
+/* A shading point of triangle t: its attribute planes pl (PW__NPL floats),
+ * the sample's offset (dx, dy) from the planes' origin, and iq = 1/q, the
+ * perspective divisor there. */
+typedef struct pw__shade_pt {
+    int t;
+    const float *pl;
+    float dx, dy, iq;
+} pw__shade_pt;
+
 /* Texture colour at a shading point: perspective-correct (u, v) and their
  * exact screen derivatives from the planes (d(U/q)/dx = (U_x - u q_x) / q),
  * scaled to one pixel, give the mip level. Multiplies col. */
-PW__DEF void pw__shade_tex(const pw__ctx *c, const float *pl, float dx, float dy, float iq,
-                           float *col)
+PW__DEF void pw__shade_tex(const pw__ctx *c, const pw__shade_pt *P, float *col)
 {
+    const float *pl = P->pl, dx = P->dx, dy = P->dy, iq = P->iq;
     const pw_texture *t = c->tex;
     float u = (pl[3] * dx + pl[4] * dy + pl[5]) * iq, v = (pl[6] * dx + pl[7] * dy + pl[8]) * iq;
     float tx[4];
@@ -7947,9 +7960,9 @@ PW__DEF void pw__shade_tex(const pw__ctx *c, const float *pl, float dx, float dy
 
 /* The caller's shader at a shading point: barycentric coordinates and
  * their derivatives per pixel, as pw__shade_tex finds u, v. Multiplies col. */
-PW__DEF void pw__shade_custom(const pw__ctx *c, int t, const float *pl, float dx, float dy, float iq,
-                              float *col)
+PW__DEF void pw__shade_custom(const pw__ctx *c, const pw__shade_pt *P, float *col)
 {
+    const float *pl = P->pl, dx = P->dx, dy = P->dy, iq = P->iq;
     float b1 = (pl[3] * dx + pl[4] * dy + pl[5]) * iq, b2 = (pl[6] * dx + pl[7] * dy + pl[8]) * iq;
     float db[4], rgba[4], s = c->ss * iq;
     int k;
@@ -7957,7 +7970,7 @@ PW__DEF void pw__shade_custom(const pw__ctx *c, int t, const float *pl, float dx
     db[1] = (pl[4] - b1 * pl[1]) * s;
     db[2] = (pl[6] - b2 * pl[0]) * s;
     db[3] = (pl[7] - b2 * pl[1]) * s;
-    c->d->shader(c->d->shader_user, t, b1, b2, db, rgba);
+    c->d->shader(c->d->shader_user, P->t, b1, b2, db, rgba);
     for (k = 0; k < 3; k++) col[k] *= rgba[k] * rgba[3];
     col[3] *= rgba[3];
 }
@@ -7975,8 +7988,12 @@ PW__DEF void pw__shade(const pw__ctx *c, int t, float x, float y, float *out)
     col[3] = c->tint[3];
     if (pl[PW__READY] == 0.0f) pw__attr_planes(c, t, pl);
     if (!(q > 1e-30f)) q = 1e-30f; /* only reachable through rounding at a near-plane edge */
-    if (c->d->shader) pw__shade_custom(c, t, pl, dx, dy, 1.0f / q, col);
-    else if (c->tex) pw__shade_tex(c, pl, dx, dy, 1.0f / q, col);
+    if (c->d->shader || c->tex) {
+        pw__shade_pt P;
+        P.t = t, P.pl = pl, P.dx = dx, P.dy = dy, P.iq = 1.0f / q;
+        if (c->d->shader) pw__shade_custom(c, &P, col);
+        else pw__shade_tex(c, &P, col);
+    }
     if (c->lit) {
         float n0 = pl[9] * dx + pl[10] * dy + pl[11], n1 = pl[12] * dx + pl[13] * dy + pl[14];
         float n2 = pl[15] * dx + pl[16] * dy + pl[17], nn = n0 * n0 + n1 * n1 + n2 * n2;
@@ -9207,15 +9224,25 @@ PW__DEF int pw__quilt_cmp_float(const void *a, const void *b)
     return x < y ? -1 : x > y;
 }
 
+/* The components of a w x h motif map m on the torus: comp (w*h) holds the
+ * stamp of the component each pixel was flooded with (-1: none yet), ux
+ * and uy its unwrapped position, stack the pixels to visit. */
+typedef struct pw__quilt_flood {
+    const float *m;
+    int w, h;
+    int *comp, *ux, *uy, *stack;
+} pw__quilt_flood;
+
 /* Floods the component of motif pixels (value 1) through `seed` on the
- * torus, writing `stamp` into comp and each pixel's unwrapped position
- * into ux, uy. Returns 1 if the component wraps around the torus (reaches
- * a pixel again at another unwrapped position): a network such as mortar
- * or the dark gaps between leaves, the ground, not a motif. */
-PW__DEF int pw__quilt_wraps(const float *m, int w, int h, int seed, int stamp, int *comp, int *ux, int *uy,
-                            int *stack, size_t *size)
+ * torus, stamping it with seed's index. Returns 1 if the component wraps
+ * around the torus (reaches a pixel again at another unwrapped position):
+ * a network such as mortar or the dark gaps between leaves, the ground, not
+ * a motif. *size gets its pixel count. */
+PW__DEF int pw__quilt_wraps(const pw__quilt_flood *F, int seed, size_t *size)
 {
     static const int dx[4] = {1, -1, 0, 0}, dy[4] = {0, 0, 1, -1};
+    const float *m = F->m;
+    int w = F->w, h = F->h, stamp = seed, *comp = F->comp, *ux = F->ux, *uy = F->uy, *stack = F->stack;
     int top = 0, wraps = 0, k;
     *size = 0;
     comp[seed] = stamp;
@@ -9251,12 +9278,14 @@ PW__DEF int pw__quilt_clear_ground(const pw_alloc *a, float *m, int w, int h, pw
 {
     size_t n = (size_t)w * h, i, size;
     int *buf = (int *)pw_alloc_array(a, n * 4, sizeof(int), "motif components", e);
-    int *comp = buf, *ux = buf + n, *uy = buf + 2 * n, *stack = buf + 3 * n;
+    int *comp = buf;
+    pw__quilt_flood F;
     if (!buf) return PW_ERR_NOMEM;
+    F.m = m, F.w = w, F.h = h;
+    F.comp = comp, F.ux = buf + n, F.uy = buf + 2 * n, F.stack = buf + 3 * n;
     for (i = 0; i < n; i++) comp[i] = -1;
     for (i = 0; i < n; i++)
-        if (m[i] > 0.5f && comp[i] < 0 &&
-            (pw__quilt_wraps(m, w, h, (int)i, (int)i, comp, ux, uy, stack, &size) || size * 4 >= n ||
+        if (m[i] > 0.5f && comp[i] < 0 && (pw__quilt_wraps(&F, (int)i, &size) || size * 4 >= n ||
              size * 200 < n)) {
             size_t j;
             for (j = 0; j < n; j++)
@@ -9273,10 +9302,11 @@ PW__DEF int pw__quilt_clear_ground(const pw_alloc *a, float *m, int w, int h, pw
  * leaves count and the speckle inside them does not. What the outlines
  * enclose is a motif; what stays connected around the whole (periodic)
  * image is the ground between motifs (mortar, gaps). *edge gets the
- * threshold (a colour change per pixel). */
-PW__DEF int pw_quilt_motif_map(const pw_alloc *a, const float *px, int w, int h, int c, float *motif,
-                               float *edge, pw_err *e)
+ * threshold (a colour change per pixel). motif holds src's w*h pixels. */
+PW__DEF int pw_quilt_motif_map(const pw_alloc *a, const pw_image *src, float *motif, float *edge, pw_err *e)
 {
+    const float *px = src->px;
+    int w = src->w, h = src->h, c = src->c;
     size_t n = (size_t)w * h;
     float *blur = (float *)pw_alloc_array(a, n * 2 * c, sizeof(float), "motif map", e);
     float *g = (float *)pw_alloc_array(a, n * 2, sizeof(float), "motif gradients", e);
@@ -9307,11 +9337,26 @@ PW__DEF int pw_quilt_motif_map(const pw_alloc *a, const float *px, int w, int h,
     return pw__quilt_clear_ground(a, motif, w, h, e);
 }
 
+/* One alpha-expansion move being built: the quilt, the label alpha, the
+ * graph g, node[i] (w*h) the graph variable of pixel i or -1 for a pixel
+ * that cannot switch, and u0, u1 (per variable) the unary costs of keeping
+ * and of switching. The arrays are caller scratch. */
+typedef struct pw__quilt_move {
+    const pw_quilt *q;
+    int alpha;
+    pw_graph *g;
+    int *node;
+    double *u0, *u1;
+} pw__quilt_move;
+
 /* Adds the expansion-move energy of one neighbour pair to the graph.
  * Variable x = 1 means "switch to alpha"; node[i] < 0 marks a constant. */
-PW__DEF int pw__quilt_add_pair(const pw_quilt *q, pw_graph *g, const int *node, double *u0,
-                               double *u1, int i, int j, int alpha, pw_err *e)
+PW__DEF int pw__quilt_add_pair(const pw__quilt_move *M, int i, int j, pw_err *e)
 {
+    const pw_quilt *q = M->q;
+    const int *node = M->node;
+    double *u0 = M->u0, *u1 = M->u1;
+    int alpha = M->alpha;
     int li = q->label[i], lj = q->label[j], vi = node[i], vj = node[j];
     if (vi >= 0 && vj >= 0) {
         /* E00 = V(li,lj), E01 = V(li,a), E10 = V(a,lj), E11 = 0 */
@@ -9322,7 +9367,7 @@ PW__DEF int pw__quilt_add_pair(const pw_quilt *q, pw_graph *g, const int *node, 
         u0[vi] += a00;              /* E = a00 + (a10-a00) xi - a10 xj + w [xi=0,xj=1] */
         u1[vi] += a10;
         u0[vj] += a10;
-        return pw_graph_add_edge(g, vi, vj, w > 0.0 ? (float)w : 0.0f, 0.0f, e);
+        return pw_graph_add_edge(M->g, vi, vj, w > 0.0 ? (float)w : 0.0f, 0.0f, e);
     }
     if (vi >= 0) {
         u0[vi] += pw_quilt_pair_cost(q, i, j, li, lj);
@@ -9346,11 +9391,14 @@ PW__DEF void pw__quilt_tlinks(pw_graph *g, const double *u0, const double *u1, i
     }
 }
 
-/* One alpha-expansion move. `node` and the u arrays are caller scratch of
- * w*h entries. Returns the number of pixels that switched in *changed. */
-PW__DEF int pw__quilt_expand_one(const pw_quilt *q, int alpha, int *node, double *u0,
-                                 double *u1, int *changed, const pw_alloc *a, pw_err *e)
+/* One alpha-expansion move (M: its label and scratch of w*h entries, the
+ * graph made here). Returns the number of pixels that switched in
+ * *changed. */
+PW__DEF int pw__quilt_expand_one(pw__quilt_move *M, int *changed, const pw_alloc *a, pw_err *e)
 {
+    const pw_quilt *q = M->q;
+    int alpha = M->alpha, *node = M->node;
+    double *u0 = M->u0, *u1 = M->u1;
     pw_graph g;
     int i, k, n = q->w * q->h, nvar = 0, nb[2], r;
     double flow;
@@ -9361,10 +9409,11 @@ PW__DEF int pw__quilt_expand_one(const pw_quilt *q, int alpha, int *node, double
     if (nvar == 0) return PW_OK;
     for (i = 0; i < nvar; i++) u0[i] = u1[i] = 0.0;
     if ((r = pw_graph_init(&g, a, nvar, 2 * nvar, e)) != PW_OK) return r;
+    M->g = &g;
     for (i = 0; i < n && r == PW_OK; i++) {
         pw__quilt_neighbours(q, i, nb);
         for (k = 0; k < 2 && r == PW_OK; k++)
-            if (nb[k] >= 0) r = pw__quilt_add_pair(q, &g, node, u0, u1, i, nb[k], alpha, e);
+            if (nb[k] >= 0) r = pw__quilt_add_pair(M, i, nb[k], e);
     }
     if (r == PW_OK) {
         pw__quilt_tlinks(&g, u0, u1, nvar);
@@ -9376,6 +9425,7 @@ PW__DEF int pw__quilt_expand_one(const pw_quilt *q, int alpha, int *node, double
             (*changed)++;
         }
     pw_graph_free(&g);
+    M->g = NULL;
     return r;
 }
 
@@ -9386,6 +9436,7 @@ PW__DEF int pw_quilt_optimize(const pw_alloc *a, pw_quilt *q, int cycles, pw_err
     int n = q->w * q->h, c, l, r = PW_OK, changed, total;
     int *node = (int *)pw_alloc_array(a, (size_t)n, sizeof(int), "quilt nodes", e);
     double *u = (double *)pw_alloc_array(a, (size_t)n * 2, sizeof(double), "quilt costs", e);
+    pw__quilt_move M;
     if (!node || !u) {
         pw_free(a, node);
         pw_free(a, u);
@@ -9394,7 +9445,8 @@ PW__DEF int pw_quilt_optimize(const pw_alloc *a, pw_quilt *q, int cycles, pw_err
     for (c = 0; c < cycles && r == PW_OK; c++) {
         total = 0;
         for (l = 0; l < q->nlabels && r == PW_OK; l++) {
-            r = pw__quilt_expand_one(q, l, node, u, u + n, &changed, a, e);
+            M.q = q, M.alpha = l, M.g = NULL, M.node = node, M.u0 = u, M.u1 = u + n;
+            r = pw__quilt_expand_one(&M, &changed, a, e);
             total += changed;
         }
         if (total == 0) break;
@@ -9428,12 +9480,13 @@ PW__DEF int pw__tileable_near_wrap(int x, int n, int shift)
 
 /* Makes an image tile seamlessly (periodic in x and y) by graph-cut
  * compositing of it with shifted copies of itself (see above), on raw
- * samples: px and out hold w*h pixels of c >= 1 channels (any number, so
+ * samples: in and out hold w*h pixels of c >= 1 channels (any number, so
  * that a feature mask can travel as an extra channel and be cut with the
  * colours). Images under 8 pixels wide or high are copied. */
-PW__DEF int pw_quilt_make_tileable_px(const pw_alloc *a, const float *px, int w, int h, int c,
-                                      float *out, pw_err *e)
+PW__DEF int pw_quilt_make_tileable_px(const pw_alloc *a, const pw_image *in, float *out, pw_err *e)
 {
+    const float *px = in->px;
+    int w = in->w, h = in->h, c = in->c;
     int x, y, l, r;
     size_t n = (size_t)w * h, i;
     float *src;
@@ -9490,7 +9543,7 @@ PW__DEF int pw_quilt_make_tileable(const pw_alloc *a, const pw_image *in, pw_ima
     int r;
     if ((r = pw_image_alloc(a, out, in->w, in->h, in->c, e)) != PW_OK) return r;
     out->bits = in->bits;
-    r = pw_quilt_make_tileable_px(a, in->px, in->w, in->h, in->c, out->px, e);
+    r = pw_quilt_make_tileable_px(a, in, out->px, e);
     if (r != PW_OK) pw_image_free(a, out);
     return r;
 }
@@ -11199,7 +11252,7 @@ static int tiled__synthesize(const tiled_image *exemplar, const tiled_options *o
         s.stats = stats;
         s.motif_weight = TILED__MOTIF_WEIGHT;
         s.motif = (float *)pw_alloc_array(&a, (size_t)s.src.w * s.src.h, sizeof(float), "motif map", pe);
-        r = s.motif ? pw_quilt_motif_map(&a, s.src.px, s.src.w, s.src.h, s.src.c, s.motif, &s.tau, pe)
+        r = s.motif ? pw_quilt_motif_map(&a, &s.src, s.motif, &s.tau, pe)
                     : PW_ERR_NOMEM;
         if (r == PW_OK && (r = tiled__synth_tiles(&a, &s, o, &atlas, &gm, pe)) == PW_OK)
             tiled__fill_guards(&atlas, &gm, s.case1);
@@ -11254,12 +11307,18 @@ static float tiled__interior_jump(const pw_image *img, const tiled__geom *gm)
     return count ? (float)(sum / (double)count) : 0.0f;
 }
 
-/* Mean jump across side s of tile t when it meets side ps of tile pt
+/* One side of one tile: side (0..3, tiled__from_side's order) of tile. */
+typedef struct tiled__side {
+    int tile, side;
+} tiled__side;
+
+/* Mean jump across side `here` when it meets side `there` of another tile
  * (reversed walk; `mirrored` compares the partner walked the same way, as
  * happens when case-1 tiles are mirrored). */
-static float tiled__seam(const pw_image *img, const tiled__geom *gm, int t, int s, int pt, int ps,
+static float tiled__seam(const pw_image *img, const tiled__geom *gm, tiled__side here, tiled__side there,
                          int mirrored)
 {
+    int t = here.tile, s = here.side, pt = there.tile, ps = there.side;
     double sum = 0.0;
     int a, T = gm->T;
     for (a = 0; a < T; a++) {
@@ -11273,19 +11332,21 @@ static float tiled__seam(const pw_image *img, const tiled__geom *gm, int t, int 
 }
 
 /* Mean seam of side (t, s) against up to 64 sides of the partner type. */
-static float tiled__side_seam(const pw_image *img, const tiled__geom *gm, int case1, int mirror,
-                              int t, int s, int type)
+static float tiled__side_seam(const pw_image *img, const tiled__geom *gm, int case1, int mirror, tiled__side here,
+                              int type)
 {
+    tiled__side there;
     int u, us, types[4], n = 0;
     double sum = 0.0;
     for (u = 0; u < gm->N * gm->N && n < 64; u++) {
         tiled__tile_types(gm, case1, u, types);
         for (us = 0; us < 4 && n < 64; us++) {
             if (types[us] != tiled__partner(case1, type)) continue;
-            sum += tiled__seam(img, gm, t, s, u, us, 0);
+            there.tile = u, there.side = us;
+            sum += tiled__seam(img, gm, here, there, 0);
             n++;
             if (mirror) {
-                sum += tiled__seam(img, gm, t, s, u, us, 1);
+                sum += tiled__seam(img, gm, here, there, 1);
                 n++;
             }
         }
@@ -11330,7 +11391,10 @@ TILEDDEF tiled_result tiled_validate_tiles(const tiled_image *tiles, const tiled
         for (t = 0; t < gm.N * gm.N; t++) {
             tiled__tile_types(&gm, case1, t, types);
             for (s = 0; s < 4; s++) {
-                float seam = tiled__side_seam(&img, &gm, case1, case1 && !o.no_mirror, t, s, types[s]);
+                tiled__side here;
+                float seam;
+                here.tile = t, here.side = s;
+                seam = tiled__side_seam(&img, &gm, case1, case1 && !o.no_mirror, here, types[s]);
                 report->sides_checked++;
                 if (seam > report->worst) report->worst = seam;
                 if (seam > report->threshold) tiled__note_bad(report, t, s, types[s], seam);

@@ -510,8 +510,10 @@ static int *check_overlap(const pw_trimesh *m, const pw_atlas_charts *C, const l
         for (k = 0; k < 6; k++)
             if (!(uv[k] * n >= g / 2 - 1e-3 && uv[k] * n <= n - (g - g / 2) + 1e-3)) border++;
         B.value = C->chart[f];
-        pw_raster_tri(uv[0] * n, (1 - uv[1]) * n, uv[2] * n, (1 - uv[3]) * n, uv[4] * n, (1 - uv[5]) * n, n, n,
-                      id_texel, &B);
+        {
+            const float tri[6] = {uv[0] * n, (1 - uv[1]) * n, uv[2] * n, (1 - uv[3]) * n, uv[4] * n, (1 - uv[5]) * n};
+            pw_raster_tri(tri, n, n, id_texel, &B);
+        }
     }
     *ntexels = 0;
     for (y = 0; y < n; y++)
@@ -637,8 +639,10 @@ static void check_texel_centres(const pw_trimesh *m, const lapped__index *ix, co
     E.ix = ix, E.t = t, E.patches = pv, E.values = vv, E.img = &at->image, E.bad = 0;
     for (E.f = 0; E.f < m->nf; E.f++) {
         const float *uv = at->uvs + 6 * E.f;
-        pw_raster_tri(uv[0] * n, (1 - uv[1]) * n, uv[2] * n, (1 - uv[3]) * n, uv[4] * n, (1 - uv[5]) * n, n, n,
-                      eval_texel, &E);
+        {
+            const float tri[6] = {uv[0] * n, (1 - uv[1]) * n, uv[2] * n, (1 - uv[3]) * n, uv[4] * n, (1 - uv[5]) * n};
+            pw_raster_tri(tri, n, n, eval_texel, &E);
+        }
     }
     CHECKF(E.bad == 0, "%d texel channels differ from the lapped texture at their centre", E.bad);
 }

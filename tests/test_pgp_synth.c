@@ -538,6 +538,7 @@ static void t_synthesis_histograms(void)
     const pgp_image *in[2];
     unsigned char *masks;
     double with[2], without[2], agree, agree0;
+    pgp__morph_job J;
     pw_err e;
     int k, M = 5;
     pw_err_clear(&e);
@@ -547,7 +548,9 @@ static void t_synthesis_histograms(void)
     pk[0].image = &a, pk[0].mask = &am, pk[1].image = &b, pk[1].mask = &bm;
     masks = (unsigned char *)malloc((size_t)(M + 1) * 64 * 64);
     for (k = 0; k < 2; k++) REQUIRE(pgp__prepare_key(NULL, &pk[k], 3, &o, &keys[k], &e) == PW_OK);
-    REQUIRE(pgp__morph_masks(NULL, keys[0].mask, keys[1].mask, 64, M, &o, NULL, 0.0f, 1.0f, masks, &e) == PW_OK);
+    J.f0 = keys[0].mask, J.f1 = keys[1].mask, J.n = 64, J.M = M, J.masks = masks;
+    J.prog = NULL, J.p0 = 0.0f, J.p1 = 1.0f;
+    REQUIRE(pgp__morph_masks(NULL, &J, &o, &e) == PW_OK);
     ka = make_image(64, 64, 3), kb = make_image(64, 64, 3);
     memcpy(ka.pixels, keys[0].color, sizeof(float) * 64 * 64 * 3);
     memcpy(kb.pixels, keys[1].color, sizeof(float) * 64 * 64 * 3);

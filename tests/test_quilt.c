@@ -223,12 +223,15 @@ static void t_motif_map(void)
     float edge;
     pw_seam_stats st = {0, 0};
     pw_quilt q;
+    pw_image view;
     pw_err e;
     pw_err_clear(&e);
     discs(src, 0.8f);
     discs(src + 64 * 64, 0.5f);
-    REQUIRE(pw_quilt_motif_map(NULL, src, 64, 64, 1, motif, &edge, &e) == PW_OK);
-    REQUIRE(pw_quilt_motif_map(NULL, src + 64 * 64, 64, 64, 1, motif + 64 * 64, &edge, &e) == PW_OK);
+    view.w = view.h = 64, view.c = 1, view.bits = 32, view.px = src;
+    REQUIRE(pw_quilt_motif_map(NULL, &view, motif, &edge, &e) == PW_OK);
+    view.px = src + 64 * 64;
+    REQUIRE(pw_quilt_motif_map(NULL, &view, motif + 64 * 64, &edge, &e) == PW_OK);
     CHECK(motif[16 * 64 + 16] == 1.0f && motif[48 * 64 + 48] == 1.0f); /* disc centres */
     CHECK(motif[16 * 64 + 26] == 0.0f && motif[16 * 64 + 6] == 0.0f); /* outlines */
     CHECK(motif[0] == 0.0f && motif[32 * 64 + 32] == 0.0f);            /* ground */

@@ -173,15 +173,35 @@ static void t_raster_triangulation(void)
                 int diag = (int)pw_rng_below(&r, 2), w1 = (int)pw_rng_below(&r, 2),
                     w2 = (int)pw_rng_below(&r, 2);
                 if (diag) {
-                    if (w1) pw_raster_tri(*a, ay, *b, by, *c, cy, CW, CH, count_px, &stray);
-                    else pw_raster_tri(*a, ay, *c, cy, *b, by, CW, CH, count_px, &stray);
-                    if (w2) pw_raster_tri(*a, ay, *c, cy, *d, dy, CW, CH, count_px, &stray);
-                    else pw_raster_tri(*c, cy, *a, ay, *d, dy, CW, CH, count_px, &stray);
+                    if (w1) {
+                        const float tri[6] = {*a, ay, *b, by, *c, cy};
+                        pw_raster_tri(tri, CW, CH, count_px, &stray);
+                    } else {
+                        const float tri[6] = {*a, ay, *c, cy, *b, by};
+                        pw_raster_tri(tri, CW, CH, count_px, &stray);
+                    }
+                    if (w2) {
+                        const float tri[6] = {*a, ay, *c, cy, *d, dy};
+                        pw_raster_tri(tri, CW, CH, count_px, &stray);
+                    } else {
+                        const float tri[6] = {*c, cy, *a, ay, *d, dy};
+                        pw_raster_tri(tri, CW, CH, count_px, &stray);
+                    }
                 } else {
-                    if (w1) pw_raster_tri(*a, ay, *b, by, *d, dy, CW, CH, count_px, &stray);
-                    else pw_raster_tri(*b, by, *a, ay, *d, dy, CW, CH, count_px, &stray);
-                    if (w2) pw_raster_tri(*b, by, *c, cy, *d, dy, CW, CH, count_px, &stray);
-                    else pw_raster_tri(*d, dy, *c, cy, *b, by, CW, CH, count_px, &stray);
+                    if (w1) {
+                        const float tri[6] = {*a, ay, *b, by, *d, dy};
+                        pw_raster_tri(tri, CW, CH, count_px, &stray);
+                    } else {
+                        const float tri[6] = {*b, by, *a, ay, *d, dy};
+                        pw_raster_tri(tri, CW, CH, count_px, &stray);
+                    }
+                    if (w2) {
+                        const float tri[6] = {*b, by, *c, cy, *d, dy};
+                        pw_raster_tri(tri, CW, CH, count_px, &stray);
+                    } else {
+                        const float tri[6] = {*d, dy, *c, cy, *b, by};
+                        pw_raster_tri(tri, CW, CH, count_px, &stray);
+                    }
                 }
             }
         for (y = 0; y < CH; y++)
@@ -209,7 +229,10 @@ static void t_raster_fan(void)
         float a0 = 6.283185307f * k / n, a1 = 6.283185307f * (k + 1) / n;
         float x0 = (float)(int)(cx + 20 * cosf(a0)) + 0.5f, y0 = (float)(int)(cy + 20 * sinf(a0)) + 0.5f;
         float x1 = (float)(int)(cx + 20 * cosf(a1)) + 0.5f, y1 = (float)(int)(cy + 20 * sinf(a1)) + 0.5f;
-        pw_raster_tri(cx, cy, x0, y0, x1, y1, CW, CH, count_px, &stray);
+        {
+            const float tri[6] = {cx, cy, x0, y0, x1, y1};
+            pw_raster_tri(tri, CW, CH, count_px, &stray);
+        }
     }
     CHECK_EQ_INT(cover[30 * CW + 40], 1);
     for (y = 0; y < CH; y++)
@@ -218,10 +241,22 @@ static void t_raster_fan(void)
     CHECK_EQ_INT(bad, 0);
     /* square [10.5, 30.5]^2 in four triangles meeting at its centre */
     memset(cover, 0, sizeof cover);
-    pw_raster_tri(10.5f, 10.5f, 30.5f, 10.5f, 20.5f, 20.5f, CW, CH, count_px, &stray);
-    pw_raster_tri(30.5f, 10.5f, 30.5f, 30.5f, 20.5f, 20.5f, CW, CH, count_px, &stray);
-    pw_raster_tri(30.5f, 30.5f, 10.5f, 30.5f, 20.5f, 20.5f, CW, CH, count_px, &stray);
-    pw_raster_tri(20.5f, 20.5f, 10.5f, 30.5f, 10.5f, 10.5f, CW, CH, count_px, &stray);
+    {
+        const float tri[6] = {10.5f, 10.5f, 30.5f, 10.5f, 20.5f, 20.5f};
+        pw_raster_tri(tri, CW, CH, count_px, &stray);
+    }
+    {
+        const float tri[6] = {30.5f, 10.5f, 30.5f, 30.5f, 20.5f, 20.5f};
+        pw_raster_tri(tri, CW, CH, count_px, &stray);
+    }
+    {
+        const float tri[6] = {30.5f, 30.5f, 10.5f, 30.5f, 20.5f, 20.5f};
+        pw_raster_tri(tri, CW, CH, count_px, &stray);
+    }
+    {
+        const float tri[6] = {20.5f, 20.5f, 10.5f, 30.5f, 10.5f, 10.5f};
+        pw_raster_tri(tri, CW, CH, count_px, &stray);
+    }
     for (y = 11; y < 30; y++)
         for (x = 11; x < 30; x++)
             if (cover[y * CW + x] != 1) bad++;
@@ -258,14 +293,14 @@ static void t_raster_barycentrics(void)
     c.check_pos = 1;
     for (trial = 0; trial < 300; trial++) {
         for (k = 0; k < 6; k++) c.v[k] = frand(&r, -10, 100);
-        pw_raster_tri(c.v[0], c.v[1], c.v[2], c.v[3], c.v[4], c.v[5], CW, CH, bary_px, &c);
+        pw_raster_tri(c.v, CW, CH, bary_px, &c);
     }
     /* far vertices: the clipped path uses the triangle's own planes (the
      * centre cannot be checked in float at this scale) */
     c.check_pos = 0;
     for (trial = 0; trial < 50; trial++) {
         for (k = 0; k < 6; k++) c.v[k] = frand(&r, -3e6f, 3e6f);
-        pw_raster_tri(c.v[0], c.v[1], c.v[2], c.v[3], c.v[4], c.v[5], CW, CH, bary_px, &c);
+        pw_raster_tri(c.v, CW, CH, bary_px, &c);
     }
     REQUIRE(c.n > 10000);
     CHECKF(c.max_sum_err < 1e-5, "barycentric sum off by %g", c.max_sum_err);
@@ -286,14 +321,35 @@ static void t_raster_degenerate(void)
         float py = (float)(int)frand(&r, 0, 70) + (float)pw_rng_below(&r, 64) / 64.0f;
         float dx = (float)((int)pw_rng_below(&r, 21) - 10), dy = (float)((int)pw_rng_below(&r, 21) - 10);
         float t1 = (float)pw_rng_below(&r, 5), t2 = -(float)pw_rng_below(&r, 5);
-        pw_raster_tri(px, py, px + t1 * dx, py + t1 * dy, px + t2 * dx, py + t2 * dy, CW, CH, count_px, &stray);
-        pw_raster_tri(px, py, px, py, px + dx, py + dy, CW, CH, count_px, &stray);
-        pw_raster_tri(px, py, px, py, px, py, CW, CH, count_px, &stray);
+        {
+            const float tri[6] = {px, py, px + t1 * dx, py + t1 * dy, px + t2 * dx, py + t2 * dy};
+            pw_raster_tri(tri, CW, CH, count_px, &stray);
+        }
+        {
+            const float tri[6] = {px, py, px, py, px + dx, py + dy};
+            pw_raster_tri(tri, CW, CH, count_px, &stray);
+        }
+        {
+            const float tri[6] = {px, py, px, py, px, py};
+            pw_raster_tri(tri, CW, CH, count_px, &stray);
+        }
     }
-    pw_raster_tri(nan, 0, 50, 50, 0, 50, CW, CH, count_px, &stray);
-    pw_raster_tri(inf, 0, 50, 50, 0, 50, CW, CH, count_px, &stray);
-    pw_raster_tri(0, 0, 50, 50, 0, 50, 0, CH, count_px, &stray); /* empty viewport */
-    pw_raster_tri(0, 0, 50, 50, 0, 50, CW, -3, count_px, &stray);
+    {
+        const float tri[6] = {nan, 0, 50, 50, 0, 50};
+        pw_raster_tri(tri, CW, CH, count_px, &stray);
+    }
+    {
+        const float tri[6] = {inf, 0, 50, 50, 0, 50};
+        pw_raster_tri(tri, CW, CH, count_px, &stray);
+    }
+    {
+        const float tri[6] = {0, 0, 50, 50, 0, 50};
+        pw_raster_tri(tri, 0, CH, count_px, &stray);
+    } /* empty viewport */
+    {
+        const float tri[6] = {0, 0, 50, 50, 0, 50};
+        pw_raster_tri(tri, CW, -3, count_px, &stray);
+    }
     for (x = 0; x < CW * CH; x++) stray += cover[x];
     CHECK_EQ_INT(stray, 0);
 }
@@ -310,7 +366,7 @@ static void t_raster_clipping(void)
         int k;
         for (k = 0; k < 6; k++) v[k] = frand(&r, -100, 200);
         memset(cover, 0, sizeof cover);
-        pw_raster_tri(v[0], v[1], v[2], v[3], v[4], v[5], CW, CH, count_px, &stray);
+        pw_raster_tri(v, CW, CH, count_px, &stray);
         /* reference: the same triangle shifted into a larger viewport, read
          * straight from its edge functions */
         memset(big, 0, sizeof big);
@@ -333,13 +389,22 @@ static void t_raster_clipping(void)
     }
     /* two far triangles sharing an edge through the viewport cover it once */
     memset(cover, 0, sizeof cover);
-    pw_raster_tri(-1e7f, -3e6f, 2e7f, 1e6f, 1e5f, 3e7f, CW, CH, count_px, &stray);
-    pw_raster_tri(-1e7f, -3e6f, 2e7f, 1e6f, -2e5f, -4e7f, CW, CH, count_px, &stray);
+    {
+        const float tri[6] = {-1e7f, -3e6f, 2e7f, 1e6f, 1e5f, 3e7f};
+        pw_raster_tri(tri, CW, CH, count_px, &stray);
+    }
+    {
+        const float tri[6] = {-1e7f, -3e6f, 2e7f, 1e6f, -2e5f, -4e7f};
+        pw_raster_tri(tri, CW, CH, count_px, &stray);
+    }
     for (x = 0; x < CW * CH; x++)
         if (cover[x] != 1) bad++;
     /* one triangle enclosing the viewport with vertices at 1e30 */
     memset(cover, 0, sizeof cover);
-    pw_raster_tri(-1e30f, -1e30f, 1e30f, -1e30f, 0, 1e30f, CW, CH, count_px, &stray);
+    {
+        const float tri[6] = {-1e30f, -1e30f, 1e30f, -1e30f, 0, 1e30f};
+        pw_raster_tri(tri, CW, CH, count_px, &stray);
+    }
     for (x = 0; x < CW * CH; x++)
         if (cover[x] != 1) bad++;
     CHECK_EQ_INT(bad, 0);
@@ -405,10 +470,10 @@ static void t_raster_spans(void)
             }
         if (memcmp(ref, cover, sizeof ref)) bad++;
         memset(cover, 0, sizeof cover);
-        pw_raster_tri(v[0], v[1], v[2], v[3], v[4], v[5], CW, CH, count_px, &stray);
+        pw_raster_tri(v, CW, CH, count_px, &stray);
         if (memcmp(ref, cover, sizeof ref)) bad++;
         memset(cover, 0, sizeof cover);
-        pw_raster_tri_spans(v[0], v[1], v[2], v[3], v[4], v[5], CW, CH, count_span, &stray);
+        pw_raster_tri_spans(v, CW, CH, count_span, &stray);
         if (memcmp(ref, cover, sizeof ref)) bad++;
     }
     pwt_info("%d covered pixels checked", npx);

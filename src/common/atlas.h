@@ -1860,7 +1860,7 @@ PW__DEF int pw_atlas_bake(const pw_alloc *a, const pw_trimesh *m, const float *u
         float p[6];
         pw__atlas_bake_px(&B, f, p);
         B.f = f;
-        pw_raster_tri(p[0], p[1], p[2], p[3], p[4], p[5], size, size, pw__atlas_bake_texel, &B);
+        pw_raster_tri(p, size, size, pw__atlas_bake_texel, &B);
         if ((f & 4095) == 4095) r = pw_report(prog, 0.7f + 0.25f * (float)f / (float)m->nf, "atlas baking", e);
     }
     for (f = 0; f < m->nf && r == PW_OK; f++) pw__atlas_bake_ring(&B, f);

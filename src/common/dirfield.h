@@ -228,6 +228,31 @@ typedef struct pw_df_cut {
     double sin2;
 } pw_df_cut;
 
+/* A direction field being built on a mesh: z (nf*2) holds each triangle's
+ * direction in its frame (pw_df_frame), conn (pw_df_connection) carries
+ * directions across edges, and known (nf) marks the triangles whose
+ * direction is given rather than propagated. The fill and relax steps below
+ * all work on the same three arrays, so they travel together. */
+typedef struct pw_df_field {
+    const pw_trimesh *m;
+    const float *conn;
+    double *z;
+    unsigned char *known;
+} pw_df_field;
+
+/* One breadth-first propagation (pw_df_fill_cut): the field, how directions
+ * are seeded and carried (power 2: doubled angles; up; the cut or NULL),
+ * and the work arrays: level (nf; -1 not reached yet), the queue (nf) with
+ * its tail, and a stack (nf) for flooding a component. */
+typedef struct pw_df_prop {
+    const pw_df_field *F;
+    int power;
+    pw_v3 up;
+    const pw_df_cut *cut;
+    int *level, *queue, *stack;
+    int tail;
+} pw_df_prop;
+
 /* The triangle across edge k of f, or -1 on a boundary or a cut. */
 PW__DEF int pw_df_across(const pw_trimesh *m, const pw_df_cut *cut, int f, int k)
 {
@@ -238,9 +263,13 @@ PW__DEF int pw_df_across(const pw_trimesh *m, const pw_df_cut *cut, int f, int k
  * `start` on): every triangle where `up` projects gets that projection, as
  * in the up field; if none does (a flat piece normal to up), the lowest
  * triangle gets the fixed axis. Seeds go to the queue with level 0. */
-PW__DEF void pw_df_seed(const pw_trimesh *m, pw_v3 up, int power, const pw_df_cut *cut, double *z, int *level,
-                        int *queue, int *tail, int *stack, int start)
+PW__DEF void pw_df_seed(pw_df_prop *P, int start)
 {
+    const pw_trimesh *m = P->F->m;
+    const pw_df_cut *cut = P->cut;
+    double *z = P->F->z;
+    int *level = P->level, *queue = P->queue, *stack = P->stack, power = P->power;
+    pw_v3 up = P->up;
     int top = 1, n = 0, i, k, f, g, seeded = 0;
     stack[0] = start;
     level[start] = -2;
@@ -255,7 +284,7 @@ PW__DEF void pw_df_seed(const pw_trimesh *m, pw_v3 up, int power, const pw_df_cu
         if (pw_df_project_tilt(m, f, up, cut ? cut->sin2 : 1e-8, z + 2 * f)) {
             if (power == 2) pw_df_square(z + 2 * f);
             level[f] = 0;
-            queue[(*tail)++] = f;
+            queue[P->tail++] = f;
             seeded = 1;
         }
     }
@@ -263,7 +292,7 @@ PW__DEF void pw_df_seed(const pw_trimesh *m, pw_v3 up, int power, const pw_df_cu
         pw_df_axis(m, start, z + 2 * start);
         if (power == 2) pw_df_square(z + 2 * start);
         level[start] = 0;
-        queue[(*tail)++] = start;
+        queue[P->tail++] = start;
     }
 }
 
@@ -271,9 +300,14 @@ PW__DEF void pw_df_seed(const pw_trimesh *m, pw_v3 up, int power, const pw_df_cu
  * ones: the unit average of their directions transported into f (§3.2
  * propagation: "projecting onto its face plane the average direction of
  * neighboring faces"); the first neighbour's if the average cancels. */
-PW__DEF void pw_df_average(const pw_trimesh *m, const float *conn, int power, const pw_df_cut *cut,
-                           const int *level, double *z, int f)
+PW__DEF void pw_df_average(const pw_df_prop *P, int f)
 {
+    const pw_trimesh *m = P->F->m;
+    const float *conn = P->F->conn;
+    const pw_df_cut *cut = P->cut;
+    const int *level = P->level;
+    double *z = P->F->z;
+    int power = P->power;
     double sum[2] = {0.0, 0.0}, first[2] = {0.0, 0.0}, w[2];
     int k, g, n = 0;
     for (k = 0; k < 3; k++) {
@@ -296,40 +330,45 @@ PW__DEF void pw_df_average(const pw_trimesh *m, const float *conn, int power, co
  * on which known triangle is met first. Components without a known triangle
  * are seeded by pw_df_seed. Known directions must be unit. With a cut
  * (pw_df_cut), propagation does not cross its edges. */
-PW__DEF int pw_df_fill_cut(const pw_alloc *a, const pw_trimesh *m, const float *conn, int power, pw_v3 up,
-                           const pw_df_cut *cut, const unsigned char *known, double *z, pw_err *e)
+PW__DEF int pw_df_fill_cut(const pw_alloc *a, const pw_df_field *F, int power, pw_v3 up, const pw_df_cut *cut,
+                           pw_err *e)
 {
+    const pw_trimesh *m = F->m;
+    const unsigned char *known = F->known;
     int *level = (int *)pw_alloc_array(a, (size_t)m->nf * 3, sizeof(int), "field propagation", e);
-    int *queue, *stack, head = 0, tail = 0, next = 0, f, k, g;
+    int head = 0, next = 0, f, k, g;
+    pw_df_prop P;
     if (!level) return PW_ERR_NOMEM;
-    queue = level + m->nf;
-    stack = queue + m->nf;
+    P.F = F, P.power = power, P.up = up, P.cut = cut;
+    P.level = level;
+    P.queue = level + m->nf;
+    P.stack = P.queue + m->nf;
+    P.tail = 0;
     for (f = 0; f < m->nf; f++) {
         level[f] = known[f] ? 0 : -1;
-        if (known[f]) queue[tail++] = f;
+        if (known[f]) P.queue[P.tail++] = f;
     }
     for (;;) {
-        if (head == tail) {
+        if (head == P.tail) {
             while (next < m->nf && level[next] >= 0) next++;
             if (next == m->nf) break;
-            pw_df_seed(m, up, power, cut, z, level, queue, &tail, stack, next);
+            pw_df_seed(&P, next);
         }
-        f = queue[head++];
-        if (level[f] > 0) pw_df_average(m, conn, power, cut, level, z, f);
+        f = P.queue[head++];
+        if (level[f] > 0) pw_df_average(&P, f);
         for (k = 0; k < 3; k++)
             if ((g = pw_df_across(m, cut, f, k)) >= 0 && level[g] == -1) {
                 level[g] = level[f] + 1;
-                queue[tail++] = g;
+                P.queue[P.tail++] = g;
             }
     }
     pw_free(a, level);
     return PW_OK;
 }
 
-PW__DEF int pw_df_fill(const pw_alloc *a, const pw_trimesh *m, const float *conn, int power, pw_v3 up,
-                       const unsigned char *known, double *z, pw_err *e)
+PW__DEF int pw_df_fill(const pw_alloc *a, const pw_df_field *F, int power, pw_v3 up, pw_err *e)
 {
-    return pw_df_fill_cut(a, m, conn, power, up, NULL, known, z, e);
+    return pw_df_fill_cut(a, F, power, up, NULL, e);
 }
 
 /* §3.2: "project the global up direction onto the surface, and then
@@ -340,12 +379,11 @@ PW__DEF int pw_df_fill(const pw_alloc *a, const pw_trimesh *m, const float *conn
  * (pw_df_axis). ISOTROPIC uses the same field: growth replaces the
  * orientation by its own propagation, and a smooth start keeps the
  * discontinuity part of lapped__difficulty quiet. */
-PW__DEF int pw_df_up(const pw_alloc *a, const pw_trimesh *m, const float *conn, pw_v3 up, double *z,
-                          unsigned char *known, pw_err *e)
+PW__DEF int pw_df_up(const pw_alloc *a, const pw_df_field *F, pw_v3 up, pw_err *e)
 {
     int f;
-    for (f = 0; f < m->nf; f++) known[f] = (unsigned char)pw_df_project(m, f, up, z + 2 * f);
-    return pw_df_fill(a, m, conn, 1, up, known, z, e);
+    for (f = 0; f < F->m->nf; f++) F->known[f] = (unsigned char)pw_df_project(F->m, f, up, F->z + 2 * f);
+    return pw_df_fill(a, F, 1, up, e);
 }
 
 /* The up field without bullseyes. Where up is (nearly) normal to the
@@ -383,9 +421,12 @@ PW__DEF void pw_df_creases(const pw_trimesh *m, unsigned char *cut)
 
 /* One Gauss-Seidel sweep over the triangles not known: each becomes the
  * mean of its uncut neighbours' directions transported into it. */
-PW__DEF void pw_df_relax(const pw_trimesh *m, const float *conn, const pw_df_cut *cut, const unsigned char *known,
-                         double *z)
+PW__DEF void pw_df_relax(const pw_df_field *F, const pw_df_cut *cut)
 {
+    const pw_trimesh *m = F->m;
+    const float *conn = F->conn;
+    const unsigned char *known = F->known;
+    double *z = F->z;
     int f, k, g;
     for (f = 0; f < m->nf; f++) {
         double sum[2] = {0.0, 0.0}, w[2];
@@ -402,9 +443,10 @@ PW__DEF void pw_df_relax(const pw_trimesh *m, const float *conn, const pw_df_cut
     }
 }
 
-PW__DEF int pw_df_up_creased(const pw_alloc *a, const pw_trimesh *m, const float *conn, pw_v3 up, double *z,
-                             unsigned char *known, pw_err *e)
+PW__DEF int pw_df_up_creased(const pw_alloc *a, const pw_df_field *F, pw_v3 up, pw_err *e)
 {
+    const pw_trimesh *m = F->m;
+    double *z = F->z;
     unsigned char *edge = (unsigned char *)pw_alloc_array(a, (size_t)m->nf * 3, 1, "field creases", e);
     double st = sin(PW_DF_UP_TILT * 3.14159265358979323846 / 180.0);
     pw_df_cut cut;
@@ -413,9 +455,9 @@ PW__DEF int pw_df_up_creased(const pw_alloc *a, const pw_trimesh *m, const float
     pw_df_creases(m, edge);
     cut.edge = edge;
     cut.sin2 = st * st;
-    for (f = 0; f < m->nf; f++) known[f] = (unsigned char)pw_df_project_tilt(m, f, up, cut.sin2, z + 2 * f);
-    r = pw_df_fill_cut(a, m, conn, 1, up, &cut, known, z, e);
-    for (i = 0; r == PW_OK && i < PW_DF_UP_SWEEPS; i++) pw_df_relax(m, conn, &cut, known, z);
+    for (f = 0; f < m->nf; f++) F->known[f] = (unsigned char)pw_df_project_tilt(m, f, up, cut.sin2, z + 2 * f);
+    r = pw_df_fill_cut(a, F, 1, up, &cut, e);
+    for (i = 0; r == PW_OK && i < PW_DF_UP_SWEEPS; i++) pw_df_relax(F, &cut);
     for (f = 0; r == PW_OK && f < m->nf; f++)
         if (!pw_df_unit(z + 2 * f)) pw_df_axis(m, f, z + 2 * f);
     pw_free(a, edge);
@@ -569,9 +611,21 @@ PW__DEF int pw_df_smooth(const pw_alloc *a, const pw_trimesh *m, const float *co
 /* Relaxes the neighbours of triangle f (just oriented) in the orientation
  * walk: a neighbour's key is 1 - |cos| of the angle between its line and
  * f's direction carried over, the smallest key (best agreement) kept. */
-PW__DEF void pw_df_offer(const pw_trimesh *m, const float *conn, const double *z, int f,
-                              const unsigned char *seen, double *best, int *via, pw_heap *hp)
+/* The orientation walk's state: seen (nf) marks oriented triangles, best
+ * (nf) the smallest key offered to each, via (nf) the half-edge it came
+ * through, hp the heap of offers (room for 3 nf + 1 entries). */
+typedef struct pw_df_walker {
+    unsigned char *seen;
+    double *best;
+    int *via;
+    pw_heap *hp;
+} pw_df_walker;
+
+PW__DEF void pw_df_offer(const pw_trimesh *m, const float *conn, const double *z, int f, const pw_df_walker *W)
 {
+    const unsigned char *seen = W->seen;
+    double *best = W->best;
+    int *via = W->via;
     int k, g, th;
     double w[2], key;
     for (k = 0; k < 3; k++) {
@@ -581,16 +635,20 @@ PW__DEF void pw_df_offer(const pw_trimesh *m, const float *conn, const double *z
         if (key < best[g]) {
             best[g] = key;
             via[g] = th;
-            pw_heap_insert(hp, key, g);
+            pw_heap_insert(W->hp, key, g);
         }
     }
 }
 
-/* The walk of pw_df_orient (best: nf keys, via: nf half-edges,
- * hp: room for 3 nf + 1 entries). */
-PW__DEF void pw_df_walk(const pw_trimesh *m, const float *conn, pw_v3 up, double *z,
-                             unsigned char *seen, double *best, int *via, pw_heap *hp)
+/* The walk of pw_df_orient over the field z (nf*2, no known flags). */
+PW__DEF void pw_df_walk(const pw_df_field *F, pw_v3 up, const pw_df_walker *W)
 {
+    const pw_trimesh *m = F->m;
+    const float *conn = F->conn;
+    double *z = F->z, *best = W->best;
+    unsigned char *seen = W->seen;
+    int *via = W->via;
+    pw_heap *hp = W->hp;
     double w[2];
     int s, f;
     for (f = 0; f < m->nf; f++) best[f] = 2.0;
@@ -599,7 +657,7 @@ PW__DEF void pw_df_walk(const pw_trimesh *m, const float *conn, pw_v3 up, double
         if (pw_df_project(m, s, up, w) && w[0] * z[2 * s] + w[1] * z[2 * s + 1] < 0.0)
             z[2 * s] = -z[2 * s], z[2 * s + 1] = -z[2 * s + 1];
         seen[s] = 1;
-        pw_df_offer(m, conn, z, s, seen, best, via, hp);
+        pw_df_offer(m, conn, z, s, W);
         while (hp->n > 0) {
             f = pw_heap_pop(hp);
             if (seen[f]) continue; /* stale entry */
@@ -607,7 +665,7 @@ PW__DEF void pw_df_walk(const pw_trimesh *m, const float *conn, pw_v3 up, double
             if (w[0] * z[2 * f] + w[1] * z[2 * f + 1] < 0.0)
                 z[2 * f] = -z[2 * f], z[2 * f + 1] = -z[2 * f + 1];
             seen[f] = 1;
-            pw_df_offer(m, conn, z, f, seen, best, via, hp);
+            pw_df_offer(m, conn, z, f, W);
         }
     }
 }
@@ -628,10 +686,14 @@ PW__DEF int pw_df_orient(const pw_alloc *a, const pw_trimesh *m, const float *co
     unsigned char *seen = (unsigned char *)pw_calloc_array(a, n, 1, "field orientation", e);
     int r = dbl && ints && seen ? PW_OK : PW_ERR_NOMEM;
     pw_heap hp;
+    pw_df_field F;
+    pw_df_walker W;
     if (r == PW_OK) { /* dbl: best keys, then the heap's; ints: via, then the heap's */
         memset(&hp, 0, sizeof hp);
         hp.key = dbl + n, hp.item = ints + n;
-        pw_df_walk(m, conn, up, z, seen, dbl, ints, &hp);
+        F.m = m, F.conn = conn, F.z = z, F.known = NULL;
+        W.seen = seen, W.best = dbl, W.via = ints, W.hp = &hp;
+        pw_df_walk(&F, up, &W);
     }
     pw_free(a, dbl);
     pw_free(a, ints);
@@ -643,10 +705,11 @@ PW__DEF int pw_df_orient(const pw_alloc *a, const pw_trimesh *m, const float *co
  * 1e-3 / diagonal, i.e. radii of curvature over a thousand mesh sizes),
  * smoothing, unit length, gaps filled (components with no direction at all,
  * like a sphere or a plane, get the up field), halved to vectors, oriented. */
-PW__DEF int pw_df_curvature(const pw_alloc *a, const pw_trimesh *m, pw_v3 up, int smoothing,
-                            const float *conn, double *z, unsigned char *known, pw_err *e)
+PW__DEF int pw_df_curvature(const pw_alloc *a, const pw_df_field *F, pw_v3 up, int smoothing, pw_err *e)
 {
-    double *vn, abc[3];
+    const pw_trimesh *m = F->m;
+    const float *conn = F->conn;
+    double *z = F->z, *vn, abc[3];
     int f, r;
     if (smoothing < 0)
         return pw_fail(e, PW_ERR_INVALID, "curvature field: smoothing %d is negative", smoothing);
@@ -657,8 +720,8 @@ PW__DEF int pw_df_curvature(const pw_alloc *a, const pw_trimesh *m, pw_v3 up, in
     }
     pw_free(a, vn);
     if ((r = pw_df_smooth(a, m, conn, smoothing, z, e)) != PW_OK) return r;
-    for (f = 0; f < m->nf; f++) known[f] = (unsigned char)pw_df_unit(z + 2 * f);
-    if ((r = pw_df_fill(a, m, conn, 2, up, known, z, e)) != PW_OK) return r;
+    for (f = 0; f < m->nf; f++) F->known[f] = (unsigned char)pw_df_unit(z + 2 * f);
+    if ((r = pw_df_fill(a, F, 2, up, e)) != PW_OK) return r;
     for (f = 0; f < m->nf; f++) pw_df_halve(z + 2 * f);
     return pw_df_orient(a, m, conn, up, z, e);
 }

@@ -168,15 +168,25 @@ PW__DEF int pw__quilt_cmp_float(const void *a, const void *b)
     return x < y ? -1 : x > y;
 }
 
+/* The components of a w x h motif map m on the torus: comp (w*h) holds the
+ * stamp of the component each pixel was flooded with (-1: none yet), ux
+ * and uy its unwrapped position, stack the pixels to visit. */
+typedef struct pw__quilt_flood {
+    const float *m;
+    int w, h;
+    int *comp, *ux, *uy, *stack;
+} pw__quilt_flood;
+
 /* Floods the component of motif pixels (value 1) through `seed` on the
- * torus, writing `stamp` into comp and each pixel's unwrapped position
- * into ux, uy. Returns 1 if the component wraps around the torus (reaches
- * a pixel again at another unwrapped position): a network such as mortar
- * or the dark gaps between leaves, the ground, not a motif. */
-PW__DEF int pw__quilt_wraps(const float *m, int w, int h, int seed, int stamp, int *comp, int *ux, int *uy,
-                            int *stack, size_t *size)
+ * torus, stamping it with seed's index. Returns 1 if the component wraps
+ * around the torus (reaches a pixel again at another unwrapped position):
+ * a network such as mortar or the dark gaps between leaves, the ground, not
+ * a motif. *size gets its pixel count. */
+PW__DEF int pw__quilt_wraps(const pw__quilt_flood *F, int seed, size_t *size)
 {
     static const int dx[4] = {1, -1, 0, 0}, dy[4] = {0, 0, 1, -1};
+    const float *m = F->m;
+    int w = F->w, h = F->h, stamp = seed, *comp = F->comp, *ux = F->ux, *uy = F->uy, *stack = F->stack;
     int top = 0, wraps = 0, k;
     *size = 0;
     comp[seed] = stamp;
@@ -212,12 +222,14 @@ PW__DEF int pw__quilt_clear_ground(const pw_alloc *a, float *m, int w, int h, pw
 {
     size_t n = (size_t)w * h, i, size;
     int *buf = (int *)pw_alloc_array(a, n * 4, sizeof(int), "motif components", e);
-    int *comp = buf, *ux = buf + n, *uy = buf + 2 * n, *stack = buf + 3 * n;
+    int *comp = buf;
+    pw__quilt_flood F;
     if (!buf) return PW_ERR_NOMEM;
+    F.m = m, F.w = w, F.h = h;
+    F.comp = comp, F.ux = buf + n, F.uy = buf + 2 * n, F.stack = buf + 3 * n;
     for (i = 0; i < n; i++) comp[i] = -1;
     for (i = 0; i < n; i++)
-        if (m[i] > 0.5f && comp[i] < 0 &&
-            (pw__quilt_wraps(m, w, h, (int)i, (int)i, comp, ux, uy, stack, &size) || size * 4 >= n ||
+        if (m[i] > 0.5f && comp[i] < 0 && (pw__quilt_wraps(&F, (int)i, &size) || size * 4 >= n ||
              size * 200 < n)) {
             size_t j;
             for (j = 0; j < n; j++)
@@ -234,10 +246,11 @@ PW__DEF int pw__quilt_clear_ground(const pw_alloc *a, float *m, int w, int h, pw
  * leaves count and the speckle inside them does not. What the outlines
  * enclose is a motif; what stays connected around the whole (periodic)
  * image is the ground between motifs (mortar, gaps). *edge gets the
- * threshold (a colour change per pixel). */
-PW__DEF int pw_quilt_motif_map(const pw_alloc *a, const float *px, int w, int h, int c, float *motif,
-                               float *edge, pw_err *e)
+ * threshold (a colour change per pixel). motif holds src's w*h pixels. */
+PW__DEF int pw_quilt_motif_map(const pw_alloc *a, const pw_image *src, float *motif, float *edge, pw_err *e)
 {
+    const float *px = src->px;
+    int w = src->w, h = src->h, c = src->c;
     size_t n = (size_t)w * h;
     float *blur = (float *)pw_alloc_array(a, n * 2 * c, sizeof(float), "motif map", e);
     float *g = (float *)pw_alloc_array(a, n * 2, sizeof(float), "motif gradients", e);
@@ -268,11 +281,26 @@ PW__DEF int pw_quilt_motif_map(const pw_alloc *a, const float *px, int w, int h,
     return pw__quilt_clear_ground(a, motif, w, h, e);
 }
 
+/* One alpha-expansion move being built: the quilt, the label alpha, the
+ * graph g, node[i] (w*h) the graph variable of pixel i or -1 for a pixel
+ * that cannot switch, and u0, u1 (per variable) the unary costs of keeping
+ * and of switching. The arrays are caller scratch. */
+typedef struct pw__quilt_move {
+    const pw_quilt *q;
+    int alpha;
+    pw_graph *g;
+    int *node;
+    double *u0, *u1;
+} pw__quilt_move;
+
 /* Adds the expansion-move energy of one neighbour pair to the graph.
  * Variable x = 1 means "switch to alpha"; node[i] < 0 marks a constant. */
-PW__DEF int pw__quilt_add_pair(const pw_quilt *q, pw_graph *g, const int *node, double *u0,
-                               double *u1, int i, int j, int alpha, pw_err *e)
+PW__DEF int pw__quilt_add_pair(const pw__quilt_move *M, int i, int j, pw_err *e)
 {
+    const pw_quilt *q = M->q;
+    const int *node = M->node;
+    double *u0 = M->u0, *u1 = M->u1;
+    int alpha = M->alpha;
     int li = q->label[i], lj = q->label[j], vi = node[i], vj = node[j];
     if (vi >= 0 && vj >= 0) {
         /* E00 = V(li,lj), E01 = V(li,a), E10 = V(a,lj), E11 = 0 */
@@ -283,7 +311,7 @@ PW__DEF int pw__quilt_add_pair(const pw_quilt *q, pw_graph *g, const int *node, 
         u0[vi] += a00;              /* E = a00 + (a10-a00) xi - a10 xj + w [xi=0,xj=1] */
         u1[vi] += a10;
         u0[vj] += a10;
-        return pw_graph_add_edge(g, vi, vj, w > 0.0 ? (float)w : 0.0f, 0.0f, e);
+        return pw_graph_add_edge(M->g, vi, vj, w > 0.0 ? (float)w : 0.0f, 0.0f, e);
     }
     if (vi >= 0) {
         u0[vi] += pw_quilt_pair_cost(q, i, j, li, lj);
@@ -307,11 +335,14 @@ PW__DEF void pw__quilt_tlinks(pw_graph *g, const double *u0, const double *u1, i
     }
 }
 
-/* One alpha-expansion move. `node` and the u arrays are caller scratch of
- * w*h entries. Returns the number of pixels that switched in *changed. */
-PW__DEF int pw__quilt_expand_one(const pw_quilt *q, int alpha, int *node, double *u0,
-                                 double *u1, int *changed, const pw_alloc *a, pw_err *e)
+/* One alpha-expansion move (M: its label and scratch of w*h entries, the
+ * graph made here). Returns the number of pixels that switched in
+ * *changed. */
+PW__DEF int pw__quilt_expand_one(pw__quilt_move *M, int *changed, const pw_alloc *a, pw_err *e)
 {
+    const pw_quilt *q = M->q;
+    int alpha = M->alpha, *node = M->node;
+    double *u0 = M->u0, *u1 = M->u1;
     pw_graph g;
     int i, k, n = q->w * q->h, nvar = 0, nb[2], r;
     double flow;
@@ -322,10 +353,11 @@ PW__DEF int pw__quilt_expand_one(const pw_quilt *q, int alpha, int *node, double
     if (nvar == 0) return PW_OK;
     for (i = 0; i < nvar; i++) u0[i] = u1[i] = 0.0;
     if ((r = pw_graph_init(&g, a, nvar, 2 * nvar, e)) != PW_OK) return r;
+    M->g = &g;
     for (i = 0; i < n && r == PW_OK; i++) {
         pw__quilt_neighbours(q, i, nb);
         for (k = 0; k < 2 && r == PW_OK; k++)
-            if (nb[k] >= 0) r = pw__quilt_add_pair(q, &g, node, u0, u1, i, nb[k], alpha, e);
+            if (nb[k] >= 0) r = pw__quilt_add_pair(M, i, nb[k], e);
     }
     if (r == PW_OK) {
         pw__quilt_tlinks(&g, u0, u1, nvar);
@@ -337,6 +369,7 @@ PW__DEF int pw__quilt_expand_one(const pw_quilt *q, int alpha, int *node, double
             (*changed)++;
         }
     pw_graph_free(&g);
+    M->g = NULL;
     return r;
 }
 
@@ -347,6 +380,7 @@ PW__DEF int pw_quilt_optimize(const pw_alloc *a, pw_quilt *q, int cycles, pw_err
     int n = q->w * q->h, c, l, r = PW_OK, changed, total;
     int *node = (int *)pw_alloc_array(a, (size_t)n, sizeof(int), "quilt nodes", e);
     double *u = (double *)pw_alloc_array(a, (size_t)n * 2, sizeof(double), "quilt costs", e);
+    pw__quilt_move M;
     if (!node || !u) {
         pw_free(a, node);
         pw_free(a, u);
@@ -355,7 +389,8 @@ PW__DEF int pw_quilt_optimize(const pw_alloc *a, pw_quilt *q, int cycles, pw_err
     for (c = 0; c < cycles && r == PW_OK; c++) {
         total = 0;
         for (l = 0; l < q->nlabels && r == PW_OK; l++) {
-            r = pw__quilt_expand_one(q, l, node, u, u + n, &changed, a, e);
+            M.q = q, M.alpha = l, M.g = NULL, M.node = node, M.u0 = u, M.u1 = u + n;
+            r = pw__quilt_expand_one(&M, &changed, a, e);
             total += changed;
         }
         if (total == 0) break;
@@ -389,12 +424,13 @@ PW__DEF int pw__tileable_near_wrap(int x, int n, int shift)
 
 /* Makes an image tile seamlessly (periodic in x and y) by graph-cut
  * compositing of it with shifted copies of itself (see above), on raw
- * samples: px and out hold w*h pixels of c >= 1 channels (any number, so
+ * samples: in and out hold w*h pixels of c >= 1 channels (any number, so
  * that a feature mask can travel as an extra channel and be cut with the
  * colours). Images under 8 pixels wide or high are copied. */
-PW__DEF int pw_quilt_make_tileable_px(const pw_alloc *a, const float *px, int w, int h, int c,
-                                      float *out, pw_err *e)
+PW__DEF int pw_quilt_make_tileable_px(const pw_alloc *a, const pw_image *in, float *out, pw_err *e)
 {
+    const float *px = in->px;
+    int w = in->w, h = in->h, c = in->c;
     int x, y, l, r;
     size_t n = (size_t)w * h, i;
     float *src;
@@ -451,7 +487,7 @@ PW__DEF int pw_quilt_make_tileable(const pw_alloc *a, const pw_image *in, pw_ima
     int r;
     if ((r = pw_image_alloc(a, out, in->w, in->h, in->c, e)) != PW_OK) return r;
     out->bits = in->bits;
-    r = pw_quilt_make_tileable_px(a, in->px, in->w, in->h, in->c, out->px, e);
+    r = pw_quilt_make_tileable_px(a, in, out->px, e);
     if (r != PW_OK) pw_image_free(a, out);
     return r;
 }

@@ -430,17 +430,11 @@ PW__DEF void pw__raster_emit(pw_raster_edges *s, const double *planes, pw_raster
 /* Snaps a triangle given in floats into pieces; *clipped tells whether the
  * pieces are a clipped fan (their own barycentrics are then not the
  * triangle's). Returns the number of pieces. */
-PW__DEF int pw__raster_pieces(float x0, float y0, float x1, float y1, float x2, float y2,
-                              const pw_raster_grid *g, double *v, pw_raster_edges *pieces,
+PW__DEF int pw__raster_pieces(const float xy[6], const pw_raster_grid *g, double *v, pw_raster_edges *pieces,
                               int *clipped)
 {
     int k;
-    v[0] = x0;
-    v[1] = y0;
-    v[2] = x1;
-    v[3] = y1;
-    v[4] = x2;
-    v[5] = y2;
+    for (k = 0; k < 6; k++) v[k] = xy[k];
     *clipped = 0;
     for (k = 0; k < 6; k++) {
         if (!pw_is_finite(v[k])) return 0;
@@ -451,18 +445,17 @@ PW__DEF int pw__raster_pieces(float x0, float y0, float x1, float y1, float x2, 
 }
 
 /* Calls fn(user, x, y, b0, b1, b2) for every pixel of [0,w) x [0,h) whose
- * centre the triangle covers (top-left rule, either winding), row by row.
+ * centre the triangle xy = (x0, y0, x1, y1, x2, y2) covers (top-left rule, either winding), row by row.
  * b0 + b1 + b2 = 1 and b0 v0 + b1 v1 + b2 v2 is the pixel centre, up to the
  * snapping of the vertices (2^-17 pixel at most on viewports up to 2048). */
-PW__DEF void pw_raster_tri(float x0, float y0, float x1, float y1, float x2, float y2, int w,
-                           int h, pw_raster_fn fn, void *user)
+PW__DEF void pw_raster_tri(const float xy[6], int w, int h, pw_raster_fn fn, void *user)
 {
     pw_raster_grid g;
     pw_raster_edges pieces[PW_RASTER_MAX_PIECES];
     double v[6], planes[9];
     int n, i, clipped;
     if (!pw_raster_grid_init(&g, w, h)) return;
-    n = pw__raster_pieces(x0, y0, x1, y1, x2, y2, &g, v, pieces, &clipped);
+    n = pw__raster_pieces(xy, &g, v, pieces, &clipped);
     if (clipped && !pw__raster_bary_planes(v, planes)) return;
     for (i = 0; i < n; i++) pw__raster_emit(pieces + i, clipped ? planes : NULL, fn, user);
 }
@@ -470,15 +463,14 @@ PW__DEF void pw_raster_tri(float x0, float y0, float x1, float y1, float x2, flo
 /* Same coverage as pw_raster_tri, reported as runs: fn(user, y, xa, xb) for
  * the pixels [xa, xb) of row y. A clipped triangle may report a row in
  * several adjacent runs. */
-PW__DEF void pw_raster_tri_spans(float x0, float y0, float x1, float y1, float x2, float y2,
-                                 int w, int h, pw_raster_span_fn fn, void *user)
+PW__DEF void pw_raster_tri_spans(const float xy[6], int w, int h, pw_raster_span_fn fn, void *user)
 {
     pw_raster_grid g;
     pw_raster_edges pieces[PW_RASTER_MAX_PIECES];
     double v[6];
     int n, i, y, xa, xb, clipped;
     if (!pw_raster_grid_init(&g, w, h)) return;
-    n = pw__raster_pieces(x0, y0, x1, y1, x2, y2, &g, v, pieces, &clipped);
+    n = pw__raster_pieces(xy, &g, v, pieces, &clipped);
     for (i = 0; i < n; i++)
         for (y = pieces[i].y0; y < pieces[i].y1; y++)
             if (pw_raster_next(pieces + i, &xa, &xb)) fn(user, y, xa, xb);

@@ -229,12 +229,19 @@ PW__DEF void pw__bounding_sphere(const float *pos, int nv, double *c, double *r)
     if (!(*r > 0.0)) *r = n ? 1e-3 * (1.0 + sqrt(pw_dot3(c, c))) : 1.0;
 }
 
-/* Where the finite vertices lie in a view basis (right rt, up up, view vd,
- * from centre c): the lateral extent (lo, hi in x and y) and the depth
- * range along the view. */
-PW__DEF void pw__view_extent(const float *pos, int nv, const double c[3], const double rt[3],
-                             const double up[3], const double vd[3], double lo[3], double hi[3])
+/* The orthonormal basis pw_camera_frame measures the mesh in: right rt, up
+ * up and view vd from the centre c, with the image centre at lateral offset
+ * (ox, oy) from c (0 until the framing has found it). */
+typedef struct pw__view_basis {
+    double c[3], rt[3], up[3], vd[3];
+    double ox, oy;
+} pw__view_basis;
+
+/* Where the finite vertices lie in view basis b: the lateral extent (lo, hi
+ * in x and y) and the depth range along the view. */
+PW__DEF void pw__view_extent(const float *pos, int nv, const pw__view_basis *b, double lo[3], double hi[3])
 {
+    const double *c = b->c, *rt = b->rt, *up = b->up, *vd = b->vd;
     int i, k, n = 0;
     for (k = 0; k < 3; k++) lo[k] = hi[k] = 0.0;
     for (i = 0; i < nv; i++) {
@@ -254,11 +261,11 @@ PW__DEF void pw__view_extent(const float *pos, int nv, const double c[3], const 
 }
 
 /* The range of projected tangents (x - ox)/(dist + z) of the vertices in
- * the view basis, in out[0..1] (x) and out[2..3] (y). */
-PW__DEF void pw__projected_range(const float *pos, int nv, const double c[3], const double rt[3],
-                                 const double up[3], const double vd[3], double ox, double oy,
-                                 double dist, double out[4])
+ * view basis b, in out[0..1] (x) and out[2..3] (y). */
+PW__DEF void pw__projected_range(const float *pos, int nv, const pw__view_basis *b, double dist, double out[4])
 {
+    const double *c = b->c, *rt = b->rt, *up = b->up, *vd = b->vd;
+    double ox = b->ox, oy = b->oy;
     int i, k, n = 0;
     for (k = 0; k < 4; k++) out[k] = 0.0;
     for (i = 0; i < nv; i++) {
@@ -280,10 +287,10 @@ PW__DEF void pw__projected_range(const float *pos, int nv, const double c[3], co
 /* The smallest distance from the framing centre at which every vertex
  * (lateral offset x, y from the image centre ox, oy; depth z toward the
  * far side) fits in half-angles with tangents tx, ty. */
-PW__DEF double pw__fit_distance(const float *pos, int nv, const double c[3], const double rt[3],
-                                const double up[3], const double vd[3], double ox, double oy,
-                                double tx, double ty)
+PW__DEF double pw__fit_distance(const float *pos, int nv, const pw__view_basis *b, double tx, double ty)
 {
+    const double *c = b->c, *rt = b->rt, *up = b->up, *vd = b->vd;
+    double ox = b->ox, oy = b->oy;
     double dist = 0.0;
     int i, k;
     for (i = 0; i < nv; i++) {
@@ -310,6 +317,7 @@ PW__DEF pw_camera pw_camera_frame(const float *pos, int nv, const float view_dir
                                   const float up[3], float fovy_deg, float aspect)
 {
     pw_camera cam;
+    pw__view_basis B;
     double c[3], r, vd[3] = {0, 0, -1}, u[3] = {0, 1, 0}, x[3], y[3], lo[3], hi[3], t, tx, dist, ox, oy;
     int k;
     if (view_dir)
@@ -334,18 +342,21 @@ PW__DEF pw_camera pw_camera_frame(const float *pos, int nv, const float view_dir
     pw__bounding_sphere(pos, pos ? nv : 0, c, &r);
     t = 0.95 * pw__tan_deg(0.5 * fovy_deg);
     tx = t * aspect;
-    pw__view_extent(pos, pos ? nv : 0, c, x, y, vd, lo, hi);
-    ox = 0.5 * (lo[0] + hi[0]);
-    oy = 0.5 * (lo[1] + hi[1]);
+    for (k = 0; k < 3; k++) B.c[k] = c[k], B.rt[k] = x[k], B.up[k] = y[k], B.vd[k] = vd[k];
+    B.ox = B.oy = 0.0;
+    pw__view_extent(pos, pos ? nv : 0, &B, lo, hi);
+    B.ox = 0.5 * (lo[0] + hi[0]);
+    B.oy = 0.5 * (lo[1] + hi[1]);
     for (k = 0; k < 4; k++) { /* centre the perspective image, not the orthographic one */
         double range[4];
-        dist = pos ? pw__fit_distance(pos, nv, c, x, y, vd, ox, oy, tx, t) : 0.0;
+        dist = pos ? pw__fit_distance(pos, nv, &B, tx, t) : 0.0;
         if (dist < -lo[2] + 0.05 * r) dist = -lo[2] + 0.05 * r; /* the eye stays outside */
         if (!pos || k == 3) break;
-        pw__projected_range(pos, nv, c, x, y, vd, ox, oy, dist, range);
-        ox += 0.5 * (range[0] + range[1]) * dist;
-        oy += 0.5 * (range[2] + range[3]) * dist;
+        pw__projected_range(pos, nv, &B, dist, range);
+        B.ox += 0.5 * (range[0] + range[1]) * dist;
+        B.oy += 0.5 * (range[2] + range[3]) * dist;
     }
+    ox = B.ox, oy = B.oy;
     for (k = 0; k < 3; k++) {
         cam.target[k] = pw__f(c[k] + ox * x[k] + oy * y[k]);
         cam.eye[k] = pw__f(cam.target[k] - vd[k] * dist);
@@ -389,10 +400,11 @@ PW__DEF void pw__box_1d(const float *src, int n, ptrdiff_t sst, float *dst, int 
     }
 }
 
-/* Box-filters the W x H float level src into the W2 x H2 level dst:
- * horizontal pass into tmp (W2 x H), then vertical. */
-PW__DEF void pw__mip_down(const float *src, int W, int H, float *dst, int W2, int H2, float *tmp)
+/* Box-filters level L of t, held as floats in src, into level L + 1 in dst:
+ * horizontal pass into tmp (lw[L + 1] x lh[L]), then vertical. */
+PW__DEF void pw__mip_down(const pw_texture *t, int L, const float *src, float *dst, float *tmp)
 {
+    int W = t->lw[L], H = t->lh[L], W2 = t->lw[L + 1], H2 = t->lh[L + 1];
     int y, x;
     for (y = 0; y < H; y++)
         pw__box_1d(src + (size_t)y * W * 4, W, 4, tmp + (size_t)y * W2 * 4, W2, 4);
@@ -490,7 +502,7 @@ PW__DEF int pw_texture_create(const pw_alloc *a, pw_texture *t, const pw_image *
         pw__tex_quantise(cur, n, t->level[L]);
         if (L + 1 < t->nlevels) {
             float *sw;
-            pw__mip_down(cur, t->lw[L], t->lh[L], next, t->lw[L + 1], t->lh[L + 1], tmp);
+            pw__mip_down(t, L, cur, next, tmp);
             sw = cur;
             cur = next;
             next = sw;
@@ -1145,12 +1157,21 @@ PW__DEF void pw__raster_vis(pw__ctx *c, pw_raster_edges *s, uint32_t id, const f
     if (s->y1 > c->by1) c->by1 = s->y1;
 }
 
+/* A shading point of triangle t: its attribute planes pl (PW__NPL floats),
+ * the sample's offset (dx, dy) from the planes' origin, and iq = 1/q, the
+ * perspective divisor there. */
+typedef struct pw__shade_pt {
+    int t;
+    const float *pl;
+    float dx, dy, iq;
+} pw__shade_pt;
+
 /* Texture colour at a shading point: perspective-correct (u, v) and their
  * exact screen derivatives from the planes (d(U/q)/dx = (U_x - u q_x) / q),
  * scaled to one pixel, give the mip level. Multiplies col. */
-PW__DEF void pw__shade_tex(const pw__ctx *c, const float *pl, float dx, float dy, float iq,
-                           float *col)
+PW__DEF void pw__shade_tex(const pw__ctx *c, const pw__shade_pt *P, float *col)
 {
+    const float *pl = P->pl, dx = P->dx, dy = P->dy, iq = P->iq;
     const pw_texture *t = c->tex;
     float u = (pl[3] * dx + pl[4] * dy + pl[5]) * iq, v = (pl[6] * dx + pl[7] * dy + pl[8]) * iq;
     float tx[4];
@@ -1170,9 +1191,9 @@ PW__DEF void pw__shade_tex(const pw__ctx *c, const float *pl, float dx, float dy
 
 /* The caller's shader at a shading point: barycentric coordinates and
  * their derivatives per pixel, as pw__shade_tex finds u, v. Multiplies col. */
-PW__DEF void pw__shade_custom(const pw__ctx *c, int t, const float *pl, float dx, float dy, float iq,
-                              float *col)
+PW__DEF void pw__shade_custom(const pw__ctx *c, const pw__shade_pt *P, float *col)
 {
+    const float *pl = P->pl, dx = P->dx, dy = P->dy, iq = P->iq;
     float b1 = (pl[3] * dx + pl[4] * dy + pl[5]) * iq, b2 = (pl[6] * dx + pl[7] * dy + pl[8]) * iq;
     float db[4], rgba[4], s = c->ss * iq;
     int k;
@@ -1180,7 +1201,7 @@ PW__DEF void pw__shade_custom(const pw__ctx *c, int t, const float *pl, float dx
     db[1] = (pl[4] - b1 * pl[1]) * s;
     db[2] = (pl[6] - b2 * pl[0]) * s;
     db[3] = (pl[7] - b2 * pl[1]) * s;
-    c->d->shader(c->d->shader_user, t, b1, b2, db, rgba);
+    c->d->shader(c->d->shader_user, P->t, b1, b2, db, rgba);
     for (k = 0; k < 3; k++) col[k] *= rgba[k] * rgba[3];
     col[3] *= rgba[3];
 }
@@ -1198,8 +1219,12 @@ PW__DEF void pw__shade(const pw__ctx *c, int t, float x, float y, float *out)
     col[3] = c->tint[3];
     if (pl[PW__READY] == 0.0f) pw__attr_planes(c, t, pl);
     if (!(q > 1e-30f)) q = 1e-30f; /* only reachable through rounding at a near-plane edge */
-    if (c->d->shader) pw__shade_custom(c, t, pl, dx, dy, 1.0f / q, col);
-    else if (c->tex) pw__shade_tex(c, pl, dx, dy, 1.0f / q, col);
+    if (c->d->shader || c->tex) {
+        pw__shade_pt P;
+        P.t = t, P.pl = pl, P.dx = dx, P.dy = dy, P.iq = 1.0f / q;
+        if (c->d->shader) pw__shade_custom(c, &P, col);
+        else pw__shade_tex(c, &P, col);
+    }
     if (c->lit) {
         float n0 = pl[9] * dx + pl[10] * dy + pl[11], n1 = pl[12] * dx + pl[13] * dy + pl[14];
         float n2 = pl[15] * dx + pl[16] * dy + pl[17], nn = n0 * n0 + n1 * n1 + n2 * n2;

@@ -754,23 +754,29 @@ PW__DEF void pw_ic0_apply(const pw_ic0 *L, const double *r, double *z)
     }
 }
 
-/* A linear operator for the preconditioned CG core: mul computes y = A x
- * and returns x . y, precond z = M^-1 r, both over n doubles. The complex
- * Hermitian systems of zsparse.h run through the same core: with complex
- * numbers stored as (re, im) pairs and real step lengths, every vector
- * update is real, and Re(x^H y) is the real dot product of the pairs. */
+/* A preconditioned system A x = b for the CG core: mul computes y = A x
+ * and returns x . y, precond z = M^-1 r, both over n doubles; b and x (the
+ * warm start, then the solution) hold n doubles; `what` names the solver in
+ * errors. The complex Hermitian systems of zsparse.h run through the same
+ * core: with complex numbers stored as (re, im) pairs and real step
+ * lengths, every vector update is real, and Re(x^H y) is the real dot
+ * product of the pairs. */
 typedef struct pw__pcg_op {
     int n;
     double (*mul)(const void *ctx, const double *x, double *y);
     void (*precond)(const void *ctx, const double *r, double *z);
     const void *actx, *mctx;
+    const double *b;
+    double *x;
+    const char *what;
 } pw__pcg_op;
 
 /* The PCG iterations shared by pw_pcg_solve and pw_zpcg_solve: b and x
- * already checked; x is the warm start; `what` names the solver in errors. */
-PW__DEF int pw__pcg_run(const pw_alloc *a, const pw__pcg_op *op, const double *b, double *x,
-                        const pw_cg_options *o, pw_cg_stats *s, const char *what, pw_err *e)
+ * already checked. */
+PW__DEF int pw__pcg_run(const pw_alloc *a, const pw__pcg_op *op, const pw_cg_options *o, pw_cg_stats *s, pw_err *e)
 {
+    const double *b = op->b;
+    double *x = op->x;
     pw__krylov k;
     double *r, *z, *p, *q, rz, rr;
     int n = op->n, i, ret;
@@ -804,7 +810,7 @@ PW__DEF int pw__pcg_run(const pw_alloc *a, const pw__pcg_op *op, const double *b
     }
     op->mul(op->actx, x, r); /* report what x achieves, not the recurrence */
     for (i = 0; i < n; i++) r[i] = b[i] - r[i];
-    ret = pw__krylov_finish(&k, sqrt(pw__dot(r, r, n)), what, s, e);
+    ret = pw__krylov_finish(&k, sqrt(pw__dot(r, r, n)), op->what, s, e);
     pw_free(a, r);
     return ret;
 }
@@ -832,7 +838,8 @@ PW__DEF int pw_pcg_solve(const pw_alloc *a, const pw_csr *A, const pw_ic0 *M, co
     op.precond = pw__ic0_op;
     op.actx = A;
     op.mctx = M;
-    return pw__pcg_run(a, &op, b, x, o, s, "PCG", e);
+    op.b = b, op.x = x, op.what = "PCG";
+    return pw__pcg_run(a, &op, o, s, e);
 }
 
 /* ---- least squares (CGLS) ---------------------------------------------- */
@@ -1129,9 +1136,20 @@ PW__DEF void pw__ldlt_symbolic(const pw_csr *A, const int *perm, const int *iper
  * the reach of its entries, in topological order). Returns 0 on a pivot
  * that is not positive, or not above 1e-14 of the diagonal entry it came
  * from (what a singular matrix leaves after cancellation). */
-PW__DEF int pw__ldlt_row(pw_ldlt *F, const pw_csr *A, const int *iperm, const int *parent, int *len, int *flag,
-                        int *pattern, double *y, int k)
+/* The scratch of pw_ldlt_factor (n entries each): the inverse ordering, the
+ * elimination tree, the entries of each column of L so far, visit marks,
+ * the reach of a row, and the dense row being solved (zero between rows). */
+typedef struct pw__ldlt_work {
+    const int *iperm, *parent;
+    int *len, *flag, *pattern;
+    double *y;
+} pw__ldlt_work;
+
+PW__DEF int pw__ldlt_row(pw_ldlt *F, const pw_csr *A, const pw__ldlt_work *W, int k)
 {
+    const int *iperm = W->iperm, *parent = W->parent;
+    int *len = W->len, *flag = W->flag, *pattern = W->pattern;
+    double *y = W->y;
     int old = F->perm[k], p, top = F->n;
     double akk;
     flag[k] = k;
@@ -1166,6 +1184,7 @@ PW__DEF int pw_ldlt_factor(const pw_alloc *a, const pw_csr *A, pw_ldlt *F, pw_er
 {
     int n = A->n, k, r = PW_OK, *iperm, *parent, *flag, *len, *pattern;
     double *y;
+    pw__ldlt_work W;
     memset(F, 0, sizeof *F);
     if (A->n != A->m) return pw_fail(e, PW_ERR_INVALID, "LDLT needs a square matrix, not %dx%d", A->n, A->m);
     F->n = n;
@@ -1186,8 +1205,9 @@ PW__DEF int pw_ldlt_factor(const pw_alloc *a, const pw_csr *A, pw_ldlt *F, pw_er
         F->Lx = (double *)pw_alloc_array(a, (size_t)F->Lp[n] + 1, sizeof(double), "LDLT factor", e);
         if (!F->Li || !F->Lx) r = PW_ERR_NOMEM;
         for (k = 0; k < n; k++) len[k] = 0;
+        W.iperm = iperm, W.parent = parent, W.len = len, W.flag = flag, W.pattern = pattern, W.y = y;
         for (k = 0; k < n && r == PW_OK; k++)
-            if (!pw__ldlt_row(F, A, iperm, parent, len, flag, pattern, y, k))
+            if (!pw__ldlt_row(F, A, &W, k))
                 r = pw_fail(e, PW_ERR_DEGENERATE, "LDLT: the matrix is not positive definite (pivot %d of %d, unknown %d, is %g)",
                             k, n, F->perm[k], F->D[k]);
     }

@@ -248,7 +248,8 @@ PW__DEF int pw_zpcg_solve(const pw_alloc *a, const pw_zcsr *A, const pw_zic0 *M,
     op.precond = pw__zic0_op;
     op.actx = A;
     op.mctx = M;
-    return pw__pcg_run(a, &op, b, x, o, s, "complex PCG", e);
+    op.b = b, op.x = x, op.what = "complex PCG";
+    return pw__pcg_run(a, &op, o, s, e);
 }
 
 #endif /* PW__ZSPARSE_V1 */

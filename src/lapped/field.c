@@ -269,19 +269,19 @@ static int lapped__fld_checks(const pw_trimesh *m, const lapped_options *fl, flo
 /* The blended 3D directions projected onto each face (§3.2: vectors "at
  * the remaining faces"), and the blended scales. A blend that cancels or is
  * normal to its face is filled from the neighbours. */
-static int lapped__fld_blend(const pw_alloc *a, const pw_trimesh *m, const float *conn, pw_v3 up,
-                             const lapped__fld_acc *acc, double *z, double *scales, unsigned char *known,
-                             pw_err *e)
+static int lapped__fld_blend(const pw_alloc *a, const pw_df_field *F, pw_v3 up, const lapped__fld_acc *acc,
+                             double *scales, pw_err *e)
 {
+    const pw_trimesh *m = F->m;
     int f;
     for (f = 0; f < m->nf; f++) {
         double w = acc->w[f];
         pw_v3 d = pw_v3_make((float)(acc->dir[3 * f] / w), (float)(acc->dir[3 * f + 1] / w),
                              (float)(acc->dir[3 * f + 2] / w));
-        known[f] = (unsigned char)(pw_v3_dot(d, d) > 1e-8f && pw_df_project(m, f, d, z + 2 * f));
+        F->known[f] = (unsigned char)(pw_v3_dot(d, d) > 1e-8f && pw_df_project(m, f, d, F->z + 2 * f));
         scales[f] = acc->sc[f] / w;
     }
-    return pw_df_fill(a, m, conn, 1, up, known, z, e);
+    return pw_df_fill(a, F, 1, up, e);
 }
 
 /* §3.2: "the user specifies vectors at a few faces. We interpolate vectors
@@ -292,10 +292,10 @@ static int lapped__fld_blend(const pw_alloc *a, const pw_trimesh *m, const float
  * weight_i exp(-d_i(f)^2 / (2 radius_i^2)); directions are blended in 3D
  * and projected onto f, scales blended linearly. One Dijkstra run per
  * constraint: O(nconstraints * nf log nf) time, O(nf) memory. */
-static int lapped__fld_constraints(const pw_alloc *a, const pw_trimesh *m, const lapped_options *fl,
-                                   float scale, const float *conn, double *z, double *scales,
-                                   unsigned char *known, pw_err *e)
+static int lapped__fld_constraints(const pw_alloc *a, const pw_df_field *F, const lapped_options *fl, float scale,
+                                   double *scales, pw_err *e)
 {
+    const pw_trimesh *m = F->m;
     size_t n = (size_t)m->nf;
     int nc = fl->nconstraints, i, f, r = PW_OK;
     lapped__fld_con *c;
@@ -327,7 +327,7 @@ static int lapped__fld_constraints(const pw_alloc *a, const pw_trimesh *m, const
         }
         lapped__fld_pin(c, nc, &acc);
         lapped__fld_orphans(m, c, nc, &acc, hp.item);
-        r = lapped__fld_blend(a, m, conn, pw_v3_load(fl->up), &acc, z, scales, known, e);
+        r = lapped__fld_blend(a, F, pw_v3_load(fl->up), &acc, scales, e);
     }
     pw_free(a, c);
     pw_free(a, len);
@@ -355,6 +355,7 @@ static int lapped__field(const pw_alloc *a, const pw_trimesh *m, const lapped_op
     double *z, *scales = NULL;
     unsigned char *known;
     float scale = 0.0f, *conn = NULL;
+    pw_df_field F;
     int r;
     if ((r = lapped__fld_scale(m, fl, &scale, e)) != PW_OK) return r;
     if (fl->field == LAPPED_FIELD_FACES) return lapped__fld_faces(m, fl, s, t, e);
@@ -366,14 +367,14 @@ static int lapped__field(const pw_alloc *a, const pw_trimesh *m, const lapped_op
                        (double)up.y, (double)up.z);
     z = (double *)pw_alloc_array(a, 3 * n, sizeof(double), "field directions", e);
     known = (unsigned char *)pw_alloc_array(a, n, 1, "field flags", e);
-    if (!z || !known || pw_df_connection(a, m, &conn, e) != PW_OK)
-        r = PW_ERR_NOMEM;
-    else if (fl->field == LAPPED_FIELD_CONSTRAINTS)
-        r = lapped__fld_constraints(a, m, fl, scale, conn, z, scales = z + 2 * n, known, e);
-    else if (fl->field == LAPPED_FIELD_CURVATURE)
-        r = pw_df_curvature(a, m, pw_v3_load(fl->up), fl->smoothing, conn, z, known, e);
-    else
-        r = pw_df_up_creased(a, m, conn, up, z, known, e);
+    if (!z || !known || pw_df_connection(a, m, &conn, e) != PW_OK) r = PW_ERR_NOMEM;
+    F.m = m, F.conn = conn, F.z = z, F.known = known;
+    if (r == PW_OK && fl->field == LAPPED_FIELD_CONSTRAINTS)
+        r = lapped__fld_constraints(a, &F, fl, scale, scales = z + 2 * n, e);
+    else if (r == PW_OK && fl->field == LAPPED_FIELD_CURVATURE)
+        r = pw_df_curvature(a, &F, pw_v3_load(fl->up), fl->smoothing, e);
+    else if (r == PW_OK)
+        r = pw_df_up_creased(a, &F, up, e);
     if (r == PW_OK) lapped__fld_output(m, z, scale, scales, s, t);
     pw_free(a, z);
     pw_free(a, known);

@@ -281,10 +281,12 @@ static int pgp__base_field(pgp__state *P, pw_err *e)
     double *pull = (double *)pw_alloc_array(&P->a, nf, sizeof(double), "field", e);
     pw_v3 up = pw_v3_norm(pw_v3_load(P->o.up));
     int r = known && pull ? PW_OK : PW_ERR_NOMEM, f;
+    pw_df_field F;
+    F.m = &P->m, F.conn = P->conn, F.z = P->base, F.known = known;
     if (r == PW_OK && P->o.field == PGP_FIELD_CURVATURE)
-        r = pw_df_curvature(&P->a, &P->m, up, P->o.smoothing, P->conn, P->base, known, e);
+        r = pw_df_curvature(&P->a, &F, up, P->o.smoothing, e);
     else if (r == PW_OK)
-        r = pw_df_up(&P->a, &P->m, P->conn, up, P->base, known, e);
+        r = pw_df_up(&P->a, &F, up, e);
     for (f = 0; r == PW_OK && f < P->m.nf; f++) { /* that is d_t; d_s = rot(-90)(d_t) */
         double x = P->base[2 * f], c = pw_v3_dot(up, pw_v3_load(P->m.normal + 3 * f));
         P->base[2 * f] = P->base[2 * f + 1];

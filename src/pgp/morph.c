@@ -70,9 +70,11 @@ static void pgp__resample_line(const float *in, int from, size_t stride, int c, 
     }
 }
 
-/* w x h x c samples to n x n, rows then columns. */
-static int pgp__resample(const pw_alloc *a, const float *px, int w, int h, int c, int n, float *out, pw_err *e)
+/* The samples of src (w x h x c) to n x n, rows then columns. */
+static int pgp__resample(const pw_alloc *a, const pw_image *src, int n, float *out, pw_err *e)
 {
+    const float *px = src->px;
+    int w = src->w, h = src->h, c = src->c;
     float *tmp = (float *)pw_alloc_array(a, (size_t)n * h * c, sizeof(float), "resampled key", e);
     int y, x;
     if (!tmp) return PW_ERR_NOMEM;
@@ -83,9 +85,11 @@ static int pgp__resample(const pw_alloc *a, const float *px, int w, int h, int c
 }
 
 /* Mean absolute difference between columns x0 and x1 (dx = 1) or rows
- * (dx = 0) of a w x h x c image. */
-static double pgp__line_diff(const float *px, int w, int h, int c, int dx, int i0, int i1)
+ * (dx = 0) of an image. */
+static double pgp__line_diff(const pw_image *img, int dx, int i0, int i1)
 {
+    const float *px = img->px;
+    int w = img->w, h = img->h, c = img->c;
     int j, k, len = dx ? h : w;
     double s = 0.0;
     for (j = 0; j < len; j++)
@@ -98,16 +102,16 @@ static double pgp__line_diff(const float *px, int w, int h, int c, int dx, int i
 
 /* PGP_TILEABLE_AUTO's test: is the wrap-around seam within twice the mean
  * difference of neighbouring lines inside, in both directions? */
-static int pgp__tiles(const float *px, int w, int h, int c)
+static int pgp__tiles(const pw_image *img)
 {
     int dx, i;
     for (dx = 0; dx < 2; dx++) {
-        int len = dx ? w : h;
+        int len = dx ? img->w : img->h;
         double inner = 0.0;
         if (len < 3) continue;
-        for (i = 0; i + 1 < len; i++) inner += pgp__line_diff(px, w, h, c, dx, i, i + 1);
+        for (i = 0; i + 1 < len; i++) inner += pgp__line_diff(img, dx, i, i + 1);
         inner /= len - 1;
-        if (pgp__line_diff(px, w, h, c, dx, len - 1, 0) > 2.0 * inner + 1e-6) return 0;
+        if (pgp__line_diff(img, dx, len - 1, 0) > 2.0 * inner + 1e-6) return 0;
     }
     return 1;
 }
@@ -205,9 +209,10 @@ static float pgp__otsu(const float *v, size_t n)
 
 /* §1: "constructed automatically": mask[i] = 1 on the features of a w x h
  * image (PGP_MASK_*). */
-static int pgp__auto_mask(const pw_alloc *a, const float *px, int w, int h, int c, int mode, unsigned char *mask,
-                          pw_err *e)
+static int pgp__auto_mask(const pw_alloc *a, const pw_image *img, int mode, unsigned char *mask, pw_err *e)
 {
+    const float *px = img->px;
+    int w = img->w, h = img->h, c = img->c;
     size_t i, nn = (size_t)w * h;
     float *lum = (float *)pw_alloc_array(a, nn * 3, sizeof(float), "automatic mask", e), *g, thr;
     int x, y;
@@ -283,13 +288,16 @@ static int pgp__prepare_key(const pw_alloc *a, const pgp_key *key, int c, const 
     int n = o->size, cs = c + (key->mask ? 1 : 0), r;
     size_t i, nn = (size_t)n * n;
     float *st = NULL, *cut = NULL, *rs = NULL;
+    pw_image sv, tile; /* views: the stacked key (cs channels), and its n x n colour */
     r = pgp__stack_key(a, key, c, &st, e);
-    if (r == PW_OK && (o->tileable == PGP_TILEABLE_MAKE || (o->tileable == PGP_TILEABLE_AUTO && !pgp__tiles(st, img.w, img.h, cs)))) {
+    sv = img, sv.c = cs, sv.px = st;
+    if (r == PW_OK && (o->tileable == PGP_TILEABLE_MAKE || (o->tileable == PGP_TILEABLE_AUTO && !pgp__tiles(&sv)))) {
         cut = (float *)pw_alloc_array(a, (size_t)img.w * img.h * cs, sizeof(float), "tileable key", e);
-        r = cut ? pw_quilt_make_tileable_px(a, st, img.w, img.h, cs, cut, e) : PW_ERR_NOMEM;
+        r = cut ? pw_quilt_make_tileable_px(a, &sv, cut, e) : PW_ERR_NOMEM;
     }
     if (r == PW_OK && !(rs = (float *)pw_alloc_array(a, nn * cs, sizeof(float), "key", e))) r = PW_ERR_NOMEM;
-    if (r == PW_OK) r = pgp__resample(a, cut ? cut : st, img.w, img.h, cs, n, rs, e);
+    if (cut) sv.px = cut;
+    if (r == PW_OK) r = pgp__resample(a, &sv, n, rs, e);
     out->color = r == PW_OK ? (float *)pw_alloc_array(a, nn * c, sizeof(float), "key colour", e) : NULL;
     out->mask = r == PW_OK ? (unsigned char *)pw_alloc_array(a, nn, 1, "key mask", e) : NULL;
     if (r == PW_OK && (!out->color || !out->mask)) r = PW_ERR_NOMEM;
@@ -297,7 +305,8 @@ static int pgp__prepare_key(const pw_alloc *a, const pgp_key *key, int c, const 
         memcpy(out->color + i * c, rs + i * cs, sizeof(float) * c);
         if (key->mask) out->mask[i] = (unsigned char)(rs[i * cs + c] > 0.5f);
     }
-    if (r == PW_OK && !key->mask) r = pgp__auto_mask(a, out->color, n, n, c, o->auto_mask, out->mask, e);
+    tile = img, tile.w = tile.h = n, tile.c = c, tile.px = out->color;
+    if (r == PW_OK && !key->mask) r = pgp__auto_mask(a, &tile, o->auto_mask, out->mask, e);
     pw_free(a, st);
     pw_free(a, cut);
     pw_free(a, rs);
@@ -356,12 +365,24 @@ static long pgp__flips(const pgp__morph *m, int i, int j)
     return s;
 }
 
+/* One §1.1 morph as the synthesis asks for it: from mask f0 to mask f1
+ * (n x n, 0/1) in M layers, written to masks ((M+1)*n*n: F_0 = f0 ... F_M
+ * = f1), reporting progress over [p0, p1] of prog. */
+typedef struct pgp__morph_job {
+    const unsigned char *f0, *f1;
+    int n, M;
+    unsigned char *masks;
+    const pw_progress *prog;
+    float p0, p1;
+} pgp__morph_job;
+
 /* Signed distances (periodic, exact), the gradient of psi by central
  * differences, dt = -min psi / N (§1.1 "material space oversampling") and
  * sup |psi|. */
-static int pgp__morph_init(const pw_alloc *a, pgp__morph *m, const unsigned char *f0, const unsigned char *f1, int n,
-                           int M, int steps, pw_err *e)
+static int pgp__morph_init(const pw_alloc *a, pgp__morph *m, const pgp__morph_job *J, int steps, pw_err *e)
 {
+    const unsigned char *f0 = J->f0, *f1 = J->f1;
+    int n = J->n, M = J->M;
     pw_edt_image im0, im1;
     size_t i;
     int x, y, r;
@@ -514,17 +535,17 @@ static void pgp__subsample(const pgp__morph *m, int M, int uniform, int *H)
         }
 }
 
-/* §1.1: masks (M+1)*n*n of 0/1, F_0 = f0 ... F_M = f1. */
-static int pgp__morph_masks(const pw_alloc *a, const unsigned char *f0, const unsigned char *f1, int n, int M,
-                            const pgp_synth_options *o, const pw_progress *prog, float p0, float p1,
-                            unsigned char *masks, pw_err *e)
+/* §1.1: the masks of job J. */
+static int pgp__morph_masks(const pw_alloc *a, const pgp__morph_job *J, const pgp_synth_options *o, pw_err *e)
 {
+    int M = J->M;
+    unsigned char *masks = J->masks;
     pgp__morph m;
     int *H = (int *)pw_alloc_array(a, (size_t)M + 1, sizeof(int), "subsampling", e), r, j;
     size_t i;
     if (!H) return PW_ERR_NOMEM;
-    r = pgp__morph_init(a, &m, f0, f1, n, M, o->steps, e);
-    if (r == PW_OK) r = pgp__morph_run(&m, prog, p0, p1, e);
+    r = pgp__morph_init(a, &m, J, o->steps, e);
+    if (r == PW_OK) r = pgp__morph_run(&m, J->prog, J->p0, J->p1, e);
     if (r == PW_OK) pgp__subsample(&m, M, o->uniform, H);
     for (j = 0; r == PW_OK && j <= M; j++) {
         const uint64_t *b = m.bits + (size_t)H[j] * m.words;
@@ -579,7 +600,7 @@ PGPDEF pgp_result pgp_feature_mask(const pgp_image *image, pgp_mask mode, const 
     else if (pgp__check_image(image, "image", &pe) == PW_OK && (v = pgp__pw_image(image),
              pw_image_alloc(&a, &res, v.w, v.h, 1, &pe) == PW_OK) &&
              (mask = (unsigned char *)pw_alloc_array(&a, (size_t)v.w * v.h, 1, "mask", &pe)) != NULL &&
-             pgp__auto_mask(&a, v.px, v.w, v.h, v.c, mode, mask, &pe) == PW_OK) {
+             pgp__auto_mask(&a, &v, mode, mask, &pe) == PW_OK) {
         for (i = 0; i < (size_t)v.w * v.h; i++) res.px[i] = mask[i] ? 1.0f : 0.0f;
         pgp__take_image(&res, &a, out);
     }
@@ -597,6 +618,7 @@ PGPDEF pgp_result pgp_morph_masks(const pgp_image *mask0, const pgp_image *mask1
     unsigned char *f = NULL;
     int n = 0;
     size_t nn = 0;
+    pgp__morph_job J;
     pw_err pe;
     pw_err_clear(&pe);
     if (out) memset(out, 0, sizeof *out);
@@ -610,9 +632,11 @@ PGPDEF pgp_result pgp_morph_masks(const pgp_image *mask0, const pgp_image *mask1
         n = mask0->width, nn = (size_t)n * n;
         f = (unsigned char *)pw_alloc_array(&a, nn * (layers + 2), 1, "masks", &pe);
     }
+    J.f0 = f, J.f1 = f + nn, J.n = n, J.M = layers - 1, J.masks = f + 2 * nn;
+    J.prog = &prog, J.p0 = 0.0f, J.p1 = 1.0f;
     if (f && pgp__binary_mask(&a, mask0, f, &pe) == PW_OK && pgp__binary_mask(&a, mask1, f + nn, &pe) == PW_OK &&
         pgp__check_mask(f, nn, "mask 0", &pe) == PW_OK && pgp__check_mask(f + nn, nn, "mask 1", &pe) == PW_OK &&
-        pgp__morph_masks(&a, f, f + nn, n, layers - 1, &o, &prog, 0.0f, 1.0f, f + 2 * nn, &pe) == PW_OK)
+        pgp__morph_masks(&a, &J, &o, &pe) == PW_OK)
         pgp__mask_tile(&a, f + 2 * nn, n, layers, out, &pe);
     pw_free(&a, f);
     return pgp__done(&pe, err);

@@ -458,9 +458,13 @@ static int pgp__layer_masks(const pw_alloc *a, const pgp__key *keys, int nkeys, 
         r = pgp__check_mask(keys[k].mask, nn, what, e);
     }
     for (k = 0; k + 1 < nkeys && r == PW_OK; k++) {
-        int b = pgp__key_layer(k, nkeys, o->layers), M = pgp__key_layer(k + 1, nkeys, o->layers) - b;
-        r = pgp__morph_masks(a, keys[k].mask, keys[k + 1].mask, o->size, M, o, prog, 0.05f * k / (nkeys - 1),
-                             0.05f * (k + 1) / (nkeys - 1), masks + b * nn, e);
+        int b = pgp__key_layer(k, nkeys, o->layers);
+        pgp__morph_job J;
+        J.f0 = keys[k].mask, J.f1 = keys[k + 1].mask, J.n = o->size;
+        J.M = pgp__key_layer(k + 1, nkeys, o->layers) - b;
+        J.masks = masks + b * nn;
+        J.prog = prog, J.p0 = 0.05f * k / (nkeys - 1), J.p1 = 0.05f * (k + 1) / (nkeys - 1);
+        r = pgp__morph_masks(a, &J, o, e);
     }
     return r;
 }

@@ -340,7 +340,7 @@ static int tiled__synthesize(const tiled_image *exemplar, const tiled_options *o
         s.stats = stats;
         s.motif_weight = TILED__MOTIF_WEIGHT;
         s.motif = (float *)pw_alloc_array(&a, (size_t)s.src.w * s.src.h, sizeof(float), "motif map", pe);
-        r = s.motif ? pw_quilt_motif_map(&a, s.src.px, s.src.w, s.src.h, s.src.c, s.motif, &s.tau, pe)
+        r = s.motif ? pw_quilt_motif_map(&a, &s.src, s.motif, &s.tau, pe)
                     : PW_ERR_NOMEM;
         if (r == PW_OK && (r = tiled__synth_tiles(&a, &s, o, &atlas, &gm, pe)) == PW_OK)
             tiled__fill_guards(&atlas, &gm, s.case1);

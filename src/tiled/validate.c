@@ -29,12 +29,18 @@ static float tiled__interior_jump(const pw_image *img, const tiled__geom *gm)
     return count ? (float)(sum / (double)count) : 0.0f;
 }
 
-/* Mean jump across side s of tile t when it meets side ps of tile pt
+/* One side of one tile: side (0..3, tiled__from_side's order) of tile. */
+typedef struct tiled__side {
+    int tile, side;
+} tiled__side;
+
+/* Mean jump across side `here` when it meets side `there` of another tile
  * (reversed walk; `mirrored` compares the partner walked the same way, as
  * happens when case-1 tiles are mirrored). */
-static float tiled__seam(const pw_image *img, const tiled__geom *gm, int t, int s, int pt, int ps,
+static float tiled__seam(const pw_image *img, const tiled__geom *gm, tiled__side here, tiled__side there,
                          int mirrored)
 {
+    int t = here.tile, s = here.side, pt = there.tile, ps = there.side;
     double sum = 0.0;
     int a, T = gm->T;
     for (a = 0; a < T; a++) {
@@ -48,19 +54,21 @@ static float tiled__seam(const pw_image *img, const tiled__geom *gm, int t, int 
 }
 
 /* Mean seam of side (t, s) against up to 64 sides of the partner type. */
-static float tiled__side_seam(const pw_image *img, const tiled__geom *gm, int case1, int mirror,
-                              int t, int s, int type)
+static float tiled__side_seam(const pw_image *img, const tiled__geom *gm, int case1, int mirror, tiled__side here,
+                              int type)
 {
+    tiled__side there;
     int u, us, types[4], n = 0;
     double sum = 0.0;
     for (u = 0; u < gm->N * gm->N && n < 64; u++) {
         tiled__tile_types(gm, case1, u, types);
         for (us = 0; us < 4 && n < 64; us++) {
             if (types[us] != tiled__partner(case1, type)) continue;
-            sum += tiled__seam(img, gm, t, s, u, us, 0);
+            there.tile = u, there.side = us;
+            sum += tiled__seam(img, gm, here, there, 0);
             n++;
             if (mirror) {
-                sum += tiled__seam(img, gm, t, s, u, us, 1);
+                sum += tiled__seam(img, gm, here, there, 1);
                 n++;
             }
         }
@@ -105,7 +113,10 @@ TILEDDEF tiled_result tiled_validate_tiles(const tiled_image *tiles, const tiled
         for (t = 0; t < gm.N * gm.N; t++) {
             tiled__tile_types(&gm, case1, t, types);
             for (s = 0; s < 4; s++) {
-                float seam = tiled__side_seam(&img, &gm, case1, case1 && !o.no_mirror, t, s, types[s]);
+                tiled__side here;
+                float seam;
+                here.tile = t, here.side = s;
+                seam = tiled__side_seam(&img, &gm, case1, case1 && !o.no_mirror, here, types[s]);
                 report->sides_checked++;
                 if (seam > report->worst) report->worst = seam;
                 if (seam > report->threshold) tiled__note_bad(report, t, s, types[s], seam);
