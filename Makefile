@@ -11,6 +11,7 @@
 #   make js         npm packages of the browser checks (glTF validator, three.js,
 #                   puppeteer-core) into tests/js/node_modules, versions pinned
 #   make headers    regenerate the single-file headers from src/
+#   make format     lay out src/, cli/ and examples/ with clang-format (.clang-format)
 #   make fuzz       run each libFuzzer target for FUZZ_SECONDS (needs clang)
 #   make fuzz-long  a campaign: each target for FUZZ_SECONDS (default 1800) on
 #                   JOBS cores, the corpus kept and minimised in fuzz/work/,
@@ -60,7 +61,7 @@ PARTS_lst      := core exemplar field paste render cut builtin io export
 COMMON_SRC := $(wildcard src/common/*.h src/*/*.h)
 HEADER_FILES := $(addsuffix .h,$(HEADERS))
 
-.PHONY: all demo test test-build bench bench-report data headers check-headers print-headers dev-header fuzz fuzz-build fuzz-targets fuzz-long js clean
+.PHONY: all demo test test-build bench bench-report data headers check-headers print-headers format print-format-files dev-header fuzz fuzz-build fuzz-targets fuzz-long js clean
 
 CLI_SRC   := $(wildcard cli/*.c)
 TEST_SRC  := $(wildcard tests/test_*.c)
@@ -83,6 +84,14 @@ headers:
 
 print-headers:
 	@echo $(HEADERS)
+
+# The sources clang-format lays out (.clang-format; checked by tests/sh/style.sh)
+FORMAT_FILES = $(wildcard src/*/*.h src/*/*.c cli/*.h cli/*.c examples/*.c)
+format:
+	clang-format -i $(FORMAT_FILES)
+
+print-format-files:
+	@echo $(FORMAT_FILES)
 
 # A private copy of header H in folder OUT (for work in progress that must
 # not touch the committed headers): make dev-header H=lapped OUT=/tmp/x

@@ -3,35 +3,35 @@
  *
  * CONTENTS (line: source, what it holds)
  *     36: src/lapped/lapped.h, the public API and its documentation
- *    482: src/common/base.h, allocation hooks, result codes, error messages, limits, he
- *    801: src/common/vec.h, small vector math on float[3] arrays and a 3-float struct.
- *    898: src/common/rng.h, seeded random numbers with the same output on every platfo
- *    975: src/common/noise.h, value noise and its fractal sum, for the built-in procedur
- *   1077: src/common/image.h, float images and their file formats.
- *   1806: src/common/deflate.h, zlib (RFC 1950) and deflate (RFC 1951) compression and
- *   2836: src/common/png.h, PNG writer and reader, and the image front end.
- *   3423: src/common/text.h, locale-independent number parsing and formatting, a line s
- *   3806: src/common/mesh.h, polygon meshes as flat arrays, and their file formats.
- *   5321: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
- *   5767: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
- *   6189: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
- *   7426: src/common/raster.h, exact scan conversion of 2D triangles.
- *   7906: src/common/render.h, a small deterministic software renderer for textured trian
- *   9687: src/lapped/polyhull.h, the polygonal hull of a texture patch (Praun, Finkelstein 
- *  10506: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
- *  10696: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
- *  10781: src/common/atlas.h, texture atlases of triangle meshes — charts, packing, ba
- *  12733: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
- *  13461: src/common/glue.h, what every method header needs between its public types an
- *  13668: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  14214: src/lapped/core.c, lapped.h's glue to the shared core, its defaults, and the 
- *  14372: src/lapped/field.c, §3.2 the tangent field, one frame (S, T) per triangle, an
- *  14832: src/lapped/patch.c, §3.1 texture patches. A patch is the texture as RGBA whos
- *  15120: src/lapped/builtin.c, built-in meshes (made by the shared shapes module) and tex
- *  15286: src/lapped/grow.c, pasting (§3.3-3.6): grow a surface patch around an uncove
- *  16686: src/lapped/render.c, runtime pasting (§4): the mesh drawn once per paste, in p
- *  16889: src/lapped/atlas.c, §4 "Rendering with a texture atlas".
- *  17127: src/lapped/io.c, the paste file format and the file conveniences of lapped.
+ *    469: src/common/base.h, allocation hooks, result codes, error messages, limits, he
+ *    781: src/common/vec.h, small vector math on float[3] arrays and a 3-float struct.
+ *    884: src/common/rng.h, seeded random numbers with the same output on every platfo
+ *    961: src/common/noise.h, value noise and its fractal sum, for the built-in procedur
+ *   1063: src/common/image.h, float images and their file formats.
+ *   1757: src/common/deflate.h, zlib (RFC 1950) and deflate (RFC 1951) compression and
+ *   2756: src/common/png.h, PNG writer and reader, and the image front end.
+ *   3314: src/common/text.h, locale-independent number parsing and formatting, a line s
+ *   3717: src/common/mesh.h, polygon meshes as flat arrays, and their file formats.
+ *   5246: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
+ *   5747: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
+ *   6171: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
+ *   7434: src/common/raster.h, exact scan conversion of 2D triangles.
+ *   7908: src/common/render.h, a small deterministic software renderer for textured trian
+ *   9675: src/lapped/polyhull.h, the polygonal hull of a texture patch (Praun, Finkelstein 
+ *  10533: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
+ *  10720: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
+ *  10805: src/common/atlas.h, texture atlases of triangle meshes — charts, packing, ba
+ *  12778: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
+ *  13542: src/common/glue.h, what every method header needs between its public types an
+ *  13743: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  14407: src/lapped/core.c, lapped.h's glue to the shared core, its defaults, and the 
+ *  14565: src/lapped/field.c, §3.2 the tangent field, one frame (S, T) per triangle, an
+ *  15020: src/lapped/patch.c, §3.1 texture patches. A patch is the texture as RGBA whos
+ *  15311: src/lapped/builtin.c, built-in meshes (made by the shared shapes module) and tex
+ *  15491: src/lapped/grow.c, pasting (§3.3-3.6): grow a surface patch around an uncove
+ *  16917: src/lapped/render.c, runtime pasting (§4): the mesh drawn once per paste, in p
+ *  17120: src/lapped/atlas.c, §4 "Rendering with a texture atlas".
+ *  17354: src/lapped/io.c, the paste file format and the file conveniences of lapped.
  */
 /* lapped.h - lapped textures: overlapping texture patches pasted over a mesh.
  *
@@ -193,8 +193,8 @@ typedef struct lapped_mesh {
     int nverts;
     float *positions; /* nverts*3 */
     int nfaces;
-    int *face_start;  /* nfaces+1 */
-    int *face_verts;  /* face_start[nfaces] */
+    int *face_start; /* nfaces+1 */
+    int *face_verts; /* face_start[nfaces] */
     lapped_allocator allocator;
 } lapped_mesh;
 
@@ -243,54 +243,54 @@ typedef enum lapped_filter {
 } lapped_filter;
 
 typedef struct lapped_render_options {
-    int width, height;       /* default 800 x 600 */
-    int supersample;         /* default 2 */
-    float view_dir[3];       /* default (-0.55,-0.45,-0.7) */
-    float up[3];             /* default (0,1,0) */
-    float background[3];     /* default white */
-    lapped_filter filter;    /* default LAPPED_FILTER_TRILINEAR */
-    int threads;             /* rendering threads: 0 (default) one per processor when the
+    int width, height;           /* default 800 x 600 */
+    int supersample;             /* default 2 */
+    float view_dir[3];           /* default (-0.55,-0.45,-0.7) */
+    float up[3];                 /* default (0,1,0) */
+    float background[3];         /* default white */
+    lapped_filter filter;        /* default LAPPED_FILTER_TRILINEAR */
+    int threads;                 /* rendering threads: 0 (default) one per processor when the
                                 implementation is built with PW_THREADS (POSIX threads;
                                 link with -pthread), else 1; n: at most n. With more
                                 than one, the allocator is called from several threads */
     lapped_parallel_fn parallel; /* optional: the caller's parallel for, used instead of threads */
-    void *parallel_pool;     /* its first argument */
+    void *parallel_pool;         /* its first argument */
 } lapped_render_options;
 
 typedef struct lapped_atlas_options {
-    int size;                /* atlas image side, pixels; default 1024 */
-    float cone_angle;        /* max angle between a chart's normals and its
+    int size;         /* atlas image side, pixels; default 1024 */
+    float cone_angle; /* max angle between a chart's normals and its
                                 centre's, degrees; default 60 */
-    int gutter;              /* pixels between charts (and to the image border), filled
+    int gutter;       /* pixels between charts (and to the image border), filled
                                 by dilation; default 2 (1 lets bilinear lookups at a
                                 border touch the neighbouring chart) */
 } lapped_atlas_options;
 
 typedef struct lapped_options {
     /* §3.2 the tangent field */
-    lapped_field_mode field;   /* default LAPPED_FIELD_UP */
-    float up[3];               /* UP: default (0,1,0) */
-    float scale;               /* side of a texture patch on the surface, mesh units;
+    lapped_field_mode field;              /* default LAPPED_FIELD_UP */
+    float up[3];                          /* UP: default (0,1,0) */
+    float scale;                          /* side of a texture patch on the surface, mesh units;
                                   0: a tenth of the bounding-box diagonal */
     const lapped_constraint *constraints; /* CONSTRAINTS */
     int nconstraints;
-    const float *face_t;       /* FACES: ntris*3 "up" vectors (|T| = scale) */
-    const float *face_s;       /* FACES: ntris*3 "right" vectors, or NULL for T x N */
-    int smoothing;             /* CURVATURE: smoothing iterations; default 20 */
-    lapped_alpha alpha;        /* lapped_make_patch; default LAPPED_ALPHA_AUTO */
-    float falloff;             /* alpha fall-off width at the patch border, pixels;
+    const float *face_t;          /* FACES: ntris*3 "up" vectors (|T| = scale) */
+    const float *face_s;          /* FACES: ntris*3 "right" vectors, or NULL for T x N */
+    int smoothing;                /* CURVATURE: smoothing iterations; default 20 */
+    lapped_alpha alpha;           /* lapped_make_patch; default LAPPED_ALPHA_AUTO */
+    float falloff;                /* alpha fall-off width at the patch border, pixels;
                                   default 3 (§3.1) */
-    int lscm;                  /* isotropic field: least-squares conformal maps
+    int lscm;                     /* isotropic field: least-squares conformal maps
                                   (hindsights) instead of field alignment */
-    float coverage;            /* opacity every point must reach; default 0.99 */
-    float max_distortion;      /* growth stops where a face's mapped frame is
+    float coverage;               /* opacity every point must reach; default 0.99 */
+    float max_distortion;         /* growth stops where a face's mapped frame is
                                   stretched beyond this factor; default 2 */
-    float early;               /* fraction of the pastes seeded preferably at high
+    float early;                  /* fraction of the pastes seeded preferably at high
                                   curvature and field discontinuities; default 0.25 */
-    int max_pastes;            /* refuse inputs needing more; default 200000 */
-    int keep_hidden;           /* 1: keep triangles that later pastes hide (§4 removes
+    int max_pastes;               /* refuse inputs needing more; default 200000 */
+    int keep_hidden;              /* 1: keep triangles that later pastes hide (§4 removes
                                   them); each paste is then a whole surface patch */
-    unsigned long long seed;   /* default 0 */
+    unsigned long long seed;      /* default 0 */
     lapped_render_options render; /* lapped_render's settings (pass &opt.render) */
     lapped_atlas_options atlas;   /* lapped_bake_atlas's settings */
     lapped_allocator allocator;
@@ -322,29 +322,29 @@ typedef struct lapped_source {
 typedef struct lapped_paste {
     int patch;
     int nfaces;
-    int *faces;  /* nfaces triangle indices */
-    float *uvs;  /* nfaces*6 */
+    int *faces; /* nfaces triangle indices */
+    float *uvs; /* nfaces*6 */
 } lapped_paste;
 
 /* A lapped texture: the ordered pastes (later over earlier). */
 typedef struct lapped_texture {
-    int ntris;               /* triangles of the mesh it was made for */
+    int ntris; /* triangles of the mesh it was made for */
     int npatches;
-    int *patch_size;         /* npatches*2: width, height of each patch image */
+    int *patch_size; /* npatches*2: width, height of each patch image */
     int npastes;
     lapped_paste *pastes;
-    double layers;           /* mean pastes per triangle after hidden ones were removed */
-    double layers_before;    /* ... before (the paper reports 1.5-3.2 after) */
-    int hard_edges;          /* pastes whose growth stopped at the distortion limit */
+    double layers;        /* mean pastes per triangle after hidden ones were removed */
+    double layers_before; /* ... before (the paper reports 1.5-3.2 after) */
+    int hard_edges;       /* pastes whose growth stopped at the distortion limit */
     lapped_allocator allocator;
 } lapped_texture;
 
 /* A texture atlas (§4): per-triangle-corner coordinates into one image. */
 typedef struct lapped_atlas {
     int ntris;
-    float *uvs;              /* ntris*6, (0,0) bottom-left of the image */
+    float *uvs; /* ntris*6, (0,0) bottom-left of the image */
     int ncharts;
-    float fill;              /* fraction of the image covered by charts */
+    float fill; /* fraction of the image covered by charts */
     lapped_image image;
 } lapped_atlas;
 
@@ -355,53 +355,47 @@ LAPPEDDEF const char *lapped_result_string(lapped_result r);
  * with LAPPED_ALPHA_MASK), then faded to zero over opt->falloff pixels at
  * the border of the opaque region. */
 LAPPEDDEF lapped_result lapped_make_patch(const lapped_image *texture, const lapped_image *mask,
-                                          const lapped_options *opt, lapped_image *out,
-                                          lapped_error *err);
+                                          const lapped_options *opt, lapped_image *out, lapped_error *err);
 
 /* §3.2: the field per triangle (opt->field and the fields after it),
  * allocated with opt's allocator; free it with lapped_field_free. For
  * LAPPED_FIELD_ISOTROPIC, t is an arbitrary unit direction times the scale
  * (growth propagates its own). */
-LAPPEDDEF lapped_result lapped_compute_field(const lapped_mesh *mesh, const lapped_options *opt,
-                                             lapped_field *out, lapped_error *err);
+LAPPEDDEF lapped_result lapped_compute_field(const lapped_mesh *mesh, const lapped_options *opt, lapped_field *out,
+                                             lapped_error *err);
 LAPPEDDEF void lapped_field_free(lapped_field *f);
 
 /* §3: covers the mesh with pastes of src's patches (one chosen at random
  * per paste; src->values is not used). */
-LAPPEDDEF lapped_result lapped_create(const lapped_mesh *mesh, const lapped_source *src,
-                                      const lapped_options *opt, lapped_texture *out,
-                                      lapped_error *err);
+LAPPEDDEF lapped_result lapped_create(const lapped_mesh *mesh, const lapped_source *src, const lapped_options *opt,
+                                      lapped_texture *out, lapped_error *err);
 LAPPEDDEF void lapped_texture_free(lapped_texture *t);
 
 /* §4 runtime pasting: the mesh drawn once per paste, in order, each paste's
  * triangles textured with its patch (or with src->values when not NULL)
  * and composited with the patch's alpha. ro: NULL for the defaults; callers
  * with options pass &opt.render. */
-LAPPEDDEF lapped_result lapped_render(const lapped_mesh *mesh, const lapped_texture *t,
-                                      const lapped_source *src, const lapped_render_options *ro,
-                                      lapped_image *out, lapped_error *err);
+LAPPEDDEF lapped_result lapped_render(const lapped_mesh *mesh, const lapped_texture *t, const lapped_source *src,
+                                      const lapped_render_options *ro, lapped_image *out, lapped_error *err);
 
 /* §4 texture atlas: charts, packing (opt->atlas; opt NULL: the defaults),
  * and the lapped texture (or src->values, as above) baked into one image. */
-LAPPEDDEF lapped_result lapped_bake_atlas(const lapped_mesh *mesh, const lapped_texture *t,
-                                          const lapped_source *src, const lapped_options *opt,
-                                          lapped_atlas *out, lapped_error *err);
+LAPPEDDEF lapped_result lapped_bake_atlas(const lapped_mesh *mesh, const lapped_texture *t, const lapped_source *src,
+                                          const lapped_options *opt, lapped_atlas *out, lapped_error *err);
 LAPPEDDEF void lapped_atlas_free(lapped_atlas *a);
 
 /* Built-in data for demos and tests. Meshes: "sphere" (icosphere),
  * "torus", "bumpy" (a displaced sphere), "disc" (with a boundary).
  * Textures: "scales", "stripes", "dots". */
-LAPPEDDEF lapped_result lapped_builtin_mesh(const char *name, const lapped_options *opt,
-                                            lapped_mesh *out, lapped_error *err);
+LAPPEDDEF lapped_result lapped_builtin_mesh(const char *name, const lapped_options *opt, lapped_mesh *out,
+                                            lapped_error *err);
 LAPPEDDEF lapped_result lapped_builtin_exemplar(const char *name, int size, const lapped_options *opt,
                                                 lapped_image *out, lapped_error *err);
 
 /* Files. The paste file format ("lapped-pastes 1") is documented in
  * docs/lapped.md. */
-LAPPEDDEF lapped_result lapped_write_pastes(const lapped_texture *t, lapped_write_fn fn,
-                                            void *ctx, lapped_error *err);
-LAPPEDDEF lapped_result lapped_read_pastes(const void *data, size_t size,
-                                           const char *name, const lapped_options *opt,
+LAPPEDDEF lapped_result lapped_write_pastes(const lapped_texture *t, lapped_write_fn fn, void *ctx, lapped_error *err);
+LAPPEDDEF lapped_result lapped_read_pastes(const void *data, size_t size, const char *name, const lapped_options *opt,
                                            lapped_texture *out, lapped_error *err);
 /* Constraint file (UTF-8 text; a byte-order mark is skipped): one
  * constraint per line, "orient F DX DY DZ [SCALE [RADIUS [WEIGHT]]]" (0 or
@@ -412,23 +406,19 @@ LAPPEDDEF lapped_result lapped_read_pastes(const void *data, size_t size,
  * out->items is allocated with opt's allocator; free it with
  * lapped_constraints_free. */
 LAPPEDDEF lapped_result lapped_read_constraints(const void *data, size_t size, const char *name,
-                                                const lapped_options *opt, lapped_constraints *out,
-                                                lapped_error *err);
+                                                const lapped_options *opt, lapped_constraints *out, lapped_error *err);
 LAPPEDDEF void lapped_constraints_free(lapped_constraints *c);
-LAPPEDDEF lapped_result lapped_read_mesh(const void *data, size_t size, const char *name,
-                                         const lapped_options *opt, lapped_mesh *out,
-                                         lapped_error *err);
-LAPPEDDEF lapped_result lapped_read_image(const void *data, size_t size,
-                                          const char *name, const lapped_options *opt,
+LAPPEDDEF lapped_result lapped_read_mesh(const void *data, size_t size, const char *name, const lapped_options *opt,
+                                         lapped_mesh *out, lapped_error *err);
+LAPPEDDEF lapped_result lapped_read_image(const void *data, size_t size, const char *name, const lapped_options *opt,
                                           lapped_image *out, lapped_error *err);
 /* format: "png", "ppm", "pgm", "pam" */
-LAPPEDDEF lapped_result lapped_write_image(const lapped_image *img, const char *format,
-                                           lapped_write_fn fn, void *ctx, lapped_error *err);
+LAPPEDDEF lapped_result lapped_write_image(const lapped_image *img, const char *format, lapped_write_fn fn, void *ctx,
+                                           lapped_error *err);
 /* OBJ of the triangulated mesh with the atlas's per-corner coordinates;
  * mtllib/usemtl when mtl_name is not NULL. */
-LAPPEDDEF lapped_result lapped_write_obj(const lapped_mesh *mesh, const lapped_atlas *atlas,
-                                         const char *mtl_name, lapped_write_fn fn,
-                                         void *ctx, lapped_error *err);
+LAPPEDDEF lapped_result lapped_write_obj(const lapped_mesh *mesh, const lapped_atlas *atlas, const char *mtl_name,
+                                         lapped_write_fn fn, void *ctx, lapped_error *err);
 /* Binary glTF 2.0 (.glb, one self-contained file): the triangulated mesh
  * with the atlas's per-corner coordinates and the atlas image as its base
  * colour (PNG inside), sampled LINEAR / LINEAR_MIPMAP_LINEAR with
@@ -438,17 +428,14 @@ LAPPEDDEF lapped_result lapped_write_obj(const lapped_mesh *mesh, const lapped_a
 LAPPEDDEF lapped_result lapped_write_gltf(const lapped_mesh *mesh, const lapped_atlas *atlas,
                                           const lapped_render_options *view, lapped_write_fn fn, void *ctx,
                                           lapped_error *err);
-LAPPEDDEF lapped_result lapped_write_mtl(const char *texture_name, lapped_write_fn fn,
-                                         void *ctx, lapped_error *err);
+LAPPEDDEF lapped_result lapped_write_mtl(const char *texture_name, lapped_write_fn fn, void *ctx, lapped_error *err);
 #ifndef PW_NO_STDIO
-LAPPEDDEF lapped_result lapped_load_mesh(const char *path, const lapped_options *opt,
-                                         lapped_mesh *out, lapped_error *err);
-LAPPEDDEF lapped_result lapped_load_image(const char *path, const lapped_options *opt,
-                                          lapped_image *out, lapped_error *err);
-LAPPEDDEF lapped_result lapped_save_image(const char *path, const lapped_image *img,
+LAPPEDDEF lapped_result lapped_load_mesh(const char *path, const lapped_options *opt, lapped_mesh *out,
+                                         lapped_error *err);
+LAPPEDDEF lapped_result lapped_load_image(const char *path, const lapped_options *opt, lapped_image *out,
                                           lapped_error *err);
-LAPPEDDEF lapped_result lapped_save_pastes(const char *path, const lapped_texture *t,
-                                           lapped_error *err);
+LAPPEDDEF lapped_result lapped_save_image(const char *path, const lapped_image *img, lapped_error *err);
+LAPPEDDEF lapped_result lapped_save_pastes(const char *path, const lapped_texture *t, lapped_error *err);
 /* The OBJ of the atlas's mesh and, when texture_path is not NULL, an MTL
  * beside it (obj_path with .mtl) whose map_Kd names texture_path (save the
  * atlas image there with lapped_save_image). */
@@ -457,10 +444,10 @@ LAPPEDDEF lapped_result lapped_save_obj(const char *obj_path, const lapped_mesh 
 /* lapped_write_gltf into the file path (.glb). */
 LAPPEDDEF lapped_result lapped_save_gltf(const char *path, const lapped_mesh *mesh, const lapped_atlas *atlas,
                                          const lapped_render_options *view, lapped_error *err);
-LAPPEDDEF lapped_result lapped_load_pastes(const char *path, const lapped_options *opt,
-                                           lapped_texture *out, lapped_error *err);
-LAPPEDDEF lapped_result lapped_load_constraints(const char *path, const lapped_options *opt,
-                                                lapped_constraints *out, lapped_error *err);
+LAPPEDDEF lapped_result lapped_load_pastes(const char *path, const lapped_options *opt, lapped_texture *out,
+                                           lapped_error *err);
+LAPPEDDEF lapped_result lapped_load_constraints(const char *path, const lapped_options *opt, lapped_constraints *out,
+                                                lapped_error *err);
 #endif
 
 LAPPEDDEF void lapped_mesh_free(lapped_mesh *m);
@@ -554,11 +541,17 @@ enum {
 
 PW__DEF const char *pw_result_string(int code)
 {
-    static const char *const names[PW_ERR__COUNT] = {
-        "ok", "out of memory", "input/output error", "parse error",
-        "unsupported feature", "size limit exceeded", "invalid argument",
-        "bad mesh topology", "degenerate geometry", "cancelled",
-        "solver did not converge"};
+    static const char *const names[PW_ERR__COUNT] = {"ok",
+                                                     "out of memory",
+                                                     "input/output error",
+                                                     "parse error",
+                                                     "unsupported feature",
+                                                     "size limit exceeded",
+                                                     "invalid argument",
+                                                     "bad mesh topology",
+                                                     "degenerate geometry",
+                                                     "cancelled",
+                                                     "solver did not converge"};
     if (code < 0 || code >= PW_ERR__COUNT) return "unknown error";
     return names[code];
 }
@@ -616,33 +609,27 @@ PW__DEF void *pw_realloc(const pw_alloc *a, void *p, size_t n)
 PW__DEF void pw_free(const pw_alloc *a, void *p)
 {
     if (!p) return;
-    if (a && a->free_fn)
-        a->free_fn(a->user, p);
-    else
-        PW_FREE(p);
+    if (a && a->free_fn) a->free_fn(a->user, p);
+    else PW_FREE(p);
 }
 
 /* count*size bytes, overflow-checked; records PW_ERR_NOMEM (naming `what`)
  * on failure. */
-PW__DEF void *pw_alloc_array(const pw_alloc *a, size_t count, size_t size,
-                             const char *what, pw_err *e)
+PW__DEF void *pw_alloc_array(const pw_alloc *a, size_t count, size_t size, const char *what, pw_err *e)
 {
     void *p;
     if (size && count > (size_t)-1 / size) {
-        pw_fail(e, PW_ERR_NOMEM, "%s: %lu elements of %lu bytes overflow size_t",
-                what, (unsigned long)count, (unsigned long)size);
+        pw_fail(e, PW_ERR_NOMEM, "%s: %lu elements of %lu bytes overflow size_t", what, (unsigned long)count,
+                (unsigned long)size);
         return NULL;
     }
     p = pw_malloc(a, count * size);
-    if (!p)
-        pw_fail(e, PW_ERR_NOMEM, "out of memory allocating %s (%lu bytes)", what,
-                (unsigned long)(count * size));
+    if (!p) pw_fail(e, PW_ERR_NOMEM, "out of memory allocating %s (%lu bytes)", what, (unsigned long)(count * size));
     return p;
 }
 
 /* Same, zero-filled. */
-PW__DEF void *pw_calloc_array(const pw_alloc *a, size_t count, size_t size,
-                              const char *what, pw_err *e)
+PW__DEF void *pw_calloc_array(const pw_alloc *a, size_t count, size_t size, const char *what, pw_err *e)
 {
     void *p = pw_alloc_array(a, count, size, what, e);
     if (p) memset(p, 0, count * size);
@@ -651,22 +638,19 @@ PW__DEF void *pw_calloc_array(const pw_alloc *a, size_t count, size_t size,
 
 /* Grows *p (holding *cap elements of `size` bytes) to at least `need`
  * elements, doubling. Returns 0 on success. */
-PW__DEF int pw_grow(const pw_alloc *a, void **p, size_t *cap, size_t need,
-                    size_t size, const char *what, pw_err *e)
+PW__DEF int pw_grow(const pw_alloc *a, void **p, size_t *cap, size_t need, size_t size, const char *what, pw_err *e)
 {
     size_t ncap;
     void *np;
     if (need <= *cap) return PW_OK;
     ncap = *cap ? *cap : 16;
     while (ncap < need) {
-        if (ncap > ((size_t)-1 / 2) / size)
-            return pw_fail(e, PW_ERR_NOMEM, "%s: size overflow", what);
+        if (ncap > ((size_t)-1 / 2) / size) return pw_fail(e, PW_ERR_NOMEM, "%s: size overflow", what);
         ncap *= 2;
     }
     np = pw_realloc(a, *p, ncap * size);
     if (!np)
-        return pw_fail(e, PW_ERR_NOMEM, "out of memory growing %s to %lu bytes",
-                       what, (unsigned long)(ncap * size));
+        return pw_fail(e, PW_ERR_NOMEM, "out of memory growing %s to %lu bytes", what, (unsigned long)(ncap * size));
     *p = np;
     *cap = ncap;
     return PW_OK;
@@ -679,12 +663,10 @@ typedef struct pw_progress {
 } pw_progress;
 
 /* Reports progress; returns PW_ERR_CANCELLED (recorded in e) if asked. */
-PW__DEF int pw_report(const pw_progress *p, float done, const char *stage,
-                      pw_err *e)
+PW__DEF int pw_report(const pw_progress *p, float done, const char *stage, pw_err *e)
 {
     if (p && p->fn && p->fn(p->user, done, stage))
-        return pw_fail(e, PW_ERR_CANCELLED, "cancelled by the progress callback during %s",
-                       stage);
+        return pw_fail(e, PW_ERR_CANCELLED, "cancelled by the progress callback during %s", stage);
     return PW_OK;
 }
 
@@ -715,8 +697,7 @@ PW__DEF int pw_has_ext(const char *path, const char *ext)
 #ifndef PW_NO_STDIO
 /* Reads a whole file into memory (with a terminating NUL not counted in
  * *size). */
-PW__DEF int pw_read_file(const pw_alloc *a, const char *path, unsigned char **data,
-                         size_t *size, pw_err *e)
+PW__DEF int pw_read_file(const pw_alloc *a, const char *path, unsigned char **data, size_t *size, pw_err *e)
 {
     FILE *f = fopen(path, "rb");
     unsigned char *buf = NULL;
@@ -753,9 +734,8 @@ PW__DEF int pw__file_write(void *ctx, const void *data, size_t size)
 
 /* Opens `path` for writing and runs body(arg, sink, FILE*, e), which writes
  * through the sink. A failing sink or fclose is reported naming the file. */
-PW__DEF int pw_write_file(const char *path,
-                          int (*body)(void *arg, pw_write_fn w, void *ctx, pw_err *e),
-                          void *arg, pw_err *e)
+PW__DEF int pw_write_file(const char *path, int (*body)(void *arg, pw_write_fn w, void *ctx, pw_err *e), void *arg,
+                          pw_err *e)
 {
     pw_err local;
     FILE *f = fopen(path, "wb");
@@ -886,9 +866,15 @@ PW__DEF double pw_sin(double x)
     long n = (long)(k >= 0 ? k + 0.5 : k - 0.5);
     r = x - (double)n * pi; /* r in [-pi/2, pi/2] */
     r2 = r * r;
-    s = r * (1.0 + r2 * (-1.0 / 6 + r2 * (1.0 / 120 + r2 * (-1.0 / 5040 + r2 * (1.0 / 362880 +
-        r2 * (-1.0 / 39916800 + r2 * (1.0 / 6227020800.0 + r2 * (-1.0 / 1307674368000.0 +
-        r2 * (1.0 / 355687428096000.0 + r2 * (-1.0 / 121645100408832000.0))))))))));
+    s = r * (1.0 +
+             r2 * (-1.0 / 6 +
+                   r2 * (1.0 / 120 +
+                         r2 * (-1.0 / 5040 +
+                               r2 * (1.0 / 362880 + r2 * (-1.0 / 39916800 +
+                                                          r2 * (1.0 / 6227020800.0 +
+                                                                r2 * (-1.0 / 1307674368000.0 +
+                                                                      r2 * (1.0 / 355687428096000.0 +
+                                                                            r2 * (-1.0 / 121645100408832000.0))))))))));
     return (n & 1) ? -s : s;
 }
 PW__DEF double pw_cos(double x) { return pw_sin(x + 1.57079632679489661923); }
@@ -1119,8 +1105,7 @@ PW__DEF int pw_image_alloc(const pw_alloc *a, pw_image *img, int w, int h, int c
     if (w <= 0 || h <= 0 || c < 1 || c > 4)
         return pw_fail(e, PW_ERR_INVALID, "invalid image size %dx%d with %d channels", w, h, c);
     if (w > PW_MAX_IMAGE_DIM || h > PW_MAX_IMAGE_DIM || (int64_t)w * h > PW_MAX_IMAGE_PIXELS)
-        return pw_fail(e, PW_ERR_LIMIT, "image %dx%d exceeds the limit of %d pixels", w, h,
-                       PW_MAX_IMAGE_PIXELS);
+        return pw_fail(e, PW_ERR_LIMIT, "image %dx%d exceeds the limit of %d pixels", w, h, PW_MAX_IMAGE_PIXELS);
     img->px = (float *)pw_calloc_array(a, (size_t)w * h * c, sizeof(float), "image", e);
     if (!img->px) return PW_ERR_NOMEM;
     img->w = w;
@@ -1155,10 +1140,9 @@ PW__DEF unsigned pw_image_quantize(float v, unsigned maxval)
 PW__DEF int pw__image_check(const pw_image *img, pw_err *e)
 {
     if (!img || !img->px || img->w <= 0 || img->h <= 0 || img->c < 1 || img->c > 4)
-        return pw_fail(e, PW_ERR_INVALID, "invalid image (%dx%d, %d channels)", img ? img->w : 0,
-                       img ? img->h : 0, img ? img->c : 0);
-    if (img->w > PW_MAX_IMAGE_DIM || img->h > PW_MAX_IMAGE_DIM ||
-        (int64_t)img->w * img->h > PW_MAX_IMAGE_PIXELS)
+        return pw_fail(e, PW_ERR_INVALID, "invalid image (%dx%d, %d channels)", img ? img->w : 0, img ? img->h : 0,
+                       img ? img->c : 0);
+    if (img->w > PW_MAX_IMAGE_DIM || img->h > PW_MAX_IMAGE_DIM || (int64_t)img->w * img->h > PW_MAX_IMAGE_PIXELS)
         return pw_fail(e, PW_ERR_LIMIT, "image %dx%d exceeds the size limits", img->w, img->h);
     return PW_OK;
 }
@@ -1180,8 +1164,7 @@ PW__DEF int pw_image_copy(const pw_alloc *a, const pw_image *src, pw_image *out,
  * dropping it (without compositing). RGB to gray uses the Rec. 601 luma
  * weights, as netpbm's ppmtopgm does. out may be src itself: its pixels are
  * then replaced (and freed with a). */
-PW__DEF int pw_image_convert(const pw_alloc *a, const pw_image *src, int channels, pw_image *out,
-                             pw_err *e)
+PW__DEF int pw_image_convert(const pw_alloc *a, const pw_image *src, int channels, pw_image *out, pw_err *e)
 {
     pw_image t;
     size_t i, n;
@@ -1313,13 +1296,11 @@ PW__DEF int pw__sink_end(pw__sink *s, pw_err *e)
 PW__DEF int pw__image_check_size(const char *name, uint64_t w, uint64_t h, pw_err *e)
 {
     if (w == 0 || h == 0)
-        return pw_fail(e, PW_ERR_PARSE, "%s: image has zero size (%llux%llu)", name,
-                       (unsigned long long)w, (unsigned long long)h);
+        return pw_fail(e, PW_ERR_PARSE, "%s: image has zero size (%llux%llu)", name, (unsigned long long)w,
+                       (unsigned long long)h);
     if (w > PW_MAX_IMAGE_DIM || h > PW_MAX_IMAGE_DIM || w * h > (uint64_t)PW_MAX_IMAGE_PIXELS)
-        return pw_fail(e, PW_ERR_LIMIT,
-                       "%s: image size %llux%llu exceeds the limits (%d per side, %d pixels)", name,
-                       (unsigned long long)w, (unsigned long long)h, PW_MAX_IMAGE_DIM,
-                       PW_MAX_IMAGE_PIXELS);
+        return pw_fail(e, PW_ERR_LIMIT, "%s: image size %llux%llu exceeds the limits (%d per side, %d pixels)", name,
+                       (unsigned long long)w, (unsigned long long)h, PW_MAX_IMAGE_DIM, PW_MAX_IMAGE_PIXELS);
     return PW_OK;
 }
 
@@ -1337,10 +1318,7 @@ typedef struct pw__pnm {
     uint64_t w, h, depth, maxval;
 } pw__pnm;
 
-PW__DEF int pw__is_space(int c)
-{
-    return c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == '\v' || c == '\f';
-}
+PW__DEF int pw__is_space(int c) { return c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == '\v' || c == '\f'; }
 
 /* Skips whitespace and comments (# to the end of the line). */
 PW__DEF void pw__pnm_skip(pw__pnm *r)
@@ -1363,10 +1341,8 @@ PW__DEF int pw__pnm_unexpected(pw__pnm *r, const char *what)
 {
     int c = r->p[r->pos];
     if (c > 32 && c < 127)
-        return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: expected the %s, found '%c'", r->name, r->line,
-                       what, c);
-    return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: expected the %s, found byte 0x%02x", r->name,
-                   r->line, what, c);
+        return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: expected the %s, found '%c'", r->name, r->line, what, c);
+    return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: expected the %s, found byte 0x%02x", r->name, r->line, what, c);
 }
 
 /* Reads an unsigned decimal number: a header field or an ASCII sample. */
@@ -1375,13 +1351,11 @@ PW__DEF int pw__pnm_number(pw__pnm *r, const char *what, uint64_t *v)
     uint64_t x = 0;
     pw__pnm_skip(r);
     if (r->pos >= r->n)
-        return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: file truncated: it ends before the %s", r->name,
-                       r->line, what);
+        return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: file truncated: it ends before the %s", r->name, r->line, what);
     if (r->p[r->pos] < '0' || r->p[r->pos] > '9') return pw__pnm_unexpected(r, what);
     while (r->pos < r->n && r->p[r->pos] >= '0' && r->p[r->pos] <= '9') {
         x = x * 10 + (uint64_t)(r->p[r->pos++] - '0');
-        if (x > 0xffffffffu)
-            return pw_fail(r->e, PW_ERR_LIMIT, "%s:%d: %s is too large", r->name, r->line, what);
+        if (x > 0xffffffffu) return pw_fail(r->e, PW_ERR_LIMIT, "%s:%d: %s is too large", r->name, r->line, what);
     }
     if (r->pos < r->n && !pw__is_space(r->p[r->pos]) && r->p[r->pos] != '#')
         return pw__pnm_unexpected(r, "end of the number");
@@ -1392,8 +1366,8 @@ PW__DEF int pw__pnm_number(pw__pnm *r, const char *what, uint64_t *v)
 PW__DEF int pw__pnm_check_maxval(pw__pnm *r)
 {
     if (r->maxval == 0 || r->maxval > 65535)
-        return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: maxval %llu is out of range (1 to 65535)",
-                       r->name, r->line, (unsigned long long)r->maxval);
+        return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: maxval %llu is out of range (1 to 65535)", r->name, r->line,
+                       (unsigned long long)r->maxval);
     return PW_OK;
 }
 
@@ -1402,8 +1376,7 @@ PW__DEF int pw__pnm_header(pw__pnm *r)
 {
     int rc;
     if (r->pos < r->n && !pw__is_space(r->p[r->pos]) && r->p[r->pos] != '#')
-        return pw_fail(r->e, PW_ERR_PARSE, "%s: bad magic number (P%d not followed by a space)",
-                       r->name, r->fmt);
+        return pw_fail(r->e, PW_ERR_PARSE, "%s: bad magic number (P%d not followed by a space)", r->name, r->fmt);
     if ((rc = pw__pnm_number(r, "width", &r->w))) return rc;
     if ((rc = pw__pnm_number(r, "height", &r->h))) return rc;
     r->maxval = 1;
@@ -1418,8 +1391,7 @@ PW__DEF int pw__pnm_header(pw__pnm *r)
 PW__DEF int pw__pnm_need(pw__pnm *r, uint64_t need)
 {
     if ((uint64_t)(r->n - r->pos) < need)
-        return pw_fail(r->e, PW_ERR_PARSE,
-                       "%s: pixel data truncated: %llu bytes needed, %llu present", r->name,
+        return pw_fail(r->e, PW_ERR_PARSE, "%s: pixel data truncated: %llu bytes needed, %llu present", r->name,
                        (unsigned long long)need, (unsigned long long)(r->n - r->pos));
     return PW_OK;
 }
@@ -1432,8 +1404,7 @@ PW__DEF int pw__pnm_raster(pw__pnm *r, uint64_t need)
     int c;
     if (r->pos < r->n && r->p[r->pos] == '#')
         while (r->pos < r->n && r->p[r->pos] != '\n' && r->p[r->pos] != '\r') r->pos++;
-    if (r->pos >= r->n)
-        return pw_fail(r->e, PW_ERR_PARSE, "%s: file truncated: no pixel data", r->name);
+    if (r->pos >= r->n) return pw_fail(r->e, PW_ERR_PARSE, "%s: file truncated: no pixel data", r->name);
     c = r->p[r->pos++];
     /* CRLF from a text-mode writer: skip the LF when exactly the raster
      * follows it (a lone CR separator followed by a sample 10 is kept) */
@@ -1450,8 +1421,8 @@ PW__DEF int pw__pnm_binary(pw__pnm *r, pw_image *img)
     for (i = 0; i < n; i++) {
         v = m > 255 ? (unsigned)p[2 * i] << 8 | p[2 * i + 1] : p[i];
         if (v > m)
-            return pw_fail(r->e, PW_ERR_PARSE, "%s: sample %lu is %u, above maxval %u", r->name,
-                           (unsigned long)i, v, m);
+            return pw_fail(r->e, PW_ERR_PARSE, "%s: sample %lu is %u, above maxval %u", r->name, (unsigned long)i, v,
+                           m);
         img->px[i] = (float)v / (float)m;
     }
     return PW_OK;
@@ -1466,9 +1437,8 @@ PW__DEF int pw__pnm_ascii(pw__pnm *r, pw_image *img)
     for (i = 0; i < n; i++) {
         if ((rc = pw__pnm_number(r, "sample", &v))) return rc;
         if (v > r->maxval)
-            return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: sample %lu is %llu, above maxval %llu",
-                           r->name, r->line, (unsigned long)i, (unsigned long long)v,
-                           (unsigned long long)r->maxval);
+            return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: sample %lu is %llu, above maxval %llu", r->name, r->line,
+                           (unsigned long)i, (unsigned long long)v, (unsigned long long)r->maxval);
         img->px[i] = (float)v / (float)r->maxval;
     }
     return PW_OK;
@@ -1487,11 +1457,9 @@ PW__DEF int pw__pbm_pixels(pw__pnm *r, pw_image *img)
             } else {
                 pw__pnm_skip(r);
                 if (r->pos >= r->n)
-                    return pw_fail(r->e, PW_ERR_PARSE,
-                                   "%s:%d: file truncated: it ends before pixel %lu", r->name,
+                    return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: file truncated: it ends before pixel %lu", r->name,
                                    r->line, (unsigned long)(y * img->w + x));
-                if (r->p[r->pos] != '0' && r->p[r->pos] != '1')
-                    return pw__pnm_unexpected(r, "bit 0 or 1");
+                if (r->p[r->pos] != '0' && r->p[r->pos] != '1') return pw__pnm_unexpected(r, "bit 0 or 1");
                 bit = r->p[r->pos++] - '0';
             }
             img->px[y * img->w + x] = bit ? 0.0f : 1.0f;
@@ -1506,18 +1474,15 @@ PW__DEF int pw__token_is(const unsigned char *s, size_t n, const char *kw)
 }
 
 /* Parses the value of a numeric PAM field (the whole value must be digits). */
-PW__DEF int pw__pam_number(pw__pnm *r, const unsigned char *s, size_t n, const char *key,
-                           uint64_t *v)
+PW__DEF int pw__pam_number(pw__pnm *r, const unsigned char *s, size_t n, const char *key, uint64_t *v)
 {
     size_t i;
     uint64_t x = 0;
     if (n == 0 || n > 10)
-        return pw_fail(r->e, n ? PW_ERR_LIMIT : PW_ERR_PARSE, "%s:%d: bad %s value", r->name,
-                       r->line, key);
+        return pw_fail(r->e, n ? PW_ERR_LIMIT : PW_ERR_PARSE, "%s:%d: bad %s value", r->name, r->line, key);
     for (i = 0; i < n; i++) {
         if (s[i] < '0' || s[i] > '9')
-            return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: bad %s value (not a number)", r->name,
-                           r->line, key);
+            return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: bad %s value (not a number)", r->name, r->line, key);
         x = x * 10 + (uint64_t)(s[i] - '0');
     }
     *v = x;
@@ -1564,14 +1529,13 @@ PW__DEF int pw__pam_tupltype(pw__pnm *r, const char *t)
     int i;
     if (r->depth == 0 || r->depth > 4)
         return pw_fail(r->e, r->depth ? PW_ERR_UNSUPPORTED : PW_ERR_PARSE,
-                       "%s: PAM depth %llu is not supported (1 to 4)", r->name,
-                       (unsigned long long)r->depth);
+                       "%s: PAM depth %llu is not supported (1 to 4)", r->name, (unsigned long long)r->depth);
     if (!t[0]) return PW_OK;
     for (i = 0; i < 6; i++)
         if (strcmp(t, names[i]) == 0) {
             if ((uint64_t)depths[i] == r->depth) return PW_OK;
-            return pw_fail(r->e, PW_ERR_PARSE, "%s: TUPLTYPE %s needs DEPTH %d, not %llu", r->name,
-                           t, depths[i], (unsigned long long)r->depth);
+            return pw_fail(r->e, PW_ERR_PARSE, "%s: TUPLTYPE %s needs DEPTH %d, not %llu", r->name, t, depths[i],
+                           (unsigned long long)r->depth);
         }
     return pw_fail(r->e, PW_ERR_UNSUPPORTED, "%s: PAM TUPLTYPE '%s' is not supported", r->name, t);
 }
@@ -1585,20 +1549,17 @@ PW__DEF int pw__pam_header(pw__pnm *r)
     r->w = r->h = r->depth = r->maxval = 0;
     while (r->pos < r->n && r->p[r->pos] != '\n') /* rest of the "P7" line */
         if (!pw__is_space(r->p[r->pos++]))
-            return pw_fail(r->e, PW_ERR_PARSE,
-                           "%s: bad magic number (P7 not followed by a newline)", r->name);
+            return pw_fail(r->e, PW_ERR_PARSE, "%s: bad magic number (P7 not followed by a newline)", r->name);
     while (!done) {
         size_t start, end;
         if (r->pos >= r->n)
-            return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: file truncated: PAM header has no ENDHDR",
-                           r->name, r->line);
+            return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: file truncated: PAM header has no ENDHDR", r->name, r->line);
         r->pos++; /* the newline ending the previous line */
         r->line++;
         start = end = r->pos;
         while (end < r->n && r->p[end] != '\n') end++;
         if (end >= r->n)
-            return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: file truncated: PAM header has no ENDHDR",
-                           r->name, r->line);
+            return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: file truncated: PAM header has no ENDHDR", r->name, r->line);
         r->pos = end;
         if ((rc = pw__pam_line(r, r->p + start, end - start, tupltype, &done))) return rc;
     }
@@ -1615,8 +1576,8 @@ PW__DEF int pw__pam_header(pw__pnm *r)
 
 /* Reads a netpbm image (P1-P7) from memory. `name` (usually the file name)
  * prefixes every error message. Bit depth: 16 when maxval > 255. */
-PW__DEF int pw_image_read_pnm_memory(const pw_alloc *a, const unsigned char *data, size_t size,
-                                     const char *name, pw_image *out, pw_err *e)
+PW__DEF int pw_image_read_pnm_memory(const pw_alloc *a, const unsigned char *data, size_t size, const char *name,
+                                     pw_image *out, pw_err *e)
 {
     pw__pnm r;
     uint64_t need = 0;
@@ -1666,8 +1627,8 @@ PW__DEF uint32_t pw__be32(const unsigned char *p)
  * per pixel (1 gray, 2 gray+alpha, 3 RGB, 4 RGBA), magic "GPAT", then the
  * NUL-terminated pattern name up to header_size; 8-bit pixels follow, top
  * row first. */
-PW__DEF int pw_image_read_pat_memory(const pw_alloc *a, const unsigned char *data, size_t size,
-                                     const char *name, pw_image *out, pw_err *e)
+PW__DEF int pw_image_read_pat_memory(const pw_alloc *a, const unsigned char *data, size_t size, const char *name,
+                                     pw_image *out, pw_err *e)
 {
     uint32_t hs, ver, w, h, bpp;
     size_t i, n;
@@ -1675,29 +1636,26 @@ PW__DEF int pw_image_read_pat_memory(const pw_alloc *a, const unsigned char *dat
     memset(out, 0, sizeof *out);
     if (!name) name = "image";
     if (size < 24) return pw_fail(e, PW_ERR_PARSE, "%s: GIMP pattern header truncated", name);
-    if (memcmp(data + 20, "GPAT", 4) != 0)
-        return pw_fail(e, PW_ERR_PARSE, "%s: not a GIMP pattern (bad magic)", name);
+    if (memcmp(data + 20, "GPAT", 4) != 0) return pw_fail(e, PW_ERR_PARSE, "%s: not a GIMP pattern (bad magic)", name);
     hs = pw__be32(data);
     ver = pw__be32(data + 4);
     w = pw__be32(data + 8);
     h = pw__be32(data + 12);
     bpp = pw__be32(data + 16);
     if (ver != 1)
-        return pw_fail(e, PW_ERR_UNSUPPORTED, "%s: GIMP pattern version %lu (only 1 is known)",
-                       name, (unsigned long)ver);
+        return pw_fail(e, PW_ERR_UNSUPPORTED, "%s: GIMP pattern version %lu (only 1 is known)", name,
+                       (unsigned long)ver);
     if (hs <= 24 || hs > size)
-        return pw_fail(e, PW_ERR_PARSE, "%s: bad GIMP pattern header size %lu (file has %lu bytes)",
-                       name, (unsigned long)hs, (unsigned long)size);
+        return pw_fail(e, PW_ERR_PARSE, "%s: bad GIMP pattern header size %lu (file has %lu bytes)", name,
+                       (unsigned long)hs, (unsigned long)size);
     if (!memchr(data + 24, 0, hs - 24))
         return pw_fail(e, PW_ERR_PARSE, "%s: GIMP pattern name is not NUL-terminated", name);
     if (bpp < 1 || bpp > 4)
-        return pw_fail(e, PW_ERR_PARSE, "%s: GIMP pattern has %lu bytes per pixel (1 to 4)", name,
-                       (unsigned long)bpp);
+        return pw_fail(e, PW_ERR_PARSE, "%s: GIMP pattern has %lu bytes per pixel (1 to 4)", name, (unsigned long)bpp);
     if ((rc = pw__image_check_size(name, w, h, e))) return rc;
     if ((uint64_t)w * h * bpp > (uint64_t)(size - hs))
-        return pw_fail(e, PW_ERR_PARSE, "%s: pixel data truncated: %llu bytes needed, %lu present",
-                       name, (unsigned long long)((uint64_t)w * h * bpp),
-                       (unsigned long)(size - hs));
+        return pw_fail(e, PW_ERR_PARSE, "%s: pixel data truncated: %llu bytes needed, %lu present", name,
+                       (unsigned long long)((uint64_t)w * h * bpp), (unsigned long)(size - hs));
     if ((rc = pw_image_alloc(a, out, (int)w, (int)h, (int)bpp, e))) return rc;
     n = (size_t)w * h * bpp;
     for (i = 0; i < n; i++) out->px[i] = (float)data[hs + i] / 255.0f;
@@ -1714,8 +1672,7 @@ PW__DEF int pw__write_bits(const pw_image *img, int bits, unsigned *maxval, pw_e
     int rc = pw__image_check(img, e);
     if (rc) return rc;
     if (bits == 0) bits = img->bits == 16 ? 16 : 8;
-    if (bits != 8 && bits != 16)
-        return pw_fail(e, PW_ERR_INVALID, "cannot write %d-bit samples (8 or 16)", bits);
+    if (bits != 8 && bits != 16) return pw_fail(e, PW_ERR_INVALID, "cannot write %d-bit samples (8 or 16)", bits);
     *maxval = bits == 16 ? 65535u : 255u;
     return PW_OK;
 }
@@ -1740,8 +1697,7 @@ PW__DEF void pw__put_ascii(pw__sink *s, const pw_image *img, unsigned maxval)
     for (y = 0; y < (size_t)img->h; y++) {
         int col = 0;
         for (x = 0; x < rowlen; x++) {
-            int k =
-                snprintf(num, sizeof num, "%u", pw_image_quantize(img->px[y * rowlen + x], maxval));
+            int k = snprintf(num, sizeof num, "%u", pw_image_quantize(img->px[y * rowlen + x], maxval));
             if (col > 0 && col + 1 + k > 69) {
                 pw__sink_byte(s, '\n');
                 col = 0;
@@ -1765,8 +1721,7 @@ PW__DEF int pw_image_write_pam(const pw_image *img, int bits, pw_write_fn w, voi
     unsigned maxval;
     int rc = pw__write_bits(img, bits, &maxval, e), k;
     if (rc) return rc;
-    k = snprintf(head, sizeof head,
-                 "P7\nWIDTH %d\nHEIGHT %d\nDEPTH %d\nMAXVAL %u\nTUPLTYPE %s\nENDHDR\n", img->w,
+    k = snprintf(head, sizeof head, "P7\nWIDTH %d\nHEIGHT %d\nDEPTH %d\nMAXVAL %u\nTUPLTYPE %s\nENDHDR\n", img->w,
                  img->h, img->c, maxval, types[img->c - 1]);
     pw__sink_init(&s, w, ctx);
     pw__sink_put(&s, head, (size_t)k);
@@ -1776,8 +1731,7 @@ PW__DEF int pw_image_write_pam(const pw_image *img, int bits, pw_write_fn w, voi
 
 /* PGM for 1 channel, PPM for 3 (binary P5/P6, or ASCII P2/P3 when `ascii`
  * is set), PAM for 2 and 4 (binary only: PW_ERR_UNSUPPORTED with ascii). */
-PW__DEF int pw_image_write_pnm(const pw_image *img, int bits, int ascii, pw_write_fn w, void *ctx,
-                               pw_err *e)
+PW__DEF int pw_image_write_pnm(const pw_image *img, int bits, int ascii, pw_write_fn w, void *ctx, pw_err *e)
 {
     pw__sink s;
     char head[64];
@@ -1786,18 +1740,15 @@ PW__DEF int pw_image_write_pnm(const pw_image *img, int bits, int ascii, pw_writ
     if (rc) return rc;
     if (img->c == 2 || img->c == 4) {
         if (ascii)
-            return pw_fail(e, PW_ERR_UNSUPPORTED,
-                           "images with alpha are written as PAM, which has no ASCII form");
+            return pw_fail(e, PW_ERR_UNSUPPORTED, "images with alpha are written as PAM, which has no ASCII form");
         return pw_image_write_pam(img, bits, w, ctx, e);
     }
-    k = snprintf(head, sizeof head, "P%d\n%d %d\n%u\n", (img->c == 1 ? 2 : 3) + (ascii ? 0 : 3),
-                 img->w, img->h, maxval);
+    k = snprintf(head, sizeof head, "P%d\n%d %d\n%u\n", (img->c == 1 ? 2 : 3) + (ascii ? 0 : 3), img->w, img->h,
+                 maxval);
     pw__sink_init(&s, w, ctx);
     pw__sink_put(&s, head, (size_t)k);
-    if (ascii)
-        pw__put_ascii(&s, img, maxval);
-    else
-        pw__put_samples(&s, img, maxval);
+    if (ascii) pw__put_ascii(&s, img, maxval);
+    else pw__put_samples(&s, img, maxval);
     return pw__sink_end(&s, e);
 }
 
@@ -1833,9 +1784,8 @@ PW__DEF int pw_image_write_pnm(const pw_image *img, int bits, int ascii, pw_writ
  * nibble at a time) keeps the source short and is fast enough for PNG. */
 PW__DEF uint32_t pw_crc32(uint32_t crc, const void *data, size_t n)
 {
-    static const uint32_t t[16] = {0x00000000u, 0x1db71064u, 0x3b6e20c8u, 0x26d930acu,
-                                   0x76dc4190u, 0x6b6b51f4u, 0x4db26158u, 0x5005713cu,
-                                   0xedb88320u, 0xf00f9344u, 0xd6d6a3e8u, 0xcb61b38cu,
+    static const uint32_t t[16] = {0x00000000u, 0x1db71064u, 0x3b6e20c8u, 0x26d930acu, 0x76dc4190u, 0x6b6b51f4u,
+                                   0x4db26158u, 0x5005713cu, 0xedb88320u, 0xf00f9344u, 0xd6d6a3e8u, 0xcb61b38cu,
                                    0x9b64c2b0u, 0x86d3d2d4u, 0xa00ae278u, 0xbdbdf21cu};
     const unsigned char *p = (const unsigned char *)data;
     crc = ~crc;
@@ -1867,20 +1817,17 @@ PW__DEF uint32_t pw_adler32(uint32_t adler, const void *data, size_t n)
 }
 
 /* RFC 1951 §3.2.5: bases and extra bits of the length and distance codes. */
-static const unsigned short pw__len_base[29] = {3,  4,  5,  6,   7,   8,   9,   10,  11, 13,
-                                                15, 17, 19, 23,  27,  31,  35,  43,  51, 59,
-                                                67, 83, 99, 115, 131, 163, 195, 227, 258};
+static const unsigned short pw__len_base[29] = {3,  4,  5,  6,  7,  8,  9,  10, 11,  13,  15,  17,  19,  23, 27,
+                                                31, 35, 43, 51, 59, 67, 83, 99, 115, 131, 163, 195, 227, 258};
 static const unsigned char pw__len_extra[29] = {0, 0, 0, 0, 0, 0, 0, 0, 1, 1, 1, 1, 2, 2, 2,
                                                 2, 3, 3, 3, 3, 4, 4, 4, 4, 5, 5, 5, 5, 0};
-static const unsigned short pw__dist_base[30] = {
-    1,   2,   3,   4,   5,   7,    9,    13,   17,   25,   33,   49,   65,    97,    129,
-    193, 257, 385, 513, 769, 1025, 1537, 2049, 3073, 4097, 6145, 8193, 12289, 16385, 24577};
-static const unsigned char pw__dist_extra[30] = {0, 0, 0,  0,  1,  1,  2,  2,  3,  3,
-                                                 4, 4, 5,  5,  6,  6,  7,  7,  8,  8,
-                                                 9, 9, 10, 10, 11, 11, 12, 12, 13, 13};
+static const unsigned short pw__dist_base[30] = {1,    2,    3,    4,    5,    7,    9,    13,    17,    25,
+                                                 33,   49,   65,   97,   129,  193,  257,  385,   513,   769,
+                                                 1025, 1537, 2049, 3073, 4097, 6145, 8193, 12289, 16385, 24577};
+static const unsigned char pw__dist_extra[30] = {0, 0, 0, 0, 1, 1, 2, 2,  3,  3,  4,  4,  5,  5,  6,
+                                                 6, 7, 7, 8, 8, 9, 9, 10, 10, 11, 11, 12, 12, 13, 13};
 /* §3.2.7: order in which the code-length code lengths are sent */
-static const unsigned char pw__clen_order[19] = {16, 17, 18, 0, 8,  7, 9,  6, 10, 5,
-                                                 11, 4,  12, 3, 13, 2, 14, 1, 15};
+static const unsigned char pw__clen_order[19] = {16, 17, 18, 0, 8, 7, 9, 6, 10, 5, 11, 4, 12, 3, 13, 2, 14, 1, 15};
 
 /* ======================================================================
  * Huffman code construction (shared by both directions)
@@ -1922,10 +1869,8 @@ PW__DEF int pw__huff_tree(const uint64_t *key, int m, unsigned char *len)
     for (k = 0; k < m - 1; k++) {
         int pick[2], j;
         for (j = 0; j < 2; j++) {
-            if (li < m && (ii >= nn || w[li] <= w[ii]))
-                pick[j] = li++;
-            else
-                pick[j] = ii++;
+            if (li < m && (ii >= nn || w[li] <= w[ii])) pick[j] = li++;
+            else pick[j] = ii++;
         }
         w[nn] = w[pick[0]] + w[pick[1]];
         parent[pick[0]] = parent[pick[1]] = nn++;
@@ -2063,8 +2008,7 @@ PW__DEF void pw__deflate_tables(pw__deflate *s)
             s->dcode[v < 256 ? v : 256 + (v >> 7)] = (unsigned char)c;
         }
     /* §3.2.6: the fixed code */
-    for (i = 0; i < 288; i++)
-        s->fixed_len[i] = (unsigned char)(i < 144 ? 8 : i < 256 ? 9 : i < 280 ? 7 : 8);
+    for (i = 0; i < 288; i++) s->fixed_len[i] = (unsigned char)(i < 144 ? 8 : i < 256 ? 9 : i < 280 ? 7 : 8);
     for (i = 0; i < 30; i++) s->fixed_len[288 + i] = 5;
     pw__huff_codes(s->fixed_len, 288, s->fixed_code);
     pw__huff_codes(s->fixed_len + 288, 30, s->fixed_code + 288);
@@ -2076,8 +2020,7 @@ PW__DEF int pw__dist_code(const pw__deflate *s, unsigned dist)
 }
 
 /* Bits to code the block's symbols with the given lengths (no header). */
-PW__DEF uint64_t pw__block_bits(const pw__deflate *s, const unsigned char *ll,
-                                const unsigned char *dl)
+PW__DEF uint64_t pw__block_bits(const pw__deflate *s, const unsigned char *ll, const unsigned char *dl)
 {
     uint64_t bits = 0;
     int i;
@@ -2088,8 +2031,8 @@ PW__DEF uint64_t pw__block_bits(const pw__deflate *s, const unsigned char *ll,
 }
 
 /* Writes the block's symbols with the given code. */
-PW__DEF void pw__put_symbols(pw__deflate *s, const unsigned char *ll, const unsigned short *lc,
-                             const unsigned char *dl, const unsigned short *dc)
+PW__DEF void pw__put_symbols(pw__deflate *s, const unsigned char *ll, const unsigned short *lc, const unsigned char *dl,
+                             const unsigned short *dc)
 {
     size_t i;
     for (i = 0; i < s->nsym; i++) {
@@ -2236,8 +2179,7 @@ PW__DEF void pw__flush_block(pw__deflate *s, size_t end, int last)
     dyn = 3 + pw__dyn_build(&h, ll, dl) + pw__block_bits(s, ll, dl);
     fix = 3 + pw__block_bits(s, s->fixed_len, s->fixed_len + 288);
     kind = s->stored_only || (stored <= dyn && stored <= fix) ? 0 : fix <= dyn ? 1 : 2;
-    if (pw__deflate_reserve(s, (size_t)((kind == 0 ? stored : kind == 1 ? fix : dyn) / 8 + 16)))
-        return;
+    if (pw__deflate_reserve(s, (size_t)((kind == 0 ? stored : kind == 1 ? fix : dyn) / 8 + 16))) return;
     if (kind == 0) {
         pw__put_stored(s, s->block_start, end, last);
     } else if (kind == 1) {
@@ -2362,9 +2304,8 @@ PW__DEF void pw__deflate_run(pw__deflate *s)
 PW__DEF void pw__deflate_level(pw__deflate *s, int level)
 {
     static const unsigned short p[10][4] = {
-        {0, 0, 0, 0},         {4, 16, 0, 0},       {8, 32, 0, 0},    {16, 32, 0, 0},
-        {16, 32, 8, 4},       {32, 64, 16, 8},     {64, 128, 16, 8}, {256, 128, 64, 16},
-        {1024, 258, 128, 32}, {4096, 258, 258, 32}};
+        {0, 0, 0, 0},    {4, 16, 0, 0},    {8, 32, 0, 0},      {16, 32, 0, 0},       {16, 32, 8, 4},
+        {32, 64, 16, 8}, {64, 128, 16, 8}, {256, 128, 64, 16}, {1024, 258, 128, 32}, {4096, 258, 258, 32}};
     if (level < 0 || level > 9) level = 6;
     s->max_chain = p[level][0];
     s->nice_len = p[level][1];
@@ -2412,8 +2353,7 @@ PW__DEF int pw__deflate_into(pw__deflate *s, int level)
     return s->failed ? (s->e && s->e->code ? s->e->code : PW_ERR_NOMEM) : PW_OK;
 }
 
-PW__DEF void pw__deflate_init(pw__deflate *s, const pw_alloc *a, const unsigned char *data,
-                              size_t n, pw_err *e)
+PW__DEF void pw__deflate_init(pw__deflate *s, const pw_alloc *a, const unsigned char *data, size_t n, pw_err *e)
 {
     memset(s, 0, sizeof *s);
     s->a = a;
@@ -2423,8 +2363,8 @@ PW__DEF void pw__deflate_init(pw__deflate *s, const pw_alloc *a, const unsigned 
 }
 
 /* Raw deflate stream of data[0..n) at `level` (0-9, -1 = default 6). */
-PW__DEF int pw_deflate(const pw_alloc *a, const unsigned char *data, size_t n, int level,
-                       unsigned char **out, size_t *outn, pw_err *e)
+PW__DEF int pw_deflate(const pw_alloc *a, const unsigned char *data, size_t n, int level, unsigned char **out,
+                       size_t *outn, pw_err *e)
 {
     pw__deflate s;
     int r;
@@ -2442,8 +2382,8 @@ PW__DEF int pw_deflate(const pw_alloc *a, const unsigned char *data, size_t n, i
 }
 
 /* zlib stream (2-byte header, deflate data, Adler-32 of the input). */
-PW__DEF int pw_zlib_compress(const pw_alloc *a, const unsigned char *data, size_t n, int level,
-                             unsigned char **out, size_t *outn, pw_err *e)
+PW__DEF int pw_zlib_compress(const pw_alloc *a, const unsigned char *data, size_t n, int level, unsigned char **out,
+                             size_t *outn, pw_err *e)
 {
     pw__deflate s;
     uint32_t ad;
@@ -2526,8 +2466,7 @@ PW__DEF int pw__huff_build(pw__huff *h, const unsigned char *len, int n, int all
         if (L > PW__FAST_BITS) continue;
         for (l = 0; l < L; l++) r = (r << 1) | ((code[L] >> l) & 1u);
         code[L]++;
-        for (j = r; j < (1u << PW__FAST_BITS); j += 1u << L)
-            h->fast[j] = (unsigned short)((L << 9) | i);
+        for (j = r; j < (1u << PW__FAST_BITS); j += 1u << L) h->fast[j] = (unsigned short)((L << 9) | i);
     }
     return 0;
 }
@@ -2614,9 +2553,7 @@ PW__DEF int pw__inflate_reserve(pw__inflate *z, size_t k)
     while (cap < need) cap = cap > ((size_t)-1) / 2 ? need : cap * 2;
     if (cap > z->max_out) cap = z->max_out;
     p = (unsigned char *)pw_realloc(z->a, z->out, cap);
-    if (!p)
-        return pw_fail(z->e, PW_ERR_NOMEM, "out of memory decompressing (%lu bytes)",
-                       (unsigned long)cap);
+    if (!p) return pw_fail(z->e, PW_ERR_NOMEM, "out of memory decompressing (%lu bytes)", (unsigned long)cap);
     z->out = p;
     z->outcap = cap;
     return PW_OK;
@@ -2631,27 +2568,23 @@ PW__DEF int pw__inflate_codes(pw__inflate *z, const pw__huff *ll, const pw__huff
         sym = pw__decode(z, ll);
         if (sym < 0) goto bad;
         if (sym < 256) {
-            if (z->outn >= z->outcap && pw__inflate_reserve(z, 1))
-                return z->e ? z->e->code : PW_ERR_LIMIT;
+            if (z->outn >= z->outcap && pw__inflate_reserve(z, 1)) return z->e ? z->e->code : PW_ERR_LIMIT;
             z->out[z->outn++] = (unsigned char)sym;
             continue;
         }
         if (sym == 256) return PW_OK;
-        if (sym > 285)
-            return pw_fail(z->e, PW_ERR_PARSE, "deflate data: invalid length code %d", sym);
+        if (sym > 285) return pw_fail(z->e, PW_ERR_PARSE, "deflate data: invalid length code %d", sym);
         len = pw__len_base[sym - 257] + pw__getbits(z, pw__len_extra[sym - 257]);
         ds = pw__decode(z, dd);
         if (ds < 0) {
             sym = ds;
             goto bad;
         }
-        if (ds > 29)
-            return pw_fail(z->e, PW_ERR_PARSE, "deflate data: invalid distance code %d", ds);
+        if (ds > 29) return pw_fail(z->e, PW_ERR_PARSE, "deflate data: invalid distance code %d", ds);
         dist = pw__dist_base[ds] + pw__getbits(z, pw__dist_extra[ds]);
         if (z->truncated) return pw__inflate_truncated(z);
         if (dist > z->outn)
-            return pw_fail(z->e, PW_ERR_PARSE,
-                           "deflate data: distance %lu too far back (only %lu bytes decoded)",
+            return pw_fail(z->e, PW_ERR_PARSE, "deflate data: distance %lu too far back (only %lu bytes decoded)",
                            (unsigned long)dist, (unsigned long)z->outn);
         if (pw__inflate_reserve(z, len)) return z->e ? z->e->code : PW_ERR_LIMIT;
         /* byte by byte: source and destination overlap when dist < len */
@@ -2670,8 +2603,7 @@ PW__DEF int pw__inflate_stored(pw__inflate *z)
     len = pw__getbits(z, 16);
     nlen = pw__getbits(z, 16);
     if (z->truncated) return pw__inflate_truncated(z);
-    if ((len ^ 0xffffu) != nlen)
-        return pw_fail(z->e, PW_ERR_PARSE, "deflate data: stored block length check failed");
+    if ((len ^ 0xffffu) != nlen) return pw_fail(z->e, PW_ERR_PARSE, "deflate data: stored block length check failed");
     if (pw__inflate_reserve(z, len)) return z->e ? z->e->code : PW_ERR_LIMIT;
     while (len > 0 && z->nbits >= 8) { /* bytes already loaded first */
         z->out[z->outn++] = (unsigned char)pw__getbits(z, 8);
@@ -2694,36 +2626,30 @@ PW__DEF int pw__inflate_tables(pw__inflate *z, pw__huff *ll, pw__huff *dd)
     hdist = (int)pw__getbits(z, 5) + 1;
     hclen = (int)pw__getbits(z, 4) + 4;
     if (hlit > 286 || hdist > 30)
-        return pw_fail(z->e, PW_ERR_PARSE,
-                       "deflate data: too many length or distance codes (%d, %d)", hlit, hdist);
+        return pw_fail(z->e, PW_ERR_PARSE, "deflate data: too many length or distance codes (%d, %d)", hlit, hdist);
     memset(clen, 0, sizeof clen);
     for (i = 0; i < hclen; i++) clen[pw__clen_order[i]] = (unsigned char)pw__getbits(z, 3);
     if (z->truncated) return pw__inflate_truncated(z);
-    if (pw__huff_build(&ch, clen, 19, 0))
-        return pw_fail(z->e, PW_ERR_PARSE, "deflate data: bad code-length code");
+    if (pw__huff_build(&ch, clen, 19, 0)) return pw_fail(z->e, PW_ERR_PARSE, "deflate data: bad code-length code");
     n = hlit + hdist;
     for (i = 0; i < n;) {
         int sym = pw__decode(z, &ch), rep, val = 0;
         if (sym < 0)
-            return sym == -1
-                       ? pw__inflate_truncated(z)
-                       : pw_fail(z->e, PW_ERR_PARSE, "deflate data: invalid code-length code");
+            return sym == -1 ? pw__inflate_truncated(z)
+                             : pw_fail(z->e, PW_ERR_PARSE, "deflate data: invalid code-length code");
         if (sym < 16) {
             lens[i++] = (unsigned char)sym;
             continue;
         }
         if (sym == 16) {
-            if (i == 0)
-                return pw_fail(z->e, PW_ERR_PARSE,
-                               "deflate data: length repeat with no previous length");
+            if (i == 0) return pw_fail(z->e, PW_ERR_PARSE, "deflate data: length repeat with no previous length");
             val = lens[i - 1];
             rep = 3 + (int)pw__getbits(z, 2);
         } else {
             rep = sym == 17 ? 3 + (int)pw__getbits(z, 3) : 11 + (int)pw__getbits(z, 7);
         }
         if (z->truncated) return pw__inflate_truncated(z);
-        if (rep > n - i)
-            return pw_fail(z->e, PW_ERR_PARSE, "deflate data: code lengths repeat past the end");
+        if (rep > n - i) return pw_fail(z->e, PW_ERR_PARSE, "deflate data: code lengths repeat past the end");
         while (rep--) lens[i++] = (unsigned char)val;
     }
     if (!lens[256]) return pw_fail(z->e, PW_ERR_PARSE, "deflate data: no end-of-block code");
@@ -2747,8 +2673,7 @@ PW__DEF int pw__inflate_run(pw__inflate *z)
         if (type == 0) {
             r = pw__inflate_stored(z);
         } else if (type == 1) { /* §3.2.6: the fixed code */
-            for (i = 0; i < 288; i++)
-                lens[i] = (unsigned char)(i < 144 ? 8 : i < 256 ? 9 : i < 280 ? 7 : 8);
+            for (i = 0; i < 288; i++) lens[i] = (unsigned char)(i < 144 ? 8 : i < 256 ? 9 : i < 280 ? 7 : 8);
             /* distance codes 30 and 31 never occur but complete the code */
             for (i = 0; i < 32; i++) lens[288 + i] = 5;
             pw__huff_build(&ll, lens, 288, 0);
@@ -2768,8 +2693,8 @@ PW__DEF int pw__inflate_run(pw__inflate *z)
 /* Decodes a raw deflate stream into a new buffer of at most max_out bytes
  * (PW_ERR_LIMIT beyond). *used (if not NULL) receives the number of input
  * bytes the stream occupied. */
-PW__DEF int pw_inflate(const pw_alloc *a, const unsigned char *data, size_t n, size_t max_out,
-                       unsigned char **out, size_t *outn, size_t *used, pw_err *e)
+PW__DEF int pw_inflate(const pw_alloc *a, const unsigned char *data, size_t n, size_t max_out, unsigned char **out,
+                       size_t *outn, size_t *used, pw_err *e)
 {
     pw__inflate z;
     pw_err local;
@@ -2797,8 +2722,8 @@ PW__DEF int pw_inflate(const pw_alloc *a, const unsigned char *data, size_t n, s
 }
 
 /* Decodes a zlib stream, checking its header and Adler-32. */
-PW__DEF int pw_zlib_decompress(const pw_alloc *a, const unsigned char *data, size_t n,
-                               size_t max_out, unsigned char **out, size_t *outn, pw_err *e)
+PW__DEF int pw_zlib_decompress(const pw_alloc *a, const unsigned char *data, size_t n, size_t max_out,
+                               unsigned char **out, size_t *outn, pw_err *e)
 {
     size_t used = 0;
     uint32_t want;
@@ -2808,20 +2733,15 @@ PW__DEF int pw_zlib_decompress(const pw_alloc *a, const unsigned char *data, siz
     *outn = 0;
     if (n < 2) return pw_fail(e, PW_ERR_PARSE, "zlib data truncated (%lu bytes)", (unsigned long)n);
     if ((data[0] & 15) != 8 || (data[0] >> 4) > 7)
-        return pw_fail(e, PW_ERR_PARSE,
-                       "zlib header: not deflate with a window of at most 32K (0x%02x)", data[0]);
-    if (((unsigned)data[0] << 8 | data[1]) % 31)
-        return pw_fail(e, PW_ERR_PARSE, "zlib header: check bits are wrong");
-    if (data[1] & 0x20)
-        return pw_fail(e, PW_ERR_UNSUPPORTED, "zlib data needs a preset dictionary");
+        return pw_fail(e, PW_ERR_PARSE, "zlib header: not deflate with a window of at most 32K (0x%02x)", data[0]);
+    if (((unsigned)data[0] << 8 | data[1]) % 31) return pw_fail(e, PW_ERR_PARSE, "zlib header: check bits are wrong");
+    if (data[1] & 0x20) return pw_fail(e, PW_ERR_UNSUPPORTED, "zlib data needs a preset dictionary");
     r = pw_inflate(a, data + 2, n - 2, max_out, out, outn, &used, e);
     if (r) return r;
     t = data + 2 + used;
-    if (n - 2 - used < 4)
-        r = pw_fail(e, PW_ERR_PARSE, "zlib data truncated (no Adler-32 checksum)");
+    if (n - 2 - used < 4) r = pw_fail(e, PW_ERR_PARSE, "zlib data truncated (no Adler-32 checksum)");
     want = r ? 0 : (uint32_t)t[0] << 24 | (uint32_t)t[1] << 16 | (uint32_t)t[2] << 8 | t[3];
-    if (!r && pw_adler32(1, *out, *outn) != want)
-        r = pw_fail(e, PW_ERR_PARSE, "zlib data: Adler-32 checksum mismatch");
+    if (!r && pw_adler32(1, *out, *outn) != want) r = pw_fail(e, PW_ERR_PARSE, "zlib data: Adler-32 checksum mismatch");
     if (r) {
         pw_free(a, *out);
         *out = NULL;
@@ -2904,26 +2824,22 @@ PW__DEF int pw__paeth(int a, int b, int c)
 }
 
 /* Filters one row (n bytes, bpp bytes per pixel) with filter type f. */
-PW__DEF void pw__png_filter(unsigned char *dst, const unsigned char *cur, const unsigned char *prev,
-                            size_t n, size_t bpp, int f)
+PW__DEF void pw__png_filter(unsigned char *dst, const unsigned char *cur, const unsigned char *prev, size_t n,
+                            size_t bpp, int f)
 {
     size_t i;
     for (i = 0; i < n; i++) {
         int x = cur[i], a = i >= bpp ? cur[i - bpp] : 0, b = prev[i];
         int c = i >= bpp ? prev[i - bpp] : 0;
-        int pred = f == 0   ? 0
-                   : f == 1 ? a
-                   : f == 2 ? b
-                   : f == 3 ? (a + b) >> 1
-                            : pw__paeth(a, b, c);
+        int pred = f == 0 ? 0 : f == 1 ? a : f == 2 ? b : f == 3 ? (a + b) >> 1 : pw__paeth(a, b, c);
         dst[i] = (unsigned char)(x - pred);
     }
 }
 
 /* Quantised rows, each prefixed by the filter byte that minimises the sum
  * of absolute differences (bytes read as signed). */
-PW__DEF int pw__png_filtered(const pw_alloc *a, const pw_image *img, unsigned maxval,
-                             unsigned char **out, size_t *outn, pw_err *e)
+PW__DEF int pw__png_filtered(const pw_alloc *a, const pw_image *img, unsigned maxval, unsigned char **out, size_t *outn,
+                             pw_err *e)
 {
     size_t bps = maxval > 255 ? 2 : 1, bpp = bps * (size_t)img->c;
     size_t n = bpp * (size_t)img->w, x, y, k;
@@ -2965,8 +2881,7 @@ PW__DEF int pw__png_filtered(const pw_alloc *a, const pw_image *img, unsigned ma
 
 /* Writes img as PNG. bits: 8, 16, or 0 for img->bits. Temporary buffers
  * come from a (NULL: PW_MALLOC). */
-PW__DEF int pw_png_write(const pw_alloc *a, const pw_image *img, int bits, pw_write_fn w,
-                         void *ctx, pw_err *e)
+PW__DEF int pw_png_write(const pw_alloc *a, const pw_image *img, int bits, pw_write_fn w, void *ctx, pw_err *e)
 {
     static const unsigned char ctypes[4] = {0, 4, 2, 6};
     unsigned char ihdr[13], *raw = NULL, *z = NULL;
@@ -2987,8 +2902,7 @@ PW__DEF int pw_png_write(const pw_alloc *a, const pw_image *img, int bits, pw_wr
     pw__sink_init(&s, w, ctx);
     pw__sink_put(&s, pw__png_sig, 8);
     pw__png_chunk(&s, "IHDR", ihdr, 13);
-    for (off = 0; off < zn; off += 65536)
-        pw__png_chunk(&s, "IDAT", z + off, zn - off < 65536 ? zn - off : 65536);
+    for (off = 0; off < zn; off += 65536) pw__png_chunk(&s, "IDAT", z + off, zn - off < 65536 ? zn - off : 65536);
     pw__png_chunk(&s, "IEND", ihdr, 0);
     pw_free(a, z);
     return pw__sink_end(&s, e);
@@ -3018,8 +2932,7 @@ PW__DEF int pw__png_ihdr(pw__png *p, const unsigned char *d, uint32_t len)
     static const int spp[7] = {1, 0, 3, 1, 2, 0, 4};
     int ok, rc;
     if (len != 13)
-        return pw_fail(p->e, PW_ERR_PARSE, "%s: IHDR chunk has length %lu, not 13", p->name,
-                       (unsigned long)len);
+        return pw_fail(p->e, PW_ERR_PARSE, "%s: IHDR chunk has length %lu, not 13", p->name, (unsigned long)len);
     p->w = pw__be32(d);
     p->h = pw__be32(d + 4);
     p->depth = d[8];
@@ -3030,11 +2943,10 @@ PW__DEF int pw__png_ihdr(pw__png *p, const unsigned char *d, uint32_t len)
     ok = p->depth == 8 || (p->depth == 16 && p->ctype != 3) ||
          ((p->depth == 1 || p->depth == 2 || p->depth == 4) && (p->ctype == 0 || p->ctype == 3));
     if (!ok)
-        return pw_fail(p->e, PW_ERR_PARSE, "%s: bit depth %d is invalid for PNG colour type %d",
-                       p->name, p->depth, p->ctype);
+        return pw_fail(p->e, PW_ERR_PARSE, "%s: bit depth %d is invalid for PNG colour type %d", p->name, p->depth,
+                       p->ctype);
     if (d[10] != 0 || d[11] != 0 || p->interlace > 1)
-        return pw_fail(p->e, PW_ERR_PARSE,
-                       "%s: unknown PNG compression, filter or interlace method (%d, %d, %d)",
+        return pw_fail(p->e, PW_ERR_PARSE, "%s: unknown PNG compression, filter or interlace method (%d, %d, %d)",
                        p->name, d[10], d[11], d[12]);
     if ((rc = pw__image_check_size(p->name, p->w, p->h, p->e))) return rc;
     p->spp = spp[p->ctype];
@@ -3046,12 +2958,10 @@ PW__DEF int pw__png_ihdr(pw__png *p, const unsigned char *d, uint32_t len)
 PW__DEF int pw__png_palette(pw__png *p, const char *type, const unsigned char *d, uint32_t len)
 {
     uint32_t i;
-    if (p->seen_idat)
-        return pw_fail(p->e, PW_ERR_PARSE, "%s: %s chunk after the image data", p->name, type);
+    if (p->seen_idat) return pw_fail(p->e, PW_ERR_PARSE, "%s: %s chunk after the image data", p->name, type);
     if (type[0] == 'P') {
         if (len % 3 || len == 0 || len > 768)
-            return pw_fail(p->e, PW_ERR_PARSE, "%s: PLTE chunk has invalid length %lu", p->name,
-                           (unsigned long)len);
+            return pw_fail(p->e, PW_ERR_PARSE, "%s: PLTE chunk has invalid length %lu", p->name, (unsigned long)len);
         if (p->ctype == 0 || p->ctype == 4) return PW_OK; /* not allowed, harmless */
         p->npal = (int)(len / 3);
         for (i = 0; i < len / 3; i++) {
@@ -3062,13 +2972,12 @@ PW__DEF int pw__png_palette(pw__png *p, const char *type, const unsigned char *d
     }
     if (p->ctype == 3) {
         if (len > (uint32_t)p->npal)
-            return pw_fail(p->e, PW_ERR_PARSE, "%s: tRNS chunk has %lu entries for a palette of %d",
-                           p->name, (unsigned long)len, p->npal);
+            return pw_fail(p->e, PW_ERR_PARSE, "%s: tRNS chunk has %lu entries for a palette of %d", p->name,
+                           (unsigned long)len, p->npal);
         for (i = 0; i < len; i++) p->pal[i][3] = d[i];
     } else if (p->ctype == 0 || p->ctype == 2) {
         if (len != (p->ctype ? 6u : 2u))
-            return pw_fail(p->e, PW_ERR_PARSE, "%s: tRNS chunk has invalid length %lu", p->name,
-                           (unsigned long)len);
+            return pw_fail(p->e, PW_ERR_PARSE, "%s: tRNS chunk has invalid length %lu", p->name, (unsigned long)len);
         for (i = 0; i < len / 2; i++) p->key[i] = (unsigned)d[2 * i] << 8 | d[2 * i + 1];
     } else {
         return PW_OK; /* not allowed with an alpha channel; ignored */
@@ -3086,12 +2995,10 @@ PW__DEF int pw__png_chunk_read(pw__png *p, const unsigned char *c, uint32_t len)
     if (!p->seen_ihdr && strcmp(type, "IHDR") != 0)
         return pw_fail(p->e, PW_ERR_PARSE, "%s: first PNG chunk is not IHDR", p->name);
     if (strcmp(type, "IHDR") == 0) {
-        if (p->seen_ihdr)
-            return pw_fail(p->e, PW_ERR_PARSE, "%s: more than one IHDR chunk", p->name);
+        if (p->seen_ihdr) return pw_fail(p->e, PW_ERR_PARSE, "%s: more than one IHDR chunk", p->name);
         return pw__png_ihdr(p, c + 8, len);
     }
-    if (strcmp(type, "PLTE") == 0 || strcmp(type, "tRNS") == 0)
-        return pw__png_palette(p, type, c + 8, len);
+    if (strcmp(type, "PLTE") == 0 || strcmp(type, "tRNS") == 0) return pw__png_palette(p, type, c + 8, len);
     if (strcmp(type, "IDAT") == 0) {
         p->idat_size += len;
         p->seen_idat = 1;
@@ -3102,8 +3009,7 @@ PW__DEF int pw__png_chunk_read(pw__png *p, const unsigned char *c, uint32_t len)
         return PW_OK;
     }
     if (!(type[0] & 0x20)) /* an uppercase first letter marks a critical chunk */
-        return pw_fail(p->e, PW_ERR_UNSUPPORTED, "%s: unknown critical PNG chunk '%s'", p->name,
-                       type);
+        return pw_fail(p->e, PW_ERR_UNSUPPORTED, "%s: unknown critical PNG chunk '%s'", p->name, type);
     return PW_OK;
 }
 
@@ -3116,26 +3022,21 @@ PW__DEF int pw__png_walk(pw__png *p, const unsigned char *data, size_t size)
     while (!p->seen_iend) {
         const unsigned char *c = data + pos;
         uint32_t len;
-        if (size - pos < 12)
-            return pw_fail(p->e, PW_ERR_PARSE, "%s: PNG file truncated (no IEND chunk)", p->name);
+        if (size - pos < 12) return pw_fail(p->e, PW_ERR_PARSE, "%s: PNG file truncated (no IEND chunk)", p->name);
         len = pw__be32(c);
         for (i = 4; i < 8; i++)
             if (!((c[i] >= 'A' && c[i] <= 'Z') || (c[i] >= 'a' && c[i] <= 'z')))
-                return pw_fail(p->e, PW_ERR_PARSE, "%s: bad PNG chunk type at offset %lu", p->name,
-                               (unsigned long)pos);
+                return pw_fail(p->e, PW_ERR_PARSE, "%s: bad PNG chunk type at offset %lu", p->name, (unsigned long)pos);
         if (len > 0x7fffffffu || len > size - pos - 12)
-            return pw_fail(p->e, PW_ERR_PARSE, "%s: PNG chunk '%.4s' truncated (length %lu)",
-                           p->name, (const char *)c + 4, (unsigned long)len);
+            return pw_fail(p->e, PW_ERR_PARSE, "%s: PNG chunk '%.4s' truncated (length %lu)", p->name,
+                           (const char *)c + 4, (unsigned long)len);
         if (pw_crc32(0, c + 4, len + 4) != pw__be32(c + 8 + len))
-            return pw_fail(p->e, PW_ERR_PARSE, "%s: CRC mismatch in PNG chunk '%.4s'", p->name,
-                           (const char *)c + 4);
+            return pw_fail(p->e, PW_ERR_PARSE, "%s: CRC mismatch in PNG chunk '%.4s'", p->name, (const char *)c + 4);
         if ((rc = pw__png_chunk_read(p, c, len))) return rc;
         pos += 12 + (size_t)len;
     }
-    if (!p->seen_idat)
-        return pw_fail(p->e, PW_ERR_PARSE, "%s: PNG file has no IDAT chunk", p->name);
-    if (p->ctype == 3 && !p->npal)
-        return pw_fail(p->e, PW_ERR_PARSE, "%s: palette PNG has no PLTE chunk", p->name);
+    if (!p->seen_idat) return pw_fail(p->e, PW_ERR_PARSE, "%s: PNG file has no IDAT chunk", p->name);
+    if (p->ctype == 3 && !p->npal) return pw_fail(p->e, PW_ERR_PARSE, "%s: palette PNG has no PLTE chunk", p->name);
     return PW_OK;
 }
 
@@ -3156,15 +3057,13 @@ PW__DEF void pw__png_gather(const unsigned char *data, unsigned char *idat)
 
 /* Adam7 passes (§8.2): x start, y start, x step, y step. A plain image is
  * the single pass {0, 0, 1, 1}. */
-static const unsigned char pw__adam7[7][4] = {{0, 0, 8, 8}, {4, 0, 8, 8}, {0, 4, 4, 8},
-                                              {2, 0, 4, 4}, {0, 2, 2, 4}, {1, 0, 2, 2},
-                                              {0, 1, 1, 2}};
+static const unsigned char pw__adam7[7][4] = {{0, 0, 8, 8}, {4, 0, 8, 8}, {0, 4, 4, 8}, {2, 0, 4, 4},
+                                              {0, 2, 2, 4}, {1, 0, 2, 2}, {0, 1, 1, 2}};
 
 /* Pixels of a pass along one axis (0 when the pass is empty). */
 PW__DEF uint32_t pw__pass_len(uint32_t size, int start, int step)
 {
-    return size > (uint32_t)start ? (size - (uint32_t)start + (uint32_t)step - 1) / (uint32_t)step
-                                  : 0;
+    return size > (uint32_t)start ? (size - (uint32_t)start + (uint32_t)step - 1) / (uint32_t)step : 0;
 }
 
 /* Bytes of one filtered row of `w` pixels, without the filter byte. */
@@ -3189,8 +3088,7 @@ PW__DEF uint64_t pw__png_rawsize(const pw__png *p)
 
 /* Undoes the filter of one row in place (§9.2); prev is NULL for the first
  * row of a pass. */
-PW__DEF int pw__png_unfilter(pw__png *p, unsigned char *row, const unsigned char *prev, size_t n,
-                             size_t bpp, int f)
+PW__DEF int pw__png_unfilter(pw__png *p, unsigned char *row, const unsigned char *prev, size_t n, size_t bpp, int f)
 {
     size_t i;
     if (f > 4) return pw_fail(p->e, PW_ERR_PARSE, "%s: invalid PNG filter type %d", p->name, f);
@@ -3215,8 +3113,7 @@ PW__DEF unsigned pw__png_sample(const unsigned char *row, size_t i, int depth)
 }
 
 /* Converts `count` pixels of a row to floats at dst, dst + step, ... */
-PW__DEF int pw__png_pixels(pw__png *p, const unsigned char *row, uint32_t count, float *dst,
-                           size_t step)
+PW__DEF int pw__png_pixels(pw__png *p, const unsigned char *row, uint32_t count, float *dst, size_t step)
 {
     float maxv = (float)((1u << p->depth) - 1);
     unsigned s[4];
@@ -3226,17 +3123,15 @@ PW__DEF int pw__png_pixels(pw__png *p, const unsigned char *row, uint32_t count,
         for (k = 0; k < p->spp; k++) s[k] = pw__png_sample(row, (size_t)x * p->spp + k, p->depth);
         if (p->ctype == 3) {
             if (s[0] >= (unsigned)p->npal)
-                return pw_fail(p->e, PW_ERR_PARSE, "%s: palette index %u out of range (%d entries)",
-                               p->name, s[0], p->npal);
+                return pw_fail(p->e, PW_ERR_PARSE, "%s: palette index %u out of range (%d entries)", p->name, s[0],
+                               p->npal);
             for (k = 0; k < p->outc; k++) dst[k] = (float)p->pal[s[0]][k] / 255.0f;
             continue;
         }
         for (k = 0; k < p->spp; k++) dst[k] = (float)s[k] / maxv;
         if (p->trns) /* colour key: alpha 0 where the pixel equals it */
             dst[p->spp] =
-                (s[0] == p->key[0] && (p->spp == 1 || (s[1] == p->key[1] && s[2] == p->key[2])))
-                    ? 0.0f
-                    : 1.0f;
+                (s[0] == p->key[0] && (p->spp == 1 || (s[1] == p->key[1] && s[2] == p->key[2]))) ? 0.0f : 1.0f;
     }
     return PW_OK;
 }
@@ -3267,8 +3162,8 @@ PW__DEF int pw__png_decode(pw__png *p, unsigned char *raw, pw_image *img)
 }
 
 /* Decompresses the gathered IDAT data, exactly `want` bytes. */
-PW__DEF int pw__png_inflate(pw__png *p, const pw_alloc *a, const unsigned char *z, size_t zn,
-                            size_t want, unsigned char **raw)
+PW__DEF int pw__png_inflate(pw__png *p, const pw_alloc *a, const unsigned char *z, size_t zn, size_t want,
+                            unsigned char **raw)
 {
     pw_err local;
     size_t got;
@@ -3276,22 +3171,21 @@ PW__DEF int pw__png_inflate(pw__png *p, const pw_alloc *a, const unsigned char *
     pw_err_clear(&local);
     rc = pw_zlib_decompress(a, z, zn, want, raw, &got, &local);
     if (rc == PW_ERR_LIMIT)
-        return pw_fail(p->e, PW_ERR_PARSE,
-                       "%s: PNG image data is longer than the %lu bytes its size implies", p->name,
+        return pw_fail(p->e, PW_ERR_PARSE, "%s: PNG image data is longer than the %lu bytes its size implies", p->name,
                        (unsigned long)want);
     if (rc) return pw_fail(p->e, rc, "%s: PNG image data: %s", p->name, local.msg);
     if (got != want) {
         pw_free(a, *raw);
         *raw = NULL;
-        return pw_fail(p->e, PW_ERR_PARSE, "%s: PNG image data truncated (%lu of %lu bytes)",
-                       p->name, (unsigned long)got, (unsigned long)want);
+        return pw_fail(p->e, PW_ERR_PARSE, "%s: PNG image data truncated (%lu of %lu bytes)", p->name,
+                       (unsigned long)got, (unsigned long)want);
     }
     return PW_OK;
 }
 
 /* Reads a PNG from memory; `name` prefixes error messages. */
-PW__DEF int pw_png_read_memory(const pw_alloc *a, const unsigned char *data, size_t size,
-                               const char *name, pw_image *out, pw_err *e)
+PW__DEF int pw_png_read_memory(const pw_alloc *a, const unsigned char *data, size_t size, const char *name,
+                               pw_image *out, pw_err *e)
 {
     pw__png p;
     unsigned char *z = NULL, *raw = NULL;
@@ -3308,8 +3202,7 @@ PW__DEF int pw_png_read_memory(const pw_alloc *a, const unsigned char *data, siz
     /* deflate expands at most 1032:1 (a 258-byte match in 2 bits): refuse
      * sizes the data cannot hold before allocating anything */
     if (want > p.idat_size * 1032 + 64 || want > (size_t)-1)
-        return pw_fail(e, PW_ERR_PARSE,
-                       "%s: PNG image data (%lu bytes) too short for a %lux%lu image", p.name,
+        return pw_fail(e, PW_ERR_PARSE, "%s: PNG image data (%lu bytes) too short for a %lux%lu image", p.name,
                        (unsigned long)p.idat_size, (unsigned long)p.w, (unsigned long)p.h);
     z = (unsigned char *)pw_alloc_array(a, (size_t)p.idat_size, 1, "PNG image data", e);
     if (!z) return PW_ERR_NOMEM;
@@ -3329,17 +3222,22 @@ PW__DEF int pw_png_read_memory(const pw_alloc *a, const unsigned char *data, siz
 }
 
 #else
-PW__DEF int pw_png_write(const pw_alloc *a, const pw_image *img, int bits, pw_write_fn w,
-                         void *ctx, pw_err *e)
+PW__DEF int pw_png_write(const pw_alloc *a, const pw_image *img, int bits, pw_write_fn w, void *ctx, pw_err *e)
 {
-    (void)a, (void)img, (void)bits, (void)w, (void)ctx;
+    (void)a;
+    (void)img;
+    (void)bits;
+    (void)w;
+    (void)ctx;
     return pw_fail(e, PW_ERR_UNSUPPORTED, "PNG compiled out (PW_NO_PNG)");
 }
 
-PW__DEF int pw_png_read_memory(const pw_alloc *a, const unsigned char *data, size_t size,
-                               const char *name, pw_image *out, pw_err *e)
+PW__DEF int pw_png_read_memory(const pw_alloc *a, const unsigned char *data, size_t size, const char *name,
+                               pw_image *out, pw_err *e)
 {
-    (void)a, (void)data, (void)size;
+    (void)a;
+    (void)data;
+    (void)size;
     memset(out, 0, sizeof *out);
     return pw_fail(e, PW_ERR_UNSUPPORTED, "%s: PNG compiled out (PW_NO_PNG)", name ? name : "image");
 }
@@ -3352,20 +3250,17 @@ PW__DEF int pw_png_read_memory(const pw_alloc *a, const unsigned char *data, siz
 /* Reads PNG, PNM/PAM (P1-P7) or a GIMP pattern, recognised by content
  * (PNG signature, "P1".."P7", "GPAT" at offset 20). `name` (usually the
  * file name) prefixes every error message; `a` may be NULL. */
-PW__DEF int pw_image_read_memory(const pw_alloc *a, const unsigned char *data, size_t size,
-                                 const char *name, pw_image *out, pw_err *e)
+PW__DEF int pw_image_read_memory(const pw_alloc *a, const unsigned char *data, size_t size, const char *name,
+                                 pw_image *out, pw_err *e)
 {
     memset(out, 0, sizeof *out);
     if (!name) name = "image";
-    if (size >= 8 && memcmp(data, pw__png_sig, 8) == 0)
-        return pw_png_read_memory(a, data, size, name, out, e);
+    if (size >= 8 && memcmp(data, pw__png_sig, 8) == 0) return pw_png_read_memory(a, data, size, name, out, e);
     if (size >= 2 && data[0] == 'P' && data[1] >= '1' && data[1] <= '7')
         return pw_image_read_pnm_memory(a, data, size, name, out, e);
-    if (size >= 24 && memcmp(data + 20, "GPAT", 4) == 0)
-        return pw_image_read_pat_memory(a, data, size, name, out, e);
+    if (size >= 24 && memcmp(data + 20, "GPAT", 4) == 0) return pw_image_read_pat_memory(a, data, size, name, out, e);
     return pw_fail(e, size ? PW_ERR_UNSUPPORTED : PW_ERR_PARSE, "%s: %s", name,
-                   size ? "unknown image format (not PNG, PNM, PAM or GIMP pattern)"
-                        : "empty file");
+                   size ? "unknown image format (not PNG, PNM, PAM or GIMP pattern)" : "empty file");
 }
 
 #ifndef PW_NO_STDIO
@@ -3404,15 +3299,11 @@ PW__DEF int pw_image_save(const char *path, const pw_image *img, pw_err *e)
     int rc = pw__image_check(img, e);
     if (rc) return rc;
     j.img = img;
-    if (pw_has_ext(path, ".ppm") || pw_has_ext(path, ".pgm") || pw_has_ext(path, ".pnm"))
-        j.kind = 0;
-    else if (pw_has_ext(path, ".pam"))
-        j.kind = 1;
-    else if (pw_has_ext(path, ".png"))
-        j.kind = 2;
+    if (pw_has_ext(path, ".ppm") || pw_has_ext(path, ".pgm") || pw_has_ext(path, ".pnm")) j.kind = 0;
+    else if (pw_has_ext(path, ".pam")) j.kind = 1;
+    else if (pw_has_ext(path, ".png")) j.kind = 2;
     else
-        return pw_fail(e, PW_ERR_UNSUPPORTED,
-                       "%s: unknown image file extension (use .png, .ppm, .pgm, .pnm or .pam)",
+        return pw_fail(e, PW_ERR_UNSUPPORTED, "%s: unknown image file extension (use .png, .ppm, .pgm, .pnm or .pam)",
                        path);
     return pw_write_file(path, pw__save_body, &j, e);
 }
@@ -3431,9 +3322,8 @@ PW__DEF int pw_image_save(const char *path, const pw_image *img, pw_err *e)
 
 /* ---- number parsing ------------------------------------------------------ */
 
-static const double pw__num_pow10[23] = {1e0,  1e1,  1e2,  1e3,  1e4,  1e5,  1e6,  1e7,
-                                     1e8,  1e9,  1e10, 1e11, 1e12, 1e13, 1e14, 1e15,
-                                     1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22};
+static const double pw__num_pow10[23] = {1e0,  1e1,  1e2,  1e3,  1e4,  1e5,  1e6,  1e7,  1e8,  1e9,  1e10, 1e11,
+                                         1e12, 1e13, 1e14, 1e15, 1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22};
 
 /* m * 10^x. Powers of ten up to 1e22 are exact doubles, so the common case
  * (up to 17 significant digits, small exponent) is one rounding, and the
@@ -3442,13 +3332,17 @@ PW__DEF double pw__num_scale10(uint64_t m, long x, int neg)
 {
     double v = (double)m;
     if (m == 0) x = 0;
-    if (x > 400)
-        v = HUGE_VAL; /* m >= 1, so at least 1e400 */
-    else if (x < -400)
-        v = 0.0; /* m < 1e18, so below 1e-382 */
+    if (x > 400) v = HUGE_VAL;  /* m >= 1, so at least 1e400 */
+    else if (x < -400) v = 0.0; /* m < 1e18, so below 1e-382 */
     else {
-        while (x > 22) v *= 1e22, x -= 22;
-        while (x < -22) v /= 1e22, x += 22;
+        while (x > 22) {
+            v *= 1e22;
+            x -= 22;
+        }
+        while (x < -22) {
+            v /= 1e22;
+            x += 22;
+        }
         v = x >= 0 ? v * pw__num_pow10[x] : v / pw__num_pow10[-x];
     }
     return neg ? -v : v;
@@ -3483,14 +3377,15 @@ PW__DEF const char *pw__num_parse(const char *p, const char *end, double *out)
     if (p < end && (*p == '+' || *p == '-')) neg = *p++ == '-';
     if (p < end && ((*p | 32) == 'n' || (*p | 32) == 'i')) return pw__num_special(p, end, out, neg);
     for (; p < end && *p >= '0' && *p <= '9'; p++, digits++) {
-        if (m < 100000000000000000ULL)
-            m = m * 10 + (uint64_t)(*p - '0');
-        else if (x < 100000)
-            x++; /* digits past the 17th only scale */
+        if (m < 100000000000000000ULL) m = m * 10 + (uint64_t)(*p - '0');
+        else if (x < 100000) x++; /* digits past the 17th only scale */
     }
     if (p < end && *p == '.')
         for (p++; p < end && *p >= '0' && *p <= '9'; p++, digits++)
-            if (m < 100000000000000000ULL) m = m * 10 + (uint64_t)(*p - '0'), x--;
+            if (m < 100000000000000000ULL) {
+                m = m * 10 + (uint64_t)(*p - '0');
+                x--;
+            }
     if (!digits) return NULL;
     if (p < end && (*p == 'e' || *p == 'E')) {
         p++;
@@ -3538,8 +3433,7 @@ typedef struct pw__sc {
     pw_err *e;
 } pw__sc;
 
-PW__DEF void pw__sc_init(pw__sc *s, const void *data, size_t size, const char *name, int cont,
-                         pw_err *e)
+PW__DEF void pw__sc_init(pw__sc *s, const void *data, size_t size, const char *name, int cont, pw_err *e)
 {
     s->p = (const char *)data;
     s->end = s->p + size;
@@ -3627,17 +3521,16 @@ PW__DEF const char *pw__sc_word(pw__sc *s, size_t *n)
     return w;
 }
 
-PW__DEF int pw__sc_is(const char *w, size_t n, const char *lit)
-{
-    return strlen(lit) == n && !memcmp(w, lit, n);
-}
+PW__DEF int pw__sc_is(const char *w, size_t n, const char *lit) { return strlen(lit) == n && !memcmp(w, lit, n); }
 
 /* Copies the token at q, shortened and made printable, for messages. */
 PW__DEF const char *pw__sc_tok(const pw__sc *s, const char *q, char *buf)
 {
     int n = 0;
-    while (q < s->end && n < 24 && !pw__sc_blank_char(*q) && *q != '\n')
-        buf[n++] = (*q >= 32 && *q < 127) ? *q : '?', q++;
+    while (q < s->end && n < 24 && !pw__sc_blank_char(*q) && *q != '\n') {
+        buf[n++] = (*q >= 32 && *q < 127) ? *q : '?';
+        q++;
+    }
     if (n == 24) buf[n - 1] = buf[n - 2] = buf[n - 3] = '.';
     buf[n] = 0;
     return buf;
@@ -3649,8 +3542,7 @@ PW__DEF int pw__sc_value_error(pw__sc *s, int missing, int is_int, const char *w
     char tok[32], label[64];
     if (index >= 0) snprintf(label, sizeof label, "%s %lld", what, index);
     else snprintf(label, sizeof label, "%s", what);
-    if (missing)
-        return pw__sc_fail(s, PW_ERR_PARSE, "%s: %s is missing", label, is_int ? "an integer" : "a number");
+    if (missing) return pw__sc_fail(s, PW_ERR_PARSE, "%s: %s is missing", label, is_int ? "an integer" : "a number");
     return pw__sc_fail(s, PW_ERR_PARSE, "%s: malformed %s '%s'", label, is_int ? "integer" : "number",
                        pw__sc_tok(s, s->p, tok));
 }
@@ -3675,7 +3567,6 @@ PW__DEF int pw__sc_int(pw__sc *s, long long *v, const char *what, long long inde
 {
     return pw__sc_value(s, NULL, v, what, index);
 }
-
 
 /* Buffered output over a pw_write_fn. */
 typedef struct pw__wb {
@@ -3712,7 +3603,8 @@ PW__DEF void pw__wb_int(pw__wb *b, long long v, char lead)
     char t[24];
     int n = (int)sizeof t;
     unsigned long long u = v < 0 ? 0ull - (unsigned long long)v : (unsigned long long)v;
-    do t[--n] = (char)('0' + u % 10); while (u /= 10);
+    do t[--n] = (char)('0' + u % 10);
+    while (u /= 10);
     if (v < 0) t[--n] = '-';
     if (lead) t[--n] = lead;
     pw__wb_put(b, t + n, sizeof t - (size_t)n);
@@ -3721,8 +3613,14 @@ PW__DEF void pw__wb_int(pw__wb *b, long long v, char lead)
 /* v * 10^x with exact powers of ten (deterministic: only + - * /). */
 PW__DEF double pw__num_mul10(double v, int x)
 {
-    while (x > 22) v *= 1e22, x -= 22;
-    while (x < -22) v /= 1e22, x += 22;
+    while (x > 22) {
+        v *= 1e22;
+        x -= 22;
+    }
+    while (x < -22) {
+        v /= 1e22;
+        x += 22;
+    }
     return x >= 0 ? v * pw__num_pow10[x] : v / pw__num_pow10[-x];
 }
 
@@ -3733,7 +3631,7 @@ PW__DEF uint32_t pw__num_digits(double x, int *e10)
 {
     int e2, k, t;
     uint32_t d = 0;
-    frexp(x, &e2); /* x in [2^(e2-1), 2^e2) */
+    frexp(x, &e2);        /* x in [2^(e2-1), 2^e2) */
     t = (e2 - 1) * 30103; /* log10(2) = 0.30103 */
     *e10 = t >= 0 ? t / 100000 : -((99999 - t) / 100000);
     for (k = 0; k < 4; k++) {
@@ -3759,20 +3657,30 @@ PW__DEF int pw__num_format(char *out, float xf)
     uint32_t d, bits;
     int n = 0, nd = 9, e10, i, pos;
     memcpy(&bits, &xf, 4);
-    if (bits >> 31) out[n++] = '-', x = -x; /* also keeps -0 */
+    if (bits >> 31) {
+        out[n++] = '-';
+        x = -x;
+    } /* also keeps -0 */
     if (x == 0.0) {
         out[n++] = '0';
         return n;
     }
     d = pw__num_digits(x, &e10);
-    while (nd > 1 && d % 10 == 0) d /= 10, nd--;
-    for (i = nd - 1; i >= 0; i--) dig[i] = (char)('0' + d % 10), d /= 10;
+    while (nd > 1 && d % 10 == 0) {
+        d /= 10;
+        nd--;
+    }
+    for (i = nd - 1; i >= 0; i--) {
+        dig[i] = (char)('0' + d % 10);
+        d /= 10;
+    }
     if (e10 >= 0 && e10 < 9) { /* ddd.ddd */
         for (i = 0; i <= e10; i++) out[n++] = i < nd ? dig[i] : '0';
         if (nd > e10 + 1) out[n++] = '.';
         for (i = e10 + 1; i < nd; i++) out[n++] = dig[i];
     } else if (e10 < 0 && e10 >= -4) { /* 0.000ddd, as %g does */
-        out[n++] = '0', out[n++] = '.';
+        out[n++] = '0';
+        out[n++] = '.';
         for (i = 0; i < -e10 - 1; i++) out[n++] = '0';
         for (i = 0; i < nd; i++) out[n++] = dig[i];
     } else { /* d.ddde-12 */
@@ -3780,7 +3688,10 @@ PW__DEF int pw__num_format(char *out, float xf)
         if (nd > 1) out[n++] = '.';
         for (i = 1; i < nd; i++) out[n++] = dig[i];
         out[n++] = 'e';
-        if (e10 < 0) out[n++] = '-', e10 = -e10;
+        if (e10 < 0) {
+            out[n++] = '-';
+            e10 = -e10;
+        }
         pos = e10 >= 10 ? 2 : 1;
         for (i = pos - 1; i >= 0; i--, e10 /= 10) out[n + i] = (char)('0' + e10 % 10);
         n += pos;
@@ -3848,13 +3759,13 @@ PW__DEF int pw__wb_done(pw__wb *b, pw_err *e)
 
 typedef struct pw_mesh {
     int nv;
-    float *pos;  /* nv*3: vertex i is pos[3*i], pos[3*i+1], pos[3*i+2] */
+    float *pos; /* nv*3: vertex i is pos[3*i], pos[3*i+1], pos[3*i+2] */
     int nf;
     int *fstart; /* nf+1 offsets into fv; fstart[0] = 0 */
     int *fv;     /* fstart[nf] vertex indices, counter-clockwise per face */
     int nuv;
-    float *uv;   /* nuv*2 texture coordinates, or NULL */
-    int *fuv;    /* fstart[nf]: uv index of each corner, or NULL */
+    float *uv; /* nuv*2 texture coordinates, or NULL */
+    int *fuv;  /* fstart[nf]: uv index of each corner, or NULL */
 } pw_mesh;
 
 /* Frees the arrays and zeroes *m (NULL is fine). */
@@ -3870,18 +3781,15 @@ PW__DEF void pw_mesh_free(const pw_alloc *a, pw_mesh *m)
 }
 
 /* Shared by pw_mesh_alloc and pw_mesh_copy: nuv < 0 means no uv arrays. */
-PW__DEF int pw__mesh_alloc(const pw_alloc *a, pw_mesh *m, int nv, int nf, int nc, int nuv,
-                           pw_err *e)
+PW__DEF int pw__mesh_alloc(const pw_alloc *a, pw_mesh *m, int nv, int nf, int nc, int nuv, pw_err *e)
 {
     memset(m, 0, sizeof *m);
     if (nv < 0 || nf < 0 || nc < 0)
-        return pw_fail(e, PW_ERR_INVALID, "mesh: negative size (%d vertices, %d faces, %d corners)",
-                       nv, nf, nc);
+        return pw_fail(e, PW_ERR_INVALID, "mesh: negative size (%d vertices, %d faces, %d corners)", nv, nf, nc);
     if (nv > PW_MAX_MESH_ELEMENTS || nf > PW_MAX_MESH_ELEMENTS || nc > PW_MAX_MESH_ELEMENTS ||
         nuv > PW_MAX_MESH_ELEMENTS)
-        return pw_fail(e, PW_ERR_LIMIT,
-                       "mesh: %d vertices, %d faces, %d corners exceed the limit of %d elements",
-                       nv, nf, nc, PW_MAX_MESH_ELEMENTS);
+        return pw_fail(e, PW_ERR_LIMIT, "mesh: %d vertices, %d faces, %d corners exceed the limit of %d elements", nv,
+                       nf, nc, PW_MAX_MESH_ELEMENTS);
     m->pos = (float *)pw_calloc_array(a, (size_t)nv * 3, sizeof(float), "mesh positions", e);
     m->fstart = (int *)pw_calloc_array(a, (size_t)nf + 1, sizeof(int), "mesh faces", e);
     m->fv = (int *)pw_calloc_array(a, (size_t)nc, sizeof(int), "mesh corners", e);
@@ -3903,8 +3811,7 @@ PW__DEF int pw__mesh_alloc(const pw_alloc *a, pw_mesh *m, int nv, int nf, int nc
  * caller fills pos, all nf+1 entries of fstart, and fv. With with_uv != 0 it
  * also allocates one texture coordinate per corner (nuv = ncorners, uv
  * zeroed, fuv[i] = i); lower nuv afterwards when sharing uvs. */
-PW__DEF int pw_mesh_alloc(const pw_alloc *a, pw_mesh *m, int nv, int nf, int ncorners,
-                          int with_uv, pw_err *e)
+PW__DEF int pw_mesh_alloc(const pw_alloc *a, pw_mesh *m, int nv, int nf, int ncorners, int with_uv, pw_err *e)
 {
     int r = pw__mesh_alloc(a, m, nv, nf, ncorners, with_uv ? ncorners : -1, e), i;
     if (r == PW_OK && with_uv)
@@ -3917,24 +3824,23 @@ PW__DEF int pw_mesh_alloc(const pw_alloc *a, pw_mesh *m, int nv, int nf, int nco
 PW__DEF int pw_mesh_validate(const pw_mesh *m, pw_err *e)
 {
     int f, i;
-    if (m->nv < 0 || m->nf < 0 || m->nuv < 0 || !m->fstart || (m->nv && !m->pos) ||
-        (m->nuv && !m->uv))
+    if (m->nv < 0 || m->nf < 0 || m->nuv < 0 || !m->fstart || (m->nv && !m->pos) || (m->nuv && !m->uv))
         return pw_fail(e, PW_ERR_INVALID, "mesh: negative count or missing array");
-    if (m->fstart[0] != 0)
-        return pw_fail(e, PW_ERR_INVALID, "mesh: fstart[0] is %d, must be 0", m->fstart[0]);
+    if (m->fstart[0] != 0) return pw_fail(e, PW_ERR_INVALID, "mesh: fstart[0] is %d, must be 0", m->fstart[0]);
     for (f = 0; f < m->nf; f++) {
         int b = m->fstart[f], d; /* b >= 0 by induction */
         if ((int64_t)m->fstart[f + 1] < (int64_t)b + 3)
-            return pw_fail(e, PW_ERR_DEGENERATE, "mesh: face %d has %ld corners (at least 3 needed)",
-                           f, (long)m->fstart[f + 1] - b);
+            return pw_fail(e, PW_ERR_DEGENERATE, "mesh: face %d has %ld corners (at least 3 needed)", f,
+                           (long)m->fstart[f + 1] - b);
         d = m->fstart[f + 1] - b;
         for (i = b; i < b + d; i++) {
             if (!m->fv || m->fv[i] < 0 || m->fv[i] >= m->nv)
-                return pw_fail(e, PW_ERR_INVALID, "mesh: face %d, corner %d: vertex index %d out of range (%d vertices)",
-                               f, i - b, m->fv ? m->fv[i] : -1, m->nv);
+                return pw_fail(e, PW_ERR_INVALID,
+                               "mesh: face %d, corner %d: vertex index %d out of range (%d vertices)", f, i - b,
+                               m->fv ? m->fv[i] : -1, m->nv);
             if (m->fuv && (m->fuv[i] < 0 || m->fuv[i] >= m->nuv))
-                return pw_fail(e, PW_ERR_INVALID, "mesh: face %d, corner %d: uv index %d out of range (%d uvs)",
-                               f, i - b, m->fuv[i], m->nuv);
+                return pw_fail(e, PW_ERR_INVALID, "mesh: face %d, corner %d: uv index %d out of range (%d uvs)", f,
+                               i - b, m->fuv[i], m->nuv);
         }
     }
     for (i = 0; i < m->nv * 3; i++)
@@ -3982,8 +3888,7 @@ PW__DEF int pw_mesh_copy(const pw_alloc *a, const pw_mesh *src, pw_mesh *dst, pw
  * tri_face is not NULL it receives a new array (free with pw_free(a, ...))
  * mapping each triangle to its source face. Fans suit convex polygons, which
  * is what renderers and the triangle-based methods are given. */
-PW__DEF int pw_mesh_triangulate(const pw_alloc *a, const pw_mesh *m, pw_mesh *out,
-                                int **tri_face, pw_err *e)
+PW__DEF int pw_mesh_triangulate(const pw_alloc *a, const pw_mesh *m, pw_mesh *out, int **tri_face, pw_err *e)
 {
     int64_t nt = 0;
     int f, k, t = 0, r, with_uv = m->uv && m->fuv;
@@ -3994,8 +3899,7 @@ PW__DEF int pw_mesh_triangulate(const pw_alloc *a, const pw_mesh *m, pw_mesh *ou
     for (f = 0; f < m->nf; f++) nt += m->fstart[f + 1] - m->fstart[f] - 2;
     if (nt * 3 > PW_MAX_MESH_ELEMENTS)
         return pw_fail(e, PW_ERR_LIMIT, "triangulation: %ld triangles exceed the limit", (long)nt);
-    if ((r = pw__mesh_alloc(a, out, m->nv, (int)nt, (int)nt * 3, with_uv ? m->nuv : -1, e)))
-        return r;
+    if ((r = pw__mesh_alloc(a, out, m->nv, (int)nt, (int)nt * 3, with_uv ? m->nuv : -1, e))) return r;
     if (tri_face && !(map = (int *)pw_alloc_array(a, (size_t)nt + 1, sizeof(int), "triangle map", e))) {
         pw_mesh_free(a, out);
         return PW_ERR_NOMEM;
@@ -4053,8 +3957,7 @@ PW__DEF int pw__mb_init(pw__mb *b, const pw_alloc *a, pw_err *e)
     b->a = a;
     b->e = e;
     b->uv_ok = 1;
-    if (pw_grow(a, (void **)&b->m.fstart, &b->cfs, 1, sizeof(int), "mesh faces", e))
-        return PW_ERR_NOMEM;
+    if (pw_grow(a, (void **)&b->m.fstart, &b->cfs, 1, sizeof(int), "mesh faces", e)) return PW_ERR_NOMEM;
     b->m.fstart[0] = 0;
     return PW_OK;
 }
@@ -4064,10 +3967,8 @@ PW__DEF void pw__mb_free(pw__mb *b) { pw_mesh_free(b->a, &b->m); }
 /* Reserves room for counts announced by a header (already checked). */
 PW__DEF int pw__mb_reserve(pw__mb *b, int nv, int nf, int nc)
 {
-    if (pw_grow(b->a, (void **)&b->m.pos, &b->cpos, (size_t)nv * 3, sizeof(float),
-                "vertex positions", b->e) ||
-        pw_grow(b->a, (void **)&b->m.fstart, &b->cfs, (size_t)nf + 1, sizeof(int), "mesh faces",
-                b->e) ||
+    if (pw_grow(b->a, (void **)&b->m.pos, &b->cpos, (size_t)nv * 3, sizeof(float), "vertex positions", b->e) ||
+        pw_grow(b->a, (void **)&b->m.fstart, &b->cfs, (size_t)nf + 1, sizeof(int), "mesh faces", b->e) ||
         pw_grow(b->a, (void **)&b->m.fv, &b->cfv, (size_t)nc, sizeof(int), "face corners", b->e))
         return PW_ERR_NOMEM;
     return PW_OK;
@@ -4075,8 +3976,7 @@ PW__DEF int pw__mb_reserve(pw__mb *b, int nv, int nf, int nc)
 
 PW__DEF int pw__mb_vertex(pw__mb *b, const float xyz[3])
 {
-    if (pw_grow(b->a, (void **)&b->m.pos, &b->cpos, (size_t)b->m.nv * 3 + 3, sizeof(float),
-                "vertex positions", b->e))
+    if (pw_grow(b->a, (void **)&b->m.pos, &b->cpos, (size_t)b->m.nv * 3 + 3, sizeof(float), "vertex positions", b->e))
         return PW_ERR_NOMEM;
     memcpy(b->m.pos + (size_t)b->m.nv * 3, xyz, 3 * sizeof(float));
     b->m.nv++;
@@ -4085,8 +3985,7 @@ PW__DEF int pw__mb_vertex(pw__mb *b, const float xyz[3])
 
 PW__DEF int pw__mb_uv(pw__mb *b, float u, float v)
 {
-    if (pw_grow(b->a, (void **)&b->m.uv, &b->cuv, (size_t)b->m.nuv * 2 + 2, sizeof(float),
-                "texture coordinates", b->e))
+    if (pw_grow(b->a, (void **)&b->m.uv, &b->cuv, (size_t)b->m.nuv * 2 + 2, sizeof(float), "texture coordinates", b->e))
         return PW_ERR_NOMEM;
     b->m.uv[2 * b->m.nuv] = u;
     b->m.uv[2 * b->m.nuv + 1] = v;
@@ -4098,8 +3997,7 @@ PW__DEF int pw__mb_uv(pw__mb *b, float u, float v)
 PW__DEF int pw__mb_room(pw__mb *b, int n)
 {
     if (pw_grow(b->a, (void **)&b->m.fv, &b->cfv, (size_t)b->nc + n, sizeof(int), "face corners", b->e) ||
-        (b->uv_ok && pw_grow(b->a, (void **)&b->m.fuv, &b->cfuv, (size_t)b->nc + n, sizeof(int),
-                             "corner uvs", b->e)))
+        (b->uv_ok && pw_grow(b->a, (void **)&b->m.fuv, &b->cfuv, (size_t)b->nc + n, sizeof(int), "corner uvs", b->e)))
         return PW_ERR_NOMEM;
     return PW_OK;
 }
@@ -4107,13 +4005,11 @@ PW__DEF int pw__mb_room(pw__mb *b, int n)
 /* Appends a corner of the face being built: vertex v, uv index t (-1: none). */
 PW__DEF int pw__mb_corner(pw__mb *b, int v, int t)
 {
-    if (pw_grow(b->a, (void **)&b->m.fv, &b->cfv, (size_t)b->nc + 1, sizeof(int), "face corners",
-                b->e))
+    if (pw_grow(b->a, (void **)&b->m.fv, &b->cfv, (size_t)b->nc + 1, sizeof(int), "face corners", b->e))
         return PW_ERR_NOMEM;
     b->m.fv[b->nc] = v;
     if (b->uv_ok) {
-        if (pw_grow(b->a, (void **)&b->m.fuv, &b->cfuv, (size_t)b->nc + 1, sizeof(int),
-                    "corner uvs", b->e))
+        if (pw_grow(b->a, (void **)&b->m.fuv, &b->cfuv, (size_t)b->nc + 1, sizeof(int), "corner uvs", b->e))
             return PW_ERR_NOMEM;
         b->m.fuv[b->nc] = t;
     }
@@ -4123,8 +4019,7 @@ PW__DEF int pw__mb_corner(pw__mb *b, int v, int t)
 
 PW__DEF int pw__mb_end_face(pw__mb *b)
 {
-    if (pw_grow(b->a, (void **)&b->m.fstart, &b->cfs, (size_t)b->m.nf + 2, sizeof(int),
-                "mesh faces", b->e))
+    if (pw_grow(b->a, (void **)&b->m.fstart, &b->cfs, (size_t)b->m.nf + 2, sizeof(int), "mesh faces", b->e))
         return PW_ERR_NOMEM;
     b->m.fstart[++b->m.nf] = b->nc;
     return PW_OK;
@@ -4144,8 +4039,8 @@ PW__DEF int pw__mb_finish(pw__mb *b, pw_mesh *out, const char *name)
 {
     pw_mesh *m = &b->m;
     if (m->nf == 0)
-        return pw_fail(b->e, PW_ERR_DEGENERATE, "%s: the mesh has no faces (%d vertices)",
-                       name ? name : "<memory>", m->nv);
+        return pw_fail(b->e, PW_ERR_DEGENERATE, "%s: the mesh has no faces (%d vertices)", name ? name : "<memory>",
+                       m->nv);
     if (!b->uv_ok || !m->nuv || !m->fuv) {
         pw_free(b->a, m->uv);
         pw_free(b->a, m->fuv);
@@ -4168,19 +4063,18 @@ PW__DEF int pw__mb_finish(pw__mb *b, pw_mesh *out, const char *name)
 /* Statements that do not change a polygon mesh: skipped. (vn: normals are
  * recomputed where needed; free-form geometry is not supported.) */
 static const char *const pw__obj_skip[] = {
-    "vn",   "vp",   "o",    "g",    "s",        "usemtl",   "mtllib",     "l",
-    "p",    "cstype", "deg", "bmat", "step",    "curv",     "curv2",      "surf",
-    "parm", "trim", "hole", "scrv", "sp",       "end",      "con",        "mg",
-    "bevel", "c_interp", "d_interp", "lod", "maplib", "usemap", "shadow_obj", "trace_obj",
-    "ctech", "stech", "call", "csh"};
+    "vn",     "vp",     "o",      "g",          "s",         "usemtl", "mtllib", "l",        "p",
+    "cstype", "deg",    "bmat",   "step",       "curv",      "curv2",  "surf",   "parm",     "trim",
+    "hole",   "scrv",   "sp",     "end",        "con",       "mg",     "bevel",  "c_interp", "d_interp",
+    "lod",    "maplib", "usemap", "shadow_obj", "trace_obj", "ctech",  "stech",  "call",     "csh"};
 
 /* Resolves an OBJ index (1-based, or negative = relative to the end). */
 PW__DEF int pw__obj_index(pw__sc *s, long long i, int n, const char *what, int face, int *out)
 {
     long long r = i > 0 ? i - 1 : n + i;
     if (i == 0 || r < 0 || r >= n)
-        return pw__sc_fail(s, PW_ERR_INVALID, "face %d: %s index %lld out of range (%d defined so far%s)",
-                           face, what, i, n, i == 0 ? "; OBJ indices start at 1" : "");
+        return pw__sc_fail(s, PW_ERR_INVALID, "face %d: %s index %lld out of range (%d defined so far%s)", face, what,
+                           i, n, i == 0 ? "; OBJ indices start at 1" : "");
     *out = (int)r;
     return PW_OK;
 }
@@ -4194,16 +4088,17 @@ PW__DEF int pw__obj_corner(pw__sc *s, const pw__mb *b, int *v, int *t)
     char tok[32];
     q = pw__num_parse_int(s->p, s->end, &iv);
     if (q && q < s->end && *q == '/') {
-        if (q + 1 < s->end && q[1] != '/') q = pw__num_parse_int(q + 1, s->end, &it), has_t = 1;
-        else q = q + 1;
+        if (q + 1 < s->end && q[1] != '/') {
+            q = pw__num_parse_int(q + 1, s->end, &it);
+            has_t = 1;
+        } else q = q + 1;
         if (q && q < s->end && *q == '/') { /* normal index: ignored, may be empty */
             const char *qn = pw__num_parse_int(q + 1, s->end, &in);
             q = qn ? qn : q + 1;
         }
     }
     if (!q || !pw__sc_delim(s, q))
-        return pw__sc_fail(s, PW_ERR_PARSE, "face %d: malformed corner '%s'", b->m.nf,
-                           pw__sc_tok(s, start, tok));
+        return pw__sc_fail(s, PW_ERR_PARSE, "face %d: malformed corner '%s'", b->m.nf, pw__sc_tok(s, start, tok));
     s->p = q;
     *t = -1;
     if ((r = pw__obj_index(s, iv, b->m.nv, "vertex", b->m.nf, v))) return r;
@@ -4226,8 +4121,8 @@ PW__DEF int pw__obj_face(pw__sc *s, pw__mb *b)
         deg++;
     }
     if (deg < 3)
-        return pw__sc_fail(s, PW_ERR_DEGENERATE, "face %d has %d corner%s (at least 3 needed)",
-                           b->m.nf, deg, deg == 1 ? "" : "s");
+        return pw__sc_fail(s, PW_ERR_DEGENERATE, "face %d has %d corner%s (at least 3 needed)", b->m.nf, deg,
+                           deg == 1 ? "" : "s");
     if (with_t != deg) b->uv_ok = 0;
     return pw__mb_end_face(b);
 }
@@ -4265,12 +4160,9 @@ PW__DEF int pw__obj_line(pw__sc *s, pw__mb *b)
     if (n == 0) {
         if (s->p < s->end && *s->p != '\n' && *s->p != '#')
             return pw__sc_fail(s, PW_ERR_PARSE, "unexpected '%c'", *s->p); /* stray backslash */
-    } else if (pw__sc_is(w, n, "v"))
-        r = pw__obj_vertex(s, b);
-    else if (pw__sc_is(w, n, "vt"))
-        r = pw__obj_texcoord(s, b);
-    else if (pw__sc_is(w, n, "f") || pw__sc_is(w, n, "fo"))
-        r = pw__obj_face(s, b);
+    } else if (pw__sc_is(w, n, "v")) r = pw__obj_vertex(s, b);
+    else if (pw__sc_is(w, n, "vt")) r = pw__obj_texcoord(s, b);
+    else if (pw__sc_is(w, n, "f") || pw__sc_is(w, n, "fo")) r = pw__obj_face(s, b);
     else {
         for (k = 0; k < sizeof pw__obj_skip / sizeof pw__obj_skip[0]; k++)
             if (pw__sc_is(w, n, pw__obj_skip[k])) break;
@@ -4282,8 +4174,8 @@ PW__DEF int pw__obj_line(pw__sc *s, pw__mb *b)
 }
 
 /* Reads a Wavefront OBJ file from memory. */
-PW__DEF int pw_mesh_read_obj(const pw_alloc *a, const void *data, size_t size, const char *name,
-                             pw_mesh *out, pw_err *e)
+PW__DEF int pw_mesh_read_obj(const pw_alloc *a, const void *data, size_t size, const char *name, pw_mesh *out,
+                             pw_err *e)
 {
     pw__sc s;
     pw__mb b;
@@ -4306,11 +4198,26 @@ PW__DEF int pw__off_keyword(const char *w, size_t n, int *flags)
 {
     size_t i = 0;
     int f = 0;
-    if (n >= 2 && w[0] == 'S' && w[1] == 'T') f |= PW__OFF_ST, i = 2;
-    if (i < n && w[i] == 'C') f |= PW__OFF_C, i++;
-    if (i < n && w[i] == 'N') f |= PW__OFF_N, i++;
-    if (i < n && w[i] == '4') f |= PW__OFF_4, i++;
-    if (i < n && w[i] == 'n') f |= PW__OFF_ND, i++;
+    if (n >= 2 && w[0] == 'S' && w[1] == 'T') {
+        f |= PW__OFF_ST;
+        i = 2;
+    }
+    if (i < n && w[i] == 'C') {
+        f |= PW__OFF_C;
+        i++;
+    }
+    if (i < n && w[i] == 'N') {
+        f |= PW__OFF_N;
+        i++;
+    }
+    if (i < n && w[i] == '4') {
+        f |= PW__OFF_4;
+        i++;
+    }
+    if (i < n && w[i] == 'n') {
+        f |= PW__OFF_ND;
+        i++;
+    }
     if (n - i != 3 || memcmp(w + i, "OFF", 3) != 0) return 0;
     *flags = f;
     return 1;
@@ -4335,15 +4242,13 @@ PW__DEF int pw__off_header(pw__sc *s, int *flags, int *binary)
                            n ? pw__sc_tok(s, w, tok) : "end of file");
     }
     if (*flags & (PW__OFF_4 | PW__OFF_ND))
-        return pw__sc_fail(s, PW_ERR_UNSUPPORTED, "'%s': %s vertices are not supported",
-                           pw__sc_tok(s, w, tok),
+        return pw__sc_fail(s, PW_ERR_UNSUPPORTED, "'%s': %s vertices are not supported", pw__sc_tok(s, w, tok),
                            (*flags & PW__OFF_ND) ? "n-dimensional (nOFF)" : "homogeneous 4D (4OFF)");
     w = pw__sc_word(s, &n);
     if (pw__sc_is(w, n, "BINARY")) {
         *binary = 1;
         pw__sc_next_line(s); /* binary data starts after the newline */
-    } else
-        s->p = w; /* the counts may share the keyword's line */
+    } else s->p = w;         /* the counts may share the keyword's line */
     return PW_OK;
 }
 
@@ -4356,8 +4261,7 @@ PW__DEF int pw__off_count(pw__sc *s, const char *what, int *out)
     if ((r = pw__sc_int(s, &v, what, -1))) return r;
     if (v < 0) return pw__sc_fail(s, PW_ERR_PARSE, "negative %s (%lld)", what, v);
     if (v > PW_MAX_MESH_ELEMENTS)
-        return pw__sc_fail(s, PW_ERR_LIMIT, "%s is %lld, over the limit of %d", what, v,
-                           PW_MAX_MESH_ELEMENTS);
+        return pw__sc_fail(s, PW_ERR_LIMIT, "%s is %lld, over the limit of %d", what, v, PW_MAX_MESH_ELEMENTS);
     *out = (int)v;
     return PW_OK;
 }
@@ -4382,19 +4286,16 @@ PW__DEF int pw__off_faces(pw__sc *s, pw__mb *b, int nf)
     int f, k, r;
     for (f = 0; f < nf; f++) {
         pw__sc_skip_empty(s);
-        if (s->p >= s->end)
-            return pw__sc_fail(s, PW_ERR_PARSE, "unexpected end of file after %d of %d faces", f, nf);
+        if (s->p >= s->end) return pw__sc_fail(s, PW_ERR_PARSE, "unexpected end of file after %d of %d faces", f, nf);
         if ((r = pw__sc_int(s, &d, "face", f))) return r;
-        if (d < 3)
-            return pw__sc_fail(s, PW_ERR_DEGENERATE, "face %d has %lld corners (at least 3 needed)", f, d);
+        if (d < 3) return pw__sc_fail(s, PW_ERR_DEGENERATE, "face %d has %lld corners (at least 3 needed)", f, d);
         if (d > PW_MAX_FACE_DEGREE || b->nc + d > PW_MAX_MESH_ELEMENTS)
-            return pw__sc_fail(s, PW_ERR_LIMIT, "face %d has %lld corners (limit %d)", f, d,
-                               PW_MAX_FACE_DEGREE);
+            return pw__sc_fail(s, PW_ERR_LIMIT, "face %d has %lld corners (limit %d)", f, d, PW_MAX_FACE_DEGREE);
         for (k = 0; k < d; k++) {
             if ((r = pw__sc_int(s, &v, "face", f))) return r;
             if (v < 0 || v >= b->m.nv)
-                return pw__sc_fail(s, PW_ERR_INVALID, "face %d: vertex index %lld out of range (%d vertices)",
-                                   f, v, b->m.nv);
+                return pw__sc_fail(s, PW_ERR_INVALID, "face %d: vertex index %lld out of range (%d vertices)", f, v,
+                                   b->m.nv);
             if ((r = pw__mb_corner(b, (int)v, -1))) return r;
         }
         if ((r = pw__mb_end_face(b))) return r;
@@ -4416,9 +4317,10 @@ PW__DEF int pw__off_text(pw__sc *s, pw__mb *b)
     /* each vertex line is at least "0 0 0\n", each face "3 0 1 2\n" */
     left = (size_t)(s->end - s->p);
     if ((double)nv * 6 + (double)nf * 8 > (double)left + 1)
-        return pw__sc_fail(s, PW_ERR_PARSE,
-                           "header claims %d vertices and %d faces, more than the %lu bytes left can hold (truncated file?)",
-                           nv, nf, (unsigned long)left);
+        return pw__sc_fail(
+            s, PW_ERR_PARSE,
+            "header claims %d vertices and %d faces, more than the %lu bytes left can hold (truncated file?)", nv, nf,
+            (unsigned long)left);
     b->uv_ok = 0;
     if ((r = pw__mb_reserve(b, nv, nf, 3 * nf))) return r;
     if ((r = pw__off_vertices(s, b, nv))) return r;
@@ -4445,8 +4347,7 @@ PW__DEF int pw__off_binary(pw__sc *s, pw__mb *b, int flags)
 {
     const unsigned char *p = (const unsigned char *)s->p, *end = (const unsigned char *)s->end;
     const unsigned char *start = (const unsigned char *)s->p;
-    int stride = 3 + (flags & PW__OFF_N ? 3 : 0) + (flags & PW__OFF_C ? 4 : 0) +
-                 (flags & PW__OFF_ST ? 2 : 0);
+    int stride = 3 + (flags & PW__OFF_N ? 3 : 0) + (flags & PW__OFF_C ? 4 : 0) + (flags & PW__OFF_ST ? 2 : 0);
     int32_t nv, nf;
     int i, k, r;
     if (end - p < 12) return pw_fail(s->e, PW_ERR_PARSE, "%s: binary OFF: truncated header", s->name);
@@ -4455,19 +4356,18 @@ PW__DEF int pw__off_binary(pw__sc *s, pw__mb *b, int flags)
     p += 12;
     if (nv < 0 || nf < 0 || nv > PW_MAX_MESH_ELEMENTS || nf > PW_MAX_MESH_ELEMENTS)
         return pw_fail(s->e, nv < 0 || nf < 0 ? PW_ERR_PARSE : PW_ERR_LIMIT,
-                       "%s: binary OFF: %d vertices and %d faces (limit %d)", s->name, nv, nf,
-                       PW_MAX_MESH_ELEMENTS);
+                       "%s: binary OFF: %d vertices and %d faces (limit %d)", s->name, nv, nf, PW_MAX_MESH_ELEMENTS);
     if ((double)nv * stride * 4 + (double)nf * 20 > (double)(end - p))
         return pw_fail(s->e, PW_ERR_PARSE,
-                       "%s: binary OFF: header claims %d vertices and %d faces, more than the %lu bytes left can hold (truncated file?)",
+                       "%s: binary OFF: header claims %d vertices and %d faces, more than the %lu bytes left can hold "
+                       "(truncated file?)",
                        s->name, nv, nf, (unsigned long)(end - p));
     if ((r = pw__mb_reserve(b, nv, nf, 3 * nf))) return r;
     for (i = 0; i < nv; i++, p += 4 * stride) {
         float xyz[3];
         for (k = 0; k < 3; k++) xyz[k] = pw__mesh_float_bits(pw__mesh_be32(p + 4 * k));
         if (!pw_is_finite(xyz[0]) || !pw_is_finite(xyz[1]) || !pw_is_finite(xyz[2]))
-            return pw_fail(s->e, PW_ERR_INVALID, "%s: binary OFF: vertex %d has a non-finite coordinate",
-                           s->name, i);
+            return pw_fail(s->e, PW_ERR_INVALID, "%s: binary OFF: vertex %d has a non-finite coordinate", s->name, i);
         pw__mb_vertex(b, xyz); /* reserved: cannot fail */
     }
     b->uv_ok = 0;
@@ -4477,31 +4377,31 @@ PW__DEF int pw__off_binary(pw__sc *s, pw__mb *b, int flags)
         d = pw__mesh_be32(p);
         if (d < 3 || d > PW_MAX_FACE_DEGREE || b->nc + (int)d > PW_MAX_MESH_ELEMENTS)
             return pw_fail(s->e, d < 3 ? PW_ERR_DEGENERATE : PW_ERR_LIMIT,
-                           "%s: binary OFF: face %d (byte %lu) has %ld corners (3 to %d allowed)", s->name,
-                           i, (unsigned long)(p - start), (long)(int32_t)d, PW_MAX_FACE_DEGREE);
+                           "%s: binary OFF: face %d (byte %lu) has %ld corners (3 to %d allowed)", s->name, i,
+                           (unsigned long)(p - start), (long)(int32_t)d, PW_MAX_FACE_DEGREE);
         if ((size_t)(end - p) < 4 * (size_t)d + 8) break;
         for (k = 0, p += 4; k < (int)d; k++, p += 4) {
             v = pw__mesh_be32(p);
             if (v >= (uint32_t)nv)
-                return pw_fail(s->e, PW_ERR_INVALID, "%s: binary OFF: face %d: vertex index %ld out of range (%d vertices)",
-                               s->name, i, (long)(int32_t)v, nv);
+                return pw_fail(s->e, PW_ERR_INVALID,
+                               "%s: binary OFF: face %d: vertex index %ld out of range (%d vertices)", s->name, i,
+                               (long)(int32_t)v, nv);
             if ((r = pw__mb_corner(b, (int)v, -1))) return r;
         }
         nc = pw__mesh_be32(p);
         if (nc > 4 || (size_t)(end - p) < 4 + 4 * (size_t)nc)
-            return pw_fail(s->e, PW_ERR_PARSE, "%s: binary OFF: face %d: bad colour count %ld or truncated",
-                           s->name, i, (long)(int32_t)nc);
+            return pw_fail(s->e, PW_ERR_PARSE, "%s: binary OFF: face %d: bad colour count %ld or truncated", s->name, i,
+                           (long)(int32_t)nc);
         p += 4 + 4 * nc;
         if ((r = pw__mb_end_face(b))) return r;
     }
-    if (i < nf)
-        return pw_fail(s->e, PW_ERR_PARSE, "%s: binary OFF: file ends after %d of %d faces", s->name, i, nf);
+    if (i < nf) return pw_fail(s->e, PW_ERR_PARSE, "%s: binary OFF: file ends after %d of %d faces", s->name, i, nf);
     return PW_OK;
 }
 
 /* Reads an OFF file (ASCII or binary) from memory. */
-PW__DEF int pw_mesh_read_off(const pw_alloc *a, const void *data, size_t size, const char *name,
-                             pw_mesh *out, pw_err *e)
+PW__DEF int pw_mesh_read_off(const pw_alloc *a, const void *data, size_t size, const char *name, pw_mesh *out,
+                             pw_err *e)
 {
     pw__sc s;
     pw__mb b;
@@ -4564,9 +4464,8 @@ PW__DEF int pw__ply_fail(pw__ply *p, int code, const char *fmt, ...)
 
 PW__DEF int pw__ply_type(const char *w, size_t n)
 {
-    static const char *const names[16] = {"char",  "int8",    "uchar", "uint8",  "short", "int16",
-                                          "ushort", "uint16", "int",   "int32",  "uint",  "uint32",
-                                          "float", "float32", "double", "float64"};
+    static const char *const names[16] = {"char", "int8",  "uchar", "uint8",  "short", "int16",   "ushort", "uint16",
+                                          "int",  "int32", "uint",  "uint32", "float", "float32", "double", "float64"};
     int k;
     for (k = 0; k < 16; k++)
         if (pw__sc_is(w, n, names[k])) return k / 2 + 1;
@@ -4586,8 +4485,7 @@ PW__DEF int pw__ply_role(int kind, const char *w, size_t n)
             pw__sc_is(w, n, "texture_t"))
             return PW__R_V;
     }
-    if (kind == PW__E_FACE && (pw__sc_is(w, n, "vertex_indices") || pw__sc_is(w, n, "vertex_index")))
-        return PW__R_IDX;
+    if (kind == PW__E_FACE && (pw__sc_is(w, n, "vertex_indices") || pw__sc_is(w, n, "vertex_index"))) return PW__R_IDX;
     return PW__R_NONE;
 }
 
@@ -4602,12 +4500,12 @@ PW__DEF int pw__ply_element(pw__ply *p)
     if (p->nel >= PW__PLY_MAX_ELEMENTS)
         return pw__ply_fail(p, PW_ERR_LIMIT, "more than %d elements", PW__PLY_MAX_ELEMENTS);
     for (k = 0; k < p->nel && kind != PW__E_OTHER; k++)
-        if (p->el[k].kind == kind) return pw__ply_fail(p, PW_ERR_PARSE, "second '%s' element", kind == PW__E_VERTEX ? "vertex" : "face");
+        if (p->el[k].kind == kind)
+            return pw__ply_fail(p, PW_ERR_PARSE, "second '%s' element", kind == PW__E_VERTEX ? "vertex" : "face");
     if ((r = pw__sc_int(&p->s, &count, "element count", -1))) return r;
     if (count < 0 || count > (kind == PW__E_OTHER ? INT_MAX : PW_MAX_MESH_ELEMENTS))
-        return pw__ply_fail(p, count < 0 ? PW_ERR_PARSE : PW_ERR_LIMIT,
-                            "element %d has %lld items (limit %d)", p->nel, count,
-                            kind == PW__E_OTHER ? INT_MAX : PW_MAX_MESH_ELEMENTS);
+        return pw__ply_fail(p, count < 0 ? PW_ERR_PARSE : PW_ERR_LIMIT, "element %d has %lld items (limit %d)", p->nel,
+                            count, kind == PW__E_OTHER ? INT_MAX : PW_MAX_MESH_ELEMENTS);
     el = &p->el[p->nel++];
     el->kind = kind;
     el->count = count;
@@ -4678,8 +4576,10 @@ PW__DEF int pw__ply_header(pw__ply *p)
         pw__sc_next_line(&p->s);
         if (p->s.p >= p->s.end) return pw__ply_fail(p, PW_ERR_PARSE, "header ends without 'end_header'");
         w = pw__sc_word(&p->s, &n);
-        if (pw__sc_is(w, n, "format")) r = pw__ply_format(p), have_format = 1;
-        else if (pw__sc_is(w, n, "element")) r = pw__ply_element(p);
+        if (pw__sc_is(w, n, "format")) {
+            r = pw__ply_format(p);
+            have_format = 1;
+        } else if (pw__sc_is(w, n, "element")) r = pw__ply_element(p);
         else if (pw__sc_is(w, n, "property")) r = pw__ply_property(p);
         else if (pw__sc_is(w, n, "end_header")) break;
         else if (n && !pw__sc_is(w, n, "comment") && !pw__sc_is(w, n, "obj_info"))
@@ -4709,13 +4609,13 @@ PW__DEF int pw__ply_check(pw__ply *p)
         if (el->kind == PW__E_FACE && !(roles & (1 << PW__R_IDX)))
             return pw__ply_fail(p, PW_ERR_PARSE, "the face element has no vertex_indices list");
     }
-    if ((roles & 0xE) != 0xE)
-        return pw__ply_fail(p, PW_ERR_PARSE, "no vertex element with x, y and z properties");
+    if ((roles & 0xE) != 0xE) return pw__ply_fail(p, PW_ERR_PARSE, "no vertex element with x, y and z properties");
     p->has_uv = (roles & 0x30) == 0x30;
     if (need > (double)(p->s.end - p->s.p) + 1)
-        return pw__ply_fail(p, PW_ERR_PARSE,
-                            "header declares items needing at least %.0f bytes, but only %lu are left (truncated file?)",
-                            need, (unsigned long)(p->s.end - p->s.p));
+        return pw__ply_fail(
+            p, PW_ERR_PARSE,
+            "header declares items needing at least %.0f bytes, but only %lu are left (truncated file?)", need,
+            (unsigned long)(p->s.end - p->s.p));
     return PW_OK;
 }
 
@@ -4741,9 +4641,7 @@ PW__DEF double pw__ply_decode(const unsigned char *q, int type, int big)
         u32 = (uint32_t)u;
         memcpy(&f, &u32, 4);
         return (double)f;
-    case 8:
-        memcpy(&d, &u, 8);
-        return d;
+    case 8: memcpy(&d, &u, 8); return d;
     default: return (double)u; /* unsigned types */
     }
 }
@@ -4761,8 +4659,7 @@ PW__DEF int pw__ply_value(pw__ply *p, int type, double *v, const char *what, lon
         return PW_OK;
     }
     pw__sc_skip_ws(&p->s);
-    if (p->s.p >= p->s.end)
-        return pw__ply_fail(p, PW_ERR_PARSE, "unexpected end of file in %s %lld", what, index);
+    if (p->s.p >= p->s.end) return pw__ply_fail(p, PW_ERR_PARSE, "unexpected end of file in %s %lld", what, index);
     q = pw__num_parse(p->s.p, p->s.end, v);
     if (!q || !pw__sc_delim(&p->s, q))
         return pw__ply_fail(p, PW_ERR_PARSE, "%s %lld: malformed number '%s'", what, index,
@@ -4778,13 +4675,12 @@ PW__DEF int pw__ply_count(pw__ply *p, int ctype, int type, long long *c, const c
     size_t left;
     int r;
     if ((r = pw__ply_value(p, ctype, &v, what, index))) return r;
-    left = p->format == PW__PLY_ASCII ? (size_t)(p->s.end - p->s.p)
-                                       : (size_t)(p->s.end - (const char *)p->bp);
+    left = p->format == PW__PLY_ASCII ? (size_t)(p->s.end - p->s.p) : (size_t)(p->s.end - (const char *)p->bp);
     if (!(v >= 0.0 && v < 4e9) || v != (double)(long long)v)
         return pw__ply_fail(p, PW_ERR_PARSE, "%s %lld: bad list length %g", what, index, v);
     if (v * (p->format == PW__PLY_ASCII ? 1 : pw__ply_size[type]) > (double)left)
-        return pw__ply_fail(p, PW_ERR_PARSE, "%s %lld: list of %.0f items runs past the end of the file",
-                            what, index, v);
+        return pw__ply_fail(p, PW_ERR_PARSE, "%s %lld: list of %.0f items runs past the end of the file", what, index,
+                            v);
     *c = (long long)v;
     return PW_OK;
 }
@@ -4827,7 +4723,10 @@ PW__DEF int pw__ply_vertices(pw__ply *p, const pw__plyel *el)
         if (!pw_is_finite(c[3]) || !pw_is_finite(c[4]))
             return pw__ply_fail(p, PW_ERR_INVALID, "vertex %lld has a non-finite texture coordinate", i);
         pw__mb_vertex(b, c); /* reserved: cannot fail */
-        if (p->has_uv) b->m.uv[2 * i] = c[3], b->m.uv[2 * i + 1] = c[4];
+        if (p->has_uv) {
+            b->m.uv[2 * i] = c[3];
+            b->m.uv[2 * i + 1] = c[4];
+        }
     }
     return PW_OK;
 }
@@ -4848,11 +4747,10 @@ PW__DEF int pw__ply_corners(pw__ply *p, const pw__plyprop *pr, long long f)
         if (p->format != PW__PLY_ASCII) { /* pw__ply_count checked that the list is there */
             v = pw__ply_decode(p->bp, pr->type, p->format == PW__PLY_BE);
             p->bp += pw__ply_size[pr->type];
-        } else if ((r = pw__ply_value(p, pr->type, &v, "face", f)))
-            return r;
+        } else if ((r = pw__ply_value(p, pr->type, &v, "face", f))) return r;
         if (!(v >= 0.0 && v < (double)p->nv && v == (double)(int)v))
-            return pw__ply_fail(p, PW_ERR_INVALID, "face %lld: vertex index %g out of range (%d vertices)",
-                                f, v, p->nv);
+            return pw__ply_fail(p, PW_ERR_INVALID, "face %lld: vertex index %g out of range (%d vertices)", f, v,
+                                p->nv);
         b->m.fv[b->nc] = (int)v;
         if (b->uv_ok) b->m.fuv[b->nc] = (int)v; /* vertex uvs: one per vertex */
         b->nc++;
@@ -4921,8 +4819,8 @@ PW__DEF int pw__ply_data(pw__ply *p)
 }
 
 /* Reads a PLY file (ascii, binary_little_endian, binary_big_endian). */
-PW__DEF int pw_mesh_read_ply(const pw_alloc *a, const void *data, size_t size, const char *name,
-                             pw_mesh *out, pw_err *e)
+PW__DEF int pw_mesh_read_ply(const pw_alloc *a, const void *data, size_t size, const char *name, pw_mesh *out,
+                             pw_err *e)
 {
     pw__ply *p;
     pw__mb b;
@@ -5032,10 +4930,13 @@ PW__DEF int pw__stl_binary(const unsigned char *d, size_t size, const char *name
     int r = PW_OK, k, j;
     if (n == 0) return pw_fail(b->e, PW_ERR_DEGENERATE, "%s: binary STL with no triangle", name);
     if ((size - 84) / 50 < n)
-        return pw_fail(b->e, PW_ERR_PARSE, "%s: binary STL: the header claims %lu triangles, the %lu bytes after it hold %lu (truncated file?)",
-                       name, (unsigned long)n, (unsigned long)(size - 84), (unsigned long)((size - 84) / 50));
+        return pw_fail(
+            b->e, PW_ERR_PARSE,
+            "%s: binary STL: the header claims %lu triangles, the %lu bytes after it hold %lu (truncated file?)", name,
+            (unsigned long)n, (unsigned long)(size - 84), (unsigned long)((size - 84) / 50));
     if (n > (uint32_t)(PW_MAX_MESH_ELEMENTS / 3))
-        return pw_fail(b->e, PW_ERR_LIMIT, "%s: binary STL: %lu triangles (limit %d)", name, (unsigned long)n, PW_MAX_MESH_ELEMENTS / 3);
+        return pw_fail(b->e, PW_ERR_LIMIT, "%s: binary STL: %lu triangles (limit %d)", name, (unsigned long)n,
+                       PW_MAX_MESH_ELEMENTS / 3);
     if (pw__weld_init(&w, b, (size_t)n)) return PW_ERR_NOMEM;
     for (t = 0; t < n && r == PW_OK; t++) {
         const unsigned char *p = d + 84 + 50 * (size_t)t + 12;
@@ -5043,7 +4944,9 @@ PW__DEF int pw__stl_binary(const unsigned char *d, size_t size, const char *name
         for (k = 0; k < 3; k++)
             for (j = 0; j < 3; j++) {
                 c[k][j] = pw__le_float(p + 12 * k + 4 * j);
-                if (!pw_is_finite(c[k][j])) r = pw_fail(b->e, PW_ERR_INVALID, "%s: binary STL: triangle %lu has a non-finite coordinate", name, (unsigned long)t);
+                if (!pw_is_finite(c[k][j]))
+                    r = pw_fail(b->e, PW_ERR_INVALID, "%s: binary STL: triangle %lu has a non-finite coordinate", name,
+                                (unsigned long)t);
             }
         if (r == PW_OK) r = pw__stl_triangle(&w, b, c);
     }
@@ -5060,7 +4963,8 @@ PW__DEF int pw__stl_expect(pw__sc *s, const char *kw)
     pw__sc_skip_ws(s);
     w = pw__sc_word(s, &n);
     if (!pw__sc_is(w, n, kw))
-        return pw__sc_fail(s, PW_ERR_PARSE, n ? "expected '%s', found '%s'" : "expected '%s', found the end of the file", kw,
+        return pw__sc_fail(s, PW_ERR_PARSE,
+                           n ? "expected '%s', found '%s'" : "expected '%s', found the end of the file", kw,
                            pw__sc_tok(s, w, tok));
     return PW_OK;
 }
@@ -5083,8 +4987,8 @@ PW__DEF int pw__stl_ascii(pw__sc *s, pw__mb *b)
             pw__sc_next_line(s); /* the name, if any */
         } else if (pw__sc_is(kw, n, "facet")) {
             float c[3][3], nrm[3];
-            if ((r = pw__stl_expect(s, "normal")) || (r = pw__sc_xyz(s, nrm, b->m.nf)) || (r = pw__stl_expect(s, "outer")) ||
-                (r = pw__stl_expect(s, "loop")))
+            if ((r = pw__stl_expect(s, "normal")) || (r = pw__sc_xyz(s, nrm, b->m.nf)) ||
+                (r = pw__stl_expect(s, "outer")) || (r = pw__stl_expect(s, "loop")))
                 break;
             for (k = 0; k < 3 && r == PW_OK; k++)
                 if (!(r = pw__stl_expect(s, "vertex"))) r = pw__sc_xyz(s, c[k], b->m.nf);
@@ -5092,7 +4996,8 @@ PW__DEF int pw__stl_ascii(pw__sc *s, pw__mb *b)
             r = pw__stl_triangle(&w, b, c);
         } else {
             char tok[32];
-            r = pw__sc_fail(s, PW_ERR_PARSE, "ASCII STL: expected 'facet' or 'endsolid', found '%s'", pw__sc_tok(s, kw, tok));
+            r = pw__sc_fail(s, PW_ERR_PARSE, "ASCII STL: expected 'facet' or 'endsolid', found '%s'",
+                            pw__sc_tok(s, kw, tok));
         }
     }
     pw_free(b->a, w.slot);
@@ -5113,7 +5018,8 @@ PW__DEF int pw__stl_is_ascii(const unsigned char *d, size_t size)
 /* Reads an STL file, binary or ASCII, from memory. Binary when the size is
  * exactly what its triangle count says, ASCII when it begins with "solid"
  * and holds text (pw__stl_is_ascii), else binary. */
-PW__DEF int pw_mesh_read_stl(const pw_alloc *a, const void *data, size_t size, const char *name, pw_mesh *out, pw_err *e)
+PW__DEF int pw_mesh_read_stl(const pw_alloc *a, const void *data, size_t size, const char *name, pw_mesh *out,
+                             pw_err *e)
 {
     const unsigned char *d = (const unsigned char *)data;
     pw__sc s;
@@ -5123,15 +5029,14 @@ PW__DEF int pw_mesh_read_stl(const pw_alloc *a, const void *data, size_t size, c
     if ((r = pw__mb_init(&b, a, e))) return r;
     pw__sc_init(&s, data, size, name, 0, e);
     pw__sc_skip_ws(&s);
-    if (size >= 84 && (size - 84) % 50 == 0 && (size - 84) / 50 == (size_t)(d[80] | (uint32_t)d[81] << 8 | (uint32_t)d[82] << 16 | (uint32_t)d[83] << 24))
+    if (size >= 84 && (size - 84) % 50 == 0 &&
+        (size - 84) / 50 == (size_t)(d[80] | (uint32_t)d[81] << 8 | (uint32_t)d[82] << 16 | (uint32_t)d[83] << 24))
         r = pw__stl_binary(d, size, s.name, &b);
-    else if (s.end - s.p >= 5 && !memcmp(s.p, "solid", 5) && pw__stl_is_ascii(d, size))
-        r = pw__stl_ascii(&s, &b);
-    else if (size >= 84)
-        r = pw__stl_binary(d, size, s.name, &b);
+    else if (s.end - s.p >= 5 && !memcmp(s.p, "solid", 5) && pw__stl_is_ascii(d, size)) r = pw__stl_ascii(&s, &b);
+    else if (size >= 84) r = pw__stl_binary(d, size, s.name, &b);
     else
-        r = pw_fail(e, PW_ERR_PARSE, "%s: not an STL file (%lu bytes: neither 'solid' nor an 84-byte binary header)", s.name,
-                    (unsigned long)size);
+        r = pw_fail(e, PW_ERR_PARSE, "%s: not an STL file (%lu bytes: neither 'solid' nor an 84-byte binary header)",
+                    s.name, (unsigned long)size);
     if (r == PW_OK) r = pw__mb_finish(&b, out, s.name);
     pw__mb_free(&b);
     return r;
@@ -5161,8 +5066,8 @@ PW__DEF int pw__is_stl(pw__sc *s, const void *data, size_t size)
  * an OFF keyword as the first word (after comments), "solid" followed by a
  * "facet" line or a binary STL's exact size, else by the extension of `name`
  * (.off, .ply, .stl), else OBJ. */
-PW__DEF int pw_mesh_read_memory(const pw_alloc *a, const void *data, size_t size, const char *name,
-                                pw_mesh *out, pw_err *e)
+PW__DEF int pw_mesh_read_memory(const pw_alloc *a, const void *data, size_t size, const char *name, pw_mesh *out,
+                                pw_err *e)
 {
     pw__sc s, t;
     size_t n;
@@ -5177,7 +5082,8 @@ PW__DEF int pw_mesh_read_memory(const pw_alloc *a, const void *data, size_t size
     if (pw__off_keyword(w, n, &flags) || (name && pw_has_ext(name, ".off")))
         return pw_mesh_read_off(a, data, size, name, out, e);
     if (name && pw_has_ext(name, ".ply")) return pw_mesh_read_ply(a, data, size, name, out, e);
-    if (pw__is_stl(&t, data, size) || (name && pw_has_ext(name, ".stl"))) return pw_mesh_read_stl(a, data, size, name, out, e);
+    if (pw__is_stl(&t, data, size) || (name && pw_has_ext(name, ".stl")))
+        return pw_mesh_read_stl(a, data, size, name, out, e);
     return pw_mesh_read_obj(a, data, size, name, out, e);
 }
 
@@ -5208,28 +5114,42 @@ PW__DEF int pw__obj_name_ok(const char *s, const char *what, pw_err *e)
 
 /* Writes m as OBJ: v lines, vt lines when m has uv and fuv, faces "f v/t"
  * (1-based). mtllib and material (usemtl) lines when not NULL. */
-PW__DEF int pw_mesh_write_obj(const pw_mesh *m, const char *mtllib, const char *material,
-                              pw_write_fn w, void *ctx, pw_err *e)
+PW__DEF int pw_mesh_write_obj(const pw_mesh *m, const char *mtllib, const char *material, pw_write_fn w, void *ctx,
+                              pw_err *e)
 {
     pw__wb b;
     int i, f, r, uv = m->uv && m->fuv;
     if ((r = pw_mesh_validate(m, e)) || (r = pw__obj_name_ok(mtllib, "mtllib", e)) ||
         (r = pw__obj_name_ok(material, "material", e)))
         return r;
-    b.w = w, b.ctx = ctx, b.n = 0, b.failed = 0;
+    b.w = w;
+    b.ctx = ctx;
+    b.n = 0;
+    b.failed = 0;
     pw__wb_str(&b, "# patchwork\n");
-    if (mtllib) pw__wb_str(&b, "mtllib "), pw__wb_str(&b, mtllib), pw__wb_str(&b, "\n");
+    if (mtllib) {
+        pw__wb_str(&b, "mtllib ");
+        pw__wb_str(&b, mtllib);
+        pw__wb_str(&b, "\n");
+    }
     for (i = 0; i < m->nv; i++) {
         pw__wb_str(&b, "v");
-        pw__wb_float(&b, m->pos[3 * i]), pw__wb_float(&b, m->pos[3 * i + 1]), pw__wb_float(&b, m->pos[3 * i + 2]);
+        pw__wb_float(&b, m->pos[3 * i]);
+        pw__wb_float(&b, m->pos[3 * i + 1]);
+        pw__wb_float(&b, m->pos[3 * i + 2]);
         pw__wb_str(&b, "\n");
     }
     for (i = 0; uv && i < m->nuv; i++) {
         pw__wb_str(&b, "vt");
-        pw__wb_float(&b, m->uv[2 * i]), pw__wb_float(&b, m->uv[2 * i + 1]);
+        pw__wb_float(&b, m->uv[2 * i]);
+        pw__wb_float(&b, m->uv[2 * i + 1]);
         pw__wb_str(&b, "\n");
     }
-    if (material) pw__wb_str(&b, "usemtl "), pw__wb_str(&b, material), pw__wb_str(&b, "\n");
+    if (material) {
+        pw__wb_str(&b, "usemtl ");
+        pw__wb_str(&b, material);
+        pw__wb_str(&b, "\n");
+    }
     for (f = 0; f < m->nf; f++) {
         pw__wb_str(&b, "f");
         for (i = m->fstart[f]; i < m->fstart[f + 1]; i++) {
@@ -5243,18 +5163,25 @@ PW__DEF int pw_mesh_write_obj(const pw_mesh *m, const char *mtllib, const char *
 
 /* Writes an MTL file with one material: white (Kd 1 1 1), textured by
  * texture_file (map_Kd) when it is not NULL. */
-PW__DEF int pw_mesh_write_mtl(const char *material, const char *texture_file, pw_write_fn w,
-                              void *ctx, pw_err *e)
+PW__DEF int pw_mesh_write_mtl(const char *material, const char *texture_file, pw_write_fn w, void *ctx, pw_err *e)
 {
     pw__wb b;
     int r;
     if (!material) return pw_fail(e, PW_ERR_INVALID, "MTL: no material name");
     if ((r = pw__obj_name_ok(material, "material", e)) || (r = pw__obj_name_ok(texture_file, "texture file", e)))
         return r;
-    b.w = w, b.ctx = ctx, b.n = 0, b.failed = 0;
-    pw__wb_str(&b, "# patchwork\nnewmtl "), pw__wb_str(&b, material);
+    b.w = w;
+    b.ctx = ctx;
+    b.n = 0;
+    b.failed = 0;
+    pw__wb_str(&b, "# patchwork\nnewmtl ");
+    pw__wb_str(&b, material);
     pw__wb_str(&b, "\nKa 1 1 1\nKd 1 1 1\nKs 0 0 0\nd 1\nillum 1\n");
-    if (texture_file) pw__wb_str(&b, "map_Kd "), pw__wb_str(&b, texture_file), pw__wb_str(&b, "\n");
+    if (texture_file) {
+        pw__wb_str(&b, "map_Kd ");
+        pw__wb_str(&b, texture_file);
+        pw__wb_str(&b, "\n");
+    }
     return pw__wb_done(&b, e);
 }
 
@@ -5294,8 +5221,7 @@ PW__DEF int pw_obj_mtl_path(const char *obj_path, char *mtl, size_t size, const 
 }
 
 /* pw_mesh_write_obj into the file `path`. */
-PW__DEF int pw_mesh_save_obj(const char *path, const pw_mesh *m, const char *mtllib,
-                             const char *material, pw_err *e)
+PW__DEF int pw_mesh_save_obj(const char *path, const pw_mesh *m, const char *mtllib, const char *material, pw_err *e)
 {
     pw__obj_args o;
     o.m = m;
@@ -5305,8 +5231,7 @@ PW__DEF int pw_mesh_save_obj(const char *path, const pw_mesh *m, const char *mtl
 }
 
 /* pw_mesh_write_mtl into the file `path`. */
-PW__DEF int pw_mesh_save_mtl(const char *path, const char *material, const char *texture_file,
-                             pw_err *e)
+PW__DEF int pw_mesh_save_mtl(const char *path, const char *material, const char *texture_file, pw_err *e)
 {
     pw__obj_args o;
     o.m = NULL;
@@ -5355,13 +5280,12 @@ PW__DEF int pw_shape_alloc(const pw_alloc *a, int nv, int nf, int degree, pw_mes
 
 /* The icosahedron: corners (0, +-1, +-phi) and cyclic permutations, faces
  * counter-clockwise seen from outside (the table's 2 stands for phi). */
-static const signed char pw__ico_v[12][3] = {{-1, 2, 0}, {1, 2, 0}, {-1, -2, 0}, {1, -2, 0},
-                                             {0, -1, 2}, {0, 1, 2}, {0, -1, -2}, {0, 1, -2},
-                                             {2, 0, -1}, {2, 0, 1}, {-2, 0, -1}, {-2, 0, 1}};
-static const unsigned char pw__ico_f[20][3] = {
-    {0, 11, 5}, {0, 5, 1}, {0, 1, 7}, {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
-    {11, 10, 2}, {10, 7, 6}, {7, 1, 8}, {3, 9, 4}, {3, 4, 2}, {3, 2, 6}, {3, 6, 8},
-    {3, 8, 9}, {4, 9, 5}, {2, 4, 11}, {6, 2, 10}, {8, 6, 7}, {9, 8, 1}};
+static const signed char pw__ico_v[12][3] = {{-1, 2, 0},  {1, 2, 0},  {-1, -2, 0}, {1, -2, 0}, {0, -1, 2},  {0, 1, 2},
+                                             {0, -1, -2}, {0, 1, -2}, {2, 0, -1},  {2, 0, 1},  {-2, 0, -1}, {-2, 0, 1}};
+static const unsigned char pw__ico_f[20][3] = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11},
+                                               {1, 5, 9},  {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
+                                               {3, 9, 4},  {3, 4, 2},  {3, 2, 6},   {3, 6, 8},  {3, 8, 9},
+                                               {4, 9, 5},  {2, 4, 11}, {6, 2, 10},  {8, 6, 7},  {9, 8, 1}};
 
 PW__DEF pw_v3 pw__ico_corner(int k)
 {
@@ -5399,9 +5323,19 @@ PW__DEF int pw__geo_id(const int *c, int f, int n, int i, int j)
     if (i == 0 && j == 0) return c[0];
     if (i == n) return c[1];
     if (j == n) return c[2];
-    if (j == 0) p = c[0], q = c[1], t = i;
-    else if (i == 0) p = c[0], q = c[2], t = j;
-    else if (i + j == n) p = c[1], q = c[2], t = j;
+    if (j == 0) {
+        p = c[0];
+        q = c[1];
+        t = i;
+    } else if (i == 0) {
+        p = c[0];
+        q = c[2];
+        t = j;
+    } else if (i + j == n) {
+        p = c[1];
+        q = c[2];
+        t = j;
+    }
     if (p >= 0) {
         if (p > q) {
             int s = p;
@@ -5424,8 +5358,12 @@ PW__DEF int pw_shape_geosphere(const pw_alloc *a, int n, pw_mesh *m, pw_err *e)
     for (f = 0; f < 20; f++) {
         int c[3];
         pw_v3 A, B, C;
-        c[0] = pw__ico_f[f][0], c[1] = pw__ico_f[f][1], c[2] = pw__ico_f[f][2];
-        A = pw__ico_corner(c[0]), B = pw__ico_corner(c[1]), C = pw__ico_corner(c[2]);
+        c[0] = pw__ico_f[f][0];
+        c[1] = pw__ico_f[f][1];
+        c[2] = pw__ico_f[f][2];
+        A = pw__ico_corner(c[0]);
+        B = pw__ico_corner(c[1]);
+        C = pw__ico_corner(c[2]);
         for (j = 0; j <= n; j++)
             for (i = 0; i + j <= n; i++) {
                 pw_v3 p = pw_v3_add(A, pw_v3_add(pw_v3_scale(pw_v3_sub(B, A), (float)i / n),
@@ -5464,7 +5402,9 @@ PW__DEF int pw_shape_bumpy(const pw_alloc *a, int n, pw_mesh *m, pw_err *e)
     for (k = 0; k < 14; k++) {
         double x = 2 * pw_rng_double(&rng) - 1, y = 2 * pw_rng_double(&rng) - 1, z = 2 * pw_rng_double(&rng) - 1;
         double l = sqrt(x * x + y * y + z * z) + 1e-9;
-        c[k][0] = x / l, c[k][1] = y / l, c[k][2] = z / l;
+        c[k][0] = x / l;
+        c[k][1] = y / l;
+        c[k][2] = z / l;
         h[k] = k % 3 == 2 ? -0.1 : 0.08 + 0.14 * pw_rng_double(&rng);
         rad[k] = 0.45 + 0.4 * pw_rng_double(&rng);
     }
@@ -5515,9 +5455,15 @@ PW__DEF int pw__shape_torus(const pw_alloc *a, int nu, int nv, int quads, double
             p[0] = (float)(rr * pw_cos(u));
             p[1] = (float)(rr * pw_sin(u));
             p[2] = (float)(tube * pw_sin(v));
-            t[0] = a0, t[1] = a1, t[2] = a2; /* d/du x d/dv points outwards */
+            t[0] = a0;
+            t[1] = a1;
+            t[2] = a2; /* d/du x d/dv points outwards */
             if (quads) t[3] = a3;
-            else t[3] = a0, t[4] = a2, t[5] = a3;
+            else {
+                t[3] = a0;
+                t[4] = a2;
+                t[5] = a3;
+            }
         }
     return PW_OK;
 }
@@ -5630,8 +5576,7 @@ PW__DEF void pw__voxel_pass(pw__voxels *v)
             }
 }
 
-PW__DEF int pw_shape_polycube(const pw_alloc *a, int X, int Y, int Z, const unsigned char *vox, pw_mesh *m,
-                              pw_err *e)
+PW__DEF int pw_shape_polycube(const pw_alloc *a, int X, int Y, int Z, const unsigned char *vox, pw_mesh *m, pw_err *e)
 {
     pw__voxels v;
     int r;
@@ -5675,7 +5620,11 @@ PW__DEF int pw_shape_grid(const pw_alloc *a, int n, double wave, int quads, pw_m
             f[1] = v + 1;
             f[2] = v + n + 2;
             if (quads) f[3] = v + n + 1;
-            else f[3] = v, f[4] = v + n + 2, f[5] = v + n + 1;
+            else {
+                f[3] = v;
+                f[4] = v + n + 2;
+                f[5] = v + n + 1;
+            }
         }
     return PW_OK;
 }
@@ -5704,23 +5653,38 @@ PW__DEF int pw__shape_revolve(const pw_alloc *a, const double *z, const double *
     int rings = n - 2, nv = rings * around + 2, k, j, nt = 0, res;
     int bot = nv - 1; /* vertex 0 is the top pole; ring k (1..rings) starts at 1 + (k-1) * around */
     if ((res = pw_shape_alloc(a, nv, 2 * around * (rings - 1) + 2 * around, 3, m, e)) != PW_OK) return res;
-    m->pos[0] = m->pos[1] = 0.0f, m->pos[2] = (float)z[0];
-    m->pos[3 * bot] = m->pos[3 * bot + 1] = 0.0f, m->pos[3 * bot + 2] = (float)z[n - 1];
+    m->pos[0] = m->pos[1] = 0.0f;
+    m->pos[2] = (float)z[0];
+    m->pos[3 * bot] = m->pos[3 * bot + 1] = 0.0f;
+    m->pos[3 * bot + 2] = (float)z[n - 1];
     for (k = 1; k <= rings; k++)
         for (j = 0; j < around; j++) {
             float *p = m->pos + 3 * (1 + (k - 1) * around + j);
-            p[0] = (float)(r[k] * pw_cos(pi2 * j / around)), p[1] = (float)(r[k] * pw_sin(pi2 * j / around));
+            p[0] = (float)(r[k] * pw_cos(pi2 * j / around));
+            p[1] = (float)(r[k] * pw_sin(pi2 * j / around));
             p[2] = (float)z[k];
         }
     for (j = 0; j < around; j++) {
         int j1 = (j + 1) % around, *t;
-        t = m->fv + 3 * nt++, t[0] = 0, t[1] = 1 + j, t[2] = 1 + j1;
+        t = m->fv + 3 * nt++;
+        t[0] = 0;
+        t[1] = 1 + j;
+        t[2] = 1 + j1;
         for (k = 1; k < rings; k++) {
             int a0 = 1 + (k - 1) * around + j, a1 = 1 + (k - 1) * around + j1, b0 = a0 + around, b1 = a1 + around;
-            t = m->fv + 3 * nt++, t[0] = a0, t[1] = b0, t[2] = b1;
-            t = m->fv + 3 * nt++, t[0] = a0, t[1] = b1, t[2] = a1;
+            t = m->fv + 3 * nt++;
+            t[0] = a0;
+            t[1] = b0;
+            t[2] = b1;
+            t = m->fv + 3 * nt++;
+            t[0] = a0;
+            t[1] = b1;
+            t[2] = a1;
         }
-        t = m->fv + 3 * nt++, t[0] = bot, t[1] = 1 + (rings - 1) * around + j1, t[2] = 1 + (rings - 1) * around + j;
+        t = m->fv + 3 * nt++;
+        t[0] = bot;
+        t[1] = 1 + (rings - 1) * around + j1;
+        t[2] = 1 + (rings - 1) * around + j;
     }
     return PW_OK;
 }
@@ -5737,16 +5701,32 @@ PW__DEF int pw_shape_dumbbell(const pw_alloc *a, double neck, int around, pw_mes
         return pw_fail(e, PW_ERR_INVALID, "dumbbell: neck %g not in (0, 1) or %d vertices around", neck, around);
     tn = pi - pw__shape_asin(neck); /* polar angle where a ball meets the neck */
     zn = 2.0 + pw_cos(tn);          /* the neck runs over |z| <= zn */
-    nb = (int)(tn / step) + 1, len = 2.0 * zn, nn = (int)(len / step) + 1;
+    nb = (int)(tn / step) + 1;
+    len = 2.0 * zn;
+    nn = (int)(len / step) + 1;
     n = 2 * nb + nn + 1;
     z = (double *)pw_alloc_array(a, (size_t)n, sizeof(double), "profile", e);
     r = (double *)pw_alloc_array(a, (size_t)n, sizeof(double), "profile", e);
-    if (!z || !r) return pw_free(a, z), pw_free(a, r), PW_ERR_NOMEM;
-    for (k = 0; k < nb; k++) z[k] = 2.0 + pw_cos(tn * k / nb), r[k] = pw_sin(tn * k / nb);
-    for (k = 0; k <= nn; k++) z[nb + k] = zn - len * k / nn, r[nb + k] = neck;
-    for (k = 0; k < nb; k++) z[n - 1 - k] = -z[k], r[n - 1 - k] = r[k];
+    if (!z || !r) {
+        pw_free(a, z);
+        pw_free(a, r);
+        return PW_ERR_NOMEM;
+    }
+    for (k = 0; k < nb; k++) {
+        z[k] = 2.0 + pw_cos(tn * k / nb);
+        r[k] = pw_sin(tn * k / nb);
+    }
+    for (k = 0; k <= nn; k++) {
+        z[nb + k] = zn - len * k / nn;
+        r[nb + k] = neck;
+    }
+    for (k = 0; k < nb; k++) {
+        z[n - 1 - k] = -z[k];
+        r[n - 1 - k] = r[k];
+    }
     res = pw__shape_revolve(a, z, r, n, around, m, e);
-    pw_free(a, z), pw_free(a, r);
+    pw_free(a, z);
+    pw_free(a, r);
     return res;
 }
 
@@ -5820,10 +5800,7 @@ PW__DEF int pw_he_dest(const pw_hmesh *hm, int h) { return hm->fv[pw_he_next(hm,
 PW__DEF int pw_he_ccw(const pw_hmesh *hm, int h) { return hm->twin[pw_he_prev(hm, h)]; }
 
 /* The same clockwise; -1 when h is on the boundary. */
-PW__DEF int pw_he_cw(const pw_hmesh *hm, int h)
-{
-    return hm->twin[h] < 0 ? -1 : pw_he_next(hm, hm->twin[h]);
-}
+PW__DEF int pw_he_cw(const pw_hmesh *hm, int h) { return hm->twin[h] < 0 ? -1 : pw_he_next(hm, hm->twin[h]); }
 
 /* For a boundary half-edge h, the next boundary half-edge of the same
  * boundary loop (they follow each other head to tail). */
@@ -5854,8 +5831,9 @@ PW__DEF int pw__hm_faces(pw_hmesh *hm, int *stamp, int *count, pw_err *e)
         for (h = b; h < end; h++) {
             int v = hm->fv[h];
             if (v < 0 || v >= hm->nv)
-                return pw_fail(e, PW_ERR_INVALID, "half-edge mesh: face %d, corner %d: vertex index %d out of range (%d vertices)",
-                               f, h - b, v, hm->nv);
+                return pw_fail(e, PW_ERR_INVALID,
+                               "half-edge mesh: face %d, corner %d: vertex index %d out of range (%d vertices)", f,
+                               h - b, v, hm->nv);
             if (stamp[v] == f)
                 return pw_fail(e, PW_ERR_DEGENERATE, "half-edge mesh: face %d uses vertex %d twice", f, v);
             stamp[v] = f;
@@ -5900,8 +5878,8 @@ PW__DEF void pw__hm_face_list(char *buf, size_t cap, const int *f, int n)
 
 /* The error for edge a-b of half-edge h: more than two faces, or two
  * faces in the same direction. */
-PW__DEF int pw__hm_edge_error(const pw_hmesh *hm, const int *ostart, const int *oh, const int *odest,
-                              int a, int b, int same, int opp, pw_err *e)
+PW__DEF int pw__hm_edge_error(const pw_hmesh *hm, const int *ostart, const int *oh, const int *odest, int a, int b,
+                              int same, int opp, pw_err *e)
 {
     int faces[8], n = 0, k, i, j;
     char list[96];
@@ -5910,7 +5888,11 @@ PW__DEF int pw__hm_edge_error(const pw_hmesh *hm, const int *ostart, const int *
     for (k = ostart[b]; k < ostart[b + 1]; k++)
         if (odest[k] == a && n < 8) faces[n++] = hm->hface[oh[k]];
     for (i = 1; i < n; i++) /* insertion sort: at most 8 */
-        for (j = i; j > 0 && faces[j - 1] > faces[j]; j--) k = faces[j], faces[j] = faces[j - 1], faces[j - 1] = k;
+        for (j = i; j > 0 && faces[j - 1] > faces[j]; j--) {
+            k = faces[j];
+            faces[j] = faces[j - 1];
+            faces[j - 1] = k;
+        }
     if (same + opp > 2) {
         pw__hm_face_list(list, sizeof list, faces, n);
         if (same + opp > n) snprintf(list + strlen(list), sizeof list - strlen(list), " (%d faces)", same + opp);
@@ -5924,12 +5906,14 @@ PW__DEF int pw__hm_edge_error(const pw_hmesh *hm, const int *ostart, const int *
  * one b->a not yet paired, needs no more checks: a second a->b would find
  * it taken. Otherwise the half-edges a->b (same) and b->a (opp) are counted
  * to catch bad edges. */
-PW__DEF int pw__hm_pair(pw_hmesh *hm, const int *ostart, const int *oh, const int *odest, int h, int b,
-                        pw_err *e)
+PW__DEF int pw__hm_pair(pw_hmesh *hm, const int *ostart, const int *oh, const int *odest, int h, int b, pw_err *e)
 {
     int a = hm->fv[h], same = 0, opp = 0, g = -1, k;
     for (k = ostart[b]; k < ostart[b + 1]; k++)
-        if (odest[k] == a) opp++, g = oh[k];
+        if (odest[k] == a) {
+            opp++;
+            g = oh[k];
+        }
     if (opp != 1 || hm->twin[g] != -2) {
         for (k = ostart[a]; k < ostart[a + 1]; k++) same += odest[k] == b;
         if (same + opp > 2 || same > 1) return pw__hm_edge_error(hm, ostart, oh, odest, a, b, same, opp, e);
@@ -5949,8 +5933,7 @@ PW__DEF int pw__hm_twins(pw_hmesh *hm, const int *ostart, const int *oh, const i
     for (f = 0; f < hm->nf; f++) {
         int b = hm->fstart[f], end = hm->fstart[f + 1];
         for (h = b; h < end; h++)
-            if (hm->twin[h] == -2 &&
-                (r = pw__hm_pair(hm, ostart, oh, odest, h, hm->fv[h + 1 < end ? h + 1 : b], e)))
+            if (hm->twin[h] == -2 && (r = pw__hm_pair(hm, ostart, oh, odest, h, hm->fv[h + 1 < end ? h + 1 : b], e)))
                 return r;
     }
     hm->ne = (hm->nh + hm->nboundary) / 2;
@@ -6059,14 +6042,13 @@ PW__DEF int pw__hm_offsets(const pw_alloc *a, pw_hmesh *hm, const int *fstart, p
     int f;
     if (hm->nv < 0 || hm->nf < 0 || !fstart || hm->nv > PW_MAX_MESH_ELEMENTS || hm->nf > PW_MAX_MESH_ELEMENTS)
         return pw_fail(e, PW_ERR_INVALID, "half-edge mesh: bad sizes (%d vertices, %d faces)", hm->nv, hm->nf);
-    if (fstart[0] != 0)
-        return pw_fail(e, PW_ERR_INVALID, "half-edge mesh: fstart[0] is %d, must be 0", fstart[0]);
+    if (fstart[0] != 0) return pw_fail(e, PW_ERR_INVALID, "half-edge mesh: fstart[0] is %d, must be 0", fstart[0]);
     for (f = 0; f < hm->nf; f++) {
         if (fstart[f + 1] > PW_MAX_MESH_ELEMENTS)
             return pw_fail(e, PW_ERR_LIMIT, "half-edge mesh: more than %d corners", PW_MAX_MESH_ELEMENTS);
         if (fstart[f + 1] < fstart[f] + 3)
-            return pw_fail(e, PW_ERR_DEGENERATE, "half-edge mesh: face %d has %ld corners (at least 3 needed)",
-                           f, (long)fstart[f + 1] - fstart[f]);
+            return pw_fail(e, PW_ERR_DEGENERATE, "half-edge mesh: face %d has %ld corners (at least 3 needed)", f,
+                           (long)fstart[f + 1] - fstart[f]);
     }
     hm->nh = fstart[hm->nf];
     hm->fstart = (int *)pw_alloc_array(a, (size_t)hm->nf + 1, sizeof(int), "half-edge faces", e);
@@ -6096,8 +6078,8 @@ PW__DEF int pw__hm_steps(const pw_alloc *a, pw_hmesh *hm, int *tmp, pw_err *e)
 /* Builds the half-edge structure of a polygon mesh given as nv vertices, nf
  * faces, offsets fstart (nf+1) and corners fv (fstart[nf]); see the top of
  * the file for what is refused. */
-PW__DEF int pw_hmesh_build(const pw_alloc *a, int nv, int nf, const int *fstart, const int *fv,
-                           pw_hmesh *out, pw_err *e)
+PW__DEF int pw_hmesh_build(const pw_alloc *a, int nv, int nf, const int *fstart, const int *fv, pw_hmesh *out,
+                           pw_err *e)
 {
     int r, *tmp = NULL;
     memset(out, 0, sizeof *out);
@@ -6128,12 +6110,12 @@ PW__DEF int pw_hmesh_from_mesh(const pw_alloc *a, const pw_mesh *m, pw_hmesh *ou
 /* Connected components of faces (faces sharing an edge are connected).
  * Returns the count in *ncomp; face_comp (nf ints, may be NULL) receives
  * each face's component, numbered in order of their lowest face. */
-PW__DEF int pw_hmesh_components(const pw_alloc *a, const pw_hmesh *hm, int *face_comp, int *ncomp,
-                                pw_err *e)
+PW__DEF int pw_hmesh_components(const pw_alloc *a, const pw_hmesh *hm, int *face_comp, int *ncomp, pw_err *e)
 {
     int *comp = face_comp, *stack, f, n = 0, top;
     *ncomp = 0;
-    stack = (int *)pw_alloc_array(a, (size_t)hm->nf + (face_comp ? 0 : (size_t)hm->nf), sizeof(int), "component stack", e);
+    stack =
+        (int *)pw_alloc_array(a, (size_t)hm->nf + (face_comp ? 0 : (size_t)hm->nf), sizeof(int), "component stack", e);
     if (!stack) return PW_ERR_NOMEM;
     if (!comp) comp = stack + hm->nf;
     for (f = 0; f < hm->nf; f++) comp[f] = -1;
@@ -6146,7 +6128,10 @@ PW__DEF int pw_hmesh_components(const pw_alloc *a, const pw_hmesh *hm, int *face
             int g = stack[--top], h;
             for (h = hm->fstart[g]; h < hm->fstart[g + 1]; h++) {
                 int t = hm->twin[h];
-                if (t >= 0 && comp[hm->hface[t]] < 0) comp[hm->hface[t]] = n, stack[top++] = hm->hface[t];
+                if (t >= 0 && comp[hm->hface[t]] < 0) {
+                    comp[hm->hface[t]] = n;
+                    stack[top++] = hm->hface[t];
+                }
             }
         }
         n++;
@@ -6167,10 +6152,7 @@ PW__DEF int pw_hmesh_euler(const pw_hmesh *hm)
 
 /* Total genus of an orientable surface with `ncomp` components and
  * hm->nloops boundary loops: chi = 2c - 2g - b. */
-PW__DEF int pw_hmesh_genus(const pw_hmesh *hm, int ncomp)
-{
-    return (2 * ncomp - pw_hmesh_euler(hm) - hm->nloops) / 2;
-}
+PW__DEF int pw_hmesh_genus(const pw_hmesh *hm, int ncomp) { return (2 * ncomp - pw_hmesh_euler(hm) - hm->nloops) / 2; }
 
 /* Number of edges at vertex v (0 if isolated). */
 PW__DEF int pw_hmesh_valence(const pw_hmesh *hm, int v)
@@ -6255,8 +6237,7 @@ PW__DEF int pw_triplets_init(pw_triplets *t, const pw_alloc *a, int n, int m, pw
 {
     memset(t, 0, sizeof *t);
     if (a) t->alloc = *a;
-    if (n < 0 || m < 0)
-        return pw_fail(e, PW_ERR_INVALID, "sparse matrix size %dx%d is negative", n, m);
+    if (n < 0 || m < 0) return pw_fail(e, PW_ERR_INVALID, "sparse matrix size %dx%d is negative", n, m);
     t->n = n;
     t->m = m;
     return PW_OK;
@@ -6282,8 +6263,7 @@ PW__DEF int pw__triplets_grow(pw_triplets *t, pw_err *e)
     size_t ncap = t->cap ? t->cap * 2 : 64;
     void *p;
     if (ncap > (size_t)INT_MAX) ncap = (size_t)INT_MAX;
-    if (ncap > (size_t)-1 / sizeof(double))
-        return pw_fail(e, PW_ERR_NOMEM, "sparse triplets: size overflow");
+    if (ncap > (size_t)-1 / sizeof(double)) return pw_fail(e, PW_ERR_NOMEM, "sparse triplets: size overflow");
     /* Each successful realloc is kept even if a later one fails: the list
      * stays valid with the old capacity. */
     if (!(p = pw_realloc(&t->alloc, t->row, ncap * sizeof(int)))) goto nomem;
@@ -6295,8 +6275,7 @@ PW__DEF int pw__triplets_grow(pw_triplets *t, pw_err *e)
     t->cap = ncap;
     return PW_OK;
 nomem:
-    return pw_fail(e, PW_ERR_NOMEM, "out of memory growing sparse triplets to %lu entries",
-                   (unsigned long)ncap);
+    return pw_fail(e, PW_ERR_NOMEM, "out of memory growing sparse triplets to %lu entries", (unsigned long)ncap);
 }
 
 /* Adds v at (i, j). Entries at the same position are summed by
@@ -6304,12 +6283,9 @@ nomem:
 PW__DEF int pw_triplets_add(pw_triplets *t, int i, int j, double v, pw_err *e)
 {
     if (i < 0 || i >= t->n || j < 0 || j >= t->m)
-        return pw_fail(e, PW_ERR_INVALID, "sparse entry (%d, %d) outside the %dx%d matrix", i,
-                       j, t->n, t->m);
-    if (!pw_is_finite(v))
-        return pw_fail(e, PW_ERR_INVALID, "sparse entry (%d, %d) is not finite", i, j);
-    if (t->count == INT_MAX)
-        return pw_fail(e, PW_ERR_LIMIT, "sparse matrix has more than %d entries", INT_MAX);
+        return pw_fail(e, PW_ERR_INVALID, "sparse entry (%d, %d) outside the %dx%d matrix", i, j, t->n, t->m);
+    if (!pw_is_finite(v)) return pw_fail(e, PW_ERR_INVALID, "sparse entry (%d, %d) is not finite", i, j);
+    if (t->count == INT_MAX) return pw_fail(e, PW_ERR_LIMIT, "sparse matrix has more than %d entries", INT_MAX);
     if ((size_t)t->count >= t->cap && pw__triplets_grow(t, e)) return PW_ERR_NOMEM;
     t->row[t->count] = i;
     t->col[t->count] = j;
@@ -6356,8 +6332,7 @@ PW__DEF int pw__csr_alloc(const pw_alloc *a, pw_csr *A, int n, int m, int nnz, p
 
 /* Stable counting sort of the entries idx[0..cnt) by key[idx[k]] in [0, nkeys):
  * writes the order to out and the start of each key to start[0..nkeys]. */
-PW__DEF void pw__counting_sort(const int *key, const int *idx, int cnt, int nkeys, int *start,
-                               int *out)
+PW__DEF void pw__counting_sort(const int *key, const int *idx, int cnt, int nkeys, int *start, int *out)
 {
     int k;
     memset(start, 0, ((size_t)nkeys + 1) * sizeof(int));
@@ -6374,8 +6349,7 @@ PW__DEF void pw__counting_sort(const int *key, const int *idx, int cnt, int nkey
 
 /* Sums the duplicates of each row of `order` (sorted by row, then column,
  * ties in insertion order, so the sums are taken in insertion order). */
-PW__DEF void pw__csr_compress(const pw_triplets *t, const int *order, const int *start,
-                              pw_csr *A)
+PW__DEF void pw__csr_compress(const pw_triplets *t, const int *order, const int *start, pw_csr *A)
 {
     int r, k, nz = 0;
     for (r = 0; r < t->n; r++) {
@@ -6432,11 +6406,12 @@ PW__DEF int pw_csr_check(const pw_csr *A, pw_err *e)
             return pw_fail(e, PW_ERR_INVALID, "sparse matrix row %d has a negative length", i);
         for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++) {
             if (A->col[k] < 0 || A->col[k] >= A->m)
-                return pw_fail(e, PW_ERR_INVALID, "sparse matrix entry %d of row %d: column %d "
-                               "outside 0..%d", k - A->rowptr[i], i, A->col[k], A->m - 1);
+                return pw_fail(e, PW_ERR_INVALID,
+                               "sparse matrix entry %d of row %d: column %d "
+                               "outside 0..%d",
+                               k - A->rowptr[i], i, A->col[k], A->m - 1);
             if (!pw_is_finite(A->val[k]))
-                return pw_fail(e, PW_ERR_INVALID, "sparse matrix entry (%d, %d) is not finite",
-                               i, A->col[k]);
+                return pw_fail(e, PW_ERR_INVALID, "sparse matrix entry (%d, %d) is not finite", i, A->col[k]);
         }
     }
     return PW_OK;
@@ -6503,8 +6478,7 @@ PW__DEF int pw_csr_transpose(const pw_alloc *a, const pw_csr *A, pw_csr *out, pw
 
 /* Counts the entries of AᵀA row by row (At = Aᵀ) into C->rowptr; fails
  * when the total does not fit in an int. */
-PW__DEF int pw__ata_count(const pw_csr *A, const pw_csr *At, int *mark, int *rowptr,
-                          pw_err *e)
+PW__DEF int pw__ata_count(const pw_csr *A, const pw_csr *At, int *mark, int *rowptr, pw_err *e)
 {
     int i, k, q;
     int64_t nnz = 0;
@@ -6520,8 +6494,7 @@ PW__DEF int pw__ata_count(const pw_csr *A, const pw_csr *At, int *mark, int *row
                 }
             }
         }
-        if (nnz > INT_MAX)
-            return pw_fail(e, PW_ERR_LIMIT, "A^T A has more than %d entries", INT_MAX);
+        if (nnz > INT_MAX) return pw_fail(e, PW_ERR_LIMIT, "A^T A has more than %d entries", INT_MAX);
         rowptr[i + 1] = (int)nnz;
     }
     return PW_OK;
@@ -6628,8 +6601,7 @@ PW__DEF int pw__check_vec(const double *v, int n, const char *what, pw_err *e)
 {
     int i;
     for (i = 0; i < n; i++)
-        if (!pw_is_finite(v[i]))
-            return pw_fail(e, PW_ERR_INVALID, "%s[%d] is not finite", what, i);
+        if (!pw_is_finite(v[i])) return pw_fail(e, PW_ERR_INVALID, "%s[%d] is not finite", what, i);
     return PW_OK;
 }
 
@@ -6644,13 +6616,13 @@ PW__DEF void pw__jacobi(double *d, int n)
 
 /* State shared by CG and CGLS: settings, counters, the outcome. */
 typedef struct pw__krylov {
-    int n;          /* unknowns */
+    int n; /* unknowns */
     int max_iter;
     double tol;
-    double bnorm;   /* norm the residual is measured against */
-    double rnorm;   /* current (recurrence) residual norm */
+    double bnorm; /* norm the residual is measured against */
+    double rnorm; /* current (recurrence) residual norm */
     int it;
-    int status;     /* PW_OK, or why the loop stopped */
+    int status; /* PW_OK, or why the loop stopped */
     const pw_progress *progress;
 } pw__krylov;
 
@@ -6678,8 +6650,7 @@ PW__DEF int pw__krylov_report(pw__krylov *k, pw_err *e)
 
 /* Fills the stats and turns a stop without convergence into an error that
  * carries the residual. `what` names the solver. */
-PW__DEF int pw__krylov_finish(const pw__krylov *k, double true_rnorm, const char *what,
-                              pw_cg_stats *s, pw_err *e)
+PW__DEF int pw__krylov_finish(const pw__krylov *k, double true_rnorm, const char *what, pw_cg_stats *s, pw_err *e)
 {
     double rel = true_rnorm / k->bnorm;
     if (s) {
@@ -6690,11 +6661,15 @@ PW__DEF int pw__krylov_finish(const pw__krylov *k, double true_rnorm, const char
     if (rel <= k->tol) return PW_OK;
     if (k->status == PW_ERR_CANCELLED) return k->status;
     if (k->status)
-        return pw_fail(e, PW_ERR_NOCONVERGE, "%s broke down after %d iterations (the matrix is "
+        return pw_fail(e, PW_ERR_NOCONVERGE,
+                       "%s broke down after %d iterations (the matrix is "
                        "not positive definite or the system is inconsistent): relative "
-                       "residual %.3g, tolerance %.3g", what, k->it, rel, k->tol);
-    return pw_fail(e, PW_ERR_NOCONVERGE, "%s stopped at the cap of %d iterations: relative "
-                   "residual %.3g, tolerance %.3g", what, k->it, rel, k->tol);
+                       "residual %.3g, tolerance %.3g",
+                       what, k->it, rel, k->tol);
+    return pw_fail(e, PW_ERR_NOCONVERGE,
+                   "%s stopped at the cap of %d iterations: relative "
+                   "residual %.3g, tolerance %.3g",
+                   what, k->it, rel, k->tol);
 }
 
 /* The loops below are fused so that each iteration streams the matrix once
@@ -6730,8 +6705,7 @@ PW__DEF double pw__precond_dots(const double *r, const double *dinv, int n, doub
 }
 
 /* p = D⁻¹r + beta p (beta = 0 restarts along the preconditioned residual). */
-PW__DEF void pw__new_direction(double *p, const double *r, const double *dinv, double beta,
-                               int n)
+PW__DEF void pw__new_direction(double *p, const double *r, const double *dinv, double beta, int n)
 {
     int i;
     if (beta == 0)
@@ -6767,8 +6741,7 @@ PW__DEF double pw__cg_step(double *x, pw__cg_ws *w, int n, double pq, double *rz
 /* Preconditioned CG iterations from x; r holds b - A x on entry. Restarts
  * from the true residual when the recurrence claims convergence that the
  * true residual does not confirm (rounding drift). */
-PW__DEF void pw__cg_loop(const pw_csr *A, const double *b, double *x, pw__cg_ws *w,
-                         pw__krylov *k, pw_err *e)
+PW__DEF void pw__cg_loop(const pw_csr *A, const double *b, double *x, pw__cg_ws *w, pw__krylov *k, pw_err *e)
 {
     int n = k->n, restart = 1, fresh = 1;
     double rz = 0, rr;
@@ -6808,8 +6781,8 @@ PW__DEF void pw__cg_loop(const pw_csr *A, const double *b, double *x, pw__cg_ws 
  * progress callback stopped it: in those three cases x holds the last
  * iterate, never worse in the energy norm than the guess, and *s its
  * residual. */
-PW__DEF int pw_cg_solve(const pw_alloc *a, const pw_csr *A, const double *b, double *x,
-                        const pw_cg_options *o, pw_cg_stats *s, pw_err *e)
+PW__DEF int pw_cg_solve(const pw_alloc *a, const pw_csr *A, const double *b, double *x, const pw_cg_options *o,
+                        pw_cg_stats *s, pw_err *e)
 {
     pw__krylov k;
     pw__cg_ws w;
@@ -6818,8 +6791,7 @@ PW__DEF int pw_cg_solve(const pw_alloc *a, const pw_csr *A, const double *b, dou
     if (pw_csr_check(A, e)) return PW_ERR_INVALID;
     n = A->n;
     if (A->m != n) return pw_fail(e, PW_ERR_INVALID, "CG needs a square matrix, not %dx%d", n, A->m);
-    if (pw__check_vec(b, n, "CG right-hand side b", e) || pw__check_vec(x, n, "CG guess x", e))
-        return PW_ERR_INVALID;
+    if (pw__check_vec(b, n, "CG right-hand side b", e) || pw__check_vec(x, n, "CG guess x", e)) return PW_ERR_INVALID;
     PW_SOLVE_HOOK("cg", A, b, x, o);
     pw__krylov_init(&k, n, o);
     k.bnorm = sqrt(pw__dot(b, b, n));
@@ -6921,7 +6893,7 @@ PW__DEF int pw_ic0_factor(const pw_alloc *a, const pw_csr *A, pw_ic0 *L, pw_err 
         pw_ic0_free(a, L);
         return PW_ERR_NOMEM;
     }
-    for (k = 0; k < 40; k++, shift = shift > 0.0 ? 2.0 * shift : 1e-3)
+    for (k = 0; k<40; k++, shift = shift> 0.0 ? 2.0 * shift : 1e-3)
         if (pw__ic0_try(A, shift, L)) return PW_OK;
     pw_ic0_free(a, L);
     return pw_fail(e, PW_ERR_INVALID, "IC(0): the matrix is not positive definite");
@@ -6976,7 +6948,9 @@ PW__DEF int pw__pcg_run(const pw_alloc *a, const pw__pcg_op *op, const pw_cg_opt
         return PW_OK;
     }
     if (!(r = (double *)pw_alloc_array(a, (size_t)n * 4, sizeof(double), "PCG vectors", e))) return PW_ERR_NOMEM;
-    z = r + n, p = z + n, q = p + n;
+    z = r + n;
+    p = z + n;
+    q = p + n;
     op->mul(op->actx, x, r);
     for (i = 0; i < n; i++) r[i] = b[i] - r[i];
     op->precond(op->mctx, r, z);
@@ -6989,7 +6963,10 @@ PW__DEF int pw__pcg_run(const pw_alloc *a, const pw__pcg_op *op, const pw_cg_opt
             break;
         }
         alpha = rz / pq;
-        for (i = 0; i < n; i++) x[i] += alpha * p[i], r[i] -= alpha * q[i];
+        for (i = 0; i < n; i++) {
+            x[i] += alpha * p[i];
+            r[i] -= alpha * q[i];
+        }
         op->precond(op->mctx, r, z);
         rz1 = pw__dot(r, z, n);
         for (i = 0; i < n; i++) p[i] = z[i] + rz1 / rz * p[i];
@@ -7026,7 +7003,9 @@ PW__DEF int pw_pcg_solve(const pw_alloc *a, const pw_csr *A, const pw_ic0 *M, co
     op.precond = pw__ic0_op;
     op.actx = A;
     op.mctx = M;
-    op.b = b, op.x = x, op.what = "PCG";
+    op.b = b;
+    op.x = x;
+    op.what = "PCG";
     return pw__pcg_run(a, &op, o, s, e);
 }
 
@@ -7039,8 +7018,7 @@ typedef struct pw__cgls_ws {
 } pw__cgls_ws;
 
 /* r = b - A x, s = Aᵀ r; returns |s|. */
-PW__DEF double pw__cgls_residual(const pw_csr *A, const double *b, const double *x,
-                                 pw__cgls_ws *w)
+PW__DEF double pw__cgls_residual(const pw_csr *A, const double *b, const double *x, pw__cgls_ws *w)
 {
     pw__residual(A, b, x, w->r);
     pw_csr_mul_t(A, w->r, w->s);
@@ -7067,8 +7045,7 @@ PW__DEF double pw__cgls_step(const pw_csr *A, double *x, pw__cgls_ws *w, double 
 
 /* CGLS iterations, structured like pw__cg_loop with the normal-equation
  * residual s = Aᵀ(b - A x) in the role of CG's residual. */
-PW__DEF void pw__cgls_loop(const pw_csr *A, const double *b, double *x, pw__cgls_ws *w,
-                           pw__krylov *k, pw_err *e)
+PW__DEF void pw__cgls_loop(const pw_csr *A, const double *b, double *x, pw__cgls_ws *w, pw__krylov *k, pw_err *e)
 {
     int m = A->m, restart = 1, fresh = 1;
     double gamma = 0, ss;
@@ -7114,8 +7091,8 @@ PW__DEF void pw__col_norms2(const pw_csr *A, double *d)
  * minimum even when A x = b has no solution); stats->residual reports it.
  * Aᵀb = 0 gives x = 0. Unknowns that no row touches keep their guess. Errors
  * and the meaning of x after a failure are as for pw_cg_solve. */
-PW__DEF int pw_lsq_solve(const pw_alloc *a, const pw_csr *A, const double *b, double *x,
-                         const pw_cg_options *o, pw_cg_stats *s, pw_err *e)
+PW__DEF int pw_lsq_solve(const pw_alloc *a, const pw_csr *A, const double *b, double *x, const pw_cg_options *o,
+                         pw_cg_stats *s, pw_err *e)
 {
     pw__krylov k;
     pw__cgls_ws w;
@@ -7123,13 +7100,11 @@ PW__DEF int pw_lsq_solve(const pw_alloc *a, const pw_csr *A, const double *b, do
     if (s) memset(s, 0, sizeof *s);
     if (pw_csr_check(A, e)) return PW_ERR_INVALID;
     m = A->m;
-    if (pw__check_vec(b, A->n, "least-squares right-hand side b", e) ||
-        pw__check_vec(x, m, "least-squares guess x", e))
+    if (pw__check_vec(b, A->n, "least-squares right-hand side b", e) || pw__check_vec(x, m, "least-squares guess x", e))
         return PW_ERR_INVALID;
     PW_SOLVE_HOOK("lsq", A, b, x, o);
     pw__krylov_init(&k, m, o);
-    w.r = (double *)pw_alloc_array(a, (size_t)A->n * 2 + (size_t)m * 3, sizeof(double),
-                                   "least-squares vectors", e);
+    w.r = (double *)pw_alloc_array(a, (size_t)A->n * 2 + (size_t)m * 3, sizeof(double), "least-squares vectors", e);
     if (!w.r) return PW_ERR_NOMEM;
     w.q = w.r + A->n;
     w.s = w.q + A->n;
@@ -7172,17 +7147,22 @@ PW__DEF int pw_lsq_solve(const pw_alloc *a, const pw_csr *A, const double *b, do
  * columns, its rows increasing. */
 typedef struct pw_ldlt {
     int n;
-    int *perm;  /* n: new index k is the original unknown perm[k] */
-    int *Lp;    /* n+1: column j of L (strictly below the diagonal) is Li/Lx[Lp[j] .. Lp[j+1]-1] */
+    int *perm; /* n: new index k is the original unknown perm[k] */
+    int *Lp;   /* n+1: column j of L (strictly below the diagonal) is Li/Lx[Lp[j] .. Lp[j+1]-1] */
     int *Li;
     double *Lx;
-    double *D;  /* n: the diagonal */
+    double *D;    /* n: the diagonal */
     double *work; /* n: solve scratch */
 } pw_ldlt;
 
 PW__DEF void pw_ldlt_free(const pw_alloc *a, pw_ldlt *F)
 {
-    pw_free(a, F->perm), pw_free(a, F->Lp), pw_free(a, F->Li), pw_free(a, F->Lx), pw_free(a, F->D), pw_free(a, F->work);
+    pw_free(a, F->perm);
+    pw_free(a, F->Lp);
+    pw_free(a, F->Li);
+    pw_free(a, F->Lx);
+    pw_free(a, F->D);
+    pw_free(a, F->work);
     memset(F, 0, sizeof *F);
 }
 
@@ -7190,18 +7170,24 @@ PW__DEF void pw_ldlt_free(const pw_alloc *a, pw_ldlt *F)
 typedef struct pw__mdg {
     const pw_alloc *a;
     int n;
-    int **adj, *deg, *cap;  /* sorted neighbour lists */
+    int **adj, *deg, *cap;   /* sorted neighbour lists */
     int *head, *next, *prev; /* degree buckets: doubly linked lists */
     unsigned char *gone;
-    int *tmp;               /* merge scratch, n */
+    int *tmp; /* merge scratch, n */
 } pw__mdg;
 
 PW__DEF void pw__mdg_free(pw__mdg *G)
 {
     int i;
     for (i = 0; G->adj && i < G->n; i++) pw_free(G->a, G->adj[i]);
-    pw_free(G->a, G->adj), pw_free(G->a, G->deg), pw_free(G->a, G->cap), pw_free(G->a, G->head);
-    pw_free(G->a, G->next), pw_free(G->a, G->prev), pw_free(G->a, G->gone), pw_free(G->a, G->tmp);
+    pw_free(G->a, G->adj);
+    pw_free(G->a, G->deg);
+    pw_free(G->a, G->cap);
+    pw_free(G->a, G->head);
+    pw_free(G->a, G->next);
+    pw_free(G->a, G->prev);
+    pw_free(G->a, G->gone);
+    pw_free(G->a, G->tmp);
 }
 
 PW__DEF void pw__mdg_unlink(pw__mdg *G, int v)
@@ -7227,7 +7213,8 @@ PW__DEF int pw__mdg_init(pw__mdg *G, const pw_alloc *a, const pw_csr *A, pw_err 
 {
     int n = A->n, i, k;
     memset(G, 0, sizeof *G);
-    G->a = a, G->n = n;
+    G->a = a;
+    G->n = n;
     G->adj = (int **)pw_calloc_array(a, (size_t)n, sizeof(int *), "ordering graph", e);
     G->deg = (int *)pw_calloc_array(a, (size_t)n, sizeof(int), "ordering graph", e);
     G->cap = (int *)pw_calloc_array(a, (size_t)n, sizeof(int), "ordering graph", e);
@@ -7241,7 +7228,8 @@ PW__DEF int pw__mdg_init(pw__mdg *G, const pw_alloc *a, const pw_csr *A, pw_err 
         int d = 0;
         for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++) d += A->col[k] != i;
         G->cap[i] = d > 4 ? d : 4;
-        if (!(G->adj[i] = (int *)pw_alloc_array(a, (size_t)G->cap[i], sizeof(int), "ordering graph", e))) return PW_ERR_NOMEM;
+        if (!(G->adj[i] = (int *)pw_alloc_array(a, (size_t)G->cap[i], sizeof(int), "ordering graph", e)))
+            return PW_ERR_NOMEM;
         for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++)
             if (A->col[k] != i) G->adj[i][G->deg[i]++] = A->col[k];
     }
@@ -7258,13 +7246,17 @@ PW__DEF int pw__mdg_merge(pw__mdg *G, int u, const int *nb, int nn, pw_err *e)
         int x;
         if (j >= nn || (i < du && au[i] < nb[j])) x = au[i++];
         else if (i >= du || nb[j] < au[i]) x = nb[j++];
-        else x = au[i++], j++;
+        else {
+            x = au[i++];
+            j++;
+        }
         if (x != u && !G->gone[x]) G->tmp[m++] = x;
     }
     if (m > G->cap[u]) {
         int *grown = (int *)pw_realloc(G->a, au, sizeof(int) * (size_t)m);
         if (!grown) return pw_fail(e, PW_ERR_NOMEM, "out of memory ordering a sparse matrix");
-        G->adj[u] = grown, G->cap[u] = m;
+        G->adj[u] = grown;
+        G->cap[u] = m;
     }
     memcpy(G->adj[u], G->tmp, sizeof(int) * (size_t)m);
     G->deg[u] = m;
@@ -7277,7 +7269,8 @@ PW__DEF int pw__min_degree(const pw_alloc *a, const pw_csr *A, int *perm, pw_err
     pw__mdg G;
     int k, d, r = pw__mdg_init(&G, a, A, e);
     int *nb = NULL;
-    if (r == PW_OK && !(nb = (int *)pw_alloc_array(a, (size_t)A->n, sizeof(int), "ordering graph", e))) r = PW_ERR_NOMEM;
+    if (r == PW_OK && !(nb = (int *)pw_alloc_array(a, (size_t)A->n, sizeof(int), "ordering graph", e)))
+        r = PW_ERR_NOMEM;
     for (k = 0; k < A->n && r == PW_OK; k++) {
         int v, nn, i;
         d = 0;
@@ -7307,7 +7300,9 @@ PW__DEF void pw__ldlt_symbolic(const pw_csr *A, const int *perm, const int *iper
     int k, p;
     for (k = 0; k < A->n; k++) {
         int old = perm[k];
-        parent[k] = -1, flag[k] = k, count[k] = 0;
+        parent[k] = -1;
+        flag[k] = k;
+        count[k] = 0;
         for (p = A->rowptr[old]; p < A->rowptr[old + 1]; p++) {
             int i = iperm[A->col[p]];
             for (; i < k && flag[i] != k; i = parent[i]) {
@@ -7346,7 +7341,10 @@ PW__DEF int pw__ldlt_row(pw_ldlt *F, const pw_csr *A, const pw__ldlt_work *W, in
         int i = iperm[A->col[p]], n = 0;
         if (i > k) continue;
         y[i] += A->val[p];
-        for (; flag[i] != k; i = parent[i]) pattern[n++] = i, flag[i] = k;
+        for (; flag[i] != k; i = parent[i]) {
+            pattern[n++] = i;
+            flag[i] = k;
+        }
         while (n > 0) pattern[--top] = pattern[--n];
     }
     F->D[k] = akk = y[k];
@@ -7385,7 +7383,10 @@ PW__DEF int pw_ldlt_factor(const pw_alloc *a, const pw_csr *A, pw_ldlt *F, pw_er
     if (!F->perm || !F->Lp || !F->D || !F->work || !iperm || !y) r = PW_ERR_NOMEM;
     if (r == PW_OK) r = pw__min_degree(a, A, F->perm, e);
     if (r == PW_OK) {
-        parent = iperm + n, flag = parent + n, len = flag + n, pattern = len + n;
+        parent = iperm + n;
+        flag = parent + n;
+        len = flag + n;
+        pattern = len + n;
         for (k = 0; k < n; k++) iperm[F->perm[k]] = k;
         pw__ldlt_symbolic(A, F->perm, iperm, parent, len, flag);
         for (F->Lp[0] = 0, k = 0; k < n; k++) F->Lp[k + 1] = F->Lp[k] + len[k];
@@ -7393,13 +7394,20 @@ PW__DEF int pw_ldlt_factor(const pw_alloc *a, const pw_csr *A, pw_ldlt *F, pw_er
         F->Lx = (double *)pw_alloc_array(a, (size_t)F->Lp[n] + 1, sizeof(double), "LDLT factor", e);
         if (!F->Li || !F->Lx) r = PW_ERR_NOMEM;
         for (k = 0; k < n; k++) len[k] = 0;
-        W.iperm = iperm, W.parent = parent, W.len = len, W.flag = flag, W.pattern = pattern, W.y = y;
+        W.iperm = iperm;
+        W.parent = parent;
+        W.len = len;
+        W.flag = flag;
+        W.pattern = pattern;
+        W.y = y;
         for (k = 0; k < n && r == PW_OK; k++)
             if (!pw__ldlt_row(F, A, &W, k))
-                r = pw_fail(e, PW_ERR_DEGENERATE, "LDLT: the matrix is not positive definite (pivot %d of %d, unknown %d, is %g)",
-                            k, n, F->perm[k], F->D[k]);
+                r = pw_fail(e, PW_ERR_DEGENERATE,
+                            "LDLT: the matrix is not positive definite (pivot %d of %d, unknown %d, is %g)", k, n,
+                            F->perm[k], F->D[k]);
     }
-    pw_free(a, iperm), pw_free(a, y);
+    pw_free(a, iperm);
+    pw_free(a, y);
     if (r != PW_OK) pw_ldlt_free(a, F);
     return r;
 }
@@ -7469,24 +7477,24 @@ PW__DEF long pw_ldlt_nnz(const pw_ldlt *F) { return F->n ? (long)F->Lp[F->n] : 0
 
 /* The raster target: viewport size and the fixed-point precision it allows. */
 typedef struct pw_raster_grid {
-    int w, h;     /* pixels [0, w) x [0, h) */
+    int w, h;       /* pixels [0, w) x [0, h) */
     int row0, row1; /* rows rasterized: [row0, row1), default [0, h) (a band of the frame;
                        snapping depends on w and h only, so a band covers exactly the
                        pixels the whole frame would in its rows) */
-    int bits;     /* sub-pixel bits: vertices snap to multiples of 2^-bits */
-    double range; /* |coordinate| <= range is rasterized directly, beyond is clipped */
+    int bits;       /* sub-pixel bits: vertices snap to multiples of 2^-bits */
+    double range;   /* |coordinate| <= range is rasterized directly, beyond is clipped */
 } pw_raster_grid;
 
 /* One snapped triangle. Edge k is opposite vertex k; its value at a pixel
  * centre is (twice the area of the sub-triangle) * 2^(2 bits), positive
  * inside, and the barycentric of vertex k is (e_k - bias_k) / area2. */
 typedef struct pw_raster_edges {
-    int64_t e[3];    /* edge values at the centre of pixel (x0, y0), bias included */
-    int64_t ex[3];   /* change per pixel step to the right */
-    int64_t ey[3];   /* change per row down */
-    int64_t bias[3]; /* 0 on top-left edges, -1 elsewhere: covered iff all e >= 0 */
-    int64_t area2;   /* twice the snapped area in grid units, > 0 */
-    int orient;      /* +1 or -1: sign of the area as given (y down) */
+    int64_t e[3];       /* edge values at the centre of pixel (x0, y0), bias included */
+    int64_t ex[3];      /* change per pixel step to the right */
+    int64_t ey[3];      /* change per row down */
+    int64_t bias[3];    /* 0 on top-left edges, -1 elsewhere: covered iff all e >= 0 */
+    int64_t area2;      /* twice the snapped area in grid units, > 0 */
+    int orient;         /* +1 or -1: sign of the area as given (y down) */
     int x0, y0, x1, y1; /* candidate pixels [x0, x1) x [y0, y1), inside the viewport */
     /* row walker (pw_raster_next), an exact integer DDA over the edges that
      * bound runs: nl left ones first, then right ones (horizontal edges only
@@ -7710,7 +7718,7 @@ PW__DEF int pw_raster_span(const pw_raster_edges *s, int y, int *xa, int *xb)
     for (k = 0; k < 3; k++) {
         int64_t e = s->e[k] + s->ey[k] * (y - s->y0), a = s->ex[k], d;
         double t = a ? -(double)e / (double)a : 0.0; /* the bound, within 1e-6 */
-        if (a > 0) {                        /* first d with e + a d >= 0 */
+        if (a > 0) {                                 /* first d with e + a d >= 0 */
             if (e >= 0) continue;
             if (t > (double)n + 1.0) return 0;
             d = (int64_t)t + 1; /* floor(t) + 1: the answer, or one off either way */
@@ -7752,8 +7760,7 @@ PW__DEF void pw__raster_cut(const double *p, const double *q, int axis, double c
 
 /* Clips the polygon in[n] (xy pairs) to the half-plane side*coord[axis] <=
  * range; returns the new vertex count. */
-PW__DEF int pw__raster_clip1(const double *in, int n, int axis, double side, double range,
-                             double *out)
+PW__DEF int pw__raster_clip1(const double *in, int n, int axis, double side, double range, double *out)
 {
     int i, m = 0;
     for (i = 0; i < n; i++) {
@@ -7777,8 +7784,7 @@ PW__DEF int pw__raster_clip1(const double *in, int n, int axis, double side, dou
  * PW_RASTER_MAX_PIECES setups and returns their count. Fan pieces whose
  * snapped orientation disagrees with the polygon's are slivers made by
  * snapping near-collinear clip points (far outside the viewport): dropped. */
-PW__DEF int pw_raster_polygon(const pw_raster_grid *g, const double *xy, int n,
-                              pw_raster_edges *out)
+PW__DEF int pw_raster_polygon(const pw_raster_grid *g, const double *xy, int n, pw_raster_edges *out)
 {
     double a[16], b[16], tri[6], area = 0.0;
     int i, np = 0, inside = 1;
@@ -7802,8 +7808,7 @@ PW__DEF int pw_raster_polygon(const pw_raster_grid *g, const double *xy, int n,
         tri[0] = a[0];
         tri[1] = a[1];
         memcpy(tri + 2, a + 2 * i, sizeof(double) * 4);
-        if (pw_raster_setup(out + np, g, tri) && (n == 3 || (out[np].orient > 0) == (area > 0)))
-            np++;
+        if (pw_raster_setup(out + np, g, tri) && (n == 3 || (out[np].orient > 0) == (area > 0))) np++;
     }
     return np;
 }
@@ -7827,16 +7832,14 @@ PW__DEF int pw__raster_bary_planes(const double *v, double *p)
 
 /* Reports the pixels of one piece, with barycentrics either from its own
  * exact edge values (planes == NULL) or from the original triangle. */
-PW__DEF void pw__raster_emit(pw_raster_edges *s, const double *planes, pw_raster_fn fn,
-                             void *user)
+PW__DEF void pw__raster_emit(pw_raster_edges *s, const double *planes, pw_raster_fn fn, void *user)
 {
     double inv = 1.0 / (double)s->area2;
     int y, x, xa, xb, k;
     for (y = s->y0; y < s->y1; y++) {
         int64_t e[3];
         if (!pw_raster_next(s, &xa, &xb)) continue;
-        for (k = 0; k < 3; k++)
-            e[k] = s->e[k] - s->bias[k] + s->ey[k] * (y - s->y0) + s->ex[k] * (xa - s->x0);
+        for (k = 0; k < 3; k++) e[k] = s->e[k] - s->bias[k] + s->ey[k] * (y - s->y0) + s->ex[k] * (xa - s->x0);
         for (x = xa; x < xb; x++) {
             if (planes) {
                 double cx = x + 0.5, cy = y + 0.5;
@@ -7844,8 +7847,7 @@ PW__DEF void pw__raster_emit(pw_raster_edges *s, const double *planes, pw_raster
                    (float)(planes[3] * cx + planes[4] * cy + planes[5]),
                    (float)(planes[6] * cx + planes[7] * cy + planes[8]));
             } else {
-                fn(user, x, y, (float)((double)e[0] * inv), (float)((double)e[1] * inv),
-                   (float)((double)e[2] * inv));
+                fn(user, x, y, (float)((double)e[0] * inv), (float)((double)e[1] * inv), (float)((double)e[2] * inv));
             }
             for (k = 0; k < 3; k++) e[k] += s->ex[k];
         }
@@ -7998,10 +8000,10 @@ enum { PW_DEPTH_LESS = 0, PW_DEPTH_LEQUAL = 1, PW_DEPTH_ALWAYS = 2 };
 enum { PW_LIGHT_NONE = 0, PW_LIGHT_CAMERA = 1, PW_LIGHT_WORLD = 2 };
 enum { PW_CULL_NONE = 0, PW_CULL_BACK = 1, PW_CULL_FRONT = 2 };
 
-#define PW_FB_MAX_SS 8              /* samples per pixel side */
-#define PW_FB_NONE 0xFFFFFFFFu      /* visibility id of an untouched sample */
+#define PW_FB_MAX_SS 8         /* samples per pixel side */
+#define PW_FB_NONE 0xFFFFFFFFu /* visibility id of an untouched sample */
 #define PW_TEXTURE_MAX_LEVELS 32
-#define PW_DEPTH_TOLERANCE 1e-4f    /* default relative slack of PW_DEPTH_LEQUAL */
+#define PW_DEPTH_TOLERANCE 1e-4f /* default relative slack of PW_DEPTH_LEQUAL */
 
 /* ---------------------------------------------------------------- camera */
 
@@ -8022,10 +8024,7 @@ typedef struct pw__view {
 
 /* double to float without the undefined behaviour of converting a value
  * beyond the float range (absurd inputs): clamps to +-FLT_MAX. */
-PW__DEF float pw__f(double x)
-{
-    return x > FLT_MAX ? FLT_MAX : (x < -FLT_MAX ? -FLT_MAX : (float)x);
-}
+PW__DEF float pw__f(double x) { return x > FLT_MAX ? FLT_MAX : (x < -FLT_MAX ? -FLT_MAX : (float)x); }
 
 /* tan of an angle in degrees, 0 < deg < 180, from the sine and cosine
  * series: the same bits on every platform, unlike libm's tan. */
@@ -8065,11 +8064,10 @@ PW__DEF int pw__view_init(pw__view *v, const pw_camera *cam, int sw, int sh, pw_
 {
     double t;
     if (!(cam->fovy_deg > 0.0f && cam->fovy_deg < 180.0f))
-        return pw_fail(e, PW_ERR_INVALID, "camera: field of view %g degrees outside (0, 180)",
-                       (double)cam->fovy_deg);
+        return pw_fail(e, PW_ERR_INVALID, "camera: field of view %g degrees outside (0, 180)", (double)cam->fovy_deg);
     if (!(cam->znear > 0.0f && cam->zfar > cam->znear) || !pw_is_finite(cam->zfar))
-        return pw_fail(e, PW_ERR_INVALID, "camera: need 0 < znear < zfar (znear %g, zfar %g)",
-                       (double)cam->znear, (double)cam->zfar);
+        return pw_fail(e, PW_ERR_INVALID, "camera: need 0 < znear < zfar (znear %g, zfar %g)", (double)cam->znear,
+                       (double)cam->zfar);
     if (!pw__camera_basis(cam, v))
         return pw_fail(e, PW_ERR_INVALID,
                        "camera: eye, target and up must be finite, eye != target, up not along the view");
@@ -8216,8 +8214,8 @@ PW__DEF double pw__fit_distance(const float *pos, int nv, const pw__view_basis *
  * view shrunk by 5% (vertical fovy_deg, horizontal from aspect = width /
  * height); near and far enclose the mesh. Invalid fovy (outside (0, 180))
  * becomes 45, invalid aspect 1. */
-PW__DEF pw_camera pw_camera_frame(const float *pos, int nv, const float view_dir[3],
-                                  const float up[3], float fovy_deg, float aspect)
+PW__DEF pw_camera pw_camera_frame(const float *pos, int nv, const float view_dir[3], const float up[3], float fovy_deg,
+                                  float aspect)
 {
     pw_camera cam;
     pw__view_basis B;
@@ -8245,7 +8243,12 @@ PW__DEF pw_camera pw_camera_frame(const float *pos, int nv, const float view_dir
     pw__bounding_sphere(pos, pos ? nv : 0, c, &r);
     t = 0.95 * pw__tan_deg(0.5 * fovy_deg);
     tx = t * aspect;
-    for (k = 0; k < 3; k++) B.c[k] = c[k], B.rt[k] = x[k], B.up[k] = y[k], B.vd[k] = vd[k];
+    for (k = 0; k < 3; k++) {
+        B.c[k] = c[k];
+        B.rt[k] = x[k];
+        B.up[k] = y[k];
+        B.vd[k] = vd[k];
+    }
     B.ox = B.oy = 0.0;
     pw__view_extent(pos, pos ? nv : 0, &B, lo, hi);
     B.ox = 0.5 * (lo[0] + hi[0]);
@@ -8259,7 +8262,8 @@ PW__DEF pw_camera pw_camera_frame(const float *pos, int nv, const float view_dir
         B.ox += 0.5 * (range[0] + range[1]) * dist;
         B.oy += 0.5 * (range[2] + range[3]) * dist;
     }
-    ox = B.ox, oy = B.oy;
+    ox = B.ox;
+    oy = B.oy;
     for (k = 0; k < 3; k++) {
         cam.target[k] = pw__f(c[k] + ox * x[k] + oy * y[k]);
         cam.eye[k] = pw__f(cam.target[k] - vd[k] * dist);
@@ -8309,11 +8313,9 @@ PW__DEF void pw__mip_down(const pw_texture *t, int L, const float *src, float *d
 {
     int W = t->lw[L], H = t->lh[L], W2 = t->lw[L + 1], H2 = t->lh[L + 1];
     int y, x;
-    for (y = 0; y < H; y++)
-        pw__box_1d(src + (size_t)y * W * 4, W, 4, tmp + (size_t)y * W2 * 4, W2, 4);
+    for (y = 0; y < H; y++) pw__box_1d(src + (size_t)y * W * 4, W, 4, tmp + (size_t)y * W2 * 4, W2, 4);
     for (x = 0; x < W2; x++)
-        pw__box_1d(tmp + (size_t)x * 4, H, (ptrdiff_t)W2 * 4, dst + (size_t)x * 4, H2,
-                   (ptrdiff_t)W2 * 4);
+        pw__box_1d(tmp + (size_t)x * 4, H, (ptrdiff_t)W2 * 4, dst + (size_t)x * 4, H2, (ptrdiff_t)W2 * 4);
 }
 
 /* Converts any channel count to premultiplied float RGBA. */
@@ -8366,8 +8368,7 @@ PW__DEF void pw__tex_sizes(pw_texture *t, int max_levels)
  * area-weighted box filter of premultiplied colour, computed in float from
  * the level above, so transparent texels do not bleed their colour. Free
  * with pw_texture_free. */
-PW__DEF int pw_texture_create(const pw_alloc *a, pw_texture *t, const pw_image *img,
-                              int max_levels, pw_err *e)
+PW__DEF int pw_texture_create(const pw_alloc *a, pw_texture *t, const pw_image *img, int max_levels, pw_err *e)
 {
     size_t total = 0, off = 0, n0;
     uint16_t *data;
@@ -8430,11 +8431,11 @@ PW__DEF void pw_texture_clear_border(pw_texture *t, int min_size)
         int W = t->lw[L], H = t->lh[L];
         uint16_t *p = t->level[L];
         if (W <= min_size || H <= min_size) continue;
-        memset(p, 0, (size_t)W * 4 * sizeof(uint16_t));                   /* top row */
+        memset(p, 0, (size_t)W * 4 * sizeof(uint16_t));                           /* top row */
         memset(p + (size_t)(H - 1) * W * 4, 0, (size_t)W * 4 * sizeof(uint16_t)); /* bottom row */
         for (y = 1; y < H - 1; y++)
             for (x = 0; x < 4; x++) {
-                p[((size_t)y * W) * 4 + x] = 0;          /* left column */
+                p[((size_t)y * W) * 4 + x] = 0;         /* left column */
                 p[((size_t)y * W + W - 1) * 4 + x] = 0; /* right column */
             }
     }
@@ -8521,8 +8522,7 @@ PW__DEF void pw__tex_trilinear(const pw_texture *t, float u, float v, float lod,
  * and wrap mode; lod (log2 of the footprint in level-0 texels) selects and
  * blends mip levels for PW_FILTER_TRILINEAR and is ignored otherwise
  * (PW_FILTER_NEAREST and _BILINEAR read level 0). out = premultiplied RGBA. */
-PW__DEF void pw_texture_sample(const pw_texture *t, float u, float v, float lod, int filter,
-                               int wrap, float out[4])
+PW__DEF void pw_texture_sample(const pw_texture *t, float u, float v, float lod, int filter, int wrap, float out[4])
 {
     const float s = 1.0f / 65535.0f;
     float a[4];
@@ -8560,8 +8560,7 @@ PW__DEF float pw__log2f(float x)
     memcpy(&m, &bits, sizeof m); /* mantissa in [1, 2) */
     s = (m - 1.0f) / (m + 1.0f);
     s2 = s * s;
-    return (float)ex +
-           s * (2.8853900818f + s2 * (0.9617966939f + s2 * (0.5770780164f + s2 * 0.4121985831f)));
+    return (float)ex + s * (2.8853900818f + s2 * (0.9617966939f + s2 * (0.5770780164f + s2 * 0.4121985831f)));
 }
 
 /* PW_NO_RENDER leaves out the rest but the pw_parallel type the public
@@ -8573,24 +8572,24 @@ PW__DEF float pw__log2f(float x)
 /* ----------------------------------------------------------- framebuffer */
 
 typedef struct pw_fb {
-    int w, h, ss;  /* pixels; ss x ss samples per pixel */
-    int sw, sh;    /* sample grid: w*ss x h*ss, sample (x, y) centred at ((x+.5)/ss, (y+.5)/ss) pixels */
-    int y0, bh;    /* the sample rows held: [y0, y0 + bh), a band of the frame (all of it
+    int w, h, ss;   /* pixels; ss x ss samples per pixel */
+    int sw, sh;     /* sample grid: w*ss x h*ss, sample (x, y) centred at ((x+.5)/ss, (y+.5)/ss) pixels */
+    int y0, bh;     /* the sample rows held: [y0, y0 + bh), a band of the frame (all of it
                       unless made by pw_fb_create_band); draws cover only these */
-    int band_rows; /* pixel rows a band can hold */
-    float bg[4];   /* background, straight RGBA */
-    float *color;  /* sw*bh*4 premultiplied RGBA, sample (x, y) at ((y-y0)*sw + x)*4, row 0 at the top */
-    float *depth;  /* sw*bh, q = 1/(distance along the view axis); 0 = nothing drawn */
-    uint32_t *vis; /* sw*bh triangle ids of the opaque draw under way; PW_FB_NONE between draws */
-    double *vbuf;  /* draw scratch: transformed vertices */
-    float *nbuf;   /* draw scratch: computed normals */
-    float *pbuf;   /* draw scratch: triangle planes */
+    int band_rows;  /* pixel rows a band can hold */
+    float bg[4];    /* background, straight RGBA */
+    float *color;   /* sw*bh*4 premultiplied RGBA, sample (x, y) at ((y-y0)*sw + x)*4, row 0 at the top */
+    float *depth;   /* sw*bh, q = 1/(distance along the view axis); 0 = nothing drawn */
+    uint32_t *vis;  /* sw*bh triangle ids of the opaque draw under way; PW_FB_NONE between draws */
+    double *vbuf;   /* draw scratch: transformed vertices */
+    float *nbuf;    /* draw scratch: computed normals */
+    float *pbuf;    /* draw scratch: triangle planes */
     uint64_t *mbuf; /* draw scratch: sample masks of a pixel row (all zero between uses) */
-    float *qbuf;   /* draw scratch: depths of ss sample rows */
-    float *zmin;   /* coarse depth: per tile of PW__ZT x PW__ZT samples of the band, the smallest q */
-    int zvalid;    /* zmin matches depth; set 0 if you write depth yourself */
-    int vnv;       /* vertices of the last draw (0: none yet) */
-    int vall;      /* 1: all vnv of them are transformed in vbuf (not only the drawn corners) */
+    float *qbuf;    /* draw scratch: depths of ss sample rows */
+    float *zmin;    /* coarse depth: per tile of PW__ZT x PW__ZT samples of the band, the smallest q */
+    int zvalid;     /* zmin matches depth; set 0 if you write depth yourself */
+    int vnv;        /* vertices of the last draw (0: none yet) */
+    int vall;       /* 1: all vnv of them are transformed in vbuf (not only the drawn corners) */
     size_t vcap, ncap, pcap, mcap, qcap, zcap;
     const pw_alloc *alloc;
 } pw_fb;
@@ -8633,18 +8632,15 @@ PW__DEF void pw_fb_free(pw_fb *fb)
  * opaque black) that holds band_rows pixel rows at a time (0 or >= h: the
  * whole frame), the first band selected. The allocator a (may be NULL) must
  * outlive the framebuffer. */
-PW__DEF int pw_fb_create_band(const pw_alloc *a, pw_fb *fb, int w, int h, int ss, int band_rows,
-                              const float bg[4], pw_err *e)
+PW__DEF int pw_fb_create_band(const pw_alloc *a, pw_fb *fb, int w, int h, int ss, int band_rows, const float bg[4],
+                              pw_err *e)
 {
     size_t n;
     memset(fb, 0, sizeof *fb);
     if (w <= 0 || h <= 0 || ss < 1 || ss > PW_FB_MAX_SS || band_rows < 0)
-        return pw_fail(e, PW_ERR_INVALID, "framebuffer: invalid size %dx%d with %dx%d samples", w,
-                       h, ss, ss);
-    if (w > PW_MAX_IMAGE_DIM || h > PW_MAX_IMAGE_DIM ||
-        (int64_t)w * h * ss * ss > (int64_t)PW_MAX_IMAGE_PIXELS)
-        return pw_fail(e, PW_ERR_LIMIT, "framebuffer: %dx%d with %dx%d samples exceeds the limit", w,
-                       h, ss, ss);
+        return pw_fail(e, PW_ERR_INVALID, "framebuffer: invalid size %dx%d with %dx%d samples", w, h, ss, ss);
+    if (w > PW_MAX_IMAGE_DIM || h > PW_MAX_IMAGE_DIM || (int64_t)w * h * ss * ss > (int64_t)PW_MAX_IMAGE_PIXELS)
+        return pw_fail(e, PW_ERR_LIMIT, "framebuffer: %dx%d with %dx%d samples exceeds the limit", w, h, ss, ss);
     fb->w = w;
     fb->h = h;
     fb->ss = ss;
@@ -8669,8 +8665,7 @@ PW__DEF int pw_fb_create_band(const pw_alloc *a, pw_fb *fb, int w, int h, int ss
 }
 
 /* The same holding the whole frame. */
-PW__DEF int pw_fb_create(const pw_alloc *a, pw_fb *fb, int w, int h, int ss, const float bg[4],
-                         pw_err *e)
+PW__DEF int pw_fb_create(const pw_alloc *a, pw_fb *fb, int w, int h, int ss, const float bg[4], pw_err *e)
 {
     return pw_fb_create_band(a, fb, w, h, ss, 0, bg, e);
 }
@@ -8743,34 +8738,34 @@ PW__DEF int pw_fb_resolve(const pw_fb *fb, pw_image *out, int channels, pw_err *
 typedef struct pw_draw {
     const float *positions; /* nv*3 world-space vertex positions */
     int nv;
-    const int *tris;        /* ntris*3 vertex indices */
+    const int *tris; /* ntris*3 vertex indices */
     int ntris;
-    const float *uvs;       /* ntris*3*2 texture coordinates per triangle corner (v = 0 at the
+    const float *uvs;      /* ntris*3*2 texture coordinates per triangle corner (v = 0 at the
                                bottom of the texture); required with a texture, else ignored */
-    const float *normals;   /* nv*3 per-vertex normals; NULL: smooth area-weighted normals
+    const float *normals;  /* nv*3 per-vertex normals; NULL: smooth area-weighted normals
                                computed from the mesh. Used only when lit */
-    int flat;               /* 1: flat shading, one normal per face (normals ignored) */
-    const pw_texture *tex;  /* NULL: the constant colour alone */
-    float color[4];         /* straight RGBA multiplied with the texture; all zero: opaque white */
-    int filter;             /* PW_FILTER_TRILINEAR (default), _BILINEAR, _NEAREST (level 0) */
-    int wrap;               /* PW_WRAP_REPEAT (default), PW_WRAP_CLAMP */
-    int blend;              /* PW_BLEND_REPLACE (default: write the colour, alpha included),
+    int flat;              /* 1: flat shading, one normal per face (normals ignored) */
+    const pw_texture *tex; /* NULL: the constant colour alone */
+    float color[4];        /* straight RGBA multiplied with the texture; all zero: opaque white */
+    int filter;            /* PW_FILTER_TRILINEAR (default), _BILINEAR, _NEAREST (level 0) */
+    int wrap;              /* PW_WRAP_REPEAT (default), PW_WRAP_CLAMP */
+    int blend;             /* PW_BLEND_REPLACE (default: write the colour, alpha included),
                                PW_BLEND_OVER (rgba = src + (1 - src alpha) dst, premultiplied) */
-    int depth_test;         /* PW_DEPTH_LESS (default: passes where nearer than what is
+    int depth_test;        /* PW_DEPTH_LESS (default: passes where nearer than what is
                                stored), PW_DEPTH_LEQUAL (also where as near, within a
                                tolerance, so a second pass over the same surface passes),
                                PW_DEPTH_ALWAYS. Samples beyond zfar never pass */
-    float depth_tolerance;  /* relative slack of LEQUAL: passes if q > (1 - tol) q_stored
+    float depth_tolerance; /* relative slack of LEQUAL: passes if q > (1 - tol) q_stored
                                (q = 1/depth); 0: PW_DEPTH_TOLERANCE */
-    int no_depth_write;     /* 1: depth is tested but not written */
-    int no_color_write;     /* 1: depth only (a depth pre-pass) */
-    int cull;               /* PW_CULL_NONE (default: two-sided), PW_CULL_BACK, PW_CULL_FRONT */
-    int lighting;           /* PW_LIGHT_NONE (default: unlit), PW_LIGHT_CAMERA, PW_LIGHT_WORLD:
+    int no_depth_write;    /* 1: depth is tested but not written */
+    int no_color_write;    /* 1: depth only (a depth pre-pass) */
+    int cull;              /* PW_CULL_NONE (default: two-sided), PW_CULL_BACK, PW_CULL_FRONT */
+    int lighting;          /* PW_LIGHT_NONE (default: unlit), PW_LIGHT_CAMERA, PW_LIGHT_WORLD:
                                Lambert + ambient, the light direction in camera space (x right,
                                y up, z toward the viewer) or in world space. Two-sided: back
                                faces are lit with their normals reversed */
-    float light_dir[3];     /* direction toward the light; zero: (-0.3, 0.4, 1) in camera space */
-    float ambient;          /* brightness of unlit parts, in [0, 1]; 0: 0.25; negative: none */
+    float light_dir[3];    /* direction toward the light; zero: (-0.3, 0.4, 1) in camera space */
+    float ambient;         /* brightness of unlit parts, in [0, 1]; 0: 0.25; negative: none */
     /* Optional, replaces the texture: the straight RGBA of triangle `tri` at
      * the point of barycentric coordinates (1 - b1 - b2, b1, b2) (perspective-
      * correct, corners in the triangle's order), given db = (db1/dx, db1/dy,
@@ -8778,13 +8773,13 @@ typedef struct pw_draw {
      * a texture lookup would be; uvs are not needed. */
     void (*shader)(void *user, int tri, float b1, float b2, const float db[4], float rgba[4]);
     void *shader_user;
-    int same_vertices;      /* 1: positions, nv and camera are those of the previous draw into
+    int same_vertices; /* 1: positions, nv and camera are those of the previous draw into
                                this framebuffer; when that draw transformed all the vertices
                                (it drew at least nv/3 triangles) they are reused (the passes of
                                lapped textures after their base pass) */
 } pw_draw;
 
-#define PW__ZT 8 /* coarse depth tile, in samples */
+#define PW__ZT 8   /* coarse depth tile, in samples */
 #define PW__NPL 21 /* floats per triangle: planes q(3) U(3) V(3) N(9), origin(2), ready */
 #define PW__OX 18
 #define PW__OY 19
@@ -8813,29 +8808,25 @@ PW__DEF int pw__draw_check(const pw_draw *d, pw_err *e)
 {
     int i;
     if (d->nv < 0 || d->ntris < 0)
-        return pw_fail(e, PW_ERR_INVALID, "draw: negative counts (%d vertices, %d triangles)", d->nv,
-                       d->ntris);
+        return pw_fail(e, PW_ERR_INVALID, "draw: negative counts (%d vertices, %d triangles)", d->nv, d->ntris);
     if (d->nv > PW_MAX_MESH_ELEMENTS || d->ntris > PW_MAX_MESH_ELEMENTS)
-        return pw_fail(e, PW_ERR_LIMIT, "draw: %d vertices, %d triangles exceed the limit %d", d->nv,
-                       d->ntris, PW_MAX_MESH_ELEMENTS);
+        return pw_fail(e, PW_ERR_LIMIT, "draw: %d vertices, %d triangles exceed the limit %d", d->nv, d->ntris,
+                       PW_MAX_MESH_ELEMENTS);
     if ((d->nv > 0 && !d->positions) || (d->ntris > 0 && !d->tris))
         return pw_fail(e, PW_ERR_INVALID, "draw: missing positions or triangle indices");
     if (d->tex && (!d->uvs || d->tex->nlevels < 1 || !d->tex->level[0]))
         return pw_fail(e, PW_ERR_INVALID, "draw: a texture needs uvs and a built mip chain");
-    if ((unsigned)d->filter > 2u || (unsigned)d->wrap > 1u || (unsigned)d->blend > 1u ||
-        (unsigned)d->depth_test > 2u || (unsigned)d->cull > 2u || (unsigned)d->lighting > 2u)
+    if ((unsigned)d->filter > 2u || (unsigned)d->wrap > 1u || (unsigned)d->blend > 1u || (unsigned)d->depth_test > 2u ||
+        (unsigned)d->cull > 2u || (unsigned)d->lighting > 2u)
         return pw_fail(e, PW_ERR_INVALID, "draw: unknown filter, wrap, blend, depth, cull or lighting mode");
     for (i = 0; i < 3 * d->ntris; i++)
         if (d->tris[i] < 0 || d->tris[i] >= d->nv)
-            return pw_fail(e, PW_ERR_INVALID, "draw: triangle %d, corner %d: vertex index %d outside [0, %d)",
-                           i / 3, i % 3, d->tris[i], d->nv);
+            return pw_fail(e, PW_ERR_INVALID, "draw: triangle %d, corner %d: vertex index %d outside [0, %d)", i / 3,
+                           i % 3, d->tris[i], d->nv);
     return PW_OK;
 }
 
-PW__DEF int pw__finite3(const float *p)
-{
-    return pw_is_finite(p[0]) && pw_is_finite(p[1]) && pw_is_finite(p[2]);
-}
+PW__DEF int pw__finite3(const float *p) { return pw_is_finite(p[0]) && pw_is_finite(p[1]) && pw_is_finite(p[2]); }
 
 /* Homogeneous screen coordinates of every vertex; W = -DBL_MAX marks a
  * vertex with non-finite coordinates (its triangles are skipped). */
@@ -8929,8 +8920,7 @@ PW__DEF void pw__plane(double r[3][3], const double *a, double ox, double oy, fl
 PW__DEF int pw__tri_adjugate(const pw__ctx *c, int t, double r[3][3], double *det)
 {
     const int *ix = c->d->tris + 3 * (size_t)t;
-    const double *h0 = c->vh + 5 * (size_t)ix[0], *h1 = c->vh + 5 * (size_t)ix[1],
-                 *h2 = c->vh + 5 * (size_t)ix[2];
+    const double *h0 = c->vh + 5 * (size_t)ix[0], *h1 = c->vh + 5 * (size_t)ix[1], *h2 = c->vh + 5 * (size_t)ix[2];
     double scale;
     int i, j;
     pw_cross3(h1, h2, r[0]);
@@ -8978,7 +8968,7 @@ PW__DEF void pw__attr_planes(const pw__ctx *c, int t, float *pl)
     if (pl[PW__READY] != 0.0f) return;
     pl[PW__READY] = 1.0f;
     pw__tri_adjugate(c, t, r, &det); /* succeeded when the triangle was set up */
-    if (d->shader) { /* barycentric coordinates b1, b2 in the places of u, v */
+    if (d->shader) {                 /* barycentric coordinates b1, b2 in the places of u, v */
         for (k = 0; k < 2; k++) {
             for (i = 0; i < 3; i++) a[i] = i == k + 1 ? 1.0 : 0.0;
             pw__plane(r, a, ox, oy, pl + 3 + 3 * k);
@@ -8994,8 +8984,7 @@ PW__DEF void pw__attr_planes(const pw__ctx *c, int t, float *pl)
         sgn = det > 0.0 ? -1.0 : 1.0; /* two-sided: back faces turn their normals around */
         if (!c->normals) pw__face_normal(d, t, fn);
         for (k = 0; k < 3; k++) {
-            for (i = 0; i < 3; i++)
-                a[i] = sgn * (c->normals ? (double)c->normals[3 * d->tris[3 * t + i] + k] : fn[k]);
+            for (i = 0; i < 3; i++) a[i] = sgn * (c->normals ? (double)c->normals[3 * d->tris[3 * t + i] + k] : fn[k]);
             pw__plane(r, a, ox, oy, pl + 9 + 3 * k);
         }
     }
@@ -9124,7 +9113,11 @@ PW__DEF void pw__shade(const pw__ctx *c, int t, float x, float y, float *out)
     if (!(q > 1e-30f)) q = 1e-30f; /* only reachable through rounding at a near-plane edge */
     if (c->d->shader || c->tex) {
         pw__shade_pt P;
-        P.t = t, P.pl = pl, P.dx = dx, P.dy = dy, P.iq = 1.0f / q;
+        P.t = t;
+        P.pl = pl;
+        P.dx = dx;
+        P.dy = dy;
+        P.iq = 1.0f / q;
         if (c->d->shader) pw__shade_custom(c, &P, col);
         else pw__shade_tex(c, &P, col);
     }
@@ -9177,11 +9170,8 @@ PW__DEF void pw__shade_vis(pw__ctx *c)
                 if (ids[k] == PW_FB_NONE) continue;
                 for (m = 0; m < k && ids[m] != ids[k]; m++) {
                 }
-                if (m < k)
-                    memcpy(dst, fb->color + (base + off[m]) * 4, 4 * sizeof(float));
-                else
-                    pw__shade(c, (int)ids[k], (float)(px * ss + k % ss) + 0.5f,
-                              (float)(py * ss + k / ss) + 0.5f, dst);
+                if (m < k) memcpy(dst, fb->color + (base + off[m]) * 4, 4 * sizeof(float));
+                else pw__shade(c, (int)ids[k], (float)(px * ss + k % ss) + 0.5f, (float)(py * ss + k / ss) + 0.5f, dst);
             }
         }
     }
@@ -9300,8 +9290,10 @@ PW__DEF int pw__hidden(const pw__ctx *c, const double *const *h, const double *p
     int k, t0[2], t1[2], tx, ty;
     for (k = 0; k < 2; k++) {
         double o = k ? c->fb->y0 : 0.0; /* tile rows count from the band's first row */
-        lo[k] = (p[k] < p[k + 2] ? (p[k] < p[k + 4] ? p[k] : p[k + 4]) : (p[k + 2] < p[k + 4] ? p[k + 2] : p[k + 4])) - o;
-        hi[k] = (p[k] > p[k + 2] ? (p[k] > p[k + 4] ? p[k] : p[k + 4]) : (p[k + 2] > p[k + 4] ? p[k + 2] : p[k + 4])) - o;
+        lo[k] =
+            (p[k] < p[k + 2] ? (p[k] < p[k + 4] ? p[k] : p[k + 4]) : (p[k + 2] < p[k + 4] ? p[k + 2] : p[k + 4])) - o;
+        hi[k] =
+            (p[k] > p[k + 2] ? (p[k] > p[k + 4] ? p[k] : p[k + 4]) : (p[k + 2] > p[k + 4] ? p[k + 2] : p[k + 4])) - o;
         t0[k] = (int)pw_clampf((float)lo[k], 0.0f, (float)(c->fb->sw + c->fb->sh)) / PW__ZT;
         t1[k] = (int)pw_clampf((float)hi[k], 0.0f, (float)(c->fb->sw + c->fb->sh)) / PW__ZT;
     }
@@ -9347,10 +9339,8 @@ PW__DEF void pw__draw_tri(pw__ctx *c, int t)
     /* the usual case (in front, within the raster range) needs no clipping */
     np = inside ? pw_raster_setup(pieces, &c->grid, poly) : pw_raster_polygon(&c->grid, poly, n, pieces);
     for (k = 0; k < np; k++) {
-        if (c->blend == PW_BLEND_OVER && c->cwrite)
-            pw__raster_over(c, pieces + k, t, pl);
-        else
-            pw__raster_vis(c, pieces + k, (uint32_t)t, pl);
+        if (c->blend == PW_BLEND_OVER && c->cwrite) pw__raster_over(c, pieces + k, t, pl);
+        else pw__raster_vis(c, pieces + k, (uint32_t)t, pl);
     }
 }
 
@@ -9358,16 +9348,14 @@ PW__DEF void pw__draw_tri(pw__ctx *c, int t)
 PW__DEF int pw__draw_scratch(pw_fb *fb, const pw_draw *d, int need_normals, pw_err *e)
 {
     size_t oldm = fb->mcap;
-    if (pw_grow(fb->alloc, (void **)&fb->vbuf, &fb->vcap, (size_t)d->nv * 5, sizeof(double),
-                "render vertices", e) ||
+    if (pw_grow(fb->alloc, (void **)&fb->vbuf, &fb->vcap, (size_t)d->nv * 5, sizeof(double), "render vertices", e) ||
         pw_grow(fb->alloc, (void **)&fb->pbuf, &fb->pcap, (size_t)d->ntris * PW__NPL, sizeof(float),
                 "render triangle planes", e) ||
-        (need_normals && pw_grow(fb->alloc, (void **)&fb->nbuf, &fb->ncap, (size_t)d->nv * 3,
-                                 sizeof(float), "render normals", e)))
+        (need_normals &&
+         pw_grow(fb->alloc, (void **)&fb->nbuf, &fb->ncap, (size_t)d->nv * 3, sizeof(float), "render normals", e)))
         return e ? e->code : PW_ERR_NOMEM;
     if (d->blend == PW_BLEND_OVER &&
-        (pw_grow(fb->alloc, (void **)&fb->mbuf, &fb->mcap, (size_t)fb->w, sizeof(uint64_t),
-                 "render sample masks", e) ||
+        (pw_grow(fb->alloc, (void **)&fb->mbuf, &fb->mcap, (size_t)fb->w, sizeof(uint64_t), "render sample masks", e) ||
          pw_grow(fb->alloc, (void **)&fb->qbuf, &fb->qcap, (size_t)fb->sw * fb->ss, sizeof(float),
                  "render sample depths", e)))
         return e ? e->code : PW_ERR_NOMEM;
@@ -9583,21 +9571,21 @@ PW__DEF void pw_parallel_for(const pw_parallel *par, int n, pw_task_fn task, voi
 typedef int (*pw_frame_draw_fn)(void *user, pw_fb *fb, pw_err *e);
 
 typedef struct pw_frame {
-    int w, h, ss;            /* pixels, samples per pixel side */
-    float bg[4];             /* background, straight RGBA */
-    int channels;            /* of the picture: 3 or 4 (see pw_fb_resolve_band) */
+    int w, h, ss; /* pixels, samples per pixel side */
+    float bg[4];  /* background, straight RGBA */
+    int channels; /* of the picture: 3 or 4 (see pw_fb_resolve_band) */
     pw_frame_draw_fn draw;
     void *user;
-    const pw_parallel *par;  /* NULL: one thread */
+    const pw_parallel *par; /* NULL: one thread */
 } pw_frame;
 
 typedef struct pw__frame_run {
     const pw_alloc *a;
     const pw_frame *f;
     pw_image *out;
-    int rows;                /* pixel rows per band */
-    int *codes;              /* per band: its result */
-    pw_err *errs;            /* per band: its message */
+    int rows;     /* pixel rows per band */
+    int *codes;   /* per band: its result */
+    pw_err *errs; /* per band: its message */
 } pw__frame_run;
 
 PW__DEF void pw__frame_band(void *ctx, int band)
@@ -9655,8 +9643,8 @@ PW__DEF int pw_render_frame(const pw_alloc *a, const pw_frame *f, pw_image *out,
     if (f->channels != 3 && f->channels != 4)
         return pw_fail(e, PW_ERR_INVALID, "render: %d channels (need 3 or 4)", f->channels);
     if (f->w <= 0 || f->h <= 0 || f->ss < 1 || f->ss > PW_FB_MAX_SS)
-        return pw_fail(e, PW_ERR_INVALID, "framebuffer: invalid size %dx%d with %dx%d samples", f->w,
-                       f->h, f->ss, f->ss);
+        return pw_fail(e, PW_ERR_INVALID, "framebuffer: invalid size %dx%d with %dx%d samples", f->w, f->h, f->ss,
+                       f->ss);
     R.rows = (f->h + 4 * width - 1) / (4 * width);
     if (R.rows < 8) R.rows = 8;
     nb = (f->h + R.rows - 1) / R.rows;
@@ -9770,7 +9758,10 @@ PW__DEF long pw__hull_flood(pw__hgrid *g, int top, int in, int flag)
 {
     long count = 0;
     int off[4], k;
-    off[0] = -1, off[1] = 1, off[2] = -g->W, off[3] = g->W;
+    off[0] = -1;
+    off[1] = 1;
+    off[2] = -g->W;
+    off[3] = g->W;
     while (top > 0) {
         int c = g->q[--top];
         for (k = 0; k < 4; k++) {
@@ -9791,7 +9782,10 @@ PW__DEF long pw__hull_flood(pw__hgrid *g, int top, int in, int flag)
 PW__DEF void pw__hull_bfs(pw__hgrid *g, int s, int *dist, int *par, int *dq)
 {
     int N = g->W * g->H, cap = 2 * N + 2, head = 0, tail = 0, i, off[4], k;
-    off[0] = -1, off[1] = 1, off[2] = -g->W, off[3] = g->W;
+    off[0] = -1;
+    off[1] = 1;
+    off[2] = -g->W;
+    off[3] = g->W;
     for (i = 0; i < N; i++) dist[i] = INT_MAX;
     dist[s] = 0;
     dq[tail++] = s;
@@ -9885,7 +9879,7 @@ typedef struct pw__gnode {
 typedef struct pw__phull {
     const pw_alloc *a;
     pw_err *e;
-    int n0, n;            /* vertices traced, alive */
+    int n0, n; /* vertices traced, alive */
     size_t cap;
     double *x, *y;        /* positions */
     int *prev, *next;     /* ring; prev = -1 once removed */
@@ -9899,8 +9893,8 @@ typedef struct pw__phull {
     int *head;            /* gx*gy list heads */
     pw__gnode *node;
     size_t nnode, capnode;
-    double clr;           /* clearance between non-adjacent edges, lattice units */
-    double w, h;          /* the image: the hull stays inside [0,w] x [0,h] */
+    double clr;  /* clearance between non-adjacent edges, lattice units */
+    double w, h; /* the image: the hull stays inside [0,w] x [0,h] */
 } pw__phull;
 
 /* Is the cell whose lower-left lattice corner is (X, Y) in the set? */
@@ -9979,8 +9973,7 @@ PW__DEF double pw__hull_sseg2(const double *a, const double *b, const double *c,
     double o3 = pw__hull_orient(c[0], c[1], d[0], d[1], a[0], a[1]);
     double o4 = pw__hull_orient(c[0], c[1], d[0], d[1], b[0], b[1]);
     double r, t;
-    if (((o1 > 0 && o2 < 0) || (o1 < 0 && o2 > 0)) && ((o3 > 0 && o4 < 0) || (o3 < 0 && o4 > 0)))
-        return 0.0;
+    if (((o1 > 0 && o2 < 0) || (o1 < 0 && o2 > 0)) && ((o3 > 0 && o4 < 0) || (o3 < 0 && o4 > 0))) return 0.0;
     r = pw__hull_pseg2(a[0], a[1], c[0], c[1], d[0], d[1]);
     t = pw__hull_pseg2(b[0], b[1], c[0], c[1], d[0], d[1]);
     r = t < r ? t : r;
@@ -10058,12 +10051,16 @@ PW__DEF int pw__hull_candidate(const pw__phull *P, int v1, pw__hentry *best, dou
     v[2] = P->next[v1];
     v[3] = P->next[v[2]];
     if (P->n < 4) return 0;
-    cx[0] = P->x[v[1]], cy[0] = P->y[v[1]];
+    cx[0] = P->x[v[1]];
+    cy[0] = P->y[v[1]];
     ok[0] = pw__hull_outside(P, v[2], v[3], cx[0], cy[0]);
-    cx[1] = P->x[v[2]], cy[1] = P->y[v[2]];
+    cx[1] = P->x[v[2]];
+    cy[1] = P->y[v[2]];
     ok[1] = pw__hull_outside(P, v[0], v[1], cx[1], cy[1]);
-    d1x = P->x[v[1]] - P->x[v[0]], d1y = P->y[v[1]] - P->y[v[0]];
-    d2x = P->x[v[3]] - P->x[v[2]], d2y = P->y[v[3]] - P->y[v[2]];
+    d1x = P->x[v[1]] - P->x[v[0]];
+    d1y = P->y[v[1]] - P->y[v[0]];
+    d2x = P->x[v[3]] - P->x[v[2]];
+    d2y = P->y[v[3]] - P->y[v[2]];
     den = d1x * d2y - d1y * d2x;
     ok[2] = 0;
     if (den != 0.0) {
@@ -10176,7 +10173,10 @@ PW__DEF int pw__hull_register(pw__phull *P, int v)
 {
     double xs[2], ys[2];
     int r[4], i, j, b = P->next[v];
-    xs[0] = P->x[v], xs[1] = P->x[b], ys[0] = P->y[v], ys[1] = P->y[b];
+    xs[0] = P->x[v];
+    xs[1] = P->x[b];
+    ys[0] = P->y[v];
+    ys[1] = P->y[b];
     pw__hull_box(P, xs, ys, 2, r);
     for (j = r[2]; j <= r[3]; j++)
         for (i = r[0]; i <= r[1]; i++) {
@@ -10210,8 +10210,14 @@ PW__DEF int pw__hull_hits_edge(const pw__phull *P, const int *v, const double *p
     double A[2], B[2], V0[2], V3[2], c2 = P->clr * P->clr;
     int b = P->next[a];
     if (a == v[0] || a == v[1] || a == v[2]) return 0; /* replaced edges */
-    A[0] = P->x[a], A[1] = P->y[a], B[0] = P->x[b], B[1] = P->y[b];
-    V0[0] = P->x[v[0]], V0[1] = P->y[v[0]], V3[0] = P->x[v[3]], V3[1] = P->y[v[3]];
+    A[0] = P->x[a];
+    A[1] = P->y[a];
+    B[0] = P->x[b];
+    B[1] = P->y[b];
+    V0[0] = P->x[v[0]];
+    V0[1] = P->y[v[0]];
+    V3[0] = P->x[v[3]];
+    V3[1] = P->y[v[3]];
     if (b != v[0] && pw__hull_sseg2(V0, p, A, B) < c2) return 1;
     if (a != v[3] && pw__hull_sseg2(p, V3, A, B) < c2) return 1;
     return 0;
@@ -10224,12 +10230,19 @@ PW__DEF int pw__hull_blocked(pw__phull *P, int v1, const double *p)
 {
     int v[4], a, r[4], i, j;
     double P0[2], P3[2], Pm[2], P4[2], xs[3], ys[3];
-    v[1] = v1, v[0] = P->prev[v1], v[2] = P->next[v1], v[3] = P->next[v[2]];
-    P0[0] = P->x[v[0]], P0[1] = P->y[v[0]], P3[0] = P->x[v[3]], P3[1] = P->y[v[3]];
-    Pm[0] = P->x[P->prev[v[0]]], Pm[1] = P->y[P->prev[v[0]]];
-    P4[0] = P->x[P->next[v[3]]], P4[1] = P->y[P->next[v[3]]];
-    if (pw__hull_fold(P, P0, p, P3) || pw__hull_fold(P, Pm, P0, p) || pw__hull_fold(P, p, P3, P4))
-        return 1;
+    v[1] = v1;
+    v[0] = P->prev[v1];
+    v[2] = P->next[v1];
+    v[3] = P->next[v[2]];
+    P0[0] = P->x[v[0]];
+    P0[1] = P->y[v[0]];
+    P3[0] = P->x[v[3]];
+    P3[1] = P->y[v[3]];
+    Pm[0] = P->x[P->prev[v[0]]];
+    Pm[1] = P->y[P->prev[v[0]]];
+    P4[0] = P->x[P->next[v[3]]];
+    P4[1] = P->y[P->next[v[3]]];
+    if (pw__hull_fold(P, P0, p, P3) || pw__hull_fold(P, Pm, P0, p) || pw__hull_fold(P, p, P3, P4)) return 1;
     if (!P->use_grid) {
         a = v[3];
         do {
@@ -10238,7 +10251,12 @@ PW__DEF int pw__hull_blocked(pw__phull *P, int v1, const double *p)
         } while (a != v[3]);
         return 0;
     }
-    xs[0] = P0[0], xs[1] = p[0], xs[2] = P3[0], ys[0] = P0[1], ys[1] = p[1], ys[2] = P3[1];
+    xs[0] = P0[0];
+    xs[1] = p[0];
+    xs[2] = P3[0];
+    ys[0] = P0[1];
+    ys[1] = p[1];
+    ys[2] = P3[1];
     pw__hull_box(P, xs, ys, 3, r);
     P->qstamp++;
     for (j = r[2]; j <= r[3]; j++)
@@ -10268,8 +10286,7 @@ PW__DEF int pw__hull_collapse(pw__phull *P, int v1)
     P->estamp[v0]++;
     P->estamp[v1]++;
     if (P->n <= PW__HULL_GRID_MIN) P->use_grid = 0;
-    if (P->use_grid && ((r = pw__hull_register(P, v0)) != PW_OK || (r = pw__hull_register(P, v1)) != PW_OK))
-        return r;
+    if (P->use_grid && ((r = pw__hull_register(P, v0)) != PW_OK || (r = pw__hull_register(P, v1)) != PW_OK)) return r;
     if ((r = pw__hull_update(P, vm)) != PW_OK || (r = pw__hull_update(P, v0)) != PW_OK ||
         (r = pw__hull_update(P, v1)) != PW_OK || (r = pw__hull_update(P, v3)) != PW_OK)
         return r;
@@ -10289,7 +10306,7 @@ PW__DEF int pw__hull_pass(pw__phull *P, int maxv, int *progress)
         pw__hentry t = pw__hull_heap_pop(P);
         double p[2];
         if (P->prev[t.v] < 0 || P->cstamp[t.v] != t.stamp) continue; /* stale */
-        if (t.cost > 0.0 && P->n <= maxv) break; /* only free collapses below the target */
+        if (t.cost > 0.0 && P->n <= maxv) break;                     /* only free collapses below the target */
         p[0] = P->px[t.v];
         p[1] = P->py[t.v];
         if (pw__hull_blocked(P, t.v, p)) continue;
@@ -10398,14 +10415,17 @@ PW__DEF int pw__hull_pixels(pw__hgrid *g, const float *alpha, int stride, long *
 /* §3.3: the polygonal hull of the pixels of alpha (w x h, `stride` floats
  * apart, e.g. 4 for the alpha of RGBA) that are > 0, simplified to at most
  * max_vertices vertices (0: 32) when possible. Free with pw_polyhull_free. */
-PW__DEF int pw_polyhull_build(const pw_alloc *a, const float *alpha, int w, int h, int stride,
-                              int max_vertices, pw_polyhull *out, pw_err *e)
+PW__DEF int pw_polyhull_build(const pw_alloc *a, const float *alpha, int w, int h, int stride, int max_vertices,
+                              pw_polyhull *out, pw_err *e)
 {
     pw__hgrid g;
     pw__phull P;
     long total;
     int first, r = PW_OK, pass, progress = 1;
-    if (out) out->n = 0, out->uv = NULL;
+    if (out) {
+        out->n = 0;
+        out->uv = NULL;
+    }
     if (!out || !alpha || w < 1 || h < 1 || stride < 1)
         return pw_fail(e, PW_ERR_INVALID, "polygonal hull: NULL argument or empty image");
     if (w > PW_MAX_IMAGE_DIM || h > PW_MAX_IMAGE_DIM || (int64_t)w * h > PW_MAX_IMAGE_PIXELS)
@@ -10420,7 +10440,10 @@ PW__DEF int pw_polyhull_build(const pw_alloc *a, const float *alpha, int w, int 
     P.clr = 1e-3; /* a thousandth of a pixel */
     P.w = w;
     P.h = h;
-    g.w = w, g.h = h, g.W = w + 4, g.H = h + 4;
+    g.w = w;
+    g.h = h;
+    g.W = w + 4;
+    g.H = h + 4;
     g.m = (unsigned char *)pw_alloc_array(a, (size_t)g.W * g.H, 1, "hull mask", e);
     g.q = g.m ? (int *)pw_alloc_array(a, (size_t)g.W * g.H, sizeof(int), "hull mask", e) : NULL;
     if (!g.q) r = PW_ERR_NOMEM;
@@ -10462,8 +10485,7 @@ PW__DEF int pw_polyhull_contains(const pw_polyhull *h, float u, float v)
         if ((yi > v) != (yj > v) && u < xj + (v - yj) * (xi - xj) / (yi - yj)) in = !in;
     }
     for (i = 0, j = h->n - 1; !in && i < h->n; j = i++) /* within PW_POLYHULL_EPS of the boundary */
-        if (pw__hull_pseg2(u, v, h->uv[2 * j], h->uv[2 * j + 1], h->uv[2 * i], h->uv[2 * i + 1]) <= eps2)
-            in = 1;
+        if (pw__hull_pseg2(u, v, h->uv[2 * j], h->uv[2 * j + 1], h->uv[2 * i], h->uv[2 * i + 1]) <= eps2) in = 1;
     return in;
 }
 
@@ -10476,9 +10498,15 @@ PW__DEF int pw_polyhull_segment_hits(const pw_polyhull *h, float u0, float v0, f
     int i, j;
     if (!h || !h->uv || h->n < 3) return 0;
     if (pw_polyhull_contains(h, u0, v0) || pw_polyhull_contains(h, u1, v1)) return 1;
-    s0[0] = u0, s0[1] = v0, s1[0] = u1, s1[1] = v1;
+    s0[0] = u0;
+    s0[1] = v0;
+    s1[0] = u1;
+    s1[1] = v1;
     for (i = 0, j = h->n - 1; i < h->n; j = i++) {
-        a[0] = h->uv[2 * j], a[1] = h->uv[2 * j + 1], b[0] = h->uv[2 * i], b[1] = h->uv[2 * i + 1];
+        a[0] = h->uv[2 * j];
+        a[1] = h->uv[2 * j + 1];
+        b[0] = h->uv[2 * i];
+        b[1] = h->uv[2 * i + 1];
         if (pw__hull_sseg2(s0, s1, a, b) <= eps2) return 1;
     }
     return 0;
@@ -10492,8 +10520,7 @@ PW__DEF int pw_polyhull_triangle_hits(const pw_polyhull *h, const float uv[6])
     int k;
     if (!h || !h->uv || h->n < 3 || !uv) return 0;
     for (k = 0; k < 3; k++)
-        if (pw_polyhull_segment_hits(h, uv[2 * k], uv[2 * k + 1], uv[(2 * k + 2) % 6], uv[(2 * k + 3) % 6]))
-            return 1;
+        if (pw_polyhull_segment_hits(h, uv[2 * k], uv[2 * k + 1], uv[(2 * k + 2) % 6], uv[(2 * k + 3) % 6])) return 1;
     x = h->uv[0];
     y = h->uv[1];
     for (k = 0; k < 3; k++)
@@ -10514,14 +10541,14 @@ PW__DEF int pw_polyhull_triangle_hits(const pw_polyhull *h, const float uv[6])
 
 
 typedef struct pw_trimesh {
-    int nv, nf;          /* vertices, triangles */
-    const float *pos;    /* nv*3, borrowed */
-    int *tri;            /* nf*3 */
+    int nv, nf;       /* vertices, triangles */
+    const float *pos; /* nv*3, borrowed */
+    int *tri;         /* nf*3 */
     pw_hmesh hm;
-    float *normal;       /* nf*3 */
-    float *area;         /* nf */
+    float *normal; /* nf*3 */
+    float *area;   /* nf */
     double total_area;
-    float diag;          /* bounding-box diagonal */
+    float diag; /* bounding-box diagonal */
 } pw_trimesh;
 
 PW__DEF void pw_trimesh_free(const pw_alloc *a, pw_trimesh *m)
@@ -10536,10 +10563,7 @@ PW__DEF void pw_trimesh_free(const pw_alloc *a, pw_trimesh *m)
 PW__DEF pw_v3 pw_trimesh_vert(const pw_trimesh *m, int v) { return pw_v3_load(m->pos + 3 * v); }
 
 /* Corner k of triangle f. */
-PW__DEF pw_v3 pw_trimesh_corner(const pw_trimesh *m, int f, int k)
-{
-    return pw_trimesh_vert(m, m->tri[3 * f + k]);
-}
+PW__DEF pw_v3 pw_trimesh_corner(const pw_trimesh *m, int f, int k) { return pw_trimesh_vert(m, m->tri[3 * f + k]); }
 
 /* The triangle across edge k of triangle f (-1 on a boundary). */
 PW__DEF int pw_trimesh_across(const pw_trimesh *m, int f, int k)
@@ -10589,18 +10613,17 @@ PW__DEF int pw__trimesh_geometry(pw_trimesh *m, int keep_degenerate, pw_err *e)
     for (f = 0; f < m->nf; f++) {
         pw_v3 a = pw_trimesh_corner(m, f, 0), b = pw_trimesh_corner(m, f, 1), c = pw_trimesh_corner(m, f, 2);
         pw_v3 n = pw_v3_cross(pw_v3_sub(b, a), pw_v3_sub(c, a));
-        float len = pw_v3_len(n), ref = pw_v3_dot(pw_v3_sub(b, a), pw_v3_sub(b, a)) +
-                                        pw_v3_dot(pw_v3_sub(c, a), pw_v3_sub(c, a));
+        float len = pw_v3_len(n),
+              ref = pw_v3_dot(pw_v3_sub(b, a), pw_v3_sub(b, a)) + pw_v3_dot(pw_v3_sub(c, a), pw_v3_sub(c, a));
         int zero = !(len > 1e-12f * ref) || !(len > 0.0f);
         if (zero && !(keep_degenerate && pw_is_finite(len) && pw_is_finite(ref)))
-            return pw_fail(e, PW_ERR_DEGENERATE, "triangle %d (vertices %d, %d, %d) has zero area", f,
-                           m->tri[3 * f], m->tri[3 * f + 1], m->tri[3 * f + 2]);
+            return pw_fail(e, PW_ERR_DEGENERATE, "triangle %d (vertices %d, %d, %d) has zero area", f, m->tri[3 * f],
+                           m->tri[3 * f + 1], m->tri[3 * f + 2]);
         pw_v3_store(m->normal + 3 * f, zero ? pw_v3_make(0, 0, 0) : pw_v3_scale(n, 1.0f / len));
         m->area[f] = zero ? 0.0f : 0.5f * len;
         m->total_area += m->area[f];
     }
-    if (!(m->total_area > 0.0))
-        return pw_fail(e, PW_ERR_DEGENERATE, "every triangle of the mesh has zero area");
+    if (!(m->total_area > 0.0)) return pw_fail(e, PW_ERR_DEGENERATE, "every triangle of the mesh has zero area");
     lo = hi = pw_trimesh_vert(m, m->tri[0]);
     for (v = 0; v < 3 * m->nf; v++) {
         lo = pw_v3_min(lo, pw_trimesh_vert(m, m->tri[v]));
@@ -10644,8 +10667,10 @@ PW__DEF int pw_trimesh_repair_normals(const pw_alloc *a, pw_trimesh *m, pw_err *
     while (pass < 250 && pw__trimesh_repair_pass(m, done, pass) > 0) pass++;
     for (f = 0; f < m->nf && r == PW_OK; f++)
         if (!(pw_v3_len(pw_v3_load(m->normal + 3 * f)) > 0.5f))
-            r = pw_fail(e, PW_ERR_DEGENERATE, "triangle %d (vertices %d, %d, %d) has zero area and no "
-                        "neighbour with a normal", f, m->tri[3 * f], m->tri[3 * f + 1], m->tri[3 * f + 2]);
+            r = pw_fail(e, PW_ERR_DEGENERATE,
+                        "triangle %d (vertices %d, %d, %d) has zero area and no "
+                        "neighbour with a normal",
+                        f, m->tri[3 * f], m->tri[3 * f + 1], m->tri[3 * f + 2]);
     pw_free(a, done);
     return r;
 }
@@ -10655,8 +10680,7 @@ PW__DEF int pw_trimesh_repair_normals(const pw_alloc *a, pw_trimesh *m, pw_err *
  * inconsistently oriented meshes and zero-area triangles are errors that
  * name the element; with keep_degenerate, zero-area triangles are kept
  * (area 0) and every degenerate triangle takes its neighbours' normal. */
-PW__DEF int pw_trimesh_init_ex(const pw_alloc *a, const pw_mesh *in, int keep_degenerate, pw_trimesh *m,
-                               pw_err *e)
+PW__DEF int pw_trimesh_init_ex(const pw_alloc *a, const pw_mesh *in, int keep_degenerate, pw_trimesh *m, pw_err *e)
 {
     int f, k, t = 0, r, *fs;
     memset(m, 0, sizeof *m);
@@ -10937,18 +10961,18 @@ PW__DEF int pw__atlas_tris_overlap(const double *a, const double *b, double tol)
 
 typedef struct pw__atlas_hash {
     double cell;
-    unsigned mask;       /* buckets - 1 */
-    int *head;           /* per bucket: first entry, -1 */
-    int *next, *item;    /* per entry */
+    unsigned mask;    /* buckets - 1 */
+    int *head;        /* per bucket: first entry, -1 */
+    int *next, *item; /* per entry */
     int n;
     size_t ncap, icap;
-    int *used, nused;    /* buckets to clear */
+    int *used, nused; /* buckets to clear */
     size_t ucap;
-    int *all, nall;      /* every triangle inserted */
+    int *all, nall; /* every triangle inserted */
     size_t acap;
-    int *big, nbig;      /* triangles too large for the cells */
+    int *big, nbig; /* triangles too large for the cells */
     size_t bcap;
-    int *stamp, nstamp;  /* per mesh triangle: the last query that met it */
+    int *stamp, nstamp; /* per mesh triangle: the last query that met it */
     int query;
 } pw__atlas_hash;
 
@@ -11021,8 +11045,7 @@ PW__DEF int pw__atlas_hash_insert(const pw_alloc *a, pw__atlas_hash *H, int f, c
 {
     int c[4], x, y;
     pw__atlas_hash_cells(H, t, c);
-    if (pw_grow(a, (void **)&H->all, &H->acap, (size_t)H->nall + 1, sizeof(int), "chart hash", e))
-        return PW_ERR_NOMEM;
+    if (pw_grow(a, (void **)&H->all, &H->acap, (size_t)H->nall + 1, sizeof(int), "chart hash", e)) return PW_ERR_NOMEM;
     H->all[H->nall++] = f;
     if (pw__atlas_ncells(c) > PW__ATLAS_BIG_CELLS) {
         if (pw_grow(a, (void **)&H->big, &H->bcap, (size_t)H->nbig + 1, sizeof(int), "chart hash", e))
@@ -11046,8 +11069,8 @@ PW__DEF int pw__atlas_hash_insert(const pw_alloc *a, pw__atlas_hash *H, int f, c
 }
 
 /* Does inserted triangle f (not met yet by this query) overlap t? */
-PW__DEF int pw__atlas_hash_test(pw__atlas_hash *H, int f, const double *t, double tol,
-                             pw__atlas_coords_fn coords, const void *ctx)
+PW__DEF int pw__atlas_hash_test(pw__atlas_hash *H, int f, const double *t, double tol, pw__atlas_coords_fn coords,
+                                const void *ctx)
 {
     double u[6];
     if (H->stamp[f] == H->query) return 0;
@@ -11058,7 +11081,7 @@ PW__DEF int pw__atlas_hash_test(pw__atlas_hash *H, int f, const double *t, doubl
 
 /* Does t overlap any inserted triangle? */
 PW__DEF int pw__atlas_hash_hits(pw__atlas_hash *H, const double *t, double tol, pw__atlas_coords_fn coords,
-                             const void *ctx)
+                                const void *ctx)
 {
     int c[4], x, y, k;
     if (++H->query == INT_MAX) {
@@ -11084,11 +11107,11 @@ PW__DEF int pw__atlas_hash_hits(pw__atlas_hash *H, const double *t, double tol, 
 
 /* The charts: a partition of the triangles, each chart flattened. */
 typedef struct pw_atlas_charts {
-    int n;         /* charts */
-    int *chart;    /* nf: chart of each triangle */
-    int *start;    /* n+1: chart c holds faces[start[c] .. start[c+1]-1] */
-    int *faces;    /* nf: each chart's triangles in growth order */
-    double *uv;    /* nf*6: flattened corners; each chart's 2D area equals its 3D area */
+    int n;      /* charts */
+    int *chart; /* nf: chart of each triangle */
+    int *start; /* n+1: chart c holds faces[start[c] .. start[c+1]-1] */
+    int *faces; /* nf: each chart's triangles in growth order */
+    double *uv; /* nf*6: flattened corners; each chart's 2D area equals its 3D area */
     size_t scap;
 } pw_atlas_charts;
 
@@ -11109,19 +11132,19 @@ typedef struct pw__atlas_grower {
     const pw_trimesh *m;
     const pw_alloc *a;
     pw_err *e;
-    double cos_cone;     /* §4: normals within the cone around the seed's */
-    double tol;          /* overlap tolerance, mesh units */
-    int *chart;          /* per triangle: chart, -1 while unassigned */
-    int *cone;           /* per triangle: the last chart whose cone refused it */
-    int *mark;           /* per triangle: the deferral round it was deferred in */
-    int *local;          /* per vertex: index in the chart being grown, -1 */
+    double cos_cone; /* §4: normals within the cone around the seed's */
+    double tol;      /* overlap tolerance, mesh units */
+    int *chart;      /* per triangle: chart, -1 while unassigned */
+    int *cone;       /* per triangle: the last chart whose cone refused it */
+    int *mark;       /* per triangle: the deferral round it was deferred in */
+    int *local;      /* per vertex: index in the chart being grown, -1 */
     int cur, seed, round, last_opt, relaxed_nv;
-    double centre[3];    /* centroid of the seed */
+    double centre[3]; /* centroid of the seed */
     int *faces, *nv_after, nfc;
     size_t fcap, acap;
     int *verts, nlv;
     size_t vcap;
-    double *uv;          /* nlv*2 flattened vertices */
+    double *uv; /* nlv*2 flattened vertices */
     size_t uvcap;
     int *deferred, nd;
     size_t dcap;
@@ -11171,7 +11194,10 @@ PW__DEF void pw__atlas_line(double p[3][3], double *x, double *y)
     int k, j;
     for (k = 0; k < 3; k++) {
         double l2 = 0.0, e[3];
-        for (j = 0; j < 3; j++) e[j] = p[(k + 1) % 3][j] - p[k][j], l2 += e[j] * e[j];
+        for (j = 0; j < 3; j++) {
+            e[j] = p[(k + 1) % 3][j] - p[k][j];
+            l2 += e[j] * e[j];
+        }
         if (l2 > best)
             for (best = l2, j = 0; j < 3; j++) d[j] = e[j];
     }
@@ -11300,8 +11326,7 @@ PW__DEF int pw__atlas_grow_start(pw__atlas_grower *G, int f)
     G->round++;
     pw__atlas_centroid(G->m, f, G->centre);
     if (pw_grow(G->a, (void **)&G->faces, &G->fcap, 1, sizeof(int), "chart", G->e) ||
-        pw_grow(G->a, (void **)&G->nv_after, &G->acap, 1, sizeof(int), "chart", G->e) ||
-        pw__atlas_seed_layout(G))
+        pw_grow(G->a, (void **)&G->nv_after, &G->acap, 1, sizeof(int), "chart", G->e) || pw__atlas_seed_layout(G))
         return PW_ERR_NOMEM;
     G->faces[0] = f;
     G->nv_after[0] = 3;
@@ -11391,7 +11416,10 @@ PW__DEF int pw__atlas_grow_try(pw__atlas_grower *G, int f)
     }
     for (k = 0; k < 3; k++) {
         int g = pw_trimesh_across(m, f, k);
-        if (g >= 0 && G->chart[g] == G->cur) shared++, sk = k;
+        if (g >= 0 && G->chart[g] == G->cur) {
+            shared++;
+            sk = k;
+        }
     }
     /* Disc: across one edge the third vertex must be new (else the chart
      * would pinch or close a loop); across two edges f fills a notch;
@@ -11431,9 +11459,15 @@ PW__DEF void pw__atlas_pins(const pw__atlas_grower *G, int *p0, int *p1)
     int i, a = 0, b = 0;
     double best = -1.0;
     for (i = 0; i < G->nlv; i++)
-        if (pw__atlas_dist3(G, 0, i) > best) best = pw__atlas_dist3(G, 0, i), a = i;
+        if (pw__atlas_dist3(G, 0, i) > best) {
+            best = pw__atlas_dist3(G, 0, i);
+            a = i;
+        }
     for (i = 0, best = -1.0; i < G->nlv; i++)
-        if (pw__atlas_dist3(G, a, i) > best) best = pw__atlas_dist3(G, a, i), b = i;
+        if (pw__atlas_dist3(G, a, i) > best) {
+            best = pw__atlas_dist3(G, a, i);
+            b = i;
+        }
     *p0 = a;
     *p1 = b != a ? b : (a + 1) % G->nlv;
 }
@@ -11467,8 +11501,8 @@ PW__DEF void pw__atlas_rescale(pw__atlas_grower *G)
  * the map U = u + i v is conformal on f when sum_j W_j U_j = 0; each row
  * is weighted by 1/sqrt(area), so the residual is the conformal energy.
  * Pinned vertices (col < 0) move to the right-hand side. */
-PW__DEF int pw__atlas_lscm_rows(const pw__atlas_grower *G, int f, int r, const int *col, pw_triplets *T,
-                                   double *b, pw_err *e)
+PW__DEF int pw__atlas_lscm_rows(const pw__atlas_grower *G, int f, int r, const int *col, pw_triplets *T, double *b,
+                                pw_err *e)
 {
     int j;
     double x[3], y[3], w = 1.0 / sqrt((double)G->m->area[f]);
@@ -11495,8 +11529,7 @@ PW__DEF int pw__atlas_lscm_rows(const pw__atlas_grower *G, int f, int r, const i
  * solution, we use a conjugate-gradient iterative solver"), for at most
  * max_iter iterations: stopping there keeps the last iterate, and the
  * check that follows decides. */
-PW__DEF int pw__atlas_lscm_solve(pw__atlas_grower *G, const pw_csr *A, const double *b, const int *col,
-                                    int max_iter)
+PW__DEF int pw__atlas_lscm_solve(pw__atlas_grower *G, const pw_csr *A, const double *b, const int *col, int max_iter)
 {
     double *x = (double *)pw_alloc_array(G->a, (size_t)A->m, sizeof(double), "conformal map", G->e);
     pw_cg_options o = pw_cg_default_options();
@@ -11582,9 +11615,7 @@ PW__DEF int pw__atlas_first_bad(pw__atlas_grower *G, int *bad)
         double t[6];
         int f = G->faces[i];
         pw__atlas_grower_coords(G, f, t);
-        if (!pw__atlas_flat_ok(G, f, t) ||
-            pw__atlas_hash_hits(&G->hash, t, G->tol, pw__atlas_grower_coords, G))
-            break;
+        if (!pw__atlas_flat_ok(G, f, t) || pw__atlas_hash_hits(&G->hash, t, G->tol, pw__atlas_grower_coords, G)) break;
         if (pw__atlas_hash_insert(G->a, &G->hash, f, t, G->e)) return PW_ERR_NOMEM;
     }
     *bad = i;
@@ -11626,8 +11657,7 @@ PW__DEF int pw__atlas_check(pw__atlas_grower *G, int *cut)
 PW__DEF int pw__atlas_relax(pw__atlas_grower *G, int *cut)
 {
     int r;
-    if ((r = pw__atlas_lscm(G, G->relaxed_nv, PW__ATLAS_RING_ITER)) || (r = pw__atlas_check(G, cut)))
-        return r;
+    if ((r = pw__atlas_lscm(G, G->relaxed_nv, PW__ATLAS_RING_ITER)) || (r = pw__atlas_check(G, cut))) return r;
     G->relaxed_nv = G->nlv;
     G->last_opt = G->nfc;
     return PW_OK;
@@ -11642,8 +11672,7 @@ PW__DEF int pw__atlas_flatten(pw__atlas_grower *G)
     int r, cut = 0;
     if (G->nfc < 2) return PW_OK; /* one triangle keeps its exact shape */
     if ((r = pw__atlas_lscm(G, 0, PW__ATLAS_FULL_ITER)) || (r = pw__atlas_check(G, &cut))) return r;
-    if (cut && G->nfc >= 2 &&
-        ((r = pw__atlas_lscm(G, 0, PW__ATLAS_FULL_ITER)) || (r = pw__atlas_check(G, &cut))))
+    if (cut && G->nfc >= 2 && ((r = pw__atlas_lscm(G, 0, PW__ATLAS_FULL_ITER)) || (r = pw__atlas_check(G, &cut))))
         return r;
     return PW_OK;
 }
@@ -11693,8 +11722,7 @@ PW__DEF int pw__atlas_chart_finish(pw__atlas_grower *G, pw_atlas_charts *C, int 
 {
     double a3 = 0.0, a2 = 0.0, s, t[6];
     int i, k;
-    if (pw_grow(G->a, (void **)&C->start, &C->scap, (size_t)C->n + 2, sizeof(int), "charts", G->e))
-        return PW_ERR_NOMEM;
+    if (pw_grow(G->a, (void **)&C->start, &C->scap, (size_t)C->n + 2, sizeof(int), "charts", G->e)) return PW_ERR_NOMEM;
     for (i = 0; i < G->nfc; i++) {
         pw__atlas_grower_coords(G, G->faces[i], t);
         a2 += 0.5 * pw__atlas_area2(t);
@@ -11744,7 +11772,7 @@ PW__DEF double pw__atlas_mean_edge(const pw_trimesh *m)
 }
 
 PW__DEF int pw__atlas_grower_init(pw__atlas_grower *G, const pw_alloc *a, const pw_trimesh *m, double cone_deg,
-                               int *chart, pw_err *e)
+                                  int *chart, pw_err *e)
 {
     double cell = pw__atlas_mean_edge(m);
     int i;
@@ -11770,8 +11798,8 @@ PW__DEF int pw__atlas_grower_init(pw__atlas_grower *G, const pw_alloc *a, const 
 /* §4: the charts. Each is seeded at the lowest-index unassigned triangle
  * and grown until nothing more can join; every triangle ends in exactly
  * one chart (a seed always forms a chart by itself). */
-PW__DEF int pw_atlas_charts_build(const pw_alloc *a, const pw_trimesh *m, double cone_deg,
-                                const pw_progress *prog, pw_atlas_charts *C, pw_err *e)
+PW__DEF int pw_atlas_charts_build(const pw_alloc *a, const pw_trimesh *m, double cone_deg, const pw_progress *prog,
+                                  pw_atlas_charts *C, pw_err *e)
 {
     pw__atlas_grower G;
     int f, r, nfaces = 0;
@@ -11816,28 +11844,28 @@ PW__DEF int pw_atlas_charts_build(const pw_alloc *a, const pw_trimesh *m, double
 typedef struct pw__atlas_packer {
     const pw_trimesh *m;
     const pw_atlas_charts *C;
-    int size, gutter;    /* the packing grid: size x size cells of `unit` pixels; gutter in cells */
-    int pad_lo;          /* cells of the gutter on the left of and below a chart (the rest:
+    int size, gutter;           /* the packing grid: size x size cells of `unit` pixels; gutter in cells */
+    int pad_lo;                 /* cells of the gutter on the left of and below a chart (the rest:
                             right and above): floor(gutter/2) pixels, rounded up to cells */
-    int unit, pixels;    /* cell side and atlas side, pixels */
-    double *rect;        /* per chart 6: unit direction (dx, dy) of the rectangle's side,
+    int unit, pixels;           /* cell side and atlas side, pixels */
+    double *rect;               /* per chart 6: unit direction (dx, dy) of the rectangle's side,
                             its min corner (x0, y0) in the turned frame, its extent (w, h) */
-    double *area;        /* per chart: 3D area */
-    int *order;          /* charts, largest first */
-    int *bstart, *bedge; /* boundary half-edges of each chart */
-    int16_t *run;        /* size*size, rows from the bottom: the free run starting at each
+    double *area;               /* per chart: 3D area */
+    int *order;                 /* charts, largest first */
+    int *bstart, *bedge;        /* boundary half-edges of each chart */
+    int16_t *run;               /* size*size, rows from the bottom: the free run starting at each
                             cell (> 0), or minus the occupied run (< 0) */
-    int *maxrun;         /* size: the longest free run of each row */
-    unsigned char *cov;  /* size*size: the cells the chart being placed covers */
-    int *cl, *cr, *cst;  /* their runs, row by row (cst: first run of each row) */
-    double *lo, *hi;     /* a triangle's extent over each row */
-    int *sl, *sr, *srow; /* the dilated chart's runs [sl, sr) and their rows */
-    int *ord;            /* the order in which runs are tried */
+    int *maxrun;                /* size: the longest free run of each row */
+    unsigned char *cov;         /* size*size: the cells the chart being placed covers */
+    int *cl, *cr, *cst;         /* their runs, row by row (cst: first run of each row) */
+    double *lo, *hi;            /* a triangle's extent over each row */
+    int *sl, *sr, *srow;        /* the dilated chart's runs [sl, sr) and their rows */
+    int *ord;                   /* the order in which runs are tried */
     int *kl, *kr, *krow, nkeep; /* the runs of the best turn so far */
-    int *rowmax;         /* per row: its longest run */
-    int nspan, wp, hp;   /* runs, and the dilated chart's width and height */
-    int *place;          /* per chart 3: content origin x, y (cells from the bottom-left), turn */
-    int *best;           /* the placement of the largest scale that fitted */
+    int *rowmax;                /* per row: its longest run */
+    int nspan, wp, hp;          /* runs, and the dilated chart's width and height */
+    int *place;                 /* per chart 3: content origin x, y (cells from the bottom-left), turn */
+    int *best;                  /* the placement of the largest scale that fitted */
 } pw__atlas_packer;
 
 PW__DEF void pw__atlas_packer_free(const pw_alloc *a, pw__atlas_packer *P)
@@ -11997,17 +12025,28 @@ PW__DEF void pw__atlas_chart_rect(pw__atlas_packer *P, int c, double *pts, doubl
 
 /* A chart point uv in pixels at scale s, after quarter turn o, inside
  * the chart's box [0, W] x [0, H] (W, H swapped on odd turns). */
-PW__DEF void pw__atlas_pack_xy(const pw__atlas_packer *P, int c, double s, int o, const double *uv,
-                                  double *out)
+PW__DEF void pw__atlas_pack_xy(const pw__atlas_packer *P, int c, double s, int o, const double *uv, double *out)
 {
     const double *R = P->rect + 6 * c;
     double x = (R[0] * uv[0] + R[1] * uv[1] - R[2]) * s, y = (-R[1] * uv[0] + R[0] * uv[1] - R[3]) * s;
     double W = R[4] * s, H = R[5] * s;
     switch (o) {
-    case 0: out[0] = x, out[1] = y; break;
-    case 1: out[0] = H - y, out[1] = x; break;
-    case 2: out[0] = W - x, out[1] = H - y; break;
-    default: out[0] = y, out[1] = W - x; break;
+    case 0:
+        out[0] = x;
+        out[1] = y;
+        break;
+    case 1:
+        out[0] = H - y;
+        out[1] = x;
+        break;
+    case 2:
+        out[0] = W - x;
+        out[1] = H - y;
+        break;
+    default:
+        out[0] = y;
+        out[1] = W - x;
+        break;
     }
 }
 
@@ -12105,13 +12144,20 @@ PW__DEF void pw__atlas_dilate_runs(pw__atlas_packer *P, int h)
         for (j = pw_maxi(y - g, 0); j <= pw_mini(y, h - 1); j++)
             for (k = P->cst[j]; k < P->cst[j + 1]; k++) {
                 int l = P->cl[k], r = P->cr[k] + g, i = n++;
-                for (; i > first && P->sl[i - 1] > l; i--) P->sl[i] = P->sl[i - 1], P->sr[i] = P->sr[i - 1];
+                for (; i > first && P->sl[i - 1] > l; i--) {
+                    P->sl[i] = P->sl[i - 1];
+                    P->sr[i] = P->sr[i - 1];
+                }
                 P->sl[i] = l;
                 P->sr[i] = r;
             }
         for (k = first + 1, m = first; k < n; k++) { /* merge overlapping or touching runs */
             if (P->sl[k] <= P->sr[m]) P->sr[m] = pw_maxi(P->sr[m], P->sr[k]);
-            else m++, P->sl[m] = P->sl[k], P->sr[m] = P->sr[k];
+            else {
+                m++;
+                P->sl[m] = P->sl[k];
+                P->sr[m] = P->sr[k];
+            }
         }
         n = n > first ? m + 1 : first;
         P->rowmax[y] = 0;
@@ -12181,7 +12227,7 @@ PW__DEF void pw__atlas_mark(pw__atlas_packer *P, int y, int a, int b)
         if (k < a && v == row[k]) break;
         row[k] = v;
     }
-    for (k = 0; k < n; k += row[k] > 0 ? row[k] : -row[k])
+    for (k = 0; k<n; k += row[k]> 0 ? row[k] : -row[k])
         if (row[k] > best) best = row[k];
     P->maxrun[y] = best;
 }
@@ -12302,8 +12348,8 @@ PW__DEF int pw__atlas_pack_prepare(const pw_alloc *a, pw__atlas_packer *P, pw_er
 /* The packing grid: cells of one pixel up to 1024 pixels a side, of
  * ceil(size / 1024) pixels beyond (the search costs grow with the grid's
  * area; a chart then loses at most a cell's rounding per side). */
-PW__DEF int pw__atlas_packer_init(const pw_alloc *a, pw__atlas_packer *P, const pw_trimesh *m,
-                                     const pw_atlas_charts *C, int size, int gutter, pw_err *e)
+PW__DEF int pw__atlas_packer_init(const pw_alloc *a, pw__atlas_packer *P, const pw_trimesh *m, const pw_atlas_charts *C,
+                                  int size, int gutter, pw_err *e)
 {
     size_t n = (size_t)C->n, rows, cells, spans, runs;
     memset(P, 0, sizeof *P);
@@ -12316,7 +12362,7 @@ PW__DEF int pw__atlas_packer_init(const pw_alloc *a, pw__atlas_packer *P, const 
     P->gutter = P->pad_lo + ((gutter + 1) / 2 + P->unit - 1) / P->unit;
     rows = (size_t)P->size + 2;
     cells = (size_t)P->size * P->size;
-    runs = (size_t)P->size * ((size_t)P->size / 2 + 1); /* runs are separated by gaps */
+    runs = (size_t)P->size * ((size_t)P->size / 2 + 1);                    /* runs are separated by gaps */
     spans = ((size_t)P->size + P->gutter + 1) * ((size_t)P->size / 2 + 1); /* + a row's gathering */
     P->rect = (double *)pw_alloc_array(a, 6 * n, sizeof(double), "packing", e);
     P->area = (double *)pw_alloc_array(a, n, sizeof(double), "packing", e);
@@ -12340,10 +12386,9 @@ PW__DEF int pw__atlas_packer_init(const pw_alloc *a, pw__atlas_packer *P, const 
     P->kl = (int *)pw_alloc_array(a, spans, sizeof(int), "packing runs", e);
     P->kr = (int *)pw_alloc_array(a, spans, sizeof(int), "packing runs", e);
     P->krow = (int *)pw_alloc_array(a, spans, sizeof(int), "packing runs", e);
-    if (P->rect && P->area && P->order && P->place && P->best && P->bstart && P->run && P->maxrun &&
-        P->rowmax && P->lo && P->hi && P->cov && P->cl && P->cr && P->cst && P->sl && P->sr && P->srow && P->ord &&
-        P->kl &&
-        P->kr && P->krow)
+    if (P->rect && P->area && P->order && P->place && P->best && P->bstart && P->run && P->maxrun && P->rowmax &&
+        P->lo && P->hi && P->cov && P->cl && P->cr && P->cst && P->sl && P->sr && P->srow && P->ord && P->kl && P->kr &&
+        P->krow)
         P->bedge = (int *)pw_alloc_array(a, (size_t)pw__atlas_boundary(P, 0), sizeof(int), "packing", e);
     if (!P->bedge) {
         pw__atlas_packer_free(a, P);
@@ -12377,7 +12422,8 @@ PW__DEF int pw__atlas_pack_search(pw__atlas_packer *P, const pw_progress *prog, 
     lo = hi * sqrt(0.5);
     while (!pw__atlas_try(P, lo)) {
         if (lo * maxdim < 0.5) /* every chart within one cell, and still too many */
-            return pw_fail(e, PW_ERR_LIMIT, "atlas: %d charts do not fit in %dx%d pixels with a %d-pixel "
+            return pw_fail(e, PW_ERR_LIMIT,
+                           "atlas: %d charts do not fit in %dx%d pixels with a %d-pixel "
                            "gutter (use a larger size, a wider cone or a smaller gutter)",
                            P->C->n, P->pixels, P->pixels, P->gutter * P->unit);
         hi = lo;
@@ -12420,8 +12466,8 @@ PW__DEF void pw__atlas_pack_uvs(const pw__atlas_packer *P, double s, float *uvs,
 }
 
 /* packing: charts into the unit square; uvs gets nf*6 coordinates. */
-PW__DEF int pw_atlas_pack(const pw_alloc *a, const pw_trimesh *m, const pw_atlas_charts *C, int size,
-                        int gutter, const pw_progress *prog, float *uvs, float *fill, pw_err *e)
+PW__DEF int pw_atlas_pack(const pw_alloc *a, const pw_trimesh *m, const pw_atlas_charts *C, int size, int gutter,
+                          const pw_progress *prog, float *uvs, float *fill, pw_err *e)
 {
     pw__atlas_packer P;
     double s = 0.0;
@@ -12443,8 +12489,8 @@ typedef struct pw__atlas_baker {
     pw_atlas_texel_fn fn;
     void *user;
     const float *uvs;
-    pw_image *img;    /* size x size, oc channels */
-    int *id;          /* per texel: covering triangle; -2 - f when extrapolated from f; -1 */
+    pw_image *img; /* size x size, oc channels */
+    int *id;       /* per texel: covering triangle; -2 - f when extrapolated from f; -1 */
     int size, oc, f;
 } pw__atlas_baker;
 
@@ -12553,8 +12599,7 @@ PW__DEF void pw__atlas_bake_ring(pw__atlas_baker *B, int f)
             if (*id >= 0 || !pw__atlas_near_tri(p, x + 0.5, y + 0.5)) continue;
             if (*id <= -2) {
                 pw__atlas_bake_px(B, -2 - *id, q);
-                if (pw__atlas_closest(q, x + 0.5, y + 0.5, b) <= pw__atlas_closest(p, x + 0.5, y + 0.5, b))
-                    continue;
+                if (pw__atlas_closest(q, x + 0.5, y + 0.5, b) <= pw__atlas_closest(p, x + 0.5, y + 0.5, b)) continue;
             }
             *id = -2 - f;
         }
@@ -12873,7 +12918,10 @@ PW__DEF int pw_df_connection(const pw_alloc *a, const pw_trimesh *m, float **out
             pw_df_edge_in(m, h, m->hm.twin[h] / 3, wg);
             z[0] = wf[0] * wg[0] + wf[1] * wg[1]; /* wf * conj(wg) */
             z[1] = wf[1] * wg[0] - wf[0] * wg[1];
-            if (!pw_df_unit(z)) z[0] = 1.0, z[1] = 0.0;
+            if (!pw_df_unit(z)) {
+                z[0] = 1.0;
+                z[1] = 0.0;
+            }
         }
         c[2 * h] = (float)z[0];
         c[2 * h + 1] = (float)z[1];
@@ -12945,7 +12993,10 @@ PW__DEF void pw_df_axis(const pw_trimesh *m, int f, double *z)
     for (i = 1; i < 3; i++)
         if (fabsf(n[i]) < fabsf(n[k])) k = i;
     ax[k] = 1.0f;
-    if (!pw_df_project(m, f, pw_v3_load(ax), z)) z[0] = 1.0, z[1] = 0.0;
+    if (!pw_df_project(m, f, pw_v3_load(ax), z)) {
+        z[0] = 1.0;
+        z[1] = 0.0;
+    }
 }
 
 /* Where propagation stops (pw_df_up_creased): half-edges marked in `edge`
@@ -13005,7 +13056,10 @@ PW__DEF void pw_df_seed(pw_df_prop *P, int start)
     while (n < top) { /* flood the component, in a deterministic order */
         f = stack[n++];
         for (k = 0; k < 3; k++)
-            if ((g = pw_df_across(m, cut, f, k)) >= 0 && level[g] == -1) level[g] = -2, stack[top++] = g;
+            if ((g = pw_df_across(m, cut, f, k)) >= 0 && level[g] == -1) {
+                level[g] = -2;
+                stack[top++] = g;
+            }
     }
     for (i = 0; i < top; i++) {
         f = stack[i];
@@ -13043,12 +13097,21 @@ PW__DEF void pw_df_average(const pw_df_prop *P, int f)
         g = pw_df_across(m, cut, f, k);
         if (g < 0 || level[g] < 0 || level[g] >= level[f]) continue;
         pw_df_move(conn, 3 * f + k, power, z + 2 * g, w);
-        if (n++ == 0) first[0] = w[0], first[1] = w[1];
+        if (n++ == 0) {
+            first[0] = w[0];
+            first[1] = w[1];
+        }
         sum[0] += w[0];
         sum[1] += w[1];
     }
-    if (!(sum[0] * sum[0] + sum[1] * sum[1] > 1e-12)) sum[0] = first[0], sum[1] = first[1];
-    if (!pw_df_unit(sum)) sum[0] = 1.0, sum[1] = 0.0;
+    if (!(sum[0] * sum[0] + sum[1] * sum[1] > 1e-12)) {
+        sum[0] = first[0];
+        sum[1] = first[1];
+    }
+    if (!pw_df_unit(sum)) {
+        sum[0] = 1.0;
+        sum[1] = 0.0;
+    }
     z[2 * f] = sum[0];
     z[2 * f + 1] = sum[1];
 }
@@ -13068,7 +13131,10 @@ PW__DEF int pw_df_fill_cut(const pw_alloc *a, const pw_df_field *F, int power, p
     int head = 0, next = 0, f, k, g;
     pw_df_prop P;
     if (!level) return PW_ERR_NOMEM;
-    P.F = F, P.power = power, P.up = up, P.cut = cut;
+    P.F = F;
+    P.power = power;
+    P.up = up;
+    P.cut = cut;
     P.level = level;
     P.queue = level + m->nf;
     P.stack = P.queue + m->nf;
@@ -13168,7 +13234,10 @@ PW__DEF void pw_df_relax(const pw_df_field *F, const pw_df_cut *cut)
             sum[1] += w[1];
             n++;
         }
-        if (n > 0 && sum[0] * sum[0] + sum[1] * sum[1] > 0.0) z[2 * f] = sum[0] / n, z[2 * f + 1] = sum[1] / n;
+        if (n > 0 && sum[0] * sum[0] + sum[1] * sum[1] > 0.0) {
+            z[2 * f] = sum[0] / n;
+            z[2 * f + 1] = sum[1] / n;
+        }
     }
 }
 
@@ -13207,8 +13276,7 @@ PW__DEF void pw_df_dual(const pw_trimesh *m, double *len)
  * joined through edge midpoints) from triangle src; DBL_MAX where
  * unreachable. The heap holds at most 3*nf+1 entries (a triangle is pushed
  * only when one of its <= 3 neighbours improves it). */
-PW__DEF void pw_df_dijkstra(const pw_trimesh *m, const double *len, int src, double *dist,
-                                 pw_heap *hp)
+PW__DEF void pw_df_dijkstra(const pw_trimesh *m, const double *len, int src, double *dist, pw_heap *hp)
 {
     int f, k, g;
     for (f = 0; f < m->nf; f++) dist[f] = DBL_MAX;
@@ -13274,8 +13342,12 @@ PW__DEF void pw_df_tensor(const pw_trimesh *m, const double *vn, int f, double a
         for (k = 0; k < 3; k++) dn[k] = vn[3 * q + k] - vn[3 * p + k];
         du = dn[0] * u.x + dn[1] * u.y + dn[2] * u.z;
         dv = dn[0] * v.x + dn[1] * v.y + dn[2] * v.z;
-        suu += eu * eu, suv += eu * ev, svv += ev * ev;
-        r0 += eu * du, r1 += ev * du + eu * dv, r2 += ev * dv;
+        suu += eu * eu;
+        suv += eu * ev;
+        svv += ev * ev;
+        r0 += eu * du;
+        r1 += ev * du + eu * dv;
+        r2 += ev * dv;
     }
     /* M = [[suu, suv, 0], [suv, suu + svv, suv], [0, suv, svv]] */
     det = suu * ((suu + svv) * svv - suv * suv) - suv * suv * svv;
@@ -13314,8 +13386,7 @@ PW__DEF void pw_df_least(const double abc[3], double flat, double *z)
  * mean of its own and its neighbours' (transported): confident directions
  * dominate weak ones, and the flat or umbilic ones (exactly 0) pick up their
  * neighbours' direction one ring per sweep. */
-PW__DEF int pw_df_smooth(const pw_alloc *a, const pw_trimesh *m, const float *conn, int iters,
-                              double *z, pw_err *e)
+PW__DEF int pw_df_smooth(const pw_alloc *a, const pw_trimesh *m, const float *conn, int iters, double *z, pw_err *e)
 {
     double *tmp = (double *)pw_alloc_array(a, (size_t)m->nf * 2, sizeof(double), "field smoothing", e), w[2];
     int it, f, k, g, n;
@@ -13326,7 +13397,9 @@ PW__DEF int pw_df_smooth(const pw_alloc *a, const pw_trimesh *m, const float *co
             for (n = 1, k = 0; k < 3; k++)
                 if ((g = pw_trimesh_across(m, f, k)) >= 0) {
                     pw_df_move(conn, 3 * f + k, 2, z + 2 * g, w);
-                    sx += w[0], sy += w[1], n++;
+                    sx += w[0];
+                    sy += w[1];
+                    n++;
                 }
             tmp[2 * f] = sx / n;
             tmp[2 * f + 1] = sy / n;
@@ -13383,16 +13456,20 @@ PW__DEF void pw_df_walk(const pw_df_field *F, pw_v3 up, const pw_df_walker *W)
     for (f = 0; f < m->nf; f++) best[f] = 2.0;
     for (s = 0; s < m->nf; s++) {
         if (seen[s]) continue;
-        if (pw_df_project(m, s, up, w) && w[0] * z[2 * s] + w[1] * z[2 * s + 1] < 0.0)
-            z[2 * s] = -z[2 * s], z[2 * s + 1] = -z[2 * s + 1];
+        if (pw_df_project(m, s, up, w) && w[0] * z[2 * s] + w[1] * z[2 * s + 1] < 0.0) {
+            z[2 * s] = -z[2 * s];
+            z[2 * s + 1] = -z[2 * s + 1];
+        }
         seen[s] = 1;
         pw_df_offer(m, conn, z, s, W);
         while (hp->n > 0) {
             f = pw_heap_pop(hp);
             if (seen[f]) continue; /* stale entry */
             pw_df_move(conn, via[f], 1, z + 2 * (m->hm.twin[via[f]] / 3), w);
-            if (w[0] * z[2 * f] + w[1] * z[2 * f + 1] < 0.0)
-                z[2 * f] = -z[2 * f], z[2 * f + 1] = -z[2 * f + 1];
+            if (w[0] * z[2 * f] + w[1] * z[2 * f + 1] < 0.0) {
+                z[2 * f] = -z[2 * f];
+                z[2 * f + 1] = -z[2 * f + 1];
+            }
             seen[f] = 1;
             pw_df_offer(m, conn, z, f, W);
         }
@@ -13406,8 +13483,7 @@ PW__DEF void pw_df_walk(const pw_df_field *F, pw_v3 up, const pw_df_walker *W)
  * a half-integer singularity the signs must disagree somewhere: this puts
  * the seams where neighbouring lines are closest to perpendicular, near the
  * singularities, rather than wherever a breadth-first walk closes. */
-PW__DEF int pw_df_orient(const pw_alloc *a, const pw_trimesh *m, const float *conn, pw_v3 up,
-                              double *z, pw_err *e)
+PW__DEF int pw_df_orient(const pw_alloc *a, const pw_trimesh *m, const float *conn, pw_v3 up, double *z, pw_err *e)
 {
     size_t n = (size_t)m->nf;
     double *dbl = (double *)pw_alloc_array(a, 4 * n + 1, sizeof(double), "field orientation", e);
@@ -13419,9 +13495,16 @@ PW__DEF int pw_df_orient(const pw_alloc *a, const pw_trimesh *m, const float *co
     pw_df_walker W;
     if (r == PW_OK) { /* dbl: best keys, then the heap's; ints: via, then the heap's */
         memset(&hp, 0, sizeof hp);
-        hp.key = dbl + n, hp.item = ints + n;
-        F.m = m, F.conn = conn, F.z = z, F.known = NULL;
-        W.seen = seen, W.best = dbl, W.via = ints, W.hp = &hp;
+        hp.key = dbl + n;
+        hp.item = ints + n;
+        F.m = m;
+        F.conn = conn;
+        F.z = z;
+        F.known = NULL;
+        W.seen = seen;
+        W.best = dbl;
+        W.via = ints;
+        W.hp = &hp;
         pw_df_walk(&F, up, &W);
     }
     pw_free(a, dbl);
@@ -13440,8 +13523,7 @@ PW__DEF int pw_df_curvature(const pw_alloc *a, const pw_df_field *F, pw_v3 up, i
     const float *conn = F->conn;
     double *z = F->z, *vn, abc[3];
     int f, r;
-    if (smoothing < 0)
-        return pw_fail(e, PW_ERR_INVALID, "curvature field: smoothing %d is negative", smoothing);
+    if (smoothing < 0) return pw_fail(e, PW_ERR_INVALID, "curvature field: smoothing %d is negative", smoothing);
     if ((r = pw_df_vertex_normals(a, m, &vn, e)) != PW_OK) return r;
     for (f = 0; f < m->nf; f++) {
         pw_df_tensor(m, vn, f, abc);
@@ -13454,7 +13536,6 @@ PW__DEF int pw_df_curvature(const pw_alloc *a, const pw_df_field *F, pw_v3 up, i
     for (f = 0; f < m->nf; f++) pw_df_halve(z + 2 * f);
     return pw_df_orient(a, m, conn, up, z, e);
 }
-
 
 #endif /* PW__DIRFIELD_V1 */
 
@@ -13479,21 +13560,19 @@ PW__DEF int pw_image_validate(const pw_image *im, const char *what, pw_err *e)
     size_t k, n;
     if (!im->px || im->w < 1 || im->h < 1 || im->c < 1 || im->c > 4)
         return pw_fail(e, PW_ERR_INVALID, "%s: empty image or bad channel count", what);
-    if (im->w > PW_MAX_IMAGE_DIM || im->h > PW_MAX_IMAGE_DIM ||
-        (int64_t)im->w * im->h > PW_MAX_IMAGE_PIXELS)
+    if (im->w > PW_MAX_IMAGE_DIM || im->h > PW_MAX_IMAGE_DIM || (int64_t)im->w * im->h > PW_MAX_IMAGE_PIXELS)
         return pw_fail(e, PW_ERR_LIMIT, "%s: %dx%d pixels is over the limit", what, im->w, im->h);
     n = (size_t)im->w * im->h * im->c;
     for (k = 0; k < n; k++)
         if (!pw_is_finite(im->px[k]))
-            return pw_fail(e, PW_ERR_INVALID, "%s: pixel %lu is not a finite number", what,
-                           (unsigned long)(k / im->c));
+            return pw_fail(e, PW_ERR_INVALID, "%s: pixel %lu is not a finite number", what, (unsigned long)(k / im->c));
     return PW_OK;
 }
 
 /* Encodes an image as "png", "pam", "ppm" or "pgm", converting the channels
  * to what PPM (3) and PGM (1) hold. */
-PW__DEF int pw_image_encode(const pw_alloc *a, const pw_image *img, const char *format,
-                            pw_write_fn fn, void *ctx, pw_err *e)
+PW__DEF int pw_image_encode(const pw_alloc *a, const pw_image *img, const char *format, pw_write_fn fn, void *ctx,
+                            pw_err *e)
 {
     pw_image conv;
     int want = 0, r;
@@ -13501,8 +13580,7 @@ PW__DEF int pw_image_encode(const pw_alloc *a, const pw_image *img, const char *
     if (!strcmp(format, "ppm")) want = 3;
     else if (!strcmp(format, "pgm")) want = 1;
     else if (strcmp(format, "png") && strcmp(format, "pam"))
-        return pw_fail(e, PW_ERR_UNSUPPORTED, "unknown image format '%s' (png, ppm, pgm, pam)",
-                       format);
+        return pw_fail(e, PW_ERR_UNSUPPORTED, "unknown image format '%s' (png, ppm, pgm, pam)", format);
     if (want && want != img->c) {
         if ((r = pw_image_convert(a, img, want, &conv, e)) != PW_OK) return r;
         r = pw_image_write_pnm(&conv, 0, 0, fn, ctx, e);
@@ -13517,8 +13595,8 @@ PW__DEF int pw_image_encode(const pw_alloc *a, const pw_image *img, const char *
 /* Fills the zero fields of a view (public render options) with the
  * defaults every method shares: 800x600, 2x2 supersampling, looking along
  * (-0.55,-0.45,-0.7) with +Y up, on white. */
-PW__DEF void pw_view_defaults(int *width, int *height, int *supersample, float view_dir[3],
-                              float up[3], float background[3])
+PW__DEF void pw_view_defaults(int *width, int *height, int *supersample, float view_dir[3], float up[3],
+                              float background[3])
 {
     static const float view[3] = {-0.55f, -0.45f, -0.7f}, y[3] = {0.0f, 1.0f, 0.0f};
     if (!*width) *width = 800;
@@ -13526,8 +13604,7 @@ PW__DEF void pw_view_defaults(int *width, int *height, int *supersample, float v
     if (!*supersample) *supersample = 2;
     if (!view_dir[0] && !view_dir[1] && !view_dir[2]) memcpy(view_dir, view, sizeof view);
     if (!up[0] && !up[1] && !up[2]) memcpy(up, y, sizeof y);
-    if (!background[0] && !background[1] && !background[2])
-        background[0] = background[1] = background[2] = 1.0f;
+    if (!background[0] && !background[1] && !background[2]) background[0] = background[1] = background[2] = 1.0f;
 }
 
 /* PW_PUBLIC_GLUE(p) defines, for a header whose public types are
@@ -13542,125 +13619,123 @@ PW__DEF void pw_view_defaults(int *width, int *height, int *supersample, float v
  *   p_result    p__left_out(const char *what, const char *macro, p_error *)
  *               PW_ERR_UNSUPPORTED, "what compiled out (macro)": the stubs that stand
  *               for the calls PW_NO_RENDER leaves out */
-#define PW_PUBLIC_GLUE(p)                                                                        \
-    static PW__UNUSED pw_alloc p##__alloc(const p##_allocator *t)                                \
-    {                                                                                            \
-        pw_alloc a;                                                                              \
-        memset(&a, 0, sizeof a);                                                                 \
-        if (t) {                                                                                 \
-            a.malloc_fn = t->malloc_fn;                                                          \
-            a.realloc_fn = t->realloc_fn;                                                        \
-            a.free_fn = t->free_fn;                                                              \
-            a.user = t->user;                                                                    \
-        }                                                                                        \
-        return a;                                                                                \
-    }                                                                                            \
-    static PW__UNUSED p##_allocator p##__allocator(const pw_alloc *a)                            \
-    {                                                                                            \
-        p##_allocator t;                                                                         \
-        t.malloc_fn = a->malloc_fn;                                                              \
-        t.realloc_fn = a->realloc_fn;                                                            \
-        t.free_fn = a->free_fn;                                                                  \
-        t.user = a->user;                                                                        \
-        return t;                                                                                \
-    }                                                                                            \
-    static PW__UNUSED p##_result p##__done(const pw_err *pe, p##_error *err)                     \
-    {                                                                                            \
-        if (err) {                                                                               \
-            err->code = (p##_result)pe->code;                                                    \
-            memcpy(err->message, pe->msg, sizeof err->message);                                  \
-        }                                                                                        \
-        return (p##_result)pe->code;                                                             \
-    }                                                                                            \
-    static PW__UNUSED pw_image p##__pw_image(const p##_image *t)                                 \
-    {                                                                                            \
-        pw_image v;                                                                              \
-        v.w = t->width;                                                                          \
-        v.h = t->height;                                                                         \
-        v.c = t->channels;                                                                       \
-        v.bits = t->bits ? t->bits : 8;                                                          \
-        v.px = t->pixels;                                                                        \
-        return v;                                                                                \
-    }                                                                                            \
-    static PW__UNUSED void p##__take_image(pw_image *v, const pw_alloc *a, p##_image *t)         \
-    {                                                                                            \
-        t->width = v->w;                                                                         \
-        t->height = v->h;                                                                        \
-        t->channels = v->c;                                                                      \
-        t->bits = v->bits;                                                                       \
-        t->pixels = v->px;                                                                       \
-        t->allocator = p##__allocator(a);                                                        \
-        memset(v, 0, sizeof *v);                                                                 \
-    }                                                                                            \
-    static PW__UNUSED int p##__check_image(const p##_image *t, const char *what, pw_err *e)      \
-    {                                                                                            \
-        pw_image v;                                                                              \
-        if (!t) return pw_fail(e, PW_ERR_INVALID, "%s: empty image (none given)", what);                         \
-        v = p##__pw_image(t);                                                                    \
-        return pw_image_validate(&v, what, e);                                                   \
-    }                                                                                            \
-    static PW__UNUSED int p##__encode(const p##_image *t, const char *format, pw_write_fn fn,    \
-                                      void *ctx, pw_err *e)                                      \
-    {                                                                                            \
-        pw_image v = p##__pw_image(t);                                                           \
-        pw_alloc a = p##__alloc(&t->allocator);                                                  \
-        return pw_image_encode(&a, &v, format, fn, ctx, e);                                      \
-    }                                                                                            \
-    static PW__UNUSED void p##__take_mesh(pw_mesh *m, const pw_alloc *a, p##_mesh *t)            \
-    {                                                                                            \
-        memset(t, 0, sizeof *t);                                                                 \
-        t->nverts = m->nv;                                                                       \
-        t->positions = m->pos;                                                                   \
-        t->nfaces = m->nf;                                                                       \
-        t->face_start = m->fstart;                                                               \
-        t->face_verts = m->fv;                                                                   \
-        t->allocator = p##__allocator(a);                                                        \
-        pw_free(a, m->uv);                                                                       \
-        pw_free(a, m->fuv);                                                                      \
-        memset(m, 0, sizeof *m);                                                                 \
-    }                                                                                            \
-    static PW__UNUSED p##_result p##__left_out(const char *what, const char *macro,             \
-                                               p##_error *err)                                   \
-    {                                                                                            \
-        pw_err pe;                                                                               \
-        pw_err_clear(&pe);                                                                       \
-        pw_fail(&pe, PW_ERR_UNSUPPORTED, "%s compiled out (%s)", what, macro);                   \
-        return p##__done(&pe, err);                                                              \
-    }                                                                                            \
-    static PW__UNUSED pw_parallel p##__parallel(const p##_render_options *ro)                   \
-    {                                                                                            \
-        pw_parallel par;                                                                         \
-        par.threads = ro->threads;                                                               \
-        par.run = ro->parallel;                                                                  \
-        par.pool = ro->parallel_pool;                                                            \
-        return par;                                                                              \
-    }                                                                                            \
+#define PW_PUBLIC_GLUE(p)                                                                                           \
+    static PW__UNUSED pw_alloc p##__alloc(const p##_allocator *t)                                                   \
+    {                                                                                                               \
+        pw_alloc a;                                                                                                 \
+        memset(&a, 0, sizeof a);                                                                                    \
+        if (t) {                                                                                                    \
+            a.malloc_fn = t->malloc_fn;                                                                             \
+            a.realloc_fn = t->realloc_fn;                                                                           \
+            a.free_fn = t->free_fn;                                                                                 \
+            a.user = t->user;                                                                                       \
+        }                                                                                                           \
+        return a;                                                                                                   \
+    }                                                                                                               \
+    static PW__UNUSED p##_allocator p##__allocator(const pw_alloc *a)                                               \
+    {                                                                                                               \
+        p##_allocator t;                                                                                            \
+        t.malloc_fn = a->malloc_fn;                                                                                 \
+        t.realloc_fn = a->realloc_fn;                                                                               \
+        t.free_fn = a->free_fn;                                                                                     \
+        t.user = a->user;                                                                                           \
+        return t;                                                                                                   \
+    }                                                                                                               \
+    static PW__UNUSED p##_result p##__done(const pw_err *pe, p##_error *err)                                        \
+    {                                                                                                               \
+        if (err) {                                                                                                  \
+            err->code = (p##_result)pe->code;                                                                       \
+            memcpy(err->message, pe->msg, sizeof err->message);                                                     \
+        }                                                                                                           \
+        return (p##_result)pe->code;                                                                                \
+    }                                                                                                               \
+    static PW__UNUSED pw_image p##__pw_image(const p##_image *t)                                                    \
+    {                                                                                                               \
+        pw_image v;                                                                                                 \
+        v.w = t->width;                                                                                             \
+        v.h = t->height;                                                                                            \
+        v.c = t->channels;                                                                                          \
+        v.bits = t->bits ? t->bits : 8;                                                                             \
+        v.px = t->pixels;                                                                                           \
+        return v;                                                                                                   \
+    }                                                                                                               \
+    static PW__UNUSED void p##__take_image(pw_image *v, const pw_alloc *a, p##_image *t)                            \
+    {                                                                                                               \
+        t->width = v->w;                                                                                            \
+        t->height = v->h;                                                                                           \
+        t->channels = v->c;                                                                                         \
+        t->bits = v->bits;                                                                                          \
+        t->pixels = v->px;                                                                                          \
+        t->allocator = p##__allocator(a);                                                                           \
+        memset(v, 0, sizeof *v);                                                                                    \
+    }                                                                                                               \
+    static PW__UNUSED int p##__check_image(const p##_image *t, const char *what, pw_err *e)                         \
+    {                                                                                                               \
+        pw_image v;                                                                                                 \
+        if (!t) return pw_fail(e, PW_ERR_INVALID, "%s: empty image (none given)", what);                            \
+        v = p##__pw_image(t);                                                                                       \
+        return pw_image_validate(&v, what, e);                                                                      \
+    }                                                                                                               \
+    static PW__UNUSED int p##__encode(const p##_image *t, const char *format, pw_write_fn fn, void *ctx, pw_err *e) \
+    {                                                                                                               \
+        pw_image v = p##__pw_image(t);                                                                              \
+        pw_alloc a = p##__alloc(&t->allocator);                                                                     \
+        return pw_image_encode(&a, &v, format, fn, ctx, e);                                                         \
+    }                                                                                                               \
+    static PW__UNUSED void p##__take_mesh(pw_mesh *m, const pw_alloc *a, p##_mesh *t)                               \
+    {                                                                                                               \
+        memset(t, 0, sizeof *t);                                                                                    \
+        t->nverts = m->nv;                                                                                          \
+        t->positions = m->pos;                                                                                      \
+        t->nfaces = m->nf;                                                                                          \
+        t->face_start = m->fstart;                                                                                  \
+        t->face_verts = m->fv;                                                                                      \
+        t->allocator = p##__allocator(a);                                                                           \
+        pw_free(a, m->uv);                                                                                          \
+        pw_free(a, m->fuv);                                                                                         \
+        memset(m, 0, sizeof *m);                                                                                    \
+    }                                                                                                               \
+    static PW__UNUSED p##_result p##__left_out(const char *what, const char *macro, p##_error *err)                 \
+    {                                                                                                               \
+        pw_err pe;                                                                                                  \
+        pw_err_clear(&pe);                                                                                          \
+        pw_fail(&pe, PW_ERR_UNSUPPORTED, "%s compiled out (%s)", what, macro);                                      \
+        return p##__done(&pe, err);                                                                                 \
+    }                                                                                                               \
+    static PW__UNUSED pw_parallel p##__parallel(const p##_render_options *ro)                                       \
+    {                                                                                                               \
+        pw_parallel par;                                                                                            \
+        par.threads = ro->threads;                                                                                  \
+        par.run = ro->parallel;                                                                                     \
+        par.pool = ro->parallel_pool;                                                                               \
+        return par;                                                                                                 \
+    }                                                                                                               \
     typedef int p##__glue_defined /* so that the use ends with a semicolon */
 
 /* The public frees of an image and of a mesh with the shared fields only
  * (DEF: the header's XDEF): with the allocator the object remembers, then
  * zeroed; NULL and zeroed objects are fine. */
-#define PW_PUBLIC_IMAGE_FREE(p, DEF)                                                             \
-    DEF void p##_image_free(p##_image *img)                                                      \
-    {                                                                                            \
-        pw_alloc a;                                                                              \
-        if (!img) return;                                                                        \
-        a = p##__alloc(&img->allocator);                                                         \
-        pw_free(&a, img->pixels);                                                                \
-        memset(img, 0, sizeof *img);                                                             \
-    }                                                                                            \
+#define PW_PUBLIC_IMAGE_FREE(p, DEF)        \
+    DEF void p##_image_free(p##_image *img) \
+    {                                       \
+        pw_alloc a;                         \
+        if (!img) return;                   \
+        a = p##__alloc(&img->allocator);    \
+        pw_free(&a, img->pixels);           \
+        memset(img, 0, sizeof *img);        \
+    }                                       \
     typedef int p##__image_free_defined
-#define PW_PUBLIC_MESH_FREE(p, DEF)                                                              \
-    DEF void p##_mesh_free(p##_mesh *m)                                                          \
-    {                                                                                            \
-        pw_alloc a;                                                                              \
-        if (!m) return;                                                                          \
-        a = p##__alloc(&m->allocator);                                                           \
-        pw_free(&a, m->positions);                                                               \
-        pw_free(&a, m->face_start);                                                              \
-        pw_free(&a, m->face_verts);                                                              \
-        memset(m, 0, sizeof *m);                                                                 \
-    }                                                                                            \
+#define PW_PUBLIC_MESH_FREE(p, DEF)     \
+    DEF void p##_mesh_free(p##_mesh *m) \
+    {                                   \
+        pw_alloc a;                     \
+        if (!m) return;                 \
+        a = p##__alloc(&m->allocator);  \
+        pw_free(&a, m->positions);      \
+        pw_free(&a, m->face_start);     \
+        pw_free(&a, m->face_verts);     \
+        memset(m, 0, sizeof *m);        \
+    }                                   \
     typedef int p##__mesh_free_defined
 
 #endif /* PW__GLUE_V1 */
@@ -13701,9 +13776,9 @@ PW__DEF void pw_view_defaults(int *width, int *height, int *supersample, float v
 
 
 typedef struct pw_gltf_part {
-    const char *name;        /* mesh and node name (NULL: "mesh") */
+    const char *name; /* mesh and node name (NULL: "mesh") */
     int nv;
-    const float *pos;        /* nv*3 */
+    const float *pos; /* nv*3 */
     int nf;
     const int *fstart;       /* nf+1 offsets into fv */
     const int *fv;           /* fstart[nf] vertex indices, counter-clockwise */
@@ -13724,14 +13799,16 @@ typedef struct pw_gltf_scene {
  * vertex, texture coordinate) pair, in order of first use. */
 typedef struct pw__gltf_verts {
     int n;
-    int *src;     /* n: the mesh vertex */
-    int *corner;  /* n: a corner that uses it (its coordinate) */
-    int *index;   /* fstart[nf]: the glTF vertex of each corner */
+    int *src;    /* n: the mesh vertex */
+    int *corner; /* n: a corner that uses it (its coordinate) */
+    int *index;  /* fstart[nf]: the glTF vertex of each corner */
 } pw__gltf_verts;
 
 static void pw__gltf_verts_free(const pw_alloc *a, pw__gltf_verts *V)
 {
-    pw_free(a, V->src), pw_free(a, V->corner), pw_free(a, V->index);
+    pw_free(a, V->src);
+    pw_free(a, V->corner);
+    pw_free(a, V->index);
     memset(V, 0, sizeof *V);
 }
 
@@ -13747,7 +13824,8 @@ static int pw__gltf_split(const pw_alloc *a, const pw_gltf_part *p, pw__gltf_ver
     V->corner = (int *)pw_alloc_array(a, (size_t)nc, sizeof(int), "glTF vertices", e);
     V->index = (int *)pw_alloc_array(a, (size_t)nc, sizeof(int), "glTF vertices", e);
     if (!head || !next || !V->src || !V->corner || !V->index) {
-        pw_free(a, head), pw_free(a, next);
+        pw_free(a, head);
+        pw_free(a, next);
         pw__gltf_verts_free(a, V);
         return PW_ERR_NOMEM;
     }
@@ -13757,12 +13835,15 @@ static int pw__gltf_split(const pw_alloc *a, const pw_gltf_part *p, pw__gltf_ver
         while (k >= 0 && p->corner_uv && memcmp(p->corner_uv + 2 * V->corner[k], p->corner_uv + 2 * c, 8)) k = next[k];
         if (k < 0) {
             k = V->n++;
-            V->src[k] = v, V->corner[k] = c;
-            next[k] = head[v], head[v] = k;
+            V->src[k] = v;
+            V->corner[k] = c;
+            next[k] = head[v];
+            head[v] = k;
         }
         V->index[c] = k;
     }
-    pw_free(a, head), pw_free(a, next);
+    pw_free(a, head);
+    pw_free(a, next);
     return PW_OK;
 }
 
@@ -13774,7 +13855,8 @@ static int pw__gltf_normals(const pw_alloc *a, const pw_gltf_part *p, float **ou
     float *n = (float *)pw_alloc_array(a, (size_t)p->nv * 3, sizeof(float), "glTF normals", e);
     int f, i, k;
     if (!acc || !n) {
-        pw_free(a, acc), pw_free(a, n);
+        pw_free(a, acc);
+        pw_free(a, n);
         return PW_ERR_NOMEM;
     }
     for (f = 0; f < p->nf; f++)
@@ -13809,7 +13891,7 @@ typedef struct pw__gltf_out {
     pw_buf bin;
     pw__gltf_view *views;
     size_t nviews, vcap;
-    pw__wb js;       /* the JSON, into json */
+    pw__wb js; /* the JSON, into json */
     pw_buf json;
 } pw__gltf_out;
 
@@ -13817,8 +13899,10 @@ typedef struct pw__gltf_out {
 static int pw__gltf_view_begin(pw__gltf_out *o, int target, pw_err *e)
 {
     static const unsigned char zero[4] = {0, 0, 0, 0};
-    if (o->bin.size % 4 && pw_buf_write(&o->bin, zero, 4 - o->bin.size % 4)) return pw_fail(e, PW_ERR_NOMEM, "out of memory writing glTF");
-    if (pw_grow(o->a, (void **)&o->views, &o->vcap, o->nviews + 1, sizeof *o->views, "glTF views", e)) return PW_ERR_NOMEM;
+    if (o->bin.size % 4 && pw_buf_write(&o->bin, zero, 4 - o->bin.size % 4))
+        return pw_fail(e, PW_ERR_NOMEM, "out of memory writing glTF");
+    if (pw_grow(o->a, (void **)&o->views, &o->vcap, o->nviews + 1, sizeof *o->views, "glTF views", e))
+        return PW_ERR_NOMEM;
     o->views[o->nviews].offset = o->bin.size;
     o->views[o->nviews].length = 0;
     o->views[o->nviews].target = target;
@@ -13837,7 +13921,10 @@ static int pw__gltf_view_end(pw__gltf_out *o, pw_err *e)
 static void pw__gltf_put32(pw__gltf_out *o, uint32_t v)
 {
     unsigned char b[4];
-    b[0] = (unsigned char)v, b[1] = (unsigned char)(v >> 8), b[2] = (unsigned char)(v >> 16), b[3] = (unsigned char)(v >> 24);
+    b[0] = (unsigned char)v;
+    b[1] = (unsigned char)(v >> 8);
+    b[2] = (unsigned char)(v >> 16);
+    b[3] = (unsigned char)(v >> 24);
     pw_buf_write(&o->bin, b, 4);
 }
 
@@ -13867,9 +13954,14 @@ static void pw__js_string(pw__gltf_out *o, const char *s)
     for (; *s; s++) {
         unsigned char c = (unsigned char)*s;
         char u[6] = {'\\', 'u', '0', '0', 0, 0};
-        if (c == '"' || c == '\\') pw__wb_put(&o->js, "\\", 1), pw__wb_put(&o->js, s, 1);
-        else if (c < 0x20) u[4] = hex[c >> 4], u[5] = hex[c & 15], pw__wb_put(&o->js, u, 6);
-        else pw__wb_put(&o->js, s, 1);
+        if (c == '"' || c == '\\') {
+            pw__wb_put(&o->js, "\\", 1);
+            pw__wb_put(&o->js, s, 1);
+        } else if (c < 0x20) {
+            u[4] = hex[c >> 4];
+            u[5] = hex[c & 15];
+            pw__wb_put(&o->js, u, 6);
+        } else pw__wb_put(&o->js, s, 1);
     }
     pw__js(o, "\"");
 }
@@ -13890,7 +13982,9 @@ static int pw__gltf_part_data(pw__gltf_out *o, const pw_gltf_part *p, const pw__
                               pw__gltf_info *I, pw_err *e)
 {
     int f, i, k, r;
-    I->nverts = V->n, I->ntris = 0, I->view0 = (int)o->nviews;
+    I->nverts = V->n;
+    I->ntris = 0;
+    I->view0 = (int)o->nviews;
     if ((r = pw__gltf_view_begin(o, 34963, e))) return r;
     for (f = 0; f < p->nf; f++)
         for (i = p->fstart[f] + 1; i + 1 < p->fstart[f + 1]; i++, I->ntris++) {
@@ -13923,7 +14017,8 @@ static int pw__gltf_part_data(pw__gltf_out *o, const pw_gltf_part *p, const pw__
         pw_err_clear(&local);
         if ((r = pw__gltf_view_begin(o, 0, e))) return r;
         if ((r = pw_png_write(o->a, p->texture, 8, pw_buf_write, &o->bin, &local)))
-            return o->bin.failed ? pw_fail(e, PW_ERR_NOMEM, "out of memory writing glTF") : pw_fail(e, r, "%s", local.msg);
+            return o->bin.failed ? pw_fail(e, PW_ERR_NOMEM, "out of memory writing glTF")
+                                 : pw_fail(e, r, "%s", local.msg);
         if ((r = pw__gltf_view_end(o, e))) return r;
     }
     return PW_OK;
@@ -13935,17 +14030,22 @@ static int pw__gltf_check(const pw_gltf_part *p, int k, pw_err *e)
     int i, nc;
     if (!p->pos || !p->fstart || !p->fv || p->nv < 1 || p->nf < 1 || p->fstart[0] != 0)
         return pw_fail(e, PW_ERR_INVALID, "glTF part %d: empty or malformed mesh", k);
-    if (p->texture && !p->corner_uv) return pw_fail(e, PW_ERR_INVALID, "glTF part %d: a texture without texture coordinates", k);
+    if (p->texture && !p->corner_uv)
+        return pw_fail(e, PW_ERR_INVALID, "glTF part %d: a texture without texture coordinates", k);
     for (i = 0; i < p->nf; i++)
         if (p->fstart[i + 1] - p->fstart[i] < 3 || p->fstart[i + 1] > PW_MAX_MESH_ELEMENTS)
-            return pw_fail(e, PW_ERR_INVALID, "glTF part %d: face %d has %d corners", k, i, p->fstart[i + 1] - p->fstart[i]);
+            return pw_fail(e, PW_ERR_INVALID, "glTF part %d: face %d has %d corners", k, i,
+                           p->fstart[i + 1] - p->fstart[i]);
     nc = p->fstart[p->nf];
     for (i = 0; i < nc; i++)
-        if (p->fv[i] < 0 || p->fv[i] >= p->nv) return pw_fail(e, PW_ERR_INVALID, "glTF part %d: corner %d names vertex %d of %d", k, i, p->fv[i], p->nv);
+        if (p->fv[i] < 0 || p->fv[i] >= p->nv)
+            return pw_fail(e, PW_ERR_INVALID, "glTF part %d: corner %d names vertex %d of %d", k, i, p->fv[i], p->nv);
     for (i = 0; i < 3 * p->nv; i++)
-        if (!pw_is_finite(p->pos[i])) return pw_fail(e, PW_ERR_INVALID, "glTF part %d: vertex %d is not finite", k, i / 3);
+        if (!pw_is_finite(p->pos[i]))
+            return pw_fail(e, PW_ERR_INVALID, "glTF part %d: vertex %d is not finite", k, i / 3);
     for (i = 0; p->corner_uv && i < 2 * nc; i++)
-        if (!pw_is_finite(p->corner_uv[i])) return pw_fail(e, PW_ERR_INVALID, "glTF part %d: corner %d's texture coordinate is not finite", k, i / 2);
+        if (!pw_is_finite(p->corner_uv[i]))
+            return pw_fail(e, PW_ERR_INVALID, "glTF part %d: corner %d's texture coordinate is not finite", k, i / 2);
     return PW_OK;
 }
 
@@ -13960,7 +14060,10 @@ static void pw__gltf_json_views(pw__gltf_out *o)
         pw__js_int(o, (long long)o->views[k].offset);
         pw__js(o, ",\"byteLength\":");
         pw__js_int(o, (long long)o->views[k].length);
-        if (o->views[k].target) pw__js(o, ",\"target\":"), pw__js_int(o, o->views[k].target);
+        if (o->views[k].target) {
+            pw__js(o, ",\"target\":");
+            pw__js_int(o, o->views[k].target);
+        }
         pw__js(o, "}");
     }
     pw__js(o, "],\"buffers\":[{\"byteLength\":");
@@ -13976,7 +14079,9 @@ static void pw__gltf_accessor(pw__gltf_out *o, int first, int view, int type, in
     pw__js_int(o, type);
     pw__js(o, ",\"count\":");
     pw__js_int(o, count);
-    pw__js(o, ",\"type\":\""), pw__js(o, kind), pw__js(o, "\"");
+    pw__js(o, ",\"type\":\"");
+    pw__js(o, kind);
+    pw__js(o, "\"");
 }
 
 static void pw__gltf_json_accessors(pw__gltf_out *o, const pw__gltf_info *I, int np)
@@ -13989,13 +14094,22 @@ static void pw__gltf_json_accessors(pw__gltf_out *o, const pw__gltf_info *I, int
         pw__js(o, "}");
         pw__gltf_accessor(o, 0, v + 1, 5126, I[p].nverts, "VEC3");
         pw__js(o, ",\"min\":[");
-        for (k = 0; k < 3; k++) pw__js(o, k ? "," : ""), pw__js_float(o, I[p].lo[k]);
+        for (k = 0; k < 3; k++) {
+            pw__js(o, k ? "," : "");
+            pw__js_float(o, I[p].lo[k]);
+        }
         pw__js(o, "],\"max\":[");
-        for (k = 0; k < 3; k++) pw__js(o, k ? "," : ""), pw__js_float(o, I[p].hi[k]);
+        for (k = 0; k < 3; k++) {
+            pw__js(o, k ? "," : "");
+            pw__js_float(o, I[p].hi[k]);
+        }
         pw__js(o, "]}");
         pw__gltf_accessor(o, 0, v + 2, 5126, I[p].nverts, "VEC3");
         pw__js(o, "}");
-        if (I[p].has_uv) pw__gltf_accessor(o, 0, v + 3, 5126, I[p].nverts, "VEC2"), pw__js(o, "}");
+        if (I[p].has_uv) {
+            pw__gltf_accessor(o, 0, v + 3, 5126, I[p].nverts, "VEC2");
+            pw__js(o, "}");
+        }
     }
 }
 
@@ -14013,22 +14127,33 @@ static void pw__gltf_json_meshes(pw__gltf_out *o, const pw_gltf_part *parts, con
     pw__js(o, "],\"meshes\":[");
     for (p = 0; p < np; p++) {
         int a0 = pw__gltf_acc0(I, p);
-        pw__js(o, p ? ",{\"name\":" : "{\"name\":"), pw__js_string(o, parts[p].name ? parts[p].name : "mesh");
-        pw__js(o, ",\"primitives\":[{\"attributes\":{\"POSITION\":"), pw__js_int(o, a0 + 1);
-        pw__js(o, ",\"NORMAL\":"), pw__js_int(o, a0 + 2);
-        if (I[p].has_uv) pw__js(o, ",\"TEXCOORD_0\":"), pw__js_int(o, a0 + 3);
-        pw__js(o, "},\"indices\":"), pw__js_int(o, a0);
-        pw__js(o, ",\"material\":"), pw__js_int(o, p);
+        pw__js(o, p ? ",{\"name\":" : "{\"name\":");
+        pw__js_string(o, parts[p].name ? parts[p].name : "mesh");
+        pw__js(o, ",\"primitives\":[{\"attributes\":{\"POSITION\":");
+        pw__js_int(o, a0 + 1);
+        pw__js(o, ",\"NORMAL\":");
+        pw__js_int(o, a0 + 2);
+        if (I[p].has_uv) {
+            pw__js(o, ",\"TEXCOORD_0\":");
+            pw__js_int(o, a0 + 3);
+        }
+        pw__js(o, "},\"indices\":");
+        pw__js_int(o, a0);
+        pw__js(o, ",\"material\":");
+        pw__js_int(o, p);
         pw__js(o, ",\"mode\":4}]}");
     }
     pw__js(o, "],\"materials\":[");
     for (p = 0; p < np; p++) {
-        pw__js(o, p ? ",{\"name\":" : "{\"name\":"), pw__js_string(o, parts[p].name ? parts[p].name : "mesh");
+        pw__js(o, p ? ",{\"name\":" : "{\"name\":");
+        pw__js_string(o, parts[p].name ? parts[p].name : "mesh");
         pw__js(o, ",\"pbrMetallicRoughness\":{");
         if (I[p].has_image) {
             int t = 0, k;
             for (k = 0; k < p; k++) t += I[k].has_image;
-            pw__js(o, "\"baseColorTexture\":{\"index\":"), pw__js_int(o, t), pw__js(o, "},");
+            pw__js(o, "\"baseColorTexture\":{\"index\":");
+            pw__js_int(o, t);
+            pw__js(o, "},");
         }
         pw__js(o, "\"metallicFactor\":0,\"roughnessFactor\":1}}");
     }
@@ -14043,21 +14168,33 @@ static void pw__gltf_json_textures(pw__gltf_out *o, const pw_gltf_part *parts, c
     pw__js(o, "],\"textures\":[");
     for (p = 0, t = 0; p < np; p++)
         if (I[p].has_image) {
-            pw__js(o, sep), pw__js(o, "{\"sampler\":"), pw__js_int(o, t), pw__js(o, ",\"source\":"), pw__js_int(o, t), pw__js(o, "}");
-            sep = ",", t++;
+            pw__js(o, sep);
+            pw__js(o, "{\"sampler\":");
+            pw__js_int(o, t);
+            pw__js(o, ",\"source\":");
+            pw__js_int(o, t);
+            pw__js(o, "}");
+            sep = ",";
+            t++;
         }
     pw__js(o, "],\"samplers\":[");
     for (p = 0, sep = ""; p < np; p++)
         if (I[p].has_image) {
             const char *wrap = parts[p].repeat ? "10497" : "33071";
-            pw__js(o, sep), pw__js(o, "{\"magFilter\":9729,\"minFilter\":9987,\"wrapS\":"), pw__js(o, wrap);
-            pw__js(o, ",\"wrapT\":"), pw__js(o, wrap), pw__js(o, "}");
+            pw__js(o, sep);
+            pw__js(o, "{\"magFilter\":9729,\"minFilter\":9987,\"wrapS\":");
+            pw__js(o, wrap);
+            pw__js(o, ",\"wrapT\":");
+            pw__js(o, wrap);
+            pw__js(o, "}");
             sep = ",";
         }
     pw__js(o, "],\"images\":[");
     for (p = 0, sep = ""; p < np; p++)
         if (I[p].has_image) {
-            pw__js(o, sep), pw__js(o, "{\"bufferView\":"), pw__js_int(o, I[p].view0 + 3 + I[p].has_uv);
+            pw__js(o, sep);
+            pw__js(o, "{\"bufferView\":");
+            pw__js_int(o, I[p].view0 + 3 + I[p].has_uv);
             pw__js(o, ",\"mimeType\":\"image/png\"}");
             sep = ",";
         }
@@ -14070,25 +14207,44 @@ static void pw__gltf_camera_rotation(const pw_camera *c, double *q)
 {
     double f[3], r[3], u[3], m[3][3], t;
     int k;
-    for (k = 0; k < 3; k++) f[k] = (double)c->target[k] - c->eye[k], u[k] = c->up[k];
+    for (k = 0; k < 3; k++) {
+        f[k] = (double)c->target[k] - c->eye[k];
+        u[k] = c->up[k];
+    }
     pw_norm3(f);
     pw_cross3(f, u, r);
     pw_norm3(r);
     pw_cross3(r, f, u);
-    for (k = 0; k < 3; k++) m[k][0] = r[k], m[k][1] = u[k], m[k][2] = -f[k];
+    for (k = 0; k < 3; k++) {
+        m[k][0] = r[k];
+        m[k][1] = u[k];
+        m[k][2] = -f[k];
+    }
     t = m[0][0] + m[1][1] + m[2][2];
     if (t > 0.0) { /* the largest of w, x, y, z divides: no cancellation */
         double s = 2.0 * sqrt(1.0 + t);
-        q[3] = 0.25 * s, q[0] = (m[2][1] - m[1][2]) / s, q[1] = (m[0][2] - m[2][0]) / s, q[2] = (m[1][0] - m[0][1]) / s;
+        q[3] = 0.25 * s;
+        q[0] = (m[2][1] - m[1][2]) / s;
+        q[1] = (m[0][2] - m[2][0]) / s;
+        q[2] = (m[1][0] - m[0][1]) / s;
     } else if (m[0][0] > m[1][1] && m[0][0] > m[2][2]) {
         double s = 2.0 * sqrt(1.0 + m[0][0] - m[1][1] - m[2][2]);
-        q[3] = (m[2][1] - m[1][2]) / s, q[0] = 0.25 * s, q[1] = (m[0][1] + m[1][0]) / s, q[2] = (m[0][2] + m[2][0]) / s;
+        q[3] = (m[2][1] - m[1][2]) / s;
+        q[0] = 0.25 * s;
+        q[1] = (m[0][1] + m[1][0]) / s;
+        q[2] = (m[0][2] + m[2][0]) / s;
     } else if (m[1][1] > m[2][2]) {
         double s = 2.0 * sqrt(1.0 + m[1][1] - m[0][0] - m[2][2]);
-        q[3] = (m[0][2] - m[2][0]) / s, q[0] = (m[0][1] + m[1][0]) / s, q[1] = 0.25 * s, q[2] = (m[1][2] + m[2][1]) / s;
+        q[3] = (m[0][2] - m[2][0]) / s;
+        q[0] = (m[0][1] + m[1][0]) / s;
+        q[1] = 0.25 * s;
+        q[2] = (m[1][2] + m[2][1]) / s;
     } else {
         double s = 2.0 * sqrt(1.0 + m[2][2] - m[0][0] - m[1][1]);
-        q[3] = (m[1][0] - m[0][1]) / s, q[0] = (m[0][2] + m[2][0]) / s, q[1] = (m[1][2] + m[2][1]) / s, q[2] = 0.25 * s;
+        q[3] = (m[1][0] - m[0][1]) / s;
+        q[0] = (m[0][2] + m[2][0]) / s;
+        q[1] = (m[1][2] + m[2][1]) / s;
+        q[2] = 0.25 * s;
     }
     t = sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
     for (k = 0; k < 4; k++) q[k] /= t;
@@ -14101,9 +14257,15 @@ static void pw__gltf_json_camera_node(pw__gltf_out *o, const pw_camera *c)
     int k;
     pw__gltf_camera_rotation(c, q);
     pw__js(o, ",{\"name\":\"patchwork view\",\"camera\":0,\"translation\":[");
-    for (k = 0; k < 3; k++) pw__js(o, k ? "," : ""), pw__js_float(o, c->eye[k]);
+    for (k = 0; k < 3; k++) {
+        pw__js(o, k ? "," : "");
+        pw__js_float(o, c->eye[k]);
+    }
     pw__js(o, "],\"rotation\":[");
-    for (k = 0; k < 4; k++) pw__js(o, k ? "," : ""), pw__js_float(o, (float)q[k]);
+    for (k = 0; k < 4; k++) {
+        pw__js(o, k ? "," : "");
+        pw__js_float(o, (float)q[k]);
+    }
     pw__js(o, "]}");
 }
 
@@ -14111,9 +14273,12 @@ static void pw__gltf_json_camera(pw__gltf_out *o, const pw_camera *c, float aspe
 {
     pw__js(o, "],\"cameras\":[{\"type\":\"perspective\",\"perspective\":{\"yfov\":");
     pw__js_float(o, (float)(c->fovy_deg * (3.14159265358979323846 / 180.0)));
-    pw__js(o, ",\"aspectRatio\":"), pw__js_float(o, aspect);
-    pw__js(o, ",\"znear\":"), pw__js_float(o, c->znear);
-    pw__js(o, ",\"zfar\":"), pw__js_float(o, c->zfar);
+    pw__js(o, ",\"aspectRatio\":");
+    pw__js_float(o, aspect);
+    pw__js(o, ",\"znear\":");
+    pw__js_float(o, c->znear);
+    pw__js(o, ",\"zfar\":");
+    pw__js_float(o, c->zfar);
     pw__js(o, "}}");
 }
 
@@ -14121,15 +14286,25 @@ static void pw__gltf_json(pw__gltf_out *o, const pw_gltf_scene *S, const pw__glt
 {
     const pw_gltf_part *parts = S->parts;
     int p, np = S->nparts;
-    pw__js(o, "{\"asset\":{\"version\":\"2.0\",\"generator\":"), pw__js_string(o, S->generator ? S->generator : "patchwork");
+    pw__js(o, "{\"asset\":{\"version\":\"2.0\",\"generator\":");
+    pw__js_string(o, S->generator ? S->generator : "patchwork");
     pw__js(o, "},\"scene\":0,\"scenes\":[{\"nodes\":[");
-    for (p = 0; p < np + (S->camera != NULL); p++) pw__js(o, p ? "," : ""), pw__js_int(o, p);
+    for (p = 0; p < np + (S->camera != NULL); p++) {
+        pw__js(o, p ? "," : "");
+        pw__js_int(o, p);
+    }
     pw__js(o, "]}],\"nodes\":[");
     for (p = 0; p < np; p++) {
-        pw__js(o, p ? ",{\"name\":" : "{\"name\":"), pw__js_string(o, parts[p].name ? parts[p].name : "mesh");
-        pw__js(o, ",\"mesh\":"), pw__js_int(o, p), pw__js(o, "}");
+        pw__js(o, p ? ",{\"name\":" : "{\"name\":");
+        pw__js_string(o, parts[p].name ? parts[p].name : "mesh");
+        pw__js(o, ",\"mesh\":");
+        pw__js_int(o, p);
+        pw__js(o, "}");
     }
-    if (S->camera) pw__gltf_json_camera_node(o, S->camera), pw__gltf_json_camera(o, S->camera, S->aspect);
+    if (S->camera) {
+        pw__gltf_json_camera_node(o, S->camera);
+        pw__gltf_json_camera(o, S->camera, S->aspect);
+    }
     pw__gltf_json_meshes(o, parts, I, np);
     pw__gltf_json_textures(o, parts, I, np);
     pw__gltf_json_accessors(o, I, np);
@@ -14141,7 +14316,10 @@ static void pw__gltf_json(pw__gltf_out *o, const pw_gltf_scene *S, const pw__glt
 
 static void pw__gltf_le32(unsigned char *b, uint32_t v)
 {
-    b[0] = (unsigned char)v, b[1] = (unsigned char)(v >> 8), b[2] = (unsigned char)(v >> 16), b[3] = (unsigned char)(v >> 24);
+    b[0] = (unsigned char)v;
+    b[1] = (unsigned char)(v >> 8);
+    b[2] = (unsigned char)(v >> 16);
+    b[3] = (unsigned char)(v >> 24);
 }
 
 /* GLB: the 12-byte header, the JSON chunk padded with spaces, the binary
@@ -14151,12 +14329,19 @@ static int pw__gltf_emit(const pw__gltf_out *o, pw_write_fn w, void *ctx, pw_err
     static const char spaces[4] = {' ', ' ', ' ', ' '}, zeros[4] = {0, 0, 0, 0};
     size_t jl = (o->json.size + 3) & ~(size_t)3, bl = (o->bin.size + 3) & ~(size_t)3, total = 12 + 8 + jl + 8 + bl;
     unsigned char h[20];
-    if (total > 0xFFFFFFFFu) return pw_fail(e, PW_ERR_LIMIT, "glTF: %lu bytes is over GLB's 4 GiB", (unsigned long)total);
-    memcpy(h, "glTF", 4), pw__gltf_le32(h + 4, 2), pw__gltf_le32(h + 8, (uint32_t)total);
-    pw__gltf_le32(h + 12, (uint32_t)jl), memcpy(h + 16, "JSON", 4);
-    if (w(ctx, h, 20) || w(ctx, o->json.data, o->json.size) || w(ctx, spaces, jl - o->json.size)) return pw_fail(e, PW_ERR_IO, "write failed");
-    pw__gltf_le32(h, (uint32_t)bl), memcpy(h + 4, "BIN\0", 4);
-    if (w(ctx, h, 8) || w(ctx, o->bin.data, o->bin.size) || w(ctx, zeros, bl - o->bin.size)) return pw_fail(e, PW_ERR_IO, "write failed");
+    if (total > 0xFFFFFFFFu)
+        return pw_fail(e, PW_ERR_LIMIT, "glTF: %lu bytes is over GLB's 4 GiB", (unsigned long)total);
+    memcpy(h, "glTF", 4);
+    pw__gltf_le32(h + 4, 2);
+    pw__gltf_le32(h + 8, (uint32_t)total);
+    pw__gltf_le32(h + 12, (uint32_t)jl);
+    memcpy(h + 16, "JSON", 4);
+    if (w(ctx, h, 20) || w(ctx, o->json.data, o->json.size) || w(ctx, spaces, jl - o->json.size))
+        return pw_fail(e, PW_ERR_IO, "write failed");
+    pw__gltf_le32(h, (uint32_t)bl);
+    memcpy(h + 4, "BIN\0", 4);
+    if (w(ctx, h, 8) || w(ctx, o->bin.data, o->bin.size) || w(ctx, zeros, bl - o->bin.size))
+        return pw_fail(e, PW_ERR_IO, "write failed");
     return PW_OK;
 }
 
@@ -14189,23 +14374,31 @@ PW__DEF int pw_gltf_write(const pw_alloc *a, const pw_gltf_scene *S, pw_write_fn
     for (p = 0; p < np; p++)
         if ((r = pw__gltf_check(&parts[p], p, e))) return r;
     memset(&o, 0, sizeof o);
-    o.a = a, o.bin.alloc = a, o.json.alloc = a;
-    o.js.w = pw_buf_write, o.js.ctx = &o.json;
+    o.a = a;
+    o.bin.alloc = a;
+    o.json.alloc = a;
+    o.js.w = pw_buf_write;
+    o.js.ctx = &o.json;
     if (!(I = (pw__gltf_info *)pw_calloc_array(a, (size_t)np, sizeof *I, "glTF parts", e))) return PW_ERR_NOMEM;
     for (p = 0; p < np && r == PW_OK; p++) {
         pw__gltf_verts V;
         float *nrm = NULL;
         if ((r = pw__gltf_split(a, &parts[p], &V, e))) break;
-        if ((r = pw__gltf_normals(a, &parts[p], &nrm, e)) == PW_OK) r = pw__gltf_part_data(&o, &parts[p], &V, nrm, &I[p], e);
+        if ((r = pw__gltf_normals(a, &parts[p], &nrm, e)) == PW_OK)
+            r = pw__gltf_part_data(&o, &parts[p], &V, nrm, &I[p], e);
         pw__gltf_verts_free(a, &V);
         pw_free(a, nrm);
     }
     if (r == PW_OK) {
         pw__gltf_json(&o, S, I);
         pw__wb_flush(&o.js);
-        r = o.js.failed || o.json.failed ? pw_fail(e, PW_ERR_NOMEM, "out of memory writing glTF") : pw__gltf_emit(&o, w, ctx, e);
+        r = o.js.failed || o.json.failed ? pw_fail(e, PW_ERR_NOMEM, "out of memory writing glTF")
+                                         : pw__gltf_emit(&o, w, ctx, e);
     }
-    pw_free(a, I), pw_free(a, o.views), pw_free(a, o.bin.data), pw_free(a, o.json.data);
+    pw_free(a, I);
+    pw_free(a, o.views);
+    pw_free(a, o.bin.data);
+    pw_free(a, o.json.data);
     return r;
 }
 
@@ -14235,8 +14428,8 @@ LAPPEDDEF lapped_options lapped_default_options(void)
     o.max_distortion = 2.0f;
     o.early = 0.25f;
     o.max_pastes = 200000;
-    pw_view_defaults(&o.render.width, &o.render.height, &o.render.supersample, o.render.view_dir,
-                     o.render.up, o.render.background);
+    pw_view_defaults(&o.render.width, &o.render.height, &o.render.supersample, o.render.view_dir, o.render.up,
+                     o.render.background);
     o.atlas.size = PW_ATLAS_SIZE;
     o.atlas.cone_angle = PW_ATLAS_CONE;
     o.atlas.gutter = PW_ATLAS_GUTTER;
@@ -14434,8 +14627,8 @@ static int lapped__fld_scale(const pw_trimesh *m, const lapped_options *f, float
 
 /* Writes T = scale * direction (unit z in the triangle frame) and
  * S = T x N (§3.2). scales may be NULL (then `scale` everywhere). */
-static void lapped__fld_output(const pw_trimesh *m, const double *z, float scale, const double *scales,
-                               float *s, float *t)
+static void lapped__fld_output(const pw_trimesh *m, const double *z, float scale, const double *scales, float *s,
+                               float *t)
 {
     int f;
     for (f = 0; f < m->nf; f++) {
@@ -14456,8 +14649,7 @@ static void lapped__fld_output(const pw_trimesh *m, const double *z, float scale
 /* One caller vector of triangle f, projected onto its plane and rescaled to
  * its own length (a vector meant to be tangent keeps its magnitude, the
  * scale). Refuses NaN/Inf, zero, and vectors normal to the face. */
-static int lapped__fld_tangent(const pw_trimesh *m, int f, const float *p, const char *what, pw_v3 *out,
-                               pw_err *e)
+static int lapped__fld_tangent(const pw_trimesh *m, int f, const float *p, const char *what, pw_v3 *out, pw_err *e)
 {
     pw_v3 x = pw_v3_load(p), n = pw_df_normal(m, f), q;
     float len, ql;
@@ -14484,10 +14676,8 @@ static int lapped__fld_faces(const pw_trimesh *m, const lapped_options *fl, floa
     for (f = 0; f < m->nf; f++) {
         pw_v3 T, S, n = pw_df_normal(m, f);
         if ((r = lapped__fld_tangent(m, f, fl->face_t + 3 * f, "T", &T, e)) != PW_OK) return r;
-        if (!fl->face_s)
-            S = pw_v3_cross(T, n);
-        else if ((r = lapped__fld_tangent(m, f, fl->face_s + 3 * f, "S", &S, e)) != PW_OK)
-            return r;
+        if (!fl->face_s) S = pw_v3_cross(T, n);
+        else if ((r = lapped__fld_tangent(m, f, fl->face_s + 3 * f, "S", &S, e)) != PW_OK) return r;
         if (!(fabsf(pw_v3_dot(pw_v3_cross(S, T), n)) > 1e-4f * pw_v3_len(S) * pw_v3_len(T)))
             return pw_fail(e, PW_ERR_INVALID, "field S and T of triangle %d are parallel", f);
         pw_v3_store(t + 3 * f, T);
@@ -14510,23 +14700,22 @@ typedef struct lapped__fld_con {
 static int lapped__fld_value(int i, const char *what, float x, double def, double *out, pw_err *e)
 {
     if (!(x >= 0.0f) || !pw_is_finite(x))
-        return pw_fail(e, PW_ERR_INVALID, "constraint %d: %s %g is negative or not finite", i, what,
-                       (double)x);
+        return pw_fail(e, PW_ERR_INVALID, "constraint %d: %s %g is negative or not finite", i, what, (double)x);
     *out = x > 0.0f ? (double)x : def;
     return PW_OK;
 }
 
 /* Checks constraint i and resolves its defaults (lapped.h: scale 0 is the
  * field's scale, radius 0 is twice the constraint's scale, weight 0 is 1). */
-static int lapped__fld_check(const pw_trimesh *m, const lapped_constraint *in, int i, float scale,
-                             lapped__fld_con *c, pw_err *e)
+static int lapped__fld_check(const pw_trimesh *m, const lapped_constraint *in, int i, float scale, lapped__fld_con *c,
+                             pw_err *e)
 {
     pw_v3 d = pw_v3_load(in->direction), n;
     double z[2];
     int r;
     if (in->face < 0 || in->face >= m->nf)
-        return pw_fail(e, PW_ERR_INVALID, "constraint %d: triangle %d is out of range (the mesh has %d)", i,
-                       in->face, m->nf);
+        return pw_fail(e, PW_ERR_INVALID, "constraint %d: triangle %d is out of range (the mesh has %d)", i, in->face,
+                       m->nf);
     if (!pw_is_finite(d.x) || !pw_is_finite(d.y) || !pw_is_finite(d.z) || !pw_is_finite(pw_v3_dot(d, d)))
         return pw_fail(e, PW_ERR_INVALID, "constraint %d: direction is not finite", i);
     if (!(pw_v3_dot(d, d) > 0.0f)) return pw_fail(e, PW_ERR_INVALID, "constraint %d: direction is zero", i);
@@ -14578,8 +14767,7 @@ static int lapped__fld_gap(int a, int b) { return a > b ? a - b : b - a; }
  * each takes, whole, the direction and scale of the constraint whose
  * triangle index is nearest to the component's lowest triangle (the lower
  * constraint on ties), projected onto each face like an up vector. */
-static void lapped__fld_orphans(const pw_trimesh *m, const lapped__fld_con *c, int nc, lapped__fld_acc *acc,
-                                int *stack)
+static void lapped__fld_orphans(const pw_trimesh *m, const lapped__fld_con *c, int nc, lapped__fld_acc *acc, int *stack)
 {
     int f, i, j, top, k, g;
     for (f = 0; f < m->nf; f++) {
@@ -14627,8 +14815,7 @@ static void lapped__fld_pin(const lapped__fld_con *c, int nc, lapped__fld_acc *a
 }
 
 /* Checks and resolves every constraint into c[]. */
-static int lapped__fld_checks(const pw_trimesh *m, const lapped_options *fl, float scale, lapped__fld_con *c,
-                              pw_err *e)
+static int lapped__fld_checks(const pw_trimesh *m, const lapped_options *fl, float scale, lapped__fld_con *c, pw_err *e)
 {
     int i, r;
     for (i = 0; i < fl->nconstraints; i++)
@@ -14738,13 +14925,15 @@ static int lapped__field(const pw_alloc *a, const pw_trimesh *m, const lapped_op
     z = (double *)pw_alloc_array(a, 3 * n, sizeof(double), "field directions", e);
     known = (unsigned char *)pw_alloc_array(a, n, 1, "field flags", e);
     if (!z || !known || pw_df_connection(a, m, &conn, e) != PW_OK) r = PW_ERR_NOMEM;
-    F.m = m, F.conn = conn, F.z = z, F.known = known;
+    F.m = m;
+    F.conn = conn;
+    F.z = z;
+    F.known = known;
     if (r == PW_OK && fl->field == LAPPED_FIELD_CONSTRAINTS)
         r = lapped__fld_constraints(a, &F, fl, scale, scales = z + 2 * n, e);
     else if (r == PW_OK && fl->field == LAPPED_FIELD_CURVATURE)
         r = pw_df_curvature(a, &F, pw_v3_load(fl->up), fl->smoothing, e);
-    else if (r == PW_OK)
-        r = pw_df_up_creased(a, &F, up, e);
+    else if (r == PW_OK) r = pw_df_up_creased(a, &F, up, e);
     if (r == PW_OK) lapped__fld_output(m, z, scale, scales, s, t);
     pw_free(a, z);
     pw_free(a, known);
@@ -14797,8 +14986,8 @@ static int lapped__difficulty(const pw_alloc *a, const pw_trimesh *m, const floa
 }
 
 /* Public: lapped.h. */
-LAPPEDDEF lapped_result lapped_compute_field(const lapped_mesh *mesh, const lapped_options *opt,
-                                             lapped_field *out, lapped_error *err)
+LAPPEDDEF lapped_result lapped_compute_field(const lapped_mesh *mesh, const lapped_options *opt, lapped_field *out,
+                                             lapped_error *err)
 {
     lapped_options o = lapped__options(opt);
     pw_alloc a = lapped__alloc(&o.allocator);
@@ -14806,8 +14995,7 @@ LAPPEDDEF lapped_result lapped_compute_field(const lapped_mesh *mesh, const lapp
     pw_err e;
     pw_err_clear(&e);
     if (out) memset(out, 0, sizeof *out);
-    if (!out)
-        pw_fail(&e, PW_ERR_INVALID, "lapped_compute_field: NULL output");
+    if (!out) pw_fail(&e, PW_ERR_INVALID, "lapped_compute_field: NULL output");
     else if (lapped__mesh_init(&a, mesh, &m, &e) == PW_OK) {
         out->allocator = lapped__allocator(&a);
         out->s = (float *)pw_alloc_array(&a, (size_t)m.nf * 3, sizeof(float), "field", &e);
@@ -15001,32 +15189,33 @@ static long lapped__falloff(pw_image *rgba, const float *a0, const float *dist, 
 
 /* Which alpha: AUTO is the mask when one is given, else the image's alpha
  * channel if it has one, else a splotch. */
-static int lapped__alpha_mode(const lapped_image *tex, const lapped_image *mask, int mode, int *out,
-                              pw_err *e)
+static int lapped__alpha_mode(const lapped_image *tex, const lapped_image *mask, int mode, int *out, pw_err *e)
 {
     if (mode < LAPPED_ALPHA_AUTO || mode > LAPPED_ALPHA_SPLOTCH)
         return pw_fail(e, PW_ERR_INVALID, "unknown alpha mode %d (LAPPED_ALPHA_AUTO..SPLOTCH)", mode);
     if (mode == LAPPED_ALPHA_AUTO)
-        mode = mask ? LAPPED_ALPHA_MASK
-                    : (tex->channels == 2 || tex->channels == 4) ? LAPPED_ALPHA_IMAGE : LAPPED_ALPHA_SPLOTCH;
+        mode = mask                                         ? LAPPED_ALPHA_MASK
+               : (tex->channels == 2 || tex->channels == 4) ? LAPPED_ALPHA_IMAGE
+                                                            : LAPPED_ALPHA_SPLOTCH;
     if (mask && mode != LAPPED_ALPHA_MASK)
-        return pw_fail(e, PW_ERR_INVALID, "a mask was given but the alpha mode is %d, not LAPPED_ALPHA_MASK",
-                       mode);
+        return pw_fail(e, PW_ERR_INVALID, "a mask was given but the alpha mode is %d, not LAPPED_ALPHA_MASK", mode);
     if (mode == LAPPED_ALPHA_MASK && !mask)
         return pw_fail(e, PW_ERR_INVALID, "alpha mode LAPPED_ALPHA_MASK needs a mask image");
     if (mode == LAPPED_ALPHA_IMAGE && tex->channels != 2 && tex->channels != 4)
-        return pw_fail(e, PW_ERR_INVALID, "alpha mode LAPPED_ALPHA_IMAGE, but the texture has %d channels "
-                       "and no alpha", tex->channels);
+        return pw_fail(e, PW_ERR_INVALID,
+                       "alpha mode LAPPED_ALPHA_IMAGE, but the texture has %d channels "
+                       "and no alpha",
+                       tex->channels);
     if (mode == LAPPED_ALPHA_MASK && (mask->width != tex->width || mask->height != tex->height))
-        return pw_fail(e, PW_ERR_INVALID, "the mask is %dx%d but the texture is %dx%d", mask->width,
-                       mask->height, tex->width, tex->height);
+        return pw_fail(e, PW_ERR_INVALID, "the mask is %dx%d but the texture is %dx%d", mask->width, mask->height,
+                       tex->width, tex->height);
     *out = mode;
     return PW_OK;
 }
 
 /* The alpha before the fall-off, in [0, 1]; refuses an all-zero one. */
-static int lapped__base_alpha(const lapped_image *tex, const lapped_image *mask, int mode,
-                              unsigned long long seed, float *a0, pw_err *e)
+static int lapped__base_alpha(const lapped_image *tex, const lapped_image *mask, int mode, unsigned long long seed,
+                              float *a0, pw_err *e)
 {
     size_t i, n = (size_t)tex->width * tex->height;
     long nonzero = 0;
@@ -15053,20 +15242,20 @@ static int lapped__patch_args(const lapped_image *tex, const lapped_image *mask,
     if (mask && (r = lapped__check_image(mask, "mask", e)) != PW_OK) return r;
     *falloff = opt ? opt->falloff : 0.0f;
     if (!pw_is_finite(*falloff) || *falloff < 0.0f)
-        return pw_fail(e, PW_ERR_INVALID, "falloff must be a finite number >= 0 pixels (got %g)",
-                       (double)*falloff);
+        return pw_fail(e, PW_ERR_INVALID, "falloff must be a finite number >= 0 pixels (got %g)", (double)*falloff);
     if (*falloff == 0.0f) *falloff = lapped_default_options().falloff;
     return PW_OK;
 }
 
 /* Alpha and fall-off into rgba (whose colour is already the texture's). */
-static int lapped__patch_alpha(const pw_alloc *a, const lapped_image *tex, const lapped_image *mask,
-                               int mode, unsigned long long seed, float falloff, pw_image *rgba, pw_err *e)
+static int lapped__patch_alpha(const pw_alloc *a, const lapped_image *tex, const lapped_image *mask, int mode,
+                               unsigned long long seed, float falloff, pw_image *rgba, pw_err *e)
 {
     size_t n = (size_t)tex->width * tex->height, nl = (size_t)(tex->width + tex->height + 4);
     float *a0 = (float *)pw_alloc_array(a, n * 2, sizeof(float), "patch alpha", e);
     double *g = a0 ? (double *)pw_alloc_array(a, (size_t)(tex->width + 2) * (tex->height + 2), sizeof(double),
-                                              "distance transform", e) : NULL;
+                                              "distance transform", e)
+                   : NULL;
     double *sd = g ? (double *)pw_alloc_array(a, 4 * nl, sizeof(double), "distance transform", e) : NULL;
     int *si = sd ? (int *)pw_alloc_array(a, nl, sizeof(int), "distance transform", e) : NULL;
     int r = si ? PW_OK : PW_ERR_NOMEM;
@@ -15074,8 +15263,10 @@ static int lapped__patch_alpha(const pw_alloc *a, const lapped_image *tex, const
     if (r == PW_OK) {
         lapped__edt(a0, tex->width, tex->height, a0 + n, g, sd, si);
         if (lapped__falloff(rgba, a0, a0 + n, falloff) == 0)
-            r = pw_fail(e, PW_ERR_INVALID, "the patch is fully transparent after the %g-pixel fall-off "
-                        "(the image or its opaque region is too small)", (double)falloff);
+            r = pw_fail(e, PW_ERR_INVALID,
+                        "the patch is fully transparent after the %g-pixel fall-off "
+                        "(the image or its opaque region is too small)",
+                        (double)falloff);
     }
     pw_free(a, a0);
     pw_free(a, g);
@@ -15145,8 +15336,7 @@ LAPPEDDEF lapped_result lapped_builtin_mesh(const char *name, const lapped_optio
     else if (!strcmp(name, "torus")) r = pw_shape_torus(&a, 48, 32, 0, &m, &pe);
     else if (!strcmp(name, "bumpy")) r = pw_shape_bumpy(&a, 16, &m, &pe);
     else if (!strcmp(name, "disc")) r = pw_shape_disc(&a, 18, &m, &pe);
-    else
-        pw_fail(&pe, PW_ERR_INVALID, "unknown built-in mesh '%s' (sphere, torus, bumpy, disc)", name);
+    else pw_fail(&pe, PW_ERR_INVALID, "unknown built-in mesh '%s' (sphere, torus, bumpy, disc)", name);
     if (r == PW_OK) lapped__take_mesh(&m, &a, out);
     return lapped__done(&pe, err);
 }
@@ -15174,7 +15364,13 @@ static void lapped__scales(unsigned long long seed, float x, float y, float px, 
         int i0 = (int)(x - off + 100.5f) - 100, i;
         for (i = i0 - 1; i <= i0 + 1 && !hit; i++) {
             float ex = x - ((float)i + off), ey = y - cy;
-            if (ex * ex + ey * ey < R * R) hit = 1, ci = i, cj = j, dx = ex, dy = ey;
+            if (ex * ex + ey * ey < R * R) {
+                hit = 1;
+                ci = i;
+                cj = j;
+                dx = ex;
+                dy = ey;
+            }
         }
     }
     for (j = -1; j <= 1; j += 2) { /* distance to the edges of the two scales of the row above */
@@ -15185,10 +15381,13 @@ static void lapped__scales(unsigned long long seed, float x, float y, float px, 
     rho = sqrtf(dx * dx + dy * dy) / R;
     h = (float)pw_lattice01(seed, ci, cj, 0);
     lapped__mix(base, lo, hi, 0.25f + 0.5f * h + 0.35f * (dy / R));
-    shade = (0.55f + 0.45f * (float)pw_smoothstep(0.0f, 0.22f, up)) * (0.85f + 0.3f * (float)pw_lattice01(seed + 5, ci, cj, 0));
+    shade = (0.55f + 0.45f * (float)pw_smoothstep(0.0f, 0.22f, up)) *
+            (0.85f + 0.3f * (float)pw_lattice01(seed + 5, ci, cj, 0));
     shade *= 0.9f + 0.2f * (float)pw_fbm2(seed + 9, 24.0f * x, 6.0f * y, 0); /* fine striations */
     shade += 0.25f * (float)pw_smoothstep(0.45f, 0.0f, rho) * (float)pw_smoothstep(0.0f, 0.3f, up); /* sheen */
-    base[0] *= shade, base[1] *= shade, base[2] *= shade;
+    base[0] *= shade;
+    base[1] *= shade;
+    base[2] *= shade;
     lapped__mix(rgb, base, edge, (float)pw_smoothstep(1.0f - 0.09f - px, 1.0f - 0.02f, rho));
 }
 
@@ -15217,25 +15416,29 @@ static void lapped__stripes(unsigned long long seed, float x, float y, float px,
     float t = g > 1e-6f ? pw_clampf(v / g + 0.5f, 0.0f, 1.0f) : (v > 0.0f ? 1.0f : 0.0f);
     lapped__mix(rgb, light, dark, t);
     g = 0.92f + 0.16f * (float)pw_fbm2(seed + 7, 40.0f * x, 12.0f * y, 0); /* hair grain */
-    rgb[0] *= g, rgb[1] *= g, rgb[2] *= g;
+    rgb[0] *= g;
+    rgb[1] *= g;
+    rgb[2] *= g;
 }
 
 /* "dots": polka dots of varied sizes and colours, one per cell of a
  * jittered 6x6 grid, and small dots of a finer 13x13 grid between them, on
  * a warm off-white ground. Isotropic. (x, y) in image widths. */
-static void lapped__dot_layer(unsigned long long seed, int cells, float rmin, float rmax, float x, float y,
-                              float px, float *rgb)
+static void lapped__dot_layer(unsigned long long seed, int cells, float rmin, float rmax, float x, float y, float px,
+                              float *rgb)
 {
     static const float pal[6][3] = {{0.86f, 0.24f, 0.28f}, {0.19f, 0.44f, 0.76f}, {0.96f, 0.72f, 0.16f},
                                     {0.25f, 0.63f, 0.4f},  {0.55f, 0.33f, 0.72f}, {0.95f, 0.5f, 0.22f}};
     float gx = x * (float)cells, gy = y * (float)cells;
     int ix = (int)gx, iy = (int)gy, c;
-    float rad = (rmin + (rmax - rmin) * (float)pw_lattice01(seed, ix, iy, 0)) / (float)cells, room = 0.5f / (float)cells - rad;
+    float rad = (rmin + (rmax - rmin) * (float)pw_lattice01(seed, ix, iy, 0)) / (float)cells,
+          room = 0.5f / (float)cells - rad;
     float cx = ((float)ix + 0.5f) / (float)cells + room * (2.0f * (float)pw_lattice01(seed + 1, ix, iy, 0) - 1.0f);
     float cy = ((float)iy + 0.5f) / (float)cells + room * (2.0f * (float)pw_lattice01(seed + 2, ix, iy, 0) - 1.0f);
     float d = sqrtf((x - cx) * (x - cx) + (y - cy) * (y - cy)), cover = pw_clampf((rad - d) / px + 0.5f, 0.0f, 1.0f);
-    float col[3], light = 1.0f + 0.25f * (float)pw_smoothstep(rad, 0.0f, sqrtf((x - cx + 0.3f * rad) * (x - cx + 0.3f * rad) +
-                                                                   (y - cy + 0.3f * rad) * (y - cy + 0.3f * rad)));
+    float col[3], light = 1.0f + 0.25f * (float)pw_smoothstep(rad, 0.0f,
+                                                              sqrtf((x - cx + 0.3f * rad) * (x - cx + 0.3f * rad) +
+                                                                    (y - cy + 0.3f * rad) * (y - cy + 0.3f * rad)));
     c = (int)(6.0f * (float)pw_lattice01(seed + 3, ix, iy, 0)) % 6;
     col[0] = pw_clampf(pal[c][0] * light, 0.0f, 1.0f);
     col[1] = pw_clampf(pal[c][1] * light, 0.0f, 1.0f);
@@ -15246,7 +15449,9 @@ static void lapped__dot_layer(unsigned long long seed, int cells, float rmin, fl
 static void lapped__dots(unsigned long long seed, float x, float y, float px, float *rgb)
 {
     float g = 0.94f + 0.06f * (float)pw_fbm2(seed + 11, 20.0f * x, 20.0f * y, 0);
-    rgb[0] = 0.97f * g, rgb[1] = 0.94f * g, rgb[2] = 0.86f * g;
+    rgb[0] = 0.97f * g;
+    rgb[1] = 0.94f * g;
+    rgb[2] = 0.86f * g;
     lapped__dot_layer(seed + 20, 13, 0.12f, 0.22f, x, y, px, rgb);
     lapped__dot_layer(seed + 40, 6, 0.2f, 0.42f, x, y, px, rgb);
 }
@@ -15308,7 +15513,7 @@ LAPPEDDEF lapped_result lapped_builtin_exemplar(const char *name, int size, cons
  * eroded alphas is reached everywhere in the triangle with the real ones. */
 #define LAPPED__RMIN 4   /* lattice resolution of triangles small against the patch */
 #define LAPPED__RMAX 256 /* ... and of huge ones (they need a finer lattice) */
-#define LAPPED__NLEV 8 /* erosion radii 0, 1, 2, 4, ..., 64 texels */
+#define LAPPED__NLEV 8   /* erosion radii 0, 1, 2, 4, ..., 64 texels */
 
 typedef struct lapped__eroded {
     int w, h;
@@ -15409,13 +15614,13 @@ static float lapped__eroded_at(const lapped__eroded *er, int l, float u, float v
 }
 
 typedef struct lapped__cover {
-    size_t *off;          /* nf+1: triangle f's points are alpha[off[f] .. off[f+1]-1] */
-    unsigned short *res;  /* nf: its lattice resolution R */
-    float *alpha;         /* accumulated opacity per lattice point */
-    int *open;            /* triangles not yet covered, in any order */
-    int *where;           /* nf: position in open, -1 once covered */
+    size_t *off;         /* nf+1: triangle f's points are alpha[off[f] .. off[f+1]-1] */
+    unsigned short *res; /* nf: its lattice resolution R */
+    float *alpha;        /* accumulated opacity per lattice point */
+    int *open;           /* triangles not yet covered, in any order */
+    int *where;          /* nf: position in open, -1 once covered */
     int nopen;
-    float need;           /* opacity a point must reach */
+    float need; /* opacity a point must reach */
 } lapped__cover;
 
 static void lapped__cover_free(const pw_alloc *a, lapped__cover *c)
@@ -15445,14 +15650,15 @@ static int lapped__cover_sizes(lapped__cover *c, const pw_trimesh *m, const floa
         c->off[f + 1] = c->off[f] + (size_t)(c->res[f] + 1) * (c->res[f] + 2) / 2;
     }
     if (c->off[m->nf] > (size_t)PW_MAX_MESH_ELEMENTS)
-        return pw_fail(e, PW_ERR_LIMIT, "the triangles are so large against the texture scale that "
+        return pw_fail(e, PW_ERR_LIMIT,
+                       "the triangles are so large against the texture scale that "
                        "tracking their coverage needs %lu points (limit %d)",
                        (unsigned long)c->off[m->nf], PW_MAX_MESH_ELEMENTS);
     return PW_OK;
 }
 
-static int lapped__cover_init(const pw_alloc *a, const pw_trimesh *m, const float *t, int texels,
-                              float need, lapped__cover *c, pw_err *e)
+static int lapped__cover_init(const pw_alloc *a, const pw_trimesh *m, const float *t, int texels, float need,
+                              lapped__cover *c, pw_err *e)
 {
     int f, r;
     memset(c, 0, sizeof *c);
@@ -15480,8 +15686,7 @@ static int lapped__eroded_top(lapped__eroded *er, const float centre[2], float n
 {
     int l;
     if (lapped__eroded_at(er, 0, centre[0], centre[1]) < need)
-        return pw_fail(e, PW_ERR_INVALID, "patch %d never reaches opacity %g, so it can never cover a point",
-                       k, need);
+        return pw_fail(e, PW_ERR_INVALID, "patch %d never reaches opacity %g, so it can never cover a point", k, need);
     for (l = 1; l < LAPPED__NLEV && lapped__eroded_at(er, l, centre[0], centre[1]) >= need; l++) {
     }
     er->top = l - 1;
@@ -15498,8 +15703,8 @@ static int lapped__cover_paint(lapped__cover *c, int f, const float uv[6], const
     for (i = 0; i <= R; i++)
         for (j = 0; i + j <= R; j++, acc++) {
             float b0 = (float)i * inv, b1 = (float)j * inv, b2 = 1.0f - b0 - b1;
-            float a = lapped__eroded_at(er, l, b0 * uv[0] + b1 * uv[2] + b2 * uv[4],
-                                        b0 * uv[1] + b1 * uv[3] + b2 * uv[5]);
+            float a =
+                lapped__eroded_at(er, l, b0 * uv[0] + b1 * uv[2] + b2 * uv[4], b0 * uv[1] + b1 * uv[3] + b2 * uv[5]);
             *acc = a + *acc * (1.0f - a);
             full &= *acc >= c->need;
         }
@@ -15541,18 +15746,18 @@ static void lapped__cover_hole(const lapped__cover *c, int f, float b[3])
  * belongs to the current patch when its stamp equals `stamp`. */
 typedef struct lapped__patchbuf {
     int stamp;
-    int *fin, *fout;     /* nf: stamp when in the patch / rejected for it */
-    int *fq;             /* nf: stamp while waiting in the candidate queue */
-    int *vin;            /* nv: stamp when the vertex has texture coordinates */
-    int *vloc;           /* nv: index into verts */
-    float *vuv;          /* nv*2 texture coordinates */
-    float *fs, *ft;      /* nf*3 the frame each patch triangle aligns with */
-    int *faces, nfaces;  /* patch triangles in the order they were added */
-    int *verts, nverts;  /* patch vertices in the order they were mapped */
-    pw_heap queue;       /* candidate triangles by distance (room for nf) */
-    int hard;            /* growth stopped somewhere at the distortion limit */
+    int *fin, *fout;       /* nf: stamp when in the patch / rejected for it */
+    int *fq;               /* nf: stamp while waiting in the candidate queue */
+    int *vin;              /* nv: stamp when the vertex has texture coordinates */
+    int *vloc;             /* nv: index into verts */
+    float *vuv;            /* nv*2 texture coordinates */
+    float *fs, *ft;        /* nf*3 the frame each patch triangle aligns with */
+    int *faces, nfaces;    /* patch triangles in the order they were added */
+    int *verts, nverts;    /* patch vertices in the order they were mapped */
+    pw_heap queue;         /* candidate triangles by distance (room for nf) */
+    int hard;              /* growth stopped somewhere at the distortion limit */
     unsigned char *sliver; /* nf: 1 for a degenerate triangle (pw_trimesh_sliver) */
-    float *keep;         /* nv*2: the coordinates of verts before the last optimisation */
+    float *keep;           /* nv*2: the coordinates of verts before the last optimisation */
 } lapped__patchbuf;
 
 static void lapped__patchbuf_free(const pw_alloc *a, lapped__patchbuf *p)
@@ -15652,7 +15857,10 @@ static float lapped__distortion(const pw_trimesh *m, const lapped__patchbuf *p, 
     if (p->sliver[f]) return 1.0f; /* no shape to distort: its corners follow its neighbours */
     lapped__phi(m, p, f, pw_v3_load(p->fs + 3 * f), ps);
     lapped__phi(m, p, f, pw_v3_load(p->ft + 3 * f), pt);
-    a = ps[0], b = pt[0], c = ps[1], d = pt[1];
+    a = ps[0];
+    b = pt[0];
+    c = ps[1];
+    d = pt[1];
     det = a * d - b * c;
     if (!(det > 0.0f)) return FLT_MAX;
     fro = a * a + b * b + c * c + d * d; /* s1^2 + s2^2 */
@@ -15677,8 +15885,7 @@ static void lapped__frame_coords(const lapped__patchbuf *p, int f, pw_v3 d, floa
 
 /* Texture coordinates of point x of the seed triangle f: the chosen point
  * maps to the patch centre and the face frame (S, T) to the texture axes. */
-static void lapped__seed_uv(const lapped__patchbuf *p, int f, pw_v3 x, pw_v3 centre3, const float c[2],
-                            float out[2])
+static void lapped__seed_uv(const lapped__patchbuf *p, int f, pw_v3 x, pw_v3 centre3, const float c[2], float out[2])
 {
     lapped__frame_coords(p, f, pw_v3_sub(x, centre3), out);
     out[0] += c[0];
@@ -15700,7 +15907,10 @@ static void lapped__sliver_layout(const pw_trimesh *m, const lapped__patchbuf *p
     for (k = 0; k < 3; k++) q[k] = pw_trimesh_corner(m, f, k);
     for (k = 0; k < 3; k++) {
         float l = pw_v3_len(pw_v3_sub(q[(k + 1) % 3], q[k]));
-        if (l > best) best = l, i = k;
+        if (l > best) {
+            best = l;
+            i = k;
+        }
     }
     e = pw_v3_sub(q[(i + 1) % 3], q[i]);
     e = pw_v3_sub(e, pw_v3_scale(n, pw_v3_dot(e, n)));
@@ -15797,9 +16007,9 @@ typedef struct lapped__paster {
     float *difficulty;       /* nf, for the early seeds */
     const pw_image *patches; /* npatches views of the caller's RGBA patches */
     int npatches;
-    pw_polyhull *hulls;      /* per patch */
-    lapped__eroded *eroded;  /* per patch, for the coverage */
-    float *centre;           /* per patch: texture point where pastes are centred */
+    pw_polyhull *hulls;     /* per patch */
+    lapped__eroded *eroded; /* per patch, for the coverage */
+    float *centre;          /* per patch: texture point where pastes are centred */
     lapped__cover cover;
     lapped__patchbuf pb;
     pw_rng rng;
@@ -15810,8 +16020,9 @@ typedef struct lapped__paster {
 
 static pw_v3 lapped__centroid(const pw_trimesh *m, int f)
 {
-    return pw_v3_scale(pw_v3_add(pw_v3_add(pw_trimesh_corner(m, f, 0), pw_trimesh_corner(m, f, 1)),
-                                 pw_trimesh_corner(m, f, 2)), 1.0f / 3.0f);
+    return pw_v3_scale(
+        pw_v3_add(pw_v3_add(pw_trimesh_corner(m, f, 0), pw_trimesh_corner(m, f, 1)), pw_trimesh_corner(m, f, 2)),
+        1.0f / 3.0f);
 }
 
 /* Queues the triangles across the edges of f that are neither in the patch
@@ -15862,9 +16073,9 @@ static void lapped__start(lapped__paster *P, int f, const float b[3], int patch,
     int k;
     p->stamp++;
     p->nfaces = p->nverts = p->queue.n = p->hard = 0;
-    *centre3 = pw_v3_add(pw_v3_add(pw_v3_scale(pw_trimesh_corner(&P->m, f, 0), b[0]),
-                                   pw_v3_scale(pw_trimesh_corner(&P->m, f, 1), b[1])),
-                         pw_v3_scale(pw_trimesh_corner(&P->m, f, 2), b[2]));
+    *centre3 = pw_v3_add(
+        pw_v3_add(pw_v3_scale(pw_trimesh_corner(&P->m, f, 0), b[0]), pw_v3_scale(pw_trimesh_corner(&P->m, f, 1), b[1])),
+        pw_v3_scale(pw_trimesh_corner(&P->m, f, 2), b[2]));
     lapped__frame(P, f);
     if (p->sliver[f]) { /* its flat layout, with the chosen point at the patch centre */
         float l[6], c[2];
@@ -15895,8 +16106,8 @@ static int lapped__shared(const lapped__paster *P, int g, const pw_polyhull *hul
         n++;
         *edge = k;
         if (!*inside)
-            *inside = pw_polyhull_segment_hits(hull, p->vuv[2 * va], p->vuv[2 * va + 1], p->vuv[2 * vb],
-                                               p->vuv[2 * vb + 1]);
+            *inside =
+                pw_polyhull_segment_hits(hull, p->vuv[2 * va], p->vuv[2 * va + 1], p->vuv[2 * vb], p->vuv[2 * vb + 1]);
     }
     return n;
 }
@@ -15990,8 +16201,7 @@ static double lapped__row_weight(const lapped__paster *P, int f)
 }
 
 /* The three edge rows of degenerate triangle f from row `row` on. */
-static int lapped__sliver_rows(lapped__paster *P, int f, int row, pw_triplets *tr, double *bu, double *bv,
-                               pw_err *e)
+static int lapped__sliver_rows(lapped__paster *P, int f, int row, pw_triplets *tr, double *bu, double *bv, pw_err *e)
 {
     double w = lapped__row_weight(P, f);
     float l[6];
@@ -16026,8 +16236,10 @@ static int lapped__align_rows(lapped__paster *P, pw_triplets *tr, double *bu, do
             r = pw_triplets_add(tr, row, col, ws[k], e);
             if (r == PW_OK) r = pw_triplets_add(tr, row + 1, col, wt[k], e);
         }
-        bu[row] = 1.0, bu[row + 1] = 0.0;
-        bv[row] = 0.0, bv[row + 1] = 1.0;
+        bu[row] = 1.0;
+        bu[row + 1] = 0.0;
+        bv[row] = 0.0;
+        bv[row + 1] = 1.0;
         row += 2;
     }
     return r;
@@ -16046,9 +16258,18 @@ static int lapped__sliver_lscm(lapped__paster *P, int f, int i, pw_triplets *tr,
     w *= w;
     lapped__sliver_layout(&P->m, &P->pb, f, l);
     /* real part: a2 du1 - b2 dv1 - a1 du2 + b1 dv2; imaginary: b2 du1 + a2 dv1 - b1 du2 - a1 dv2 */
-    cu[1] = z2[0], cv[1] = -z2[1], cu[2] = -z1[0], cv[2] = z1[1];
-    iu[1] = z2[1], iv[1] = z2[0], iu[2] = -z1[1], iv[2] = -z1[0];
-    cu[0] = -cu[1] - cu[2], cv[0] = -cv[1] - cv[2], iu[0] = -iu[1] - iu[2], iv[0] = -iv[1] - iv[2];
+    cu[1] = z2[0];
+    cv[1] = -z2[1];
+    cu[2] = -z1[0];
+    cv[2] = z1[1];
+    iu[1] = z2[1];
+    iv[1] = z2[0];
+    iu[2] = -z1[1];
+    iv[2] = -z1[0];
+    cu[0] = -cu[1] - cu[2];
+    cv[0] = -cv[1] - cv[2];
+    iu[0] = -iu[1] - iu[2];
+    iv[0] = -iv[1] - iv[2];
     for (k = 0; k < 3 && r == PW_OK; k++) {
         int col = P->pb.vloc[t[k]];
         r = pw_triplets_add(tr, 2 * i, col, w * cu[k], e);
@@ -16071,12 +16292,15 @@ static int lapped__lscm_pins(lapped__paster *P, int seed, int rows, pw_triplets 
     for (i = 0; i < 2 && r == PW_OK; i++) { /* phi(S_f) = (1,0), phi(T_f) = (0,1) */
         float w[3] = {0.0f, 0.0f, 0.0f}, q[2], l[6];
         if (p->sliver[f]) { /* U_{i+1} - U_0 as in its flat layout */
-            w[0] = -1.0f, w[i + 1] = 1.0f;
+            w[0] = -1.0f;
+            w[i + 1] = 1.0f;
             lapped__sliver_layout(&P->m, p, f, l);
-            q[0] = l[2 * i + 2], q[1] = l[2 * i + 3];
+            q[0] = l[2 * i + 2];
+            q[1] = l[2 * i + 3];
         } else {
             lapped__coeffs(&P->m, f, pw_v3_load((i ? p->ft : p->fs) + 3 * f), w);
-            q[0] = i ? 0.0f : 1.0f, q[1] = i ? 1.0f : 0.0f;
+            q[0] = i ? 0.0f : 1.0f;
+            q[1] = i ? 1.0f : 0.0f;
         }
         for (k = 0; k < 3 && r == PW_OK; k++) {
             int col = p->vloc[P->m.tri[3 * f + k]];
@@ -16128,8 +16352,8 @@ static int lapped__lscm_rows(lapped__paster *P, int seed, pw_triplets *tr, doubl
  * iteration cap (only patches of tens of thousands of triangles come near
  * it) is not an error here: the warm start is already a usable
  * parametrisation and every iterate improves it. */
-static int lapped__solve(lapped__paster *P, const pw_triplets *tr, const double *b, double *x, int nrhs,
-                         double *rhs, pw_err *e)
+static int lapped__solve(lapped__paster *P, const pw_triplets *tr, const double *b, double *x, int nrhs, double *rhs,
+                         pw_err *e)
 {
     pw_csr A, N;
     pw_ic0 M;
@@ -16167,8 +16391,8 @@ static int lapped__solve(lapped__paster *P, const pw_triplets *tr, const double 
  * seed point stays at the patch centre ("a positional constraint to fix
  * the location of the patch center": the functional ignores translations,
  * so fixing it afterwards is exact). */
-static int lapped__optimize(lapped__paster *P, int seed, const float bary[3], int patch, pw_triplets *tr,
-                            double *x, double *b, double *rhs, pw_err *e)
+static int lapped__optimize(lapped__paster *P, int seed, const float bary[3], int patch, pw_triplets *tr, double *x,
+                            double *b, double *rhs, pw_err *e)
 {
     lapped__patchbuf *p = &P->pb;
     int n = p->nverts, i, j, r, lscm = P->o.lscm && P->o.field == LAPPED_FIELD_ISOTROPIC;
@@ -16189,7 +16413,8 @@ static int lapped__optimize(lapped__paster *P, int seed, const float bary[3], in
     }
     if (r != PW_OK) return r;
     for (i = 0; i < n; i++) lapped__map_vertex(p, p->verts[i], (float)x[i], (float)x[n + i]);
-    du = P->centre[2 * patch], dv = P->centre[2 * patch + 1];
+    du = P->centre[2 * patch];
+    dv = P->centre[2 * patch + 1];
     for (j = 0; j < 3; j++) {
         int v = P->m.tri[3 * seed + j];
         du -= bary[j] * p->vuv[2 * v];
@@ -16245,8 +16470,7 @@ static void lapped__pick(lapped__paster *P, int early, int *f, float b[3])
     int k, best = P->cover.open[pw_rng_below(&P->rng, (uint32_t)P->cover.nopen)];
     for (k = 1; early && k < 8; k++) {
         int g = P->cover.open[pw_rng_below(&P->rng, (uint32_t)P->cover.nopen)];
-        if (P->difficulty[g] > P->difficulty[best] || (P->difficulty[g] == P->difficulty[best] && g < best))
-            best = g;
+        if (P->difficulty[g] > P->difficulty[best] || (P->difficulty[g] == P->difficulty[best] && g < best)) best = g;
     }
     *f = best;
     lapped__cover_hole(&P->cover, best, b);
@@ -16270,8 +16494,8 @@ static void lapped__tri_areas(const pw_trimesh *m, const float *fs, const float 
     pw_v3 c = pw_v3_cross(pw_v3_load(fs + 3 * f), pw_v3_load(ft + 3 * f));
     double s2 = (double)c.x * c.x + (double)c.y * c.y + (double)c.z * c.z;
     s2 = sqrt(s2);
-    *tex = 0.5 * fabs(((double)uv[2] - uv[0]) * ((double)uv[5] - uv[1]) -
-                      ((double)uv[4] - uv[0]) * ((double)uv[3] - uv[1]));
+    *tex = 0.5 *
+           fabs(((double)uv[2] - uv[0]) * ((double)uv[5] - uv[1]) - ((double)uv[4] - uv[0]) * ((double)uv[3] - uv[1]));
     *surf = (double)m->area[f] / s2;
 }
 
@@ -16286,9 +16510,8 @@ static int lapped__area_ok(double tex, double surf, double lo, double hi, int n)
 /* For paste q (the tests and the fuzzer check the guarantee with it):
  * *tex = its texture area, *surf = the sum of its A_f / S_f^2, *inside =
  * the part of *surf whose triangles keep their own ratio within [lo, hi]. */
-static PW__UNUSED void lapped__paste_areas(const pw_trimesh *m, const float *fs, const float *ft,
-                                           const lapped_paste *q, double lo, double hi, double *tex, double *surf,
-                                           double *inside)
+static PW__UNUSED void lapped__paste_areas(const pw_trimesh *m, const float *fs, const float *ft, const lapped_paste *q,
+                                           double lo, double hi, double *tex, double *surf, double *inside)
 {
     int i;
     *tex = *surf = *inside = 0.0;
@@ -16348,8 +16571,13 @@ static void lapped__keep(lapped__patchbuf *p, int restore)
     int i;
     for (i = 0; i < p->nverts; i++) {
         float *uv = p->vuv + 2 * p->verts[i], *k = p->keep + 2 * i;
-        if (restore) uv[0] = k[0], uv[1] = k[1];
-        else k[0] = uv[0], k[1] = uv[1];
+        if (restore) {
+            uv[0] = k[0];
+            uv[1] = k[1];
+        } else {
+            k[0] = uv[0];
+            k[1] = uv[1];
+        }
     }
 }
 
@@ -16451,8 +16679,7 @@ static void lapped__centre_of(const pw_image *img, float *dist, float out[2])
 {
     int w = img->w, h = img->h, x, y, best = 0;
     for (y = 0; y < h; y++)
-        for (x = 0; x < w; x++)
-            dist[y * w + x] = img->px[((size_t)y * w + x) * 4 + 3] >= 0.5f ? 1e9f : 0.0f;
+        for (x = 0; x < w; x++) dist[y * w + x] = img->px[((size_t)y * w + x) * 4 + 3] >= 0.5f ? 1e9f : 0.0f;
     for (y = 0; y < h; y++)
         for (x = 0; x < w; x++) lapped__chamfer_at(dist, w, h, x, y, 1);
     for (y = h - 1; y >= 0; y--)
@@ -16513,8 +16740,10 @@ static int lapped__setup_patches(lapped__paster *P, const lapped_image *in, int 
         snprintf(what, sizeof what, "patch %d", k);
         if ((r = lapped__check_image(&in[k], what, e)) != PW_OK) break;
         if (in[k].channels != 4)
-            return pw_fail(e, PW_ERR_INVALID, "patch %d has %d channels: patches are RGBA (see "
-                           "lapped_make_patch)", k, in[k].channels);
+            return pw_fail(e, PW_ERR_INVALID,
+                           "patch %d has %d channels: patches are RGBA (see "
+                           "lapped_make_patch)",
+                           k, in[k].channels);
         views[k] = lapped__pw_image(&in[k]);
         if ((size_t)in[k].width * in[k].height > maxpx) maxpx = (size_t)in[k].width * in[k].height;
     }
@@ -16565,8 +16794,8 @@ static double lapped__len_d(const float *v)
     return sqrt((double)v[0] * v[0] + (double)v[1] * v[1] + (double)v[2] * v[2]);
 }
 
-static int lapped__setup(lapped__paster *P, const lapped_mesh *mesh, const lapped_image *patches,
-                         int npatches, double *estimate, pw_err *e)
+static int lapped__setup(lapped__paster *P, const lapped_mesh *mesh, const lapped_image *patches, int npatches,
+                         double *estimate, pw_err *e)
 {
     int nf, r;
     if ((r = lapped__mesh_init(P->a, mesh, &P->m, e)) != PW_OK) return r;
@@ -16576,8 +16805,8 @@ static int lapped__setup(lapped__paster *P, const lapped_mesh *mesh, const lappe
     P->difficulty = (float *)pw_alloc_array(P->a, (size_t)nf, sizeof(float), "difficulty", e);
     if (!P->fs || !P->ft || !P->difficulty) return PW_ERR_NOMEM;
     if ((r = lapped__field(P->a, &P->m, &P->o, P->fs, P->ft, e)) != PW_OK ||
-        (r = lapped__difficulty(P->a, &P->m, P->o.field == LAPPED_FIELD_ISOTROPIC ? NULL : P->ft,
-                               P->difficulty, e)) != PW_OK ||
+        (r = lapped__difficulty(P->a, &P->m, P->o.field == LAPPED_FIELD_ISOTROPIC ? NULL : P->ft, P->difficulty, e)) !=
+            PW_OK ||
         (r = lapped__setup_patches(P, patches, npatches, e)) != PW_OK)
         return r;
     /* before the coverage lattice, whose size grows as the scale shrinks:
@@ -16586,12 +16815,15 @@ static int lapped__setup(lapped__paster *P, const lapped_mesh *mesh, const lappe
      * times it beyond the limit is refused at once, not after the limit */
     *estimate = lapped__estimate(P);
     if (1.5 * *estimate > P->o.max_pastes)
-        return pw_fail(e, PW_ERR_LIMIT, "the texture scale is too small for this mesh: covering it would take about "
-                       "%.0f pastes, over the limit of %d (lapped_options.max_pastes; --max-pastes)", 1.5 * *estimate,
-                       P->o.max_pastes);
+        return pw_fail(e, PW_ERR_LIMIT,
+                       "the texture scale is too small for this mesh: covering it would take about "
+                       "%.0f pastes, over the limit of %d (lapped_options.max_pastes; --max-pastes)",
+                       1.5 * *estimate, P->o.max_pastes);
     if (lapped__len_d(P->ft) > 20.0 * P->m.diag)
-        return pw_fail(e, PW_ERR_INVALID, "the texture scale %g is more than 20 times the mesh's size "
-                       "(%g): one patch would have to cover the whole mesh", lapped__len_d(P->ft), P->m.diag);
+        return pw_fail(e, PW_ERR_INVALID,
+                       "the texture scale %g is more than 20 times the mesh's size "
+                       "(%g): one patch would have to cover the whole mesh",
+                       lapped__len_d(P->ft), P->m.diag);
     if ((r = lapped__cover_init(P->a, &P->m, P->ft, lapped__max_side(P), P->o.coverage, &P->cover, e)) != PW_OK ||
         (r = lapped__patchbuf_init(P->a, &P->m, &P->pb, e)) != PW_OK)
         return r;
@@ -16614,10 +16846,11 @@ static int lapped__run(lapped__paster *P, double estimate, pw_err *e)
     }
     while (r == PW_OK && P->cover.nopen > 0) {
         if (P->npastes >= (size_t)P->o.max_pastes)
-            r = pw_fail(e, PW_ERR_LIMIT, "stopped after %d pastes with %d triangles still uncovered "
-                        "(lapped_options.max_pastes; --max-pastes)", P->o.max_pastes, P->cover.nopen);
-        else if (P->npastes % 16 == 0)
-            r = pw_report(&pr, 1.0f - (float)P->cover.nopen / (float)P->m.nf, "pasting", e);
+            r = pw_fail(e, PW_ERR_LIMIT,
+                        "stopped after %d pastes with %d triangles still uncovered "
+                        "(lapped_options.max_pastes; --max-pastes)",
+                        P->o.max_pastes, P->cover.nopen);
+        else if (P->npastes % 16 == 0) r = pw_report(&pr, 1.0f - (float)P->cover.nopen / (float)P->m.nf, "pasting", e);
         if (r == PW_OK) r = lapped__paste(P, (double)P->npastes < P->o.early * estimate, &tr, x, b, e);
     }
     pw_triplets_free(&tr);
@@ -16649,9 +16882,8 @@ static int lapped__output(lapped__paster *P, lapped_texture *out, pw_err *e)
     return PW_OK;
 }
 
-LAPPEDDEF lapped_result lapped_create(const lapped_mesh *mesh, const lapped_source *src,
-                                      const lapped_options *opt, lapped_texture *out,
-                                      lapped_error *err)
+LAPPEDDEF lapped_result lapped_create(const lapped_mesh *mesh, const lapped_source *src, const lapped_options *opt,
+                                      lapped_texture *out, lapped_error *err)
 {
     lapped__paster P;
     pw_alloc a;
@@ -16682,7 +16914,6 @@ LAPPEDDEF void lapped_texture_free(lapped_texture *t)
     memset(t, 0, sizeof *t);
 }
 
-
 /* ---- src/lapped/render.c ---- */
 /* render.c: runtime pasting (§4): the mesh drawn once per paste, in paste
  * order, each paste's triangles textured with its patch and composited over
@@ -16690,35 +16921,35 @@ LAPPEDDEF void lapped_texture_free(lapped_texture *t)
 
 #ifndef PW_NO_RENDER
 /* Checks that a lapped texture belongs to this mesh and these patches. */
-static int lapped__check_texture(const pw_trimesh *m, const lapped_texture *t, const lapped_source *src,
-                                 pw_err *e)
+static int lapped__check_texture(const pw_trimesh *m, const lapped_texture *t, const lapped_source *src, pw_err *e)
 {
     const lapped_image *patches = src ? src->patches : NULL, *values = src ? src->values : NULL;
     int k, p, i;
     if (!t || !patches) return pw_fail(e, PW_ERR_INVALID, "missing lapped texture or patches");
     if (src->npatches != t->npatches)
-        return pw_fail(e, PW_ERR_INVALID, "the lapped texture was made with %d patches, the source has %d",
-                       t->npatches, src->npatches);
+        return pw_fail(e, PW_ERR_INVALID, "the lapped texture was made with %d patches, the source has %d", t->npatches,
+                       src->npatches);
     if (t->ntris && t->ntris != m->nf) /* 0: read from a file, triangle indices checked below */
-        return pw_fail(e, PW_ERR_INVALID, "the lapped texture was made for %d triangles, the mesh has %d",
-                       t->ntris, m->nf);
+        return pw_fail(e, PW_ERR_INVALID, "the lapped texture was made for %d triangles, the mesh has %d", t->ntris,
+                       m->nf);
     for (k = 0; k < t->npatches; k++) {
         const lapped_image *v = values ? &values[k] : &patches[k];
         if (patches[k].width != t->patch_size[2 * k] || patches[k].height != t->patch_size[2 * k + 1] ||
             patches[k].channels != 4 || !patches[k].pixels)
-            return pw_fail(e, PW_ERR_INVALID, "patch %d is not the %dx%d RGBA image the pastes were made "
-                           "with", k, t->patch_size[2 * k], t->patch_size[2 * k + 1]);
+            return pw_fail(e, PW_ERR_INVALID,
+                           "patch %d is not the %dx%d RGBA image the pastes were made "
+                           "with",
+                           k, t->patch_size[2 * k], t->patch_size[2 * k + 1]);
         if (v->width != patches[k].width || v->height != patches[k].height || !v->pixels)
             return pw_fail(e, PW_ERR_INVALID, "value image %d does not match patch %d's size", k, k);
     }
     for (p = 0; p < t->npastes; p++) {
         if (t->pastes[p].patch < 0 || t->pastes[p].patch >= t->npatches)
-            return pw_fail(e, PW_ERR_INVALID, "paste %d uses patch %d of %d", p, t->pastes[p].patch,
-                           t->npatches);
+            return pw_fail(e, PW_ERR_INVALID, "paste %d uses patch %d of %d", p, t->pastes[p].patch, t->npatches);
         for (i = 0; i < t->pastes[p].nfaces; i++)
             if (t->pastes[p].faces[i] < 0 || t->pastes[p].faces[i] >= m->nf)
-                return pw_fail(e, PW_ERR_INVALID, "paste %d refers to triangle %d of %d", p,
-                               t->pastes[p].faces[i], m->nf);
+                return pw_fail(e, PW_ERR_INVALID, "paste %d refers to triangle %d of %d", p, t->pastes[p].faces[i],
+                               m->nf);
     }
     return PW_OK;
 }
@@ -16805,9 +17036,8 @@ static int lapped__draw_band(void *user, pw_fb *fb, pw_err *e)
 
 /* The frame, band by band (pw_render_frame): the normals once, from the
  * whole mesh (every paste is lit as the surface), then the bands. */
-static int lapped__draw_pastes(const pw_alloc *a, const pw_trimesh *m, const lapped_texture *t,
-                               const pw_texture *tex, const lapped_render_options *ro, pw_image *pic,
-                               pw_err *e)
+static int lapped__draw_pastes(const pw_alloc *a, const pw_trimesh *m, const lapped_texture *t, const pw_texture *tex,
+                               const lapped_render_options *ro, pw_image *pic, pw_err *e)
 {
     lapped__picture F;
     pw_frame f;
@@ -16838,9 +17068,8 @@ static int lapped__draw_pastes(const pw_alloc *a, const pw_trimesh *m, const lap
     return r;
 }
 
-LAPPEDDEF lapped_result lapped_render(const lapped_mesh *mesh, const lapped_texture *t,
-                                      const lapped_source *src, const lapped_render_options *ro,
-                                      lapped_image *out, lapped_error *err)
+LAPPEDDEF lapped_result lapped_render(const lapped_mesh *mesh, const lapped_texture *t, const lapped_source *src,
+                                      const lapped_render_options *ro, lapped_image *out, lapped_error *err)
 {
     lapped_render_options o;
     pw_alloc a = lapped__alloc(t ? &t->allocator : NULL);
@@ -16864,8 +17093,8 @@ LAPPEDDEF lapped_result lapped_render(const lapped_mesh *mesh, const lapped_text
         if (r == PW_OK && !(tex = (pw_texture *)pw_calloc_array(&a, (size_t)t->npatches, sizeof *tex, "textures", &pe)))
             r = PW_ERR_NOMEM;
         for (k = 0; r == PW_OK && k < t->npatches; k++)
-            r = lapped__patch_texture(&a, &src->patches[k], src->values ? &src->values[k] : &src->patches[k],
-                                      &tex[k], &pe);
+            r = lapped__patch_texture(&a, &src->patches[k], src->values ? &src->values[k] : &src->patches[k], &tex[k],
+                                      &pe);
         if (r == PW_OK && lapped__draw_pastes(&a, &m, t, tex, &o, &pic, &pe) == PW_OK)
             lapped__take_image(&pic, &a, out);
         for (k = 0; tex && k < t->npatches; k++) pw_texture_free(&a, &tex[k]);
@@ -16876,11 +17105,13 @@ LAPPEDDEF lapped_result lapped_render(const lapped_mesh *mesh, const lapped_text
 }
 
 #else
-LAPPEDDEF lapped_result lapped_render(const lapped_mesh *mesh, const lapped_texture *t,
-                                      const lapped_source *src, const lapped_render_options *ro,
-                                      lapped_image *out, lapped_error *err)
+LAPPEDDEF lapped_result lapped_render(const lapped_mesh *mesh, const lapped_texture *t, const lapped_source *src,
+                                      const lapped_render_options *ro, lapped_image *out, lapped_error *err)
 {
-    (void)mesh, (void)t, (void)src, (void)ro;
+    (void)mesh;
+    (void)t;
+    (void)src;
+    (void)ro;
     if (out) memset(out, 0, sizeof *out);
     return lapped__left_out("rendering", "PW_NO_RENDER", err);
 }
@@ -16921,10 +17152,8 @@ static int lapped__atlas_check_pastes(const lapped_texture *t, int ntris, pw_err
 {
     int p, k;
     if (t->ntris != ntris)
-        return pw_fail(e, PW_ERR_INVALID, "lapped texture was made for %d triangles; the mesh has %d",
-                       t->ntris, ntris);
-    if (t->npatches < 1 || !t->patch_size)
-        return pw_fail(e, PW_ERR_INVALID, "lapped texture has no patches");
+        return pw_fail(e, PW_ERR_INVALID, "lapped texture was made for %d triangles; the mesh has %d", t->ntris, ntris);
+    if (t->npatches < 1 || !t->patch_size) return pw_fail(e, PW_ERR_INVALID, "lapped texture has no patches");
     if (t->npastes < 0 || (t->npastes > 0 && !t->pastes))
         return pw_fail(e, PW_ERR_INVALID, "lapped texture has %d pastes and no paste array", t->npastes);
     for (p = 0; p < t->npastes; p++) {
@@ -16935,8 +17164,8 @@ static int lapped__atlas_check_pastes(const lapped_texture *t, int ntris, pw_err
             return pw_fail(e, PW_ERR_INVALID, "paste %d: %d faces without arrays", p, q->nfaces);
         for (k = 0; k < q->nfaces; k++)
             if (q->faces[k] < 0 || q->faces[k] >= ntris)
-                return pw_fail(e, PW_ERR_INVALID, "paste %d: face %d is triangle %d, outside 0..%d", p, k,
-                               q->faces[k], ntris - 1);
+                return pw_fail(e, PW_ERR_INVALID, "paste %d: face %d is triangle %d, outside 0..%d", p, k, q->faces[k],
+                               ntris - 1);
         for (k = 0; k < 6 * q->nfaces; k++)
             if (!pw_is_finite(q->uvs[k]))
                 return pw_fail(e, PW_ERR_INVALID, "paste %d: texture coordinate %d is not finite", p, k);
@@ -16947,7 +17176,7 @@ static int lapped__atlas_check_pastes(const lapped_texture *t, int ntris, pw_err
 /* Checks the patches (RGBA, of the sizes the lapped texture records) and
  * the values (one per patch, of its size, one channel count). */
 static int lapped__atlas_check_images(const lapped_texture *t, const lapped_image *patches, const lapped_image *values,
-                                pw_err *e)
+                                      pw_err *e)
 {
     int i, r;
     char what[64];
@@ -16959,15 +17188,16 @@ static int lapped__atlas_check_images(const lapped_texture *t, const lapped_imag
         if (p->channels != 4)
             return pw_fail(e, PW_ERR_INVALID, "patch %d has %d channels; patches are RGBA", i, p->channels);
         if (p->width != t->patch_size[2 * i] || p->height != t->patch_size[2 * i + 1])
-            return pw_fail(e, PW_ERR_INVALID, "patch %d is %dx%d; the lapped texture was made with %dx%d", i,
-                           p->width, p->height, t->patch_size[2 * i], t->patch_size[2 * i + 1]);
+            return pw_fail(e, PW_ERR_INVALID, "patch %d is %dx%d; the lapped texture was made with %dx%d", i, p->width,
+                           p->height, t->patch_size[2 * i], t->patch_size[2 * i + 1]);
         if (!v) continue;
         snprintf(what, sizeof what, "value image %d", i);
         if ((r = lapped__check_image(v, what, e))) return r;
         if (v->width != p->width || v->height != p->height || v->channels != values[0].channels)
-            return pw_fail(e, PW_ERR_INVALID, "value image %d is %dx%dx%d; patch %d is %dx%d and value image 0 "
-                           "has %d channels", i, v->width, v->height, v->channels, i, p->width, p->height,
-                           values[0].channels);
+            return pw_fail(e, PW_ERR_INVALID,
+                           "value image %d is %dx%dx%d; patch %d is %dx%d and value image 0 "
+                           "has %d channels",
+                           i, v->width, v->height, v->channels, i, p->width, p->height, values[0].channels);
     }
     return PW_OK;
 }
@@ -16975,7 +17205,7 @@ static int lapped__atlas_check_images(const lapped_texture *t, const lapped_imag
 /* The pw_image views of the patches and of the values (the patches when
  * values is NULL): 2 * npatches entries. */
 static pw_image *lapped__atlas_image_views(const pw_alloc *a, const lapped_texture *t, const lapped_image *patches,
-                                     const lapped_image *values, pw_err *e)
+                                           const lapped_image *values, pw_err *e)
 {
     pw_image *v = (pw_image *)pw_alloc_array(a, 2 * (size_t)t->npatches, sizeof(pw_image), "patch views", e);
     int i;
@@ -17005,9 +17235,9 @@ static void lapped__atlas_eval(void *user, int f, const float b[3], float *px)
 }
 
 /* Charts, packing and baking, once everything has been checked. */
-static int lapped__atlas_run(const pw_alloc *a, const pw_trimesh *m, const lapped_texture *t,
-                             const pw_image *views, int oc, const lapped_atlas_options *o, const pw_progress *prog,
-                             lapped_atlas *out, pw_image *img, pw_err *e)
+static int lapped__atlas_run(const pw_alloc *a, const pw_trimesh *m, const lapped_texture *t, const pw_image *views,
+                             int oc, const lapped_atlas_options *o, const pw_progress *prog, lapped_atlas *out,
+                             pw_image *img, pw_err *e)
 {
     lapped__index ix;
     lapped__atlas_texel T;
@@ -17026,9 +17256,8 @@ static int lapped__atlas_run(const pw_alloc *a, const pw_trimesh *m, const lappe
     return r;
 }
 
-LAPPEDDEF lapped_result lapped_bake_atlas(const lapped_mesh *mesh, const lapped_texture *t,
-                                          const lapped_source *src, const lapped_options *opt,
-                                          lapped_atlas *out, lapped_error *err)
+LAPPEDDEF lapped_result lapped_bake_atlas(const lapped_mesh *mesh, const lapped_texture *t, const lapped_source *src,
+                                          const lapped_options *opt, lapped_atlas *out, lapped_error *err)
 {
     const lapped_image *patches = src ? src->patches : NULL, *values = src ? src->values : NULL;
     lapped_options o = lapped__options(opt);
@@ -17095,9 +17324,8 @@ static int lapped__atlas_export_open(const lapped_mesh *mesh, const lapped_atlas
     return PW_OK;
 }
 
-LAPPEDDEF lapped_result lapped_write_obj(const lapped_mesh *mesh, const lapped_atlas *atlas,
-                                         const char *mtl_name, lapped_write_fn fn, void *ctx,
-                                         lapped_error *err)
+LAPPEDDEF lapped_result lapped_write_obj(const lapped_mesh *mesh, const lapped_atlas *atlas, const char *mtl_name,
+                                         lapped_write_fn fn, void *ctx, lapped_error *err)
 {
     pw_alloc a;
     pw_trimesh m;
@@ -17114,8 +17342,7 @@ LAPPEDDEF lapped_result lapped_write_obj(const lapped_mesh *mesh, const lapped_a
     return lapped__done(&pe, err);
 }
 
-LAPPEDDEF lapped_result lapped_write_mtl(const char *texture_name, lapped_write_fn fn, void *ctx,
-                                         lapped_error *err)
+LAPPEDDEF lapped_result lapped_write_mtl(const char *texture_name, lapped_write_fn fn, void *ctx, lapped_error *err)
 {
     pw_err pe;
     pw_err_clear(&pe);
@@ -17151,8 +17378,7 @@ static void lapped__wb_line(pw__wb *b, const char *word, const long long *v, int
     pw__wb_str(b, "\n");
 }
 
-LAPPEDDEF lapped_result lapped_write_pastes(const lapped_texture *t, lapped_write_fn fn,
-                                            void *ctx, lapped_error *err)
+LAPPEDDEF lapped_result lapped_write_pastes(const lapped_texture *t, lapped_write_fn fn, void *ctx, lapped_error *err)
 {
     pw__wb b;
     pw_err pe;
@@ -17170,14 +17396,17 @@ LAPPEDDEF lapped_result lapped_write_pastes(const lapped_texture *t, lapped_writ
     v[0] = t->npatches;
     lapped__wb_line(&b, "patches", v, 1);
     for (k = 0; k < t->npatches; k++) {
-        v[0] = k, v[1] = t->patch_size[2 * k], v[2] = t->patch_size[2 * k + 1];
+        v[0] = k;
+        v[1] = t->patch_size[2 * k];
+        v[2] = t->patch_size[2 * k + 1];
         lapped__wb_line(&b, "patch", v, 3);
     }
     v[0] = t->npastes;
     lapped__wb_line(&b, "pastes", v, 1);
     for (p = 0; p < t->npastes; p++) {
         const lapped_paste *q = &t->pastes[p];
-        v[0] = q->patch, v[1] = q->nfaces;
+        v[0] = q->patch;
+        v[1] = q->nfaces;
         lapped__wb_line(&b, "paste", v, 2);
         for (i = 0; i < q->nfaces; i++) {
             pw__wb_int(&b, q->faces[i], 0);
@@ -17199,8 +17428,7 @@ static int lapped__read_line(pw__sc *s, const char *keyword, long long *v, int n
     int k, r;
     pw__sc_skip_empty(s);
     w = pw__sc_word(s, &len);
-    if (!pw__sc_is(w, len, keyword))
-        return pw__sc_fail(s, PW_ERR_PARSE, "expected '%s'", keyword);
+    if (!pw__sc_is(w, len, keyword)) return pw__sc_fail(s, PW_ERR_PARSE, "expected '%s'", keyword);
     for (k = 0; k < n; k++) {
         if ((r = pw__sc_int(s, &v[k], keyword, -1)) != PW_OK) return r;
         if (v[k] < lo || v[k] > hi)
@@ -17266,7 +17494,8 @@ static int lapped__read_pastes(pw__sc *s, const pw_alloc *a, lapped_texture *t, 
     for (p = 0; p < t->npastes; p++) {
         lapped_paste *q = &t->pastes[p];
         if ((r = lapped__read_line(s, "paste", v, 2, 0, PW_MAX_MESH_ELEMENTS)) != PW_OK) return r;
-        if (v[0] >= t->npatches) return pw__sc_fail(s, PW_ERR_PARSE, "paste %d uses patch %lld of %d", p, v[0], t->npatches);
+        if (v[0] >= t->npatches)
+            return pw__sc_fail(s, PW_ERR_PARSE, "paste %d uses patch %lld of %d", p, v[0], t->npatches);
         if (v[1] > (long long)(s->end - s->p) / 14 + 1)
             return pw__sc_fail(s, PW_ERR_PARSE, "paste %d announces %lld triangles, the file is too short", p, v[1]);
         q->patch = (int)v[0];
@@ -17285,8 +17514,7 @@ static int lapped__read_pastes(pw__sc *s, const pw_alloc *a, lapped_texture *t, 
 /* A texture read from a file does not know its mesh's triangle count:
  * ntris is 0 ("unknown"), and every triangle index is checked when the
  * texture is used with a mesh. */
-LAPPEDDEF lapped_result lapped_read_pastes(const void *data, size_t size,
-                                           const char *name, const lapped_options *opt,
+LAPPEDDEF lapped_result lapped_read_pastes(const void *data, size_t size, const char *name, const lapped_options *opt,
                                            lapped_texture *out, lapped_error *err)
 {
     lapped_options o = lapped__options(opt);
@@ -17317,7 +17545,8 @@ static int lapped__read_constraint(pw__sc *s, lapped_constraint *c, int index)
     int k, n, r;
     memset(c, 0, sizeof *c);
     if ((r = pw__sc_int(s, &face, "constraint", index)) != PW_OK) return r;
-    if (face < 0 || face > PW_MAX_MESH_ELEMENTS) return pw__sc_fail(s, PW_ERR_INVALID, "constraint %d: face %lld", index, face);
+    if (face < 0 || face > PW_MAX_MESH_ELEMENTS)
+        return pw__sc_fail(s, PW_ERR_INVALID, "constraint %d: face %lld", index, face);
     for (n = 0; n < 6 && !pw__sc_eol(s); n++)
         if ((r = pw__sc_num(s, &v[n], "constraint", index)) != PW_OK) return r;
     if (n < 3 || !pw__sc_eol(s))
@@ -17325,7 +17554,8 @@ static int lapped__read_constraint(pw__sc *s, lapped_constraint *c, int index)
                            index);
     for (k = 0; k < n; k++) /* finite as floats: 1e39 is finite as a double only */
         if (!pw_is_finite(pw__num_to_float(v[k])))
-            return pw__sc_fail(s, PW_ERR_INVALID, "constraint %d has a non-finite value (or one beyond float range)", index);
+            return pw__sc_fail(s, PW_ERR_INVALID, "constraint %d has a non-finite value (or one beyond float range)",
+                               index);
     c->face = (int)face;
     for (k = 0; k < 3; k++) c->direction[k] = (float)v[k];
     c->scale = n > 3 ? (float)v[3] : 0.0f;
@@ -17350,14 +17580,15 @@ static int lapped__constraint_line(pw__sc *s, lapped_constraint *c, int index, i
     }
     w = pw__sc_word(s, &n);
     if (!pw__sc_is(w, n, "orient"))
-        return pw__sc_fail(s, PW_ERR_PARSE, "unknown keyword '%s' (a constraint line is 'orient face dx dy dz "
-                           "[scale [radius [weight]]]')", pw__sc_tok(s, w, tok));
+        return pw__sc_fail(s, PW_ERR_PARSE,
+                           "unknown keyword '%s' (a constraint line is 'orient face dx dy dz "
+                           "[scale [radius [weight]]]')",
+                           pw__sc_tok(s, w, tok));
     return lapped__read_constraint(s, c, index);
 }
 
 LAPPEDDEF lapped_result lapped_read_constraints(const void *data, size_t size, const char *name,
-                                                const lapped_options *opt, lapped_constraints *out,
-                                                lapped_error *err)
+                                                const lapped_options *opt, lapped_constraints *out, lapped_error *err)
 {
     lapped_options o = lapped__options(opt);
     pw_alloc a = lapped__alloc(&o.allocator);
@@ -17402,9 +17633,8 @@ LAPPEDDEF void lapped_constraints_free(lapped_constraints *c)
 
 /* ---- meshes and images --------------------------------------------------------- */
 
-LAPPEDDEF lapped_result lapped_read_mesh(const void *data, size_t size, const char *name,
-                                         const lapped_options *opt, lapped_mesh *out,
-                                         lapped_error *err)
+LAPPEDDEF lapped_result lapped_read_mesh(const void *data, size_t size, const char *name, const lapped_options *opt,
+                                         lapped_mesh *out, lapped_error *err)
 {
     lapped_options o = lapped__options(opt);
     pw_alloc a = lapped__alloc(&o.allocator);
@@ -17418,8 +17648,7 @@ LAPPEDDEF lapped_result lapped_read_mesh(const void *data, size_t size, const ch
     return lapped__done(&pe, err);
 }
 
-LAPPEDDEF lapped_result lapped_read_image(const void *data, size_t size,
-                                          const char *name, const lapped_options *opt,
+LAPPEDDEF lapped_result lapped_read_image(const void *data, size_t size, const char *name, const lapped_options *opt,
                                           lapped_image *out, lapped_error *err)
 {
     lapped_options o = lapped__options(opt);
@@ -17434,8 +17663,8 @@ LAPPEDDEF lapped_result lapped_read_image(const void *data, size_t size,
     return lapped__done(&pe, err);
 }
 
-LAPPEDDEF lapped_result lapped_write_image(const lapped_image *img, const char *format,
-                                           lapped_write_fn fn, void *ctx, lapped_error *err)
+LAPPEDDEF lapped_result lapped_write_image(const lapped_image *img, const char *format, lapped_write_fn fn, void *ctx,
+                                           lapped_error *err)
 {
     pw_err pe;
     pw_err_clear(&pe);
@@ -17467,11 +17696,19 @@ LAPPEDDEF lapped_result lapped_write_gltf(const lapped_mesh *mesh, const lapped_
             for (f = 0; f <= m.nf; f++) fstart[f] = 3 * f;
             img = lapped__pw_image(&atlas->image);
             part.name = "lapped";
-            part.nv = m.nv, part.pos = m.pos, part.nf = m.nf, part.fstart = fstart, part.fv = m.tri;
-            part.corner_uv = atlas->uvs, part.texture = &img;
-            scene.parts = &part, scene.nparts = 1, scene.generator = "patchwork lapped.h " LAPPED_VERSION_STRING;
+            part.nv = m.nv;
+            part.pos = m.pos;
+            part.nf = m.nf;
+            part.fstart = fstart;
+            part.fv = m.tri;
+            part.corner_uv = atlas->uvs;
+            part.texture = &img;
+            scene.parts = &part;
+            scene.nparts = 1;
+            scene.generator = "patchwork lapped.h " LAPPED_VERSION_STRING;
             if (view) {
-                cam = pw_gltf_view_camera(m.pos, m.nv, view->width, view->height, view->view_dir, view->up, &scene.aspect);
+                cam = pw_gltf_view_camera(m.pos, m.nv, view->width, view->height, view->view_dir, view->up,
+                                          &scene.aspect);
                 scene.camera = &cam;
             }
             pw_gltf_write(&a, &scene, fn, ctx, &pe);
@@ -17483,8 +17720,8 @@ LAPPEDDEF lapped_result lapped_write_gltf(const lapped_mesh *mesh, const lapped_
 }
 
 #ifndef PW_NO_STDIO
-LAPPEDDEF lapped_result lapped_load_mesh(const char *path, const lapped_options *opt,
-                                         lapped_mesh *out, lapped_error *err)
+LAPPEDDEF lapped_result lapped_load_mesh(const char *path, const lapped_options *opt, lapped_mesh *out,
+                                         lapped_error *err)
 {
     lapped_options o = lapped__options(opt);
     pw_alloc a = lapped__alloc(&o.allocator);
@@ -17497,8 +17734,8 @@ LAPPEDDEF lapped_result lapped_load_mesh(const char *path, const lapped_options 
     return lapped__done(&pe, err);
 }
 
-LAPPEDDEF lapped_result lapped_load_image(const char *path, const lapped_options *opt,
-                                          lapped_image *out, lapped_error *err)
+LAPPEDDEF lapped_result lapped_load_image(const char *path, const lapped_options *opt, lapped_image *out,
+                                          lapped_error *err)
 {
     lapped_options o = lapped__options(opt);
     pw_alloc a = lapped__alloc(&o.allocator);
@@ -17546,7 +17783,8 @@ LAPPEDDEF lapped_result lapped_save_obj(const char *obj_path, const lapped_mesh 
     pw_err_clear(&pe);
     memset(&j, 0, sizeof j);
     if (pw_obj_mtl_path(obj_path, mtl, sizeof mtl, &mtl_name, &pe) != PW_OK) return lapped__done(&pe, err);
-    j.mesh = mesh, j.atlas = atlas;
+    j.mesh = mesh;
+    j.atlas = atlas;
     j.format = texture_path ? mtl_name : NULL; /* the mtllib name */
     if (pw_write_file(obj_path, lapped__obj_job, &j, &pe) == PW_OK && texture_path) {
         j.format = texture_path;
@@ -17570,7 +17808,9 @@ LAPPEDDEF lapped_result lapped_save_gltf(const char *path, const lapped_mesh *me
     pw_err pe;
     pw_err_clear(&pe);
     memset(&j, 0, sizeof j);
-    j.mesh = mesh, j.atlas = atlas, j.view = view;
+    j.mesh = mesh;
+    j.atlas = atlas;
+    j.view = view;
     if (!path) pw_fail(&pe, PW_ERR_INVALID, "lapped_save_gltf: NULL path");
     else pw_write_file(path, lapped__gltf_job, &j, &pe);
     return lapped__done(&pe, err);
@@ -17598,11 +17838,13 @@ LAPPEDDEF lapped_result lapped_save_image(const char *path, const lapped_image *
     memset(&j, 0, sizeof j);
     j.img = img;
     if (!path) pw_fail(&pe, PW_ERR_INVALID, "lapped_save_image: NULL path");
-    else if (!(j.format = pw_has_ext(path, ".png") ? "png" : pw_has_ext(path, ".ppm") || pw_has_ext(path, ".pnm")
-                          ? "ppm" : pw_has_ext(path, ".pgm") ? "pgm" : pw_has_ext(path, ".pam") ? "pam" : NULL))
+    else if (!(j.format = pw_has_ext(path, ".png")                               ? "png"
+                          : pw_has_ext(path, ".ppm") || pw_has_ext(path, ".pnm") ? "ppm"
+                          : pw_has_ext(path, ".pgm")                             ? "pgm"
+                          : pw_has_ext(path, ".pam")                             ? "pam"
+                                                                                 : NULL))
         pw_fail(&pe, PW_ERR_UNSUPPORTED, "%s: unknown image extension (use .png, .ppm, .pgm, .pam)", path);
-    else if (lapped__check_image(img, path, &pe) == PW_OK)
-        pw_write_file(path, lapped__image_job, &j, &pe);
+    else if (lapped__check_image(img, path, &pe) == PW_OK) pw_write_file(path, lapped__image_job, &j, &pe);
     return lapped__done(&pe, err);
 }
 
@@ -17618,8 +17860,8 @@ LAPPEDDEF lapped_result lapped_save_pastes(const char *path, const lapped_textur
     return lapped__done(&pe, err);
 }
 
-LAPPEDDEF lapped_result lapped_load_constraints(const char *path, const lapped_options *opt,
-                                                lapped_constraints *out, lapped_error *err)
+LAPPEDDEF lapped_result lapped_load_constraints(const char *path, const lapped_options *opt, lapped_constraints *out,
+                                                lapped_error *err)
 {
     lapped_options o = lapped__options(opt);
     pw_alloc a = lapped__alloc(&o.allocator);
@@ -17638,8 +17880,8 @@ LAPPEDDEF lapped_result lapped_load_constraints(const char *path, const lapped_o
     return lapped__done(&pe, err);
 }
 
-LAPPEDDEF lapped_result lapped_load_pastes(const char *path, const lapped_options *opt,
-                                           lapped_texture *out, lapped_error *err)
+LAPPEDDEF lapped_result lapped_load_pastes(const char *path, const lapped_options *opt, lapped_texture *out,
+                                           lapped_error *err)
 {
     lapped_options o = lapped__options(opt);
     pw_alloc a = lapped__alloc(&o.allocator);

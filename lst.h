@@ -3,41 +3,41 @@
  *
  * CONTENTS (line: source, what it holds)
  *     42: src/lst/lst.h, the public API and its documentation
- *    715: src/common/base.h, allocation hooks, result codes, error messages, limits, he
- *   1034: src/common/vec.h, small vector math on float[3] arrays and a 3-float struct.
- *   1131: src/common/rng.h, seeded random numbers with the same output on every platfo
- *   1208: src/common/noise.h, value noise and its fractal sum, for the built-in procedur
- *   1310: src/common/image.h, float images and their file formats.
- *   2039: src/common/deflate.h, zlib (RFC 1950) and deflate (RFC 1951) compression and
- *   3067: src/common/png.h, PNG writer and reader, and the image front end.
- *   3654: src/common/text.h, locale-independent number parsing and formatting, a line s
- *   4037: src/common/mesh.h, polygon meshes as flat arrays, and their file formats.
- *   5552: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
- *   5998: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
- *   6420: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
- *   6610: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
- *   6695: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
- *   7932: src/common/raster.h, exact scan conversion of 2D triangles.
- *   8412: src/common/render.h, a small deterministic software renderer for textured trian
- *  10193: src/common/atlas.h, texture atlases of triangle meshes — charts, packing, ba
- *  12145: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
- *  12953: src/common/tetmesh.h, the tetrahedral mesh that lapped solid textures work on, a
- *  13433: src/common/tetio.h, tetrahedral mesh files, TetGen .node/.ele and MEDIT .mesh.
- *  13906: src/common/bisect.h, graded, conforming tetrahedral meshes of a box by newest-v
- *  14207: src/common/stuffing.h, the built-in tetrahedralizer of lst.h, so that no external
- *  17103: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
- *  17243: src/common/pca.h, principal component analysis of vectors streamed one at a 
- *  17428: src/common/glue.h, what every method header needs between its public types an
- *  17635: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  18181: src/lst/core.c, lst.h's glue to the shared core, its defaults, the convers
- *  18519: src/lst/exemplar.c, solid exemplars (§5): sampling, the procedural exemplars 
- *  19022: src/lst/field.c, §5.2.2, the fields that orient and scale the pastes. The 
- *  20126: src/lst/paste.c, §5.2.3-5.2.7, filling the model. Each paste picks a rando
- *  21034: src/lst/render.c, §5.1, showing a model. Every point of a tetrahedron is th
- *  21829: src/lst/cut.c, §5.1.1, cutting a model along the zero set of a scalar fi
- *  22374: src/lst/builtin.c, the tetrahedralizer entry point, checks of caller meshes, 
- *  22841: src/lst/io.c, the model file, the constraint files and the file convenie
- *  23665: src/lst/export.c, the visible boundary with a baked texture atlas, for glTF.
+ *    711: src/common/base.h, allocation hooks, result codes, error messages, limits, he
+ *   1023: src/common/vec.h, small vector math on float[3] arrays and a 3-float struct.
+ *   1126: src/common/rng.h, seeded random numbers with the same output on every platfo
+ *   1203: src/common/noise.h, value noise and its fractal sum, for the built-in procedur
+ *   1305: src/common/image.h, float images and their file formats.
+ *   1999: src/common/deflate.h, zlib (RFC 1950) and deflate (RFC 1951) compression and
+ *   2996: src/common/png.h, PNG writer and reader, and the image front end.
+ *   3554: src/common/text.h, locale-independent number parsing and formatting, a line s
+ *   3957: src/common/mesh.h, polygon meshes as flat arrays, and their file formats.
+ *   5486: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
+ *   5987: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
+ *   6411: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
+ *   6598: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
+ *   6683: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
+ *   7946: src/common/raster.h, exact scan conversion of 2D triangles.
+ *   8420: src/common/render.h, a small deterministic software renderer for textured trian
+ *  10187: src/common/atlas.h, texture atlases of triangle meshes — charts, packing, ba
+ *  12160: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
+ *  12921: src/common/tetmesh.h, the tetrahedral mesh that lapped solid textures work on, a
+ *  13405: src/common/tetio.h, tetrahedral mesh files, TetGen .node/.ele and MEDIT .mesh.
+ *  13897: src/common/bisect.h, graded, conforming tetrahedral meshes of a box by newest-v
+ *  14217: src/common/stuffing.h, the built-in tetrahedralizer of lst.h, so that no external
+ *  17350: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
+ *  17493: src/common/pca.h, principal component analysis of vectors streamed one at a 
+ *  17680: src/common/glue.h, what every method header needs between its public types an
+ *  17881: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  18545: src/lst/core.c, lst.h's glue to the shared core, its defaults, the convers
+ *  18890: src/lst/exemplar.c, solid exemplars (§5): sampling, the procedural exemplars 
+ *  19441: src/lst/field.c, §5.2.2, the fields that orient and scale the pastes. The 
+ *  20649: src/lst/paste.c, §5.2.3-5.2.7, filling the model. Each paste picks a rando
+ *  21630: src/lst/render.c, §5.1, showing a model. Every point of a tetrahedron is th
+ *  22527: src/lst/cut.c, §5.1.1, cutting a model along the zero set of a scalar fi
+ *  23132: src/lst/builtin.c, the tetrahedralizer entry point, checks of caller meshes, 
+ *  23654: src/lst/io.c, the model file, the constraint files and the file convenie
+ *  24515: src/lst/export.c, the visible boundary with a baked texture atlas, for glTF.
  */
 /* lst.h - lapped solid textures: solid exemplars pasted inside a model.
  *
@@ -218,8 +218,8 @@ typedef struct lst_mesh {
     int nverts;
     float *positions; /* nverts*3 */
     int nfaces;
-    int *face_start;  /* nfaces+1 */
-    int *face_verts;  /* face_start[nfaces] */
+    int *face_start; /* nfaces+1 */
+    int *face_verts; /* face_start[nfaces] */
     lst_allocator allocator;
 } lst_mesh;
 
@@ -229,7 +229,7 @@ typedef struct lst_tetmesh {
     int nverts;
     float *positions; /* nverts*3 */
     int ntets;
-    int *tets;        /* ntets*4 */
+    int *tets; /* ntets*4 */
     lst_allocator allocator;
 } lst_tetmesh;
 
@@ -322,29 +322,29 @@ typedef enum lst_show {
 } lst_show;
 
 typedef struct lst_render_options {
-    int width, height;    /* default 800 x 600 */
-    int supersample;      /* default 2 */
-    float view_dir[3];    /* default (-0.55,-0.45,-0.7) */
-    float up[3];          /* default (0,1,0) */
-    float background[3];  /* default white */
-    lst_show show;        /* default LST_SHOW_COLOR */
-    int unlit;            /* 1: no shading, the texture as it is */
-    float displace;       /* displacement mapping: the surface moved along its normal by
+    int width, height;        /* default 800 x 600 */
+    int supersample;          /* default 2 */
+    float view_dir[3];        /* default (-0.55,-0.45,-0.7) */
+    float up[3];              /* default (0,1,0) */
+    float background[3];      /* default white */
+    lst_show show;            /* default LST_SHOW_COLOR */
+    int unlit;                /* 1: no shading, the texture as it is */
+    float displace;           /* displacement mapping: the surface moved along its normal by
                              this times (values - 0.5), mesh units; 0: none */
-    int subdivide;        /* with displacement: each surface triangle split into 4^k; default 2 */
-    int threads;             /* rendering threads: 0 (default) one per processor when the
+    int subdivide;            /* with displacement: each surface triangle split into 4^k; default 2 */
+    int threads;              /* rendering threads: 0 (default) one per processor when the
                                 implementation is built with PW_THREADS (POSIX threads;
                                 link with -pthread), else 1; n: at most n. With more
                                 than one, the allocator is called from several threads */
     lst_parallel_fn parallel; /* optional: the caller's parallel for, used instead of threads */
-    void *parallel_pool;     /* its first argument */
+    void *parallel_pool;      /* its first argument */
 } lst_render_options;
 
 typedef struct lst_volume_options {
-    int slices;           /* §5.1.2: default 200 */
-    float opacity;        /* opacity of a slab one hundredth of the model's diagonal thick
+    int slices;    /* §5.1.2: default 200 */
+    float opacity; /* opacity of a slab one hundredth of the model's diagonal thick
                              at full density; default 0.3 */
-    int density;          /* 0 (default): density = 1 - luminance of the colour (dark is
+    int density;   /* 0 (default): density = 1 - luminance of the colour (dark is
                              dense); k >= 1: the extra channel's component k-1 */
 } lst_volume_options;
 
@@ -366,45 +366,45 @@ typedef struct lst_tet_options {
 
 /* Settings of the texture atlas (lst_bake_atlas), as lapped.h's. */
 typedef struct lst_atlas_options {
-    int size;                /* atlas image side, pixels (16..8192); default 1024 */
-    float cone_angle;        /* max angle between a chart's normals and its
+    int size;         /* atlas image side, pixels (16..8192); default 1024 */
+    float cone_angle; /* max angle between a chart's normals and its
                                 centre's, degrees, in (0, 180]; default 60 */
-    int gutter;              /* pixels between charts (and to the image border), filled
+    int gutter;       /* pixels between charts (and to the image border), filled
                                 by dilation, 1..64 and at most size/8; default 2 */
 } lst_atlas_options;
 
 typedef struct lst_options {
-    lst_type type;            /* default LST_TYPE_0 */
-    float scale;              /* exemplar side in mesh units where no scale constraint
+    lst_type type;                     /* default LST_TYPE_0 */
+    float scale;                       /* exemplar side in mesh units where no scale constraint
                                  reaches (0, 1-a, 2-a); 0: a fifth of the bounding-box
                                  diagonal */
     const lst_constraint *constraints; /* depths, directions and scales; may be NULL. Without a
                                           depth constraint, the depth is the normalised distance
                                           to the surface */
     int nconstraints;
-    float axis[3];            /* the direction where no direction constraint is given;
+    float axis[3];             /* the direction where no direction constraint is given;
                                  zero: the principal axis of the shape */
-    const lst_field *field;   /* NULL: computed (lst_compute_field); else these fields */
-    lst_mask_mode mask;       /* default LST_MASK_AUTO */
-    float mask_radius;        /* splotch mean radius, fraction of the side; default 0.4 */
-    float falloff;            /* splotch fall-off width, fraction of the side; default 0.08 */
-    int samples;              /* coverage samples per tetrahedron: the barycentric
+    const lst_field *field;    /* NULL: computed (lst_compute_field); else these fields */
+    lst_mask_mode mask;        /* default LST_MASK_AUTO */
+    float mask_radius;         /* splotch mean radius, fraction of the side; default 0.4 */
+    float falloff;             /* splotch fall-off width, fraction of the side; default 0.08 */
+    int samples;               /* coverage samples per tetrahedron: the barycentric
                                  lattice of this order, (n+1)(n+2)(n+3)/6 points;
                                  default 8 (165 points, §5.2.6) */
-    float coverage;           /* opacity every sample must reach; default 0.99 */
-    float max_angle;          /* clump growth: the largest angle, degrees, between a
+    float coverage;            /* opacity every sample must reach; default 0.99 */
+    float max_angle;           /* clump growth: the largest angle, degrees, between a
                                  field axis of a tetrahedron and the seed's; default 50 */
-    float max_stretch;        /* clump growth: the largest ratio of scales; default 2 */
-    float layer_weight;       /* k in the 2-a/2-b smoothing weights exp(-(k(d_i-d_j))^2);
+    float max_stretch;         /* clump growth: the largest ratio of scales; default 2 */
+    float layer_weight;        /* k in the 2-a/2-b smoothing weights exp(-(k(d_i-d_j))^2);
                                  default 1 (the paper's) */
-    float constraint_weight;  /* weight of a constraint row (Eq. 2) against a Laplacian
+    float constraint_weight;   /* weight of a constraint row (Eq. 2) against a Laplacian
                                  row (Eq. 1); default 10 */
-    int rbf_centers;          /* most centres of the depth RBF (farthest points of the
+    int rbf_centers;           /* most centres of the depth RBF (farthest points of the
                                  constraints); default 400 */
-    int keep_hidden;          /* 1: keep the paste entries of tetrahedra that a later
+    int keep_hidden;           /* 1: keep the paste entries of tetrahedra that a later
                                  paste's opaque core covers entirely (default: drop them) */
-    int max_pastes;           /* refuse inputs needing more; default 200000 */
-    unsigned long long seed;  /* default 0 */
+    int max_pastes;            /* refuse inputs needing more; default 200000 */
+    unsigned long long seed;   /* default 0 */
     lst_render_options render; /* lst_render's settings (callers pass &opt.render) */
     lst_tet_options tet;       /* lst_tetrahedralize's */
     lst_volume_options volume; /* lst_render_volume's (callers pass &opt.volume) */
@@ -422,22 +422,22 @@ typedef struct lst_paste {
     int *tets;    /* ntets tetrahedra */
     int *corners; /* ntets*4: index into verts/uvw of each tetrahedron corner, in order */
     int nverts;
-    int *verts;   /* nverts tetrahedral-mesh vertices */
-    float *uvw;   /* nverts*3 texture coordinates (the unit cube is the exemplar) */
+    int *verts; /* nverts tetrahedral-mesh vertices */
+    float *uvw; /* nverts*3 texture coordinates (the unit cube is the exemplar) */
 } lst_paste;
 
 /* A lapped solid textured model. */
 typedef struct lst_model {
-    lst_tetmesh mesh;         /* the model's own copy; cuts refine it */
-    unsigned char *removed;   /* ntets: 1 where a cut took the tetrahedron away */
-    int type;                 /* LST_TYPE_* it was made with (-1: read from a file) */
-    lst_volume texture;       /* the exemplar's colour (1-3 channels: alpha was made a mask) */
-    lst_volume values;        /* an extra channel (displacement...), or empty */
-    lst_masks masks;          /* paste p uses masks.volumes[p.exemplar] */
+    lst_tetmesh mesh;       /* the model's own copy; cuts refine it */
+    unsigned char *removed; /* ntets: 1 where a cut took the tetrahedron away */
+    int type;               /* LST_TYPE_* it was made with (-1: read from a file) */
+    lst_volume texture;     /* the exemplar's colour (1-3 channels: alpha was made a mask) */
+    lst_volume values;      /* an extra channel (displacement...), or empty */
+    lst_masks masks;        /* paste p uses masks.volumes[p.exemplar] */
     int npastes;
-    lst_paste *pastes;        /* in compositing order: later over earlier */
-    double layers;            /* mean pastes per tetrahedron */
-    double layers_before;     /* ... before hidden entries were dropped */
+    lst_paste *pastes;    /* in compositing order: later over earlier */
+    double layers;        /* mean pastes per tetrahedron */
+    double layers_before; /* ... before hidden entries were dropped */
     lst_allocator allocator;
 } lst_model;
 
@@ -479,8 +479,7 @@ LSTDEF lst_result lst_tetrahedralize(const lst_mesh *surface, const lst_options 
 LSTDEF lst_result lst_tetmesh_check(lst_tetmesh *mesh, double *min_dihedral, double *max_dihedral, lst_error *err);
 /* The boundary triangles of a tetrahedral mesh, outward, as a surface
  * sharing its vertices (in order of tetrahedron, then face). */
-LSTDEF lst_result lst_tetmesh_surface(const lst_tetmesh *mesh, const lst_options *opt, lst_mesh *out,
-                                      lst_error *err);
+LSTDEF lst_result lst_tetmesh_surface(const lst_tetmesh *mesh, const lst_options *opt, lst_mesh *out, lst_error *err);
 
 /* ---- exemplars and fields ---- */
 
@@ -493,8 +492,7 @@ LSTDEF lst_result lst_builtin_exemplar(const char *name, int size, const lst_opt
                                        lst_volume *values, lst_error *err);
 /* §5.2.1/§5.2.7 the masks pasting would use with this exemplar and these
  * options (1 or 3 one-channel volumes). */
-LSTDEF lst_result lst_make_masks(const lst_volume *exemplar, const lst_options *opt, lst_masks *out,
-                                 lst_error *err);
+LSTDEF lst_result lst_make_masks(const lst_volume *exemplar, const lst_options *opt, lst_masks *out, lst_error *err);
 LSTDEF void lst_masks_free(lst_masks *masks);
 /* §5.2.2 the depth, vector, scale and tensor fields. surface: the surface
  * that depth constraints name faces of (NULL: the mesh's boundary). */
@@ -566,8 +564,8 @@ LSTDEF lst_result lst_render(const lst_model *model, const lst_render_options *r
 /* §5.1.2 volume rendering: slices perpendicular to the view, composited
  * back to front with an opacity from the density. ro, vo: NULL (the
  * defaults) or &opt.render, &opt.volume. */
-LSTDEF lst_result lst_render_volume(const lst_model *model, const lst_render_options *ro,
-                                    const lst_volume_options *vo, lst_image *out, lst_error *err);
+LSTDEF lst_result lst_render_volume(const lst_model *model, const lst_render_options *ro, const lst_volume_options *vo,
+                                    lst_image *out, lst_error *err);
 
 /* ---- built-in data ---- */
 
@@ -616,8 +614,8 @@ LSTDEF lst_result lst_read_volume(const void *data, size_t size, const char *nam
                                   lst_volume *out, lst_error *err);
 LSTDEF lst_result lst_write_volume(const lst_volume *vol, lst_write_fn fn, void *ctx, lst_error *err);
 /* Surfaces: OBJ, OFF, PLY, STL. */
-LSTDEF lst_result lst_read_mesh(const void *data, size_t size, const char *name, const lst_options *opt,
-                                lst_mesh *out, lst_error *err);
+LSTDEF lst_result lst_read_mesh(const void *data, size_t size, const char *name, const lst_options *opt, lst_mesh *out,
+                                lst_error *err);
 /* A surface (e.g. the boundary from lst_tetmesh_surface) as OBJ: positions
  * and polygon faces. */
 LSTDEF lst_result lst_write_obj(const lst_mesh *mesh, lst_write_fn fn, void *ctx, lst_error *err);
@@ -625,8 +623,7 @@ LSTDEF lst_result lst_write_obj(const lst_mesh *mesh, lst_write_fn fn, void *ctx
 LSTDEF lst_result lst_read_image(const void *data, size_t size, const char *name, const lst_options *opt,
                                  lst_image *out, lst_error *err);
 /* format: "png", "ppm", "pgm", "pam" */
-LSTDEF lst_result lst_write_image(const lst_image *img, const char *format, lst_write_fn fn, void *ctx,
-                                  lst_error *err);
+LSTDEF lst_result lst_write_image(const lst_image *img, const char *format, lst_write_fn fn, void *ctx, lst_error *err);
 #ifndef PW_NO_STDIO
 LSTDEF lst_result lst_load_mesh(const char *path, const lst_options *opt, lst_mesh *out, lst_error *err);
 LSTDEF lst_result lst_save_obj(const char *path, const lst_mesh *mesh, lst_error *err);
@@ -638,8 +635,7 @@ LSTDEF lst_result lst_load_volume(const char *path, const lst_options *opt, lst_
 LSTDEF lst_result lst_save_volume(const char *path, const lst_volume *vol, lst_error *err);
 LSTDEF lst_result lst_save_model(const char *path, const lst_model *model, lst_error *err);
 LSTDEF lst_result lst_load_model(const char *path, const lst_options *opt, lst_model *out, lst_error *err);
-LSTDEF lst_result lst_load_constraints(const char *path, const lst_options *opt, lst_constraints *out,
-                                       lst_error *err);
+LSTDEF lst_result lst_load_constraints(const char *path, const lst_options *opt, lst_constraints *out, lst_error *err);
 LSTDEF lst_result lst_load_image(const char *path, const lst_options *opt, lst_image *out, lst_error *err);
 LSTDEF lst_result lst_save_image(const char *path, const lst_image *img, lst_error *err);
 #endif
@@ -654,13 +650,13 @@ LSTDEF lst_result lst_save_image(const char *path, const lst_image *img, lst_err
  * mesh is a manifold. */
 typedef struct lst_atlas {
     int nverts;
-    float *positions;        /* nverts*3 */
+    float *positions; /* nverts*3 */
     int ntris;
-    int *tris;               /* ntris*3, counter-clockwise seen from outside */
-    float *uvs;              /* ntris*6, per corner, (0,0) bottom-left of the image */
+    int *tris;  /* ntris*3, counter-clockwise seen from outside */
+    float *uvs; /* ntris*6, per corner, (0,0) bottom-left of the image */
     int ncharts;
-    float fill;              /* fraction of the image covered by charts */
-    lst_image image;         /* RGB: the model's colour (show = COLOR), unlit */
+    float fill;      /* fraction of the image covered by charts */
+    lst_image image; /* RGB: the model's colour (show = COLOR), unlit */
     lst_allocator allocator;
 } lst_atlas;
 /* Charts of the visible boundary (opt->atlas; opt NULL: the defaults),
@@ -787,11 +783,17 @@ enum {
 
 PW__DEF const char *pw_result_string(int code)
 {
-    static const char *const names[PW_ERR__COUNT] = {
-        "ok", "out of memory", "input/output error", "parse error",
-        "unsupported feature", "size limit exceeded", "invalid argument",
-        "bad mesh topology", "degenerate geometry", "cancelled",
-        "solver did not converge"};
+    static const char *const names[PW_ERR__COUNT] = {"ok",
+                                                     "out of memory",
+                                                     "input/output error",
+                                                     "parse error",
+                                                     "unsupported feature",
+                                                     "size limit exceeded",
+                                                     "invalid argument",
+                                                     "bad mesh topology",
+                                                     "degenerate geometry",
+                                                     "cancelled",
+                                                     "solver did not converge"};
     if (code < 0 || code >= PW_ERR__COUNT) return "unknown error";
     return names[code];
 }
@@ -849,33 +851,27 @@ PW__DEF void *pw_realloc(const pw_alloc *a, void *p, size_t n)
 PW__DEF void pw_free(const pw_alloc *a, void *p)
 {
     if (!p) return;
-    if (a && a->free_fn)
-        a->free_fn(a->user, p);
-    else
-        PW_FREE(p);
+    if (a && a->free_fn) a->free_fn(a->user, p);
+    else PW_FREE(p);
 }
 
 /* count*size bytes, overflow-checked; records PW_ERR_NOMEM (naming `what`)
  * on failure. */
-PW__DEF void *pw_alloc_array(const pw_alloc *a, size_t count, size_t size,
-                             const char *what, pw_err *e)
+PW__DEF void *pw_alloc_array(const pw_alloc *a, size_t count, size_t size, const char *what, pw_err *e)
 {
     void *p;
     if (size && count > (size_t)-1 / size) {
-        pw_fail(e, PW_ERR_NOMEM, "%s: %lu elements of %lu bytes overflow size_t",
-                what, (unsigned long)count, (unsigned long)size);
+        pw_fail(e, PW_ERR_NOMEM, "%s: %lu elements of %lu bytes overflow size_t", what, (unsigned long)count,
+                (unsigned long)size);
         return NULL;
     }
     p = pw_malloc(a, count * size);
-    if (!p)
-        pw_fail(e, PW_ERR_NOMEM, "out of memory allocating %s (%lu bytes)", what,
-                (unsigned long)(count * size));
+    if (!p) pw_fail(e, PW_ERR_NOMEM, "out of memory allocating %s (%lu bytes)", what, (unsigned long)(count * size));
     return p;
 }
 
 /* Same, zero-filled. */
-PW__DEF void *pw_calloc_array(const pw_alloc *a, size_t count, size_t size,
-                              const char *what, pw_err *e)
+PW__DEF void *pw_calloc_array(const pw_alloc *a, size_t count, size_t size, const char *what, pw_err *e)
 {
     void *p = pw_alloc_array(a, count, size, what, e);
     if (p) memset(p, 0, count * size);
@@ -884,22 +880,19 @@ PW__DEF void *pw_calloc_array(const pw_alloc *a, size_t count, size_t size,
 
 /* Grows *p (holding *cap elements of `size` bytes) to at least `need`
  * elements, doubling. Returns 0 on success. */
-PW__DEF int pw_grow(const pw_alloc *a, void **p, size_t *cap, size_t need,
-                    size_t size, const char *what, pw_err *e)
+PW__DEF int pw_grow(const pw_alloc *a, void **p, size_t *cap, size_t need, size_t size, const char *what, pw_err *e)
 {
     size_t ncap;
     void *np;
     if (need <= *cap) return PW_OK;
     ncap = *cap ? *cap : 16;
     while (ncap < need) {
-        if (ncap > ((size_t)-1 / 2) / size)
-            return pw_fail(e, PW_ERR_NOMEM, "%s: size overflow", what);
+        if (ncap > ((size_t)-1 / 2) / size) return pw_fail(e, PW_ERR_NOMEM, "%s: size overflow", what);
         ncap *= 2;
     }
     np = pw_realloc(a, *p, ncap * size);
     if (!np)
-        return pw_fail(e, PW_ERR_NOMEM, "out of memory growing %s to %lu bytes",
-                       what, (unsigned long)(ncap * size));
+        return pw_fail(e, PW_ERR_NOMEM, "out of memory growing %s to %lu bytes", what, (unsigned long)(ncap * size));
     *p = np;
     *cap = ncap;
     return PW_OK;
@@ -912,12 +905,10 @@ typedef struct pw_progress {
 } pw_progress;
 
 /* Reports progress; returns PW_ERR_CANCELLED (recorded in e) if asked. */
-PW__DEF int pw_report(const pw_progress *p, float done, const char *stage,
-                      pw_err *e)
+PW__DEF int pw_report(const pw_progress *p, float done, const char *stage, pw_err *e)
 {
     if (p && p->fn && p->fn(p->user, done, stage))
-        return pw_fail(e, PW_ERR_CANCELLED, "cancelled by the progress callback during %s",
-                       stage);
+        return pw_fail(e, PW_ERR_CANCELLED, "cancelled by the progress callback during %s", stage);
     return PW_OK;
 }
 
@@ -948,8 +939,7 @@ PW__DEF int pw_has_ext(const char *path, const char *ext)
 #ifndef PW_NO_STDIO
 /* Reads a whole file into memory (with a terminating NUL not counted in
  * *size). */
-PW__DEF int pw_read_file(const pw_alloc *a, const char *path, unsigned char **data,
-                         size_t *size, pw_err *e)
+PW__DEF int pw_read_file(const pw_alloc *a, const char *path, unsigned char **data, size_t *size, pw_err *e)
 {
     FILE *f = fopen(path, "rb");
     unsigned char *buf = NULL;
@@ -986,9 +976,8 @@ PW__DEF int pw__file_write(void *ctx, const void *data, size_t size)
 
 /* Opens `path` for writing and runs body(arg, sink, FILE*, e), which writes
  * through the sink. A failing sink or fclose is reported naming the file. */
-PW__DEF int pw_write_file(const char *path,
-                          int (*body)(void *arg, pw_write_fn w, void *ctx, pw_err *e),
-                          void *arg, pw_err *e)
+PW__DEF int pw_write_file(const char *path, int (*body)(void *arg, pw_write_fn w, void *ctx, pw_err *e), void *arg,
+                          pw_err *e)
 {
     pw_err local;
     FILE *f = fopen(path, "wb");
@@ -1119,9 +1108,15 @@ PW__DEF double pw_sin(double x)
     long n = (long)(k >= 0 ? k + 0.5 : k - 0.5);
     r = x - (double)n * pi; /* r in [-pi/2, pi/2] */
     r2 = r * r;
-    s = r * (1.0 + r2 * (-1.0 / 6 + r2 * (1.0 / 120 + r2 * (-1.0 / 5040 + r2 * (1.0 / 362880 +
-        r2 * (-1.0 / 39916800 + r2 * (1.0 / 6227020800.0 + r2 * (-1.0 / 1307674368000.0 +
-        r2 * (1.0 / 355687428096000.0 + r2 * (-1.0 / 121645100408832000.0))))))))));
+    s = r * (1.0 +
+             r2 * (-1.0 / 6 +
+                   r2 * (1.0 / 120 +
+                         r2 * (-1.0 / 5040 +
+                               r2 * (1.0 / 362880 + r2 * (-1.0 / 39916800 +
+                                                          r2 * (1.0 / 6227020800.0 +
+                                                                r2 * (-1.0 / 1307674368000.0 +
+                                                                      r2 * (1.0 / 355687428096000.0 +
+                                                                            r2 * (-1.0 / 121645100408832000.0))))))))));
     return (n & 1) ? -s : s;
 }
 PW__DEF double pw_cos(double x) { return pw_sin(x + 1.57079632679489661923); }
@@ -1352,8 +1347,7 @@ PW__DEF int pw_image_alloc(const pw_alloc *a, pw_image *img, int w, int h, int c
     if (w <= 0 || h <= 0 || c < 1 || c > 4)
         return pw_fail(e, PW_ERR_INVALID, "invalid image size %dx%d with %d channels", w, h, c);
     if (w > PW_MAX_IMAGE_DIM || h > PW_MAX_IMAGE_DIM || (int64_t)w * h > PW_MAX_IMAGE_PIXELS)
-        return pw_fail(e, PW_ERR_LIMIT, "image %dx%d exceeds the limit of %d pixels", w, h,
-                       PW_MAX_IMAGE_PIXELS);
+        return pw_fail(e, PW_ERR_LIMIT, "image %dx%d exceeds the limit of %d pixels", w, h, PW_MAX_IMAGE_PIXELS);
     img->px = (float *)pw_calloc_array(a, (size_t)w * h * c, sizeof(float), "image", e);
     if (!img->px) return PW_ERR_NOMEM;
     img->w = w;
@@ -1388,10 +1382,9 @@ PW__DEF unsigned pw_image_quantize(float v, unsigned maxval)
 PW__DEF int pw__image_check(const pw_image *img, pw_err *e)
 {
     if (!img || !img->px || img->w <= 0 || img->h <= 0 || img->c < 1 || img->c > 4)
-        return pw_fail(e, PW_ERR_INVALID, "invalid image (%dx%d, %d channels)", img ? img->w : 0,
-                       img ? img->h : 0, img ? img->c : 0);
-    if (img->w > PW_MAX_IMAGE_DIM || img->h > PW_MAX_IMAGE_DIM ||
-        (int64_t)img->w * img->h > PW_MAX_IMAGE_PIXELS)
+        return pw_fail(e, PW_ERR_INVALID, "invalid image (%dx%d, %d channels)", img ? img->w : 0, img ? img->h : 0,
+                       img ? img->c : 0);
+    if (img->w > PW_MAX_IMAGE_DIM || img->h > PW_MAX_IMAGE_DIM || (int64_t)img->w * img->h > PW_MAX_IMAGE_PIXELS)
         return pw_fail(e, PW_ERR_LIMIT, "image %dx%d exceeds the size limits", img->w, img->h);
     return PW_OK;
 }
@@ -1413,8 +1406,7 @@ PW__DEF int pw_image_copy(const pw_alloc *a, const pw_image *src, pw_image *out,
  * dropping it (without compositing). RGB to gray uses the Rec. 601 luma
  * weights, as netpbm's ppmtopgm does. out may be src itself: its pixels are
  * then replaced (and freed with a). */
-PW__DEF int pw_image_convert(const pw_alloc *a, const pw_image *src, int channels, pw_image *out,
-                             pw_err *e)
+PW__DEF int pw_image_convert(const pw_alloc *a, const pw_image *src, int channels, pw_image *out, pw_err *e)
 {
     pw_image t;
     size_t i, n;
@@ -1546,13 +1538,11 @@ PW__DEF int pw__sink_end(pw__sink *s, pw_err *e)
 PW__DEF int pw__image_check_size(const char *name, uint64_t w, uint64_t h, pw_err *e)
 {
     if (w == 0 || h == 0)
-        return pw_fail(e, PW_ERR_PARSE, "%s: image has zero size (%llux%llu)", name,
-                       (unsigned long long)w, (unsigned long long)h);
+        return pw_fail(e, PW_ERR_PARSE, "%s: image has zero size (%llux%llu)", name, (unsigned long long)w,
+                       (unsigned long long)h);
     if (w > PW_MAX_IMAGE_DIM || h > PW_MAX_IMAGE_DIM || w * h > (uint64_t)PW_MAX_IMAGE_PIXELS)
-        return pw_fail(e, PW_ERR_LIMIT,
-                       "%s: image size %llux%llu exceeds the limits (%d per side, %d pixels)", name,
-                       (unsigned long long)w, (unsigned long long)h, PW_MAX_IMAGE_DIM,
-                       PW_MAX_IMAGE_PIXELS);
+        return pw_fail(e, PW_ERR_LIMIT, "%s: image size %llux%llu exceeds the limits (%d per side, %d pixels)", name,
+                       (unsigned long long)w, (unsigned long long)h, PW_MAX_IMAGE_DIM, PW_MAX_IMAGE_PIXELS);
     return PW_OK;
 }
 
@@ -1570,10 +1560,7 @@ typedef struct pw__pnm {
     uint64_t w, h, depth, maxval;
 } pw__pnm;
 
-PW__DEF int pw__is_space(int c)
-{
-    return c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == '\v' || c == '\f';
-}
+PW__DEF int pw__is_space(int c) { return c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == '\v' || c == '\f'; }
 
 /* Skips whitespace and comments (# to the end of the line). */
 PW__DEF void pw__pnm_skip(pw__pnm *r)
@@ -1596,10 +1583,8 @@ PW__DEF int pw__pnm_unexpected(pw__pnm *r, const char *what)
 {
     int c = r->p[r->pos];
     if (c > 32 && c < 127)
-        return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: expected the %s, found '%c'", r->name, r->line,
-                       what, c);
-    return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: expected the %s, found byte 0x%02x", r->name,
-                   r->line, what, c);
+        return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: expected the %s, found '%c'", r->name, r->line, what, c);
+    return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: expected the %s, found byte 0x%02x", r->name, r->line, what, c);
 }
 
 /* Reads an unsigned decimal number: a header field or an ASCII sample. */
@@ -1608,13 +1593,11 @@ PW__DEF int pw__pnm_number(pw__pnm *r, const char *what, uint64_t *v)
     uint64_t x = 0;
     pw__pnm_skip(r);
     if (r->pos >= r->n)
-        return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: file truncated: it ends before the %s", r->name,
-                       r->line, what);
+        return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: file truncated: it ends before the %s", r->name, r->line, what);
     if (r->p[r->pos] < '0' || r->p[r->pos] > '9') return pw__pnm_unexpected(r, what);
     while (r->pos < r->n && r->p[r->pos] >= '0' && r->p[r->pos] <= '9') {
         x = x * 10 + (uint64_t)(r->p[r->pos++] - '0');
-        if (x > 0xffffffffu)
-            return pw_fail(r->e, PW_ERR_LIMIT, "%s:%d: %s is too large", r->name, r->line, what);
+        if (x > 0xffffffffu) return pw_fail(r->e, PW_ERR_LIMIT, "%s:%d: %s is too large", r->name, r->line, what);
     }
     if (r->pos < r->n && !pw__is_space(r->p[r->pos]) && r->p[r->pos] != '#')
         return pw__pnm_unexpected(r, "end of the number");
@@ -1625,8 +1608,8 @@ PW__DEF int pw__pnm_number(pw__pnm *r, const char *what, uint64_t *v)
 PW__DEF int pw__pnm_check_maxval(pw__pnm *r)
 {
     if (r->maxval == 0 || r->maxval > 65535)
-        return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: maxval %llu is out of range (1 to 65535)",
-                       r->name, r->line, (unsigned long long)r->maxval);
+        return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: maxval %llu is out of range (1 to 65535)", r->name, r->line,
+                       (unsigned long long)r->maxval);
     return PW_OK;
 }
 
@@ -1635,8 +1618,7 @@ PW__DEF int pw__pnm_header(pw__pnm *r)
 {
     int rc;
     if (r->pos < r->n && !pw__is_space(r->p[r->pos]) && r->p[r->pos] != '#')
-        return pw_fail(r->e, PW_ERR_PARSE, "%s: bad magic number (P%d not followed by a space)",
-                       r->name, r->fmt);
+        return pw_fail(r->e, PW_ERR_PARSE, "%s: bad magic number (P%d not followed by a space)", r->name, r->fmt);
     if ((rc = pw__pnm_number(r, "width", &r->w))) return rc;
     if ((rc = pw__pnm_number(r, "height", &r->h))) return rc;
     r->maxval = 1;
@@ -1651,8 +1633,7 @@ PW__DEF int pw__pnm_header(pw__pnm *r)
 PW__DEF int pw__pnm_need(pw__pnm *r, uint64_t need)
 {
     if ((uint64_t)(r->n - r->pos) < need)
-        return pw_fail(r->e, PW_ERR_PARSE,
-                       "%s: pixel data truncated: %llu bytes needed, %llu present", r->name,
+        return pw_fail(r->e, PW_ERR_PARSE, "%s: pixel data truncated: %llu bytes needed, %llu present", r->name,
                        (unsigned long long)need, (unsigned long long)(r->n - r->pos));
     return PW_OK;
 }
@@ -1665,8 +1646,7 @@ PW__DEF int pw__pnm_raster(pw__pnm *r, uint64_t need)
     int c;
     if (r->pos < r->n && r->p[r->pos] == '#')
         while (r->pos < r->n && r->p[r->pos] != '\n' && r->p[r->pos] != '\r') r->pos++;
-    if (r->pos >= r->n)
-        return pw_fail(r->e, PW_ERR_PARSE, "%s: file truncated: no pixel data", r->name);
+    if (r->pos >= r->n) return pw_fail(r->e, PW_ERR_PARSE, "%s: file truncated: no pixel data", r->name);
     c = r->p[r->pos++];
     /* CRLF from a text-mode writer: skip the LF when exactly the raster
      * follows it (a lone CR separator followed by a sample 10 is kept) */
@@ -1683,8 +1663,8 @@ PW__DEF int pw__pnm_binary(pw__pnm *r, pw_image *img)
     for (i = 0; i < n; i++) {
         v = m > 255 ? (unsigned)p[2 * i] << 8 | p[2 * i + 1] : p[i];
         if (v > m)
-            return pw_fail(r->e, PW_ERR_PARSE, "%s: sample %lu is %u, above maxval %u", r->name,
-                           (unsigned long)i, v, m);
+            return pw_fail(r->e, PW_ERR_PARSE, "%s: sample %lu is %u, above maxval %u", r->name, (unsigned long)i, v,
+                           m);
         img->px[i] = (float)v / (float)m;
     }
     return PW_OK;
@@ -1699,9 +1679,8 @@ PW__DEF int pw__pnm_ascii(pw__pnm *r, pw_image *img)
     for (i = 0; i < n; i++) {
         if ((rc = pw__pnm_number(r, "sample", &v))) return rc;
         if (v > r->maxval)
-            return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: sample %lu is %llu, above maxval %llu",
-                           r->name, r->line, (unsigned long)i, (unsigned long long)v,
-                           (unsigned long long)r->maxval);
+            return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: sample %lu is %llu, above maxval %llu", r->name, r->line,
+                           (unsigned long)i, (unsigned long long)v, (unsigned long long)r->maxval);
         img->px[i] = (float)v / (float)r->maxval;
     }
     return PW_OK;
@@ -1720,11 +1699,9 @@ PW__DEF int pw__pbm_pixels(pw__pnm *r, pw_image *img)
             } else {
                 pw__pnm_skip(r);
                 if (r->pos >= r->n)
-                    return pw_fail(r->e, PW_ERR_PARSE,
-                                   "%s:%d: file truncated: it ends before pixel %lu", r->name,
+                    return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: file truncated: it ends before pixel %lu", r->name,
                                    r->line, (unsigned long)(y * img->w + x));
-                if (r->p[r->pos] != '0' && r->p[r->pos] != '1')
-                    return pw__pnm_unexpected(r, "bit 0 or 1");
+                if (r->p[r->pos] != '0' && r->p[r->pos] != '1') return pw__pnm_unexpected(r, "bit 0 or 1");
                 bit = r->p[r->pos++] - '0';
             }
             img->px[y * img->w + x] = bit ? 0.0f : 1.0f;
@@ -1739,18 +1716,15 @@ PW__DEF int pw__token_is(const unsigned char *s, size_t n, const char *kw)
 }
 
 /* Parses the value of a numeric PAM field (the whole value must be digits). */
-PW__DEF int pw__pam_number(pw__pnm *r, const unsigned char *s, size_t n, const char *key,
-                           uint64_t *v)
+PW__DEF int pw__pam_number(pw__pnm *r, const unsigned char *s, size_t n, const char *key, uint64_t *v)
 {
     size_t i;
     uint64_t x = 0;
     if (n == 0 || n > 10)
-        return pw_fail(r->e, n ? PW_ERR_LIMIT : PW_ERR_PARSE, "%s:%d: bad %s value", r->name,
-                       r->line, key);
+        return pw_fail(r->e, n ? PW_ERR_LIMIT : PW_ERR_PARSE, "%s:%d: bad %s value", r->name, r->line, key);
     for (i = 0; i < n; i++) {
         if (s[i] < '0' || s[i] > '9')
-            return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: bad %s value (not a number)", r->name,
-                           r->line, key);
+            return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: bad %s value (not a number)", r->name, r->line, key);
         x = x * 10 + (uint64_t)(s[i] - '0');
     }
     *v = x;
@@ -1797,14 +1771,13 @@ PW__DEF int pw__pam_tupltype(pw__pnm *r, const char *t)
     int i;
     if (r->depth == 0 || r->depth > 4)
         return pw_fail(r->e, r->depth ? PW_ERR_UNSUPPORTED : PW_ERR_PARSE,
-                       "%s: PAM depth %llu is not supported (1 to 4)", r->name,
-                       (unsigned long long)r->depth);
+                       "%s: PAM depth %llu is not supported (1 to 4)", r->name, (unsigned long long)r->depth);
     if (!t[0]) return PW_OK;
     for (i = 0; i < 6; i++)
         if (strcmp(t, names[i]) == 0) {
             if ((uint64_t)depths[i] == r->depth) return PW_OK;
-            return pw_fail(r->e, PW_ERR_PARSE, "%s: TUPLTYPE %s needs DEPTH %d, not %llu", r->name,
-                           t, depths[i], (unsigned long long)r->depth);
+            return pw_fail(r->e, PW_ERR_PARSE, "%s: TUPLTYPE %s needs DEPTH %d, not %llu", r->name, t, depths[i],
+                           (unsigned long long)r->depth);
         }
     return pw_fail(r->e, PW_ERR_UNSUPPORTED, "%s: PAM TUPLTYPE '%s' is not supported", r->name, t);
 }
@@ -1818,20 +1791,17 @@ PW__DEF int pw__pam_header(pw__pnm *r)
     r->w = r->h = r->depth = r->maxval = 0;
     while (r->pos < r->n && r->p[r->pos] != '\n') /* rest of the "P7" line */
         if (!pw__is_space(r->p[r->pos++]))
-            return pw_fail(r->e, PW_ERR_PARSE,
-                           "%s: bad magic number (P7 not followed by a newline)", r->name);
+            return pw_fail(r->e, PW_ERR_PARSE, "%s: bad magic number (P7 not followed by a newline)", r->name);
     while (!done) {
         size_t start, end;
         if (r->pos >= r->n)
-            return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: file truncated: PAM header has no ENDHDR",
-                           r->name, r->line);
+            return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: file truncated: PAM header has no ENDHDR", r->name, r->line);
         r->pos++; /* the newline ending the previous line */
         r->line++;
         start = end = r->pos;
         while (end < r->n && r->p[end] != '\n') end++;
         if (end >= r->n)
-            return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: file truncated: PAM header has no ENDHDR",
-                           r->name, r->line);
+            return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: file truncated: PAM header has no ENDHDR", r->name, r->line);
         r->pos = end;
         if ((rc = pw__pam_line(r, r->p + start, end - start, tupltype, &done))) return rc;
     }
@@ -1848,8 +1818,8 @@ PW__DEF int pw__pam_header(pw__pnm *r)
 
 /* Reads a netpbm image (P1-P7) from memory. `name` (usually the file name)
  * prefixes every error message. Bit depth: 16 when maxval > 255. */
-PW__DEF int pw_image_read_pnm_memory(const pw_alloc *a, const unsigned char *data, size_t size,
-                                     const char *name, pw_image *out, pw_err *e)
+PW__DEF int pw_image_read_pnm_memory(const pw_alloc *a, const unsigned char *data, size_t size, const char *name,
+                                     pw_image *out, pw_err *e)
 {
     pw__pnm r;
     uint64_t need = 0;
@@ -1899,8 +1869,8 @@ PW__DEF uint32_t pw__be32(const unsigned char *p)
  * per pixel (1 gray, 2 gray+alpha, 3 RGB, 4 RGBA), magic "GPAT", then the
  * NUL-terminated pattern name up to header_size; 8-bit pixels follow, top
  * row first. */
-PW__DEF int pw_image_read_pat_memory(const pw_alloc *a, const unsigned char *data, size_t size,
-                                     const char *name, pw_image *out, pw_err *e)
+PW__DEF int pw_image_read_pat_memory(const pw_alloc *a, const unsigned char *data, size_t size, const char *name,
+                                     pw_image *out, pw_err *e)
 {
     uint32_t hs, ver, w, h, bpp;
     size_t i, n;
@@ -1908,29 +1878,26 @@ PW__DEF int pw_image_read_pat_memory(const pw_alloc *a, const unsigned char *dat
     memset(out, 0, sizeof *out);
     if (!name) name = "image";
     if (size < 24) return pw_fail(e, PW_ERR_PARSE, "%s: GIMP pattern header truncated", name);
-    if (memcmp(data + 20, "GPAT", 4) != 0)
-        return pw_fail(e, PW_ERR_PARSE, "%s: not a GIMP pattern (bad magic)", name);
+    if (memcmp(data + 20, "GPAT", 4) != 0) return pw_fail(e, PW_ERR_PARSE, "%s: not a GIMP pattern (bad magic)", name);
     hs = pw__be32(data);
     ver = pw__be32(data + 4);
     w = pw__be32(data + 8);
     h = pw__be32(data + 12);
     bpp = pw__be32(data + 16);
     if (ver != 1)
-        return pw_fail(e, PW_ERR_UNSUPPORTED, "%s: GIMP pattern version %lu (only 1 is known)",
-                       name, (unsigned long)ver);
+        return pw_fail(e, PW_ERR_UNSUPPORTED, "%s: GIMP pattern version %lu (only 1 is known)", name,
+                       (unsigned long)ver);
     if (hs <= 24 || hs > size)
-        return pw_fail(e, PW_ERR_PARSE, "%s: bad GIMP pattern header size %lu (file has %lu bytes)",
-                       name, (unsigned long)hs, (unsigned long)size);
+        return pw_fail(e, PW_ERR_PARSE, "%s: bad GIMP pattern header size %lu (file has %lu bytes)", name,
+                       (unsigned long)hs, (unsigned long)size);
     if (!memchr(data + 24, 0, hs - 24))
         return pw_fail(e, PW_ERR_PARSE, "%s: GIMP pattern name is not NUL-terminated", name);
     if (bpp < 1 || bpp > 4)
-        return pw_fail(e, PW_ERR_PARSE, "%s: GIMP pattern has %lu bytes per pixel (1 to 4)", name,
-                       (unsigned long)bpp);
+        return pw_fail(e, PW_ERR_PARSE, "%s: GIMP pattern has %lu bytes per pixel (1 to 4)", name, (unsigned long)bpp);
     if ((rc = pw__image_check_size(name, w, h, e))) return rc;
     if ((uint64_t)w * h * bpp > (uint64_t)(size - hs))
-        return pw_fail(e, PW_ERR_PARSE, "%s: pixel data truncated: %llu bytes needed, %lu present",
-                       name, (unsigned long long)((uint64_t)w * h * bpp),
-                       (unsigned long)(size - hs));
+        return pw_fail(e, PW_ERR_PARSE, "%s: pixel data truncated: %llu bytes needed, %lu present", name,
+                       (unsigned long long)((uint64_t)w * h * bpp), (unsigned long)(size - hs));
     if ((rc = pw_image_alloc(a, out, (int)w, (int)h, (int)bpp, e))) return rc;
     n = (size_t)w * h * bpp;
     for (i = 0; i < n; i++) out->px[i] = (float)data[hs + i] / 255.0f;
@@ -1947,8 +1914,7 @@ PW__DEF int pw__write_bits(const pw_image *img, int bits, unsigned *maxval, pw_e
     int rc = pw__image_check(img, e);
     if (rc) return rc;
     if (bits == 0) bits = img->bits == 16 ? 16 : 8;
-    if (bits != 8 && bits != 16)
-        return pw_fail(e, PW_ERR_INVALID, "cannot write %d-bit samples (8 or 16)", bits);
+    if (bits != 8 && bits != 16) return pw_fail(e, PW_ERR_INVALID, "cannot write %d-bit samples (8 or 16)", bits);
     *maxval = bits == 16 ? 65535u : 255u;
     return PW_OK;
 }
@@ -1973,8 +1939,7 @@ PW__DEF void pw__put_ascii(pw__sink *s, const pw_image *img, unsigned maxval)
     for (y = 0; y < (size_t)img->h; y++) {
         int col = 0;
         for (x = 0; x < rowlen; x++) {
-            int k =
-                snprintf(num, sizeof num, "%u", pw_image_quantize(img->px[y * rowlen + x], maxval));
+            int k = snprintf(num, sizeof num, "%u", pw_image_quantize(img->px[y * rowlen + x], maxval));
             if (col > 0 && col + 1 + k > 69) {
                 pw__sink_byte(s, '\n');
                 col = 0;
@@ -1998,8 +1963,7 @@ PW__DEF int pw_image_write_pam(const pw_image *img, int bits, pw_write_fn w, voi
     unsigned maxval;
     int rc = pw__write_bits(img, bits, &maxval, e), k;
     if (rc) return rc;
-    k = snprintf(head, sizeof head,
-                 "P7\nWIDTH %d\nHEIGHT %d\nDEPTH %d\nMAXVAL %u\nTUPLTYPE %s\nENDHDR\n", img->w,
+    k = snprintf(head, sizeof head, "P7\nWIDTH %d\nHEIGHT %d\nDEPTH %d\nMAXVAL %u\nTUPLTYPE %s\nENDHDR\n", img->w,
                  img->h, img->c, maxval, types[img->c - 1]);
     pw__sink_init(&s, w, ctx);
     pw__sink_put(&s, head, (size_t)k);
@@ -2009,8 +1973,7 @@ PW__DEF int pw_image_write_pam(const pw_image *img, int bits, pw_write_fn w, voi
 
 /* PGM for 1 channel, PPM for 3 (binary P5/P6, or ASCII P2/P3 when `ascii`
  * is set), PAM for 2 and 4 (binary only: PW_ERR_UNSUPPORTED with ascii). */
-PW__DEF int pw_image_write_pnm(const pw_image *img, int bits, int ascii, pw_write_fn w, void *ctx,
-                               pw_err *e)
+PW__DEF int pw_image_write_pnm(const pw_image *img, int bits, int ascii, pw_write_fn w, void *ctx, pw_err *e)
 {
     pw__sink s;
     char head[64];
@@ -2019,18 +1982,15 @@ PW__DEF int pw_image_write_pnm(const pw_image *img, int bits, int ascii, pw_writ
     if (rc) return rc;
     if (img->c == 2 || img->c == 4) {
         if (ascii)
-            return pw_fail(e, PW_ERR_UNSUPPORTED,
-                           "images with alpha are written as PAM, which has no ASCII form");
+            return pw_fail(e, PW_ERR_UNSUPPORTED, "images with alpha are written as PAM, which has no ASCII form");
         return pw_image_write_pam(img, bits, w, ctx, e);
     }
-    k = snprintf(head, sizeof head, "P%d\n%d %d\n%u\n", (img->c == 1 ? 2 : 3) + (ascii ? 0 : 3),
-                 img->w, img->h, maxval);
+    k = snprintf(head, sizeof head, "P%d\n%d %d\n%u\n", (img->c == 1 ? 2 : 3) + (ascii ? 0 : 3), img->w, img->h,
+                 maxval);
     pw__sink_init(&s, w, ctx);
     pw__sink_put(&s, head, (size_t)k);
-    if (ascii)
-        pw__put_ascii(&s, img, maxval);
-    else
-        pw__put_samples(&s, img, maxval);
+    if (ascii) pw__put_ascii(&s, img, maxval);
+    else pw__put_samples(&s, img, maxval);
     return pw__sink_end(&s, e);
 }
 
@@ -2065,9 +2025,8 @@ PW__DEF int pw_image_write_pnm(const pw_image *img, int bits, int ascii, pw_writ
  * nibble at a time) keeps the source short and is fast enough for PNG. */
 PW__DEF uint32_t pw_crc32(uint32_t crc, const void *data, size_t n)
 {
-    static const uint32_t t[16] = {0x00000000u, 0x1db71064u, 0x3b6e20c8u, 0x26d930acu,
-                                   0x76dc4190u, 0x6b6b51f4u, 0x4db26158u, 0x5005713cu,
-                                   0xedb88320u, 0xf00f9344u, 0xd6d6a3e8u, 0xcb61b38cu,
+    static const uint32_t t[16] = {0x00000000u, 0x1db71064u, 0x3b6e20c8u, 0x26d930acu, 0x76dc4190u, 0x6b6b51f4u,
+                                   0x4db26158u, 0x5005713cu, 0xedb88320u, 0xf00f9344u, 0xd6d6a3e8u, 0xcb61b38cu,
                                    0x9b64c2b0u, 0x86d3d2d4u, 0xa00ae278u, 0xbdbdf21cu};
     const unsigned char *p = (const unsigned char *)data;
     crc = ~crc;
@@ -2099,20 +2058,17 @@ PW__DEF uint32_t pw_adler32(uint32_t adler, const void *data, size_t n)
 }
 
 /* RFC 1951 §3.2.5: bases and extra bits of the length and distance codes. */
-static const unsigned short pw__len_base[29] = {3,  4,  5,  6,   7,   8,   9,   10,  11, 13,
-                                                15, 17, 19, 23,  27,  31,  35,  43,  51, 59,
-                                                67, 83, 99, 115, 131, 163, 195, 227, 258};
+static const unsigned short pw__len_base[29] = {3,  4,  5,  6,  7,  8,  9,  10, 11,  13,  15,  17,  19,  23, 27,
+                                                31, 35, 43, 51, 59, 67, 83, 99, 115, 131, 163, 195, 227, 258};
 static const unsigned char pw__len_extra[29] = {0, 0, 0, 0, 0, 0, 0, 0, 1, 1, 1, 1, 2, 2, 2,
                                                 2, 3, 3, 3, 3, 4, 4, 4, 4, 5, 5, 5, 5, 0};
-static const unsigned short pw__dist_base[30] = {
-    1,   2,   3,   4,   5,   7,    9,    13,   17,   25,   33,   49,   65,    97,    129,
-    193, 257, 385, 513, 769, 1025, 1537, 2049, 3073, 4097, 6145, 8193, 12289, 16385, 24577};
-static const unsigned char pw__dist_extra[30] = {0, 0, 0,  0,  1,  1,  2,  2,  3,  3,
-                                                 4, 4, 5,  5,  6,  6,  7,  7,  8,  8,
-                                                 9, 9, 10, 10, 11, 11, 12, 12, 13, 13};
+static const unsigned short pw__dist_base[30] = {1,    2,    3,    4,    5,    7,    9,    13,    17,    25,
+                                                 33,   49,   65,   97,   129,  193,  257,  385,   513,   769,
+                                                 1025, 1537, 2049, 3073, 4097, 6145, 8193, 12289, 16385, 24577};
+static const unsigned char pw__dist_extra[30] = {0, 0, 0, 0, 1, 1, 2, 2,  3,  3,  4,  4,  5,  5,  6,
+                                                 6, 7, 7, 8, 8, 9, 9, 10, 10, 11, 11, 12, 12, 13, 13};
 /* §3.2.7: order in which the code-length code lengths are sent */
-static const unsigned char pw__clen_order[19] = {16, 17, 18, 0, 8,  7, 9,  6, 10, 5,
-                                                 11, 4,  12, 3, 13, 2, 14, 1, 15};
+static const unsigned char pw__clen_order[19] = {16, 17, 18, 0, 8, 7, 9, 6, 10, 5, 11, 4, 12, 3, 13, 2, 14, 1, 15};
 
 /* ======================================================================
  * Huffman code construction (shared by both directions)
@@ -2154,10 +2110,8 @@ PW__DEF int pw__huff_tree(const uint64_t *key, int m, unsigned char *len)
     for (k = 0; k < m - 1; k++) {
         int pick[2], j;
         for (j = 0; j < 2; j++) {
-            if (li < m && (ii >= nn || w[li] <= w[ii]))
-                pick[j] = li++;
-            else
-                pick[j] = ii++;
+            if (li < m && (ii >= nn || w[li] <= w[ii])) pick[j] = li++;
+            else pick[j] = ii++;
         }
         w[nn] = w[pick[0]] + w[pick[1]];
         parent[pick[0]] = parent[pick[1]] = nn++;
@@ -2295,8 +2249,7 @@ PW__DEF void pw__deflate_tables(pw__deflate *s)
             s->dcode[v < 256 ? v : 256 + (v >> 7)] = (unsigned char)c;
         }
     /* §3.2.6: the fixed code */
-    for (i = 0; i < 288; i++)
-        s->fixed_len[i] = (unsigned char)(i < 144 ? 8 : i < 256 ? 9 : i < 280 ? 7 : 8);
+    for (i = 0; i < 288; i++) s->fixed_len[i] = (unsigned char)(i < 144 ? 8 : i < 256 ? 9 : i < 280 ? 7 : 8);
     for (i = 0; i < 30; i++) s->fixed_len[288 + i] = 5;
     pw__huff_codes(s->fixed_len, 288, s->fixed_code);
     pw__huff_codes(s->fixed_len + 288, 30, s->fixed_code + 288);
@@ -2308,8 +2261,7 @@ PW__DEF int pw__dist_code(const pw__deflate *s, unsigned dist)
 }
 
 /* Bits to code the block's symbols with the given lengths (no header). */
-PW__DEF uint64_t pw__block_bits(const pw__deflate *s, const unsigned char *ll,
-                                const unsigned char *dl)
+PW__DEF uint64_t pw__block_bits(const pw__deflate *s, const unsigned char *ll, const unsigned char *dl)
 {
     uint64_t bits = 0;
     int i;
@@ -2320,8 +2272,8 @@ PW__DEF uint64_t pw__block_bits(const pw__deflate *s, const unsigned char *ll,
 }
 
 /* Writes the block's symbols with the given code. */
-PW__DEF void pw__put_symbols(pw__deflate *s, const unsigned char *ll, const unsigned short *lc,
-                             const unsigned char *dl, const unsigned short *dc)
+PW__DEF void pw__put_symbols(pw__deflate *s, const unsigned char *ll, const unsigned short *lc, const unsigned char *dl,
+                             const unsigned short *dc)
 {
     size_t i;
     for (i = 0; i < s->nsym; i++) {
@@ -2468,8 +2420,7 @@ PW__DEF void pw__flush_block(pw__deflate *s, size_t end, int last)
     dyn = 3 + pw__dyn_build(&h, ll, dl) + pw__block_bits(s, ll, dl);
     fix = 3 + pw__block_bits(s, s->fixed_len, s->fixed_len + 288);
     kind = s->stored_only || (stored <= dyn && stored <= fix) ? 0 : fix <= dyn ? 1 : 2;
-    if (pw__deflate_reserve(s, (size_t)((kind == 0 ? stored : kind == 1 ? fix : dyn) / 8 + 16)))
-        return;
+    if (pw__deflate_reserve(s, (size_t)((kind == 0 ? stored : kind == 1 ? fix : dyn) / 8 + 16))) return;
     if (kind == 0) {
         pw__put_stored(s, s->block_start, end, last);
     } else if (kind == 1) {
@@ -2594,9 +2545,8 @@ PW__DEF void pw__deflate_run(pw__deflate *s)
 PW__DEF void pw__deflate_level(pw__deflate *s, int level)
 {
     static const unsigned short p[10][4] = {
-        {0, 0, 0, 0},         {4, 16, 0, 0},       {8, 32, 0, 0},    {16, 32, 0, 0},
-        {16, 32, 8, 4},       {32, 64, 16, 8},     {64, 128, 16, 8}, {256, 128, 64, 16},
-        {1024, 258, 128, 32}, {4096, 258, 258, 32}};
+        {0, 0, 0, 0},    {4, 16, 0, 0},    {8, 32, 0, 0},      {16, 32, 0, 0},       {16, 32, 8, 4},
+        {32, 64, 16, 8}, {64, 128, 16, 8}, {256, 128, 64, 16}, {1024, 258, 128, 32}, {4096, 258, 258, 32}};
     if (level < 0 || level > 9) level = 6;
     s->max_chain = p[level][0];
     s->nice_len = p[level][1];
@@ -2644,8 +2594,7 @@ PW__DEF int pw__deflate_into(pw__deflate *s, int level)
     return s->failed ? (s->e && s->e->code ? s->e->code : PW_ERR_NOMEM) : PW_OK;
 }
 
-PW__DEF void pw__deflate_init(pw__deflate *s, const pw_alloc *a, const unsigned char *data,
-                              size_t n, pw_err *e)
+PW__DEF void pw__deflate_init(pw__deflate *s, const pw_alloc *a, const unsigned char *data, size_t n, pw_err *e)
 {
     memset(s, 0, sizeof *s);
     s->a = a;
@@ -2655,8 +2604,8 @@ PW__DEF void pw__deflate_init(pw__deflate *s, const pw_alloc *a, const unsigned 
 }
 
 /* Raw deflate stream of data[0..n) at `level` (0-9, -1 = default 6). */
-PW__DEF int pw_deflate(const pw_alloc *a, const unsigned char *data, size_t n, int level,
-                       unsigned char **out, size_t *outn, pw_err *e)
+PW__DEF int pw_deflate(const pw_alloc *a, const unsigned char *data, size_t n, int level, unsigned char **out,
+                       size_t *outn, pw_err *e)
 {
     pw__deflate s;
     int r;
@@ -2674,8 +2623,8 @@ PW__DEF int pw_deflate(const pw_alloc *a, const unsigned char *data, size_t n, i
 }
 
 /* zlib stream (2-byte header, deflate data, Adler-32 of the input). */
-PW__DEF int pw_zlib_compress(const pw_alloc *a, const unsigned char *data, size_t n, int level,
-                             unsigned char **out, size_t *outn, pw_err *e)
+PW__DEF int pw_zlib_compress(const pw_alloc *a, const unsigned char *data, size_t n, int level, unsigned char **out,
+                             size_t *outn, pw_err *e)
 {
     pw__deflate s;
     uint32_t ad;
@@ -2758,8 +2707,7 @@ PW__DEF int pw__huff_build(pw__huff *h, const unsigned char *len, int n, int all
         if (L > PW__FAST_BITS) continue;
         for (l = 0; l < L; l++) r = (r << 1) | ((code[L] >> l) & 1u);
         code[L]++;
-        for (j = r; j < (1u << PW__FAST_BITS); j += 1u << L)
-            h->fast[j] = (unsigned short)((L << 9) | i);
+        for (j = r; j < (1u << PW__FAST_BITS); j += 1u << L) h->fast[j] = (unsigned short)((L << 9) | i);
     }
     return 0;
 }
@@ -2846,9 +2794,7 @@ PW__DEF int pw__inflate_reserve(pw__inflate *z, size_t k)
     while (cap < need) cap = cap > ((size_t)-1) / 2 ? need : cap * 2;
     if (cap > z->max_out) cap = z->max_out;
     p = (unsigned char *)pw_realloc(z->a, z->out, cap);
-    if (!p)
-        return pw_fail(z->e, PW_ERR_NOMEM, "out of memory decompressing (%lu bytes)",
-                       (unsigned long)cap);
+    if (!p) return pw_fail(z->e, PW_ERR_NOMEM, "out of memory decompressing (%lu bytes)", (unsigned long)cap);
     z->out = p;
     z->outcap = cap;
     return PW_OK;
@@ -2863,27 +2809,23 @@ PW__DEF int pw__inflate_codes(pw__inflate *z, const pw__huff *ll, const pw__huff
         sym = pw__decode(z, ll);
         if (sym < 0) goto bad;
         if (sym < 256) {
-            if (z->outn >= z->outcap && pw__inflate_reserve(z, 1))
-                return z->e ? z->e->code : PW_ERR_LIMIT;
+            if (z->outn >= z->outcap && pw__inflate_reserve(z, 1)) return z->e ? z->e->code : PW_ERR_LIMIT;
             z->out[z->outn++] = (unsigned char)sym;
             continue;
         }
         if (sym == 256) return PW_OK;
-        if (sym > 285)
-            return pw_fail(z->e, PW_ERR_PARSE, "deflate data: invalid length code %d", sym);
+        if (sym > 285) return pw_fail(z->e, PW_ERR_PARSE, "deflate data: invalid length code %d", sym);
         len = pw__len_base[sym - 257] + pw__getbits(z, pw__len_extra[sym - 257]);
         ds = pw__decode(z, dd);
         if (ds < 0) {
             sym = ds;
             goto bad;
         }
-        if (ds > 29)
-            return pw_fail(z->e, PW_ERR_PARSE, "deflate data: invalid distance code %d", ds);
+        if (ds > 29) return pw_fail(z->e, PW_ERR_PARSE, "deflate data: invalid distance code %d", ds);
         dist = pw__dist_base[ds] + pw__getbits(z, pw__dist_extra[ds]);
         if (z->truncated) return pw__inflate_truncated(z);
         if (dist > z->outn)
-            return pw_fail(z->e, PW_ERR_PARSE,
-                           "deflate data: distance %lu too far back (only %lu bytes decoded)",
+            return pw_fail(z->e, PW_ERR_PARSE, "deflate data: distance %lu too far back (only %lu bytes decoded)",
                            (unsigned long)dist, (unsigned long)z->outn);
         if (pw__inflate_reserve(z, len)) return z->e ? z->e->code : PW_ERR_LIMIT;
         /* byte by byte: source and destination overlap when dist < len */
@@ -2902,8 +2844,7 @@ PW__DEF int pw__inflate_stored(pw__inflate *z)
     len = pw__getbits(z, 16);
     nlen = pw__getbits(z, 16);
     if (z->truncated) return pw__inflate_truncated(z);
-    if ((len ^ 0xffffu) != nlen)
-        return pw_fail(z->e, PW_ERR_PARSE, "deflate data: stored block length check failed");
+    if ((len ^ 0xffffu) != nlen) return pw_fail(z->e, PW_ERR_PARSE, "deflate data: stored block length check failed");
     if (pw__inflate_reserve(z, len)) return z->e ? z->e->code : PW_ERR_LIMIT;
     while (len > 0 && z->nbits >= 8) { /* bytes already loaded first */
         z->out[z->outn++] = (unsigned char)pw__getbits(z, 8);
@@ -2926,36 +2867,30 @@ PW__DEF int pw__inflate_tables(pw__inflate *z, pw__huff *ll, pw__huff *dd)
     hdist = (int)pw__getbits(z, 5) + 1;
     hclen = (int)pw__getbits(z, 4) + 4;
     if (hlit > 286 || hdist > 30)
-        return pw_fail(z->e, PW_ERR_PARSE,
-                       "deflate data: too many length or distance codes (%d, %d)", hlit, hdist);
+        return pw_fail(z->e, PW_ERR_PARSE, "deflate data: too many length or distance codes (%d, %d)", hlit, hdist);
     memset(clen, 0, sizeof clen);
     for (i = 0; i < hclen; i++) clen[pw__clen_order[i]] = (unsigned char)pw__getbits(z, 3);
     if (z->truncated) return pw__inflate_truncated(z);
-    if (pw__huff_build(&ch, clen, 19, 0))
-        return pw_fail(z->e, PW_ERR_PARSE, "deflate data: bad code-length code");
+    if (pw__huff_build(&ch, clen, 19, 0)) return pw_fail(z->e, PW_ERR_PARSE, "deflate data: bad code-length code");
     n = hlit + hdist;
     for (i = 0; i < n;) {
         int sym = pw__decode(z, &ch), rep, val = 0;
         if (sym < 0)
-            return sym == -1
-                       ? pw__inflate_truncated(z)
-                       : pw_fail(z->e, PW_ERR_PARSE, "deflate data: invalid code-length code");
+            return sym == -1 ? pw__inflate_truncated(z)
+                             : pw_fail(z->e, PW_ERR_PARSE, "deflate data: invalid code-length code");
         if (sym < 16) {
             lens[i++] = (unsigned char)sym;
             continue;
         }
         if (sym == 16) {
-            if (i == 0)
-                return pw_fail(z->e, PW_ERR_PARSE,
-                               "deflate data: length repeat with no previous length");
+            if (i == 0) return pw_fail(z->e, PW_ERR_PARSE, "deflate data: length repeat with no previous length");
             val = lens[i - 1];
             rep = 3 + (int)pw__getbits(z, 2);
         } else {
             rep = sym == 17 ? 3 + (int)pw__getbits(z, 3) : 11 + (int)pw__getbits(z, 7);
         }
         if (z->truncated) return pw__inflate_truncated(z);
-        if (rep > n - i)
-            return pw_fail(z->e, PW_ERR_PARSE, "deflate data: code lengths repeat past the end");
+        if (rep > n - i) return pw_fail(z->e, PW_ERR_PARSE, "deflate data: code lengths repeat past the end");
         while (rep--) lens[i++] = (unsigned char)val;
     }
     if (!lens[256]) return pw_fail(z->e, PW_ERR_PARSE, "deflate data: no end-of-block code");
@@ -2979,8 +2914,7 @@ PW__DEF int pw__inflate_run(pw__inflate *z)
         if (type == 0) {
             r = pw__inflate_stored(z);
         } else if (type == 1) { /* §3.2.6: the fixed code */
-            for (i = 0; i < 288; i++)
-                lens[i] = (unsigned char)(i < 144 ? 8 : i < 256 ? 9 : i < 280 ? 7 : 8);
+            for (i = 0; i < 288; i++) lens[i] = (unsigned char)(i < 144 ? 8 : i < 256 ? 9 : i < 280 ? 7 : 8);
             /* distance codes 30 and 31 never occur but complete the code */
             for (i = 0; i < 32; i++) lens[288 + i] = 5;
             pw__huff_build(&ll, lens, 288, 0);
@@ -3000,8 +2934,8 @@ PW__DEF int pw__inflate_run(pw__inflate *z)
 /* Decodes a raw deflate stream into a new buffer of at most max_out bytes
  * (PW_ERR_LIMIT beyond). *used (if not NULL) receives the number of input
  * bytes the stream occupied. */
-PW__DEF int pw_inflate(const pw_alloc *a, const unsigned char *data, size_t n, size_t max_out,
-                       unsigned char **out, size_t *outn, size_t *used, pw_err *e)
+PW__DEF int pw_inflate(const pw_alloc *a, const unsigned char *data, size_t n, size_t max_out, unsigned char **out,
+                       size_t *outn, size_t *used, pw_err *e)
 {
     pw__inflate z;
     pw_err local;
@@ -3029,8 +2963,8 @@ PW__DEF int pw_inflate(const pw_alloc *a, const unsigned char *data, size_t n, s
 }
 
 /* Decodes a zlib stream, checking its header and Adler-32. */
-PW__DEF int pw_zlib_decompress(const pw_alloc *a, const unsigned char *data, size_t n,
-                               size_t max_out, unsigned char **out, size_t *outn, pw_err *e)
+PW__DEF int pw_zlib_decompress(const pw_alloc *a, const unsigned char *data, size_t n, size_t max_out,
+                               unsigned char **out, size_t *outn, pw_err *e)
 {
     size_t used = 0;
     uint32_t want;
@@ -3040,20 +2974,15 @@ PW__DEF int pw_zlib_decompress(const pw_alloc *a, const unsigned char *data, siz
     *outn = 0;
     if (n < 2) return pw_fail(e, PW_ERR_PARSE, "zlib data truncated (%lu bytes)", (unsigned long)n);
     if ((data[0] & 15) != 8 || (data[0] >> 4) > 7)
-        return pw_fail(e, PW_ERR_PARSE,
-                       "zlib header: not deflate with a window of at most 32K (0x%02x)", data[0]);
-    if (((unsigned)data[0] << 8 | data[1]) % 31)
-        return pw_fail(e, PW_ERR_PARSE, "zlib header: check bits are wrong");
-    if (data[1] & 0x20)
-        return pw_fail(e, PW_ERR_UNSUPPORTED, "zlib data needs a preset dictionary");
+        return pw_fail(e, PW_ERR_PARSE, "zlib header: not deflate with a window of at most 32K (0x%02x)", data[0]);
+    if (((unsigned)data[0] << 8 | data[1]) % 31) return pw_fail(e, PW_ERR_PARSE, "zlib header: check bits are wrong");
+    if (data[1] & 0x20) return pw_fail(e, PW_ERR_UNSUPPORTED, "zlib data needs a preset dictionary");
     r = pw_inflate(a, data + 2, n - 2, max_out, out, outn, &used, e);
     if (r) return r;
     t = data + 2 + used;
-    if (n - 2 - used < 4)
-        r = pw_fail(e, PW_ERR_PARSE, "zlib data truncated (no Adler-32 checksum)");
+    if (n - 2 - used < 4) r = pw_fail(e, PW_ERR_PARSE, "zlib data truncated (no Adler-32 checksum)");
     want = r ? 0 : (uint32_t)t[0] << 24 | (uint32_t)t[1] << 16 | (uint32_t)t[2] << 8 | t[3];
-    if (!r && pw_adler32(1, *out, *outn) != want)
-        r = pw_fail(e, PW_ERR_PARSE, "zlib data: Adler-32 checksum mismatch");
+    if (!r && pw_adler32(1, *out, *outn) != want) r = pw_fail(e, PW_ERR_PARSE, "zlib data: Adler-32 checksum mismatch");
     if (r) {
         pw_free(a, *out);
         *out = NULL;
@@ -3135,26 +3064,22 @@ PW__DEF int pw__paeth(int a, int b, int c)
 }
 
 /* Filters one row (n bytes, bpp bytes per pixel) with filter type f. */
-PW__DEF void pw__png_filter(unsigned char *dst, const unsigned char *cur, const unsigned char *prev,
-                            size_t n, size_t bpp, int f)
+PW__DEF void pw__png_filter(unsigned char *dst, const unsigned char *cur, const unsigned char *prev, size_t n,
+                            size_t bpp, int f)
 {
     size_t i;
     for (i = 0; i < n; i++) {
         int x = cur[i], a = i >= bpp ? cur[i - bpp] : 0, b = prev[i];
         int c = i >= bpp ? prev[i - bpp] : 0;
-        int pred = f == 0   ? 0
-                   : f == 1 ? a
-                   : f == 2 ? b
-                   : f == 3 ? (a + b) >> 1
-                            : pw__paeth(a, b, c);
+        int pred = f == 0 ? 0 : f == 1 ? a : f == 2 ? b : f == 3 ? (a + b) >> 1 : pw__paeth(a, b, c);
         dst[i] = (unsigned char)(x - pred);
     }
 }
 
 /* Quantised rows, each prefixed by the filter byte that minimises the sum
  * of absolute differences (bytes read as signed). */
-PW__DEF int pw__png_filtered(const pw_alloc *a, const pw_image *img, unsigned maxval,
-                             unsigned char **out, size_t *outn, pw_err *e)
+PW__DEF int pw__png_filtered(const pw_alloc *a, const pw_image *img, unsigned maxval, unsigned char **out, size_t *outn,
+                             pw_err *e)
 {
     size_t bps = maxval > 255 ? 2 : 1, bpp = bps * (size_t)img->c;
     size_t n = bpp * (size_t)img->w, x, y, k;
@@ -3196,8 +3121,7 @@ PW__DEF int pw__png_filtered(const pw_alloc *a, const pw_image *img, unsigned ma
 
 /* Writes img as PNG. bits: 8, 16, or 0 for img->bits. Temporary buffers
  * come from a (NULL: PW_MALLOC). */
-PW__DEF int pw_png_write(const pw_alloc *a, const pw_image *img, int bits, pw_write_fn w,
-                         void *ctx, pw_err *e)
+PW__DEF int pw_png_write(const pw_alloc *a, const pw_image *img, int bits, pw_write_fn w, void *ctx, pw_err *e)
 {
     static const unsigned char ctypes[4] = {0, 4, 2, 6};
     unsigned char ihdr[13], *raw = NULL, *z = NULL;
@@ -3218,8 +3142,7 @@ PW__DEF int pw_png_write(const pw_alloc *a, const pw_image *img, int bits, pw_wr
     pw__sink_init(&s, w, ctx);
     pw__sink_put(&s, pw__png_sig, 8);
     pw__png_chunk(&s, "IHDR", ihdr, 13);
-    for (off = 0; off < zn; off += 65536)
-        pw__png_chunk(&s, "IDAT", z + off, zn - off < 65536 ? zn - off : 65536);
+    for (off = 0; off < zn; off += 65536) pw__png_chunk(&s, "IDAT", z + off, zn - off < 65536 ? zn - off : 65536);
     pw__png_chunk(&s, "IEND", ihdr, 0);
     pw_free(a, z);
     return pw__sink_end(&s, e);
@@ -3249,8 +3172,7 @@ PW__DEF int pw__png_ihdr(pw__png *p, const unsigned char *d, uint32_t len)
     static const int spp[7] = {1, 0, 3, 1, 2, 0, 4};
     int ok, rc;
     if (len != 13)
-        return pw_fail(p->e, PW_ERR_PARSE, "%s: IHDR chunk has length %lu, not 13", p->name,
-                       (unsigned long)len);
+        return pw_fail(p->e, PW_ERR_PARSE, "%s: IHDR chunk has length %lu, not 13", p->name, (unsigned long)len);
     p->w = pw__be32(d);
     p->h = pw__be32(d + 4);
     p->depth = d[8];
@@ -3261,11 +3183,10 @@ PW__DEF int pw__png_ihdr(pw__png *p, const unsigned char *d, uint32_t len)
     ok = p->depth == 8 || (p->depth == 16 && p->ctype != 3) ||
          ((p->depth == 1 || p->depth == 2 || p->depth == 4) && (p->ctype == 0 || p->ctype == 3));
     if (!ok)
-        return pw_fail(p->e, PW_ERR_PARSE, "%s: bit depth %d is invalid for PNG colour type %d",
-                       p->name, p->depth, p->ctype);
+        return pw_fail(p->e, PW_ERR_PARSE, "%s: bit depth %d is invalid for PNG colour type %d", p->name, p->depth,
+                       p->ctype);
     if (d[10] != 0 || d[11] != 0 || p->interlace > 1)
-        return pw_fail(p->e, PW_ERR_PARSE,
-                       "%s: unknown PNG compression, filter or interlace method (%d, %d, %d)",
+        return pw_fail(p->e, PW_ERR_PARSE, "%s: unknown PNG compression, filter or interlace method (%d, %d, %d)",
                        p->name, d[10], d[11], d[12]);
     if ((rc = pw__image_check_size(p->name, p->w, p->h, p->e))) return rc;
     p->spp = spp[p->ctype];
@@ -3277,12 +3198,10 @@ PW__DEF int pw__png_ihdr(pw__png *p, const unsigned char *d, uint32_t len)
 PW__DEF int pw__png_palette(pw__png *p, const char *type, const unsigned char *d, uint32_t len)
 {
     uint32_t i;
-    if (p->seen_idat)
-        return pw_fail(p->e, PW_ERR_PARSE, "%s: %s chunk after the image data", p->name, type);
+    if (p->seen_idat) return pw_fail(p->e, PW_ERR_PARSE, "%s: %s chunk after the image data", p->name, type);
     if (type[0] == 'P') {
         if (len % 3 || len == 0 || len > 768)
-            return pw_fail(p->e, PW_ERR_PARSE, "%s: PLTE chunk has invalid length %lu", p->name,
-                           (unsigned long)len);
+            return pw_fail(p->e, PW_ERR_PARSE, "%s: PLTE chunk has invalid length %lu", p->name, (unsigned long)len);
         if (p->ctype == 0 || p->ctype == 4) return PW_OK; /* not allowed, harmless */
         p->npal = (int)(len / 3);
         for (i = 0; i < len / 3; i++) {
@@ -3293,13 +3212,12 @@ PW__DEF int pw__png_palette(pw__png *p, const char *type, const unsigned char *d
     }
     if (p->ctype == 3) {
         if (len > (uint32_t)p->npal)
-            return pw_fail(p->e, PW_ERR_PARSE, "%s: tRNS chunk has %lu entries for a palette of %d",
-                           p->name, (unsigned long)len, p->npal);
+            return pw_fail(p->e, PW_ERR_PARSE, "%s: tRNS chunk has %lu entries for a palette of %d", p->name,
+                           (unsigned long)len, p->npal);
         for (i = 0; i < len; i++) p->pal[i][3] = d[i];
     } else if (p->ctype == 0 || p->ctype == 2) {
         if (len != (p->ctype ? 6u : 2u))
-            return pw_fail(p->e, PW_ERR_PARSE, "%s: tRNS chunk has invalid length %lu", p->name,
-                           (unsigned long)len);
+            return pw_fail(p->e, PW_ERR_PARSE, "%s: tRNS chunk has invalid length %lu", p->name, (unsigned long)len);
         for (i = 0; i < len / 2; i++) p->key[i] = (unsigned)d[2 * i] << 8 | d[2 * i + 1];
     } else {
         return PW_OK; /* not allowed with an alpha channel; ignored */
@@ -3317,12 +3235,10 @@ PW__DEF int pw__png_chunk_read(pw__png *p, const unsigned char *c, uint32_t len)
     if (!p->seen_ihdr && strcmp(type, "IHDR") != 0)
         return pw_fail(p->e, PW_ERR_PARSE, "%s: first PNG chunk is not IHDR", p->name);
     if (strcmp(type, "IHDR") == 0) {
-        if (p->seen_ihdr)
-            return pw_fail(p->e, PW_ERR_PARSE, "%s: more than one IHDR chunk", p->name);
+        if (p->seen_ihdr) return pw_fail(p->e, PW_ERR_PARSE, "%s: more than one IHDR chunk", p->name);
         return pw__png_ihdr(p, c + 8, len);
     }
-    if (strcmp(type, "PLTE") == 0 || strcmp(type, "tRNS") == 0)
-        return pw__png_palette(p, type, c + 8, len);
+    if (strcmp(type, "PLTE") == 0 || strcmp(type, "tRNS") == 0) return pw__png_palette(p, type, c + 8, len);
     if (strcmp(type, "IDAT") == 0) {
         p->idat_size += len;
         p->seen_idat = 1;
@@ -3333,8 +3249,7 @@ PW__DEF int pw__png_chunk_read(pw__png *p, const unsigned char *c, uint32_t len)
         return PW_OK;
     }
     if (!(type[0] & 0x20)) /* an uppercase first letter marks a critical chunk */
-        return pw_fail(p->e, PW_ERR_UNSUPPORTED, "%s: unknown critical PNG chunk '%s'", p->name,
-                       type);
+        return pw_fail(p->e, PW_ERR_UNSUPPORTED, "%s: unknown critical PNG chunk '%s'", p->name, type);
     return PW_OK;
 }
 
@@ -3347,26 +3262,21 @@ PW__DEF int pw__png_walk(pw__png *p, const unsigned char *data, size_t size)
     while (!p->seen_iend) {
         const unsigned char *c = data + pos;
         uint32_t len;
-        if (size - pos < 12)
-            return pw_fail(p->e, PW_ERR_PARSE, "%s: PNG file truncated (no IEND chunk)", p->name);
+        if (size - pos < 12) return pw_fail(p->e, PW_ERR_PARSE, "%s: PNG file truncated (no IEND chunk)", p->name);
         len = pw__be32(c);
         for (i = 4; i < 8; i++)
             if (!((c[i] >= 'A' && c[i] <= 'Z') || (c[i] >= 'a' && c[i] <= 'z')))
-                return pw_fail(p->e, PW_ERR_PARSE, "%s: bad PNG chunk type at offset %lu", p->name,
-                               (unsigned long)pos);
+                return pw_fail(p->e, PW_ERR_PARSE, "%s: bad PNG chunk type at offset %lu", p->name, (unsigned long)pos);
         if (len > 0x7fffffffu || len > size - pos - 12)
-            return pw_fail(p->e, PW_ERR_PARSE, "%s: PNG chunk '%.4s' truncated (length %lu)",
-                           p->name, (const char *)c + 4, (unsigned long)len);
+            return pw_fail(p->e, PW_ERR_PARSE, "%s: PNG chunk '%.4s' truncated (length %lu)", p->name,
+                           (const char *)c + 4, (unsigned long)len);
         if (pw_crc32(0, c + 4, len + 4) != pw__be32(c + 8 + len))
-            return pw_fail(p->e, PW_ERR_PARSE, "%s: CRC mismatch in PNG chunk '%.4s'", p->name,
-                           (const char *)c + 4);
+            return pw_fail(p->e, PW_ERR_PARSE, "%s: CRC mismatch in PNG chunk '%.4s'", p->name, (const char *)c + 4);
         if ((rc = pw__png_chunk_read(p, c, len))) return rc;
         pos += 12 + (size_t)len;
     }
-    if (!p->seen_idat)
-        return pw_fail(p->e, PW_ERR_PARSE, "%s: PNG file has no IDAT chunk", p->name);
-    if (p->ctype == 3 && !p->npal)
-        return pw_fail(p->e, PW_ERR_PARSE, "%s: palette PNG has no PLTE chunk", p->name);
+    if (!p->seen_idat) return pw_fail(p->e, PW_ERR_PARSE, "%s: PNG file has no IDAT chunk", p->name);
+    if (p->ctype == 3 && !p->npal) return pw_fail(p->e, PW_ERR_PARSE, "%s: palette PNG has no PLTE chunk", p->name);
     return PW_OK;
 }
 
@@ -3387,15 +3297,13 @@ PW__DEF void pw__png_gather(const unsigned char *data, unsigned char *idat)
 
 /* Adam7 passes (§8.2): x start, y start, x step, y step. A plain image is
  * the single pass {0, 0, 1, 1}. */
-static const unsigned char pw__adam7[7][4] = {{0, 0, 8, 8}, {4, 0, 8, 8}, {0, 4, 4, 8},
-                                              {2, 0, 4, 4}, {0, 2, 2, 4}, {1, 0, 2, 2},
-                                              {0, 1, 1, 2}};
+static const unsigned char pw__adam7[7][4] = {{0, 0, 8, 8}, {4, 0, 8, 8}, {0, 4, 4, 8}, {2, 0, 4, 4},
+                                              {0, 2, 2, 4}, {1, 0, 2, 2}, {0, 1, 1, 2}};
 
 /* Pixels of a pass along one axis (0 when the pass is empty). */
 PW__DEF uint32_t pw__pass_len(uint32_t size, int start, int step)
 {
-    return size > (uint32_t)start ? (size - (uint32_t)start + (uint32_t)step - 1) / (uint32_t)step
-                                  : 0;
+    return size > (uint32_t)start ? (size - (uint32_t)start + (uint32_t)step - 1) / (uint32_t)step : 0;
 }
 
 /* Bytes of one filtered row of `w` pixels, without the filter byte. */
@@ -3420,8 +3328,7 @@ PW__DEF uint64_t pw__png_rawsize(const pw__png *p)
 
 /* Undoes the filter of one row in place (§9.2); prev is NULL for the first
  * row of a pass. */
-PW__DEF int pw__png_unfilter(pw__png *p, unsigned char *row, const unsigned char *prev, size_t n,
-                             size_t bpp, int f)
+PW__DEF int pw__png_unfilter(pw__png *p, unsigned char *row, const unsigned char *prev, size_t n, size_t bpp, int f)
 {
     size_t i;
     if (f > 4) return pw_fail(p->e, PW_ERR_PARSE, "%s: invalid PNG filter type %d", p->name, f);
@@ -3446,8 +3353,7 @@ PW__DEF unsigned pw__png_sample(const unsigned char *row, size_t i, int depth)
 }
 
 /* Converts `count` pixels of a row to floats at dst, dst + step, ... */
-PW__DEF int pw__png_pixels(pw__png *p, const unsigned char *row, uint32_t count, float *dst,
-                           size_t step)
+PW__DEF int pw__png_pixels(pw__png *p, const unsigned char *row, uint32_t count, float *dst, size_t step)
 {
     float maxv = (float)((1u << p->depth) - 1);
     unsigned s[4];
@@ -3457,17 +3363,15 @@ PW__DEF int pw__png_pixels(pw__png *p, const unsigned char *row, uint32_t count,
         for (k = 0; k < p->spp; k++) s[k] = pw__png_sample(row, (size_t)x * p->spp + k, p->depth);
         if (p->ctype == 3) {
             if (s[0] >= (unsigned)p->npal)
-                return pw_fail(p->e, PW_ERR_PARSE, "%s: palette index %u out of range (%d entries)",
-                               p->name, s[0], p->npal);
+                return pw_fail(p->e, PW_ERR_PARSE, "%s: palette index %u out of range (%d entries)", p->name, s[0],
+                               p->npal);
             for (k = 0; k < p->outc; k++) dst[k] = (float)p->pal[s[0]][k] / 255.0f;
             continue;
         }
         for (k = 0; k < p->spp; k++) dst[k] = (float)s[k] / maxv;
         if (p->trns) /* colour key: alpha 0 where the pixel equals it */
             dst[p->spp] =
-                (s[0] == p->key[0] && (p->spp == 1 || (s[1] == p->key[1] && s[2] == p->key[2])))
-                    ? 0.0f
-                    : 1.0f;
+                (s[0] == p->key[0] && (p->spp == 1 || (s[1] == p->key[1] && s[2] == p->key[2]))) ? 0.0f : 1.0f;
     }
     return PW_OK;
 }
@@ -3498,8 +3402,8 @@ PW__DEF int pw__png_decode(pw__png *p, unsigned char *raw, pw_image *img)
 }
 
 /* Decompresses the gathered IDAT data, exactly `want` bytes. */
-PW__DEF int pw__png_inflate(pw__png *p, const pw_alloc *a, const unsigned char *z, size_t zn,
-                            size_t want, unsigned char **raw)
+PW__DEF int pw__png_inflate(pw__png *p, const pw_alloc *a, const unsigned char *z, size_t zn, size_t want,
+                            unsigned char **raw)
 {
     pw_err local;
     size_t got;
@@ -3507,22 +3411,21 @@ PW__DEF int pw__png_inflate(pw__png *p, const pw_alloc *a, const unsigned char *
     pw_err_clear(&local);
     rc = pw_zlib_decompress(a, z, zn, want, raw, &got, &local);
     if (rc == PW_ERR_LIMIT)
-        return pw_fail(p->e, PW_ERR_PARSE,
-                       "%s: PNG image data is longer than the %lu bytes its size implies", p->name,
+        return pw_fail(p->e, PW_ERR_PARSE, "%s: PNG image data is longer than the %lu bytes its size implies", p->name,
                        (unsigned long)want);
     if (rc) return pw_fail(p->e, rc, "%s: PNG image data: %s", p->name, local.msg);
     if (got != want) {
         pw_free(a, *raw);
         *raw = NULL;
-        return pw_fail(p->e, PW_ERR_PARSE, "%s: PNG image data truncated (%lu of %lu bytes)",
-                       p->name, (unsigned long)got, (unsigned long)want);
+        return pw_fail(p->e, PW_ERR_PARSE, "%s: PNG image data truncated (%lu of %lu bytes)", p->name,
+                       (unsigned long)got, (unsigned long)want);
     }
     return PW_OK;
 }
 
 /* Reads a PNG from memory; `name` prefixes error messages. */
-PW__DEF int pw_png_read_memory(const pw_alloc *a, const unsigned char *data, size_t size,
-                               const char *name, pw_image *out, pw_err *e)
+PW__DEF int pw_png_read_memory(const pw_alloc *a, const unsigned char *data, size_t size, const char *name,
+                               pw_image *out, pw_err *e)
 {
     pw__png p;
     unsigned char *z = NULL, *raw = NULL;
@@ -3539,8 +3442,7 @@ PW__DEF int pw_png_read_memory(const pw_alloc *a, const unsigned char *data, siz
     /* deflate expands at most 1032:1 (a 258-byte match in 2 bits): refuse
      * sizes the data cannot hold before allocating anything */
     if (want > p.idat_size * 1032 + 64 || want > (size_t)-1)
-        return pw_fail(e, PW_ERR_PARSE,
-                       "%s: PNG image data (%lu bytes) too short for a %lux%lu image", p.name,
+        return pw_fail(e, PW_ERR_PARSE, "%s: PNG image data (%lu bytes) too short for a %lux%lu image", p.name,
                        (unsigned long)p.idat_size, (unsigned long)p.w, (unsigned long)p.h);
     z = (unsigned char *)pw_alloc_array(a, (size_t)p.idat_size, 1, "PNG image data", e);
     if (!z) return PW_ERR_NOMEM;
@@ -3560,17 +3462,22 @@ PW__DEF int pw_png_read_memory(const pw_alloc *a, const unsigned char *data, siz
 }
 
 #else
-PW__DEF int pw_png_write(const pw_alloc *a, const pw_image *img, int bits, pw_write_fn w,
-                         void *ctx, pw_err *e)
+PW__DEF int pw_png_write(const pw_alloc *a, const pw_image *img, int bits, pw_write_fn w, void *ctx, pw_err *e)
 {
-    (void)a, (void)img, (void)bits, (void)w, (void)ctx;
+    (void)a;
+    (void)img;
+    (void)bits;
+    (void)w;
+    (void)ctx;
     return pw_fail(e, PW_ERR_UNSUPPORTED, "PNG compiled out (PW_NO_PNG)");
 }
 
-PW__DEF int pw_png_read_memory(const pw_alloc *a, const unsigned char *data, size_t size,
-                               const char *name, pw_image *out, pw_err *e)
+PW__DEF int pw_png_read_memory(const pw_alloc *a, const unsigned char *data, size_t size, const char *name,
+                               pw_image *out, pw_err *e)
 {
-    (void)a, (void)data, (void)size;
+    (void)a;
+    (void)data;
+    (void)size;
     memset(out, 0, sizeof *out);
     return pw_fail(e, PW_ERR_UNSUPPORTED, "%s: PNG compiled out (PW_NO_PNG)", name ? name : "image");
 }
@@ -3583,20 +3490,17 @@ PW__DEF int pw_png_read_memory(const pw_alloc *a, const unsigned char *data, siz
 /* Reads PNG, PNM/PAM (P1-P7) or a GIMP pattern, recognised by content
  * (PNG signature, "P1".."P7", "GPAT" at offset 20). `name` (usually the
  * file name) prefixes every error message; `a` may be NULL. */
-PW__DEF int pw_image_read_memory(const pw_alloc *a, const unsigned char *data, size_t size,
-                                 const char *name, pw_image *out, pw_err *e)
+PW__DEF int pw_image_read_memory(const pw_alloc *a, const unsigned char *data, size_t size, const char *name,
+                                 pw_image *out, pw_err *e)
 {
     memset(out, 0, sizeof *out);
     if (!name) name = "image";
-    if (size >= 8 && memcmp(data, pw__png_sig, 8) == 0)
-        return pw_png_read_memory(a, data, size, name, out, e);
+    if (size >= 8 && memcmp(data, pw__png_sig, 8) == 0) return pw_png_read_memory(a, data, size, name, out, e);
     if (size >= 2 && data[0] == 'P' && data[1] >= '1' && data[1] <= '7')
         return pw_image_read_pnm_memory(a, data, size, name, out, e);
-    if (size >= 24 && memcmp(data + 20, "GPAT", 4) == 0)
-        return pw_image_read_pat_memory(a, data, size, name, out, e);
+    if (size >= 24 && memcmp(data + 20, "GPAT", 4) == 0) return pw_image_read_pat_memory(a, data, size, name, out, e);
     return pw_fail(e, size ? PW_ERR_UNSUPPORTED : PW_ERR_PARSE, "%s: %s", name,
-                   size ? "unknown image format (not PNG, PNM, PAM or GIMP pattern)"
-                        : "empty file");
+                   size ? "unknown image format (not PNG, PNM, PAM or GIMP pattern)" : "empty file");
 }
 
 #ifndef PW_NO_STDIO
@@ -3635,15 +3539,11 @@ PW__DEF int pw_image_save(const char *path, const pw_image *img, pw_err *e)
     int rc = pw__image_check(img, e);
     if (rc) return rc;
     j.img = img;
-    if (pw_has_ext(path, ".ppm") || pw_has_ext(path, ".pgm") || pw_has_ext(path, ".pnm"))
-        j.kind = 0;
-    else if (pw_has_ext(path, ".pam"))
-        j.kind = 1;
-    else if (pw_has_ext(path, ".png"))
-        j.kind = 2;
+    if (pw_has_ext(path, ".ppm") || pw_has_ext(path, ".pgm") || pw_has_ext(path, ".pnm")) j.kind = 0;
+    else if (pw_has_ext(path, ".pam")) j.kind = 1;
+    else if (pw_has_ext(path, ".png")) j.kind = 2;
     else
-        return pw_fail(e, PW_ERR_UNSUPPORTED,
-                       "%s: unknown image file extension (use .png, .ppm, .pgm, .pnm or .pam)",
+        return pw_fail(e, PW_ERR_UNSUPPORTED, "%s: unknown image file extension (use .png, .ppm, .pgm, .pnm or .pam)",
                        path);
     return pw_write_file(path, pw__save_body, &j, e);
 }
@@ -3662,9 +3562,8 @@ PW__DEF int pw_image_save(const char *path, const pw_image *img, pw_err *e)
 
 /* ---- number parsing ------------------------------------------------------ */
 
-static const double pw__num_pow10[23] = {1e0,  1e1,  1e2,  1e3,  1e4,  1e5,  1e6,  1e7,
-                                     1e8,  1e9,  1e10, 1e11, 1e12, 1e13, 1e14, 1e15,
-                                     1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22};
+static const double pw__num_pow10[23] = {1e0,  1e1,  1e2,  1e3,  1e4,  1e5,  1e6,  1e7,  1e8,  1e9,  1e10, 1e11,
+                                         1e12, 1e13, 1e14, 1e15, 1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22};
 
 /* m * 10^x. Powers of ten up to 1e22 are exact doubles, so the common case
  * (up to 17 significant digits, small exponent) is one rounding, and the
@@ -3673,13 +3572,17 @@ PW__DEF double pw__num_scale10(uint64_t m, long x, int neg)
 {
     double v = (double)m;
     if (m == 0) x = 0;
-    if (x > 400)
-        v = HUGE_VAL; /* m >= 1, so at least 1e400 */
-    else if (x < -400)
-        v = 0.0; /* m < 1e18, so below 1e-382 */
+    if (x > 400) v = HUGE_VAL;  /* m >= 1, so at least 1e400 */
+    else if (x < -400) v = 0.0; /* m < 1e18, so below 1e-382 */
     else {
-        while (x > 22) v *= 1e22, x -= 22;
-        while (x < -22) v /= 1e22, x += 22;
+        while (x > 22) {
+            v *= 1e22;
+            x -= 22;
+        }
+        while (x < -22) {
+            v /= 1e22;
+            x += 22;
+        }
         v = x >= 0 ? v * pw__num_pow10[x] : v / pw__num_pow10[-x];
     }
     return neg ? -v : v;
@@ -3714,14 +3617,15 @@ PW__DEF const char *pw__num_parse(const char *p, const char *end, double *out)
     if (p < end && (*p == '+' || *p == '-')) neg = *p++ == '-';
     if (p < end && ((*p | 32) == 'n' || (*p | 32) == 'i')) return pw__num_special(p, end, out, neg);
     for (; p < end && *p >= '0' && *p <= '9'; p++, digits++) {
-        if (m < 100000000000000000ULL)
-            m = m * 10 + (uint64_t)(*p - '0');
-        else if (x < 100000)
-            x++; /* digits past the 17th only scale */
+        if (m < 100000000000000000ULL) m = m * 10 + (uint64_t)(*p - '0');
+        else if (x < 100000) x++; /* digits past the 17th only scale */
     }
     if (p < end && *p == '.')
         for (p++; p < end && *p >= '0' && *p <= '9'; p++, digits++)
-            if (m < 100000000000000000ULL) m = m * 10 + (uint64_t)(*p - '0'), x--;
+            if (m < 100000000000000000ULL) {
+                m = m * 10 + (uint64_t)(*p - '0');
+                x--;
+            }
     if (!digits) return NULL;
     if (p < end && (*p == 'e' || *p == 'E')) {
         p++;
@@ -3769,8 +3673,7 @@ typedef struct pw__sc {
     pw_err *e;
 } pw__sc;
 
-PW__DEF void pw__sc_init(pw__sc *s, const void *data, size_t size, const char *name, int cont,
-                         pw_err *e)
+PW__DEF void pw__sc_init(pw__sc *s, const void *data, size_t size, const char *name, int cont, pw_err *e)
 {
     s->p = (const char *)data;
     s->end = s->p + size;
@@ -3858,17 +3761,16 @@ PW__DEF const char *pw__sc_word(pw__sc *s, size_t *n)
     return w;
 }
 
-PW__DEF int pw__sc_is(const char *w, size_t n, const char *lit)
-{
-    return strlen(lit) == n && !memcmp(w, lit, n);
-}
+PW__DEF int pw__sc_is(const char *w, size_t n, const char *lit) { return strlen(lit) == n && !memcmp(w, lit, n); }
 
 /* Copies the token at q, shortened and made printable, for messages. */
 PW__DEF const char *pw__sc_tok(const pw__sc *s, const char *q, char *buf)
 {
     int n = 0;
-    while (q < s->end && n < 24 && !pw__sc_blank_char(*q) && *q != '\n')
-        buf[n++] = (*q >= 32 && *q < 127) ? *q : '?', q++;
+    while (q < s->end && n < 24 && !pw__sc_blank_char(*q) && *q != '\n') {
+        buf[n++] = (*q >= 32 && *q < 127) ? *q : '?';
+        q++;
+    }
     if (n == 24) buf[n - 1] = buf[n - 2] = buf[n - 3] = '.';
     buf[n] = 0;
     return buf;
@@ -3880,8 +3782,7 @@ PW__DEF int pw__sc_value_error(pw__sc *s, int missing, int is_int, const char *w
     char tok[32], label[64];
     if (index >= 0) snprintf(label, sizeof label, "%s %lld", what, index);
     else snprintf(label, sizeof label, "%s", what);
-    if (missing)
-        return pw__sc_fail(s, PW_ERR_PARSE, "%s: %s is missing", label, is_int ? "an integer" : "a number");
+    if (missing) return pw__sc_fail(s, PW_ERR_PARSE, "%s: %s is missing", label, is_int ? "an integer" : "a number");
     return pw__sc_fail(s, PW_ERR_PARSE, "%s: malformed %s '%s'", label, is_int ? "integer" : "number",
                        pw__sc_tok(s, s->p, tok));
 }
@@ -3906,7 +3807,6 @@ PW__DEF int pw__sc_int(pw__sc *s, long long *v, const char *what, long long inde
 {
     return pw__sc_value(s, NULL, v, what, index);
 }
-
 
 /* Buffered output over a pw_write_fn. */
 typedef struct pw__wb {
@@ -3943,7 +3843,8 @@ PW__DEF void pw__wb_int(pw__wb *b, long long v, char lead)
     char t[24];
     int n = (int)sizeof t;
     unsigned long long u = v < 0 ? 0ull - (unsigned long long)v : (unsigned long long)v;
-    do t[--n] = (char)('0' + u % 10); while (u /= 10);
+    do t[--n] = (char)('0' + u % 10);
+    while (u /= 10);
     if (v < 0) t[--n] = '-';
     if (lead) t[--n] = lead;
     pw__wb_put(b, t + n, sizeof t - (size_t)n);
@@ -3952,8 +3853,14 @@ PW__DEF void pw__wb_int(pw__wb *b, long long v, char lead)
 /* v * 10^x with exact powers of ten (deterministic: only + - * /). */
 PW__DEF double pw__num_mul10(double v, int x)
 {
-    while (x > 22) v *= 1e22, x -= 22;
-    while (x < -22) v /= 1e22, x += 22;
+    while (x > 22) {
+        v *= 1e22;
+        x -= 22;
+    }
+    while (x < -22) {
+        v /= 1e22;
+        x += 22;
+    }
     return x >= 0 ? v * pw__num_pow10[x] : v / pw__num_pow10[-x];
 }
 
@@ -3964,7 +3871,7 @@ PW__DEF uint32_t pw__num_digits(double x, int *e10)
 {
     int e2, k, t;
     uint32_t d = 0;
-    frexp(x, &e2); /* x in [2^(e2-1), 2^e2) */
+    frexp(x, &e2);        /* x in [2^(e2-1), 2^e2) */
     t = (e2 - 1) * 30103; /* log10(2) = 0.30103 */
     *e10 = t >= 0 ? t / 100000 : -((99999 - t) / 100000);
     for (k = 0; k < 4; k++) {
@@ -3990,20 +3897,30 @@ PW__DEF int pw__num_format(char *out, float xf)
     uint32_t d, bits;
     int n = 0, nd = 9, e10, i, pos;
     memcpy(&bits, &xf, 4);
-    if (bits >> 31) out[n++] = '-', x = -x; /* also keeps -0 */
+    if (bits >> 31) {
+        out[n++] = '-';
+        x = -x;
+    } /* also keeps -0 */
     if (x == 0.0) {
         out[n++] = '0';
         return n;
     }
     d = pw__num_digits(x, &e10);
-    while (nd > 1 && d % 10 == 0) d /= 10, nd--;
-    for (i = nd - 1; i >= 0; i--) dig[i] = (char)('0' + d % 10), d /= 10;
+    while (nd > 1 && d % 10 == 0) {
+        d /= 10;
+        nd--;
+    }
+    for (i = nd - 1; i >= 0; i--) {
+        dig[i] = (char)('0' + d % 10);
+        d /= 10;
+    }
     if (e10 >= 0 && e10 < 9) { /* ddd.ddd */
         for (i = 0; i <= e10; i++) out[n++] = i < nd ? dig[i] : '0';
         if (nd > e10 + 1) out[n++] = '.';
         for (i = e10 + 1; i < nd; i++) out[n++] = dig[i];
     } else if (e10 < 0 && e10 >= -4) { /* 0.000ddd, as %g does */
-        out[n++] = '0', out[n++] = '.';
+        out[n++] = '0';
+        out[n++] = '.';
         for (i = 0; i < -e10 - 1; i++) out[n++] = '0';
         for (i = 0; i < nd; i++) out[n++] = dig[i];
     } else { /* d.ddde-12 */
@@ -4011,7 +3928,10 @@ PW__DEF int pw__num_format(char *out, float xf)
         if (nd > 1) out[n++] = '.';
         for (i = 1; i < nd; i++) out[n++] = dig[i];
         out[n++] = 'e';
-        if (e10 < 0) out[n++] = '-', e10 = -e10;
+        if (e10 < 0) {
+            out[n++] = '-';
+            e10 = -e10;
+        }
         pos = e10 >= 10 ? 2 : 1;
         for (i = pos - 1; i >= 0; i--, e10 /= 10) out[n + i] = (char)('0' + e10 % 10);
         n += pos;
@@ -4079,13 +3999,13 @@ PW__DEF int pw__wb_done(pw__wb *b, pw_err *e)
 
 typedef struct pw_mesh {
     int nv;
-    float *pos;  /* nv*3: vertex i is pos[3*i], pos[3*i+1], pos[3*i+2] */
+    float *pos; /* nv*3: vertex i is pos[3*i], pos[3*i+1], pos[3*i+2] */
     int nf;
     int *fstart; /* nf+1 offsets into fv; fstart[0] = 0 */
     int *fv;     /* fstart[nf] vertex indices, counter-clockwise per face */
     int nuv;
-    float *uv;   /* nuv*2 texture coordinates, or NULL */
-    int *fuv;    /* fstart[nf]: uv index of each corner, or NULL */
+    float *uv; /* nuv*2 texture coordinates, or NULL */
+    int *fuv;  /* fstart[nf]: uv index of each corner, or NULL */
 } pw_mesh;
 
 /* Frees the arrays and zeroes *m (NULL is fine). */
@@ -4101,18 +4021,15 @@ PW__DEF void pw_mesh_free(const pw_alloc *a, pw_mesh *m)
 }
 
 /* Shared by pw_mesh_alloc and pw_mesh_copy: nuv < 0 means no uv arrays. */
-PW__DEF int pw__mesh_alloc(const pw_alloc *a, pw_mesh *m, int nv, int nf, int nc, int nuv,
-                           pw_err *e)
+PW__DEF int pw__mesh_alloc(const pw_alloc *a, pw_mesh *m, int nv, int nf, int nc, int nuv, pw_err *e)
 {
     memset(m, 0, sizeof *m);
     if (nv < 0 || nf < 0 || nc < 0)
-        return pw_fail(e, PW_ERR_INVALID, "mesh: negative size (%d vertices, %d faces, %d corners)",
-                       nv, nf, nc);
+        return pw_fail(e, PW_ERR_INVALID, "mesh: negative size (%d vertices, %d faces, %d corners)", nv, nf, nc);
     if (nv > PW_MAX_MESH_ELEMENTS || nf > PW_MAX_MESH_ELEMENTS || nc > PW_MAX_MESH_ELEMENTS ||
         nuv > PW_MAX_MESH_ELEMENTS)
-        return pw_fail(e, PW_ERR_LIMIT,
-                       "mesh: %d vertices, %d faces, %d corners exceed the limit of %d elements",
-                       nv, nf, nc, PW_MAX_MESH_ELEMENTS);
+        return pw_fail(e, PW_ERR_LIMIT, "mesh: %d vertices, %d faces, %d corners exceed the limit of %d elements", nv,
+                       nf, nc, PW_MAX_MESH_ELEMENTS);
     m->pos = (float *)pw_calloc_array(a, (size_t)nv * 3, sizeof(float), "mesh positions", e);
     m->fstart = (int *)pw_calloc_array(a, (size_t)nf + 1, sizeof(int), "mesh faces", e);
     m->fv = (int *)pw_calloc_array(a, (size_t)nc, sizeof(int), "mesh corners", e);
@@ -4134,8 +4051,7 @@ PW__DEF int pw__mesh_alloc(const pw_alloc *a, pw_mesh *m, int nv, int nf, int nc
  * caller fills pos, all nf+1 entries of fstart, and fv. With with_uv != 0 it
  * also allocates one texture coordinate per corner (nuv = ncorners, uv
  * zeroed, fuv[i] = i); lower nuv afterwards when sharing uvs. */
-PW__DEF int pw_mesh_alloc(const pw_alloc *a, pw_mesh *m, int nv, int nf, int ncorners,
-                          int with_uv, pw_err *e)
+PW__DEF int pw_mesh_alloc(const pw_alloc *a, pw_mesh *m, int nv, int nf, int ncorners, int with_uv, pw_err *e)
 {
     int r = pw__mesh_alloc(a, m, nv, nf, ncorners, with_uv ? ncorners : -1, e), i;
     if (r == PW_OK && with_uv)
@@ -4148,24 +4064,23 @@ PW__DEF int pw_mesh_alloc(const pw_alloc *a, pw_mesh *m, int nv, int nf, int nco
 PW__DEF int pw_mesh_validate(const pw_mesh *m, pw_err *e)
 {
     int f, i;
-    if (m->nv < 0 || m->nf < 0 || m->nuv < 0 || !m->fstart || (m->nv && !m->pos) ||
-        (m->nuv && !m->uv))
+    if (m->nv < 0 || m->nf < 0 || m->nuv < 0 || !m->fstart || (m->nv && !m->pos) || (m->nuv && !m->uv))
         return pw_fail(e, PW_ERR_INVALID, "mesh: negative count or missing array");
-    if (m->fstart[0] != 0)
-        return pw_fail(e, PW_ERR_INVALID, "mesh: fstart[0] is %d, must be 0", m->fstart[0]);
+    if (m->fstart[0] != 0) return pw_fail(e, PW_ERR_INVALID, "mesh: fstart[0] is %d, must be 0", m->fstart[0]);
     for (f = 0; f < m->nf; f++) {
         int b = m->fstart[f], d; /* b >= 0 by induction */
         if ((int64_t)m->fstart[f + 1] < (int64_t)b + 3)
-            return pw_fail(e, PW_ERR_DEGENERATE, "mesh: face %d has %ld corners (at least 3 needed)",
-                           f, (long)m->fstart[f + 1] - b);
+            return pw_fail(e, PW_ERR_DEGENERATE, "mesh: face %d has %ld corners (at least 3 needed)", f,
+                           (long)m->fstart[f + 1] - b);
         d = m->fstart[f + 1] - b;
         for (i = b; i < b + d; i++) {
             if (!m->fv || m->fv[i] < 0 || m->fv[i] >= m->nv)
-                return pw_fail(e, PW_ERR_INVALID, "mesh: face %d, corner %d: vertex index %d out of range (%d vertices)",
-                               f, i - b, m->fv ? m->fv[i] : -1, m->nv);
+                return pw_fail(e, PW_ERR_INVALID,
+                               "mesh: face %d, corner %d: vertex index %d out of range (%d vertices)", f, i - b,
+                               m->fv ? m->fv[i] : -1, m->nv);
             if (m->fuv && (m->fuv[i] < 0 || m->fuv[i] >= m->nuv))
-                return pw_fail(e, PW_ERR_INVALID, "mesh: face %d, corner %d: uv index %d out of range (%d uvs)",
-                               f, i - b, m->fuv[i], m->nuv);
+                return pw_fail(e, PW_ERR_INVALID, "mesh: face %d, corner %d: uv index %d out of range (%d uvs)", f,
+                               i - b, m->fuv[i], m->nuv);
         }
     }
     for (i = 0; i < m->nv * 3; i++)
@@ -4213,8 +4128,7 @@ PW__DEF int pw_mesh_copy(const pw_alloc *a, const pw_mesh *src, pw_mesh *dst, pw
  * tri_face is not NULL it receives a new array (free with pw_free(a, ...))
  * mapping each triangle to its source face. Fans suit convex polygons, which
  * is what renderers and the triangle-based methods are given. */
-PW__DEF int pw_mesh_triangulate(const pw_alloc *a, const pw_mesh *m, pw_mesh *out,
-                                int **tri_face, pw_err *e)
+PW__DEF int pw_mesh_triangulate(const pw_alloc *a, const pw_mesh *m, pw_mesh *out, int **tri_face, pw_err *e)
 {
     int64_t nt = 0;
     int f, k, t = 0, r, with_uv = m->uv && m->fuv;
@@ -4225,8 +4139,7 @@ PW__DEF int pw_mesh_triangulate(const pw_alloc *a, const pw_mesh *m, pw_mesh *ou
     for (f = 0; f < m->nf; f++) nt += m->fstart[f + 1] - m->fstart[f] - 2;
     if (nt * 3 > PW_MAX_MESH_ELEMENTS)
         return pw_fail(e, PW_ERR_LIMIT, "triangulation: %ld triangles exceed the limit", (long)nt);
-    if ((r = pw__mesh_alloc(a, out, m->nv, (int)nt, (int)nt * 3, with_uv ? m->nuv : -1, e)))
-        return r;
+    if ((r = pw__mesh_alloc(a, out, m->nv, (int)nt, (int)nt * 3, with_uv ? m->nuv : -1, e))) return r;
     if (tri_face && !(map = (int *)pw_alloc_array(a, (size_t)nt + 1, sizeof(int), "triangle map", e))) {
         pw_mesh_free(a, out);
         return PW_ERR_NOMEM;
@@ -4284,8 +4197,7 @@ PW__DEF int pw__mb_init(pw__mb *b, const pw_alloc *a, pw_err *e)
     b->a = a;
     b->e = e;
     b->uv_ok = 1;
-    if (pw_grow(a, (void **)&b->m.fstart, &b->cfs, 1, sizeof(int), "mesh faces", e))
-        return PW_ERR_NOMEM;
+    if (pw_grow(a, (void **)&b->m.fstart, &b->cfs, 1, sizeof(int), "mesh faces", e)) return PW_ERR_NOMEM;
     b->m.fstart[0] = 0;
     return PW_OK;
 }
@@ -4295,10 +4207,8 @@ PW__DEF void pw__mb_free(pw__mb *b) { pw_mesh_free(b->a, &b->m); }
 /* Reserves room for counts announced by a header (already checked). */
 PW__DEF int pw__mb_reserve(pw__mb *b, int nv, int nf, int nc)
 {
-    if (pw_grow(b->a, (void **)&b->m.pos, &b->cpos, (size_t)nv * 3, sizeof(float),
-                "vertex positions", b->e) ||
-        pw_grow(b->a, (void **)&b->m.fstart, &b->cfs, (size_t)nf + 1, sizeof(int), "mesh faces",
-                b->e) ||
+    if (pw_grow(b->a, (void **)&b->m.pos, &b->cpos, (size_t)nv * 3, sizeof(float), "vertex positions", b->e) ||
+        pw_grow(b->a, (void **)&b->m.fstart, &b->cfs, (size_t)nf + 1, sizeof(int), "mesh faces", b->e) ||
         pw_grow(b->a, (void **)&b->m.fv, &b->cfv, (size_t)nc, sizeof(int), "face corners", b->e))
         return PW_ERR_NOMEM;
     return PW_OK;
@@ -4306,8 +4216,7 @@ PW__DEF int pw__mb_reserve(pw__mb *b, int nv, int nf, int nc)
 
 PW__DEF int pw__mb_vertex(pw__mb *b, const float xyz[3])
 {
-    if (pw_grow(b->a, (void **)&b->m.pos, &b->cpos, (size_t)b->m.nv * 3 + 3, sizeof(float),
-                "vertex positions", b->e))
+    if (pw_grow(b->a, (void **)&b->m.pos, &b->cpos, (size_t)b->m.nv * 3 + 3, sizeof(float), "vertex positions", b->e))
         return PW_ERR_NOMEM;
     memcpy(b->m.pos + (size_t)b->m.nv * 3, xyz, 3 * sizeof(float));
     b->m.nv++;
@@ -4316,8 +4225,7 @@ PW__DEF int pw__mb_vertex(pw__mb *b, const float xyz[3])
 
 PW__DEF int pw__mb_uv(pw__mb *b, float u, float v)
 {
-    if (pw_grow(b->a, (void **)&b->m.uv, &b->cuv, (size_t)b->m.nuv * 2 + 2, sizeof(float),
-                "texture coordinates", b->e))
+    if (pw_grow(b->a, (void **)&b->m.uv, &b->cuv, (size_t)b->m.nuv * 2 + 2, sizeof(float), "texture coordinates", b->e))
         return PW_ERR_NOMEM;
     b->m.uv[2 * b->m.nuv] = u;
     b->m.uv[2 * b->m.nuv + 1] = v;
@@ -4329,8 +4237,7 @@ PW__DEF int pw__mb_uv(pw__mb *b, float u, float v)
 PW__DEF int pw__mb_room(pw__mb *b, int n)
 {
     if (pw_grow(b->a, (void **)&b->m.fv, &b->cfv, (size_t)b->nc + n, sizeof(int), "face corners", b->e) ||
-        (b->uv_ok && pw_grow(b->a, (void **)&b->m.fuv, &b->cfuv, (size_t)b->nc + n, sizeof(int),
-                             "corner uvs", b->e)))
+        (b->uv_ok && pw_grow(b->a, (void **)&b->m.fuv, &b->cfuv, (size_t)b->nc + n, sizeof(int), "corner uvs", b->e)))
         return PW_ERR_NOMEM;
     return PW_OK;
 }
@@ -4338,13 +4245,11 @@ PW__DEF int pw__mb_room(pw__mb *b, int n)
 /* Appends a corner of the face being built: vertex v, uv index t (-1: none). */
 PW__DEF int pw__mb_corner(pw__mb *b, int v, int t)
 {
-    if (pw_grow(b->a, (void **)&b->m.fv, &b->cfv, (size_t)b->nc + 1, sizeof(int), "face corners",
-                b->e))
+    if (pw_grow(b->a, (void **)&b->m.fv, &b->cfv, (size_t)b->nc + 1, sizeof(int), "face corners", b->e))
         return PW_ERR_NOMEM;
     b->m.fv[b->nc] = v;
     if (b->uv_ok) {
-        if (pw_grow(b->a, (void **)&b->m.fuv, &b->cfuv, (size_t)b->nc + 1, sizeof(int),
-                    "corner uvs", b->e))
+        if (pw_grow(b->a, (void **)&b->m.fuv, &b->cfuv, (size_t)b->nc + 1, sizeof(int), "corner uvs", b->e))
             return PW_ERR_NOMEM;
         b->m.fuv[b->nc] = t;
     }
@@ -4354,8 +4259,7 @@ PW__DEF int pw__mb_corner(pw__mb *b, int v, int t)
 
 PW__DEF int pw__mb_end_face(pw__mb *b)
 {
-    if (pw_grow(b->a, (void **)&b->m.fstart, &b->cfs, (size_t)b->m.nf + 2, sizeof(int),
-                "mesh faces", b->e))
+    if (pw_grow(b->a, (void **)&b->m.fstart, &b->cfs, (size_t)b->m.nf + 2, sizeof(int), "mesh faces", b->e))
         return PW_ERR_NOMEM;
     b->m.fstart[++b->m.nf] = b->nc;
     return PW_OK;
@@ -4375,8 +4279,8 @@ PW__DEF int pw__mb_finish(pw__mb *b, pw_mesh *out, const char *name)
 {
     pw_mesh *m = &b->m;
     if (m->nf == 0)
-        return pw_fail(b->e, PW_ERR_DEGENERATE, "%s: the mesh has no faces (%d vertices)",
-                       name ? name : "<memory>", m->nv);
+        return pw_fail(b->e, PW_ERR_DEGENERATE, "%s: the mesh has no faces (%d vertices)", name ? name : "<memory>",
+                       m->nv);
     if (!b->uv_ok || !m->nuv || !m->fuv) {
         pw_free(b->a, m->uv);
         pw_free(b->a, m->fuv);
@@ -4399,19 +4303,18 @@ PW__DEF int pw__mb_finish(pw__mb *b, pw_mesh *out, const char *name)
 /* Statements that do not change a polygon mesh: skipped. (vn: normals are
  * recomputed where needed; free-form geometry is not supported.) */
 static const char *const pw__obj_skip[] = {
-    "vn",   "vp",   "o",    "g",    "s",        "usemtl",   "mtllib",     "l",
-    "p",    "cstype", "deg", "bmat", "step",    "curv",     "curv2",      "surf",
-    "parm", "trim", "hole", "scrv", "sp",       "end",      "con",        "mg",
-    "bevel", "c_interp", "d_interp", "lod", "maplib", "usemap", "shadow_obj", "trace_obj",
-    "ctech", "stech", "call", "csh"};
+    "vn",     "vp",     "o",      "g",          "s",         "usemtl", "mtllib", "l",        "p",
+    "cstype", "deg",    "bmat",   "step",       "curv",      "curv2",  "surf",   "parm",     "trim",
+    "hole",   "scrv",   "sp",     "end",        "con",       "mg",     "bevel",  "c_interp", "d_interp",
+    "lod",    "maplib", "usemap", "shadow_obj", "trace_obj", "ctech",  "stech",  "call",     "csh"};
 
 /* Resolves an OBJ index (1-based, or negative = relative to the end). */
 PW__DEF int pw__obj_index(pw__sc *s, long long i, int n, const char *what, int face, int *out)
 {
     long long r = i > 0 ? i - 1 : n + i;
     if (i == 0 || r < 0 || r >= n)
-        return pw__sc_fail(s, PW_ERR_INVALID, "face %d: %s index %lld out of range (%d defined so far%s)",
-                           face, what, i, n, i == 0 ? "; OBJ indices start at 1" : "");
+        return pw__sc_fail(s, PW_ERR_INVALID, "face %d: %s index %lld out of range (%d defined so far%s)", face, what,
+                           i, n, i == 0 ? "; OBJ indices start at 1" : "");
     *out = (int)r;
     return PW_OK;
 }
@@ -4425,16 +4328,17 @@ PW__DEF int pw__obj_corner(pw__sc *s, const pw__mb *b, int *v, int *t)
     char tok[32];
     q = pw__num_parse_int(s->p, s->end, &iv);
     if (q && q < s->end && *q == '/') {
-        if (q + 1 < s->end && q[1] != '/') q = pw__num_parse_int(q + 1, s->end, &it), has_t = 1;
-        else q = q + 1;
+        if (q + 1 < s->end && q[1] != '/') {
+            q = pw__num_parse_int(q + 1, s->end, &it);
+            has_t = 1;
+        } else q = q + 1;
         if (q && q < s->end && *q == '/') { /* normal index: ignored, may be empty */
             const char *qn = pw__num_parse_int(q + 1, s->end, &in);
             q = qn ? qn : q + 1;
         }
     }
     if (!q || !pw__sc_delim(s, q))
-        return pw__sc_fail(s, PW_ERR_PARSE, "face %d: malformed corner '%s'", b->m.nf,
-                           pw__sc_tok(s, start, tok));
+        return pw__sc_fail(s, PW_ERR_PARSE, "face %d: malformed corner '%s'", b->m.nf, pw__sc_tok(s, start, tok));
     s->p = q;
     *t = -1;
     if ((r = pw__obj_index(s, iv, b->m.nv, "vertex", b->m.nf, v))) return r;
@@ -4457,8 +4361,8 @@ PW__DEF int pw__obj_face(pw__sc *s, pw__mb *b)
         deg++;
     }
     if (deg < 3)
-        return pw__sc_fail(s, PW_ERR_DEGENERATE, "face %d has %d corner%s (at least 3 needed)",
-                           b->m.nf, deg, deg == 1 ? "" : "s");
+        return pw__sc_fail(s, PW_ERR_DEGENERATE, "face %d has %d corner%s (at least 3 needed)", b->m.nf, deg,
+                           deg == 1 ? "" : "s");
     if (with_t != deg) b->uv_ok = 0;
     return pw__mb_end_face(b);
 }
@@ -4496,12 +4400,9 @@ PW__DEF int pw__obj_line(pw__sc *s, pw__mb *b)
     if (n == 0) {
         if (s->p < s->end && *s->p != '\n' && *s->p != '#')
             return pw__sc_fail(s, PW_ERR_PARSE, "unexpected '%c'", *s->p); /* stray backslash */
-    } else if (pw__sc_is(w, n, "v"))
-        r = pw__obj_vertex(s, b);
-    else if (pw__sc_is(w, n, "vt"))
-        r = pw__obj_texcoord(s, b);
-    else if (pw__sc_is(w, n, "f") || pw__sc_is(w, n, "fo"))
-        r = pw__obj_face(s, b);
+    } else if (pw__sc_is(w, n, "v")) r = pw__obj_vertex(s, b);
+    else if (pw__sc_is(w, n, "vt")) r = pw__obj_texcoord(s, b);
+    else if (pw__sc_is(w, n, "f") || pw__sc_is(w, n, "fo")) r = pw__obj_face(s, b);
     else {
         for (k = 0; k < sizeof pw__obj_skip / sizeof pw__obj_skip[0]; k++)
             if (pw__sc_is(w, n, pw__obj_skip[k])) break;
@@ -4513,8 +4414,8 @@ PW__DEF int pw__obj_line(pw__sc *s, pw__mb *b)
 }
 
 /* Reads a Wavefront OBJ file from memory. */
-PW__DEF int pw_mesh_read_obj(const pw_alloc *a, const void *data, size_t size, const char *name,
-                             pw_mesh *out, pw_err *e)
+PW__DEF int pw_mesh_read_obj(const pw_alloc *a, const void *data, size_t size, const char *name, pw_mesh *out,
+                             pw_err *e)
 {
     pw__sc s;
     pw__mb b;
@@ -4537,11 +4438,26 @@ PW__DEF int pw__off_keyword(const char *w, size_t n, int *flags)
 {
     size_t i = 0;
     int f = 0;
-    if (n >= 2 && w[0] == 'S' && w[1] == 'T') f |= PW__OFF_ST, i = 2;
-    if (i < n && w[i] == 'C') f |= PW__OFF_C, i++;
-    if (i < n && w[i] == 'N') f |= PW__OFF_N, i++;
-    if (i < n && w[i] == '4') f |= PW__OFF_4, i++;
-    if (i < n && w[i] == 'n') f |= PW__OFF_ND, i++;
+    if (n >= 2 && w[0] == 'S' && w[1] == 'T') {
+        f |= PW__OFF_ST;
+        i = 2;
+    }
+    if (i < n && w[i] == 'C') {
+        f |= PW__OFF_C;
+        i++;
+    }
+    if (i < n && w[i] == 'N') {
+        f |= PW__OFF_N;
+        i++;
+    }
+    if (i < n && w[i] == '4') {
+        f |= PW__OFF_4;
+        i++;
+    }
+    if (i < n && w[i] == 'n') {
+        f |= PW__OFF_ND;
+        i++;
+    }
     if (n - i != 3 || memcmp(w + i, "OFF", 3) != 0) return 0;
     *flags = f;
     return 1;
@@ -4566,15 +4482,13 @@ PW__DEF int pw__off_header(pw__sc *s, int *flags, int *binary)
                            n ? pw__sc_tok(s, w, tok) : "end of file");
     }
     if (*flags & (PW__OFF_4 | PW__OFF_ND))
-        return pw__sc_fail(s, PW_ERR_UNSUPPORTED, "'%s': %s vertices are not supported",
-                           pw__sc_tok(s, w, tok),
+        return pw__sc_fail(s, PW_ERR_UNSUPPORTED, "'%s': %s vertices are not supported", pw__sc_tok(s, w, tok),
                            (*flags & PW__OFF_ND) ? "n-dimensional (nOFF)" : "homogeneous 4D (4OFF)");
     w = pw__sc_word(s, &n);
     if (pw__sc_is(w, n, "BINARY")) {
         *binary = 1;
         pw__sc_next_line(s); /* binary data starts after the newline */
-    } else
-        s->p = w; /* the counts may share the keyword's line */
+    } else s->p = w;         /* the counts may share the keyword's line */
     return PW_OK;
 }
 
@@ -4587,8 +4501,7 @@ PW__DEF int pw__off_count(pw__sc *s, const char *what, int *out)
     if ((r = pw__sc_int(s, &v, what, -1))) return r;
     if (v < 0) return pw__sc_fail(s, PW_ERR_PARSE, "negative %s (%lld)", what, v);
     if (v > PW_MAX_MESH_ELEMENTS)
-        return pw__sc_fail(s, PW_ERR_LIMIT, "%s is %lld, over the limit of %d", what, v,
-                           PW_MAX_MESH_ELEMENTS);
+        return pw__sc_fail(s, PW_ERR_LIMIT, "%s is %lld, over the limit of %d", what, v, PW_MAX_MESH_ELEMENTS);
     *out = (int)v;
     return PW_OK;
 }
@@ -4613,19 +4526,16 @@ PW__DEF int pw__off_faces(pw__sc *s, pw__mb *b, int nf)
     int f, k, r;
     for (f = 0; f < nf; f++) {
         pw__sc_skip_empty(s);
-        if (s->p >= s->end)
-            return pw__sc_fail(s, PW_ERR_PARSE, "unexpected end of file after %d of %d faces", f, nf);
+        if (s->p >= s->end) return pw__sc_fail(s, PW_ERR_PARSE, "unexpected end of file after %d of %d faces", f, nf);
         if ((r = pw__sc_int(s, &d, "face", f))) return r;
-        if (d < 3)
-            return pw__sc_fail(s, PW_ERR_DEGENERATE, "face %d has %lld corners (at least 3 needed)", f, d);
+        if (d < 3) return pw__sc_fail(s, PW_ERR_DEGENERATE, "face %d has %lld corners (at least 3 needed)", f, d);
         if (d > PW_MAX_FACE_DEGREE || b->nc + d > PW_MAX_MESH_ELEMENTS)
-            return pw__sc_fail(s, PW_ERR_LIMIT, "face %d has %lld corners (limit %d)", f, d,
-                               PW_MAX_FACE_DEGREE);
+            return pw__sc_fail(s, PW_ERR_LIMIT, "face %d has %lld corners (limit %d)", f, d, PW_MAX_FACE_DEGREE);
         for (k = 0; k < d; k++) {
             if ((r = pw__sc_int(s, &v, "face", f))) return r;
             if (v < 0 || v >= b->m.nv)
-                return pw__sc_fail(s, PW_ERR_INVALID, "face %d: vertex index %lld out of range (%d vertices)",
-                                   f, v, b->m.nv);
+                return pw__sc_fail(s, PW_ERR_INVALID, "face %d: vertex index %lld out of range (%d vertices)", f, v,
+                                   b->m.nv);
             if ((r = pw__mb_corner(b, (int)v, -1))) return r;
         }
         if ((r = pw__mb_end_face(b))) return r;
@@ -4647,9 +4557,10 @@ PW__DEF int pw__off_text(pw__sc *s, pw__mb *b)
     /* each vertex line is at least "0 0 0\n", each face "3 0 1 2\n" */
     left = (size_t)(s->end - s->p);
     if ((double)nv * 6 + (double)nf * 8 > (double)left + 1)
-        return pw__sc_fail(s, PW_ERR_PARSE,
-                           "header claims %d vertices and %d faces, more than the %lu bytes left can hold (truncated file?)",
-                           nv, nf, (unsigned long)left);
+        return pw__sc_fail(
+            s, PW_ERR_PARSE,
+            "header claims %d vertices and %d faces, more than the %lu bytes left can hold (truncated file?)", nv, nf,
+            (unsigned long)left);
     b->uv_ok = 0;
     if ((r = pw__mb_reserve(b, nv, nf, 3 * nf))) return r;
     if ((r = pw__off_vertices(s, b, nv))) return r;
@@ -4676,8 +4587,7 @@ PW__DEF int pw__off_binary(pw__sc *s, pw__mb *b, int flags)
 {
     const unsigned char *p = (const unsigned char *)s->p, *end = (const unsigned char *)s->end;
     const unsigned char *start = (const unsigned char *)s->p;
-    int stride = 3 + (flags & PW__OFF_N ? 3 : 0) + (flags & PW__OFF_C ? 4 : 0) +
-                 (flags & PW__OFF_ST ? 2 : 0);
+    int stride = 3 + (flags & PW__OFF_N ? 3 : 0) + (flags & PW__OFF_C ? 4 : 0) + (flags & PW__OFF_ST ? 2 : 0);
     int32_t nv, nf;
     int i, k, r;
     if (end - p < 12) return pw_fail(s->e, PW_ERR_PARSE, "%s: binary OFF: truncated header", s->name);
@@ -4686,19 +4596,18 @@ PW__DEF int pw__off_binary(pw__sc *s, pw__mb *b, int flags)
     p += 12;
     if (nv < 0 || nf < 0 || nv > PW_MAX_MESH_ELEMENTS || nf > PW_MAX_MESH_ELEMENTS)
         return pw_fail(s->e, nv < 0 || nf < 0 ? PW_ERR_PARSE : PW_ERR_LIMIT,
-                       "%s: binary OFF: %d vertices and %d faces (limit %d)", s->name, nv, nf,
-                       PW_MAX_MESH_ELEMENTS);
+                       "%s: binary OFF: %d vertices and %d faces (limit %d)", s->name, nv, nf, PW_MAX_MESH_ELEMENTS);
     if ((double)nv * stride * 4 + (double)nf * 20 > (double)(end - p))
         return pw_fail(s->e, PW_ERR_PARSE,
-                       "%s: binary OFF: header claims %d vertices and %d faces, more than the %lu bytes left can hold (truncated file?)",
+                       "%s: binary OFF: header claims %d vertices and %d faces, more than the %lu bytes left can hold "
+                       "(truncated file?)",
                        s->name, nv, nf, (unsigned long)(end - p));
     if ((r = pw__mb_reserve(b, nv, nf, 3 * nf))) return r;
     for (i = 0; i < nv; i++, p += 4 * stride) {
         float xyz[3];
         for (k = 0; k < 3; k++) xyz[k] = pw__mesh_float_bits(pw__mesh_be32(p + 4 * k));
         if (!pw_is_finite(xyz[0]) || !pw_is_finite(xyz[1]) || !pw_is_finite(xyz[2]))
-            return pw_fail(s->e, PW_ERR_INVALID, "%s: binary OFF: vertex %d has a non-finite coordinate",
-                           s->name, i);
+            return pw_fail(s->e, PW_ERR_INVALID, "%s: binary OFF: vertex %d has a non-finite coordinate", s->name, i);
         pw__mb_vertex(b, xyz); /* reserved: cannot fail */
     }
     b->uv_ok = 0;
@@ -4708,31 +4617,31 @@ PW__DEF int pw__off_binary(pw__sc *s, pw__mb *b, int flags)
         d = pw__mesh_be32(p);
         if (d < 3 || d > PW_MAX_FACE_DEGREE || b->nc + (int)d > PW_MAX_MESH_ELEMENTS)
             return pw_fail(s->e, d < 3 ? PW_ERR_DEGENERATE : PW_ERR_LIMIT,
-                           "%s: binary OFF: face %d (byte %lu) has %ld corners (3 to %d allowed)", s->name,
-                           i, (unsigned long)(p - start), (long)(int32_t)d, PW_MAX_FACE_DEGREE);
+                           "%s: binary OFF: face %d (byte %lu) has %ld corners (3 to %d allowed)", s->name, i,
+                           (unsigned long)(p - start), (long)(int32_t)d, PW_MAX_FACE_DEGREE);
         if ((size_t)(end - p) < 4 * (size_t)d + 8) break;
         for (k = 0, p += 4; k < (int)d; k++, p += 4) {
             v = pw__mesh_be32(p);
             if (v >= (uint32_t)nv)
-                return pw_fail(s->e, PW_ERR_INVALID, "%s: binary OFF: face %d: vertex index %ld out of range (%d vertices)",
-                               s->name, i, (long)(int32_t)v, nv);
+                return pw_fail(s->e, PW_ERR_INVALID,
+                               "%s: binary OFF: face %d: vertex index %ld out of range (%d vertices)", s->name, i,
+                               (long)(int32_t)v, nv);
             if ((r = pw__mb_corner(b, (int)v, -1))) return r;
         }
         nc = pw__mesh_be32(p);
         if (nc > 4 || (size_t)(end - p) < 4 + 4 * (size_t)nc)
-            return pw_fail(s->e, PW_ERR_PARSE, "%s: binary OFF: face %d: bad colour count %ld or truncated",
-                           s->name, i, (long)(int32_t)nc);
+            return pw_fail(s->e, PW_ERR_PARSE, "%s: binary OFF: face %d: bad colour count %ld or truncated", s->name, i,
+                           (long)(int32_t)nc);
         p += 4 + 4 * nc;
         if ((r = pw__mb_end_face(b))) return r;
     }
-    if (i < nf)
-        return pw_fail(s->e, PW_ERR_PARSE, "%s: binary OFF: file ends after %d of %d faces", s->name, i, nf);
+    if (i < nf) return pw_fail(s->e, PW_ERR_PARSE, "%s: binary OFF: file ends after %d of %d faces", s->name, i, nf);
     return PW_OK;
 }
 
 /* Reads an OFF file (ASCII or binary) from memory. */
-PW__DEF int pw_mesh_read_off(const pw_alloc *a, const void *data, size_t size, const char *name,
-                             pw_mesh *out, pw_err *e)
+PW__DEF int pw_mesh_read_off(const pw_alloc *a, const void *data, size_t size, const char *name, pw_mesh *out,
+                             pw_err *e)
 {
     pw__sc s;
     pw__mb b;
@@ -4795,9 +4704,8 @@ PW__DEF int pw__ply_fail(pw__ply *p, int code, const char *fmt, ...)
 
 PW__DEF int pw__ply_type(const char *w, size_t n)
 {
-    static const char *const names[16] = {"char",  "int8",    "uchar", "uint8",  "short", "int16",
-                                          "ushort", "uint16", "int",   "int32",  "uint",  "uint32",
-                                          "float", "float32", "double", "float64"};
+    static const char *const names[16] = {"char", "int8",  "uchar", "uint8",  "short", "int16",   "ushort", "uint16",
+                                          "int",  "int32", "uint",  "uint32", "float", "float32", "double", "float64"};
     int k;
     for (k = 0; k < 16; k++)
         if (pw__sc_is(w, n, names[k])) return k / 2 + 1;
@@ -4817,8 +4725,7 @@ PW__DEF int pw__ply_role(int kind, const char *w, size_t n)
             pw__sc_is(w, n, "texture_t"))
             return PW__R_V;
     }
-    if (kind == PW__E_FACE && (pw__sc_is(w, n, "vertex_indices") || pw__sc_is(w, n, "vertex_index")))
-        return PW__R_IDX;
+    if (kind == PW__E_FACE && (pw__sc_is(w, n, "vertex_indices") || pw__sc_is(w, n, "vertex_index"))) return PW__R_IDX;
     return PW__R_NONE;
 }
 
@@ -4833,12 +4740,12 @@ PW__DEF int pw__ply_element(pw__ply *p)
     if (p->nel >= PW__PLY_MAX_ELEMENTS)
         return pw__ply_fail(p, PW_ERR_LIMIT, "more than %d elements", PW__PLY_MAX_ELEMENTS);
     for (k = 0; k < p->nel && kind != PW__E_OTHER; k++)
-        if (p->el[k].kind == kind) return pw__ply_fail(p, PW_ERR_PARSE, "second '%s' element", kind == PW__E_VERTEX ? "vertex" : "face");
+        if (p->el[k].kind == kind)
+            return pw__ply_fail(p, PW_ERR_PARSE, "second '%s' element", kind == PW__E_VERTEX ? "vertex" : "face");
     if ((r = pw__sc_int(&p->s, &count, "element count", -1))) return r;
     if (count < 0 || count > (kind == PW__E_OTHER ? INT_MAX : PW_MAX_MESH_ELEMENTS))
-        return pw__ply_fail(p, count < 0 ? PW_ERR_PARSE : PW_ERR_LIMIT,
-                            "element %d has %lld items (limit %d)", p->nel, count,
-                            kind == PW__E_OTHER ? INT_MAX : PW_MAX_MESH_ELEMENTS);
+        return pw__ply_fail(p, count < 0 ? PW_ERR_PARSE : PW_ERR_LIMIT, "element %d has %lld items (limit %d)", p->nel,
+                            count, kind == PW__E_OTHER ? INT_MAX : PW_MAX_MESH_ELEMENTS);
     el = &p->el[p->nel++];
     el->kind = kind;
     el->count = count;
@@ -4909,8 +4816,10 @@ PW__DEF int pw__ply_header(pw__ply *p)
         pw__sc_next_line(&p->s);
         if (p->s.p >= p->s.end) return pw__ply_fail(p, PW_ERR_PARSE, "header ends without 'end_header'");
         w = pw__sc_word(&p->s, &n);
-        if (pw__sc_is(w, n, "format")) r = pw__ply_format(p), have_format = 1;
-        else if (pw__sc_is(w, n, "element")) r = pw__ply_element(p);
+        if (pw__sc_is(w, n, "format")) {
+            r = pw__ply_format(p);
+            have_format = 1;
+        } else if (pw__sc_is(w, n, "element")) r = pw__ply_element(p);
         else if (pw__sc_is(w, n, "property")) r = pw__ply_property(p);
         else if (pw__sc_is(w, n, "end_header")) break;
         else if (n && !pw__sc_is(w, n, "comment") && !pw__sc_is(w, n, "obj_info"))
@@ -4940,13 +4849,13 @@ PW__DEF int pw__ply_check(pw__ply *p)
         if (el->kind == PW__E_FACE && !(roles & (1 << PW__R_IDX)))
             return pw__ply_fail(p, PW_ERR_PARSE, "the face element has no vertex_indices list");
     }
-    if ((roles & 0xE) != 0xE)
-        return pw__ply_fail(p, PW_ERR_PARSE, "no vertex element with x, y and z properties");
+    if ((roles & 0xE) != 0xE) return pw__ply_fail(p, PW_ERR_PARSE, "no vertex element with x, y and z properties");
     p->has_uv = (roles & 0x30) == 0x30;
     if (need > (double)(p->s.end - p->s.p) + 1)
-        return pw__ply_fail(p, PW_ERR_PARSE,
-                            "header declares items needing at least %.0f bytes, but only %lu are left (truncated file?)",
-                            need, (unsigned long)(p->s.end - p->s.p));
+        return pw__ply_fail(
+            p, PW_ERR_PARSE,
+            "header declares items needing at least %.0f bytes, but only %lu are left (truncated file?)", need,
+            (unsigned long)(p->s.end - p->s.p));
     return PW_OK;
 }
 
@@ -4972,9 +4881,7 @@ PW__DEF double pw__ply_decode(const unsigned char *q, int type, int big)
         u32 = (uint32_t)u;
         memcpy(&f, &u32, 4);
         return (double)f;
-    case 8:
-        memcpy(&d, &u, 8);
-        return d;
+    case 8: memcpy(&d, &u, 8); return d;
     default: return (double)u; /* unsigned types */
     }
 }
@@ -4992,8 +4899,7 @@ PW__DEF int pw__ply_value(pw__ply *p, int type, double *v, const char *what, lon
         return PW_OK;
     }
     pw__sc_skip_ws(&p->s);
-    if (p->s.p >= p->s.end)
-        return pw__ply_fail(p, PW_ERR_PARSE, "unexpected end of file in %s %lld", what, index);
+    if (p->s.p >= p->s.end) return pw__ply_fail(p, PW_ERR_PARSE, "unexpected end of file in %s %lld", what, index);
     q = pw__num_parse(p->s.p, p->s.end, v);
     if (!q || !pw__sc_delim(&p->s, q))
         return pw__ply_fail(p, PW_ERR_PARSE, "%s %lld: malformed number '%s'", what, index,
@@ -5009,13 +4915,12 @@ PW__DEF int pw__ply_count(pw__ply *p, int ctype, int type, long long *c, const c
     size_t left;
     int r;
     if ((r = pw__ply_value(p, ctype, &v, what, index))) return r;
-    left = p->format == PW__PLY_ASCII ? (size_t)(p->s.end - p->s.p)
-                                       : (size_t)(p->s.end - (const char *)p->bp);
+    left = p->format == PW__PLY_ASCII ? (size_t)(p->s.end - p->s.p) : (size_t)(p->s.end - (const char *)p->bp);
     if (!(v >= 0.0 && v < 4e9) || v != (double)(long long)v)
         return pw__ply_fail(p, PW_ERR_PARSE, "%s %lld: bad list length %g", what, index, v);
     if (v * (p->format == PW__PLY_ASCII ? 1 : pw__ply_size[type]) > (double)left)
-        return pw__ply_fail(p, PW_ERR_PARSE, "%s %lld: list of %.0f items runs past the end of the file",
-                            what, index, v);
+        return pw__ply_fail(p, PW_ERR_PARSE, "%s %lld: list of %.0f items runs past the end of the file", what, index,
+                            v);
     *c = (long long)v;
     return PW_OK;
 }
@@ -5058,7 +4963,10 @@ PW__DEF int pw__ply_vertices(pw__ply *p, const pw__plyel *el)
         if (!pw_is_finite(c[3]) || !pw_is_finite(c[4]))
             return pw__ply_fail(p, PW_ERR_INVALID, "vertex %lld has a non-finite texture coordinate", i);
         pw__mb_vertex(b, c); /* reserved: cannot fail */
-        if (p->has_uv) b->m.uv[2 * i] = c[3], b->m.uv[2 * i + 1] = c[4];
+        if (p->has_uv) {
+            b->m.uv[2 * i] = c[3];
+            b->m.uv[2 * i + 1] = c[4];
+        }
     }
     return PW_OK;
 }
@@ -5079,11 +4987,10 @@ PW__DEF int pw__ply_corners(pw__ply *p, const pw__plyprop *pr, long long f)
         if (p->format != PW__PLY_ASCII) { /* pw__ply_count checked that the list is there */
             v = pw__ply_decode(p->bp, pr->type, p->format == PW__PLY_BE);
             p->bp += pw__ply_size[pr->type];
-        } else if ((r = pw__ply_value(p, pr->type, &v, "face", f)))
-            return r;
+        } else if ((r = pw__ply_value(p, pr->type, &v, "face", f))) return r;
         if (!(v >= 0.0 && v < (double)p->nv && v == (double)(int)v))
-            return pw__ply_fail(p, PW_ERR_INVALID, "face %lld: vertex index %g out of range (%d vertices)",
-                                f, v, p->nv);
+            return pw__ply_fail(p, PW_ERR_INVALID, "face %lld: vertex index %g out of range (%d vertices)", f, v,
+                                p->nv);
         b->m.fv[b->nc] = (int)v;
         if (b->uv_ok) b->m.fuv[b->nc] = (int)v; /* vertex uvs: one per vertex */
         b->nc++;
@@ -5152,8 +5059,8 @@ PW__DEF int pw__ply_data(pw__ply *p)
 }
 
 /* Reads a PLY file (ascii, binary_little_endian, binary_big_endian). */
-PW__DEF int pw_mesh_read_ply(const pw_alloc *a, const void *data, size_t size, const char *name,
-                             pw_mesh *out, pw_err *e)
+PW__DEF int pw_mesh_read_ply(const pw_alloc *a, const void *data, size_t size, const char *name, pw_mesh *out,
+                             pw_err *e)
 {
     pw__ply *p;
     pw__mb b;
@@ -5263,10 +5170,13 @@ PW__DEF int pw__stl_binary(const unsigned char *d, size_t size, const char *name
     int r = PW_OK, k, j;
     if (n == 0) return pw_fail(b->e, PW_ERR_DEGENERATE, "%s: binary STL with no triangle", name);
     if ((size - 84) / 50 < n)
-        return pw_fail(b->e, PW_ERR_PARSE, "%s: binary STL: the header claims %lu triangles, the %lu bytes after it hold %lu (truncated file?)",
-                       name, (unsigned long)n, (unsigned long)(size - 84), (unsigned long)((size - 84) / 50));
+        return pw_fail(
+            b->e, PW_ERR_PARSE,
+            "%s: binary STL: the header claims %lu triangles, the %lu bytes after it hold %lu (truncated file?)", name,
+            (unsigned long)n, (unsigned long)(size - 84), (unsigned long)((size - 84) / 50));
     if (n > (uint32_t)(PW_MAX_MESH_ELEMENTS / 3))
-        return pw_fail(b->e, PW_ERR_LIMIT, "%s: binary STL: %lu triangles (limit %d)", name, (unsigned long)n, PW_MAX_MESH_ELEMENTS / 3);
+        return pw_fail(b->e, PW_ERR_LIMIT, "%s: binary STL: %lu triangles (limit %d)", name, (unsigned long)n,
+                       PW_MAX_MESH_ELEMENTS / 3);
     if (pw__weld_init(&w, b, (size_t)n)) return PW_ERR_NOMEM;
     for (t = 0; t < n && r == PW_OK; t++) {
         const unsigned char *p = d + 84 + 50 * (size_t)t + 12;
@@ -5274,7 +5184,9 @@ PW__DEF int pw__stl_binary(const unsigned char *d, size_t size, const char *name
         for (k = 0; k < 3; k++)
             for (j = 0; j < 3; j++) {
                 c[k][j] = pw__le_float(p + 12 * k + 4 * j);
-                if (!pw_is_finite(c[k][j])) r = pw_fail(b->e, PW_ERR_INVALID, "%s: binary STL: triangle %lu has a non-finite coordinate", name, (unsigned long)t);
+                if (!pw_is_finite(c[k][j]))
+                    r = pw_fail(b->e, PW_ERR_INVALID, "%s: binary STL: triangle %lu has a non-finite coordinate", name,
+                                (unsigned long)t);
             }
         if (r == PW_OK) r = pw__stl_triangle(&w, b, c);
     }
@@ -5291,7 +5203,8 @@ PW__DEF int pw__stl_expect(pw__sc *s, const char *kw)
     pw__sc_skip_ws(s);
     w = pw__sc_word(s, &n);
     if (!pw__sc_is(w, n, kw))
-        return pw__sc_fail(s, PW_ERR_PARSE, n ? "expected '%s', found '%s'" : "expected '%s', found the end of the file", kw,
+        return pw__sc_fail(s, PW_ERR_PARSE,
+                           n ? "expected '%s', found '%s'" : "expected '%s', found the end of the file", kw,
                            pw__sc_tok(s, w, tok));
     return PW_OK;
 }
@@ -5314,8 +5227,8 @@ PW__DEF int pw__stl_ascii(pw__sc *s, pw__mb *b)
             pw__sc_next_line(s); /* the name, if any */
         } else if (pw__sc_is(kw, n, "facet")) {
             float c[3][3], nrm[3];
-            if ((r = pw__stl_expect(s, "normal")) || (r = pw__sc_xyz(s, nrm, b->m.nf)) || (r = pw__stl_expect(s, "outer")) ||
-                (r = pw__stl_expect(s, "loop")))
+            if ((r = pw__stl_expect(s, "normal")) || (r = pw__sc_xyz(s, nrm, b->m.nf)) ||
+                (r = pw__stl_expect(s, "outer")) || (r = pw__stl_expect(s, "loop")))
                 break;
             for (k = 0; k < 3 && r == PW_OK; k++)
                 if (!(r = pw__stl_expect(s, "vertex"))) r = pw__sc_xyz(s, c[k], b->m.nf);
@@ -5323,7 +5236,8 @@ PW__DEF int pw__stl_ascii(pw__sc *s, pw__mb *b)
             r = pw__stl_triangle(&w, b, c);
         } else {
             char tok[32];
-            r = pw__sc_fail(s, PW_ERR_PARSE, "ASCII STL: expected 'facet' or 'endsolid', found '%s'", pw__sc_tok(s, kw, tok));
+            r = pw__sc_fail(s, PW_ERR_PARSE, "ASCII STL: expected 'facet' or 'endsolid', found '%s'",
+                            pw__sc_tok(s, kw, tok));
         }
     }
     pw_free(b->a, w.slot);
@@ -5344,7 +5258,8 @@ PW__DEF int pw__stl_is_ascii(const unsigned char *d, size_t size)
 /* Reads an STL file, binary or ASCII, from memory. Binary when the size is
  * exactly what its triangle count says, ASCII when it begins with "solid"
  * and holds text (pw__stl_is_ascii), else binary. */
-PW__DEF int pw_mesh_read_stl(const pw_alloc *a, const void *data, size_t size, const char *name, pw_mesh *out, pw_err *e)
+PW__DEF int pw_mesh_read_stl(const pw_alloc *a, const void *data, size_t size, const char *name, pw_mesh *out,
+                             pw_err *e)
 {
     const unsigned char *d = (const unsigned char *)data;
     pw__sc s;
@@ -5354,15 +5269,14 @@ PW__DEF int pw_mesh_read_stl(const pw_alloc *a, const void *data, size_t size, c
     if ((r = pw__mb_init(&b, a, e))) return r;
     pw__sc_init(&s, data, size, name, 0, e);
     pw__sc_skip_ws(&s);
-    if (size >= 84 && (size - 84) % 50 == 0 && (size - 84) / 50 == (size_t)(d[80] | (uint32_t)d[81] << 8 | (uint32_t)d[82] << 16 | (uint32_t)d[83] << 24))
+    if (size >= 84 && (size - 84) % 50 == 0 &&
+        (size - 84) / 50 == (size_t)(d[80] | (uint32_t)d[81] << 8 | (uint32_t)d[82] << 16 | (uint32_t)d[83] << 24))
         r = pw__stl_binary(d, size, s.name, &b);
-    else if (s.end - s.p >= 5 && !memcmp(s.p, "solid", 5) && pw__stl_is_ascii(d, size))
-        r = pw__stl_ascii(&s, &b);
-    else if (size >= 84)
-        r = pw__stl_binary(d, size, s.name, &b);
+    else if (s.end - s.p >= 5 && !memcmp(s.p, "solid", 5) && pw__stl_is_ascii(d, size)) r = pw__stl_ascii(&s, &b);
+    else if (size >= 84) r = pw__stl_binary(d, size, s.name, &b);
     else
-        r = pw_fail(e, PW_ERR_PARSE, "%s: not an STL file (%lu bytes: neither 'solid' nor an 84-byte binary header)", s.name,
-                    (unsigned long)size);
+        r = pw_fail(e, PW_ERR_PARSE, "%s: not an STL file (%lu bytes: neither 'solid' nor an 84-byte binary header)",
+                    s.name, (unsigned long)size);
     if (r == PW_OK) r = pw__mb_finish(&b, out, s.name);
     pw__mb_free(&b);
     return r;
@@ -5392,8 +5306,8 @@ PW__DEF int pw__is_stl(pw__sc *s, const void *data, size_t size)
  * an OFF keyword as the first word (after comments), "solid" followed by a
  * "facet" line or a binary STL's exact size, else by the extension of `name`
  * (.off, .ply, .stl), else OBJ. */
-PW__DEF int pw_mesh_read_memory(const pw_alloc *a, const void *data, size_t size, const char *name,
-                                pw_mesh *out, pw_err *e)
+PW__DEF int pw_mesh_read_memory(const pw_alloc *a, const void *data, size_t size, const char *name, pw_mesh *out,
+                                pw_err *e)
 {
     pw__sc s, t;
     size_t n;
@@ -5408,7 +5322,8 @@ PW__DEF int pw_mesh_read_memory(const pw_alloc *a, const void *data, size_t size
     if (pw__off_keyword(w, n, &flags) || (name && pw_has_ext(name, ".off")))
         return pw_mesh_read_off(a, data, size, name, out, e);
     if (name && pw_has_ext(name, ".ply")) return pw_mesh_read_ply(a, data, size, name, out, e);
-    if (pw__is_stl(&t, data, size) || (name && pw_has_ext(name, ".stl"))) return pw_mesh_read_stl(a, data, size, name, out, e);
+    if (pw__is_stl(&t, data, size) || (name && pw_has_ext(name, ".stl")))
+        return pw_mesh_read_stl(a, data, size, name, out, e);
     return pw_mesh_read_obj(a, data, size, name, out, e);
 }
 
@@ -5439,28 +5354,42 @@ PW__DEF int pw__obj_name_ok(const char *s, const char *what, pw_err *e)
 
 /* Writes m as OBJ: v lines, vt lines when m has uv and fuv, faces "f v/t"
  * (1-based). mtllib and material (usemtl) lines when not NULL. */
-PW__DEF int pw_mesh_write_obj(const pw_mesh *m, const char *mtllib, const char *material,
-                              pw_write_fn w, void *ctx, pw_err *e)
+PW__DEF int pw_mesh_write_obj(const pw_mesh *m, const char *mtllib, const char *material, pw_write_fn w, void *ctx,
+                              pw_err *e)
 {
     pw__wb b;
     int i, f, r, uv = m->uv && m->fuv;
     if ((r = pw_mesh_validate(m, e)) || (r = pw__obj_name_ok(mtllib, "mtllib", e)) ||
         (r = pw__obj_name_ok(material, "material", e)))
         return r;
-    b.w = w, b.ctx = ctx, b.n = 0, b.failed = 0;
+    b.w = w;
+    b.ctx = ctx;
+    b.n = 0;
+    b.failed = 0;
     pw__wb_str(&b, "# patchwork\n");
-    if (mtllib) pw__wb_str(&b, "mtllib "), pw__wb_str(&b, mtllib), pw__wb_str(&b, "\n");
+    if (mtllib) {
+        pw__wb_str(&b, "mtllib ");
+        pw__wb_str(&b, mtllib);
+        pw__wb_str(&b, "\n");
+    }
     for (i = 0; i < m->nv; i++) {
         pw__wb_str(&b, "v");
-        pw__wb_float(&b, m->pos[3 * i]), pw__wb_float(&b, m->pos[3 * i + 1]), pw__wb_float(&b, m->pos[3 * i + 2]);
+        pw__wb_float(&b, m->pos[3 * i]);
+        pw__wb_float(&b, m->pos[3 * i + 1]);
+        pw__wb_float(&b, m->pos[3 * i + 2]);
         pw__wb_str(&b, "\n");
     }
     for (i = 0; uv && i < m->nuv; i++) {
         pw__wb_str(&b, "vt");
-        pw__wb_float(&b, m->uv[2 * i]), pw__wb_float(&b, m->uv[2 * i + 1]);
+        pw__wb_float(&b, m->uv[2 * i]);
+        pw__wb_float(&b, m->uv[2 * i + 1]);
         pw__wb_str(&b, "\n");
     }
-    if (material) pw__wb_str(&b, "usemtl "), pw__wb_str(&b, material), pw__wb_str(&b, "\n");
+    if (material) {
+        pw__wb_str(&b, "usemtl ");
+        pw__wb_str(&b, material);
+        pw__wb_str(&b, "\n");
+    }
     for (f = 0; f < m->nf; f++) {
         pw__wb_str(&b, "f");
         for (i = m->fstart[f]; i < m->fstart[f + 1]; i++) {
@@ -5474,18 +5403,25 @@ PW__DEF int pw_mesh_write_obj(const pw_mesh *m, const char *mtllib, const char *
 
 /* Writes an MTL file with one material: white (Kd 1 1 1), textured by
  * texture_file (map_Kd) when it is not NULL. */
-PW__DEF int pw_mesh_write_mtl(const char *material, const char *texture_file, pw_write_fn w,
-                              void *ctx, pw_err *e)
+PW__DEF int pw_mesh_write_mtl(const char *material, const char *texture_file, pw_write_fn w, void *ctx, pw_err *e)
 {
     pw__wb b;
     int r;
     if (!material) return pw_fail(e, PW_ERR_INVALID, "MTL: no material name");
     if ((r = pw__obj_name_ok(material, "material", e)) || (r = pw__obj_name_ok(texture_file, "texture file", e)))
         return r;
-    b.w = w, b.ctx = ctx, b.n = 0, b.failed = 0;
-    pw__wb_str(&b, "# patchwork\nnewmtl "), pw__wb_str(&b, material);
+    b.w = w;
+    b.ctx = ctx;
+    b.n = 0;
+    b.failed = 0;
+    pw__wb_str(&b, "# patchwork\nnewmtl ");
+    pw__wb_str(&b, material);
     pw__wb_str(&b, "\nKa 1 1 1\nKd 1 1 1\nKs 0 0 0\nd 1\nillum 1\n");
-    if (texture_file) pw__wb_str(&b, "map_Kd "), pw__wb_str(&b, texture_file), pw__wb_str(&b, "\n");
+    if (texture_file) {
+        pw__wb_str(&b, "map_Kd ");
+        pw__wb_str(&b, texture_file);
+        pw__wb_str(&b, "\n");
+    }
     return pw__wb_done(&b, e);
 }
 
@@ -5525,8 +5461,7 @@ PW__DEF int pw_obj_mtl_path(const char *obj_path, char *mtl, size_t size, const 
 }
 
 /* pw_mesh_write_obj into the file `path`. */
-PW__DEF int pw_mesh_save_obj(const char *path, const pw_mesh *m, const char *mtllib,
-                             const char *material, pw_err *e)
+PW__DEF int pw_mesh_save_obj(const char *path, const pw_mesh *m, const char *mtllib, const char *material, pw_err *e)
 {
     pw__obj_args o;
     o.m = m;
@@ -5536,8 +5471,7 @@ PW__DEF int pw_mesh_save_obj(const char *path, const pw_mesh *m, const char *mtl
 }
 
 /* pw_mesh_write_mtl into the file `path`. */
-PW__DEF int pw_mesh_save_mtl(const char *path, const char *material, const char *texture_file,
-                             pw_err *e)
+PW__DEF int pw_mesh_save_mtl(const char *path, const char *material, const char *texture_file, pw_err *e)
 {
     pw__obj_args o;
     o.m = NULL;
@@ -5586,13 +5520,12 @@ PW__DEF int pw_shape_alloc(const pw_alloc *a, int nv, int nf, int degree, pw_mes
 
 /* The icosahedron: corners (0, +-1, +-phi) and cyclic permutations, faces
  * counter-clockwise seen from outside (the table's 2 stands for phi). */
-static const signed char pw__ico_v[12][3] = {{-1, 2, 0}, {1, 2, 0}, {-1, -2, 0}, {1, -2, 0},
-                                             {0, -1, 2}, {0, 1, 2}, {0, -1, -2}, {0, 1, -2},
-                                             {2, 0, -1}, {2, 0, 1}, {-2, 0, -1}, {-2, 0, 1}};
-static const unsigned char pw__ico_f[20][3] = {
-    {0, 11, 5}, {0, 5, 1}, {0, 1, 7}, {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
-    {11, 10, 2}, {10, 7, 6}, {7, 1, 8}, {3, 9, 4}, {3, 4, 2}, {3, 2, 6}, {3, 6, 8},
-    {3, 8, 9}, {4, 9, 5}, {2, 4, 11}, {6, 2, 10}, {8, 6, 7}, {9, 8, 1}};
+static const signed char pw__ico_v[12][3] = {{-1, 2, 0},  {1, 2, 0},  {-1, -2, 0}, {1, -2, 0}, {0, -1, 2},  {0, 1, 2},
+                                             {0, -1, -2}, {0, 1, -2}, {2, 0, -1},  {2, 0, 1},  {-2, 0, -1}, {-2, 0, 1}};
+static const unsigned char pw__ico_f[20][3] = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11},
+                                               {1, 5, 9},  {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
+                                               {3, 9, 4},  {3, 4, 2},  {3, 2, 6},   {3, 6, 8},  {3, 8, 9},
+                                               {4, 9, 5},  {2, 4, 11}, {6, 2, 10},  {8, 6, 7},  {9, 8, 1}};
 
 PW__DEF pw_v3 pw__ico_corner(int k)
 {
@@ -5630,9 +5563,19 @@ PW__DEF int pw__geo_id(const int *c, int f, int n, int i, int j)
     if (i == 0 && j == 0) return c[0];
     if (i == n) return c[1];
     if (j == n) return c[2];
-    if (j == 0) p = c[0], q = c[1], t = i;
-    else if (i == 0) p = c[0], q = c[2], t = j;
-    else if (i + j == n) p = c[1], q = c[2], t = j;
+    if (j == 0) {
+        p = c[0];
+        q = c[1];
+        t = i;
+    } else if (i == 0) {
+        p = c[0];
+        q = c[2];
+        t = j;
+    } else if (i + j == n) {
+        p = c[1];
+        q = c[2];
+        t = j;
+    }
     if (p >= 0) {
         if (p > q) {
             int s = p;
@@ -5655,8 +5598,12 @@ PW__DEF int pw_shape_geosphere(const pw_alloc *a, int n, pw_mesh *m, pw_err *e)
     for (f = 0; f < 20; f++) {
         int c[3];
         pw_v3 A, B, C;
-        c[0] = pw__ico_f[f][0], c[1] = pw__ico_f[f][1], c[2] = pw__ico_f[f][2];
-        A = pw__ico_corner(c[0]), B = pw__ico_corner(c[1]), C = pw__ico_corner(c[2]);
+        c[0] = pw__ico_f[f][0];
+        c[1] = pw__ico_f[f][1];
+        c[2] = pw__ico_f[f][2];
+        A = pw__ico_corner(c[0]);
+        B = pw__ico_corner(c[1]);
+        C = pw__ico_corner(c[2]);
         for (j = 0; j <= n; j++)
             for (i = 0; i + j <= n; i++) {
                 pw_v3 p = pw_v3_add(A, pw_v3_add(pw_v3_scale(pw_v3_sub(B, A), (float)i / n),
@@ -5695,7 +5642,9 @@ PW__DEF int pw_shape_bumpy(const pw_alloc *a, int n, pw_mesh *m, pw_err *e)
     for (k = 0; k < 14; k++) {
         double x = 2 * pw_rng_double(&rng) - 1, y = 2 * pw_rng_double(&rng) - 1, z = 2 * pw_rng_double(&rng) - 1;
         double l = sqrt(x * x + y * y + z * z) + 1e-9;
-        c[k][0] = x / l, c[k][1] = y / l, c[k][2] = z / l;
+        c[k][0] = x / l;
+        c[k][1] = y / l;
+        c[k][2] = z / l;
         h[k] = k % 3 == 2 ? -0.1 : 0.08 + 0.14 * pw_rng_double(&rng);
         rad[k] = 0.45 + 0.4 * pw_rng_double(&rng);
     }
@@ -5746,9 +5695,15 @@ PW__DEF int pw__shape_torus(const pw_alloc *a, int nu, int nv, int quads, double
             p[0] = (float)(rr * pw_cos(u));
             p[1] = (float)(rr * pw_sin(u));
             p[2] = (float)(tube * pw_sin(v));
-            t[0] = a0, t[1] = a1, t[2] = a2; /* d/du x d/dv points outwards */
+            t[0] = a0;
+            t[1] = a1;
+            t[2] = a2; /* d/du x d/dv points outwards */
             if (quads) t[3] = a3;
-            else t[3] = a0, t[4] = a2, t[5] = a3;
+            else {
+                t[3] = a0;
+                t[4] = a2;
+                t[5] = a3;
+            }
         }
     return PW_OK;
 }
@@ -5861,8 +5816,7 @@ PW__DEF void pw__voxel_pass(pw__voxels *v)
             }
 }
 
-PW__DEF int pw_shape_polycube(const pw_alloc *a, int X, int Y, int Z, const unsigned char *vox, pw_mesh *m,
-                              pw_err *e)
+PW__DEF int pw_shape_polycube(const pw_alloc *a, int X, int Y, int Z, const unsigned char *vox, pw_mesh *m, pw_err *e)
 {
     pw__voxels v;
     int r;
@@ -5906,7 +5860,11 @@ PW__DEF int pw_shape_grid(const pw_alloc *a, int n, double wave, int quads, pw_m
             f[1] = v + 1;
             f[2] = v + n + 2;
             if (quads) f[3] = v + n + 1;
-            else f[3] = v, f[4] = v + n + 2, f[5] = v + n + 1;
+            else {
+                f[3] = v;
+                f[4] = v + n + 2;
+                f[5] = v + n + 1;
+            }
         }
     return PW_OK;
 }
@@ -5935,23 +5893,38 @@ PW__DEF int pw__shape_revolve(const pw_alloc *a, const double *z, const double *
     int rings = n - 2, nv = rings * around + 2, k, j, nt = 0, res;
     int bot = nv - 1; /* vertex 0 is the top pole; ring k (1..rings) starts at 1 + (k-1) * around */
     if ((res = pw_shape_alloc(a, nv, 2 * around * (rings - 1) + 2 * around, 3, m, e)) != PW_OK) return res;
-    m->pos[0] = m->pos[1] = 0.0f, m->pos[2] = (float)z[0];
-    m->pos[3 * bot] = m->pos[3 * bot + 1] = 0.0f, m->pos[3 * bot + 2] = (float)z[n - 1];
+    m->pos[0] = m->pos[1] = 0.0f;
+    m->pos[2] = (float)z[0];
+    m->pos[3 * bot] = m->pos[3 * bot + 1] = 0.0f;
+    m->pos[3 * bot + 2] = (float)z[n - 1];
     for (k = 1; k <= rings; k++)
         for (j = 0; j < around; j++) {
             float *p = m->pos + 3 * (1 + (k - 1) * around + j);
-            p[0] = (float)(r[k] * pw_cos(pi2 * j / around)), p[1] = (float)(r[k] * pw_sin(pi2 * j / around));
+            p[0] = (float)(r[k] * pw_cos(pi2 * j / around));
+            p[1] = (float)(r[k] * pw_sin(pi2 * j / around));
             p[2] = (float)z[k];
         }
     for (j = 0; j < around; j++) {
         int j1 = (j + 1) % around, *t;
-        t = m->fv + 3 * nt++, t[0] = 0, t[1] = 1 + j, t[2] = 1 + j1;
+        t = m->fv + 3 * nt++;
+        t[0] = 0;
+        t[1] = 1 + j;
+        t[2] = 1 + j1;
         for (k = 1; k < rings; k++) {
             int a0 = 1 + (k - 1) * around + j, a1 = 1 + (k - 1) * around + j1, b0 = a0 + around, b1 = a1 + around;
-            t = m->fv + 3 * nt++, t[0] = a0, t[1] = b0, t[2] = b1;
-            t = m->fv + 3 * nt++, t[0] = a0, t[1] = b1, t[2] = a1;
+            t = m->fv + 3 * nt++;
+            t[0] = a0;
+            t[1] = b0;
+            t[2] = b1;
+            t = m->fv + 3 * nt++;
+            t[0] = a0;
+            t[1] = b1;
+            t[2] = a1;
         }
-        t = m->fv + 3 * nt++, t[0] = bot, t[1] = 1 + (rings - 1) * around + j1, t[2] = 1 + (rings - 1) * around + j;
+        t = m->fv + 3 * nt++;
+        t[0] = bot;
+        t[1] = 1 + (rings - 1) * around + j1;
+        t[2] = 1 + (rings - 1) * around + j;
     }
     return PW_OK;
 }
@@ -5968,16 +5941,32 @@ PW__DEF int pw_shape_dumbbell(const pw_alloc *a, double neck, int around, pw_mes
         return pw_fail(e, PW_ERR_INVALID, "dumbbell: neck %g not in (0, 1) or %d vertices around", neck, around);
     tn = pi - pw__shape_asin(neck); /* polar angle where a ball meets the neck */
     zn = 2.0 + pw_cos(tn);          /* the neck runs over |z| <= zn */
-    nb = (int)(tn / step) + 1, len = 2.0 * zn, nn = (int)(len / step) + 1;
+    nb = (int)(tn / step) + 1;
+    len = 2.0 * zn;
+    nn = (int)(len / step) + 1;
     n = 2 * nb + nn + 1;
     z = (double *)pw_alloc_array(a, (size_t)n, sizeof(double), "profile", e);
     r = (double *)pw_alloc_array(a, (size_t)n, sizeof(double), "profile", e);
-    if (!z || !r) return pw_free(a, z), pw_free(a, r), PW_ERR_NOMEM;
-    for (k = 0; k < nb; k++) z[k] = 2.0 + pw_cos(tn * k / nb), r[k] = pw_sin(tn * k / nb);
-    for (k = 0; k <= nn; k++) z[nb + k] = zn - len * k / nn, r[nb + k] = neck;
-    for (k = 0; k < nb; k++) z[n - 1 - k] = -z[k], r[n - 1 - k] = r[k];
+    if (!z || !r) {
+        pw_free(a, z);
+        pw_free(a, r);
+        return PW_ERR_NOMEM;
+    }
+    for (k = 0; k < nb; k++) {
+        z[k] = 2.0 + pw_cos(tn * k / nb);
+        r[k] = pw_sin(tn * k / nb);
+    }
+    for (k = 0; k <= nn; k++) {
+        z[nb + k] = zn - len * k / nn;
+        r[nb + k] = neck;
+    }
+    for (k = 0; k < nb; k++) {
+        z[n - 1 - k] = -z[k];
+        r[n - 1 - k] = r[k];
+    }
     res = pw__shape_revolve(a, z, r, n, around, m, e);
-    pw_free(a, z), pw_free(a, r);
+    pw_free(a, z);
+    pw_free(a, r);
     return res;
 }
 
@@ -6051,10 +6040,7 @@ PW__DEF int pw_he_dest(const pw_hmesh *hm, int h) { return hm->fv[pw_he_next(hm,
 PW__DEF int pw_he_ccw(const pw_hmesh *hm, int h) { return hm->twin[pw_he_prev(hm, h)]; }
 
 /* The same clockwise; -1 when h is on the boundary. */
-PW__DEF int pw_he_cw(const pw_hmesh *hm, int h)
-{
-    return hm->twin[h] < 0 ? -1 : pw_he_next(hm, hm->twin[h]);
-}
+PW__DEF int pw_he_cw(const pw_hmesh *hm, int h) { return hm->twin[h] < 0 ? -1 : pw_he_next(hm, hm->twin[h]); }
 
 /* For a boundary half-edge h, the next boundary half-edge of the same
  * boundary loop (they follow each other head to tail). */
@@ -6085,8 +6071,9 @@ PW__DEF int pw__hm_faces(pw_hmesh *hm, int *stamp, int *count, pw_err *e)
         for (h = b; h < end; h++) {
             int v = hm->fv[h];
             if (v < 0 || v >= hm->nv)
-                return pw_fail(e, PW_ERR_INVALID, "half-edge mesh: face %d, corner %d: vertex index %d out of range (%d vertices)",
-                               f, h - b, v, hm->nv);
+                return pw_fail(e, PW_ERR_INVALID,
+                               "half-edge mesh: face %d, corner %d: vertex index %d out of range (%d vertices)", f,
+                               h - b, v, hm->nv);
             if (stamp[v] == f)
                 return pw_fail(e, PW_ERR_DEGENERATE, "half-edge mesh: face %d uses vertex %d twice", f, v);
             stamp[v] = f;
@@ -6131,8 +6118,8 @@ PW__DEF void pw__hm_face_list(char *buf, size_t cap, const int *f, int n)
 
 /* The error for edge a-b of half-edge h: more than two faces, or two
  * faces in the same direction. */
-PW__DEF int pw__hm_edge_error(const pw_hmesh *hm, const int *ostart, const int *oh, const int *odest,
-                              int a, int b, int same, int opp, pw_err *e)
+PW__DEF int pw__hm_edge_error(const pw_hmesh *hm, const int *ostart, const int *oh, const int *odest, int a, int b,
+                              int same, int opp, pw_err *e)
 {
     int faces[8], n = 0, k, i, j;
     char list[96];
@@ -6141,7 +6128,11 @@ PW__DEF int pw__hm_edge_error(const pw_hmesh *hm, const int *ostart, const int *
     for (k = ostart[b]; k < ostart[b + 1]; k++)
         if (odest[k] == a && n < 8) faces[n++] = hm->hface[oh[k]];
     for (i = 1; i < n; i++) /* insertion sort: at most 8 */
-        for (j = i; j > 0 && faces[j - 1] > faces[j]; j--) k = faces[j], faces[j] = faces[j - 1], faces[j - 1] = k;
+        for (j = i; j > 0 && faces[j - 1] > faces[j]; j--) {
+            k = faces[j];
+            faces[j] = faces[j - 1];
+            faces[j - 1] = k;
+        }
     if (same + opp > 2) {
         pw__hm_face_list(list, sizeof list, faces, n);
         if (same + opp > n) snprintf(list + strlen(list), sizeof list - strlen(list), " (%d faces)", same + opp);
@@ -6155,12 +6146,14 @@ PW__DEF int pw__hm_edge_error(const pw_hmesh *hm, const int *ostart, const int *
  * one b->a not yet paired, needs no more checks: a second a->b would find
  * it taken. Otherwise the half-edges a->b (same) and b->a (opp) are counted
  * to catch bad edges. */
-PW__DEF int pw__hm_pair(pw_hmesh *hm, const int *ostart, const int *oh, const int *odest, int h, int b,
-                        pw_err *e)
+PW__DEF int pw__hm_pair(pw_hmesh *hm, const int *ostart, const int *oh, const int *odest, int h, int b, pw_err *e)
 {
     int a = hm->fv[h], same = 0, opp = 0, g = -1, k;
     for (k = ostart[b]; k < ostart[b + 1]; k++)
-        if (odest[k] == a) opp++, g = oh[k];
+        if (odest[k] == a) {
+            opp++;
+            g = oh[k];
+        }
     if (opp != 1 || hm->twin[g] != -2) {
         for (k = ostart[a]; k < ostart[a + 1]; k++) same += odest[k] == b;
         if (same + opp > 2 || same > 1) return pw__hm_edge_error(hm, ostart, oh, odest, a, b, same, opp, e);
@@ -6180,8 +6173,7 @@ PW__DEF int pw__hm_twins(pw_hmesh *hm, const int *ostart, const int *oh, const i
     for (f = 0; f < hm->nf; f++) {
         int b = hm->fstart[f], end = hm->fstart[f + 1];
         for (h = b; h < end; h++)
-            if (hm->twin[h] == -2 &&
-                (r = pw__hm_pair(hm, ostart, oh, odest, h, hm->fv[h + 1 < end ? h + 1 : b], e)))
+            if (hm->twin[h] == -2 && (r = pw__hm_pair(hm, ostart, oh, odest, h, hm->fv[h + 1 < end ? h + 1 : b], e)))
                 return r;
     }
     hm->ne = (hm->nh + hm->nboundary) / 2;
@@ -6290,14 +6282,13 @@ PW__DEF int pw__hm_offsets(const pw_alloc *a, pw_hmesh *hm, const int *fstart, p
     int f;
     if (hm->nv < 0 || hm->nf < 0 || !fstart || hm->nv > PW_MAX_MESH_ELEMENTS || hm->nf > PW_MAX_MESH_ELEMENTS)
         return pw_fail(e, PW_ERR_INVALID, "half-edge mesh: bad sizes (%d vertices, %d faces)", hm->nv, hm->nf);
-    if (fstart[0] != 0)
-        return pw_fail(e, PW_ERR_INVALID, "half-edge mesh: fstart[0] is %d, must be 0", fstart[0]);
+    if (fstart[0] != 0) return pw_fail(e, PW_ERR_INVALID, "half-edge mesh: fstart[0] is %d, must be 0", fstart[0]);
     for (f = 0; f < hm->nf; f++) {
         if (fstart[f + 1] > PW_MAX_MESH_ELEMENTS)
             return pw_fail(e, PW_ERR_LIMIT, "half-edge mesh: more than %d corners", PW_MAX_MESH_ELEMENTS);
         if (fstart[f + 1] < fstart[f] + 3)
-            return pw_fail(e, PW_ERR_DEGENERATE, "half-edge mesh: face %d has %ld corners (at least 3 needed)",
-                           f, (long)fstart[f + 1] - fstart[f]);
+            return pw_fail(e, PW_ERR_DEGENERATE, "half-edge mesh: face %d has %ld corners (at least 3 needed)", f,
+                           (long)fstart[f + 1] - fstart[f]);
     }
     hm->nh = fstart[hm->nf];
     hm->fstart = (int *)pw_alloc_array(a, (size_t)hm->nf + 1, sizeof(int), "half-edge faces", e);
@@ -6327,8 +6318,8 @@ PW__DEF int pw__hm_steps(const pw_alloc *a, pw_hmesh *hm, int *tmp, pw_err *e)
 /* Builds the half-edge structure of a polygon mesh given as nv vertices, nf
  * faces, offsets fstart (nf+1) and corners fv (fstart[nf]); see the top of
  * the file for what is refused. */
-PW__DEF int pw_hmesh_build(const pw_alloc *a, int nv, int nf, const int *fstart, const int *fv,
-                           pw_hmesh *out, pw_err *e)
+PW__DEF int pw_hmesh_build(const pw_alloc *a, int nv, int nf, const int *fstart, const int *fv, pw_hmesh *out,
+                           pw_err *e)
 {
     int r, *tmp = NULL;
     memset(out, 0, sizeof *out);
@@ -6359,12 +6350,12 @@ PW__DEF int pw_hmesh_from_mesh(const pw_alloc *a, const pw_mesh *m, pw_hmesh *ou
 /* Connected components of faces (faces sharing an edge are connected).
  * Returns the count in *ncomp; face_comp (nf ints, may be NULL) receives
  * each face's component, numbered in order of their lowest face. */
-PW__DEF int pw_hmesh_components(const pw_alloc *a, const pw_hmesh *hm, int *face_comp, int *ncomp,
-                                pw_err *e)
+PW__DEF int pw_hmesh_components(const pw_alloc *a, const pw_hmesh *hm, int *face_comp, int *ncomp, pw_err *e)
 {
     int *comp = face_comp, *stack, f, n = 0, top;
     *ncomp = 0;
-    stack = (int *)pw_alloc_array(a, (size_t)hm->nf + (face_comp ? 0 : (size_t)hm->nf), sizeof(int), "component stack", e);
+    stack =
+        (int *)pw_alloc_array(a, (size_t)hm->nf + (face_comp ? 0 : (size_t)hm->nf), sizeof(int), "component stack", e);
     if (!stack) return PW_ERR_NOMEM;
     if (!comp) comp = stack + hm->nf;
     for (f = 0; f < hm->nf; f++) comp[f] = -1;
@@ -6377,7 +6368,10 @@ PW__DEF int pw_hmesh_components(const pw_alloc *a, const pw_hmesh *hm, int *face
             int g = stack[--top], h;
             for (h = hm->fstart[g]; h < hm->fstart[g + 1]; h++) {
                 int t = hm->twin[h];
-                if (t >= 0 && comp[hm->hface[t]] < 0) comp[hm->hface[t]] = n, stack[top++] = hm->hface[t];
+                if (t >= 0 && comp[hm->hface[t]] < 0) {
+                    comp[hm->hface[t]] = n;
+                    stack[top++] = hm->hface[t];
+                }
             }
         }
         n++;
@@ -6398,10 +6392,7 @@ PW__DEF int pw_hmesh_euler(const pw_hmesh *hm)
 
 /* Total genus of an orientable surface with `ncomp` components and
  * hm->nloops boundary loops: chi = 2c - 2g - b. */
-PW__DEF int pw_hmesh_genus(const pw_hmesh *hm, int ncomp)
-{
-    return (2 * ncomp - pw_hmesh_euler(hm) - hm->nloops) / 2;
-}
+PW__DEF int pw_hmesh_genus(const pw_hmesh *hm, int ncomp) { return (2 * ncomp - pw_hmesh_euler(hm) - hm->nloops) / 2; }
 
 /* Number of edges at vertex v (0 if isolated). */
 PW__DEF int pw_hmesh_valence(const pw_hmesh *hm, int v)
@@ -6428,14 +6419,14 @@ PW__DEF int pw_hmesh_valence(const pw_hmesh *hm, int v)
 
 
 typedef struct pw_trimesh {
-    int nv, nf;          /* vertices, triangles */
-    const float *pos;    /* nv*3, borrowed */
-    int *tri;            /* nf*3 */
+    int nv, nf;       /* vertices, triangles */
+    const float *pos; /* nv*3, borrowed */
+    int *tri;         /* nf*3 */
     pw_hmesh hm;
-    float *normal;       /* nf*3 */
-    float *area;         /* nf */
+    float *normal; /* nf*3 */
+    float *area;   /* nf */
     double total_area;
-    float diag;          /* bounding-box diagonal */
+    float diag; /* bounding-box diagonal */
 } pw_trimesh;
 
 PW__DEF void pw_trimesh_free(const pw_alloc *a, pw_trimesh *m)
@@ -6450,10 +6441,7 @@ PW__DEF void pw_trimesh_free(const pw_alloc *a, pw_trimesh *m)
 PW__DEF pw_v3 pw_trimesh_vert(const pw_trimesh *m, int v) { return pw_v3_load(m->pos + 3 * v); }
 
 /* Corner k of triangle f. */
-PW__DEF pw_v3 pw_trimesh_corner(const pw_trimesh *m, int f, int k)
-{
-    return pw_trimesh_vert(m, m->tri[3 * f + k]);
-}
+PW__DEF pw_v3 pw_trimesh_corner(const pw_trimesh *m, int f, int k) { return pw_trimesh_vert(m, m->tri[3 * f + k]); }
 
 /* The triangle across edge k of triangle f (-1 on a boundary). */
 PW__DEF int pw_trimesh_across(const pw_trimesh *m, int f, int k)
@@ -6503,18 +6491,17 @@ PW__DEF int pw__trimesh_geometry(pw_trimesh *m, int keep_degenerate, pw_err *e)
     for (f = 0; f < m->nf; f++) {
         pw_v3 a = pw_trimesh_corner(m, f, 0), b = pw_trimesh_corner(m, f, 1), c = pw_trimesh_corner(m, f, 2);
         pw_v3 n = pw_v3_cross(pw_v3_sub(b, a), pw_v3_sub(c, a));
-        float len = pw_v3_len(n), ref = pw_v3_dot(pw_v3_sub(b, a), pw_v3_sub(b, a)) +
-                                        pw_v3_dot(pw_v3_sub(c, a), pw_v3_sub(c, a));
+        float len = pw_v3_len(n),
+              ref = pw_v3_dot(pw_v3_sub(b, a), pw_v3_sub(b, a)) + pw_v3_dot(pw_v3_sub(c, a), pw_v3_sub(c, a));
         int zero = !(len > 1e-12f * ref) || !(len > 0.0f);
         if (zero && !(keep_degenerate && pw_is_finite(len) && pw_is_finite(ref)))
-            return pw_fail(e, PW_ERR_DEGENERATE, "triangle %d (vertices %d, %d, %d) has zero area", f,
-                           m->tri[3 * f], m->tri[3 * f + 1], m->tri[3 * f + 2]);
+            return pw_fail(e, PW_ERR_DEGENERATE, "triangle %d (vertices %d, %d, %d) has zero area", f, m->tri[3 * f],
+                           m->tri[3 * f + 1], m->tri[3 * f + 2]);
         pw_v3_store(m->normal + 3 * f, zero ? pw_v3_make(0, 0, 0) : pw_v3_scale(n, 1.0f / len));
         m->area[f] = zero ? 0.0f : 0.5f * len;
         m->total_area += m->area[f];
     }
-    if (!(m->total_area > 0.0))
-        return pw_fail(e, PW_ERR_DEGENERATE, "every triangle of the mesh has zero area");
+    if (!(m->total_area > 0.0)) return pw_fail(e, PW_ERR_DEGENERATE, "every triangle of the mesh has zero area");
     lo = hi = pw_trimesh_vert(m, m->tri[0]);
     for (v = 0; v < 3 * m->nf; v++) {
         lo = pw_v3_min(lo, pw_trimesh_vert(m, m->tri[v]));
@@ -6558,8 +6545,10 @@ PW__DEF int pw_trimesh_repair_normals(const pw_alloc *a, pw_trimesh *m, pw_err *
     while (pass < 250 && pw__trimesh_repair_pass(m, done, pass) > 0) pass++;
     for (f = 0; f < m->nf && r == PW_OK; f++)
         if (!(pw_v3_len(pw_v3_load(m->normal + 3 * f)) > 0.5f))
-            r = pw_fail(e, PW_ERR_DEGENERATE, "triangle %d (vertices %d, %d, %d) has zero area and no "
-                        "neighbour with a normal", f, m->tri[3 * f], m->tri[3 * f + 1], m->tri[3 * f + 2]);
+            r = pw_fail(e, PW_ERR_DEGENERATE,
+                        "triangle %d (vertices %d, %d, %d) has zero area and no "
+                        "neighbour with a normal",
+                        f, m->tri[3 * f], m->tri[3 * f + 1], m->tri[3 * f + 2]);
     pw_free(a, done);
     return r;
 }
@@ -6569,8 +6558,7 @@ PW__DEF int pw_trimesh_repair_normals(const pw_alloc *a, pw_trimesh *m, pw_err *
  * inconsistently oriented meshes and zero-area triangles are errors that
  * name the element; with keep_degenerate, zero-area triangles are kept
  * (area 0) and every degenerate triangle takes its neighbours' normal. */
-PW__DEF int pw_trimesh_init_ex(const pw_alloc *a, const pw_mesh *in, int keep_degenerate, pw_trimesh *m,
-                               pw_err *e)
+PW__DEF int pw_trimesh_init_ex(const pw_alloc *a, const pw_mesh *in, int keep_degenerate, pw_trimesh *m, pw_err *e)
 {
     int f, k, t = 0, r, *fs;
     memset(m, 0, sizeof *m);
@@ -6761,8 +6749,7 @@ PW__DEF int pw_triplets_init(pw_triplets *t, const pw_alloc *a, int n, int m, pw
 {
     memset(t, 0, sizeof *t);
     if (a) t->alloc = *a;
-    if (n < 0 || m < 0)
-        return pw_fail(e, PW_ERR_INVALID, "sparse matrix size %dx%d is negative", n, m);
+    if (n < 0 || m < 0) return pw_fail(e, PW_ERR_INVALID, "sparse matrix size %dx%d is negative", n, m);
     t->n = n;
     t->m = m;
     return PW_OK;
@@ -6788,8 +6775,7 @@ PW__DEF int pw__triplets_grow(pw_triplets *t, pw_err *e)
     size_t ncap = t->cap ? t->cap * 2 : 64;
     void *p;
     if (ncap > (size_t)INT_MAX) ncap = (size_t)INT_MAX;
-    if (ncap > (size_t)-1 / sizeof(double))
-        return pw_fail(e, PW_ERR_NOMEM, "sparse triplets: size overflow");
+    if (ncap > (size_t)-1 / sizeof(double)) return pw_fail(e, PW_ERR_NOMEM, "sparse triplets: size overflow");
     /* Each successful realloc is kept even if a later one fails: the list
      * stays valid with the old capacity. */
     if (!(p = pw_realloc(&t->alloc, t->row, ncap * sizeof(int)))) goto nomem;
@@ -6801,8 +6787,7 @@ PW__DEF int pw__triplets_grow(pw_triplets *t, pw_err *e)
     t->cap = ncap;
     return PW_OK;
 nomem:
-    return pw_fail(e, PW_ERR_NOMEM, "out of memory growing sparse triplets to %lu entries",
-                   (unsigned long)ncap);
+    return pw_fail(e, PW_ERR_NOMEM, "out of memory growing sparse triplets to %lu entries", (unsigned long)ncap);
 }
 
 /* Adds v at (i, j). Entries at the same position are summed by
@@ -6810,12 +6795,9 @@ nomem:
 PW__DEF int pw_triplets_add(pw_triplets *t, int i, int j, double v, pw_err *e)
 {
     if (i < 0 || i >= t->n || j < 0 || j >= t->m)
-        return pw_fail(e, PW_ERR_INVALID, "sparse entry (%d, %d) outside the %dx%d matrix", i,
-                       j, t->n, t->m);
-    if (!pw_is_finite(v))
-        return pw_fail(e, PW_ERR_INVALID, "sparse entry (%d, %d) is not finite", i, j);
-    if (t->count == INT_MAX)
-        return pw_fail(e, PW_ERR_LIMIT, "sparse matrix has more than %d entries", INT_MAX);
+        return pw_fail(e, PW_ERR_INVALID, "sparse entry (%d, %d) outside the %dx%d matrix", i, j, t->n, t->m);
+    if (!pw_is_finite(v)) return pw_fail(e, PW_ERR_INVALID, "sparse entry (%d, %d) is not finite", i, j);
+    if (t->count == INT_MAX) return pw_fail(e, PW_ERR_LIMIT, "sparse matrix has more than %d entries", INT_MAX);
     if ((size_t)t->count >= t->cap && pw__triplets_grow(t, e)) return PW_ERR_NOMEM;
     t->row[t->count] = i;
     t->col[t->count] = j;
@@ -6862,8 +6844,7 @@ PW__DEF int pw__csr_alloc(const pw_alloc *a, pw_csr *A, int n, int m, int nnz, p
 
 /* Stable counting sort of the entries idx[0..cnt) by key[idx[k]] in [0, nkeys):
  * writes the order to out and the start of each key to start[0..nkeys]. */
-PW__DEF void pw__counting_sort(const int *key, const int *idx, int cnt, int nkeys, int *start,
-                               int *out)
+PW__DEF void pw__counting_sort(const int *key, const int *idx, int cnt, int nkeys, int *start, int *out)
 {
     int k;
     memset(start, 0, ((size_t)nkeys + 1) * sizeof(int));
@@ -6880,8 +6861,7 @@ PW__DEF void pw__counting_sort(const int *key, const int *idx, int cnt, int nkey
 
 /* Sums the duplicates of each row of `order` (sorted by row, then column,
  * ties in insertion order, so the sums are taken in insertion order). */
-PW__DEF void pw__csr_compress(const pw_triplets *t, const int *order, const int *start,
-                              pw_csr *A)
+PW__DEF void pw__csr_compress(const pw_triplets *t, const int *order, const int *start, pw_csr *A)
 {
     int r, k, nz = 0;
     for (r = 0; r < t->n; r++) {
@@ -6938,11 +6918,12 @@ PW__DEF int pw_csr_check(const pw_csr *A, pw_err *e)
             return pw_fail(e, PW_ERR_INVALID, "sparse matrix row %d has a negative length", i);
         for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++) {
             if (A->col[k] < 0 || A->col[k] >= A->m)
-                return pw_fail(e, PW_ERR_INVALID, "sparse matrix entry %d of row %d: column %d "
-                               "outside 0..%d", k - A->rowptr[i], i, A->col[k], A->m - 1);
+                return pw_fail(e, PW_ERR_INVALID,
+                               "sparse matrix entry %d of row %d: column %d "
+                               "outside 0..%d",
+                               k - A->rowptr[i], i, A->col[k], A->m - 1);
             if (!pw_is_finite(A->val[k]))
-                return pw_fail(e, PW_ERR_INVALID, "sparse matrix entry (%d, %d) is not finite",
-                               i, A->col[k]);
+                return pw_fail(e, PW_ERR_INVALID, "sparse matrix entry (%d, %d) is not finite", i, A->col[k]);
         }
     }
     return PW_OK;
@@ -7009,8 +6990,7 @@ PW__DEF int pw_csr_transpose(const pw_alloc *a, const pw_csr *A, pw_csr *out, pw
 
 /* Counts the entries of AᵀA row by row (At = Aᵀ) into C->rowptr; fails
  * when the total does not fit in an int. */
-PW__DEF int pw__ata_count(const pw_csr *A, const pw_csr *At, int *mark, int *rowptr,
-                          pw_err *e)
+PW__DEF int pw__ata_count(const pw_csr *A, const pw_csr *At, int *mark, int *rowptr, pw_err *e)
 {
     int i, k, q;
     int64_t nnz = 0;
@@ -7026,8 +7006,7 @@ PW__DEF int pw__ata_count(const pw_csr *A, const pw_csr *At, int *mark, int *row
                 }
             }
         }
-        if (nnz > INT_MAX)
-            return pw_fail(e, PW_ERR_LIMIT, "A^T A has more than %d entries", INT_MAX);
+        if (nnz > INT_MAX) return pw_fail(e, PW_ERR_LIMIT, "A^T A has more than %d entries", INT_MAX);
         rowptr[i + 1] = (int)nnz;
     }
     return PW_OK;
@@ -7134,8 +7113,7 @@ PW__DEF int pw__check_vec(const double *v, int n, const char *what, pw_err *e)
 {
     int i;
     for (i = 0; i < n; i++)
-        if (!pw_is_finite(v[i]))
-            return pw_fail(e, PW_ERR_INVALID, "%s[%d] is not finite", what, i);
+        if (!pw_is_finite(v[i])) return pw_fail(e, PW_ERR_INVALID, "%s[%d] is not finite", what, i);
     return PW_OK;
 }
 
@@ -7150,13 +7128,13 @@ PW__DEF void pw__jacobi(double *d, int n)
 
 /* State shared by CG and CGLS: settings, counters, the outcome. */
 typedef struct pw__krylov {
-    int n;          /* unknowns */
+    int n; /* unknowns */
     int max_iter;
     double tol;
-    double bnorm;   /* norm the residual is measured against */
-    double rnorm;   /* current (recurrence) residual norm */
+    double bnorm; /* norm the residual is measured against */
+    double rnorm; /* current (recurrence) residual norm */
     int it;
-    int status;     /* PW_OK, or why the loop stopped */
+    int status; /* PW_OK, or why the loop stopped */
     const pw_progress *progress;
 } pw__krylov;
 
@@ -7184,8 +7162,7 @@ PW__DEF int pw__krylov_report(pw__krylov *k, pw_err *e)
 
 /* Fills the stats and turns a stop without convergence into an error that
  * carries the residual. `what` names the solver. */
-PW__DEF int pw__krylov_finish(const pw__krylov *k, double true_rnorm, const char *what,
-                              pw_cg_stats *s, pw_err *e)
+PW__DEF int pw__krylov_finish(const pw__krylov *k, double true_rnorm, const char *what, pw_cg_stats *s, pw_err *e)
 {
     double rel = true_rnorm / k->bnorm;
     if (s) {
@@ -7196,11 +7173,15 @@ PW__DEF int pw__krylov_finish(const pw__krylov *k, double true_rnorm, const char
     if (rel <= k->tol) return PW_OK;
     if (k->status == PW_ERR_CANCELLED) return k->status;
     if (k->status)
-        return pw_fail(e, PW_ERR_NOCONVERGE, "%s broke down after %d iterations (the matrix is "
+        return pw_fail(e, PW_ERR_NOCONVERGE,
+                       "%s broke down after %d iterations (the matrix is "
                        "not positive definite or the system is inconsistent): relative "
-                       "residual %.3g, tolerance %.3g", what, k->it, rel, k->tol);
-    return pw_fail(e, PW_ERR_NOCONVERGE, "%s stopped at the cap of %d iterations: relative "
-                   "residual %.3g, tolerance %.3g", what, k->it, rel, k->tol);
+                       "residual %.3g, tolerance %.3g",
+                       what, k->it, rel, k->tol);
+    return pw_fail(e, PW_ERR_NOCONVERGE,
+                   "%s stopped at the cap of %d iterations: relative "
+                   "residual %.3g, tolerance %.3g",
+                   what, k->it, rel, k->tol);
 }
 
 /* The loops below are fused so that each iteration streams the matrix once
@@ -7236,8 +7217,7 @@ PW__DEF double pw__precond_dots(const double *r, const double *dinv, int n, doub
 }
 
 /* p = D⁻¹r + beta p (beta = 0 restarts along the preconditioned residual). */
-PW__DEF void pw__new_direction(double *p, const double *r, const double *dinv, double beta,
-                               int n)
+PW__DEF void pw__new_direction(double *p, const double *r, const double *dinv, double beta, int n)
 {
     int i;
     if (beta == 0)
@@ -7273,8 +7253,7 @@ PW__DEF double pw__cg_step(double *x, pw__cg_ws *w, int n, double pq, double *rz
 /* Preconditioned CG iterations from x; r holds b - A x on entry. Restarts
  * from the true residual when the recurrence claims convergence that the
  * true residual does not confirm (rounding drift). */
-PW__DEF void pw__cg_loop(const pw_csr *A, const double *b, double *x, pw__cg_ws *w,
-                         pw__krylov *k, pw_err *e)
+PW__DEF void pw__cg_loop(const pw_csr *A, const double *b, double *x, pw__cg_ws *w, pw__krylov *k, pw_err *e)
 {
     int n = k->n, restart = 1, fresh = 1;
     double rz = 0, rr;
@@ -7314,8 +7293,8 @@ PW__DEF void pw__cg_loop(const pw_csr *A, const double *b, double *x, pw__cg_ws 
  * progress callback stopped it: in those three cases x holds the last
  * iterate, never worse in the energy norm than the guess, and *s its
  * residual. */
-PW__DEF int pw_cg_solve(const pw_alloc *a, const pw_csr *A, const double *b, double *x,
-                        const pw_cg_options *o, pw_cg_stats *s, pw_err *e)
+PW__DEF int pw_cg_solve(const pw_alloc *a, const pw_csr *A, const double *b, double *x, const pw_cg_options *o,
+                        pw_cg_stats *s, pw_err *e)
 {
     pw__krylov k;
     pw__cg_ws w;
@@ -7324,8 +7303,7 @@ PW__DEF int pw_cg_solve(const pw_alloc *a, const pw_csr *A, const double *b, dou
     if (pw_csr_check(A, e)) return PW_ERR_INVALID;
     n = A->n;
     if (A->m != n) return pw_fail(e, PW_ERR_INVALID, "CG needs a square matrix, not %dx%d", n, A->m);
-    if (pw__check_vec(b, n, "CG right-hand side b", e) || pw__check_vec(x, n, "CG guess x", e))
-        return PW_ERR_INVALID;
+    if (pw__check_vec(b, n, "CG right-hand side b", e) || pw__check_vec(x, n, "CG guess x", e)) return PW_ERR_INVALID;
     PW_SOLVE_HOOK("cg", A, b, x, o);
     pw__krylov_init(&k, n, o);
     k.bnorm = sqrt(pw__dot(b, b, n));
@@ -7427,7 +7405,7 @@ PW__DEF int pw_ic0_factor(const pw_alloc *a, const pw_csr *A, pw_ic0 *L, pw_err 
         pw_ic0_free(a, L);
         return PW_ERR_NOMEM;
     }
-    for (k = 0; k < 40; k++, shift = shift > 0.0 ? 2.0 * shift : 1e-3)
+    for (k = 0; k<40; k++, shift = shift> 0.0 ? 2.0 * shift : 1e-3)
         if (pw__ic0_try(A, shift, L)) return PW_OK;
     pw_ic0_free(a, L);
     return pw_fail(e, PW_ERR_INVALID, "IC(0): the matrix is not positive definite");
@@ -7482,7 +7460,9 @@ PW__DEF int pw__pcg_run(const pw_alloc *a, const pw__pcg_op *op, const pw_cg_opt
         return PW_OK;
     }
     if (!(r = (double *)pw_alloc_array(a, (size_t)n * 4, sizeof(double), "PCG vectors", e))) return PW_ERR_NOMEM;
-    z = r + n, p = z + n, q = p + n;
+    z = r + n;
+    p = z + n;
+    q = p + n;
     op->mul(op->actx, x, r);
     for (i = 0; i < n; i++) r[i] = b[i] - r[i];
     op->precond(op->mctx, r, z);
@@ -7495,7 +7475,10 @@ PW__DEF int pw__pcg_run(const pw_alloc *a, const pw__pcg_op *op, const pw_cg_opt
             break;
         }
         alpha = rz / pq;
-        for (i = 0; i < n; i++) x[i] += alpha * p[i], r[i] -= alpha * q[i];
+        for (i = 0; i < n; i++) {
+            x[i] += alpha * p[i];
+            r[i] -= alpha * q[i];
+        }
         op->precond(op->mctx, r, z);
         rz1 = pw__dot(r, z, n);
         for (i = 0; i < n; i++) p[i] = z[i] + rz1 / rz * p[i];
@@ -7532,7 +7515,9 @@ PW__DEF int pw_pcg_solve(const pw_alloc *a, const pw_csr *A, const pw_ic0 *M, co
     op.precond = pw__ic0_op;
     op.actx = A;
     op.mctx = M;
-    op.b = b, op.x = x, op.what = "PCG";
+    op.b = b;
+    op.x = x;
+    op.what = "PCG";
     return pw__pcg_run(a, &op, o, s, e);
 }
 
@@ -7545,8 +7530,7 @@ typedef struct pw__cgls_ws {
 } pw__cgls_ws;
 
 /* r = b - A x, s = Aᵀ r; returns |s|. */
-PW__DEF double pw__cgls_residual(const pw_csr *A, const double *b, const double *x,
-                                 pw__cgls_ws *w)
+PW__DEF double pw__cgls_residual(const pw_csr *A, const double *b, const double *x, pw__cgls_ws *w)
 {
     pw__residual(A, b, x, w->r);
     pw_csr_mul_t(A, w->r, w->s);
@@ -7573,8 +7557,7 @@ PW__DEF double pw__cgls_step(const pw_csr *A, double *x, pw__cgls_ws *w, double 
 
 /* CGLS iterations, structured like pw__cg_loop with the normal-equation
  * residual s = Aᵀ(b - A x) in the role of CG's residual. */
-PW__DEF void pw__cgls_loop(const pw_csr *A, const double *b, double *x, pw__cgls_ws *w,
-                           pw__krylov *k, pw_err *e)
+PW__DEF void pw__cgls_loop(const pw_csr *A, const double *b, double *x, pw__cgls_ws *w, pw__krylov *k, pw_err *e)
 {
     int m = A->m, restart = 1, fresh = 1;
     double gamma = 0, ss;
@@ -7620,8 +7603,8 @@ PW__DEF void pw__col_norms2(const pw_csr *A, double *d)
  * minimum even when A x = b has no solution); stats->residual reports it.
  * Aᵀb = 0 gives x = 0. Unknowns that no row touches keep their guess. Errors
  * and the meaning of x after a failure are as for pw_cg_solve. */
-PW__DEF int pw_lsq_solve(const pw_alloc *a, const pw_csr *A, const double *b, double *x,
-                         const pw_cg_options *o, pw_cg_stats *s, pw_err *e)
+PW__DEF int pw_lsq_solve(const pw_alloc *a, const pw_csr *A, const double *b, double *x, const pw_cg_options *o,
+                         pw_cg_stats *s, pw_err *e)
 {
     pw__krylov k;
     pw__cgls_ws w;
@@ -7629,13 +7612,11 @@ PW__DEF int pw_lsq_solve(const pw_alloc *a, const pw_csr *A, const double *b, do
     if (s) memset(s, 0, sizeof *s);
     if (pw_csr_check(A, e)) return PW_ERR_INVALID;
     m = A->m;
-    if (pw__check_vec(b, A->n, "least-squares right-hand side b", e) ||
-        pw__check_vec(x, m, "least-squares guess x", e))
+    if (pw__check_vec(b, A->n, "least-squares right-hand side b", e) || pw__check_vec(x, m, "least-squares guess x", e))
         return PW_ERR_INVALID;
     PW_SOLVE_HOOK("lsq", A, b, x, o);
     pw__krylov_init(&k, m, o);
-    w.r = (double *)pw_alloc_array(a, (size_t)A->n * 2 + (size_t)m * 3, sizeof(double),
-                                   "least-squares vectors", e);
+    w.r = (double *)pw_alloc_array(a, (size_t)A->n * 2 + (size_t)m * 3, sizeof(double), "least-squares vectors", e);
     if (!w.r) return PW_ERR_NOMEM;
     w.q = w.r + A->n;
     w.s = w.q + A->n;
@@ -7678,17 +7659,22 @@ PW__DEF int pw_lsq_solve(const pw_alloc *a, const pw_csr *A, const double *b, do
  * columns, its rows increasing. */
 typedef struct pw_ldlt {
     int n;
-    int *perm;  /* n: new index k is the original unknown perm[k] */
-    int *Lp;    /* n+1: column j of L (strictly below the diagonal) is Li/Lx[Lp[j] .. Lp[j+1]-1] */
+    int *perm; /* n: new index k is the original unknown perm[k] */
+    int *Lp;   /* n+1: column j of L (strictly below the diagonal) is Li/Lx[Lp[j] .. Lp[j+1]-1] */
     int *Li;
     double *Lx;
-    double *D;  /* n: the diagonal */
+    double *D;    /* n: the diagonal */
     double *work; /* n: solve scratch */
 } pw_ldlt;
 
 PW__DEF void pw_ldlt_free(const pw_alloc *a, pw_ldlt *F)
 {
-    pw_free(a, F->perm), pw_free(a, F->Lp), pw_free(a, F->Li), pw_free(a, F->Lx), pw_free(a, F->D), pw_free(a, F->work);
+    pw_free(a, F->perm);
+    pw_free(a, F->Lp);
+    pw_free(a, F->Li);
+    pw_free(a, F->Lx);
+    pw_free(a, F->D);
+    pw_free(a, F->work);
     memset(F, 0, sizeof *F);
 }
 
@@ -7696,18 +7682,24 @@ PW__DEF void pw_ldlt_free(const pw_alloc *a, pw_ldlt *F)
 typedef struct pw__mdg {
     const pw_alloc *a;
     int n;
-    int **adj, *deg, *cap;  /* sorted neighbour lists */
+    int **adj, *deg, *cap;   /* sorted neighbour lists */
     int *head, *next, *prev; /* degree buckets: doubly linked lists */
     unsigned char *gone;
-    int *tmp;               /* merge scratch, n */
+    int *tmp; /* merge scratch, n */
 } pw__mdg;
 
 PW__DEF void pw__mdg_free(pw__mdg *G)
 {
     int i;
     for (i = 0; G->adj && i < G->n; i++) pw_free(G->a, G->adj[i]);
-    pw_free(G->a, G->adj), pw_free(G->a, G->deg), pw_free(G->a, G->cap), pw_free(G->a, G->head);
-    pw_free(G->a, G->next), pw_free(G->a, G->prev), pw_free(G->a, G->gone), pw_free(G->a, G->tmp);
+    pw_free(G->a, G->adj);
+    pw_free(G->a, G->deg);
+    pw_free(G->a, G->cap);
+    pw_free(G->a, G->head);
+    pw_free(G->a, G->next);
+    pw_free(G->a, G->prev);
+    pw_free(G->a, G->gone);
+    pw_free(G->a, G->tmp);
 }
 
 PW__DEF void pw__mdg_unlink(pw__mdg *G, int v)
@@ -7733,7 +7725,8 @@ PW__DEF int pw__mdg_init(pw__mdg *G, const pw_alloc *a, const pw_csr *A, pw_err 
 {
     int n = A->n, i, k;
     memset(G, 0, sizeof *G);
-    G->a = a, G->n = n;
+    G->a = a;
+    G->n = n;
     G->adj = (int **)pw_calloc_array(a, (size_t)n, sizeof(int *), "ordering graph", e);
     G->deg = (int *)pw_calloc_array(a, (size_t)n, sizeof(int), "ordering graph", e);
     G->cap = (int *)pw_calloc_array(a, (size_t)n, sizeof(int), "ordering graph", e);
@@ -7747,7 +7740,8 @@ PW__DEF int pw__mdg_init(pw__mdg *G, const pw_alloc *a, const pw_csr *A, pw_err 
         int d = 0;
         for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++) d += A->col[k] != i;
         G->cap[i] = d > 4 ? d : 4;
-        if (!(G->adj[i] = (int *)pw_alloc_array(a, (size_t)G->cap[i], sizeof(int), "ordering graph", e))) return PW_ERR_NOMEM;
+        if (!(G->adj[i] = (int *)pw_alloc_array(a, (size_t)G->cap[i], sizeof(int), "ordering graph", e)))
+            return PW_ERR_NOMEM;
         for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++)
             if (A->col[k] != i) G->adj[i][G->deg[i]++] = A->col[k];
     }
@@ -7764,13 +7758,17 @@ PW__DEF int pw__mdg_merge(pw__mdg *G, int u, const int *nb, int nn, pw_err *e)
         int x;
         if (j >= nn || (i < du && au[i] < nb[j])) x = au[i++];
         else if (i >= du || nb[j] < au[i]) x = nb[j++];
-        else x = au[i++], j++;
+        else {
+            x = au[i++];
+            j++;
+        }
         if (x != u && !G->gone[x]) G->tmp[m++] = x;
     }
     if (m > G->cap[u]) {
         int *grown = (int *)pw_realloc(G->a, au, sizeof(int) * (size_t)m);
         if (!grown) return pw_fail(e, PW_ERR_NOMEM, "out of memory ordering a sparse matrix");
-        G->adj[u] = grown, G->cap[u] = m;
+        G->adj[u] = grown;
+        G->cap[u] = m;
     }
     memcpy(G->adj[u], G->tmp, sizeof(int) * (size_t)m);
     G->deg[u] = m;
@@ -7783,7 +7781,8 @@ PW__DEF int pw__min_degree(const pw_alloc *a, const pw_csr *A, int *perm, pw_err
     pw__mdg G;
     int k, d, r = pw__mdg_init(&G, a, A, e);
     int *nb = NULL;
-    if (r == PW_OK && !(nb = (int *)pw_alloc_array(a, (size_t)A->n, sizeof(int), "ordering graph", e))) r = PW_ERR_NOMEM;
+    if (r == PW_OK && !(nb = (int *)pw_alloc_array(a, (size_t)A->n, sizeof(int), "ordering graph", e)))
+        r = PW_ERR_NOMEM;
     for (k = 0; k < A->n && r == PW_OK; k++) {
         int v, nn, i;
         d = 0;
@@ -7813,7 +7812,9 @@ PW__DEF void pw__ldlt_symbolic(const pw_csr *A, const int *perm, const int *iper
     int k, p;
     for (k = 0; k < A->n; k++) {
         int old = perm[k];
-        parent[k] = -1, flag[k] = k, count[k] = 0;
+        parent[k] = -1;
+        flag[k] = k;
+        count[k] = 0;
         for (p = A->rowptr[old]; p < A->rowptr[old + 1]; p++) {
             int i = iperm[A->col[p]];
             for (; i < k && flag[i] != k; i = parent[i]) {
@@ -7852,7 +7853,10 @@ PW__DEF int pw__ldlt_row(pw_ldlt *F, const pw_csr *A, const pw__ldlt_work *W, in
         int i = iperm[A->col[p]], n = 0;
         if (i > k) continue;
         y[i] += A->val[p];
-        for (; flag[i] != k; i = parent[i]) pattern[n++] = i, flag[i] = k;
+        for (; flag[i] != k; i = parent[i]) {
+            pattern[n++] = i;
+            flag[i] = k;
+        }
         while (n > 0) pattern[--top] = pattern[--n];
     }
     F->D[k] = akk = y[k];
@@ -7891,7 +7895,10 @@ PW__DEF int pw_ldlt_factor(const pw_alloc *a, const pw_csr *A, pw_ldlt *F, pw_er
     if (!F->perm || !F->Lp || !F->D || !F->work || !iperm || !y) r = PW_ERR_NOMEM;
     if (r == PW_OK) r = pw__min_degree(a, A, F->perm, e);
     if (r == PW_OK) {
-        parent = iperm + n, flag = parent + n, len = flag + n, pattern = len + n;
+        parent = iperm + n;
+        flag = parent + n;
+        len = flag + n;
+        pattern = len + n;
         for (k = 0; k < n; k++) iperm[F->perm[k]] = k;
         pw__ldlt_symbolic(A, F->perm, iperm, parent, len, flag);
         for (F->Lp[0] = 0, k = 0; k < n; k++) F->Lp[k + 1] = F->Lp[k] + len[k];
@@ -7899,13 +7906,20 @@ PW__DEF int pw_ldlt_factor(const pw_alloc *a, const pw_csr *A, pw_ldlt *F, pw_er
         F->Lx = (double *)pw_alloc_array(a, (size_t)F->Lp[n] + 1, sizeof(double), "LDLT factor", e);
         if (!F->Li || !F->Lx) r = PW_ERR_NOMEM;
         for (k = 0; k < n; k++) len[k] = 0;
-        W.iperm = iperm, W.parent = parent, W.len = len, W.flag = flag, W.pattern = pattern, W.y = y;
+        W.iperm = iperm;
+        W.parent = parent;
+        W.len = len;
+        W.flag = flag;
+        W.pattern = pattern;
+        W.y = y;
         for (k = 0; k < n && r == PW_OK; k++)
             if (!pw__ldlt_row(F, A, &W, k))
-                r = pw_fail(e, PW_ERR_DEGENERATE, "LDLT: the matrix is not positive definite (pivot %d of %d, unknown %d, is %g)",
-                            k, n, F->perm[k], F->D[k]);
+                r = pw_fail(e, PW_ERR_DEGENERATE,
+                            "LDLT: the matrix is not positive definite (pivot %d of %d, unknown %d, is %g)", k, n,
+                            F->perm[k], F->D[k]);
     }
-    pw_free(a, iperm), pw_free(a, y);
+    pw_free(a, iperm);
+    pw_free(a, y);
     if (r != PW_OK) pw_ldlt_free(a, F);
     return r;
 }
@@ -7975,24 +7989,24 @@ PW__DEF long pw_ldlt_nnz(const pw_ldlt *F) { return F->n ? (long)F->Lp[F->n] : 0
 
 /* The raster target: viewport size and the fixed-point precision it allows. */
 typedef struct pw_raster_grid {
-    int w, h;     /* pixels [0, w) x [0, h) */
+    int w, h;       /* pixels [0, w) x [0, h) */
     int row0, row1; /* rows rasterized: [row0, row1), default [0, h) (a band of the frame;
                        snapping depends on w and h only, so a band covers exactly the
                        pixels the whole frame would in its rows) */
-    int bits;     /* sub-pixel bits: vertices snap to multiples of 2^-bits */
-    double range; /* |coordinate| <= range is rasterized directly, beyond is clipped */
+    int bits;       /* sub-pixel bits: vertices snap to multiples of 2^-bits */
+    double range;   /* |coordinate| <= range is rasterized directly, beyond is clipped */
 } pw_raster_grid;
 
 /* One snapped triangle. Edge k is opposite vertex k; its value at a pixel
  * centre is (twice the area of the sub-triangle) * 2^(2 bits), positive
  * inside, and the barycentric of vertex k is (e_k - bias_k) / area2. */
 typedef struct pw_raster_edges {
-    int64_t e[3];    /* edge values at the centre of pixel (x0, y0), bias included */
-    int64_t ex[3];   /* change per pixel step to the right */
-    int64_t ey[3];   /* change per row down */
-    int64_t bias[3]; /* 0 on top-left edges, -1 elsewhere: covered iff all e >= 0 */
-    int64_t area2;   /* twice the snapped area in grid units, > 0 */
-    int orient;      /* +1 or -1: sign of the area as given (y down) */
+    int64_t e[3];       /* edge values at the centre of pixel (x0, y0), bias included */
+    int64_t ex[3];      /* change per pixel step to the right */
+    int64_t ey[3];      /* change per row down */
+    int64_t bias[3];    /* 0 on top-left edges, -1 elsewhere: covered iff all e >= 0 */
+    int64_t area2;      /* twice the snapped area in grid units, > 0 */
+    int orient;         /* +1 or -1: sign of the area as given (y down) */
     int x0, y0, x1, y1; /* candidate pixels [x0, x1) x [y0, y1), inside the viewport */
     /* row walker (pw_raster_next), an exact integer DDA over the edges that
      * bound runs: nl left ones first, then right ones (horizontal edges only
@@ -8216,7 +8230,7 @@ PW__DEF int pw_raster_span(const pw_raster_edges *s, int y, int *xa, int *xb)
     for (k = 0; k < 3; k++) {
         int64_t e = s->e[k] + s->ey[k] * (y - s->y0), a = s->ex[k], d;
         double t = a ? -(double)e / (double)a : 0.0; /* the bound, within 1e-6 */
-        if (a > 0) {                        /* first d with e + a d >= 0 */
+        if (a > 0) {                                 /* first d with e + a d >= 0 */
             if (e >= 0) continue;
             if (t > (double)n + 1.0) return 0;
             d = (int64_t)t + 1; /* floor(t) + 1: the answer, or one off either way */
@@ -8258,8 +8272,7 @@ PW__DEF void pw__raster_cut(const double *p, const double *q, int axis, double c
 
 /* Clips the polygon in[n] (xy pairs) to the half-plane side*coord[axis] <=
  * range; returns the new vertex count. */
-PW__DEF int pw__raster_clip1(const double *in, int n, int axis, double side, double range,
-                             double *out)
+PW__DEF int pw__raster_clip1(const double *in, int n, int axis, double side, double range, double *out)
 {
     int i, m = 0;
     for (i = 0; i < n; i++) {
@@ -8283,8 +8296,7 @@ PW__DEF int pw__raster_clip1(const double *in, int n, int axis, double side, dou
  * PW_RASTER_MAX_PIECES setups and returns their count. Fan pieces whose
  * snapped orientation disagrees with the polygon's are slivers made by
  * snapping near-collinear clip points (far outside the viewport): dropped. */
-PW__DEF int pw_raster_polygon(const pw_raster_grid *g, const double *xy, int n,
-                              pw_raster_edges *out)
+PW__DEF int pw_raster_polygon(const pw_raster_grid *g, const double *xy, int n, pw_raster_edges *out)
 {
     double a[16], b[16], tri[6], area = 0.0;
     int i, np = 0, inside = 1;
@@ -8308,8 +8320,7 @@ PW__DEF int pw_raster_polygon(const pw_raster_grid *g, const double *xy, int n,
         tri[0] = a[0];
         tri[1] = a[1];
         memcpy(tri + 2, a + 2 * i, sizeof(double) * 4);
-        if (pw_raster_setup(out + np, g, tri) && (n == 3 || (out[np].orient > 0) == (area > 0)))
-            np++;
+        if (pw_raster_setup(out + np, g, tri) && (n == 3 || (out[np].orient > 0) == (area > 0))) np++;
     }
     return np;
 }
@@ -8333,16 +8344,14 @@ PW__DEF int pw__raster_bary_planes(const double *v, double *p)
 
 /* Reports the pixels of one piece, with barycentrics either from its own
  * exact edge values (planes == NULL) or from the original triangle. */
-PW__DEF void pw__raster_emit(pw_raster_edges *s, const double *planes, pw_raster_fn fn,
-                             void *user)
+PW__DEF void pw__raster_emit(pw_raster_edges *s, const double *planes, pw_raster_fn fn, void *user)
 {
     double inv = 1.0 / (double)s->area2;
     int y, x, xa, xb, k;
     for (y = s->y0; y < s->y1; y++) {
         int64_t e[3];
         if (!pw_raster_next(s, &xa, &xb)) continue;
-        for (k = 0; k < 3; k++)
-            e[k] = s->e[k] - s->bias[k] + s->ey[k] * (y - s->y0) + s->ex[k] * (xa - s->x0);
+        for (k = 0; k < 3; k++) e[k] = s->e[k] - s->bias[k] + s->ey[k] * (y - s->y0) + s->ex[k] * (xa - s->x0);
         for (x = xa; x < xb; x++) {
             if (planes) {
                 double cx = x + 0.5, cy = y + 0.5;
@@ -8350,8 +8359,7 @@ PW__DEF void pw__raster_emit(pw_raster_edges *s, const double *planes, pw_raster
                    (float)(planes[3] * cx + planes[4] * cy + planes[5]),
                    (float)(planes[6] * cx + planes[7] * cy + planes[8]));
             } else {
-                fn(user, x, y, (float)((double)e[0] * inv), (float)((double)e[1] * inv),
-                   (float)((double)e[2] * inv));
+                fn(user, x, y, (float)((double)e[0] * inv), (float)((double)e[1] * inv), (float)((double)e[2] * inv));
             }
             for (k = 0; k < 3; k++) e[k] += s->ex[k];
         }
@@ -8504,10 +8512,10 @@ enum { PW_DEPTH_LESS = 0, PW_DEPTH_LEQUAL = 1, PW_DEPTH_ALWAYS = 2 };
 enum { PW_LIGHT_NONE = 0, PW_LIGHT_CAMERA = 1, PW_LIGHT_WORLD = 2 };
 enum { PW_CULL_NONE = 0, PW_CULL_BACK = 1, PW_CULL_FRONT = 2 };
 
-#define PW_FB_MAX_SS 8              /* samples per pixel side */
-#define PW_FB_NONE 0xFFFFFFFFu      /* visibility id of an untouched sample */
+#define PW_FB_MAX_SS 8         /* samples per pixel side */
+#define PW_FB_NONE 0xFFFFFFFFu /* visibility id of an untouched sample */
 #define PW_TEXTURE_MAX_LEVELS 32
-#define PW_DEPTH_TOLERANCE 1e-4f    /* default relative slack of PW_DEPTH_LEQUAL */
+#define PW_DEPTH_TOLERANCE 1e-4f /* default relative slack of PW_DEPTH_LEQUAL */
 
 /* ---------------------------------------------------------------- camera */
 
@@ -8528,10 +8536,7 @@ typedef struct pw__view {
 
 /* double to float without the undefined behaviour of converting a value
  * beyond the float range (absurd inputs): clamps to +-FLT_MAX. */
-PW__DEF float pw__f(double x)
-{
-    return x > FLT_MAX ? FLT_MAX : (x < -FLT_MAX ? -FLT_MAX : (float)x);
-}
+PW__DEF float pw__f(double x) { return x > FLT_MAX ? FLT_MAX : (x < -FLT_MAX ? -FLT_MAX : (float)x); }
 
 /* tan of an angle in degrees, 0 < deg < 180, from the sine and cosine
  * series: the same bits on every platform, unlike libm's tan. */
@@ -8571,11 +8576,10 @@ PW__DEF int pw__view_init(pw__view *v, const pw_camera *cam, int sw, int sh, pw_
 {
     double t;
     if (!(cam->fovy_deg > 0.0f && cam->fovy_deg < 180.0f))
-        return pw_fail(e, PW_ERR_INVALID, "camera: field of view %g degrees outside (0, 180)",
-                       (double)cam->fovy_deg);
+        return pw_fail(e, PW_ERR_INVALID, "camera: field of view %g degrees outside (0, 180)", (double)cam->fovy_deg);
     if (!(cam->znear > 0.0f && cam->zfar > cam->znear) || !pw_is_finite(cam->zfar))
-        return pw_fail(e, PW_ERR_INVALID, "camera: need 0 < znear < zfar (znear %g, zfar %g)",
-                       (double)cam->znear, (double)cam->zfar);
+        return pw_fail(e, PW_ERR_INVALID, "camera: need 0 < znear < zfar (znear %g, zfar %g)", (double)cam->znear,
+                       (double)cam->zfar);
     if (!pw__camera_basis(cam, v))
         return pw_fail(e, PW_ERR_INVALID,
                        "camera: eye, target and up must be finite, eye != target, up not along the view");
@@ -8722,8 +8726,8 @@ PW__DEF double pw__fit_distance(const float *pos, int nv, const pw__view_basis *
  * view shrunk by 5% (vertical fovy_deg, horizontal from aspect = width /
  * height); near and far enclose the mesh. Invalid fovy (outside (0, 180))
  * becomes 45, invalid aspect 1. */
-PW__DEF pw_camera pw_camera_frame(const float *pos, int nv, const float view_dir[3],
-                                  const float up[3], float fovy_deg, float aspect)
+PW__DEF pw_camera pw_camera_frame(const float *pos, int nv, const float view_dir[3], const float up[3], float fovy_deg,
+                                  float aspect)
 {
     pw_camera cam;
     pw__view_basis B;
@@ -8751,7 +8755,12 @@ PW__DEF pw_camera pw_camera_frame(const float *pos, int nv, const float view_dir
     pw__bounding_sphere(pos, pos ? nv : 0, c, &r);
     t = 0.95 * pw__tan_deg(0.5 * fovy_deg);
     tx = t * aspect;
-    for (k = 0; k < 3; k++) B.c[k] = c[k], B.rt[k] = x[k], B.up[k] = y[k], B.vd[k] = vd[k];
+    for (k = 0; k < 3; k++) {
+        B.c[k] = c[k];
+        B.rt[k] = x[k];
+        B.up[k] = y[k];
+        B.vd[k] = vd[k];
+    }
     B.ox = B.oy = 0.0;
     pw__view_extent(pos, pos ? nv : 0, &B, lo, hi);
     B.ox = 0.5 * (lo[0] + hi[0]);
@@ -8765,7 +8774,8 @@ PW__DEF pw_camera pw_camera_frame(const float *pos, int nv, const float view_dir
         B.ox += 0.5 * (range[0] + range[1]) * dist;
         B.oy += 0.5 * (range[2] + range[3]) * dist;
     }
-    ox = B.ox, oy = B.oy;
+    ox = B.ox;
+    oy = B.oy;
     for (k = 0; k < 3; k++) {
         cam.target[k] = pw__f(c[k] + ox * x[k] + oy * y[k]);
         cam.eye[k] = pw__f(cam.target[k] - vd[k] * dist);
@@ -8815,11 +8825,9 @@ PW__DEF void pw__mip_down(const pw_texture *t, int L, const float *src, float *d
 {
     int W = t->lw[L], H = t->lh[L], W2 = t->lw[L + 1], H2 = t->lh[L + 1];
     int y, x;
-    for (y = 0; y < H; y++)
-        pw__box_1d(src + (size_t)y * W * 4, W, 4, tmp + (size_t)y * W2 * 4, W2, 4);
+    for (y = 0; y < H; y++) pw__box_1d(src + (size_t)y * W * 4, W, 4, tmp + (size_t)y * W2 * 4, W2, 4);
     for (x = 0; x < W2; x++)
-        pw__box_1d(tmp + (size_t)x * 4, H, (ptrdiff_t)W2 * 4, dst + (size_t)x * 4, H2,
-                   (ptrdiff_t)W2 * 4);
+        pw__box_1d(tmp + (size_t)x * 4, H, (ptrdiff_t)W2 * 4, dst + (size_t)x * 4, H2, (ptrdiff_t)W2 * 4);
 }
 
 /* Converts any channel count to premultiplied float RGBA. */
@@ -8872,8 +8880,7 @@ PW__DEF void pw__tex_sizes(pw_texture *t, int max_levels)
  * area-weighted box filter of premultiplied colour, computed in float from
  * the level above, so transparent texels do not bleed their colour. Free
  * with pw_texture_free. */
-PW__DEF int pw_texture_create(const pw_alloc *a, pw_texture *t, const pw_image *img,
-                              int max_levels, pw_err *e)
+PW__DEF int pw_texture_create(const pw_alloc *a, pw_texture *t, const pw_image *img, int max_levels, pw_err *e)
 {
     size_t total = 0, off = 0, n0;
     uint16_t *data;
@@ -8936,11 +8943,11 @@ PW__DEF void pw_texture_clear_border(pw_texture *t, int min_size)
         int W = t->lw[L], H = t->lh[L];
         uint16_t *p = t->level[L];
         if (W <= min_size || H <= min_size) continue;
-        memset(p, 0, (size_t)W * 4 * sizeof(uint16_t));                   /* top row */
+        memset(p, 0, (size_t)W * 4 * sizeof(uint16_t));                           /* top row */
         memset(p + (size_t)(H - 1) * W * 4, 0, (size_t)W * 4 * sizeof(uint16_t)); /* bottom row */
         for (y = 1; y < H - 1; y++)
             for (x = 0; x < 4; x++) {
-                p[((size_t)y * W) * 4 + x] = 0;          /* left column */
+                p[((size_t)y * W) * 4 + x] = 0;         /* left column */
                 p[((size_t)y * W + W - 1) * 4 + x] = 0; /* right column */
             }
     }
@@ -9027,8 +9034,7 @@ PW__DEF void pw__tex_trilinear(const pw_texture *t, float u, float v, float lod,
  * and wrap mode; lod (log2 of the footprint in level-0 texels) selects and
  * blends mip levels for PW_FILTER_TRILINEAR and is ignored otherwise
  * (PW_FILTER_NEAREST and _BILINEAR read level 0). out = premultiplied RGBA. */
-PW__DEF void pw_texture_sample(const pw_texture *t, float u, float v, float lod, int filter,
-                               int wrap, float out[4])
+PW__DEF void pw_texture_sample(const pw_texture *t, float u, float v, float lod, int filter, int wrap, float out[4])
 {
     const float s = 1.0f / 65535.0f;
     float a[4];
@@ -9066,8 +9072,7 @@ PW__DEF float pw__log2f(float x)
     memcpy(&m, &bits, sizeof m); /* mantissa in [1, 2) */
     s = (m - 1.0f) / (m + 1.0f);
     s2 = s * s;
-    return (float)ex +
-           s * (2.8853900818f + s2 * (0.9617966939f + s2 * (0.5770780164f + s2 * 0.4121985831f)));
+    return (float)ex + s * (2.8853900818f + s2 * (0.9617966939f + s2 * (0.5770780164f + s2 * 0.4121985831f)));
 }
 
 /* PW_NO_RENDER leaves out the rest but the pw_parallel type the public
@@ -9079,24 +9084,24 @@ PW__DEF float pw__log2f(float x)
 /* ----------------------------------------------------------- framebuffer */
 
 typedef struct pw_fb {
-    int w, h, ss;  /* pixels; ss x ss samples per pixel */
-    int sw, sh;    /* sample grid: w*ss x h*ss, sample (x, y) centred at ((x+.5)/ss, (y+.5)/ss) pixels */
-    int y0, bh;    /* the sample rows held: [y0, y0 + bh), a band of the frame (all of it
+    int w, h, ss;   /* pixels; ss x ss samples per pixel */
+    int sw, sh;     /* sample grid: w*ss x h*ss, sample (x, y) centred at ((x+.5)/ss, (y+.5)/ss) pixels */
+    int y0, bh;     /* the sample rows held: [y0, y0 + bh), a band of the frame (all of it
                       unless made by pw_fb_create_band); draws cover only these */
-    int band_rows; /* pixel rows a band can hold */
-    float bg[4];   /* background, straight RGBA */
-    float *color;  /* sw*bh*4 premultiplied RGBA, sample (x, y) at ((y-y0)*sw + x)*4, row 0 at the top */
-    float *depth;  /* sw*bh, q = 1/(distance along the view axis); 0 = nothing drawn */
-    uint32_t *vis; /* sw*bh triangle ids of the opaque draw under way; PW_FB_NONE between draws */
-    double *vbuf;  /* draw scratch: transformed vertices */
-    float *nbuf;   /* draw scratch: computed normals */
-    float *pbuf;   /* draw scratch: triangle planes */
+    int band_rows;  /* pixel rows a band can hold */
+    float bg[4];    /* background, straight RGBA */
+    float *color;   /* sw*bh*4 premultiplied RGBA, sample (x, y) at ((y-y0)*sw + x)*4, row 0 at the top */
+    float *depth;   /* sw*bh, q = 1/(distance along the view axis); 0 = nothing drawn */
+    uint32_t *vis;  /* sw*bh triangle ids of the opaque draw under way; PW_FB_NONE between draws */
+    double *vbuf;   /* draw scratch: transformed vertices */
+    float *nbuf;    /* draw scratch: computed normals */
+    float *pbuf;    /* draw scratch: triangle planes */
     uint64_t *mbuf; /* draw scratch: sample masks of a pixel row (all zero between uses) */
-    float *qbuf;   /* draw scratch: depths of ss sample rows */
-    float *zmin;   /* coarse depth: per tile of PW__ZT x PW__ZT samples of the band, the smallest q */
-    int zvalid;    /* zmin matches depth; set 0 if you write depth yourself */
-    int vnv;       /* vertices of the last draw (0: none yet) */
-    int vall;      /* 1: all vnv of them are transformed in vbuf (not only the drawn corners) */
+    float *qbuf;    /* draw scratch: depths of ss sample rows */
+    float *zmin;    /* coarse depth: per tile of PW__ZT x PW__ZT samples of the band, the smallest q */
+    int zvalid;     /* zmin matches depth; set 0 if you write depth yourself */
+    int vnv;        /* vertices of the last draw (0: none yet) */
+    int vall;       /* 1: all vnv of them are transformed in vbuf (not only the drawn corners) */
     size_t vcap, ncap, pcap, mcap, qcap, zcap;
     const pw_alloc *alloc;
 } pw_fb;
@@ -9139,18 +9144,15 @@ PW__DEF void pw_fb_free(pw_fb *fb)
  * opaque black) that holds band_rows pixel rows at a time (0 or >= h: the
  * whole frame), the first band selected. The allocator a (may be NULL) must
  * outlive the framebuffer. */
-PW__DEF int pw_fb_create_band(const pw_alloc *a, pw_fb *fb, int w, int h, int ss, int band_rows,
-                              const float bg[4], pw_err *e)
+PW__DEF int pw_fb_create_band(const pw_alloc *a, pw_fb *fb, int w, int h, int ss, int band_rows, const float bg[4],
+                              pw_err *e)
 {
     size_t n;
     memset(fb, 0, sizeof *fb);
     if (w <= 0 || h <= 0 || ss < 1 || ss > PW_FB_MAX_SS || band_rows < 0)
-        return pw_fail(e, PW_ERR_INVALID, "framebuffer: invalid size %dx%d with %dx%d samples", w,
-                       h, ss, ss);
-    if (w > PW_MAX_IMAGE_DIM || h > PW_MAX_IMAGE_DIM ||
-        (int64_t)w * h * ss * ss > (int64_t)PW_MAX_IMAGE_PIXELS)
-        return pw_fail(e, PW_ERR_LIMIT, "framebuffer: %dx%d with %dx%d samples exceeds the limit", w,
-                       h, ss, ss);
+        return pw_fail(e, PW_ERR_INVALID, "framebuffer: invalid size %dx%d with %dx%d samples", w, h, ss, ss);
+    if (w > PW_MAX_IMAGE_DIM || h > PW_MAX_IMAGE_DIM || (int64_t)w * h * ss * ss > (int64_t)PW_MAX_IMAGE_PIXELS)
+        return pw_fail(e, PW_ERR_LIMIT, "framebuffer: %dx%d with %dx%d samples exceeds the limit", w, h, ss, ss);
     fb->w = w;
     fb->h = h;
     fb->ss = ss;
@@ -9175,8 +9177,7 @@ PW__DEF int pw_fb_create_band(const pw_alloc *a, pw_fb *fb, int w, int h, int ss
 }
 
 /* The same holding the whole frame. */
-PW__DEF int pw_fb_create(const pw_alloc *a, pw_fb *fb, int w, int h, int ss, const float bg[4],
-                         pw_err *e)
+PW__DEF int pw_fb_create(const pw_alloc *a, pw_fb *fb, int w, int h, int ss, const float bg[4], pw_err *e)
 {
     return pw_fb_create_band(a, fb, w, h, ss, 0, bg, e);
 }
@@ -9249,34 +9250,34 @@ PW__DEF int pw_fb_resolve(const pw_fb *fb, pw_image *out, int channels, pw_err *
 typedef struct pw_draw {
     const float *positions; /* nv*3 world-space vertex positions */
     int nv;
-    const int *tris;        /* ntris*3 vertex indices */
+    const int *tris; /* ntris*3 vertex indices */
     int ntris;
-    const float *uvs;       /* ntris*3*2 texture coordinates per triangle corner (v = 0 at the
+    const float *uvs;      /* ntris*3*2 texture coordinates per triangle corner (v = 0 at the
                                bottom of the texture); required with a texture, else ignored */
-    const float *normals;   /* nv*3 per-vertex normals; NULL: smooth area-weighted normals
+    const float *normals;  /* nv*3 per-vertex normals; NULL: smooth area-weighted normals
                                computed from the mesh. Used only when lit */
-    int flat;               /* 1: flat shading, one normal per face (normals ignored) */
-    const pw_texture *tex;  /* NULL: the constant colour alone */
-    float color[4];         /* straight RGBA multiplied with the texture; all zero: opaque white */
-    int filter;             /* PW_FILTER_TRILINEAR (default), _BILINEAR, _NEAREST (level 0) */
-    int wrap;               /* PW_WRAP_REPEAT (default), PW_WRAP_CLAMP */
-    int blend;              /* PW_BLEND_REPLACE (default: write the colour, alpha included),
+    int flat;              /* 1: flat shading, one normal per face (normals ignored) */
+    const pw_texture *tex; /* NULL: the constant colour alone */
+    float color[4];        /* straight RGBA multiplied with the texture; all zero: opaque white */
+    int filter;            /* PW_FILTER_TRILINEAR (default), _BILINEAR, _NEAREST (level 0) */
+    int wrap;              /* PW_WRAP_REPEAT (default), PW_WRAP_CLAMP */
+    int blend;             /* PW_BLEND_REPLACE (default: write the colour, alpha included),
                                PW_BLEND_OVER (rgba = src + (1 - src alpha) dst, premultiplied) */
-    int depth_test;         /* PW_DEPTH_LESS (default: passes where nearer than what is
+    int depth_test;        /* PW_DEPTH_LESS (default: passes where nearer than what is
                                stored), PW_DEPTH_LEQUAL (also where as near, within a
                                tolerance, so a second pass over the same surface passes),
                                PW_DEPTH_ALWAYS. Samples beyond zfar never pass */
-    float depth_tolerance;  /* relative slack of LEQUAL: passes if q > (1 - tol) q_stored
+    float depth_tolerance; /* relative slack of LEQUAL: passes if q > (1 - tol) q_stored
                                (q = 1/depth); 0: PW_DEPTH_TOLERANCE */
-    int no_depth_write;     /* 1: depth is tested but not written */
-    int no_color_write;     /* 1: depth only (a depth pre-pass) */
-    int cull;               /* PW_CULL_NONE (default: two-sided), PW_CULL_BACK, PW_CULL_FRONT */
-    int lighting;           /* PW_LIGHT_NONE (default: unlit), PW_LIGHT_CAMERA, PW_LIGHT_WORLD:
+    int no_depth_write;    /* 1: depth is tested but not written */
+    int no_color_write;    /* 1: depth only (a depth pre-pass) */
+    int cull;              /* PW_CULL_NONE (default: two-sided), PW_CULL_BACK, PW_CULL_FRONT */
+    int lighting;          /* PW_LIGHT_NONE (default: unlit), PW_LIGHT_CAMERA, PW_LIGHT_WORLD:
                                Lambert + ambient, the light direction in camera space (x right,
                                y up, z toward the viewer) or in world space. Two-sided: back
                                faces are lit with their normals reversed */
-    float light_dir[3];     /* direction toward the light; zero: (-0.3, 0.4, 1) in camera space */
-    float ambient;          /* brightness of unlit parts, in [0, 1]; 0: 0.25; negative: none */
+    float light_dir[3];    /* direction toward the light; zero: (-0.3, 0.4, 1) in camera space */
+    float ambient;         /* brightness of unlit parts, in [0, 1]; 0: 0.25; negative: none */
     /* Optional, replaces the texture: the straight RGBA of triangle `tri` at
      * the point of barycentric coordinates (1 - b1 - b2, b1, b2) (perspective-
      * correct, corners in the triangle's order), given db = (db1/dx, db1/dy,
@@ -9284,13 +9285,13 @@ typedef struct pw_draw {
      * a texture lookup would be; uvs are not needed. */
     void (*shader)(void *user, int tri, float b1, float b2, const float db[4], float rgba[4]);
     void *shader_user;
-    int same_vertices;      /* 1: positions, nv and camera are those of the previous draw into
+    int same_vertices; /* 1: positions, nv and camera are those of the previous draw into
                                this framebuffer; when that draw transformed all the vertices
                                (it drew at least nv/3 triangles) they are reused (the passes of
                                lapped textures after their base pass) */
 } pw_draw;
 
-#define PW__ZT 8 /* coarse depth tile, in samples */
+#define PW__ZT 8   /* coarse depth tile, in samples */
 #define PW__NPL 21 /* floats per triangle: planes q(3) U(3) V(3) N(9), origin(2), ready */
 #define PW__OX 18
 #define PW__OY 19
@@ -9319,29 +9320,25 @@ PW__DEF int pw__draw_check(const pw_draw *d, pw_err *e)
 {
     int i;
     if (d->nv < 0 || d->ntris < 0)
-        return pw_fail(e, PW_ERR_INVALID, "draw: negative counts (%d vertices, %d triangles)", d->nv,
-                       d->ntris);
+        return pw_fail(e, PW_ERR_INVALID, "draw: negative counts (%d vertices, %d triangles)", d->nv, d->ntris);
     if (d->nv > PW_MAX_MESH_ELEMENTS || d->ntris > PW_MAX_MESH_ELEMENTS)
-        return pw_fail(e, PW_ERR_LIMIT, "draw: %d vertices, %d triangles exceed the limit %d", d->nv,
-                       d->ntris, PW_MAX_MESH_ELEMENTS);
+        return pw_fail(e, PW_ERR_LIMIT, "draw: %d vertices, %d triangles exceed the limit %d", d->nv, d->ntris,
+                       PW_MAX_MESH_ELEMENTS);
     if ((d->nv > 0 && !d->positions) || (d->ntris > 0 && !d->tris))
         return pw_fail(e, PW_ERR_INVALID, "draw: missing positions or triangle indices");
     if (d->tex && (!d->uvs || d->tex->nlevels < 1 || !d->tex->level[0]))
         return pw_fail(e, PW_ERR_INVALID, "draw: a texture needs uvs and a built mip chain");
-    if ((unsigned)d->filter > 2u || (unsigned)d->wrap > 1u || (unsigned)d->blend > 1u ||
-        (unsigned)d->depth_test > 2u || (unsigned)d->cull > 2u || (unsigned)d->lighting > 2u)
+    if ((unsigned)d->filter > 2u || (unsigned)d->wrap > 1u || (unsigned)d->blend > 1u || (unsigned)d->depth_test > 2u ||
+        (unsigned)d->cull > 2u || (unsigned)d->lighting > 2u)
         return pw_fail(e, PW_ERR_INVALID, "draw: unknown filter, wrap, blend, depth, cull or lighting mode");
     for (i = 0; i < 3 * d->ntris; i++)
         if (d->tris[i] < 0 || d->tris[i] >= d->nv)
-            return pw_fail(e, PW_ERR_INVALID, "draw: triangle %d, corner %d: vertex index %d outside [0, %d)",
-                           i / 3, i % 3, d->tris[i], d->nv);
+            return pw_fail(e, PW_ERR_INVALID, "draw: triangle %d, corner %d: vertex index %d outside [0, %d)", i / 3,
+                           i % 3, d->tris[i], d->nv);
     return PW_OK;
 }
 
-PW__DEF int pw__finite3(const float *p)
-{
-    return pw_is_finite(p[0]) && pw_is_finite(p[1]) && pw_is_finite(p[2]);
-}
+PW__DEF int pw__finite3(const float *p) { return pw_is_finite(p[0]) && pw_is_finite(p[1]) && pw_is_finite(p[2]); }
 
 /* Homogeneous screen coordinates of every vertex; W = -DBL_MAX marks a
  * vertex with non-finite coordinates (its triangles are skipped). */
@@ -9435,8 +9432,7 @@ PW__DEF void pw__plane(double r[3][3], const double *a, double ox, double oy, fl
 PW__DEF int pw__tri_adjugate(const pw__ctx *c, int t, double r[3][3], double *det)
 {
     const int *ix = c->d->tris + 3 * (size_t)t;
-    const double *h0 = c->vh + 5 * (size_t)ix[0], *h1 = c->vh + 5 * (size_t)ix[1],
-                 *h2 = c->vh + 5 * (size_t)ix[2];
+    const double *h0 = c->vh + 5 * (size_t)ix[0], *h1 = c->vh + 5 * (size_t)ix[1], *h2 = c->vh + 5 * (size_t)ix[2];
     double scale;
     int i, j;
     pw_cross3(h1, h2, r[0]);
@@ -9484,7 +9480,7 @@ PW__DEF void pw__attr_planes(const pw__ctx *c, int t, float *pl)
     if (pl[PW__READY] != 0.0f) return;
     pl[PW__READY] = 1.0f;
     pw__tri_adjugate(c, t, r, &det); /* succeeded when the triangle was set up */
-    if (d->shader) { /* barycentric coordinates b1, b2 in the places of u, v */
+    if (d->shader) {                 /* barycentric coordinates b1, b2 in the places of u, v */
         for (k = 0; k < 2; k++) {
             for (i = 0; i < 3; i++) a[i] = i == k + 1 ? 1.0 : 0.0;
             pw__plane(r, a, ox, oy, pl + 3 + 3 * k);
@@ -9500,8 +9496,7 @@ PW__DEF void pw__attr_planes(const pw__ctx *c, int t, float *pl)
         sgn = det > 0.0 ? -1.0 : 1.0; /* two-sided: back faces turn their normals around */
         if (!c->normals) pw__face_normal(d, t, fn);
         for (k = 0; k < 3; k++) {
-            for (i = 0; i < 3; i++)
-                a[i] = sgn * (c->normals ? (double)c->normals[3 * d->tris[3 * t + i] + k] : fn[k]);
+            for (i = 0; i < 3; i++) a[i] = sgn * (c->normals ? (double)c->normals[3 * d->tris[3 * t + i] + k] : fn[k]);
             pw__plane(r, a, ox, oy, pl + 9 + 3 * k);
         }
     }
@@ -9630,7 +9625,11 @@ PW__DEF void pw__shade(const pw__ctx *c, int t, float x, float y, float *out)
     if (!(q > 1e-30f)) q = 1e-30f; /* only reachable through rounding at a near-plane edge */
     if (c->d->shader || c->tex) {
         pw__shade_pt P;
-        P.t = t, P.pl = pl, P.dx = dx, P.dy = dy, P.iq = 1.0f / q;
+        P.t = t;
+        P.pl = pl;
+        P.dx = dx;
+        P.dy = dy;
+        P.iq = 1.0f / q;
         if (c->d->shader) pw__shade_custom(c, &P, col);
         else pw__shade_tex(c, &P, col);
     }
@@ -9683,11 +9682,8 @@ PW__DEF void pw__shade_vis(pw__ctx *c)
                 if (ids[k] == PW_FB_NONE) continue;
                 for (m = 0; m < k && ids[m] != ids[k]; m++) {
                 }
-                if (m < k)
-                    memcpy(dst, fb->color + (base + off[m]) * 4, 4 * sizeof(float));
-                else
-                    pw__shade(c, (int)ids[k], (float)(px * ss + k % ss) + 0.5f,
-                              (float)(py * ss + k / ss) + 0.5f, dst);
+                if (m < k) memcpy(dst, fb->color + (base + off[m]) * 4, 4 * sizeof(float));
+                else pw__shade(c, (int)ids[k], (float)(px * ss + k % ss) + 0.5f, (float)(py * ss + k / ss) + 0.5f, dst);
             }
         }
     }
@@ -9806,8 +9802,10 @@ PW__DEF int pw__hidden(const pw__ctx *c, const double *const *h, const double *p
     int k, t0[2], t1[2], tx, ty;
     for (k = 0; k < 2; k++) {
         double o = k ? c->fb->y0 : 0.0; /* tile rows count from the band's first row */
-        lo[k] = (p[k] < p[k + 2] ? (p[k] < p[k + 4] ? p[k] : p[k + 4]) : (p[k + 2] < p[k + 4] ? p[k + 2] : p[k + 4])) - o;
-        hi[k] = (p[k] > p[k + 2] ? (p[k] > p[k + 4] ? p[k] : p[k + 4]) : (p[k + 2] > p[k + 4] ? p[k + 2] : p[k + 4])) - o;
+        lo[k] =
+            (p[k] < p[k + 2] ? (p[k] < p[k + 4] ? p[k] : p[k + 4]) : (p[k + 2] < p[k + 4] ? p[k + 2] : p[k + 4])) - o;
+        hi[k] =
+            (p[k] > p[k + 2] ? (p[k] > p[k + 4] ? p[k] : p[k + 4]) : (p[k + 2] > p[k + 4] ? p[k + 2] : p[k + 4])) - o;
         t0[k] = (int)pw_clampf((float)lo[k], 0.0f, (float)(c->fb->sw + c->fb->sh)) / PW__ZT;
         t1[k] = (int)pw_clampf((float)hi[k], 0.0f, (float)(c->fb->sw + c->fb->sh)) / PW__ZT;
     }
@@ -9853,10 +9851,8 @@ PW__DEF void pw__draw_tri(pw__ctx *c, int t)
     /* the usual case (in front, within the raster range) needs no clipping */
     np = inside ? pw_raster_setup(pieces, &c->grid, poly) : pw_raster_polygon(&c->grid, poly, n, pieces);
     for (k = 0; k < np; k++) {
-        if (c->blend == PW_BLEND_OVER && c->cwrite)
-            pw__raster_over(c, pieces + k, t, pl);
-        else
-            pw__raster_vis(c, pieces + k, (uint32_t)t, pl);
+        if (c->blend == PW_BLEND_OVER && c->cwrite) pw__raster_over(c, pieces + k, t, pl);
+        else pw__raster_vis(c, pieces + k, (uint32_t)t, pl);
     }
 }
 
@@ -9864,16 +9860,14 @@ PW__DEF void pw__draw_tri(pw__ctx *c, int t)
 PW__DEF int pw__draw_scratch(pw_fb *fb, const pw_draw *d, int need_normals, pw_err *e)
 {
     size_t oldm = fb->mcap;
-    if (pw_grow(fb->alloc, (void **)&fb->vbuf, &fb->vcap, (size_t)d->nv * 5, sizeof(double),
-                "render vertices", e) ||
+    if (pw_grow(fb->alloc, (void **)&fb->vbuf, &fb->vcap, (size_t)d->nv * 5, sizeof(double), "render vertices", e) ||
         pw_grow(fb->alloc, (void **)&fb->pbuf, &fb->pcap, (size_t)d->ntris * PW__NPL, sizeof(float),
                 "render triangle planes", e) ||
-        (need_normals && pw_grow(fb->alloc, (void **)&fb->nbuf, &fb->ncap, (size_t)d->nv * 3,
-                                 sizeof(float), "render normals", e)))
+        (need_normals &&
+         pw_grow(fb->alloc, (void **)&fb->nbuf, &fb->ncap, (size_t)d->nv * 3, sizeof(float), "render normals", e)))
         return e ? e->code : PW_ERR_NOMEM;
     if (d->blend == PW_BLEND_OVER &&
-        (pw_grow(fb->alloc, (void **)&fb->mbuf, &fb->mcap, (size_t)fb->w, sizeof(uint64_t),
-                 "render sample masks", e) ||
+        (pw_grow(fb->alloc, (void **)&fb->mbuf, &fb->mcap, (size_t)fb->w, sizeof(uint64_t), "render sample masks", e) ||
          pw_grow(fb->alloc, (void **)&fb->qbuf, &fb->qcap, (size_t)fb->sw * fb->ss, sizeof(float),
                  "render sample depths", e)))
         return e ? e->code : PW_ERR_NOMEM;
@@ -10089,21 +10083,21 @@ PW__DEF void pw_parallel_for(const pw_parallel *par, int n, pw_task_fn task, voi
 typedef int (*pw_frame_draw_fn)(void *user, pw_fb *fb, pw_err *e);
 
 typedef struct pw_frame {
-    int w, h, ss;            /* pixels, samples per pixel side */
-    float bg[4];             /* background, straight RGBA */
-    int channels;            /* of the picture: 3 or 4 (see pw_fb_resolve_band) */
+    int w, h, ss; /* pixels, samples per pixel side */
+    float bg[4];  /* background, straight RGBA */
+    int channels; /* of the picture: 3 or 4 (see pw_fb_resolve_band) */
     pw_frame_draw_fn draw;
     void *user;
-    const pw_parallel *par;  /* NULL: one thread */
+    const pw_parallel *par; /* NULL: one thread */
 } pw_frame;
 
 typedef struct pw__frame_run {
     const pw_alloc *a;
     const pw_frame *f;
     pw_image *out;
-    int rows;                /* pixel rows per band */
-    int *codes;              /* per band: its result */
-    pw_err *errs;            /* per band: its message */
+    int rows;     /* pixel rows per band */
+    int *codes;   /* per band: its result */
+    pw_err *errs; /* per band: its message */
 } pw__frame_run;
 
 PW__DEF void pw__frame_band(void *ctx, int band)
@@ -10161,8 +10155,8 @@ PW__DEF int pw_render_frame(const pw_alloc *a, const pw_frame *f, pw_image *out,
     if (f->channels != 3 && f->channels != 4)
         return pw_fail(e, PW_ERR_INVALID, "render: %d channels (need 3 or 4)", f->channels);
     if (f->w <= 0 || f->h <= 0 || f->ss < 1 || f->ss > PW_FB_MAX_SS)
-        return pw_fail(e, PW_ERR_INVALID, "framebuffer: invalid size %dx%d with %dx%d samples", f->w,
-                       f->h, f->ss, f->ss);
+        return pw_fail(e, PW_ERR_INVALID, "framebuffer: invalid size %dx%d with %dx%d samples", f->w, f->h, f->ss,
+                       f->ss);
     R.rows = (f->h + 4 * width - 1) / (4 * width);
     if (R.rows < 8) R.rows = 8;
     nb = (f->h + R.rows - 1) / R.rows;
@@ -10349,18 +10343,18 @@ PW__DEF int pw__atlas_tris_overlap(const double *a, const double *b, double tol)
 
 typedef struct pw__atlas_hash {
     double cell;
-    unsigned mask;       /* buckets - 1 */
-    int *head;           /* per bucket: first entry, -1 */
-    int *next, *item;    /* per entry */
+    unsigned mask;    /* buckets - 1 */
+    int *head;        /* per bucket: first entry, -1 */
+    int *next, *item; /* per entry */
     int n;
     size_t ncap, icap;
-    int *used, nused;    /* buckets to clear */
+    int *used, nused; /* buckets to clear */
     size_t ucap;
-    int *all, nall;      /* every triangle inserted */
+    int *all, nall; /* every triangle inserted */
     size_t acap;
-    int *big, nbig;      /* triangles too large for the cells */
+    int *big, nbig; /* triangles too large for the cells */
     size_t bcap;
-    int *stamp, nstamp;  /* per mesh triangle: the last query that met it */
+    int *stamp, nstamp; /* per mesh triangle: the last query that met it */
     int query;
 } pw__atlas_hash;
 
@@ -10433,8 +10427,7 @@ PW__DEF int pw__atlas_hash_insert(const pw_alloc *a, pw__atlas_hash *H, int f, c
 {
     int c[4], x, y;
     pw__atlas_hash_cells(H, t, c);
-    if (pw_grow(a, (void **)&H->all, &H->acap, (size_t)H->nall + 1, sizeof(int), "chart hash", e))
-        return PW_ERR_NOMEM;
+    if (pw_grow(a, (void **)&H->all, &H->acap, (size_t)H->nall + 1, sizeof(int), "chart hash", e)) return PW_ERR_NOMEM;
     H->all[H->nall++] = f;
     if (pw__atlas_ncells(c) > PW__ATLAS_BIG_CELLS) {
         if (pw_grow(a, (void **)&H->big, &H->bcap, (size_t)H->nbig + 1, sizeof(int), "chart hash", e))
@@ -10458,8 +10451,8 @@ PW__DEF int pw__atlas_hash_insert(const pw_alloc *a, pw__atlas_hash *H, int f, c
 }
 
 /* Does inserted triangle f (not met yet by this query) overlap t? */
-PW__DEF int pw__atlas_hash_test(pw__atlas_hash *H, int f, const double *t, double tol,
-                             pw__atlas_coords_fn coords, const void *ctx)
+PW__DEF int pw__atlas_hash_test(pw__atlas_hash *H, int f, const double *t, double tol, pw__atlas_coords_fn coords,
+                                const void *ctx)
 {
     double u[6];
     if (H->stamp[f] == H->query) return 0;
@@ -10470,7 +10463,7 @@ PW__DEF int pw__atlas_hash_test(pw__atlas_hash *H, int f, const double *t, doubl
 
 /* Does t overlap any inserted triangle? */
 PW__DEF int pw__atlas_hash_hits(pw__atlas_hash *H, const double *t, double tol, pw__atlas_coords_fn coords,
-                             const void *ctx)
+                                const void *ctx)
 {
     int c[4], x, y, k;
     if (++H->query == INT_MAX) {
@@ -10496,11 +10489,11 @@ PW__DEF int pw__atlas_hash_hits(pw__atlas_hash *H, const double *t, double tol, 
 
 /* The charts: a partition of the triangles, each chart flattened. */
 typedef struct pw_atlas_charts {
-    int n;         /* charts */
-    int *chart;    /* nf: chart of each triangle */
-    int *start;    /* n+1: chart c holds faces[start[c] .. start[c+1]-1] */
-    int *faces;    /* nf: each chart's triangles in growth order */
-    double *uv;    /* nf*6: flattened corners; each chart's 2D area equals its 3D area */
+    int n;      /* charts */
+    int *chart; /* nf: chart of each triangle */
+    int *start; /* n+1: chart c holds faces[start[c] .. start[c+1]-1] */
+    int *faces; /* nf: each chart's triangles in growth order */
+    double *uv; /* nf*6: flattened corners; each chart's 2D area equals its 3D area */
     size_t scap;
 } pw_atlas_charts;
 
@@ -10521,19 +10514,19 @@ typedef struct pw__atlas_grower {
     const pw_trimesh *m;
     const pw_alloc *a;
     pw_err *e;
-    double cos_cone;     /* §4: normals within the cone around the seed's */
-    double tol;          /* overlap tolerance, mesh units */
-    int *chart;          /* per triangle: chart, -1 while unassigned */
-    int *cone;           /* per triangle: the last chart whose cone refused it */
-    int *mark;           /* per triangle: the deferral round it was deferred in */
-    int *local;          /* per vertex: index in the chart being grown, -1 */
+    double cos_cone; /* §4: normals within the cone around the seed's */
+    double tol;      /* overlap tolerance, mesh units */
+    int *chart;      /* per triangle: chart, -1 while unassigned */
+    int *cone;       /* per triangle: the last chart whose cone refused it */
+    int *mark;       /* per triangle: the deferral round it was deferred in */
+    int *local;      /* per vertex: index in the chart being grown, -1 */
     int cur, seed, round, last_opt, relaxed_nv;
-    double centre[3];    /* centroid of the seed */
+    double centre[3]; /* centroid of the seed */
     int *faces, *nv_after, nfc;
     size_t fcap, acap;
     int *verts, nlv;
     size_t vcap;
-    double *uv;          /* nlv*2 flattened vertices */
+    double *uv; /* nlv*2 flattened vertices */
     size_t uvcap;
     int *deferred, nd;
     size_t dcap;
@@ -10583,7 +10576,10 @@ PW__DEF void pw__atlas_line(double p[3][3], double *x, double *y)
     int k, j;
     for (k = 0; k < 3; k++) {
         double l2 = 0.0, e[3];
-        for (j = 0; j < 3; j++) e[j] = p[(k + 1) % 3][j] - p[k][j], l2 += e[j] * e[j];
+        for (j = 0; j < 3; j++) {
+            e[j] = p[(k + 1) % 3][j] - p[k][j];
+            l2 += e[j] * e[j];
+        }
         if (l2 > best)
             for (best = l2, j = 0; j < 3; j++) d[j] = e[j];
     }
@@ -10712,8 +10708,7 @@ PW__DEF int pw__atlas_grow_start(pw__atlas_grower *G, int f)
     G->round++;
     pw__atlas_centroid(G->m, f, G->centre);
     if (pw_grow(G->a, (void **)&G->faces, &G->fcap, 1, sizeof(int), "chart", G->e) ||
-        pw_grow(G->a, (void **)&G->nv_after, &G->acap, 1, sizeof(int), "chart", G->e) ||
-        pw__atlas_seed_layout(G))
+        pw_grow(G->a, (void **)&G->nv_after, &G->acap, 1, sizeof(int), "chart", G->e) || pw__atlas_seed_layout(G))
         return PW_ERR_NOMEM;
     G->faces[0] = f;
     G->nv_after[0] = 3;
@@ -10803,7 +10798,10 @@ PW__DEF int pw__atlas_grow_try(pw__atlas_grower *G, int f)
     }
     for (k = 0; k < 3; k++) {
         int g = pw_trimesh_across(m, f, k);
-        if (g >= 0 && G->chart[g] == G->cur) shared++, sk = k;
+        if (g >= 0 && G->chart[g] == G->cur) {
+            shared++;
+            sk = k;
+        }
     }
     /* Disc: across one edge the third vertex must be new (else the chart
      * would pinch or close a loop); across two edges f fills a notch;
@@ -10843,9 +10841,15 @@ PW__DEF void pw__atlas_pins(const pw__atlas_grower *G, int *p0, int *p1)
     int i, a = 0, b = 0;
     double best = -1.0;
     for (i = 0; i < G->nlv; i++)
-        if (pw__atlas_dist3(G, 0, i) > best) best = pw__atlas_dist3(G, 0, i), a = i;
+        if (pw__atlas_dist3(G, 0, i) > best) {
+            best = pw__atlas_dist3(G, 0, i);
+            a = i;
+        }
     for (i = 0, best = -1.0; i < G->nlv; i++)
-        if (pw__atlas_dist3(G, a, i) > best) best = pw__atlas_dist3(G, a, i), b = i;
+        if (pw__atlas_dist3(G, a, i) > best) {
+            best = pw__atlas_dist3(G, a, i);
+            b = i;
+        }
     *p0 = a;
     *p1 = b != a ? b : (a + 1) % G->nlv;
 }
@@ -10879,8 +10883,8 @@ PW__DEF void pw__atlas_rescale(pw__atlas_grower *G)
  * the map U = u + i v is conformal on f when sum_j W_j U_j = 0; each row
  * is weighted by 1/sqrt(area), so the residual is the conformal energy.
  * Pinned vertices (col < 0) move to the right-hand side. */
-PW__DEF int pw__atlas_lscm_rows(const pw__atlas_grower *G, int f, int r, const int *col, pw_triplets *T,
-                                   double *b, pw_err *e)
+PW__DEF int pw__atlas_lscm_rows(const pw__atlas_grower *G, int f, int r, const int *col, pw_triplets *T, double *b,
+                                pw_err *e)
 {
     int j;
     double x[3], y[3], w = 1.0 / sqrt((double)G->m->area[f]);
@@ -10907,8 +10911,7 @@ PW__DEF int pw__atlas_lscm_rows(const pw__atlas_grower *G, int f, int r, const i
  * solution, we use a conjugate-gradient iterative solver"), for at most
  * max_iter iterations: stopping there keeps the last iterate, and the
  * check that follows decides. */
-PW__DEF int pw__atlas_lscm_solve(pw__atlas_grower *G, const pw_csr *A, const double *b, const int *col,
-                                    int max_iter)
+PW__DEF int pw__atlas_lscm_solve(pw__atlas_grower *G, const pw_csr *A, const double *b, const int *col, int max_iter)
 {
     double *x = (double *)pw_alloc_array(G->a, (size_t)A->m, sizeof(double), "conformal map", G->e);
     pw_cg_options o = pw_cg_default_options();
@@ -10994,9 +10997,7 @@ PW__DEF int pw__atlas_first_bad(pw__atlas_grower *G, int *bad)
         double t[6];
         int f = G->faces[i];
         pw__atlas_grower_coords(G, f, t);
-        if (!pw__atlas_flat_ok(G, f, t) ||
-            pw__atlas_hash_hits(&G->hash, t, G->tol, pw__atlas_grower_coords, G))
-            break;
+        if (!pw__atlas_flat_ok(G, f, t) || pw__atlas_hash_hits(&G->hash, t, G->tol, pw__atlas_grower_coords, G)) break;
         if (pw__atlas_hash_insert(G->a, &G->hash, f, t, G->e)) return PW_ERR_NOMEM;
     }
     *bad = i;
@@ -11038,8 +11039,7 @@ PW__DEF int pw__atlas_check(pw__atlas_grower *G, int *cut)
 PW__DEF int pw__atlas_relax(pw__atlas_grower *G, int *cut)
 {
     int r;
-    if ((r = pw__atlas_lscm(G, G->relaxed_nv, PW__ATLAS_RING_ITER)) || (r = pw__atlas_check(G, cut)))
-        return r;
+    if ((r = pw__atlas_lscm(G, G->relaxed_nv, PW__ATLAS_RING_ITER)) || (r = pw__atlas_check(G, cut))) return r;
     G->relaxed_nv = G->nlv;
     G->last_opt = G->nfc;
     return PW_OK;
@@ -11054,8 +11054,7 @@ PW__DEF int pw__atlas_flatten(pw__atlas_grower *G)
     int r, cut = 0;
     if (G->nfc < 2) return PW_OK; /* one triangle keeps its exact shape */
     if ((r = pw__atlas_lscm(G, 0, PW__ATLAS_FULL_ITER)) || (r = pw__atlas_check(G, &cut))) return r;
-    if (cut && G->nfc >= 2 &&
-        ((r = pw__atlas_lscm(G, 0, PW__ATLAS_FULL_ITER)) || (r = pw__atlas_check(G, &cut))))
+    if (cut && G->nfc >= 2 && ((r = pw__atlas_lscm(G, 0, PW__ATLAS_FULL_ITER)) || (r = pw__atlas_check(G, &cut))))
         return r;
     return PW_OK;
 }
@@ -11105,8 +11104,7 @@ PW__DEF int pw__atlas_chart_finish(pw__atlas_grower *G, pw_atlas_charts *C, int 
 {
     double a3 = 0.0, a2 = 0.0, s, t[6];
     int i, k;
-    if (pw_grow(G->a, (void **)&C->start, &C->scap, (size_t)C->n + 2, sizeof(int), "charts", G->e))
-        return PW_ERR_NOMEM;
+    if (pw_grow(G->a, (void **)&C->start, &C->scap, (size_t)C->n + 2, sizeof(int), "charts", G->e)) return PW_ERR_NOMEM;
     for (i = 0; i < G->nfc; i++) {
         pw__atlas_grower_coords(G, G->faces[i], t);
         a2 += 0.5 * pw__atlas_area2(t);
@@ -11156,7 +11154,7 @@ PW__DEF double pw__atlas_mean_edge(const pw_trimesh *m)
 }
 
 PW__DEF int pw__atlas_grower_init(pw__atlas_grower *G, const pw_alloc *a, const pw_trimesh *m, double cone_deg,
-                               int *chart, pw_err *e)
+                                  int *chart, pw_err *e)
 {
     double cell = pw__atlas_mean_edge(m);
     int i;
@@ -11182,8 +11180,8 @@ PW__DEF int pw__atlas_grower_init(pw__atlas_grower *G, const pw_alloc *a, const 
 /* §4: the charts. Each is seeded at the lowest-index unassigned triangle
  * and grown until nothing more can join; every triangle ends in exactly
  * one chart (a seed always forms a chart by itself). */
-PW__DEF int pw_atlas_charts_build(const pw_alloc *a, const pw_trimesh *m, double cone_deg,
-                                const pw_progress *prog, pw_atlas_charts *C, pw_err *e)
+PW__DEF int pw_atlas_charts_build(const pw_alloc *a, const pw_trimesh *m, double cone_deg, const pw_progress *prog,
+                                  pw_atlas_charts *C, pw_err *e)
 {
     pw__atlas_grower G;
     int f, r, nfaces = 0;
@@ -11228,28 +11226,28 @@ PW__DEF int pw_atlas_charts_build(const pw_alloc *a, const pw_trimesh *m, double
 typedef struct pw__atlas_packer {
     const pw_trimesh *m;
     const pw_atlas_charts *C;
-    int size, gutter;    /* the packing grid: size x size cells of `unit` pixels; gutter in cells */
-    int pad_lo;          /* cells of the gutter on the left of and below a chart (the rest:
+    int size, gutter;           /* the packing grid: size x size cells of `unit` pixels; gutter in cells */
+    int pad_lo;                 /* cells of the gutter on the left of and below a chart (the rest:
                             right and above): floor(gutter/2) pixels, rounded up to cells */
-    int unit, pixels;    /* cell side and atlas side, pixels */
-    double *rect;        /* per chart 6: unit direction (dx, dy) of the rectangle's side,
+    int unit, pixels;           /* cell side and atlas side, pixels */
+    double *rect;               /* per chart 6: unit direction (dx, dy) of the rectangle's side,
                             its min corner (x0, y0) in the turned frame, its extent (w, h) */
-    double *area;        /* per chart: 3D area */
-    int *order;          /* charts, largest first */
-    int *bstart, *bedge; /* boundary half-edges of each chart */
-    int16_t *run;        /* size*size, rows from the bottom: the free run starting at each
+    double *area;               /* per chart: 3D area */
+    int *order;                 /* charts, largest first */
+    int *bstart, *bedge;        /* boundary half-edges of each chart */
+    int16_t *run;               /* size*size, rows from the bottom: the free run starting at each
                             cell (> 0), or minus the occupied run (< 0) */
-    int *maxrun;         /* size: the longest free run of each row */
-    unsigned char *cov;  /* size*size: the cells the chart being placed covers */
-    int *cl, *cr, *cst;  /* their runs, row by row (cst: first run of each row) */
-    double *lo, *hi;     /* a triangle's extent over each row */
-    int *sl, *sr, *srow; /* the dilated chart's runs [sl, sr) and their rows */
-    int *ord;            /* the order in which runs are tried */
+    int *maxrun;                /* size: the longest free run of each row */
+    unsigned char *cov;         /* size*size: the cells the chart being placed covers */
+    int *cl, *cr, *cst;         /* their runs, row by row (cst: first run of each row) */
+    double *lo, *hi;            /* a triangle's extent over each row */
+    int *sl, *sr, *srow;        /* the dilated chart's runs [sl, sr) and their rows */
+    int *ord;                   /* the order in which runs are tried */
     int *kl, *kr, *krow, nkeep; /* the runs of the best turn so far */
-    int *rowmax;         /* per row: its longest run */
-    int nspan, wp, hp;   /* runs, and the dilated chart's width and height */
-    int *place;          /* per chart 3: content origin x, y (cells from the bottom-left), turn */
-    int *best;           /* the placement of the largest scale that fitted */
+    int *rowmax;                /* per row: its longest run */
+    int nspan, wp, hp;          /* runs, and the dilated chart's width and height */
+    int *place;                 /* per chart 3: content origin x, y (cells from the bottom-left), turn */
+    int *best;                  /* the placement of the largest scale that fitted */
 } pw__atlas_packer;
 
 PW__DEF void pw__atlas_packer_free(const pw_alloc *a, pw__atlas_packer *P)
@@ -11409,17 +11407,28 @@ PW__DEF void pw__atlas_chart_rect(pw__atlas_packer *P, int c, double *pts, doubl
 
 /* A chart point uv in pixels at scale s, after quarter turn o, inside
  * the chart's box [0, W] x [0, H] (W, H swapped on odd turns). */
-PW__DEF void pw__atlas_pack_xy(const pw__atlas_packer *P, int c, double s, int o, const double *uv,
-                                  double *out)
+PW__DEF void pw__atlas_pack_xy(const pw__atlas_packer *P, int c, double s, int o, const double *uv, double *out)
 {
     const double *R = P->rect + 6 * c;
     double x = (R[0] * uv[0] + R[1] * uv[1] - R[2]) * s, y = (-R[1] * uv[0] + R[0] * uv[1] - R[3]) * s;
     double W = R[4] * s, H = R[5] * s;
     switch (o) {
-    case 0: out[0] = x, out[1] = y; break;
-    case 1: out[0] = H - y, out[1] = x; break;
-    case 2: out[0] = W - x, out[1] = H - y; break;
-    default: out[0] = y, out[1] = W - x; break;
+    case 0:
+        out[0] = x;
+        out[1] = y;
+        break;
+    case 1:
+        out[0] = H - y;
+        out[1] = x;
+        break;
+    case 2:
+        out[0] = W - x;
+        out[1] = H - y;
+        break;
+    default:
+        out[0] = y;
+        out[1] = W - x;
+        break;
     }
 }
 
@@ -11517,13 +11526,20 @@ PW__DEF void pw__atlas_dilate_runs(pw__atlas_packer *P, int h)
         for (j = pw_maxi(y - g, 0); j <= pw_mini(y, h - 1); j++)
             for (k = P->cst[j]; k < P->cst[j + 1]; k++) {
                 int l = P->cl[k], r = P->cr[k] + g, i = n++;
-                for (; i > first && P->sl[i - 1] > l; i--) P->sl[i] = P->sl[i - 1], P->sr[i] = P->sr[i - 1];
+                for (; i > first && P->sl[i - 1] > l; i--) {
+                    P->sl[i] = P->sl[i - 1];
+                    P->sr[i] = P->sr[i - 1];
+                }
                 P->sl[i] = l;
                 P->sr[i] = r;
             }
         for (k = first + 1, m = first; k < n; k++) { /* merge overlapping or touching runs */
             if (P->sl[k] <= P->sr[m]) P->sr[m] = pw_maxi(P->sr[m], P->sr[k]);
-            else m++, P->sl[m] = P->sl[k], P->sr[m] = P->sr[k];
+            else {
+                m++;
+                P->sl[m] = P->sl[k];
+                P->sr[m] = P->sr[k];
+            }
         }
         n = n > first ? m + 1 : first;
         P->rowmax[y] = 0;
@@ -11593,7 +11609,7 @@ PW__DEF void pw__atlas_mark(pw__atlas_packer *P, int y, int a, int b)
         if (k < a && v == row[k]) break;
         row[k] = v;
     }
-    for (k = 0; k < n; k += row[k] > 0 ? row[k] : -row[k])
+    for (k = 0; k<n; k += row[k]> 0 ? row[k] : -row[k])
         if (row[k] > best) best = row[k];
     P->maxrun[y] = best;
 }
@@ -11714,8 +11730,8 @@ PW__DEF int pw__atlas_pack_prepare(const pw_alloc *a, pw__atlas_packer *P, pw_er
 /* The packing grid: cells of one pixel up to 1024 pixels a side, of
  * ceil(size / 1024) pixels beyond (the search costs grow with the grid's
  * area; a chart then loses at most a cell's rounding per side). */
-PW__DEF int pw__atlas_packer_init(const pw_alloc *a, pw__atlas_packer *P, const pw_trimesh *m,
-                                     const pw_atlas_charts *C, int size, int gutter, pw_err *e)
+PW__DEF int pw__atlas_packer_init(const pw_alloc *a, pw__atlas_packer *P, const pw_trimesh *m, const pw_atlas_charts *C,
+                                  int size, int gutter, pw_err *e)
 {
     size_t n = (size_t)C->n, rows, cells, spans, runs;
     memset(P, 0, sizeof *P);
@@ -11728,7 +11744,7 @@ PW__DEF int pw__atlas_packer_init(const pw_alloc *a, pw__atlas_packer *P, const 
     P->gutter = P->pad_lo + ((gutter + 1) / 2 + P->unit - 1) / P->unit;
     rows = (size_t)P->size + 2;
     cells = (size_t)P->size * P->size;
-    runs = (size_t)P->size * ((size_t)P->size / 2 + 1); /* runs are separated by gaps */
+    runs = (size_t)P->size * ((size_t)P->size / 2 + 1);                    /* runs are separated by gaps */
     spans = ((size_t)P->size + P->gutter + 1) * ((size_t)P->size / 2 + 1); /* + a row's gathering */
     P->rect = (double *)pw_alloc_array(a, 6 * n, sizeof(double), "packing", e);
     P->area = (double *)pw_alloc_array(a, n, sizeof(double), "packing", e);
@@ -11752,10 +11768,9 @@ PW__DEF int pw__atlas_packer_init(const pw_alloc *a, pw__atlas_packer *P, const 
     P->kl = (int *)pw_alloc_array(a, spans, sizeof(int), "packing runs", e);
     P->kr = (int *)pw_alloc_array(a, spans, sizeof(int), "packing runs", e);
     P->krow = (int *)pw_alloc_array(a, spans, sizeof(int), "packing runs", e);
-    if (P->rect && P->area && P->order && P->place && P->best && P->bstart && P->run && P->maxrun &&
-        P->rowmax && P->lo && P->hi && P->cov && P->cl && P->cr && P->cst && P->sl && P->sr && P->srow && P->ord &&
-        P->kl &&
-        P->kr && P->krow)
+    if (P->rect && P->area && P->order && P->place && P->best && P->bstart && P->run && P->maxrun && P->rowmax &&
+        P->lo && P->hi && P->cov && P->cl && P->cr && P->cst && P->sl && P->sr && P->srow && P->ord && P->kl && P->kr &&
+        P->krow)
         P->bedge = (int *)pw_alloc_array(a, (size_t)pw__atlas_boundary(P, 0), sizeof(int), "packing", e);
     if (!P->bedge) {
         pw__atlas_packer_free(a, P);
@@ -11789,7 +11804,8 @@ PW__DEF int pw__atlas_pack_search(pw__atlas_packer *P, const pw_progress *prog, 
     lo = hi * sqrt(0.5);
     while (!pw__atlas_try(P, lo)) {
         if (lo * maxdim < 0.5) /* every chart within one cell, and still too many */
-            return pw_fail(e, PW_ERR_LIMIT, "atlas: %d charts do not fit in %dx%d pixels with a %d-pixel "
+            return pw_fail(e, PW_ERR_LIMIT,
+                           "atlas: %d charts do not fit in %dx%d pixels with a %d-pixel "
                            "gutter (use a larger size, a wider cone or a smaller gutter)",
                            P->C->n, P->pixels, P->pixels, P->gutter * P->unit);
         hi = lo;
@@ -11832,8 +11848,8 @@ PW__DEF void pw__atlas_pack_uvs(const pw__atlas_packer *P, double s, float *uvs,
 }
 
 /* packing: charts into the unit square; uvs gets nf*6 coordinates. */
-PW__DEF int pw_atlas_pack(const pw_alloc *a, const pw_trimesh *m, const pw_atlas_charts *C, int size,
-                        int gutter, const pw_progress *prog, float *uvs, float *fill, pw_err *e)
+PW__DEF int pw_atlas_pack(const pw_alloc *a, const pw_trimesh *m, const pw_atlas_charts *C, int size, int gutter,
+                          const pw_progress *prog, float *uvs, float *fill, pw_err *e)
 {
     pw__atlas_packer P;
     double s = 0.0;
@@ -11855,8 +11871,8 @@ typedef struct pw__atlas_baker {
     pw_atlas_texel_fn fn;
     void *user;
     const float *uvs;
-    pw_image *img;    /* size x size, oc channels */
-    int *id;          /* per texel: covering triangle; -2 - f when extrapolated from f; -1 */
+    pw_image *img; /* size x size, oc channels */
+    int *id;       /* per texel: covering triangle; -2 - f when extrapolated from f; -1 */
     int size, oc, f;
 } pw__atlas_baker;
 
@@ -11965,8 +11981,7 @@ PW__DEF void pw__atlas_bake_ring(pw__atlas_baker *B, int f)
             if (*id >= 0 || !pw__atlas_near_tri(p, x + 0.5, y + 0.5)) continue;
             if (*id <= -2) {
                 pw__atlas_bake_px(B, -2 - *id, q);
-                if (pw__atlas_closest(q, x + 0.5, y + 0.5, b) <= pw__atlas_closest(p, x + 0.5, y + 0.5, b))
-                    continue;
+                if (pw__atlas_closest(q, x + 0.5, y + 0.5, b) <= pw__atlas_closest(p, x + 0.5, y + 0.5, b)) continue;
             }
             *id = -2 - f;
         }
@@ -12207,26 +12222,23 @@ typedef struct pw_volume {
 PW__DEF int pw__volume_check_size(const char *name, uint64_t x, uint64_t y, uint64_t z, pw_err *e)
 {
     if (x == 0 || y == 0 || z == 0)
-        return pw_fail(e, PW_ERR_INVALID, "%s: volume has zero size (%llux%llux%llu)", name,
-                       (unsigned long long)x, (unsigned long long)y, (unsigned long long)z);
+        return pw_fail(e, PW_ERR_INVALID, "%s: volume has zero size (%llux%llux%llu)", name, (unsigned long long)x,
+                       (unsigned long long)y, (unsigned long long)z);
     if (x > PW_MAX_VOLUME_VOXELS || y > PW_MAX_VOLUME_VOXELS || z > PW_MAX_VOLUME_VOXELS ||
         x * y > (uint64_t)PW_MAX_VOLUME_VOXELS || x * y * z > (uint64_t)PW_MAX_VOLUME_VOXELS)
-        return pw_fail(e, PW_ERR_LIMIT, "%s: volume %llux%llux%llu exceeds the limit of %d voxels",
-                       name, (unsigned long long)x, (unsigned long long)y, (unsigned long long)z,
-                       PW_MAX_VOLUME_VOXELS);
+        return pw_fail(e, PW_ERR_LIMIT, "%s: volume %llux%llux%llu exceeds the limit of %d voxels", name,
+                       (unsigned long long)x, (unsigned long long)y, (unsigned long long)z, PW_MAX_VOLUME_VOXELS);
     return PW_OK;
 }
 
 /* Allocates a zeroed volume of c channels (1-4) and x*y*z voxels. Free with
  * pw_volume_free(a, vol). */
-PW__DEF int pw_volume_alloc(const pw_alloc *a, pw_volume *vol, int c, int x, int y, int z,
-                            pw_err *e)
+PW__DEF int pw_volume_alloc(const pw_alloc *a, pw_volume *vol, int c, int x, int y, int z, pw_err *e)
 {
     int rc;
     memset(vol, 0, sizeof *vol);
     if (c < 1 || c > 4 || x <= 0 || y <= 0 || z <= 0)
-        return pw_fail(e, PW_ERR_INVALID, "invalid volume size %dx%dx%d with %d channels", x, y, z,
-                       c);
+        return pw_fail(e, PW_ERR_INVALID, "invalid volume size %dx%dx%d with %d channels", x, y, z, c);
     if ((rc = pw__volume_check_size("volume", (uint64_t)x, (uint64_t)y, (uint64_t)z, e))) return rc;
     vol->px = (float *)pw_calloc_array(a, (size_t)x * y * z * c, sizeof(float), "volume", e);
     if (!vol->px) return PW_ERR_NOMEM;
@@ -12248,8 +12260,8 @@ PW__DEF void pw_volume_free(const pw_alloc *a, pw_volume *vol)
 PW__DEF int pw__volume_check(const pw_volume *v, pw_err *e)
 {
     if (!v || !v->px || v->c < 1 || v->c > 4 || v->x <= 0 || v->y <= 0 || v->z <= 0)
-        return pw_fail(e, PW_ERR_INVALID, "invalid volume (%dx%dx%d, %d channels)", v ? v->x : 0,
-                       v ? v->y : 0, v ? v->z : 0, v ? v->c : 0);
+        return pw_fail(e, PW_ERR_INVALID, "invalid volume (%dx%dx%d, %d channels)", v ? v->x : 0, v ? v->y : 0,
+                       v ? v->z : 0, v ? v->c : 0);
     return pw__volume_check_size("volume", (uint64_t)v->x, (uint64_t)v->y, (uint64_t)v->z, e);
 }
 
@@ -12267,16 +12279,14 @@ PW__DEF int pw_volume_from_image(const pw_alloc *a, const pw_image *img, pw_volu
 
 /* Slice z of a volume as a new image (w = x, h = y, same channels, bits 8).
  * Free with pw_image_free. */
-PW__DEF int pw_volume_slice(const pw_alloc *a, const pw_volume *vol, int z, pw_image *img,
-                            pw_err *e)
+PW__DEF int pw_volume_slice(const pw_alloc *a, const pw_volume *vol, int z, pw_image *img, pw_err *e)
 {
     int rc = pw__volume_check(vol, e);
     size_t n;
     memset(img, 0, sizeof *img);
     if (rc) return rc;
     if (z < 0 || z >= vol->z)
-        return pw_fail(e, PW_ERR_INVALID, "slice %d is outside the volume (0 to %d)", z,
-                       vol->z - 1);
+        return pw_fail(e, PW_ERR_INVALID, "slice %d is outside the volume (0 to %d)", z, vol->z - 1);
     if ((rc = pw_image_alloc(a, img, vol->x, vol->y, vol->c, e))) return rc;
     n = (size_t)vol->x * vol->y * vol->c;
     memcpy(img->px, vol->px + (size_t)z * n, n * sizeof(float));
@@ -12306,12 +12316,10 @@ PW__DEF int pw__gzip_header(const unsigned char *d, size_t n, size_t *hlen, pw_e
 {
     size_t pos = 10;
     unsigned flg;
-    if (n < 18)
-        return pw_fail(e, PW_ERR_PARSE, "gzip data truncated (%lu bytes)", (unsigned long)n);
+    if (n < 18) return pw_fail(e, PW_ERR_PARSE, "gzip data truncated (%lu bytes)", (unsigned long)n);
     if (d[0] != 0x1f || d[1] != 0x8b)
         return pw_fail(e, PW_ERR_PARSE, "not gzip data (bad magic 0x%02x 0x%02x)", d[0], d[1]);
-    if (d[2] != 8)
-        return pw_fail(e, PW_ERR_UNSUPPORTED, "gzip compression method %d (only 8, deflate)", d[2]);
+    if (d[2] != 8) return pw_fail(e, PW_ERR_UNSUPPORTED, "gzip compression method %d (only 8, deflate)", d[2]);
     flg = d[3];
     if (flg & 0xe0) return pw_fail(e, PW_ERR_PARSE, "gzip header: reserved flag bits are set");
     if (flg & 4) { /* FEXTRA: a little-endian length, then that many bytes */
@@ -12366,8 +12374,8 @@ PW__DEF int pw_gzip_decompress(const pw_alloc *a, const unsigned char *data, siz
         unsigned char *m = NULL;
         const unsigned char *t;
         if (member > 0 && (n - pos < 2 || data[pos] != 0x1f || data[pos + 1] != 0x8b)) {
-            r = pw_fail(e, PW_ERR_PARSE, "gzip data: %lu bytes of garbage after member %d",
-                        (unsigned long)(n - pos), member);
+            r = pw_fail(e, PW_ERR_PARSE, "gzip data: %lu bytes of garbage after member %d", (unsigned long)(n - pos),
+                        member);
             break;
         }
         if ((r = pw__gzip_header(data + pos, n - pos, &hlen, e))) break;
@@ -12377,16 +12385,13 @@ PW__DEF int pw_gzip_decompress(const pw_alloc *a, const unsigned char *data, siz
         pos += used;
         t = data + pos;
         if (n - pos < 8)
-            r = pw_fail(e, PW_ERR_PARSE, "gzip data truncated (member %d has no CRC and size)",
-                        member + 1);
+            r = pw_fail(e, PW_ERR_PARSE, "gzip data truncated (member %d has no CRC and size)", member + 1);
         else if (pw_crc32(0, m, mn) != pw__le32(t))
             r = pw_fail(e, PW_ERR_PARSE, "gzip data: CRC-32 mismatch in member %d", member + 1);
         else if (pw__le32(t + 4) != (uint32_t)mn)
-            r = pw_fail(e, PW_ERR_PARSE,
-                        "gzip data: member %d holds %lu bytes, its trailer says %lu", member + 1,
+            r = pw_fail(e, PW_ERR_PARSE, "gzip data: member %d holds %lu bytes, its trailer says %lu", member + 1,
                         (unsigned long)mn, (unsigned long)pw__le32(t + 4));
-        else if (member == 0 && pos + 8 == n) { /* the usual single member: no copy */
-            out->data = m;
+        else if (member == 0 && pos + 8 == n) { /* the usual single member: no copy */ out->data = m;
             out->size = out->cap = mn;
             return PW_OK;
         } else {
@@ -12540,42 +12545,32 @@ PW__DEF int pw__nrrd_int(const char *s, size_t n, int64_t *v)
 
 PW__DEF int pw__nrrd_bad(pw__nrrd *r, int code, const char *what, const char *s, size_t n)
 {
-    return pw_fail(r->e, code, "%s:%d: %s '%.*s'", r->name, r->line, what, (int)(n < 40 ? n : 40),
-                   s);
+    return pw_fail(r->e, code, "%s:%d: %s '%.*s'", r->name, r->line, what, (int)(n < 40 ? n : 40), s);
 }
 
 PW__DEF int pw__nrrd_type(pw__nrrd *r, const char *s, size_t n)
 {
-    if (pw__nrrd_in_list(s, n, "uchar|unsigned char|uint8|uint8_t"))
-        r->bytes = 1;
-    else if (pw__nrrd_in_list(s, n, "ushort|unsigned short|unsigned short int|uint16|uint16_t"))
-        r->bytes = 2;
-    else if (pw__nrrd_ieq(s, n, "float"))
-        r->bytes = 4;
+    if (pw__nrrd_in_list(s, n, "uchar|unsigned char|uint8|uint8_t")) r->bytes = 1;
+    else if (pw__nrrd_in_list(s, n, "ushort|unsigned short|unsigned short int|uint16|uint16_t")) r->bytes = 2;
+    else if (pw__nrrd_ieq(s, n, "float")) r->bytes = 4;
     else if (pw__nrrd_in_list(s, n,
                               "signed char|int8|int8_t|short|short int|signed short|signed short "
                               "int|int16|int16_t|int|signed int|int32|int32_t|uint|unsigned "
                               "int|uint32|uint32_t|longlong|long long|long long int|signed long "
                               "long|signed long long int|int64|int64_t|ulonglong|unsigned long "
                               "long|unsigned long long int|uint64|uint64_t|double|block"))
-        return pw__nrrd_bad(r, PW_ERR_UNSUPPORTED,
-                            "type is not supported (uchar, ushort or float):", s, n);
-    else
-        return pw__nrrd_bad(r, PW_ERR_PARSE, "unknown type", s, n);
+        return pw__nrrd_bad(r, PW_ERR_UNSUPPORTED, "type is not supported (uchar, ushort or float):", s, n);
+    else return pw__nrrd_bad(r, PW_ERR_PARSE, "unknown type", s, n);
     return PW_OK;
 }
 
 PW__DEF int pw__nrrd_encoding(pw__nrrd *r, const char *s, size_t n)
 {
-    if (pw__nrrd_ieq(s, n, "raw"))
-        r->gzip = 0;
-    else if (pw__nrrd_in_list(s, n, "gzip|gz"))
-        r->gzip = 1;
+    if (pw__nrrd_ieq(s, n, "raw")) r->gzip = 0;
+    else if (pw__nrrd_in_list(s, n, "gzip|gz")) r->gzip = 1;
     else if (pw__nrrd_in_list(s, n, "txt|text|ascii|hex|bz2|bzip2"))
-        return pw__nrrd_bad(r, PW_ERR_UNSUPPORTED, "encoding is not supported (raw or gzip):", s,
-                            n);
-    else
-        return pw__nrrd_bad(r, PW_ERR_PARSE, "unknown encoding", s, n);
+        return pw__nrrd_bad(r, PW_ERR_UNSUPPORTED, "encoding is not supported (raw or gzip):", s, n);
+    else return pw__nrrd_bad(r, PW_ERR_PARSE, "unknown encoding", s, n);
     return PW_OK;
 }
 
@@ -12589,13 +12584,11 @@ PW__DEF int pw__nrrd_sizes(pw__nrrd *r, const char *s, size_t n)
         int rc;
         while (k < n && s[k] != ' ' && s[k] != '\t') k++;
         if (r->nsizes == PW__NRRD_MAX_DIM)
-            return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: more than %d sizes", r->name, r->line,
-                           PW__NRRD_MAX_DIM);
+            return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: more than %d sizes", r->name, r->line, PW__NRRD_MAX_DIM);
         rc = pw__nrrd_int(s + i, k - i, &v);
         if (rc == -2) return pw__nrrd_bad(r, PW_ERR_LIMIT, "size is too large:", s + i, k - i);
         if (rc || v <= 0)
-            return pw__nrrd_bad(r, PW_ERR_PARSE, "bad size (a positive integer is needed):", s + i,
-                                k - i);
+            return pw__nrrd_bad(r, PW_ERR_PARSE, "bad size (a positive integer is needed):", s + i, k - i);
         r->size[r->nsizes++] = (uint64_t)v;
         i = k;
         while (i < n && (s[i] == ' ' || s[i] == '\t')) i++;
@@ -12614,17 +12607,15 @@ PW__DEF int pw__nrrd_number_field(pw__nrrd *r, int id, const char *s, size_t n)
                                                      : "bad byte skip",
                             s, n);
     if (id == PW__NF_DIMENSION) {
-        if (v < 1 || v > PW__NRRD_MAX_DIM)
-            return pw__nrrd_bad(r, PW_ERR_PARSE, "bad dimension (1 to 16):", s, n);
+        if (v < 1 || v > PW__NRRD_MAX_DIM) return pw__nrrd_bad(r, PW_ERR_PARSE, "bad dimension (1 to 16):", s, n);
         if (v < 2 || v > 4)
             return pw_fail(r->e, PW_ERR_UNSUPPORTED,
-                           "%s:%d: dimension %d is not supported (2: X Y, 3: X Y Z, 4: C X Y Z)",
-                           r->name, r->line, (int)v);
+                           "%s:%d: dimension %d is not supported (2: X Y, 3: X Y Z, 4: C X Y Z)", r->name, r->line,
+                           (int)v);
         r->dim = (int)v;
     } else if (v != 0) {
-        return pw_fail(r->e, PW_ERR_UNSUPPORTED,
-                       "%s:%d: %s %lld is not supported (the data must follow the header)", r->name,
-                       r->line, id == PW__NF_LINE_SKIP ? "line skip" : "byte skip", (long long)v);
+        return pw_fail(r->e, PW_ERR_UNSUPPORTED, "%s:%d: %s %lld is not supported (the data must follow the header)",
+                       r->name, r->line, id == PW__NF_LINE_SKIP ? "line skip" : "byte skip", (long long)v);
     }
     return PW_OK;
 }
@@ -12634,44 +12625,34 @@ PW__DEF void pw__nrrd_kinds(pw__nrrd *r, const char *s, size_t n)
 {
     size_t k = 0;
     while (k < n && s[k] != ' ' && s[k] != '\t') k++;
-    r->first_kind = pw__nrrd_in_list(
-        s, k,
-        "RGB-color|RGBA-color|HSV-color|XYZ-color|3-color|4-color|vector|2-vector|3-vector|4-"
-        "vector|covariant-vector|normal|3-normal|3-gradient|point|list|quaternion|complex");
+    r->first_kind =
+        pw__nrrd_in_list(s, k,
+                         "RGB-color|RGBA-color|HSV-color|XYZ-color|3-color|4-color|vector|2-vector|3-vector|4-"
+                         "vector|covariant-vector|normal|3-normal|3-gradient|point|list|quaternion|complex");
 }
 
 /* The value of one known field. */
 PW__DEF int pw__nrrd_value(pw__nrrd *r, int id, const char *s, size_t n)
 {
     switch (id) {
-    case PW__NF_TYPE:
-        return pw__nrrd_type(r, s, n);
-    case PW__NF_ENCODING:
-        return pw__nrrd_encoding(r, s, n);
-    case PW__NF_SIZES:
-        return pw__nrrd_sizes(r, s, n);
-    case PW__NF_KINDS:
-        pw__nrrd_kinds(r, s, n);
-        return PW_OK;
+    case PW__NF_TYPE: return pw__nrrd_type(r, s, n);
+    case PW__NF_ENCODING: return pw__nrrd_encoding(r, s, n);
+    case PW__NF_SIZES: return pw__nrrd_sizes(r, s, n);
+    case PW__NF_KINDS: pw__nrrd_kinds(r, s, n); return PW_OK;
     case PW__NF_DIMENSION:
     case PW__NF_LINE_SKIP:
-    case PW__NF_BYTE_SKIP:
-        return pw__nrrd_number_field(r, id, s, n);
+    case PW__NF_BYTE_SKIP: return pw__nrrd_number_field(r, id, s, n);
     case PW__NF_ENDIAN:
-        if (pw__nrrd_ieq(s, n, "little"))
-            r->endian = 1;
-        else if (pw__nrrd_ieq(s, n, "big"))
-            r->endian = 2;
-        else
-            return pw__nrrd_bad(r, PW_ERR_PARSE, "bad endian (little or big):", s, n);
+        if (pw__nrrd_ieq(s, n, "little")) r->endian = 1;
+        else if (pw__nrrd_ieq(s, n, "big")) r->endian = 2;
+        else return pw__nrrd_bad(r, PW_ERR_PARSE, "bad endian (little or big):", s, n);
         return PW_OK;
     case PW__NF_DATA_FILE:
         return pw__nrrd_bad(r, PW_ERR_UNSUPPORTED,
                             "detached data is not supported (the data must follow the header): "
                             "data file",
                             s, n);
-    default:
-        return PW_OK; /* content, spacings, space, ...: ignored */
+    default: return PW_OK; /* content, spacings, space, ...: ignored */
     }
 }
 
@@ -12681,20 +12662,18 @@ PW__DEF int pw__nrrd_line(pw__nrrd *r, const char *s, size_t n)
 {
     size_t k, v;
     int id;
-    if (memchr(s, 0, n))
-        return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: NUL byte in the header", r->name, r->line);
+    if (memchr(s, 0, n)) return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: NUL byte in the header", r->name, r->line);
     if (s[0] == '#') return PW_OK;
     for (k = 0; k + 1 < n; k++)
         if (s[k] == ':' && (s[k + 1] == ' ' || s[k + 1] == '=')) break;
     if (k + 1 >= n || k == 0)
-        return pw__nrrd_bad(r, PW_ERR_PARSE, "expected 'field: value' or 'key:=value', found", s,
-                            n);
+        return pw__nrrd_bad(r, PW_ERR_PARSE, "expected 'field: value' or 'key:=value', found", s, n);
     if (s[k + 1] == '=') return PW_OK;
     id = pw__nrrd_field(s, k);
     if (id < 0) return PW_OK; /* unknown fields are ignored */
     if (r->seen[id])
-        return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: duplicate field '%.*s' (first given on line %d)",
-                       r->name, r->line, (int)k, s, r->seen[id]);
+        return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: duplicate field '%.*s' (first given on line %d)", r->name, r->line,
+                       (int)k, s, r->seen[id]);
     r->seen[id] = r->line;
     v = k + 2;
     while (v < n && (s[v] == ' ' || s[v] == '\t')) v++;
@@ -12709,14 +12688,12 @@ PW__DEF int pw__nrrd_magic(pw__nrrd *r)
     if (r->n < 8 || memcmp(p, "NRRD000", 7) != 0 || p[7] < '0' || p[7] > '9')
         return pw_fail(r->e, PW_ERR_PARSE, "%s: not a NRRD file (no NRRD000X magic)", r->name);
     if (p[7] < '1' || p[7] > '5')
-        return pw_fail(r->e, PW_ERR_UNSUPPORTED,
-                       "%s: NRRD format version %c is not supported (NRRD0001 to NRRD0005)",
+        return pw_fail(r->e, PW_ERR_UNSUPPORTED, "%s: NRRD format version %c is not supported (NRRD0001 to NRRD0005)",
                        r->name, p[7]);
     r->pos = 8;
     if (r->pos < r->n && r->p[r->pos] == '\r') r->pos++;
     if (r->pos >= r->n || r->p[r->pos] != '\n')
-        return pw_fail(r->e, PW_ERR_PARSE, "%s:1: the magic must be alone on the first line",
-                       r->name);
+        return pw_fail(r->e, PW_ERR_PARSE, "%s:1: the magic must be alone on the first line", r->name);
     r->pos++;
     r->line = 2;
     return PW_OK;
@@ -12727,13 +12704,11 @@ PW__DEF int pw__nrrd_header(pw__nrrd *r)
 {
     for (;; r->line++) {
         const unsigned char *nl =
-            r->pos < r->n ? (const unsigned char *)memchr(r->p + r->pos, '\n', r->n - r->pos)
-                          : NULL;
+            r->pos < r->n ? (const unsigned char *)memchr(r->p + r->pos, '\n', r->n - r->pos) : NULL;
         size_t start = r->pos, end;
         int rc;
         if (!nl)
-            return pw_fail(r->e, PW_ERR_PARSE,
-                           "%s:%d: the header does not end with an empty line (no data follows)",
+            return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: the header does not end with an empty line (no data follows)",
                            r->name, r->line);
         end = (size_t)(nl - r->p);
         r->pos = end + 1;
@@ -12752,21 +12727,19 @@ PW__DEF int pw__nrrd_shape(pw__nrrd *r)
     int i, rest, rc;
     for (i = 0; i < 4; i++)
         if (!r->seen[i])
-            return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: the header lacks the required '%s' field",
-                           r->name, r->line, req[i]);
+            return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: the header lacks the required '%s' field", r->name, r->line,
+                           req[i]);
     if (r->nsizes != r->dim)
         return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: sizes has %d values, dimension says %d", r->name,
                        r->seen[PW__NF_SIZES], r->nsizes, r->dim);
     if (r->bytes > 1 && !r->endian)
-        return pw_fail(r->e, PW_ERR_PARSE,
-                       "%s:%d: the header lacks the 'endian' field (needed for %s samples)",
+        return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: the header lacks the 'endian' field (needed for %s samples)",
                        r->name, r->line, r->bytes == 2 ? "16-bit" : "float");
     r->c = 1;
     rest = r->dim; /* spatial axes */
     if (r->dim == 4 || (r->dim == 3 && r->first_kind)) {
         if (s[0] > 4)
-            return pw_fail(r->e, PW_ERR_UNSUPPORTED,
-                           "%s:%d: %llu channels (the first size) are not supported (1 to 4)",
+            return pw_fail(r->e, PW_ERR_UNSUPPORTED, "%s:%d: %llu channels (the first size) are not supported (1 to 4)",
                            r->name, r->seen[PW__NF_SIZES], (unsigned long long)s[0]);
         r->c = (int)s[0];
         s++;
@@ -12799,8 +12772,8 @@ PW__DEF int pw__nrrd_convert(pw__nrrd *r, const unsigned char *src, pw_volume *v
             float f;
             memcpy(&f, &u, sizeof f);
             if (!pw_is_finite(f))
-                return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: float sample %lu is %s", r->name,
-                               r->line, (unsigned long)i, f != f ? "NaN" : "infinite");
+                return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: float sample %lu is %s", r->name, r->line, (unsigned long)i,
+                               f != f ? "NaN" : "infinite");
             v->px[i] = f;
         }
     }
@@ -12823,7 +12796,8 @@ PW__DEF int pw__nrrd_data(const pw_alloc *a, pw__nrrd *r, pw_volume *out)
         pw_buf unz;
         pw_err_clear(&local);
         rc = pw_gzip_decompress(a, src, have, (size_t)need, &unz, &local);
-        buf = unz.data, have = unz.size;
+        buf = unz.data;
+        have = unz.size;
         if (rc == PW_ERR_LIMIT)
             return pw_fail(r->e, PW_ERR_PARSE,
                            "%s:%d: the gzip data holds more than the %llu bytes that sizes and "
@@ -12834,10 +12808,8 @@ PW__DEF int pw__nrrd_data(const pw_alloc *a, pw__nrrd *r, pw_volume *out)
     }
     if (have < need) {
         pw_free(a, buf);
-        return pw_fail(r->e, PW_ERR_PARSE,
-                       "%s:%d: data truncated: %llu bytes needed, %llu present%s", r->name, r->line,
-                       (unsigned long long)need, (unsigned long long)have,
-                       r->gzip ? " after gunzip" : "");
+        return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: data truncated: %llu bytes needed, %llu present%s", r->name, r->line,
+                       (unsigned long long)need, (unsigned long long)have, r->gzip ? " after gunzip" : "");
     }
     rc = pw_volume_alloc(a, out, r->c, r->x, r->y, r->z, r->e);
     if (!rc) rc = pw__nrrd_convert(r, src, out);
@@ -12848,8 +12820,8 @@ PW__DEF int pw__nrrd_data(const pw_alloc *a, pw__nrrd *r, pw_volume *out)
 
 /* Reads a NRRD volume from memory (see the top of this module for what is
  * read). `name` (usually the file name) starts every error message. */
-PW__DEF int pw_nrrd_read_memory(const pw_alloc *a, const unsigned char *data, size_t size,
-                                const char *name, pw_volume *out, pw_err *e)
+PW__DEF int pw_nrrd_read_memory(const pw_alloc *a, const unsigned char *data, size_t size, const char *name,
+                                pw_volume *out, pw_err *e)
 {
     pw__nrrd r;
     int rc;
@@ -12860,8 +12832,7 @@ PW__DEF int pw_nrrd_read_memory(const pw_alloc *a, const unsigned char *data, si
     r.name = name ? name : "volume";
     r.e = e;
     r.line = 1;
-    if ((rc = pw__nrrd_magic(&r)) || (rc = pw__nrrd_header(&r)) || (rc = pw__nrrd_shape(&r)))
-        return rc;
+    if ((rc = pw__nrrd_magic(&r)) || (rc = pw__nrrd_header(&r)) || (rc = pw__nrrd_shape(&r))) return rc;
     return pw__nrrd_data(a, &r, out);
 }
 
@@ -12872,8 +12843,7 @@ PW__DEF int pw_nrrd_read_memory(const pw_alloc *a, const unsigned char *data, si
 /* NRRD0004, uint8 samples (pw_image_quantize), dimension 3 (sizes X Y Z)
  * for one channel and 4 (sizes C X Y Z) otherwise, raw or (gzip != 0)
  * gzip-encoded. a is used only for gzip. */
-PW__DEF int pw_nrrd_write(const pw_alloc *a, const pw_volume *vol, int gzip, pw_write_fn w,
-                          void *ctx, pw_err *e)
+PW__DEF int pw_nrrd_write(const pw_alloc *a, const pw_volume *vol, int gzip, pw_write_fn w, void *ctx, pw_err *e)
 {
     static const char *const kinds[4] = {"", "2-vector ", "RGB-color ", "RGBA-color "};
     pw__sink s;
@@ -12887,8 +12857,7 @@ PW__DEF int pw_nrrd_write(const pw_alloc *a, const pw_volume *vol, int gzip, pw_
     k = snprintf(head, sizeof head,
                  "NRRD0004\ntype: uint8\ndimension: %d\nsizes: %s%d %d %d\n"
                  "kinds: %sdomain domain domain\nencoding: %s\n\n",
-                 vol->c > 1 ? 4 : 3, sz, vol->x, vol->y, vol->z, kinds[vol->c - 1],
-                 gzip ? "gzip" : "raw");
+                 vol->c > 1 ? 4 : 3, sz, vol->x, vol->y, vol->z, kinds[vol->c - 1], gzip ? "gzip" : "raw");
     pw__sink_init(&s, w, ctx);
     pw__sink_put(&s, head, (size_t)k);
     if (gzip) {
@@ -12935,8 +12904,7 @@ PW__DEF int pw__nrrd_save_body(void *arg, pw_write_fn w, void *ctx, pw_err *e)
 }
 
 /* Writes vol to the NRRD file at path (see pw_nrrd_write). */
-PW__DEF int pw_nrrd_save(const pw_alloc *a, const pw_volume *vol, int gzip, const char *path,
-                         pw_err *e)
+PW__DEF int pw_nrrd_save(const pw_alloc *a, const pw_volume *vol, int gzip, const char *path, pw_err *e)
 {
     pw__nrrd_save_arg s;
     int rc = pw__volume_check(vol, e);
@@ -13019,20 +12987,25 @@ PW__DEF void pw_tet_face(int k, int out[3])
  * platform. */
 PW__DEF void pw_tet_cosines(const double (*p)[3], double *clo, double *chi)
 {
-    static const int edge[6][4] = {{0, 1, 2, 3}, {0, 2, 1, 3}, {0, 3, 1, 2},
-                                   {1, 2, 0, 3}, {1, 3, 0, 2}, {2, 3, 0, 1}};
+    static const int edge[6][4] = {{0, 1, 2, 3}, {0, 2, 1, 3}, {0, 3, 1, 2}, {1, 2, 0, 3}, {1, 3, 0, 2}, {2, 3, 0, 1}};
     int k, i;
-    *clo = -1.0, *chi = 1.0;
+    *clo = -1.0;
+    *chi = 1.0;
     for (k = 0; k < 6; k++) { /* the angle along edge (a,b) between the faces (a,b,c) and (a,b,d) */
         const double *a = p[edge[k][0]], *b = p[edge[k][1]], *c = p[edge[k][2]], *d = p[edge[k][3]];
         double u[3], v[3], w[3], n1[3], n2[3], l1, l2, cs;
-        for (i = 0; i < 3; i++) u[i] = b[i] - a[i], v[i] = c[i] - a[i], w[i] = d[i] - a[i];
+        for (i = 0; i < 3; i++) {
+            u[i] = b[i] - a[i];
+            v[i] = c[i] - a[i];
+            w[i] = d[i] - a[i];
+        }
         pw_cross3(u, v, n1);
         pw_cross3(u, w, n2);
         l1 = sqrt(pw_dot3(n1, n1));
         l2 = sqrt(pw_dot3(n2, n2));
         if (l1 <= 0.0 || l2 <= 0.0) {
-            *clo = 1.0, *chi = -1.0;
+            *clo = 1.0;
+            *chi = -1.0;
             return;
         }
         cs = pw_dot3(n1, n2) / (l1 * l2);
@@ -13113,8 +13086,8 @@ PW__DEF int pw_tetmesh_check(pw_tetmesh *m, const char *name, pw_err *e)
         vol = pw_tet_volume6(m, t);
         len = pw__tet_longest_edge(m, t);
         if (!(fabs(vol) > 1e-12 * len * len * len))
-            return pw_fail(e, PW_ERR_DEGENERATE, "%s: tetrahedron %d (vertices %d %d %d %d) has zero volume", name,
-                           t, c[0], c[1], c[2], c[3]);
+            return pw_fail(e, PW_ERR_DEGENERATE, "%s: tetrahedron %d (vertices %d %d %d %d) has zero volume", name, t,
+                           c[0], c[1], c[2], c[3]);
         if (vol < 0.0) {
             int tmp = c[2];
             c[2] = c[3];
@@ -13157,9 +13130,8 @@ PW__DEF int pw__tet_pair(const pw_tetmesh *m, int *nb, int f, int g, int parity_
 {
     int key[3], parity_g = pw__tet_face_key(m, g >> 2, g & 3, key);
     if (nb[g] >= 0)
-        return pw_fail(e, PW_ERR_TOPOLOGY,
-                       "face (%d %d %d) is shared by three or more tetrahedra (%d, %d and %d)", key[0], key[1],
-                       key[2], nb[g] >> 2, g >> 2, f >> 2);
+        return pw_fail(e, PW_ERR_TOPOLOGY, "face (%d %d %d) is shared by three or more tetrahedra (%d, %d and %d)",
+                       key[0], key[1], key[2], nb[g] >> 2, g >> 2, f >> 2);
     if (parity_f == parity_g)
         return pw_fail(e, PW_ERR_TOPOLOGY,
                        "tetrahedra %d and %d overlap: they lie on the same side of their shared face (%d %d %d)",
@@ -13531,7 +13503,8 @@ PW__DEF int pw__tio_rest(pw__sc *s, int n, const char *what, long long index)
     int k, r;
     for (k = 0; k < n; k++)
         if ((r = pw__sc_num(s, &x, what, index)) != PW_OK) return r;
-    if (!pw__sc_eol(s)) return pw__sc_fail(s, PW_ERR_PARSE, "%s %lld: unexpected text at the end of the line", what, index);
+    if (!pw__sc_eol(s))
+        return pw__sc_fail(s, PW_ERR_PARSE, "%s %lld: unexpected text at the end of the line", what, index);
     pw__sc_next_line(s);
     return PW_OK;
 }
@@ -13542,7 +13515,8 @@ PW__DEF int pw__tetgen_nodes(const pw_alloc *a, pw__sc *s, pw_tetmesh *m, long l
     int nv, i, k, r;
     if ((r = pw__tio_header(s, h, 4, 2, "node header")) != PW_OK) return r;
     if (h[1] != 3)
-        return pw__sc_fail(s, h[1] == 2 ? PW_ERR_UNSUPPORTED : PW_ERR_PARSE, "dimension %lld (only 3 is supported)", h[1]);
+        return pw__sc_fail(s, h[1] == 2 ? PW_ERR_UNSUPPORTED : PW_ERR_PARSE, "dimension %lld (only 3 is supported)",
+                           h[1]);
     if (h[2] < 0 || h[2] > 1000 || h[3] < 0 || h[3] > 1)
         return pw__sc_fail(s, PW_ERR_PARSE, "bad attribute (%lld) or marker (%lld) count", h[2], h[3]);
     if ((r = pw__tio_count(s, "points", h[0], 8, &nv)) != PW_OK) return r;
@@ -13599,7 +13573,9 @@ typedef struct pw_memfile {
 PW__DEF pw_memfile pw_memfile_of(const void *data, size_t size, const char *name)
 {
     pw_memfile f;
-    f.data = data, f.size = size, f.name = name;
+    f.data = data;
+    f.size = size;
+    f.name = name;
     return f;
 }
 
@@ -13686,10 +13662,22 @@ PW__DEF int pw__medit_coord(pw__sc *s, float *out, const char *what, long long i
 /* Blocks skipped, with the numbers per entry. */
 PW__DEF int pw__medit_skippable(const char *w, size_t n)
 {
-    static const char *const names[] = {"Edges", "Triangles", "Quadrilaterals", "Hexahedra", "Prisms", "Corners",
-                                        "Ridges", "RequiredVertices", "RequiredEdges", "RequiredTriangles",
-                                        "RequiredQuadrilaterals", "Normals", "Tangents", "NormalAtVertices",
-                                        "TangentAtVertices", "TangentAtEdges"};
+    static const char *const names[] = {"Edges",
+                                        "Triangles",
+                                        "Quadrilaterals",
+                                        "Hexahedra",
+                                        "Prisms",
+                                        "Corners",
+                                        "Ridges",
+                                        "RequiredVertices",
+                                        "RequiredEdges",
+                                        "RequiredTriangles",
+                                        "RequiredQuadrilaterals",
+                                        "Normals",
+                                        "Tangents",
+                                        "NormalAtVertices",
+                                        "TangentAtVertices",
+                                        "TangentAtEdges"};
     static const int per[] = {3, 4, 5, 9, 7, 1, 1, 1, 1, 1, 1, 3, 3, 2, 2, 3};
     size_t k;
     for (k = 0; k < sizeof per / sizeof per[0]; k++)
@@ -13736,7 +13724,8 @@ PW__DEF int pw__medit_tets(const pw_alloc *a, pw__sc *s, pw_tetmesh *m, pw_err *
             if ((r = pw__medit_int(s, &c, "tetrahedron", i)) != PW_OK) return r;
             if (k == 4) continue; /* the reference (region) number */
             if (c < 1 || c > m->nv)
-                return pw__sc_fail(s, PW_ERR_INVALID, "tetrahedron %d: vertex %lld does not exist (1..%d)", i, c, m->nv);
+                return pw__sc_fail(s, PW_ERR_INVALID, "tetrahedron %d: vertex %lld does not exist (1..%d)", i, c,
+                                   m->nv);
             m->tet[4 * i + k] = (int)(c - 1);
         }
     return PW_OK;
@@ -13765,12 +13754,14 @@ PW__DEF int pw__medit_keyword(const pw_alloc *a, pw__sc *s, pw_tetmesh *m, int *
     int per;
     pw__medit_skip(s);
     w = pw__sc_word(s, &n);
-    if (n == 0 || pw__sc_is(w, n, "End")) return (*done = 1), PW_OK;
+    if (n == 0 || pw__sc_is(w, n, "End")) {
+        (*done = 1);
+        return PW_OK;
+    }
     if (pw__sc_is(w, n, "MeshVersionFormatted")) return pw__medit_int(s, &v, "MeshVersionFormatted", -1);
     if (pw__sc_is(w, n, "Dimension")) {
         int r = pw__medit_int(s, &v, "Dimension", -1);
-        if (r == PW_OK && v != 3)
-            return pw__sc_fail(s, PW_ERR_UNSUPPORTED, "Dimension %lld (only 3 is supported)", v);
+        if (r == PW_OK && v != 3) return pw__sc_fail(s, PW_ERR_UNSUPPORTED, "Dimension %lld (only 3 is supported)", v);
         return r;
     }
     if (pw__sc_is(w, n, "Vertices")) return pw__medit_vertices(a, s, m, e);
@@ -13943,15 +13934,15 @@ typedef struct pw_bstet {
 typedef struct pw_bisect {
     const pw_alloc *a;
     pw_err *e;
-    int *vc;          /* nv*3 integer coordinates, each below 2^21 */
+    int *vc; /* nv*3 integer coordinates, each below 2^21 */
     int nv;
     size_t capv;
-    uint64_t *hkey;   /* vertex hash: packed coordinates + 1 (0: empty) */
+    uint64_t *hkey; /* vertex hash: packed coordinates + 1 (0: empty) */
     int *hval;
-    size_t hcap;      /* power of two */
-    pw_bstet *t;      /* the tetrahedra (the leaves of the bisection forest) */
+    size_t hcap; /* power of two */
+    pw_bstet *t; /* the tetrahedra (the leaves of the bisection forest) */
     size_t nt, capt;
-    size_t max_tets;  /* more is PW_ERR_LIMIT (0: PW_MAX_MESH_ELEMENTS) */
+    size_t max_tets; /* more is PW_ERR_LIMIT (0: PW_MAX_MESH_ELEMENTS) */
     /* from the first pw_bisect_conform on: the tetrahedra at each vertex
        (lists of (tetrahedron, next) entries from head[v], -1 ends), kept by
        every bisection, and the tetrahedra to check for hanging vertices */
@@ -13973,9 +13964,13 @@ PW__DEF void pw_bisect_free(pw_bisect *b)
     pw_free(b->a, b->stet);
     pw_free(b->a, b->snext);
     pw_free(b->a, b->queue);
-    b->vc = NULL, b->hkey = NULL, b->hval = NULL, b->t = NULL;
+    b->vc = NULL;
+    b->hkey = NULL;
+    b->hval = NULL;
+    b->t = NULL;
     b->head = b->stet = b->snext = b->queue = NULL;
-    b->nv = 0, b->capv = b->hcap = b->nt = b->capt = 0;
+    b->nv = 0;
+    b->capv = b->hcap = b->nt = b->capt = 0;
     b->cap_head = b->ns = b->cap_stet = b->cap_snext = b->nq = b->capq = 0;
 }
 
@@ -13986,7 +13981,11 @@ PW__DEF uint64_t pw__bs_key(const int *c)
 
 PW__DEF size_t pw__bs_slot(uint64_t k, size_t mask)
 {
-    k ^= k >> 31, k *= 0x7fb5d329728ea185ull, k ^= k >> 27, k *= 0x81dadef4bc2dd44dull, k ^= k >> 33;
+    k ^= k >> 31;
+    k *= 0x7fb5d329728ea185ull;
+    k ^= k >> 27;
+    k *= 0x81dadef4bc2dd44dull;
+    k ^= k >> 33;
     return (size_t)k & mask;
 }
 
@@ -14014,11 +14013,14 @@ PW__DEF int pw__bs_rehash(pw_bisect *b, size_t cap)
     for (i = 0; i < b->hcap; i++) {
         if (!b->hkey[i]) continue;
         for (j = pw__bs_slot(b->hkey[i], cap - 1); k[j]; j = (j + 1) & (cap - 1)) continue;
-        k[j] = b->hkey[i], v[j] = b->hval[i];
+        k[j] = b->hkey[i];
+        v[j] = b->hval[i];
     }
     pw_free(b->a, b->hkey);
     pw_free(b->a, b->hval);
-    b->hkey = k, b->hval = v, b->hcap = cap;
+    b->hkey = k;
+    b->hval = v;
+    b->hcap = cap;
     return PW_OK;
 }
 
@@ -14040,7 +14042,8 @@ PW__DEF int pw__bs_vertex(pw_bisect *b, const int *c)
     memcpy(b->vc + 3 * b->nv, c, 3 * sizeof(int));
     mask = b->hcap - 1;
     for (i = pw__bs_slot(k, mask); b->hkey[i]; i = (i + 1) & mask) continue;
-    b->hkey[i] = k, b->hval[i] = b->nv;
+    b->hkey[i] = k;
+    b->hval[i] = b->nv;
     return b->nv++;
 }
 
@@ -14048,8 +14051,10 @@ PW__DEF int pw__bs_push(pw_bisect *b, const pw_bstet *t)
 {
     size_t cap = b->max_tets && b->max_tets < PW_MAX_MESH_ELEMENTS ? b->max_tets : PW_MAX_MESH_ELEMENTS;
     if (b->nt >= cap)
-        return pw_fail(b->e, PW_ERR_LIMIT, "tetrahedralize: the graded lattice needs more than %lu tetrahedra; use a "
-                       "larger fit or cell", (unsigned long)cap);
+        return pw_fail(b->e, PW_ERR_LIMIT,
+                       "tetrahedralize: the graded lattice needs more than %lu tetrahedra; use a "
+                       "larger fit or cell",
+                       (unsigned long)cap);
     if (pw_grow(b->a, (void **)&b->t, &b->capt, b->nt + 1, sizeof *b->t, "bisection tetrahedra", b->e))
         return PW_ERR_NOMEM;
     b->t[b->nt++] = *t;
@@ -14064,7 +14069,8 @@ PW__DEF int pw_bisect_kuhn(pw_bisect *b, const int *n, int side)
     int c[3], p, k, x[3];
     for (k = 0; k < 3; k++)
         if (n[k] < 1 || (double)n[k] * side >= (double)(1 << 21))
-            return pw_fail(b->e, PW_ERR_LIMIT, "tetrahedralize: %d cubes of side %d do not fit the lattice", n[k], side);
+            return pw_fail(b->e, PW_ERR_LIMIT, "tetrahedralize: %d cubes of side %d do not fit the lattice", n[k],
+                           side);
     for (c[2] = 0; c[2] < n[2]; c[2]++)
         for (c[1] = 0; c[1] < n[1]; c[1]++)
             for (c[0] = 0; c[0] < n[0]; c[0]++)
@@ -14072,7 +14078,9 @@ PW__DEF int pw_bisect_kuhn(pw_bisect *b, const int *n, int side)
                     pw_bstet t;
                     int i, r;
                     for (k = 0; k < 3; k++) x[k] = c[k] * side;
-                    t.tag = 3, t.depth = 0, t.kept = t.mark = 0;
+                    t.tag = 3;
+                    t.depth = 0;
+                    t.kept = t.mark = 0;
                     if ((t.v[0] = pw__bs_vertex(b, x)) < 0) return b->e ? b->e->code : PW_ERR_NOMEM;
                     for (i = 0; i < 3; i++) {
                         x[perm[p][i]] += side;
@@ -14088,7 +14096,8 @@ PW__DEF int pw__bs_star_add(pw_bisect *b, int v, int t)
     if (pw_grow(b->a, (void **)&b->stet, &b->cap_stet, b->ns + 1, sizeof(int), "vertex stars", b->e) ||
         pw_grow(b->a, (void **)&b->snext, &b->cap_snext, b->ns + 1, sizeof(int), "vertex stars", b->e))
         return PW_ERR_NOMEM;
-    b->stet[b->ns] = t, b->snext[b->ns] = b->head[v];
+    b->stet[b->ns] = t;
+    b->snext[b->ns] = b->head[v];
     b->head[v] = (int)b->ns++;
     return PW_OK;
 }
@@ -14116,7 +14125,8 @@ PW__DEF int pw__bs_split(pw_bisect *b, size_t i)
         z[j] = s / 2;
     }
     if ((m = pw__bs_vertex(b, z)) < 0) return b->e ? b->e->code : PW_ERR_NOMEM;
-    c1 = t, c2 = t;
+    c1 = t;
+    c2 = t;
     for (j = 0; j < k; j++) c2.v[j] = t.v[j + 1];
     c1.v[k] = c2.v[k] = m;
     c1.tag = c2.tag = k > 1 ? k - 1 : 3;
@@ -14312,23 +14322,26 @@ typedef struct pw_stuff_tris {
 PW__DEF pw_stuff_tris pw_stuff_tris_of(const float *pos, int nv, const int *tri, int nt)
 {
     pw_stuff_tris m;
-    m.pos = pos, m.nv = nv, m.tri = tri, m.nt = nt;
+    m.pos = pos;
+    m.nv = nv;
+    m.tri = tri;
+    m.nt = nt;
     return m;
 }
 
 typedef struct pw_stuff_options {
-    double cell;     /* lattice spacing (cube side = long-edge length) in mesh units; 0: chosen from target_tets */
-    int target_tets; /* approximate tetrahedron count when cell is 0; 0: 20000 */
-    int strict;      /* 1: a closed surface whose triangles cross is refused with the first crossing pair;
+    double cell;         /* lattice spacing (cube side = long-edge length) in mesh units; 0: chosen from target_tets */
+    int target_tets;     /* approximate tetrahedron count when cell is 0; 0: 20000 */
+    int strict;          /* 1: a closed surface whose triangles cross is refused with the first crossing pair;
                         0 (default): filled where its generalised winding number is at least 1/2
                         (overlapping parts unite, inner sheets vanish) and counted in info */
-    double max_hole; /* an open surface whose holes all have perimeters at most this fraction of the
+    double max_hole;     /* an open surface whose holes all have perimeters at most this fraction of the
                         bounding-box diagonal is closed (fans from a vertex of each hole, filled by
                         winding number) and counted in info; larger holes are refused. 0: 0.05;
                         negative: every open surface is refused */
-    int uniform;     /* 1: the uniform body-centred cubic lattice of cell (proven dihedral bounds,
+    int uniform;         /* 1: the uniform body-centred cubic lattice of cell (proven dihedral bounds,
                         parts thinner than a cell lost); 0 (default): graded near the surface */
-    double fit;      /* graded: the surface deviation allowed inside one lattice tetrahedron, as a
+    double fit;          /* graded: the surface deviation allowed inside one lattice tetrahedron, as a
                         fraction of the bounding-box diagonal; 0: 0.0025 */
     pw_stuff_info *info; /* optional: filled with what the fill found (also on failure) */
 } pw_stuff_options;
@@ -14361,7 +14374,7 @@ PW__DEF pw_stuff_options pw_stuff_default_options(void)
  * sizing constants. */
 #define PW__ST_ALPHA_GRADED 0.3
 #define PW__ST_REACH 1.5
-#define PW__ST_BEND 0.4       /* fit bound per width of the slab holding the surface near a tetrahedron */
+#define PW__ST_BEND 0.4          /* fit bound per width of the slab holding the surface near a tetrahedron */
 #define PW__ST_MIN_CELL 0.000625 /* no bisection of tetrahedra shorter than this (or fit / 4), over the diagonal */
 /* Quadrilateral faces with a long cut edge take the diagonal from that
  * edge's cut point when it lies within this fraction of the edge from its
@@ -14482,7 +14495,10 @@ PW__DEF int pw__st_proj_axis(const double *a, const double *b, const double *c)
 {
     double n[3], u[3], v[3];
     int k, best = 0, tries;
-    for (k = 0; k < 3; k++) u[k] = b[k] - a[k], v[k] = c[k] - a[k];
+    for (k = 0; k < 3; k++) {
+        u[k] = b[k] - a[k];
+        v[k] = c[k] - a[k];
+    }
     pw_cross3(u, v, n);
     for (k = 0; k < 3; k++) n[k] = fabs(n[k]);
     if (n[1] > n[best]) best = 1;
@@ -14523,7 +14539,8 @@ PW__DEF int pw__st_seg_tri(const double *p, const double *q, const double *a, co
     int o1 = pw__st_orient3d(a, b, c, p), o2 = pw__st_orient3d(a, b, c, q), s1, s2, s3, ax, i, j;
     if (o1 == 0 && o2 == 0) { /* coplanar: work in the projection */
         ax = pw__st_proj_axis(a, b, c);
-        i = (ax + 1) % 3, j = (ax + 2) % 3;
+        i = (ax + 1) % 3;
+        j = (ax + 2) % 3;
         return pw__st_in_tri_2d(p, a, b, c, i, j) || pw__st_in_tri_2d(q, a, b, c, i, j) ||
                pw__st_seg_seg_2d(p, q, a, b, i, j) || pw__st_seg_seg_2d(p, q, b, c, i, j) ||
                pw__st_seg_seg_2d(p, q, c, a, i, j);
@@ -14547,17 +14564,17 @@ PW__DEF int pw__st_one_side(const double *a, const double *b, const double *c, c
 
 typedef struct pw__stsurf {
     int nv, nt;
-    double *p;  /* nv*3, the float input as doubles */
+    double *p; /* nv*3, the float input as doubles */
     const int *tri;
     int nnode;
-    float *box; /* nnode*6: lo xyz, hi xyz (exact bounds of the float input) */
-    int *node;  /* nnode*3: first slot, slot count, left child (-1: leaf; right = left + 1) */
-    int *slot;  /* nt: a node's triangles are slot[first .. first+count) */
+    float *box;               /* nnode*6: lo xyz, hi xyz (exact bounds of the float input) */
+    int *node;                /* nnode*3: first slot, slot count, left child (-1: leaf; right = left + 1) */
+    int *slot;                /* nt: a node's triangles are slot[first .. first+count) */
     double lo[3], hi[3], mag; /* bounding box; mag: its size plus its distance from 0 */
-    double volume, area; /* enclosed volume (positive), surface area */
-    int *capfirst; /* nnode+1: node nd's boundary half-edges are cap[2*capfirst[nd] ..]; NULL: none */
-    int *cap;      /* boundary half-edges of the nodes' triangle sets, 2 vertices each */
-    int flip;   /* 1: the triangles face inward, winding numbers are negated */
+    double volume, area;      /* enclosed volume (positive), surface area */
+    int *capfirst;            /* nnode+1: node nd's boundary half-edges are cap[2*capfirst[nd] ..]; NULL: none */
+    int *cap;                 /* boundary half-edges of the nodes' triangle sets, 2 vertices each */
+    int flip;                 /* 1: the triangles face inward, winding numbers are negated */
 } pw__stsurf;
 
 PW__DEF void pw__st_surf_free(const pw_alloc *a, pw__stsurf *s)
@@ -14616,7 +14633,12 @@ PW__DEF void pw__st_bvh_node(pw__stsurf *s, const double *cen, int nd, int first
     float *b = s->box + 6 * nd;
     double clo[3], chi[3];
     int i, k, axis = 0, left;
-    for (k = 0; k < 3; k++) b[k] = FLT_MAX, b[k + 3] = -FLT_MAX, clo[k] = DBL_MAX, chi[k] = -DBL_MAX;
+    for (k = 0; k < 3; k++) {
+        b[k] = FLT_MAX;
+        b[k + 3] = -FLT_MAX;
+        clo[k] = DBL_MAX;
+        chi[k] = -DBL_MAX;
+    }
     for (i = first; i < first + count; i++) {
         int t = s->slot[i], c;
         for (c = 0; c < 3; c++)
@@ -14630,7 +14652,9 @@ PW__DEF void pw__st_bvh_node(pw__stsurf *s, const double *cen, int nd, int first
             if (cen[3 * t + k] > chi[k]) chi[k] = cen[3 * t + k];
         }
     }
-    s->node[3 * nd] = first, s->node[3 * nd + 1] = count, s->node[3 * nd + 2] = -1;
+    s->node[3 * nd] = first;
+    s->node[3 * nd + 1] = count;
+    s->node[3 * nd + 2] = -1;
     if (count <= 4) return;
     for (k = 1; k < 3; k++)
         if (chi[k] - clo[k] > chi[axis] - clo[axis]) axis = k;
@@ -14652,7 +14676,9 @@ PW__DEF int pw__st_surf_init(const pw_alloc *a, const pw_stuff_tris *m, pw__stsu
     double *cen;
     int i, k;
     memset(s, 0, sizeof *s);
-    s->nv = nv, s->nt = nt, s->tri = tri;
+    s->nv = nv;
+    s->nt = nt;
+    s->tri = tri;
     s->p = (double *)pw_alloc_array(a, (size_t)nv * 3, sizeof(double), "surface positions", e);
     s->box = (float *)pw_alloc_array(a, (size_t)(2 * nt) * 6, sizeof(float), "surface hierarchy", e);
     s->node = (int *)pw_alloc_array(a, (size_t)(2 * nt) * 3, sizeof(int), "surface hierarchy", e);
@@ -14672,7 +14698,10 @@ PW__DEF int pw__st_surf_init(const pw_alloc *a, const pw_stuff_tris *m, pw__stsu
     s->nnode = 1;
     pw__st_bvh_node(s, cen, 0, 0, nt);
     pw_free(a, cen);
-    for (k = 0; k < 3; k++) s->lo[k] = s->box[k], s->hi[k] = s->box[k + 3];
+    for (k = 0; k < 3; k++) {
+        s->lo[k] = s->box[k];
+        s->hi[k] = s->box[k + 3];
+    }
     s->mag = 0.0;
     for (k = 0; k < 3; k++) s->mag += (s->hi[k] - s->lo[k]) + fabs(s->lo[k]) + fabs(s->hi[k]);
     return PW_OK;
@@ -14685,7 +14714,11 @@ PW__DEF int pw__st_shared(const int *x, const int *y, int *sx, int *sy)
     int i, j, n = 0;
     for (i = 0; i < 3; i++)
         for (j = 0; j < 3; j++)
-            if (x[i] == y[j]) sx[n] = i, sy[n] = j, n++;
+            if (x[i] == y[j]) {
+                sx[n] = i;
+                sy[n] = j;
+                n++;
+            }
     return n;
 }
 
@@ -14696,7 +14729,8 @@ PW__DEF int pw__st_folded(const double *p, const double *q, const double *c, con
     int ax, i, j;
     if (pw__st_orient3d(p, q, c, d) != 0) return 0;
     ax = pw__st_proj_axis(p, q, c);
-    i = (ax + 1) % 3, j = (ax + 2) % 3;
+    i = (ax + 1) % 3;
+    j = (ax + 2) % 3;
     return pw__st_orient2d(p, q, c, i, j) * pw__st_orient2d(p, q, d, i, j) > 0;
 }
 
@@ -14721,14 +14755,15 @@ PW__DEF int pw__st_apart_2d(const double *const *A, const double *const *B, int 
 {
     int ax = pw__st_proj_axis(A[0], A[1], A[2]), i = (ax + 1) % 3, j = (ax + 2) % 3, k;
     const double *y[3];
-    if (n == 2)
-        return pw__st_splits(A[sx[0]], A[sx[1]], A[3 - sx[0] - sx[1]], B + (3 - sy[0] - sy[1]), 1, i, j);
+    if (n == 2) return pw__st_splits(A[sx[0]], A[sx[1]], A[3 - sx[0] - sx[1]], B + (3 - sy[0] - sy[1]), 1, i, j);
     if (n == 1) {
         const double *a = A[sx[0]], *a1 = A[(sx[0] + 1) % 3], *a2 = A[(sx[0] + 2) % 3];
         const double *b1 = B[(sy[0] + 1) % 3], *b2 = B[(sy[0] + 2) % 3];
-        y[0] = b1, y[1] = b2;
+        y[0] = b1;
+        y[1] = b2;
         if (pw__st_splits(a, a1, a2, y, 2, i, j) || pw__st_splits(a, a2, a1, y, 2, i, j)) return 1;
-        y[0] = a1, y[1] = a2;
+        y[0] = a1;
+        y[1] = a2;
         return pw__st_splits(a, b1, b2, y, 2, i, j) || pw__st_splits(a, b2, b1, y, 2, i, j);
     }
     for (k = 0; k < 3; k++)
@@ -14748,11 +14783,13 @@ PW__DEF int pw__st_tri_tri(const pw__stsurf *s, int t, int u)
     const int *x = s->tri + 3 * t, *y = s->tri + 3 * u;
     const double *A[3], *B[3];
     int sx[3], sy[3], n = pw__st_shared(x, y, sx, sy), k;
-    for (k = 0; k < 3; k++) A[k] = pw__st_corner(s, t, k), B[k] = pw__st_corner(s, u, k);
+    for (k = 0; k < 3; k++) {
+        A[k] = pw__st_corner(s, t, k);
+        B[k] = pw__st_corner(s, u, k);
+    }
     if (n == 3) return 1; /* the same triangle twice */
     if (pw__st_apart_2d(A, B, n, sx, sy)) return 0;
-    if (n == 2)
-        return pw__st_folded(A[sx[0]], A[sx[1]], A[3 - sx[0] - sx[1]], B[3 - sy[0] - sy[1]]);
+    if (n == 2) return pw__st_folded(A[sx[0]], A[sx[1]], A[3 - sx[0] - sx[1]], B[3 - sy[0] - sy[1]]);
     if (n == 1)
         return pw__st_seg_tri(A[(sx[0] + 1) % 3], A[(sx[0] + 2) % 3], B[0], B[1], B[2]) ||
                pw__st_seg_tri(B[(sy[0] + 1) % 3], B[(sy[0] + 2) % 3], A[0], A[1], A[2]);
@@ -14792,7 +14829,10 @@ PW__DEF void pw__st_pairs(const pw__stsurf *s, int x, int y, pw_stuff_info *hit)
         for (j = (x == y ? i + 1 : ny[0]); j < ny[0] + ny[1]; j++) {
             int t = s->slot[i], u = s->slot[j];
             if (!pw__st_tri_tri(s, t, u)) continue;
-            if (hit->crossing_pairs++ == 0) hit->first_pair[0] = t < u ? t : u, hit->first_pair[1] = t < u ? u : t;
+            if (hit->crossing_pairs++ == 0) {
+                hit->first_pair[0] = t < u ? t : u;
+                hit->first_pair[1] = t < u ? u : t;
+            }
         }
 }
 
@@ -14808,8 +14848,8 @@ PW__DEF int pw__st_check_values(const float *pos, int nv, const int *tri, int nt
         if (!pw_is_finite(pos[i])) return pw_fail(e, PW_ERR_INVALID, "vertex %d has a non-finite coordinate", i / 3);
     for (i = 0; i < 3 * nt; i++)
         if (tri[i] < 0 || tri[i] >= nv)
-            return pw_fail(e, PW_ERR_INVALID, "triangle %d: vertex index %d out of range (%d vertices)", i / 3,
-                           tri[i], nv);
+            return pw_fail(e, PW_ERR_INVALID, "triangle %d: vertex index %d out of range (%d vertices)", i / 3, tri[i],
+                           nv);
     return PW_OK;
 }
 
@@ -14821,7 +14861,8 @@ PW__DEF double pw__st_diag(const float *pos, const int *tri, int nt)
     for (i = 0; i < 3 * nt; i++)
         for (k = 0; k < 3; k++) {
             double x = pos[3 * tri[i] + k];
-            lo[k] = x < lo[k] ? x : lo[k], hi[k] = x > hi[k] ? x : hi[k];
+            lo[k] = x < lo[k] ? x : lo[k];
+            hi[k] = x > hi[k] ? x : hi[k];
         }
     for (k = 0; nt > 0 && k < 3; k++) d += (hi[k] - lo[k]) * (hi[k] - lo[k]);
     return sqrt(d);
@@ -14830,8 +14871,8 @@ PW__DEF double pw__st_diag(const float *pos, const int *tri, int nt)
 /* What the closedness check found: the half-edge twins of a closed
  * surface, or the triangles closing the holes of an open one. */
 typedef struct pw__st_closure {
-    int *twin;  /* closed: hm.nh twins (half-edge 3t+k runs from corner k to k+1 of t), allocated; else NULL */
-    int *fan;   /* small holes: 3 * nfan indices closing them as fans, allocated; else NULL */
+    int *twin; /* closed: hm.nh twins (half-edge 3t+k runs from corner k to k+1 of t), allocated; else NULL */
+    int *fan;  /* small holes: 3 * nfan indices closing them as fans, allocated; else NULL */
     int nfan;
     int nholes; /* boundary loops of an open surface */
 } pw__st_closure;
@@ -14850,15 +14891,21 @@ PW__DEF void pw__st_loop(const pw_hmesh *hm, const float *pos, int h, unsigned c
 {
     int g, k, a0 = pw_he_origin(hm, h);
     double d2, *c = hl->c;
-    hl->len = 0, hl->perim = c[0] = c[1] = c[2] = 0.0;
+    hl->len = 0;
+    hl->perim = c[0] = c[1] = c[2] = 0.0;
     for (g = h; g >= 0 && !seen[g]; g = pw_he_boundary_next(hm, g), hl->len++) {
         int o = pw_he_origin(hm, g), t = pw_he_dest(hm, g);
         seen[g] = 1;
-        for (d2 = 0.0, k = 0; k < 3; k++) c[k] += pos[3 * o + k], d2 += (double)(pos[3 * t + k] - pos[3 * o + k]) * (pos[3 * t + k] - pos[3 * o + k]);
+        for (d2 = 0.0, k = 0; k < 3; k++) {
+            c[k] += pos[3 * o + k];
+            d2 += (double)(pos[3 * t + k] - pos[3 * o + k]) * (pos[3 * t + k] - pos[3 * o + k]);
+        }
         hl->perim += sqrt(d2);
         if (cl && g != h && t != a0) {
             int *f = cl->fan + 3 * cl->nfan++;
-            f[0] = a0, f[1] = t, f[2] = o;
+            f[0] = a0;
+            f[1] = t;
+            f[2] = o;
         }
     }
     for (k = 0; k < 3; k++) c[k] /= hl->len > 0 ? hl->len : 1;
@@ -14876,7 +14923,8 @@ PW__DEF int pw__st_holes(const pw_alloc *a, const pw_hmesh *hm, const float *pos
     double best[3] = {0, 0, 0}, most = -1.0;
     pw__st_hole hl;
     int h, k, blen = 0, vert = -1, r = PW_OK;
-    cl->fan = NULL, cl->nfan = 0;
+    cl->fan = NULL;
+    cl->nfan = 0;
     if (!seen) return PW_ERR_NOMEM;
     for (h = 0; h < hm->nh; h++) {
         if (hm->twin[h] >= 0 || seen[h]) continue;
@@ -14889,8 +14937,8 @@ PW__DEF int pw__st_holes(const pw_alloc *a, const pw_hmesh *hm, const float *pos
                     "surface is not closed: %d boundary edges in %d hole%s (the largest: %d edges, perimeter %.4g, "
                     "around (%.4g, %.4g, %.4g), through vertex %d); a solid needs a closed surface: close the holes "
                     "(those of perimeter up to %.4g are closed here)",
-                    hm->nboundary, hm->nloops, hm->nloops == 1 ? "" : "s", blen, most, best[0], best[1], best[2],
-                    vert, max_hole);
+                    hm->nboundary, hm->nloops, hm->nloops == 1 ? "" : "s", blen, most, best[0], best[1], best[2], vert,
+                    max_hole);
     else if (!(cl->fan = (int *)pw_alloc_array(a, 3 * (size_t)hm->nboundary + 3, sizeof(int), "hole fans", e)))
         r = PW_ERR_NOMEM;
     else
@@ -14940,7 +14988,10 @@ PW__DEF void pw__st_measure(pw__stsurf *s, double *vol)
         }
         pw_cross3(v, w, n);
         *vol += pw_dot3(u, n) / 6.0;
-        for (k = 0; k < 3; k++) v[k] -= u[k], w[k] -= u[k];
+        for (k = 0; k < 3; k++) {
+            v[k] -= u[k];
+            w[k] -= u[k];
+        }
         pw_cross3(v, w, n);
         s->area += 0.5 * sqrt(pw_dot3(n, n));
     }
@@ -14955,9 +15006,11 @@ PW__DEF int pw__st_check_geometry(pw__stsurf *s, const int *map, int strict, pw_
     int k;
     pw__st_pairs(s, 0, 0, info);
     if (info->crossing_pairs > 0) {
-        info->first_pair[0] = map[info->first_pair[0]], info->first_pair[1] = map[info->first_pair[1]];
+        info->first_pair[0] = map[info->first_pair[0]];
+        info->first_pair[1] = map[info->first_pair[1]];
         if (strict)
-            return pw_fail(e, PW_ERR_TOPOLOGY, "surface intersects itself: %ld triangle pairs cross (the first: %d and %d)",
+            return pw_fail(e, PW_ERR_TOPOLOGY,
+                           "surface intersects itself: %ld triangle pairs cross (the first: %d and %d)",
                            info->crossing_pairs, info->first_pair[0], info->first_pair[1]);
     }
     pw__st_measure(s, &vol);
@@ -15001,12 +15054,21 @@ PW__DEF int pw__st_seg_cross(const pw__stsurf *s, int t, const double *p, const 
     double u[3], v[3], n[3], x[3], len, dp, dq, seg, tt;
     int k, i, j = pw__st_first_corner(s, t);
     for (k = 0; k < 3; k++) c[k] = pw__st_corner(s, t, (j + k) % 3);
-    for (k = 0; k < 3; k++) u[k] = c[1][k] - c[0][k], v[k] = c[2][k] - c[0][k], x[k] = q[k] - p[k];
+    for (k = 0; k < 3; k++) {
+        u[k] = c[1][k] - c[0][k];
+        v[k] = c[2][k] - c[0][k];
+        x[k] = q[k] - p[k];
+    }
     pw_cross3(u, v, n);
     len = sqrt(pw_dot3(n, n));
     seg = sqrt(pw_dot3(x, x));
-    for (k = 0; k < 3; k++) n[k] /= len, u[k] = p[k] - c[0][k], v[k] = q[k] - c[0][k];
-    dp = pw_dot3(u, n), dq = pw_dot3(v, n);
+    for (k = 0; k < 3; k++) {
+        n[k] /= len;
+        u[k] = p[k] - c[0][k];
+        v[k] = q[k] - c[0][k];
+    }
+    dp = pw_dot3(u, n);
+    dq = pw_dot3(v, n);
     if ((dp > tol && dq > tol) || (dp < -tol && dq < -tol)) return 0;
     if (fabs(dp - dq) <= 1e-5 * seg) return PW__ST_GRAZE;
     tt = dp / (dp - dq);
@@ -15015,7 +15077,10 @@ PW__DEF int pw__st_seg_cross(const pw__stsurf *s, int t, const double *p, const 
     for (i = 0; i < 3; i++) { /* x beyond edge i by more than tol: a miss */
         const double *a = c[i], *b = c[(i + 1) % 3];
         double e[3], w[3], m[3];
-        for (k = 0; k < 3; k++) e[k] = b[k] - a[k], w[k] = x[k] - a[k];
+        for (k = 0; k < 3; k++) {
+            e[k] = b[k] - a[k];
+            w[k] = x[k] - a[k];
+        }
         pw_cross3(e, w, m);
         if (pw_dot3(m, n) < -tol * sqrt(pw_dot3(e, e))) return 0;
     }
@@ -15028,7 +15093,10 @@ PW__DEF int pw__st_seg_cross(const pw__stsurf *s, int t, const double *p, const 
  * when there is none left. */
 PW__DEF int pw__st_next_leaf(const pw__stsurf *s, const float *b, int *stack, int *top)
 {
-    if (*top < 0) stack[0] = 0, *top = 1;
+    if (*top < 0) {
+        stack[0] = 0;
+        *top = 1;
+    }
     while (*top > 0) {
         int id = stack[--*top];
         const int *nd = s->node + 3 * id;
@@ -15055,7 +15123,10 @@ PW__DEF int pw__st_crossings(const pw__stsurf *s, const double *p, const double 
     double lo[3], hi[3], tol = 1e-9 * s->mag, t;
     float sb[6];
     int stack[96], top = -1, res = 0, k, i, id;
-    for (k = 0; k < 3; k++) lo[k] = p[k] < q[k] ? p[k] : q[k], hi[k] = p[k] < q[k] ? q[k] : p[k];
+    for (k = 0; k < 3; k++) {
+        lo[k] = p[k] < q[k] ? p[k] : q[k];
+        hi[k] = p[k] < q[k] ? q[k] : p[k];
+    }
     pw__st_fbox(lo, hi, tol, sb);
     *tfirst = 2.0;
     while ((id = pw__st_next_leaf(s, sb, stack, &top)) >= 0) {
@@ -15081,19 +15152,42 @@ PW__DEF double pw__st_closest_tri(const double *p, const double *a, const double
 {
     double ab[3], ac[3], ap[3], bp[3], cp[3], d1, d2, d3, d4, d5, d6, va, vb, vc, v = 0.0, w = 0.0, r = 0.0;
     int k;
-    for (k = 0; k < 3; k++)
-        ab[k] = b[k] - a[k], ac[k] = c[k] - a[k], ap[k] = p[k] - a[k], bp[k] = p[k] - b[k], cp[k] = p[k] - c[k];
-    d1 = pw_dot3(ab, ap), d2 = pw_dot3(ac, ap), d3 = pw_dot3(ab, bp), d4 = pw_dot3(ac, bp);
-    d5 = pw_dot3(ab, cp), d6 = pw_dot3(ac, cp);
-    vc = d1 * d4 - d3 * d2, vb = d5 * d2 - d1 * d6, va = d3 * d6 - d5 * d4;
+    for (k = 0; k < 3; k++) {
+        ab[k] = b[k] - a[k];
+        ac[k] = c[k] - a[k];
+        ap[k] = p[k] - a[k];
+        bp[k] = p[k] - b[k];
+        cp[k] = p[k] - c[k];
+    }
+    d1 = pw_dot3(ab, ap);
+    d2 = pw_dot3(ac, ap);
+    d3 = pw_dot3(ab, bp);
+    d4 = pw_dot3(ac, bp);
+    d5 = pw_dot3(ab, cp);
+    d6 = pw_dot3(ac, cp);
+    vc = d1 * d4 - d3 * d2;
+    vb = d5 * d2 - d1 * d6;
+    va = d3 * d6 - d5 * d4;
     if (d1 <= 0.0 && d2 <= 0.0) v = w = 0.0;
-    else if (d3 >= 0.0 && d4 <= d3) v = 1.0, w = 0.0;
-    else if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0) v = d1 / (d1 - d3), w = 0.0;
-    else if (d6 >= 0.0 && d5 <= d6) v = 0.0, w = 1.0;
-    else if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0) v = 0.0, w = d2 / (d2 - d6);
-    else if (va <= 0.0 && d4 - d3 >= 0.0 && d5 - d6 >= 0.0) w = (d4 - d3) / ((d4 - d3) + (d5 - d6)), v = 1.0 - w;
-    else if (va + vb + vc > 0.0) v = vb / (va + vb + vc), w = vc / (va + vb + vc);
-    else v = w = 0.0; /* a flat triangle: its edges belong to its neighbours too */
+    else if (d3 >= 0.0 && d4 <= d3) {
+        v = 1.0;
+        w = 0.0;
+    } else if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0) {
+        v = d1 / (d1 - d3);
+        w = 0.0;
+    } else if (d6 >= 0.0 && d5 <= d6) {
+        v = 0.0;
+        w = 1.0;
+    } else if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0) {
+        v = 0.0;
+        w = d2 / (d2 - d6);
+    } else if (va <= 0.0 && d4 - d3 >= 0.0 && d5 - d6 >= 0.0) {
+        w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+        v = 1.0 - w;
+    } else if (va + vb + vc > 0.0) {
+        v = vb / (va + vb + vc);
+        w = vc / (va + vb + vc);
+    } else v = w = 0.0; /* a flat triangle: its edges belong to its neighbours too */
     for (k = 0; k < 3; k++) {
         x[k] = a[k] + v * ab[k] + w * ac[k];
         r += (p[k] - x[k]) * (p[k] - x[k]);
@@ -15167,8 +15261,14 @@ PW__DEF double pw__st_solid_angle(const double *p, const double *a, const double
 {
     double A[3], B[3], C[3], la, lb, lc, n[3], num, den;
     int k;
-    for (k = 0; k < 3; k++) A[k] = a[k] - p[k], B[k] = b[k] - p[k], C[k] = c[k] - p[k];
-    la = sqrt(pw_dot3(A, A)), lb = sqrt(pw_dot3(B, B)), lc = sqrt(pw_dot3(C, C));
+    for (k = 0; k < 3; k++) {
+        A[k] = a[k] - p[k];
+        B[k] = b[k] - p[k];
+        C[k] = c[k] - p[k];
+    }
+    la = sqrt(pw_dot3(A, A));
+    lb = sqrt(pw_dot3(B, B));
+    lc = sqrt(pw_dot3(C, C));
     pw_cross3(B, C, n);
     num = pw_dot3(A, n);
     den = la * lb * lc + pw_dot3(A, B) * lc + pw_dot3(B, C) * la + pw_dot3(C, A) * lb;
@@ -15196,7 +15296,10 @@ PW__DEF int pw__st_caps(const pw_alloc *a, pw__stsurf *s, const int *twin, pw_er
                 for (k = 0; k < 3; k++) {
                     int t = s->slot[i], tw = twin[3 * t + k], u = tw < 0 ? -1 : where[tw / 3];
                     if (u >= nn[0] && u < nn[0] + nn[1]) continue;
-                    if (pass) s->cap[2 * n] = s->tri[3 * t + k], s->cap[2 * n + 1] = s->tri[3 * t + (k + 1) % 3];
+                    if (pass) {
+                        s->cap[2 * n] = s->tri[3 * t + k];
+                        s->cap[2 * n + 1] = s->tri[3 * t + (k + 1) % 3];
+                    }
                     n++;
                 }
         }
@@ -15219,7 +15322,8 @@ PW__DEF double pw__st_node_angle(const pw__stsurf *s, int nd, const double *p, i
     int i, k, c0 = s->capfirst ? s->capfirst[nd] : 0, nc = s->capfirst ? s->capfirst[nd + 1] - c0 : 0;
     if (outside && s->capfirst && nn[2] >= 0 && nc < nn[1]) {
         for (k = 0; k < 3; k++) o[k] = 0.5 * ((double)b[k] + b[k + 3]);
-        for (i = c0; i < c0 + nc; i++) w += pw__st_solid_angle(p, o, s->p + 3 * s->cap[2 * i], s->p + 3 * s->cap[2 * i + 1]);
+        for (i = c0; i < c0 + nc; i++)
+            w += pw__st_solid_angle(p, o, s->p + 3 * s->cap[2 * i], s->p + 3 * s->cap[2 * i + 1]);
         return w;
     }
     for (i = nn[0]; i < nn[0] + nn[1]; i++) {
@@ -15248,7 +15352,10 @@ PW__DEF double pw__st_winding(const pw__stsurf *s, const double *p)
         const int *nn = s->node + 3 * nd;
         if (!pw__st_in_box(s->box + 6 * nd, p)) w += pw__st_node_angle(s, nd, p, 1);
         else if (nn[2] < 0) w += pw__st_node_angle(s, nd, p, 0);
-        else stack[top++] = nn[2], stack[top++] = nn[2] + 1;
+        else {
+            stack[top++] = nn[2];
+            stack[top++] = nn[2] + 1;
+        }
     }
     w /= 4.0 * 3.14159265358979323846;
     return s->flip ? -w : w;
@@ -15272,22 +15379,22 @@ typedef struct pw__st {
     const pw_progress *prog;
     pw_err *e;
     pw__stsurf s;
-    int n[3], nb, nlv;   /* cubes per axis; black vertices; all lattice vertices */
-    int unite;           /* the surface crosses itself: cut where the winding number drops below 1/2 */
-    int *tri, *map;      /* the triangles used (zero-area ones dropped), the caller's index of each */
+    int n[3], nb, nlv; /* cubes per axis; black vertices; all lattice vertices */
+    int unite;         /* the surface crosses itself: cut where the winding number drops below 1/2 */
+    int *tri, *map;    /* the triangles used (zero-area ones dropped), the caller's index of each */
     double org[3], h;
-    int graded;          /* 1: the graded lattice (vp, bs) instead of the body-centred cubic one */
-    double *vp;          /* graded: nlv*3 vertex positions */
-    double unit;         /* graded: mesh units per lattice unit */
-    double tol, lmin;    /* graded: surface deviation allowed in a tetrahedron; no refinement below this edge */
-    pw_bisect bs;        /* graded: the tetrahedra and integer vertex coordinates */
+    int graded;           /* 1: the graded lattice (vp, bs) instead of the body-centred cubic one */
+    double *vp;           /* graded: nlv*3 vertex positions */
+    double unit;          /* graded: mesh units per lattice unit */
+    double tol, lmin;     /* graded: surface deviation allowed in a tetrahedron; no refinement below this edge */
+    pw_bisect bs;         /* graded: the tetrahedra and integer vertex coordinates */
     unsigned char *tbusy; /* graded: per tetrahedron, the surface may meet it */
-    int *eoff, *eadj;    /* graded: lattice edges from each vertex, eadj[eoff[v] .. eoff[v+1]), free ones flagged */
+    int *eoff, *eadj;     /* graded: lattice edges from each vertex, eadj[eoff[v] .. eoff[v+1]), free ones flagged */
     size_t capeadj;
-    int *vtoff, *vtadj;  /* graded: lattice tetrahedra at each vertex, vtadj[vtoff[v] .. vtoff[v+1]) */
-    int *scratch;        /* graded: triangles meeting a box */
-    double *tnorm;       /* graded: per triangle, unit normal and area */
-    float *tbox;         /* graded: per triangle, its box (lo xyz, hi xyz) */
+    int *vtoff, *vtadj; /* graded: lattice tetrahedra at each vertex, vtadj[vtoff[v] .. vtoff[v+1]) */
+    int *scratch;       /* graded: triangles meeting a box */
+    double *tnorm;      /* graded: per triangle, unit normal and area */
+    float *tbox;        /* graded: per triangle, its box (lo xyz, hi xyz) */
     size_t capscratch;
     signed char *side;   /* per lattice vertex: +1 inside, -1 outside, 0 not known yet */
     unsigned char *busy; /* per cube: the surface may meet it */
@@ -15295,24 +15402,29 @@ typedef struct pw__st {
     int *id;             /* per lattice vertex: output vertex, -1 */
     pw__stcut *cut;      /* sorted by inside end */
     size_t ncut, capcut;
-    float *opos;         /* output positions (nopos vertices) */
+    float *opos; /* output positions (nopos vertices) */
     size_t nopos, capopos;
     unsigned char *osurf; /* per output vertex: on the surface */
     int dropped;          /* fragments dropped */
     size_t caposurf;
-    int *otet;           /* output tetrahedra (notet) */
+    int *otet; /* output tetrahedra (notet) */
     size_t notet, capotet;
 } pw__st;
 
 /* The 14 lattice neighbours: 6 along long edges, 8 along short ones. */
-static const signed char pw__st_nb[14][3] = {{2, 0, 0}, {-2, 0, 0}, {0, 2, 0}, {0, -2, 0}, {0, 0, 2},
-                                              {0, 0, -2}, {1, 1, 1}, {1, 1, -1}, {1, -1, 1}, {1, -1, -1},
-                                              {-1, 1, 1}, {-1, 1, -1}, {-1, -1, 1}, {-1, -1, -1}};
+static const signed char pw__st_nb[14][3] = {{2, 0, 0},  {-2, 0, 0},  {0, 2, 0},   {0, -2, 0},  {0, 0, 2},
+                                             {0, 0, -2}, {1, 1, 1},   {1, 1, -1},  {1, -1, 1},  {1, -1, -1},
+                                             {-1, 1, 1}, {-1, 1, -1}, {-1, -1, 1}, {-1, -1, -1}};
 
 PW__DEF void pw__st_coord(const pw__st *st, int v, int *L)
 {
     int nx = st->n[0] + 1, ny = st->n[1] + 1, odd = 0;
-    if (v >= st->nb) v -= st->nb, nx = st->n[0], ny = st->n[1], odd = 1;
+    if (v >= st->nb) {
+        v -= st->nb;
+        nx = st->n[0];
+        ny = st->n[1];
+        odd = 1;
+    }
     L[0] = 2 * (v % nx) + odd;
     L[1] = 2 * ((v / nx) % ny) + odd;
     L[2] = 2 * (v / nx / ny) + odd;
@@ -15401,7 +15513,10 @@ PW__DEF int pw__st_lattice(pw__st *st, const pw_stuff_options *o)
     for (k = 0, count = 1.0; k < 3; k++) {
         double c = (st->s.hi[k] - st->s.lo[k]) / h;
         if (!(c < 1e6)) count = 1e30;
-        else st->n[k] = (int)ceil(c) + 2, count *= st->n[k] + 1;
+        else {
+            st->n[k] = (int)ceil(c) + 2;
+            count *= st->n[k] + 1;
+        }
     }
     if (count < 1e30) count += (double)st->n[0] * st->n[1] * st->n[2];
     if (count > PW_MAX_STUFF_LATTICE)
@@ -15430,7 +15545,9 @@ PW__DEF int pw__st_tri_box(const double *ctr, const double *hw, const double *a,
     double v[3][3], e[3][3], n[3], ax[3], p[3], r;
     int i, j, k;
     for (k = 0; k < 3; k++) {
-        v[0][k] = a[k] - ctr[k], v[1][k] = b[k] - ctr[k], v[2][k] = c[k] - ctr[k];
+        v[0][k] = a[k] - ctr[k];
+        v[1][k] = b[k] - ctr[k];
+        v[2][k] = c[k] - ctr[k];
         if ((v[0][k] > hw[k] && v[1][k] > hw[k] && v[2][k] > hw[k]) ||
             (v[0][k] < -hw[k] && v[1][k] < -hw[k] && v[2][k] < -hw[k]))
             return 0;
@@ -15441,7 +15558,9 @@ PW__DEF int pw__st_tri_box(const double *ctr, const double *hw, const double *a,
     if (fabs(pw_dot3(n, v[0])) > hw[0] * fabs(n[0]) + hw[1] * fabs(n[1]) + hw[2] * fabs(n[2])) return 0;
     for (i = 0; i < 3; i++)
         for (j = 0; j < 3; j++) { /* axis: unit vector i cross edge j */
-            ax[i] = 0.0, ax[(i + 1) % 3] = -e[j][(i + 2) % 3], ax[(i + 2) % 3] = e[j][(i + 1) % 3];
+            ax[i] = 0.0;
+            ax[(i + 1) % 3] = -e[j][(i + 2) % 3];
+            ax[(i + 2) % 3] = e[j][(i + 1) % 3];
             for (k = 0; k < 3; k++) p[k] = pw_dot3(ax, v[k]);
             r = hw[0] * fabs(ax[0]) + hw[1] * fabs(ax[1]) + hw[2] * fabs(ax[2]);
             if ((p[0] > r && p[1] > r && p[2] > r) || (p[0] < -r && p[1] < -r && p[2] < -r)) return 0;
@@ -15459,7 +15578,8 @@ PW__DEF void pw__st_mark(pw__st *st)
         for (k = 0; k < 3; k++) p[k] = pw__st_corner(s, t, k);
         for (k = 0; k < 3; k++) {
             double lo = p[0][k] < p[1][k] ? p[0][k] : p[1][k], hi = p[0][k] > p[1][k] ? p[0][k] : p[1][k];
-            lo = lo < p[2][k] ? lo : p[2][k], hi = hi > p[2][k] ? hi : p[2][k];
+            lo = lo < p[2][k] ? lo : p[2][k];
+            hi = hi > p[2][k] ? hi : p[2][k];
             c0[k] = pw_clampi((int)floor((lo - st->org[k]) / st->h - 1e-6), 0, st->n[k] - 1);
             c1[k] = pw_clampi((int)floor((hi - st->org[k]) / st->h + 1e-6), 0, st->n[k] - 1);
         }
@@ -15492,12 +15612,15 @@ PW__DEF int pw__st_edge_free(const pw__st *st, const int *A, const int *B)
         const int *R = (A[0] & 1) ? A : B;
         return !pw__st_busy(st, R[0] / 2, R[1] / 2, R[2] / 2);
     }
-    if (A[0] & 1) return !pw__st_busy(st, A[0] / 2, A[1] / 2, A[2] / 2) && !pw__st_busy(st, B[0] / 2, B[1] / 2, B[2] / 2);
-    u = (ax + 1) % 3, v = (ax + 2) % 3;
+    if (A[0] & 1)
+        return !pw__st_busy(st, A[0] / 2, A[1] / 2, A[2] / 2) && !pw__st_busy(st, B[0] / 2, B[1] / 2, B[2] / 2);
+    u = (ax + 1) % 3;
+    v = (ax + 2) % 3;
     c[ax] = (A[ax] < B[ax] ? A[ax] : B[ax]) / 2;
     for (du = -1; du <= 0; du++)
         for (dv = -1; dv <= 0; dv++) {
-            c[u] = A[u] / 2 + du, c[v] = A[v] / 2 + dv;
+            c[u] = A[u] / 2 + du;
+            c[v] = A[v] / 2 + dv;
             if (!pw__st_busy(st, c[0], c[1], c[2])) return 1;
         }
     return 0;
@@ -15508,10 +15631,7 @@ PW__DEF int pw__st_inside(const pw__st *st, const double *p) { return pw__st_win
 /* The degree of lattice vertex u (uniform: all 14 directions, some off
  * the lattice), and its k-th neighbour (-1: none), with *free set when the
  * edge to it certainly misses the surface by the lattice's cells alone. */
-PW__DEF int pw__st_degree(const pw__st *st, int u)
-{
-    return st->graded ? st->eoff[u + 1] - st->eoff[u] : 14;
-}
+PW__DEF int pw__st_degree(const pw__st *st, int u) { return st->graded ? st->eoff[u + 1] - st->eoff[u] : 14; }
 
 PW__DEF int pw__st_neighbour(const pw__st *st, int u, int k, int *free_)
 {
@@ -15522,7 +15642,9 @@ PW__DEF int pw__st_neighbour(const pw__st *st, int u, int k, int *free_)
         return e >> 1;
     }
     pw__st_coord(st, u, U);
-    V[0] = U[0] + pw__st_nb[k][0], V[1] = U[1] + pw__st_nb[k][1], V[2] = U[2] + pw__st_nb[k][2];
+    V[0] = U[0] + pw__st_nb[k][0];
+    V[1] = U[1] + pw__st_nb[k][1];
+    V[2] = U[2] + pw__st_nb[k][2];
     if ((k = pw__st_index(st, V)) >= 0) *free_ = pw__st_edge_free(st, U, V);
     return k;
 }
@@ -15539,13 +15661,16 @@ PW__DEF int pw__st_sides(pw__st *st)
     if (!st->graded) pw__st_mark(st);
     for (s0 = 0; s0 < st->nlv && r == PW_OK; s0++) {
         signed char sg;
-        if ((s0 & 4095) == 0 && (r = pw_report(st->prog, 0.1f + 0.4f * (float)s0 / (float)st->nlv, "lattice sides", st->e)))
+        if ((s0 & 4095) == 0 &&
+            (r = pw_report(st->prog, 0.1f + 0.4f * (float)s0 / (float)st->nlv, "lattice sides", st->e)))
             break;
         if (st->side[s0]) continue;
         pw__st_vpos(st, s0, p);
         sg = (signed char)(pw__st_inside(st, p) ? 1 : -1);
         st->side[s0] = sg;
-        queue[0] = s0, head = 0, tail = 1;
+        queue[0] = s0;
+        head = 0;
+        tail = 1;
         while (head < tail) {
             int u = queue[head++], n = pw__st_degree(st, u);
             for (k = 0; k < n; k++) {
@@ -15590,13 +15715,15 @@ PW__DEF double pw__st_cut_union(const pw__st *st, const double *pin, const doubl
     double hits[64], t, x[3];
     pw__st_hits all;
     int n, i, j;
-    all.t = hits, all.cap = 64, all.n = 0;
+    all.t = hits;
+    all.cap = 64;
+    all.n = 0;
     pw__st_crossings(&st->s, pin, pout, &t, &all);
     n = all.n;
     if (n > 64) return -1.0;
     qsort(hits, (size_t)n, sizeof(double), pw__st_cmp_double);
     if (n > 0 && hits[n - 1] - hits[0] < 1e-9) return hits[0]; /* one crossing: the side changes there */
-    for (i = 0; i < n; i = j) { /* probe halfway to the next distinct crossing */
+    for (i = 0; i < n; i = j) {                                /* probe halfway to the next distinct crossing */
         for (j = i + 1; j < n && hits[j] - hits[i] < 1e-9; j++) continue;
         pw__st_lerp(pin, pout, 0.5 * (hits[i] + (j < n ? hits[j] : 1.0)), x);
         if (!pw__st_inside(st, x)) return hits[i];
@@ -15634,12 +15761,16 @@ PW__DEF int pw__st_cuts(pw__st *st)
             pw__stcut *c;
             int fr, v = pw__st_neighbour(st, u, k, &fr);
             if (v < 0 || st->side[v] >= 0) continue;
-            if ((r = pw_grow(st->a, (void **)&st->cut, &st->capcut, st->ncut + 1, sizeof *st->cut, "cut points", st->e)))
+            if ((r = pw_grow(st->a, (void **)&st->cut, &st->capcut, st->ncut + 1, sizeof *st->cut, "cut points",
+                             st->e)))
                 break;
             pw__st_vpos(st, u, p);
             pw__st_vpos(st, v, q);
             c = st->cut + st->ncut++;
-            c->in = u, c->out = v, c->id = -1, c->t = pw__st_cut_param(st, p, q);
+            c->in = u;
+            c->out = v;
+            c->id = -1;
+            c->t = pw__st_cut_param(st, p, q);
         }
     }
     return r;
@@ -15678,8 +15809,8 @@ PW__DEF void pw__st_ref_pos(const pw__st *st, int r, double *x)
 }
 
 typedef struct pw__stviol {
-    int v, c;  /* the violated lattice vertex, the cut point */
-    double d;  /* their distance */
+    int v, c; /* the violated lattice vertex, the cut point */
+    double d; /* their distance */
 } pw__stviol;
 
 PW__DEF int pw__st_viol_cmp(const void *x, const void *y)
@@ -15738,7 +15869,8 @@ PW__DEF int pw__st_violations(pw__st *st, pw__stwarp *w)
         if (st->graded) {
             pw__st_vpos(st, c->in, p);
             pw__st_vpos(st, c->out, q);
-            len = pw_dist3(p, q), al = PW__ST_ALPHA_GRADED;
+            len = pw_dist3(p, q);
+            al = PW__ST_ALPHA_GRADED;
         } else {
             pw__st_coord(st, c->in, A);
             pw__st_coord(st, c->out, B);
@@ -15746,10 +15878,15 @@ PW__DEF int pw__st_violations(pw__st *st, pw__stwarp *w)
             len = lg ? st->h : 0.86602540378443865 * st->h;
             al = lg ? PW__ST_ALPHA_LONG : PW__ST_ALPHA_SHORT;
         }
-        if (c->t * len < al * (st->graded ? pw__st_reach(st, c->in, len) : len))
-            w->vl[w->n].v = c->in, w->vl[w->n].c = (int)i, w->vl[w->n++].d = c->t * len;
-        else if ((1.0 - c->t) * len < al * (st->graded ? pw__st_reach(st, c->out, len) : len))
-            w->vl[w->n].v = c->out, w->vl[w->n].c = (int)i, w->vl[w->n++].d = (1.0 - c->t) * len;
+        if (c->t * len < al * (st->graded ? pw__st_reach(st, c->in, len) : len)) {
+            w->vl[w->n].v = c->in;
+            w->vl[w->n].c = (int)i;
+            w->vl[w->n++].d = c->t * len;
+        } else if ((1.0 - c->t) * len < al * (st->graded ? pw__st_reach(st, c->out, len) : len)) {
+            w->vl[w->n].v = c->out;
+            w->vl[w->n].c = (int)i;
+            w->vl[w->n++].d = (1.0 - c->t) * len;
+        }
     }
     qsort(w->vl, (size_t)w->n, sizeof *w->vl, pw__st_viol_cmp);
     return PW_OK;
@@ -15773,7 +15910,10 @@ PW__DEF int pw__st_warp_index(pw__st *st, pw__stwarp *w)
         w->pend[w->vl[i].v]++;
         w->tfirst[pw__st_other(st, w->vl + i) + 2]++;
     }
-    for (i = 0; i < st->nlv; i++) w->first[i + 1] += w->first[i], w->tfirst[i + 2] += w->tfirst[i + 1];
+    for (i = 0; i < st->nlv; i++) {
+        w->first[i + 1] += w->first[i];
+        w->tfirst[i + 2] += w->tfirst[i + 1];
+    }
     for (i = 0; i < w->n; i++) w->byt[w->tfirst[pw__st_other(st, w->vl + i) + 1]++] = i;
     return PW_OK;
 }
@@ -15806,11 +15946,19 @@ PW__DEF int pw__st_warp_safe(const pw__st *st, int v, int c)
             if (t->v[k] == v) pw__st_cut_pos(st, c, p[k]);
             else pw__st_ref_pos(st, t->v[k], p[k]);
         }
-        for (j = 0; j < 3; j++) u[j] = p[1][j] - p[0][j], w[j] = p[2][j] - p[0][j], z[j] = p[3][j] - p[0][j];
+        for (j = 0; j < 3; j++) {
+            u[j] = p[1][j] - p[0][j];
+            w[j] = p[2][j] - p[0][j];
+            z[j] = p[3][j] - p[0][j];
+        }
         pw_cross3(u, w, n);
         d1 = pw_dot3(n, z);
         for (k = 0; k < 4; k++) pw__st_vpos(st, t->v[k], p[k]);
-        for (j = 0; j < 3; j++) u[j] = p[1][j] - p[0][j], w[j] = p[2][j] - p[0][j], z[j] = p[3][j] - p[0][j];
+        for (j = 0; j < 3; j++) {
+            u[j] = p[1][j] - p[0][j];
+            w[j] = p[2][j] - p[0][j];
+            z[j] = p[3][j] - p[0][j];
+        }
         pw_cross3(u, w, n);
         d0 = pw_dot3(n, z);
         if (!(d1 * (d0 > 0.0 ? 1.0 : -1.0) > 0.0)) return 0;
@@ -15906,11 +16054,21 @@ PW__DEF int pw__st_emit(pw__st *st, int r0, int r1, int r2, int r3)
 {
     int r[4], id[4], k;
     double p[4][3], u[3], v[3], w[3], n[3];
-    r[0] = r0, r[1] = r1, r[2] = r2, r[3] = r3;
+    r[0] = r0;
+    r[1] = r1;
+    r[2] = r2;
+    r[3] = r3;
     for (k = 0; k < 4; k++) pw__st_ref_pos(st, r[k], p[k]);
-    for (k = 0; k < 3; k++) u[k] = p[1][k] - p[0][k], v[k] = p[2][k] - p[0][k], w[k] = p[3][k] - p[0][k];
+    for (k = 0; k < 3; k++) {
+        u[k] = p[1][k] - p[0][k];
+        v[k] = p[2][k] - p[0][k];
+        w[k] = p[3][k] - p[0][k];
+    }
     pw_cross3(u, v, n);
-    if (pw_dot3(n, w) < 0.0) r[0] = r1, r[1] = r0;
+    if (pw_dot3(n, w) < 0.0) {
+        r[0] = r1;
+        r[1] = r0;
+    }
     for (k = 0; k < 4; k++)
         if ((id[k] = pw__st_ref_id(st, r[k])) < 0) return PW_ERR_NOMEM;
     if (st->notet >= PW_MAX_MESH_ELEMENTS)
@@ -15964,7 +16122,8 @@ PW__DEF int pw__st_prism(pw__st *st, const int *b, const int *t, int *dir)
     for (i = 0; i < 3; i++)
         if (dir[i] > 0 && dir[(i + 2) % 3] < 0) s = i;
     PW_ASSERT(s >= 0);
-    x = (s + 1) % 3, y = (s + 2) % 3;
+    x = (s + 1) % 3;
+    y = (s + 2) % 3;
     if ((r = pw__st_emit(st, b[s], t[s], t[x], t[y]))) return r;
     if (dir[x] > 0) {
         if ((r = pw__st_emit(st, b[s], b[x], b[y], t[y]))) return r;
@@ -16005,15 +16164,20 @@ PW__DEF int pw__st_tet(pw__st *st, const int *g)
     }
     if (np == 2 && nm == 1) return pw__st_pyramid(st, P[0], P[1], M[0], Z[0]);
     if (np == 2) { /* ++--: prism between the faces of P[0] and P[1]; the cut quadrilateral is free */
-        b[0] = P[0], b[1] = pw__st_cutref(st, P[0], M[0]), b[2] = pw__st_cutref(st, P[0], M[1]);
-        t[0] = P[1], t[1] = pw__st_cutref(st, P[1], M[0]), t[2] = pw__st_cutref(st, P[1], M[1]);
+        b[0] = P[0];
+        b[1] = pw__st_cutref(st, P[0], M[0]);
+        b[2] = pw__st_cutref(st, P[0], M[1]);
+        t[0] = P[1];
+        t[1] = pw__st_cutref(st, P[1], M[0]);
+        t[2] = pw__st_cutref(st, P[1], M[1]);
         dir[0] = pw__st_diagonal(st, P[0], P[1], M[0]) == 1 ? 1 : -1;
         dir[1] = 0;
         dir[2] = pw__st_diagonal(st, P[0], P[1], M[1]) == 1 ? -1 : 1;
         return pw__st_prism(st, b, t, dir);
     }
     for (k = 0; k < 3; k++) { /* +++-: the tetrahedron minus its outside corner */
-        b[k] = P[k], t[k] = pw__st_cutref(st, P[k], M[0]);
+        b[k] = P[k];
+        t[k] = pw__st_cutref(st, P[k], M[0]);
         dir[k] = pw__st_diagonal(st, P[k], P[(k + 1) % 3], M[0]) == 1 ? 1 : -1;
     }
     return pw__st_prism(st, b, t, dir);
@@ -16040,8 +16204,10 @@ PW__DEF int pw__st_stencils(pw__st *st)
                         int along = e < 2 ? u : v, across = e < 2 ? v : u;
                         B[ax] = C[ax] = 2 * c[ax] + 2;
                         B[across] = C[across] = 2 * c[across] + 2 * (e & 1);
-                        B[along] = 2 * c[along], C[along] = B[along] + 2;
-                        g[2] = pw__st_index(st, B), g[3] = pw__st_index(st, C);
+                        B[along] = 2 * c[along];
+                        C[along] = B[along] + 2;
+                        g[2] = pw__st_index(st, B);
+                        g[3] = pw__st_index(st, C);
                         for (k = 0; k < 4 && pw__st_class(st, g[k]) < 0; k++) continue;
                         if (k < 4) r = pw__st_tet(st, g);
                     }
@@ -16070,7 +16236,10 @@ PW__DEF int pw__st_box_tris(pw__st *st, const double *lo, const double *hi, int 
     double ctr[3], hw[3];
     float fb[6];
     int stack[96], top = -1, n = 0, i, k, id;
-    for (k = 0; k < 3; k++) ctr[k] = 0.5 * (lo[k] + hi[k]), hw[k] = 0.5 * (hi[k] - lo[k]) * (1.0 + 1e-6) + 1e-9 * s->mag;
+    for (k = 0; k < 3; k++) {
+        ctr[k] = 0.5 * (lo[k] + hi[k]);
+        hw[k] = 0.5 * (hi[k] - lo[k]) * (1.0 + 1e-6) + 1e-9 * s->mag;
+    }
     pw__st_fbox(lo, hi, 1e-9 * s->mag, fb);
     while ((id = pw__st_next_leaf(s, fb, stack, &top)) >= 0) {
         const int *nd = s->node + 3 * id;
@@ -16098,7 +16267,10 @@ PW__DEF double pw__st_gbox(const pw__st *st, const pw_bisect *b, const int *v, d
         for (k = 0; k < 3; k++) p[i][k] = st->org[k] + st->unit * b->vc[3 * v[i] + k];
     for (k = 0; k < 3; k++) {
         lo[k] = hi[k] = p[0][k];
-        for (i = 1; i < 4; i++) lo[k] = p[i][k] < lo[k] ? p[i][k] : lo[k], hi[k] = p[i][k] > hi[k] ? p[i][k] : hi[k];
+        for (i = 1; i < 4; i++) {
+            lo[k] = p[i][k] < lo[k] ? p[i][k] : lo[k];
+            hi[k] = p[i][k] > hi[k] ? p[i][k] : hi[k];
+        }
     }
     for (i = 0; i < 4; i++)
         for (j = i + 1; j < 4; j++) {
@@ -16118,7 +16290,7 @@ PW__DEF int pw__st_clip(const pw__st *st, int t, const double *lo, const double 
     for (i = 0; i < 3; i++) memcpy(buf[0][i], pw__st_corner(&st->s, t, i), sizeof buf[0][i]);
     for (k = 0; k < 3 && n > 0; k++)
         for (side = 0; side < 2 && n > 0; side++) {
-            double (*a)[3] = buf[cur], (*b)[3] = buf[1 - cur], c = side ? hi[k] : lo[k], sg = side ? -1.0 : 1.0;
+            double(*a)[3] = buf[cur], (*b)[3] = buf[1 - cur], c = side ? hi[k] : lo[k], sg = side ? -1.0 : 1.0;
             int m = 0;
             for (i = 0; i < n; i++) {
                 const double *p = a[i], *q = a[(i + 1) % n];
@@ -16132,7 +16304,8 @@ PW__DEF int pw__st_clip(const pw__st *st, int t, const double *lo, const double 
                     m++;
                 }
             }
-            n = m, cur = 1 - cur;
+            n = m;
+            cur = 1 - cur;
         }
     memcpy(out, buf[cur], (size_t)n * sizeof buf[0][0]);
     return n;
@@ -16151,7 +16324,10 @@ PW__DEF int pw__st_need(void *user, const pw_bisect *b, pw_bstet *t)
     int n, i, j, k;
     if (len <= st->lmin) return 0;
     for (k = 0; k < 3; k++) /* the reach of warping: corners may move onto the surface that far */
-        lo[k] -= PW__ST_ALPHA_GRADED * PW__ST_REACH * len, hi[k] += PW__ST_ALPHA_GRADED * PW__ST_REACH * len;
+    {
+        lo[k] -= PW__ST_ALPHA_GRADED * PW__ST_REACH * len;
+        hi[k] += PW__ST_ALPHA_GRADED * PW__ST_REACH * len;
+    }
     if ((n = pw__st_box_tris(st, lo, hi, PW__ST_NEAR)) < 0) return PW_ERR_NOMEM;
     t->mark = n == 0 ? PW__ST_FAR : 0;
     if (n == 0) return 0;
@@ -16167,7 +16343,8 @@ PW__DEF int pw__st_need(void *user, const pw_bisect *b, pw_bstet *t)
         int m = pw__st_clip(st, st->scratch[i], lo, hi, poly);
         for (j = 0; j < m; j++) {
             double d = pw_dot3(poly[j], N);
-            wlo = d < wlo ? d : wlo, whi = d > whi ? d : whi;
+            wlo = d < wlo ? d : wlo;
+            whi = d > whi ? d : whi;
         }
         if (PW__ST_BEND * (whi - wlo) > st->tol) return 1;
     }
@@ -16212,7 +16389,8 @@ PW__DEF int pw__st_gedges(pw__st *st)
                     st->eadj[mark[u]] |= fr;
                     continue;
                 }
-                if (pw_grow(st->a, (void **)&st->eadj, &st->capeadj, (size_t)n + 1, sizeof(int), "lattice edges", st->e)) {
+                if (pw_grow(st->a, (void **)&st->eadj, &st->capeadj, (size_t)n + 1, sizeof(int), "lattice edges",
+                            st->e)) {
                     r = PW_ERR_NOMEM;
                     break;
                 }
@@ -16241,9 +16419,12 @@ PW__DEF int pw__st_tri_frames(pw__st *st)
         const double *c = pw__st_corner(&st->s, t, (j + 2) % 3);
         double u[3], v[3], *n = st->tnorm + 4 * (size_t)t, lo[3], hi[3];
         for (k = 0; k < 3; k++) {
-            u[k] = b[k] - a[k], v[k] = c[k] - a[k];
-            lo[k] = a[k] < b[k] ? a[k] : b[k], hi[k] = a[k] > b[k] ? a[k] : b[k];
-            lo[k] = c[k] < lo[k] ? c[k] : lo[k], hi[k] = c[k] > hi[k] ? c[k] : hi[k];
+            u[k] = b[k] - a[k];
+            v[k] = c[k] - a[k];
+            lo[k] = a[k] < b[k] ? a[k] : b[k];
+            hi[k] = a[k] > b[k] ? a[k] : b[k];
+            lo[k] = c[k] < lo[k] ? c[k] : lo[k];
+            hi[k] = c[k] > hi[k] ? c[k] : hi[k];
         }
         pw_cross3(u, v, n);
         n[3] = pw_norm3(n);
@@ -16264,7 +16445,10 @@ PW__DEF int pw__st_glattice(pw__st *st, const pw_stuff_options *o, double fit)
         double c = (st->s.hi[k] - st->s.lo[k]) / h;
         diag += (st->s.hi[k] - st->s.lo[k]) * (st->s.hi[k] - st->s.lo[k]);
         if (!(c < 1e6)) count = 1e30;
-        else n[k] = (int)ceil(c) + 2, count *= n[k];
+        else {
+            n[k] = (int)ceil(c) + 2;
+            count *= n[k];
+        }
     }
     if (count * 6.0 > PW_MAX_STUFF_LATTICE || n[0] >= (1 << (21 - SIDE_LOG)) || n[1] >= (1 << (21 - SIDE_LOG)) ||
         n[2] >= (1 << (21 - SIDE_LOG)))
@@ -16272,10 +16456,15 @@ PW__DEF int pw__st_glattice(pw__st *st, const pw_stuff_options *o, double fit)
                        "tetrahedralize: a lattice of spacing %g needs %.3g cubes, more than PW_MAX_STUFF_LATTICE "
                        "(%d) / 6; use a larger cell or fewer tetrahedra",
                        h, count, PW_MAX_STUFF_LATTICE);
-    st->graded = 1, st->h = h, st->unit = h / (1 << SIDE_LOG);
-    st->tol = fit * sqrt(diag), st->lmin = (fit > 4.0 * PW__ST_MIN_CELL ? 0.25 * fit : PW__ST_MIN_CELL) * sqrt(diag);
+    st->graded = 1;
+    st->h = h;
+    st->unit = h / (1 << SIDE_LOG);
+    st->tol = fit * sqrt(diag);
+    st->lmin = (fit > 4.0 * PW__ST_MIN_CELL ? 0.25 * fit : PW__ST_MIN_CELL) * sqrt(diag);
     for (k = 0; k < 3; k++) st->org[k] = 0.5 * (st->s.lo[k] + st->s.hi[k]) - 0.5 * h * n[k];
-    st->bs.a = st->a, st->bs.e = st->e, st->bs.max_tets = PW_MAX_STUFF_LATTICE;
+    st->bs.a = st->a;
+    st->bs.e = st->e;
+    st->bs.max_tets = PW_MAX_STUFF_LATTICE;
     if ((r = pw__st_tri_frames(st))) return r;
     r = pw_bisect_kuhn(&st->bs, n, 1 << SIDE_LOG);
     if (r == PW_OK) r = pw_report(st->prog, 0.1f, "graded lattice", st->e);
@@ -16334,7 +16523,8 @@ PW__DEF int pw__st_piece_labels(const pw_tetmesh *m, const int *nb, int *up)
     for (f = 0; f < 4 * m->nt; f++) {
         int x, y;
         if (nb[f] < 0) continue;
-        x = pw__st_root(up, f >> 2), y = pw__st_root(up, nb[f] >> 2);
+        x = pw__st_root(up, f >> 2);
+        y = pw__st_root(up, nb[f] >> 2);
         if (x != y) up[x > y ? x : y] = x < y ? x : y;
     }
     for (t = 0; t < m->nt; t++) n += (up[t] = pw__st_root(up, t)) == t;
@@ -16395,7 +16585,10 @@ PW__DEF int pw__st_drop_fragments(pw__st *st)
     int *pc = (int *)pw_alloc_array(st->a, nt + 1, sizeof(int), "piece components", st->e);
     double *vol = (double *)pw_calloc_array(st->a, nt + 1, sizeof(double), "piece volumes", st->e);
     int *best = NULL, *to = NULL, r = PW_OK, npieces = 0, nc = 0, k, v;
-    m.nv = (int)st->nopos, m.pos = st->opos, m.nt = (int)nt, m.tet = st->otet;
+    m.nv = (int)st->nopos;
+    m.pos = st->opos;
+    m.nt = (int)nt;
+    m.tet = st->otet;
     if (!nb || !up || !comp || !pc || !vol) r = PW_ERR_NOMEM;
     if (r == PW_OK) r = pw_tetmesh_neighbors(st->a, &m, nb, st->e);
     if (r == PW_OK && (npieces = pw__st_piece_labels(&m, nb, up)) > 1) {
@@ -16438,7 +16631,8 @@ PW__DEF int pw__st_drop_fragments(pw__st *st)
                 st->osurf[k++] = st->osurf[v];
             }
         for (i = 0; i < 4 * kept; i++) st->otet[i] = to[st->otet[i]];
-        st->notet = kept, st->nopos = (size_t)k;
+        st->notet = kept;
+        st->nopos = (size_t)k;
     }
     pw_free(st->a, nb);
     pw_free(st->a, up);
@@ -16471,7 +16665,11 @@ PW__DEF double pw__st_star_worst(const pw__st *st, const pw_tetrings *g, int v, 
         const int *c = st->otet + 4 * (size_t)g->star[i];
         for (k = 0; k < 4; k++)
             for (j = 0; j < 3; j++) p[k][j] = c[k] == v ? x[j] : st->opos[3 * (size_t)c[k] + j];
-        for (j = 0; j < 3; j++) u[j] = p[1][j] - p[0][j], w[j] = p[2][j] - p[0][j], z[j] = p[3][j] - p[0][j];
+        for (j = 0; j < 3; j++) {
+            u[j] = p[1][j] - p[0][j];
+            w[j] = p[2][j] - p[0][j];
+            z[j] = p[3][j] - p[0][j];
+        }
         pw_cross3(u, w, n);
         if (!(pw_dot3(n, z) > 0.0)) return 2.0;
         pw_tet_cosines((const double(*)[3])p, &clo, &chi);
@@ -16495,7 +16693,11 @@ PW__DEF double pw__st_away(const pw__st *st, int t, int v, double *n)
             else f[m][j] = st->opos[3 * (size_t)c[k] + j];
             m += c[k] != v && j == 2;
         }
-    for (j = 0; j < 3; j++) u[j] = f[1][j] - f[0][j], w[j] = f[2][j] - f[0][j], pv[j] -= f[0][j];
+    for (j = 0; j < 3; j++) {
+        u[j] = f[1][j] - f[0][j];
+        w[j] = f[2][j] - f[0][j];
+        pv[j] -= f[0][j];
+    }
     pw_cross3(u, w, n);
     pw_norm3(n);
     if (pw_dot3(n, pv) < 0.0)
@@ -16539,7 +16741,10 @@ PW__DEF int pw__st_smooth_vertex(pw__st *st, const pw_tetrings *g, int v)
             memcpy(y, q, sizeof q);
         }
         for (k = 0; k < 3; k++) x[k] = (float)y[k];
-        if ((w = pw__st_star_worst(st, g, v, x, NULL)) < bq) bq = w, memcpy(best, x, sizeof x);
+        if ((w = pw__st_star_worst(st, g, v, x, NULL)) < bq) {
+            bq = w;
+            memcpy(best, x, sizeof x);
+        }
     }
     if (bq >= now) return 0;
     memcpy(pv, best, sizeof best);
@@ -16552,7 +16757,10 @@ PW__DEF int pw__st_smooth(pw__st *st)
     pw_tetrings g;
     unsigned char *bad;
     int r, pass, v, i, k, j, moved = 1;
-    m.nv = (int)st->nopos, m.pos = st->opos, m.nt = (int)st->notet, m.tet = st->otet;
+    m.nv = (int)st->nopos;
+    m.pos = st->opos;
+    m.nt = (int)st->notet;
+    m.tet = st->otet;
     bad = (unsigned char *)pw_calloc_array(st->a, (size_t)m.nv + 1, 1, "vertex marks", st->e);
     if (!bad) return PW_ERR_NOMEM;
     if ((r = pw_tetmesh_rings(st->a, &m, &g, st->e))) {
@@ -16612,7 +16820,8 @@ PW__DEF void pw__st_free(pw__st *st)
 PW__DEF int pw__st_drop_repeats(pw__st *st, const int *tri, int nt, int *n)
 {
     int t, k;
-    st->tri = (int *)pw_alloc_array(st->a, (size_t)nt * 12 + 3, sizeof(int), "triangles", st->e); /* room for hole fans */
+    st->tri =
+        (int *)pw_alloc_array(st->a, (size_t)nt * 12 + 3, sizeof(int), "triangles", st->e); /* room for hole fans */
     st->map = (int *)pw_alloc_array(st->a, (size_t)nt * 4 + 1, sizeof(int), "triangle map", st->e);
     if (!st->tri || !st->map) return PW_ERR_NOMEM;
     for (*n = 0, t = 0; t < nt; t++) {
@@ -16665,7 +16874,6 @@ PW__DEF void pw__st_add_fans(pw__st *st, const int *fan, int nfan, int *n)
     *n += nfan;
 }
 
-
 /* The surface the fill uses: the caller's triangles without the zero-area
  * ones (counted in info), closed and consistently oriented, with its
  * hierarchy and winding-number caps. st->tri and st->map own the arrays. */
@@ -16689,7 +16897,8 @@ PW__DEF int pw__st_surface(pw__st *st, const pw_stuff_tris *m, double max_hole, 
         r = pw__st_check_closed(st->a, &used, -1.0, &cl, st->e);
     }
     if (r == PW_OK) r = pw__st_drop_flat(st, m->pos, cl.twin, &n, &info->skipped_triangles);
-    if (r == PW_OK && n == 0) r = pw_fail(st->e, PW_ERR_DEGENERATE, "surface encloses no volume (every triangle is flat)");
+    if (r == PW_OK && n == 0)
+        r = pw_fail(st->e, PW_ERR_DEGENERATE, "surface encloses no volume (every triangle is flat)");
     if (r == PW_OK) {
         pw_stuff_tris used = pw_stuff_tris_of(m->pos, m->nv, st->tri, n);
         r = pw__st_surf_init(st->a, &used, &st->s, st->e);
@@ -16700,10 +16909,7 @@ PW__DEF int pw__st_surface(pw__st *st, const pw_stuff_tris *m, double max_hole, 
 }
 
 /* The largest hole perimeter closed, as a fraction of the diagonal. */
-PW__DEF double pw__st_max_hole(const pw_stuff_options *o)
-{
-    return !o || o->max_hole == 0.0 ? 0.05 : o->max_hole;
-}
+PW__DEF double pw__st_max_hole(const pw_stuff_options *o) { return !o || o->max_hole == 0.0 ? 0.05 : o->max_hole; }
 
 /* Tetrahedralizes the inside of a closed, oriented triangle surface (in:
  * its triangles counter-clockwise seen from outside; a surface facing
@@ -16735,13 +16941,16 @@ PW__DEF int pw_stuff_tetrahedralize(const pw_alloc *a, const pw_stuff_tris *in, 
     if (!out) return pw_fail(e, PW_ERR_INVALID, "tetrahedralize: no output mesh");
     memset(out, 0, sizeof *out);
     memset(&st, 0, sizeof st);
-    st.a = a, st.prog = p, st.e = e;
+    st.a = a;
+    st.prog = p;
+    st.e = e;
     r = in ? pw__st_check_values(in->pos, in->nv, in->tri, in->nt, e)
            : pw_fail(e, PW_ERR_INVALID, "tetrahedralize: NULL positions or triangles");
     if (r == PW_OK && o && !pw_is_finite(o->max_hole))
         r = pw_fail(e, PW_ERR_INVALID, "tetrahedralize: max_hole %g is not finite", o->max_hole);
     if (r == PW_OK && o && !(o->fit >= 0.0 && o->fit <= 0.1))
-        r = pw_fail(e, PW_ERR_INVALID, "tetrahedralize: fit %g is not in [0, 0.1] (a fraction of the diagonal)", o->fit);
+        r = pw_fail(e, PW_ERR_INVALID, "tetrahedralize: fit %g is not in [0, 0.1] (a fraction of the diagonal)",
+                    o->fit);
     if (r == PW_OK) r = pw_report(p, 0.0f, "surface checks", e);
     if (r == PW_OK) r = pw__st_surface(&st, in, pw__st_max_hole(o), info);
     if (r == PW_OK) r = pw__st_check_geometry(&st.s, st.map, o && o->strict, info, e);
@@ -16763,12 +16972,18 @@ PW__DEF int pw_stuff_tetrahedralize(const pw_alloc *a, const pw_stuff_tris *in, 
         info->fragments = st.dropped;
     }
     if (r == PW_OK && st.notet == 0)
-        r = pw_fail(e, PW_ERR_DEGENERATE, "tetrahedralize: no lattice vertex of spacing %g is inside the surface; "
-                    "use a smaller cell", st.h);
+        r = pw_fail(e, PW_ERR_DEGENERATE,
+                    "tetrahedralize: no lattice vertex of spacing %g is inside the surface; "
+                    "use a smaller cell",
+                    st.h);
     if (r == PW_OK) r = pw_report(p, 1.0f, "stencils", e);
     if (r == PW_OK) {
-        out->nv = (int)st.nopos, out->pos = st.opos, out->nt = (int)st.notet, out->tet = st.otet;
-        st.opos = NULL, st.otet = NULL;
+        out->nv = (int)st.nopos;
+        out->pos = st.opos;
+        out->nt = (int)st.notet;
+        out->tet = st.otet;
+        st.opos = NULL;
+        st.otet = NULL;
     }
     pw__st_free(&st);
     return r;
@@ -16797,12 +17012,16 @@ PW__DEF void pw__st_face_key(const pw_tetmesh *m, int t, int f, pw__stface *x)
     int c[3], i, j;
     pw_tet_face(f, c);
     for (i = 0; i < 3; i++) x->k[i] = m->tet[4 * t + c[i]];
-    x->odd = 0, x->t = t, x->f = f;
+    x->odd = 0;
+    x->t = t;
+    x->f = f;
     for (i = 0; i < 3; i++)
         for (j = 0; j + 1 < 3 - i; j++)
             if (x->k[j] > x->k[j + 1]) {
                 int s = x->k[j];
-                x->k[j] = x->k[j + 1], x->k[j + 1] = s, x->odd ^= 1;
+                x->k[j] = x->k[j + 1];
+                x->k[j + 1] = s;
+                x->odd ^= 1;
             }
 }
 
@@ -16816,8 +17035,8 @@ PW__DEF int pw__st_face_runs(const pw_tetmesh *m, const pw__stface *fl, size_t n
     while (i < n) {
         for (j = i + 1; j < n && !memcmp(fl[j].k, fl[i].k, sizeof fl[i].k); j++) continue;
         if (j - i > 2 || (j - i == 2 && fl[i].odd == fl[i + 1].odd))
-            return pw_fail(e, PW_ERR_TOPOLOGY, "tetrahedra %d and %d overlap at face v%d-v%d-v%d", fl[i].t,
-                           fl[i + 1].t, fl[i].k[0], fl[i].k[1], fl[i].k[2]);
+            return pw_fail(e, PW_ERR_TOPOLOGY, "tetrahedra %d and %d overlap at face v%d-v%d-v%d", fl[i].t, fl[i + 1].t,
+                           fl[i].k[0], fl[i].k[1], fl[i].k[2]);
         if (j - i == 1 && tri) {
             pw_tet_face(fl[i].f, c);
             for (k = 0; k < 3; k++) tri[3 * *nb + k] = m->tet[4 * fl[i].t + c[k]];
@@ -16837,7 +17056,8 @@ PW__DEF int pw_stuff_boundary(const pw_alloc *a, const pw_tetmesh *m, int **tri,
     size_t n = (size_t)m->nt * 4, i;
     pw__stface *fl;
     int r, nb;
-    *tri = NULL, *ntri = 0;
+    *tri = NULL;
+    *ntri = 0;
     fl = (pw__stface *)pw_alloc_array(a, n + 1, sizeof *fl, "tetrahedron faces", e);
     if (!fl) return PW_ERR_NOMEM;
     for (i = 0; i < n; i++) pw__st_face_key(m, (int)(i / 4), (int)(i % 4), fl + i);
@@ -16847,7 +17067,11 @@ PW__DEF int pw_stuff_boundary(const pw_alloc *a, const pw_tetmesh *m, int **tri,
         r = PW_ERR_NOMEM;
     if (r == PW_OK) r = pw__st_face_runs(m, fl, n, *tri, ntri, e);
     pw_free(a, fl);
-    if (r != PW_OK) pw_free(a, *tri), *tri = NULL, *ntri = 0;
+    if (r != PW_OK) {
+        pw_free(a, *tri);
+        *tri = NULL;
+        *ntri = 0;
+    }
     return r;
 }
 
@@ -16861,9 +17085,9 @@ typedef struct pw_stuff_fit {
     double from_max, from_p99; /* samples of the surface -> boundary of the tetrahedra */
     double diag;               /* the surface's bounding-box diagonal, for relative figures */
     int boundary_triangles;
-    int pieces; /* connected components of the tetrahedra (joined by shared faces) */
+    int pieces;         /* connected components of the tetrahedra (joined by shared faces) */
     int surface_pieces; /* pieces of the solid the surface encloses (pw_stuff_surface_pieces), -1: not counted */
-    int samples; /* samples taken on each side */
+    int samples;        /* samples taken on each side */
 } pw_stuff_fit;
 
 /* Signed volume of component c and the winding number of the other
@@ -16882,8 +17106,10 @@ PW__DEF void pw__st_weigh(const pw_stuff_tris *m, const int *comp, int c, double
         if (comp[t] == c && first)
             for (first = 0, k = 0; k < 3; k++) p[k] = q[0][k];
         if (comp[t] == c)
-            *vol += (q[0][0] * (q[1][1] * q[2][2] - q[1][2] * q[2][1]) - q[0][1] * (q[1][0] * q[2][2] - q[1][2] * q[2][0]) +
-                     q[0][2] * (q[1][0] * q[2][1] - q[1][1] * q[2][0])) / 6.0;
+            *vol +=
+                (q[0][0] * (q[1][1] * q[2][2] - q[1][2] * q[2][1]) - q[0][1] * (q[1][0] * q[2][2] - q[1][2] * q[2][0]) +
+                 q[0][2] * (q[1][0] * q[2][1] - q[1][1] * q[2][0])) /
+                6.0;
     }
     for (t = 0; t < nt; t++) {
         if (comp[t] == c) continue;
@@ -16910,9 +17136,11 @@ PW__DEF int pw_stuff_surface_pieces(const pw_alloc *a, const pw_stuff_tris *m, i
     if (r == PW_OK && !vol) r = PW_ERR_NOMEM;
     if (r == PW_OK && (double)nc * nt <= 5e7) {
         w = vol + nc;
-        for (c = 0; c < nc; c++) pw__st_weigh(m, comp, c, vol + c, w + c), total += vol[c];
-        for (*pieces = 0, c = 0; c < nc; c++)
-            *pieces += (total < 0.0 ? -vol[c] : vol[c]) > 0.0 && fabs(w[c]) < 0.5;
+        for (c = 0; c < nc; c++) {
+            pw__st_weigh(m, comp, c, vol + c, w + c);
+            total += vol[c];
+        }
+        for (*pieces = 0, c = 0; c < nc; c++) *pieces += (total < 0.0 ? -vol[c] : vol[c]) > 0.0 && fabs(w[c]) < 0.5;
     }
     pw_free(a, vol);
     pw_free(a, comp);
@@ -16966,7 +17194,8 @@ PW__DEF void pw__st_sample_at(const pw__st_dist *d, int t, double l1, double l2,
     int i;
     for (i = 0; i < 3; i++)
         p[i] = (1.0 - l1 - l2) * pos[3 * c[0] + i] + l1 * pos[3 * c[1] + i] + l2 * pos[3 * c[2] + i];
-    out->d = sqrt(pw__st_closest(d->to, p, x, NULL)), out->w = w;
+    out->d = sqrt(pw__st_closest(d->to, p, x, NULL));
+    out->w = w;
 }
 
 /* Samples of triangle t of d->from split into k*k congruent pieces: their
@@ -16999,7 +17228,10 @@ PW__DEF int pw__st_sampled_dist(const pw_alloc *a, pw__st_dist *d, int want, pw_
     double total = 0.0, area, a0, acc = 0.0;
     size_t n = 0, i;
     pw__stsample *sm;
-    for (t = 0; t < nt; t++) pw__st_sample_split(pos, tri, t, 1e300, &area), total += area;
+    for (t = 0; t < nt; t++) {
+        pw__st_sample_split(pos, tri, t, 1e300, &area);
+        total += area;
+    }
     a0 = total > 0.0 ? total / (want > 0 ? want : 1) : 1.0;
     for (t = 0; t < nt; t++) {
         int k = pw__st_sample_split(pos, tri, t, a0, &area);
@@ -17011,7 +17243,9 @@ PW__DEF int pw__st_sampled_dist(const pw_alloc *a, pw__st_dist *d, int want, pw_
         n += pw__st_sample_tri(d, t, k, area, sm + n);
     }
     qsort(sm, n, sizeof *sm, pw__st_sample_cmp);
-    d->smax = n ? sm[n - 1].d : 0.0, d->p99 = d->smax, d->samples = (int)n;
+    d->smax = n ? sm[n - 1].d : 0.0;
+    d->p99 = d->smax;
+    d->samples = (int)n;
     for (i = 0; i < n; i++)
         if ((acc += sm[i].w) >= 0.99 * total) {
             d->p99 = sm[i].d;
@@ -17036,7 +17270,8 @@ PW__DEF int pw__st_vertex_dist(const pw_alloc *a, pw__st_dist *d, pw_err *e)
         if (!used[v]) continue;
         for (k = 0; k < 3; k++) p[k] = m->pos[3 * v + k];
         dist = sqrt(pw__st_closest(d->to, p, x, NULL));
-        sum += dist, n++;
+        sum += dist;
+        n++;
         if (dist > d->vmax) d->vmax = dist;
     }
     d->vmean = n ? sum / n : 0.0;
@@ -17075,18 +17310,30 @@ PW__DEF int pw_stuff_fit_measure(const pw_alloc *a, const pw_stuff_tris *in, con
     r = pw__st_check_values(in->pos, in->nv, in->tri, in->nt, e);
     if (r == PW_OK) r = pw_stuff_boundary(a, m, &btri, &nb, e);
     if (r == PW_OK && nb == 0) r = pw_fail(e, PW_ERR_DEGENERATE, "fit: the tetrahedral mesh has no boundary");
-    to.from = pw_stuff_tris_of(m->pos, m->nv, btri, nb), to.to = &s;
-    from.from = *in, from.to = &b;
+    to.from = pw_stuff_tris_of(m->pos, m->nv, btri, nb);
+    to.to = &s;
+    from.from = *in;
+    from.to = &b;
     if (r == PW_OK) r = pw__st_surf_init(a, in, &s, e);
     if (r == PW_OK) r = pw__st_surf_init(a, &to.from, &b, e);
-    if (r == PW_OK && (r = pw__st_vertex_dist(a, &to, e)) == PW_OK)
-        fit->to_surface_max = to.vmax, fit->to_surface_mean = to.vmean;
-    if (r == PW_OK && (r = pw__st_vertex_dist(a, &from, e)) == PW_OK)
-        fit->from_surface_max = from.vmax, fit->from_surface_mean = from.vmean;
-    if (r == PW_OK && (r = pw__st_sampled_dist(a, &to, samples, e)) == PW_OK)
-        fit->to_max = to.smax, fit->to_p99 = to.p99, fit->samples = to.samples;
-    if (r == PW_OK && (r = pw__st_sampled_dist(a, &from, samples, e)) == PW_OK)
-        fit->from_max = from.smax, fit->from_p99 = from.p99, fit->samples = from.samples;
+    if (r == PW_OK && (r = pw__st_vertex_dist(a, &to, e)) == PW_OK) {
+        fit->to_surface_max = to.vmax;
+        fit->to_surface_mean = to.vmean;
+    }
+    if (r == PW_OK && (r = pw__st_vertex_dist(a, &from, e)) == PW_OK) {
+        fit->from_surface_max = from.vmax;
+        fit->from_surface_mean = from.vmean;
+    }
+    if (r == PW_OK && (r = pw__st_sampled_dist(a, &to, samples, e)) == PW_OK) {
+        fit->to_max = to.smax;
+        fit->to_p99 = to.p99;
+        fit->samples = to.samples;
+    }
+    if (r == PW_OK && (r = pw__st_sampled_dist(a, &from, samples, e)) == PW_OK) {
+        fit->from_max = from.smax;
+        fit->from_p99 = from.p99;
+        fit->samples = from.samples;
+    }
     if (r == PW_OK) r = pw__st_pieces_of(a, m, &fit->pieces, e);
     if (r == PW_OK) r = pw_stuff_surface_pieces(a, in, &fit->surface_pieces, e);
     for (k = 0; k < 3; k++) fit->diag += (s.hi[k] - s.lo[k]) * (s.hi[k] - s.lo[k]);
@@ -17206,7 +17453,11 @@ PW__DEF int pw_edt_sq(const pw_alloc *a, const pw_edt_image *site, float *out, p
         pw_free(a, z);
         return PW_ERR_NOMEM;
     }
-    ws.f = f, ws.d = f + m, ws.v = v, ws.z = z, ws.wrap = site->wrap;
+    ws.f = f;
+    ws.d = f + m;
+    ws.v = v;
+    ws.z = z;
+    ws.wrap = site->wrap;
     for (i = 0; i < n; i++) out[i] = site->px[i] ? 0.0f : PW_EDT_FAR;
     pw__edt_pass(out, w, h, (size_t)w, 1, &ws);
     pw__edt_pass(out, h, w, 1, (size_t)w, &ws);
@@ -17231,8 +17482,7 @@ PW__DEF int pw_edt_signed(const pw_alloc *a, const pw_edt_image *im, float *phi,
     for (i = 0; r == PW_OK && i < n; i++) inv[i] = (unsigned char)!mask[i];
     if (r == PW_OK) r = pw_edt_sq(a, im, phi, e);    /* outside: to the mask */
     if (r == PW_OK) r = pw_edt_sq(a, &rest, din, e); /* inside: to the rest */
-    for (i = 0; r == PW_OK && i < n; i++)
-        phi[i] = mask[i] ? sqrtf(din[i]) - 0.5f : 0.5f - sqrtf(phi[i]);
+    for (i = 0; r == PW_OK && i < n; i++) phi[i] = mask[i] ? sqrtf(din[i]) - 0.5f : 0.5f - sqrtf(phi[i]);
     pw_free(a, inv);
     pw_free(a, din);
     return r;
@@ -17372,11 +17622,13 @@ PW__DEF int pw_pca_solve(const pw_alloc *a, const pw_pca *p, const pw_pca_out *o
     for (r = 0; r < k; r++) { /* selection of the largest remaining eigenvalue */
         int best = -1, big = 0;
         for (j = 0; j < d; j++)
-            if (c[(size_t)j * d + j] > -DBL_MAX && (best < 0 || c[(size_t)j * d + j] > c[(size_t)best * d + best])) best = j;
+            if (c[(size_t)j * d + j] > -DBL_MAX && (best < 0 || c[(size_t)j * d + j] > c[(size_t)best * d + best]))
+                best = j;
         for (i = 1; i < d; i++)
             if (fabs(v[(size_t)i * d + best]) > fabs(v[(size_t)big * d + best])) big = i;
         for (i = 0; i < d; i++)
-            basis[(size_t)r * d + i] = (float)(v[(size_t)big * d + best] < 0.0 ? -v[(size_t)i * d + best] : v[(size_t)i * d + best]);
+            basis[(size_t)r * d + i] =
+                (float)(v[(size_t)big * d + best] < 0.0 ? -v[(size_t)i * d + best] : v[(size_t)i * d + best]);
         if (var) var[r] = (float)(c[(size_t)best * d + best] > 0.0 ? c[(size_t)best * d + best] : 0.0);
         c[(size_t)best * d + best] = -DBL_MAX;
     }
@@ -17446,21 +17698,19 @@ PW__DEF int pw_image_validate(const pw_image *im, const char *what, pw_err *e)
     size_t k, n;
     if (!im->px || im->w < 1 || im->h < 1 || im->c < 1 || im->c > 4)
         return pw_fail(e, PW_ERR_INVALID, "%s: empty image or bad channel count", what);
-    if (im->w > PW_MAX_IMAGE_DIM || im->h > PW_MAX_IMAGE_DIM ||
-        (int64_t)im->w * im->h > PW_MAX_IMAGE_PIXELS)
+    if (im->w > PW_MAX_IMAGE_DIM || im->h > PW_MAX_IMAGE_DIM || (int64_t)im->w * im->h > PW_MAX_IMAGE_PIXELS)
         return pw_fail(e, PW_ERR_LIMIT, "%s: %dx%d pixels is over the limit", what, im->w, im->h);
     n = (size_t)im->w * im->h * im->c;
     for (k = 0; k < n; k++)
         if (!pw_is_finite(im->px[k]))
-            return pw_fail(e, PW_ERR_INVALID, "%s: pixel %lu is not a finite number", what,
-                           (unsigned long)(k / im->c));
+            return pw_fail(e, PW_ERR_INVALID, "%s: pixel %lu is not a finite number", what, (unsigned long)(k / im->c));
     return PW_OK;
 }
 
 /* Encodes an image as "png", "pam", "ppm" or "pgm", converting the channels
  * to what PPM (3) and PGM (1) hold. */
-PW__DEF int pw_image_encode(const pw_alloc *a, const pw_image *img, const char *format,
-                            pw_write_fn fn, void *ctx, pw_err *e)
+PW__DEF int pw_image_encode(const pw_alloc *a, const pw_image *img, const char *format, pw_write_fn fn, void *ctx,
+                            pw_err *e)
 {
     pw_image conv;
     int want = 0, r;
@@ -17468,8 +17718,7 @@ PW__DEF int pw_image_encode(const pw_alloc *a, const pw_image *img, const char *
     if (!strcmp(format, "ppm")) want = 3;
     else if (!strcmp(format, "pgm")) want = 1;
     else if (strcmp(format, "png") && strcmp(format, "pam"))
-        return pw_fail(e, PW_ERR_UNSUPPORTED, "unknown image format '%s' (png, ppm, pgm, pam)",
-                       format);
+        return pw_fail(e, PW_ERR_UNSUPPORTED, "unknown image format '%s' (png, ppm, pgm, pam)", format);
     if (want && want != img->c) {
         if ((r = pw_image_convert(a, img, want, &conv, e)) != PW_OK) return r;
         r = pw_image_write_pnm(&conv, 0, 0, fn, ctx, e);
@@ -17484,8 +17733,8 @@ PW__DEF int pw_image_encode(const pw_alloc *a, const pw_image *img, const char *
 /* Fills the zero fields of a view (public render options) with the
  * defaults every method shares: 800x600, 2x2 supersampling, looking along
  * (-0.55,-0.45,-0.7) with +Y up, on white. */
-PW__DEF void pw_view_defaults(int *width, int *height, int *supersample, float view_dir[3],
-                              float up[3], float background[3])
+PW__DEF void pw_view_defaults(int *width, int *height, int *supersample, float view_dir[3], float up[3],
+                              float background[3])
 {
     static const float view[3] = {-0.55f, -0.45f, -0.7f}, y[3] = {0.0f, 1.0f, 0.0f};
     if (!*width) *width = 800;
@@ -17493,8 +17742,7 @@ PW__DEF void pw_view_defaults(int *width, int *height, int *supersample, float v
     if (!*supersample) *supersample = 2;
     if (!view_dir[0] && !view_dir[1] && !view_dir[2]) memcpy(view_dir, view, sizeof view);
     if (!up[0] && !up[1] && !up[2]) memcpy(up, y, sizeof y);
-    if (!background[0] && !background[1] && !background[2])
-        background[0] = background[1] = background[2] = 1.0f;
+    if (!background[0] && !background[1] && !background[2]) background[0] = background[1] = background[2] = 1.0f;
 }
 
 /* PW_PUBLIC_GLUE(p) defines, for a header whose public types are
@@ -17509,125 +17757,123 @@ PW__DEF void pw_view_defaults(int *width, int *height, int *supersample, float v
  *   p_result    p__left_out(const char *what, const char *macro, p_error *)
  *               PW_ERR_UNSUPPORTED, "what compiled out (macro)": the stubs that stand
  *               for the calls PW_NO_RENDER leaves out */
-#define PW_PUBLIC_GLUE(p)                                                                        \
-    static PW__UNUSED pw_alloc p##__alloc(const p##_allocator *t)                                \
-    {                                                                                            \
-        pw_alloc a;                                                                              \
-        memset(&a, 0, sizeof a);                                                                 \
-        if (t) {                                                                                 \
-            a.malloc_fn = t->malloc_fn;                                                          \
-            a.realloc_fn = t->realloc_fn;                                                        \
-            a.free_fn = t->free_fn;                                                              \
-            a.user = t->user;                                                                    \
-        }                                                                                        \
-        return a;                                                                                \
-    }                                                                                            \
-    static PW__UNUSED p##_allocator p##__allocator(const pw_alloc *a)                            \
-    {                                                                                            \
-        p##_allocator t;                                                                         \
-        t.malloc_fn = a->malloc_fn;                                                              \
-        t.realloc_fn = a->realloc_fn;                                                            \
-        t.free_fn = a->free_fn;                                                                  \
-        t.user = a->user;                                                                        \
-        return t;                                                                                \
-    }                                                                                            \
-    static PW__UNUSED p##_result p##__done(const pw_err *pe, p##_error *err)                     \
-    {                                                                                            \
-        if (err) {                                                                               \
-            err->code = (p##_result)pe->code;                                                    \
-            memcpy(err->message, pe->msg, sizeof err->message);                                  \
-        }                                                                                        \
-        return (p##_result)pe->code;                                                             \
-    }                                                                                            \
-    static PW__UNUSED pw_image p##__pw_image(const p##_image *t)                                 \
-    {                                                                                            \
-        pw_image v;                                                                              \
-        v.w = t->width;                                                                          \
-        v.h = t->height;                                                                         \
-        v.c = t->channels;                                                                       \
-        v.bits = t->bits ? t->bits : 8;                                                          \
-        v.px = t->pixels;                                                                        \
-        return v;                                                                                \
-    }                                                                                            \
-    static PW__UNUSED void p##__take_image(pw_image *v, const pw_alloc *a, p##_image *t)         \
-    {                                                                                            \
-        t->width = v->w;                                                                         \
-        t->height = v->h;                                                                        \
-        t->channels = v->c;                                                                      \
-        t->bits = v->bits;                                                                       \
-        t->pixels = v->px;                                                                       \
-        t->allocator = p##__allocator(a);                                                        \
-        memset(v, 0, sizeof *v);                                                                 \
-    }                                                                                            \
-    static PW__UNUSED int p##__check_image(const p##_image *t, const char *what, pw_err *e)      \
-    {                                                                                            \
-        pw_image v;                                                                              \
-        if (!t) return pw_fail(e, PW_ERR_INVALID, "%s: empty image (none given)", what);                         \
-        v = p##__pw_image(t);                                                                    \
-        return pw_image_validate(&v, what, e);                                                   \
-    }                                                                                            \
-    static PW__UNUSED int p##__encode(const p##_image *t, const char *format, pw_write_fn fn,    \
-                                      void *ctx, pw_err *e)                                      \
-    {                                                                                            \
-        pw_image v = p##__pw_image(t);                                                           \
-        pw_alloc a = p##__alloc(&t->allocator);                                                  \
-        return pw_image_encode(&a, &v, format, fn, ctx, e);                                      \
-    }                                                                                            \
-    static PW__UNUSED void p##__take_mesh(pw_mesh *m, const pw_alloc *a, p##_mesh *t)            \
-    {                                                                                            \
-        memset(t, 0, sizeof *t);                                                                 \
-        t->nverts = m->nv;                                                                       \
-        t->positions = m->pos;                                                                   \
-        t->nfaces = m->nf;                                                                       \
-        t->face_start = m->fstart;                                                               \
-        t->face_verts = m->fv;                                                                   \
-        t->allocator = p##__allocator(a);                                                        \
-        pw_free(a, m->uv);                                                                       \
-        pw_free(a, m->fuv);                                                                      \
-        memset(m, 0, sizeof *m);                                                                 \
-    }                                                                                            \
-    static PW__UNUSED p##_result p##__left_out(const char *what, const char *macro,             \
-                                               p##_error *err)                                   \
-    {                                                                                            \
-        pw_err pe;                                                                               \
-        pw_err_clear(&pe);                                                                       \
-        pw_fail(&pe, PW_ERR_UNSUPPORTED, "%s compiled out (%s)", what, macro);                   \
-        return p##__done(&pe, err);                                                              \
-    }                                                                                            \
-    static PW__UNUSED pw_parallel p##__parallel(const p##_render_options *ro)                   \
-    {                                                                                            \
-        pw_parallel par;                                                                         \
-        par.threads = ro->threads;                                                               \
-        par.run = ro->parallel;                                                                  \
-        par.pool = ro->parallel_pool;                                                            \
-        return par;                                                                              \
-    }                                                                                            \
+#define PW_PUBLIC_GLUE(p)                                                                                           \
+    static PW__UNUSED pw_alloc p##__alloc(const p##_allocator *t)                                                   \
+    {                                                                                                               \
+        pw_alloc a;                                                                                                 \
+        memset(&a, 0, sizeof a);                                                                                    \
+        if (t) {                                                                                                    \
+            a.malloc_fn = t->malloc_fn;                                                                             \
+            a.realloc_fn = t->realloc_fn;                                                                           \
+            a.free_fn = t->free_fn;                                                                                 \
+            a.user = t->user;                                                                                       \
+        }                                                                                                           \
+        return a;                                                                                                   \
+    }                                                                                                               \
+    static PW__UNUSED p##_allocator p##__allocator(const pw_alloc *a)                                               \
+    {                                                                                                               \
+        p##_allocator t;                                                                                            \
+        t.malloc_fn = a->malloc_fn;                                                                                 \
+        t.realloc_fn = a->realloc_fn;                                                                               \
+        t.free_fn = a->free_fn;                                                                                     \
+        t.user = a->user;                                                                                           \
+        return t;                                                                                                   \
+    }                                                                                                               \
+    static PW__UNUSED p##_result p##__done(const pw_err *pe, p##_error *err)                                        \
+    {                                                                                                               \
+        if (err) {                                                                                                  \
+            err->code = (p##_result)pe->code;                                                                       \
+            memcpy(err->message, pe->msg, sizeof err->message);                                                     \
+        }                                                                                                           \
+        return (p##_result)pe->code;                                                                                \
+    }                                                                                                               \
+    static PW__UNUSED pw_image p##__pw_image(const p##_image *t)                                                    \
+    {                                                                                                               \
+        pw_image v;                                                                                                 \
+        v.w = t->width;                                                                                             \
+        v.h = t->height;                                                                                            \
+        v.c = t->channels;                                                                                          \
+        v.bits = t->bits ? t->bits : 8;                                                                             \
+        v.px = t->pixels;                                                                                           \
+        return v;                                                                                                   \
+    }                                                                                                               \
+    static PW__UNUSED void p##__take_image(pw_image *v, const pw_alloc *a, p##_image *t)                            \
+    {                                                                                                               \
+        t->width = v->w;                                                                                            \
+        t->height = v->h;                                                                                           \
+        t->channels = v->c;                                                                                         \
+        t->bits = v->bits;                                                                                          \
+        t->pixels = v->px;                                                                                          \
+        t->allocator = p##__allocator(a);                                                                           \
+        memset(v, 0, sizeof *v);                                                                                    \
+    }                                                                                                               \
+    static PW__UNUSED int p##__check_image(const p##_image *t, const char *what, pw_err *e)                         \
+    {                                                                                                               \
+        pw_image v;                                                                                                 \
+        if (!t) return pw_fail(e, PW_ERR_INVALID, "%s: empty image (none given)", what);                            \
+        v = p##__pw_image(t);                                                                                       \
+        return pw_image_validate(&v, what, e);                                                                      \
+    }                                                                                                               \
+    static PW__UNUSED int p##__encode(const p##_image *t, const char *format, pw_write_fn fn, void *ctx, pw_err *e) \
+    {                                                                                                               \
+        pw_image v = p##__pw_image(t);                                                                              \
+        pw_alloc a = p##__alloc(&t->allocator);                                                                     \
+        return pw_image_encode(&a, &v, format, fn, ctx, e);                                                         \
+    }                                                                                                               \
+    static PW__UNUSED void p##__take_mesh(pw_mesh *m, const pw_alloc *a, p##_mesh *t)                               \
+    {                                                                                                               \
+        memset(t, 0, sizeof *t);                                                                                    \
+        t->nverts = m->nv;                                                                                          \
+        t->positions = m->pos;                                                                                      \
+        t->nfaces = m->nf;                                                                                          \
+        t->face_start = m->fstart;                                                                                  \
+        t->face_verts = m->fv;                                                                                      \
+        t->allocator = p##__allocator(a);                                                                           \
+        pw_free(a, m->uv);                                                                                          \
+        pw_free(a, m->fuv);                                                                                         \
+        memset(m, 0, sizeof *m);                                                                                    \
+    }                                                                                                               \
+    static PW__UNUSED p##_result p##__left_out(const char *what, const char *macro, p##_error *err)                 \
+    {                                                                                                               \
+        pw_err pe;                                                                                                  \
+        pw_err_clear(&pe);                                                                                          \
+        pw_fail(&pe, PW_ERR_UNSUPPORTED, "%s compiled out (%s)", what, macro);                                      \
+        return p##__done(&pe, err);                                                                                 \
+    }                                                                                                               \
+    static PW__UNUSED pw_parallel p##__parallel(const p##_render_options *ro)                                       \
+    {                                                                                                               \
+        pw_parallel par;                                                                                            \
+        par.threads = ro->threads;                                                                                  \
+        par.run = ro->parallel;                                                                                     \
+        par.pool = ro->parallel_pool;                                                                               \
+        return par;                                                                                                 \
+    }                                                                                                               \
     typedef int p##__glue_defined /* so that the use ends with a semicolon */
 
 /* The public frees of an image and of a mesh with the shared fields only
  * (DEF: the header's XDEF): with the allocator the object remembers, then
  * zeroed; NULL and zeroed objects are fine. */
-#define PW_PUBLIC_IMAGE_FREE(p, DEF)                                                             \
-    DEF void p##_image_free(p##_image *img)                                                      \
-    {                                                                                            \
-        pw_alloc a;                                                                              \
-        if (!img) return;                                                                        \
-        a = p##__alloc(&img->allocator);                                                         \
-        pw_free(&a, img->pixels);                                                                \
-        memset(img, 0, sizeof *img);                                                             \
-    }                                                                                            \
+#define PW_PUBLIC_IMAGE_FREE(p, DEF)        \
+    DEF void p##_image_free(p##_image *img) \
+    {                                       \
+        pw_alloc a;                         \
+        if (!img) return;                   \
+        a = p##__alloc(&img->allocator);    \
+        pw_free(&a, img->pixels);           \
+        memset(img, 0, sizeof *img);        \
+    }                                       \
     typedef int p##__image_free_defined
-#define PW_PUBLIC_MESH_FREE(p, DEF)                                                              \
-    DEF void p##_mesh_free(p##_mesh *m)                                                          \
-    {                                                                                            \
-        pw_alloc a;                                                                              \
-        if (!m) return;                                                                          \
-        a = p##__alloc(&m->allocator);                                                           \
-        pw_free(&a, m->positions);                                                               \
-        pw_free(&a, m->face_start);                                                              \
-        pw_free(&a, m->face_verts);                                                              \
-        memset(m, 0, sizeof *m);                                                                 \
-    }                                                                                            \
+#define PW_PUBLIC_MESH_FREE(p, DEF)     \
+    DEF void p##_mesh_free(p##_mesh *m) \
+    {                                   \
+        pw_alloc a;                     \
+        if (!m) return;                 \
+        a = p##__alloc(&m->allocator);  \
+        pw_free(&a, m->positions);      \
+        pw_free(&a, m->face_start);     \
+        pw_free(&a, m->face_verts);     \
+        memset(m, 0, sizeof *m);        \
+    }                                   \
     typedef int p##__mesh_free_defined
 
 #endif /* PW__GLUE_V1 */
@@ -17668,9 +17914,9 @@ PW__DEF void pw_view_defaults(int *width, int *height, int *supersample, float v
 
 
 typedef struct pw_gltf_part {
-    const char *name;        /* mesh and node name (NULL: "mesh") */
+    const char *name; /* mesh and node name (NULL: "mesh") */
     int nv;
-    const float *pos;        /* nv*3 */
+    const float *pos; /* nv*3 */
     int nf;
     const int *fstart;       /* nf+1 offsets into fv */
     const int *fv;           /* fstart[nf] vertex indices, counter-clockwise */
@@ -17691,14 +17937,16 @@ typedef struct pw_gltf_scene {
  * vertex, texture coordinate) pair, in order of first use. */
 typedef struct pw__gltf_verts {
     int n;
-    int *src;     /* n: the mesh vertex */
-    int *corner;  /* n: a corner that uses it (its coordinate) */
-    int *index;   /* fstart[nf]: the glTF vertex of each corner */
+    int *src;    /* n: the mesh vertex */
+    int *corner; /* n: a corner that uses it (its coordinate) */
+    int *index;  /* fstart[nf]: the glTF vertex of each corner */
 } pw__gltf_verts;
 
 static void pw__gltf_verts_free(const pw_alloc *a, pw__gltf_verts *V)
 {
-    pw_free(a, V->src), pw_free(a, V->corner), pw_free(a, V->index);
+    pw_free(a, V->src);
+    pw_free(a, V->corner);
+    pw_free(a, V->index);
     memset(V, 0, sizeof *V);
 }
 
@@ -17714,7 +17962,8 @@ static int pw__gltf_split(const pw_alloc *a, const pw_gltf_part *p, pw__gltf_ver
     V->corner = (int *)pw_alloc_array(a, (size_t)nc, sizeof(int), "glTF vertices", e);
     V->index = (int *)pw_alloc_array(a, (size_t)nc, sizeof(int), "glTF vertices", e);
     if (!head || !next || !V->src || !V->corner || !V->index) {
-        pw_free(a, head), pw_free(a, next);
+        pw_free(a, head);
+        pw_free(a, next);
         pw__gltf_verts_free(a, V);
         return PW_ERR_NOMEM;
     }
@@ -17724,12 +17973,15 @@ static int pw__gltf_split(const pw_alloc *a, const pw_gltf_part *p, pw__gltf_ver
         while (k >= 0 && p->corner_uv && memcmp(p->corner_uv + 2 * V->corner[k], p->corner_uv + 2 * c, 8)) k = next[k];
         if (k < 0) {
             k = V->n++;
-            V->src[k] = v, V->corner[k] = c;
-            next[k] = head[v], head[v] = k;
+            V->src[k] = v;
+            V->corner[k] = c;
+            next[k] = head[v];
+            head[v] = k;
         }
         V->index[c] = k;
     }
-    pw_free(a, head), pw_free(a, next);
+    pw_free(a, head);
+    pw_free(a, next);
     return PW_OK;
 }
 
@@ -17741,7 +17993,8 @@ static int pw__gltf_normals(const pw_alloc *a, const pw_gltf_part *p, float **ou
     float *n = (float *)pw_alloc_array(a, (size_t)p->nv * 3, sizeof(float), "glTF normals", e);
     int f, i, k;
     if (!acc || !n) {
-        pw_free(a, acc), pw_free(a, n);
+        pw_free(a, acc);
+        pw_free(a, n);
         return PW_ERR_NOMEM;
     }
     for (f = 0; f < p->nf; f++)
@@ -17776,7 +18029,7 @@ typedef struct pw__gltf_out {
     pw_buf bin;
     pw__gltf_view *views;
     size_t nviews, vcap;
-    pw__wb js;       /* the JSON, into json */
+    pw__wb js; /* the JSON, into json */
     pw_buf json;
 } pw__gltf_out;
 
@@ -17784,8 +18037,10 @@ typedef struct pw__gltf_out {
 static int pw__gltf_view_begin(pw__gltf_out *o, int target, pw_err *e)
 {
     static const unsigned char zero[4] = {0, 0, 0, 0};
-    if (o->bin.size % 4 && pw_buf_write(&o->bin, zero, 4 - o->bin.size % 4)) return pw_fail(e, PW_ERR_NOMEM, "out of memory writing glTF");
-    if (pw_grow(o->a, (void **)&o->views, &o->vcap, o->nviews + 1, sizeof *o->views, "glTF views", e)) return PW_ERR_NOMEM;
+    if (o->bin.size % 4 && pw_buf_write(&o->bin, zero, 4 - o->bin.size % 4))
+        return pw_fail(e, PW_ERR_NOMEM, "out of memory writing glTF");
+    if (pw_grow(o->a, (void **)&o->views, &o->vcap, o->nviews + 1, sizeof *o->views, "glTF views", e))
+        return PW_ERR_NOMEM;
     o->views[o->nviews].offset = o->bin.size;
     o->views[o->nviews].length = 0;
     o->views[o->nviews].target = target;
@@ -17804,7 +18059,10 @@ static int pw__gltf_view_end(pw__gltf_out *o, pw_err *e)
 static void pw__gltf_put32(pw__gltf_out *o, uint32_t v)
 {
     unsigned char b[4];
-    b[0] = (unsigned char)v, b[1] = (unsigned char)(v >> 8), b[2] = (unsigned char)(v >> 16), b[3] = (unsigned char)(v >> 24);
+    b[0] = (unsigned char)v;
+    b[1] = (unsigned char)(v >> 8);
+    b[2] = (unsigned char)(v >> 16);
+    b[3] = (unsigned char)(v >> 24);
     pw_buf_write(&o->bin, b, 4);
 }
 
@@ -17834,9 +18092,14 @@ static void pw__js_string(pw__gltf_out *o, const char *s)
     for (; *s; s++) {
         unsigned char c = (unsigned char)*s;
         char u[6] = {'\\', 'u', '0', '0', 0, 0};
-        if (c == '"' || c == '\\') pw__wb_put(&o->js, "\\", 1), pw__wb_put(&o->js, s, 1);
-        else if (c < 0x20) u[4] = hex[c >> 4], u[5] = hex[c & 15], pw__wb_put(&o->js, u, 6);
-        else pw__wb_put(&o->js, s, 1);
+        if (c == '"' || c == '\\') {
+            pw__wb_put(&o->js, "\\", 1);
+            pw__wb_put(&o->js, s, 1);
+        } else if (c < 0x20) {
+            u[4] = hex[c >> 4];
+            u[5] = hex[c & 15];
+            pw__wb_put(&o->js, u, 6);
+        } else pw__wb_put(&o->js, s, 1);
     }
     pw__js(o, "\"");
 }
@@ -17857,7 +18120,9 @@ static int pw__gltf_part_data(pw__gltf_out *o, const pw_gltf_part *p, const pw__
                               pw__gltf_info *I, pw_err *e)
 {
     int f, i, k, r;
-    I->nverts = V->n, I->ntris = 0, I->view0 = (int)o->nviews;
+    I->nverts = V->n;
+    I->ntris = 0;
+    I->view0 = (int)o->nviews;
     if ((r = pw__gltf_view_begin(o, 34963, e))) return r;
     for (f = 0; f < p->nf; f++)
         for (i = p->fstart[f] + 1; i + 1 < p->fstart[f + 1]; i++, I->ntris++) {
@@ -17890,7 +18155,8 @@ static int pw__gltf_part_data(pw__gltf_out *o, const pw_gltf_part *p, const pw__
         pw_err_clear(&local);
         if ((r = pw__gltf_view_begin(o, 0, e))) return r;
         if ((r = pw_png_write(o->a, p->texture, 8, pw_buf_write, &o->bin, &local)))
-            return o->bin.failed ? pw_fail(e, PW_ERR_NOMEM, "out of memory writing glTF") : pw_fail(e, r, "%s", local.msg);
+            return o->bin.failed ? pw_fail(e, PW_ERR_NOMEM, "out of memory writing glTF")
+                                 : pw_fail(e, r, "%s", local.msg);
         if ((r = pw__gltf_view_end(o, e))) return r;
     }
     return PW_OK;
@@ -17902,17 +18168,22 @@ static int pw__gltf_check(const pw_gltf_part *p, int k, pw_err *e)
     int i, nc;
     if (!p->pos || !p->fstart || !p->fv || p->nv < 1 || p->nf < 1 || p->fstart[0] != 0)
         return pw_fail(e, PW_ERR_INVALID, "glTF part %d: empty or malformed mesh", k);
-    if (p->texture && !p->corner_uv) return pw_fail(e, PW_ERR_INVALID, "glTF part %d: a texture without texture coordinates", k);
+    if (p->texture && !p->corner_uv)
+        return pw_fail(e, PW_ERR_INVALID, "glTF part %d: a texture without texture coordinates", k);
     for (i = 0; i < p->nf; i++)
         if (p->fstart[i + 1] - p->fstart[i] < 3 || p->fstart[i + 1] > PW_MAX_MESH_ELEMENTS)
-            return pw_fail(e, PW_ERR_INVALID, "glTF part %d: face %d has %d corners", k, i, p->fstart[i + 1] - p->fstart[i]);
+            return pw_fail(e, PW_ERR_INVALID, "glTF part %d: face %d has %d corners", k, i,
+                           p->fstart[i + 1] - p->fstart[i]);
     nc = p->fstart[p->nf];
     for (i = 0; i < nc; i++)
-        if (p->fv[i] < 0 || p->fv[i] >= p->nv) return pw_fail(e, PW_ERR_INVALID, "glTF part %d: corner %d names vertex %d of %d", k, i, p->fv[i], p->nv);
+        if (p->fv[i] < 0 || p->fv[i] >= p->nv)
+            return pw_fail(e, PW_ERR_INVALID, "glTF part %d: corner %d names vertex %d of %d", k, i, p->fv[i], p->nv);
     for (i = 0; i < 3 * p->nv; i++)
-        if (!pw_is_finite(p->pos[i])) return pw_fail(e, PW_ERR_INVALID, "glTF part %d: vertex %d is not finite", k, i / 3);
+        if (!pw_is_finite(p->pos[i]))
+            return pw_fail(e, PW_ERR_INVALID, "glTF part %d: vertex %d is not finite", k, i / 3);
     for (i = 0; p->corner_uv && i < 2 * nc; i++)
-        if (!pw_is_finite(p->corner_uv[i])) return pw_fail(e, PW_ERR_INVALID, "glTF part %d: corner %d's texture coordinate is not finite", k, i / 2);
+        if (!pw_is_finite(p->corner_uv[i]))
+            return pw_fail(e, PW_ERR_INVALID, "glTF part %d: corner %d's texture coordinate is not finite", k, i / 2);
     return PW_OK;
 }
 
@@ -17927,7 +18198,10 @@ static void pw__gltf_json_views(pw__gltf_out *o)
         pw__js_int(o, (long long)o->views[k].offset);
         pw__js(o, ",\"byteLength\":");
         pw__js_int(o, (long long)o->views[k].length);
-        if (o->views[k].target) pw__js(o, ",\"target\":"), pw__js_int(o, o->views[k].target);
+        if (o->views[k].target) {
+            pw__js(o, ",\"target\":");
+            pw__js_int(o, o->views[k].target);
+        }
         pw__js(o, "}");
     }
     pw__js(o, "],\"buffers\":[{\"byteLength\":");
@@ -17943,7 +18217,9 @@ static void pw__gltf_accessor(pw__gltf_out *o, int first, int view, int type, in
     pw__js_int(o, type);
     pw__js(o, ",\"count\":");
     pw__js_int(o, count);
-    pw__js(o, ",\"type\":\""), pw__js(o, kind), pw__js(o, "\"");
+    pw__js(o, ",\"type\":\"");
+    pw__js(o, kind);
+    pw__js(o, "\"");
 }
 
 static void pw__gltf_json_accessors(pw__gltf_out *o, const pw__gltf_info *I, int np)
@@ -17956,13 +18232,22 @@ static void pw__gltf_json_accessors(pw__gltf_out *o, const pw__gltf_info *I, int
         pw__js(o, "}");
         pw__gltf_accessor(o, 0, v + 1, 5126, I[p].nverts, "VEC3");
         pw__js(o, ",\"min\":[");
-        for (k = 0; k < 3; k++) pw__js(o, k ? "," : ""), pw__js_float(o, I[p].lo[k]);
+        for (k = 0; k < 3; k++) {
+            pw__js(o, k ? "," : "");
+            pw__js_float(o, I[p].lo[k]);
+        }
         pw__js(o, "],\"max\":[");
-        for (k = 0; k < 3; k++) pw__js(o, k ? "," : ""), pw__js_float(o, I[p].hi[k]);
+        for (k = 0; k < 3; k++) {
+            pw__js(o, k ? "," : "");
+            pw__js_float(o, I[p].hi[k]);
+        }
         pw__js(o, "]}");
         pw__gltf_accessor(o, 0, v + 2, 5126, I[p].nverts, "VEC3");
         pw__js(o, "}");
-        if (I[p].has_uv) pw__gltf_accessor(o, 0, v + 3, 5126, I[p].nverts, "VEC2"), pw__js(o, "}");
+        if (I[p].has_uv) {
+            pw__gltf_accessor(o, 0, v + 3, 5126, I[p].nverts, "VEC2");
+            pw__js(o, "}");
+        }
     }
 }
 
@@ -17980,22 +18265,33 @@ static void pw__gltf_json_meshes(pw__gltf_out *o, const pw_gltf_part *parts, con
     pw__js(o, "],\"meshes\":[");
     for (p = 0; p < np; p++) {
         int a0 = pw__gltf_acc0(I, p);
-        pw__js(o, p ? ",{\"name\":" : "{\"name\":"), pw__js_string(o, parts[p].name ? parts[p].name : "mesh");
-        pw__js(o, ",\"primitives\":[{\"attributes\":{\"POSITION\":"), pw__js_int(o, a0 + 1);
-        pw__js(o, ",\"NORMAL\":"), pw__js_int(o, a0 + 2);
-        if (I[p].has_uv) pw__js(o, ",\"TEXCOORD_0\":"), pw__js_int(o, a0 + 3);
-        pw__js(o, "},\"indices\":"), pw__js_int(o, a0);
-        pw__js(o, ",\"material\":"), pw__js_int(o, p);
+        pw__js(o, p ? ",{\"name\":" : "{\"name\":");
+        pw__js_string(o, parts[p].name ? parts[p].name : "mesh");
+        pw__js(o, ",\"primitives\":[{\"attributes\":{\"POSITION\":");
+        pw__js_int(o, a0 + 1);
+        pw__js(o, ",\"NORMAL\":");
+        pw__js_int(o, a0 + 2);
+        if (I[p].has_uv) {
+            pw__js(o, ",\"TEXCOORD_0\":");
+            pw__js_int(o, a0 + 3);
+        }
+        pw__js(o, "},\"indices\":");
+        pw__js_int(o, a0);
+        pw__js(o, ",\"material\":");
+        pw__js_int(o, p);
         pw__js(o, ",\"mode\":4}]}");
     }
     pw__js(o, "],\"materials\":[");
     for (p = 0; p < np; p++) {
-        pw__js(o, p ? ",{\"name\":" : "{\"name\":"), pw__js_string(o, parts[p].name ? parts[p].name : "mesh");
+        pw__js(o, p ? ",{\"name\":" : "{\"name\":");
+        pw__js_string(o, parts[p].name ? parts[p].name : "mesh");
         pw__js(o, ",\"pbrMetallicRoughness\":{");
         if (I[p].has_image) {
             int t = 0, k;
             for (k = 0; k < p; k++) t += I[k].has_image;
-            pw__js(o, "\"baseColorTexture\":{\"index\":"), pw__js_int(o, t), pw__js(o, "},");
+            pw__js(o, "\"baseColorTexture\":{\"index\":");
+            pw__js_int(o, t);
+            pw__js(o, "},");
         }
         pw__js(o, "\"metallicFactor\":0,\"roughnessFactor\":1}}");
     }
@@ -18010,21 +18306,33 @@ static void pw__gltf_json_textures(pw__gltf_out *o, const pw_gltf_part *parts, c
     pw__js(o, "],\"textures\":[");
     for (p = 0, t = 0; p < np; p++)
         if (I[p].has_image) {
-            pw__js(o, sep), pw__js(o, "{\"sampler\":"), pw__js_int(o, t), pw__js(o, ",\"source\":"), pw__js_int(o, t), pw__js(o, "}");
-            sep = ",", t++;
+            pw__js(o, sep);
+            pw__js(o, "{\"sampler\":");
+            pw__js_int(o, t);
+            pw__js(o, ",\"source\":");
+            pw__js_int(o, t);
+            pw__js(o, "}");
+            sep = ",";
+            t++;
         }
     pw__js(o, "],\"samplers\":[");
     for (p = 0, sep = ""; p < np; p++)
         if (I[p].has_image) {
             const char *wrap = parts[p].repeat ? "10497" : "33071";
-            pw__js(o, sep), pw__js(o, "{\"magFilter\":9729,\"minFilter\":9987,\"wrapS\":"), pw__js(o, wrap);
-            pw__js(o, ",\"wrapT\":"), pw__js(o, wrap), pw__js(o, "}");
+            pw__js(o, sep);
+            pw__js(o, "{\"magFilter\":9729,\"minFilter\":9987,\"wrapS\":");
+            pw__js(o, wrap);
+            pw__js(o, ",\"wrapT\":");
+            pw__js(o, wrap);
+            pw__js(o, "}");
             sep = ",";
         }
     pw__js(o, "],\"images\":[");
     for (p = 0, sep = ""; p < np; p++)
         if (I[p].has_image) {
-            pw__js(o, sep), pw__js(o, "{\"bufferView\":"), pw__js_int(o, I[p].view0 + 3 + I[p].has_uv);
+            pw__js(o, sep);
+            pw__js(o, "{\"bufferView\":");
+            pw__js_int(o, I[p].view0 + 3 + I[p].has_uv);
             pw__js(o, ",\"mimeType\":\"image/png\"}");
             sep = ",";
         }
@@ -18037,25 +18345,44 @@ static void pw__gltf_camera_rotation(const pw_camera *c, double *q)
 {
     double f[3], r[3], u[3], m[3][3], t;
     int k;
-    for (k = 0; k < 3; k++) f[k] = (double)c->target[k] - c->eye[k], u[k] = c->up[k];
+    for (k = 0; k < 3; k++) {
+        f[k] = (double)c->target[k] - c->eye[k];
+        u[k] = c->up[k];
+    }
     pw_norm3(f);
     pw_cross3(f, u, r);
     pw_norm3(r);
     pw_cross3(r, f, u);
-    for (k = 0; k < 3; k++) m[k][0] = r[k], m[k][1] = u[k], m[k][2] = -f[k];
+    for (k = 0; k < 3; k++) {
+        m[k][0] = r[k];
+        m[k][1] = u[k];
+        m[k][2] = -f[k];
+    }
     t = m[0][0] + m[1][1] + m[2][2];
     if (t > 0.0) { /* the largest of w, x, y, z divides: no cancellation */
         double s = 2.0 * sqrt(1.0 + t);
-        q[3] = 0.25 * s, q[0] = (m[2][1] - m[1][2]) / s, q[1] = (m[0][2] - m[2][0]) / s, q[2] = (m[1][0] - m[0][1]) / s;
+        q[3] = 0.25 * s;
+        q[0] = (m[2][1] - m[1][2]) / s;
+        q[1] = (m[0][2] - m[2][0]) / s;
+        q[2] = (m[1][0] - m[0][1]) / s;
     } else if (m[0][0] > m[1][1] && m[0][0] > m[2][2]) {
         double s = 2.0 * sqrt(1.0 + m[0][0] - m[1][1] - m[2][2]);
-        q[3] = (m[2][1] - m[1][2]) / s, q[0] = 0.25 * s, q[1] = (m[0][1] + m[1][0]) / s, q[2] = (m[0][2] + m[2][0]) / s;
+        q[3] = (m[2][1] - m[1][2]) / s;
+        q[0] = 0.25 * s;
+        q[1] = (m[0][1] + m[1][0]) / s;
+        q[2] = (m[0][2] + m[2][0]) / s;
     } else if (m[1][1] > m[2][2]) {
         double s = 2.0 * sqrt(1.0 + m[1][1] - m[0][0] - m[2][2]);
-        q[3] = (m[0][2] - m[2][0]) / s, q[0] = (m[0][1] + m[1][0]) / s, q[1] = 0.25 * s, q[2] = (m[1][2] + m[2][1]) / s;
+        q[3] = (m[0][2] - m[2][0]) / s;
+        q[0] = (m[0][1] + m[1][0]) / s;
+        q[1] = 0.25 * s;
+        q[2] = (m[1][2] + m[2][1]) / s;
     } else {
         double s = 2.0 * sqrt(1.0 + m[2][2] - m[0][0] - m[1][1]);
-        q[3] = (m[1][0] - m[0][1]) / s, q[0] = (m[0][2] + m[2][0]) / s, q[1] = (m[1][2] + m[2][1]) / s, q[2] = 0.25 * s;
+        q[3] = (m[1][0] - m[0][1]) / s;
+        q[0] = (m[0][2] + m[2][0]) / s;
+        q[1] = (m[1][2] + m[2][1]) / s;
+        q[2] = 0.25 * s;
     }
     t = sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
     for (k = 0; k < 4; k++) q[k] /= t;
@@ -18068,9 +18395,15 @@ static void pw__gltf_json_camera_node(pw__gltf_out *o, const pw_camera *c)
     int k;
     pw__gltf_camera_rotation(c, q);
     pw__js(o, ",{\"name\":\"patchwork view\",\"camera\":0,\"translation\":[");
-    for (k = 0; k < 3; k++) pw__js(o, k ? "," : ""), pw__js_float(o, c->eye[k]);
+    for (k = 0; k < 3; k++) {
+        pw__js(o, k ? "," : "");
+        pw__js_float(o, c->eye[k]);
+    }
     pw__js(o, "],\"rotation\":[");
-    for (k = 0; k < 4; k++) pw__js(o, k ? "," : ""), pw__js_float(o, (float)q[k]);
+    for (k = 0; k < 4; k++) {
+        pw__js(o, k ? "," : "");
+        pw__js_float(o, (float)q[k]);
+    }
     pw__js(o, "]}");
 }
 
@@ -18078,9 +18411,12 @@ static void pw__gltf_json_camera(pw__gltf_out *o, const pw_camera *c, float aspe
 {
     pw__js(o, "],\"cameras\":[{\"type\":\"perspective\",\"perspective\":{\"yfov\":");
     pw__js_float(o, (float)(c->fovy_deg * (3.14159265358979323846 / 180.0)));
-    pw__js(o, ",\"aspectRatio\":"), pw__js_float(o, aspect);
-    pw__js(o, ",\"znear\":"), pw__js_float(o, c->znear);
-    pw__js(o, ",\"zfar\":"), pw__js_float(o, c->zfar);
+    pw__js(o, ",\"aspectRatio\":");
+    pw__js_float(o, aspect);
+    pw__js(o, ",\"znear\":");
+    pw__js_float(o, c->znear);
+    pw__js(o, ",\"zfar\":");
+    pw__js_float(o, c->zfar);
     pw__js(o, "}}");
 }
 
@@ -18088,15 +18424,25 @@ static void pw__gltf_json(pw__gltf_out *o, const pw_gltf_scene *S, const pw__glt
 {
     const pw_gltf_part *parts = S->parts;
     int p, np = S->nparts;
-    pw__js(o, "{\"asset\":{\"version\":\"2.0\",\"generator\":"), pw__js_string(o, S->generator ? S->generator : "patchwork");
+    pw__js(o, "{\"asset\":{\"version\":\"2.0\",\"generator\":");
+    pw__js_string(o, S->generator ? S->generator : "patchwork");
     pw__js(o, "},\"scene\":0,\"scenes\":[{\"nodes\":[");
-    for (p = 0; p < np + (S->camera != NULL); p++) pw__js(o, p ? "," : ""), pw__js_int(o, p);
+    for (p = 0; p < np + (S->camera != NULL); p++) {
+        pw__js(o, p ? "," : "");
+        pw__js_int(o, p);
+    }
     pw__js(o, "]}],\"nodes\":[");
     for (p = 0; p < np; p++) {
-        pw__js(o, p ? ",{\"name\":" : "{\"name\":"), pw__js_string(o, parts[p].name ? parts[p].name : "mesh");
-        pw__js(o, ",\"mesh\":"), pw__js_int(o, p), pw__js(o, "}");
+        pw__js(o, p ? ",{\"name\":" : "{\"name\":");
+        pw__js_string(o, parts[p].name ? parts[p].name : "mesh");
+        pw__js(o, ",\"mesh\":");
+        pw__js_int(o, p);
+        pw__js(o, "}");
     }
-    if (S->camera) pw__gltf_json_camera_node(o, S->camera), pw__gltf_json_camera(o, S->camera, S->aspect);
+    if (S->camera) {
+        pw__gltf_json_camera_node(o, S->camera);
+        pw__gltf_json_camera(o, S->camera, S->aspect);
+    }
     pw__gltf_json_meshes(o, parts, I, np);
     pw__gltf_json_textures(o, parts, I, np);
     pw__gltf_json_accessors(o, I, np);
@@ -18108,7 +18454,10 @@ static void pw__gltf_json(pw__gltf_out *o, const pw_gltf_scene *S, const pw__glt
 
 static void pw__gltf_le32(unsigned char *b, uint32_t v)
 {
-    b[0] = (unsigned char)v, b[1] = (unsigned char)(v >> 8), b[2] = (unsigned char)(v >> 16), b[3] = (unsigned char)(v >> 24);
+    b[0] = (unsigned char)v;
+    b[1] = (unsigned char)(v >> 8);
+    b[2] = (unsigned char)(v >> 16);
+    b[3] = (unsigned char)(v >> 24);
 }
 
 /* GLB: the 12-byte header, the JSON chunk padded with spaces, the binary
@@ -18118,12 +18467,19 @@ static int pw__gltf_emit(const pw__gltf_out *o, pw_write_fn w, void *ctx, pw_err
     static const char spaces[4] = {' ', ' ', ' ', ' '}, zeros[4] = {0, 0, 0, 0};
     size_t jl = (o->json.size + 3) & ~(size_t)3, bl = (o->bin.size + 3) & ~(size_t)3, total = 12 + 8 + jl + 8 + bl;
     unsigned char h[20];
-    if (total > 0xFFFFFFFFu) return pw_fail(e, PW_ERR_LIMIT, "glTF: %lu bytes is over GLB's 4 GiB", (unsigned long)total);
-    memcpy(h, "glTF", 4), pw__gltf_le32(h + 4, 2), pw__gltf_le32(h + 8, (uint32_t)total);
-    pw__gltf_le32(h + 12, (uint32_t)jl), memcpy(h + 16, "JSON", 4);
-    if (w(ctx, h, 20) || w(ctx, o->json.data, o->json.size) || w(ctx, spaces, jl - o->json.size)) return pw_fail(e, PW_ERR_IO, "write failed");
-    pw__gltf_le32(h, (uint32_t)bl), memcpy(h + 4, "BIN\0", 4);
-    if (w(ctx, h, 8) || w(ctx, o->bin.data, o->bin.size) || w(ctx, zeros, bl - o->bin.size)) return pw_fail(e, PW_ERR_IO, "write failed");
+    if (total > 0xFFFFFFFFu)
+        return pw_fail(e, PW_ERR_LIMIT, "glTF: %lu bytes is over GLB's 4 GiB", (unsigned long)total);
+    memcpy(h, "glTF", 4);
+    pw__gltf_le32(h + 4, 2);
+    pw__gltf_le32(h + 8, (uint32_t)total);
+    pw__gltf_le32(h + 12, (uint32_t)jl);
+    memcpy(h + 16, "JSON", 4);
+    if (w(ctx, h, 20) || w(ctx, o->json.data, o->json.size) || w(ctx, spaces, jl - o->json.size))
+        return pw_fail(e, PW_ERR_IO, "write failed");
+    pw__gltf_le32(h, (uint32_t)bl);
+    memcpy(h + 4, "BIN\0", 4);
+    if (w(ctx, h, 8) || w(ctx, o->bin.data, o->bin.size) || w(ctx, zeros, bl - o->bin.size))
+        return pw_fail(e, PW_ERR_IO, "write failed");
     return PW_OK;
 }
 
@@ -18156,23 +18512,31 @@ PW__DEF int pw_gltf_write(const pw_alloc *a, const pw_gltf_scene *S, pw_write_fn
     for (p = 0; p < np; p++)
         if ((r = pw__gltf_check(&parts[p], p, e))) return r;
     memset(&o, 0, sizeof o);
-    o.a = a, o.bin.alloc = a, o.json.alloc = a;
-    o.js.w = pw_buf_write, o.js.ctx = &o.json;
+    o.a = a;
+    o.bin.alloc = a;
+    o.json.alloc = a;
+    o.js.w = pw_buf_write;
+    o.js.ctx = &o.json;
     if (!(I = (pw__gltf_info *)pw_calloc_array(a, (size_t)np, sizeof *I, "glTF parts", e))) return PW_ERR_NOMEM;
     for (p = 0; p < np && r == PW_OK; p++) {
         pw__gltf_verts V;
         float *nrm = NULL;
         if ((r = pw__gltf_split(a, &parts[p], &V, e))) break;
-        if ((r = pw__gltf_normals(a, &parts[p], &nrm, e)) == PW_OK) r = pw__gltf_part_data(&o, &parts[p], &V, nrm, &I[p], e);
+        if ((r = pw__gltf_normals(a, &parts[p], &nrm, e)) == PW_OK)
+            r = pw__gltf_part_data(&o, &parts[p], &V, nrm, &I[p], e);
         pw__gltf_verts_free(a, &V);
         pw_free(a, nrm);
     }
     if (r == PW_OK) {
         pw__gltf_json(&o, S, I);
         pw__wb_flush(&o.js);
-        r = o.js.failed || o.json.failed ? pw_fail(e, PW_ERR_NOMEM, "out of memory writing glTF") : pw__gltf_emit(&o, w, ctx, e);
+        r = o.js.failed || o.json.failed ? pw_fail(e, PW_ERR_NOMEM, "out of memory writing glTF")
+                                         : pw__gltf_emit(&o, w, ctx, e);
     }
-    pw_free(a, I), pw_free(a, o.views), pw_free(a, o.bin.data), pw_free(a, o.json.data);
+    pw_free(a, I);
+    pw_free(a, o.views);
+    pw_free(a, o.bin.data);
+    pw_free(a, o.json.data);
     return r;
 }
 
@@ -18447,7 +18811,10 @@ static double lst__exp_neg(double x)
     double s, t;
     int k, halvings = 0;
     if (!(x > -700.0)) return 0.0;
-    while (x < -0.25) x *= 0.5, halvings++;
+    while (x < -0.25) {
+        x *= 0.5;
+        halvings++;
+    }
     s = t = 1.0;
     for (k = 1; k < 14; k++) s += (t *= x / k);
     while (halvings--) s *= s;
@@ -18498,7 +18865,11 @@ static void lst__principal(const double s[9], double out[3])
         if (c[4 * k] > c[4 * best]) best = k;
     for (k = 0; k < 3; k++) out[k] = v[3 * k + best];
     k = fabs(out[0]) >= fabs(out[1]) && fabs(out[0]) >= fabs(out[2]) ? 0 : (fabs(out[1]) >= fabs(out[2]) ? 1 : 2);
-    if (out[k] < 0.0) out[0] = -out[0], out[1] = -out[1], out[2] = -out[2];
+    if (out[k] < 0.0) {
+        out[0] = -out[0];
+        out[1] = -out[1];
+        out[2] = -out[2];
+    }
 }
 
 /* The bounding-box diagonal of nv points. */
@@ -18537,9 +18908,15 @@ static void lst__sample(const pw_volume *vol, double u, double v, double w, floa
     x = x < 0.0f ? 0.0f : (x > X - 1 ? (float)(X - 1) : x);
     y = y < 0.0f ? 0.0f : (y > Y - 1 ? (float)(Y - 1) : y);
     z = z < 0.0f ? 0.0f : (z > Z - 1 ? (float)(Z - 1) : z);
-    x0 = (int)x, y0 = (int)y, z0 = (int)z;
-    fx = x - x0, fy = y - y0, fz = z - z0;
-    dx = x0 + 1 < X ? (size_t)c : 0, dy = y0 + 1 < Y ? (size_t)X * c : 0, dz = z0 + 1 < Z ? (size_t)X * Y * c : 0;
+    x0 = (int)x;
+    y0 = (int)y;
+    z0 = (int)z;
+    fx = x - x0;
+    fy = y - y0;
+    fz = z - z0;
+    dx = x0 + 1 < X ? (size_t)c : 0;
+    dy = y0 + 1 < Y ? (size_t)X * c : 0;
+    dz = z0 + 1 < Z ? (size_t)X * Y * c : 0;
     p = vol->px + (((size_t)z0 * Y + y0) * X + x0) * c;
     for (k = 0; k < c; k++, p++) {
         float a = p[0] + fx * (p[dx] - p[0]), b = p[dy] + fx * (p[dy + dx] - p[dy]);
@@ -18564,9 +18941,15 @@ static float lst__mask_alpha_vox(const pw_volume *mask, float x, float y, float 
     x = x < 0.0f ? 0.0f : (x > X - 1 ? (float)(X - 1) : x);
     y = y < 0.0f ? 0.0f : (y > Y - 1 ? (float)(Y - 1) : y);
     z = z < 0.0f ? 0.0f : (z > Z - 1 ? (float)(Z - 1) : z);
-    x0 = (int)x, y0 = (int)y, z0 = (int)z;
-    fx = x - x0, fy = y - y0, fz = z - z0;
-    dx = x0 + 1 < X, dy = y0 + 1 < Y ? (int)sy : 0, dz = z0 + 1 < Z ? (int)sz : 0;
+    x0 = (int)x;
+    y0 = (int)y;
+    z0 = (int)z;
+    fx = x - x0;
+    fy = y - y0;
+    fz = z - z0;
+    dx = x0 + 1 < X;
+    dy = y0 + 1 < Y ? (int)sy : 0;
+    dz = z0 + 1 < Z ? (int)sz : 0;
     p = mask->px + z0 * sz + y0 * sy + x0;
     a = p[0] + fx * (p[dx] - p[0]);
     b = p[dy] + fx * (p[dy + dx] - p[dy]);
@@ -18580,7 +18963,9 @@ static float lst__mask_alpha_vox(const pw_volume *mask, float x, float y, float 
 /* Texture coordinates to a mask's voxel coordinates. */
 static void lst__to_voxel(const pw_volume *mask, double u, double v, double w, float *out)
 {
-    out[0] = (float)(u * mask->x - 0.5), out[1] = (float)((1.0 - v) * mask->y - 0.5), out[2] = (float)(w * mask->z - 0.5);
+    out[0] = (float)(u * mask->x - 0.5);
+    out[1] = (float)((1.0 - v) * mask->y - 0.5);
+    out[2] = (float)(w * mask->z - 0.5);
 }
 
 /* A mask's alpha at texture coordinates (u, v, w). */
@@ -18606,11 +18991,14 @@ static void lst__layers(unsigned long long seed, double u, double v, double w, d
     static const double pal[6][3] = {{0.91, 0.82, 0.62}, {0.72, 0.36, 0.20}, {0.96, 0.93, 0.84},
                                      {0.45, 0.30, 0.22}, {0.80, 0.62, 0.30}, {0.58, 0.60, 0.55}};
     static const double skin[3] = {0.20, 0.32, 0.14};
-    double band = v * 6.0 + 0.3 * (pw_fbm3(seed, 2.0 * u, 0.0, 2.0 * w) - 0.5), g = pw_fbm3(seed + 7, 24.0 * u, 24.0 * v, 24.0 * w);
+    double band = v * 6.0 + 0.3 * (pw_fbm3(seed, 2.0 * u, 0.0, 2.0 * w) - 0.5),
+           g = pw_fbm3(seed + 7, 24.0 * u, 24.0 * v, 24.0 * w);
     int b = (int)floor(band);
     b = ((b % 6) + 6) % 6;
     lst__mix3(c, pal[b], pal[b], 0.0);
-    c[0] *= 0.85 + 0.3 * g, c[1] *= 0.85 + 0.3 * g, c[2] *= 0.85 + 0.3 * g;
+    c[0] *= 0.85 + 0.3 * g;
+    c[1] *= 0.85 + 0.3 * g;
+    c[2] *= 0.85 + 0.3 * g;
     if (v < 0.035) lst__mix3(c, skin, skin, 0.0);
     *val = v < 0.035 ? 0.5 + 0.4 * (pw_fbm3(seed + 9, 12.0 * u, 0.0, 12.0 * w) - 0.5) : 0.5;
 }
@@ -18629,8 +19017,11 @@ static void lst__fibers(unsigned long long seed, double u, double v, double w, d
             double pv = (i + 0.15 + 0.7 * pw_lattice01(seed, 0, i, k)) / cells - v;
             double pw_ = (k + 0.15 + 0.7 * pw_lattice01(seed + 1, 0, i, k)) / cells - w;
             double d = sqrt(pv * pv + pw_ * pw_);
-            if (d < d1) d2 = d1, d1 = d, shade = pw_lattice01(seed + 2, 0, i, k);
-            else if (d < d2) d2 = d;
+            if (d < d1) {
+                d2 = d1;
+                d1 = d;
+                shade = pw_lattice01(seed + 2, 0, i, k);
+            } else if (d < d2) d2 = d;
         }
     streak = pw_fbm3(seed + 3, 3.6 * u, 30.0 * v, 30.0 * w);
     lst__mix3(c, dark, light, 0.25 + 0.45 * shade + 0.5 * (streak - 0.5));
@@ -18641,8 +19032,8 @@ static void lst__fibers(unsigned long long seed, double u, double v, double w, d
 /* 0: an isotropic aggregate (concrete): stones in a grainy matrix. */
 static void lst__spots(unsigned long long seed, double u, double v, double w, double *c, double *val)
 {
-    static const double matrix[3] = {0.72, 0.70, 0.66}, stone[4][3] = {
-        {0.45, 0.40, 0.36}, {0.62, 0.50, 0.38}, {0.30, 0.30, 0.32}, {0.80, 0.74, 0.62}};
+    static const double matrix[3] = {0.72, 0.70, 0.66},
+                        stone[4][3] = {{0.45, 0.40, 0.36}, {0.62, 0.50, 0.38}, {0.30, 0.30, 0.32}, {0.80, 0.74, 0.62}};
     const double cells = 6.0;
     double g = pw_fbm3(seed, 20.0 * u, 20.0 * v, 20.0 * w), best = 1e9;
     long cx = (long)floor(u * cells), cy = (long)floor(v * cells), cz = (long)floor(w * cells), i, j, k, id = 0;
@@ -18652,12 +19043,18 @@ static void lst__spots(unsigned long long seed, double u, double v, double w, do
                 double px = (i + 0.2 + 0.6 * pw_lattice01(seed, i, j, k)) / cells - u;
                 double py = (j + 0.2 + 0.6 * pw_lattice01(seed + 1, i, j, k)) / cells - v;
                 double pz = (k + 0.2 + 0.6 * pw_lattice01(seed + 2, i, j, k)) / cells - w;
-                double r = (0.3 + 0.15 * pw_lattice01(seed + 3, i, j, k)) / cells, d = sqrt(px * px + py * py + pz * pz) / r;
-                if (d < best) best = d, id = (i * 7 + j * 13 + k * 29) & 3;
+                double r = (0.3 + 0.15 * pw_lattice01(seed + 3, i, j, k)) / cells,
+                       d = sqrt(px * px + py * py + pz * pz) / r;
+                if (d < best) {
+                    best = d;
+                    id = (i * 7 + j * 13 + k * 29) & 3;
+                }
             }
     lst__mix3(c, matrix, matrix, 0.0);
     if (best < 1.0) lst__mix3(c, matrix, stone[id], pw_smoothstep(1.0, 0.85, best));
-    c[0] *= 0.9 + 0.2 * g, c[1] *= 0.9 + 0.2 * g, c[2] *= 0.9 + 0.2 * g;
+    c[0] *= 0.9 + 0.2 * g;
+    c[1] *= 0.9 + 0.2 * g;
+    c[2] *= 0.9 + 0.2 * g;
     *val = best < 1.0 ? 0.5 + 0.4 * (1.0 - best) : 0.45 + 0.1 * g;
 }
 
@@ -18684,7 +19081,9 @@ static void lst__rings(unsigned long long seed, double u, double v, double w, do
     grain = pw_fbm3(seed + 8, 3.2 * u, 40.0 * v, 40.0 * w);
     lst__mix3(c, early, late, ring);
     if (v > 0.55) lst__mix3(c, c, heart, pw_smoothstep(0.55, 0.7, v) * 0.6);
-    c[0] *= 0.88 + 0.24 * grain, c[1] *= 0.88 + 0.24 * grain, c[2] *= 0.88 + 0.24 * grain;
+    c[0] *= 0.88 + 0.24 * grain;
+    c[1] *= 0.88 + 0.24 * grain;
+    c[2] *= 0.88 + 0.24 * grain;
     if (v > 0.975) lst__mix3(c, c, late, 0.8);
 }
 
@@ -18696,13 +19095,16 @@ static void lst__kiwi(unsigned long long seed, double u, double v, double w, dou
     static const double skin[3] = {0.42, 0.30, 0.15}, flesh[3] = {0.35, 0.62, 0.10}, pale[3] = {0.66, 0.82, 0.30};
     static const double core[3] = {0.94, 0.93, 0.74}, seedc[3] = {0.06, 0.05, 0.04}, ray[3] = {0.86, 0.92, 0.62};
     const double cells = 17.0;
-    double g = pw_fbm3(seed, 18.0 * u, 18.0 * v, 18.0 * w), edge = 0.90 + 0.03 * (pw_noise3(seed + 2, u * 6, 0, w * 6) - 0.5);
+    double g = pw_fbm3(seed, 18.0 * u, 18.0 * v, 18.0 * w),
+           edge = 0.90 + 0.03 * (pw_noise3(seed + 2, u * 6, 0, w * 6) - 0.5);
     double best = 9.0, raydist = 9.0;
     long cu = (long)floor(u * cells), cw = (long)floor(w * cells), i, k;
     *val = v < 0.04 ? 0.5 + 0.45 * (pw_fbm3(seed + 3, 30.0 * u, 0.0, 30.0 * w) - 0.5) : 0.5;
     if (v < 0.028 + 0.01 * g) {
         lst__mix3(c, skin, skin, 0.0);
-        c[0] *= 0.8 + 0.4 * g, c[1] *= 0.8 + 0.4 * g, c[2] *= 0.8 + 0.4 * g;
+        c[0] *= 0.8 + 0.4 * g;
+        c[1] *= 0.8 + 0.4 * g;
+        c[2] *= 0.8 + 0.4 * g;
         return;
     }
     if (v > edge) {
@@ -18770,8 +19172,7 @@ LSTDEF lst_result lst_builtin_exemplar(const char *name, int size, const lst_opt
     else if (!fn)
         pw_fail(&e, PW_ERR_INVALID, "unknown built-in exemplar '%s' (layers, fibers, spots, rings, kiwi)",
                 name ? name : "(null)");
-    else if (size < 4 || size > 512)
-        pw_fail(&e, PW_ERR_INVALID, "exemplar size %d is outside 4..512", size);
+    else if (size < 4 || size > 512) pw_fail(&e, PW_ERR_INVALID, "exemplar size %d is outside 4..512", size);
     else if (pw_volume_alloc(&a, &col, 3, size, size, size, &e) == PW_OK &&
              (!values || pw_volume_alloc(&a, &val, 1, size, size, size, &e) == PW_OK)) {
         lst__fill_exemplar(fn, o.seed, &col, values ? &val : NULL);
@@ -18806,8 +19207,10 @@ static void lst__splotch_lobes(unsigned long long seed, double *lobes)
     for (k = 0; k < 8; k++) {
         double *l = lobes + 4 * k, n2;
         do {
-            l[0] = 2.0 * pw_rng_double(&rng) - 1.0, l[1] = 2.0 * pw_rng_double(&rng) - 1.0;
-            l[2] = 2.0 * pw_rng_double(&rng) - 1.0, n2 = pw_dot3(l, l);
+            l[0] = 2.0 * pw_rng_double(&rng) - 1.0;
+            l[1] = 2.0 * pw_rng_double(&rng) - 1.0;
+            l[2] = 2.0 * pw_rng_double(&rng) - 1.0;
+            n2 = pw_dot3(l, l);
         } while (n2 > 1.0 || n2 < 1e-4);
         pw_norm3(l);
         l[3] = 0.24 * pw_rng_double(&rng) - 0.12;
@@ -18858,15 +19261,17 @@ static int lst__masks(const pw_alloc *a, const lst_volume *ex, const lst_options
     int k, n = lst__mask_count(o->type);
     size_t i, nvox = (size_t)ex->width * ex->height * ex->depth;
     if (o->mask == LST_MASK_EXEMPLAR && (lst__depth_varying(o->type) || (ex->channels != 2 && ex->channels != 4)))
-        return pw_fail(e, PW_ERR_INVALID, "the exemplar's alpha as mask needs an exemplar with alpha and a "
-                                          "homogeneous type (0, 1-a, 2-a)");
+        return pw_fail(e, PW_ERR_INVALID,
+                       "the exemplar's alpha as mask needs an exemplar with alpha and a "
+                       "homogeneous type (0, 1-a, 2-a)");
     lst__splotch_lobes(o->seed, lobes);
     *count = 0;
     for (k = 0; k < n; k++) {
         if (pw_volume_alloc(a, &masks[k], 1, ex->width, ex->height, ex->depth, e)) return PW_ERR_NOMEM;
         *count = k + 1;
         if (lst__use_exemplar_alpha(o, ex)) {
-            for (i = 0; i < nvox; i++) masks[k].px[i] = pw_clampf(ex->voxels[i * ex->channels + ex->channels - 1], 0, 1);
+            for (i = 0; i < nvox; i++)
+                masks[k].px[i] = pw_clampf(ex->voxels[i * ex->channels + ex->channels - 1], 0, 1);
             continue;
         }
         if (n == 3) centre[1] = lst__layer_centre[k];
@@ -18888,7 +19293,10 @@ static int lst__make_masks(const pw_alloc *a, const lst_volume *ex, const lst_op
         if (r == PW_OK) lst__take_volume(&m[k], a, &out->volumes[k]);
         pw_volume_free(a, &m[k]);
     }
-    if (r == PW_OK) out->count = n, out->allocator = lst__allocator(a);
+    if (r == PW_OK) {
+        out->count = n;
+        out->allocator = lst__allocator(a);
+    }
     return r;
 }
 
@@ -18919,19 +19327,27 @@ static int lst__edt(const pw_alloc *a, const pw_volume *mask, int want_positive,
     int *v = (int *)pw_alloc_array(a, (size_t)big, sizeof(int), "distance transform", e);
     double *zz = (double *)pw_alloc_array(a, (size_t)big + 1, sizeof(double), "distance transform", e);
     if (!f || !v || !zz) {
-        pw_free(a, f), pw_free(a, v), pw_free(a, zz);
+        pw_free(a, f);
+        pw_free(a, v);
+        pw_free(a, zz);
         return PW_ERR_NOMEM;
     }
     for (k = 0; k < total; k++) { /* 0 on the sites, "far" elsewhere */
         int hit = want_positive ? mask->px[k] > 0.0f : mask->px[k] < 1.0f;
         dist[k] = hit ? 0.0f : PW_EDT_FAR;
     }
-    ws.f = f, ws.d = f + big, ws.v = v, ws.z = zz, ws.wrap = 0;
+    ws.f = f;
+    ws.d = f + big;
+    ws.v = v;
+    ws.z = zz;
+    ws.wrap = 0;
     pw__edt_pass(dist, X, Y * Z, (size_t)X, 1, &ws);
     for (z = 0; z < Z; z++) pw__edt_pass(dist + (size_t)z * X * Y, Y, X, 1, (size_t)X, &ws);
     pw__edt_pass(dist, Z, X * Y, 1, (size_t)X * Y, &ws);
     for (k = 0; k < total; k++) dist[k] = dist[k] >= PW_EDT_FAR ? 1e6f : (float)(sqrt((double)dist[k]) / big);
-    pw_free(a, f), pw_free(a, v), pw_free(a, zz);
+    pw_free(a, f);
+    pw_free(a, v);
+    pw_free(a, zz);
     return PW_OK;
 }
 
@@ -18967,7 +19383,8 @@ static void lst__mask_cells(const pw_volume *v, unsigned char *cell)
                 for (k = 0; k < 2; k++)
                     for (j = 0; j < 2; j++)
                         for (i = 0; i < 2; i++) {
-                            int X = pw_mini(x + i, v->x - 1), Y = pw_mini(y + j, v->y - 1), Z = pw_mini(z + k, v->z - 1);
+                            int X = pw_mini(x + i, v->x - 1), Y = pw_mini(y + j, v->y - 1),
+                                Z = pw_mini(z + k, v->z - 1);
                             any |= v->px[((size_t)Z * v->y + Y) * v->x + X] > 0.0f;
                         }
                 cell[((size_t)z * v->y + y) * v->x + x] = any;
@@ -19002,7 +19419,8 @@ static int lst__mask_init(const pw_alloc *a, const pw_volume *vol, lst__mask *m,
         for (y = 0; y < vol->y; y++)
             for (x = 0; x < vol->x; x++) {
                 size_t k = ((size_t)z * vol->y + y) * vol->x + x;
-                double f = pw_mini(pw_mini(x, vol->x - 1 - x), pw_mini(pw_mini(y, vol->y - 1 - y), pw_mini(z, vol->z - 1 - z)));
+                double f = pw_mini(pw_mini(x, vol->x - 1 - x),
+                                   pw_mini(pw_mini(y, vol->y - 1 - y), pw_mini(z, vol->z - 1 - z)));
                 f = (f + 0.5) / pw_maxi(vol->x, pw_maxi(vol->y, vol->z));
                 if (f < m->in[k]) m->in[k] = (float)f;
             }
@@ -19014,7 +19432,8 @@ static int lst__mask_init(const pw_alloc *a, const pw_volume *vol, lst__mask *m,
  * the point first clamped into the cube. */
 static double lst__mask_dist(const lst__mask *m, const float *d, double u, double v, double w)
 {
-    int x = pw_clampi((int)(u * m->vol.x), 0, m->vol.x - 1), y = pw_clampi((int)((1.0 - v) * m->vol.y), 0, m->vol.y - 1);
+    int x = pw_clampi((int)(u * m->vol.x), 0, m->vol.x - 1),
+        y = pw_clampi((int)((1.0 - v) * m->vol.y), 0, m->vol.y - 1);
     int z = pw_clampi((int)(w * m->vol.z), 0, m->vol.z - 1);
     return d[((size_t)z * m->vol.y + y) * m->vol.x + x];
 }
@@ -19030,13 +19449,13 @@ static double lst__mask_dist(const lst__mask *m, const float *d, double u, doubl
 /* ---- the mesh every stage works on -------------------------------------------------- */
 
 typedef struct lst__geo {
-    pw_tetmesh m;     /* borrowed */
-    int *nb;          /* 4 nt: face adjacency (pw_tetmesh_neighbors) */
-    int *bface;       /* boundary faces 4t+k */
+    pw_tetmesh m; /* borrowed */
+    int *nb;      /* 4 nt: face adjacency (pw_tetmesh_neighbors) */
+    int *bface;   /* boundary faces 4t+k */
     int nbface;
     pw_tetrings rings;
-    pw_tetgrid grid;  /* point location (built on demand) */
-    double diag;      /* bounding-box diagonal */
+    pw_tetgrid grid; /* point location (built on demand) */
+    double diag;     /* bounding-box diagonal */
 } lst__geo;
 
 static void lst__geo_free(const pw_alloc *a, lst__geo *g)
@@ -19055,7 +19474,8 @@ static int lst__geo_init(const pw_alloc *a, const pw_tetmesh *m, lst__geo *g, pw
     g->m = *m;
     g->diag = lst__diagonal(m->pos, m->nv);
     if (!(g->nb = (int *)pw_alloc_array(a, (size_t)m->nt * 4, sizeof(int), "face adjacency", e))) return PW_ERR_NOMEM;
-    if ((r = pw_tetmesh_neighbors(a, m, g->nb, e)) == PW_OK && (r = pw_tetmesh_boundary(a, m, g->nb, &g->bface, &g->nbface, e)) == PW_OK &&
+    if ((r = pw_tetmesh_neighbors(a, m, g->nb, e)) == PW_OK &&
+        (r = pw_tetmesh_boundary(a, m, g->nb, &g->bface, &g->nbface, e)) == PW_OK &&
         (r = pw_tetmesh_rings(a, m, &g->rings, e)) == PW_OK)
         r = pw_tetgrid_build(a, m, &g->grid, e);
     if (r != PW_OK) lst__geo_free(a, g);
@@ -19064,7 +19484,9 @@ static int lst__geo_init(const pw_alloc *a, const pw_tetmesh *m, lst__geo *g, pw
 
 static void lst__vert(const pw_tetmesh *m, int v, double *p)
 {
-    p[0] = m->pos[3 * v], p[1] = m->pos[3 * v + 1], p[2] = m->pos[3 * v + 2];
+    p[0] = m->pos[3 * v];
+    p[1] = m->pos[3 * v + 1];
+    p[2] = m->pos[3 * v + 2];
 }
 
 /* The corners (global vertices) of boundary face f = 4t+k, outward. */
@@ -19088,7 +19510,10 @@ static int lst__locate(const lst__geo *g, const double p[3], double l[4])
         for (k = 0; k < 4; k++)
             for (i = 0; i < 3; i++) c[i] += 0.25 * g->m.pos[3 * g->m.tet[4 * t + k] + i];
         for (i = 0; i < 3; i++) d += (c[i] - p[i]) * (c[i] - p[i]);
-        if (d < bd) bd = d, best = t;
+        if (d < bd) {
+            bd = d;
+            best = t;
+        }
     }
     pw_tet_barycentric(&g->m, best, p, l);
     return best;
@@ -19132,8 +19557,14 @@ static int lst__dense_solve(double *m, double *b, int n)
         if (!(fabs(m[(size_t)p * n + k]) > 1e-300)) return 0;
         if (p != k) {
             double t;
-            for (j = 0; j < n; j++) t = m[(size_t)k * n + j], m[(size_t)k * n + j] = m[(size_t)p * n + j], m[(size_t)p * n + j] = t;
-            t = b[k], b[k] = b[p], b[p] = t;
+            for (j = 0; j < n; j++) {
+                t = m[(size_t)k * n + j];
+                m[(size_t)k * n + j] = m[(size_t)p * n + j];
+                m[(size_t)p * n + j] = t;
+            }
+            t = b[k];
+            b[k] = b[p];
+            b[p] = t;
         }
         for (i = k + 1; i < n; i++) {
             double f = m[(size_t)i * n + k] / m[(size_t)k * n + k];
@@ -19213,14 +19644,23 @@ static int lst__rbf_fit(const pw_alloc *a, const lst__pts *pts, int maxc, lst__r
         r->w[i] = val[pick[i]];
     }
     if (!lst__dense_solve(m, r->w, N)) {
-        pw_free(a, dmin), pw_free(a, pick), pw_free(a, m), lst__rbf_free(a, r);
-        return pw_fail(e, PW_ERR_DEGENERATE, "depth constraints: the RBF system is singular (are all "
-                                             "constraint points on one plane?)");
+        pw_free(a, dmin);
+        pw_free(a, pick);
+        pw_free(a, m);
+        lst__rbf_free(a, r);
+        return pw_fail(e, PW_ERR_DEGENERATE,
+                       "depth constraints: the RBF system is singular (are all "
+                       "constraint points on one plane?)");
     }
-    pw_free(a, dmin), pw_free(a, pick), pw_free(a, m);
+    pw_free(a, dmin);
+    pw_free(a, pick);
+    pw_free(a, m);
     return PW_OK;
 nomem:
-    pw_free(a, dmin), pw_free(a, pick), pw_free(a, m), lst__rbf_free(a, r);
+    pw_free(a, dmin);
+    pw_free(a, pick);
+    pw_free(a, m);
+    lst__rbf_free(a, r);
     return PW_ERR_NOMEM;
 }
 
@@ -19299,10 +19739,12 @@ static int lst__flood(const pw_alloc *a, const pw_trimesh *tm, const lst_constra
     unsigned char *seen = (unsigned char *)pw_calloc_array(a, (size_t)tm->nf, 1, "flood fill", e);
     double cmin = pw_cos(crease * (3.14159265358979323846 / 180.0));
     if (!queue || !seen) {
-        pw_free(a, queue), pw_free(a, seen);
+        pw_free(a, queue);
+        pw_free(a, seen);
         return PW_ERR_NOMEM;
     }
-    queue[tail++] = start, seen[start] = 1;
+    queue[tail++] = start;
+    seen[start] = 1;
     while (head < tail) {
         int f = queue[head++];
         paint[f] = v;
@@ -19311,10 +19753,12 @@ static int lst__flood(const pw_alloc *a, const pw_trimesh *tm, const lst_constra
             const float *n1 = tm->normal + 3 * f, *n2 = h >= 0 ? tm->normal + 3 * h : n1;
             if (h < 0 || seen[h] || (double)n1[0] * n2[0] + (double)n1[1] * n2[1] + (double)n1[2] * n2[2] < cmin)
                 continue;
-            seen[h] = 1, queue[tail++] = h;
+            seen[h] = 1;
+            queue[tail++] = h;
         }
     }
-    pw_free(a, queue), pw_free(a, seen);
+    pw_free(a, queue);
+    pw_free(a, seen);
     return PW_OK;
 }
 
@@ -19336,8 +19780,8 @@ static int lst__paint(const pw_alloc *a, const pw_trimesh *tm, const lst_options
         const lst_constraint *c = &o->constraints[i];
         if (c->kind != LST_CONSTRAINT_DEPTH_FACE && c->kind != LST_CONSTRAINT_DEPTH_FILL) continue;
         if (c->face < 0 || c->face >= tm->nf)
-            return pw_fail(e, PW_ERR_INVALID, "depth constraint %d: face %d is not a triangle of the surface (0..%d)", i,
-                           c->face, tm->nf - 1);
+            return pw_fail(e, PW_ERR_INVALID, "depth constraint %d: face %d is not a triangle of the surface (0..%d)",
+                           i, c->face, tm->nf - 1);
         if (c->kind == LST_CONSTRAINT_DEPTH_FACE) paint[c->face] = c->value;
         else if (lst__flood(a, tm, c, paint, e)) return PW_ERR_NOMEM;
     }
@@ -19372,7 +19816,8 @@ static int lst__check_depth(const lst_options *o, pw_err *e)
         if (!pw_is_finite(c->crease) || c->crease < 0.0f || c->crease > 180.0f)
             return pw_fail(e, PW_ERR_INVALID, "depth constraint %d: crease angle %g is outside [0, 180]", i, c->crease);
         for (k = 0; k < 3; k++)
-            if (!pw_is_finite(c->point[k])) return pw_fail(e, PW_ERR_INVALID, "depth constraint %d: point is not finite", i);
+            if (!pw_is_finite(c->point[k]))
+                return pw_fail(e, PW_ERR_INVALID, "depth constraint %d: point is not finite", i);
     }
     return PW_OK;
 }
@@ -19400,7 +19845,9 @@ static int lst__depth_points(const pw_alloc *a, const lst__painted *ps, const ls
     for (f = 0; f < tm->nf; f++)
         if (paint[f] >= 0.0) {
             for (k = 0; k < 3; k++)
-                p[k] = (tm->pos[3 * tm->tri[3 * f] + k] + tm->pos[3 * tm->tri[3 * f + 1] + k] + tm->pos[3 * tm->tri[3 * f + 2] + k]) / 3.0;
+                p[k] = (tm->pos[3 * tm->tri[3 * f] + k] + tm->pos[3 * tm->tri[3 * f + 1] + k] +
+                        tm->pos[3 * tm->tri[3 * f + 2] + k]) /
+                       3.0;
             if (lst__pts_add(a, pts, p, paint[f], e)) return PW_ERR_NOMEM;
         }
     for (i = 0; i < o->nconstraints; i++)
@@ -19460,10 +19907,16 @@ static int lst__hash_build(const pw_alloc *a, const pw_trimesh *tm, const double
     int i, k;
     double hi[3];
     memset(h, 0, sizeof *h);
-    for (k = 0; k < 3; k++) h->lo[k] = 1e300, hi[k] = -1e300;
+    for (k = 0; k < 3; k++) {
+        h->lo[k] = 1e300;
+        hi[k] = -1e300;
+    }
     for (i = 0; i < n; i++)
         if (keep[i] >= 0.0)
-            for (k = 0; k < 3; k++) h->lo[k] = pos[3 * i + k] < h->lo[k] ? pos[3 * i + k] : h->lo[k], hi[k] = pos[3 * i + k] > hi[k] ? pos[3 * i + k] : hi[k];
+            for (k = 0; k < 3; k++) {
+                h->lo[k] = pos[3 * i + k] < h->lo[k] ? pos[3 * i + k] : h->lo[k];
+                hi[k] = pos[3 * i + k] > hi[k] ? pos[3 * i + k] : hi[k];
+            }
     h->cell = cell;
     for (k = 0; k < 3; k++) h->n[k] = hi[k] >= h->lo[k] ? pw_clampi((int)((hi[k] - h->lo[k]) / cell) + 1, 1, 256) : 1;
     for (k = 0; k < 3; k++)
@@ -19500,8 +19953,12 @@ static int lst__hash_nearest(const lst__hash *h, const float *pos, const double 
                 size_t c = lst__hash_cell(h, p, off);
                 for (i = h->start[c]; i < h->start[c + 1]; i++) {
                     const float *q = pos + 3 * h->item[i];
-                    double d = (q[0] - p[0]) * (q[0] - p[0]) + (q[1] - p[1]) * (q[1] - p[1]) + (q[2] - p[2]) * (q[2] - p[2]);
-                    if (d < bd || (d == bd && best >= 0 && h->item[i] < best)) bd = d, best = h->item[i];
+                    double d =
+                        (q[0] - p[0]) * (q[0] - p[0]) + (q[1] - p[1]) * (q[1] - p[1]) + (q[2] - p[2]) * (q[2] - p[2]);
+                    if (d < bd || (d == bd && best >= 0 && h->item[i] < best)) {
+                        bd = d;
+                        best = h->item[i];
+                    }
                 }
             }
     return best;
@@ -19521,7 +19978,8 @@ static int lst__depth_snap(const pw_alloc *a, const lst__geo *g, const pw_trimes
     for (f = 0; f < tm->nf; f++)
         for (k = 0; k < 3; k++) {
             const float *p = tm->pos + 3 * tm->tri[3 * f + k], *q = tm->pos + 3 * tm->tri[3 * f + (k + 1) % 3];
-            double d = sqrt(((double)p[0] - q[0]) * (p[0] - q[0]) + ((double)p[1] - q[1]) * (p[1] - q[1]) + ((double)p[2] - q[2]) * (p[2] - q[2]));
+            double d = sqrt(((double)p[0] - q[0]) * (p[0] - q[0]) + ((double)p[1] - q[1]) * (p[1] - q[1]) +
+                            ((double)p[2] - q[2]) * (p[2] - q[2]));
             if (d > reach) reach = d;
         }
     if (!(done = (unsigned char *)pw_calloc_array(a, (size_t)g->m.nv, 1, "depth snap", e))) return PW_ERR_NOMEM;
@@ -19580,13 +20038,20 @@ static int lst__depth_rbf(const lst__field_job *j, double *depth, double *grad)
     ps.face = (double *)pw_alloc_array(a, (size_t)ps.tm.nf, sizeof(double), "depth paint", e);
     ps.vert = (double *)pw_alloc_array(a, (size_t)ps.tm.nv, sizeof(double), "depth paint", e);
     r = !ps.face || !ps.vert ? PW_ERR_NOMEM : lst__paint(a, &ps.tm, o, ps.face, e);
-    if (r == PW_OK) lst__vertex_paint(&ps.tm, ps.face, ps.vert), r = lst__depth_points(a, &ps, o, &pts, e);
+    if (r == PW_OK) {
+        lst__vertex_paint(&ps.tm, ps.face, ps.vert);
+        r = lst__depth_points(a, &ps, o, &pts, e);
+    }
     if (r == PW_OK && pts.n < 1) r = pw_fail(e, PW_ERR_INVALID, "depth constraints: none applies");
-    if (r == PW_OK) lst__pts_thin(&pts, lst__count_kind(o, LST_CONSTRAINT_DEPTH_POINT, LST_CONSTRAINT_DEPTH_POINT), o->rbf_centers);
+    if (r == PW_OK)
+        lst__pts_thin(&pts, lst__count_kind(o, LST_CONSTRAINT_DEPTH_POINT, LST_CONSTRAINT_DEPTH_POINT), o->rbf_centers);
     if (r == PW_OK) {
         for (k = 0; k < 3; k++) lo[k] = hi[k] = g->m.pos[k];
         for (v = 0; v < g->m.nv; v++)
-            for (k = 0; k < 3; k++) lo[k] = g->m.pos[3 * v + k] < lo[k] ? g->m.pos[3 * v + k] : lo[k], hi[k] = g->m.pos[3 * v + k] > hi[k] ? g->m.pos[3 * v + k] : hi[k];
+            for (k = 0; k < 3; k++) {
+                lo[k] = g->m.pos[3 * v + k] < lo[k] ? g->m.pos[3 * v + k] : lo[k];
+                hi[k] = g->m.pos[3 * v + k] > hi[k] ? g->m.pos[3 * v + k] : hi[k];
+            }
         for (k = 0; k < 3; k++) rbf.o[k] = 0.5 * (lo[k] + hi[k]);
         rbf.s = g->diag > 0.0 ? g->diag : 1.0;
         r = lst__rbf_fit(a, &pts, o->rbf_centers, &rbf, e);
@@ -19611,11 +20076,17 @@ static void lst__closest_tri(const double *p, const double *a, const double *b, 
 {
     double ab[3], ac[3], ap[3], bp[3], cp[3], d1, d2, d3, d4, d5, d6, va, vb, vc, den, v, w;
     int k;
-    for (k = 0; k < 3; k++) ab[k] = b[k] - a[k], ac[k] = c[k] - a[k], ap[k] = p[k] - a[k];
-    d1 = pw_dot3(ab, ap), d2 = pw_dot3(ac, ap);
+    for (k = 0; k < 3; k++) {
+        ab[k] = b[k] - a[k];
+        ac[k] = c[k] - a[k];
+        ap[k] = p[k] - a[k];
+    }
+    d1 = pw_dot3(ab, ap);
+    d2 = pw_dot3(ac, ap);
     if (d1 <= 0.0 && d2 <= 0.0) goto corner_a;
     for (k = 0; k < 3; k++) bp[k] = p[k] - b[k];
-    d3 = pw_dot3(ab, bp), d4 = pw_dot3(ac, bp);
+    d3 = pw_dot3(ab, bp);
+    d4 = pw_dot3(ac, bp);
     if (d3 >= 0.0 && d4 <= d3) {
         memcpy(q, b, 3 * sizeof(double));
         return;
@@ -19627,7 +20098,8 @@ static void lst__closest_tri(const double *p, const double *a, const double *b, 
         return;
     }
     for (k = 0; k < 3; k++) cp[k] = p[k] - c[k];
-    d5 = pw_dot3(ab, cp), d6 = pw_dot3(ac, cp);
+    d5 = pw_dot3(ab, cp);
+    d6 = pw_dot3(ac, cp);
     if (d6 >= 0.0 && d5 <= d6) {
         memcpy(q, c, 3 * sizeof(double));
         return;
@@ -19646,7 +20118,8 @@ static void lst__closest_tri(const double *p, const double *a, const double *b, 
     }
     den = va + vb + vc;
     if (!(den > 0.0)) goto corner_a;
-    v = vb / den, w = vc / den;
+    v = vb / den;
+    w = vc / den;
     for (k = 0; k < 3; k++) q[k] = a[k] + ab[k] * v + ac[k] * w;
     return;
 corner_a:
@@ -19659,7 +20132,9 @@ static double lst__face_dist(const lst__geo *g, int f, const double *p, double *
     int c[3];
     double A[3], B[3], C[3];
     lst__face_verts(&g->m, g->bface[f], c);
-    lst__vert(&g->m, c[0], A), lst__vert(&g->m, c[1], B), lst__vert(&g->m, c[2], C);
+    lst__vert(&g->m, c[0], A);
+    lst__vert(&g->m, c[1], B);
+    lst__vert(&g->m, c[2], C);
     lst__closest_tri(p, A, B, C, q);
     return lst__dist3(p, q);
 }
@@ -19677,15 +20152,23 @@ static int lst__boundary_distance(const pw_alloc *a, const lst__geo *g, double *
     h.key = (double *)pw_alloc_array(a, cap, sizeof(double), "distance heap", e);
     h.item = (int *)pw_alloc_array(a, cap, sizeof(int), "distance heap", e);
     if (!h.key || !h.item) {
-        pw_free(a, h.key), pw_free(a, h.item);
+        pw_free(a, h.key);
+        pw_free(a, h.item);
         return PW_ERR_NOMEM;
     }
-    for (v = 0; v < g->m.nv; v++) dist[v] = 1e300, near[v] = -1;
+    for (v = 0; v < g->m.nv; v++) {
+        dist[v] = 1e300;
+        near[v] = -1;
+    }
     for (f = 0; f < g->nbface; f++) {
         int c[3];
         lst__face_verts(&g->m, g->bface[f], c);
         for (k = 0; k < 3; k++)
-            if (near[c[k]] < 0) dist[c[k]] = 0.0, near[c[k]] = f, pw_heap_insert(&h, 0.0, c[k]);
+            if (near[c[k]] < 0) {
+                dist[c[k]] = 0.0;
+                near[c[k]] = f;
+                pw_heap_insert(&h, 0.0, c[k]);
+            }
     }
     while (h.n > 0) {
         d = h.key[0];
@@ -19695,10 +20178,15 @@ static int lst__boundary_distance(const pw_alloc *a, const lst__geo *g, double *
             int u = g->rings.adj[j];
             lst__vert(&g->m, u, p);
             d = lst__face_dist(g, near[v], p, q);
-            if (d < dist[u] && (size_t)h.n < cap) dist[u] = d, near[u] = near[v], pw_heap_insert(&h, d, u);
+            if (d < dist[u] && (size_t)h.n < cap) {
+                dist[u] = d;
+                near[u] = near[v];
+                pw_heap_insert(&h, d, u);
+            }
         }
     }
-    pw_free(a, h.key), pw_free(a, h.item);
+    pw_free(a, h.key);
+    pw_free(a, h.item);
     return PW_OK;
 }
 
@@ -19732,10 +20220,19 @@ static int lst__depth_distance(const pw_alloc *a, const lst__geo *g, double *dep
         int c[3];
         double A[3], B[3], C[3], u[3], w[3], n[3];
         lst__face_verts(&g->m, g->bface[f], c);
-        lst__vert(&g->m, c[0], A), lst__vert(&g->m, c[1], B), lst__vert(&g->m, c[2], C);
-        for (k = 0; k < 3; k++) u[k] = B[k] - A[k], w[k] = C[k] - A[k];
+        lst__vert(&g->m, c[0], A);
+        lst__vert(&g->m, c[1], B);
+        lst__vert(&g->m, c[2], C);
+        for (k = 0; k < 3; k++) {
+            u[k] = B[k] - A[k];
+            w[k] = C[k] - A[k];
+        }
         pw_cross3(u, w, n);
-        for (k = 0; k < 3; k++) grad[3 * c[0] + k] -= n[k], grad[3 * c[1] + k] -= n[k], grad[3 * c[2] + k] -= n[k];
+        for (k = 0; k < 3; k++) {
+            grad[3 * c[0] + k] -= n[k];
+            grad[3 * c[1] + k] -= n[k];
+            grad[3 * c[2] + k] -= n[k];
+        }
     }
     for (v = 0; v < g->m.nv; v++) {
         double *gr = grad + 3 * v;
@@ -19813,7 +20310,10 @@ static int lst__field_cons(const pw_alloc *a, const lst__geo *g, const lst_optio
         const lst_constraint *f = &o->constraints[i];
         double p[3], d[3];
         if (f->kind != kind) continue;
-        for (k = 0; k < 3; k++) p[k] = f->point[k], d[k] = f->direction[k];
+        for (k = 0; k < 3; k++) {
+            p[k] = f->point[k];
+            d[k] = f->direction[k];
+        }
         if (kind == LST_CONSTRAINT_DIRECTION && !(pw_norm3(d) > 0.0 && pw_is_finite(d[0] + d[1] + d[2])))
             return pw_fail(e, PW_ERR_INVALID, "field constraint %d: the direction is zero or not finite", i);
         if (kind == LST_CONSTRAINT_SCALE && !(f->value > 0.0f && pw_is_finite(f->value)))
@@ -19983,7 +20483,11 @@ static void lst__orthonormal(double *u, double *v, double *w, int first, int sec
 {
     double *p = first == 0 ? u : v, *q = first == 0 ? v : u, d;
     int k;
-    if (!(pw_norm3(p) > 0.0)) p[0] = first == 0, p[1] = first == 1, p[2] = 0.0;
+    if (!(pw_norm3(p) > 0.0)) {
+        p[0] = first == 0;
+        p[1] = first == 1;
+        p[2] = 0.0;
+    }
     d = pw_dot3(p, q);
     for (k = 0; k < 3; k++) q[k] -= d * p[k];
     if (!second_given || !(pw_norm3(q) > 1e-9)) lst__any_perp(p, q);
@@ -20008,7 +20512,10 @@ static void lst__tet_frames(const pw_tetmesh *m, int type, const double *dir, co
             }
             s += 0.25 * scale[x];
         }
-        if (type == LST_TYPE_0) u[0] = 1.0, v[1] = 1.0;
+        if (type == LST_TYPE_0) {
+            u[0] = 1.0;
+            v[1] = 1.0;
+        }
         lst__orthonormal(u, v, w, type == LST_TYPE_1B || grad ? 1 : 0, type == LST_TYPE_0 || (dir && grad));
         for (i = 0; i < 3; i++) {
             frame[9 * t + i] = (float)(s * u[i]);
@@ -20043,7 +20550,8 @@ static int lst__fields(const lst__field_job *j, float **depth_out, float **frame
         *depth_out = (float *)pw_alloc_array(a, (size_t)nv, sizeof(float), "depth field", e);
         if (!depth || !grad || !*depth_out) r = PW_ERR_NOMEM;
     }
-    if (lst__has_direction(o->type) && !(dir = (double *)pw_alloc_array(a, (size_t)nv * 3, sizeof(double), "direction field", e)))
+    if (lst__has_direction(o->type) &&
+        !(dir = (double *)pw_alloc_array(a, (size_t)nv * 3, sizeof(double), "direction field", e)))
         r = PW_ERR_NOMEM;
     if (!*frame_out || !scale) r = PW_ERR_NOMEM;
     if (r == PW_OK && hd) r = lst__depth_field(j, depth, grad);
@@ -20054,16 +20562,20 @@ static int lst__fields(const lst__field_job *j, float **depth_out, float **frame
             double gl = sqrt(pw_dot3(grad + 3 * v, grad + 3 * v)), s = gl > 0.0 ? 1.0 / gl : 2.0 * g->diag;
             scale[v] = s < 1e-3 * g->diag ? 1e-3 * g->diag : (s > 2.0 * g->diag ? 2.0 * g->diag : s);
         }
-    else if (r == PW_OK)
-        r = lst__scale_field(j, s0, scale);
+    else if (r == PW_OK) r = lst__scale_field(j, s0, scale);
     if (r == PW_OK) {
         lst__tet_frames(&g->m, o->type, dir, grad, scale, *frame_out);
         for (v = 0; hd && v < nv; v++) (*depth_out)[v] = (float)depth[v];
     }
-    pw_free(a, depth), pw_free(a, grad), pw_free(a, dir), pw_free(a, scale);
+    pw_free(a, depth);
+    pw_free(a, grad);
+    pw_free(a, dir);
+    pw_free(a, scale);
     if (r != PW_OK) {
-        pw_free(a, *depth_out), pw_free(a, *frame_out);
-        *depth_out = NULL, *frame_out = NULL;
+        pw_free(a, *depth_out);
+        pw_free(a, *frame_out);
+        *depth_out = NULL;
+        *frame_out = NULL;
     }
     return r;
 }
@@ -20079,7 +20591,12 @@ LSTDEF lst_result lst_compute_field(const lst_tetmesh *mesh, const lst_mesh *sur
     lst__field_job job;
     pw_err e;
     pw_err_clear(&e);
-    job.a = &a, job.g = &g, job.surface = surface, job.o = &o, job.p = &p, job.e = &e;
+    job.a = &a;
+    job.g = &g;
+    job.surface = surface;
+    job.o = &o;
+    job.p = &p;
+    job.e = &e;
     if (out) memset(out, 0, sizeof *out);
     if (!out) pw_fail(&e, PW_ERR_INVALID, "lst_compute_field: NULL output");
     else if (lst__check_options(&o, &e) == PW_OK && lst__check_tets(mesh, &e) == PW_OK) {
@@ -20105,14 +20622,20 @@ typedef struct lst__cset {
 } lst__cset;
 
 /* A constraint from its parts (p, d: NULL for none). */
-static lst_constraint lst__constraint(lst_constraint_kind kind, int face, const double *p, const double *d, double value,
-                                      double crease)
+static lst_constraint lst__constraint(lst_constraint_kind kind, int face, const double *p, const double *d,
+                                      double value, double crease)
 {
     lst_constraint x;
     int k;
     memset(&x, 0, sizeof x);
-    x.kind = kind, x.face = face, x.value = (float)value, x.crease = (float)crease;
-    for (k = 0; k < 3; k++) x.point[k] = p ? (float)p[k] : 0.0f, x.direction[k] = d ? (float)d[k] : 0.0f;
+    x.kind = kind;
+    x.face = face;
+    x.value = (float)value;
+    x.crease = (float)crease;
+    for (k = 0; k < 3; k++) {
+        x.point[k] = p ? (float)p[k] : 0.0f;
+        x.direction[k] = d ? (float)d[k] : 0.0f;
+    }
     return x;
 }
 
@@ -20136,17 +20659,17 @@ static int lst__add_constraint(const pw_alloc *a, lst__cset *s, lst_constraint x
 
 /* One paste being built. */
 typedef struct lst__spec {
-    int seed;          /* seed tetrahedron */
-    double centre[4];  /* barycentric coordinates of the texture centre in it */
-    double w0[3];      /* texture coordinates there: (0.5, 0.5, 0.5) or (0.5, d_seed, 0.5) */
-    double axes[9];    /* the seed's frame for this paste: u, v, w axes (mesh units) */
-    double rnd[3];     /* the random direction that completes partial frames (0, 1-a, 1-b) */
-    double rot[9];     /* type 0: the random rotation (columns) */
-    int mask;          /* mask index */
-    int manual;        /* §4.6: one rigid frame for the whole clump */
-    int depth_coord;   /* v is the depth (§5.2.7), not solved */
-    double inv[9];     /* the affine map (lst__spec_setup): the frame's inverse (tensor axes to texture axes) */
-    double ctr[3];     /* and the texture centre in mesh coordinates */
+    int seed;         /* seed tetrahedron */
+    double centre[4]; /* barycentric coordinates of the texture centre in it */
+    double w0[3];     /* texture coordinates there: (0.5, 0.5, 0.5) or (0.5, d_seed, 0.5) */
+    double axes[9];   /* the seed's frame for this paste: u, v, w axes (mesh units) */
+    double rnd[3];    /* the random direction that completes partial frames (0, 1-a, 1-b) */
+    double rot[9];    /* type 0: the random rotation (columns) */
+    int mask;         /* mask index */
+    int manual;       /* §4.6: one rigid frame for the whole clump */
+    int depth_coord;  /* v is the depth (§5.2.7), not solved */
+    double inv[9];    /* the affine map (lst__spec_setup): the frame's inverse (tensor axes to texture axes) */
+    double ctr[3];    /* and the texture centre in mesh coordinates */
 } lst__spec;
 
 /* The state of a fill. */
@@ -20154,23 +20677,23 @@ typedef struct lst__fill {
     const pw_alloc *a;
     lst_options o;
     const lst__geo *g;
-    const float *frame;         /* nt*9 */
-    const float *depth;         /* nv, for depth-varying types */
+    const float *frame; /* nt*9 */
+    const float *depth; /* nv, for depth-varying types */
     lst__mask mask[3];
     int nmasks;
-    int nsamp;                  /* sample points per tetrahedron */
-    float *lattice;             /* nsamp*4 barycentric coordinates, grouped by octant */
-    int group[9];               /* samples group[c] .. group[c+1]-1 lie in octant c (lst__octants) */
-    unsigned char *cov;         /* nt*nsamp accumulated opacity, 0..255 (§5.2.6) */
-    int *uncov, *upos, nuncov;  /* the uncovered list and each tetrahedron's place in it (-1: covered) */
-    int *opaque;                /* nt: the latest paste whose opaque core holds the whole tetrahedron */
-    unsigned char *seeded;      /* nt: 1 once the tetrahedron has been a seed */
-    int threshold;              /* opacity, 0..255, that counts as covered */
-    int *tstamp, *tstate;       /* nt: paste id of the last visit; 1 in the clump, 2 refused */
-    int *vstamp, *vlocal;       /* nv: paste id; local index of the vertex in the clump */
+    int nsamp;                             /* sample points per tetrahedron */
+    float *lattice;                        /* nsamp*4 barycentric coordinates, grouped by octant */
+    int group[9];                          /* samples group[c] .. group[c+1]-1 lie in octant c (lst__octants) */
+    unsigned char *cov;                    /* nt*nsamp accumulated opacity, 0..255 (§5.2.6) */
+    int *uncov, *upos, nuncov;             /* the uncovered list and each tetrahedron's place in it (-1: covered) */
+    int *opaque;                           /* nt: the latest paste whose opaque core holds the whole tetrahedron */
+    unsigned char *seeded;                 /* nt: 1 once the tetrahedron has been a seed */
+    int threshold;                         /* opacity, 0..255, that counts as covered */
+    int *tstamp, *tstate;                  /* nt: paste id of the last visit; 1 in the clump, 2 refused */
+    int *vstamp, *vlocal;                  /* nv: paste id; local index of the vertex in the clump */
     int *ctet, nct, *cvert, ncv, *ccorner; /* the clump: tetrahedra, vertices, corners (local) */
     size_t ctcap, cvcap, cccap, wcap;
-    double *w;                  /* ncv*3 texture coordinates */
+    double *w; /* ncv*3 texture coordinates */
     lst_paste *pastes;
     int npastes;
     size_t pcap;
@@ -20217,7 +20740,9 @@ static int lst__lattice(const pw_alloc *a, int n, float **out, int *group, pw_er
     tmp = (float *)pw_alloc_array(a, (size_t)cnt * 4, sizeof(float), "sample points", e);
     oct = (int *)pw_alloc_array(a, (size_t)cnt, sizeof(int), "sample points", e);
     if (!*out || !tmp || !oct) {
-        pw_free(a, *out), pw_free(a, tmp), pw_free(a, oct);
+        pw_free(a, *out);
+        pw_free(a, tmp);
+        pw_free(a, oct);
         *out = NULL;
         return -1;
     }
@@ -20225,7 +20750,10 @@ static int lst__lattice(const pw_alloc *a, int n, float **out, int *group, pw_er
         for (j = 0; j <= n - i; j++)
             for (k = 0; k <= n - i - j; k++) {
                 float *l = tmp + 4 * at;
-                l[0] = (float)i / n, l[1] = (float)j / n, l[2] = (float)k / n, l[3] = (float)(n - i - j - k) / n;
+                l[0] = (float)i / n;
+                l[1] = (float)j / n;
+                l[2] = (float)k / n;
+                l[3] = (float)(n - i - j - k) / n;
                 oct[at++] = lst__octant_of(l);
             }
     for (c = 0, at = 0; c < 8; c++) {
@@ -20234,7 +20762,8 @@ static int lst__lattice(const pw_alloc *a, int n, float **out, int *group, pw_er
             if (oct[q] == c) memcpy(*out + 4 * at++, tmp + 4 * q, 4 * sizeof(float));
     }
     group[8] = at;
-    pw_free(a, tmp), pw_free(a, oct);
+    pw_free(a, tmp);
+    pw_free(a, oct);
     return cnt;
 }
 
@@ -20257,7 +20786,10 @@ static void lst__random_unit(pw_rng *r, double *v, int dim)
     int k;
     do {
         n2 = 0.0;
-        for (k = 0; k < dim; k++) v[k] = 2.0 * pw_rng_double(r) - 1.0, n2 += v[k] * v[k];
+        for (k = 0; k < dim; k++) {
+            v[k] = 2.0 * pw_rng_double(r) - 1.0;
+            n2 += v[k] * v[k];
+        }
     } while (n2 > 1.0 || n2 < 1e-6);
     n2 = sqrt(n2);
     for (k = 0; k < dim; k++) v[k] /= n2;
@@ -20268,10 +20800,19 @@ static void lst__random_rotation(pw_rng *r, double *m)
 {
     double q[4], w, x, y, z;
     lst__random_unit(r, q, 4);
-    w = q[0], x = q[1], y = q[2], z = q[3];
-    m[0] = 1 - 2 * (y * y + z * z), m[1] = 2 * (x * y + w * z), m[2] = 2 * (x * z - w * y);
-    m[3] = 2 * (x * y - w * z), m[4] = 1 - 2 * (x * x + z * z), m[5] = 2 * (y * z + w * x);
-    m[6] = 2 * (x * z + w * y), m[7] = 2 * (y * z - w * x), m[8] = 1 - 2 * (x * x + y * y);
+    w = q[0];
+    x = q[1];
+    y = q[2];
+    z = q[3];
+    m[0] = 1 - 2 * (y * y + z * z);
+    m[1] = 2 * (x * y + w * z);
+    m[2] = 2 * (x * z - w * y);
+    m[3] = 2 * (x * y - w * z);
+    m[4] = 1 - 2 * (x * x + z * z);
+    m[5] = 2 * (y * z + w * x);
+    m[6] = 2 * (x * z + w * y);
+    m[7] = 2 * (y * z - w * x);
+    m[8] = 1 - 2 * (x * x + y * y);
 }
 
 /* The frame of tetrahedron t for paste s (axes u, v, w as columns, mesh
@@ -20288,14 +20829,23 @@ static void lst__frame_of(const lst__fill *F, const lst__spec *s, int t, double 
         memcpy(ax, s->axes, 9 * sizeof(double));
         return;
     }
-    for (k = 0; k < 3; k++) u[k] = f[k], v[k] = f[3 + k];
+    for (k = 0; k < 3; k++) {
+        u[k] = f[k];
+        v[k] = f[3 + k];
+    }
     len = pw_norm3(u);
     pw_norm3(v);
-    if (type == LST_TYPE_0) memcpy(u, s->rot, 3 * sizeof u[0]), memcpy(v, s->rot + 3, 3 * sizeof v[0]);
-    else if (type == LST_TYPE_1A) lst__perp_to(u, s->rnd, v);
+    if (type == LST_TYPE_0) {
+        memcpy(u, s->rot, 3 * sizeof u[0]);
+        memcpy(v, s->rot + 3, 3 * sizeof v[0]);
+    } else if (type == LST_TYPE_1A) lst__perp_to(u, s->rnd, v);
     else if (type == LST_TYPE_1B) lst__perp_to(v, s->rnd, u);
     pw_cross3(u, v, w);
-    for (k = 0; k < 3; k++) ax[k] = len * u[k], ax[3 + k] = len * v[k], ax[6 + k] = len * w[k];
+    for (k = 0; k < 3; k++) {
+        ax[k] = len * u[k];
+        ax[3 + k] = len * v[k];
+        ax[6 + k] = len * w[k];
+    }
 }
 
 /* §5.2.4 "its tensor is not markedly different from that of the seed":
@@ -20306,7 +20856,8 @@ static int lst__similar(const lst__fill *F, const lst__spec *s, const double *ax
     double c = pw_cos(F->o.max_angle * (3.14159265358979323846 / 180.0)), su, st, k;
     int type = F->o.type, a;
     if (s->manual) return 1;
-    su = sqrt(pw_dot3(s->axes, s->axes)), st = sqrt(pw_dot3(ax, ax));
+    su = sqrt(pw_dot3(s->axes, s->axes));
+    st = sqrt(pw_dot3(ax, ax));
     k = st / su;
     if (k > F->o.max_stretch || k * F->o.max_stretch < 1.0) return 0;
     for (a = 0; a < 2; a++) {
@@ -20370,17 +20921,23 @@ static int lst__overlap(const lst__fill *F, const lst__mask *m, double c[4][3])
     double g[3], lim = lst__ball(c, g) + m->margin, p[10][3], o[4][3];
     float vc[4][3];
     int k, j, s, q;
-    if (lst__mask_dist(m, m->out, pw_clampf((float)g[0], 0, 1), pw_clampf((float)g[1], 0, 1), pw_clampf((float)g[2], 0, 1)) > lim)
+    if (lst__mask_dist(m, m->out, pw_clampf((float)g[0], 0, 1), pw_clampf((float)g[1], 0, 1),
+                       pw_clampf((float)g[2], 0, 1)) > lim)
         return LST__OUT;
-    if (g[0] >= 0 && g[0] <= 1 && g[1] >= 0 && g[1] <= 1 && g[2] >= 0 && g[2] <= 1 && lst__mask_dist(m, m->in, g[0], g[1], g[2]) > lim)
+    if (g[0] >= 0 && g[0] <= 1 && g[1] >= 0 && g[1] <= 1 && g[2] >= 0 && g[2] <= 1 &&
+        lst__mask_dist(m, m->in, g[0], g[1], g[2]) > lim)
         return LST__CORE;
-    for (k = 0; k < 4; k++) lst__to_voxel(&m->vol, c[k][0], c[k][1], c[k][2], vc[k]), memcpy(p[k], c[k], sizeof p[k]);
+    for (k = 0; k < 4; k++) {
+        lst__to_voxel(&m->vol, c[k][0], c[k][1], c[k][2], vc[k]);
+        memcpy(p[k], c[k], sizeof p[k]);
+    }
     for (k = 0; k < 6; k++)
         for (j = 0; j < 3; j++) p[4 + k][j] = 0.5 * (c[lst__midpoints[k][0]][j] + c[lst__midpoints[k][1]][j]);
     for (q = 0; q < 8; q++) { /* octants the distance field clears are not sampled */
         for (k = 0; k < 4; k++) memcpy(o[k], p[lst__octants[q][k]], sizeof o[k]);
         lim = lst__ball(o, g) + m->margin;
-        if (lst__mask_dist(m, m->out, pw_clampf((float)g[0], 0, 1), pw_clampf((float)g[1], 0, 1), pw_clampf((float)g[2], 0, 1)) > lim)
+        if (lst__mask_dist(m, m->out, pw_clampf((float)g[0], 0, 1), pw_clampf((float)g[1], 0, 1),
+                           pw_clampf((float)g[2], 0, 1)) > lim)
             continue;
         for (s = F->group[q]; s < F->group[q + 1]; s++) {
             const float *l = F->lattice + 4 * s;
@@ -20570,7 +21127,9 @@ static int lst__optimise(lst__fill *F, const lst__spec *s, const pw_progress *p,
     }
     pw_ic0_free(F->a, &L);
     pw_csr_free(F->a, &A);
-    pw_free(F->a, coef), pw_free(F->a, b), pw_free(F->a, x);
+    pw_free(F->a, coef);
+    pw_free(F->a, b);
+    pw_free(F->a, x);
     return r;
 }
 
@@ -20607,10 +21166,12 @@ static void lst__coverage(lst__fill *F, const lst__spec *s, int id)
             const float *l = F->lattice + 4 * q;
             float al;
             if (cv[q] == 255) continue;
-            al = ov == LST__CORE ? 1.0f
-                                 : lst__mask_alpha_vox(&m->vol, l[0] * vc[0][0] + l[1] * vc[1][0] + l[2] * vc[2][0] + l[3] * vc[3][0],
-                                                       l[0] * vc[0][1] + l[1] * vc[1][1] + l[2] * vc[2][1] + l[3] * vc[3][1],
-                                                       l[0] * vc[0][2] + l[1] * vc[1][2] + l[2] * vc[2][2] + l[3] * vc[3][2]);
+            al = ov == LST__CORE
+                     ? 1.0f
+                     : lst__mask_alpha_vox(&m->vol,
+                                           l[0] * vc[0][0] + l[1] * vc[1][0] + l[2] * vc[2][0] + l[3] * vc[3][0],
+                                           l[0] * vc[0][1] + l[1] * vc[1][1] + l[2] * vc[2][1] + l[3] * vc[3][1],
+                                           l[0] * vc[0][2] + l[1] * vc[1][2] + l[2] * vc[2][2] + l[3] * vc[3][2]);
             cv[q] = (unsigned char)(cv[q] + (int)(al * (255 - cv[q]) + 0.5f));
             all &= cv[q] >= F->threshold;
         }
@@ -20706,10 +21267,20 @@ static void lst__fill_free(lst__fill *F)
     const pw_alloc *a = F->a;
     int k;
     for (k = 0; k < F->nmasks; k++) lst__mask_free(a, &F->mask[k]);
-    pw_free(a, F->lattice), pw_free(a, F->cov), pw_free(a, F->uncov), pw_free(a, F->upos), pw_free(a, F->opaque);
+    pw_free(a, F->lattice);
+    pw_free(a, F->cov);
+    pw_free(a, F->uncov);
+    pw_free(a, F->upos);
+    pw_free(a, F->opaque);
     pw_free(a, F->seeded);
-    pw_free(a, F->tstamp), pw_free(a, F->tstate), pw_free(a, F->vstamp), pw_free(a, F->vlocal);
-    pw_free(a, F->ctet), pw_free(a, F->cvert), pw_free(a, F->ccorner), pw_free(a, F->w);
+    pw_free(a, F->tstamp);
+    pw_free(a, F->tstate);
+    pw_free(a, F->vstamp);
+    pw_free(a, F->vlocal);
+    pw_free(a, F->ctet);
+    pw_free(a, F->cvert);
+    pw_free(a, F->ccorner);
+    pw_free(a, F->w);
     for (k = 0; k < F->npastes; k++) lst__paste_free(a, &F->pastes[k]);
     pw_free(a, F->pastes);
     memset(F, 0, sizeof *F);
@@ -20778,8 +21349,9 @@ static int lst__fill_run(lst__fill *F, const pw_progress *p, pw_err *e)
         if ((F->npastes & 7) == 0 && pw_report(p, 0.35f + 0.6f * (float)(nt - F->nuncov) / (float)nt, "pasting", e))
             return PW_ERR_CANCELLED;
         if (F->npastes >= F->o.max_pastes)
-            return pw_fail(e, PW_ERR_LIMIT, "filling needs more than %d pastes (%d of %d tetrahedra still uncovered): "
-                                            "a larger scale or a coarser mesh would do",
+            return pw_fail(e, PW_ERR_LIMIT,
+                           "filling needs more than %d pastes (%d of %d tetrahedra still uncovered): "
+                           "a larger scale or a coarser mesh would do",
                            F->o.max_pastes, F->nuncov, nt);
         memset(&s, 0, sizeof s);
         s.seed = F->uncov[pw_rng_below(&F->rng, (uint32_t)F->nuncov)];
@@ -20847,14 +21419,16 @@ static int lst__check_fields(const lst_field *f, const pw_tetmesh *m, int type, 
 {
     int t, k;
     if (f->nverts != m->nv || f->ntets != m->nt || !f->frame)
-        return pw_fail(e, PW_ERR_INVALID, "fields: made for %d vertices and %d tetrahedra, the mesh has %d and %d", f->nverts,
-                       f->ntets, m->nv, m->nt);
-    if (lst__depth_varying(type) && !f->depth) return pw_fail(e, PW_ERR_INVALID, "fields: a depth-varying type needs a depth");
+        return pw_fail(e, PW_ERR_INVALID, "fields: made for %d vertices and %d tetrahedra, the mesh has %d and %d",
+                       f->nverts, f->ntets, m->nv, m->nt);
+    if (lst__depth_varying(type) && !f->depth)
+        return pw_fail(e, PW_ERR_INVALID, "fields: a depth-varying type needs a depth");
     for (t = 0; t < m->nt; t++) {
         double mm[9], inv[9];
         for (k = 0; k < 9; k++) mm[k] = f->frame[9 * t + k];
         if (!(lst__inv3(mm, inv) > 0.0))
-            return pw_fail(e, PW_ERR_INVALID, "fields: the frame of tetrahedron %d is degenerate, left-handed or not finite", t);
+            return pw_fail(e, PW_ERR_INVALID,
+                           "fields: the frame of tetrahedron %d is degenerate, left-handed or not finite", t);
     }
     for (k = 0; f->depth && k < m->nv; k++)
         if (!(f->depth[k] >= 0.0f && f->depth[k] <= 1.0f))
@@ -20891,7 +21465,8 @@ static int lst__model_start(const pw_alloc *a, const lst_tetmesh *mesh, const ls
     if (!out->mesh.positions || !out->mesh.tets || !out->removed) return PW_ERR_NOMEM;
     memcpy(out->mesh.positions, mesh->positions, nv * sizeof(float));
     memcpy(out->mesh.tets, mesh->tets, nt * sizeof(int));
-    out->mesh.nverts = mesh->nverts, out->mesh.ntets = mesh->ntets;
+    out->mesh.nverts = mesh->nverts;
+    out->mesh.ntets = mesh->ntets;
     if ((r = lst__copy_volume(a, ex, ex->channels == 2 || ex->channels == 4 ? ex->channels - 1 : ex->channels,
                               &out->texture, e)) != PW_OK ||
         (values && (r = lst__copy_volume(a, values, values->channels, &out->values, e)) != PW_OK))
@@ -20904,8 +21479,9 @@ static int lst__check_inputs(const lst_tetmesh *mesh, const lst_volume *ex, cons
     if (lst__check_tets(mesh, e) || lst__check_volume(ex, "exemplar", e)) return e->code;
     if (values && (lst__check_volume(values, "values", e) || values->width != ex->width ||
                    values->height != ex->height || values->depth != ex->depth))
-        return e->code ? e->code : pw_fail(e, PW_ERR_INVALID, "values: %dx%dx%d, the exemplar is %dx%dx%d", values->width,
-                                           values->height, values->depth, ex->width, ex->height, ex->depth);
+        return e->code ? e->code
+                       : pw_fail(e, PW_ERR_INVALID, "values: %dx%dx%d, the exemplar is %dx%dx%d", values->width,
+                                 values->height, values->depth, ex->width, ex->height, ex->depth);
     return PW_OK;
 }
 
@@ -20923,20 +21499,29 @@ static int lst__create(const pw_alloc *a, const lst_mesh *surface, const lst_opt
     if (o->field) r = lst__check_fields(o->field, &m, o->type, e);
     else {
         lst__field_job job;
-        job.a = a, job.g = &g, job.surface = surface, job.o = o, job.p = &p, job.e = e;
+        job.a = a;
+        job.g = &g;
+        job.surface = surface;
+        job.o = o;
+        job.p = &p;
+        job.e = e;
         r = lst__fields(&job, &depth, &frame);
     }
     for (k = 0; k < out->masks.count; k++) masks[k] = lst__pw_volume(&out->masks.volumes[k]);
     memset(&F, 0, sizeof F);
-    F.a = a, F.o = *o, F.g = &g;
+    F.a = a;
+    F.o = *o;
+    F.g = &g;
     if (r == PW_OK) r = lst__fill_init(&F, masks, out->masks.count, 1, e);
     F.frame = o->field ? o->field->frame : frame;
     F.depth = lst__depth_varying(o->type) ? (o->field ? o->field->depth : depth) : NULL;
     if (r == PW_OK) r = lst__fill_run(&F, &p, e);
     if (r == PW_OK) r = lst__prune(&F, &out->layers_before, &out->layers, e);
     if (r == PW_OK) {
-        out->pastes = F.pastes, out->npastes = F.npastes;
-        F.pastes = NULL, F.npastes = 0;
+        out->pastes = F.pastes;
+        out->npastes = F.npastes;
+        F.pastes = NULL;
+        F.npastes = 0;
         r = pw_report(&p, 1.0f, "done", e);
     }
     lst__fill_free(&F);
@@ -20971,18 +21556,27 @@ static int lst__manual_spec(const lst__geo *g, const lst_paste_spec *spec, lst__
     float scale = spec->scale;
     int k;
     memset(s, 0, sizeof *s);
-    for (k = 0; k < 3; k++) p[k] = spec->point[k], u[k] = spec->u_axis[k], v[k] = spec->v_axis[k];
+    for (k = 0; k < 3; k++) {
+        p[k] = spec->point[k];
+        u[k] = spec->u_axis[k];
+        v[k] = spec->v_axis[k];
+    }
     if (!pw_is_finite(p[0] + p[1] + p[2]) || !(scale > 0.0f && pw_is_finite(scale)))
         return pw_fail(e, PW_ERR_INVALID, "manual paste: the point or the scale is not valid");
     if (!(pw_norm3(u) > 0.0) || !pw_is_finite(u[0] + u[1] + u[2]) || !pw_is_finite(v[0] + v[1] + v[2]))
         return pw_fail(e, PW_ERR_INVALID, "manual paste: the u axis is zero or not finite");
     lst__perp_to(u, v, v);
     pw_cross3(u, v, w);
-    for (k = 0; k < 3; k++) s->axes[k] = scale * u[k], s->axes[3 + k] = scale * v[k], s->axes[6 + k] = scale * w[k];
+    for (k = 0; k < 3; k++) {
+        s->axes[k] = scale * u[k];
+        s->axes[3 + k] = scale * v[k];
+        s->axes[6 + k] = scale * w[k];
+    }
     s->manual = 1;
     s->seed = pw_tetgrid_locate(&g->grid, &g->m, p, s->centre);
     if (s->seed < 0)
-        return pw_fail(e, PW_ERR_INVALID, "manual paste: the point (%g, %g, %g) is outside the model", p[0], p[1], p[2]);
+        return pw_fail(e, PW_ERR_INVALID, "manual paste: the point (%g, %g, %g) is outside the model", p[0], p[1],
+                       p[2]);
     return PW_OK;
 }
 
@@ -21005,7 +21599,8 @@ LSTDEF lst_result lst_paste_at(lst_model *model, const lst_paste_spec *spec, con
     }
     mask = spec->mask;
     if (mask < 0 || mask >= model->masks.count || !model->masks.volumes[mask].voxels) {
-        pw_fail(&e, PW_ERR_INVALID, "lst_paste_at: mask %d does not exist (the model has %d)", mask, model->masks.count);
+        pw_fail(&e, PW_ERR_INVALID, "lst_paste_at: mask %d does not exist (the model has %d)", mask,
+                model->masks.count);
         return lst__done(&e, err);
     }
     a = lst__alloc(&model->allocator);
@@ -21014,17 +21609,18 @@ LSTDEF lst_result lst_paste_at(lst_model *model, const lst_paste_spec *spec, con
     memset(&F, 0, sizeof F);
     F.a = &a;
     if (lst__geo_init(&a, &m, &g, &e) != PW_OK) return lst__done(&e, err);
-    F.o = o, F.g = &g;
+    F.o = o;
+    F.g = &g;
     if (lst__manual_spec(&g, spec, &s, &e) == PW_OK && lst__fill_init(&F, &mv, 1, 0, &e) == PW_OK) {
         s.mask = 0; /* the one mask of this fill */
         if (lst__paste_one(&F, &s, 0, NULL, &e) == PW_OK &&
-            (grown = (lst_paste *)pw_realloc(&a, model->pastes, sizeof(lst_paste) * ((size_t)model->npastes + 1))) != NULL) {
+            (grown = (lst_paste *)pw_realloc(&a, model->pastes, sizeof(lst_paste) * ((size_t)model->npastes + 1))) !=
+                NULL) {
             model->pastes = grown;
             model->pastes[model->npastes] = F.pastes[0];
             model->pastes[model->npastes++].exemplar = mask;
             F.npastes = 0;
-        } else if (e.code == PW_OK)
-            pw_fail(&e, PW_ERR_NOMEM, "out of memory adding a paste");
+        } else if (e.code == PW_OK) pw_fail(&e, PW_ERR_NOMEM, "out of memory adding a paste");
     }
     lst__fill_free(&F);
     lst__geo_free(&a, &g);
@@ -21104,7 +21700,8 @@ static int lst__check_model(const lst_model *m, pw_err *e)
     int p, k;
     if (!m || !m->mesh.tets || m->mesh.ntets < 1) return pw_fail(e, PW_ERR_INVALID, "empty model");
     if (!m->texture.voxels) return pw_fail(e, PW_ERR_INVALID, "the model has no texture (load the exemplar into it)");
-    if (m->masks.count < 1 || m->masks.count > 64) return pw_fail(e, PW_ERR_INVALID, "the model has %d masks", m->masks.count);
+    if (m->masks.count < 1 || m->masks.count > 64)
+        return pw_fail(e, PW_ERR_INVALID, "the model has %d masks", m->masks.count);
     for (k = 0; k < m->masks.count; k++)
         if (!m->masks.volumes[k].voxels || m->masks.volumes[k].channels != 1)
             return pw_fail(e, PW_ERR_INVALID, "mask %d of the model is missing or has more than one channel", k);
@@ -21117,7 +21714,8 @@ static int lst__check_model(const lst_model *m, pw_err *e)
                 return pw_fail(e, PW_ERR_INVALID, "paste %d uses tetrahedron %d of %d", p, q->tets[k], m->mesh.ntets);
         for (k = 0; k < 4 * q->ntets; k++)
             if (q->corners[k] < 0 || q->corners[k] >= q->nverts)
-                return pw_fail(e, PW_ERR_INVALID, "paste %d: a corner uses vertex %d of %d", p, q->corners[k], q->nverts);
+                return pw_fail(e, PW_ERR_INVALID, "paste %d: a corner uses vertex %d of %d", p, q->corners[k],
+                               q->nverts);
     }
     return PW_OK;
 }
@@ -21159,13 +21757,18 @@ static void lst__eval(const lst__view *v, int t, const double *l, float *rgba, f
         const int *c = p->corners + 4 * v->ix.slot[i];
         double w[3];
         float al, wt;
-        for (j = 0; j < 3; j++) w[j] = l[0] * p->uvw[3 * c[0] + j] + l[1] * p->uvw[3 * c[1] + j] + l[2] * p->uvw[3 * c[2] + j] + l[3] * p->uvw[3 * c[3] + j];
+        for (j = 0; j < 3; j++)
+            w[j] = l[0] * p->uvw[3 * c[0] + j] + l[1] * p->uvw[3 * c[1] + j] + l[2] * p->uvw[3 * c[2] + j] +
+                   l[3] * p->uvw[3 * c[3] + j];
         al = lst__mask_alpha(&v->mask[p->exemplar], w[0], w[1], w[2]);
         if (!(al > 0.0f)) continue;
         wt = T * al;
         if (v->show == LST_SHOW_PASTES) lst__paste_colour(v->ix.paste[i], col);
-        else if (v->show == LST_SHOW_DEPTH) col[0] = (float)w[0], col[1] = (float)w[1], col[2] = (float)w[2];
-        else lst__sample(&v->tex, w[0], w[1], w[2], col);
+        else if (v->show == LST_SHOW_DEPTH) {
+            col[0] = (float)w[0];
+            col[1] = (float)w[1];
+            col[2] = (float)w[2];
+        } else lst__sample(&v->tex, w[0], w[1], w[2], col);
         if (v->show == LST_SHOW_COLOR && nc == 1) col[1] = col[2] = col[0];
         for (k = 0; k < 3; k++) acc[k] += wt * col[k];
         if (vc) {
@@ -21225,10 +21828,10 @@ LSTDEF lst_result lst_eval(const lst_model *model, const float *points, int n, f
  * that the shader can evaluate the model anywhere on it. */
 typedef struct lst__tris {
     int n, nv;
-    float *pos;   /* nv*3 (owned, or NULL when the mesh's positions are used) */
-    int *tri;     /* n*3 */
-    int *tet;     /* n */
-    float *bary;  /* n*12 */
+    float *pos;     /* nv*3 (owned, or NULL when the mesh's positions are used) */
+    int *tri;       /* n*3 */
+    int *tet;       /* n */
+    float *bary;    /* n*12 */
     float *normals; /* nv*3 smooth vertex normals (lst__tris_normals), or NULL: computed per draw */
     size_t ncap, vcap;
 } lst__tris;
@@ -21266,7 +21869,9 @@ nomem:
 static int lst__tris_vertex(const pw_alloc *a, lst__tris *t, const double *p, pw_err *e)
 {
     if (pw_grow(a, (void **)&t->pos, &t->vcap, ((size_t)t->nv + 1) * 3, sizeof(float), "triangles", e)) return -1;
-    t->pos[3 * t->nv] = (float)p[0], t->pos[3 * t->nv + 1] = (float)p[1], t->pos[3 * t->nv + 2] = (float)p[2];
+    t->pos[3 * t->nv] = (float)p[0];
+    t->pos[3 * t->nv + 1] = (float)p[1];
+    t->pos[3 * t->nv + 2] = (float)p[2];
     return t->nv++;
 }
 #endif
@@ -21287,7 +21892,10 @@ static int lst__boundary_tris(const pw_alloc *a, const lst_model *m, const int *
         pw_tet_face(f & 3, c);
         b = out->bary + 12 * out->n;
         memset(b, 0, 12 * sizeof(float));
-        for (k = 0; k < 3; k++) out->tri[3 * out->n + k] = m->mesh.tets[4 * t + c[k]], b[4 * k + c[k]] = 1.0f;
+        for (k = 0; k < 3; k++) {
+            out->tri[3 * out->n + k] = m->mesh.tets[4 * t + c[k]];
+            b[4 * k + c[k]] = 1.0f;
+        }
         out->tet[out->n++] = t;
     }
     return PW_OK;
@@ -21336,11 +21944,13 @@ static lst_render_options lst__render_options(const lst_render_options *ro)
 
 static int lst__check_render(const lst_render_options *o, pw_err *e)
 {
-    if (o->show < LST_SHOW_COLOR || o->show > LST_SHOW_DEPTH) return pw_fail(e, PW_ERR_INVALID, "render: show %d is invalid", (int)o->show);
+    if (o->show < LST_SHOW_COLOR || o->show > LST_SHOW_DEPTH)
+        return pw_fail(e, PW_ERR_INVALID, "render: show %d is invalid", (int)o->show);
     if (!pw_is_finite(o->displace) || o->subdivide > 6)
-        return pw_fail(e, PW_ERR_INVALID, "render: displacement %g or subdivision %d is invalid", o->displace, o->subdivide);
-    if (o->width < 1 || o->height < 1 || o->width > PW_MAX_IMAGE_DIM || o->height > PW_MAX_IMAGE_DIM || o->supersample < 1 ||
-        o->supersample > PW_FB_MAX_SS)
+        return pw_fail(e, PW_ERR_INVALID, "render: displacement %g or subdivision %d is invalid", o->displace,
+                       o->subdivide);
+    if (o->width < 1 || o->height < 1 || o->width > PW_MAX_IMAGE_DIM || o->height > PW_MAX_IMAGE_DIM ||
+        o->supersample < 1 || o->supersample > PW_FB_MAX_SS)
         return pw_fail(e, PW_ERR_INVALID, "render: size %dx%d with %dx%d samples is invalid", o->width, o->height,
                        o->supersample, o->supersample);
     return PW_OK;
@@ -21356,13 +21966,20 @@ static int lst__draw_tris(pw_fb *fb, const pw_camera *cam, const lst__tris *t, l
     if (t->n == 0) return PW_OK;
     S->tris = t;
     memset(&d, 0, sizeof d);
-    d.positions = t->pos ? t->pos : m->mesh.positions, d.nv = t->nv, d.tris = t->tri, d.ntris = t->n;
+    d.positions = t->pos ? t->pos : m->mesh.positions;
+    d.nv = t->nv;
+    d.tris = t->tri;
+    d.ntris = t->n;
     d.lighting = o->unlit || S->mode ? PW_LIGHT_NONE : PW_LIGHT_CAMERA;
     d.ambient = 0.35f;
     d.normals = t->normals;
     d.shader = lst__shade;
     d.shader_user = S;
-    if (S->mode) d.blend = PW_BLEND_OVER, d.depth_test = PW_DEPTH_ALWAYS, d.no_depth_write = 1;
+    if (S->mode) {
+        d.blend = PW_BLEND_OVER;
+        d.depth_test = PW_DEPTH_ALWAYS;
+        d.no_depth_write = 1;
+    }
     return pw_render_draw(fb, cam, &d, e);
 }
 
@@ -21372,7 +21989,10 @@ static int lst__tris_normals(const pw_alloc *a, const lst_model *m, lst__tris *t
     pw_draw d;
     if (t->n == 0) return PW_OK;
     memset(&d, 0, sizeof d);
-    d.positions = t->pos ? t->pos : m->mesh.positions, d.nv = t->nv, d.tris = t->tri, d.ntris = t->n;
+    d.positions = t->pos ? t->pos : m->mesh.positions;
+    d.nv = t->nv;
+    d.tris = t->tri;
+    d.ntris = t->n;
     return (t->normals = pw_draw_normals(a, &d, e)) != NULL ? PW_OK : PW_ERR_NOMEM;
 }
 
@@ -21406,12 +22026,16 @@ static int lst__visible_positions(const pw_alloc *a, const lst_model *m, float *
 static int lst__vertex_normals(const pw_alloc *a, const lst_model *m, const lst__tris *t, float **out, pw_err *e)
 {
     int i, k, j;
-    if (!(*out = (float *)pw_calloc_array(a, (size_t)m->mesh.nverts * 3, sizeof(float), "normals", e))) return PW_ERR_NOMEM;
+    if (!(*out = (float *)pw_calloc_array(a, (size_t)m->mesh.nverts * 3, sizeof(float), "normals", e)))
+        return PW_ERR_NOMEM;
     for (i = 0; i < t->n; i++) {
         double p[3][3], u[3], w[3], n[3];
         for (k = 0; k < 3; k++)
             for (j = 0; j < 3; j++) p[k][j] = m->mesh.positions[3 * t->tri[3 * i + k] + j];
-        for (j = 0; j < 3; j++) u[j] = p[1][j] - p[0][j], w[j] = p[2][j] - p[0][j];
+        for (j = 0; j < 3; j++) {
+            u[j] = p[1][j] - p[0][j];
+            w[j] = p[2][j] - p[0][j];
+        }
         pw_cross3(u, w, n);
         for (k = 0; k < 3; k++)
             for (j = 0; j < 3; j++) (*out)[3 * t->tri[3 * i + k] + j] += (float)n[j];
@@ -21424,16 +22048,16 @@ static int lst__vertex_normals(const pw_alloc *a, const lst_model *m, const lst_
  * upper vertex, step from the lower one) in an open-addressing table,
  * interior points unshared. */
 typedef struct lst__subdiv {
-    int *corner;    /* nv: subdivided vertex of each mesh vertex, or -1 */
-    uint64_t *key;  /* table of edge points */
+    int *corner;   /* nv: subdivided vertex of each mesh vertex, or -1 */
+    uint64_t *key; /* table of edge points */
     int *val;
     size_t mask;
     const pw_alloc *a;
-    const lst__view *v;  /* evaluates the displacement channel */
-    const lst__tris *s;  /* the surface triangles */
-    const float *vn;     /* their smooth vertex normals */
-    int k;               /* grid steps per triangle side */
-    double amount;       /* displacement per unit of (value - 0.5) */
+    const lst__view *v; /* evaluates the displacement channel */
+    const lst__tris *s; /* the surface triangles */
+    const float *vn;    /* their smooth vertex normals */
+    int k;              /* grid steps per triangle side */
+    double amount;      /* displacement per unit of (value - 0.5) */
     lst__tris *out;
     pw_err *e;
 } lst__subdiv;
@@ -21443,7 +22067,10 @@ static int *lst__edge_slot(lst__subdiv *sd, int a, int b, int step)
     uint64_t k = ((uint64_t)(uint32_t)a << 40) ^ ((uint64_t)(uint32_t)b << 12) ^ (uint64_t)step ^ 0x8000000000000000ULL;
     size_t h = (size_t)((k * 0x9E3779B97F4A7C15ULL) >> 17) & sd->mask;
     while (sd->key[h] && sd->key[h] != k) h = (h + 1) & sd->mask;
-    if (!sd->key[h]) sd->key[h] = k, sd->val[h] = -1;
+    if (!sd->key[h]) {
+        sd->key[h] = k;
+        sd->val[h] = -1;
+    }
     return &sd->val[h];
 }
 
@@ -21459,9 +22086,13 @@ static int lst__displaced_point(const lst__subdiv *sd, int f, int i, int j)
     double b[3] = {1.0 - (double)(i + j) / k, (double)i / k, (double)j / k}, p[3] = {0, 0, 0}, n[3] = {0, 0, 0}, l[4];
     float rgba[4], val[4] = {0.5f, 0.5f, 0.5f, 0.5f};
     int q, r;
-    for (q = 0; q < 4; q++) l[q] = b[0] * s->bary[12 * f + q] + b[1] * s->bary[12 * f + 4 + q] + b[2] * s->bary[12 * f + 8 + q];
+    for (q = 0; q < 4; q++)
+        l[q] = b[0] * s->bary[12 * f + q] + b[1] * s->bary[12 * f + 4 + q] + b[2] * s->bary[12 * f + 8 + q];
     for (q = 0; q < 3; q++)
-        for (r = 0; r < 3; r++) p[r] += b[q] * v->m->mesh.positions[3 * c[q] + r], n[r] += b[q] * vn[3 * c[q] + r];
+        for (r = 0; r < 3; r++) {
+            p[r] += b[q] * v->m->mesh.positions[3 * c[q] + r];
+            n[r] += b[q] * vn[3 * c[q] + r];
+        }
     pw_norm3(n);
     lst__eval(v, s->tet[f], l, rgba, val);
     for (r = 0; r < 3; r++) p[r] += n[r] * sd->amount * (val[0] - 0.5);
@@ -21482,7 +22113,9 @@ static int lst__grid_vertex(lst__subdiv *sd, int f, int i, int j)
         step = j == 0 ? i : (i == 0 ? j : j);
         if (x > y) {
             int tmp = x;
-            x = y, y = tmp, step = k - step;
+            x = y;
+            y = tmp;
+            step = k - step;
         }
         slot = lst__edge_slot(sd, x, y, step);
     }
@@ -21518,8 +22151,21 @@ static int lst__subdivide_face(lst__subdiv *sd, int f)
         for (i = 0; i + j < k; i++)
             for (tri = 0; tri < (i + j + 1 < k ? 2 : 1); tri++) {
                 int ij[3][2];
-                if (tri == 0) ij[0][0] = i, ij[0][1] = j, ij[1][0] = i + 1, ij[1][1] = j, ij[2][0] = i, ij[2][1] = j + 1;
-                else ij[0][0] = i + 1, ij[0][1] = j, ij[1][0] = i + 1, ij[1][1] = j + 1, ij[2][0] = i, ij[2][1] = j + 1;
+                if (tri == 0) {
+                    ij[0][0] = i;
+                    ij[0][1] = j;
+                    ij[1][0] = i + 1;
+                    ij[1][1] = j;
+                    ij[2][0] = i;
+                    ij[2][1] = j + 1;
+                } else {
+                    ij[0][0] = i + 1;
+                    ij[0][1] = j;
+                    ij[1][0] = i + 1;
+                    ij[1][1] = j + 1;
+                    ij[2][0] = i;
+                    ij[2][1] = j + 1;
+                }
                 for (q = 0; q < 3; q++)
                     if ((idx[q] = lst__grid_vertex(sd, f, ij[q][0], ij[q][1])) < 0) return PW_ERR_NOMEM;
                 if (lst__sub_tri(sd, f, idx, ij)) return PW_ERR_NOMEM;
@@ -21546,10 +22192,20 @@ static int lst__displace(const pw_alloc *a, const lst__view *v, const lst__tris 
     sd.key = (uint64_t *)pw_calloc_array(a, cap, sizeof(uint64_t), "subdivision", e);
     sd.val = (int *)pw_alloc_array(a, cap, sizeof(int), "subdivision", e);
     if (!sd.corner || !sd.key || !sd.val || lst__vertex_normals(a, v->m, s, &vn, e)) r = PW_ERR_NOMEM;
-    sd.a = a, sd.v = v, sd.s = s, sd.vn = vn, sd.k = k, sd.amount = o->displace, sd.out = out, sd.e = e;
+    sd.a = a;
+    sd.v = v;
+    sd.s = s;
+    sd.vn = vn;
+    sd.k = k;
+    sd.amount = o->displace;
+    sd.out = out;
+    sd.e = e;
     for (f = 0; r == PW_OK && f < v->m->mesh.nverts; f++) sd.corner[f] = -1;
     for (f = 0; r == PW_OK && f < s->n; f++) r = lst__subdivide_face(&sd, f);
-    pw_free(a, sd.corner), pw_free(a, sd.key), pw_free(a, sd.val), pw_free(a, vn);
+    pw_free(a, sd.corner);
+    pw_free(a, sd.key);
+    pw_free(a, sd.val);
+    pw_free(a, vn);
     if (r != PW_OK) lst__tris_free(a, out);
     return r;
 }
@@ -21609,20 +22265,30 @@ static int lst__render(const pw_alloc *a, const lst_model *m, const lst_render_o
     lst__surface B;
     int *nb = NULL, r;
     pw_tetmesh tm = lst__pw_tets(&m->mesh);
-    memset(&outer, 0, sizeof outer), memset(&cut, 0, sizeof cut), memset(&disp, 0, sizeof disp);
+    memset(&outer, 0, sizeof outer);
+    memset(&cut, 0, sizeof cut);
+    memset(&disp, 0, sizeof disp);
     if ((r = lst__view_init(a, m, o->show, &v, e)) != PW_OK) return r;
-    if (o->displace != 0.0f && !m->values.voxels) r = pw_fail(e, PW_ERR_INVALID, "displacement needs the model's extra channel");
-    if (r == PW_OK && !(nb = (int *)pw_alloc_array(a, (size_t)m->mesh.ntets * 4, sizeof(int), "face adjacency", e))) r = PW_ERR_NOMEM;
+    if (o->displace != 0.0f && !m->values.voxels)
+        r = pw_fail(e, PW_ERR_INVALID, "displacement needs the model's extra channel");
+    if (r == PW_OK && !(nb = (int *)pw_alloc_array(a, (size_t)m->mesh.ntets * 4, sizeof(int), "face adjacency", e)))
+        r = PW_ERR_NOMEM;
     if (r == PW_OK) r = pw_tetmesh_neighbors(a, &tm, nb, e);
     if (r == PW_OK) r = lst__boundary_tris(a, m, nb, 0, &outer, e);
     if (r == PW_OK) r = lst__boundary_tris(a, m, nb, 1, &cut, e);
     if (r == PW_OK && o->displace != 0.0f) r = lst__displace(a, &v, &outer, o, &disp, e);
     if (r == PW_OK && !o->unlit) r = lst__tris_normals(a, m, o->displace != 0.0f ? &disp : &outer, e);
     if (r == PW_OK && !o->unlit) r = lst__tris_normals(a, m, &cut, e);
-    B.m = m, B.v = &v, B.outer = o->displace != 0.0f ? &disp : &outer, B.cut = &cut, B.o = o;
+    B.m = m;
+    B.v = &v;
+    B.outer = o->displace != 0.0f ? &disp : &outer;
+    B.cut = &cut;
+    B.o = o;
     if (r == PW_OK) r = lst__camera(a, m, o, &B.cam, e);
     if (r == PW_OK) r = lst__render_frame(a, o, lst__surface_band, &B, pic, e);
-    lst__tris_free(a, &outer), lst__tris_free(a, &cut), lst__tris_free(a, &disp);
+    lst__tris_free(a, &outer);
+    lst__tris_free(a, &cut);
+    lst__tris_free(a, &disp);
     pw_free(a, nb);
     lst__view_free(&v);
     return r;
@@ -21642,7 +22308,8 @@ LSTDEF lst_result lst_render(const lst_model *model, const lst_render_options *r
     }
     a = lst__alloc(&model->allocator);
     memset(&pic, 0, sizeof pic);
-    if (lst__check_render(&o, &e) == PW_OK && lst__render(&a, model, &o, &pic, &e) == PW_OK) lst__take_image(&pic, &a, out);
+    if (lst__check_render(&o, &e) == PW_OK && lst__render(&a, model, &o, &pic, &e) == PW_OK)
+        lst__take_image(&pic, &a, out);
     return lst__done(&e, err);
 }
 
@@ -21656,8 +22323,8 @@ typedef struct lst__volume_frame {
     const lst__view *v;
     const lst_render_options *o;
     pw_tetmesh tm;
-    const double *phi;     /* per vertex: the distance along the view */
-    const float *rows;     /* per tetrahedron: its first and last picture row */
+    const double *phi; /* per vertex: the distance along the view */
+    const float *rows; /* per tetrahedron: its first and last picture row */
     double zmax, dz;
     int slices, density;
     float alpha_scale;
@@ -21678,12 +22345,21 @@ static int lst__slice_tet(const lst__volume_frame *V, int t, const double *phi, 
     }
     if (nn == 0 || np == 0) return PW_OK;
     if (nn == 2) { /* a quad: edges in cyclic order */
-        edges[0][0] = neg[0], edges[0][1] = pos[0], edges[1][0] = neg[0], edges[1][1] = pos[1];
-        edges[2][0] = neg[1], edges[2][1] = pos[1], edges[3][0] = neg[1], edges[3][1] = pos[0];
+        edges[0][0] = neg[0];
+        edges[0][1] = pos[0];
+        edges[1][0] = neg[0];
+        edges[1][1] = pos[1];
+        edges[2][0] = neg[1];
+        edges[2][1] = pos[1];
+        edges[3][0] = neg[1];
+        edges[3][1] = pos[0];
         cnt = 4;
     } else {
         int lone = nn == 1 ? neg[0] : pos[0], *others = nn == 1 ? pos : neg;
-        for (k = 0; k < 3; k++) edges[k][0] = lone, edges[k][1] = others[k];
+        for (k = 0; k < 3; k++) {
+            edges[k][0] = lone;
+            edges[k][1] = others[k];
+        }
         cnt = 3;
     }
     for (q = 0; q < cnt - 2; q++) {
@@ -21712,8 +22388,12 @@ static int lst__volume_band(void *user, pw_fb *fb, pw_err *e)
     lst__shading S;
     double ph[4];
     int t, k, s, r = PW_OK;
-    memset(&sl, 0, sizeof sl), memset(&S, 0, sizeof S);
-    S.v = V->v, S.mode = 1, S.density = V->density, S.alpha_scale = V->alpha_scale;
+    memset(&sl, 0, sizeof sl);
+    memset(&S, 0, sizeof S);
+    S.v = V->v;
+    S.mode = 1;
+    S.density = V->density;
+    S.alpha_scale = V->alpha_scale;
     for (s = 0; r == PW_OK && s < V->slices; s++) { /* back to front */
         double z = V->zmax - (s + 0.5) * V->dz;
         sl.n = sl.nv = 0;
@@ -21737,12 +22417,15 @@ static void lst__tet_rows(const lst__volume_frame *V, float *rows)
         float lo = 3e38f, hi = -3e38f, q[3];
         for (k = 0; k < 4; k++) {
             if (!pw_camera_project(&V->cam, V->o->width, V->o->height, V->tm.pos + 3 * V->tm.tet[4 * t + k], q)) {
-                lo = -3e38f, hi = 3e38f;
+                lo = -3e38f;
+                hi = 3e38f;
                 break;
             }
-            lo = q[1] < lo ? q[1] : lo, hi = q[1] > hi ? q[1] : hi;
+            lo = q[1] < lo ? q[1] : lo;
+            hi = q[1] > hi ? q[1] : hi;
         }
-        rows[2 * t] = lo, rows[2 * t + 1] = hi;
+        rows[2 * t] = lo;
+        rows[2 * t + 1] = hi;
     }
 }
 
@@ -21761,18 +22444,29 @@ static int lst__volume(const pw_alloc *a, const lst_model *m, const lst_render_o
         r = pw_fail(e, PW_ERR_INVALID, "volume density from extra channel %d: the model has %d", vo->density,
                     m->values.voxels ? m->values.channels : 0);
     if (r == PW_OK) r = lst__camera(a, m, o, &V.cam, e);
-    if (r == PW_OK && !(phi = (double *)pw_alloc_array(a, (size_t)V.tm.nv, sizeof(double), "volume slices", e))) r = PW_ERR_NOMEM;
-    if (r == PW_OK && !(rows = (float *)pw_alloc_array(a, (size_t)V.tm.nt * 2, sizeof(float), "volume slices", e))) r = PW_ERR_NOMEM;
+    if (r == PW_OK && !(phi = (double *)pw_alloc_array(a, (size_t)V.tm.nv, sizeof(double), "volume slices", e)))
+        r = PW_ERR_NOMEM;
+    if (r == PW_OK && !(rows = (float *)pw_alloc_array(a, (size_t)V.tm.nt * 2, sizeof(float), "volume slices", e)))
+        r = PW_ERR_NOMEM;
     for (k = 0; r == PW_OK && k < 3; k++) f[k] = (double)V.cam.target[k] - V.cam.eye[k];
     if (r == PW_OK) pw_norm3(f);
     for (k = 0; r == PW_OK && k < V.tm.nv; k++) { /* §5.1.2: the distance from the camera along the view */
         const float *p = V.tm.pos + 3 * k;
         phi[k] = (p[0] - V.cam.eye[0]) * f[0] + (p[1] - V.cam.eye[1]) * f[1] + (p[2] - V.cam.eye[2]) * f[2];
-        zmin = phi[k] < zmin ? phi[k] : zmin, zmax = phi[k] > zmax ? phi[k] : zmax;
+        zmin = phi[k] < zmin ? phi[k] : zmin;
+        zmax = phi[k] > zmax ? phi[k] : zmax;
     }
     if (r == PW_OK) {
-        V.a = a, V.m = m, V.v = &v, V.o = o, V.phi = phi, V.rows = rows;
-        V.zmax = zmax, V.dz = (zmax - zmin) / vo->slices, V.slices = vo->slices, V.density = vo->density;
+        V.a = a;
+        V.m = m;
+        V.v = &v;
+        V.o = o;
+        V.phi = phi;
+        V.rows = rows;
+        V.zmax = zmax;
+        V.dz = (zmax - zmin) / vo->slices;
+        V.slices = vo->slices;
+        V.density = vo->density;
         V.alpha_scale = (float)(vo->opacity * V.dz / (0.01 * lst__diagonal(V.tm.pos, V.tm.nv)));
         lst__tet_rows(&V, rows);
         r = lst__render_frame(a, o, lst__volume_band, &V, pic, e);
@@ -21783,8 +22477,8 @@ static int lst__volume(const pw_alloc *a, const lst_model *m, const lst_render_o
     return r;
 }
 
-LSTDEF lst_result lst_render_volume(const lst_model *model, const lst_render_options *ro, const lst_volume_options *vopt,
-                                    lst_image *out, lst_error *err)
+LSTDEF lst_result lst_render_volume(const lst_model *model, const lst_render_options *ro,
+                                    const lst_volume_options *vopt, lst_image *out, lst_error *err)
 {
     lst_render_options o = lst__render_options(ro);
     lst_volume_options vo;
@@ -21798,9 +22492,10 @@ LSTDEF lst_result lst_render_volume(const lst_model *model, const lst_render_opt
     if (vo.slices == 0) vo.slices = 200;
     if (vo.opacity == 0.0f) vo.opacity = 0.3f;
     if (!model || !out) pw_fail(&e, PW_ERR_INVALID, "lst_render_volume: NULL argument");
-    else if (vo.slices < 1 || vo.slices > 10000 || !(vo.opacity > 0.0f && vo.opacity <= 1000.0f) || vo.density < 0 || vo.density > 4)
-        pw_fail(&e, PW_ERR_INVALID, "volume rendering: %d slices, opacity %g or density channel %d is invalid", vo.slices,
-                vo.opacity, vo.density);
+    else if (vo.slices < 1 || vo.slices > 10000 || !(vo.opacity > 0.0f && vo.opacity <= 1000.0f) || vo.density < 0 ||
+             vo.density > 4)
+        pw_fail(&e, PW_ERR_INVALID, "volume rendering: %d slices, opacity %g or density channel %d is invalid",
+                vo.slices, vo.opacity, vo.density);
     else if (lst__check_render(&o, &e) == PW_OK) {
         a = lst__alloc(&model->allocator);
         memset(&pic, 0, sizeof pic);
@@ -21812,15 +22507,18 @@ LSTDEF lst_result lst_render_volume(const lst_model *model, const lst_render_opt
 #else
 LSTDEF lst_result lst_render(const lst_model *model, const lst_render_options *ro, lst_image *out, lst_error *err)
 {
-    (void)model, (void)ro;
+    (void)model;
+    (void)ro;
     if (out) memset(out, 0, sizeof *out);
     return lst__left_out("rendering", "PW_NO_RENDER", err);
 }
 
-LSTDEF lst_result lst_render_volume(const lst_model *model, const lst_render_options *ro, const lst_volume_options *vopt,
-                                    lst_image *out, lst_error *err)
+LSTDEF lst_result lst_render_volume(const lst_model *model, const lst_render_options *ro,
+                                    const lst_volume_options *vopt, lst_image *out, lst_error *err)
 {
-    (void)model, (void)ro, (void)vopt;
+    (void)model;
+    (void)ro;
+    (void)vopt;
     if (out) memset(out, 0, sizeof *out);
     return lst__left_out("rendering", "PW_NO_RENDER", err);
 }
@@ -21853,7 +22551,8 @@ static int *lst__edge_find(lst__edges *E, int a, int b, int insert)
     while (E->key[h] && E->key[h] != k) h = (h + 1) & E->mask;
     if (!E->key[h]) {
         if (!insert) return NULL;
-        E->key[h] = k, E->id[h] = -1;
+        E->key[h] = k;
+        E->id[h] = -1;
     }
     return &E->id[h];
 }
@@ -21897,8 +22596,10 @@ static int lst__cut_polygon(const int *c, const int *sg, lst__edges *E, int *out
         else out[n++] = c[k];
     }
     if (nn == 2 && np == 2) {
-        out[0] = *lst__edge_find(E, c[neg[0]], c[pos[0]], 0), out[1] = *lst__edge_find(E, c[neg[0]], c[pos[1]], 0);
-        out[2] = *lst__edge_find(E, c[neg[1]], c[pos[1]], 0), out[3] = *lst__edge_find(E, c[neg[1]], c[pos[0]], 0);
+        out[0] = *lst__edge_find(E, c[neg[0]], c[pos[0]], 0);
+        out[1] = *lst__edge_find(E, c[neg[0]], c[pos[1]], 0);
+        out[2] = *lst__edge_find(E, c[neg[1]], c[pos[1]], 0);
+        out[3] = *lst__edge_find(E, c[neg[1]], c[pos[0]], 0);
         return 4;
     }
     for (i = 0; i < nn; i++)
@@ -21939,15 +22640,23 @@ static void lst__cone(int faces[5][6], const int *fn, int nf, int sd, const floa
         for (i = 1; i + 1 < fn[f] && s->n < 12; i++) {
             int *t = s->tet[s->n];
             double u[3], v[3], w[3], vol;
-            t[0] = apex, t[1] = faces[f][lo], t[2] = faces[f][(lo + i) % fn[f]], t[3] = faces[f][(lo + i + 1) % fn[f]];
+            t[0] = apex;
+            t[1] = faces[f][lo];
+            t[2] = faces[f][(lo + i) % fn[f]];
+            t[3] = faces[f][(lo + i + 1) % fn[f]];
             for (k = 0; k < 3; k++) {
                 u[k] = (double)pos[3 * t[1] + k] - pos[3 * t[0] + k];
                 v[k] = (double)pos[3 * t[2] + k] - pos[3 * t[0] + k];
                 w[k] = (double)pos[3 * t[3] + k] - pos[3 * t[0] + k];
             }
-            vol = u[0] * (v[1] * w[2] - v[2] * w[1]) - u[1] * (v[0] * w[2] - v[2] * w[0]) + u[2] * (v[0] * w[1] - v[1] * w[0]);
+            vol = u[0] * (v[1] * w[2] - v[2] * w[1]) - u[1] * (v[0] * w[2] - v[2] * w[0]) +
+                  u[2] * (v[0] * w[1] - v[1] * w[0]);
             if (vol == 0.0) continue;
-            if (vol < 0.0) k = t[2], t[2] = t[3], t[3] = k;
+            if (vol < 0.0) {
+                k = t[2];
+                t[2] = t[3];
+                t[3] = k;
+            }
             s->side[s->n++] = (unsigned char)(sd > 0);
         }
     }
@@ -21973,15 +22682,15 @@ typedef struct lst__cutter {
     const pw_alloc *a;
     lst_model *m;
     int nv0, nt0, nnew, nsplit;
-    int *sg;            /* nv0 signs */
+    int *sg; /* nv0 signs */
     lst__edges E;
-    int *elo, *ehi;     /* per new vertex: the edge it splits (lower, upper) */
-    double *es;         /* ... and where, from lower to upper */
-    int *sub_start;     /* nt0+1: sub-tetrahedra of each tetrahedron (0 or >= 2 when split) */
-    int *sub;           /* 4 per sub-tetrahedron */
+    int *elo, *ehi; /* per new vertex: the edge it splits (lower, upper) */
+    double *es;     /* ... and where, from lower to upper */
+    int *sub_start; /* nt0+1: sub-tetrahedra of each tetrahedron (0 or >= 2 when split) */
+    int *sub;       /* 4 per sub-tetrahedron */
     unsigned char *side;
-    int *first_new;     /* nt0: index of its second sub-tetrahedron in the new mesh */
-    int nt;             /* the new mesh: nt tetrahedra, tets, removed flags */
+    int *first_new; /* nt0: index of its second sub-tetrahedron in the new mesh */
+    int nt;         /* the new mesh: nt tetrahedra, tets, removed flags */
     int *tets;
     unsigned char *rem;
     int **ptets, **pcorners, *pn; /* per paste: its new entries, until committed */
@@ -21991,14 +22700,25 @@ static void lst__cutter_free(lst__cutter *C)
 {
     const pw_alloc *a = C->a;
     int p;
-    pw_free(a, C->sg), pw_free(a, C->E.key), pw_free(a, C->E.id), pw_free(a, C->elo), pw_free(a, C->ehi), pw_free(a, C->es);
-    pw_free(a, C->sub_start), pw_free(a, C->sub), pw_free(a, C->side), pw_free(a, C->first_new);
-    pw_free(a, C->tets), pw_free(a, C->rem);
+    pw_free(a, C->sg);
+    pw_free(a, C->E.key);
+    pw_free(a, C->E.id);
+    pw_free(a, C->elo);
+    pw_free(a, C->ehi);
+    pw_free(a, C->es);
+    pw_free(a, C->sub_start);
+    pw_free(a, C->sub);
+    pw_free(a, C->side);
+    pw_free(a, C->first_new);
+    pw_free(a, C->tets);
+    pw_free(a, C->rem);
     for (p = 0; p < C->m->npastes; p++) {
         if (C->ptets) pw_free(a, C->ptets[p]);
         if (C->pcorners) pw_free(a, C->pcorners[p]);
     }
-    pw_free(a, C->ptets), pw_free(a, C->pcorners), pw_free(a, C->pn);
+    pw_free(a, C->ptets);
+    pw_free(a, C->pcorners);
+    pw_free(a, C->pn);
 }
 
 /* The crossed edges become new vertices, appended to the mesh. */
@@ -22023,9 +22743,15 @@ static int lst__cut_vertices(lst__cutter *C, const double *phi, pw_err *e)
             if (C->sg[a] * C->sg[b] >= 0) continue;
             id = lst__edge_find(&C->E, a, b, 1);
             if (*id >= 0) continue;
-            if (a > b) i = a, a = b, b = i;
+            if (a > b) {
+                i = a;
+                a = b;
+                b = i;
+            }
             *id = tm.nv + n;
-            C->elo[n] = a, C->ehi[n] = b, C->es[n] = phi[a] / (phi[a] - phi[b]);
+            C->elo[n] = a;
+            C->ehi[n] = b;
+            C->es[n] = phi[a] / (phi[a] - phi[b]);
             n++;
         }
     C->nnew = n;
@@ -22051,7 +22777,11 @@ static int lst__cut_split(lst__cutter *C, pw_err *e)
     for (t = 0; t < C->nt0; t++) {
         int sg[4], neg = 0, pos = 0;
         C->sub_start[t] = n;
-        for (k = 0; k < 4; k++) sg[k] = C->sg[tet[4 * t + k]], neg += sg[k] < 0, pos += sg[k] > 0;
+        for (k = 0; k < 4; k++) {
+            sg[k] = C->sg[tet[4 * t + k]];
+            neg += sg[k] < 0;
+            pos += sg[k] > 0;
+        }
         if (!neg || !pos) continue;
         lst__split_tet(tet + 4 * t, sg, &C->E, C->m->mesh.positions, &s);
         if (pw_grow(C->a, (void **)&C->sub, &cap, (size_t)(n + s.n) * 4, sizeof(int), "cut", e) ||
@@ -22126,7 +22856,10 @@ static int lst__cut_local(lst__cutter *C, lst__paste_build *P, const int *c, con
         return lc[k];
     }
     if (stamp[n] == id) return loc[n];
-    for (k = 0; k < 4; k++) ka = c[k] == C->elo[n] ? k : ka, kb = c[k] == C->ehi[n] ? k : kb;
+    for (k = 0; k < 4; k++) {
+        ka = c[k] == C->elo[n] ? k : ka;
+        kb = c[k] == C->ehi[n] ? k : kb;
+    }
     old = *cap;
     if (pw_grow(C->a, (void **)&q->verts, cap, (size_t)q->nverts + 1, sizeof(int), "cut paste", e)) return -1;
     if (*cap != old) {
@@ -22139,9 +22872,11 @@ static int lst__cut_local(lst__cutter *C, lst__paste_build *P, const int *c, con
         q->uvw = w;
     }
     for (j = 0; j < 3; j++)
-        q->uvw[3 * q->nverts + j] = (float)((1.0 - C->es[n]) * q->uvw[3 * lc[ka] + j] + C->es[n] * q->uvw[3 * lc[kb] + j]);
+        q->uvw[3 * q->nverts + j] =
+            (float)((1.0 - C->es[n]) * q->uvw[3 * lc[ka] + j] + C->es[n] * q->uvw[3 * lc[kb] + j]);
     q->verts[q->nverts] = g;
-    stamp[n] = id, loc[n] = q->nverts;
+    stamp[n] = id;
+    loc[n] = q->nverts;
     return q->nverts++;
 }
 
@@ -22155,10 +22890,15 @@ static int lst__cut_paste(lst__cutter *C, int id, int *stamp, int *loc, pw_err *
     const int *old = C->m->mesh.tets;
     int i, j, k, extra = 0, n = 0, *tets, *corners;
     lst__paste_build P;
-    P.q = q, P.id = id, P.stamp = stamp, P.loc = loc, P.cap = (size_t)q->nverts;
+    P.q = q;
+    P.id = id;
+    P.stamp = stamp;
+    P.loc = loc;
+    P.cap = (size_t)q->nverts;
     for (i = 0; i < q->ntets; i++) extra += lst__nsub(C, q->tets[i]) > 0 ? lst__nsub(C, q->tets[i]) - 1 : 0;
     C->ptets[id] = tets = (int *)pw_alloc_array(C->a, (size_t)q->ntets + extra, sizeof(int), "cut paste", e);
-    C->pcorners[id] = corners = (int *)pw_alloc_array(C->a, ((size_t)q->ntets + extra) * 4, sizeof(int), "cut paste", e);
+    C->pcorners[id] = corners =
+        (int *)pw_alloc_array(C->a, ((size_t)q->ntets + extra) * 4, sizeof(int), "cut paste", e);
     if (!tets || !corners) return PW_ERR_NOMEM;
     for (i = 0; i < q->ntets; i++) {
         int t = q->tets[i], ns = lst__nsub(C, t), lc[4];
@@ -22192,7 +22932,8 @@ static int lst__cut_pastes(lst__cutter *C, pw_err *e)
     if (!C->ptets || !C->pcorners || !C->pn || !stamp || !loc) r = PW_ERR_NOMEM;
     for (k = 0; r == PW_OK && k < C->nnew; k++) stamp[k] = -1;
     for (p = 0; r == PW_OK && p < np; p++) r = lst__cut_paste(C, p, stamp, loc, e);
-    pw_free(C->a, stamp), pw_free(C->a, loc);
+    pw_free(C->a, stamp);
+    pw_free(C->a, loc);
     return r;
 }
 
@@ -22201,13 +22942,21 @@ static void lst__cut_commit(lst__cutter *C)
 {
     lst_model *m = C->m;
     int p;
-    pw_free(C->a, m->mesh.tets), pw_free(C->a, m->removed);
-    m->mesh.tets = C->tets, m->removed = C->rem, C->tets = NULL, C->rem = NULL;
-    m->mesh.ntets = C->nt, m->mesh.nverts = C->nv0 + C->nnew;
+    pw_free(C->a, m->mesh.tets);
+    pw_free(C->a, m->removed);
+    m->mesh.tets = C->tets;
+    m->removed = C->rem;
+    C->tets = NULL;
+    C->rem = NULL;
+    m->mesh.ntets = C->nt;
+    m->mesh.nverts = C->nv0 + C->nnew;
     for (p = 0; p < m->npastes; p++) {
         lst_paste *q = &m->pastes[p];
-        pw_free(C->a, q->tets), pw_free(C->a, q->corners);
-        q->tets = C->ptets[p], q->corners = C->pcorners[p], q->ntets = C->pn[p];
+        pw_free(C->a, q->tets);
+        pw_free(C->a, q->corners);
+        q->tets = C->ptets[p];
+        q->corners = C->pcorners[p];
+        q->ntets = C->pn[p];
         C->ptets[p] = C->pcorners[p] = NULL;
     }
 }
@@ -22223,7 +22972,10 @@ static int lst__cut(const pw_alloc *a, lst_model *m, double *phi, pw_err *e)
     pw_tetrings g;
     int v, r;
     memset(&C, 0, sizeof C);
-    C.a = a, C.m = m, C.nv0 = tm.nv, C.nt0 = tm.nt;
+    C.a = a;
+    C.m = m;
+    C.nv0 = tm.nv;
+    C.nt0 = tm.nt;
     if ((r = pw_tetmesh_rings(a, &tm, &g, e)) != PW_OK) return r;
     lst__snap(&g, phi, tm.nv);
     pw_tetrings_free(a, &g);
@@ -22238,7 +22990,8 @@ static int lst__cut(const pw_alloc *a, lst_model *m, double *phi, pw_err *e)
 
 static int lst__check_cuttable(const lst_model *m, pw_err *e)
 {
-    if (!m || !m->mesh.tets || !m->mesh.positions || m->mesh.ntets < 1) return pw_fail(e, PW_ERR_INVALID, "cut: empty model");
+    if (!m || !m->mesh.tets || !m->mesh.positions || m->mesh.ntets < 1)
+        return pw_fail(e, PW_ERR_INVALID, "cut: empty model");
     if (!m->removed) return pw_fail(e, PW_ERR_INVALID, "cut: the model has no visibility flags");
     return PW_OK;
 }
@@ -22259,11 +23012,12 @@ LSTDEF lst_result lst_cut_plane(lst_model *model, const float plane[4], lst_erro
     double *phi, n[3];
     int v, k;
     pw_err_clear(&e);
-    if (!plane || lst__check_cuttable(model, &e)) return lst__done(e.code ? &e : (pw_fail(&e, PW_ERR_INVALID, "cut: NULL plane"), &e), err);
+    if (!plane) pw_fail(&e, PW_ERR_INVALID, "cut: NULL plane");
+    if (e.code || lst__check_cuttable(model, &e)) return lst__done(&e, err);
     for (k = 0; k < 3; k++) n[k] = plane[k];
     if (!(pw_norm3(n) > 0.0) || !pw_is_finite(n[0] + n[1] + n[2] + plane[3])) {
-        pw_fail(&e, PW_ERR_INVALID, "cut: the plane (%g %g %g %g) has no normal or is not finite", plane[0], plane[1], plane[2],
-                plane[3]);
+        pw_fail(&e, PW_ERR_INVALID, "cut: the plane (%g %g %g %g) has no normal or is not finite", plane[0], plane[1],
+                plane[2], plane[3]);
         return lst__done(&e, err);
     }
     a = lst__alloc(&model->allocator);
@@ -22283,7 +23037,8 @@ LSTDEF lst_result lst_cut_field(lst_model *model, const float *field, lst_error 
     double *phi;
     int v;
     pw_err_clear(&e);
-    if (!field || lst__check_cuttable(model, &e)) return lst__done(e.code ? &e : (pw_fail(&e, PW_ERR_INVALID, "cut: NULL field"), &e), err);
+    if (!field) pw_fail(&e, PW_ERR_INVALID, "cut: NULL field");
+    if (e.code || lst__check_cuttable(model, &e)) return lst__done(&e, err);
     for (v = 0; v < model->mesh.nverts; v++)
         if (!pw_is_finite(field[v])) {
             pw_fail(&e, PW_ERR_INVALID, "cut: the field at vertex %d is not finite", v);
@@ -22331,8 +23086,8 @@ static int lst__stroke_points(const pw_alloc *a, const lst__stroke *st, double h
     return PW_OK;
 }
 
-LSTDEF lst_result lst_stroke_field(const lst_model *model, const float *points, int n, const float view_dir[3], float *phi,
-                                   lst_error *err)
+LSTDEF lst_result lst_stroke_field(const lst_model *model, const float *points, int n, const float view_dir[3],
+                                   float *phi, lst_error *err)
 {
     pw_alloc a;
     pw_err e;
@@ -22347,11 +23102,13 @@ LSTDEF lst_result lst_stroke_field(const lst_model *model, const float *points, 
         pw_fail(&e, PW_ERR_INVALID, "lst_stroke_field: NULL argument or fewer than 2 points");
         return lst__done(&e, err);
     }
-    st.pts = points, st.n = n;
+    st.pts = points;
+    st.n = n;
     for (k = 0; k < 3; k++) st.view[k] = view_dir[k];
     for (k = 0; k < 3 * n; k++)
         if (!pw_is_finite(points[k])) pw_fail(&e, PW_ERR_INVALID, "stroke point %d is not finite", k / 3);
-    if (e.code == PW_OK && !(pw_norm3(st.view) > 0.0)) pw_fail(&e, PW_ERR_INVALID, "stroke: the view direction is zero");
+    if (e.code == PW_OK && !(pw_norm3(st.view) > 0.0))
+        pw_fail(&e, PW_ERR_INVALID, "stroke: the view direction is zero");
     if (e.code != PW_OK) return lst__done(&e, err);
     a = lst__alloc(&model->allocator);
     diag = lst__diagonal(model->mesh.positions, model->mesh.nverts);
@@ -22359,7 +23116,8 @@ LSTDEF lst_result lst_stroke_field(const lst_model *model, const float *points, 
     for (k = 0; k < 3 * n; k++) org[k % 3] += points[k] / n;
     if (lst__stroke_points(&a, &st, 0.02 * diag, diag, &pts, &e) == PW_OK && pts.n == 0)
         pw_fail(&e, PW_ERR_INVALID, "stroke: every segment is parallel to the view");
-    memcpy(rbf.o, org, sizeof rbf.o), rbf.s = diag;
+    memcpy(rbf.o, org, sizeof rbf.o);
+    rbf.s = diag;
     if (e.code == PW_OK && lst__rbf_fit(&a, &pts, 600, &rbf, &e) == PW_OK) {
         for (v = 0; v < model->mesh.nverts; v++) {
             for (k = 0; k < 3; k++) p[k] = model->mesh.positions[3 * v + k];
@@ -22383,16 +23141,19 @@ LSTDEF lst_result lst_stroke_field(const lst_model *model, const float *points, 
 
 /* What the fill found, and the two-sided fit of its boundary (30000
  * samples a side) relative to the surface's diagonal. */
-static int lst__tet_report(const pw_alloc *a, const pw_stuff_tris *tri, const pw_tetmesh *tm,
-                           const pw_stuff_info *info, lst_tet_report *rep, pw_err *e)
+static int lst__tet_report(const pw_alloc *a, const pw_stuff_tris *tri, const pw_tetmesh *tm, const pw_stuff_info *info,
+                           lst_tet_report *rep, pw_err *e)
 {
     pw_stuff_fit fit;
     int r = pw_stuff_fit_measure(a, tri, tm, 30000, &fit, e);
     memset(rep, 0, sizeof *rep);
-    rep->crossing_pairs = info->crossing_pairs, rep->skipped_triangles = info->skipped_triangles;
-    rep->closed_holes = info->closed_holes, rep->fragments = info->fragments;
+    rep->crossing_pairs = info->crossing_pairs;
+    rep->skipped_triangles = info->skipped_triangles;
+    rep->closed_holes = info->closed_holes;
+    rep->fragments = info->fragments;
     if (r != PW_OK) return r;
-    rep->pieces = fit.pieces, rep->surface_pieces = fit.surface_pieces;
+    rep->pieces = fit.pieces;
+    rep->surface_pieces = fit.surface_pieces;
     rep->fit_max = (fit.to_max > fit.from_max ? fit.to_max : fit.from_max) / fit.diag;
     rep->fit_p99 = (fit.to_p99 > fit.from_p99 ? fit.to_p99 : fit.from_p99) / fit.diag;
     return PW_OK;
@@ -22404,8 +23165,10 @@ static void lst__tet_warning(const pw_stuff_info *info, pw_err *e)
 {
     size_t n = 0;
     if (info->crossing_pairs > 0)
-        n += (size_t)snprintf(e->msg, sizeof e->msg, "the surface crosses itself (%ld triangle pairs); filled where its "
-                              "winding number is at least 1/2", info->crossing_pairs);
+        n += (size_t)snprintf(e->msg, sizeof e->msg,
+                              "the surface crosses itself (%ld triangle pairs); filled where its "
+                              "winding number is at least 1/2",
+                              info->crossing_pairs);
     if (info->skipped_triangles > 0 && n < sizeof e->msg)
         n += (size_t)snprintf(e->msg + n, sizeof e->msg - n, "%s%d zero-area triangles skipped", n ? "; " : "",
                               info->skipped_triangles);
@@ -22429,8 +23192,12 @@ LSTDEF lst_result lst_tetrahedralize(const lst_mesh *surface, const lst_options 
     if (out) memset(out, 0, sizeof *out);
     memset(&tri, 0, sizeof tri);
     memset(&tm, 0, sizeof tm);
-    so.cell = o.tet.cell, so.strict = o.tet.strict, so.max_hole = o.tet.max_hole, so.info = &info;
-    so.uniform = o.tet.uniform, so.fit = o.tet.fit;
+    so.cell = o.tet.cell;
+    so.strict = o.tet.strict;
+    so.max_hole = o.tet.max_hole;
+    so.info = &info;
+    so.uniform = o.tet.uniform;
+    so.fit = o.tet.fit;
     if (o.tet.target_tets > 0) so.target_tets = o.tet.target_tets;
     if (!surface || !out) pw_fail(&e, PW_ERR_INVALID, "lst_tetrahedralize: NULL argument");
     else if (!(so.cell >= 0.0) || !pw_is_finite(so.cell) || !pw_is_finite(so.max_hole) || o.tet.target_tets < 0)
@@ -22444,9 +23211,7 @@ LSTDEF lst_result lst_tetrahedralize(const lst_mesh *surface, const lst_options 
                 (!report || lst__tet_report(&a, &in, &tm, &info, report, &e) == PW_OK)) {
                 lst__take_tets(&tm, &a, out);
                 lst__tet_warning(&info, &e);
-            }
-            else if (tm.tet)
-                pw_tetmesh_free(&a, &tm);
+            } else if (tm.tet) pw_tetmesh_free(&a, &tm);
         }
     }
     pw_mesh_free(&a, &tri);
@@ -22497,7 +23262,10 @@ LSTDEF lst_result lst_tetmesh_surface(const lst_tetmesh *mesh, const lst_options
         if (lst__geo_init(&a, &m, &g, &e) == PW_OK) {
             if (pw_mesh_alloc(&a, &s, m.nv, g.nbface, 3 * g.nbface, 0, &e) == PW_OK) {
                 memcpy(s.pos, m.pos, (size_t)m.nv * 3 * sizeof(float));
-                for (f = 0; f < g.nbface; f++) s.fstart[f] = 3 * f, lst__face_verts(&m, g.bface[f], s.fv + 3 * f);
+                for (f = 0; f < g.nbface; f++) {
+                    s.fstart[f] = 3 * f;
+                    lst__face_verts(&m, g.bface[f], s.fv + 3 * f);
+                }
                 s.fstart[g.nbface] = 3 * g.nbface;
                 lst__take_mesh(&s, &a, out);
             }
@@ -22526,11 +23294,13 @@ static void lst__root(lst__shape_fn f, const double *p, const double *q, double 
         for (k = 0; k < 3; k++) x[k] = p[k] + t * (q[k] - p[k]);
         fx = f(x);
         if ((fx < 0.0) == (fa < 0.0)) {
-            a = t, fa = fx;
+            a = t;
+            fa = fx;
             if (side == -1) fb *= 0.5;
             side = -1;
         } else {
-            b = t, fb = fx;
+            b = t;
+            fb = fx;
             if (side == 1) fa *= 0.5;
             side = 1;
         }
@@ -22550,10 +23320,10 @@ typedef struct lst__shape_grid {
 typedef struct lst__grid {
     lst__shape_fn f;
     double lo[3], h;
-    int n;          /* cells per axis */
-    double *val;    /* (n+1)^3 values */
+    int n;       /* cells per axis */
+    double *val; /* (n+1)^3 values */
     lst__edges E;
-    pw__mb b;       /* the mesh being built */
+    pw__mb b; /* the mesh being built */
 } lst__grid;
 
 static int lst__grid_id(const lst__grid *G, int x, int y, int z) { return (z * (G->n + 1) + y) * (G->n + 1) + x; }
@@ -22561,7 +23331,9 @@ static int lst__grid_id(const lst__grid *G, int x, int y, int z) { return (z * (
 static void lst__grid_pos(const lst__grid *G, int id, double *p)
 {
     int s = G->n + 1;
-    p[0] = G->lo[0] + G->h * (id % s), p[1] = G->lo[1] + G->h * ((id / s) % s), p[2] = G->lo[2] + G->h * (id / (s * s));
+    p[0] = G->lo[0] + G->h * (id % s);
+    p[1] = G->lo[1] + G->h * ((id / s) % s);
+    p[2] = G->lo[2] + G->h * (id / (s * s));
 }
 
 /* The surface vertex on grid edge (a, b), made once. */
@@ -22574,7 +23346,9 @@ static int lst__grid_vertex_on(lst__grid *G, int a, int b)
     lst__grid_pos(G, a < b ? a : b, p);
     lst__grid_pos(G, a < b ? b : a, q);
     lst__root(G->f, p, q, G->val[a < b ? a : b], G->val[a < b ? b : a], x);
-    xf[0] = (float)x[0], xf[1] = (float)x[1], xf[2] = (float)x[2];
+    xf[0] = (float)x[0];
+    xf[1] = (float)x[1];
+    xf[2] = (float)x[2];
     if (pw__mb_vertex(&G->b, xf)) return -1;
     return *id = idx;
 }
@@ -22590,7 +23364,10 @@ static int lst__grid_tri(lst__grid *G, int e[3][2])
     for (k = 0; k < 3; k++)
         if ((v[k] = lst__grid_vertex_on(G, e[k][0], e[k][1])) < 0) return PW_ERR_NOMEM;
     P = G->b.m.pos; /* after the vertices were added: they may move it */
-    for (k = 0; k < 3; k++) u[k] = P[3 * v[1] + k] - P[3 * v[0] + k], w[k] = P[3 * v[2] + k] - P[3 * v[0] + k];
+    for (k = 0; k < 3; k++) {
+        u[k] = P[3 * v[1] + k] - P[3 * v[0] + k];
+        w[k] = P[3 * v[2] + k] - P[3 * v[0] + k];
+    }
     pw_cross3(u, w, n);
     for (k = 0; k < 3; k++) {
         int j;
@@ -22599,7 +23376,11 @@ static int lst__grid_tri(lst__grid *G, int e[3][2])
         for (j = 0; j < 3; j++) q[j] -= p[j];
         side += pw_dot3(n, q);
     }
-    if (side < 0.0) k = v[1], v[1] = v[2], v[2] = k;
+    if (side < 0.0) {
+        k = v[1];
+        v[1] = v[2];
+        v[2] = k;
+    }
     if (pw__mb_room(&G->b, 3)) return PW_ERR_NOMEM;
     for (k = 0; k < 3; k++)
         if (pw__mb_corner(&G->b, v[k], -1)) return PW_ERR_NOMEM;
@@ -22616,10 +23397,19 @@ static int lst__grid_tet(lst__grid *G, const int *c)
     }
     if (!nn || !np) return PW_OK;
     if (nn == 2) {
-        e[0][0] = neg[0], e[0][1] = pos[0], e[1][0] = neg[0], e[1][1] = pos[1];
-        e[2][0] = neg[1], e[2][1] = pos[1], e[3][0] = neg[1], e[3][1] = pos[0];
+        e[0][0] = neg[0];
+        e[0][1] = pos[0];
+        e[1][0] = neg[0];
+        e[1][1] = pos[1];
+        e[2][0] = neg[1];
+        e[2][1] = pos[1];
+        e[3][0] = neg[1];
+        e[3][1] = pos[0];
         if ((r = lst__grid_tri(G, e)) != PW_OK) return r;
-        e[1][0] = e[2][0], e[1][1] = e[2][1], e[2][0] = e[3][0], e[2][1] = e[3][1];
+        e[1][0] = e[2][0];
+        e[1][1] = e[2][1];
+        e[2][0] = e[3][0];
+        e[2][1] = e[3][1];
         return lst__grid_tri(G, e);
     }
     for (k = 0; k < 3; k++) {
@@ -22640,12 +23430,15 @@ static int lst__implicit(const pw_alloc *a, const lst__shape_grid *s, pw_mesh *o
     double h = s->h;
     int n = s->n;
     static const int split[6][4] = {{0, 1, 2, 6}, {0, 2, 3, 6}, {0, 3, 7, 6}, {0, 7, 4, 6}, {0, 4, 5, 6}, {0, 5, 1, 6}};
-    static const int cor[8][3] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
+    static const int cor[8][3] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0},
+                                  {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
     lst__grid G;
     size_t nvals = (size_t)(n + 1) * (n + 1) * (n + 1), cap = 16, i;
     int x, y, z, k, j, r = PW_OK;
     memset(&G, 0, sizeof G);
-    G.f = f, G.h = h, G.n = n;
+    G.f = f;
+    G.h = h;
+    G.n = n;
     memcpy(G.lo, s->lo, sizeof G.lo);
     while (cap < 8 * nvals / (size_t)n) cap *= 2;
     G.E.mask = cap - 1;
@@ -22665,12 +23458,16 @@ static int lst__implicit(const pw_alloc *a, const lst__shape_grid *s, pw_mesh *o
             for (x = 0; r == PW_OK && x < n; x++)
                 for (k = 0; r == PW_OK && k < 6; k++) {
                     int c[4];
-                    for (j = 0; j < 4; j++) c[j] = lst__grid_id(&G, x + cor[split[k][j]][0], y + cor[split[k][j]][1], z + cor[split[k][j]][2]);
+                    for (j = 0; j < 4; j++)
+                        c[j] =
+                            lst__grid_id(&G, x + cor[split[k][j]][0], y + cor[split[k][j]][1], z + cor[split[k][j]][2]);
                     r = lst__grid_tet(&G, c);
                 }
     if (r == PW_OK) r = pw__mb_finish(&G.b, out, "implicit surface");
     else pw__mb_free(&G.b);
-    pw_free(a, G.val), pw_free(a, G.E.key), pw_free(a, G.E.id);
+    pw_free(a, G.val);
+    pw_free(a, G.E.key);
+    pw_free(a, G.E.id);
     return r;
 }
 
@@ -22752,7 +23549,8 @@ LSTDEF lst_result lst_builtin_mesh(const char *name, const lst_options *opt, lst
 
 /* Depth 1 and the direction along the axis of part c, at n points evenly
  * over the interval span[0] .. span[1] of its parameter. */
-static int lst__axis_constraints(const pw_alloc *a, const double *c, const double span[2], int n, lst__cset *s, pw_err *e)
+static int lst__axis_constraints(const pw_alloc *a, const double *c, const double span[2], int n, lst__cset *s,
+                                 pw_err *e)
 {
     double p[3], t0 = span[0], t1 = span[1];
     int i, k;
@@ -22778,19 +23576,28 @@ static int lst__tree_constraints(const pw_alloc *a, const lst_mesh *surface, lst
         for (k = m.fstart[f] + 1; k + 1 < m.fstart[f + 1]; k++, tri++) {
             const float *A = m.pos + 3 * m.fv[m.fstart[f]], *B = m.pos + 3 * m.fv[k], *C = m.pos + 3 * m.fv[k + 1];
             double u[3], w[3], n[3], c[3], t, best = 1e300, dn = 0.0;
-            for (j = 0; j < 3; j++) u[j] = B[j] - A[j], w[j] = C[j] - A[j], c[j] = (A[j] + B[j] + C[j]) / 3.0;
+            for (j = 0; j < 3; j++) {
+                u[j] = B[j] - A[j];
+                w[j] = C[j] - A[j];
+                c[j] = (A[j] + B[j] + C[j]) / 3.0;
+            }
             pw_cross3(u, w, n);
             pw_norm3(n);
             for (j = 0; j < 3; j++) {
                 double d = fabs(lst__part(lst__tree_parts[j], c, &t));
-                if (d < best) best = d, dn = fabs(pw_dot3(n, lst__tree_parts[j] + 3));
+                if (d < best) {
+                    best = d;
+                    dn = fabs(pw_dot3(n, lst__tree_parts[j] + 3));
+                }
             }
-            if (dn < 0.6 && lst__add_constraint(a, s, lst__constraint(LST_CONSTRAINT_DEPTH_FACE, tri, NULL, NULL, 0.0, 0.0), e))
+            if (dn < 0.6 &&
+                lst__add_constraint(a, s, lst__constraint(LST_CONSTRAINT_DEPTH_FACE, tri, NULL, NULL, 0.0, 0.0), e))
                 return PW_ERR_NOMEM;
         }
     for (j = 0; j < 3; j++) {
         double span[2];
-        span[0] = j ? 0.3 : 0.0, span[1] = lst__tree_parts[j][6];
+        span[0] = j ? 0.3 : 0.0;
+        span[1] = lst__tree_parts[j][6];
         if (lst__axis_constraints(a, lst__tree_parts[j], span, 12, s, e)) return PW_ERR_NOMEM;
     }
     return PW_OK;
@@ -22803,9 +23610,14 @@ static int lst__torus_constraints(const pw_alloc *a, lst__cset *s, pw_err *e)
     int i;
     for (i = 0; i < 24; i++) {
         double t = i * (2.0 * 3.14159265358979323846 / 24), p[3], d[3];
-        p[0] = pw_cos(t), p[1] = pw_sin(t), p[2] = 0.0;
-        d[0] = -p[1], d[1] = p[0], d[2] = 0.0;
-        if (lst__add_constraint(a, s, lst__constraint(LST_CONSTRAINT_DIRECTION, 0, p, d, 0.0, 0.0), e)) return PW_ERR_NOMEM;
+        p[0] = pw_cos(t);
+        p[1] = pw_sin(t);
+        p[2] = 0.0;
+        d[0] = -p[1];
+        d[1] = p[0];
+        d[2] = 0.0;
+        if (lst__add_constraint(a, s, lst__constraint(LST_CONSTRAINT_DIRECTION, 0, p, d, 0.0, 0.0), e))
+            return PW_ERR_NOMEM;
     }
     return PW_OK;
 }
@@ -22825,16 +23637,17 @@ LSTDEF lst_result lst_builtin_constraints(const char *name, const lst_mesh *surf
     if (!name || !out || (!surface && name && !strcmp(name, "tree")))
         pw_fail(&e, PW_ERR_INVALID, "lst_builtin_constraints: NULL argument");
     else if (!strcmp(name, "kiwi")) { /* the skin (one fill) at 0, the core along z at 1 */
-        if (lst__add_constraint(&a, &s, lst__constraint(LST_CONSTRAINT_DEPTH_FILL, 0, NULL, NULL, 0.0, 60.0), &e) == PW_OK)
+        if (lst__add_constraint(&a, &s, lst__constraint(LST_CONSTRAINT_DEPTH_FILL, 0, NULL, NULL, 0.0, 60.0), &e) ==
+            PW_OK)
             lst__axis_constraints(&a, kiwi_axis, kiwi_span, 13, &s, &e);
-    } else if (!strcmp(name, "tree"))
-        lst__tree_constraints(&a, surface, &s, &e);
-    else if (!strcmp(name, "torus"))
-        lst__torus_constraints(&a, &s, &e);
-    else
-        pw_fail(&e, PW_ERR_INVALID, "no built-in constraints for '%s' (kiwi, tree, torus)", name);
-    if (e.code == PW_OK) out->items = s.c, out->count = s.n, out->allocator = lst__allocator(&a);
-    else pw_free(&a, s.c);
+    } else if (!strcmp(name, "tree")) lst__tree_constraints(&a, surface, &s, &e);
+    else if (!strcmp(name, "torus")) lst__torus_constraints(&a, &s, &e);
+    else pw_fail(&e, PW_ERR_INVALID, "no built-in constraints for '%s' (kiwi, tree, torus)", name);
+    if (e.code == PW_OK) {
+        out->items = s.c;
+        out->count = s.n;
+        out->allocator = lst__allocator(&a);
+    } else pw_free(&a, s.c);
     return lst__done(&e, err);
 }
 
@@ -22936,7 +23749,8 @@ static void lst__write_pastes_part(pw__wb *b, const lst_model *m, const int *tma
         int cnt = 0;
         for (i = 0; i < q->ntets; i++) cnt += tmap[q->tets[i]] >= 0;
         if (!cnt) continue;
-        v[0] = q->exemplar, v[1] = cnt;
+        v[0] = q->exemplar;
+        v[1] = cnt;
         lst__wb_line(b, "paste", v, 2);
         for (i = 0; i < q->ntets; i++) {
             if (tmap[q->tets[i]] < 0) continue;
@@ -22972,7 +23786,10 @@ LSTDEF lst_result lst_write_model(const lst_model *m, lst_write_fn fn, void *ctx
         v[0] = m->masks.count;
         lst__wb_line(&b, "exemplars", v, 1);
         for (k = 0; k < m->masks.count; k++) {
-            v[0] = k, v[1] = m->masks.volumes[k].width, v[2] = m->masks.volumes[k].height, v[3] = m->masks.volumes[k].depth;
+            v[0] = k;
+            v[1] = m->masks.volumes[k].width;
+            v[2] = m->masks.volumes[k].height;
+            v[3] = m->masks.volumes[k].depth;
             lst__wb_line(&b, "exemplar", v, 4);
         }
         lst__write_pastes_part(&b, m, vis.tmap);
@@ -22996,7 +23813,8 @@ static int lst__read_line(pw__sc *s, const char *keyword, long long *v, int n, l
     if (!pw__sc_is(w, len, keyword)) return pw__sc_fail(s, PW_ERR_PARSE, "expected '%s'", keyword);
     for (k = 0; k < n; k++) {
         if ((r = pw__sc_int(s, &v[k], keyword, -1)) != PW_OK) return r;
-        if (v[k] < lo || v[k] > hi) return pw__sc_fail(s, PW_ERR_LIMIT, "%s: %lld is outside %lld..%lld", keyword, v[k], lo, hi);
+        if (v[k] < lo || v[k] > hi)
+            return pw__sc_fail(s, PW_ERR_LIMIT, "%s: %lld is outside %lld..%lld", keyword, v[k], lo, hi);
     }
     if (!pw__sc_eol(s)) return pw__sc_fail(s, PW_ERR_PARSE, "unexpected text after '%s'", keyword);
     pw__sc_next_line(s);
@@ -23020,7 +23838,8 @@ static int lst__read_mesh_part(pw__sc *s, const pw_alloc *a, lst_model *m, pw_er
     long long c;
     int nv, nt, i, k, r;
     if ((r = lst__read_count(s, "nodes", 6, &nv)) != PW_OK) return r;
-    if (!(m->mesh.positions = (float *)pw_alloc_array(a, (size_t)nv * 3, sizeof(float), "model nodes", e))) return PW_ERR_NOMEM;
+    if (!(m->mesh.positions = (float *)pw_alloc_array(a, (size_t)nv * 3, sizeof(float), "model nodes", e)))
+        return PW_ERR_NOMEM;
     m->mesh.nverts = nv;
     for (i = 0; i < nv; i++) {
         pw__sc_skip_empty(s);
@@ -23037,7 +23856,8 @@ static int lst__read_mesh_part(pw__sc *s, const pw_alloc *a, lst_model *m, pw_er
         pw__sc_skip_empty(s);
         for (k = 0; k < 4; k++) {
             if ((r = pw__sc_int(s, &c, "tetrahedron", i)) != PW_OK) return r;
-            if (c < 0 || c >= nv) return pw__sc_fail(s, PW_ERR_INVALID, "tetrahedron %d: node %lld does not exist", i, c);
+            if (c < 0 || c >= nv)
+                return pw__sc_fail(s, PW_ERR_INVALID, "tetrahedron %d: node %lld does not exist", i, c);
             m->mesh.tets[4 * i + k] = (int)c;
         }
         if ((r = pw__tio_rest(s, 0, "tetrahedron", i)) != PW_OK) return r;
@@ -23051,14 +23871,17 @@ static int lst__read_exemplars_part(pw__sc *s, const pw_alloc *a, lst_model *m, 
     int n, k, r;
     if ((r = lst__read_count(s, "exemplars", 10, &n)) != PW_OK) return r;
     if (n < 1 || n > 64) return pw__sc_fail(s, PW_ERR_LIMIT, "%d exemplars (1 to 64 expected)", n);
-    if (!(m->masks.volumes = (lst_volume *)pw_calloc_array(a, (size_t)n, sizeof(lst_volume), "masks", e))) return PW_ERR_NOMEM;
+    if (!(m->masks.volumes = (lst_volume *)pw_calloc_array(a, (size_t)n, sizeof(lst_volume), "masks", e)))
+        return PW_ERR_NOMEM;
     m->masks.count = n;
     m->masks.allocator = lst__allocator(a);
     for (k = 0; k < n; k++) {
         if ((r = lst__read_line(s, "exemplar", v, 4, 0, 65536)) != PW_OK) return r;
         if (v[0] != k) return pw__sc_fail(s, PW_ERR_PARSE, "exemplar %lld listed where exemplar %d belongs", v[0], k);
         if (v[1] < 1 || v[2] < 1 || v[3] < 1) return pw__sc_fail(s, PW_ERR_PARSE, "exemplar %d has an empty size", k);
-        m->masks.volumes[k].width = (int)v[1], m->masks.volumes[k].height = (int)v[2], m->masks.volumes[k].depth = (int)v[3];
+        m->masks.volumes[k].width = (int)v[1];
+        m->masks.volumes[k].height = (int)v[2];
+        m->masks.volumes[k].depth = (int)v[3];
         m->masks.volumes[k].channels = 1;
         m->masks.volumes[k].allocator = lst__allocator(a);
     }
@@ -23079,11 +23902,13 @@ static int lst__read_entry(pw__sc *s, const pw_alloc *a, const lst_model *m, lst
     int k, j, r;
     pw__sc_skip_empty(s);
     if ((r = pw__sc_int(s, &t, "paste entry", i)) != PW_OK) return r;
-    if (t < 0 || t >= m->mesh.ntets) return pw__sc_fail(s, PW_ERR_INVALID, "paste entry %d: tetrahedron %lld does not exist", i, t);
+    if (t < 0 || t >= m->mesh.ntets)
+        return pw__sc_fail(s, PW_ERR_INVALID, "paste entry %d: tetrahedron %lld does not exist", i, t);
     for (k = 0; k < 12; k++) {
         if ((r = pw__sc_num(s, &x, "paste entry", i)) != PW_OK) return r;
         w[k] = pw__num_to_float(x);
-        if (!pw_is_finite(w[k])) return pw__sc_fail(s, PW_ERR_INVALID, "paste entry %d: a texture coordinate is not finite", i);
+        if (!pw_is_finite(w[k]))
+            return pw__sc_fail(s, PW_ERR_INVALID, "paste entry %d: a texture coordinate is not finite", i);
     }
     if ((r = pw__tio_rest(s, 0, "paste entry", i)) != PW_OK) return r;
     q->tets[i] = (int)t;
@@ -23092,7 +23917,8 @@ static int lst__read_entry(pw__sc *s, const pw_alloc *a, const lst_model *m, lst
         if (li < 0 || memcmp(q->uvw + 3 * li, w + 3 * k, 3 * sizeof(float)) != 0) {
             size_t old = *cap;
             float *grown;
-            if (pw_grow(a, (void **)&q->verts, cap, (size_t)q->nverts + 1, sizeof(int), "paste", e)) return PW_ERR_NOMEM;
+            if (pw_grow(a, (void **)&q->verts, cap, (size_t)q->nverts + 1, sizeof(int), "paste", e))
+                return PW_ERR_NOMEM;
             if (*cap != old) {
                 if (!(grown = (float *)pw_realloc(a, q->uvw, (*cap) * 3 * sizeof(float)))) {
                     *cap = old; /* verts grew, uvw did not: keep them consistent for the next try */
@@ -23103,7 +23929,8 @@ static int lst__read_entry(pw__sc *s, const pw_alloc *a, const lst_model *m, lst
             li = q->nverts++;
             q->verts[li] = node;
             for (j = 0; j < 3; j++) q->uvw[3 * li + j] = w[3 * k + j];
-            vstamp[node] = id, vloc[node] = li;
+            vstamp[node] = id;
+            vloc[node] = li;
         }
         q->corners[4 * i + k] = li;
     }
@@ -23123,12 +23950,18 @@ static int lst__read_pastes_part(pw__sc *s, const pw_alloc *a, lst_model *m, pw_
     for (p = 0; p < n && r == PW_OK; p++) {
         lst_paste *q = &m->pastes[p];
         lst__paste_build P;
-        P.q = q, P.id = p, P.stamp = vstamp, P.loc = vloc, P.cap = 0;
+        P.q = q;
+        P.id = p;
+        P.stamp = vstamp;
+        P.loc = vloc;
+        P.cap = 0;
         m->npastes = p + 1;
         if ((r = lst__read_line(s, "paste", v, 2, 0, PW_MAX_MESH_ELEMENTS)) != PW_OK) break;
-        if (v[0] >= m->masks.count) r = pw__sc_fail(s, PW_ERR_PARSE, "paste %d uses exemplar %lld of %d", p, v[0], m->masks.count);
+        if (v[0] >= m->masks.count)
+            r = pw__sc_fail(s, PW_ERR_PARSE, "paste %d uses exemplar %lld of %d", p, v[0], m->masks.count);
         else if (v[1] < 1 || v[1] > (long long)(s->end - s->p) / 26 + 1)
-            r = pw__sc_fail(s, PW_ERR_PARSE, "paste %d announces %lld tetrahedra, the file is too short for them", p, v[1]);
+            r = pw__sc_fail(s, PW_ERR_PARSE, "paste %d announces %lld tetrahedra, the file is too short for them", p,
+                            v[1]);
         if (r != PW_OK) break;
         q->exemplar = (int)v[0];
         q->tets = (int *)pw_alloc_array(a, (size_t)v[1], sizeof(int), "paste", e);
@@ -23197,13 +24030,14 @@ static int lst__read_numbers(pw__sc *s, double *v, int max, const char *what, in
     return PW_OK;
 }
 
-#define LST__LINE_MAX 3000 /* numbers on one constraint line (a stroke of 1000 points) */
+#define LST__LINE_MAX 3000  /* numbers on one constraint line (a stroke of 1000 points) */
 #define LST__STROKE_STEPS 8 /* samples per stroke segment */
 
 /* The keywords of a constraint file, and what each line holds. */
 static const char *const lst__keywords[7] = {"face", "fill", "point", "depth-stroke", "dir", "dir-stroke", "scale"};
-static const char *const lst__syntax[7] = {"face F D", "fill F D [CREASE]", "point X Y Z D", "depth-stroke D X Y Z X Y Z ...",
-                                           "dir X Y Z DX DY DZ", "dir-stroke X Y Z X Y Z ...", "scale X Y Z S"};
+static const char *const lst__syntax[7] = {
+    "face F D",           "fill F D [CREASE]",          "point X Y Z D", "depth-stroke D X Y Z X Y Z ...",
+    "dir X Y Z DX DY DZ", "dir-stroke X Y Z X Y Z ...", "scale X Y Z S"};
 
 /* Whether cnt numbers fit keyword k. */
 static int lst__count_ok(int k, int cnt)
@@ -23225,7 +24059,8 @@ static int lst__depth_stroke(const pw_alloc *a, const double *v, int cnt, lst__c
     for (i = 0; r == PW_OK && i < (cnt - 1) / 3; i++) {
         const double *p = v + 1 + 3 * i, *q = i + 1 < (cnt - 1) / 3 ? p + 3 : p;
         for (k = 0; r == PW_OK && k < (q == p ? 1 : LST__STROKE_STEPS); k++) {
-            double t = (double)k / LST__STROKE_STEPS, x[3] = {p[0] + t * (q[0] - p[0]), p[1] + t * (q[1] - p[1]), p[2] + t * (q[2] - p[2])};
+            double t = (double)k / LST__STROKE_STEPS,
+                   x[3] = {p[0] + t * (q[0] - p[0]), p[1] + t * (q[1] - p[1]), p[2] + t * (q[2] - p[2])};
             r = lst__add_constraint(a, c, lst__constraint(LST_CONSTRAINT_DEPTH_POINT, 0, x, NULL, v[0], 0.0), e);
         }
     }
@@ -23270,8 +24105,10 @@ static int lst__add_line(pw__sc *s, const pw_alloc *a, const lst__cline *ln, lst
     switch (k) {
     case 0:
     case 1:
-        return lst__add_constraint(a, c, lst__constraint(k == 0 ? LST_CONSTRAINT_DEPTH_FACE : LST_CONSTRAINT_DEPTH_FILL,
-                                   (int)v[0], NULL, NULL, v[1], cnt == 3 ? v[2] : 0.0), e);
+        return lst__add_constraint(a, c,
+                                   lst__constraint(k == 0 ? LST_CONSTRAINT_DEPTH_FACE : LST_CONSTRAINT_DEPTH_FILL,
+                                                   (int)v[0], NULL, NULL, v[1], cnt == 3 ? v[2] : 0.0),
+                                   e);
     case 2: return lst__add_constraint(a, c, lst__constraint(LST_CONSTRAINT_DEPTH_POINT, 0, v, NULL, v[3], 0.0), e);
     case 3: return lst__depth_stroke(a, v, cnt, c, e);
     case 4: return lst__add_constraint(a, c, lst__constraint(LST_CONSTRAINT_DIRECTION, 0, v, v + 3, 0.0, 0.0), e);
@@ -23290,17 +24127,21 @@ static int lst__constraint_line(pw__sc *s, const pw_alloc *a, double *v, lst__cs
     for (k = 0; k < 7 && !pw__sc_is(w, len, lst__keywords[k]); k++) {
     }
     if (pw__sc_is(w, len, "stroke"))
-        return pw__sc_fail(s, PW_ERR_PARSE, "'stroke' is ambiguous: write 'depth-stroke D X Y Z X Y Z ...' for depths or "
-                                            "'dir-stroke X Y Z X Y Z ...' for directions");
+        return pw__sc_fail(s, PW_ERR_PARSE,
+                           "'stroke' is ambiguous: write 'depth-stroke D X Y Z X Y Z ...' for depths or "
+                           "'dir-stroke X Y Z X Y Z ...' for directions");
     if (k == 7)
-        return pw__sc_fail(s, PW_ERR_PARSE, "unknown constraint '%s' (face, fill, point, depth-stroke, dir, dir-stroke, scale)",
+        return pw__sc_fail(s, PW_ERR_PARSE,
+                           "unknown constraint '%s' (face, fill, point, depth-stroke, dir, dir-stroke, scale)",
                            pw__sc_tok(s, w, tok));
     if ((r = lst__read_numbers(s, v, LST__LINE_MAX, "constraint line", line, &cnt)) != PW_OK) return r;
     s->line--; /* messages below name the line just read */
     if (!lst__count_ok(k, cnt)) r = pw__sc_fail(s, PW_ERR_PARSE, "expected '%s'", lst__syntax[k]);
     else {
         lst__cline ln;
-        ln.k = k, ln.v = v, ln.cnt = cnt;
+        ln.k = k;
+        ln.v = v;
+        ln.cnt = cnt;
         r = lst__add_line(s, a, &ln, c, e);
     }
     s->line++;
@@ -23308,8 +24149,8 @@ static int lst__constraint_line(pw__sc *s, const pw_alloc *a, double *v, lst__cs
 }
 
 /* Reads a constraint file line by line; '#' comments. */
-static int lst__read_constraints(const pw_alloc *a, const void *data, size_t size, const char *name, lst_constraints *out,
-                                 pw_err *e)
+static int lst__read_constraints(const pw_alloc *a, const void *data, size_t size, const char *name,
+                                 lst_constraints *out, pw_err *e)
 {
     pw__sc s;
     lst__cset c;
@@ -23317,14 +24158,17 @@ static int lst__read_constraints(const pw_alloc *a, const void *data, size_t siz
     int line = 0, r = v ? PW_OK : PW_ERR_NOMEM;
     memset(&c, 0, sizeof c);
     pw__sc_init(&s, data, size, name, 0, e);
-    for (pw__sc_skip_empty(&s); r == PW_OK && s.p < s.end; pw__sc_skip_empty(&s)) r = lst__constraint_line(&s, a, v, &c, line++, e);
+    for (pw__sc_skip_empty(&s); r == PW_OK && s.p < s.end; pw__sc_skip_empty(&s))
+        r = lst__constraint_line(&s, a, v, &c, line++, e);
     if (r == PW_OK && c.n == 0) r = pw_fail(e, PW_ERR_PARSE, "%s: no constraints", s.name);
     pw_free(a, v);
     if (r != PW_OK) {
         pw_free(a, c.c);
         return r;
     }
-    out->items = c.c, out->count = c.n, out->allocator = lst__allocator(a);
+    out->items = c.c;
+    out->count = c.n;
+    out->allocator = lst__allocator(a);
     return PW_OK;
 }
 
@@ -23364,7 +24208,8 @@ LSTDEF lst_result lst_read_tetgen(const void *node, size_t node_size, const void
     if (out) memset(out, 0, sizeof *out);
     snprintf(nn, sizeof nn, "%s.node", name ? name : "tetgen");
     snprintf(en, sizeof en, "%s.ele", name ? name : "tetgen");
-    if (!out || (!node && node_size) || (!ele && ele_size)) pw_fail(&e, PW_ERR_INVALID, "lst_read_tetgen: NULL argument");
+    if (!out || (!node && node_size) || (!ele && ele_size))
+        pw_fail(&e, PW_ERR_INVALID, "lst_read_tetgen: NULL argument");
     else {
         pw_memfile fn = pw_memfile_of(node, node_size, nn), fe = pw_memfile_of(ele, ele_size, en);
         if (pw_tetgen_read_memory(&a, &fn, &fe, &m, &e) == PW_OK) lst__take_tets(&m, &a, out);
@@ -23382,13 +24227,12 @@ LSTDEF lst_result lst_read_medit(const void *data, size_t size, const char *name
     pw_err_clear(&e);
     if (out) memset(out, 0, sizeof *out);
     if (!out || (!data && size)) pw_fail(&e, PW_ERR_INVALID, "lst_read_medit: NULL argument");
-    else if (pw_medit_read_memory(&a, data, size, name ? name : "mesh", &m, &e) == PW_OK)
-        lst__take_tets(&m, &a, out);
+    else if (pw_medit_read_memory(&a, data, size, name ? name : "mesh", &m, &e) == PW_OK) lst__take_tets(&m, &a, out);
     return lst__done(&e, err);
 }
 
-LSTDEF lst_result lst_write_tetgen(const lst_tetmesh *mesh, lst_write_fn node_fn, void *node_ctx,
-                                   lst_write_fn ele_fn, void *ele_ctx, lst_error *err)
+LSTDEF lst_result lst_write_tetgen(const lst_tetmesh *mesh, lst_write_fn node_fn, void *node_ctx, lst_write_fn ele_fn,
+                                   void *ele_ctx, lst_error *err)
 {
     pw_tetmesh m;
     pw_err e;
@@ -23444,8 +24288,8 @@ LSTDEF lst_result lst_write_volume(const lst_volume *vol, lst_write_fn fn, void 
     return lst__done(&e, err);
 }
 
-LSTDEF lst_result lst_read_mesh(const void *data, size_t size, const char *name, const lst_options *opt,
-                                lst_mesh *out, lst_error *err)
+LSTDEF lst_result lst_read_mesh(const void *data, size_t size, const char *name, const lst_options *opt, lst_mesh *out,
+                                lst_error *err)
 {
     lst_options o = lst__options(opt);
     pw_alloc a = lst__alloc(&o.allocator);
@@ -23454,8 +24298,7 @@ LSTDEF lst_result lst_read_mesh(const void *data, size_t size, const char *name,
     pw_err_clear(&e);
     if (out) memset(out, 0, sizeof *out);
     if (!out || (!data && size)) pw_fail(&e, PW_ERR_INVALID, "lst_read_mesh: NULL argument");
-    else if (pw_mesh_read_memory(&a, data, size, name ? name : "mesh", &m, &e) == PW_OK)
-        lst__take_mesh(&m, &a, out);
+    else if (pw_mesh_read_memory(&a, data, size, name ? name : "mesh", &m, &e) == PW_OK) lst__take_mesh(&m, &a, out);
     return lst__done(&e, err);
 }
 
@@ -23487,8 +24330,7 @@ LSTDEF lst_result lst_write_obj(const lst_mesh *mesh, lst_write_fn fn, void *ctx
     return lst__done(&e, err);
 }
 
-LSTDEF lst_result lst_write_image(const lst_image *img, const char *format, lst_write_fn fn, void *ctx,
-                                  lst_error *err)
+LSTDEF lst_result lst_write_image(const lst_image *img, const char *format, lst_write_fn fn, void *ctx, lst_error *err)
 {
     pw_err e;
     pw_err_clear(&e);
@@ -23503,7 +24345,8 @@ LSTDEF lst_result lst_write_image(const lst_image *img, const char *format, lst_
 typedef int (*lst__reader)(const unsigned char *data, size_t size, const char *path, void *out, const lst_options *o,
                            lst_error *le);
 
-static lst_result lst__load(const char *path, const lst_options *opt, void *out, lst__reader fn, const char *what, lst_error *err)
+static lst_result lst__load(const char *path, const lst_options *opt, void *out, lst__reader fn, const char *what,
+                            lst_error *err)
 {
     lst_options o = lst__options(opt);
     pw_alloc a = lst__alloc(&o.allocator);
@@ -23524,20 +24367,24 @@ static int lst__rd_mesh(const unsigned char *d, size_t n, const char *p, void *o
 {
     return (int)lst_read_mesh(d, n, p, o, (lst_mesh *)out, le);
 }
-static int lst__rd_volume(const unsigned char *d, size_t n, const char *p, void *out, const lst_options *o, lst_error *le)
+static int lst__rd_volume(const unsigned char *d, size_t n, const char *p, void *out, const lst_options *o,
+                          lst_error *le)
 {
     return (int)lst_read_volume(d, n, p, o, (lst_volume *)out, le);
 }
-static int lst__rd_model(const unsigned char *d, size_t n, const char *p, void *out, const lst_options *o, lst_error *le)
+static int lst__rd_model(const unsigned char *d, size_t n, const char *p, void *out, const lst_options *o,
+                         lst_error *le)
 {
     return (int)lst_read_model(d, n, p, o, (lst_model *)out, le);
 }
 
-static int lst__rd_constraints(const unsigned char *d, size_t n, const char *p, void *out, const lst_options *o, lst_error *le)
+static int lst__rd_constraints(const unsigned char *d, size_t n, const char *p, void *out, const lst_options *o,
+                               lst_error *le)
 {
     return (int)lst_read_constraints(d, n, p, o, (lst_constraints *)out, le);
 }
-static int lst__rd_image(const unsigned char *d, size_t n, const char *p, void *out, const lst_options *o, lst_error *le)
+static int lst__rd_image(const unsigned char *d, size_t n, const char *p, void *out, const lst_options *o,
+                         lst_error *le)
 {
     return (int)lst_read_image(d, n, p, o, (lst_image *)out, le);
 }
@@ -23612,8 +24459,9 @@ static int lst__job_body(void *arg, pw_write_fn w, void *ctx, pw_err *e)
     lst_error le;
     int r;
     if (j->img) return lst__encode(j->img, j->format, w, ctx, e);
-    r = j->vol ? (int)lst_write_volume(j->vol, w, ctx, &le)
-               : j->mesh ? (int)lst_write_obj(j->mesh, w, ctx, &le) : (int)lst_write_model(j->model, w, ctx, &le);
+    r = j->vol    ? (int)lst_write_volume(j->vol, w, ctx, &le)
+        : j->mesh ? (int)lst_write_obj(j->mesh, w, ctx, &le)
+                  : (int)lst_write_model(j->model, w, ctx, &le);
     return r ? pw_fail(e, r, "%s", le.message) : PW_OK;
 }
 
@@ -23622,11 +24470,13 @@ static lst_result lst__save(const char *path, lst__job *j, lst_error *err)
     pw_err e;
     pw_err_clear(&e);
     if (!path || (!j->img && !j->vol && !j->model && !j->mesh)) pw_fail(&e, PW_ERR_INVALID, "save: NULL argument");
-    else if (j->img && !(j->format = pw_has_ext(path, ".png") ? "png" : pw_has_ext(path, ".ppm") || pw_has_ext(path, ".pnm")
-                                     ? "ppm" : pw_has_ext(path, ".pgm") ? "pgm" : pw_has_ext(path, ".pam") ? "pam" : NULL))
+    else if (j->img && !(j->format = pw_has_ext(path, ".png")                               ? "png"
+                                     : pw_has_ext(path, ".ppm") || pw_has_ext(path, ".pnm") ? "ppm"
+                                     : pw_has_ext(path, ".pgm")                             ? "pgm"
+                                     : pw_has_ext(path, ".pam")                             ? "pam"
+                                                                                            : NULL))
         pw_fail(&e, PW_ERR_UNSUPPORTED, "%s: unknown image extension (use .png, .ppm, .pgm, .pam)", path);
-    else if (!j->img || lst__check_image(j->img, path, &e) == PW_OK)
-        pw_write_file(path, lst__job_body, j, &e);
+    else if (!j->img || lst__check_image(j->img, path, &e) == PW_OK) pw_write_file(path, lst__job_body, j, &e);
     return lst__done(&e, err);
 }
 
@@ -23738,7 +24588,8 @@ static int lst__uf_find(int *parent, int x)
 
 static void lst__uf_join(int *parent, int x, int y)
 {
-    x = lst__uf_find(parent, x), y = lst__uf_find(parent, y);
+    x = lst__uf_find(parent, x);
+    y = lst__uf_find(parent, y);
     if (x < y) parent[y] = x;
     else parent[x] = y;
 }
@@ -23751,7 +24602,8 @@ static int lst__join_corners(const pw_alloc *a, const int *tri, int n, int *pare
     lst__half *sorted = (lst__half *)pw_alloc_array(a, (size_t)nh, sizeof(lst__half), "boundary edges", e);
     if (!sorted) return PW_ERR_NOMEM;
     for (h = 0; h < nh; h++) {
-        sorted[h].key = lst__hkey(tri, h, 0), sorted[h].h = h;
+        sorted[h].key = lst__hkey(tri, h, 0);
+        sorted[h].h = h;
         parent[h] = h;
     }
     qsort(sorted, (size_t)nh, sizeof(lst__half), lst__cmp_half); /* a total order: the same on every platform */
@@ -23781,7 +24633,8 @@ static int lst__atlas_vertices(const pw_alloc *a, const lst_model *m, const int 
     for (c = 0; r == PW_OK && c < 3 * n; c++) {
         int root = lst__uf_find(parent, c);
         if (root == c) {
-            memcpy(out->positions + 3 * out->nverts, m->mesh.positions + 3 * (tri[c] % m->mesh.nverts), 3 * sizeof(float));
+            memcpy(out->positions + 3 * out->nverts, m->mesh.positions + 3 * (tri[c] % m->mesh.nverts),
+                   3 * sizeof(float));
             id[c] = out->nverts++;
         }
         out->tris[c] = id[root]; /* the root is the class's first corner */
@@ -23811,9 +24664,12 @@ static int lst__atlas_boundary(const pw_alloc *a, const lst_model *m, lst__tris 
         memcpy(all->bary + 12 * all->n, cut.bary + 12 * k, 12 * sizeof(float));
         all->tet[all->n++] = cut.tet[k];
     }
-    if (r == PW_OK && all->n == 0) r = pw_fail(e, PW_ERR_DEGENERATE, "atlas: nothing visible: every tetrahedron was cut away");
-    if (r == PW_OK && !(tri = (int *)pw_alloc_array(a, (size_t)all->n * 3, sizeof(int), "boundary corners", e))) r = PW_ERR_NOMEM;
-    for (k = 0; r == PW_OK && k < 3 * all->n; k++) tri[k] = all->tri[k] + (k / 3 >= all->n - cut.n ? m->mesh.nverts : 0);
+    if (r == PW_OK && all->n == 0)
+        r = pw_fail(e, PW_ERR_DEGENERATE, "atlas: nothing visible: every tetrahedron was cut away");
+    if (r == PW_OK && !(tri = (int *)pw_alloc_array(a, (size_t)all->n * 3, sizeof(int), "boundary corners", e)))
+        r = PW_ERR_NOMEM;
+    for (k = 0; r == PW_OK && k < 3 * all->n; k++)
+        tri[k] = all->tri[k] + (k / 3 >= all->n - cut.n ? m->mesh.nverts : 0);
     if (r == PW_OK) r = lst__atlas_vertices(a, m, tri, all->n, out, e);
     pw_free(a, tri);
     pw_free(a, nb);
@@ -23867,7 +24723,11 @@ static int lst__atlas_run(const pw_alloc *a, const lst_model *m, const lst__tris
         return PW_ERR_NOMEM;
     }
     for (f = 0; f <= out->ntris; f++) fstart[f] = 3 * f;
-    pm.nv = out->nverts, pm.pos = out->positions, pm.nf = out->ntris, pm.fstart = fstart, pm.fv = out->tris;
+    pm.nv = out->nverts;
+    pm.pos = out->positions;
+    pm.nf = out->ntris;
+    pm.fstart = fstart;
+    pm.fv = out->tris;
     r = pw_trimesh_init_ex(a, &pm, 1, &tm, e);
     if (r == PW_OK) r = pw_atlas_charts_build(a, &tm, o->cone_angle, prog, &C, e);
     if (r == PW_OK) {
@@ -23933,11 +24793,12 @@ static int lst__atlas_check(const lst_atlas *at, lst_write_fn fn, const char *wh
     int k;
     if (!at || !fn) return pw_fail(e, PW_ERR_INVALID, "%s: no atlas or no writer", what);
     if (at->nverts < 1 || at->ntris < 1 || !at->positions || !at->tris || !at->uvs)
-        return pw_fail(e, PW_ERR_INVALID, "%s: the atlas is empty (%d vertices, %d triangles)", what, at->nverts, at->ntris);
+        return pw_fail(e, PW_ERR_INVALID, "%s: the atlas is empty (%d vertices, %d triangles)", what, at->nverts,
+                       at->ntris);
     for (k = 0; k < 3 * at->ntris; k++)
         if (at->tris[k] < 0 || at->tris[k] >= at->nverts)
-            return pw_fail(e, PW_ERR_INVALID, "%s: corner %d of atlas triangle %d names vertex %d of %d", what, k % 3, k / 3,
-                           at->tris[k], at->nverts);
+            return pw_fail(e, PW_ERR_INVALID, "%s: corner %d of atlas triangle %d names vertex %d of %d", what, k % 3,
+                           k / 3, at->tris[k], at->nverts);
     return PW_OK;
 }
 
@@ -23959,12 +24820,19 @@ LSTDEF lst_result lst_write_gltf(const lst_atlas *atlas, const lst_render_option
         for (f = 0; f <= atlas->ntris; f++) fstart[f] = 3 * f;
         img = lst__pw_image(&atlas->image);
         part.name = "lst";
-        part.nv = atlas->nverts, part.pos = atlas->positions, part.nf = atlas->ntris, part.fstart = fstart;
-        part.fv = atlas->tris, part.corner_uv = atlas->uvs, part.texture = &img;
-        scene.parts = &part, scene.nparts = 1, scene.generator = "patchwork lst.h " LST_VERSION_STRING;
+        part.nv = atlas->nverts;
+        part.pos = atlas->positions;
+        part.nf = atlas->ntris;
+        part.fstart = fstart;
+        part.fv = atlas->tris;
+        part.corner_uv = atlas->uvs;
+        part.texture = &img;
+        scene.parts = &part;
+        scene.nparts = 1;
+        scene.generator = "patchwork lst.h " LST_VERSION_STRING;
         if (view) {
-            cam = pw_gltf_view_camera(atlas->positions, atlas->nverts, view->width, view->height, view->view_dir, view->up,
-                                      &scene.aspect);
+            cam = pw_gltf_view_camera(atlas->positions, atlas->nverts, view->width, view->height, view->view_dir,
+                                      view->up, &scene.aspect);
             scene.camera = &cam;
         }
         pw_gltf_write(&a, &scene, fn, ctx, &e);
@@ -23984,8 +24852,12 @@ LSTDEF lst_result lst_write_atlas_obj(const lst_atlas *atlas, const char *mtl_na
     memset(&tm, 0, sizeof tm);
     memset(&pm, 0, sizeof pm);
     if (!lst__atlas_check(atlas, fn, "OBJ", &e)) {
-        tm.nv = atlas->nverts, tm.pos = atlas->positions, tm.nf = atlas->ntris, tm.tri = atlas->tris;
-        if (!pw_atlas_mesh(&a, &tm, atlas->uvs, &pm, &e)) pw_mesh_write_obj(&pm, mtl_name, mtl_name ? "lst" : NULL, fn, ctx, &e);
+        tm.nv = atlas->nverts;
+        tm.pos = atlas->positions;
+        tm.nf = atlas->ntris;
+        tm.tri = atlas->tris;
+        if (!pw_atlas_mesh(&a, &tm, atlas->uvs, &pm, &e))
+            pw_mesh_write_obj(&pm, mtl_name, mtl_name ? "lst" : NULL, fn, ctx, &e);
     }
     pw_free(&a, pm.fstart);
     pw_free(&a, pm.uv);
@@ -24017,12 +24889,15 @@ static int lst__gltf_job(void *arg, pw_write_fn w, void *ctx, pw_err *e)
     return r ? pw_fail(e, r, "%s", le.message) : PW_OK;
 }
 
-LSTDEF lst_result lst_save_gltf(const char *path, const lst_atlas *atlas, const lst_render_options *view, lst_error *err)
+LSTDEF lst_result lst_save_gltf(const char *path, const lst_atlas *atlas, const lst_render_options *view,
+                                lst_error *err)
 {
     lst__export_job j;
     pw_err e;
     pw_err_clear(&e);
-    j.atlas = atlas, j.view = view, j.name = NULL;
+    j.atlas = atlas;
+    j.view = view;
+    j.name = NULL;
     if (!path) pw_fail(&e, PW_ERR_INVALID, "lst_save_gltf: NULL path");
     else pw_write_file(path, lst__gltf_job, &j, &e);
     return lst__done(&e, err);
@@ -24051,7 +24926,9 @@ LSTDEF lst_result lst_save_atlas_obj(const char *obj_path, const lst_atlas *atla
     pw_err e;
     pw_err_clear(&e);
     if (pw_obj_mtl_path(obj_path, mtl, sizeof mtl, &mtl_name, &e) != PW_OK) return lst__done(&e, err);
-    j.atlas = atlas, j.view = NULL, j.name = texture_path ? mtl_name : NULL;
+    j.atlas = atlas;
+    j.view = NULL;
+    j.name = texture_path ? mtl_name : NULL;
     if (pw_write_file(obj_path, lst__atlas_obj_job, &j, &e) == PW_OK && texture_path) {
         j.name = texture_path;
         pw_write_file(mtl, lst__mtl_job, &j, &e);

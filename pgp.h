@@ -3,44 +3,44 @@
  *
  * CONTENTS (line: source, what it holds)
  *     45: src/pgp/pgp.h, the public API and its documentation
- *    662: src/common/base.h, allocation hooks, result codes, error messages, limits, he
- *    981: src/common/vec.h, small vector math on float[3] arrays and a 3-float struct.
- *   1078: src/common/rng.h, seeded random numbers with the same output on every platfo
- *   1155: src/common/noise.h, value noise and its fractal sum, for the built-in procedur
- *   1257: src/common/image.h, float images and their file formats.
- *   1986: src/common/deflate.h, zlib (RFC 1950) and deflate (RFC 1951) compression and
- *   3014: src/common/png.h, PNG writer and reader, and the image front end.
- *   3601: src/common/text.h, locale-independent number parsing and formatting, a line s
- *   3984: src/common/mesh.h, polygon meshes as flat arrays, and their file formats.
- *   5499: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
- *   5945: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
- *   6367: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
- *   7604: src/common/zsparse.h, complex Hermitian sparse systems, solved by conjugate grad
- *   7860: src/common/raster.h, exact scan conversion of 2D triangles.
- *   8340: src/common/render.h, a small deterministic software renderer for textured trian
- *  10121: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
- *  10311: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
- *  10396: src/common/atlas.h, texture atlases of triangle meshes — charts, packing, ba
- *  12348: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
- *  13076: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
- *  13884: src/pgp/tile3.h, sampling a material-space tile (Ray et al. 2009, §2: "a 3
- *  13998: src/common/glue.h, what every method header needs between its public types an
- *  14205: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  14751: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
- *  15257: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
- *  15751: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
- *  15891: src/common/kdtree.h, nearest-neighbour search among n points of dimension d, wi
- *  16225: src/common/pca.h, principal component analysis of vectors streamed one at a 
- *  16410: src/pgp/core.c, pgp.h's glue to the shared core, its defaults, and the map
- *  16663: src/pgp/field.c, §2.1 effect areas and §2.2 interpolation of the constrai
- *  17024: src/pgp/solve.c, §2.3 the periodic global parameterization, the recovery o
- *  17784: src/pgp/edit.c, the public editing calls of a mapping. §2.1 (Ray, Lévy, 
- *  17919: src/pgp/render.c, §3 rendering, and a cleaner treatment of the vortices.
- *  18307: src/pgp/builtin.c, built-in meshes and material-space tiles for demos and tes
- *  18569: src/pgp/io.c, files and memory for pgp.h: material-space tiles (NRRD, or
- *  19018: src/pgp/export.c, the mapping for other programs. A viewer that knows nothin
- *  19217: src/pgp/morph.c, the inputs of §1 (keys brought to the tile size, made til
- *  19857: src/pgp/synth.c, §1.2 constrained tile synthesis, and the whole of §1: ke
+ *    654: src/common/base.h, allocation hooks, result codes, error messages, limits, he
+ *    966: src/common/vec.h, small vector math on float[3] arrays and a 3-float struct.
+ *   1069: src/common/rng.h, seeded random numbers with the same output on every platfo
+ *   1146: src/common/noise.h, value noise and its fractal sum, for the built-in procedur
+ *   1248: src/common/image.h, float images and their file formats.
+ *   1942: src/common/deflate.h, zlib (RFC 1950) and deflate (RFC 1951) compression and
+ *   2939: src/common/png.h, PNG writer and reader, and the image front end.
+ *   3497: src/common/text.h, locale-independent number parsing and formatting, a line s
+ *   3900: src/common/mesh.h, polygon meshes as flat arrays, and their file formats.
+ *   5429: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
+ *   5930: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
+ *   6354: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
+ *   7617: src/common/zsparse.h, complex Hermitian sparse systems, solved by conjugate grad
+ *   7877: src/common/raster.h, exact scan conversion of 2D triangles.
+ *   8351: src/common/render.h, a small deterministic software renderer for textured trian
+ *  10118: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
+ *  10305: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
+ *  10390: src/common/atlas.h, texture atlases of triangle meshes — charts, packing, ba
+ *  12363: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
+ *  13127: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
+ *  13888: src/pgp/tile3.h, sampling a material-space tile (Ray et al. 2009, §2: "a 3
+ *  13996: src/common/glue.h, what every method header needs between its public types an
+ *  14197: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  14861: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
+ *  15358: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
+ *  15857: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
+ *  16000: src/common/kdtree.h, nearest-neighbour search among n points of dimension d, wi
+ *  16343: src/common/pca.h, principal component analysis of vectors streamed one at a 
+ *  16530: src/pgp/core.c, pgp.h's glue to the shared core, its defaults, and the map
+ *  16787: src/pgp/field.c, §2.1 effect areas and §2.2 interpolation of the constrai
+ *  17169: src/pgp/solve.c, §2.3 the periodic global parameterization, the recovery o
+ *  17980: src/pgp/edit.c, the public editing calls of a mapping. §2.1 (Ray, Lévy, 
+ *  18119: src/pgp/render.c, §3 rendering, and a cleaner treatment of the vortices.
+ *  18551: src/pgp/builtin.c, built-in meshes and material-space tiles for demos and tes
+ *  18807: src/pgp/io.c, files and memory for pgp.h: material-space tiles (NRRD, or
+ *  19267: src/pgp/export.c, the mapping for other programs. A viewer that knows nothin
+ *  19484: src/pgp/morph.c, the inputs of §1 (keys brought to the tile size, made til
+ *  20163: src/pgp/synth.c, §1.2 constrained tile synthesis, and the whole of §1: ke
  */
 /* pgp.h - material-space texturing with a periodic global parameterization.
  *
@@ -231,8 +231,8 @@ typedef struct pgp_mesh {
     int nverts;
     float *positions; /* nverts*3 */
     int nfaces;
-    int *face_start;  /* nfaces+1 */
-    int *face_verts;  /* face_start[nfaces] */
+    int *face_start; /* nfaces+1 */
+    int *face_verts; /* face_start[nfaces] */
     pgp_allocator allocator;
 } pgp_mesh;
 
@@ -287,24 +287,24 @@ typedef enum pgp_show {
  * them, NULL for the defaults). The tile is always sampled one way:
  * trilinear mipmaps in s and t, linear in m. */
 typedef struct pgp_render_options {
-    int width, height;       /* default 800 x 600 */
-    int supersample;         /* default 2 */
-    float view_dir[3];       /* default (-0.55,-0.45,-0.7) */
-    float up[3];             /* default (0,1,0) */
-    float background[3];     /* default white */
-    pgp_fix fix;             /* how vortices and singular triangles are drawn; default
+    int width, height;        /* default 800 x 600 */
+    int supersample;          /* default 2 */
+    float view_dir[3];        /* default (-0.55,-0.45,-0.7) */
+    float up[3];              /* default (0,1,0) */
+    float background[3];      /* default white */
+    pgp_fix fix;              /* how vortices and singular triangles are drawn; default
                                 CLEAN */
-    pgp_show show;           /* default TILE */
-    float zoom;              /* > 1: a close-up, the field of view divided by zoom,
+    pgp_show show;            /* default TILE */
+    float zoom;               /* > 1: a close-up, the field of view divided by zoom,
                                 looking at `center` from the same direction; default 1
                                 (the whole mesh; 0 or less is the same) */
-    float center[3];         /* the point a close-up looks at (used when zoom > 1) */
-    int threads;             /* rendering threads: 0 (default) one per processor when the
+    float center[3];          /* the point a close-up looks at (used when zoom > 1) */
+    int threads;              /* rendering threads: 0 (default) one per processor when the
                                 implementation is built with PW_THREADS (POSIX threads;
                                 link with -pthread), else 1; n: at most n. With more
                                 than one, the allocator is called from several threads */
     pgp_parallel_fn parallel; /* optional: the caller's parallel for, used instead of threads */
-    void *parallel_pool;     /* its first argument */
+    void *parallel_pool;      /* its first argument */
 } pgp_render_options;
 
 /* Masks computed from a key when none is given (§1: "constructed
@@ -329,35 +329,35 @@ typedef enum pgp_tileable {
 /* Tile synthesis settings (§1; pgp_options.synth; the synthesis calls take
  * a pointer to them, NULL for the defaults). */
 typedef struct pgp_synth_options {
-    int size;            /* tile side in texels; every key (and mask) is resampled
+    int size;                /* tile side in texels; every key (and mask) is resampled
                             periodically to size x size (bilinear up, box filter down;
                             never cropped); default 128, 16 to 4096 */
-    int layers;          /* layers of the tile (m from 0 to 1); the keys sit at evenly
+    int layers;              /* layers of the tile (m from 0 to 1); the keys sit at evenly
                             spaced layers, the first at 0 and the last at layers-1;
                             default 8 */
-    int single;          /* 1: single-tile mode (Fig. 14): one key, every layer
+    int single;              /* 1: single-tile mode (Fig. 14): one key, every layer
                             synthesised with the key's own mask, to hide periodicity */
-    pgp_tileable tileable; /* default AUTO */
-    pgp_mask auto_mask;  /* default DARK */
-    int steps;           /* §1.1 advection steps N per morph; 0: at least 16 per layer and
+    pgp_tileable tileable;   /* default AUTO */
+    pgp_mask auto_mask;      /* default DARK */
+    int steps;               /* §1.1 advection steps N per morph; 0: at least 16 per layer and
                             enough that dt <= 1/2 texel */
-    int uniform;         /* 1: layers at n = m N / M instead of the speed-adaptive H(m) */
-    int levels;          /* §1.2 pyramid levels; 0: halve while the side stays even and
+    int uniform;             /* 1: layers at n = m N / M instead of the speed-adaptive H(m) */
+    int levels;              /* §1.2 pyramid levels; 0: halve while the side stays even and
                             at least 32 texels */
-    int coarse_passes;   /* optimisation passes at the coarsest level; default 20 */
-    int fine_passes;     /* ... at every finer level; default 4 */
-    int color_window;    /* side of the colour neighbourhood (odd); default 5 */
-    int mask_window;     /* side of the mask neighbourhood (odd); default 3 */
-    int color_dims;      /* PCA coefficients kept of a colour neighbourhood; default 5, at
+    int coarse_passes;       /* optimisation passes at the coarsest level; default 20 */
+    int fine_passes;         /* ... at every finer level; default 4 */
+    int color_window;        /* side of the colour neighbourhood (odd); default 5 */
+    int mask_window;         /* side of the mask neighbourhood (odd); default 3 */
+    int color_dims;          /* PCA coefficients kept of a colour neighbourhood; default 5, at
                             most 8 */
-    int mask_dims;       /* ... of a mask neighbourhood; default 3, at most 8 */
-    float mask_weight;   /* scale of the mask coefficients ("scaled by two"); default 2 */
-    float usage_weight;  /* usage penalty: each current use of an input texel costs this
+    int mask_dims;           /* ... of a mask neighbourhood; default 3, at most 8 */
+    float mask_weight;       /* scale of the mask coefficients ("scaled by two"); default 2 */
+    float usage_weight;      /* usage penalty: each current use of an input texel costs this
                             fraction of the input vectors' total variance; default 0.2;
                             negative: no penalty */
-    float search_eps;    /* nearest neighbours within a factor 1 + eps of the nearest
+    float search_eps;        /* nearest neighbours within a factor 1 + eps of the nearest
                             distance, as the paper's ANN; default 1; negative: exact */
-    int search_buckets;  /* ... scanning at most this many kd-tree buckets (of 8 input
+    int search_buckets;      /* ... scanning at most this many kd-tree buckets (of 8 input
                             texels) per search, ANN's bound on the points visited;
                             default 64; negative: no bound. With search_eps < 0 and
                             search_buckets < 0 every match is the exact nearest one */
@@ -393,29 +393,29 @@ typedef struct pgp_constraints {
 
 /* A texture atlas of the mapping (pgp_bake_atlas), as lapped.h's. */
 typedef struct pgp_atlas_options {
-    int size;                /* atlas image side, pixels; default 1024 (16..8192) */
-    float cone_angle;        /* max angle between a chart's normals and its centre's,
+    int size;         /* atlas image side, pixels; default 1024 (16..8192) */
+    float cone_angle; /* max angle between a chart's normals and its centre's,
                                 degrees; default 60 */
-    int gutter;              /* pixels between charts, filled by dilation; default 2 */
+    int gutter;       /* pixels between charts, filled by dilation; default 2 */
 } pgp_atlas_options;
 
 typedef struct pgp_options {
-    pgp_field_mode field;    /* default UP */
-    float up[3];             /* default (0,1,0): the tile's t axis follows it */
-    float scale;             /* tile side in mesh units where no scale constraint
+    pgp_field_mode field;              /* default UP */
+    float up[3];                       /* default (0,1,0): the tile's t axis follows it */
+    float scale;                       /* tile side in mesh units where no scale constraint
                                 reaches; 0: a tenth of the bounding-box diagonal.
                                 pgp_create refuses a side given here over 10 diagonals
                                 (one flat colour) or under 2 mean edge lengths
                                 (periods the triangles cannot carry) */
-    float material;          /* m where no material constraint reaches; default 0 */
-    float min_scale;         /* floor of the interpolated scale (§2.2 epsilon), as a
+    float material;                    /* m where no material constraint reaches; default 0 */
+    float min_scale;                   /* floor of the interpolated scale (§2.2 epsilon), as a
                                 fraction of `scale`; default 0.05 */
-    int smoothing;           /* CURVATURE: smoothing sweeps; default 20 */
-    float singular_distortion; /* §3: a triangle is distorted when
+    int smoothing;                     /* CURVATURE: smoothing sweeps; default 20 */
+    float singular_distortion;         /* §3: a triangle is distorted when
                                 |grad s - g_s|^2 / |g_s|^2 (or for t) exceeds this;
                                 default 0.5 */
-    pgp_weights weights;     /* default COTAN */
-    float integrable;        /* beyond the paper: 0 (default) follows the field; > 0
+    pgp_weights weights;               /* default COTAN */
+    float integrable;                  /* beyond the paper: 0 (default) follows the field; > 0
                                 rotates the field and varies the tile side smoothly
                                 (within [1/2, 2] of `scale`, its mean kept) to cancel
                                 the curl of the gradients the PGP must follow (each
@@ -428,8 +428,8 @@ typedef struct pgp_options {
                                 solve); their ids are 0, 1, ...; default none */
     int nconstraints;
     pgp_render_options render; /* pgp_render's settings (pass &opt.render) */
-    pgp_synth_options synth; /* tile synthesis settings (pass &opt.synth) */
-    pgp_atlas_options atlas; /* pgp_bake_atlas's */
+    pgp_synth_options synth;   /* tile synthesis settings (pass &opt.synth) */
+    pgp_atlas_options atlas;   /* pgp_bake_atlas's */
     pgp_allocator allocator;
     pgp_progress_fn progress;
     void *progress_user;
@@ -439,9 +439,9 @@ typedef struct pgp_options {
  * calls, freed by pgp_map_free. The fields are for reading. */
 typedef struct pgp_map {
     int nverts, ntris;
-    int *tris;     /* ntris*3 vertex indices, counter-clockwise (the fan
+    int *tris;                   /* ntris*3 vertex indices, counter-clockwise (the fan
                       triangulation of the mesh's faces) */
-    float *coords; /* ntris*9: s, t, m of corners 0, 1, 2, the Eq. (4) coordinates
+    float *coords;               /* ntris*9: s, t, m of corners 0, 1, 2, the Eq. (4) coordinates
                       (before the rendering fix), kept current by pgp_create and by
                       every edit */
     struct pgp_map_state *state; /* private: solver, fields, constraints */
@@ -471,12 +471,12 @@ typedef struct pgp_field {
  * 30% of stretch or compression), sheared when grad s and grad t are more
  * than 20 degrees away from perpendicular. */
 typedef struct pgp_stats {
-    int triangles, vortices; /* pgp_map_vortices */
-    int singular;            /* §3's singular triangles (pgp_map_singular) */
+    int triangles, vortices;  /* pgp_map_vortices */
+    int singular;             /* §3's singular triangles (pgp_map_singular) */
     float stretched, sheared; /* shares of the surface, in [0, 1] */
-    float mean_edge;         /* mean edge length */
-    float diagonal;          /* bounding-box diagonal */
-    float scale;             /* the default tile side (options.scale or its default) */
+    float mean_edge;          /* mean edge length */
+    float diagonal;           /* bounding-box diagonal */
+    float scale;              /* the default tile side (options.scale or its default) */
 } pgp_stats;
 
 /* Every field filled in, sub-options (render, synth) included. */
@@ -493,12 +493,10 @@ PGPDEF void pgp_map_free(pgp_map *map);
  * within c->radius of the constraint, in order of distance; the rest is
  * locked. On success *id (if not NULL) names the constraint and *area (if
  * not NULL) lists the triangles recomputed. */
-PGPDEF pgp_result pgp_add_constraint(pgp_map *map, const pgp_constraint *c, int *id, pgp_area *area,
-                                     pgp_error *err);
+PGPDEF pgp_result pgp_add_constraint(pgp_map *map, const pgp_constraint *c, int *id, pgp_area *area, pgp_error *err);
 /* A new value for constraint `id` (the direction for ORIENT, value[0] for
  * SCALE and MATERIAL), recomputed over the same radius. */
-PGPDEF pgp_result pgp_edit_constraint(pgp_map *map, int id, const float value[3], pgp_area *area,
-                                      pgp_error *err);
+PGPDEF pgp_result pgp_edit_constraint(pgp_map *map, int id, const float value[3], pgp_area *area, pgp_error *err);
 PGPDEF pgp_result pgp_remove_constraint(pgp_map *map, int id, pgp_area *area, pgp_error *err);
 PGPDEF void pgp_area_free(pgp_area *area);
 
@@ -519,8 +517,8 @@ PGPDEF pgp_result pgp_map_field(const pgp_map *map, pgp_field *out, pgp_error *e
 PGPDEF void pgp_field_free(pgp_field *field);
 
 /* §3: renders the mapped mesh textured with the tile (ro NULL: defaults). */
-PGPDEF pgp_result pgp_render(const pgp_map *map, const pgp_tile *tile, const pgp_render_options *ro,
-                             pgp_image *out, pgp_error *err);
+PGPDEF pgp_result pgp_render(const pgp_map *map, const pgp_tile *tile, const pgp_render_options *ro, pgp_image *out,
+                             pgp_error *err);
 
 /* The mapping for other programs: per-corner texture coordinates and one
  * image. From pgp_bake_atlas, charts of the mesh and the image of what
@@ -531,10 +529,10 @@ PGPDEF pgp_result pgp_render(const pgp_map *map, const pgp_tile *tile, const pgp
  * then show their seams, §3). */
 typedef struct pgp_atlas {
     int ntris;
-    float *uvs;              /* ntris*6, per corner, v = 0 at the bottom of the image */
-    int ncharts;             /* charts of a baked atlas (0 for the raw coordinates) */
-    float fill;              /* fraction of the image the charts cover (1 for the raw) */
-    int repeat;              /* 1: the coordinates wrap (the raw (s, t)); 0: within [0, 1] */
+    float *uvs;  /* ntris*6, per corner, v = 0 at the bottom of the image */
+    int ncharts; /* charts of a baked atlas (0 for the raw coordinates) */
+    float fill;  /* fraction of the image the charts cover (1 for the raw) */
+    int repeat;  /* 1: the coordinates wrap (the raw (s, t)); 0: within [0, 1] */
     pgp_image image;
 } pgp_atlas;
 
@@ -561,31 +559,26 @@ PGPDEF pgp_result pgp_write_gltf(const pgp_map *map, const pgp_atlas *atlas, con
  * "grid" (a flat square, with a boundary). Tiles: "bricks" (bricks that
  * weather into pebbles along m, 4 layers), "stripes" (1 layer); their
  * noise follows opt->synth.seed. */
-PGPDEF pgp_result pgp_builtin_mesh(const char *name, const pgp_options *opt, pgp_mesh *out,
-                                   pgp_error *err);
-PGPDEF pgp_result pgp_builtin_tile(const char *name, int size, const pgp_options *opt, pgp_tile *out,
-                                   pgp_error *err);
+PGPDEF pgp_result pgp_builtin_mesh(const char *name, const pgp_options *opt, pgp_mesh *out, pgp_error *err);
+PGPDEF pgp_result pgp_builtin_tile(const char *name, int size, const pgp_options *opt, pgp_tile *out, pgp_error *err);
 
 /* Files and memory. Tiles: NRRD (uint8/uint16/float, dimension 4 with
  * sizes C W H M, or 3 with W H M, raw or gzip) or any 2D image (one
  * layer). Meshes: OBJ, OFF, PLY, STL. Images: PNG, PPM/PGM/PAM, GIMP .pat;
  * written as PNG, PPM, PGM or PAM (format "png", "ppm", "pgm", "pam"). */
-PGPDEF pgp_result pgp_tile_from_image(const pgp_image *img, const pgp_options *opt, pgp_tile *out,
-                                      pgp_error *err);
-PGPDEF pgp_result pgp_read_tile(const void *data, size_t size, const char *name, const pgp_options *opt,
-                                pgp_tile *out, pgp_error *err);
+PGPDEF pgp_result pgp_tile_from_image(const pgp_image *img, const pgp_options *opt, pgp_tile *out, pgp_error *err);
+PGPDEF pgp_result pgp_read_tile(const void *data, size_t size, const char *name, const pgp_options *opt, pgp_tile *out,
+                                pgp_error *err);
 PGPDEF pgp_result pgp_write_tile(const pgp_tile *tile, pgp_write_fn fn, void *ctx, pgp_error *err);
-PGPDEF pgp_result pgp_read_mesh(const void *data, size_t size, const char *name, const pgp_options *opt,
-                                pgp_mesh *out, pgp_error *err);
+PGPDEF pgp_result pgp_read_mesh(const void *data, size_t size, const char *name, const pgp_options *opt, pgp_mesh *out,
+                                pgp_error *err);
 PGPDEF pgp_result pgp_read_image(const void *data, size_t size, const char *name, const pgp_options *opt,
                                  pgp_image *out, pgp_error *err);
-PGPDEF pgp_result pgp_write_image(const pgp_image *img, const char *format, pgp_write_fn fn, void *ctx,
-                                  pgp_error *err);
+PGPDEF pgp_result pgp_write_image(const pgp_image *img, const char *format, pgp_write_fn fn, void *ctx, pgp_error *err);
 /* OBJ: the triangulated mesh with `vt s t m` per corner, faces grouped as
  * `g regular` then `g singular`. mesh may be NULL; if given it must be the
  * map's. */
-PGPDEF pgp_result pgp_write_obj(const pgp_mesh *mesh, const pgp_map *map, pgp_write_fn fn, void *ctx,
-                                pgp_error *err);
+PGPDEF pgp_result pgp_write_obj(const pgp_mesh *mesh, const pgp_map *map, pgp_write_fn fn, void *ctx, pgp_error *err);
 /* A constraints file (docs/pgp.md): UTF-8 text, one constraint per line,
  * "orient F dx dy dz", "scale V S", "material V m", and "radius R" for the
  * lines that follow (default 0: the whole mesh); '#' starts a comment. The
@@ -598,8 +591,7 @@ PGPDEF pgp_result pgp_read_constraints(const void *data, size_t size, const char
 PGPDEF pgp_result pgp_load_mesh(const char *path, const pgp_options *opt, pgp_mesh *out, pgp_error *err);
 PGPDEF pgp_result pgp_load_image(const char *path, const pgp_options *opt, pgp_image *out, pgp_error *err);
 PGPDEF pgp_result pgp_load_tile(const char *path, const pgp_options *opt, pgp_tile *out, pgp_error *err);
-PGPDEF pgp_result pgp_load_constraints(const char *path, const pgp_options *opt, pgp_constraints *out,
-                                       pgp_error *err);
+PGPDEF pgp_result pgp_load_constraints(const char *path, const pgp_options *opt, pgp_constraints *out, pgp_error *err);
 PGPDEF pgp_result pgp_save_tile(const char *path, const pgp_tile *tile, pgp_error *err);
 PGPDEF pgp_result pgp_save_image(const char *path, const pgp_image *img, pgp_error *err);
 PGPDEF pgp_result pgp_save_obj(const char *path, const pgp_mesh *mesh, const pgp_map *map, pgp_error *err);
@@ -626,8 +618,8 @@ typedef struct pgp_key {
 
 /* The feature mask of an image as computed when a key comes without one:
  * one channel, 1 on features and 0 elsewhere, the image's size. */
-PGPDEF pgp_result pgp_feature_mask(const pgp_image *image, pgp_mask mode, const pgp_synth_options *opt,
-                                   pgp_image *out, pgp_error *err);
+PGPDEF pgp_result pgp_feature_mask(const pgp_image *image, pgp_mask mode, const pgp_synth_options *opt, pgp_image *out,
+                                   pgp_error *err);
 
 /* §1.1 alone: the feature masks F_0 .. F_M (M = layers - 1, layers >= 2) of
  * the morph from mask0 to mask1 (same size, each with features and
@@ -642,8 +634,8 @@ PGPDEF pgp_result pgp_morph_masks(const pgp_image *mask0, const pgp_image *mask1
  * are morphed pairwise. masks (may be NULL) receives the feature mask of
  * every layer (one channel, 0/1). Key masks must have features and
  * background, except in single-tile mode. */
-PGPDEF pgp_result pgp_synthesize_tile(const pgp_key *keys, int nkeys, const pgp_synth_options *opt,
-                                      pgp_tile *out, pgp_tile *masks, pgp_error *err);
+PGPDEF pgp_result pgp_synthesize_tile(const pgp_key *keys, int nkeys, const pgp_synth_options *opt, pgp_tile *out,
+                                      pgp_tile *masks, pgp_error *err);
 /* ---- end of §1 tile synthesis ---- */
 
 #ifdef __cplusplus
@@ -734,11 +726,17 @@ enum {
 
 PW__DEF const char *pw_result_string(int code)
 {
-    static const char *const names[PW_ERR__COUNT] = {
-        "ok", "out of memory", "input/output error", "parse error",
-        "unsupported feature", "size limit exceeded", "invalid argument",
-        "bad mesh topology", "degenerate geometry", "cancelled",
-        "solver did not converge"};
+    static const char *const names[PW_ERR__COUNT] = {"ok",
+                                                     "out of memory",
+                                                     "input/output error",
+                                                     "parse error",
+                                                     "unsupported feature",
+                                                     "size limit exceeded",
+                                                     "invalid argument",
+                                                     "bad mesh topology",
+                                                     "degenerate geometry",
+                                                     "cancelled",
+                                                     "solver did not converge"};
     if (code < 0 || code >= PW_ERR__COUNT) return "unknown error";
     return names[code];
 }
@@ -796,33 +794,27 @@ PW__DEF void *pw_realloc(const pw_alloc *a, void *p, size_t n)
 PW__DEF void pw_free(const pw_alloc *a, void *p)
 {
     if (!p) return;
-    if (a && a->free_fn)
-        a->free_fn(a->user, p);
-    else
-        PW_FREE(p);
+    if (a && a->free_fn) a->free_fn(a->user, p);
+    else PW_FREE(p);
 }
 
 /* count*size bytes, overflow-checked; records PW_ERR_NOMEM (naming `what`)
  * on failure. */
-PW__DEF void *pw_alloc_array(const pw_alloc *a, size_t count, size_t size,
-                             const char *what, pw_err *e)
+PW__DEF void *pw_alloc_array(const pw_alloc *a, size_t count, size_t size, const char *what, pw_err *e)
 {
     void *p;
     if (size && count > (size_t)-1 / size) {
-        pw_fail(e, PW_ERR_NOMEM, "%s: %lu elements of %lu bytes overflow size_t",
-                what, (unsigned long)count, (unsigned long)size);
+        pw_fail(e, PW_ERR_NOMEM, "%s: %lu elements of %lu bytes overflow size_t", what, (unsigned long)count,
+                (unsigned long)size);
         return NULL;
     }
     p = pw_malloc(a, count * size);
-    if (!p)
-        pw_fail(e, PW_ERR_NOMEM, "out of memory allocating %s (%lu bytes)", what,
-                (unsigned long)(count * size));
+    if (!p) pw_fail(e, PW_ERR_NOMEM, "out of memory allocating %s (%lu bytes)", what, (unsigned long)(count * size));
     return p;
 }
 
 /* Same, zero-filled. */
-PW__DEF void *pw_calloc_array(const pw_alloc *a, size_t count, size_t size,
-                              const char *what, pw_err *e)
+PW__DEF void *pw_calloc_array(const pw_alloc *a, size_t count, size_t size, const char *what, pw_err *e)
 {
     void *p = pw_alloc_array(a, count, size, what, e);
     if (p) memset(p, 0, count * size);
@@ -831,22 +823,19 @@ PW__DEF void *pw_calloc_array(const pw_alloc *a, size_t count, size_t size,
 
 /* Grows *p (holding *cap elements of `size` bytes) to at least `need`
  * elements, doubling. Returns 0 on success. */
-PW__DEF int pw_grow(const pw_alloc *a, void **p, size_t *cap, size_t need,
-                    size_t size, const char *what, pw_err *e)
+PW__DEF int pw_grow(const pw_alloc *a, void **p, size_t *cap, size_t need, size_t size, const char *what, pw_err *e)
 {
     size_t ncap;
     void *np;
     if (need <= *cap) return PW_OK;
     ncap = *cap ? *cap : 16;
     while (ncap < need) {
-        if (ncap > ((size_t)-1 / 2) / size)
-            return pw_fail(e, PW_ERR_NOMEM, "%s: size overflow", what);
+        if (ncap > ((size_t)-1 / 2) / size) return pw_fail(e, PW_ERR_NOMEM, "%s: size overflow", what);
         ncap *= 2;
     }
     np = pw_realloc(a, *p, ncap * size);
     if (!np)
-        return pw_fail(e, PW_ERR_NOMEM, "out of memory growing %s to %lu bytes",
-                       what, (unsigned long)(ncap * size));
+        return pw_fail(e, PW_ERR_NOMEM, "out of memory growing %s to %lu bytes", what, (unsigned long)(ncap * size));
     *p = np;
     *cap = ncap;
     return PW_OK;
@@ -859,12 +848,10 @@ typedef struct pw_progress {
 } pw_progress;
 
 /* Reports progress; returns PW_ERR_CANCELLED (recorded in e) if asked. */
-PW__DEF int pw_report(const pw_progress *p, float done, const char *stage,
-                      pw_err *e)
+PW__DEF int pw_report(const pw_progress *p, float done, const char *stage, pw_err *e)
 {
     if (p && p->fn && p->fn(p->user, done, stage))
-        return pw_fail(e, PW_ERR_CANCELLED, "cancelled by the progress callback during %s",
-                       stage);
+        return pw_fail(e, PW_ERR_CANCELLED, "cancelled by the progress callback during %s", stage);
     return PW_OK;
 }
 
@@ -895,8 +882,7 @@ PW__DEF int pw_has_ext(const char *path, const char *ext)
 #ifndef PW_NO_STDIO
 /* Reads a whole file into memory (with a terminating NUL not counted in
  * *size). */
-PW__DEF int pw_read_file(const pw_alloc *a, const char *path, unsigned char **data,
-                         size_t *size, pw_err *e)
+PW__DEF int pw_read_file(const pw_alloc *a, const char *path, unsigned char **data, size_t *size, pw_err *e)
 {
     FILE *f = fopen(path, "rb");
     unsigned char *buf = NULL;
@@ -933,9 +919,8 @@ PW__DEF int pw__file_write(void *ctx, const void *data, size_t size)
 
 /* Opens `path` for writing and runs body(arg, sink, FILE*, e), which writes
  * through the sink. A failing sink or fclose is reported naming the file. */
-PW__DEF int pw_write_file(const char *path,
-                          int (*body)(void *arg, pw_write_fn w, void *ctx, pw_err *e),
-                          void *arg, pw_err *e)
+PW__DEF int pw_write_file(const char *path, int (*body)(void *arg, pw_write_fn w, void *ctx, pw_err *e), void *arg,
+                          pw_err *e)
 {
     pw_err local;
     FILE *f = fopen(path, "wb");
@@ -1066,9 +1051,15 @@ PW__DEF double pw_sin(double x)
     long n = (long)(k >= 0 ? k + 0.5 : k - 0.5);
     r = x - (double)n * pi; /* r in [-pi/2, pi/2] */
     r2 = r * r;
-    s = r * (1.0 + r2 * (-1.0 / 6 + r2 * (1.0 / 120 + r2 * (-1.0 / 5040 + r2 * (1.0 / 362880 +
-        r2 * (-1.0 / 39916800 + r2 * (1.0 / 6227020800.0 + r2 * (-1.0 / 1307674368000.0 +
-        r2 * (1.0 / 355687428096000.0 + r2 * (-1.0 / 121645100408832000.0))))))))));
+    s = r * (1.0 +
+             r2 * (-1.0 / 6 +
+                   r2 * (1.0 / 120 +
+                         r2 * (-1.0 / 5040 +
+                               r2 * (1.0 / 362880 + r2 * (-1.0 / 39916800 +
+                                                          r2 * (1.0 / 6227020800.0 +
+                                                                r2 * (-1.0 / 1307674368000.0 +
+                                                                      r2 * (1.0 / 355687428096000.0 +
+                                                                            r2 * (-1.0 / 121645100408832000.0))))))))));
     return (n & 1) ? -s : s;
 }
 PW__DEF double pw_cos(double x) { return pw_sin(x + 1.57079632679489661923); }
@@ -1299,8 +1290,7 @@ PW__DEF int pw_image_alloc(const pw_alloc *a, pw_image *img, int w, int h, int c
     if (w <= 0 || h <= 0 || c < 1 || c > 4)
         return pw_fail(e, PW_ERR_INVALID, "invalid image size %dx%d with %d channels", w, h, c);
     if (w > PW_MAX_IMAGE_DIM || h > PW_MAX_IMAGE_DIM || (int64_t)w * h > PW_MAX_IMAGE_PIXELS)
-        return pw_fail(e, PW_ERR_LIMIT, "image %dx%d exceeds the limit of %d pixels", w, h,
-                       PW_MAX_IMAGE_PIXELS);
+        return pw_fail(e, PW_ERR_LIMIT, "image %dx%d exceeds the limit of %d pixels", w, h, PW_MAX_IMAGE_PIXELS);
     img->px = (float *)pw_calloc_array(a, (size_t)w * h * c, sizeof(float), "image", e);
     if (!img->px) return PW_ERR_NOMEM;
     img->w = w;
@@ -1335,10 +1325,9 @@ PW__DEF unsigned pw_image_quantize(float v, unsigned maxval)
 PW__DEF int pw__image_check(const pw_image *img, pw_err *e)
 {
     if (!img || !img->px || img->w <= 0 || img->h <= 0 || img->c < 1 || img->c > 4)
-        return pw_fail(e, PW_ERR_INVALID, "invalid image (%dx%d, %d channels)", img ? img->w : 0,
-                       img ? img->h : 0, img ? img->c : 0);
-    if (img->w > PW_MAX_IMAGE_DIM || img->h > PW_MAX_IMAGE_DIM ||
-        (int64_t)img->w * img->h > PW_MAX_IMAGE_PIXELS)
+        return pw_fail(e, PW_ERR_INVALID, "invalid image (%dx%d, %d channels)", img ? img->w : 0, img ? img->h : 0,
+                       img ? img->c : 0);
+    if (img->w > PW_MAX_IMAGE_DIM || img->h > PW_MAX_IMAGE_DIM || (int64_t)img->w * img->h > PW_MAX_IMAGE_PIXELS)
         return pw_fail(e, PW_ERR_LIMIT, "image %dx%d exceeds the size limits", img->w, img->h);
     return PW_OK;
 }
@@ -1360,8 +1349,7 @@ PW__DEF int pw_image_copy(const pw_alloc *a, const pw_image *src, pw_image *out,
  * dropping it (without compositing). RGB to gray uses the Rec. 601 luma
  * weights, as netpbm's ppmtopgm does. out may be src itself: its pixels are
  * then replaced (and freed with a). */
-PW__DEF int pw_image_convert(const pw_alloc *a, const pw_image *src, int channels, pw_image *out,
-                             pw_err *e)
+PW__DEF int pw_image_convert(const pw_alloc *a, const pw_image *src, int channels, pw_image *out, pw_err *e)
 {
     pw_image t;
     size_t i, n;
@@ -1493,13 +1481,11 @@ PW__DEF int pw__sink_end(pw__sink *s, pw_err *e)
 PW__DEF int pw__image_check_size(const char *name, uint64_t w, uint64_t h, pw_err *e)
 {
     if (w == 0 || h == 0)
-        return pw_fail(e, PW_ERR_PARSE, "%s: image has zero size (%llux%llu)", name,
-                       (unsigned long long)w, (unsigned long long)h);
+        return pw_fail(e, PW_ERR_PARSE, "%s: image has zero size (%llux%llu)", name, (unsigned long long)w,
+                       (unsigned long long)h);
     if (w > PW_MAX_IMAGE_DIM || h > PW_MAX_IMAGE_DIM || w * h > (uint64_t)PW_MAX_IMAGE_PIXELS)
-        return pw_fail(e, PW_ERR_LIMIT,
-                       "%s: image size %llux%llu exceeds the limits (%d per side, %d pixels)", name,
-                       (unsigned long long)w, (unsigned long long)h, PW_MAX_IMAGE_DIM,
-                       PW_MAX_IMAGE_PIXELS);
+        return pw_fail(e, PW_ERR_LIMIT, "%s: image size %llux%llu exceeds the limits (%d per side, %d pixels)", name,
+                       (unsigned long long)w, (unsigned long long)h, PW_MAX_IMAGE_DIM, PW_MAX_IMAGE_PIXELS);
     return PW_OK;
 }
 
@@ -1517,10 +1503,7 @@ typedef struct pw__pnm {
     uint64_t w, h, depth, maxval;
 } pw__pnm;
 
-PW__DEF int pw__is_space(int c)
-{
-    return c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == '\v' || c == '\f';
-}
+PW__DEF int pw__is_space(int c) { return c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == '\v' || c == '\f'; }
 
 /* Skips whitespace and comments (# to the end of the line). */
 PW__DEF void pw__pnm_skip(pw__pnm *r)
@@ -1543,10 +1526,8 @@ PW__DEF int pw__pnm_unexpected(pw__pnm *r, const char *what)
 {
     int c = r->p[r->pos];
     if (c > 32 && c < 127)
-        return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: expected the %s, found '%c'", r->name, r->line,
-                       what, c);
-    return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: expected the %s, found byte 0x%02x", r->name,
-                   r->line, what, c);
+        return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: expected the %s, found '%c'", r->name, r->line, what, c);
+    return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: expected the %s, found byte 0x%02x", r->name, r->line, what, c);
 }
 
 /* Reads an unsigned decimal number: a header field or an ASCII sample. */
@@ -1555,13 +1536,11 @@ PW__DEF int pw__pnm_number(pw__pnm *r, const char *what, uint64_t *v)
     uint64_t x = 0;
     pw__pnm_skip(r);
     if (r->pos >= r->n)
-        return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: file truncated: it ends before the %s", r->name,
-                       r->line, what);
+        return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: file truncated: it ends before the %s", r->name, r->line, what);
     if (r->p[r->pos] < '0' || r->p[r->pos] > '9') return pw__pnm_unexpected(r, what);
     while (r->pos < r->n && r->p[r->pos] >= '0' && r->p[r->pos] <= '9') {
         x = x * 10 + (uint64_t)(r->p[r->pos++] - '0');
-        if (x > 0xffffffffu)
-            return pw_fail(r->e, PW_ERR_LIMIT, "%s:%d: %s is too large", r->name, r->line, what);
+        if (x > 0xffffffffu) return pw_fail(r->e, PW_ERR_LIMIT, "%s:%d: %s is too large", r->name, r->line, what);
     }
     if (r->pos < r->n && !pw__is_space(r->p[r->pos]) && r->p[r->pos] != '#')
         return pw__pnm_unexpected(r, "end of the number");
@@ -1572,8 +1551,8 @@ PW__DEF int pw__pnm_number(pw__pnm *r, const char *what, uint64_t *v)
 PW__DEF int pw__pnm_check_maxval(pw__pnm *r)
 {
     if (r->maxval == 0 || r->maxval > 65535)
-        return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: maxval %llu is out of range (1 to 65535)",
-                       r->name, r->line, (unsigned long long)r->maxval);
+        return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: maxval %llu is out of range (1 to 65535)", r->name, r->line,
+                       (unsigned long long)r->maxval);
     return PW_OK;
 }
 
@@ -1582,8 +1561,7 @@ PW__DEF int pw__pnm_header(pw__pnm *r)
 {
     int rc;
     if (r->pos < r->n && !pw__is_space(r->p[r->pos]) && r->p[r->pos] != '#')
-        return pw_fail(r->e, PW_ERR_PARSE, "%s: bad magic number (P%d not followed by a space)",
-                       r->name, r->fmt);
+        return pw_fail(r->e, PW_ERR_PARSE, "%s: bad magic number (P%d not followed by a space)", r->name, r->fmt);
     if ((rc = pw__pnm_number(r, "width", &r->w))) return rc;
     if ((rc = pw__pnm_number(r, "height", &r->h))) return rc;
     r->maxval = 1;
@@ -1598,8 +1576,7 @@ PW__DEF int pw__pnm_header(pw__pnm *r)
 PW__DEF int pw__pnm_need(pw__pnm *r, uint64_t need)
 {
     if ((uint64_t)(r->n - r->pos) < need)
-        return pw_fail(r->e, PW_ERR_PARSE,
-                       "%s: pixel data truncated: %llu bytes needed, %llu present", r->name,
+        return pw_fail(r->e, PW_ERR_PARSE, "%s: pixel data truncated: %llu bytes needed, %llu present", r->name,
                        (unsigned long long)need, (unsigned long long)(r->n - r->pos));
     return PW_OK;
 }
@@ -1612,8 +1589,7 @@ PW__DEF int pw__pnm_raster(pw__pnm *r, uint64_t need)
     int c;
     if (r->pos < r->n && r->p[r->pos] == '#')
         while (r->pos < r->n && r->p[r->pos] != '\n' && r->p[r->pos] != '\r') r->pos++;
-    if (r->pos >= r->n)
-        return pw_fail(r->e, PW_ERR_PARSE, "%s: file truncated: no pixel data", r->name);
+    if (r->pos >= r->n) return pw_fail(r->e, PW_ERR_PARSE, "%s: file truncated: no pixel data", r->name);
     c = r->p[r->pos++];
     /* CRLF from a text-mode writer: skip the LF when exactly the raster
      * follows it (a lone CR separator followed by a sample 10 is kept) */
@@ -1630,8 +1606,8 @@ PW__DEF int pw__pnm_binary(pw__pnm *r, pw_image *img)
     for (i = 0; i < n; i++) {
         v = m > 255 ? (unsigned)p[2 * i] << 8 | p[2 * i + 1] : p[i];
         if (v > m)
-            return pw_fail(r->e, PW_ERR_PARSE, "%s: sample %lu is %u, above maxval %u", r->name,
-                           (unsigned long)i, v, m);
+            return pw_fail(r->e, PW_ERR_PARSE, "%s: sample %lu is %u, above maxval %u", r->name, (unsigned long)i, v,
+                           m);
         img->px[i] = (float)v / (float)m;
     }
     return PW_OK;
@@ -1646,9 +1622,8 @@ PW__DEF int pw__pnm_ascii(pw__pnm *r, pw_image *img)
     for (i = 0; i < n; i++) {
         if ((rc = pw__pnm_number(r, "sample", &v))) return rc;
         if (v > r->maxval)
-            return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: sample %lu is %llu, above maxval %llu",
-                           r->name, r->line, (unsigned long)i, (unsigned long long)v,
-                           (unsigned long long)r->maxval);
+            return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: sample %lu is %llu, above maxval %llu", r->name, r->line,
+                           (unsigned long)i, (unsigned long long)v, (unsigned long long)r->maxval);
         img->px[i] = (float)v / (float)r->maxval;
     }
     return PW_OK;
@@ -1667,11 +1642,9 @@ PW__DEF int pw__pbm_pixels(pw__pnm *r, pw_image *img)
             } else {
                 pw__pnm_skip(r);
                 if (r->pos >= r->n)
-                    return pw_fail(r->e, PW_ERR_PARSE,
-                                   "%s:%d: file truncated: it ends before pixel %lu", r->name,
+                    return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: file truncated: it ends before pixel %lu", r->name,
                                    r->line, (unsigned long)(y * img->w + x));
-                if (r->p[r->pos] != '0' && r->p[r->pos] != '1')
-                    return pw__pnm_unexpected(r, "bit 0 or 1");
+                if (r->p[r->pos] != '0' && r->p[r->pos] != '1') return pw__pnm_unexpected(r, "bit 0 or 1");
                 bit = r->p[r->pos++] - '0';
             }
             img->px[y * img->w + x] = bit ? 0.0f : 1.0f;
@@ -1686,18 +1659,15 @@ PW__DEF int pw__token_is(const unsigned char *s, size_t n, const char *kw)
 }
 
 /* Parses the value of a numeric PAM field (the whole value must be digits). */
-PW__DEF int pw__pam_number(pw__pnm *r, const unsigned char *s, size_t n, const char *key,
-                           uint64_t *v)
+PW__DEF int pw__pam_number(pw__pnm *r, const unsigned char *s, size_t n, const char *key, uint64_t *v)
 {
     size_t i;
     uint64_t x = 0;
     if (n == 0 || n > 10)
-        return pw_fail(r->e, n ? PW_ERR_LIMIT : PW_ERR_PARSE, "%s:%d: bad %s value", r->name,
-                       r->line, key);
+        return pw_fail(r->e, n ? PW_ERR_LIMIT : PW_ERR_PARSE, "%s:%d: bad %s value", r->name, r->line, key);
     for (i = 0; i < n; i++) {
         if (s[i] < '0' || s[i] > '9')
-            return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: bad %s value (not a number)", r->name,
-                           r->line, key);
+            return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: bad %s value (not a number)", r->name, r->line, key);
         x = x * 10 + (uint64_t)(s[i] - '0');
     }
     *v = x;
@@ -1744,14 +1714,13 @@ PW__DEF int pw__pam_tupltype(pw__pnm *r, const char *t)
     int i;
     if (r->depth == 0 || r->depth > 4)
         return pw_fail(r->e, r->depth ? PW_ERR_UNSUPPORTED : PW_ERR_PARSE,
-                       "%s: PAM depth %llu is not supported (1 to 4)", r->name,
-                       (unsigned long long)r->depth);
+                       "%s: PAM depth %llu is not supported (1 to 4)", r->name, (unsigned long long)r->depth);
     if (!t[0]) return PW_OK;
     for (i = 0; i < 6; i++)
         if (strcmp(t, names[i]) == 0) {
             if ((uint64_t)depths[i] == r->depth) return PW_OK;
-            return pw_fail(r->e, PW_ERR_PARSE, "%s: TUPLTYPE %s needs DEPTH %d, not %llu", r->name,
-                           t, depths[i], (unsigned long long)r->depth);
+            return pw_fail(r->e, PW_ERR_PARSE, "%s: TUPLTYPE %s needs DEPTH %d, not %llu", r->name, t, depths[i],
+                           (unsigned long long)r->depth);
         }
     return pw_fail(r->e, PW_ERR_UNSUPPORTED, "%s: PAM TUPLTYPE '%s' is not supported", r->name, t);
 }
@@ -1765,20 +1734,17 @@ PW__DEF int pw__pam_header(pw__pnm *r)
     r->w = r->h = r->depth = r->maxval = 0;
     while (r->pos < r->n && r->p[r->pos] != '\n') /* rest of the "P7" line */
         if (!pw__is_space(r->p[r->pos++]))
-            return pw_fail(r->e, PW_ERR_PARSE,
-                           "%s: bad magic number (P7 not followed by a newline)", r->name);
+            return pw_fail(r->e, PW_ERR_PARSE, "%s: bad magic number (P7 not followed by a newline)", r->name);
     while (!done) {
         size_t start, end;
         if (r->pos >= r->n)
-            return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: file truncated: PAM header has no ENDHDR",
-                           r->name, r->line);
+            return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: file truncated: PAM header has no ENDHDR", r->name, r->line);
         r->pos++; /* the newline ending the previous line */
         r->line++;
         start = end = r->pos;
         while (end < r->n && r->p[end] != '\n') end++;
         if (end >= r->n)
-            return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: file truncated: PAM header has no ENDHDR",
-                           r->name, r->line);
+            return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: file truncated: PAM header has no ENDHDR", r->name, r->line);
         r->pos = end;
         if ((rc = pw__pam_line(r, r->p + start, end - start, tupltype, &done))) return rc;
     }
@@ -1795,8 +1761,8 @@ PW__DEF int pw__pam_header(pw__pnm *r)
 
 /* Reads a netpbm image (P1-P7) from memory. `name` (usually the file name)
  * prefixes every error message. Bit depth: 16 when maxval > 255. */
-PW__DEF int pw_image_read_pnm_memory(const pw_alloc *a, const unsigned char *data, size_t size,
-                                     const char *name, pw_image *out, pw_err *e)
+PW__DEF int pw_image_read_pnm_memory(const pw_alloc *a, const unsigned char *data, size_t size, const char *name,
+                                     pw_image *out, pw_err *e)
 {
     pw__pnm r;
     uint64_t need = 0;
@@ -1846,8 +1812,8 @@ PW__DEF uint32_t pw__be32(const unsigned char *p)
  * per pixel (1 gray, 2 gray+alpha, 3 RGB, 4 RGBA), magic "GPAT", then the
  * NUL-terminated pattern name up to header_size; 8-bit pixels follow, top
  * row first. */
-PW__DEF int pw_image_read_pat_memory(const pw_alloc *a, const unsigned char *data, size_t size,
-                                     const char *name, pw_image *out, pw_err *e)
+PW__DEF int pw_image_read_pat_memory(const pw_alloc *a, const unsigned char *data, size_t size, const char *name,
+                                     pw_image *out, pw_err *e)
 {
     uint32_t hs, ver, w, h, bpp;
     size_t i, n;
@@ -1855,29 +1821,26 @@ PW__DEF int pw_image_read_pat_memory(const pw_alloc *a, const unsigned char *dat
     memset(out, 0, sizeof *out);
     if (!name) name = "image";
     if (size < 24) return pw_fail(e, PW_ERR_PARSE, "%s: GIMP pattern header truncated", name);
-    if (memcmp(data + 20, "GPAT", 4) != 0)
-        return pw_fail(e, PW_ERR_PARSE, "%s: not a GIMP pattern (bad magic)", name);
+    if (memcmp(data + 20, "GPAT", 4) != 0) return pw_fail(e, PW_ERR_PARSE, "%s: not a GIMP pattern (bad magic)", name);
     hs = pw__be32(data);
     ver = pw__be32(data + 4);
     w = pw__be32(data + 8);
     h = pw__be32(data + 12);
     bpp = pw__be32(data + 16);
     if (ver != 1)
-        return pw_fail(e, PW_ERR_UNSUPPORTED, "%s: GIMP pattern version %lu (only 1 is known)",
-                       name, (unsigned long)ver);
+        return pw_fail(e, PW_ERR_UNSUPPORTED, "%s: GIMP pattern version %lu (only 1 is known)", name,
+                       (unsigned long)ver);
     if (hs <= 24 || hs > size)
-        return pw_fail(e, PW_ERR_PARSE, "%s: bad GIMP pattern header size %lu (file has %lu bytes)",
-                       name, (unsigned long)hs, (unsigned long)size);
+        return pw_fail(e, PW_ERR_PARSE, "%s: bad GIMP pattern header size %lu (file has %lu bytes)", name,
+                       (unsigned long)hs, (unsigned long)size);
     if (!memchr(data + 24, 0, hs - 24))
         return pw_fail(e, PW_ERR_PARSE, "%s: GIMP pattern name is not NUL-terminated", name);
     if (bpp < 1 || bpp > 4)
-        return pw_fail(e, PW_ERR_PARSE, "%s: GIMP pattern has %lu bytes per pixel (1 to 4)", name,
-                       (unsigned long)bpp);
+        return pw_fail(e, PW_ERR_PARSE, "%s: GIMP pattern has %lu bytes per pixel (1 to 4)", name, (unsigned long)bpp);
     if ((rc = pw__image_check_size(name, w, h, e))) return rc;
     if ((uint64_t)w * h * bpp > (uint64_t)(size - hs))
-        return pw_fail(e, PW_ERR_PARSE, "%s: pixel data truncated: %llu bytes needed, %lu present",
-                       name, (unsigned long long)((uint64_t)w * h * bpp),
-                       (unsigned long)(size - hs));
+        return pw_fail(e, PW_ERR_PARSE, "%s: pixel data truncated: %llu bytes needed, %lu present", name,
+                       (unsigned long long)((uint64_t)w * h * bpp), (unsigned long)(size - hs));
     if ((rc = pw_image_alloc(a, out, (int)w, (int)h, (int)bpp, e))) return rc;
     n = (size_t)w * h * bpp;
     for (i = 0; i < n; i++) out->px[i] = (float)data[hs + i] / 255.0f;
@@ -1894,8 +1857,7 @@ PW__DEF int pw__write_bits(const pw_image *img, int bits, unsigned *maxval, pw_e
     int rc = pw__image_check(img, e);
     if (rc) return rc;
     if (bits == 0) bits = img->bits == 16 ? 16 : 8;
-    if (bits != 8 && bits != 16)
-        return pw_fail(e, PW_ERR_INVALID, "cannot write %d-bit samples (8 or 16)", bits);
+    if (bits != 8 && bits != 16) return pw_fail(e, PW_ERR_INVALID, "cannot write %d-bit samples (8 or 16)", bits);
     *maxval = bits == 16 ? 65535u : 255u;
     return PW_OK;
 }
@@ -1920,8 +1882,7 @@ PW__DEF void pw__put_ascii(pw__sink *s, const pw_image *img, unsigned maxval)
     for (y = 0; y < (size_t)img->h; y++) {
         int col = 0;
         for (x = 0; x < rowlen; x++) {
-            int k =
-                snprintf(num, sizeof num, "%u", pw_image_quantize(img->px[y * rowlen + x], maxval));
+            int k = snprintf(num, sizeof num, "%u", pw_image_quantize(img->px[y * rowlen + x], maxval));
             if (col > 0 && col + 1 + k > 69) {
                 pw__sink_byte(s, '\n');
                 col = 0;
@@ -1945,8 +1906,7 @@ PW__DEF int pw_image_write_pam(const pw_image *img, int bits, pw_write_fn w, voi
     unsigned maxval;
     int rc = pw__write_bits(img, bits, &maxval, e), k;
     if (rc) return rc;
-    k = snprintf(head, sizeof head,
-                 "P7\nWIDTH %d\nHEIGHT %d\nDEPTH %d\nMAXVAL %u\nTUPLTYPE %s\nENDHDR\n", img->w,
+    k = snprintf(head, sizeof head, "P7\nWIDTH %d\nHEIGHT %d\nDEPTH %d\nMAXVAL %u\nTUPLTYPE %s\nENDHDR\n", img->w,
                  img->h, img->c, maxval, types[img->c - 1]);
     pw__sink_init(&s, w, ctx);
     pw__sink_put(&s, head, (size_t)k);
@@ -1956,8 +1916,7 @@ PW__DEF int pw_image_write_pam(const pw_image *img, int bits, pw_write_fn w, voi
 
 /* PGM for 1 channel, PPM for 3 (binary P5/P6, or ASCII P2/P3 when `ascii`
  * is set), PAM for 2 and 4 (binary only: PW_ERR_UNSUPPORTED with ascii). */
-PW__DEF int pw_image_write_pnm(const pw_image *img, int bits, int ascii, pw_write_fn w, void *ctx,
-                               pw_err *e)
+PW__DEF int pw_image_write_pnm(const pw_image *img, int bits, int ascii, pw_write_fn w, void *ctx, pw_err *e)
 {
     pw__sink s;
     char head[64];
@@ -1966,18 +1925,15 @@ PW__DEF int pw_image_write_pnm(const pw_image *img, int bits, int ascii, pw_writ
     if (rc) return rc;
     if (img->c == 2 || img->c == 4) {
         if (ascii)
-            return pw_fail(e, PW_ERR_UNSUPPORTED,
-                           "images with alpha are written as PAM, which has no ASCII form");
+            return pw_fail(e, PW_ERR_UNSUPPORTED, "images with alpha are written as PAM, which has no ASCII form");
         return pw_image_write_pam(img, bits, w, ctx, e);
     }
-    k = snprintf(head, sizeof head, "P%d\n%d %d\n%u\n", (img->c == 1 ? 2 : 3) + (ascii ? 0 : 3),
-                 img->w, img->h, maxval);
+    k = snprintf(head, sizeof head, "P%d\n%d %d\n%u\n", (img->c == 1 ? 2 : 3) + (ascii ? 0 : 3), img->w, img->h,
+                 maxval);
     pw__sink_init(&s, w, ctx);
     pw__sink_put(&s, head, (size_t)k);
-    if (ascii)
-        pw__put_ascii(&s, img, maxval);
-    else
-        pw__put_samples(&s, img, maxval);
+    if (ascii) pw__put_ascii(&s, img, maxval);
+    else pw__put_samples(&s, img, maxval);
     return pw__sink_end(&s, e);
 }
 
@@ -2012,9 +1968,8 @@ PW__DEF int pw_image_write_pnm(const pw_image *img, int bits, int ascii, pw_writ
  * nibble at a time) keeps the source short and is fast enough for PNG. */
 PW__DEF uint32_t pw_crc32(uint32_t crc, const void *data, size_t n)
 {
-    static const uint32_t t[16] = {0x00000000u, 0x1db71064u, 0x3b6e20c8u, 0x26d930acu,
-                                   0x76dc4190u, 0x6b6b51f4u, 0x4db26158u, 0x5005713cu,
-                                   0xedb88320u, 0xf00f9344u, 0xd6d6a3e8u, 0xcb61b38cu,
+    static const uint32_t t[16] = {0x00000000u, 0x1db71064u, 0x3b6e20c8u, 0x26d930acu, 0x76dc4190u, 0x6b6b51f4u,
+                                   0x4db26158u, 0x5005713cu, 0xedb88320u, 0xf00f9344u, 0xd6d6a3e8u, 0xcb61b38cu,
                                    0x9b64c2b0u, 0x86d3d2d4u, 0xa00ae278u, 0xbdbdf21cu};
     const unsigned char *p = (const unsigned char *)data;
     crc = ~crc;
@@ -2046,20 +2001,17 @@ PW__DEF uint32_t pw_adler32(uint32_t adler, const void *data, size_t n)
 }
 
 /* RFC 1951 §3.2.5: bases and extra bits of the length and distance codes. */
-static const unsigned short pw__len_base[29] = {3,  4,  5,  6,   7,   8,   9,   10,  11, 13,
-                                                15, 17, 19, 23,  27,  31,  35,  43,  51, 59,
-                                                67, 83, 99, 115, 131, 163, 195, 227, 258};
+static const unsigned short pw__len_base[29] = {3,  4,  5,  6,  7,  8,  9,  10, 11,  13,  15,  17,  19,  23, 27,
+                                                31, 35, 43, 51, 59, 67, 83, 99, 115, 131, 163, 195, 227, 258};
 static const unsigned char pw__len_extra[29] = {0, 0, 0, 0, 0, 0, 0, 0, 1, 1, 1, 1, 2, 2, 2,
                                                 2, 3, 3, 3, 3, 4, 4, 4, 4, 5, 5, 5, 5, 0};
-static const unsigned short pw__dist_base[30] = {
-    1,   2,   3,   4,   5,   7,    9,    13,   17,   25,   33,   49,   65,    97,    129,
-    193, 257, 385, 513, 769, 1025, 1537, 2049, 3073, 4097, 6145, 8193, 12289, 16385, 24577};
-static const unsigned char pw__dist_extra[30] = {0, 0, 0,  0,  1,  1,  2,  2,  3,  3,
-                                                 4, 4, 5,  5,  6,  6,  7,  7,  8,  8,
-                                                 9, 9, 10, 10, 11, 11, 12, 12, 13, 13};
+static const unsigned short pw__dist_base[30] = {1,    2,    3,    4,    5,    7,    9,    13,    17,    25,
+                                                 33,   49,   65,   97,   129,  193,  257,  385,   513,   769,
+                                                 1025, 1537, 2049, 3073, 4097, 6145, 8193, 12289, 16385, 24577};
+static const unsigned char pw__dist_extra[30] = {0, 0, 0, 0, 1, 1, 2, 2,  3,  3,  4,  4,  5,  5,  6,
+                                                 6, 7, 7, 8, 8, 9, 9, 10, 10, 11, 11, 12, 12, 13, 13};
 /* §3.2.7: order in which the code-length code lengths are sent */
-static const unsigned char pw__clen_order[19] = {16, 17, 18, 0, 8,  7, 9,  6, 10, 5,
-                                                 11, 4,  12, 3, 13, 2, 14, 1, 15};
+static const unsigned char pw__clen_order[19] = {16, 17, 18, 0, 8, 7, 9, 6, 10, 5, 11, 4, 12, 3, 13, 2, 14, 1, 15};
 
 /* ======================================================================
  * Huffman code construction (shared by both directions)
@@ -2101,10 +2053,8 @@ PW__DEF int pw__huff_tree(const uint64_t *key, int m, unsigned char *len)
     for (k = 0; k < m - 1; k++) {
         int pick[2], j;
         for (j = 0; j < 2; j++) {
-            if (li < m && (ii >= nn || w[li] <= w[ii]))
-                pick[j] = li++;
-            else
-                pick[j] = ii++;
+            if (li < m && (ii >= nn || w[li] <= w[ii])) pick[j] = li++;
+            else pick[j] = ii++;
         }
         w[nn] = w[pick[0]] + w[pick[1]];
         parent[pick[0]] = parent[pick[1]] = nn++;
@@ -2242,8 +2192,7 @@ PW__DEF void pw__deflate_tables(pw__deflate *s)
             s->dcode[v < 256 ? v : 256 + (v >> 7)] = (unsigned char)c;
         }
     /* §3.2.6: the fixed code */
-    for (i = 0; i < 288; i++)
-        s->fixed_len[i] = (unsigned char)(i < 144 ? 8 : i < 256 ? 9 : i < 280 ? 7 : 8);
+    for (i = 0; i < 288; i++) s->fixed_len[i] = (unsigned char)(i < 144 ? 8 : i < 256 ? 9 : i < 280 ? 7 : 8);
     for (i = 0; i < 30; i++) s->fixed_len[288 + i] = 5;
     pw__huff_codes(s->fixed_len, 288, s->fixed_code);
     pw__huff_codes(s->fixed_len + 288, 30, s->fixed_code + 288);
@@ -2255,8 +2204,7 @@ PW__DEF int pw__dist_code(const pw__deflate *s, unsigned dist)
 }
 
 /* Bits to code the block's symbols with the given lengths (no header). */
-PW__DEF uint64_t pw__block_bits(const pw__deflate *s, const unsigned char *ll,
-                                const unsigned char *dl)
+PW__DEF uint64_t pw__block_bits(const pw__deflate *s, const unsigned char *ll, const unsigned char *dl)
 {
     uint64_t bits = 0;
     int i;
@@ -2267,8 +2215,8 @@ PW__DEF uint64_t pw__block_bits(const pw__deflate *s, const unsigned char *ll,
 }
 
 /* Writes the block's symbols with the given code. */
-PW__DEF void pw__put_symbols(pw__deflate *s, const unsigned char *ll, const unsigned short *lc,
-                             const unsigned char *dl, const unsigned short *dc)
+PW__DEF void pw__put_symbols(pw__deflate *s, const unsigned char *ll, const unsigned short *lc, const unsigned char *dl,
+                             const unsigned short *dc)
 {
     size_t i;
     for (i = 0; i < s->nsym; i++) {
@@ -2415,8 +2363,7 @@ PW__DEF void pw__flush_block(pw__deflate *s, size_t end, int last)
     dyn = 3 + pw__dyn_build(&h, ll, dl) + pw__block_bits(s, ll, dl);
     fix = 3 + pw__block_bits(s, s->fixed_len, s->fixed_len + 288);
     kind = s->stored_only || (stored <= dyn && stored <= fix) ? 0 : fix <= dyn ? 1 : 2;
-    if (pw__deflate_reserve(s, (size_t)((kind == 0 ? stored : kind == 1 ? fix : dyn) / 8 + 16)))
-        return;
+    if (pw__deflate_reserve(s, (size_t)((kind == 0 ? stored : kind == 1 ? fix : dyn) / 8 + 16))) return;
     if (kind == 0) {
         pw__put_stored(s, s->block_start, end, last);
     } else if (kind == 1) {
@@ -2541,9 +2488,8 @@ PW__DEF void pw__deflate_run(pw__deflate *s)
 PW__DEF void pw__deflate_level(pw__deflate *s, int level)
 {
     static const unsigned short p[10][4] = {
-        {0, 0, 0, 0},         {4, 16, 0, 0},       {8, 32, 0, 0},    {16, 32, 0, 0},
-        {16, 32, 8, 4},       {32, 64, 16, 8},     {64, 128, 16, 8}, {256, 128, 64, 16},
-        {1024, 258, 128, 32}, {4096, 258, 258, 32}};
+        {0, 0, 0, 0},    {4, 16, 0, 0},    {8, 32, 0, 0},      {16, 32, 0, 0},       {16, 32, 8, 4},
+        {32, 64, 16, 8}, {64, 128, 16, 8}, {256, 128, 64, 16}, {1024, 258, 128, 32}, {4096, 258, 258, 32}};
     if (level < 0 || level > 9) level = 6;
     s->max_chain = p[level][0];
     s->nice_len = p[level][1];
@@ -2591,8 +2537,7 @@ PW__DEF int pw__deflate_into(pw__deflate *s, int level)
     return s->failed ? (s->e && s->e->code ? s->e->code : PW_ERR_NOMEM) : PW_OK;
 }
 
-PW__DEF void pw__deflate_init(pw__deflate *s, const pw_alloc *a, const unsigned char *data,
-                              size_t n, pw_err *e)
+PW__DEF void pw__deflate_init(pw__deflate *s, const pw_alloc *a, const unsigned char *data, size_t n, pw_err *e)
 {
     memset(s, 0, sizeof *s);
     s->a = a;
@@ -2602,8 +2547,8 @@ PW__DEF void pw__deflate_init(pw__deflate *s, const pw_alloc *a, const unsigned 
 }
 
 /* Raw deflate stream of data[0..n) at `level` (0-9, -1 = default 6). */
-PW__DEF int pw_deflate(const pw_alloc *a, const unsigned char *data, size_t n, int level,
-                       unsigned char **out, size_t *outn, pw_err *e)
+PW__DEF int pw_deflate(const pw_alloc *a, const unsigned char *data, size_t n, int level, unsigned char **out,
+                       size_t *outn, pw_err *e)
 {
     pw__deflate s;
     int r;
@@ -2621,8 +2566,8 @@ PW__DEF int pw_deflate(const pw_alloc *a, const unsigned char *data, size_t n, i
 }
 
 /* zlib stream (2-byte header, deflate data, Adler-32 of the input). */
-PW__DEF int pw_zlib_compress(const pw_alloc *a, const unsigned char *data, size_t n, int level,
-                             unsigned char **out, size_t *outn, pw_err *e)
+PW__DEF int pw_zlib_compress(const pw_alloc *a, const unsigned char *data, size_t n, int level, unsigned char **out,
+                             size_t *outn, pw_err *e)
 {
     pw__deflate s;
     uint32_t ad;
@@ -2705,8 +2650,7 @@ PW__DEF int pw__huff_build(pw__huff *h, const unsigned char *len, int n, int all
         if (L > PW__FAST_BITS) continue;
         for (l = 0; l < L; l++) r = (r << 1) | ((code[L] >> l) & 1u);
         code[L]++;
-        for (j = r; j < (1u << PW__FAST_BITS); j += 1u << L)
-            h->fast[j] = (unsigned short)((L << 9) | i);
+        for (j = r; j < (1u << PW__FAST_BITS); j += 1u << L) h->fast[j] = (unsigned short)((L << 9) | i);
     }
     return 0;
 }
@@ -2793,9 +2737,7 @@ PW__DEF int pw__inflate_reserve(pw__inflate *z, size_t k)
     while (cap < need) cap = cap > ((size_t)-1) / 2 ? need : cap * 2;
     if (cap > z->max_out) cap = z->max_out;
     p = (unsigned char *)pw_realloc(z->a, z->out, cap);
-    if (!p)
-        return pw_fail(z->e, PW_ERR_NOMEM, "out of memory decompressing (%lu bytes)",
-                       (unsigned long)cap);
+    if (!p) return pw_fail(z->e, PW_ERR_NOMEM, "out of memory decompressing (%lu bytes)", (unsigned long)cap);
     z->out = p;
     z->outcap = cap;
     return PW_OK;
@@ -2810,27 +2752,23 @@ PW__DEF int pw__inflate_codes(pw__inflate *z, const pw__huff *ll, const pw__huff
         sym = pw__decode(z, ll);
         if (sym < 0) goto bad;
         if (sym < 256) {
-            if (z->outn >= z->outcap && pw__inflate_reserve(z, 1))
-                return z->e ? z->e->code : PW_ERR_LIMIT;
+            if (z->outn >= z->outcap && pw__inflate_reserve(z, 1)) return z->e ? z->e->code : PW_ERR_LIMIT;
             z->out[z->outn++] = (unsigned char)sym;
             continue;
         }
         if (sym == 256) return PW_OK;
-        if (sym > 285)
-            return pw_fail(z->e, PW_ERR_PARSE, "deflate data: invalid length code %d", sym);
+        if (sym > 285) return pw_fail(z->e, PW_ERR_PARSE, "deflate data: invalid length code %d", sym);
         len = pw__len_base[sym - 257] + pw__getbits(z, pw__len_extra[sym - 257]);
         ds = pw__decode(z, dd);
         if (ds < 0) {
             sym = ds;
             goto bad;
         }
-        if (ds > 29)
-            return pw_fail(z->e, PW_ERR_PARSE, "deflate data: invalid distance code %d", ds);
+        if (ds > 29) return pw_fail(z->e, PW_ERR_PARSE, "deflate data: invalid distance code %d", ds);
         dist = pw__dist_base[ds] + pw__getbits(z, pw__dist_extra[ds]);
         if (z->truncated) return pw__inflate_truncated(z);
         if (dist > z->outn)
-            return pw_fail(z->e, PW_ERR_PARSE,
-                           "deflate data: distance %lu too far back (only %lu bytes decoded)",
+            return pw_fail(z->e, PW_ERR_PARSE, "deflate data: distance %lu too far back (only %lu bytes decoded)",
                            (unsigned long)dist, (unsigned long)z->outn);
         if (pw__inflate_reserve(z, len)) return z->e ? z->e->code : PW_ERR_LIMIT;
         /* byte by byte: source and destination overlap when dist < len */
@@ -2849,8 +2787,7 @@ PW__DEF int pw__inflate_stored(pw__inflate *z)
     len = pw__getbits(z, 16);
     nlen = pw__getbits(z, 16);
     if (z->truncated) return pw__inflate_truncated(z);
-    if ((len ^ 0xffffu) != nlen)
-        return pw_fail(z->e, PW_ERR_PARSE, "deflate data: stored block length check failed");
+    if ((len ^ 0xffffu) != nlen) return pw_fail(z->e, PW_ERR_PARSE, "deflate data: stored block length check failed");
     if (pw__inflate_reserve(z, len)) return z->e ? z->e->code : PW_ERR_LIMIT;
     while (len > 0 && z->nbits >= 8) { /* bytes already loaded first */
         z->out[z->outn++] = (unsigned char)pw__getbits(z, 8);
@@ -2873,36 +2810,30 @@ PW__DEF int pw__inflate_tables(pw__inflate *z, pw__huff *ll, pw__huff *dd)
     hdist = (int)pw__getbits(z, 5) + 1;
     hclen = (int)pw__getbits(z, 4) + 4;
     if (hlit > 286 || hdist > 30)
-        return pw_fail(z->e, PW_ERR_PARSE,
-                       "deflate data: too many length or distance codes (%d, %d)", hlit, hdist);
+        return pw_fail(z->e, PW_ERR_PARSE, "deflate data: too many length or distance codes (%d, %d)", hlit, hdist);
     memset(clen, 0, sizeof clen);
     for (i = 0; i < hclen; i++) clen[pw__clen_order[i]] = (unsigned char)pw__getbits(z, 3);
     if (z->truncated) return pw__inflate_truncated(z);
-    if (pw__huff_build(&ch, clen, 19, 0))
-        return pw_fail(z->e, PW_ERR_PARSE, "deflate data: bad code-length code");
+    if (pw__huff_build(&ch, clen, 19, 0)) return pw_fail(z->e, PW_ERR_PARSE, "deflate data: bad code-length code");
     n = hlit + hdist;
     for (i = 0; i < n;) {
         int sym = pw__decode(z, &ch), rep, val = 0;
         if (sym < 0)
-            return sym == -1
-                       ? pw__inflate_truncated(z)
-                       : pw_fail(z->e, PW_ERR_PARSE, "deflate data: invalid code-length code");
+            return sym == -1 ? pw__inflate_truncated(z)
+                             : pw_fail(z->e, PW_ERR_PARSE, "deflate data: invalid code-length code");
         if (sym < 16) {
             lens[i++] = (unsigned char)sym;
             continue;
         }
         if (sym == 16) {
-            if (i == 0)
-                return pw_fail(z->e, PW_ERR_PARSE,
-                               "deflate data: length repeat with no previous length");
+            if (i == 0) return pw_fail(z->e, PW_ERR_PARSE, "deflate data: length repeat with no previous length");
             val = lens[i - 1];
             rep = 3 + (int)pw__getbits(z, 2);
         } else {
             rep = sym == 17 ? 3 + (int)pw__getbits(z, 3) : 11 + (int)pw__getbits(z, 7);
         }
         if (z->truncated) return pw__inflate_truncated(z);
-        if (rep > n - i)
-            return pw_fail(z->e, PW_ERR_PARSE, "deflate data: code lengths repeat past the end");
+        if (rep > n - i) return pw_fail(z->e, PW_ERR_PARSE, "deflate data: code lengths repeat past the end");
         while (rep--) lens[i++] = (unsigned char)val;
     }
     if (!lens[256]) return pw_fail(z->e, PW_ERR_PARSE, "deflate data: no end-of-block code");
@@ -2926,8 +2857,7 @@ PW__DEF int pw__inflate_run(pw__inflate *z)
         if (type == 0) {
             r = pw__inflate_stored(z);
         } else if (type == 1) { /* §3.2.6: the fixed code */
-            for (i = 0; i < 288; i++)
-                lens[i] = (unsigned char)(i < 144 ? 8 : i < 256 ? 9 : i < 280 ? 7 : 8);
+            for (i = 0; i < 288; i++) lens[i] = (unsigned char)(i < 144 ? 8 : i < 256 ? 9 : i < 280 ? 7 : 8);
             /* distance codes 30 and 31 never occur but complete the code */
             for (i = 0; i < 32; i++) lens[288 + i] = 5;
             pw__huff_build(&ll, lens, 288, 0);
@@ -2947,8 +2877,8 @@ PW__DEF int pw__inflate_run(pw__inflate *z)
 /* Decodes a raw deflate stream into a new buffer of at most max_out bytes
  * (PW_ERR_LIMIT beyond). *used (if not NULL) receives the number of input
  * bytes the stream occupied. */
-PW__DEF int pw_inflate(const pw_alloc *a, const unsigned char *data, size_t n, size_t max_out,
-                       unsigned char **out, size_t *outn, size_t *used, pw_err *e)
+PW__DEF int pw_inflate(const pw_alloc *a, const unsigned char *data, size_t n, size_t max_out, unsigned char **out,
+                       size_t *outn, size_t *used, pw_err *e)
 {
     pw__inflate z;
     pw_err local;
@@ -2976,8 +2906,8 @@ PW__DEF int pw_inflate(const pw_alloc *a, const unsigned char *data, size_t n, s
 }
 
 /* Decodes a zlib stream, checking its header and Adler-32. */
-PW__DEF int pw_zlib_decompress(const pw_alloc *a, const unsigned char *data, size_t n,
-                               size_t max_out, unsigned char **out, size_t *outn, pw_err *e)
+PW__DEF int pw_zlib_decompress(const pw_alloc *a, const unsigned char *data, size_t n, size_t max_out,
+                               unsigned char **out, size_t *outn, pw_err *e)
 {
     size_t used = 0;
     uint32_t want;
@@ -2987,20 +2917,15 @@ PW__DEF int pw_zlib_decompress(const pw_alloc *a, const unsigned char *data, siz
     *outn = 0;
     if (n < 2) return pw_fail(e, PW_ERR_PARSE, "zlib data truncated (%lu bytes)", (unsigned long)n);
     if ((data[0] & 15) != 8 || (data[0] >> 4) > 7)
-        return pw_fail(e, PW_ERR_PARSE,
-                       "zlib header: not deflate with a window of at most 32K (0x%02x)", data[0]);
-    if (((unsigned)data[0] << 8 | data[1]) % 31)
-        return pw_fail(e, PW_ERR_PARSE, "zlib header: check bits are wrong");
-    if (data[1] & 0x20)
-        return pw_fail(e, PW_ERR_UNSUPPORTED, "zlib data needs a preset dictionary");
+        return pw_fail(e, PW_ERR_PARSE, "zlib header: not deflate with a window of at most 32K (0x%02x)", data[0]);
+    if (((unsigned)data[0] << 8 | data[1]) % 31) return pw_fail(e, PW_ERR_PARSE, "zlib header: check bits are wrong");
+    if (data[1] & 0x20) return pw_fail(e, PW_ERR_UNSUPPORTED, "zlib data needs a preset dictionary");
     r = pw_inflate(a, data + 2, n - 2, max_out, out, outn, &used, e);
     if (r) return r;
     t = data + 2 + used;
-    if (n - 2 - used < 4)
-        r = pw_fail(e, PW_ERR_PARSE, "zlib data truncated (no Adler-32 checksum)");
+    if (n - 2 - used < 4) r = pw_fail(e, PW_ERR_PARSE, "zlib data truncated (no Adler-32 checksum)");
     want = r ? 0 : (uint32_t)t[0] << 24 | (uint32_t)t[1] << 16 | (uint32_t)t[2] << 8 | t[3];
-    if (!r && pw_adler32(1, *out, *outn) != want)
-        r = pw_fail(e, PW_ERR_PARSE, "zlib data: Adler-32 checksum mismatch");
+    if (!r && pw_adler32(1, *out, *outn) != want) r = pw_fail(e, PW_ERR_PARSE, "zlib data: Adler-32 checksum mismatch");
     if (r) {
         pw_free(a, *out);
         *out = NULL;
@@ -3082,26 +3007,22 @@ PW__DEF int pw__paeth(int a, int b, int c)
 }
 
 /* Filters one row (n bytes, bpp bytes per pixel) with filter type f. */
-PW__DEF void pw__png_filter(unsigned char *dst, const unsigned char *cur, const unsigned char *prev,
-                            size_t n, size_t bpp, int f)
+PW__DEF void pw__png_filter(unsigned char *dst, const unsigned char *cur, const unsigned char *prev, size_t n,
+                            size_t bpp, int f)
 {
     size_t i;
     for (i = 0; i < n; i++) {
         int x = cur[i], a = i >= bpp ? cur[i - bpp] : 0, b = prev[i];
         int c = i >= bpp ? prev[i - bpp] : 0;
-        int pred = f == 0   ? 0
-                   : f == 1 ? a
-                   : f == 2 ? b
-                   : f == 3 ? (a + b) >> 1
-                            : pw__paeth(a, b, c);
+        int pred = f == 0 ? 0 : f == 1 ? a : f == 2 ? b : f == 3 ? (a + b) >> 1 : pw__paeth(a, b, c);
         dst[i] = (unsigned char)(x - pred);
     }
 }
 
 /* Quantised rows, each prefixed by the filter byte that minimises the sum
  * of absolute differences (bytes read as signed). */
-PW__DEF int pw__png_filtered(const pw_alloc *a, const pw_image *img, unsigned maxval,
-                             unsigned char **out, size_t *outn, pw_err *e)
+PW__DEF int pw__png_filtered(const pw_alloc *a, const pw_image *img, unsigned maxval, unsigned char **out, size_t *outn,
+                             pw_err *e)
 {
     size_t bps = maxval > 255 ? 2 : 1, bpp = bps * (size_t)img->c;
     size_t n = bpp * (size_t)img->w, x, y, k;
@@ -3143,8 +3064,7 @@ PW__DEF int pw__png_filtered(const pw_alloc *a, const pw_image *img, unsigned ma
 
 /* Writes img as PNG. bits: 8, 16, or 0 for img->bits. Temporary buffers
  * come from a (NULL: PW_MALLOC). */
-PW__DEF int pw_png_write(const pw_alloc *a, const pw_image *img, int bits, pw_write_fn w,
-                         void *ctx, pw_err *e)
+PW__DEF int pw_png_write(const pw_alloc *a, const pw_image *img, int bits, pw_write_fn w, void *ctx, pw_err *e)
 {
     static const unsigned char ctypes[4] = {0, 4, 2, 6};
     unsigned char ihdr[13], *raw = NULL, *z = NULL;
@@ -3165,8 +3085,7 @@ PW__DEF int pw_png_write(const pw_alloc *a, const pw_image *img, int bits, pw_wr
     pw__sink_init(&s, w, ctx);
     pw__sink_put(&s, pw__png_sig, 8);
     pw__png_chunk(&s, "IHDR", ihdr, 13);
-    for (off = 0; off < zn; off += 65536)
-        pw__png_chunk(&s, "IDAT", z + off, zn - off < 65536 ? zn - off : 65536);
+    for (off = 0; off < zn; off += 65536) pw__png_chunk(&s, "IDAT", z + off, zn - off < 65536 ? zn - off : 65536);
     pw__png_chunk(&s, "IEND", ihdr, 0);
     pw_free(a, z);
     return pw__sink_end(&s, e);
@@ -3196,8 +3115,7 @@ PW__DEF int pw__png_ihdr(pw__png *p, const unsigned char *d, uint32_t len)
     static const int spp[7] = {1, 0, 3, 1, 2, 0, 4};
     int ok, rc;
     if (len != 13)
-        return pw_fail(p->e, PW_ERR_PARSE, "%s: IHDR chunk has length %lu, not 13", p->name,
-                       (unsigned long)len);
+        return pw_fail(p->e, PW_ERR_PARSE, "%s: IHDR chunk has length %lu, not 13", p->name, (unsigned long)len);
     p->w = pw__be32(d);
     p->h = pw__be32(d + 4);
     p->depth = d[8];
@@ -3208,11 +3126,10 @@ PW__DEF int pw__png_ihdr(pw__png *p, const unsigned char *d, uint32_t len)
     ok = p->depth == 8 || (p->depth == 16 && p->ctype != 3) ||
          ((p->depth == 1 || p->depth == 2 || p->depth == 4) && (p->ctype == 0 || p->ctype == 3));
     if (!ok)
-        return pw_fail(p->e, PW_ERR_PARSE, "%s: bit depth %d is invalid for PNG colour type %d",
-                       p->name, p->depth, p->ctype);
+        return pw_fail(p->e, PW_ERR_PARSE, "%s: bit depth %d is invalid for PNG colour type %d", p->name, p->depth,
+                       p->ctype);
     if (d[10] != 0 || d[11] != 0 || p->interlace > 1)
-        return pw_fail(p->e, PW_ERR_PARSE,
-                       "%s: unknown PNG compression, filter or interlace method (%d, %d, %d)",
+        return pw_fail(p->e, PW_ERR_PARSE, "%s: unknown PNG compression, filter or interlace method (%d, %d, %d)",
                        p->name, d[10], d[11], d[12]);
     if ((rc = pw__image_check_size(p->name, p->w, p->h, p->e))) return rc;
     p->spp = spp[p->ctype];
@@ -3224,12 +3141,10 @@ PW__DEF int pw__png_ihdr(pw__png *p, const unsigned char *d, uint32_t len)
 PW__DEF int pw__png_palette(pw__png *p, const char *type, const unsigned char *d, uint32_t len)
 {
     uint32_t i;
-    if (p->seen_idat)
-        return pw_fail(p->e, PW_ERR_PARSE, "%s: %s chunk after the image data", p->name, type);
+    if (p->seen_idat) return pw_fail(p->e, PW_ERR_PARSE, "%s: %s chunk after the image data", p->name, type);
     if (type[0] == 'P') {
         if (len % 3 || len == 0 || len > 768)
-            return pw_fail(p->e, PW_ERR_PARSE, "%s: PLTE chunk has invalid length %lu", p->name,
-                           (unsigned long)len);
+            return pw_fail(p->e, PW_ERR_PARSE, "%s: PLTE chunk has invalid length %lu", p->name, (unsigned long)len);
         if (p->ctype == 0 || p->ctype == 4) return PW_OK; /* not allowed, harmless */
         p->npal = (int)(len / 3);
         for (i = 0; i < len / 3; i++) {
@@ -3240,13 +3155,12 @@ PW__DEF int pw__png_palette(pw__png *p, const char *type, const unsigned char *d
     }
     if (p->ctype == 3) {
         if (len > (uint32_t)p->npal)
-            return pw_fail(p->e, PW_ERR_PARSE, "%s: tRNS chunk has %lu entries for a palette of %d",
-                           p->name, (unsigned long)len, p->npal);
+            return pw_fail(p->e, PW_ERR_PARSE, "%s: tRNS chunk has %lu entries for a palette of %d", p->name,
+                           (unsigned long)len, p->npal);
         for (i = 0; i < len; i++) p->pal[i][3] = d[i];
     } else if (p->ctype == 0 || p->ctype == 2) {
         if (len != (p->ctype ? 6u : 2u))
-            return pw_fail(p->e, PW_ERR_PARSE, "%s: tRNS chunk has invalid length %lu", p->name,
-                           (unsigned long)len);
+            return pw_fail(p->e, PW_ERR_PARSE, "%s: tRNS chunk has invalid length %lu", p->name, (unsigned long)len);
         for (i = 0; i < len / 2; i++) p->key[i] = (unsigned)d[2 * i] << 8 | d[2 * i + 1];
     } else {
         return PW_OK; /* not allowed with an alpha channel; ignored */
@@ -3264,12 +3178,10 @@ PW__DEF int pw__png_chunk_read(pw__png *p, const unsigned char *c, uint32_t len)
     if (!p->seen_ihdr && strcmp(type, "IHDR") != 0)
         return pw_fail(p->e, PW_ERR_PARSE, "%s: first PNG chunk is not IHDR", p->name);
     if (strcmp(type, "IHDR") == 0) {
-        if (p->seen_ihdr)
-            return pw_fail(p->e, PW_ERR_PARSE, "%s: more than one IHDR chunk", p->name);
+        if (p->seen_ihdr) return pw_fail(p->e, PW_ERR_PARSE, "%s: more than one IHDR chunk", p->name);
         return pw__png_ihdr(p, c + 8, len);
     }
-    if (strcmp(type, "PLTE") == 0 || strcmp(type, "tRNS") == 0)
-        return pw__png_palette(p, type, c + 8, len);
+    if (strcmp(type, "PLTE") == 0 || strcmp(type, "tRNS") == 0) return pw__png_palette(p, type, c + 8, len);
     if (strcmp(type, "IDAT") == 0) {
         p->idat_size += len;
         p->seen_idat = 1;
@@ -3280,8 +3192,7 @@ PW__DEF int pw__png_chunk_read(pw__png *p, const unsigned char *c, uint32_t len)
         return PW_OK;
     }
     if (!(type[0] & 0x20)) /* an uppercase first letter marks a critical chunk */
-        return pw_fail(p->e, PW_ERR_UNSUPPORTED, "%s: unknown critical PNG chunk '%s'", p->name,
-                       type);
+        return pw_fail(p->e, PW_ERR_UNSUPPORTED, "%s: unknown critical PNG chunk '%s'", p->name, type);
     return PW_OK;
 }
 
@@ -3294,26 +3205,21 @@ PW__DEF int pw__png_walk(pw__png *p, const unsigned char *data, size_t size)
     while (!p->seen_iend) {
         const unsigned char *c = data + pos;
         uint32_t len;
-        if (size - pos < 12)
-            return pw_fail(p->e, PW_ERR_PARSE, "%s: PNG file truncated (no IEND chunk)", p->name);
+        if (size - pos < 12) return pw_fail(p->e, PW_ERR_PARSE, "%s: PNG file truncated (no IEND chunk)", p->name);
         len = pw__be32(c);
         for (i = 4; i < 8; i++)
             if (!((c[i] >= 'A' && c[i] <= 'Z') || (c[i] >= 'a' && c[i] <= 'z')))
-                return pw_fail(p->e, PW_ERR_PARSE, "%s: bad PNG chunk type at offset %lu", p->name,
-                               (unsigned long)pos);
+                return pw_fail(p->e, PW_ERR_PARSE, "%s: bad PNG chunk type at offset %lu", p->name, (unsigned long)pos);
         if (len > 0x7fffffffu || len > size - pos - 12)
-            return pw_fail(p->e, PW_ERR_PARSE, "%s: PNG chunk '%.4s' truncated (length %lu)",
-                           p->name, (const char *)c + 4, (unsigned long)len);
+            return pw_fail(p->e, PW_ERR_PARSE, "%s: PNG chunk '%.4s' truncated (length %lu)", p->name,
+                           (const char *)c + 4, (unsigned long)len);
         if (pw_crc32(0, c + 4, len + 4) != pw__be32(c + 8 + len))
-            return pw_fail(p->e, PW_ERR_PARSE, "%s: CRC mismatch in PNG chunk '%.4s'", p->name,
-                           (const char *)c + 4);
+            return pw_fail(p->e, PW_ERR_PARSE, "%s: CRC mismatch in PNG chunk '%.4s'", p->name, (const char *)c + 4);
         if ((rc = pw__png_chunk_read(p, c, len))) return rc;
         pos += 12 + (size_t)len;
     }
-    if (!p->seen_idat)
-        return pw_fail(p->e, PW_ERR_PARSE, "%s: PNG file has no IDAT chunk", p->name);
-    if (p->ctype == 3 && !p->npal)
-        return pw_fail(p->e, PW_ERR_PARSE, "%s: palette PNG has no PLTE chunk", p->name);
+    if (!p->seen_idat) return pw_fail(p->e, PW_ERR_PARSE, "%s: PNG file has no IDAT chunk", p->name);
+    if (p->ctype == 3 && !p->npal) return pw_fail(p->e, PW_ERR_PARSE, "%s: palette PNG has no PLTE chunk", p->name);
     return PW_OK;
 }
 
@@ -3334,15 +3240,13 @@ PW__DEF void pw__png_gather(const unsigned char *data, unsigned char *idat)
 
 /* Adam7 passes (§8.2): x start, y start, x step, y step. A plain image is
  * the single pass {0, 0, 1, 1}. */
-static const unsigned char pw__adam7[7][4] = {{0, 0, 8, 8}, {4, 0, 8, 8}, {0, 4, 4, 8},
-                                              {2, 0, 4, 4}, {0, 2, 2, 4}, {1, 0, 2, 2},
-                                              {0, 1, 1, 2}};
+static const unsigned char pw__adam7[7][4] = {{0, 0, 8, 8}, {4, 0, 8, 8}, {0, 4, 4, 8}, {2, 0, 4, 4},
+                                              {0, 2, 2, 4}, {1, 0, 2, 2}, {0, 1, 1, 2}};
 
 /* Pixels of a pass along one axis (0 when the pass is empty). */
 PW__DEF uint32_t pw__pass_len(uint32_t size, int start, int step)
 {
-    return size > (uint32_t)start ? (size - (uint32_t)start + (uint32_t)step - 1) / (uint32_t)step
-                                  : 0;
+    return size > (uint32_t)start ? (size - (uint32_t)start + (uint32_t)step - 1) / (uint32_t)step : 0;
 }
 
 /* Bytes of one filtered row of `w` pixels, without the filter byte. */
@@ -3367,8 +3271,7 @@ PW__DEF uint64_t pw__png_rawsize(const pw__png *p)
 
 /* Undoes the filter of one row in place (§9.2); prev is NULL for the first
  * row of a pass. */
-PW__DEF int pw__png_unfilter(pw__png *p, unsigned char *row, const unsigned char *prev, size_t n,
-                             size_t bpp, int f)
+PW__DEF int pw__png_unfilter(pw__png *p, unsigned char *row, const unsigned char *prev, size_t n, size_t bpp, int f)
 {
     size_t i;
     if (f > 4) return pw_fail(p->e, PW_ERR_PARSE, "%s: invalid PNG filter type %d", p->name, f);
@@ -3393,8 +3296,7 @@ PW__DEF unsigned pw__png_sample(const unsigned char *row, size_t i, int depth)
 }
 
 /* Converts `count` pixels of a row to floats at dst, dst + step, ... */
-PW__DEF int pw__png_pixels(pw__png *p, const unsigned char *row, uint32_t count, float *dst,
-                           size_t step)
+PW__DEF int pw__png_pixels(pw__png *p, const unsigned char *row, uint32_t count, float *dst, size_t step)
 {
     float maxv = (float)((1u << p->depth) - 1);
     unsigned s[4];
@@ -3404,17 +3306,15 @@ PW__DEF int pw__png_pixels(pw__png *p, const unsigned char *row, uint32_t count,
         for (k = 0; k < p->spp; k++) s[k] = pw__png_sample(row, (size_t)x * p->spp + k, p->depth);
         if (p->ctype == 3) {
             if (s[0] >= (unsigned)p->npal)
-                return pw_fail(p->e, PW_ERR_PARSE, "%s: palette index %u out of range (%d entries)",
-                               p->name, s[0], p->npal);
+                return pw_fail(p->e, PW_ERR_PARSE, "%s: palette index %u out of range (%d entries)", p->name, s[0],
+                               p->npal);
             for (k = 0; k < p->outc; k++) dst[k] = (float)p->pal[s[0]][k] / 255.0f;
             continue;
         }
         for (k = 0; k < p->spp; k++) dst[k] = (float)s[k] / maxv;
         if (p->trns) /* colour key: alpha 0 where the pixel equals it */
             dst[p->spp] =
-                (s[0] == p->key[0] && (p->spp == 1 || (s[1] == p->key[1] && s[2] == p->key[2])))
-                    ? 0.0f
-                    : 1.0f;
+                (s[0] == p->key[0] && (p->spp == 1 || (s[1] == p->key[1] && s[2] == p->key[2]))) ? 0.0f : 1.0f;
     }
     return PW_OK;
 }
@@ -3445,8 +3345,8 @@ PW__DEF int pw__png_decode(pw__png *p, unsigned char *raw, pw_image *img)
 }
 
 /* Decompresses the gathered IDAT data, exactly `want` bytes. */
-PW__DEF int pw__png_inflate(pw__png *p, const pw_alloc *a, const unsigned char *z, size_t zn,
-                            size_t want, unsigned char **raw)
+PW__DEF int pw__png_inflate(pw__png *p, const pw_alloc *a, const unsigned char *z, size_t zn, size_t want,
+                            unsigned char **raw)
 {
     pw_err local;
     size_t got;
@@ -3454,22 +3354,21 @@ PW__DEF int pw__png_inflate(pw__png *p, const pw_alloc *a, const unsigned char *
     pw_err_clear(&local);
     rc = pw_zlib_decompress(a, z, zn, want, raw, &got, &local);
     if (rc == PW_ERR_LIMIT)
-        return pw_fail(p->e, PW_ERR_PARSE,
-                       "%s: PNG image data is longer than the %lu bytes its size implies", p->name,
+        return pw_fail(p->e, PW_ERR_PARSE, "%s: PNG image data is longer than the %lu bytes its size implies", p->name,
                        (unsigned long)want);
     if (rc) return pw_fail(p->e, rc, "%s: PNG image data: %s", p->name, local.msg);
     if (got != want) {
         pw_free(a, *raw);
         *raw = NULL;
-        return pw_fail(p->e, PW_ERR_PARSE, "%s: PNG image data truncated (%lu of %lu bytes)",
-                       p->name, (unsigned long)got, (unsigned long)want);
+        return pw_fail(p->e, PW_ERR_PARSE, "%s: PNG image data truncated (%lu of %lu bytes)", p->name,
+                       (unsigned long)got, (unsigned long)want);
     }
     return PW_OK;
 }
 
 /* Reads a PNG from memory; `name` prefixes error messages. */
-PW__DEF int pw_png_read_memory(const pw_alloc *a, const unsigned char *data, size_t size,
-                               const char *name, pw_image *out, pw_err *e)
+PW__DEF int pw_png_read_memory(const pw_alloc *a, const unsigned char *data, size_t size, const char *name,
+                               pw_image *out, pw_err *e)
 {
     pw__png p;
     unsigned char *z = NULL, *raw = NULL;
@@ -3486,8 +3385,7 @@ PW__DEF int pw_png_read_memory(const pw_alloc *a, const unsigned char *data, siz
     /* deflate expands at most 1032:1 (a 258-byte match in 2 bits): refuse
      * sizes the data cannot hold before allocating anything */
     if (want > p.idat_size * 1032 + 64 || want > (size_t)-1)
-        return pw_fail(e, PW_ERR_PARSE,
-                       "%s: PNG image data (%lu bytes) too short for a %lux%lu image", p.name,
+        return pw_fail(e, PW_ERR_PARSE, "%s: PNG image data (%lu bytes) too short for a %lux%lu image", p.name,
                        (unsigned long)p.idat_size, (unsigned long)p.w, (unsigned long)p.h);
     z = (unsigned char *)pw_alloc_array(a, (size_t)p.idat_size, 1, "PNG image data", e);
     if (!z) return PW_ERR_NOMEM;
@@ -3507,17 +3405,22 @@ PW__DEF int pw_png_read_memory(const pw_alloc *a, const unsigned char *data, siz
 }
 
 #else
-PW__DEF int pw_png_write(const pw_alloc *a, const pw_image *img, int bits, pw_write_fn w,
-                         void *ctx, pw_err *e)
+PW__DEF int pw_png_write(const pw_alloc *a, const pw_image *img, int bits, pw_write_fn w, void *ctx, pw_err *e)
 {
-    (void)a, (void)img, (void)bits, (void)w, (void)ctx;
+    (void)a;
+    (void)img;
+    (void)bits;
+    (void)w;
+    (void)ctx;
     return pw_fail(e, PW_ERR_UNSUPPORTED, "PNG compiled out (PW_NO_PNG)");
 }
 
-PW__DEF int pw_png_read_memory(const pw_alloc *a, const unsigned char *data, size_t size,
-                               const char *name, pw_image *out, pw_err *e)
+PW__DEF int pw_png_read_memory(const pw_alloc *a, const unsigned char *data, size_t size, const char *name,
+                               pw_image *out, pw_err *e)
 {
-    (void)a, (void)data, (void)size;
+    (void)a;
+    (void)data;
+    (void)size;
     memset(out, 0, sizeof *out);
     return pw_fail(e, PW_ERR_UNSUPPORTED, "%s: PNG compiled out (PW_NO_PNG)", name ? name : "image");
 }
@@ -3530,20 +3433,17 @@ PW__DEF int pw_png_read_memory(const pw_alloc *a, const unsigned char *data, siz
 /* Reads PNG, PNM/PAM (P1-P7) or a GIMP pattern, recognised by content
  * (PNG signature, "P1".."P7", "GPAT" at offset 20). `name` (usually the
  * file name) prefixes every error message; `a` may be NULL. */
-PW__DEF int pw_image_read_memory(const pw_alloc *a, const unsigned char *data, size_t size,
-                                 const char *name, pw_image *out, pw_err *e)
+PW__DEF int pw_image_read_memory(const pw_alloc *a, const unsigned char *data, size_t size, const char *name,
+                                 pw_image *out, pw_err *e)
 {
     memset(out, 0, sizeof *out);
     if (!name) name = "image";
-    if (size >= 8 && memcmp(data, pw__png_sig, 8) == 0)
-        return pw_png_read_memory(a, data, size, name, out, e);
+    if (size >= 8 && memcmp(data, pw__png_sig, 8) == 0) return pw_png_read_memory(a, data, size, name, out, e);
     if (size >= 2 && data[0] == 'P' && data[1] >= '1' && data[1] <= '7')
         return pw_image_read_pnm_memory(a, data, size, name, out, e);
-    if (size >= 24 && memcmp(data + 20, "GPAT", 4) == 0)
-        return pw_image_read_pat_memory(a, data, size, name, out, e);
+    if (size >= 24 && memcmp(data + 20, "GPAT", 4) == 0) return pw_image_read_pat_memory(a, data, size, name, out, e);
     return pw_fail(e, size ? PW_ERR_UNSUPPORTED : PW_ERR_PARSE, "%s: %s", name,
-                   size ? "unknown image format (not PNG, PNM, PAM or GIMP pattern)"
-                        : "empty file");
+                   size ? "unknown image format (not PNG, PNM, PAM or GIMP pattern)" : "empty file");
 }
 
 #ifndef PW_NO_STDIO
@@ -3582,15 +3482,11 @@ PW__DEF int pw_image_save(const char *path, const pw_image *img, pw_err *e)
     int rc = pw__image_check(img, e);
     if (rc) return rc;
     j.img = img;
-    if (pw_has_ext(path, ".ppm") || pw_has_ext(path, ".pgm") || pw_has_ext(path, ".pnm"))
-        j.kind = 0;
-    else if (pw_has_ext(path, ".pam"))
-        j.kind = 1;
-    else if (pw_has_ext(path, ".png"))
-        j.kind = 2;
+    if (pw_has_ext(path, ".ppm") || pw_has_ext(path, ".pgm") || pw_has_ext(path, ".pnm")) j.kind = 0;
+    else if (pw_has_ext(path, ".pam")) j.kind = 1;
+    else if (pw_has_ext(path, ".png")) j.kind = 2;
     else
-        return pw_fail(e, PW_ERR_UNSUPPORTED,
-                       "%s: unknown image file extension (use .png, .ppm, .pgm, .pnm or .pam)",
+        return pw_fail(e, PW_ERR_UNSUPPORTED, "%s: unknown image file extension (use .png, .ppm, .pgm, .pnm or .pam)",
                        path);
     return pw_write_file(path, pw__save_body, &j, e);
 }
@@ -3609,9 +3505,8 @@ PW__DEF int pw_image_save(const char *path, const pw_image *img, pw_err *e)
 
 /* ---- number parsing ------------------------------------------------------ */
 
-static const double pw__num_pow10[23] = {1e0,  1e1,  1e2,  1e3,  1e4,  1e5,  1e6,  1e7,
-                                     1e8,  1e9,  1e10, 1e11, 1e12, 1e13, 1e14, 1e15,
-                                     1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22};
+static const double pw__num_pow10[23] = {1e0,  1e1,  1e2,  1e3,  1e4,  1e5,  1e6,  1e7,  1e8,  1e9,  1e10, 1e11,
+                                         1e12, 1e13, 1e14, 1e15, 1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22};
 
 /* m * 10^x. Powers of ten up to 1e22 are exact doubles, so the common case
  * (up to 17 significant digits, small exponent) is one rounding, and the
@@ -3620,13 +3515,17 @@ PW__DEF double pw__num_scale10(uint64_t m, long x, int neg)
 {
     double v = (double)m;
     if (m == 0) x = 0;
-    if (x > 400)
-        v = HUGE_VAL; /* m >= 1, so at least 1e400 */
-    else if (x < -400)
-        v = 0.0; /* m < 1e18, so below 1e-382 */
+    if (x > 400) v = HUGE_VAL;  /* m >= 1, so at least 1e400 */
+    else if (x < -400) v = 0.0; /* m < 1e18, so below 1e-382 */
     else {
-        while (x > 22) v *= 1e22, x -= 22;
-        while (x < -22) v /= 1e22, x += 22;
+        while (x > 22) {
+            v *= 1e22;
+            x -= 22;
+        }
+        while (x < -22) {
+            v /= 1e22;
+            x += 22;
+        }
         v = x >= 0 ? v * pw__num_pow10[x] : v / pw__num_pow10[-x];
     }
     return neg ? -v : v;
@@ -3661,14 +3560,15 @@ PW__DEF const char *pw__num_parse(const char *p, const char *end, double *out)
     if (p < end && (*p == '+' || *p == '-')) neg = *p++ == '-';
     if (p < end && ((*p | 32) == 'n' || (*p | 32) == 'i')) return pw__num_special(p, end, out, neg);
     for (; p < end && *p >= '0' && *p <= '9'; p++, digits++) {
-        if (m < 100000000000000000ULL)
-            m = m * 10 + (uint64_t)(*p - '0');
-        else if (x < 100000)
-            x++; /* digits past the 17th only scale */
+        if (m < 100000000000000000ULL) m = m * 10 + (uint64_t)(*p - '0');
+        else if (x < 100000) x++; /* digits past the 17th only scale */
     }
     if (p < end && *p == '.')
         for (p++; p < end && *p >= '0' && *p <= '9'; p++, digits++)
-            if (m < 100000000000000000ULL) m = m * 10 + (uint64_t)(*p - '0'), x--;
+            if (m < 100000000000000000ULL) {
+                m = m * 10 + (uint64_t)(*p - '0');
+                x--;
+            }
     if (!digits) return NULL;
     if (p < end && (*p == 'e' || *p == 'E')) {
         p++;
@@ -3716,8 +3616,7 @@ typedef struct pw__sc {
     pw_err *e;
 } pw__sc;
 
-PW__DEF void pw__sc_init(pw__sc *s, const void *data, size_t size, const char *name, int cont,
-                         pw_err *e)
+PW__DEF void pw__sc_init(pw__sc *s, const void *data, size_t size, const char *name, int cont, pw_err *e)
 {
     s->p = (const char *)data;
     s->end = s->p + size;
@@ -3805,17 +3704,16 @@ PW__DEF const char *pw__sc_word(pw__sc *s, size_t *n)
     return w;
 }
 
-PW__DEF int pw__sc_is(const char *w, size_t n, const char *lit)
-{
-    return strlen(lit) == n && !memcmp(w, lit, n);
-}
+PW__DEF int pw__sc_is(const char *w, size_t n, const char *lit) { return strlen(lit) == n && !memcmp(w, lit, n); }
 
 /* Copies the token at q, shortened and made printable, for messages. */
 PW__DEF const char *pw__sc_tok(const pw__sc *s, const char *q, char *buf)
 {
     int n = 0;
-    while (q < s->end && n < 24 && !pw__sc_blank_char(*q) && *q != '\n')
-        buf[n++] = (*q >= 32 && *q < 127) ? *q : '?', q++;
+    while (q < s->end && n < 24 && !pw__sc_blank_char(*q) && *q != '\n') {
+        buf[n++] = (*q >= 32 && *q < 127) ? *q : '?';
+        q++;
+    }
     if (n == 24) buf[n - 1] = buf[n - 2] = buf[n - 3] = '.';
     buf[n] = 0;
     return buf;
@@ -3827,8 +3725,7 @@ PW__DEF int pw__sc_value_error(pw__sc *s, int missing, int is_int, const char *w
     char tok[32], label[64];
     if (index >= 0) snprintf(label, sizeof label, "%s %lld", what, index);
     else snprintf(label, sizeof label, "%s", what);
-    if (missing)
-        return pw__sc_fail(s, PW_ERR_PARSE, "%s: %s is missing", label, is_int ? "an integer" : "a number");
+    if (missing) return pw__sc_fail(s, PW_ERR_PARSE, "%s: %s is missing", label, is_int ? "an integer" : "a number");
     return pw__sc_fail(s, PW_ERR_PARSE, "%s: malformed %s '%s'", label, is_int ? "integer" : "number",
                        pw__sc_tok(s, s->p, tok));
 }
@@ -3853,7 +3750,6 @@ PW__DEF int pw__sc_int(pw__sc *s, long long *v, const char *what, long long inde
 {
     return pw__sc_value(s, NULL, v, what, index);
 }
-
 
 /* Buffered output over a pw_write_fn. */
 typedef struct pw__wb {
@@ -3890,7 +3786,8 @@ PW__DEF void pw__wb_int(pw__wb *b, long long v, char lead)
     char t[24];
     int n = (int)sizeof t;
     unsigned long long u = v < 0 ? 0ull - (unsigned long long)v : (unsigned long long)v;
-    do t[--n] = (char)('0' + u % 10); while (u /= 10);
+    do t[--n] = (char)('0' + u % 10);
+    while (u /= 10);
     if (v < 0) t[--n] = '-';
     if (lead) t[--n] = lead;
     pw__wb_put(b, t + n, sizeof t - (size_t)n);
@@ -3899,8 +3796,14 @@ PW__DEF void pw__wb_int(pw__wb *b, long long v, char lead)
 /* v * 10^x with exact powers of ten (deterministic: only + - * /). */
 PW__DEF double pw__num_mul10(double v, int x)
 {
-    while (x > 22) v *= 1e22, x -= 22;
-    while (x < -22) v /= 1e22, x += 22;
+    while (x > 22) {
+        v *= 1e22;
+        x -= 22;
+    }
+    while (x < -22) {
+        v /= 1e22;
+        x += 22;
+    }
     return x >= 0 ? v * pw__num_pow10[x] : v / pw__num_pow10[-x];
 }
 
@@ -3911,7 +3814,7 @@ PW__DEF uint32_t pw__num_digits(double x, int *e10)
 {
     int e2, k, t;
     uint32_t d = 0;
-    frexp(x, &e2); /* x in [2^(e2-1), 2^e2) */
+    frexp(x, &e2);        /* x in [2^(e2-1), 2^e2) */
     t = (e2 - 1) * 30103; /* log10(2) = 0.30103 */
     *e10 = t >= 0 ? t / 100000 : -((99999 - t) / 100000);
     for (k = 0; k < 4; k++) {
@@ -3937,20 +3840,30 @@ PW__DEF int pw__num_format(char *out, float xf)
     uint32_t d, bits;
     int n = 0, nd = 9, e10, i, pos;
     memcpy(&bits, &xf, 4);
-    if (bits >> 31) out[n++] = '-', x = -x; /* also keeps -0 */
+    if (bits >> 31) {
+        out[n++] = '-';
+        x = -x;
+    } /* also keeps -0 */
     if (x == 0.0) {
         out[n++] = '0';
         return n;
     }
     d = pw__num_digits(x, &e10);
-    while (nd > 1 && d % 10 == 0) d /= 10, nd--;
-    for (i = nd - 1; i >= 0; i--) dig[i] = (char)('0' + d % 10), d /= 10;
+    while (nd > 1 && d % 10 == 0) {
+        d /= 10;
+        nd--;
+    }
+    for (i = nd - 1; i >= 0; i--) {
+        dig[i] = (char)('0' + d % 10);
+        d /= 10;
+    }
     if (e10 >= 0 && e10 < 9) { /* ddd.ddd */
         for (i = 0; i <= e10; i++) out[n++] = i < nd ? dig[i] : '0';
         if (nd > e10 + 1) out[n++] = '.';
         for (i = e10 + 1; i < nd; i++) out[n++] = dig[i];
     } else if (e10 < 0 && e10 >= -4) { /* 0.000ddd, as %g does */
-        out[n++] = '0', out[n++] = '.';
+        out[n++] = '0';
+        out[n++] = '.';
         for (i = 0; i < -e10 - 1; i++) out[n++] = '0';
         for (i = 0; i < nd; i++) out[n++] = dig[i];
     } else { /* d.ddde-12 */
@@ -3958,7 +3871,10 @@ PW__DEF int pw__num_format(char *out, float xf)
         if (nd > 1) out[n++] = '.';
         for (i = 1; i < nd; i++) out[n++] = dig[i];
         out[n++] = 'e';
-        if (e10 < 0) out[n++] = '-', e10 = -e10;
+        if (e10 < 0) {
+            out[n++] = '-';
+            e10 = -e10;
+        }
         pos = e10 >= 10 ? 2 : 1;
         for (i = pos - 1; i >= 0; i--, e10 /= 10) out[n + i] = (char)('0' + e10 % 10);
         n += pos;
@@ -4026,13 +3942,13 @@ PW__DEF int pw__wb_done(pw__wb *b, pw_err *e)
 
 typedef struct pw_mesh {
     int nv;
-    float *pos;  /* nv*3: vertex i is pos[3*i], pos[3*i+1], pos[3*i+2] */
+    float *pos; /* nv*3: vertex i is pos[3*i], pos[3*i+1], pos[3*i+2] */
     int nf;
     int *fstart; /* nf+1 offsets into fv; fstart[0] = 0 */
     int *fv;     /* fstart[nf] vertex indices, counter-clockwise per face */
     int nuv;
-    float *uv;   /* nuv*2 texture coordinates, or NULL */
-    int *fuv;    /* fstart[nf]: uv index of each corner, or NULL */
+    float *uv; /* nuv*2 texture coordinates, or NULL */
+    int *fuv;  /* fstart[nf]: uv index of each corner, or NULL */
 } pw_mesh;
 
 /* Frees the arrays and zeroes *m (NULL is fine). */
@@ -4048,18 +3964,15 @@ PW__DEF void pw_mesh_free(const pw_alloc *a, pw_mesh *m)
 }
 
 /* Shared by pw_mesh_alloc and pw_mesh_copy: nuv < 0 means no uv arrays. */
-PW__DEF int pw__mesh_alloc(const pw_alloc *a, pw_mesh *m, int nv, int nf, int nc, int nuv,
-                           pw_err *e)
+PW__DEF int pw__mesh_alloc(const pw_alloc *a, pw_mesh *m, int nv, int nf, int nc, int nuv, pw_err *e)
 {
     memset(m, 0, sizeof *m);
     if (nv < 0 || nf < 0 || nc < 0)
-        return pw_fail(e, PW_ERR_INVALID, "mesh: negative size (%d vertices, %d faces, %d corners)",
-                       nv, nf, nc);
+        return pw_fail(e, PW_ERR_INVALID, "mesh: negative size (%d vertices, %d faces, %d corners)", nv, nf, nc);
     if (nv > PW_MAX_MESH_ELEMENTS || nf > PW_MAX_MESH_ELEMENTS || nc > PW_MAX_MESH_ELEMENTS ||
         nuv > PW_MAX_MESH_ELEMENTS)
-        return pw_fail(e, PW_ERR_LIMIT,
-                       "mesh: %d vertices, %d faces, %d corners exceed the limit of %d elements",
-                       nv, nf, nc, PW_MAX_MESH_ELEMENTS);
+        return pw_fail(e, PW_ERR_LIMIT, "mesh: %d vertices, %d faces, %d corners exceed the limit of %d elements", nv,
+                       nf, nc, PW_MAX_MESH_ELEMENTS);
     m->pos = (float *)pw_calloc_array(a, (size_t)nv * 3, sizeof(float), "mesh positions", e);
     m->fstart = (int *)pw_calloc_array(a, (size_t)nf + 1, sizeof(int), "mesh faces", e);
     m->fv = (int *)pw_calloc_array(a, (size_t)nc, sizeof(int), "mesh corners", e);
@@ -4081,8 +3994,7 @@ PW__DEF int pw__mesh_alloc(const pw_alloc *a, pw_mesh *m, int nv, int nf, int nc
  * caller fills pos, all nf+1 entries of fstart, and fv. With with_uv != 0 it
  * also allocates one texture coordinate per corner (nuv = ncorners, uv
  * zeroed, fuv[i] = i); lower nuv afterwards when sharing uvs. */
-PW__DEF int pw_mesh_alloc(const pw_alloc *a, pw_mesh *m, int nv, int nf, int ncorners,
-                          int with_uv, pw_err *e)
+PW__DEF int pw_mesh_alloc(const pw_alloc *a, pw_mesh *m, int nv, int nf, int ncorners, int with_uv, pw_err *e)
 {
     int r = pw__mesh_alloc(a, m, nv, nf, ncorners, with_uv ? ncorners : -1, e), i;
     if (r == PW_OK && with_uv)
@@ -4095,24 +4007,23 @@ PW__DEF int pw_mesh_alloc(const pw_alloc *a, pw_mesh *m, int nv, int nf, int nco
 PW__DEF int pw_mesh_validate(const pw_mesh *m, pw_err *e)
 {
     int f, i;
-    if (m->nv < 0 || m->nf < 0 || m->nuv < 0 || !m->fstart || (m->nv && !m->pos) ||
-        (m->nuv && !m->uv))
+    if (m->nv < 0 || m->nf < 0 || m->nuv < 0 || !m->fstart || (m->nv && !m->pos) || (m->nuv && !m->uv))
         return pw_fail(e, PW_ERR_INVALID, "mesh: negative count or missing array");
-    if (m->fstart[0] != 0)
-        return pw_fail(e, PW_ERR_INVALID, "mesh: fstart[0] is %d, must be 0", m->fstart[0]);
+    if (m->fstart[0] != 0) return pw_fail(e, PW_ERR_INVALID, "mesh: fstart[0] is %d, must be 0", m->fstart[0]);
     for (f = 0; f < m->nf; f++) {
         int b = m->fstart[f], d; /* b >= 0 by induction */
         if ((int64_t)m->fstart[f + 1] < (int64_t)b + 3)
-            return pw_fail(e, PW_ERR_DEGENERATE, "mesh: face %d has %ld corners (at least 3 needed)",
-                           f, (long)m->fstart[f + 1] - b);
+            return pw_fail(e, PW_ERR_DEGENERATE, "mesh: face %d has %ld corners (at least 3 needed)", f,
+                           (long)m->fstart[f + 1] - b);
         d = m->fstart[f + 1] - b;
         for (i = b; i < b + d; i++) {
             if (!m->fv || m->fv[i] < 0 || m->fv[i] >= m->nv)
-                return pw_fail(e, PW_ERR_INVALID, "mesh: face %d, corner %d: vertex index %d out of range (%d vertices)",
-                               f, i - b, m->fv ? m->fv[i] : -1, m->nv);
+                return pw_fail(e, PW_ERR_INVALID,
+                               "mesh: face %d, corner %d: vertex index %d out of range (%d vertices)", f, i - b,
+                               m->fv ? m->fv[i] : -1, m->nv);
             if (m->fuv && (m->fuv[i] < 0 || m->fuv[i] >= m->nuv))
-                return pw_fail(e, PW_ERR_INVALID, "mesh: face %d, corner %d: uv index %d out of range (%d uvs)",
-                               f, i - b, m->fuv[i], m->nuv);
+                return pw_fail(e, PW_ERR_INVALID, "mesh: face %d, corner %d: uv index %d out of range (%d uvs)", f,
+                               i - b, m->fuv[i], m->nuv);
         }
     }
     for (i = 0; i < m->nv * 3; i++)
@@ -4160,8 +4071,7 @@ PW__DEF int pw_mesh_copy(const pw_alloc *a, const pw_mesh *src, pw_mesh *dst, pw
  * tri_face is not NULL it receives a new array (free with pw_free(a, ...))
  * mapping each triangle to its source face. Fans suit convex polygons, which
  * is what renderers and the triangle-based methods are given. */
-PW__DEF int pw_mesh_triangulate(const pw_alloc *a, const pw_mesh *m, pw_mesh *out,
-                                int **tri_face, pw_err *e)
+PW__DEF int pw_mesh_triangulate(const pw_alloc *a, const pw_mesh *m, pw_mesh *out, int **tri_face, pw_err *e)
 {
     int64_t nt = 0;
     int f, k, t = 0, r, with_uv = m->uv && m->fuv;
@@ -4172,8 +4082,7 @@ PW__DEF int pw_mesh_triangulate(const pw_alloc *a, const pw_mesh *m, pw_mesh *ou
     for (f = 0; f < m->nf; f++) nt += m->fstart[f + 1] - m->fstart[f] - 2;
     if (nt * 3 > PW_MAX_MESH_ELEMENTS)
         return pw_fail(e, PW_ERR_LIMIT, "triangulation: %ld triangles exceed the limit", (long)nt);
-    if ((r = pw__mesh_alloc(a, out, m->nv, (int)nt, (int)nt * 3, with_uv ? m->nuv : -1, e)))
-        return r;
+    if ((r = pw__mesh_alloc(a, out, m->nv, (int)nt, (int)nt * 3, with_uv ? m->nuv : -1, e))) return r;
     if (tri_face && !(map = (int *)pw_alloc_array(a, (size_t)nt + 1, sizeof(int), "triangle map", e))) {
         pw_mesh_free(a, out);
         return PW_ERR_NOMEM;
@@ -4231,8 +4140,7 @@ PW__DEF int pw__mb_init(pw__mb *b, const pw_alloc *a, pw_err *e)
     b->a = a;
     b->e = e;
     b->uv_ok = 1;
-    if (pw_grow(a, (void **)&b->m.fstart, &b->cfs, 1, sizeof(int), "mesh faces", e))
-        return PW_ERR_NOMEM;
+    if (pw_grow(a, (void **)&b->m.fstart, &b->cfs, 1, sizeof(int), "mesh faces", e)) return PW_ERR_NOMEM;
     b->m.fstart[0] = 0;
     return PW_OK;
 }
@@ -4242,10 +4150,8 @@ PW__DEF void pw__mb_free(pw__mb *b) { pw_mesh_free(b->a, &b->m); }
 /* Reserves room for counts announced by a header (already checked). */
 PW__DEF int pw__mb_reserve(pw__mb *b, int nv, int nf, int nc)
 {
-    if (pw_grow(b->a, (void **)&b->m.pos, &b->cpos, (size_t)nv * 3, sizeof(float),
-                "vertex positions", b->e) ||
-        pw_grow(b->a, (void **)&b->m.fstart, &b->cfs, (size_t)nf + 1, sizeof(int), "mesh faces",
-                b->e) ||
+    if (pw_grow(b->a, (void **)&b->m.pos, &b->cpos, (size_t)nv * 3, sizeof(float), "vertex positions", b->e) ||
+        pw_grow(b->a, (void **)&b->m.fstart, &b->cfs, (size_t)nf + 1, sizeof(int), "mesh faces", b->e) ||
         pw_grow(b->a, (void **)&b->m.fv, &b->cfv, (size_t)nc, sizeof(int), "face corners", b->e))
         return PW_ERR_NOMEM;
     return PW_OK;
@@ -4253,8 +4159,7 @@ PW__DEF int pw__mb_reserve(pw__mb *b, int nv, int nf, int nc)
 
 PW__DEF int pw__mb_vertex(pw__mb *b, const float xyz[3])
 {
-    if (pw_grow(b->a, (void **)&b->m.pos, &b->cpos, (size_t)b->m.nv * 3 + 3, sizeof(float),
-                "vertex positions", b->e))
+    if (pw_grow(b->a, (void **)&b->m.pos, &b->cpos, (size_t)b->m.nv * 3 + 3, sizeof(float), "vertex positions", b->e))
         return PW_ERR_NOMEM;
     memcpy(b->m.pos + (size_t)b->m.nv * 3, xyz, 3 * sizeof(float));
     b->m.nv++;
@@ -4263,8 +4168,7 @@ PW__DEF int pw__mb_vertex(pw__mb *b, const float xyz[3])
 
 PW__DEF int pw__mb_uv(pw__mb *b, float u, float v)
 {
-    if (pw_grow(b->a, (void **)&b->m.uv, &b->cuv, (size_t)b->m.nuv * 2 + 2, sizeof(float),
-                "texture coordinates", b->e))
+    if (pw_grow(b->a, (void **)&b->m.uv, &b->cuv, (size_t)b->m.nuv * 2 + 2, sizeof(float), "texture coordinates", b->e))
         return PW_ERR_NOMEM;
     b->m.uv[2 * b->m.nuv] = u;
     b->m.uv[2 * b->m.nuv + 1] = v;
@@ -4276,8 +4180,7 @@ PW__DEF int pw__mb_uv(pw__mb *b, float u, float v)
 PW__DEF int pw__mb_room(pw__mb *b, int n)
 {
     if (pw_grow(b->a, (void **)&b->m.fv, &b->cfv, (size_t)b->nc + n, sizeof(int), "face corners", b->e) ||
-        (b->uv_ok && pw_grow(b->a, (void **)&b->m.fuv, &b->cfuv, (size_t)b->nc + n, sizeof(int),
-                             "corner uvs", b->e)))
+        (b->uv_ok && pw_grow(b->a, (void **)&b->m.fuv, &b->cfuv, (size_t)b->nc + n, sizeof(int), "corner uvs", b->e)))
         return PW_ERR_NOMEM;
     return PW_OK;
 }
@@ -4285,13 +4188,11 @@ PW__DEF int pw__mb_room(pw__mb *b, int n)
 /* Appends a corner of the face being built: vertex v, uv index t (-1: none). */
 PW__DEF int pw__mb_corner(pw__mb *b, int v, int t)
 {
-    if (pw_grow(b->a, (void **)&b->m.fv, &b->cfv, (size_t)b->nc + 1, sizeof(int), "face corners",
-                b->e))
+    if (pw_grow(b->a, (void **)&b->m.fv, &b->cfv, (size_t)b->nc + 1, sizeof(int), "face corners", b->e))
         return PW_ERR_NOMEM;
     b->m.fv[b->nc] = v;
     if (b->uv_ok) {
-        if (pw_grow(b->a, (void **)&b->m.fuv, &b->cfuv, (size_t)b->nc + 1, sizeof(int),
-                    "corner uvs", b->e))
+        if (pw_grow(b->a, (void **)&b->m.fuv, &b->cfuv, (size_t)b->nc + 1, sizeof(int), "corner uvs", b->e))
             return PW_ERR_NOMEM;
         b->m.fuv[b->nc] = t;
     }
@@ -4301,8 +4202,7 @@ PW__DEF int pw__mb_corner(pw__mb *b, int v, int t)
 
 PW__DEF int pw__mb_end_face(pw__mb *b)
 {
-    if (pw_grow(b->a, (void **)&b->m.fstart, &b->cfs, (size_t)b->m.nf + 2, sizeof(int),
-                "mesh faces", b->e))
+    if (pw_grow(b->a, (void **)&b->m.fstart, &b->cfs, (size_t)b->m.nf + 2, sizeof(int), "mesh faces", b->e))
         return PW_ERR_NOMEM;
     b->m.fstart[++b->m.nf] = b->nc;
     return PW_OK;
@@ -4322,8 +4222,8 @@ PW__DEF int pw__mb_finish(pw__mb *b, pw_mesh *out, const char *name)
 {
     pw_mesh *m = &b->m;
     if (m->nf == 0)
-        return pw_fail(b->e, PW_ERR_DEGENERATE, "%s: the mesh has no faces (%d vertices)",
-                       name ? name : "<memory>", m->nv);
+        return pw_fail(b->e, PW_ERR_DEGENERATE, "%s: the mesh has no faces (%d vertices)", name ? name : "<memory>",
+                       m->nv);
     if (!b->uv_ok || !m->nuv || !m->fuv) {
         pw_free(b->a, m->uv);
         pw_free(b->a, m->fuv);
@@ -4346,19 +4246,18 @@ PW__DEF int pw__mb_finish(pw__mb *b, pw_mesh *out, const char *name)
 /* Statements that do not change a polygon mesh: skipped. (vn: normals are
  * recomputed where needed; free-form geometry is not supported.) */
 static const char *const pw__obj_skip[] = {
-    "vn",   "vp",   "o",    "g",    "s",        "usemtl",   "mtllib",     "l",
-    "p",    "cstype", "deg", "bmat", "step",    "curv",     "curv2",      "surf",
-    "parm", "trim", "hole", "scrv", "sp",       "end",      "con",        "mg",
-    "bevel", "c_interp", "d_interp", "lod", "maplib", "usemap", "shadow_obj", "trace_obj",
-    "ctech", "stech", "call", "csh"};
+    "vn",     "vp",     "o",      "g",          "s",         "usemtl", "mtllib", "l",        "p",
+    "cstype", "deg",    "bmat",   "step",       "curv",      "curv2",  "surf",   "parm",     "trim",
+    "hole",   "scrv",   "sp",     "end",        "con",       "mg",     "bevel",  "c_interp", "d_interp",
+    "lod",    "maplib", "usemap", "shadow_obj", "trace_obj", "ctech",  "stech",  "call",     "csh"};
 
 /* Resolves an OBJ index (1-based, or negative = relative to the end). */
 PW__DEF int pw__obj_index(pw__sc *s, long long i, int n, const char *what, int face, int *out)
 {
     long long r = i > 0 ? i - 1 : n + i;
     if (i == 0 || r < 0 || r >= n)
-        return pw__sc_fail(s, PW_ERR_INVALID, "face %d: %s index %lld out of range (%d defined so far%s)",
-                           face, what, i, n, i == 0 ? "; OBJ indices start at 1" : "");
+        return pw__sc_fail(s, PW_ERR_INVALID, "face %d: %s index %lld out of range (%d defined so far%s)", face, what,
+                           i, n, i == 0 ? "; OBJ indices start at 1" : "");
     *out = (int)r;
     return PW_OK;
 }
@@ -4372,16 +4271,17 @@ PW__DEF int pw__obj_corner(pw__sc *s, const pw__mb *b, int *v, int *t)
     char tok[32];
     q = pw__num_parse_int(s->p, s->end, &iv);
     if (q && q < s->end && *q == '/') {
-        if (q + 1 < s->end && q[1] != '/') q = pw__num_parse_int(q + 1, s->end, &it), has_t = 1;
-        else q = q + 1;
+        if (q + 1 < s->end && q[1] != '/') {
+            q = pw__num_parse_int(q + 1, s->end, &it);
+            has_t = 1;
+        } else q = q + 1;
         if (q && q < s->end && *q == '/') { /* normal index: ignored, may be empty */
             const char *qn = pw__num_parse_int(q + 1, s->end, &in);
             q = qn ? qn : q + 1;
         }
     }
     if (!q || !pw__sc_delim(s, q))
-        return pw__sc_fail(s, PW_ERR_PARSE, "face %d: malformed corner '%s'", b->m.nf,
-                           pw__sc_tok(s, start, tok));
+        return pw__sc_fail(s, PW_ERR_PARSE, "face %d: malformed corner '%s'", b->m.nf, pw__sc_tok(s, start, tok));
     s->p = q;
     *t = -1;
     if ((r = pw__obj_index(s, iv, b->m.nv, "vertex", b->m.nf, v))) return r;
@@ -4404,8 +4304,8 @@ PW__DEF int pw__obj_face(pw__sc *s, pw__mb *b)
         deg++;
     }
     if (deg < 3)
-        return pw__sc_fail(s, PW_ERR_DEGENERATE, "face %d has %d corner%s (at least 3 needed)",
-                           b->m.nf, deg, deg == 1 ? "" : "s");
+        return pw__sc_fail(s, PW_ERR_DEGENERATE, "face %d has %d corner%s (at least 3 needed)", b->m.nf, deg,
+                           deg == 1 ? "" : "s");
     if (with_t != deg) b->uv_ok = 0;
     return pw__mb_end_face(b);
 }
@@ -4443,12 +4343,9 @@ PW__DEF int pw__obj_line(pw__sc *s, pw__mb *b)
     if (n == 0) {
         if (s->p < s->end && *s->p != '\n' && *s->p != '#')
             return pw__sc_fail(s, PW_ERR_PARSE, "unexpected '%c'", *s->p); /* stray backslash */
-    } else if (pw__sc_is(w, n, "v"))
-        r = pw__obj_vertex(s, b);
-    else if (pw__sc_is(w, n, "vt"))
-        r = pw__obj_texcoord(s, b);
-    else if (pw__sc_is(w, n, "f") || pw__sc_is(w, n, "fo"))
-        r = pw__obj_face(s, b);
+    } else if (pw__sc_is(w, n, "v")) r = pw__obj_vertex(s, b);
+    else if (pw__sc_is(w, n, "vt")) r = pw__obj_texcoord(s, b);
+    else if (pw__sc_is(w, n, "f") || pw__sc_is(w, n, "fo")) r = pw__obj_face(s, b);
     else {
         for (k = 0; k < sizeof pw__obj_skip / sizeof pw__obj_skip[0]; k++)
             if (pw__sc_is(w, n, pw__obj_skip[k])) break;
@@ -4460,8 +4357,8 @@ PW__DEF int pw__obj_line(pw__sc *s, pw__mb *b)
 }
 
 /* Reads a Wavefront OBJ file from memory. */
-PW__DEF int pw_mesh_read_obj(const pw_alloc *a, const void *data, size_t size, const char *name,
-                             pw_mesh *out, pw_err *e)
+PW__DEF int pw_mesh_read_obj(const pw_alloc *a, const void *data, size_t size, const char *name, pw_mesh *out,
+                             pw_err *e)
 {
     pw__sc s;
     pw__mb b;
@@ -4484,11 +4381,26 @@ PW__DEF int pw__off_keyword(const char *w, size_t n, int *flags)
 {
     size_t i = 0;
     int f = 0;
-    if (n >= 2 && w[0] == 'S' && w[1] == 'T') f |= PW__OFF_ST, i = 2;
-    if (i < n && w[i] == 'C') f |= PW__OFF_C, i++;
-    if (i < n && w[i] == 'N') f |= PW__OFF_N, i++;
-    if (i < n && w[i] == '4') f |= PW__OFF_4, i++;
-    if (i < n && w[i] == 'n') f |= PW__OFF_ND, i++;
+    if (n >= 2 && w[0] == 'S' && w[1] == 'T') {
+        f |= PW__OFF_ST;
+        i = 2;
+    }
+    if (i < n && w[i] == 'C') {
+        f |= PW__OFF_C;
+        i++;
+    }
+    if (i < n && w[i] == 'N') {
+        f |= PW__OFF_N;
+        i++;
+    }
+    if (i < n && w[i] == '4') {
+        f |= PW__OFF_4;
+        i++;
+    }
+    if (i < n && w[i] == 'n') {
+        f |= PW__OFF_ND;
+        i++;
+    }
     if (n - i != 3 || memcmp(w + i, "OFF", 3) != 0) return 0;
     *flags = f;
     return 1;
@@ -4513,15 +4425,13 @@ PW__DEF int pw__off_header(pw__sc *s, int *flags, int *binary)
                            n ? pw__sc_tok(s, w, tok) : "end of file");
     }
     if (*flags & (PW__OFF_4 | PW__OFF_ND))
-        return pw__sc_fail(s, PW_ERR_UNSUPPORTED, "'%s': %s vertices are not supported",
-                           pw__sc_tok(s, w, tok),
+        return pw__sc_fail(s, PW_ERR_UNSUPPORTED, "'%s': %s vertices are not supported", pw__sc_tok(s, w, tok),
                            (*flags & PW__OFF_ND) ? "n-dimensional (nOFF)" : "homogeneous 4D (4OFF)");
     w = pw__sc_word(s, &n);
     if (pw__sc_is(w, n, "BINARY")) {
         *binary = 1;
         pw__sc_next_line(s); /* binary data starts after the newline */
-    } else
-        s->p = w; /* the counts may share the keyword's line */
+    } else s->p = w;         /* the counts may share the keyword's line */
     return PW_OK;
 }
 
@@ -4534,8 +4444,7 @@ PW__DEF int pw__off_count(pw__sc *s, const char *what, int *out)
     if ((r = pw__sc_int(s, &v, what, -1))) return r;
     if (v < 0) return pw__sc_fail(s, PW_ERR_PARSE, "negative %s (%lld)", what, v);
     if (v > PW_MAX_MESH_ELEMENTS)
-        return pw__sc_fail(s, PW_ERR_LIMIT, "%s is %lld, over the limit of %d", what, v,
-                           PW_MAX_MESH_ELEMENTS);
+        return pw__sc_fail(s, PW_ERR_LIMIT, "%s is %lld, over the limit of %d", what, v, PW_MAX_MESH_ELEMENTS);
     *out = (int)v;
     return PW_OK;
 }
@@ -4560,19 +4469,16 @@ PW__DEF int pw__off_faces(pw__sc *s, pw__mb *b, int nf)
     int f, k, r;
     for (f = 0; f < nf; f++) {
         pw__sc_skip_empty(s);
-        if (s->p >= s->end)
-            return pw__sc_fail(s, PW_ERR_PARSE, "unexpected end of file after %d of %d faces", f, nf);
+        if (s->p >= s->end) return pw__sc_fail(s, PW_ERR_PARSE, "unexpected end of file after %d of %d faces", f, nf);
         if ((r = pw__sc_int(s, &d, "face", f))) return r;
-        if (d < 3)
-            return pw__sc_fail(s, PW_ERR_DEGENERATE, "face %d has %lld corners (at least 3 needed)", f, d);
+        if (d < 3) return pw__sc_fail(s, PW_ERR_DEGENERATE, "face %d has %lld corners (at least 3 needed)", f, d);
         if (d > PW_MAX_FACE_DEGREE || b->nc + d > PW_MAX_MESH_ELEMENTS)
-            return pw__sc_fail(s, PW_ERR_LIMIT, "face %d has %lld corners (limit %d)", f, d,
-                               PW_MAX_FACE_DEGREE);
+            return pw__sc_fail(s, PW_ERR_LIMIT, "face %d has %lld corners (limit %d)", f, d, PW_MAX_FACE_DEGREE);
         for (k = 0; k < d; k++) {
             if ((r = pw__sc_int(s, &v, "face", f))) return r;
             if (v < 0 || v >= b->m.nv)
-                return pw__sc_fail(s, PW_ERR_INVALID, "face %d: vertex index %lld out of range (%d vertices)",
-                                   f, v, b->m.nv);
+                return pw__sc_fail(s, PW_ERR_INVALID, "face %d: vertex index %lld out of range (%d vertices)", f, v,
+                                   b->m.nv);
             if ((r = pw__mb_corner(b, (int)v, -1))) return r;
         }
         if ((r = pw__mb_end_face(b))) return r;
@@ -4594,9 +4500,10 @@ PW__DEF int pw__off_text(pw__sc *s, pw__mb *b)
     /* each vertex line is at least "0 0 0\n", each face "3 0 1 2\n" */
     left = (size_t)(s->end - s->p);
     if ((double)nv * 6 + (double)nf * 8 > (double)left + 1)
-        return pw__sc_fail(s, PW_ERR_PARSE,
-                           "header claims %d vertices and %d faces, more than the %lu bytes left can hold (truncated file?)",
-                           nv, nf, (unsigned long)left);
+        return pw__sc_fail(
+            s, PW_ERR_PARSE,
+            "header claims %d vertices and %d faces, more than the %lu bytes left can hold (truncated file?)", nv, nf,
+            (unsigned long)left);
     b->uv_ok = 0;
     if ((r = pw__mb_reserve(b, nv, nf, 3 * nf))) return r;
     if ((r = pw__off_vertices(s, b, nv))) return r;
@@ -4623,8 +4530,7 @@ PW__DEF int pw__off_binary(pw__sc *s, pw__mb *b, int flags)
 {
     const unsigned char *p = (const unsigned char *)s->p, *end = (const unsigned char *)s->end;
     const unsigned char *start = (const unsigned char *)s->p;
-    int stride = 3 + (flags & PW__OFF_N ? 3 : 0) + (flags & PW__OFF_C ? 4 : 0) +
-                 (flags & PW__OFF_ST ? 2 : 0);
+    int stride = 3 + (flags & PW__OFF_N ? 3 : 0) + (flags & PW__OFF_C ? 4 : 0) + (flags & PW__OFF_ST ? 2 : 0);
     int32_t nv, nf;
     int i, k, r;
     if (end - p < 12) return pw_fail(s->e, PW_ERR_PARSE, "%s: binary OFF: truncated header", s->name);
@@ -4633,19 +4539,18 @@ PW__DEF int pw__off_binary(pw__sc *s, pw__mb *b, int flags)
     p += 12;
     if (nv < 0 || nf < 0 || nv > PW_MAX_MESH_ELEMENTS || nf > PW_MAX_MESH_ELEMENTS)
         return pw_fail(s->e, nv < 0 || nf < 0 ? PW_ERR_PARSE : PW_ERR_LIMIT,
-                       "%s: binary OFF: %d vertices and %d faces (limit %d)", s->name, nv, nf,
-                       PW_MAX_MESH_ELEMENTS);
+                       "%s: binary OFF: %d vertices and %d faces (limit %d)", s->name, nv, nf, PW_MAX_MESH_ELEMENTS);
     if ((double)nv * stride * 4 + (double)nf * 20 > (double)(end - p))
         return pw_fail(s->e, PW_ERR_PARSE,
-                       "%s: binary OFF: header claims %d vertices and %d faces, more than the %lu bytes left can hold (truncated file?)",
+                       "%s: binary OFF: header claims %d vertices and %d faces, more than the %lu bytes left can hold "
+                       "(truncated file?)",
                        s->name, nv, nf, (unsigned long)(end - p));
     if ((r = pw__mb_reserve(b, nv, nf, 3 * nf))) return r;
     for (i = 0; i < nv; i++, p += 4 * stride) {
         float xyz[3];
         for (k = 0; k < 3; k++) xyz[k] = pw__mesh_float_bits(pw__mesh_be32(p + 4 * k));
         if (!pw_is_finite(xyz[0]) || !pw_is_finite(xyz[1]) || !pw_is_finite(xyz[2]))
-            return pw_fail(s->e, PW_ERR_INVALID, "%s: binary OFF: vertex %d has a non-finite coordinate",
-                           s->name, i);
+            return pw_fail(s->e, PW_ERR_INVALID, "%s: binary OFF: vertex %d has a non-finite coordinate", s->name, i);
         pw__mb_vertex(b, xyz); /* reserved: cannot fail */
     }
     b->uv_ok = 0;
@@ -4655,31 +4560,31 @@ PW__DEF int pw__off_binary(pw__sc *s, pw__mb *b, int flags)
         d = pw__mesh_be32(p);
         if (d < 3 || d > PW_MAX_FACE_DEGREE || b->nc + (int)d > PW_MAX_MESH_ELEMENTS)
             return pw_fail(s->e, d < 3 ? PW_ERR_DEGENERATE : PW_ERR_LIMIT,
-                           "%s: binary OFF: face %d (byte %lu) has %ld corners (3 to %d allowed)", s->name,
-                           i, (unsigned long)(p - start), (long)(int32_t)d, PW_MAX_FACE_DEGREE);
+                           "%s: binary OFF: face %d (byte %lu) has %ld corners (3 to %d allowed)", s->name, i,
+                           (unsigned long)(p - start), (long)(int32_t)d, PW_MAX_FACE_DEGREE);
         if ((size_t)(end - p) < 4 * (size_t)d + 8) break;
         for (k = 0, p += 4; k < (int)d; k++, p += 4) {
             v = pw__mesh_be32(p);
             if (v >= (uint32_t)nv)
-                return pw_fail(s->e, PW_ERR_INVALID, "%s: binary OFF: face %d: vertex index %ld out of range (%d vertices)",
-                               s->name, i, (long)(int32_t)v, nv);
+                return pw_fail(s->e, PW_ERR_INVALID,
+                               "%s: binary OFF: face %d: vertex index %ld out of range (%d vertices)", s->name, i,
+                               (long)(int32_t)v, nv);
             if ((r = pw__mb_corner(b, (int)v, -1))) return r;
         }
         nc = pw__mesh_be32(p);
         if (nc > 4 || (size_t)(end - p) < 4 + 4 * (size_t)nc)
-            return pw_fail(s->e, PW_ERR_PARSE, "%s: binary OFF: face %d: bad colour count %ld or truncated",
-                           s->name, i, (long)(int32_t)nc);
+            return pw_fail(s->e, PW_ERR_PARSE, "%s: binary OFF: face %d: bad colour count %ld or truncated", s->name, i,
+                           (long)(int32_t)nc);
         p += 4 + 4 * nc;
         if ((r = pw__mb_end_face(b))) return r;
     }
-    if (i < nf)
-        return pw_fail(s->e, PW_ERR_PARSE, "%s: binary OFF: file ends after %d of %d faces", s->name, i, nf);
+    if (i < nf) return pw_fail(s->e, PW_ERR_PARSE, "%s: binary OFF: file ends after %d of %d faces", s->name, i, nf);
     return PW_OK;
 }
 
 /* Reads an OFF file (ASCII or binary) from memory. */
-PW__DEF int pw_mesh_read_off(const pw_alloc *a, const void *data, size_t size, const char *name,
-                             pw_mesh *out, pw_err *e)
+PW__DEF int pw_mesh_read_off(const pw_alloc *a, const void *data, size_t size, const char *name, pw_mesh *out,
+                             pw_err *e)
 {
     pw__sc s;
     pw__mb b;
@@ -4742,9 +4647,8 @@ PW__DEF int pw__ply_fail(pw__ply *p, int code, const char *fmt, ...)
 
 PW__DEF int pw__ply_type(const char *w, size_t n)
 {
-    static const char *const names[16] = {"char",  "int8",    "uchar", "uint8",  "short", "int16",
-                                          "ushort", "uint16", "int",   "int32",  "uint",  "uint32",
-                                          "float", "float32", "double", "float64"};
+    static const char *const names[16] = {"char", "int8",  "uchar", "uint8",  "short", "int16",   "ushort", "uint16",
+                                          "int",  "int32", "uint",  "uint32", "float", "float32", "double", "float64"};
     int k;
     for (k = 0; k < 16; k++)
         if (pw__sc_is(w, n, names[k])) return k / 2 + 1;
@@ -4764,8 +4668,7 @@ PW__DEF int pw__ply_role(int kind, const char *w, size_t n)
             pw__sc_is(w, n, "texture_t"))
             return PW__R_V;
     }
-    if (kind == PW__E_FACE && (pw__sc_is(w, n, "vertex_indices") || pw__sc_is(w, n, "vertex_index")))
-        return PW__R_IDX;
+    if (kind == PW__E_FACE && (pw__sc_is(w, n, "vertex_indices") || pw__sc_is(w, n, "vertex_index"))) return PW__R_IDX;
     return PW__R_NONE;
 }
 
@@ -4780,12 +4683,12 @@ PW__DEF int pw__ply_element(pw__ply *p)
     if (p->nel >= PW__PLY_MAX_ELEMENTS)
         return pw__ply_fail(p, PW_ERR_LIMIT, "more than %d elements", PW__PLY_MAX_ELEMENTS);
     for (k = 0; k < p->nel && kind != PW__E_OTHER; k++)
-        if (p->el[k].kind == kind) return pw__ply_fail(p, PW_ERR_PARSE, "second '%s' element", kind == PW__E_VERTEX ? "vertex" : "face");
+        if (p->el[k].kind == kind)
+            return pw__ply_fail(p, PW_ERR_PARSE, "second '%s' element", kind == PW__E_VERTEX ? "vertex" : "face");
     if ((r = pw__sc_int(&p->s, &count, "element count", -1))) return r;
     if (count < 0 || count > (kind == PW__E_OTHER ? INT_MAX : PW_MAX_MESH_ELEMENTS))
-        return pw__ply_fail(p, count < 0 ? PW_ERR_PARSE : PW_ERR_LIMIT,
-                            "element %d has %lld items (limit %d)", p->nel, count,
-                            kind == PW__E_OTHER ? INT_MAX : PW_MAX_MESH_ELEMENTS);
+        return pw__ply_fail(p, count < 0 ? PW_ERR_PARSE : PW_ERR_LIMIT, "element %d has %lld items (limit %d)", p->nel,
+                            count, kind == PW__E_OTHER ? INT_MAX : PW_MAX_MESH_ELEMENTS);
     el = &p->el[p->nel++];
     el->kind = kind;
     el->count = count;
@@ -4856,8 +4759,10 @@ PW__DEF int pw__ply_header(pw__ply *p)
         pw__sc_next_line(&p->s);
         if (p->s.p >= p->s.end) return pw__ply_fail(p, PW_ERR_PARSE, "header ends without 'end_header'");
         w = pw__sc_word(&p->s, &n);
-        if (pw__sc_is(w, n, "format")) r = pw__ply_format(p), have_format = 1;
-        else if (pw__sc_is(w, n, "element")) r = pw__ply_element(p);
+        if (pw__sc_is(w, n, "format")) {
+            r = pw__ply_format(p);
+            have_format = 1;
+        } else if (pw__sc_is(w, n, "element")) r = pw__ply_element(p);
         else if (pw__sc_is(w, n, "property")) r = pw__ply_property(p);
         else if (pw__sc_is(w, n, "end_header")) break;
         else if (n && !pw__sc_is(w, n, "comment") && !pw__sc_is(w, n, "obj_info"))
@@ -4887,13 +4792,13 @@ PW__DEF int pw__ply_check(pw__ply *p)
         if (el->kind == PW__E_FACE && !(roles & (1 << PW__R_IDX)))
             return pw__ply_fail(p, PW_ERR_PARSE, "the face element has no vertex_indices list");
     }
-    if ((roles & 0xE) != 0xE)
-        return pw__ply_fail(p, PW_ERR_PARSE, "no vertex element with x, y and z properties");
+    if ((roles & 0xE) != 0xE) return pw__ply_fail(p, PW_ERR_PARSE, "no vertex element with x, y and z properties");
     p->has_uv = (roles & 0x30) == 0x30;
     if (need > (double)(p->s.end - p->s.p) + 1)
-        return pw__ply_fail(p, PW_ERR_PARSE,
-                            "header declares items needing at least %.0f bytes, but only %lu are left (truncated file?)",
-                            need, (unsigned long)(p->s.end - p->s.p));
+        return pw__ply_fail(
+            p, PW_ERR_PARSE,
+            "header declares items needing at least %.0f bytes, but only %lu are left (truncated file?)", need,
+            (unsigned long)(p->s.end - p->s.p));
     return PW_OK;
 }
 
@@ -4919,9 +4824,7 @@ PW__DEF double pw__ply_decode(const unsigned char *q, int type, int big)
         u32 = (uint32_t)u;
         memcpy(&f, &u32, 4);
         return (double)f;
-    case 8:
-        memcpy(&d, &u, 8);
-        return d;
+    case 8: memcpy(&d, &u, 8); return d;
     default: return (double)u; /* unsigned types */
     }
 }
@@ -4939,8 +4842,7 @@ PW__DEF int pw__ply_value(pw__ply *p, int type, double *v, const char *what, lon
         return PW_OK;
     }
     pw__sc_skip_ws(&p->s);
-    if (p->s.p >= p->s.end)
-        return pw__ply_fail(p, PW_ERR_PARSE, "unexpected end of file in %s %lld", what, index);
+    if (p->s.p >= p->s.end) return pw__ply_fail(p, PW_ERR_PARSE, "unexpected end of file in %s %lld", what, index);
     q = pw__num_parse(p->s.p, p->s.end, v);
     if (!q || !pw__sc_delim(&p->s, q))
         return pw__ply_fail(p, PW_ERR_PARSE, "%s %lld: malformed number '%s'", what, index,
@@ -4956,13 +4858,12 @@ PW__DEF int pw__ply_count(pw__ply *p, int ctype, int type, long long *c, const c
     size_t left;
     int r;
     if ((r = pw__ply_value(p, ctype, &v, what, index))) return r;
-    left = p->format == PW__PLY_ASCII ? (size_t)(p->s.end - p->s.p)
-                                       : (size_t)(p->s.end - (const char *)p->bp);
+    left = p->format == PW__PLY_ASCII ? (size_t)(p->s.end - p->s.p) : (size_t)(p->s.end - (const char *)p->bp);
     if (!(v >= 0.0 && v < 4e9) || v != (double)(long long)v)
         return pw__ply_fail(p, PW_ERR_PARSE, "%s %lld: bad list length %g", what, index, v);
     if (v * (p->format == PW__PLY_ASCII ? 1 : pw__ply_size[type]) > (double)left)
-        return pw__ply_fail(p, PW_ERR_PARSE, "%s %lld: list of %.0f items runs past the end of the file",
-                            what, index, v);
+        return pw__ply_fail(p, PW_ERR_PARSE, "%s %lld: list of %.0f items runs past the end of the file", what, index,
+                            v);
     *c = (long long)v;
     return PW_OK;
 }
@@ -5005,7 +4906,10 @@ PW__DEF int pw__ply_vertices(pw__ply *p, const pw__plyel *el)
         if (!pw_is_finite(c[3]) || !pw_is_finite(c[4]))
             return pw__ply_fail(p, PW_ERR_INVALID, "vertex %lld has a non-finite texture coordinate", i);
         pw__mb_vertex(b, c); /* reserved: cannot fail */
-        if (p->has_uv) b->m.uv[2 * i] = c[3], b->m.uv[2 * i + 1] = c[4];
+        if (p->has_uv) {
+            b->m.uv[2 * i] = c[3];
+            b->m.uv[2 * i + 1] = c[4];
+        }
     }
     return PW_OK;
 }
@@ -5026,11 +4930,10 @@ PW__DEF int pw__ply_corners(pw__ply *p, const pw__plyprop *pr, long long f)
         if (p->format != PW__PLY_ASCII) { /* pw__ply_count checked that the list is there */
             v = pw__ply_decode(p->bp, pr->type, p->format == PW__PLY_BE);
             p->bp += pw__ply_size[pr->type];
-        } else if ((r = pw__ply_value(p, pr->type, &v, "face", f)))
-            return r;
+        } else if ((r = pw__ply_value(p, pr->type, &v, "face", f))) return r;
         if (!(v >= 0.0 && v < (double)p->nv && v == (double)(int)v))
-            return pw__ply_fail(p, PW_ERR_INVALID, "face %lld: vertex index %g out of range (%d vertices)",
-                                f, v, p->nv);
+            return pw__ply_fail(p, PW_ERR_INVALID, "face %lld: vertex index %g out of range (%d vertices)", f, v,
+                                p->nv);
         b->m.fv[b->nc] = (int)v;
         if (b->uv_ok) b->m.fuv[b->nc] = (int)v; /* vertex uvs: one per vertex */
         b->nc++;
@@ -5099,8 +5002,8 @@ PW__DEF int pw__ply_data(pw__ply *p)
 }
 
 /* Reads a PLY file (ascii, binary_little_endian, binary_big_endian). */
-PW__DEF int pw_mesh_read_ply(const pw_alloc *a, const void *data, size_t size, const char *name,
-                             pw_mesh *out, pw_err *e)
+PW__DEF int pw_mesh_read_ply(const pw_alloc *a, const void *data, size_t size, const char *name, pw_mesh *out,
+                             pw_err *e)
 {
     pw__ply *p;
     pw__mb b;
@@ -5210,10 +5113,13 @@ PW__DEF int pw__stl_binary(const unsigned char *d, size_t size, const char *name
     int r = PW_OK, k, j;
     if (n == 0) return pw_fail(b->e, PW_ERR_DEGENERATE, "%s: binary STL with no triangle", name);
     if ((size - 84) / 50 < n)
-        return pw_fail(b->e, PW_ERR_PARSE, "%s: binary STL: the header claims %lu triangles, the %lu bytes after it hold %lu (truncated file?)",
-                       name, (unsigned long)n, (unsigned long)(size - 84), (unsigned long)((size - 84) / 50));
+        return pw_fail(
+            b->e, PW_ERR_PARSE,
+            "%s: binary STL: the header claims %lu triangles, the %lu bytes after it hold %lu (truncated file?)", name,
+            (unsigned long)n, (unsigned long)(size - 84), (unsigned long)((size - 84) / 50));
     if (n > (uint32_t)(PW_MAX_MESH_ELEMENTS / 3))
-        return pw_fail(b->e, PW_ERR_LIMIT, "%s: binary STL: %lu triangles (limit %d)", name, (unsigned long)n, PW_MAX_MESH_ELEMENTS / 3);
+        return pw_fail(b->e, PW_ERR_LIMIT, "%s: binary STL: %lu triangles (limit %d)", name, (unsigned long)n,
+                       PW_MAX_MESH_ELEMENTS / 3);
     if (pw__weld_init(&w, b, (size_t)n)) return PW_ERR_NOMEM;
     for (t = 0; t < n && r == PW_OK; t++) {
         const unsigned char *p = d + 84 + 50 * (size_t)t + 12;
@@ -5221,7 +5127,9 @@ PW__DEF int pw__stl_binary(const unsigned char *d, size_t size, const char *name
         for (k = 0; k < 3; k++)
             for (j = 0; j < 3; j++) {
                 c[k][j] = pw__le_float(p + 12 * k + 4 * j);
-                if (!pw_is_finite(c[k][j])) r = pw_fail(b->e, PW_ERR_INVALID, "%s: binary STL: triangle %lu has a non-finite coordinate", name, (unsigned long)t);
+                if (!pw_is_finite(c[k][j]))
+                    r = pw_fail(b->e, PW_ERR_INVALID, "%s: binary STL: triangle %lu has a non-finite coordinate", name,
+                                (unsigned long)t);
             }
         if (r == PW_OK) r = pw__stl_triangle(&w, b, c);
     }
@@ -5238,7 +5146,8 @@ PW__DEF int pw__stl_expect(pw__sc *s, const char *kw)
     pw__sc_skip_ws(s);
     w = pw__sc_word(s, &n);
     if (!pw__sc_is(w, n, kw))
-        return pw__sc_fail(s, PW_ERR_PARSE, n ? "expected '%s', found '%s'" : "expected '%s', found the end of the file", kw,
+        return pw__sc_fail(s, PW_ERR_PARSE,
+                           n ? "expected '%s', found '%s'" : "expected '%s', found the end of the file", kw,
                            pw__sc_tok(s, w, tok));
     return PW_OK;
 }
@@ -5261,8 +5170,8 @@ PW__DEF int pw__stl_ascii(pw__sc *s, pw__mb *b)
             pw__sc_next_line(s); /* the name, if any */
         } else if (pw__sc_is(kw, n, "facet")) {
             float c[3][3], nrm[3];
-            if ((r = pw__stl_expect(s, "normal")) || (r = pw__sc_xyz(s, nrm, b->m.nf)) || (r = pw__stl_expect(s, "outer")) ||
-                (r = pw__stl_expect(s, "loop")))
+            if ((r = pw__stl_expect(s, "normal")) || (r = pw__sc_xyz(s, nrm, b->m.nf)) ||
+                (r = pw__stl_expect(s, "outer")) || (r = pw__stl_expect(s, "loop")))
                 break;
             for (k = 0; k < 3 && r == PW_OK; k++)
                 if (!(r = pw__stl_expect(s, "vertex"))) r = pw__sc_xyz(s, c[k], b->m.nf);
@@ -5270,7 +5179,8 @@ PW__DEF int pw__stl_ascii(pw__sc *s, pw__mb *b)
             r = pw__stl_triangle(&w, b, c);
         } else {
             char tok[32];
-            r = pw__sc_fail(s, PW_ERR_PARSE, "ASCII STL: expected 'facet' or 'endsolid', found '%s'", pw__sc_tok(s, kw, tok));
+            r = pw__sc_fail(s, PW_ERR_PARSE, "ASCII STL: expected 'facet' or 'endsolid', found '%s'",
+                            pw__sc_tok(s, kw, tok));
         }
     }
     pw_free(b->a, w.slot);
@@ -5291,7 +5201,8 @@ PW__DEF int pw__stl_is_ascii(const unsigned char *d, size_t size)
 /* Reads an STL file, binary or ASCII, from memory. Binary when the size is
  * exactly what its triangle count says, ASCII when it begins with "solid"
  * and holds text (pw__stl_is_ascii), else binary. */
-PW__DEF int pw_mesh_read_stl(const pw_alloc *a, const void *data, size_t size, const char *name, pw_mesh *out, pw_err *e)
+PW__DEF int pw_mesh_read_stl(const pw_alloc *a, const void *data, size_t size, const char *name, pw_mesh *out,
+                             pw_err *e)
 {
     const unsigned char *d = (const unsigned char *)data;
     pw__sc s;
@@ -5301,15 +5212,14 @@ PW__DEF int pw_mesh_read_stl(const pw_alloc *a, const void *data, size_t size, c
     if ((r = pw__mb_init(&b, a, e))) return r;
     pw__sc_init(&s, data, size, name, 0, e);
     pw__sc_skip_ws(&s);
-    if (size >= 84 && (size - 84) % 50 == 0 && (size - 84) / 50 == (size_t)(d[80] | (uint32_t)d[81] << 8 | (uint32_t)d[82] << 16 | (uint32_t)d[83] << 24))
+    if (size >= 84 && (size - 84) % 50 == 0 &&
+        (size - 84) / 50 == (size_t)(d[80] | (uint32_t)d[81] << 8 | (uint32_t)d[82] << 16 | (uint32_t)d[83] << 24))
         r = pw__stl_binary(d, size, s.name, &b);
-    else if (s.end - s.p >= 5 && !memcmp(s.p, "solid", 5) && pw__stl_is_ascii(d, size))
-        r = pw__stl_ascii(&s, &b);
-    else if (size >= 84)
-        r = pw__stl_binary(d, size, s.name, &b);
+    else if (s.end - s.p >= 5 && !memcmp(s.p, "solid", 5) && pw__stl_is_ascii(d, size)) r = pw__stl_ascii(&s, &b);
+    else if (size >= 84) r = pw__stl_binary(d, size, s.name, &b);
     else
-        r = pw_fail(e, PW_ERR_PARSE, "%s: not an STL file (%lu bytes: neither 'solid' nor an 84-byte binary header)", s.name,
-                    (unsigned long)size);
+        r = pw_fail(e, PW_ERR_PARSE, "%s: not an STL file (%lu bytes: neither 'solid' nor an 84-byte binary header)",
+                    s.name, (unsigned long)size);
     if (r == PW_OK) r = pw__mb_finish(&b, out, s.name);
     pw__mb_free(&b);
     return r;
@@ -5339,8 +5249,8 @@ PW__DEF int pw__is_stl(pw__sc *s, const void *data, size_t size)
  * an OFF keyword as the first word (after comments), "solid" followed by a
  * "facet" line or a binary STL's exact size, else by the extension of `name`
  * (.off, .ply, .stl), else OBJ. */
-PW__DEF int pw_mesh_read_memory(const pw_alloc *a, const void *data, size_t size, const char *name,
-                                pw_mesh *out, pw_err *e)
+PW__DEF int pw_mesh_read_memory(const pw_alloc *a, const void *data, size_t size, const char *name, pw_mesh *out,
+                                pw_err *e)
 {
     pw__sc s, t;
     size_t n;
@@ -5355,7 +5265,8 @@ PW__DEF int pw_mesh_read_memory(const pw_alloc *a, const void *data, size_t size
     if (pw__off_keyword(w, n, &flags) || (name && pw_has_ext(name, ".off")))
         return pw_mesh_read_off(a, data, size, name, out, e);
     if (name && pw_has_ext(name, ".ply")) return pw_mesh_read_ply(a, data, size, name, out, e);
-    if (pw__is_stl(&t, data, size) || (name && pw_has_ext(name, ".stl"))) return pw_mesh_read_stl(a, data, size, name, out, e);
+    if (pw__is_stl(&t, data, size) || (name && pw_has_ext(name, ".stl")))
+        return pw_mesh_read_stl(a, data, size, name, out, e);
     return pw_mesh_read_obj(a, data, size, name, out, e);
 }
 
@@ -5386,28 +5297,42 @@ PW__DEF int pw__obj_name_ok(const char *s, const char *what, pw_err *e)
 
 /* Writes m as OBJ: v lines, vt lines when m has uv and fuv, faces "f v/t"
  * (1-based). mtllib and material (usemtl) lines when not NULL. */
-PW__DEF int pw_mesh_write_obj(const pw_mesh *m, const char *mtllib, const char *material,
-                              pw_write_fn w, void *ctx, pw_err *e)
+PW__DEF int pw_mesh_write_obj(const pw_mesh *m, const char *mtllib, const char *material, pw_write_fn w, void *ctx,
+                              pw_err *e)
 {
     pw__wb b;
     int i, f, r, uv = m->uv && m->fuv;
     if ((r = pw_mesh_validate(m, e)) || (r = pw__obj_name_ok(mtllib, "mtllib", e)) ||
         (r = pw__obj_name_ok(material, "material", e)))
         return r;
-    b.w = w, b.ctx = ctx, b.n = 0, b.failed = 0;
+    b.w = w;
+    b.ctx = ctx;
+    b.n = 0;
+    b.failed = 0;
     pw__wb_str(&b, "# patchwork\n");
-    if (mtllib) pw__wb_str(&b, "mtllib "), pw__wb_str(&b, mtllib), pw__wb_str(&b, "\n");
+    if (mtllib) {
+        pw__wb_str(&b, "mtllib ");
+        pw__wb_str(&b, mtllib);
+        pw__wb_str(&b, "\n");
+    }
     for (i = 0; i < m->nv; i++) {
         pw__wb_str(&b, "v");
-        pw__wb_float(&b, m->pos[3 * i]), pw__wb_float(&b, m->pos[3 * i + 1]), pw__wb_float(&b, m->pos[3 * i + 2]);
+        pw__wb_float(&b, m->pos[3 * i]);
+        pw__wb_float(&b, m->pos[3 * i + 1]);
+        pw__wb_float(&b, m->pos[3 * i + 2]);
         pw__wb_str(&b, "\n");
     }
     for (i = 0; uv && i < m->nuv; i++) {
         pw__wb_str(&b, "vt");
-        pw__wb_float(&b, m->uv[2 * i]), pw__wb_float(&b, m->uv[2 * i + 1]);
+        pw__wb_float(&b, m->uv[2 * i]);
+        pw__wb_float(&b, m->uv[2 * i + 1]);
         pw__wb_str(&b, "\n");
     }
-    if (material) pw__wb_str(&b, "usemtl "), pw__wb_str(&b, material), pw__wb_str(&b, "\n");
+    if (material) {
+        pw__wb_str(&b, "usemtl ");
+        pw__wb_str(&b, material);
+        pw__wb_str(&b, "\n");
+    }
     for (f = 0; f < m->nf; f++) {
         pw__wb_str(&b, "f");
         for (i = m->fstart[f]; i < m->fstart[f + 1]; i++) {
@@ -5421,18 +5346,25 @@ PW__DEF int pw_mesh_write_obj(const pw_mesh *m, const char *mtllib, const char *
 
 /* Writes an MTL file with one material: white (Kd 1 1 1), textured by
  * texture_file (map_Kd) when it is not NULL. */
-PW__DEF int pw_mesh_write_mtl(const char *material, const char *texture_file, pw_write_fn w,
-                              void *ctx, pw_err *e)
+PW__DEF int pw_mesh_write_mtl(const char *material, const char *texture_file, pw_write_fn w, void *ctx, pw_err *e)
 {
     pw__wb b;
     int r;
     if (!material) return pw_fail(e, PW_ERR_INVALID, "MTL: no material name");
     if ((r = pw__obj_name_ok(material, "material", e)) || (r = pw__obj_name_ok(texture_file, "texture file", e)))
         return r;
-    b.w = w, b.ctx = ctx, b.n = 0, b.failed = 0;
-    pw__wb_str(&b, "# patchwork\nnewmtl "), pw__wb_str(&b, material);
+    b.w = w;
+    b.ctx = ctx;
+    b.n = 0;
+    b.failed = 0;
+    pw__wb_str(&b, "# patchwork\nnewmtl ");
+    pw__wb_str(&b, material);
     pw__wb_str(&b, "\nKa 1 1 1\nKd 1 1 1\nKs 0 0 0\nd 1\nillum 1\n");
-    if (texture_file) pw__wb_str(&b, "map_Kd "), pw__wb_str(&b, texture_file), pw__wb_str(&b, "\n");
+    if (texture_file) {
+        pw__wb_str(&b, "map_Kd ");
+        pw__wb_str(&b, texture_file);
+        pw__wb_str(&b, "\n");
+    }
     return pw__wb_done(&b, e);
 }
 
@@ -5472,8 +5404,7 @@ PW__DEF int pw_obj_mtl_path(const char *obj_path, char *mtl, size_t size, const 
 }
 
 /* pw_mesh_write_obj into the file `path`. */
-PW__DEF int pw_mesh_save_obj(const char *path, const pw_mesh *m, const char *mtllib,
-                             const char *material, pw_err *e)
+PW__DEF int pw_mesh_save_obj(const char *path, const pw_mesh *m, const char *mtllib, const char *material, pw_err *e)
 {
     pw__obj_args o;
     o.m = m;
@@ -5483,8 +5414,7 @@ PW__DEF int pw_mesh_save_obj(const char *path, const pw_mesh *m, const char *mtl
 }
 
 /* pw_mesh_write_mtl into the file `path`. */
-PW__DEF int pw_mesh_save_mtl(const char *path, const char *material, const char *texture_file,
-                             pw_err *e)
+PW__DEF int pw_mesh_save_mtl(const char *path, const char *material, const char *texture_file, pw_err *e)
 {
     pw__obj_args o;
     o.m = NULL;
@@ -5533,13 +5463,12 @@ PW__DEF int pw_shape_alloc(const pw_alloc *a, int nv, int nf, int degree, pw_mes
 
 /* The icosahedron: corners (0, +-1, +-phi) and cyclic permutations, faces
  * counter-clockwise seen from outside (the table's 2 stands for phi). */
-static const signed char pw__ico_v[12][3] = {{-1, 2, 0}, {1, 2, 0}, {-1, -2, 0}, {1, -2, 0},
-                                             {0, -1, 2}, {0, 1, 2}, {0, -1, -2}, {0, 1, -2},
-                                             {2, 0, -1}, {2, 0, 1}, {-2, 0, -1}, {-2, 0, 1}};
-static const unsigned char pw__ico_f[20][3] = {
-    {0, 11, 5}, {0, 5, 1}, {0, 1, 7}, {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
-    {11, 10, 2}, {10, 7, 6}, {7, 1, 8}, {3, 9, 4}, {3, 4, 2}, {3, 2, 6}, {3, 6, 8},
-    {3, 8, 9}, {4, 9, 5}, {2, 4, 11}, {6, 2, 10}, {8, 6, 7}, {9, 8, 1}};
+static const signed char pw__ico_v[12][3] = {{-1, 2, 0},  {1, 2, 0},  {-1, -2, 0}, {1, -2, 0}, {0, -1, 2},  {0, 1, 2},
+                                             {0, -1, -2}, {0, 1, -2}, {2, 0, -1},  {2, 0, 1},  {-2, 0, -1}, {-2, 0, 1}};
+static const unsigned char pw__ico_f[20][3] = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11},
+                                               {1, 5, 9},  {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
+                                               {3, 9, 4},  {3, 4, 2},  {3, 2, 6},   {3, 6, 8},  {3, 8, 9},
+                                               {4, 9, 5},  {2, 4, 11}, {6, 2, 10},  {8, 6, 7},  {9, 8, 1}};
 
 PW__DEF pw_v3 pw__ico_corner(int k)
 {
@@ -5577,9 +5506,19 @@ PW__DEF int pw__geo_id(const int *c, int f, int n, int i, int j)
     if (i == 0 && j == 0) return c[0];
     if (i == n) return c[1];
     if (j == n) return c[2];
-    if (j == 0) p = c[0], q = c[1], t = i;
-    else if (i == 0) p = c[0], q = c[2], t = j;
-    else if (i + j == n) p = c[1], q = c[2], t = j;
+    if (j == 0) {
+        p = c[0];
+        q = c[1];
+        t = i;
+    } else if (i == 0) {
+        p = c[0];
+        q = c[2];
+        t = j;
+    } else if (i + j == n) {
+        p = c[1];
+        q = c[2];
+        t = j;
+    }
     if (p >= 0) {
         if (p > q) {
             int s = p;
@@ -5602,8 +5541,12 @@ PW__DEF int pw_shape_geosphere(const pw_alloc *a, int n, pw_mesh *m, pw_err *e)
     for (f = 0; f < 20; f++) {
         int c[3];
         pw_v3 A, B, C;
-        c[0] = pw__ico_f[f][0], c[1] = pw__ico_f[f][1], c[2] = pw__ico_f[f][2];
-        A = pw__ico_corner(c[0]), B = pw__ico_corner(c[1]), C = pw__ico_corner(c[2]);
+        c[0] = pw__ico_f[f][0];
+        c[1] = pw__ico_f[f][1];
+        c[2] = pw__ico_f[f][2];
+        A = pw__ico_corner(c[0]);
+        B = pw__ico_corner(c[1]);
+        C = pw__ico_corner(c[2]);
         for (j = 0; j <= n; j++)
             for (i = 0; i + j <= n; i++) {
                 pw_v3 p = pw_v3_add(A, pw_v3_add(pw_v3_scale(pw_v3_sub(B, A), (float)i / n),
@@ -5642,7 +5585,9 @@ PW__DEF int pw_shape_bumpy(const pw_alloc *a, int n, pw_mesh *m, pw_err *e)
     for (k = 0; k < 14; k++) {
         double x = 2 * pw_rng_double(&rng) - 1, y = 2 * pw_rng_double(&rng) - 1, z = 2 * pw_rng_double(&rng) - 1;
         double l = sqrt(x * x + y * y + z * z) + 1e-9;
-        c[k][0] = x / l, c[k][1] = y / l, c[k][2] = z / l;
+        c[k][0] = x / l;
+        c[k][1] = y / l;
+        c[k][2] = z / l;
         h[k] = k % 3 == 2 ? -0.1 : 0.08 + 0.14 * pw_rng_double(&rng);
         rad[k] = 0.45 + 0.4 * pw_rng_double(&rng);
     }
@@ -5693,9 +5638,15 @@ PW__DEF int pw__shape_torus(const pw_alloc *a, int nu, int nv, int quads, double
             p[0] = (float)(rr * pw_cos(u));
             p[1] = (float)(rr * pw_sin(u));
             p[2] = (float)(tube * pw_sin(v));
-            t[0] = a0, t[1] = a1, t[2] = a2; /* d/du x d/dv points outwards */
+            t[0] = a0;
+            t[1] = a1;
+            t[2] = a2; /* d/du x d/dv points outwards */
             if (quads) t[3] = a3;
-            else t[3] = a0, t[4] = a2, t[5] = a3;
+            else {
+                t[3] = a0;
+                t[4] = a2;
+                t[5] = a3;
+            }
         }
     return PW_OK;
 }
@@ -5808,8 +5759,7 @@ PW__DEF void pw__voxel_pass(pw__voxels *v)
             }
 }
 
-PW__DEF int pw_shape_polycube(const pw_alloc *a, int X, int Y, int Z, const unsigned char *vox, pw_mesh *m,
-                              pw_err *e)
+PW__DEF int pw_shape_polycube(const pw_alloc *a, int X, int Y, int Z, const unsigned char *vox, pw_mesh *m, pw_err *e)
 {
     pw__voxels v;
     int r;
@@ -5853,7 +5803,11 @@ PW__DEF int pw_shape_grid(const pw_alloc *a, int n, double wave, int quads, pw_m
             f[1] = v + 1;
             f[2] = v + n + 2;
             if (quads) f[3] = v + n + 1;
-            else f[3] = v, f[4] = v + n + 2, f[5] = v + n + 1;
+            else {
+                f[3] = v;
+                f[4] = v + n + 2;
+                f[5] = v + n + 1;
+            }
         }
     return PW_OK;
 }
@@ -5882,23 +5836,38 @@ PW__DEF int pw__shape_revolve(const pw_alloc *a, const double *z, const double *
     int rings = n - 2, nv = rings * around + 2, k, j, nt = 0, res;
     int bot = nv - 1; /* vertex 0 is the top pole; ring k (1..rings) starts at 1 + (k-1) * around */
     if ((res = pw_shape_alloc(a, nv, 2 * around * (rings - 1) + 2 * around, 3, m, e)) != PW_OK) return res;
-    m->pos[0] = m->pos[1] = 0.0f, m->pos[2] = (float)z[0];
-    m->pos[3 * bot] = m->pos[3 * bot + 1] = 0.0f, m->pos[3 * bot + 2] = (float)z[n - 1];
+    m->pos[0] = m->pos[1] = 0.0f;
+    m->pos[2] = (float)z[0];
+    m->pos[3 * bot] = m->pos[3 * bot + 1] = 0.0f;
+    m->pos[3 * bot + 2] = (float)z[n - 1];
     for (k = 1; k <= rings; k++)
         for (j = 0; j < around; j++) {
             float *p = m->pos + 3 * (1 + (k - 1) * around + j);
-            p[0] = (float)(r[k] * pw_cos(pi2 * j / around)), p[1] = (float)(r[k] * pw_sin(pi2 * j / around));
+            p[0] = (float)(r[k] * pw_cos(pi2 * j / around));
+            p[1] = (float)(r[k] * pw_sin(pi2 * j / around));
             p[2] = (float)z[k];
         }
     for (j = 0; j < around; j++) {
         int j1 = (j + 1) % around, *t;
-        t = m->fv + 3 * nt++, t[0] = 0, t[1] = 1 + j, t[2] = 1 + j1;
+        t = m->fv + 3 * nt++;
+        t[0] = 0;
+        t[1] = 1 + j;
+        t[2] = 1 + j1;
         for (k = 1; k < rings; k++) {
             int a0 = 1 + (k - 1) * around + j, a1 = 1 + (k - 1) * around + j1, b0 = a0 + around, b1 = a1 + around;
-            t = m->fv + 3 * nt++, t[0] = a0, t[1] = b0, t[2] = b1;
-            t = m->fv + 3 * nt++, t[0] = a0, t[1] = b1, t[2] = a1;
+            t = m->fv + 3 * nt++;
+            t[0] = a0;
+            t[1] = b0;
+            t[2] = b1;
+            t = m->fv + 3 * nt++;
+            t[0] = a0;
+            t[1] = b1;
+            t[2] = a1;
         }
-        t = m->fv + 3 * nt++, t[0] = bot, t[1] = 1 + (rings - 1) * around + j1, t[2] = 1 + (rings - 1) * around + j;
+        t = m->fv + 3 * nt++;
+        t[0] = bot;
+        t[1] = 1 + (rings - 1) * around + j1;
+        t[2] = 1 + (rings - 1) * around + j;
     }
     return PW_OK;
 }
@@ -5915,16 +5884,32 @@ PW__DEF int pw_shape_dumbbell(const pw_alloc *a, double neck, int around, pw_mes
         return pw_fail(e, PW_ERR_INVALID, "dumbbell: neck %g not in (0, 1) or %d vertices around", neck, around);
     tn = pi - pw__shape_asin(neck); /* polar angle where a ball meets the neck */
     zn = 2.0 + pw_cos(tn);          /* the neck runs over |z| <= zn */
-    nb = (int)(tn / step) + 1, len = 2.0 * zn, nn = (int)(len / step) + 1;
+    nb = (int)(tn / step) + 1;
+    len = 2.0 * zn;
+    nn = (int)(len / step) + 1;
     n = 2 * nb + nn + 1;
     z = (double *)pw_alloc_array(a, (size_t)n, sizeof(double), "profile", e);
     r = (double *)pw_alloc_array(a, (size_t)n, sizeof(double), "profile", e);
-    if (!z || !r) return pw_free(a, z), pw_free(a, r), PW_ERR_NOMEM;
-    for (k = 0; k < nb; k++) z[k] = 2.0 + pw_cos(tn * k / nb), r[k] = pw_sin(tn * k / nb);
-    for (k = 0; k <= nn; k++) z[nb + k] = zn - len * k / nn, r[nb + k] = neck;
-    for (k = 0; k < nb; k++) z[n - 1 - k] = -z[k], r[n - 1 - k] = r[k];
+    if (!z || !r) {
+        pw_free(a, z);
+        pw_free(a, r);
+        return PW_ERR_NOMEM;
+    }
+    for (k = 0; k < nb; k++) {
+        z[k] = 2.0 + pw_cos(tn * k / nb);
+        r[k] = pw_sin(tn * k / nb);
+    }
+    for (k = 0; k <= nn; k++) {
+        z[nb + k] = zn - len * k / nn;
+        r[nb + k] = neck;
+    }
+    for (k = 0; k < nb; k++) {
+        z[n - 1 - k] = -z[k];
+        r[n - 1 - k] = r[k];
+    }
     res = pw__shape_revolve(a, z, r, n, around, m, e);
-    pw_free(a, z), pw_free(a, r);
+    pw_free(a, z);
+    pw_free(a, r);
     return res;
 }
 
@@ -5998,10 +5983,7 @@ PW__DEF int pw_he_dest(const pw_hmesh *hm, int h) { return hm->fv[pw_he_next(hm,
 PW__DEF int pw_he_ccw(const pw_hmesh *hm, int h) { return hm->twin[pw_he_prev(hm, h)]; }
 
 /* The same clockwise; -1 when h is on the boundary. */
-PW__DEF int pw_he_cw(const pw_hmesh *hm, int h)
-{
-    return hm->twin[h] < 0 ? -1 : pw_he_next(hm, hm->twin[h]);
-}
+PW__DEF int pw_he_cw(const pw_hmesh *hm, int h) { return hm->twin[h] < 0 ? -1 : pw_he_next(hm, hm->twin[h]); }
 
 /* For a boundary half-edge h, the next boundary half-edge of the same
  * boundary loop (they follow each other head to tail). */
@@ -6032,8 +6014,9 @@ PW__DEF int pw__hm_faces(pw_hmesh *hm, int *stamp, int *count, pw_err *e)
         for (h = b; h < end; h++) {
             int v = hm->fv[h];
             if (v < 0 || v >= hm->nv)
-                return pw_fail(e, PW_ERR_INVALID, "half-edge mesh: face %d, corner %d: vertex index %d out of range (%d vertices)",
-                               f, h - b, v, hm->nv);
+                return pw_fail(e, PW_ERR_INVALID,
+                               "half-edge mesh: face %d, corner %d: vertex index %d out of range (%d vertices)", f,
+                               h - b, v, hm->nv);
             if (stamp[v] == f)
                 return pw_fail(e, PW_ERR_DEGENERATE, "half-edge mesh: face %d uses vertex %d twice", f, v);
             stamp[v] = f;
@@ -6078,8 +6061,8 @@ PW__DEF void pw__hm_face_list(char *buf, size_t cap, const int *f, int n)
 
 /* The error for edge a-b of half-edge h: more than two faces, or two
  * faces in the same direction. */
-PW__DEF int pw__hm_edge_error(const pw_hmesh *hm, const int *ostart, const int *oh, const int *odest,
-                              int a, int b, int same, int opp, pw_err *e)
+PW__DEF int pw__hm_edge_error(const pw_hmesh *hm, const int *ostart, const int *oh, const int *odest, int a, int b,
+                              int same, int opp, pw_err *e)
 {
     int faces[8], n = 0, k, i, j;
     char list[96];
@@ -6088,7 +6071,11 @@ PW__DEF int pw__hm_edge_error(const pw_hmesh *hm, const int *ostart, const int *
     for (k = ostart[b]; k < ostart[b + 1]; k++)
         if (odest[k] == a && n < 8) faces[n++] = hm->hface[oh[k]];
     for (i = 1; i < n; i++) /* insertion sort: at most 8 */
-        for (j = i; j > 0 && faces[j - 1] > faces[j]; j--) k = faces[j], faces[j] = faces[j - 1], faces[j - 1] = k;
+        for (j = i; j > 0 && faces[j - 1] > faces[j]; j--) {
+            k = faces[j];
+            faces[j] = faces[j - 1];
+            faces[j - 1] = k;
+        }
     if (same + opp > 2) {
         pw__hm_face_list(list, sizeof list, faces, n);
         if (same + opp > n) snprintf(list + strlen(list), sizeof list - strlen(list), " (%d faces)", same + opp);
@@ -6102,12 +6089,14 @@ PW__DEF int pw__hm_edge_error(const pw_hmesh *hm, const int *ostart, const int *
  * one b->a not yet paired, needs no more checks: a second a->b would find
  * it taken. Otherwise the half-edges a->b (same) and b->a (opp) are counted
  * to catch bad edges. */
-PW__DEF int pw__hm_pair(pw_hmesh *hm, const int *ostart, const int *oh, const int *odest, int h, int b,
-                        pw_err *e)
+PW__DEF int pw__hm_pair(pw_hmesh *hm, const int *ostart, const int *oh, const int *odest, int h, int b, pw_err *e)
 {
     int a = hm->fv[h], same = 0, opp = 0, g = -1, k;
     for (k = ostart[b]; k < ostart[b + 1]; k++)
-        if (odest[k] == a) opp++, g = oh[k];
+        if (odest[k] == a) {
+            opp++;
+            g = oh[k];
+        }
     if (opp != 1 || hm->twin[g] != -2) {
         for (k = ostart[a]; k < ostart[a + 1]; k++) same += odest[k] == b;
         if (same + opp > 2 || same > 1) return pw__hm_edge_error(hm, ostart, oh, odest, a, b, same, opp, e);
@@ -6127,8 +6116,7 @@ PW__DEF int pw__hm_twins(pw_hmesh *hm, const int *ostart, const int *oh, const i
     for (f = 0; f < hm->nf; f++) {
         int b = hm->fstart[f], end = hm->fstart[f + 1];
         for (h = b; h < end; h++)
-            if (hm->twin[h] == -2 &&
-                (r = pw__hm_pair(hm, ostart, oh, odest, h, hm->fv[h + 1 < end ? h + 1 : b], e)))
+            if (hm->twin[h] == -2 && (r = pw__hm_pair(hm, ostart, oh, odest, h, hm->fv[h + 1 < end ? h + 1 : b], e)))
                 return r;
     }
     hm->ne = (hm->nh + hm->nboundary) / 2;
@@ -6237,14 +6225,13 @@ PW__DEF int pw__hm_offsets(const pw_alloc *a, pw_hmesh *hm, const int *fstart, p
     int f;
     if (hm->nv < 0 || hm->nf < 0 || !fstart || hm->nv > PW_MAX_MESH_ELEMENTS || hm->nf > PW_MAX_MESH_ELEMENTS)
         return pw_fail(e, PW_ERR_INVALID, "half-edge mesh: bad sizes (%d vertices, %d faces)", hm->nv, hm->nf);
-    if (fstart[0] != 0)
-        return pw_fail(e, PW_ERR_INVALID, "half-edge mesh: fstart[0] is %d, must be 0", fstart[0]);
+    if (fstart[0] != 0) return pw_fail(e, PW_ERR_INVALID, "half-edge mesh: fstart[0] is %d, must be 0", fstart[0]);
     for (f = 0; f < hm->nf; f++) {
         if (fstart[f + 1] > PW_MAX_MESH_ELEMENTS)
             return pw_fail(e, PW_ERR_LIMIT, "half-edge mesh: more than %d corners", PW_MAX_MESH_ELEMENTS);
         if (fstart[f + 1] < fstart[f] + 3)
-            return pw_fail(e, PW_ERR_DEGENERATE, "half-edge mesh: face %d has %ld corners (at least 3 needed)",
-                           f, (long)fstart[f + 1] - fstart[f]);
+            return pw_fail(e, PW_ERR_DEGENERATE, "half-edge mesh: face %d has %ld corners (at least 3 needed)", f,
+                           (long)fstart[f + 1] - fstart[f]);
     }
     hm->nh = fstart[hm->nf];
     hm->fstart = (int *)pw_alloc_array(a, (size_t)hm->nf + 1, sizeof(int), "half-edge faces", e);
@@ -6274,8 +6261,8 @@ PW__DEF int pw__hm_steps(const pw_alloc *a, pw_hmesh *hm, int *tmp, pw_err *e)
 /* Builds the half-edge structure of a polygon mesh given as nv vertices, nf
  * faces, offsets fstart (nf+1) and corners fv (fstart[nf]); see the top of
  * the file for what is refused. */
-PW__DEF int pw_hmesh_build(const pw_alloc *a, int nv, int nf, const int *fstart, const int *fv,
-                           pw_hmesh *out, pw_err *e)
+PW__DEF int pw_hmesh_build(const pw_alloc *a, int nv, int nf, const int *fstart, const int *fv, pw_hmesh *out,
+                           pw_err *e)
 {
     int r, *tmp = NULL;
     memset(out, 0, sizeof *out);
@@ -6306,12 +6293,12 @@ PW__DEF int pw_hmesh_from_mesh(const pw_alloc *a, const pw_mesh *m, pw_hmesh *ou
 /* Connected components of faces (faces sharing an edge are connected).
  * Returns the count in *ncomp; face_comp (nf ints, may be NULL) receives
  * each face's component, numbered in order of their lowest face. */
-PW__DEF int pw_hmesh_components(const pw_alloc *a, const pw_hmesh *hm, int *face_comp, int *ncomp,
-                                pw_err *e)
+PW__DEF int pw_hmesh_components(const pw_alloc *a, const pw_hmesh *hm, int *face_comp, int *ncomp, pw_err *e)
 {
     int *comp = face_comp, *stack, f, n = 0, top;
     *ncomp = 0;
-    stack = (int *)pw_alloc_array(a, (size_t)hm->nf + (face_comp ? 0 : (size_t)hm->nf), sizeof(int), "component stack", e);
+    stack =
+        (int *)pw_alloc_array(a, (size_t)hm->nf + (face_comp ? 0 : (size_t)hm->nf), sizeof(int), "component stack", e);
     if (!stack) return PW_ERR_NOMEM;
     if (!comp) comp = stack + hm->nf;
     for (f = 0; f < hm->nf; f++) comp[f] = -1;
@@ -6324,7 +6311,10 @@ PW__DEF int pw_hmesh_components(const pw_alloc *a, const pw_hmesh *hm, int *face
             int g = stack[--top], h;
             for (h = hm->fstart[g]; h < hm->fstart[g + 1]; h++) {
                 int t = hm->twin[h];
-                if (t >= 0 && comp[hm->hface[t]] < 0) comp[hm->hface[t]] = n, stack[top++] = hm->hface[t];
+                if (t >= 0 && comp[hm->hface[t]] < 0) {
+                    comp[hm->hface[t]] = n;
+                    stack[top++] = hm->hface[t];
+                }
             }
         }
         n++;
@@ -6345,10 +6335,7 @@ PW__DEF int pw_hmesh_euler(const pw_hmesh *hm)
 
 /* Total genus of an orientable surface with `ncomp` components and
  * hm->nloops boundary loops: chi = 2c - 2g - b. */
-PW__DEF int pw_hmesh_genus(const pw_hmesh *hm, int ncomp)
-{
-    return (2 * ncomp - pw_hmesh_euler(hm) - hm->nloops) / 2;
-}
+PW__DEF int pw_hmesh_genus(const pw_hmesh *hm, int ncomp) { return (2 * ncomp - pw_hmesh_euler(hm) - hm->nloops) / 2; }
 
 /* Number of edges at vertex v (0 if isolated). */
 PW__DEF int pw_hmesh_valence(const pw_hmesh *hm, int v)
@@ -6433,8 +6420,7 @@ PW__DEF int pw_triplets_init(pw_triplets *t, const pw_alloc *a, int n, int m, pw
 {
     memset(t, 0, sizeof *t);
     if (a) t->alloc = *a;
-    if (n < 0 || m < 0)
-        return pw_fail(e, PW_ERR_INVALID, "sparse matrix size %dx%d is negative", n, m);
+    if (n < 0 || m < 0) return pw_fail(e, PW_ERR_INVALID, "sparse matrix size %dx%d is negative", n, m);
     t->n = n;
     t->m = m;
     return PW_OK;
@@ -6460,8 +6446,7 @@ PW__DEF int pw__triplets_grow(pw_triplets *t, pw_err *e)
     size_t ncap = t->cap ? t->cap * 2 : 64;
     void *p;
     if (ncap > (size_t)INT_MAX) ncap = (size_t)INT_MAX;
-    if (ncap > (size_t)-1 / sizeof(double))
-        return pw_fail(e, PW_ERR_NOMEM, "sparse triplets: size overflow");
+    if (ncap > (size_t)-1 / sizeof(double)) return pw_fail(e, PW_ERR_NOMEM, "sparse triplets: size overflow");
     /* Each successful realloc is kept even if a later one fails: the list
      * stays valid with the old capacity. */
     if (!(p = pw_realloc(&t->alloc, t->row, ncap * sizeof(int)))) goto nomem;
@@ -6473,8 +6458,7 @@ PW__DEF int pw__triplets_grow(pw_triplets *t, pw_err *e)
     t->cap = ncap;
     return PW_OK;
 nomem:
-    return pw_fail(e, PW_ERR_NOMEM, "out of memory growing sparse triplets to %lu entries",
-                   (unsigned long)ncap);
+    return pw_fail(e, PW_ERR_NOMEM, "out of memory growing sparse triplets to %lu entries", (unsigned long)ncap);
 }
 
 /* Adds v at (i, j). Entries at the same position are summed by
@@ -6482,12 +6466,9 @@ nomem:
 PW__DEF int pw_triplets_add(pw_triplets *t, int i, int j, double v, pw_err *e)
 {
     if (i < 0 || i >= t->n || j < 0 || j >= t->m)
-        return pw_fail(e, PW_ERR_INVALID, "sparse entry (%d, %d) outside the %dx%d matrix", i,
-                       j, t->n, t->m);
-    if (!pw_is_finite(v))
-        return pw_fail(e, PW_ERR_INVALID, "sparse entry (%d, %d) is not finite", i, j);
-    if (t->count == INT_MAX)
-        return pw_fail(e, PW_ERR_LIMIT, "sparse matrix has more than %d entries", INT_MAX);
+        return pw_fail(e, PW_ERR_INVALID, "sparse entry (%d, %d) outside the %dx%d matrix", i, j, t->n, t->m);
+    if (!pw_is_finite(v)) return pw_fail(e, PW_ERR_INVALID, "sparse entry (%d, %d) is not finite", i, j);
+    if (t->count == INT_MAX) return pw_fail(e, PW_ERR_LIMIT, "sparse matrix has more than %d entries", INT_MAX);
     if ((size_t)t->count >= t->cap && pw__triplets_grow(t, e)) return PW_ERR_NOMEM;
     t->row[t->count] = i;
     t->col[t->count] = j;
@@ -6534,8 +6515,7 @@ PW__DEF int pw__csr_alloc(const pw_alloc *a, pw_csr *A, int n, int m, int nnz, p
 
 /* Stable counting sort of the entries idx[0..cnt) by key[idx[k]] in [0, nkeys):
  * writes the order to out and the start of each key to start[0..nkeys]. */
-PW__DEF void pw__counting_sort(const int *key, const int *idx, int cnt, int nkeys, int *start,
-                               int *out)
+PW__DEF void pw__counting_sort(const int *key, const int *idx, int cnt, int nkeys, int *start, int *out)
 {
     int k;
     memset(start, 0, ((size_t)nkeys + 1) * sizeof(int));
@@ -6552,8 +6532,7 @@ PW__DEF void pw__counting_sort(const int *key, const int *idx, int cnt, int nkey
 
 /* Sums the duplicates of each row of `order` (sorted by row, then column,
  * ties in insertion order, so the sums are taken in insertion order). */
-PW__DEF void pw__csr_compress(const pw_triplets *t, const int *order, const int *start,
-                              pw_csr *A)
+PW__DEF void pw__csr_compress(const pw_triplets *t, const int *order, const int *start, pw_csr *A)
 {
     int r, k, nz = 0;
     for (r = 0; r < t->n; r++) {
@@ -6610,11 +6589,12 @@ PW__DEF int pw_csr_check(const pw_csr *A, pw_err *e)
             return pw_fail(e, PW_ERR_INVALID, "sparse matrix row %d has a negative length", i);
         for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++) {
             if (A->col[k] < 0 || A->col[k] >= A->m)
-                return pw_fail(e, PW_ERR_INVALID, "sparse matrix entry %d of row %d: column %d "
-                               "outside 0..%d", k - A->rowptr[i], i, A->col[k], A->m - 1);
+                return pw_fail(e, PW_ERR_INVALID,
+                               "sparse matrix entry %d of row %d: column %d "
+                               "outside 0..%d",
+                               k - A->rowptr[i], i, A->col[k], A->m - 1);
             if (!pw_is_finite(A->val[k]))
-                return pw_fail(e, PW_ERR_INVALID, "sparse matrix entry (%d, %d) is not finite",
-                               i, A->col[k]);
+                return pw_fail(e, PW_ERR_INVALID, "sparse matrix entry (%d, %d) is not finite", i, A->col[k]);
         }
     }
     return PW_OK;
@@ -6681,8 +6661,7 @@ PW__DEF int pw_csr_transpose(const pw_alloc *a, const pw_csr *A, pw_csr *out, pw
 
 /* Counts the entries of AᵀA row by row (At = Aᵀ) into C->rowptr; fails
  * when the total does not fit in an int. */
-PW__DEF int pw__ata_count(const pw_csr *A, const pw_csr *At, int *mark, int *rowptr,
-                          pw_err *e)
+PW__DEF int pw__ata_count(const pw_csr *A, const pw_csr *At, int *mark, int *rowptr, pw_err *e)
 {
     int i, k, q;
     int64_t nnz = 0;
@@ -6698,8 +6677,7 @@ PW__DEF int pw__ata_count(const pw_csr *A, const pw_csr *At, int *mark, int *row
                 }
             }
         }
-        if (nnz > INT_MAX)
-            return pw_fail(e, PW_ERR_LIMIT, "A^T A has more than %d entries", INT_MAX);
+        if (nnz > INT_MAX) return pw_fail(e, PW_ERR_LIMIT, "A^T A has more than %d entries", INT_MAX);
         rowptr[i + 1] = (int)nnz;
     }
     return PW_OK;
@@ -6806,8 +6784,7 @@ PW__DEF int pw__check_vec(const double *v, int n, const char *what, pw_err *e)
 {
     int i;
     for (i = 0; i < n; i++)
-        if (!pw_is_finite(v[i]))
-            return pw_fail(e, PW_ERR_INVALID, "%s[%d] is not finite", what, i);
+        if (!pw_is_finite(v[i])) return pw_fail(e, PW_ERR_INVALID, "%s[%d] is not finite", what, i);
     return PW_OK;
 }
 
@@ -6822,13 +6799,13 @@ PW__DEF void pw__jacobi(double *d, int n)
 
 /* State shared by CG and CGLS: settings, counters, the outcome. */
 typedef struct pw__krylov {
-    int n;          /* unknowns */
+    int n; /* unknowns */
     int max_iter;
     double tol;
-    double bnorm;   /* norm the residual is measured against */
-    double rnorm;   /* current (recurrence) residual norm */
+    double bnorm; /* norm the residual is measured against */
+    double rnorm; /* current (recurrence) residual norm */
     int it;
-    int status;     /* PW_OK, or why the loop stopped */
+    int status; /* PW_OK, or why the loop stopped */
     const pw_progress *progress;
 } pw__krylov;
 
@@ -6856,8 +6833,7 @@ PW__DEF int pw__krylov_report(pw__krylov *k, pw_err *e)
 
 /* Fills the stats and turns a stop without convergence into an error that
  * carries the residual. `what` names the solver. */
-PW__DEF int pw__krylov_finish(const pw__krylov *k, double true_rnorm, const char *what,
-                              pw_cg_stats *s, pw_err *e)
+PW__DEF int pw__krylov_finish(const pw__krylov *k, double true_rnorm, const char *what, pw_cg_stats *s, pw_err *e)
 {
     double rel = true_rnorm / k->bnorm;
     if (s) {
@@ -6868,11 +6844,15 @@ PW__DEF int pw__krylov_finish(const pw__krylov *k, double true_rnorm, const char
     if (rel <= k->tol) return PW_OK;
     if (k->status == PW_ERR_CANCELLED) return k->status;
     if (k->status)
-        return pw_fail(e, PW_ERR_NOCONVERGE, "%s broke down after %d iterations (the matrix is "
+        return pw_fail(e, PW_ERR_NOCONVERGE,
+                       "%s broke down after %d iterations (the matrix is "
                        "not positive definite or the system is inconsistent): relative "
-                       "residual %.3g, tolerance %.3g", what, k->it, rel, k->tol);
-    return pw_fail(e, PW_ERR_NOCONVERGE, "%s stopped at the cap of %d iterations: relative "
-                   "residual %.3g, tolerance %.3g", what, k->it, rel, k->tol);
+                       "residual %.3g, tolerance %.3g",
+                       what, k->it, rel, k->tol);
+    return pw_fail(e, PW_ERR_NOCONVERGE,
+                   "%s stopped at the cap of %d iterations: relative "
+                   "residual %.3g, tolerance %.3g",
+                   what, k->it, rel, k->tol);
 }
 
 /* The loops below are fused so that each iteration streams the matrix once
@@ -6908,8 +6888,7 @@ PW__DEF double pw__precond_dots(const double *r, const double *dinv, int n, doub
 }
 
 /* p = D⁻¹r + beta p (beta = 0 restarts along the preconditioned residual). */
-PW__DEF void pw__new_direction(double *p, const double *r, const double *dinv, double beta,
-                               int n)
+PW__DEF void pw__new_direction(double *p, const double *r, const double *dinv, double beta, int n)
 {
     int i;
     if (beta == 0)
@@ -6945,8 +6924,7 @@ PW__DEF double pw__cg_step(double *x, pw__cg_ws *w, int n, double pq, double *rz
 /* Preconditioned CG iterations from x; r holds b - A x on entry. Restarts
  * from the true residual when the recurrence claims convergence that the
  * true residual does not confirm (rounding drift). */
-PW__DEF void pw__cg_loop(const pw_csr *A, const double *b, double *x, pw__cg_ws *w,
-                         pw__krylov *k, pw_err *e)
+PW__DEF void pw__cg_loop(const pw_csr *A, const double *b, double *x, pw__cg_ws *w, pw__krylov *k, pw_err *e)
 {
     int n = k->n, restart = 1, fresh = 1;
     double rz = 0, rr;
@@ -6986,8 +6964,8 @@ PW__DEF void pw__cg_loop(const pw_csr *A, const double *b, double *x, pw__cg_ws 
  * progress callback stopped it: in those three cases x holds the last
  * iterate, never worse in the energy norm than the guess, and *s its
  * residual. */
-PW__DEF int pw_cg_solve(const pw_alloc *a, const pw_csr *A, const double *b, double *x,
-                        const pw_cg_options *o, pw_cg_stats *s, pw_err *e)
+PW__DEF int pw_cg_solve(const pw_alloc *a, const pw_csr *A, const double *b, double *x, const pw_cg_options *o,
+                        pw_cg_stats *s, pw_err *e)
 {
     pw__krylov k;
     pw__cg_ws w;
@@ -6996,8 +6974,7 @@ PW__DEF int pw_cg_solve(const pw_alloc *a, const pw_csr *A, const double *b, dou
     if (pw_csr_check(A, e)) return PW_ERR_INVALID;
     n = A->n;
     if (A->m != n) return pw_fail(e, PW_ERR_INVALID, "CG needs a square matrix, not %dx%d", n, A->m);
-    if (pw__check_vec(b, n, "CG right-hand side b", e) || pw__check_vec(x, n, "CG guess x", e))
-        return PW_ERR_INVALID;
+    if (pw__check_vec(b, n, "CG right-hand side b", e) || pw__check_vec(x, n, "CG guess x", e)) return PW_ERR_INVALID;
     PW_SOLVE_HOOK("cg", A, b, x, o);
     pw__krylov_init(&k, n, o);
     k.bnorm = sqrt(pw__dot(b, b, n));
@@ -7099,7 +7076,7 @@ PW__DEF int pw_ic0_factor(const pw_alloc *a, const pw_csr *A, pw_ic0 *L, pw_err 
         pw_ic0_free(a, L);
         return PW_ERR_NOMEM;
     }
-    for (k = 0; k < 40; k++, shift = shift > 0.0 ? 2.0 * shift : 1e-3)
+    for (k = 0; k<40; k++, shift = shift> 0.0 ? 2.0 * shift : 1e-3)
         if (pw__ic0_try(A, shift, L)) return PW_OK;
     pw_ic0_free(a, L);
     return pw_fail(e, PW_ERR_INVALID, "IC(0): the matrix is not positive definite");
@@ -7154,7 +7131,9 @@ PW__DEF int pw__pcg_run(const pw_alloc *a, const pw__pcg_op *op, const pw_cg_opt
         return PW_OK;
     }
     if (!(r = (double *)pw_alloc_array(a, (size_t)n * 4, sizeof(double), "PCG vectors", e))) return PW_ERR_NOMEM;
-    z = r + n, p = z + n, q = p + n;
+    z = r + n;
+    p = z + n;
+    q = p + n;
     op->mul(op->actx, x, r);
     for (i = 0; i < n; i++) r[i] = b[i] - r[i];
     op->precond(op->mctx, r, z);
@@ -7167,7 +7146,10 @@ PW__DEF int pw__pcg_run(const pw_alloc *a, const pw__pcg_op *op, const pw_cg_opt
             break;
         }
         alpha = rz / pq;
-        for (i = 0; i < n; i++) x[i] += alpha * p[i], r[i] -= alpha * q[i];
+        for (i = 0; i < n; i++) {
+            x[i] += alpha * p[i];
+            r[i] -= alpha * q[i];
+        }
         op->precond(op->mctx, r, z);
         rz1 = pw__dot(r, z, n);
         for (i = 0; i < n; i++) p[i] = z[i] + rz1 / rz * p[i];
@@ -7204,7 +7186,9 @@ PW__DEF int pw_pcg_solve(const pw_alloc *a, const pw_csr *A, const pw_ic0 *M, co
     op.precond = pw__ic0_op;
     op.actx = A;
     op.mctx = M;
-    op.b = b, op.x = x, op.what = "PCG";
+    op.b = b;
+    op.x = x;
+    op.what = "PCG";
     return pw__pcg_run(a, &op, o, s, e);
 }
 
@@ -7217,8 +7201,7 @@ typedef struct pw__cgls_ws {
 } pw__cgls_ws;
 
 /* r = b - A x, s = Aᵀ r; returns |s|. */
-PW__DEF double pw__cgls_residual(const pw_csr *A, const double *b, const double *x,
-                                 pw__cgls_ws *w)
+PW__DEF double pw__cgls_residual(const pw_csr *A, const double *b, const double *x, pw__cgls_ws *w)
 {
     pw__residual(A, b, x, w->r);
     pw_csr_mul_t(A, w->r, w->s);
@@ -7245,8 +7228,7 @@ PW__DEF double pw__cgls_step(const pw_csr *A, double *x, pw__cgls_ws *w, double 
 
 /* CGLS iterations, structured like pw__cg_loop with the normal-equation
  * residual s = Aᵀ(b - A x) in the role of CG's residual. */
-PW__DEF void pw__cgls_loop(const pw_csr *A, const double *b, double *x, pw__cgls_ws *w,
-                           pw__krylov *k, pw_err *e)
+PW__DEF void pw__cgls_loop(const pw_csr *A, const double *b, double *x, pw__cgls_ws *w, pw__krylov *k, pw_err *e)
 {
     int m = A->m, restart = 1, fresh = 1;
     double gamma = 0, ss;
@@ -7292,8 +7274,8 @@ PW__DEF void pw__col_norms2(const pw_csr *A, double *d)
  * minimum even when A x = b has no solution); stats->residual reports it.
  * Aᵀb = 0 gives x = 0. Unknowns that no row touches keep their guess. Errors
  * and the meaning of x after a failure are as for pw_cg_solve. */
-PW__DEF int pw_lsq_solve(const pw_alloc *a, const pw_csr *A, const double *b, double *x,
-                         const pw_cg_options *o, pw_cg_stats *s, pw_err *e)
+PW__DEF int pw_lsq_solve(const pw_alloc *a, const pw_csr *A, const double *b, double *x, const pw_cg_options *o,
+                         pw_cg_stats *s, pw_err *e)
 {
     pw__krylov k;
     pw__cgls_ws w;
@@ -7301,13 +7283,11 @@ PW__DEF int pw_lsq_solve(const pw_alloc *a, const pw_csr *A, const double *b, do
     if (s) memset(s, 0, sizeof *s);
     if (pw_csr_check(A, e)) return PW_ERR_INVALID;
     m = A->m;
-    if (pw__check_vec(b, A->n, "least-squares right-hand side b", e) ||
-        pw__check_vec(x, m, "least-squares guess x", e))
+    if (pw__check_vec(b, A->n, "least-squares right-hand side b", e) || pw__check_vec(x, m, "least-squares guess x", e))
         return PW_ERR_INVALID;
     PW_SOLVE_HOOK("lsq", A, b, x, o);
     pw__krylov_init(&k, m, o);
-    w.r = (double *)pw_alloc_array(a, (size_t)A->n * 2 + (size_t)m * 3, sizeof(double),
-                                   "least-squares vectors", e);
+    w.r = (double *)pw_alloc_array(a, (size_t)A->n * 2 + (size_t)m * 3, sizeof(double), "least-squares vectors", e);
     if (!w.r) return PW_ERR_NOMEM;
     w.q = w.r + A->n;
     w.s = w.q + A->n;
@@ -7350,17 +7330,22 @@ PW__DEF int pw_lsq_solve(const pw_alloc *a, const pw_csr *A, const double *b, do
  * columns, its rows increasing. */
 typedef struct pw_ldlt {
     int n;
-    int *perm;  /* n: new index k is the original unknown perm[k] */
-    int *Lp;    /* n+1: column j of L (strictly below the diagonal) is Li/Lx[Lp[j] .. Lp[j+1]-1] */
+    int *perm; /* n: new index k is the original unknown perm[k] */
+    int *Lp;   /* n+1: column j of L (strictly below the diagonal) is Li/Lx[Lp[j] .. Lp[j+1]-1] */
     int *Li;
     double *Lx;
-    double *D;  /* n: the diagonal */
+    double *D;    /* n: the diagonal */
     double *work; /* n: solve scratch */
 } pw_ldlt;
 
 PW__DEF void pw_ldlt_free(const pw_alloc *a, pw_ldlt *F)
 {
-    pw_free(a, F->perm), pw_free(a, F->Lp), pw_free(a, F->Li), pw_free(a, F->Lx), pw_free(a, F->D), pw_free(a, F->work);
+    pw_free(a, F->perm);
+    pw_free(a, F->Lp);
+    pw_free(a, F->Li);
+    pw_free(a, F->Lx);
+    pw_free(a, F->D);
+    pw_free(a, F->work);
     memset(F, 0, sizeof *F);
 }
 
@@ -7368,18 +7353,24 @@ PW__DEF void pw_ldlt_free(const pw_alloc *a, pw_ldlt *F)
 typedef struct pw__mdg {
     const pw_alloc *a;
     int n;
-    int **adj, *deg, *cap;  /* sorted neighbour lists */
+    int **adj, *deg, *cap;   /* sorted neighbour lists */
     int *head, *next, *prev; /* degree buckets: doubly linked lists */
     unsigned char *gone;
-    int *tmp;               /* merge scratch, n */
+    int *tmp; /* merge scratch, n */
 } pw__mdg;
 
 PW__DEF void pw__mdg_free(pw__mdg *G)
 {
     int i;
     for (i = 0; G->adj && i < G->n; i++) pw_free(G->a, G->adj[i]);
-    pw_free(G->a, G->adj), pw_free(G->a, G->deg), pw_free(G->a, G->cap), pw_free(G->a, G->head);
-    pw_free(G->a, G->next), pw_free(G->a, G->prev), pw_free(G->a, G->gone), pw_free(G->a, G->tmp);
+    pw_free(G->a, G->adj);
+    pw_free(G->a, G->deg);
+    pw_free(G->a, G->cap);
+    pw_free(G->a, G->head);
+    pw_free(G->a, G->next);
+    pw_free(G->a, G->prev);
+    pw_free(G->a, G->gone);
+    pw_free(G->a, G->tmp);
 }
 
 PW__DEF void pw__mdg_unlink(pw__mdg *G, int v)
@@ -7405,7 +7396,8 @@ PW__DEF int pw__mdg_init(pw__mdg *G, const pw_alloc *a, const pw_csr *A, pw_err 
 {
     int n = A->n, i, k;
     memset(G, 0, sizeof *G);
-    G->a = a, G->n = n;
+    G->a = a;
+    G->n = n;
     G->adj = (int **)pw_calloc_array(a, (size_t)n, sizeof(int *), "ordering graph", e);
     G->deg = (int *)pw_calloc_array(a, (size_t)n, sizeof(int), "ordering graph", e);
     G->cap = (int *)pw_calloc_array(a, (size_t)n, sizeof(int), "ordering graph", e);
@@ -7419,7 +7411,8 @@ PW__DEF int pw__mdg_init(pw__mdg *G, const pw_alloc *a, const pw_csr *A, pw_err 
         int d = 0;
         for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++) d += A->col[k] != i;
         G->cap[i] = d > 4 ? d : 4;
-        if (!(G->adj[i] = (int *)pw_alloc_array(a, (size_t)G->cap[i], sizeof(int), "ordering graph", e))) return PW_ERR_NOMEM;
+        if (!(G->adj[i] = (int *)pw_alloc_array(a, (size_t)G->cap[i], sizeof(int), "ordering graph", e)))
+            return PW_ERR_NOMEM;
         for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++)
             if (A->col[k] != i) G->adj[i][G->deg[i]++] = A->col[k];
     }
@@ -7436,13 +7429,17 @@ PW__DEF int pw__mdg_merge(pw__mdg *G, int u, const int *nb, int nn, pw_err *e)
         int x;
         if (j >= nn || (i < du && au[i] < nb[j])) x = au[i++];
         else if (i >= du || nb[j] < au[i]) x = nb[j++];
-        else x = au[i++], j++;
+        else {
+            x = au[i++];
+            j++;
+        }
         if (x != u && !G->gone[x]) G->tmp[m++] = x;
     }
     if (m > G->cap[u]) {
         int *grown = (int *)pw_realloc(G->a, au, sizeof(int) * (size_t)m);
         if (!grown) return pw_fail(e, PW_ERR_NOMEM, "out of memory ordering a sparse matrix");
-        G->adj[u] = grown, G->cap[u] = m;
+        G->adj[u] = grown;
+        G->cap[u] = m;
     }
     memcpy(G->adj[u], G->tmp, sizeof(int) * (size_t)m);
     G->deg[u] = m;
@@ -7455,7 +7452,8 @@ PW__DEF int pw__min_degree(const pw_alloc *a, const pw_csr *A, int *perm, pw_err
     pw__mdg G;
     int k, d, r = pw__mdg_init(&G, a, A, e);
     int *nb = NULL;
-    if (r == PW_OK && !(nb = (int *)pw_alloc_array(a, (size_t)A->n, sizeof(int), "ordering graph", e))) r = PW_ERR_NOMEM;
+    if (r == PW_OK && !(nb = (int *)pw_alloc_array(a, (size_t)A->n, sizeof(int), "ordering graph", e)))
+        r = PW_ERR_NOMEM;
     for (k = 0; k < A->n && r == PW_OK; k++) {
         int v, nn, i;
         d = 0;
@@ -7485,7 +7483,9 @@ PW__DEF void pw__ldlt_symbolic(const pw_csr *A, const int *perm, const int *iper
     int k, p;
     for (k = 0; k < A->n; k++) {
         int old = perm[k];
-        parent[k] = -1, flag[k] = k, count[k] = 0;
+        parent[k] = -1;
+        flag[k] = k;
+        count[k] = 0;
         for (p = A->rowptr[old]; p < A->rowptr[old + 1]; p++) {
             int i = iperm[A->col[p]];
             for (; i < k && flag[i] != k; i = parent[i]) {
@@ -7524,7 +7524,10 @@ PW__DEF int pw__ldlt_row(pw_ldlt *F, const pw_csr *A, const pw__ldlt_work *W, in
         int i = iperm[A->col[p]], n = 0;
         if (i > k) continue;
         y[i] += A->val[p];
-        for (; flag[i] != k; i = parent[i]) pattern[n++] = i, flag[i] = k;
+        for (; flag[i] != k; i = parent[i]) {
+            pattern[n++] = i;
+            flag[i] = k;
+        }
         while (n > 0) pattern[--top] = pattern[--n];
     }
     F->D[k] = akk = y[k];
@@ -7563,7 +7566,10 @@ PW__DEF int pw_ldlt_factor(const pw_alloc *a, const pw_csr *A, pw_ldlt *F, pw_er
     if (!F->perm || !F->Lp || !F->D || !F->work || !iperm || !y) r = PW_ERR_NOMEM;
     if (r == PW_OK) r = pw__min_degree(a, A, F->perm, e);
     if (r == PW_OK) {
-        parent = iperm + n, flag = parent + n, len = flag + n, pattern = len + n;
+        parent = iperm + n;
+        flag = parent + n;
+        len = flag + n;
+        pattern = len + n;
         for (k = 0; k < n; k++) iperm[F->perm[k]] = k;
         pw__ldlt_symbolic(A, F->perm, iperm, parent, len, flag);
         for (F->Lp[0] = 0, k = 0; k < n; k++) F->Lp[k + 1] = F->Lp[k] + len[k];
@@ -7571,13 +7577,20 @@ PW__DEF int pw_ldlt_factor(const pw_alloc *a, const pw_csr *A, pw_ldlt *F, pw_er
         F->Lx = (double *)pw_alloc_array(a, (size_t)F->Lp[n] + 1, sizeof(double), "LDLT factor", e);
         if (!F->Li || !F->Lx) r = PW_ERR_NOMEM;
         for (k = 0; k < n; k++) len[k] = 0;
-        W.iperm = iperm, W.parent = parent, W.len = len, W.flag = flag, W.pattern = pattern, W.y = y;
+        W.iperm = iperm;
+        W.parent = parent;
+        W.len = len;
+        W.flag = flag;
+        W.pattern = pattern;
+        W.y = y;
         for (k = 0; k < n && r == PW_OK; k++)
             if (!pw__ldlt_row(F, A, &W, k))
-                r = pw_fail(e, PW_ERR_DEGENERATE, "LDLT: the matrix is not positive definite (pivot %d of %d, unknown %d, is %g)",
-                            k, n, F->perm[k], F->D[k]);
+                r = pw_fail(e, PW_ERR_DEGENERATE,
+                            "LDLT: the matrix is not positive definite (pivot %d of %d, unknown %d, is %g)", k, n,
+                            F->perm[k], F->D[k]);
     }
-    pw_free(a, iperm), pw_free(a, y);
+    pw_free(a, iperm);
+    pw_free(a, y);
     if (r != PW_OK) pw_ldlt_free(a, F);
     return r;
 }
@@ -7663,14 +7676,15 @@ PW__DEF int pw_zcsr_from_triplets(const pw_alloc *a, const pw_triplets *t, pw_zc
     pw_csr R;
     int i, k, r;
     memset(A, 0, sizeof *A);
-    if (t->m != 2 * t->n)
-        return pw_fail(e, PW_ERR_INVALID, "complex triplets of %dx%d: need n x 2n", t->n, t->m);
+    if (t->m != 2 * t->n) return pw_fail(e, PW_ERR_INVALID, "complex triplets of %dx%d: need n x 2n", t->n, t->m);
     if ((r = pw_csr_from_triplets(a, t, &R, e)) != PW_OK) return r;
     for (k = 0; k < R.rowptr[t->n]; k += 2)
         if (R.col[k] % 2 != 0 || k + 1 >= R.rowptr[t->n] || R.col[k + 1] != R.col[k] + 1) {
             pw_csr_free(a, &R);
-            return pw_fail(e, PW_ERR_INVALID, "complex triplets: entry %d lacks its real or imaginary "
-                           "part (add entries with pw_ztriplets_add)", k);
+            return pw_fail(e, PW_ERR_INVALID,
+                           "complex triplets: entry %d lacks its real or imaginary "
+                           "part (add entries with pw_ztriplets_add)",
+                           k);
         }
     A->n = t->n;
     A->rowptr = (int *)pw_alloc_array(a, (size_t)t->n + 1, sizeof(int), "complex CSR", e);
@@ -7701,7 +7715,8 @@ PW__DEF double pw_zcsr_mul(const pw_zcsr *A, const double *x, double *y)
             sr += v[0] * xx[0] - v[1] * xx[1];
             si += v[0] * xx[1] + v[1] * xx[0];
         }
-        y[2 * i] = sr, y[2 * i + 1] = si;
+        y[2 * i] = sr;
+        y[2 * i + 1] = si;
         d += x[2 * i] * sr + x[2 * i + 1] * si;
     }
     return d;
@@ -7735,12 +7750,11 @@ PW__DEF void pw__zic0_dot(const pw_zic0 *L, int i, int j, int below, double *re,
             const double *u = L->val + 2 * a++, *v = L->val + 2 * b++;
             sr += u[0] * v[0] + u[1] * v[1];
             si += u[1] * v[0] - u[0] * v[1];
-        } else if (L->col[a] < L->col[b])
-            a++;
-        else
-            b++;
+        } else if (L->col[a] < L->col[b]) a++;
+        else b++;
     }
-    *re = sr, *im = si;
+    *re = sr;
+    *im = si;
 }
 
 /* Factors A + shift diag(A); 0 when a pivot is not positive. */
@@ -7792,7 +7806,7 @@ PW__DEF int pw_zic0_factor(const pw_alloc *a, const pw_zcsr *A, pw_zic0 *L, pw_e
         pw_zic0_free(a, L);
         return PW_ERR_NOMEM;
     }
-    for (k = 0; k < 40; k++, shift = shift > 0.0 ? 2.0 * shift : 1e-3)
+    for (k = 0; k<40; k++, shift = shift> 0.0 ? 2.0 * shift : 1e-3)
         if (pw__zic0_try(A, shift, L)) return PW_OK;
     pw_zic0_free(a, L);
     return pw_fail(e, PW_ERR_INVALID, "complex IC(0): the matrix is not positive definite");
@@ -7810,7 +7824,8 @@ PW__DEF void pw_zic0_apply(const pw_zic0 *L, const double *r, double *z)
             si -= v[0] * y[1] + v[1] * y[0];
         }
         d = L->val[2 * (L->rowptr[i + 1] - 1)];
-        z[2 * i] = sr / d, z[2 * i + 1] = si / d;
+        z[2 * i] = sr / d;
+        z[2 * i + 1] = si / d;
     }
     for (i = L->n - 1; i >= 0; i--) { /* L^H z = y, by columns of L^H = rows of L */
         double d = L->val[2 * (L->rowptr[i + 1] - 1)], zr, zi;
@@ -7851,7 +7866,9 @@ PW__DEF int pw_zpcg_solve(const pw_alloc *a, const pw_zcsr *A, const pw_zic0 *M,
     op.precond = pw__zic0_op;
     op.actx = A;
     op.mctx = M;
-    op.b = b, op.x = x, op.what = "complex PCG";
+    op.b = b;
+    op.x = x;
+    op.what = "complex PCG";
     return pw__pcg_run(a, &op, o, s, e);
 }
 
@@ -7903,24 +7920,24 @@ PW__DEF int pw_zpcg_solve(const pw_alloc *a, const pw_zcsr *A, const pw_zic0 *M,
 
 /* The raster target: viewport size and the fixed-point precision it allows. */
 typedef struct pw_raster_grid {
-    int w, h;     /* pixels [0, w) x [0, h) */
+    int w, h;       /* pixels [0, w) x [0, h) */
     int row0, row1; /* rows rasterized: [row0, row1), default [0, h) (a band of the frame;
                        snapping depends on w and h only, so a band covers exactly the
                        pixels the whole frame would in its rows) */
-    int bits;     /* sub-pixel bits: vertices snap to multiples of 2^-bits */
-    double range; /* |coordinate| <= range is rasterized directly, beyond is clipped */
+    int bits;       /* sub-pixel bits: vertices snap to multiples of 2^-bits */
+    double range;   /* |coordinate| <= range is rasterized directly, beyond is clipped */
 } pw_raster_grid;
 
 /* One snapped triangle. Edge k is opposite vertex k; its value at a pixel
  * centre is (twice the area of the sub-triangle) * 2^(2 bits), positive
  * inside, and the barycentric of vertex k is (e_k - bias_k) / area2. */
 typedef struct pw_raster_edges {
-    int64_t e[3];    /* edge values at the centre of pixel (x0, y0), bias included */
-    int64_t ex[3];   /* change per pixel step to the right */
-    int64_t ey[3];   /* change per row down */
-    int64_t bias[3]; /* 0 on top-left edges, -1 elsewhere: covered iff all e >= 0 */
-    int64_t area2;   /* twice the snapped area in grid units, > 0 */
-    int orient;      /* +1 or -1: sign of the area as given (y down) */
+    int64_t e[3];       /* edge values at the centre of pixel (x0, y0), bias included */
+    int64_t ex[3];      /* change per pixel step to the right */
+    int64_t ey[3];      /* change per row down */
+    int64_t bias[3];    /* 0 on top-left edges, -1 elsewhere: covered iff all e >= 0 */
+    int64_t area2;      /* twice the snapped area in grid units, > 0 */
+    int orient;         /* +1 or -1: sign of the area as given (y down) */
     int x0, y0, x1, y1; /* candidate pixels [x0, x1) x [y0, y1), inside the viewport */
     /* row walker (pw_raster_next), an exact integer DDA over the edges that
      * bound runs: nl left ones first, then right ones (horizontal edges only
@@ -8144,7 +8161,7 @@ PW__DEF int pw_raster_span(const pw_raster_edges *s, int y, int *xa, int *xb)
     for (k = 0; k < 3; k++) {
         int64_t e = s->e[k] + s->ey[k] * (y - s->y0), a = s->ex[k], d;
         double t = a ? -(double)e / (double)a : 0.0; /* the bound, within 1e-6 */
-        if (a > 0) {                        /* first d with e + a d >= 0 */
+        if (a > 0) {                                 /* first d with e + a d >= 0 */
             if (e >= 0) continue;
             if (t > (double)n + 1.0) return 0;
             d = (int64_t)t + 1; /* floor(t) + 1: the answer, or one off either way */
@@ -8186,8 +8203,7 @@ PW__DEF void pw__raster_cut(const double *p, const double *q, int axis, double c
 
 /* Clips the polygon in[n] (xy pairs) to the half-plane side*coord[axis] <=
  * range; returns the new vertex count. */
-PW__DEF int pw__raster_clip1(const double *in, int n, int axis, double side, double range,
-                             double *out)
+PW__DEF int pw__raster_clip1(const double *in, int n, int axis, double side, double range, double *out)
 {
     int i, m = 0;
     for (i = 0; i < n; i++) {
@@ -8211,8 +8227,7 @@ PW__DEF int pw__raster_clip1(const double *in, int n, int axis, double side, dou
  * PW_RASTER_MAX_PIECES setups and returns their count. Fan pieces whose
  * snapped orientation disagrees with the polygon's are slivers made by
  * snapping near-collinear clip points (far outside the viewport): dropped. */
-PW__DEF int pw_raster_polygon(const pw_raster_grid *g, const double *xy, int n,
-                              pw_raster_edges *out)
+PW__DEF int pw_raster_polygon(const pw_raster_grid *g, const double *xy, int n, pw_raster_edges *out)
 {
     double a[16], b[16], tri[6], area = 0.0;
     int i, np = 0, inside = 1;
@@ -8236,8 +8251,7 @@ PW__DEF int pw_raster_polygon(const pw_raster_grid *g, const double *xy, int n,
         tri[0] = a[0];
         tri[1] = a[1];
         memcpy(tri + 2, a + 2 * i, sizeof(double) * 4);
-        if (pw_raster_setup(out + np, g, tri) && (n == 3 || (out[np].orient > 0) == (area > 0)))
-            np++;
+        if (pw_raster_setup(out + np, g, tri) && (n == 3 || (out[np].orient > 0) == (area > 0))) np++;
     }
     return np;
 }
@@ -8261,16 +8275,14 @@ PW__DEF int pw__raster_bary_planes(const double *v, double *p)
 
 /* Reports the pixels of one piece, with barycentrics either from its own
  * exact edge values (planes == NULL) or from the original triangle. */
-PW__DEF void pw__raster_emit(pw_raster_edges *s, const double *planes, pw_raster_fn fn,
-                             void *user)
+PW__DEF void pw__raster_emit(pw_raster_edges *s, const double *planes, pw_raster_fn fn, void *user)
 {
     double inv = 1.0 / (double)s->area2;
     int y, x, xa, xb, k;
     for (y = s->y0; y < s->y1; y++) {
         int64_t e[3];
         if (!pw_raster_next(s, &xa, &xb)) continue;
-        for (k = 0; k < 3; k++)
-            e[k] = s->e[k] - s->bias[k] + s->ey[k] * (y - s->y0) + s->ex[k] * (xa - s->x0);
+        for (k = 0; k < 3; k++) e[k] = s->e[k] - s->bias[k] + s->ey[k] * (y - s->y0) + s->ex[k] * (xa - s->x0);
         for (x = xa; x < xb; x++) {
             if (planes) {
                 double cx = x + 0.5, cy = y + 0.5;
@@ -8278,8 +8290,7 @@ PW__DEF void pw__raster_emit(pw_raster_edges *s, const double *planes, pw_raster
                    (float)(planes[3] * cx + planes[4] * cy + planes[5]),
                    (float)(planes[6] * cx + planes[7] * cy + planes[8]));
             } else {
-                fn(user, x, y, (float)((double)e[0] * inv), (float)((double)e[1] * inv),
-                   (float)((double)e[2] * inv));
+                fn(user, x, y, (float)((double)e[0] * inv), (float)((double)e[1] * inv), (float)((double)e[2] * inv));
             }
             for (k = 0; k < 3; k++) e[k] += s->ex[k];
         }
@@ -8432,10 +8443,10 @@ enum { PW_DEPTH_LESS = 0, PW_DEPTH_LEQUAL = 1, PW_DEPTH_ALWAYS = 2 };
 enum { PW_LIGHT_NONE = 0, PW_LIGHT_CAMERA = 1, PW_LIGHT_WORLD = 2 };
 enum { PW_CULL_NONE = 0, PW_CULL_BACK = 1, PW_CULL_FRONT = 2 };
 
-#define PW_FB_MAX_SS 8              /* samples per pixel side */
-#define PW_FB_NONE 0xFFFFFFFFu      /* visibility id of an untouched sample */
+#define PW_FB_MAX_SS 8         /* samples per pixel side */
+#define PW_FB_NONE 0xFFFFFFFFu /* visibility id of an untouched sample */
 #define PW_TEXTURE_MAX_LEVELS 32
-#define PW_DEPTH_TOLERANCE 1e-4f    /* default relative slack of PW_DEPTH_LEQUAL */
+#define PW_DEPTH_TOLERANCE 1e-4f /* default relative slack of PW_DEPTH_LEQUAL */
 
 /* ---------------------------------------------------------------- camera */
 
@@ -8456,10 +8467,7 @@ typedef struct pw__view {
 
 /* double to float without the undefined behaviour of converting a value
  * beyond the float range (absurd inputs): clamps to +-FLT_MAX. */
-PW__DEF float pw__f(double x)
-{
-    return x > FLT_MAX ? FLT_MAX : (x < -FLT_MAX ? -FLT_MAX : (float)x);
-}
+PW__DEF float pw__f(double x) { return x > FLT_MAX ? FLT_MAX : (x < -FLT_MAX ? -FLT_MAX : (float)x); }
 
 /* tan of an angle in degrees, 0 < deg < 180, from the sine and cosine
  * series: the same bits on every platform, unlike libm's tan. */
@@ -8499,11 +8507,10 @@ PW__DEF int pw__view_init(pw__view *v, const pw_camera *cam, int sw, int sh, pw_
 {
     double t;
     if (!(cam->fovy_deg > 0.0f && cam->fovy_deg < 180.0f))
-        return pw_fail(e, PW_ERR_INVALID, "camera: field of view %g degrees outside (0, 180)",
-                       (double)cam->fovy_deg);
+        return pw_fail(e, PW_ERR_INVALID, "camera: field of view %g degrees outside (0, 180)", (double)cam->fovy_deg);
     if (!(cam->znear > 0.0f && cam->zfar > cam->znear) || !pw_is_finite(cam->zfar))
-        return pw_fail(e, PW_ERR_INVALID, "camera: need 0 < znear < zfar (znear %g, zfar %g)",
-                       (double)cam->znear, (double)cam->zfar);
+        return pw_fail(e, PW_ERR_INVALID, "camera: need 0 < znear < zfar (znear %g, zfar %g)", (double)cam->znear,
+                       (double)cam->zfar);
     if (!pw__camera_basis(cam, v))
         return pw_fail(e, PW_ERR_INVALID,
                        "camera: eye, target and up must be finite, eye != target, up not along the view");
@@ -8650,8 +8657,8 @@ PW__DEF double pw__fit_distance(const float *pos, int nv, const pw__view_basis *
  * view shrunk by 5% (vertical fovy_deg, horizontal from aspect = width /
  * height); near and far enclose the mesh. Invalid fovy (outside (0, 180))
  * becomes 45, invalid aspect 1. */
-PW__DEF pw_camera pw_camera_frame(const float *pos, int nv, const float view_dir[3],
-                                  const float up[3], float fovy_deg, float aspect)
+PW__DEF pw_camera pw_camera_frame(const float *pos, int nv, const float view_dir[3], const float up[3], float fovy_deg,
+                                  float aspect)
 {
     pw_camera cam;
     pw__view_basis B;
@@ -8679,7 +8686,12 @@ PW__DEF pw_camera pw_camera_frame(const float *pos, int nv, const float view_dir
     pw__bounding_sphere(pos, pos ? nv : 0, c, &r);
     t = 0.95 * pw__tan_deg(0.5 * fovy_deg);
     tx = t * aspect;
-    for (k = 0; k < 3; k++) B.c[k] = c[k], B.rt[k] = x[k], B.up[k] = y[k], B.vd[k] = vd[k];
+    for (k = 0; k < 3; k++) {
+        B.c[k] = c[k];
+        B.rt[k] = x[k];
+        B.up[k] = y[k];
+        B.vd[k] = vd[k];
+    }
     B.ox = B.oy = 0.0;
     pw__view_extent(pos, pos ? nv : 0, &B, lo, hi);
     B.ox = 0.5 * (lo[0] + hi[0]);
@@ -8693,7 +8705,8 @@ PW__DEF pw_camera pw_camera_frame(const float *pos, int nv, const float view_dir
         B.ox += 0.5 * (range[0] + range[1]) * dist;
         B.oy += 0.5 * (range[2] + range[3]) * dist;
     }
-    ox = B.ox, oy = B.oy;
+    ox = B.ox;
+    oy = B.oy;
     for (k = 0; k < 3; k++) {
         cam.target[k] = pw__f(c[k] + ox * x[k] + oy * y[k]);
         cam.eye[k] = pw__f(cam.target[k] - vd[k] * dist);
@@ -8743,11 +8756,9 @@ PW__DEF void pw__mip_down(const pw_texture *t, int L, const float *src, float *d
 {
     int W = t->lw[L], H = t->lh[L], W2 = t->lw[L + 1], H2 = t->lh[L + 1];
     int y, x;
-    for (y = 0; y < H; y++)
-        pw__box_1d(src + (size_t)y * W * 4, W, 4, tmp + (size_t)y * W2 * 4, W2, 4);
+    for (y = 0; y < H; y++) pw__box_1d(src + (size_t)y * W * 4, W, 4, tmp + (size_t)y * W2 * 4, W2, 4);
     for (x = 0; x < W2; x++)
-        pw__box_1d(tmp + (size_t)x * 4, H, (ptrdiff_t)W2 * 4, dst + (size_t)x * 4, H2,
-                   (ptrdiff_t)W2 * 4);
+        pw__box_1d(tmp + (size_t)x * 4, H, (ptrdiff_t)W2 * 4, dst + (size_t)x * 4, H2, (ptrdiff_t)W2 * 4);
 }
 
 /* Converts any channel count to premultiplied float RGBA. */
@@ -8800,8 +8811,7 @@ PW__DEF void pw__tex_sizes(pw_texture *t, int max_levels)
  * area-weighted box filter of premultiplied colour, computed in float from
  * the level above, so transparent texels do not bleed their colour. Free
  * with pw_texture_free. */
-PW__DEF int pw_texture_create(const pw_alloc *a, pw_texture *t, const pw_image *img,
-                              int max_levels, pw_err *e)
+PW__DEF int pw_texture_create(const pw_alloc *a, pw_texture *t, const pw_image *img, int max_levels, pw_err *e)
 {
     size_t total = 0, off = 0, n0;
     uint16_t *data;
@@ -8864,11 +8874,11 @@ PW__DEF void pw_texture_clear_border(pw_texture *t, int min_size)
         int W = t->lw[L], H = t->lh[L];
         uint16_t *p = t->level[L];
         if (W <= min_size || H <= min_size) continue;
-        memset(p, 0, (size_t)W * 4 * sizeof(uint16_t));                   /* top row */
+        memset(p, 0, (size_t)W * 4 * sizeof(uint16_t));                           /* top row */
         memset(p + (size_t)(H - 1) * W * 4, 0, (size_t)W * 4 * sizeof(uint16_t)); /* bottom row */
         for (y = 1; y < H - 1; y++)
             for (x = 0; x < 4; x++) {
-                p[((size_t)y * W) * 4 + x] = 0;          /* left column */
+                p[((size_t)y * W) * 4 + x] = 0;         /* left column */
                 p[((size_t)y * W + W - 1) * 4 + x] = 0; /* right column */
             }
     }
@@ -8955,8 +8965,7 @@ PW__DEF void pw__tex_trilinear(const pw_texture *t, float u, float v, float lod,
  * and wrap mode; lod (log2 of the footprint in level-0 texels) selects and
  * blends mip levels for PW_FILTER_TRILINEAR and is ignored otherwise
  * (PW_FILTER_NEAREST and _BILINEAR read level 0). out = premultiplied RGBA. */
-PW__DEF void pw_texture_sample(const pw_texture *t, float u, float v, float lod, int filter,
-                               int wrap, float out[4])
+PW__DEF void pw_texture_sample(const pw_texture *t, float u, float v, float lod, int filter, int wrap, float out[4])
 {
     const float s = 1.0f / 65535.0f;
     float a[4];
@@ -8994,8 +9003,7 @@ PW__DEF float pw__log2f(float x)
     memcpy(&m, &bits, sizeof m); /* mantissa in [1, 2) */
     s = (m - 1.0f) / (m + 1.0f);
     s2 = s * s;
-    return (float)ex +
-           s * (2.8853900818f + s2 * (0.9617966939f + s2 * (0.5770780164f + s2 * 0.4121985831f)));
+    return (float)ex + s * (2.8853900818f + s2 * (0.9617966939f + s2 * (0.5770780164f + s2 * 0.4121985831f)));
 }
 
 /* PW_NO_RENDER leaves out the rest but the pw_parallel type the public
@@ -9007,24 +9015,24 @@ PW__DEF float pw__log2f(float x)
 /* ----------------------------------------------------------- framebuffer */
 
 typedef struct pw_fb {
-    int w, h, ss;  /* pixels; ss x ss samples per pixel */
-    int sw, sh;    /* sample grid: w*ss x h*ss, sample (x, y) centred at ((x+.5)/ss, (y+.5)/ss) pixels */
-    int y0, bh;    /* the sample rows held: [y0, y0 + bh), a band of the frame (all of it
+    int w, h, ss;   /* pixels; ss x ss samples per pixel */
+    int sw, sh;     /* sample grid: w*ss x h*ss, sample (x, y) centred at ((x+.5)/ss, (y+.5)/ss) pixels */
+    int y0, bh;     /* the sample rows held: [y0, y0 + bh), a band of the frame (all of it
                       unless made by pw_fb_create_band); draws cover only these */
-    int band_rows; /* pixel rows a band can hold */
-    float bg[4];   /* background, straight RGBA */
-    float *color;  /* sw*bh*4 premultiplied RGBA, sample (x, y) at ((y-y0)*sw + x)*4, row 0 at the top */
-    float *depth;  /* sw*bh, q = 1/(distance along the view axis); 0 = nothing drawn */
-    uint32_t *vis; /* sw*bh triangle ids of the opaque draw under way; PW_FB_NONE between draws */
-    double *vbuf;  /* draw scratch: transformed vertices */
-    float *nbuf;   /* draw scratch: computed normals */
-    float *pbuf;   /* draw scratch: triangle planes */
+    int band_rows;  /* pixel rows a band can hold */
+    float bg[4];    /* background, straight RGBA */
+    float *color;   /* sw*bh*4 premultiplied RGBA, sample (x, y) at ((y-y0)*sw + x)*4, row 0 at the top */
+    float *depth;   /* sw*bh, q = 1/(distance along the view axis); 0 = nothing drawn */
+    uint32_t *vis;  /* sw*bh triangle ids of the opaque draw under way; PW_FB_NONE between draws */
+    double *vbuf;   /* draw scratch: transformed vertices */
+    float *nbuf;    /* draw scratch: computed normals */
+    float *pbuf;    /* draw scratch: triangle planes */
     uint64_t *mbuf; /* draw scratch: sample masks of a pixel row (all zero between uses) */
-    float *qbuf;   /* draw scratch: depths of ss sample rows */
-    float *zmin;   /* coarse depth: per tile of PW__ZT x PW__ZT samples of the band, the smallest q */
-    int zvalid;    /* zmin matches depth; set 0 if you write depth yourself */
-    int vnv;       /* vertices of the last draw (0: none yet) */
-    int vall;      /* 1: all vnv of them are transformed in vbuf (not only the drawn corners) */
+    float *qbuf;    /* draw scratch: depths of ss sample rows */
+    float *zmin;    /* coarse depth: per tile of PW__ZT x PW__ZT samples of the band, the smallest q */
+    int zvalid;     /* zmin matches depth; set 0 if you write depth yourself */
+    int vnv;        /* vertices of the last draw (0: none yet) */
+    int vall;       /* 1: all vnv of them are transformed in vbuf (not only the drawn corners) */
     size_t vcap, ncap, pcap, mcap, qcap, zcap;
     const pw_alloc *alloc;
 } pw_fb;
@@ -9067,18 +9075,15 @@ PW__DEF void pw_fb_free(pw_fb *fb)
  * opaque black) that holds band_rows pixel rows at a time (0 or >= h: the
  * whole frame), the first band selected. The allocator a (may be NULL) must
  * outlive the framebuffer. */
-PW__DEF int pw_fb_create_band(const pw_alloc *a, pw_fb *fb, int w, int h, int ss, int band_rows,
-                              const float bg[4], pw_err *e)
+PW__DEF int pw_fb_create_band(const pw_alloc *a, pw_fb *fb, int w, int h, int ss, int band_rows, const float bg[4],
+                              pw_err *e)
 {
     size_t n;
     memset(fb, 0, sizeof *fb);
     if (w <= 0 || h <= 0 || ss < 1 || ss > PW_FB_MAX_SS || band_rows < 0)
-        return pw_fail(e, PW_ERR_INVALID, "framebuffer: invalid size %dx%d with %dx%d samples", w,
-                       h, ss, ss);
-    if (w > PW_MAX_IMAGE_DIM || h > PW_MAX_IMAGE_DIM ||
-        (int64_t)w * h * ss * ss > (int64_t)PW_MAX_IMAGE_PIXELS)
-        return pw_fail(e, PW_ERR_LIMIT, "framebuffer: %dx%d with %dx%d samples exceeds the limit", w,
-                       h, ss, ss);
+        return pw_fail(e, PW_ERR_INVALID, "framebuffer: invalid size %dx%d with %dx%d samples", w, h, ss, ss);
+    if (w > PW_MAX_IMAGE_DIM || h > PW_MAX_IMAGE_DIM || (int64_t)w * h * ss * ss > (int64_t)PW_MAX_IMAGE_PIXELS)
+        return pw_fail(e, PW_ERR_LIMIT, "framebuffer: %dx%d with %dx%d samples exceeds the limit", w, h, ss, ss);
     fb->w = w;
     fb->h = h;
     fb->ss = ss;
@@ -9103,8 +9108,7 @@ PW__DEF int pw_fb_create_band(const pw_alloc *a, pw_fb *fb, int w, int h, int ss
 }
 
 /* The same holding the whole frame. */
-PW__DEF int pw_fb_create(const pw_alloc *a, pw_fb *fb, int w, int h, int ss, const float bg[4],
-                         pw_err *e)
+PW__DEF int pw_fb_create(const pw_alloc *a, pw_fb *fb, int w, int h, int ss, const float bg[4], pw_err *e)
 {
     return pw_fb_create_band(a, fb, w, h, ss, 0, bg, e);
 }
@@ -9177,34 +9181,34 @@ PW__DEF int pw_fb_resolve(const pw_fb *fb, pw_image *out, int channels, pw_err *
 typedef struct pw_draw {
     const float *positions; /* nv*3 world-space vertex positions */
     int nv;
-    const int *tris;        /* ntris*3 vertex indices */
+    const int *tris; /* ntris*3 vertex indices */
     int ntris;
-    const float *uvs;       /* ntris*3*2 texture coordinates per triangle corner (v = 0 at the
+    const float *uvs;      /* ntris*3*2 texture coordinates per triangle corner (v = 0 at the
                                bottom of the texture); required with a texture, else ignored */
-    const float *normals;   /* nv*3 per-vertex normals; NULL: smooth area-weighted normals
+    const float *normals;  /* nv*3 per-vertex normals; NULL: smooth area-weighted normals
                                computed from the mesh. Used only when lit */
-    int flat;               /* 1: flat shading, one normal per face (normals ignored) */
-    const pw_texture *tex;  /* NULL: the constant colour alone */
-    float color[4];         /* straight RGBA multiplied with the texture; all zero: opaque white */
-    int filter;             /* PW_FILTER_TRILINEAR (default), _BILINEAR, _NEAREST (level 0) */
-    int wrap;               /* PW_WRAP_REPEAT (default), PW_WRAP_CLAMP */
-    int blend;              /* PW_BLEND_REPLACE (default: write the colour, alpha included),
+    int flat;              /* 1: flat shading, one normal per face (normals ignored) */
+    const pw_texture *tex; /* NULL: the constant colour alone */
+    float color[4];        /* straight RGBA multiplied with the texture; all zero: opaque white */
+    int filter;            /* PW_FILTER_TRILINEAR (default), _BILINEAR, _NEAREST (level 0) */
+    int wrap;              /* PW_WRAP_REPEAT (default), PW_WRAP_CLAMP */
+    int blend;             /* PW_BLEND_REPLACE (default: write the colour, alpha included),
                                PW_BLEND_OVER (rgba = src + (1 - src alpha) dst, premultiplied) */
-    int depth_test;         /* PW_DEPTH_LESS (default: passes where nearer than what is
+    int depth_test;        /* PW_DEPTH_LESS (default: passes where nearer than what is
                                stored), PW_DEPTH_LEQUAL (also where as near, within a
                                tolerance, so a second pass over the same surface passes),
                                PW_DEPTH_ALWAYS. Samples beyond zfar never pass */
-    float depth_tolerance;  /* relative slack of LEQUAL: passes if q > (1 - tol) q_stored
+    float depth_tolerance; /* relative slack of LEQUAL: passes if q > (1 - tol) q_stored
                                (q = 1/depth); 0: PW_DEPTH_TOLERANCE */
-    int no_depth_write;     /* 1: depth is tested but not written */
-    int no_color_write;     /* 1: depth only (a depth pre-pass) */
-    int cull;               /* PW_CULL_NONE (default: two-sided), PW_CULL_BACK, PW_CULL_FRONT */
-    int lighting;           /* PW_LIGHT_NONE (default: unlit), PW_LIGHT_CAMERA, PW_LIGHT_WORLD:
+    int no_depth_write;    /* 1: depth is tested but not written */
+    int no_color_write;    /* 1: depth only (a depth pre-pass) */
+    int cull;              /* PW_CULL_NONE (default: two-sided), PW_CULL_BACK, PW_CULL_FRONT */
+    int lighting;          /* PW_LIGHT_NONE (default: unlit), PW_LIGHT_CAMERA, PW_LIGHT_WORLD:
                                Lambert + ambient, the light direction in camera space (x right,
                                y up, z toward the viewer) or in world space. Two-sided: back
                                faces are lit with their normals reversed */
-    float light_dir[3];     /* direction toward the light; zero: (-0.3, 0.4, 1) in camera space */
-    float ambient;          /* brightness of unlit parts, in [0, 1]; 0: 0.25; negative: none */
+    float light_dir[3];    /* direction toward the light; zero: (-0.3, 0.4, 1) in camera space */
+    float ambient;         /* brightness of unlit parts, in [0, 1]; 0: 0.25; negative: none */
     /* Optional, replaces the texture: the straight RGBA of triangle `tri` at
      * the point of barycentric coordinates (1 - b1 - b2, b1, b2) (perspective-
      * correct, corners in the triangle's order), given db = (db1/dx, db1/dy,
@@ -9212,13 +9216,13 @@ typedef struct pw_draw {
      * a texture lookup would be; uvs are not needed. */
     void (*shader)(void *user, int tri, float b1, float b2, const float db[4], float rgba[4]);
     void *shader_user;
-    int same_vertices;      /* 1: positions, nv and camera are those of the previous draw into
+    int same_vertices; /* 1: positions, nv and camera are those of the previous draw into
                                this framebuffer; when that draw transformed all the vertices
                                (it drew at least nv/3 triangles) they are reused (the passes of
                                lapped textures after their base pass) */
 } pw_draw;
 
-#define PW__ZT 8 /* coarse depth tile, in samples */
+#define PW__ZT 8   /* coarse depth tile, in samples */
 #define PW__NPL 21 /* floats per triangle: planes q(3) U(3) V(3) N(9), origin(2), ready */
 #define PW__OX 18
 #define PW__OY 19
@@ -9247,29 +9251,25 @@ PW__DEF int pw__draw_check(const pw_draw *d, pw_err *e)
 {
     int i;
     if (d->nv < 0 || d->ntris < 0)
-        return pw_fail(e, PW_ERR_INVALID, "draw: negative counts (%d vertices, %d triangles)", d->nv,
-                       d->ntris);
+        return pw_fail(e, PW_ERR_INVALID, "draw: negative counts (%d vertices, %d triangles)", d->nv, d->ntris);
     if (d->nv > PW_MAX_MESH_ELEMENTS || d->ntris > PW_MAX_MESH_ELEMENTS)
-        return pw_fail(e, PW_ERR_LIMIT, "draw: %d vertices, %d triangles exceed the limit %d", d->nv,
-                       d->ntris, PW_MAX_MESH_ELEMENTS);
+        return pw_fail(e, PW_ERR_LIMIT, "draw: %d vertices, %d triangles exceed the limit %d", d->nv, d->ntris,
+                       PW_MAX_MESH_ELEMENTS);
     if ((d->nv > 0 && !d->positions) || (d->ntris > 0 && !d->tris))
         return pw_fail(e, PW_ERR_INVALID, "draw: missing positions or triangle indices");
     if (d->tex && (!d->uvs || d->tex->nlevels < 1 || !d->tex->level[0]))
         return pw_fail(e, PW_ERR_INVALID, "draw: a texture needs uvs and a built mip chain");
-    if ((unsigned)d->filter > 2u || (unsigned)d->wrap > 1u || (unsigned)d->blend > 1u ||
-        (unsigned)d->depth_test > 2u || (unsigned)d->cull > 2u || (unsigned)d->lighting > 2u)
+    if ((unsigned)d->filter > 2u || (unsigned)d->wrap > 1u || (unsigned)d->blend > 1u || (unsigned)d->depth_test > 2u ||
+        (unsigned)d->cull > 2u || (unsigned)d->lighting > 2u)
         return pw_fail(e, PW_ERR_INVALID, "draw: unknown filter, wrap, blend, depth, cull or lighting mode");
     for (i = 0; i < 3 * d->ntris; i++)
         if (d->tris[i] < 0 || d->tris[i] >= d->nv)
-            return pw_fail(e, PW_ERR_INVALID, "draw: triangle %d, corner %d: vertex index %d outside [0, %d)",
-                           i / 3, i % 3, d->tris[i], d->nv);
+            return pw_fail(e, PW_ERR_INVALID, "draw: triangle %d, corner %d: vertex index %d outside [0, %d)", i / 3,
+                           i % 3, d->tris[i], d->nv);
     return PW_OK;
 }
 
-PW__DEF int pw__finite3(const float *p)
-{
-    return pw_is_finite(p[0]) && pw_is_finite(p[1]) && pw_is_finite(p[2]);
-}
+PW__DEF int pw__finite3(const float *p) { return pw_is_finite(p[0]) && pw_is_finite(p[1]) && pw_is_finite(p[2]); }
 
 /* Homogeneous screen coordinates of every vertex; W = -DBL_MAX marks a
  * vertex with non-finite coordinates (its triangles are skipped). */
@@ -9363,8 +9363,7 @@ PW__DEF void pw__plane(double r[3][3], const double *a, double ox, double oy, fl
 PW__DEF int pw__tri_adjugate(const pw__ctx *c, int t, double r[3][3], double *det)
 {
     const int *ix = c->d->tris + 3 * (size_t)t;
-    const double *h0 = c->vh + 5 * (size_t)ix[0], *h1 = c->vh + 5 * (size_t)ix[1],
-                 *h2 = c->vh + 5 * (size_t)ix[2];
+    const double *h0 = c->vh + 5 * (size_t)ix[0], *h1 = c->vh + 5 * (size_t)ix[1], *h2 = c->vh + 5 * (size_t)ix[2];
     double scale;
     int i, j;
     pw_cross3(h1, h2, r[0]);
@@ -9412,7 +9411,7 @@ PW__DEF void pw__attr_planes(const pw__ctx *c, int t, float *pl)
     if (pl[PW__READY] != 0.0f) return;
     pl[PW__READY] = 1.0f;
     pw__tri_adjugate(c, t, r, &det); /* succeeded when the triangle was set up */
-    if (d->shader) { /* barycentric coordinates b1, b2 in the places of u, v */
+    if (d->shader) {                 /* barycentric coordinates b1, b2 in the places of u, v */
         for (k = 0; k < 2; k++) {
             for (i = 0; i < 3; i++) a[i] = i == k + 1 ? 1.0 : 0.0;
             pw__plane(r, a, ox, oy, pl + 3 + 3 * k);
@@ -9428,8 +9427,7 @@ PW__DEF void pw__attr_planes(const pw__ctx *c, int t, float *pl)
         sgn = det > 0.0 ? -1.0 : 1.0; /* two-sided: back faces turn their normals around */
         if (!c->normals) pw__face_normal(d, t, fn);
         for (k = 0; k < 3; k++) {
-            for (i = 0; i < 3; i++)
-                a[i] = sgn * (c->normals ? (double)c->normals[3 * d->tris[3 * t + i] + k] : fn[k]);
+            for (i = 0; i < 3; i++) a[i] = sgn * (c->normals ? (double)c->normals[3 * d->tris[3 * t + i] + k] : fn[k]);
             pw__plane(r, a, ox, oy, pl + 9 + 3 * k);
         }
     }
@@ -9558,7 +9556,11 @@ PW__DEF void pw__shade(const pw__ctx *c, int t, float x, float y, float *out)
     if (!(q > 1e-30f)) q = 1e-30f; /* only reachable through rounding at a near-plane edge */
     if (c->d->shader || c->tex) {
         pw__shade_pt P;
-        P.t = t, P.pl = pl, P.dx = dx, P.dy = dy, P.iq = 1.0f / q;
+        P.t = t;
+        P.pl = pl;
+        P.dx = dx;
+        P.dy = dy;
+        P.iq = 1.0f / q;
         if (c->d->shader) pw__shade_custom(c, &P, col);
         else pw__shade_tex(c, &P, col);
     }
@@ -9611,11 +9613,8 @@ PW__DEF void pw__shade_vis(pw__ctx *c)
                 if (ids[k] == PW_FB_NONE) continue;
                 for (m = 0; m < k && ids[m] != ids[k]; m++) {
                 }
-                if (m < k)
-                    memcpy(dst, fb->color + (base + off[m]) * 4, 4 * sizeof(float));
-                else
-                    pw__shade(c, (int)ids[k], (float)(px * ss + k % ss) + 0.5f,
-                              (float)(py * ss + k / ss) + 0.5f, dst);
+                if (m < k) memcpy(dst, fb->color + (base + off[m]) * 4, 4 * sizeof(float));
+                else pw__shade(c, (int)ids[k], (float)(px * ss + k % ss) + 0.5f, (float)(py * ss + k / ss) + 0.5f, dst);
             }
         }
     }
@@ -9734,8 +9733,10 @@ PW__DEF int pw__hidden(const pw__ctx *c, const double *const *h, const double *p
     int k, t0[2], t1[2], tx, ty;
     for (k = 0; k < 2; k++) {
         double o = k ? c->fb->y0 : 0.0; /* tile rows count from the band's first row */
-        lo[k] = (p[k] < p[k + 2] ? (p[k] < p[k + 4] ? p[k] : p[k + 4]) : (p[k + 2] < p[k + 4] ? p[k + 2] : p[k + 4])) - o;
-        hi[k] = (p[k] > p[k + 2] ? (p[k] > p[k + 4] ? p[k] : p[k + 4]) : (p[k + 2] > p[k + 4] ? p[k + 2] : p[k + 4])) - o;
+        lo[k] =
+            (p[k] < p[k + 2] ? (p[k] < p[k + 4] ? p[k] : p[k + 4]) : (p[k + 2] < p[k + 4] ? p[k + 2] : p[k + 4])) - o;
+        hi[k] =
+            (p[k] > p[k + 2] ? (p[k] > p[k + 4] ? p[k] : p[k + 4]) : (p[k + 2] > p[k + 4] ? p[k + 2] : p[k + 4])) - o;
         t0[k] = (int)pw_clampf((float)lo[k], 0.0f, (float)(c->fb->sw + c->fb->sh)) / PW__ZT;
         t1[k] = (int)pw_clampf((float)hi[k], 0.0f, (float)(c->fb->sw + c->fb->sh)) / PW__ZT;
     }
@@ -9781,10 +9782,8 @@ PW__DEF void pw__draw_tri(pw__ctx *c, int t)
     /* the usual case (in front, within the raster range) needs no clipping */
     np = inside ? pw_raster_setup(pieces, &c->grid, poly) : pw_raster_polygon(&c->grid, poly, n, pieces);
     for (k = 0; k < np; k++) {
-        if (c->blend == PW_BLEND_OVER && c->cwrite)
-            pw__raster_over(c, pieces + k, t, pl);
-        else
-            pw__raster_vis(c, pieces + k, (uint32_t)t, pl);
+        if (c->blend == PW_BLEND_OVER && c->cwrite) pw__raster_over(c, pieces + k, t, pl);
+        else pw__raster_vis(c, pieces + k, (uint32_t)t, pl);
     }
 }
 
@@ -9792,16 +9791,14 @@ PW__DEF void pw__draw_tri(pw__ctx *c, int t)
 PW__DEF int pw__draw_scratch(pw_fb *fb, const pw_draw *d, int need_normals, pw_err *e)
 {
     size_t oldm = fb->mcap;
-    if (pw_grow(fb->alloc, (void **)&fb->vbuf, &fb->vcap, (size_t)d->nv * 5, sizeof(double),
-                "render vertices", e) ||
+    if (pw_grow(fb->alloc, (void **)&fb->vbuf, &fb->vcap, (size_t)d->nv * 5, sizeof(double), "render vertices", e) ||
         pw_grow(fb->alloc, (void **)&fb->pbuf, &fb->pcap, (size_t)d->ntris * PW__NPL, sizeof(float),
                 "render triangle planes", e) ||
-        (need_normals && pw_grow(fb->alloc, (void **)&fb->nbuf, &fb->ncap, (size_t)d->nv * 3,
-                                 sizeof(float), "render normals", e)))
+        (need_normals &&
+         pw_grow(fb->alloc, (void **)&fb->nbuf, &fb->ncap, (size_t)d->nv * 3, sizeof(float), "render normals", e)))
         return e ? e->code : PW_ERR_NOMEM;
     if (d->blend == PW_BLEND_OVER &&
-        (pw_grow(fb->alloc, (void **)&fb->mbuf, &fb->mcap, (size_t)fb->w, sizeof(uint64_t),
-                 "render sample masks", e) ||
+        (pw_grow(fb->alloc, (void **)&fb->mbuf, &fb->mcap, (size_t)fb->w, sizeof(uint64_t), "render sample masks", e) ||
          pw_grow(fb->alloc, (void **)&fb->qbuf, &fb->qcap, (size_t)fb->sw * fb->ss, sizeof(float),
                  "render sample depths", e)))
         return e ? e->code : PW_ERR_NOMEM;
@@ -10017,21 +10014,21 @@ PW__DEF void pw_parallel_for(const pw_parallel *par, int n, pw_task_fn task, voi
 typedef int (*pw_frame_draw_fn)(void *user, pw_fb *fb, pw_err *e);
 
 typedef struct pw_frame {
-    int w, h, ss;            /* pixels, samples per pixel side */
-    float bg[4];             /* background, straight RGBA */
-    int channels;            /* of the picture: 3 or 4 (see pw_fb_resolve_band) */
+    int w, h, ss; /* pixels, samples per pixel side */
+    float bg[4];  /* background, straight RGBA */
+    int channels; /* of the picture: 3 or 4 (see pw_fb_resolve_band) */
     pw_frame_draw_fn draw;
     void *user;
-    const pw_parallel *par;  /* NULL: one thread */
+    const pw_parallel *par; /* NULL: one thread */
 } pw_frame;
 
 typedef struct pw__frame_run {
     const pw_alloc *a;
     const pw_frame *f;
     pw_image *out;
-    int rows;                /* pixel rows per band */
-    int *codes;              /* per band: its result */
-    pw_err *errs;            /* per band: its message */
+    int rows;     /* pixel rows per band */
+    int *codes;   /* per band: its result */
+    pw_err *errs; /* per band: its message */
 } pw__frame_run;
 
 PW__DEF void pw__frame_band(void *ctx, int band)
@@ -10089,8 +10086,8 @@ PW__DEF int pw_render_frame(const pw_alloc *a, const pw_frame *f, pw_image *out,
     if (f->channels != 3 && f->channels != 4)
         return pw_fail(e, PW_ERR_INVALID, "render: %d channels (need 3 or 4)", f->channels);
     if (f->w <= 0 || f->h <= 0 || f->ss < 1 || f->ss > PW_FB_MAX_SS)
-        return pw_fail(e, PW_ERR_INVALID, "framebuffer: invalid size %dx%d with %dx%d samples", f->w,
-                       f->h, f->ss, f->ss);
+        return pw_fail(e, PW_ERR_INVALID, "framebuffer: invalid size %dx%d with %dx%d samples", f->w, f->h, f->ss,
+                       f->ss);
     R.rows = (f->h + 4 * width - 1) / (4 * width);
     if (R.rows < 8) R.rows = 8;
     nb = (f->h + R.rows - 1) / R.rows;
@@ -10129,14 +10126,14 @@ PW__DEF int pw_render_frame(const pw_alloc *a, const pw_frame *f, pw_image *out,
 
 
 typedef struct pw_trimesh {
-    int nv, nf;          /* vertices, triangles */
-    const float *pos;    /* nv*3, borrowed */
-    int *tri;            /* nf*3 */
+    int nv, nf;       /* vertices, triangles */
+    const float *pos; /* nv*3, borrowed */
+    int *tri;         /* nf*3 */
     pw_hmesh hm;
-    float *normal;       /* nf*3 */
-    float *area;         /* nf */
+    float *normal; /* nf*3 */
+    float *area;   /* nf */
     double total_area;
-    float diag;          /* bounding-box diagonal */
+    float diag; /* bounding-box diagonal */
 } pw_trimesh;
 
 PW__DEF void pw_trimesh_free(const pw_alloc *a, pw_trimesh *m)
@@ -10151,10 +10148,7 @@ PW__DEF void pw_trimesh_free(const pw_alloc *a, pw_trimesh *m)
 PW__DEF pw_v3 pw_trimesh_vert(const pw_trimesh *m, int v) { return pw_v3_load(m->pos + 3 * v); }
 
 /* Corner k of triangle f. */
-PW__DEF pw_v3 pw_trimesh_corner(const pw_trimesh *m, int f, int k)
-{
-    return pw_trimesh_vert(m, m->tri[3 * f + k]);
-}
+PW__DEF pw_v3 pw_trimesh_corner(const pw_trimesh *m, int f, int k) { return pw_trimesh_vert(m, m->tri[3 * f + k]); }
 
 /* The triangle across edge k of triangle f (-1 on a boundary). */
 PW__DEF int pw_trimesh_across(const pw_trimesh *m, int f, int k)
@@ -10204,18 +10198,17 @@ PW__DEF int pw__trimesh_geometry(pw_trimesh *m, int keep_degenerate, pw_err *e)
     for (f = 0; f < m->nf; f++) {
         pw_v3 a = pw_trimesh_corner(m, f, 0), b = pw_trimesh_corner(m, f, 1), c = pw_trimesh_corner(m, f, 2);
         pw_v3 n = pw_v3_cross(pw_v3_sub(b, a), pw_v3_sub(c, a));
-        float len = pw_v3_len(n), ref = pw_v3_dot(pw_v3_sub(b, a), pw_v3_sub(b, a)) +
-                                        pw_v3_dot(pw_v3_sub(c, a), pw_v3_sub(c, a));
+        float len = pw_v3_len(n),
+              ref = pw_v3_dot(pw_v3_sub(b, a), pw_v3_sub(b, a)) + pw_v3_dot(pw_v3_sub(c, a), pw_v3_sub(c, a));
         int zero = !(len > 1e-12f * ref) || !(len > 0.0f);
         if (zero && !(keep_degenerate && pw_is_finite(len) && pw_is_finite(ref)))
-            return pw_fail(e, PW_ERR_DEGENERATE, "triangle %d (vertices %d, %d, %d) has zero area", f,
-                           m->tri[3 * f], m->tri[3 * f + 1], m->tri[3 * f + 2]);
+            return pw_fail(e, PW_ERR_DEGENERATE, "triangle %d (vertices %d, %d, %d) has zero area", f, m->tri[3 * f],
+                           m->tri[3 * f + 1], m->tri[3 * f + 2]);
         pw_v3_store(m->normal + 3 * f, zero ? pw_v3_make(0, 0, 0) : pw_v3_scale(n, 1.0f / len));
         m->area[f] = zero ? 0.0f : 0.5f * len;
         m->total_area += m->area[f];
     }
-    if (!(m->total_area > 0.0))
-        return pw_fail(e, PW_ERR_DEGENERATE, "every triangle of the mesh has zero area");
+    if (!(m->total_area > 0.0)) return pw_fail(e, PW_ERR_DEGENERATE, "every triangle of the mesh has zero area");
     lo = hi = pw_trimesh_vert(m, m->tri[0]);
     for (v = 0; v < 3 * m->nf; v++) {
         lo = pw_v3_min(lo, pw_trimesh_vert(m, m->tri[v]));
@@ -10259,8 +10252,10 @@ PW__DEF int pw_trimesh_repair_normals(const pw_alloc *a, pw_trimesh *m, pw_err *
     while (pass < 250 && pw__trimesh_repair_pass(m, done, pass) > 0) pass++;
     for (f = 0; f < m->nf && r == PW_OK; f++)
         if (!(pw_v3_len(pw_v3_load(m->normal + 3 * f)) > 0.5f))
-            r = pw_fail(e, PW_ERR_DEGENERATE, "triangle %d (vertices %d, %d, %d) has zero area and no "
-                        "neighbour with a normal", f, m->tri[3 * f], m->tri[3 * f + 1], m->tri[3 * f + 2]);
+            r = pw_fail(e, PW_ERR_DEGENERATE,
+                        "triangle %d (vertices %d, %d, %d) has zero area and no "
+                        "neighbour with a normal",
+                        f, m->tri[3 * f], m->tri[3 * f + 1], m->tri[3 * f + 2]);
     pw_free(a, done);
     return r;
 }
@@ -10270,8 +10265,7 @@ PW__DEF int pw_trimesh_repair_normals(const pw_alloc *a, pw_trimesh *m, pw_err *
  * inconsistently oriented meshes and zero-area triangles are errors that
  * name the element; with keep_degenerate, zero-area triangles are kept
  * (area 0) and every degenerate triangle takes its neighbours' normal. */
-PW__DEF int pw_trimesh_init_ex(const pw_alloc *a, const pw_mesh *in, int keep_degenerate, pw_trimesh *m,
-                               pw_err *e)
+PW__DEF int pw_trimesh_init_ex(const pw_alloc *a, const pw_mesh *in, int keep_degenerate, pw_trimesh *m, pw_err *e)
 {
     int f, k, t = 0, r, *fs;
     memset(m, 0, sizeof *m);
@@ -10552,18 +10546,18 @@ PW__DEF int pw__atlas_tris_overlap(const double *a, const double *b, double tol)
 
 typedef struct pw__atlas_hash {
     double cell;
-    unsigned mask;       /* buckets - 1 */
-    int *head;           /* per bucket: first entry, -1 */
-    int *next, *item;    /* per entry */
+    unsigned mask;    /* buckets - 1 */
+    int *head;        /* per bucket: first entry, -1 */
+    int *next, *item; /* per entry */
     int n;
     size_t ncap, icap;
-    int *used, nused;    /* buckets to clear */
+    int *used, nused; /* buckets to clear */
     size_t ucap;
-    int *all, nall;      /* every triangle inserted */
+    int *all, nall; /* every triangle inserted */
     size_t acap;
-    int *big, nbig;      /* triangles too large for the cells */
+    int *big, nbig; /* triangles too large for the cells */
     size_t bcap;
-    int *stamp, nstamp;  /* per mesh triangle: the last query that met it */
+    int *stamp, nstamp; /* per mesh triangle: the last query that met it */
     int query;
 } pw__atlas_hash;
 
@@ -10636,8 +10630,7 @@ PW__DEF int pw__atlas_hash_insert(const pw_alloc *a, pw__atlas_hash *H, int f, c
 {
     int c[4], x, y;
     pw__atlas_hash_cells(H, t, c);
-    if (pw_grow(a, (void **)&H->all, &H->acap, (size_t)H->nall + 1, sizeof(int), "chart hash", e))
-        return PW_ERR_NOMEM;
+    if (pw_grow(a, (void **)&H->all, &H->acap, (size_t)H->nall + 1, sizeof(int), "chart hash", e)) return PW_ERR_NOMEM;
     H->all[H->nall++] = f;
     if (pw__atlas_ncells(c) > PW__ATLAS_BIG_CELLS) {
         if (pw_grow(a, (void **)&H->big, &H->bcap, (size_t)H->nbig + 1, sizeof(int), "chart hash", e))
@@ -10661,8 +10654,8 @@ PW__DEF int pw__atlas_hash_insert(const pw_alloc *a, pw__atlas_hash *H, int f, c
 }
 
 /* Does inserted triangle f (not met yet by this query) overlap t? */
-PW__DEF int pw__atlas_hash_test(pw__atlas_hash *H, int f, const double *t, double tol,
-                             pw__atlas_coords_fn coords, const void *ctx)
+PW__DEF int pw__atlas_hash_test(pw__atlas_hash *H, int f, const double *t, double tol, pw__atlas_coords_fn coords,
+                                const void *ctx)
 {
     double u[6];
     if (H->stamp[f] == H->query) return 0;
@@ -10673,7 +10666,7 @@ PW__DEF int pw__atlas_hash_test(pw__atlas_hash *H, int f, const double *t, doubl
 
 /* Does t overlap any inserted triangle? */
 PW__DEF int pw__atlas_hash_hits(pw__atlas_hash *H, const double *t, double tol, pw__atlas_coords_fn coords,
-                             const void *ctx)
+                                const void *ctx)
 {
     int c[4], x, y, k;
     if (++H->query == INT_MAX) {
@@ -10699,11 +10692,11 @@ PW__DEF int pw__atlas_hash_hits(pw__atlas_hash *H, const double *t, double tol, 
 
 /* The charts: a partition of the triangles, each chart flattened. */
 typedef struct pw_atlas_charts {
-    int n;         /* charts */
-    int *chart;    /* nf: chart of each triangle */
-    int *start;    /* n+1: chart c holds faces[start[c] .. start[c+1]-1] */
-    int *faces;    /* nf: each chart's triangles in growth order */
-    double *uv;    /* nf*6: flattened corners; each chart's 2D area equals its 3D area */
+    int n;      /* charts */
+    int *chart; /* nf: chart of each triangle */
+    int *start; /* n+1: chart c holds faces[start[c] .. start[c+1]-1] */
+    int *faces; /* nf: each chart's triangles in growth order */
+    double *uv; /* nf*6: flattened corners; each chart's 2D area equals its 3D area */
     size_t scap;
 } pw_atlas_charts;
 
@@ -10724,19 +10717,19 @@ typedef struct pw__atlas_grower {
     const pw_trimesh *m;
     const pw_alloc *a;
     pw_err *e;
-    double cos_cone;     /* §4: normals within the cone around the seed's */
-    double tol;          /* overlap tolerance, mesh units */
-    int *chart;          /* per triangle: chart, -1 while unassigned */
-    int *cone;           /* per triangle: the last chart whose cone refused it */
-    int *mark;           /* per triangle: the deferral round it was deferred in */
-    int *local;          /* per vertex: index in the chart being grown, -1 */
+    double cos_cone; /* §4: normals within the cone around the seed's */
+    double tol;      /* overlap tolerance, mesh units */
+    int *chart;      /* per triangle: chart, -1 while unassigned */
+    int *cone;       /* per triangle: the last chart whose cone refused it */
+    int *mark;       /* per triangle: the deferral round it was deferred in */
+    int *local;      /* per vertex: index in the chart being grown, -1 */
     int cur, seed, round, last_opt, relaxed_nv;
-    double centre[3];    /* centroid of the seed */
+    double centre[3]; /* centroid of the seed */
     int *faces, *nv_after, nfc;
     size_t fcap, acap;
     int *verts, nlv;
     size_t vcap;
-    double *uv;          /* nlv*2 flattened vertices */
+    double *uv; /* nlv*2 flattened vertices */
     size_t uvcap;
     int *deferred, nd;
     size_t dcap;
@@ -10786,7 +10779,10 @@ PW__DEF void pw__atlas_line(double p[3][3], double *x, double *y)
     int k, j;
     for (k = 0; k < 3; k++) {
         double l2 = 0.0, e[3];
-        for (j = 0; j < 3; j++) e[j] = p[(k + 1) % 3][j] - p[k][j], l2 += e[j] * e[j];
+        for (j = 0; j < 3; j++) {
+            e[j] = p[(k + 1) % 3][j] - p[k][j];
+            l2 += e[j] * e[j];
+        }
         if (l2 > best)
             for (best = l2, j = 0; j < 3; j++) d[j] = e[j];
     }
@@ -10915,8 +10911,7 @@ PW__DEF int pw__atlas_grow_start(pw__atlas_grower *G, int f)
     G->round++;
     pw__atlas_centroid(G->m, f, G->centre);
     if (pw_grow(G->a, (void **)&G->faces, &G->fcap, 1, sizeof(int), "chart", G->e) ||
-        pw_grow(G->a, (void **)&G->nv_after, &G->acap, 1, sizeof(int), "chart", G->e) ||
-        pw__atlas_seed_layout(G))
+        pw_grow(G->a, (void **)&G->nv_after, &G->acap, 1, sizeof(int), "chart", G->e) || pw__atlas_seed_layout(G))
         return PW_ERR_NOMEM;
     G->faces[0] = f;
     G->nv_after[0] = 3;
@@ -11006,7 +11001,10 @@ PW__DEF int pw__atlas_grow_try(pw__atlas_grower *G, int f)
     }
     for (k = 0; k < 3; k++) {
         int g = pw_trimesh_across(m, f, k);
-        if (g >= 0 && G->chart[g] == G->cur) shared++, sk = k;
+        if (g >= 0 && G->chart[g] == G->cur) {
+            shared++;
+            sk = k;
+        }
     }
     /* Disc: across one edge the third vertex must be new (else the chart
      * would pinch or close a loop); across two edges f fills a notch;
@@ -11046,9 +11044,15 @@ PW__DEF void pw__atlas_pins(const pw__atlas_grower *G, int *p0, int *p1)
     int i, a = 0, b = 0;
     double best = -1.0;
     for (i = 0; i < G->nlv; i++)
-        if (pw__atlas_dist3(G, 0, i) > best) best = pw__atlas_dist3(G, 0, i), a = i;
+        if (pw__atlas_dist3(G, 0, i) > best) {
+            best = pw__atlas_dist3(G, 0, i);
+            a = i;
+        }
     for (i = 0, best = -1.0; i < G->nlv; i++)
-        if (pw__atlas_dist3(G, a, i) > best) best = pw__atlas_dist3(G, a, i), b = i;
+        if (pw__atlas_dist3(G, a, i) > best) {
+            best = pw__atlas_dist3(G, a, i);
+            b = i;
+        }
     *p0 = a;
     *p1 = b != a ? b : (a + 1) % G->nlv;
 }
@@ -11082,8 +11086,8 @@ PW__DEF void pw__atlas_rescale(pw__atlas_grower *G)
  * the map U = u + i v is conformal on f when sum_j W_j U_j = 0; each row
  * is weighted by 1/sqrt(area), so the residual is the conformal energy.
  * Pinned vertices (col < 0) move to the right-hand side. */
-PW__DEF int pw__atlas_lscm_rows(const pw__atlas_grower *G, int f, int r, const int *col, pw_triplets *T,
-                                   double *b, pw_err *e)
+PW__DEF int pw__atlas_lscm_rows(const pw__atlas_grower *G, int f, int r, const int *col, pw_triplets *T, double *b,
+                                pw_err *e)
 {
     int j;
     double x[3], y[3], w = 1.0 / sqrt((double)G->m->area[f]);
@@ -11110,8 +11114,7 @@ PW__DEF int pw__atlas_lscm_rows(const pw__atlas_grower *G, int f, int r, const i
  * solution, we use a conjugate-gradient iterative solver"), for at most
  * max_iter iterations: stopping there keeps the last iterate, and the
  * check that follows decides. */
-PW__DEF int pw__atlas_lscm_solve(pw__atlas_grower *G, const pw_csr *A, const double *b, const int *col,
-                                    int max_iter)
+PW__DEF int pw__atlas_lscm_solve(pw__atlas_grower *G, const pw_csr *A, const double *b, const int *col, int max_iter)
 {
     double *x = (double *)pw_alloc_array(G->a, (size_t)A->m, sizeof(double), "conformal map", G->e);
     pw_cg_options o = pw_cg_default_options();
@@ -11197,9 +11200,7 @@ PW__DEF int pw__atlas_first_bad(pw__atlas_grower *G, int *bad)
         double t[6];
         int f = G->faces[i];
         pw__atlas_grower_coords(G, f, t);
-        if (!pw__atlas_flat_ok(G, f, t) ||
-            pw__atlas_hash_hits(&G->hash, t, G->tol, pw__atlas_grower_coords, G))
-            break;
+        if (!pw__atlas_flat_ok(G, f, t) || pw__atlas_hash_hits(&G->hash, t, G->tol, pw__atlas_grower_coords, G)) break;
         if (pw__atlas_hash_insert(G->a, &G->hash, f, t, G->e)) return PW_ERR_NOMEM;
     }
     *bad = i;
@@ -11241,8 +11242,7 @@ PW__DEF int pw__atlas_check(pw__atlas_grower *G, int *cut)
 PW__DEF int pw__atlas_relax(pw__atlas_grower *G, int *cut)
 {
     int r;
-    if ((r = pw__atlas_lscm(G, G->relaxed_nv, PW__ATLAS_RING_ITER)) || (r = pw__atlas_check(G, cut)))
-        return r;
+    if ((r = pw__atlas_lscm(G, G->relaxed_nv, PW__ATLAS_RING_ITER)) || (r = pw__atlas_check(G, cut))) return r;
     G->relaxed_nv = G->nlv;
     G->last_opt = G->nfc;
     return PW_OK;
@@ -11257,8 +11257,7 @@ PW__DEF int pw__atlas_flatten(pw__atlas_grower *G)
     int r, cut = 0;
     if (G->nfc < 2) return PW_OK; /* one triangle keeps its exact shape */
     if ((r = pw__atlas_lscm(G, 0, PW__ATLAS_FULL_ITER)) || (r = pw__atlas_check(G, &cut))) return r;
-    if (cut && G->nfc >= 2 &&
-        ((r = pw__atlas_lscm(G, 0, PW__ATLAS_FULL_ITER)) || (r = pw__atlas_check(G, &cut))))
+    if (cut && G->nfc >= 2 && ((r = pw__atlas_lscm(G, 0, PW__ATLAS_FULL_ITER)) || (r = pw__atlas_check(G, &cut))))
         return r;
     return PW_OK;
 }
@@ -11308,8 +11307,7 @@ PW__DEF int pw__atlas_chart_finish(pw__atlas_grower *G, pw_atlas_charts *C, int 
 {
     double a3 = 0.0, a2 = 0.0, s, t[6];
     int i, k;
-    if (pw_grow(G->a, (void **)&C->start, &C->scap, (size_t)C->n + 2, sizeof(int), "charts", G->e))
-        return PW_ERR_NOMEM;
+    if (pw_grow(G->a, (void **)&C->start, &C->scap, (size_t)C->n + 2, sizeof(int), "charts", G->e)) return PW_ERR_NOMEM;
     for (i = 0; i < G->nfc; i++) {
         pw__atlas_grower_coords(G, G->faces[i], t);
         a2 += 0.5 * pw__atlas_area2(t);
@@ -11359,7 +11357,7 @@ PW__DEF double pw__atlas_mean_edge(const pw_trimesh *m)
 }
 
 PW__DEF int pw__atlas_grower_init(pw__atlas_grower *G, const pw_alloc *a, const pw_trimesh *m, double cone_deg,
-                               int *chart, pw_err *e)
+                                  int *chart, pw_err *e)
 {
     double cell = pw__atlas_mean_edge(m);
     int i;
@@ -11385,8 +11383,8 @@ PW__DEF int pw__atlas_grower_init(pw__atlas_grower *G, const pw_alloc *a, const 
 /* §4: the charts. Each is seeded at the lowest-index unassigned triangle
  * and grown until nothing more can join; every triangle ends in exactly
  * one chart (a seed always forms a chart by itself). */
-PW__DEF int pw_atlas_charts_build(const pw_alloc *a, const pw_trimesh *m, double cone_deg,
-                                const pw_progress *prog, pw_atlas_charts *C, pw_err *e)
+PW__DEF int pw_atlas_charts_build(const pw_alloc *a, const pw_trimesh *m, double cone_deg, const pw_progress *prog,
+                                  pw_atlas_charts *C, pw_err *e)
 {
     pw__atlas_grower G;
     int f, r, nfaces = 0;
@@ -11431,28 +11429,28 @@ PW__DEF int pw_atlas_charts_build(const pw_alloc *a, const pw_trimesh *m, double
 typedef struct pw__atlas_packer {
     const pw_trimesh *m;
     const pw_atlas_charts *C;
-    int size, gutter;    /* the packing grid: size x size cells of `unit` pixels; gutter in cells */
-    int pad_lo;          /* cells of the gutter on the left of and below a chart (the rest:
+    int size, gutter;           /* the packing grid: size x size cells of `unit` pixels; gutter in cells */
+    int pad_lo;                 /* cells of the gutter on the left of and below a chart (the rest:
                             right and above): floor(gutter/2) pixels, rounded up to cells */
-    int unit, pixels;    /* cell side and atlas side, pixels */
-    double *rect;        /* per chart 6: unit direction (dx, dy) of the rectangle's side,
+    int unit, pixels;           /* cell side and atlas side, pixels */
+    double *rect;               /* per chart 6: unit direction (dx, dy) of the rectangle's side,
                             its min corner (x0, y0) in the turned frame, its extent (w, h) */
-    double *area;        /* per chart: 3D area */
-    int *order;          /* charts, largest first */
-    int *bstart, *bedge; /* boundary half-edges of each chart */
-    int16_t *run;        /* size*size, rows from the bottom: the free run starting at each
+    double *area;               /* per chart: 3D area */
+    int *order;                 /* charts, largest first */
+    int *bstart, *bedge;        /* boundary half-edges of each chart */
+    int16_t *run;               /* size*size, rows from the bottom: the free run starting at each
                             cell (> 0), or minus the occupied run (< 0) */
-    int *maxrun;         /* size: the longest free run of each row */
-    unsigned char *cov;  /* size*size: the cells the chart being placed covers */
-    int *cl, *cr, *cst;  /* their runs, row by row (cst: first run of each row) */
-    double *lo, *hi;     /* a triangle's extent over each row */
-    int *sl, *sr, *srow; /* the dilated chart's runs [sl, sr) and their rows */
-    int *ord;            /* the order in which runs are tried */
+    int *maxrun;                /* size: the longest free run of each row */
+    unsigned char *cov;         /* size*size: the cells the chart being placed covers */
+    int *cl, *cr, *cst;         /* their runs, row by row (cst: first run of each row) */
+    double *lo, *hi;            /* a triangle's extent over each row */
+    int *sl, *sr, *srow;        /* the dilated chart's runs [sl, sr) and their rows */
+    int *ord;                   /* the order in which runs are tried */
     int *kl, *kr, *krow, nkeep; /* the runs of the best turn so far */
-    int *rowmax;         /* per row: its longest run */
-    int nspan, wp, hp;   /* runs, and the dilated chart's width and height */
-    int *place;          /* per chart 3: content origin x, y (cells from the bottom-left), turn */
-    int *best;           /* the placement of the largest scale that fitted */
+    int *rowmax;                /* per row: its longest run */
+    int nspan, wp, hp;          /* runs, and the dilated chart's width and height */
+    int *place;                 /* per chart 3: content origin x, y (cells from the bottom-left), turn */
+    int *best;                  /* the placement of the largest scale that fitted */
 } pw__atlas_packer;
 
 PW__DEF void pw__atlas_packer_free(const pw_alloc *a, pw__atlas_packer *P)
@@ -11612,17 +11610,28 @@ PW__DEF void pw__atlas_chart_rect(pw__atlas_packer *P, int c, double *pts, doubl
 
 /* A chart point uv in pixels at scale s, after quarter turn o, inside
  * the chart's box [0, W] x [0, H] (W, H swapped on odd turns). */
-PW__DEF void pw__atlas_pack_xy(const pw__atlas_packer *P, int c, double s, int o, const double *uv,
-                                  double *out)
+PW__DEF void pw__atlas_pack_xy(const pw__atlas_packer *P, int c, double s, int o, const double *uv, double *out)
 {
     const double *R = P->rect + 6 * c;
     double x = (R[0] * uv[0] + R[1] * uv[1] - R[2]) * s, y = (-R[1] * uv[0] + R[0] * uv[1] - R[3]) * s;
     double W = R[4] * s, H = R[5] * s;
     switch (o) {
-    case 0: out[0] = x, out[1] = y; break;
-    case 1: out[0] = H - y, out[1] = x; break;
-    case 2: out[0] = W - x, out[1] = H - y; break;
-    default: out[0] = y, out[1] = W - x; break;
+    case 0:
+        out[0] = x;
+        out[1] = y;
+        break;
+    case 1:
+        out[0] = H - y;
+        out[1] = x;
+        break;
+    case 2:
+        out[0] = W - x;
+        out[1] = H - y;
+        break;
+    default:
+        out[0] = y;
+        out[1] = W - x;
+        break;
     }
 }
 
@@ -11720,13 +11729,20 @@ PW__DEF void pw__atlas_dilate_runs(pw__atlas_packer *P, int h)
         for (j = pw_maxi(y - g, 0); j <= pw_mini(y, h - 1); j++)
             for (k = P->cst[j]; k < P->cst[j + 1]; k++) {
                 int l = P->cl[k], r = P->cr[k] + g, i = n++;
-                for (; i > first && P->sl[i - 1] > l; i--) P->sl[i] = P->sl[i - 1], P->sr[i] = P->sr[i - 1];
+                for (; i > first && P->sl[i - 1] > l; i--) {
+                    P->sl[i] = P->sl[i - 1];
+                    P->sr[i] = P->sr[i - 1];
+                }
                 P->sl[i] = l;
                 P->sr[i] = r;
             }
         for (k = first + 1, m = first; k < n; k++) { /* merge overlapping or touching runs */
             if (P->sl[k] <= P->sr[m]) P->sr[m] = pw_maxi(P->sr[m], P->sr[k]);
-            else m++, P->sl[m] = P->sl[k], P->sr[m] = P->sr[k];
+            else {
+                m++;
+                P->sl[m] = P->sl[k];
+                P->sr[m] = P->sr[k];
+            }
         }
         n = n > first ? m + 1 : first;
         P->rowmax[y] = 0;
@@ -11796,7 +11812,7 @@ PW__DEF void pw__atlas_mark(pw__atlas_packer *P, int y, int a, int b)
         if (k < a && v == row[k]) break;
         row[k] = v;
     }
-    for (k = 0; k < n; k += row[k] > 0 ? row[k] : -row[k])
+    for (k = 0; k<n; k += row[k]> 0 ? row[k] : -row[k])
         if (row[k] > best) best = row[k];
     P->maxrun[y] = best;
 }
@@ -11917,8 +11933,8 @@ PW__DEF int pw__atlas_pack_prepare(const pw_alloc *a, pw__atlas_packer *P, pw_er
 /* The packing grid: cells of one pixel up to 1024 pixels a side, of
  * ceil(size / 1024) pixels beyond (the search costs grow with the grid's
  * area; a chart then loses at most a cell's rounding per side). */
-PW__DEF int pw__atlas_packer_init(const pw_alloc *a, pw__atlas_packer *P, const pw_trimesh *m,
-                                     const pw_atlas_charts *C, int size, int gutter, pw_err *e)
+PW__DEF int pw__atlas_packer_init(const pw_alloc *a, pw__atlas_packer *P, const pw_trimesh *m, const pw_atlas_charts *C,
+                                  int size, int gutter, pw_err *e)
 {
     size_t n = (size_t)C->n, rows, cells, spans, runs;
     memset(P, 0, sizeof *P);
@@ -11931,7 +11947,7 @@ PW__DEF int pw__atlas_packer_init(const pw_alloc *a, pw__atlas_packer *P, const 
     P->gutter = P->pad_lo + ((gutter + 1) / 2 + P->unit - 1) / P->unit;
     rows = (size_t)P->size + 2;
     cells = (size_t)P->size * P->size;
-    runs = (size_t)P->size * ((size_t)P->size / 2 + 1); /* runs are separated by gaps */
+    runs = (size_t)P->size * ((size_t)P->size / 2 + 1);                    /* runs are separated by gaps */
     spans = ((size_t)P->size + P->gutter + 1) * ((size_t)P->size / 2 + 1); /* + a row's gathering */
     P->rect = (double *)pw_alloc_array(a, 6 * n, sizeof(double), "packing", e);
     P->area = (double *)pw_alloc_array(a, n, sizeof(double), "packing", e);
@@ -11955,10 +11971,9 @@ PW__DEF int pw__atlas_packer_init(const pw_alloc *a, pw__atlas_packer *P, const 
     P->kl = (int *)pw_alloc_array(a, spans, sizeof(int), "packing runs", e);
     P->kr = (int *)pw_alloc_array(a, spans, sizeof(int), "packing runs", e);
     P->krow = (int *)pw_alloc_array(a, spans, sizeof(int), "packing runs", e);
-    if (P->rect && P->area && P->order && P->place && P->best && P->bstart && P->run && P->maxrun &&
-        P->rowmax && P->lo && P->hi && P->cov && P->cl && P->cr && P->cst && P->sl && P->sr && P->srow && P->ord &&
-        P->kl &&
-        P->kr && P->krow)
+    if (P->rect && P->area && P->order && P->place && P->best && P->bstart && P->run && P->maxrun && P->rowmax &&
+        P->lo && P->hi && P->cov && P->cl && P->cr && P->cst && P->sl && P->sr && P->srow && P->ord && P->kl && P->kr &&
+        P->krow)
         P->bedge = (int *)pw_alloc_array(a, (size_t)pw__atlas_boundary(P, 0), sizeof(int), "packing", e);
     if (!P->bedge) {
         pw__atlas_packer_free(a, P);
@@ -11992,7 +12007,8 @@ PW__DEF int pw__atlas_pack_search(pw__atlas_packer *P, const pw_progress *prog, 
     lo = hi * sqrt(0.5);
     while (!pw__atlas_try(P, lo)) {
         if (lo * maxdim < 0.5) /* every chart within one cell, and still too many */
-            return pw_fail(e, PW_ERR_LIMIT, "atlas: %d charts do not fit in %dx%d pixels with a %d-pixel "
+            return pw_fail(e, PW_ERR_LIMIT,
+                           "atlas: %d charts do not fit in %dx%d pixels with a %d-pixel "
                            "gutter (use a larger size, a wider cone or a smaller gutter)",
                            P->C->n, P->pixels, P->pixels, P->gutter * P->unit);
         hi = lo;
@@ -12035,8 +12051,8 @@ PW__DEF void pw__atlas_pack_uvs(const pw__atlas_packer *P, double s, float *uvs,
 }
 
 /* packing: charts into the unit square; uvs gets nf*6 coordinates. */
-PW__DEF int pw_atlas_pack(const pw_alloc *a, const pw_trimesh *m, const pw_atlas_charts *C, int size,
-                        int gutter, const pw_progress *prog, float *uvs, float *fill, pw_err *e)
+PW__DEF int pw_atlas_pack(const pw_alloc *a, const pw_trimesh *m, const pw_atlas_charts *C, int size, int gutter,
+                          const pw_progress *prog, float *uvs, float *fill, pw_err *e)
 {
     pw__atlas_packer P;
     double s = 0.0;
@@ -12058,8 +12074,8 @@ typedef struct pw__atlas_baker {
     pw_atlas_texel_fn fn;
     void *user;
     const float *uvs;
-    pw_image *img;    /* size x size, oc channels */
-    int *id;          /* per texel: covering triangle; -2 - f when extrapolated from f; -1 */
+    pw_image *img; /* size x size, oc channels */
+    int *id;       /* per texel: covering triangle; -2 - f when extrapolated from f; -1 */
     int size, oc, f;
 } pw__atlas_baker;
 
@@ -12168,8 +12184,7 @@ PW__DEF void pw__atlas_bake_ring(pw__atlas_baker *B, int f)
             if (*id >= 0 || !pw__atlas_near_tri(p, x + 0.5, y + 0.5)) continue;
             if (*id <= -2) {
                 pw__atlas_bake_px(B, -2 - *id, q);
-                if (pw__atlas_closest(q, x + 0.5, y + 0.5, b) <= pw__atlas_closest(p, x + 0.5, y + 0.5, b))
-                    continue;
+                if (pw__atlas_closest(q, x + 0.5, y + 0.5, b) <= pw__atlas_closest(p, x + 0.5, y + 0.5, b)) continue;
             }
             *id = -2 - f;
         }
@@ -12488,7 +12503,10 @@ PW__DEF int pw_df_connection(const pw_alloc *a, const pw_trimesh *m, float **out
             pw_df_edge_in(m, h, m->hm.twin[h] / 3, wg);
             z[0] = wf[0] * wg[0] + wf[1] * wg[1]; /* wf * conj(wg) */
             z[1] = wf[1] * wg[0] - wf[0] * wg[1];
-            if (!pw_df_unit(z)) z[0] = 1.0, z[1] = 0.0;
+            if (!pw_df_unit(z)) {
+                z[0] = 1.0;
+                z[1] = 0.0;
+            }
         }
         c[2 * h] = (float)z[0];
         c[2 * h + 1] = (float)z[1];
@@ -12560,7 +12578,10 @@ PW__DEF void pw_df_axis(const pw_trimesh *m, int f, double *z)
     for (i = 1; i < 3; i++)
         if (fabsf(n[i]) < fabsf(n[k])) k = i;
     ax[k] = 1.0f;
-    if (!pw_df_project(m, f, pw_v3_load(ax), z)) z[0] = 1.0, z[1] = 0.0;
+    if (!pw_df_project(m, f, pw_v3_load(ax), z)) {
+        z[0] = 1.0;
+        z[1] = 0.0;
+    }
 }
 
 /* Where propagation stops (pw_df_up_creased): half-edges marked in `edge`
@@ -12620,7 +12641,10 @@ PW__DEF void pw_df_seed(pw_df_prop *P, int start)
     while (n < top) { /* flood the component, in a deterministic order */
         f = stack[n++];
         for (k = 0; k < 3; k++)
-            if ((g = pw_df_across(m, cut, f, k)) >= 0 && level[g] == -1) level[g] = -2, stack[top++] = g;
+            if ((g = pw_df_across(m, cut, f, k)) >= 0 && level[g] == -1) {
+                level[g] = -2;
+                stack[top++] = g;
+            }
     }
     for (i = 0; i < top; i++) {
         f = stack[i];
@@ -12658,12 +12682,21 @@ PW__DEF void pw_df_average(const pw_df_prop *P, int f)
         g = pw_df_across(m, cut, f, k);
         if (g < 0 || level[g] < 0 || level[g] >= level[f]) continue;
         pw_df_move(conn, 3 * f + k, power, z + 2 * g, w);
-        if (n++ == 0) first[0] = w[0], first[1] = w[1];
+        if (n++ == 0) {
+            first[0] = w[0];
+            first[1] = w[1];
+        }
         sum[0] += w[0];
         sum[1] += w[1];
     }
-    if (!(sum[0] * sum[0] + sum[1] * sum[1] > 1e-12)) sum[0] = first[0], sum[1] = first[1];
-    if (!pw_df_unit(sum)) sum[0] = 1.0, sum[1] = 0.0;
+    if (!(sum[0] * sum[0] + sum[1] * sum[1] > 1e-12)) {
+        sum[0] = first[0];
+        sum[1] = first[1];
+    }
+    if (!pw_df_unit(sum)) {
+        sum[0] = 1.0;
+        sum[1] = 0.0;
+    }
     z[2 * f] = sum[0];
     z[2 * f + 1] = sum[1];
 }
@@ -12683,7 +12716,10 @@ PW__DEF int pw_df_fill_cut(const pw_alloc *a, const pw_df_field *F, int power, p
     int head = 0, next = 0, f, k, g;
     pw_df_prop P;
     if (!level) return PW_ERR_NOMEM;
-    P.F = F, P.power = power, P.up = up, P.cut = cut;
+    P.F = F;
+    P.power = power;
+    P.up = up;
+    P.cut = cut;
     P.level = level;
     P.queue = level + m->nf;
     P.stack = P.queue + m->nf;
@@ -12783,7 +12819,10 @@ PW__DEF void pw_df_relax(const pw_df_field *F, const pw_df_cut *cut)
             sum[1] += w[1];
             n++;
         }
-        if (n > 0 && sum[0] * sum[0] + sum[1] * sum[1] > 0.0) z[2 * f] = sum[0] / n, z[2 * f + 1] = sum[1] / n;
+        if (n > 0 && sum[0] * sum[0] + sum[1] * sum[1] > 0.0) {
+            z[2 * f] = sum[0] / n;
+            z[2 * f + 1] = sum[1] / n;
+        }
     }
 }
 
@@ -12822,8 +12861,7 @@ PW__DEF void pw_df_dual(const pw_trimesh *m, double *len)
  * joined through edge midpoints) from triangle src; DBL_MAX where
  * unreachable. The heap holds at most 3*nf+1 entries (a triangle is pushed
  * only when one of its <= 3 neighbours improves it). */
-PW__DEF void pw_df_dijkstra(const pw_trimesh *m, const double *len, int src, double *dist,
-                                 pw_heap *hp)
+PW__DEF void pw_df_dijkstra(const pw_trimesh *m, const double *len, int src, double *dist, pw_heap *hp)
 {
     int f, k, g;
     for (f = 0; f < m->nf; f++) dist[f] = DBL_MAX;
@@ -12889,8 +12927,12 @@ PW__DEF void pw_df_tensor(const pw_trimesh *m, const double *vn, int f, double a
         for (k = 0; k < 3; k++) dn[k] = vn[3 * q + k] - vn[3 * p + k];
         du = dn[0] * u.x + dn[1] * u.y + dn[2] * u.z;
         dv = dn[0] * v.x + dn[1] * v.y + dn[2] * v.z;
-        suu += eu * eu, suv += eu * ev, svv += ev * ev;
-        r0 += eu * du, r1 += ev * du + eu * dv, r2 += ev * dv;
+        suu += eu * eu;
+        suv += eu * ev;
+        svv += ev * ev;
+        r0 += eu * du;
+        r1 += ev * du + eu * dv;
+        r2 += ev * dv;
     }
     /* M = [[suu, suv, 0], [suv, suu + svv, suv], [0, suv, svv]] */
     det = suu * ((suu + svv) * svv - suv * suv) - suv * suv * svv;
@@ -12929,8 +12971,7 @@ PW__DEF void pw_df_least(const double abc[3], double flat, double *z)
  * mean of its own and its neighbours' (transported): confident directions
  * dominate weak ones, and the flat or umbilic ones (exactly 0) pick up their
  * neighbours' direction one ring per sweep. */
-PW__DEF int pw_df_smooth(const pw_alloc *a, const pw_trimesh *m, const float *conn, int iters,
-                              double *z, pw_err *e)
+PW__DEF int pw_df_smooth(const pw_alloc *a, const pw_trimesh *m, const float *conn, int iters, double *z, pw_err *e)
 {
     double *tmp = (double *)pw_alloc_array(a, (size_t)m->nf * 2, sizeof(double), "field smoothing", e), w[2];
     int it, f, k, g, n;
@@ -12941,7 +12982,9 @@ PW__DEF int pw_df_smooth(const pw_alloc *a, const pw_trimesh *m, const float *co
             for (n = 1, k = 0; k < 3; k++)
                 if ((g = pw_trimesh_across(m, f, k)) >= 0) {
                     pw_df_move(conn, 3 * f + k, 2, z + 2 * g, w);
-                    sx += w[0], sy += w[1], n++;
+                    sx += w[0];
+                    sy += w[1];
+                    n++;
                 }
             tmp[2 * f] = sx / n;
             tmp[2 * f + 1] = sy / n;
@@ -12998,16 +13041,20 @@ PW__DEF void pw_df_walk(const pw_df_field *F, pw_v3 up, const pw_df_walker *W)
     for (f = 0; f < m->nf; f++) best[f] = 2.0;
     for (s = 0; s < m->nf; s++) {
         if (seen[s]) continue;
-        if (pw_df_project(m, s, up, w) && w[0] * z[2 * s] + w[1] * z[2 * s + 1] < 0.0)
-            z[2 * s] = -z[2 * s], z[2 * s + 1] = -z[2 * s + 1];
+        if (pw_df_project(m, s, up, w) && w[0] * z[2 * s] + w[1] * z[2 * s + 1] < 0.0) {
+            z[2 * s] = -z[2 * s];
+            z[2 * s + 1] = -z[2 * s + 1];
+        }
         seen[s] = 1;
         pw_df_offer(m, conn, z, s, W);
         while (hp->n > 0) {
             f = pw_heap_pop(hp);
             if (seen[f]) continue; /* stale entry */
             pw_df_move(conn, via[f], 1, z + 2 * (m->hm.twin[via[f]] / 3), w);
-            if (w[0] * z[2 * f] + w[1] * z[2 * f + 1] < 0.0)
-                z[2 * f] = -z[2 * f], z[2 * f + 1] = -z[2 * f + 1];
+            if (w[0] * z[2 * f] + w[1] * z[2 * f + 1] < 0.0) {
+                z[2 * f] = -z[2 * f];
+                z[2 * f + 1] = -z[2 * f + 1];
+            }
             seen[f] = 1;
             pw_df_offer(m, conn, z, f, W);
         }
@@ -13021,8 +13068,7 @@ PW__DEF void pw_df_walk(const pw_df_field *F, pw_v3 up, const pw_df_walker *W)
  * a half-integer singularity the signs must disagree somewhere: this puts
  * the seams where neighbouring lines are closest to perpendicular, near the
  * singularities, rather than wherever a breadth-first walk closes. */
-PW__DEF int pw_df_orient(const pw_alloc *a, const pw_trimesh *m, const float *conn, pw_v3 up,
-                              double *z, pw_err *e)
+PW__DEF int pw_df_orient(const pw_alloc *a, const pw_trimesh *m, const float *conn, pw_v3 up, double *z, pw_err *e)
 {
     size_t n = (size_t)m->nf;
     double *dbl = (double *)pw_alloc_array(a, 4 * n + 1, sizeof(double), "field orientation", e);
@@ -13034,9 +13080,16 @@ PW__DEF int pw_df_orient(const pw_alloc *a, const pw_trimesh *m, const float *co
     pw_df_walker W;
     if (r == PW_OK) { /* dbl: best keys, then the heap's; ints: via, then the heap's */
         memset(&hp, 0, sizeof hp);
-        hp.key = dbl + n, hp.item = ints + n;
-        F.m = m, F.conn = conn, F.z = z, F.known = NULL;
-        W.seen = seen, W.best = dbl, W.via = ints, W.hp = &hp;
+        hp.key = dbl + n;
+        hp.item = ints + n;
+        F.m = m;
+        F.conn = conn;
+        F.z = z;
+        F.known = NULL;
+        W.seen = seen;
+        W.best = dbl;
+        W.via = ints;
+        W.hp = &hp;
         pw_df_walk(&F, up, &W);
     }
     pw_free(a, dbl);
@@ -13055,8 +13108,7 @@ PW__DEF int pw_df_curvature(const pw_alloc *a, const pw_df_field *F, pw_v3 up, i
     const float *conn = F->conn;
     double *z = F->z, *vn, abc[3];
     int f, r;
-    if (smoothing < 0)
-        return pw_fail(e, PW_ERR_INVALID, "curvature field: smoothing %d is negative", smoothing);
+    if (smoothing < 0) return pw_fail(e, PW_ERR_INVALID, "curvature field: smoothing %d is negative", smoothing);
     if ((r = pw_df_vertex_normals(a, m, &vn, e)) != PW_OK) return r;
     for (f = 0; f < m->nf; f++) {
         pw_df_tensor(m, vn, f, abc);
@@ -13069,7 +13121,6 @@ PW__DEF int pw_df_curvature(const pw_alloc *a, const pw_df_field *F, pw_v3 up, i
     for (f = 0; f < m->nf; f++) pw_df_halve(z + 2 * f);
     return pw_df_orient(a, m, conn, up, z, e);
 }
-
 
 #endif /* PW__DIRFIELD_V1 */
 
@@ -13138,26 +13189,23 @@ typedef struct pw_volume {
 PW__DEF int pw__volume_check_size(const char *name, uint64_t x, uint64_t y, uint64_t z, pw_err *e)
 {
     if (x == 0 || y == 0 || z == 0)
-        return pw_fail(e, PW_ERR_INVALID, "%s: volume has zero size (%llux%llux%llu)", name,
-                       (unsigned long long)x, (unsigned long long)y, (unsigned long long)z);
+        return pw_fail(e, PW_ERR_INVALID, "%s: volume has zero size (%llux%llux%llu)", name, (unsigned long long)x,
+                       (unsigned long long)y, (unsigned long long)z);
     if (x > PW_MAX_VOLUME_VOXELS || y > PW_MAX_VOLUME_VOXELS || z > PW_MAX_VOLUME_VOXELS ||
         x * y > (uint64_t)PW_MAX_VOLUME_VOXELS || x * y * z > (uint64_t)PW_MAX_VOLUME_VOXELS)
-        return pw_fail(e, PW_ERR_LIMIT, "%s: volume %llux%llux%llu exceeds the limit of %d voxels",
-                       name, (unsigned long long)x, (unsigned long long)y, (unsigned long long)z,
-                       PW_MAX_VOLUME_VOXELS);
+        return pw_fail(e, PW_ERR_LIMIT, "%s: volume %llux%llux%llu exceeds the limit of %d voxels", name,
+                       (unsigned long long)x, (unsigned long long)y, (unsigned long long)z, PW_MAX_VOLUME_VOXELS);
     return PW_OK;
 }
 
 /* Allocates a zeroed volume of c channels (1-4) and x*y*z voxels. Free with
  * pw_volume_free(a, vol). */
-PW__DEF int pw_volume_alloc(const pw_alloc *a, pw_volume *vol, int c, int x, int y, int z,
-                            pw_err *e)
+PW__DEF int pw_volume_alloc(const pw_alloc *a, pw_volume *vol, int c, int x, int y, int z, pw_err *e)
 {
     int rc;
     memset(vol, 0, sizeof *vol);
     if (c < 1 || c > 4 || x <= 0 || y <= 0 || z <= 0)
-        return pw_fail(e, PW_ERR_INVALID, "invalid volume size %dx%dx%d with %d channels", x, y, z,
-                       c);
+        return pw_fail(e, PW_ERR_INVALID, "invalid volume size %dx%dx%d with %d channels", x, y, z, c);
     if ((rc = pw__volume_check_size("volume", (uint64_t)x, (uint64_t)y, (uint64_t)z, e))) return rc;
     vol->px = (float *)pw_calloc_array(a, (size_t)x * y * z * c, sizeof(float), "volume", e);
     if (!vol->px) return PW_ERR_NOMEM;
@@ -13179,8 +13227,8 @@ PW__DEF void pw_volume_free(const pw_alloc *a, pw_volume *vol)
 PW__DEF int pw__volume_check(const pw_volume *v, pw_err *e)
 {
     if (!v || !v->px || v->c < 1 || v->c > 4 || v->x <= 0 || v->y <= 0 || v->z <= 0)
-        return pw_fail(e, PW_ERR_INVALID, "invalid volume (%dx%dx%d, %d channels)", v ? v->x : 0,
-                       v ? v->y : 0, v ? v->z : 0, v ? v->c : 0);
+        return pw_fail(e, PW_ERR_INVALID, "invalid volume (%dx%dx%d, %d channels)", v ? v->x : 0, v ? v->y : 0,
+                       v ? v->z : 0, v ? v->c : 0);
     return pw__volume_check_size("volume", (uint64_t)v->x, (uint64_t)v->y, (uint64_t)v->z, e);
 }
 
@@ -13198,16 +13246,14 @@ PW__DEF int pw_volume_from_image(const pw_alloc *a, const pw_image *img, pw_volu
 
 /* Slice z of a volume as a new image (w = x, h = y, same channels, bits 8).
  * Free with pw_image_free. */
-PW__DEF int pw_volume_slice(const pw_alloc *a, const pw_volume *vol, int z, pw_image *img,
-                            pw_err *e)
+PW__DEF int pw_volume_slice(const pw_alloc *a, const pw_volume *vol, int z, pw_image *img, pw_err *e)
 {
     int rc = pw__volume_check(vol, e);
     size_t n;
     memset(img, 0, sizeof *img);
     if (rc) return rc;
     if (z < 0 || z >= vol->z)
-        return pw_fail(e, PW_ERR_INVALID, "slice %d is outside the volume (0 to %d)", z,
-                       vol->z - 1);
+        return pw_fail(e, PW_ERR_INVALID, "slice %d is outside the volume (0 to %d)", z, vol->z - 1);
     if ((rc = pw_image_alloc(a, img, vol->x, vol->y, vol->c, e))) return rc;
     n = (size_t)vol->x * vol->y * vol->c;
     memcpy(img->px, vol->px + (size_t)z * n, n * sizeof(float));
@@ -13237,12 +13283,10 @@ PW__DEF int pw__gzip_header(const unsigned char *d, size_t n, size_t *hlen, pw_e
 {
     size_t pos = 10;
     unsigned flg;
-    if (n < 18)
-        return pw_fail(e, PW_ERR_PARSE, "gzip data truncated (%lu bytes)", (unsigned long)n);
+    if (n < 18) return pw_fail(e, PW_ERR_PARSE, "gzip data truncated (%lu bytes)", (unsigned long)n);
     if (d[0] != 0x1f || d[1] != 0x8b)
         return pw_fail(e, PW_ERR_PARSE, "not gzip data (bad magic 0x%02x 0x%02x)", d[0], d[1]);
-    if (d[2] != 8)
-        return pw_fail(e, PW_ERR_UNSUPPORTED, "gzip compression method %d (only 8, deflate)", d[2]);
+    if (d[2] != 8) return pw_fail(e, PW_ERR_UNSUPPORTED, "gzip compression method %d (only 8, deflate)", d[2]);
     flg = d[3];
     if (flg & 0xe0) return pw_fail(e, PW_ERR_PARSE, "gzip header: reserved flag bits are set");
     if (flg & 4) { /* FEXTRA: a little-endian length, then that many bytes */
@@ -13297,8 +13341,8 @@ PW__DEF int pw_gzip_decompress(const pw_alloc *a, const unsigned char *data, siz
         unsigned char *m = NULL;
         const unsigned char *t;
         if (member > 0 && (n - pos < 2 || data[pos] != 0x1f || data[pos + 1] != 0x8b)) {
-            r = pw_fail(e, PW_ERR_PARSE, "gzip data: %lu bytes of garbage after member %d",
-                        (unsigned long)(n - pos), member);
+            r = pw_fail(e, PW_ERR_PARSE, "gzip data: %lu bytes of garbage after member %d", (unsigned long)(n - pos),
+                        member);
             break;
         }
         if ((r = pw__gzip_header(data + pos, n - pos, &hlen, e))) break;
@@ -13308,16 +13352,13 @@ PW__DEF int pw_gzip_decompress(const pw_alloc *a, const unsigned char *data, siz
         pos += used;
         t = data + pos;
         if (n - pos < 8)
-            r = pw_fail(e, PW_ERR_PARSE, "gzip data truncated (member %d has no CRC and size)",
-                        member + 1);
+            r = pw_fail(e, PW_ERR_PARSE, "gzip data truncated (member %d has no CRC and size)", member + 1);
         else if (pw_crc32(0, m, mn) != pw__le32(t))
             r = pw_fail(e, PW_ERR_PARSE, "gzip data: CRC-32 mismatch in member %d", member + 1);
         else if (pw__le32(t + 4) != (uint32_t)mn)
-            r = pw_fail(e, PW_ERR_PARSE,
-                        "gzip data: member %d holds %lu bytes, its trailer says %lu", member + 1,
+            r = pw_fail(e, PW_ERR_PARSE, "gzip data: member %d holds %lu bytes, its trailer says %lu", member + 1,
                         (unsigned long)mn, (unsigned long)pw__le32(t + 4));
-        else if (member == 0 && pos + 8 == n) { /* the usual single member: no copy */
-            out->data = m;
+        else if (member == 0 && pos + 8 == n) { /* the usual single member: no copy */ out->data = m;
             out->size = out->cap = mn;
             return PW_OK;
         } else {
@@ -13471,42 +13512,32 @@ PW__DEF int pw__nrrd_int(const char *s, size_t n, int64_t *v)
 
 PW__DEF int pw__nrrd_bad(pw__nrrd *r, int code, const char *what, const char *s, size_t n)
 {
-    return pw_fail(r->e, code, "%s:%d: %s '%.*s'", r->name, r->line, what, (int)(n < 40 ? n : 40),
-                   s);
+    return pw_fail(r->e, code, "%s:%d: %s '%.*s'", r->name, r->line, what, (int)(n < 40 ? n : 40), s);
 }
 
 PW__DEF int pw__nrrd_type(pw__nrrd *r, const char *s, size_t n)
 {
-    if (pw__nrrd_in_list(s, n, "uchar|unsigned char|uint8|uint8_t"))
-        r->bytes = 1;
-    else if (pw__nrrd_in_list(s, n, "ushort|unsigned short|unsigned short int|uint16|uint16_t"))
-        r->bytes = 2;
-    else if (pw__nrrd_ieq(s, n, "float"))
-        r->bytes = 4;
+    if (pw__nrrd_in_list(s, n, "uchar|unsigned char|uint8|uint8_t")) r->bytes = 1;
+    else if (pw__nrrd_in_list(s, n, "ushort|unsigned short|unsigned short int|uint16|uint16_t")) r->bytes = 2;
+    else if (pw__nrrd_ieq(s, n, "float")) r->bytes = 4;
     else if (pw__nrrd_in_list(s, n,
                               "signed char|int8|int8_t|short|short int|signed short|signed short "
                               "int|int16|int16_t|int|signed int|int32|int32_t|uint|unsigned "
                               "int|uint32|uint32_t|longlong|long long|long long int|signed long "
                               "long|signed long long int|int64|int64_t|ulonglong|unsigned long "
                               "long|unsigned long long int|uint64|uint64_t|double|block"))
-        return pw__nrrd_bad(r, PW_ERR_UNSUPPORTED,
-                            "type is not supported (uchar, ushort or float):", s, n);
-    else
-        return pw__nrrd_bad(r, PW_ERR_PARSE, "unknown type", s, n);
+        return pw__nrrd_bad(r, PW_ERR_UNSUPPORTED, "type is not supported (uchar, ushort or float):", s, n);
+    else return pw__nrrd_bad(r, PW_ERR_PARSE, "unknown type", s, n);
     return PW_OK;
 }
 
 PW__DEF int pw__nrrd_encoding(pw__nrrd *r, const char *s, size_t n)
 {
-    if (pw__nrrd_ieq(s, n, "raw"))
-        r->gzip = 0;
-    else if (pw__nrrd_in_list(s, n, "gzip|gz"))
-        r->gzip = 1;
+    if (pw__nrrd_ieq(s, n, "raw")) r->gzip = 0;
+    else if (pw__nrrd_in_list(s, n, "gzip|gz")) r->gzip = 1;
     else if (pw__nrrd_in_list(s, n, "txt|text|ascii|hex|bz2|bzip2"))
-        return pw__nrrd_bad(r, PW_ERR_UNSUPPORTED, "encoding is not supported (raw or gzip):", s,
-                            n);
-    else
-        return pw__nrrd_bad(r, PW_ERR_PARSE, "unknown encoding", s, n);
+        return pw__nrrd_bad(r, PW_ERR_UNSUPPORTED, "encoding is not supported (raw or gzip):", s, n);
+    else return pw__nrrd_bad(r, PW_ERR_PARSE, "unknown encoding", s, n);
     return PW_OK;
 }
 
@@ -13520,13 +13551,11 @@ PW__DEF int pw__nrrd_sizes(pw__nrrd *r, const char *s, size_t n)
         int rc;
         while (k < n && s[k] != ' ' && s[k] != '\t') k++;
         if (r->nsizes == PW__NRRD_MAX_DIM)
-            return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: more than %d sizes", r->name, r->line,
-                           PW__NRRD_MAX_DIM);
+            return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: more than %d sizes", r->name, r->line, PW__NRRD_MAX_DIM);
         rc = pw__nrrd_int(s + i, k - i, &v);
         if (rc == -2) return pw__nrrd_bad(r, PW_ERR_LIMIT, "size is too large:", s + i, k - i);
         if (rc || v <= 0)
-            return pw__nrrd_bad(r, PW_ERR_PARSE, "bad size (a positive integer is needed):", s + i,
-                                k - i);
+            return pw__nrrd_bad(r, PW_ERR_PARSE, "bad size (a positive integer is needed):", s + i, k - i);
         r->size[r->nsizes++] = (uint64_t)v;
         i = k;
         while (i < n && (s[i] == ' ' || s[i] == '\t')) i++;
@@ -13545,17 +13574,15 @@ PW__DEF int pw__nrrd_number_field(pw__nrrd *r, int id, const char *s, size_t n)
                                                      : "bad byte skip",
                             s, n);
     if (id == PW__NF_DIMENSION) {
-        if (v < 1 || v > PW__NRRD_MAX_DIM)
-            return pw__nrrd_bad(r, PW_ERR_PARSE, "bad dimension (1 to 16):", s, n);
+        if (v < 1 || v > PW__NRRD_MAX_DIM) return pw__nrrd_bad(r, PW_ERR_PARSE, "bad dimension (1 to 16):", s, n);
         if (v < 2 || v > 4)
             return pw_fail(r->e, PW_ERR_UNSUPPORTED,
-                           "%s:%d: dimension %d is not supported (2: X Y, 3: X Y Z, 4: C X Y Z)",
-                           r->name, r->line, (int)v);
+                           "%s:%d: dimension %d is not supported (2: X Y, 3: X Y Z, 4: C X Y Z)", r->name, r->line,
+                           (int)v);
         r->dim = (int)v;
     } else if (v != 0) {
-        return pw_fail(r->e, PW_ERR_UNSUPPORTED,
-                       "%s:%d: %s %lld is not supported (the data must follow the header)", r->name,
-                       r->line, id == PW__NF_LINE_SKIP ? "line skip" : "byte skip", (long long)v);
+        return pw_fail(r->e, PW_ERR_UNSUPPORTED, "%s:%d: %s %lld is not supported (the data must follow the header)",
+                       r->name, r->line, id == PW__NF_LINE_SKIP ? "line skip" : "byte skip", (long long)v);
     }
     return PW_OK;
 }
@@ -13565,44 +13592,34 @@ PW__DEF void pw__nrrd_kinds(pw__nrrd *r, const char *s, size_t n)
 {
     size_t k = 0;
     while (k < n && s[k] != ' ' && s[k] != '\t') k++;
-    r->first_kind = pw__nrrd_in_list(
-        s, k,
-        "RGB-color|RGBA-color|HSV-color|XYZ-color|3-color|4-color|vector|2-vector|3-vector|4-"
-        "vector|covariant-vector|normal|3-normal|3-gradient|point|list|quaternion|complex");
+    r->first_kind =
+        pw__nrrd_in_list(s, k,
+                         "RGB-color|RGBA-color|HSV-color|XYZ-color|3-color|4-color|vector|2-vector|3-vector|4-"
+                         "vector|covariant-vector|normal|3-normal|3-gradient|point|list|quaternion|complex");
 }
 
 /* The value of one known field. */
 PW__DEF int pw__nrrd_value(pw__nrrd *r, int id, const char *s, size_t n)
 {
     switch (id) {
-    case PW__NF_TYPE:
-        return pw__nrrd_type(r, s, n);
-    case PW__NF_ENCODING:
-        return pw__nrrd_encoding(r, s, n);
-    case PW__NF_SIZES:
-        return pw__nrrd_sizes(r, s, n);
-    case PW__NF_KINDS:
-        pw__nrrd_kinds(r, s, n);
-        return PW_OK;
+    case PW__NF_TYPE: return pw__nrrd_type(r, s, n);
+    case PW__NF_ENCODING: return pw__nrrd_encoding(r, s, n);
+    case PW__NF_SIZES: return pw__nrrd_sizes(r, s, n);
+    case PW__NF_KINDS: pw__nrrd_kinds(r, s, n); return PW_OK;
     case PW__NF_DIMENSION:
     case PW__NF_LINE_SKIP:
-    case PW__NF_BYTE_SKIP:
-        return pw__nrrd_number_field(r, id, s, n);
+    case PW__NF_BYTE_SKIP: return pw__nrrd_number_field(r, id, s, n);
     case PW__NF_ENDIAN:
-        if (pw__nrrd_ieq(s, n, "little"))
-            r->endian = 1;
-        else if (pw__nrrd_ieq(s, n, "big"))
-            r->endian = 2;
-        else
-            return pw__nrrd_bad(r, PW_ERR_PARSE, "bad endian (little or big):", s, n);
+        if (pw__nrrd_ieq(s, n, "little")) r->endian = 1;
+        else if (pw__nrrd_ieq(s, n, "big")) r->endian = 2;
+        else return pw__nrrd_bad(r, PW_ERR_PARSE, "bad endian (little or big):", s, n);
         return PW_OK;
     case PW__NF_DATA_FILE:
         return pw__nrrd_bad(r, PW_ERR_UNSUPPORTED,
                             "detached data is not supported (the data must follow the header): "
                             "data file",
                             s, n);
-    default:
-        return PW_OK; /* content, spacings, space, ...: ignored */
+    default: return PW_OK; /* content, spacings, space, ...: ignored */
     }
 }
 
@@ -13612,20 +13629,18 @@ PW__DEF int pw__nrrd_line(pw__nrrd *r, const char *s, size_t n)
 {
     size_t k, v;
     int id;
-    if (memchr(s, 0, n))
-        return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: NUL byte in the header", r->name, r->line);
+    if (memchr(s, 0, n)) return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: NUL byte in the header", r->name, r->line);
     if (s[0] == '#') return PW_OK;
     for (k = 0; k + 1 < n; k++)
         if (s[k] == ':' && (s[k + 1] == ' ' || s[k + 1] == '=')) break;
     if (k + 1 >= n || k == 0)
-        return pw__nrrd_bad(r, PW_ERR_PARSE, "expected 'field: value' or 'key:=value', found", s,
-                            n);
+        return pw__nrrd_bad(r, PW_ERR_PARSE, "expected 'field: value' or 'key:=value', found", s, n);
     if (s[k + 1] == '=') return PW_OK;
     id = pw__nrrd_field(s, k);
     if (id < 0) return PW_OK; /* unknown fields are ignored */
     if (r->seen[id])
-        return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: duplicate field '%.*s' (first given on line %d)",
-                       r->name, r->line, (int)k, s, r->seen[id]);
+        return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: duplicate field '%.*s' (first given on line %d)", r->name, r->line,
+                       (int)k, s, r->seen[id]);
     r->seen[id] = r->line;
     v = k + 2;
     while (v < n && (s[v] == ' ' || s[v] == '\t')) v++;
@@ -13640,14 +13655,12 @@ PW__DEF int pw__nrrd_magic(pw__nrrd *r)
     if (r->n < 8 || memcmp(p, "NRRD000", 7) != 0 || p[7] < '0' || p[7] > '9')
         return pw_fail(r->e, PW_ERR_PARSE, "%s: not a NRRD file (no NRRD000X magic)", r->name);
     if (p[7] < '1' || p[7] > '5')
-        return pw_fail(r->e, PW_ERR_UNSUPPORTED,
-                       "%s: NRRD format version %c is not supported (NRRD0001 to NRRD0005)",
+        return pw_fail(r->e, PW_ERR_UNSUPPORTED, "%s: NRRD format version %c is not supported (NRRD0001 to NRRD0005)",
                        r->name, p[7]);
     r->pos = 8;
     if (r->pos < r->n && r->p[r->pos] == '\r') r->pos++;
     if (r->pos >= r->n || r->p[r->pos] != '\n')
-        return pw_fail(r->e, PW_ERR_PARSE, "%s:1: the magic must be alone on the first line",
-                       r->name);
+        return pw_fail(r->e, PW_ERR_PARSE, "%s:1: the magic must be alone on the first line", r->name);
     r->pos++;
     r->line = 2;
     return PW_OK;
@@ -13658,13 +13671,11 @@ PW__DEF int pw__nrrd_header(pw__nrrd *r)
 {
     for (;; r->line++) {
         const unsigned char *nl =
-            r->pos < r->n ? (const unsigned char *)memchr(r->p + r->pos, '\n', r->n - r->pos)
-                          : NULL;
+            r->pos < r->n ? (const unsigned char *)memchr(r->p + r->pos, '\n', r->n - r->pos) : NULL;
         size_t start = r->pos, end;
         int rc;
         if (!nl)
-            return pw_fail(r->e, PW_ERR_PARSE,
-                           "%s:%d: the header does not end with an empty line (no data follows)",
+            return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: the header does not end with an empty line (no data follows)",
                            r->name, r->line);
         end = (size_t)(nl - r->p);
         r->pos = end + 1;
@@ -13683,21 +13694,19 @@ PW__DEF int pw__nrrd_shape(pw__nrrd *r)
     int i, rest, rc;
     for (i = 0; i < 4; i++)
         if (!r->seen[i])
-            return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: the header lacks the required '%s' field",
-                           r->name, r->line, req[i]);
+            return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: the header lacks the required '%s' field", r->name, r->line,
+                           req[i]);
     if (r->nsizes != r->dim)
         return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: sizes has %d values, dimension says %d", r->name,
                        r->seen[PW__NF_SIZES], r->nsizes, r->dim);
     if (r->bytes > 1 && !r->endian)
-        return pw_fail(r->e, PW_ERR_PARSE,
-                       "%s:%d: the header lacks the 'endian' field (needed for %s samples)",
+        return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: the header lacks the 'endian' field (needed for %s samples)",
                        r->name, r->line, r->bytes == 2 ? "16-bit" : "float");
     r->c = 1;
     rest = r->dim; /* spatial axes */
     if (r->dim == 4 || (r->dim == 3 && r->first_kind)) {
         if (s[0] > 4)
-            return pw_fail(r->e, PW_ERR_UNSUPPORTED,
-                           "%s:%d: %llu channels (the first size) are not supported (1 to 4)",
+            return pw_fail(r->e, PW_ERR_UNSUPPORTED, "%s:%d: %llu channels (the first size) are not supported (1 to 4)",
                            r->name, r->seen[PW__NF_SIZES], (unsigned long long)s[0]);
         r->c = (int)s[0];
         s++;
@@ -13730,8 +13739,8 @@ PW__DEF int pw__nrrd_convert(pw__nrrd *r, const unsigned char *src, pw_volume *v
             float f;
             memcpy(&f, &u, sizeof f);
             if (!pw_is_finite(f))
-                return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: float sample %lu is %s", r->name,
-                               r->line, (unsigned long)i, f != f ? "NaN" : "infinite");
+                return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: float sample %lu is %s", r->name, r->line, (unsigned long)i,
+                               f != f ? "NaN" : "infinite");
             v->px[i] = f;
         }
     }
@@ -13754,7 +13763,8 @@ PW__DEF int pw__nrrd_data(const pw_alloc *a, pw__nrrd *r, pw_volume *out)
         pw_buf unz;
         pw_err_clear(&local);
         rc = pw_gzip_decompress(a, src, have, (size_t)need, &unz, &local);
-        buf = unz.data, have = unz.size;
+        buf = unz.data;
+        have = unz.size;
         if (rc == PW_ERR_LIMIT)
             return pw_fail(r->e, PW_ERR_PARSE,
                            "%s:%d: the gzip data holds more than the %llu bytes that sizes and "
@@ -13765,10 +13775,8 @@ PW__DEF int pw__nrrd_data(const pw_alloc *a, pw__nrrd *r, pw_volume *out)
     }
     if (have < need) {
         pw_free(a, buf);
-        return pw_fail(r->e, PW_ERR_PARSE,
-                       "%s:%d: data truncated: %llu bytes needed, %llu present%s", r->name, r->line,
-                       (unsigned long long)need, (unsigned long long)have,
-                       r->gzip ? " after gunzip" : "");
+        return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: data truncated: %llu bytes needed, %llu present%s", r->name, r->line,
+                       (unsigned long long)need, (unsigned long long)have, r->gzip ? " after gunzip" : "");
     }
     rc = pw_volume_alloc(a, out, r->c, r->x, r->y, r->z, r->e);
     if (!rc) rc = pw__nrrd_convert(r, src, out);
@@ -13779,8 +13787,8 @@ PW__DEF int pw__nrrd_data(const pw_alloc *a, pw__nrrd *r, pw_volume *out)
 
 /* Reads a NRRD volume from memory (see the top of this module for what is
  * read). `name` (usually the file name) starts every error message. */
-PW__DEF int pw_nrrd_read_memory(const pw_alloc *a, const unsigned char *data, size_t size,
-                                const char *name, pw_volume *out, pw_err *e)
+PW__DEF int pw_nrrd_read_memory(const pw_alloc *a, const unsigned char *data, size_t size, const char *name,
+                                pw_volume *out, pw_err *e)
 {
     pw__nrrd r;
     int rc;
@@ -13791,8 +13799,7 @@ PW__DEF int pw_nrrd_read_memory(const pw_alloc *a, const unsigned char *data, si
     r.name = name ? name : "volume";
     r.e = e;
     r.line = 1;
-    if ((rc = pw__nrrd_magic(&r)) || (rc = pw__nrrd_header(&r)) || (rc = pw__nrrd_shape(&r)))
-        return rc;
+    if ((rc = pw__nrrd_magic(&r)) || (rc = pw__nrrd_header(&r)) || (rc = pw__nrrd_shape(&r))) return rc;
     return pw__nrrd_data(a, &r, out);
 }
 
@@ -13803,8 +13810,7 @@ PW__DEF int pw_nrrd_read_memory(const pw_alloc *a, const unsigned char *data, si
 /* NRRD0004, uint8 samples (pw_image_quantize), dimension 3 (sizes X Y Z)
  * for one channel and 4 (sizes C X Y Z) otherwise, raw or (gzip != 0)
  * gzip-encoded. a is used only for gzip. */
-PW__DEF int pw_nrrd_write(const pw_alloc *a, const pw_volume *vol, int gzip, pw_write_fn w,
-                          void *ctx, pw_err *e)
+PW__DEF int pw_nrrd_write(const pw_alloc *a, const pw_volume *vol, int gzip, pw_write_fn w, void *ctx, pw_err *e)
 {
     static const char *const kinds[4] = {"", "2-vector ", "RGB-color ", "RGBA-color "};
     pw__sink s;
@@ -13818,8 +13824,7 @@ PW__DEF int pw_nrrd_write(const pw_alloc *a, const pw_volume *vol, int gzip, pw_
     k = snprintf(head, sizeof head,
                  "NRRD0004\ntype: uint8\ndimension: %d\nsizes: %s%d %d %d\n"
                  "kinds: %sdomain domain domain\nencoding: %s\n\n",
-                 vol->c > 1 ? 4 : 3, sz, vol->x, vol->y, vol->z, kinds[vol->c - 1],
-                 gzip ? "gzip" : "raw");
+                 vol->c > 1 ? 4 : 3, sz, vol->x, vol->y, vol->z, kinds[vol->c - 1], gzip ? "gzip" : "raw");
     pw__sink_init(&s, w, ctx);
     pw__sink_put(&s, head, (size_t)k);
     if (gzip) {
@@ -13866,8 +13871,7 @@ PW__DEF int pw__nrrd_save_body(void *arg, pw_write_fn w, void *ctx, pw_err *e)
 }
 
 /* Writes vol to the NRRD file at path (see pw_nrrd_write). */
-PW__DEF int pw_nrrd_save(const pw_alloc *a, const pw_volume *vol, int gzip, const char *path,
-                         pw_err *e)
+PW__DEF int pw_nrrd_save(const pw_alloc *a, const pw_volume *vol, int gzip, const char *path, pw_err *e)
 {
     pw__nrrd_save_arg s;
     int rc = pw__volume_check(vol, e);
@@ -13936,16 +13940,13 @@ PW__DEF void pw_tile3_free(const pw_alloc *a, pw_tile3 *t)
  * mip chain of at most max_levels levels (0: the full chain down to 1x1).
  * Layers are limited as images are (PW_MAX_IMAGE_DIM, _PIXELS). Free with
  * pw_tile3_free. */
-PW__DEF int pw_tile3_create(const pw_alloc *a, pw_tile3 *t, const pw_volume *vol, int max_levels,
-                            pw_err *e)
+PW__DEF int pw_tile3_create(const pw_alloc *a, pw_tile3 *t, const pw_volume *vol, int max_levels, pw_err *e)
 {
     int k, rc;
     memset(t, 0, sizeof *t);
     if ((rc = pw__volume_check(vol, e))) return rc;
-    if ((rc = pw__image_check_size("material-space tile", (uint64_t)vol->x, (uint64_t)vol->y, e)))
-        return rc;
-    t->layer = (pw_texture *)pw_calloc_array(a, (size_t)vol->z, sizeof(pw_texture),
-                                             "material-space tile layers", e);
+    if ((rc = pw__image_check_size("material-space tile", (uint64_t)vol->x, (uint64_t)vol->y, e))) return rc;
+    t->layer = (pw_texture *)pw_calloc_array(a, (size_t)vol->z, sizeof(pw_texture), "material-space tile layers", e);
     if (!t->layer) return PW_ERR_NOMEM;
     t->w = vol->x;
     t->h = vol->y;
@@ -13969,8 +13970,7 @@ PW__DEF int pw_tile3_create(const pw_alloc *a, pw_tile3 *t, const pw_volume *vol
 
 /* Samples the tile at (s, t, m) with mip level lod; see the top of this
  * module. out: premultiplied RGBA in [0, 1]. */
-PW__DEF void pw_tile3_sample(const pw_tile3 *tile, float s, float t, float m, float lod,
-                             float out[4])
+PW__DEF void pw_tile3_sample(const pw_tile3 *tile, float s, float t, float m, float lod, float out[4])
 {
     const float scale = 1.0f / 65535.0f;
     float a[4], b[4], p, f = 0.0f;
@@ -13980,10 +13980,8 @@ PW__DEF void pw_tile3_sample(const pw_tile3 *tile, float s, float t, float m, fl
         m = m > 0.0f ? (m < 1.0f ? m : 1.0f) : 0.0f;
         p = m * (float)(tile->m - 1);
         k0 = (int)p;
-        if (k0 >= tile->m - 1)
-            k0 = tile->m - 1;
-        else
-            f = p - (float)k0;
+        if (k0 >= tile->m - 1) k0 = tile->m - 1;
+        else f = p - (float)k0;
     }
     pw__tex_trilinear(&tile->layer[k0], s, t, lod, PW_WRAP_REPEAT, a);
     if (f > 0.0f) {
@@ -14016,21 +14014,19 @@ PW__DEF int pw_image_validate(const pw_image *im, const char *what, pw_err *e)
     size_t k, n;
     if (!im->px || im->w < 1 || im->h < 1 || im->c < 1 || im->c > 4)
         return pw_fail(e, PW_ERR_INVALID, "%s: empty image or bad channel count", what);
-    if (im->w > PW_MAX_IMAGE_DIM || im->h > PW_MAX_IMAGE_DIM ||
-        (int64_t)im->w * im->h > PW_MAX_IMAGE_PIXELS)
+    if (im->w > PW_MAX_IMAGE_DIM || im->h > PW_MAX_IMAGE_DIM || (int64_t)im->w * im->h > PW_MAX_IMAGE_PIXELS)
         return pw_fail(e, PW_ERR_LIMIT, "%s: %dx%d pixels is over the limit", what, im->w, im->h);
     n = (size_t)im->w * im->h * im->c;
     for (k = 0; k < n; k++)
         if (!pw_is_finite(im->px[k]))
-            return pw_fail(e, PW_ERR_INVALID, "%s: pixel %lu is not a finite number", what,
-                           (unsigned long)(k / im->c));
+            return pw_fail(e, PW_ERR_INVALID, "%s: pixel %lu is not a finite number", what, (unsigned long)(k / im->c));
     return PW_OK;
 }
 
 /* Encodes an image as "png", "pam", "ppm" or "pgm", converting the channels
  * to what PPM (3) and PGM (1) hold. */
-PW__DEF int pw_image_encode(const pw_alloc *a, const pw_image *img, const char *format,
-                            pw_write_fn fn, void *ctx, pw_err *e)
+PW__DEF int pw_image_encode(const pw_alloc *a, const pw_image *img, const char *format, pw_write_fn fn, void *ctx,
+                            pw_err *e)
 {
     pw_image conv;
     int want = 0, r;
@@ -14038,8 +14034,7 @@ PW__DEF int pw_image_encode(const pw_alloc *a, const pw_image *img, const char *
     if (!strcmp(format, "ppm")) want = 3;
     else if (!strcmp(format, "pgm")) want = 1;
     else if (strcmp(format, "png") && strcmp(format, "pam"))
-        return pw_fail(e, PW_ERR_UNSUPPORTED, "unknown image format '%s' (png, ppm, pgm, pam)",
-                       format);
+        return pw_fail(e, PW_ERR_UNSUPPORTED, "unknown image format '%s' (png, ppm, pgm, pam)", format);
     if (want && want != img->c) {
         if ((r = pw_image_convert(a, img, want, &conv, e)) != PW_OK) return r;
         r = pw_image_write_pnm(&conv, 0, 0, fn, ctx, e);
@@ -14054,8 +14049,8 @@ PW__DEF int pw_image_encode(const pw_alloc *a, const pw_image *img, const char *
 /* Fills the zero fields of a view (public render options) with the
  * defaults every method shares: 800x600, 2x2 supersampling, looking along
  * (-0.55,-0.45,-0.7) with +Y up, on white. */
-PW__DEF void pw_view_defaults(int *width, int *height, int *supersample, float view_dir[3],
-                              float up[3], float background[3])
+PW__DEF void pw_view_defaults(int *width, int *height, int *supersample, float view_dir[3], float up[3],
+                              float background[3])
 {
     static const float view[3] = {-0.55f, -0.45f, -0.7f}, y[3] = {0.0f, 1.0f, 0.0f};
     if (!*width) *width = 800;
@@ -14063,8 +14058,7 @@ PW__DEF void pw_view_defaults(int *width, int *height, int *supersample, float v
     if (!*supersample) *supersample = 2;
     if (!view_dir[0] && !view_dir[1] && !view_dir[2]) memcpy(view_dir, view, sizeof view);
     if (!up[0] && !up[1] && !up[2]) memcpy(up, y, sizeof y);
-    if (!background[0] && !background[1] && !background[2])
-        background[0] = background[1] = background[2] = 1.0f;
+    if (!background[0] && !background[1] && !background[2]) background[0] = background[1] = background[2] = 1.0f;
 }
 
 /* PW_PUBLIC_GLUE(p) defines, for a header whose public types are
@@ -14079,125 +14073,123 @@ PW__DEF void pw_view_defaults(int *width, int *height, int *supersample, float v
  *   p_result    p__left_out(const char *what, const char *macro, p_error *)
  *               PW_ERR_UNSUPPORTED, "what compiled out (macro)": the stubs that stand
  *               for the calls PW_NO_RENDER leaves out */
-#define PW_PUBLIC_GLUE(p)                                                                        \
-    static PW__UNUSED pw_alloc p##__alloc(const p##_allocator *t)                                \
-    {                                                                                            \
-        pw_alloc a;                                                                              \
-        memset(&a, 0, sizeof a);                                                                 \
-        if (t) {                                                                                 \
-            a.malloc_fn = t->malloc_fn;                                                          \
-            a.realloc_fn = t->realloc_fn;                                                        \
-            a.free_fn = t->free_fn;                                                              \
-            a.user = t->user;                                                                    \
-        }                                                                                        \
-        return a;                                                                                \
-    }                                                                                            \
-    static PW__UNUSED p##_allocator p##__allocator(const pw_alloc *a)                            \
-    {                                                                                            \
-        p##_allocator t;                                                                         \
-        t.malloc_fn = a->malloc_fn;                                                              \
-        t.realloc_fn = a->realloc_fn;                                                            \
-        t.free_fn = a->free_fn;                                                                  \
-        t.user = a->user;                                                                        \
-        return t;                                                                                \
-    }                                                                                            \
-    static PW__UNUSED p##_result p##__done(const pw_err *pe, p##_error *err)                     \
-    {                                                                                            \
-        if (err) {                                                                               \
-            err->code = (p##_result)pe->code;                                                    \
-            memcpy(err->message, pe->msg, sizeof err->message);                                  \
-        }                                                                                        \
-        return (p##_result)pe->code;                                                             \
-    }                                                                                            \
-    static PW__UNUSED pw_image p##__pw_image(const p##_image *t)                                 \
-    {                                                                                            \
-        pw_image v;                                                                              \
-        v.w = t->width;                                                                          \
-        v.h = t->height;                                                                         \
-        v.c = t->channels;                                                                       \
-        v.bits = t->bits ? t->bits : 8;                                                          \
-        v.px = t->pixels;                                                                        \
-        return v;                                                                                \
-    }                                                                                            \
-    static PW__UNUSED void p##__take_image(pw_image *v, const pw_alloc *a, p##_image *t)         \
-    {                                                                                            \
-        t->width = v->w;                                                                         \
-        t->height = v->h;                                                                        \
-        t->channels = v->c;                                                                      \
-        t->bits = v->bits;                                                                       \
-        t->pixels = v->px;                                                                       \
-        t->allocator = p##__allocator(a);                                                        \
-        memset(v, 0, sizeof *v);                                                                 \
-    }                                                                                            \
-    static PW__UNUSED int p##__check_image(const p##_image *t, const char *what, pw_err *e)      \
-    {                                                                                            \
-        pw_image v;                                                                              \
-        if (!t) return pw_fail(e, PW_ERR_INVALID, "%s: empty image (none given)", what);                         \
-        v = p##__pw_image(t);                                                                    \
-        return pw_image_validate(&v, what, e);                                                   \
-    }                                                                                            \
-    static PW__UNUSED int p##__encode(const p##_image *t, const char *format, pw_write_fn fn,    \
-                                      void *ctx, pw_err *e)                                      \
-    {                                                                                            \
-        pw_image v = p##__pw_image(t);                                                           \
-        pw_alloc a = p##__alloc(&t->allocator);                                                  \
-        return pw_image_encode(&a, &v, format, fn, ctx, e);                                      \
-    }                                                                                            \
-    static PW__UNUSED void p##__take_mesh(pw_mesh *m, const pw_alloc *a, p##_mesh *t)            \
-    {                                                                                            \
-        memset(t, 0, sizeof *t);                                                                 \
-        t->nverts = m->nv;                                                                       \
-        t->positions = m->pos;                                                                   \
-        t->nfaces = m->nf;                                                                       \
-        t->face_start = m->fstart;                                                               \
-        t->face_verts = m->fv;                                                                   \
-        t->allocator = p##__allocator(a);                                                        \
-        pw_free(a, m->uv);                                                                       \
-        pw_free(a, m->fuv);                                                                      \
-        memset(m, 0, sizeof *m);                                                                 \
-    }                                                                                            \
-    static PW__UNUSED p##_result p##__left_out(const char *what, const char *macro,             \
-                                               p##_error *err)                                   \
-    {                                                                                            \
-        pw_err pe;                                                                               \
-        pw_err_clear(&pe);                                                                       \
-        pw_fail(&pe, PW_ERR_UNSUPPORTED, "%s compiled out (%s)", what, macro);                   \
-        return p##__done(&pe, err);                                                              \
-    }                                                                                            \
-    static PW__UNUSED pw_parallel p##__parallel(const p##_render_options *ro)                   \
-    {                                                                                            \
-        pw_parallel par;                                                                         \
-        par.threads = ro->threads;                                                               \
-        par.run = ro->parallel;                                                                  \
-        par.pool = ro->parallel_pool;                                                            \
-        return par;                                                                              \
-    }                                                                                            \
+#define PW_PUBLIC_GLUE(p)                                                                                           \
+    static PW__UNUSED pw_alloc p##__alloc(const p##_allocator *t)                                                   \
+    {                                                                                                               \
+        pw_alloc a;                                                                                                 \
+        memset(&a, 0, sizeof a);                                                                                    \
+        if (t) {                                                                                                    \
+            a.malloc_fn = t->malloc_fn;                                                                             \
+            a.realloc_fn = t->realloc_fn;                                                                           \
+            a.free_fn = t->free_fn;                                                                                 \
+            a.user = t->user;                                                                                       \
+        }                                                                                                           \
+        return a;                                                                                                   \
+    }                                                                                                               \
+    static PW__UNUSED p##_allocator p##__allocator(const pw_alloc *a)                                               \
+    {                                                                                                               \
+        p##_allocator t;                                                                                            \
+        t.malloc_fn = a->malloc_fn;                                                                                 \
+        t.realloc_fn = a->realloc_fn;                                                                               \
+        t.free_fn = a->free_fn;                                                                                     \
+        t.user = a->user;                                                                                           \
+        return t;                                                                                                   \
+    }                                                                                                               \
+    static PW__UNUSED p##_result p##__done(const pw_err *pe, p##_error *err)                                        \
+    {                                                                                                               \
+        if (err) {                                                                                                  \
+            err->code = (p##_result)pe->code;                                                                       \
+            memcpy(err->message, pe->msg, sizeof err->message);                                                     \
+        }                                                                                                           \
+        return (p##_result)pe->code;                                                                                \
+    }                                                                                                               \
+    static PW__UNUSED pw_image p##__pw_image(const p##_image *t)                                                    \
+    {                                                                                                               \
+        pw_image v;                                                                                                 \
+        v.w = t->width;                                                                                             \
+        v.h = t->height;                                                                                            \
+        v.c = t->channels;                                                                                          \
+        v.bits = t->bits ? t->bits : 8;                                                                             \
+        v.px = t->pixels;                                                                                           \
+        return v;                                                                                                   \
+    }                                                                                                               \
+    static PW__UNUSED void p##__take_image(pw_image *v, const pw_alloc *a, p##_image *t)                            \
+    {                                                                                                               \
+        t->width = v->w;                                                                                            \
+        t->height = v->h;                                                                                           \
+        t->channels = v->c;                                                                                         \
+        t->bits = v->bits;                                                                                          \
+        t->pixels = v->px;                                                                                          \
+        t->allocator = p##__allocator(a);                                                                           \
+        memset(v, 0, sizeof *v);                                                                                    \
+    }                                                                                                               \
+    static PW__UNUSED int p##__check_image(const p##_image *t, const char *what, pw_err *e)                         \
+    {                                                                                                               \
+        pw_image v;                                                                                                 \
+        if (!t) return pw_fail(e, PW_ERR_INVALID, "%s: empty image (none given)", what);                            \
+        v = p##__pw_image(t);                                                                                       \
+        return pw_image_validate(&v, what, e);                                                                      \
+    }                                                                                                               \
+    static PW__UNUSED int p##__encode(const p##_image *t, const char *format, pw_write_fn fn, void *ctx, pw_err *e) \
+    {                                                                                                               \
+        pw_image v = p##__pw_image(t);                                                                              \
+        pw_alloc a = p##__alloc(&t->allocator);                                                                     \
+        return pw_image_encode(&a, &v, format, fn, ctx, e);                                                         \
+    }                                                                                                               \
+    static PW__UNUSED void p##__take_mesh(pw_mesh *m, const pw_alloc *a, p##_mesh *t)                               \
+    {                                                                                                               \
+        memset(t, 0, sizeof *t);                                                                                    \
+        t->nverts = m->nv;                                                                                          \
+        t->positions = m->pos;                                                                                      \
+        t->nfaces = m->nf;                                                                                          \
+        t->face_start = m->fstart;                                                                                  \
+        t->face_verts = m->fv;                                                                                      \
+        t->allocator = p##__allocator(a);                                                                           \
+        pw_free(a, m->uv);                                                                                          \
+        pw_free(a, m->fuv);                                                                                         \
+        memset(m, 0, sizeof *m);                                                                                    \
+    }                                                                                                               \
+    static PW__UNUSED p##_result p##__left_out(const char *what, const char *macro, p##_error *err)                 \
+    {                                                                                                               \
+        pw_err pe;                                                                                                  \
+        pw_err_clear(&pe);                                                                                          \
+        pw_fail(&pe, PW_ERR_UNSUPPORTED, "%s compiled out (%s)", what, macro);                                      \
+        return p##__done(&pe, err);                                                                                 \
+    }                                                                                                               \
+    static PW__UNUSED pw_parallel p##__parallel(const p##_render_options *ro)                                       \
+    {                                                                                                               \
+        pw_parallel par;                                                                                            \
+        par.threads = ro->threads;                                                                                  \
+        par.run = ro->parallel;                                                                                     \
+        par.pool = ro->parallel_pool;                                                                               \
+        return par;                                                                                                 \
+    }                                                                                                               \
     typedef int p##__glue_defined /* so that the use ends with a semicolon */
 
 /* The public frees of an image and of a mesh with the shared fields only
  * (DEF: the header's XDEF): with the allocator the object remembers, then
  * zeroed; NULL and zeroed objects are fine. */
-#define PW_PUBLIC_IMAGE_FREE(p, DEF)                                                             \
-    DEF void p##_image_free(p##_image *img)                                                      \
-    {                                                                                            \
-        pw_alloc a;                                                                              \
-        if (!img) return;                                                                        \
-        a = p##__alloc(&img->allocator);                                                         \
-        pw_free(&a, img->pixels);                                                                \
-        memset(img, 0, sizeof *img);                                                             \
-    }                                                                                            \
+#define PW_PUBLIC_IMAGE_FREE(p, DEF)        \
+    DEF void p##_image_free(p##_image *img) \
+    {                                       \
+        pw_alloc a;                         \
+        if (!img) return;                   \
+        a = p##__alloc(&img->allocator);    \
+        pw_free(&a, img->pixels);           \
+        memset(img, 0, sizeof *img);        \
+    }                                       \
     typedef int p##__image_free_defined
-#define PW_PUBLIC_MESH_FREE(p, DEF)                                                              \
-    DEF void p##_mesh_free(p##_mesh *m)                                                          \
-    {                                                                                            \
-        pw_alloc a;                                                                              \
-        if (!m) return;                                                                          \
-        a = p##__alloc(&m->allocator);                                                           \
-        pw_free(&a, m->positions);                                                               \
-        pw_free(&a, m->face_start);                                                              \
-        pw_free(&a, m->face_verts);                                                              \
-        memset(m, 0, sizeof *m);                                                                 \
-    }                                                                                            \
+#define PW_PUBLIC_MESH_FREE(p, DEF)     \
+    DEF void p##_mesh_free(p##_mesh *m) \
+    {                                   \
+        pw_alloc a;                     \
+        if (!m) return;                 \
+        a = p##__alloc(&m->allocator);  \
+        pw_free(&a, m->positions);      \
+        pw_free(&a, m->face_start);     \
+        pw_free(&a, m->face_verts);     \
+        memset(m, 0, sizeof *m);        \
+    }                                   \
     typedef int p##__mesh_free_defined
 
 #endif /* PW__GLUE_V1 */
@@ -14238,9 +14230,9 @@ PW__DEF void pw_view_defaults(int *width, int *height, int *supersample, float v
 
 
 typedef struct pw_gltf_part {
-    const char *name;        /* mesh and node name (NULL: "mesh") */
+    const char *name; /* mesh and node name (NULL: "mesh") */
     int nv;
-    const float *pos;        /* nv*3 */
+    const float *pos; /* nv*3 */
     int nf;
     const int *fstart;       /* nf+1 offsets into fv */
     const int *fv;           /* fstart[nf] vertex indices, counter-clockwise */
@@ -14261,14 +14253,16 @@ typedef struct pw_gltf_scene {
  * vertex, texture coordinate) pair, in order of first use. */
 typedef struct pw__gltf_verts {
     int n;
-    int *src;     /* n: the mesh vertex */
-    int *corner;  /* n: a corner that uses it (its coordinate) */
-    int *index;   /* fstart[nf]: the glTF vertex of each corner */
+    int *src;    /* n: the mesh vertex */
+    int *corner; /* n: a corner that uses it (its coordinate) */
+    int *index;  /* fstart[nf]: the glTF vertex of each corner */
 } pw__gltf_verts;
 
 static void pw__gltf_verts_free(const pw_alloc *a, pw__gltf_verts *V)
 {
-    pw_free(a, V->src), pw_free(a, V->corner), pw_free(a, V->index);
+    pw_free(a, V->src);
+    pw_free(a, V->corner);
+    pw_free(a, V->index);
     memset(V, 0, sizeof *V);
 }
 
@@ -14284,7 +14278,8 @@ static int pw__gltf_split(const pw_alloc *a, const pw_gltf_part *p, pw__gltf_ver
     V->corner = (int *)pw_alloc_array(a, (size_t)nc, sizeof(int), "glTF vertices", e);
     V->index = (int *)pw_alloc_array(a, (size_t)nc, sizeof(int), "glTF vertices", e);
     if (!head || !next || !V->src || !V->corner || !V->index) {
-        pw_free(a, head), pw_free(a, next);
+        pw_free(a, head);
+        pw_free(a, next);
         pw__gltf_verts_free(a, V);
         return PW_ERR_NOMEM;
     }
@@ -14294,12 +14289,15 @@ static int pw__gltf_split(const pw_alloc *a, const pw_gltf_part *p, pw__gltf_ver
         while (k >= 0 && p->corner_uv && memcmp(p->corner_uv + 2 * V->corner[k], p->corner_uv + 2 * c, 8)) k = next[k];
         if (k < 0) {
             k = V->n++;
-            V->src[k] = v, V->corner[k] = c;
-            next[k] = head[v], head[v] = k;
+            V->src[k] = v;
+            V->corner[k] = c;
+            next[k] = head[v];
+            head[v] = k;
         }
         V->index[c] = k;
     }
-    pw_free(a, head), pw_free(a, next);
+    pw_free(a, head);
+    pw_free(a, next);
     return PW_OK;
 }
 
@@ -14311,7 +14309,8 @@ static int pw__gltf_normals(const pw_alloc *a, const pw_gltf_part *p, float **ou
     float *n = (float *)pw_alloc_array(a, (size_t)p->nv * 3, sizeof(float), "glTF normals", e);
     int f, i, k;
     if (!acc || !n) {
-        pw_free(a, acc), pw_free(a, n);
+        pw_free(a, acc);
+        pw_free(a, n);
         return PW_ERR_NOMEM;
     }
     for (f = 0; f < p->nf; f++)
@@ -14346,7 +14345,7 @@ typedef struct pw__gltf_out {
     pw_buf bin;
     pw__gltf_view *views;
     size_t nviews, vcap;
-    pw__wb js;       /* the JSON, into json */
+    pw__wb js; /* the JSON, into json */
     pw_buf json;
 } pw__gltf_out;
 
@@ -14354,8 +14353,10 @@ typedef struct pw__gltf_out {
 static int pw__gltf_view_begin(pw__gltf_out *o, int target, pw_err *e)
 {
     static const unsigned char zero[4] = {0, 0, 0, 0};
-    if (o->bin.size % 4 && pw_buf_write(&o->bin, zero, 4 - o->bin.size % 4)) return pw_fail(e, PW_ERR_NOMEM, "out of memory writing glTF");
-    if (pw_grow(o->a, (void **)&o->views, &o->vcap, o->nviews + 1, sizeof *o->views, "glTF views", e)) return PW_ERR_NOMEM;
+    if (o->bin.size % 4 && pw_buf_write(&o->bin, zero, 4 - o->bin.size % 4))
+        return pw_fail(e, PW_ERR_NOMEM, "out of memory writing glTF");
+    if (pw_grow(o->a, (void **)&o->views, &o->vcap, o->nviews + 1, sizeof *o->views, "glTF views", e))
+        return PW_ERR_NOMEM;
     o->views[o->nviews].offset = o->bin.size;
     o->views[o->nviews].length = 0;
     o->views[o->nviews].target = target;
@@ -14374,7 +14375,10 @@ static int pw__gltf_view_end(pw__gltf_out *o, pw_err *e)
 static void pw__gltf_put32(pw__gltf_out *o, uint32_t v)
 {
     unsigned char b[4];
-    b[0] = (unsigned char)v, b[1] = (unsigned char)(v >> 8), b[2] = (unsigned char)(v >> 16), b[3] = (unsigned char)(v >> 24);
+    b[0] = (unsigned char)v;
+    b[1] = (unsigned char)(v >> 8);
+    b[2] = (unsigned char)(v >> 16);
+    b[3] = (unsigned char)(v >> 24);
     pw_buf_write(&o->bin, b, 4);
 }
 
@@ -14404,9 +14408,14 @@ static void pw__js_string(pw__gltf_out *o, const char *s)
     for (; *s; s++) {
         unsigned char c = (unsigned char)*s;
         char u[6] = {'\\', 'u', '0', '0', 0, 0};
-        if (c == '"' || c == '\\') pw__wb_put(&o->js, "\\", 1), pw__wb_put(&o->js, s, 1);
-        else if (c < 0x20) u[4] = hex[c >> 4], u[5] = hex[c & 15], pw__wb_put(&o->js, u, 6);
-        else pw__wb_put(&o->js, s, 1);
+        if (c == '"' || c == '\\') {
+            pw__wb_put(&o->js, "\\", 1);
+            pw__wb_put(&o->js, s, 1);
+        } else if (c < 0x20) {
+            u[4] = hex[c >> 4];
+            u[5] = hex[c & 15];
+            pw__wb_put(&o->js, u, 6);
+        } else pw__wb_put(&o->js, s, 1);
     }
     pw__js(o, "\"");
 }
@@ -14427,7 +14436,9 @@ static int pw__gltf_part_data(pw__gltf_out *o, const pw_gltf_part *p, const pw__
                               pw__gltf_info *I, pw_err *e)
 {
     int f, i, k, r;
-    I->nverts = V->n, I->ntris = 0, I->view0 = (int)o->nviews;
+    I->nverts = V->n;
+    I->ntris = 0;
+    I->view0 = (int)o->nviews;
     if ((r = pw__gltf_view_begin(o, 34963, e))) return r;
     for (f = 0; f < p->nf; f++)
         for (i = p->fstart[f] + 1; i + 1 < p->fstart[f + 1]; i++, I->ntris++) {
@@ -14460,7 +14471,8 @@ static int pw__gltf_part_data(pw__gltf_out *o, const pw_gltf_part *p, const pw__
         pw_err_clear(&local);
         if ((r = pw__gltf_view_begin(o, 0, e))) return r;
         if ((r = pw_png_write(o->a, p->texture, 8, pw_buf_write, &o->bin, &local)))
-            return o->bin.failed ? pw_fail(e, PW_ERR_NOMEM, "out of memory writing glTF") : pw_fail(e, r, "%s", local.msg);
+            return o->bin.failed ? pw_fail(e, PW_ERR_NOMEM, "out of memory writing glTF")
+                                 : pw_fail(e, r, "%s", local.msg);
         if ((r = pw__gltf_view_end(o, e))) return r;
     }
     return PW_OK;
@@ -14472,17 +14484,22 @@ static int pw__gltf_check(const pw_gltf_part *p, int k, pw_err *e)
     int i, nc;
     if (!p->pos || !p->fstart || !p->fv || p->nv < 1 || p->nf < 1 || p->fstart[0] != 0)
         return pw_fail(e, PW_ERR_INVALID, "glTF part %d: empty or malformed mesh", k);
-    if (p->texture && !p->corner_uv) return pw_fail(e, PW_ERR_INVALID, "glTF part %d: a texture without texture coordinates", k);
+    if (p->texture && !p->corner_uv)
+        return pw_fail(e, PW_ERR_INVALID, "glTF part %d: a texture without texture coordinates", k);
     for (i = 0; i < p->nf; i++)
         if (p->fstart[i + 1] - p->fstart[i] < 3 || p->fstart[i + 1] > PW_MAX_MESH_ELEMENTS)
-            return pw_fail(e, PW_ERR_INVALID, "glTF part %d: face %d has %d corners", k, i, p->fstart[i + 1] - p->fstart[i]);
+            return pw_fail(e, PW_ERR_INVALID, "glTF part %d: face %d has %d corners", k, i,
+                           p->fstart[i + 1] - p->fstart[i]);
     nc = p->fstart[p->nf];
     for (i = 0; i < nc; i++)
-        if (p->fv[i] < 0 || p->fv[i] >= p->nv) return pw_fail(e, PW_ERR_INVALID, "glTF part %d: corner %d names vertex %d of %d", k, i, p->fv[i], p->nv);
+        if (p->fv[i] < 0 || p->fv[i] >= p->nv)
+            return pw_fail(e, PW_ERR_INVALID, "glTF part %d: corner %d names vertex %d of %d", k, i, p->fv[i], p->nv);
     for (i = 0; i < 3 * p->nv; i++)
-        if (!pw_is_finite(p->pos[i])) return pw_fail(e, PW_ERR_INVALID, "glTF part %d: vertex %d is not finite", k, i / 3);
+        if (!pw_is_finite(p->pos[i]))
+            return pw_fail(e, PW_ERR_INVALID, "glTF part %d: vertex %d is not finite", k, i / 3);
     for (i = 0; p->corner_uv && i < 2 * nc; i++)
-        if (!pw_is_finite(p->corner_uv[i])) return pw_fail(e, PW_ERR_INVALID, "glTF part %d: corner %d's texture coordinate is not finite", k, i / 2);
+        if (!pw_is_finite(p->corner_uv[i]))
+            return pw_fail(e, PW_ERR_INVALID, "glTF part %d: corner %d's texture coordinate is not finite", k, i / 2);
     return PW_OK;
 }
 
@@ -14497,7 +14514,10 @@ static void pw__gltf_json_views(pw__gltf_out *o)
         pw__js_int(o, (long long)o->views[k].offset);
         pw__js(o, ",\"byteLength\":");
         pw__js_int(o, (long long)o->views[k].length);
-        if (o->views[k].target) pw__js(o, ",\"target\":"), pw__js_int(o, o->views[k].target);
+        if (o->views[k].target) {
+            pw__js(o, ",\"target\":");
+            pw__js_int(o, o->views[k].target);
+        }
         pw__js(o, "}");
     }
     pw__js(o, "],\"buffers\":[{\"byteLength\":");
@@ -14513,7 +14533,9 @@ static void pw__gltf_accessor(pw__gltf_out *o, int first, int view, int type, in
     pw__js_int(o, type);
     pw__js(o, ",\"count\":");
     pw__js_int(o, count);
-    pw__js(o, ",\"type\":\""), pw__js(o, kind), pw__js(o, "\"");
+    pw__js(o, ",\"type\":\"");
+    pw__js(o, kind);
+    pw__js(o, "\"");
 }
 
 static void pw__gltf_json_accessors(pw__gltf_out *o, const pw__gltf_info *I, int np)
@@ -14526,13 +14548,22 @@ static void pw__gltf_json_accessors(pw__gltf_out *o, const pw__gltf_info *I, int
         pw__js(o, "}");
         pw__gltf_accessor(o, 0, v + 1, 5126, I[p].nverts, "VEC3");
         pw__js(o, ",\"min\":[");
-        for (k = 0; k < 3; k++) pw__js(o, k ? "," : ""), pw__js_float(o, I[p].lo[k]);
+        for (k = 0; k < 3; k++) {
+            pw__js(o, k ? "," : "");
+            pw__js_float(o, I[p].lo[k]);
+        }
         pw__js(o, "],\"max\":[");
-        for (k = 0; k < 3; k++) pw__js(o, k ? "," : ""), pw__js_float(o, I[p].hi[k]);
+        for (k = 0; k < 3; k++) {
+            pw__js(o, k ? "," : "");
+            pw__js_float(o, I[p].hi[k]);
+        }
         pw__js(o, "]}");
         pw__gltf_accessor(o, 0, v + 2, 5126, I[p].nverts, "VEC3");
         pw__js(o, "}");
-        if (I[p].has_uv) pw__gltf_accessor(o, 0, v + 3, 5126, I[p].nverts, "VEC2"), pw__js(o, "}");
+        if (I[p].has_uv) {
+            pw__gltf_accessor(o, 0, v + 3, 5126, I[p].nverts, "VEC2");
+            pw__js(o, "}");
+        }
     }
 }
 
@@ -14550,22 +14581,33 @@ static void pw__gltf_json_meshes(pw__gltf_out *o, const pw_gltf_part *parts, con
     pw__js(o, "],\"meshes\":[");
     for (p = 0; p < np; p++) {
         int a0 = pw__gltf_acc0(I, p);
-        pw__js(o, p ? ",{\"name\":" : "{\"name\":"), pw__js_string(o, parts[p].name ? parts[p].name : "mesh");
-        pw__js(o, ",\"primitives\":[{\"attributes\":{\"POSITION\":"), pw__js_int(o, a0 + 1);
-        pw__js(o, ",\"NORMAL\":"), pw__js_int(o, a0 + 2);
-        if (I[p].has_uv) pw__js(o, ",\"TEXCOORD_0\":"), pw__js_int(o, a0 + 3);
-        pw__js(o, "},\"indices\":"), pw__js_int(o, a0);
-        pw__js(o, ",\"material\":"), pw__js_int(o, p);
+        pw__js(o, p ? ",{\"name\":" : "{\"name\":");
+        pw__js_string(o, parts[p].name ? parts[p].name : "mesh");
+        pw__js(o, ",\"primitives\":[{\"attributes\":{\"POSITION\":");
+        pw__js_int(o, a0 + 1);
+        pw__js(o, ",\"NORMAL\":");
+        pw__js_int(o, a0 + 2);
+        if (I[p].has_uv) {
+            pw__js(o, ",\"TEXCOORD_0\":");
+            pw__js_int(o, a0 + 3);
+        }
+        pw__js(o, "},\"indices\":");
+        pw__js_int(o, a0);
+        pw__js(o, ",\"material\":");
+        pw__js_int(o, p);
         pw__js(o, ",\"mode\":4}]}");
     }
     pw__js(o, "],\"materials\":[");
     for (p = 0; p < np; p++) {
-        pw__js(o, p ? ",{\"name\":" : "{\"name\":"), pw__js_string(o, parts[p].name ? parts[p].name : "mesh");
+        pw__js(o, p ? ",{\"name\":" : "{\"name\":");
+        pw__js_string(o, parts[p].name ? parts[p].name : "mesh");
         pw__js(o, ",\"pbrMetallicRoughness\":{");
         if (I[p].has_image) {
             int t = 0, k;
             for (k = 0; k < p; k++) t += I[k].has_image;
-            pw__js(o, "\"baseColorTexture\":{\"index\":"), pw__js_int(o, t), pw__js(o, "},");
+            pw__js(o, "\"baseColorTexture\":{\"index\":");
+            pw__js_int(o, t);
+            pw__js(o, "},");
         }
         pw__js(o, "\"metallicFactor\":0,\"roughnessFactor\":1}}");
     }
@@ -14580,21 +14622,33 @@ static void pw__gltf_json_textures(pw__gltf_out *o, const pw_gltf_part *parts, c
     pw__js(o, "],\"textures\":[");
     for (p = 0, t = 0; p < np; p++)
         if (I[p].has_image) {
-            pw__js(o, sep), pw__js(o, "{\"sampler\":"), pw__js_int(o, t), pw__js(o, ",\"source\":"), pw__js_int(o, t), pw__js(o, "}");
-            sep = ",", t++;
+            pw__js(o, sep);
+            pw__js(o, "{\"sampler\":");
+            pw__js_int(o, t);
+            pw__js(o, ",\"source\":");
+            pw__js_int(o, t);
+            pw__js(o, "}");
+            sep = ",";
+            t++;
         }
     pw__js(o, "],\"samplers\":[");
     for (p = 0, sep = ""; p < np; p++)
         if (I[p].has_image) {
             const char *wrap = parts[p].repeat ? "10497" : "33071";
-            pw__js(o, sep), pw__js(o, "{\"magFilter\":9729,\"minFilter\":9987,\"wrapS\":"), pw__js(o, wrap);
-            pw__js(o, ",\"wrapT\":"), pw__js(o, wrap), pw__js(o, "}");
+            pw__js(o, sep);
+            pw__js(o, "{\"magFilter\":9729,\"minFilter\":9987,\"wrapS\":");
+            pw__js(o, wrap);
+            pw__js(o, ",\"wrapT\":");
+            pw__js(o, wrap);
+            pw__js(o, "}");
             sep = ",";
         }
     pw__js(o, "],\"images\":[");
     for (p = 0, sep = ""; p < np; p++)
         if (I[p].has_image) {
-            pw__js(o, sep), pw__js(o, "{\"bufferView\":"), pw__js_int(o, I[p].view0 + 3 + I[p].has_uv);
+            pw__js(o, sep);
+            pw__js(o, "{\"bufferView\":");
+            pw__js_int(o, I[p].view0 + 3 + I[p].has_uv);
             pw__js(o, ",\"mimeType\":\"image/png\"}");
             sep = ",";
         }
@@ -14607,25 +14661,44 @@ static void pw__gltf_camera_rotation(const pw_camera *c, double *q)
 {
     double f[3], r[3], u[3], m[3][3], t;
     int k;
-    for (k = 0; k < 3; k++) f[k] = (double)c->target[k] - c->eye[k], u[k] = c->up[k];
+    for (k = 0; k < 3; k++) {
+        f[k] = (double)c->target[k] - c->eye[k];
+        u[k] = c->up[k];
+    }
     pw_norm3(f);
     pw_cross3(f, u, r);
     pw_norm3(r);
     pw_cross3(r, f, u);
-    for (k = 0; k < 3; k++) m[k][0] = r[k], m[k][1] = u[k], m[k][2] = -f[k];
+    for (k = 0; k < 3; k++) {
+        m[k][0] = r[k];
+        m[k][1] = u[k];
+        m[k][2] = -f[k];
+    }
     t = m[0][0] + m[1][1] + m[2][2];
     if (t > 0.0) { /* the largest of w, x, y, z divides: no cancellation */
         double s = 2.0 * sqrt(1.0 + t);
-        q[3] = 0.25 * s, q[0] = (m[2][1] - m[1][2]) / s, q[1] = (m[0][2] - m[2][0]) / s, q[2] = (m[1][0] - m[0][1]) / s;
+        q[3] = 0.25 * s;
+        q[0] = (m[2][1] - m[1][2]) / s;
+        q[1] = (m[0][2] - m[2][0]) / s;
+        q[2] = (m[1][0] - m[0][1]) / s;
     } else if (m[0][0] > m[1][1] && m[0][0] > m[2][2]) {
         double s = 2.0 * sqrt(1.0 + m[0][0] - m[1][1] - m[2][2]);
-        q[3] = (m[2][1] - m[1][2]) / s, q[0] = 0.25 * s, q[1] = (m[0][1] + m[1][0]) / s, q[2] = (m[0][2] + m[2][0]) / s;
+        q[3] = (m[2][1] - m[1][2]) / s;
+        q[0] = 0.25 * s;
+        q[1] = (m[0][1] + m[1][0]) / s;
+        q[2] = (m[0][2] + m[2][0]) / s;
     } else if (m[1][1] > m[2][2]) {
         double s = 2.0 * sqrt(1.0 + m[1][1] - m[0][0] - m[2][2]);
-        q[3] = (m[0][2] - m[2][0]) / s, q[0] = (m[0][1] + m[1][0]) / s, q[1] = 0.25 * s, q[2] = (m[1][2] + m[2][1]) / s;
+        q[3] = (m[0][2] - m[2][0]) / s;
+        q[0] = (m[0][1] + m[1][0]) / s;
+        q[1] = 0.25 * s;
+        q[2] = (m[1][2] + m[2][1]) / s;
     } else {
         double s = 2.0 * sqrt(1.0 + m[2][2] - m[0][0] - m[1][1]);
-        q[3] = (m[1][0] - m[0][1]) / s, q[0] = (m[0][2] + m[2][0]) / s, q[1] = (m[1][2] + m[2][1]) / s, q[2] = 0.25 * s;
+        q[3] = (m[1][0] - m[0][1]) / s;
+        q[0] = (m[0][2] + m[2][0]) / s;
+        q[1] = (m[1][2] + m[2][1]) / s;
+        q[2] = 0.25 * s;
     }
     t = sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
     for (k = 0; k < 4; k++) q[k] /= t;
@@ -14638,9 +14711,15 @@ static void pw__gltf_json_camera_node(pw__gltf_out *o, const pw_camera *c)
     int k;
     pw__gltf_camera_rotation(c, q);
     pw__js(o, ",{\"name\":\"patchwork view\",\"camera\":0,\"translation\":[");
-    for (k = 0; k < 3; k++) pw__js(o, k ? "," : ""), pw__js_float(o, c->eye[k]);
+    for (k = 0; k < 3; k++) {
+        pw__js(o, k ? "," : "");
+        pw__js_float(o, c->eye[k]);
+    }
     pw__js(o, "],\"rotation\":[");
-    for (k = 0; k < 4; k++) pw__js(o, k ? "," : ""), pw__js_float(o, (float)q[k]);
+    for (k = 0; k < 4; k++) {
+        pw__js(o, k ? "," : "");
+        pw__js_float(o, (float)q[k]);
+    }
     pw__js(o, "]}");
 }
 
@@ -14648,9 +14727,12 @@ static void pw__gltf_json_camera(pw__gltf_out *o, const pw_camera *c, float aspe
 {
     pw__js(o, "],\"cameras\":[{\"type\":\"perspective\",\"perspective\":{\"yfov\":");
     pw__js_float(o, (float)(c->fovy_deg * (3.14159265358979323846 / 180.0)));
-    pw__js(o, ",\"aspectRatio\":"), pw__js_float(o, aspect);
-    pw__js(o, ",\"znear\":"), pw__js_float(o, c->znear);
-    pw__js(o, ",\"zfar\":"), pw__js_float(o, c->zfar);
+    pw__js(o, ",\"aspectRatio\":");
+    pw__js_float(o, aspect);
+    pw__js(o, ",\"znear\":");
+    pw__js_float(o, c->znear);
+    pw__js(o, ",\"zfar\":");
+    pw__js_float(o, c->zfar);
     pw__js(o, "}}");
 }
 
@@ -14658,15 +14740,25 @@ static void pw__gltf_json(pw__gltf_out *o, const pw_gltf_scene *S, const pw__glt
 {
     const pw_gltf_part *parts = S->parts;
     int p, np = S->nparts;
-    pw__js(o, "{\"asset\":{\"version\":\"2.0\",\"generator\":"), pw__js_string(o, S->generator ? S->generator : "patchwork");
+    pw__js(o, "{\"asset\":{\"version\":\"2.0\",\"generator\":");
+    pw__js_string(o, S->generator ? S->generator : "patchwork");
     pw__js(o, "},\"scene\":0,\"scenes\":[{\"nodes\":[");
-    for (p = 0; p < np + (S->camera != NULL); p++) pw__js(o, p ? "," : ""), pw__js_int(o, p);
+    for (p = 0; p < np + (S->camera != NULL); p++) {
+        pw__js(o, p ? "," : "");
+        pw__js_int(o, p);
+    }
     pw__js(o, "]}],\"nodes\":[");
     for (p = 0; p < np; p++) {
-        pw__js(o, p ? ",{\"name\":" : "{\"name\":"), pw__js_string(o, parts[p].name ? parts[p].name : "mesh");
-        pw__js(o, ",\"mesh\":"), pw__js_int(o, p), pw__js(o, "}");
+        pw__js(o, p ? ",{\"name\":" : "{\"name\":");
+        pw__js_string(o, parts[p].name ? parts[p].name : "mesh");
+        pw__js(o, ",\"mesh\":");
+        pw__js_int(o, p);
+        pw__js(o, "}");
     }
-    if (S->camera) pw__gltf_json_camera_node(o, S->camera), pw__gltf_json_camera(o, S->camera, S->aspect);
+    if (S->camera) {
+        pw__gltf_json_camera_node(o, S->camera);
+        pw__gltf_json_camera(o, S->camera, S->aspect);
+    }
     pw__gltf_json_meshes(o, parts, I, np);
     pw__gltf_json_textures(o, parts, I, np);
     pw__gltf_json_accessors(o, I, np);
@@ -14678,7 +14770,10 @@ static void pw__gltf_json(pw__gltf_out *o, const pw_gltf_scene *S, const pw__glt
 
 static void pw__gltf_le32(unsigned char *b, uint32_t v)
 {
-    b[0] = (unsigned char)v, b[1] = (unsigned char)(v >> 8), b[2] = (unsigned char)(v >> 16), b[3] = (unsigned char)(v >> 24);
+    b[0] = (unsigned char)v;
+    b[1] = (unsigned char)(v >> 8);
+    b[2] = (unsigned char)(v >> 16);
+    b[3] = (unsigned char)(v >> 24);
 }
 
 /* GLB: the 12-byte header, the JSON chunk padded with spaces, the binary
@@ -14688,12 +14783,19 @@ static int pw__gltf_emit(const pw__gltf_out *o, pw_write_fn w, void *ctx, pw_err
     static const char spaces[4] = {' ', ' ', ' ', ' '}, zeros[4] = {0, 0, 0, 0};
     size_t jl = (o->json.size + 3) & ~(size_t)3, bl = (o->bin.size + 3) & ~(size_t)3, total = 12 + 8 + jl + 8 + bl;
     unsigned char h[20];
-    if (total > 0xFFFFFFFFu) return pw_fail(e, PW_ERR_LIMIT, "glTF: %lu bytes is over GLB's 4 GiB", (unsigned long)total);
-    memcpy(h, "glTF", 4), pw__gltf_le32(h + 4, 2), pw__gltf_le32(h + 8, (uint32_t)total);
-    pw__gltf_le32(h + 12, (uint32_t)jl), memcpy(h + 16, "JSON", 4);
-    if (w(ctx, h, 20) || w(ctx, o->json.data, o->json.size) || w(ctx, spaces, jl - o->json.size)) return pw_fail(e, PW_ERR_IO, "write failed");
-    pw__gltf_le32(h, (uint32_t)bl), memcpy(h + 4, "BIN\0", 4);
-    if (w(ctx, h, 8) || w(ctx, o->bin.data, o->bin.size) || w(ctx, zeros, bl - o->bin.size)) return pw_fail(e, PW_ERR_IO, "write failed");
+    if (total > 0xFFFFFFFFu)
+        return pw_fail(e, PW_ERR_LIMIT, "glTF: %lu bytes is over GLB's 4 GiB", (unsigned long)total);
+    memcpy(h, "glTF", 4);
+    pw__gltf_le32(h + 4, 2);
+    pw__gltf_le32(h + 8, (uint32_t)total);
+    pw__gltf_le32(h + 12, (uint32_t)jl);
+    memcpy(h + 16, "JSON", 4);
+    if (w(ctx, h, 20) || w(ctx, o->json.data, o->json.size) || w(ctx, spaces, jl - o->json.size))
+        return pw_fail(e, PW_ERR_IO, "write failed");
+    pw__gltf_le32(h, (uint32_t)bl);
+    memcpy(h + 4, "BIN\0", 4);
+    if (w(ctx, h, 8) || w(ctx, o->bin.data, o->bin.size) || w(ctx, zeros, bl - o->bin.size))
+        return pw_fail(e, PW_ERR_IO, "write failed");
     return PW_OK;
 }
 
@@ -14726,23 +14828,31 @@ PW__DEF int pw_gltf_write(const pw_alloc *a, const pw_gltf_scene *S, pw_write_fn
     for (p = 0; p < np; p++)
         if ((r = pw__gltf_check(&parts[p], p, e))) return r;
     memset(&o, 0, sizeof o);
-    o.a = a, o.bin.alloc = a, o.json.alloc = a;
-    o.js.w = pw_buf_write, o.js.ctx = &o.json;
+    o.a = a;
+    o.bin.alloc = a;
+    o.json.alloc = a;
+    o.js.w = pw_buf_write;
+    o.js.ctx = &o.json;
     if (!(I = (pw__gltf_info *)pw_calloc_array(a, (size_t)np, sizeof *I, "glTF parts", e))) return PW_ERR_NOMEM;
     for (p = 0; p < np && r == PW_OK; p++) {
         pw__gltf_verts V;
         float *nrm = NULL;
         if ((r = pw__gltf_split(a, &parts[p], &V, e))) break;
-        if ((r = pw__gltf_normals(a, &parts[p], &nrm, e)) == PW_OK) r = pw__gltf_part_data(&o, &parts[p], &V, nrm, &I[p], e);
+        if ((r = pw__gltf_normals(a, &parts[p], &nrm, e)) == PW_OK)
+            r = pw__gltf_part_data(&o, &parts[p], &V, nrm, &I[p], e);
         pw__gltf_verts_free(a, &V);
         pw_free(a, nrm);
     }
     if (r == PW_OK) {
         pw__gltf_json(&o, S, I);
         pw__wb_flush(&o.js);
-        r = o.js.failed || o.json.failed ? pw_fail(e, PW_ERR_NOMEM, "out of memory writing glTF") : pw__gltf_emit(&o, w, ctx, e);
+        r = o.js.failed || o.json.failed ? pw_fail(e, PW_ERR_NOMEM, "out of memory writing glTF")
+                                         : pw__gltf_emit(&o, w, ctx, e);
     }
-    pw_free(a, I), pw_free(a, o.views), pw_free(a, o.bin.data), pw_free(a, o.json.data);
+    pw_free(a, I);
+    pw_free(a, o.views);
+    pw_free(a, o.bin.data);
+    pw_free(a, o.json.data);
     return r;
 }
 
@@ -14809,17 +14919,17 @@ typedef struct pw__gc_arc {
 
 typedef struct pw_graph {
     int nnodes;
-    int narcs;           /* 2 per edge */
-    pw__gc_node *nodes;  /* nnodes */
-    pw__gc_arc *arcs;    /* narcs, room for arc_cap */
+    int narcs;          /* 2 per edge */
+    pw__gc_node *nodes; /* nnodes */
+    pw__gc_arc *arcs;   /* narcs, room for arc_cap */
     size_t arc_cap;
-    int *orphans;        /* nnodes: circular queue, each node at most once */
-    int node_cap;        /* nodes and orphans allocated */
-    double flow;         /* flow so far, including common t-link parts */
+    int *orphans; /* nnodes: circular queue, each node at most once */
+    int node_cap; /* nodes and orphans allocated */
+    double flow;  /* flow so far, including common t-link parts */
     int active_first, active_last;
     int orphan_head, orphan_count;
-    int time;            /* counts augmentations, for the ts of nodes */
-    pw_err err;          /* first invalid call, reported by pw_graph_maxflow */
+    int time;   /* counts augmentations, for the ts of nodes */
+    pw_err err; /* first invalid call, reported by pw_graph_maxflow */
     pw_alloc alloc;
 } pw_graph;
 
@@ -14885,8 +14995,8 @@ PW__DEF int pw_graph_init(pw_graph *g, const pw_alloc *a, int nnodes, int nedges
         return r;
     }
     if (nedges_hint > 0 && nedges_hint < INT_MAX / 2 &&
-        pw_grow(&g->alloc, (void **)&g->arcs, &g->arc_cap, (size_t)nedges_hint * 2,
-                sizeof(pw__gc_arc), "graph edges", e)) {
+        pw_grow(&g->alloc, (void **)&g->arcs, &g->arc_cap, (size_t)nedges_hint * 2, sizeof(pw__gc_arc), "graph edges",
+                e)) {
         pw_graph_free(g);
         return PW_ERR_NOMEM;
     }
@@ -14897,10 +15007,8 @@ PW__DEF int pw_graph_init(pw_graph *g, const pw_alloc *a, int nnodes, int nedges
  * checks only pw_graph_maxflow still learns of it. */
 PW__DEF int pw__graph_invalid(pw_graph *g, pw_err *e, int code, const char *what, int i, int j)
 {
-    if (j >= 0)
-        pw_fail(&g->err, code, "graph edge (%d, %d): %s", i, j, what);
-    else
-        pw_fail(&g->err, code, "graph node %d: %s", i, what);
+    if (j >= 0) pw_fail(&g->err, code, "graph edge (%d, %d): %s", i, j, what);
+    else pw_fail(&g->err, code, "graph node %d: %s", i, what);
     return pw_fail(e, code, "%s", g->err.msg);
 }
 
@@ -14918,10 +15026,9 @@ PW__DEF int pw_graph_add_edge(pw_graph *g, int i, int j, double cap_ij, double c
     if (i == j) return pw__graph_invalid(g, e, PW_ERR_INVALID, "self loop", i, j);
     if (!pw__gc_cap_ok(cap_ij) || !pw__gc_cap_ok(cap_ji))
         return pw__graph_invalid(g, e, PW_ERR_INVALID, "negative or NaN capacity", i, j);
-    if (g->narcs > INT_MAX - 2)
-        return pw__graph_invalid(g, e, PW_ERR_LIMIT, "too many edges", i, j);
-    if (pw_grow(&g->alloc, (void **)&g->arcs, &g->arc_cap, (size_t)g->narcs + 2,
-                sizeof(pw__gc_arc), "graph edges", e)) {
+    if (g->narcs > INT_MAX - 2) return pw__graph_invalid(g, e, PW_ERR_LIMIT, "too many edges", i, j);
+    if (pw_grow(&g->alloc, (void **)&g->arcs, &g->arc_cap, (size_t)g->narcs + 2, sizeof(pw__gc_arc), "graph edges",
+                e)) {
         pw_fail(&g->err, PW_ERR_NOMEM, "graph: out of memory adding edge (%d, %d)", i, j);
         return PW_ERR_NOMEM;
     }
@@ -14948,19 +15055,14 @@ PW__DEF int pw_graph_add_edge(pw_graph *g, int i, int j, double cap_ij, double c
 PW__DEF int pw_graph_add_tweights(pw_graph *g, int i, double cap_source, double cap_sink)
 {
     double t;
-    if (i < 0 || i >= g->nnodes)
-        return pw__graph_invalid(g, NULL, PW_ERR_INVALID, "node index out of range", i, -1);
+    if (i < 0 || i >= g->nnodes) return pw__graph_invalid(g, NULL, PW_ERR_INVALID, "node index out of range", i, -1);
     if (!pw__gc_cap_ok(cap_source) || !pw__gc_cap_ok(cap_sink))
-        return pw__graph_invalid(g, NULL, PW_ERR_INVALID, "negative or NaN terminal capacity",
-                                 i, -1);
+        return pw__graph_invalid(g, NULL, PW_ERR_INVALID, "negative or NaN terminal capacity", i, -1);
     t = g->nodes[i].tr;
-    if (t > 0)
-        cap_source += t;
-    else
-        cap_sink -= t;
+    if (t > 0) cap_source += t;
+    else cap_sink -= t;
     if (cap_source == HUGE_VAL && cap_sink == HUGE_VAL)
-        return pw__graph_invalid(g, NULL, PW_ERR_INVALID,
-                                 "infinite capacity to both source and sink", i, -1);
+        return pw__graph_invalid(g, NULL, PW_ERR_INVALID, "infinite capacity to both source and sink", i, -1);
     g->flow += cap_source < cap_sink ? cap_source : cap_sink;
     g->nodes[i].tr = cap_source - cap_sink;
     return PW_OK;
@@ -14973,10 +15075,8 @@ PW__DEF void pw__gc_activate(pw_graph *g, int i)
 {
     if (g->nodes[i].next != PW__GC_IDLE) return;
     g->nodes[i].next = -1;
-    if (g->active_last >= 0)
-        g->nodes[g->active_last].next = i;
-    else
-        g->active_first = i;
+    if (g->active_last >= 0) g->nodes[g->active_last].next = i;
+    else g->active_first = i;
     g->active_last = i;
 }
 
@@ -15199,7 +15299,8 @@ PW__DEF int pw__gc_augment(pw_graph *g, int mid, pw_err *e)
     double bn = pw__gc_bottleneck(g, mid);
     if (bn == HUGE_VAL) {
         g->flow = HUGE_VAL;
-        return pw_fail(e, PW_ERR_INVALID, "graph: a path of infinite capacity joins the "
+        return pw_fail(e, PW_ERR_INVALID,
+                       "graph: a path of infinite capacity joins the "
                        "source to the sink (through nodes %d and %d): the flow is unbounded",
                        g->arcs[mid ^ 1].head, g->arcs[mid].head);
     }
@@ -15282,14 +15383,14 @@ PW__DEF int pw_graph_in_source(const pw_graph *g, int i)
 
 
 typedef struct pw_quilt {
-    int w, h, c;          /* grid size and colour channels */
-    int nlabels;          /* number of sources, at most 32 */
-    const float *src;     /* nlabels*w*h*c: source l's colour at pixel i is src + (l*w*h + i)*c */
-    int *label;           /* w*h, in/out: the labelling (initial labels must be allowed) */
+    int w, h, c;             /* grid size and colour channels */
+    int nlabels;             /* number of sources, at most 32 */
+    const float *src;        /* nlabels*w*h*c: source l's colour at pixel i is src + (l*w*h + i)*c */
+    int *label;              /* w*h, in/out: the labelling (initial labels must be allowed) */
     const uint32_t *allowed; /* w*h bit masks (bit l: label l allowed) or NULL: all */
-    int wrap_x, wrap_y;   /* non-zero: the grid is periodic in that direction */
-    const float *motif;   /* NULL or nlabels*w*h: source l's motif value at pixel i is motif[l*w*h + i] */
-    float motif_weight;   /* seam cost per source pixel inside a motif */
+    int wrap_x, wrap_y;      /* non-zero: the grid is periodic in that direction */
+    const float *motif;      /* NULL or nlabels*w*h: source l's motif value at pixel i is motif[l*w*h + i] */
+    float motif_weight;      /* seam cost per source pixel inside a motif */
 } pw_quilt;
 
 /* |A(i) - B(i)|: distance between the colours of two labels at pixel i. */
@@ -15479,12 +15580,16 @@ PW__DEF int pw__quilt_clear_ground(const pw_alloc *a, float *m, int w, int h, pw
     int *comp = buf;
     pw__quilt_flood F;
     if (!buf) return PW_ERR_NOMEM;
-    F.m = m, F.w = w, F.h = h;
-    F.comp = comp, F.ux = buf + n, F.uy = buf + 2 * n, F.stack = buf + 3 * n;
+    F.m = m;
+    F.w = w;
+    F.h = h;
+    F.comp = comp;
+    F.ux = buf + n;
+    F.uy = buf + 2 * n;
+    F.stack = buf + 3 * n;
     for (i = 0; i < n; i++) comp[i] = -1;
     for (i = 0; i < n; i++)
-        if (m[i] > 0.5f && comp[i] < 0 && (pw__quilt_wraps(&F, (int)i, &size) || size * 4 >= n ||
-             size * 200 < n)) {
+        if (m[i] > 0.5f && comp[i] < 0 && (pw__quilt_wraps(&F, (int)i, &size) || size * 4 >= n || size * 200 < n)) {
             size_t j;
             for (j = 0; j < n; j++)
                 if (comp[j] == (int)i) m[j] = 0.0f;
@@ -15602,8 +15707,7 @@ PW__DEF int pw__quilt_expand_one(pw__quilt_move *M, int *changed, const pw_alloc
     double flow;
     *changed = 0;
     for (i = 0; i < n; i++)
-        node[i] = q->label[i] == alpha || (q->allowed && !(q->allowed[i] >> alpha & 1u)) ? -1
-                                                                                   : nvar++;
+        node[i] = q->label[i] == alpha || (q->allowed && !(q->allowed[i] >> alpha & 1u)) ? -1 : nvar++;
     if (nvar == 0) return PW_OK;
     for (i = 0; i < nvar; i++) u0[i] = u1[i] = 0.0;
     if ((r = pw_graph_init(&g, a, nvar, 2 * nvar, e)) != PW_OK) return r;
@@ -15643,7 +15747,12 @@ PW__DEF int pw_quilt_optimize(const pw_alloc *a, pw_quilt *q, int cycles, pw_err
     for (c = 0; c < cycles && r == PW_OK; c++) {
         total = 0;
         for (l = 0; l < q->nlabels && r == PW_OK; l++) {
-            M.q = q, M.alpha = l, M.g = NULL, M.node = node, M.u0 = u, M.u1 = u + n;
+            M.q = q;
+            M.alpha = l;
+            M.g = NULL;
+            M.node = node;
+            M.u0 = u;
+            M.u1 = u + n;
             r = pw__quilt_expand_one(&M, &changed, a, e);
             total += changed;
         }
@@ -15659,8 +15768,7 @@ PW__DEF void pw_quilt_compose(const pw_quilt *q, float *out)
 {
     int i, n = q->w * q->h;
     for (i = 0; i < n; i++)
-        memcpy(out + (size_t)i * q->c, q->src + ((size_t)q->label[i] * n + i) * q->c,
-               sizeof(float) * (size_t)q->c);
+        memcpy(out + (size_t)i * q->c, q->src + ((size_t)q->label[i] * n + i) * q->c, sizeof(float) * (size_t)q->c);
 }
 
 /* Labels of pw_quilt_make_tileable: the image itself and two copies of it
@@ -15710,8 +15818,7 @@ PW__DEF int pw_quilt_make_tileable_px(const pw_alloc *a, const pw_image *in, flo
                 int sx = pw__tileable_shift(l, w), sy = pw__tileable_shift(l, h);
                 size_t j = (size_t)((y + sy) % h) * w + (size_t)((x + sx) % w);
                 memcpy(src + (l * n + i) * c, px + j * c, sizeof(float) * c);
-                if (!pw__tileable_near_wrap(x, w, sx) && !pw__tileable_near_wrap(y, h, sy))
-                    allowed[i] |= 1u << l;
+                if (!pw__tileable_near_wrap(x, w, sx) && !pw__tileable_near_wrap(y, h, sy)) allowed[i] |= 1u << l;
             }
             label[i] = allowed[i] & 1u ? 0 : (allowed[i] & 2u ? 1 : 2);
         }
@@ -15735,8 +15842,7 @@ done:
 }
 
 /* The same for an image: out is a new image of the input's size. */
-PW__DEF int pw_quilt_make_tileable(const pw_alloc *a, const pw_image *in, pw_image *out,
-                                   pw_err *e)
+PW__DEF int pw_quilt_make_tileable(const pw_alloc *a, const pw_image *in, pw_image *out, pw_err *e)
 {
     int r;
     if ((r = pw_image_alloc(a, out, in->w, in->h, in->c, e)) != PW_OK) return r;
@@ -15854,7 +15960,11 @@ PW__DEF int pw_edt_sq(const pw_alloc *a, const pw_edt_image *site, float *out, p
         pw_free(a, z);
         return PW_ERR_NOMEM;
     }
-    ws.f = f, ws.d = f + m, ws.v = v, ws.z = z, ws.wrap = site->wrap;
+    ws.f = f;
+    ws.d = f + m;
+    ws.v = v;
+    ws.z = z;
+    ws.wrap = site->wrap;
     for (i = 0; i < n; i++) out[i] = site->px[i] ? 0.0f : PW_EDT_FAR;
     pw__edt_pass(out, w, h, (size_t)w, 1, &ws);
     pw__edt_pass(out, h, w, 1, (size_t)w, &ws);
@@ -15879,8 +15989,7 @@ PW__DEF int pw_edt_signed(const pw_alloc *a, const pw_edt_image *im, float *phi,
     for (i = 0; r == PW_OK && i < n; i++) inv[i] = (unsigned char)!mask[i];
     if (r == PW_OK) r = pw_edt_sq(a, im, phi, e);    /* outside: to the mask */
     if (r == PW_OK) r = pw_edt_sq(a, &rest, din, e); /* inside: to the rest */
-    for (i = 0; r == PW_OK && i < n; i++)
-        phi[i] = mask[i] ? sqrtf(din[i]) - 0.5f : 0.5f - sqrtf(phi[i]);
+    for (i = 0; r == PW_OK && i < n; i++) phi[i] = mask[i] ? sqrtf(din[i]) - 0.5f : 0.5f - sqrtf(phi[i]);
     pw_free(a, inv);
     pw_free(a, din);
     return r;
@@ -15920,22 +16029,22 @@ PW__DEF int pw_edt_signed(const pw_alloc *a, const pw_edt_image *im, float *phi,
 #define PW_KD_BUCKET 8 /* points per leaf, at most */
 
 typedef struct pw__kdnode {
-    int lo, hi;        /* points lo..hi-1 (tree order) */
-    int dim;           /* split dimension; -1 for a leaf */
-    float split;       /* left: coordinate < split (or equal, by position) */
-    int left, right;   /* children; for a leaf, left is its bucket */
+    int lo, hi;      /* points lo..hi-1 (tree order) */
+    int dim;         /* split dimension; -1 for a leaf */
+    float split;     /* left: coordinate < split (or equal, by position) */
+    int left, right; /* children; for a leaf, left is its bucket */
     int parent;
-    float minpen;      /* smallest penalty of the points below */
+    float minpen; /* smallest penalty of the points below */
 } pw__kdnode;
 
 typedef struct pw_kdtree {
     int n, d, nnodes, nbuckets;
-    float *pts;        /* n*d, in tree order */
-    float *bucket;     /* per bucket (d+1)*PW_KD_BUCKET floats: coordinate k of slot j
+    float *pts;    /* n*d, in tree order */
+    float *bucket; /* per bucket (d+1)*PW_KD_BUCKET floats: coordinate k of slot j
                           at [k*B + j], penalty at [d*B + j]; empty slots cost FLT_MAX */
-    int *idx;          /* n: caller's index of tree point i */
-    int *pos;          /* n: tree position of caller's point i */
-    int *leaf_of;      /* n: leaf node of tree point i */
+    int *idx;      /* n: caller's index of tree point i */
+    int *pos;      /* n: tree position of caller's point i */
+    int *leaf_of;  /* n: leaf node of tree point i */
     pw__kdnode *node;
 } pw_kdtree;
 
@@ -16002,7 +16111,10 @@ PW__DEF int pw__kd_widest(const pw_kdtree *t, int lo, int hi)
             mn = x < mn ? x : mn;
             mx = x > mx ? x : mx;
         }
-        if (mx - mn > wbest) wbest = mx - mn, best = k;
+        if (mx - mn > wbest) {
+            wbest = mx - mn;
+            best = k;
+        }
     }
     return best;
 }
@@ -16125,11 +16237,11 @@ PW__DEF void pw_kdtree_set_penalty(pw_kdtree *t, int i, float pen)
 
 typedef struct pw__kdsearch {
     const float *q;
-    float *off;    /* per-dimension offset of q from the current cell */
-    float scale;   /* (1 + eps)^2 */
+    float *off;  /* per-dimension offset of q from the current cell */
+    float scale; /* (1 + eps)^2 */
     float best;
-    int bi;        /* tree position of the best point, -1 none */
-    int budget;    /* buckets that may still be visited (negative: no limit) */
+    int bi;     /* tree position of the best point, -1 none */
+    int budget; /* buckets that may still be visited (negative: no limit) */
 } pw__kdsearch;
 
 /* Costs of a whole bucket in one loop over its slots. */
@@ -16145,7 +16257,10 @@ PW__DEF void pw__kd_leaf(const pw_kdtree *t, const pw__kdnode *nd, pw__kdsearch 
         for (j = 0; j < B; j++) c[j] += (qk - x[j]) * (qk - x[j]);
     }
     for (j = 0; j < B; j++)
-        if (c[j] < s->best) s->best = c[j], s->bi = nd->lo + j;
+        if (c[j] < s->best) {
+            s->best = c[j];
+            s->bi = nd->lo + j;
+        }
 }
 
 /* Searches below node ni, whose cell is at squared distance rd from q and
@@ -16161,7 +16276,10 @@ PW__DEF void pw__kd_search(const pw_kdtree *t, int ni, float rd, pw__kdsearch *s
         float diff, old, rfar;
         int near, far;
         if (nd->dim < 0) {
-            if (s->budget != 0) pw__kd_leaf(t, nd, s), s->budget--;
+            if (s->budget != 0) {
+                pw__kd_leaf(t, nd, s);
+                s->budget--;
+            }
             break;
         }
         diff = s->q[nd->dim] - nd->split;
@@ -16354,11 +16472,13 @@ PW__DEF int pw_pca_solve(const pw_alloc *a, const pw_pca *p, const pw_pca_out *o
     for (r = 0; r < k; r++) { /* selection of the largest remaining eigenvalue */
         int best = -1, big = 0;
         for (j = 0; j < d; j++)
-            if (c[(size_t)j * d + j] > -DBL_MAX && (best < 0 || c[(size_t)j * d + j] > c[(size_t)best * d + best])) best = j;
+            if (c[(size_t)j * d + j] > -DBL_MAX && (best < 0 || c[(size_t)j * d + j] > c[(size_t)best * d + best]))
+                best = j;
         for (i = 1; i < d; i++)
             if (fabs(v[(size_t)i * d + best]) > fabs(v[(size_t)big * d + best])) big = i;
         for (i = 0; i < d; i++)
-            basis[(size_t)r * d + i] = (float)(v[(size_t)big * d + best] < 0.0 ? -v[(size_t)i * d + best] : v[(size_t)i * d + best]);
+            basis[(size_t)r * d + i] =
+                (float)(v[(size_t)big * d + best] < 0.0 ? -v[(size_t)i * d + best] : v[(size_t)i * d + best]);
         if (var) var[r] = (float)(c[(size_t)best * d + best] > 0.0 ? c[(size_t)best * d + best] : 0.0);
         c[(size_t)best * d + best] = -DBL_MAX;
     }
@@ -16524,13 +16644,15 @@ static int pgp__check_values(const pgp_constraint *c, pw_err *e)
     if (c->kind != PGP_CONSTRAINT_ORIENT && c->kind != PGP_CONSTRAINT_SCALE && c->kind != PGP_CONSTRAINT_MATERIAL)
         return pw_fail(e, PW_ERR_INVALID, "unknown constraint kind %d", (int)c->kind);
     if (c->element < 0) return pw_fail(e, PW_ERR_INVALID, "%s %d does not exist", what, c->element);
-    if (!pw_is_finite(c->radius)) return pw_fail(e, PW_ERR_INVALID, "effect radius %g is not finite", (double)c->radius);
+    if (!pw_is_finite(c->radius))
+        return pw_fail(e, PW_ERR_INVALID, "effect radius %g is not finite", (double)c->radius);
     if (c->kind == PGP_CONSTRAINT_ORIENT && (!pw_is_finite(v[0]) || !pw_is_finite(v[1]) || !pw_is_finite(v[2]) ||
                                              (v[0] == 0.0f && v[1] == 0.0f && v[2] == 0.0f)))
         return pw_fail(e, PW_ERR_INVALID, "orientation (%g, %g, %g) at triangle %d is zero or not finite", (double)v[0],
                        (double)v[1], (double)v[2], c->element);
     if (c->kind == PGP_CONSTRAINT_SCALE && !(v[0] > 0.0f && pw_is_finite(v[0])))
-        return pw_fail(e, PW_ERR_INVALID, "scale %g at vertex %d is not a positive finite number", (double)v[0], c->element);
+        return pw_fail(e, PW_ERR_INVALID, "scale %g at vertex %d is not a positive finite number", (double)v[0],
+                       c->element);
     if (c->kind == PGP_CONSTRAINT_MATERIAL && !(v[0] >= 0.0f && v[0] <= 1.0f))
         return pw_fail(e, PW_ERR_INVALID, "material %g at vertex %d is not in [0, 1]", (double)v[0], c->element);
     return PW_OK;
@@ -16551,7 +16673,7 @@ typedef struct pgp_map_state pgp__state;
 struct pgp_map_state {
     pw_alloc a;
     pgp_options o;
-    float *pos;           /* nv*3, the map's own copy of the positions */
+    float *pos; /* nv*3, the map's own copy of the positions */
     pw_trimesh m;
     float *conn;          /* dirfield connection, 3nf*2 */
     double *dual;         /* dual edge lengths per half-edge (Dijkstra) */
@@ -16568,7 +16690,7 @@ struct pgp_map_state {
     unsigned char *vsing; /* nv: singular 1-ring (§3) */
     unsigned char *fsing; /* nf: a corner's 1-ring is singular */
     int nsing;
-    float scale0;         /* default tile side */
+    float scale0; /* default tile side */
     pgp__constraint *con;
     int ncon;
     size_t concap;
@@ -16598,7 +16720,8 @@ static double pgp__face_scale(const pgp__state *P, int f)
 {
     const int *t = P->m.tri + 3 * f;
     return ((double)P->scale[t[0]] * P->sfac[t[0]] + (double)P->scale[t[1]] * P->sfac[t[1]] +
-            (double)P->scale[t[2]] * P->sfac[t[2]]) / 3.0;
+            (double)P->scale[t[2]] * P->sfac[t[2]]) /
+           3.0;
 }
 
 /* g = d / S^T for s (k = 0) or t (k = 1). */
@@ -16653,7 +16776,8 @@ PGPDEF pgp_result pgp_map_field(const pgp_map *map, pgp_field *out, pgp_error *e
         pgp_field_free(out);
         return pgp__done(&pe, err);
     }
-    out->ntris = P->m.nf, out->nverts = P->m.nv;
+    out->ntris = P->m.nf;
+    out->nverts = P->m.nv;
     for (f = 0; f < P->m.nf; f++) pw_v3_store(out->dir + 3 * f, pgp__dir3(P, f, 0));
     memcpy(out->scale, P->scale, sizeof(float) * (size_t)P->m.nv);
     memcpy(out->material, P->mat, sizeof(float) * (size_t)P->m.nv);
@@ -16673,8 +16797,8 @@ PGPDEF pgp_result pgp_map_field(const pgp_map *map, pgp_field *out, pgp_error *e
  * IC(0)-preconditioned CG, or, with `complex` set, complex Hermitian
  * (zsparse.h: n x 2n triplets, b and x complex) by its complex
  * counterpart. */
-static int pgp__pd_solve(const pw_alloc *a, const pw_triplets *t, int complex, const double *b, double *x,
-                         double tol, pw_err *e)
+static int pgp__pd_solve(const pw_alloc *a, const pw_triplets *t, int complex, const double *b, double *x, double tol,
+                         pw_err *e)
 {
     pw_csr A;
     pw_ic0 L;
@@ -16707,8 +16831,8 @@ static int pgp__pd_solve(const pw_alloc *a, const pw_triplets *t, int complex, c
  * visits the triangles in order of increasing distance to the nearest
  * constraint"); radius <= 0 takes every triangle. in[f] = 1 for them;
  * order (nf) lists them, *n their number. */
-static int pgp__area(const pgp__state *P, const int *seeds, int nseeds, float radius, unsigned char *in,
-                     int *order, int *n, pw_err *e)
+static int pgp__area(const pgp__state *P, const int *seeds, int nseeds, float radius, unsigned char *in, int *order,
+                     int *n, pw_err *e)
 {
     const pw_trimesh *m = &P->m;
     double *dist = (double *)pw_alloc_array(&P->a, (size_t)m->nf * 4 + 1, sizeof(double), "effect area", e);
@@ -16723,10 +16847,14 @@ static int pgp__area(const pgp__state *P, const int *seeds, int nseeds, float ra
         return PW_ERR_NOMEM;
     }
     memset(&hp, 0, sizeof hp);
-    hp.key = dist + m->nf, hp.item = hf;
+    hp.key = dist + m->nf;
+    hp.item = hf;
     for (f = 0; f < m->nf; f++) dist[f] = DBL_MAX;
     for (i = 0; i < nseeds; i++)
-        if (dist[seeds[i]] > 0.0) dist[seeds[i]] = 0.0, pw_heap_insert(&hp, 0.0, seeds[i]);
+        if (dist[seeds[i]] > 0.0) {
+            dist[seeds[i]] = 0.0;
+            pw_heap_insert(&hp, 0.0, seeds[i]);
+        }
     while (hp.n > 0) {
         double d = hp.key[0];
         f = pw_heap_pop(&hp);
@@ -16743,7 +16871,10 @@ static int pgp__area(const pgp__state *P, const int *seeds, int nseeds, float ra
         }
     }
     for (f = 0; radius <= 0.0f && f < m->nf; f++) /* components the seeds do not reach */
-        if (!in[f]) in[f] = 1, order[(*n)++] = f;
+        if (!in[f]) {
+            in[f] = 1;
+            order[(*n)++] = f;
+        }
     pw_free(&P->a, dist);
     pw_free(&P->a, hf);
     return PW_OK;
@@ -16768,7 +16899,8 @@ static void pgp__free_vertices(const pgp__state *P, const unsigned char *in, uns
 static double pgp__cot(const pw_trimesh *m, int f, int k)
 {
     pw_v3 p = pw_trimesh_corner(m, f, k);
-    pw_v3 a = pw_v3_sub(pw_trimesh_corner(m, f, (k + 1) % 3), p), b = pw_v3_sub(pw_trimesh_corner(m, f, (k + 2) % 3), p);
+    pw_v3 a = pw_v3_sub(pw_trimesh_corner(m, f, (k + 1) % 3), p),
+          b = pw_v3_sub(pw_trimesh_corner(m, f, (k + 2) % 3), p);
     double c = pw_v3_dot(a, b), s = pw_v3_len(pw_v3_cross(a, b));
     return s > 0.0 ? c / s : 0.0;
 }
@@ -16907,8 +17039,10 @@ static int pgp__dir_smooth(pgp__state *P, const unsigned char *free, const doubl
     for (f = 0; r == PW_OK && n > 0 && f < m->nf; f++)
         if (id[f] >= 0) {
             double w = pull ? pull[f] + PGP__PULL : PGP__PULL;
-            x[2 * id[f]] = P->dir[2 * f], x[2 * id[f] + 1] = P->dir[2 * f + 1];
-            b[2 * id[f]] += w * P->base[2 * f], b[2 * id[f] + 1] += w * P->base[2 * f + 1];
+            x[2 * id[f]] = P->dir[2 * f];
+            x[2 * id[f] + 1] = P->dir[2 * f + 1];
+            b[2 * id[f]] += w * P->base[2 * f];
+            b[2 * id[f] + 1] += w * P->base[2 * f + 1];
             r = pw_ztriplets_add(&t, id[f], id[f], w, 0.0, e);
         }
     for (h = 0; r == PW_OK && n > 0 && h < 3 * m->nf; h++)
@@ -16917,8 +17051,12 @@ static int pgp__dir_smooth(pgp__state *P, const unsigned char *free, const doubl
     for (f = 0; r == PW_OK && n > 0 && f < m->nf; f++)
         if (id[f] >= 0) {
             double *z = P->dir + 2 * f;
-            z[0] = x[2 * id[f]], z[1] = x[2 * id[f] + 1];
-            if (!pw_df_unit(z)) z[0] = P->base[2 * f], z[1] = P->base[2 * f + 1];
+            z[0] = x[2 * id[f]];
+            z[1] = x[2 * id[f] + 1];
+            if (!pw_df_unit(z)) {
+                z[0] = P->base[2 * f];
+                z[1] = P->base[2 * f + 1];
+            }
         }
     pw_triplets_free(&t);
     pw_free(&P->a, id);
@@ -16944,17 +17082,20 @@ static int pgp__base_field(pgp__state *P, pw_err *e)
     pw_v3 up = pw_v3_norm(pw_v3_load(P->o.up));
     int r = known && pull ? PW_OK : PW_ERR_NOMEM, f;
     pw_df_field F;
-    F.m = &P->m, F.conn = P->conn, F.z = P->base, F.known = known;
-    if (r == PW_OK && P->o.field == PGP_FIELD_CURVATURE)
-        r = pw_df_curvature(&P->a, &F, up, P->o.smoothing, e);
-    else if (r == PW_OK)
-        r = pw_df_up(&P->a, &F, up, e);
+    F.m = &P->m;
+    F.conn = P->conn;
+    F.z = P->base;
+    F.known = known;
+    if (r == PW_OK && P->o.field == PGP_FIELD_CURVATURE) r = pw_df_curvature(&P->a, &F, up, P->o.smoothing, e);
+    else if (r == PW_OK) r = pw_df_up(&P->a, &F, up, e);
     for (f = 0; r == PW_OK && f < P->m.nf; f++) { /* that is d_t; d_s = rot(-90)(d_t) */
         double x = P->base[2 * f], c = pw_v3_dot(up, pw_v3_load(P->m.normal + 3 * f));
         P->base[2 * f] = P->base[2 * f + 1];
         P->base[2 * f + 1] = -x;
-        P->dir[2 * f] = P->base[2 * f], P->dir[2 * f + 1] = P->base[2 * f + 1];
-        pull[f] = (P->o.field == PGP_FIELD_CURVATURE ? 1.0 : 1.0 - c * c) * P->m.area[f] / ((double)P->scale0 * P->scale0);
+        P->dir[2 * f] = P->base[2 * f];
+        P->dir[2 * f + 1] = P->base[2 * f + 1];
+        pull[f] =
+            (P->o.field == PGP_FIELD_CURVATURE ? 1.0 : 1.0 - c * c) * P->m.area[f] / ((double)P->scale0 * P->scale0);
         known[f] = 1;
     }
     if (r == PW_OK) r = pgp__dir_smooth(P, known, pull, e);
@@ -16994,7 +17135,10 @@ static int pgp__interp_dir(pgp__state *P, const unsigned char *in, int whole, un
         mark[c->element] = 0;
     }
     for (f = 0; whole && f < P->m.nf; f++) /* nothing outside: start from the default */
-        if (mark[f]) P->dir[2 * f] = P->base[2 * f], P->dir[2 * f + 1] = P->base[2 * f + 1];
+        if (mark[f]) {
+            P->dir[2 * f] = P->base[2 * f];
+            P->dir[2 * f + 1] = P->base[2 * f + 1];
+        }
     return pgp__dir_smooth(P, mark, NULL, e);
 }
 
@@ -17006,7 +17150,8 @@ static int pgp__interp_vertex(pgp__state *P, pgp_constraint_kind kind, const uns
 {
     float *val = kind == PGP_CONSTRAINT_SCALE ? P->scale : P->mat;
     float fallback = kind == PGP_CONSTRAINT_SCALE ? P->scale0 : P->o.material;
-    float lo = kind == PGP_CONSTRAINT_SCALE ? P->o.min_scale * P->scale0 : 0.0f, hi = kind == PGP_CONSTRAINT_SCALE ? FLT_MAX : 1.0f;
+    float lo = kind == PGP_CONSTRAINT_SCALE ? P->o.min_scale * P->scale0 : 0.0f,
+          hi = kind == PGP_CONSTRAINT_SCALE ? FLT_MAX : 1.0f;
     int v, i, r;
     memset(locked, 0, (size_t)P->m.nv);
     for (i = 0; i < P->ncon; i++)
@@ -17054,8 +17199,7 @@ static double pgp__turns(double x, double y)
     if (fabs(y) <= fabs(x)) {
         a = pgp__atan(y / x);
         if (x < 0.0) a += y >= 0.0 ? pi : -pi;
-    } else
-        a = (y > 0.0 ? 0.5 * pi : -0.5 * pi) - pgp__atan(x / y);
+    } else a = (y > 0.0 ? 0.5 * pi : -0.5 * pi) - pgp__atan(x / y);
     return a / PGP__TWO_PI;
 }
 
@@ -17095,8 +17239,7 @@ static double pgp__alpha(const pgp__state *P, int h, int k)
 static double pgp__pgp_weight(const pgp__state *P, int h)
 {
     int tw = P->m.hm.twin[h];
-    if (P->o.weights == PGP_WEIGHTS_AREA)
-        return (double)P->m.area[h / 3] + (tw >= 0 ? (double)P->m.area[tw / 3] : 0.0);
+    if (P->o.weights == PGP_WEIGHTS_AREA) return (double)P->m.area[h / 3] + (tw >= 0 ? (double)P->m.area[tw / 3] : 0.0);
     return pgp__lap_weight(&P->m, h);
 }
 
@@ -17109,8 +17252,8 @@ static double pgp__pgp_weight(const pgp__state *P, int h)
  * flat grid, where the exact answer is linear.) In the complex Hermitian
  * system: w on both diagonals, -w e^{i alpha} at (j, i) and its conjugate
  * at (i, j); a fixed end moves to the right-hand side. */
-static int pgp__pgp_edge(const pgp__state *P, const double *z, const int *id, int h, int k, pw_triplets *t,
-                         double *b, pw_err *e)
+static int pgp__pgp_edge(const pgp__state *P, const double *z, const int *id, int h, int k, pw_triplets *t, double *b,
+                         pw_err *e)
 {
     int f = h / 3;
     int vi = P->m.tri[h], vj = P->m.tri[3 * f + (h % 3 + 1) % 3], i = id[vi], j = id[vj], r = PW_OK;
@@ -17199,7 +17342,8 @@ static int pgp__propagate(pgp__state *P, double *z, const int *id, int k, pw_err
             w = fw ? m->tri[3 * (hh / 3) + (hh % 3 + 1) % 3] : m->tri[hh];
             if (done[w]) continue;
             a = PGP__TWO_PI * pgp__alpha(P, hh, k) * (fw ? 1.0 : -1.0);
-            c = pw_cos(a), sn = pw_sin(a);
+            c = pw_cos(a);
+            sn = pw_sin(a);
             z[2 * w] = c * zu[0] - sn * zu[1];
             z[2 * w + 1] = sn * zu[0] + c * zu[1];
             done[w] = 1;
@@ -17208,7 +17352,10 @@ static int pgp__propagate(pgp__state *P, double *z, const int *id, int k, pw_err
         if (head == tail) /* a piece no fixed vertex reaches: start it at z = 1 */
             for (v = 0; v < m->nv; v++)
                 if (!done[v]) {
-                    done[v] = 1, z[2 * v] = 1.0, z[2 * v + 1] = 0.0, queue[tail++] = v;
+                    done[v] = 1;
+                    z[2 * v] = 1.0;
+                    z[2 * v + 1] = 0.0;
+                    queue[tail++] = v;
                     break;
                 }
     }
@@ -17237,12 +17384,12 @@ static int pgp__pgp_solve(pgp__state *P, double *z, const int *id, int n, int k,
     if (r == PW_OK) r = pw_triplets_init(&t, &P->a, n, 2 * n, e);
     for (h = 0; r == PW_OK && h < 3 * P->m.nf; h++)
         if (P->m.hm.twin[h] < h) r = pgp__pgp_edge(P, z, id, h, k, &t, b, e); /* each edge once */
-    for (q = 0; r == PW_OK && q < t.count; q++) /* the (real) diagonal of F's matrix */
+    for (q = 0; r == PW_OK && q < t.count; q++)                               /* the (real) diagonal of F's matrix */
         if (t.col[q] == 2 * t.row[q]) dg[t.row[q]] += t.val[q];
     if (r == PW_OK) r = pgp__propagate(P, z, id, k, e);
-    if (r == PW_OK && (r = pw_zcsr_from_triplets(&P->a, &t, &A, e)) == PW_OK)
-        r = pgp__diag_index(&P->a, &A, &dpos, e);
-    if (r == PW_OK && !(rhs = (double *)pw_alloc_array(&P->a, (size_t)n * 2, sizeof(double), "PGP", e))) r = PW_ERR_NOMEM;
+    if (r == PW_OK && (r = pw_zcsr_from_triplets(&P->a, &t, &A, e)) == PW_OK) r = pgp__diag_index(&P->a, &A, &dpos, e);
+    if (r == PW_OK && !(rhs = (double *)pw_alloc_array(&P->a, (size_t)n * 2, sizeof(double), "PGP", e)))
+        r = PW_ERR_NOMEM;
     o.max_iter = 4000;
     for (step = 0; r == PW_OK && step < PGP__STEPS; step++) {
         double mu = pgp__mu[step];
@@ -17251,7 +17398,8 @@ static int pgp__pgp_solve(pgp__state *P, double *z, const int *id, int n, int k,
         if ((r = pw_zic0_factor(&P->a, &A, &L, e)) != PW_OK) break;
         for (v = 0; v < P->m.nv; v++)
             if ((q = id[v]) >= 0) {
-                x[2 * q] = z[2 * v], x[2 * q + 1] = z[2 * v + 1];
+                x[2 * q] = z[2 * v];
+                x[2 * q + 1] = z[2 * v + 1];
                 rhs[2 * q] = b[2 * q] + mu * dg[q] * z[2 * v];
                 rhs[2 * q + 1] = b[2 * q + 1] + mu * dg[q] * z[2 * v + 1];
             }
@@ -17260,8 +17408,12 @@ static int pgp__pgp_solve(pgp__state *P, double *z, const int *id, int n, int k,
         for (v = 0; r == PW_OK && v < P->m.nv; v++)
             if ((q = id[v]) >= 0) {
                 double zz[2];
-                zz[0] = x[2 * q], zz[1] = x[2 * q + 1];
-                if (pw_df_unit(zz)) z[2 * v] = zz[0], z[2 * v + 1] = zz[1];
+                zz[0] = x[2 * q];
+                zz[1] = x[2 * q + 1];
+                if (pw_df_unit(zz)) {
+                    z[2 * v] = zz[0];
+                    z[2 * v + 1] = zz[1];
+                }
             }
     }
     pw_free(&P->a, dpos);
@@ -17293,7 +17445,10 @@ static int pgp__pgp(pgp__state *P, const unsigned char *vfree, int whole, pw_err
     for (c = 0; r == PW_OK && c < P->m.nv; c++) {
         v = P->vorder[c];
         id[v] = vfree[v] && !lock[v] ? n++ : -1;
-        if (lock[v]) P->zs[2 * v] = P->zt[2 * v] = 1.0, P->zs[2 * v + 1] = P->zt[2 * v + 1] = 0.0;
+        if (lock[v]) {
+            P->zs[2 * v] = P->zt[2 * v] = 1.0;
+            P->zs[2 * v + 1] = P->zt[2 * v + 1] = 0.0;
+        }
     }
     if (r == PW_OK && n > 0) r = pgp__pgp_solve(P, P->zs, id, n, 0, e);
     if (r == PW_OK && n > 0) r = pgp__pgp_solve(P, P->zt, id, n, 1, e);
@@ -17364,7 +17519,8 @@ static int pgp__mismatch(const pgp__state *P, int h)
 {
     int t = P->m.hm.twin[h], f = h / 3, g, c = h % 3, d, k;
     if (t < 0) return 0;
-    g = t / 3, d = t % 3; /* h runs from corner c to c+1 of f, t from corner d to d+1 of g */
+    g = t / 3;
+    d = t % 3; /* h runs from corner c to c+1 of f, t from corner d to d+1 of g */
     for (k = 0; k < 2; k++) {
         double df = P->stm[9 * f + 3 * ((c + 1) % 3) + k] - P->stm[9 * f + 3 * c + k];
         double dg = P->stm[9 * g + 3 * d + k] - P->stm[9 * g + 3 * ((d + 1) % 3) + k];
@@ -17447,7 +17603,10 @@ static int pgp__edit(pgp__state *P, pgp_constraint_kind kind, const int *seeds, 
     if (r == PW_OK && area) {
         area->faces = (int *)pw_alloc_array(&P->a, (size_t)n, sizeof(int), "effect area", e);
         if (!area->faces) r = PW_ERR_NOMEM;
-        else memcpy(area->faces, order, sizeof(int) * (size_t)n), area->nfaces = n;
+        else {
+            memcpy(area->faces, order, sizeof(int) * (size_t)n);
+            area->nfaces = n;
+        }
         area->allocator = pgp__allocator(&P->a);
     }
     pw_free(&P->a, in);
@@ -17517,13 +17676,20 @@ static void pgp__bfs_order(pgp__state *P)
     unsigned char *fdone = P->vsing + nv, *vdone = P->vsing;
     for (s = 0; s < nf; s++) {
         if (fdone[s]) continue;
-        fdone[s] = 1, P->forder[tail++] = s;
+        fdone[s] = 1;
+        P->forder[tail++] = s;
         while (head < tail) {
             int f = P->forder[head++];
             for (k = 0; k < 3; k++) {
                 int g = pw_trimesh_across(&P->m, f, k), v = P->m.tri[3 * f + k];
-                if (!vdone[v]) vdone[v] = 1, P->vorder[nvo++] = v;
-                if (g >= 0 && !fdone[g]) fdone[g] = 1, P->forder[tail++] = g;
+                if (!vdone[v]) {
+                    vdone[v] = 1;
+                    P->vorder[nvo++] = v;
+                }
+                if (g >= 0 && !fdone[g]) {
+                    fdone[g] = 1;
+                    P->forder[tail++] = g;
+                }
             }
         }
     }
@@ -17544,9 +17710,14 @@ static int pgp__setup(pgp__state *P, const pgp_mesh *in, pw_err *e)
     if (!P->pos) return PW_ERR_NOMEM;
     memcpy(P->pos, in->positions, sizeof(float) * 3 * (size_t)in->nverts);
     memset(&v, 0, sizeof v);
-    v.nv = in->nverts, v.pos = P->pos, v.nf = in->nfaces, v.fstart = in->face_start, v.fv = in->face_verts;
+    v.nv = in->nverts;
+    v.pos = P->pos;
+    v.nf = in->nfaces;
+    v.fstart = in->face_start;
+    v.fv = in->face_verts;
     if ((r = pw_trimesh_init(&P->a, &v, &P->m, e)) != PW_OK) return r;
-    nf = (size_t)P->m.nf, nv = (size_t)P->m.nv;
+    nf = (size_t)P->m.nf;
+    nv = (size_t)P->m.nv;
     P->dual = (double *)pw_alloc_array(&P->a, 3 * nf, sizeof(double), "mapping", e);
     P->base = (double *)pw_alloc_array(&P->a, 4 * nf, sizeof(double), "mapping", e);
     P->scale = (float *)pw_alloc_array(&P->a, 2 * nv + 9 * nf, sizeof(float), "mapping", e);
@@ -17592,7 +17763,8 @@ static int pgp__curl_rows(const pgp__state *P, int f, pw_triplets *t, double *b,
         for (a = 0, c = 0.0; a < 3; a++) c += al[k][a];
         for (a = 0; a < 3; a++) { /* corner a touches edges a and a - 1 */
             int am = (a + 2) % 3;
-            col[2 * a] = 2 * P->m.tri[3 * f + a], col[2 * a + 1] = col[2 * a] + 1;
+            col[2 * a] = 2 * P->m.tri[3 * f + a];
+            col[2 * a + 1] = col[2 * a] + 1;
             row[2 * a] = -0.5 * (al[k][a] + al[k][am]) + c / 3.0;
             row[2 * a + 1] = (k ? -0.5 : 0.5) * (al[1 - k][a] + al[1 - k][am]);
         }
@@ -17614,7 +17786,8 @@ static int pgp__curl_reg(const pgp__state *P, pw_triplets *t, pw_err *e)
     double S2 = (double)P->scale0 * P->scale0, lam = 1.0 / ((double)P->o.integrable * S2 * S2), w;
     int h, k, i, j, r = PW_OK;
     for (h = 0; h < 3 * P->m.nf && r == PW_OK; h++) {
-        i = P->m.tri[h], j = P->m.tri[3 * (h / 3) + (h % 3 + 1) % 3];
+        i = P->m.tri[h];
+        j = P->m.tri[3 * (h / 3) + (h % 3 + 1) % 3];
         for (k = 0; k < 2 && r == PW_OK; k++) /* a third of the triangle's area to each corner */
             r = pw_triplets_add(t, 2 * i + k, 2 * i + k, lam * P->m.area[h / 3] / 3.0, e);
         if (P->m.hm.twin[h] >= 0 && P->m.hm.twin[h] < h) continue;
@@ -17637,7 +17810,10 @@ static void pgp__curl_apply(pgp__state *P, const double *x)
     double mean = 0.0, area = 0.0;
     int v, f, h;
     for (h = 0; h < 3 * P->m.nf; h++) /* the mean of u is 0: the tile side the user asked for */
-        mean += x[2 * P->m.tri[h]] * P->m.area[h / 3], area += P->m.area[h / 3];
+    {
+        mean += x[2 * P->m.tri[h]] * P->m.area[h / 3];
+        area += P->m.area[h / 3];
+    }
     mean = area > 0.0 ? mean / area : 0.0;
     for (v = 0; v < P->m.nv; v++) {
         double s = P->sfac[v] * (1.0 + x[2 * v] - mean);
@@ -17647,9 +17823,13 @@ static void pgp__curl_apply(pgp__state *P, const double *x)
         const int *tr = P->m.tri + 3 * f;
         double th = (x[2 * tr[0] + 1] + x[2 * tr[1] + 1] + x[2 * tr[2] + 1]) / 3.0, c, s, *d = P->base + 2 * f;
         th = th > 0.5 ? 0.5 : (th < -0.5 ? -0.5 : th); /* at most ~30 degrees per step */
-        c = pw_cos(th), s = pw_sin(th);
-        th = c * d[0] - s * d[1], d[1] = s * d[0] + c * d[1], d[0] = th;
-        P->dir[2 * f] = d[0], P->dir[2 * f + 1] = d[1];
+        c = pw_cos(th);
+        s = pw_sin(th);
+        th = c * d[0] - s * d[1];
+        d[1] = s * d[0] + c * d[1];
+        d[0] = th;
+        P->dir[2 * f] = d[0];
+        P->dir[2 * f + 1] = d[1];
     }
 }
 
@@ -17702,8 +17882,10 @@ static int pgp__check_scale(const pgp__state *P, pw_err *e)
 {
     double lo = 2.0 * pgp__mean_edge(P), hi = 10.0 * P->m.diag;
     if (P->o.scale > 0.0f && (P->scale0 > hi || P->scale0 < lo))
-        return pw_fail(e, PW_ERR_INVALID, "tile side %g is outside [%g, %g] (2 mean edge lengths to 10 bounding-box "
-                       "diagonals)", (double)P->scale0, lo, hi);
+        return pw_fail(e, PW_ERR_INVALID,
+                       "tile side %g is outside [%g, %g] (2 mean edge lengths to 10 bounding-box "
+                       "diagonals)",
+                       (double)P->scale0, lo, hi);
     return PW_OK;
 }
 
@@ -17724,14 +17906,23 @@ static int pgp__create_map(const pgp_mesh *mesh, const pgp_options *opt, pgp_map
     out->allocator = pgp__allocator(&a);
     if (pgp__setup(P, mesh, e) != PW_OK) return e->code;
     P->scale0 = o.scale > 0.0f ? o.scale : 0.1f * P->m.diag;
-    for (v = 0; v < P->m.nv; v++) P->scale[v] = P->scale0, P->sfac[v] = 1.0f, P->mat[v] = o.material;
-    for (v = 0; v < P->m.nv; v++) P->zs[2 * v] = P->zt[2 * v] = 1.0, P->zs[2 * v + 1] = P->zt[2 * v + 1] = 0.0;
+    for (v = 0; v < P->m.nv; v++) {
+        P->scale[v] = P->scale0;
+        P->sfac[v] = 1.0f;
+        P->mat[v] = o.material;
+    }
+    for (v = 0; v < P->m.nv; v++) {
+        P->zs[2 * v] = P->zt[2 * v] = 1.0;
+        P->zs[2 * v + 1] = P->zt[2 * v + 1] = 0.0;
+    }
     if (pgp__check_scale(P, e) != PW_OK || pgp__base_field(P, e) != PW_OK ||
         (o.integrable > 0.0f && pgp__integrable(P, e) != PW_OK) ||
         pgp__edit(P, PGP_CONSTRAINT_ORIENT, NULL, 0, 0.0f, NULL, e) != PW_OK)
         return e->code;
-    out->nverts = P->m.nv, out->ntris = P->m.nf;
-    out->tris = P->m.tri, out->coords = P->stm;
+    out->nverts = P->m.nv;
+    out->ntris = P->m.nf;
+    out->tris = P->m.tri;
+    out->coords = P->stm;
     return PW_OK;
 }
 
@@ -17748,11 +17939,16 @@ static int pgp__distortion(const pgp__state *P, int f)
     double S = ((double)sc[tr3[0]] + sc[tr3[1]] + sc[tr3[2]]) / 3.0, a, b, c, d, tr, det, disc, s1, s2, cs;
     pw_v3 u, v, gs = pgp__gradient(P, f, o[0], o[3], o[6]), gt = pgp__gradient(P, f, o[1], o[4], o[7]);
     pgp__frame(P, f, &u, &v);
-    a = S * pw_v3_dot(gs, u), b = S * pw_v3_dot(gs, v), c = S * pw_v3_dot(gt, u), d = S * pw_v3_dot(gt, v);
-    tr = a * a + b * b + c * c + d * d, det = a * d - b * c; /* s1^2 + s2^2 and s1 s2 */
+    a = S * pw_v3_dot(gs, u);
+    b = S * pw_v3_dot(gs, v);
+    c = S * pw_v3_dot(gt, u);
+    d = S * pw_v3_dot(gt, v);
+    tr = a * a + b * b + c * c + d * d;
+    det = a * d - b * c; /* s1^2 + s2^2 and s1 s2 */
     disc = tr * tr - 4.0 * det * det;
     disc = sqrt(disc > 0.0 ? disc : 0.0);
-    s1 = sqrt(0.5 * (tr + disc)), s2 = tr > disc ? sqrt(0.5 * (tr - disc)) : 0.0;
+    s1 = sqrt(0.5 * (tr + disc));
+    s2 = tr > disc ? sqrt(0.5 * (tr - disc)) : 0.0;
     cs = (a * c + b * d) / (sqrt(a * a + b * b) * sqrt(c * c + d * d) + 1e-300);
     return (s1 > 1.3 || s2 < 1.0 / 1.3) + 2 * (fabs(cs) > 0.3420201433); /* sin 20 deg */
 }
@@ -17869,7 +18065,8 @@ PGPDEF pgp_result pgp_add_constraint(pgp_map *map, const pgp_constraint *c, int 
     pw_err pe;
     pw_err_clear(&pe);
     if (area) memset(area, 0, sizeof *area);
-    if (!map || !map->state || !c) pw_fail(&pe, PW_ERR_INVALID, "pgp_add_constraint: NULL or empty map, or NULL constraint");
+    if (!map || !map->state || !c)
+        pw_fail(&pe, PW_ERR_INVALID, "pgp_add_constraint: NULL or empty map, or NULL constraint");
     else pgp__add(map->state, c, id, area, &pe);
     return pgp__done(&pe, err);
 }
@@ -17878,7 +18075,10 @@ PGPDEF pgp_result pgp_add_constraint(pgp_map *map, const pgp_constraint *c, int 
 static pgp__constraint *pgp__find(pgp_map *map, int id, pw_err *e)
 {
     pgp__state *P = map ? map->state : NULL;
-    if (!P) return pw_fail(e, PW_ERR_INVALID, "NULL or empty map"), (pgp__constraint *)NULL;
+    if (!P) {
+        pw_fail(e, PW_ERR_INVALID, "NULL or empty map");
+        return (pgp__constraint *)NULL;
+    }
     if (id < 0 || id >= P->ncon || !P->con[id].alive) {
         pw_fail(e, PW_ERR_INVALID, "there is no constraint %d", id);
         return NULL;
@@ -17975,7 +18175,10 @@ static void pgp__views(const pgp__state *P, int f, int all, float *out)
         for (b = 0; b < 3; b++) {
             float *o = out + 6 * a + 2 * b;
             if (all || P->vsing[P->m.tri[3 * f + a]]) pgp__view(P, f, a, b, o);
-            else o[0] = P->stm[9 * f + 3 * b], o[1] = P->stm[9 * f + 3 * b + 1];
+            else {
+                o[0] = P->stm[9 * f + 3 * b];
+                o[1] = P->stm[9 * f + 3 * b + 1];
+            }
         }
 }
 
@@ -17997,20 +18200,36 @@ static void pgp__clean_coord(const pgp__state *P, int f, int k, float *o)
         double d = (double)c[3 * ((a + 1) % 3) + k] - c[3 * a + k], al = pgp__alpha(P, 3 * f + a, k);
         D[a] = d + floor(al - d + 0.5);
     }
-    U[0] = c[k], U[1] = U[0] + D[0], U[2] = U[1] + D[1];
-    V[0] = c[k], V[1] = c[k] + pgp__alpha(P, 3 * f, k), V[2] = c[k] - pgp__alpha(P, 3 * f + 2, k);
-    for (a = 0; a < 3; a++) o[a] = (float)U[a], o[3 + a] = (float)D[a], o[6 + a] = (float)V[a];
-    o[9] = -1.0f, o[10] = o[11] = 0.0f;
+    U[0] = c[k];
+    U[1] = U[0] + D[0];
+    U[2] = U[1] + D[1];
+    V[0] = c[k];
+    V[1] = c[k] + pgp__alpha(P, 3 * f, k);
+    V[2] = c[k] - pgp__alpha(P, 3 * f + 2, k);
+    for (a = 0; a < 3; a++) {
+        o[a] = (float)U[a];
+        o[3 + a] = (float)D[a];
+        o[6 + a] = (float)V[a];
+    }
+    o[9] = -1.0f;
+    o[10] = o[11] = 0.0f;
     if (pgp__winding(P, f, k) == 0) return;
-    for (a = 0; a < 3; a++) r[a] = PGP__TWO_PI * (U[a] - V[a]), zr[a] = pw_cos(r[a]), zi[a] = pw_sin(r[a]);
+    for (a = 0; a < 3; a++) {
+        r[a] = PGP__TWO_PI * (U[a] - V[a]);
+        zr[a] = pw_cos(r[a]);
+        zi[a] = pw_sin(r[a]);
+    }
     /* [KCPS15]: the zero of z_0 + q1 (z_1 - z_0) + q2 (z_2 - z_0) */
     det = (zr[1] - zr[0]) * (zi[2] - zi[0]) - (zi[1] - zi[0]) * (zr[2] - zr[0]);
     q1 = det != 0.0 ? (-zr[0] * (zi[2] - zi[0]) + zi[0] * (zr[2] - zr[0])) / det : 1.0 / 3.0;
     q2 = det != 0.0 ? (-zi[0] * (zr[1] - zr[0]) + zr[0] * (zi[1] - zi[0])) / det : 1.0 / 3.0;
     if (!(q1 >= 0.0 && q2 >= 0.0 && q1 + q2 <= 1.0)) q1 = q2 = 1.0 / 3.0; /* |winding| > 1: the centre */
     /* kept off the edges, so that no sector of the fan is a sliver */
-    q1 = 0.1 + 0.7 * q1, q2 = 0.1 + 0.7 * q2;
-    o[9] = (float)(1.0 - q1 - q2), o[10] = (float)q1, o[11] = (float)q2;
+    q1 = 0.1 + 0.7 * q1;
+    q2 = 0.1 + 0.7 * q2;
+    o[9] = (float)(1.0 - q1 - q2);
+    o[10] = (float)q1;
+    o[11] = (float)q2;
 }
 
 /* The coordinate of a vortex triangle at barycentric b: the point x where
@@ -18025,7 +18244,10 @@ static double pgp__clean_eval(const float *o, const double *b)
     int c, e = 0;
     if (Q[0] < 0.0f) return b[0] * U[0] + b[1] * U[1] + b[2] * U[2];
     for (c = 0; c < 3; c++) /* the edge the ray leaves by: opposite the smallest b_c / Q_c */
-        if (b[c] / Q[c] < mu) mu = b[c] / Q[c], e = (c + 1) % 3;
+        if (b[c] / Q[c] < mu) {
+            mu = b[c] / Q[c];
+            e = (c + 1) % 3;
+        }
     if (mu >= 1.0 - 1e-9) return U[0]; /* at the zero itself */
     for (c = 0; c < 3; c++) x[c] = (b[c] - mu * Q[c]) / (1.0 - mu);
     u = U[e] + x[(e + 1) % 3] * D[e];
@@ -18044,9 +18266,15 @@ static void pgp__clean_st(const float *o, float b1, float b2, const float db[4],
     double b[3], bx[3], by[3];
     const double h = 0.25;
     int k;
-    b[0] = 1.0 - b1 - b2, b[1] = b1, b[2] = b2;
-    bx[1] = b1 + h * db[0], bx[2] = b2 + h * db[2], bx[0] = 1.0 - bx[1] - bx[2];
-    by[1] = b1 + h * db[1], by[2] = b2 + h * db[3], by[0] = 1.0 - by[1] - by[2];
+    b[0] = 1.0 - b1 - b2;
+    b[1] = b1;
+    b[2] = b2;
+    bx[1] = b1 + h * db[0];
+    bx[2] = b2 + h * db[2];
+    bx[0] = 1.0 - bx[1] - bx[2];
+    by[1] = b1 + h * db[1];
+    by[2] = b2 + h * db[3];
+    by[0] = 1.0 - by[1] - by[2];
     for (k = 0; k < 2; k++) {
         st[k] = pgp__clean_eval(o + 12 * k, b);
         d[2 * k] = pgp__wrap(pgp__clean_eval(o + 12 * k, bx) - st[k]) / h;
@@ -18120,7 +18348,9 @@ static void pgp__shade(void *user, int f, float b1, float b2, const float db[4],
     const float *stm = S->P->stm + 9 * f;
     float b[3], m;
     int k;
-    b[0] = 1.0f - b1 - b2, b[1] = b1, b[2] = b2;
+    b[0] = 1.0f - b1 - b2;
+    b[1] = b1;
+    b[2] = b2;
     m = b[0] * stm[2] + b[1] * stm[5] + b[2] * stm[8];
     rgba[3] = 1.0f;
     if (S->show == PGP_SHOW_MATERIAL) {
@@ -18129,13 +18359,18 @@ static void pgp__shade(void *user, int f, float b1, float b2, const float db[4],
     }
     if (S->show == PGP_SHOW_GHOSTS) { /* red where the blend mixes disagreeing lookups */
         int g = S->fixed[f] && S->mode != PGP_FIX_CLEAN && pgp__ghost(S->fix + PGP__FIXDATA * (size_t)f, b);
-        rgba[0] = 1.0f, rgba[1] = rgba[2] = g ? 0.0f : 1.0f;
+        rgba[0] = 1.0f;
+        rgba[1] = rgba[2] = g ? 0.0f : 1.0f;
         return;
     }
     pgp__color(S, f, b, db, m, rgba);
     if (rgba[3] > 0.0f) /* premultiplied -> straight */
         for (k = 0; k < 3; k++) rgba[k] /= rgba[3];
-    if (S->show == PGP_SHOW_SPECIAL && S->fixed[f]) rgba[0] = 0.5f + 0.5f * rgba[0], rgba[1] *= 0.5f, rgba[2] *= 0.5f;
+    if (S->show == PGP_SHOW_SPECIAL && S->fixed[f]) {
+        rgba[0] = 0.5f + 0.5f * rgba[0];
+        rgba[1] *= 0.5f;
+        rgba[2] *= 0.5f;
+    }
 }
 
 /* The tile as a pw_tile3 (layers of mip-mapped textures). */
@@ -18144,7 +18379,11 @@ static int pgp__tile3(const pw_alloc *a, const pgp_tile *t, pw_tile3 *out, pw_er
     pw_volume v;
     if (!t || !t->pixels || t->width < 1 || t->height < 1 || t->layers < 1 || t->channels < 1 || t->channels > 4)
         return pw_fail(e, PW_ERR_INVALID, "tile: empty, or bad size or channel count");
-    v.c = t->channels, v.x = t->width, v.y = t->height, v.z = t->layers, v.px = t->pixels;
+    v.c = t->channels;
+    v.x = t->width;
+    v.y = t->height;
+    v.z = t->layers;
+    v.px = t->pixels;
     return pw_tile3_create(a, out, &v, 0, e);
 }
 
@@ -18226,8 +18465,7 @@ static void pgp__fix_data(const pgp__state *P, int mode, unsigned char *fixed, f
         if (!(fixed[f] = (unsigned char)pgp__special(P, mode, f))) continue;
         if (mode == PGP_FIX_CLEAN)
             for (k = 0; k < 2; k++) pgp__clean_coord(P, f, k, o + 12 * k);
-        else
-            pgp__views(P, f, mode == PGP_FIX_ALL, o);
+        else pgp__views(P, f, mode == PGP_FIX_ALL, o);
     }
 }
 
@@ -18240,8 +18478,9 @@ static int pgp__render_options(const pgp_render_options *ro, pgp_render_options 
     if (o->width < 1 || o->height < 1 || o->supersample < 1 || o->supersample > 8 || o->threads < 0 || o->fix < 0 ||
         o->fix > PGP_FIX_PAPER || o->show < 0 || o->show > PGP_SHOW_GHOSTS || !(o->zoom <= 1e4f) ||
         !pw_is_finite(o->center[0]) || !pw_is_finite(o->center[1]) || !pw_is_finite(o->center[2]))
-        return pw_fail(e, PW_ERR_INVALID, "render options: size %dx%d, supersample %d, threads %d, fix %d, show %d, zoom %g",
-                       o->width, o->height, o->supersample, o->threads, o->fix, o->show, (double)o->zoom);
+        return pw_fail(e, PW_ERR_INVALID,
+                       "render options: size %dx%d, supersample %d, threads %d, fix %d, show %d, zoom %g", o->width,
+                       o->height, o->supersample, o->threads, o->fix, o->show, (double)o->zoom);
     return PW_OK;
 }
 
@@ -18259,10 +18498,13 @@ static int pgp__shading_init(const pgp__state *P, const pgp_tile *tile, pgp_fix 
     if (pgp__tile3(&P->a, tile, t3, e) != PW_OK) return e->code;
     data = (float *)pw_alloc_array(&P->a, (size_t)P->m.nf * PGP__FIXDATA, sizeof(float), "fix", e);
     fixed = (unsigned char *)pw_alloc_array(&P->a, (size_t)P->m.nf, 1, "fix", e);
-    S->fix = data, S->fixed = fixed;
+    S->fix = data;
+    S->fixed = fixed;
     if (!data || !fixed) return PW_ERR_NOMEM;
     pgp__fix_data(P, fix, fixed, data);
-    S->P = P, S->mode = fix, S->show = show;
+    S->P = P;
+    S->mode = fix;
+    S->show = show;
     return PW_OK;
 }
 
@@ -18298,7 +18540,9 @@ PGPDEF pgp_result pgp_render(const pgp_map *map, const pgp_tile *tile, const pgp
 PGPDEF pgp_result pgp_render(const pgp_map *map, const pgp_tile *tile, const pgp_render_options *ro, pgp_image *out,
                              pgp_error *err)
 {
-    (void)map, (void)tile, (void)ro;
+    (void)map;
+    (void)tile;
+    (void)ro;
     if (out) memset(out, 0, sizeof *out);
     return pgp__left_out("rendering", "PW_NO_RENDER", err);
 }
@@ -18327,8 +18571,7 @@ PGPDEF pgp_result pgp_render(const pgp_map *map, const pgp_tile *tile, const pgp
 
 /* ---- meshes ----------------------------------------------------------------- */
 
-PGPDEF pgp_result pgp_builtin_mesh(const char *name, const pgp_options *opt, pgp_mesh *out,
-                                   pgp_error *err)
+PGPDEF pgp_result pgp_builtin_mesh(const char *name, const pgp_options *opt, pgp_mesh *out, pgp_error *err)
 {
     pgp_options o = pgp__options(opt);
     pw_alloc a = pgp__alloc(&o.allocator);
@@ -18343,8 +18586,7 @@ PGPDEF pgp_result pgp_builtin_mesh(const char *name, const pgp_options *opt, pgp
     else if (!strcmp(name, "torus")) r = pw_shape_torus(&a, 128, 64, 0, &m, &pe); /* fine: small singular 1-rings */
     else if (!strcmp(name, "bumpy")) r = pw_shape_bumpy(&a, 16, &m, &pe);
     else if (!strcmp(name, "grid")) r = pw_shape_grid(&a, 32, 0.0, 0, &m, &pe);
-    else
-        pw_fail(&pe, PW_ERR_INVALID, "unknown built-in mesh '%s' (sphere, torus, bumpy, grid)", name);
+    else pw_fail(&pe, PW_ERR_INVALID, "unknown built-in mesh '%s' (sphere, torus, bumpy, grid)", name);
     if (r == PW_OK) pgp__take_mesh(&m, &a, out);
     return pgp__done(&pe, err);
 }
@@ -18390,8 +18632,7 @@ static double pgp__round_box(double x, double y, double bx, double by, double rc
  * cell's centre: the mortar gap widens with w, the brick shrinks and moves
  * a little, its corners round off until it is a pebble, some pebbles get a
  * waist, and the edge is eaten by noise. */
-static void pgp__stone(unsigned long long seed, double w, double s, double t, double x, double y,
-                       pgp__wall *o)
+static void pgp__stone(unsigned long long seed, double w, double s, double t, double x, double y, pgp__wall *o)
 {
     const double L = (double)PGP__BY / PGP__BX;
     double mw = 0.045 + 0.12 * w, r1 = pgp__rand(seed, o->id, 1), r2 = pgp__rand(seed, o->id, 2);
@@ -18452,8 +18693,8 @@ static double pgp__wall_light(unsigned long long seed, double w, double s, doubl
  * weathered stone at w = 1, soot and blotches in between. */
 static void pgp__stone_colour(unsigned long long seed, double w, double s, double t, int id, double *c)
 {
-    static const double brick[5][3] = {{0.66, 0.27, 0.17}, {0.58, 0.22, 0.15}, {0.72, 0.36, 0.22},
-                                       {0.52, 0.21, 0.15}, {0.63, 0.31, 0.22}};
+    static const double brick[5][3] = {
+        {0.66, 0.27, 0.17}, {0.58, 0.22, 0.15}, {0.72, 0.36, 0.22}, {0.52, 0.21, 0.15}, {0.63, 0.31, 0.22}};
     static const double stone[6][3] = {{0.60, 0.55, 0.48}, {0.47, 0.44, 0.41}, {0.66, 0.58, 0.47},
                                        {0.53, 0.43, 0.35}, {0.41, 0.39, 0.38}, {0.57, 0.48, 0.39}};
     static const double burnt[3] = {0.34, 0.17, 0.13};
@@ -18522,20 +18763,18 @@ enum { PGP__TILE_BRICKS = 0, PGP__TILE_STRIPES = 1 };
 /* The colour of a built-in tile at (s, t) of layer `layer` of `layers`; px
  * is the side of a texel in tile units. Periodic: (s + 1, t) and (s, t + 1)
  * give the same colour up to rounding. */
-static void pgp__tile_texel(int kind, unsigned long long seed, int layer, int layers, double s, double t,
-                            double px, float *rgb)
+static void pgp__tile_texel(int kind, unsigned long long seed, int layer, int layers, double s, double t, double px,
+                            float *rgb)
 {
     double c[3];
     int k;
     if (kind == PGP__TILE_BRICKS)
         pgp__bricks(seed, layers > 1 ? (double)layer / (layers - 1) : 0.0, s, t, px * PGP__BY, c);
-    else
-        pgp__stripes(seed, s, t, px, c);
+    else pgp__stripes(seed, s, t, px, c);
     for (k = 0; k < 3; k++) rgb[k] = pw_clampf((float)c[k], 0.0f, 1.0f);
 }
 
-PGPDEF pgp_result pgp_builtin_tile(const char *name, int size, const pgp_options *opt, pgp_tile *out,
-                                   pgp_error *err)
+PGPDEF pgp_result pgp_builtin_tile(const char *name, int size, const pgp_options *opt, pgp_tile *out, pgp_error *err)
 {
     pgp_options o = pgp__options(opt);
     pw_alloc a = pgp__alloc(&o.allocator);
@@ -18548,8 +18787,7 @@ PGPDEF pgp_result pgp_builtin_tile(const char *name, int size, const pgp_options
     layers = kind == PGP__TILE_BRICKS ? 4 : 1;
     if (!out || kind < 0)
         pw_fail(&pe, PW_ERR_INVALID, "unknown built-in tile '%s' (bricks, stripes)", name ? name : "(null)");
-    else if (size < 8 || size > 4096)
-        pw_fail(&pe, PW_ERR_INVALID, "built-in tile size must be 8..4096 (got %d)", size);
+    else if (size < 8 || size > 4096) pw_fail(&pe, PW_ERR_INVALID, "built-in tile size must be 8..4096 (got %d)", size);
     else if (pw_volume_alloc(&a, &vol, 3, size, size, layers, &pe) == PW_OK) {
         double px = 1.0 / size;
         for (z = 0; z < layers; z++)
@@ -18604,11 +18842,15 @@ static int pgp__tile_view(const pgp_tile *t, pw_volume *v, pw_err *e)
     int r;
     if (!t || !t->pixels) return pw_fail(e, PW_ERR_INVALID, "tile: empty (no texels)");
     if (t->width < 1 || t->height < 1 || t->layers < 1 || t->channels < 1 || t->channels > 4)
-        return pw_fail(e, PW_ERR_INVALID, "tile: %dx%d texels, %d layers, %d channels (1 to 4) is not a tile",
-                       t->width, t->height, t->layers, t->channels);
+        return pw_fail(e, PW_ERR_INVALID, "tile: %dx%d texels, %d layers, %d channels (1 to 4) is not a tile", t->width,
+                       t->height, t->layers, t->channels);
     if ((r = pw__volume_check_size("tile", (uint64_t)t->width, (uint64_t)t->height, (uint64_t)t->layers, e)) != PW_OK)
         return r;
-    v->c = t->channels, v->x = t->width, v->y = t->height, v->z = t->layers, v->px = t->pixels;
+    v->c = t->channels;
+    v->x = t->width;
+    v->y = t->height;
+    v->z = t->layers;
+    v->px = t->pixels;
     n = (size_t)v->c * v->x * v->y * v->z;
     for (k = 0; k < n; k++)
         if (!pw_is_finite(v->px[k]))
@@ -18646,8 +18888,8 @@ PGPDEF pgp_result pgp_tile_from_image(const pgp_image *img, const pgp_options *o
 }
 
 /* NRRD when the data starts with its magic, else a 2D image (one layer). */
-PGPDEF pgp_result pgp_read_tile(const void *data, size_t size, const char *name, const pgp_options *opt,
-                                            pgp_tile *out, pgp_error *err)
+PGPDEF pgp_result pgp_read_tile(const void *data, size_t size, const char *name, const pgp_options *opt, pgp_tile *out,
+                                pgp_error *err)
 {
     pgp_options o = pgp__options(opt);
     pw_alloc a = pgp__alloc(&o.allocator);
@@ -18662,7 +18904,11 @@ PGPDEF pgp_result pgp_read_tile(const void *data, size_t size, const char *name,
     else if (size >= 4 && !memcmp(d, "NRRD", 4)) {
         if (pw_nrrd_read_memory(&a, d, size, name, &vol, &pe) == PW_OK) pgp__take_volume(&vol, &a, out);
     } else if (pw_image_read_memory(&a, d, size, name, &img, &pe) == PW_OK) {
-        vol.c = img.c, vol.x = img.w, vol.y = img.h, vol.z = 1, vol.px = img.px;
+        vol.c = img.c;
+        vol.x = img.w;
+        vol.y = img.h;
+        vol.z = 1;
+        vol.px = img.px;
         pgp__take_volume(&vol, &a, out);
     }
     return pgp__done(&pe, err);
@@ -18684,8 +18930,8 @@ PGPDEF pgp_result pgp_write_tile(const pgp_tile *tile, pgp_write_fn fn, void *ct
 
 /* ---- meshes and images --------------------------------------------------------- */
 
-PGPDEF pgp_result pgp_read_mesh(const void *data, size_t size, const char *name, const pgp_options *opt,
-                                            pgp_mesh *out, pgp_error *err)
+PGPDEF pgp_result pgp_read_mesh(const void *data, size_t size, const char *name, const pgp_options *opt, pgp_mesh *out,
+                                pgp_error *err)
 {
     pgp_options o = pgp__options(opt);
     pw_alloc a = pgp__alloc(&o.allocator);
@@ -18694,8 +18940,7 @@ PGPDEF pgp_result pgp_read_mesh(const void *data, size_t size, const char *name,
     pw_err_clear(&pe);
     if (out) memset(out, 0, sizeof *out);
     if (!out || (!data && size)) pw_fail(&pe, PW_ERR_INVALID, "pgp_read_mesh: NULL argument");
-    else if (pw_mesh_read_memory(&a, data, size, name ? name : "mesh", &m, &pe) == PW_OK)
-        pgp__take_mesh(&m, &a, out);
+    else if (pw_mesh_read_memory(&a, data, size, name ? name : "mesh", &m, &pe) == PW_OK) pgp__take_mesh(&m, &a, out);
     return pgp__done(&pe, err);
 }
 
@@ -18714,8 +18959,7 @@ PGPDEF pgp_result pgp_read_image(const void *data, size_t size, const char *name
     return pgp__done(&pe, err);
 }
 
-PGPDEF pgp_result pgp_write_image(const pgp_image *img, const char *format, pgp_write_fn fn, void *ctx,
-                                  pgp_error *err)
+PGPDEF pgp_result pgp_write_image(const pgp_image *img, const char *format, pgp_write_fn fn, void *ctx, pgp_error *err)
 {
     pw_err pe;
     pw_err_clear(&pe);
@@ -18732,16 +18976,17 @@ static int pgp__same_mesh(const pgp_mesh *mesh, const pgp__state *P, pw_err *e)
 {
     int f, k, t = 0;
     if (mesh->nverts != P->m.nv || mesh->nfaces < 0 || !mesh->face_start || !mesh->face_verts)
-        return pw_fail(e, PW_ERR_INVALID, "the mesh (%d vertices) is not the map's (%d vertices)", mesh->nverts, P->m.nv);
+        return pw_fail(e, PW_ERR_INVALID, "the mesh (%d vertices) is not the map's (%d vertices)", mesh->nverts,
+                       P->m.nv);
     for (f = 0; f < mesh->nfaces; f++) {
         const int *c = mesh->face_verts + mesh->face_start[f];
         int d = mesh->face_start[f + 1] - mesh->face_start[f];
         for (k = 1; k + 1 < d; k++, t++)
-            if (t >= P->m.nf || P->m.tri[3 * t] != c[0] || P->m.tri[3 * t + 1] != c[k] || P->m.tri[3 * t + 2] != c[k + 1])
+            if (t >= P->m.nf || P->m.tri[3 * t] != c[0] || P->m.tri[3 * t + 1] != c[k] ||
+                P->m.tri[3 * t + 2] != c[k + 1])
                 return pw_fail(e, PW_ERR_INVALID, "the mesh is not the map's (face %d differs)", f);
     }
-    if (t != P->m.nf)
-        return pw_fail(e, PW_ERR_INVALID, "the mesh has %d triangles, the map %d", t, P->m.nf);
+    if (t != P->m.nf) return pw_fail(e, PW_ERR_INVALID, "the mesh has %d triangles, the map %d", t, P->m.nf);
     return PW_OK;
 }
 
@@ -18784,15 +19029,13 @@ static int pgp__write_obj(const pgp__state *P, pw_write_fn fn, void *ctx, pw_err
     return pw__wb_done(&b, e);
 }
 
-PGPDEF pgp_result pgp_write_obj(const pgp_mesh *mesh, const pgp_map *map, pgp_write_fn fn, void *ctx,
-                                pgp_error *err)
+PGPDEF pgp_result pgp_write_obj(const pgp_mesh *mesh, const pgp_map *map, pgp_write_fn fn, void *ctx, pgp_error *err)
 {
     const pgp__state *P = pgp__state_of(map);
     pw_err pe;
     pw_err_clear(&pe);
     if (!P || !fn) pw_fail(&pe, PW_ERR_INVALID, "pgp_write_obj: NULL or empty map, or NULL writer");
-    else if (!mesh || pgp__same_mesh(mesh, P, &pe) == PW_OK)
-        pgp__write_obj(P, fn, ctx, &pe);
+    else if (!mesh || pgp__same_mesh(mesh, P, &pe) == PW_OK) pgp__write_obj(P, fn, ctx, &pe);
     return pgp__done(&pe, err);
 }
 
@@ -18835,10 +19078,14 @@ static int pgp__con_line(pw__sc *s, float *radius, pgp_constraint *c, int *got)
     int kind, r;
     pw_err le;
     w = pw__sc_word(s, &n);
-    kind = pw__sc_is(w, n, "radius") ? 0 : pw__sc_is(w, n, "orient") ? 1 : pw__sc_is(w, n, "scale") ? 2
-           : pw__sc_is(w, n, "material") ? 3 : -1;
+    kind = pw__sc_is(w, n, "radius")     ? 0
+           : pw__sc_is(w, n, "orient")   ? 1
+           : pw__sc_is(w, n, "scale")    ? 2
+           : pw__sc_is(w, n, "material") ? 3
+                                         : -1;
     if (kind < 0)
-        return pw__sc_fail(s, PW_ERR_PARSE, "unknown keyword '%s' (orient, scale, material, radius)", pw__sc_tok(s, w, tok));
+        return pw__sc_fail(s, PW_ERR_PARSE, "unknown keyword '%s' (orient, scale, material, radius)",
+                           pw__sc_tok(s, w, tok));
     memset(c, 0, sizeof *c);
     if (kind == 1) r = pgp__con_index(s, "orient: triangle", &c->element);
     else if (kind > 1) r = pgp__con_index(s, kind == 2 ? "scale: vertex" : "material: vertex", &c->element);
@@ -18946,7 +19193,7 @@ static int pgp__job_body(void *arg, pw_write_fn w, void *ctx, pw_err *e)
 {
     const pgp__job *j = (const pgp__job *)arg;
     pgp_error le;
-    pgp_result r = j->img ? pgp_write_image(j->img, j->format, w, ctx, &le)
+    pgp_result r = j->img    ? pgp_write_image(j->img, j->format, w, ctx, &le)
                    : j->tile ? pgp_write_tile(j->tile, w, ctx, &le)
                              : pgp_write_obj(j->mesh, j->map, w, ctx, &le);
     return r != PGP_OK ? pw_fail(e, (int)r, "%s", le.message) : PW_OK;
@@ -18974,11 +19221,13 @@ PGPDEF pgp_result pgp_save_image(const char *path, const pgp_image *img, pgp_err
     memset(&j, 0, sizeof j);
     j.img = img;
     if (!path) pw_fail(&pe, PW_ERR_INVALID, "pgp_save_image: NULL path");
-    else if (!(j.format = pw_has_ext(path, ".png") ? "png" : pw_has_ext(path, ".ppm") || pw_has_ext(path, ".pnm")
-                          ? "ppm" : pw_has_ext(path, ".pgm") ? "pgm" : pw_has_ext(path, ".pam") ? "pam" : NULL))
+    else if (!(j.format = pw_has_ext(path, ".png")                               ? "png"
+                          : pw_has_ext(path, ".ppm") || pw_has_ext(path, ".pnm") ? "ppm"
+                          : pw_has_ext(path, ".pgm")                             ? "pgm"
+                          : pw_has_ext(path, ".pam")                             ? "pam"
+                                                                                 : NULL))
         pw_fail(&pe, PW_ERR_UNSUPPORTED, "%s: unknown image extension (use .png, .ppm, .pgm, .pam)", path);
-    else if (pgp__check_image(img, path, &pe) == PW_OK)
-        pw_write_file(path, pgp__job_body, &j, &pe);
+    else if (pgp__check_image(img, path, &pe) == PW_OK) pw_write_file(path, pgp__job_body, &j, &pe);
     return pgp__done(&pe, err);
 }
 
@@ -18995,8 +19244,7 @@ PGPDEF pgp_result pgp_save_obj(const char *path, const pgp_mesh *mesh, const pgp
     return pgp__done(&pe, err);
 }
 
-PGPDEF pgp_result pgp_load_constraints(const char *path, const pgp_options *opt, pgp_constraints *out,
-                                       pgp_error *err)
+PGPDEF pgp_result pgp_load_constraints(const char *path, const pgp_options *opt, pgp_constraints *out, pgp_error *err)
 {
     pgp_options o = pgp__options(opt);
     pw_alloc a = pgp__alloc(&o.allocator);
@@ -19008,7 +19256,8 @@ PGPDEF pgp_result pgp_load_constraints(const char *path, const pgp_options *opt,
     if (!out || !path) pw_fail(&pe, PW_ERR_INVALID, "pgp_load_constraints: NULL argument");
     else if (pw_read_file(&a, path, &data, &size, &pe) == PW_OK) {
         pgp_error le;
-        if (pgp_read_constraints(data, size, path, &o, out, &le) != PGP_OK) pw_fail(&pe, (int)le.code, "%s", le.message);
+        if (pgp_read_constraints(data, size, path, &o, out, &le) != PGP_OK)
+            pw_fail(&pe, (int)le.code, "%s", le.message);
         pw_free(&a, data);
     }
     return pgp__done(&pe, err);
@@ -19045,8 +19294,10 @@ static void pgp__bake_texel(void *user, int f, const float b[3], float *out)
     float db[4] = {0.0f, 0.0f, 0.0f, 0.0f}, rgba[4];
     int k;
     if (det != 0.0) { /* (x, y) = b1 (x1, y1) + b2 (x2, y2): invert the 2x2 matrix */
-        db[0] = (float)(y2 / det), db[1] = (float)(-x2 / det);
-        db[2] = (float)(-y1 / det), db[3] = (float)(x1 / det);
+        db[0] = (float)(y2 / det);
+        db[1] = (float)(-x2 / det);
+        db[2] = (float)(-y1 / det);
+        db[3] = (float)(x1 / det);
     }
     pgp__shade((void *)B->S, f, b[1], b[2], db, rgba);
     for (k = 0; k < 3; k++) out[k] = rgba[k] * rgba[3]; /* over black, as pgp_render composites */
@@ -19072,10 +19323,13 @@ PGPDEF pgp_result pgp_bake_atlas(const pgp_map *map, const pgp_tile *tile, const
         return pgp__done(&pe, err);
     }
     if (pw_atlas_options(&o.atlas.size, &o.atlas.cone_angle, &o.atlas.gutter, &pe) == PW_OK &&
-        pgp__render_options(&o.render, &ro, &pe) == PW_OK && pgp__shading_init(P, tile, ro.fix, ro.show, &S, &pe) == PW_OK &&
+        pgp__render_options(&o.render, &ro, &pe) == PW_OK &&
+        pgp__shading_init(P, tile, ro.fix, ro.show, &S, &pe) == PW_OK &&
         pw_atlas_layout(&P->a, &P->m, o.atlas.cone_angle, o.atlas.size, o.atlas.gutter, &prog, &out->uvs, &out->ncharts,
                         &out->fill, &pe) == PW_OK) {
-        B.S = &S, B.uvs = out->uvs, B.size = o.atlas.size;
+        B.S = &S;
+        B.uvs = out->uvs;
+        B.size = o.atlas.size;
         out->ntris = P->m.nf;
         if (pw_atlas_bake(&P->a, &P->m, out->uvs, 3, o.atlas.size, o.atlas.gutter, pgp__bake_texel, &B, &prog, &img,
                           &pe) == PW_OK)
@@ -19119,14 +19373,17 @@ PGPDEF pgp_result pgp_tile_atlas(const pgp_map *map, const pgp_tile *tile, float
         pw_fail(&pe, PW_ERR_INVALID, "pgp_tile_atlas: empty tile, or bad size or channel count");
     else if (!pw_is_finite(m))
         pw_fail(&pe, PW_ERR_INVALID, "pgp_tile_atlas: material %g is not a finite number", (double)m);
-    else if ((out->uvs = (float *)pw_alloc_array(&P->a, (size_t)P->m.nf * 6, sizeof(float), "atlas coordinates", &pe)) &&
+    else if ((out->uvs =
+                  (float *)pw_alloc_array(&P->a, (size_t)P->m.nf * 6, sizeof(float), "atlas coordinates", &pe)) &&
              pgp__tile_layer(&P->a, tile, m, &img, &pe) == PW_OK) {
         for (f = 0; f < P->m.nf; f++)
             for (k = 0; k < 3; k++) {
                 out->uvs[6 * f + 2 * k] = P->stm[9 * f + 3 * k];
                 out->uvs[6 * f + 2 * k + 1] = P->stm[9 * f + 3 * k + 1];
             }
-        out->ntris = P->m.nf, out->fill = 1.0f, out->repeat = 1;
+        out->ntris = P->m.nf;
+        out->fill = 1.0f;
+        out->repeat = 1;
         pgp__take_image(&img, &P->a, &out->image);
     }
     if (pe.code && P) {
@@ -19171,9 +19428,17 @@ PGPDEF pgp_result pgp_write_gltf(const pgp_map *map, const pgp_atlas *atlas, con
         for (f = 0; f <= P->m.nf; f++) fstart[f] = 3 * f;
         img = pgp__pw_image(&atlas->image);
         part.name = "pgp";
-        part.nv = P->m.nv, part.pos = P->pos, part.nf = P->m.nf, part.fstart = fstart, part.fv = P->m.tri;
-        part.corner_uv = atlas->uvs, part.texture = &img, part.repeat = atlas->repeat != 0;
-        scene.parts = &part, scene.nparts = 1, scene.generator = "patchwork pgp.h " PGP_VERSION_STRING;
+        part.nv = P->m.nv;
+        part.pos = P->pos;
+        part.nf = P->m.nf;
+        part.fstart = fstart;
+        part.fv = P->m.tri;
+        part.corner_uv = atlas->uvs;
+        part.texture = &img;
+        part.repeat = atlas->repeat != 0;
+        scene.parts = &part;
+        scene.nparts = 1;
+        scene.generator = "patchwork pgp.h " PGP_VERSION_STRING;
         if (view) {
             cam = pgp__camera(P, &ro);
             scene.camera = &cam;
@@ -19207,7 +19472,9 @@ PGPDEF pgp_result pgp_save_gltf(const char *path, const pgp_map *map, const pgp_
     pgp__gltf_job j;
     pw_err pe;
     pw_err_clear(&pe);
-    j.map = map, j.atlas = atlas, j.view = view;
+    j.map = map;
+    j.atlas = atlas;
+    j.view = view;
     if (!path) pw_fail(&pe, PW_ERR_INVALID, "pgp_save_gltf: NULL path");
     else pw_write_file(path, pgp__gltf_job_run, &j, &pe);
     return pgp__done(&pe, err);
@@ -19306,7 +19573,8 @@ static double pgp__line_diff(const pw_image *img, int dx, int i0, int i1)
     double s = 0.0;
     for (j = 0; j < len; j++)
         for (k = 0; k < c; k++) {
-            size_t p = dx ? ((size_t)j * w + i0) : ((size_t)i0 * w + j), q = dx ? ((size_t)j * w + i1) : ((size_t)i1 * w + j);
+            size_t p = dx ? ((size_t)j * w + i0) : ((size_t)i0 * w + j),
+                   q = dx ? ((size_t)j * w + i1) : ((size_t)i1 * w + j);
             s += fabs((double)px[p * c + k] - px[q * c + k]);
         }
     return s / ((double)len * c);
@@ -19397,7 +19665,10 @@ static float pgp__otsu(const float *v, size_t n)
     double hist[256], lo = v[0], hi = v[0], sum = 0.0, w0 = 0.0, s0 = 0.0, best = -1.0;
     size_t i;
     int b, tb = 0;
-    for (i = 1; i < n; i++) lo = v[i] < lo ? v[i] : lo, hi = v[i] > hi ? v[i] : hi;
+    for (i = 1; i < n; i++) {
+        lo = v[i] < lo ? v[i] : lo;
+        hi = v[i] > hi ? v[i] : hi;
+    }
     if (!(hi > lo)) return FLT_MAX;
     memset(hist, 0, sizeof hist);
     for (i = 0; i < n; i++) {
@@ -19414,7 +19685,10 @@ static float pgp__otsu(const float *v, size_t n)
         m0 = s0 / w0;
         m1 = (sum - s0) / w1;
         between = w0 * w1 * (m0 - m1) * (m0 - m1);
-        if (between > best) best = between, tb = b;
+        if (between > best) {
+            best = between;
+            tb = b;
+        }
     }
     return (float)(lo + (hi - lo) * (tb + 1) / 256.0);
 }
@@ -19493,8 +19767,8 @@ static int pgp__stack_key(const pw_alloc *a, const pgp_key *key, int c, float **
 
 /* §1 inputs for key k: validated, made tileable when needed (the mask cut
  * with the colours), resampled to n x n, its mask thresholded or computed. */
-static int pgp__prepare_key(const pw_alloc *a, const pgp_key *key, int c, const pgp_synth_options *o,
-                            pgp__key *out, pw_err *e)
+static int pgp__prepare_key(const pw_alloc *a, const pgp_key *key, int c, const pgp_synth_options *o, pgp__key *out,
+                            pw_err *e)
 {
     pw_image img = pgp__pw_image(key->image);
     int n = o->size, cs = c + (key->mask ? 1 : 0), r;
@@ -19502,7 +19776,9 @@ static int pgp__prepare_key(const pw_alloc *a, const pgp_key *key, int c, const 
     float *st = NULL, *cut = NULL, *rs = NULL;
     pw_image sv, tile; /* views: the stacked key (cs channels), and its n x n colour */
     r = pgp__stack_key(a, key, c, &st, e);
-    sv = img, sv.c = cs, sv.px = st;
+    sv = img;
+    sv.c = cs;
+    sv.px = st;
     if (r == PW_OK && (o->tileable == PGP_TILEABLE_MAKE || (o->tileable == PGP_TILEABLE_AUTO && !pgp__tiles(&sv)))) {
         cut = (float *)pw_alloc_array(a, (size_t)img.w * img.h * cs, sizeof(float), "tileable key", e);
         r = cut ? pw_quilt_make_tileable_px(a, &sv, cut, e) : PW_ERR_NOMEM;
@@ -19517,7 +19793,10 @@ static int pgp__prepare_key(const pw_alloc *a, const pgp_key *key, int c, const 
         memcpy(out->color + i * c, rs + i * cs, sizeof(float) * c);
         if (key->mask) out->mask[i] = (unsigned char)(rs[i * cs + c] > 0.5f);
     }
-    tile = img, tile.w = tile.h = n, tile.c = c, tile.px = out->color;
+    tile = img;
+    tile.w = tile.h = n;
+    tile.c = c;
+    tile.px = out->color;
     if (r == PW_OK && !key->mask) r = pgp__auto_mask(a, &tile, o->auto_mask, out->mask, e);
     pw_free(a, st);
     pw_free(a, cut);
@@ -19604,9 +19883,15 @@ static int pgp__morph_init(const pw_alloc *a, pgp__morph *m, const pgp__morph_jo
     m->nn = (size_t)n * n;
     m->words = (m->nn + 63) / 64;
     if (!(m->phi0 = (float *)pw_alloc_array(a, m->nn * 6, sizeof(float), "morph fields", e))) return PW_ERR_NOMEM;
-    m->psi = m->phi0 + m->nn, m->gx = m->psi + m->nn, m->gy = m->gx + m->nn;
-    m->phi = m->gy + m->nn, m->next = m->phi + m->nn;
-    im0.px = f0, im1.px = f1, im0.w = im0.h = im1.w = im1.h = n, im0.wrap = im1.wrap = 1; /* tiles */
+    m->psi = m->phi0 + m->nn;
+    m->gx = m->psi + m->nn;
+    m->gy = m->gx + m->nn;
+    m->phi = m->gy + m->nn;
+    m->next = m->phi + m->nn;
+    im0.px = f0;
+    im1.px = f1;
+    im0.w = im0.h = im1.w = im1.h = n;
+    im0.wrap = im1.wrap = 1; /* tiles */
     if ((r = pw_edt_signed(a, &im0, m->phi0, e)) != PW_OK || (r = pw_edt_signed(a, &im1, m->psi, e)) != PW_OK) return r;
     for (i = 0; i < m->nn; i++) {
         lo = m->psi[i] < lo ? m->psi[i] : lo;
@@ -19648,8 +19933,10 @@ static void pgp__advect(pgp__morph *m)
             }
             px = (float)x + m->gx[i] * m->dt;
             py = (float)y + m->gy[i] * m->dt;
-            x0 = (int)floorf(px), y0 = (int)floorf(py);
-            fx = px - (float)x0, fy = py - (float)y0;
+            x0 = (int)floorf(px);
+            y0 = (int)floorf(py);
+            fx = px - (float)x0;
+            fy = py - (float)y0;
             for (k = 0; k < 4; k++) {
                 int xx = ((x0 + (k & 1)) % n + n) % n, yy = ((y0 + (k >> 1)) % n + n) % n;
                 size_t j = (size_t)yy * n + xx;
@@ -19706,7 +19993,9 @@ static int pgp__morph_run(pgp__morph *m, const pw_progress *prog, float p0, floa
         pgp__advect(m);
         pgp__dilate(m);
         pgp__sweep(m, step);
-        t = m->phi, m->phi = m->next, m->next = t;
+        t = m->phi;
+        m->phi = m->next;
+        m->next = t;
         pgp__store_sign(m, step);
         if ((step & 15) == 0 && pw_report(prog, p0 + (p1 - p0) * (float)step / (float)m->N, "feature morphing", e))
             return PW_ERR_CANCELLED;
@@ -19730,7 +20019,10 @@ static void pgp__subsample(const pgp__morph *m, int M, int uniform, int *H)
             H[j] = (int)((long)j * m->N / M);
             continue;
         }
-        while (k < m->N && acc * M < total * j) acc += pgp__flips(m, k, k + 1), k++;
+        while (k < m->N && acc * M < total * j) {
+            acc += pgp__flips(m, k, k + 1);
+            k++;
+        }
         H[j] = pw_clampi(k, H[j - 1] + 1, m->N - (M - j));
     }
     for (sweep = 0; sweep < 8 * M && moved && !uniform; sweep++)
@@ -19740,7 +20032,10 @@ static void pgp__subsample(const pgp__morph *m, int M, int uniform, int *H)
             for (h = H[j - 1] + 1; h < H[j + 1]; h++) {
                 long d = pgp__flips(m, H[j - 1], h) - pgp__flips(m, h, H[j + 1]);
                 d = d < 0 ? -d : d;
-                if (best < 0 || d < best) best = d, bh = h;
+                if (best < 0 || d < best) {
+                    best = d;
+                    bh = h;
+                }
             }
             moved |= bh != H[j];
             H[j] = bh;
@@ -19808,13 +20103,16 @@ PGPDEF pgp_result pgp_feature_mask(const pgp_image *image, pgp_mask mode, const 
     memset(&res, 0, sizeof res);
     if (out) memset(out, 0, sizeof *out);
     if (!out) pw_fail(&pe, PW_ERR_INVALID, "pgp_feature_mask: NULL output");
-    else if (mode < PGP_MASK_DARK || mode > PGP_MASK_GRADIENT) pw_fail(&pe, PW_ERR_INVALID, "pgp_feature_mask: unknown mode %d", mode);
-    else if (pgp__check_image(image, "image", &pe) == PW_OK && (v = pgp__pw_image(image),
-             pw_image_alloc(&a, &res, v.w, v.h, 1, &pe) == PW_OK) &&
-             (mask = (unsigned char *)pw_alloc_array(&a, (size_t)v.w * v.h, 1, "mask", &pe)) != NULL &&
-             pgp__auto_mask(&a, &v, mode, mask, &pe) == PW_OK) {
-        for (i = 0; i < (size_t)v.w * v.h; i++) res.px[i] = mask[i] ? 1.0f : 0.0f;
-        pgp__take_image(&res, &a, out);
+    else if (mode < PGP_MASK_DARK || mode > PGP_MASK_GRADIENT)
+        pw_fail(&pe, PW_ERR_INVALID, "pgp_feature_mask: unknown mode %d", mode);
+    else if (pgp__check_image(image, "image", &pe) == PW_OK) {
+        v = pgp__pw_image(image);
+        if (pw_image_alloc(&a, &res, v.w, v.h, 1, &pe) == PW_OK &&
+            (mask = (unsigned char *)pw_alloc_array(&a, (size_t)v.w * v.h, 1, "mask", &pe)) != NULL &&
+            pgp__auto_mask(&a, &v, mode, mask, &pe) == PW_OK) {
+            for (i = 0; i < (size_t)v.w * v.h; i++) res.px[i] = mask[i] ? 1.0f : 0.0f;
+            pgp__take_image(&res, &a, out);
+        }
     }
     pw_free(&a, mask);
     pw_image_free(&a, &res);
@@ -19835,17 +20133,25 @@ PGPDEF pgp_result pgp_morph_masks(const pgp_image *mask0, const pgp_image *mask1
     pw_err_clear(&pe);
     if (out) memset(out, 0, sizeof *out);
     if (!out) pw_fail(&pe, PW_ERR_INVALID, "pgp_morph_masks: NULL output");
-    else if (layers < 2 || layers > 1024) pw_fail(&pe, PW_ERR_INVALID, "pgp_morph_masks: %d layers (2 to 1024)", layers);
+    else if (layers < 2 || layers > 1024)
+        pw_fail(&pe, PW_ERR_INVALID, "pgp_morph_masks: %d layers (2 to 1024)", layers);
     else if (pgp__check_image(mask0, "mask 0", &pe) == PW_OK && pgp__check_image(mask1, "mask 1", &pe) == PW_OK &&
              (mask0->width != mask0->height || mask1->width != mask0->width || mask1->height != mask0->height))
         pw_fail(&pe, PW_ERR_INVALID, "pgp_morph_masks: masks of %dx%d and %dx%d (both must be the same square)",
                 mask0->width, mask0->height, mask1->width, mask1->height);
     if (pe.code == PW_OK) {
-        n = mask0->width, nn = (size_t)n * n;
+        n = mask0->width;
+        nn = (size_t)n * n;
         f = (unsigned char *)pw_alloc_array(&a, nn * (layers + 2), 1, "masks", &pe);
     }
-    J.f0 = f, J.f1 = f + nn, J.n = n, J.M = layers - 1, J.masks = f + 2 * nn;
-    J.prog = &prog, J.p0 = 0.0f, J.p1 = 1.0f;
+    J.f0 = f;
+    J.f1 = f + nn;
+    J.n = n;
+    J.M = layers - 1;
+    J.masks = f + 2 * nn;
+    J.prog = &prog;
+    J.p0 = 0.0f;
+    J.p1 = 1.0f;
     if (f && pgp__binary_mask(&a, mask0, f, &pe) == PW_OK && pgp__binary_mask(&a, mask1, f + nn, &pe) == PW_OK &&
         pgp__check_mask(f, nn, "mask 0", &pe) == PW_OK && pgp__check_mask(f + nn, nn, "mask 1", &pe) == PW_OK &&
         pgp__morph_masks(&a, &J, &o, &pe) == PW_OK)
@@ -19913,7 +20219,10 @@ static int pgp__level_count(int n, int want)
             if (s % 2) return 0;
         return want <= PGP__MAX_LEVELS ? want : 0;
     }
-    while (s % 2 == 0 && s / 2 >= 32 && l < PGP__MAX_LEVELS) s /= 2, l++;
+    while (s % 2 == 0 && s / 2 >= 32 && l < PGP__MAX_LEVELS) {
+        s /= 2;
+        l++;
+    }
     return l;
 }
 
@@ -19941,7 +20250,7 @@ typedef struct pgp__exlevel {
 
 typedef struct pgp__ex {
     int c, nlev, cw, mw, dc, dm, cd, md, D;
-    float weight;   /* mask_weight */
+    float weight;                      /* mask_weight */
     pgp__exlevel lev[PGP__MAX_LEVELS]; /* 0: coarsest */
 } pgp__ex;
 
@@ -19998,7 +20307,8 @@ static int pgp__ex_pca(const pw_alloc *a, pgp__ex *ex, pgp__exlevel *L, float us
     size_t np = (size_t)(ex->dc + ex->dm) * (1 + PW_PCA_PACK);
     float *buf = (float *)pw_alloc_array(a, (size_t)(ex->dc + ex->dm) * (PW_PCA_PACK + 1) + ex->D, sizeof(float),
                                          "PCA window", e);
-    float *basis = buf ? buf + ex->dc + ex->dm : NULL, *var = basis ? basis + (size_t)(ex->dc + ex->dm) * PW_PCA_PACK : NULL;
+    float *basis = buf ? buf + ex->dc + ex->dm : NULL,
+          *var = basis ? basis + (size_t)(ex->dc + ex->dm) * PW_PCA_PACK : NULL;
     float *mm;
     pw_pca pc, pm;
     pw_pca_out oc, om;
@@ -20015,12 +20325,16 @@ static int pgp__ex_pca(const pw_alloc *a, pgp__ex *ex, pgp__exlevel *L, float us
         pw_pca_add(&pm, buf);
     }
     mm = L->pca ? L->pca + (size_t)ex->dc * (1 + PW_PCA_PACK) : NULL;
-    oc.k = ex->cd, oc.mean = L->pca, oc.basis = basis, oc.var = var;
-    om.k = ex->md, om.mean = mm, om.basis = basis, om.var = var + ex->cd;
-    if (r == PW_OK && (r = pw_pca_solve(a, &pc, &oc, e)) == PW_OK)
-        pw_pca_pack(basis, ex->dc, ex->cd, L->pca + ex->dc);
-    if (r == PW_OK && (r = pw_pca_solve(a, &pm, &om, e)) == PW_OK)
-        pw_pca_pack(basis, ex->dm, ex->md, mm + ex->dm);
+    oc.k = ex->cd;
+    oc.mean = L->pca;
+    oc.basis = basis;
+    oc.var = var;
+    om.k = ex->md;
+    om.mean = mm;
+    om.basis = basis;
+    om.var = var + ex->cd;
+    if (r == PW_OK && (r = pw_pca_solve(a, &pc, &oc, e)) == PW_OK) pw_pca_pack(basis, ex->dc, ex->cd, L->pca + ex->dc);
+    if (r == PW_OK && (r = pw_pca_solve(a, &pm, &om, e)) == PW_OK) pw_pca_pack(basis, ex->dm, ex->md, mm + ex->dm);
     for (j = 0, L->lambda = 0.0f; r == PW_OK && j < ex->D; j++)
         L->lambda += var[j] * (j < ex->cd ? 1.0f : ex->weight * ex->weight);
     L->lambda *= usage;
@@ -20055,9 +20369,16 @@ static int pgp__ex_build(const pw_alloc *a, const pgp__key *key, int n, int c, i
     int r = tmp ? PW_OK : PW_ERR_NOMEM, l;
     size_t i;
     memset(ex, 0, sizeof *ex);
-    ex->c = c, ex->nlev = nlev, ex->cw = o->color_window, ex->mw = o->mask_window, ex->weight = o->mask_weight;
-    ex->dc = ex->cw * ex->cw * c, ex->dm = ex->mw * ex->mw;
-    ex->cd = pw_mini(o->color_dims, ex->dc), ex->md = pw_mini(o->mask_dims, ex->dm), ex->D = ex->cd + ex->md;
+    ex->c = c;
+    ex->nlev = nlev;
+    ex->cw = o->color_window;
+    ex->mw = o->mask_window;
+    ex->weight = o->mask_weight;
+    ex->dc = ex->cw * ex->cw * c;
+    ex->dm = ex->mw * ex->mw;
+    ex->cd = pw_mini(o->color_dims, ex->dc);
+    ex->md = pw_mini(o->mask_dims, ex->dm);
+    ex->D = ex->cd + ex->md;
     for (l = nlev - 1; r == PW_OK && l >= 0; l--, n /= 2) {
         pgp__exlevel *L = &ex->lev[l];
         L->n = n;
@@ -20147,8 +20468,12 @@ static void pgp__update_texel(pgp__synth *S, pgp__exlevel *L, int *ind, const fl
     int u0 = ind[p], u;
     pw_kdquery qy;
     pgp__vector(S->ex, L, ind, target, p % L->n, p / L->n, S->buf, S->q);
-    qy.q = S->q, qy.eps = S->o->search_eps, qy.buckets = S->o->search_buckets, qy.off = S->off;
-    qy.start = u0, qy.start_cost = pw_kdtree_cost(&L->tree, S->q, u0) - L->lambda;
+    qy.q = S->q;
+    qy.eps = S->o->search_eps;
+    qy.buckets = S->o->search_buckets;
+    qy.off = S->off;
+    qy.start = u0;
+    qy.start_cost = pw_kdtree_cost(&L->tree, S->q, u0) - L->lambda;
     u = pw_kdtree_nearest(&L->tree, &qy, NULL);
     if (u == u0) return;
     L->count[u0]--;
@@ -20249,12 +20574,14 @@ static int pgp__key_layer(int k, int nkeys, int layers)
 static int pgp__check_synth_options(const pgp_synth_options *o, int nkeys, int *nlev, pw_err *e)
 {
     int win = pw_maxi(o->color_window, o->mask_window);
-    if (o->single && nkeys != 1) return pw_fail(e, PW_ERR_INVALID, "single-tile mode takes exactly one key (%d given)", nkeys);
+    if (o->single && nkeys != 1)
+        return pw_fail(e, PW_ERR_INVALID, "single-tile mode takes exactly one key (%d given)", nkeys);
     if (!o->single && (nkeys < 2 || nkeys > 256))
         return pw_fail(e, PW_ERR_INVALID, "a morph takes 2 to 256 keys (%d given; single-tile mode takes one)", nkeys);
     if (o->size < 16 || o->size > 4096) return pw_fail(e, PW_ERR_INVALID, "tile size %d (16 to 4096 texels)", o->size);
     if (o->layers < (o->single ? 1 : nkeys) || o->layers > 1024)
-        return pw_fail(e, PW_ERR_INVALID, "%d layers for %d keys (at least one layer per key, at most 1024)", o->layers, nkeys);
+        return pw_fail(e, PW_ERR_INVALID, "%d layers for %d keys (at least one layer per key, at most 1024)", o->layers,
+                       nkeys);
     if (o->tileable < PGP_TILEABLE_AUTO || o->tileable > PGP_TILEABLE_MAKE || o->auto_mask < PGP_MASK_DARK ||
         o->auto_mask > PGP_MASK_GRADIENT)
         return pw_fail(e, PW_ERR_INVALID, "unknown tileable (%d) or auto_mask (%d) mode", o->tileable, o->auto_mask);
@@ -20272,8 +20599,10 @@ static int pgp__check_synth_options(const pgp_synth_options *o, int nkeys, int *
                        o->mask_weight, o->usage_weight, o->search_eps);
     *nlev = o->levels < 0 ? 0 : pgp__level_count(o->size, o->levels);
     if (!*nlev || (o->size >> (*nlev - 1)) < win)
-        return pw_fail(e, PW_ERR_INVALID, "%d pyramid levels do not fit a %d-texel tile (each halving needs an even "
-                       "side, and the coarsest one at least the %d-texel window)", o->levels, o->size, win);
+        return pw_fail(e, PW_ERR_INVALID,
+                       "%d pyramid levels do not fit a %d-texel tile (each halving needs an even "
+                       "side, and the coarsest one at least the %d-texel window)",
+                       o->levels, o->size, win);
     return PW_OK;
 }
 
@@ -20287,7 +20616,8 @@ static int pgp__check_keys(const pgp_key *keys, int nkeys, pw_err *e)
         if (pgp__check_image(keys[k].image, what, e) != PW_OK) return e->code;
         snprintf(what, sizeof what, "key %d mask", k);
         if (keys[k].mask && pgp__check_image(keys[k].mask, what, e) != PW_OK) return e->code;
-        if (keys[k].mask && (keys[k].mask->width != keys[k].image->width || keys[k].mask->height != keys[k].image->height))
+        if (keys[k].mask &&
+            (keys[k].mask->width != keys[k].image->width || keys[k].mask->height != keys[k].image->height))
             return pw_fail(e, PW_ERR_INVALID, "key %d: the mask is %dx%d but the image %dx%d", k, keys[k].mask->width,
                            keys[k].mask->height, keys[k].image->width, keys[k].image->height);
     }
@@ -20314,10 +20644,14 @@ static int pgp__layer_masks(const pw_alloc *a, const pgp__key *keys, int nkeys, 
     for (k = 0; k + 1 < nkeys && r == PW_OK; k++) {
         int b = pgp__key_layer(k, nkeys, o->layers);
         pgp__morph_job J;
-        J.f0 = keys[k].mask, J.f1 = keys[k + 1].mask, J.n = o->size;
+        J.f0 = keys[k].mask;
+        J.f1 = keys[k + 1].mask;
+        J.n = o->size;
         J.M = pgp__key_layer(k + 1, nkeys, o->layers) - b;
         J.masks = masks + b * nn;
-        J.prog = prog, J.p0 = 0.05f * k / (nkeys - 1), J.p1 = 0.05f * (k + 1) / (nkeys - 1);
+        J.prog = prog;
+        J.p0 = 0.05f * k / (nkeys - 1);
+        J.p1 = 0.05f * (k + 1) / (nkeys - 1);
         r = pgp__morph_masks(a, &J, o, e);
     }
     return r;
@@ -20334,8 +20668,10 @@ static int pgp__synth_side(pgp__synth *S, const unsigned char *masks, int M, int
     int k, r = PW_OK;
     for (k = 0; k < M && r == PW_OK; k++) {
         int m = from_end ? M - k : k;
-        r = pgp__synth_layer(S, masks + m * nn, k == 0 ? PGP__INIT_IDENTITY : PGP__INIT_PREVIOUS, stream + (uint64_t)m, e);
-        if (r == PW_OK && m < M) pgp__emit(S, from_end ? (float)m / (float)M : 1.0f - (float)m / (float)M, from_end, out + m * lay);
+        r = pgp__synth_layer(S, masks + m * nn, k == 0 ? PGP__INIT_IDENTITY : PGP__INIT_PREVIOUS, stream + (uint64_t)m,
+                             e);
+        if (r == PW_OK && m < M)
+            pgp__emit(S, from_end ? (float)m / (float)M : 1.0f - (float)m / (float)M, from_end, out + m * lay);
     }
     return r;
 }
@@ -20369,10 +20705,13 @@ static int pgp__synth_layers(const pw_alloc *a, const pgp__key *keys, int nkeys,
     memset(&S, 0, sizeof S);
     r = pgp__ex_build(a, &keys[0], o->size, c, nlev, o, &ex[0], e);
     if (r == PW_OK) r = pgp__synth_init(a, &S, &ex[0], o, e);
-    S.prog = pgp__synth_progress(o), S.done = &done, S.total = pgp__work(o, nkeys, nlev);
+    S.prog = pgp__synth_progress(o);
+    S.done = &done;
+    S.total = pgp__work(o, nkeys, nlev);
     memcpy(px, keys[0].color, sizeof(float) * lay);
     for (l = 1; o->single && r == PW_OK && l < o->layers; l++) {
-        if ((r = pgp__synth_layer(&S, masks, PGP__INIT_RANDOM, (uint64_t)l, e)) == PW_OK) pgp__emit(&S, 1.0f, 0, px + l * lay);
+        if ((r = pgp__synth_layer(&S, masks, PGP__INIT_RANDOM, (uint64_t)l, e)) == PW_OK)
+            pgp__emit(&S, 1.0f, 0, px + l * lay);
     }
     for (k = 0; !o->single && r == PW_OK && k + 1 < nkeys; k++) {
         int b = pgp__key_layer(k, nkeys, o->layers), M = pgp__key_layer(k + 1, nkeys, o->layers) - b;

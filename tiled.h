@@ -3,32 +3,32 @@
  *
  * CONTENTS (line: source, what it holds)
  *     33: src/tiled/tiled.h, the public API and its documentation
- *    442: src/common/base.h, allocation hooks, result codes, error messages, limits, he
- *    761: src/common/vec.h, small vector math on float[3] arrays and a 3-float struct.
- *    858: src/common/rng.h, seeded random numbers with the same output on every platfo
- *    935: src/common/noise.h, value noise and its fractal sum, for the built-in procedur
- *   1037: src/common/image.h, float images and their file formats.
- *   1766: src/common/deflate.h, zlib (RFC 1950) and deflate (RFC 1951) compression and
- *   2796: src/common/png.h, PNG writer and reader, and the image front end.
- *   3383: src/common/text.h, locale-independent number parsing and formatting, a line s
- *   3766: src/common/mesh.h, polygon meshes as flat arrays, and their file formats.
- *   5281: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
- *   5727: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
- *   6149: src/common/subdiv.h, Catmull-Clark subdivision (Catmull and Clark 1978) with
- *   6290: src/common/raster.h, exact scan conversion of 2D triangles.
- *   6772: src/common/render.h, a small deterministic software renderer for textured trian
- *   8553: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
- *   9059: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
- *   9553: src/common/glue.h, what every method header needs between its public types an
- *   9760: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  10306: src/tiled/core.c, tiled.h's glue to the shared core, its defaults, result
- *  10413: src/tiled/layout.c, ch. III.1, the boundary types and the tiled texture they
- *  10666: src/tiled/map.c, ch. III.2, the texture mapping algorithm of Fig. 29
- *  10913: src/tiled/synth.c, ch. III.1.3, tiled texture image synthesis: an edge-matche
- *  11279: src/tiled/validate.c, checks a hand-made tiled texture (the thesis's Figs. 39,
- *  11407: src/tiled/builtin.c, built-in meshes and exemplars for demos and tests: the
- *  11593: src/tiled/render.c, a software rendering of a mapped mesh (the thesis rendered
- *  11801: src/tiled/io.c, files. Meshes and exemplars in; the mapped mesh with its t
+ *    433: src/common/base.h, allocation hooks, result codes, error messages, limits, he
+ *    745: src/common/vec.h, small vector math on float[3] arrays and a 3-float struct.
+ *    848: src/common/rng.h, seeded random numbers with the same output on every platfo
+ *    925: src/common/noise.h, value noise and its fractal sum, for the built-in procedur
+ *   1027: src/common/image.h, float images and their file formats.
+ *   1721: src/common/deflate.h, zlib (RFC 1950) and deflate (RFC 1951) compression and
+ *   2720: src/common/png.h, PNG writer and reader, and the image front end.
+ *   3278: src/common/text.h, locale-independent number parsing and formatting, a line s
+ *   3681: src/common/mesh.h, polygon meshes as flat arrays, and their file formats.
+ *   5210: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
+ *   5711: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
+ *   6135: src/common/subdiv.h, Catmull-Clark subdivision (Catmull and Clark 1978) with
+ *   6274: src/common/raster.h, exact scan conversion of 2D triangles.
+ *   6750: src/common/render.h, a small deterministic software renderer for textured trian
+ *   8517: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
+ *   9014: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
+ *   9513: src/common/glue.h, what every method header needs between its public types an
+ *   9714: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  10378: src/tiled/core.c, tiled.h's glue to the shared core, its defaults, result
+ *  10480: src/tiled/layout.c, ch. III.1, the boundary types and the tiled texture they
+ *  10752: src/tiled/map.c, ch. III.2, the texture mapping algorithm of Fig. 29
+ *  10993: src/tiled/synth.c, ch. III.1.3, tiled texture image synthesis: an edge-matche
+ *  11357: src/tiled/validate.c, checks a hand-made tiled texture (the thesis's Figs. 39,
+ *  11485: src/tiled/builtin.c, built-in meshes and exemplars for demos and tests: the
+ *  11683: src/tiled/render.c, a software rendering of a mapped mesh (the thesis rendered
+ *  11891: src/tiled/io.c, files. Meshes and exemplars in; the mapped mesh with its t
  */
 /* tiled.h - seamless, singularity-free tiled textures on quad meshes.
  *
@@ -205,8 +205,8 @@ typedef void (*tiled_parallel_fn)(void *pool, int n, tiled_task_fn task, void *c
  * 2 gray+alpha, 3 RGB, 4 RGBA), row 0 at the top. */
 typedef struct tiled_image {
     int width, height, channels;
-    float *pixels; /* width*height*channels, pixels[(y*width + x)*channels + c] */
-    int bits;      /* sample depth the image was read with (8 or 16); 0 means 8 */
+    float *pixels;             /* width*height*channels, pixels[(y*width + x)*channels + c] */
+    int bits;                  /* sample depth the image was read with (8 or 16); 0 means 8 */
     tiled_allocator allocator; /* set by the library on images it allocates */
 } tiled_image;
 
@@ -217,12 +217,12 @@ typedef struct tiled_mesh {
     int nverts;
     float *positions; /* nverts*3 */
     int nfaces;
-    int *face_start;  /* nfaces+1 */
-    int *face_verts;  /* face_start[nfaces] vertex indices */
-    float *uvs;       /* face_start[nfaces]*2 per-corner texture coordinates, or NULL */
-    int *corner_types;/* face_start[nfaces]: boundary type of the half-edge that
+    int *face_start;   /* nfaces+1 */
+    int *face_verts;   /* face_start[nfaces] vertex indices */
+    float *uvs;        /* face_start[nfaces]*2 per-corner texture coordinates, or NULL */
+    int *corner_types; /* face_start[nfaces]: boundary type of the half-edge that
                          leaves each corner (to the next corner), or NULL */
-    int *face_tiles;  /* nfaces: tile index row*N + col in the atlas, or NULL */
+    int *face_tiles;   /* nfaces: tile index row*N + col in the atlas, or NULL */
     tiled_allocator allocator;
 } tiled_mesh;
 
@@ -248,34 +248,34 @@ typedef enum tiled_filter {
 
 /* Render settings. Zero-initialised means defaults. */
 typedef struct tiled_render_options {
-    int width, height;  /* default 800 x 600 */
-    int supersample;    /* samples per pixel along each axis; default 2 */
-    float view_dir[3];  /* direction the camera looks along; default (-0.55,-0.45,-0.7) */
-    float up[3];        /* world direction shown upwards; default (0,1,0) */
-    float background[3];/* default (1,1,1) */
-    tiled_filter filter;/* default TILED_FILTER_TRILINEAR */
-    int threads;             /* rendering threads: 0 (default) one per processor when the
+    int width, height;          /* default 800 x 600 */
+    int supersample;            /* samples per pixel along each axis; default 2 */
+    float view_dir[3];          /* direction the camera looks along; default (-0.55,-0.45,-0.7) */
+    float up[3];                /* world direction shown upwards; default (0,1,0) */
+    float background[3];        /* default (1,1,1) */
+    tiled_filter filter;        /* default TILED_FILTER_TRILINEAR */
+    int threads;                /* rendering threads: 0 (default) one per processor when the
                                 implementation is built with PW_THREADS (POSIX threads;
                                 link with -pthread), else 1; n: at most n. With more
                                 than one, the allocator is called from several threads */
     tiled_parallel_fn parallel; /* optional: the caller's parallel for, used instead of threads */
-    void *parallel_pool;     /* its first argument */
+    void *parallel_pool;        /* its first argument */
 } tiled_render_options;
 
 /* Options. Zero-initialised means defaults; tiled_default_options() returns
  * them filled in. */
 typedef struct tiled_options {
     tiled_layout layout;
-    unsigned long long seed; /* RNG seed; default 0 */
-    int subdivide;           /* extra Catmull-Clark levels once the mesh is all
+    unsigned long long seed;     /* RNG seed; default 0 */
+    int subdivide;               /* extra Catmull-Clark levels once the mesh is all
                                 quads, before mapping (more, smaller tiles);
                                 default 0 */
-    int smooth;              /* Catmull-Clark levels after mapping, carrying the
+    int smooth;                  /* Catmull-Clark levels after mapping, carrying the
                                 texture coordinates along (thesis Figs. 30, 31):
                                 a smooth surface, each tile still spanning one
                                 original quad; default 0 */
-    int no_mirror;           /* case 1: do not mirror tiles (rotation only) */
-    int fixed_start;         /* 1: always start the tile walk at a face's first
+    int no_mirror;               /* case 1: do not mirror tiles (rotation only) */
+    int fixed_start;             /* 1: always start the tile walk at a face's first
                                 corner instead of a random one (thesis's
                                 "further randomness" off); default 0 */
     tiled_render_options render; /* tiled_render's settings (pass &opt.render) */
@@ -286,18 +286,18 @@ typedef struct tiled_options {
 
 /* A tile set: its resolved layout and the tiled texture with guard bands. */
 typedef struct tiled_tileset {
-    tiled_layout layout;   /* every field resolved (no zero defaults left) */
-    int tiles_per_side;    /* N: the atlas is N x N cells */
-    int max_mip_level;     /* mip levels 0..this never mix two tiles */
-    tiled_image atlas;     /* N*(T+2g) pixels square */
+    tiled_layout layout; /* every field resolved (no zero defaults left) */
+    int tiles_per_side;  /* N: the atlas is N x N cells */
+    int max_mip_level;   /* mip levels 0..this never mix two tiles */
+    tiled_image atlas;   /* N*(T+2g) pixels square */
 } tiled_tileset;
 
 /* One tile side whose pattern does not continue into its partners'. */
 typedef struct tiled_side_mismatch {
-    int tile;      /* tile index row*N + col */
-    int side;      /* 0 bottom, 1 right, 2 top, 3 left */
-    int type;      /* its boundary type */
-    float seam;    /* mean colour jump across the side, 0..1 */
+    int tile;   /* tile index row*N + col */
+    int side;   /* 0 bottom, 1 right, 2 top, 3 left */
+    int type;   /* its boundary type */
+    float seam; /* mean colour jump across the side, 0..1 */
 } tiled_side_mismatch;
 
 #define TILED_MAX_MISMATCHES 64
@@ -305,13 +305,12 @@ typedef struct tiled_side_mismatch {
 /* Report of tiled_validate_tiles. */
 typedef struct tiled_validation {
     int sides_checked;
-    int nbad;               /* sides that do not match (all of them counted) */
-    float interior;         /* typical jump between neighbouring pixels inside tiles */
-    float threshold;        /* a side fails when its seam exceeds this */
-    float worst;            /* largest seam found */
+    int nbad;                                      /* sides that do not match (all of them counted) */
+    float interior;                                /* typical jump between neighbouring pixels inside tiles */
+    float threshold;                               /* a side fails when its seam exceeds this */
+    float worst;                                   /* largest seam found */
     tiled_side_mismatch bad[TILED_MAX_MISMATCHES]; /* the first ones, worst first */
 } tiled_validation;
-
 
 /* Defaults and messages. */
 TILEDDEF tiled_options tiled_default_options(void);
@@ -322,21 +321,21 @@ TILEDDEF const char *tiled_result_string(tiled_result r);
 /* Builds an edge-matched tile set from an exemplar image (opt->layout says
  * which case, how many pairs or tiles, tile size and guard). The exemplar
  * should be homogeneous and isotropic: tiles are rotated on the mesh. */
-TILEDDEF tiled_result tiled_synthesize(const tiled_image *exemplar, const tiled_options *opt,
-                                       tiled_tileset *out, tiled_error *err);
+TILEDDEF tiled_result tiled_synthesize(const tiled_image *exemplar, const tiled_options *opt, tiled_tileset *out,
+                                       tiled_error *err);
 
 /* Wraps a user-made tiled texture laid out as in the thesis (no guard
  * bands: (2n)^2 x (2n)^2 tiles in case 2, grid x grid in case 1, square)
  * into a tile set with guard bands. Does not check that sides match: see
  * tiled_validate_tiles. */
-TILEDDEF tiled_result tiled_tileset_from_image(const tiled_image *tiles, const tiled_options *opt,
-                                               tiled_tileset *out, tiled_error *err);
+TILEDDEF tiled_result tiled_tileset_from_image(const tiled_image *tiles, const tiled_options *opt, tiled_tileset *out,
+                                               tiled_error *err);
 
 /* Checks a user-made tiled texture (thesis layout, no guard bands): every
  * side must continue into every side it can meet on a mesh. Returns
  * TILED_OK when the check ran; report->nbad says how many sides fail. */
-TILEDDEF tiled_result tiled_validate_tiles(const tiled_image *tiles, const tiled_options *opt,
-                                           tiled_validation *report, tiled_error *err);
+TILEDDEF tiled_result tiled_validate_tiles(const tiled_image *tiles, const tiled_options *opt, tiled_validation *report,
+                                           tiled_error *err);
 
 TILEDDEF void tiled_tileset_free(tiled_tileset *ts);
 
@@ -348,13 +347,12 @@ TILEDDEF void tiled_tileset_free(tiled_tileset *ts);
  * opt->smooth levels of Catmull-Clark that carry the mapping along. The
  * output mesh has uvs, corner_types (-1 on edges made by smoothing) and
  * face_tiles. */
-TILEDDEF tiled_result tiled_map(const tiled_mesh *in, const tiled_layout *layout,
-                                const tiled_options *opt, tiled_mesh *out, tiled_error *err);
+TILEDDEF tiled_result tiled_map(const tiled_mesh *in, const tiled_layout *layout, const tiled_options *opt,
+                                tiled_mesh *out, tiled_error *err);
 
 /* Renders a mapped mesh with its tile set's atlas. */
-TILEDDEF tiled_result tiled_render(const tiled_mesh *mapped, const tiled_tileset *ts,
-                                   const tiled_render_options *ro, tiled_image *out,
-                                   tiled_error *err);
+TILEDDEF tiled_result tiled_render(const tiled_mesh *mapped, const tiled_tileset *ts, const tiled_render_options *ro,
+                                   tiled_image *out, tiled_error *err);
 
 /* How wide tiled_render draws a tile, in pixels: the median over faces of
  * a tile side's world length (from each face's areas in world and texture
@@ -362,37 +360,33 @@ TILEDDEF tiled_result tiled_render(const tiled_mesh *mapped, const tiled_tileset
  * pixels the texture cannot be seen: the mesh has too many quads for this
  * method (one tile per quad), see tiled_map. */
 TILEDDEF tiled_result tiled_drawn_tile_size(const tiled_mesh *mapped, const tiled_tileset *ts,
-                                            const tiled_render_options *ro, float *pixels,
-                                            tiled_error *err);
+                                            const tiled_render_options *ro, float *pixels, tiled_error *err);
 
 /* Built-in data ----------------------------------------------------------- */
 
 /* Procedural meshes, scaled to fit [-1,1]^3: "cube", "torus" (24x12 quads),
  * "double-torus" (genus 2, quads), "icosahedron" (triangles), "grid" (open
  * 12x12 quads, with a boundary). */
-TILEDDEF tiled_result tiled_builtin_mesh(const char *name, const tiled_options *opt,
-                                         tiled_mesh *out, tiled_error *err);
+TILEDDEF tiled_result tiled_builtin_mesh(const char *name, const tiled_options *opt, tiled_mesh *out, tiled_error *err);
 /* Procedural exemplars, size x size pixels, RGB, periodic, isotropic:
  * "pebbles", "spots", "lichen". The seed in opt varies them. */
-TILEDDEF tiled_result tiled_builtin_exemplar(const char *name, int size, const tiled_options *opt,
-                                             tiled_image *out, tiled_error *err);
+TILEDDEF tiled_result tiled_builtin_exemplar(const char *name, int size, const tiled_options *opt, tiled_image *out,
+                                             tiled_error *err);
 
 /* Files ------------------------------------------------------------------ */
 
 /* Meshes: OBJ, OFF (COFF/NOFF...), PLY (ASCII and binary), by content. */
-TILEDDEF tiled_result tiled_read_mesh(const void *data, size_t size, const char *name,
-                                      const tiled_options *opt, tiled_mesh *out,
-                                      tiled_error *err);
+TILEDDEF tiled_result tiled_read_mesh(const void *data, size_t size, const char *name, const tiled_options *opt,
+                                      tiled_mesh *out, tiled_error *err);
 /* Images: PPM, PGM, PAM (8/16 bit), PNG, GIMP .pat, by content. */
-TILEDDEF tiled_result tiled_read_image(const void *data, size_t size, const char *name,
-                                       const tiled_options *opt, tiled_image *out,
-                                       tiled_error *err);
+TILEDDEF tiled_result tiled_read_image(const void *data, size_t size, const char *name, const tiled_options *opt,
+                                       tiled_image *out, tiled_error *err);
 /* format: "png", "ppm", "pgm", "pam" (ppm/pgm pick by channel count). */
-TILEDDEF tiled_result tiled_write_image(const tiled_image *img, const char *format,
-                                        tiled_write_fn fn, void *ctx, tiled_error *err);
+TILEDDEF tiled_result tiled_write_image(const tiled_image *img, const char *format, tiled_write_fn fn, void *ctx,
+                                        tiled_error *err);
 /* OBJ with per-corner vt; mtllib/usemtl lines when mtl_name is not NULL. */
-TILEDDEF tiled_result tiled_write_obj(const tiled_mesh *m, const char *mtl_name,
-                                      tiled_write_fn fn, void *ctx, tiled_error *err);
+TILEDDEF tiled_result tiled_write_obj(const tiled_mesh *m, const char *mtl_name, tiled_write_fn fn, void *ctx,
+                                      tiled_error *err);
 /* Binary glTF 2.0 (.glb, one self-contained file): the mesh with its
  * per-corner coordinates and, when texture is not NULL, the tiled texture
  * as its base colour (PNG inside), sampled LINEAR / LINEAR_MIPMAP_LINEAR
@@ -405,19 +399,16 @@ TILEDDEF tiled_result tiled_write_gltf(const tiled_mesh *m, const tiled_image *t
                                        const tiled_render_options *view, tiled_write_fn fn, void *ctx,
                                        tiled_error *err);
 /* An MTL file with one material "tiled" whose map_Kd is texture_name. */
-TILEDDEF tiled_result tiled_write_mtl(const char *texture_name, tiled_write_fn fn,
-                                      void *ctx, tiled_error *err);
+TILEDDEF tiled_result tiled_write_mtl(const char *texture_name, tiled_write_fn fn, void *ctx, tiled_error *err);
 #ifndef PW_NO_STDIO
-TILEDDEF tiled_result tiled_load_mesh(const char *path, const tiled_options *opt, tiled_mesh *out,
-                                      tiled_error *err);
-TILEDDEF tiled_result tiled_load_image(const char *path, const tiled_options *opt,
-                                       tiled_image *out, tiled_error *err);
+TILEDDEF tiled_result tiled_load_mesh(const char *path, const tiled_options *opt, tiled_mesh *out, tiled_error *err);
+TILEDDEF tiled_result tiled_load_image(const char *path, const tiled_options *opt, tiled_image *out, tiled_error *err);
 /* Format from the extension: .png .ppm .pgm .pnm .pam */
 TILEDDEF tiled_result tiled_save_image(const char *path, const tiled_image *img, tiled_error *err);
 /* Writes obj_path and, when texture_path is not NULL, an MTL beside it
  * (obj_path with .mtl) whose map_Kd names texture_path. */
-TILEDDEF tiled_result tiled_save_obj(const char *obj_path, const tiled_mesh *m,
-                                     const char *texture_path, tiled_error *err);
+TILEDDEF tiled_result tiled_save_obj(const char *obj_path, const tiled_mesh *m, const char *texture_path,
+                                     tiled_error *err);
 /* tiled_write_gltf into the file path (.glb). */
 TILEDDEF tiled_result tiled_save_gltf(const char *path, const tiled_mesh *m, const tiled_image *texture,
                                       const tiled_render_options *view, tiled_error *err);
@@ -514,11 +505,17 @@ enum {
 
 PW__DEF const char *pw_result_string(int code)
 {
-    static const char *const names[PW_ERR__COUNT] = {
-        "ok", "out of memory", "input/output error", "parse error",
-        "unsupported feature", "size limit exceeded", "invalid argument",
-        "bad mesh topology", "degenerate geometry", "cancelled",
-        "solver did not converge"};
+    static const char *const names[PW_ERR__COUNT] = {"ok",
+                                                     "out of memory",
+                                                     "input/output error",
+                                                     "parse error",
+                                                     "unsupported feature",
+                                                     "size limit exceeded",
+                                                     "invalid argument",
+                                                     "bad mesh topology",
+                                                     "degenerate geometry",
+                                                     "cancelled",
+                                                     "solver did not converge"};
     if (code < 0 || code >= PW_ERR__COUNT) return "unknown error";
     return names[code];
 }
@@ -576,33 +573,27 @@ PW__DEF void *pw_realloc(const pw_alloc *a, void *p, size_t n)
 PW__DEF void pw_free(const pw_alloc *a, void *p)
 {
     if (!p) return;
-    if (a && a->free_fn)
-        a->free_fn(a->user, p);
-    else
-        PW_FREE(p);
+    if (a && a->free_fn) a->free_fn(a->user, p);
+    else PW_FREE(p);
 }
 
 /* count*size bytes, overflow-checked; records PW_ERR_NOMEM (naming `what`)
  * on failure. */
-PW__DEF void *pw_alloc_array(const pw_alloc *a, size_t count, size_t size,
-                             const char *what, pw_err *e)
+PW__DEF void *pw_alloc_array(const pw_alloc *a, size_t count, size_t size, const char *what, pw_err *e)
 {
     void *p;
     if (size && count > (size_t)-1 / size) {
-        pw_fail(e, PW_ERR_NOMEM, "%s: %lu elements of %lu bytes overflow size_t",
-                what, (unsigned long)count, (unsigned long)size);
+        pw_fail(e, PW_ERR_NOMEM, "%s: %lu elements of %lu bytes overflow size_t", what, (unsigned long)count,
+                (unsigned long)size);
         return NULL;
     }
     p = pw_malloc(a, count * size);
-    if (!p)
-        pw_fail(e, PW_ERR_NOMEM, "out of memory allocating %s (%lu bytes)", what,
-                (unsigned long)(count * size));
+    if (!p) pw_fail(e, PW_ERR_NOMEM, "out of memory allocating %s (%lu bytes)", what, (unsigned long)(count * size));
     return p;
 }
 
 /* Same, zero-filled. */
-PW__DEF void *pw_calloc_array(const pw_alloc *a, size_t count, size_t size,
-                              const char *what, pw_err *e)
+PW__DEF void *pw_calloc_array(const pw_alloc *a, size_t count, size_t size, const char *what, pw_err *e)
 {
     void *p = pw_alloc_array(a, count, size, what, e);
     if (p) memset(p, 0, count * size);
@@ -611,22 +602,19 @@ PW__DEF void *pw_calloc_array(const pw_alloc *a, size_t count, size_t size,
 
 /* Grows *p (holding *cap elements of `size` bytes) to at least `need`
  * elements, doubling. Returns 0 on success. */
-PW__DEF int pw_grow(const pw_alloc *a, void **p, size_t *cap, size_t need,
-                    size_t size, const char *what, pw_err *e)
+PW__DEF int pw_grow(const pw_alloc *a, void **p, size_t *cap, size_t need, size_t size, const char *what, pw_err *e)
 {
     size_t ncap;
     void *np;
     if (need <= *cap) return PW_OK;
     ncap = *cap ? *cap : 16;
     while (ncap < need) {
-        if (ncap > ((size_t)-1 / 2) / size)
-            return pw_fail(e, PW_ERR_NOMEM, "%s: size overflow", what);
+        if (ncap > ((size_t)-1 / 2) / size) return pw_fail(e, PW_ERR_NOMEM, "%s: size overflow", what);
         ncap *= 2;
     }
     np = pw_realloc(a, *p, ncap * size);
     if (!np)
-        return pw_fail(e, PW_ERR_NOMEM, "out of memory growing %s to %lu bytes",
-                       what, (unsigned long)(ncap * size));
+        return pw_fail(e, PW_ERR_NOMEM, "out of memory growing %s to %lu bytes", what, (unsigned long)(ncap * size));
     *p = np;
     *cap = ncap;
     return PW_OK;
@@ -639,12 +627,10 @@ typedef struct pw_progress {
 } pw_progress;
 
 /* Reports progress; returns PW_ERR_CANCELLED (recorded in e) if asked. */
-PW__DEF int pw_report(const pw_progress *p, float done, const char *stage,
-                      pw_err *e)
+PW__DEF int pw_report(const pw_progress *p, float done, const char *stage, pw_err *e)
 {
     if (p && p->fn && p->fn(p->user, done, stage))
-        return pw_fail(e, PW_ERR_CANCELLED, "cancelled by the progress callback during %s",
-                       stage);
+        return pw_fail(e, PW_ERR_CANCELLED, "cancelled by the progress callback during %s", stage);
     return PW_OK;
 }
 
@@ -675,8 +661,7 @@ PW__DEF int pw_has_ext(const char *path, const char *ext)
 #ifndef PW_NO_STDIO
 /* Reads a whole file into memory (with a terminating NUL not counted in
  * *size). */
-PW__DEF int pw_read_file(const pw_alloc *a, const char *path, unsigned char **data,
-                         size_t *size, pw_err *e)
+PW__DEF int pw_read_file(const pw_alloc *a, const char *path, unsigned char **data, size_t *size, pw_err *e)
 {
     FILE *f = fopen(path, "rb");
     unsigned char *buf = NULL;
@@ -713,9 +698,8 @@ PW__DEF int pw__file_write(void *ctx, const void *data, size_t size)
 
 /* Opens `path` for writing and runs body(arg, sink, FILE*, e), which writes
  * through the sink. A failing sink or fclose is reported naming the file. */
-PW__DEF int pw_write_file(const char *path,
-                          int (*body)(void *arg, pw_write_fn w, void *ctx, pw_err *e),
-                          void *arg, pw_err *e)
+PW__DEF int pw_write_file(const char *path, int (*body)(void *arg, pw_write_fn w, void *ctx, pw_err *e), void *arg,
+                          pw_err *e)
 {
     pw_err local;
     FILE *f = fopen(path, "wb");
@@ -846,9 +830,15 @@ PW__DEF double pw_sin(double x)
     long n = (long)(k >= 0 ? k + 0.5 : k - 0.5);
     r = x - (double)n * pi; /* r in [-pi/2, pi/2] */
     r2 = r * r;
-    s = r * (1.0 + r2 * (-1.0 / 6 + r2 * (1.0 / 120 + r2 * (-1.0 / 5040 + r2 * (1.0 / 362880 +
-        r2 * (-1.0 / 39916800 + r2 * (1.0 / 6227020800.0 + r2 * (-1.0 / 1307674368000.0 +
-        r2 * (1.0 / 355687428096000.0 + r2 * (-1.0 / 121645100408832000.0))))))))));
+    s = r * (1.0 +
+             r2 * (-1.0 / 6 +
+                   r2 * (1.0 / 120 +
+                         r2 * (-1.0 / 5040 +
+                               r2 * (1.0 / 362880 + r2 * (-1.0 / 39916800 +
+                                                          r2 * (1.0 / 6227020800.0 +
+                                                                r2 * (-1.0 / 1307674368000.0 +
+                                                                      r2 * (1.0 / 355687428096000.0 +
+                                                                            r2 * (-1.0 / 121645100408832000.0))))))))));
     return (n & 1) ? -s : s;
 }
 PW__DEF double pw_cos(double x) { return pw_sin(x + 1.57079632679489661923); }
@@ -1079,8 +1069,7 @@ PW__DEF int pw_image_alloc(const pw_alloc *a, pw_image *img, int w, int h, int c
     if (w <= 0 || h <= 0 || c < 1 || c > 4)
         return pw_fail(e, PW_ERR_INVALID, "invalid image size %dx%d with %d channels", w, h, c);
     if (w > PW_MAX_IMAGE_DIM || h > PW_MAX_IMAGE_DIM || (int64_t)w * h > PW_MAX_IMAGE_PIXELS)
-        return pw_fail(e, PW_ERR_LIMIT, "image %dx%d exceeds the limit of %d pixels", w, h,
-                       PW_MAX_IMAGE_PIXELS);
+        return pw_fail(e, PW_ERR_LIMIT, "image %dx%d exceeds the limit of %d pixels", w, h, PW_MAX_IMAGE_PIXELS);
     img->px = (float *)pw_calloc_array(a, (size_t)w * h * c, sizeof(float), "image", e);
     if (!img->px) return PW_ERR_NOMEM;
     img->w = w;
@@ -1115,10 +1104,9 @@ PW__DEF unsigned pw_image_quantize(float v, unsigned maxval)
 PW__DEF int pw__image_check(const pw_image *img, pw_err *e)
 {
     if (!img || !img->px || img->w <= 0 || img->h <= 0 || img->c < 1 || img->c > 4)
-        return pw_fail(e, PW_ERR_INVALID, "invalid image (%dx%d, %d channels)", img ? img->w : 0,
-                       img ? img->h : 0, img ? img->c : 0);
-    if (img->w > PW_MAX_IMAGE_DIM || img->h > PW_MAX_IMAGE_DIM ||
-        (int64_t)img->w * img->h > PW_MAX_IMAGE_PIXELS)
+        return pw_fail(e, PW_ERR_INVALID, "invalid image (%dx%d, %d channels)", img ? img->w : 0, img ? img->h : 0,
+                       img ? img->c : 0);
+    if (img->w > PW_MAX_IMAGE_DIM || img->h > PW_MAX_IMAGE_DIM || (int64_t)img->w * img->h > PW_MAX_IMAGE_PIXELS)
         return pw_fail(e, PW_ERR_LIMIT, "image %dx%d exceeds the size limits", img->w, img->h);
     return PW_OK;
 }
@@ -1140,8 +1128,7 @@ PW__DEF int pw_image_copy(const pw_alloc *a, const pw_image *src, pw_image *out,
  * dropping it (without compositing). RGB to gray uses the Rec. 601 luma
  * weights, as netpbm's ppmtopgm does. out may be src itself: its pixels are
  * then replaced (and freed with a). */
-PW__DEF int pw_image_convert(const pw_alloc *a, const pw_image *src, int channels, pw_image *out,
-                             pw_err *e)
+PW__DEF int pw_image_convert(const pw_alloc *a, const pw_image *src, int channels, pw_image *out, pw_err *e)
 {
     pw_image t;
     size_t i, n;
@@ -1273,13 +1260,11 @@ PW__DEF int pw__sink_end(pw__sink *s, pw_err *e)
 PW__DEF int pw__image_check_size(const char *name, uint64_t w, uint64_t h, pw_err *e)
 {
     if (w == 0 || h == 0)
-        return pw_fail(e, PW_ERR_PARSE, "%s: image has zero size (%llux%llu)", name,
-                       (unsigned long long)w, (unsigned long long)h);
+        return pw_fail(e, PW_ERR_PARSE, "%s: image has zero size (%llux%llu)", name, (unsigned long long)w,
+                       (unsigned long long)h);
     if (w > PW_MAX_IMAGE_DIM || h > PW_MAX_IMAGE_DIM || w * h > (uint64_t)PW_MAX_IMAGE_PIXELS)
-        return pw_fail(e, PW_ERR_LIMIT,
-                       "%s: image size %llux%llu exceeds the limits (%d per side, %d pixels)", name,
-                       (unsigned long long)w, (unsigned long long)h, PW_MAX_IMAGE_DIM,
-                       PW_MAX_IMAGE_PIXELS);
+        return pw_fail(e, PW_ERR_LIMIT, "%s: image size %llux%llu exceeds the limits (%d per side, %d pixels)", name,
+                       (unsigned long long)w, (unsigned long long)h, PW_MAX_IMAGE_DIM, PW_MAX_IMAGE_PIXELS);
     return PW_OK;
 }
 
@@ -1297,10 +1282,7 @@ typedef struct pw__pnm {
     uint64_t w, h, depth, maxval;
 } pw__pnm;
 
-PW__DEF int pw__is_space(int c)
-{
-    return c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == '\v' || c == '\f';
-}
+PW__DEF int pw__is_space(int c) { return c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == '\v' || c == '\f'; }
 
 /* Skips whitespace and comments (# to the end of the line). */
 PW__DEF void pw__pnm_skip(pw__pnm *r)
@@ -1323,10 +1305,8 @@ PW__DEF int pw__pnm_unexpected(pw__pnm *r, const char *what)
 {
     int c = r->p[r->pos];
     if (c > 32 && c < 127)
-        return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: expected the %s, found '%c'", r->name, r->line,
-                       what, c);
-    return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: expected the %s, found byte 0x%02x", r->name,
-                   r->line, what, c);
+        return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: expected the %s, found '%c'", r->name, r->line, what, c);
+    return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: expected the %s, found byte 0x%02x", r->name, r->line, what, c);
 }
 
 /* Reads an unsigned decimal number: a header field or an ASCII sample. */
@@ -1335,13 +1315,11 @@ PW__DEF int pw__pnm_number(pw__pnm *r, const char *what, uint64_t *v)
     uint64_t x = 0;
     pw__pnm_skip(r);
     if (r->pos >= r->n)
-        return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: file truncated: it ends before the %s", r->name,
-                       r->line, what);
+        return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: file truncated: it ends before the %s", r->name, r->line, what);
     if (r->p[r->pos] < '0' || r->p[r->pos] > '9') return pw__pnm_unexpected(r, what);
     while (r->pos < r->n && r->p[r->pos] >= '0' && r->p[r->pos] <= '9') {
         x = x * 10 + (uint64_t)(r->p[r->pos++] - '0');
-        if (x > 0xffffffffu)
-            return pw_fail(r->e, PW_ERR_LIMIT, "%s:%d: %s is too large", r->name, r->line, what);
+        if (x > 0xffffffffu) return pw_fail(r->e, PW_ERR_LIMIT, "%s:%d: %s is too large", r->name, r->line, what);
     }
     if (r->pos < r->n && !pw__is_space(r->p[r->pos]) && r->p[r->pos] != '#')
         return pw__pnm_unexpected(r, "end of the number");
@@ -1352,8 +1330,8 @@ PW__DEF int pw__pnm_number(pw__pnm *r, const char *what, uint64_t *v)
 PW__DEF int pw__pnm_check_maxval(pw__pnm *r)
 {
     if (r->maxval == 0 || r->maxval > 65535)
-        return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: maxval %llu is out of range (1 to 65535)",
-                       r->name, r->line, (unsigned long long)r->maxval);
+        return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: maxval %llu is out of range (1 to 65535)", r->name, r->line,
+                       (unsigned long long)r->maxval);
     return PW_OK;
 }
 
@@ -1362,8 +1340,7 @@ PW__DEF int pw__pnm_header(pw__pnm *r)
 {
     int rc;
     if (r->pos < r->n && !pw__is_space(r->p[r->pos]) && r->p[r->pos] != '#')
-        return pw_fail(r->e, PW_ERR_PARSE, "%s: bad magic number (P%d not followed by a space)",
-                       r->name, r->fmt);
+        return pw_fail(r->e, PW_ERR_PARSE, "%s: bad magic number (P%d not followed by a space)", r->name, r->fmt);
     if ((rc = pw__pnm_number(r, "width", &r->w))) return rc;
     if ((rc = pw__pnm_number(r, "height", &r->h))) return rc;
     r->maxval = 1;
@@ -1378,8 +1355,7 @@ PW__DEF int pw__pnm_header(pw__pnm *r)
 PW__DEF int pw__pnm_need(pw__pnm *r, uint64_t need)
 {
     if ((uint64_t)(r->n - r->pos) < need)
-        return pw_fail(r->e, PW_ERR_PARSE,
-                       "%s: pixel data truncated: %llu bytes needed, %llu present", r->name,
+        return pw_fail(r->e, PW_ERR_PARSE, "%s: pixel data truncated: %llu bytes needed, %llu present", r->name,
                        (unsigned long long)need, (unsigned long long)(r->n - r->pos));
     return PW_OK;
 }
@@ -1392,8 +1368,7 @@ PW__DEF int pw__pnm_raster(pw__pnm *r, uint64_t need)
     int c;
     if (r->pos < r->n && r->p[r->pos] == '#')
         while (r->pos < r->n && r->p[r->pos] != '\n' && r->p[r->pos] != '\r') r->pos++;
-    if (r->pos >= r->n)
-        return pw_fail(r->e, PW_ERR_PARSE, "%s: file truncated: no pixel data", r->name);
+    if (r->pos >= r->n) return pw_fail(r->e, PW_ERR_PARSE, "%s: file truncated: no pixel data", r->name);
     c = r->p[r->pos++];
     /* CRLF from a text-mode writer: skip the LF when exactly the raster
      * follows it (a lone CR separator followed by a sample 10 is kept) */
@@ -1410,8 +1385,8 @@ PW__DEF int pw__pnm_binary(pw__pnm *r, pw_image *img)
     for (i = 0; i < n; i++) {
         v = m > 255 ? (unsigned)p[2 * i] << 8 | p[2 * i + 1] : p[i];
         if (v > m)
-            return pw_fail(r->e, PW_ERR_PARSE, "%s: sample %lu is %u, above maxval %u", r->name,
-                           (unsigned long)i, v, m);
+            return pw_fail(r->e, PW_ERR_PARSE, "%s: sample %lu is %u, above maxval %u", r->name, (unsigned long)i, v,
+                           m);
         img->px[i] = (float)v / (float)m;
     }
     return PW_OK;
@@ -1426,9 +1401,8 @@ PW__DEF int pw__pnm_ascii(pw__pnm *r, pw_image *img)
     for (i = 0; i < n; i++) {
         if ((rc = pw__pnm_number(r, "sample", &v))) return rc;
         if (v > r->maxval)
-            return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: sample %lu is %llu, above maxval %llu",
-                           r->name, r->line, (unsigned long)i, (unsigned long long)v,
-                           (unsigned long long)r->maxval);
+            return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: sample %lu is %llu, above maxval %llu", r->name, r->line,
+                           (unsigned long)i, (unsigned long long)v, (unsigned long long)r->maxval);
         img->px[i] = (float)v / (float)r->maxval;
     }
     return PW_OK;
@@ -1447,11 +1421,9 @@ PW__DEF int pw__pbm_pixels(pw__pnm *r, pw_image *img)
             } else {
                 pw__pnm_skip(r);
                 if (r->pos >= r->n)
-                    return pw_fail(r->e, PW_ERR_PARSE,
-                                   "%s:%d: file truncated: it ends before pixel %lu", r->name,
+                    return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: file truncated: it ends before pixel %lu", r->name,
                                    r->line, (unsigned long)(y * img->w + x));
-                if (r->p[r->pos] != '0' && r->p[r->pos] != '1')
-                    return pw__pnm_unexpected(r, "bit 0 or 1");
+                if (r->p[r->pos] != '0' && r->p[r->pos] != '1') return pw__pnm_unexpected(r, "bit 0 or 1");
                 bit = r->p[r->pos++] - '0';
             }
             img->px[y * img->w + x] = bit ? 0.0f : 1.0f;
@@ -1466,18 +1438,15 @@ PW__DEF int pw__token_is(const unsigned char *s, size_t n, const char *kw)
 }
 
 /* Parses the value of a numeric PAM field (the whole value must be digits). */
-PW__DEF int pw__pam_number(pw__pnm *r, const unsigned char *s, size_t n, const char *key,
-                           uint64_t *v)
+PW__DEF int pw__pam_number(pw__pnm *r, const unsigned char *s, size_t n, const char *key, uint64_t *v)
 {
     size_t i;
     uint64_t x = 0;
     if (n == 0 || n > 10)
-        return pw_fail(r->e, n ? PW_ERR_LIMIT : PW_ERR_PARSE, "%s:%d: bad %s value", r->name,
-                       r->line, key);
+        return pw_fail(r->e, n ? PW_ERR_LIMIT : PW_ERR_PARSE, "%s:%d: bad %s value", r->name, r->line, key);
     for (i = 0; i < n; i++) {
         if (s[i] < '0' || s[i] > '9')
-            return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: bad %s value (not a number)", r->name,
-                           r->line, key);
+            return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: bad %s value (not a number)", r->name, r->line, key);
         x = x * 10 + (uint64_t)(s[i] - '0');
     }
     *v = x;
@@ -1524,14 +1493,13 @@ PW__DEF int pw__pam_tupltype(pw__pnm *r, const char *t)
     int i;
     if (r->depth == 0 || r->depth > 4)
         return pw_fail(r->e, r->depth ? PW_ERR_UNSUPPORTED : PW_ERR_PARSE,
-                       "%s: PAM depth %llu is not supported (1 to 4)", r->name,
-                       (unsigned long long)r->depth);
+                       "%s: PAM depth %llu is not supported (1 to 4)", r->name, (unsigned long long)r->depth);
     if (!t[0]) return PW_OK;
     for (i = 0; i < 6; i++)
         if (strcmp(t, names[i]) == 0) {
             if ((uint64_t)depths[i] == r->depth) return PW_OK;
-            return pw_fail(r->e, PW_ERR_PARSE, "%s: TUPLTYPE %s needs DEPTH %d, not %llu", r->name,
-                           t, depths[i], (unsigned long long)r->depth);
+            return pw_fail(r->e, PW_ERR_PARSE, "%s: TUPLTYPE %s needs DEPTH %d, not %llu", r->name, t, depths[i],
+                           (unsigned long long)r->depth);
         }
     return pw_fail(r->e, PW_ERR_UNSUPPORTED, "%s: PAM TUPLTYPE '%s' is not supported", r->name, t);
 }
@@ -1545,20 +1513,17 @@ PW__DEF int pw__pam_header(pw__pnm *r)
     r->w = r->h = r->depth = r->maxval = 0;
     while (r->pos < r->n && r->p[r->pos] != '\n') /* rest of the "P7" line */
         if (!pw__is_space(r->p[r->pos++]))
-            return pw_fail(r->e, PW_ERR_PARSE,
-                           "%s: bad magic number (P7 not followed by a newline)", r->name);
+            return pw_fail(r->e, PW_ERR_PARSE, "%s: bad magic number (P7 not followed by a newline)", r->name);
     while (!done) {
         size_t start, end;
         if (r->pos >= r->n)
-            return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: file truncated: PAM header has no ENDHDR",
-                           r->name, r->line);
+            return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: file truncated: PAM header has no ENDHDR", r->name, r->line);
         r->pos++; /* the newline ending the previous line */
         r->line++;
         start = end = r->pos;
         while (end < r->n && r->p[end] != '\n') end++;
         if (end >= r->n)
-            return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: file truncated: PAM header has no ENDHDR",
-                           r->name, r->line);
+            return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: file truncated: PAM header has no ENDHDR", r->name, r->line);
         r->pos = end;
         if ((rc = pw__pam_line(r, r->p + start, end - start, tupltype, &done))) return rc;
     }
@@ -1575,8 +1540,8 @@ PW__DEF int pw__pam_header(pw__pnm *r)
 
 /* Reads a netpbm image (P1-P7) from memory. `name` (usually the file name)
  * prefixes every error message. Bit depth: 16 when maxval > 255. */
-PW__DEF int pw_image_read_pnm_memory(const pw_alloc *a, const unsigned char *data, size_t size,
-                                     const char *name, pw_image *out, pw_err *e)
+PW__DEF int pw_image_read_pnm_memory(const pw_alloc *a, const unsigned char *data, size_t size, const char *name,
+                                     pw_image *out, pw_err *e)
 {
     pw__pnm r;
     uint64_t need = 0;
@@ -1626,8 +1591,8 @@ PW__DEF uint32_t pw__be32(const unsigned char *p)
  * per pixel (1 gray, 2 gray+alpha, 3 RGB, 4 RGBA), magic "GPAT", then the
  * NUL-terminated pattern name up to header_size; 8-bit pixels follow, top
  * row first. */
-PW__DEF int pw_image_read_pat_memory(const pw_alloc *a, const unsigned char *data, size_t size,
-                                     const char *name, pw_image *out, pw_err *e)
+PW__DEF int pw_image_read_pat_memory(const pw_alloc *a, const unsigned char *data, size_t size, const char *name,
+                                     pw_image *out, pw_err *e)
 {
     uint32_t hs, ver, w, h, bpp;
     size_t i, n;
@@ -1635,29 +1600,26 @@ PW__DEF int pw_image_read_pat_memory(const pw_alloc *a, const unsigned char *dat
     memset(out, 0, sizeof *out);
     if (!name) name = "image";
     if (size < 24) return pw_fail(e, PW_ERR_PARSE, "%s: GIMP pattern header truncated", name);
-    if (memcmp(data + 20, "GPAT", 4) != 0)
-        return pw_fail(e, PW_ERR_PARSE, "%s: not a GIMP pattern (bad magic)", name);
+    if (memcmp(data + 20, "GPAT", 4) != 0) return pw_fail(e, PW_ERR_PARSE, "%s: not a GIMP pattern (bad magic)", name);
     hs = pw__be32(data);
     ver = pw__be32(data + 4);
     w = pw__be32(data + 8);
     h = pw__be32(data + 12);
     bpp = pw__be32(data + 16);
     if (ver != 1)
-        return pw_fail(e, PW_ERR_UNSUPPORTED, "%s: GIMP pattern version %lu (only 1 is known)",
-                       name, (unsigned long)ver);
+        return pw_fail(e, PW_ERR_UNSUPPORTED, "%s: GIMP pattern version %lu (only 1 is known)", name,
+                       (unsigned long)ver);
     if (hs <= 24 || hs > size)
-        return pw_fail(e, PW_ERR_PARSE, "%s: bad GIMP pattern header size %lu (file has %lu bytes)",
-                       name, (unsigned long)hs, (unsigned long)size);
+        return pw_fail(e, PW_ERR_PARSE, "%s: bad GIMP pattern header size %lu (file has %lu bytes)", name,
+                       (unsigned long)hs, (unsigned long)size);
     if (!memchr(data + 24, 0, hs - 24))
         return pw_fail(e, PW_ERR_PARSE, "%s: GIMP pattern name is not NUL-terminated", name);
     if (bpp < 1 || bpp > 4)
-        return pw_fail(e, PW_ERR_PARSE, "%s: GIMP pattern has %lu bytes per pixel (1 to 4)", name,
-                       (unsigned long)bpp);
+        return pw_fail(e, PW_ERR_PARSE, "%s: GIMP pattern has %lu bytes per pixel (1 to 4)", name, (unsigned long)bpp);
     if ((rc = pw__image_check_size(name, w, h, e))) return rc;
     if ((uint64_t)w * h * bpp > (uint64_t)(size - hs))
-        return pw_fail(e, PW_ERR_PARSE, "%s: pixel data truncated: %llu bytes needed, %lu present",
-                       name, (unsigned long long)((uint64_t)w * h * bpp),
-                       (unsigned long)(size - hs));
+        return pw_fail(e, PW_ERR_PARSE, "%s: pixel data truncated: %llu bytes needed, %lu present", name,
+                       (unsigned long long)((uint64_t)w * h * bpp), (unsigned long)(size - hs));
     if ((rc = pw_image_alloc(a, out, (int)w, (int)h, (int)bpp, e))) return rc;
     n = (size_t)w * h * bpp;
     for (i = 0; i < n; i++) out->px[i] = (float)data[hs + i] / 255.0f;
@@ -1674,8 +1636,7 @@ PW__DEF int pw__write_bits(const pw_image *img, int bits, unsigned *maxval, pw_e
     int rc = pw__image_check(img, e);
     if (rc) return rc;
     if (bits == 0) bits = img->bits == 16 ? 16 : 8;
-    if (bits != 8 && bits != 16)
-        return pw_fail(e, PW_ERR_INVALID, "cannot write %d-bit samples (8 or 16)", bits);
+    if (bits != 8 && bits != 16) return pw_fail(e, PW_ERR_INVALID, "cannot write %d-bit samples (8 or 16)", bits);
     *maxval = bits == 16 ? 65535u : 255u;
     return PW_OK;
 }
@@ -1700,8 +1661,7 @@ PW__DEF void pw__put_ascii(pw__sink *s, const pw_image *img, unsigned maxval)
     for (y = 0; y < (size_t)img->h; y++) {
         int col = 0;
         for (x = 0; x < rowlen; x++) {
-            int k =
-                snprintf(num, sizeof num, "%u", pw_image_quantize(img->px[y * rowlen + x], maxval));
+            int k = snprintf(num, sizeof num, "%u", pw_image_quantize(img->px[y * rowlen + x], maxval));
             if (col > 0 && col + 1 + k > 69) {
                 pw__sink_byte(s, '\n');
                 col = 0;
@@ -1725,8 +1685,7 @@ PW__DEF int pw_image_write_pam(const pw_image *img, int bits, pw_write_fn w, voi
     unsigned maxval;
     int rc = pw__write_bits(img, bits, &maxval, e), k;
     if (rc) return rc;
-    k = snprintf(head, sizeof head,
-                 "P7\nWIDTH %d\nHEIGHT %d\nDEPTH %d\nMAXVAL %u\nTUPLTYPE %s\nENDHDR\n", img->w,
+    k = snprintf(head, sizeof head, "P7\nWIDTH %d\nHEIGHT %d\nDEPTH %d\nMAXVAL %u\nTUPLTYPE %s\nENDHDR\n", img->w,
                  img->h, img->c, maxval, types[img->c - 1]);
     pw__sink_init(&s, w, ctx);
     pw__sink_put(&s, head, (size_t)k);
@@ -1736,8 +1695,7 @@ PW__DEF int pw_image_write_pam(const pw_image *img, int bits, pw_write_fn w, voi
 
 /* PGM for 1 channel, PPM for 3 (binary P5/P6, or ASCII P2/P3 when `ascii`
  * is set), PAM for 2 and 4 (binary only: PW_ERR_UNSUPPORTED with ascii). */
-PW__DEF int pw_image_write_pnm(const pw_image *img, int bits, int ascii, pw_write_fn w, void *ctx,
-                               pw_err *e)
+PW__DEF int pw_image_write_pnm(const pw_image *img, int bits, int ascii, pw_write_fn w, void *ctx, pw_err *e)
 {
     pw__sink s;
     char head[64];
@@ -1746,18 +1704,15 @@ PW__DEF int pw_image_write_pnm(const pw_image *img, int bits, int ascii, pw_writ
     if (rc) return rc;
     if (img->c == 2 || img->c == 4) {
         if (ascii)
-            return pw_fail(e, PW_ERR_UNSUPPORTED,
-                           "images with alpha are written as PAM, which has no ASCII form");
+            return pw_fail(e, PW_ERR_UNSUPPORTED, "images with alpha are written as PAM, which has no ASCII form");
         return pw_image_write_pam(img, bits, w, ctx, e);
     }
-    k = snprintf(head, sizeof head, "P%d\n%d %d\n%u\n", (img->c == 1 ? 2 : 3) + (ascii ? 0 : 3),
-                 img->w, img->h, maxval);
+    k = snprintf(head, sizeof head, "P%d\n%d %d\n%u\n", (img->c == 1 ? 2 : 3) + (ascii ? 0 : 3), img->w, img->h,
+                 maxval);
     pw__sink_init(&s, w, ctx);
     pw__sink_put(&s, head, (size_t)k);
-    if (ascii)
-        pw__put_ascii(&s, img, maxval);
-    else
-        pw__put_samples(&s, img, maxval);
+    if (ascii) pw__put_ascii(&s, img, maxval);
+    else pw__put_samples(&s, img, maxval);
     return pw__sink_end(&s, e);
 }
 
@@ -1793,9 +1748,8 @@ PW__DEF int pw_image_write_pnm(const pw_image *img, int bits, int ascii, pw_writ
  * nibble at a time) keeps the source short and is fast enough for PNG. */
 PW__DEF uint32_t pw_crc32(uint32_t crc, const void *data, size_t n)
 {
-    static const uint32_t t[16] = {0x00000000u, 0x1db71064u, 0x3b6e20c8u, 0x26d930acu,
-                                   0x76dc4190u, 0x6b6b51f4u, 0x4db26158u, 0x5005713cu,
-                                   0xedb88320u, 0xf00f9344u, 0xd6d6a3e8u, 0xcb61b38cu,
+    static const uint32_t t[16] = {0x00000000u, 0x1db71064u, 0x3b6e20c8u, 0x26d930acu, 0x76dc4190u, 0x6b6b51f4u,
+                                   0x4db26158u, 0x5005713cu, 0xedb88320u, 0xf00f9344u, 0xd6d6a3e8u, 0xcb61b38cu,
                                    0x9b64c2b0u, 0x86d3d2d4u, 0xa00ae278u, 0xbdbdf21cu};
     const unsigned char *p = (const unsigned char *)data;
     crc = ~crc;
@@ -1827,20 +1781,17 @@ PW__DEF uint32_t pw_adler32(uint32_t adler, const void *data, size_t n)
 }
 
 /* RFC 1951 §3.2.5: bases and extra bits of the length and distance codes. */
-static const unsigned short pw__len_base[29] = {3,  4,  5,  6,   7,   8,   9,   10,  11, 13,
-                                                15, 17, 19, 23,  27,  31,  35,  43,  51, 59,
-                                                67, 83, 99, 115, 131, 163, 195, 227, 258};
+static const unsigned short pw__len_base[29] = {3,  4,  5,  6,  7,  8,  9,  10, 11,  13,  15,  17,  19,  23, 27,
+                                                31, 35, 43, 51, 59, 67, 83, 99, 115, 131, 163, 195, 227, 258};
 static const unsigned char pw__len_extra[29] = {0, 0, 0, 0, 0, 0, 0, 0, 1, 1, 1, 1, 2, 2, 2,
                                                 2, 3, 3, 3, 3, 4, 4, 4, 4, 5, 5, 5, 5, 0};
-static const unsigned short pw__dist_base[30] = {
-    1,   2,   3,   4,   5,   7,    9,    13,   17,   25,   33,   49,   65,    97,    129,
-    193, 257, 385, 513, 769, 1025, 1537, 2049, 3073, 4097, 6145, 8193, 12289, 16385, 24577};
-static const unsigned char pw__dist_extra[30] = {0, 0, 0,  0,  1,  1,  2,  2,  3,  3,
-                                                 4, 4, 5,  5,  6,  6,  7,  7,  8,  8,
-                                                 9, 9, 10, 10, 11, 11, 12, 12, 13, 13};
+static const unsigned short pw__dist_base[30] = {1,    2,    3,    4,    5,    7,    9,    13,    17,    25,
+                                                 33,   49,   65,   97,   129,  193,  257,  385,   513,   769,
+                                                 1025, 1537, 2049, 3073, 4097, 6145, 8193, 12289, 16385, 24577};
+static const unsigned char pw__dist_extra[30] = {0, 0, 0, 0, 1, 1, 2, 2,  3,  3,  4,  4,  5,  5,  6,
+                                                 6, 7, 7, 8, 8, 9, 9, 10, 10, 11, 11, 12, 12, 13, 13};
 /* §3.2.7: order in which the code-length code lengths are sent */
-static const unsigned char pw__clen_order[19] = {16, 17, 18, 0, 8,  7, 9,  6, 10, 5,
-                                                 11, 4,  12, 3, 13, 2, 14, 1, 15};
+static const unsigned char pw__clen_order[19] = {16, 17, 18, 0, 8, 7, 9, 6, 10, 5, 11, 4, 12, 3, 13, 2, 14, 1, 15};
 
 /* ======================================================================
  * Huffman code construction (shared by both directions)
@@ -1882,10 +1833,8 @@ PW__DEF int pw__huff_tree(const uint64_t *key, int m, unsigned char *len)
     for (k = 0; k < m - 1; k++) {
         int pick[2], j;
         for (j = 0; j < 2; j++) {
-            if (li < m && (ii >= nn || w[li] <= w[ii]))
-                pick[j] = li++;
-            else
-                pick[j] = ii++;
+            if (li < m && (ii >= nn || w[li] <= w[ii])) pick[j] = li++;
+            else pick[j] = ii++;
         }
         w[nn] = w[pick[0]] + w[pick[1]];
         parent[pick[0]] = parent[pick[1]] = nn++;
@@ -2023,8 +1972,7 @@ PW__DEF void pw__deflate_tables(pw__deflate *s)
             s->dcode[v < 256 ? v : 256 + (v >> 7)] = (unsigned char)c;
         }
     /* §3.2.6: the fixed code */
-    for (i = 0; i < 288; i++)
-        s->fixed_len[i] = (unsigned char)(i < 144 ? 8 : i < 256 ? 9 : i < 280 ? 7 : 8);
+    for (i = 0; i < 288; i++) s->fixed_len[i] = (unsigned char)(i < 144 ? 8 : i < 256 ? 9 : i < 280 ? 7 : 8);
     for (i = 0; i < 30; i++) s->fixed_len[288 + i] = 5;
     pw__huff_codes(s->fixed_len, 288, s->fixed_code);
     pw__huff_codes(s->fixed_len + 288, 30, s->fixed_code + 288);
@@ -2036,8 +1984,7 @@ PW__DEF int pw__dist_code(const pw__deflate *s, unsigned dist)
 }
 
 /* Bits to code the block's symbols with the given lengths (no header). */
-PW__DEF uint64_t pw__block_bits(const pw__deflate *s, const unsigned char *ll,
-                                const unsigned char *dl)
+PW__DEF uint64_t pw__block_bits(const pw__deflate *s, const unsigned char *ll, const unsigned char *dl)
 {
     uint64_t bits = 0;
     int i;
@@ -2048,8 +1995,8 @@ PW__DEF uint64_t pw__block_bits(const pw__deflate *s, const unsigned char *ll,
 }
 
 /* Writes the block's symbols with the given code. */
-PW__DEF void pw__put_symbols(pw__deflate *s, const unsigned char *ll, const unsigned short *lc,
-                             const unsigned char *dl, const unsigned short *dc)
+PW__DEF void pw__put_symbols(pw__deflate *s, const unsigned char *ll, const unsigned short *lc, const unsigned char *dl,
+                             const unsigned short *dc)
 {
     size_t i;
     for (i = 0; i < s->nsym; i++) {
@@ -2196,8 +2143,7 @@ PW__DEF void pw__flush_block(pw__deflate *s, size_t end, int last)
     dyn = 3 + pw__dyn_build(&h, ll, dl) + pw__block_bits(s, ll, dl);
     fix = 3 + pw__block_bits(s, s->fixed_len, s->fixed_len + 288);
     kind = s->stored_only || (stored <= dyn && stored <= fix) ? 0 : fix <= dyn ? 1 : 2;
-    if (pw__deflate_reserve(s, (size_t)((kind == 0 ? stored : kind == 1 ? fix : dyn) / 8 + 16)))
-        return;
+    if (pw__deflate_reserve(s, (size_t)((kind == 0 ? stored : kind == 1 ? fix : dyn) / 8 + 16))) return;
     if (kind == 0) {
         pw__put_stored(s, s->block_start, end, last);
     } else if (kind == 1) {
@@ -2322,9 +2268,8 @@ PW__DEF void pw__deflate_run(pw__deflate *s)
 PW__DEF void pw__deflate_level(pw__deflate *s, int level)
 {
     static const unsigned short p[10][4] = {
-        {0, 0, 0, 0},         {4, 16, 0, 0},       {8, 32, 0, 0},    {16, 32, 0, 0},
-        {16, 32, 8, 4},       {32, 64, 16, 8},     {64, 128, 16, 8}, {256, 128, 64, 16},
-        {1024, 258, 128, 32}, {4096, 258, 258, 32}};
+        {0, 0, 0, 0},    {4, 16, 0, 0},    {8, 32, 0, 0},      {16, 32, 0, 0},       {16, 32, 8, 4},
+        {32, 64, 16, 8}, {64, 128, 16, 8}, {256, 128, 64, 16}, {1024, 258, 128, 32}, {4096, 258, 258, 32}};
     if (level < 0 || level > 9) level = 6;
     s->max_chain = p[level][0];
     s->nice_len = p[level][1];
@@ -2372,8 +2317,7 @@ PW__DEF int pw__deflate_into(pw__deflate *s, int level)
     return s->failed ? (s->e && s->e->code ? s->e->code : PW_ERR_NOMEM) : PW_OK;
 }
 
-PW__DEF void pw__deflate_init(pw__deflate *s, const pw_alloc *a, const unsigned char *data,
-                              size_t n, pw_err *e)
+PW__DEF void pw__deflate_init(pw__deflate *s, const pw_alloc *a, const unsigned char *data, size_t n, pw_err *e)
 {
     memset(s, 0, sizeof *s);
     s->a = a;
@@ -2383,8 +2327,8 @@ PW__DEF void pw__deflate_init(pw__deflate *s, const pw_alloc *a, const unsigned 
 }
 
 /* Raw deflate stream of data[0..n) at `level` (0-9, -1 = default 6). */
-PW__DEF int pw_deflate(const pw_alloc *a, const unsigned char *data, size_t n, int level,
-                       unsigned char **out, size_t *outn, pw_err *e)
+PW__DEF int pw_deflate(const pw_alloc *a, const unsigned char *data, size_t n, int level, unsigned char **out,
+                       size_t *outn, pw_err *e)
 {
     pw__deflate s;
     int r;
@@ -2402,8 +2346,8 @@ PW__DEF int pw_deflate(const pw_alloc *a, const unsigned char *data, size_t n, i
 }
 
 /* zlib stream (2-byte header, deflate data, Adler-32 of the input). */
-PW__DEF int pw_zlib_compress(const pw_alloc *a, const unsigned char *data, size_t n, int level,
-                             unsigned char **out, size_t *outn, pw_err *e)
+PW__DEF int pw_zlib_compress(const pw_alloc *a, const unsigned char *data, size_t n, int level, unsigned char **out,
+                             size_t *outn, pw_err *e)
 {
     pw__deflate s;
     uint32_t ad;
@@ -2486,8 +2430,7 @@ PW__DEF int pw__huff_build(pw__huff *h, const unsigned char *len, int n, int all
         if (L > PW__FAST_BITS) continue;
         for (l = 0; l < L; l++) r = (r << 1) | ((code[L] >> l) & 1u);
         code[L]++;
-        for (j = r; j < (1u << PW__FAST_BITS); j += 1u << L)
-            h->fast[j] = (unsigned short)((L << 9) | i);
+        for (j = r; j < (1u << PW__FAST_BITS); j += 1u << L) h->fast[j] = (unsigned short)((L << 9) | i);
     }
     return 0;
 }
@@ -2574,9 +2517,7 @@ PW__DEF int pw__inflate_reserve(pw__inflate *z, size_t k)
     while (cap < need) cap = cap > ((size_t)-1) / 2 ? need : cap * 2;
     if (cap > z->max_out) cap = z->max_out;
     p = (unsigned char *)pw_realloc(z->a, z->out, cap);
-    if (!p)
-        return pw_fail(z->e, PW_ERR_NOMEM, "out of memory decompressing (%lu bytes)",
-                       (unsigned long)cap);
+    if (!p) return pw_fail(z->e, PW_ERR_NOMEM, "out of memory decompressing (%lu bytes)", (unsigned long)cap);
     z->out = p;
     z->outcap = cap;
     return PW_OK;
@@ -2591,27 +2532,23 @@ PW__DEF int pw__inflate_codes(pw__inflate *z, const pw__huff *ll, const pw__huff
         sym = pw__decode(z, ll);
         if (sym < 0) goto bad;
         if (sym < 256) {
-            if (z->outn >= z->outcap && pw__inflate_reserve(z, 1))
-                return z->e ? z->e->code : PW_ERR_LIMIT;
+            if (z->outn >= z->outcap && pw__inflate_reserve(z, 1)) return z->e ? z->e->code : PW_ERR_LIMIT;
             z->out[z->outn++] = (unsigned char)sym;
             continue;
         }
         if (sym == 256) return PW_OK;
-        if (sym > 285)
-            return pw_fail(z->e, PW_ERR_PARSE, "deflate data: invalid length code %d", sym);
+        if (sym > 285) return pw_fail(z->e, PW_ERR_PARSE, "deflate data: invalid length code %d", sym);
         len = pw__len_base[sym - 257] + pw__getbits(z, pw__len_extra[sym - 257]);
         ds = pw__decode(z, dd);
         if (ds < 0) {
             sym = ds;
             goto bad;
         }
-        if (ds > 29)
-            return pw_fail(z->e, PW_ERR_PARSE, "deflate data: invalid distance code %d", ds);
+        if (ds > 29) return pw_fail(z->e, PW_ERR_PARSE, "deflate data: invalid distance code %d", ds);
         dist = pw__dist_base[ds] + pw__getbits(z, pw__dist_extra[ds]);
         if (z->truncated) return pw__inflate_truncated(z);
         if (dist > z->outn)
-            return pw_fail(z->e, PW_ERR_PARSE,
-                           "deflate data: distance %lu too far back (only %lu bytes decoded)",
+            return pw_fail(z->e, PW_ERR_PARSE, "deflate data: distance %lu too far back (only %lu bytes decoded)",
                            (unsigned long)dist, (unsigned long)z->outn);
         if (pw__inflate_reserve(z, len)) return z->e ? z->e->code : PW_ERR_LIMIT;
         /* byte by byte: source and destination overlap when dist < len */
@@ -2630,8 +2567,7 @@ PW__DEF int pw__inflate_stored(pw__inflate *z)
     len = pw__getbits(z, 16);
     nlen = pw__getbits(z, 16);
     if (z->truncated) return pw__inflate_truncated(z);
-    if ((len ^ 0xffffu) != nlen)
-        return pw_fail(z->e, PW_ERR_PARSE, "deflate data: stored block length check failed");
+    if ((len ^ 0xffffu) != nlen) return pw_fail(z->e, PW_ERR_PARSE, "deflate data: stored block length check failed");
     if (pw__inflate_reserve(z, len)) return z->e ? z->e->code : PW_ERR_LIMIT;
     while (len > 0 && z->nbits >= 8) { /* bytes already loaded first */
         z->out[z->outn++] = (unsigned char)pw__getbits(z, 8);
@@ -2654,36 +2590,30 @@ PW__DEF int pw__inflate_tables(pw__inflate *z, pw__huff *ll, pw__huff *dd)
     hdist = (int)pw__getbits(z, 5) + 1;
     hclen = (int)pw__getbits(z, 4) + 4;
     if (hlit > 286 || hdist > 30)
-        return pw_fail(z->e, PW_ERR_PARSE,
-                       "deflate data: too many length or distance codes (%d, %d)", hlit, hdist);
+        return pw_fail(z->e, PW_ERR_PARSE, "deflate data: too many length or distance codes (%d, %d)", hlit, hdist);
     memset(clen, 0, sizeof clen);
     for (i = 0; i < hclen; i++) clen[pw__clen_order[i]] = (unsigned char)pw__getbits(z, 3);
     if (z->truncated) return pw__inflate_truncated(z);
-    if (pw__huff_build(&ch, clen, 19, 0))
-        return pw_fail(z->e, PW_ERR_PARSE, "deflate data: bad code-length code");
+    if (pw__huff_build(&ch, clen, 19, 0)) return pw_fail(z->e, PW_ERR_PARSE, "deflate data: bad code-length code");
     n = hlit + hdist;
     for (i = 0; i < n;) {
         int sym = pw__decode(z, &ch), rep, val = 0;
         if (sym < 0)
-            return sym == -1
-                       ? pw__inflate_truncated(z)
-                       : pw_fail(z->e, PW_ERR_PARSE, "deflate data: invalid code-length code");
+            return sym == -1 ? pw__inflate_truncated(z)
+                             : pw_fail(z->e, PW_ERR_PARSE, "deflate data: invalid code-length code");
         if (sym < 16) {
             lens[i++] = (unsigned char)sym;
             continue;
         }
         if (sym == 16) {
-            if (i == 0)
-                return pw_fail(z->e, PW_ERR_PARSE,
-                               "deflate data: length repeat with no previous length");
+            if (i == 0) return pw_fail(z->e, PW_ERR_PARSE, "deflate data: length repeat with no previous length");
             val = lens[i - 1];
             rep = 3 + (int)pw__getbits(z, 2);
         } else {
             rep = sym == 17 ? 3 + (int)pw__getbits(z, 3) : 11 + (int)pw__getbits(z, 7);
         }
         if (z->truncated) return pw__inflate_truncated(z);
-        if (rep > n - i)
-            return pw_fail(z->e, PW_ERR_PARSE, "deflate data: code lengths repeat past the end");
+        if (rep > n - i) return pw_fail(z->e, PW_ERR_PARSE, "deflate data: code lengths repeat past the end");
         while (rep--) lens[i++] = (unsigned char)val;
     }
     if (!lens[256]) return pw_fail(z->e, PW_ERR_PARSE, "deflate data: no end-of-block code");
@@ -2707,8 +2637,7 @@ PW__DEF int pw__inflate_run(pw__inflate *z)
         if (type == 0) {
             r = pw__inflate_stored(z);
         } else if (type == 1) { /* §3.2.6: the fixed code */
-            for (i = 0; i < 288; i++)
-                lens[i] = (unsigned char)(i < 144 ? 8 : i < 256 ? 9 : i < 280 ? 7 : 8);
+            for (i = 0; i < 288; i++) lens[i] = (unsigned char)(i < 144 ? 8 : i < 256 ? 9 : i < 280 ? 7 : 8);
             /* distance codes 30 and 31 never occur but complete the code */
             for (i = 0; i < 32; i++) lens[288 + i] = 5;
             pw__huff_build(&ll, lens, 288, 0);
@@ -2728,8 +2657,8 @@ PW__DEF int pw__inflate_run(pw__inflate *z)
 /* Decodes a raw deflate stream into a new buffer of at most max_out bytes
  * (PW_ERR_LIMIT beyond). *used (if not NULL) receives the number of input
  * bytes the stream occupied. */
-PW__DEF int pw_inflate(const pw_alloc *a, const unsigned char *data, size_t n, size_t max_out,
-                       unsigned char **out, size_t *outn, size_t *used, pw_err *e)
+PW__DEF int pw_inflate(const pw_alloc *a, const unsigned char *data, size_t n, size_t max_out, unsigned char **out,
+                       size_t *outn, size_t *used, pw_err *e)
 {
     pw__inflate z;
     pw_err local;
@@ -2757,8 +2686,8 @@ PW__DEF int pw_inflate(const pw_alloc *a, const unsigned char *data, size_t n, s
 }
 
 /* Decodes a zlib stream, checking its header and Adler-32. */
-PW__DEF int pw_zlib_decompress(const pw_alloc *a, const unsigned char *data, size_t n,
-                               size_t max_out, unsigned char **out, size_t *outn, pw_err *e)
+PW__DEF int pw_zlib_decompress(const pw_alloc *a, const unsigned char *data, size_t n, size_t max_out,
+                               unsigned char **out, size_t *outn, pw_err *e)
 {
     size_t used = 0;
     uint32_t want;
@@ -2768,20 +2697,15 @@ PW__DEF int pw_zlib_decompress(const pw_alloc *a, const unsigned char *data, siz
     *outn = 0;
     if (n < 2) return pw_fail(e, PW_ERR_PARSE, "zlib data truncated (%lu bytes)", (unsigned long)n);
     if ((data[0] & 15) != 8 || (data[0] >> 4) > 7)
-        return pw_fail(e, PW_ERR_PARSE,
-                       "zlib header: not deflate with a window of at most 32K (0x%02x)", data[0]);
-    if (((unsigned)data[0] << 8 | data[1]) % 31)
-        return pw_fail(e, PW_ERR_PARSE, "zlib header: check bits are wrong");
-    if (data[1] & 0x20)
-        return pw_fail(e, PW_ERR_UNSUPPORTED, "zlib data needs a preset dictionary");
+        return pw_fail(e, PW_ERR_PARSE, "zlib header: not deflate with a window of at most 32K (0x%02x)", data[0]);
+    if (((unsigned)data[0] << 8 | data[1]) % 31) return pw_fail(e, PW_ERR_PARSE, "zlib header: check bits are wrong");
+    if (data[1] & 0x20) return pw_fail(e, PW_ERR_UNSUPPORTED, "zlib data needs a preset dictionary");
     r = pw_inflate(a, data + 2, n - 2, max_out, out, outn, &used, e);
     if (r) return r;
     t = data + 2 + used;
-    if (n - 2 - used < 4)
-        r = pw_fail(e, PW_ERR_PARSE, "zlib data truncated (no Adler-32 checksum)");
+    if (n - 2 - used < 4) r = pw_fail(e, PW_ERR_PARSE, "zlib data truncated (no Adler-32 checksum)");
     want = r ? 0 : (uint32_t)t[0] << 24 | (uint32_t)t[1] << 16 | (uint32_t)t[2] << 8 | t[3];
-    if (!r && pw_adler32(1, *out, *outn) != want)
-        r = pw_fail(e, PW_ERR_PARSE, "zlib data: Adler-32 checksum mismatch");
+    if (!r && pw_adler32(1, *out, *outn) != want) r = pw_fail(e, PW_ERR_PARSE, "zlib data: Adler-32 checksum mismatch");
     if (r) {
         pw_free(a, *out);
         *out = NULL;
@@ -2864,26 +2788,22 @@ PW__DEF int pw__paeth(int a, int b, int c)
 }
 
 /* Filters one row (n bytes, bpp bytes per pixel) with filter type f. */
-PW__DEF void pw__png_filter(unsigned char *dst, const unsigned char *cur, const unsigned char *prev,
-                            size_t n, size_t bpp, int f)
+PW__DEF void pw__png_filter(unsigned char *dst, const unsigned char *cur, const unsigned char *prev, size_t n,
+                            size_t bpp, int f)
 {
     size_t i;
     for (i = 0; i < n; i++) {
         int x = cur[i], a = i >= bpp ? cur[i - bpp] : 0, b = prev[i];
         int c = i >= bpp ? prev[i - bpp] : 0;
-        int pred = f == 0   ? 0
-                   : f == 1 ? a
-                   : f == 2 ? b
-                   : f == 3 ? (a + b) >> 1
-                            : pw__paeth(a, b, c);
+        int pred = f == 0 ? 0 : f == 1 ? a : f == 2 ? b : f == 3 ? (a + b) >> 1 : pw__paeth(a, b, c);
         dst[i] = (unsigned char)(x - pred);
     }
 }
 
 /* Quantised rows, each prefixed by the filter byte that minimises the sum
  * of absolute differences (bytes read as signed). */
-PW__DEF int pw__png_filtered(const pw_alloc *a, const pw_image *img, unsigned maxval,
-                             unsigned char **out, size_t *outn, pw_err *e)
+PW__DEF int pw__png_filtered(const pw_alloc *a, const pw_image *img, unsigned maxval, unsigned char **out, size_t *outn,
+                             pw_err *e)
 {
     size_t bps = maxval > 255 ? 2 : 1, bpp = bps * (size_t)img->c;
     size_t n = bpp * (size_t)img->w, x, y, k;
@@ -2925,8 +2845,7 @@ PW__DEF int pw__png_filtered(const pw_alloc *a, const pw_image *img, unsigned ma
 
 /* Writes img as PNG. bits: 8, 16, or 0 for img->bits. Temporary buffers
  * come from a (NULL: PW_MALLOC). */
-PW__DEF int pw_png_write(const pw_alloc *a, const pw_image *img, int bits, pw_write_fn w,
-                         void *ctx, pw_err *e)
+PW__DEF int pw_png_write(const pw_alloc *a, const pw_image *img, int bits, pw_write_fn w, void *ctx, pw_err *e)
 {
     static const unsigned char ctypes[4] = {0, 4, 2, 6};
     unsigned char ihdr[13], *raw = NULL, *z = NULL;
@@ -2947,8 +2866,7 @@ PW__DEF int pw_png_write(const pw_alloc *a, const pw_image *img, int bits, pw_wr
     pw__sink_init(&s, w, ctx);
     pw__sink_put(&s, pw__png_sig, 8);
     pw__png_chunk(&s, "IHDR", ihdr, 13);
-    for (off = 0; off < zn; off += 65536)
-        pw__png_chunk(&s, "IDAT", z + off, zn - off < 65536 ? zn - off : 65536);
+    for (off = 0; off < zn; off += 65536) pw__png_chunk(&s, "IDAT", z + off, zn - off < 65536 ? zn - off : 65536);
     pw__png_chunk(&s, "IEND", ihdr, 0);
     pw_free(a, z);
     return pw__sink_end(&s, e);
@@ -2978,8 +2896,7 @@ PW__DEF int pw__png_ihdr(pw__png *p, const unsigned char *d, uint32_t len)
     static const int spp[7] = {1, 0, 3, 1, 2, 0, 4};
     int ok, rc;
     if (len != 13)
-        return pw_fail(p->e, PW_ERR_PARSE, "%s: IHDR chunk has length %lu, not 13", p->name,
-                       (unsigned long)len);
+        return pw_fail(p->e, PW_ERR_PARSE, "%s: IHDR chunk has length %lu, not 13", p->name, (unsigned long)len);
     p->w = pw__be32(d);
     p->h = pw__be32(d + 4);
     p->depth = d[8];
@@ -2990,11 +2907,10 @@ PW__DEF int pw__png_ihdr(pw__png *p, const unsigned char *d, uint32_t len)
     ok = p->depth == 8 || (p->depth == 16 && p->ctype != 3) ||
          ((p->depth == 1 || p->depth == 2 || p->depth == 4) && (p->ctype == 0 || p->ctype == 3));
     if (!ok)
-        return pw_fail(p->e, PW_ERR_PARSE, "%s: bit depth %d is invalid for PNG colour type %d",
-                       p->name, p->depth, p->ctype);
+        return pw_fail(p->e, PW_ERR_PARSE, "%s: bit depth %d is invalid for PNG colour type %d", p->name, p->depth,
+                       p->ctype);
     if (d[10] != 0 || d[11] != 0 || p->interlace > 1)
-        return pw_fail(p->e, PW_ERR_PARSE,
-                       "%s: unknown PNG compression, filter or interlace method (%d, %d, %d)",
+        return pw_fail(p->e, PW_ERR_PARSE, "%s: unknown PNG compression, filter or interlace method (%d, %d, %d)",
                        p->name, d[10], d[11], d[12]);
     if ((rc = pw__image_check_size(p->name, p->w, p->h, p->e))) return rc;
     p->spp = spp[p->ctype];
@@ -3006,12 +2922,10 @@ PW__DEF int pw__png_ihdr(pw__png *p, const unsigned char *d, uint32_t len)
 PW__DEF int pw__png_palette(pw__png *p, const char *type, const unsigned char *d, uint32_t len)
 {
     uint32_t i;
-    if (p->seen_idat)
-        return pw_fail(p->e, PW_ERR_PARSE, "%s: %s chunk after the image data", p->name, type);
+    if (p->seen_idat) return pw_fail(p->e, PW_ERR_PARSE, "%s: %s chunk after the image data", p->name, type);
     if (type[0] == 'P') {
         if (len % 3 || len == 0 || len > 768)
-            return pw_fail(p->e, PW_ERR_PARSE, "%s: PLTE chunk has invalid length %lu", p->name,
-                           (unsigned long)len);
+            return pw_fail(p->e, PW_ERR_PARSE, "%s: PLTE chunk has invalid length %lu", p->name, (unsigned long)len);
         if (p->ctype == 0 || p->ctype == 4) return PW_OK; /* not allowed, harmless */
         p->npal = (int)(len / 3);
         for (i = 0; i < len / 3; i++) {
@@ -3022,13 +2936,12 @@ PW__DEF int pw__png_palette(pw__png *p, const char *type, const unsigned char *d
     }
     if (p->ctype == 3) {
         if (len > (uint32_t)p->npal)
-            return pw_fail(p->e, PW_ERR_PARSE, "%s: tRNS chunk has %lu entries for a palette of %d",
-                           p->name, (unsigned long)len, p->npal);
+            return pw_fail(p->e, PW_ERR_PARSE, "%s: tRNS chunk has %lu entries for a palette of %d", p->name,
+                           (unsigned long)len, p->npal);
         for (i = 0; i < len; i++) p->pal[i][3] = d[i];
     } else if (p->ctype == 0 || p->ctype == 2) {
         if (len != (p->ctype ? 6u : 2u))
-            return pw_fail(p->e, PW_ERR_PARSE, "%s: tRNS chunk has invalid length %lu", p->name,
-                           (unsigned long)len);
+            return pw_fail(p->e, PW_ERR_PARSE, "%s: tRNS chunk has invalid length %lu", p->name, (unsigned long)len);
         for (i = 0; i < len / 2; i++) p->key[i] = (unsigned)d[2 * i] << 8 | d[2 * i + 1];
     } else {
         return PW_OK; /* not allowed with an alpha channel; ignored */
@@ -3046,12 +2959,10 @@ PW__DEF int pw__png_chunk_read(pw__png *p, const unsigned char *c, uint32_t len)
     if (!p->seen_ihdr && strcmp(type, "IHDR") != 0)
         return pw_fail(p->e, PW_ERR_PARSE, "%s: first PNG chunk is not IHDR", p->name);
     if (strcmp(type, "IHDR") == 0) {
-        if (p->seen_ihdr)
-            return pw_fail(p->e, PW_ERR_PARSE, "%s: more than one IHDR chunk", p->name);
+        if (p->seen_ihdr) return pw_fail(p->e, PW_ERR_PARSE, "%s: more than one IHDR chunk", p->name);
         return pw__png_ihdr(p, c + 8, len);
     }
-    if (strcmp(type, "PLTE") == 0 || strcmp(type, "tRNS") == 0)
-        return pw__png_palette(p, type, c + 8, len);
+    if (strcmp(type, "PLTE") == 0 || strcmp(type, "tRNS") == 0) return pw__png_palette(p, type, c + 8, len);
     if (strcmp(type, "IDAT") == 0) {
         p->idat_size += len;
         p->seen_idat = 1;
@@ -3062,8 +2973,7 @@ PW__DEF int pw__png_chunk_read(pw__png *p, const unsigned char *c, uint32_t len)
         return PW_OK;
     }
     if (!(type[0] & 0x20)) /* an uppercase first letter marks a critical chunk */
-        return pw_fail(p->e, PW_ERR_UNSUPPORTED, "%s: unknown critical PNG chunk '%s'", p->name,
-                       type);
+        return pw_fail(p->e, PW_ERR_UNSUPPORTED, "%s: unknown critical PNG chunk '%s'", p->name, type);
     return PW_OK;
 }
 
@@ -3076,26 +2986,21 @@ PW__DEF int pw__png_walk(pw__png *p, const unsigned char *data, size_t size)
     while (!p->seen_iend) {
         const unsigned char *c = data + pos;
         uint32_t len;
-        if (size - pos < 12)
-            return pw_fail(p->e, PW_ERR_PARSE, "%s: PNG file truncated (no IEND chunk)", p->name);
+        if (size - pos < 12) return pw_fail(p->e, PW_ERR_PARSE, "%s: PNG file truncated (no IEND chunk)", p->name);
         len = pw__be32(c);
         for (i = 4; i < 8; i++)
             if (!((c[i] >= 'A' && c[i] <= 'Z') || (c[i] >= 'a' && c[i] <= 'z')))
-                return pw_fail(p->e, PW_ERR_PARSE, "%s: bad PNG chunk type at offset %lu", p->name,
-                               (unsigned long)pos);
+                return pw_fail(p->e, PW_ERR_PARSE, "%s: bad PNG chunk type at offset %lu", p->name, (unsigned long)pos);
         if (len > 0x7fffffffu || len > size - pos - 12)
-            return pw_fail(p->e, PW_ERR_PARSE, "%s: PNG chunk '%.4s' truncated (length %lu)",
-                           p->name, (const char *)c + 4, (unsigned long)len);
+            return pw_fail(p->e, PW_ERR_PARSE, "%s: PNG chunk '%.4s' truncated (length %lu)", p->name,
+                           (const char *)c + 4, (unsigned long)len);
         if (pw_crc32(0, c + 4, len + 4) != pw__be32(c + 8 + len))
-            return pw_fail(p->e, PW_ERR_PARSE, "%s: CRC mismatch in PNG chunk '%.4s'", p->name,
-                           (const char *)c + 4);
+            return pw_fail(p->e, PW_ERR_PARSE, "%s: CRC mismatch in PNG chunk '%.4s'", p->name, (const char *)c + 4);
         if ((rc = pw__png_chunk_read(p, c, len))) return rc;
         pos += 12 + (size_t)len;
     }
-    if (!p->seen_idat)
-        return pw_fail(p->e, PW_ERR_PARSE, "%s: PNG file has no IDAT chunk", p->name);
-    if (p->ctype == 3 && !p->npal)
-        return pw_fail(p->e, PW_ERR_PARSE, "%s: palette PNG has no PLTE chunk", p->name);
+    if (!p->seen_idat) return pw_fail(p->e, PW_ERR_PARSE, "%s: PNG file has no IDAT chunk", p->name);
+    if (p->ctype == 3 && !p->npal) return pw_fail(p->e, PW_ERR_PARSE, "%s: palette PNG has no PLTE chunk", p->name);
     return PW_OK;
 }
 
@@ -3116,15 +3021,13 @@ PW__DEF void pw__png_gather(const unsigned char *data, unsigned char *idat)
 
 /* Adam7 passes (§8.2): x start, y start, x step, y step. A plain image is
  * the single pass {0, 0, 1, 1}. */
-static const unsigned char pw__adam7[7][4] = {{0, 0, 8, 8}, {4, 0, 8, 8}, {0, 4, 4, 8},
-                                              {2, 0, 4, 4}, {0, 2, 2, 4}, {1, 0, 2, 2},
-                                              {0, 1, 1, 2}};
+static const unsigned char pw__adam7[7][4] = {{0, 0, 8, 8}, {4, 0, 8, 8}, {0, 4, 4, 8}, {2, 0, 4, 4},
+                                              {0, 2, 2, 4}, {1, 0, 2, 2}, {0, 1, 1, 2}};
 
 /* Pixels of a pass along one axis (0 when the pass is empty). */
 PW__DEF uint32_t pw__pass_len(uint32_t size, int start, int step)
 {
-    return size > (uint32_t)start ? (size - (uint32_t)start + (uint32_t)step - 1) / (uint32_t)step
-                                  : 0;
+    return size > (uint32_t)start ? (size - (uint32_t)start + (uint32_t)step - 1) / (uint32_t)step : 0;
 }
 
 /* Bytes of one filtered row of `w` pixels, without the filter byte. */
@@ -3149,8 +3052,7 @@ PW__DEF uint64_t pw__png_rawsize(const pw__png *p)
 
 /* Undoes the filter of one row in place (§9.2); prev is NULL for the first
  * row of a pass. */
-PW__DEF int pw__png_unfilter(pw__png *p, unsigned char *row, const unsigned char *prev, size_t n,
-                             size_t bpp, int f)
+PW__DEF int pw__png_unfilter(pw__png *p, unsigned char *row, const unsigned char *prev, size_t n, size_t bpp, int f)
 {
     size_t i;
     if (f > 4) return pw_fail(p->e, PW_ERR_PARSE, "%s: invalid PNG filter type %d", p->name, f);
@@ -3175,8 +3077,7 @@ PW__DEF unsigned pw__png_sample(const unsigned char *row, size_t i, int depth)
 }
 
 /* Converts `count` pixels of a row to floats at dst, dst + step, ... */
-PW__DEF int pw__png_pixels(pw__png *p, const unsigned char *row, uint32_t count, float *dst,
-                           size_t step)
+PW__DEF int pw__png_pixels(pw__png *p, const unsigned char *row, uint32_t count, float *dst, size_t step)
 {
     float maxv = (float)((1u << p->depth) - 1);
     unsigned s[4];
@@ -3186,17 +3087,15 @@ PW__DEF int pw__png_pixels(pw__png *p, const unsigned char *row, uint32_t count,
         for (k = 0; k < p->spp; k++) s[k] = pw__png_sample(row, (size_t)x * p->spp + k, p->depth);
         if (p->ctype == 3) {
             if (s[0] >= (unsigned)p->npal)
-                return pw_fail(p->e, PW_ERR_PARSE, "%s: palette index %u out of range (%d entries)",
-                               p->name, s[0], p->npal);
+                return pw_fail(p->e, PW_ERR_PARSE, "%s: palette index %u out of range (%d entries)", p->name, s[0],
+                               p->npal);
             for (k = 0; k < p->outc; k++) dst[k] = (float)p->pal[s[0]][k] / 255.0f;
             continue;
         }
         for (k = 0; k < p->spp; k++) dst[k] = (float)s[k] / maxv;
         if (p->trns) /* colour key: alpha 0 where the pixel equals it */
             dst[p->spp] =
-                (s[0] == p->key[0] && (p->spp == 1 || (s[1] == p->key[1] && s[2] == p->key[2])))
-                    ? 0.0f
-                    : 1.0f;
+                (s[0] == p->key[0] && (p->spp == 1 || (s[1] == p->key[1] && s[2] == p->key[2]))) ? 0.0f : 1.0f;
     }
     return PW_OK;
 }
@@ -3227,8 +3126,8 @@ PW__DEF int pw__png_decode(pw__png *p, unsigned char *raw, pw_image *img)
 }
 
 /* Decompresses the gathered IDAT data, exactly `want` bytes. */
-PW__DEF int pw__png_inflate(pw__png *p, const pw_alloc *a, const unsigned char *z, size_t zn,
-                            size_t want, unsigned char **raw)
+PW__DEF int pw__png_inflate(pw__png *p, const pw_alloc *a, const unsigned char *z, size_t zn, size_t want,
+                            unsigned char **raw)
 {
     pw_err local;
     size_t got;
@@ -3236,22 +3135,21 @@ PW__DEF int pw__png_inflate(pw__png *p, const pw_alloc *a, const unsigned char *
     pw_err_clear(&local);
     rc = pw_zlib_decompress(a, z, zn, want, raw, &got, &local);
     if (rc == PW_ERR_LIMIT)
-        return pw_fail(p->e, PW_ERR_PARSE,
-                       "%s: PNG image data is longer than the %lu bytes its size implies", p->name,
+        return pw_fail(p->e, PW_ERR_PARSE, "%s: PNG image data is longer than the %lu bytes its size implies", p->name,
                        (unsigned long)want);
     if (rc) return pw_fail(p->e, rc, "%s: PNG image data: %s", p->name, local.msg);
     if (got != want) {
         pw_free(a, *raw);
         *raw = NULL;
-        return pw_fail(p->e, PW_ERR_PARSE, "%s: PNG image data truncated (%lu of %lu bytes)",
-                       p->name, (unsigned long)got, (unsigned long)want);
+        return pw_fail(p->e, PW_ERR_PARSE, "%s: PNG image data truncated (%lu of %lu bytes)", p->name,
+                       (unsigned long)got, (unsigned long)want);
     }
     return PW_OK;
 }
 
 /* Reads a PNG from memory; `name` prefixes error messages. */
-PW__DEF int pw_png_read_memory(const pw_alloc *a, const unsigned char *data, size_t size,
-                               const char *name, pw_image *out, pw_err *e)
+PW__DEF int pw_png_read_memory(const pw_alloc *a, const unsigned char *data, size_t size, const char *name,
+                               pw_image *out, pw_err *e)
 {
     pw__png p;
     unsigned char *z = NULL, *raw = NULL;
@@ -3268,8 +3166,7 @@ PW__DEF int pw_png_read_memory(const pw_alloc *a, const unsigned char *data, siz
     /* deflate expands at most 1032:1 (a 258-byte match in 2 bits): refuse
      * sizes the data cannot hold before allocating anything */
     if (want > p.idat_size * 1032 + 64 || want > (size_t)-1)
-        return pw_fail(e, PW_ERR_PARSE,
-                       "%s: PNG image data (%lu bytes) too short for a %lux%lu image", p.name,
+        return pw_fail(e, PW_ERR_PARSE, "%s: PNG image data (%lu bytes) too short for a %lux%lu image", p.name,
                        (unsigned long)p.idat_size, (unsigned long)p.w, (unsigned long)p.h);
     z = (unsigned char *)pw_alloc_array(a, (size_t)p.idat_size, 1, "PNG image data", e);
     if (!z) return PW_ERR_NOMEM;
@@ -3289,17 +3186,22 @@ PW__DEF int pw_png_read_memory(const pw_alloc *a, const unsigned char *data, siz
 }
 
 #else
-PW__DEF int pw_png_write(const pw_alloc *a, const pw_image *img, int bits, pw_write_fn w,
-                         void *ctx, pw_err *e)
+PW__DEF int pw_png_write(const pw_alloc *a, const pw_image *img, int bits, pw_write_fn w, void *ctx, pw_err *e)
 {
-    (void)a, (void)img, (void)bits, (void)w, (void)ctx;
+    (void)a;
+    (void)img;
+    (void)bits;
+    (void)w;
+    (void)ctx;
     return pw_fail(e, PW_ERR_UNSUPPORTED, "PNG compiled out (PW_NO_PNG)");
 }
 
-PW__DEF int pw_png_read_memory(const pw_alloc *a, const unsigned char *data, size_t size,
-                               const char *name, pw_image *out, pw_err *e)
+PW__DEF int pw_png_read_memory(const pw_alloc *a, const unsigned char *data, size_t size, const char *name,
+                               pw_image *out, pw_err *e)
 {
-    (void)a, (void)data, (void)size;
+    (void)a;
+    (void)data;
+    (void)size;
     memset(out, 0, sizeof *out);
     return pw_fail(e, PW_ERR_UNSUPPORTED, "%s: PNG compiled out (PW_NO_PNG)", name ? name : "image");
 }
@@ -3312,20 +3214,17 @@ PW__DEF int pw_png_read_memory(const pw_alloc *a, const unsigned char *data, siz
 /* Reads PNG, PNM/PAM (P1-P7) or a GIMP pattern, recognised by content
  * (PNG signature, "P1".."P7", "GPAT" at offset 20). `name` (usually the
  * file name) prefixes every error message; `a` may be NULL. */
-PW__DEF int pw_image_read_memory(const pw_alloc *a, const unsigned char *data, size_t size,
-                                 const char *name, pw_image *out, pw_err *e)
+PW__DEF int pw_image_read_memory(const pw_alloc *a, const unsigned char *data, size_t size, const char *name,
+                                 pw_image *out, pw_err *e)
 {
     memset(out, 0, sizeof *out);
     if (!name) name = "image";
-    if (size >= 8 && memcmp(data, pw__png_sig, 8) == 0)
-        return pw_png_read_memory(a, data, size, name, out, e);
+    if (size >= 8 && memcmp(data, pw__png_sig, 8) == 0) return pw_png_read_memory(a, data, size, name, out, e);
     if (size >= 2 && data[0] == 'P' && data[1] >= '1' && data[1] <= '7')
         return pw_image_read_pnm_memory(a, data, size, name, out, e);
-    if (size >= 24 && memcmp(data + 20, "GPAT", 4) == 0)
-        return pw_image_read_pat_memory(a, data, size, name, out, e);
+    if (size >= 24 && memcmp(data + 20, "GPAT", 4) == 0) return pw_image_read_pat_memory(a, data, size, name, out, e);
     return pw_fail(e, size ? PW_ERR_UNSUPPORTED : PW_ERR_PARSE, "%s: %s", name,
-                   size ? "unknown image format (not PNG, PNM, PAM or GIMP pattern)"
-                        : "empty file");
+                   size ? "unknown image format (not PNG, PNM, PAM or GIMP pattern)" : "empty file");
 }
 
 #ifndef PW_NO_STDIO
@@ -3364,15 +3263,11 @@ PW__DEF int pw_image_save(const char *path, const pw_image *img, pw_err *e)
     int rc = pw__image_check(img, e);
     if (rc) return rc;
     j.img = img;
-    if (pw_has_ext(path, ".ppm") || pw_has_ext(path, ".pgm") || pw_has_ext(path, ".pnm"))
-        j.kind = 0;
-    else if (pw_has_ext(path, ".pam"))
-        j.kind = 1;
-    else if (pw_has_ext(path, ".png"))
-        j.kind = 2;
+    if (pw_has_ext(path, ".ppm") || pw_has_ext(path, ".pgm") || pw_has_ext(path, ".pnm")) j.kind = 0;
+    else if (pw_has_ext(path, ".pam")) j.kind = 1;
+    else if (pw_has_ext(path, ".png")) j.kind = 2;
     else
-        return pw_fail(e, PW_ERR_UNSUPPORTED,
-                       "%s: unknown image file extension (use .png, .ppm, .pgm, .pnm or .pam)",
+        return pw_fail(e, PW_ERR_UNSUPPORTED, "%s: unknown image file extension (use .png, .ppm, .pgm, .pnm or .pam)",
                        path);
     return pw_write_file(path, pw__save_body, &j, e);
 }
@@ -3391,9 +3286,8 @@ PW__DEF int pw_image_save(const char *path, const pw_image *img, pw_err *e)
 
 /* ---- number parsing ------------------------------------------------------ */
 
-static const double pw__num_pow10[23] = {1e0,  1e1,  1e2,  1e3,  1e4,  1e5,  1e6,  1e7,
-                                     1e8,  1e9,  1e10, 1e11, 1e12, 1e13, 1e14, 1e15,
-                                     1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22};
+static const double pw__num_pow10[23] = {1e0,  1e1,  1e2,  1e3,  1e4,  1e5,  1e6,  1e7,  1e8,  1e9,  1e10, 1e11,
+                                         1e12, 1e13, 1e14, 1e15, 1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22};
 
 /* m * 10^x. Powers of ten up to 1e22 are exact doubles, so the common case
  * (up to 17 significant digits, small exponent) is one rounding, and the
@@ -3402,13 +3296,17 @@ PW__DEF double pw__num_scale10(uint64_t m, long x, int neg)
 {
     double v = (double)m;
     if (m == 0) x = 0;
-    if (x > 400)
-        v = HUGE_VAL; /* m >= 1, so at least 1e400 */
-    else if (x < -400)
-        v = 0.0; /* m < 1e18, so below 1e-382 */
+    if (x > 400) v = HUGE_VAL;  /* m >= 1, so at least 1e400 */
+    else if (x < -400) v = 0.0; /* m < 1e18, so below 1e-382 */
     else {
-        while (x > 22) v *= 1e22, x -= 22;
-        while (x < -22) v /= 1e22, x += 22;
+        while (x > 22) {
+            v *= 1e22;
+            x -= 22;
+        }
+        while (x < -22) {
+            v /= 1e22;
+            x += 22;
+        }
         v = x >= 0 ? v * pw__num_pow10[x] : v / pw__num_pow10[-x];
     }
     return neg ? -v : v;
@@ -3443,14 +3341,15 @@ PW__DEF const char *pw__num_parse(const char *p, const char *end, double *out)
     if (p < end && (*p == '+' || *p == '-')) neg = *p++ == '-';
     if (p < end && ((*p | 32) == 'n' || (*p | 32) == 'i')) return pw__num_special(p, end, out, neg);
     for (; p < end && *p >= '0' && *p <= '9'; p++, digits++) {
-        if (m < 100000000000000000ULL)
-            m = m * 10 + (uint64_t)(*p - '0');
-        else if (x < 100000)
-            x++; /* digits past the 17th only scale */
+        if (m < 100000000000000000ULL) m = m * 10 + (uint64_t)(*p - '0');
+        else if (x < 100000) x++; /* digits past the 17th only scale */
     }
     if (p < end && *p == '.')
         for (p++; p < end && *p >= '0' && *p <= '9'; p++, digits++)
-            if (m < 100000000000000000ULL) m = m * 10 + (uint64_t)(*p - '0'), x--;
+            if (m < 100000000000000000ULL) {
+                m = m * 10 + (uint64_t)(*p - '0');
+                x--;
+            }
     if (!digits) return NULL;
     if (p < end && (*p == 'e' || *p == 'E')) {
         p++;
@@ -3498,8 +3397,7 @@ typedef struct pw__sc {
     pw_err *e;
 } pw__sc;
 
-PW__DEF void pw__sc_init(pw__sc *s, const void *data, size_t size, const char *name, int cont,
-                         pw_err *e)
+PW__DEF void pw__sc_init(pw__sc *s, const void *data, size_t size, const char *name, int cont, pw_err *e)
 {
     s->p = (const char *)data;
     s->end = s->p + size;
@@ -3587,17 +3485,16 @@ PW__DEF const char *pw__sc_word(pw__sc *s, size_t *n)
     return w;
 }
 
-PW__DEF int pw__sc_is(const char *w, size_t n, const char *lit)
-{
-    return strlen(lit) == n && !memcmp(w, lit, n);
-}
+PW__DEF int pw__sc_is(const char *w, size_t n, const char *lit) { return strlen(lit) == n && !memcmp(w, lit, n); }
 
 /* Copies the token at q, shortened and made printable, for messages. */
 PW__DEF const char *pw__sc_tok(const pw__sc *s, const char *q, char *buf)
 {
     int n = 0;
-    while (q < s->end && n < 24 && !pw__sc_blank_char(*q) && *q != '\n')
-        buf[n++] = (*q >= 32 && *q < 127) ? *q : '?', q++;
+    while (q < s->end && n < 24 && !pw__sc_blank_char(*q) && *q != '\n') {
+        buf[n++] = (*q >= 32 && *q < 127) ? *q : '?';
+        q++;
+    }
     if (n == 24) buf[n - 1] = buf[n - 2] = buf[n - 3] = '.';
     buf[n] = 0;
     return buf;
@@ -3609,8 +3506,7 @@ PW__DEF int pw__sc_value_error(pw__sc *s, int missing, int is_int, const char *w
     char tok[32], label[64];
     if (index >= 0) snprintf(label, sizeof label, "%s %lld", what, index);
     else snprintf(label, sizeof label, "%s", what);
-    if (missing)
-        return pw__sc_fail(s, PW_ERR_PARSE, "%s: %s is missing", label, is_int ? "an integer" : "a number");
+    if (missing) return pw__sc_fail(s, PW_ERR_PARSE, "%s: %s is missing", label, is_int ? "an integer" : "a number");
     return pw__sc_fail(s, PW_ERR_PARSE, "%s: malformed %s '%s'", label, is_int ? "integer" : "number",
                        pw__sc_tok(s, s->p, tok));
 }
@@ -3635,7 +3531,6 @@ PW__DEF int pw__sc_int(pw__sc *s, long long *v, const char *what, long long inde
 {
     return pw__sc_value(s, NULL, v, what, index);
 }
-
 
 /* Buffered output over a pw_write_fn. */
 typedef struct pw__wb {
@@ -3672,7 +3567,8 @@ PW__DEF void pw__wb_int(pw__wb *b, long long v, char lead)
     char t[24];
     int n = (int)sizeof t;
     unsigned long long u = v < 0 ? 0ull - (unsigned long long)v : (unsigned long long)v;
-    do t[--n] = (char)('0' + u % 10); while (u /= 10);
+    do t[--n] = (char)('0' + u % 10);
+    while (u /= 10);
     if (v < 0) t[--n] = '-';
     if (lead) t[--n] = lead;
     pw__wb_put(b, t + n, sizeof t - (size_t)n);
@@ -3681,8 +3577,14 @@ PW__DEF void pw__wb_int(pw__wb *b, long long v, char lead)
 /* v * 10^x with exact powers of ten (deterministic: only + - * /). */
 PW__DEF double pw__num_mul10(double v, int x)
 {
-    while (x > 22) v *= 1e22, x -= 22;
-    while (x < -22) v /= 1e22, x += 22;
+    while (x > 22) {
+        v *= 1e22;
+        x -= 22;
+    }
+    while (x < -22) {
+        v /= 1e22;
+        x += 22;
+    }
     return x >= 0 ? v * pw__num_pow10[x] : v / pw__num_pow10[-x];
 }
 
@@ -3693,7 +3595,7 @@ PW__DEF uint32_t pw__num_digits(double x, int *e10)
 {
     int e2, k, t;
     uint32_t d = 0;
-    frexp(x, &e2); /* x in [2^(e2-1), 2^e2) */
+    frexp(x, &e2);        /* x in [2^(e2-1), 2^e2) */
     t = (e2 - 1) * 30103; /* log10(2) = 0.30103 */
     *e10 = t >= 0 ? t / 100000 : -((99999 - t) / 100000);
     for (k = 0; k < 4; k++) {
@@ -3719,20 +3621,30 @@ PW__DEF int pw__num_format(char *out, float xf)
     uint32_t d, bits;
     int n = 0, nd = 9, e10, i, pos;
     memcpy(&bits, &xf, 4);
-    if (bits >> 31) out[n++] = '-', x = -x; /* also keeps -0 */
+    if (bits >> 31) {
+        out[n++] = '-';
+        x = -x;
+    } /* also keeps -0 */
     if (x == 0.0) {
         out[n++] = '0';
         return n;
     }
     d = pw__num_digits(x, &e10);
-    while (nd > 1 && d % 10 == 0) d /= 10, nd--;
-    for (i = nd - 1; i >= 0; i--) dig[i] = (char)('0' + d % 10), d /= 10;
+    while (nd > 1 && d % 10 == 0) {
+        d /= 10;
+        nd--;
+    }
+    for (i = nd - 1; i >= 0; i--) {
+        dig[i] = (char)('0' + d % 10);
+        d /= 10;
+    }
     if (e10 >= 0 && e10 < 9) { /* ddd.ddd */
         for (i = 0; i <= e10; i++) out[n++] = i < nd ? dig[i] : '0';
         if (nd > e10 + 1) out[n++] = '.';
         for (i = e10 + 1; i < nd; i++) out[n++] = dig[i];
     } else if (e10 < 0 && e10 >= -4) { /* 0.000ddd, as %g does */
-        out[n++] = '0', out[n++] = '.';
+        out[n++] = '0';
+        out[n++] = '.';
         for (i = 0; i < -e10 - 1; i++) out[n++] = '0';
         for (i = 0; i < nd; i++) out[n++] = dig[i];
     } else { /* d.ddde-12 */
@@ -3740,7 +3652,10 @@ PW__DEF int pw__num_format(char *out, float xf)
         if (nd > 1) out[n++] = '.';
         for (i = 1; i < nd; i++) out[n++] = dig[i];
         out[n++] = 'e';
-        if (e10 < 0) out[n++] = '-', e10 = -e10;
+        if (e10 < 0) {
+            out[n++] = '-';
+            e10 = -e10;
+        }
         pos = e10 >= 10 ? 2 : 1;
         for (i = pos - 1; i >= 0; i--, e10 /= 10) out[n + i] = (char)('0' + e10 % 10);
         n += pos;
@@ -3808,13 +3723,13 @@ PW__DEF int pw__wb_done(pw__wb *b, pw_err *e)
 
 typedef struct pw_mesh {
     int nv;
-    float *pos;  /* nv*3: vertex i is pos[3*i], pos[3*i+1], pos[3*i+2] */
+    float *pos; /* nv*3: vertex i is pos[3*i], pos[3*i+1], pos[3*i+2] */
     int nf;
     int *fstart; /* nf+1 offsets into fv; fstart[0] = 0 */
     int *fv;     /* fstart[nf] vertex indices, counter-clockwise per face */
     int nuv;
-    float *uv;   /* nuv*2 texture coordinates, or NULL */
-    int *fuv;    /* fstart[nf]: uv index of each corner, or NULL */
+    float *uv; /* nuv*2 texture coordinates, or NULL */
+    int *fuv;  /* fstart[nf]: uv index of each corner, or NULL */
 } pw_mesh;
 
 /* Frees the arrays and zeroes *m (NULL is fine). */
@@ -3830,18 +3745,15 @@ PW__DEF void pw_mesh_free(const pw_alloc *a, pw_mesh *m)
 }
 
 /* Shared by pw_mesh_alloc and pw_mesh_copy: nuv < 0 means no uv arrays. */
-PW__DEF int pw__mesh_alloc(const pw_alloc *a, pw_mesh *m, int nv, int nf, int nc, int nuv,
-                           pw_err *e)
+PW__DEF int pw__mesh_alloc(const pw_alloc *a, pw_mesh *m, int nv, int nf, int nc, int nuv, pw_err *e)
 {
     memset(m, 0, sizeof *m);
     if (nv < 0 || nf < 0 || nc < 0)
-        return pw_fail(e, PW_ERR_INVALID, "mesh: negative size (%d vertices, %d faces, %d corners)",
-                       nv, nf, nc);
+        return pw_fail(e, PW_ERR_INVALID, "mesh: negative size (%d vertices, %d faces, %d corners)", nv, nf, nc);
     if (nv > PW_MAX_MESH_ELEMENTS || nf > PW_MAX_MESH_ELEMENTS || nc > PW_MAX_MESH_ELEMENTS ||
         nuv > PW_MAX_MESH_ELEMENTS)
-        return pw_fail(e, PW_ERR_LIMIT,
-                       "mesh: %d vertices, %d faces, %d corners exceed the limit of %d elements",
-                       nv, nf, nc, PW_MAX_MESH_ELEMENTS);
+        return pw_fail(e, PW_ERR_LIMIT, "mesh: %d vertices, %d faces, %d corners exceed the limit of %d elements", nv,
+                       nf, nc, PW_MAX_MESH_ELEMENTS);
     m->pos = (float *)pw_calloc_array(a, (size_t)nv * 3, sizeof(float), "mesh positions", e);
     m->fstart = (int *)pw_calloc_array(a, (size_t)nf + 1, sizeof(int), "mesh faces", e);
     m->fv = (int *)pw_calloc_array(a, (size_t)nc, sizeof(int), "mesh corners", e);
@@ -3863,8 +3775,7 @@ PW__DEF int pw__mesh_alloc(const pw_alloc *a, pw_mesh *m, int nv, int nf, int nc
  * caller fills pos, all nf+1 entries of fstart, and fv. With with_uv != 0 it
  * also allocates one texture coordinate per corner (nuv = ncorners, uv
  * zeroed, fuv[i] = i); lower nuv afterwards when sharing uvs. */
-PW__DEF int pw_mesh_alloc(const pw_alloc *a, pw_mesh *m, int nv, int nf, int ncorners,
-                          int with_uv, pw_err *e)
+PW__DEF int pw_mesh_alloc(const pw_alloc *a, pw_mesh *m, int nv, int nf, int ncorners, int with_uv, pw_err *e)
 {
     int r = pw__mesh_alloc(a, m, nv, nf, ncorners, with_uv ? ncorners : -1, e), i;
     if (r == PW_OK && with_uv)
@@ -3877,24 +3788,23 @@ PW__DEF int pw_mesh_alloc(const pw_alloc *a, pw_mesh *m, int nv, int nf, int nco
 PW__DEF int pw_mesh_validate(const pw_mesh *m, pw_err *e)
 {
     int f, i;
-    if (m->nv < 0 || m->nf < 0 || m->nuv < 0 || !m->fstart || (m->nv && !m->pos) ||
-        (m->nuv && !m->uv))
+    if (m->nv < 0 || m->nf < 0 || m->nuv < 0 || !m->fstart || (m->nv && !m->pos) || (m->nuv && !m->uv))
         return pw_fail(e, PW_ERR_INVALID, "mesh: negative count or missing array");
-    if (m->fstart[0] != 0)
-        return pw_fail(e, PW_ERR_INVALID, "mesh: fstart[0] is %d, must be 0", m->fstart[0]);
+    if (m->fstart[0] != 0) return pw_fail(e, PW_ERR_INVALID, "mesh: fstart[0] is %d, must be 0", m->fstart[0]);
     for (f = 0; f < m->nf; f++) {
         int b = m->fstart[f], d; /* b >= 0 by induction */
         if ((int64_t)m->fstart[f + 1] < (int64_t)b + 3)
-            return pw_fail(e, PW_ERR_DEGENERATE, "mesh: face %d has %ld corners (at least 3 needed)",
-                           f, (long)m->fstart[f + 1] - b);
+            return pw_fail(e, PW_ERR_DEGENERATE, "mesh: face %d has %ld corners (at least 3 needed)", f,
+                           (long)m->fstart[f + 1] - b);
         d = m->fstart[f + 1] - b;
         for (i = b; i < b + d; i++) {
             if (!m->fv || m->fv[i] < 0 || m->fv[i] >= m->nv)
-                return pw_fail(e, PW_ERR_INVALID, "mesh: face %d, corner %d: vertex index %d out of range (%d vertices)",
-                               f, i - b, m->fv ? m->fv[i] : -1, m->nv);
+                return pw_fail(e, PW_ERR_INVALID,
+                               "mesh: face %d, corner %d: vertex index %d out of range (%d vertices)", f, i - b,
+                               m->fv ? m->fv[i] : -1, m->nv);
             if (m->fuv && (m->fuv[i] < 0 || m->fuv[i] >= m->nuv))
-                return pw_fail(e, PW_ERR_INVALID, "mesh: face %d, corner %d: uv index %d out of range (%d uvs)",
-                               f, i - b, m->fuv[i], m->nuv);
+                return pw_fail(e, PW_ERR_INVALID, "mesh: face %d, corner %d: uv index %d out of range (%d uvs)", f,
+                               i - b, m->fuv[i], m->nuv);
         }
     }
     for (i = 0; i < m->nv * 3; i++)
@@ -3942,8 +3852,7 @@ PW__DEF int pw_mesh_copy(const pw_alloc *a, const pw_mesh *src, pw_mesh *dst, pw
  * tri_face is not NULL it receives a new array (free with pw_free(a, ...))
  * mapping each triangle to its source face. Fans suit convex polygons, which
  * is what renderers and the triangle-based methods are given. */
-PW__DEF int pw_mesh_triangulate(const pw_alloc *a, const pw_mesh *m, pw_mesh *out,
-                                int **tri_face, pw_err *e)
+PW__DEF int pw_mesh_triangulate(const pw_alloc *a, const pw_mesh *m, pw_mesh *out, int **tri_face, pw_err *e)
 {
     int64_t nt = 0;
     int f, k, t = 0, r, with_uv = m->uv && m->fuv;
@@ -3954,8 +3863,7 @@ PW__DEF int pw_mesh_triangulate(const pw_alloc *a, const pw_mesh *m, pw_mesh *ou
     for (f = 0; f < m->nf; f++) nt += m->fstart[f + 1] - m->fstart[f] - 2;
     if (nt * 3 > PW_MAX_MESH_ELEMENTS)
         return pw_fail(e, PW_ERR_LIMIT, "triangulation: %ld triangles exceed the limit", (long)nt);
-    if ((r = pw__mesh_alloc(a, out, m->nv, (int)nt, (int)nt * 3, with_uv ? m->nuv : -1, e)))
-        return r;
+    if ((r = pw__mesh_alloc(a, out, m->nv, (int)nt, (int)nt * 3, with_uv ? m->nuv : -1, e))) return r;
     if (tri_face && !(map = (int *)pw_alloc_array(a, (size_t)nt + 1, sizeof(int), "triangle map", e))) {
         pw_mesh_free(a, out);
         return PW_ERR_NOMEM;
@@ -4013,8 +3921,7 @@ PW__DEF int pw__mb_init(pw__mb *b, const pw_alloc *a, pw_err *e)
     b->a = a;
     b->e = e;
     b->uv_ok = 1;
-    if (pw_grow(a, (void **)&b->m.fstart, &b->cfs, 1, sizeof(int), "mesh faces", e))
-        return PW_ERR_NOMEM;
+    if (pw_grow(a, (void **)&b->m.fstart, &b->cfs, 1, sizeof(int), "mesh faces", e)) return PW_ERR_NOMEM;
     b->m.fstart[0] = 0;
     return PW_OK;
 }
@@ -4024,10 +3931,8 @@ PW__DEF void pw__mb_free(pw__mb *b) { pw_mesh_free(b->a, &b->m); }
 /* Reserves room for counts announced by a header (already checked). */
 PW__DEF int pw__mb_reserve(pw__mb *b, int nv, int nf, int nc)
 {
-    if (pw_grow(b->a, (void **)&b->m.pos, &b->cpos, (size_t)nv * 3, sizeof(float),
-                "vertex positions", b->e) ||
-        pw_grow(b->a, (void **)&b->m.fstart, &b->cfs, (size_t)nf + 1, sizeof(int), "mesh faces",
-                b->e) ||
+    if (pw_grow(b->a, (void **)&b->m.pos, &b->cpos, (size_t)nv * 3, sizeof(float), "vertex positions", b->e) ||
+        pw_grow(b->a, (void **)&b->m.fstart, &b->cfs, (size_t)nf + 1, sizeof(int), "mesh faces", b->e) ||
         pw_grow(b->a, (void **)&b->m.fv, &b->cfv, (size_t)nc, sizeof(int), "face corners", b->e))
         return PW_ERR_NOMEM;
     return PW_OK;
@@ -4035,8 +3940,7 @@ PW__DEF int pw__mb_reserve(pw__mb *b, int nv, int nf, int nc)
 
 PW__DEF int pw__mb_vertex(pw__mb *b, const float xyz[3])
 {
-    if (pw_grow(b->a, (void **)&b->m.pos, &b->cpos, (size_t)b->m.nv * 3 + 3, sizeof(float),
-                "vertex positions", b->e))
+    if (pw_grow(b->a, (void **)&b->m.pos, &b->cpos, (size_t)b->m.nv * 3 + 3, sizeof(float), "vertex positions", b->e))
         return PW_ERR_NOMEM;
     memcpy(b->m.pos + (size_t)b->m.nv * 3, xyz, 3 * sizeof(float));
     b->m.nv++;
@@ -4045,8 +3949,7 @@ PW__DEF int pw__mb_vertex(pw__mb *b, const float xyz[3])
 
 PW__DEF int pw__mb_uv(pw__mb *b, float u, float v)
 {
-    if (pw_grow(b->a, (void **)&b->m.uv, &b->cuv, (size_t)b->m.nuv * 2 + 2, sizeof(float),
-                "texture coordinates", b->e))
+    if (pw_grow(b->a, (void **)&b->m.uv, &b->cuv, (size_t)b->m.nuv * 2 + 2, sizeof(float), "texture coordinates", b->e))
         return PW_ERR_NOMEM;
     b->m.uv[2 * b->m.nuv] = u;
     b->m.uv[2 * b->m.nuv + 1] = v;
@@ -4058,8 +3961,7 @@ PW__DEF int pw__mb_uv(pw__mb *b, float u, float v)
 PW__DEF int pw__mb_room(pw__mb *b, int n)
 {
     if (pw_grow(b->a, (void **)&b->m.fv, &b->cfv, (size_t)b->nc + n, sizeof(int), "face corners", b->e) ||
-        (b->uv_ok && pw_grow(b->a, (void **)&b->m.fuv, &b->cfuv, (size_t)b->nc + n, sizeof(int),
-                             "corner uvs", b->e)))
+        (b->uv_ok && pw_grow(b->a, (void **)&b->m.fuv, &b->cfuv, (size_t)b->nc + n, sizeof(int), "corner uvs", b->e)))
         return PW_ERR_NOMEM;
     return PW_OK;
 }
@@ -4067,13 +3969,11 @@ PW__DEF int pw__mb_room(pw__mb *b, int n)
 /* Appends a corner of the face being built: vertex v, uv index t (-1: none). */
 PW__DEF int pw__mb_corner(pw__mb *b, int v, int t)
 {
-    if (pw_grow(b->a, (void **)&b->m.fv, &b->cfv, (size_t)b->nc + 1, sizeof(int), "face corners",
-                b->e))
+    if (pw_grow(b->a, (void **)&b->m.fv, &b->cfv, (size_t)b->nc + 1, sizeof(int), "face corners", b->e))
         return PW_ERR_NOMEM;
     b->m.fv[b->nc] = v;
     if (b->uv_ok) {
-        if (pw_grow(b->a, (void **)&b->m.fuv, &b->cfuv, (size_t)b->nc + 1, sizeof(int),
-                    "corner uvs", b->e))
+        if (pw_grow(b->a, (void **)&b->m.fuv, &b->cfuv, (size_t)b->nc + 1, sizeof(int), "corner uvs", b->e))
             return PW_ERR_NOMEM;
         b->m.fuv[b->nc] = t;
     }
@@ -4083,8 +3983,7 @@ PW__DEF int pw__mb_corner(pw__mb *b, int v, int t)
 
 PW__DEF int pw__mb_end_face(pw__mb *b)
 {
-    if (pw_grow(b->a, (void **)&b->m.fstart, &b->cfs, (size_t)b->m.nf + 2, sizeof(int),
-                "mesh faces", b->e))
+    if (pw_grow(b->a, (void **)&b->m.fstart, &b->cfs, (size_t)b->m.nf + 2, sizeof(int), "mesh faces", b->e))
         return PW_ERR_NOMEM;
     b->m.fstart[++b->m.nf] = b->nc;
     return PW_OK;
@@ -4104,8 +4003,8 @@ PW__DEF int pw__mb_finish(pw__mb *b, pw_mesh *out, const char *name)
 {
     pw_mesh *m = &b->m;
     if (m->nf == 0)
-        return pw_fail(b->e, PW_ERR_DEGENERATE, "%s: the mesh has no faces (%d vertices)",
-                       name ? name : "<memory>", m->nv);
+        return pw_fail(b->e, PW_ERR_DEGENERATE, "%s: the mesh has no faces (%d vertices)", name ? name : "<memory>",
+                       m->nv);
     if (!b->uv_ok || !m->nuv || !m->fuv) {
         pw_free(b->a, m->uv);
         pw_free(b->a, m->fuv);
@@ -4128,19 +4027,18 @@ PW__DEF int pw__mb_finish(pw__mb *b, pw_mesh *out, const char *name)
 /* Statements that do not change a polygon mesh: skipped. (vn: normals are
  * recomputed where needed; free-form geometry is not supported.) */
 static const char *const pw__obj_skip[] = {
-    "vn",   "vp",   "o",    "g",    "s",        "usemtl",   "mtllib",     "l",
-    "p",    "cstype", "deg", "bmat", "step",    "curv",     "curv2",      "surf",
-    "parm", "trim", "hole", "scrv", "sp",       "end",      "con",        "mg",
-    "bevel", "c_interp", "d_interp", "lod", "maplib", "usemap", "shadow_obj", "trace_obj",
-    "ctech", "stech", "call", "csh"};
+    "vn",     "vp",     "o",      "g",          "s",         "usemtl", "mtllib", "l",        "p",
+    "cstype", "deg",    "bmat",   "step",       "curv",      "curv2",  "surf",   "parm",     "trim",
+    "hole",   "scrv",   "sp",     "end",        "con",       "mg",     "bevel",  "c_interp", "d_interp",
+    "lod",    "maplib", "usemap", "shadow_obj", "trace_obj", "ctech",  "stech",  "call",     "csh"};
 
 /* Resolves an OBJ index (1-based, or negative = relative to the end). */
 PW__DEF int pw__obj_index(pw__sc *s, long long i, int n, const char *what, int face, int *out)
 {
     long long r = i > 0 ? i - 1 : n + i;
     if (i == 0 || r < 0 || r >= n)
-        return pw__sc_fail(s, PW_ERR_INVALID, "face %d: %s index %lld out of range (%d defined so far%s)",
-                           face, what, i, n, i == 0 ? "; OBJ indices start at 1" : "");
+        return pw__sc_fail(s, PW_ERR_INVALID, "face %d: %s index %lld out of range (%d defined so far%s)", face, what,
+                           i, n, i == 0 ? "; OBJ indices start at 1" : "");
     *out = (int)r;
     return PW_OK;
 }
@@ -4154,16 +4052,17 @@ PW__DEF int pw__obj_corner(pw__sc *s, const pw__mb *b, int *v, int *t)
     char tok[32];
     q = pw__num_parse_int(s->p, s->end, &iv);
     if (q && q < s->end && *q == '/') {
-        if (q + 1 < s->end && q[1] != '/') q = pw__num_parse_int(q + 1, s->end, &it), has_t = 1;
-        else q = q + 1;
+        if (q + 1 < s->end && q[1] != '/') {
+            q = pw__num_parse_int(q + 1, s->end, &it);
+            has_t = 1;
+        } else q = q + 1;
         if (q && q < s->end && *q == '/') { /* normal index: ignored, may be empty */
             const char *qn = pw__num_parse_int(q + 1, s->end, &in);
             q = qn ? qn : q + 1;
         }
     }
     if (!q || !pw__sc_delim(s, q))
-        return pw__sc_fail(s, PW_ERR_PARSE, "face %d: malformed corner '%s'", b->m.nf,
-                           pw__sc_tok(s, start, tok));
+        return pw__sc_fail(s, PW_ERR_PARSE, "face %d: malformed corner '%s'", b->m.nf, pw__sc_tok(s, start, tok));
     s->p = q;
     *t = -1;
     if ((r = pw__obj_index(s, iv, b->m.nv, "vertex", b->m.nf, v))) return r;
@@ -4186,8 +4085,8 @@ PW__DEF int pw__obj_face(pw__sc *s, pw__mb *b)
         deg++;
     }
     if (deg < 3)
-        return pw__sc_fail(s, PW_ERR_DEGENERATE, "face %d has %d corner%s (at least 3 needed)",
-                           b->m.nf, deg, deg == 1 ? "" : "s");
+        return pw__sc_fail(s, PW_ERR_DEGENERATE, "face %d has %d corner%s (at least 3 needed)", b->m.nf, deg,
+                           deg == 1 ? "" : "s");
     if (with_t != deg) b->uv_ok = 0;
     return pw__mb_end_face(b);
 }
@@ -4225,12 +4124,9 @@ PW__DEF int pw__obj_line(pw__sc *s, pw__mb *b)
     if (n == 0) {
         if (s->p < s->end && *s->p != '\n' && *s->p != '#')
             return pw__sc_fail(s, PW_ERR_PARSE, "unexpected '%c'", *s->p); /* stray backslash */
-    } else if (pw__sc_is(w, n, "v"))
-        r = pw__obj_vertex(s, b);
-    else if (pw__sc_is(w, n, "vt"))
-        r = pw__obj_texcoord(s, b);
-    else if (pw__sc_is(w, n, "f") || pw__sc_is(w, n, "fo"))
-        r = pw__obj_face(s, b);
+    } else if (pw__sc_is(w, n, "v")) r = pw__obj_vertex(s, b);
+    else if (pw__sc_is(w, n, "vt")) r = pw__obj_texcoord(s, b);
+    else if (pw__sc_is(w, n, "f") || pw__sc_is(w, n, "fo")) r = pw__obj_face(s, b);
     else {
         for (k = 0; k < sizeof pw__obj_skip / sizeof pw__obj_skip[0]; k++)
             if (pw__sc_is(w, n, pw__obj_skip[k])) break;
@@ -4242,8 +4138,8 @@ PW__DEF int pw__obj_line(pw__sc *s, pw__mb *b)
 }
 
 /* Reads a Wavefront OBJ file from memory. */
-PW__DEF int pw_mesh_read_obj(const pw_alloc *a, const void *data, size_t size, const char *name,
-                             pw_mesh *out, pw_err *e)
+PW__DEF int pw_mesh_read_obj(const pw_alloc *a, const void *data, size_t size, const char *name, pw_mesh *out,
+                             pw_err *e)
 {
     pw__sc s;
     pw__mb b;
@@ -4266,11 +4162,26 @@ PW__DEF int pw__off_keyword(const char *w, size_t n, int *flags)
 {
     size_t i = 0;
     int f = 0;
-    if (n >= 2 && w[0] == 'S' && w[1] == 'T') f |= PW__OFF_ST, i = 2;
-    if (i < n && w[i] == 'C') f |= PW__OFF_C, i++;
-    if (i < n && w[i] == 'N') f |= PW__OFF_N, i++;
-    if (i < n && w[i] == '4') f |= PW__OFF_4, i++;
-    if (i < n && w[i] == 'n') f |= PW__OFF_ND, i++;
+    if (n >= 2 && w[0] == 'S' && w[1] == 'T') {
+        f |= PW__OFF_ST;
+        i = 2;
+    }
+    if (i < n && w[i] == 'C') {
+        f |= PW__OFF_C;
+        i++;
+    }
+    if (i < n && w[i] == 'N') {
+        f |= PW__OFF_N;
+        i++;
+    }
+    if (i < n && w[i] == '4') {
+        f |= PW__OFF_4;
+        i++;
+    }
+    if (i < n && w[i] == 'n') {
+        f |= PW__OFF_ND;
+        i++;
+    }
     if (n - i != 3 || memcmp(w + i, "OFF", 3) != 0) return 0;
     *flags = f;
     return 1;
@@ -4295,15 +4206,13 @@ PW__DEF int pw__off_header(pw__sc *s, int *flags, int *binary)
                            n ? pw__sc_tok(s, w, tok) : "end of file");
     }
     if (*flags & (PW__OFF_4 | PW__OFF_ND))
-        return pw__sc_fail(s, PW_ERR_UNSUPPORTED, "'%s': %s vertices are not supported",
-                           pw__sc_tok(s, w, tok),
+        return pw__sc_fail(s, PW_ERR_UNSUPPORTED, "'%s': %s vertices are not supported", pw__sc_tok(s, w, tok),
                            (*flags & PW__OFF_ND) ? "n-dimensional (nOFF)" : "homogeneous 4D (4OFF)");
     w = pw__sc_word(s, &n);
     if (pw__sc_is(w, n, "BINARY")) {
         *binary = 1;
         pw__sc_next_line(s); /* binary data starts after the newline */
-    } else
-        s->p = w; /* the counts may share the keyword's line */
+    } else s->p = w;         /* the counts may share the keyword's line */
     return PW_OK;
 }
 
@@ -4316,8 +4225,7 @@ PW__DEF int pw__off_count(pw__sc *s, const char *what, int *out)
     if ((r = pw__sc_int(s, &v, what, -1))) return r;
     if (v < 0) return pw__sc_fail(s, PW_ERR_PARSE, "negative %s (%lld)", what, v);
     if (v > PW_MAX_MESH_ELEMENTS)
-        return pw__sc_fail(s, PW_ERR_LIMIT, "%s is %lld, over the limit of %d", what, v,
-                           PW_MAX_MESH_ELEMENTS);
+        return pw__sc_fail(s, PW_ERR_LIMIT, "%s is %lld, over the limit of %d", what, v, PW_MAX_MESH_ELEMENTS);
     *out = (int)v;
     return PW_OK;
 }
@@ -4342,19 +4250,16 @@ PW__DEF int pw__off_faces(pw__sc *s, pw__mb *b, int nf)
     int f, k, r;
     for (f = 0; f < nf; f++) {
         pw__sc_skip_empty(s);
-        if (s->p >= s->end)
-            return pw__sc_fail(s, PW_ERR_PARSE, "unexpected end of file after %d of %d faces", f, nf);
+        if (s->p >= s->end) return pw__sc_fail(s, PW_ERR_PARSE, "unexpected end of file after %d of %d faces", f, nf);
         if ((r = pw__sc_int(s, &d, "face", f))) return r;
-        if (d < 3)
-            return pw__sc_fail(s, PW_ERR_DEGENERATE, "face %d has %lld corners (at least 3 needed)", f, d);
+        if (d < 3) return pw__sc_fail(s, PW_ERR_DEGENERATE, "face %d has %lld corners (at least 3 needed)", f, d);
         if (d > PW_MAX_FACE_DEGREE || b->nc + d > PW_MAX_MESH_ELEMENTS)
-            return pw__sc_fail(s, PW_ERR_LIMIT, "face %d has %lld corners (limit %d)", f, d,
-                               PW_MAX_FACE_DEGREE);
+            return pw__sc_fail(s, PW_ERR_LIMIT, "face %d has %lld corners (limit %d)", f, d, PW_MAX_FACE_DEGREE);
         for (k = 0; k < d; k++) {
             if ((r = pw__sc_int(s, &v, "face", f))) return r;
             if (v < 0 || v >= b->m.nv)
-                return pw__sc_fail(s, PW_ERR_INVALID, "face %d: vertex index %lld out of range (%d vertices)",
-                                   f, v, b->m.nv);
+                return pw__sc_fail(s, PW_ERR_INVALID, "face %d: vertex index %lld out of range (%d vertices)", f, v,
+                                   b->m.nv);
             if ((r = pw__mb_corner(b, (int)v, -1))) return r;
         }
         if ((r = pw__mb_end_face(b))) return r;
@@ -4376,9 +4281,10 @@ PW__DEF int pw__off_text(pw__sc *s, pw__mb *b)
     /* each vertex line is at least "0 0 0\n", each face "3 0 1 2\n" */
     left = (size_t)(s->end - s->p);
     if ((double)nv * 6 + (double)nf * 8 > (double)left + 1)
-        return pw__sc_fail(s, PW_ERR_PARSE,
-                           "header claims %d vertices and %d faces, more than the %lu bytes left can hold (truncated file?)",
-                           nv, nf, (unsigned long)left);
+        return pw__sc_fail(
+            s, PW_ERR_PARSE,
+            "header claims %d vertices and %d faces, more than the %lu bytes left can hold (truncated file?)", nv, nf,
+            (unsigned long)left);
     b->uv_ok = 0;
     if ((r = pw__mb_reserve(b, nv, nf, 3 * nf))) return r;
     if ((r = pw__off_vertices(s, b, nv))) return r;
@@ -4405,8 +4311,7 @@ PW__DEF int pw__off_binary(pw__sc *s, pw__mb *b, int flags)
 {
     const unsigned char *p = (const unsigned char *)s->p, *end = (const unsigned char *)s->end;
     const unsigned char *start = (const unsigned char *)s->p;
-    int stride = 3 + (flags & PW__OFF_N ? 3 : 0) + (flags & PW__OFF_C ? 4 : 0) +
-                 (flags & PW__OFF_ST ? 2 : 0);
+    int stride = 3 + (flags & PW__OFF_N ? 3 : 0) + (flags & PW__OFF_C ? 4 : 0) + (flags & PW__OFF_ST ? 2 : 0);
     int32_t nv, nf;
     int i, k, r;
     if (end - p < 12) return pw_fail(s->e, PW_ERR_PARSE, "%s: binary OFF: truncated header", s->name);
@@ -4415,19 +4320,18 @@ PW__DEF int pw__off_binary(pw__sc *s, pw__mb *b, int flags)
     p += 12;
     if (nv < 0 || nf < 0 || nv > PW_MAX_MESH_ELEMENTS || nf > PW_MAX_MESH_ELEMENTS)
         return pw_fail(s->e, nv < 0 || nf < 0 ? PW_ERR_PARSE : PW_ERR_LIMIT,
-                       "%s: binary OFF: %d vertices and %d faces (limit %d)", s->name, nv, nf,
-                       PW_MAX_MESH_ELEMENTS);
+                       "%s: binary OFF: %d vertices and %d faces (limit %d)", s->name, nv, nf, PW_MAX_MESH_ELEMENTS);
     if ((double)nv * stride * 4 + (double)nf * 20 > (double)(end - p))
         return pw_fail(s->e, PW_ERR_PARSE,
-                       "%s: binary OFF: header claims %d vertices and %d faces, more than the %lu bytes left can hold (truncated file?)",
+                       "%s: binary OFF: header claims %d vertices and %d faces, more than the %lu bytes left can hold "
+                       "(truncated file?)",
                        s->name, nv, nf, (unsigned long)(end - p));
     if ((r = pw__mb_reserve(b, nv, nf, 3 * nf))) return r;
     for (i = 0; i < nv; i++, p += 4 * stride) {
         float xyz[3];
         for (k = 0; k < 3; k++) xyz[k] = pw__mesh_float_bits(pw__mesh_be32(p + 4 * k));
         if (!pw_is_finite(xyz[0]) || !pw_is_finite(xyz[1]) || !pw_is_finite(xyz[2]))
-            return pw_fail(s->e, PW_ERR_INVALID, "%s: binary OFF: vertex %d has a non-finite coordinate",
-                           s->name, i);
+            return pw_fail(s->e, PW_ERR_INVALID, "%s: binary OFF: vertex %d has a non-finite coordinate", s->name, i);
         pw__mb_vertex(b, xyz); /* reserved: cannot fail */
     }
     b->uv_ok = 0;
@@ -4437,31 +4341,31 @@ PW__DEF int pw__off_binary(pw__sc *s, pw__mb *b, int flags)
         d = pw__mesh_be32(p);
         if (d < 3 || d > PW_MAX_FACE_DEGREE || b->nc + (int)d > PW_MAX_MESH_ELEMENTS)
             return pw_fail(s->e, d < 3 ? PW_ERR_DEGENERATE : PW_ERR_LIMIT,
-                           "%s: binary OFF: face %d (byte %lu) has %ld corners (3 to %d allowed)", s->name,
-                           i, (unsigned long)(p - start), (long)(int32_t)d, PW_MAX_FACE_DEGREE);
+                           "%s: binary OFF: face %d (byte %lu) has %ld corners (3 to %d allowed)", s->name, i,
+                           (unsigned long)(p - start), (long)(int32_t)d, PW_MAX_FACE_DEGREE);
         if ((size_t)(end - p) < 4 * (size_t)d + 8) break;
         for (k = 0, p += 4; k < (int)d; k++, p += 4) {
             v = pw__mesh_be32(p);
             if (v >= (uint32_t)nv)
-                return pw_fail(s->e, PW_ERR_INVALID, "%s: binary OFF: face %d: vertex index %ld out of range (%d vertices)",
-                               s->name, i, (long)(int32_t)v, nv);
+                return pw_fail(s->e, PW_ERR_INVALID,
+                               "%s: binary OFF: face %d: vertex index %ld out of range (%d vertices)", s->name, i,
+                               (long)(int32_t)v, nv);
             if ((r = pw__mb_corner(b, (int)v, -1))) return r;
         }
         nc = pw__mesh_be32(p);
         if (nc > 4 || (size_t)(end - p) < 4 + 4 * (size_t)nc)
-            return pw_fail(s->e, PW_ERR_PARSE, "%s: binary OFF: face %d: bad colour count %ld or truncated",
-                           s->name, i, (long)(int32_t)nc);
+            return pw_fail(s->e, PW_ERR_PARSE, "%s: binary OFF: face %d: bad colour count %ld or truncated", s->name, i,
+                           (long)(int32_t)nc);
         p += 4 + 4 * nc;
         if ((r = pw__mb_end_face(b))) return r;
     }
-    if (i < nf)
-        return pw_fail(s->e, PW_ERR_PARSE, "%s: binary OFF: file ends after %d of %d faces", s->name, i, nf);
+    if (i < nf) return pw_fail(s->e, PW_ERR_PARSE, "%s: binary OFF: file ends after %d of %d faces", s->name, i, nf);
     return PW_OK;
 }
 
 /* Reads an OFF file (ASCII or binary) from memory. */
-PW__DEF int pw_mesh_read_off(const pw_alloc *a, const void *data, size_t size, const char *name,
-                             pw_mesh *out, pw_err *e)
+PW__DEF int pw_mesh_read_off(const pw_alloc *a, const void *data, size_t size, const char *name, pw_mesh *out,
+                             pw_err *e)
 {
     pw__sc s;
     pw__mb b;
@@ -4524,9 +4428,8 @@ PW__DEF int pw__ply_fail(pw__ply *p, int code, const char *fmt, ...)
 
 PW__DEF int pw__ply_type(const char *w, size_t n)
 {
-    static const char *const names[16] = {"char",  "int8",    "uchar", "uint8",  "short", "int16",
-                                          "ushort", "uint16", "int",   "int32",  "uint",  "uint32",
-                                          "float", "float32", "double", "float64"};
+    static const char *const names[16] = {"char", "int8",  "uchar", "uint8",  "short", "int16",   "ushort", "uint16",
+                                          "int",  "int32", "uint",  "uint32", "float", "float32", "double", "float64"};
     int k;
     for (k = 0; k < 16; k++)
         if (pw__sc_is(w, n, names[k])) return k / 2 + 1;
@@ -4546,8 +4449,7 @@ PW__DEF int pw__ply_role(int kind, const char *w, size_t n)
             pw__sc_is(w, n, "texture_t"))
             return PW__R_V;
     }
-    if (kind == PW__E_FACE && (pw__sc_is(w, n, "vertex_indices") || pw__sc_is(w, n, "vertex_index")))
-        return PW__R_IDX;
+    if (kind == PW__E_FACE && (pw__sc_is(w, n, "vertex_indices") || pw__sc_is(w, n, "vertex_index"))) return PW__R_IDX;
     return PW__R_NONE;
 }
 
@@ -4562,12 +4464,12 @@ PW__DEF int pw__ply_element(pw__ply *p)
     if (p->nel >= PW__PLY_MAX_ELEMENTS)
         return pw__ply_fail(p, PW_ERR_LIMIT, "more than %d elements", PW__PLY_MAX_ELEMENTS);
     for (k = 0; k < p->nel && kind != PW__E_OTHER; k++)
-        if (p->el[k].kind == kind) return pw__ply_fail(p, PW_ERR_PARSE, "second '%s' element", kind == PW__E_VERTEX ? "vertex" : "face");
+        if (p->el[k].kind == kind)
+            return pw__ply_fail(p, PW_ERR_PARSE, "second '%s' element", kind == PW__E_VERTEX ? "vertex" : "face");
     if ((r = pw__sc_int(&p->s, &count, "element count", -1))) return r;
     if (count < 0 || count > (kind == PW__E_OTHER ? INT_MAX : PW_MAX_MESH_ELEMENTS))
-        return pw__ply_fail(p, count < 0 ? PW_ERR_PARSE : PW_ERR_LIMIT,
-                            "element %d has %lld items (limit %d)", p->nel, count,
-                            kind == PW__E_OTHER ? INT_MAX : PW_MAX_MESH_ELEMENTS);
+        return pw__ply_fail(p, count < 0 ? PW_ERR_PARSE : PW_ERR_LIMIT, "element %d has %lld items (limit %d)", p->nel,
+                            count, kind == PW__E_OTHER ? INT_MAX : PW_MAX_MESH_ELEMENTS);
     el = &p->el[p->nel++];
     el->kind = kind;
     el->count = count;
@@ -4638,8 +4540,10 @@ PW__DEF int pw__ply_header(pw__ply *p)
         pw__sc_next_line(&p->s);
         if (p->s.p >= p->s.end) return pw__ply_fail(p, PW_ERR_PARSE, "header ends without 'end_header'");
         w = pw__sc_word(&p->s, &n);
-        if (pw__sc_is(w, n, "format")) r = pw__ply_format(p), have_format = 1;
-        else if (pw__sc_is(w, n, "element")) r = pw__ply_element(p);
+        if (pw__sc_is(w, n, "format")) {
+            r = pw__ply_format(p);
+            have_format = 1;
+        } else if (pw__sc_is(w, n, "element")) r = pw__ply_element(p);
         else if (pw__sc_is(w, n, "property")) r = pw__ply_property(p);
         else if (pw__sc_is(w, n, "end_header")) break;
         else if (n && !pw__sc_is(w, n, "comment") && !pw__sc_is(w, n, "obj_info"))
@@ -4669,13 +4573,13 @@ PW__DEF int pw__ply_check(pw__ply *p)
         if (el->kind == PW__E_FACE && !(roles & (1 << PW__R_IDX)))
             return pw__ply_fail(p, PW_ERR_PARSE, "the face element has no vertex_indices list");
     }
-    if ((roles & 0xE) != 0xE)
-        return pw__ply_fail(p, PW_ERR_PARSE, "no vertex element with x, y and z properties");
+    if ((roles & 0xE) != 0xE) return pw__ply_fail(p, PW_ERR_PARSE, "no vertex element with x, y and z properties");
     p->has_uv = (roles & 0x30) == 0x30;
     if (need > (double)(p->s.end - p->s.p) + 1)
-        return pw__ply_fail(p, PW_ERR_PARSE,
-                            "header declares items needing at least %.0f bytes, but only %lu are left (truncated file?)",
-                            need, (unsigned long)(p->s.end - p->s.p));
+        return pw__ply_fail(
+            p, PW_ERR_PARSE,
+            "header declares items needing at least %.0f bytes, but only %lu are left (truncated file?)", need,
+            (unsigned long)(p->s.end - p->s.p));
     return PW_OK;
 }
 
@@ -4701,9 +4605,7 @@ PW__DEF double pw__ply_decode(const unsigned char *q, int type, int big)
         u32 = (uint32_t)u;
         memcpy(&f, &u32, 4);
         return (double)f;
-    case 8:
-        memcpy(&d, &u, 8);
-        return d;
+    case 8: memcpy(&d, &u, 8); return d;
     default: return (double)u; /* unsigned types */
     }
 }
@@ -4721,8 +4623,7 @@ PW__DEF int pw__ply_value(pw__ply *p, int type, double *v, const char *what, lon
         return PW_OK;
     }
     pw__sc_skip_ws(&p->s);
-    if (p->s.p >= p->s.end)
-        return pw__ply_fail(p, PW_ERR_PARSE, "unexpected end of file in %s %lld", what, index);
+    if (p->s.p >= p->s.end) return pw__ply_fail(p, PW_ERR_PARSE, "unexpected end of file in %s %lld", what, index);
     q = pw__num_parse(p->s.p, p->s.end, v);
     if (!q || !pw__sc_delim(&p->s, q))
         return pw__ply_fail(p, PW_ERR_PARSE, "%s %lld: malformed number '%s'", what, index,
@@ -4738,13 +4639,12 @@ PW__DEF int pw__ply_count(pw__ply *p, int ctype, int type, long long *c, const c
     size_t left;
     int r;
     if ((r = pw__ply_value(p, ctype, &v, what, index))) return r;
-    left = p->format == PW__PLY_ASCII ? (size_t)(p->s.end - p->s.p)
-                                       : (size_t)(p->s.end - (const char *)p->bp);
+    left = p->format == PW__PLY_ASCII ? (size_t)(p->s.end - p->s.p) : (size_t)(p->s.end - (const char *)p->bp);
     if (!(v >= 0.0 && v < 4e9) || v != (double)(long long)v)
         return pw__ply_fail(p, PW_ERR_PARSE, "%s %lld: bad list length %g", what, index, v);
     if (v * (p->format == PW__PLY_ASCII ? 1 : pw__ply_size[type]) > (double)left)
-        return pw__ply_fail(p, PW_ERR_PARSE, "%s %lld: list of %.0f items runs past the end of the file",
-                            what, index, v);
+        return pw__ply_fail(p, PW_ERR_PARSE, "%s %lld: list of %.0f items runs past the end of the file", what, index,
+                            v);
     *c = (long long)v;
     return PW_OK;
 }
@@ -4787,7 +4687,10 @@ PW__DEF int pw__ply_vertices(pw__ply *p, const pw__plyel *el)
         if (!pw_is_finite(c[3]) || !pw_is_finite(c[4]))
             return pw__ply_fail(p, PW_ERR_INVALID, "vertex %lld has a non-finite texture coordinate", i);
         pw__mb_vertex(b, c); /* reserved: cannot fail */
-        if (p->has_uv) b->m.uv[2 * i] = c[3], b->m.uv[2 * i + 1] = c[4];
+        if (p->has_uv) {
+            b->m.uv[2 * i] = c[3];
+            b->m.uv[2 * i + 1] = c[4];
+        }
     }
     return PW_OK;
 }
@@ -4808,11 +4711,10 @@ PW__DEF int pw__ply_corners(pw__ply *p, const pw__plyprop *pr, long long f)
         if (p->format != PW__PLY_ASCII) { /* pw__ply_count checked that the list is there */
             v = pw__ply_decode(p->bp, pr->type, p->format == PW__PLY_BE);
             p->bp += pw__ply_size[pr->type];
-        } else if ((r = pw__ply_value(p, pr->type, &v, "face", f)))
-            return r;
+        } else if ((r = pw__ply_value(p, pr->type, &v, "face", f))) return r;
         if (!(v >= 0.0 && v < (double)p->nv && v == (double)(int)v))
-            return pw__ply_fail(p, PW_ERR_INVALID, "face %lld: vertex index %g out of range (%d vertices)",
-                                f, v, p->nv);
+            return pw__ply_fail(p, PW_ERR_INVALID, "face %lld: vertex index %g out of range (%d vertices)", f, v,
+                                p->nv);
         b->m.fv[b->nc] = (int)v;
         if (b->uv_ok) b->m.fuv[b->nc] = (int)v; /* vertex uvs: one per vertex */
         b->nc++;
@@ -4881,8 +4783,8 @@ PW__DEF int pw__ply_data(pw__ply *p)
 }
 
 /* Reads a PLY file (ascii, binary_little_endian, binary_big_endian). */
-PW__DEF int pw_mesh_read_ply(const pw_alloc *a, const void *data, size_t size, const char *name,
-                             pw_mesh *out, pw_err *e)
+PW__DEF int pw_mesh_read_ply(const pw_alloc *a, const void *data, size_t size, const char *name, pw_mesh *out,
+                             pw_err *e)
 {
     pw__ply *p;
     pw__mb b;
@@ -4992,10 +4894,13 @@ PW__DEF int pw__stl_binary(const unsigned char *d, size_t size, const char *name
     int r = PW_OK, k, j;
     if (n == 0) return pw_fail(b->e, PW_ERR_DEGENERATE, "%s: binary STL with no triangle", name);
     if ((size - 84) / 50 < n)
-        return pw_fail(b->e, PW_ERR_PARSE, "%s: binary STL: the header claims %lu triangles, the %lu bytes after it hold %lu (truncated file?)",
-                       name, (unsigned long)n, (unsigned long)(size - 84), (unsigned long)((size - 84) / 50));
+        return pw_fail(
+            b->e, PW_ERR_PARSE,
+            "%s: binary STL: the header claims %lu triangles, the %lu bytes after it hold %lu (truncated file?)", name,
+            (unsigned long)n, (unsigned long)(size - 84), (unsigned long)((size - 84) / 50));
     if (n > (uint32_t)(PW_MAX_MESH_ELEMENTS / 3))
-        return pw_fail(b->e, PW_ERR_LIMIT, "%s: binary STL: %lu triangles (limit %d)", name, (unsigned long)n, PW_MAX_MESH_ELEMENTS / 3);
+        return pw_fail(b->e, PW_ERR_LIMIT, "%s: binary STL: %lu triangles (limit %d)", name, (unsigned long)n,
+                       PW_MAX_MESH_ELEMENTS / 3);
     if (pw__weld_init(&w, b, (size_t)n)) return PW_ERR_NOMEM;
     for (t = 0; t < n && r == PW_OK; t++) {
         const unsigned char *p = d + 84 + 50 * (size_t)t + 12;
@@ -5003,7 +4908,9 @@ PW__DEF int pw__stl_binary(const unsigned char *d, size_t size, const char *name
         for (k = 0; k < 3; k++)
             for (j = 0; j < 3; j++) {
                 c[k][j] = pw__le_float(p + 12 * k + 4 * j);
-                if (!pw_is_finite(c[k][j])) r = pw_fail(b->e, PW_ERR_INVALID, "%s: binary STL: triangle %lu has a non-finite coordinate", name, (unsigned long)t);
+                if (!pw_is_finite(c[k][j]))
+                    r = pw_fail(b->e, PW_ERR_INVALID, "%s: binary STL: triangle %lu has a non-finite coordinate", name,
+                                (unsigned long)t);
             }
         if (r == PW_OK) r = pw__stl_triangle(&w, b, c);
     }
@@ -5020,7 +4927,8 @@ PW__DEF int pw__stl_expect(pw__sc *s, const char *kw)
     pw__sc_skip_ws(s);
     w = pw__sc_word(s, &n);
     if (!pw__sc_is(w, n, kw))
-        return pw__sc_fail(s, PW_ERR_PARSE, n ? "expected '%s', found '%s'" : "expected '%s', found the end of the file", kw,
+        return pw__sc_fail(s, PW_ERR_PARSE,
+                           n ? "expected '%s', found '%s'" : "expected '%s', found the end of the file", kw,
                            pw__sc_tok(s, w, tok));
     return PW_OK;
 }
@@ -5043,8 +4951,8 @@ PW__DEF int pw__stl_ascii(pw__sc *s, pw__mb *b)
             pw__sc_next_line(s); /* the name, if any */
         } else if (pw__sc_is(kw, n, "facet")) {
             float c[3][3], nrm[3];
-            if ((r = pw__stl_expect(s, "normal")) || (r = pw__sc_xyz(s, nrm, b->m.nf)) || (r = pw__stl_expect(s, "outer")) ||
-                (r = pw__stl_expect(s, "loop")))
+            if ((r = pw__stl_expect(s, "normal")) || (r = pw__sc_xyz(s, nrm, b->m.nf)) ||
+                (r = pw__stl_expect(s, "outer")) || (r = pw__stl_expect(s, "loop")))
                 break;
             for (k = 0; k < 3 && r == PW_OK; k++)
                 if (!(r = pw__stl_expect(s, "vertex"))) r = pw__sc_xyz(s, c[k], b->m.nf);
@@ -5052,7 +4960,8 @@ PW__DEF int pw__stl_ascii(pw__sc *s, pw__mb *b)
             r = pw__stl_triangle(&w, b, c);
         } else {
             char tok[32];
-            r = pw__sc_fail(s, PW_ERR_PARSE, "ASCII STL: expected 'facet' or 'endsolid', found '%s'", pw__sc_tok(s, kw, tok));
+            r = pw__sc_fail(s, PW_ERR_PARSE, "ASCII STL: expected 'facet' or 'endsolid', found '%s'",
+                            pw__sc_tok(s, kw, tok));
         }
     }
     pw_free(b->a, w.slot);
@@ -5073,7 +4982,8 @@ PW__DEF int pw__stl_is_ascii(const unsigned char *d, size_t size)
 /* Reads an STL file, binary or ASCII, from memory. Binary when the size is
  * exactly what its triangle count says, ASCII when it begins with "solid"
  * and holds text (pw__stl_is_ascii), else binary. */
-PW__DEF int pw_mesh_read_stl(const pw_alloc *a, const void *data, size_t size, const char *name, pw_mesh *out, pw_err *e)
+PW__DEF int pw_mesh_read_stl(const pw_alloc *a, const void *data, size_t size, const char *name, pw_mesh *out,
+                             pw_err *e)
 {
     const unsigned char *d = (const unsigned char *)data;
     pw__sc s;
@@ -5083,15 +4993,14 @@ PW__DEF int pw_mesh_read_stl(const pw_alloc *a, const void *data, size_t size, c
     if ((r = pw__mb_init(&b, a, e))) return r;
     pw__sc_init(&s, data, size, name, 0, e);
     pw__sc_skip_ws(&s);
-    if (size >= 84 && (size - 84) % 50 == 0 && (size - 84) / 50 == (size_t)(d[80] | (uint32_t)d[81] << 8 | (uint32_t)d[82] << 16 | (uint32_t)d[83] << 24))
+    if (size >= 84 && (size - 84) % 50 == 0 &&
+        (size - 84) / 50 == (size_t)(d[80] | (uint32_t)d[81] << 8 | (uint32_t)d[82] << 16 | (uint32_t)d[83] << 24))
         r = pw__stl_binary(d, size, s.name, &b);
-    else if (s.end - s.p >= 5 && !memcmp(s.p, "solid", 5) && pw__stl_is_ascii(d, size))
-        r = pw__stl_ascii(&s, &b);
-    else if (size >= 84)
-        r = pw__stl_binary(d, size, s.name, &b);
+    else if (s.end - s.p >= 5 && !memcmp(s.p, "solid", 5) && pw__stl_is_ascii(d, size)) r = pw__stl_ascii(&s, &b);
+    else if (size >= 84) r = pw__stl_binary(d, size, s.name, &b);
     else
-        r = pw_fail(e, PW_ERR_PARSE, "%s: not an STL file (%lu bytes: neither 'solid' nor an 84-byte binary header)", s.name,
-                    (unsigned long)size);
+        r = pw_fail(e, PW_ERR_PARSE, "%s: not an STL file (%lu bytes: neither 'solid' nor an 84-byte binary header)",
+                    s.name, (unsigned long)size);
     if (r == PW_OK) r = pw__mb_finish(&b, out, s.name);
     pw__mb_free(&b);
     return r;
@@ -5121,8 +5030,8 @@ PW__DEF int pw__is_stl(pw__sc *s, const void *data, size_t size)
  * an OFF keyword as the first word (after comments), "solid" followed by a
  * "facet" line or a binary STL's exact size, else by the extension of `name`
  * (.off, .ply, .stl), else OBJ. */
-PW__DEF int pw_mesh_read_memory(const pw_alloc *a, const void *data, size_t size, const char *name,
-                                pw_mesh *out, pw_err *e)
+PW__DEF int pw_mesh_read_memory(const pw_alloc *a, const void *data, size_t size, const char *name, pw_mesh *out,
+                                pw_err *e)
 {
     pw__sc s, t;
     size_t n;
@@ -5137,7 +5046,8 @@ PW__DEF int pw_mesh_read_memory(const pw_alloc *a, const void *data, size_t size
     if (pw__off_keyword(w, n, &flags) || (name && pw_has_ext(name, ".off")))
         return pw_mesh_read_off(a, data, size, name, out, e);
     if (name && pw_has_ext(name, ".ply")) return pw_mesh_read_ply(a, data, size, name, out, e);
-    if (pw__is_stl(&t, data, size) || (name && pw_has_ext(name, ".stl"))) return pw_mesh_read_stl(a, data, size, name, out, e);
+    if (pw__is_stl(&t, data, size) || (name && pw_has_ext(name, ".stl")))
+        return pw_mesh_read_stl(a, data, size, name, out, e);
     return pw_mesh_read_obj(a, data, size, name, out, e);
 }
 
@@ -5168,28 +5078,42 @@ PW__DEF int pw__obj_name_ok(const char *s, const char *what, pw_err *e)
 
 /* Writes m as OBJ: v lines, vt lines when m has uv and fuv, faces "f v/t"
  * (1-based). mtllib and material (usemtl) lines when not NULL. */
-PW__DEF int pw_mesh_write_obj(const pw_mesh *m, const char *mtllib, const char *material,
-                              pw_write_fn w, void *ctx, pw_err *e)
+PW__DEF int pw_mesh_write_obj(const pw_mesh *m, const char *mtllib, const char *material, pw_write_fn w, void *ctx,
+                              pw_err *e)
 {
     pw__wb b;
     int i, f, r, uv = m->uv && m->fuv;
     if ((r = pw_mesh_validate(m, e)) || (r = pw__obj_name_ok(mtllib, "mtllib", e)) ||
         (r = pw__obj_name_ok(material, "material", e)))
         return r;
-    b.w = w, b.ctx = ctx, b.n = 0, b.failed = 0;
+    b.w = w;
+    b.ctx = ctx;
+    b.n = 0;
+    b.failed = 0;
     pw__wb_str(&b, "# patchwork\n");
-    if (mtllib) pw__wb_str(&b, "mtllib "), pw__wb_str(&b, mtllib), pw__wb_str(&b, "\n");
+    if (mtllib) {
+        pw__wb_str(&b, "mtllib ");
+        pw__wb_str(&b, mtllib);
+        pw__wb_str(&b, "\n");
+    }
     for (i = 0; i < m->nv; i++) {
         pw__wb_str(&b, "v");
-        pw__wb_float(&b, m->pos[3 * i]), pw__wb_float(&b, m->pos[3 * i + 1]), pw__wb_float(&b, m->pos[3 * i + 2]);
+        pw__wb_float(&b, m->pos[3 * i]);
+        pw__wb_float(&b, m->pos[3 * i + 1]);
+        pw__wb_float(&b, m->pos[3 * i + 2]);
         pw__wb_str(&b, "\n");
     }
     for (i = 0; uv && i < m->nuv; i++) {
         pw__wb_str(&b, "vt");
-        pw__wb_float(&b, m->uv[2 * i]), pw__wb_float(&b, m->uv[2 * i + 1]);
+        pw__wb_float(&b, m->uv[2 * i]);
+        pw__wb_float(&b, m->uv[2 * i + 1]);
         pw__wb_str(&b, "\n");
     }
-    if (material) pw__wb_str(&b, "usemtl "), pw__wb_str(&b, material), pw__wb_str(&b, "\n");
+    if (material) {
+        pw__wb_str(&b, "usemtl ");
+        pw__wb_str(&b, material);
+        pw__wb_str(&b, "\n");
+    }
     for (f = 0; f < m->nf; f++) {
         pw__wb_str(&b, "f");
         for (i = m->fstart[f]; i < m->fstart[f + 1]; i++) {
@@ -5203,18 +5127,25 @@ PW__DEF int pw_mesh_write_obj(const pw_mesh *m, const char *mtllib, const char *
 
 /* Writes an MTL file with one material: white (Kd 1 1 1), textured by
  * texture_file (map_Kd) when it is not NULL. */
-PW__DEF int pw_mesh_write_mtl(const char *material, const char *texture_file, pw_write_fn w,
-                              void *ctx, pw_err *e)
+PW__DEF int pw_mesh_write_mtl(const char *material, const char *texture_file, pw_write_fn w, void *ctx, pw_err *e)
 {
     pw__wb b;
     int r;
     if (!material) return pw_fail(e, PW_ERR_INVALID, "MTL: no material name");
     if ((r = pw__obj_name_ok(material, "material", e)) || (r = pw__obj_name_ok(texture_file, "texture file", e)))
         return r;
-    b.w = w, b.ctx = ctx, b.n = 0, b.failed = 0;
-    pw__wb_str(&b, "# patchwork\nnewmtl "), pw__wb_str(&b, material);
+    b.w = w;
+    b.ctx = ctx;
+    b.n = 0;
+    b.failed = 0;
+    pw__wb_str(&b, "# patchwork\nnewmtl ");
+    pw__wb_str(&b, material);
     pw__wb_str(&b, "\nKa 1 1 1\nKd 1 1 1\nKs 0 0 0\nd 1\nillum 1\n");
-    if (texture_file) pw__wb_str(&b, "map_Kd "), pw__wb_str(&b, texture_file), pw__wb_str(&b, "\n");
+    if (texture_file) {
+        pw__wb_str(&b, "map_Kd ");
+        pw__wb_str(&b, texture_file);
+        pw__wb_str(&b, "\n");
+    }
     return pw__wb_done(&b, e);
 }
 
@@ -5254,8 +5185,7 @@ PW__DEF int pw_obj_mtl_path(const char *obj_path, char *mtl, size_t size, const 
 }
 
 /* pw_mesh_write_obj into the file `path`. */
-PW__DEF int pw_mesh_save_obj(const char *path, const pw_mesh *m, const char *mtllib,
-                             const char *material, pw_err *e)
+PW__DEF int pw_mesh_save_obj(const char *path, const pw_mesh *m, const char *mtllib, const char *material, pw_err *e)
 {
     pw__obj_args o;
     o.m = m;
@@ -5265,8 +5195,7 @@ PW__DEF int pw_mesh_save_obj(const char *path, const pw_mesh *m, const char *mtl
 }
 
 /* pw_mesh_write_mtl into the file `path`. */
-PW__DEF int pw_mesh_save_mtl(const char *path, const char *material, const char *texture_file,
-                             pw_err *e)
+PW__DEF int pw_mesh_save_mtl(const char *path, const char *material, const char *texture_file, pw_err *e)
 {
     pw__obj_args o;
     o.m = NULL;
@@ -5315,13 +5244,12 @@ PW__DEF int pw_shape_alloc(const pw_alloc *a, int nv, int nf, int degree, pw_mes
 
 /* The icosahedron: corners (0, +-1, +-phi) and cyclic permutations, faces
  * counter-clockwise seen from outside (the table's 2 stands for phi). */
-static const signed char pw__ico_v[12][3] = {{-1, 2, 0}, {1, 2, 0}, {-1, -2, 0}, {1, -2, 0},
-                                             {0, -1, 2}, {0, 1, 2}, {0, -1, -2}, {0, 1, -2},
-                                             {2, 0, -1}, {2, 0, 1}, {-2, 0, -1}, {-2, 0, 1}};
-static const unsigned char pw__ico_f[20][3] = {
-    {0, 11, 5}, {0, 5, 1}, {0, 1, 7}, {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
-    {11, 10, 2}, {10, 7, 6}, {7, 1, 8}, {3, 9, 4}, {3, 4, 2}, {3, 2, 6}, {3, 6, 8},
-    {3, 8, 9}, {4, 9, 5}, {2, 4, 11}, {6, 2, 10}, {8, 6, 7}, {9, 8, 1}};
+static const signed char pw__ico_v[12][3] = {{-1, 2, 0},  {1, 2, 0},  {-1, -2, 0}, {1, -2, 0}, {0, -1, 2},  {0, 1, 2},
+                                             {0, -1, -2}, {0, 1, -2}, {2, 0, -1},  {2, 0, 1},  {-2, 0, -1}, {-2, 0, 1}};
+static const unsigned char pw__ico_f[20][3] = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11},
+                                               {1, 5, 9},  {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
+                                               {3, 9, 4},  {3, 4, 2},  {3, 2, 6},   {3, 6, 8},  {3, 8, 9},
+                                               {4, 9, 5},  {2, 4, 11}, {6, 2, 10},  {8, 6, 7},  {9, 8, 1}};
 
 PW__DEF pw_v3 pw__ico_corner(int k)
 {
@@ -5359,9 +5287,19 @@ PW__DEF int pw__geo_id(const int *c, int f, int n, int i, int j)
     if (i == 0 && j == 0) return c[0];
     if (i == n) return c[1];
     if (j == n) return c[2];
-    if (j == 0) p = c[0], q = c[1], t = i;
-    else if (i == 0) p = c[0], q = c[2], t = j;
-    else if (i + j == n) p = c[1], q = c[2], t = j;
+    if (j == 0) {
+        p = c[0];
+        q = c[1];
+        t = i;
+    } else if (i == 0) {
+        p = c[0];
+        q = c[2];
+        t = j;
+    } else if (i + j == n) {
+        p = c[1];
+        q = c[2];
+        t = j;
+    }
     if (p >= 0) {
         if (p > q) {
             int s = p;
@@ -5384,8 +5322,12 @@ PW__DEF int pw_shape_geosphere(const pw_alloc *a, int n, pw_mesh *m, pw_err *e)
     for (f = 0; f < 20; f++) {
         int c[3];
         pw_v3 A, B, C;
-        c[0] = pw__ico_f[f][0], c[1] = pw__ico_f[f][1], c[2] = pw__ico_f[f][2];
-        A = pw__ico_corner(c[0]), B = pw__ico_corner(c[1]), C = pw__ico_corner(c[2]);
+        c[0] = pw__ico_f[f][0];
+        c[1] = pw__ico_f[f][1];
+        c[2] = pw__ico_f[f][2];
+        A = pw__ico_corner(c[0]);
+        B = pw__ico_corner(c[1]);
+        C = pw__ico_corner(c[2]);
         for (j = 0; j <= n; j++)
             for (i = 0; i + j <= n; i++) {
                 pw_v3 p = pw_v3_add(A, pw_v3_add(pw_v3_scale(pw_v3_sub(B, A), (float)i / n),
@@ -5424,7 +5366,9 @@ PW__DEF int pw_shape_bumpy(const pw_alloc *a, int n, pw_mesh *m, pw_err *e)
     for (k = 0; k < 14; k++) {
         double x = 2 * pw_rng_double(&rng) - 1, y = 2 * pw_rng_double(&rng) - 1, z = 2 * pw_rng_double(&rng) - 1;
         double l = sqrt(x * x + y * y + z * z) + 1e-9;
-        c[k][0] = x / l, c[k][1] = y / l, c[k][2] = z / l;
+        c[k][0] = x / l;
+        c[k][1] = y / l;
+        c[k][2] = z / l;
         h[k] = k % 3 == 2 ? -0.1 : 0.08 + 0.14 * pw_rng_double(&rng);
         rad[k] = 0.45 + 0.4 * pw_rng_double(&rng);
     }
@@ -5475,9 +5419,15 @@ PW__DEF int pw__shape_torus(const pw_alloc *a, int nu, int nv, int quads, double
             p[0] = (float)(rr * pw_cos(u));
             p[1] = (float)(rr * pw_sin(u));
             p[2] = (float)(tube * pw_sin(v));
-            t[0] = a0, t[1] = a1, t[2] = a2; /* d/du x d/dv points outwards */
+            t[0] = a0;
+            t[1] = a1;
+            t[2] = a2; /* d/du x d/dv points outwards */
             if (quads) t[3] = a3;
-            else t[3] = a0, t[4] = a2, t[5] = a3;
+            else {
+                t[3] = a0;
+                t[4] = a2;
+                t[5] = a3;
+            }
         }
     return PW_OK;
 }
@@ -5590,8 +5540,7 @@ PW__DEF void pw__voxel_pass(pw__voxels *v)
             }
 }
 
-PW__DEF int pw_shape_polycube(const pw_alloc *a, int X, int Y, int Z, const unsigned char *vox, pw_mesh *m,
-                              pw_err *e)
+PW__DEF int pw_shape_polycube(const pw_alloc *a, int X, int Y, int Z, const unsigned char *vox, pw_mesh *m, pw_err *e)
 {
     pw__voxels v;
     int r;
@@ -5635,7 +5584,11 @@ PW__DEF int pw_shape_grid(const pw_alloc *a, int n, double wave, int quads, pw_m
             f[1] = v + 1;
             f[2] = v + n + 2;
             if (quads) f[3] = v + n + 1;
-            else f[3] = v, f[4] = v + n + 2, f[5] = v + n + 1;
+            else {
+                f[3] = v;
+                f[4] = v + n + 2;
+                f[5] = v + n + 1;
+            }
         }
     return PW_OK;
 }
@@ -5664,23 +5617,38 @@ PW__DEF int pw__shape_revolve(const pw_alloc *a, const double *z, const double *
     int rings = n - 2, nv = rings * around + 2, k, j, nt = 0, res;
     int bot = nv - 1; /* vertex 0 is the top pole; ring k (1..rings) starts at 1 + (k-1) * around */
     if ((res = pw_shape_alloc(a, nv, 2 * around * (rings - 1) + 2 * around, 3, m, e)) != PW_OK) return res;
-    m->pos[0] = m->pos[1] = 0.0f, m->pos[2] = (float)z[0];
-    m->pos[3 * bot] = m->pos[3 * bot + 1] = 0.0f, m->pos[3 * bot + 2] = (float)z[n - 1];
+    m->pos[0] = m->pos[1] = 0.0f;
+    m->pos[2] = (float)z[0];
+    m->pos[3 * bot] = m->pos[3 * bot + 1] = 0.0f;
+    m->pos[3 * bot + 2] = (float)z[n - 1];
     for (k = 1; k <= rings; k++)
         for (j = 0; j < around; j++) {
             float *p = m->pos + 3 * (1 + (k - 1) * around + j);
-            p[0] = (float)(r[k] * pw_cos(pi2 * j / around)), p[1] = (float)(r[k] * pw_sin(pi2 * j / around));
+            p[0] = (float)(r[k] * pw_cos(pi2 * j / around));
+            p[1] = (float)(r[k] * pw_sin(pi2 * j / around));
             p[2] = (float)z[k];
         }
     for (j = 0; j < around; j++) {
         int j1 = (j + 1) % around, *t;
-        t = m->fv + 3 * nt++, t[0] = 0, t[1] = 1 + j, t[2] = 1 + j1;
+        t = m->fv + 3 * nt++;
+        t[0] = 0;
+        t[1] = 1 + j;
+        t[2] = 1 + j1;
         for (k = 1; k < rings; k++) {
             int a0 = 1 + (k - 1) * around + j, a1 = 1 + (k - 1) * around + j1, b0 = a0 + around, b1 = a1 + around;
-            t = m->fv + 3 * nt++, t[0] = a0, t[1] = b0, t[2] = b1;
-            t = m->fv + 3 * nt++, t[0] = a0, t[1] = b1, t[2] = a1;
+            t = m->fv + 3 * nt++;
+            t[0] = a0;
+            t[1] = b0;
+            t[2] = b1;
+            t = m->fv + 3 * nt++;
+            t[0] = a0;
+            t[1] = b1;
+            t[2] = a1;
         }
-        t = m->fv + 3 * nt++, t[0] = bot, t[1] = 1 + (rings - 1) * around + j1, t[2] = 1 + (rings - 1) * around + j;
+        t = m->fv + 3 * nt++;
+        t[0] = bot;
+        t[1] = 1 + (rings - 1) * around + j1;
+        t[2] = 1 + (rings - 1) * around + j;
     }
     return PW_OK;
 }
@@ -5697,16 +5665,32 @@ PW__DEF int pw_shape_dumbbell(const pw_alloc *a, double neck, int around, pw_mes
         return pw_fail(e, PW_ERR_INVALID, "dumbbell: neck %g not in (0, 1) or %d vertices around", neck, around);
     tn = pi - pw__shape_asin(neck); /* polar angle where a ball meets the neck */
     zn = 2.0 + pw_cos(tn);          /* the neck runs over |z| <= zn */
-    nb = (int)(tn / step) + 1, len = 2.0 * zn, nn = (int)(len / step) + 1;
+    nb = (int)(tn / step) + 1;
+    len = 2.0 * zn;
+    nn = (int)(len / step) + 1;
     n = 2 * nb + nn + 1;
     z = (double *)pw_alloc_array(a, (size_t)n, sizeof(double), "profile", e);
     r = (double *)pw_alloc_array(a, (size_t)n, sizeof(double), "profile", e);
-    if (!z || !r) return pw_free(a, z), pw_free(a, r), PW_ERR_NOMEM;
-    for (k = 0; k < nb; k++) z[k] = 2.0 + pw_cos(tn * k / nb), r[k] = pw_sin(tn * k / nb);
-    for (k = 0; k <= nn; k++) z[nb + k] = zn - len * k / nn, r[nb + k] = neck;
-    for (k = 0; k < nb; k++) z[n - 1 - k] = -z[k], r[n - 1 - k] = r[k];
+    if (!z || !r) {
+        pw_free(a, z);
+        pw_free(a, r);
+        return PW_ERR_NOMEM;
+    }
+    for (k = 0; k < nb; k++) {
+        z[k] = 2.0 + pw_cos(tn * k / nb);
+        r[k] = pw_sin(tn * k / nb);
+    }
+    for (k = 0; k <= nn; k++) {
+        z[nb + k] = zn - len * k / nn;
+        r[nb + k] = neck;
+    }
+    for (k = 0; k < nb; k++) {
+        z[n - 1 - k] = -z[k];
+        r[n - 1 - k] = r[k];
+    }
     res = pw__shape_revolve(a, z, r, n, around, m, e);
-    pw_free(a, z), pw_free(a, r);
+    pw_free(a, z);
+    pw_free(a, r);
     return res;
 }
 
@@ -5780,10 +5764,7 @@ PW__DEF int pw_he_dest(const pw_hmesh *hm, int h) { return hm->fv[pw_he_next(hm,
 PW__DEF int pw_he_ccw(const pw_hmesh *hm, int h) { return hm->twin[pw_he_prev(hm, h)]; }
 
 /* The same clockwise; -1 when h is on the boundary. */
-PW__DEF int pw_he_cw(const pw_hmesh *hm, int h)
-{
-    return hm->twin[h] < 0 ? -1 : pw_he_next(hm, hm->twin[h]);
-}
+PW__DEF int pw_he_cw(const pw_hmesh *hm, int h) { return hm->twin[h] < 0 ? -1 : pw_he_next(hm, hm->twin[h]); }
 
 /* For a boundary half-edge h, the next boundary half-edge of the same
  * boundary loop (they follow each other head to tail). */
@@ -5814,8 +5795,9 @@ PW__DEF int pw__hm_faces(pw_hmesh *hm, int *stamp, int *count, pw_err *e)
         for (h = b; h < end; h++) {
             int v = hm->fv[h];
             if (v < 0 || v >= hm->nv)
-                return pw_fail(e, PW_ERR_INVALID, "half-edge mesh: face %d, corner %d: vertex index %d out of range (%d vertices)",
-                               f, h - b, v, hm->nv);
+                return pw_fail(e, PW_ERR_INVALID,
+                               "half-edge mesh: face %d, corner %d: vertex index %d out of range (%d vertices)", f,
+                               h - b, v, hm->nv);
             if (stamp[v] == f)
                 return pw_fail(e, PW_ERR_DEGENERATE, "half-edge mesh: face %d uses vertex %d twice", f, v);
             stamp[v] = f;
@@ -5860,8 +5842,8 @@ PW__DEF void pw__hm_face_list(char *buf, size_t cap, const int *f, int n)
 
 /* The error for edge a-b of half-edge h: more than two faces, or two
  * faces in the same direction. */
-PW__DEF int pw__hm_edge_error(const pw_hmesh *hm, const int *ostart, const int *oh, const int *odest,
-                              int a, int b, int same, int opp, pw_err *e)
+PW__DEF int pw__hm_edge_error(const pw_hmesh *hm, const int *ostart, const int *oh, const int *odest, int a, int b,
+                              int same, int opp, pw_err *e)
 {
     int faces[8], n = 0, k, i, j;
     char list[96];
@@ -5870,7 +5852,11 @@ PW__DEF int pw__hm_edge_error(const pw_hmesh *hm, const int *ostart, const int *
     for (k = ostart[b]; k < ostart[b + 1]; k++)
         if (odest[k] == a && n < 8) faces[n++] = hm->hface[oh[k]];
     for (i = 1; i < n; i++) /* insertion sort: at most 8 */
-        for (j = i; j > 0 && faces[j - 1] > faces[j]; j--) k = faces[j], faces[j] = faces[j - 1], faces[j - 1] = k;
+        for (j = i; j > 0 && faces[j - 1] > faces[j]; j--) {
+            k = faces[j];
+            faces[j] = faces[j - 1];
+            faces[j - 1] = k;
+        }
     if (same + opp > 2) {
         pw__hm_face_list(list, sizeof list, faces, n);
         if (same + opp > n) snprintf(list + strlen(list), sizeof list - strlen(list), " (%d faces)", same + opp);
@@ -5884,12 +5870,14 @@ PW__DEF int pw__hm_edge_error(const pw_hmesh *hm, const int *ostart, const int *
  * one b->a not yet paired, needs no more checks: a second a->b would find
  * it taken. Otherwise the half-edges a->b (same) and b->a (opp) are counted
  * to catch bad edges. */
-PW__DEF int pw__hm_pair(pw_hmesh *hm, const int *ostart, const int *oh, const int *odest, int h, int b,
-                        pw_err *e)
+PW__DEF int pw__hm_pair(pw_hmesh *hm, const int *ostart, const int *oh, const int *odest, int h, int b, pw_err *e)
 {
     int a = hm->fv[h], same = 0, opp = 0, g = -1, k;
     for (k = ostart[b]; k < ostart[b + 1]; k++)
-        if (odest[k] == a) opp++, g = oh[k];
+        if (odest[k] == a) {
+            opp++;
+            g = oh[k];
+        }
     if (opp != 1 || hm->twin[g] != -2) {
         for (k = ostart[a]; k < ostart[a + 1]; k++) same += odest[k] == b;
         if (same + opp > 2 || same > 1) return pw__hm_edge_error(hm, ostart, oh, odest, a, b, same, opp, e);
@@ -5909,8 +5897,7 @@ PW__DEF int pw__hm_twins(pw_hmesh *hm, const int *ostart, const int *oh, const i
     for (f = 0; f < hm->nf; f++) {
         int b = hm->fstart[f], end = hm->fstart[f + 1];
         for (h = b; h < end; h++)
-            if (hm->twin[h] == -2 &&
-                (r = pw__hm_pair(hm, ostart, oh, odest, h, hm->fv[h + 1 < end ? h + 1 : b], e)))
+            if (hm->twin[h] == -2 && (r = pw__hm_pair(hm, ostart, oh, odest, h, hm->fv[h + 1 < end ? h + 1 : b], e)))
                 return r;
     }
     hm->ne = (hm->nh + hm->nboundary) / 2;
@@ -6019,14 +6006,13 @@ PW__DEF int pw__hm_offsets(const pw_alloc *a, pw_hmesh *hm, const int *fstart, p
     int f;
     if (hm->nv < 0 || hm->nf < 0 || !fstart || hm->nv > PW_MAX_MESH_ELEMENTS || hm->nf > PW_MAX_MESH_ELEMENTS)
         return pw_fail(e, PW_ERR_INVALID, "half-edge mesh: bad sizes (%d vertices, %d faces)", hm->nv, hm->nf);
-    if (fstart[0] != 0)
-        return pw_fail(e, PW_ERR_INVALID, "half-edge mesh: fstart[0] is %d, must be 0", fstart[0]);
+    if (fstart[0] != 0) return pw_fail(e, PW_ERR_INVALID, "half-edge mesh: fstart[0] is %d, must be 0", fstart[0]);
     for (f = 0; f < hm->nf; f++) {
         if (fstart[f + 1] > PW_MAX_MESH_ELEMENTS)
             return pw_fail(e, PW_ERR_LIMIT, "half-edge mesh: more than %d corners", PW_MAX_MESH_ELEMENTS);
         if (fstart[f + 1] < fstart[f] + 3)
-            return pw_fail(e, PW_ERR_DEGENERATE, "half-edge mesh: face %d has %ld corners (at least 3 needed)",
-                           f, (long)fstart[f + 1] - fstart[f]);
+            return pw_fail(e, PW_ERR_DEGENERATE, "half-edge mesh: face %d has %ld corners (at least 3 needed)", f,
+                           (long)fstart[f + 1] - fstart[f]);
     }
     hm->nh = fstart[hm->nf];
     hm->fstart = (int *)pw_alloc_array(a, (size_t)hm->nf + 1, sizeof(int), "half-edge faces", e);
@@ -6056,8 +6042,8 @@ PW__DEF int pw__hm_steps(const pw_alloc *a, pw_hmesh *hm, int *tmp, pw_err *e)
 /* Builds the half-edge structure of a polygon mesh given as nv vertices, nf
  * faces, offsets fstart (nf+1) and corners fv (fstart[nf]); see the top of
  * the file for what is refused. */
-PW__DEF int pw_hmesh_build(const pw_alloc *a, int nv, int nf, const int *fstart, const int *fv,
-                           pw_hmesh *out, pw_err *e)
+PW__DEF int pw_hmesh_build(const pw_alloc *a, int nv, int nf, const int *fstart, const int *fv, pw_hmesh *out,
+                           pw_err *e)
 {
     int r, *tmp = NULL;
     memset(out, 0, sizeof *out);
@@ -6088,12 +6074,12 @@ PW__DEF int pw_hmesh_from_mesh(const pw_alloc *a, const pw_mesh *m, pw_hmesh *ou
 /* Connected components of faces (faces sharing an edge are connected).
  * Returns the count in *ncomp; face_comp (nf ints, may be NULL) receives
  * each face's component, numbered in order of their lowest face. */
-PW__DEF int pw_hmesh_components(const pw_alloc *a, const pw_hmesh *hm, int *face_comp, int *ncomp,
-                                pw_err *e)
+PW__DEF int pw_hmesh_components(const pw_alloc *a, const pw_hmesh *hm, int *face_comp, int *ncomp, pw_err *e)
 {
     int *comp = face_comp, *stack, f, n = 0, top;
     *ncomp = 0;
-    stack = (int *)pw_alloc_array(a, (size_t)hm->nf + (face_comp ? 0 : (size_t)hm->nf), sizeof(int), "component stack", e);
+    stack =
+        (int *)pw_alloc_array(a, (size_t)hm->nf + (face_comp ? 0 : (size_t)hm->nf), sizeof(int), "component stack", e);
     if (!stack) return PW_ERR_NOMEM;
     if (!comp) comp = stack + hm->nf;
     for (f = 0; f < hm->nf; f++) comp[f] = -1;
@@ -6106,7 +6092,10 @@ PW__DEF int pw_hmesh_components(const pw_alloc *a, const pw_hmesh *hm, int *face
             int g = stack[--top], h;
             for (h = hm->fstart[g]; h < hm->fstart[g + 1]; h++) {
                 int t = hm->twin[h];
-                if (t >= 0 && comp[hm->hface[t]] < 0) comp[hm->hface[t]] = n, stack[top++] = hm->hface[t];
+                if (t >= 0 && comp[hm->hface[t]] < 0) {
+                    comp[hm->hface[t]] = n;
+                    stack[top++] = hm->hface[t];
+                }
             }
         }
         n++;
@@ -6127,10 +6116,7 @@ PW__DEF int pw_hmesh_euler(const pw_hmesh *hm)
 
 /* Total genus of an orientable surface with `ncomp` components and
  * hm->nloops boundary loops: chi = 2c - 2g - b. */
-PW__DEF int pw_hmesh_genus(const pw_hmesh *hm, int ncomp)
-{
-    return (2 * ncomp - pw_hmesh_euler(hm) - hm->nloops) / 2;
-}
+PW__DEF int pw_hmesh_genus(const pw_hmesh *hm, int ncomp) { return (2 * ncomp - pw_hmesh_euler(hm) - hm->nloops) / 2; }
 
 /* Number of edges at vertex v (0 if isolated). */
 PW__DEF int pw_hmesh_valence(const pw_hmesh *hm, int v)
@@ -6193,11 +6179,10 @@ PW__DEF void pw__cc_face_edge_points(const pw_hmesh *hm, const float *pos, float
         int g = hm->edgeh[e], t = hm->twin[g];
         const float *a = pos + 3 * hm->fv[g], *b = pos + 3 * pw_he_dest(hm, g);
         for (k = 0; k < 3; k++) {
-            if (t < 0)
-                ep[3 * e + k] = (float)(0.5 * ((double)a[k] + b[k]));
+            if (t < 0) ep[3 * e + k] = (float)(0.5 * ((double)a[k] + b[k]));
             else
-                ep[3 * e + k] = (float)(0.25 * ((double)a[k] + b[k] + fp[3 * hm->hface[g] + k] +
-                                                fp[3 * hm->hface[t] + k]));
+                ep[3 * e + k] =
+                    (float)(0.25 * ((double)a[k] + b[k] + fp[3 * hm->hface[g] + k] + fp[3 * hm->hface[t] + k]));
         }
     }
 }
@@ -6257,8 +6242,7 @@ PW__DEF void pw__cc_quads(const pw_hmesh *hm, pw_mesh *out)
 
 /* One Catmull-Clark step of the half-edge mesh hm with positions pos
  * (hm->nv*3). out receives a new all-quad mesh (free with pw_mesh_free). */
-PW__DEF int pw_catmull_clark(const pw_alloc *a, const pw_hmesh *hm, const float *pos, pw_mesh *out,
-                             pw_err *e)
+PW__DEF int pw_catmull_clark(const pw_alloc *a, const pw_hmesh *hm, const float *pos, pw_mesh *out, pw_err *e)
 {
     int64_t nv2 = (int64_t)hm->nv + hm->ne + hm->nf, nc2 = 4 * (int64_t)hm->nh;
     double *acc;
@@ -6334,24 +6318,24 @@ PW__DEF int pw_catmull_clark(const pw_alloc *a, const pw_hmesh *hm, const float 
 
 /* The raster target: viewport size and the fixed-point precision it allows. */
 typedef struct pw_raster_grid {
-    int w, h;     /* pixels [0, w) x [0, h) */
+    int w, h;       /* pixels [0, w) x [0, h) */
     int row0, row1; /* rows rasterized: [row0, row1), default [0, h) (a band of the frame;
                        snapping depends on w and h only, so a band covers exactly the
                        pixels the whole frame would in its rows) */
-    int bits;     /* sub-pixel bits: vertices snap to multiples of 2^-bits */
-    double range; /* |coordinate| <= range is rasterized directly, beyond is clipped */
+    int bits;       /* sub-pixel bits: vertices snap to multiples of 2^-bits */
+    double range;   /* |coordinate| <= range is rasterized directly, beyond is clipped */
 } pw_raster_grid;
 
 /* One snapped triangle. Edge k is opposite vertex k; its value at a pixel
  * centre is (twice the area of the sub-triangle) * 2^(2 bits), positive
  * inside, and the barycentric of vertex k is (e_k - bias_k) / area2. */
 typedef struct pw_raster_edges {
-    int64_t e[3];    /* edge values at the centre of pixel (x0, y0), bias included */
-    int64_t ex[3];   /* change per pixel step to the right */
-    int64_t ey[3];   /* change per row down */
-    int64_t bias[3]; /* 0 on top-left edges, -1 elsewhere: covered iff all e >= 0 */
-    int64_t area2;   /* twice the snapped area in grid units, > 0 */
-    int orient;      /* +1 or -1: sign of the area as given (y down) */
+    int64_t e[3];       /* edge values at the centre of pixel (x0, y0), bias included */
+    int64_t ex[3];      /* change per pixel step to the right */
+    int64_t ey[3];      /* change per row down */
+    int64_t bias[3];    /* 0 on top-left edges, -1 elsewhere: covered iff all e >= 0 */
+    int64_t area2;      /* twice the snapped area in grid units, > 0 */
+    int orient;         /* +1 or -1: sign of the area as given (y down) */
     int x0, y0, x1, y1; /* candidate pixels [x0, x1) x [y0, y1), inside the viewport */
     /* row walker (pw_raster_next), an exact integer DDA over the edges that
      * bound runs: nl left ones first, then right ones (horizontal edges only
@@ -6575,7 +6559,7 @@ PW__DEF int pw_raster_span(const pw_raster_edges *s, int y, int *xa, int *xb)
     for (k = 0; k < 3; k++) {
         int64_t e = s->e[k] + s->ey[k] * (y - s->y0), a = s->ex[k], d;
         double t = a ? -(double)e / (double)a : 0.0; /* the bound, within 1e-6 */
-        if (a > 0) {                        /* first d with e + a d >= 0 */
+        if (a > 0) {                                 /* first d with e + a d >= 0 */
             if (e >= 0) continue;
             if (t > (double)n + 1.0) return 0;
             d = (int64_t)t + 1; /* floor(t) + 1: the answer, or one off either way */
@@ -6617,8 +6601,7 @@ PW__DEF void pw__raster_cut(const double *p, const double *q, int axis, double c
 
 /* Clips the polygon in[n] (xy pairs) to the half-plane side*coord[axis] <=
  * range; returns the new vertex count. */
-PW__DEF int pw__raster_clip1(const double *in, int n, int axis, double side, double range,
-                             double *out)
+PW__DEF int pw__raster_clip1(const double *in, int n, int axis, double side, double range, double *out)
 {
     int i, m = 0;
     for (i = 0; i < n; i++) {
@@ -6642,8 +6625,7 @@ PW__DEF int pw__raster_clip1(const double *in, int n, int axis, double side, dou
  * PW_RASTER_MAX_PIECES setups and returns their count. Fan pieces whose
  * snapped orientation disagrees with the polygon's are slivers made by
  * snapping near-collinear clip points (far outside the viewport): dropped. */
-PW__DEF int pw_raster_polygon(const pw_raster_grid *g, const double *xy, int n,
-                              pw_raster_edges *out)
+PW__DEF int pw_raster_polygon(const pw_raster_grid *g, const double *xy, int n, pw_raster_edges *out)
 {
     double a[16], b[16], tri[6], area = 0.0;
     int i, np = 0, inside = 1;
@@ -6667,8 +6649,7 @@ PW__DEF int pw_raster_polygon(const pw_raster_grid *g, const double *xy, int n,
         tri[0] = a[0];
         tri[1] = a[1];
         memcpy(tri + 2, a + 2 * i, sizeof(double) * 4);
-        if (pw_raster_setup(out + np, g, tri) && (n == 3 || (out[np].orient > 0) == (area > 0)))
-            np++;
+        if (pw_raster_setup(out + np, g, tri) && (n == 3 || (out[np].orient > 0) == (area > 0))) np++;
     }
     return np;
 }
@@ -6692,16 +6673,14 @@ PW__DEF int pw__raster_bary_planes(const double *v, double *p)
 
 /* Reports the pixels of one piece, with barycentrics either from its own
  * exact edge values (planes == NULL) or from the original triangle. */
-PW__DEF void pw__raster_emit(pw_raster_edges *s, const double *planes, pw_raster_fn fn,
-                             void *user)
+PW__DEF void pw__raster_emit(pw_raster_edges *s, const double *planes, pw_raster_fn fn, void *user)
 {
     double inv = 1.0 / (double)s->area2;
     int y, x, xa, xb, k;
     for (y = s->y0; y < s->y1; y++) {
         int64_t e[3];
         if (!pw_raster_next(s, &xa, &xb)) continue;
-        for (k = 0; k < 3; k++)
-            e[k] = s->e[k] - s->bias[k] + s->ey[k] * (y - s->y0) + s->ex[k] * (xa - s->x0);
+        for (k = 0; k < 3; k++) e[k] = s->e[k] - s->bias[k] + s->ey[k] * (y - s->y0) + s->ex[k] * (xa - s->x0);
         for (x = xa; x < xb; x++) {
             if (planes) {
                 double cx = x + 0.5, cy = y + 0.5;
@@ -6709,8 +6688,7 @@ PW__DEF void pw__raster_emit(pw_raster_edges *s, const double *planes, pw_raster
                    (float)(planes[3] * cx + planes[4] * cy + planes[5]),
                    (float)(planes[6] * cx + planes[7] * cy + planes[8]));
             } else {
-                fn(user, x, y, (float)((double)e[0] * inv), (float)((double)e[1] * inv),
-                   (float)((double)e[2] * inv));
+                fn(user, x, y, (float)((double)e[0] * inv), (float)((double)e[1] * inv), (float)((double)e[2] * inv));
             }
             for (k = 0; k < 3; k++) e[k] += s->ex[k];
         }
@@ -6864,10 +6842,10 @@ enum { PW_DEPTH_LESS = 0, PW_DEPTH_LEQUAL = 1, PW_DEPTH_ALWAYS = 2 };
 enum { PW_LIGHT_NONE = 0, PW_LIGHT_CAMERA = 1, PW_LIGHT_WORLD = 2 };
 enum { PW_CULL_NONE = 0, PW_CULL_BACK = 1, PW_CULL_FRONT = 2 };
 
-#define PW_FB_MAX_SS 8              /* samples per pixel side */
-#define PW_FB_NONE 0xFFFFFFFFu      /* visibility id of an untouched sample */
+#define PW_FB_MAX_SS 8         /* samples per pixel side */
+#define PW_FB_NONE 0xFFFFFFFFu /* visibility id of an untouched sample */
 #define PW_TEXTURE_MAX_LEVELS 32
-#define PW_DEPTH_TOLERANCE 1e-4f    /* default relative slack of PW_DEPTH_LEQUAL */
+#define PW_DEPTH_TOLERANCE 1e-4f /* default relative slack of PW_DEPTH_LEQUAL */
 
 /* ---------------------------------------------------------------- camera */
 
@@ -6888,10 +6866,7 @@ typedef struct pw__view {
 
 /* double to float without the undefined behaviour of converting a value
  * beyond the float range (absurd inputs): clamps to +-FLT_MAX. */
-PW__DEF float pw__f(double x)
-{
-    return x > FLT_MAX ? FLT_MAX : (x < -FLT_MAX ? -FLT_MAX : (float)x);
-}
+PW__DEF float pw__f(double x) { return x > FLT_MAX ? FLT_MAX : (x < -FLT_MAX ? -FLT_MAX : (float)x); }
 
 /* tan of an angle in degrees, 0 < deg < 180, from the sine and cosine
  * series: the same bits on every platform, unlike libm's tan. */
@@ -6931,11 +6906,10 @@ PW__DEF int pw__view_init(pw__view *v, const pw_camera *cam, int sw, int sh, pw_
 {
     double t;
     if (!(cam->fovy_deg > 0.0f && cam->fovy_deg < 180.0f))
-        return pw_fail(e, PW_ERR_INVALID, "camera: field of view %g degrees outside (0, 180)",
-                       (double)cam->fovy_deg);
+        return pw_fail(e, PW_ERR_INVALID, "camera: field of view %g degrees outside (0, 180)", (double)cam->fovy_deg);
     if (!(cam->znear > 0.0f && cam->zfar > cam->znear) || !pw_is_finite(cam->zfar))
-        return pw_fail(e, PW_ERR_INVALID, "camera: need 0 < znear < zfar (znear %g, zfar %g)",
-                       (double)cam->znear, (double)cam->zfar);
+        return pw_fail(e, PW_ERR_INVALID, "camera: need 0 < znear < zfar (znear %g, zfar %g)", (double)cam->znear,
+                       (double)cam->zfar);
     if (!pw__camera_basis(cam, v))
         return pw_fail(e, PW_ERR_INVALID,
                        "camera: eye, target and up must be finite, eye != target, up not along the view");
@@ -7082,8 +7056,8 @@ PW__DEF double pw__fit_distance(const float *pos, int nv, const pw__view_basis *
  * view shrunk by 5% (vertical fovy_deg, horizontal from aspect = width /
  * height); near and far enclose the mesh. Invalid fovy (outside (0, 180))
  * becomes 45, invalid aspect 1. */
-PW__DEF pw_camera pw_camera_frame(const float *pos, int nv, const float view_dir[3],
-                                  const float up[3], float fovy_deg, float aspect)
+PW__DEF pw_camera pw_camera_frame(const float *pos, int nv, const float view_dir[3], const float up[3], float fovy_deg,
+                                  float aspect)
 {
     pw_camera cam;
     pw__view_basis B;
@@ -7111,7 +7085,12 @@ PW__DEF pw_camera pw_camera_frame(const float *pos, int nv, const float view_dir
     pw__bounding_sphere(pos, pos ? nv : 0, c, &r);
     t = 0.95 * pw__tan_deg(0.5 * fovy_deg);
     tx = t * aspect;
-    for (k = 0; k < 3; k++) B.c[k] = c[k], B.rt[k] = x[k], B.up[k] = y[k], B.vd[k] = vd[k];
+    for (k = 0; k < 3; k++) {
+        B.c[k] = c[k];
+        B.rt[k] = x[k];
+        B.up[k] = y[k];
+        B.vd[k] = vd[k];
+    }
     B.ox = B.oy = 0.0;
     pw__view_extent(pos, pos ? nv : 0, &B, lo, hi);
     B.ox = 0.5 * (lo[0] + hi[0]);
@@ -7125,7 +7104,8 @@ PW__DEF pw_camera pw_camera_frame(const float *pos, int nv, const float view_dir
         B.ox += 0.5 * (range[0] + range[1]) * dist;
         B.oy += 0.5 * (range[2] + range[3]) * dist;
     }
-    ox = B.ox, oy = B.oy;
+    ox = B.ox;
+    oy = B.oy;
     for (k = 0; k < 3; k++) {
         cam.target[k] = pw__f(c[k] + ox * x[k] + oy * y[k]);
         cam.eye[k] = pw__f(cam.target[k] - vd[k] * dist);
@@ -7175,11 +7155,9 @@ PW__DEF void pw__mip_down(const pw_texture *t, int L, const float *src, float *d
 {
     int W = t->lw[L], H = t->lh[L], W2 = t->lw[L + 1], H2 = t->lh[L + 1];
     int y, x;
-    for (y = 0; y < H; y++)
-        pw__box_1d(src + (size_t)y * W * 4, W, 4, tmp + (size_t)y * W2 * 4, W2, 4);
+    for (y = 0; y < H; y++) pw__box_1d(src + (size_t)y * W * 4, W, 4, tmp + (size_t)y * W2 * 4, W2, 4);
     for (x = 0; x < W2; x++)
-        pw__box_1d(tmp + (size_t)x * 4, H, (ptrdiff_t)W2 * 4, dst + (size_t)x * 4, H2,
-                   (ptrdiff_t)W2 * 4);
+        pw__box_1d(tmp + (size_t)x * 4, H, (ptrdiff_t)W2 * 4, dst + (size_t)x * 4, H2, (ptrdiff_t)W2 * 4);
 }
 
 /* Converts any channel count to premultiplied float RGBA. */
@@ -7232,8 +7210,7 @@ PW__DEF void pw__tex_sizes(pw_texture *t, int max_levels)
  * area-weighted box filter of premultiplied colour, computed in float from
  * the level above, so transparent texels do not bleed their colour. Free
  * with pw_texture_free. */
-PW__DEF int pw_texture_create(const pw_alloc *a, pw_texture *t, const pw_image *img,
-                              int max_levels, pw_err *e)
+PW__DEF int pw_texture_create(const pw_alloc *a, pw_texture *t, const pw_image *img, int max_levels, pw_err *e)
 {
     size_t total = 0, off = 0, n0;
     uint16_t *data;
@@ -7296,11 +7273,11 @@ PW__DEF void pw_texture_clear_border(pw_texture *t, int min_size)
         int W = t->lw[L], H = t->lh[L];
         uint16_t *p = t->level[L];
         if (W <= min_size || H <= min_size) continue;
-        memset(p, 0, (size_t)W * 4 * sizeof(uint16_t));                   /* top row */
+        memset(p, 0, (size_t)W * 4 * sizeof(uint16_t));                           /* top row */
         memset(p + (size_t)(H - 1) * W * 4, 0, (size_t)W * 4 * sizeof(uint16_t)); /* bottom row */
         for (y = 1; y < H - 1; y++)
             for (x = 0; x < 4; x++) {
-                p[((size_t)y * W) * 4 + x] = 0;          /* left column */
+                p[((size_t)y * W) * 4 + x] = 0;         /* left column */
                 p[((size_t)y * W + W - 1) * 4 + x] = 0; /* right column */
             }
     }
@@ -7387,8 +7364,7 @@ PW__DEF void pw__tex_trilinear(const pw_texture *t, float u, float v, float lod,
  * and wrap mode; lod (log2 of the footprint in level-0 texels) selects and
  * blends mip levels for PW_FILTER_TRILINEAR and is ignored otherwise
  * (PW_FILTER_NEAREST and _BILINEAR read level 0). out = premultiplied RGBA. */
-PW__DEF void pw_texture_sample(const pw_texture *t, float u, float v, float lod, int filter,
-                               int wrap, float out[4])
+PW__DEF void pw_texture_sample(const pw_texture *t, float u, float v, float lod, int filter, int wrap, float out[4])
 {
     const float s = 1.0f / 65535.0f;
     float a[4];
@@ -7426,8 +7402,7 @@ PW__DEF float pw__log2f(float x)
     memcpy(&m, &bits, sizeof m); /* mantissa in [1, 2) */
     s = (m - 1.0f) / (m + 1.0f);
     s2 = s * s;
-    return (float)ex +
-           s * (2.8853900818f + s2 * (0.9617966939f + s2 * (0.5770780164f + s2 * 0.4121985831f)));
+    return (float)ex + s * (2.8853900818f + s2 * (0.9617966939f + s2 * (0.5770780164f + s2 * 0.4121985831f)));
 }
 
 /* PW_NO_RENDER leaves out the rest but the pw_parallel type the public
@@ -7439,24 +7414,24 @@ PW__DEF float pw__log2f(float x)
 /* ----------------------------------------------------------- framebuffer */
 
 typedef struct pw_fb {
-    int w, h, ss;  /* pixels; ss x ss samples per pixel */
-    int sw, sh;    /* sample grid: w*ss x h*ss, sample (x, y) centred at ((x+.5)/ss, (y+.5)/ss) pixels */
-    int y0, bh;    /* the sample rows held: [y0, y0 + bh), a band of the frame (all of it
+    int w, h, ss;   /* pixels; ss x ss samples per pixel */
+    int sw, sh;     /* sample grid: w*ss x h*ss, sample (x, y) centred at ((x+.5)/ss, (y+.5)/ss) pixels */
+    int y0, bh;     /* the sample rows held: [y0, y0 + bh), a band of the frame (all of it
                       unless made by pw_fb_create_band); draws cover only these */
-    int band_rows; /* pixel rows a band can hold */
-    float bg[4];   /* background, straight RGBA */
-    float *color;  /* sw*bh*4 premultiplied RGBA, sample (x, y) at ((y-y0)*sw + x)*4, row 0 at the top */
-    float *depth;  /* sw*bh, q = 1/(distance along the view axis); 0 = nothing drawn */
-    uint32_t *vis; /* sw*bh triangle ids of the opaque draw under way; PW_FB_NONE between draws */
-    double *vbuf;  /* draw scratch: transformed vertices */
-    float *nbuf;   /* draw scratch: computed normals */
-    float *pbuf;   /* draw scratch: triangle planes */
+    int band_rows;  /* pixel rows a band can hold */
+    float bg[4];    /* background, straight RGBA */
+    float *color;   /* sw*bh*4 premultiplied RGBA, sample (x, y) at ((y-y0)*sw + x)*4, row 0 at the top */
+    float *depth;   /* sw*bh, q = 1/(distance along the view axis); 0 = nothing drawn */
+    uint32_t *vis;  /* sw*bh triangle ids of the opaque draw under way; PW_FB_NONE between draws */
+    double *vbuf;   /* draw scratch: transformed vertices */
+    float *nbuf;    /* draw scratch: computed normals */
+    float *pbuf;    /* draw scratch: triangle planes */
     uint64_t *mbuf; /* draw scratch: sample masks of a pixel row (all zero between uses) */
-    float *qbuf;   /* draw scratch: depths of ss sample rows */
-    float *zmin;   /* coarse depth: per tile of PW__ZT x PW__ZT samples of the band, the smallest q */
-    int zvalid;    /* zmin matches depth; set 0 if you write depth yourself */
-    int vnv;       /* vertices of the last draw (0: none yet) */
-    int vall;      /* 1: all vnv of them are transformed in vbuf (not only the drawn corners) */
+    float *qbuf;    /* draw scratch: depths of ss sample rows */
+    float *zmin;    /* coarse depth: per tile of PW__ZT x PW__ZT samples of the band, the smallest q */
+    int zvalid;     /* zmin matches depth; set 0 if you write depth yourself */
+    int vnv;        /* vertices of the last draw (0: none yet) */
+    int vall;       /* 1: all vnv of them are transformed in vbuf (not only the drawn corners) */
     size_t vcap, ncap, pcap, mcap, qcap, zcap;
     const pw_alloc *alloc;
 } pw_fb;
@@ -7499,18 +7474,15 @@ PW__DEF void pw_fb_free(pw_fb *fb)
  * opaque black) that holds band_rows pixel rows at a time (0 or >= h: the
  * whole frame), the first band selected. The allocator a (may be NULL) must
  * outlive the framebuffer. */
-PW__DEF int pw_fb_create_band(const pw_alloc *a, pw_fb *fb, int w, int h, int ss, int band_rows,
-                              const float bg[4], pw_err *e)
+PW__DEF int pw_fb_create_band(const pw_alloc *a, pw_fb *fb, int w, int h, int ss, int band_rows, const float bg[4],
+                              pw_err *e)
 {
     size_t n;
     memset(fb, 0, sizeof *fb);
     if (w <= 0 || h <= 0 || ss < 1 || ss > PW_FB_MAX_SS || band_rows < 0)
-        return pw_fail(e, PW_ERR_INVALID, "framebuffer: invalid size %dx%d with %dx%d samples", w,
-                       h, ss, ss);
-    if (w > PW_MAX_IMAGE_DIM || h > PW_MAX_IMAGE_DIM ||
-        (int64_t)w * h * ss * ss > (int64_t)PW_MAX_IMAGE_PIXELS)
-        return pw_fail(e, PW_ERR_LIMIT, "framebuffer: %dx%d with %dx%d samples exceeds the limit", w,
-                       h, ss, ss);
+        return pw_fail(e, PW_ERR_INVALID, "framebuffer: invalid size %dx%d with %dx%d samples", w, h, ss, ss);
+    if (w > PW_MAX_IMAGE_DIM || h > PW_MAX_IMAGE_DIM || (int64_t)w * h * ss * ss > (int64_t)PW_MAX_IMAGE_PIXELS)
+        return pw_fail(e, PW_ERR_LIMIT, "framebuffer: %dx%d with %dx%d samples exceeds the limit", w, h, ss, ss);
     fb->w = w;
     fb->h = h;
     fb->ss = ss;
@@ -7535,8 +7507,7 @@ PW__DEF int pw_fb_create_band(const pw_alloc *a, pw_fb *fb, int w, int h, int ss
 }
 
 /* The same holding the whole frame. */
-PW__DEF int pw_fb_create(const pw_alloc *a, pw_fb *fb, int w, int h, int ss, const float bg[4],
-                         pw_err *e)
+PW__DEF int pw_fb_create(const pw_alloc *a, pw_fb *fb, int w, int h, int ss, const float bg[4], pw_err *e)
 {
     return pw_fb_create_band(a, fb, w, h, ss, 0, bg, e);
 }
@@ -7609,34 +7580,34 @@ PW__DEF int pw_fb_resolve(const pw_fb *fb, pw_image *out, int channels, pw_err *
 typedef struct pw_draw {
     const float *positions; /* nv*3 world-space vertex positions */
     int nv;
-    const int *tris;        /* ntris*3 vertex indices */
+    const int *tris; /* ntris*3 vertex indices */
     int ntris;
-    const float *uvs;       /* ntris*3*2 texture coordinates per triangle corner (v = 0 at the
+    const float *uvs;      /* ntris*3*2 texture coordinates per triangle corner (v = 0 at the
                                bottom of the texture); required with a texture, else ignored */
-    const float *normals;   /* nv*3 per-vertex normals; NULL: smooth area-weighted normals
+    const float *normals;  /* nv*3 per-vertex normals; NULL: smooth area-weighted normals
                                computed from the mesh. Used only when lit */
-    int flat;               /* 1: flat shading, one normal per face (normals ignored) */
-    const pw_texture *tex;  /* NULL: the constant colour alone */
-    float color[4];         /* straight RGBA multiplied with the texture; all zero: opaque white */
-    int filter;             /* PW_FILTER_TRILINEAR (default), _BILINEAR, _NEAREST (level 0) */
-    int wrap;               /* PW_WRAP_REPEAT (default), PW_WRAP_CLAMP */
-    int blend;              /* PW_BLEND_REPLACE (default: write the colour, alpha included),
+    int flat;              /* 1: flat shading, one normal per face (normals ignored) */
+    const pw_texture *tex; /* NULL: the constant colour alone */
+    float color[4];        /* straight RGBA multiplied with the texture; all zero: opaque white */
+    int filter;            /* PW_FILTER_TRILINEAR (default), _BILINEAR, _NEAREST (level 0) */
+    int wrap;              /* PW_WRAP_REPEAT (default), PW_WRAP_CLAMP */
+    int blend;             /* PW_BLEND_REPLACE (default: write the colour, alpha included),
                                PW_BLEND_OVER (rgba = src + (1 - src alpha) dst, premultiplied) */
-    int depth_test;         /* PW_DEPTH_LESS (default: passes where nearer than what is
+    int depth_test;        /* PW_DEPTH_LESS (default: passes where nearer than what is
                                stored), PW_DEPTH_LEQUAL (also where as near, within a
                                tolerance, so a second pass over the same surface passes),
                                PW_DEPTH_ALWAYS. Samples beyond zfar never pass */
-    float depth_tolerance;  /* relative slack of LEQUAL: passes if q > (1 - tol) q_stored
+    float depth_tolerance; /* relative slack of LEQUAL: passes if q > (1 - tol) q_stored
                                (q = 1/depth); 0: PW_DEPTH_TOLERANCE */
-    int no_depth_write;     /* 1: depth is tested but not written */
-    int no_color_write;     /* 1: depth only (a depth pre-pass) */
-    int cull;               /* PW_CULL_NONE (default: two-sided), PW_CULL_BACK, PW_CULL_FRONT */
-    int lighting;           /* PW_LIGHT_NONE (default: unlit), PW_LIGHT_CAMERA, PW_LIGHT_WORLD:
+    int no_depth_write;    /* 1: depth is tested but not written */
+    int no_color_write;    /* 1: depth only (a depth pre-pass) */
+    int cull;              /* PW_CULL_NONE (default: two-sided), PW_CULL_BACK, PW_CULL_FRONT */
+    int lighting;          /* PW_LIGHT_NONE (default: unlit), PW_LIGHT_CAMERA, PW_LIGHT_WORLD:
                                Lambert + ambient, the light direction in camera space (x right,
                                y up, z toward the viewer) or in world space. Two-sided: back
                                faces are lit with their normals reversed */
-    float light_dir[3];     /* direction toward the light; zero: (-0.3, 0.4, 1) in camera space */
-    float ambient;          /* brightness of unlit parts, in [0, 1]; 0: 0.25; negative: none */
+    float light_dir[3];    /* direction toward the light; zero: (-0.3, 0.4, 1) in camera space */
+    float ambient;         /* brightness of unlit parts, in [0, 1]; 0: 0.25; negative: none */
     /* Optional, replaces the texture: the straight RGBA of triangle `tri` at
      * the point of barycentric coordinates (1 - b1 - b2, b1, b2) (perspective-
      * correct, corners in the triangle's order), given db = (db1/dx, db1/dy,
@@ -7644,13 +7615,13 @@ typedef struct pw_draw {
      * a texture lookup would be; uvs are not needed. */
     void (*shader)(void *user, int tri, float b1, float b2, const float db[4], float rgba[4]);
     void *shader_user;
-    int same_vertices;      /* 1: positions, nv and camera are those of the previous draw into
+    int same_vertices; /* 1: positions, nv and camera are those of the previous draw into
                                this framebuffer; when that draw transformed all the vertices
                                (it drew at least nv/3 triangles) they are reused (the passes of
                                lapped textures after their base pass) */
 } pw_draw;
 
-#define PW__ZT 8 /* coarse depth tile, in samples */
+#define PW__ZT 8   /* coarse depth tile, in samples */
 #define PW__NPL 21 /* floats per triangle: planes q(3) U(3) V(3) N(9), origin(2), ready */
 #define PW__OX 18
 #define PW__OY 19
@@ -7679,29 +7650,25 @@ PW__DEF int pw__draw_check(const pw_draw *d, pw_err *e)
 {
     int i;
     if (d->nv < 0 || d->ntris < 0)
-        return pw_fail(e, PW_ERR_INVALID, "draw: negative counts (%d vertices, %d triangles)", d->nv,
-                       d->ntris);
+        return pw_fail(e, PW_ERR_INVALID, "draw: negative counts (%d vertices, %d triangles)", d->nv, d->ntris);
     if (d->nv > PW_MAX_MESH_ELEMENTS || d->ntris > PW_MAX_MESH_ELEMENTS)
-        return pw_fail(e, PW_ERR_LIMIT, "draw: %d vertices, %d triangles exceed the limit %d", d->nv,
-                       d->ntris, PW_MAX_MESH_ELEMENTS);
+        return pw_fail(e, PW_ERR_LIMIT, "draw: %d vertices, %d triangles exceed the limit %d", d->nv, d->ntris,
+                       PW_MAX_MESH_ELEMENTS);
     if ((d->nv > 0 && !d->positions) || (d->ntris > 0 && !d->tris))
         return pw_fail(e, PW_ERR_INVALID, "draw: missing positions or triangle indices");
     if (d->tex && (!d->uvs || d->tex->nlevels < 1 || !d->tex->level[0]))
         return pw_fail(e, PW_ERR_INVALID, "draw: a texture needs uvs and a built mip chain");
-    if ((unsigned)d->filter > 2u || (unsigned)d->wrap > 1u || (unsigned)d->blend > 1u ||
-        (unsigned)d->depth_test > 2u || (unsigned)d->cull > 2u || (unsigned)d->lighting > 2u)
+    if ((unsigned)d->filter > 2u || (unsigned)d->wrap > 1u || (unsigned)d->blend > 1u || (unsigned)d->depth_test > 2u ||
+        (unsigned)d->cull > 2u || (unsigned)d->lighting > 2u)
         return pw_fail(e, PW_ERR_INVALID, "draw: unknown filter, wrap, blend, depth, cull or lighting mode");
     for (i = 0; i < 3 * d->ntris; i++)
         if (d->tris[i] < 0 || d->tris[i] >= d->nv)
-            return pw_fail(e, PW_ERR_INVALID, "draw: triangle %d, corner %d: vertex index %d outside [0, %d)",
-                           i / 3, i % 3, d->tris[i], d->nv);
+            return pw_fail(e, PW_ERR_INVALID, "draw: triangle %d, corner %d: vertex index %d outside [0, %d)", i / 3,
+                           i % 3, d->tris[i], d->nv);
     return PW_OK;
 }
 
-PW__DEF int pw__finite3(const float *p)
-{
-    return pw_is_finite(p[0]) && pw_is_finite(p[1]) && pw_is_finite(p[2]);
-}
+PW__DEF int pw__finite3(const float *p) { return pw_is_finite(p[0]) && pw_is_finite(p[1]) && pw_is_finite(p[2]); }
 
 /* Homogeneous screen coordinates of every vertex; W = -DBL_MAX marks a
  * vertex with non-finite coordinates (its triangles are skipped). */
@@ -7795,8 +7762,7 @@ PW__DEF void pw__plane(double r[3][3], const double *a, double ox, double oy, fl
 PW__DEF int pw__tri_adjugate(const pw__ctx *c, int t, double r[3][3], double *det)
 {
     const int *ix = c->d->tris + 3 * (size_t)t;
-    const double *h0 = c->vh + 5 * (size_t)ix[0], *h1 = c->vh + 5 * (size_t)ix[1],
-                 *h2 = c->vh + 5 * (size_t)ix[2];
+    const double *h0 = c->vh + 5 * (size_t)ix[0], *h1 = c->vh + 5 * (size_t)ix[1], *h2 = c->vh + 5 * (size_t)ix[2];
     double scale;
     int i, j;
     pw_cross3(h1, h2, r[0]);
@@ -7844,7 +7810,7 @@ PW__DEF void pw__attr_planes(const pw__ctx *c, int t, float *pl)
     if (pl[PW__READY] != 0.0f) return;
     pl[PW__READY] = 1.0f;
     pw__tri_adjugate(c, t, r, &det); /* succeeded when the triangle was set up */
-    if (d->shader) { /* barycentric coordinates b1, b2 in the places of u, v */
+    if (d->shader) {                 /* barycentric coordinates b1, b2 in the places of u, v */
         for (k = 0; k < 2; k++) {
             for (i = 0; i < 3; i++) a[i] = i == k + 1 ? 1.0 : 0.0;
             pw__plane(r, a, ox, oy, pl + 3 + 3 * k);
@@ -7860,8 +7826,7 @@ PW__DEF void pw__attr_planes(const pw__ctx *c, int t, float *pl)
         sgn = det > 0.0 ? -1.0 : 1.0; /* two-sided: back faces turn their normals around */
         if (!c->normals) pw__face_normal(d, t, fn);
         for (k = 0; k < 3; k++) {
-            for (i = 0; i < 3; i++)
-                a[i] = sgn * (c->normals ? (double)c->normals[3 * d->tris[3 * t + i] + k] : fn[k]);
+            for (i = 0; i < 3; i++) a[i] = sgn * (c->normals ? (double)c->normals[3 * d->tris[3 * t + i] + k] : fn[k]);
             pw__plane(r, a, ox, oy, pl + 9 + 3 * k);
         }
     }
@@ -7990,7 +7955,11 @@ PW__DEF void pw__shade(const pw__ctx *c, int t, float x, float y, float *out)
     if (!(q > 1e-30f)) q = 1e-30f; /* only reachable through rounding at a near-plane edge */
     if (c->d->shader || c->tex) {
         pw__shade_pt P;
-        P.t = t, P.pl = pl, P.dx = dx, P.dy = dy, P.iq = 1.0f / q;
+        P.t = t;
+        P.pl = pl;
+        P.dx = dx;
+        P.dy = dy;
+        P.iq = 1.0f / q;
         if (c->d->shader) pw__shade_custom(c, &P, col);
         else pw__shade_tex(c, &P, col);
     }
@@ -8043,11 +8012,8 @@ PW__DEF void pw__shade_vis(pw__ctx *c)
                 if (ids[k] == PW_FB_NONE) continue;
                 for (m = 0; m < k && ids[m] != ids[k]; m++) {
                 }
-                if (m < k)
-                    memcpy(dst, fb->color + (base + off[m]) * 4, 4 * sizeof(float));
-                else
-                    pw__shade(c, (int)ids[k], (float)(px * ss + k % ss) + 0.5f,
-                              (float)(py * ss + k / ss) + 0.5f, dst);
+                if (m < k) memcpy(dst, fb->color + (base + off[m]) * 4, 4 * sizeof(float));
+                else pw__shade(c, (int)ids[k], (float)(px * ss + k % ss) + 0.5f, (float)(py * ss + k / ss) + 0.5f, dst);
             }
         }
     }
@@ -8166,8 +8132,10 @@ PW__DEF int pw__hidden(const pw__ctx *c, const double *const *h, const double *p
     int k, t0[2], t1[2], tx, ty;
     for (k = 0; k < 2; k++) {
         double o = k ? c->fb->y0 : 0.0; /* tile rows count from the band's first row */
-        lo[k] = (p[k] < p[k + 2] ? (p[k] < p[k + 4] ? p[k] : p[k + 4]) : (p[k + 2] < p[k + 4] ? p[k + 2] : p[k + 4])) - o;
-        hi[k] = (p[k] > p[k + 2] ? (p[k] > p[k + 4] ? p[k] : p[k + 4]) : (p[k + 2] > p[k + 4] ? p[k + 2] : p[k + 4])) - o;
+        lo[k] =
+            (p[k] < p[k + 2] ? (p[k] < p[k + 4] ? p[k] : p[k + 4]) : (p[k + 2] < p[k + 4] ? p[k + 2] : p[k + 4])) - o;
+        hi[k] =
+            (p[k] > p[k + 2] ? (p[k] > p[k + 4] ? p[k] : p[k + 4]) : (p[k + 2] > p[k + 4] ? p[k + 2] : p[k + 4])) - o;
         t0[k] = (int)pw_clampf((float)lo[k], 0.0f, (float)(c->fb->sw + c->fb->sh)) / PW__ZT;
         t1[k] = (int)pw_clampf((float)hi[k], 0.0f, (float)(c->fb->sw + c->fb->sh)) / PW__ZT;
     }
@@ -8213,10 +8181,8 @@ PW__DEF void pw__draw_tri(pw__ctx *c, int t)
     /* the usual case (in front, within the raster range) needs no clipping */
     np = inside ? pw_raster_setup(pieces, &c->grid, poly) : pw_raster_polygon(&c->grid, poly, n, pieces);
     for (k = 0; k < np; k++) {
-        if (c->blend == PW_BLEND_OVER && c->cwrite)
-            pw__raster_over(c, pieces + k, t, pl);
-        else
-            pw__raster_vis(c, pieces + k, (uint32_t)t, pl);
+        if (c->blend == PW_BLEND_OVER && c->cwrite) pw__raster_over(c, pieces + k, t, pl);
+        else pw__raster_vis(c, pieces + k, (uint32_t)t, pl);
     }
 }
 
@@ -8224,16 +8190,14 @@ PW__DEF void pw__draw_tri(pw__ctx *c, int t)
 PW__DEF int pw__draw_scratch(pw_fb *fb, const pw_draw *d, int need_normals, pw_err *e)
 {
     size_t oldm = fb->mcap;
-    if (pw_grow(fb->alloc, (void **)&fb->vbuf, &fb->vcap, (size_t)d->nv * 5, sizeof(double),
-                "render vertices", e) ||
+    if (pw_grow(fb->alloc, (void **)&fb->vbuf, &fb->vcap, (size_t)d->nv * 5, sizeof(double), "render vertices", e) ||
         pw_grow(fb->alloc, (void **)&fb->pbuf, &fb->pcap, (size_t)d->ntris * PW__NPL, sizeof(float),
                 "render triangle planes", e) ||
-        (need_normals && pw_grow(fb->alloc, (void **)&fb->nbuf, &fb->ncap, (size_t)d->nv * 3,
-                                 sizeof(float), "render normals", e)))
+        (need_normals &&
+         pw_grow(fb->alloc, (void **)&fb->nbuf, &fb->ncap, (size_t)d->nv * 3, sizeof(float), "render normals", e)))
         return e ? e->code : PW_ERR_NOMEM;
     if (d->blend == PW_BLEND_OVER &&
-        (pw_grow(fb->alloc, (void **)&fb->mbuf, &fb->mcap, (size_t)fb->w, sizeof(uint64_t),
-                 "render sample masks", e) ||
+        (pw_grow(fb->alloc, (void **)&fb->mbuf, &fb->mcap, (size_t)fb->w, sizeof(uint64_t), "render sample masks", e) ||
          pw_grow(fb->alloc, (void **)&fb->qbuf, &fb->qcap, (size_t)fb->sw * fb->ss, sizeof(float),
                  "render sample depths", e)))
         return e ? e->code : PW_ERR_NOMEM;
@@ -8449,21 +8413,21 @@ PW__DEF void pw_parallel_for(const pw_parallel *par, int n, pw_task_fn task, voi
 typedef int (*pw_frame_draw_fn)(void *user, pw_fb *fb, pw_err *e);
 
 typedef struct pw_frame {
-    int w, h, ss;            /* pixels, samples per pixel side */
-    float bg[4];             /* background, straight RGBA */
-    int channels;            /* of the picture: 3 or 4 (see pw_fb_resolve_band) */
+    int w, h, ss; /* pixels, samples per pixel side */
+    float bg[4];  /* background, straight RGBA */
+    int channels; /* of the picture: 3 or 4 (see pw_fb_resolve_band) */
     pw_frame_draw_fn draw;
     void *user;
-    const pw_parallel *par;  /* NULL: one thread */
+    const pw_parallel *par; /* NULL: one thread */
 } pw_frame;
 
 typedef struct pw__frame_run {
     const pw_alloc *a;
     const pw_frame *f;
     pw_image *out;
-    int rows;                /* pixel rows per band */
-    int *codes;              /* per band: its result */
-    pw_err *errs;            /* per band: its message */
+    int rows;     /* pixel rows per band */
+    int *codes;   /* per band: its result */
+    pw_err *errs; /* per band: its message */
 } pw__frame_run;
 
 PW__DEF void pw__frame_band(void *ctx, int band)
@@ -8521,8 +8485,8 @@ PW__DEF int pw_render_frame(const pw_alloc *a, const pw_frame *f, pw_image *out,
     if (f->channels != 3 && f->channels != 4)
         return pw_fail(e, PW_ERR_INVALID, "render: %d channels (need 3 or 4)", f->channels);
     if (f->w <= 0 || f->h <= 0 || f->ss < 1 || f->ss > PW_FB_MAX_SS)
-        return pw_fail(e, PW_ERR_INVALID, "framebuffer: invalid size %dx%d with %dx%d samples", f->w,
-                       f->h, f->ss, f->ss);
+        return pw_fail(e, PW_ERR_INVALID, "framebuffer: invalid size %dx%d with %dx%d samples", f->w, f->h, f->ss,
+                       f->ss);
     R.rows = (f->h + 4 * width - 1) / (4 * width);
     if (R.rows < 8) R.rows = 8;
     nb = (f->h + R.rows - 1) / R.rows;
@@ -8611,17 +8575,17 @@ typedef struct pw__gc_arc {
 
 typedef struct pw_graph {
     int nnodes;
-    int narcs;           /* 2 per edge */
-    pw__gc_node *nodes;  /* nnodes */
-    pw__gc_arc *arcs;    /* narcs, room for arc_cap */
+    int narcs;          /* 2 per edge */
+    pw__gc_node *nodes; /* nnodes */
+    pw__gc_arc *arcs;   /* narcs, room for arc_cap */
     size_t arc_cap;
-    int *orphans;        /* nnodes: circular queue, each node at most once */
-    int node_cap;        /* nodes and orphans allocated */
-    double flow;         /* flow so far, including common t-link parts */
+    int *orphans; /* nnodes: circular queue, each node at most once */
+    int node_cap; /* nodes and orphans allocated */
+    double flow;  /* flow so far, including common t-link parts */
     int active_first, active_last;
     int orphan_head, orphan_count;
-    int time;            /* counts augmentations, for the ts of nodes */
-    pw_err err;          /* first invalid call, reported by pw_graph_maxflow */
+    int time;   /* counts augmentations, for the ts of nodes */
+    pw_err err; /* first invalid call, reported by pw_graph_maxflow */
     pw_alloc alloc;
 } pw_graph;
 
@@ -8687,8 +8651,8 @@ PW__DEF int pw_graph_init(pw_graph *g, const pw_alloc *a, int nnodes, int nedges
         return r;
     }
     if (nedges_hint > 0 && nedges_hint < INT_MAX / 2 &&
-        pw_grow(&g->alloc, (void **)&g->arcs, &g->arc_cap, (size_t)nedges_hint * 2,
-                sizeof(pw__gc_arc), "graph edges", e)) {
+        pw_grow(&g->alloc, (void **)&g->arcs, &g->arc_cap, (size_t)nedges_hint * 2, sizeof(pw__gc_arc), "graph edges",
+                e)) {
         pw_graph_free(g);
         return PW_ERR_NOMEM;
     }
@@ -8699,10 +8663,8 @@ PW__DEF int pw_graph_init(pw_graph *g, const pw_alloc *a, int nnodes, int nedges
  * checks only pw_graph_maxflow still learns of it. */
 PW__DEF int pw__graph_invalid(pw_graph *g, pw_err *e, int code, const char *what, int i, int j)
 {
-    if (j >= 0)
-        pw_fail(&g->err, code, "graph edge (%d, %d): %s", i, j, what);
-    else
-        pw_fail(&g->err, code, "graph node %d: %s", i, what);
+    if (j >= 0) pw_fail(&g->err, code, "graph edge (%d, %d): %s", i, j, what);
+    else pw_fail(&g->err, code, "graph node %d: %s", i, what);
     return pw_fail(e, code, "%s", g->err.msg);
 }
 
@@ -8720,10 +8682,9 @@ PW__DEF int pw_graph_add_edge(pw_graph *g, int i, int j, double cap_ij, double c
     if (i == j) return pw__graph_invalid(g, e, PW_ERR_INVALID, "self loop", i, j);
     if (!pw__gc_cap_ok(cap_ij) || !pw__gc_cap_ok(cap_ji))
         return pw__graph_invalid(g, e, PW_ERR_INVALID, "negative or NaN capacity", i, j);
-    if (g->narcs > INT_MAX - 2)
-        return pw__graph_invalid(g, e, PW_ERR_LIMIT, "too many edges", i, j);
-    if (pw_grow(&g->alloc, (void **)&g->arcs, &g->arc_cap, (size_t)g->narcs + 2,
-                sizeof(pw__gc_arc), "graph edges", e)) {
+    if (g->narcs > INT_MAX - 2) return pw__graph_invalid(g, e, PW_ERR_LIMIT, "too many edges", i, j);
+    if (pw_grow(&g->alloc, (void **)&g->arcs, &g->arc_cap, (size_t)g->narcs + 2, sizeof(pw__gc_arc), "graph edges",
+                e)) {
         pw_fail(&g->err, PW_ERR_NOMEM, "graph: out of memory adding edge (%d, %d)", i, j);
         return PW_ERR_NOMEM;
     }
@@ -8750,19 +8711,14 @@ PW__DEF int pw_graph_add_edge(pw_graph *g, int i, int j, double cap_ij, double c
 PW__DEF int pw_graph_add_tweights(pw_graph *g, int i, double cap_source, double cap_sink)
 {
     double t;
-    if (i < 0 || i >= g->nnodes)
-        return pw__graph_invalid(g, NULL, PW_ERR_INVALID, "node index out of range", i, -1);
+    if (i < 0 || i >= g->nnodes) return pw__graph_invalid(g, NULL, PW_ERR_INVALID, "node index out of range", i, -1);
     if (!pw__gc_cap_ok(cap_source) || !pw__gc_cap_ok(cap_sink))
-        return pw__graph_invalid(g, NULL, PW_ERR_INVALID, "negative or NaN terminal capacity",
-                                 i, -1);
+        return pw__graph_invalid(g, NULL, PW_ERR_INVALID, "negative or NaN terminal capacity", i, -1);
     t = g->nodes[i].tr;
-    if (t > 0)
-        cap_source += t;
-    else
-        cap_sink -= t;
+    if (t > 0) cap_source += t;
+    else cap_sink -= t;
     if (cap_source == HUGE_VAL && cap_sink == HUGE_VAL)
-        return pw__graph_invalid(g, NULL, PW_ERR_INVALID,
-                                 "infinite capacity to both source and sink", i, -1);
+        return pw__graph_invalid(g, NULL, PW_ERR_INVALID, "infinite capacity to both source and sink", i, -1);
     g->flow += cap_source < cap_sink ? cap_source : cap_sink;
     g->nodes[i].tr = cap_source - cap_sink;
     return PW_OK;
@@ -8775,10 +8731,8 @@ PW__DEF void pw__gc_activate(pw_graph *g, int i)
 {
     if (g->nodes[i].next != PW__GC_IDLE) return;
     g->nodes[i].next = -1;
-    if (g->active_last >= 0)
-        g->nodes[g->active_last].next = i;
-    else
-        g->active_first = i;
+    if (g->active_last >= 0) g->nodes[g->active_last].next = i;
+    else g->active_first = i;
     g->active_last = i;
 }
 
@@ -9001,7 +8955,8 @@ PW__DEF int pw__gc_augment(pw_graph *g, int mid, pw_err *e)
     double bn = pw__gc_bottleneck(g, mid);
     if (bn == HUGE_VAL) {
         g->flow = HUGE_VAL;
-        return pw_fail(e, PW_ERR_INVALID, "graph: a path of infinite capacity joins the "
+        return pw_fail(e, PW_ERR_INVALID,
+                       "graph: a path of infinite capacity joins the "
                        "source to the sink (through nodes %d and %d): the flow is unbounded",
                        g->arcs[mid ^ 1].head, g->arcs[mid].head);
     }
@@ -9084,14 +9039,14 @@ PW__DEF int pw_graph_in_source(const pw_graph *g, int i)
 
 
 typedef struct pw_quilt {
-    int w, h, c;          /* grid size and colour channels */
-    int nlabels;          /* number of sources, at most 32 */
-    const float *src;     /* nlabels*w*h*c: source l's colour at pixel i is src + (l*w*h + i)*c */
-    int *label;           /* w*h, in/out: the labelling (initial labels must be allowed) */
+    int w, h, c;             /* grid size and colour channels */
+    int nlabels;             /* number of sources, at most 32 */
+    const float *src;        /* nlabels*w*h*c: source l's colour at pixel i is src + (l*w*h + i)*c */
+    int *label;              /* w*h, in/out: the labelling (initial labels must be allowed) */
     const uint32_t *allowed; /* w*h bit masks (bit l: label l allowed) or NULL: all */
-    int wrap_x, wrap_y;   /* non-zero: the grid is periodic in that direction */
-    const float *motif;   /* NULL or nlabels*w*h: source l's motif value at pixel i is motif[l*w*h + i] */
-    float motif_weight;   /* seam cost per source pixel inside a motif */
+    int wrap_x, wrap_y;      /* non-zero: the grid is periodic in that direction */
+    const float *motif;      /* NULL or nlabels*w*h: source l's motif value at pixel i is motif[l*w*h + i] */
+    float motif_weight;      /* seam cost per source pixel inside a motif */
 } pw_quilt;
 
 /* |A(i) - B(i)|: distance between the colours of two labels at pixel i. */
@@ -9281,12 +9236,16 @@ PW__DEF int pw__quilt_clear_ground(const pw_alloc *a, float *m, int w, int h, pw
     int *comp = buf;
     pw__quilt_flood F;
     if (!buf) return PW_ERR_NOMEM;
-    F.m = m, F.w = w, F.h = h;
-    F.comp = comp, F.ux = buf + n, F.uy = buf + 2 * n, F.stack = buf + 3 * n;
+    F.m = m;
+    F.w = w;
+    F.h = h;
+    F.comp = comp;
+    F.ux = buf + n;
+    F.uy = buf + 2 * n;
+    F.stack = buf + 3 * n;
     for (i = 0; i < n; i++) comp[i] = -1;
     for (i = 0; i < n; i++)
-        if (m[i] > 0.5f && comp[i] < 0 && (pw__quilt_wraps(&F, (int)i, &size) || size * 4 >= n ||
-             size * 200 < n)) {
+        if (m[i] > 0.5f && comp[i] < 0 && (pw__quilt_wraps(&F, (int)i, &size) || size * 4 >= n || size * 200 < n)) {
             size_t j;
             for (j = 0; j < n; j++)
                 if (comp[j] == (int)i) m[j] = 0.0f;
@@ -9404,8 +9363,7 @@ PW__DEF int pw__quilt_expand_one(pw__quilt_move *M, int *changed, const pw_alloc
     double flow;
     *changed = 0;
     for (i = 0; i < n; i++)
-        node[i] = q->label[i] == alpha || (q->allowed && !(q->allowed[i] >> alpha & 1u)) ? -1
-                                                                                   : nvar++;
+        node[i] = q->label[i] == alpha || (q->allowed && !(q->allowed[i] >> alpha & 1u)) ? -1 : nvar++;
     if (nvar == 0) return PW_OK;
     for (i = 0; i < nvar; i++) u0[i] = u1[i] = 0.0;
     if ((r = pw_graph_init(&g, a, nvar, 2 * nvar, e)) != PW_OK) return r;
@@ -9445,7 +9403,12 @@ PW__DEF int pw_quilt_optimize(const pw_alloc *a, pw_quilt *q, int cycles, pw_err
     for (c = 0; c < cycles && r == PW_OK; c++) {
         total = 0;
         for (l = 0; l < q->nlabels && r == PW_OK; l++) {
-            M.q = q, M.alpha = l, M.g = NULL, M.node = node, M.u0 = u, M.u1 = u + n;
+            M.q = q;
+            M.alpha = l;
+            M.g = NULL;
+            M.node = node;
+            M.u0 = u;
+            M.u1 = u + n;
             r = pw__quilt_expand_one(&M, &changed, a, e);
             total += changed;
         }
@@ -9461,8 +9424,7 @@ PW__DEF void pw_quilt_compose(const pw_quilt *q, float *out)
 {
     int i, n = q->w * q->h;
     for (i = 0; i < n; i++)
-        memcpy(out + (size_t)i * q->c, q->src + ((size_t)q->label[i] * n + i) * q->c,
-               sizeof(float) * (size_t)q->c);
+        memcpy(out + (size_t)i * q->c, q->src + ((size_t)q->label[i] * n + i) * q->c, sizeof(float) * (size_t)q->c);
 }
 
 /* Labels of pw_quilt_make_tileable: the image itself and two copies of it
@@ -9512,8 +9474,7 @@ PW__DEF int pw_quilt_make_tileable_px(const pw_alloc *a, const pw_image *in, flo
                 int sx = pw__tileable_shift(l, w), sy = pw__tileable_shift(l, h);
                 size_t j = (size_t)((y + sy) % h) * w + (size_t)((x + sx) % w);
                 memcpy(src + (l * n + i) * c, px + j * c, sizeof(float) * c);
-                if (!pw__tileable_near_wrap(x, w, sx) && !pw__tileable_near_wrap(y, h, sy))
-                    allowed[i] |= 1u << l;
+                if (!pw__tileable_near_wrap(x, w, sx) && !pw__tileable_near_wrap(y, h, sy)) allowed[i] |= 1u << l;
             }
             label[i] = allowed[i] & 1u ? 0 : (allowed[i] & 2u ? 1 : 2);
         }
@@ -9537,8 +9498,7 @@ done:
 }
 
 /* The same for an image: out is a new image of the input's size. */
-PW__DEF int pw_quilt_make_tileable(const pw_alloc *a, const pw_image *in, pw_image *out,
-                                   pw_err *e)
+PW__DEF int pw_quilt_make_tileable(const pw_alloc *a, const pw_image *in, pw_image *out, pw_err *e)
 {
     int r;
     if ((r = pw_image_alloc(a, out, in->w, in->h, in->c, e)) != PW_OK) return r;
@@ -9571,21 +9531,19 @@ PW__DEF int pw_image_validate(const pw_image *im, const char *what, pw_err *e)
     size_t k, n;
     if (!im->px || im->w < 1 || im->h < 1 || im->c < 1 || im->c > 4)
         return pw_fail(e, PW_ERR_INVALID, "%s: empty image or bad channel count", what);
-    if (im->w > PW_MAX_IMAGE_DIM || im->h > PW_MAX_IMAGE_DIM ||
-        (int64_t)im->w * im->h > PW_MAX_IMAGE_PIXELS)
+    if (im->w > PW_MAX_IMAGE_DIM || im->h > PW_MAX_IMAGE_DIM || (int64_t)im->w * im->h > PW_MAX_IMAGE_PIXELS)
         return pw_fail(e, PW_ERR_LIMIT, "%s: %dx%d pixels is over the limit", what, im->w, im->h);
     n = (size_t)im->w * im->h * im->c;
     for (k = 0; k < n; k++)
         if (!pw_is_finite(im->px[k]))
-            return pw_fail(e, PW_ERR_INVALID, "%s: pixel %lu is not a finite number", what,
-                           (unsigned long)(k / im->c));
+            return pw_fail(e, PW_ERR_INVALID, "%s: pixel %lu is not a finite number", what, (unsigned long)(k / im->c));
     return PW_OK;
 }
 
 /* Encodes an image as "png", "pam", "ppm" or "pgm", converting the channels
  * to what PPM (3) and PGM (1) hold. */
-PW__DEF int pw_image_encode(const pw_alloc *a, const pw_image *img, const char *format,
-                            pw_write_fn fn, void *ctx, pw_err *e)
+PW__DEF int pw_image_encode(const pw_alloc *a, const pw_image *img, const char *format, pw_write_fn fn, void *ctx,
+                            pw_err *e)
 {
     pw_image conv;
     int want = 0, r;
@@ -9593,8 +9551,7 @@ PW__DEF int pw_image_encode(const pw_alloc *a, const pw_image *img, const char *
     if (!strcmp(format, "ppm")) want = 3;
     else if (!strcmp(format, "pgm")) want = 1;
     else if (strcmp(format, "png") && strcmp(format, "pam"))
-        return pw_fail(e, PW_ERR_UNSUPPORTED, "unknown image format '%s' (png, ppm, pgm, pam)",
-                       format);
+        return pw_fail(e, PW_ERR_UNSUPPORTED, "unknown image format '%s' (png, ppm, pgm, pam)", format);
     if (want && want != img->c) {
         if ((r = pw_image_convert(a, img, want, &conv, e)) != PW_OK) return r;
         r = pw_image_write_pnm(&conv, 0, 0, fn, ctx, e);
@@ -9609,8 +9566,8 @@ PW__DEF int pw_image_encode(const pw_alloc *a, const pw_image *img, const char *
 /* Fills the zero fields of a view (public render options) with the
  * defaults every method shares: 800x600, 2x2 supersampling, looking along
  * (-0.55,-0.45,-0.7) with +Y up, on white. */
-PW__DEF void pw_view_defaults(int *width, int *height, int *supersample, float view_dir[3],
-                              float up[3], float background[3])
+PW__DEF void pw_view_defaults(int *width, int *height, int *supersample, float view_dir[3], float up[3],
+                              float background[3])
 {
     static const float view[3] = {-0.55f, -0.45f, -0.7f}, y[3] = {0.0f, 1.0f, 0.0f};
     if (!*width) *width = 800;
@@ -9618,8 +9575,7 @@ PW__DEF void pw_view_defaults(int *width, int *height, int *supersample, float v
     if (!*supersample) *supersample = 2;
     if (!view_dir[0] && !view_dir[1] && !view_dir[2]) memcpy(view_dir, view, sizeof view);
     if (!up[0] && !up[1] && !up[2]) memcpy(up, y, sizeof y);
-    if (!background[0] && !background[1] && !background[2])
-        background[0] = background[1] = background[2] = 1.0f;
+    if (!background[0] && !background[1] && !background[2]) background[0] = background[1] = background[2] = 1.0f;
 }
 
 /* PW_PUBLIC_GLUE(p) defines, for a header whose public types are
@@ -9634,125 +9590,123 @@ PW__DEF void pw_view_defaults(int *width, int *height, int *supersample, float v
  *   p_result    p__left_out(const char *what, const char *macro, p_error *)
  *               PW_ERR_UNSUPPORTED, "what compiled out (macro)": the stubs that stand
  *               for the calls PW_NO_RENDER leaves out */
-#define PW_PUBLIC_GLUE(p)                                                                        \
-    static PW__UNUSED pw_alloc p##__alloc(const p##_allocator *t)                                \
-    {                                                                                            \
-        pw_alloc a;                                                                              \
-        memset(&a, 0, sizeof a);                                                                 \
-        if (t) {                                                                                 \
-            a.malloc_fn = t->malloc_fn;                                                          \
-            a.realloc_fn = t->realloc_fn;                                                        \
-            a.free_fn = t->free_fn;                                                              \
-            a.user = t->user;                                                                    \
-        }                                                                                        \
-        return a;                                                                                \
-    }                                                                                            \
-    static PW__UNUSED p##_allocator p##__allocator(const pw_alloc *a)                            \
-    {                                                                                            \
-        p##_allocator t;                                                                         \
-        t.malloc_fn = a->malloc_fn;                                                              \
-        t.realloc_fn = a->realloc_fn;                                                            \
-        t.free_fn = a->free_fn;                                                                  \
-        t.user = a->user;                                                                        \
-        return t;                                                                                \
-    }                                                                                            \
-    static PW__UNUSED p##_result p##__done(const pw_err *pe, p##_error *err)                     \
-    {                                                                                            \
-        if (err) {                                                                               \
-            err->code = (p##_result)pe->code;                                                    \
-            memcpy(err->message, pe->msg, sizeof err->message);                                  \
-        }                                                                                        \
-        return (p##_result)pe->code;                                                             \
-    }                                                                                            \
-    static PW__UNUSED pw_image p##__pw_image(const p##_image *t)                                 \
-    {                                                                                            \
-        pw_image v;                                                                              \
-        v.w = t->width;                                                                          \
-        v.h = t->height;                                                                         \
-        v.c = t->channels;                                                                       \
-        v.bits = t->bits ? t->bits : 8;                                                          \
-        v.px = t->pixels;                                                                        \
-        return v;                                                                                \
-    }                                                                                            \
-    static PW__UNUSED void p##__take_image(pw_image *v, const pw_alloc *a, p##_image *t)         \
-    {                                                                                            \
-        t->width = v->w;                                                                         \
-        t->height = v->h;                                                                        \
-        t->channels = v->c;                                                                      \
-        t->bits = v->bits;                                                                       \
-        t->pixels = v->px;                                                                       \
-        t->allocator = p##__allocator(a);                                                        \
-        memset(v, 0, sizeof *v);                                                                 \
-    }                                                                                            \
-    static PW__UNUSED int p##__check_image(const p##_image *t, const char *what, pw_err *e)      \
-    {                                                                                            \
-        pw_image v;                                                                              \
-        if (!t) return pw_fail(e, PW_ERR_INVALID, "%s: empty image (none given)", what);                         \
-        v = p##__pw_image(t);                                                                    \
-        return pw_image_validate(&v, what, e);                                                   \
-    }                                                                                            \
-    static PW__UNUSED int p##__encode(const p##_image *t, const char *format, pw_write_fn fn,    \
-                                      void *ctx, pw_err *e)                                      \
-    {                                                                                            \
-        pw_image v = p##__pw_image(t);                                                           \
-        pw_alloc a = p##__alloc(&t->allocator);                                                  \
-        return pw_image_encode(&a, &v, format, fn, ctx, e);                                      \
-    }                                                                                            \
-    static PW__UNUSED void p##__take_mesh(pw_mesh *m, const pw_alloc *a, p##_mesh *t)            \
-    {                                                                                            \
-        memset(t, 0, sizeof *t);                                                                 \
-        t->nverts = m->nv;                                                                       \
-        t->positions = m->pos;                                                                   \
-        t->nfaces = m->nf;                                                                       \
-        t->face_start = m->fstart;                                                               \
-        t->face_verts = m->fv;                                                                   \
-        t->allocator = p##__allocator(a);                                                        \
-        pw_free(a, m->uv);                                                                       \
-        pw_free(a, m->fuv);                                                                      \
-        memset(m, 0, sizeof *m);                                                                 \
-    }                                                                                            \
-    static PW__UNUSED p##_result p##__left_out(const char *what, const char *macro,             \
-                                               p##_error *err)                                   \
-    {                                                                                            \
-        pw_err pe;                                                                               \
-        pw_err_clear(&pe);                                                                       \
-        pw_fail(&pe, PW_ERR_UNSUPPORTED, "%s compiled out (%s)", what, macro);                   \
-        return p##__done(&pe, err);                                                              \
-    }                                                                                            \
-    static PW__UNUSED pw_parallel p##__parallel(const p##_render_options *ro)                   \
-    {                                                                                            \
-        pw_parallel par;                                                                         \
-        par.threads = ro->threads;                                                               \
-        par.run = ro->parallel;                                                                  \
-        par.pool = ro->parallel_pool;                                                            \
-        return par;                                                                              \
-    }                                                                                            \
+#define PW_PUBLIC_GLUE(p)                                                                                           \
+    static PW__UNUSED pw_alloc p##__alloc(const p##_allocator *t)                                                   \
+    {                                                                                                               \
+        pw_alloc a;                                                                                                 \
+        memset(&a, 0, sizeof a);                                                                                    \
+        if (t) {                                                                                                    \
+            a.malloc_fn = t->malloc_fn;                                                                             \
+            a.realloc_fn = t->realloc_fn;                                                                           \
+            a.free_fn = t->free_fn;                                                                                 \
+            a.user = t->user;                                                                                       \
+        }                                                                                                           \
+        return a;                                                                                                   \
+    }                                                                                                               \
+    static PW__UNUSED p##_allocator p##__allocator(const pw_alloc *a)                                               \
+    {                                                                                                               \
+        p##_allocator t;                                                                                            \
+        t.malloc_fn = a->malloc_fn;                                                                                 \
+        t.realloc_fn = a->realloc_fn;                                                                               \
+        t.free_fn = a->free_fn;                                                                                     \
+        t.user = a->user;                                                                                           \
+        return t;                                                                                                   \
+    }                                                                                                               \
+    static PW__UNUSED p##_result p##__done(const pw_err *pe, p##_error *err)                                        \
+    {                                                                                                               \
+        if (err) {                                                                                                  \
+            err->code = (p##_result)pe->code;                                                                       \
+            memcpy(err->message, pe->msg, sizeof err->message);                                                     \
+        }                                                                                                           \
+        return (p##_result)pe->code;                                                                                \
+    }                                                                                                               \
+    static PW__UNUSED pw_image p##__pw_image(const p##_image *t)                                                    \
+    {                                                                                                               \
+        pw_image v;                                                                                                 \
+        v.w = t->width;                                                                                             \
+        v.h = t->height;                                                                                            \
+        v.c = t->channels;                                                                                          \
+        v.bits = t->bits ? t->bits : 8;                                                                             \
+        v.px = t->pixels;                                                                                           \
+        return v;                                                                                                   \
+    }                                                                                                               \
+    static PW__UNUSED void p##__take_image(pw_image *v, const pw_alloc *a, p##_image *t)                            \
+    {                                                                                                               \
+        t->width = v->w;                                                                                            \
+        t->height = v->h;                                                                                           \
+        t->channels = v->c;                                                                                         \
+        t->bits = v->bits;                                                                                          \
+        t->pixels = v->px;                                                                                          \
+        t->allocator = p##__allocator(a);                                                                           \
+        memset(v, 0, sizeof *v);                                                                                    \
+    }                                                                                                               \
+    static PW__UNUSED int p##__check_image(const p##_image *t, const char *what, pw_err *e)                         \
+    {                                                                                                               \
+        pw_image v;                                                                                                 \
+        if (!t) return pw_fail(e, PW_ERR_INVALID, "%s: empty image (none given)", what);                            \
+        v = p##__pw_image(t);                                                                                       \
+        return pw_image_validate(&v, what, e);                                                                      \
+    }                                                                                                               \
+    static PW__UNUSED int p##__encode(const p##_image *t, const char *format, pw_write_fn fn, void *ctx, pw_err *e) \
+    {                                                                                                               \
+        pw_image v = p##__pw_image(t);                                                                              \
+        pw_alloc a = p##__alloc(&t->allocator);                                                                     \
+        return pw_image_encode(&a, &v, format, fn, ctx, e);                                                         \
+    }                                                                                                               \
+    static PW__UNUSED void p##__take_mesh(pw_mesh *m, const pw_alloc *a, p##_mesh *t)                               \
+    {                                                                                                               \
+        memset(t, 0, sizeof *t);                                                                                    \
+        t->nverts = m->nv;                                                                                          \
+        t->positions = m->pos;                                                                                      \
+        t->nfaces = m->nf;                                                                                          \
+        t->face_start = m->fstart;                                                                                  \
+        t->face_verts = m->fv;                                                                                      \
+        t->allocator = p##__allocator(a);                                                                           \
+        pw_free(a, m->uv);                                                                                          \
+        pw_free(a, m->fuv);                                                                                         \
+        memset(m, 0, sizeof *m);                                                                                    \
+    }                                                                                                               \
+    static PW__UNUSED p##_result p##__left_out(const char *what, const char *macro, p##_error *err)                 \
+    {                                                                                                               \
+        pw_err pe;                                                                                                  \
+        pw_err_clear(&pe);                                                                                          \
+        pw_fail(&pe, PW_ERR_UNSUPPORTED, "%s compiled out (%s)", what, macro);                                      \
+        return p##__done(&pe, err);                                                                                 \
+    }                                                                                                               \
+    static PW__UNUSED pw_parallel p##__parallel(const p##_render_options *ro)                                       \
+    {                                                                                                               \
+        pw_parallel par;                                                                                            \
+        par.threads = ro->threads;                                                                                  \
+        par.run = ro->parallel;                                                                                     \
+        par.pool = ro->parallel_pool;                                                                               \
+        return par;                                                                                                 \
+    }                                                                                                               \
     typedef int p##__glue_defined /* so that the use ends with a semicolon */
 
 /* The public frees of an image and of a mesh with the shared fields only
  * (DEF: the header's XDEF): with the allocator the object remembers, then
  * zeroed; NULL and zeroed objects are fine. */
-#define PW_PUBLIC_IMAGE_FREE(p, DEF)                                                             \
-    DEF void p##_image_free(p##_image *img)                                                      \
-    {                                                                                            \
-        pw_alloc a;                                                                              \
-        if (!img) return;                                                                        \
-        a = p##__alloc(&img->allocator);                                                         \
-        pw_free(&a, img->pixels);                                                                \
-        memset(img, 0, sizeof *img);                                                             \
-    }                                                                                            \
+#define PW_PUBLIC_IMAGE_FREE(p, DEF)        \
+    DEF void p##_image_free(p##_image *img) \
+    {                                       \
+        pw_alloc a;                         \
+        if (!img) return;                   \
+        a = p##__alloc(&img->allocator);    \
+        pw_free(&a, img->pixels);           \
+        memset(img, 0, sizeof *img);        \
+    }                                       \
     typedef int p##__image_free_defined
-#define PW_PUBLIC_MESH_FREE(p, DEF)                                                              \
-    DEF void p##_mesh_free(p##_mesh *m)                                                          \
-    {                                                                                            \
-        pw_alloc a;                                                                              \
-        if (!m) return;                                                                          \
-        a = p##__alloc(&m->allocator);                                                           \
-        pw_free(&a, m->positions);                                                               \
-        pw_free(&a, m->face_start);                                                              \
-        pw_free(&a, m->face_verts);                                                              \
-        memset(m, 0, sizeof *m);                                                                 \
-    }                                                                                            \
+#define PW_PUBLIC_MESH_FREE(p, DEF)     \
+    DEF void p##_mesh_free(p##_mesh *m) \
+    {                                   \
+        pw_alloc a;                     \
+        if (!m) return;                 \
+        a = p##__alloc(&m->allocator);  \
+        pw_free(&a, m->positions);      \
+        pw_free(&a, m->face_start);     \
+        pw_free(&a, m->face_verts);     \
+        memset(m, 0, sizeof *m);        \
+    }                                   \
     typedef int p##__mesh_free_defined
 
 #endif /* PW__GLUE_V1 */
@@ -9793,9 +9747,9 @@ PW__DEF void pw_view_defaults(int *width, int *height, int *supersample, float v
 
 
 typedef struct pw_gltf_part {
-    const char *name;        /* mesh and node name (NULL: "mesh") */
+    const char *name; /* mesh and node name (NULL: "mesh") */
     int nv;
-    const float *pos;        /* nv*3 */
+    const float *pos; /* nv*3 */
     int nf;
     const int *fstart;       /* nf+1 offsets into fv */
     const int *fv;           /* fstart[nf] vertex indices, counter-clockwise */
@@ -9816,14 +9770,16 @@ typedef struct pw_gltf_scene {
  * vertex, texture coordinate) pair, in order of first use. */
 typedef struct pw__gltf_verts {
     int n;
-    int *src;     /* n: the mesh vertex */
-    int *corner;  /* n: a corner that uses it (its coordinate) */
-    int *index;   /* fstart[nf]: the glTF vertex of each corner */
+    int *src;    /* n: the mesh vertex */
+    int *corner; /* n: a corner that uses it (its coordinate) */
+    int *index;  /* fstart[nf]: the glTF vertex of each corner */
 } pw__gltf_verts;
 
 static void pw__gltf_verts_free(const pw_alloc *a, pw__gltf_verts *V)
 {
-    pw_free(a, V->src), pw_free(a, V->corner), pw_free(a, V->index);
+    pw_free(a, V->src);
+    pw_free(a, V->corner);
+    pw_free(a, V->index);
     memset(V, 0, sizeof *V);
 }
 
@@ -9839,7 +9795,8 @@ static int pw__gltf_split(const pw_alloc *a, const pw_gltf_part *p, pw__gltf_ver
     V->corner = (int *)pw_alloc_array(a, (size_t)nc, sizeof(int), "glTF vertices", e);
     V->index = (int *)pw_alloc_array(a, (size_t)nc, sizeof(int), "glTF vertices", e);
     if (!head || !next || !V->src || !V->corner || !V->index) {
-        pw_free(a, head), pw_free(a, next);
+        pw_free(a, head);
+        pw_free(a, next);
         pw__gltf_verts_free(a, V);
         return PW_ERR_NOMEM;
     }
@@ -9849,12 +9806,15 @@ static int pw__gltf_split(const pw_alloc *a, const pw_gltf_part *p, pw__gltf_ver
         while (k >= 0 && p->corner_uv && memcmp(p->corner_uv + 2 * V->corner[k], p->corner_uv + 2 * c, 8)) k = next[k];
         if (k < 0) {
             k = V->n++;
-            V->src[k] = v, V->corner[k] = c;
-            next[k] = head[v], head[v] = k;
+            V->src[k] = v;
+            V->corner[k] = c;
+            next[k] = head[v];
+            head[v] = k;
         }
         V->index[c] = k;
     }
-    pw_free(a, head), pw_free(a, next);
+    pw_free(a, head);
+    pw_free(a, next);
     return PW_OK;
 }
 
@@ -9866,7 +9826,8 @@ static int pw__gltf_normals(const pw_alloc *a, const pw_gltf_part *p, float **ou
     float *n = (float *)pw_alloc_array(a, (size_t)p->nv * 3, sizeof(float), "glTF normals", e);
     int f, i, k;
     if (!acc || !n) {
-        pw_free(a, acc), pw_free(a, n);
+        pw_free(a, acc);
+        pw_free(a, n);
         return PW_ERR_NOMEM;
     }
     for (f = 0; f < p->nf; f++)
@@ -9901,7 +9862,7 @@ typedef struct pw__gltf_out {
     pw_buf bin;
     pw__gltf_view *views;
     size_t nviews, vcap;
-    pw__wb js;       /* the JSON, into json */
+    pw__wb js; /* the JSON, into json */
     pw_buf json;
 } pw__gltf_out;
 
@@ -9909,8 +9870,10 @@ typedef struct pw__gltf_out {
 static int pw__gltf_view_begin(pw__gltf_out *o, int target, pw_err *e)
 {
     static const unsigned char zero[4] = {0, 0, 0, 0};
-    if (o->bin.size % 4 && pw_buf_write(&o->bin, zero, 4 - o->bin.size % 4)) return pw_fail(e, PW_ERR_NOMEM, "out of memory writing glTF");
-    if (pw_grow(o->a, (void **)&o->views, &o->vcap, o->nviews + 1, sizeof *o->views, "glTF views", e)) return PW_ERR_NOMEM;
+    if (o->bin.size % 4 && pw_buf_write(&o->bin, zero, 4 - o->bin.size % 4))
+        return pw_fail(e, PW_ERR_NOMEM, "out of memory writing glTF");
+    if (pw_grow(o->a, (void **)&o->views, &o->vcap, o->nviews + 1, sizeof *o->views, "glTF views", e))
+        return PW_ERR_NOMEM;
     o->views[o->nviews].offset = o->bin.size;
     o->views[o->nviews].length = 0;
     o->views[o->nviews].target = target;
@@ -9929,7 +9892,10 @@ static int pw__gltf_view_end(pw__gltf_out *o, pw_err *e)
 static void pw__gltf_put32(pw__gltf_out *o, uint32_t v)
 {
     unsigned char b[4];
-    b[0] = (unsigned char)v, b[1] = (unsigned char)(v >> 8), b[2] = (unsigned char)(v >> 16), b[3] = (unsigned char)(v >> 24);
+    b[0] = (unsigned char)v;
+    b[1] = (unsigned char)(v >> 8);
+    b[2] = (unsigned char)(v >> 16);
+    b[3] = (unsigned char)(v >> 24);
     pw_buf_write(&o->bin, b, 4);
 }
 
@@ -9959,9 +9925,14 @@ static void pw__js_string(pw__gltf_out *o, const char *s)
     for (; *s; s++) {
         unsigned char c = (unsigned char)*s;
         char u[6] = {'\\', 'u', '0', '0', 0, 0};
-        if (c == '"' || c == '\\') pw__wb_put(&o->js, "\\", 1), pw__wb_put(&o->js, s, 1);
-        else if (c < 0x20) u[4] = hex[c >> 4], u[5] = hex[c & 15], pw__wb_put(&o->js, u, 6);
-        else pw__wb_put(&o->js, s, 1);
+        if (c == '"' || c == '\\') {
+            pw__wb_put(&o->js, "\\", 1);
+            pw__wb_put(&o->js, s, 1);
+        } else if (c < 0x20) {
+            u[4] = hex[c >> 4];
+            u[5] = hex[c & 15];
+            pw__wb_put(&o->js, u, 6);
+        } else pw__wb_put(&o->js, s, 1);
     }
     pw__js(o, "\"");
 }
@@ -9982,7 +9953,9 @@ static int pw__gltf_part_data(pw__gltf_out *o, const pw_gltf_part *p, const pw__
                               pw__gltf_info *I, pw_err *e)
 {
     int f, i, k, r;
-    I->nverts = V->n, I->ntris = 0, I->view0 = (int)o->nviews;
+    I->nverts = V->n;
+    I->ntris = 0;
+    I->view0 = (int)o->nviews;
     if ((r = pw__gltf_view_begin(o, 34963, e))) return r;
     for (f = 0; f < p->nf; f++)
         for (i = p->fstart[f] + 1; i + 1 < p->fstart[f + 1]; i++, I->ntris++) {
@@ -10015,7 +9988,8 @@ static int pw__gltf_part_data(pw__gltf_out *o, const pw_gltf_part *p, const pw__
         pw_err_clear(&local);
         if ((r = pw__gltf_view_begin(o, 0, e))) return r;
         if ((r = pw_png_write(o->a, p->texture, 8, pw_buf_write, &o->bin, &local)))
-            return o->bin.failed ? pw_fail(e, PW_ERR_NOMEM, "out of memory writing glTF") : pw_fail(e, r, "%s", local.msg);
+            return o->bin.failed ? pw_fail(e, PW_ERR_NOMEM, "out of memory writing glTF")
+                                 : pw_fail(e, r, "%s", local.msg);
         if ((r = pw__gltf_view_end(o, e))) return r;
     }
     return PW_OK;
@@ -10027,17 +10001,22 @@ static int pw__gltf_check(const pw_gltf_part *p, int k, pw_err *e)
     int i, nc;
     if (!p->pos || !p->fstart || !p->fv || p->nv < 1 || p->nf < 1 || p->fstart[0] != 0)
         return pw_fail(e, PW_ERR_INVALID, "glTF part %d: empty or malformed mesh", k);
-    if (p->texture && !p->corner_uv) return pw_fail(e, PW_ERR_INVALID, "glTF part %d: a texture without texture coordinates", k);
+    if (p->texture && !p->corner_uv)
+        return pw_fail(e, PW_ERR_INVALID, "glTF part %d: a texture without texture coordinates", k);
     for (i = 0; i < p->nf; i++)
         if (p->fstart[i + 1] - p->fstart[i] < 3 || p->fstart[i + 1] > PW_MAX_MESH_ELEMENTS)
-            return pw_fail(e, PW_ERR_INVALID, "glTF part %d: face %d has %d corners", k, i, p->fstart[i + 1] - p->fstart[i]);
+            return pw_fail(e, PW_ERR_INVALID, "glTF part %d: face %d has %d corners", k, i,
+                           p->fstart[i + 1] - p->fstart[i]);
     nc = p->fstart[p->nf];
     for (i = 0; i < nc; i++)
-        if (p->fv[i] < 0 || p->fv[i] >= p->nv) return pw_fail(e, PW_ERR_INVALID, "glTF part %d: corner %d names vertex %d of %d", k, i, p->fv[i], p->nv);
+        if (p->fv[i] < 0 || p->fv[i] >= p->nv)
+            return pw_fail(e, PW_ERR_INVALID, "glTF part %d: corner %d names vertex %d of %d", k, i, p->fv[i], p->nv);
     for (i = 0; i < 3 * p->nv; i++)
-        if (!pw_is_finite(p->pos[i])) return pw_fail(e, PW_ERR_INVALID, "glTF part %d: vertex %d is not finite", k, i / 3);
+        if (!pw_is_finite(p->pos[i]))
+            return pw_fail(e, PW_ERR_INVALID, "glTF part %d: vertex %d is not finite", k, i / 3);
     for (i = 0; p->corner_uv && i < 2 * nc; i++)
-        if (!pw_is_finite(p->corner_uv[i])) return pw_fail(e, PW_ERR_INVALID, "glTF part %d: corner %d's texture coordinate is not finite", k, i / 2);
+        if (!pw_is_finite(p->corner_uv[i]))
+            return pw_fail(e, PW_ERR_INVALID, "glTF part %d: corner %d's texture coordinate is not finite", k, i / 2);
     return PW_OK;
 }
 
@@ -10052,7 +10031,10 @@ static void pw__gltf_json_views(pw__gltf_out *o)
         pw__js_int(o, (long long)o->views[k].offset);
         pw__js(o, ",\"byteLength\":");
         pw__js_int(o, (long long)o->views[k].length);
-        if (o->views[k].target) pw__js(o, ",\"target\":"), pw__js_int(o, o->views[k].target);
+        if (o->views[k].target) {
+            pw__js(o, ",\"target\":");
+            pw__js_int(o, o->views[k].target);
+        }
         pw__js(o, "}");
     }
     pw__js(o, "],\"buffers\":[{\"byteLength\":");
@@ -10068,7 +10050,9 @@ static void pw__gltf_accessor(pw__gltf_out *o, int first, int view, int type, in
     pw__js_int(o, type);
     pw__js(o, ",\"count\":");
     pw__js_int(o, count);
-    pw__js(o, ",\"type\":\""), pw__js(o, kind), pw__js(o, "\"");
+    pw__js(o, ",\"type\":\"");
+    pw__js(o, kind);
+    pw__js(o, "\"");
 }
 
 static void pw__gltf_json_accessors(pw__gltf_out *o, const pw__gltf_info *I, int np)
@@ -10081,13 +10065,22 @@ static void pw__gltf_json_accessors(pw__gltf_out *o, const pw__gltf_info *I, int
         pw__js(o, "}");
         pw__gltf_accessor(o, 0, v + 1, 5126, I[p].nverts, "VEC3");
         pw__js(o, ",\"min\":[");
-        for (k = 0; k < 3; k++) pw__js(o, k ? "," : ""), pw__js_float(o, I[p].lo[k]);
+        for (k = 0; k < 3; k++) {
+            pw__js(o, k ? "," : "");
+            pw__js_float(o, I[p].lo[k]);
+        }
         pw__js(o, "],\"max\":[");
-        for (k = 0; k < 3; k++) pw__js(o, k ? "," : ""), pw__js_float(o, I[p].hi[k]);
+        for (k = 0; k < 3; k++) {
+            pw__js(o, k ? "," : "");
+            pw__js_float(o, I[p].hi[k]);
+        }
         pw__js(o, "]}");
         pw__gltf_accessor(o, 0, v + 2, 5126, I[p].nverts, "VEC3");
         pw__js(o, "}");
-        if (I[p].has_uv) pw__gltf_accessor(o, 0, v + 3, 5126, I[p].nverts, "VEC2"), pw__js(o, "}");
+        if (I[p].has_uv) {
+            pw__gltf_accessor(o, 0, v + 3, 5126, I[p].nverts, "VEC2");
+            pw__js(o, "}");
+        }
     }
 }
 
@@ -10105,22 +10098,33 @@ static void pw__gltf_json_meshes(pw__gltf_out *o, const pw_gltf_part *parts, con
     pw__js(o, "],\"meshes\":[");
     for (p = 0; p < np; p++) {
         int a0 = pw__gltf_acc0(I, p);
-        pw__js(o, p ? ",{\"name\":" : "{\"name\":"), pw__js_string(o, parts[p].name ? parts[p].name : "mesh");
-        pw__js(o, ",\"primitives\":[{\"attributes\":{\"POSITION\":"), pw__js_int(o, a0 + 1);
-        pw__js(o, ",\"NORMAL\":"), pw__js_int(o, a0 + 2);
-        if (I[p].has_uv) pw__js(o, ",\"TEXCOORD_0\":"), pw__js_int(o, a0 + 3);
-        pw__js(o, "},\"indices\":"), pw__js_int(o, a0);
-        pw__js(o, ",\"material\":"), pw__js_int(o, p);
+        pw__js(o, p ? ",{\"name\":" : "{\"name\":");
+        pw__js_string(o, parts[p].name ? parts[p].name : "mesh");
+        pw__js(o, ",\"primitives\":[{\"attributes\":{\"POSITION\":");
+        pw__js_int(o, a0 + 1);
+        pw__js(o, ",\"NORMAL\":");
+        pw__js_int(o, a0 + 2);
+        if (I[p].has_uv) {
+            pw__js(o, ",\"TEXCOORD_0\":");
+            pw__js_int(o, a0 + 3);
+        }
+        pw__js(o, "},\"indices\":");
+        pw__js_int(o, a0);
+        pw__js(o, ",\"material\":");
+        pw__js_int(o, p);
         pw__js(o, ",\"mode\":4}]}");
     }
     pw__js(o, "],\"materials\":[");
     for (p = 0; p < np; p++) {
-        pw__js(o, p ? ",{\"name\":" : "{\"name\":"), pw__js_string(o, parts[p].name ? parts[p].name : "mesh");
+        pw__js(o, p ? ",{\"name\":" : "{\"name\":");
+        pw__js_string(o, parts[p].name ? parts[p].name : "mesh");
         pw__js(o, ",\"pbrMetallicRoughness\":{");
         if (I[p].has_image) {
             int t = 0, k;
             for (k = 0; k < p; k++) t += I[k].has_image;
-            pw__js(o, "\"baseColorTexture\":{\"index\":"), pw__js_int(o, t), pw__js(o, "},");
+            pw__js(o, "\"baseColorTexture\":{\"index\":");
+            pw__js_int(o, t);
+            pw__js(o, "},");
         }
         pw__js(o, "\"metallicFactor\":0,\"roughnessFactor\":1}}");
     }
@@ -10135,21 +10139,33 @@ static void pw__gltf_json_textures(pw__gltf_out *o, const pw_gltf_part *parts, c
     pw__js(o, "],\"textures\":[");
     for (p = 0, t = 0; p < np; p++)
         if (I[p].has_image) {
-            pw__js(o, sep), pw__js(o, "{\"sampler\":"), pw__js_int(o, t), pw__js(o, ",\"source\":"), pw__js_int(o, t), pw__js(o, "}");
-            sep = ",", t++;
+            pw__js(o, sep);
+            pw__js(o, "{\"sampler\":");
+            pw__js_int(o, t);
+            pw__js(o, ",\"source\":");
+            pw__js_int(o, t);
+            pw__js(o, "}");
+            sep = ",";
+            t++;
         }
     pw__js(o, "],\"samplers\":[");
     for (p = 0, sep = ""; p < np; p++)
         if (I[p].has_image) {
             const char *wrap = parts[p].repeat ? "10497" : "33071";
-            pw__js(o, sep), pw__js(o, "{\"magFilter\":9729,\"minFilter\":9987,\"wrapS\":"), pw__js(o, wrap);
-            pw__js(o, ",\"wrapT\":"), pw__js(o, wrap), pw__js(o, "}");
+            pw__js(o, sep);
+            pw__js(o, "{\"magFilter\":9729,\"minFilter\":9987,\"wrapS\":");
+            pw__js(o, wrap);
+            pw__js(o, ",\"wrapT\":");
+            pw__js(o, wrap);
+            pw__js(o, "}");
             sep = ",";
         }
     pw__js(o, "],\"images\":[");
     for (p = 0, sep = ""; p < np; p++)
         if (I[p].has_image) {
-            pw__js(o, sep), pw__js(o, "{\"bufferView\":"), pw__js_int(o, I[p].view0 + 3 + I[p].has_uv);
+            pw__js(o, sep);
+            pw__js(o, "{\"bufferView\":");
+            pw__js_int(o, I[p].view0 + 3 + I[p].has_uv);
             pw__js(o, ",\"mimeType\":\"image/png\"}");
             sep = ",";
         }
@@ -10162,25 +10178,44 @@ static void pw__gltf_camera_rotation(const pw_camera *c, double *q)
 {
     double f[3], r[3], u[3], m[3][3], t;
     int k;
-    for (k = 0; k < 3; k++) f[k] = (double)c->target[k] - c->eye[k], u[k] = c->up[k];
+    for (k = 0; k < 3; k++) {
+        f[k] = (double)c->target[k] - c->eye[k];
+        u[k] = c->up[k];
+    }
     pw_norm3(f);
     pw_cross3(f, u, r);
     pw_norm3(r);
     pw_cross3(r, f, u);
-    for (k = 0; k < 3; k++) m[k][0] = r[k], m[k][1] = u[k], m[k][2] = -f[k];
+    for (k = 0; k < 3; k++) {
+        m[k][0] = r[k];
+        m[k][1] = u[k];
+        m[k][2] = -f[k];
+    }
     t = m[0][0] + m[1][1] + m[2][2];
     if (t > 0.0) { /* the largest of w, x, y, z divides: no cancellation */
         double s = 2.0 * sqrt(1.0 + t);
-        q[3] = 0.25 * s, q[0] = (m[2][1] - m[1][2]) / s, q[1] = (m[0][2] - m[2][0]) / s, q[2] = (m[1][0] - m[0][1]) / s;
+        q[3] = 0.25 * s;
+        q[0] = (m[2][1] - m[1][2]) / s;
+        q[1] = (m[0][2] - m[2][0]) / s;
+        q[2] = (m[1][0] - m[0][1]) / s;
     } else if (m[0][0] > m[1][1] && m[0][0] > m[2][2]) {
         double s = 2.0 * sqrt(1.0 + m[0][0] - m[1][1] - m[2][2]);
-        q[3] = (m[2][1] - m[1][2]) / s, q[0] = 0.25 * s, q[1] = (m[0][1] + m[1][0]) / s, q[2] = (m[0][2] + m[2][0]) / s;
+        q[3] = (m[2][1] - m[1][2]) / s;
+        q[0] = 0.25 * s;
+        q[1] = (m[0][1] + m[1][0]) / s;
+        q[2] = (m[0][2] + m[2][0]) / s;
     } else if (m[1][1] > m[2][2]) {
         double s = 2.0 * sqrt(1.0 + m[1][1] - m[0][0] - m[2][2]);
-        q[3] = (m[0][2] - m[2][0]) / s, q[0] = (m[0][1] + m[1][0]) / s, q[1] = 0.25 * s, q[2] = (m[1][2] + m[2][1]) / s;
+        q[3] = (m[0][2] - m[2][0]) / s;
+        q[0] = (m[0][1] + m[1][0]) / s;
+        q[1] = 0.25 * s;
+        q[2] = (m[1][2] + m[2][1]) / s;
     } else {
         double s = 2.0 * sqrt(1.0 + m[2][2] - m[0][0] - m[1][1]);
-        q[3] = (m[1][0] - m[0][1]) / s, q[0] = (m[0][2] + m[2][0]) / s, q[1] = (m[1][2] + m[2][1]) / s, q[2] = 0.25 * s;
+        q[3] = (m[1][0] - m[0][1]) / s;
+        q[0] = (m[0][2] + m[2][0]) / s;
+        q[1] = (m[1][2] + m[2][1]) / s;
+        q[2] = 0.25 * s;
     }
     t = sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
     for (k = 0; k < 4; k++) q[k] /= t;
@@ -10193,9 +10228,15 @@ static void pw__gltf_json_camera_node(pw__gltf_out *o, const pw_camera *c)
     int k;
     pw__gltf_camera_rotation(c, q);
     pw__js(o, ",{\"name\":\"patchwork view\",\"camera\":0,\"translation\":[");
-    for (k = 0; k < 3; k++) pw__js(o, k ? "," : ""), pw__js_float(o, c->eye[k]);
+    for (k = 0; k < 3; k++) {
+        pw__js(o, k ? "," : "");
+        pw__js_float(o, c->eye[k]);
+    }
     pw__js(o, "],\"rotation\":[");
-    for (k = 0; k < 4; k++) pw__js(o, k ? "," : ""), pw__js_float(o, (float)q[k]);
+    for (k = 0; k < 4; k++) {
+        pw__js(o, k ? "," : "");
+        pw__js_float(o, (float)q[k]);
+    }
     pw__js(o, "]}");
 }
 
@@ -10203,9 +10244,12 @@ static void pw__gltf_json_camera(pw__gltf_out *o, const pw_camera *c, float aspe
 {
     pw__js(o, "],\"cameras\":[{\"type\":\"perspective\",\"perspective\":{\"yfov\":");
     pw__js_float(o, (float)(c->fovy_deg * (3.14159265358979323846 / 180.0)));
-    pw__js(o, ",\"aspectRatio\":"), pw__js_float(o, aspect);
-    pw__js(o, ",\"znear\":"), pw__js_float(o, c->znear);
-    pw__js(o, ",\"zfar\":"), pw__js_float(o, c->zfar);
+    pw__js(o, ",\"aspectRatio\":");
+    pw__js_float(o, aspect);
+    pw__js(o, ",\"znear\":");
+    pw__js_float(o, c->znear);
+    pw__js(o, ",\"zfar\":");
+    pw__js_float(o, c->zfar);
     pw__js(o, "}}");
 }
 
@@ -10213,15 +10257,25 @@ static void pw__gltf_json(pw__gltf_out *o, const pw_gltf_scene *S, const pw__glt
 {
     const pw_gltf_part *parts = S->parts;
     int p, np = S->nparts;
-    pw__js(o, "{\"asset\":{\"version\":\"2.0\",\"generator\":"), pw__js_string(o, S->generator ? S->generator : "patchwork");
+    pw__js(o, "{\"asset\":{\"version\":\"2.0\",\"generator\":");
+    pw__js_string(o, S->generator ? S->generator : "patchwork");
     pw__js(o, "},\"scene\":0,\"scenes\":[{\"nodes\":[");
-    for (p = 0; p < np + (S->camera != NULL); p++) pw__js(o, p ? "," : ""), pw__js_int(o, p);
+    for (p = 0; p < np + (S->camera != NULL); p++) {
+        pw__js(o, p ? "," : "");
+        pw__js_int(o, p);
+    }
     pw__js(o, "]}],\"nodes\":[");
     for (p = 0; p < np; p++) {
-        pw__js(o, p ? ",{\"name\":" : "{\"name\":"), pw__js_string(o, parts[p].name ? parts[p].name : "mesh");
-        pw__js(o, ",\"mesh\":"), pw__js_int(o, p), pw__js(o, "}");
+        pw__js(o, p ? ",{\"name\":" : "{\"name\":");
+        pw__js_string(o, parts[p].name ? parts[p].name : "mesh");
+        pw__js(o, ",\"mesh\":");
+        pw__js_int(o, p);
+        pw__js(o, "}");
     }
-    if (S->camera) pw__gltf_json_camera_node(o, S->camera), pw__gltf_json_camera(o, S->camera, S->aspect);
+    if (S->camera) {
+        pw__gltf_json_camera_node(o, S->camera);
+        pw__gltf_json_camera(o, S->camera, S->aspect);
+    }
     pw__gltf_json_meshes(o, parts, I, np);
     pw__gltf_json_textures(o, parts, I, np);
     pw__gltf_json_accessors(o, I, np);
@@ -10233,7 +10287,10 @@ static void pw__gltf_json(pw__gltf_out *o, const pw_gltf_scene *S, const pw__glt
 
 static void pw__gltf_le32(unsigned char *b, uint32_t v)
 {
-    b[0] = (unsigned char)v, b[1] = (unsigned char)(v >> 8), b[2] = (unsigned char)(v >> 16), b[3] = (unsigned char)(v >> 24);
+    b[0] = (unsigned char)v;
+    b[1] = (unsigned char)(v >> 8);
+    b[2] = (unsigned char)(v >> 16);
+    b[3] = (unsigned char)(v >> 24);
 }
 
 /* GLB: the 12-byte header, the JSON chunk padded with spaces, the binary
@@ -10243,12 +10300,19 @@ static int pw__gltf_emit(const pw__gltf_out *o, pw_write_fn w, void *ctx, pw_err
     static const char spaces[4] = {' ', ' ', ' ', ' '}, zeros[4] = {0, 0, 0, 0};
     size_t jl = (o->json.size + 3) & ~(size_t)3, bl = (o->bin.size + 3) & ~(size_t)3, total = 12 + 8 + jl + 8 + bl;
     unsigned char h[20];
-    if (total > 0xFFFFFFFFu) return pw_fail(e, PW_ERR_LIMIT, "glTF: %lu bytes is over GLB's 4 GiB", (unsigned long)total);
-    memcpy(h, "glTF", 4), pw__gltf_le32(h + 4, 2), pw__gltf_le32(h + 8, (uint32_t)total);
-    pw__gltf_le32(h + 12, (uint32_t)jl), memcpy(h + 16, "JSON", 4);
-    if (w(ctx, h, 20) || w(ctx, o->json.data, o->json.size) || w(ctx, spaces, jl - o->json.size)) return pw_fail(e, PW_ERR_IO, "write failed");
-    pw__gltf_le32(h, (uint32_t)bl), memcpy(h + 4, "BIN\0", 4);
-    if (w(ctx, h, 8) || w(ctx, o->bin.data, o->bin.size) || w(ctx, zeros, bl - o->bin.size)) return pw_fail(e, PW_ERR_IO, "write failed");
+    if (total > 0xFFFFFFFFu)
+        return pw_fail(e, PW_ERR_LIMIT, "glTF: %lu bytes is over GLB's 4 GiB", (unsigned long)total);
+    memcpy(h, "glTF", 4);
+    pw__gltf_le32(h + 4, 2);
+    pw__gltf_le32(h + 8, (uint32_t)total);
+    pw__gltf_le32(h + 12, (uint32_t)jl);
+    memcpy(h + 16, "JSON", 4);
+    if (w(ctx, h, 20) || w(ctx, o->json.data, o->json.size) || w(ctx, spaces, jl - o->json.size))
+        return pw_fail(e, PW_ERR_IO, "write failed");
+    pw__gltf_le32(h, (uint32_t)bl);
+    memcpy(h + 4, "BIN\0", 4);
+    if (w(ctx, h, 8) || w(ctx, o->bin.data, o->bin.size) || w(ctx, zeros, bl - o->bin.size))
+        return pw_fail(e, PW_ERR_IO, "write failed");
     return PW_OK;
 }
 
@@ -10281,23 +10345,31 @@ PW__DEF int pw_gltf_write(const pw_alloc *a, const pw_gltf_scene *S, pw_write_fn
     for (p = 0; p < np; p++)
         if ((r = pw__gltf_check(&parts[p], p, e))) return r;
     memset(&o, 0, sizeof o);
-    o.a = a, o.bin.alloc = a, o.json.alloc = a;
-    o.js.w = pw_buf_write, o.js.ctx = &o.json;
+    o.a = a;
+    o.bin.alloc = a;
+    o.json.alloc = a;
+    o.js.w = pw_buf_write;
+    o.js.ctx = &o.json;
     if (!(I = (pw__gltf_info *)pw_calloc_array(a, (size_t)np, sizeof *I, "glTF parts", e))) return PW_ERR_NOMEM;
     for (p = 0; p < np && r == PW_OK; p++) {
         pw__gltf_verts V;
         float *nrm = NULL;
         if ((r = pw__gltf_split(a, &parts[p], &V, e))) break;
-        if ((r = pw__gltf_normals(a, &parts[p], &nrm, e)) == PW_OK) r = pw__gltf_part_data(&o, &parts[p], &V, nrm, &I[p], e);
+        if ((r = pw__gltf_normals(a, &parts[p], &nrm, e)) == PW_OK)
+            r = pw__gltf_part_data(&o, &parts[p], &V, nrm, &I[p], e);
         pw__gltf_verts_free(a, &V);
         pw_free(a, nrm);
     }
     if (r == PW_OK) {
         pw__gltf_json(&o, S, I);
         pw__wb_flush(&o.js);
-        r = o.js.failed || o.json.failed ? pw_fail(e, PW_ERR_NOMEM, "out of memory writing glTF") : pw__gltf_emit(&o, w, ctx, e);
+        r = o.js.failed || o.json.failed ? pw_fail(e, PW_ERR_NOMEM, "out of memory writing glTF")
+                                         : pw__gltf_emit(&o, w, ctx, e);
     }
-    pw_free(a, I), pw_free(a, o.views), pw_free(a, o.bin.data), pw_free(a, o.json.data);
+    pw_free(a, I);
+    pw_free(a, o.views);
+    pw_free(a, o.bin.data);
+    pw_free(a, o.json.data);
     return r;
 }
 
@@ -10342,17 +10414,14 @@ TILEDDEF tiled_options tiled_default_options(void)
     o.layout.case_number = 2;
     o.layout.pairs = 1;
     o.layout.grid = 4;
-    pw_view_defaults(&o.render.width, &o.render.height, &o.render.supersample, o.render.view_dir,
-                     o.render.up, o.render.background);
+    pw_view_defaults(&o.render.width, &o.render.height, &o.render.supersample, o.render.view_dir, o.render.up,
+                     o.render.background);
     return o;
 }
 
 TILEDDEF const char *tiled_result_string(tiled_result r) { return pw_result_string((int)r); }
 
-static tiled_options tiled__options(const tiled_options *opt)
-{
-    return opt ? *opt : tiled_default_options();
-}
+static tiled_options tiled__options(const tiled_options *opt) { return opt ? *opt : tiled_default_options(); }
 
 static pw_progress tiled__progress(const tiled_options *o)
 {
@@ -10369,11 +10438,9 @@ static int tiled__check_mesh(const tiled_mesh *m, pw_err *e)
     if (!m || !m->positions || !m->face_start || !m->face_verts)
         return pw_fail(e, PW_ERR_INVALID, "mesh has NULL arrays");
     if (m->nverts < 3 || m->nverts > PW_MAX_MESH_ELEMENTS || m->nfaces > PW_MAX_MESH_ELEMENTS)
-        return pw_fail(e, PW_ERR_INVALID, "mesh has %d vertices and %d faces", m->nverts,
-                       m->nfaces);
+        return pw_fail(e, PW_ERR_INVALID, "mesh has %d vertices and %d faces", m->nverts, m->nfaces);
     if (m->nfaces < 1) return pw_fail(e, PW_ERR_DEGENERATE, "mesh has no faces");
-    if (m->face_start[0] != 0)
-        return pw_fail(e, PW_ERR_INVALID, "face_start[0] must be 0 (got %d)", m->face_start[0]);
+    if (m->face_start[0] != 0) return pw_fail(e, PW_ERR_INVALID, "face_start[0] must be 0 (got %d)", m->face_start[0]);
     for (f = 0; f < m->nfaces; f++) {
         int d = m->face_start[f + 1] - m->face_start[f];
         if (d < 3 || d > PW_MAX_FACE_DEGREE || m->face_start[f + 1] > PW_MAX_MESH_ELEMENTS)
@@ -10381,8 +10448,8 @@ static int tiled__check_mesh(const tiled_mesh *m, pw_err *e)
     }
     for (k = 0; k < m->face_start[m->nfaces]; k++)
         if (m->face_verts[k] < 0 || m->face_verts[k] >= m->nverts)
-            return pw_fail(e, PW_ERR_INVALID, "face corner %d refers to vertex %d of %d", k,
-                           m->face_verts[k], m->nverts);
+            return pw_fail(e, PW_ERR_INVALID, "face corner %d refers to vertex %d of %d", k, m->face_verts[k],
+                           m->nverts);
     for (k = 0; k < 3 * m->nverts; k++)
         if (!pw_is_finite(m->positions[k]))
             return pw_fail(e, PW_ERR_INVALID, "vertex %d has a non-finite coordinate", k / 3);
@@ -10426,10 +10493,10 @@ static int tiled__pow2_near(int x)
 
 /* Pixel geometry of an atlas. */
 typedef struct tiled__geom {
-    int n;     /* types per side: 2n (case 2) or 1 (case 1) */
-    int N;     /* tiles per row and column */
-    int T, g;  /* tile size and guard */
-    int C, W;  /* cell size and atlas size */
+    int n;    /* types per side: 2n (case 2) or 1 (case 1) */
+    int N;    /* tiles per row and column */
+    int T, g; /* tile size and guard */
+    int C, W; /* cell size and atlas size */
 } tiled__geom;
 
 static tiled__geom tiled__geometry(const tiled_layout *l)
@@ -10455,23 +10522,21 @@ static int tiled__resolve(const tiled_layout *in, int tile_hint, tiled_layout *o
     if (!l.grid) l.grid = 4;
     if (l.case_number != 1 && l.case_number != 2)
         return pw_fail(e, PW_ERR_INVALID, "case must be 1 or 2 (got %d)", l.case_number);
-    if (l.pairs < 1 || l.pairs > 8)
-        return pw_fail(e, PW_ERR_INVALID, "pairs must be 1..8 (got %d)", l.pairs);
-    if (l.grid < 1 || l.grid > 256)
-        return pw_fail(e, PW_ERR_INVALID, "grid must be 1..256 (got %d)", l.grid);
+    if (l.pairs < 1 || l.pairs > 8) return pw_fail(e, PW_ERR_INVALID, "pairs must be 1..8 (got %d)", l.pairs);
+    if (l.grid < 1 || l.grid > 256) return pw_fail(e, PW_ERR_INVALID, "grid must be 1..256 (got %d)", l.grid);
     if (!l.tile_size) l.tile_size = tile_hint > 0 ? pw_clampi(tiled__pow2_near(tile_hint), 16, 256) : 64;
     if (l.tile_size < 4 || l.tile_size > 4096)
         return pw_fail(e, PW_ERR_INVALID, "tile size must be 4..4096 pixels (got %d)", l.tile_size);
     if (!l.guard) l.guard = pw_mini(pw_maxi(tiled__pow2_near(l.tile_size / 8), 2), l.tile_size);
     if (l.guard != TILED_NO_GUARD && (l.guard < 1 || l.guard > l.tile_size))
-        return pw_fail(e, PW_ERR_INVALID, "guard must be 1..%d pixels or TILED_NO_GUARD (got %d)",
-                       l.tile_size, l.guard);
+        return pw_fail(e, PW_ERR_INVALID, "guard must be 1..%d pixels or TILED_NO_GUARD (got %d)", l.tile_size,
+                       l.guard);
     gm = tiled__geometry(&l);
-    if ((int64_t)gm.N * gm.C > PW_MAX_IMAGE_DIM ||
-        (int64_t)gm.N * gm.C * gm.N * gm.C > PW_MAX_IMAGE_PIXELS)
+    if ((int64_t)gm.N * gm.C > PW_MAX_IMAGE_DIM || (int64_t)gm.N * gm.C * gm.N * gm.C > PW_MAX_IMAGE_PIXELS)
         return pw_fail(e, PW_ERR_LIMIT,
                        "a tiled texture of %dx%d tiles of %d px would be %lld px wide, over the "
-                       "image size limit", gm.N, gm.N, gm.C, (long long)gm.N * gm.C);
+                       "image size limit",
+                       gm.N, gm.N, gm.C, (long long)gm.N * gm.C);
     *out = l;
     return PW_OK;
 }
@@ -10525,27 +10590,50 @@ static int tiled__partner(int case1, int t) { return case1 ? t : t ^ 1; }
 static void tiled__to_side(int side, int T, int i, int j, int *a, int *b)
 {
     switch (side) {
-    case 0: *a = i; *b = j; break;
-    case 1: *a = j; *b = T - 1 - i; break;
-    case 2: *a = T - 1 - i; *b = T - 1 - j; break;
-    default: *a = T - 1 - j; *b = i; break;
+    case 0:
+        *a = i;
+        *b = j;
+        break;
+    case 1:
+        *a = j;
+        *b = T - 1 - i;
+        break;
+    case 2:
+        *a = T - 1 - i;
+        *b = T - 1 - j;
+        break;
+    default:
+        *a = T - 1 - j;
+        *b = i;
+        break;
     }
 }
 
 static void tiled__from_side(int side, int T, int a, int b, int *i, int *j)
 {
     switch (side) {
-    case 0: *i = a; *j = b; break;
-    case 1: *j = a; *i = T - 1 - b; break;
-    case 2: *i = T - 1 - a; *j = T - 1 - b; break;
-    default: *j = T - 1 - a; *i = b; break;
+    case 0:
+        *i = a;
+        *j = b;
+        break;
+    case 1:
+        *j = a;
+        *i = T - 1 - b;
+        break;
+    case 2:
+        *i = T - 1 - a;
+        *j = T - 1 - b;
+        break;
+    default:
+        *j = T - 1 - a;
+        *i = b;
+        break;
     }
 }
 
 /* Pixel (i, j) of tile (col, row) in an atlas; i, j may reach into the
  * guard band (-g .. T+g-1). Cells count rows from the bottom of the image. */
-static float *tiled__atlas_px(const pw_image *atlas, const tiled__geom *gm, int tile, int i,
-                              int j)
+static float *tiled__atlas_px(const pw_image *atlas, const tiled__geom *gm, int tile, int i, int j)
 {
     int col = tile % gm->N, row = tile / gm->N;
     int x = col * gm->C + gm->g + i, y = row * gm->C + gm->g + j;
@@ -10602,24 +10690,23 @@ static void tiled__fill_guards(pw_image *atlas, const tiled__geom *gm, int case1
                 if ((i < 0 || i >= T) && (j < 0 || j >= T)) {
                     /* beyond a corner the pattern depends on the vertex's
                      * valence: reflect the tile's own corner instead */
-                    memcpy(tiled__atlas_px(atlas, gm, t, i, j),
-                           tiled__atlas_px(atlas, gm, t, i < 0 ? -1 - i : 2 * T - 1 - i,
-                                           j < 0 ? -1 - j : 2 * T - 1 - j),
-                           sizeof(float) * atlas->c);
+                    memcpy(
+                        tiled__atlas_px(atlas, gm, t, i, j),
+                        tiled__atlas_px(atlas, gm, t, i < 0 ? -1 - i : 2 * T - 1 - i, j < 0 ? -1 - j : 2 * T - 1 - j),
+                        sizeof(float) * atlas->c);
                     continue;
                 }
                 tiled__to_side(s, T, pw_clampi(i, 0, T - 1), pw_clampi(j, 0, T - 1), &a, &b);
                 pt = tiled__partner(case1, types[s]);
                 tiled__from_side(rep_side[pt], T, T - 1 - a, depth - 1, &pi, &pj);
-                memcpy(tiled__atlas_px(atlas, gm, t, i, j),
-                       tiled__atlas_px(atlas, gm, rep_tile[pt], pi, pj), sizeof(float) * atlas->c);
+                memcpy(tiled__atlas_px(atlas, gm, t, i, j), tiled__atlas_px(atlas, gm, rep_tile[pt], pi, pj),
+                       sizeof(float) * atlas->c);
             }
     }
 }
 
 /* Allocates a tile set's atlas for a resolved layout. */
-static int tiled__new_tileset(const pw_alloc *a, const tiled_layout *l, int channels,
-                              tiled_tileset *ts, pw_err *e)
+static int tiled__new_tileset(const pw_alloc *a, const tiled_layout *l, int channels, tiled_tileset *ts, pw_err *e)
 {
     tiled__geom gm = tiled__geometry(l);
     pw_image img;
@@ -10635,22 +10722,21 @@ static int tiled__new_tileset(const pw_alloc *a, const tiled_layout *l, int chan
 /* The resolved layout of a hand-made tiled texture (thesis layout: square,
  * no guard bands); its tile size comes from the image, the guard band to
  * add from `want`. */
-static int tiled__layout_of_image(const tiled_layout *want, const tiled_image *img,
-                                  tiled_layout *out, pw_err *e)
+static int tiled__layout_of_image(const tiled_layout *want, const tiled_image *img, tiled_layout *out, pw_err *e)
 {
     tiled_layout l = *want;
     tiled__geom gm;
     int r;
     l.tile_size = 4;
     l.guard = TILED_NO_GUARD;
-    if ((r = tiled__check_image(img, "tiled texture", e)) != PW_OK ||
-        (r = tiled__resolve(&l, 0, &l, e)) != PW_OK)
+    if ((r = tiled__check_image(img, "tiled texture", e)) != PW_OK || (r = tiled__resolve(&l, 0, &l, e)) != PW_OK)
         return r;
     gm = tiled__geometry(&l);
     if (img->width != img->height || img->width % gm.N || img->width / gm.N < 4)
-        return pw_fail(e, PW_ERR_INVALID, "a tiled texture for this layout must be square with a "
-                       "side divisible by %d, tiles of 4 px or more (got %dx%d)", gm.N,
-                       img->width, img->height);
+        return pw_fail(e, PW_ERR_INVALID,
+                       "a tiled texture for this layout must be square with a "
+                       "side divisible by %d, tiles of 4 px or more (got %dx%d)",
+                       gm.N, img->width, img->height);
     l.tile_size = img->width / gm.N;
     l.guard = want->guard;
     return tiled__resolve(&l, 0, out, e);
@@ -10682,16 +10768,18 @@ static int tiled__all_quads(const pw_mesh *m)
  * counts every level still to come (smoothing included) for the size
  * check made before any work. On success *q owns its arrays and *hm is its
  * half-edge structure. */
-static int tiled__quadrangulate(const pw_alloc *a, const tiled_mesh *in, int planned, int extra,
-                                const pw_progress *pr, pw_mesh *q, pw_hmesh *hm, pw_err *e)
+static int tiled__quadrangulate(const pw_alloc *a, const tiled_mesh *in, int planned, int extra, const pw_progress *pr,
+                                pw_mesh *q, pw_hmesh *hm, pw_err *e)
 {
     pw_mesh view = tiled__pw_mesh(in), next;
     int levels = (tiled__all_quads(&view) ? 0 : 1) + extra, l, r;
     double faces = in->face_start[in->nfaces];
     for (l = 0; l < levels - extra + planned; l++) faces *= 4; /* every level planned, smoothing too */
     if (faces > PW_MAX_MESH_ELEMENTS)
-        return pw_fail(e, PW_ERR_LIMIT, "subdividing %d faces %d times would make %.0f faces "
-                       "(limit %d)", in->nfaces, levels - extra + planned, faces, PW_MAX_MESH_ELEMENTS);
+        return pw_fail(e, PW_ERR_LIMIT,
+                       "subdividing %d faces %d times would make %.0f faces "
+                       "(limit %d)",
+                       in->nfaces, levels - extra + planned, faces, PW_MAX_MESH_ELEMENTS);
     if ((r = pw_mesh_copy(a, &view, q, e)) != PW_OK) return r;
     for (l = 0;; l++) {
         if ((r = pw_hmesh_build(a, q->nv, q->nf, q->fstart, q->fv, hm, e)) != PW_OK) break;
@@ -10712,8 +10800,7 @@ static int tiled__quadrangulate(const pw_alloc *a, const tiled_mesh *in, int pla
  * draws a pair k and an orientation; its half-edges get 2k and 2k+1. One
  * 32-bit draw per edge: bit 0 orients, the rest picks k by a multiply-shift
  * (bias below 1e-8). Case 1 has the single self-matching type 0. */
-static void tiled__assign_boundaries(const pw_hmesh *hm, const tiled_layout *l, uint64_t seed,
-                                     int *types)
+static void tiled__assign_boundaries(const pw_hmesh *hm, const tiled_layout *l, uint64_t seed, int *types)
 {
     pw_rng r = pw_rng_seed(seed, 1);
     const int nh = hm->nh, *twin = hm->twin;
@@ -10738,9 +10825,8 @@ static void tiled__assign_boundaries(const pw_hmesh *hm, const tiled_layout *l, 
  * guard bands): a random starting edge per quad ("further randomness") makes
  * the walk e0e1e2e3 start at corner `rot`; corner (rot+k) mod 4 takes the
  * tile's corner k. Case 1 draws a tile, a rotation and a mirror instead. */
-static void tiled__assign_uvs(const pw_mesh *q, const int *types, const tiled__geom *gm,
-                              int case1, const tiled_options *o, const float *coord, float *uv,
-                              int *face_tiles)
+static void tiled__assign_uvs(const pw_mesh *q, const int *types, const tiled__geom *gm, int case1,
+                              const tiled_options *o, const float *coord, float *uv, int *face_tiles)
 {
     pw_rng r = pw_rng_seed(o->seed, 2);
     const int nf = q->nf, n = gm->n, N = gm->N, nn = N * N;
@@ -10792,8 +10878,7 @@ static void tiled__mapped_free(const pw_alloc *a, tiled__mapped *m)
 }
 
 /* Allocates the per-corner and per-face arrays for nc corners, nf faces. */
-static int tiled__mapped_arrays(const pw_alloc *a, int nc, int nf, float **uv, int **types,
-                                int **tiles, pw_err *e)
+static int tiled__mapped_arrays(const pw_alloc *a, int nc, int nf, float **uv, int **types, int **tiles, pw_err *e)
 {
     *uv = (float *)pw_alloc_array(a, (size_t)nc * 2, sizeof(float), "texture coordinates", e);
     *types = (int *)pw_alloc_array(a, (size_t)nc, sizeof(int), "boundary types", e);
@@ -10808,13 +10893,11 @@ static int tiled__mapped_arrays(const pw_alloc *a, int nc, int nf, float **uv, i
 }
 
 /* Runs both procedures of Fig. 29 on the quad mesh. */
-static int tiled__assign(const pw_alloc *a, tiled__mapped *m, const tiled_layout *l,
-                         const tiled_options *o, pw_err *e)
+static int tiled__assign(const pw_alloc *a, tiled__mapped *m, const tiled_layout *l, const tiled_options *o, pw_err *e)
 {
     tiled__geom gm = tiled__geometry(l);
     float *coord = (float *)pw_alloc_array(a, (size_t)gm.N * 2, sizeof(float), "coordinates", e);
-    if (!coord ||
-        tiled__mapped_arrays(a, m->q.fstart[m->q.nf], m->q.nf, &m->uv, &m->types, &m->tiles, e)) {
+    if (!coord || tiled__mapped_arrays(a, m->q.fstart[m->q.nf], m->q.nf, &m->uv, &m->types, &m->tiles, e)) {
         pw_free(a, coord);
         return PW_ERR_NOMEM;
     }
@@ -10872,8 +10955,8 @@ static int tiled__smooth(const pw_alloc *a, tiled__mapped *m, pw_err *e)
     return PW_OK;
 }
 
-TILEDDEF tiled_result tiled_map(const tiled_mesh *in, const tiled_layout *layout,
-                                const tiled_options *opt, tiled_mesh *out, tiled_error *err)
+TILEDDEF tiled_result tiled_map(const tiled_mesh *in, const tiled_layout *layout, const tiled_options *opt,
+                                tiled_mesh *out, tiled_error *err)
 {
     tiled_options o = tiled__options(opt);
     pw_alloc a = tiled__alloc(&o.allocator);
@@ -10887,13 +10970,10 @@ TILEDDEF tiled_result tiled_map(const tiled_mesh *in, const tiled_layout *layout
     if (out) memset(out, 0, sizeof *out);
     if (!out || !layout) pw_fail(&pe, PW_ERR_INVALID, "tiled_map: NULL argument");
     else if (o.subdivide < 0 || o.subdivide > 8 || o.smooth < 0 || o.smooth > 8)
-        pw_fail(&pe, PW_ERR_INVALID, "subdivide and smooth must be 0..8 (got %d and %d)",
-                o.subdivide, o.smooth);
+        pw_fail(&pe, PW_ERR_INVALID, "subdivide and smooth must be 0..8 (got %d and %d)", o.subdivide, o.smooth);
     else if (tiled__resolve(layout, 0, &l, &pe) == PW_OK && tiled__check_mesh(in, &pe) == PW_OK &&
-             tiled__quadrangulate(&a, in, o.subdivide + o.smooth, o.subdivide, &pr, &m.q, &m.hm,
-                                  &pe) == PW_OK &&
-             pw_report(&pr, 0.8f, "texture coordinates", &pe) == PW_OK &&
-             tiled__assign(&a, &m, &l, &o, &pe) == PW_OK) {
+             tiled__quadrangulate(&a, in, o.subdivide + o.smooth, o.subdivide, &pr, &m.q, &m.hm, &pe) == PW_OK &&
+             pw_report(&pr, 0.8f, "texture coordinates", &pe) == PW_OK && tiled__assign(&a, &m, &l, &o, &pe) == PW_OK) {
         for (k = 0; k < o.smooth && pe.code == PW_OK; k++)
             if (pw_report(&pr, 0.85f + 0.1f * (float)k / (float)o.smooth, "smoothing", &pe) == PW_OK)
                 tiled__smooth(&a, &m, &pe);
@@ -10915,8 +10995,8 @@ TILEDDEF tiled_result tiled_map(const tiled_mesh *in, const tiled_layout *layout
  * tile set made from an exemplar, or wrapped around a tiled texture the
  * user made (tiled_tileset_from_image). */
 
-TILEDDEF tiled_result tiled_tileset_from_image(const tiled_image *tiles, const tiled_options *opt,
-                                               tiled_tileset *out, tiled_error *err)
+TILEDDEF tiled_result tiled_tileset_from_image(const tiled_image *tiles, const tiled_options *opt, tiled_tileset *out,
+                                               tiled_error *err)
 {
     tiled_options o = tiled__options(opt);
     pw_alloc a = tiled__alloc(&o.allocator);
@@ -10966,11 +11046,11 @@ TILEDDEF tiled_result tiled_tileset_from_image(const tiled_image *tiles, const t
  *    both sides of the edge and, because tiles are mirrored, from both
  *    ends: it is made symmetric by reflection (C0, not C1, across edges). */
 typedef struct tiled__synth {
-    pw_image src;   /* periodic source */
-    int T, wc;      /* tile size; rows next to a side constrained to it */
-    int band;       /* rows from a side where its diamond may appear */
+    pw_image src; /* periodic source */
+    int T, wc;    /* tile size; rows next to a side constrained to it */
+    int band;     /* rows from a side where its diamond may appear */
     int case1;
-    int dx[9], dy[9]; /* diamond origins (pair k) in the source; [8]: scratch */
+    int dx[9], dy[9];     /* diamond origins (pair k) in the source; [8]: scratch */
     float *motif;         /* the periodic source's motif map (pw_quilt_motif_map) */
     float motif_weight;   /* seam cost per source pixel inside a motif */
     pw_seam_stats *stats; /* NULL, or where to add every tile's seam statistics */
@@ -11095,8 +11175,8 @@ static void tiled__centre_source(const tiled__synth *s, pw_rng *rng, tiled__scra
 }
 
 /* Composes tile t into the atlas. */
-static int tiled__compose(const pw_alloc *a, const tiled__synth *s, pw_rng *rng, tiled__scratch *sc,
-                          pw_image *atlas, const tiled__geom *gm, int t, pw_err *e)
+static int tiled__compose(const pw_alloc *a, const tiled__synth *s, pw_rng *rng, tiled__scratch *sc, pw_image *atlas,
+                          const tiled__geom *gm, int t, pw_err *e)
 {
     int types[4], T = s->T, c = s->src.c, j, r;
     pw_quilt q;
@@ -11118,8 +11198,7 @@ static int tiled__compose(const pw_alloc *a, const tiled__synth *s, pw_rng *rng,
     for (j = 0; j < T; j++) { /* compose row by row into the atlas */
         int i;
         for (i = 0; i < T; i++)
-            memcpy(tiled__atlas_px(atlas, gm, t, i, j),
-                   sc->src + ((size_t)(sc->label[j * T + i] * T + j) * T + i) * c,
+            memcpy(tiled__atlas_px(atlas, gm, t, i, j), sc->src + ((size_t)(sc->label[j * T + i] * T + j) * T + i) * c,
                    sizeof(float) * c);
     }
     return PW_OK;
@@ -11185,7 +11264,8 @@ static void tiled__place_diamond(tiled__synth *s, pw_rng *rng, int k, int ntypes
         cost += tiled__corners_of(s, k, ntypes);
         if (best < 0.0 || cost < best) {
             best = cost;
-            s->dx[8] = ox, s->dy[8] = oy;
+            s->dx[8] = ox;
+            s->dy[8] = oy;
         }
     }
     s->dx[k] = s->dx[8];
@@ -11193,8 +11273,8 @@ static void tiled__place_diamond(tiled__synth *s, pw_rng *rng, int k, int ntypes
 }
 
 /* Builds every tile of a resolved layout from the periodic source. */
-static int tiled__synth_tiles(const pw_alloc *a, tiled__synth *s, const tiled_options *o,
-                              pw_image *atlas, const tiled__geom *gm, pw_err *e)
+static int tiled__synth_tiles(const pw_alloc *a, tiled__synth *s, const tiled_options *o, pw_image *atlas,
+                              const tiled__geom *gm, pw_err *e)
 {
     pw_progress pr = tiled__progress(o);
     pw_rng rng = pw_rng_seed(o->seed, 3);
@@ -11225,8 +11305,8 @@ static int tiled__synth_tiles(const pw_alloc *a, tiled__synth *s, const tiled_op
 
 /* tiled_synthesize, also adding the seam statistics of every tile (see
  * pw_quilt_seam_stats) to *stats when it is not NULL. */
-static int tiled__synthesize(const tiled_image *exemplar, const tiled_options *o,
-                             tiled_tileset *out, pw_seam_stats *stats, pw_err *pe)
+static int tiled__synthesize(const tiled_image *exemplar, const tiled_options *o, tiled_tileset *out,
+                             pw_seam_stats *stats, pw_err *pe)
 {
     pw_alloc a = tiled__alloc(&o->allocator);
     pw_progress pr = tiled__progress(o);
@@ -11252,20 +11332,18 @@ static int tiled__synthesize(const tiled_image *exemplar, const tiled_options *o
         s.stats = stats;
         s.motif_weight = TILED__MOTIF_WEIGHT;
         s.motif = (float *)pw_alloc_array(&a, (size_t)s.src.w * s.src.h, sizeof(float), "motif map", pe);
-        r = s.motif ? pw_quilt_motif_map(&a, &s.src, s.motif, &s.tau, pe)
-                    : PW_ERR_NOMEM;
+        r = s.motif ? pw_quilt_motif_map(&a, &s.src, s.motif, &s.tau, pe) : PW_ERR_NOMEM;
         if (r == PW_OK && (r = tiled__synth_tiles(&a, &s, o, &atlas, &gm, pe)) == PW_OK)
             tiled__fill_guards(&atlas, &gm, s.case1);
-        else
-            tiled_tileset_free(out);
+        else tiled_tileset_free(out);
     }
     pw_image_free(&a, &s.src);
     pw_free(&a, s.motif);
     return r;
 }
 
-TILEDDEF tiled_result tiled_synthesize(const tiled_image *exemplar, const tiled_options *opt,
-                                       tiled_tileset *out, tiled_error *err)
+TILEDDEF tiled_result tiled_synthesize(const tiled_image *exemplar, const tiled_options *opt, tiled_tileset *out,
+                                       tiled_error *err)
 {
     tiled_options o = tiled__options(opt);
     pw_err pe;
@@ -11315,8 +11393,7 @@ typedef struct tiled__side {
 /* Mean jump across side `here` when it meets side `there` of another tile
  * (reversed walk; `mirrored` compares the partner walked the same way, as
  * happens when case-1 tiles are mirrored). */
-static float tiled__seam(const pw_image *img, const tiled__geom *gm, tiled__side here, tiled__side there,
-                         int mirrored)
+static float tiled__seam(const pw_image *img, const tiled__geom *gm, tiled__side here, tiled__side there, int mirrored)
 {
     int t = here.tile, s = here.side, pt = there.tile, ps = there.side;
     double sum = 0.0;
@@ -11325,8 +11402,7 @@ static float tiled__seam(const pw_image *img, const tiled__geom *gm, tiled__side
         int i, j, pi, pj;
         tiled__from_side(s, T, a, 0, &i, &j);
         tiled__from_side(ps, T, mirrored ? a : T - 1 - a, 0, &pi, &pj);
-        sum += tiled__dist(tiled__plain_px(img, gm, t, i, j), tiled__plain_px(img, gm, pt, pi, pj),
-                           img->c);
+        sum += tiled__dist(tiled__plain_px(img, gm, t, i, j), tiled__plain_px(img, gm, pt, pi, pj), img->c);
     }
     return (float)(sum / T);
 }
@@ -11342,7 +11418,8 @@ static float tiled__side_seam(const pw_image *img, const tiled__geom *gm, int ca
         tiled__tile_types(gm, case1, u, types);
         for (us = 0; us < 4 && n < 64; us++) {
             if (types[us] != tiled__partner(case1, type)) continue;
-            there.tile = u, there.side = us;
+            there.tile = u;
+            there.side = us;
             sum += tiled__seam(img, gm, here, there, 0);
             n++;
             if (mirror) {
@@ -11371,8 +11448,8 @@ static void tiled__note_bad(tiled_validation *rep, int t, int s, int type, float
 /* A side passes when its seam is at most twice the typical jump between
  * neighbouring pixels inside tiles (plus one 8-bit step): matching sides
  * continue the pattern, so their seams look like interior neighbours. */
-TILEDDEF tiled_result tiled_validate_tiles(const tiled_image *tiles, const tiled_options *opt,
-                                           tiled_validation *report, tiled_error *err)
+TILEDDEF tiled_result tiled_validate_tiles(const tiled_image *tiles, const tiled_options *opt, tiled_validation *report,
+                                           tiled_error *err)
 {
     tiled_options o = tiled__options(opt);
     tiled_layout l;
@@ -11393,7 +11470,8 @@ TILEDDEF tiled_result tiled_validate_tiles(const tiled_image *tiles, const tiled
             for (s = 0; s < 4; s++) {
                 tiled__side here;
                 float seam;
-                here.tile = t, here.side = s;
+                here.tile = t;
+                here.side = s;
                 seam = tiled__side_seam(&img, &gm, case1, case1 && !o.no_mirror, here, types[s]);
                 report->sides_checked++;
                 if (seam > report->worst) report->worst = seam;
@@ -11426,12 +11504,10 @@ static void tiled__normalise(tiled_mesh *m)
     s = 0.0f;
     for (k = 0; k < 3; k++) s = hi[k] - lo[k] > s ? hi[k] - lo[k] : s;
     for (v = 0; v < m->nverts; v++)
-        for (k = 0; k < 3; k++)
-            m->positions[3 * v + k] = (m->positions[3 * v + k] - 0.5f * (lo[k] + hi[k])) * 2.0f / s;
+        for (k = 0; k < 3; k++) m->positions[3 * v + k] = (m->positions[3 * v + k] - 0.5f * (lo[k] + hi[k])) * 2.0f / s;
 }
 
-TILEDDEF tiled_result tiled_builtin_mesh(const char *name, const tiled_options *opt,
-                                         tiled_mesh *out, tiled_error *err)
+TILEDDEF tiled_result tiled_builtin_mesh(const char *name, const tiled_options *opt, tiled_mesh *out, tiled_error *err)
 {
     /* genus 2: a 5x3x2 slab of voxels with two holes through it */
     static const unsigned char slab[30] = {1, 1, 1, 1, 1, 1, 0, 1, 0, 1, 1, 1, 1, 1, 1,
@@ -11451,8 +11527,10 @@ TILEDDEF tiled_result tiled_builtin_mesh(const char *name, const tiled_options *
     else if (!strcmp(name, "icosahedron")) pw_shape_icosahedron(&a, &pm, &pe);
     else if (!strcmp(name, "grid")) pw_shape_grid(&a, 12, 0.2, 1, &pm, &pe);
     else
-        pw_fail(&pe, PW_ERR_INVALID, "unknown built-in mesh '%s' (cube, torus, double-torus, "
-                "icosahedron, grid)", name);
+        pw_fail(&pe, PW_ERR_INVALID,
+                "unknown built-in mesh '%s' (cube, torus, double-torus, "
+                "icosahedron, grid)",
+                name);
     if (pe.code == PW_OK) tiled__take_mesh(&pm, &a, out);
     if (pe.code == PW_OK) tiled__normalise(out);
     return tiled__done(&pe, err);
@@ -11461,7 +11539,7 @@ TILEDDEF tiled_result tiled_builtin_mesh(const char *name, const tiled_options *
 /* Procedural exemplars: periodic on the unit torus, built from + - * / and
  * sqrt only, so they are identical on every platform. */
 typedef struct tiled__cells {
-    int m;           /* m x m jittered cells */
+    int m;                  /* m x m jittered cells */
     float px[256], py[256]; /* one feature point per cell, in [0,1) */
     float col[256][3];
 } tiled__cells;
@@ -11490,16 +11568,31 @@ static void tiled__cells_eval(const tiled__cells *c, float x, float y, float *f1
         for (dx = -2; dx <= 2; dx++) {
             int gx = cx + dx, gy = cy + dy, k;
             float ox = 0.0f, oy = 0.0f, ddx, ddy, d;
-            if (gx < 0) { gx += c->m; ox = -1.0f; }
-            if (gx >= c->m) { gx -= c->m; ox = 1.0f; }
-            if (gy < 0) { gy += c->m; oy = -1.0f; }
-            if (gy >= c->m) { gy -= c->m; oy = 1.0f; }
+            if (gx < 0) {
+                gx += c->m;
+                ox = -1.0f;
+            }
+            if (gx >= c->m) {
+                gx -= c->m;
+                ox = 1.0f;
+            }
+            if (gy < 0) {
+                gy += c->m;
+                oy = -1.0f;
+            }
+            if (gy >= c->m) {
+                gy -= c->m;
+                oy = 1.0f;
+            }
             k = gy * c->m + gx;
             ddx = c->px[k] + ox - x;
             ddy = c->py[k] + oy - y;
             d = sqrtf(ddx * ddx + ddy * ddy);
-            if (d < *f1) { *f2 = *f1; *f1 = d; *id = k; }
-            else if (d < *f2) *f2 = d;
+            if (d < *f1) {
+                *f2 = *f1;
+                *f1 = d;
+                *id = k;
+            } else if (d < *f2) *f2 = d;
         }
 }
 
@@ -11534,11 +11627,11 @@ static void tiled__spots(const tiled__cells *c, uint64_t seed, float x, float y,
     int id;
     tiled__cells_eval(c, x, y, &f1, &f2, &id);
     r = (0.25f + 0.12f * c->col[id][0]) / (float)c->m; /* rosette radius */
-    k = 40.0f * (float)c->m;                             /* edge sharpness */
+    k = 40.0f * (float)c->m;                           /* edge sharpness */
     broken = (float)pw_noise2(seed + 11, 16 * x, 16 * y, 16) > 0.3f ? 1.0f : 0.0f;
     tiled__mix(base, ground, centre, (0.5f * r - f1) * k);
-    tiled__mix(rgb, base, ring, broken * pw_clampf((f1 - 0.5f * r) * k, 0.0f, 1.0f) *
-                                    pw_clampf((r - f1) * k, 0.0f, 1.0f));
+    tiled__mix(rgb, base, ring,
+               broken * pw_clampf((f1 - 0.5f * r) * k, 0.0f, 1.0f) * pw_clampf((r - f1) * k, 0.0f, 1.0f));
     rgb[0] *= 0.85f + 0.3f * n;
     rgb[1] *= 0.85f + 0.3f * n;
     rgb[2] *= 0.85f + 0.3f * n;
@@ -11547,15 +11640,14 @@ static void tiled__spots(const tiled__cells *c, uint64_t seed, float x, float y,
 /* Lichen: yellow-green crusts on grey stone, from thresholded fBm. */
 static void tiled__lichen(uint64_t seed, float x, float y, float *rgb)
 {
-    static const float stone[3] = {0.5f, 0.5f, 0.48f}, moss[3] = {0.55f, 0.62f, 0.2f},
-                       dark[3] = {0.2f, 0.22f, 0.12f};
+    static const float stone[3] = {0.5f, 0.5f, 0.48f}, moss[3] = {0.55f, 0.62f, 0.2f}, dark[3] = {0.2f, 0.22f, 0.12f};
     float n = (float)pw_fbm2(seed, 4.0 * x, 4.0 * y, 4), d = (float)pw_fbm2(seed + 7, 4.0 * x, 4.0 * y, 4), base[3];
     tiled__mix(base, stone, moss, (n - 0.5f) * 12.0f);
     tiled__mix(rgb, base, dark, (d - 0.62f) * 8.0f);
 }
 
-TILEDDEF tiled_result tiled_builtin_exemplar(const char *name, int size, const tiled_options *opt,
-                                             tiled_image *out, tiled_error *err)
+TILEDDEF tiled_result tiled_builtin_exemplar(const char *name, int size, const tiled_options *opt, tiled_image *out,
+                                             tiled_error *err)
 {
     tiled_options o = tiled__options(opt);
     pw_alloc a = tiled__alloc(&o.allocator);
@@ -11568,10 +11660,8 @@ TILEDDEF tiled_result tiled_builtin_exemplar(const char *name, int size, const t
     if (out) memset(out, 0, sizeof *out);
     if (name) kind = !strcmp(name, "pebbles") ? 0 : !strcmp(name, "spots") ? 1 : !strcmp(name, "lichen") ? 2 : -1;
     if (!out || kind < 0)
-        pw_fail(&pe, PW_ERR_INVALID, "unknown built-in exemplar '%s' (pebbles, spots, lichen)",
-                name ? name : "(null)");
-    else if (size < 8 || size > 4096)
-        pw_fail(&pe, PW_ERR_INVALID, "exemplar size must be 8..4096 (got %d)", size);
+        pw_fail(&pe, PW_ERR_INVALID, "unknown built-in exemplar '%s' (pebbles, spots, lichen)", name ? name : "(null)");
+    else if (size < 8 || size > 4096) pw_fail(&pe, PW_ERR_INVALID, "exemplar size must be 8..4096 (got %d)", size);
     else if (pw_image_alloc(&a, &img, size, size, 3, &pe) == PW_OK) {
         tiled__cells_init(&cells, kind == 0 ? 4 : 3, &r);
         for (y = 0; y < size; y++)
@@ -11600,8 +11690,7 @@ TILEDDEF tiled_result tiled_builtin_exemplar(const char *name, int size, const t
 #ifndef PW_NO_RENDER
 /* Fan-triangulates a mapped mesh into triangles with per-corner texture
  * coordinates. */
-static int tiled__triangles(const pw_alloc *a, const tiled_mesh *m, int **tris, float **uvs,
-                            int *ntris, pw_err *e)
+static int tiled__triangles(const pw_alloc *a, const tiled_mesh *m, int **tris, float **uvs, int *ntris, pw_err *e)
 {
     int f, k, t = 0, n = m->face_start[m->nfaces] - 2 * m->nfaces;
     *tris = (int *)pw_alloc_array(a, (size_t)n * 3, sizeof(int), "triangles", e);
@@ -11630,9 +11719,8 @@ static int tiled__triangles(const pw_alloc *a, const tiled_mesh *m, int **tris, 
 /* Draws the triangles lit, textured from the atlas with mip levels capped
  * where they would mix tiles, band by band (pw_render_frame), and resolves
  * the supersamples. */
-static int tiled__draw(const pw_alloc *a, const tiled_mesh *m, const tiled_tileset *ts,
-                       const tiled_render_options *ro, const int *tris, const float *uvs, int ntris,
-                       pw_image *out, pw_err *e)
+static int tiled__draw(const pw_alloc *a, const tiled_mesh *m, const tiled_tileset *ts, const tiled_render_options *ro,
+                       const int *tris, const float *uvs, int ntris, pw_image *out, pw_err *e)
 {
     pw_image atlas = tiled__pw_image(&ts->atlas);
     pw_texture tex;
@@ -11687,9 +11775,8 @@ static tiled_render_options tiled__render_options(const tiled_render_options *ro
 }
 
 #ifndef PW_NO_RENDER
-TILEDDEF tiled_result tiled_render(const tiled_mesh *mapped, const tiled_tileset *ts,
-                                   const tiled_render_options *ro, tiled_image *out,
-                                   tiled_error *err)
+TILEDDEF tiled_result tiled_render(const tiled_mesh *mapped, const tiled_tileset *ts, const tiled_render_options *ro,
+                                   tiled_image *out, tiled_error *err)
 {
     tiled_render_options o = tiled__render_options(ro);
     pw_alloc a = tiled__alloc(ts ? &ts->atlas.allocator : NULL);
@@ -11700,17 +11787,17 @@ TILEDDEF tiled_result tiled_render(const tiled_mesh *mapped, const tiled_tileset
     pw_err_clear(&pe);
     if (out) memset(out, 0, sizeof *out);
     if (!out || !ts || !mapped || !mapped->uvs)
-        pw_fail(&pe, PW_ERR_INVALID, "tiled_render: needs a mapped mesh (with uvs), a tile set "
+        pw_fail(&pe, PW_ERR_INVALID,
+                "tiled_render: needs a mapped mesh (with uvs), a tile set "
                 "and an output image");
-    else if (o.width < 1 || o.height < 1 || o.supersample < 1 || o.supersample > 8 ||
-             (int)o.filter < 0 || (int)o.filter > 2 || o.threads < 0)
-        pw_fail(&pe, PW_ERR_INVALID, "render options: size %dx%d, supersample %d, filter %d, threads %d",
-                o.width, o.height, o.supersample, (int)o.filter, o.threads);
+    else if (o.width < 1 || o.height < 1 || o.supersample < 1 || o.supersample > 8 || (int)o.filter < 0 ||
+             (int)o.filter > 2 || o.threads < 0)
+        pw_fail(&pe, PW_ERR_INVALID, "render options: size %dx%d, supersample %d, filter %d, threads %d", o.width,
+                o.height, o.supersample, (int)o.filter, o.threads);
     else if (tiled__check_mesh(mapped, &pe) == PW_OK &&
              tiled__check_image(&ts->atlas, "tile set atlas", &pe) == PW_OK &&
              tiled__triangles(&a, mapped, &tris, &uvs, &ntris, &pe) == PW_OK) {
-        if (tiled__draw(&a, mapped, ts, &o, tris, uvs, ntris, &pic, &pe) == PW_OK)
-            tiled__take_image(&pic, &a, out);
+        if (tiled__draw(&a, mapped, ts, &o, tris, uvs, ntris, &pic, &pe) == PW_OK) tiled__take_image(&pic, &a, out);
         pw_free(&a, tris);
         pw_free(&a, uvs);
     }
@@ -11718,11 +11805,12 @@ TILEDDEF tiled_result tiled_render(const tiled_mesh *mapped, const tiled_tileset
 }
 
 #else
-TILEDDEF tiled_result tiled_render(const tiled_mesh *mapped, const tiled_tileset *ts,
-                                   const tiled_render_options *ro, tiled_image *out,
-                                   tiled_error *err)
+TILEDDEF tiled_result tiled_render(const tiled_mesh *mapped, const tiled_tileset *ts, const tiled_render_options *ro,
+                                   tiled_image *out, tiled_error *err)
 {
-    (void)mapped, (void)ts, (void)ro;
+    (void)mapped;
+    (void)ts;
+    (void)ro;
     if (out) memset(out, 0, sizeof *out);
     return tiled__left_out("rendering", "PW_NO_RENDER", err);
 }
@@ -11739,7 +11827,10 @@ static void tiled__face_areas(const tiled_mesh *m, int f, double *world, double 
         const float *t1 = m->uvs + 2 * k, *t2 = m->uvs + 2 * (k + 1);
         double a[3], b[3], n[3];
         int j;
-        for (j = 0; j < 3; j++) a[j] = p1[j] - p0[j], b[j] = p2[j] - p0[j];
+        for (j = 0; j < 3; j++) {
+            a[j] = p1[j] - p0[j];
+            b[j] = p2[j] - p0[j];
+        }
         pw_cross3(a, b, n);
         *world += 0.5 * sqrt(pw_dot3(n, n));
         *tex += 0.5 * fabs((t1[0] - t0[0]) * (t2[1] - t0[1]) - (t2[0] - t0[0]) * (t1[1] - t0[1]));
@@ -11773,8 +11864,7 @@ static double tiled__tile_length(const pw_alloc *a, const tiled_mesh *m, const t
 }
 
 TILEDDEF tiled_result tiled_drawn_tile_size(const tiled_mesh *mapped, const tiled_tileset *ts,
-                                            const tiled_render_options *ro, float *pixels,
-                                            tiled_error *err)
+                                            const tiled_render_options *ro, float *pixels, tiled_error *err)
 {
     tiled_render_options o = tiled__render_options(ro);
     pw_alloc a = tiled__alloc(ts ? &ts->atlas.allocator : NULL);
@@ -11782,7 +11872,8 @@ TILEDDEF tiled_result tiled_drawn_tile_size(const tiled_mesh *mapped, const tile
     pw_err_clear(&pe);
     if (pixels) *pixels = 0.0f;
     if (!pixels || !ts || !mapped || !mapped->uvs || ts->atlas.width < 1 || o.width < 1 || o.height < 1)
-        pw_fail(&pe, PW_ERR_INVALID, "tiled_drawn_tile_size: needs a mapped mesh (with uvs), its "
+        pw_fail(&pe, PW_ERR_INVALID,
+                "tiled_drawn_tile_size: needs a mapped mesh (with uvs), its "
                 "tile set, an output and a valid render size");
     else if (tiled__check_mesh(mapped, &pe) == PW_OK) {
         double len = tiled__tile_length(&a, mapped, ts, &pe), d[3], dist;
@@ -11792,8 +11883,7 @@ TILEDDEF tiled_result tiled_drawn_tile_size(const tiled_mesh *mapped, const tile
         for (k = 0; k < 3; k++) d[k] = cam.eye[k] - cam.target[k];
         dist = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
         /* pixels per world unit at the framed mesh's centre */
-        if (len >= 0.0 && dist > 0.0)
-            *pixels = (float)(len * o.height / (2.0 * dist * pw__tan_deg(0.5 * TILED__FOVY)));
+        if (len >= 0.0 && dist > 0.0) *pixels = (float)(len * o.height / (2.0 * dist * pw__tan_deg(0.5 * TILED__FOVY)));
     }
     return tiled__done(&pe, err);
 }
@@ -11803,9 +11893,8 @@ TILEDDEF tiled_result tiled_drawn_tile_size(const tiled_mesh *mapped, const tile
  * coordinates out as OBJ + MTL or glTF, for other programs to render (the
  * thesis took its meshes from and to Maya, ch. IV.2 and V), and images. */
 
-TILEDDEF tiled_result tiled_read_mesh(const void *data, size_t size, const char *name,
-                                      const tiled_options *opt, tiled_mesh *out,
-                                      tiled_error *err)
+TILEDDEF tiled_result tiled_read_mesh(const void *data, size_t size, const char *name, const tiled_options *opt,
+                                      tiled_mesh *out, tiled_error *err)
 {
     tiled_options o = tiled__options(opt);
     pw_alloc a = tiled__alloc(&o.allocator);
@@ -11814,14 +11903,12 @@ TILEDDEF tiled_result tiled_read_mesh(const void *data, size_t size, const char 
     pw_err_clear(&pe);
     if (out) memset(out, 0, sizeof *out);
     if (!out || (!data && size)) pw_fail(&pe, PW_ERR_INVALID, "tiled_read_mesh: NULL argument");
-    else if (pw_mesh_read_memory(&a, data, size, name ? name : "mesh", &m, &pe) == PW_OK)
-        tiled__take_mesh(&m, &a, out);
+    else if (pw_mesh_read_memory(&a, data, size, name ? name : "mesh", &m, &pe) == PW_OK) tiled__take_mesh(&m, &a, out);
     return tiled__done(&pe, err);
 }
 
-TILEDDEF tiled_result tiled_read_image(const void *data, size_t size, const char *name,
-                                       const tiled_options *opt, tiled_image *out,
-                                       tiled_error *err)
+TILEDDEF tiled_result tiled_read_image(const void *data, size_t size, const char *name, const tiled_options *opt,
+                                       tiled_image *out, tiled_error *err)
 {
     tiled_options o = tiled__options(opt);
     pw_alloc a = tiled__alloc(&o.allocator);
@@ -11830,14 +11917,13 @@ TILEDDEF tiled_result tiled_read_image(const void *data, size_t size, const char
     pw_err_clear(&pe);
     if (out) memset(out, 0, sizeof *out);
     if (!out || (!data && size)) pw_fail(&pe, PW_ERR_INVALID, "tiled_read_image: NULL argument");
-    else if (pw_image_read_memory(&a, (const unsigned char *)data, size, name ? name : "image", &img,
-                                  &pe) == PW_OK)
+    else if (pw_image_read_memory(&a, (const unsigned char *)data, size, name ? name : "image", &img, &pe) == PW_OK)
         tiled__take_image(&img, &a, out);
     return tiled__done(&pe, err);
 }
 
-TILEDDEF tiled_result tiled_write_image(const tiled_image *img, const char *format,
-                                        tiled_write_fn fn, void *ctx, tiled_error *err)
+TILEDDEF tiled_result tiled_write_image(const tiled_image *img, const char *format, tiled_write_fn fn, void *ctx,
+                                        tiled_error *err)
 {
     pw_err pe;
     pw_err_clear(&pe);
@@ -11877,8 +11963,8 @@ static int tiled__index_uvs(const pw_alloc *a, const tiled_mesh *m, pw_mesh *pm,
     return PW_OK;
 }
 
-TILEDDEF tiled_result tiled_write_obj(const tiled_mesh *m, const char *mtl_name,
-                                      tiled_write_fn fn, void *ctx, tiled_error *err)
+TILEDDEF tiled_result tiled_write_obj(const tiled_mesh *m, const char *mtl_name, tiled_write_fn fn, void *ctx,
+                                      tiled_error *err)
 {
     pw_alloc a = tiled__alloc(m ? &m->allocator : NULL);
     pw_mesh pm;
@@ -11898,8 +11984,7 @@ TILEDDEF tiled_result tiled_write_obj(const tiled_mesh *m, const char *mtl_name,
 }
 
 TILEDDEF tiled_result tiled_write_gltf(const tiled_mesh *m, const tiled_image *texture,
-                                       const tiled_render_options *view, tiled_write_fn fn, void *ctx,
-                                       tiled_error *err)
+                                       const tiled_render_options *view, tiled_write_fn fn, void *ctx, tiled_error *err)
 {
     pw_alloc a = tiled__alloc(m ? &m->allocator : NULL);
     pw_gltf_part part;
@@ -11914,11 +11999,19 @@ TILEDDEF tiled_result tiled_write_gltf(const tiled_mesh *m, const tiled_image *t
     else if (texture && !m->uvs) pw_fail(&pe, PW_ERR_INVALID, "glTF: a texture for a mesh without texture coordinates");
     else if (tiled__check_mesh(m, &pe) == PW_OK && (!texture || tiled__check_image(texture, "texture", &pe) == PW_OK)) {
         part.name = "tiled";
-        part.nv = m->nverts, part.pos = m->positions;
-        part.nf = m->nfaces, part.fstart = m->face_start, part.fv = m->face_verts;
+        part.nv = m->nverts;
+        part.pos = m->positions;
+        part.nf = m->nfaces;
+        part.fstart = m->face_start;
+        part.fv = m->face_verts;
         part.corner_uv = m->uvs;
-        if (texture) img = tiled__pw_image(texture), part.texture = &img;
-        scene.parts = &part, scene.nparts = 1, scene.generator = "patchwork tiled.h " TILED_VERSION_STRING;
+        if (texture) {
+            img = tiled__pw_image(texture);
+            part.texture = &img;
+        }
+        scene.parts = &part;
+        scene.nparts = 1;
+        scene.generator = "patchwork tiled.h " TILED_VERSION_STRING;
         if (view) {
             cam = pw_gltf_view_camera(m->positions, m->nverts, view->width, view->height, view->view_dir, view->up,
                                       &scene.aspect);
@@ -11929,8 +12022,7 @@ TILEDDEF tiled_result tiled_write_gltf(const tiled_mesh *m, const tiled_image *t
     return tiled__done(&pe, err);
 }
 
-TILEDDEF tiled_result tiled_write_mtl(const char *texture_name, tiled_write_fn fn,
-                                      void *ctx, tiled_error *err)
+TILEDDEF tiled_result tiled_write_mtl(const char *texture_name, tiled_write_fn fn, void *ctx, tiled_error *err)
 {
     pw_err pe;
     pw_err_clear(&pe);
@@ -11940,8 +12032,7 @@ TILEDDEF tiled_result tiled_write_mtl(const char *texture_name, tiled_write_fn f
 }
 
 #ifndef PW_NO_STDIO
-TILEDDEF tiled_result tiled_load_mesh(const char *path, const tiled_options *opt, tiled_mesh *out,
-                                      tiled_error *err)
+TILEDDEF tiled_result tiled_load_mesh(const char *path, const tiled_options *opt, tiled_mesh *out, tiled_error *err)
 {
     tiled_options o = tiled__options(opt);
     pw_alloc a = tiled__alloc(&o.allocator);
@@ -11954,8 +12045,7 @@ TILEDDEF tiled_result tiled_load_mesh(const char *path, const tiled_options *opt
     return tiled__done(&pe, err);
 }
 
-TILEDDEF tiled_result tiled_load_image(const char *path, const tiled_options *opt,
-                                       tiled_image *out, tiled_error *err)
+TILEDDEF tiled_result tiled_load_image(const char *path, const tiled_options *opt, tiled_image *out, tiled_error *err)
 {
     tiled_options o = tiled__options(opt);
     pw_alloc a = tiled__alloc(&o.allocator);
@@ -12026,8 +12116,7 @@ TILEDDEF tiled_result tiled_save_image(const char *path, const tiled_image *img,
     if (!path) pw_fail(&pe, PW_ERR_INVALID, "tiled_save_image: NULL path");
     else if (!(j.format = tiled__format_of(path)))
         pw_fail(&pe, PW_ERR_UNSUPPORTED, "%s: unknown image extension (use .png, .ppm, .pgm, .pam)", path);
-    else if (tiled__check_image(img, path, &pe) == PW_OK)
-        pw_write_file(path, tiled__image_job, &j, &pe);
+    else if (tiled__check_image(img, path, &pe) == PW_OK) pw_write_file(path, tiled__image_job, &j, &pe);
     return tiled__done(&pe, err);
 }
 
@@ -12038,14 +12127,16 @@ TILEDDEF tiled_result tiled_save_gltf(const char *path, const tiled_mesh *m, con
     pw_err pe;
     pw_err_clear(&pe);
     memset(&j, 0, sizeof j);
-    j.mesh = m, j.img = texture, j.view = view;
+    j.mesh = m;
+    j.img = texture;
+    j.view = view;
     if (!path) pw_fail(&pe, PW_ERR_INVALID, "tiled_save_gltf: NULL path");
     else pw_write_file(path, tiled__gltf_job, &j, &pe);
     return tiled__done(&pe, err);
 }
 
-TILEDDEF tiled_result tiled_save_obj(const char *obj_path, const tiled_mesh *m,
-                                     const char *texture_path, tiled_error *err)
+TILEDDEF tiled_result tiled_save_obj(const char *obj_path, const tiled_mesh *m, const char *texture_path,
+                                     tiled_error *err)
 {
     char mtl[1024];
     const char *mtl_name = NULL;

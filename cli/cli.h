@@ -38,9 +38,9 @@ int cli_vec3(cli_args *a, float out[3]);
  * pixel. Returns -1 when argv[i] is none of them, else 1 (parsed) or 0 (an
  * error, printed). */
 int cli_view_flag(cli_args *a, float view_dir[3], float up[3], int *supersample, int *threads);
-#define CLI_VIEW_USAGE                                                                                   \
-    "  --view X,Y,Z        the direction the camera looks along (default -0.55,-0.45,-0.7)\n"            \
-    "  --view-up X,Y,Z|z   the world direction shown upwards (default y; z for Z-up scans)\n"           \
+#define CLI_VIEW_USAGE                                                                        \
+    "  --view X,Y,Z        the direction the camera looks along (default -0.55,-0.45,-0.7)\n" \
+    "  --view-up X,Y,Z|z   the world direction shown upwards (default y; z for Z-up scans)\n" \
     "  --supersample N     N x N samples per pixel, 1..8 (default 2)\n"
 /* True if argv[i] is `name` or `name=...`. */
 int cli_is(const cli_args *a, const char *name);
@@ -74,8 +74,7 @@ int cli_fwrite(void *ctx, const void *data, size_t size);
 
 /* Writes an image (format from the extension of `final_path`) to the
  * staged temporary path. Returns TILED_OK or an error (message in err). */
-tiled_result cli_write_image(cli_outputs *o, const char *final_path, const tiled_image *img,
-                             tiled_error *err);
+tiled_result cli_write_image(cli_outputs *o, const char *final_path, const tiled_image *img, tiled_error *err);
 /* The same for an image of another header (they share the fields): a
  * tiled_image view of it (no copy), and cli_write_image with the error
  * message into that header's message (256 bytes); returns the code. */

@@ -20,8 +20,8 @@ static int demo_size(int full, int by, int floor_)
 }
 
 /* Quick mode: a small picture with one sample per pixel. */
-#define DEMO_QUICK_VIEW(ro)                                      \
-    do {                                                         \
+#define DEMO_QUICK_VIEW(ro)                                                        \
+    do {                                                                           \
         if (demo_quick) (ro).width = 200, (ro).height = 150, (ro).supersample = 1; \
     } while (0)
 
@@ -40,8 +40,7 @@ static const demo_scene tiled_scenes[] = {
 };
 
 /* Writes img as DIR/NAME.ppm and DIR/NAME.png, reporting each file. */
-static tiled_result demo_write(const char *dir, const char *name, const tiled_image *img,
-                               tiled_error *err)
+static tiled_result demo_write(const char *dir, const char *name, const tiled_image *img, tiled_error *err)
 {
     static const char *const ext[2] = {"ppm", "png"};
     char path[1024];
@@ -67,7 +66,10 @@ static tiled_result demo_write_pixels(const char *dir, const char *name, int wid
 {
     tiled_image view;
     memset(&view, 0, sizeof view);
-    view.width = width, view.height = height, view.channels = channels, view.pixels = pixels;
+    view.width = width;
+    view.height = height;
+    view.channels = channels;
+    view.pixels = pixels;
     return demo_write(dir, name, &view, err);
 }
 #define DEMO_WRITE(dir, name, img, err) \
@@ -183,8 +185,22 @@ typedef struct pgp_scene {
 } pgp_scene;
 
 static const pgp_scene pgp_scenes[] = {
-    {"pgp_bumpy_bricks", "bumpy", "bricks", PGP_FIELD_UP, 0.5f, {-0.3f, -0.35f, -0.9f}, {-0.48f, 0.57f, 0.67f}, {0.92f, -0.26f, 0.28f}},
-    {"pgp_torus_stripes", "torus", "stripes", PGP_FIELD_CURVATURE, 0.6f, {-0.2f, -0.6f, -0.75f}, {0.0f, 0.0f, 0.0f}, {0.0f, 0.0f, 0.0f}},
+    {"pgp_bumpy_bricks",
+     "bumpy",
+     "bricks",
+     PGP_FIELD_UP,
+     0.5f,
+     {-0.3f, -0.35f, -0.9f},
+     {-0.48f, 0.57f, 0.67f},
+     {0.92f, -0.26f, 0.28f}},
+    {"pgp_torus_stripes",
+     "torus",
+     "stripes",
+     PGP_FIELD_CURVATURE,
+     0.6f,
+     {-0.2f, -0.6f, -0.75f},
+     {0.0f, 0.0f, 0.0f},
+     {0.0f, 0.0f, 0.0f}},
 };
 
 /* The layers of a tile side by side, m growing to the right. */
@@ -227,11 +243,15 @@ static pgp_result demo_pgp_weather(const pgp_scene *s, const pgp_mesh *mesh, pgp
         float l = sqrtf(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
         float d0 = l > 0.0f ? (p[0] * s->fresh[0] + p[1] * s->fresh[1] + p[2] * s->fresh[2]) / l : 0.0f;
         float d1 = l > 0.0f ? (p[0] * s->weathered[0] + p[1] * s->weathered[1] + p[2] * s->weathered[2]) / l : 0.0f;
-        c.element = v, c.value[0] = d1 > 0.8f ? 1.0f : 0.0f, c.radius = 0.1f;
+        c.element = v;
+        c.value[0] = d1 > 0.8f ? 1.0f : 0.0f;
+        c.radius = 0.1f;
         if (d0 > 0.8f || d1 > 0.8f) r = pgp_add_constraint(map, &c, NULL, NULL, pe);
         if (d0 > 0.8f) last = v;
     }
-    c.element = last, c.value[0] = 0.0f, c.radius = 0.0f;
+    c.element = last;
+    c.value[0] = 0.0f;
+    c.radius = 0.0f;
     if (r == PGP_OK && last >= 0) r = pgp_add_constraint(map, &c, NULL, NULL, pe);
     return r;
 }
@@ -261,8 +281,8 @@ static tiled_result demo_pgp_scene(const char *dir, const pgp_scene *s, tiled_er
     o.field = s->field;
     o.scale = s->scale;
     if (pgp_builtin_mesh(s->mesh, &o, &mesh, &pe) != PGP_OK) return DEMO_ERROR(&pe, err);
-    if (pgp_builtin_tile(s->tile, demo_size(256, 4, 64), &o, &tile, &pe) != PGP_OK || pgp_create(&mesh, &o, &map, &pe) != PGP_OK ||
-        (weather && demo_pgp_weather(s, &mesh, &map, &pe) != PGP_OK))
+    if (pgp_builtin_tile(s->tile, demo_size(256, 4, 64), &o, &tile, &pe) != PGP_OK ||
+        pgp_create(&mesh, &o, &map, &pe) != PGP_OK || (weather && demo_pgp_weather(s, &mesh, &map, &pe) != PGP_OK))
         r = DEMO_ERROR(&pe, err);
     for (k = 0; k < 3 && r == TILED_OK && suffix[weather][k]; k++) {
         ro.show = k == 1 ? (weather ? PGP_SHOW_MATERIAL : PGP_SHOW_SPECIAL) : PGP_SHOW_TILE;
@@ -289,11 +309,56 @@ typedef struct lst_scene {
 } lst_scene;
 
 static const lst_scene lst_scenes[] = {
-    {"lst_kiwi", "kiwi", "kiwi", LST_TYPE_2B, 6000, {-0.5f, -0.6f, -0.6f}, {0, 0, 1}, {{0, 0, 1, 0.15f}, {0, 1, 0, 0}}, 0.0f, 1},
-    {"lst_tree", "tree", "rings", LST_TYPE_2B, 9000, {-0.6f, 0.8f, -0.1f}, {0, 0, 1}, {{0, 0, 1, -0.4f}, {1, 0, 0, 0}}, 0.03f, 0},
-    {"lst_layers", "sphere", "layers", LST_TYPE_1B, 5000, {-0.55f, -0.45f, -0.7f}, {0, 1, 0}, {{0.3f, 0.3f, 1, 0.2f}, {0, 0, 0, 0}}, 0.0f, 0},
-    {"lst_fibers", "torus", "fibers", LST_TYPE_1A, 6000, {-0.3f, -0.5f, -0.8f}, {0, 1, 0}, {{1, 0, 0, 0.4f}, {0, 0, 0, 0}}, 0.0f, 0},
-    {"lst_spots", "bumpy", "spots", LST_TYPE_0, 5000, {-0.3f, -0.35f, -0.9f}, {0, 1, 0}, {{0, 0, 1, 0}, {0, 0, 0, 0}}, 0.0f, 0},
+    {"lst_kiwi",
+     "kiwi",
+     "kiwi",
+     LST_TYPE_2B,
+     6000,
+     {-0.5f, -0.6f, -0.6f},
+     {0, 0, 1},
+     {{0, 0, 1, 0.15f}, {0, 1, 0, 0}},
+     0.0f,
+     1},
+    {"lst_tree",
+     "tree",
+     "rings",
+     LST_TYPE_2B,
+     9000,
+     {-0.6f, 0.8f, -0.1f},
+     {0, 0, 1},
+     {{0, 0, 1, -0.4f}, {1, 0, 0, 0}},
+     0.03f,
+     0},
+    {"lst_layers",
+     "sphere",
+     "layers",
+     LST_TYPE_1B,
+     5000,
+     {-0.55f, -0.45f, -0.7f},
+     {0, 1, 0},
+     {{0.3f, 0.3f, 1, 0.2f}, {0, 0, 0, 0}},
+     0.0f,
+     0},
+    {"lst_fibers",
+     "torus",
+     "fibers",
+     LST_TYPE_1A,
+     6000,
+     {-0.3f, -0.5f, -0.8f},
+     {0, 1, 0},
+     {{1, 0, 0, 0.4f}, {0, 0, 0, 0}},
+     0.0f,
+     0},
+    {"lst_spots",
+     "bumpy",
+     "spots",
+     LST_TYPE_0,
+     5000,
+     {-0.3f, -0.35f, -0.9f},
+     {0, 1, 0},
+     {{0, 0, 1, 0}, {0, 0, 0, 0}},
+     0.0f,
+     0},
 };
 
 /* The model of a scene: built-in surface, tetrahedralized, filled with its
@@ -316,10 +381,13 @@ static lst_result demo_lst_model(const lst_scene *s, lst_options *o, lst_model *
     if ((r = lst_builtin_mesh(s->surface, o, &surf, le)) != LST_OK) return r;
     if ((r = lst_tetrahedralize(&surf, o, &tets, NULL, le)) == LST_OK &&
         (r = lst_builtin_exemplar(s->exemplar, demo_size(64, 2, 32), o, &ex, &val, le)) == LST_OK &&
-        (strcmp(s->surface, "kiwi") && strcmp(s->surface, "tree") && strcmp(s->surface, "torus") ? LST_OK
-         : (r = lst_builtin_constraints(s->surface, &surf, o, &c, le))) == LST_OK) {
-        o->constraints = c.items, o->nconstraints = c.count;
-        src.exemplar = &ex, src.values = &val;
+        (strcmp(s->surface, "kiwi") && strcmp(s->surface, "tree") && strcmp(s->surface, "torus")
+             ? LST_OK
+             : (r = lst_builtin_constraints(s->surface, &surf, o, &c, le))) == LST_OK) {
+        o->constraints = c.items;
+        o->nconstraints = c.count;
+        src.exemplar = &ex;
+        src.values = &val;
         r = lst_create(&tets, &surf, &src, o, m, le);
     }
     lst_constraints_free(&c);
@@ -341,9 +409,14 @@ static tiled_result demo_lst_section(const char *dir, const lst_scene *s, int k,
     int j;
     memset(&pic, 0, sizeof pic);
     for (j = 0; j < 3; j++) ro.view_dir[j] = -s->cuts[k][j];
-    if (fabsf(s->cuts[k][2]) > 0.9f) ro.up[0] = 0, ro.up[1] = 1, ro.up[2] = 0;
+    if (fabsf(s->cuts[k][2]) > 0.9f) {
+        ro.up[0] = 0;
+        ro.up[1] = 1;
+        ro.up[2] = 0;
+    }
     ro.displace = 0.0f;
-    if (lst_cut_plane(m, s->cuts[k], &le) != LST_OK || lst_render(m, &ro, &pic, &le) != LST_OK) return DEMO_ERROR(&le, err);
+    if (lst_cut_plane(m, s->cuts[k], &le) != LST_OK || lst_render(m, &ro, &pic, &le) != LST_OK)
+        return DEMO_ERROR(&le, err);
     snprintf(name, sizeof name, "%s_section%d", s->name, k + 1);
     r = DEMO_WRITE(dir, name, &pic, err);
     lst_image_free(&pic);
@@ -367,7 +440,8 @@ static tiled_result demo_lst_scene(const char *dir, const lst_scene *s, tiled_er
     memset(&ro, 0, sizeof ro);
     memset(&vo, 0, sizeof vo);
     memset(&pic, 0, sizeof pic);
-    ro.width = demo_size(600, 4, 150), ro.height = demo_size(500, 4, 125);
+    ro.width = demo_size(600, 4, 150);
+    ro.height = demo_size(500, 4, 125);
     memcpy(ro.view_dir, s->view, sizeof ro.view_dir);
     memcpy(ro.up, s->up, sizeof ro.up);
     ro.displace = s->displace;
@@ -386,7 +460,8 @@ static tiled_result demo_lst_scene(const char *dir, const lst_scene *s, tiled_er
     lst_image_free(&pic);
     lst_uncut(&m);
     memcpy(ro.view_dir, s->view, sizeof ro.view_dir);
-    ro.width = demo_size(400, 4, 100), ro.height = demo_size(330, 4, 83);
+    ro.width = demo_size(400, 4, 100);
+    ro.height = demo_size(330, 4, 83);
     vo.slices = demo_size(200, 4, 50);
     if (r == TILED_OK && s->volume && lst_render_volume(&m, &ro, &vo, &pic, &le) != LST_OK) r = DEMO_ERROR(&le, err);
     snprintf(name, sizeof name, "%s_volume", s->name);
@@ -440,7 +515,8 @@ int cmd_demo(int argc, char **argv)
         return 0;
     }
     demo_quick = argc > 1 && !strcmp(argv[1], "--quick");
-    argc -= demo_quick, argv += demo_quick;
+    argc -= demo_quick;
+    argv += demo_quick;
     if (argc > 2 || (argc > 1 && argv[1][0] == '-')) {
         cli_error("demo", "usage: patchwork demo [--quick] [DIR]");
         return 1;

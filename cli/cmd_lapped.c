@@ -34,8 +34,7 @@ static const char *lapped_usage =
     "  --out-pastes FILE    the ordered pastes (text format, see docs/lapped.md)\n"
     "  --out-patch FILE.pam the first patch with its final alpha (RGBA PAM)\n"
     "  --out-image IMG      a rendering by runtime pasting (.png .ppm .pgm .pam)\n"
-    "  --size WxH           rendering size (default 800x600; 16..8192 each)\n"
-    CLI_VIEW_USAGE
+    "  --size WxH           rendering size (default 800x600; 16..8192 each)\n" CLI_VIEW_USAGE
     "  --out-obj FILE       triangulated mesh with texture-atlas coordinates, and\n"
     "                       FILE's .mtl naming the atlas (needs --out-atlas)\n"
     "  --out-atlas IMG      the lapped texture baked into the atlas (needs --out-obj)\n"
@@ -85,14 +84,14 @@ static int parse_field(cli_args *a, lapped_cmd *c)
             if (end == p || (k < 2 && *end != ',') || (k == 2 && *end)) return bad("--field", v);
         }
         if (f->up[0] == 0.0f && f->up[1] == 0.0f && f->up[2] == 0.0f) return bad("--field (zero up vector)", v);
-    } else
-        return bad("--field", v);
+    } else return bad("--field", v);
     return 1;
 }
 
 static int parse_one(cli_args *a, lapped_cmd *c)
 {
-    int v = cli_view_flag(a, c->opt.render.view_dir, c->opt.render.up, &c->opt.render.supersample, &c->opt.render.threads);
+    int v =
+        cli_view_flag(a, c->opt.render.view_dir, c->opt.render.up, &c->opt.render.supersample, &c->opt.render.threads);
     if (cli_is(a, "--help") || cli_is(a, "-h")) return -1;
     if (v >= 0) return v;
     if (cli_is(a, "--mesh")) return cli_value(a, &c->mesh);
@@ -104,9 +103,18 @@ static int parse_one(cli_args *a, lapped_cmd *c)
         if (c->nchannels == MAX_TEXTURES) return bad("--channel", "(more than 16)");
         return cli_value(a, &c->channels[c->nchannels++]);
     }
-    if (cli_is(a, "--mask")) return (c->opt.alpha = LAPPED_ALPHA_MASK), cli_value(a, &c->mask);
-    if (cli_is(a, "--splotch")) return (c->opt.alpha = LAPPED_ALPHA_SPLOTCH), 1;
-    if (cli_is(a, "--circle")) return (c->opt.alpha = LAPPED_ALPHA_CIRCLE), 1;
+    if (cli_is(a, "--mask")) {
+        (c->opt.alpha = LAPPED_ALPHA_MASK);
+        return cli_value(a, &c->mask);
+    }
+    if (cli_is(a, "--splotch")) {
+        (c->opt.alpha = LAPPED_ALPHA_SPLOTCH);
+        return 1;
+    }
+    if (cli_is(a, "--circle")) {
+        (c->opt.alpha = LAPPED_ALPHA_CIRCLE);
+        return 1;
+    }
     if (cli_is(a, "--falloff")) return cli_float(a, 0.0f, 1000.0f, &c->opt.falloff);
     if (cli_is(a, "--field")) return parse_field(a, c);
     if (cli_is(a, "--scale")) return cli_float(a, 1e-30f, 1e30f, &c->opt.scale);
@@ -147,8 +155,7 @@ static int parse(int argc, char **argv, lapped_cmd *c)
         return 0;
     }
     if (c->nchannels && c->nchannels != c->ntextures) {
-        cli_error("lapped", "%d --channel for %d --texture: give one per texture", c->nchannels,
-                  c->ntextures);
+        cli_error("lapped", "%d --channel for %d --texture: give one per texture", c->nchannels, c->ntextures);
         return 0;
     }
     if (!c->nchannels != !(c->out_channel_image || c->out_channel_atlas)) {
@@ -172,7 +179,7 @@ static int parse(int argc, char **argv, lapped_cmd *c)
     }
     if (!c->out_pastes && !c->out_patch && !c->out_image && !c->out_obj && !c->out_channel_image && !c->out_glb) {
         cli_error("lapped", "nothing to write: give --out-pastes, --out-patch, --out-image, "
-                  "--out-obj, --out-glb or --out-channel-image");
+                            "--out-obj, --out-glb or --out-channel-image");
         return 0;
     }
     return 1;
@@ -185,8 +192,7 @@ static lapped_result load_mesh(const char *src, const lapped_options *o, lapped_
     return lapped_load_mesh(src, o, m, err);
 }
 
-static lapped_result load_image(const char *src, const lapped_options *o, lapped_image *img,
-                                lapped_error *err)
+static lapped_result load_image(const char *src, const lapped_options *o, lapped_image *img, lapped_error *err)
 {
     const char *name;
     if (cli_is_procedural(src, &name)) return lapped_builtin_exemplar(name, 128, o, img, err);
@@ -194,8 +200,7 @@ static lapped_result load_image(const char *src, const lapped_options *o, lapped
 }
 
 /* Writes a lapped image through the shared image writer. */
-static lapped_result write_image(cli_outputs *outs, const char *path, const lapped_image *img,
-                                 lapped_error *err)
+static lapped_result write_image(cli_outputs *outs, const char *path, const lapped_image *img, lapped_error *err)
 {
     tiled_image view = cli_image_view(img->width, img->height, img->channels, img->pixels, img->bits);
     return err->code = (lapped_result)cli_write_view(outs, path, &view, err->message);
@@ -222,8 +227,7 @@ static lapped_result make_patches(lapped_cmd *c, lapped_image *patches, lapped_e
     return r;
 }
 
-static lapped_result write_pastes(cli_outputs *outs, const char *path, const lapped_texture *t,
-                                  lapped_error *err)
+static lapped_result write_pastes(cli_outputs *outs, const char *path, const lapped_texture *t, lapped_error *err)
 {
     FILE *f = cli_open(outs, path, err->message, sizeof err->message);
     lapped_result r;
@@ -234,8 +238,8 @@ static lapped_result write_pastes(cli_outputs *outs, const char *path, const lap
 }
 
 /* OBJ + MTL naming the atlas image. */
-static lapped_result write_obj(lapped_cmd *c, cli_outputs *outs, const lapped_mesh *mesh,
-                               const lapped_atlas *atlas, lapped_error *err)
+static lapped_result write_obj(lapped_cmd *c, cli_outputs *outs, const lapped_mesh *mesh, const lapped_atlas *atlas,
+                               lapped_error *err)
 {
     char mtl[1024];
     lapped_result r;
@@ -252,8 +256,8 @@ static lapped_result write_obj(lapped_cmd *c, cli_outputs *outs, const lapped_me
     return err->code = r;
 }
 
-static lapped_result write_glb(cli_outputs *outs, const char *path, const lapped_mesh *mesh,
-                               const lapped_atlas *atlas, const lapped_render_options *view, lapped_error *err)
+static lapped_result write_glb(cli_outputs *outs, const char *path, const lapped_mesh *mesh, const lapped_atlas *atlas,
+                               const lapped_render_options *view, lapped_error *err)
 {
     FILE *f = cli_open(outs, path, err->message, sizeof err->message);
     lapped_result r;
@@ -267,9 +271,9 @@ static lapped_result write_glb(cli_outputs *outs, const char *path, const lapped
  * atlas image at `path` (if not NULL); with `obj`, also the OBJ + MTL, and
  * with `glb` the binary glTF. The layout depends only on the mesh and the
  * pastes, so both atlases share it. */
-static lapped_result write_atlas(lapped_cmd *c, cli_outputs *outs, const lapped_mesh *mesh,
-                                 const lapped_texture *t, const lapped_source *src, const char *path, int obj,
-                                 const char *glb, lapped_error *err)
+static lapped_result write_atlas(lapped_cmd *c, cli_outputs *outs, const lapped_mesh *mesh, const lapped_texture *t,
+                                 const lapped_source *src, const char *path, int obj, const char *glb,
+                                 lapped_error *err)
 {
     lapped_atlas atlas;
     lapped_result r = lapped_bake_atlas(mesh, t, src, &c->opt, &atlas, err);
@@ -286,9 +290,8 @@ static lapped_result write_atlas(lapped_cmd *c, cli_outputs *outs, const lapped_
 
 /* The runtime-pasting rendering of the patches (src->values NULL) or of
  * the extra channel. */
-static lapped_result write_render(lapped_cmd *c, cli_outputs *outs, const lapped_mesh *mesh,
-                                  const lapped_texture *t, const lapped_source *src, const char *path,
-                                  lapped_error *err)
+static lapped_result write_render(lapped_cmd *c, cli_outputs *outs, const lapped_mesh *mesh, const lapped_texture *t,
+                                  const lapped_source *src, const char *path, lapped_error *err)
 {
     lapped_image pic;
     lapped_result r = lapped_render(mesh, t, src, &c->opt.render, &pic, err);

@@ -6,67 +6,65 @@
 #include <time.h>
 #include "cli.h"
 
-static const char *lst_usage =
-    "usage: patchwork lst (--mesh FILE | --tets FILE.node | --tets FILE.mesh)\n"
-    "                     (--exemplar FILE.nrrd | --exemplar procedural:NAME) [options]\n"
-    "\n"
-    "Lapped solid textures (Takayama, Okabe, Ijiri, Igarashi 2008): the inside of a\n"
-    "closed surface filled with overlapping solid exemplars aligned to a tensor\n"
-    "field, shown as the surface, cross-sections and a volume rendering.\n"
-    "\n"
-    "inputs:\n"
-    "  --mesh FILE          a closed surface (OBJ, OFF, PLY), tetrahedralized here\n"
-    "                       (holes up to 5% of the diagonal around are closed),\n"
-    "                       or procedural:NAME (sphere, torus, bumpy, kiwi, tree,\n"
-    "                       dumbbell, star)\n"
-    "  --tets FILE          a tetrahedral mesh: TetGen FILE.node (with FILE.ele) or\n"
-    "                       MEDIT FILE.mesh\n"
-    "  --tet-count N        tetrahedra to aim for inside with --mesh (default 20000;\n"
-    "                       the lattice is finer near the surface where it bends,\n"
-    "                       is thin or nearly touches itself, so there are more)\n"
-    "  --cell H             or the lattice spacing inside, mesh units\n"
-    "  --tet-fit F          the bend of the surface one lattice tetrahedron may hold,\n"
-    "                       as a fraction of the diagonal (default 0.0025: the\n"
-    "                       boundary lands within about 0.4%); larger: fewer\n"
-    "  --tet-uniform        a uniform lattice of --tet-count tetrahedra instead\n"
-    "                       (proven dihedral bounds; parts thinner than a cell lost)\n"
-    "  --strict             refuse a closed surface whose triangles cross (by default\n"
-    "                       it is filled where its winding number is at least 1/2,\n"
-    "                       with a warning; --allow-self-intersections is accepted\n"
-    "                       and does nothing)\n"
-    "  --exemplar FILE      a solid exemplar: NRRD (sizes C X Y Z or X Y Z; RGBA:\n"
-    "                       the alpha is the mask of homogeneous types) or\n"
-    "                       procedural:NAME (layers, fibers, spots, rings, kiwi)\n"
-    "  --exemplar-size N    side of a procedural exemplar (default 64)\n"
-    "  --values FILE.nrrd   an extra channel (displacement...) of the exemplar's size\n"
-    "field and pasting:\n"
-    "  --type T             0 (isotropic, default), 1a (fibres), 1b (layers along the\n"
-    "                       depth), 2a (three axes), 2b (three axes, depth-varying)\n"
-    "  --scale S            exemplar side in mesh units (0, 1a, 2a; default 1/5 of\n"
-    "                       the bounding-box diagonal)\n"
-    "  --constraints FILE   a constraint file (repeatable), one constraint a line:\n"
-    "                       depths 'face F D', 'fill F D [CREASE]', 'point X Y Z D',\n"
-    "                       'depth-stroke D X Y Z X Y Z ...'; directions and scales\n"
-    "                       'dir X Y Z DX DY DZ', 'dir-stroke X Y Z X Y Z ...',\n"
-    "                       'scale X Y Z S'; or procedural:NAME (kiwi, tree, torus).\n"
-    "                       Default depth: the normalised distance from the surface;\n"
-    "                       default direction: the principal axis of the shape\n"
-    "  --depth FILE         the same as --constraints (procedural:NAME: only the depth\n"
-    "                       constraints of the built-in set)\n"
-    "  --directions FILE    the same as --constraints (procedural:NAME: only the\n"
-    "                       directions and scales of the built-in set)\n"
-    "  --axis X,Y,Z         the default direction instead of the principal axis\n"
-    "  --samples N          coverage lattice order (default 8: 165 points per tet)\n"
-    "  --seed S             random seed (default 0)\n"
-    "  --paste \"X Y Z UX UY UZ VX VY VZ S [MASK]\"  a manual paste on top (repeatable)\n";
+static const char *lst_usage = "usage: patchwork lst (--mesh FILE | --tets FILE.node | --tets FILE.mesh)\n"
+                               "                     (--exemplar FILE.nrrd | --exemplar procedural:NAME) [options]\n"
+                               "\n"
+                               "Lapped solid textures (Takayama, Okabe, Ijiri, Igarashi 2008): the inside of a\n"
+                               "closed surface filled with overlapping solid exemplars aligned to a tensor\n"
+                               "field, shown as the surface, cross-sections and a volume rendering.\n"
+                               "\n"
+                               "inputs:\n"
+                               "  --mesh FILE          a closed surface (OBJ, OFF, PLY), tetrahedralized here\n"
+                               "                       (holes up to 5% of the diagonal around are closed),\n"
+                               "                       or procedural:NAME (sphere, torus, bumpy, kiwi, tree,\n"
+                               "                       dumbbell, star)\n"
+                               "  --tets FILE          a tetrahedral mesh: TetGen FILE.node (with FILE.ele) or\n"
+                               "                       MEDIT FILE.mesh\n"
+                               "  --tet-count N        tetrahedra to aim for inside with --mesh (default 20000;\n"
+                               "                       the lattice is finer near the surface where it bends,\n"
+                               "                       is thin or nearly touches itself, so there are more)\n"
+                               "  --cell H             or the lattice spacing inside, mesh units\n"
+                               "  --tet-fit F          the bend of the surface one lattice tetrahedron may hold,\n"
+                               "                       as a fraction of the diagonal (default 0.0025: the\n"
+                               "                       boundary lands within about 0.4%); larger: fewer\n"
+                               "  --tet-uniform        a uniform lattice of --tet-count tetrahedra instead\n"
+                               "                       (proven dihedral bounds; parts thinner than a cell lost)\n"
+                               "  --strict             refuse a closed surface whose triangles cross (by default\n"
+                               "                       it is filled where its winding number is at least 1/2,\n"
+                               "                       with a warning; --allow-self-intersections is accepted\n"
+                               "                       and does nothing)\n"
+                               "  --exemplar FILE      a solid exemplar: NRRD (sizes C X Y Z or X Y Z; RGBA:\n"
+                               "                       the alpha is the mask of homogeneous types) or\n"
+                               "                       procedural:NAME (layers, fibers, spots, rings, kiwi)\n"
+                               "  --exemplar-size N    side of a procedural exemplar (default 64)\n"
+                               "  --values FILE.nrrd   an extra channel (displacement...) of the exemplar's size\n"
+                               "field and pasting:\n"
+                               "  --type T             0 (isotropic, default), 1a (fibres), 1b (layers along the\n"
+                               "                       depth), 2a (three axes), 2b (three axes, depth-varying)\n"
+                               "  --scale S            exemplar side in mesh units (0, 1a, 2a; default 1/5 of\n"
+                               "                       the bounding-box diagonal)\n"
+                               "  --constraints FILE   a constraint file (repeatable), one constraint a line:\n"
+                               "                       depths 'face F D', 'fill F D [CREASE]', 'point X Y Z D',\n"
+                               "                       'depth-stroke D X Y Z X Y Z ...'; directions and scales\n"
+                               "                       'dir X Y Z DX DY DZ', 'dir-stroke X Y Z X Y Z ...',\n"
+                               "                       'scale X Y Z S'; or procedural:NAME (kiwi, tree, torus).\n"
+                               "                       Default depth: the normalised distance from the surface;\n"
+                               "                       default direction: the principal axis of the shape\n"
+                               "  --depth FILE         the same as --constraints (procedural:NAME: only the depth\n"
+                               "                       constraints of the built-in set)\n"
+                               "  --directions FILE    the same as --constraints (procedural:NAME: only the\n"
+                               "                       directions and scales of the built-in set)\n"
+                               "  --axis X,Y,Z         the default direction instead of the principal axis\n"
+                               "  --samples N          coverage lattice order (default 8: 165 points per tet)\n"
+                               "  --seed S             random seed (default 0)\n"
+                               "  --paste \"X Y Z UX UY UZ VX VY VZ S [MASK]\"  a manual paste on top (repeatable)\n";
 
 /* The rest of the usage, in string literals of their own (C99 compilers
  * need only take 4095 characters in one). */
 static const char *lst_usage_views =
     "views:\n"
     "  --cut \"NX NY NZ D\"   cut away the side NX x + NY y + NZ z > D (repeatable)\n"
-    "  --cut-stroke \"X Y Z X Y Z ...\"  cut along a stroke seen along the view\n"
-    CLI_VIEW_USAGE
+    "  --cut-stroke \"X Y Z X Y Z ...\"  cut along a stroke seen along the view\n" CLI_VIEW_USAGE
     "  --up X,Y,Z           the same as --view-up\n"
     "  --size WxH           image size (default 800x600; 16..8192 each)\n"
     "  --show WHAT          color (default), values, pastes, depth (u,v,w as RGB)\n"
@@ -127,7 +125,8 @@ static int parse_floats(const char *v, float *out, int min, int max)
         if (n == max) return 0;
         out[n] = strtof(p, &end);
         if (end == p || !(out[n] - out[n] == 0.0f)) return 0;
-        n++, p = end;
+        n++;
+        p = end;
     }
     return n >= min ? n : 0;
 }
@@ -147,7 +146,10 @@ static int parse_type(cli_args *a, lst_cmd *c)
     int k;
     if (!cli_value(a, &v)) return 0;
     for (k = 0; k < 5; k++)
-        if (!strcmp(v, names[k])) return (c->opt.type = (lst_type)k), 1;
+        if (!strcmp(v, names[k])) {
+            (c->opt.type = (lst_type)k);
+            return 1;
+        }
     return bad("--type (0, 1a, 1b, 2a, 2b)", v);
 }
 
@@ -158,7 +160,10 @@ static int parse_show(cli_args *a, lst_cmd *c)
     int k;
     if (!cli_value(a, &v)) return 0;
     for (k = 0; k < 4; k++)
-        if (!strcmp(v, names[k])) return (c->opt.render.show = (lst_show)k), 1;
+        if (!strcmp(v, names[k])) {
+            (c->opt.render.show = (lst_show)k);
+            return 1;
+        }
     return bad("--show (color, values, pastes, depth)", v);
 }
 
@@ -261,15 +266,16 @@ static int ends_with(const char *s, const char *ext)
 /* Only --out-exemplar asked for: the exemplar is written, nothing filled. */
 static int exemplar_only(const lst_cmd *c)
 {
-    return c->out_exemplar && !c->mesh && !c->tets && !c->out_lst && !c->out_masks && !c->out_image && !c->out_section &&
-           !c->out_volume && !c->out_tets && !c->out_surface && !c->out_glb && !c->out_obj;
+    return c->out_exemplar && !c->mesh && !c->tets && !c->out_lst && !c->out_masks && !c->out_image &&
+           !c->out_section && !c->out_volume && !c->out_tets && !c->out_surface && !c->out_glb && !c->out_obj;
 }
 
 /* What the options must agree on. */
 static int parse_check(const lst_cmd *c)
 {
     const char *name;
-    if (exemplar_only(c) && c->exemplar) return ends_with(c->out_exemplar, ".nrrd") ? 1 : bad("--out-exemplar (FILE.nrrd)", c->out_exemplar);
+    if (exemplar_only(c) && c->exemplar)
+        return ends_with(c->out_exemplar, ".nrrd") ? 1 : bad("--out-exemplar (FILE.nrrd)", c->out_exemplar);
     if (!!c->mesh == !!c->tets || !c->exemplar) {
         cli_error("lst", "one of --mesh or --tets, and --exemplar, are required");
         return 0;
@@ -279,14 +285,20 @@ static int parse_check(const lst_cmd *c)
     if (c->tets && cli_is_procedural(c->tets, &name)) return bad("--tets (use --mesh procedural:NAME)", c->tets);
     if (c->out_tets && !ends_with(c->out_tets, ".node") && !ends_with(c->out_tets, ".mesh"))
         return bad("--out-tets (FILE.node or FILE.mesh)", c->out_tets);
-    if (c->out_exemplar && !ends_with(c->out_exemplar, ".nrrd")) return bad("--out-exemplar (FILE.nrrd)", c->out_exemplar);
+    if (c->out_exemplar && !ends_with(c->out_exemplar, ".nrrd"))
+        return bad("--out-exemplar (FILE.nrrd)", c->out_exemplar);
     if (c->out_surface && !ends_with(c->out_surface, ".obj")) return bad("--out-surface (FILE.obj)", c->out_surface);
     {
-        const cli_out outs[11] = {{"--out-lst", c->out_lst, CLI_OUT_ANY},          {"--out-masks", c->out_masks, CLI_OUT_PREFIX},
-                                  {"--out-exemplar", c->out_exemplar, CLI_OUT_NRRD}, {"--out-image", c->out_image, CLI_OUT_IMAGE},
-                                  {"--out-section", c->out_section, CLI_OUT_IMAGE}, {"--out-volume", c->out_volume, CLI_OUT_IMAGE},
-                                  {"--out-tets", c->out_tets, CLI_OUT_ANY},          {"--out-surface", c->out_surface, CLI_OUT_ANY},
-                                  {"--out-glb", c->out_glb, CLI_OUT_GLB},            {"--out-obj", c->out_obj, CLI_OUT_OBJ},
+        const cli_out outs[11] = {{"--out-lst", c->out_lst, CLI_OUT_ANY},
+                                  {"--out-masks", c->out_masks, CLI_OUT_PREFIX},
+                                  {"--out-exemplar", c->out_exemplar, CLI_OUT_NRRD},
+                                  {"--out-image", c->out_image, CLI_OUT_IMAGE},
+                                  {"--out-section", c->out_section, CLI_OUT_IMAGE},
+                                  {"--out-volume", c->out_volume, CLI_OUT_IMAGE},
+                                  {"--out-tets", c->out_tets, CLI_OUT_ANY},
+                                  {"--out-surface", c->out_surface, CLI_OUT_ANY},
+                                  {"--out-glb", c->out_glb, CLI_OUT_GLB},
+                                  {"--out-obj", c->out_obj, CLI_OUT_OBJ},
                                   {"--out-atlas", c->out_atlas, CLI_OUT_IMAGE}};
         if (!cli_check_outputs("lst", outs, 11)) return 0;
     }
@@ -354,13 +366,17 @@ static double seconds(void)
 static void report_fill(const lst_tetmesh *t, const lst_tet_report *rep, int uniform, double lo, double hi, double s)
 {
     if (rep->crossing_pairs > 0)
-        fprintf(stderr, "lst: warning: the surface crosses itself (%ld triangle pairs); filled where its winding "
-                "number is at least 1/2 (--strict refuses)\n", rep->crossing_pairs);
+        fprintf(stderr,
+                "lst: warning: the surface crosses itself (%ld triangle pairs); filled where its winding "
+                "number is at least 1/2 (--strict refuses)\n",
+                rep->crossing_pairs);
     if (rep->skipped_triangles > 0)
         fprintf(stderr, "lst: warning: %d zero-area triangles skipped\n", rep->skipped_triangles);
     if (rep->surface_pieces >= 0 && rep->pieces != rep->surface_pieces && rep->crossing_pairs == 0)
-        fprintf(stderr, "lst: warning: the tetrahedra make %d pieces where the surface encloses %d: parts thinner "
-                "than the lattice cell are lost or cut off (%s)\n", rep->pieces, rep->surface_pieces,
+        fprintf(stderr,
+                "lst: warning: the tetrahedra make %d pieces where the surface encloses %d: parts thinner "
+                "than the lattice cell are lost or cut off (%s)\n",
+                rep->pieces, rep->surface_pieces,
                 uniform ? "a larger --tet-count keeps more; the default graded lattice keeps thin parts"
                         : "a smaller --tet-fit keeps more");
     if (rep->fragments > 0)
@@ -408,10 +424,7 @@ static lst_result load_exemplar(const lst_cmd *c, lst_run *r, lst_error *err)
 
 /* Whether constraint kind k of a built-in set is taken by flag f (--depth:
  * the depths, --directions: directions and scales, --constraints: all). */
-static int keeps(char f, lst_constraint_kind k)
-{
-    return f == 'c' || (f == 'd') == (k <= LST_CONSTRAINT_DEPTH_POINT);
-}
+static int keeps(char f, lst_constraint_kind k) { return f == 'c' || (f == 'd') == (k <= LST_CONSTRAINT_DEPTH_POINT); }
 
 /* --constraints, --depth and --directions in order: files (all three read
  * the same syntax), or the constraints of a built-in shape. */
@@ -452,7 +465,8 @@ static lst_result manual_pastes(const lst_cmd *c, lst_run *r, lst_error *err)
         memcpy(spec.point, f, sizeof spec.point);
         memcpy(spec.u_axis, f + 3, sizeof spec.u_axis);
         memcpy(spec.v_axis, f + 6, sizeof spec.v_axis);
-        spec.scale = f[9], spec.mask = n == 11 ? (int)f[10] : 0;
+        spec.scale = f[9];
+        spec.mask = n == 11 ? (int)f[10] : 0;
         res = lst_paste_at(&r->model, &spec, &c->opt, err);
         if (res != LST_OK) return res;
     }
@@ -465,9 +479,11 @@ static lst_result fill(lst_cmd *c, lst_run *r, lst_error *err)
     lst_source src;
     lst_result res;
     double t0;
-    c->opt.constraints = r->cons, c->opt.nconstraints = r->ncons;
+    c->opt.constraints = r->cons;
+    c->opt.nconstraints = r->ncons;
     t0 = seconds();
-    src.exemplar = &r->ex, src.values = r->val.voxels ? &r->val : NULL;
+    src.exemplar = &r->ex;
+    src.values = r->val.voxels ? &r->val : NULL;
     res = lst_create(&r->tets, &r->surface, &src, &c->opt, &r->model, err);
     if (res != LST_OK) return res;
     printf("lst: type %s, %d pastes, %.2f per tetrahedron (%.2f before hidden ones were dropped), %d masks, "
@@ -582,7 +598,8 @@ static lst_result write_atlas(const lst_cmd *c, lst_model *model, cli_outputs *o
     lst_result r = lst_bake_atlas(model, &c->opt, &atlas, err);
     FILE *f;
     if (r != LST_OK) return r;
-    job.atlas = &atlas, job.view = &c->opt.render;
+    job.atlas = &atlas;
+    job.view = &c->opt.render;
     if (c->out_glb) r = write_out(outs, c->out_glb, w_gltf, &job, err);
     if (r == LST_OK && c->out_obj) {
         cli_with_ext(c->out_obj, ".mtl", mtl, sizeof mtl);
@@ -599,8 +616,8 @@ static lst_result write_atlas(const lst_cmd *c, lst_model *model, cli_outputs *o
         if (r == LST_OK) r = write_image(outs, c->out_atlas, &atlas.image, err);
     }
     if (r == LST_OK)
-        printf("lst: atlas of %d charts, %.0f%% of %dx%d filled\n", atlas.ncharts, 100.0 * atlas.fill, atlas.image.width,
-               atlas.image.height);
+        printf("lst: atlas of %d charts, %.0f%% of %dx%d filled\n", atlas.ncharts, 100.0 * atlas.fill,
+               atlas.image.width, atlas.image.height);
     lst_atlas_free(&atlas);
     return err->code = r;
 }
@@ -617,7 +634,8 @@ static lst_result cuts(const lst_cmd *c, lst_run *r, lst_error *err)
     if (res != LST_OK || !c->stroke) return res;
     if ((n = parse_floats(c->stroke, pts, 6, 3000)) == 0 || n % 3) {
         err->code = LST_ERR_INVALID;
-        snprintf(err->message, sizeof err->message, "--cut-stroke: '%.100s' is not X Y Z X Y Z ... (2 to 1000 points)", c->stroke);
+        snprintf(err->message, sizeof err->message, "--cut-stroke: '%.100s' is not X Y Z X Y Z ... (2 to 1000 points)",
+                 c->stroke);
         return err->code;
     }
     if (!(phi = (float *)malloc(sizeof(float) * (size_t)r->model.mesh.nverts))) {
@@ -639,10 +657,19 @@ static lst_result section(const lst_cmd *c, const lst_run *r, lst_image *img, ls
     int k;
     if (ro.up[0] || ro.up[1] || ro.up[2]) memcpy(up, ro.up, sizeof up);
     if ((up[0] * n[0] + up[1] * n[1] + up[2] * n[2]) * (up[0] * n[0] + up[1] * n[1] + up[2] * n[2]) >
-        0.98f * len * (up[0] * up[0] + up[1] * up[1] + up[2] * up[2]))
-        up[0] = 0, up[1] = 0, up[2] = 1; /* up along the normal: any other will do */
-    if (n[2] * n[2] > 0.98f * len && up[2] == 1) up[1] = 1, up[2] = 0;
-    for (k = 0; k < 3; k++) ro.view_dir[k] = -n[k], ro.up[k] = up[k];
+        0.98f * len * (up[0] * up[0] + up[1] * up[1] + up[2] * up[2])) {
+        up[0] = 0;
+        up[1] = 0;
+        up[2] = 1;
+    } /* up along the normal: any other will do */
+    if (n[2] * n[2] > 0.98f * len && up[2] == 1) {
+        up[1] = 1;
+        up[2] = 0;
+    }
+    for (k = 0; k < 3; k++) {
+        ro.view_dir[k] = -n[k];
+        ro.up[k] = up[k];
+    }
     return lst_render(&r->model, &ro, img, err);
 }
 
@@ -693,7 +720,8 @@ int cmd_lst(int argc, char **argv)
     memset(&r, 0, sizeof r);
     memset(&outs, 0, sizeof outs);
     if (exemplar_only(&c)) { /* a built-in exemplar to a file, e.g. to edit it */
-        if ((res = load_exemplar(&c, &r, &err)) == LST_OK) res = write_out(&outs, c.out_exemplar, w_volume, &r.ex, &err);
+        if ((res = load_exemplar(&c, &r, &err)) == LST_OK)
+            res = write_out(&outs, c.out_exemplar, w_volume, &r.ex, &err);
     } else if ((res = load_tets(&c, &r, &err)) == LST_OK && (res = load_exemplar(&c, &r, &err)) == LST_OK &&
                (res = load_constraints(&c, &r, &err)) == LST_OK && (res = fill(&c, &r, &err)) == LST_OK)
         res = outputs(&c, &r, &outs, &err);

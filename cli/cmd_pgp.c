@@ -4,64 +4,62 @@
 #include <string.h>
 #include "cli.h"
 
-static const char *pgp_usage =
-    "usage: patchwork pgp --mesh FILE (--tile FILE | --texture IMG) [options]\n"
-    "\n"
-    "Material-space texturing (Ray, Levy, Wang, Turk, Vallet 2009): a tile that is\n"
-    "periodic in s and t and varies along a material axis m, mapped onto a mesh by a\n"
-    "periodic global parameterization that follows orientation, scale and material\n"
-    "constraints; singular triangles are fixed when rendering.\n"
-    "\n"
-    "inputs:\n"
-    "  --mesh FILE          OBJ, OFF or PLY (polygons are fan-triangulated), or\n"
-    "                       procedural:NAME (sphere, torus, bumpy, grid)\n"
-    "  --tile FILE          a material-space tile: NRRD (sizes C W H M, or W H M),\n"
-    "                       any image (one layer), or procedural:NAME (bricks:\n"
-    "                       4 layers weathering along m; stripes: 1 layer)\n"
-    "  --texture IMG        a periodic 2D texture (PNG, PPM, PGM, PAM) as a\n"
-    "                       one-layer tile\n"
-    "mapping:\n"
-    "  --field up[:X,Y,Z]   the tile's t axis along this direction projected on the\n"
-    "                       surface (default +Y)\n"
-    "  --field curvature    the tile's t axis along the direction of least curvature\n"
-    "  --field smooth[:W]   up, rotated and the tile side varied (within 1/2 and 2x,\n"
-    "                       mean kept) where that cancels the curl the\n"
-    "                       parameterization cannot follow:\n"
-    "                       fewer vortices, less alignment (W, default 1: how far\n"
-    "                       from the field, in (0, 1e6])\n"
-    "  --scale S            tile side in mesh units (default: 1/10 of the\n"
-    "                       bounding-box diagonal)\n"
-    "  --constraints FILE   lines 'orient F dx dy dz', 'scale V S', 'material V m'\n"
-    "                       and 'radius R' (effect radius of the lines after it)\n"
-    "  --seed S             seed of the procedural tiles (default 0)\n"
-    "outputs (at least one):\n"
-    "  --out-image IMG      a rendering (.png .ppm .pgm .pam)\n"
-    "  --size WxH           rendering size (default 800x600; 16..8192 each)\n"
-    CLI_VIEW_USAGE
-    "  --show WHAT          tile (default), material (m in gray), special (the\n"
-    "                       triangles drawn specially in red; 'singular' is the same)\n"
-    "                       or ghosts (red where a colour mixes lookups whose (s,t)\n"
-    "                       differ by more than a tenth of a period)\n"
-    "  --fix HOW            how vortices are drawn: clean (default: one lookup; in\n"
-    "                       the vortex triangles the pattern ends or forks at a\n"
-    "                       point, after Knoppel et al. 2015), paper (section 3:\n"
-    "                       three blended lookups around singular vertices) or all\n"
-    "                       (three lookups on every triangle)\n"
-    "  --zoom Z             a close-up: the field of view divided by Z (1 to 1e4)\n"
-    "  --center X,Y,Z       the point the close-up looks at (default: the mesh's\n"
-    "                       centre); vortex:K the K-th vortex triangle (from 0)\n"
-    "  --no-fix             one lookup of the raw coordinates everywhere (a seam at\n"
-    "                       every vortex)\n"
-    "  --out-obj FILE       the triangulated mesh with 'vt s t m' per corner, faces\n"
-    "                       in groups 'regular' and 'singular'\n"
-    "  --out-tile FILE.nrrd the tile, as NRRD (uint8)\n"
-    "  --out-glb FILE.glb   binary glTF 2.0: the mesh with an atlas of the rendering\n"
-    "                       (--fix, --show) baked inside, and the camera of --out-image\n"
-    "  --atlas-size PX      its side (default 1024; 16..8192)\n"
-    "  --out-glb-st FILE.glb binary glTF 2.0 with the raw (s,t) per corner and the\n"
-    "                       tile's layer at --glb-material M (0..1, default 0), wrapped:\n"
-    "                       for a viewer with its own material-space shader (the\n"
-    "                       singular triangles show seams)\n";
+static const char *pgp_usage = "usage: patchwork pgp --mesh FILE (--tile FILE | --texture IMG) [options]\n"
+                               "\n"
+                               "Material-space texturing (Ray, Levy, Wang, Turk, Vallet 2009): a tile that is\n"
+                               "periodic in s and t and varies along a material axis m, mapped onto a mesh by a\n"
+                               "periodic global parameterization that follows orientation, scale and material\n"
+                               "constraints; singular triangles are fixed when rendering.\n"
+                               "\n"
+                               "inputs:\n"
+                               "  --mesh FILE          OBJ, OFF or PLY (polygons are fan-triangulated), or\n"
+                               "                       procedural:NAME (sphere, torus, bumpy, grid)\n"
+                               "  --tile FILE          a material-space tile: NRRD (sizes C W H M, or W H M),\n"
+                               "                       any image (one layer), or procedural:NAME (bricks:\n"
+                               "                       4 layers weathering along m; stripes: 1 layer)\n"
+                               "  --texture IMG        a periodic 2D texture (PNG, PPM, PGM, PAM) as a\n"
+                               "                       one-layer tile\n"
+                               "mapping:\n"
+                               "  --field up[:X,Y,Z]   the tile's t axis along this direction projected on the\n"
+                               "                       surface (default +Y)\n"
+                               "  --field curvature    the tile's t axis along the direction of least curvature\n"
+                               "  --field smooth[:W]   up, rotated and the tile side varied (within 1/2 and 2x,\n"
+                               "                       mean kept) where that cancels the curl the\n"
+                               "                       parameterization cannot follow:\n"
+                               "                       fewer vortices, less alignment (W, default 1: how far\n"
+                               "                       from the field, in (0, 1e6])\n"
+                               "  --scale S            tile side in mesh units (default: 1/10 of the\n"
+                               "                       bounding-box diagonal)\n"
+                               "  --constraints FILE   lines 'orient F dx dy dz', 'scale V S', 'material V m'\n"
+                               "                       and 'radius R' (effect radius of the lines after it)\n"
+                               "  --seed S             seed of the procedural tiles (default 0)\n"
+                               "outputs (at least one):\n"
+                               "  --out-image IMG      a rendering (.png .ppm .pgm .pam)\n"
+                               "  --size WxH           rendering size (default 800x600; 16..8192 each)\n" CLI_VIEW_USAGE
+                               "  --show WHAT          tile (default), material (m in gray), special (the\n"
+                               "                       triangles drawn specially in red; 'singular' is the same)\n"
+                               "                       or ghosts (red where a colour mixes lookups whose (s,t)\n"
+                               "                       differ by more than a tenth of a period)\n"
+                               "  --fix HOW            how vortices are drawn: clean (default: one lookup; in\n"
+                               "                       the vortex triangles the pattern ends or forks at a\n"
+                               "                       point, after Knoppel et al. 2015), paper (section 3:\n"
+                               "                       three blended lookups around singular vertices) or all\n"
+                               "                       (three lookups on every triangle)\n"
+                               "  --zoom Z             a close-up: the field of view divided by Z (1 to 1e4)\n"
+                               "  --center X,Y,Z       the point the close-up looks at (default: the mesh's\n"
+                               "                       centre); vortex:K the K-th vortex triangle (from 0)\n"
+                               "  --no-fix             one lookup of the raw coordinates everywhere (a seam at\n"
+                               "                       every vortex)\n"
+                               "  --out-obj FILE       the triangulated mesh with 'vt s t m' per corner, faces\n"
+                               "                       in groups 'regular' and 'singular'\n"
+                               "  --out-tile FILE.nrrd the tile, as NRRD (uint8)\n"
+                               "  --out-glb FILE.glb   binary glTF 2.0: the mesh with an atlas of the rendering\n"
+                               "                       (--fix, --show) baked inside, and the camera of --out-image\n"
+                               "  --atlas-size PX      its side (default 1024; 16..8192)\n"
+                               "  --out-glb-st FILE.glb binary glTF 2.0 with the raw (s,t) per corner and the\n"
+                               "                       tile's layer at --glb-material M (0..1, default 0), wrapped:\n"
+                               "                       for a viewer with its own material-space shader (the\n"
+                               "                       singular triangles show seams)\n";
 
 typedef struct pgp_cmd {
     int center_vortex; /* --center vortex:K: K + 1, 0 when not given */
@@ -81,8 +79,10 @@ static int parse_field(cli_args *a, pgp_cmd *c)
 {
     const char *v;
     if (!cli_value(a, &v)) return 0;
-    if (!strcmp(v, "smooth")) c->opt.field = PGP_FIELD_UP, c->opt.integrable = 1.0f;
-    else if (!strncmp(v, "smooth:", 7)) {
+    if (!strcmp(v, "smooth")) {
+        c->opt.field = PGP_FIELD_UP;
+        c->opt.integrable = 1.0f;
+    } else if (!strncmp(v, "smooth:", 7)) {
         char *end;
         c->opt.field = PGP_FIELD_UP;
         c->opt.integrable = strtof(v + 7, &end);
@@ -94,8 +94,7 @@ static int parse_field(cli_args *a, pgp_cmd *c)
         if (!cli_parse_vec3(v + 3, c->opt.up)) return bad("--field", v);
         if (!(c->opt.up[0] != 0.0f || c->opt.up[1] != 0.0f || c->opt.up[2] != 0.0f))
             return bad("--field (zero up vector)", v);
-    } else
-        return bad("--field", v);
+    } else return bad("--field", v);
     return 1;
 }
 
@@ -140,7 +139,8 @@ static int parse_fix(cli_args *a, pgp_cmd *c)
 
 static int parse_one(cli_args *a, pgp_cmd *c)
 {
-    int v = cli_view_flag(a, c->opt.render.view_dir, c->opt.render.up, &c->opt.render.supersample, &c->opt.render.threads);
+    int v =
+        cli_view_flag(a, c->opt.render.view_dir, c->opt.render.up, &c->opt.render.supersample, &c->opt.render.threads);
     if (cli_is(a, "--help") || cli_is(a, "-h")) return -1;
     if (v >= 0) return v;
     if (cli_is(a, "--mesh")) return cli_value(a, &c->mesh);
@@ -247,8 +247,8 @@ static pgp_result write_gltf_out(const pgp_cmd *c, cli_outputs *outs, const pgp_
                                  pgp_error *err)
 {
     pgp_atlas atlas;
-    pgp_result r = raw ? pgp_tile_atlas(map, tile, c->glb_material, &atlas, err)
-                       : pgp_bake_atlas(map, tile, &c->opt, &atlas, err);
+    pgp_result r =
+        raw ? pgp_tile_atlas(map, tile, c->glb_material, &atlas, err) : pgp_bake_atlas(map, tile, &c->opt, &atlas, err);
     if (r == PGP_OK) r = write_glb(outs, raw ? c->out_glb_st : c->out_glb, map, &atlas, &c->opt.render, err);
     pgp_atlas_free(&atlas);
     return r;
@@ -282,11 +282,12 @@ static void report(const pgp_cmd *c, const pgp_map *map, const pgp_tile *tile)
            n ? 100.0 * st.singular / n : 0.0, st.vortices, st.vortices == 1 ? "ex" : "ces", tile->width, tile->height,
            tile->layers, tile->layers == 1 ? "" : "s");
     printf("pgp: drawn specially (fix %s): %d triangles (%.1f%%); surface stretched by more than 30%%: %.1f%%, "
-           "sheared by more than 20 degrees: %.1f%%\n", fix[c->opt.render.fix], sp, n ? 100.0 * sp / n : 0.0,
-           100.0 * st.stretched, 100.0 * st.sheared);
+           "sheared by more than 20 degrees: %.1f%%\n",
+           fix[c->opt.render.fix], sp, n ? 100.0 * sp / n : 0.0, 100.0 * st.stretched, 100.0 * st.sheared);
     if (st.scale < 8.0f * st.mean_edge)
         printf("pgp: warning: tile side %g is under 8 mean edge lengths (%g): each period spans too few triangles "
-               "to follow the field\n", (double)st.scale, 8.0 * st.mean_edge);
+               "to follow the field\n",
+               (double)st.scale, 8.0 * st.mean_edge);
 }
 
 /* --zoom without --center looks at the middle of the bounding box;
@@ -302,13 +303,15 @@ static pgp_result set_center(pgp_cmd *c, const pgp_mesh *mesh, const pgp_map *ma
         lo[k] = hi[k] = mesh->positions[k];
         for (f = 1; f < mesh->nverts; f++) {
             float p = mesh->positions[3 * f + k];
-            lo[k] = p < lo[k] ? p : lo[k], hi[k] = p > hi[k] ? p : hi[k];
+            lo[k] = p < lo[k] ? p : lo[k];
+            hi[k] = p > hi[k] ? p : hi[k];
         }
         c->opt.render.center[k] = 0.5f * (lo[k] + hi[k]);
     }
     if (r == PGP_OK && c->center_vortex) {
         pgp_map_vortices(map, v);
-        for (f = 0; f < n && !(v[f] && seen++ == c->center_vortex - 1); f++) {}
+        for (f = 0; f < n && !(v[f] && seen++ == c->center_vortex - 1); f++) {
+        }
         if (f == n) {
             snprintf(err->message, sizeof err->message, "--center vortex:%d: the map has %d vortices",
                      c->center_vortex - 1, seen);
@@ -316,7 +319,8 @@ static pgp_result set_center(pgp_cmd *c, const pgp_mesh *mesh, const pgp_map *ma
         }
         for (k = 0; r == PGP_OK && k < 3; k++)
             c->opt.render.center[k] = (mesh->positions[3 * tri[3 * f] + k] + mesh->positions[3 * tri[3 * f + 1] + k] +
-                               mesh->positions[3 * tri[3 * f + 2] + k]) / 3.0f;
+                                       mesh->positions[3 * tri[3 * f + 2] + k]) /
+                                      3.0f;
     }
     free(v);
     return err->code = r;
@@ -331,8 +335,11 @@ static int constraint_line(const char *path, int i)
     FILE *f = fopen(path, "rb");
     int ch, line = 1, start = 1, found = 0;
     while (f && !found && (ch = getc(f)) != EOF) {
-        if (ch == '\n') line++, start = 1;
-        else if (start && !(ch == ' ' || ch == '\t' || ch == '\r' || ch == '\v' || ch == '\f' || (line == 1 && ch >= 0x80))) {
+        if (ch == '\n') {
+            line++;
+            start = 1;
+        } else if (start &&
+                   !(ch == ' ' || ch == '\t' || ch == '\r' || ch == '\v' || ch == '\f' || (line == 1 && ch >= 0x80))) {
             start = 0;
             found = ch != '#' && ch != 'r' && i-- == 0;
         }

@@ -59,7 +59,10 @@ static int parse_mode(cli_args *a, const char *const *names, int n, int *out)
     int k;
     if (!cli_value(a, &v)) return 0;
     for (k = 0; k < n; k++)
-        if (!strcmp(v, names[k])) return (*out = k), 1;
+        if (!strcmp(v, names[k])) {
+            (*out = k);
+            return 1;
+        }
     return bad(flag, v);
 }
 
@@ -79,7 +82,11 @@ static int parse_one(cli_args *a, tile_cmd *c)
     if (cli_is(a, "--size")) return cli_int(a, 16, 4096, &c->opt.size);
     if (cli_is(a, "--seed")) return cli_u64(a, &c->opt.seed);
     if (cli_is(a, "--uniform")) return (c->opt.uniform = 1);
-    if (cli_is(a, "--exact")) return (c->opt.search_eps = -1.0f), (c->opt.search_buckets = -1), 1;
+    if (cli_is(a, "--exact")) {
+        (c->opt.search_eps = -1.0f);
+        (c->opt.search_buckets = -1);
+        return 1;
+    }
     if (cli_is(a, "--out")) return cli_value(a, &c->out);
     if (cli_is(a, "--out-slices")) return cli_value(a, &c->slices);
     if (cli_is(a, "--out-masks")) return cli_value(a, &c->masks);
@@ -95,8 +102,7 @@ static void slice_path(const char *prefix, int k, char *out, size_t size)
     if (fmt && (!strcmp(fmt, "png") || !strcmp(fmt, "ppm"))) {
         cli_with_ext(prefix, "", base, sizeof base);
         snprintf(out, size, "%s_%02d.%s", base, k, fmt);
-    } else
-        snprintf(out, size, "%s_%02d.png", prefix, k);
+    } else snprintf(out, size, "%s_%02d.png", prefix, k);
 }
 
 static int parse(int argc, char **argv, tile_cmd *c)
@@ -111,8 +117,9 @@ static int parse(int argc, char **argv, tile_cmd *c)
     for (a.i = 1; a.i < argc; a.i++)
         if ((r = parse_one(&a, c)) <= 0) return r;
     if (c->nkeys < (c->opt.single ? 1 : 2) || (c->opt.single && c->nkeys > 1)) {
-        cli_error("pgp-tile", c->opt.single ? "--single takes exactly one --key (%d given)"
-                                            : "a morph needs two or more --key (%d given; --single takes one)",
+        cli_error("pgp-tile",
+                  c->opt.single ? "--single takes exactly one --key (%d given)"
+                                : "a morph needs two or more --key (%d given; --single takes one)",
                   c->nkeys);
         return 0;
     }
@@ -230,7 +237,10 @@ static pgp_result synthesize(tile_cmd *c, tile_outs *outs, pgp_error *err)
     }
     if (r == PGP_OK && c->slices) r = write_slices(outs, c->slices, &tile, err);
     if (r == PGP_OK && c->masks) r = write_slices(outs, c->masks, &masks, err);
-    for (k = 0; k < c->nkeys; k++) pgp_image_free(&img[k]), pgp_image_free(&mask[k]);
+    for (k = 0; k < c->nkeys; k++) {
+        pgp_image_free(&img[k]);
+        pgp_image_free(&mask[k]);
+    }
     pgp_tile_free(&tile);
     pgp_tile_free(&masks);
     return r;

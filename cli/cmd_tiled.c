@@ -37,8 +37,7 @@ static const char *tiled_usage =
     "                      the OBJ's name with .png)\n"
     "  --out-image IMG     a rendering (.png .ppm .pgm .pam)\n"
     "  --out-glb FILE.glb  binary glTF 2.0: the mapped mesh with the tiled texture inside\n"
-    "  --size WxH          rendering size (default 800x600; 16..8192 each)\n"
-    CLI_VIEW_USAGE;
+    "  --size WxH          rendering size (default 800x600; 16..8192 each)\n" CLI_VIEW_USAGE;
 
 typedef struct tiled_cmd {
     const char *mesh, *exemplar, *tiles, *out_obj, *out_tiles, *out_image, *out_glb;
@@ -65,7 +64,8 @@ static int parse_guard(cli_args *a, tiled_cmd *c)
 /* One option; returns 0 on a parse error, -1 for --help. */
 static int parse_one(cli_args *a, tiled_cmd *c)
 {
-    int v = cli_view_flag(a, c->opt.render.view_dir, c->opt.render.up, &c->opt.render.supersample, &c->opt.render.threads);
+    int v =
+        cli_view_flag(a, c->opt.render.view_dir, c->opt.render.up, &c->opt.render.supersample, &c->opt.render.threads);
     tiled_layout *l = &c->opt.layout;
     if (cli_is(a, "--help") || cli_is(a, "-h")) return -1;
     if (v >= 0) return v;
@@ -131,8 +131,7 @@ static tiled_result load_mesh(const char *src, const tiled_options *o, tiled_mes
     return tiled_load_mesh(src, o, m, err);
 }
 
-static tiled_result load_image(const char *src, const tiled_options *o, tiled_image *img,
-                               tiled_error *err)
+static tiled_result load_image(const char *src, const tiled_options *o, tiled_image *img, tiled_error *err)
 {
     const char *name;
     if (cli_is_procedural(src, &name)) return tiled_builtin_exemplar(name, 64, o, img, err);
@@ -144,18 +143,20 @@ static void print_validation(const char *path, const tiled_validation *v, FILE *
 {
     static const char *const side[4] = {"bottom", "right", "top", "left"};
     int k, n = v->nbad < TILED_MAX_MISMATCHES ? v->nbad : TILED_MAX_MISMATCHES;
-    fprintf(f, "%s: %d of %d tile sides do not match (seam > %.4f; interior jump %.4f, worst %.4f)\n",
-            path, v->nbad, v->sides_checked, v->threshold, v->interior, v->worst);
+    fprintf(f, "%s: %d of %d tile sides do not match (seam > %.4f; interior jump %.4f, worst %.4f)\n", path, v->nbad,
+            v->sides_checked, v->threshold, v->interior, v->worst);
     for (k = 0; k < n; k++)
-        fprintf(f, "  tile %d %s side (type %d): seam %.4f\n", v->bad[k].tile, side[v->bad[k].side],
-                v->bad[k].type, v->bad[k].seam);
+        fprintf(f, "  tile %d %s side (type %d): seam %.4f\n", v->bad[k].tile, side[v->bad[k].side], v->bad[k].type,
+                v->bad[k].seam);
 }
 
 /* Builds the tile set from --tiles or --exemplar. */
 static tiled_result make_tiles(tiled_cmd *c, tiled_tileset *ts, tiled_error *err)
 {
     tiled_image img;
-    tiled_result r = load_image(c->tiles ? c->tiles : c->exemplar ? c->exemplar : "procedural:pebbles",
+    tiled_result r = load_image(c->tiles      ? c->tiles
+                                : c->exemplar ? c->exemplar
+                                              : "procedural:pebbles",
                                 &c->opt, &img, err);
     if (r != TILED_OK) return r;
     if (c->tiles) {
@@ -167,15 +168,14 @@ static tiled_result make_tiles(tiled_cmd *c, tiled_tileset *ts, tiled_error *err
         if (r == TILED_OK && !c->validate_only) r = tiled_tileset_from_image(&img, &c->opt, ts, err);
         if (r == TILED_ERR_INVALID && c->validate_only)
             snprintf(err->message, sizeof err->message, "%s: tile sides do not match", c->tiles);
-    } else
-        r = tiled_synthesize(&img, &c->opt, ts, err);
+    } else r = tiled_synthesize(&img, &c->opt, ts, err);
     tiled_image_free(&img);
     return r;
 }
 
 /* Writes an OBJ and its MTL (naming the texture) to staged paths; a glTF. */
-static tiled_result write_obj(cli_outputs *o, const char *obj, const char *texture,
-                              const tiled_mesh *m, tiled_error *err);
+static tiled_result write_obj(cli_outputs *o, const char *obj, const char *texture, const tiled_mesh *m,
+                              tiled_error *err);
 static tiled_result write_glb(cli_outputs *o, const char *path, const tiled_mesh *m, const tiled_image *texture,
                               const tiled_render_options *view, tiled_error *err);
 
@@ -184,13 +184,14 @@ static tiled_result write_glb(cli_outputs *o, const char *path, const tiled_mesh
 
 /* Warns when the rendering (at --size, or 800x600) would draw tiles too
  * small to see: one tile per quad needs big quads (issue 18). */
-static tiled_result warn_small_tiles(const tiled_mesh *quads, const tiled_tileset *ts,
-                                     const tiled_render_options *ro, tiled_error *err)
+static tiled_result warn_small_tiles(const tiled_mesh *quads, const tiled_tileset *ts, const tiled_render_options *ro,
+                                     tiled_error *err)
 {
     float px;
     tiled_result r = tiled_drawn_tile_size(quads, ts, ro, &px, err);
     if (r == TILED_OK && px < MIN_TILE_PX)
-        fprintf(stderr, "patchwork tiled: warning: tiles are drawn about %.1f px wide on %d quads "
+        fprintf(stderr,
+                "patchwork tiled: warning: tiles are drawn about %.1f px wide on %d quads "
                 "(under %.0f px the texture cannot be seen): tiled.h puts one tile on every quad, "
                 "so give it a coarser quad mesh (fewer, larger quads; --subdivide only makes tiles "
                 "smaller), or texture dense meshes such as scans with `patchwork pgp` or "
@@ -221,9 +222,8 @@ static tiled_result run(tiled_cmd *c, cli_outputs *outs, tiled_error *err)
         memcpy(err->message, msg, sizeof err->message - 1);
         err->message[sizeof err->message - 1] = 0;
     } else if (r == TILED_OK) {
-        printf("tiled: %d faces -> %d quads; %d x %d tiles of %d px (guard %d)\n", mesh.nfaces,
-               quads.nfaces, ts.tiles_per_side, ts.tiles_per_side, ts.layout.tile_size,
-               ts.layout.guard < 0 ? 0 : ts.layout.guard);
+        printf("tiled: %d faces -> %d quads; %d x %d tiles of %d px (guard %d)\n", mesh.nfaces, quads.nfaces,
+               ts.tiles_per_side, ts.tiles_per_side, ts.layout.tile_size, ts.layout.guard < 0 ? 0 : ts.layout.guard);
         if (r == TILED_OK) r = warn_small_tiles(&quads, &ts, &c->opt.render, err);
         if (r == TILED_OK && c->out_tiles) r = cli_write_image(outs, c->out_tiles, &ts.atlas, err);
         if (r == TILED_OK && c->out_obj) r = write_obj(outs, c->out_obj, c->out_tiles, &quads, err);
@@ -238,14 +238,13 @@ static tiled_result run(tiled_cmd *c, cli_outputs *outs, tiled_error *err)
     return r;
 }
 
-static tiled_result write_one(cli_outputs *o, const char *path, int is_obj, const char *arg,
-                              const tiled_mesh *m, tiled_error *err)
+static tiled_result write_one(cli_outputs *o, const char *path, int is_obj, const char *arg, const tiled_mesh *m,
+                              tiled_error *err)
 {
     FILE *f = cli_open(o, path, err->message, sizeof err->message);
     tiled_result r;
     if (!f) return err->code = TILED_ERR_IO;
-    r = is_obj ? tiled_write_obj(m, arg, cli_fwrite, f, err)
-               : tiled_write_mtl(arg, cli_fwrite, f, err);
+    r = is_obj ? tiled_write_obj(m, arg, cli_fwrite, f, err) : tiled_write_mtl(arg, cli_fwrite, f, err);
     if (r == TILED_ERR_IO) snprintf(err->message, sizeof err->message, "%.200s: write error (disk full?)", path);
     if (!cli_close(f, r == TILED_OK, path, err->message, sizeof err->message)) r = TILED_ERR_IO;
     return err->code = r;
@@ -262,8 +261,8 @@ static tiled_result write_glb(cli_outputs *o, const char *path, const tiled_mesh
     return err->code = r;
 }
 
-static tiled_result write_obj(cli_outputs *o, const char *obj, const char *texture,
-                              const tiled_mesh *m, tiled_error *err)
+static tiled_result write_obj(cli_outputs *o, const char *obj, const char *texture, const tiled_mesh *m,
+                              tiled_error *err)
 {
     char mtl[1024];
     tiled_result r;

@@ -5,22 +5,21 @@
 
 static void usage(FILE *f)
 {
-    fprintf(f,
-            "usage: patchwork COMMAND [options]\n"
-            "\n"
-            "Texture meshes by example (single-header C libraries, see README.md).\n"
-            "\n"
-            "commands:\n"
-            "  tiled    seamless tiled textures on quad meshes (Kaur 2003)\n"
-            "  lapped   lapped textures: patches pasted along a tangent field (Praun et al. 2000)\n"
-            "  pgp      material-space texturing: periodic (s,t,m) tiles (Ray et al. 2009)\n"
-            "  pgp-tile material-space tile synthesis: keys morphed along m (Ray et al. 2009)\n"
-            "  lst      lapped solid textures: solid exemplars filling a model (Takayama et al. 2008)\n"
-            "  demo     render every method on built-in data into a folder (default out/)\n"
-            "  convert  convert an image between PNG, PPM, PGM, PAM (and read GIMP .pat)\n"
-            "\n"
-            "  patchwork COMMAND --help   options of one command\n"
-            "  patchwork --version\n");
+    fprintf(f, "usage: patchwork COMMAND [options]\n"
+               "\n"
+               "Texture meshes by example (single-header C libraries, see README.md).\n"
+               "\n"
+               "commands:\n"
+               "  tiled    seamless tiled textures on quad meshes (Kaur 2003)\n"
+               "  lapped   lapped textures: patches pasted along a tangent field (Praun et al. 2000)\n"
+               "  pgp      material-space texturing: periodic (s,t,m) tiles (Ray et al. 2009)\n"
+               "  pgp-tile material-space tile synthesis: keys morphed along m (Ray et al. 2009)\n"
+               "  lst      lapped solid textures: solid exemplars filling a model (Takayama et al. 2008)\n"
+               "  demo     render every method on built-in data into a folder (default out/)\n"
+               "  convert  convert an image between PNG, PPM, PGM, PAM (and read GIMP .pat)\n"
+               "\n"
+               "  patchwork COMMAND --help   options of one command\n"
+               "  patchwork --version\n");
 }
 
 int main(int argc, char **argv)
@@ -34,8 +33,8 @@ int main(int argc, char **argv)
         return 0;
     }
     if (!strcmp(argv[1], "--version")) {
-        printf("patchwork %s (tiled.h %s, lapped.h %s, pgp.h %s, lst.h %s)\n", TILED_VERSION_STRING, TILED_VERSION_STRING,
-               LAPPED_VERSION_STRING, PGP_VERSION_STRING, LST_VERSION_STRING);
+        printf("patchwork %s (tiled.h %s, lapped.h %s, pgp.h %s, lst.h %s)\n", TILED_VERSION_STRING,
+               TILED_VERSION_STRING, LAPPED_VERSION_STRING, PGP_VERSION_STRING, LST_VERSION_STRING);
         return 0;
     }
     if (!strcmp(argv[1], "tiled")) return cmd_tiled(argc - 1, argv + 1);

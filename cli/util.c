@@ -47,8 +47,7 @@ int cli_int(cli_args *a, int lo, int hi, int *out)
     errno = 0;
     x = strtol(v, &end, 10);
     if (errno || end == v || *end || x < lo || x > hi) {
-        cli_error(a->cmd, "%.*s: '%s' is not a whole number in %d..%d",
-                  (int)strcspn(flag, "="), flag, v, lo, hi);
+        cli_error(a->cmd, "%.*s: '%s' is not a whole number in %d..%d", (int)strcspn(flag, "="), flag, v, lo, hi);
         return 0;
     }
     *out = (int)x;
@@ -64,7 +63,8 @@ int cli_float(cli_args *a, float lo, float hi, float *out)
     if (end == v || *end || !(*out >= lo && *out <= hi)) {
         int n = (int)strcspn(flag, "=");
         if (hi >= 1e20f && lo <= -1e20f) cli_error(a->cmd, "%.*s: '%s' is not a finite number", n, flag, v);
-        else if (hi >= 1e20f && lo > 0.0f && lo <= 1e-20f) cli_error(a->cmd, "%.*s: '%s' is not a positive number", n, flag, v);
+        else if (hi >= 1e20f && lo > 0.0f && lo <= 1e-20f)
+            cli_error(a->cmd, "%.*s: '%s' is not a positive number", n, flag, v);
         else cli_error(a->cmd, "%.*s: '%s' is not a number in %g..%g", n, flag, v, (double)lo, (double)hi);
         return 0;
     }
@@ -79,8 +79,7 @@ int cli_u64(cli_args *a, unsigned long long *out)
     errno = 0;
     *out = strtoull(v, &end, 10);
     if (errno || end == v || *end || *v == '-') {
-        cli_error(a->cmd, "%.*s: '%s' is not a non-negative whole number",
-                  (int)strcspn(flag, "="), flag, v);
+        cli_error(a->cmd, "%.*s: '%s' is not a non-negative whole number", (int)strcspn(flag, "="), flag, v);
         return 0;
     }
     return 1;
@@ -183,8 +182,10 @@ tiled_result cli_commit(cli_outputs *o, tiled_error *err)
     for (k = 0; k < o->n; k++)
         if (rename(o->tmp_path[k], o->final_path[k]) != 0) {
             err->code = TILED_ERR_IO;
-            snprintf(err->message, sizeof err->message, "%.200s: cannot move the finished file "
-                     "into place (%s)", o->final_path[k], strerror(errno));
+            snprintf(err->message, sizeof err->message,
+                     "%.200s: cannot move the finished file "
+                     "into place (%s)",
+                     o->final_path[k], strerror(errno));
             for (; k < o->n; k++) remove(o->tmp_path[k]);
             return err->code;
         }
@@ -240,8 +241,13 @@ static int writable(const char *path)
 
 int cli_check_outputs(const char *cmd, const cli_out *outs, int n)
 {
-    static const char *const need[] = {NULL, "an image (.png .ppm .pgm .pam)", "an .obj file", "a .glb file (binary glTF)",
-                                       "a .nrrd file", "a .pam file", "a prefix (written as PREFIX_00.png, ...)"};
+    static const char *const need[] = {NULL,
+                                       "an image (.png .ppm .pgm .pam)",
+                                       "an .obj file",
+                                       "a .glb file (binary glTF)",
+                                       "a .nrrd file",
+                                       "a .pam file",
+                                       "a prefix (written as PREFIX_00.png, ...)"};
     int k;
     for (k = 0; k < n; k++) {
         const cli_out *o = &outs[k];
@@ -269,18 +275,14 @@ int cli_check_outputs(const char *cmd, const cli_out *outs, int n)
 
 const char *cli_image_format(const char *path)
 {
-    static const char *const ext[] = {".png", "png", ".ppm", "ppm", ".pnm", "ppm",
-                                      ".pgm", "pgm", ".pam", "pam"};
+    static const char *const ext[] = {".png", "png", ".ppm", "ppm", ".pnm", "ppm", ".pgm", "pgm", ".pam", "pam"};
     size_t k;
     for (k = 0; k < sizeof ext / sizeof ext[0]; k += 2)
         if (has_ext(path, ext[k])) return ext[k + 1];
     return NULL;
 }
 
-int cli_fwrite(void *ctx, const void *data, size_t size)
-{
-    return fwrite(data, 1, size, (FILE *)ctx) == size ? 0 : -1;
-}
+int cli_fwrite(void *ctx, const void *data, size_t size) { return fwrite(data, 1, size, (FILE *)ctx) == size ? 0 : -1; }
 
 FILE *cli_open(cli_outputs *o, const char *path, char *msg, size_t size)
 {
@@ -292,7 +294,8 @@ FILE *cli_open(cli_outputs *o, const char *path, char *msg, size_t size)
     }
     tmp = cli_stage(o, path);
     f = tmp ? fopen(tmp, "wb") : NULL;
-    if (!f) snprintf(msg, size, "%.200s: cannot open for writing (%s)", path, tmp ? strerror(errno) : "too many outputs");
+    if (!f)
+        snprintf(msg, size, "%.200s: cannot open for writing (%s)", path, tmp ? strerror(errno) : "too many outputs");
     return f;
 }
 
@@ -325,16 +328,15 @@ int cli_write_view(cli_outputs *o, const char *final_path, const tiled_image *vi
     return (int)err.code;
 }
 
-tiled_result cli_write_image(cli_outputs *o, const char *final_path, const tiled_image *img,
-                             tiled_error *err)
+tiled_result cli_write_image(cli_outputs *o, const char *final_path, const tiled_image *img, tiled_error *err)
 {
     const char *fmt = cli_image_format(final_path);
     tiled_result r;
     FILE *f;
     if (!fmt) {
         err->code = TILED_ERR_UNSUPPORTED;
-        snprintf(err->message, sizeof err->message,
-                 "%.200s: unknown image extension (use .png, .ppm, .pgm, .pam)", final_path);
+        snprintf(err->message, sizeof err->message, "%.200s: unknown image extension (use .png, .ppm, .pgm, .pam)",
+                 final_path);
         return err->code;
     }
     if (!(f = cli_open(o, final_path, err->message, sizeof err->message))) return err->code = TILED_ERR_IO;
@@ -361,4 +363,3 @@ const char *cli_texture_ref(const char *obj, const char *texture)
     if (lo == lt && !strncmp(obj, texture, lo)) return st ? st + 1 : texture;
     return texture;
 }
-

@@ -15,14 +15,19 @@
 #define LAPPED_IMPLEMENTATION
 #include "../lapped.h"
 
-typedef struct counter { long live; size_t bytes, peak; } counter;
+typedef struct counter {
+    long live;
+    size_t bytes, peak;
+} counter;
 /* each block carries its size in front, so that free knows it */
 static void *my_malloc(void *user, size_t n)
 {
     counter *c = (counter *)user;
     size_t *p = (size_t *)malloc(n + sizeof(size_t));
     if (!p) return NULL;
-    *p = n, c->live++, c->bytes += n;
+    *p = n;
+    c->live++;
+    c->bytes += n;
     if (c->bytes > c->peak) c->peak = c->bytes;
     return p + 1;
 }
@@ -30,26 +35,34 @@ static void my_free(void *user, void *ptr)
 {
     counter *c = (counter *)user;
     if (!ptr) return;
-    c->live--, c->bytes -= ((size_t *)ptr)[-1];
+    c->live--;
+    c->bytes -= ((size_t *)ptr)[-1];
     free((size_t *)ptr - 1);
 }
 static void *my_realloc(void *user, void *ptr, size_t n)
 {
     void *q = my_malloc(user, n);
-    if (q && ptr) memcpy(q, ptr, ((size_t *)ptr)[-1] < n ? ((size_t *)ptr)[-1] : n), my_free(user, ptr);
+    if (q && ptr) {
+        memcpy(q, ptr, ((size_t *)ptr)[-1] < n ? ((size_t *)ptr)[-1] : n);
+        my_free(user, ptr);
+    }
     return q;
 }
 
 static int stop_at_30(void *user, float done, const char *stage) { return *(int *)user && done > 0.3f && stage; }
 
-typedef struct buffer { unsigned char *data; size_t size; } buffer;
+typedef struct buffer {
+    unsigned char *data;
+    size_t size;
+} buffer;
 static int to_buffer(void *ctx, const void *data, size_t n)
 {
     buffer *b = (buffer *)ctx;
     unsigned char *grown = (unsigned char *)realloc(b->data, b->size + n);
     if (!grown) return -1; /* non-zero: the library reports LAPPED_ERR_IO */
     memcpy(grown + b->size, data, n);
-    b->data = grown, b->size += n;
+    b->data = grown;
+    b->size += n;
     return 0;
 }
 
@@ -60,21 +73,26 @@ static const char octahedron[] = "v 1 0 0\nv -1 0 0\nv 0 1 0\nv 0 -1 0\nv 0 0 1\
 int main(void)
 {
     counter count = {0, 0, 0};
-    int cancel = 1, ok;    lapped_options opt = lapped_default_options();
+    int cancel = 1, ok;
+    lapped_options opt = lapped_default_options();
     lapped_source src = {0};
     lapped_mesh mesh = {0};
     lapped_image texture = {0}, patch = {0};
-    lapped_texture lt = {0};  /* a failed call leaves its output zeroed: freeing is always safe */
+    lapped_texture lt = {0}; /* a failed call leaves its output zeroed: freeing is always safe */
     lapped_atlas atlas = {0};
     lapped_error err;
     buffer glb = {NULL, 0};
     FILE *f;
-    opt.allocator.malloc_fn = my_malloc, opt.allocator.realloc_fn = my_realloc, opt.allocator.free_fn = my_free;
+    opt.allocator.malloc_fn = my_malloc;
+    opt.allocator.realloc_fn = my_realloc;
+    opt.allocator.free_fn = my_free;
     opt.allocator.user = &count;
-    opt.progress = stop_at_30, opt.progress_user = &cancel;
+    opt.progress = stop_at_30;
+    opt.progress_user = &cancel;
     opt.scale = 0.6f;
     opt.atlas.size = 256;
-    src.patches = &patch, src.npatches = 1;
+    src.patches = &patch;
+    src.npatches = 1;
     ok = lapped_read_mesh(octahedron, sizeof octahedron - 1, "octahedron.obj", &opt, &mesh, &err) == LAPPED_OK &&
          lapped_builtin_exemplar("dots", 64, &opt, &texture, &err) == LAPPED_OK &&
          lapped_make_patch(&texture, NULL, &opt, &patch, &err) == LAPPED_OK;
@@ -88,11 +106,16 @@ int main(void)
         ok = fwrite(glb.data, 1, glb.size, f) == glb.size;
         ok = fclose(f) == 0 && ok;
     }
-    if (ok) printf("%d pastes; %lu bytes of glTF in memory, saved as embed_example.glb; peak %lu bytes allocated\n",
-                   lt.npastes, (unsigned long)glb.size, (unsigned long)count.peak);
+    if (ok)
+        printf("%d pastes; %lu bytes of glTF in memory, saved as embed_example.glb; peak %lu bytes allocated\n",
+               lt.npastes, (unsigned long)glb.size, (unsigned long)count.peak);
     else fprintf(stderr, "embed_example: %s\n", err.message);
-    lapped_atlas_free(&atlas), lapped_texture_free(&lt), lapped_image_free(&patch), lapped_image_free(&texture);
-    lapped_mesh_free(&mesh), free(glb.data);
+    lapped_atlas_free(&atlas);
+    lapped_texture_free(&lt);
+    lapped_image_free(&patch);
+    lapped_image_free(&texture);
+    lapped_mesh_free(&mesh);
+    free(glb.data);
     printf("%ld blocks still allocated after the frees\n", count.live);
     return ok && count.live == 0 ? 0 : 1;
 }

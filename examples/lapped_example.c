@@ -22,8 +22,8 @@ int main(int argc, char **argv)
     lapped_error err;
     int ok;
 
-    opt.field = LAPPED_FIELD_UP; /* texture "up" along +Y, projected on the surface */
-    opt.scale = 0.0f;           /* 0: patch side = 1/10 of the bounding-box diagonal */
+    opt.field = LAPPED_FIELD_UP;      /* texture "up" along +Y, projected on the surface */
+    opt.scale = 0.0f;                 /* 0: patch side = 1/10 of the bounding-box diagonal */
     opt.alpha = LAPPED_ALPHA_SPLOTCH; /* an irregular blob cut out of the texture (§3.1) */
     opt.seed = 42;                    /* same seed, same pastes, byte for byte */
     opt.render.width = 640;
@@ -33,8 +33,8 @@ int main(int argc, char **argv)
 
     /* Each call returns LAPPED_OK (0) or an error code with err.message
      * naming what went wrong; && stops at the first failure. */
-    ok = (argc > 1 ? lapped_load_mesh(argv[1], &opt, &mesh, &err)
-                   : lapped_builtin_mesh("bumpy", &opt, &mesh, &err)) == LAPPED_OK &&
+    ok = (argc > 1 ? lapped_load_mesh(argv[1], &opt, &mesh, &err) : lapped_builtin_mesh("bumpy", &opt, &mesh, &err)) ==
+             LAPPED_OK &&
          (argc > 2 ? lapped_load_image(argv[2], &opt, &texture, &err)
                    : lapped_builtin_exemplar("scales", 128, &opt, &texture, &err)) == LAPPED_OK &&
          /* the texture with its alpha: the patch that gets pasted */
@@ -55,8 +55,7 @@ int main(int argc, char **argv)
                "wrote lapped_example.pastes, lapped_example.png, lapped_example_atlas.png, lapped_example.obj, "
                "lapped_example.mtl, lapped_example.glb\n",
                lt.ntris, lt.npastes, lt.layers, lt.layers_before);
-    else
-        fprintf(stderr, "lapped_example: %s (%s)\n", err.message, lapped_result_string(err.code));
+    else fprintf(stderr, "lapped_example: %s (%s)\n", err.message, lapped_result_string(err.code));
 
     /* all start zeroed and a failed call leaves its output zeroed: freeing is always safe */
     lapped_atlas_free(&atlas);

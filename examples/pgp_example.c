@@ -32,7 +32,10 @@ static int facing_face(const pgp_mesh *m)
     for (f = 0; f < m->nfaces; f++) {
         const float *p = m->positions + 3 * m->face_verts[m->face_start[f]];
         float d = 0.55f * p[0] + 0.45f * p[1] + 0.7f * p[2];
-        if (d > top) top = d, best = t;
+        if (d > top) {
+            top = d;
+            best = t;
+        }
         t += m->face_start[f + 1] - m->face_start[f] - 2;
     }
     return best;
@@ -50,15 +53,18 @@ int main(int argc, char **argv)
     const float slanted[3] = {1, 1, 0};
     int turn = -1, face, ok;
 
-    opt.field = PGP_FIELD_UP;  /* the tile's t axis follows +Y, projected on the surface */
-    opt.scale = 0.0f;          /* 0: a tile side of 1/10 of the bounding-box diagonal */
-    opt.render.width = 640;    /* every other render setting keeps its default */
+    opt.field = PGP_FIELD_UP; /* the tile's t axis follows +Y, projected on the surface */
+    opt.scale = 0.0f;         /* 0: a tile side of 1/10 of the bounding-box diagonal */
+    opt.render.width = 640;   /* every other render setting keeps its default */
     opt.render.height = 480;
 
-    ok = (argc > 1 ? pgp_load_mesh(argv[1], &opt, &mesh, &err) : pgp_builtin_mesh("bumpy", &opt, &mesh, &err)) == PGP_OK &&
-         (argc > 2 ? pgp_load_tile(argv[2], &opt, &tile, &err) : pgp_builtin_tile("bricks", 64, &opt, &tile, &err)) == PGP_OK &&
+    ok = (argc > 1 ? pgp_load_mesh(argv[1], &opt, &mesh, &err) : pgp_builtin_mesh("bumpy", &opt, &mesh, &err)) ==
+             PGP_OK &&
+         (argc > 2 ? pgp_load_tile(argv[2], &opt, &tile, &err) : pgp_builtin_tile("bricks", 64, &opt, &tile, &err)) ==
+             PGP_OK &&
          /* the field, scale and material everywhere, then the parameterization */
-         pgp_create(&mesh, &opt, &map, &err) == PGP_OK && render(&map, &tile, &opt, "pgp_example_before.png", &err) == PGP_OK;
+         pgp_create(&mesh, &opt, &map, &err) == PGP_OK &&
+         render(&map, &tile, &opt, "pgp_example_before.png", &err) == PGP_OK;
     /* bricks laid along X around the face in front, within a radius of 0.6 */
     face = ok ? facing_face(&mesh) : 0;
     c.element = face;
@@ -77,8 +83,7 @@ int main(int argc, char **argv)
     if (ok)
         printf("%d triangles, %d singular, %d around vortices; wrote pgp_example_before.png, pgp_example_after.png\n",
                map.ntris, pgp_map_singular(&map, NULL), pgp_map_vortices(&map, NULL));
-    else
-        fprintf(stderr, "pgp_example: %s (%s)\n", err.message, pgp_result_string(err.code));
+    else fprintf(stderr, "pgp_example: %s (%s)\n", err.message, pgp_result_string(err.code));
 
     pgp_map_free(&map); /* a zeroed map is fine, as for every free */
     pgp_tile_free(&tile);

@@ -35,9 +35,9 @@ int main(int argc, char **argv)
          tiled_save_image("example.ppm", &picture, &err) == TILED_OK;
     if (ok)
         printf("%d faces -> %d textured quads; wrote example_tiles.ppm, example.obj, example.mtl, "
-               "example.ppm\n", mesh.nfaces, mapped.nfaces);
-    else
-        fprintf(stderr, "tiled_example: %s\n", err.message);
+               "example.ppm\n",
+               mesh.nfaces, mapped.nfaces);
+    else fprintf(stderr, "tiled_example: %s\n", err.message);
 
     tiled_image_free(&picture);
     tiled_mesh_free(&mapped);

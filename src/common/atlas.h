@@ -164,18 +164,18 @@ PW__DEF int pw__atlas_tris_overlap(const double *a, const double *b, double tol)
 
 typedef struct pw__atlas_hash {
     double cell;
-    unsigned mask;       /* buckets - 1 */
-    int *head;           /* per bucket: first entry, -1 */
-    int *next, *item;    /* per entry */
+    unsigned mask;    /* buckets - 1 */
+    int *head;        /* per bucket: first entry, -1 */
+    int *next, *item; /* per entry */
     int n;
     size_t ncap, icap;
-    int *used, nused;    /* buckets to clear */
+    int *used, nused; /* buckets to clear */
     size_t ucap;
-    int *all, nall;      /* every triangle inserted */
+    int *all, nall; /* every triangle inserted */
     size_t acap;
-    int *big, nbig;      /* triangles too large for the cells */
+    int *big, nbig; /* triangles too large for the cells */
     size_t bcap;
-    int *stamp, nstamp;  /* per mesh triangle: the last query that met it */
+    int *stamp, nstamp; /* per mesh triangle: the last query that met it */
     int query;
 } pw__atlas_hash;
 
@@ -248,8 +248,7 @@ PW__DEF int pw__atlas_hash_insert(const pw_alloc *a, pw__atlas_hash *H, int f, c
 {
     int c[4], x, y;
     pw__atlas_hash_cells(H, t, c);
-    if (pw_grow(a, (void **)&H->all, &H->acap, (size_t)H->nall + 1, sizeof(int), "chart hash", e))
-        return PW_ERR_NOMEM;
+    if (pw_grow(a, (void **)&H->all, &H->acap, (size_t)H->nall + 1, sizeof(int), "chart hash", e)) return PW_ERR_NOMEM;
     H->all[H->nall++] = f;
     if (pw__atlas_ncells(c) > PW__ATLAS_BIG_CELLS) {
         if (pw_grow(a, (void **)&H->big, &H->bcap, (size_t)H->nbig + 1, sizeof(int), "chart hash", e))
@@ -273,8 +272,8 @@ PW__DEF int pw__atlas_hash_insert(const pw_alloc *a, pw__atlas_hash *H, int f, c
 }
 
 /* Does inserted triangle f (not met yet by this query) overlap t? */
-PW__DEF int pw__atlas_hash_test(pw__atlas_hash *H, int f, const double *t, double tol,
-                             pw__atlas_coords_fn coords, const void *ctx)
+PW__DEF int pw__atlas_hash_test(pw__atlas_hash *H, int f, const double *t, double tol, pw__atlas_coords_fn coords,
+                                const void *ctx)
 {
     double u[6];
     if (H->stamp[f] == H->query) return 0;
@@ -285,7 +284,7 @@ PW__DEF int pw__atlas_hash_test(pw__atlas_hash *H, int f, const double *t, doubl
 
 /* Does t overlap any inserted triangle? */
 PW__DEF int pw__atlas_hash_hits(pw__atlas_hash *H, const double *t, double tol, pw__atlas_coords_fn coords,
-                             const void *ctx)
+                                const void *ctx)
 {
     int c[4], x, y, k;
     if (++H->query == INT_MAX) {
@@ -311,11 +310,11 @@ PW__DEF int pw__atlas_hash_hits(pw__atlas_hash *H, const double *t, double tol, 
 
 /* The charts: a partition of the triangles, each chart flattened. */
 typedef struct pw_atlas_charts {
-    int n;         /* charts */
-    int *chart;    /* nf: chart of each triangle */
-    int *start;    /* n+1: chart c holds faces[start[c] .. start[c+1]-1] */
-    int *faces;    /* nf: each chart's triangles in growth order */
-    double *uv;    /* nf*6: flattened corners; each chart's 2D area equals its 3D area */
+    int n;      /* charts */
+    int *chart; /* nf: chart of each triangle */
+    int *start; /* n+1: chart c holds faces[start[c] .. start[c+1]-1] */
+    int *faces; /* nf: each chart's triangles in growth order */
+    double *uv; /* nf*6: flattened corners; each chart's 2D area equals its 3D area */
     size_t scap;
 } pw_atlas_charts;
 
@@ -336,19 +335,19 @@ typedef struct pw__atlas_grower {
     const pw_trimesh *m;
     const pw_alloc *a;
     pw_err *e;
-    double cos_cone;     /* §4: normals within the cone around the seed's */
-    double tol;          /* overlap tolerance, mesh units */
-    int *chart;          /* per triangle: chart, -1 while unassigned */
-    int *cone;           /* per triangle: the last chart whose cone refused it */
-    int *mark;           /* per triangle: the deferral round it was deferred in */
-    int *local;          /* per vertex: index in the chart being grown, -1 */
+    double cos_cone; /* §4: normals within the cone around the seed's */
+    double tol;      /* overlap tolerance, mesh units */
+    int *chart;      /* per triangle: chart, -1 while unassigned */
+    int *cone;       /* per triangle: the last chart whose cone refused it */
+    int *mark;       /* per triangle: the deferral round it was deferred in */
+    int *local;      /* per vertex: index in the chart being grown, -1 */
     int cur, seed, round, last_opt, relaxed_nv;
-    double centre[3];    /* centroid of the seed */
+    double centre[3]; /* centroid of the seed */
     int *faces, *nv_after, nfc;
     size_t fcap, acap;
     int *verts, nlv;
     size_t vcap;
-    double *uv;          /* nlv*2 flattened vertices */
+    double *uv; /* nlv*2 flattened vertices */
     size_t uvcap;
     int *deferred, nd;
     size_t dcap;
@@ -398,7 +397,10 @@ PW__DEF void pw__atlas_line(double p[3][3], double *x, double *y)
     int k, j;
     for (k = 0; k < 3; k++) {
         double l2 = 0.0, e[3];
-        for (j = 0; j < 3; j++) e[j] = p[(k + 1) % 3][j] - p[k][j], l2 += e[j] * e[j];
+        for (j = 0; j < 3; j++) {
+            e[j] = p[(k + 1) % 3][j] - p[k][j];
+            l2 += e[j] * e[j];
+        }
         if (l2 > best)
             for (best = l2, j = 0; j < 3; j++) d[j] = e[j];
     }
@@ -527,8 +529,7 @@ PW__DEF int pw__atlas_grow_start(pw__atlas_grower *G, int f)
     G->round++;
     pw__atlas_centroid(G->m, f, G->centre);
     if (pw_grow(G->a, (void **)&G->faces, &G->fcap, 1, sizeof(int), "chart", G->e) ||
-        pw_grow(G->a, (void **)&G->nv_after, &G->acap, 1, sizeof(int), "chart", G->e) ||
-        pw__atlas_seed_layout(G))
+        pw_grow(G->a, (void **)&G->nv_after, &G->acap, 1, sizeof(int), "chart", G->e) || pw__atlas_seed_layout(G))
         return PW_ERR_NOMEM;
     G->faces[0] = f;
     G->nv_after[0] = 3;
@@ -618,7 +619,10 @@ PW__DEF int pw__atlas_grow_try(pw__atlas_grower *G, int f)
     }
     for (k = 0; k < 3; k++) {
         int g = pw_trimesh_across(m, f, k);
-        if (g >= 0 && G->chart[g] == G->cur) shared++, sk = k;
+        if (g >= 0 && G->chart[g] == G->cur) {
+            shared++;
+            sk = k;
+        }
     }
     /* Disc: across one edge the third vertex must be new (else the chart
      * would pinch or close a loop); across two edges f fills a notch;
@@ -658,9 +662,15 @@ PW__DEF void pw__atlas_pins(const pw__atlas_grower *G, int *p0, int *p1)
     int i, a = 0, b = 0;
     double best = -1.0;
     for (i = 0; i < G->nlv; i++)
-        if (pw__atlas_dist3(G, 0, i) > best) best = pw__atlas_dist3(G, 0, i), a = i;
+        if (pw__atlas_dist3(G, 0, i) > best) {
+            best = pw__atlas_dist3(G, 0, i);
+            a = i;
+        }
     for (i = 0, best = -1.0; i < G->nlv; i++)
-        if (pw__atlas_dist3(G, a, i) > best) best = pw__atlas_dist3(G, a, i), b = i;
+        if (pw__atlas_dist3(G, a, i) > best) {
+            best = pw__atlas_dist3(G, a, i);
+            b = i;
+        }
     *p0 = a;
     *p1 = b != a ? b : (a + 1) % G->nlv;
 }
@@ -694,8 +704,8 @@ PW__DEF void pw__atlas_rescale(pw__atlas_grower *G)
  * the map U = u + i v is conformal on f when sum_j W_j U_j = 0; each row
  * is weighted by 1/sqrt(area), so the residual is the conformal energy.
  * Pinned vertices (col < 0) move to the right-hand side. */
-PW__DEF int pw__atlas_lscm_rows(const pw__atlas_grower *G, int f, int r, const int *col, pw_triplets *T,
-                                   double *b, pw_err *e)
+PW__DEF int pw__atlas_lscm_rows(const pw__atlas_grower *G, int f, int r, const int *col, pw_triplets *T, double *b,
+                                pw_err *e)
 {
     int j;
     double x[3], y[3], w = 1.0 / sqrt((double)G->m->area[f]);
@@ -722,8 +732,7 @@ PW__DEF int pw__atlas_lscm_rows(const pw__atlas_grower *G, int f, int r, const i
  * solution, we use a conjugate-gradient iterative solver"), for at most
  * max_iter iterations: stopping there keeps the last iterate, and the
  * check that follows decides. */
-PW__DEF int pw__atlas_lscm_solve(pw__atlas_grower *G, const pw_csr *A, const double *b, const int *col,
-                                    int max_iter)
+PW__DEF int pw__atlas_lscm_solve(pw__atlas_grower *G, const pw_csr *A, const double *b, const int *col, int max_iter)
 {
     double *x = (double *)pw_alloc_array(G->a, (size_t)A->m, sizeof(double), "conformal map", G->e);
     pw_cg_options o = pw_cg_default_options();
@@ -809,9 +818,7 @@ PW__DEF int pw__atlas_first_bad(pw__atlas_grower *G, int *bad)
         double t[6];
         int f = G->faces[i];
         pw__atlas_grower_coords(G, f, t);
-        if (!pw__atlas_flat_ok(G, f, t) ||
-            pw__atlas_hash_hits(&G->hash, t, G->tol, pw__atlas_grower_coords, G))
-            break;
+        if (!pw__atlas_flat_ok(G, f, t) || pw__atlas_hash_hits(&G->hash, t, G->tol, pw__atlas_grower_coords, G)) break;
         if (pw__atlas_hash_insert(G->a, &G->hash, f, t, G->e)) return PW_ERR_NOMEM;
     }
     *bad = i;
@@ -853,8 +860,7 @@ PW__DEF int pw__atlas_check(pw__atlas_grower *G, int *cut)
 PW__DEF int pw__atlas_relax(pw__atlas_grower *G, int *cut)
 {
     int r;
-    if ((r = pw__atlas_lscm(G, G->relaxed_nv, PW__ATLAS_RING_ITER)) || (r = pw__atlas_check(G, cut)))
-        return r;
+    if ((r = pw__atlas_lscm(G, G->relaxed_nv, PW__ATLAS_RING_ITER)) || (r = pw__atlas_check(G, cut))) return r;
     G->relaxed_nv = G->nlv;
     G->last_opt = G->nfc;
     return PW_OK;
@@ -869,8 +875,7 @@ PW__DEF int pw__atlas_flatten(pw__atlas_grower *G)
     int r, cut = 0;
     if (G->nfc < 2) return PW_OK; /* one triangle keeps its exact shape */
     if ((r = pw__atlas_lscm(G, 0, PW__ATLAS_FULL_ITER)) || (r = pw__atlas_check(G, &cut))) return r;
-    if (cut && G->nfc >= 2 &&
-        ((r = pw__atlas_lscm(G, 0, PW__ATLAS_FULL_ITER)) || (r = pw__atlas_check(G, &cut))))
+    if (cut && G->nfc >= 2 && ((r = pw__atlas_lscm(G, 0, PW__ATLAS_FULL_ITER)) || (r = pw__atlas_check(G, &cut))))
         return r;
     return PW_OK;
 }
@@ -920,8 +925,7 @@ PW__DEF int pw__atlas_chart_finish(pw__atlas_grower *G, pw_atlas_charts *C, int 
 {
     double a3 = 0.0, a2 = 0.0, s, t[6];
     int i, k;
-    if (pw_grow(G->a, (void **)&C->start, &C->scap, (size_t)C->n + 2, sizeof(int), "charts", G->e))
-        return PW_ERR_NOMEM;
+    if (pw_grow(G->a, (void **)&C->start, &C->scap, (size_t)C->n + 2, sizeof(int), "charts", G->e)) return PW_ERR_NOMEM;
     for (i = 0; i < G->nfc; i++) {
         pw__atlas_grower_coords(G, G->faces[i], t);
         a2 += 0.5 * pw__atlas_area2(t);
@@ -971,7 +975,7 @@ PW__DEF double pw__atlas_mean_edge(const pw_trimesh *m)
 }
 
 PW__DEF int pw__atlas_grower_init(pw__atlas_grower *G, const pw_alloc *a, const pw_trimesh *m, double cone_deg,
-                               int *chart, pw_err *e)
+                                  int *chart, pw_err *e)
 {
     double cell = pw__atlas_mean_edge(m);
     int i;
@@ -997,8 +1001,8 @@ PW__DEF int pw__atlas_grower_init(pw__atlas_grower *G, const pw_alloc *a, const 
 /* §4: the charts. Each is seeded at the lowest-index unassigned triangle
  * and grown until nothing more can join; every triangle ends in exactly
  * one chart (a seed always forms a chart by itself). */
-PW__DEF int pw_atlas_charts_build(const pw_alloc *a, const pw_trimesh *m, double cone_deg,
-                                const pw_progress *prog, pw_atlas_charts *C, pw_err *e)
+PW__DEF int pw_atlas_charts_build(const pw_alloc *a, const pw_trimesh *m, double cone_deg, const pw_progress *prog,
+                                  pw_atlas_charts *C, pw_err *e)
 {
     pw__atlas_grower G;
     int f, r, nfaces = 0;
@@ -1043,28 +1047,28 @@ PW__DEF int pw_atlas_charts_build(const pw_alloc *a, const pw_trimesh *m, double
 typedef struct pw__atlas_packer {
     const pw_trimesh *m;
     const pw_atlas_charts *C;
-    int size, gutter;    /* the packing grid: size x size cells of `unit` pixels; gutter in cells */
-    int pad_lo;          /* cells of the gutter on the left of and below a chart (the rest:
+    int size, gutter;           /* the packing grid: size x size cells of `unit` pixels; gutter in cells */
+    int pad_lo;                 /* cells of the gutter on the left of and below a chart (the rest:
                             right and above): floor(gutter/2) pixels, rounded up to cells */
-    int unit, pixels;    /* cell side and atlas side, pixels */
-    double *rect;        /* per chart 6: unit direction (dx, dy) of the rectangle's side,
+    int unit, pixels;           /* cell side and atlas side, pixels */
+    double *rect;               /* per chart 6: unit direction (dx, dy) of the rectangle's side,
                             its min corner (x0, y0) in the turned frame, its extent (w, h) */
-    double *area;        /* per chart: 3D area */
-    int *order;          /* charts, largest first */
-    int *bstart, *bedge; /* boundary half-edges of each chart */
-    int16_t *run;        /* size*size, rows from the bottom: the free run starting at each
+    double *area;               /* per chart: 3D area */
+    int *order;                 /* charts, largest first */
+    int *bstart, *bedge;        /* boundary half-edges of each chart */
+    int16_t *run;               /* size*size, rows from the bottom: the free run starting at each
                             cell (> 0), or minus the occupied run (< 0) */
-    int *maxrun;         /* size: the longest free run of each row */
-    unsigned char *cov;  /* size*size: the cells the chart being placed covers */
-    int *cl, *cr, *cst;  /* their runs, row by row (cst: first run of each row) */
-    double *lo, *hi;     /* a triangle's extent over each row */
-    int *sl, *sr, *srow; /* the dilated chart's runs [sl, sr) and their rows */
-    int *ord;            /* the order in which runs are tried */
+    int *maxrun;                /* size: the longest free run of each row */
+    unsigned char *cov;         /* size*size: the cells the chart being placed covers */
+    int *cl, *cr, *cst;         /* their runs, row by row (cst: first run of each row) */
+    double *lo, *hi;            /* a triangle's extent over each row */
+    int *sl, *sr, *srow;        /* the dilated chart's runs [sl, sr) and their rows */
+    int *ord;                   /* the order in which runs are tried */
     int *kl, *kr, *krow, nkeep; /* the runs of the best turn so far */
-    int *rowmax;         /* per row: its longest run */
-    int nspan, wp, hp;   /* runs, and the dilated chart's width and height */
-    int *place;          /* per chart 3: content origin x, y (cells from the bottom-left), turn */
-    int *best;           /* the placement of the largest scale that fitted */
+    int *rowmax;                /* per row: its longest run */
+    int nspan, wp, hp;          /* runs, and the dilated chart's width and height */
+    int *place;                 /* per chart 3: content origin x, y (cells from the bottom-left), turn */
+    int *best;                  /* the placement of the largest scale that fitted */
 } pw__atlas_packer;
 
 PW__DEF void pw__atlas_packer_free(const pw_alloc *a, pw__atlas_packer *P)
@@ -1224,17 +1228,28 @@ PW__DEF void pw__atlas_chart_rect(pw__atlas_packer *P, int c, double *pts, doubl
 
 /* A chart point uv in pixels at scale s, after quarter turn o, inside
  * the chart's box [0, W] x [0, H] (W, H swapped on odd turns). */
-PW__DEF void pw__atlas_pack_xy(const pw__atlas_packer *P, int c, double s, int o, const double *uv,
-                                  double *out)
+PW__DEF void pw__atlas_pack_xy(const pw__atlas_packer *P, int c, double s, int o, const double *uv, double *out)
 {
     const double *R = P->rect + 6 * c;
     double x = (R[0] * uv[0] + R[1] * uv[1] - R[2]) * s, y = (-R[1] * uv[0] + R[0] * uv[1] - R[3]) * s;
     double W = R[4] * s, H = R[5] * s;
     switch (o) {
-    case 0: out[0] = x, out[1] = y; break;
-    case 1: out[0] = H - y, out[1] = x; break;
-    case 2: out[0] = W - x, out[1] = H - y; break;
-    default: out[0] = y, out[1] = W - x; break;
+    case 0:
+        out[0] = x;
+        out[1] = y;
+        break;
+    case 1:
+        out[0] = H - y;
+        out[1] = x;
+        break;
+    case 2:
+        out[0] = W - x;
+        out[1] = H - y;
+        break;
+    default:
+        out[0] = y;
+        out[1] = W - x;
+        break;
     }
 }
 
@@ -1332,13 +1347,20 @@ PW__DEF void pw__atlas_dilate_runs(pw__atlas_packer *P, int h)
         for (j = pw_maxi(y - g, 0); j <= pw_mini(y, h - 1); j++)
             for (k = P->cst[j]; k < P->cst[j + 1]; k++) {
                 int l = P->cl[k], r = P->cr[k] + g, i = n++;
-                for (; i > first && P->sl[i - 1] > l; i--) P->sl[i] = P->sl[i - 1], P->sr[i] = P->sr[i - 1];
+                for (; i > first && P->sl[i - 1] > l; i--) {
+                    P->sl[i] = P->sl[i - 1];
+                    P->sr[i] = P->sr[i - 1];
+                }
                 P->sl[i] = l;
                 P->sr[i] = r;
             }
         for (k = first + 1, m = first; k < n; k++) { /* merge overlapping or touching runs */
             if (P->sl[k] <= P->sr[m]) P->sr[m] = pw_maxi(P->sr[m], P->sr[k]);
-            else m++, P->sl[m] = P->sl[k], P->sr[m] = P->sr[k];
+            else {
+                m++;
+                P->sl[m] = P->sl[k];
+                P->sr[m] = P->sr[k];
+            }
         }
         n = n > first ? m + 1 : first;
         P->rowmax[y] = 0;
@@ -1408,7 +1430,7 @@ PW__DEF void pw__atlas_mark(pw__atlas_packer *P, int y, int a, int b)
         if (k < a && v == row[k]) break;
         row[k] = v;
     }
-    for (k = 0; k < n; k += row[k] > 0 ? row[k] : -row[k])
+    for (k = 0; k<n; k += row[k]> 0 ? row[k] : -row[k])
         if (row[k] > best) best = row[k];
     P->maxrun[y] = best;
 }
@@ -1529,8 +1551,8 @@ PW__DEF int pw__atlas_pack_prepare(const pw_alloc *a, pw__atlas_packer *P, pw_er
 /* The packing grid: cells of one pixel up to 1024 pixels a side, of
  * ceil(size / 1024) pixels beyond (the search costs grow with the grid's
  * area; a chart then loses at most a cell's rounding per side). */
-PW__DEF int pw__atlas_packer_init(const pw_alloc *a, pw__atlas_packer *P, const pw_trimesh *m,
-                                     const pw_atlas_charts *C, int size, int gutter, pw_err *e)
+PW__DEF int pw__atlas_packer_init(const pw_alloc *a, pw__atlas_packer *P, const pw_trimesh *m, const pw_atlas_charts *C,
+                                  int size, int gutter, pw_err *e)
 {
     size_t n = (size_t)C->n, rows, cells, spans, runs;
     memset(P, 0, sizeof *P);
@@ -1543,7 +1565,7 @@ PW__DEF int pw__atlas_packer_init(const pw_alloc *a, pw__atlas_packer *P, const 
     P->gutter = P->pad_lo + ((gutter + 1) / 2 + P->unit - 1) / P->unit;
     rows = (size_t)P->size + 2;
     cells = (size_t)P->size * P->size;
-    runs = (size_t)P->size * ((size_t)P->size / 2 + 1); /* runs are separated by gaps */
+    runs = (size_t)P->size * ((size_t)P->size / 2 + 1);                    /* runs are separated by gaps */
     spans = ((size_t)P->size + P->gutter + 1) * ((size_t)P->size / 2 + 1); /* + a row's gathering */
     P->rect = (double *)pw_alloc_array(a, 6 * n, sizeof(double), "packing", e);
     P->area = (double *)pw_alloc_array(a, n, sizeof(double), "packing", e);
@@ -1567,10 +1589,9 @@ PW__DEF int pw__atlas_packer_init(const pw_alloc *a, pw__atlas_packer *P, const 
     P->kl = (int *)pw_alloc_array(a, spans, sizeof(int), "packing runs", e);
     P->kr = (int *)pw_alloc_array(a, spans, sizeof(int), "packing runs", e);
     P->krow = (int *)pw_alloc_array(a, spans, sizeof(int), "packing runs", e);
-    if (P->rect && P->area && P->order && P->place && P->best && P->bstart && P->run && P->maxrun &&
-        P->rowmax && P->lo && P->hi && P->cov && P->cl && P->cr && P->cst && P->sl && P->sr && P->srow && P->ord &&
-        P->kl &&
-        P->kr && P->krow)
+    if (P->rect && P->area && P->order && P->place && P->best && P->bstart && P->run && P->maxrun && P->rowmax &&
+        P->lo && P->hi && P->cov && P->cl && P->cr && P->cst && P->sl && P->sr && P->srow && P->ord && P->kl && P->kr &&
+        P->krow)
         P->bedge = (int *)pw_alloc_array(a, (size_t)pw__atlas_boundary(P, 0), sizeof(int), "packing", e);
     if (!P->bedge) {
         pw__atlas_packer_free(a, P);
@@ -1604,7 +1625,8 @@ PW__DEF int pw__atlas_pack_search(pw__atlas_packer *P, const pw_progress *prog, 
     lo = hi * sqrt(0.5);
     while (!pw__atlas_try(P, lo)) {
         if (lo * maxdim < 0.5) /* every chart within one cell, and still too many */
-            return pw_fail(e, PW_ERR_LIMIT, "atlas: %d charts do not fit in %dx%d pixels with a %d-pixel "
+            return pw_fail(e, PW_ERR_LIMIT,
+                           "atlas: %d charts do not fit in %dx%d pixels with a %d-pixel "
                            "gutter (use a larger size, a wider cone or a smaller gutter)",
                            P->C->n, P->pixels, P->pixels, P->gutter * P->unit);
         hi = lo;
@@ -1647,8 +1669,8 @@ PW__DEF void pw__atlas_pack_uvs(const pw__atlas_packer *P, double s, float *uvs,
 }
 
 /* packing: charts into the unit square; uvs gets nf*6 coordinates. */
-PW__DEF int pw_atlas_pack(const pw_alloc *a, const pw_trimesh *m, const pw_atlas_charts *C, int size,
-                        int gutter, const pw_progress *prog, float *uvs, float *fill, pw_err *e)
+PW__DEF int pw_atlas_pack(const pw_alloc *a, const pw_trimesh *m, const pw_atlas_charts *C, int size, int gutter,
+                          const pw_progress *prog, float *uvs, float *fill, pw_err *e)
 {
     pw__atlas_packer P;
     double s = 0.0;
@@ -1670,8 +1692,8 @@ typedef struct pw__atlas_baker {
     pw_atlas_texel_fn fn;
     void *user;
     const float *uvs;
-    pw_image *img;    /* size x size, oc channels */
-    int *id;          /* per texel: covering triangle; -2 - f when extrapolated from f; -1 */
+    pw_image *img; /* size x size, oc channels */
+    int *id;       /* per texel: covering triangle; -2 - f when extrapolated from f; -1 */
     int size, oc, f;
 } pw__atlas_baker;
 
@@ -1780,8 +1802,7 @@ PW__DEF void pw__atlas_bake_ring(pw__atlas_baker *B, int f)
             if (*id >= 0 || !pw__atlas_near_tri(p, x + 0.5, y + 0.5)) continue;
             if (*id <= -2) {
                 pw__atlas_bake_px(B, -2 - *id, q);
-                if (pw__atlas_closest(q, x + 0.5, y + 0.5, b) <= pw__atlas_closest(p, x + 0.5, y + 0.5, b))
-                    continue;
+                if (pw__atlas_closest(q, x + 0.5, y + 0.5, b) <= pw__atlas_closest(p, x + 0.5, y + 0.5, b)) continue;
             }
             *id = -2 - f;
         }

@@ -72,11 +72,17 @@ enum {
 
 PW__DEF const char *pw_result_string(int code)
 {
-    static const char *const names[PW_ERR__COUNT] = {
-        "ok", "out of memory", "input/output error", "parse error",
-        "unsupported feature", "size limit exceeded", "invalid argument",
-        "bad mesh topology", "degenerate geometry", "cancelled",
-        "solver did not converge"};
+    static const char *const names[PW_ERR__COUNT] = {"ok",
+                                                     "out of memory",
+                                                     "input/output error",
+                                                     "parse error",
+                                                     "unsupported feature",
+                                                     "size limit exceeded",
+                                                     "invalid argument",
+                                                     "bad mesh topology",
+                                                     "degenerate geometry",
+                                                     "cancelled",
+                                                     "solver did not converge"};
     if (code < 0 || code >= PW_ERR__COUNT) return "unknown error";
     return names[code];
 }
@@ -134,33 +140,27 @@ PW__DEF void *pw_realloc(const pw_alloc *a, void *p, size_t n)
 PW__DEF void pw_free(const pw_alloc *a, void *p)
 {
     if (!p) return;
-    if (a && a->free_fn)
-        a->free_fn(a->user, p);
-    else
-        PW_FREE(p);
+    if (a && a->free_fn) a->free_fn(a->user, p);
+    else PW_FREE(p);
 }
 
 /* count*size bytes, overflow-checked; records PW_ERR_NOMEM (naming `what`)
  * on failure. */
-PW__DEF void *pw_alloc_array(const pw_alloc *a, size_t count, size_t size,
-                             const char *what, pw_err *e)
+PW__DEF void *pw_alloc_array(const pw_alloc *a, size_t count, size_t size, const char *what, pw_err *e)
 {
     void *p;
     if (size && count > (size_t)-1 / size) {
-        pw_fail(e, PW_ERR_NOMEM, "%s: %lu elements of %lu bytes overflow size_t",
-                what, (unsigned long)count, (unsigned long)size);
+        pw_fail(e, PW_ERR_NOMEM, "%s: %lu elements of %lu bytes overflow size_t", what, (unsigned long)count,
+                (unsigned long)size);
         return NULL;
     }
     p = pw_malloc(a, count * size);
-    if (!p)
-        pw_fail(e, PW_ERR_NOMEM, "out of memory allocating %s (%lu bytes)", what,
-                (unsigned long)(count * size));
+    if (!p) pw_fail(e, PW_ERR_NOMEM, "out of memory allocating %s (%lu bytes)", what, (unsigned long)(count * size));
     return p;
 }
 
 /* Same, zero-filled. */
-PW__DEF void *pw_calloc_array(const pw_alloc *a, size_t count, size_t size,
-                              const char *what, pw_err *e)
+PW__DEF void *pw_calloc_array(const pw_alloc *a, size_t count, size_t size, const char *what, pw_err *e)
 {
     void *p = pw_alloc_array(a, count, size, what, e);
     if (p) memset(p, 0, count * size);
@@ -169,22 +169,19 @@ PW__DEF void *pw_calloc_array(const pw_alloc *a, size_t count, size_t size,
 
 /* Grows *p (holding *cap elements of `size` bytes) to at least `need`
  * elements, doubling. Returns 0 on success. */
-PW__DEF int pw_grow(const pw_alloc *a, void **p, size_t *cap, size_t need,
-                    size_t size, const char *what, pw_err *e)
+PW__DEF int pw_grow(const pw_alloc *a, void **p, size_t *cap, size_t need, size_t size, const char *what, pw_err *e)
 {
     size_t ncap;
     void *np;
     if (need <= *cap) return PW_OK;
     ncap = *cap ? *cap : 16;
     while (ncap < need) {
-        if (ncap > ((size_t)-1 / 2) / size)
-            return pw_fail(e, PW_ERR_NOMEM, "%s: size overflow", what);
+        if (ncap > ((size_t)-1 / 2) / size) return pw_fail(e, PW_ERR_NOMEM, "%s: size overflow", what);
         ncap *= 2;
     }
     np = pw_realloc(a, *p, ncap * size);
     if (!np)
-        return pw_fail(e, PW_ERR_NOMEM, "out of memory growing %s to %lu bytes",
-                       what, (unsigned long)(ncap * size));
+        return pw_fail(e, PW_ERR_NOMEM, "out of memory growing %s to %lu bytes", what, (unsigned long)(ncap * size));
     *p = np;
     *cap = ncap;
     return PW_OK;
@@ -197,12 +194,10 @@ typedef struct pw_progress {
 } pw_progress;
 
 /* Reports progress; returns PW_ERR_CANCELLED (recorded in e) if asked. */
-PW__DEF int pw_report(const pw_progress *p, float done, const char *stage,
-                      pw_err *e)
+PW__DEF int pw_report(const pw_progress *p, float done, const char *stage, pw_err *e)
 {
     if (p && p->fn && p->fn(p->user, done, stage))
-        return pw_fail(e, PW_ERR_CANCELLED, "cancelled by the progress callback during %s",
-                       stage);
+        return pw_fail(e, PW_ERR_CANCELLED, "cancelled by the progress callback during %s", stage);
     return PW_OK;
 }
 
@@ -233,8 +228,7 @@ PW__DEF int pw_has_ext(const char *path, const char *ext)
 #ifndef PW_NO_STDIO
 /* Reads a whole file into memory (with a terminating NUL not counted in
  * *size). */
-PW__DEF int pw_read_file(const pw_alloc *a, const char *path, unsigned char **data,
-                         size_t *size, pw_err *e)
+PW__DEF int pw_read_file(const pw_alloc *a, const char *path, unsigned char **data, size_t *size, pw_err *e)
 {
     FILE *f = fopen(path, "rb");
     unsigned char *buf = NULL;
@@ -271,9 +265,8 @@ PW__DEF int pw__file_write(void *ctx, const void *data, size_t size)
 
 /* Opens `path` for writing and runs body(arg, sink, FILE*, e), which writes
  * through the sink. A failing sink or fclose is reported naming the file. */
-PW__DEF int pw_write_file(const char *path,
-                          int (*body)(void *arg, pw_write_fn w, void *ctx, pw_err *e),
-                          void *arg, pw_err *e)
+PW__DEF int pw_write_file(const char *path, int (*body)(void *arg, pw_write_fn w, void *ctx, pw_err *e), void *arg,
+                          pw_err *e)
 {
     pw_err local;
     FILE *f = fopen(path, "wb");

@@ -38,15 +38,15 @@ typedef struct pw_bstet {
 typedef struct pw_bisect {
     const pw_alloc *a;
     pw_err *e;
-    int *vc;          /* nv*3 integer coordinates, each below 2^21 */
+    int *vc; /* nv*3 integer coordinates, each below 2^21 */
     int nv;
     size_t capv;
-    uint64_t *hkey;   /* vertex hash: packed coordinates + 1 (0: empty) */
+    uint64_t *hkey; /* vertex hash: packed coordinates + 1 (0: empty) */
     int *hval;
-    size_t hcap;      /* power of two */
-    pw_bstet *t;      /* the tetrahedra (the leaves of the bisection forest) */
+    size_t hcap; /* power of two */
+    pw_bstet *t; /* the tetrahedra (the leaves of the bisection forest) */
     size_t nt, capt;
-    size_t max_tets;  /* more is PW_ERR_LIMIT (0: PW_MAX_MESH_ELEMENTS) */
+    size_t max_tets; /* more is PW_ERR_LIMIT (0: PW_MAX_MESH_ELEMENTS) */
     /* from the first pw_bisect_conform on: the tetrahedra at each vertex
        (lists of (tetrahedron, next) entries from head[v], -1 ends), kept by
        every bisection, and the tetrahedra to check for hanging vertices */
@@ -68,9 +68,13 @@ PW__DEF void pw_bisect_free(pw_bisect *b)
     pw_free(b->a, b->stet);
     pw_free(b->a, b->snext);
     pw_free(b->a, b->queue);
-    b->vc = NULL, b->hkey = NULL, b->hval = NULL, b->t = NULL;
+    b->vc = NULL;
+    b->hkey = NULL;
+    b->hval = NULL;
+    b->t = NULL;
     b->head = b->stet = b->snext = b->queue = NULL;
-    b->nv = 0, b->capv = b->hcap = b->nt = b->capt = 0;
+    b->nv = 0;
+    b->capv = b->hcap = b->nt = b->capt = 0;
     b->cap_head = b->ns = b->cap_stet = b->cap_snext = b->nq = b->capq = 0;
 }
 
@@ -81,7 +85,11 @@ PW__DEF uint64_t pw__bs_key(const int *c)
 
 PW__DEF size_t pw__bs_slot(uint64_t k, size_t mask)
 {
-    k ^= k >> 31, k *= 0x7fb5d329728ea185ull, k ^= k >> 27, k *= 0x81dadef4bc2dd44dull, k ^= k >> 33;
+    k ^= k >> 31;
+    k *= 0x7fb5d329728ea185ull;
+    k ^= k >> 27;
+    k *= 0x81dadef4bc2dd44dull;
+    k ^= k >> 33;
     return (size_t)k & mask;
 }
 
@@ -109,11 +117,14 @@ PW__DEF int pw__bs_rehash(pw_bisect *b, size_t cap)
     for (i = 0; i < b->hcap; i++) {
         if (!b->hkey[i]) continue;
         for (j = pw__bs_slot(b->hkey[i], cap - 1); k[j]; j = (j + 1) & (cap - 1)) continue;
-        k[j] = b->hkey[i], v[j] = b->hval[i];
+        k[j] = b->hkey[i];
+        v[j] = b->hval[i];
     }
     pw_free(b->a, b->hkey);
     pw_free(b->a, b->hval);
-    b->hkey = k, b->hval = v, b->hcap = cap;
+    b->hkey = k;
+    b->hval = v;
+    b->hcap = cap;
     return PW_OK;
 }
 
@@ -135,7 +146,8 @@ PW__DEF int pw__bs_vertex(pw_bisect *b, const int *c)
     memcpy(b->vc + 3 * b->nv, c, 3 * sizeof(int));
     mask = b->hcap - 1;
     for (i = pw__bs_slot(k, mask); b->hkey[i]; i = (i + 1) & mask) continue;
-    b->hkey[i] = k, b->hval[i] = b->nv;
+    b->hkey[i] = k;
+    b->hval[i] = b->nv;
     return b->nv++;
 }
 
@@ -143,8 +155,10 @@ PW__DEF int pw__bs_push(pw_bisect *b, const pw_bstet *t)
 {
     size_t cap = b->max_tets && b->max_tets < PW_MAX_MESH_ELEMENTS ? b->max_tets : PW_MAX_MESH_ELEMENTS;
     if (b->nt >= cap)
-        return pw_fail(b->e, PW_ERR_LIMIT, "tetrahedralize: the graded lattice needs more than %lu tetrahedra; use a "
-                       "larger fit or cell", (unsigned long)cap);
+        return pw_fail(b->e, PW_ERR_LIMIT,
+                       "tetrahedralize: the graded lattice needs more than %lu tetrahedra; use a "
+                       "larger fit or cell",
+                       (unsigned long)cap);
     if (pw_grow(b->a, (void **)&b->t, &b->capt, b->nt + 1, sizeof *b->t, "bisection tetrahedra", b->e))
         return PW_ERR_NOMEM;
     b->t[b->nt++] = *t;
@@ -159,7 +173,8 @@ PW__DEF int pw_bisect_kuhn(pw_bisect *b, const int *n, int side)
     int c[3], p, k, x[3];
     for (k = 0; k < 3; k++)
         if (n[k] < 1 || (double)n[k] * side >= (double)(1 << 21))
-            return pw_fail(b->e, PW_ERR_LIMIT, "tetrahedralize: %d cubes of side %d do not fit the lattice", n[k], side);
+            return pw_fail(b->e, PW_ERR_LIMIT, "tetrahedralize: %d cubes of side %d do not fit the lattice", n[k],
+                           side);
     for (c[2] = 0; c[2] < n[2]; c[2]++)
         for (c[1] = 0; c[1] < n[1]; c[1]++)
             for (c[0] = 0; c[0] < n[0]; c[0]++)
@@ -167,7 +182,9 @@ PW__DEF int pw_bisect_kuhn(pw_bisect *b, const int *n, int side)
                     pw_bstet t;
                     int i, r;
                     for (k = 0; k < 3; k++) x[k] = c[k] * side;
-                    t.tag = 3, t.depth = 0, t.kept = t.mark = 0;
+                    t.tag = 3;
+                    t.depth = 0;
+                    t.kept = t.mark = 0;
                     if ((t.v[0] = pw__bs_vertex(b, x)) < 0) return b->e ? b->e->code : PW_ERR_NOMEM;
                     for (i = 0; i < 3; i++) {
                         x[perm[p][i]] += side;
@@ -183,7 +200,8 @@ PW__DEF int pw__bs_star_add(pw_bisect *b, int v, int t)
     if (pw_grow(b->a, (void **)&b->stet, &b->cap_stet, b->ns + 1, sizeof(int), "vertex stars", b->e) ||
         pw_grow(b->a, (void **)&b->snext, &b->cap_snext, b->ns + 1, sizeof(int), "vertex stars", b->e))
         return PW_ERR_NOMEM;
-    b->stet[b->ns] = t, b->snext[b->ns] = b->head[v];
+    b->stet[b->ns] = t;
+    b->snext[b->ns] = b->head[v];
     b->head[v] = (int)b->ns++;
     return PW_OK;
 }
@@ -211,7 +229,8 @@ PW__DEF int pw__bs_split(pw_bisect *b, size_t i)
         z[j] = s / 2;
     }
     if ((m = pw__bs_vertex(b, z)) < 0) return b->e ? b->e->code : PW_ERR_NOMEM;
-    c1 = t, c2 = t;
+    c1 = t;
+    c2 = t;
     for (j = 0; j < k; j++) c2.v[j] = t.v[j + 1];
     c1.v[k] = c2.v[k] = m;
     c1.tag = c2.tag = k > 1 ? k - 1 : 3;

@@ -27,9 +27,8 @@
  * nibble at a time) keeps the source short and is fast enough for PNG. */
 PW__DEF uint32_t pw_crc32(uint32_t crc, const void *data, size_t n)
 {
-    static const uint32_t t[16] = {0x00000000u, 0x1db71064u, 0x3b6e20c8u, 0x26d930acu,
-                                   0x76dc4190u, 0x6b6b51f4u, 0x4db26158u, 0x5005713cu,
-                                   0xedb88320u, 0xf00f9344u, 0xd6d6a3e8u, 0xcb61b38cu,
+    static const uint32_t t[16] = {0x00000000u, 0x1db71064u, 0x3b6e20c8u, 0x26d930acu, 0x76dc4190u, 0x6b6b51f4u,
+                                   0x4db26158u, 0x5005713cu, 0xedb88320u, 0xf00f9344u, 0xd6d6a3e8u, 0xcb61b38cu,
                                    0x9b64c2b0u, 0x86d3d2d4u, 0xa00ae278u, 0xbdbdf21cu};
     const unsigned char *p = (const unsigned char *)data;
     crc = ~crc;
@@ -61,20 +60,17 @@ PW__DEF uint32_t pw_adler32(uint32_t adler, const void *data, size_t n)
 }
 
 /* RFC 1951 §3.2.5: bases and extra bits of the length and distance codes. */
-static const unsigned short pw__len_base[29] = {3,  4,  5,  6,   7,   8,   9,   10,  11, 13,
-                                                15, 17, 19, 23,  27,  31,  35,  43,  51, 59,
-                                                67, 83, 99, 115, 131, 163, 195, 227, 258};
+static const unsigned short pw__len_base[29] = {3,  4,  5,  6,  7,  8,  9,  10, 11,  13,  15,  17,  19,  23, 27,
+                                                31, 35, 43, 51, 59, 67, 83, 99, 115, 131, 163, 195, 227, 258};
 static const unsigned char pw__len_extra[29] = {0, 0, 0, 0, 0, 0, 0, 0, 1, 1, 1, 1, 2, 2, 2,
                                                 2, 3, 3, 3, 3, 4, 4, 4, 4, 5, 5, 5, 5, 0};
-static const unsigned short pw__dist_base[30] = {
-    1,   2,   3,   4,   5,   7,    9,    13,   17,   25,   33,   49,   65,    97,    129,
-    193, 257, 385, 513, 769, 1025, 1537, 2049, 3073, 4097, 6145, 8193, 12289, 16385, 24577};
-static const unsigned char pw__dist_extra[30] = {0, 0, 0,  0,  1,  1,  2,  2,  3,  3,
-                                                 4, 4, 5,  5,  6,  6,  7,  7,  8,  8,
-                                                 9, 9, 10, 10, 11, 11, 12, 12, 13, 13};
+static const unsigned short pw__dist_base[30] = {1,    2,    3,    4,    5,    7,    9,    13,    17,    25,
+                                                 33,   49,   65,   97,   129,  193,  257,  385,   513,   769,
+                                                 1025, 1537, 2049, 3073, 4097, 6145, 8193, 12289, 16385, 24577};
+static const unsigned char pw__dist_extra[30] = {0, 0, 0, 0, 1, 1, 2, 2,  3,  3,  4,  4,  5,  5,  6,
+                                                 6, 7, 7, 8, 8, 9, 9, 10, 10, 11, 11, 12, 12, 13, 13};
 /* §3.2.7: order in which the code-length code lengths are sent */
-static const unsigned char pw__clen_order[19] = {16, 17, 18, 0, 8,  7, 9,  6, 10, 5,
-                                                 11, 4,  12, 3, 13, 2, 14, 1, 15};
+static const unsigned char pw__clen_order[19] = {16, 17, 18, 0, 8, 7, 9, 6, 10, 5, 11, 4, 12, 3, 13, 2, 14, 1, 15};
 
 /* ======================================================================
  * Huffman code construction (shared by both directions)
@@ -116,10 +112,8 @@ PW__DEF int pw__huff_tree(const uint64_t *key, int m, unsigned char *len)
     for (k = 0; k < m - 1; k++) {
         int pick[2], j;
         for (j = 0; j < 2; j++) {
-            if (li < m && (ii >= nn || w[li] <= w[ii]))
-                pick[j] = li++;
-            else
-                pick[j] = ii++;
+            if (li < m && (ii >= nn || w[li] <= w[ii])) pick[j] = li++;
+            else pick[j] = ii++;
         }
         w[nn] = w[pick[0]] + w[pick[1]];
         parent[pick[0]] = parent[pick[1]] = nn++;
@@ -257,8 +251,7 @@ PW__DEF void pw__deflate_tables(pw__deflate *s)
             s->dcode[v < 256 ? v : 256 + (v >> 7)] = (unsigned char)c;
         }
     /* §3.2.6: the fixed code */
-    for (i = 0; i < 288; i++)
-        s->fixed_len[i] = (unsigned char)(i < 144 ? 8 : i < 256 ? 9 : i < 280 ? 7 : 8);
+    for (i = 0; i < 288; i++) s->fixed_len[i] = (unsigned char)(i < 144 ? 8 : i < 256 ? 9 : i < 280 ? 7 : 8);
     for (i = 0; i < 30; i++) s->fixed_len[288 + i] = 5;
     pw__huff_codes(s->fixed_len, 288, s->fixed_code);
     pw__huff_codes(s->fixed_len + 288, 30, s->fixed_code + 288);
@@ -270,8 +263,7 @@ PW__DEF int pw__dist_code(const pw__deflate *s, unsigned dist)
 }
 
 /* Bits to code the block's symbols with the given lengths (no header). */
-PW__DEF uint64_t pw__block_bits(const pw__deflate *s, const unsigned char *ll,
-                                const unsigned char *dl)
+PW__DEF uint64_t pw__block_bits(const pw__deflate *s, const unsigned char *ll, const unsigned char *dl)
 {
     uint64_t bits = 0;
     int i;
@@ -282,8 +274,8 @@ PW__DEF uint64_t pw__block_bits(const pw__deflate *s, const unsigned char *ll,
 }
 
 /* Writes the block's symbols with the given code. */
-PW__DEF void pw__put_symbols(pw__deflate *s, const unsigned char *ll, const unsigned short *lc,
-                             const unsigned char *dl, const unsigned short *dc)
+PW__DEF void pw__put_symbols(pw__deflate *s, const unsigned char *ll, const unsigned short *lc, const unsigned char *dl,
+                             const unsigned short *dc)
 {
     size_t i;
     for (i = 0; i < s->nsym; i++) {
@@ -430,8 +422,7 @@ PW__DEF void pw__flush_block(pw__deflate *s, size_t end, int last)
     dyn = 3 + pw__dyn_build(&h, ll, dl) + pw__block_bits(s, ll, dl);
     fix = 3 + pw__block_bits(s, s->fixed_len, s->fixed_len + 288);
     kind = s->stored_only || (stored <= dyn && stored <= fix) ? 0 : fix <= dyn ? 1 : 2;
-    if (pw__deflate_reserve(s, (size_t)((kind == 0 ? stored : kind == 1 ? fix : dyn) / 8 + 16)))
-        return;
+    if (pw__deflate_reserve(s, (size_t)((kind == 0 ? stored : kind == 1 ? fix : dyn) / 8 + 16))) return;
     if (kind == 0) {
         pw__put_stored(s, s->block_start, end, last);
     } else if (kind == 1) {
@@ -556,9 +547,8 @@ PW__DEF void pw__deflate_run(pw__deflate *s)
 PW__DEF void pw__deflate_level(pw__deflate *s, int level)
 {
     static const unsigned short p[10][4] = {
-        {0, 0, 0, 0},         {4, 16, 0, 0},       {8, 32, 0, 0},    {16, 32, 0, 0},
-        {16, 32, 8, 4},       {32, 64, 16, 8},     {64, 128, 16, 8}, {256, 128, 64, 16},
-        {1024, 258, 128, 32}, {4096, 258, 258, 32}};
+        {0, 0, 0, 0},    {4, 16, 0, 0},    {8, 32, 0, 0},      {16, 32, 0, 0},       {16, 32, 8, 4},
+        {32, 64, 16, 8}, {64, 128, 16, 8}, {256, 128, 64, 16}, {1024, 258, 128, 32}, {4096, 258, 258, 32}};
     if (level < 0 || level > 9) level = 6;
     s->max_chain = p[level][0];
     s->nice_len = p[level][1];
@@ -606,8 +596,7 @@ PW__DEF int pw__deflate_into(pw__deflate *s, int level)
     return s->failed ? (s->e && s->e->code ? s->e->code : PW_ERR_NOMEM) : PW_OK;
 }
 
-PW__DEF void pw__deflate_init(pw__deflate *s, const pw_alloc *a, const unsigned char *data,
-                              size_t n, pw_err *e)
+PW__DEF void pw__deflate_init(pw__deflate *s, const pw_alloc *a, const unsigned char *data, size_t n, pw_err *e)
 {
     memset(s, 0, sizeof *s);
     s->a = a;
@@ -617,8 +606,8 @@ PW__DEF void pw__deflate_init(pw__deflate *s, const pw_alloc *a, const unsigned 
 }
 
 /* Raw deflate stream of data[0..n) at `level` (0-9, -1 = default 6). */
-PW__DEF int pw_deflate(const pw_alloc *a, const unsigned char *data, size_t n, int level,
-                       unsigned char **out, size_t *outn, pw_err *e)
+PW__DEF int pw_deflate(const pw_alloc *a, const unsigned char *data, size_t n, int level, unsigned char **out,
+                       size_t *outn, pw_err *e)
 {
     pw__deflate s;
     int r;
@@ -636,8 +625,8 @@ PW__DEF int pw_deflate(const pw_alloc *a, const unsigned char *data, size_t n, i
 }
 
 /* zlib stream (2-byte header, deflate data, Adler-32 of the input). */
-PW__DEF int pw_zlib_compress(const pw_alloc *a, const unsigned char *data, size_t n, int level,
-                             unsigned char **out, size_t *outn, pw_err *e)
+PW__DEF int pw_zlib_compress(const pw_alloc *a, const unsigned char *data, size_t n, int level, unsigned char **out,
+                             size_t *outn, pw_err *e)
 {
     pw__deflate s;
     uint32_t ad;
@@ -720,8 +709,7 @@ PW__DEF int pw__huff_build(pw__huff *h, const unsigned char *len, int n, int all
         if (L > PW__FAST_BITS) continue;
         for (l = 0; l < L; l++) r = (r << 1) | ((code[L] >> l) & 1u);
         code[L]++;
-        for (j = r; j < (1u << PW__FAST_BITS); j += 1u << L)
-            h->fast[j] = (unsigned short)((L << 9) | i);
+        for (j = r; j < (1u << PW__FAST_BITS); j += 1u << L) h->fast[j] = (unsigned short)((L << 9) | i);
     }
     return 0;
 }
@@ -808,9 +796,7 @@ PW__DEF int pw__inflate_reserve(pw__inflate *z, size_t k)
     while (cap < need) cap = cap > ((size_t)-1) / 2 ? need : cap * 2;
     if (cap > z->max_out) cap = z->max_out;
     p = (unsigned char *)pw_realloc(z->a, z->out, cap);
-    if (!p)
-        return pw_fail(z->e, PW_ERR_NOMEM, "out of memory decompressing (%lu bytes)",
-                       (unsigned long)cap);
+    if (!p) return pw_fail(z->e, PW_ERR_NOMEM, "out of memory decompressing (%lu bytes)", (unsigned long)cap);
     z->out = p;
     z->outcap = cap;
     return PW_OK;
@@ -825,27 +811,23 @@ PW__DEF int pw__inflate_codes(pw__inflate *z, const pw__huff *ll, const pw__huff
         sym = pw__decode(z, ll);
         if (sym < 0) goto bad;
         if (sym < 256) {
-            if (z->outn >= z->outcap && pw__inflate_reserve(z, 1))
-                return z->e ? z->e->code : PW_ERR_LIMIT;
+            if (z->outn >= z->outcap && pw__inflate_reserve(z, 1)) return z->e ? z->e->code : PW_ERR_LIMIT;
             z->out[z->outn++] = (unsigned char)sym;
             continue;
         }
         if (sym == 256) return PW_OK;
-        if (sym > 285)
-            return pw_fail(z->e, PW_ERR_PARSE, "deflate data: invalid length code %d", sym);
+        if (sym > 285) return pw_fail(z->e, PW_ERR_PARSE, "deflate data: invalid length code %d", sym);
         len = pw__len_base[sym - 257] + pw__getbits(z, pw__len_extra[sym - 257]);
         ds = pw__decode(z, dd);
         if (ds < 0) {
             sym = ds;
             goto bad;
         }
-        if (ds > 29)
-            return pw_fail(z->e, PW_ERR_PARSE, "deflate data: invalid distance code %d", ds);
+        if (ds > 29) return pw_fail(z->e, PW_ERR_PARSE, "deflate data: invalid distance code %d", ds);
         dist = pw__dist_base[ds] + pw__getbits(z, pw__dist_extra[ds]);
         if (z->truncated) return pw__inflate_truncated(z);
         if (dist > z->outn)
-            return pw_fail(z->e, PW_ERR_PARSE,
-                           "deflate data: distance %lu too far back (only %lu bytes decoded)",
+            return pw_fail(z->e, PW_ERR_PARSE, "deflate data: distance %lu too far back (only %lu bytes decoded)",
                            (unsigned long)dist, (unsigned long)z->outn);
         if (pw__inflate_reserve(z, len)) return z->e ? z->e->code : PW_ERR_LIMIT;
         /* byte by byte: source and destination overlap when dist < len */
@@ -864,8 +846,7 @@ PW__DEF int pw__inflate_stored(pw__inflate *z)
     len = pw__getbits(z, 16);
     nlen = pw__getbits(z, 16);
     if (z->truncated) return pw__inflate_truncated(z);
-    if ((len ^ 0xffffu) != nlen)
-        return pw_fail(z->e, PW_ERR_PARSE, "deflate data: stored block length check failed");
+    if ((len ^ 0xffffu) != nlen) return pw_fail(z->e, PW_ERR_PARSE, "deflate data: stored block length check failed");
     if (pw__inflate_reserve(z, len)) return z->e ? z->e->code : PW_ERR_LIMIT;
     while (len > 0 && z->nbits >= 8) { /* bytes already loaded first */
         z->out[z->outn++] = (unsigned char)pw__getbits(z, 8);
@@ -888,36 +869,30 @@ PW__DEF int pw__inflate_tables(pw__inflate *z, pw__huff *ll, pw__huff *dd)
     hdist = (int)pw__getbits(z, 5) + 1;
     hclen = (int)pw__getbits(z, 4) + 4;
     if (hlit > 286 || hdist > 30)
-        return pw_fail(z->e, PW_ERR_PARSE,
-                       "deflate data: too many length or distance codes (%d, %d)", hlit, hdist);
+        return pw_fail(z->e, PW_ERR_PARSE, "deflate data: too many length or distance codes (%d, %d)", hlit, hdist);
     memset(clen, 0, sizeof clen);
     for (i = 0; i < hclen; i++) clen[pw__clen_order[i]] = (unsigned char)pw__getbits(z, 3);
     if (z->truncated) return pw__inflate_truncated(z);
-    if (pw__huff_build(&ch, clen, 19, 0))
-        return pw_fail(z->e, PW_ERR_PARSE, "deflate data: bad code-length code");
+    if (pw__huff_build(&ch, clen, 19, 0)) return pw_fail(z->e, PW_ERR_PARSE, "deflate data: bad code-length code");
     n = hlit + hdist;
     for (i = 0; i < n;) {
         int sym = pw__decode(z, &ch), rep, val = 0;
         if (sym < 0)
-            return sym == -1
-                       ? pw__inflate_truncated(z)
-                       : pw_fail(z->e, PW_ERR_PARSE, "deflate data: invalid code-length code");
+            return sym == -1 ? pw__inflate_truncated(z)
+                             : pw_fail(z->e, PW_ERR_PARSE, "deflate data: invalid code-length code");
         if (sym < 16) {
             lens[i++] = (unsigned char)sym;
             continue;
         }
         if (sym == 16) {
-            if (i == 0)
-                return pw_fail(z->e, PW_ERR_PARSE,
-                               "deflate data: length repeat with no previous length");
+            if (i == 0) return pw_fail(z->e, PW_ERR_PARSE, "deflate data: length repeat with no previous length");
             val = lens[i - 1];
             rep = 3 + (int)pw__getbits(z, 2);
         } else {
             rep = sym == 17 ? 3 + (int)pw__getbits(z, 3) : 11 + (int)pw__getbits(z, 7);
         }
         if (z->truncated) return pw__inflate_truncated(z);
-        if (rep > n - i)
-            return pw_fail(z->e, PW_ERR_PARSE, "deflate data: code lengths repeat past the end");
+        if (rep > n - i) return pw_fail(z->e, PW_ERR_PARSE, "deflate data: code lengths repeat past the end");
         while (rep--) lens[i++] = (unsigned char)val;
     }
     if (!lens[256]) return pw_fail(z->e, PW_ERR_PARSE, "deflate data: no end-of-block code");
@@ -941,8 +916,7 @@ PW__DEF int pw__inflate_run(pw__inflate *z)
         if (type == 0) {
             r = pw__inflate_stored(z);
         } else if (type == 1) { /* §3.2.6: the fixed code */
-            for (i = 0; i < 288; i++)
-                lens[i] = (unsigned char)(i < 144 ? 8 : i < 256 ? 9 : i < 280 ? 7 : 8);
+            for (i = 0; i < 288; i++) lens[i] = (unsigned char)(i < 144 ? 8 : i < 256 ? 9 : i < 280 ? 7 : 8);
             /* distance codes 30 and 31 never occur but complete the code */
             for (i = 0; i < 32; i++) lens[288 + i] = 5;
             pw__huff_build(&ll, lens, 288, 0);
@@ -962,8 +936,8 @@ PW__DEF int pw__inflate_run(pw__inflate *z)
 /* Decodes a raw deflate stream into a new buffer of at most max_out bytes
  * (PW_ERR_LIMIT beyond). *used (if not NULL) receives the number of input
  * bytes the stream occupied. */
-PW__DEF int pw_inflate(const pw_alloc *a, const unsigned char *data, size_t n, size_t max_out,
-                       unsigned char **out, size_t *outn, size_t *used, pw_err *e)
+PW__DEF int pw_inflate(const pw_alloc *a, const unsigned char *data, size_t n, size_t max_out, unsigned char **out,
+                       size_t *outn, size_t *used, pw_err *e)
 {
     pw__inflate z;
     pw_err local;
@@ -991,8 +965,8 @@ PW__DEF int pw_inflate(const pw_alloc *a, const unsigned char *data, size_t n, s
 }
 
 /* Decodes a zlib stream, checking its header and Adler-32. */
-PW__DEF int pw_zlib_decompress(const pw_alloc *a, const unsigned char *data, size_t n,
-                               size_t max_out, unsigned char **out, size_t *outn, pw_err *e)
+PW__DEF int pw_zlib_decompress(const pw_alloc *a, const unsigned char *data, size_t n, size_t max_out,
+                               unsigned char **out, size_t *outn, pw_err *e)
 {
     size_t used = 0;
     uint32_t want;
@@ -1002,20 +976,15 @@ PW__DEF int pw_zlib_decompress(const pw_alloc *a, const unsigned char *data, siz
     *outn = 0;
     if (n < 2) return pw_fail(e, PW_ERR_PARSE, "zlib data truncated (%lu bytes)", (unsigned long)n);
     if ((data[0] & 15) != 8 || (data[0] >> 4) > 7)
-        return pw_fail(e, PW_ERR_PARSE,
-                       "zlib header: not deflate with a window of at most 32K (0x%02x)", data[0]);
-    if (((unsigned)data[0] << 8 | data[1]) % 31)
-        return pw_fail(e, PW_ERR_PARSE, "zlib header: check bits are wrong");
-    if (data[1] & 0x20)
-        return pw_fail(e, PW_ERR_UNSUPPORTED, "zlib data needs a preset dictionary");
+        return pw_fail(e, PW_ERR_PARSE, "zlib header: not deflate with a window of at most 32K (0x%02x)", data[0]);
+    if (((unsigned)data[0] << 8 | data[1]) % 31) return pw_fail(e, PW_ERR_PARSE, "zlib header: check bits are wrong");
+    if (data[1] & 0x20) return pw_fail(e, PW_ERR_UNSUPPORTED, "zlib data needs a preset dictionary");
     r = pw_inflate(a, data + 2, n - 2, max_out, out, outn, &used, e);
     if (r) return r;
     t = data + 2 + used;
-    if (n - 2 - used < 4)
-        r = pw_fail(e, PW_ERR_PARSE, "zlib data truncated (no Adler-32 checksum)");
+    if (n - 2 - used < 4) r = pw_fail(e, PW_ERR_PARSE, "zlib data truncated (no Adler-32 checksum)");
     want = r ? 0 : (uint32_t)t[0] << 24 | (uint32_t)t[1] << 16 | (uint32_t)t[2] << 8 | t[3];
-    if (!r && pw_adler32(1, *out, *outn) != want)
-        r = pw_fail(e, PW_ERR_PARSE, "zlib data: Adler-32 checksum mismatch");
+    if (!r && pw_adler32(1, *out, *outn) != want) r = pw_fail(e, PW_ERR_PARSE, "zlib data: Adler-32 checksum mismatch");
     if (r) {
         pw_free(a, *out);
         *out = NULL;

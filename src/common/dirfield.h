@@ -144,7 +144,10 @@ PW__DEF int pw_df_connection(const pw_alloc *a, const pw_trimesh *m, float **out
             pw_df_edge_in(m, h, m->hm.twin[h] / 3, wg);
             z[0] = wf[0] * wg[0] + wf[1] * wg[1]; /* wf * conj(wg) */
             z[1] = wf[1] * wg[0] - wf[0] * wg[1];
-            if (!pw_df_unit(z)) z[0] = 1.0, z[1] = 0.0;
+            if (!pw_df_unit(z)) {
+                z[0] = 1.0;
+                z[1] = 0.0;
+            }
         }
         c[2 * h] = (float)z[0];
         c[2 * h + 1] = (float)z[1];
@@ -216,7 +219,10 @@ PW__DEF void pw_df_axis(const pw_trimesh *m, int f, double *z)
     for (i = 1; i < 3; i++)
         if (fabsf(n[i]) < fabsf(n[k])) k = i;
     ax[k] = 1.0f;
-    if (!pw_df_project(m, f, pw_v3_load(ax), z)) z[0] = 1.0, z[1] = 0.0;
+    if (!pw_df_project(m, f, pw_v3_load(ax), z)) {
+        z[0] = 1.0;
+        z[1] = 0.0;
+    }
 }
 
 /* Where propagation stops (pw_df_up_creased): half-edges marked in `edge`
@@ -276,7 +282,10 @@ PW__DEF void pw_df_seed(pw_df_prop *P, int start)
     while (n < top) { /* flood the component, in a deterministic order */
         f = stack[n++];
         for (k = 0; k < 3; k++)
-            if ((g = pw_df_across(m, cut, f, k)) >= 0 && level[g] == -1) level[g] = -2, stack[top++] = g;
+            if ((g = pw_df_across(m, cut, f, k)) >= 0 && level[g] == -1) {
+                level[g] = -2;
+                stack[top++] = g;
+            }
     }
     for (i = 0; i < top; i++) {
         f = stack[i];
@@ -314,12 +323,21 @@ PW__DEF void pw_df_average(const pw_df_prop *P, int f)
         g = pw_df_across(m, cut, f, k);
         if (g < 0 || level[g] < 0 || level[g] >= level[f]) continue;
         pw_df_move(conn, 3 * f + k, power, z + 2 * g, w);
-        if (n++ == 0) first[0] = w[0], first[1] = w[1];
+        if (n++ == 0) {
+            first[0] = w[0];
+            first[1] = w[1];
+        }
         sum[0] += w[0];
         sum[1] += w[1];
     }
-    if (!(sum[0] * sum[0] + sum[1] * sum[1] > 1e-12)) sum[0] = first[0], sum[1] = first[1];
-    if (!pw_df_unit(sum)) sum[0] = 1.0, sum[1] = 0.0;
+    if (!(sum[0] * sum[0] + sum[1] * sum[1] > 1e-12)) {
+        sum[0] = first[0];
+        sum[1] = first[1];
+    }
+    if (!pw_df_unit(sum)) {
+        sum[0] = 1.0;
+        sum[1] = 0.0;
+    }
     z[2 * f] = sum[0];
     z[2 * f + 1] = sum[1];
 }
@@ -339,7 +357,10 @@ PW__DEF int pw_df_fill_cut(const pw_alloc *a, const pw_df_field *F, int power, p
     int head = 0, next = 0, f, k, g;
     pw_df_prop P;
     if (!level) return PW_ERR_NOMEM;
-    P.F = F, P.power = power, P.up = up, P.cut = cut;
+    P.F = F;
+    P.power = power;
+    P.up = up;
+    P.cut = cut;
     P.level = level;
     P.queue = level + m->nf;
     P.stack = P.queue + m->nf;
@@ -439,7 +460,10 @@ PW__DEF void pw_df_relax(const pw_df_field *F, const pw_df_cut *cut)
             sum[1] += w[1];
             n++;
         }
-        if (n > 0 && sum[0] * sum[0] + sum[1] * sum[1] > 0.0) z[2 * f] = sum[0] / n, z[2 * f + 1] = sum[1] / n;
+        if (n > 0 && sum[0] * sum[0] + sum[1] * sum[1] > 0.0) {
+            z[2 * f] = sum[0] / n;
+            z[2 * f + 1] = sum[1] / n;
+        }
     }
 }
 
@@ -478,8 +502,7 @@ PW__DEF void pw_df_dual(const pw_trimesh *m, double *len)
  * joined through edge midpoints) from triangle src; DBL_MAX where
  * unreachable. The heap holds at most 3*nf+1 entries (a triangle is pushed
  * only when one of its <= 3 neighbours improves it). */
-PW__DEF void pw_df_dijkstra(const pw_trimesh *m, const double *len, int src, double *dist,
-                                 pw_heap *hp)
+PW__DEF void pw_df_dijkstra(const pw_trimesh *m, const double *len, int src, double *dist, pw_heap *hp)
 {
     int f, k, g;
     for (f = 0; f < m->nf; f++) dist[f] = DBL_MAX;
@@ -545,8 +568,12 @@ PW__DEF void pw_df_tensor(const pw_trimesh *m, const double *vn, int f, double a
         for (k = 0; k < 3; k++) dn[k] = vn[3 * q + k] - vn[3 * p + k];
         du = dn[0] * u.x + dn[1] * u.y + dn[2] * u.z;
         dv = dn[0] * v.x + dn[1] * v.y + dn[2] * v.z;
-        suu += eu * eu, suv += eu * ev, svv += ev * ev;
-        r0 += eu * du, r1 += ev * du + eu * dv, r2 += ev * dv;
+        suu += eu * eu;
+        suv += eu * ev;
+        svv += ev * ev;
+        r0 += eu * du;
+        r1 += ev * du + eu * dv;
+        r2 += ev * dv;
     }
     /* M = [[suu, suv, 0], [suv, suu + svv, suv], [0, suv, svv]] */
     det = suu * ((suu + svv) * svv - suv * suv) - suv * suv * svv;
@@ -585,8 +612,7 @@ PW__DEF void pw_df_least(const double abc[3], double flat, double *z)
  * mean of its own and its neighbours' (transported): confident directions
  * dominate weak ones, and the flat or umbilic ones (exactly 0) pick up their
  * neighbours' direction one ring per sweep. */
-PW__DEF int pw_df_smooth(const pw_alloc *a, const pw_trimesh *m, const float *conn, int iters,
-                              double *z, pw_err *e)
+PW__DEF int pw_df_smooth(const pw_alloc *a, const pw_trimesh *m, const float *conn, int iters, double *z, pw_err *e)
 {
     double *tmp = (double *)pw_alloc_array(a, (size_t)m->nf * 2, sizeof(double), "field smoothing", e), w[2];
     int it, f, k, g, n;
@@ -597,7 +623,9 @@ PW__DEF int pw_df_smooth(const pw_alloc *a, const pw_trimesh *m, const float *co
             for (n = 1, k = 0; k < 3; k++)
                 if ((g = pw_trimesh_across(m, f, k)) >= 0) {
                     pw_df_move(conn, 3 * f + k, 2, z + 2 * g, w);
-                    sx += w[0], sy += w[1], n++;
+                    sx += w[0];
+                    sy += w[1];
+                    n++;
                 }
             tmp[2 * f] = sx / n;
             tmp[2 * f + 1] = sy / n;
@@ -654,16 +682,20 @@ PW__DEF void pw_df_walk(const pw_df_field *F, pw_v3 up, const pw_df_walker *W)
     for (f = 0; f < m->nf; f++) best[f] = 2.0;
     for (s = 0; s < m->nf; s++) {
         if (seen[s]) continue;
-        if (pw_df_project(m, s, up, w) && w[0] * z[2 * s] + w[1] * z[2 * s + 1] < 0.0)
-            z[2 * s] = -z[2 * s], z[2 * s + 1] = -z[2 * s + 1];
+        if (pw_df_project(m, s, up, w) && w[0] * z[2 * s] + w[1] * z[2 * s + 1] < 0.0) {
+            z[2 * s] = -z[2 * s];
+            z[2 * s + 1] = -z[2 * s + 1];
+        }
         seen[s] = 1;
         pw_df_offer(m, conn, z, s, W);
         while (hp->n > 0) {
             f = pw_heap_pop(hp);
             if (seen[f]) continue; /* stale entry */
             pw_df_move(conn, via[f], 1, z + 2 * (m->hm.twin[via[f]] / 3), w);
-            if (w[0] * z[2 * f] + w[1] * z[2 * f + 1] < 0.0)
-                z[2 * f] = -z[2 * f], z[2 * f + 1] = -z[2 * f + 1];
+            if (w[0] * z[2 * f] + w[1] * z[2 * f + 1] < 0.0) {
+                z[2 * f] = -z[2 * f];
+                z[2 * f + 1] = -z[2 * f + 1];
+            }
             seen[f] = 1;
             pw_df_offer(m, conn, z, f, W);
         }
@@ -677,8 +709,7 @@ PW__DEF void pw_df_walk(const pw_df_field *F, pw_v3 up, const pw_df_walker *W)
  * a half-integer singularity the signs must disagree somewhere: this puts
  * the seams where neighbouring lines are closest to perpendicular, near the
  * singularities, rather than wherever a breadth-first walk closes. */
-PW__DEF int pw_df_orient(const pw_alloc *a, const pw_trimesh *m, const float *conn, pw_v3 up,
-                              double *z, pw_err *e)
+PW__DEF int pw_df_orient(const pw_alloc *a, const pw_trimesh *m, const float *conn, pw_v3 up, double *z, pw_err *e)
 {
     size_t n = (size_t)m->nf;
     double *dbl = (double *)pw_alloc_array(a, 4 * n + 1, sizeof(double), "field orientation", e);
@@ -690,9 +721,16 @@ PW__DEF int pw_df_orient(const pw_alloc *a, const pw_trimesh *m, const float *co
     pw_df_walker W;
     if (r == PW_OK) { /* dbl: best keys, then the heap's; ints: via, then the heap's */
         memset(&hp, 0, sizeof hp);
-        hp.key = dbl + n, hp.item = ints + n;
-        F.m = m, F.conn = conn, F.z = z, F.known = NULL;
-        W.seen = seen, W.best = dbl, W.via = ints, W.hp = &hp;
+        hp.key = dbl + n;
+        hp.item = ints + n;
+        F.m = m;
+        F.conn = conn;
+        F.z = z;
+        F.known = NULL;
+        W.seen = seen;
+        W.best = dbl;
+        W.via = ints;
+        W.hp = &hp;
         pw_df_walk(&F, up, &W);
     }
     pw_free(a, dbl);
@@ -711,8 +749,7 @@ PW__DEF int pw_df_curvature(const pw_alloc *a, const pw_df_field *F, pw_v3 up, i
     const float *conn = F->conn;
     double *z = F->z, *vn, abc[3];
     int f, r;
-    if (smoothing < 0)
-        return pw_fail(e, PW_ERR_INVALID, "curvature field: smoothing %d is negative", smoothing);
+    if (smoothing < 0) return pw_fail(e, PW_ERR_INVALID, "curvature field: smoothing %d is negative", smoothing);
     if ((r = pw_df_vertex_normals(a, m, &vn, e)) != PW_OK) return r;
     for (f = 0; f < m->nf; f++) {
         pw_df_tensor(m, vn, f, abc);
@@ -725,6 +762,5 @@ PW__DEF int pw_df_curvature(const pw_alloc *a, const pw_df_field *F, pw_v3 up, i
     for (f = 0; f < m->nf; f++) pw_df_halve(z + 2 * f);
     return pw_df_orient(a, m, conn, up, z, e);
 }
-
 
 #endif /* PW__DIRFIELD_V1 */

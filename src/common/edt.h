@@ -104,7 +104,11 @@ PW__DEF int pw_edt_sq(const pw_alloc *a, const pw_edt_image *site, float *out, p
         pw_free(a, z);
         return PW_ERR_NOMEM;
     }
-    ws.f = f, ws.d = f + m, ws.v = v, ws.z = z, ws.wrap = site->wrap;
+    ws.f = f;
+    ws.d = f + m;
+    ws.v = v;
+    ws.z = z;
+    ws.wrap = site->wrap;
     for (i = 0; i < n; i++) out[i] = site->px[i] ? 0.0f : PW_EDT_FAR;
     pw__edt_pass(out, w, h, (size_t)w, 1, &ws);
     pw__edt_pass(out, h, w, 1, (size_t)w, &ws);
@@ -129,8 +133,7 @@ PW__DEF int pw_edt_signed(const pw_alloc *a, const pw_edt_image *im, float *phi,
     for (i = 0; r == PW_OK && i < n; i++) inv[i] = (unsigned char)!mask[i];
     if (r == PW_OK) r = pw_edt_sq(a, im, phi, e);    /* outside: to the mask */
     if (r == PW_OK) r = pw_edt_sq(a, &rest, din, e); /* inside: to the rest */
-    for (i = 0; r == PW_OK && i < n; i++)
-        phi[i] = mask[i] ? sqrtf(din[i]) - 0.5f : 0.5f - sqrtf(phi[i]);
+    for (i = 0; r == PW_OK && i < n; i++) phi[i] = mask[i] ? sqrtf(din[i]) - 0.5f : 0.5f - sqrtf(phi[i]);
     pw_free(a, inv);
     pw_free(a, din);
     return r;

@@ -39,9 +39,9 @@
 #include "glue.h"
 
 typedef struct pw_gltf_part {
-    const char *name;        /* mesh and node name (NULL: "mesh") */
+    const char *name; /* mesh and node name (NULL: "mesh") */
     int nv;
-    const float *pos;        /* nv*3 */
+    const float *pos; /* nv*3 */
     int nf;
     const int *fstart;       /* nf+1 offsets into fv */
     const int *fv;           /* fstart[nf] vertex indices, counter-clockwise */
@@ -62,14 +62,16 @@ typedef struct pw_gltf_scene {
  * vertex, texture coordinate) pair, in order of first use. */
 typedef struct pw__gltf_verts {
     int n;
-    int *src;     /* n: the mesh vertex */
-    int *corner;  /* n: a corner that uses it (its coordinate) */
-    int *index;   /* fstart[nf]: the glTF vertex of each corner */
+    int *src;    /* n: the mesh vertex */
+    int *corner; /* n: a corner that uses it (its coordinate) */
+    int *index;  /* fstart[nf]: the glTF vertex of each corner */
 } pw__gltf_verts;
 
 static void pw__gltf_verts_free(const pw_alloc *a, pw__gltf_verts *V)
 {
-    pw_free(a, V->src), pw_free(a, V->corner), pw_free(a, V->index);
+    pw_free(a, V->src);
+    pw_free(a, V->corner);
+    pw_free(a, V->index);
     memset(V, 0, sizeof *V);
 }
 
@@ -85,7 +87,8 @@ static int pw__gltf_split(const pw_alloc *a, const pw_gltf_part *p, pw__gltf_ver
     V->corner = (int *)pw_alloc_array(a, (size_t)nc, sizeof(int), "glTF vertices", e);
     V->index = (int *)pw_alloc_array(a, (size_t)nc, sizeof(int), "glTF vertices", e);
     if (!head || !next || !V->src || !V->corner || !V->index) {
-        pw_free(a, head), pw_free(a, next);
+        pw_free(a, head);
+        pw_free(a, next);
         pw__gltf_verts_free(a, V);
         return PW_ERR_NOMEM;
     }
@@ -95,12 +98,15 @@ static int pw__gltf_split(const pw_alloc *a, const pw_gltf_part *p, pw__gltf_ver
         while (k >= 0 && p->corner_uv && memcmp(p->corner_uv + 2 * V->corner[k], p->corner_uv + 2 * c, 8)) k = next[k];
         if (k < 0) {
             k = V->n++;
-            V->src[k] = v, V->corner[k] = c;
-            next[k] = head[v], head[v] = k;
+            V->src[k] = v;
+            V->corner[k] = c;
+            next[k] = head[v];
+            head[v] = k;
         }
         V->index[c] = k;
     }
-    pw_free(a, head), pw_free(a, next);
+    pw_free(a, head);
+    pw_free(a, next);
     return PW_OK;
 }
 
@@ -112,7 +118,8 @@ static int pw__gltf_normals(const pw_alloc *a, const pw_gltf_part *p, float **ou
     float *n = (float *)pw_alloc_array(a, (size_t)p->nv * 3, sizeof(float), "glTF normals", e);
     int f, i, k;
     if (!acc || !n) {
-        pw_free(a, acc), pw_free(a, n);
+        pw_free(a, acc);
+        pw_free(a, n);
         return PW_ERR_NOMEM;
     }
     for (f = 0; f < p->nf; f++)
@@ -147,7 +154,7 @@ typedef struct pw__gltf_out {
     pw_buf bin;
     pw__gltf_view *views;
     size_t nviews, vcap;
-    pw__wb js;       /* the JSON, into json */
+    pw__wb js; /* the JSON, into json */
     pw_buf json;
 } pw__gltf_out;
 
@@ -155,8 +162,10 @@ typedef struct pw__gltf_out {
 static int pw__gltf_view_begin(pw__gltf_out *o, int target, pw_err *e)
 {
     static const unsigned char zero[4] = {0, 0, 0, 0};
-    if (o->bin.size % 4 && pw_buf_write(&o->bin, zero, 4 - o->bin.size % 4)) return pw_fail(e, PW_ERR_NOMEM, "out of memory writing glTF");
-    if (pw_grow(o->a, (void **)&o->views, &o->vcap, o->nviews + 1, sizeof *o->views, "glTF views", e)) return PW_ERR_NOMEM;
+    if (o->bin.size % 4 && pw_buf_write(&o->bin, zero, 4 - o->bin.size % 4))
+        return pw_fail(e, PW_ERR_NOMEM, "out of memory writing glTF");
+    if (pw_grow(o->a, (void **)&o->views, &o->vcap, o->nviews + 1, sizeof *o->views, "glTF views", e))
+        return PW_ERR_NOMEM;
     o->views[o->nviews].offset = o->bin.size;
     o->views[o->nviews].length = 0;
     o->views[o->nviews].target = target;
@@ -175,7 +184,10 @@ static int pw__gltf_view_end(pw__gltf_out *o, pw_err *e)
 static void pw__gltf_put32(pw__gltf_out *o, uint32_t v)
 {
     unsigned char b[4];
-    b[0] = (unsigned char)v, b[1] = (unsigned char)(v >> 8), b[2] = (unsigned char)(v >> 16), b[3] = (unsigned char)(v >> 24);
+    b[0] = (unsigned char)v;
+    b[1] = (unsigned char)(v >> 8);
+    b[2] = (unsigned char)(v >> 16);
+    b[3] = (unsigned char)(v >> 24);
     pw_buf_write(&o->bin, b, 4);
 }
 
@@ -205,9 +217,14 @@ static void pw__js_string(pw__gltf_out *o, const char *s)
     for (; *s; s++) {
         unsigned char c = (unsigned char)*s;
         char u[6] = {'\\', 'u', '0', '0', 0, 0};
-        if (c == '"' || c == '\\') pw__wb_put(&o->js, "\\", 1), pw__wb_put(&o->js, s, 1);
-        else if (c < 0x20) u[4] = hex[c >> 4], u[5] = hex[c & 15], pw__wb_put(&o->js, u, 6);
-        else pw__wb_put(&o->js, s, 1);
+        if (c == '"' || c == '\\') {
+            pw__wb_put(&o->js, "\\", 1);
+            pw__wb_put(&o->js, s, 1);
+        } else if (c < 0x20) {
+            u[4] = hex[c >> 4];
+            u[5] = hex[c & 15];
+            pw__wb_put(&o->js, u, 6);
+        } else pw__wb_put(&o->js, s, 1);
     }
     pw__js(o, "\"");
 }
@@ -228,7 +245,9 @@ static int pw__gltf_part_data(pw__gltf_out *o, const pw_gltf_part *p, const pw__
                               pw__gltf_info *I, pw_err *e)
 {
     int f, i, k, r;
-    I->nverts = V->n, I->ntris = 0, I->view0 = (int)o->nviews;
+    I->nverts = V->n;
+    I->ntris = 0;
+    I->view0 = (int)o->nviews;
     if ((r = pw__gltf_view_begin(o, 34963, e))) return r;
     for (f = 0; f < p->nf; f++)
         for (i = p->fstart[f] + 1; i + 1 < p->fstart[f + 1]; i++, I->ntris++) {
@@ -261,7 +280,8 @@ static int pw__gltf_part_data(pw__gltf_out *o, const pw_gltf_part *p, const pw__
         pw_err_clear(&local);
         if ((r = pw__gltf_view_begin(o, 0, e))) return r;
         if ((r = pw_png_write(o->a, p->texture, 8, pw_buf_write, &o->bin, &local)))
-            return o->bin.failed ? pw_fail(e, PW_ERR_NOMEM, "out of memory writing glTF") : pw_fail(e, r, "%s", local.msg);
+            return o->bin.failed ? pw_fail(e, PW_ERR_NOMEM, "out of memory writing glTF")
+                                 : pw_fail(e, r, "%s", local.msg);
         if ((r = pw__gltf_view_end(o, e))) return r;
     }
     return PW_OK;
@@ -273,17 +293,22 @@ static int pw__gltf_check(const pw_gltf_part *p, int k, pw_err *e)
     int i, nc;
     if (!p->pos || !p->fstart || !p->fv || p->nv < 1 || p->nf < 1 || p->fstart[0] != 0)
         return pw_fail(e, PW_ERR_INVALID, "glTF part %d: empty or malformed mesh", k);
-    if (p->texture && !p->corner_uv) return pw_fail(e, PW_ERR_INVALID, "glTF part %d: a texture without texture coordinates", k);
+    if (p->texture && !p->corner_uv)
+        return pw_fail(e, PW_ERR_INVALID, "glTF part %d: a texture without texture coordinates", k);
     for (i = 0; i < p->nf; i++)
         if (p->fstart[i + 1] - p->fstart[i] < 3 || p->fstart[i + 1] > PW_MAX_MESH_ELEMENTS)
-            return pw_fail(e, PW_ERR_INVALID, "glTF part %d: face %d has %d corners", k, i, p->fstart[i + 1] - p->fstart[i]);
+            return pw_fail(e, PW_ERR_INVALID, "glTF part %d: face %d has %d corners", k, i,
+                           p->fstart[i + 1] - p->fstart[i]);
     nc = p->fstart[p->nf];
     for (i = 0; i < nc; i++)
-        if (p->fv[i] < 0 || p->fv[i] >= p->nv) return pw_fail(e, PW_ERR_INVALID, "glTF part %d: corner %d names vertex %d of %d", k, i, p->fv[i], p->nv);
+        if (p->fv[i] < 0 || p->fv[i] >= p->nv)
+            return pw_fail(e, PW_ERR_INVALID, "glTF part %d: corner %d names vertex %d of %d", k, i, p->fv[i], p->nv);
     for (i = 0; i < 3 * p->nv; i++)
-        if (!pw_is_finite(p->pos[i])) return pw_fail(e, PW_ERR_INVALID, "glTF part %d: vertex %d is not finite", k, i / 3);
+        if (!pw_is_finite(p->pos[i]))
+            return pw_fail(e, PW_ERR_INVALID, "glTF part %d: vertex %d is not finite", k, i / 3);
     for (i = 0; p->corner_uv && i < 2 * nc; i++)
-        if (!pw_is_finite(p->corner_uv[i])) return pw_fail(e, PW_ERR_INVALID, "glTF part %d: corner %d's texture coordinate is not finite", k, i / 2);
+        if (!pw_is_finite(p->corner_uv[i]))
+            return pw_fail(e, PW_ERR_INVALID, "glTF part %d: corner %d's texture coordinate is not finite", k, i / 2);
     return PW_OK;
 }
 
@@ -298,7 +323,10 @@ static void pw__gltf_json_views(pw__gltf_out *o)
         pw__js_int(o, (long long)o->views[k].offset);
         pw__js(o, ",\"byteLength\":");
         pw__js_int(o, (long long)o->views[k].length);
-        if (o->views[k].target) pw__js(o, ",\"target\":"), pw__js_int(o, o->views[k].target);
+        if (o->views[k].target) {
+            pw__js(o, ",\"target\":");
+            pw__js_int(o, o->views[k].target);
+        }
         pw__js(o, "}");
     }
     pw__js(o, "],\"buffers\":[{\"byteLength\":");
@@ -314,7 +342,9 @@ static void pw__gltf_accessor(pw__gltf_out *o, int first, int view, int type, in
     pw__js_int(o, type);
     pw__js(o, ",\"count\":");
     pw__js_int(o, count);
-    pw__js(o, ",\"type\":\""), pw__js(o, kind), pw__js(o, "\"");
+    pw__js(o, ",\"type\":\"");
+    pw__js(o, kind);
+    pw__js(o, "\"");
 }
 
 static void pw__gltf_json_accessors(pw__gltf_out *o, const pw__gltf_info *I, int np)
@@ -327,13 +357,22 @@ static void pw__gltf_json_accessors(pw__gltf_out *o, const pw__gltf_info *I, int
         pw__js(o, "}");
         pw__gltf_accessor(o, 0, v + 1, 5126, I[p].nverts, "VEC3");
         pw__js(o, ",\"min\":[");
-        for (k = 0; k < 3; k++) pw__js(o, k ? "," : ""), pw__js_float(o, I[p].lo[k]);
+        for (k = 0; k < 3; k++) {
+            pw__js(o, k ? "," : "");
+            pw__js_float(o, I[p].lo[k]);
+        }
         pw__js(o, "],\"max\":[");
-        for (k = 0; k < 3; k++) pw__js(o, k ? "," : ""), pw__js_float(o, I[p].hi[k]);
+        for (k = 0; k < 3; k++) {
+            pw__js(o, k ? "," : "");
+            pw__js_float(o, I[p].hi[k]);
+        }
         pw__js(o, "]}");
         pw__gltf_accessor(o, 0, v + 2, 5126, I[p].nverts, "VEC3");
         pw__js(o, "}");
-        if (I[p].has_uv) pw__gltf_accessor(o, 0, v + 3, 5126, I[p].nverts, "VEC2"), pw__js(o, "}");
+        if (I[p].has_uv) {
+            pw__gltf_accessor(o, 0, v + 3, 5126, I[p].nverts, "VEC2");
+            pw__js(o, "}");
+        }
     }
 }
 
@@ -351,22 +390,33 @@ static void pw__gltf_json_meshes(pw__gltf_out *o, const pw_gltf_part *parts, con
     pw__js(o, "],\"meshes\":[");
     for (p = 0; p < np; p++) {
         int a0 = pw__gltf_acc0(I, p);
-        pw__js(o, p ? ",{\"name\":" : "{\"name\":"), pw__js_string(o, parts[p].name ? parts[p].name : "mesh");
-        pw__js(o, ",\"primitives\":[{\"attributes\":{\"POSITION\":"), pw__js_int(o, a0 + 1);
-        pw__js(o, ",\"NORMAL\":"), pw__js_int(o, a0 + 2);
-        if (I[p].has_uv) pw__js(o, ",\"TEXCOORD_0\":"), pw__js_int(o, a0 + 3);
-        pw__js(o, "},\"indices\":"), pw__js_int(o, a0);
-        pw__js(o, ",\"material\":"), pw__js_int(o, p);
+        pw__js(o, p ? ",{\"name\":" : "{\"name\":");
+        pw__js_string(o, parts[p].name ? parts[p].name : "mesh");
+        pw__js(o, ",\"primitives\":[{\"attributes\":{\"POSITION\":");
+        pw__js_int(o, a0 + 1);
+        pw__js(o, ",\"NORMAL\":");
+        pw__js_int(o, a0 + 2);
+        if (I[p].has_uv) {
+            pw__js(o, ",\"TEXCOORD_0\":");
+            pw__js_int(o, a0 + 3);
+        }
+        pw__js(o, "},\"indices\":");
+        pw__js_int(o, a0);
+        pw__js(o, ",\"material\":");
+        pw__js_int(o, p);
         pw__js(o, ",\"mode\":4}]}");
     }
     pw__js(o, "],\"materials\":[");
     for (p = 0; p < np; p++) {
-        pw__js(o, p ? ",{\"name\":" : "{\"name\":"), pw__js_string(o, parts[p].name ? parts[p].name : "mesh");
+        pw__js(o, p ? ",{\"name\":" : "{\"name\":");
+        pw__js_string(o, parts[p].name ? parts[p].name : "mesh");
         pw__js(o, ",\"pbrMetallicRoughness\":{");
         if (I[p].has_image) {
             int t = 0, k;
             for (k = 0; k < p; k++) t += I[k].has_image;
-            pw__js(o, "\"baseColorTexture\":{\"index\":"), pw__js_int(o, t), pw__js(o, "},");
+            pw__js(o, "\"baseColorTexture\":{\"index\":");
+            pw__js_int(o, t);
+            pw__js(o, "},");
         }
         pw__js(o, "\"metallicFactor\":0,\"roughnessFactor\":1}}");
     }
@@ -381,21 +431,33 @@ static void pw__gltf_json_textures(pw__gltf_out *o, const pw_gltf_part *parts, c
     pw__js(o, "],\"textures\":[");
     for (p = 0, t = 0; p < np; p++)
         if (I[p].has_image) {
-            pw__js(o, sep), pw__js(o, "{\"sampler\":"), pw__js_int(o, t), pw__js(o, ",\"source\":"), pw__js_int(o, t), pw__js(o, "}");
-            sep = ",", t++;
+            pw__js(o, sep);
+            pw__js(o, "{\"sampler\":");
+            pw__js_int(o, t);
+            pw__js(o, ",\"source\":");
+            pw__js_int(o, t);
+            pw__js(o, "}");
+            sep = ",";
+            t++;
         }
     pw__js(o, "],\"samplers\":[");
     for (p = 0, sep = ""; p < np; p++)
         if (I[p].has_image) {
             const char *wrap = parts[p].repeat ? "10497" : "33071";
-            pw__js(o, sep), pw__js(o, "{\"magFilter\":9729,\"minFilter\":9987,\"wrapS\":"), pw__js(o, wrap);
-            pw__js(o, ",\"wrapT\":"), pw__js(o, wrap), pw__js(o, "}");
+            pw__js(o, sep);
+            pw__js(o, "{\"magFilter\":9729,\"minFilter\":9987,\"wrapS\":");
+            pw__js(o, wrap);
+            pw__js(o, ",\"wrapT\":");
+            pw__js(o, wrap);
+            pw__js(o, "}");
             sep = ",";
         }
     pw__js(o, "],\"images\":[");
     for (p = 0, sep = ""; p < np; p++)
         if (I[p].has_image) {
-            pw__js(o, sep), pw__js(o, "{\"bufferView\":"), pw__js_int(o, I[p].view0 + 3 + I[p].has_uv);
+            pw__js(o, sep);
+            pw__js(o, "{\"bufferView\":");
+            pw__js_int(o, I[p].view0 + 3 + I[p].has_uv);
             pw__js(o, ",\"mimeType\":\"image/png\"}");
             sep = ",";
         }
@@ -408,25 +470,44 @@ static void pw__gltf_camera_rotation(const pw_camera *c, double *q)
 {
     double f[3], r[3], u[3], m[3][3], t;
     int k;
-    for (k = 0; k < 3; k++) f[k] = (double)c->target[k] - c->eye[k], u[k] = c->up[k];
+    for (k = 0; k < 3; k++) {
+        f[k] = (double)c->target[k] - c->eye[k];
+        u[k] = c->up[k];
+    }
     pw_norm3(f);
     pw_cross3(f, u, r);
     pw_norm3(r);
     pw_cross3(r, f, u);
-    for (k = 0; k < 3; k++) m[k][0] = r[k], m[k][1] = u[k], m[k][2] = -f[k];
+    for (k = 0; k < 3; k++) {
+        m[k][0] = r[k];
+        m[k][1] = u[k];
+        m[k][2] = -f[k];
+    }
     t = m[0][0] + m[1][1] + m[2][2];
     if (t > 0.0) { /* the largest of w, x, y, z divides: no cancellation */
         double s = 2.0 * sqrt(1.0 + t);
-        q[3] = 0.25 * s, q[0] = (m[2][1] - m[1][2]) / s, q[1] = (m[0][2] - m[2][0]) / s, q[2] = (m[1][0] - m[0][1]) / s;
+        q[3] = 0.25 * s;
+        q[0] = (m[2][1] - m[1][2]) / s;
+        q[1] = (m[0][2] - m[2][0]) / s;
+        q[2] = (m[1][0] - m[0][1]) / s;
     } else if (m[0][0] > m[1][1] && m[0][0] > m[2][2]) {
         double s = 2.0 * sqrt(1.0 + m[0][0] - m[1][1] - m[2][2]);
-        q[3] = (m[2][1] - m[1][2]) / s, q[0] = 0.25 * s, q[1] = (m[0][1] + m[1][0]) / s, q[2] = (m[0][2] + m[2][0]) / s;
+        q[3] = (m[2][1] - m[1][2]) / s;
+        q[0] = 0.25 * s;
+        q[1] = (m[0][1] + m[1][0]) / s;
+        q[2] = (m[0][2] + m[2][0]) / s;
     } else if (m[1][1] > m[2][2]) {
         double s = 2.0 * sqrt(1.0 + m[1][1] - m[0][0] - m[2][2]);
-        q[3] = (m[0][2] - m[2][0]) / s, q[0] = (m[0][1] + m[1][0]) / s, q[1] = 0.25 * s, q[2] = (m[1][2] + m[2][1]) / s;
+        q[3] = (m[0][2] - m[2][0]) / s;
+        q[0] = (m[0][1] + m[1][0]) / s;
+        q[1] = 0.25 * s;
+        q[2] = (m[1][2] + m[2][1]) / s;
     } else {
         double s = 2.0 * sqrt(1.0 + m[2][2] - m[0][0] - m[1][1]);
-        q[3] = (m[1][0] - m[0][1]) / s, q[0] = (m[0][2] + m[2][0]) / s, q[1] = (m[1][2] + m[2][1]) / s, q[2] = 0.25 * s;
+        q[3] = (m[1][0] - m[0][1]) / s;
+        q[0] = (m[0][2] + m[2][0]) / s;
+        q[1] = (m[1][2] + m[2][1]) / s;
+        q[2] = 0.25 * s;
     }
     t = sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
     for (k = 0; k < 4; k++) q[k] /= t;
@@ -439,9 +520,15 @@ static void pw__gltf_json_camera_node(pw__gltf_out *o, const pw_camera *c)
     int k;
     pw__gltf_camera_rotation(c, q);
     pw__js(o, ",{\"name\":\"patchwork view\",\"camera\":0,\"translation\":[");
-    for (k = 0; k < 3; k++) pw__js(o, k ? "," : ""), pw__js_float(o, c->eye[k]);
+    for (k = 0; k < 3; k++) {
+        pw__js(o, k ? "," : "");
+        pw__js_float(o, c->eye[k]);
+    }
     pw__js(o, "],\"rotation\":[");
-    for (k = 0; k < 4; k++) pw__js(o, k ? "," : ""), pw__js_float(o, (float)q[k]);
+    for (k = 0; k < 4; k++) {
+        pw__js(o, k ? "," : "");
+        pw__js_float(o, (float)q[k]);
+    }
     pw__js(o, "]}");
 }
 
@@ -449,9 +536,12 @@ static void pw__gltf_json_camera(pw__gltf_out *o, const pw_camera *c, float aspe
 {
     pw__js(o, "],\"cameras\":[{\"type\":\"perspective\",\"perspective\":{\"yfov\":");
     pw__js_float(o, (float)(c->fovy_deg * (3.14159265358979323846 / 180.0)));
-    pw__js(o, ",\"aspectRatio\":"), pw__js_float(o, aspect);
-    pw__js(o, ",\"znear\":"), pw__js_float(o, c->znear);
-    pw__js(o, ",\"zfar\":"), pw__js_float(o, c->zfar);
+    pw__js(o, ",\"aspectRatio\":");
+    pw__js_float(o, aspect);
+    pw__js(o, ",\"znear\":");
+    pw__js_float(o, c->znear);
+    pw__js(o, ",\"zfar\":");
+    pw__js_float(o, c->zfar);
     pw__js(o, "}}");
 }
 
@@ -459,15 +549,25 @@ static void pw__gltf_json(pw__gltf_out *o, const pw_gltf_scene *S, const pw__glt
 {
     const pw_gltf_part *parts = S->parts;
     int p, np = S->nparts;
-    pw__js(o, "{\"asset\":{\"version\":\"2.0\",\"generator\":"), pw__js_string(o, S->generator ? S->generator : "patchwork");
+    pw__js(o, "{\"asset\":{\"version\":\"2.0\",\"generator\":");
+    pw__js_string(o, S->generator ? S->generator : "patchwork");
     pw__js(o, "},\"scene\":0,\"scenes\":[{\"nodes\":[");
-    for (p = 0; p < np + (S->camera != NULL); p++) pw__js(o, p ? "," : ""), pw__js_int(o, p);
+    for (p = 0; p < np + (S->camera != NULL); p++) {
+        pw__js(o, p ? "," : "");
+        pw__js_int(o, p);
+    }
     pw__js(o, "]}],\"nodes\":[");
     for (p = 0; p < np; p++) {
-        pw__js(o, p ? ",{\"name\":" : "{\"name\":"), pw__js_string(o, parts[p].name ? parts[p].name : "mesh");
-        pw__js(o, ",\"mesh\":"), pw__js_int(o, p), pw__js(o, "}");
+        pw__js(o, p ? ",{\"name\":" : "{\"name\":");
+        pw__js_string(o, parts[p].name ? parts[p].name : "mesh");
+        pw__js(o, ",\"mesh\":");
+        pw__js_int(o, p);
+        pw__js(o, "}");
     }
-    if (S->camera) pw__gltf_json_camera_node(o, S->camera), pw__gltf_json_camera(o, S->camera, S->aspect);
+    if (S->camera) {
+        pw__gltf_json_camera_node(o, S->camera);
+        pw__gltf_json_camera(o, S->camera, S->aspect);
+    }
     pw__gltf_json_meshes(o, parts, I, np);
     pw__gltf_json_textures(o, parts, I, np);
     pw__gltf_json_accessors(o, I, np);
@@ -479,7 +579,10 @@ static void pw__gltf_json(pw__gltf_out *o, const pw_gltf_scene *S, const pw__glt
 
 static void pw__gltf_le32(unsigned char *b, uint32_t v)
 {
-    b[0] = (unsigned char)v, b[1] = (unsigned char)(v >> 8), b[2] = (unsigned char)(v >> 16), b[3] = (unsigned char)(v >> 24);
+    b[0] = (unsigned char)v;
+    b[1] = (unsigned char)(v >> 8);
+    b[2] = (unsigned char)(v >> 16);
+    b[3] = (unsigned char)(v >> 24);
 }
 
 /* GLB: the 12-byte header, the JSON chunk padded with spaces, the binary
@@ -489,12 +592,19 @@ static int pw__gltf_emit(const pw__gltf_out *o, pw_write_fn w, void *ctx, pw_err
     static const char spaces[4] = {' ', ' ', ' ', ' '}, zeros[4] = {0, 0, 0, 0};
     size_t jl = (o->json.size + 3) & ~(size_t)3, bl = (o->bin.size + 3) & ~(size_t)3, total = 12 + 8 + jl + 8 + bl;
     unsigned char h[20];
-    if (total > 0xFFFFFFFFu) return pw_fail(e, PW_ERR_LIMIT, "glTF: %lu bytes is over GLB's 4 GiB", (unsigned long)total);
-    memcpy(h, "glTF", 4), pw__gltf_le32(h + 4, 2), pw__gltf_le32(h + 8, (uint32_t)total);
-    pw__gltf_le32(h + 12, (uint32_t)jl), memcpy(h + 16, "JSON", 4);
-    if (w(ctx, h, 20) || w(ctx, o->json.data, o->json.size) || w(ctx, spaces, jl - o->json.size)) return pw_fail(e, PW_ERR_IO, "write failed");
-    pw__gltf_le32(h, (uint32_t)bl), memcpy(h + 4, "BIN\0", 4);
-    if (w(ctx, h, 8) || w(ctx, o->bin.data, o->bin.size) || w(ctx, zeros, bl - o->bin.size)) return pw_fail(e, PW_ERR_IO, "write failed");
+    if (total > 0xFFFFFFFFu)
+        return pw_fail(e, PW_ERR_LIMIT, "glTF: %lu bytes is over GLB's 4 GiB", (unsigned long)total);
+    memcpy(h, "glTF", 4);
+    pw__gltf_le32(h + 4, 2);
+    pw__gltf_le32(h + 8, (uint32_t)total);
+    pw__gltf_le32(h + 12, (uint32_t)jl);
+    memcpy(h + 16, "JSON", 4);
+    if (w(ctx, h, 20) || w(ctx, o->json.data, o->json.size) || w(ctx, spaces, jl - o->json.size))
+        return pw_fail(e, PW_ERR_IO, "write failed");
+    pw__gltf_le32(h, (uint32_t)bl);
+    memcpy(h + 4, "BIN\0", 4);
+    if (w(ctx, h, 8) || w(ctx, o->bin.data, o->bin.size) || w(ctx, zeros, bl - o->bin.size))
+        return pw_fail(e, PW_ERR_IO, "write failed");
     return PW_OK;
 }
 
@@ -527,23 +637,31 @@ PW__DEF int pw_gltf_write(const pw_alloc *a, const pw_gltf_scene *S, pw_write_fn
     for (p = 0; p < np; p++)
         if ((r = pw__gltf_check(&parts[p], p, e))) return r;
     memset(&o, 0, sizeof o);
-    o.a = a, o.bin.alloc = a, o.json.alloc = a;
-    o.js.w = pw_buf_write, o.js.ctx = &o.json;
+    o.a = a;
+    o.bin.alloc = a;
+    o.json.alloc = a;
+    o.js.w = pw_buf_write;
+    o.js.ctx = &o.json;
     if (!(I = (pw__gltf_info *)pw_calloc_array(a, (size_t)np, sizeof *I, "glTF parts", e))) return PW_ERR_NOMEM;
     for (p = 0; p < np && r == PW_OK; p++) {
         pw__gltf_verts V;
         float *nrm = NULL;
         if ((r = pw__gltf_split(a, &parts[p], &V, e))) break;
-        if ((r = pw__gltf_normals(a, &parts[p], &nrm, e)) == PW_OK) r = pw__gltf_part_data(&o, &parts[p], &V, nrm, &I[p], e);
+        if ((r = pw__gltf_normals(a, &parts[p], &nrm, e)) == PW_OK)
+            r = pw__gltf_part_data(&o, &parts[p], &V, nrm, &I[p], e);
         pw__gltf_verts_free(a, &V);
         pw_free(a, nrm);
     }
     if (r == PW_OK) {
         pw__gltf_json(&o, S, I);
         pw__wb_flush(&o.js);
-        r = o.js.failed || o.json.failed ? pw_fail(e, PW_ERR_NOMEM, "out of memory writing glTF") : pw__gltf_emit(&o, w, ctx, e);
+        r = o.js.failed || o.json.failed ? pw_fail(e, PW_ERR_NOMEM, "out of memory writing glTF")
+                                         : pw__gltf_emit(&o, w, ctx, e);
     }
-    pw_free(a, I), pw_free(a, o.views), pw_free(a, o.bin.data), pw_free(a, o.json.data);
+    pw_free(a, I);
+    pw_free(a, o.views);
+    pw_free(a, o.bin.data);
+    pw_free(a, o.json.data);
     return r;
 }
 

@@ -22,21 +22,19 @@ PW__DEF int pw_image_validate(const pw_image *im, const char *what, pw_err *e)
     size_t k, n;
     if (!im->px || im->w < 1 || im->h < 1 || im->c < 1 || im->c > 4)
         return pw_fail(e, PW_ERR_INVALID, "%s: empty image or bad channel count", what);
-    if (im->w > PW_MAX_IMAGE_DIM || im->h > PW_MAX_IMAGE_DIM ||
-        (int64_t)im->w * im->h > PW_MAX_IMAGE_PIXELS)
+    if (im->w > PW_MAX_IMAGE_DIM || im->h > PW_MAX_IMAGE_DIM || (int64_t)im->w * im->h > PW_MAX_IMAGE_PIXELS)
         return pw_fail(e, PW_ERR_LIMIT, "%s: %dx%d pixels is over the limit", what, im->w, im->h);
     n = (size_t)im->w * im->h * im->c;
     for (k = 0; k < n; k++)
         if (!pw_is_finite(im->px[k]))
-            return pw_fail(e, PW_ERR_INVALID, "%s: pixel %lu is not a finite number", what,
-                           (unsigned long)(k / im->c));
+            return pw_fail(e, PW_ERR_INVALID, "%s: pixel %lu is not a finite number", what, (unsigned long)(k / im->c));
     return PW_OK;
 }
 
 /* Encodes an image as "png", "pam", "ppm" or "pgm", converting the channels
  * to what PPM (3) and PGM (1) hold. */
-PW__DEF int pw_image_encode(const pw_alloc *a, const pw_image *img, const char *format,
-                            pw_write_fn fn, void *ctx, pw_err *e)
+PW__DEF int pw_image_encode(const pw_alloc *a, const pw_image *img, const char *format, pw_write_fn fn, void *ctx,
+                            pw_err *e)
 {
     pw_image conv;
     int want = 0, r;
@@ -44,8 +42,7 @@ PW__DEF int pw_image_encode(const pw_alloc *a, const pw_image *img, const char *
     if (!strcmp(format, "ppm")) want = 3;
     else if (!strcmp(format, "pgm")) want = 1;
     else if (strcmp(format, "png") && strcmp(format, "pam"))
-        return pw_fail(e, PW_ERR_UNSUPPORTED, "unknown image format '%s' (png, ppm, pgm, pam)",
-                       format);
+        return pw_fail(e, PW_ERR_UNSUPPORTED, "unknown image format '%s' (png, ppm, pgm, pam)", format);
     if (want && want != img->c) {
         if ((r = pw_image_convert(a, img, want, &conv, e)) != PW_OK) return r;
         r = pw_image_write_pnm(&conv, 0, 0, fn, ctx, e);
@@ -60,8 +57,8 @@ PW__DEF int pw_image_encode(const pw_alloc *a, const pw_image *img, const char *
 /* Fills the zero fields of a view (public render options) with the
  * defaults every method shares: 800x600, 2x2 supersampling, looking along
  * (-0.55,-0.45,-0.7) with +Y up, on white. */
-PW__DEF void pw_view_defaults(int *width, int *height, int *supersample, float view_dir[3],
-                              float up[3], float background[3])
+PW__DEF void pw_view_defaults(int *width, int *height, int *supersample, float view_dir[3], float up[3],
+                              float background[3])
 {
     static const float view[3] = {-0.55f, -0.45f, -0.7f}, y[3] = {0.0f, 1.0f, 0.0f};
     if (!*width) *width = 800;
@@ -69,8 +66,7 @@ PW__DEF void pw_view_defaults(int *width, int *height, int *supersample, float v
     if (!*supersample) *supersample = 2;
     if (!view_dir[0] && !view_dir[1] && !view_dir[2]) memcpy(view_dir, view, sizeof view);
     if (!up[0] && !up[1] && !up[2]) memcpy(up, y, sizeof y);
-    if (!background[0] && !background[1] && !background[2])
-        background[0] = background[1] = background[2] = 1.0f;
+    if (!background[0] && !background[1] && !background[2]) background[0] = background[1] = background[2] = 1.0f;
 }
 
 /* PW_PUBLIC_GLUE(p) defines, for a header whose public types are
@@ -85,125 +81,123 @@ PW__DEF void pw_view_defaults(int *width, int *height, int *supersample, float v
  *   p_result    p__left_out(const char *what, const char *macro, p_error *)
  *               PW_ERR_UNSUPPORTED, "what compiled out (macro)": the stubs that stand
  *               for the calls PW_NO_RENDER leaves out */
-#define PW_PUBLIC_GLUE(p)                                                                        \
-    static PW__UNUSED pw_alloc p##__alloc(const p##_allocator *t)                                \
-    {                                                                                            \
-        pw_alloc a;                                                                              \
-        memset(&a, 0, sizeof a);                                                                 \
-        if (t) {                                                                                 \
-            a.malloc_fn = t->malloc_fn;                                                          \
-            a.realloc_fn = t->realloc_fn;                                                        \
-            a.free_fn = t->free_fn;                                                              \
-            a.user = t->user;                                                                    \
-        }                                                                                        \
-        return a;                                                                                \
-    }                                                                                            \
-    static PW__UNUSED p##_allocator p##__allocator(const pw_alloc *a)                            \
-    {                                                                                            \
-        p##_allocator t;                                                                         \
-        t.malloc_fn = a->malloc_fn;                                                              \
-        t.realloc_fn = a->realloc_fn;                                                            \
-        t.free_fn = a->free_fn;                                                                  \
-        t.user = a->user;                                                                        \
-        return t;                                                                                \
-    }                                                                                            \
-    static PW__UNUSED p##_result p##__done(const pw_err *pe, p##_error *err)                     \
-    {                                                                                            \
-        if (err) {                                                                               \
-            err->code = (p##_result)pe->code;                                                    \
-            memcpy(err->message, pe->msg, sizeof err->message);                                  \
-        }                                                                                        \
-        return (p##_result)pe->code;                                                             \
-    }                                                                                            \
-    static PW__UNUSED pw_image p##__pw_image(const p##_image *t)                                 \
-    {                                                                                            \
-        pw_image v;                                                                              \
-        v.w = t->width;                                                                          \
-        v.h = t->height;                                                                         \
-        v.c = t->channels;                                                                       \
-        v.bits = t->bits ? t->bits : 8;                                                          \
-        v.px = t->pixels;                                                                        \
-        return v;                                                                                \
-    }                                                                                            \
-    static PW__UNUSED void p##__take_image(pw_image *v, const pw_alloc *a, p##_image *t)         \
-    {                                                                                            \
-        t->width = v->w;                                                                         \
-        t->height = v->h;                                                                        \
-        t->channels = v->c;                                                                      \
-        t->bits = v->bits;                                                                       \
-        t->pixels = v->px;                                                                       \
-        t->allocator = p##__allocator(a);                                                        \
-        memset(v, 0, sizeof *v);                                                                 \
-    }                                                                                            \
-    static PW__UNUSED int p##__check_image(const p##_image *t, const char *what, pw_err *e)      \
-    {                                                                                            \
-        pw_image v;                                                                              \
-        if (!t) return pw_fail(e, PW_ERR_INVALID, "%s: empty image (none given)", what);                         \
-        v = p##__pw_image(t);                                                                    \
-        return pw_image_validate(&v, what, e);                                                   \
-    }                                                                                            \
-    static PW__UNUSED int p##__encode(const p##_image *t, const char *format, pw_write_fn fn,    \
-                                      void *ctx, pw_err *e)                                      \
-    {                                                                                            \
-        pw_image v = p##__pw_image(t);                                                           \
-        pw_alloc a = p##__alloc(&t->allocator);                                                  \
-        return pw_image_encode(&a, &v, format, fn, ctx, e);                                      \
-    }                                                                                            \
-    static PW__UNUSED void p##__take_mesh(pw_mesh *m, const pw_alloc *a, p##_mesh *t)            \
-    {                                                                                            \
-        memset(t, 0, sizeof *t);                                                                 \
-        t->nverts = m->nv;                                                                       \
-        t->positions = m->pos;                                                                   \
-        t->nfaces = m->nf;                                                                       \
-        t->face_start = m->fstart;                                                               \
-        t->face_verts = m->fv;                                                                   \
-        t->allocator = p##__allocator(a);                                                        \
-        pw_free(a, m->uv);                                                                       \
-        pw_free(a, m->fuv);                                                                      \
-        memset(m, 0, sizeof *m);                                                                 \
-    }                                                                                            \
-    static PW__UNUSED p##_result p##__left_out(const char *what, const char *macro,             \
-                                               p##_error *err)                                   \
-    {                                                                                            \
-        pw_err pe;                                                                               \
-        pw_err_clear(&pe);                                                                       \
-        pw_fail(&pe, PW_ERR_UNSUPPORTED, "%s compiled out (%s)", what, macro);                   \
-        return p##__done(&pe, err);                                                              \
-    }                                                                                            \
-    static PW__UNUSED pw_parallel p##__parallel(const p##_render_options *ro)                   \
-    {                                                                                            \
-        pw_parallel par;                                                                         \
-        par.threads = ro->threads;                                                               \
-        par.run = ro->parallel;                                                                  \
-        par.pool = ro->parallel_pool;                                                            \
-        return par;                                                                              \
-    }                                                                                            \
+#define PW_PUBLIC_GLUE(p)                                                                                           \
+    static PW__UNUSED pw_alloc p##__alloc(const p##_allocator *t)                                                   \
+    {                                                                                                               \
+        pw_alloc a;                                                                                                 \
+        memset(&a, 0, sizeof a);                                                                                    \
+        if (t) {                                                                                                    \
+            a.malloc_fn = t->malloc_fn;                                                                             \
+            a.realloc_fn = t->realloc_fn;                                                                           \
+            a.free_fn = t->free_fn;                                                                                 \
+            a.user = t->user;                                                                                       \
+        }                                                                                                           \
+        return a;                                                                                                   \
+    }                                                                                                               \
+    static PW__UNUSED p##_allocator p##__allocator(const pw_alloc *a)                                               \
+    {                                                                                                               \
+        p##_allocator t;                                                                                            \
+        t.malloc_fn = a->malloc_fn;                                                                                 \
+        t.realloc_fn = a->realloc_fn;                                                                               \
+        t.free_fn = a->free_fn;                                                                                     \
+        t.user = a->user;                                                                                           \
+        return t;                                                                                                   \
+    }                                                                                                               \
+    static PW__UNUSED p##_result p##__done(const pw_err *pe, p##_error *err)                                        \
+    {                                                                                                               \
+        if (err) {                                                                                                  \
+            err->code = (p##_result)pe->code;                                                                       \
+            memcpy(err->message, pe->msg, sizeof err->message);                                                     \
+        }                                                                                                           \
+        return (p##_result)pe->code;                                                                                \
+    }                                                                                                               \
+    static PW__UNUSED pw_image p##__pw_image(const p##_image *t)                                                    \
+    {                                                                                                               \
+        pw_image v;                                                                                                 \
+        v.w = t->width;                                                                                             \
+        v.h = t->height;                                                                                            \
+        v.c = t->channels;                                                                                          \
+        v.bits = t->bits ? t->bits : 8;                                                                             \
+        v.px = t->pixels;                                                                                           \
+        return v;                                                                                                   \
+    }                                                                                                               \
+    static PW__UNUSED void p##__take_image(pw_image *v, const pw_alloc *a, p##_image *t)                            \
+    {                                                                                                               \
+        t->width = v->w;                                                                                            \
+        t->height = v->h;                                                                                           \
+        t->channels = v->c;                                                                                         \
+        t->bits = v->bits;                                                                                          \
+        t->pixels = v->px;                                                                                          \
+        t->allocator = p##__allocator(a);                                                                           \
+        memset(v, 0, sizeof *v);                                                                                    \
+    }                                                                                                               \
+    static PW__UNUSED int p##__check_image(const p##_image *t, const char *what, pw_err *e)                         \
+    {                                                                                                               \
+        pw_image v;                                                                                                 \
+        if (!t) return pw_fail(e, PW_ERR_INVALID, "%s: empty image (none given)", what);                            \
+        v = p##__pw_image(t);                                                                                       \
+        return pw_image_validate(&v, what, e);                                                                      \
+    }                                                                                                               \
+    static PW__UNUSED int p##__encode(const p##_image *t, const char *format, pw_write_fn fn, void *ctx, pw_err *e) \
+    {                                                                                                               \
+        pw_image v = p##__pw_image(t);                                                                              \
+        pw_alloc a = p##__alloc(&t->allocator);                                                                     \
+        return pw_image_encode(&a, &v, format, fn, ctx, e);                                                         \
+    }                                                                                                               \
+    static PW__UNUSED void p##__take_mesh(pw_mesh *m, const pw_alloc *a, p##_mesh *t)                               \
+    {                                                                                                               \
+        memset(t, 0, sizeof *t);                                                                                    \
+        t->nverts = m->nv;                                                                                          \
+        t->positions = m->pos;                                                                                      \
+        t->nfaces = m->nf;                                                                                          \
+        t->face_start = m->fstart;                                                                                  \
+        t->face_verts = m->fv;                                                                                      \
+        t->allocator = p##__allocator(a);                                                                           \
+        pw_free(a, m->uv);                                                                                          \
+        pw_free(a, m->fuv);                                                                                         \
+        memset(m, 0, sizeof *m);                                                                                    \
+    }                                                                                                               \
+    static PW__UNUSED p##_result p##__left_out(const char *what, const char *macro, p##_error *err)                 \
+    {                                                                                                               \
+        pw_err pe;                                                                                                  \
+        pw_err_clear(&pe);                                                                                          \
+        pw_fail(&pe, PW_ERR_UNSUPPORTED, "%s compiled out (%s)", what, macro);                                      \
+        return p##__done(&pe, err);                                                                                 \
+    }                                                                                                               \
+    static PW__UNUSED pw_parallel p##__parallel(const p##_render_options *ro)                                       \
+    {                                                                                                               \
+        pw_parallel par;                                                                                            \
+        par.threads = ro->threads;                                                                                  \
+        par.run = ro->parallel;                                                                                     \
+        par.pool = ro->parallel_pool;                                                                               \
+        return par;                                                                                                 \
+    }                                                                                                               \
     typedef int p##__glue_defined /* so that the use ends with a semicolon */
 
 /* The public frees of an image and of a mesh with the shared fields only
  * (DEF: the header's XDEF): with the allocator the object remembers, then
  * zeroed; NULL and zeroed objects are fine. */
-#define PW_PUBLIC_IMAGE_FREE(p, DEF)                                                             \
-    DEF void p##_image_free(p##_image *img)                                                      \
-    {                                                                                            \
-        pw_alloc a;                                                                              \
-        if (!img) return;                                                                        \
-        a = p##__alloc(&img->allocator);                                                         \
-        pw_free(&a, img->pixels);                                                                \
-        memset(img, 0, sizeof *img);                                                             \
-    }                                                                                            \
+#define PW_PUBLIC_IMAGE_FREE(p, DEF)        \
+    DEF void p##_image_free(p##_image *img) \
+    {                                       \
+        pw_alloc a;                         \
+        if (!img) return;                   \
+        a = p##__alloc(&img->allocator);    \
+        pw_free(&a, img->pixels);           \
+        memset(img, 0, sizeof *img);        \
+    }                                       \
     typedef int p##__image_free_defined
-#define PW_PUBLIC_MESH_FREE(p, DEF)                                                              \
-    DEF void p##_mesh_free(p##_mesh *m)                                                          \
-    {                                                                                            \
-        pw_alloc a;                                                                              \
-        if (!m) return;                                                                          \
-        a = p##__alloc(&m->allocator);                                                           \
-        pw_free(&a, m->positions);                                                               \
-        pw_free(&a, m->face_start);                                                              \
-        pw_free(&a, m->face_verts);                                                              \
-        memset(m, 0, sizeof *m);                                                                 \
-    }                                                                                            \
+#define PW_PUBLIC_MESH_FREE(p, DEF)     \
+    DEF void p##_mesh_free(p##_mesh *m) \
+    {                                   \
+        pw_alloc a;                     \
+        if (!m) return;                 \
+        a = p##__alloc(&m->allocator);  \
+        pw_free(&a, m->positions);      \
+        pw_free(&a, m->face_start);     \
+        pw_free(&a, m->face_verts);     \
+        memset(m, 0, sizeof *m);        \
+    }                                   \
     typedef int p##__mesh_free_defined
 
 #endif /* PW__GLUE_V1 */

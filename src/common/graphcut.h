@@ -59,17 +59,17 @@ typedef struct pw__gc_arc {
 
 typedef struct pw_graph {
     int nnodes;
-    int narcs;           /* 2 per edge */
-    pw__gc_node *nodes;  /* nnodes */
-    pw__gc_arc *arcs;    /* narcs, room for arc_cap */
+    int narcs;          /* 2 per edge */
+    pw__gc_node *nodes; /* nnodes */
+    pw__gc_arc *arcs;   /* narcs, room for arc_cap */
     size_t arc_cap;
-    int *orphans;        /* nnodes: circular queue, each node at most once */
-    int node_cap;        /* nodes and orphans allocated */
-    double flow;         /* flow so far, including common t-link parts */
+    int *orphans; /* nnodes: circular queue, each node at most once */
+    int node_cap; /* nodes and orphans allocated */
+    double flow;  /* flow so far, including common t-link parts */
     int active_first, active_last;
     int orphan_head, orphan_count;
-    int time;            /* counts augmentations, for the ts of nodes */
-    pw_err err;          /* first invalid call, reported by pw_graph_maxflow */
+    int time;   /* counts augmentations, for the ts of nodes */
+    pw_err err; /* first invalid call, reported by pw_graph_maxflow */
     pw_alloc alloc;
 } pw_graph;
 
@@ -135,8 +135,8 @@ PW__DEF int pw_graph_init(pw_graph *g, const pw_alloc *a, int nnodes, int nedges
         return r;
     }
     if (nedges_hint > 0 && nedges_hint < INT_MAX / 2 &&
-        pw_grow(&g->alloc, (void **)&g->arcs, &g->arc_cap, (size_t)nedges_hint * 2,
-                sizeof(pw__gc_arc), "graph edges", e)) {
+        pw_grow(&g->alloc, (void **)&g->arcs, &g->arc_cap, (size_t)nedges_hint * 2, sizeof(pw__gc_arc), "graph edges",
+                e)) {
         pw_graph_free(g);
         return PW_ERR_NOMEM;
     }
@@ -147,10 +147,8 @@ PW__DEF int pw_graph_init(pw_graph *g, const pw_alloc *a, int nnodes, int nedges
  * checks only pw_graph_maxflow still learns of it. */
 PW__DEF int pw__graph_invalid(pw_graph *g, pw_err *e, int code, const char *what, int i, int j)
 {
-    if (j >= 0)
-        pw_fail(&g->err, code, "graph edge (%d, %d): %s", i, j, what);
-    else
-        pw_fail(&g->err, code, "graph node %d: %s", i, what);
+    if (j >= 0) pw_fail(&g->err, code, "graph edge (%d, %d): %s", i, j, what);
+    else pw_fail(&g->err, code, "graph node %d: %s", i, what);
     return pw_fail(e, code, "%s", g->err.msg);
 }
 
@@ -168,10 +166,9 @@ PW__DEF int pw_graph_add_edge(pw_graph *g, int i, int j, double cap_ij, double c
     if (i == j) return pw__graph_invalid(g, e, PW_ERR_INVALID, "self loop", i, j);
     if (!pw__gc_cap_ok(cap_ij) || !pw__gc_cap_ok(cap_ji))
         return pw__graph_invalid(g, e, PW_ERR_INVALID, "negative or NaN capacity", i, j);
-    if (g->narcs > INT_MAX - 2)
-        return pw__graph_invalid(g, e, PW_ERR_LIMIT, "too many edges", i, j);
-    if (pw_grow(&g->alloc, (void **)&g->arcs, &g->arc_cap, (size_t)g->narcs + 2,
-                sizeof(pw__gc_arc), "graph edges", e)) {
+    if (g->narcs > INT_MAX - 2) return pw__graph_invalid(g, e, PW_ERR_LIMIT, "too many edges", i, j);
+    if (pw_grow(&g->alloc, (void **)&g->arcs, &g->arc_cap, (size_t)g->narcs + 2, sizeof(pw__gc_arc), "graph edges",
+                e)) {
         pw_fail(&g->err, PW_ERR_NOMEM, "graph: out of memory adding edge (%d, %d)", i, j);
         return PW_ERR_NOMEM;
     }
@@ -198,19 +195,14 @@ PW__DEF int pw_graph_add_edge(pw_graph *g, int i, int j, double cap_ij, double c
 PW__DEF int pw_graph_add_tweights(pw_graph *g, int i, double cap_source, double cap_sink)
 {
     double t;
-    if (i < 0 || i >= g->nnodes)
-        return pw__graph_invalid(g, NULL, PW_ERR_INVALID, "node index out of range", i, -1);
+    if (i < 0 || i >= g->nnodes) return pw__graph_invalid(g, NULL, PW_ERR_INVALID, "node index out of range", i, -1);
     if (!pw__gc_cap_ok(cap_source) || !pw__gc_cap_ok(cap_sink))
-        return pw__graph_invalid(g, NULL, PW_ERR_INVALID, "negative or NaN terminal capacity",
-                                 i, -1);
+        return pw__graph_invalid(g, NULL, PW_ERR_INVALID, "negative or NaN terminal capacity", i, -1);
     t = g->nodes[i].tr;
-    if (t > 0)
-        cap_source += t;
-    else
-        cap_sink -= t;
+    if (t > 0) cap_source += t;
+    else cap_sink -= t;
     if (cap_source == HUGE_VAL && cap_sink == HUGE_VAL)
-        return pw__graph_invalid(g, NULL, PW_ERR_INVALID,
-                                 "infinite capacity to both source and sink", i, -1);
+        return pw__graph_invalid(g, NULL, PW_ERR_INVALID, "infinite capacity to both source and sink", i, -1);
     g->flow += cap_source < cap_sink ? cap_source : cap_sink;
     g->nodes[i].tr = cap_source - cap_sink;
     return PW_OK;
@@ -223,10 +215,8 @@ PW__DEF void pw__gc_activate(pw_graph *g, int i)
 {
     if (g->nodes[i].next != PW__GC_IDLE) return;
     g->nodes[i].next = -1;
-    if (g->active_last >= 0)
-        g->nodes[g->active_last].next = i;
-    else
-        g->active_first = i;
+    if (g->active_last >= 0) g->nodes[g->active_last].next = i;
+    else g->active_first = i;
     g->active_last = i;
 }
 
@@ -449,7 +439,8 @@ PW__DEF int pw__gc_augment(pw_graph *g, int mid, pw_err *e)
     double bn = pw__gc_bottleneck(g, mid);
     if (bn == HUGE_VAL) {
         g->flow = HUGE_VAL;
-        return pw_fail(e, PW_ERR_INVALID, "graph: a path of infinite capacity joins the "
+        return pw_fail(e, PW_ERR_INVALID,
+                       "graph: a path of infinite capacity joins the "
                        "source to the sink (through nodes %d and %d): the flow is unbounded",
                        g->arcs[mid ^ 1].head, g->arcs[mid].head);
     }

@@ -54,10 +54,7 @@ PW__DEF int pw_he_dest(const pw_hmesh *hm, int h) { return hm->fv[pw_he_next(hm,
 PW__DEF int pw_he_ccw(const pw_hmesh *hm, int h) { return hm->twin[pw_he_prev(hm, h)]; }
 
 /* The same clockwise; -1 when h is on the boundary. */
-PW__DEF int pw_he_cw(const pw_hmesh *hm, int h)
-{
-    return hm->twin[h] < 0 ? -1 : pw_he_next(hm, hm->twin[h]);
-}
+PW__DEF int pw_he_cw(const pw_hmesh *hm, int h) { return hm->twin[h] < 0 ? -1 : pw_he_next(hm, hm->twin[h]); }
 
 /* For a boundary half-edge h, the next boundary half-edge of the same
  * boundary loop (they follow each other head to tail). */
@@ -88,8 +85,9 @@ PW__DEF int pw__hm_faces(pw_hmesh *hm, int *stamp, int *count, pw_err *e)
         for (h = b; h < end; h++) {
             int v = hm->fv[h];
             if (v < 0 || v >= hm->nv)
-                return pw_fail(e, PW_ERR_INVALID, "half-edge mesh: face %d, corner %d: vertex index %d out of range (%d vertices)",
-                               f, h - b, v, hm->nv);
+                return pw_fail(e, PW_ERR_INVALID,
+                               "half-edge mesh: face %d, corner %d: vertex index %d out of range (%d vertices)", f,
+                               h - b, v, hm->nv);
             if (stamp[v] == f)
                 return pw_fail(e, PW_ERR_DEGENERATE, "half-edge mesh: face %d uses vertex %d twice", f, v);
             stamp[v] = f;
@@ -134,8 +132,8 @@ PW__DEF void pw__hm_face_list(char *buf, size_t cap, const int *f, int n)
 
 /* The error for edge a-b of half-edge h: more than two faces, or two
  * faces in the same direction. */
-PW__DEF int pw__hm_edge_error(const pw_hmesh *hm, const int *ostart, const int *oh, const int *odest,
-                              int a, int b, int same, int opp, pw_err *e)
+PW__DEF int pw__hm_edge_error(const pw_hmesh *hm, const int *ostart, const int *oh, const int *odest, int a, int b,
+                              int same, int opp, pw_err *e)
 {
     int faces[8], n = 0, k, i, j;
     char list[96];
@@ -144,7 +142,11 @@ PW__DEF int pw__hm_edge_error(const pw_hmesh *hm, const int *ostart, const int *
     for (k = ostart[b]; k < ostart[b + 1]; k++)
         if (odest[k] == a && n < 8) faces[n++] = hm->hface[oh[k]];
     for (i = 1; i < n; i++) /* insertion sort: at most 8 */
-        for (j = i; j > 0 && faces[j - 1] > faces[j]; j--) k = faces[j], faces[j] = faces[j - 1], faces[j - 1] = k;
+        for (j = i; j > 0 && faces[j - 1] > faces[j]; j--) {
+            k = faces[j];
+            faces[j] = faces[j - 1];
+            faces[j - 1] = k;
+        }
     if (same + opp > 2) {
         pw__hm_face_list(list, sizeof list, faces, n);
         if (same + opp > n) snprintf(list + strlen(list), sizeof list - strlen(list), " (%d faces)", same + opp);
@@ -158,12 +160,14 @@ PW__DEF int pw__hm_edge_error(const pw_hmesh *hm, const int *ostart, const int *
  * one b->a not yet paired, needs no more checks: a second a->b would find
  * it taken. Otherwise the half-edges a->b (same) and b->a (opp) are counted
  * to catch bad edges. */
-PW__DEF int pw__hm_pair(pw_hmesh *hm, const int *ostart, const int *oh, const int *odest, int h, int b,
-                        pw_err *e)
+PW__DEF int pw__hm_pair(pw_hmesh *hm, const int *ostart, const int *oh, const int *odest, int h, int b, pw_err *e)
 {
     int a = hm->fv[h], same = 0, opp = 0, g = -1, k;
     for (k = ostart[b]; k < ostart[b + 1]; k++)
-        if (odest[k] == a) opp++, g = oh[k];
+        if (odest[k] == a) {
+            opp++;
+            g = oh[k];
+        }
     if (opp != 1 || hm->twin[g] != -2) {
         for (k = ostart[a]; k < ostart[a + 1]; k++) same += odest[k] == b;
         if (same + opp > 2 || same > 1) return pw__hm_edge_error(hm, ostart, oh, odest, a, b, same, opp, e);
@@ -183,8 +187,7 @@ PW__DEF int pw__hm_twins(pw_hmesh *hm, const int *ostart, const int *oh, const i
     for (f = 0; f < hm->nf; f++) {
         int b = hm->fstart[f], end = hm->fstart[f + 1];
         for (h = b; h < end; h++)
-            if (hm->twin[h] == -2 &&
-                (r = pw__hm_pair(hm, ostart, oh, odest, h, hm->fv[h + 1 < end ? h + 1 : b], e)))
+            if (hm->twin[h] == -2 && (r = pw__hm_pair(hm, ostart, oh, odest, h, hm->fv[h + 1 < end ? h + 1 : b], e)))
                 return r;
     }
     hm->ne = (hm->nh + hm->nboundary) / 2;
@@ -293,14 +296,13 @@ PW__DEF int pw__hm_offsets(const pw_alloc *a, pw_hmesh *hm, const int *fstart, p
     int f;
     if (hm->nv < 0 || hm->nf < 0 || !fstart || hm->nv > PW_MAX_MESH_ELEMENTS || hm->nf > PW_MAX_MESH_ELEMENTS)
         return pw_fail(e, PW_ERR_INVALID, "half-edge mesh: bad sizes (%d vertices, %d faces)", hm->nv, hm->nf);
-    if (fstart[0] != 0)
-        return pw_fail(e, PW_ERR_INVALID, "half-edge mesh: fstart[0] is %d, must be 0", fstart[0]);
+    if (fstart[0] != 0) return pw_fail(e, PW_ERR_INVALID, "half-edge mesh: fstart[0] is %d, must be 0", fstart[0]);
     for (f = 0; f < hm->nf; f++) {
         if (fstart[f + 1] > PW_MAX_MESH_ELEMENTS)
             return pw_fail(e, PW_ERR_LIMIT, "half-edge mesh: more than %d corners", PW_MAX_MESH_ELEMENTS);
         if (fstart[f + 1] < fstart[f] + 3)
-            return pw_fail(e, PW_ERR_DEGENERATE, "half-edge mesh: face %d has %ld corners (at least 3 needed)",
-                           f, (long)fstart[f + 1] - fstart[f]);
+            return pw_fail(e, PW_ERR_DEGENERATE, "half-edge mesh: face %d has %ld corners (at least 3 needed)", f,
+                           (long)fstart[f + 1] - fstart[f]);
     }
     hm->nh = fstart[hm->nf];
     hm->fstart = (int *)pw_alloc_array(a, (size_t)hm->nf + 1, sizeof(int), "half-edge faces", e);
@@ -330,8 +332,8 @@ PW__DEF int pw__hm_steps(const pw_alloc *a, pw_hmesh *hm, int *tmp, pw_err *e)
 /* Builds the half-edge structure of a polygon mesh given as nv vertices, nf
  * faces, offsets fstart (nf+1) and corners fv (fstart[nf]); see the top of
  * the file for what is refused. */
-PW__DEF int pw_hmesh_build(const pw_alloc *a, int nv, int nf, const int *fstart, const int *fv,
-                           pw_hmesh *out, pw_err *e)
+PW__DEF int pw_hmesh_build(const pw_alloc *a, int nv, int nf, const int *fstart, const int *fv, pw_hmesh *out,
+                           pw_err *e)
 {
     int r, *tmp = NULL;
     memset(out, 0, sizeof *out);
@@ -362,12 +364,12 @@ PW__DEF int pw_hmesh_from_mesh(const pw_alloc *a, const pw_mesh *m, pw_hmesh *ou
 /* Connected components of faces (faces sharing an edge are connected).
  * Returns the count in *ncomp; face_comp (nf ints, may be NULL) receives
  * each face's component, numbered in order of their lowest face. */
-PW__DEF int pw_hmesh_components(const pw_alloc *a, const pw_hmesh *hm, int *face_comp, int *ncomp,
-                                pw_err *e)
+PW__DEF int pw_hmesh_components(const pw_alloc *a, const pw_hmesh *hm, int *face_comp, int *ncomp, pw_err *e)
 {
     int *comp = face_comp, *stack, f, n = 0, top;
     *ncomp = 0;
-    stack = (int *)pw_alloc_array(a, (size_t)hm->nf + (face_comp ? 0 : (size_t)hm->nf), sizeof(int), "component stack", e);
+    stack =
+        (int *)pw_alloc_array(a, (size_t)hm->nf + (face_comp ? 0 : (size_t)hm->nf), sizeof(int), "component stack", e);
     if (!stack) return PW_ERR_NOMEM;
     if (!comp) comp = stack + hm->nf;
     for (f = 0; f < hm->nf; f++) comp[f] = -1;
@@ -380,7 +382,10 @@ PW__DEF int pw_hmesh_components(const pw_alloc *a, const pw_hmesh *hm, int *face
             int g = stack[--top], h;
             for (h = hm->fstart[g]; h < hm->fstart[g + 1]; h++) {
                 int t = hm->twin[h];
-                if (t >= 0 && comp[hm->hface[t]] < 0) comp[hm->hface[t]] = n, stack[top++] = hm->hface[t];
+                if (t >= 0 && comp[hm->hface[t]] < 0) {
+                    comp[hm->hface[t]] = n;
+                    stack[top++] = hm->hface[t];
+                }
             }
         }
         n++;
@@ -401,10 +406,7 @@ PW__DEF int pw_hmesh_euler(const pw_hmesh *hm)
 
 /* Total genus of an orientable surface with `ncomp` components and
  * hm->nloops boundary loops: chi = 2c - 2g - b. */
-PW__DEF int pw_hmesh_genus(const pw_hmesh *hm, int ncomp)
-{
-    return (2 * ncomp - pw_hmesh_euler(hm) - hm->nloops) / 2;
-}
+PW__DEF int pw_hmesh_genus(const pw_hmesh *hm, int ncomp) { return (2 * ncomp - pw_hmesh_euler(hm) - hm->nloops) / 2; }
 
 /* Number of edges at vertex v (0 if isolated). */
 PW__DEF int pw_hmesh_valence(const pw_hmesh *hm, int v)

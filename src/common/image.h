@@ -43,8 +43,7 @@ PW__DEF int pw_image_alloc(const pw_alloc *a, pw_image *img, int w, int h, int c
     if (w <= 0 || h <= 0 || c < 1 || c > 4)
         return pw_fail(e, PW_ERR_INVALID, "invalid image size %dx%d with %d channels", w, h, c);
     if (w > PW_MAX_IMAGE_DIM || h > PW_MAX_IMAGE_DIM || (int64_t)w * h > PW_MAX_IMAGE_PIXELS)
-        return pw_fail(e, PW_ERR_LIMIT, "image %dx%d exceeds the limit of %d pixels", w, h,
-                       PW_MAX_IMAGE_PIXELS);
+        return pw_fail(e, PW_ERR_LIMIT, "image %dx%d exceeds the limit of %d pixels", w, h, PW_MAX_IMAGE_PIXELS);
     img->px = (float *)pw_calloc_array(a, (size_t)w * h * c, sizeof(float), "image", e);
     if (!img->px) return PW_ERR_NOMEM;
     img->w = w;
@@ -79,10 +78,9 @@ PW__DEF unsigned pw_image_quantize(float v, unsigned maxval)
 PW__DEF int pw__image_check(const pw_image *img, pw_err *e)
 {
     if (!img || !img->px || img->w <= 0 || img->h <= 0 || img->c < 1 || img->c > 4)
-        return pw_fail(e, PW_ERR_INVALID, "invalid image (%dx%d, %d channels)", img ? img->w : 0,
-                       img ? img->h : 0, img ? img->c : 0);
-    if (img->w > PW_MAX_IMAGE_DIM || img->h > PW_MAX_IMAGE_DIM ||
-        (int64_t)img->w * img->h > PW_MAX_IMAGE_PIXELS)
+        return pw_fail(e, PW_ERR_INVALID, "invalid image (%dx%d, %d channels)", img ? img->w : 0, img ? img->h : 0,
+                       img ? img->c : 0);
+    if (img->w > PW_MAX_IMAGE_DIM || img->h > PW_MAX_IMAGE_DIM || (int64_t)img->w * img->h > PW_MAX_IMAGE_PIXELS)
         return pw_fail(e, PW_ERR_LIMIT, "image %dx%d exceeds the size limits", img->w, img->h);
     return PW_OK;
 }
@@ -104,8 +102,7 @@ PW__DEF int pw_image_copy(const pw_alloc *a, const pw_image *src, pw_image *out,
  * dropping it (without compositing). RGB to gray uses the Rec. 601 luma
  * weights, as netpbm's ppmtopgm does. out may be src itself: its pixels are
  * then replaced (and freed with a). */
-PW__DEF int pw_image_convert(const pw_alloc *a, const pw_image *src, int channels, pw_image *out,
-                             pw_err *e)
+PW__DEF int pw_image_convert(const pw_alloc *a, const pw_image *src, int channels, pw_image *out, pw_err *e)
 {
     pw_image t;
     size_t i, n;
@@ -237,13 +234,11 @@ PW__DEF int pw__sink_end(pw__sink *s, pw_err *e)
 PW__DEF int pw__image_check_size(const char *name, uint64_t w, uint64_t h, pw_err *e)
 {
     if (w == 0 || h == 0)
-        return pw_fail(e, PW_ERR_PARSE, "%s: image has zero size (%llux%llu)", name,
-                       (unsigned long long)w, (unsigned long long)h);
+        return pw_fail(e, PW_ERR_PARSE, "%s: image has zero size (%llux%llu)", name, (unsigned long long)w,
+                       (unsigned long long)h);
     if (w > PW_MAX_IMAGE_DIM || h > PW_MAX_IMAGE_DIM || w * h > (uint64_t)PW_MAX_IMAGE_PIXELS)
-        return pw_fail(e, PW_ERR_LIMIT,
-                       "%s: image size %llux%llu exceeds the limits (%d per side, %d pixels)", name,
-                       (unsigned long long)w, (unsigned long long)h, PW_MAX_IMAGE_DIM,
-                       PW_MAX_IMAGE_PIXELS);
+        return pw_fail(e, PW_ERR_LIMIT, "%s: image size %llux%llu exceeds the limits (%d per side, %d pixels)", name,
+                       (unsigned long long)w, (unsigned long long)h, PW_MAX_IMAGE_DIM, PW_MAX_IMAGE_PIXELS);
     return PW_OK;
 }
 
@@ -261,10 +256,7 @@ typedef struct pw__pnm {
     uint64_t w, h, depth, maxval;
 } pw__pnm;
 
-PW__DEF int pw__is_space(int c)
-{
-    return c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == '\v' || c == '\f';
-}
+PW__DEF int pw__is_space(int c) { return c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == '\v' || c == '\f'; }
 
 /* Skips whitespace and comments (# to the end of the line). */
 PW__DEF void pw__pnm_skip(pw__pnm *r)
@@ -287,10 +279,8 @@ PW__DEF int pw__pnm_unexpected(pw__pnm *r, const char *what)
 {
     int c = r->p[r->pos];
     if (c > 32 && c < 127)
-        return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: expected the %s, found '%c'", r->name, r->line,
-                       what, c);
-    return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: expected the %s, found byte 0x%02x", r->name,
-                   r->line, what, c);
+        return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: expected the %s, found '%c'", r->name, r->line, what, c);
+    return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: expected the %s, found byte 0x%02x", r->name, r->line, what, c);
 }
 
 /* Reads an unsigned decimal number: a header field or an ASCII sample. */
@@ -299,13 +289,11 @@ PW__DEF int pw__pnm_number(pw__pnm *r, const char *what, uint64_t *v)
     uint64_t x = 0;
     pw__pnm_skip(r);
     if (r->pos >= r->n)
-        return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: file truncated: it ends before the %s", r->name,
-                       r->line, what);
+        return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: file truncated: it ends before the %s", r->name, r->line, what);
     if (r->p[r->pos] < '0' || r->p[r->pos] > '9') return pw__pnm_unexpected(r, what);
     while (r->pos < r->n && r->p[r->pos] >= '0' && r->p[r->pos] <= '9') {
         x = x * 10 + (uint64_t)(r->p[r->pos++] - '0');
-        if (x > 0xffffffffu)
-            return pw_fail(r->e, PW_ERR_LIMIT, "%s:%d: %s is too large", r->name, r->line, what);
+        if (x > 0xffffffffu) return pw_fail(r->e, PW_ERR_LIMIT, "%s:%d: %s is too large", r->name, r->line, what);
     }
     if (r->pos < r->n && !pw__is_space(r->p[r->pos]) && r->p[r->pos] != '#')
         return pw__pnm_unexpected(r, "end of the number");
@@ -316,8 +304,8 @@ PW__DEF int pw__pnm_number(pw__pnm *r, const char *what, uint64_t *v)
 PW__DEF int pw__pnm_check_maxval(pw__pnm *r)
 {
     if (r->maxval == 0 || r->maxval > 65535)
-        return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: maxval %llu is out of range (1 to 65535)",
-                       r->name, r->line, (unsigned long long)r->maxval);
+        return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: maxval %llu is out of range (1 to 65535)", r->name, r->line,
+                       (unsigned long long)r->maxval);
     return PW_OK;
 }
 
@@ -326,8 +314,7 @@ PW__DEF int pw__pnm_header(pw__pnm *r)
 {
     int rc;
     if (r->pos < r->n && !pw__is_space(r->p[r->pos]) && r->p[r->pos] != '#')
-        return pw_fail(r->e, PW_ERR_PARSE, "%s: bad magic number (P%d not followed by a space)",
-                       r->name, r->fmt);
+        return pw_fail(r->e, PW_ERR_PARSE, "%s: bad magic number (P%d not followed by a space)", r->name, r->fmt);
     if ((rc = pw__pnm_number(r, "width", &r->w))) return rc;
     if ((rc = pw__pnm_number(r, "height", &r->h))) return rc;
     r->maxval = 1;
@@ -342,8 +329,7 @@ PW__DEF int pw__pnm_header(pw__pnm *r)
 PW__DEF int pw__pnm_need(pw__pnm *r, uint64_t need)
 {
     if ((uint64_t)(r->n - r->pos) < need)
-        return pw_fail(r->e, PW_ERR_PARSE,
-                       "%s: pixel data truncated: %llu bytes needed, %llu present", r->name,
+        return pw_fail(r->e, PW_ERR_PARSE, "%s: pixel data truncated: %llu bytes needed, %llu present", r->name,
                        (unsigned long long)need, (unsigned long long)(r->n - r->pos));
     return PW_OK;
 }
@@ -356,8 +342,7 @@ PW__DEF int pw__pnm_raster(pw__pnm *r, uint64_t need)
     int c;
     if (r->pos < r->n && r->p[r->pos] == '#')
         while (r->pos < r->n && r->p[r->pos] != '\n' && r->p[r->pos] != '\r') r->pos++;
-    if (r->pos >= r->n)
-        return pw_fail(r->e, PW_ERR_PARSE, "%s: file truncated: no pixel data", r->name);
+    if (r->pos >= r->n) return pw_fail(r->e, PW_ERR_PARSE, "%s: file truncated: no pixel data", r->name);
     c = r->p[r->pos++];
     /* CRLF from a text-mode writer: skip the LF when exactly the raster
      * follows it (a lone CR separator followed by a sample 10 is kept) */
@@ -374,8 +359,8 @@ PW__DEF int pw__pnm_binary(pw__pnm *r, pw_image *img)
     for (i = 0; i < n; i++) {
         v = m > 255 ? (unsigned)p[2 * i] << 8 | p[2 * i + 1] : p[i];
         if (v > m)
-            return pw_fail(r->e, PW_ERR_PARSE, "%s: sample %lu is %u, above maxval %u", r->name,
-                           (unsigned long)i, v, m);
+            return pw_fail(r->e, PW_ERR_PARSE, "%s: sample %lu is %u, above maxval %u", r->name, (unsigned long)i, v,
+                           m);
         img->px[i] = (float)v / (float)m;
     }
     return PW_OK;
@@ -390,9 +375,8 @@ PW__DEF int pw__pnm_ascii(pw__pnm *r, pw_image *img)
     for (i = 0; i < n; i++) {
         if ((rc = pw__pnm_number(r, "sample", &v))) return rc;
         if (v > r->maxval)
-            return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: sample %lu is %llu, above maxval %llu",
-                           r->name, r->line, (unsigned long)i, (unsigned long long)v,
-                           (unsigned long long)r->maxval);
+            return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: sample %lu is %llu, above maxval %llu", r->name, r->line,
+                           (unsigned long)i, (unsigned long long)v, (unsigned long long)r->maxval);
         img->px[i] = (float)v / (float)r->maxval;
     }
     return PW_OK;
@@ -411,11 +395,9 @@ PW__DEF int pw__pbm_pixels(pw__pnm *r, pw_image *img)
             } else {
                 pw__pnm_skip(r);
                 if (r->pos >= r->n)
-                    return pw_fail(r->e, PW_ERR_PARSE,
-                                   "%s:%d: file truncated: it ends before pixel %lu", r->name,
+                    return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: file truncated: it ends before pixel %lu", r->name,
                                    r->line, (unsigned long)(y * img->w + x));
-                if (r->p[r->pos] != '0' && r->p[r->pos] != '1')
-                    return pw__pnm_unexpected(r, "bit 0 or 1");
+                if (r->p[r->pos] != '0' && r->p[r->pos] != '1') return pw__pnm_unexpected(r, "bit 0 or 1");
                 bit = r->p[r->pos++] - '0';
             }
             img->px[y * img->w + x] = bit ? 0.0f : 1.0f;
@@ -430,18 +412,15 @@ PW__DEF int pw__token_is(const unsigned char *s, size_t n, const char *kw)
 }
 
 /* Parses the value of a numeric PAM field (the whole value must be digits). */
-PW__DEF int pw__pam_number(pw__pnm *r, const unsigned char *s, size_t n, const char *key,
-                           uint64_t *v)
+PW__DEF int pw__pam_number(pw__pnm *r, const unsigned char *s, size_t n, const char *key, uint64_t *v)
 {
     size_t i;
     uint64_t x = 0;
     if (n == 0 || n > 10)
-        return pw_fail(r->e, n ? PW_ERR_LIMIT : PW_ERR_PARSE, "%s:%d: bad %s value", r->name,
-                       r->line, key);
+        return pw_fail(r->e, n ? PW_ERR_LIMIT : PW_ERR_PARSE, "%s:%d: bad %s value", r->name, r->line, key);
     for (i = 0; i < n; i++) {
         if (s[i] < '0' || s[i] > '9')
-            return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: bad %s value (not a number)", r->name,
-                           r->line, key);
+            return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: bad %s value (not a number)", r->name, r->line, key);
         x = x * 10 + (uint64_t)(s[i] - '0');
     }
     *v = x;
@@ -488,14 +467,13 @@ PW__DEF int pw__pam_tupltype(pw__pnm *r, const char *t)
     int i;
     if (r->depth == 0 || r->depth > 4)
         return pw_fail(r->e, r->depth ? PW_ERR_UNSUPPORTED : PW_ERR_PARSE,
-                       "%s: PAM depth %llu is not supported (1 to 4)", r->name,
-                       (unsigned long long)r->depth);
+                       "%s: PAM depth %llu is not supported (1 to 4)", r->name, (unsigned long long)r->depth);
     if (!t[0]) return PW_OK;
     for (i = 0; i < 6; i++)
         if (strcmp(t, names[i]) == 0) {
             if ((uint64_t)depths[i] == r->depth) return PW_OK;
-            return pw_fail(r->e, PW_ERR_PARSE, "%s: TUPLTYPE %s needs DEPTH %d, not %llu", r->name,
-                           t, depths[i], (unsigned long long)r->depth);
+            return pw_fail(r->e, PW_ERR_PARSE, "%s: TUPLTYPE %s needs DEPTH %d, not %llu", r->name, t, depths[i],
+                           (unsigned long long)r->depth);
         }
     return pw_fail(r->e, PW_ERR_UNSUPPORTED, "%s: PAM TUPLTYPE '%s' is not supported", r->name, t);
 }
@@ -509,20 +487,17 @@ PW__DEF int pw__pam_header(pw__pnm *r)
     r->w = r->h = r->depth = r->maxval = 0;
     while (r->pos < r->n && r->p[r->pos] != '\n') /* rest of the "P7" line */
         if (!pw__is_space(r->p[r->pos++]))
-            return pw_fail(r->e, PW_ERR_PARSE,
-                           "%s: bad magic number (P7 not followed by a newline)", r->name);
+            return pw_fail(r->e, PW_ERR_PARSE, "%s: bad magic number (P7 not followed by a newline)", r->name);
     while (!done) {
         size_t start, end;
         if (r->pos >= r->n)
-            return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: file truncated: PAM header has no ENDHDR",
-                           r->name, r->line);
+            return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: file truncated: PAM header has no ENDHDR", r->name, r->line);
         r->pos++; /* the newline ending the previous line */
         r->line++;
         start = end = r->pos;
         while (end < r->n && r->p[end] != '\n') end++;
         if (end >= r->n)
-            return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: file truncated: PAM header has no ENDHDR",
-                           r->name, r->line);
+            return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: file truncated: PAM header has no ENDHDR", r->name, r->line);
         r->pos = end;
         if ((rc = pw__pam_line(r, r->p + start, end - start, tupltype, &done))) return rc;
     }
@@ -539,8 +514,8 @@ PW__DEF int pw__pam_header(pw__pnm *r)
 
 /* Reads a netpbm image (P1-P7) from memory. `name` (usually the file name)
  * prefixes every error message. Bit depth: 16 when maxval > 255. */
-PW__DEF int pw_image_read_pnm_memory(const pw_alloc *a, const unsigned char *data, size_t size,
-                                     const char *name, pw_image *out, pw_err *e)
+PW__DEF int pw_image_read_pnm_memory(const pw_alloc *a, const unsigned char *data, size_t size, const char *name,
+                                     pw_image *out, pw_err *e)
 {
     pw__pnm r;
     uint64_t need = 0;
@@ -590,8 +565,8 @@ PW__DEF uint32_t pw__be32(const unsigned char *p)
  * per pixel (1 gray, 2 gray+alpha, 3 RGB, 4 RGBA), magic "GPAT", then the
  * NUL-terminated pattern name up to header_size; 8-bit pixels follow, top
  * row first. */
-PW__DEF int pw_image_read_pat_memory(const pw_alloc *a, const unsigned char *data, size_t size,
-                                     const char *name, pw_image *out, pw_err *e)
+PW__DEF int pw_image_read_pat_memory(const pw_alloc *a, const unsigned char *data, size_t size, const char *name,
+                                     pw_image *out, pw_err *e)
 {
     uint32_t hs, ver, w, h, bpp;
     size_t i, n;
@@ -599,29 +574,26 @@ PW__DEF int pw_image_read_pat_memory(const pw_alloc *a, const unsigned char *dat
     memset(out, 0, sizeof *out);
     if (!name) name = "image";
     if (size < 24) return pw_fail(e, PW_ERR_PARSE, "%s: GIMP pattern header truncated", name);
-    if (memcmp(data + 20, "GPAT", 4) != 0)
-        return pw_fail(e, PW_ERR_PARSE, "%s: not a GIMP pattern (bad magic)", name);
+    if (memcmp(data + 20, "GPAT", 4) != 0) return pw_fail(e, PW_ERR_PARSE, "%s: not a GIMP pattern (bad magic)", name);
     hs = pw__be32(data);
     ver = pw__be32(data + 4);
     w = pw__be32(data + 8);
     h = pw__be32(data + 12);
     bpp = pw__be32(data + 16);
     if (ver != 1)
-        return pw_fail(e, PW_ERR_UNSUPPORTED, "%s: GIMP pattern version %lu (only 1 is known)",
-                       name, (unsigned long)ver);
+        return pw_fail(e, PW_ERR_UNSUPPORTED, "%s: GIMP pattern version %lu (only 1 is known)", name,
+                       (unsigned long)ver);
     if (hs <= 24 || hs > size)
-        return pw_fail(e, PW_ERR_PARSE, "%s: bad GIMP pattern header size %lu (file has %lu bytes)",
-                       name, (unsigned long)hs, (unsigned long)size);
+        return pw_fail(e, PW_ERR_PARSE, "%s: bad GIMP pattern header size %lu (file has %lu bytes)", name,
+                       (unsigned long)hs, (unsigned long)size);
     if (!memchr(data + 24, 0, hs - 24))
         return pw_fail(e, PW_ERR_PARSE, "%s: GIMP pattern name is not NUL-terminated", name);
     if (bpp < 1 || bpp > 4)
-        return pw_fail(e, PW_ERR_PARSE, "%s: GIMP pattern has %lu bytes per pixel (1 to 4)", name,
-                       (unsigned long)bpp);
+        return pw_fail(e, PW_ERR_PARSE, "%s: GIMP pattern has %lu bytes per pixel (1 to 4)", name, (unsigned long)bpp);
     if ((rc = pw__image_check_size(name, w, h, e))) return rc;
     if ((uint64_t)w * h * bpp > (uint64_t)(size - hs))
-        return pw_fail(e, PW_ERR_PARSE, "%s: pixel data truncated: %llu bytes needed, %lu present",
-                       name, (unsigned long long)((uint64_t)w * h * bpp),
-                       (unsigned long)(size - hs));
+        return pw_fail(e, PW_ERR_PARSE, "%s: pixel data truncated: %llu bytes needed, %lu present", name,
+                       (unsigned long long)((uint64_t)w * h * bpp), (unsigned long)(size - hs));
     if ((rc = pw_image_alloc(a, out, (int)w, (int)h, (int)bpp, e))) return rc;
     n = (size_t)w * h * bpp;
     for (i = 0; i < n; i++) out->px[i] = (float)data[hs + i] / 255.0f;
@@ -638,8 +610,7 @@ PW__DEF int pw__write_bits(const pw_image *img, int bits, unsigned *maxval, pw_e
     int rc = pw__image_check(img, e);
     if (rc) return rc;
     if (bits == 0) bits = img->bits == 16 ? 16 : 8;
-    if (bits != 8 && bits != 16)
-        return pw_fail(e, PW_ERR_INVALID, "cannot write %d-bit samples (8 or 16)", bits);
+    if (bits != 8 && bits != 16) return pw_fail(e, PW_ERR_INVALID, "cannot write %d-bit samples (8 or 16)", bits);
     *maxval = bits == 16 ? 65535u : 255u;
     return PW_OK;
 }
@@ -664,8 +635,7 @@ PW__DEF void pw__put_ascii(pw__sink *s, const pw_image *img, unsigned maxval)
     for (y = 0; y < (size_t)img->h; y++) {
         int col = 0;
         for (x = 0; x < rowlen; x++) {
-            int k =
-                snprintf(num, sizeof num, "%u", pw_image_quantize(img->px[y * rowlen + x], maxval));
+            int k = snprintf(num, sizeof num, "%u", pw_image_quantize(img->px[y * rowlen + x], maxval));
             if (col > 0 && col + 1 + k > 69) {
                 pw__sink_byte(s, '\n');
                 col = 0;
@@ -689,8 +659,7 @@ PW__DEF int pw_image_write_pam(const pw_image *img, int bits, pw_write_fn w, voi
     unsigned maxval;
     int rc = pw__write_bits(img, bits, &maxval, e), k;
     if (rc) return rc;
-    k = snprintf(head, sizeof head,
-                 "P7\nWIDTH %d\nHEIGHT %d\nDEPTH %d\nMAXVAL %u\nTUPLTYPE %s\nENDHDR\n", img->w,
+    k = snprintf(head, sizeof head, "P7\nWIDTH %d\nHEIGHT %d\nDEPTH %d\nMAXVAL %u\nTUPLTYPE %s\nENDHDR\n", img->w,
                  img->h, img->c, maxval, types[img->c - 1]);
     pw__sink_init(&s, w, ctx);
     pw__sink_put(&s, head, (size_t)k);
@@ -700,8 +669,7 @@ PW__DEF int pw_image_write_pam(const pw_image *img, int bits, pw_write_fn w, voi
 
 /* PGM for 1 channel, PPM for 3 (binary P5/P6, or ASCII P2/P3 when `ascii`
  * is set), PAM for 2 and 4 (binary only: PW_ERR_UNSUPPORTED with ascii). */
-PW__DEF int pw_image_write_pnm(const pw_image *img, int bits, int ascii, pw_write_fn w, void *ctx,
-                               pw_err *e)
+PW__DEF int pw_image_write_pnm(const pw_image *img, int bits, int ascii, pw_write_fn w, void *ctx, pw_err *e)
 {
     pw__sink s;
     char head[64];
@@ -710,18 +678,15 @@ PW__DEF int pw_image_write_pnm(const pw_image *img, int bits, int ascii, pw_writ
     if (rc) return rc;
     if (img->c == 2 || img->c == 4) {
         if (ascii)
-            return pw_fail(e, PW_ERR_UNSUPPORTED,
-                           "images with alpha are written as PAM, which has no ASCII form");
+            return pw_fail(e, PW_ERR_UNSUPPORTED, "images with alpha are written as PAM, which has no ASCII form");
         return pw_image_write_pam(img, bits, w, ctx, e);
     }
-    k = snprintf(head, sizeof head, "P%d\n%d %d\n%u\n", (img->c == 1 ? 2 : 3) + (ascii ? 0 : 3),
-                 img->w, img->h, maxval);
+    k = snprintf(head, sizeof head, "P%d\n%d %d\n%u\n", (img->c == 1 ? 2 : 3) + (ascii ? 0 : 3), img->w, img->h,
+                 maxval);
     pw__sink_init(&s, w, ctx);
     pw__sink_put(&s, head, (size_t)k);
-    if (ascii)
-        pw__put_ascii(&s, img, maxval);
-    else
-        pw__put_samples(&s, img, maxval);
+    if (ascii) pw__put_ascii(&s, img, maxval);
+    else pw__put_samples(&s, img, maxval);
     return pw__sink_end(&s, e);
 }
 

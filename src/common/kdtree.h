@@ -30,22 +30,22 @@
 #define PW_KD_BUCKET 8 /* points per leaf, at most */
 
 typedef struct pw__kdnode {
-    int lo, hi;        /* points lo..hi-1 (tree order) */
-    int dim;           /* split dimension; -1 for a leaf */
-    float split;       /* left: coordinate < split (or equal, by position) */
-    int left, right;   /* children; for a leaf, left is its bucket */
+    int lo, hi;      /* points lo..hi-1 (tree order) */
+    int dim;         /* split dimension; -1 for a leaf */
+    float split;     /* left: coordinate < split (or equal, by position) */
+    int left, right; /* children; for a leaf, left is its bucket */
     int parent;
-    float minpen;      /* smallest penalty of the points below */
+    float minpen; /* smallest penalty of the points below */
 } pw__kdnode;
 
 typedef struct pw_kdtree {
     int n, d, nnodes, nbuckets;
-    float *pts;        /* n*d, in tree order */
-    float *bucket;     /* per bucket (d+1)*PW_KD_BUCKET floats: coordinate k of slot j
+    float *pts;    /* n*d, in tree order */
+    float *bucket; /* per bucket (d+1)*PW_KD_BUCKET floats: coordinate k of slot j
                           at [k*B + j], penalty at [d*B + j]; empty slots cost FLT_MAX */
-    int *idx;          /* n: caller's index of tree point i */
-    int *pos;          /* n: tree position of caller's point i */
-    int *leaf_of;      /* n: leaf node of tree point i */
+    int *idx;      /* n: caller's index of tree point i */
+    int *pos;      /* n: tree position of caller's point i */
+    int *leaf_of;  /* n: leaf node of tree point i */
     pw__kdnode *node;
 } pw_kdtree;
 
@@ -112,7 +112,10 @@ PW__DEF int pw__kd_widest(const pw_kdtree *t, int lo, int hi)
             mn = x < mn ? x : mn;
             mx = x > mx ? x : mx;
         }
-        if (mx - mn > wbest) wbest = mx - mn, best = k;
+        if (mx - mn > wbest) {
+            wbest = mx - mn;
+            best = k;
+        }
     }
     return best;
 }
@@ -235,11 +238,11 @@ PW__DEF void pw_kdtree_set_penalty(pw_kdtree *t, int i, float pen)
 
 typedef struct pw__kdsearch {
     const float *q;
-    float *off;    /* per-dimension offset of q from the current cell */
-    float scale;   /* (1 + eps)^2 */
+    float *off;  /* per-dimension offset of q from the current cell */
+    float scale; /* (1 + eps)^2 */
     float best;
-    int bi;        /* tree position of the best point, -1 none */
-    int budget;    /* buckets that may still be visited (negative: no limit) */
+    int bi;     /* tree position of the best point, -1 none */
+    int budget; /* buckets that may still be visited (negative: no limit) */
 } pw__kdsearch;
 
 /* Costs of a whole bucket in one loop over its slots. */
@@ -255,7 +258,10 @@ PW__DEF void pw__kd_leaf(const pw_kdtree *t, const pw__kdnode *nd, pw__kdsearch 
         for (j = 0; j < B; j++) c[j] += (qk - x[j]) * (qk - x[j]);
     }
     for (j = 0; j < B; j++)
-        if (c[j] < s->best) s->best = c[j], s->bi = nd->lo + j;
+        if (c[j] < s->best) {
+            s->best = c[j];
+            s->bi = nd->lo + j;
+        }
 }
 
 /* Searches below node ni, whose cell is at squared distance rd from q and
@@ -271,7 +277,10 @@ PW__DEF void pw__kd_search(const pw_kdtree *t, int ni, float rd, pw__kdsearch *s
         float diff, old, rfar;
         int near, far;
         if (nd->dim < 0) {
-            if (s->budget != 0) pw__kd_leaf(t, nd, s), s->budget--;
+            if (s->budget != 0) {
+                pw__kd_leaf(t, nd, s);
+                s->budget--;
+            }
             break;
         }
         diff = s->q[nd->dim] - nd->split;

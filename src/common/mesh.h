@@ -46,13 +46,13 @@
 
 typedef struct pw_mesh {
     int nv;
-    float *pos;  /* nv*3: vertex i is pos[3*i], pos[3*i+1], pos[3*i+2] */
+    float *pos; /* nv*3: vertex i is pos[3*i], pos[3*i+1], pos[3*i+2] */
     int nf;
     int *fstart; /* nf+1 offsets into fv; fstart[0] = 0 */
     int *fv;     /* fstart[nf] vertex indices, counter-clockwise per face */
     int nuv;
-    float *uv;   /* nuv*2 texture coordinates, or NULL */
-    int *fuv;    /* fstart[nf]: uv index of each corner, or NULL */
+    float *uv; /* nuv*2 texture coordinates, or NULL */
+    int *fuv;  /* fstart[nf]: uv index of each corner, or NULL */
 } pw_mesh;
 
 /* Frees the arrays and zeroes *m (NULL is fine). */
@@ -68,18 +68,15 @@ PW__DEF void pw_mesh_free(const pw_alloc *a, pw_mesh *m)
 }
 
 /* Shared by pw_mesh_alloc and pw_mesh_copy: nuv < 0 means no uv arrays. */
-PW__DEF int pw__mesh_alloc(const pw_alloc *a, pw_mesh *m, int nv, int nf, int nc, int nuv,
-                           pw_err *e)
+PW__DEF int pw__mesh_alloc(const pw_alloc *a, pw_mesh *m, int nv, int nf, int nc, int nuv, pw_err *e)
 {
     memset(m, 0, sizeof *m);
     if (nv < 0 || nf < 0 || nc < 0)
-        return pw_fail(e, PW_ERR_INVALID, "mesh: negative size (%d vertices, %d faces, %d corners)",
-                       nv, nf, nc);
+        return pw_fail(e, PW_ERR_INVALID, "mesh: negative size (%d vertices, %d faces, %d corners)", nv, nf, nc);
     if (nv > PW_MAX_MESH_ELEMENTS || nf > PW_MAX_MESH_ELEMENTS || nc > PW_MAX_MESH_ELEMENTS ||
         nuv > PW_MAX_MESH_ELEMENTS)
-        return pw_fail(e, PW_ERR_LIMIT,
-                       "mesh: %d vertices, %d faces, %d corners exceed the limit of %d elements",
-                       nv, nf, nc, PW_MAX_MESH_ELEMENTS);
+        return pw_fail(e, PW_ERR_LIMIT, "mesh: %d vertices, %d faces, %d corners exceed the limit of %d elements", nv,
+                       nf, nc, PW_MAX_MESH_ELEMENTS);
     m->pos = (float *)pw_calloc_array(a, (size_t)nv * 3, sizeof(float), "mesh positions", e);
     m->fstart = (int *)pw_calloc_array(a, (size_t)nf + 1, sizeof(int), "mesh faces", e);
     m->fv = (int *)pw_calloc_array(a, (size_t)nc, sizeof(int), "mesh corners", e);
@@ -101,8 +98,7 @@ PW__DEF int pw__mesh_alloc(const pw_alloc *a, pw_mesh *m, int nv, int nf, int nc
  * caller fills pos, all nf+1 entries of fstart, and fv. With with_uv != 0 it
  * also allocates one texture coordinate per corner (nuv = ncorners, uv
  * zeroed, fuv[i] = i); lower nuv afterwards when sharing uvs. */
-PW__DEF int pw_mesh_alloc(const pw_alloc *a, pw_mesh *m, int nv, int nf, int ncorners,
-                          int with_uv, pw_err *e)
+PW__DEF int pw_mesh_alloc(const pw_alloc *a, pw_mesh *m, int nv, int nf, int ncorners, int with_uv, pw_err *e)
 {
     int r = pw__mesh_alloc(a, m, nv, nf, ncorners, with_uv ? ncorners : -1, e), i;
     if (r == PW_OK && with_uv)
@@ -115,24 +111,23 @@ PW__DEF int pw_mesh_alloc(const pw_alloc *a, pw_mesh *m, int nv, int nf, int nco
 PW__DEF int pw_mesh_validate(const pw_mesh *m, pw_err *e)
 {
     int f, i;
-    if (m->nv < 0 || m->nf < 0 || m->nuv < 0 || !m->fstart || (m->nv && !m->pos) ||
-        (m->nuv && !m->uv))
+    if (m->nv < 0 || m->nf < 0 || m->nuv < 0 || !m->fstart || (m->nv && !m->pos) || (m->nuv && !m->uv))
         return pw_fail(e, PW_ERR_INVALID, "mesh: negative count or missing array");
-    if (m->fstart[0] != 0)
-        return pw_fail(e, PW_ERR_INVALID, "mesh: fstart[0] is %d, must be 0", m->fstart[0]);
+    if (m->fstart[0] != 0) return pw_fail(e, PW_ERR_INVALID, "mesh: fstart[0] is %d, must be 0", m->fstart[0]);
     for (f = 0; f < m->nf; f++) {
         int b = m->fstart[f], d; /* b >= 0 by induction */
         if ((int64_t)m->fstart[f + 1] < (int64_t)b + 3)
-            return pw_fail(e, PW_ERR_DEGENERATE, "mesh: face %d has %ld corners (at least 3 needed)",
-                           f, (long)m->fstart[f + 1] - b);
+            return pw_fail(e, PW_ERR_DEGENERATE, "mesh: face %d has %ld corners (at least 3 needed)", f,
+                           (long)m->fstart[f + 1] - b);
         d = m->fstart[f + 1] - b;
         for (i = b; i < b + d; i++) {
             if (!m->fv || m->fv[i] < 0 || m->fv[i] >= m->nv)
-                return pw_fail(e, PW_ERR_INVALID, "mesh: face %d, corner %d: vertex index %d out of range (%d vertices)",
-                               f, i - b, m->fv ? m->fv[i] : -1, m->nv);
+                return pw_fail(e, PW_ERR_INVALID,
+                               "mesh: face %d, corner %d: vertex index %d out of range (%d vertices)", f, i - b,
+                               m->fv ? m->fv[i] : -1, m->nv);
             if (m->fuv && (m->fuv[i] < 0 || m->fuv[i] >= m->nuv))
-                return pw_fail(e, PW_ERR_INVALID, "mesh: face %d, corner %d: uv index %d out of range (%d uvs)",
-                               f, i - b, m->fuv[i], m->nuv);
+                return pw_fail(e, PW_ERR_INVALID, "mesh: face %d, corner %d: uv index %d out of range (%d uvs)", f,
+                               i - b, m->fuv[i], m->nuv);
         }
     }
     for (i = 0; i < m->nv * 3; i++)
@@ -180,8 +175,7 @@ PW__DEF int pw_mesh_copy(const pw_alloc *a, const pw_mesh *src, pw_mesh *dst, pw
  * tri_face is not NULL it receives a new array (free with pw_free(a, ...))
  * mapping each triangle to its source face. Fans suit convex polygons, which
  * is what renderers and the triangle-based methods are given. */
-PW__DEF int pw_mesh_triangulate(const pw_alloc *a, const pw_mesh *m, pw_mesh *out,
-                                int **tri_face, pw_err *e)
+PW__DEF int pw_mesh_triangulate(const pw_alloc *a, const pw_mesh *m, pw_mesh *out, int **tri_face, pw_err *e)
 {
     int64_t nt = 0;
     int f, k, t = 0, r, with_uv = m->uv && m->fuv;
@@ -192,8 +186,7 @@ PW__DEF int pw_mesh_triangulate(const pw_alloc *a, const pw_mesh *m, pw_mesh *ou
     for (f = 0; f < m->nf; f++) nt += m->fstart[f + 1] - m->fstart[f] - 2;
     if (nt * 3 > PW_MAX_MESH_ELEMENTS)
         return pw_fail(e, PW_ERR_LIMIT, "triangulation: %ld triangles exceed the limit", (long)nt);
-    if ((r = pw__mesh_alloc(a, out, m->nv, (int)nt, (int)nt * 3, with_uv ? m->nuv : -1, e)))
-        return r;
+    if ((r = pw__mesh_alloc(a, out, m->nv, (int)nt, (int)nt * 3, with_uv ? m->nuv : -1, e))) return r;
     if (tri_face && !(map = (int *)pw_alloc_array(a, (size_t)nt + 1, sizeof(int), "triangle map", e))) {
         pw_mesh_free(a, out);
         return PW_ERR_NOMEM;
@@ -251,8 +244,7 @@ PW__DEF int pw__mb_init(pw__mb *b, const pw_alloc *a, pw_err *e)
     b->a = a;
     b->e = e;
     b->uv_ok = 1;
-    if (pw_grow(a, (void **)&b->m.fstart, &b->cfs, 1, sizeof(int), "mesh faces", e))
-        return PW_ERR_NOMEM;
+    if (pw_grow(a, (void **)&b->m.fstart, &b->cfs, 1, sizeof(int), "mesh faces", e)) return PW_ERR_NOMEM;
     b->m.fstart[0] = 0;
     return PW_OK;
 }
@@ -262,10 +254,8 @@ PW__DEF void pw__mb_free(pw__mb *b) { pw_mesh_free(b->a, &b->m); }
 /* Reserves room for counts announced by a header (already checked). */
 PW__DEF int pw__mb_reserve(pw__mb *b, int nv, int nf, int nc)
 {
-    if (pw_grow(b->a, (void **)&b->m.pos, &b->cpos, (size_t)nv * 3, sizeof(float),
-                "vertex positions", b->e) ||
-        pw_grow(b->a, (void **)&b->m.fstart, &b->cfs, (size_t)nf + 1, sizeof(int), "mesh faces",
-                b->e) ||
+    if (pw_grow(b->a, (void **)&b->m.pos, &b->cpos, (size_t)nv * 3, sizeof(float), "vertex positions", b->e) ||
+        pw_grow(b->a, (void **)&b->m.fstart, &b->cfs, (size_t)nf + 1, sizeof(int), "mesh faces", b->e) ||
         pw_grow(b->a, (void **)&b->m.fv, &b->cfv, (size_t)nc, sizeof(int), "face corners", b->e))
         return PW_ERR_NOMEM;
     return PW_OK;
@@ -273,8 +263,7 @@ PW__DEF int pw__mb_reserve(pw__mb *b, int nv, int nf, int nc)
 
 PW__DEF int pw__mb_vertex(pw__mb *b, const float xyz[3])
 {
-    if (pw_grow(b->a, (void **)&b->m.pos, &b->cpos, (size_t)b->m.nv * 3 + 3, sizeof(float),
-                "vertex positions", b->e))
+    if (pw_grow(b->a, (void **)&b->m.pos, &b->cpos, (size_t)b->m.nv * 3 + 3, sizeof(float), "vertex positions", b->e))
         return PW_ERR_NOMEM;
     memcpy(b->m.pos + (size_t)b->m.nv * 3, xyz, 3 * sizeof(float));
     b->m.nv++;
@@ -283,8 +272,7 @@ PW__DEF int pw__mb_vertex(pw__mb *b, const float xyz[3])
 
 PW__DEF int pw__mb_uv(pw__mb *b, float u, float v)
 {
-    if (pw_grow(b->a, (void **)&b->m.uv, &b->cuv, (size_t)b->m.nuv * 2 + 2, sizeof(float),
-                "texture coordinates", b->e))
+    if (pw_grow(b->a, (void **)&b->m.uv, &b->cuv, (size_t)b->m.nuv * 2 + 2, sizeof(float), "texture coordinates", b->e))
         return PW_ERR_NOMEM;
     b->m.uv[2 * b->m.nuv] = u;
     b->m.uv[2 * b->m.nuv + 1] = v;
@@ -296,8 +284,7 @@ PW__DEF int pw__mb_uv(pw__mb *b, float u, float v)
 PW__DEF int pw__mb_room(pw__mb *b, int n)
 {
     if (pw_grow(b->a, (void **)&b->m.fv, &b->cfv, (size_t)b->nc + n, sizeof(int), "face corners", b->e) ||
-        (b->uv_ok && pw_grow(b->a, (void **)&b->m.fuv, &b->cfuv, (size_t)b->nc + n, sizeof(int),
-                             "corner uvs", b->e)))
+        (b->uv_ok && pw_grow(b->a, (void **)&b->m.fuv, &b->cfuv, (size_t)b->nc + n, sizeof(int), "corner uvs", b->e)))
         return PW_ERR_NOMEM;
     return PW_OK;
 }
@@ -305,13 +292,11 @@ PW__DEF int pw__mb_room(pw__mb *b, int n)
 /* Appends a corner of the face being built: vertex v, uv index t (-1: none). */
 PW__DEF int pw__mb_corner(pw__mb *b, int v, int t)
 {
-    if (pw_grow(b->a, (void **)&b->m.fv, &b->cfv, (size_t)b->nc + 1, sizeof(int), "face corners",
-                b->e))
+    if (pw_grow(b->a, (void **)&b->m.fv, &b->cfv, (size_t)b->nc + 1, sizeof(int), "face corners", b->e))
         return PW_ERR_NOMEM;
     b->m.fv[b->nc] = v;
     if (b->uv_ok) {
-        if (pw_grow(b->a, (void **)&b->m.fuv, &b->cfuv, (size_t)b->nc + 1, sizeof(int),
-                    "corner uvs", b->e))
+        if (pw_grow(b->a, (void **)&b->m.fuv, &b->cfuv, (size_t)b->nc + 1, sizeof(int), "corner uvs", b->e))
             return PW_ERR_NOMEM;
         b->m.fuv[b->nc] = t;
     }
@@ -321,8 +306,7 @@ PW__DEF int pw__mb_corner(pw__mb *b, int v, int t)
 
 PW__DEF int pw__mb_end_face(pw__mb *b)
 {
-    if (pw_grow(b->a, (void **)&b->m.fstart, &b->cfs, (size_t)b->m.nf + 2, sizeof(int),
-                "mesh faces", b->e))
+    if (pw_grow(b->a, (void **)&b->m.fstart, &b->cfs, (size_t)b->m.nf + 2, sizeof(int), "mesh faces", b->e))
         return PW_ERR_NOMEM;
     b->m.fstart[++b->m.nf] = b->nc;
     return PW_OK;
@@ -342,8 +326,8 @@ PW__DEF int pw__mb_finish(pw__mb *b, pw_mesh *out, const char *name)
 {
     pw_mesh *m = &b->m;
     if (m->nf == 0)
-        return pw_fail(b->e, PW_ERR_DEGENERATE, "%s: the mesh has no faces (%d vertices)",
-                       name ? name : "<memory>", m->nv);
+        return pw_fail(b->e, PW_ERR_DEGENERATE, "%s: the mesh has no faces (%d vertices)", name ? name : "<memory>",
+                       m->nv);
     if (!b->uv_ok || !m->nuv || !m->fuv) {
         pw_free(b->a, m->uv);
         pw_free(b->a, m->fuv);
@@ -366,19 +350,18 @@ PW__DEF int pw__mb_finish(pw__mb *b, pw_mesh *out, const char *name)
 /* Statements that do not change a polygon mesh: skipped. (vn: normals are
  * recomputed where needed; free-form geometry is not supported.) */
 static const char *const pw__obj_skip[] = {
-    "vn",   "vp",   "o",    "g",    "s",        "usemtl",   "mtllib",     "l",
-    "p",    "cstype", "deg", "bmat", "step",    "curv",     "curv2",      "surf",
-    "parm", "trim", "hole", "scrv", "sp",       "end",      "con",        "mg",
-    "bevel", "c_interp", "d_interp", "lod", "maplib", "usemap", "shadow_obj", "trace_obj",
-    "ctech", "stech", "call", "csh"};
+    "vn",     "vp",     "o",      "g",          "s",         "usemtl", "mtllib", "l",        "p",
+    "cstype", "deg",    "bmat",   "step",       "curv",      "curv2",  "surf",   "parm",     "trim",
+    "hole",   "scrv",   "sp",     "end",        "con",       "mg",     "bevel",  "c_interp", "d_interp",
+    "lod",    "maplib", "usemap", "shadow_obj", "trace_obj", "ctech",  "stech",  "call",     "csh"};
 
 /* Resolves an OBJ index (1-based, or negative = relative to the end). */
 PW__DEF int pw__obj_index(pw__sc *s, long long i, int n, const char *what, int face, int *out)
 {
     long long r = i > 0 ? i - 1 : n + i;
     if (i == 0 || r < 0 || r >= n)
-        return pw__sc_fail(s, PW_ERR_INVALID, "face %d: %s index %lld out of range (%d defined so far%s)",
-                           face, what, i, n, i == 0 ? "; OBJ indices start at 1" : "");
+        return pw__sc_fail(s, PW_ERR_INVALID, "face %d: %s index %lld out of range (%d defined so far%s)", face, what,
+                           i, n, i == 0 ? "; OBJ indices start at 1" : "");
     *out = (int)r;
     return PW_OK;
 }
@@ -392,16 +375,17 @@ PW__DEF int pw__obj_corner(pw__sc *s, const pw__mb *b, int *v, int *t)
     char tok[32];
     q = pw__num_parse_int(s->p, s->end, &iv);
     if (q && q < s->end && *q == '/') {
-        if (q + 1 < s->end && q[1] != '/') q = pw__num_parse_int(q + 1, s->end, &it), has_t = 1;
-        else q = q + 1;
+        if (q + 1 < s->end && q[1] != '/') {
+            q = pw__num_parse_int(q + 1, s->end, &it);
+            has_t = 1;
+        } else q = q + 1;
         if (q && q < s->end && *q == '/') { /* normal index: ignored, may be empty */
             const char *qn = pw__num_parse_int(q + 1, s->end, &in);
             q = qn ? qn : q + 1;
         }
     }
     if (!q || !pw__sc_delim(s, q))
-        return pw__sc_fail(s, PW_ERR_PARSE, "face %d: malformed corner '%s'", b->m.nf,
-                           pw__sc_tok(s, start, tok));
+        return pw__sc_fail(s, PW_ERR_PARSE, "face %d: malformed corner '%s'", b->m.nf, pw__sc_tok(s, start, tok));
     s->p = q;
     *t = -1;
     if ((r = pw__obj_index(s, iv, b->m.nv, "vertex", b->m.nf, v))) return r;
@@ -424,8 +408,8 @@ PW__DEF int pw__obj_face(pw__sc *s, pw__mb *b)
         deg++;
     }
     if (deg < 3)
-        return pw__sc_fail(s, PW_ERR_DEGENERATE, "face %d has %d corner%s (at least 3 needed)",
-                           b->m.nf, deg, deg == 1 ? "" : "s");
+        return pw__sc_fail(s, PW_ERR_DEGENERATE, "face %d has %d corner%s (at least 3 needed)", b->m.nf, deg,
+                           deg == 1 ? "" : "s");
     if (with_t != deg) b->uv_ok = 0;
     return pw__mb_end_face(b);
 }
@@ -463,12 +447,9 @@ PW__DEF int pw__obj_line(pw__sc *s, pw__mb *b)
     if (n == 0) {
         if (s->p < s->end && *s->p != '\n' && *s->p != '#')
             return pw__sc_fail(s, PW_ERR_PARSE, "unexpected '%c'", *s->p); /* stray backslash */
-    } else if (pw__sc_is(w, n, "v"))
-        r = pw__obj_vertex(s, b);
-    else if (pw__sc_is(w, n, "vt"))
-        r = pw__obj_texcoord(s, b);
-    else if (pw__sc_is(w, n, "f") || pw__sc_is(w, n, "fo"))
-        r = pw__obj_face(s, b);
+    } else if (pw__sc_is(w, n, "v")) r = pw__obj_vertex(s, b);
+    else if (pw__sc_is(w, n, "vt")) r = pw__obj_texcoord(s, b);
+    else if (pw__sc_is(w, n, "f") || pw__sc_is(w, n, "fo")) r = pw__obj_face(s, b);
     else {
         for (k = 0; k < sizeof pw__obj_skip / sizeof pw__obj_skip[0]; k++)
             if (pw__sc_is(w, n, pw__obj_skip[k])) break;
@@ -480,8 +461,8 @@ PW__DEF int pw__obj_line(pw__sc *s, pw__mb *b)
 }
 
 /* Reads a Wavefront OBJ file from memory. */
-PW__DEF int pw_mesh_read_obj(const pw_alloc *a, const void *data, size_t size, const char *name,
-                             pw_mesh *out, pw_err *e)
+PW__DEF int pw_mesh_read_obj(const pw_alloc *a, const void *data, size_t size, const char *name, pw_mesh *out,
+                             pw_err *e)
 {
     pw__sc s;
     pw__mb b;
@@ -504,11 +485,26 @@ PW__DEF int pw__off_keyword(const char *w, size_t n, int *flags)
 {
     size_t i = 0;
     int f = 0;
-    if (n >= 2 && w[0] == 'S' && w[1] == 'T') f |= PW__OFF_ST, i = 2;
-    if (i < n && w[i] == 'C') f |= PW__OFF_C, i++;
-    if (i < n && w[i] == 'N') f |= PW__OFF_N, i++;
-    if (i < n && w[i] == '4') f |= PW__OFF_4, i++;
-    if (i < n && w[i] == 'n') f |= PW__OFF_ND, i++;
+    if (n >= 2 && w[0] == 'S' && w[1] == 'T') {
+        f |= PW__OFF_ST;
+        i = 2;
+    }
+    if (i < n && w[i] == 'C') {
+        f |= PW__OFF_C;
+        i++;
+    }
+    if (i < n && w[i] == 'N') {
+        f |= PW__OFF_N;
+        i++;
+    }
+    if (i < n && w[i] == '4') {
+        f |= PW__OFF_4;
+        i++;
+    }
+    if (i < n && w[i] == 'n') {
+        f |= PW__OFF_ND;
+        i++;
+    }
     if (n - i != 3 || memcmp(w + i, "OFF", 3) != 0) return 0;
     *flags = f;
     return 1;
@@ -533,15 +529,13 @@ PW__DEF int pw__off_header(pw__sc *s, int *flags, int *binary)
                            n ? pw__sc_tok(s, w, tok) : "end of file");
     }
     if (*flags & (PW__OFF_4 | PW__OFF_ND))
-        return pw__sc_fail(s, PW_ERR_UNSUPPORTED, "'%s': %s vertices are not supported",
-                           pw__sc_tok(s, w, tok),
+        return pw__sc_fail(s, PW_ERR_UNSUPPORTED, "'%s': %s vertices are not supported", pw__sc_tok(s, w, tok),
                            (*flags & PW__OFF_ND) ? "n-dimensional (nOFF)" : "homogeneous 4D (4OFF)");
     w = pw__sc_word(s, &n);
     if (pw__sc_is(w, n, "BINARY")) {
         *binary = 1;
         pw__sc_next_line(s); /* binary data starts after the newline */
-    } else
-        s->p = w; /* the counts may share the keyword's line */
+    } else s->p = w;         /* the counts may share the keyword's line */
     return PW_OK;
 }
 
@@ -554,8 +548,7 @@ PW__DEF int pw__off_count(pw__sc *s, const char *what, int *out)
     if ((r = pw__sc_int(s, &v, what, -1))) return r;
     if (v < 0) return pw__sc_fail(s, PW_ERR_PARSE, "negative %s (%lld)", what, v);
     if (v > PW_MAX_MESH_ELEMENTS)
-        return pw__sc_fail(s, PW_ERR_LIMIT, "%s is %lld, over the limit of %d", what, v,
-                           PW_MAX_MESH_ELEMENTS);
+        return pw__sc_fail(s, PW_ERR_LIMIT, "%s is %lld, over the limit of %d", what, v, PW_MAX_MESH_ELEMENTS);
     *out = (int)v;
     return PW_OK;
 }
@@ -580,19 +573,16 @@ PW__DEF int pw__off_faces(pw__sc *s, pw__mb *b, int nf)
     int f, k, r;
     for (f = 0; f < nf; f++) {
         pw__sc_skip_empty(s);
-        if (s->p >= s->end)
-            return pw__sc_fail(s, PW_ERR_PARSE, "unexpected end of file after %d of %d faces", f, nf);
+        if (s->p >= s->end) return pw__sc_fail(s, PW_ERR_PARSE, "unexpected end of file after %d of %d faces", f, nf);
         if ((r = pw__sc_int(s, &d, "face", f))) return r;
-        if (d < 3)
-            return pw__sc_fail(s, PW_ERR_DEGENERATE, "face %d has %lld corners (at least 3 needed)", f, d);
+        if (d < 3) return pw__sc_fail(s, PW_ERR_DEGENERATE, "face %d has %lld corners (at least 3 needed)", f, d);
         if (d > PW_MAX_FACE_DEGREE || b->nc + d > PW_MAX_MESH_ELEMENTS)
-            return pw__sc_fail(s, PW_ERR_LIMIT, "face %d has %lld corners (limit %d)", f, d,
-                               PW_MAX_FACE_DEGREE);
+            return pw__sc_fail(s, PW_ERR_LIMIT, "face %d has %lld corners (limit %d)", f, d, PW_MAX_FACE_DEGREE);
         for (k = 0; k < d; k++) {
             if ((r = pw__sc_int(s, &v, "face", f))) return r;
             if (v < 0 || v >= b->m.nv)
-                return pw__sc_fail(s, PW_ERR_INVALID, "face %d: vertex index %lld out of range (%d vertices)",
-                                   f, v, b->m.nv);
+                return pw__sc_fail(s, PW_ERR_INVALID, "face %d: vertex index %lld out of range (%d vertices)", f, v,
+                                   b->m.nv);
             if ((r = pw__mb_corner(b, (int)v, -1))) return r;
         }
         if ((r = pw__mb_end_face(b))) return r;
@@ -614,9 +604,10 @@ PW__DEF int pw__off_text(pw__sc *s, pw__mb *b)
     /* each vertex line is at least "0 0 0\n", each face "3 0 1 2\n" */
     left = (size_t)(s->end - s->p);
     if ((double)nv * 6 + (double)nf * 8 > (double)left + 1)
-        return pw__sc_fail(s, PW_ERR_PARSE,
-                           "header claims %d vertices and %d faces, more than the %lu bytes left can hold (truncated file?)",
-                           nv, nf, (unsigned long)left);
+        return pw__sc_fail(
+            s, PW_ERR_PARSE,
+            "header claims %d vertices and %d faces, more than the %lu bytes left can hold (truncated file?)", nv, nf,
+            (unsigned long)left);
     b->uv_ok = 0;
     if ((r = pw__mb_reserve(b, nv, nf, 3 * nf))) return r;
     if ((r = pw__off_vertices(s, b, nv))) return r;
@@ -643,8 +634,7 @@ PW__DEF int pw__off_binary(pw__sc *s, pw__mb *b, int flags)
 {
     const unsigned char *p = (const unsigned char *)s->p, *end = (const unsigned char *)s->end;
     const unsigned char *start = (const unsigned char *)s->p;
-    int stride = 3 + (flags & PW__OFF_N ? 3 : 0) + (flags & PW__OFF_C ? 4 : 0) +
-                 (flags & PW__OFF_ST ? 2 : 0);
+    int stride = 3 + (flags & PW__OFF_N ? 3 : 0) + (flags & PW__OFF_C ? 4 : 0) + (flags & PW__OFF_ST ? 2 : 0);
     int32_t nv, nf;
     int i, k, r;
     if (end - p < 12) return pw_fail(s->e, PW_ERR_PARSE, "%s: binary OFF: truncated header", s->name);
@@ -653,19 +643,18 @@ PW__DEF int pw__off_binary(pw__sc *s, pw__mb *b, int flags)
     p += 12;
     if (nv < 0 || nf < 0 || nv > PW_MAX_MESH_ELEMENTS || nf > PW_MAX_MESH_ELEMENTS)
         return pw_fail(s->e, nv < 0 || nf < 0 ? PW_ERR_PARSE : PW_ERR_LIMIT,
-                       "%s: binary OFF: %d vertices and %d faces (limit %d)", s->name, nv, nf,
-                       PW_MAX_MESH_ELEMENTS);
+                       "%s: binary OFF: %d vertices and %d faces (limit %d)", s->name, nv, nf, PW_MAX_MESH_ELEMENTS);
     if ((double)nv * stride * 4 + (double)nf * 20 > (double)(end - p))
         return pw_fail(s->e, PW_ERR_PARSE,
-                       "%s: binary OFF: header claims %d vertices and %d faces, more than the %lu bytes left can hold (truncated file?)",
+                       "%s: binary OFF: header claims %d vertices and %d faces, more than the %lu bytes left can hold "
+                       "(truncated file?)",
                        s->name, nv, nf, (unsigned long)(end - p));
     if ((r = pw__mb_reserve(b, nv, nf, 3 * nf))) return r;
     for (i = 0; i < nv; i++, p += 4 * stride) {
         float xyz[3];
         for (k = 0; k < 3; k++) xyz[k] = pw__mesh_float_bits(pw__mesh_be32(p + 4 * k));
         if (!pw_is_finite(xyz[0]) || !pw_is_finite(xyz[1]) || !pw_is_finite(xyz[2]))
-            return pw_fail(s->e, PW_ERR_INVALID, "%s: binary OFF: vertex %d has a non-finite coordinate",
-                           s->name, i);
+            return pw_fail(s->e, PW_ERR_INVALID, "%s: binary OFF: vertex %d has a non-finite coordinate", s->name, i);
         pw__mb_vertex(b, xyz); /* reserved: cannot fail */
     }
     b->uv_ok = 0;
@@ -675,31 +664,31 @@ PW__DEF int pw__off_binary(pw__sc *s, pw__mb *b, int flags)
         d = pw__mesh_be32(p);
         if (d < 3 || d > PW_MAX_FACE_DEGREE || b->nc + (int)d > PW_MAX_MESH_ELEMENTS)
             return pw_fail(s->e, d < 3 ? PW_ERR_DEGENERATE : PW_ERR_LIMIT,
-                           "%s: binary OFF: face %d (byte %lu) has %ld corners (3 to %d allowed)", s->name,
-                           i, (unsigned long)(p - start), (long)(int32_t)d, PW_MAX_FACE_DEGREE);
+                           "%s: binary OFF: face %d (byte %lu) has %ld corners (3 to %d allowed)", s->name, i,
+                           (unsigned long)(p - start), (long)(int32_t)d, PW_MAX_FACE_DEGREE);
         if ((size_t)(end - p) < 4 * (size_t)d + 8) break;
         for (k = 0, p += 4; k < (int)d; k++, p += 4) {
             v = pw__mesh_be32(p);
             if (v >= (uint32_t)nv)
-                return pw_fail(s->e, PW_ERR_INVALID, "%s: binary OFF: face %d: vertex index %ld out of range (%d vertices)",
-                               s->name, i, (long)(int32_t)v, nv);
+                return pw_fail(s->e, PW_ERR_INVALID,
+                               "%s: binary OFF: face %d: vertex index %ld out of range (%d vertices)", s->name, i,
+                               (long)(int32_t)v, nv);
             if ((r = pw__mb_corner(b, (int)v, -1))) return r;
         }
         nc = pw__mesh_be32(p);
         if (nc > 4 || (size_t)(end - p) < 4 + 4 * (size_t)nc)
-            return pw_fail(s->e, PW_ERR_PARSE, "%s: binary OFF: face %d: bad colour count %ld or truncated",
-                           s->name, i, (long)(int32_t)nc);
+            return pw_fail(s->e, PW_ERR_PARSE, "%s: binary OFF: face %d: bad colour count %ld or truncated", s->name, i,
+                           (long)(int32_t)nc);
         p += 4 + 4 * nc;
         if ((r = pw__mb_end_face(b))) return r;
     }
-    if (i < nf)
-        return pw_fail(s->e, PW_ERR_PARSE, "%s: binary OFF: file ends after %d of %d faces", s->name, i, nf);
+    if (i < nf) return pw_fail(s->e, PW_ERR_PARSE, "%s: binary OFF: file ends after %d of %d faces", s->name, i, nf);
     return PW_OK;
 }
 
 /* Reads an OFF file (ASCII or binary) from memory. */
-PW__DEF int pw_mesh_read_off(const pw_alloc *a, const void *data, size_t size, const char *name,
-                             pw_mesh *out, pw_err *e)
+PW__DEF int pw_mesh_read_off(const pw_alloc *a, const void *data, size_t size, const char *name, pw_mesh *out,
+                             pw_err *e)
 {
     pw__sc s;
     pw__mb b;
@@ -762,9 +751,8 @@ PW__DEF int pw__ply_fail(pw__ply *p, int code, const char *fmt, ...)
 
 PW__DEF int pw__ply_type(const char *w, size_t n)
 {
-    static const char *const names[16] = {"char",  "int8",    "uchar", "uint8",  "short", "int16",
-                                          "ushort", "uint16", "int",   "int32",  "uint",  "uint32",
-                                          "float", "float32", "double", "float64"};
+    static const char *const names[16] = {"char", "int8",  "uchar", "uint8",  "short", "int16",   "ushort", "uint16",
+                                          "int",  "int32", "uint",  "uint32", "float", "float32", "double", "float64"};
     int k;
     for (k = 0; k < 16; k++)
         if (pw__sc_is(w, n, names[k])) return k / 2 + 1;
@@ -784,8 +772,7 @@ PW__DEF int pw__ply_role(int kind, const char *w, size_t n)
             pw__sc_is(w, n, "texture_t"))
             return PW__R_V;
     }
-    if (kind == PW__E_FACE && (pw__sc_is(w, n, "vertex_indices") || pw__sc_is(w, n, "vertex_index")))
-        return PW__R_IDX;
+    if (kind == PW__E_FACE && (pw__sc_is(w, n, "vertex_indices") || pw__sc_is(w, n, "vertex_index"))) return PW__R_IDX;
     return PW__R_NONE;
 }
 
@@ -800,12 +787,12 @@ PW__DEF int pw__ply_element(pw__ply *p)
     if (p->nel >= PW__PLY_MAX_ELEMENTS)
         return pw__ply_fail(p, PW_ERR_LIMIT, "more than %d elements", PW__PLY_MAX_ELEMENTS);
     for (k = 0; k < p->nel && kind != PW__E_OTHER; k++)
-        if (p->el[k].kind == kind) return pw__ply_fail(p, PW_ERR_PARSE, "second '%s' element", kind == PW__E_VERTEX ? "vertex" : "face");
+        if (p->el[k].kind == kind)
+            return pw__ply_fail(p, PW_ERR_PARSE, "second '%s' element", kind == PW__E_VERTEX ? "vertex" : "face");
     if ((r = pw__sc_int(&p->s, &count, "element count", -1))) return r;
     if (count < 0 || count > (kind == PW__E_OTHER ? INT_MAX : PW_MAX_MESH_ELEMENTS))
-        return pw__ply_fail(p, count < 0 ? PW_ERR_PARSE : PW_ERR_LIMIT,
-                            "element %d has %lld items (limit %d)", p->nel, count,
-                            kind == PW__E_OTHER ? INT_MAX : PW_MAX_MESH_ELEMENTS);
+        return pw__ply_fail(p, count < 0 ? PW_ERR_PARSE : PW_ERR_LIMIT, "element %d has %lld items (limit %d)", p->nel,
+                            count, kind == PW__E_OTHER ? INT_MAX : PW_MAX_MESH_ELEMENTS);
     el = &p->el[p->nel++];
     el->kind = kind;
     el->count = count;
@@ -876,8 +863,10 @@ PW__DEF int pw__ply_header(pw__ply *p)
         pw__sc_next_line(&p->s);
         if (p->s.p >= p->s.end) return pw__ply_fail(p, PW_ERR_PARSE, "header ends without 'end_header'");
         w = pw__sc_word(&p->s, &n);
-        if (pw__sc_is(w, n, "format")) r = pw__ply_format(p), have_format = 1;
-        else if (pw__sc_is(w, n, "element")) r = pw__ply_element(p);
+        if (pw__sc_is(w, n, "format")) {
+            r = pw__ply_format(p);
+            have_format = 1;
+        } else if (pw__sc_is(w, n, "element")) r = pw__ply_element(p);
         else if (pw__sc_is(w, n, "property")) r = pw__ply_property(p);
         else if (pw__sc_is(w, n, "end_header")) break;
         else if (n && !pw__sc_is(w, n, "comment") && !pw__sc_is(w, n, "obj_info"))
@@ -907,13 +896,13 @@ PW__DEF int pw__ply_check(pw__ply *p)
         if (el->kind == PW__E_FACE && !(roles & (1 << PW__R_IDX)))
             return pw__ply_fail(p, PW_ERR_PARSE, "the face element has no vertex_indices list");
     }
-    if ((roles & 0xE) != 0xE)
-        return pw__ply_fail(p, PW_ERR_PARSE, "no vertex element with x, y and z properties");
+    if ((roles & 0xE) != 0xE) return pw__ply_fail(p, PW_ERR_PARSE, "no vertex element with x, y and z properties");
     p->has_uv = (roles & 0x30) == 0x30;
     if (need > (double)(p->s.end - p->s.p) + 1)
-        return pw__ply_fail(p, PW_ERR_PARSE,
-                            "header declares items needing at least %.0f bytes, but only %lu are left (truncated file?)",
-                            need, (unsigned long)(p->s.end - p->s.p));
+        return pw__ply_fail(
+            p, PW_ERR_PARSE,
+            "header declares items needing at least %.0f bytes, but only %lu are left (truncated file?)", need,
+            (unsigned long)(p->s.end - p->s.p));
     return PW_OK;
 }
 
@@ -939,9 +928,7 @@ PW__DEF double pw__ply_decode(const unsigned char *q, int type, int big)
         u32 = (uint32_t)u;
         memcpy(&f, &u32, 4);
         return (double)f;
-    case 8:
-        memcpy(&d, &u, 8);
-        return d;
+    case 8: memcpy(&d, &u, 8); return d;
     default: return (double)u; /* unsigned types */
     }
 }
@@ -959,8 +946,7 @@ PW__DEF int pw__ply_value(pw__ply *p, int type, double *v, const char *what, lon
         return PW_OK;
     }
     pw__sc_skip_ws(&p->s);
-    if (p->s.p >= p->s.end)
-        return pw__ply_fail(p, PW_ERR_PARSE, "unexpected end of file in %s %lld", what, index);
+    if (p->s.p >= p->s.end) return pw__ply_fail(p, PW_ERR_PARSE, "unexpected end of file in %s %lld", what, index);
     q = pw__num_parse(p->s.p, p->s.end, v);
     if (!q || !pw__sc_delim(&p->s, q))
         return pw__ply_fail(p, PW_ERR_PARSE, "%s %lld: malformed number '%s'", what, index,
@@ -976,13 +962,12 @@ PW__DEF int pw__ply_count(pw__ply *p, int ctype, int type, long long *c, const c
     size_t left;
     int r;
     if ((r = pw__ply_value(p, ctype, &v, what, index))) return r;
-    left = p->format == PW__PLY_ASCII ? (size_t)(p->s.end - p->s.p)
-                                       : (size_t)(p->s.end - (const char *)p->bp);
+    left = p->format == PW__PLY_ASCII ? (size_t)(p->s.end - p->s.p) : (size_t)(p->s.end - (const char *)p->bp);
     if (!(v >= 0.0 && v < 4e9) || v != (double)(long long)v)
         return pw__ply_fail(p, PW_ERR_PARSE, "%s %lld: bad list length %g", what, index, v);
     if (v * (p->format == PW__PLY_ASCII ? 1 : pw__ply_size[type]) > (double)left)
-        return pw__ply_fail(p, PW_ERR_PARSE, "%s %lld: list of %.0f items runs past the end of the file",
-                            what, index, v);
+        return pw__ply_fail(p, PW_ERR_PARSE, "%s %lld: list of %.0f items runs past the end of the file", what, index,
+                            v);
     *c = (long long)v;
     return PW_OK;
 }
@@ -1025,7 +1010,10 @@ PW__DEF int pw__ply_vertices(pw__ply *p, const pw__plyel *el)
         if (!pw_is_finite(c[3]) || !pw_is_finite(c[4]))
             return pw__ply_fail(p, PW_ERR_INVALID, "vertex %lld has a non-finite texture coordinate", i);
         pw__mb_vertex(b, c); /* reserved: cannot fail */
-        if (p->has_uv) b->m.uv[2 * i] = c[3], b->m.uv[2 * i + 1] = c[4];
+        if (p->has_uv) {
+            b->m.uv[2 * i] = c[3];
+            b->m.uv[2 * i + 1] = c[4];
+        }
     }
     return PW_OK;
 }
@@ -1046,11 +1034,10 @@ PW__DEF int pw__ply_corners(pw__ply *p, const pw__plyprop *pr, long long f)
         if (p->format != PW__PLY_ASCII) { /* pw__ply_count checked that the list is there */
             v = pw__ply_decode(p->bp, pr->type, p->format == PW__PLY_BE);
             p->bp += pw__ply_size[pr->type];
-        } else if ((r = pw__ply_value(p, pr->type, &v, "face", f)))
-            return r;
+        } else if ((r = pw__ply_value(p, pr->type, &v, "face", f))) return r;
         if (!(v >= 0.0 && v < (double)p->nv && v == (double)(int)v))
-            return pw__ply_fail(p, PW_ERR_INVALID, "face %lld: vertex index %g out of range (%d vertices)",
-                                f, v, p->nv);
+            return pw__ply_fail(p, PW_ERR_INVALID, "face %lld: vertex index %g out of range (%d vertices)", f, v,
+                                p->nv);
         b->m.fv[b->nc] = (int)v;
         if (b->uv_ok) b->m.fuv[b->nc] = (int)v; /* vertex uvs: one per vertex */
         b->nc++;
@@ -1119,8 +1106,8 @@ PW__DEF int pw__ply_data(pw__ply *p)
 }
 
 /* Reads a PLY file (ascii, binary_little_endian, binary_big_endian). */
-PW__DEF int pw_mesh_read_ply(const pw_alloc *a, const void *data, size_t size, const char *name,
-                             pw_mesh *out, pw_err *e)
+PW__DEF int pw_mesh_read_ply(const pw_alloc *a, const void *data, size_t size, const char *name, pw_mesh *out,
+                             pw_err *e)
 {
     pw__ply *p;
     pw__mb b;
@@ -1230,10 +1217,13 @@ PW__DEF int pw__stl_binary(const unsigned char *d, size_t size, const char *name
     int r = PW_OK, k, j;
     if (n == 0) return pw_fail(b->e, PW_ERR_DEGENERATE, "%s: binary STL with no triangle", name);
     if ((size - 84) / 50 < n)
-        return pw_fail(b->e, PW_ERR_PARSE, "%s: binary STL: the header claims %lu triangles, the %lu bytes after it hold %lu (truncated file?)",
-                       name, (unsigned long)n, (unsigned long)(size - 84), (unsigned long)((size - 84) / 50));
+        return pw_fail(
+            b->e, PW_ERR_PARSE,
+            "%s: binary STL: the header claims %lu triangles, the %lu bytes after it hold %lu (truncated file?)", name,
+            (unsigned long)n, (unsigned long)(size - 84), (unsigned long)((size - 84) / 50));
     if (n > (uint32_t)(PW_MAX_MESH_ELEMENTS / 3))
-        return pw_fail(b->e, PW_ERR_LIMIT, "%s: binary STL: %lu triangles (limit %d)", name, (unsigned long)n, PW_MAX_MESH_ELEMENTS / 3);
+        return pw_fail(b->e, PW_ERR_LIMIT, "%s: binary STL: %lu triangles (limit %d)", name, (unsigned long)n,
+                       PW_MAX_MESH_ELEMENTS / 3);
     if (pw__weld_init(&w, b, (size_t)n)) return PW_ERR_NOMEM;
     for (t = 0; t < n && r == PW_OK; t++) {
         const unsigned char *p = d + 84 + 50 * (size_t)t + 12;
@@ -1241,7 +1231,9 @@ PW__DEF int pw__stl_binary(const unsigned char *d, size_t size, const char *name
         for (k = 0; k < 3; k++)
             for (j = 0; j < 3; j++) {
                 c[k][j] = pw__le_float(p + 12 * k + 4 * j);
-                if (!pw_is_finite(c[k][j])) r = pw_fail(b->e, PW_ERR_INVALID, "%s: binary STL: triangle %lu has a non-finite coordinate", name, (unsigned long)t);
+                if (!pw_is_finite(c[k][j]))
+                    r = pw_fail(b->e, PW_ERR_INVALID, "%s: binary STL: triangle %lu has a non-finite coordinate", name,
+                                (unsigned long)t);
             }
         if (r == PW_OK) r = pw__stl_triangle(&w, b, c);
     }
@@ -1258,7 +1250,8 @@ PW__DEF int pw__stl_expect(pw__sc *s, const char *kw)
     pw__sc_skip_ws(s);
     w = pw__sc_word(s, &n);
     if (!pw__sc_is(w, n, kw))
-        return pw__sc_fail(s, PW_ERR_PARSE, n ? "expected '%s', found '%s'" : "expected '%s', found the end of the file", kw,
+        return pw__sc_fail(s, PW_ERR_PARSE,
+                           n ? "expected '%s', found '%s'" : "expected '%s', found the end of the file", kw,
                            pw__sc_tok(s, w, tok));
     return PW_OK;
 }
@@ -1281,8 +1274,8 @@ PW__DEF int pw__stl_ascii(pw__sc *s, pw__mb *b)
             pw__sc_next_line(s); /* the name, if any */
         } else if (pw__sc_is(kw, n, "facet")) {
             float c[3][3], nrm[3];
-            if ((r = pw__stl_expect(s, "normal")) || (r = pw__sc_xyz(s, nrm, b->m.nf)) || (r = pw__stl_expect(s, "outer")) ||
-                (r = pw__stl_expect(s, "loop")))
+            if ((r = pw__stl_expect(s, "normal")) || (r = pw__sc_xyz(s, nrm, b->m.nf)) ||
+                (r = pw__stl_expect(s, "outer")) || (r = pw__stl_expect(s, "loop")))
                 break;
             for (k = 0; k < 3 && r == PW_OK; k++)
                 if (!(r = pw__stl_expect(s, "vertex"))) r = pw__sc_xyz(s, c[k], b->m.nf);
@@ -1290,7 +1283,8 @@ PW__DEF int pw__stl_ascii(pw__sc *s, pw__mb *b)
             r = pw__stl_triangle(&w, b, c);
         } else {
             char tok[32];
-            r = pw__sc_fail(s, PW_ERR_PARSE, "ASCII STL: expected 'facet' or 'endsolid', found '%s'", pw__sc_tok(s, kw, tok));
+            r = pw__sc_fail(s, PW_ERR_PARSE, "ASCII STL: expected 'facet' or 'endsolid', found '%s'",
+                            pw__sc_tok(s, kw, tok));
         }
     }
     pw_free(b->a, w.slot);
@@ -1311,7 +1305,8 @@ PW__DEF int pw__stl_is_ascii(const unsigned char *d, size_t size)
 /* Reads an STL file, binary or ASCII, from memory. Binary when the size is
  * exactly what its triangle count says, ASCII when it begins with "solid"
  * and holds text (pw__stl_is_ascii), else binary. */
-PW__DEF int pw_mesh_read_stl(const pw_alloc *a, const void *data, size_t size, const char *name, pw_mesh *out, pw_err *e)
+PW__DEF int pw_mesh_read_stl(const pw_alloc *a, const void *data, size_t size, const char *name, pw_mesh *out,
+                             pw_err *e)
 {
     const unsigned char *d = (const unsigned char *)data;
     pw__sc s;
@@ -1321,15 +1316,14 @@ PW__DEF int pw_mesh_read_stl(const pw_alloc *a, const void *data, size_t size, c
     if ((r = pw__mb_init(&b, a, e))) return r;
     pw__sc_init(&s, data, size, name, 0, e);
     pw__sc_skip_ws(&s);
-    if (size >= 84 && (size - 84) % 50 == 0 && (size - 84) / 50 == (size_t)(d[80] | (uint32_t)d[81] << 8 | (uint32_t)d[82] << 16 | (uint32_t)d[83] << 24))
+    if (size >= 84 && (size - 84) % 50 == 0 &&
+        (size - 84) / 50 == (size_t)(d[80] | (uint32_t)d[81] << 8 | (uint32_t)d[82] << 16 | (uint32_t)d[83] << 24))
         r = pw__stl_binary(d, size, s.name, &b);
-    else if (s.end - s.p >= 5 && !memcmp(s.p, "solid", 5) && pw__stl_is_ascii(d, size))
-        r = pw__stl_ascii(&s, &b);
-    else if (size >= 84)
-        r = pw__stl_binary(d, size, s.name, &b);
+    else if (s.end - s.p >= 5 && !memcmp(s.p, "solid", 5) && pw__stl_is_ascii(d, size)) r = pw__stl_ascii(&s, &b);
+    else if (size >= 84) r = pw__stl_binary(d, size, s.name, &b);
     else
-        r = pw_fail(e, PW_ERR_PARSE, "%s: not an STL file (%lu bytes: neither 'solid' nor an 84-byte binary header)", s.name,
-                    (unsigned long)size);
+        r = pw_fail(e, PW_ERR_PARSE, "%s: not an STL file (%lu bytes: neither 'solid' nor an 84-byte binary header)",
+                    s.name, (unsigned long)size);
     if (r == PW_OK) r = pw__mb_finish(&b, out, s.name);
     pw__mb_free(&b);
     return r;
@@ -1359,8 +1353,8 @@ PW__DEF int pw__is_stl(pw__sc *s, const void *data, size_t size)
  * an OFF keyword as the first word (after comments), "solid" followed by a
  * "facet" line or a binary STL's exact size, else by the extension of `name`
  * (.off, .ply, .stl), else OBJ. */
-PW__DEF int pw_mesh_read_memory(const pw_alloc *a, const void *data, size_t size, const char *name,
-                                pw_mesh *out, pw_err *e)
+PW__DEF int pw_mesh_read_memory(const pw_alloc *a, const void *data, size_t size, const char *name, pw_mesh *out,
+                                pw_err *e)
 {
     pw__sc s, t;
     size_t n;
@@ -1375,7 +1369,8 @@ PW__DEF int pw_mesh_read_memory(const pw_alloc *a, const void *data, size_t size
     if (pw__off_keyword(w, n, &flags) || (name && pw_has_ext(name, ".off")))
         return pw_mesh_read_off(a, data, size, name, out, e);
     if (name && pw_has_ext(name, ".ply")) return pw_mesh_read_ply(a, data, size, name, out, e);
-    if (pw__is_stl(&t, data, size) || (name && pw_has_ext(name, ".stl"))) return pw_mesh_read_stl(a, data, size, name, out, e);
+    if (pw__is_stl(&t, data, size) || (name && pw_has_ext(name, ".stl")))
+        return pw_mesh_read_stl(a, data, size, name, out, e);
     return pw_mesh_read_obj(a, data, size, name, out, e);
 }
 
@@ -1406,28 +1401,42 @@ PW__DEF int pw__obj_name_ok(const char *s, const char *what, pw_err *e)
 
 /* Writes m as OBJ: v lines, vt lines when m has uv and fuv, faces "f v/t"
  * (1-based). mtllib and material (usemtl) lines when not NULL. */
-PW__DEF int pw_mesh_write_obj(const pw_mesh *m, const char *mtllib, const char *material,
-                              pw_write_fn w, void *ctx, pw_err *e)
+PW__DEF int pw_mesh_write_obj(const pw_mesh *m, const char *mtllib, const char *material, pw_write_fn w, void *ctx,
+                              pw_err *e)
 {
     pw__wb b;
     int i, f, r, uv = m->uv && m->fuv;
     if ((r = pw_mesh_validate(m, e)) || (r = pw__obj_name_ok(mtllib, "mtllib", e)) ||
         (r = pw__obj_name_ok(material, "material", e)))
         return r;
-    b.w = w, b.ctx = ctx, b.n = 0, b.failed = 0;
+    b.w = w;
+    b.ctx = ctx;
+    b.n = 0;
+    b.failed = 0;
     pw__wb_str(&b, "# patchwork\n");
-    if (mtllib) pw__wb_str(&b, "mtllib "), pw__wb_str(&b, mtllib), pw__wb_str(&b, "\n");
+    if (mtllib) {
+        pw__wb_str(&b, "mtllib ");
+        pw__wb_str(&b, mtllib);
+        pw__wb_str(&b, "\n");
+    }
     for (i = 0; i < m->nv; i++) {
         pw__wb_str(&b, "v");
-        pw__wb_float(&b, m->pos[3 * i]), pw__wb_float(&b, m->pos[3 * i + 1]), pw__wb_float(&b, m->pos[3 * i + 2]);
+        pw__wb_float(&b, m->pos[3 * i]);
+        pw__wb_float(&b, m->pos[3 * i + 1]);
+        pw__wb_float(&b, m->pos[3 * i + 2]);
         pw__wb_str(&b, "\n");
     }
     for (i = 0; uv && i < m->nuv; i++) {
         pw__wb_str(&b, "vt");
-        pw__wb_float(&b, m->uv[2 * i]), pw__wb_float(&b, m->uv[2 * i + 1]);
+        pw__wb_float(&b, m->uv[2 * i]);
+        pw__wb_float(&b, m->uv[2 * i + 1]);
         pw__wb_str(&b, "\n");
     }
-    if (material) pw__wb_str(&b, "usemtl "), pw__wb_str(&b, material), pw__wb_str(&b, "\n");
+    if (material) {
+        pw__wb_str(&b, "usemtl ");
+        pw__wb_str(&b, material);
+        pw__wb_str(&b, "\n");
+    }
     for (f = 0; f < m->nf; f++) {
         pw__wb_str(&b, "f");
         for (i = m->fstart[f]; i < m->fstart[f + 1]; i++) {
@@ -1441,18 +1450,25 @@ PW__DEF int pw_mesh_write_obj(const pw_mesh *m, const char *mtllib, const char *
 
 /* Writes an MTL file with one material: white (Kd 1 1 1), textured by
  * texture_file (map_Kd) when it is not NULL. */
-PW__DEF int pw_mesh_write_mtl(const char *material, const char *texture_file, pw_write_fn w,
-                              void *ctx, pw_err *e)
+PW__DEF int pw_mesh_write_mtl(const char *material, const char *texture_file, pw_write_fn w, void *ctx, pw_err *e)
 {
     pw__wb b;
     int r;
     if (!material) return pw_fail(e, PW_ERR_INVALID, "MTL: no material name");
     if ((r = pw__obj_name_ok(material, "material", e)) || (r = pw__obj_name_ok(texture_file, "texture file", e)))
         return r;
-    b.w = w, b.ctx = ctx, b.n = 0, b.failed = 0;
-    pw__wb_str(&b, "# patchwork\nnewmtl "), pw__wb_str(&b, material);
+    b.w = w;
+    b.ctx = ctx;
+    b.n = 0;
+    b.failed = 0;
+    pw__wb_str(&b, "# patchwork\nnewmtl ");
+    pw__wb_str(&b, material);
     pw__wb_str(&b, "\nKa 1 1 1\nKd 1 1 1\nKs 0 0 0\nd 1\nillum 1\n");
-    if (texture_file) pw__wb_str(&b, "map_Kd "), pw__wb_str(&b, texture_file), pw__wb_str(&b, "\n");
+    if (texture_file) {
+        pw__wb_str(&b, "map_Kd ");
+        pw__wb_str(&b, texture_file);
+        pw__wb_str(&b, "\n");
+    }
     return pw__wb_done(&b, e);
 }
 
@@ -1492,8 +1508,7 @@ PW__DEF int pw_obj_mtl_path(const char *obj_path, char *mtl, size_t size, const 
 }
 
 /* pw_mesh_write_obj into the file `path`. */
-PW__DEF int pw_mesh_save_obj(const char *path, const pw_mesh *m, const char *mtllib,
-                             const char *material, pw_err *e)
+PW__DEF int pw_mesh_save_obj(const char *path, const pw_mesh *m, const char *mtllib, const char *material, pw_err *e)
 {
     pw__obj_args o;
     o.m = m;
@@ -1503,8 +1518,7 @@ PW__DEF int pw_mesh_save_obj(const char *path, const pw_mesh *m, const char *mtl
 }
 
 /* pw_mesh_write_mtl into the file `path`. */
-PW__DEF int pw_mesh_save_mtl(const char *path, const char *material, const char *texture_file,
-                             pw_err *e)
+PW__DEF int pw_mesh_save_mtl(const char *path, const char *material, const char *texture_file, pw_err *e)
 {
     pw__obj_args o;
     o.m = NULL;

@@ -64,26 +64,23 @@ typedef struct pw_volume {
 PW__DEF int pw__volume_check_size(const char *name, uint64_t x, uint64_t y, uint64_t z, pw_err *e)
 {
     if (x == 0 || y == 0 || z == 0)
-        return pw_fail(e, PW_ERR_INVALID, "%s: volume has zero size (%llux%llux%llu)", name,
-                       (unsigned long long)x, (unsigned long long)y, (unsigned long long)z);
+        return pw_fail(e, PW_ERR_INVALID, "%s: volume has zero size (%llux%llux%llu)", name, (unsigned long long)x,
+                       (unsigned long long)y, (unsigned long long)z);
     if (x > PW_MAX_VOLUME_VOXELS || y > PW_MAX_VOLUME_VOXELS || z > PW_MAX_VOLUME_VOXELS ||
         x * y > (uint64_t)PW_MAX_VOLUME_VOXELS || x * y * z > (uint64_t)PW_MAX_VOLUME_VOXELS)
-        return pw_fail(e, PW_ERR_LIMIT, "%s: volume %llux%llux%llu exceeds the limit of %d voxels",
-                       name, (unsigned long long)x, (unsigned long long)y, (unsigned long long)z,
-                       PW_MAX_VOLUME_VOXELS);
+        return pw_fail(e, PW_ERR_LIMIT, "%s: volume %llux%llux%llu exceeds the limit of %d voxels", name,
+                       (unsigned long long)x, (unsigned long long)y, (unsigned long long)z, PW_MAX_VOLUME_VOXELS);
     return PW_OK;
 }
 
 /* Allocates a zeroed volume of c channels (1-4) and x*y*z voxels. Free with
  * pw_volume_free(a, vol). */
-PW__DEF int pw_volume_alloc(const pw_alloc *a, pw_volume *vol, int c, int x, int y, int z,
-                            pw_err *e)
+PW__DEF int pw_volume_alloc(const pw_alloc *a, pw_volume *vol, int c, int x, int y, int z, pw_err *e)
 {
     int rc;
     memset(vol, 0, sizeof *vol);
     if (c < 1 || c > 4 || x <= 0 || y <= 0 || z <= 0)
-        return pw_fail(e, PW_ERR_INVALID, "invalid volume size %dx%dx%d with %d channels", x, y, z,
-                       c);
+        return pw_fail(e, PW_ERR_INVALID, "invalid volume size %dx%dx%d with %d channels", x, y, z, c);
     if ((rc = pw__volume_check_size("volume", (uint64_t)x, (uint64_t)y, (uint64_t)z, e))) return rc;
     vol->px = (float *)pw_calloc_array(a, (size_t)x * y * z * c, sizeof(float), "volume", e);
     if (!vol->px) return PW_ERR_NOMEM;
@@ -105,8 +102,8 @@ PW__DEF void pw_volume_free(const pw_alloc *a, pw_volume *vol)
 PW__DEF int pw__volume_check(const pw_volume *v, pw_err *e)
 {
     if (!v || !v->px || v->c < 1 || v->c > 4 || v->x <= 0 || v->y <= 0 || v->z <= 0)
-        return pw_fail(e, PW_ERR_INVALID, "invalid volume (%dx%dx%d, %d channels)", v ? v->x : 0,
-                       v ? v->y : 0, v ? v->z : 0, v ? v->c : 0);
+        return pw_fail(e, PW_ERR_INVALID, "invalid volume (%dx%dx%d, %d channels)", v ? v->x : 0, v ? v->y : 0,
+                       v ? v->z : 0, v ? v->c : 0);
     return pw__volume_check_size("volume", (uint64_t)v->x, (uint64_t)v->y, (uint64_t)v->z, e);
 }
 
@@ -124,16 +121,14 @@ PW__DEF int pw_volume_from_image(const pw_alloc *a, const pw_image *img, pw_volu
 
 /* Slice z of a volume as a new image (w = x, h = y, same channels, bits 8).
  * Free with pw_image_free. */
-PW__DEF int pw_volume_slice(const pw_alloc *a, const pw_volume *vol, int z, pw_image *img,
-                            pw_err *e)
+PW__DEF int pw_volume_slice(const pw_alloc *a, const pw_volume *vol, int z, pw_image *img, pw_err *e)
 {
     int rc = pw__volume_check(vol, e);
     size_t n;
     memset(img, 0, sizeof *img);
     if (rc) return rc;
     if (z < 0 || z >= vol->z)
-        return pw_fail(e, PW_ERR_INVALID, "slice %d is outside the volume (0 to %d)", z,
-                       vol->z - 1);
+        return pw_fail(e, PW_ERR_INVALID, "slice %d is outside the volume (0 to %d)", z, vol->z - 1);
     if ((rc = pw_image_alloc(a, img, vol->x, vol->y, vol->c, e))) return rc;
     n = (size_t)vol->x * vol->y * vol->c;
     memcpy(img->px, vol->px + (size_t)z * n, n * sizeof(float));
@@ -163,12 +158,10 @@ PW__DEF int pw__gzip_header(const unsigned char *d, size_t n, size_t *hlen, pw_e
 {
     size_t pos = 10;
     unsigned flg;
-    if (n < 18)
-        return pw_fail(e, PW_ERR_PARSE, "gzip data truncated (%lu bytes)", (unsigned long)n);
+    if (n < 18) return pw_fail(e, PW_ERR_PARSE, "gzip data truncated (%lu bytes)", (unsigned long)n);
     if (d[0] != 0x1f || d[1] != 0x8b)
         return pw_fail(e, PW_ERR_PARSE, "not gzip data (bad magic 0x%02x 0x%02x)", d[0], d[1]);
-    if (d[2] != 8)
-        return pw_fail(e, PW_ERR_UNSUPPORTED, "gzip compression method %d (only 8, deflate)", d[2]);
+    if (d[2] != 8) return pw_fail(e, PW_ERR_UNSUPPORTED, "gzip compression method %d (only 8, deflate)", d[2]);
     flg = d[3];
     if (flg & 0xe0) return pw_fail(e, PW_ERR_PARSE, "gzip header: reserved flag bits are set");
     if (flg & 4) { /* FEXTRA: a little-endian length, then that many bytes */
@@ -223,8 +216,8 @@ PW__DEF int pw_gzip_decompress(const pw_alloc *a, const unsigned char *data, siz
         unsigned char *m = NULL;
         const unsigned char *t;
         if (member > 0 && (n - pos < 2 || data[pos] != 0x1f || data[pos + 1] != 0x8b)) {
-            r = pw_fail(e, PW_ERR_PARSE, "gzip data: %lu bytes of garbage after member %d",
-                        (unsigned long)(n - pos), member);
+            r = pw_fail(e, PW_ERR_PARSE, "gzip data: %lu bytes of garbage after member %d", (unsigned long)(n - pos),
+                        member);
             break;
         }
         if ((r = pw__gzip_header(data + pos, n - pos, &hlen, e))) break;
@@ -234,16 +227,13 @@ PW__DEF int pw_gzip_decompress(const pw_alloc *a, const unsigned char *data, siz
         pos += used;
         t = data + pos;
         if (n - pos < 8)
-            r = pw_fail(e, PW_ERR_PARSE, "gzip data truncated (member %d has no CRC and size)",
-                        member + 1);
+            r = pw_fail(e, PW_ERR_PARSE, "gzip data truncated (member %d has no CRC and size)", member + 1);
         else if (pw_crc32(0, m, mn) != pw__le32(t))
             r = pw_fail(e, PW_ERR_PARSE, "gzip data: CRC-32 mismatch in member %d", member + 1);
         else if (pw__le32(t + 4) != (uint32_t)mn)
-            r = pw_fail(e, PW_ERR_PARSE,
-                        "gzip data: member %d holds %lu bytes, its trailer says %lu", member + 1,
+            r = pw_fail(e, PW_ERR_PARSE, "gzip data: member %d holds %lu bytes, its trailer says %lu", member + 1,
                         (unsigned long)mn, (unsigned long)pw__le32(t + 4));
-        else if (member == 0 && pos + 8 == n) { /* the usual single member: no copy */
-            out->data = m;
+        else if (member == 0 && pos + 8 == n) { /* the usual single member: no copy */ out->data = m;
             out->size = out->cap = mn;
             return PW_OK;
         } else {
@@ -397,42 +387,32 @@ PW__DEF int pw__nrrd_int(const char *s, size_t n, int64_t *v)
 
 PW__DEF int pw__nrrd_bad(pw__nrrd *r, int code, const char *what, const char *s, size_t n)
 {
-    return pw_fail(r->e, code, "%s:%d: %s '%.*s'", r->name, r->line, what, (int)(n < 40 ? n : 40),
-                   s);
+    return pw_fail(r->e, code, "%s:%d: %s '%.*s'", r->name, r->line, what, (int)(n < 40 ? n : 40), s);
 }
 
 PW__DEF int pw__nrrd_type(pw__nrrd *r, const char *s, size_t n)
 {
-    if (pw__nrrd_in_list(s, n, "uchar|unsigned char|uint8|uint8_t"))
-        r->bytes = 1;
-    else if (pw__nrrd_in_list(s, n, "ushort|unsigned short|unsigned short int|uint16|uint16_t"))
-        r->bytes = 2;
-    else if (pw__nrrd_ieq(s, n, "float"))
-        r->bytes = 4;
+    if (pw__nrrd_in_list(s, n, "uchar|unsigned char|uint8|uint8_t")) r->bytes = 1;
+    else if (pw__nrrd_in_list(s, n, "ushort|unsigned short|unsigned short int|uint16|uint16_t")) r->bytes = 2;
+    else if (pw__nrrd_ieq(s, n, "float")) r->bytes = 4;
     else if (pw__nrrd_in_list(s, n,
                               "signed char|int8|int8_t|short|short int|signed short|signed short "
                               "int|int16|int16_t|int|signed int|int32|int32_t|uint|unsigned "
                               "int|uint32|uint32_t|longlong|long long|long long int|signed long "
                               "long|signed long long int|int64|int64_t|ulonglong|unsigned long "
                               "long|unsigned long long int|uint64|uint64_t|double|block"))
-        return pw__nrrd_bad(r, PW_ERR_UNSUPPORTED,
-                            "type is not supported (uchar, ushort or float):", s, n);
-    else
-        return pw__nrrd_bad(r, PW_ERR_PARSE, "unknown type", s, n);
+        return pw__nrrd_bad(r, PW_ERR_UNSUPPORTED, "type is not supported (uchar, ushort or float):", s, n);
+    else return pw__nrrd_bad(r, PW_ERR_PARSE, "unknown type", s, n);
     return PW_OK;
 }
 
 PW__DEF int pw__nrrd_encoding(pw__nrrd *r, const char *s, size_t n)
 {
-    if (pw__nrrd_ieq(s, n, "raw"))
-        r->gzip = 0;
-    else if (pw__nrrd_in_list(s, n, "gzip|gz"))
-        r->gzip = 1;
+    if (pw__nrrd_ieq(s, n, "raw")) r->gzip = 0;
+    else if (pw__nrrd_in_list(s, n, "gzip|gz")) r->gzip = 1;
     else if (pw__nrrd_in_list(s, n, "txt|text|ascii|hex|bz2|bzip2"))
-        return pw__nrrd_bad(r, PW_ERR_UNSUPPORTED, "encoding is not supported (raw or gzip):", s,
-                            n);
-    else
-        return pw__nrrd_bad(r, PW_ERR_PARSE, "unknown encoding", s, n);
+        return pw__nrrd_bad(r, PW_ERR_UNSUPPORTED, "encoding is not supported (raw or gzip):", s, n);
+    else return pw__nrrd_bad(r, PW_ERR_PARSE, "unknown encoding", s, n);
     return PW_OK;
 }
 
@@ -446,13 +426,11 @@ PW__DEF int pw__nrrd_sizes(pw__nrrd *r, const char *s, size_t n)
         int rc;
         while (k < n && s[k] != ' ' && s[k] != '\t') k++;
         if (r->nsizes == PW__NRRD_MAX_DIM)
-            return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: more than %d sizes", r->name, r->line,
-                           PW__NRRD_MAX_DIM);
+            return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: more than %d sizes", r->name, r->line, PW__NRRD_MAX_DIM);
         rc = pw__nrrd_int(s + i, k - i, &v);
         if (rc == -2) return pw__nrrd_bad(r, PW_ERR_LIMIT, "size is too large:", s + i, k - i);
         if (rc || v <= 0)
-            return pw__nrrd_bad(r, PW_ERR_PARSE, "bad size (a positive integer is needed):", s + i,
-                                k - i);
+            return pw__nrrd_bad(r, PW_ERR_PARSE, "bad size (a positive integer is needed):", s + i, k - i);
         r->size[r->nsizes++] = (uint64_t)v;
         i = k;
         while (i < n && (s[i] == ' ' || s[i] == '\t')) i++;
@@ -471,17 +449,15 @@ PW__DEF int pw__nrrd_number_field(pw__nrrd *r, int id, const char *s, size_t n)
                                                      : "bad byte skip",
                             s, n);
     if (id == PW__NF_DIMENSION) {
-        if (v < 1 || v > PW__NRRD_MAX_DIM)
-            return pw__nrrd_bad(r, PW_ERR_PARSE, "bad dimension (1 to 16):", s, n);
+        if (v < 1 || v > PW__NRRD_MAX_DIM) return pw__nrrd_bad(r, PW_ERR_PARSE, "bad dimension (1 to 16):", s, n);
         if (v < 2 || v > 4)
             return pw_fail(r->e, PW_ERR_UNSUPPORTED,
-                           "%s:%d: dimension %d is not supported (2: X Y, 3: X Y Z, 4: C X Y Z)",
-                           r->name, r->line, (int)v);
+                           "%s:%d: dimension %d is not supported (2: X Y, 3: X Y Z, 4: C X Y Z)", r->name, r->line,
+                           (int)v);
         r->dim = (int)v;
     } else if (v != 0) {
-        return pw_fail(r->e, PW_ERR_UNSUPPORTED,
-                       "%s:%d: %s %lld is not supported (the data must follow the header)", r->name,
-                       r->line, id == PW__NF_LINE_SKIP ? "line skip" : "byte skip", (long long)v);
+        return pw_fail(r->e, PW_ERR_UNSUPPORTED, "%s:%d: %s %lld is not supported (the data must follow the header)",
+                       r->name, r->line, id == PW__NF_LINE_SKIP ? "line skip" : "byte skip", (long long)v);
     }
     return PW_OK;
 }
@@ -491,44 +467,34 @@ PW__DEF void pw__nrrd_kinds(pw__nrrd *r, const char *s, size_t n)
 {
     size_t k = 0;
     while (k < n && s[k] != ' ' && s[k] != '\t') k++;
-    r->first_kind = pw__nrrd_in_list(
-        s, k,
-        "RGB-color|RGBA-color|HSV-color|XYZ-color|3-color|4-color|vector|2-vector|3-vector|4-"
-        "vector|covariant-vector|normal|3-normal|3-gradient|point|list|quaternion|complex");
+    r->first_kind =
+        pw__nrrd_in_list(s, k,
+                         "RGB-color|RGBA-color|HSV-color|XYZ-color|3-color|4-color|vector|2-vector|3-vector|4-"
+                         "vector|covariant-vector|normal|3-normal|3-gradient|point|list|quaternion|complex");
 }
 
 /* The value of one known field. */
 PW__DEF int pw__nrrd_value(pw__nrrd *r, int id, const char *s, size_t n)
 {
     switch (id) {
-    case PW__NF_TYPE:
-        return pw__nrrd_type(r, s, n);
-    case PW__NF_ENCODING:
-        return pw__nrrd_encoding(r, s, n);
-    case PW__NF_SIZES:
-        return pw__nrrd_sizes(r, s, n);
-    case PW__NF_KINDS:
-        pw__nrrd_kinds(r, s, n);
-        return PW_OK;
+    case PW__NF_TYPE: return pw__nrrd_type(r, s, n);
+    case PW__NF_ENCODING: return pw__nrrd_encoding(r, s, n);
+    case PW__NF_SIZES: return pw__nrrd_sizes(r, s, n);
+    case PW__NF_KINDS: pw__nrrd_kinds(r, s, n); return PW_OK;
     case PW__NF_DIMENSION:
     case PW__NF_LINE_SKIP:
-    case PW__NF_BYTE_SKIP:
-        return pw__nrrd_number_field(r, id, s, n);
+    case PW__NF_BYTE_SKIP: return pw__nrrd_number_field(r, id, s, n);
     case PW__NF_ENDIAN:
-        if (pw__nrrd_ieq(s, n, "little"))
-            r->endian = 1;
-        else if (pw__nrrd_ieq(s, n, "big"))
-            r->endian = 2;
-        else
-            return pw__nrrd_bad(r, PW_ERR_PARSE, "bad endian (little or big):", s, n);
+        if (pw__nrrd_ieq(s, n, "little")) r->endian = 1;
+        else if (pw__nrrd_ieq(s, n, "big")) r->endian = 2;
+        else return pw__nrrd_bad(r, PW_ERR_PARSE, "bad endian (little or big):", s, n);
         return PW_OK;
     case PW__NF_DATA_FILE:
         return pw__nrrd_bad(r, PW_ERR_UNSUPPORTED,
                             "detached data is not supported (the data must follow the header): "
                             "data file",
                             s, n);
-    default:
-        return PW_OK; /* content, spacings, space, ...: ignored */
+    default: return PW_OK; /* content, spacings, space, ...: ignored */
     }
 }
 
@@ -538,20 +504,18 @@ PW__DEF int pw__nrrd_line(pw__nrrd *r, const char *s, size_t n)
 {
     size_t k, v;
     int id;
-    if (memchr(s, 0, n))
-        return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: NUL byte in the header", r->name, r->line);
+    if (memchr(s, 0, n)) return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: NUL byte in the header", r->name, r->line);
     if (s[0] == '#') return PW_OK;
     for (k = 0; k + 1 < n; k++)
         if (s[k] == ':' && (s[k + 1] == ' ' || s[k + 1] == '=')) break;
     if (k + 1 >= n || k == 0)
-        return pw__nrrd_bad(r, PW_ERR_PARSE, "expected 'field: value' or 'key:=value', found", s,
-                            n);
+        return pw__nrrd_bad(r, PW_ERR_PARSE, "expected 'field: value' or 'key:=value', found", s, n);
     if (s[k + 1] == '=') return PW_OK;
     id = pw__nrrd_field(s, k);
     if (id < 0) return PW_OK; /* unknown fields are ignored */
     if (r->seen[id])
-        return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: duplicate field '%.*s' (first given on line %d)",
-                       r->name, r->line, (int)k, s, r->seen[id]);
+        return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: duplicate field '%.*s' (first given on line %d)", r->name, r->line,
+                       (int)k, s, r->seen[id]);
     r->seen[id] = r->line;
     v = k + 2;
     while (v < n && (s[v] == ' ' || s[v] == '\t')) v++;
@@ -566,14 +530,12 @@ PW__DEF int pw__nrrd_magic(pw__nrrd *r)
     if (r->n < 8 || memcmp(p, "NRRD000", 7) != 0 || p[7] < '0' || p[7] > '9')
         return pw_fail(r->e, PW_ERR_PARSE, "%s: not a NRRD file (no NRRD000X magic)", r->name);
     if (p[7] < '1' || p[7] > '5')
-        return pw_fail(r->e, PW_ERR_UNSUPPORTED,
-                       "%s: NRRD format version %c is not supported (NRRD0001 to NRRD0005)",
+        return pw_fail(r->e, PW_ERR_UNSUPPORTED, "%s: NRRD format version %c is not supported (NRRD0001 to NRRD0005)",
                        r->name, p[7]);
     r->pos = 8;
     if (r->pos < r->n && r->p[r->pos] == '\r') r->pos++;
     if (r->pos >= r->n || r->p[r->pos] != '\n')
-        return pw_fail(r->e, PW_ERR_PARSE, "%s:1: the magic must be alone on the first line",
-                       r->name);
+        return pw_fail(r->e, PW_ERR_PARSE, "%s:1: the magic must be alone on the first line", r->name);
     r->pos++;
     r->line = 2;
     return PW_OK;
@@ -584,13 +546,11 @@ PW__DEF int pw__nrrd_header(pw__nrrd *r)
 {
     for (;; r->line++) {
         const unsigned char *nl =
-            r->pos < r->n ? (const unsigned char *)memchr(r->p + r->pos, '\n', r->n - r->pos)
-                          : NULL;
+            r->pos < r->n ? (const unsigned char *)memchr(r->p + r->pos, '\n', r->n - r->pos) : NULL;
         size_t start = r->pos, end;
         int rc;
         if (!nl)
-            return pw_fail(r->e, PW_ERR_PARSE,
-                           "%s:%d: the header does not end with an empty line (no data follows)",
+            return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: the header does not end with an empty line (no data follows)",
                            r->name, r->line);
         end = (size_t)(nl - r->p);
         r->pos = end + 1;
@@ -609,21 +569,19 @@ PW__DEF int pw__nrrd_shape(pw__nrrd *r)
     int i, rest, rc;
     for (i = 0; i < 4; i++)
         if (!r->seen[i])
-            return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: the header lacks the required '%s' field",
-                           r->name, r->line, req[i]);
+            return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: the header lacks the required '%s' field", r->name, r->line,
+                           req[i]);
     if (r->nsizes != r->dim)
         return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: sizes has %d values, dimension says %d", r->name,
                        r->seen[PW__NF_SIZES], r->nsizes, r->dim);
     if (r->bytes > 1 && !r->endian)
-        return pw_fail(r->e, PW_ERR_PARSE,
-                       "%s:%d: the header lacks the 'endian' field (needed for %s samples)",
+        return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: the header lacks the 'endian' field (needed for %s samples)",
                        r->name, r->line, r->bytes == 2 ? "16-bit" : "float");
     r->c = 1;
     rest = r->dim; /* spatial axes */
     if (r->dim == 4 || (r->dim == 3 && r->first_kind)) {
         if (s[0] > 4)
-            return pw_fail(r->e, PW_ERR_UNSUPPORTED,
-                           "%s:%d: %llu channels (the first size) are not supported (1 to 4)",
+            return pw_fail(r->e, PW_ERR_UNSUPPORTED, "%s:%d: %llu channels (the first size) are not supported (1 to 4)",
                            r->name, r->seen[PW__NF_SIZES], (unsigned long long)s[0]);
         r->c = (int)s[0];
         s++;
@@ -656,8 +614,8 @@ PW__DEF int pw__nrrd_convert(pw__nrrd *r, const unsigned char *src, pw_volume *v
             float f;
             memcpy(&f, &u, sizeof f);
             if (!pw_is_finite(f))
-                return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: float sample %lu is %s", r->name,
-                               r->line, (unsigned long)i, f != f ? "NaN" : "infinite");
+                return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: float sample %lu is %s", r->name, r->line, (unsigned long)i,
+                               f != f ? "NaN" : "infinite");
             v->px[i] = f;
         }
     }
@@ -680,7 +638,8 @@ PW__DEF int pw__nrrd_data(const pw_alloc *a, pw__nrrd *r, pw_volume *out)
         pw_buf unz;
         pw_err_clear(&local);
         rc = pw_gzip_decompress(a, src, have, (size_t)need, &unz, &local);
-        buf = unz.data, have = unz.size;
+        buf = unz.data;
+        have = unz.size;
         if (rc == PW_ERR_LIMIT)
             return pw_fail(r->e, PW_ERR_PARSE,
                            "%s:%d: the gzip data holds more than the %llu bytes that sizes and "
@@ -691,10 +650,8 @@ PW__DEF int pw__nrrd_data(const pw_alloc *a, pw__nrrd *r, pw_volume *out)
     }
     if (have < need) {
         pw_free(a, buf);
-        return pw_fail(r->e, PW_ERR_PARSE,
-                       "%s:%d: data truncated: %llu bytes needed, %llu present%s", r->name, r->line,
-                       (unsigned long long)need, (unsigned long long)have,
-                       r->gzip ? " after gunzip" : "");
+        return pw_fail(r->e, PW_ERR_PARSE, "%s:%d: data truncated: %llu bytes needed, %llu present%s", r->name, r->line,
+                       (unsigned long long)need, (unsigned long long)have, r->gzip ? " after gunzip" : "");
     }
     rc = pw_volume_alloc(a, out, r->c, r->x, r->y, r->z, r->e);
     if (!rc) rc = pw__nrrd_convert(r, src, out);
@@ -705,8 +662,8 @@ PW__DEF int pw__nrrd_data(const pw_alloc *a, pw__nrrd *r, pw_volume *out)
 
 /* Reads a NRRD volume from memory (see the top of this module for what is
  * read). `name` (usually the file name) starts every error message. */
-PW__DEF int pw_nrrd_read_memory(const pw_alloc *a, const unsigned char *data, size_t size,
-                                const char *name, pw_volume *out, pw_err *e)
+PW__DEF int pw_nrrd_read_memory(const pw_alloc *a, const unsigned char *data, size_t size, const char *name,
+                                pw_volume *out, pw_err *e)
 {
     pw__nrrd r;
     int rc;
@@ -717,8 +674,7 @@ PW__DEF int pw_nrrd_read_memory(const pw_alloc *a, const unsigned char *data, si
     r.name = name ? name : "volume";
     r.e = e;
     r.line = 1;
-    if ((rc = pw__nrrd_magic(&r)) || (rc = pw__nrrd_header(&r)) || (rc = pw__nrrd_shape(&r)))
-        return rc;
+    if ((rc = pw__nrrd_magic(&r)) || (rc = pw__nrrd_header(&r)) || (rc = pw__nrrd_shape(&r))) return rc;
     return pw__nrrd_data(a, &r, out);
 }
 
@@ -729,8 +685,7 @@ PW__DEF int pw_nrrd_read_memory(const pw_alloc *a, const unsigned char *data, si
 /* NRRD0004, uint8 samples (pw_image_quantize), dimension 3 (sizes X Y Z)
  * for one channel and 4 (sizes C X Y Z) otherwise, raw or (gzip != 0)
  * gzip-encoded. a is used only for gzip. */
-PW__DEF int pw_nrrd_write(const pw_alloc *a, const pw_volume *vol, int gzip, pw_write_fn w,
-                          void *ctx, pw_err *e)
+PW__DEF int pw_nrrd_write(const pw_alloc *a, const pw_volume *vol, int gzip, pw_write_fn w, void *ctx, pw_err *e)
 {
     static const char *const kinds[4] = {"", "2-vector ", "RGB-color ", "RGBA-color "};
     pw__sink s;
@@ -744,8 +699,7 @@ PW__DEF int pw_nrrd_write(const pw_alloc *a, const pw_volume *vol, int gzip, pw_
     k = snprintf(head, sizeof head,
                  "NRRD0004\ntype: uint8\ndimension: %d\nsizes: %s%d %d %d\n"
                  "kinds: %sdomain domain domain\nencoding: %s\n\n",
-                 vol->c > 1 ? 4 : 3, sz, vol->x, vol->y, vol->z, kinds[vol->c - 1],
-                 gzip ? "gzip" : "raw");
+                 vol->c > 1 ? 4 : 3, sz, vol->x, vol->y, vol->z, kinds[vol->c - 1], gzip ? "gzip" : "raw");
     pw__sink_init(&s, w, ctx);
     pw__sink_put(&s, head, (size_t)k);
     if (gzip) {
@@ -792,8 +746,7 @@ PW__DEF int pw__nrrd_save_body(void *arg, pw_write_fn w, void *ctx, pw_err *e)
 }
 
 /* Writes vol to the NRRD file at path (see pw_nrrd_write). */
-PW__DEF int pw_nrrd_save(const pw_alloc *a, const pw_volume *vol, int gzip, const char *path,
-                         pw_err *e)
+PW__DEF int pw_nrrd_save(const pw_alloc *a, const pw_volume *vol, int gzip, const char *path, pw_err *e)
 {
     pw__nrrd_save_arg s;
     int rc = pw__volume_check(vol, e);

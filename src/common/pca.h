@@ -130,11 +130,13 @@ PW__DEF int pw_pca_solve(const pw_alloc *a, const pw_pca *p, const pw_pca_out *o
     for (r = 0; r < k; r++) { /* selection of the largest remaining eigenvalue */
         int best = -1, big = 0;
         for (j = 0; j < d; j++)
-            if (c[(size_t)j * d + j] > -DBL_MAX && (best < 0 || c[(size_t)j * d + j] > c[(size_t)best * d + best])) best = j;
+            if (c[(size_t)j * d + j] > -DBL_MAX && (best < 0 || c[(size_t)j * d + j] > c[(size_t)best * d + best]))
+                best = j;
         for (i = 1; i < d; i++)
             if (fabs(v[(size_t)i * d + best]) > fabs(v[(size_t)big * d + best])) big = i;
         for (i = 0; i < d; i++)
-            basis[(size_t)r * d + i] = (float)(v[(size_t)big * d + best] < 0.0 ? -v[(size_t)i * d + best] : v[(size_t)i * d + best]);
+            basis[(size_t)r * d + i] =
+                (float)(v[(size_t)big * d + best] < 0.0 ? -v[(size_t)i * d + best] : v[(size_t)i * d + best]);
         if (var) var[r] = (float)(c[(size_t)best * d + best] > 0.0 ? c[(size_t)best * d + best] : 0.0);
         c[(size_t)best * d + best] = -DBL_MAX;
     }

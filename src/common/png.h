@@ -71,26 +71,22 @@ PW__DEF int pw__paeth(int a, int b, int c)
 }
 
 /* Filters one row (n bytes, bpp bytes per pixel) with filter type f. */
-PW__DEF void pw__png_filter(unsigned char *dst, const unsigned char *cur, const unsigned char *prev,
-                            size_t n, size_t bpp, int f)
+PW__DEF void pw__png_filter(unsigned char *dst, const unsigned char *cur, const unsigned char *prev, size_t n,
+                            size_t bpp, int f)
 {
     size_t i;
     for (i = 0; i < n; i++) {
         int x = cur[i], a = i >= bpp ? cur[i - bpp] : 0, b = prev[i];
         int c = i >= bpp ? prev[i - bpp] : 0;
-        int pred = f == 0   ? 0
-                   : f == 1 ? a
-                   : f == 2 ? b
-                   : f == 3 ? (a + b) >> 1
-                            : pw__paeth(a, b, c);
+        int pred = f == 0 ? 0 : f == 1 ? a : f == 2 ? b : f == 3 ? (a + b) >> 1 : pw__paeth(a, b, c);
         dst[i] = (unsigned char)(x - pred);
     }
 }
 
 /* Quantised rows, each prefixed by the filter byte that minimises the sum
  * of absolute differences (bytes read as signed). */
-PW__DEF int pw__png_filtered(const pw_alloc *a, const pw_image *img, unsigned maxval,
-                             unsigned char **out, size_t *outn, pw_err *e)
+PW__DEF int pw__png_filtered(const pw_alloc *a, const pw_image *img, unsigned maxval, unsigned char **out, size_t *outn,
+                             pw_err *e)
 {
     size_t bps = maxval > 255 ? 2 : 1, bpp = bps * (size_t)img->c;
     size_t n = bpp * (size_t)img->w, x, y, k;
@@ -132,8 +128,7 @@ PW__DEF int pw__png_filtered(const pw_alloc *a, const pw_image *img, unsigned ma
 
 /* Writes img as PNG. bits: 8, 16, or 0 for img->bits. Temporary buffers
  * come from a (NULL: PW_MALLOC). */
-PW__DEF int pw_png_write(const pw_alloc *a, const pw_image *img, int bits, pw_write_fn w,
-                         void *ctx, pw_err *e)
+PW__DEF int pw_png_write(const pw_alloc *a, const pw_image *img, int bits, pw_write_fn w, void *ctx, pw_err *e)
 {
     static const unsigned char ctypes[4] = {0, 4, 2, 6};
     unsigned char ihdr[13], *raw = NULL, *z = NULL;
@@ -154,8 +149,7 @@ PW__DEF int pw_png_write(const pw_alloc *a, const pw_image *img, int bits, pw_wr
     pw__sink_init(&s, w, ctx);
     pw__sink_put(&s, pw__png_sig, 8);
     pw__png_chunk(&s, "IHDR", ihdr, 13);
-    for (off = 0; off < zn; off += 65536)
-        pw__png_chunk(&s, "IDAT", z + off, zn - off < 65536 ? zn - off : 65536);
+    for (off = 0; off < zn; off += 65536) pw__png_chunk(&s, "IDAT", z + off, zn - off < 65536 ? zn - off : 65536);
     pw__png_chunk(&s, "IEND", ihdr, 0);
     pw_free(a, z);
     return pw__sink_end(&s, e);
@@ -185,8 +179,7 @@ PW__DEF int pw__png_ihdr(pw__png *p, const unsigned char *d, uint32_t len)
     static const int spp[7] = {1, 0, 3, 1, 2, 0, 4};
     int ok, rc;
     if (len != 13)
-        return pw_fail(p->e, PW_ERR_PARSE, "%s: IHDR chunk has length %lu, not 13", p->name,
-                       (unsigned long)len);
+        return pw_fail(p->e, PW_ERR_PARSE, "%s: IHDR chunk has length %lu, not 13", p->name, (unsigned long)len);
     p->w = pw__be32(d);
     p->h = pw__be32(d + 4);
     p->depth = d[8];
@@ -197,11 +190,10 @@ PW__DEF int pw__png_ihdr(pw__png *p, const unsigned char *d, uint32_t len)
     ok = p->depth == 8 || (p->depth == 16 && p->ctype != 3) ||
          ((p->depth == 1 || p->depth == 2 || p->depth == 4) && (p->ctype == 0 || p->ctype == 3));
     if (!ok)
-        return pw_fail(p->e, PW_ERR_PARSE, "%s: bit depth %d is invalid for PNG colour type %d",
-                       p->name, p->depth, p->ctype);
+        return pw_fail(p->e, PW_ERR_PARSE, "%s: bit depth %d is invalid for PNG colour type %d", p->name, p->depth,
+                       p->ctype);
     if (d[10] != 0 || d[11] != 0 || p->interlace > 1)
-        return pw_fail(p->e, PW_ERR_PARSE,
-                       "%s: unknown PNG compression, filter or interlace method (%d, %d, %d)",
+        return pw_fail(p->e, PW_ERR_PARSE, "%s: unknown PNG compression, filter or interlace method (%d, %d, %d)",
                        p->name, d[10], d[11], d[12]);
     if ((rc = pw__image_check_size(p->name, p->w, p->h, p->e))) return rc;
     p->spp = spp[p->ctype];
@@ -213,12 +205,10 @@ PW__DEF int pw__png_ihdr(pw__png *p, const unsigned char *d, uint32_t len)
 PW__DEF int pw__png_palette(pw__png *p, const char *type, const unsigned char *d, uint32_t len)
 {
     uint32_t i;
-    if (p->seen_idat)
-        return pw_fail(p->e, PW_ERR_PARSE, "%s: %s chunk after the image data", p->name, type);
+    if (p->seen_idat) return pw_fail(p->e, PW_ERR_PARSE, "%s: %s chunk after the image data", p->name, type);
     if (type[0] == 'P') {
         if (len % 3 || len == 0 || len > 768)
-            return pw_fail(p->e, PW_ERR_PARSE, "%s: PLTE chunk has invalid length %lu", p->name,
-                           (unsigned long)len);
+            return pw_fail(p->e, PW_ERR_PARSE, "%s: PLTE chunk has invalid length %lu", p->name, (unsigned long)len);
         if (p->ctype == 0 || p->ctype == 4) return PW_OK; /* not allowed, harmless */
         p->npal = (int)(len / 3);
         for (i = 0; i < len / 3; i++) {
@@ -229,13 +219,12 @@ PW__DEF int pw__png_palette(pw__png *p, const char *type, const unsigned char *d
     }
     if (p->ctype == 3) {
         if (len > (uint32_t)p->npal)
-            return pw_fail(p->e, PW_ERR_PARSE, "%s: tRNS chunk has %lu entries for a palette of %d",
-                           p->name, (unsigned long)len, p->npal);
+            return pw_fail(p->e, PW_ERR_PARSE, "%s: tRNS chunk has %lu entries for a palette of %d", p->name,
+                           (unsigned long)len, p->npal);
         for (i = 0; i < len; i++) p->pal[i][3] = d[i];
     } else if (p->ctype == 0 || p->ctype == 2) {
         if (len != (p->ctype ? 6u : 2u))
-            return pw_fail(p->e, PW_ERR_PARSE, "%s: tRNS chunk has invalid length %lu", p->name,
-                           (unsigned long)len);
+            return pw_fail(p->e, PW_ERR_PARSE, "%s: tRNS chunk has invalid length %lu", p->name, (unsigned long)len);
         for (i = 0; i < len / 2; i++) p->key[i] = (unsigned)d[2 * i] << 8 | d[2 * i + 1];
     } else {
         return PW_OK; /* not allowed with an alpha channel; ignored */
@@ -253,12 +242,10 @@ PW__DEF int pw__png_chunk_read(pw__png *p, const unsigned char *c, uint32_t len)
     if (!p->seen_ihdr && strcmp(type, "IHDR") != 0)
         return pw_fail(p->e, PW_ERR_PARSE, "%s: first PNG chunk is not IHDR", p->name);
     if (strcmp(type, "IHDR") == 0) {
-        if (p->seen_ihdr)
-            return pw_fail(p->e, PW_ERR_PARSE, "%s: more than one IHDR chunk", p->name);
+        if (p->seen_ihdr) return pw_fail(p->e, PW_ERR_PARSE, "%s: more than one IHDR chunk", p->name);
         return pw__png_ihdr(p, c + 8, len);
     }
-    if (strcmp(type, "PLTE") == 0 || strcmp(type, "tRNS") == 0)
-        return pw__png_palette(p, type, c + 8, len);
+    if (strcmp(type, "PLTE") == 0 || strcmp(type, "tRNS") == 0) return pw__png_palette(p, type, c + 8, len);
     if (strcmp(type, "IDAT") == 0) {
         p->idat_size += len;
         p->seen_idat = 1;
@@ -269,8 +256,7 @@ PW__DEF int pw__png_chunk_read(pw__png *p, const unsigned char *c, uint32_t len)
         return PW_OK;
     }
     if (!(type[0] & 0x20)) /* an uppercase first letter marks a critical chunk */
-        return pw_fail(p->e, PW_ERR_UNSUPPORTED, "%s: unknown critical PNG chunk '%s'", p->name,
-                       type);
+        return pw_fail(p->e, PW_ERR_UNSUPPORTED, "%s: unknown critical PNG chunk '%s'", p->name, type);
     return PW_OK;
 }
 
@@ -283,26 +269,21 @@ PW__DEF int pw__png_walk(pw__png *p, const unsigned char *data, size_t size)
     while (!p->seen_iend) {
         const unsigned char *c = data + pos;
         uint32_t len;
-        if (size - pos < 12)
-            return pw_fail(p->e, PW_ERR_PARSE, "%s: PNG file truncated (no IEND chunk)", p->name);
+        if (size - pos < 12) return pw_fail(p->e, PW_ERR_PARSE, "%s: PNG file truncated (no IEND chunk)", p->name);
         len = pw__be32(c);
         for (i = 4; i < 8; i++)
             if (!((c[i] >= 'A' && c[i] <= 'Z') || (c[i] >= 'a' && c[i] <= 'z')))
-                return pw_fail(p->e, PW_ERR_PARSE, "%s: bad PNG chunk type at offset %lu", p->name,
-                               (unsigned long)pos);
+                return pw_fail(p->e, PW_ERR_PARSE, "%s: bad PNG chunk type at offset %lu", p->name, (unsigned long)pos);
         if (len > 0x7fffffffu || len > size - pos - 12)
-            return pw_fail(p->e, PW_ERR_PARSE, "%s: PNG chunk '%.4s' truncated (length %lu)",
-                           p->name, (const char *)c + 4, (unsigned long)len);
+            return pw_fail(p->e, PW_ERR_PARSE, "%s: PNG chunk '%.4s' truncated (length %lu)", p->name,
+                           (const char *)c + 4, (unsigned long)len);
         if (pw_crc32(0, c + 4, len + 4) != pw__be32(c + 8 + len))
-            return pw_fail(p->e, PW_ERR_PARSE, "%s: CRC mismatch in PNG chunk '%.4s'", p->name,
-                           (const char *)c + 4);
+            return pw_fail(p->e, PW_ERR_PARSE, "%s: CRC mismatch in PNG chunk '%.4s'", p->name, (const char *)c + 4);
         if ((rc = pw__png_chunk_read(p, c, len))) return rc;
         pos += 12 + (size_t)len;
     }
-    if (!p->seen_idat)
-        return pw_fail(p->e, PW_ERR_PARSE, "%s: PNG file has no IDAT chunk", p->name);
-    if (p->ctype == 3 && !p->npal)
-        return pw_fail(p->e, PW_ERR_PARSE, "%s: palette PNG has no PLTE chunk", p->name);
+    if (!p->seen_idat) return pw_fail(p->e, PW_ERR_PARSE, "%s: PNG file has no IDAT chunk", p->name);
+    if (p->ctype == 3 && !p->npal) return pw_fail(p->e, PW_ERR_PARSE, "%s: palette PNG has no PLTE chunk", p->name);
     return PW_OK;
 }
 
@@ -323,15 +304,13 @@ PW__DEF void pw__png_gather(const unsigned char *data, unsigned char *idat)
 
 /* Adam7 passes (§8.2): x start, y start, x step, y step. A plain image is
  * the single pass {0, 0, 1, 1}. */
-static const unsigned char pw__adam7[7][4] = {{0, 0, 8, 8}, {4, 0, 8, 8}, {0, 4, 4, 8},
-                                              {2, 0, 4, 4}, {0, 2, 2, 4}, {1, 0, 2, 2},
-                                              {0, 1, 1, 2}};
+static const unsigned char pw__adam7[7][4] = {{0, 0, 8, 8}, {4, 0, 8, 8}, {0, 4, 4, 8}, {2, 0, 4, 4},
+                                              {0, 2, 2, 4}, {1, 0, 2, 2}, {0, 1, 1, 2}};
 
 /* Pixels of a pass along one axis (0 when the pass is empty). */
 PW__DEF uint32_t pw__pass_len(uint32_t size, int start, int step)
 {
-    return size > (uint32_t)start ? (size - (uint32_t)start + (uint32_t)step - 1) / (uint32_t)step
-                                  : 0;
+    return size > (uint32_t)start ? (size - (uint32_t)start + (uint32_t)step - 1) / (uint32_t)step : 0;
 }
 
 /* Bytes of one filtered row of `w` pixels, without the filter byte. */
@@ -356,8 +335,7 @@ PW__DEF uint64_t pw__png_rawsize(const pw__png *p)
 
 /* Undoes the filter of one row in place (§9.2); prev is NULL for the first
  * row of a pass. */
-PW__DEF int pw__png_unfilter(pw__png *p, unsigned char *row, const unsigned char *prev, size_t n,
-                             size_t bpp, int f)
+PW__DEF int pw__png_unfilter(pw__png *p, unsigned char *row, const unsigned char *prev, size_t n, size_t bpp, int f)
 {
     size_t i;
     if (f > 4) return pw_fail(p->e, PW_ERR_PARSE, "%s: invalid PNG filter type %d", p->name, f);
@@ -382,8 +360,7 @@ PW__DEF unsigned pw__png_sample(const unsigned char *row, size_t i, int depth)
 }
 
 /* Converts `count` pixels of a row to floats at dst, dst + step, ... */
-PW__DEF int pw__png_pixels(pw__png *p, const unsigned char *row, uint32_t count, float *dst,
-                           size_t step)
+PW__DEF int pw__png_pixels(pw__png *p, const unsigned char *row, uint32_t count, float *dst, size_t step)
 {
     float maxv = (float)((1u << p->depth) - 1);
     unsigned s[4];
@@ -393,17 +370,15 @@ PW__DEF int pw__png_pixels(pw__png *p, const unsigned char *row, uint32_t count,
         for (k = 0; k < p->spp; k++) s[k] = pw__png_sample(row, (size_t)x * p->spp + k, p->depth);
         if (p->ctype == 3) {
             if (s[0] >= (unsigned)p->npal)
-                return pw_fail(p->e, PW_ERR_PARSE, "%s: palette index %u out of range (%d entries)",
-                               p->name, s[0], p->npal);
+                return pw_fail(p->e, PW_ERR_PARSE, "%s: palette index %u out of range (%d entries)", p->name, s[0],
+                               p->npal);
             for (k = 0; k < p->outc; k++) dst[k] = (float)p->pal[s[0]][k] / 255.0f;
             continue;
         }
         for (k = 0; k < p->spp; k++) dst[k] = (float)s[k] / maxv;
         if (p->trns) /* colour key: alpha 0 where the pixel equals it */
             dst[p->spp] =
-                (s[0] == p->key[0] && (p->spp == 1 || (s[1] == p->key[1] && s[2] == p->key[2])))
-                    ? 0.0f
-                    : 1.0f;
+                (s[0] == p->key[0] && (p->spp == 1 || (s[1] == p->key[1] && s[2] == p->key[2]))) ? 0.0f : 1.0f;
     }
     return PW_OK;
 }
@@ -434,8 +409,8 @@ PW__DEF int pw__png_decode(pw__png *p, unsigned char *raw, pw_image *img)
 }
 
 /* Decompresses the gathered IDAT data, exactly `want` bytes. */
-PW__DEF int pw__png_inflate(pw__png *p, const pw_alloc *a, const unsigned char *z, size_t zn,
-                            size_t want, unsigned char **raw)
+PW__DEF int pw__png_inflate(pw__png *p, const pw_alloc *a, const unsigned char *z, size_t zn, size_t want,
+                            unsigned char **raw)
 {
     pw_err local;
     size_t got;
@@ -443,22 +418,21 @@ PW__DEF int pw__png_inflate(pw__png *p, const pw_alloc *a, const unsigned char *
     pw_err_clear(&local);
     rc = pw_zlib_decompress(a, z, zn, want, raw, &got, &local);
     if (rc == PW_ERR_LIMIT)
-        return pw_fail(p->e, PW_ERR_PARSE,
-                       "%s: PNG image data is longer than the %lu bytes its size implies", p->name,
+        return pw_fail(p->e, PW_ERR_PARSE, "%s: PNG image data is longer than the %lu bytes its size implies", p->name,
                        (unsigned long)want);
     if (rc) return pw_fail(p->e, rc, "%s: PNG image data: %s", p->name, local.msg);
     if (got != want) {
         pw_free(a, *raw);
         *raw = NULL;
-        return pw_fail(p->e, PW_ERR_PARSE, "%s: PNG image data truncated (%lu of %lu bytes)",
-                       p->name, (unsigned long)got, (unsigned long)want);
+        return pw_fail(p->e, PW_ERR_PARSE, "%s: PNG image data truncated (%lu of %lu bytes)", p->name,
+                       (unsigned long)got, (unsigned long)want);
     }
     return PW_OK;
 }
 
 /* Reads a PNG from memory; `name` prefixes error messages. */
-PW__DEF int pw_png_read_memory(const pw_alloc *a, const unsigned char *data, size_t size,
-                               const char *name, pw_image *out, pw_err *e)
+PW__DEF int pw_png_read_memory(const pw_alloc *a, const unsigned char *data, size_t size, const char *name,
+                               pw_image *out, pw_err *e)
 {
     pw__png p;
     unsigned char *z = NULL, *raw = NULL;
@@ -475,8 +449,7 @@ PW__DEF int pw_png_read_memory(const pw_alloc *a, const unsigned char *data, siz
     /* deflate expands at most 1032:1 (a 258-byte match in 2 bits): refuse
      * sizes the data cannot hold before allocating anything */
     if (want > p.idat_size * 1032 + 64 || want > (size_t)-1)
-        return pw_fail(e, PW_ERR_PARSE,
-                       "%s: PNG image data (%lu bytes) too short for a %lux%lu image", p.name,
+        return pw_fail(e, PW_ERR_PARSE, "%s: PNG image data (%lu bytes) too short for a %lux%lu image", p.name,
                        (unsigned long)p.idat_size, (unsigned long)p.w, (unsigned long)p.h);
     z = (unsigned char *)pw_alloc_array(a, (size_t)p.idat_size, 1, "PNG image data", e);
     if (!z) return PW_ERR_NOMEM;
@@ -496,17 +469,22 @@ PW__DEF int pw_png_read_memory(const pw_alloc *a, const unsigned char *data, siz
 }
 
 #else
-PW__DEF int pw_png_write(const pw_alloc *a, const pw_image *img, int bits, pw_write_fn w,
-                         void *ctx, pw_err *e)
+PW__DEF int pw_png_write(const pw_alloc *a, const pw_image *img, int bits, pw_write_fn w, void *ctx, pw_err *e)
 {
-    (void)a, (void)img, (void)bits, (void)w, (void)ctx;
+    (void)a;
+    (void)img;
+    (void)bits;
+    (void)w;
+    (void)ctx;
     return pw_fail(e, PW_ERR_UNSUPPORTED, "PNG compiled out (PW_NO_PNG)");
 }
 
-PW__DEF int pw_png_read_memory(const pw_alloc *a, const unsigned char *data, size_t size,
-                               const char *name, pw_image *out, pw_err *e)
+PW__DEF int pw_png_read_memory(const pw_alloc *a, const unsigned char *data, size_t size, const char *name,
+                               pw_image *out, pw_err *e)
 {
-    (void)a, (void)data, (void)size;
+    (void)a;
+    (void)data;
+    (void)size;
     memset(out, 0, sizeof *out);
     return pw_fail(e, PW_ERR_UNSUPPORTED, "%s: PNG compiled out (PW_NO_PNG)", name ? name : "image");
 }
@@ -519,20 +497,17 @@ PW__DEF int pw_png_read_memory(const pw_alloc *a, const unsigned char *data, siz
 /* Reads PNG, PNM/PAM (P1-P7) or a GIMP pattern, recognised by content
  * (PNG signature, "P1".."P7", "GPAT" at offset 20). `name` (usually the
  * file name) prefixes every error message; `a` may be NULL. */
-PW__DEF int pw_image_read_memory(const pw_alloc *a, const unsigned char *data, size_t size,
-                                 const char *name, pw_image *out, pw_err *e)
+PW__DEF int pw_image_read_memory(const pw_alloc *a, const unsigned char *data, size_t size, const char *name,
+                                 pw_image *out, pw_err *e)
 {
     memset(out, 0, sizeof *out);
     if (!name) name = "image";
-    if (size >= 8 && memcmp(data, pw__png_sig, 8) == 0)
-        return pw_png_read_memory(a, data, size, name, out, e);
+    if (size >= 8 && memcmp(data, pw__png_sig, 8) == 0) return pw_png_read_memory(a, data, size, name, out, e);
     if (size >= 2 && data[0] == 'P' && data[1] >= '1' && data[1] <= '7')
         return pw_image_read_pnm_memory(a, data, size, name, out, e);
-    if (size >= 24 && memcmp(data + 20, "GPAT", 4) == 0)
-        return pw_image_read_pat_memory(a, data, size, name, out, e);
+    if (size >= 24 && memcmp(data + 20, "GPAT", 4) == 0) return pw_image_read_pat_memory(a, data, size, name, out, e);
     return pw_fail(e, size ? PW_ERR_UNSUPPORTED : PW_ERR_PARSE, "%s: %s", name,
-                   size ? "unknown image format (not PNG, PNM, PAM or GIMP pattern)"
-                        : "empty file");
+                   size ? "unknown image format (not PNG, PNM, PAM or GIMP pattern)" : "empty file");
 }
 
 #ifndef PW_NO_STDIO
@@ -571,15 +546,11 @@ PW__DEF int pw_image_save(const char *path, const pw_image *img, pw_err *e)
     int rc = pw__image_check(img, e);
     if (rc) return rc;
     j.img = img;
-    if (pw_has_ext(path, ".ppm") || pw_has_ext(path, ".pgm") || pw_has_ext(path, ".pnm"))
-        j.kind = 0;
-    else if (pw_has_ext(path, ".pam"))
-        j.kind = 1;
-    else if (pw_has_ext(path, ".png"))
-        j.kind = 2;
+    if (pw_has_ext(path, ".ppm") || pw_has_ext(path, ".pgm") || pw_has_ext(path, ".pnm")) j.kind = 0;
+    else if (pw_has_ext(path, ".pam")) j.kind = 1;
+    else if (pw_has_ext(path, ".png")) j.kind = 2;
     else
-        return pw_fail(e, PW_ERR_UNSUPPORTED,
-                       "%s: unknown image file extension (use .png, .ppm, .pgm, .pnm or .pam)",
+        return pw_fail(e, PW_ERR_UNSUPPORTED, "%s: unknown image file extension (use .png, .ppm, .pgm, .pnm or .pam)",
                        path);
     return pw_write_file(path, pw__save_body, &j, e);
 }

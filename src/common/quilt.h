@@ -28,14 +28,14 @@
 #include "image.h"
 
 typedef struct pw_quilt {
-    int w, h, c;          /* grid size and colour channels */
-    int nlabels;          /* number of sources, at most 32 */
-    const float *src;     /* nlabels*w*h*c: source l's colour at pixel i is src + (l*w*h + i)*c */
-    int *label;           /* w*h, in/out: the labelling (initial labels must be allowed) */
+    int w, h, c;             /* grid size and colour channels */
+    int nlabels;             /* number of sources, at most 32 */
+    const float *src;        /* nlabels*w*h*c: source l's colour at pixel i is src + (l*w*h + i)*c */
+    int *label;              /* w*h, in/out: the labelling (initial labels must be allowed) */
     const uint32_t *allowed; /* w*h bit masks (bit l: label l allowed) or NULL: all */
-    int wrap_x, wrap_y;   /* non-zero: the grid is periodic in that direction */
-    const float *motif;   /* NULL or nlabels*w*h: source l's motif value at pixel i is motif[l*w*h + i] */
-    float motif_weight;   /* seam cost per source pixel inside a motif */
+    int wrap_x, wrap_y;      /* non-zero: the grid is periodic in that direction */
+    const float *motif;      /* NULL or nlabels*w*h: source l's motif value at pixel i is motif[l*w*h + i] */
+    float motif_weight;      /* seam cost per source pixel inside a motif */
 } pw_quilt;
 
 /* |A(i) - B(i)|: distance between the colours of two labels at pixel i. */
@@ -225,12 +225,16 @@ PW__DEF int pw__quilt_clear_ground(const pw_alloc *a, float *m, int w, int h, pw
     int *comp = buf;
     pw__quilt_flood F;
     if (!buf) return PW_ERR_NOMEM;
-    F.m = m, F.w = w, F.h = h;
-    F.comp = comp, F.ux = buf + n, F.uy = buf + 2 * n, F.stack = buf + 3 * n;
+    F.m = m;
+    F.w = w;
+    F.h = h;
+    F.comp = comp;
+    F.ux = buf + n;
+    F.uy = buf + 2 * n;
+    F.stack = buf + 3 * n;
     for (i = 0; i < n; i++) comp[i] = -1;
     for (i = 0; i < n; i++)
-        if (m[i] > 0.5f && comp[i] < 0 && (pw__quilt_wraps(&F, (int)i, &size) || size * 4 >= n ||
-             size * 200 < n)) {
+        if (m[i] > 0.5f && comp[i] < 0 && (pw__quilt_wraps(&F, (int)i, &size) || size * 4 >= n || size * 200 < n)) {
             size_t j;
             for (j = 0; j < n; j++)
                 if (comp[j] == (int)i) m[j] = 0.0f;
@@ -348,8 +352,7 @@ PW__DEF int pw__quilt_expand_one(pw__quilt_move *M, int *changed, const pw_alloc
     double flow;
     *changed = 0;
     for (i = 0; i < n; i++)
-        node[i] = q->label[i] == alpha || (q->allowed && !(q->allowed[i] >> alpha & 1u)) ? -1
-                                                                                   : nvar++;
+        node[i] = q->label[i] == alpha || (q->allowed && !(q->allowed[i] >> alpha & 1u)) ? -1 : nvar++;
     if (nvar == 0) return PW_OK;
     for (i = 0; i < nvar; i++) u0[i] = u1[i] = 0.0;
     if ((r = pw_graph_init(&g, a, nvar, 2 * nvar, e)) != PW_OK) return r;
@@ -389,7 +392,12 @@ PW__DEF int pw_quilt_optimize(const pw_alloc *a, pw_quilt *q, int cycles, pw_err
     for (c = 0; c < cycles && r == PW_OK; c++) {
         total = 0;
         for (l = 0; l < q->nlabels && r == PW_OK; l++) {
-            M.q = q, M.alpha = l, M.g = NULL, M.node = node, M.u0 = u, M.u1 = u + n;
+            M.q = q;
+            M.alpha = l;
+            M.g = NULL;
+            M.node = node;
+            M.u0 = u;
+            M.u1 = u + n;
             r = pw__quilt_expand_one(&M, &changed, a, e);
             total += changed;
         }
@@ -405,8 +413,7 @@ PW__DEF void pw_quilt_compose(const pw_quilt *q, float *out)
 {
     int i, n = q->w * q->h;
     for (i = 0; i < n; i++)
-        memcpy(out + (size_t)i * q->c, q->src + ((size_t)q->label[i] * n + i) * q->c,
-               sizeof(float) * (size_t)q->c);
+        memcpy(out + (size_t)i * q->c, q->src + ((size_t)q->label[i] * n + i) * q->c, sizeof(float) * (size_t)q->c);
 }
 
 /* Labels of pw_quilt_make_tileable: the image itself and two copies of it
@@ -456,8 +463,7 @@ PW__DEF int pw_quilt_make_tileable_px(const pw_alloc *a, const pw_image *in, flo
                 int sx = pw__tileable_shift(l, w), sy = pw__tileable_shift(l, h);
                 size_t j = (size_t)((y + sy) % h) * w + (size_t)((x + sx) % w);
                 memcpy(src + (l * n + i) * c, px + j * c, sizeof(float) * c);
-                if (!pw__tileable_near_wrap(x, w, sx) && !pw__tileable_near_wrap(y, h, sy))
-                    allowed[i] |= 1u << l;
+                if (!pw__tileable_near_wrap(x, w, sx) && !pw__tileable_near_wrap(y, h, sy)) allowed[i] |= 1u << l;
             }
             label[i] = allowed[i] & 1u ? 0 : (allowed[i] & 2u ? 1 : 2);
         }
@@ -481,8 +487,7 @@ done:
 }
 
 /* The same for an image: out is a new image of the input's size. */
-PW__DEF int pw_quilt_make_tileable(const pw_alloc *a, const pw_image *in, pw_image *out,
-                                   pw_err *e)
+PW__DEF int pw_quilt_make_tileable(const pw_alloc *a, const pw_image *in, pw_image *out, pw_err *e)
 {
     int r;
     if ((r = pw_image_alloc(a, out, in->w, in->h, in->c, e)) != PW_OK) return r;

@@ -44,24 +44,24 @@
 
 /* The raster target: viewport size and the fixed-point precision it allows. */
 typedef struct pw_raster_grid {
-    int w, h;     /* pixels [0, w) x [0, h) */
+    int w, h;       /* pixels [0, w) x [0, h) */
     int row0, row1; /* rows rasterized: [row0, row1), default [0, h) (a band of the frame;
                        snapping depends on w and h only, so a band covers exactly the
                        pixels the whole frame would in its rows) */
-    int bits;     /* sub-pixel bits: vertices snap to multiples of 2^-bits */
-    double range; /* |coordinate| <= range is rasterized directly, beyond is clipped */
+    int bits;       /* sub-pixel bits: vertices snap to multiples of 2^-bits */
+    double range;   /* |coordinate| <= range is rasterized directly, beyond is clipped */
 } pw_raster_grid;
 
 /* One snapped triangle. Edge k is opposite vertex k; its value at a pixel
  * centre is (twice the area of the sub-triangle) * 2^(2 bits), positive
  * inside, and the barycentric of vertex k is (e_k - bias_k) / area2. */
 typedef struct pw_raster_edges {
-    int64_t e[3];    /* edge values at the centre of pixel (x0, y0), bias included */
-    int64_t ex[3];   /* change per pixel step to the right */
-    int64_t ey[3];   /* change per row down */
-    int64_t bias[3]; /* 0 on top-left edges, -1 elsewhere: covered iff all e >= 0 */
-    int64_t area2;   /* twice the snapped area in grid units, > 0 */
-    int orient;      /* +1 or -1: sign of the area as given (y down) */
+    int64_t e[3];       /* edge values at the centre of pixel (x0, y0), bias included */
+    int64_t ex[3];      /* change per pixel step to the right */
+    int64_t ey[3];      /* change per row down */
+    int64_t bias[3];    /* 0 on top-left edges, -1 elsewhere: covered iff all e >= 0 */
+    int64_t area2;      /* twice the snapped area in grid units, > 0 */
+    int orient;         /* +1 or -1: sign of the area as given (y down) */
     int x0, y0, x1, y1; /* candidate pixels [x0, x1) x [y0, y1), inside the viewport */
     /* row walker (pw_raster_next), an exact integer DDA over the edges that
      * bound runs: nl left ones first, then right ones (horizontal edges only
@@ -285,7 +285,7 @@ PW__DEF int pw_raster_span(const pw_raster_edges *s, int y, int *xa, int *xb)
     for (k = 0; k < 3; k++) {
         int64_t e = s->e[k] + s->ey[k] * (y - s->y0), a = s->ex[k], d;
         double t = a ? -(double)e / (double)a : 0.0; /* the bound, within 1e-6 */
-        if (a > 0) {                        /* first d with e + a d >= 0 */
+        if (a > 0) {                                 /* first d with e + a d >= 0 */
             if (e >= 0) continue;
             if (t > (double)n + 1.0) return 0;
             d = (int64_t)t + 1; /* floor(t) + 1: the answer, or one off either way */
@@ -327,8 +327,7 @@ PW__DEF void pw__raster_cut(const double *p, const double *q, int axis, double c
 
 /* Clips the polygon in[n] (xy pairs) to the half-plane side*coord[axis] <=
  * range; returns the new vertex count. */
-PW__DEF int pw__raster_clip1(const double *in, int n, int axis, double side, double range,
-                             double *out)
+PW__DEF int pw__raster_clip1(const double *in, int n, int axis, double side, double range, double *out)
 {
     int i, m = 0;
     for (i = 0; i < n; i++) {
@@ -352,8 +351,7 @@ PW__DEF int pw__raster_clip1(const double *in, int n, int axis, double side, dou
  * PW_RASTER_MAX_PIECES setups and returns their count. Fan pieces whose
  * snapped orientation disagrees with the polygon's are slivers made by
  * snapping near-collinear clip points (far outside the viewport): dropped. */
-PW__DEF int pw_raster_polygon(const pw_raster_grid *g, const double *xy, int n,
-                              pw_raster_edges *out)
+PW__DEF int pw_raster_polygon(const pw_raster_grid *g, const double *xy, int n, pw_raster_edges *out)
 {
     double a[16], b[16], tri[6], area = 0.0;
     int i, np = 0, inside = 1;
@@ -377,8 +375,7 @@ PW__DEF int pw_raster_polygon(const pw_raster_grid *g, const double *xy, int n,
         tri[0] = a[0];
         tri[1] = a[1];
         memcpy(tri + 2, a + 2 * i, sizeof(double) * 4);
-        if (pw_raster_setup(out + np, g, tri) && (n == 3 || (out[np].orient > 0) == (area > 0)))
-            np++;
+        if (pw_raster_setup(out + np, g, tri) && (n == 3 || (out[np].orient > 0) == (area > 0))) np++;
     }
     return np;
 }
@@ -402,16 +399,14 @@ PW__DEF int pw__raster_bary_planes(const double *v, double *p)
 
 /* Reports the pixels of one piece, with barycentrics either from its own
  * exact edge values (planes == NULL) or from the original triangle. */
-PW__DEF void pw__raster_emit(pw_raster_edges *s, const double *planes, pw_raster_fn fn,
-                             void *user)
+PW__DEF void pw__raster_emit(pw_raster_edges *s, const double *planes, pw_raster_fn fn, void *user)
 {
     double inv = 1.0 / (double)s->area2;
     int y, x, xa, xb, k;
     for (y = s->y0; y < s->y1; y++) {
         int64_t e[3];
         if (!pw_raster_next(s, &xa, &xb)) continue;
-        for (k = 0; k < 3; k++)
-            e[k] = s->e[k] - s->bias[k] + s->ey[k] * (y - s->y0) + s->ex[k] * (xa - s->x0);
+        for (k = 0; k < 3; k++) e[k] = s->e[k] - s->bias[k] + s->ey[k] * (y - s->y0) + s->ex[k] * (xa - s->x0);
         for (x = xa; x < xb; x++) {
             if (planes) {
                 double cx = x + 0.5, cy = y + 0.5;
@@ -419,8 +414,7 @@ PW__DEF void pw__raster_emit(pw_raster_edges *s, const double *planes, pw_raster
                    (float)(planes[3] * cx + planes[4] * cy + planes[5]),
                    (float)(planes[6] * cx + planes[7] * cy + planes[8]));
             } else {
-                fn(user, x, y, (float)((double)e[0] * inv), (float)((double)e[1] * inv),
-                   (float)((double)e[2] * inv));
+                fn(user, x, y, (float)((double)e[0] * inv), (float)((double)e[1] * inv), (float)((double)e[2] * inv));
             }
             for (k = 0; k < 3; k++) e[k] += s->ex[k];
         }

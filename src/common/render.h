@@ -95,10 +95,10 @@ enum { PW_DEPTH_LESS = 0, PW_DEPTH_LEQUAL = 1, PW_DEPTH_ALWAYS = 2 };
 enum { PW_LIGHT_NONE = 0, PW_LIGHT_CAMERA = 1, PW_LIGHT_WORLD = 2 };
 enum { PW_CULL_NONE = 0, PW_CULL_BACK = 1, PW_CULL_FRONT = 2 };
 
-#define PW_FB_MAX_SS 8              /* samples per pixel side */
-#define PW_FB_NONE 0xFFFFFFFFu      /* visibility id of an untouched sample */
+#define PW_FB_MAX_SS 8         /* samples per pixel side */
+#define PW_FB_NONE 0xFFFFFFFFu /* visibility id of an untouched sample */
 #define PW_TEXTURE_MAX_LEVELS 32
-#define PW_DEPTH_TOLERANCE 1e-4f    /* default relative slack of PW_DEPTH_LEQUAL */
+#define PW_DEPTH_TOLERANCE 1e-4f /* default relative slack of PW_DEPTH_LEQUAL */
 
 /* ---------------------------------------------------------------- camera */
 
@@ -119,10 +119,7 @@ typedef struct pw__view {
 
 /* double to float without the undefined behaviour of converting a value
  * beyond the float range (absurd inputs): clamps to +-FLT_MAX. */
-PW__DEF float pw__f(double x)
-{
-    return x > FLT_MAX ? FLT_MAX : (x < -FLT_MAX ? -FLT_MAX : (float)x);
-}
+PW__DEF float pw__f(double x) { return x > FLT_MAX ? FLT_MAX : (x < -FLT_MAX ? -FLT_MAX : (float)x); }
 
 /* tan of an angle in degrees, 0 < deg < 180, from the sine and cosine
  * series: the same bits on every platform, unlike libm's tan. */
@@ -162,11 +159,10 @@ PW__DEF int pw__view_init(pw__view *v, const pw_camera *cam, int sw, int sh, pw_
 {
     double t;
     if (!(cam->fovy_deg > 0.0f && cam->fovy_deg < 180.0f))
-        return pw_fail(e, PW_ERR_INVALID, "camera: field of view %g degrees outside (0, 180)",
-                       (double)cam->fovy_deg);
+        return pw_fail(e, PW_ERR_INVALID, "camera: field of view %g degrees outside (0, 180)", (double)cam->fovy_deg);
     if (!(cam->znear > 0.0f && cam->zfar > cam->znear) || !pw_is_finite(cam->zfar))
-        return pw_fail(e, PW_ERR_INVALID, "camera: need 0 < znear < zfar (znear %g, zfar %g)",
-                       (double)cam->znear, (double)cam->zfar);
+        return pw_fail(e, PW_ERR_INVALID, "camera: need 0 < znear < zfar (znear %g, zfar %g)", (double)cam->znear,
+                       (double)cam->zfar);
     if (!pw__camera_basis(cam, v))
         return pw_fail(e, PW_ERR_INVALID,
                        "camera: eye, target and up must be finite, eye != target, up not along the view");
@@ -313,8 +309,8 @@ PW__DEF double pw__fit_distance(const float *pos, int nv, const pw__view_basis *
  * view shrunk by 5% (vertical fovy_deg, horizontal from aspect = width /
  * height); near and far enclose the mesh. Invalid fovy (outside (0, 180))
  * becomes 45, invalid aspect 1. */
-PW__DEF pw_camera pw_camera_frame(const float *pos, int nv, const float view_dir[3],
-                                  const float up[3], float fovy_deg, float aspect)
+PW__DEF pw_camera pw_camera_frame(const float *pos, int nv, const float view_dir[3], const float up[3], float fovy_deg,
+                                  float aspect)
 {
     pw_camera cam;
     pw__view_basis B;
@@ -342,7 +338,12 @@ PW__DEF pw_camera pw_camera_frame(const float *pos, int nv, const float view_dir
     pw__bounding_sphere(pos, pos ? nv : 0, c, &r);
     t = 0.95 * pw__tan_deg(0.5 * fovy_deg);
     tx = t * aspect;
-    for (k = 0; k < 3; k++) B.c[k] = c[k], B.rt[k] = x[k], B.up[k] = y[k], B.vd[k] = vd[k];
+    for (k = 0; k < 3; k++) {
+        B.c[k] = c[k];
+        B.rt[k] = x[k];
+        B.up[k] = y[k];
+        B.vd[k] = vd[k];
+    }
     B.ox = B.oy = 0.0;
     pw__view_extent(pos, pos ? nv : 0, &B, lo, hi);
     B.ox = 0.5 * (lo[0] + hi[0]);
@@ -356,7 +357,8 @@ PW__DEF pw_camera pw_camera_frame(const float *pos, int nv, const float view_dir
         B.ox += 0.5 * (range[0] + range[1]) * dist;
         B.oy += 0.5 * (range[2] + range[3]) * dist;
     }
-    ox = B.ox, oy = B.oy;
+    ox = B.ox;
+    oy = B.oy;
     for (k = 0; k < 3; k++) {
         cam.target[k] = pw__f(c[k] + ox * x[k] + oy * y[k]);
         cam.eye[k] = pw__f(cam.target[k] - vd[k] * dist);
@@ -406,11 +408,9 @@ PW__DEF void pw__mip_down(const pw_texture *t, int L, const float *src, float *d
 {
     int W = t->lw[L], H = t->lh[L], W2 = t->lw[L + 1], H2 = t->lh[L + 1];
     int y, x;
-    for (y = 0; y < H; y++)
-        pw__box_1d(src + (size_t)y * W * 4, W, 4, tmp + (size_t)y * W2 * 4, W2, 4);
+    for (y = 0; y < H; y++) pw__box_1d(src + (size_t)y * W * 4, W, 4, tmp + (size_t)y * W2 * 4, W2, 4);
     for (x = 0; x < W2; x++)
-        pw__box_1d(tmp + (size_t)x * 4, H, (ptrdiff_t)W2 * 4, dst + (size_t)x * 4, H2,
-                   (ptrdiff_t)W2 * 4);
+        pw__box_1d(tmp + (size_t)x * 4, H, (ptrdiff_t)W2 * 4, dst + (size_t)x * 4, H2, (ptrdiff_t)W2 * 4);
 }
 
 /* Converts any channel count to premultiplied float RGBA. */
@@ -463,8 +463,7 @@ PW__DEF void pw__tex_sizes(pw_texture *t, int max_levels)
  * area-weighted box filter of premultiplied colour, computed in float from
  * the level above, so transparent texels do not bleed their colour. Free
  * with pw_texture_free. */
-PW__DEF int pw_texture_create(const pw_alloc *a, pw_texture *t, const pw_image *img,
-                              int max_levels, pw_err *e)
+PW__DEF int pw_texture_create(const pw_alloc *a, pw_texture *t, const pw_image *img, int max_levels, pw_err *e)
 {
     size_t total = 0, off = 0, n0;
     uint16_t *data;
@@ -527,11 +526,11 @@ PW__DEF void pw_texture_clear_border(pw_texture *t, int min_size)
         int W = t->lw[L], H = t->lh[L];
         uint16_t *p = t->level[L];
         if (W <= min_size || H <= min_size) continue;
-        memset(p, 0, (size_t)W * 4 * sizeof(uint16_t));                   /* top row */
+        memset(p, 0, (size_t)W * 4 * sizeof(uint16_t));                           /* top row */
         memset(p + (size_t)(H - 1) * W * 4, 0, (size_t)W * 4 * sizeof(uint16_t)); /* bottom row */
         for (y = 1; y < H - 1; y++)
             for (x = 0; x < 4; x++) {
-                p[((size_t)y * W) * 4 + x] = 0;          /* left column */
+                p[((size_t)y * W) * 4 + x] = 0;         /* left column */
                 p[((size_t)y * W + W - 1) * 4 + x] = 0; /* right column */
             }
     }
@@ -618,8 +617,7 @@ PW__DEF void pw__tex_trilinear(const pw_texture *t, float u, float v, float lod,
  * and wrap mode; lod (log2 of the footprint in level-0 texels) selects and
  * blends mip levels for PW_FILTER_TRILINEAR and is ignored otherwise
  * (PW_FILTER_NEAREST and _BILINEAR read level 0). out = premultiplied RGBA. */
-PW__DEF void pw_texture_sample(const pw_texture *t, float u, float v, float lod, int filter,
-                               int wrap, float out[4])
+PW__DEF void pw_texture_sample(const pw_texture *t, float u, float v, float lod, int filter, int wrap, float out[4])
 {
     const float s = 1.0f / 65535.0f;
     float a[4];
@@ -657,8 +655,7 @@ PW__DEF float pw__log2f(float x)
     memcpy(&m, &bits, sizeof m); /* mantissa in [1, 2) */
     s = (m - 1.0f) / (m + 1.0f);
     s2 = s * s;
-    return (float)ex +
-           s * (2.8853900818f + s2 * (0.9617966939f + s2 * (0.5770780164f + s2 * 0.4121985831f)));
+    return (float)ex + s * (2.8853900818f + s2 * (0.9617966939f + s2 * (0.5770780164f + s2 * 0.4121985831f)));
 }
 
 /* PW_NO_RENDER leaves out the rest but the pw_parallel type the public
@@ -670,24 +667,24 @@ PW__DEF float pw__log2f(float x)
 /* ----------------------------------------------------------- framebuffer */
 
 typedef struct pw_fb {
-    int w, h, ss;  /* pixels; ss x ss samples per pixel */
-    int sw, sh;    /* sample grid: w*ss x h*ss, sample (x, y) centred at ((x+.5)/ss, (y+.5)/ss) pixels */
-    int y0, bh;    /* the sample rows held: [y0, y0 + bh), a band of the frame (all of it
+    int w, h, ss;   /* pixels; ss x ss samples per pixel */
+    int sw, sh;     /* sample grid: w*ss x h*ss, sample (x, y) centred at ((x+.5)/ss, (y+.5)/ss) pixels */
+    int y0, bh;     /* the sample rows held: [y0, y0 + bh), a band of the frame (all of it
                       unless made by pw_fb_create_band); draws cover only these */
-    int band_rows; /* pixel rows a band can hold */
-    float bg[4];   /* background, straight RGBA */
-    float *color;  /* sw*bh*4 premultiplied RGBA, sample (x, y) at ((y-y0)*sw + x)*4, row 0 at the top */
-    float *depth;  /* sw*bh, q = 1/(distance along the view axis); 0 = nothing drawn */
-    uint32_t *vis; /* sw*bh triangle ids of the opaque draw under way; PW_FB_NONE between draws */
-    double *vbuf;  /* draw scratch: transformed vertices */
-    float *nbuf;   /* draw scratch: computed normals */
-    float *pbuf;   /* draw scratch: triangle planes */
+    int band_rows;  /* pixel rows a band can hold */
+    float bg[4];    /* background, straight RGBA */
+    float *color;   /* sw*bh*4 premultiplied RGBA, sample (x, y) at ((y-y0)*sw + x)*4, row 0 at the top */
+    float *depth;   /* sw*bh, q = 1/(distance along the view axis); 0 = nothing drawn */
+    uint32_t *vis;  /* sw*bh triangle ids of the opaque draw under way; PW_FB_NONE between draws */
+    double *vbuf;   /* draw scratch: transformed vertices */
+    float *nbuf;    /* draw scratch: computed normals */
+    float *pbuf;    /* draw scratch: triangle planes */
     uint64_t *mbuf; /* draw scratch: sample masks of a pixel row (all zero between uses) */
-    float *qbuf;   /* draw scratch: depths of ss sample rows */
-    float *zmin;   /* coarse depth: per tile of PW__ZT x PW__ZT samples of the band, the smallest q */
-    int zvalid;    /* zmin matches depth; set 0 if you write depth yourself */
-    int vnv;       /* vertices of the last draw (0: none yet) */
-    int vall;      /* 1: all vnv of them are transformed in vbuf (not only the drawn corners) */
+    float *qbuf;    /* draw scratch: depths of ss sample rows */
+    float *zmin;    /* coarse depth: per tile of PW__ZT x PW__ZT samples of the band, the smallest q */
+    int zvalid;     /* zmin matches depth; set 0 if you write depth yourself */
+    int vnv;        /* vertices of the last draw (0: none yet) */
+    int vall;       /* 1: all vnv of them are transformed in vbuf (not only the drawn corners) */
     size_t vcap, ncap, pcap, mcap, qcap, zcap;
     const pw_alloc *alloc;
 } pw_fb;
@@ -730,18 +727,15 @@ PW__DEF void pw_fb_free(pw_fb *fb)
  * opaque black) that holds band_rows pixel rows at a time (0 or >= h: the
  * whole frame), the first band selected. The allocator a (may be NULL) must
  * outlive the framebuffer. */
-PW__DEF int pw_fb_create_band(const pw_alloc *a, pw_fb *fb, int w, int h, int ss, int band_rows,
-                              const float bg[4], pw_err *e)
+PW__DEF int pw_fb_create_band(const pw_alloc *a, pw_fb *fb, int w, int h, int ss, int band_rows, const float bg[4],
+                              pw_err *e)
 {
     size_t n;
     memset(fb, 0, sizeof *fb);
     if (w <= 0 || h <= 0 || ss < 1 || ss > PW_FB_MAX_SS || band_rows < 0)
-        return pw_fail(e, PW_ERR_INVALID, "framebuffer: invalid size %dx%d with %dx%d samples", w,
-                       h, ss, ss);
-    if (w > PW_MAX_IMAGE_DIM || h > PW_MAX_IMAGE_DIM ||
-        (int64_t)w * h * ss * ss > (int64_t)PW_MAX_IMAGE_PIXELS)
-        return pw_fail(e, PW_ERR_LIMIT, "framebuffer: %dx%d with %dx%d samples exceeds the limit", w,
-                       h, ss, ss);
+        return pw_fail(e, PW_ERR_INVALID, "framebuffer: invalid size %dx%d with %dx%d samples", w, h, ss, ss);
+    if (w > PW_MAX_IMAGE_DIM || h > PW_MAX_IMAGE_DIM || (int64_t)w * h * ss * ss > (int64_t)PW_MAX_IMAGE_PIXELS)
+        return pw_fail(e, PW_ERR_LIMIT, "framebuffer: %dx%d with %dx%d samples exceeds the limit", w, h, ss, ss);
     fb->w = w;
     fb->h = h;
     fb->ss = ss;
@@ -766,8 +760,7 @@ PW__DEF int pw_fb_create_band(const pw_alloc *a, pw_fb *fb, int w, int h, int ss
 }
 
 /* The same holding the whole frame. */
-PW__DEF int pw_fb_create(const pw_alloc *a, pw_fb *fb, int w, int h, int ss, const float bg[4],
-                         pw_err *e)
+PW__DEF int pw_fb_create(const pw_alloc *a, pw_fb *fb, int w, int h, int ss, const float bg[4], pw_err *e)
 {
     return pw_fb_create_band(a, fb, w, h, ss, 0, bg, e);
 }
@@ -840,34 +833,34 @@ PW__DEF int pw_fb_resolve(const pw_fb *fb, pw_image *out, int channels, pw_err *
 typedef struct pw_draw {
     const float *positions; /* nv*3 world-space vertex positions */
     int nv;
-    const int *tris;        /* ntris*3 vertex indices */
+    const int *tris; /* ntris*3 vertex indices */
     int ntris;
-    const float *uvs;       /* ntris*3*2 texture coordinates per triangle corner (v = 0 at the
+    const float *uvs;      /* ntris*3*2 texture coordinates per triangle corner (v = 0 at the
                                bottom of the texture); required with a texture, else ignored */
-    const float *normals;   /* nv*3 per-vertex normals; NULL: smooth area-weighted normals
+    const float *normals;  /* nv*3 per-vertex normals; NULL: smooth area-weighted normals
                                computed from the mesh. Used only when lit */
-    int flat;               /* 1: flat shading, one normal per face (normals ignored) */
-    const pw_texture *tex;  /* NULL: the constant colour alone */
-    float color[4];         /* straight RGBA multiplied with the texture; all zero: opaque white */
-    int filter;             /* PW_FILTER_TRILINEAR (default), _BILINEAR, _NEAREST (level 0) */
-    int wrap;               /* PW_WRAP_REPEAT (default), PW_WRAP_CLAMP */
-    int blend;              /* PW_BLEND_REPLACE (default: write the colour, alpha included),
+    int flat;              /* 1: flat shading, one normal per face (normals ignored) */
+    const pw_texture *tex; /* NULL: the constant colour alone */
+    float color[4];        /* straight RGBA multiplied with the texture; all zero: opaque white */
+    int filter;            /* PW_FILTER_TRILINEAR (default), _BILINEAR, _NEAREST (level 0) */
+    int wrap;              /* PW_WRAP_REPEAT (default), PW_WRAP_CLAMP */
+    int blend;             /* PW_BLEND_REPLACE (default: write the colour, alpha included),
                                PW_BLEND_OVER (rgba = src + (1 - src alpha) dst, premultiplied) */
-    int depth_test;         /* PW_DEPTH_LESS (default: passes where nearer than what is
+    int depth_test;        /* PW_DEPTH_LESS (default: passes where nearer than what is
                                stored), PW_DEPTH_LEQUAL (also where as near, within a
                                tolerance, so a second pass over the same surface passes),
                                PW_DEPTH_ALWAYS. Samples beyond zfar never pass */
-    float depth_tolerance;  /* relative slack of LEQUAL: passes if q > (1 - tol) q_stored
+    float depth_tolerance; /* relative slack of LEQUAL: passes if q > (1 - tol) q_stored
                                (q = 1/depth); 0: PW_DEPTH_TOLERANCE */
-    int no_depth_write;     /* 1: depth is tested but not written */
-    int no_color_write;     /* 1: depth only (a depth pre-pass) */
-    int cull;               /* PW_CULL_NONE (default: two-sided), PW_CULL_BACK, PW_CULL_FRONT */
-    int lighting;           /* PW_LIGHT_NONE (default: unlit), PW_LIGHT_CAMERA, PW_LIGHT_WORLD:
+    int no_depth_write;    /* 1: depth is tested but not written */
+    int no_color_write;    /* 1: depth only (a depth pre-pass) */
+    int cull;              /* PW_CULL_NONE (default: two-sided), PW_CULL_BACK, PW_CULL_FRONT */
+    int lighting;          /* PW_LIGHT_NONE (default: unlit), PW_LIGHT_CAMERA, PW_LIGHT_WORLD:
                                Lambert + ambient, the light direction in camera space (x right,
                                y up, z toward the viewer) or in world space. Two-sided: back
                                faces are lit with their normals reversed */
-    float light_dir[3];     /* direction toward the light; zero: (-0.3, 0.4, 1) in camera space */
-    float ambient;          /* brightness of unlit parts, in [0, 1]; 0: 0.25; negative: none */
+    float light_dir[3];    /* direction toward the light; zero: (-0.3, 0.4, 1) in camera space */
+    float ambient;         /* brightness of unlit parts, in [0, 1]; 0: 0.25; negative: none */
     /* Optional, replaces the texture: the straight RGBA of triangle `tri` at
      * the point of barycentric coordinates (1 - b1 - b2, b1, b2) (perspective-
      * correct, corners in the triangle's order), given db = (db1/dx, db1/dy,
@@ -875,13 +868,13 @@ typedef struct pw_draw {
      * a texture lookup would be; uvs are not needed. */
     void (*shader)(void *user, int tri, float b1, float b2, const float db[4], float rgba[4]);
     void *shader_user;
-    int same_vertices;      /* 1: positions, nv and camera are those of the previous draw into
+    int same_vertices; /* 1: positions, nv and camera are those of the previous draw into
                                this framebuffer; when that draw transformed all the vertices
                                (it drew at least nv/3 triangles) they are reused (the passes of
                                lapped textures after their base pass) */
 } pw_draw;
 
-#define PW__ZT 8 /* coarse depth tile, in samples */
+#define PW__ZT 8   /* coarse depth tile, in samples */
 #define PW__NPL 21 /* floats per triangle: planes q(3) U(3) V(3) N(9), origin(2), ready */
 #define PW__OX 18
 #define PW__OY 19
@@ -910,29 +903,25 @@ PW__DEF int pw__draw_check(const pw_draw *d, pw_err *e)
 {
     int i;
     if (d->nv < 0 || d->ntris < 0)
-        return pw_fail(e, PW_ERR_INVALID, "draw: negative counts (%d vertices, %d triangles)", d->nv,
-                       d->ntris);
+        return pw_fail(e, PW_ERR_INVALID, "draw: negative counts (%d vertices, %d triangles)", d->nv, d->ntris);
     if (d->nv > PW_MAX_MESH_ELEMENTS || d->ntris > PW_MAX_MESH_ELEMENTS)
-        return pw_fail(e, PW_ERR_LIMIT, "draw: %d vertices, %d triangles exceed the limit %d", d->nv,
-                       d->ntris, PW_MAX_MESH_ELEMENTS);
+        return pw_fail(e, PW_ERR_LIMIT, "draw: %d vertices, %d triangles exceed the limit %d", d->nv, d->ntris,
+                       PW_MAX_MESH_ELEMENTS);
     if ((d->nv > 0 && !d->positions) || (d->ntris > 0 && !d->tris))
         return pw_fail(e, PW_ERR_INVALID, "draw: missing positions or triangle indices");
     if (d->tex && (!d->uvs || d->tex->nlevels < 1 || !d->tex->level[0]))
         return pw_fail(e, PW_ERR_INVALID, "draw: a texture needs uvs and a built mip chain");
-    if ((unsigned)d->filter > 2u || (unsigned)d->wrap > 1u || (unsigned)d->blend > 1u ||
-        (unsigned)d->depth_test > 2u || (unsigned)d->cull > 2u || (unsigned)d->lighting > 2u)
+    if ((unsigned)d->filter > 2u || (unsigned)d->wrap > 1u || (unsigned)d->blend > 1u || (unsigned)d->depth_test > 2u ||
+        (unsigned)d->cull > 2u || (unsigned)d->lighting > 2u)
         return pw_fail(e, PW_ERR_INVALID, "draw: unknown filter, wrap, blend, depth, cull or lighting mode");
     for (i = 0; i < 3 * d->ntris; i++)
         if (d->tris[i] < 0 || d->tris[i] >= d->nv)
-            return pw_fail(e, PW_ERR_INVALID, "draw: triangle %d, corner %d: vertex index %d outside [0, %d)",
-                           i / 3, i % 3, d->tris[i], d->nv);
+            return pw_fail(e, PW_ERR_INVALID, "draw: triangle %d, corner %d: vertex index %d outside [0, %d)", i / 3,
+                           i % 3, d->tris[i], d->nv);
     return PW_OK;
 }
 
-PW__DEF int pw__finite3(const float *p)
-{
-    return pw_is_finite(p[0]) && pw_is_finite(p[1]) && pw_is_finite(p[2]);
-}
+PW__DEF int pw__finite3(const float *p) { return pw_is_finite(p[0]) && pw_is_finite(p[1]) && pw_is_finite(p[2]); }
 
 /* Homogeneous screen coordinates of every vertex; W = -DBL_MAX marks a
  * vertex with non-finite coordinates (its triangles are skipped). */
@@ -1026,8 +1015,7 @@ PW__DEF void pw__plane(double r[3][3], const double *a, double ox, double oy, fl
 PW__DEF int pw__tri_adjugate(const pw__ctx *c, int t, double r[3][3], double *det)
 {
     const int *ix = c->d->tris + 3 * (size_t)t;
-    const double *h0 = c->vh + 5 * (size_t)ix[0], *h1 = c->vh + 5 * (size_t)ix[1],
-                 *h2 = c->vh + 5 * (size_t)ix[2];
+    const double *h0 = c->vh + 5 * (size_t)ix[0], *h1 = c->vh + 5 * (size_t)ix[1], *h2 = c->vh + 5 * (size_t)ix[2];
     double scale;
     int i, j;
     pw_cross3(h1, h2, r[0]);
@@ -1075,7 +1063,7 @@ PW__DEF void pw__attr_planes(const pw__ctx *c, int t, float *pl)
     if (pl[PW__READY] != 0.0f) return;
     pl[PW__READY] = 1.0f;
     pw__tri_adjugate(c, t, r, &det); /* succeeded when the triangle was set up */
-    if (d->shader) { /* barycentric coordinates b1, b2 in the places of u, v */
+    if (d->shader) {                 /* barycentric coordinates b1, b2 in the places of u, v */
         for (k = 0; k < 2; k++) {
             for (i = 0; i < 3; i++) a[i] = i == k + 1 ? 1.0 : 0.0;
             pw__plane(r, a, ox, oy, pl + 3 + 3 * k);
@@ -1091,8 +1079,7 @@ PW__DEF void pw__attr_planes(const pw__ctx *c, int t, float *pl)
         sgn = det > 0.0 ? -1.0 : 1.0; /* two-sided: back faces turn their normals around */
         if (!c->normals) pw__face_normal(d, t, fn);
         for (k = 0; k < 3; k++) {
-            for (i = 0; i < 3; i++)
-                a[i] = sgn * (c->normals ? (double)c->normals[3 * d->tris[3 * t + i] + k] : fn[k]);
+            for (i = 0; i < 3; i++) a[i] = sgn * (c->normals ? (double)c->normals[3 * d->tris[3 * t + i] + k] : fn[k]);
             pw__plane(r, a, ox, oy, pl + 9 + 3 * k);
         }
     }
@@ -1221,7 +1208,11 @@ PW__DEF void pw__shade(const pw__ctx *c, int t, float x, float y, float *out)
     if (!(q > 1e-30f)) q = 1e-30f; /* only reachable through rounding at a near-plane edge */
     if (c->d->shader || c->tex) {
         pw__shade_pt P;
-        P.t = t, P.pl = pl, P.dx = dx, P.dy = dy, P.iq = 1.0f / q;
+        P.t = t;
+        P.pl = pl;
+        P.dx = dx;
+        P.dy = dy;
+        P.iq = 1.0f / q;
         if (c->d->shader) pw__shade_custom(c, &P, col);
         else pw__shade_tex(c, &P, col);
     }
@@ -1274,11 +1265,8 @@ PW__DEF void pw__shade_vis(pw__ctx *c)
                 if (ids[k] == PW_FB_NONE) continue;
                 for (m = 0; m < k && ids[m] != ids[k]; m++) {
                 }
-                if (m < k)
-                    memcpy(dst, fb->color + (base + off[m]) * 4, 4 * sizeof(float));
-                else
-                    pw__shade(c, (int)ids[k], (float)(px * ss + k % ss) + 0.5f,
-                              (float)(py * ss + k / ss) + 0.5f, dst);
+                if (m < k) memcpy(dst, fb->color + (base + off[m]) * 4, 4 * sizeof(float));
+                else pw__shade(c, (int)ids[k], (float)(px * ss + k % ss) + 0.5f, (float)(py * ss + k / ss) + 0.5f, dst);
             }
         }
     }
@@ -1397,8 +1385,10 @@ PW__DEF int pw__hidden(const pw__ctx *c, const double *const *h, const double *p
     int k, t0[2], t1[2], tx, ty;
     for (k = 0; k < 2; k++) {
         double o = k ? c->fb->y0 : 0.0; /* tile rows count from the band's first row */
-        lo[k] = (p[k] < p[k + 2] ? (p[k] < p[k + 4] ? p[k] : p[k + 4]) : (p[k + 2] < p[k + 4] ? p[k + 2] : p[k + 4])) - o;
-        hi[k] = (p[k] > p[k + 2] ? (p[k] > p[k + 4] ? p[k] : p[k + 4]) : (p[k + 2] > p[k + 4] ? p[k + 2] : p[k + 4])) - o;
+        lo[k] =
+            (p[k] < p[k + 2] ? (p[k] < p[k + 4] ? p[k] : p[k + 4]) : (p[k + 2] < p[k + 4] ? p[k + 2] : p[k + 4])) - o;
+        hi[k] =
+            (p[k] > p[k + 2] ? (p[k] > p[k + 4] ? p[k] : p[k + 4]) : (p[k + 2] > p[k + 4] ? p[k + 2] : p[k + 4])) - o;
         t0[k] = (int)pw_clampf((float)lo[k], 0.0f, (float)(c->fb->sw + c->fb->sh)) / PW__ZT;
         t1[k] = (int)pw_clampf((float)hi[k], 0.0f, (float)(c->fb->sw + c->fb->sh)) / PW__ZT;
     }
@@ -1444,10 +1434,8 @@ PW__DEF void pw__draw_tri(pw__ctx *c, int t)
     /* the usual case (in front, within the raster range) needs no clipping */
     np = inside ? pw_raster_setup(pieces, &c->grid, poly) : pw_raster_polygon(&c->grid, poly, n, pieces);
     for (k = 0; k < np; k++) {
-        if (c->blend == PW_BLEND_OVER && c->cwrite)
-            pw__raster_over(c, pieces + k, t, pl);
-        else
-            pw__raster_vis(c, pieces + k, (uint32_t)t, pl);
+        if (c->blend == PW_BLEND_OVER && c->cwrite) pw__raster_over(c, pieces + k, t, pl);
+        else pw__raster_vis(c, pieces + k, (uint32_t)t, pl);
     }
 }
 
@@ -1455,16 +1443,14 @@ PW__DEF void pw__draw_tri(pw__ctx *c, int t)
 PW__DEF int pw__draw_scratch(pw_fb *fb, const pw_draw *d, int need_normals, pw_err *e)
 {
     size_t oldm = fb->mcap;
-    if (pw_grow(fb->alloc, (void **)&fb->vbuf, &fb->vcap, (size_t)d->nv * 5, sizeof(double),
-                "render vertices", e) ||
+    if (pw_grow(fb->alloc, (void **)&fb->vbuf, &fb->vcap, (size_t)d->nv * 5, sizeof(double), "render vertices", e) ||
         pw_grow(fb->alloc, (void **)&fb->pbuf, &fb->pcap, (size_t)d->ntris * PW__NPL, sizeof(float),
                 "render triangle planes", e) ||
-        (need_normals && pw_grow(fb->alloc, (void **)&fb->nbuf, &fb->ncap, (size_t)d->nv * 3,
-                                 sizeof(float), "render normals", e)))
+        (need_normals &&
+         pw_grow(fb->alloc, (void **)&fb->nbuf, &fb->ncap, (size_t)d->nv * 3, sizeof(float), "render normals", e)))
         return e ? e->code : PW_ERR_NOMEM;
     if (d->blend == PW_BLEND_OVER &&
-        (pw_grow(fb->alloc, (void **)&fb->mbuf, &fb->mcap, (size_t)fb->w, sizeof(uint64_t),
-                 "render sample masks", e) ||
+        (pw_grow(fb->alloc, (void **)&fb->mbuf, &fb->mcap, (size_t)fb->w, sizeof(uint64_t), "render sample masks", e) ||
          pw_grow(fb->alloc, (void **)&fb->qbuf, &fb->qcap, (size_t)fb->sw * fb->ss, sizeof(float),
                  "render sample depths", e)))
         return e ? e->code : PW_ERR_NOMEM;
@@ -1680,21 +1666,21 @@ PW__DEF void pw_parallel_for(const pw_parallel *par, int n, pw_task_fn task, voi
 typedef int (*pw_frame_draw_fn)(void *user, pw_fb *fb, pw_err *e);
 
 typedef struct pw_frame {
-    int w, h, ss;            /* pixels, samples per pixel side */
-    float bg[4];             /* background, straight RGBA */
-    int channels;            /* of the picture: 3 or 4 (see pw_fb_resolve_band) */
+    int w, h, ss; /* pixels, samples per pixel side */
+    float bg[4];  /* background, straight RGBA */
+    int channels; /* of the picture: 3 or 4 (see pw_fb_resolve_band) */
     pw_frame_draw_fn draw;
     void *user;
-    const pw_parallel *par;  /* NULL: one thread */
+    const pw_parallel *par; /* NULL: one thread */
 } pw_frame;
 
 typedef struct pw__frame_run {
     const pw_alloc *a;
     const pw_frame *f;
     pw_image *out;
-    int rows;                /* pixel rows per band */
-    int *codes;              /* per band: its result */
-    pw_err *errs;            /* per band: its message */
+    int rows;     /* pixel rows per band */
+    int *codes;   /* per band: its result */
+    pw_err *errs; /* per band: its message */
 } pw__frame_run;
 
 PW__DEF void pw__frame_band(void *ctx, int band)
@@ -1752,8 +1738,8 @@ PW__DEF int pw_render_frame(const pw_alloc *a, const pw_frame *f, pw_image *out,
     if (f->channels != 3 && f->channels != 4)
         return pw_fail(e, PW_ERR_INVALID, "render: %d channels (need 3 or 4)", f->channels);
     if (f->w <= 0 || f->h <= 0 || f->ss < 1 || f->ss > PW_FB_MAX_SS)
-        return pw_fail(e, PW_ERR_INVALID, "framebuffer: invalid size %dx%d with %dx%d samples", f->w,
-                       f->h, f->ss, f->ss);
+        return pw_fail(e, PW_ERR_INVALID, "framebuffer: invalid size %dx%d with %dx%d samples", f->w, f->h, f->ss,
+                       f->ss);
     R.rows = (f->h + 4 * width - 1) / (4 * width);
     if (R.rows < 8) R.rows = 8;
     nb = (f->h + R.rows - 1) / R.rows;

@@ -38,13 +38,12 @@ PW__DEF int pw_shape_alloc(const pw_alloc *a, int nv, int nf, int degree, pw_mes
 
 /* The icosahedron: corners (0, +-1, +-phi) and cyclic permutations, faces
  * counter-clockwise seen from outside (the table's 2 stands for phi). */
-static const signed char pw__ico_v[12][3] = {{-1, 2, 0}, {1, 2, 0}, {-1, -2, 0}, {1, -2, 0},
-                                             {0, -1, 2}, {0, 1, 2}, {0, -1, -2}, {0, 1, -2},
-                                             {2, 0, -1}, {2, 0, 1}, {-2, 0, -1}, {-2, 0, 1}};
-static const unsigned char pw__ico_f[20][3] = {
-    {0, 11, 5}, {0, 5, 1}, {0, 1, 7}, {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
-    {11, 10, 2}, {10, 7, 6}, {7, 1, 8}, {3, 9, 4}, {3, 4, 2}, {3, 2, 6}, {3, 6, 8},
-    {3, 8, 9}, {4, 9, 5}, {2, 4, 11}, {6, 2, 10}, {8, 6, 7}, {9, 8, 1}};
+static const signed char pw__ico_v[12][3] = {{-1, 2, 0},  {1, 2, 0},  {-1, -2, 0}, {1, -2, 0}, {0, -1, 2},  {0, 1, 2},
+                                             {0, -1, -2}, {0, 1, -2}, {2, 0, -1},  {2, 0, 1},  {-2, 0, -1}, {-2, 0, 1}};
+static const unsigned char pw__ico_f[20][3] = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11},
+                                               {1, 5, 9},  {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
+                                               {3, 9, 4},  {3, 4, 2},  {3, 2, 6},   {3, 6, 8},  {3, 8, 9},
+                                               {4, 9, 5},  {2, 4, 11}, {6, 2, 10},  {8, 6, 7},  {9, 8, 1}};
 
 PW__DEF pw_v3 pw__ico_corner(int k)
 {
@@ -82,9 +81,19 @@ PW__DEF int pw__geo_id(const int *c, int f, int n, int i, int j)
     if (i == 0 && j == 0) return c[0];
     if (i == n) return c[1];
     if (j == n) return c[2];
-    if (j == 0) p = c[0], q = c[1], t = i;
-    else if (i == 0) p = c[0], q = c[2], t = j;
-    else if (i + j == n) p = c[1], q = c[2], t = j;
+    if (j == 0) {
+        p = c[0];
+        q = c[1];
+        t = i;
+    } else if (i == 0) {
+        p = c[0];
+        q = c[2];
+        t = j;
+    } else if (i + j == n) {
+        p = c[1];
+        q = c[2];
+        t = j;
+    }
     if (p >= 0) {
         if (p > q) {
             int s = p;
@@ -107,8 +116,12 @@ PW__DEF int pw_shape_geosphere(const pw_alloc *a, int n, pw_mesh *m, pw_err *e)
     for (f = 0; f < 20; f++) {
         int c[3];
         pw_v3 A, B, C;
-        c[0] = pw__ico_f[f][0], c[1] = pw__ico_f[f][1], c[2] = pw__ico_f[f][2];
-        A = pw__ico_corner(c[0]), B = pw__ico_corner(c[1]), C = pw__ico_corner(c[2]);
+        c[0] = pw__ico_f[f][0];
+        c[1] = pw__ico_f[f][1];
+        c[2] = pw__ico_f[f][2];
+        A = pw__ico_corner(c[0]);
+        B = pw__ico_corner(c[1]);
+        C = pw__ico_corner(c[2]);
         for (j = 0; j <= n; j++)
             for (i = 0; i + j <= n; i++) {
                 pw_v3 p = pw_v3_add(A, pw_v3_add(pw_v3_scale(pw_v3_sub(B, A), (float)i / n),
@@ -147,7 +160,9 @@ PW__DEF int pw_shape_bumpy(const pw_alloc *a, int n, pw_mesh *m, pw_err *e)
     for (k = 0; k < 14; k++) {
         double x = 2 * pw_rng_double(&rng) - 1, y = 2 * pw_rng_double(&rng) - 1, z = 2 * pw_rng_double(&rng) - 1;
         double l = sqrt(x * x + y * y + z * z) + 1e-9;
-        c[k][0] = x / l, c[k][1] = y / l, c[k][2] = z / l;
+        c[k][0] = x / l;
+        c[k][1] = y / l;
+        c[k][2] = z / l;
         h[k] = k % 3 == 2 ? -0.1 : 0.08 + 0.14 * pw_rng_double(&rng);
         rad[k] = 0.45 + 0.4 * pw_rng_double(&rng);
     }
@@ -198,9 +213,15 @@ PW__DEF int pw__shape_torus(const pw_alloc *a, int nu, int nv, int quads, double
             p[0] = (float)(rr * pw_cos(u));
             p[1] = (float)(rr * pw_sin(u));
             p[2] = (float)(tube * pw_sin(v));
-            t[0] = a0, t[1] = a1, t[2] = a2; /* d/du x d/dv points outwards */
+            t[0] = a0;
+            t[1] = a1;
+            t[2] = a2; /* d/du x d/dv points outwards */
             if (quads) t[3] = a3;
-            else t[3] = a0, t[4] = a2, t[5] = a3;
+            else {
+                t[3] = a0;
+                t[4] = a2;
+                t[5] = a3;
+            }
         }
     return PW_OK;
 }
@@ -313,8 +334,7 @@ PW__DEF void pw__voxel_pass(pw__voxels *v)
             }
 }
 
-PW__DEF int pw_shape_polycube(const pw_alloc *a, int X, int Y, int Z, const unsigned char *vox, pw_mesh *m,
-                              pw_err *e)
+PW__DEF int pw_shape_polycube(const pw_alloc *a, int X, int Y, int Z, const unsigned char *vox, pw_mesh *m, pw_err *e)
 {
     pw__voxels v;
     int r;
@@ -358,7 +378,11 @@ PW__DEF int pw_shape_grid(const pw_alloc *a, int n, double wave, int quads, pw_m
             f[1] = v + 1;
             f[2] = v + n + 2;
             if (quads) f[3] = v + n + 1;
-            else f[3] = v, f[4] = v + n + 2, f[5] = v + n + 1;
+            else {
+                f[3] = v;
+                f[4] = v + n + 2;
+                f[5] = v + n + 1;
+            }
         }
     return PW_OK;
 }
@@ -387,23 +411,38 @@ PW__DEF int pw__shape_revolve(const pw_alloc *a, const double *z, const double *
     int rings = n - 2, nv = rings * around + 2, k, j, nt = 0, res;
     int bot = nv - 1; /* vertex 0 is the top pole; ring k (1..rings) starts at 1 + (k-1) * around */
     if ((res = pw_shape_alloc(a, nv, 2 * around * (rings - 1) + 2 * around, 3, m, e)) != PW_OK) return res;
-    m->pos[0] = m->pos[1] = 0.0f, m->pos[2] = (float)z[0];
-    m->pos[3 * bot] = m->pos[3 * bot + 1] = 0.0f, m->pos[3 * bot + 2] = (float)z[n - 1];
+    m->pos[0] = m->pos[1] = 0.0f;
+    m->pos[2] = (float)z[0];
+    m->pos[3 * bot] = m->pos[3 * bot + 1] = 0.0f;
+    m->pos[3 * bot + 2] = (float)z[n - 1];
     for (k = 1; k <= rings; k++)
         for (j = 0; j < around; j++) {
             float *p = m->pos + 3 * (1 + (k - 1) * around + j);
-            p[0] = (float)(r[k] * pw_cos(pi2 * j / around)), p[1] = (float)(r[k] * pw_sin(pi2 * j / around));
+            p[0] = (float)(r[k] * pw_cos(pi2 * j / around));
+            p[1] = (float)(r[k] * pw_sin(pi2 * j / around));
             p[2] = (float)z[k];
         }
     for (j = 0; j < around; j++) {
         int j1 = (j + 1) % around, *t;
-        t = m->fv + 3 * nt++, t[0] = 0, t[1] = 1 + j, t[2] = 1 + j1;
+        t = m->fv + 3 * nt++;
+        t[0] = 0;
+        t[1] = 1 + j;
+        t[2] = 1 + j1;
         for (k = 1; k < rings; k++) {
             int a0 = 1 + (k - 1) * around + j, a1 = 1 + (k - 1) * around + j1, b0 = a0 + around, b1 = a1 + around;
-            t = m->fv + 3 * nt++, t[0] = a0, t[1] = b0, t[2] = b1;
-            t = m->fv + 3 * nt++, t[0] = a0, t[1] = b1, t[2] = a1;
+            t = m->fv + 3 * nt++;
+            t[0] = a0;
+            t[1] = b0;
+            t[2] = b1;
+            t = m->fv + 3 * nt++;
+            t[0] = a0;
+            t[1] = b1;
+            t[2] = a1;
         }
-        t = m->fv + 3 * nt++, t[0] = bot, t[1] = 1 + (rings - 1) * around + j1, t[2] = 1 + (rings - 1) * around + j;
+        t = m->fv + 3 * nt++;
+        t[0] = bot;
+        t[1] = 1 + (rings - 1) * around + j1;
+        t[2] = 1 + (rings - 1) * around + j;
     }
     return PW_OK;
 }
@@ -420,16 +459,32 @@ PW__DEF int pw_shape_dumbbell(const pw_alloc *a, double neck, int around, pw_mes
         return pw_fail(e, PW_ERR_INVALID, "dumbbell: neck %g not in (0, 1) or %d vertices around", neck, around);
     tn = pi - pw__shape_asin(neck); /* polar angle where a ball meets the neck */
     zn = 2.0 + pw_cos(tn);          /* the neck runs over |z| <= zn */
-    nb = (int)(tn / step) + 1, len = 2.0 * zn, nn = (int)(len / step) + 1;
+    nb = (int)(tn / step) + 1;
+    len = 2.0 * zn;
+    nn = (int)(len / step) + 1;
     n = 2 * nb + nn + 1;
     z = (double *)pw_alloc_array(a, (size_t)n, sizeof(double), "profile", e);
     r = (double *)pw_alloc_array(a, (size_t)n, sizeof(double), "profile", e);
-    if (!z || !r) return pw_free(a, z), pw_free(a, r), PW_ERR_NOMEM;
-    for (k = 0; k < nb; k++) z[k] = 2.0 + pw_cos(tn * k / nb), r[k] = pw_sin(tn * k / nb);
-    for (k = 0; k <= nn; k++) z[nb + k] = zn - len * k / nn, r[nb + k] = neck;
-    for (k = 0; k < nb; k++) z[n - 1 - k] = -z[k], r[n - 1 - k] = r[k];
+    if (!z || !r) {
+        pw_free(a, z);
+        pw_free(a, r);
+        return PW_ERR_NOMEM;
+    }
+    for (k = 0; k < nb; k++) {
+        z[k] = 2.0 + pw_cos(tn * k / nb);
+        r[k] = pw_sin(tn * k / nb);
+    }
+    for (k = 0; k <= nn; k++) {
+        z[nb + k] = zn - len * k / nn;
+        r[nb + k] = neck;
+    }
+    for (k = 0; k < nb; k++) {
+        z[n - 1 - k] = -z[k];
+        r[n - 1 - k] = r[k];
+    }
     res = pw__shape_revolve(a, z, r, n, around, m, e);
-    pw_free(a, z), pw_free(a, r);
+    pw_free(a, z);
+    pw_free(a, r);
     return res;
 }
 

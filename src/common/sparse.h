@@ -67,8 +67,7 @@ PW__DEF int pw_triplets_init(pw_triplets *t, const pw_alloc *a, int n, int m, pw
 {
     memset(t, 0, sizeof *t);
     if (a) t->alloc = *a;
-    if (n < 0 || m < 0)
-        return pw_fail(e, PW_ERR_INVALID, "sparse matrix size %dx%d is negative", n, m);
+    if (n < 0 || m < 0) return pw_fail(e, PW_ERR_INVALID, "sparse matrix size %dx%d is negative", n, m);
     t->n = n;
     t->m = m;
     return PW_OK;
@@ -94,8 +93,7 @@ PW__DEF int pw__triplets_grow(pw_triplets *t, pw_err *e)
     size_t ncap = t->cap ? t->cap * 2 : 64;
     void *p;
     if (ncap > (size_t)INT_MAX) ncap = (size_t)INT_MAX;
-    if (ncap > (size_t)-1 / sizeof(double))
-        return pw_fail(e, PW_ERR_NOMEM, "sparse triplets: size overflow");
+    if (ncap > (size_t)-1 / sizeof(double)) return pw_fail(e, PW_ERR_NOMEM, "sparse triplets: size overflow");
     /* Each successful realloc is kept even if a later one fails: the list
      * stays valid with the old capacity. */
     if (!(p = pw_realloc(&t->alloc, t->row, ncap * sizeof(int)))) goto nomem;
@@ -107,8 +105,7 @@ PW__DEF int pw__triplets_grow(pw_triplets *t, pw_err *e)
     t->cap = ncap;
     return PW_OK;
 nomem:
-    return pw_fail(e, PW_ERR_NOMEM, "out of memory growing sparse triplets to %lu entries",
-                   (unsigned long)ncap);
+    return pw_fail(e, PW_ERR_NOMEM, "out of memory growing sparse triplets to %lu entries", (unsigned long)ncap);
 }
 
 /* Adds v at (i, j). Entries at the same position are summed by
@@ -116,12 +113,9 @@ nomem:
 PW__DEF int pw_triplets_add(pw_triplets *t, int i, int j, double v, pw_err *e)
 {
     if (i < 0 || i >= t->n || j < 0 || j >= t->m)
-        return pw_fail(e, PW_ERR_INVALID, "sparse entry (%d, %d) outside the %dx%d matrix", i,
-                       j, t->n, t->m);
-    if (!pw_is_finite(v))
-        return pw_fail(e, PW_ERR_INVALID, "sparse entry (%d, %d) is not finite", i, j);
-    if (t->count == INT_MAX)
-        return pw_fail(e, PW_ERR_LIMIT, "sparse matrix has more than %d entries", INT_MAX);
+        return pw_fail(e, PW_ERR_INVALID, "sparse entry (%d, %d) outside the %dx%d matrix", i, j, t->n, t->m);
+    if (!pw_is_finite(v)) return pw_fail(e, PW_ERR_INVALID, "sparse entry (%d, %d) is not finite", i, j);
+    if (t->count == INT_MAX) return pw_fail(e, PW_ERR_LIMIT, "sparse matrix has more than %d entries", INT_MAX);
     if ((size_t)t->count >= t->cap && pw__triplets_grow(t, e)) return PW_ERR_NOMEM;
     t->row[t->count] = i;
     t->col[t->count] = j;
@@ -168,8 +162,7 @@ PW__DEF int pw__csr_alloc(const pw_alloc *a, pw_csr *A, int n, int m, int nnz, p
 
 /* Stable counting sort of the entries idx[0..cnt) by key[idx[k]] in [0, nkeys):
  * writes the order to out and the start of each key to start[0..nkeys]. */
-PW__DEF void pw__counting_sort(const int *key, const int *idx, int cnt, int nkeys, int *start,
-                               int *out)
+PW__DEF void pw__counting_sort(const int *key, const int *idx, int cnt, int nkeys, int *start, int *out)
 {
     int k;
     memset(start, 0, ((size_t)nkeys + 1) * sizeof(int));
@@ -186,8 +179,7 @@ PW__DEF void pw__counting_sort(const int *key, const int *idx, int cnt, int nkey
 
 /* Sums the duplicates of each row of `order` (sorted by row, then column,
  * ties in insertion order, so the sums are taken in insertion order). */
-PW__DEF void pw__csr_compress(const pw_triplets *t, const int *order, const int *start,
-                              pw_csr *A)
+PW__DEF void pw__csr_compress(const pw_triplets *t, const int *order, const int *start, pw_csr *A)
 {
     int r, k, nz = 0;
     for (r = 0; r < t->n; r++) {
@@ -244,11 +236,12 @@ PW__DEF int pw_csr_check(const pw_csr *A, pw_err *e)
             return pw_fail(e, PW_ERR_INVALID, "sparse matrix row %d has a negative length", i);
         for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++) {
             if (A->col[k] < 0 || A->col[k] >= A->m)
-                return pw_fail(e, PW_ERR_INVALID, "sparse matrix entry %d of row %d: column %d "
-                               "outside 0..%d", k - A->rowptr[i], i, A->col[k], A->m - 1);
+                return pw_fail(e, PW_ERR_INVALID,
+                               "sparse matrix entry %d of row %d: column %d "
+                               "outside 0..%d",
+                               k - A->rowptr[i], i, A->col[k], A->m - 1);
             if (!pw_is_finite(A->val[k]))
-                return pw_fail(e, PW_ERR_INVALID, "sparse matrix entry (%d, %d) is not finite",
-                               i, A->col[k]);
+                return pw_fail(e, PW_ERR_INVALID, "sparse matrix entry (%d, %d) is not finite", i, A->col[k]);
         }
     }
     return PW_OK;
@@ -315,8 +308,7 @@ PW__DEF int pw_csr_transpose(const pw_alloc *a, const pw_csr *A, pw_csr *out, pw
 
 /* Counts the entries of AᵀA row by row (At = Aᵀ) into C->rowptr; fails
  * when the total does not fit in an int. */
-PW__DEF int pw__ata_count(const pw_csr *A, const pw_csr *At, int *mark, int *rowptr,
-                          pw_err *e)
+PW__DEF int pw__ata_count(const pw_csr *A, const pw_csr *At, int *mark, int *rowptr, pw_err *e)
 {
     int i, k, q;
     int64_t nnz = 0;
@@ -332,8 +324,7 @@ PW__DEF int pw__ata_count(const pw_csr *A, const pw_csr *At, int *mark, int *row
                 }
             }
         }
-        if (nnz > INT_MAX)
-            return pw_fail(e, PW_ERR_LIMIT, "A^T A has more than %d entries", INT_MAX);
+        if (nnz > INT_MAX) return pw_fail(e, PW_ERR_LIMIT, "A^T A has more than %d entries", INT_MAX);
         rowptr[i + 1] = (int)nnz;
     }
     return PW_OK;
@@ -440,8 +431,7 @@ PW__DEF int pw__check_vec(const double *v, int n, const char *what, pw_err *e)
 {
     int i;
     for (i = 0; i < n; i++)
-        if (!pw_is_finite(v[i]))
-            return pw_fail(e, PW_ERR_INVALID, "%s[%d] is not finite", what, i);
+        if (!pw_is_finite(v[i])) return pw_fail(e, PW_ERR_INVALID, "%s[%d] is not finite", what, i);
     return PW_OK;
 }
 
@@ -456,13 +446,13 @@ PW__DEF void pw__jacobi(double *d, int n)
 
 /* State shared by CG and CGLS: settings, counters, the outcome. */
 typedef struct pw__krylov {
-    int n;          /* unknowns */
+    int n; /* unknowns */
     int max_iter;
     double tol;
-    double bnorm;   /* norm the residual is measured against */
-    double rnorm;   /* current (recurrence) residual norm */
+    double bnorm; /* norm the residual is measured against */
+    double rnorm; /* current (recurrence) residual norm */
     int it;
-    int status;     /* PW_OK, or why the loop stopped */
+    int status; /* PW_OK, or why the loop stopped */
     const pw_progress *progress;
 } pw__krylov;
 
@@ -490,8 +480,7 @@ PW__DEF int pw__krylov_report(pw__krylov *k, pw_err *e)
 
 /* Fills the stats and turns a stop without convergence into an error that
  * carries the residual. `what` names the solver. */
-PW__DEF int pw__krylov_finish(const pw__krylov *k, double true_rnorm, const char *what,
-                              pw_cg_stats *s, pw_err *e)
+PW__DEF int pw__krylov_finish(const pw__krylov *k, double true_rnorm, const char *what, pw_cg_stats *s, pw_err *e)
 {
     double rel = true_rnorm / k->bnorm;
     if (s) {
@@ -502,11 +491,15 @@ PW__DEF int pw__krylov_finish(const pw__krylov *k, double true_rnorm, const char
     if (rel <= k->tol) return PW_OK;
     if (k->status == PW_ERR_CANCELLED) return k->status;
     if (k->status)
-        return pw_fail(e, PW_ERR_NOCONVERGE, "%s broke down after %d iterations (the matrix is "
+        return pw_fail(e, PW_ERR_NOCONVERGE,
+                       "%s broke down after %d iterations (the matrix is "
                        "not positive definite or the system is inconsistent): relative "
-                       "residual %.3g, tolerance %.3g", what, k->it, rel, k->tol);
-    return pw_fail(e, PW_ERR_NOCONVERGE, "%s stopped at the cap of %d iterations: relative "
-                   "residual %.3g, tolerance %.3g", what, k->it, rel, k->tol);
+                       "residual %.3g, tolerance %.3g",
+                       what, k->it, rel, k->tol);
+    return pw_fail(e, PW_ERR_NOCONVERGE,
+                   "%s stopped at the cap of %d iterations: relative "
+                   "residual %.3g, tolerance %.3g",
+                   what, k->it, rel, k->tol);
 }
 
 /* The loops below are fused so that each iteration streams the matrix once
@@ -542,8 +535,7 @@ PW__DEF double pw__precond_dots(const double *r, const double *dinv, int n, doub
 }
 
 /* p = D⁻¹r + beta p (beta = 0 restarts along the preconditioned residual). */
-PW__DEF void pw__new_direction(double *p, const double *r, const double *dinv, double beta,
-                               int n)
+PW__DEF void pw__new_direction(double *p, const double *r, const double *dinv, double beta, int n)
 {
     int i;
     if (beta == 0)
@@ -579,8 +571,7 @@ PW__DEF double pw__cg_step(double *x, pw__cg_ws *w, int n, double pq, double *rz
 /* Preconditioned CG iterations from x; r holds b - A x on entry. Restarts
  * from the true residual when the recurrence claims convergence that the
  * true residual does not confirm (rounding drift). */
-PW__DEF void pw__cg_loop(const pw_csr *A, const double *b, double *x, pw__cg_ws *w,
-                         pw__krylov *k, pw_err *e)
+PW__DEF void pw__cg_loop(const pw_csr *A, const double *b, double *x, pw__cg_ws *w, pw__krylov *k, pw_err *e)
 {
     int n = k->n, restart = 1, fresh = 1;
     double rz = 0, rr;
@@ -620,8 +611,8 @@ PW__DEF void pw__cg_loop(const pw_csr *A, const double *b, double *x, pw__cg_ws 
  * progress callback stopped it: in those three cases x holds the last
  * iterate, never worse in the energy norm than the guess, and *s its
  * residual. */
-PW__DEF int pw_cg_solve(const pw_alloc *a, const pw_csr *A, const double *b, double *x,
-                        const pw_cg_options *o, pw_cg_stats *s, pw_err *e)
+PW__DEF int pw_cg_solve(const pw_alloc *a, const pw_csr *A, const double *b, double *x, const pw_cg_options *o,
+                        pw_cg_stats *s, pw_err *e)
 {
     pw__krylov k;
     pw__cg_ws w;
@@ -630,8 +621,7 @@ PW__DEF int pw_cg_solve(const pw_alloc *a, const pw_csr *A, const double *b, dou
     if (pw_csr_check(A, e)) return PW_ERR_INVALID;
     n = A->n;
     if (A->m != n) return pw_fail(e, PW_ERR_INVALID, "CG needs a square matrix, not %dx%d", n, A->m);
-    if (pw__check_vec(b, n, "CG right-hand side b", e) || pw__check_vec(x, n, "CG guess x", e))
-        return PW_ERR_INVALID;
+    if (pw__check_vec(b, n, "CG right-hand side b", e) || pw__check_vec(x, n, "CG guess x", e)) return PW_ERR_INVALID;
     PW_SOLVE_HOOK("cg", A, b, x, o);
     pw__krylov_init(&k, n, o);
     k.bnorm = sqrt(pw__dot(b, b, n));
@@ -733,7 +723,7 @@ PW__DEF int pw_ic0_factor(const pw_alloc *a, const pw_csr *A, pw_ic0 *L, pw_err 
         pw_ic0_free(a, L);
         return PW_ERR_NOMEM;
     }
-    for (k = 0; k < 40; k++, shift = shift > 0.0 ? 2.0 * shift : 1e-3)
+    for (k = 0; k<40; k++, shift = shift> 0.0 ? 2.0 * shift : 1e-3)
         if (pw__ic0_try(A, shift, L)) return PW_OK;
     pw_ic0_free(a, L);
     return pw_fail(e, PW_ERR_INVALID, "IC(0): the matrix is not positive definite");
@@ -788,7 +778,9 @@ PW__DEF int pw__pcg_run(const pw_alloc *a, const pw__pcg_op *op, const pw_cg_opt
         return PW_OK;
     }
     if (!(r = (double *)pw_alloc_array(a, (size_t)n * 4, sizeof(double), "PCG vectors", e))) return PW_ERR_NOMEM;
-    z = r + n, p = z + n, q = p + n;
+    z = r + n;
+    p = z + n;
+    q = p + n;
     op->mul(op->actx, x, r);
     for (i = 0; i < n; i++) r[i] = b[i] - r[i];
     op->precond(op->mctx, r, z);
@@ -801,7 +793,10 @@ PW__DEF int pw__pcg_run(const pw_alloc *a, const pw__pcg_op *op, const pw_cg_opt
             break;
         }
         alpha = rz / pq;
-        for (i = 0; i < n; i++) x[i] += alpha * p[i], r[i] -= alpha * q[i];
+        for (i = 0; i < n; i++) {
+            x[i] += alpha * p[i];
+            r[i] -= alpha * q[i];
+        }
         op->precond(op->mctx, r, z);
         rz1 = pw__dot(r, z, n);
         for (i = 0; i < n; i++) p[i] = z[i] + rz1 / rz * p[i];
@@ -838,7 +833,9 @@ PW__DEF int pw_pcg_solve(const pw_alloc *a, const pw_csr *A, const pw_ic0 *M, co
     op.precond = pw__ic0_op;
     op.actx = A;
     op.mctx = M;
-    op.b = b, op.x = x, op.what = "PCG";
+    op.b = b;
+    op.x = x;
+    op.what = "PCG";
     return pw__pcg_run(a, &op, o, s, e);
 }
 
@@ -851,8 +848,7 @@ typedef struct pw__cgls_ws {
 } pw__cgls_ws;
 
 /* r = b - A x, s = Aᵀ r; returns |s|. */
-PW__DEF double pw__cgls_residual(const pw_csr *A, const double *b, const double *x,
-                                 pw__cgls_ws *w)
+PW__DEF double pw__cgls_residual(const pw_csr *A, const double *b, const double *x, pw__cgls_ws *w)
 {
     pw__residual(A, b, x, w->r);
     pw_csr_mul_t(A, w->r, w->s);
@@ -879,8 +875,7 @@ PW__DEF double pw__cgls_step(const pw_csr *A, double *x, pw__cgls_ws *w, double 
 
 /* CGLS iterations, structured like pw__cg_loop with the normal-equation
  * residual s = Aᵀ(b - A x) in the role of CG's residual. */
-PW__DEF void pw__cgls_loop(const pw_csr *A, const double *b, double *x, pw__cgls_ws *w,
-                           pw__krylov *k, pw_err *e)
+PW__DEF void pw__cgls_loop(const pw_csr *A, const double *b, double *x, pw__cgls_ws *w, pw__krylov *k, pw_err *e)
 {
     int m = A->m, restart = 1, fresh = 1;
     double gamma = 0, ss;
@@ -926,8 +921,8 @@ PW__DEF void pw__col_norms2(const pw_csr *A, double *d)
  * minimum even when A x = b has no solution); stats->residual reports it.
  * Aᵀb = 0 gives x = 0. Unknowns that no row touches keep their guess. Errors
  * and the meaning of x after a failure are as for pw_cg_solve. */
-PW__DEF int pw_lsq_solve(const pw_alloc *a, const pw_csr *A, const double *b, double *x,
-                         const pw_cg_options *o, pw_cg_stats *s, pw_err *e)
+PW__DEF int pw_lsq_solve(const pw_alloc *a, const pw_csr *A, const double *b, double *x, const pw_cg_options *o,
+                         pw_cg_stats *s, pw_err *e)
 {
     pw__krylov k;
     pw__cgls_ws w;
@@ -935,13 +930,11 @@ PW__DEF int pw_lsq_solve(const pw_alloc *a, const pw_csr *A, const double *b, do
     if (s) memset(s, 0, sizeof *s);
     if (pw_csr_check(A, e)) return PW_ERR_INVALID;
     m = A->m;
-    if (pw__check_vec(b, A->n, "least-squares right-hand side b", e) ||
-        pw__check_vec(x, m, "least-squares guess x", e))
+    if (pw__check_vec(b, A->n, "least-squares right-hand side b", e) || pw__check_vec(x, m, "least-squares guess x", e))
         return PW_ERR_INVALID;
     PW_SOLVE_HOOK("lsq", A, b, x, o);
     pw__krylov_init(&k, m, o);
-    w.r = (double *)pw_alloc_array(a, (size_t)A->n * 2 + (size_t)m * 3, sizeof(double),
-                                   "least-squares vectors", e);
+    w.r = (double *)pw_alloc_array(a, (size_t)A->n * 2 + (size_t)m * 3, sizeof(double), "least-squares vectors", e);
     if (!w.r) return PW_ERR_NOMEM;
     w.q = w.r + A->n;
     w.s = w.q + A->n;
@@ -984,17 +977,22 @@ PW__DEF int pw_lsq_solve(const pw_alloc *a, const pw_csr *A, const double *b, do
  * columns, its rows increasing. */
 typedef struct pw_ldlt {
     int n;
-    int *perm;  /* n: new index k is the original unknown perm[k] */
-    int *Lp;    /* n+1: column j of L (strictly below the diagonal) is Li/Lx[Lp[j] .. Lp[j+1]-1] */
+    int *perm; /* n: new index k is the original unknown perm[k] */
+    int *Lp;   /* n+1: column j of L (strictly below the diagonal) is Li/Lx[Lp[j] .. Lp[j+1]-1] */
     int *Li;
     double *Lx;
-    double *D;  /* n: the diagonal */
+    double *D;    /* n: the diagonal */
     double *work; /* n: solve scratch */
 } pw_ldlt;
 
 PW__DEF void pw_ldlt_free(const pw_alloc *a, pw_ldlt *F)
 {
-    pw_free(a, F->perm), pw_free(a, F->Lp), pw_free(a, F->Li), pw_free(a, F->Lx), pw_free(a, F->D), pw_free(a, F->work);
+    pw_free(a, F->perm);
+    pw_free(a, F->Lp);
+    pw_free(a, F->Li);
+    pw_free(a, F->Lx);
+    pw_free(a, F->D);
+    pw_free(a, F->work);
     memset(F, 0, sizeof *F);
 }
 
@@ -1002,18 +1000,24 @@ PW__DEF void pw_ldlt_free(const pw_alloc *a, pw_ldlt *F)
 typedef struct pw__mdg {
     const pw_alloc *a;
     int n;
-    int **adj, *deg, *cap;  /* sorted neighbour lists */
+    int **adj, *deg, *cap;   /* sorted neighbour lists */
     int *head, *next, *prev; /* degree buckets: doubly linked lists */
     unsigned char *gone;
-    int *tmp;               /* merge scratch, n */
+    int *tmp; /* merge scratch, n */
 } pw__mdg;
 
 PW__DEF void pw__mdg_free(pw__mdg *G)
 {
     int i;
     for (i = 0; G->adj && i < G->n; i++) pw_free(G->a, G->adj[i]);
-    pw_free(G->a, G->adj), pw_free(G->a, G->deg), pw_free(G->a, G->cap), pw_free(G->a, G->head);
-    pw_free(G->a, G->next), pw_free(G->a, G->prev), pw_free(G->a, G->gone), pw_free(G->a, G->tmp);
+    pw_free(G->a, G->adj);
+    pw_free(G->a, G->deg);
+    pw_free(G->a, G->cap);
+    pw_free(G->a, G->head);
+    pw_free(G->a, G->next);
+    pw_free(G->a, G->prev);
+    pw_free(G->a, G->gone);
+    pw_free(G->a, G->tmp);
 }
 
 PW__DEF void pw__mdg_unlink(pw__mdg *G, int v)
@@ -1039,7 +1043,8 @@ PW__DEF int pw__mdg_init(pw__mdg *G, const pw_alloc *a, const pw_csr *A, pw_err 
 {
     int n = A->n, i, k;
     memset(G, 0, sizeof *G);
-    G->a = a, G->n = n;
+    G->a = a;
+    G->n = n;
     G->adj = (int **)pw_calloc_array(a, (size_t)n, sizeof(int *), "ordering graph", e);
     G->deg = (int *)pw_calloc_array(a, (size_t)n, sizeof(int), "ordering graph", e);
     G->cap = (int *)pw_calloc_array(a, (size_t)n, sizeof(int), "ordering graph", e);
@@ -1053,7 +1058,8 @@ PW__DEF int pw__mdg_init(pw__mdg *G, const pw_alloc *a, const pw_csr *A, pw_err 
         int d = 0;
         for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++) d += A->col[k] != i;
         G->cap[i] = d > 4 ? d : 4;
-        if (!(G->adj[i] = (int *)pw_alloc_array(a, (size_t)G->cap[i], sizeof(int), "ordering graph", e))) return PW_ERR_NOMEM;
+        if (!(G->adj[i] = (int *)pw_alloc_array(a, (size_t)G->cap[i], sizeof(int), "ordering graph", e)))
+            return PW_ERR_NOMEM;
         for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++)
             if (A->col[k] != i) G->adj[i][G->deg[i]++] = A->col[k];
     }
@@ -1070,13 +1076,17 @@ PW__DEF int pw__mdg_merge(pw__mdg *G, int u, const int *nb, int nn, pw_err *e)
         int x;
         if (j >= nn || (i < du && au[i] < nb[j])) x = au[i++];
         else if (i >= du || nb[j] < au[i]) x = nb[j++];
-        else x = au[i++], j++;
+        else {
+            x = au[i++];
+            j++;
+        }
         if (x != u && !G->gone[x]) G->tmp[m++] = x;
     }
     if (m > G->cap[u]) {
         int *grown = (int *)pw_realloc(G->a, au, sizeof(int) * (size_t)m);
         if (!grown) return pw_fail(e, PW_ERR_NOMEM, "out of memory ordering a sparse matrix");
-        G->adj[u] = grown, G->cap[u] = m;
+        G->adj[u] = grown;
+        G->cap[u] = m;
     }
     memcpy(G->adj[u], G->tmp, sizeof(int) * (size_t)m);
     G->deg[u] = m;
@@ -1089,7 +1099,8 @@ PW__DEF int pw__min_degree(const pw_alloc *a, const pw_csr *A, int *perm, pw_err
     pw__mdg G;
     int k, d, r = pw__mdg_init(&G, a, A, e);
     int *nb = NULL;
-    if (r == PW_OK && !(nb = (int *)pw_alloc_array(a, (size_t)A->n, sizeof(int), "ordering graph", e))) r = PW_ERR_NOMEM;
+    if (r == PW_OK && !(nb = (int *)pw_alloc_array(a, (size_t)A->n, sizeof(int), "ordering graph", e)))
+        r = PW_ERR_NOMEM;
     for (k = 0; k < A->n && r == PW_OK; k++) {
         int v, nn, i;
         d = 0;
@@ -1119,7 +1130,9 @@ PW__DEF void pw__ldlt_symbolic(const pw_csr *A, const int *perm, const int *iper
     int k, p;
     for (k = 0; k < A->n; k++) {
         int old = perm[k];
-        parent[k] = -1, flag[k] = k, count[k] = 0;
+        parent[k] = -1;
+        flag[k] = k;
+        count[k] = 0;
         for (p = A->rowptr[old]; p < A->rowptr[old + 1]; p++) {
             int i = iperm[A->col[p]];
             for (; i < k && flag[i] != k; i = parent[i]) {
@@ -1158,7 +1171,10 @@ PW__DEF int pw__ldlt_row(pw_ldlt *F, const pw_csr *A, const pw__ldlt_work *W, in
         int i = iperm[A->col[p]], n = 0;
         if (i > k) continue;
         y[i] += A->val[p];
-        for (; flag[i] != k; i = parent[i]) pattern[n++] = i, flag[i] = k;
+        for (; flag[i] != k; i = parent[i]) {
+            pattern[n++] = i;
+            flag[i] = k;
+        }
         while (n > 0) pattern[--top] = pattern[--n];
     }
     F->D[k] = akk = y[k];
@@ -1197,7 +1213,10 @@ PW__DEF int pw_ldlt_factor(const pw_alloc *a, const pw_csr *A, pw_ldlt *F, pw_er
     if (!F->perm || !F->Lp || !F->D || !F->work || !iperm || !y) r = PW_ERR_NOMEM;
     if (r == PW_OK) r = pw__min_degree(a, A, F->perm, e);
     if (r == PW_OK) {
-        parent = iperm + n, flag = parent + n, len = flag + n, pattern = len + n;
+        parent = iperm + n;
+        flag = parent + n;
+        len = flag + n;
+        pattern = len + n;
         for (k = 0; k < n; k++) iperm[F->perm[k]] = k;
         pw__ldlt_symbolic(A, F->perm, iperm, parent, len, flag);
         for (F->Lp[0] = 0, k = 0; k < n; k++) F->Lp[k + 1] = F->Lp[k] + len[k];
@@ -1205,13 +1224,20 @@ PW__DEF int pw_ldlt_factor(const pw_alloc *a, const pw_csr *A, pw_ldlt *F, pw_er
         F->Lx = (double *)pw_alloc_array(a, (size_t)F->Lp[n] + 1, sizeof(double), "LDLT factor", e);
         if (!F->Li || !F->Lx) r = PW_ERR_NOMEM;
         for (k = 0; k < n; k++) len[k] = 0;
-        W.iperm = iperm, W.parent = parent, W.len = len, W.flag = flag, W.pattern = pattern, W.y = y;
+        W.iperm = iperm;
+        W.parent = parent;
+        W.len = len;
+        W.flag = flag;
+        W.pattern = pattern;
+        W.y = y;
         for (k = 0; k < n && r == PW_OK; k++)
             if (!pw__ldlt_row(F, A, &W, k))
-                r = pw_fail(e, PW_ERR_DEGENERATE, "LDLT: the matrix is not positive definite (pivot %d of %d, unknown %d, is %g)",
-                            k, n, F->perm[k], F->D[k]);
+                r = pw_fail(e, PW_ERR_DEGENERATE,
+                            "LDLT: the matrix is not positive definite (pivot %d of %d, unknown %d, is %g)", k, n,
+                            F->perm[k], F->D[k]);
     }
-    pw_free(a, iperm), pw_free(a, y);
+    pw_free(a, iperm);
+    pw_free(a, y);
     if (r != PW_OK) pw_ldlt_free(a, F);
     return r;
 }

@@ -109,23 +109,26 @@ typedef struct pw_stuff_tris {
 PW__DEF pw_stuff_tris pw_stuff_tris_of(const float *pos, int nv, const int *tri, int nt)
 {
     pw_stuff_tris m;
-    m.pos = pos, m.nv = nv, m.tri = tri, m.nt = nt;
+    m.pos = pos;
+    m.nv = nv;
+    m.tri = tri;
+    m.nt = nt;
     return m;
 }
 
 typedef struct pw_stuff_options {
-    double cell;     /* lattice spacing (cube side = long-edge length) in mesh units; 0: chosen from target_tets */
-    int target_tets; /* approximate tetrahedron count when cell is 0; 0: 20000 */
-    int strict;      /* 1: a closed surface whose triangles cross is refused with the first crossing pair;
+    double cell;         /* lattice spacing (cube side = long-edge length) in mesh units; 0: chosen from target_tets */
+    int target_tets;     /* approximate tetrahedron count when cell is 0; 0: 20000 */
+    int strict;          /* 1: a closed surface whose triangles cross is refused with the first crossing pair;
                         0 (default): filled where its generalised winding number is at least 1/2
                         (overlapping parts unite, inner sheets vanish) and counted in info */
-    double max_hole; /* an open surface whose holes all have perimeters at most this fraction of the
+    double max_hole;     /* an open surface whose holes all have perimeters at most this fraction of the
                         bounding-box diagonal is closed (fans from a vertex of each hole, filled by
                         winding number) and counted in info; larger holes are refused. 0: 0.05;
                         negative: every open surface is refused */
-    int uniform;     /* 1: the uniform body-centred cubic lattice of cell (proven dihedral bounds,
+    int uniform;         /* 1: the uniform body-centred cubic lattice of cell (proven dihedral bounds,
                         parts thinner than a cell lost); 0 (default): graded near the surface */
-    double fit;      /* graded: the surface deviation allowed inside one lattice tetrahedron, as a
+    double fit;          /* graded: the surface deviation allowed inside one lattice tetrahedron, as a
                         fraction of the bounding-box diagonal; 0: 0.0025 */
     pw_stuff_info *info; /* optional: filled with what the fill found (also on failure) */
 } pw_stuff_options;
@@ -158,7 +161,7 @@ PW__DEF pw_stuff_options pw_stuff_default_options(void)
  * sizing constants. */
 #define PW__ST_ALPHA_GRADED 0.3
 #define PW__ST_REACH 1.5
-#define PW__ST_BEND 0.4       /* fit bound per width of the slab holding the surface near a tetrahedron */
+#define PW__ST_BEND 0.4          /* fit bound per width of the slab holding the surface near a tetrahedron */
 #define PW__ST_MIN_CELL 0.000625 /* no bisection of tetrahedra shorter than this (or fit / 4), over the diagonal */
 /* Quadrilateral faces with a long cut edge take the diagonal from that
  * edge's cut point when it lies within this fraction of the edge from its
@@ -279,7 +282,10 @@ PW__DEF int pw__st_proj_axis(const double *a, const double *b, const double *c)
 {
     double n[3], u[3], v[3];
     int k, best = 0, tries;
-    for (k = 0; k < 3; k++) u[k] = b[k] - a[k], v[k] = c[k] - a[k];
+    for (k = 0; k < 3; k++) {
+        u[k] = b[k] - a[k];
+        v[k] = c[k] - a[k];
+    }
     pw_cross3(u, v, n);
     for (k = 0; k < 3; k++) n[k] = fabs(n[k]);
     if (n[1] > n[best]) best = 1;
@@ -320,7 +326,8 @@ PW__DEF int pw__st_seg_tri(const double *p, const double *q, const double *a, co
     int o1 = pw__st_orient3d(a, b, c, p), o2 = pw__st_orient3d(a, b, c, q), s1, s2, s3, ax, i, j;
     if (o1 == 0 && o2 == 0) { /* coplanar: work in the projection */
         ax = pw__st_proj_axis(a, b, c);
-        i = (ax + 1) % 3, j = (ax + 2) % 3;
+        i = (ax + 1) % 3;
+        j = (ax + 2) % 3;
         return pw__st_in_tri_2d(p, a, b, c, i, j) || pw__st_in_tri_2d(q, a, b, c, i, j) ||
                pw__st_seg_seg_2d(p, q, a, b, i, j) || pw__st_seg_seg_2d(p, q, b, c, i, j) ||
                pw__st_seg_seg_2d(p, q, c, a, i, j);
@@ -344,17 +351,17 @@ PW__DEF int pw__st_one_side(const double *a, const double *b, const double *c, c
 
 typedef struct pw__stsurf {
     int nv, nt;
-    double *p;  /* nv*3, the float input as doubles */
+    double *p; /* nv*3, the float input as doubles */
     const int *tri;
     int nnode;
-    float *box; /* nnode*6: lo xyz, hi xyz (exact bounds of the float input) */
-    int *node;  /* nnode*3: first slot, slot count, left child (-1: leaf; right = left + 1) */
-    int *slot;  /* nt: a node's triangles are slot[first .. first+count) */
+    float *box;               /* nnode*6: lo xyz, hi xyz (exact bounds of the float input) */
+    int *node;                /* nnode*3: first slot, slot count, left child (-1: leaf; right = left + 1) */
+    int *slot;                /* nt: a node's triangles are slot[first .. first+count) */
     double lo[3], hi[3], mag; /* bounding box; mag: its size plus its distance from 0 */
-    double volume, area; /* enclosed volume (positive), surface area */
-    int *capfirst; /* nnode+1: node nd's boundary half-edges are cap[2*capfirst[nd] ..]; NULL: none */
-    int *cap;      /* boundary half-edges of the nodes' triangle sets, 2 vertices each */
-    int flip;   /* 1: the triangles face inward, winding numbers are negated */
+    double volume, area;      /* enclosed volume (positive), surface area */
+    int *capfirst;            /* nnode+1: node nd's boundary half-edges are cap[2*capfirst[nd] ..]; NULL: none */
+    int *cap;                 /* boundary half-edges of the nodes' triangle sets, 2 vertices each */
+    int flip;                 /* 1: the triangles face inward, winding numbers are negated */
 } pw__stsurf;
 
 PW__DEF void pw__st_surf_free(const pw_alloc *a, pw__stsurf *s)
@@ -413,7 +420,12 @@ PW__DEF void pw__st_bvh_node(pw__stsurf *s, const double *cen, int nd, int first
     float *b = s->box + 6 * nd;
     double clo[3], chi[3];
     int i, k, axis = 0, left;
-    for (k = 0; k < 3; k++) b[k] = FLT_MAX, b[k + 3] = -FLT_MAX, clo[k] = DBL_MAX, chi[k] = -DBL_MAX;
+    for (k = 0; k < 3; k++) {
+        b[k] = FLT_MAX;
+        b[k + 3] = -FLT_MAX;
+        clo[k] = DBL_MAX;
+        chi[k] = -DBL_MAX;
+    }
     for (i = first; i < first + count; i++) {
         int t = s->slot[i], c;
         for (c = 0; c < 3; c++)
@@ -427,7 +439,9 @@ PW__DEF void pw__st_bvh_node(pw__stsurf *s, const double *cen, int nd, int first
             if (cen[3 * t + k] > chi[k]) chi[k] = cen[3 * t + k];
         }
     }
-    s->node[3 * nd] = first, s->node[3 * nd + 1] = count, s->node[3 * nd + 2] = -1;
+    s->node[3 * nd] = first;
+    s->node[3 * nd + 1] = count;
+    s->node[3 * nd + 2] = -1;
     if (count <= 4) return;
     for (k = 1; k < 3; k++)
         if (chi[k] - clo[k] > chi[axis] - clo[axis]) axis = k;
@@ -449,7 +463,9 @@ PW__DEF int pw__st_surf_init(const pw_alloc *a, const pw_stuff_tris *m, pw__stsu
     double *cen;
     int i, k;
     memset(s, 0, sizeof *s);
-    s->nv = nv, s->nt = nt, s->tri = tri;
+    s->nv = nv;
+    s->nt = nt;
+    s->tri = tri;
     s->p = (double *)pw_alloc_array(a, (size_t)nv * 3, sizeof(double), "surface positions", e);
     s->box = (float *)pw_alloc_array(a, (size_t)(2 * nt) * 6, sizeof(float), "surface hierarchy", e);
     s->node = (int *)pw_alloc_array(a, (size_t)(2 * nt) * 3, sizeof(int), "surface hierarchy", e);
@@ -469,7 +485,10 @@ PW__DEF int pw__st_surf_init(const pw_alloc *a, const pw_stuff_tris *m, pw__stsu
     s->nnode = 1;
     pw__st_bvh_node(s, cen, 0, 0, nt);
     pw_free(a, cen);
-    for (k = 0; k < 3; k++) s->lo[k] = s->box[k], s->hi[k] = s->box[k + 3];
+    for (k = 0; k < 3; k++) {
+        s->lo[k] = s->box[k];
+        s->hi[k] = s->box[k + 3];
+    }
     s->mag = 0.0;
     for (k = 0; k < 3; k++) s->mag += (s->hi[k] - s->lo[k]) + fabs(s->lo[k]) + fabs(s->hi[k]);
     return PW_OK;
@@ -482,7 +501,11 @@ PW__DEF int pw__st_shared(const int *x, const int *y, int *sx, int *sy)
     int i, j, n = 0;
     for (i = 0; i < 3; i++)
         for (j = 0; j < 3; j++)
-            if (x[i] == y[j]) sx[n] = i, sy[n] = j, n++;
+            if (x[i] == y[j]) {
+                sx[n] = i;
+                sy[n] = j;
+                n++;
+            }
     return n;
 }
 
@@ -493,7 +516,8 @@ PW__DEF int pw__st_folded(const double *p, const double *q, const double *c, con
     int ax, i, j;
     if (pw__st_orient3d(p, q, c, d) != 0) return 0;
     ax = pw__st_proj_axis(p, q, c);
-    i = (ax + 1) % 3, j = (ax + 2) % 3;
+    i = (ax + 1) % 3;
+    j = (ax + 2) % 3;
     return pw__st_orient2d(p, q, c, i, j) * pw__st_orient2d(p, q, d, i, j) > 0;
 }
 
@@ -518,14 +542,15 @@ PW__DEF int pw__st_apart_2d(const double *const *A, const double *const *B, int 
 {
     int ax = pw__st_proj_axis(A[0], A[1], A[2]), i = (ax + 1) % 3, j = (ax + 2) % 3, k;
     const double *y[3];
-    if (n == 2)
-        return pw__st_splits(A[sx[0]], A[sx[1]], A[3 - sx[0] - sx[1]], B + (3 - sy[0] - sy[1]), 1, i, j);
+    if (n == 2) return pw__st_splits(A[sx[0]], A[sx[1]], A[3 - sx[0] - sx[1]], B + (3 - sy[0] - sy[1]), 1, i, j);
     if (n == 1) {
         const double *a = A[sx[0]], *a1 = A[(sx[0] + 1) % 3], *a2 = A[(sx[0] + 2) % 3];
         const double *b1 = B[(sy[0] + 1) % 3], *b2 = B[(sy[0] + 2) % 3];
-        y[0] = b1, y[1] = b2;
+        y[0] = b1;
+        y[1] = b2;
         if (pw__st_splits(a, a1, a2, y, 2, i, j) || pw__st_splits(a, a2, a1, y, 2, i, j)) return 1;
-        y[0] = a1, y[1] = a2;
+        y[0] = a1;
+        y[1] = a2;
         return pw__st_splits(a, b1, b2, y, 2, i, j) || pw__st_splits(a, b2, b1, y, 2, i, j);
     }
     for (k = 0; k < 3; k++)
@@ -545,11 +570,13 @@ PW__DEF int pw__st_tri_tri(const pw__stsurf *s, int t, int u)
     const int *x = s->tri + 3 * t, *y = s->tri + 3 * u;
     const double *A[3], *B[3];
     int sx[3], sy[3], n = pw__st_shared(x, y, sx, sy), k;
-    for (k = 0; k < 3; k++) A[k] = pw__st_corner(s, t, k), B[k] = pw__st_corner(s, u, k);
+    for (k = 0; k < 3; k++) {
+        A[k] = pw__st_corner(s, t, k);
+        B[k] = pw__st_corner(s, u, k);
+    }
     if (n == 3) return 1; /* the same triangle twice */
     if (pw__st_apart_2d(A, B, n, sx, sy)) return 0;
-    if (n == 2)
-        return pw__st_folded(A[sx[0]], A[sx[1]], A[3 - sx[0] - sx[1]], B[3 - sy[0] - sy[1]]);
+    if (n == 2) return pw__st_folded(A[sx[0]], A[sx[1]], A[3 - sx[0] - sx[1]], B[3 - sy[0] - sy[1]]);
     if (n == 1)
         return pw__st_seg_tri(A[(sx[0] + 1) % 3], A[(sx[0] + 2) % 3], B[0], B[1], B[2]) ||
                pw__st_seg_tri(B[(sy[0] + 1) % 3], B[(sy[0] + 2) % 3], A[0], A[1], A[2]);
@@ -589,7 +616,10 @@ PW__DEF void pw__st_pairs(const pw__stsurf *s, int x, int y, pw_stuff_info *hit)
         for (j = (x == y ? i + 1 : ny[0]); j < ny[0] + ny[1]; j++) {
             int t = s->slot[i], u = s->slot[j];
             if (!pw__st_tri_tri(s, t, u)) continue;
-            if (hit->crossing_pairs++ == 0) hit->first_pair[0] = t < u ? t : u, hit->first_pair[1] = t < u ? u : t;
+            if (hit->crossing_pairs++ == 0) {
+                hit->first_pair[0] = t < u ? t : u;
+                hit->first_pair[1] = t < u ? u : t;
+            }
         }
 }
 
@@ -605,8 +635,8 @@ PW__DEF int pw__st_check_values(const float *pos, int nv, const int *tri, int nt
         if (!pw_is_finite(pos[i])) return pw_fail(e, PW_ERR_INVALID, "vertex %d has a non-finite coordinate", i / 3);
     for (i = 0; i < 3 * nt; i++)
         if (tri[i] < 0 || tri[i] >= nv)
-            return pw_fail(e, PW_ERR_INVALID, "triangle %d: vertex index %d out of range (%d vertices)", i / 3,
-                           tri[i], nv);
+            return pw_fail(e, PW_ERR_INVALID, "triangle %d: vertex index %d out of range (%d vertices)", i / 3, tri[i],
+                           nv);
     return PW_OK;
 }
 
@@ -618,7 +648,8 @@ PW__DEF double pw__st_diag(const float *pos, const int *tri, int nt)
     for (i = 0; i < 3 * nt; i++)
         for (k = 0; k < 3; k++) {
             double x = pos[3 * tri[i] + k];
-            lo[k] = x < lo[k] ? x : lo[k], hi[k] = x > hi[k] ? x : hi[k];
+            lo[k] = x < lo[k] ? x : lo[k];
+            hi[k] = x > hi[k] ? x : hi[k];
         }
     for (k = 0; nt > 0 && k < 3; k++) d += (hi[k] - lo[k]) * (hi[k] - lo[k]);
     return sqrt(d);
@@ -627,8 +658,8 @@ PW__DEF double pw__st_diag(const float *pos, const int *tri, int nt)
 /* What the closedness check found: the half-edge twins of a closed
  * surface, or the triangles closing the holes of an open one. */
 typedef struct pw__st_closure {
-    int *twin;  /* closed: hm.nh twins (half-edge 3t+k runs from corner k to k+1 of t), allocated; else NULL */
-    int *fan;   /* small holes: 3 * nfan indices closing them as fans, allocated; else NULL */
+    int *twin; /* closed: hm.nh twins (half-edge 3t+k runs from corner k to k+1 of t), allocated; else NULL */
+    int *fan;  /* small holes: 3 * nfan indices closing them as fans, allocated; else NULL */
     int nfan;
     int nholes; /* boundary loops of an open surface */
 } pw__st_closure;
@@ -647,15 +678,21 @@ PW__DEF void pw__st_loop(const pw_hmesh *hm, const float *pos, int h, unsigned c
 {
     int g, k, a0 = pw_he_origin(hm, h);
     double d2, *c = hl->c;
-    hl->len = 0, hl->perim = c[0] = c[1] = c[2] = 0.0;
+    hl->len = 0;
+    hl->perim = c[0] = c[1] = c[2] = 0.0;
     for (g = h; g >= 0 && !seen[g]; g = pw_he_boundary_next(hm, g), hl->len++) {
         int o = pw_he_origin(hm, g), t = pw_he_dest(hm, g);
         seen[g] = 1;
-        for (d2 = 0.0, k = 0; k < 3; k++) c[k] += pos[3 * o + k], d2 += (double)(pos[3 * t + k] - pos[3 * o + k]) * (pos[3 * t + k] - pos[3 * o + k]);
+        for (d2 = 0.0, k = 0; k < 3; k++) {
+            c[k] += pos[3 * o + k];
+            d2 += (double)(pos[3 * t + k] - pos[3 * o + k]) * (pos[3 * t + k] - pos[3 * o + k]);
+        }
         hl->perim += sqrt(d2);
         if (cl && g != h && t != a0) {
             int *f = cl->fan + 3 * cl->nfan++;
-            f[0] = a0, f[1] = t, f[2] = o;
+            f[0] = a0;
+            f[1] = t;
+            f[2] = o;
         }
     }
     for (k = 0; k < 3; k++) c[k] /= hl->len > 0 ? hl->len : 1;
@@ -673,7 +710,8 @@ PW__DEF int pw__st_holes(const pw_alloc *a, const pw_hmesh *hm, const float *pos
     double best[3] = {0, 0, 0}, most = -1.0;
     pw__st_hole hl;
     int h, k, blen = 0, vert = -1, r = PW_OK;
-    cl->fan = NULL, cl->nfan = 0;
+    cl->fan = NULL;
+    cl->nfan = 0;
     if (!seen) return PW_ERR_NOMEM;
     for (h = 0; h < hm->nh; h++) {
         if (hm->twin[h] >= 0 || seen[h]) continue;
@@ -686,8 +724,8 @@ PW__DEF int pw__st_holes(const pw_alloc *a, const pw_hmesh *hm, const float *pos
                     "surface is not closed: %d boundary edges in %d hole%s (the largest: %d edges, perimeter %.4g, "
                     "around (%.4g, %.4g, %.4g), through vertex %d); a solid needs a closed surface: close the holes "
                     "(those of perimeter up to %.4g are closed here)",
-                    hm->nboundary, hm->nloops, hm->nloops == 1 ? "" : "s", blen, most, best[0], best[1], best[2],
-                    vert, max_hole);
+                    hm->nboundary, hm->nloops, hm->nloops == 1 ? "" : "s", blen, most, best[0], best[1], best[2], vert,
+                    max_hole);
     else if (!(cl->fan = (int *)pw_alloc_array(a, 3 * (size_t)hm->nboundary + 3, sizeof(int), "hole fans", e)))
         r = PW_ERR_NOMEM;
     else
@@ -737,7 +775,10 @@ PW__DEF void pw__st_measure(pw__stsurf *s, double *vol)
         }
         pw_cross3(v, w, n);
         *vol += pw_dot3(u, n) / 6.0;
-        for (k = 0; k < 3; k++) v[k] -= u[k], w[k] -= u[k];
+        for (k = 0; k < 3; k++) {
+            v[k] -= u[k];
+            w[k] -= u[k];
+        }
         pw_cross3(v, w, n);
         s->area += 0.5 * sqrt(pw_dot3(n, n));
     }
@@ -752,9 +793,11 @@ PW__DEF int pw__st_check_geometry(pw__stsurf *s, const int *map, int strict, pw_
     int k;
     pw__st_pairs(s, 0, 0, info);
     if (info->crossing_pairs > 0) {
-        info->first_pair[0] = map[info->first_pair[0]], info->first_pair[1] = map[info->first_pair[1]];
+        info->first_pair[0] = map[info->first_pair[0]];
+        info->first_pair[1] = map[info->first_pair[1]];
         if (strict)
-            return pw_fail(e, PW_ERR_TOPOLOGY, "surface intersects itself: %ld triangle pairs cross (the first: %d and %d)",
+            return pw_fail(e, PW_ERR_TOPOLOGY,
+                           "surface intersects itself: %ld triangle pairs cross (the first: %d and %d)",
                            info->crossing_pairs, info->first_pair[0], info->first_pair[1]);
     }
     pw__st_measure(s, &vol);
@@ -798,12 +841,21 @@ PW__DEF int pw__st_seg_cross(const pw__stsurf *s, int t, const double *p, const 
     double u[3], v[3], n[3], x[3], len, dp, dq, seg, tt;
     int k, i, j = pw__st_first_corner(s, t);
     for (k = 0; k < 3; k++) c[k] = pw__st_corner(s, t, (j + k) % 3);
-    for (k = 0; k < 3; k++) u[k] = c[1][k] - c[0][k], v[k] = c[2][k] - c[0][k], x[k] = q[k] - p[k];
+    for (k = 0; k < 3; k++) {
+        u[k] = c[1][k] - c[0][k];
+        v[k] = c[2][k] - c[0][k];
+        x[k] = q[k] - p[k];
+    }
     pw_cross3(u, v, n);
     len = sqrt(pw_dot3(n, n));
     seg = sqrt(pw_dot3(x, x));
-    for (k = 0; k < 3; k++) n[k] /= len, u[k] = p[k] - c[0][k], v[k] = q[k] - c[0][k];
-    dp = pw_dot3(u, n), dq = pw_dot3(v, n);
+    for (k = 0; k < 3; k++) {
+        n[k] /= len;
+        u[k] = p[k] - c[0][k];
+        v[k] = q[k] - c[0][k];
+    }
+    dp = pw_dot3(u, n);
+    dq = pw_dot3(v, n);
     if ((dp > tol && dq > tol) || (dp < -tol && dq < -tol)) return 0;
     if (fabs(dp - dq) <= 1e-5 * seg) return PW__ST_GRAZE;
     tt = dp / (dp - dq);
@@ -812,7 +864,10 @@ PW__DEF int pw__st_seg_cross(const pw__stsurf *s, int t, const double *p, const 
     for (i = 0; i < 3; i++) { /* x beyond edge i by more than tol: a miss */
         const double *a = c[i], *b = c[(i + 1) % 3];
         double e[3], w[3], m[3];
-        for (k = 0; k < 3; k++) e[k] = b[k] - a[k], w[k] = x[k] - a[k];
+        for (k = 0; k < 3; k++) {
+            e[k] = b[k] - a[k];
+            w[k] = x[k] - a[k];
+        }
         pw_cross3(e, w, m);
         if (pw_dot3(m, n) < -tol * sqrt(pw_dot3(e, e))) return 0;
     }
@@ -825,7 +880,10 @@ PW__DEF int pw__st_seg_cross(const pw__stsurf *s, int t, const double *p, const 
  * when there is none left. */
 PW__DEF int pw__st_next_leaf(const pw__stsurf *s, const float *b, int *stack, int *top)
 {
-    if (*top < 0) stack[0] = 0, *top = 1;
+    if (*top < 0) {
+        stack[0] = 0;
+        *top = 1;
+    }
     while (*top > 0) {
         int id = stack[--*top];
         const int *nd = s->node + 3 * id;
@@ -852,7 +910,10 @@ PW__DEF int pw__st_crossings(const pw__stsurf *s, const double *p, const double 
     double lo[3], hi[3], tol = 1e-9 * s->mag, t;
     float sb[6];
     int stack[96], top = -1, res = 0, k, i, id;
-    for (k = 0; k < 3; k++) lo[k] = p[k] < q[k] ? p[k] : q[k], hi[k] = p[k] < q[k] ? q[k] : p[k];
+    for (k = 0; k < 3; k++) {
+        lo[k] = p[k] < q[k] ? p[k] : q[k];
+        hi[k] = p[k] < q[k] ? q[k] : p[k];
+    }
     pw__st_fbox(lo, hi, tol, sb);
     *tfirst = 2.0;
     while ((id = pw__st_next_leaf(s, sb, stack, &top)) >= 0) {
@@ -878,19 +939,42 @@ PW__DEF double pw__st_closest_tri(const double *p, const double *a, const double
 {
     double ab[3], ac[3], ap[3], bp[3], cp[3], d1, d2, d3, d4, d5, d6, va, vb, vc, v = 0.0, w = 0.0, r = 0.0;
     int k;
-    for (k = 0; k < 3; k++)
-        ab[k] = b[k] - a[k], ac[k] = c[k] - a[k], ap[k] = p[k] - a[k], bp[k] = p[k] - b[k], cp[k] = p[k] - c[k];
-    d1 = pw_dot3(ab, ap), d2 = pw_dot3(ac, ap), d3 = pw_dot3(ab, bp), d4 = pw_dot3(ac, bp);
-    d5 = pw_dot3(ab, cp), d6 = pw_dot3(ac, cp);
-    vc = d1 * d4 - d3 * d2, vb = d5 * d2 - d1 * d6, va = d3 * d6 - d5 * d4;
+    for (k = 0; k < 3; k++) {
+        ab[k] = b[k] - a[k];
+        ac[k] = c[k] - a[k];
+        ap[k] = p[k] - a[k];
+        bp[k] = p[k] - b[k];
+        cp[k] = p[k] - c[k];
+    }
+    d1 = pw_dot3(ab, ap);
+    d2 = pw_dot3(ac, ap);
+    d3 = pw_dot3(ab, bp);
+    d4 = pw_dot3(ac, bp);
+    d5 = pw_dot3(ab, cp);
+    d6 = pw_dot3(ac, cp);
+    vc = d1 * d4 - d3 * d2;
+    vb = d5 * d2 - d1 * d6;
+    va = d3 * d6 - d5 * d4;
     if (d1 <= 0.0 && d2 <= 0.0) v = w = 0.0;
-    else if (d3 >= 0.0 && d4 <= d3) v = 1.0, w = 0.0;
-    else if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0) v = d1 / (d1 - d3), w = 0.0;
-    else if (d6 >= 0.0 && d5 <= d6) v = 0.0, w = 1.0;
-    else if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0) v = 0.0, w = d2 / (d2 - d6);
-    else if (va <= 0.0 && d4 - d3 >= 0.0 && d5 - d6 >= 0.0) w = (d4 - d3) / ((d4 - d3) + (d5 - d6)), v = 1.0 - w;
-    else if (va + vb + vc > 0.0) v = vb / (va + vb + vc), w = vc / (va + vb + vc);
-    else v = w = 0.0; /* a flat triangle: its edges belong to its neighbours too */
+    else if (d3 >= 0.0 && d4 <= d3) {
+        v = 1.0;
+        w = 0.0;
+    } else if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0) {
+        v = d1 / (d1 - d3);
+        w = 0.0;
+    } else if (d6 >= 0.0 && d5 <= d6) {
+        v = 0.0;
+        w = 1.0;
+    } else if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0) {
+        v = 0.0;
+        w = d2 / (d2 - d6);
+    } else if (va <= 0.0 && d4 - d3 >= 0.0 && d5 - d6 >= 0.0) {
+        w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+        v = 1.0 - w;
+    } else if (va + vb + vc > 0.0) {
+        v = vb / (va + vb + vc);
+        w = vc / (va + vb + vc);
+    } else v = w = 0.0; /* a flat triangle: its edges belong to its neighbours too */
     for (k = 0; k < 3; k++) {
         x[k] = a[k] + v * ab[k] + w * ac[k];
         r += (p[k] - x[k]) * (p[k] - x[k]);
@@ -964,8 +1048,14 @@ PW__DEF double pw__st_solid_angle(const double *p, const double *a, const double
 {
     double A[3], B[3], C[3], la, lb, lc, n[3], num, den;
     int k;
-    for (k = 0; k < 3; k++) A[k] = a[k] - p[k], B[k] = b[k] - p[k], C[k] = c[k] - p[k];
-    la = sqrt(pw_dot3(A, A)), lb = sqrt(pw_dot3(B, B)), lc = sqrt(pw_dot3(C, C));
+    for (k = 0; k < 3; k++) {
+        A[k] = a[k] - p[k];
+        B[k] = b[k] - p[k];
+        C[k] = c[k] - p[k];
+    }
+    la = sqrt(pw_dot3(A, A));
+    lb = sqrt(pw_dot3(B, B));
+    lc = sqrt(pw_dot3(C, C));
     pw_cross3(B, C, n);
     num = pw_dot3(A, n);
     den = la * lb * lc + pw_dot3(A, B) * lc + pw_dot3(B, C) * la + pw_dot3(C, A) * lb;
@@ -993,7 +1083,10 @@ PW__DEF int pw__st_caps(const pw_alloc *a, pw__stsurf *s, const int *twin, pw_er
                 for (k = 0; k < 3; k++) {
                     int t = s->slot[i], tw = twin[3 * t + k], u = tw < 0 ? -1 : where[tw / 3];
                     if (u >= nn[0] && u < nn[0] + nn[1]) continue;
-                    if (pass) s->cap[2 * n] = s->tri[3 * t + k], s->cap[2 * n + 1] = s->tri[3 * t + (k + 1) % 3];
+                    if (pass) {
+                        s->cap[2 * n] = s->tri[3 * t + k];
+                        s->cap[2 * n + 1] = s->tri[3 * t + (k + 1) % 3];
+                    }
                     n++;
                 }
         }
@@ -1016,7 +1109,8 @@ PW__DEF double pw__st_node_angle(const pw__stsurf *s, int nd, const double *p, i
     int i, k, c0 = s->capfirst ? s->capfirst[nd] : 0, nc = s->capfirst ? s->capfirst[nd + 1] - c0 : 0;
     if (outside && s->capfirst && nn[2] >= 0 && nc < nn[1]) {
         for (k = 0; k < 3; k++) o[k] = 0.5 * ((double)b[k] + b[k + 3]);
-        for (i = c0; i < c0 + nc; i++) w += pw__st_solid_angle(p, o, s->p + 3 * s->cap[2 * i], s->p + 3 * s->cap[2 * i + 1]);
+        for (i = c0; i < c0 + nc; i++)
+            w += pw__st_solid_angle(p, o, s->p + 3 * s->cap[2 * i], s->p + 3 * s->cap[2 * i + 1]);
         return w;
     }
     for (i = nn[0]; i < nn[0] + nn[1]; i++) {
@@ -1045,7 +1139,10 @@ PW__DEF double pw__st_winding(const pw__stsurf *s, const double *p)
         const int *nn = s->node + 3 * nd;
         if (!pw__st_in_box(s->box + 6 * nd, p)) w += pw__st_node_angle(s, nd, p, 1);
         else if (nn[2] < 0) w += pw__st_node_angle(s, nd, p, 0);
-        else stack[top++] = nn[2], stack[top++] = nn[2] + 1;
+        else {
+            stack[top++] = nn[2];
+            stack[top++] = nn[2] + 1;
+        }
     }
     w /= 4.0 * 3.14159265358979323846;
     return s->flip ? -w : w;
@@ -1069,22 +1166,22 @@ typedef struct pw__st {
     const pw_progress *prog;
     pw_err *e;
     pw__stsurf s;
-    int n[3], nb, nlv;   /* cubes per axis; black vertices; all lattice vertices */
-    int unite;           /* the surface crosses itself: cut where the winding number drops below 1/2 */
-    int *tri, *map;      /* the triangles used (zero-area ones dropped), the caller's index of each */
+    int n[3], nb, nlv; /* cubes per axis; black vertices; all lattice vertices */
+    int unite;         /* the surface crosses itself: cut where the winding number drops below 1/2 */
+    int *tri, *map;    /* the triangles used (zero-area ones dropped), the caller's index of each */
     double org[3], h;
-    int graded;          /* 1: the graded lattice (vp, bs) instead of the body-centred cubic one */
-    double *vp;          /* graded: nlv*3 vertex positions */
-    double unit;         /* graded: mesh units per lattice unit */
-    double tol, lmin;    /* graded: surface deviation allowed in a tetrahedron; no refinement below this edge */
-    pw_bisect bs;        /* graded: the tetrahedra and integer vertex coordinates */
+    int graded;           /* 1: the graded lattice (vp, bs) instead of the body-centred cubic one */
+    double *vp;           /* graded: nlv*3 vertex positions */
+    double unit;          /* graded: mesh units per lattice unit */
+    double tol, lmin;     /* graded: surface deviation allowed in a tetrahedron; no refinement below this edge */
+    pw_bisect bs;         /* graded: the tetrahedra and integer vertex coordinates */
     unsigned char *tbusy; /* graded: per tetrahedron, the surface may meet it */
-    int *eoff, *eadj;    /* graded: lattice edges from each vertex, eadj[eoff[v] .. eoff[v+1]), free ones flagged */
+    int *eoff, *eadj;     /* graded: lattice edges from each vertex, eadj[eoff[v] .. eoff[v+1]), free ones flagged */
     size_t capeadj;
-    int *vtoff, *vtadj;  /* graded: lattice tetrahedra at each vertex, vtadj[vtoff[v] .. vtoff[v+1]) */
-    int *scratch;        /* graded: triangles meeting a box */
-    double *tnorm;       /* graded: per triangle, unit normal and area */
-    float *tbox;         /* graded: per triangle, its box (lo xyz, hi xyz) */
+    int *vtoff, *vtadj; /* graded: lattice tetrahedra at each vertex, vtadj[vtoff[v] .. vtoff[v+1]) */
+    int *scratch;       /* graded: triangles meeting a box */
+    double *tnorm;      /* graded: per triangle, unit normal and area */
+    float *tbox;        /* graded: per triangle, its box (lo xyz, hi xyz) */
     size_t capscratch;
     signed char *side;   /* per lattice vertex: +1 inside, -1 outside, 0 not known yet */
     unsigned char *busy; /* per cube: the surface may meet it */
@@ -1092,24 +1189,29 @@ typedef struct pw__st {
     int *id;             /* per lattice vertex: output vertex, -1 */
     pw__stcut *cut;      /* sorted by inside end */
     size_t ncut, capcut;
-    float *opos;         /* output positions (nopos vertices) */
+    float *opos; /* output positions (nopos vertices) */
     size_t nopos, capopos;
     unsigned char *osurf; /* per output vertex: on the surface */
     int dropped;          /* fragments dropped */
     size_t caposurf;
-    int *otet;           /* output tetrahedra (notet) */
+    int *otet; /* output tetrahedra (notet) */
     size_t notet, capotet;
 } pw__st;
 
 /* The 14 lattice neighbours: 6 along long edges, 8 along short ones. */
-static const signed char pw__st_nb[14][3] = {{2, 0, 0}, {-2, 0, 0}, {0, 2, 0}, {0, -2, 0}, {0, 0, 2},
-                                              {0, 0, -2}, {1, 1, 1}, {1, 1, -1}, {1, -1, 1}, {1, -1, -1},
-                                              {-1, 1, 1}, {-1, 1, -1}, {-1, -1, 1}, {-1, -1, -1}};
+static const signed char pw__st_nb[14][3] = {{2, 0, 0},  {-2, 0, 0},  {0, 2, 0},   {0, -2, 0},  {0, 0, 2},
+                                             {0, 0, -2}, {1, 1, 1},   {1, 1, -1},  {1, -1, 1},  {1, -1, -1},
+                                             {-1, 1, 1}, {-1, 1, -1}, {-1, -1, 1}, {-1, -1, -1}};
 
 PW__DEF void pw__st_coord(const pw__st *st, int v, int *L)
 {
     int nx = st->n[0] + 1, ny = st->n[1] + 1, odd = 0;
-    if (v >= st->nb) v -= st->nb, nx = st->n[0], ny = st->n[1], odd = 1;
+    if (v >= st->nb) {
+        v -= st->nb;
+        nx = st->n[0];
+        ny = st->n[1];
+        odd = 1;
+    }
     L[0] = 2 * (v % nx) + odd;
     L[1] = 2 * ((v / nx) % ny) + odd;
     L[2] = 2 * (v / nx / ny) + odd;
@@ -1198,7 +1300,10 @@ PW__DEF int pw__st_lattice(pw__st *st, const pw_stuff_options *o)
     for (k = 0, count = 1.0; k < 3; k++) {
         double c = (st->s.hi[k] - st->s.lo[k]) / h;
         if (!(c < 1e6)) count = 1e30;
-        else st->n[k] = (int)ceil(c) + 2, count *= st->n[k] + 1;
+        else {
+            st->n[k] = (int)ceil(c) + 2;
+            count *= st->n[k] + 1;
+        }
     }
     if (count < 1e30) count += (double)st->n[0] * st->n[1] * st->n[2];
     if (count > PW_MAX_STUFF_LATTICE)
@@ -1227,7 +1332,9 @@ PW__DEF int pw__st_tri_box(const double *ctr, const double *hw, const double *a,
     double v[3][3], e[3][3], n[3], ax[3], p[3], r;
     int i, j, k;
     for (k = 0; k < 3; k++) {
-        v[0][k] = a[k] - ctr[k], v[1][k] = b[k] - ctr[k], v[2][k] = c[k] - ctr[k];
+        v[0][k] = a[k] - ctr[k];
+        v[1][k] = b[k] - ctr[k];
+        v[2][k] = c[k] - ctr[k];
         if ((v[0][k] > hw[k] && v[1][k] > hw[k] && v[2][k] > hw[k]) ||
             (v[0][k] < -hw[k] && v[1][k] < -hw[k] && v[2][k] < -hw[k]))
             return 0;
@@ -1238,7 +1345,9 @@ PW__DEF int pw__st_tri_box(const double *ctr, const double *hw, const double *a,
     if (fabs(pw_dot3(n, v[0])) > hw[0] * fabs(n[0]) + hw[1] * fabs(n[1]) + hw[2] * fabs(n[2])) return 0;
     for (i = 0; i < 3; i++)
         for (j = 0; j < 3; j++) { /* axis: unit vector i cross edge j */
-            ax[i] = 0.0, ax[(i + 1) % 3] = -e[j][(i + 2) % 3], ax[(i + 2) % 3] = e[j][(i + 1) % 3];
+            ax[i] = 0.0;
+            ax[(i + 1) % 3] = -e[j][(i + 2) % 3];
+            ax[(i + 2) % 3] = e[j][(i + 1) % 3];
             for (k = 0; k < 3; k++) p[k] = pw_dot3(ax, v[k]);
             r = hw[0] * fabs(ax[0]) + hw[1] * fabs(ax[1]) + hw[2] * fabs(ax[2]);
             if ((p[0] > r && p[1] > r && p[2] > r) || (p[0] < -r && p[1] < -r && p[2] < -r)) return 0;
@@ -1256,7 +1365,8 @@ PW__DEF void pw__st_mark(pw__st *st)
         for (k = 0; k < 3; k++) p[k] = pw__st_corner(s, t, k);
         for (k = 0; k < 3; k++) {
             double lo = p[0][k] < p[1][k] ? p[0][k] : p[1][k], hi = p[0][k] > p[1][k] ? p[0][k] : p[1][k];
-            lo = lo < p[2][k] ? lo : p[2][k], hi = hi > p[2][k] ? hi : p[2][k];
+            lo = lo < p[2][k] ? lo : p[2][k];
+            hi = hi > p[2][k] ? hi : p[2][k];
             c0[k] = pw_clampi((int)floor((lo - st->org[k]) / st->h - 1e-6), 0, st->n[k] - 1);
             c1[k] = pw_clampi((int)floor((hi - st->org[k]) / st->h + 1e-6), 0, st->n[k] - 1);
         }
@@ -1289,12 +1399,15 @@ PW__DEF int pw__st_edge_free(const pw__st *st, const int *A, const int *B)
         const int *R = (A[0] & 1) ? A : B;
         return !pw__st_busy(st, R[0] / 2, R[1] / 2, R[2] / 2);
     }
-    if (A[0] & 1) return !pw__st_busy(st, A[0] / 2, A[1] / 2, A[2] / 2) && !pw__st_busy(st, B[0] / 2, B[1] / 2, B[2] / 2);
-    u = (ax + 1) % 3, v = (ax + 2) % 3;
+    if (A[0] & 1)
+        return !pw__st_busy(st, A[0] / 2, A[1] / 2, A[2] / 2) && !pw__st_busy(st, B[0] / 2, B[1] / 2, B[2] / 2);
+    u = (ax + 1) % 3;
+    v = (ax + 2) % 3;
     c[ax] = (A[ax] < B[ax] ? A[ax] : B[ax]) / 2;
     for (du = -1; du <= 0; du++)
         for (dv = -1; dv <= 0; dv++) {
-            c[u] = A[u] / 2 + du, c[v] = A[v] / 2 + dv;
+            c[u] = A[u] / 2 + du;
+            c[v] = A[v] / 2 + dv;
             if (!pw__st_busy(st, c[0], c[1], c[2])) return 1;
         }
     return 0;
@@ -1305,10 +1418,7 @@ PW__DEF int pw__st_inside(const pw__st *st, const double *p) { return pw__st_win
 /* The degree of lattice vertex u (uniform: all 14 directions, some off
  * the lattice), and its k-th neighbour (-1: none), with *free set when the
  * edge to it certainly misses the surface by the lattice's cells alone. */
-PW__DEF int pw__st_degree(const pw__st *st, int u)
-{
-    return st->graded ? st->eoff[u + 1] - st->eoff[u] : 14;
-}
+PW__DEF int pw__st_degree(const pw__st *st, int u) { return st->graded ? st->eoff[u + 1] - st->eoff[u] : 14; }
 
 PW__DEF int pw__st_neighbour(const pw__st *st, int u, int k, int *free_)
 {
@@ -1319,7 +1429,9 @@ PW__DEF int pw__st_neighbour(const pw__st *st, int u, int k, int *free_)
         return e >> 1;
     }
     pw__st_coord(st, u, U);
-    V[0] = U[0] + pw__st_nb[k][0], V[1] = U[1] + pw__st_nb[k][1], V[2] = U[2] + pw__st_nb[k][2];
+    V[0] = U[0] + pw__st_nb[k][0];
+    V[1] = U[1] + pw__st_nb[k][1];
+    V[2] = U[2] + pw__st_nb[k][2];
     if ((k = pw__st_index(st, V)) >= 0) *free_ = pw__st_edge_free(st, U, V);
     return k;
 }
@@ -1336,13 +1448,16 @@ PW__DEF int pw__st_sides(pw__st *st)
     if (!st->graded) pw__st_mark(st);
     for (s0 = 0; s0 < st->nlv && r == PW_OK; s0++) {
         signed char sg;
-        if ((s0 & 4095) == 0 && (r = pw_report(st->prog, 0.1f + 0.4f * (float)s0 / (float)st->nlv, "lattice sides", st->e)))
+        if ((s0 & 4095) == 0 &&
+            (r = pw_report(st->prog, 0.1f + 0.4f * (float)s0 / (float)st->nlv, "lattice sides", st->e)))
             break;
         if (st->side[s0]) continue;
         pw__st_vpos(st, s0, p);
         sg = (signed char)(pw__st_inside(st, p) ? 1 : -1);
         st->side[s0] = sg;
-        queue[0] = s0, head = 0, tail = 1;
+        queue[0] = s0;
+        head = 0;
+        tail = 1;
         while (head < tail) {
             int u = queue[head++], n = pw__st_degree(st, u);
             for (k = 0; k < n; k++) {
@@ -1387,13 +1502,15 @@ PW__DEF double pw__st_cut_union(const pw__st *st, const double *pin, const doubl
     double hits[64], t, x[3];
     pw__st_hits all;
     int n, i, j;
-    all.t = hits, all.cap = 64, all.n = 0;
+    all.t = hits;
+    all.cap = 64;
+    all.n = 0;
     pw__st_crossings(&st->s, pin, pout, &t, &all);
     n = all.n;
     if (n > 64) return -1.0;
     qsort(hits, (size_t)n, sizeof(double), pw__st_cmp_double);
     if (n > 0 && hits[n - 1] - hits[0] < 1e-9) return hits[0]; /* one crossing: the side changes there */
-    for (i = 0; i < n; i = j) { /* probe halfway to the next distinct crossing */
+    for (i = 0; i < n; i = j) {                                /* probe halfway to the next distinct crossing */
         for (j = i + 1; j < n && hits[j] - hits[i] < 1e-9; j++) continue;
         pw__st_lerp(pin, pout, 0.5 * (hits[i] + (j < n ? hits[j] : 1.0)), x);
         if (!pw__st_inside(st, x)) return hits[i];
@@ -1431,12 +1548,16 @@ PW__DEF int pw__st_cuts(pw__st *st)
             pw__stcut *c;
             int fr, v = pw__st_neighbour(st, u, k, &fr);
             if (v < 0 || st->side[v] >= 0) continue;
-            if ((r = pw_grow(st->a, (void **)&st->cut, &st->capcut, st->ncut + 1, sizeof *st->cut, "cut points", st->e)))
+            if ((r = pw_grow(st->a, (void **)&st->cut, &st->capcut, st->ncut + 1, sizeof *st->cut, "cut points",
+                             st->e)))
                 break;
             pw__st_vpos(st, u, p);
             pw__st_vpos(st, v, q);
             c = st->cut + st->ncut++;
-            c->in = u, c->out = v, c->id = -1, c->t = pw__st_cut_param(st, p, q);
+            c->in = u;
+            c->out = v;
+            c->id = -1;
+            c->t = pw__st_cut_param(st, p, q);
         }
     }
     return r;
@@ -1475,8 +1596,8 @@ PW__DEF void pw__st_ref_pos(const pw__st *st, int r, double *x)
 }
 
 typedef struct pw__stviol {
-    int v, c;  /* the violated lattice vertex, the cut point */
-    double d;  /* their distance */
+    int v, c; /* the violated lattice vertex, the cut point */
+    double d; /* their distance */
 } pw__stviol;
 
 PW__DEF int pw__st_viol_cmp(const void *x, const void *y)
@@ -1535,7 +1656,8 @@ PW__DEF int pw__st_violations(pw__st *st, pw__stwarp *w)
         if (st->graded) {
             pw__st_vpos(st, c->in, p);
             pw__st_vpos(st, c->out, q);
-            len = pw_dist3(p, q), al = PW__ST_ALPHA_GRADED;
+            len = pw_dist3(p, q);
+            al = PW__ST_ALPHA_GRADED;
         } else {
             pw__st_coord(st, c->in, A);
             pw__st_coord(st, c->out, B);
@@ -1543,10 +1665,15 @@ PW__DEF int pw__st_violations(pw__st *st, pw__stwarp *w)
             len = lg ? st->h : 0.86602540378443865 * st->h;
             al = lg ? PW__ST_ALPHA_LONG : PW__ST_ALPHA_SHORT;
         }
-        if (c->t * len < al * (st->graded ? pw__st_reach(st, c->in, len) : len))
-            w->vl[w->n].v = c->in, w->vl[w->n].c = (int)i, w->vl[w->n++].d = c->t * len;
-        else if ((1.0 - c->t) * len < al * (st->graded ? pw__st_reach(st, c->out, len) : len))
-            w->vl[w->n].v = c->out, w->vl[w->n].c = (int)i, w->vl[w->n++].d = (1.0 - c->t) * len;
+        if (c->t * len < al * (st->graded ? pw__st_reach(st, c->in, len) : len)) {
+            w->vl[w->n].v = c->in;
+            w->vl[w->n].c = (int)i;
+            w->vl[w->n++].d = c->t * len;
+        } else if ((1.0 - c->t) * len < al * (st->graded ? pw__st_reach(st, c->out, len) : len)) {
+            w->vl[w->n].v = c->out;
+            w->vl[w->n].c = (int)i;
+            w->vl[w->n++].d = (1.0 - c->t) * len;
+        }
     }
     qsort(w->vl, (size_t)w->n, sizeof *w->vl, pw__st_viol_cmp);
     return PW_OK;
@@ -1570,7 +1697,10 @@ PW__DEF int pw__st_warp_index(pw__st *st, pw__stwarp *w)
         w->pend[w->vl[i].v]++;
         w->tfirst[pw__st_other(st, w->vl + i) + 2]++;
     }
-    for (i = 0; i < st->nlv; i++) w->first[i + 1] += w->first[i], w->tfirst[i + 2] += w->tfirst[i + 1];
+    for (i = 0; i < st->nlv; i++) {
+        w->first[i + 1] += w->first[i];
+        w->tfirst[i + 2] += w->tfirst[i + 1];
+    }
     for (i = 0; i < w->n; i++) w->byt[w->tfirst[pw__st_other(st, w->vl + i) + 1]++] = i;
     return PW_OK;
 }
@@ -1603,11 +1733,19 @@ PW__DEF int pw__st_warp_safe(const pw__st *st, int v, int c)
             if (t->v[k] == v) pw__st_cut_pos(st, c, p[k]);
             else pw__st_ref_pos(st, t->v[k], p[k]);
         }
-        for (j = 0; j < 3; j++) u[j] = p[1][j] - p[0][j], w[j] = p[2][j] - p[0][j], z[j] = p[3][j] - p[0][j];
+        for (j = 0; j < 3; j++) {
+            u[j] = p[1][j] - p[0][j];
+            w[j] = p[2][j] - p[0][j];
+            z[j] = p[3][j] - p[0][j];
+        }
         pw_cross3(u, w, n);
         d1 = pw_dot3(n, z);
         for (k = 0; k < 4; k++) pw__st_vpos(st, t->v[k], p[k]);
-        for (j = 0; j < 3; j++) u[j] = p[1][j] - p[0][j], w[j] = p[2][j] - p[0][j], z[j] = p[3][j] - p[0][j];
+        for (j = 0; j < 3; j++) {
+            u[j] = p[1][j] - p[0][j];
+            w[j] = p[2][j] - p[0][j];
+            z[j] = p[3][j] - p[0][j];
+        }
         pw_cross3(u, w, n);
         d0 = pw_dot3(n, z);
         if (!(d1 * (d0 > 0.0 ? 1.0 : -1.0) > 0.0)) return 0;
@@ -1703,11 +1841,21 @@ PW__DEF int pw__st_emit(pw__st *st, int r0, int r1, int r2, int r3)
 {
     int r[4], id[4], k;
     double p[4][3], u[3], v[3], w[3], n[3];
-    r[0] = r0, r[1] = r1, r[2] = r2, r[3] = r3;
+    r[0] = r0;
+    r[1] = r1;
+    r[2] = r2;
+    r[3] = r3;
     for (k = 0; k < 4; k++) pw__st_ref_pos(st, r[k], p[k]);
-    for (k = 0; k < 3; k++) u[k] = p[1][k] - p[0][k], v[k] = p[2][k] - p[0][k], w[k] = p[3][k] - p[0][k];
+    for (k = 0; k < 3; k++) {
+        u[k] = p[1][k] - p[0][k];
+        v[k] = p[2][k] - p[0][k];
+        w[k] = p[3][k] - p[0][k];
+    }
     pw_cross3(u, v, n);
-    if (pw_dot3(n, w) < 0.0) r[0] = r1, r[1] = r0;
+    if (pw_dot3(n, w) < 0.0) {
+        r[0] = r1;
+        r[1] = r0;
+    }
     for (k = 0; k < 4; k++)
         if ((id[k] = pw__st_ref_id(st, r[k])) < 0) return PW_ERR_NOMEM;
     if (st->notet >= PW_MAX_MESH_ELEMENTS)
@@ -1761,7 +1909,8 @@ PW__DEF int pw__st_prism(pw__st *st, const int *b, const int *t, int *dir)
     for (i = 0; i < 3; i++)
         if (dir[i] > 0 && dir[(i + 2) % 3] < 0) s = i;
     PW_ASSERT(s >= 0);
-    x = (s + 1) % 3, y = (s + 2) % 3;
+    x = (s + 1) % 3;
+    y = (s + 2) % 3;
     if ((r = pw__st_emit(st, b[s], t[s], t[x], t[y]))) return r;
     if (dir[x] > 0) {
         if ((r = pw__st_emit(st, b[s], b[x], b[y], t[y]))) return r;
@@ -1802,15 +1951,20 @@ PW__DEF int pw__st_tet(pw__st *st, const int *g)
     }
     if (np == 2 && nm == 1) return pw__st_pyramid(st, P[0], P[1], M[0], Z[0]);
     if (np == 2) { /* ++--: prism between the faces of P[0] and P[1]; the cut quadrilateral is free */
-        b[0] = P[0], b[1] = pw__st_cutref(st, P[0], M[0]), b[2] = pw__st_cutref(st, P[0], M[1]);
-        t[0] = P[1], t[1] = pw__st_cutref(st, P[1], M[0]), t[2] = pw__st_cutref(st, P[1], M[1]);
+        b[0] = P[0];
+        b[1] = pw__st_cutref(st, P[0], M[0]);
+        b[2] = pw__st_cutref(st, P[0], M[1]);
+        t[0] = P[1];
+        t[1] = pw__st_cutref(st, P[1], M[0]);
+        t[2] = pw__st_cutref(st, P[1], M[1]);
         dir[0] = pw__st_diagonal(st, P[0], P[1], M[0]) == 1 ? 1 : -1;
         dir[1] = 0;
         dir[2] = pw__st_diagonal(st, P[0], P[1], M[1]) == 1 ? -1 : 1;
         return pw__st_prism(st, b, t, dir);
     }
     for (k = 0; k < 3; k++) { /* +++-: the tetrahedron minus its outside corner */
-        b[k] = P[k], t[k] = pw__st_cutref(st, P[k], M[0]);
+        b[k] = P[k];
+        t[k] = pw__st_cutref(st, P[k], M[0]);
         dir[k] = pw__st_diagonal(st, P[k], P[(k + 1) % 3], M[0]) == 1 ? 1 : -1;
     }
     return pw__st_prism(st, b, t, dir);
@@ -1837,8 +1991,10 @@ PW__DEF int pw__st_stencils(pw__st *st)
                         int along = e < 2 ? u : v, across = e < 2 ? v : u;
                         B[ax] = C[ax] = 2 * c[ax] + 2;
                         B[across] = C[across] = 2 * c[across] + 2 * (e & 1);
-                        B[along] = 2 * c[along], C[along] = B[along] + 2;
-                        g[2] = pw__st_index(st, B), g[3] = pw__st_index(st, C);
+                        B[along] = 2 * c[along];
+                        C[along] = B[along] + 2;
+                        g[2] = pw__st_index(st, B);
+                        g[3] = pw__st_index(st, C);
                         for (k = 0; k < 4 && pw__st_class(st, g[k]) < 0; k++) continue;
                         if (k < 4) r = pw__st_tet(st, g);
                     }
@@ -1867,7 +2023,10 @@ PW__DEF int pw__st_box_tris(pw__st *st, const double *lo, const double *hi, int 
     double ctr[3], hw[3];
     float fb[6];
     int stack[96], top = -1, n = 0, i, k, id;
-    for (k = 0; k < 3; k++) ctr[k] = 0.5 * (lo[k] + hi[k]), hw[k] = 0.5 * (hi[k] - lo[k]) * (1.0 + 1e-6) + 1e-9 * s->mag;
+    for (k = 0; k < 3; k++) {
+        ctr[k] = 0.5 * (lo[k] + hi[k]);
+        hw[k] = 0.5 * (hi[k] - lo[k]) * (1.0 + 1e-6) + 1e-9 * s->mag;
+    }
     pw__st_fbox(lo, hi, 1e-9 * s->mag, fb);
     while ((id = pw__st_next_leaf(s, fb, stack, &top)) >= 0) {
         const int *nd = s->node + 3 * id;
@@ -1895,7 +2054,10 @@ PW__DEF double pw__st_gbox(const pw__st *st, const pw_bisect *b, const int *v, d
         for (k = 0; k < 3; k++) p[i][k] = st->org[k] + st->unit * b->vc[3 * v[i] + k];
     for (k = 0; k < 3; k++) {
         lo[k] = hi[k] = p[0][k];
-        for (i = 1; i < 4; i++) lo[k] = p[i][k] < lo[k] ? p[i][k] : lo[k], hi[k] = p[i][k] > hi[k] ? p[i][k] : hi[k];
+        for (i = 1; i < 4; i++) {
+            lo[k] = p[i][k] < lo[k] ? p[i][k] : lo[k];
+            hi[k] = p[i][k] > hi[k] ? p[i][k] : hi[k];
+        }
     }
     for (i = 0; i < 4; i++)
         for (j = i + 1; j < 4; j++) {
@@ -1915,7 +2077,7 @@ PW__DEF int pw__st_clip(const pw__st *st, int t, const double *lo, const double 
     for (i = 0; i < 3; i++) memcpy(buf[0][i], pw__st_corner(&st->s, t, i), sizeof buf[0][i]);
     for (k = 0; k < 3 && n > 0; k++)
         for (side = 0; side < 2 && n > 0; side++) {
-            double (*a)[3] = buf[cur], (*b)[3] = buf[1 - cur], c = side ? hi[k] : lo[k], sg = side ? -1.0 : 1.0;
+            double(*a)[3] = buf[cur], (*b)[3] = buf[1 - cur], c = side ? hi[k] : lo[k], sg = side ? -1.0 : 1.0;
             int m = 0;
             for (i = 0; i < n; i++) {
                 const double *p = a[i], *q = a[(i + 1) % n];
@@ -1929,7 +2091,8 @@ PW__DEF int pw__st_clip(const pw__st *st, int t, const double *lo, const double 
                     m++;
                 }
             }
-            n = m, cur = 1 - cur;
+            n = m;
+            cur = 1 - cur;
         }
     memcpy(out, buf[cur], (size_t)n * sizeof buf[0][0]);
     return n;
@@ -1948,7 +2111,10 @@ PW__DEF int pw__st_need(void *user, const pw_bisect *b, pw_bstet *t)
     int n, i, j, k;
     if (len <= st->lmin) return 0;
     for (k = 0; k < 3; k++) /* the reach of warping: corners may move onto the surface that far */
-        lo[k] -= PW__ST_ALPHA_GRADED * PW__ST_REACH * len, hi[k] += PW__ST_ALPHA_GRADED * PW__ST_REACH * len;
+    {
+        lo[k] -= PW__ST_ALPHA_GRADED * PW__ST_REACH * len;
+        hi[k] += PW__ST_ALPHA_GRADED * PW__ST_REACH * len;
+    }
     if ((n = pw__st_box_tris(st, lo, hi, PW__ST_NEAR)) < 0) return PW_ERR_NOMEM;
     t->mark = n == 0 ? PW__ST_FAR : 0;
     if (n == 0) return 0;
@@ -1964,7 +2130,8 @@ PW__DEF int pw__st_need(void *user, const pw_bisect *b, pw_bstet *t)
         int m = pw__st_clip(st, st->scratch[i], lo, hi, poly);
         for (j = 0; j < m; j++) {
             double d = pw_dot3(poly[j], N);
-            wlo = d < wlo ? d : wlo, whi = d > whi ? d : whi;
+            wlo = d < wlo ? d : wlo;
+            whi = d > whi ? d : whi;
         }
         if (PW__ST_BEND * (whi - wlo) > st->tol) return 1;
     }
@@ -2009,7 +2176,8 @@ PW__DEF int pw__st_gedges(pw__st *st)
                     st->eadj[mark[u]] |= fr;
                     continue;
                 }
-                if (pw_grow(st->a, (void **)&st->eadj, &st->capeadj, (size_t)n + 1, sizeof(int), "lattice edges", st->e)) {
+                if (pw_grow(st->a, (void **)&st->eadj, &st->capeadj, (size_t)n + 1, sizeof(int), "lattice edges",
+                            st->e)) {
                     r = PW_ERR_NOMEM;
                     break;
                 }
@@ -2038,9 +2206,12 @@ PW__DEF int pw__st_tri_frames(pw__st *st)
         const double *c = pw__st_corner(&st->s, t, (j + 2) % 3);
         double u[3], v[3], *n = st->tnorm + 4 * (size_t)t, lo[3], hi[3];
         for (k = 0; k < 3; k++) {
-            u[k] = b[k] - a[k], v[k] = c[k] - a[k];
-            lo[k] = a[k] < b[k] ? a[k] : b[k], hi[k] = a[k] > b[k] ? a[k] : b[k];
-            lo[k] = c[k] < lo[k] ? c[k] : lo[k], hi[k] = c[k] > hi[k] ? c[k] : hi[k];
+            u[k] = b[k] - a[k];
+            v[k] = c[k] - a[k];
+            lo[k] = a[k] < b[k] ? a[k] : b[k];
+            hi[k] = a[k] > b[k] ? a[k] : b[k];
+            lo[k] = c[k] < lo[k] ? c[k] : lo[k];
+            hi[k] = c[k] > hi[k] ? c[k] : hi[k];
         }
         pw_cross3(u, v, n);
         n[3] = pw_norm3(n);
@@ -2061,7 +2232,10 @@ PW__DEF int pw__st_glattice(pw__st *st, const pw_stuff_options *o, double fit)
         double c = (st->s.hi[k] - st->s.lo[k]) / h;
         diag += (st->s.hi[k] - st->s.lo[k]) * (st->s.hi[k] - st->s.lo[k]);
         if (!(c < 1e6)) count = 1e30;
-        else n[k] = (int)ceil(c) + 2, count *= n[k];
+        else {
+            n[k] = (int)ceil(c) + 2;
+            count *= n[k];
+        }
     }
     if (count * 6.0 > PW_MAX_STUFF_LATTICE || n[0] >= (1 << (21 - SIDE_LOG)) || n[1] >= (1 << (21 - SIDE_LOG)) ||
         n[2] >= (1 << (21 - SIDE_LOG)))
@@ -2069,10 +2243,15 @@ PW__DEF int pw__st_glattice(pw__st *st, const pw_stuff_options *o, double fit)
                        "tetrahedralize: a lattice of spacing %g needs %.3g cubes, more than PW_MAX_STUFF_LATTICE "
                        "(%d) / 6; use a larger cell or fewer tetrahedra",
                        h, count, PW_MAX_STUFF_LATTICE);
-    st->graded = 1, st->h = h, st->unit = h / (1 << SIDE_LOG);
-    st->tol = fit * sqrt(diag), st->lmin = (fit > 4.0 * PW__ST_MIN_CELL ? 0.25 * fit : PW__ST_MIN_CELL) * sqrt(diag);
+    st->graded = 1;
+    st->h = h;
+    st->unit = h / (1 << SIDE_LOG);
+    st->tol = fit * sqrt(diag);
+    st->lmin = (fit > 4.0 * PW__ST_MIN_CELL ? 0.25 * fit : PW__ST_MIN_CELL) * sqrt(diag);
     for (k = 0; k < 3; k++) st->org[k] = 0.5 * (st->s.lo[k] + st->s.hi[k]) - 0.5 * h * n[k];
-    st->bs.a = st->a, st->bs.e = st->e, st->bs.max_tets = PW_MAX_STUFF_LATTICE;
+    st->bs.a = st->a;
+    st->bs.e = st->e;
+    st->bs.max_tets = PW_MAX_STUFF_LATTICE;
     if ((r = pw__st_tri_frames(st))) return r;
     r = pw_bisect_kuhn(&st->bs, n, 1 << SIDE_LOG);
     if (r == PW_OK) r = pw_report(st->prog, 0.1f, "graded lattice", st->e);
@@ -2131,7 +2310,8 @@ PW__DEF int pw__st_piece_labels(const pw_tetmesh *m, const int *nb, int *up)
     for (f = 0; f < 4 * m->nt; f++) {
         int x, y;
         if (nb[f] < 0) continue;
-        x = pw__st_root(up, f >> 2), y = pw__st_root(up, nb[f] >> 2);
+        x = pw__st_root(up, f >> 2);
+        y = pw__st_root(up, nb[f] >> 2);
         if (x != y) up[x > y ? x : y] = x < y ? x : y;
     }
     for (t = 0; t < m->nt; t++) n += (up[t] = pw__st_root(up, t)) == t;
@@ -2192,7 +2372,10 @@ PW__DEF int pw__st_drop_fragments(pw__st *st)
     int *pc = (int *)pw_alloc_array(st->a, nt + 1, sizeof(int), "piece components", st->e);
     double *vol = (double *)pw_calloc_array(st->a, nt + 1, sizeof(double), "piece volumes", st->e);
     int *best = NULL, *to = NULL, r = PW_OK, npieces = 0, nc = 0, k, v;
-    m.nv = (int)st->nopos, m.pos = st->opos, m.nt = (int)nt, m.tet = st->otet;
+    m.nv = (int)st->nopos;
+    m.pos = st->opos;
+    m.nt = (int)nt;
+    m.tet = st->otet;
     if (!nb || !up || !comp || !pc || !vol) r = PW_ERR_NOMEM;
     if (r == PW_OK) r = pw_tetmesh_neighbors(st->a, &m, nb, st->e);
     if (r == PW_OK && (npieces = pw__st_piece_labels(&m, nb, up)) > 1) {
@@ -2235,7 +2418,8 @@ PW__DEF int pw__st_drop_fragments(pw__st *st)
                 st->osurf[k++] = st->osurf[v];
             }
         for (i = 0; i < 4 * kept; i++) st->otet[i] = to[st->otet[i]];
-        st->notet = kept, st->nopos = (size_t)k;
+        st->notet = kept;
+        st->nopos = (size_t)k;
     }
     pw_free(st->a, nb);
     pw_free(st->a, up);
@@ -2268,7 +2452,11 @@ PW__DEF double pw__st_star_worst(const pw__st *st, const pw_tetrings *g, int v, 
         const int *c = st->otet + 4 * (size_t)g->star[i];
         for (k = 0; k < 4; k++)
             for (j = 0; j < 3; j++) p[k][j] = c[k] == v ? x[j] : st->opos[3 * (size_t)c[k] + j];
-        for (j = 0; j < 3; j++) u[j] = p[1][j] - p[0][j], w[j] = p[2][j] - p[0][j], z[j] = p[3][j] - p[0][j];
+        for (j = 0; j < 3; j++) {
+            u[j] = p[1][j] - p[0][j];
+            w[j] = p[2][j] - p[0][j];
+            z[j] = p[3][j] - p[0][j];
+        }
         pw_cross3(u, w, n);
         if (!(pw_dot3(n, z) > 0.0)) return 2.0;
         pw_tet_cosines((const double(*)[3])p, &clo, &chi);
@@ -2292,7 +2480,11 @@ PW__DEF double pw__st_away(const pw__st *st, int t, int v, double *n)
             else f[m][j] = st->opos[3 * (size_t)c[k] + j];
             m += c[k] != v && j == 2;
         }
-    for (j = 0; j < 3; j++) u[j] = f[1][j] - f[0][j], w[j] = f[2][j] - f[0][j], pv[j] -= f[0][j];
+    for (j = 0; j < 3; j++) {
+        u[j] = f[1][j] - f[0][j];
+        w[j] = f[2][j] - f[0][j];
+        pv[j] -= f[0][j];
+    }
     pw_cross3(u, w, n);
     pw_norm3(n);
     if (pw_dot3(n, pv) < 0.0)
@@ -2336,7 +2528,10 @@ PW__DEF int pw__st_smooth_vertex(pw__st *st, const pw_tetrings *g, int v)
             memcpy(y, q, sizeof q);
         }
         for (k = 0; k < 3; k++) x[k] = (float)y[k];
-        if ((w = pw__st_star_worst(st, g, v, x, NULL)) < bq) bq = w, memcpy(best, x, sizeof x);
+        if ((w = pw__st_star_worst(st, g, v, x, NULL)) < bq) {
+            bq = w;
+            memcpy(best, x, sizeof x);
+        }
     }
     if (bq >= now) return 0;
     memcpy(pv, best, sizeof best);
@@ -2349,7 +2544,10 @@ PW__DEF int pw__st_smooth(pw__st *st)
     pw_tetrings g;
     unsigned char *bad;
     int r, pass, v, i, k, j, moved = 1;
-    m.nv = (int)st->nopos, m.pos = st->opos, m.nt = (int)st->notet, m.tet = st->otet;
+    m.nv = (int)st->nopos;
+    m.pos = st->opos;
+    m.nt = (int)st->notet;
+    m.tet = st->otet;
     bad = (unsigned char *)pw_calloc_array(st->a, (size_t)m.nv + 1, 1, "vertex marks", st->e);
     if (!bad) return PW_ERR_NOMEM;
     if ((r = pw_tetmesh_rings(st->a, &m, &g, st->e))) {
@@ -2409,7 +2607,8 @@ PW__DEF void pw__st_free(pw__st *st)
 PW__DEF int pw__st_drop_repeats(pw__st *st, const int *tri, int nt, int *n)
 {
     int t, k;
-    st->tri = (int *)pw_alloc_array(st->a, (size_t)nt * 12 + 3, sizeof(int), "triangles", st->e); /* room for hole fans */
+    st->tri =
+        (int *)pw_alloc_array(st->a, (size_t)nt * 12 + 3, sizeof(int), "triangles", st->e); /* room for hole fans */
     st->map = (int *)pw_alloc_array(st->a, (size_t)nt * 4 + 1, sizeof(int), "triangle map", st->e);
     if (!st->tri || !st->map) return PW_ERR_NOMEM;
     for (*n = 0, t = 0; t < nt; t++) {
@@ -2462,7 +2661,6 @@ PW__DEF void pw__st_add_fans(pw__st *st, const int *fan, int nfan, int *n)
     *n += nfan;
 }
 
-
 /* The surface the fill uses: the caller's triangles without the zero-area
  * ones (counted in info), closed and consistently oriented, with its
  * hierarchy and winding-number caps. st->tri and st->map own the arrays. */
@@ -2486,7 +2684,8 @@ PW__DEF int pw__st_surface(pw__st *st, const pw_stuff_tris *m, double max_hole, 
         r = pw__st_check_closed(st->a, &used, -1.0, &cl, st->e);
     }
     if (r == PW_OK) r = pw__st_drop_flat(st, m->pos, cl.twin, &n, &info->skipped_triangles);
-    if (r == PW_OK && n == 0) r = pw_fail(st->e, PW_ERR_DEGENERATE, "surface encloses no volume (every triangle is flat)");
+    if (r == PW_OK && n == 0)
+        r = pw_fail(st->e, PW_ERR_DEGENERATE, "surface encloses no volume (every triangle is flat)");
     if (r == PW_OK) {
         pw_stuff_tris used = pw_stuff_tris_of(m->pos, m->nv, st->tri, n);
         r = pw__st_surf_init(st->a, &used, &st->s, st->e);
@@ -2497,10 +2696,7 @@ PW__DEF int pw__st_surface(pw__st *st, const pw_stuff_tris *m, double max_hole, 
 }
 
 /* The largest hole perimeter closed, as a fraction of the diagonal. */
-PW__DEF double pw__st_max_hole(const pw_stuff_options *o)
-{
-    return !o || o->max_hole == 0.0 ? 0.05 : o->max_hole;
-}
+PW__DEF double pw__st_max_hole(const pw_stuff_options *o) { return !o || o->max_hole == 0.0 ? 0.05 : o->max_hole; }
 
 /* Tetrahedralizes the inside of a closed, oriented triangle surface (in:
  * its triangles counter-clockwise seen from outside; a surface facing
@@ -2532,13 +2728,16 @@ PW__DEF int pw_stuff_tetrahedralize(const pw_alloc *a, const pw_stuff_tris *in, 
     if (!out) return pw_fail(e, PW_ERR_INVALID, "tetrahedralize: no output mesh");
     memset(out, 0, sizeof *out);
     memset(&st, 0, sizeof st);
-    st.a = a, st.prog = p, st.e = e;
+    st.a = a;
+    st.prog = p;
+    st.e = e;
     r = in ? pw__st_check_values(in->pos, in->nv, in->tri, in->nt, e)
            : pw_fail(e, PW_ERR_INVALID, "tetrahedralize: NULL positions or triangles");
     if (r == PW_OK && o && !pw_is_finite(o->max_hole))
         r = pw_fail(e, PW_ERR_INVALID, "tetrahedralize: max_hole %g is not finite", o->max_hole);
     if (r == PW_OK && o && !(o->fit >= 0.0 && o->fit <= 0.1))
-        r = pw_fail(e, PW_ERR_INVALID, "tetrahedralize: fit %g is not in [0, 0.1] (a fraction of the diagonal)", o->fit);
+        r = pw_fail(e, PW_ERR_INVALID, "tetrahedralize: fit %g is not in [0, 0.1] (a fraction of the diagonal)",
+                    o->fit);
     if (r == PW_OK) r = pw_report(p, 0.0f, "surface checks", e);
     if (r == PW_OK) r = pw__st_surface(&st, in, pw__st_max_hole(o), info);
     if (r == PW_OK) r = pw__st_check_geometry(&st.s, st.map, o && o->strict, info, e);
@@ -2560,12 +2759,18 @@ PW__DEF int pw_stuff_tetrahedralize(const pw_alloc *a, const pw_stuff_tris *in, 
         info->fragments = st.dropped;
     }
     if (r == PW_OK && st.notet == 0)
-        r = pw_fail(e, PW_ERR_DEGENERATE, "tetrahedralize: no lattice vertex of spacing %g is inside the surface; "
-                    "use a smaller cell", st.h);
+        r = pw_fail(e, PW_ERR_DEGENERATE,
+                    "tetrahedralize: no lattice vertex of spacing %g is inside the surface; "
+                    "use a smaller cell",
+                    st.h);
     if (r == PW_OK) r = pw_report(p, 1.0f, "stencils", e);
     if (r == PW_OK) {
-        out->nv = (int)st.nopos, out->pos = st.opos, out->nt = (int)st.notet, out->tet = st.otet;
-        st.opos = NULL, st.otet = NULL;
+        out->nv = (int)st.nopos;
+        out->pos = st.opos;
+        out->nt = (int)st.notet;
+        out->tet = st.otet;
+        st.opos = NULL;
+        st.otet = NULL;
     }
     pw__st_free(&st);
     return r;
@@ -2594,12 +2799,16 @@ PW__DEF void pw__st_face_key(const pw_tetmesh *m, int t, int f, pw__stface *x)
     int c[3], i, j;
     pw_tet_face(f, c);
     for (i = 0; i < 3; i++) x->k[i] = m->tet[4 * t + c[i]];
-    x->odd = 0, x->t = t, x->f = f;
+    x->odd = 0;
+    x->t = t;
+    x->f = f;
     for (i = 0; i < 3; i++)
         for (j = 0; j + 1 < 3 - i; j++)
             if (x->k[j] > x->k[j + 1]) {
                 int s = x->k[j];
-                x->k[j] = x->k[j + 1], x->k[j + 1] = s, x->odd ^= 1;
+                x->k[j] = x->k[j + 1];
+                x->k[j + 1] = s;
+                x->odd ^= 1;
             }
 }
 
@@ -2613,8 +2822,8 @@ PW__DEF int pw__st_face_runs(const pw_tetmesh *m, const pw__stface *fl, size_t n
     while (i < n) {
         for (j = i + 1; j < n && !memcmp(fl[j].k, fl[i].k, sizeof fl[i].k); j++) continue;
         if (j - i > 2 || (j - i == 2 && fl[i].odd == fl[i + 1].odd))
-            return pw_fail(e, PW_ERR_TOPOLOGY, "tetrahedra %d and %d overlap at face v%d-v%d-v%d", fl[i].t,
-                           fl[i + 1].t, fl[i].k[0], fl[i].k[1], fl[i].k[2]);
+            return pw_fail(e, PW_ERR_TOPOLOGY, "tetrahedra %d and %d overlap at face v%d-v%d-v%d", fl[i].t, fl[i + 1].t,
+                           fl[i].k[0], fl[i].k[1], fl[i].k[2]);
         if (j - i == 1 && tri) {
             pw_tet_face(fl[i].f, c);
             for (k = 0; k < 3; k++) tri[3 * *nb + k] = m->tet[4 * fl[i].t + c[k]];
@@ -2634,7 +2843,8 @@ PW__DEF int pw_stuff_boundary(const pw_alloc *a, const pw_tetmesh *m, int **tri,
     size_t n = (size_t)m->nt * 4, i;
     pw__stface *fl;
     int r, nb;
-    *tri = NULL, *ntri = 0;
+    *tri = NULL;
+    *ntri = 0;
     fl = (pw__stface *)pw_alloc_array(a, n + 1, sizeof *fl, "tetrahedron faces", e);
     if (!fl) return PW_ERR_NOMEM;
     for (i = 0; i < n; i++) pw__st_face_key(m, (int)(i / 4), (int)(i % 4), fl + i);
@@ -2644,7 +2854,11 @@ PW__DEF int pw_stuff_boundary(const pw_alloc *a, const pw_tetmesh *m, int **tri,
         r = PW_ERR_NOMEM;
     if (r == PW_OK) r = pw__st_face_runs(m, fl, n, *tri, ntri, e);
     pw_free(a, fl);
-    if (r != PW_OK) pw_free(a, *tri), *tri = NULL, *ntri = 0;
+    if (r != PW_OK) {
+        pw_free(a, *tri);
+        *tri = NULL;
+        *ntri = 0;
+    }
     return r;
 }
 
@@ -2658,9 +2872,9 @@ typedef struct pw_stuff_fit {
     double from_max, from_p99; /* samples of the surface -> boundary of the tetrahedra */
     double diag;               /* the surface's bounding-box diagonal, for relative figures */
     int boundary_triangles;
-    int pieces; /* connected components of the tetrahedra (joined by shared faces) */
+    int pieces;         /* connected components of the tetrahedra (joined by shared faces) */
     int surface_pieces; /* pieces of the solid the surface encloses (pw_stuff_surface_pieces), -1: not counted */
-    int samples; /* samples taken on each side */
+    int samples;        /* samples taken on each side */
 } pw_stuff_fit;
 
 /* Signed volume of component c and the winding number of the other
@@ -2679,8 +2893,10 @@ PW__DEF void pw__st_weigh(const pw_stuff_tris *m, const int *comp, int c, double
         if (comp[t] == c && first)
             for (first = 0, k = 0; k < 3; k++) p[k] = q[0][k];
         if (comp[t] == c)
-            *vol += (q[0][0] * (q[1][1] * q[2][2] - q[1][2] * q[2][1]) - q[0][1] * (q[1][0] * q[2][2] - q[1][2] * q[2][0]) +
-                     q[0][2] * (q[1][0] * q[2][1] - q[1][1] * q[2][0])) / 6.0;
+            *vol +=
+                (q[0][0] * (q[1][1] * q[2][2] - q[1][2] * q[2][1]) - q[0][1] * (q[1][0] * q[2][2] - q[1][2] * q[2][0]) +
+                 q[0][2] * (q[1][0] * q[2][1] - q[1][1] * q[2][0])) /
+                6.0;
     }
     for (t = 0; t < nt; t++) {
         if (comp[t] == c) continue;
@@ -2707,9 +2923,11 @@ PW__DEF int pw_stuff_surface_pieces(const pw_alloc *a, const pw_stuff_tris *m, i
     if (r == PW_OK && !vol) r = PW_ERR_NOMEM;
     if (r == PW_OK && (double)nc * nt <= 5e7) {
         w = vol + nc;
-        for (c = 0; c < nc; c++) pw__st_weigh(m, comp, c, vol + c, w + c), total += vol[c];
-        for (*pieces = 0, c = 0; c < nc; c++)
-            *pieces += (total < 0.0 ? -vol[c] : vol[c]) > 0.0 && fabs(w[c]) < 0.5;
+        for (c = 0; c < nc; c++) {
+            pw__st_weigh(m, comp, c, vol + c, w + c);
+            total += vol[c];
+        }
+        for (*pieces = 0, c = 0; c < nc; c++) *pieces += (total < 0.0 ? -vol[c] : vol[c]) > 0.0 && fabs(w[c]) < 0.5;
     }
     pw_free(a, vol);
     pw_free(a, comp);
@@ -2763,7 +2981,8 @@ PW__DEF void pw__st_sample_at(const pw__st_dist *d, int t, double l1, double l2,
     int i;
     for (i = 0; i < 3; i++)
         p[i] = (1.0 - l1 - l2) * pos[3 * c[0] + i] + l1 * pos[3 * c[1] + i] + l2 * pos[3 * c[2] + i];
-    out->d = sqrt(pw__st_closest(d->to, p, x, NULL)), out->w = w;
+    out->d = sqrt(pw__st_closest(d->to, p, x, NULL));
+    out->w = w;
 }
 
 /* Samples of triangle t of d->from split into k*k congruent pieces: their
@@ -2796,7 +3015,10 @@ PW__DEF int pw__st_sampled_dist(const pw_alloc *a, pw__st_dist *d, int want, pw_
     double total = 0.0, area, a0, acc = 0.0;
     size_t n = 0, i;
     pw__stsample *sm;
-    for (t = 0; t < nt; t++) pw__st_sample_split(pos, tri, t, 1e300, &area), total += area;
+    for (t = 0; t < nt; t++) {
+        pw__st_sample_split(pos, tri, t, 1e300, &area);
+        total += area;
+    }
     a0 = total > 0.0 ? total / (want > 0 ? want : 1) : 1.0;
     for (t = 0; t < nt; t++) {
         int k = pw__st_sample_split(pos, tri, t, a0, &area);
@@ -2808,7 +3030,9 @@ PW__DEF int pw__st_sampled_dist(const pw_alloc *a, pw__st_dist *d, int want, pw_
         n += pw__st_sample_tri(d, t, k, area, sm + n);
     }
     qsort(sm, n, sizeof *sm, pw__st_sample_cmp);
-    d->smax = n ? sm[n - 1].d : 0.0, d->p99 = d->smax, d->samples = (int)n;
+    d->smax = n ? sm[n - 1].d : 0.0;
+    d->p99 = d->smax;
+    d->samples = (int)n;
     for (i = 0; i < n; i++)
         if ((acc += sm[i].w) >= 0.99 * total) {
             d->p99 = sm[i].d;
@@ -2833,7 +3057,8 @@ PW__DEF int pw__st_vertex_dist(const pw_alloc *a, pw__st_dist *d, pw_err *e)
         if (!used[v]) continue;
         for (k = 0; k < 3; k++) p[k] = m->pos[3 * v + k];
         dist = sqrt(pw__st_closest(d->to, p, x, NULL));
-        sum += dist, n++;
+        sum += dist;
+        n++;
         if (dist > d->vmax) d->vmax = dist;
     }
     d->vmean = n ? sum / n : 0.0;
@@ -2872,18 +3097,30 @@ PW__DEF int pw_stuff_fit_measure(const pw_alloc *a, const pw_stuff_tris *in, con
     r = pw__st_check_values(in->pos, in->nv, in->tri, in->nt, e);
     if (r == PW_OK) r = pw_stuff_boundary(a, m, &btri, &nb, e);
     if (r == PW_OK && nb == 0) r = pw_fail(e, PW_ERR_DEGENERATE, "fit: the tetrahedral mesh has no boundary");
-    to.from = pw_stuff_tris_of(m->pos, m->nv, btri, nb), to.to = &s;
-    from.from = *in, from.to = &b;
+    to.from = pw_stuff_tris_of(m->pos, m->nv, btri, nb);
+    to.to = &s;
+    from.from = *in;
+    from.to = &b;
     if (r == PW_OK) r = pw__st_surf_init(a, in, &s, e);
     if (r == PW_OK) r = pw__st_surf_init(a, &to.from, &b, e);
-    if (r == PW_OK && (r = pw__st_vertex_dist(a, &to, e)) == PW_OK)
-        fit->to_surface_max = to.vmax, fit->to_surface_mean = to.vmean;
-    if (r == PW_OK && (r = pw__st_vertex_dist(a, &from, e)) == PW_OK)
-        fit->from_surface_max = from.vmax, fit->from_surface_mean = from.vmean;
-    if (r == PW_OK && (r = pw__st_sampled_dist(a, &to, samples, e)) == PW_OK)
-        fit->to_max = to.smax, fit->to_p99 = to.p99, fit->samples = to.samples;
-    if (r == PW_OK && (r = pw__st_sampled_dist(a, &from, samples, e)) == PW_OK)
-        fit->from_max = from.smax, fit->from_p99 = from.p99, fit->samples = from.samples;
+    if (r == PW_OK && (r = pw__st_vertex_dist(a, &to, e)) == PW_OK) {
+        fit->to_surface_max = to.vmax;
+        fit->to_surface_mean = to.vmean;
+    }
+    if (r == PW_OK && (r = pw__st_vertex_dist(a, &from, e)) == PW_OK) {
+        fit->from_surface_max = from.vmax;
+        fit->from_surface_mean = from.vmean;
+    }
+    if (r == PW_OK && (r = pw__st_sampled_dist(a, &to, samples, e)) == PW_OK) {
+        fit->to_max = to.smax;
+        fit->to_p99 = to.p99;
+        fit->samples = to.samples;
+    }
+    if (r == PW_OK && (r = pw__st_sampled_dist(a, &from, samples, e)) == PW_OK) {
+        fit->from_max = from.smax;
+        fit->from_p99 = from.p99;
+        fit->samples = from.samples;
+    }
     if (r == PW_OK) r = pw__st_pieces_of(a, m, &fit->pieces, e);
     if (r == PW_OK) r = pw_stuff_surface_pieces(a, in, &fit->surface_pieces, e);
     for (k = 0; k < 3; k++) fit->diag += (s.hi[k] - s.lo[k]) * (s.hi[k] - s.lo[k]);

@@ -45,11 +45,10 @@ PW__DEF void pw__cc_face_edge_points(const pw_hmesh *hm, const float *pos, float
         int g = hm->edgeh[e], t = hm->twin[g];
         const float *a = pos + 3 * hm->fv[g], *b = pos + 3 * pw_he_dest(hm, g);
         for (k = 0; k < 3; k++) {
-            if (t < 0)
-                ep[3 * e + k] = (float)(0.5 * ((double)a[k] + b[k]));
+            if (t < 0) ep[3 * e + k] = (float)(0.5 * ((double)a[k] + b[k]));
             else
-                ep[3 * e + k] = (float)(0.25 * ((double)a[k] + b[k] + fp[3 * hm->hface[g] + k] +
-                                                fp[3 * hm->hface[t] + k]));
+                ep[3 * e + k] =
+                    (float)(0.25 * ((double)a[k] + b[k] + fp[3 * hm->hface[g] + k] + fp[3 * hm->hface[t] + k]));
         }
     }
 }
@@ -109,8 +108,7 @@ PW__DEF void pw__cc_quads(const pw_hmesh *hm, pw_mesh *out)
 
 /* One Catmull-Clark step of the half-edge mesh hm with positions pos
  * (hm->nv*3). out receives a new all-quad mesh (free with pw_mesh_free). */
-PW__DEF int pw_catmull_clark(const pw_alloc *a, const pw_hmesh *hm, const float *pos, pw_mesh *out,
-                             pw_err *e)
+PW__DEF int pw_catmull_clark(const pw_alloc *a, const pw_hmesh *hm, const float *pos, pw_mesh *out, pw_err *e)
 {
     int64_t nv2 = (int64_t)hm->nv + hm->ne + hm->nf, nc2 = 4 * (int64_t)hm->nh;
     double *acc;

@@ -101,7 +101,8 @@ PW__DEF int pw__tio_rest(pw__sc *s, int n, const char *what, long long index)
     int k, r;
     for (k = 0; k < n; k++)
         if ((r = pw__sc_num(s, &x, what, index)) != PW_OK) return r;
-    if (!pw__sc_eol(s)) return pw__sc_fail(s, PW_ERR_PARSE, "%s %lld: unexpected text at the end of the line", what, index);
+    if (!pw__sc_eol(s))
+        return pw__sc_fail(s, PW_ERR_PARSE, "%s %lld: unexpected text at the end of the line", what, index);
     pw__sc_next_line(s);
     return PW_OK;
 }
@@ -112,7 +113,8 @@ PW__DEF int pw__tetgen_nodes(const pw_alloc *a, pw__sc *s, pw_tetmesh *m, long l
     int nv, i, k, r;
     if ((r = pw__tio_header(s, h, 4, 2, "node header")) != PW_OK) return r;
     if (h[1] != 3)
-        return pw__sc_fail(s, h[1] == 2 ? PW_ERR_UNSUPPORTED : PW_ERR_PARSE, "dimension %lld (only 3 is supported)", h[1]);
+        return pw__sc_fail(s, h[1] == 2 ? PW_ERR_UNSUPPORTED : PW_ERR_PARSE, "dimension %lld (only 3 is supported)",
+                           h[1]);
     if (h[2] < 0 || h[2] > 1000 || h[3] < 0 || h[3] > 1)
         return pw__sc_fail(s, PW_ERR_PARSE, "bad attribute (%lld) or marker (%lld) count", h[2], h[3]);
     if ((r = pw__tio_count(s, "points", h[0], 8, &nv)) != PW_OK) return r;
@@ -169,7 +171,9 @@ typedef struct pw_memfile {
 PW__DEF pw_memfile pw_memfile_of(const void *data, size_t size, const char *name)
 {
     pw_memfile f;
-    f.data = data, f.size = size, f.name = name;
+    f.data = data;
+    f.size = size;
+    f.name = name;
     return f;
 }
 
@@ -256,10 +260,22 @@ PW__DEF int pw__medit_coord(pw__sc *s, float *out, const char *what, long long i
 /* Blocks skipped, with the numbers per entry. */
 PW__DEF int pw__medit_skippable(const char *w, size_t n)
 {
-    static const char *const names[] = {"Edges", "Triangles", "Quadrilaterals", "Hexahedra", "Prisms", "Corners",
-                                        "Ridges", "RequiredVertices", "RequiredEdges", "RequiredTriangles",
-                                        "RequiredQuadrilaterals", "Normals", "Tangents", "NormalAtVertices",
-                                        "TangentAtVertices", "TangentAtEdges"};
+    static const char *const names[] = {"Edges",
+                                        "Triangles",
+                                        "Quadrilaterals",
+                                        "Hexahedra",
+                                        "Prisms",
+                                        "Corners",
+                                        "Ridges",
+                                        "RequiredVertices",
+                                        "RequiredEdges",
+                                        "RequiredTriangles",
+                                        "RequiredQuadrilaterals",
+                                        "Normals",
+                                        "Tangents",
+                                        "NormalAtVertices",
+                                        "TangentAtVertices",
+                                        "TangentAtEdges"};
     static const int per[] = {3, 4, 5, 9, 7, 1, 1, 1, 1, 1, 1, 3, 3, 2, 2, 3};
     size_t k;
     for (k = 0; k < sizeof per / sizeof per[0]; k++)
@@ -306,7 +322,8 @@ PW__DEF int pw__medit_tets(const pw_alloc *a, pw__sc *s, pw_tetmesh *m, pw_err *
             if ((r = pw__medit_int(s, &c, "tetrahedron", i)) != PW_OK) return r;
             if (k == 4) continue; /* the reference (region) number */
             if (c < 1 || c > m->nv)
-                return pw__sc_fail(s, PW_ERR_INVALID, "tetrahedron %d: vertex %lld does not exist (1..%d)", i, c, m->nv);
+                return pw__sc_fail(s, PW_ERR_INVALID, "tetrahedron %d: vertex %lld does not exist (1..%d)", i, c,
+                                   m->nv);
             m->tet[4 * i + k] = (int)(c - 1);
         }
     return PW_OK;
@@ -335,12 +352,14 @@ PW__DEF int pw__medit_keyword(const pw_alloc *a, pw__sc *s, pw_tetmesh *m, int *
     int per;
     pw__medit_skip(s);
     w = pw__sc_word(s, &n);
-    if (n == 0 || pw__sc_is(w, n, "End")) return (*done = 1), PW_OK;
+    if (n == 0 || pw__sc_is(w, n, "End")) {
+        (*done = 1);
+        return PW_OK;
+    }
     if (pw__sc_is(w, n, "MeshVersionFormatted")) return pw__medit_int(s, &v, "MeshVersionFormatted", -1);
     if (pw__sc_is(w, n, "Dimension")) {
         int r = pw__medit_int(s, &v, "Dimension", -1);
-        if (r == PW_OK && v != 3)
-            return pw__sc_fail(s, PW_ERR_UNSUPPORTED, "Dimension %lld (only 3 is supported)", v);
+        if (r == PW_OK && v != 3) return pw__sc_fail(s, PW_ERR_UNSUPPORTED, "Dimension %lld (only 3 is supported)", v);
         return r;
     }
     if (pw__sc_is(w, n, "Vertices")) return pw__medit_vertices(a, s, m, e);

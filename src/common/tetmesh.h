@@ -68,20 +68,25 @@ PW__DEF void pw_tet_face(int k, int out[3])
  * platform. */
 PW__DEF void pw_tet_cosines(const double (*p)[3], double *clo, double *chi)
 {
-    static const int edge[6][4] = {{0, 1, 2, 3}, {0, 2, 1, 3}, {0, 3, 1, 2},
-                                   {1, 2, 0, 3}, {1, 3, 0, 2}, {2, 3, 0, 1}};
+    static const int edge[6][4] = {{0, 1, 2, 3}, {0, 2, 1, 3}, {0, 3, 1, 2}, {1, 2, 0, 3}, {1, 3, 0, 2}, {2, 3, 0, 1}};
     int k, i;
-    *clo = -1.0, *chi = 1.0;
+    *clo = -1.0;
+    *chi = 1.0;
     for (k = 0; k < 6; k++) { /* the angle along edge (a,b) between the faces (a,b,c) and (a,b,d) */
         const double *a = p[edge[k][0]], *b = p[edge[k][1]], *c = p[edge[k][2]], *d = p[edge[k][3]];
         double u[3], v[3], w[3], n1[3], n2[3], l1, l2, cs;
-        for (i = 0; i < 3; i++) u[i] = b[i] - a[i], v[i] = c[i] - a[i], w[i] = d[i] - a[i];
+        for (i = 0; i < 3; i++) {
+            u[i] = b[i] - a[i];
+            v[i] = c[i] - a[i];
+            w[i] = d[i] - a[i];
+        }
         pw_cross3(u, v, n1);
         pw_cross3(u, w, n2);
         l1 = sqrt(pw_dot3(n1, n1));
         l2 = sqrt(pw_dot3(n2, n2));
         if (l1 <= 0.0 || l2 <= 0.0) {
-            *clo = 1.0, *chi = -1.0;
+            *clo = 1.0;
+            *chi = -1.0;
             return;
         }
         cs = pw_dot3(n1, n2) / (l1 * l2);
@@ -162,8 +167,8 @@ PW__DEF int pw_tetmesh_check(pw_tetmesh *m, const char *name, pw_err *e)
         vol = pw_tet_volume6(m, t);
         len = pw__tet_longest_edge(m, t);
         if (!(fabs(vol) > 1e-12 * len * len * len))
-            return pw_fail(e, PW_ERR_DEGENERATE, "%s: tetrahedron %d (vertices %d %d %d %d) has zero volume", name,
-                           t, c[0], c[1], c[2], c[3]);
+            return pw_fail(e, PW_ERR_DEGENERATE, "%s: tetrahedron %d (vertices %d %d %d %d) has zero volume", name, t,
+                           c[0], c[1], c[2], c[3]);
         if (vol < 0.0) {
             int tmp = c[2];
             c[2] = c[3];
@@ -206,9 +211,8 @@ PW__DEF int pw__tet_pair(const pw_tetmesh *m, int *nb, int f, int g, int parity_
 {
     int key[3], parity_g = pw__tet_face_key(m, g >> 2, g & 3, key);
     if (nb[g] >= 0)
-        return pw_fail(e, PW_ERR_TOPOLOGY,
-                       "face (%d %d %d) is shared by three or more tetrahedra (%d, %d and %d)", key[0], key[1],
-                       key[2], nb[g] >> 2, g >> 2, f >> 2);
+        return pw_fail(e, PW_ERR_TOPOLOGY, "face (%d %d %d) is shared by three or more tetrahedra (%d, %d and %d)",
+                       key[0], key[1], key[2], nb[g] >> 2, g >> 2, f >> 2);
     if (parity_f == parity_g)
         return pw_fail(e, PW_ERR_TOPOLOGY,
                        "tetrahedra %d and %d overlap: they lie on the same side of their shared face (%d %d %d)",

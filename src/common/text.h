@@ -9,9 +9,8 @@
 
 /* ---- number parsing ------------------------------------------------------ */
 
-static const double pw__num_pow10[23] = {1e0,  1e1,  1e2,  1e3,  1e4,  1e5,  1e6,  1e7,
-                                     1e8,  1e9,  1e10, 1e11, 1e12, 1e13, 1e14, 1e15,
-                                     1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22};
+static const double pw__num_pow10[23] = {1e0,  1e1,  1e2,  1e3,  1e4,  1e5,  1e6,  1e7,  1e8,  1e9,  1e10, 1e11,
+                                         1e12, 1e13, 1e14, 1e15, 1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22};
 
 /* m * 10^x. Powers of ten up to 1e22 are exact doubles, so the common case
  * (up to 17 significant digits, small exponent) is one rounding, and the
@@ -20,13 +19,17 @@ PW__DEF double pw__num_scale10(uint64_t m, long x, int neg)
 {
     double v = (double)m;
     if (m == 0) x = 0;
-    if (x > 400)
-        v = HUGE_VAL; /* m >= 1, so at least 1e400 */
-    else if (x < -400)
-        v = 0.0; /* m < 1e18, so below 1e-382 */
+    if (x > 400) v = HUGE_VAL;  /* m >= 1, so at least 1e400 */
+    else if (x < -400) v = 0.0; /* m < 1e18, so below 1e-382 */
     else {
-        while (x > 22) v *= 1e22, x -= 22;
-        while (x < -22) v /= 1e22, x += 22;
+        while (x > 22) {
+            v *= 1e22;
+            x -= 22;
+        }
+        while (x < -22) {
+            v /= 1e22;
+            x += 22;
+        }
         v = x >= 0 ? v * pw__num_pow10[x] : v / pw__num_pow10[-x];
     }
     return neg ? -v : v;
@@ -61,14 +64,15 @@ PW__DEF const char *pw__num_parse(const char *p, const char *end, double *out)
     if (p < end && (*p == '+' || *p == '-')) neg = *p++ == '-';
     if (p < end && ((*p | 32) == 'n' || (*p | 32) == 'i')) return pw__num_special(p, end, out, neg);
     for (; p < end && *p >= '0' && *p <= '9'; p++, digits++) {
-        if (m < 100000000000000000ULL)
-            m = m * 10 + (uint64_t)(*p - '0');
-        else if (x < 100000)
-            x++; /* digits past the 17th only scale */
+        if (m < 100000000000000000ULL) m = m * 10 + (uint64_t)(*p - '0');
+        else if (x < 100000) x++; /* digits past the 17th only scale */
     }
     if (p < end && *p == '.')
         for (p++; p < end && *p >= '0' && *p <= '9'; p++, digits++)
-            if (m < 100000000000000000ULL) m = m * 10 + (uint64_t)(*p - '0'), x--;
+            if (m < 100000000000000000ULL) {
+                m = m * 10 + (uint64_t)(*p - '0');
+                x--;
+            }
     if (!digits) return NULL;
     if (p < end && (*p == 'e' || *p == 'E')) {
         p++;
@@ -116,8 +120,7 @@ typedef struct pw__sc {
     pw_err *e;
 } pw__sc;
 
-PW__DEF void pw__sc_init(pw__sc *s, const void *data, size_t size, const char *name, int cont,
-                         pw_err *e)
+PW__DEF void pw__sc_init(pw__sc *s, const void *data, size_t size, const char *name, int cont, pw_err *e)
 {
     s->p = (const char *)data;
     s->end = s->p + size;
@@ -205,17 +208,16 @@ PW__DEF const char *pw__sc_word(pw__sc *s, size_t *n)
     return w;
 }
 
-PW__DEF int pw__sc_is(const char *w, size_t n, const char *lit)
-{
-    return strlen(lit) == n && !memcmp(w, lit, n);
-}
+PW__DEF int pw__sc_is(const char *w, size_t n, const char *lit) { return strlen(lit) == n && !memcmp(w, lit, n); }
 
 /* Copies the token at q, shortened and made printable, for messages. */
 PW__DEF const char *pw__sc_tok(const pw__sc *s, const char *q, char *buf)
 {
     int n = 0;
-    while (q < s->end && n < 24 && !pw__sc_blank_char(*q) && *q != '\n')
-        buf[n++] = (*q >= 32 && *q < 127) ? *q : '?', q++;
+    while (q < s->end && n < 24 && !pw__sc_blank_char(*q) && *q != '\n') {
+        buf[n++] = (*q >= 32 && *q < 127) ? *q : '?';
+        q++;
+    }
     if (n == 24) buf[n - 1] = buf[n - 2] = buf[n - 3] = '.';
     buf[n] = 0;
     return buf;
@@ -227,8 +229,7 @@ PW__DEF int pw__sc_value_error(pw__sc *s, int missing, int is_int, const char *w
     char tok[32], label[64];
     if (index >= 0) snprintf(label, sizeof label, "%s %lld", what, index);
     else snprintf(label, sizeof label, "%s", what);
-    if (missing)
-        return pw__sc_fail(s, PW_ERR_PARSE, "%s: %s is missing", label, is_int ? "an integer" : "a number");
+    if (missing) return pw__sc_fail(s, PW_ERR_PARSE, "%s: %s is missing", label, is_int ? "an integer" : "a number");
     return pw__sc_fail(s, PW_ERR_PARSE, "%s: malformed %s '%s'", label, is_int ? "integer" : "number",
                        pw__sc_tok(s, s->p, tok));
 }
@@ -253,7 +254,6 @@ PW__DEF int pw__sc_int(pw__sc *s, long long *v, const char *what, long long inde
 {
     return pw__sc_value(s, NULL, v, what, index);
 }
-
 
 /* Buffered output over a pw_write_fn. */
 typedef struct pw__wb {
@@ -290,7 +290,8 @@ PW__DEF void pw__wb_int(pw__wb *b, long long v, char lead)
     char t[24];
     int n = (int)sizeof t;
     unsigned long long u = v < 0 ? 0ull - (unsigned long long)v : (unsigned long long)v;
-    do t[--n] = (char)('0' + u % 10); while (u /= 10);
+    do t[--n] = (char)('0' + u % 10);
+    while (u /= 10);
     if (v < 0) t[--n] = '-';
     if (lead) t[--n] = lead;
     pw__wb_put(b, t + n, sizeof t - (size_t)n);
@@ -299,8 +300,14 @@ PW__DEF void pw__wb_int(pw__wb *b, long long v, char lead)
 /* v * 10^x with exact powers of ten (deterministic: only + - * /). */
 PW__DEF double pw__num_mul10(double v, int x)
 {
-    while (x > 22) v *= 1e22, x -= 22;
-    while (x < -22) v /= 1e22, x += 22;
+    while (x > 22) {
+        v *= 1e22;
+        x -= 22;
+    }
+    while (x < -22) {
+        v /= 1e22;
+        x += 22;
+    }
     return x >= 0 ? v * pw__num_pow10[x] : v / pw__num_pow10[-x];
 }
 
@@ -311,7 +318,7 @@ PW__DEF uint32_t pw__num_digits(double x, int *e10)
 {
     int e2, k, t;
     uint32_t d = 0;
-    frexp(x, &e2); /* x in [2^(e2-1), 2^e2) */
+    frexp(x, &e2);        /* x in [2^(e2-1), 2^e2) */
     t = (e2 - 1) * 30103; /* log10(2) = 0.30103 */
     *e10 = t >= 0 ? t / 100000 : -((99999 - t) / 100000);
     for (k = 0; k < 4; k++) {
@@ -337,20 +344,30 @@ PW__DEF int pw__num_format(char *out, float xf)
     uint32_t d, bits;
     int n = 0, nd = 9, e10, i, pos;
     memcpy(&bits, &xf, 4);
-    if (bits >> 31) out[n++] = '-', x = -x; /* also keeps -0 */
+    if (bits >> 31) {
+        out[n++] = '-';
+        x = -x;
+    } /* also keeps -0 */
     if (x == 0.0) {
         out[n++] = '0';
         return n;
     }
     d = pw__num_digits(x, &e10);
-    while (nd > 1 && d % 10 == 0) d /= 10, nd--;
-    for (i = nd - 1; i >= 0; i--) dig[i] = (char)('0' + d % 10), d /= 10;
+    while (nd > 1 && d % 10 == 0) {
+        d /= 10;
+        nd--;
+    }
+    for (i = nd - 1; i >= 0; i--) {
+        dig[i] = (char)('0' + d % 10);
+        d /= 10;
+    }
     if (e10 >= 0 && e10 < 9) { /* ddd.ddd */
         for (i = 0; i <= e10; i++) out[n++] = i < nd ? dig[i] : '0';
         if (nd > e10 + 1) out[n++] = '.';
         for (i = e10 + 1; i < nd; i++) out[n++] = dig[i];
     } else if (e10 < 0 && e10 >= -4) { /* 0.000ddd, as %g does */
-        out[n++] = '0', out[n++] = '.';
+        out[n++] = '0';
+        out[n++] = '.';
         for (i = 0; i < -e10 - 1; i++) out[n++] = '0';
         for (i = 0; i < nd; i++) out[n++] = dig[i];
     } else { /* d.ddde-12 */
@@ -358,7 +375,10 @@ PW__DEF int pw__num_format(char *out, float xf)
         if (nd > 1) out[n++] = '.';
         for (i = 1; i < nd; i++) out[n++] = dig[i];
         out[n++] = 'e';
-        if (e10 < 0) out[n++] = '-', e10 = -e10;
+        if (e10 < 0) {
+            out[n++] = '-';
+            e10 = -e10;
+        }
         pos = e10 >= 10 ? 2 : 1;
         for (i = pos - 1; i >= 0; i--, e10 /= 10) out[n + i] = (char)('0' + e10 % 10);
         n += pos;

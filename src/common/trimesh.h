@@ -12,14 +12,14 @@
 #include "halfedge.h"
 
 typedef struct pw_trimesh {
-    int nv, nf;          /* vertices, triangles */
-    const float *pos;    /* nv*3, borrowed */
-    int *tri;            /* nf*3 */
+    int nv, nf;       /* vertices, triangles */
+    const float *pos; /* nv*3, borrowed */
+    int *tri;         /* nf*3 */
     pw_hmesh hm;
-    float *normal;       /* nf*3 */
-    float *area;         /* nf */
+    float *normal; /* nf*3 */
+    float *area;   /* nf */
     double total_area;
-    float diag;          /* bounding-box diagonal */
+    float diag; /* bounding-box diagonal */
 } pw_trimesh;
 
 PW__DEF void pw_trimesh_free(const pw_alloc *a, pw_trimesh *m)
@@ -34,10 +34,7 @@ PW__DEF void pw_trimesh_free(const pw_alloc *a, pw_trimesh *m)
 PW__DEF pw_v3 pw_trimesh_vert(const pw_trimesh *m, int v) { return pw_v3_load(m->pos + 3 * v); }
 
 /* Corner k of triangle f. */
-PW__DEF pw_v3 pw_trimesh_corner(const pw_trimesh *m, int f, int k)
-{
-    return pw_trimesh_vert(m, m->tri[3 * f + k]);
-}
+PW__DEF pw_v3 pw_trimesh_corner(const pw_trimesh *m, int f, int k) { return pw_trimesh_vert(m, m->tri[3 * f + k]); }
 
 /* The triangle across edge k of triangle f (-1 on a boundary). */
 PW__DEF int pw_trimesh_across(const pw_trimesh *m, int f, int k)
@@ -87,18 +84,17 @@ PW__DEF int pw__trimesh_geometry(pw_trimesh *m, int keep_degenerate, pw_err *e)
     for (f = 0; f < m->nf; f++) {
         pw_v3 a = pw_trimesh_corner(m, f, 0), b = pw_trimesh_corner(m, f, 1), c = pw_trimesh_corner(m, f, 2);
         pw_v3 n = pw_v3_cross(pw_v3_sub(b, a), pw_v3_sub(c, a));
-        float len = pw_v3_len(n), ref = pw_v3_dot(pw_v3_sub(b, a), pw_v3_sub(b, a)) +
-                                        pw_v3_dot(pw_v3_sub(c, a), pw_v3_sub(c, a));
+        float len = pw_v3_len(n),
+              ref = pw_v3_dot(pw_v3_sub(b, a), pw_v3_sub(b, a)) + pw_v3_dot(pw_v3_sub(c, a), pw_v3_sub(c, a));
         int zero = !(len > 1e-12f * ref) || !(len > 0.0f);
         if (zero && !(keep_degenerate && pw_is_finite(len) && pw_is_finite(ref)))
-            return pw_fail(e, PW_ERR_DEGENERATE, "triangle %d (vertices %d, %d, %d) has zero area", f,
-                           m->tri[3 * f], m->tri[3 * f + 1], m->tri[3 * f + 2]);
+            return pw_fail(e, PW_ERR_DEGENERATE, "triangle %d (vertices %d, %d, %d) has zero area", f, m->tri[3 * f],
+                           m->tri[3 * f + 1], m->tri[3 * f + 2]);
         pw_v3_store(m->normal + 3 * f, zero ? pw_v3_make(0, 0, 0) : pw_v3_scale(n, 1.0f / len));
         m->area[f] = zero ? 0.0f : 0.5f * len;
         m->total_area += m->area[f];
     }
-    if (!(m->total_area > 0.0))
-        return pw_fail(e, PW_ERR_DEGENERATE, "every triangle of the mesh has zero area");
+    if (!(m->total_area > 0.0)) return pw_fail(e, PW_ERR_DEGENERATE, "every triangle of the mesh has zero area");
     lo = hi = pw_trimesh_vert(m, m->tri[0]);
     for (v = 0; v < 3 * m->nf; v++) {
         lo = pw_v3_min(lo, pw_trimesh_vert(m, m->tri[v]));
@@ -142,8 +138,10 @@ PW__DEF int pw_trimesh_repair_normals(const pw_alloc *a, pw_trimesh *m, pw_err *
     while (pass < 250 && pw__trimesh_repair_pass(m, done, pass) > 0) pass++;
     for (f = 0; f < m->nf && r == PW_OK; f++)
         if (!(pw_v3_len(pw_v3_load(m->normal + 3 * f)) > 0.5f))
-            r = pw_fail(e, PW_ERR_DEGENERATE, "triangle %d (vertices %d, %d, %d) has zero area and no "
-                        "neighbour with a normal", f, m->tri[3 * f], m->tri[3 * f + 1], m->tri[3 * f + 2]);
+            r = pw_fail(e, PW_ERR_DEGENERATE,
+                        "triangle %d (vertices %d, %d, %d) has zero area and no "
+                        "neighbour with a normal",
+                        f, m->tri[3 * f], m->tri[3 * f + 1], m->tri[3 * f + 2]);
     pw_free(a, done);
     return r;
 }
@@ -153,8 +151,7 @@ PW__DEF int pw_trimesh_repair_normals(const pw_alloc *a, pw_trimesh *m, pw_err *
  * inconsistently oriented meshes and zero-area triangles are errors that
  * name the element; with keep_degenerate, zero-area triangles are kept
  * (area 0) and every degenerate triangle takes its neighbours' normal. */
-PW__DEF int pw_trimesh_init_ex(const pw_alloc *a, const pw_mesh *in, int keep_degenerate, pw_trimesh *m,
-                               pw_err *e)
+PW__DEF int pw_trimesh_init_ex(const pw_alloc *a, const pw_mesh *in, int keep_degenerate, pw_trimesh *m, pw_err *e)
 {
     int f, k, t = 0, r, *fs;
     memset(m, 0, sizeof *m);

@@ -60,14 +60,15 @@ PW__DEF int pw_zcsr_from_triplets(const pw_alloc *a, const pw_triplets *t, pw_zc
     pw_csr R;
     int i, k, r;
     memset(A, 0, sizeof *A);
-    if (t->m != 2 * t->n)
-        return pw_fail(e, PW_ERR_INVALID, "complex triplets of %dx%d: need n x 2n", t->n, t->m);
+    if (t->m != 2 * t->n) return pw_fail(e, PW_ERR_INVALID, "complex triplets of %dx%d: need n x 2n", t->n, t->m);
     if ((r = pw_csr_from_triplets(a, t, &R, e)) != PW_OK) return r;
     for (k = 0; k < R.rowptr[t->n]; k += 2)
         if (R.col[k] % 2 != 0 || k + 1 >= R.rowptr[t->n] || R.col[k + 1] != R.col[k] + 1) {
             pw_csr_free(a, &R);
-            return pw_fail(e, PW_ERR_INVALID, "complex triplets: entry %d lacks its real or imaginary "
-                           "part (add entries with pw_ztriplets_add)", k);
+            return pw_fail(e, PW_ERR_INVALID,
+                           "complex triplets: entry %d lacks its real or imaginary "
+                           "part (add entries with pw_ztriplets_add)",
+                           k);
         }
     A->n = t->n;
     A->rowptr = (int *)pw_alloc_array(a, (size_t)t->n + 1, sizeof(int), "complex CSR", e);
@@ -98,7 +99,8 @@ PW__DEF double pw_zcsr_mul(const pw_zcsr *A, const double *x, double *y)
             sr += v[0] * xx[0] - v[1] * xx[1];
             si += v[0] * xx[1] + v[1] * xx[0];
         }
-        y[2 * i] = sr, y[2 * i + 1] = si;
+        y[2 * i] = sr;
+        y[2 * i + 1] = si;
         d += x[2 * i] * sr + x[2 * i + 1] * si;
     }
     return d;
@@ -132,12 +134,11 @@ PW__DEF void pw__zic0_dot(const pw_zic0 *L, int i, int j, int below, double *re,
             const double *u = L->val + 2 * a++, *v = L->val + 2 * b++;
             sr += u[0] * v[0] + u[1] * v[1];
             si += u[1] * v[0] - u[0] * v[1];
-        } else if (L->col[a] < L->col[b])
-            a++;
-        else
-            b++;
+        } else if (L->col[a] < L->col[b]) a++;
+        else b++;
     }
-    *re = sr, *im = si;
+    *re = sr;
+    *im = si;
 }
 
 /* Factors A + shift diag(A); 0 when a pivot is not positive. */
@@ -189,7 +190,7 @@ PW__DEF int pw_zic0_factor(const pw_alloc *a, const pw_zcsr *A, pw_zic0 *L, pw_e
         pw_zic0_free(a, L);
         return PW_ERR_NOMEM;
     }
-    for (k = 0; k < 40; k++, shift = shift > 0.0 ? 2.0 * shift : 1e-3)
+    for (k = 0; k<40; k++, shift = shift> 0.0 ? 2.0 * shift : 1e-3)
         if (pw__zic0_try(A, shift, L)) return PW_OK;
     pw_zic0_free(a, L);
     return pw_fail(e, PW_ERR_INVALID, "complex IC(0): the matrix is not positive definite");
@@ -207,7 +208,8 @@ PW__DEF void pw_zic0_apply(const pw_zic0 *L, const double *r, double *z)
             si -= v[0] * y[1] + v[1] * y[0];
         }
         d = L->val[2 * (L->rowptr[i + 1] - 1)];
-        z[2 * i] = sr / d, z[2 * i + 1] = si / d;
+        z[2 * i] = sr / d;
+        z[2 * i + 1] = si / d;
     }
     for (i = L->n - 1; i >= 0; i--) { /* L^H z = y, by columns of L^H = rows of L */
         double d = L->val[2 * (L->rowptr[i + 1] - 1)], zr, zi;
@@ -248,7 +250,9 @@ PW__DEF int pw_zpcg_solve(const pw_alloc *a, const pw_zcsr *A, const pw_zic0 *M,
     op.precond = pw__zic0_op;
     op.actx = A;
     op.mctx = M;
-    op.b = b, op.x = x, op.what = "complex PCG";
+    op.b = b;
+    op.x = x;
+    op.what = "complex PCG";
     return pw__pcg_run(a, &op, o, s, e);
 }
 

@@ -33,10 +33,8 @@ static int lapped__atlas_check_pastes(const lapped_texture *t, int ntris, pw_err
 {
     int p, k;
     if (t->ntris != ntris)
-        return pw_fail(e, PW_ERR_INVALID, "lapped texture was made for %d triangles; the mesh has %d",
-                       t->ntris, ntris);
-    if (t->npatches < 1 || !t->patch_size)
-        return pw_fail(e, PW_ERR_INVALID, "lapped texture has no patches");
+        return pw_fail(e, PW_ERR_INVALID, "lapped texture was made for %d triangles; the mesh has %d", t->ntris, ntris);
+    if (t->npatches < 1 || !t->patch_size) return pw_fail(e, PW_ERR_INVALID, "lapped texture has no patches");
     if (t->npastes < 0 || (t->npastes > 0 && !t->pastes))
         return pw_fail(e, PW_ERR_INVALID, "lapped texture has %d pastes and no paste array", t->npastes);
     for (p = 0; p < t->npastes; p++) {
@@ -47,8 +45,8 @@ static int lapped__atlas_check_pastes(const lapped_texture *t, int ntris, pw_err
             return pw_fail(e, PW_ERR_INVALID, "paste %d: %d faces without arrays", p, q->nfaces);
         for (k = 0; k < q->nfaces; k++)
             if (q->faces[k] < 0 || q->faces[k] >= ntris)
-                return pw_fail(e, PW_ERR_INVALID, "paste %d: face %d is triangle %d, outside 0..%d", p, k,
-                               q->faces[k], ntris - 1);
+                return pw_fail(e, PW_ERR_INVALID, "paste %d: face %d is triangle %d, outside 0..%d", p, k, q->faces[k],
+                               ntris - 1);
         for (k = 0; k < 6 * q->nfaces; k++)
             if (!pw_is_finite(q->uvs[k]))
                 return pw_fail(e, PW_ERR_INVALID, "paste %d: texture coordinate %d is not finite", p, k);
@@ -59,7 +57,7 @@ static int lapped__atlas_check_pastes(const lapped_texture *t, int ntris, pw_err
 /* Checks the patches (RGBA, of the sizes the lapped texture records) and
  * the values (one per patch, of its size, one channel count). */
 static int lapped__atlas_check_images(const lapped_texture *t, const lapped_image *patches, const lapped_image *values,
-                                pw_err *e)
+                                      pw_err *e)
 {
     int i, r;
     char what[64];
@@ -71,15 +69,16 @@ static int lapped__atlas_check_images(const lapped_texture *t, const lapped_imag
         if (p->channels != 4)
             return pw_fail(e, PW_ERR_INVALID, "patch %d has %d channels; patches are RGBA", i, p->channels);
         if (p->width != t->patch_size[2 * i] || p->height != t->patch_size[2 * i + 1])
-            return pw_fail(e, PW_ERR_INVALID, "patch %d is %dx%d; the lapped texture was made with %dx%d", i,
-                           p->width, p->height, t->patch_size[2 * i], t->patch_size[2 * i + 1]);
+            return pw_fail(e, PW_ERR_INVALID, "patch %d is %dx%d; the lapped texture was made with %dx%d", i, p->width,
+                           p->height, t->patch_size[2 * i], t->patch_size[2 * i + 1]);
         if (!v) continue;
         snprintf(what, sizeof what, "value image %d", i);
         if ((r = lapped__check_image(v, what, e))) return r;
         if (v->width != p->width || v->height != p->height || v->channels != values[0].channels)
-            return pw_fail(e, PW_ERR_INVALID, "value image %d is %dx%dx%d; patch %d is %dx%d and value image 0 "
-                           "has %d channels", i, v->width, v->height, v->channels, i, p->width, p->height,
-                           values[0].channels);
+            return pw_fail(e, PW_ERR_INVALID,
+                           "value image %d is %dx%dx%d; patch %d is %dx%d and value image 0 "
+                           "has %d channels",
+                           i, v->width, v->height, v->channels, i, p->width, p->height, values[0].channels);
     }
     return PW_OK;
 }
@@ -87,7 +86,7 @@ static int lapped__atlas_check_images(const lapped_texture *t, const lapped_imag
 /* The pw_image views of the patches and of the values (the patches when
  * values is NULL): 2 * npatches entries. */
 static pw_image *lapped__atlas_image_views(const pw_alloc *a, const lapped_texture *t, const lapped_image *patches,
-                                     const lapped_image *values, pw_err *e)
+                                           const lapped_image *values, pw_err *e)
 {
     pw_image *v = (pw_image *)pw_alloc_array(a, 2 * (size_t)t->npatches, sizeof(pw_image), "patch views", e);
     int i;
@@ -117,9 +116,9 @@ static void lapped__atlas_eval(void *user, int f, const float b[3], float *px)
 }
 
 /* Charts, packing and baking, once everything has been checked. */
-static int lapped__atlas_run(const pw_alloc *a, const pw_trimesh *m, const lapped_texture *t,
-                             const pw_image *views, int oc, const lapped_atlas_options *o, const pw_progress *prog,
-                             lapped_atlas *out, pw_image *img, pw_err *e)
+static int lapped__atlas_run(const pw_alloc *a, const pw_trimesh *m, const lapped_texture *t, const pw_image *views,
+                             int oc, const lapped_atlas_options *o, const pw_progress *prog, lapped_atlas *out,
+                             pw_image *img, pw_err *e)
 {
     lapped__index ix;
     lapped__atlas_texel T;
@@ -138,9 +137,8 @@ static int lapped__atlas_run(const pw_alloc *a, const pw_trimesh *m, const lappe
     return r;
 }
 
-LAPPEDDEF lapped_result lapped_bake_atlas(const lapped_mesh *mesh, const lapped_texture *t,
-                                          const lapped_source *src, const lapped_options *opt,
-                                          lapped_atlas *out, lapped_error *err)
+LAPPEDDEF lapped_result lapped_bake_atlas(const lapped_mesh *mesh, const lapped_texture *t, const lapped_source *src,
+                                          const lapped_options *opt, lapped_atlas *out, lapped_error *err)
 {
     const lapped_image *patches = src ? src->patches : NULL, *values = src ? src->values : NULL;
     lapped_options o = lapped__options(opt);
@@ -207,9 +205,8 @@ static int lapped__atlas_export_open(const lapped_mesh *mesh, const lapped_atlas
     return PW_OK;
 }
 
-LAPPEDDEF lapped_result lapped_write_obj(const lapped_mesh *mesh, const lapped_atlas *atlas,
-                                         const char *mtl_name, lapped_write_fn fn, void *ctx,
-                                         lapped_error *err)
+LAPPEDDEF lapped_result lapped_write_obj(const lapped_mesh *mesh, const lapped_atlas *atlas, const char *mtl_name,
+                                         lapped_write_fn fn, void *ctx, lapped_error *err)
 {
     pw_alloc a;
     pw_trimesh m;
@@ -226,8 +223,7 @@ LAPPEDDEF lapped_result lapped_write_obj(const lapped_mesh *mesh, const lapped_a
     return lapped__done(&pe, err);
 }
 
-LAPPEDDEF lapped_result lapped_write_mtl(const char *texture_name, lapped_write_fn fn, void *ctx,
-                                         lapped_error *err)
+LAPPEDDEF lapped_result lapped_write_mtl(const char *texture_name, lapped_write_fn fn, void *ctx, lapped_error *err)
 {
     pw_err pe;
     pw_err_clear(&pe);

@@ -28,8 +28,7 @@ LAPPEDDEF lapped_result lapped_builtin_mesh(const char *name, const lapped_optio
     else if (!strcmp(name, "torus")) r = pw_shape_torus(&a, 48, 32, 0, &m, &pe);
     else if (!strcmp(name, "bumpy")) r = pw_shape_bumpy(&a, 16, &m, &pe);
     else if (!strcmp(name, "disc")) r = pw_shape_disc(&a, 18, &m, &pe);
-    else
-        pw_fail(&pe, PW_ERR_INVALID, "unknown built-in mesh '%s' (sphere, torus, bumpy, disc)", name);
+    else pw_fail(&pe, PW_ERR_INVALID, "unknown built-in mesh '%s' (sphere, torus, bumpy, disc)", name);
     if (r == PW_OK) lapped__take_mesh(&m, &a, out);
     return lapped__done(&pe, err);
 }
@@ -57,7 +56,13 @@ static void lapped__scales(unsigned long long seed, float x, float y, float px, 
         int i0 = (int)(x - off + 100.5f) - 100, i;
         for (i = i0 - 1; i <= i0 + 1 && !hit; i++) {
             float ex = x - ((float)i + off), ey = y - cy;
-            if (ex * ex + ey * ey < R * R) hit = 1, ci = i, cj = j, dx = ex, dy = ey;
+            if (ex * ex + ey * ey < R * R) {
+                hit = 1;
+                ci = i;
+                cj = j;
+                dx = ex;
+                dy = ey;
+            }
         }
     }
     for (j = -1; j <= 1; j += 2) { /* distance to the edges of the two scales of the row above */
@@ -68,10 +73,13 @@ static void lapped__scales(unsigned long long seed, float x, float y, float px, 
     rho = sqrtf(dx * dx + dy * dy) / R;
     h = (float)pw_lattice01(seed, ci, cj, 0);
     lapped__mix(base, lo, hi, 0.25f + 0.5f * h + 0.35f * (dy / R));
-    shade = (0.55f + 0.45f * (float)pw_smoothstep(0.0f, 0.22f, up)) * (0.85f + 0.3f * (float)pw_lattice01(seed + 5, ci, cj, 0));
+    shade = (0.55f + 0.45f * (float)pw_smoothstep(0.0f, 0.22f, up)) *
+            (0.85f + 0.3f * (float)pw_lattice01(seed + 5, ci, cj, 0));
     shade *= 0.9f + 0.2f * (float)pw_fbm2(seed + 9, 24.0f * x, 6.0f * y, 0); /* fine striations */
     shade += 0.25f * (float)pw_smoothstep(0.45f, 0.0f, rho) * (float)pw_smoothstep(0.0f, 0.3f, up); /* sheen */
-    base[0] *= shade, base[1] *= shade, base[2] *= shade;
+    base[0] *= shade;
+    base[1] *= shade;
+    base[2] *= shade;
     lapped__mix(rgb, base, edge, (float)pw_smoothstep(1.0f - 0.09f - px, 1.0f - 0.02f, rho));
 }
 
@@ -100,25 +108,29 @@ static void lapped__stripes(unsigned long long seed, float x, float y, float px,
     float t = g > 1e-6f ? pw_clampf(v / g + 0.5f, 0.0f, 1.0f) : (v > 0.0f ? 1.0f : 0.0f);
     lapped__mix(rgb, light, dark, t);
     g = 0.92f + 0.16f * (float)pw_fbm2(seed + 7, 40.0f * x, 12.0f * y, 0); /* hair grain */
-    rgb[0] *= g, rgb[1] *= g, rgb[2] *= g;
+    rgb[0] *= g;
+    rgb[1] *= g;
+    rgb[2] *= g;
 }
 
 /* "dots": polka dots of varied sizes and colours, one per cell of a
  * jittered 6x6 grid, and small dots of a finer 13x13 grid between them, on
  * a warm off-white ground. Isotropic. (x, y) in image widths. */
-static void lapped__dot_layer(unsigned long long seed, int cells, float rmin, float rmax, float x, float y,
-                              float px, float *rgb)
+static void lapped__dot_layer(unsigned long long seed, int cells, float rmin, float rmax, float x, float y, float px,
+                              float *rgb)
 {
     static const float pal[6][3] = {{0.86f, 0.24f, 0.28f}, {0.19f, 0.44f, 0.76f}, {0.96f, 0.72f, 0.16f},
                                     {0.25f, 0.63f, 0.4f},  {0.55f, 0.33f, 0.72f}, {0.95f, 0.5f, 0.22f}};
     float gx = x * (float)cells, gy = y * (float)cells;
     int ix = (int)gx, iy = (int)gy, c;
-    float rad = (rmin + (rmax - rmin) * (float)pw_lattice01(seed, ix, iy, 0)) / (float)cells, room = 0.5f / (float)cells - rad;
+    float rad = (rmin + (rmax - rmin) * (float)pw_lattice01(seed, ix, iy, 0)) / (float)cells,
+          room = 0.5f / (float)cells - rad;
     float cx = ((float)ix + 0.5f) / (float)cells + room * (2.0f * (float)pw_lattice01(seed + 1, ix, iy, 0) - 1.0f);
     float cy = ((float)iy + 0.5f) / (float)cells + room * (2.0f * (float)pw_lattice01(seed + 2, ix, iy, 0) - 1.0f);
     float d = sqrtf((x - cx) * (x - cx) + (y - cy) * (y - cy)), cover = pw_clampf((rad - d) / px + 0.5f, 0.0f, 1.0f);
-    float col[3], light = 1.0f + 0.25f * (float)pw_smoothstep(rad, 0.0f, sqrtf((x - cx + 0.3f * rad) * (x - cx + 0.3f * rad) +
-                                                                   (y - cy + 0.3f * rad) * (y - cy + 0.3f * rad)));
+    float col[3], light = 1.0f + 0.25f * (float)pw_smoothstep(rad, 0.0f,
+                                                              sqrtf((x - cx + 0.3f * rad) * (x - cx + 0.3f * rad) +
+                                                                    (y - cy + 0.3f * rad) * (y - cy + 0.3f * rad)));
     c = (int)(6.0f * (float)pw_lattice01(seed + 3, ix, iy, 0)) % 6;
     col[0] = pw_clampf(pal[c][0] * light, 0.0f, 1.0f);
     col[1] = pw_clampf(pal[c][1] * light, 0.0f, 1.0f);
@@ -129,7 +141,9 @@ static void lapped__dot_layer(unsigned long long seed, int cells, float rmin, fl
 static void lapped__dots(unsigned long long seed, float x, float y, float px, float *rgb)
 {
     float g = 0.94f + 0.06f * (float)pw_fbm2(seed + 11, 20.0f * x, 20.0f * y, 0);
-    rgb[0] = 0.97f * g, rgb[1] = 0.94f * g, rgb[2] = 0.86f * g;
+    rgb[0] = 0.97f * g;
+    rgb[1] = 0.94f * g;
+    rgb[2] = 0.86f * g;
     lapped__dot_layer(seed + 20, 13, 0.12f, 0.22f, x, y, px, rgb);
     lapped__dot_layer(seed + 40, 6, 0.2f, 0.42f, x, y, px, rgb);
 }

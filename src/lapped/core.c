@@ -38,8 +38,8 @@ LAPPEDDEF lapped_options lapped_default_options(void)
     o.max_distortion = 2.0f;
     o.early = 0.25f;
     o.max_pastes = 200000;
-    pw_view_defaults(&o.render.width, &o.render.height, &o.render.supersample, o.render.view_dir,
-                     o.render.up, o.render.background);
+    pw_view_defaults(&o.render.width, &o.render.height, &o.render.supersample, o.render.view_dir, o.render.up,
+                     o.render.background);
     o.atlas.size = PW_ATLAS_SIZE;
     o.atlas.cone_angle = PW_ATLAS_CONE;
     o.atlas.gutter = PW_ATLAS_GUTTER;

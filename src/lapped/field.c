@@ -64,8 +64,8 @@ static int lapped__fld_scale(const pw_trimesh *m, const lapped_options *f, float
 
 /* Writes T = scale * direction (unit z in the triangle frame) and
  * S = T x N (§3.2). scales may be NULL (then `scale` everywhere). */
-static void lapped__fld_output(const pw_trimesh *m, const double *z, float scale, const double *scales,
-                               float *s, float *t)
+static void lapped__fld_output(const pw_trimesh *m, const double *z, float scale, const double *scales, float *s,
+                               float *t)
 {
     int f;
     for (f = 0; f < m->nf; f++) {
@@ -86,8 +86,7 @@ static void lapped__fld_output(const pw_trimesh *m, const double *z, float scale
 /* One caller vector of triangle f, projected onto its plane and rescaled to
  * its own length (a vector meant to be tangent keeps its magnitude, the
  * scale). Refuses NaN/Inf, zero, and vectors normal to the face. */
-static int lapped__fld_tangent(const pw_trimesh *m, int f, const float *p, const char *what, pw_v3 *out,
-                               pw_err *e)
+static int lapped__fld_tangent(const pw_trimesh *m, int f, const float *p, const char *what, pw_v3 *out, pw_err *e)
 {
     pw_v3 x = pw_v3_load(p), n = pw_df_normal(m, f), q;
     float len, ql;
@@ -114,10 +113,8 @@ static int lapped__fld_faces(const pw_trimesh *m, const lapped_options *fl, floa
     for (f = 0; f < m->nf; f++) {
         pw_v3 T, S, n = pw_df_normal(m, f);
         if ((r = lapped__fld_tangent(m, f, fl->face_t + 3 * f, "T", &T, e)) != PW_OK) return r;
-        if (!fl->face_s)
-            S = pw_v3_cross(T, n);
-        else if ((r = lapped__fld_tangent(m, f, fl->face_s + 3 * f, "S", &S, e)) != PW_OK)
-            return r;
+        if (!fl->face_s) S = pw_v3_cross(T, n);
+        else if ((r = lapped__fld_tangent(m, f, fl->face_s + 3 * f, "S", &S, e)) != PW_OK) return r;
         if (!(fabsf(pw_v3_dot(pw_v3_cross(S, T), n)) > 1e-4f * pw_v3_len(S) * pw_v3_len(T)))
             return pw_fail(e, PW_ERR_INVALID, "field S and T of triangle %d are parallel", f);
         pw_v3_store(t + 3 * f, T);
@@ -140,23 +137,22 @@ typedef struct lapped__fld_con {
 static int lapped__fld_value(int i, const char *what, float x, double def, double *out, pw_err *e)
 {
     if (!(x >= 0.0f) || !pw_is_finite(x))
-        return pw_fail(e, PW_ERR_INVALID, "constraint %d: %s %g is negative or not finite", i, what,
-                       (double)x);
+        return pw_fail(e, PW_ERR_INVALID, "constraint %d: %s %g is negative or not finite", i, what, (double)x);
     *out = x > 0.0f ? (double)x : def;
     return PW_OK;
 }
 
 /* Checks constraint i and resolves its defaults (lapped.h: scale 0 is the
  * field's scale, radius 0 is twice the constraint's scale, weight 0 is 1). */
-static int lapped__fld_check(const pw_trimesh *m, const lapped_constraint *in, int i, float scale,
-                             lapped__fld_con *c, pw_err *e)
+static int lapped__fld_check(const pw_trimesh *m, const lapped_constraint *in, int i, float scale, lapped__fld_con *c,
+                             pw_err *e)
 {
     pw_v3 d = pw_v3_load(in->direction), n;
     double z[2];
     int r;
     if (in->face < 0 || in->face >= m->nf)
-        return pw_fail(e, PW_ERR_INVALID, "constraint %d: triangle %d is out of range (the mesh has %d)", i,
-                       in->face, m->nf);
+        return pw_fail(e, PW_ERR_INVALID, "constraint %d: triangle %d is out of range (the mesh has %d)", i, in->face,
+                       m->nf);
     if (!pw_is_finite(d.x) || !pw_is_finite(d.y) || !pw_is_finite(d.z) || !pw_is_finite(pw_v3_dot(d, d)))
         return pw_fail(e, PW_ERR_INVALID, "constraint %d: direction is not finite", i);
     if (!(pw_v3_dot(d, d) > 0.0f)) return pw_fail(e, PW_ERR_INVALID, "constraint %d: direction is zero", i);
@@ -208,8 +204,7 @@ static int lapped__fld_gap(int a, int b) { return a > b ? a - b : b - a; }
  * each takes, whole, the direction and scale of the constraint whose
  * triangle index is nearest to the component's lowest triangle (the lower
  * constraint on ties), projected onto each face like an up vector. */
-static void lapped__fld_orphans(const pw_trimesh *m, const lapped__fld_con *c, int nc, lapped__fld_acc *acc,
-                                int *stack)
+static void lapped__fld_orphans(const pw_trimesh *m, const lapped__fld_con *c, int nc, lapped__fld_acc *acc, int *stack)
 {
     int f, i, j, top, k, g;
     for (f = 0; f < m->nf; f++) {
@@ -257,8 +252,7 @@ static void lapped__fld_pin(const lapped__fld_con *c, int nc, lapped__fld_acc *a
 }
 
 /* Checks and resolves every constraint into c[]. */
-static int lapped__fld_checks(const pw_trimesh *m, const lapped_options *fl, float scale, lapped__fld_con *c,
-                              pw_err *e)
+static int lapped__fld_checks(const pw_trimesh *m, const lapped_options *fl, float scale, lapped__fld_con *c, pw_err *e)
 {
     int i, r;
     for (i = 0; i < fl->nconstraints; i++)
@@ -368,13 +362,15 @@ static int lapped__field(const pw_alloc *a, const pw_trimesh *m, const lapped_op
     z = (double *)pw_alloc_array(a, 3 * n, sizeof(double), "field directions", e);
     known = (unsigned char *)pw_alloc_array(a, n, 1, "field flags", e);
     if (!z || !known || pw_df_connection(a, m, &conn, e) != PW_OK) r = PW_ERR_NOMEM;
-    F.m = m, F.conn = conn, F.z = z, F.known = known;
+    F.m = m;
+    F.conn = conn;
+    F.z = z;
+    F.known = known;
     if (r == PW_OK && fl->field == LAPPED_FIELD_CONSTRAINTS)
         r = lapped__fld_constraints(a, &F, fl, scale, scales = z + 2 * n, e);
     else if (r == PW_OK && fl->field == LAPPED_FIELD_CURVATURE)
         r = pw_df_curvature(a, &F, pw_v3_load(fl->up), fl->smoothing, e);
-    else if (r == PW_OK)
-        r = pw_df_up_creased(a, &F, up, e);
+    else if (r == PW_OK) r = pw_df_up_creased(a, &F, up, e);
     if (r == PW_OK) lapped__fld_output(m, z, scale, scales, s, t);
     pw_free(a, z);
     pw_free(a, known);
@@ -427,8 +423,8 @@ static int lapped__difficulty(const pw_alloc *a, const pw_trimesh *m, const floa
 }
 
 /* Public: lapped.h. */
-LAPPEDDEF lapped_result lapped_compute_field(const lapped_mesh *mesh, const lapped_options *opt,
-                                             lapped_field *out, lapped_error *err)
+LAPPEDDEF lapped_result lapped_compute_field(const lapped_mesh *mesh, const lapped_options *opt, lapped_field *out,
+                                             lapped_error *err)
 {
     lapped_options o = lapped__options(opt);
     pw_alloc a = lapped__alloc(&o.allocator);
@@ -436,8 +432,7 @@ LAPPEDDEF lapped_result lapped_compute_field(const lapped_mesh *mesh, const lapp
     pw_err e;
     pw_err_clear(&e);
     if (out) memset(out, 0, sizeof *out);
-    if (!out)
-        pw_fail(&e, PW_ERR_INVALID, "lapped_compute_field: NULL output");
+    if (!out) pw_fail(&e, PW_ERR_INVALID, "lapped_compute_field: NULL output");
     else if (lapped__mesh_init(&a, mesh, &m, &e) == PW_OK) {
         out->allocator = lapped__allocator(&a);
         out->s = (float *)pw_alloc_array(&a, (size_t)m.nf * 3, sizeof(float), "field", &e);

@@ -23,7 +23,7 @@
  * eroded alphas is reached everywhere in the triangle with the real ones. */
 #define LAPPED__RMIN 4   /* lattice resolution of triangles small against the patch */
 #define LAPPED__RMAX 256 /* ... and of huge ones (they need a finer lattice) */
-#define LAPPED__NLEV 8 /* erosion radii 0, 1, 2, 4, ..., 64 texels */
+#define LAPPED__NLEV 8   /* erosion radii 0, 1, 2, 4, ..., 64 texels */
 
 typedef struct lapped__eroded {
     int w, h;
@@ -124,13 +124,13 @@ static float lapped__eroded_at(const lapped__eroded *er, int l, float u, float v
 }
 
 typedef struct lapped__cover {
-    size_t *off;          /* nf+1: triangle f's points are alpha[off[f] .. off[f+1]-1] */
-    unsigned short *res;  /* nf: its lattice resolution R */
-    float *alpha;         /* accumulated opacity per lattice point */
-    int *open;            /* triangles not yet covered, in any order */
-    int *where;           /* nf: position in open, -1 once covered */
+    size_t *off;         /* nf+1: triangle f's points are alpha[off[f] .. off[f+1]-1] */
+    unsigned short *res; /* nf: its lattice resolution R */
+    float *alpha;        /* accumulated opacity per lattice point */
+    int *open;           /* triangles not yet covered, in any order */
+    int *where;          /* nf: position in open, -1 once covered */
     int nopen;
-    float need;           /* opacity a point must reach */
+    float need; /* opacity a point must reach */
 } lapped__cover;
 
 static void lapped__cover_free(const pw_alloc *a, lapped__cover *c)
@@ -160,14 +160,15 @@ static int lapped__cover_sizes(lapped__cover *c, const pw_trimesh *m, const floa
         c->off[f + 1] = c->off[f] + (size_t)(c->res[f] + 1) * (c->res[f] + 2) / 2;
     }
     if (c->off[m->nf] > (size_t)PW_MAX_MESH_ELEMENTS)
-        return pw_fail(e, PW_ERR_LIMIT, "the triangles are so large against the texture scale that "
+        return pw_fail(e, PW_ERR_LIMIT,
+                       "the triangles are so large against the texture scale that "
                        "tracking their coverage needs %lu points (limit %d)",
                        (unsigned long)c->off[m->nf], PW_MAX_MESH_ELEMENTS);
     return PW_OK;
 }
 
-static int lapped__cover_init(const pw_alloc *a, const pw_trimesh *m, const float *t, int texels,
-                              float need, lapped__cover *c, pw_err *e)
+static int lapped__cover_init(const pw_alloc *a, const pw_trimesh *m, const float *t, int texels, float need,
+                              lapped__cover *c, pw_err *e)
 {
     int f, r;
     memset(c, 0, sizeof *c);
@@ -195,8 +196,7 @@ static int lapped__eroded_top(lapped__eroded *er, const float centre[2], float n
 {
     int l;
     if (lapped__eroded_at(er, 0, centre[0], centre[1]) < need)
-        return pw_fail(e, PW_ERR_INVALID, "patch %d never reaches opacity %g, so it can never cover a point",
-                       k, need);
+        return pw_fail(e, PW_ERR_INVALID, "patch %d never reaches opacity %g, so it can never cover a point", k, need);
     for (l = 1; l < LAPPED__NLEV && lapped__eroded_at(er, l, centre[0], centre[1]) >= need; l++) {
     }
     er->top = l - 1;
@@ -213,8 +213,8 @@ static int lapped__cover_paint(lapped__cover *c, int f, const float uv[6], const
     for (i = 0; i <= R; i++)
         for (j = 0; i + j <= R; j++, acc++) {
             float b0 = (float)i * inv, b1 = (float)j * inv, b2 = 1.0f - b0 - b1;
-            float a = lapped__eroded_at(er, l, b0 * uv[0] + b1 * uv[2] + b2 * uv[4],
-                                        b0 * uv[1] + b1 * uv[3] + b2 * uv[5]);
+            float a =
+                lapped__eroded_at(er, l, b0 * uv[0] + b1 * uv[2] + b2 * uv[4], b0 * uv[1] + b1 * uv[3] + b2 * uv[5]);
             *acc = a + *acc * (1.0f - a);
             full &= *acc >= c->need;
         }
@@ -256,18 +256,18 @@ static void lapped__cover_hole(const lapped__cover *c, int f, float b[3])
  * belongs to the current patch when its stamp equals `stamp`. */
 typedef struct lapped__patchbuf {
     int stamp;
-    int *fin, *fout;     /* nf: stamp when in the patch / rejected for it */
-    int *fq;             /* nf: stamp while waiting in the candidate queue */
-    int *vin;            /* nv: stamp when the vertex has texture coordinates */
-    int *vloc;           /* nv: index into verts */
-    float *vuv;          /* nv*2 texture coordinates */
-    float *fs, *ft;      /* nf*3 the frame each patch triangle aligns with */
-    int *faces, nfaces;  /* patch triangles in the order they were added */
-    int *verts, nverts;  /* patch vertices in the order they were mapped */
-    pw_heap queue;       /* candidate triangles by distance (room for nf) */
-    int hard;            /* growth stopped somewhere at the distortion limit */
+    int *fin, *fout;       /* nf: stamp when in the patch / rejected for it */
+    int *fq;               /* nf: stamp while waiting in the candidate queue */
+    int *vin;              /* nv: stamp when the vertex has texture coordinates */
+    int *vloc;             /* nv: index into verts */
+    float *vuv;            /* nv*2 texture coordinates */
+    float *fs, *ft;        /* nf*3 the frame each patch triangle aligns with */
+    int *faces, nfaces;    /* patch triangles in the order they were added */
+    int *verts, nverts;    /* patch vertices in the order they were mapped */
+    pw_heap queue;         /* candidate triangles by distance (room for nf) */
+    int hard;              /* growth stopped somewhere at the distortion limit */
     unsigned char *sliver; /* nf: 1 for a degenerate triangle (pw_trimesh_sliver) */
-    float *keep;         /* nv*2: the coordinates of verts before the last optimisation */
+    float *keep;           /* nv*2: the coordinates of verts before the last optimisation */
 } lapped__patchbuf;
 
 static void lapped__patchbuf_free(const pw_alloc *a, lapped__patchbuf *p)
@@ -367,7 +367,10 @@ static float lapped__distortion(const pw_trimesh *m, const lapped__patchbuf *p, 
     if (p->sliver[f]) return 1.0f; /* no shape to distort: its corners follow its neighbours */
     lapped__phi(m, p, f, pw_v3_load(p->fs + 3 * f), ps);
     lapped__phi(m, p, f, pw_v3_load(p->ft + 3 * f), pt);
-    a = ps[0], b = pt[0], c = ps[1], d = pt[1];
+    a = ps[0];
+    b = pt[0];
+    c = ps[1];
+    d = pt[1];
     det = a * d - b * c;
     if (!(det > 0.0f)) return FLT_MAX;
     fro = a * a + b * b + c * c + d * d; /* s1^2 + s2^2 */
@@ -392,8 +395,7 @@ static void lapped__frame_coords(const lapped__patchbuf *p, int f, pw_v3 d, floa
 
 /* Texture coordinates of point x of the seed triangle f: the chosen point
  * maps to the patch centre and the face frame (S, T) to the texture axes. */
-static void lapped__seed_uv(const lapped__patchbuf *p, int f, pw_v3 x, pw_v3 centre3, const float c[2],
-                            float out[2])
+static void lapped__seed_uv(const lapped__patchbuf *p, int f, pw_v3 x, pw_v3 centre3, const float c[2], float out[2])
 {
     lapped__frame_coords(p, f, pw_v3_sub(x, centre3), out);
     out[0] += c[0];
@@ -415,7 +417,10 @@ static void lapped__sliver_layout(const pw_trimesh *m, const lapped__patchbuf *p
     for (k = 0; k < 3; k++) q[k] = pw_trimesh_corner(m, f, k);
     for (k = 0; k < 3; k++) {
         float l = pw_v3_len(pw_v3_sub(q[(k + 1) % 3], q[k]));
-        if (l > best) best = l, i = k;
+        if (l > best) {
+            best = l;
+            i = k;
+        }
     }
     e = pw_v3_sub(q[(i + 1) % 3], q[i]);
     e = pw_v3_sub(e, pw_v3_scale(n, pw_v3_dot(e, n)));
@@ -512,9 +517,9 @@ typedef struct lapped__paster {
     float *difficulty;       /* nf, for the early seeds */
     const pw_image *patches; /* npatches views of the caller's RGBA patches */
     int npatches;
-    pw_polyhull *hulls;      /* per patch */
-    lapped__eroded *eroded;  /* per patch, for the coverage */
-    float *centre;           /* per patch: texture point where pastes are centred */
+    pw_polyhull *hulls;     /* per patch */
+    lapped__eroded *eroded; /* per patch, for the coverage */
+    float *centre;          /* per patch: texture point where pastes are centred */
     lapped__cover cover;
     lapped__patchbuf pb;
     pw_rng rng;
@@ -525,8 +530,9 @@ typedef struct lapped__paster {
 
 static pw_v3 lapped__centroid(const pw_trimesh *m, int f)
 {
-    return pw_v3_scale(pw_v3_add(pw_v3_add(pw_trimesh_corner(m, f, 0), pw_trimesh_corner(m, f, 1)),
-                                 pw_trimesh_corner(m, f, 2)), 1.0f / 3.0f);
+    return pw_v3_scale(
+        pw_v3_add(pw_v3_add(pw_trimesh_corner(m, f, 0), pw_trimesh_corner(m, f, 1)), pw_trimesh_corner(m, f, 2)),
+        1.0f / 3.0f);
 }
 
 /* Queues the triangles across the edges of f that are neither in the patch
@@ -577,9 +583,9 @@ static void lapped__start(lapped__paster *P, int f, const float b[3], int patch,
     int k;
     p->stamp++;
     p->nfaces = p->nverts = p->queue.n = p->hard = 0;
-    *centre3 = pw_v3_add(pw_v3_add(pw_v3_scale(pw_trimesh_corner(&P->m, f, 0), b[0]),
-                                   pw_v3_scale(pw_trimesh_corner(&P->m, f, 1), b[1])),
-                         pw_v3_scale(pw_trimesh_corner(&P->m, f, 2), b[2]));
+    *centre3 = pw_v3_add(
+        pw_v3_add(pw_v3_scale(pw_trimesh_corner(&P->m, f, 0), b[0]), pw_v3_scale(pw_trimesh_corner(&P->m, f, 1), b[1])),
+        pw_v3_scale(pw_trimesh_corner(&P->m, f, 2), b[2]));
     lapped__frame(P, f);
     if (p->sliver[f]) { /* its flat layout, with the chosen point at the patch centre */
         float l[6], c[2];
@@ -610,8 +616,8 @@ static int lapped__shared(const lapped__paster *P, int g, const pw_polyhull *hul
         n++;
         *edge = k;
         if (!*inside)
-            *inside = pw_polyhull_segment_hits(hull, p->vuv[2 * va], p->vuv[2 * va + 1], p->vuv[2 * vb],
-                                               p->vuv[2 * vb + 1]);
+            *inside =
+                pw_polyhull_segment_hits(hull, p->vuv[2 * va], p->vuv[2 * va + 1], p->vuv[2 * vb], p->vuv[2 * vb + 1]);
     }
     return n;
 }
@@ -705,8 +711,7 @@ static double lapped__row_weight(const lapped__paster *P, int f)
 }
 
 /* The three edge rows of degenerate triangle f from row `row` on. */
-static int lapped__sliver_rows(lapped__paster *P, int f, int row, pw_triplets *tr, double *bu, double *bv,
-                               pw_err *e)
+static int lapped__sliver_rows(lapped__paster *P, int f, int row, pw_triplets *tr, double *bu, double *bv, pw_err *e)
 {
     double w = lapped__row_weight(P, f);
     float l[6];
@@ -741,8 +746,10 @@ static int lapped__align_rows(lapped__paster *P, pw_triplets *tr, double *bu, do
             r = pw_triplets_add(tr, row, col, ws[k], e);
             if (r == PW_OK) r = pw_triplets_add(tr, row + 1, col, wt[k], e);
         }
-        bu[row] = 1.0, bu[row + 1] = 0.0;
-        bv[row] = 0.0, bv[row + 1] = 1.0;
+        bu[row] = 1.0;
+        bu[row + 1] = 0.0;
+        bv[row] = 0.0;
+        bv[row + 1] = 1.0;
         row += 2;
     }
     return r;
@@ -761,9 +768,18 @@ static int lapped__sliver_lscm(lapped__paster *P, int f, int i, pw_triplets *tr,
     w *= w;
     lapped__sliver_layout(&P->m, &P->pb, f, l);
     /* real part: a2 du1 - b2 dv1 - a1 du2 + b1 dv2; imaginary: b2 du1 + a2 dv1 - b1 du2 - a1 dv2 */
-    cu[1] = z2[0], cv[1] = -z2[1], cu[2] = -z1[0], cv[2] = z1[1];
-    iu[1] = z2[1], iv[1] = z2[0], iu[2] = -z1[1], iv[2] = -z1[0];
-    cu[0] = -cu[1] - cu[2], cv[0] = -cv[1] - cv[2], iu[0] = -iu[1] - iu[2], iv[0] = -iv[1] - iv[2];
+    cu[1] = z2[0];
+    cv[1] = -z2[1];
+    cu[2] = -z1[0];
+    cv[2] = z1[1];
+    iu[1] = z2[1];
+    iv[1] = z2[0];
+    iu[2] = -z1[1];
+    iv[2] = -z1[0];
+    cu[0] = -cu[1] - cu[2];
+    cv[0] = -cv[1] - cv[2];
+    iu[0] = -iu[1] - iu[2];
+    iv[0] = -iv[1] - iv[2];
     for (k = 0; k < 3 && r == PW_OK; k++) {
         int col = P->pb.vloc[t[k]];
         r = pw_triplets_add(tr, 2 * i, col, w * cu[k], e);
@@ -786,12 +802,15 @@ static int lapped__lscm_pins(lapped__paster *P, int seed, int rows, pw_triplets 
     for (i = 0; i < 2 && r == PW_OK; i++) { /* phi(S_f) = (1,0), phi(T_f) = (0,1) */
         float w[3] = {0.0f, 0.0f, 0.0f}, q[2], l[6];
         if (p->sliver[f]) { /* U_{i+1} - U_0 as in its flat layout */
-            w[0] = -1.0f, w[i + 1] = 1.0f;
+            w[0] = -1.0f;
+            w[i + 1] = 1.0f;
             lapped__sliver_layout(&P->m, p, f, l);
-            q[0] = l[2 * i + 2], q[1] = l[2 * i + 3];
+            q[0] = l[2 * i + 2];
+            q[1] = l[2 * i + 3];
         } else {
             lapped__coeffs(&P->m, f, pw_v3_load((i ? p->ft : p->fs) + 3 * f), w);
-            q[0] = i ? 0.0f : 1.0f, q[1] = i ? 1.0f : 0.0f;
+            q[0] = i ? 0.0f : 1.0f;
+            q[1] = i ? 1.0f : 0.0f;
         }
         for (k = 0; k < 3 && r == PW_OK; k++) {
             int col = p->vloc[P->m.tri[3 * f + k]];
@@ -843,8 +862,8 @@ static int lapped__lscm_rows(lapped__paster *P, int seed, pw_triplets *tr, doubl
  * iteration cap (only patches of tens of thousands of triangles come near
  * it) is not an error here: the warm start is already a usable
  * parametrisation and every iterate improves it. */
-static int lapped__solve(lapped__paster *P, const pw_triplets *tr, const double *b, double *x, int nrhs,
-                         double *rhs, pw_err *e)
+static int lapped__solve(lapped__paster *P, const pw_triplets *tr, const double *b, double *x, int nrhs, double *rhs,
+                         pw_err *e)
 {
     pw_csr A, N;
     pw_ic0 M;
@@ -882,8 +901,8 @@ static int lapped__solve(lapped__paster *P, const pw_triplets *tr, const double 
  * seed point stays at the patch centre ("a positional constraint to fix
  * the location of the patch center": the functional ignores translations,
  * so fixing it afterwards is exact). */
-static int lapped__optimize(lapped__paster *P, int seed, const float bary[3], int patch, pw_triplets *tr,
-                            double *x, double *b, double *rhs, pw_err *e)
+static int lapped__optimize(lapped__paster *P, int seed, const float bary[3], int patch, pw_triplets *tr, double *x,
+                            double *b, double *rhs, pw_err *e)
 {
     lapped__patchbuf *p = &P->pb;
     int n = p->nverts, i, j, r, lscm = P->o.lscm && P->o.field == LAPPED_FIELD_ISOTROPIC;
@@ -904,7 +923,8 @@ static int lapped__optimize(lapped__paster *P, int seed, const float bary[3], in
     }
     if (r != PW_OK) return r;
     for (i = 0; i < n; i++) lapped__map_vertex(p, p->verts[i], (float)x[i], (float)x[n + i]);
-    du = P->centre[2 * patch], dv = P->centre[2 * patch + 1];
+    du = P->centre[2 * patch];
+    dv = P->centre[2 * patch + 1];
     for (j = 0; j < 3; j++) {
         int v = P->m.tri[3 * seed + j];
         du -= bary[j] * p->vuv[2 * v];
@@ -960,8 +980,7 @@ static void lapped__pick(lapped__paster *P, int early, int *f, float b[3])
     int k, best = P->cover.open[pw_rng_below(&P->rng, (uint32_t)P->cover.nopen)];
     for (k = 1; early && k < 8; k++) {
         int g = P->cover.open[pw_rng_below(&P->rng, (uint32_t)P->cover.nopen)];
-        if (P->difficulty[g] > P->difficulty[best] || (P->difficulty[g] == P->difficulty[best] && g < best))
-            best = g;
+        if (P->difficulty[g] > P->difficulty[best] || (P->difficulty[g] == P->difficulty[best] && g < best)) best = g;
     }
     *f = best;
     lapped__cover_hole(&P->cover, best, b);
@@ -985,8 +1004,8 @@ static void lapped__tri_areas(const pw_trimesh *m, const float *fs, const float 
     pw_v3 c = pw_v3_cross(pw_v3_load(fs + 3 * f), pw_v3_load(ft + 3 * f));
     double s2 = (double)c.x * c.x + (double)c.y * c.y + (double)c.z * c.z;
     s2 = sqrt(s2);
-    *tex = 0.5 * fabs(((double)uv[2] - uv[0]) * ((double)uv[5] - uv[1]) -
-                      ((double)uv[4] - uv[0]) * ((double)uv[3] - uv[1]));
+    *tex = 0.5 *
+           fabs(((double)uv[2] - uv[0]) * ((double)uv[5] - uv[1]) - ((double)uv[4] - uv[0]) * ((double)uv[3] - uv[1]));
     *surf = (double)m->area[f] / s2;
 }
 
@@ -1001,9 +1020,8 @@ static int lapped__area_ok(double tex, double surf, double lo, double hi, int n)
 /* For paste q (the tests and the fuzzer check the guarantee with it):
  * *tex = its texture area, *surf = the sum of its A_f / S_f^2, *inside =
  * the part of *surf whose triangles keep their own ratio within [lo, hi]. */
-static PW__UNUSED void lapped__paste_areas(const pw_trimesh *m, const float *fs, const float *ft,
-                                           const lapped_paste *q, double lo, double hi, double *tex, double *surf,
-                                           double *inside)
+static PW__UNUSED void lapped__paste_areas(const pw_trimesh *m, const float *fs, const float *ft, const lapped_paste *q,
+                                           double lo, double hi, double *tex, double *surf, double *inside)
 {
     int i;
     *tex = *surf = *inside = 0.0;
@@ -1063,8 +1081,13 @@ static void lapped__keep(lapped__patchbuf *p, int restore)
     int i;
     for (i = 0; i < p->nverts; i++) {
         float *uv = p->vuv + 2 * p->verts[i], *k = p->keep + 2 * i;
-        if (restore) uv[0] = k[0], uv[1] = k[1];
-        else k[0] = uv[0], k[1] = uv[1];
+        if (restore) {
+            uv[0] = k[0];
+            uv[1] = k[1];
+        } else {
+            k[0] = uv[0];
+            k[1] = uv[1];
+        }
     }
 }
 
@@ -1166,8 +1189,7 @@ static void lapped__centre_of(const pw_image *img, float *dist, float out[2])
 {
     int w = img->w, h = img->h, x, y, best = 0;
     for (y = 0; y < h; y++)
-        for (x = 0; x < w; x++)
-            dist[y * w + x] = img->px[((size_t)y * w + x) * 4 + 3] >= 0.5f ? 1e9f : 0.0f;
+        for (x = 0; x < w; x++) dist[y * w + x] = img->px[((size_t)y * w + x) * 4 + 3] >= 0.5f ? 1e9f : 0.0f;
     for (y = 0; y < h; y++)
         for (x = 0; x < w; x++) lapped__chamfer_at(dist, w, h, x, y, 1);
     for (y = h - 1; y >= 0; y--)
@@ -1228,8 +1250,10 @@ static int lapped__setup_patches(lapped__paster *P, const lapped_image *in, int 
         snprintf(what, sizeof what, "patch %d", k);
         if ((r = lapped__check_image(&in[k], what, e)) != PW_OK) break;
         if (in[k].channels != 4)
-            return pw_fail(e, PW_ERR_INVALID, "patch %d has %d channels: patches are RGBA (see "
-                           "lapped_make_patch)", k, in[k].channels);
+            return pw_fail(e, PW_ERR_INVALID,
+                           "patch %d has %d channels: patches are RGBA (see "
+                           "lapped_make_patch)",
+                           k, in[k].channels);
         views[k] = lapped__pw_image(&in[k]);
         if ((size_t)in[k].width * in[k].height > maxpx) maxpx = (size_t)in[k].width * in[k].height;
     }
@@ -1280,8 +1304,8 @@ static double lapped__len_d(const float *v)
     return sqrt((double)v[0] * v[0] + (double)v[1] * v[1] + (double)v[2] * v[2]);
 }
 
-static int lapped__setup(lapped__paster *P, const lapped_mesh *mesh, const lapped_image *patches,
-                         int npatches, double *estimate, pw_err *e)
+static int lapped__setup(lapped__paster *P, const lapped_mesh *mesh, const lapped_image *patches, int npatches,
+                         double *estimate, pw_err *e)
 {
     int nf, r;
     if ((r = lapped__mesh_init(P->a, mesh, &P->m, e)) != PW_OK) return r;
@@ -1291,8 +1315,8 @@ static int lapped__setup(lapped__paster *P, const lapped_mesh *mesh, const lappe
     P->difficulty = (float *)pw_alloc_array(P->a, (size_t)nf, sizeof(float), "difficulty", e);
     if (!P->fs || !P->ft || !P->difficulty) return PW_ERR_NOMEM;
     if ((r = lapped__field(P->a, &P->m, &P->o, P->fs, P->ft, e)) != PW_OK ||
-        (r = lapped__difficulty(P->a, &P->m, P->o.field == LAPPED_FIELD_ISOTROPIC ? NULL : P->ft,
-                               P->difficulty, e)) != PW_OK ||
+        (r = lapped__difficulty(P->a, &P->m, P->o.field == LAPPED_FIELD_ISOTROPIC ? NULL : P->ft, P->difficulty, e)) !=
+            PW_OK ||
         (r = lapped__setup_patches(P, patches, npatches, e)) != PW_OK)
         return r;
     /* before the coverage lattice, whose size grows as the scale shrinks:
@@ -1301,12 +1325,15 @@ static int lapped__setup(lapped__paster *P, const lapped_mesh *mesh, const lappe
      * times it beyond the limit is refused at once, not after the limit */
     *estimate = lapped__estimate(P);
     if (1.5 * *estimate > P->o.max_pastes)
-        return pw_fail(e, PW_ERR_LIMIT, "the texture scale is too small for this mesh: covering it would take about "
-                       "%.0f pastes, over the limit of %d (lapped_options.max_pastes; --max-pastes)", 1.5 * *estimate,
-                       P->o.max_pastes);
+        return pw_fail(e, PW_ERR_LIMIT,
+                       "the texture scale is too small for this mesh: covering it would take about "
+                       "%.0f pastes, over the limit of %d (lapped_options.max_pastes; --max-pastes)",
+                       1.5 * *estimate, P->o.max_pastes);
     if (lapped__len_d(P->ft) > 20.0 * P->m.diag)
-        return pw_fail(e, PW_ERR_INVALID, "the texture scale %g is more than 20 times the mesh's size "
-                       "(%g): one patch would have to cover the whole mesh", lapped__len_d(P->ft), P->m.diag);
+        return pw_fail(e, PW_ERR_INVALID,
+                       "the texture scale %g is more than 20 times the mesh's size "
+                       "(%g): one patch would have to cover the whole mesh",
+                       lapped__len_d(P->ft), P->m.diag);
     if ((r = lapped__cover_init(P->a, &P->m, P->ft, lapped__max_side(P), P->o.coverage, &P->cover, e)) != PW_OK ||
         (r = lapped__patchbuf_init(P->a, &P->m, &P->pb, e)) != PW_OK)
         return r;
@@ -1329,10 +1356,11 @@ static int lapped__run(lapped__paster *P, double estimate, pw_err *e)
     }
     while (r == PW_OK && P->cover.nopen > 0) {
         if (P->npastes >= (size_t)P->o.max_pastes)
-            r = pw_fail(e, PW_ERR_LIMIT, "stopped after %d pastes with %d triangles still uncovered "
-                        "(lapped_options.max_pastes; --max-pastes)", P->o.max_pastes, P->cover.nopen);
-        else if (P->npastes % 16 == 0)
-            r = pw_report(&pr, 1.0f - (float)P->cover.nopen / (float)P->m.nf, "pasting", e);
+            r = pw_fail(e, PW_ERR_LIMIT,
+                        "stopped after %d pastes with %d triangles still uncovered "
+                        "(lapped_options.max_pastes; --max-pastes)",
+                        P->o.max_pastes, P->cover.nopen);
+        else if (P->npastes % 16 == 0) r = pw_report(&pr, 1.0f - (float)P->cover.nopen / (float)P->m.nf, "pasting", e);
         if (r == PW_OK) r = lapped__paste(P, (double)P->npastes < P->o.early * estimate, &tr, x, b, e);
     }
     pw_triplets_free(&tr);
@@ -1364,9 +1392,8 @@ static int lapped__output(lapped__paster *P, lapped_texture *out, pw_err *e)
     return PW_OK;
 }
 
-LAPPEDDEF lapped_result lapped_create(const lapped_mesh *mesh, const lapped_source *src,
-                                      const lapped_options *opt, lapped_texture *out,
-                                      lapped_error *err)
+LAPPEDDEF lapped_result lapped_create(const lapped_mesh *mesh, const lapped_source *src, const lapped_options *opt,
+                                      lapped_texture *out, lapped_error *err)
 {
     lapped__paster P;
     pw_alloc a;
@@ -1396,4 +1423,3 @@ LAPPEDDEF void lapped_texture_free(lapped_texture *t)
     pw_free(&a, t->patch_size);
     memset(t, 0, sizeof *t);
 }
-

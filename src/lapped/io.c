@@ -25,8 +25,7 @@ static void lapped__wb_line(pw__wb *b, const char *word, const long long *v, int
     pw__wb_str(b, "\n");
 }
 
-LAPPEDDEF lapped_result lapped_write_pastes(const lapped_texture *t, lapped_write_fn fn,
-                                            void *ctx, lapped_error *err)
+LAPPEDDEF lapped_result lapped_write_pastes(const lapped_texture *t, lapped_write_fn fn, void *ctx, lapped_error *err)
 {
     pw__wb b;
     pw_err pe;
@@ -44,14 +43,17 @@ LAPPEDDEF lapped_result lapped_write_pastes(const lapped_texture *t, lapped_writ
     v[0] = t->npatches;
     lapped__wb_line(&b, "patches", v, 1);
     for (k = 0; k < t->npatches; k++) {
-        v[0] = k, v[1] = t->patch_size[2 * k], v[2] = t->patch_size[2 * k + 1];
+        v[0] = k;
+        v[1] = t->patch_size[2 * k];
+        v[2] = t->patch_size[2 * k + 1];
         lapped__wb_line(&b, "patch", v, 3);
     }
     v[0] = t->npastes;
     lapped__wb_line(&b, "pastes", v, 1);
     for (p = 0; p < t->npastes; p++) {
         const lapped_paste *q = &t->pastes[p];
-        v[0] = q->patch, v[1] = q->nfaces;
+        v[0] = q->patch;
+        v[1] = q->nfaces;
         lapped__wb_line(&b, "paste", v, 2);
         for (i = 0; i < q->nfaces; i++) {
             pw__wb_int(&b, q->faces[i], 0);
@@ -73,8 +75,7 @@ static int lapped__read_line(pw__sc *s, const char *keyword, long long *v, int n
     int k, r;
     pw__sc_skip_empty(s);
     w = pw__sc_word(s, &len);
-    if (!pw__sc_is(w, len, keyword))
-        return pw__sc_fail(s, PW_ERR_PARSE, "expected '%s'", keyword);
+    if (!pw__sc_is(w, len, keyword)) return pw__sc_fail(s, PW_ERR_PARSE, "expected '%s'", keyword);
     for (k = 0; k < n; k++) {
         if ((r = pw__sc_int(s, &v[k], keyword, -1)) != PW_OK) return r;
         if (v[k] < lo || v[k] > hi)
@@ -140,7 +141,8 @@ static int lapped__read_pastes(pw__sc *s, const pw_alloc *a, lapped_texture *t, 
     for (p = 0; p < t->npastes; p++) {
         lapped_paste *q = &t->pastes[p];
         if ((r = lapped__read_line(s, "paste", v, 2, 0, PW_MAX_MESH_ELEMENTS)) != PW_OK) return r;
-        if (v[0] >= t->npatches) return pw__sc_fail(s, PW_ERR_PARSE, "paste %d uses patch %lld of %d", p, v[0], t->npatches);
+        if (v[0] >= t->npatches)
+            return pw__sc_fail(s, PW_ERR_PARSE, "paste %d uses patch %lld of %d", p, v[0], t->npatches);
         if (v[1] > (long long)(s->end - s->p) / 14 + 1)
             return pw__sc_fail(s, PW_ERR_PARSE, "paste %d announces %lld triangles, the file is too short", p, v[1]);
         q->patch = (int)v[0];
@@ -159,8 +161,7 @@ static int lapped__read_pastes(pw__sc *s, const pw_alloc *a, lapped_texture *t, 
 /* A texture read from a file does not know its mesh's triangle count:
  * ntris is 0 ("unknown"), and every triangle index is checked when the
  * texture is used with a mesh. */
-LAPPEDDEF lapped_result lapped_read_pastes(const void *data, size_t size,
-                                           const char *name, const lapped_options *opt,
+LAPPEDDEF lapped_result lapped_read_pastes(const void *data, size_t size, const char *name, const lapped_options *opt,
                                            lapped_texture *out, lapped_error *err)
 {
     lapped_options o = lapped__options(opt);
@@ -191,7 +192,8 @@ static int lapped__read_constraint(pw__sc *s, lapped_constraint *c, int index)
     int k, n, r;
     memset(c, 0, sizeof *c);
     if ((r = pw__sc_int(s, &face, "constraint", index)) != PW_OK) return r;
-    if (face < 0 || face > PW_MAX_MESH_ELEMENTS) return pw__sc_fail(s, PW_ERR_INVALID, "constraint %d: face %lld", index, face);
+    if (face < 0 || face > PW_MAX_MESH_ELEMENTS)
+        return pw__sc_fail(s, PW_ERR_INVALID, "constraint %d: face %lld", index, face);
     for (n = 0; n < 6 && !pw__sc_eol(s); n++)
         if ((r = pw__sc_num(s, &v[n], "constraint", index)) != PW_OK) return r;
     if (n < 3 || !pw__sc_eol(s))
@@ -199,7 +201,8 @@ static int lapped__read_constraint(pw__sc *s, lapped_constraint *c, int index)
                            index);
     for (k = 0; k < n; k++) /* finite as floats: 1e39 is finite as a double only */
         if (!pw_is_finite(pw__num_to_float(v[k])))
-            return pw__sc_fail(s, PW_ERR_INVALID, "constraint %d has a non-finite value (or one beyond float range)", index);
+            return pw__sc_fail(s, PW_ERR_INVALID, "constraint %d has a non-finite value (or one beyond float range)",
+                               index);
     c->face = (int)face;
     for (k = 0; k < 3; k++) c->direction[k] = (float)v[k];
     c->scale = n > 3 ? (float)v[3] : 0.0f;
@@ -224,14 +227,15 @@ static int lapped__constraint_line(pw__sc *s, lapped_constraint *c, int index, i
     }
     w = pw__sc_word(s, &n);
     if (!pw__sc_is(w, n, "orient"))
-        return pw__sc_fail(s, PW_ERR_PARSE, "unknown keyword '%s' (a constraint line is 'orient face dx dy dz "
-                           "[scale [radius [weight]]]')", pw__sc_tok(s, w, tok));
+        return pw__sc_fail(s, PW_ERR_PARSE,
+                           "unknown keyword '%s' (a constraint line is 'orient face dx dy dz "
+                           "[scale [radius [weight]]]')",
+                           pw__sc_tok(s, w, tok));
     return lapped__read_constraint(s, c, index);
 }
 
 LAPPEDDEF lapped_result lapped_read_constraints(const void *data, size_t size, const char *name,
-                                                const lapped_options *opt, lapped_constraints *out,
-                                                lapped_error *err)
+                                                const lapped_options *opt, lapped_constraints *out, lapped_error *err)
 {
     lapped_options o = lapped__options(opt);
     pw_alloc a = lapped__alloc(&o.allocator);
@@ -276,9 +280,8 @@ LAPPEDDEF void lapped_constraints_free(lapped_constraints *c)
 
 /* ---- meshes and images --------------------------------------------------------- */
 
-LAPPEDDEF lapped_result lapped_read_mesh(const void *data, size_t size, const char *name,
-                                         const lapped_options *opt, lapped_mesh *out,
-                                         lapped_error *err)
+LAPPEDDEF lapped_result lapped_read_mesh(const void *data, size_t size, const char *name, const lapped_options *opt,
+                                         lapped_mesh *out, lapped_error *err)
 {
     lapped_options o = lapped__options(opt);
     pw_alloc a = lapped__alloc(&o.allocator);
@@ -292,8 +295,7 @@ LAPPEDDEF lapped_result lapped_read_mesh(const void *data, size_t size, const ch
     return lapped__done(&pe, err);
 }
 
-LAPPEDDEF lapped_result lapped_read_image(const void *data, size_t size,
-                                          const char *name, const lapped_options *opt,
+LAPPEDDEF lapped_result lapped_read_image(const void *data, size_t size, const char *name, const lapped_options *opt,
                                           lapped_image *out, lapped_error *err)
 {
     lapped_options o = lapped__options(opt);
@@ -308,8 +310,8 @@ LAPPEDDEF lapped_result lapped_read_image(const void *data, size_t size,
     return lapped__done(&pe, err);
 }
 
-LAPPEDDEF lapped_result lapped_write_image(const lapped_image *img, const char *format,
-                                           lapped_write_fn fn, void *ctx, lapped_error *err)
+LAPPEDDEF lapped_result lapped_write_image(const lapped_image *img, const char *format, lapped_write_fn fn, void *ctx,
+                                           lapped_error *err)
 {
     pw_err pe;
     pw_err_clear(&pe);
@@ -341,11 +343,19 @@ LAPPEDDEF lapped_result lapped_write_gltf(const lapped_mesh *mesh, const lapped_
             for (f = 0; f <= m.nf; f++) fstart[f] = 3 * f;
             img = lapped__pw_image(&atlas->image);
             part.name = "lapped";
-            part.nv = m.nv, part.pos = m.pos, part.nf = m.nf, part.fstart = fstart, part.fv = m.tri;
-            part.corner_uv = atlas->uvs, part.texture = &img;
-            scene.parts = &part, scene.nparts = 1, scene.generator = "patchwork lapped.h " LAPPED_VERSION_STRING;
+            part.nv = m.nv;
+            part.pos = m.pos;
+            part.nf = m.nf;
+            part.fstart = fstart;
+            part.fv = m.tri;
+            part.corner_uv = atlas->uvs;
+            part.texture = &img;
+            scene.parts = &part;
+            scene.nparts = 1;
+            scene.generator = "patchwork lapped.h " LAPPED_VERSION_STRING;
             if (view) {
-                cam = pw_gltf_view_camera(m.pos, m.nv, view->width, view->height, view->view_dir, view->up, &scene.aspect);
+                cam = pw_gltf_view_camera(m.pos, m.nv, view->width, view->height, view->view_dir, view->up,
+                                          &scene.aspect);
                 scene.camera = &cam;
             }
             pw_gltf_write(&a, &scene, fn, ctx, &pe);
@@ -357,8 +367,8 @@ LAPPEDDEF lapped_result lapped_write_gltf(const lapped_mesh *mesh, const lapped_
 }
 
 #ifndef PW_NO_STDIO
-LAPPEDDEF lapped_result lapped_load_mesh(const char *path, const lapped_options *opt,
-                                         lapped_mesh *out, lapped_error *err)
+LAPPEDDEF lapped_result lapped_load_mesh(const char *path, const lapped_options *opt, lapped_mesh *out,
+                                         lapped_error *err)
 {
     lapped_options o = lapped__options(opt);
     pw_alloc a = lapped__alloc(&o.allocator);
@@ -371,8 +381,8 @@ LAPPEDDEF lapped_result lapped_load_mesh(const char *path, const lapped_options 
     return lapped__done(&pe, err);
 }
 
-LAPPEDDEF lapped_result lapped_load_image(const char *path, const lapped_options *opt,
-                                          lapped_image *out, lapped_error *err)
+LAPPEDDEF lapped_result lapped_load_image(const char *path, const lapped_options *opt, lapped_image *out,
+                                          lapped_error *err)
 {
     lapped_options o = lapped__options(opt);
     pw_alloc a = lapped__alloc(&o.allocator);
@@ -420,7 +430,8 @@ LAPPEDDEF lapped_result lapped_save_obj(const char *obj_path, const lapped_mesh 
     pw_err_clear(&pe);
     memset(&j, 0, sizeof j);
     if (pw_obj_mtl_path(obj_path, mtl, sizeof mtl, &mtl_name, &pe) != PW_OK) return lapped__done(&pe, err);
-    j.mesh = mesh, j.atlas = atlas;
+    j.mesh = mesh;
+    j.atlas = atlas;
     j.format = texture_path ? mtl_name : NULL; /* the mtllib name */
     if (pw_write_file(obj_path, lapped__obj_job, &j, &pe) == PW_OK && texture_path) {
         j.format = texture_path;
@@ -444,7 +455,9 @@ LAPPEDDEF lapped_result lapped_save_gltf(const char *path, const lapped_mesh *me
     pw_err pe;
     pw_err_clear(&pe);
     memset(&j, 0, sizeof j);
-    j.mesh = mesh, j.atlas = atlas, j.view = view;
+    j.mesh = mesh;
+    j.atlas = atlas;
+    j.view = view;
     if (!path) pw_fail(&pe, PW_ERR_INVALID, "lapped_save_gltf: NULL path");
     else pw_write_file(path, lapped__gltf_job, &j, &pe);
     return lapped__done(&pe, err);
@@ -472,11 +485,13 @@ LAPPEDDEF lapped_result lapped_save_image(const char *path, const lapped_image *
     memset(&j, 0, sizeof j);
     j.img = img;
     if (!path) pw_fail(&pe, PW_ERR_INVALID, "lapped_save_image: NULL path");
-    else if (!(j.format = pw_has_ext(path, ".png") ? "png" : pw_has_ext(path, ".ppm") || pw_has_ext(path, ".pnm")
-                          ? "ppm" : pw_has_ext(path, ".pgm") ? "pgm" : pw_has_ext(path, ".pam") ? "pam" : NULL))
+    else if (!(j.format = pw_has_ext(path, ".png")                               ? "png"
+                          : pw_has_ext(path, ".ppm") || pw_has_ext(path, ".pnm") ? "ppm"
+                          : pw_has_ext(path, ".pgm")                             ? "pgm"
+                          : pw_has_ext(path, ".pam")                             ? "pam"
+                                                                                 : NULL))
         pw_fail(&pe, PW_ERR_UNSUPPORTED, "%s: unknown image extension (use .png, .ppm, .pgm, .pam)", path);
-    else if (lapped__check_image(img, path, &pe) == PW_OK)
-        pw_write_file(path, lapped__image_job, &j, &pe);
+    else if (lapped__check_image(img, path, &pe) == PW_OK) pw_write_file(path, lapped__image_job, &j, &pe);
     return lapped__done(&pe, err);
 }
 
@@ -492,8 +507,8 @@ LAPPEDDEF lapped_result lapped_save_pastes(const char *path, const lapped_textur
     return lapped__done(&pe, err);
 }
 
-LAPPEDDEF lapped_result lapped_load_constraints(const char *path, const lapped_options *opt,
-                                                lapped_constraints *out, lapped_error *err)
+LAPPEDDEF lapped_result lapped_load_constraints(const char *path, const lapped_options *opt, lapped_constraints *out,
+                                                lapped_error *err)
 {
     lapped_options o = lapped__options(opt);
     pw_alloc a = lapped__alloc(&o.allocator);
@@ -512,8 +527,8 @@ LAPPEDDEF lapped_result lapped_load_constraints(const char *path, const lapped_o
     return lapped__done(&pe, err);
 }
 
-LAPPEDDEF lapped_result lapped_load_pastes(const char *path, const lapped_options *opt,
-                                           lapped_texture *out, lapped_error *err)
+LAPPEDDEF lapped_result lapped_load_pastes(const char *path, const lapped_options *opt, lapped_texture *out,
+                                           lapped_error *err)
 {
     lapped_options o = lapped__options(opt);
     pw_alloc a = lapped__alloc(&o.allocator);

@@ -158,8 +158,8 @@ typedef struct lapped_mesh {
     int nverts;
     float *positions; /* nverts*3 */
     int nfaces;
-    int *face_start;  /* nfaces+1 */
-    int *face_verts;  /* face_start[nfaces] */
+    int *face_start; /* nfaces+1 */
+    int *face_verts; /* face_start[nfaces] */
     lapped_allocator allocator;
 } lapped_mesh;
 
@@ -208,54 +208,54 @@ typedef enum lapped_filter {
 } lapped_filter;
 
 typedef struct lapped_render_options {
-    int width, height;       /* default 800 x 600 */
-    int supersample;         /* default 2 */
-    float view_dir[3];       /* default (-0.55,-0.45,-0.7) */
-    float up[3];             /* default (0,1,0) */
-    float background[3];     /* default white */
-    lapped_filter filter;    /* default LAPPED_FILTER_TRILINEAR */
-    int threads;             /* rendering threads: 0 (default) one per processor when the
+    int width, height;           /* default 800 x 600 */
+    int supersample;             /* default 2 */
+    float view_dir[3];           /* default (-0.55,-0.45,-0.7) */
+    float up[3];                 /* default (0,1,0) */
+    float background[3];         /* default white */
+    lapped_filter filter;        /* default LAPPED_FILTER_TRILINEAR */
+    int threads;                 /* rendering threads: 0 (default) one per processor when the
                                 implementation is built with PW_THREADS (POSIX threads;
                                 link with -pthread), else 1; n: at most n. With more
                                 than one, the allocator is called from several threads */
     lapped_parallel_fn parallel; /* optional: the caller's parallel for, used instead of threads */
-    void *parallel_pool;     /* its first argument */
+    void *parallel_pool;         /* its first argument */
 } lapped_render_options;
 
 typedef struct lapped_atlas_options {
-    int size;                /* atlas image side, pixels; default 1024 */
-    float cone_angle;        /* max angle between a chart's normals and its
+    int size;         /* atlas image side, pixels; default 1024 */
+    float cone_angle; /* max angle between a chart's normals and its
                                 centre's, degrees; default 60 */
-    int gutter;              /* pixels between charts (and to the image border), filled
+    int gutter;       /* pixels between charts (and to the image border), filled
                                 by dilation; default 2 (1 lets bilinear lookups at a
                                 border touch the neighbouring chart) */
 } lapped_atlas_options;
 
 typedef struct lapped_options {
     /* §3.2 the tangent field */
-    lapped_field_mode field;   /* default LAPPED_FIELD_UP */
-    float up[3];               /* UP: default (0,1,0) */
-    float scale;               /* side of a texture patch on the surface, mesh units;
+    lapped_field_mode field;              /* default LAPPED_FIELD_UP */
+    float up[3];                          /* UP: default (0,1,0) */
+    float scale;                          /* side of a texture patch on the surface, mesh units;
                                   0: a tenth of the bounding-box diagonal */
     const lapped_constraint *constraints; /* CONSTRAINTS */
     int nconstraints;
-    const float *face_t;       /* FACES: ntris*3 "up" vectors (|T| = scale) */
-    const float *face_s;       /* FACES: ntris*3 "right" vectors, or NULL for T x N */
-    int smoothing;             /* CURVATURE: smoothing iterations; default 20 */
-    lapped_alpha alpha;        /* lapped_make_patch; default LAPPED_ALPHA_AUTO */
-    float falloff;             /* alpha fall-off width at the patch border, pixels;
+    const float *face_t;          /* FACES: ntris*3 "up" vectors (|T| = scale) */
+    const float *face_s;          /* FACES: ntris*3 "right" vectors, or NULL for T x N */
+    int smoothing;                /* CURVATURE: smoothing iterations; default 20 */
+    lapped_alpha alpha;           /* lapped_make_patch; default LAPPED_ALPHA_AUTO */
+    float falloff;                /* alpha fall-off width at the patch border, pixels;
                                   default 3 (§3.1) */
-    int lscm;                  /* isotropic field: least-squares conformal maps
+    int lscm;                     /* isotropic field: least-squares conformal maps
                                   (hindsights) instead of field alignment */
-    float coverage;            /* opacity every point must reach; default 0.99 */
-    float max_distortion;      /* growth stops where a face's mapped frame is
+    float coverage;               /* opacity every point must reach; default 0.99 */
+    float max_distortion;         /* growth stops where a face's mapped frame is
                                   stretched beyond this factor; default 2 */
-    float early;               /* fraction of the pastes seeded preferably at high
+    float early;                  /* fraction of the pastes seeded preferably at high
                                   curvature and field discontinuities; default 0.25 */
-    int max_pastes;            /* refuse inputs needing more; default 200000 */
-    int keep_hidden;           /* 1: keep triangles that later pastes hide (§4 removes
+    int max_pastes;               /* refuse inputs needing more; default 200000 */
+    int keep_hidden;              /* 1: keep triangles that later pastes hide (§4 removes
                                   them); each paste is then a whole surface patch */
-    unsigned long long seed;   /* default 0 */
+    unsigned long long seed;      /* default 0 */
     lapped_render_options render; /* lapped_render's settings (pass &opt.render) */
     lapped_atlas_options atlas;   /* lapped_bake_atlas's settings */
     lapped_allocator allocator;
@@ -287,29 +287,29 @@ typedef struct lapped_source {
 typedef struct lapped_paste {
     int patch;
     int nfaces;
-    int *faces;  /* nfaces triangle indices */
-    float *uvs;  /* nfaces*6 */
+    int *faces; /* nfaces triangle indices */
+    float *uvs; /* nfaces*6 */
 } lapped_paste;
 
 /* A lapped texture: the ordered pastes (later over earlier). */
 typedef struct lapped_texture {
-    int ntris;               /* triangles of the mesh it was made for */
+    int ntris; /* triangles of the mesh it was made for */
     int npatches;
-    int *patch_size;         /* npatches*2: width, height of each patch image */
+    int *patch_size; /* npatches*2: width, height of each patch image */
     int npastes;
     lapped_paste *pastes;
-    double layers;           /* mean pastes per triangle after hidden ones were removed */
-    double layers_before;    /* ... before (the paper reports 1.5-3.2 after) */
-    int hard_edges;          /* pastes whose growth stopped at the distortion limit */
+    double layers;        /* mean pastes per triangle after hidden ones were removed */
+    double layers_before; /* ... before (the paper reports 1.5-3.2 after) */
+    int hard_edges;       /* pastes whose growth stopped at the distortion limit */
     lapped_allocator allocator;
 } lapped_texture;
 
 /* A texture atlas (§4): per-triangle-corner coordinates into one image. */
 typedef struct lapped_atlas {
     int ntris;
-    float *uvs;              /* ntris*6, (0,0) bottom-left of the image */
+    float *uvs; /* ntris*6, (0,0) bottom-left of the image */
     int ncharts;
-    float fill;              /* fraction of the image covered by charts */
+    float fill; /* fraction of the image covered by charts */
     lapped_image image;
 } lapped_atlas;
 
@@ -320,53 +320,47 @@ LAPPEDDEF const char *lapped_result_string(lapped_result r);
  * with LAPPED_ALPHA_MASK), then faded to zero over opt->falloff pixels at
  * the border of the opaque region. */
 LAPPEDDEF lapped_result lapped_make_patch(const lapped_image *texture, const lapped_image *mask,
-                                          const lapped_options *opt, lapped_image *out,
-                                          lapped_error *err);
+                                          const lapped_options *opt, lapped_image *out, lapped_error *err);
 
 /* §3.2: the field per triangle (opt->field and the fields after it),
  * allocated with opt's allocator; free it with lapped_field_free. For
  * LAPPED_FIELD_ISOTROPIC, t is an arbitrary unit direction times the scale
  * (growth propagates its own). */
-LAPPEDDEF lapped_result lapped_compute_field(const lapped_mesh *mesh, const lapped_options *opt,
-                                             lapped_field *out, lapped_error *err);
+LAPPEDDEF lapped_result lapped_compute_field(const lapped_mesh *mesh, const lapped_options *opt, lapped_field *out,
+                                             lapped_error *err);
 LAPPEDDEF void lapped_field_free(lapped_field *f);
 
 /* §3: covers the mesh with pastes of src's patches (one chosen at random
  * per paste; src->values is not used). */
-LAPPEDDEF lapped_result lapped_create(const lapped_mesh *mesh, const lapped_source *src,
-                                      const lapped_options *opt, lapped_texture *out,
-                                      lapped_error *err);
+LAPPEDDEF lapped_result lapped_create(const lapped_mesh *mesh, const lapped_source *src, const lapped_options *opt,
+                                      lapped_texture *out, lapped_error *err);
 LAPPEDDEF void lapped_texture_free(lapped_texture *t);
 
 /* §4 runtime pasting: the mesh drawn once per paste, in order, each paste's
  * triangles textured with its patch (or with src->values when not NULL)
  * and composited with the patch's alpha. ro: NULL for the defaults; callers
  * with options pass &opt.render. */
-LAPPEDDEF lapped_result lapped_render(const lapped_mesh *mesh, const lapped_texture *t,
-                                      const lapped_source *src, const lapped_render_options *ro,
-                                      lapped_image *out, lapped_error *err);
+LAPPEDDEF lapped_result lapped_render(const lapped_mesh *mesh, const lapped_texture *t, const lapped_source *src,
+                                      const lapped_render_options *ro, lapped_image *out, lapped_error *err);
 
 /* §4 texture atlas: charts, packing (opt->atlas; opt NULL: the defaults),
  * and the lapped texture (or src->values, as above) baked into one image. */
-LAPPEDDEF lapped_result lapped_bake_atlas(const lapped_mesh *mesh, const lapped_texture *t,
-                                          const lapped_source *src, const lapped_options *opt,
-                                          lapped_atlas *out, lapped_error *err);
+LAPPEDDEF lapped_result lapped_bake_atlas(const lapped_mesh *mesh, const lapped_texture *t, const lapped_source *src,
+                                          const lapped_options *opt, lapped_atlas *out, lapped_error *err);
 LAPPEDDEF void lapped_atlas_free(lapped_atlas *a);
 
 /* Built-in data for demos and tests. Meshes: "sphere" (icosphere),
  * "torus", "bumpy" (a displaced sphere), "disc" (with a boundary).
  * Textures: "scales", "stripes", "dots". */
-LAPPEDDEF lapped_result lapped_builtin_mesh(const char *name, const lapped_options *opt,
-                                            lapped_mesh *out, lapped_error *err);
+LAPPEDDEF lapped_result lapped_builtin_mesh(const char *name, const lapped_options *opt, lapped_mesh *out,
+                                            lapped_error *err);
 LAPPEDDEF lapped_result lapped_builtin_exemplar(const char *name, int size, const lapped_options *opt,
                                                 lapped_image *out, lapped_error *err);
 
 /* Files. The paste file format ("lapped-pastes 1") is documented in
  * docs/lapped.md. */
-LAPPEDDEF lapped_result lapped_write_pastes(const lapped_texture *t, lapped_write_fn fn,
-                                            void *ctx, lapped_error *err);
-LAPPEDDEF lapped_result lapped_read_pastes(const void *data, size_t size,
-                                           const char *name, const lapped_options *opt,
+LAPPEDDEF lapped_result lapped_write_pastes(const lapped_texture *t, lapped_write_fn fn, void *ctx, lapped_error *err);
+LAPPEDDEF lapped_result lapped_read_pastes(const void *data, size_t size, const char *name, const lapped_options *opt,
                                            lapped_texture *out, lapped_error *err);
 /* Constraint file (UTF-8 text; a byte-order mark is skipped): one
  * constraint per line, "orient F DX DY DZ [SCALE [RADIUS [WEIGHT]]]" (0 or
@@ -377,23 +371,19 @@ LAPPEDDEF lapped_result lapped_read_pastes(const void *data, size_t size,
  * out->items is allocated with opt's allocator; free it with
  * lapped_constraints_free. */
 LAPPEDDEF lapped_result lapped_read_constraints(const void *data, size_t size, const char *name,
-                                                const lapped_options *opt, lapped_constraints *out,
-                                                lapped_error *err);
+                                                const lapped_options *opt, lapped_constraints *out, lapped_error *err);
 LAPPEDDEF void lapped_constraints_free(lapped_constraints *c);
-LAPPEDDEF lapped_result lapped_read_mesh(const void *data, size_t size, const char *name,
-                                         const lapped_options *opt, lapped_mesh *out,
-                                         lapped_error *err);
-LAPPEDDEF lapped_result lapped_read_image(const void *data, size_t size,
-                                          const char *name, const lapped_options *opt,
+LAPPEDDEF lapped_result lapped_read_mesh(const void *data, size_t size, const char *name, const lapped_options *opt,
+                                         lapped_mesh *out, lapped_error *err);
+LAPPEDDEF lapped_result lapped_read_image(const void *data, size_t size, const char *name, const lapped_options *opt,
                                           lapped_image *out, lapped_error *err);
 /* format: "png", "ppm", "pgm", "pam" */
-LAPPEDDEF lapped_result lapped_write_image(const lapped_image *img, const char *format,
-                                           lapped_write_fn fn, void *ctx, lapped_error *err);
+LAPPEDDEF lapped_result lapped_write_image(const lapped_image *img, const char *format, lapped_write_fn fn, void *ctx,
+                                           lapped_error *err);
 /* OBJ of the triangulated mesh with the atlas's per-corner coordinates;
  * mtllib/usemtl when mtl_name is not NULL. */
-LAPPEDDEF lapped_result lapped_write_obj(const lapped_mesh *mesh, const lapped_atlas *atlas,
-                                         const char *mtl_name, lapped_write_fn fn,
-                                         void *ctx, lapped_error *err);
+LAPPEDDEF lapped_result lapped_write_obj(const lapped_mesh *mesh, const lapped_atlas *atlas, const char *mtl_name,
+                                         lapped_write_fn fn, void *ctx, lapped_error *err);
 /* Binary glTF 2.0 (.glb, one self-contained file): the triangulated mesh
  * with the atlas's per-corner coordinates and the atlas image as its base
  * colour (PNG inside), sampled LINEAR / LINEAR_MIPMAP_LINEAR with
@@ -403,17 +393,14 @@ LAPPEDDEF lapped_result lapped_write_obj(const lapped_mesh *mesh, const lapped_a
 LAPPEDDEF lapped_result lapped_write_gltf(const lapped_mesh *mesh, const lapped_atlas *atlas,
                                           const lapped_render_options *view, lapped_write_fn fn, void *ctx,
                                           lapped_error *err);
-LAPPEDDEF lapped_result lapped_write_mtl(const char *texture_name, lapped_write_fn fn,
-                                         void *ctx, lapped_error *err);
+LAPPEDDEF lapped_result lapped_write_mtl(const char *texture_name, lapped_write_fn fn, void *ctx, lapped_error *err);
 #ifndef PW_NO_STDIO
-LAPPEDDEF lapped_result lapped_load_mesh(const char *path, const lapped_options *opt,
-                                         lapped_mesh *out, lapped_error *err);
-LAPPEDDEF lapped_result lapped_load_image(const char *path, const lapped_options *opt,
-                                          lapped_image *out, lapped_error *err);
-LAPPEDDEF lapped_result lapped_save_image(const char *path, const lapped_image *img,
+LAPPEDDEF lapped_result lapped_load_mesh(const char *path, const lapped_options *opt, lapped_mesh *out,
+                                         lapped_error *err);
+LAPPEDDEF lapped_result lapped_load_image(const char *path, const lapped_options *opt, lapped_image *out,
                                           lapped_error *err);
-LAPPEDDEF lapped_result lapped_save_pastes(const char *path, const lapped_texture *t,
-                                           lapped_error *err);
+LAPPEDDEF lapped_result lapped_save_image(const char *path, const lapped_image *img, lapped_error *err);
+LAPPEDDEF lapped_result lapped_save_pastes(const char *path, const lapped_texture *t, lapped_error *err);
 /* The OBJ of the atlas's mesh and, when texture_path is not NULL, an MTL
  * beside it (obj_path with .mtl) whose map_Kd names texture_path (save the
  * atlas image there with lapped_save_image). */
@@ -422,10 +409,10 @@ LAPPEDDEF lapped_result lapped_save_obj(const char *obj_path, const lapped_mesh 
 /* lapped_write_gltf into the file path (.glb). */
 LAPPEDDEF lapped_result lapped_save_gltf(const char *path, const lapped_mesh *mesh, const lapped_atlas *atlas,
                                          const lapped_render_options *view, lapped_error *err);
-LAPPEDDEF lapped_result lapped_load_pastes(const char *path, const lapped_options *opt,
-                                           lapped_texture *out, lapped_error *err);
-LAPPEDDEF lapped_result lapped_load_constraints(const char *path, const lapped_options *opt,
-                                                lapped_constraints *out, lapped_error *err);
+LAPPEDDEF lapped_result lapped_load_pastes(const char *path, const lapped_options *opt, lapped_texture *out,
+                                           lapped_error *err);
+LAPPEDDEF lapped_result lapped_load_constraints(const char *path, const lapped_options *opt, lapped_constraints *out,
+                                                lapped_error *err);
 #endif
 
 LAPPEDDEF void lapped_mesh_free(lapped_mesh *m);

@@ -170,32 +170,33 @@ static long lapped__falloff(pw_image *rgba, const float *a0, const float *dist, 
 
 /* Which alpha: AUTO is the mask when one is given, else the image's alpha
  * channel if it has one, else a splotch. */
-static int lapped__alpha_mode(const lapped_image *tex, const lapped_image *mask, int mode, int *out,
-                              pw_err *e)
+static int lapped__alpha_mode(const lapped_image *tex, const lapped_image *mask, int mode, int *out, pw_err *e)
 {
     if (mode < LAPPED_ALPHA_AUTO || mode > LAPPED_ALPHA_SPLOTCH)
         return pw_fail(e, PW_ERR_INVALID, "unknown alpha mode %d (LAPPED_ALPHA_AUTO..SPLOTCH)", mode);
     if (mode == LAPPED_ALPHA_AUTO)
-        mode = mask ? LAPPED_ALPHA_MASK
-                    : (tex->channels == 2 || tex->channels == 4) ? LAPPED_ALPHA_IMAGE : LAPPED_ALPHA_SPLOTCH;
+        mode = mask                                         ? LAPPED_ALPHA_MASK
+               : (tex->channels == 2 || tex->channels == 4) ? LAPPED_ALPHA_IMAGE
+                                                            : LAPPED_ALPHA_SPLOTCH;
     if (mask && mode != LAPPED_ALPHA_MASK)
-        return pw_fail(e, PW_ERR_INVALID, "a mask was given but the alpha mode is %d, not LAPPED_ALPHA_MASK",
-                       mode);
+        return pw_fail(e, PW_ERR_INVALID, "a mask was given but the alpha mode is %d, not LAPPED_ALPHA_MASK", mode);
     if (mode == LAPPED_ALPHA_MASK && !mask)
         return pw_fail(e, PW_ERR_INVALID, "alpha mode LAPPED_ALPHA_MASK needs a mask image");
     if (mode == LAPPED_ALPHA_IMAGE && tex->channels != 2 && tex->channels != 4)
-        return pw_fail(e, PW_ERR_INVALID, "alpha mode LAPPED_ALPHA_IMAGE, but the texture has %d channels "
-                       "and no alpha", tex->channels);
+        return pw_fail(e, PW_ERR_INVALID,
+                       "alpha mode LAPPED_ALPHA_IMAGE, but the texture has %d channels "
+                       "and no alpha",
+                       tex->channels);
     if (mode == LAPPED_ALPHA_MASK && (mask->width != tex->width || mask->height != tex->height))
-        return pw_fail(e, PW_ERR_INVALID, "the mask is %dx%d but the texture is %dx%d", mask->width,
-                       mask->height, tex->width, tex->height);
+        return pw_fail(e, PW_ERR_INVALID, "the mask is %dx%d but the texture is %dx%d", mask->width, mask->height,
+                       tex->width, tex->height);
     *out = mode;
     return PW_OK;
 }
 
 /* The alpha before the fall-off, in [0, 1]; refuses an all-zero one. */
-static int lapped__base_alpha(const lapped_image *tex, const lapped_image *mask, int mode,
-                              unsigned long long seed, float *a0, pw_err *e)
+static int lapped__base_alpha(const lapped_image *tex, const lapped_image *mask, int mode, unsigned long long seed,
+                              float *a0, pw_err *e)
 {
     size_t i, n = (size_t)tex->width * tex->height;
     long nonzero = 0;
@@ -222,20 +223,20 @@ static int lapped__patch_args(const lapped_image *tex, const lapped_image *mask,
     if (mask && (r = lapped__check_image(mask, "mask", e)) != PW_OK) return r;
     *falloff = opt ? opt->falloff : 0.0f;
     if (!pw_is_finite(*falloff) || *falloff < 0.0f)
-        return pw_fail(e, PW_ERR_INVALID, "falloff must be a finite number >= 0 pixels (got %g)",
-                       (double)*falloff);
+        return pw_fail(e, PW_ERR_INVALID, "falloff must be a finite number >= 0 pixels (got %g)", (double)*falloff);
     if (*falloff == 0.0f) *falloff = lapped_default_options().falloff;
     return PW_OK;
 }
 
 /* Alpha and fall-off into rgba (whose colour is already the texture's). */
-static int lapped__patch_alpha(const pw_alloc *a, const lapped_image *tex, const lapped_image *mask,
-                               int mode, unsigned long long seed, float falloff, pw_image *rgba, pw_err *e)
+static int lapped__patch_alpha(const pw_alloc *a, const lapped_image *tex, const lapped_image *mask, int mode,
+                               unsigned long long seed, float falloff, pw_image *rgba, pw_err *e)
 {
     size_t n = (size_t)tex->width * tex->height, nl = (size_t)(tex->width + tex->height + 4);
     float *a0 = (float *)pw_alloc_array(a, n * 2, sizeof(float), "patch alpha", e);
     double *g = a0 ? (double *)pw_alloc_array(a, (size_t)(tex->width + 2) * (tex->height + 2), sizeof(double),
-                                              "distance transform", e) : NULL;
+                                              "distance transform", e)
+                   : NULL;
     double *sd = g ? (double *)pw_alloc_array(a, 4 * nl, sizeof(double), "distance transform", e) : NULL;
     int *si = sd ? (int *)pw_alloc_array(a, nl, sizeof(int), "distance transform", e) : NULL;
     int r = si ? PW_OK : PW_ERR_NOMEM;
@@ -243,8 +244,10 @@ static int lapped__patch_alpha(const pw_alloc *a, const lapped_image *tex, const
     if (r == PW_OK) {
         lapped__edt(a0, tex->width, tex->height, a0 + n, g, sd, si);
         if (lapped__falloff(rgba, a0, a0 + n, falloff) == 0)
-            r = pw_fail(e, PW_ERR_INVALID, "the patch is fully transparent after the %g-pixel fall-off "
-                        "(the image or its opaque region is too small)", (double)falloff);
+            r = pw_fail(e, PW_ERR_INVALID,
+                        "the patch is fully transparent after the %g-pixel fall-off "
+                        "(the image or its opaque region is too small)",
+                        (double)falloff);
     }
     pw_free(a, a0);
     pw_free(a, g);

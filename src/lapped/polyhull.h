@@ -84,7 +84,10 @@ PW__DEF long pw__hull_flood(pw__hgrid *g, int top, int in, int flag)
 {
     long count = 0;
     int off[4], k;
-    off[0] = -1, off[1] = 1, off[2] = -g->W, off[3] = g->W;
+    off[0] = -1;
+    off[1] = 1;
+    off[2] = -g->W;
+    off[3] = g->W;
     while (top > 0) {
         int c = g->q[--top];
         for (k = 0; k < 4; k++) {
@@ -105,7 +108,10 @@ PW__DEF long pw__hull_flood(pw__hgrid *g, int top, int in, int flag)
 PW__DEF void pw__hull_bfs(pw__hgrid *g, int s, int *dist, int *par, int *dq)
 {
     int N = g->W * g->H, cap = 2 * N + 2, head = 0, tail = 0, i, off[4], k;
-    off[0] = -1, off[1] = 1, off[2] = -g->W, off[3] = g->W;
+    off[0] = -1;
+    off[1] = 1;
+    off[2] = -g->W;
+    off[3] = g->W;
     for (i = 0; i < N; i++) dist[i] = INT_MAX;
     dist[s] = 0;
     dq[tail++] = s;
@@ -199,7 +205,7 @@ typedef struct pw__gnode {
 typedef struct pw__phull {
     const pw_alloc *a;
     pw_err *e;
-    int n0, n;            /* vertices traced, alive */
+    int n0, n; /* vertices traced, alive */
     size_t cap;
     double *x, *y;        /* positions */
     int *prev, *next;     /* ring; prev = -1 once removed */
@@ -213,8 +219,8 @@ typedef struct pw__phull {
     int *head;            /* gx*gy list heads */
     pw__gnode *node;
     size_t nnode, capnode;
-    double clr;           /* clearance between non-adjacent edges, lattice units */
-    double w, h;          /* the image: the hull stays inside [0,w] x [0,h] */
+    double clr;  /* clearance between non-adjacent edges, lattice units */
+    double w, h; /* the image: the hull stays inside [0,w] x [0,h] */
 } pw__phull;
 
 /* Is the cell whose lower-left lattice corner is (X, Y) in the set? */
@@ -293,8 +299,7 @@ PW__DEF double pw__hull_sseg2(const double *a, const double *b, const double *c,
     double o3 = pw__hull_orient(c[0], c[1], d[0], d[1], a[0], a[1]);
     double o4 = pw__hull_orient(c[0], c[1], d[0], d[1], b[0], b[1]);
     double r, t;
-    if (((o1 > 0 && o2 < 0) || (o1 < 0 && o2 > 0)) && ((o3 > 0 && o4 < 0) || (o3 < 0 && o4 > 0)))
-        return 0.0;
+    if (((o1 > 0 && o2 < 0) || (o1 < 0 && o2 > 0)) && ((o3 > 0 && o4 < 0) || (o3 < 0 && o4 > 0))) return 0.0;
     r = pw__hull_pseg2(a[0], a[1], c[0], c[1], d[0], d[1]);
     t = pw__hull_pseg2(b[0], b[1], c[0], c[1], d[0], d[1]);
     r = t < r ? t : r;
@@ -372,12 +377,16 @@ PW__DEF int pw__hull_candidate(const pw__phull *P, int v1, pw__hentry *best, dou
     v[2] = P->next[v1];
     v[3] = P->next[v[2]];
     if (P->n < 4) return 0;
-    cx[0] = P->x[v[1]], cy[0] = P->y[v[1]];
+    cx[0] = P->x[v[1]];
+    cy[0] = P->y[v[1]];
     ok[0] = pw__hull_outside(P, v[2], v[3], cx[0], cy[0]);
-    cx[1] = P->x[v[2]], cy[1] = P->y[v[2]];
+    cx[1] = P->x[v[2]];
+    cy[1] = P->y[v[2]];
     ok[1] = pw__hull_outside(P, v[0], v[1], cx[1], cy[1]);
-    d1x = P->x[v[1]] - P->x[v[0]], d1y = P->y[v[1]] - P->y[v[0]];
-    d2x = P->x[v[3]] - P->x[v[2]], d2y = P->y[v[3]] - P->y[v[2]];
+    d1x = P->x[v[1]] - P->x[v[0]];
+    d1y = P->y[v[1]] - P->y[v[0]];
+    d2x = P->x[v[3]] - P->x[v[2]];
+    d2y = P->y[v[3]] - P->y[v[2]];
     den = d1x * d2y - d1y * d2x;
     ok[2] = 0;
     if (den != 0.0) {
@@ -490,7 +499,10 @@ PW__DEF int pw__hull_register(pw__phull *P, int v)
 {
     double xs[2], ys[2];
     int r[4], i, j, b = P->next[v];
-    xs[0] = P->x[v], xs[1] = P->x[b], ys[0] = P->y[v], ys[1] = P->y[b];
+    xs[0] = P->x[v];
+    xs[1] = P->x[b];
+    ys[0] = P->y[v];
+    ys[1] = P->y[b];
     pw__hull_box(P, xs, ys, 2, r);
     for (j = r[2]; j <= r[3]; j++)
         for (i = r[0]; i <= r[1]; i++) {
@@ -524,8 +536,14 @@ PW__DEF int pw__hull_hits_edge(const pw__phull *P, const int *v, const double *p
     double A[2], B[2], V0[2], V3[2], c2 = P->clr * P->clr;
     int b = P->next[a];
     if (a == v[0] || a == v[1] || a == v[2]) return 0; /* replaced edges */
-    A[0] = P->x[a], A[1] = P->y[a], B[0] = P->x[b], B[1] = P->y[b];
-    V0[0] = P->x[v[0]], V0[1] = P->y[v[0]], V3[0] = P->x[v[3]], V3[1] = P->y[v[3]];
+    A[0] = P->x[a];
+    A[1] = P->y[a];
+    B[0] = P->x[b];
+    B[1] = P->y[b];
+    V0[0] = P->x[v[0]];
+    V0[1] = P->y[v[0]];
+    V3[0] = P->x[v[3]];
+    V3[1] = P->y[v[3]];
     if (b != v[0] && pw__hull_sseg2(V0, p, A, B) < c2) return 1;
     if (a != v[3] && pw__hull_sseg2(p, V3, A, B) < c2) return 1;
     return 0;
@@ -538,12 +556,19 @@ PW__DEF int pw__hull_blocked(pw__phull *P, int v1, const double *p)
 {
     int v[4], a, r[4], i, j;
     double P0[2], P3[2], Pm[2], P4[2], xs[3], ys[3];
-    v[1] = v1, v[0] = P->prev[v1], v[2] = P->next[v1], v[3] = P->next[v[2]];
-    P0[0] = P->x[v[0]], P0[1] = P->y[v[0]], P3[0] = P->x[v[3]], P3[1] = P->y[v[3]];
-    Pm[0] = P->x[P->prev[v[0]]], Pm[1] = P->y[P->prev[v[0]]];
-    P4[0] = P->x[P->next[v[3]]], P4[1] = P->y[P->next[v[3]]];
-    if (pw__hull_fold(P, P0, p, P3) || pw__hull_fold(P, Pm, P0, p) || pw__hull_fold(P, p, P3, P4))
-        return 1;
+    v[1] = v1;
+    v[0] = P->prev[v1];
+    v[2] = P->next[v1];
+    v[3] = P->next[v[2]];
+    P0[0] = P->x[v[0]];
+    P0[1] = P->y[v[0]];
+    P3[0] = P->x[v[3]];
+    P3[1] = P->y[v[3]];
+    Pm[0] = P->x[P->prev[v[0]]];
+    Pm[1] = P->y[P->prev[v[0]]];
+    P4[0] = P->x[P->next[v[3]]];
+    P4[1] = P->y[P->next[v[3]]];
+    if (pw__hull_fold(P, P0, p, P3) || pw__hull_fold(P, Pm, P0, p) || pw__hull_fold(P, p, P3, P4)) return 1;
     if (!P->use_grid) {
         a = v[3];
         do {
@@ -552,7 +577,12 @@ PW__DEF int pw__hull_blocked(pw__phull *P, int v1, const double *p)
         } while (a != v[3]);
         return 0;
     }
-    xs[0] = P0[0], xs[1] = p[0], xs[2] = P3[0], ys[0] = P0[1], ys[1] = p[1], ys[2] = P3[1];
+    xs[0] = P0[0];
+    xs[1] = p[0];
+    xs[2] = P3[0];
+    ys[0] = P0[1];
+    ys[1] = p[1];
+    ys[2] = P3[1];
     pw__hull_box(P, xs, ys, 3, r);
     P->qstamp++;
     for (j = r[2]; j <= r[3]; j++)
@@ -582,8 +612,7 @@ PW__DEF int pw__hull_collapse(pw__phull *P, int v1)
     P->estamp[v0]++;
     P->estamp[v1]++;
     if (P->n <= PW__HULL_GRID_MIN) P->use_grid = 0;
-    if (P->use_grid && ((r = pw__hull_register(P, v0)) != PW_OK || (r = pw__hull_register(P, v1)) != PW_OK))
-        return r;
+    if (P->use_grid && ((r = pw__hull_register(P, v0)) != PW_OK || (r = pw__hull_register(P, v1)) != PW_OK)) return r;
     if ((r = pw__hull_update(P, vm)) != PW_OK || (r = pw__hull_update(P, v0)) != PW_OK ||
         (r = pw__hull_update(P, v1)) != PW_OK || (r = pw__hull_update(P, v3)) != PW_OK)
         return r;
@@ -603,7 +632,7 @@ PW__DEF int pw__hull_pass(pw__phull *P, int maxv, int *progress)
         pw__hentry t = pw__hull_heap_pop(P);
         double p[2];
         if (P->prev[t.v] < 0 || P->cstamp[t.v] != t.stamp) continue; /* stale */
-        if (t.cost > 0.0 && P->n <= maxv) break; /* only free collapses below the target */
+        if (t.cost > 0.0 && P->n <= maxv) break;                     /* only free collapses below the target */
         p[0] = P->px[t.v];
         p[1] = P->py[t.v];
         if (pw__hull_blocked(P, t.v, p)) continue;
@@ -712,14 +741,17 @@ PW__DEF int pw__hull_pixels(pw__hgrid *g, const float *alpha, int stride, long *
 /* §3.3: the polygonal hull of the pixels of alpha (w x h, `stride` floats
  * apart, e.g. 4 for the alpha of RGBA) that are > 0, simplified to at most
  * max_vertices vertices (0: 32) when possible. Free with pw_polyhull_free. */
-PW__DEF int pw_polyhull_build(const pw_alloc *a, const float *alpha, int w, int h, int stride,
-                              int max_vertices, pw_polyhull *out, pw_err *e)
+PW__DEF int pw_polyhull_build(const pw_alloc *a, const float *alpha, int w, int h, int stride, int max_vertices,
+                              pw_polyhull *out, pw_err *e)
 {
     pw__hgrid g;
     pw__phull P;
     long total;
     int first, r = PW_OK, pass, progress = 1;
-    if (out) out->n = 0, out->uv = NULL;
+    if (out) {
+        out->n = 0;
+        out->uv = NULL;
+    }
     if (!out || !alpha || w < 1 || h < 1 || stride < 1)
         return pw_fail(e, PW_ERR_INVALID, "polygonal hull: NULL argument or empty image");
     if (w > PW_MAX_IMAGE_DIM || h > PW_MAX_IMAGE_DIM || (int64_t)w * h > PW_MAX_IMAGE_PIXELS)
@@ -734,7 +766,10 @@ PW__DEF int pw_polyhull_build(const pw_alloc *a, const float *alpha, int w, int 
     P.clr = 1e-3; /* a thousandth of a pixel */
     P.w = w;
     P.h = h;
-    g.w = w, g.h = h, g.W = w + 4, g.H = h + 4;
+    g.w = w;
+    g.h = h;
+    g.W = w + 4;
+    g.H = h + 4;
     g.m = (unsigned char *)pw_alloc_array(a, (size_t)g.W * g.H, 1, "hull mask", e);
     g.q = g.m ? (int *)pw_alloc_array(a, (size_t)g.W * g.H, sizeof(int), "hull mask", e) : NULL;
     if (!g.q) r = PW_ERR_NOMEM;
@@ -776,8 +811,7 @@ PW__DEF int pw_polyhull_contains(const pw_polyhull *h, float u, float v)
         if ((yi > v) != (yj > v) && u < xj + (v - yj) * (xi - xj) / (yi - yj)) in = !in;
     }
     for (i = 0, j = h->n - 1; !in && i < h->n; j = i++) /* within PW_POLYHULL_EPS of the boundary */
-        if (pw__hull_pseg2(u, v, h->uv[2 * j], h->uv[2 * j + 1], h->uv[2 * i], h->uv[2 * i + 1]) <= eps2)
-            in = 1;
+        if (pw__hull_pseg2(u, v, h->uv[2 * j], h->uv[2 * j + 1], h->uv[2 * i], h->uv[2 * i + 1]) <= eps2) in = 1;
     return in;
 }
 
@@ -790,9 +824,15 @@ PW__DEF int pw_polyhull_segment_hits(const pw_polyhull *h, float u0, float v0, f
     int i, j;
     if (!h || !h->uv || h->n < 3) return 0;
     if (pw_polyhull_contains(h, u0, v0) || pw_polyhull_contains(h, u1, v1)) return 1;
-    s0[0] = u0, s0[1] = v0, s1[0] = u1, s1[1] = v1;
+    s0[0] = u0;
+    s0[1] = v0;
+    s1[0] = u1;
+    s1[1] = v1;
     for (i = 0, j = h->n - 1; i < h->n; j = i++) {
-        a[0] = h->uv[2 * j], a[1] = h->uv[2 * j + 1], b[0] = h->uv[2 * i], b[1] = h->uv[2 * i + 1];
+        a[0] = h->uv[2 * j];
+        a[1] = h->uv[2 * j + 1];
+        b[0] = h->uv[2 * i];
+        b[1] = h->uv[2 * i + 1];
         if (pw__hull_sseg2(s0, s1, a, b) <= eps2) return 1;
     }
     return 0;
@@ -806,8 +846,7 @@ PW__DEF int pw_polyhull_triangle_hits(const pw_polyhull *h, const float uv[6])
     int k;
     if (!h || !h->uv || h->n < 3 || !uv) return 0;
     for (k = 0; k < 3; k++)
-        if (pw_polyhull_segment_hits(h, uv[2 * k], uv[2 * k + 1], uv[(2 * k + 2) % 6], uv[(2 * k + 3) % 6]))
-            return 1;
+        if (pw_polyhull_segment_hits(h, uv[2 * k], uv[2 * k + 1], uv[(2 * k + 2) % 6], uv[(2 * k + 3) % 6])) return 1;
     x = h->uv[0];
     y = h->uv[1];
     for (k = 0; k < 3; k++)

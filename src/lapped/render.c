@@ -5,35 +5,35 @@
 
 #ifndef PW_NO_RENDER
 /* Checks that a lapped texture belongs to this mesh and these patches. */
-static int lapped__check_texture(const pw_trimesh *m, const lapped_texture *t, const lapped_source *src,
-                                 pw_err *e)
+static int lapped__check_texture(const pw_trimesh *m, const lapped_texture *t, const lapped_source *src, pw_err *e)
 {
     const lapped_image *patches = src ? src->patches : NULL, *values = src ? src->values : NULL;
     int k, p, i;
     if (!t || !patches) return pw_fail(e, PW_ERR_INVALID, "missing lapped texture or patches");
     if (src->npatches != t->npatches)
-        return pw_fail(e, PW_ERR_INVALID, "the lapped texture was made with %d patches, the source has %d",
-                       t->npatches, src->npatches);
+        return pw_fail(e, PW_ERR_INVALID, "the lapped texture was made with %d patches, the source has %d", t->npatches,
+                       src->npatches);
     if (t->ntris && t->ntris != m->nf) /* 0: read from a file, triangle indices checked below */
-        return pw_fail(e, PW_ERR_INVALID, "the lapped texture was made for %d triangles, the mesh has %d",
-                       t->ntris, m->nf);
+        return pw_fail(e, PW_ERR_INVALID, "the lapped texture was made for %d triangles, the mesh has %d", t->ntris,
+                       m->nf);
     for (k = 0; k < t->npatches; k++) {
         const lapped_image *v = values ? &values[k] : &patches[k];
         if (patches[k].width != t->patch_size[2 * k] || patches[k].height != t->patch_size[2 * k + 1] ||
             patches[k].channels != 4 || !patches[k].pixels)
-            return pw_fail(e, PW_ERR_INVALID, "patch %d is not the %dx%d RGBA image the pastes were made "
-                           "with", k, t->patch_size[2 * k], t->patch_size[2 * k + 1]);
+            return pw_fail(e, PW_ERR_INVALID,
+                           "patch %d is not the %dx%d RGBA image the pastes were made "
+                           "with",
+                           k, t->patch_size[2 * k], t->patch_size[2 * k + 1]);
         if (v->width != patches[k].width || v->height != patches[k].height || !v->pixels)
             return pw_fail(e, PW_ERR_INVALID, "value image %d does not match patch %d's size", k, k);
     }
     for (p = 0; p < t->npastes; p++) {
         if (t->pastes[p].patch < 0 || t->pastes[p].patch >= t->npatches)
-            return pw_fail(e, PW_ERR_INVALID, "paste %d uses patch %d of %d", p, t->pastes[p].patch,
-                           t->npatches);
+            return pw_fail(e, PW_ERR_INVALID, "paste %d uses patch %d of %d", p, t->pastes[p].patch, t->npatches);
         for (i = 0; i < t->pastes[p].nfaces; i++)
             if (t->pastes[p].faces[i] < 0 || t->pastes[p].faces[i] >= m->nf)
-                return pw_fail(e, PW_ERR_INVALID, "paste %d refers to triangle %d of %d", p,
-                               t->pastes[p].faces[i], m->nf);
+                return pw_fail(e, PW_ERR_INVALID, "paste %d refers to triangle %d of %d", p, t->pastes[p].faces[i],
+                               m->nf);
     }
     return PW_OK;
 }
@@ -120,9 +120,8 @@ static int lapped__draw_band(void *user, pw_fb *fb, pw_err *e)
 
 /* The frame, band by band (pw_render_frame): the normals once, from the
  * whole mesh (every paste is lit as the surface), then the bands. */
-static int lapped__draw_pastes(const pw_alloc *a, const pw_trimesh *m, const lapped_texture *t,
-                               const pw_texture *tex, const lapped_render_options *ro, pw_image *pic,
-                               pw_err *e)
+static int lapped__draw_pastes(const pw_alloc *a, const pw_trimesh *m, const lapped_texture *t, const pw_texture *tex,
+                               const lapped_render_options *ro, pw_image *pic, pw_err *e)
 {
     lapped__picture F;
     pw_frame f;
@@ -153,9 +152,8 @@ static int lapped__draw_pastes(const pw_alloc *a, const pw_trimesh *m, const lap
     return r;
 }
 
-LAPPEDDEF lapped_result lapped_render(const lapped_mesh *mesh, const lapped_texture *t,
-                                      const lapped_source *src, const lapped_render_options *ro,
-                                      lapped_image *out, lapped_error *err)
+LAPPEDDEF lapped_result lapped_render(const lapped_mesh *mesh, const lapped_texture *t, const lapped_source *src,
+                                      const lapped_render_options *ro, lapped_image *out, lapped_error *err)
 {
     lapped_render_options o;
     pw_alloc a = lapped__alloc(t ? &t->allocator : NULL);
@@ -179,8 +177,8 @@ LAPPEDDEF lapped_result lapped_render(const lapped_mesh *mesh, const lapped_text
         if (r == PW_OK && !(tex = (pw_texture *)pw_calloc_array(&a, (size_t)t->npatches, sizeof *tex, "textures", &pe)))
             r = PW_ERR_NOMEM;
         for (k = 0; r == PW_OK && k < t->npatches; k++)
-            r = lapped__patch_texture(&a, &src->patches[k], src->values ? &src->values[k] : &src->patches[k],
-                                      &tex[k], &pe);
+            r = lapped__patch_texture(&a, &src->patches[k], src->values ? &src->values[k] : &src->patches[k], &tex[k],
+                                      &pe);
         if (r == PW_OK && lapped__draw_pastes(&a, &m, t, tex, &o, &pic, &pe) == PW_OK)
             lapped__take_image(&pic, &a, out);
         for (k = 0; tex && k < t->npatches; k++) pw_texture_free(&a, &tex[k]);
@@ -191,11 +189,13 @@ LAPPEDDEF lapped_result lapped_render(const lapped_mesh *mesh, const lapped_text
 }
 
 #else
-LAPPEDDEF lapped_result lapped_render(const lapped_mesh *mesh, const lapped_texture *t,
-                                      const lapped_source *src, const lapped_render_options *ro,
-                                      lapped_image *out, lapped_error *err)
+LAPPEDDEF lapped_result lapped_render(const lapped_mesh *mesh, const lapped_texture *t, const lapped_source *src,
+                                      const lapped_render_options *ro, lapped_image *out, lapped_error *err)
 {
-    (void)mesh, (void)t, (void)src, (void)ro;
+    (void)mesh;
+    (void)t;
+    (void)src;
+    (void)ro;
     if (out) memset(out, 0, sizeof *out);
     return lapped__left_out("rendering", "PW_NO_RENDER", err);
 }

@@ -10,16 +10,19 @@
 
 /* What the fill found, and the two-sided fit of its boundary (30000
  * samples a side) relative to the surface's diagonal. */
-static int lst__tet_report(const pw_alloc *a, const pw_stuff_tris *tri, const pw_tetmesh *tm,
-                           const pw_stuff_info *info, lst_tet_report *rep, pw_err *e)
+static int lst__tet_report(const pw_alloc *a, const pw_stuff_tris *tri, const pw_tetmesh *tm, const pw_stuff_info *info,
+                           lst_tet_report *rep, pw_err *e)
 {
     pw_stuff_fit fit;
     int r = pw_stuff_fit_measure(a, tri, tm, 30000, &fit, e);
     memset(rep, 0, sizeof *rep);
-    rep->crossing_pairs = info->crossing_pairs, rep->skipped_triangles = info->skipped_triangles;
-    rep->closed_holes = info->closed_holes, rep->fragments = info->fragments;
+    rep->crossing_pairs = info->crossing_pairs;
+    rep->skipped_triangles = info->skipped_triangles;
+    rep->closed_holes = info->closed_holes;
+    rep->fragments = info->fragments;
     if (r != PW_OK) return r;
-    rep->pieces = fit.pieces, rep->surface_pieces = fit.surface_pieces;
+    rep->pieces = fit.pieces;
+    rep->surface_pieces = fit.surface_pieces;
     rep->fit_max = (fit.to_max > fit.from_max ? fit.to_max : fit.from_max) / fit.diag;
     rep->fit_p99 = (fit.to_p99 > fit.from_p99 ? fit.to_p99 : fit.from_p99) / fit.diag;
     return PW_OK;
@@ -31,8 +34,10 @@ static void lst__tet_warning(const pw_stuff_info *info, pw_err *e)
 {
     size_t n = 0;
     if (info->crossing_pairs > 0)
-        n += (size_t)snprintf(e->msg, sizeof e->msg, "the surface crosses itself (%ld triangle pairs); filled where its "
-                              "winding number is at least 1/2", info->crossing_pairs);
+        n += (size_t)snprintf(e->msg, sizeof e->msg,
+                              "the surface crosses itself (%ld triangle pairs); filled where its "
+                              "winding number is at least 1/2",
+                              info->crossing_pairs);
     if (info->skipped_triangles > 0 && n < sizeof e->msg)
         n += (size_t)snprintf(e->msg + n, sizeof e->msg - n, "%s%d zero-area triangles skipped", n ? "; " : "",
                               info->skipped_triangles);
@@ -56,8 +61,12 @@ LSTDEF lst_result lst_tetrahedralize(const lst_mesh *surface, const lst_options 
     if (out) memset(out, 0, sizeof *out);
     memset(&tri, 0, sizeof tri);
     memset(&tm, 0, sizeof tm);
-    so.cell = o.tet.cell, so.strict = o.tet.strict, so.max_hole = o.tet.max_hole, so.info = &info;
-    so.uniform = o.tet.uniform, so.fit = o.tet.fit;
+    so.cell = o.tet.cell;
+    so.strict = o.tet.strict;
+    so.max_hole = o.tet.max_hole;
+    so.info = &info;
+    so.uniform = o.tet.uniform;
+    so.fit = o.tet.fit;
     if (o.tet.target_tets > 0) so.target_tets = o.tet.target_tets;
     if (!surface || !out) pw_fail(&e, PW_ERR_INVALID, "lst_tetrahedralize: NULL argument");
     else if (!(so.cell >= 0.0) || !pw_is_finite(so.cell) || !pw_is_finite(so.max_hole) || o.tet.target_tets < 0)
@@ -71,9 +80,7 @@ LSTDEF lst_result lst_tetrahedralize(const lst_mesh *surface, const lst_options 
                 (!report || lst__tet_report(&a, &in, &tm, &info, report, &e) == PW_OK)) {
                 lst__take_tets(&tm, &a, out);
                 lst__tet_warning(&info, &e);
-            }
-            else if (tm.tet)
-                pw_tetmesh_free(&a, &tm);
+            } else if (tm.tet) pw_tetmesh_free(&a, &tm);
         }
     }
     pw_mesh_free(&a, &tri);
@@ -124,7 +131,10 @@ LSTDEF lst_result lst_tetmesh_surface(const lst_tetmesh *mesh, const lst_options
         if (lst__geo_init(&a, &m, &g, &e) == PW_OK) {
             if (pw_mesh_alloc(&a, &s, m.nv, g.nbface, 3 * g.nbface, 0, &e) == PW_OK) {
                 memcpy(s.pos, m.pos, (size_t)m.nv * 3 * sizeof(float));
-                for (f = 0; f < g.nbface; f++) s.fstart[f] = 3 * f, lst__face_verts(&m, g.bface[f], s.fv + 3 * f);
+                for (f = 0; f < g.nbface; f++) {
+                    s.fstart[f] = 3 * f;
+                    lst__face_verts(&m, g.bface[f], s.fv + 3 * f);
+                }
                 s.fstart[g.nbface] = 3 * g.nbface;
                 lst__take_mesh(&s, &a, out);
             }
@@ -153,11 +163,13 @@ static void lst__root(lst__shape_fn f, const double *p, const double *q, double 
         for (k = 0; k < 3; k++) x[k] = p[k] + t * (q[k] - p[k]);
         fx = f(x);
         if ((fx < 0.0) == (fa < 0.0)) {
-            a = t, fa = fx;
+            a = t;
+            fa = fx;
             if (side == -1) fb *= 0.5;
             side = -1;
         } else {
-            b = t, fb = fx;
+            b = t;
+            fb = fx;
             if (side == 1) fa *= 0.5;
             side = 1;
         }
@@ -177,10 +189,10 @@ typedef struct lst__shape_grid {
 typedef struct lst__grid {
     lst__shape_fn f;
     double lo[3], h;
-    int n;          /* cells per axis */
-    double *val;    /* (n+1)^3 values */
+    int n;       /* cells per axis */
+    double *val; /* (n+1)^3 values */
     lst__edges E;
-    pw__mb b;       /* the mesh being built */
+    pw__mb b; /* the mesh being built */
 } lst__grid;
 
 static int lst__grid_id(const lst__grid *G, int x, int y, int z) { return (z * (G->n + 1) + y) * (G->n + 1) + x; }
@@ -188,7 +200,9 @@ static int lst__grid_id(const lst__grid *G, int x, int y, int z) { return (z * (
 static void lst__grid_pos(const lst__grid *G, int id, double *p)
 {
     int s = G->n + 1;
-    p[0] = G->lo[0] + G->h * (id % s), p[1] = G->lo[1] + G->h * ((id / s) % s), p[2] = G->lo[2] + G->h * (id / (s * s));
+    p[0] = G->lo[0] + G->h * (id % s);
+    p[1] = G->lo[1] + G->h * ((id / s) % s);
+    p[2] = G->lo[2] + G->h * (id / (s * s));
 }
 
 /* The surface vertex on grid edge (a, b), made once. */
@@ -201,7 +215,9 @@ static int lst__grid_vertex_on(lst__grid *G, int a, int b)
     lst__grid_pos(G, a < b ? a : b, p);
     lst__grid_pos(G, a < b ? b : a, q);
     lst__root(G->f, p, q, G->val[a < b ? a : b], G->val[a < b ? b : a], x);
-    xf[0] = (float)x[0], xf[1] = (float)x[1], xf[2] = (float)x[2];
+    xf[0] = (float)x[0];
+    xf[1] = (float)x[1];
+    xf[2] = (float)x[2];
     if (pw__mb_vertex(&G->b, xf)) return -1;
     return *id = idx;
 }
@@ -217,7 +233,10 @@ static int lst__grid_tri(lst__grid *G, int e[3][2])
     for (k = 0; k < 3; k++)
         if ((v[k] = lst__grid_vertex_on(G, e[k][0], e[k][1])) < 0) return PW_ERR_NOMEM;
     P = G->b.m.pos; /* after the vertices were added: they may move it */
-    for (k = 0; k < 3; k++) u[k] = P[3 * v[1] + k] - P[3 * v[0] + k], w[k] = P[3 * v[2] + k] - P[3 * v[0] + k];
+    for (k = 0; k < 3; k++) {
+        u[k] = P[3 * v[1] + k] - P[3 * v[0] + k];
+        w[k] = P[3 * v[2] + k] - P[3 * v[0] + k];
+    }
     pw_cross3(u, w, n);
     for (k = 0; k < 3; k++) {
         int j;
@@ -226,7 +245,11 @@ static int lst__grid_tri(lst__grid *G, int e[3][2])
         for (j = 0; j < 3; j++) q[j] -= p[j];
         side += pw_dot3(n, q);
     }
-    if (side < 0.0) k = v[1], v[1] = v[2], v[2] = k;
+    if (side < 0.0) {
+        k = v[1];
+        v[1] = v[2];
+        v[2] = k;
+    }
     if (pw__mb_room(&G->b, 3)) return PW_ERR_NOMEM;
     for (k = 0; k < 3; k++)
         if (pw__mb_corner(&G->b, v[k], -1)) return PW_ERR_NOMEM;
@@ -243,10 +266,19 @@ static int lst__grid_tet(lst__grid *G, const int *c)
     }
     if (!nn || !np) return PW_OK;
     if (nn == 2) {
-        e[0][0] = neg[0], e[0][1] = pos[0], e[1][0] = neg[0], e[1][1] = pos[1];
-        e[2][0] = neg[1], e[2][1] = pos[1], e[3][0] = neg[1], e[3][1] = pos[0];
+        e[0][0] = neg[0];
+        e[0][1] = pos[0];
+        e[1][0] = neg[0];
+        e[1][1] = pos[1];
+        e[2][0] = neg[1];
+        e[2][1] = pos[1];
+        e[3][0] = neg[1];
+        e[3][1] = pos[0];
         if ((r = lst__grid_tri(G, e)) != PW_OK) return r;
-        e[1][0] = e[2][0], e[1][1] = e[2][1], e[2][0] = e[3][0], e[2][1] = e[3][1];
+        e[1][0] = e[2][0];
+        e[1][1] = e[2][1];
+        e[2][0] = e[3][0];
+        e[2][1] = e[3][1];
         return lst__grid_tri(G, e);
     }
     for (k = 0; k < 3; k++) {
@@ -267,12 +299,15 @@ static int lst__implicit(const pw_alloc *a, const lst__shape_grid *s, pw_mesh *o
     double h = s->h;
     int n = s->n;
     static const int split[6][4] = {{0, 1, 2, 6}, {0, 2, 3, 6}, {0, 3, 7, 6}, {0, 7, 4, 6}, {0, 4, 5, 6}, {0, 5, 1, 6}};
-    static const int cor[8][3] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
+    static const int cor[8][3] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0},
+                                  {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
     lst__grid G;
     size_t nvals = (size_t)(n + 1) * (n + 1) * (n + 1), cap = 16, i;
     int x, y, z, k, j, r = PW_OK;
     memset(&G, 0, sizeof G);
-    G.f = f, G.h = h, G.n = n;
+    G.f = f;
+    G.h = h;
+    G.n = n;
     memcpy(G.lo, s->lo, sizeof G.lo);
     while (cap < 8 * nvals / (size_t)n) cap *= 2;
     G.E.mask = cap - 1;
@@ -292,12 +327,16 @@ static int lst__implicit(const pw_alloc *a, const lst__shape_grid *s, pw_mesh *o
             for (x = 0; r == PW_OK && x < n; x++)
                 for (k = 0; r == PW_OK && k < 6; k++) {
                     int c[4];
-                    for (j = 0; j < 4; j++) c[j] = lst__grid_id(&G, x + cor[split[k][j]][0], y + cor[split[k][j]][1], z + cor[split[k][j]][2]);
+                    for (j = 0; j < 4; j++)
+                        c[j] =
+                            lst__grid_id(&G, x + cor[split[k][j]][0], y + cor[split[k][j]][1], z + cor[split[k][j]][2]);
                     r = lst__grid_tet(&G, c);
                 }
     if (r == PW_OK) r = pw__mb_finish(&G.b, out, "implicit surface");
     else pw__mb_free(&G.b);
-    pw_free(a, G.val), pw_free(a, G.E.key), pw_free(a, G.E.id);
+    pw_free(a, G.val);
+    pw_free(a, G.E.key);
+    pw_free(a, G.E.id);
     return r;
 }
 
@@ -379,7 +418,8 @@ LSTDEF lst_result lst_builtin_mesh(const char *name, const lst_options *opt, lst
 
 /* Depth 1 and the direction along the axis of part c, at n points evenly
  * over the interval span[0] .. span[1] of its parameter. */
-static int lst__axis_constraints(const pw_alloc *a, const double *c, const double span[2], int n, lst__cset *s, pw_err *e)
+static int lst__axis_constraints(const pw_alloc *a, const double *c, const double span[2], int n, lst__cset *s,
+                                 pw_err *e)
 {
     double p[3], t0 = span[0], t1 = span[1];
     int i, k;
@@ -405,19 +445,28 @@ static int lst__tree_constraints(const pw_alloc *a, const lst_mesh *surface, lst
         for (k = m.fstart[f] + 1; k + 1 < m.fstart[f + 1]; k++, tri++) {
             const float *A = m.pos + 3 * m.fv[m.fstart[f]], *B = m.pos + 3 * m.fv[k], *C = m.pos + 3 * m.fv[k + 1];
             double u[3], w[3], n[3], c[3], t, best = 1e300, dn = 0.0;
-            for (j = 0; j < 3; j++) u[j] = B[j] - A[j], w[j] = C[j] - A[j], c[j] = (A[j] + B[j] + C[j]) / 3.0;
+            for (j = 0; j < 3; j++) {
+                u[j] = B[j] - A[j];
+                w[j] = C[j] - A[j];
+                c[j] = (A[j] + B[j] + C[j]) / 3.0;
+            }
             pw_cross3(u, w, n);
             pw_norm3(n);
             for (j = 0; j < 3; j++) {
                 double d = fabs(lst__part(lst__tree_parts[j], c, &t));
-                if (d < best) best = d, dn = fabs(pw_dot3(n, lst__tree_parts[j] + 3));
+                if (d < best) {
+                    best = d;
+                    dn = fabs(pw_dot3(n, lst__tree_parts[j] + 3));
+                }
             }
-            if (dn < 0.6 && lst__add_constraint(a, s, lst__constraint(LST_CONSTRAINT_DEPTH_FACE, tri, NULL, NULL, 0.0, 0.0), e))
+            if (dn < 0.6 &&
+                lst__add_constraint(a, s, lst__constraint(LST_CONSTRAINT_DEPTH_FACE, tri, NULL, NULL, 0.0, 0.0), e))
                 return PW_ERR_NOMEM;
         }
     for (j = 0; j < 3; j++) {
         double span[2];
-        span[0] = j ? 0.3 : 0.0, span[1] = lst__tree_parts[j][6];
+        span[0] = j ? 0.3 : 0.0;
+        span[1] = lst__tree_parts[j][6];
         if (lst__axis_constraints(a, lst__tree_parts[j], span, 12, s, e)) return PW_ERR_NOMEM;
     }
     return PW_OK;
@@ -430,9 +479,14 @@ static int lst__torus_constraints(const pw_alloc *a, lst__cset *s, pw_err *e)
     int i;
     for (i = 0; i < 24; i++) {
         double t = i * (2.0 * 3.14159265358979323846 / 24), p[3], d[3];
-        p[0] = pw_cos(t), p[1] = pw_sin(t), p[2] = 0.0;
-        d[0] = -p[1], d[1] = p[0], d[2] = 0.0;
-        if (lst__add_constraint(a, s, lst__constraint(LST_CONSTRAINT_DIRECTION, 0, p, d, 0.0, 0.0), e)) return PW_ERR_NOMEM;
+        p[0] = pw_cos(t);
+        p[1] = pw_sin(t);
+        p[2] = 0.0;
+        d[0] = -p[1];
+        d[1] = p[0];
+        d[2] = 0.0;
+        if (lst__add_constraint(a, s, lst__constraint(LST_CONSTRAINT_DIRECTION, 0, p, d, 0.0, 0.0), e))
+            return PW_ERR_NOMEM;
     }
     return PW_OK;
 }
@@ -452,15 +506,16 @@ LSTDEF lst_result lst_builtin_constraints(const char *name, const lst_mesh *surf
     if (!name || !out || (!surface && name && !strcmp(name, "tree")))
         pw_fail(&e, PW_ERR_INVALID, "lst_builtin_constraints: NULL argument");
     else if (!strcmp(name, "kiwi")) { /* the skin (one fill) at 0, the core along z at 1 */
-        if (lst__add_constraint(&a, &s, lst__constraint(LST_CONSTRAINT_DEPTH_FILL, 0, NULL, NULL, 0.0, 60.0), &e) == PW_OK)
+        if (lst__add_constraint(&a, &s, lst__constraint(LST_CONSTRAINT_DEPTH_FILL, 0, NULL, NULL, 0.0, 60.0), &e) ==
+            PW_OK)
             lst__axis_constraints(&a, kiwi_axis, kiwi_span, 13, &s, &e);
-    } else if (!strcmp(name, "tree"))
-        lst__tree_constraints(&a, surface, &s, &e);
-    else if (!strcmp(name, "torus"))
-        lst__torus_constraints(&a, &s, &e);
-    else
-        pw_fail(&e, PW_ERR_INVALID, "no built-in constraints for '%s' (kiwi, tree, torus)", name);
-    if (e.code == PW_OK) out->items = s.c, out->count = s.n, out->allocator = lst__allocator(&a);
-    else pw_free(&a, s.c);
+    } else if (!strcmp(name, "tree")) lst__tree_constraints(&a, surface, &s, &e);
+    else if (!strcmp(name, "torus")) lst__torus_constraints(&a, &s, &e);
+    else pw_fail(&e, PW_ERR_INVALID, "no built-in constraints for '%s' (kiwi, tree, torus)", name);
+    if (e.code == PW_OK) {
+        out->items = s.c;
+        out->count = s.n;
+        out->allocator = lst__allocator(&a);
+    } else pw_free(&a, s.c);
     return lst__done(&e, err);
 }

@@ -291,7 +291,10 @@ static double lst__exp_neg(double x)
     double s, t;
     int k, halvings = 0;
     if (!(x > -700.0)) return 0.0;
-    while (x < -0.25) x *= 0.5, halvings++;
+    while (x < -0.25) {
+        x *= 0.5;
+        halvings++;
+    }
     s = t = 1.0;
     for (k = 1; k < 14; k++) s += (t *= x / k);
     while (halvings--) s *= s;
@@ -342,7 +345,11 @@ static void lst__principal(const double s[9], double out[3])
         if (c[4 * k] > c[4 * best]) best = k;
     for (k = 0; k < 3; k++) out[k] = v[3 * k + best];
     k = fabs(out[0]) >= fabs(out[1]) && fabs(out[0]) >= fabs(out[2]) ? 0 : (fabs(out[1]) >= fabs(out[2]) ? 1 : 2);
-    if (out[k] < 0.0) out[0] = -out[0], out[1] = -out[1], out[2] = -out[2];
+    if (out[k] < 0.0) {
+        out[0] = -out[0];
+        out[1] = -out[1];
+        out[2] = -out[2];
+    }
 }
 
 /* The bounding-box diagonal of nv points. */

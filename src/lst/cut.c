@@ -25,7 +25,8 @@ static int *lst__edge_find(lst__edges *E, int a, int b, int insert)
     while (E->key[h] && E->key[h] != k) h = (h + 1) & E->mask;
     if (!E->key[h]) {
         if (!insert) return NULL;
-        E->key[h] = k, E->id[h] = -1;
+        E->key[h] = k;
+        E->id[h] = -1;
     }
     return &E->id[h];
 }
@@ -69,8 +70,10 @@ static int lst__cut_polygon(const int *c, const int *sg, lst__edges *E, int *out
         else out[n++] = c[k];
     }
     if (nn == 2 && np == 2) {
-        out[0] = *lst__edge_find(E, c[neg[0]], c[pos[0]], 0), out[1] = *lst__edge_find(E, c[neg[0]], c[pos[1]], 0);
-        out[2] = *lst__edge_find(E, c[neg[1]], c[pos[1]], 0), out[3] = *lst__edge_find(E, c[neg[1]], c[pos[0]], 0);
+        out[0] = *lst__edge_find(E, c[neg[0]], c[pos[0]], 0);
+        out[1] = *lst__edge_find(E, c[neg[0]], c[pos[1]], 0);
+        out[2] = *lst__edge_find(E, c[neg[1]], c[pos[1]], 0);
+        out[3] = *lst__edge_find(E, c[neg[1]], c[pos[0]], 0);
         return 4;
     }
     for (i = 0; i < nn; i++)
@@ -111,15 +114,23 @@ static void lst__cone(int faces[5][6], const int *fn, int nf, int sd, const floa
         for (i = 1; i + 1 < fn[f] && s->n < 12; i++) {
             int *t = s->tet[s->n];
             double u[3], v[3], w[3], vol;
-            t[0] = apex, t[1] = faces[f][lo], t[2] = faces[f][(lo + i) % fn[f]], t[3] = faces[f][(lo + i + 1) % fn[f]];
+            t[0] = apex;
+            t[1] = faces[f][lo];
+            t[2] = faces[f][(lo + i) % fn[f]];
+            t[3] = faces[f][(lo + i + 1) % fn[f]];
             for (k = 0; k < 3; k++) {
                 u[k] = (double)pos[3 * t[1] + k] - pos[3 * t[0] + k];
                 v[k] = (double)pos[3 * t[2] + k] - pos[3 * t[0] + k];
                 w[k] = (double)pos[3 * t[3] + k] - pos[3 * t[0] + k];
             }
-            vol = u[0] * (v[1] * w[2] - v[2] * w[1]) - u[1] * (v[0] * w[2] - v[2] * w[0]) + u[2] * (v[0] * w[1] - v[1] * w[0]);
+            vol = u[0] * (v[1] * w[2] - v[2] * w[1]) - u[1] * (v[0] * w[2] - v[2] * w[0]) +
+                  u[2] * (v[0] * w[1] - v[1] * w[0]);
             if (vol == 0.0) continue;
-            if (vol < 0.0) k = t[2], t[2] = t[3], t[3] = k;
+            if (vol < 0.0) {
+                k = t[2];
+                t[2] = t[3];
+                t[3] = k;
+            }
             s->side[s->n++] = (unsigned char)(sd > 0);
         }
     }
@@ -145,15 +156,15 @@ typedef struct lst__cutter {
     const pw_alloc *a;
     lst_model *m;
     int nv0, nt0, nnew, nsplit;
-    int *sg;            /* nv0 signs */
+    int *sg; /* nv0 signs */
     lst__edges E;
-    int *elo, *ehi;     /* per new vertex: the edge it splits (lower, upper) */
-    double *es;         /* ... and where, from lower to upper */
-    int *sub_start;     /* nt0+1: sub-tetrahedra of each tetrahedron (0 or >= 2 when split) */
-    int *sub;           /* 4 per sub-tetrahedron */
+    int *elo, *ehi; /* per new vertex: the edge it splits (lower, upper) */
+    double *es;     /* ... and where, from lower to upper */
+    int *sub_start; /* nt0+1: sub-tetrahedra of each tetrahedron (0 or >= 2 when split) */
+    int *sub;       /* 4 per sub-tetrahedron */
     unsigned char *side;
-    int *first_new;     /* nt0: index of its second sub-tetrahedron in the new mesh */
-    int nt;             /* the new mesh: nt tetrahedra, tets, removed flags */
+    int *first_new; /* nt0: index of its second sub-tetrahedron in the new mesh */
+    int nt;         /* the new mesh: nt tetrahedra, tets, removed flags */
     int *tets;
     unsigned char *rem;
     int **ptets, **pcorners, *pn; /* per paste: its new entries, until committed */
@@ -163,14 +174,25 @@ static void lst__cutter_free(lst__cutter *C)
 {
     const pw_alloc *a = C->a;
     int p;
-    pw_free(a, C->sg), pw_free(a, C->E.key), pw_free(a, C->E.id), pw_free(a, C->elo), pw_free(a, C->ehi), pw_free(a, C->es);
-    pw_free(a, C->sub_start), pw_free(a, C->sub), pw_free(a, C->side), pw_free(a, C->first_new);
-    pw_free(a, C->tets), pw_free(a, C->rem);
+    pw_free(a, C->sg);
+    pw_free(a, C->E.key);
+    pw_free(a, C->E.id);
+    pw_free(a, C->elo);
+    pw_free(a, C->ehi);
+    pw_free(a, C->es);
+    pw_free(a, C->sub_start);
+    pw_free(a, C->sub);
+    pw_free(a, C->side);
+    pw_free(a, C->first_new);
+    pw_free(a, C->tets);
+    pw_free(a, C->rem);
     for (p = 0; p < C->m->npastes; p++) {
         if (C->ptets) pw_free(a, C->ptets[p]);
         if (C->pcorners) pw_free(a, C->pcorners[p]);
     }
-    pw_free(a, C->ptets), pw_free(a, C->pcorners), pw_free(a, C->pn);
+    pw_free(a, C->ptets);
+    pw_free(a, C->pcorners);
+    pw_free(a, C->pn);
 }
 
 /* The crossed edges become new vertices, appended to the mesh. */
@@ -195,9 +217,15 @@ static int lst__cut_vertices(lst__cutter *C, const double *phi, pw_err *e)
             if (C->sg[a] * C->sg[b] >= 0) continue;
             id = lst__edge_find(&C->E, a, b, 1);
             if (*id >= 0) continue;
-            if (a > b) i = a, a = b, b = i;
+            if (a > b) {
+                i = a;
+                a = b;
+                b = i;
+            }
             *id = tm.nv + n;
-            C->elo[n] = a, C->ehi[n] = b, C->es[n] = phi[a] / (phi[a] - phi[b]);
+            C->elo[n] = a;
+            C->ehi[n] = b;
+            C->es[n] = phi[a] / (phi[a] - phi[b]);
             n++;
         }
     C->nnew = n;
@@ -223,7 +251,11 @@ static int lst__cut_split(lst__cutter *C, pw_err *e)
     for (t = 0; t < C->nt0; t++) {
         int sg[4], neg = 0, pos = 0;
         C->sub_start[t] = n;
-        for (k = 0; k < 4; k++) sg[k] = C->sg[tet[4 * t + k]], neg += sg[k] < 0, pos += sg[k] > 0;
+        for (k = 0; k < 4; k++) {
+            sg[k] = C->sg[tet[4 * t + k]];
+            neg += sg[k] < 0;
+            pos += sg[k] > 0;
+        }
         if (!neg || !pos) continue;
         lst__split_tet(tet + 4 * t, sg, &C->E, C->m->mesh.positions, &s);
         if (pw_grow(C->a, (void **)&C->sub, &cap, (size_t)(n + s.n) * 4, sizeof(int), "cut", e) ||
@@ -298,7 +330,10 @@ static int lst__cut_local(lst__cutter *C, lst__paste_build *P, const int *c, con
         return lc[k];
     }
     if (stamp[n] == id) return loc[n];
-    for (k = 0; k < 4; k++) ka = c[k] == C->elo[n] ? k : ka, kb = c[k] == C->ehi[n] ? k : kb;
+    for (k = 0; k < 4; k++) {
+        ka = c[k] == C->elo[n] ? k : ka;
+        kb = c[k] == C->ehi[n] ? k : kb;
+    }
     old = *cap;
     if (pw_grow(C->a, (void **)&q->verts, cap, (size_t)q->nverts + 1, sizeof(int), "cut paste", e)) return -1;
     if (*cap != old) {
@@ -311,9 +346,11 @@ static int lst__cut_local(lst__cutter *C, lst__paste_build *P, const int *c, con
         q->uvw = w;
     }
     for (j = 0; j < 3; j++)
-        q->uvw[3 * q->nverts + j] = (float)((1.0 - C->es[n]) * q->uvw[3 * lc[ka] + j] + C->es[n] * q->uvw[3 * lc[kb] + j]);
+        q->uvw[3 * q->nverts + j] =
+            (float)((1.0 - C->es[n]) * q->uvw[3 * lc[ka] + j] + C->es[n] * q->uvw[3 * lc[kb] + j]);
     q->verts[q->nverts] = g;
-    stamp[n] = id, loc[n] = q->nverts;
+    stamp[n] = id;
+    loc[n] = q->nverts;
     return q->nverts++;
 }
 
@@ -327,10 +364,15 @@ static int lst__cut_paste(lst__cutter *C, int id, int *stamp, int *loc, pw_err *
     const int *old = C->m->mesh.tets;
     int i, j, k, extra = 0, n = 0, *tets, *corners;
     lst__paste_build P;
-    P.q = q, P.id = id, P.stamp = stamp, P.loc = loc, P.cap = (size_t)q->nverts;
+    P.q = q;
+    P.id = id;
+    P.stamp = stamp;
+    P.loc = loc;
+    P.cap = (size_t)q->nverts;
     for (i = 0; i < q->ntets; i++) extra += lst__nsub(C, q->tets[i]) > 0 ? lst__nsub(C, q->tets[i]) - 1 : 0;
     C->ptets[id] = tets = (int *)pw_alloc_array(C->a, (size_t)q->ntets + extra, sizeof(int), "cut paste", e);
-    C->pcorners[id] = corners = (int *)pw_alloc_array(C->a, ((size_t)q->ntets + extra) * 4, sizeof(int), "cut paste", e);
+    C->pcorners[id] = corners =
+        (int *)pw_alloc_array(C->a, ((size_t)q->ntets + extra) * 4, sizeof(int), "cut paste", e);
     if (!tets || !corners) return PW_ERR_NOMEM;
     for (i = 0; i < q->ntets; i++) {
         int t = q->tets[i], ns = lst__nsub(C, t), lc[4];
@@ -364,7 +406,8 @@ static int lst__cut_pastes(lst__cutter *C, pw_err *e)
     if (!C->ptets || !C->pcorners || !C->pn || !stamp || !loc) r = PW_ERR_NOMEM;
     for (k = 0; r == PW_OK && k < C->nnew; k++) stamp[k] = -1;
     for (p = 0; r == PW_OK && p < np; p++) r = lst__cut_paste(C, p, stamp, loc, e);
-    pw_free(C->a, stamp), pw_free(C->a, loc);
+    pw_free(C->a, stamp);
+    pw_free(C->a, loc);
     return r;
 }
 
@@ -373,13 +416,21 @@ static void lst__cut_commit(lst__cutter *C)
 {
     lst_model *m = C->m;
     int p;
-    pw_free(C->a, m->mesh.tets), pw_free(C->a, m->removed);
-    m->mesh.tets = C->tets, m->removed = C->rem, C->tets = NULL, C->rem = NULL;
-    m->mesh.ntets = C->nt, m->mesh.nverts = C->nv0 + C->nnew;
+    pw_free(C->a, m->mesh.tets);
+    pw_free(C->a, m->removed);
+    m->mesh.tets = C->tets;
+    m->removed = C->rem;
+    C->tets = NULL;
+    C->rem = NULL;
+    m->mesh.ntets = C->nt;
+    m->mesh.nverts = C->nv0 + C->nnew;
     for (p = 0; p < m->npastes; p++) {
         lst_paste *q = &m->pastes[p];
-        pw_free(C->a, q->tets), pw_free(C->a, q->corners);
-        q->tets = C->ptets[p], q->corners = C->pcorners[p], q->ntets = C->pn[p];
+        pw_free(C->a, q->tets);
+        pw_free(C->a, q->corners);
+        q->tets = C->ptets[p];
+        q->corners = C->pcorners[p];
+        q->ntets = C->pn[p];
         C->ptets[p] = C->pcorners[p] = NULL;
     }
 }
@@ -395,7 +446,10 @@ static int lst__cut(const pw_alloc *a, lst_model *m, double *phi, pw_err *e)
     pw_tetrings g;
     int v, r;
     memset(&C, 0, sizeof C);
-    C.a = a, C.m = m, C.nv0 = tm.nv, C.nt0 = tm.nt;
+    C.a = a;
+    C.m = m;
+    C.nv0 = tm.nv;
+    C.nt0 = tm.nt;
     if ((r = pw_tetmesh_rings(a, &tm, &g, e)) != PW_OK) return r;
     lst__snap(&g, phi, tm.nv);
     pw_tetrings_free(a, &g);
@@ -410,7 +464,8 @@ static int lst__cut(const pw_alloc *a, lst_model *m, double *phi, pw_err *e)
 
 static int lst__check_cuttable(const lst_model *m, pw_err *e)
 {
-    if (!m || !m->mesh.tets || !m->mesh.positions || m->mesh.ntets < 1) return pw_fail(e, PW_ERR_INVALID, "cut: empty model");
+    if (!m || !m->mesh.tets || !m->mesh.positions || m->mesh.ntets < 1)
+        return pw_fail(e, PW_ERR_INVALID, "cut: empty model");
     if (!m->removed) return pw_fail(e, PW_ERR_INVALID, "cut: the model has no visibility flags");
     return PW_OK;
 }
@@ -431,11 +486,12 @@ LSTDEF lst_result lst_cut_plane(lst_model *model, const float plane[4], lst_erro
     double *phi, n[3];
     int v, k;
     pw_err_clear(&e);
-    if (!plane || lst__check_cuttable(model, &e)) return lst__done(e.code ? &e : (pw_fail(&e, PW_ERR_INVALID, "cut: NULL plane"), &e), err);
+    if (!plane) pw_fail(&e, PW_ERR_INVALID, "cut: NULL plane");
+    if (e.code || lst__check_cuttable(model, &e)) return lst__done(&e, err);
     for (k = 0; k < 3; k++) n[k] = plane[k];
     if (!(pw_norm3(n) > 0.0) || !pw_is_finite(n[0] + n[1] + n[2] + plane[3])) {
-        pw_fail(&e, PW_ERR_INVALID, "cut: the plane (%g %g %g %g) has no normal or is not finite", plane[0], plane[1], plane[2],
-                plane[3]);
+        pw_fail(&e, PW_ERR_INVALID, "cut: the plane (%g %g %g %g) has no normal or is not finite", plane[0], plane[1],
+                plane[2], plane[3]);
         return lst__done(&e, err);
     }
     a = lst__alloc(&model->allocator);
@@ -455,7 +511,8 @@ LSTDEF lst_result lst_cut_field(lst_model *model, const float *field, lst_error 
     double *phi;
     int v;
     pw_err_clear(&e);
-    if (!field || lst__check_cuttable(model, &e)) return lst__done(e.code ? &e : (pw_fail(&e, PW_ERR_INVALID, "cut: NULL field"), &e), err);
+    if (!field) pw_fail(&e, PW_ERR_INVALID, "cut: NULL field");
+    if (e.code || lst__check_cuttable(model, &e)) return lst__done(&e, err);
     for (v = 0; v < model->mesh.nverts; v++)
         if (!pw_is_finite(field[v])) {
             pw_fail(&e, PW_ERR_INVALID, "cut: the field at vertex %d is not finite", v);
@@ -503,8 +560,8 @@ static int lst__stroke_points(const pw_alloc *a, const lst__stroke *st, double h
     return PW_OK;
 }
 
-LSTDEF lst_result lst_stroke_field(const lst_model *model, const float *points, int n, const float view_dir[3], float *phi,
-                                   lst_error *err)
+LSTDEF lst_result lst_stroke_field(const lst_model *model, const float *points, int n, const float view_dir[3],
+                                   float *phi, lst_error *err)
 {
     pw_alloc a;
     pw_err e;
@@ -519,11 +576,13 @@ LSTDEF lst_result lst_stroke_field(const lst_model *model, const float *points, 
         pw_fail(&e, PW_ERR_INVALID, "lst_stroke_field: NULL argument or fewer than 2 points");
         return lst__done(&e, err);
     }
-    st.pts = points, st.n = n;
+    st.pts = points;
+    st.n = n;
     for (k = 0; k < 3; k++) st.view[k] = view_dir[k];
     for (k = 0; k < 3 * n; k++)
         if (!pw_is_finite(points[k])) pw_fail(&e, PW_ERR_INVALID, "stroke point %d is not finite", k / 3);
-    if (e.code == PW_OK && !(pw_norm3(st.view) > 0.0)) pw_fail(&e, PW_ERR_INVALID, "stroke: the view direction is zero");
+    if (e.code == PW_OK && !(pw_norm3(st.view) > 0.0))
+        pw_fail(&e, PW_ERR_INVALID, "stroke: the view direction is zero");
     if (e.code != PW_OK) return lst__done(&e, err);
     a = lst__alloc(&model->allocator);
     diag = lst__diagonal(model->mesh.positions, model->mesh.nverts);
@@ -531,7 +590,8 @@ LSTDEF lst_result lst_stroke_field(const lst_model *model, const float *points, 
     for (k = 0; k < 3 * n; k++) org[k % 3] += points[k] / n;
     if (lst__stroke_points(&a, &st, 0.02 * diag, diag, &pts, &e) == PW_OK && pts.n == 0)
         pw_fail(&e, PW_ERR_INVALID, "stroke: every segment is parallel to the view");
-    memcpy(rbf.o, org, sizeof rbf.o), rbf.s = diag;
+    memcpy(rbf.o, org, sizeof rbf.o);
+    rbf.s = diag;
     if (e.code == PW_OK && lst__rbf_fit(&a, &pts, 600, &rbf, &e) == PW_OK) {
         for (v = 0; v < model->mesh.nverts; v++) {
             for (k = 0; k < 3; k++) p[k] = model->mesh.positions[3 * v + k];

@@ -20,9 +20,15 @@ static void lst__sample(const pw_volume *vol, double u, double v, double w, floa
     x = x < 0.0f ? 0.0f : (x > X - 1 ? (float)(X - 1) : x);
     y = y < 0.0f ? 0.0f : (y > Y - 1 ? (float)(Y - 1) : y);
     z = z < 0.0f ? 0.0f : (z > Z - 1 ? (float)(Z - 1) : z);
-    x0 = (int)x, y0 = (int)y, z0 = (int)z;
-    fx = x - x0, fy = y - y0, fz = z - z0;
-    dx = x0 + 1 < X ? (size_t)c : 0, dy = y0 + 1 < Y ? (size_t)X * c : 0, dz = z0 + 1 < Z ? (size_t)X * Y * c : 0;
+    x0 = (int)x;
+    y0 = (int)y;
+    z0 = (int)z;
+    fx = x - x0;
+    fy = y - y0;
+    fz = z - z0;
+    dx = x0 + 1 < X ? (size_t)c : 0;
+    dy = y0 + 1 < Y ? (size_t)X * c : 0;
+    dz = z0 + 1 < Z ? (size_t)X * Y * c : 0;
     p = vol->px + (((size_t)z0 * Y + y0) * X + x0) * c;
     for (k = 0; k < c; k++, p++) {
         float a = p[0] + fx * (p[dx] - p[0]), b = p[dy] + fx * (p[dy + dx] - p[dy]);
@@ -47,9 +53,15 @@ static float lst__mask_alpha_vox(const pw_volume *mask, float x, float y, float 
     x = x < 0.0f ? 0.0f : (x > X - 1 ? (float)(X - 1) : x);
     y = y < 0.0f ? 0.0f : (y > Y - 1 ? (float)(Y - 1) : y);
     z = z < 0.0f ? 0.0f : (z > Z - 1 ? (float)(Z - 1) : z);
-    x0 = (int)x, y0 = (int)y, z0 = (int)z;
-    fx = x - x0, fy = y - y0, fz = z - z0;
-    dx = x0 + 1 < X, dy = y0 + 1 < Y ? (int)sy : 0, dz = z0 + 1 < Z ? (int)sz : 0;
+    x0 = (int)x;
+    y0 = (int)y;
+    z0 = (int)z;
+    fx = x - x0;
+    fy = y - y0;
+    fz = z - z0;
+    dx = x0 + 1 < X;
+    dy = y0 + 1 < Y ? (int)sy : 0;
+    dz = z0 + 1 < Z ? (int)sz : 0;
     p = mask->px + z0 * sz + y0 * sy + x0;
     a = p[0] + fx * (p[dx] - p[0]);
     b = p[dy] + fx * (p[dy + dx] - p[dy]);
@@ -63,7 +75,9 @@ static float lst__mask_alpha_vox(const pw_volume *mask, float x, float y, float 
 /* Texture coordinates to a mask's voxel coordinates. */
 static void lst__to_voxel(const pw_volume *mask, double u, double v, double w, float *out)
 {
-    out[0] = (float)(u * mask->x - 0.5), out[1] = (float)((1.0 - v) * mask->y - 0.5), out[2] = (float)(w * mask->z - 0.5);
+    out[0] = (float)(u * mask->x - 0.5);
+    out[1] = (float)((1.0 - v) * mask->y - 0.5);
+    out[2] = (float)(w * mask->z - 0.5);
 }
 
 /* A mask's alpha at texture coordinates (u, v, w). */
@@ -89,11 +103,14 @@ static void lst__layers(unsigned long long seed, double u, double v, double w, d
     static const double pal[6][3] = {{0.91, 0.82, 0.62}, {0.72, 0.36, 0.20}, {0.96, 0.93, 0.84},
                                      {0.45, 0.30, 0.22}, {0.80, 0.62, 0.30}, {0.58, 0.60, 0.55}};
     static const double skin[3] = {0.20, 0.32, 0.14};
-    double band = v * 6.0 + 0.3 * (pw_fbm3(seed, 2.0 * u, 0.0, 2.0 * w) - 0.5), g = pw_fbm3(seed + 7, 24.0 * u, 24.0 * v, 24.0 * w);
+    double band = v * 6.0 + 0.3 * (pw_fbm3(seed, 2.0 * u, 0.0, 2.0 * w) - 0.5),
+           g = pw_fbm3(seed + 7, 24.0 * u, 24.0 * v, 24.0 * w);
     int b = (int)floor(band);
     b = ((b % 6) + 6) % 6;
     lst__mix3(c, pal[b], pal[b], 0.0);
-    c[0] *= 0.85 + 0.3 * g, c[1] *= 0.85 + 0.3 * g, c[2] *= 0.85 + 0.3 * g;
+    c[0] *= 0.85 + 0.3 * g;
+    c[1] *= 0.85 + 0.3 * g;
+    c[2] *= 0.85 + 0.3 * g;
     if (v < 0.035) lst__mix3(c, skin, skin, 0.0);
     *val = v < 0.035 ? 0.5 + 0.4 * (pw_fbm3(seed + 9, 12.0 * u, 0.0, 12.0 * w) - 0.5) : 0.5;
 }
@@ -112,8 +129,11 @@ static void lst__fibers(unsigned long long seed, double u, double v, double w, d
             double pv = (i + 0.15 + 0.7 * pw_lattice01(seed, 0, i, k)) / cells - v;
             double pw_ = (k + 0.15 + 0.7 * pw_lattice01(seed + 1, 0, i, k)) / cells - w;
             double d = sqrt(pv * pv + pw_ * pw_);
-            if (d < d1) d2 = d1, d1 = d, shade = pw_lattice01(seed + 2, 0, i, k);
-            else if (d < d2) d2 = d;
+            if (d < d1) {
+                d2 = d1;
+                d1 = d;
+                shade = pw_lattice01(seed + 2, 0, i, k);
+            } else if (d < d2) d2 = d;
         }
     streak = pw_fbm3(seed + 3, 3.6 * u, 30.0 * v, 30.0 * w);
     lst__mix3(c, dark, light, 0.25 + 0.45 * shade + 0.5 * (streak - 0.5));
@@ -124,8 +144,8 @@ static void lst__fibers(unsigned long long seed, double u, double v, double w, d
 /* 0: an isotropic aggregate (concrete): stones in a grainy matrix. */
 static void lst__spots(unsigned long long seed, double u, double v, double w, double *c, double *val)
 {
-    static const double matrix[3] = {0.72, 0.70, 0.66}, stone[4][3] = {
-        {0.45, 0.40, 0.36}, {0.62, 0.50, 0.38}, {0.30, 0.30, 0.32}, {0.80, 0.74, 0.62}};
+    static const double matrix[3] = {0.72, 0.70, 0.66},
+                        stone[4][3] = {{0.45, 0.40, 0.36}, {0.62, 0.50, 0.38}, {0.30, 0.30, 0.32}, {0.80, 0.74, 0.62}};
     const double cells = 6.0;
     double g = pw_fbm3(seed, 20.0 * u, 20.0 * v, 20.0 * w), best = 1e9;
     long cx = (long)floor(u * cells), cy = (long)floor(v * cells), cz = (long)floor(w * cells), i, j, k, id = 0;
@@ -135,12 +155,18 @@ static void lst__spots(unsigned long long seed, double u, double v, double w, do
                 double px = (i + 0.2 + 0.6 * pw_lattice01(seed, i, j, k)) / cells - u;
                 double py = (j + 0.2 + 0.6 * pw_lattice01(seed + 1, i, j, k)) / cells - v;
                 double pz = (k + 0.2 + 0.6 * pw_lattice01(seed + 2, i, j, k)) / cells - w;
-                double r = (0.3 + 0.15 * pw_lattice01(seed + 3, i, j, k)) / cells, d = sqrt(px * px + py * py + pz * pz) / r;
-                if (d < best) best = d, id = (i * 7 + j * 13 + k * 29) & 3;
+                double r = (0.3 + 0.15 * pw_lattice01(seed + 3, i, j, k)) / cells,
+                       d = sqrt(px * px + py * py + pz * pz) / r;
+                if (d < best) {
+                    best = d;
+                    id = (i * 7 + j * 13 + k * 29) & 3;
+                }
             }
     lst__mix3(c, matrix, matrix, 0.0);
     if (best < 1.0) lst__mix3(c, matrix, stone[id], pw_smoothstep(1.0, 0.85, best));
-    c[0] *= 0.9 + 0.2 * g, c[1] *= 0.9 + 0.2 * g, c[2] *= 0.9 + 0.2 * g;
+    c[0] *= 0.9 + 0.2 * g;
+    c[1] *= 0.9 + 0.2 * g;
+    c[2] *= 0.9 + 0.2 * g;
     *val = best < 1.0 ? 0.5 + 0.4 * (1.0 - best) : 0.45 + 0.1 * g;
 }
 
@@ -167,7 +193,9 @@ static void lst__rings(unsigned long long seed, double u, double v, double w, do
     grain = pw_fbm3(seed + 8, 3.2 * u, 40.0 * v, 40.0 * w);
     lst__mix3(c, early, late, ring);
     if (v > 0.55) lst__mix3(c, c, heart, pw_smoothstep(0.55, 0.7, v) * 0.6);
-    c[0] *= 0.88 + 0.24 * grain, c[1] *= 0.88 + 0.24 * grain, c[2] *= 0.88 + 0.24 * grain;
+    c[0] *= 0.88 + 0.24 * grain;
+    c[1] *= 0.88 + 0.24 * grain;
+    c[2] *= 0.88 + 0.24 * grain;
     if (v > 0.975) lst__mix3(c, c, late, 0.8);
 }
 
@@ -179,13 +207,16 @@ static void lst__kiwi(unsigned long long seed, double u, double v, double w, dou
     static const double skin[3] = {0.42, 0.30, 0.15}, flesh[3] = {0.35, 0.62, 0.10}, pale[3] = {0.66, 0.82, 0.30};
     static const double core[3] = {0.94, 0.93, 0.74}, seedc[3] = {0.06, 0.05, 0.04}, ray[3] = {0.86, 0.92, 0.62};
     const double cells = 17.0;
-    double g = pw_fbm3(seed, 18.0 * u, 18.0 * v, 18.0 * w), edge = 0.90 + 0.03 * (pw_noise3(seed + 2, u * 6, 0, w * 6) - 0.5);
+    double g = pw_fbm3(seed, 18.0 * u, 18.0 * v, 18.0 * w),
+           edge = 0.90 + 0.03 * (pw_noise3(seed + 2, u * 6, 0, w * 6) - 0.5);
     double best = 9.0, raydist = 9.0;
     long cu = (long)floor(u * cells), cw = (long)floor(w * cells), i, k;
     *val = v < 0.04 ? 0.5 + 0.45 * (pw_fbm3(seed + 3, 30.0 * u, 0.0, 30.0 * w) - 0.5) : 0.5;
     if (v < 0.028 + 0.01 * g) {
         lst__mix3(c, skin, skin, 0.0);
-        c[0] *= 0.8 + 0.4 * g, c[1] *= 0.8 + 0.4 * g, c[2] *= 0.8 + 0.4 * g;
+        c[0] *= 0.8 + 0.4 * g;
+        c[1] *= 0.8 + 0.4 * g;
+        c[2] *= 0.8 + 0.4 * g;
         return;
     }
     if (v > edge) {
@@ -253,8 +284,7 @@ LSTDEF lst_result lst_builtin_exemplar(const char *name, int size, const lst_opt
     else if (!fn)
         pw_fail(&e, PW_ERR_INVALID, "unknown built-in exemplar '%s' (layers, fibers, spots, rings, kiwi)",
                 name ? name : "(null)");
-    else if (size < 4 || size > 512)
-        pw_fail(&e, PW_ERR_INVALID, "exemplar size %d is outside 4..512", size);
+    else if (size < 4 || size > 512) pw_fail(&e, PW_ERR_INVALID, "exemplar size %d is outside 4..512", size);
     else if (pw_volume_alloc(&a, &col, 3, size, size, size, &e) == PW_OK &&
              (!values || pw_volume_alloc(&a, &val, 1, size, size, size, &e) == PW_OK)) {
         lst__fill_exemplar(fn, o.seed, &col, values ? &val : NULL);
@@ -289,8 +319,10 @@ static void lst__splotch_lobes(unsigned long long seed, double *lobes)
     for (k = 0; k < 8; k++) {
         double *l = lobes + 4 * k, n2;
         do {
-            l[0] = 2.0 * pw_rng_double(&rng) - 1.0, l[1] = 2.0 * pw_rng_double(&rng) - 1.0;
-            l[2] = 2.0 * pw_rng_double(&rng) - 1.0, n2 = pw_dot3(l, l);
+            l[0] = 2.0 * pw_rng_double(&rng) - 1.0;
+            l[1] = 2.0 * pw_rng_double(&rng) - 1.0;
+            l[2] = 2.0 * pw_rng_double(&rng) - 1.0;
+            n2 = pw_dot3(l, l);
         } while (n2 > 1.0 || n2 < 1e-4);
         pw_norm3(l);
         l[3] = 0.24 * pw_rng_double(&rng) - 0.12;
@@ -341,15 +373,17 @@ static int lst__masks(const pw_alloc *a, const lst_volume *ex, const lst_options
     int k, n = lst__mask_count(o->type);
     size_t i, nvox = (size_t)ex->width * ex->height * ex->depth;
     if (o->mask == LST_MASK_EXEMPLAR && (lst__depth_varying(o->type) || (ex->channels != 2 && ex->channels != 4)))
-        return pw_fail(e, PW_ERR_INVALID, "the exemplar's alpha as mask needs an exemplar with alpha and a "
-                                          "homogeneous type (0, 1-a, 2-a)");
+        return pw_fail(e, PW_ERR_INVALID,
+                       "the exemplar's alpha as mask needs an exemplar with alpha and a "
+                       "homogeneous type (0, 1-a, 2-a)");
     lst__splotch_lobes(o->seed, lobes);
     *count = 0;
     for (k = 0; k < n; k++) {
         if (pw_volume_alloc(a, &masks[k], 1, ex->width, ex->height, ex->depth, e)) return PW_ERR_NOMEM;
         *count = k + 1;
         if (lst__use_exemplar_alpha(o, ex)) {
-            for (i = 0; i < nvox; i++) masks[k].px[i] = pw_clampf(ex->voxels[i * ex->channels + ex->channels - 1], 0, 1);
+            for (i = 0; i < nvox; i++)
+                masks[k].px[i] = pw_clampf(ex->voxels[i * ex->channels + ex->channels - 1], 0, 1);
             continue;
         }
         if (n == 3) centre[1] = lst__layer_centre[k];
@@ -371,7 +405,10 @@ static int lst__make_masks(const pw_alloc *a, const lst_volume *ex, const lst_op
         if (r == PW_OK) lst__take_volume(&m[k], a, &out->volumes[k]);
         pw_volume_free(a, &m[k]);
     }
-    if (r == PW_OK) out->count = n, out->allocator = lst__allocator(a);
+    if (r == PW_OK) {
+        out->count = n;
+        out->allocator = lst__allocator(a);
+    }
     return r;
 }
 
@@ -402,19 +439,27 @@ static int lst__edt(const pw_alloc *a, const pw_volume *mask, int want_positive,
     int *v = (int *)pw_alloc_array(a, (size_t)big, sizeof(int), "distance transform", e);
     double *zz = (double *)pw_alloc_array(a, (size_t)big + 1, sizeof(double), "distance transform", e);
     if (!f || !v || !zz) {
-        pw_free(a, f), pw_free(a, v), pw_free(a, zz);
+        pw_free(a, f);
+        pw_free(a, v);
+        pw_free(a, zz);
         return PW_ERR_NOMEM;
     }
     for (k = 0; k < total; k++) { /* 0 on the sites, "far" elsewhere */
         int hit = want_positive ? mask->px[k] > 0.0f : mask->px[k] < 1.0f;
         dist[k] = hit ? 0.0f : PW_EDT_FAR;
     }
-    ws.f = f, ws.d = f + big, ws.v = v, ws.z = zz, ws.wrap = 0;
+    ws.f = f;
+    ws.d = f + big;
+    ws.v = v;
+    ws.z = zz;
+    ws.wrap = 0;
     pw__edt_pass(dist, X, Y * Z, (size_t)X, 1, &ws);
     for (z = 0; z < Z; z++) pw__edt_pass(dist + (size_t)z * X * Y, Y, X, 1, (size_t)X, &ws);
     pw__edt_pass(dist, Z, X * Y, 1, (size_t)X * Y, &ws);
     for (k = 0; k < total; k++) dist[k] = dist[k] >= PW_EDT_FAR ? 1e6f : (float)(sqrt((double)dist[k]) / big);
-    pw_free(a, f), pw_free(a, v), pw_free(a, zz);
+    pw_free(a, f);
+    pw_free(a, v);
+    pw_free(a, zz);
     return PW_OK;
 }
 
@@ -450,7 +495,8 @@ static void lst__mask_cells(const pw_volume *v, unsigned char *cell)
                 for (k = 0; k < 2; k++)
                     for (j = 0; j < 2; j++)
                         for (i = 0; i < 2; i++) {
-                            int X = pw_mini(x + i, v->x - 1), Y = pw_mini(y + j, v->y - 1), Z = pw_mini(z + k, v->z - 1);
+                            int X = pw_mini(x + i, v->x - 1), Y = pw_mini(y + j, v->y - 1),
+                                Z = pw_mini(z + k, v->z - 1);
                             any |= v->px[((size_t)Z * v->y + Y) * v->x + X] > 0.0f;
                         }
                 cell[((size_t)z * v->y + y) * v->x + x] = any;
@@ -485,7 +531,8 @@ static int lst__mask_init(const pw_alloc *a, const pw_volume *vol, lst__mask *m,
         for (y = 0; y < vol->y; y++)
             for (x = 0; x < vol->x; x++) {
                 size_t k = ((size_t)z * vol->y + y) * vol->x + x;
-                double f = pw_mini(pw_mini(x, vol->x - 1 - x), pw_mini(pw_mini(y, vol->y - 1 - y), pw_mini(z, vol->z - 1 - z)));
+                double f = pw_mini(pw_mini(x, vol->x - 1 - x),
+                                   pw_mini(pw_mini(y, vol->y - 1 - y), pw_mini(z, vol->z - 1 - z)));
                 f = (f + 0.5) / pw_maxi(vol->x, pw_maxi(vol->y, vol->z));
                 if (f < m->in[k]) m->in[k] = (float)f;
             }
@@ -497,7 +544,8 @@ static int lst__mask_init(const pw_alloc *a, const pw_volume *vol, lst__mask *m,
  * the point first clamped into the cube. */
 static double lst__mask_dist(const lst__mask *m, const float *d, double u, double v, double w)
 {
-    int x = pw_clampi((int)(u * m->vol.x), 0, m->vol.x - 1), y = pw_clampi((int)((1.0 - v) * m->vol.y), 0, m->vol.y - 1);
+    int x = pw_clampi((int)(u * m->vol.x), 0, m->vol.x - 1),
+        y = pw_clampi((int)((1.0 - v) * m->vol.y), 0, m->vol.y - 1);
     int z = pw_clampi((int)(w * m->vol.z), 0, m->vol.z - 1);
     return d[((size_t)z * m->vol.y + y) * m->vol.x + x];
 }

@@ -74,7 +74,8 @@ static int lst__uf_find(int *parent, int x)
 
 static void lst__uf_join(int *parent, int x, int y)
 {
-    x = lst__uf_find(parent, x), y = lst__uf_find(parent, y);
+    x = lst__uf_find(parent, x);
+    y = lst__uf_find(parent, y);
     if (x < y) parent[y] = x;
     else parent[x] = y;
 }
@@ -87,7 +88,8 @@ static int lst__join_corners(const pw_alloc *a, const int *tri, int n, int *pare
     lst__half *sorted = (lst__half *)pw_alloc_array(a, (size_t)nh, sizeof(lst__half), "boundary edges", e);
     if (!sorted) return PW_ERR_NOMEM;
     for (h = 0; h < nh; h++) {
-        sorted[h].key = lst__hkey(tri, h, 0), sorted[h].h = h;
+        sorted[h].key = lst__hkey(tri, h, 0);
+        sorted[h].h = h;
         parent[h] = h;
     }
     qsort(sorted, (size_t)nh, sizeof(lst__half), lst__cmp_half); /* a total order: the same on every platform */
@@ -117,7 +119,8 @@ static int lst__atlas_vertices(const pw_alloc *a, const lst_model *m, const int 
     for (c = 0; r == PW_OK && c < 3 * n; c++) {
         int root = lst__uf_find(parent, c);
         if (root == c) {
-            memcpy(out->positions + 3 * out->nverts, m->mesh.positions + 3 * (tri[c] % m->mesh.nverts), 3 * sizeof(float));
+            memcpy(out->positions + 3 * out->nverts, m->mesh.positions + 3 * (tri[c] % m->mesh.nverts),
+                   3 * sizeof(float));
             id[c] = out->nverts++;
         }
         out->tris[c] = id[root]; /* the root is the class's first corner */
@@ -147,9 +150,12 @@ static int lst__atlas_boundary(const pw_alloc *a, const lst_model *m, lst__tris 
         memcpy(all->bary + 12 * all->n, cut.bary + 12 * k, 12 * sizeof(float));
         all->tet[all->n++] = cut.tet[k];
     }
-    if (r == PW_OK && all->n == 0) r = pw_fail(e, PW_ERR_DEGENERATE, "atlas: nothing visible: every tetrahedron was cut away");
-    if (r == PW_OK && !(tri = (int *)pw_alloc_array(a, (size_t)all->n * 3, sizeof(int), "boundary corners", e))) r = PW_ERR_NOMEM;
-    for (k = 0; r == PW_OK && k < 3 * all->n; k++) tri[k] = all->tri[k] + (k / 3 >= all->n - cut.n ? m->mesh.nverts : 0);
+    if (r == PW_OK && all->n == 0)
+        r = pw_fail(e, PW_ERR_DEGENERATE, "atlas: nothing visible: every tetrahedron was cut away");
+    if (r == PW_OK && !(tri = (int *)pw_alloc_array(a, (size_t)all->n * 3, sizeof(int), "boundary corners", e)))
+        r = PW_ERR_NOMEM;
+    for (k = 0; r == PW_OK && k < 3 * all->n; k++)
+        tri[k] = all->tri[k] + (k / 3 >= all->n - cut.n ? m->mesh.nverts : 0);
     if (r == PW_OK) r = lst__atlas_vertices(a, m, tri, all->n, out, e);
     pw_free(a, tri);
     pw_free(a, nb);
@@ -203,7 +209,11 @@ static int lst__atlas_run(const pw_alloc *a, const lst_model *m, const lst__tris
         return PW_ERR_NOMEM;
     }
     for (f = 0; f <= out->ntris; f++) fstart[f] = 3 * f;
-    pm.nv = out->nverts, pm.pos = out->positions, pm.nf = out->ntris, pm.fstart = fstart, pm.fv = out->tris;
+    pm.nv = out->nverts;
+    pm.pos = out->positions;
+    pm.nf = out->ntris;
+    pm.fstart = fstart;
+    pm.fv = out->tris;
     r = pw_trimesh_init_ex(a, &pm, 1, &tm, e);
     if (r == PW_OK) r = pw_atlas_charts_build(a, &tm, o->cone_angle, prog, &C, e);
     if (r == PW_OK) {
@@ -269,11 +279,12 @@ static int lst__atlas_check(const lst_atlas *at, lst_write_fn fn, const char *wh
     int k;
     if (!at || !fn) return pw_fail(e, PW_ERR_INVALID, "%s: no atlas or no writer", what);
     if (at->nverts < 1 || at->ntris < 1 || !at->positions || !at->tris || !at->uvs)
-        return pw_fail(e, PW_ERR_INVALID, "%s: the atlas is empty (%d vertices, %d triangles)", what, at->nverts, at->ntris);
+        return pw_fail(e, PW_ERR_INVALID, "%s: the atlas is empty (%d vertices, %d triangles)", what, at->nverts,
+                       at->ntris);
     for (k = 0; k < 3 * at->ntris; k++)
         if (at->tris[k] < 0 || at->tris[k] >= at->nverts)
-            return pw_fail(e, PW_ERR_INVALID, "%s: corner %d of atlas triangle %d names vertex %d of %d", what, k % 3, k / 3,
-                           at->tris[k], at->nverts);
+            return pw_fail(e, PW_ERR_INVALID, "%s: corner %d of atlas triangle %d names vertex %d of %d", what, k % 3,
+                           k / 3, at->tris[k], at->nverts);
     return PW_OK;
 }
 
@@ -295,12 +306,19 @@ LSTDEF lst_result lst_write_gltf(const lst_atlas *atlas, const lst_render_option
         for (f = 0; f <= atlas->ntris; f++) fstart[f] = 3 * f;
         img = lst__pw_image(&atlas->image);
         part.name = "lst";
-        part.nv = atlas->nverts, part.pos = atlas->positions, part.nf = atlas->ntris, part.fstart = fstart;
-        part.fv = atlas->tris, part.corner_uv = atlas->uvs, part.texture = &img;
-        scene.parts = &part, scene.nparts = 1, scene.generator = "patchwork lst.h " LST_VERSION_STRING;
+        part.nv = atlas->nverts;
+        part.pos = atlas->positions;
+        part.nf = atlas->ntris;
+        part.fstart = fstart;
+        part.fv = atlas->tris;
+        part.corner_uv = atlas->uvs;
+        part.texture = &img;
+        scene.parts = &part;
+        scene.nparts = 1;
+        scene.generator = "patchwork lst.h " LST_VERSION_STRING;
         if (view) {
-            cam = pw_gltf_view_camera(atlas->positions, atlas->nverts, view->width, view->height, view->view_dir, view->up,
-                                      &scene.aspect);
+            cam = pw_gltf_view_camera(atlas->positions, atlas->nverts, view->width, view->height, view->view_dir,
+                                      view->up, &scene.aspect);
             scene.camera = &cam;
         }
         pw_gltf_write(&a, &scene, fn, ctx, &e);
@@ -320,8 +338,12 @@ LSTDEF lst_result lst_write_atlas_obj(const lst_atlas *atlas, const char *mtl_na
     memset(&tm, 0, sizeof tm);
     memset(&pm, 0, sizeof pm);
     if (!lst__atlas_check(atlas, fn, "OBJ", &e)) {
-        tm.nv = atlas->nverts, tm.pos = atlas->positions, tm.nf = atlas->ntris, tm.tri = atlas->tris;
-        if (!pw_atlas_mesh(&a, &tm, atlas->uvs, &pm, &e)) pw_mesh_write_obj(&pm, mtl_name, mtl_name ? "lst" : NULL, fn, ctx, &e);
+        tm.nv = atlas->nverts;
+        tm.pos = atlas->positions;
+        tm.nf = atlas->ntris;
+        tm.tri = atlas->tris;
+        if (!pw_atlas_mesh(&a, &tm, atlas->uvs, &pm, &e))
+            pw_mesh_write_obj(&pm, mtl_name, mtl_name ? "lst" : NULL, fn, ctx, &e);
     }
     pw_free(&a, pm.fstart);
     pw_free(&a, pm.uv);
@@ -353,12 +375,15 @@ static int lst__gltf_job(void *arg, pw_write_fn w, void *ctx, pw_err *e)
     return r ? pw_fail(e, r, "%s", le.message) : PW_OK;
 }
 
-LSTDEF lst_result lst_save_gltf(const char *path, const lst_atlas *atlas, const lst_render_options *view, lst_error *err)
+LSTDEF lst_result lst_save_gltf(const char *path, const lst_atlas *atlas, const lst_render_options *view,
+                                lst_error *err)
 {
     lst__export_job j;
     pw_err e;
     pw_err_clear(&e);
-    j.atlas = atlas, j.view = view, j.name = NULL;
+    j.atlas = atlas;
+    j.view = view;
+    j.name = NULL;
     if (!path) pw_fail(&e, PW_ERR_INVALID, "lst_save_gltf: NULL path");
     else pw_write_file(path, lst__gltf_job, &j, &e);
     return lst__done(&e, err);
@@ -387,7 +412,9 @@ LSTDEF lst_result lst_save_atlas_obj(const char *obj_path, const lst_atlas *atla
     pw_err e;
     pw_err_clear(&e);
     if (pw_obj_mtl_path(obj_path, mtl, sizeof mtl, &mtl_name, &e) != PW_OK) return lst__done(&e, err);
-    j.atlas = atlas, j.view = NULL, j.name = texture_path ? mtl_name : NULL;
+    j.atlas = atlas;
+    j.view = NULL;
+    j.name = texture_path ? mtl_name : NULL;
     if (pw_write_file(obj_path, lst__atlas_obj_job, &j, &e) == PW_OK && texture_path) {
         j.name = texture_path;
         pw_write_file(mtl, lst__mtl_job, &j, &e);

@@ -9,13 +9,13 @@
 /* ---- the mesh every stage works on -------------------------------------------------- */
 
 typedef struct lst__geo {
-    pw_tetmesh m;     /* borrowed */
-    int *nb;          /* 4 nt: face adjacency (pw_tetmesh_neighbors) */
-    int *bface;       /* boundary faces 4t+k */
+    pw_tetmesh m; /* borrowed */
+    int *nb;      /* 4 nt: face adjacency (pw_tetmesh_neighbors) */
+    int *bface;   /* boundary faces 4t+k */
     int nbface;
     pw_tetrings rings;
-    pw_tetgrid grid;  /* point location (built on demand) */
-    double diag;      /* bounding-box diagonal */
+    pw_tetgrid grid; /* point location (built on demand) */
+    double diag;     /* bounding-box diagonal */
 } lst__geo;
 
 static void lst__geo_free(const pw_alloc *a, lst__geo *g)
@@ -34,7 +34,8 @@ static int lst__geo_init(const pw_alloc *a, const pw_tetmesh *m, lst__geo *g, pw
     g->m = *m;
     g->diag = lst__diagonal(m->pos, m->nv);
     if (!(g->nb = (int *)pw_alloc_array(a, (size_t)m->nt * 4, sizeof(int), "face adjacency", e))) return PW_ERR_NOMEM;
-    if ((r = pw_tetmesh_neighbors(a, m, g->nb, e)) == PW_OK && (r = pw_tetmesh_boundary(a, m, g->nb, &g->bface, &g->nbface, e)) == PW_OK &&
+    if ((r = pw_tetmesh_neighbors(a, m, g->nb, e)) == PW_OK &&
+        (r = pw_tetmesh_boundary(a, m, g->nb, &g->bface, &g->nbface, e)) == PW_OK &&
         (r = pw_tetmesh_rings(a, m, &g->rings, e)) == PW_OK)
         r = pw_tetgrid_build(a, m, &g->grid, e);
     if (r != PW_OK) lst__geo_free(a, g);
@@ -43,7 +44,9 @@ static int lst__geo_init(const pw_alloc *a, const pw_tetmesh *m, lst__geo *g, pw
 
 static void lst__vert(const pw_tetmesh *m, int v, double *p)
 {
-    p[0] = m->pos[3 * v], p[1] = m->pos[3 * v + 1], p[2] = m->pos[3 * v + 2];
+    p[0] = m->pos[3 * v];
+    p[1] = m->pos[3 * v + 1];
+    p[2] = m->pos[3 * v + 2];
 }
 
 /* The corners (global vertices) of boundary face f = 4t+k, outward. */
@@ -67,7 +70,10 @@ static int lst__locate(const lst__geo *g, const double p[3], double l[4])
         for (k = 0; k < 4; k++)
             for (i = 0; i < 3; i++) c[i] += 0.25 * g->m.pos[3 * g->m.tet[4 * t + k] + i];
         for (i = 0; i < 3; i++) d += (c[i] - p[i]) * (c[i] - p[i]);
-        if (d < bd) bd = d, best = t;
+        if (d < bd) {
+            bd = d;
+            best = t;
+        }
     }
     pw_tet_barycentric(&g->m, best, p, l);
     return best;
@@ -111,8 +117,14 @@ static int lst__dense_solve(double *m, double *b, int n)
         if (!(fabs(m[(size_t)p * n + k]) > 1e-300)) return 0;
         if (p != k) {
             double t;
-            for (j = 0; j < n; j++) t = m[(size_t)k * n + j], m[(size_t)k * n + j] = m[(size_t)p * n + j], m[(size_t)p * n + j] = t;
-            t = b[k], b[k] = b[p], b[p] = t;
+            for (j = 0; j < n; j++) {
+                t = m[(size_t)k * n + j];
+                m[(size_t)k * n + j] = m[(size_t)p * n + j];
+                m[(size_t)p * n + j] = t;
+            }
+            t = b[k];
+            b[k] = b[p];
+            b[p] = t;
         }
         for (i = k + 1; i < n; i++) {
             double f = m[(size_t)i * n + k] / m[(size_t)k * n + k];
@@ -192,14 +204,23 @@ static int lst__rbf_fit(const pw_alloc *a, const lst__pts *pts, int maxc, lst__r
         r->w[i] = val[pick[i]];
     }
     if (!lst__dense_solve(m, r->w, N)) {
-        pw_free(a, dmin), pw_free(a, pick), pw_free(a, m), lst__rbf_free(a, r);
-        return pw_fail(e, PW_ERR_DEGENERATE, "depth constraints: the RBF system is singular (are all "
-                                             "constraint points on one plane?)");
+        pw_free(a, dmin);
+        pw_free(a, pick);
+        pw_free(a, m);
+        lst__rbf_free(a, r);
+        return pw_fail(e, PW_ERR_DEGENERATE,
+                       "depth constraints: the RBF system is singular (are all "
+                       "constraint points on one plane?)");
     }
-    pw_free(a, dmin), pw_free(a, pick), pw_free(a, m);
+    pw_free(a, dmin);
+    pw_free(a, pick);
+    pw_free(a, m);
     return PW_OK;
 nomem:
-    pw_free(a, dmin), pw_free(a, pick), pw_free(a, m), lst__rbf_free(a, r);
+    pw_free(a, dmin);
+    pw_free(a, pick);
+    pw_free(a, m);
+    lst__rbf_free(a, r);
     return PW_ERR_NOMEM;
 }
 
@@ -278,10 +299,12 @@ static int lst__flood(const pw_alloc *a, const pw_trimesh *tm, const lst_constra
     unsigned char *seen = (unsigned char *)pw_calloc_array(a, (size_t)tm->nf, 1, "flood fill", e);
     double cmin = pw_cos(crease * (3.14159265358979323846 / 180.0));
     if (!queue || !seen) {
-        pw_free(a, queue), pw_free(a, seen);
+        pw_free(a, queue);
+        pw_free(a, seen);
         return PW_ERR_NOMEM;
     }
-    queue[tail++] = start, seen[start] = 1;
+    queue[tail++] = start;
+    seen[start] = 1;
     while (head < tail) {
         int f = queue[head++];
         paint[f] = v;
@@ -290,10 +313,12 @@ static int lst__flood(const pw_alloc *a, const pw_trimesh *tm, const lst_constra
             const float *n1 = tm->normal + 3 * f, *n2 = h >= 0 ? tm->normal + 3 * h : n1;
             if (h < 0 || seen[h] || (double)n1[0] * n2[0] + (double)n1[1] * n2[1] + (double)n1[2] * n2[2] < cmin)
                 continue;
-            seen[h] = 1, queue[tail++] = h;
+            seen[h] = 1;
+            queue[tail++] = h;
         }
     }
-    pw_free(a, queue), pw_free(a, seen);
+    pw_free(a, queue);
+    pw_free(a, seen);
     return PW_OK;
 }
 
@@ -315,8 +340,8 @@ static int lst__paint(const pw_alloc *a, const pw_trimesh *tm, const lst_options
         const lst_constraint *c = &o->constraints[i];
         if (c->kind != LST_CONSTRAINT_DEPTH_FACE && c->kind != LST_CONSTRAINT_DEPTH_FILL) continue;
         if (c->face < 0 || c->face >= tm->nf)
-            return pw_fail(e, PW_ERR_INVALID, "depth constraint %d: face %d is not a triangle of the surface (0..%d)", i,
-                           c->face, tm->nf - 1);
+            return pw_fail(e, PW_ERR_INVALID, "depth constraint %d: face %d is not a triangle of the surface (0..%d)",
+                           i, c->face, tm->nf - 1);
         if (c->kind == LST_CONSTRAINT_DEPTH_FACE) paint[c->face] = c->value;
         else if (lst__flood(a, tm, c, paint, e)) return PW_ERR_NOMEM;
     }
@@ -351,7 +376,8 @@ static int lst__check_depth(const lst_options *o, pw_err *e)
         if (!pw_is_finite(c->crease) || c->crease < 0.0f || c->crease > 180.0f)
             return pw_fail(e, PW_ERR_INVALID, "depth constraint %d: crease angle %g is outside [0, 180]", i, c->crease);
         for (k = 0; k < 3; k++)
-            if (!pw_is_finite(c->point[k])) return pw_fail(e, PW_ERR_INVALID, "depth constraint %d: point is not finite", i);
+            if (!pw_is_finite(c->point[k]))
+                return pw_fail(e, PW_ERR_INVALID, "depth constraint %d: point is not finite", i);
     }
     return PW_OK;
 }
@@ -379,7 +405,9 @@ static int lst__depth_points(const pw_alloc *a, const lst__painted *ps, const ls
     for (f = 0; f < tm->nf; f++)
         if (paint[f] >= 0.0) {
             for (k = 0; k < 3; k++)
-                p[k] = (tm->pos[3 * tm->tri[3 * f] + k] + tm->pos[3 * tm->tri[3 * f + 1] + k] + tm->pos[3 * tm->tri[3 * f + 2] + k]) / 3.0;
+                p[k] = (tm->pos[3 * tm->tri[3 * f] + k] + tm->pos[3 * tm->tri[3 * f + 1] + k] +
+                        tm->pos[3 * tm->tri[3 * f + 2] + k]) /
+                       3.0;
             if (lst__pts_add(a, pts, p, paint[f], e)) return PW_ERR_NOMEM;
         }
     for (i = 0; i < o->nconstraints; i++)
@@ -439,10 +467,16 @@ static int lst__hash_build(const pw_alloc *a, const pw_trimesh *tm, const double
     int i, k;
     double hi[3];
     memset(h, 0, sizeof *h);
-    for (k = 0; k < 3; k++) h->lo[k] = 1e300, hi[k] = -1e300;
+    for (k = 0; k < 3; k++) {
+        h->lo[k] = 1e300;
+        hi[k] = -1e300;
+    }
     for (i = 0; i < n; i++)
         if (keep[i] >= 0.0)
-            for (k = 0; k < 3; k++) h->lo[k] = pos[3 * i + k] < h->lo[k] ? pos[3 * i + k] : h->lo[k], hi[k] = pos[3 * i + k] > hi[k] ? pos[3 * i + k] : hi[k];
+            for (k = 0; k < 3; k++) {
+                h->lo[k] = pos[3 * i + k] < h->lo[k] ? pos[3 * i + k] : h->lo[k];
+                hi[k] = pos[3 * i + k] > hi[k] ? pos[3 * i + k] : hi[k];
+            }
     h->cell = cell;
     for (k = 0; k < 3; k++) h->n[k] = hi[k] >= h->lo[k] ? pw_clampi((int)((hi[k] - h->lo[k]) / cell) + 1, 1, 256) : 1;
     for (k = 0; k < 3; k++)
@@ -479,8 +513,12 @@ static int lst__hash_nearest(const lst__hash *h, const float *pos, const double 
                 size_t c = lst__hash_cell(h, p, off);
                 for (i = h->start[c]; i < h->start[c + 1]; i++) {
                     const float *q = pos + 3 * h->item[i];
-                    double d = (q[0] - p[0]) * (q[0] - p[0]) + (q[1] - p[1]) * (q[1] - p[1]) + (q[2] - p[2]) * (q[2] - p[2]);
-                    if (d < bd || (d == bd && best >= 0 && h->item[i] < best)) bd = d, best = h->item[i];
+                    double d =
+                        (q[0] - p[0]) * (q[0] - p[0]) + (q[1] - p[1]) * (q[1] - p[1]) + (q[2] - p[2]) * (q[2] - p[2]);
+                    if (d < bd || (d == bd && best >= 0 && h->item[i] < best)) {
+                        bd = d;
+                        best = h->item[i];
+                    }
                 }
             }
     return best;
@@ -500,7 +538,8 @@ static int lst__depth_snap(const pw_alloc *a, const lst__geo *g, const pw_trimes
     for (f = 0; f < tm->nf; f++)
         for (k = 0; k < 3; k++) {
             const float *p = tm->pos + 3 * tm->tri[3 * f + k], *q = tm->pos + 3 * tm->tri[3 * f + (k + 1) % 3];
-            double d = sqrt(((double)p[0] - q[0]) * (p[0] - q[0]) + ((double)p[1] - q[1]) * (p[1] - q[1]) + ((double)p[2] - q[2]) * (p[2] - q[2]));
+            double d = sqrt(((double)p[0] - q[0]) * (p[0] - q[0]) + ((double)p[1] - q[1]) * (p[1] - q[1]) +
+                            ((double)p[2] - q[2]) * (p[2] - q[2]));
             if (d > reach) reach = d;
         }
     if (!(done = (unsigned char *)pw_calloc_array(a, (size_t)g->m.nv, 1, "depth snap", e))) return PW_ERR_NOMEM;
@@ -559,13 +598,20 @@ static int lst__depth_rbf(const lst__field_job *j, double *depth, double *grad)
     ps.face = (double *)pw_alloc_array(a, (size_t)ps.tm.nf, sizeof(double), "depth paint", e);
     ps.vert = (double *)pw_alloc_array(a, (size_t)ps.tm.nv, sizeof(double), "depth paint", e);
     r = !ps.face || !ps.vert ? PW_ERR_NOMEM : lst__paint(a, &ps.tm, o, ps.face, e);
-    if (r == PW_OK) lst__vertex_paint(&ps.tm, ps.face, ps.vert), r = lst__depth_points(a, &ps, o, &pts, e);
+    if (r == PW_OK) {
+        lst__vertex_paint(&ps.tm, ps.face, ps.vert);
+        r = lst__depth_points(a, &ps, o, &pts, e);
+    }
     if (r == PW_OK && pts.n < 1) r = pw_fail(e, PW_ERR_INVALID, "depth constraints: none applies");
-    if (r == PW_OK) lst__pts_thin(&pts, lst__count_kind(o, LST_CONSTRAINT_DEPTH_POINT, LST_CONSTRAINT_DEPTH_POINT), o->rbf_centers);
+    if (r == PW_OK)
+        lst__pts_thin(&pts, lst__count_kind(o, LST_CONSTRAINT_DEPTH_POINT, LST_CONSTRAINT_DEPTH_POINT), o->rbf_centers);
     if (r == PW_OK) {
         for (k = 0; k < 3; k++) lo[k] = hi[k] = g->m.pos[k];
         for (v = 0; v < g->m.nv; v++)
-            for (k = 0; k < 3; k++) lo[k] = g->m.pos[3 * v + k] < lo[k] ? g->m.pos[3 * v + k] : lo[k], hi[k] = g->m.pos[3 * v + k] > hi[k] ? g->m.pos[3 * v + k] : hi[k];
+            for (k = 0; k < 3; k++) {
+                lo[k] = g->m.pos[3 * v + k] < lo[k] ? g->m.pos[3 * v + k] : lo[k];
+                hi[k] = g->m.pos[3 * v + k] > hi[k] ? g->m.pos[3 * v + k] : hi[k];
+            }
         for (k = 0; k < 3; k++) rbf.o[k] = 0.5 * (lo[k] + hi[k]);
         rbf.s = g->diag > 0.0 ? g->diag : 1.0;
         r = lst__rbf_fit(a, &pts, o->rbf_centers, &rbf, e);
@@ -590,11 +636,17 @@ static void lst__closest_tri(const double *p, const double *a, const double *b, 
 {
     double ab[3], ac[3], ap[3], bp[3], cp[3], d1, d2, d3, d4, d5, d6, va, vb, vc, den, v, w;
     int k;
-    for (k = 0; k < 3; k++) ab[k] = b[k] - a[k], ac[k] = c[k] - a[k], ap[k] = p[k] - a[k];
-    d1 = pw_dot3(ab, ap), d2 = pw_dot3(ac, ap);
+    for (k = 0; k < 3; k++) {
+        ab[k] = b[k] - a[k];
+        ac[k] = c[k] - a[k];
+        ap[k] = p[k] - a[k];
+    }
+    d1 = pw_dot3(ab, ap);
+    d2 = pw_dot3(ac, ap);
     if (d1 <= 0.0 && d2 <= 0.0) goto corner_a;
     for (k = 0; k < 3; k++) bp[k] = p[k] - b[k];
-    d3 = pw_dot3(ab, bp), d4 = pw_dot3(ac, bp);
+    d3 = pw_dot3(ab, bp);
+    d4 = pw_dot3(ac, bp);
     if (d3 >= 0.0 && d4 <= d3) {
         memcpy(q, b, 3 * sizeof(double));
         return;
@@ -606,7 +658,8 @@ static void lst__closest_tri(const double *p, const double *a, const double *b, 
         return;
     }
     for (k = 0; k < 3; k++) cp[k] = p[k] - c[k];
-    d5 = pw_dot3(ab, cp), d6 = pw_dot3(ac, cp);
+    d5 = pw_dot3(ab, cp);
+    d6 = pw_dot3(ac, cp);
     if (d6 >= 0.0 && d5 <= d6) {
         memcpy(q, c, 3 * sizeof(double));
         return;
@@ -625,7 +678,8 @@ static void lst__closest_tri(const double *p, const double *a, const double *b, 
     }
     den = va + vb + vc;
     if (!(den > 0.0)) goto corner_a;
-    v = vb / den, w = vc / den;
+    v = vb / den;
+    w = vc / den;
     for (k = 0; k < 3; k++) q[k] = a[k] + ab[k] * v + ac[k] * w;
     return;
 corner_a:
@@ -638,7 +692,9 @@ static double lst__face_dist(const lst__geo *g, int f, const double *p, double *
     int c[3];
     double A[3], B[3], C[3];
     lst__face_verts(&g->m, g->bface[f], c);
-    lst__vert(&g->m, c[0], A), lst__vert(&g->m, c[1], B), lst__vert(&g->m, c[2], C);
+    lst__vert(&g->m, c[0], A);
+    lst__vert(&g->m, c[1], B);
+    lst__vert(&g->m, c[2], C);
     lst__closest_tri(p, A, B, C, q);
     return lst__dist3(p, q);
 }
@@ -656,15 +712,23 @@ static int lst__boundary_distance(const pw_alloc *a, const lst__geo *g, double *
     h.key = (double *)pw_alloc_array(a, cap, sizeof(double), "distance heap", e);
     h.item = (int *)pw_alloc_array(a, cap, sizeof(int), "distance heap", e);
     if (!h.key || !h.item) {
-        pw_free(a, h.key), pw_free(a, h.item);
+        pw_free(a, h.key);
+        pw_free(a, h.item);
         return PW_ERR_NOMEM;
     }
-    for (v = 0; v < g->m.nv; v++) dist[v] = 1e300, near[v] = -1;
+    for (v = 0; v < g->m.nv; v++) {
+        dist[v] = 1e300;
+        near[v] = -1;
+    }
     for (f = 0; f < g->nbface; f++) {
         int c[3];
         lst__face_verts(&g->m, g->bface[f], c);
         for (k = 0; k < 3; k++)
-            if (near[c[k]] < 0) dist[c[k]] = 0.0, near[c[k]] = f, pw_heap_insert(&h, 0.0, c[k]);
+            if (near[c[k]] < 0) {
+                dist[c[k]] = 0.0;
+                near[c[k]] = f;
+                pw_heap_insert(&h, 0.0, c[k]);
+            }
     }
     while (h.n > 0) {
         d = h.key[0];
@@ -674,10 +738,15 @@ static int lst__boundary_distance(const pw_alloc *a, const lst__geo *g, double *
             int u = g->rings.adj[j];
             lst__vert(&g->m, u, p);
             d = lst__face_dist(g, near[v], p, q);
-            if (d < dist[u] && (size_t)h.n < cap) dist[u] = d, near[u] = near[v], pw_heap_insert(&h, d, u);
+            if (d < dist[u] && (size_t)h.n < cap) {
+                dist[u] = d;
+                near[u] = near[v];
+                pw_heap_insert(&h, d, u);
+            }
         }
     }
-    pw_free(a, h.key), pw_free(a, h.item);
+    pw_free(a, h.key);
+    pw_free(a, h.item);
     return PW_OK;
 }
 
@@ -711,10 +780,19 @@ static int lst__depth_distance(const pw_alloc *a, const lst__geo *g, double *dep
         int c[3];
         double A[3], B[3], C[3], u[3], w[3], n[3];
         lst__face_verts(&g->m, g->bface[f], c);
-        lst__vert(&g->m, c[0], A), lst__vert(&g->m, c[1], B), lst__vert(&g->m, c[2], C);
-        for (k = 0; k < 3; k++) u[k] = B[k] - A[k], w[k] = C[k] - A[k];
+        lst__vert(&g->m, c[0], A);
+        lst__vert(&g->m, c[1], B);
+        lst__vert(&g->m, c[2], C);
+        for (k = 0; k < 3; k++) {
+            u[k] = B[k] - A[k];
+            w[k] = C[k] - A[k];
+        }
         pw_cross3(u, w, n);
-        for (k = 0; k < 3; k++) grad[3 * c[0] + k] -= n[k], grad[3 * c[1] + k] -= n[k], grad[3 * c[2] + k] -= n[k];
+        for (k = 0; k < 3; k++) {
+            grad[3 * c[0] + k] -= n[k];
+            grad[3 * c[1] + k] -= n[k];
+            grad[3 * c[2] + k] -= n[k];
+        }
     }
     for (v = 0; v < g->m.nv; v++) {
         double *gr = grad + 3 * v;
@@ -792,7 +870,10 @@ static int lst__field_cons(const pw_alloc *a, const lst__geo *g, const lst_optio
         const lst_constraint *f = &o->constraints[i];
         double p[3], d[3];
         if (f->kind != kind) continue;
-        for (k = 0; k < 3; k++) p[k] = f->point[k], d[k] = f->direction[k];
+        for (k = 0; k < 3; k++) {
+            p[k] = f->point[k];
+            d[k] = f->direction[k];
+        }
         if (kind == LST_CONSTRAINT_DIRECTION && !(pw_norm3(d) > 0.0 && pw_is_finite(d[0] + d[1] + d[2])))
             return pw_fail(e, PW_ERR_INVALID, "field constraint %d: the direction is zero or not finite", i);
         if (kind == LST_CONSTRAINT_SCALE && !(f->value > 0.0f && pw_is_finite(f->value)))
@@ -962,7 +1043,11 @@ static void lst__orthonormal(double *u, double *v, double *w, int first, int sec
 {
     double *p = first == 0 ? u : v, *q = first == 0 ? v : u, d;
     int k;
-    if (!(pw_norm3(p) > 0.0)) p[0] = first == 0, p[1] = first == 1, p[2] = 0.0;
+    if (!(pw_norm3(p) > 0.0)) {
+        p[0] = first == 0;
+        p[1] = first == 1;
+        p[2] = 0.0;
+    }
     d = pw_dot3(p, q);
     for (k = 0; k < 3; k++) q[k] -= d * p[k];
     if (!second_given || !(pw_norm3(q) > 1e-9)) lst__any_perp(p, q);
@@ -987,7 +1072,10 @@ static void lst__tet_frames(const pw_tetmesh *m, int type, const double *dir, co
             }
             s += 0.25 * scale[x];
         }
-        if (type == LST_TYPE_0) u[0] = 1.0, v[1] = 1.0;
+        if (type == LST_TYPE_0) {
+            u[0] = 1.0;
+            v[1] = 1.0;
+        }
         lst__orthonormal(u, v, w, type == LST_TYPE_1B || grad ? 1 : 0, type == LST_TYPE_0 || (dir && grad));
         for (i = 0; i < 3; i++) {
             frame[9 * t + i] = (float)(s * u[i]);
@@ -1022,7 +1110,8 @@ static int lst__fields(const lst__field_job *j, float **depth_out, float **frame
         *depth_out = (float *)pw_alloc_array(a, (size_t)nv, sizeof(float), "depth field", e);
         if (!depth || !grad || !*depth_out) r = PW_ERR_NOMEM;
     }
-    if (lst__has_direction(o->type) && !(dir = (double *)pw_alloc_array(a, (size_t)nv * 3, sizeof(double), "direction field", e)))
+    if (lst__has_direction(o->type) &&
+        !(dir = (double *)pw_alloc_array(a, (size_t)nv * 3, sizeof(double), "direction field", e)))
         r = PW_ERR_NOMEM;
     if (!*frame_out || !scale) r = PW_ERR_NOMEM;
     if (r == PW_OK && hd) r = lst__depth_field(j, depth, grad);
@@ -1033,16 +1122,20 @@ static int lst__fields(const lst__field_job *j, float **depth_out, float **frame
             double gl = sqrt(pw_dot3(grad + 3 * v, grad + 3 * v)), s = gl > 0.0 ? 1.0 / gl : 2.0 * g->diag;
             scale[v] = s < 1e-3 * g->diag ? 1e-3 * g->diag : (s > 2.0 * g->diag ? 2.0 * g->diag : s);
         }
-    else if (r == PW_OK)
-        r = lst__scale_field(j, s0, scale);
+    else if (r == PW_OK) r = lst__scale_field(j, s0, scale);
     if (r == PW_OK) {
         lst__tet_frames(&g->m, o->type, dir, grad, scale, *frame_out);
         for (v = 0; hd && v < nv; v++) (*depth_out)[v] = (float)depth[v];
     }
-    pw_free(a, depth), pw_free(a, grad), pw_free(a, dir), pw_free(a, scale);
+    pw_free(a, depth);
+    pw_free(a, grad);
+    pw_free(a, dir);
+    pw_free(a, scale);
     if (r != PW_OK) {
-        pw_free(a, *depth_out), pw_free(a, *frame_out);
-        *depth_out = NULL, *frame_out = NULL;
+        pw_free(a, *depth_out);
+        pw_free(a, *frame_out);
+        *depth_out = NULL;
+        *frame_out = NULL;
     }
     return r;
 }
@@ -1058,7 +1151,12 @@ LSTDEF lst_result lst_compute_field(const lst_tetmesh *mesh, const lst_mesh *sur
     lst__field_job job;
     pw_err e;
     pw_err_clear(&e);
-    job.a = &a, job.g = &g, job.surface = surface, job.o = &o, job.p = &p, job.e = &e;
+    job.a = &a;
+    job.g = &g;
+    job.surface = surface;
+    job.o = &o;
+    job.p = &p;
+    job.e = &e;
     if (out) memset(out, 0, sizeof *out);
     if (!out) pw_fail(&e, PW_ERR_INVALID, "lst_compute_field: NULL output");
     else if (lst__check_options(&o, &e) == PW_OK && lst__check_tets(mesh, &e) == PW_OK) {
@@ -1084,14 +1182,20 @@ typedef struct lst__cset {
 } lst__cset;
 
 /* A constraint from its parts (p, d: NULL for none). */
-static lst_constraint lst__constraint(lst_constraint_kind kind, int face, const double *p, const double *d, double value,
-                                      double crease)
+static lst_constraint lst__constraint(lst_constraint_kind kind, int face, const double *p, const double *d,
+                                      double value, double crease)
 {
     lst_constraint x;
     int k;
     memset(&x, 0, sizeof x);
-    x.kind = kind, x.face = face, x.value = (float)value, x.crease = (float)crease;
-    for (k = 0; k < 3; k++) x.point[k] = p ? (float)p[k] : 0.0f, x.direction[k] = d ? (float)d[k] : 0.0f;
+    x.kind = kind;
+    x.face = face;
+    x.value = (float)value;
+    x.crease = (float)crease;
+    for (k = 0; k < 3; k++) {
+        x.point[k] = p ? (float)p[k] : 0.0f;
+        x.direction[k] = d ? (float)d[k] : 0.0f;
+    }
     return x;
 }
 

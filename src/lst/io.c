@@ -96,7 +96,8 @@ static void lst__write_pastes_part(pw__wb *b, const lst_model *m, const int *tma
         int cnt = 0;
         for (i = 0; i < q->ntets; i++) cnt += tmap[q->tets[i]] >= 0;
         if (!cnt) continue;
-        v[0] = q->exemplar, v[1] = cnt;
+        v[0] = q->exemplar;
+        v[1] = cnt;
         lst__wb_line(b, "paste", v, 2);
         for (i = 0; i < q->ntets; i++) {
             if (tmap[q->tets[i]] < 0) continue;
@@ -132,7 +133,10 @@ LSTDEF lst_result lst_write_model(const lst_model *m, lst_write_fn fn, void *ctx
         v[0] = m->masks.count;
         lst__wb_line(&b, "exemplars", v, 1);
         for (k = 0; k < m->masks.count; k++) {
-            v[0] = k, v[1] = m->masks.volumes[k].width, v[2] = m->masks.volumes[k].height, v[3] = m->masks.volumes[k].depth;
+            v[0] = k;
+            v[1] = m->masks.volumes[k].width;
+            v[2] = m->masks.volumes[k].height;
+            v[3] = m->masks.volumes[k].depth;
             lst__wb_line(&b, "exemplar", v, 4);
         }
         lst__write_pastes_part(&b, m, vis.tmap);
@@ -156,7 +160,8 @@ static int lst__read_line(pw__sc *s, const char *keyword, long long *v, int n, l
     if (!pw__sc_is(w, len, keyword)) return pw__sc_fail(s, PW_ERR_PARSE, "expected '%s'", keyword);
     for (k = 0; k < n; k++) {
         if ((r = pw__sc_int(s, &v[k], keyword, -1)) != PW_OK) return r;
-        if (v[k] < lo || v[k] > hi) return pw__sc_fail(s, PW_ERR_LIMIT, "%s: %lld is outside %lld..%lld", keyword, v[k], lo, hi);
+        if (v[k] < lo || v[k] > hi)
+            return pw__sc_fail(s, PW_ERR_LIMIT, "%s: %lld is outside %lld..%lld", keyword, v[k], lo, hi);
     }
     if (!pw__sc_eol(s)) return pw__sc_fail(s, PW_ERR_PARSE, "unexpected text after '%s'", keyword);
     pw__sc_next_line(s);
@@ -180,7 +185,8 @@ static int lst__read_mesh_part(pw__sc *s, const pw_alloc *a, lst_model *m, pw_er
     long long c;
     int nv, nt, i, k, r;
     if ((r = lst__read_count(s, "nodes", 6, &nv)) != PW_OK) return r;
-    if (!(m->mesh.positions = (float *)pw_alloc_array(a, (size_t)nv * 3, sizeof(float), "model nodes", e))) return PW_ERR_NOMEM;
+    if (!(m->mesh.positions = (float *)pw_alloc_array(a, (size_t)nv * 3, sizeof(float), "model nodes", e)))
+        return PW_ERR_NOMEM;
     m->mesh.nverts = nv;
     for (i = 0; i < nv; i++) {
         pw__sc_skip_empty(s);
@@ -197,7 +203,8 @@ static int lst__read_mesh_part(pw__sc *s, const pw_alloc *a, lst_model *m, pw_er
         pw__sc_skip_empty(s);
         for (k = 0; k < 4; k++) {
             if ((r = pw__sc_int(s, &c, "tetrahedron", i)) != PW_OK) return r;
-            if (c < 0 || c >= nv) return pw__sc_fail(s, PW_ERR_INVALID, "tetrahedron %d: node %lld does not exist", i, c);
+            if (c < 0 || c >= nv)
+                return pw__sc_fail(s, PW_ERR_INVALID, "tetrahedron %d: node %lld does not exist", i, c);
             m->mesh.tets[4 * i + k] = (int)c;
         }
         if ((r = pw__tio_rest(s, 0, "tetrahedron", i)) != PW_OK) return r;
@@ -211,14 +218,17 @@ static int lst__read_exemplars_part(pw__sc *s, const pw_alloc *a, lst_model *m, 
     int n, k, r;
     if ((r = lst__read_count(s, "exemplars", 10, &n)) != PW_OK) return r;
     if (n < 1 || n > 64) return pw__sc_fail(s, PW_ERR_LIMIT, "%d exemplars (1 to 64 expected)", n);
-    if (!(m->masks.volumes = (lst_volume *)pw_calloc_array(a, (size_t)n, sizeof(lst_volume), "masks", e))) return PW_ERR_NOMEM;
+    if (!(m->masks.volumes = (lst_volume *)pw_calloc_array(a, (size_t)n, sizeof(lst_volume), "masks", e)))
+        return PW_ERR_NOMEM;
     m->masks.count = n;
     m->masks.allocator = lst__allocator(a);
     for (k = 0; k < n; k++) {
         if ((r = lst__read_line(s, "exemplar", v, 4, 0, 65536)) != PW_OK) return r;
         if (v[0] != k) return pw__sc_fail(s, PW_ERR_PARSE, "exemplar %lld listed where exemplar %d belongs", v[0], k);
         if (v[1] < 1 || v[2] < 1 || v[3] < 1) return pw__sc_fail(s, PW_ERR_PARSE, "exemplar %d has an empty size", k);
-        m->masks.volumes[k].width = (int)v[1], m->masks.volumes[k].height = (int)v[2], m->masks.volumes[k].depth = (int)v[3];
+        m->masks.volumes[k].width = (int)v[1];
+        m->masks.volumes[k].height = (int)v[2];
+        m->masks.volumes[k].depth = (int)v[3];
         m->masks.volumes[k].channels = 1;
         m->masks.volumes[k].allocator = lst__allocator(a);
     }
@@ -239,11 +249,13 @@ static int lst__read_entry(pw__sc *s, const pw_alloc *a, const lst_model *m, lst
     int k, j, r;
     pw__sc_skip_empty(s);
     if ((r = pw__sc_int(s, &t, "paste entry", i)) != PW_OK) return r;
-    if (t < 0 || t >= m->mesh.ntets) return pw__sc_fail(s, PW_ERR_INVALID, "paste entry %d: tetrahedron %lld does not exist", i, t);
+    if (t < 0 || t >= m->mesh.ntets)
+        return pw__sc_fail(s, PW_ERR_INVALID, "paste entry %d: tetrahedron %lld does not exist", i, t);
     for (k = 0; k < 12; k++) {
         if ((r = pw__sc_num(s, &x, "paste entry", i)) != PW_OK) return r;
         w[k] = pw__num_to_float(x);
-        if (!pw_is_finite(w[k])) return pw__sc_fail(s, PW_ERR_INVALID, "paste entry %d: a texture coordinate is not finite", i);
+        if (!pw_is_finite(w[k]))
+            return pw__sc_fail(s, PW_ERR_INVALID, "paste entry %d: a texture coordinate is not finite", i);
     }
     if ((r = pw__tio_rest(s, 0, "paste entry", i)) != PW_OK) return r;
     q->tets[i] = (int)t;
@@ -252,7 +264,8 @@ static int lst__read_entry(pw__sc *s, const pw_alloc *a, const lst_model *m, lst
         if (li < 0 || memcmp(q->uvw + 3 * li, w + 3 * k, 3 * sizeof(float)) != 0) {
             size_t old = *cap;
             float *grown;
-            if (pw_grow(a, (void **)&q->verts, cap, (size_t)q->nverts + 1, sizeof(int), "paste", e)) return PW_ERR_NOMEM;
+            if (pw_grow(a, (void **)&q->verts, cap, (size_t)q->nverts + 1, sizeof(int), "paste", e))
+                return PW_ERR_NOMEM;
             if (*cap != old) {
                 if (!(grown = (float *)pw_realloc(a, q->uvw, (*cap) * 3 * sizeof(float)))) {
                     *cap = old; /* verts grew, uvw did not: keep them consistent for the next try */
@@ -263,7 +276,8 @@ static int lst__read_entry(pw__sc *s, const pw_alloc *a, const lst_model *m, lst
             li = q->nverts++;
             q->verts[li] = node;
             for (j = 0; j < 3; j++) q->uvw[3 * li + j] = w[3 * k + j];
-            vstamp[node] = id, vloc[node] = li;
+            vstamp[node] = id;
+            vloc[node] = li;
         }
         q->corners[4 * i + k] = li;
     }
@@ -283,12 +297,18 @@ static int lst__read_pastes_part(pw__sc *s, const pw_alloc *a, lst_model *m, pw_
     for (p = 0; p < n && r == PW_OK; p++) {
         lst_paste *q = &m->pastes[p];
         lst__paste_build P;
-        P.q = q, P.id = p, P.stamp = vstamp, P.loc = vloc, P.cap = 0;
+        P.q = q;
+        P.id = p;
+        P.stamp = vstamp;
+        P.loc = vloc;
+        P.cap = 0;
         m->npastes = p + 1;
         if ((r = lst__read_line(s, "paste", v, 2, 0, PW_MAX_MESH_ELEMENTS)) != PW_OK) break;
-        if (v[0] >= m->masks.count) r = pw__sc_fail(s, PW_ERR_PARSE, "paste %d uses exemplar %lld of %d", p, v[0], m->masks.count);
+        if (v[0] >= m->masks.count)
+            r = pw__sc_fail(s, PW_ERR_PARSE, "paste %d uses exemplar %lld of %d", p, v[0], m->masks.count);
         else if (v[1] < 1 || v[1] > (long long)(s->end - s->p) / 26 + 1)
-            r = pw__sc_fail(s, PW_ERR_PARSE, "paste %d announces %lld tetrahedra, the file is too short for them", p, v[1]);
+            r = pw__sc_fail(s, PW_ERR_PARSE, "paste %d announces %lld tetrahedra, the file is too short for them", p,
+                            v[1]);
         if (r != PW_OK) break;
         q->exemplar = (int)v[0];
         q->tets = (int *)pw_alloc_array(a, (size_t)v[1], sizeof(int), "paste", e);
@@ -357,13 +377,14 @@ static int lst__read_numbers(pw__sc *s, double *v, int max, const char *what, in
     return PW_OK;
 }
 
-#define LST__LINE_MAX 3000 /* numbers on one constraint line (a stroke of 1000 points) */
+#define LST__LINE_MAX 3000  /* numbers on one constraint line (a stroke of 1000 points) */
 #define LST__STROKE_STEPS 8 /* samples per stroke segment */
 
 /* The keywords of a constraint file, and what each line holds. */
 static const char *const lst__keywords[7] = {"face", "fill", "point", "depth-stroke", "dir", "dir-stroke", "scale"};
-static const char *const lst__syntax[7] = {"face F D", "fill F D [CREASE]", "point X Y Z D", "depth-stroke D X Y Z X Y Z ...",
-                                           "dir X Y Z DX DY DZ", "dir-stroke X Y Z X Y Z ...", "scale X Y Z S"};
+static const char *const lst__syntax[7] = {
+    "face F D",           "fill F D [CREASE]",          "point X Y Z D", "depth-stroke D X Y Z X Y Z ...",
+    "dir X Y Z DX DY DZ", "dir-stroke X Y Z X Y Z ...", "scale X Y Z S"};
 
 /* Whether cnt numbers fit keyword k. */
 static int lst__count_ok(int k, int cnt)
@@ -385,7 +406,8 @@ static int lst__depth_stroke(const pw_alloc *a, const double *v, int cnt, lst__c
     for (i = 0; r == PW_OK && i < (cnt - 1) / 3; i++) {
         const double *p = v + 1 + 3 * i, *q = i + 1 < (cnt - 1) / 3 ? p + 3 : p;
         for (k = 0; r == PW_OK && k < (q == p ? 1 : LST__STROKE_STEPS); k++) {
-            double t = (double)k / LST__STROKE_STEPS, x[3] = {p[0] + t * (q[0] - p[0]), p[1] + t * (q[1] - p[1]), p[2] + t * (q[2] - p[2])};
+            double t = (double)k / LST__STROKE_STEPS,
+                   x[3] = {p[0] + t * (q[0] - p[0]), p[1] + t * (q[1] - p[1]), p[2] + t * (q[2] - p[2])};
             r = lst__add_constraint(a, c, lst__constraint(LST_CONSTRAINT_DEPTH_POINT, 0, x, NULL, v[0], 0.0), e);
         }
     }
@@ -430,8 +452,10 @@ static int lst__add_line(pw__sc *s, const pw_alloc *a, const lst__cline *ln, lst
     switch (k) {
     case 0:
     case 1:
-        return lst__add_constraint(a, c, lst__constraint(k == 0 ? LST_CONSTRAINT_DEPTH_FACE : LST_CONSTRAINT_DEPTH_FILL,
-                                   (int)v[0], NULL, NULL, v[1], cnt == 3 ? v[2] : 0.0), e);
+        return lst__add_constraint(a, c,
+                                   lst__constraint(k == 0 ? LST_CONSTRAINT_DEPTH_FACE : LST_CONSTRAINT_DEPTH_FILL,
+                                                   (int)v[0], NULL, NULL, v[1], cnt == 3 ? v[2] : 0.0),
+                                   e);
     case 2: return lst__add_constraint(a, c, lst__constraint(LST_CONSTRAINT_DEPTH_POINT, 0, v, NULL, v[3], 0.0), e);
     case 3: return lst__depth_stroke(a, v, cnt, c, e);
     case 4: return lst__add_constraint(a, c, lst__constraint(LST_CONSTRAINT_DIRECTION, 0, v, v + 3, 0.0, 0.0), e);
@@ -450,17 +474,21 @@ static int lst__constraint_line(pw__sc *s, const pw_alloc *a, double *v, lst__cs
     for (k = 0; k < 7 && !pw__sc_is(w, len, lst__keywords[k]); k++) {
     }
     if (pw__sc_is(w, len, "stroke"))
-        return pw__sc_fail(s, PW_ERR_PARSE, "'stroke' is ambiguous: write 'depth-stroke D X Y Z X Y Z ...' for depths or "
-                                            "'dir-stroke X Y Z X Y Z ...' for directions");
+        return pw__sc_fail(s, PW_ERR_PARSE,
+                           "'stroke' is ambiguous: write 'depth-stroke D X Y Z X Y Z ...' for depths or "
+                           "'dir-stroke X Y Z X Y Z ...' for directions");
     if (k == 7)
-        return pw__sc_fail(s, PW_ERR_PARSE, "unknown constraint '%s' (face, fill, point, depth-stroke, dir, dir-stroke, scale)",
+        return pw__sc_fail(s, PW_ERR_PARSE,
+                           "unknown constraint '%s' (face, fill, point, depth-stroke, dir, dir-stroke, scale)",
                            pw__sc_tok(s, w, tok));
     if ((r = lst__read_numbers(s, v, LST__LINE_MAX, "constraint line", line, &cnt)) != PW_OK) return r;
     s->line--; /* messages below name the line just read */
     if (!lst__count_ok(k, cnt)) r = pw__sc_fail(s, PW_ERR_PARSE, "expected '%s'", lst__syntax[k]);
     else {
         lst__cline ln;
-        ln.k = k, ln.v = v, ln.cnt = cnt;
+        ln.k = k;
+        ln.v = v;
+        ln.cnt = cnt;
         r = lst__add_line(s, a, &ln, c, e);
     }
     s->line++;
@@ -468,8 +496,8 @@ static int lst__constraint_line(pw__sc *s, const pw_alloc *a, double *v, lst__cs
 }
 
 /* Reads a constraint file line by line; '#' comments. */
-static int lst__read_constraints(const pw_alloc *a, const void *data, size_t size, const char *name, lst_constraints *out,
-                                 pw_err *e)
+static int lst__read_constraints(const pw_alloc *a, const void *data, size_t size, const char *name,
+                                 lst_constraints *out, pw_err *e)
 {
     pw__sc s;
     lst__cset c;
@@ -477,14 +505,17 @@ static int lst__read_constraints(const pw_alloc *a, const void *data, size_t siz
     int line = 0, r = v ? PW_OK : PW_ERR_NOMEM;
     memset(&c, 0, sizeof c);
     pw__sc_init(&s, data, size, name, 0, e);
-    for (pw__sc_skip_empty(&s); r == PW_OK && s.p < s.end; pw__sc_skip_empty(&s)) r = lst__constraint_line(&s, a, v, &c, line++, e);
+    for (pw__sc_skip_empty(&s); r == PW_OK && s.p < s.end; pw__sc_skip_empty(&s))
+        r = lst__constraint_line(&s, a, v, &c, line++, e);
     if (r == PW_OK && c.n == 0) r = pw_fail(e, PW_ERR_PARSE, "%s: no constraints", s.name);
     pw_free(a, v);
     if (r != PW_OK) {
         pw_free(a, c.c);
         return r;
     }
-    out->items = c.c, out->count = c.n, out->allocator = lst__allocator(a);
+    out->items = c.c;
+    out->count = c.n;
+    out->allocator = lst__allocator(a);
     return PW_OK;
 }
 
@@ -524,7 +555,8 @@ LSTDEF lst_result lst_read_tetgen(const void *node, size_t node_size, const void
     if (out) memset(out, 0, sizeof *out);
     snprintf(nn, sizeof nn, "%s.node", name ? name : "tetgen");
     snprintf(en, sizeof en, "%s.ele", name ? name : "tetgen");
-    if (!out || (!node && node_size) || (!ele && ele_size)) pw_fail(&e, PW_ERR_INVALID, "lst_read_tetgen: NULL argument");
+    if (!out || (!node && node_size) || (!ele && ele_size))
+        pw_fail(&e, PW_ERR_INVALID, "lst_read_tetgen: NULL argument");
     else {
         pw_memfile fn = pw_memfile_of(node, node_size, nn), fe = pw_memfile_of(ele, ele_size, en);
         if (pw_tetgen_read_memory(&a, &fn, &fe, &m, &e) == PW_OK) lst__take_tets(&m, &a, out);
@@ -542,13 +574,12 @@ LSTDEF lst_result lst_read_medit(const void *data, size_t size, const char *name
     pw_err_clear(&e);
     if (out) memset(out, 0, sizeof *out);
     if (!out || (!data && size)) pw_fail(&e, PW_ERR_INVALID, "lst_read_medit: NULL argument");
-    else if (pw_medit_read_memory(&a, data, size, name ? name : "mesh", &m, &e) == PW_OK)
-        lst__take_tets(&m, &a, out);
+    else if (pw_medit_read_memory(&a, data, size, name ? name : "mesh", &m, &e) == PW_OK) lst__take_tets(&m, &a, out);
     return lst__done(&e, err);
 }
 
-LSTDEF lst_result lst_write_tetgen(const lst_tetmesh *mesh, lst_write_fn node_fn, void *node_ctx,
-                                   lst_write_fn ele_fn, void *ele_ctx, lst_error *err)
+LSTDEF lst_result lst_write_tetgen(const lst_tetmesh *mesh, lst_write_fn node_fn, void *node_ctx, lst_write_fn ele_fn,
+                                   void *ele_ctx, lst_error *err)
 {
     pw_tetmesh m;
     pw_err e;
@@ -604,8 +635,8 @@ LSTDEF lst_result lst_write_volume(const lst_volume *vol, lst_write_fn fn, void 
     return lst__done(&e, err);
 }
 
-LSTDEF lst_result lst_read_mesh(const void *data, size_t size, const char *name, const lst_options *opt,
-                                lst_mesh *out, lst_error *err)
+LSTDEF lst_result lst_read_mesh(const void *data, size_t size, const char *name, const lst_options *opt, lst_mesh *out,
+                                lst_error *err)
 {
     lst_options o = lst__options(opt);
     pw_alloc a = lst__alloc(&o.allocator);
@@ -614,8 +645,7 @@ LSTDEF lst_result lst_read_mesh(const void *data, size_t size, const char *name,
     pw_err_clear(&e);
     if (out) memset(out, 0, sizeof *out);
     if (!out || (!data && size)) pw_fail(&e, PW_ERR_INVALID, "lst_read_mesh: NULL argument");
-    else if (pw_mesh_read_memory(&a, data, size, name ? name : "mesh", &m, &e) == PW_OK)
-        lst__take_mesh(&m, &a, out);
+    else if (pw_mesh_read_memory(&a, data, size, name ? name : "mesh", &m, &e) == PW_OK) lst__take_mesh(&m, &a, out);
     return lst__done(&e, err);
 }
 
@@ -647,8 +677,7 @@ LSTDEF lst_result lst_write_obj(const lst_mesh *mesh, lst_write_fn fn, void *ctx
     return lst__done(&e, err);
 }
 
-LSTDEF lst_result lst_write_image(const lst_image *img, const char *format, lst_write_fn fn, void *ctx,
-                                  lst_error *err)
+LSTDEF lst_result lst_write_image(const lst_image *img, const char *format, lst_write_fn fn, void *ctx, lst_error *err)
 {
     pw_err e;
     pw_err_clear(&e);
@@ -663,7 +692,8 @@ LSTDEF lst_result lst_write_image(const lst_image *img, const char *format, lst_
 typedef int (*lst__reader)(const unsigned char *data, size_t size, const char *path, void *out, const lst_options *o,
                            lst_error *le);
 
-static lst_result lst__load(const char *path, const lst_options *opt, void *out, lst__reader fn, const char *what, lst_error *err)
+static lst_result lst__load(const char *path, const lst_options *opt, void *out, lst__reader fn, const char *what,
+                            lst_error *err)
 {
     lst_options o = lst__options(opt);
     pw_alloc a = lst__alloc(&o.allocator);
@@ -684,20 +714,24 @@ static int lst__rd_mesh(const unsigned char *d, size_t n, const char *p, void *o
 {
     return (int)lst_read_mesh(d, n, p, o, (lst_mesh *)out, le);
 }
-static int lst__rd_volume(const unsigned char *d, size_t n, const char *p, void *out, const lst_options *o, lst_error *le)
+static int lst__rd_volume(const unsigned char *d, size_t n, const char *p, void *out, const lst_options *o,
+                          lst_error *le)
 {
     return (int)lst_read_volume(d, n, p, o, (lst_volume *)out, le);
 }
-static int lst__rd_model(const unsigned char *d, size_t n, const char *p, void *out, const lst_options *o, lst_error *le)
+static int lst__rd_model(const unsigned char *d, size_t n, const char *p, void *out, const lst_options *o,
+                         lst_error *le)
 {
     return (int)lst_read_model(d, n, p, o, (lst_model *)out, le);
 }
 
-static int lst__rd_constraints(const unsigned char *d, size_t n, const char *p, void *out, const lst_options *o, lst_error *le)
+static int lst__rd_constraints(const unsigned char *d, size_t n, const char *p, void *out, const lst_options *o,
+                               lst_error *le)
 {
     return (int)lst_read_constraints(d, n, p, o, (lst_constraints *)out, le);
 }
-static int lst__rd_image(const unsigned char *d, size_t n, const char *p, void *out, const lst_options *o, lst_error *le)
+static int lst__rd_image(const unsigned char *d, size_t n, const char *p, void *out, const lst_options *o,
+                         lst_error *le)
 {
     return (int)lst_read_image(d, n, p, o, (lst_image *)out, le);
 }
@@ -772,8 +806,9 @@ static int lst__job_body(void *arg, pw_write_fn w, void *ctx, pw_err *e)
     lst_error le;
     int r;
     if (j->img) return lst__encode(j->img, j->format, w, ctx, e);
-    r = j->vol ? (int)lst_write_volume(j->vol, w, ctx, &le)
-               : j->mesh ? (int)lst_write_obj(j->mesh, w, ctx, &le) : (int)lst_write_model(j->model, w, ctx, &le);
+    r = j->vol    ? (int)lst_write_volume(j->vol, w, ctx, &le)
+        : j->mesh ? (int)lst_write_obj(j->mesh, w, ctx, &le)
+                  : (int)lst_write_model(j->model, w, ctx, &le);
     return r ? pw_fail(e, r, "%s", le.message) : PW_OK;
 }
 
@@ -782,11 +817,13 @@ static lst_result lst__save(const char *path, lst__job *j, lst_error *err)
     pw_err e;
     pw_err_clear(&e);
     if (!path || (!j->img && !j->vol && !j->model && !j->mesh)) pw_fail(&e, PW_ERR_INVALID, "save: NULL argument");
-    else if (j->img && !(j->format = pw_has_ext(path, ".png") ? "png" : pw_has_ext(path, ".ppm") || pw_has_ext(path, ".pnm")
-                                     ? "ppm" : pw_has_ext(path, ".pgm") ? "pgm" : pw_has_ext(path, ".pam") ? "pam" : NULL))
+    else if (j->img && !(j->format = pw_has_ext(path, ".png")                               ? "png"
+                                     : pw_has_ext(path, ".ppm") || pw_has_ext(path, ".pnm") ? "ppm"
+                                     : pw_has_ext(path, ".pgm")                             ? "pgm"
+                                     : pw_has_ext(path, ".pam")                             ? "pam"
+                                                                                            : NULL))
         pw_fail(&e, PW_ERR_UNSUPPORTED, "%s: unknown image extension (use .png, .ppm, .pgm, .pam)", path);
-    else if (!j->img || lst__check_image(j->img, path, &e) == PW_OK)
-        pw_write_file(path, lst__job_body, j, &e);
+    else if (!j->img || lst__check_image(j->img, path, &e) == PW_OK) pw_write_file(path, lst__job_body, j, &e);
     return lst__done(&e, err);
 }
 

@@ -177,8 +177,8 @@ typedef struct lst_mesh {
     int nverts;
     float *positions; /* nverts*3 */
     int nfaces;
-    int *face_start;  /* nfaces+1 */
-    int *face_verts;  /* face_start[nfaces] */
+    int *face_start; /* nfaces+1 */
+    int *face_verts; /* face_start[nfaces] */
     lst_allocator allocator;
 } lst_mesh;
 
@@ -188,7 +188,7 @@ typedef struct lst_tetmesh {
     int nverts;
     float *positions; /* nverts*3 */
     int ntets;
-    int *tets;        /* ntets*4 */
+    int *tets; /* ntets*4 */
     lst_allocator allocator;
 } lst_tetmesh;
 
@@ -281,29 +281,29 @@ typedef enum lst_show {
 } lst_show;
 
 typedef struct lst_render_options {
-    int width, height;    /* default 800 x 600 */
-    int supersample;      /* default 2 */
-    float view_dir[3];    /* default (-0.55,-0.45,-0.7) */
-    float up[3];          /* default (0,1,0) */
-    float background[3];  /* default white */
-    lst_show show;        /* default LST_SHOW_COLOR */
-    int unlit;            /* 1: no shading, the texture as it is */
-    float displace;       /* displacement mapping: the surface moved along its normal by
+    int width, height;        /* default 800 x 600 */
+    int supersample;          /* default 2 */
+    float view_dir[3];        /* default (-0.55,-0.45,-0.7) */
+    float up[3];              /* default (0,1,0) */
+    float background[3];      /* default white */
+    lst_show show;            /* default LST_SHOW_COLOR */
+    int unlit;                /* 1: no shading, the texture as it is */
+    float displace;           /* displacement mapping: the surface moved along its normal by
                              this times (values - 0.5), mesh units; 0: none */
-    int subdivide;        /* with displacement: each surface triangle split into 4^k; default 2 */
-    int threads;             /* rendering threads: 0 (default) one per processor when the
+    int subdivide;            /* with displacement: each surface triangle split into 4^k; default 2 */
+    int threads;              /* rendering threads: 0 (default) one per processor when the
                                 implementation is built with PW_THREADS (POSIX threads;
                                 link with -pthread), else 1; n: at most n. With more
                                 than one, the allocator is called from several threads */
     lst_parallel_fn parallel; /* optional: the caller's parallel for, used instead of threads */
-    void *parallel_pool;     /* its first argument */
+    void *parallel_pool;      /* its first argument */
 } lst_render_options;
 
 typedef struct lst_volume_options {
-    int slices;           /* §5.1.2: default 200 */
-    float opacity;        /* opacity of a slab one hundredth of the model's diagonal thick
+    int slices;    /* §5.1.2: default 200 */
+    float opacity; /* opacity of a slab one hundredth of the model's diagonal thick
                              at full density; default 0.3 */
-    int density;          /* 0 (default): density = 1 - luminance of the colour (dark is
+    int density;   /* 0 (default): density = 1 - luminance of the colour (dark is
                              dense); k >= 1: the extra channel's component k-1 */
 } lst_volume_options;
 
@@ -325,45 +325,45 @@ typedef struct lst_tet_options {
 
 /* Settings of the texture atlas (lst_bake_atlas), as lapped.h's. */
 typedef struct lst_atlas_options {
-    int size;                /* atlas image side, pixels (16..8192); default 1024 */
-    float cone_angle;        /* max angle between a chart's normals and its
+    int size;         /* atlas image side, pixels (16..8192); default 1024 */
+    float cone_angle; /* max angle between a chart's normals and its
                                 centre's, degrees, in (0, 180]; default 60 */
-    int gutter;              /* pixels between charts (and to the image border), filled
+    int gutter;       /* pixels between charts (and to the image border), filled
                                 by dilation, 1..64 and at most size/8; default 2 */
 } lst_atlas_options;
 
 typedef struct lst_options {
-    lst_type type;            /* default LST_TYPE_0 */
-    float scale;              /* exemplar side in mesh units where no scale constraint
+    lst_type type;                     /* default LST_TYPE_0 */
+    float scale;                       /* exemplar side in mesh units where no scale constraint
                                  reaches (0, 1-a, 2-a); 0: a fifth of the bounding-box
                                  diagonal */
     const lst_constraint *constraints; /* depths, directions and scales; may be NULL. Without a
                                           depth constraint, the depth is the normalised distance
                                           to the surface */
     int nconstraints;
-    float axis[3];            /* the direction where no direction constraint is given;
+    float axis[3];             /* the direction where no direction constraint is given;
                                  zero: the principal axis of the shape */
-    const lst_field *field;   /* NULL: computed (lst_compute_field); else these fields */
-    lst_mask_mode mask;       /* default LST_MASK_AUTO */
-    float mask_radius;        /* splotch mean radius, fraction of the side; default 0.4 */
-    float falloff;            /* splotch fall-off width, fraction of the side; default 0.08 */
-    int samples;              /* coverage samples per tetrahedron: the barycentric
+    const lst_field *field;    /* NULL: computed (lst_compute_field); else these fields */
+    lst_mask_mode mask;        /* default LST_MASK_AUTO */
+    float mask_radius;         /* splotch mean radius, fraction of the side; default 0.4 */
+    float falloff;             /* splotch fall-off width, fraction of the side; default 0.08 */
+    int samples;               /* coverage samples per tetrahedron: the barycentric
                                  lattice of this order, (n+1)(n+2)(n+3)/6 points;
                                  default 8 (165 points, §5.2.6) */
-    float coverage;           /* opacity every sample must reach; default 0.99 */
-    float max_angle;          /* clump growth: the largest angle, degrees, between a
+    float coverage;            /* opacity every sample must reach; default 0.99 */
+    float max_angle;           /* clump growth: the largest angle, degrees, between a
                                  field axis of a tetrahedron and the seed's; default 50 */
-    float max_stretch;        /* clump growth: the largest ratio of scales; default 2 */
-    float layer_weight;       /* k in the 2-a/2-b smoothing weights exp(-(k(d_i-d_j))^2);
+    float max_stretch;         /* clump growth: the largest ratio of scales; default 2 */
+    float layer_weight;        /* k in the 2-a/2-b smoothing weights exp(-(k(d_i-d_j))^2);
                                  default 1 (the paper's) */
-    float constraint_weight;  /* weight of a constraint row (Eq. 2) against a Laplacian
+    float constraint_weight;   /* weight of a constraint row (Eq. 2) against a Laplacian
                                  row (Eq. 1); default 10 */
-    int rbf_centers;          /* most centres of the depth RBF (farthest points of the
+    int rbf_centers;           /* most centres of the depth RBF (farthest points of the
                                  constraints); default 400 */
-    int keep_hidden;          /* 1: keep the paste entries of tetrahedra that a later
+    int keep_hidden;           /* 1: keep the paste entries of tetrahedra that a later
                                  paste's opaque core covers entirely (default: drop them) */
-    int max_pastes;           /* refuse inputs needing more; default 200000 */
-    unsigned long long seed;  /* default 0 */
+    int max_pastes;            /* refuse inputs needing more; default 200000 */
+    unsigned long long seed;   /* default 0 */
     lst_render_options render; /* lst_render's settings (callers pass &opt.render) */
     lst_tet_options tet;       /* lst_tetrahedralize's */
     lst_volume_options volume; /* lst_render_volume's (callers pass &opt.volume) */
@@ -381,22 +381,22 @@ typedef struct lst_paste {
     int *tets;    /* ntets tetrahedra */
     int *corners; /* ntets*4: index into verts/uvw of each tetrahedron corner, in order */
     int nverts;
-    int *verts;   /* nverts tetrahedral-mesh vertices */
-    float *uvw;   /* nverts*3 texture coordinates (the unit cube is the exemplar) */
+    int *verts; /* nverts tetrahedral-mesh vertices */
+    float *uvw; /* nverts*3 texture coordinates (the unit cube is the exemplar) */
 } lst_paste;
 
 /* A lapped solid textured model. */
 typedef struct lst_model {
-    lst_tetmesh mesh;         /* the model's own copy; cuts refine it */
-    unsigned char *removed;   /* ntets: 1 where a cut took the tetrahedron away */
-    int type;                 /* LST_TYPE_* it was made with (-1: read from a file) */
-    lst_volume texture;       /* the exemplar's colour (1-3 channels: alpha was made a mask) */
-    lst_volume values;        /* an extra channel (displacement...), or empty */
-    lst_masks masks;          /* paste p uses masks.volumes[p.exemplar] */
+    lst_tetmesh mesh;       /* the model's own copy; cuts refine it */
+    unsigned char *removed; /* ntets: 1 where a cut took the tetrahedron away */
+    int type;               /* LST_TYPE_* it was made with (-1: read from a file) */
+    lst_volume texture;     /* the exemplar's colour (1-3 channels: alpha was made a mask) */
+    lst_volume values;      /* an extra channel (displacement...), or empty */
+    lst_masks masks;        /* paste p uses masks.volumes[p.exemplar] */
     int npastes;
-    lst_paste *pastes;        /* in compositing order: later over earlier */
-    double layers;            /* mean pastes per tetrahedron */
-    double layers_before;     /* ... before hidden entries were dropped */
+    lst_paste *pastes;    /* in compositing order: later over earlier */
+    double layers;        /* mean pastes per tetrahedron */
+    double layers_before; /* ... before hidden entries were dropped */
     lst_allocator allocator;
 } lst_model;
 
@@ -438,8 +438,7 @@ LSTDEF lst_result lst_tetrahedralize(const lst_mesh *surface, const lst_options 
 LSTDEF lst_result lst_tetmesh_check(lst_tetmesh *mesh, double *min_dihedral, double *max_dihedral, lst_error *err);
 /* The boundary triangles of a tetrahedral mesh, outward, as a surface
  * sharing its vertices (in order of tetrahedron, then face). */
-LSTDEF lst_result lst_tetmesh_surface(const lst_tetmesh *mesh, const lst_options *opt, lst_mesh *out,
-                                      lst_error *err);
+LSTDEF lst_result lst_tetmesh_surface(const lst_tetmesh *mesh, const lst_options *opt, lst_mesh *out, lst_error *err);
 
 /* ---- exemplars and fields ---- */
 
@@ -452,8 +451,7 @@ LSTDEF lst_result lst_builtin_exemplar(const char *name, int size, const lst_opt
                                        lst_volume *values, lst_error *err);
 /* §5.2.1/§5.2.7 the masks pasting would use with this exemplar and these
  * options (1 or 3 one-channel volumes). */
-LSTDEF lst_result lst_make_masks(const lst_volume *exemplar, const lst_options *opt, lst_masks *out,
-                                 lst_error *err);
+LSTDEF lst_result lst_make_masks(const lst_volume *exemplar, const lst_options *opt, lst_masks *out, lst_error *err);
 LSTDEF void lst_masks_free(lst_masks *masks);
 /* §5.2.2 the depth, vector, scale and tensor fields. surface: the surface
  * that depth constraints name faces of (NULL: the mesh's boundary). */
@@ -525,8 +523,8 @@ LSTDEF lst_result lst_render(const lst_model *model, const lst_render_options *r
 /* §5.1.2 volume rendering: slices perpendicular to the view, composited
  * back to front with an opacity from the density. ro, vo: NULL (the
  * defaults) or &opt.render, &opt.volume. */
-LSTDEF lst_result lst_render_volume(const lst_model *model, const lst_render_options *ro,
-                                    const lst_volume_options *vo, lst_image *out, lst_error *err);
+LSTDEF lst_result lst_render_volume(const lst_model *model, const lst_render_options *ro, const lst_volume_options *vo,
+                                    lst_image *out, lst_error *err);
 
 /* ---- built-in data ---- */
 
@@ -575,8 +573,8 @@ LSTDEF lst_result lst_read_volume(const void *data, size_t size, const char *nam
                                   lst_volume *out, lst_error *err);
 LSTDEF lst_result lst_write_volume(const lst_volume *vol, lst_write_fn fn, void *ctx, lst_error *err);
 /* Surfaces: OBJ, OFF, PLY, STL. */
-LSTDEF lst_result lst_read_mesh(const void *data, size_t size, const char *name, const lst_options *opt,
-                                lst_mesh *out, lst_error *err);
+LSTDEF lst_result lst_read_mesh(const void *data, size_t size, const char *name, const lst_options *opt, lst_mesh *out,
+                                lst_error *err);
 /* A surface (e.g. the boundary from lst_tetmesh_surface) as OBJ: positions
  * and polygon faces. */
 LSTDEF lst_result lst_write_obj(const lst_mesh *mesh, lst_write_fn fn, void *ctx, lst_error *err);
@@ -584,8 +582,7 @@ LSTDEF lst_result lst_write_obj(const lst_mesh *mesh, lst_write_fn fn, void *ctx
 LSTDEF lst_result lst_read_image(const void *data, size_t size, const char *name, const lst_options *opt,
                                  lst_image *out, lst_error *err);
 /* format: "png", "ppm", "pgm", "pam" */
-LSTDEF lst_result lst_write_image(const lst_image *img, const char *format, lst_write_fn fn, void *ctx,
-                                  lst_error *err);
+LSTDEF lst_result lst_write_image(const lst_image *img, const char *format, lst_write_fn fn, void *ctx, lst_error *err);
 #ifndef PW_NO_STDIO
 LSTDEF lst_result lst_load_mesh(const char *path, const lst_options *opt, lst_mesh *out, lst_error *err);
 LSTDEF lst_result lst_save_obj(const char *path, const lst_mesh *mesh, lst_error *err);
@@ -597,8 +594,7 @@ LSTDEF lst_result lst_load_volume(const char *path, const lst_options *opt, lst_
 LSTDEF lst_result lst_save_volume(const char *path, const lst_volume *vol, lst_error *err);
 LSTDEF lst_result lst_save_model(const char *path, const lst_model *model, lst_error *err);
 LSTDEF lst_result lst_load_model(const char *path, const lst_options *opt, lst_model *out, lst_error *err);
-LSTDEF lst_result lst_load_constraints(const char *path, const lst_options *opt, lst_constraints *out,
-                                       lst_error *err);
+LSTDEF lst_result lst_load_constraints(const char *path, const lst_options *opt, lst_constraints *out, lst_error *err);
 LSTDEF lst_result lst_load_image(const char *path, const lst_options *opt, lst_image *out, lst_error *err);
 LSTDEF lst_result lst_save_image(const char *path, const lst_image *img, lst_error *err);
 #endif
@@ -613,13 +609,13 @@ LSTDEF lst_result lst_save_image(const char *path, const lst_image *img, lst_err
  * mesh is a manifold. */
 typedef struct lst_atlas {
     int nverts;
-    float *positions;        /* nverts*3 */
+    float *positions; /* nverts*3 */
     int ntris;
-    int *tris;               /* ntris*3, counter-clockwise seen from outside */
-    float *uvs;              /* ntris*6, per corner, (0,0) bottom-left of the image */
+    int *tris;  /* ntris*3, counter-clockwise seen from outside */
+    float *uvs; /* ntris*6, per corner, (0,0) bottom-left of the image */
     int ncharts;
-    float fill;              /* fraction of the image covered by charts */
-    lst_image image;         /* RGB: the model's colour (show = COLOR), unlit */
+    float fill;      /* fraction of the image covered by charts */
+    lst_image image; /* RGB: the model's colour (show = COLOR), unlit */
     lst_allocator allocator;
 } lst_atlas;
 /* Charts of the visible boundary (opt->atlas; opt NULL: the defaults),

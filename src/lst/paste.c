@@ -11,17 +11,17 @@
 
 /* One paste being built. */
 typedef struct lst__spec {
-    int seed;          /* seed tetrahedron */
-    double centre[4];  /* barycentric coordinates of the texture centre in it */
-    double w0[3];      /* texture coordinates there: (0.5, 0.5, 0.5) or (0.5, d_seed, 0.5) */
-    double axes[9];    /* the seed's frame for this paste: u, v, w axes (mesh units) */
-    double rnd[3];     /* the random direction that completes partial frames (0, 1-a, 1-b) */
-    double rot[9];     /* type 0: the random rotation (columns) */
-    int mask;          /* mask index */
-    int manual;        /* §4.6: one rigid frame for the whole clump */
-    int depth_coord;   /* v is the depth (§5.2.7), not solved */
-    double inv[9];     /* the affine map (lst__spec_setup): the frame's inverse (tensor axes to texture axes) */
-    double ctr[3];     /* and the texture centre in mesh coordinates */
+    int seed;         /* seed tetrahedron */
+    double centre[4]; /* barycentric coordinates of the texture centre in it */
+    double w0[3];     /* texture coordinates there: (0.5, 0.5, 0.5) or (0.5, d_seed, 0.5) */
+    double axes[9];   /* the seed's frame for this paste: u, v, w axes (mesh units) */
+    double rnd[3];    /* the random direction that completes partial frames (0, 1-a, 1-b) */
+    double rot[9];    /* type 0: the random rotation (columns) */
+    int mask;         /* mask index */
+    int manual;       /* §4.6: one rigid frame for the whole clump */
+    int depth_coord;  /* v is the depth (§5.2.7), not solved */
+    double inv[9];    /* the affine map (lst__spec_setup): the frame's inverse (tensor axes to texture axes) */
+    double ctr[3];    /* and the texture centre in mesh coordinates */
 } lst__spec;
 
 /* The state of a fill. */
@@ -29,23 +29,23 @@ typedef struct lst__fill {
     const pw_alloc *a;
     lst_options o;
     const lst__geo *g;
-    const float *frame;         /* nt*9 */
-    const float *depth;         /* nv, for depth-varying types */
+    const float *frame; /* nt*9 */
+    const float *depth; /* nv, for depth-varying types */
     lst__mask mask[3];
     int nmasks;
-    int nsamp;                  /* sample points per tetrahedron */
-    float *lattice;             /* nsamp*4 barycentric coordinates, grouped by octant */
-    int group[9];               /* samples group[c] .. group[c+1]-1 lie in octant c (lst__octants) */
-    unsigned char *cov;         /* nt*nsamp accumulated opacity, 0..255 (§5.2.6) */
-    int *uncov, *upos, nuncov;  /* the uncovered list and each tetrahedron's place in it (-1: covered) */
-    int *opaque;                /* nt: the latest paste whose opaque core holds the whole tetrahedron */
-    unsigned char *seeded;      /* nt: 1 once the tetrahedron has been a seed */
-    int threshold;              /* opacity, 0..255, that counts as covered */
-    int *tstamp, *tstate;       /* nt: paste id of the last visit; 1 in the clump, 2 refused */
-    int *vstamp, *vlocal;       /* nv: paste id; local index of the vertex in the clump */
+    int nsamp;                             /* sample points per tetrahedron */
+    float *lattice;                        /* nsamp*4 barycentric coordinates, grouped by octant */
+    int group[9];                          /* samples group[c] .. group[c+1]-1 lie in octant c (lst__octants) */
+    unsigned char *cov;                    /* nt*nsamp accumulated opacity, 0..255 (§5.2.6) */
+    int *uncov, *upos, nuncov;             /* the uncovered list and each tetrahedron's place in it (-1: covered) */
+    int *opaque;                           /* nt: the latest paste whose opaque core holds the whole tetrahedron */
+    unsigned char *seeded;                 /* nt: 1 once the tetrahedron has been a seed */
+    int threshold;                         /* opacity, 0..255, that counts as covered */
+    int *tstamp, *tstate;                  /* nt: paste id of the last visit; 1 in the clump, 2 refused */
+    int *vstamp, *vlocal;                  /* nv: paste id; local index of the vertex in the clump */
     int *ctet, nct, *cvert, ncv, *ccorner; /* the clump: tetrahedra, vertices, corners (local) */
     size_t ctcap, cvcap, cccap, wcap;
-    double *w;                  /* ncv*3 texture coordinates */
+    double *w; /* ncv*3 texture coordinates */
     lst_paste *pastes;
     int npastes;
     size_t pcap;
@@ -92,7 +92,9 @@ static int lst__lattice(const pw_alloc *a, int n, float **out, int *group, pw_er
     tmp = (float *)pw_alloc_array(a, (size_t)cnt * 4, sizeof(float), "sample points", e);
     oct = (int *)pw_alloc_array(a, (size_t)cnt, sizeof(int), "sample points", e);
     if (!*out || !tmp || !oct) {
-        pw_free(a, *out), pw_free(a, tmp), pw_free(a, oct);
+        pw_free(a, *out);
+        pw_free(a, tmp);
+        pw_free(a, oct);
         *out = NULL;
         return -1;
     }
@@ -100,7 +102,10 @@ static int lst__lattice(const pw_alloc *a, int n, float **out, int *group, pw_er
         for (j = 0; j <= n - i; j++)
             for (k = 0; k <= n - i - j; k++) {
                 float *l = tmp + 4 * at;
-                l[0] = (float)i / n, l[1] = (float)j / n, l[2] = (float)k / n, l[3] = (float)(n - i - j - k) / n;
+                l[0] = (float)i / n;
+                l[1] = (float)j / n;
+                l[2] = (float)k / n;
+                l[3] = (float)(n - i - j - k) / n;
                 oct[at++] = lst__octant_of(l);
             }
     for (c = 0, at = 0; c < 8; c++) {
@@ -109,7 +114,8 @@ static int lst__lattice(const pw_alloc *a, int n, float **out, int *group, pw_er
             if (oct[q] == c) memcpy(*out + 4 * at++, tmp + 4 * q, 4 * sizeof(float));
     }
     group[8] = at;
-    pw_free(a, tmp), pw_free(a, oct);
+    pw_free(a, tmp);
+    pw_free(a, oct);
     return cnt;
 }
 
@@ -132,7 +138,10 @@ static void lst__random_unit(pw_rng *r, double *v, int dim)
     int k;
     do {
         n2 = 0.0;
-        for (k = 0; k < dim; k++) v[k] = 2.0 * pw_rng_double(r) - 1.0, n2 += v[k] * v[k];
+        for (k = 0; k < dim; k++) {
+            v[k] = 2.0 * pw_rng_double(r) - 1.0;
+            n2 += v[k] * v[k];
+        }
     } while (n2 > 1.0 || n2 < 1e-6);
     n2 = sqrt(n2);
     for (k = 0; k < dim; k++) v[k] /= n2;
@@ -143,10 +152,19 @@ static void lst__random_rotation(pw_rng *r, double *m)
 {
     double q[4], w, x, y, z;
     lst__random_unit(r, q, 4);
-    w = q[0], x = q[1], y = q[2], z = q[3];
-    m[0] = 1 - 2 * (y * y + z * z), m[1] = 2 * (x * y + w * z), m[2] = 2 * (x * z - w * y);
-    m[3] = 2 * (x * y - w * z), m[4] = 1 - 2 * (x * x + z * z), m[5] = 2 * (y * z + w * x);
-    m[6] = 2 * (x * z + w * y), m[7] = 2 * (y * z - w * x), m[8] = 1 - 2 * (x * x + y * y);
+    w = q[0];
+    x = q[1];
+    y = q[2];
+    z = q[3];
+    m[0] = 1 - 2 * (y * y + z * z);
+    m[1] = 2 * (x * y + w * z);
+    m[2] = 2 * (x * z - w * y);
+    m[3] = 2 * (x * y - w * z);
+    m[4] = 1 - 2 * (x * x + z * z);
+    m[5] = 2 * (y * z + w * x);
+    m[6] = 2 * (x * z + w * y);
+    m[7] = 2 * (y * z - w * x);
+    m[8] = 1 - 2 * (x * x + y * y);
 }
 
 /* The frame of tetrahedron t for paste s (axes u, v, w as columns, mesh
@@ -163,14 +181,23 @@ static void lst__frame_of(const lst__fill *F, const lst__spec *s, int t, double 
         memcpy(ax, s->axes, 9 * sizeof(double));
         return;
     }
-    for (k = 0; k < 3; k++) u[k] = f[k], v[k] = f[3 + k];
+    for (k = 0; k < 3; k++) {
+        u[k] = f[k];
+        v[k] = f[3 + k];
+    }
     len = pw_norm3(u);
     pw_norm3(v);
-    if (type == LST_TYPE_0) memcpy(u, s->rot, 3 * sizeof u[0]), memcpy(v, s->rot + 3, 3 * sizeof v[0]);
-    else if (type == LST_TYPE_1A) lst__perp_to(u, s->rnd, v);
+    if (type == LST_TYPE_0) {
+        memcpy(u, s->rot, 3 * sizeof u[0]);
+        memcpy(v, s->rot + 3, 3 * sizeof v[0]);
+    } else if (type == LST_TYPE_1A) lst__perp_to(u, s->rnd, v);
     else if (type == LST_TYPE_1B) lst__perp_to(v, s->rnd, u);
     pw_cross3(u, v, w);
-    for (k = 0; k < 3; k++) ax[k] = len * u[k], ax[3 + k] = len * v[k], ax[6 + k] = len * w[k];
+    for (k = 0; k < 3; k++) {
+        ax[k] = len * u[k];
+        ax[3 + k] = len * v[k];
+        ax[6 + k] = len * w[k];
+    }
 }
 
 /* §5.2.4 "its tensor is not markedly different from that of the seed":
@@ -181,7 +208,8 @@ static int lst__similar(const lst__fill *F, const lst__spec *s, const double *ax
     double c = pw_cos(F->o.max_angle * (3.14159265358979323846 / 180.0)), su, st, k;
     int type = F->o.type, a;
     if (s->manual) return 1;
-    su = sqrt(pw_dot3(s->axes, s->axes)), st = sqrt(pw_dot3(ax, ax));
+    su = sqrt(pw_dot3(s->axes, s->axes));
+    st = sqrt(pw_dot3(ax, ax));
     k = st / su;
     if (k > F->o.max_stretch || k * F->o.max_stretch < 1.0) return 0;
     for (a = 0; a < 2; a++) {
@@ -245,17 +273,23 @@ static int lst__overlap(const lst__fill *F, const lst__mask *m, double c[4][3])
     double g[3], lim = lst__ball(c, g) + m->margin, p[10][3], o[4][3];
     float vc[4][3];
     int k, j, s, q;
-    if (lst__mask_dist(m, m->out, pw_clampf((float)g[0], 0, 1), pw_clampf((float)g[1], 0, 1), pw_clampf((float)g[2], 0, 1)) > lim)
+    if (lst__mask_dist(m, m->out, pw_clampf((float)g[0], 0, 1), pw_clampf((float)g[1], 0, 1),
+                       pw_clampf((float)g[2], 0, 1)) > lim)
         return LST__OUT;
-    if (g[0] >= 0 && g[0] <= 1 && g[1] >= 0 && g[1] <= 1 && g[2] >= 0 && g[2] <= 1 && lst__mask_dist(m, m->in, g[0], g[1], g[2]) > lim)
+    if (g[0] >= 0 && g[0] <= 1 && g[1] >= 0 && g[1] <= 1 && g[2] >= 0 && g[2] <= 1 &&
+        lst__mask_dist(m, m->in, g[0], g[1], g[2]) > lim)
         return LST__CORE;
-    for (k = 0; k < 4; k++) lst__to_voxel(&m->vol, c[k][0], c[k][1], c[k][2], vc[k]), memcpy(p[k], c[k], sizeof p[k]);
+    for (k = 0; k < 4; k++) {
+        lst__to_voxel(&m->vol, c[k][0], c[k][1], c[k][2], vc[k]);
+        memcpy(p[k], c[k], sizeof p[k]);
+    }
     for (k = 0; k < 6; k++)
         for (j = 0; j < 3; j++) p[4 + k][j] = 0.5 * (c[lst__midpoints[k][0]][j] + c[lst__midpoints[k][1]][j]);
     for (q = 0; q < 8; q++) { /* octants the distance field clears are not sampled */
         for (k = 0; k < 4; k++) memcpy(o[k], p[lst__octants[q][k]], sizeof o[k]);
         lim = lst__ball(o, g) + m->margin;
-        if (lst__mask_dist(m, m->out, pw_clampf((float)g[0], 0, 1), pw_clampf((float)g[1], 0, 1), pw_clampf((float)g[2], 0, 1)) > lim)
+        if (lst__mask_dist(m, m->out, pw_clampf((float)g[0], 0, 1), pw_clampf((float)g[1], 0, 1),
+                           pw_clampf((float)g[2], 0, 1)) > lim)
             continue;
         for (s = F->group[q]; s < F->group[q + 1]; s++) {
             const float *l = F->lattice + 4 * s;
@@ -445,7 +479,9 @@ static int lst__optimise(lst__fill *F, const lst__spec *s, const pw_progress *p,
     }
     pw_ic0_free(F->a, &L);
     pw_csr_free(F->a, &A);
-    pw_free(F->a, coef), pw_free(F->a, b), pw_free(F->a, x);
+    pw_free(F->a, coef);
+    pw_free(F->a, b);
+    pw_free(F->a, x);
     return r;
 }
 
@@ -482,10 +518,12 @@ static void lst__coverage(lst__fill *F, const lst__spec *s, int id)
             const float *l = F->lattice + 4 * q;
             float al;
             if (cv[q] == 255) continue;
-            al = ov == LST__CORE ? 1.0f
-                                 : lst__mask_alpha_vox(&m->vol, l[0] * vc[0][0] + l[1] * vc[1][0] + l[2] * vc[2][0] + l[3] * vc[3][0],
-                                                       l[0] * vc[0][1] + l[1] * vc[1][1] + l[2] * vc[2][1] + l[3] * vc[3][1],
-                                                       l[0] * vc[0][2] + l[1] * vc[1][2] + l[2] * vc[2][2] + l[3] * vc[3][2]);
+            al = ov == LST__CORE
+                     ? 1.0f
+                     : lst__mask_alpha_vox(&m->vol,
+                                           l[0] * vc[0][0] + l[1] * vc[1][0] + l[2] * vc[2][0] + l[3] * vc[3][0],
+                                           l[0] * vc[0][1] + l[1] * vc[1][1] + l[2] * vc[2][1] + l[3] * vc[3][1],
+                                           l[0] * vc[0][2] + l[1] * vc[1][2] + l[2] * vc[2][2] + l[3] * vc[3][2]);
             cv[q] = (unsigned char)(cv[q] + (int)(al * (255 - cv[q]) + 0.5f));
             all &= cv[q] >= F->threshold;
         }
@@ -581,10 +619,20 @@ static void lst__fill_free(lst__fill *F)
     const pw_alloc *a = F->a;
     int k;
     for (k = 0; k < F->nmasks; k++) lst__mask_free(a, &F->mask[k]);
-    pw_free(a, F->lattice), pw_free(a, F->cov), pw_free(a, F->uncov), pw_free(a, F->upos), pw_free(a, F->opaque);
+    pw_free(a, F->lattice);
+    pw_free(a, F->cov);
+    pw_free(a, F->uncov);
+    pw_free(a, F->upos);
+    pw_free(a, F->opaque);
     pw_free(a, F->seeded);
-    pw_free(a, F->tstamp), pw_free(a, F->tstate), pw_free(a, F->vstamp), pw_free(a, F->vlocal);
-    pw_free(a, F->ctet), pw_free(a, F->cvert), pw_free(a, F->ccorner), pw_free(a, F->w);
+    pw_free(a, F->tstamp);
+    pw_free(a, F->tstate);
+    pw_free(a, F->vstamp);
+    pw_free(a, F->vlocal);
+    pw_free(a, F->ctet);
+    pw_free(a, F->cvert);
+    pw_free(a, F->ccorner);
+    pw_free(a, F->w);
     for (k = 0; k < F->npastes; k++) lst__paste_free(a, &F->pastes[k]);
     pw_free(a, F->pastes);
     memset(F, 0, sizeof *F);
@@ -653,8 +701,9 @@ static int lst__fill_run(lst__fill *F, const pw_progress *p, pw_err *e)
         if ((F->npastes & 7) == 0 && pw_report(p, 0.35f + 0.6f * (float)(nt - F->nuncov) / (float)nt, "pasting", e))
             return PW_ERR_CANCELLED;
         if (F->npastes >= F->o.max_pastes)
-            return pw_fail(e, PW_ERR_LIMIT, "filling needs more than %d pastes (%d of %d tetrahedra still uncovered): "
-                                            "a larger scale or a coarser mesh would do",
+            return pw_fail(e, PW_ERR_LIMIT,
+                           "filling needs more than %d pastes (%d of %d tetrahedra still uncovered): "
+                           "a larger scale or a coarser mesh would do",
                            F->o.max_pastes, F->nuncov, nt);
         memset(&s, 0, sizeof s);
         s.seed = F->uncov[pw_rng_below(&F->rng, (uint32_t)F->nuncov)];
@@ -722,14 +771,16 @@ static int lst__check_fields(const lst_field *f, const pw_tetmesh *m, int type, 
 {
     int t, k;
     if (f->nverts != m->nv || f->ntets != m->nt || !f->frame)
-        return pw_fail(e, PW_ERR_INVALID, "fields: made for %d vertices and %d tetrahedra, the mesh has %d and %d", f->nverts,
-                       f->ntets, m->nv, m->nt);
-    if (lst__depth_varying(type) && !f->depth) return pw_fail(e, PW_ERR_INVALID, "fields: a depth-varying type needs a depth");
+        return pw_fail(e, PW_ERR_INVALID, "fields: made for %d vertices and %d tetrahedra, the mesh has %d and %d",
+                       f->nverts, f->ntets, m->nv, m->nt);
+    if (lst__depth_varying(type) && !f->depth)
+        return pw_fail(e, PW_ERR_INVALID, "fields: a depth-varying type needs a depth");
     for (t = 0; t < m->nt; t++) {
         double mm[9], inv[9];
         for (k = 0; k < 9; k++) mm[k] = f->frame[9 * t + k];
         if (!(lst__inv3(mm, inv) > 0.0))
-            return pw_fail(e, PW_ERR_INVALID, "fields: the frame of tetrahedron %d is degenerate, left-handed or not finite", t);
+            return pw_fail(e, PW_ERR_INVALID,
+                           "fields: the frame of tetrahedron %d is degenerate, left-handed or not finite", t);
     }
     for (k = 0; f->depth && k < m->nv; k++)
         if (!(f->depth[k] >= 0.0f && f->depth[k] <= 1.0f))
@@ -766,7 +817,8 @@ static int lst__model_start(const pw_alloc *a, const lst_tetmesh *mesh, const ls
     if (!out->mesh.positions || !out->mesh.tets || !out->removed) return PW_ERR_NOMEM;
     memcpy(out->mesh.positions, mesh->positions, nv * sizeof(float));
     memcpy(out->mesh.tets, mesh->tets, nt * sizeof(int));
-    out->mesh.nverts = mesh->nverts, out->mesh.ntets = mesh->ntets;
+    out->mesh.nverts = mesh->nverts;
+    out->mesh.ntets = mesh->ntets;
     if ((r = lst__copy_volume(a, ex, ex->channels == 2 || ex->channels == 4 ? ex->channels - 1 : ex->channels,
                               &out->texture, e)) != PW_OK ||
         (values && (r = lst__copy_volume(a, values, values->channels, &out->values, e)) != PW_OK))
@@ -779,8 +831,9 @@ static int lst__check_inputs(const lst_tetmesh *mesh, const lst_volume *ex, cons
     if (lst__check_tets(mesh, e) || lst__check_volume(ex, "exemplar", e)) return e->code;
     if (values && (lst__check_volume(values, "values", e) || values->width != ex->width ||
                    values->height != ex->height || values->depth != ex->depth))
-        return e->code ? e->code : pw_fail(e, PW_ERR_INVALID, "values: %dx%dx%d, the exemplar is %dx%dx%d", values->width,
-                                           values->height, values->depth, ex->width, ex->height, ex->depth);
+        return e->code ? e->code
+                       : pw_fail(e, PW_ERR_INVALID, "values: %dx%dx%d, the exemplar is %dx%dx%d", values->width,
+                                 values->height, values->depth, ex->width, ex->height, ex->depth);
     return PW_OK;
 }
 
@@ -798,20 +851,29 @@ static int lst__create(const pw_alloc *a, const lst_mesh *surface, const lst_opt
     if (o->field) r = lst__check_fields(o->field, &m, o->type, e);
     else {
         lst__field_job job;
-        job.a = a, job.g = &g, job.surface = surface, job.o = o, job.p = &p, job.e = e;
+        job.a = a;
+        job.g = &g;
+        job.surface = surface;
+        job.o = o;
+        job.p = &p;
+        job.e = e;
         r = lst__fields(&job, &depth, &frame);
     }
     for (k = 0; k < out->masks.count; k++) masks[k] = lst__pw_volume(&out->masks.volumes[k]);
     memset(&F, 0, sizeof F);
-    F.a = a, F.o = *o, F.g = &g;
+    F.a = a;
+    F.o = *o;
+    F.g = &g;
     if (r == PW_OK) r = lst__fill_init(&F, masks, out->masks.count, 1, e);
     F.frame = o->field ? o->field->frame : frame;
     F.depth = lst__depth_varying(o->type) ? (o->field ? o->field->depth : depth) : NULL;
     if (r == PW_OK) r = lst__fill_run(&F, &p, e);
     if (r == PW_OK) r = lst__prune(&F, &out->layers_before, &out->layers, e);
     if (r == PW_OK) {
-        out->pastes = F.pastes, out->npastes = F.npastes;
-        F.pastes = NULL, F.npastes = 0;
+        out->pastes = F.pastes;
+        out->npastes = F.npastes;
+        F.pastes = NULL;
+        F.npastes = 0;
         r = pw_report(&p, 1.0f, "done", e);
     }
     lst__fill_free(&F);
@@ -846,18 +908,27 @@ static int lst__manual_spec(const lst__geo *g, const lst_paste_spec *spec, lst__
     float scale = spec->scale;
     int k;
     memset(s, 0, sizeof *s);
-    for (k = 0; k < 3; k++) p[k] = spec->point[k], u[k] = spec->u_axis[k], v[k] = spec->v_axis[k];
+    for (k = 0; k < 3; k++) {
+        p[k] = spec->point[k];
+        u[k] = spec->u_axis[k];
+        v[k] = spec->v_axis[k];
+    }
     if (!pw_is_finite(p[0] + p[1] + p[2]) || !(scale > 0.0f && pw_is_finite(scale)))
         return pw_fail(e, PW_ERR_INVALID, "manual paste: the point or the scale is not valid");
     if (!(pw_norm3(u) > 0.0) || !pw_is_finite(u[0] + u[1] + u[2]) || !pw_is_finite(v[0] + v[1] + v[2]))
         return pw_fail(e, PW_ERR_INVALID, "manual paste: the u axis is zero or not finite");
     lst__perp_to(u, v, v);
     pw_cross3(u, v, w);
-    for (k = 0; k < 3; k++) s->axes[k] = scale * u[k], s->axes[3 + k] = scale * v[k], s->axes[6 + k] = scale * w[k];
+    for (k = 0; k < 3; k++) {
+        s->axes[k] = scale * u[k];
+        s->axes[3 + k] = scale * v[k];
+        s->axes[6 + k] = scale * w[k];
+    }
     s->manual = 1;
     s->seed = pw_tetgrid_locate(&g->grid, &g->m, p, s->centre);
     if (s->seed < 0)
-        return pw_fail(e, PW_ERR_INVALID, "manual paste: the point (%g, %g, %g) is outside the model", p[0], p[1], p[2]);
+        return pw_fail(e, PW_ERR_INVALID, "manual paste: the point (%g, %g, %g) is outside the model", p[0], p[1],
+                       p[2]);
     return PW_OK;
 }
 
@@ -880,7 +951,8 @@ LSTDEF lst_result lst_paste_at(lst_model *model, const lst_paste_spec *spec, con
     }
     mask = spec->mask;
     if (mask < 0 || mask >= model->masks.count || !model->masks.volumes[mask].voxels) {
-        pw_fail(&e, PW_ERR_INVALID, "lst_paste_at: mask %d does not exist (the model has %d)", mask, model->masks.count);
+        pw_fail(&e, PW_ERR_INVALID, "lst_paste_at: mask %d does not exist (the model has %d)", mask,
+                model->masks.count);
         return lst__done(&e, err);
     }
     a = lst__alloc(&model->allocator);
@@ -889,17 +961,18 @@ LSTDEF lst_result lst_paste_at(lst_model *model, const lst_paste_spec *spec, con
     memset(&F, 0, sizeof F);
     F.a = &a;
     if (lst__geo_init(&a, &m, &g, &e) != PW_OK) return lst__done(&e, err);
-    F.o = o, F.g = &g;
+    F.o = o;
+    F.g = &g;
     if (lst__manual_spec(&g, spec, &s, &e) == PW_OK && lst__fill_init(&F, &mv, 1, 0, &e) == PW_OK) {
         s.mask = 0; /* the one mask of this fill */
         if (lst__paste_one(&F, &s, 0, NULL, &e) == PW_OK &&
-            (grown = (lst_paste *)pw_realloc(&a, model->pastes, sizeof(lst_paste) * ((size_t)model->npastes + 1))) != NULL) {
+            (grown = (lst_paste *)pw_realloc(&a, model->pastes, sizeof(lst_paste) * ((size_t)model->npastes + 1))) !=
+                NULL) {
             model->pastes = grown;
             model->pastes[model->npastes] = F.pastes[0];
             model->pastes[model->npastes++].exemplar = mask;
             F.npastes = 0;
-        } else if (e.code == PW_OK)
-            pw_fail(&e, PW_ERR_NOMEM, "out of memory adding a paste");
+        } else if (e.code == PW_OK) pw_fail(&e, PW_ERR_NOMEM, "out of memory adding a paste");
     }
     lst__fill_free(&F);
     lst__geo_free(&a, &g);

@@ -71,7 +71,8 @@ static int lst__check_model(const lst_model *m, pw_err *e)
     int p, k;
     if (!m || !m->mesh.tets || m->mesh.ntets < 1) return pw_fail(e, PW_ERR_INVALID, "empty model");
     if (!m->texture.voxels) return pw_fail(e, PW_ERR_INVALID, "the model has no texture (load the exemplar into it)");
-    if (m->masks.count < 1 || m->masks.count > 64) return pw_fail(e, PW_ERR_INVALID, "the model has %d masks", m->masks.count);
+    if (m->masks.count < 1 || m->masks.count > 64)
+        return pw_fail(e, PW_ERR_INVALID, "the model has %d masks", m->masks.count);
     for (k = 0; k < m->masks.count; k++)
         if (!m->masks.volumes[k].voxels || m->masks.volumes[k].channels != 1)
             return pw_fail(e, PW_ERR_INVALID, "mask %d of the model is missing or has more than one channel", k);
@@ -84,7 +85,8 @@ static int lst__check_model(const lst_model *m, pw_err *e)
                 return pw_fail(e, PW_ERR_INVALID, "paste %d uses tetrahedron %d of %d", p, q->tets[k], m->mesh.ntets);
         for (k = 0; k < 4 * q->ntets; k++)
             if (q->corners[k] < 0 || q->corners[k] >= q->nverts)
-                return pw_fail(e, PW_ERR_INVALID, "paste %d: a corner uses vertex %d of %d", p, q->corners[k], q->nverts);
+                return pw_fail(e, PW_ERR_INVALID, "paste %d: a corner uses vertex %d of %d", p, q->corners[k],
+                               q->nverts);
     }
     return PW_OK;
 }
@@ -126,13 +128,18 @@ static void lst__eval(const lst__view *v, int t, const double *l, float *rgba, f
         const int *c = p->corners + 4 * v->ix.slot[i];
         double w[3];
         float al, wt;
-        for (j = 0; j < 3; j++) w[j] = l[0] * p->uvw[3 * c[0] + j] + l[1] * p->uvw[3 * c[1] + j] + l[2] * p->uvw[3 * c[2] + j] + l[3] * p->uvw[3 * c[3] + j];
+        for (j = 0; j < 3; j++)
+            w[j] = l[0] * p->uvw[3 * c[0] + j] + l[1] * p->uvw[3 * c[1] + j] + l[2] * p->uvw[3 * c[2] + j] +
+                   l[3] * p->uvw[3 * c[3] + j];
         al = lst__mask_alpha(&v->mask[p->exemplar], w[0], w[1], w[2]);
         if (!(al > 0.0f)) continue;
         wt = T * al;
         if (v->show == LST_SHOW_PASTES) lst__paste_colour(v->ix.paste[i], col);
-        else if (v->show == LST_SHOW_DEPTH) col[0] = (float)w[0], col[1] = (float)w[1], col[2] = (float)w[2];
-        else lst__sample(&v->tex, w[0], w[1], w[2], col);
+        else if (v->show == LST_SHOW_DEPTH) {
+            col[0] = (float)w[0];
+            col[1] = (float)w[1];
+            col[2] = (float)w[2];
+        } else lst__sample(&v->tex, w[0], w[1], w[2], col);
         if (v->show == LST_SHOW_COLOR && nc == 1) col[1] = col[2] = col[0];
         for (k = 0; k < 3; k++) acc[k] += wt * col[k];
         if (vc) {
@@ -192,10 +199,10 @@ LSTDEF lst_result lst_eval(const lst_model *model, const float *points, int n, f
  * that the shader can evaluate the model anywhere on it. */
 typedef struct lst__tris {
     int n, nv;
-    float *pos;   /* nv*3 (owned, or NULL when the mesh's positions are used) */
-    int *tri;     /* n*3 */
-    int *tet;     /* n */
-    float *bary;  /* n*12 */
+    float *pos;     /* nv*3 (owned, or NULL when the mesh's positions are used) */
+    int *tri;       /* n*3 */
+    int *tet;       /* n */
+    float *bary;    /* n*12 */
     float *normals; /* nv*3 smooth vertex normals (lst__tris_normals), or NULL: computed per draw */
     size_t ncap, vcap;
 } lst__tris;
@@ -233,7 +240,9 @@ nomem:
 static int lst__tris_vertex(const pw_alloc *a, lst__tris *t, const double *p, pw_err *e)
 {
     if (pw_grow(a, (void **)&t->pos, &t->vcap, ((size_t)t->nv + 1) * 3, sizeof(float), "triangles", e)) return -1;
-    t->pos[3 * t->nv] = (float)p[0], t->pos[3 * t->nv + 1] = (float)p[1], t->pos[3 * t->nv + 2] = (float)p[2];
+    t->pos[3 * t->nv] = (float)p[0];
+    t->pos[3 * t->nv + 1] = (float)p[1];
+    t->pos[3 * t->nv + 2] = (float)p[2];
     return t->nv++;
 }
 #endif
@@ -254,7 +263,10 @@ static int lst__boundary_tris(const pw_alloc *a, const lst_model *m, const int *
         pw_tet_face(f & 3, c);
         b = out->bary + 12 * out->n;
         memset(b, 0, 12 * sizeof(float));
-        for (k = 0; k < 3; k++) out->tri[3 * out->n + k] = m->mesh.tets[4 * t + c[k]], b[4 * k + c[k]] = 1.0f;
+        for (k = 0; k < 3; k++) {
+            out->tri[3 * out->n + k] = m->mesh.tets[4 * t + c[k]];
+            b[4 * k + c[k]] = 1.0f;
+        }
         out->tet[out->n++] = t;
     }
     return PW_OK;
@@ -303,11 +315,13 @@ static lst_render_options lst__render_options(const lst_render_options *ro)
 
 static int lst__check_render(const lst_render_options *o, pw_err *e)
 {
-    if (o->show < LST_SHOW_COLOR || o->show > LST_SHOW_DEPTH) return pw_fail(e, PW_ERR_INVALID, "render: show %d is invalid", (int)o->show);
+    if (o->show < LST_SHOW_COLOR || o->show > LST_SHOW_DEPTH)
+        return pw_fail(e, PW_ERR_INVALID, "render: show %d is invalid", (int)o->show);
     if (!pw_is_finite(o->displace) || o->subdivide > 6)
-        return pw_fail(e, PW_ERR_INVALID, "render: displacement %g or subdivision %d is invalid", o->displace, o->subdivide);
-    if (o->width < 1 || o->height < 1 || o->width > PW_MAX_IMAGE_DIM || o->height > PW_MAX_IMAGE_DIM || o->supersample < 1 ||
-        o->supersample > PW_FB_MAX_SS)
+        return pw_fail(e, PW_ERR_INVALID, "render: displacement %g or subdivision %d is invalid", o->displace,
+                       o->subdivide);
+    if (o->width < 1 || o->height < 1 || o->width > PW_MAX_IMAGE_DIM || o->height > PW_MAX_IMAGE_DIM ||
+        o->supersample < 1 || o->supersample > PW_FB_MAX_SS)
         return pw_fail(e, PW_ERR_INVALID, "render: size %dx%d with %dx%d samples is invalid", o->width, o->height,
                        o->supersample, o->supersample);
     return PW_OK;
@@ -323,13 +337,20 @@ static int lst__draw_tris(pw_fb *fb, const pw_camera *cam, const lst__tris *t, l
     if (t->n == 0) return PW_OK;
     S->tris = t;
     memset(&d, 0, sizeof d);
-    d.positions = t->pos ? t->pos : m->mesh.positions, d.nv = t->nv, d.tris = t->tri, d.ntris = t->n;
+    d.positions = t->pos ? t->pos : m->mesh.positions;
+    d.nv = t->nv;
+    d.tris = t->tri;
+    d.ntris = t->n;
     d.lighting = o->unlit || S->mode ? PW_LIGHT_NONE : PW_LIGHT_CAMERA;
     d.ambient = 0.35f;
     d.normals = t->normals;
     d.shader = lst__shade;
     d.shader_user = S;
-    if (S->mode) d.blend = PW_BLEND_OVER, d.depth_test = PW_DEPTH_ALWAYS, d.no_depth_write = 1;
+    if (S->mode) {
+        d.blend = PW_BLEND_OVER;
+        d.depth_test = PW_DEPTH_ALWAYS;
+        d.no_depth_write = 1;
+    }
     return pw_render_draw(fb, cam, &d, e);
 }
 
@@ -339,7 +360,10 @@ static int lst__tris_normals(const pw_alloc *a, const lst_model *m, lst__tris *t
     pw_draw d;
     if (t->n == 0) return PW_OK;
     memset(&d, 0, sizeof d);
-    d.positions = t->pos ? t->pos : m->mesh.positions, d.nv = t->nv, d.tris = t->tri, d.ntris = t->n;
+    d.positions = t->pos ? t->pos : m->mesh.positions;
+    d.nv = t->nv;
+    d.tris = t->tri;
+    d.ntris = t->n;
     return (t->normals = pw_draw_normals(a, &d, e)) != NULL ? PW_OK : PW_ERR_NOMEM;
 }
 
@@ -373,12 +397,16 @@ static int lst__visible_positions(const pw_alloc *a, const lst_model *m, float *
 static int lst__vertex_normals(const pw_alloc *a, const lst_model *m, const lst__tris *t, float **out, pw_err *e)
 {
     int i, k, j;
-    if (!(*out = (float *)pw_calloc_array(a, (size_t)m->mesh.nverts * 3, sizeof(float), "normals", e))) return PW_ERR_NOMEM;
+    if (!(*out = (float *)pw_calloc_array(a, (size_t)m->mesh.nverts * 3, sizeof(float), "normals", e)))
+        return PW_ERR_NOMEM;
     for (i = 0; i < t->n; i++) {
         double p[3][3], u[3], w[3], n[3];
         for (k = 0; k < 3; k++)
             for (j = 0; j < 3; j++) p[k][j] = m->mesh.positions[3 * t->tri[3 * i + k] + j];
-        for (j = 0; j < 3; j++) u[j] = p[1][j] - p[0][j], w[j] = p[2][j] - p[0][j];
+        for (j = 0; j < 3; j++) {
+            u[j] = p[1][j] - p[0][j];
+            w[j] = p[2][j] - p[0][j];
+        }
         pw_cross3(u, w, n);
         for (k = 0; k < 3; k++)
             for (j = 0; j < 3; j++) (*out)[3 * t->tri[3 * i + k] + j] += (float)n[j];
@@ -391,16 +419,16 @@ static int lst__vertex_normals(const pw_alloc *a, const lst_model *m, const lst_
  * upper vertex, step from the lower one) in an open-addressing table,
  * interior points unshared. */
 typedef struct lst__subdiv {
-    int *corner;    /* nv: subdivided vertex of each mesh vertex, or -1 */
-    uint64_t *key;  /* table of edge points */
+    int *corner;   /* nv: subdivided vertex of each mesh vertex, or -1 */
+    uint64_t *key; /* table of edge points */
     int *val;
     size_t mask;
     const pw_alloc *a;
-    const lst__view *v;  /* evaluates the displacement channel */
-    const lst__tris *s;  /* the surface triangles */
-    const float *vn;     /* their smooth vertex normals */
-    int k;               /* grid steps per triangle side */
-    double amount;       /* displacement per unit of (value - 0.5) */
+    const lst__view *v; /* evaluates the displacement channel */
+    const lst__tris *s; /* the surface triangles */
+    const float *vn;    /* their smooth vertex normals */
+    int k;              /* grid steps per triangle side */
+    double amount;      /* displacement per unit of (value - 0.5) */
     lst__tris *out;
     pw_err *e;
 } lst__subdiv;
@@ -410,7 +438,10 @@ static int *lst__edge_slot(lst__subdiv *sd, int a, int b, int step)
     uint64_t k = ((uint64_t)(uint32_t)a << 40) ^ ((uint64_t)(uint32_t)b << 12) ^ (uint64_t)step ^ 0x8000000000000000ULL;
     size_t h = (size_t)((k * 0x9E3779B97F4A7C15ULL) >> 17) & sd->mask;
     while (sd->key[h] && sd->key[h] != k) h = (h + 1) & sd->mask;
-    if (!sd->key[h]) sd->key[h] = k, sd->val[h] = -1;
+    if (!sd->key[h]) {
+        sd->key[h] = k;
+        sd->val[h] = -1;
+    }
     return &sd->val[h];
 }
 
@@ -426,9 +457,13 @@ static int lst__displaced_point(const lst__subdiv *sd, int f, int i, int j)
     double b[3] = {1.0 - (double)(i + j) / k, (double)i / k, (double)j / k}, p[3] = {0, 0, 0}, n[3] = {0, 0, 0}, l[4];
     float rgba[4], val[4] = {0.5f, 0.5f, 0.5f, 0.5f};
     int q, r;
-    for (q = 0; q < 4; q++) l[q] = b[0] * s->bary[12 * f + q] + b[1] * s->bary[12 * f + 4 + q] + b[2] * s->bary[12 * f + 8 + q];
+    for (q = 0; q < 4; q++)
+        l[q] = b[0] * s->bary[12 * f + q] + b[1] * s->bary[12 * f + 4 + q] + b[2] * s->bary[12 * f + 8 + q];
     for (q = 0; q < 3; q++)
-        for (r = 0; r < 3; r++) p[r] += b[q] * v->m->mesh.positions[3 * c[q] + r], n[r] += b[q] * vn[3 * c[q] + r];
+        for (r = 0; r < 3; r++) {
+            p[r] += b[q] * v->m->mesh.positions[3 * c[q] + r];
+            n[r] += b[q] * vn[3 * c[q] + r];
+        }
     pw_norm3(n);
     lst__eval(v, s->tet[f], l, rgba, val);
     for (r = 0; r < 3; r++) p[r] += n[r] * sd->amount * (val[0] - 0.5);
@@ -449,7 +484,9 @@ static int lst__grid_vertex(lst__subdiv *sd, int f, int i, int j)
         step = j == 0 ? i : (i == 0 ? j : j);
         if (x > y) {
             int tmp = x;
-            x = y, y = tmp, step = k - step;
+            x = y;
+            y = tmp;
+            step = k - step;
         }
         slot = lst__edge_slot(sd, x, y, step);
     }
@@ -485,8 +522,21 @@ static int lst__subdivide_face(lst__subdiv *sd, int f)
         for (i = 0; i + j < k; i++)
             for (tri = 0; tri < (i + j + 1 < k ? 2 : 1); tri++) {
                 int ij[3][2];
-                if (tri == 0) ij[0][0] = i, ij[0][1] = j, ij[1][0] = i + 1, ij[1][1] = j, ij[2][0] = i, ij[2][1] = j + 1;
-                else ij[0][0] = i + 1, ij[0][1] = j, ij[1][0] = i + 1, ij[1][1] = j + 1, ij[2][0] = i, ij[2][1] = j + 1;
+                if (tri == 0) {
+                    ij[0][0] = i;
+                    ij[0][1] = j;
+                    ij[1][0] = i + 1;
+                    ij[1][1] = j;
+                    ij[2][0] = i;
+                    ij[2][1] = j + 1;
+                } else {
+                    ij[0][0] = i + 1;
+                    ij[0][1] = j;
+                    ij[1][0] = i + 1;
+                    ij[1][1] = j + 1;
+                    ij[2][0] = i;
+                    ij[2][1] = j + 1;
+                }
                 for (q = 0; q < 3; q++)
                     if ((idx[q] = lst__grid_vertex(sd, f, ij[q][0], ij[q][1])) < 0) return PW_ERR_NOMEM;
                 if (lst__sub_tri(sd, f, idx, ij)) return PW_ERR_NOMEM;
@@ -513,10 +563,20 @@ static int lst__displace(const pw_alloc *a, const lst__view *v, const lst__tris 
     sd.key = (uint64_t *)pw_calloc_array(a, cap, sizeof(uint64_t), "subdivision", e);
     sd.val = (int *)pw_alloc_array(a, cap, sizeof(int), "subdivision", e);
     if (!sd.corner || !sd.key || !sd.val || lst__vertex_normals(a, v->m, s, &vn, e)) r = PW_ERR_NOMEM;
-    sd.a = a, sd.v = v, sd.s = s, sd.vn = vn, sd.k = k, sd.amount = o->displace, sd.out = out, sd.e = e;
+    sd.a = a;
+    sd.v = v;
+    sd.s = s;
+    sd.vn = vn;
+    sd.k = k;
+    sd.amount = o->displace;
+    sd.out = out;
+    sd.e = e;
     for (f = 0; r == PW_OK && f < v->m->mesh.nverts; f++) sd.corner[f] = -1;
     for (f = 0; r == PW_OK && f < s->n; f++) r = lst__subdivide_face(&sd, f);
-    pw_free(a, sd.corner), pw_free(a, sd.key), pw_free(a, sd.val), pw_free(a, vn);
+    pw_free(a, sd.corner);
+    pw_free(a, sd.key);
+    pw_free(a, sd.val);
+    pw_free(a, vn);
     if (r != PW_OK) lst__tris_free(a, out);
     return r;
 }
@@ -576,20 +636,30 @@ static int lst__render(const pw_alloc *a, const lst_model *m, const lst_render_o
     lst__surface B;
     int *nb = NULL, r;
     pw_tetmesh tm = lst__pw_tets(&m->mesh);
-    memset(&outer, 0, sizeof outer), memset(&cut, 0, sizeof cut), memset(&disp, 0, sizeof disp);
+    memset(&outer, 0, sizeof outer);
+    memset(&cut, 0, sizeof cut);
+    memset(&disp, 0, sizeof disp);
     if ((r = lst__view_init(a, m, o->show, &v, e)) != PW_OK) return r;
-    if (o->displace != 0.0f && !m->values.voxels) r = pw_fail(e, PW_ERR_INVALID, "displacement needs the model's extra channel");
-    if (r == PW_OK && !(nb = (int *)pw_alloc_array(a, (size_t)m->mesh.ntets * 4, sizeof(int), "face adjacency", e))) r = PW_ERR_NOMEM;
+    if (o->displace != 0.0f && !m->values.voxels)
+        r = pw_fail(e, PW_ERR_INVALID, "displacement needs the model's extra channel");
+    if (r == PW_OK && !(nb = (int *)pw_alloc_array(a, (size_t)m->mesh.ntets * 4, sizeof(int), "face adjacency", e)))
+        r = PW_ERR_NOMEM;
     if (r == PW_OK) r = pw_tetmesh_neighbors(a, &tm, nb, e);
     if (r == PW_OK) r = lst__boundary_tris(a, m, nb, 0, &outer, e);
     if (r == PW_OK) r = lst__boundary_tris(a, m, nb, 1, &cut, e);
     if (r == PW_OK && o->displace != 0.0f) r = lst__displace(a, &v, &outer, o, &disp, e);
     if (r == PW_OK && !o->unlit) r = lst__tris_normals(a, m, o->displace != 0.0f ? &disp : &outer, e);
     if (r == PW_OK && !o->unlit) r = lst__tris_normals(a, m, &cut, e);
-    B.m = m, B.v = &v, B.outer = o->displace != 0.0f ? &disp : &outer, B.cut = &cut, B.o = o;
+    B.m = m;
+    B.v = &v;
+    B.outer = o->displace != 0.0f ? &disp : &outer;
+    B.cut = &cut;
+    B.o = o;
     if (r == PW_OK) r = lst__camera(a, m, o, &B.cam, e);
     if (r == PW_OK) r = lst__render_frame(a, o, lst__surface_band, &B, pic, e);
-    lst__tris_free(a, &outer), lst__tris_free(a, &cut), lst__tris_free(a, &disp);
+    lst__tris_free(a, &outer);
+    lst__tris_free(a, &cut);
+    lst__tris_free(a, &disp);
     pw_free(a, nb);
     lst__view_free(&v);
     return r;
@@ -609,7 +679,8 @@ LSTDEF lst_result lst_render(const lst_model *model, const lst_render_options *r
     }
     a = lst__alloc(&model->allocator);
     memset(&pic, 0, sizeof pic);
-    if (lst__check_render(&o, &e) == PW_OK && lst__render(&a, model, &o, &pic, &e) == PW_OK) lst__take_image(&pic, &a, out);
+    if (lst__check_render(&o, &e) == PW_OK && lst__render(&a, model, &o, &pic, &e) == PW_OK)
+        lst__take_image(&pic, &a, out);
     return lst__done(&e, err);
 }
 
@@ -623,8 +694,8 @@ typedef struct lst__volume_frame {
     const lst__view *v;
     const lst_render_options *o;
     pw_tetmesh tm;
-    const double *phi;     /* per vertex: the distance along the view */
-    const float *rows;     /* per tetrahedron: its first and last picture row */
+    const double *phi; /* per vertex: the distance along the view */
+    const float *rows; /* per tetrahedron: its first and last picture row */
     double zmax, dz;
     int slices, density;
     float alpha_scale;
@@ -645,12 +716,21 @@ static int lst__slice_tet(const lst__volume_frame *V, int t, const double *phi, 
     }
     if (nn == 0 || np == 0) return PW_OK;
     if (nn == 2) { /* a quad: edges in cyclic order */
-        edges[0][0] = neg[0], edges[0][1] = pos[0], edges[1][0] = neg[0], edges[1][1] = pos[1];
-        edges[2][0] = neg[1], edges[2][1] = pos[1], edges[3][0] = neg[1], edges[3][1] = pos[0];
+        edges[0][0] = neg[0];
+        edges[0][1] = pos[0];
+        edges[1][0] = neg[0];
+        edges[1][1] = pos[1];
+        edges[2][0] = neg[1];
+        edges[2][1] = pos[1];
+        edges[3][0] = neg[1];
+        edges[3][1] = pos[0];
         cnt = 4;
     } else {
         int lone = nn == 1 ? neg[0] : pos[0], *others = nn == 1 ? pos : neg;
-        for (k = 0; k < 3; k++) edges[k][0] = lone, edges[k][1] = others[k];
+        for (k = 0; k < 3; k++) {
+            edges[k][0] = lone;
+            edges[k][1] = others[k];
+        }
         cnt = 3;
     }
     for (q = 0; q < cnt - 2; q++) {
@@ -679,8 +759,12 @@ static int lst__volume_band(void *user, pw_fb *fb, pw_err *e)
     lst__shading S;
     double ph[4];
     int t, k, s, r = PW_OK;
-    memset(&sl, 0, sizeof sl), memset(&S, 0, sizeof S);
-    S.v = V->v, S.mode = 1, S.density = V->density, S.alpha_scale = V->alpha_scale;
+    memset(&sl, 0, sizeof sl);
+    memset(&S, 0, sizeof S);
+    S.v = V->v;
+    S.mode = 1;
+    S.density = V->density;
+    S.alpha_scale = V->alpha_scale;
     for (s = 0; r == PW_OK && s < V->slices; s++) { /* back to front */
         double z = V->zmax - (s + 0.5) * V->dz;
         sl.n = sl.nv = 0;
@@ -704,12 +788,15 @@ static void lst__tet_rows(const lst__volume_frame *V, float *rows)
         float lo = 3e38f, hi = -3e38f, q[3];
         for (k = 0; k < 4; k++) {
             if (!pw_camera_project(&V->cam, V->o->width, V->o->height, V->tm.pos + 3 * V->tm.tet[4 * t + k], q)) {
-                lo = -3e38f, hi = 3e38f;
+                lo = -3e38f;
+                hi = 3e38f;
                 break;
             }
-            lo = q[1] < lo ? q[1] : lo, hi = q[1] > hi ? q[1] : hi;
+            lo = q[1] < lo ? q[1] : lo;
+            hi = q[1] > hi ? q[1] : hi;
         }
-        rows[2 * t] = lo, rows[2 * t + 1] = hi;
+        rows[2 * t] = lo;
+        rows[2 * t + 1] = hi;
     }
 }
 
@@ -728,18 +815,29 @@ static int lst__volume(const pw_alloc *a, const lst_model *m, const lst_render_o
         r = pw_fail(e, PW_ERR_INVALID, "volume density from extra channel %d: the model has %d", vo->density,
                     m->values.voxels ? m->values.channels : 0);
     if (r == PW_OK) r = lst__camera(a, m, o, &V.cam, e);
-    if (r == PW_OK && !(phi = (double *)pw_alloc_array(a, (size_t)V.tm.nv, sizeof(double), "volume slices", e))) r = PW_ERR_NOMEM;
-    if (r == PW_OK && !(rows = (float *)pw_alloc_array(a, (size_t)V.tm.nt * 2, sizeof(float), "volume slices", e))) r = PW_ERR_NOMEM;
+    if (r == PW_OK && !(phi = (double *)pw_alloc_array(a, (size_t)V.tm.nv, sizeof(double), "volume slices", e)))
+        r = PW_ERR_NOMEM;
+    if (r == PW_OK && !(rows = (float *)pw_alloc_array(a, (size_t)V.tm.nt * 2, sizeof(float), "volume slices", e)))
+        r = PW_ERR_NOMEM;
     for (k = 0; r == PW_OK && k < 3; k++) f[k] = (double)V.cam.target[k] - V.cam.eye[k];
     if (r == PW_OK) pw_norm3(f);
     for (k = 0; r == PW_OK && k < V.tm.nv; k++) { /* §5.1.2: the distance from the camera along the view */
         const float *p = V.tm.pos + 3 * k;
         phi[k] = (p[0] - V.cam.eye[0]) * f[0] + (p[1] - V.cam.eye[1]) * f[1] + (p[2] - V.cam.eye[2]) * f[2];
-        zmin = phi[k] < zmin ? phi[k] : zmin, zmax = phi[k] > zmax ? phi[k] : zmax;
+        zmin = phi[k] < zmin ? phi[k] : zmin;
+        zmax = phi[k] > zmax ? phi[k] : zmax;
     }
     if (r == PW_OK) {
-        V.a = a, V.m = m, V.v = &v, V.o = o, V.phi = phi, V.rows = rows;
-        V.zmax = zmax, V.dz = (zmax - zmin) / vo->slices, V.slices = vo->slices, V.density = vo->density;
+        V.a = a;
+        V.m = m;
+        V.v = &v;
+        V.o = o;
+        V.phi = phi;
+        V.rows = rows;
+        V.zmax = zmax;
+        V.dz = (zmax - zmin) / vo->slices;
+        V.slices = vo->slices;
+        V.density = vo->density;
         V.alpha_scale = (float)(vo->opacity * V.dz / (0.01 * lst__diagonal(V.tm.pos, V.tm.nv)));
         lst__tet_rows(&V, rows);
         r = lst__render_frame(a, o, lst__volume_band, &V, pic, e);
@@ -750,8 +848,8 @@ static int lst__volume(const pw_alloc *a, const lst_model *m, const lst_render_o
     return r;
 }
 
-LSTDEF lst_result lst_render_volume(const lst_model *model, const lst_render_options *ro, const lst_volume_options *vopt,
-                                    lst_image *out, lst_error *err)
+LSTDEF lst_result lst_render_volume(const lst_model *model, const lst_render_options *ro,
+                                    const lst_volume_options *vopt, lst_image *out, lst_error *err)
 {
     lst_render_options o = lst__render_options(ro);
     lst_volume_options vo;
@@ -765,9 +863,10 @@ LSTDEF lst_result lst_render_volume(const lst_model *model, const lst_render_opt
     if (vo.slices == 0) vo.slices = 200;
     if (vo.opacity == 0.0f) vo.opacity = 0.3f;
     if (!model || !out) pw_fail(&e, PW_ERR_INVALID, "lst_render_volume: NULL argument");
-    else if (vo.slices < 1 || vo.slices > 10000 || !(vo.opacity > 0.0f && vo.opacity <= 1000.0f) || vo.density < 0 || vo.density > 4)
-        pw_fail(&e, PW_ERR_INVALID, "volume rendering: %d slices, opacity %g or density channel %d is invalid", vo.slices,
-                vo.opacity, vo.density);
+    else if (vo.slices < 1 || vo.slices > 10000 || !(vo.opacity > 0.0f && vo.opacity <= 1000.0f) || vo.density < 0 ||
+             vo.density > 4)
+        pw_fail(&e, PW_ERR_INVALID, "volume rendering: %d slices, opacity %g or density channel %d is invalid",
+                vo.slices, vo.opacity, vo.density);
     else if (lst__check_render(&o, &e) == PW_OK) {
         a = lst__alloc(&model->allocator);
         memset(&pic, 0, sizeof pic);
@@ -779,15 +878,18 @@ LSTDEF lst_result lst_render_volume(const lst_model *model, const lst_render_opt
 #else
 LSTDEF lst_result lst_render(const lst_model *model, const lst_render_options *ro, lst_image *out, lst_error *err)
 {
-    (void)model, (void)ro;
+    (void)model;
+    (void)ro;
     if (out) memset(out, 0, sizeof *out);
     return lst__left_out("rendering", "PW_NO_RENDER", err);
 }
 
-LSTDEF lst_result lst_render_volume(const lst_model *model, const lst_render_options *ro, const lst_volume_options *vopt,
-                                    lst_image *out, lst_error *err)
+LSTDEF lst_result lst_render_volume(const lst_model *model, const lst_render_options *ro,
+                                    const lst_volume_options *vopt, lst_image *out, lst_error *err)
 {
-    (void)model, (void)ro, (void)vopt;
+    (void)model;
+    (void)ro;
+    (void)vopt;
     if (out) memset(out, 0, sizeof *out);
     return lst__left_out("rendering", "PW_NO_RENDER", err);
 }

@@ -23,8 +23,7 @@
 
 /* ---- meshes ----------------------------------------------------------------- */
 
-PGPDEF pgp_result pgp_builtin_mesh(const char *name, const pgp_options *opt, pgp_mesh *out,
-                                   pgp_error *err)
+PGPDEF pgp_result pgp_builtin_mesh(const char *name, const pgp_options *opt, pgp_mesh *out, pgp_error *err)
 {
     pgp_options o = pgp__options(opt);
     pw_alloc a = pgp__alloc(&o.allocator);
@@ -39,8 +38,7 @@ PGPDEF pgp_result pgp_builtin_mesh(const char *name, const pgp_options *opt, pgp
     else if (!strcmp(name, "torus")) r = pw_shape_torus(&a, 128, 64, 0, &m, &pe); /* fine: small singular 1-rings */
     else if (!strcmp(name, "bumpy")) r = pw_shape_bumpy(&a, 16, &m, &pe);
     else if (!strcmp(name, "grid")) r = pw_shape_grid(&a, 32, 0.0, 0, &m, &pe);
-    else
-        pw_fail(&pe, PW_ERR_INVALID, "unknown built-in mesh '%s' (sphere, torus, bumpy, grid)", name);
+    else pw_fail(&pe, PW_ERR_INVALID, "unknown built-in mesh '%s' (sphere, torus, bumpy, grid)", name);
     if (r == PW_OK) pgp__take_mesh(&m, &a, out);
     return pgp__done(&pe, err);
 }
@@ -86,8 +84,7 @@ static double pgp__round_box(double x, double y, double bx, double by, double rc
  * cell's centre: the mortar gap widens with w, the brick shrinks and moves
  * a little, its corners round off until it is a pebble, some pebbles get a
  * waist, and the edge is eaten by noise. */
-static void pgp__stone(unsigned long long seed, double w, double s, double t, double x, double y,
-                       pgp__wall *o)
+static void pgp__stone(unsigned long long seed, double w, double s, double t, double x, double y, pgp__wall *o)
 {
     const double L = (double)PGP__BY / PGP__BX;
     double mw = 0.045 + 0.12 * w, r1 = pgp__rand(seed, o->id, 1), r2 = pgp__rand(seed, o->id, 2);
@@ -148,8 +145,8 @@ static double pgp__wall_light(unsigned long long seed, double w, double s, doubl
  * weathered stone at w = 1, soot and blotches in between. */
 static void pgp__stone_colour(unsigned long long seed, double w, double s, double t, int id, double *c)
 {
-    static const double brick[5][3] = {{0.66, 0.27, 0.17}, {0.58, 0.22, 0.15}, {0.72, 0.36, 0.22},
-                                       {0.52, 0.21, 0.15}, {0.63, 0.31, 0.22}};
+    static const double brick[5][3] = {
+        {0.66, 0.27, 0.17}, {0.58, 0.22, 0.15}, {0.72, 0.36, 0.22}, {0.52, 0.21, 0.15}, {0.63, 0.31, 0.22}};
     static const double stone[6][3] = {{0.60, 0.55, 0.48}, {0.47, 0.44, 0.41}, {0.66, 0.58, 0.47},
                                        {0.53, 0.43, 0.35}, {0.41, 0.39, 0.38}, {0.57, 0.48, 0.39}};
     static const double burnt[3] = {0.34, 0.17, 0.13};
@@ -218,20 +215,18 @@ enum { PGP__TILE_BRICKS = 0, PGP__TILE_STRIPES = 1 };
 /* The colour of a built-in tile at (s, t) of layer `layer` of `layers`; px
  * is the side of a texel in tile units. Periodic: (s + 1, t) and (s, t + 1)
  * give the same colour up to rounding. */
-static void pgp__tile_texel(int kind, unsigned long long seed, int layer, int layers, double s, double t,
-                            double px, float *rgb)
+static void pgp__tile_texel(int kind, unsigned long long seed, int layer, int layers, double s, double t, double px,
+                            float *rgb)
 {
     double c[3];
     int k;
     if (kind == PGP__TILE_BRICKS)
         pgp__bricks(seed, layers > 1 ? (double)layer / (layers - 1) : 0.0, s, t, px * PGP__BY, c);
-    else
-        pgp__stripes(seed, s, t, px, c);
+    else pgp__stripes(seed, s, t, px, c);
     for (k = 0; k < 3; k++) rgb[k] = pw_clampf((float)c[k], 0.0f, 1.0f);
 }
 
-PGPDEF pgp_result pgp_builtin_tile(const char *name, int size, const pgp_options *opt, pgp_tile *out,
-                                   pgp_error *err)
+PGPDEF pgp_result pgp_builtin_tile(const char *name, int size, const pgp_options *opt, pgp_tile *out, pgp_error *err)
 {
     pgp_options o = pgp__options(opt);
     pw_alloc a = pgp__alloc(&o.allocator);
@@ -244,8 +239,7 @@ PGPDEF pgp_result pgp_builtin_tile(const char *name, int size, const pgp_options
     layers = kind == PGP__TILE_BRICKS ? 4 : 1;
     if (!out || kind < 0)
         pw_fail(&pe, PW_ERR_INVALID, "unknown built-in tile '%s' (bricks, stripes)", name ? name : "(null)");
-    else if (size < 8 || size > 4096)
-        pw_fail(&pe, PW_ERR_INVALID, "built-in tile size must be 8..4096 (got %d)", size);
+    else if (size < 8 || size > 4096) pw_fail(&pe, PW_ERR_INVALID, "built-in tile size must be 8..4096 (got %d)", size);
     else if (pw_volume_alloc(&a, &vol, 3, size, size, layers, &pe) == PW_OK) {
         double px = 1.0 / size;
         for (z = 0; z < layers; z++)

@@ -130,13 +130,15 @@ static int pgp__check_values(const pgp_constraint *c, pw_err *e)
     if (c->kind != PGP_CONSTRAINT_ORIENT && c->kind != PGP_CONSTRAINT_SCALE && c->kind != PGP_CONSTRAINT_MATERIAL)
         return pw_fail(e, PW_ERR_INVALID, "unknown constraint kind %d", (int)c->kind);
     if (c->element < 0) return pw_fail(e, PW_ERR_INVALID, "%s %d does not exist", what, c->element);
-    if (!pw_is_finite(c->radius)) return pw_fail(e, PW_ERR_INVALID, "effect radius %g is not finite", (double)c->radius);
+    if (!pw_is_finite(c->radius))
+        return pw_fail(e, PW_ERR_INVALID, "effect radius %g is not finite", (double)c->radius);
     if (c->kind == PGP_CONSTRAINT_ORIENT && (!pw_is_finite(v[0]) || !pw_is_finite(v[1]) || !pw_is_finite(v[2]) ||
                                              (v[0] == 0.0f && v[1] == 0.0f && v[2] == 0.0f)))
         return pw_fail(e, PW_ERR_INVALID, "orientation (%g, %g, %g) at triangle %d is zero or not finite", (double)v[0],
                        (double)v[1], (double)v[2], c->element);
     if (c->kind == PGP_CONSTRAINT_SCALE && !(v[0] > 0.0f && pw_is_finite(v[0])))
-        return pw_fail(e, PW_ERR_INVALID, "scale %g at vertex %d is not a positive finite number", (double)v[0], c->element);
+        return pw_fail(e, PW_ERR_INVALID, "scale %g at vertex %d is not a positive finite number", (double)v[0],
+                       c->element);
     if (c->kind == PGP_CONSTRAINT_MATERIAL && !(v[0] >= 0.0f && v[0] <= 1.0f))
         return pw_fail(e, PW_ERR_INVALID, "material %g at vertex %d is not in [0, 1]", (double)v[0], c->element);
     return PW_OK;
@@ -157,7 +159,7 @@ typedef struct pgp_map_state pgp__state;
 struct pgp_map_state {
     pw_alloc a;
     pgp_options o;
-    float *pos;           /* nv*3, the map's own copy of the positions */
+    float *pos; /* nv*3, the map's own copy of the positions */
     pw_trimesh m;
     float *conn;          /* dirfield connection, 3nf*2 */
     double *dual;         /* dual edge lengths per half-edge (Dijkstra) */
@@ -174,7 +176,7 @@ struct pgp_map_state {
     unsigned char *vsing; /* nv: singular 1-ring (§3) */
     unsigned char *fsing; /* nf: a corner's 1-ring is singular */
     int nsing;
-    float scale0;         /* default tile side */
+    float scale0; /* default tile side */
     pgp__constraint *con;
     int ncon;
     size_t concap;
@@ -204,7 +206,8 @@ static double pgp__face_scale(const pgp__state *P, int f)
 {
     const int *t = P->m.tri + 3 * f;
     return ((double)P->scale[t[0]] * P->sfac[t[0]] + (double)P->scale[t[1]] * P->sfac[t[1]] +
-            (double)P->scale[t[2]] * P->sfac[t[2]]) / 3.0;
+            (double)P->scale[t[2]] * P->sfac[t[2]]) /
+           3.0;
 }
 
 /* g = d / S^T for s (k = 0) or t (k = 1). */
@@ -259,7 +262,8 @@ PGPDEF pgp_result pgp_map_field(const pgp_map *map, pgp_field *out, pgp_error *e
         pgp_field_free(out);
         return pgp__done(&pe, err);
     }
-    out->ntris = P->m.nf, out->nverts = P->m.nv;
+    out->ntris = P->m.nf;
+    out->nverts = P->m.nv;
     for (f = 0; f < P->m.nf; f++) pw_v3_store(out->dir + 3 * f, pgp__dir3(P, f, 0));
     memcpy(out->scale, P->scale, sizeof(float) * (size_t)P->m.nv);
     memcpy(out->material, P->mat, sizeof(float) * (size_t)P->m.nv);

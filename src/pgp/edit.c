@@ -86,7 +86,8 @@ PGPDEF pgp_result pgp_add_constraint(pgp_map *map, const pgp_constraint *c, int 
     pw_err pe;
     pw_err_clear(&pe);
     if (area) memset(area, 0, sizeof *area);
-    if (!map || !map->state || !c) pw_fail(&pe, PW_ERR_INVALID, "pgp_add_constraint: NULL or empty map, or NULL constraint");
+    if (!map || !map->state || !c)
+        pw_fail(&pe, PW_ERR_INVALID, "pgp_add_constraint: NULL or empty map, or NULL constraint");
     else pgp__add(map->state, c, id, area, &pe);
     return pgp__done(&pe, err);
 }
@@ -95,7 +96,10 @@ PGPDEF pgp_result pgp_add_constraint(pgp_map *map, const pgp_constraint *c, int 
 static pgp__constraint *pgp__find(pgp_map *map, int id, pw_err *e)
 {
     pgp__state *P = map ? map->state : NULL;
-    if (!P) return pw_fail(e, PW_ERR_INVALID, "NULL or empty map"), (pgp__constraint *)NULL;
+    if (!P) {
+        pw_fail(e, PW_ERR_INVALID, "NULL or empty map");
+        return (pgp__constraint *)NULL;
+    }
     if (id < 0 || id >= P->ncon || !P->con[id].alive) {
         pw_fail(e, PW_ERR_INVALID, "there is no constraint %d", id);
         return NULL;

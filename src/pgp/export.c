@@ -30,8 +30,10 @@ static void pgp__bake_texel(void *user, int f, const float b[3], float *out)
     float db[4] = {0.0f, 0.0f, 0.0f, 0.0f}, rgba[4];
     int k;
     if (det != 0.0) { /* (x, y) = b1 (x1, y1) + b2 (x2, y2): invert the 2x2 matrix */
-        db[0] = (float)(y2 / det), db[1] = (float)(-x2 / det);
-        db[2] = (float)(-y1 / det), db[3] = (float)(x1 / det);
+        db[0] = (float)(y2 / det);
+        db[1] = (float)(-x2 / det);
+        db[2] = (float)(-y1 / det);
+        db[3] = (float)(x1 / det);
     }
     pgp__shade((void *)B->S, f, b[1], b[2], db, rgba);
     for (k = 0; k < 3; k++) out[k] = rgba[k] * rgba[3]; /* over black, as pgp_render composites */
@@ -57,10 +59,13 @@ PGPDEF pgp_result pgp_bake_atlas(const pgp_map *map, const pgp_tile *tile, const
         return pgp__done(&pe, err);
     }
     if (pw_atlas_options(&o.atlas.size, &o.atlas.cone_angle, &o.atlas.gutter, &pe) == PW_OK &&
-        pgp__render_options(&o.render, &ro, &pe) == PW_OK && pgp__shading_init(P, tile, ro.fix, ro.show, &S, &pe) == PW_OK &&
+        pgp__render_options(&o.render, &ro, &pe) == PW_OK &&
+        pgp__shading_init(P, tile, ro.fix, ro.show, &S, &pe) == PW_OK &&
         pw_atlas_layout(&P->a, &P->m, o.atlas.cone_angle, o.atlas.size, o.atlas.gutter, &prog, &out->uvs, &out->ncharts,
                         &out->fill, &pe) == PW_OK) {
-        B.S = &S, B.uvs = out->uvs, B.size = o.atlas.size;
+        B.S = &S;
+        B.uvs = out->uvs;
+        B.size = o.atlas.size;
         out->ntris = P->m.nf;
         if (pw_atlas_bake(&P->a, &P->m, out->uvs, 3, o.atlas.size, o.atlas.gutter, pgp__bake_texel, &B, &prog, &img,
                           &pe) == PW_OK)
@@ -104,14 +109,17 @@ PGPDEF pgp_result pgp_tile_atlas(const pgp_map *map, const pgp_tile *tile, float
         pw_fail(&pe, PW_ERR_INVALID, "pgp_tile_atlas: empty tile, or bad size or channel count");
     else if (!pw_is_finite(m))
         pw_fail(&pe, PW_ERR_INVALID, "pgp_tile_atlas: material %g is not a finite number", (double)m);
-    else if ((out->uvs = (float *)pw_alloc_array(&P->a, (size_t)P->m.nf * 6, sizeof(float), "atlas coordinates", &pe)) &&
+    else if ((out->uvs =
+                  (float *)pw_alloc_array(&P->a, (size_t)P->m.nf * 6, sizeof(float), "atlas coordinates", &pe)) &&
              pgp__tile_layer(&P->a, tile, m, &img, &pe) == PW_OK) {
         for (f = 0; f < P->m.nf; f++)
             for (k = 0; k < 3; k++) {
                 out->uvs[6 * f + 2 * k] = P->stm[9 * f + 3 * k];
                 out->uvs[6 * f + 2 * k + 1] = P->stm[9 * f + 3 * k + 1];
             }
-        out->ntris = P->m.nf, out->fill = 1.0f, out->repeat = 1;
+        out->ntris = P->m.nf;
+        out->fill = 1.0f;
+        out->repeat = 1;
         pgp__take_image(&img, &P->a, &out->image);
     }
     if (pe.code && P) {
@@ -156,9 +164,17 @@ PGPDEF pgp_result pgp_write_gltf(const pgp_map *map, const pgp_atlas *atlas, con
         for (f = 0; f <= P->m.nf; f++) fstart[f] = 3 * f;
         img = pgp__pw_image(&atlas->image);
         part.name = "pgp";
-        part.nv = P->m.nv, part.pos = P->pos, part.nf = P->m.nf, part.fstart = fstart, part.fv = P->m.tri;
-        part.corner_uv = atlas->uvs, part.texture = &img, part.repeat = atlas->repeat != 0;
-        scene.parts = &part, scene.nparts = 1, scene.generator = "patchwork pgp.h " PGP_VERSION_STRING;
+        part.nv = P->m.nv;
+        part.pos = P->pos;
+        part.nf = P->m.nf;
+        part.fstart = fstart;
+        part.fv = P->m.tri;
+        part.corner_uv = atlas->uvs;
+        part.texture = &img;
+        part.repeat = atlas->repeat != 0;
+        scene.parts = &part;
+        scene.nparts = 1;
+        scene.generator = "patchwork pgp.h " PGP_VERSION_STRING;
         if (view) {
             cam = pgp__camera(P, &ro);
             scene.camera = &cam;
@@ -192,7 +208,9 @@ PGPDEF pgp_result pgp_save_gltf(const char *path, const pgp_map *map, const pgp_
     pgp__gltf_job j;
     pw_err pe;
     pw_err_clear(&pe);
-    j.map = map, j.atlas = atlas, j.view = view;
+    j.map = map;
+    j.atlas = atlas;
+    j.view = view;
     if (!path) pw_fail(&pe, PW_ERR_INVALID, "pgp_save_gltf: NULL path");
     else pw_write_file(path, pgp__gltf_job_run, &j, &pe);
     return pgp__done(&pe, err);

@@ -11,8 +11,8 @@
  * IC(0)-preconditioned CG, or, with `complex` set, complex Hermitian
  * (zsparse.h: n x 2n triplets, b and x complex) by its complex
  * counterpart. */
-static int pgp__pd_solve(const pw_alloc *a, const pw_triplets *t, int complex, const double *b, double *x,
-                         double tol, pw_err *e)
+static int pgp__pd_solve(const pw_alloc *a, const pw_triplets *t, int complex, const double *b, double *x, double tol,
+                         pw_err *e)
 {
     pw_csr A;
     pw_ic0 L;
@@ -45,8 +45,8 @@ static int pgp__pd_solve(const pw_alloc *a, const pw_triplets *t, int complex, c
  * visits the triangles in order of increasing distance to the nearest
  * constraint"); radius <= 0 takes every triangle. in[f] = 1 for them;
  * order (nf) lists them, *n their number. */
-static int pgp__area(const pgp__state *P, const int *seeds, int nseeds, float radius, unsigned char *in,
-                     int *order, int *n, pw_err *e)
+static int pgp__area(const pgp__state *P, const int *seeds, int nseeds, float radius, unsigned char *in, int *order,
+                     int *n, pw_err *e)
 {
     const pw_trimesh *m = &P->m;
     double *dist = (double *)pw_alloc_array(&P->a, (size_t)m->nf * 4 + 1, sizeof(double), "effect area", e);
@@ -61,10 +61,14 @@ static int pgp__area(const pgp__state *P, const int *seeds, int nseeds, float ra
         return PW_ERR_NOMEM;
     }
     memset(&hp, 0, sizeof hp);
-    hp.key = dist + m->nf, hp.item = hf;
+    hp.key = dist + m->nf;
+    hp.item = hf;
     for (f = 0; f < m->nf; f++) dist[f] = DBL_MAX;
     for (i = 0; i < nseeds; i++)
-        if (dist[seeds[i]] > 0.0) dist[seeds[i]] = 0.0, pw_heap_insert(&hp, 0.0, seeds[i]);
+        if (dist[seeds[i]] > 0.0) {
+            dist[seeds[i]] = 0.0;
+            pw_heap_insert(&hp, 0.0, seeds[i]);
+        }
     while (hp.n > 0) {
         double d = hp.key[0];
         f = pw_heap_pop(&hp);
@@ -81,7 +85,10 @@ static int pgp__area(const pgp__state *P, const int *seeds, int nseeds, float ra
         }
     }
     for (f = 0; radius <= 0.0f && f < m->nf; f++) /* components the seeds do not reach */
-        if (!in[f]) in[f] = 1, order[(*n)++] = f;
+        if (!in[f]) {
+            in[f] = 1;
+            order[(*n)++] = f;
+        }
     pw_free(&P->a, dist);
     pw_free(&P->a, hf);
     return PW_OK;
@@ -106,7 +113,8 @@ static void pgp__free_vertices(const pgp__state *P, const unsigned char *in, uns
 static double pgp__cot(const pw_trimesh *m, int f, int k)
 {
     pw_v3 p = pw_trimesh_corner(m, f, k);
-    pw_v3 a = pw_v3_sub(pw_trimesh_corner(m, f, (k + 1) % 3), p), b = pw_v3_sub(pw_trimesh_corner(m, f, (k + 2) % 3), p);
+    pw_v3 a = pw_v3_sub(pw_trimesh_corner(m, f, (k + 1) % 3), p),
+          b = pw_v3_sub(pw_trimesh_corner(m, f, (k + 2) % 3), p);
     double c = pw_v3_dot(a, b), s = pw_v3_len(pw_v3_cross(a, b));
     return s > 0.0 ? c / s : 0.0;
 }
@@ -245,8 +253,10 @@ static int pgp__dir_smooth(pgp__state *P, const unsigned char *free, const doubl
     for (f = 0; r == PW_OK && n > 0 && f < m->nf; f++)
         if (id[f] >= 0) {
             double w = pull ? pull[f] + PGP__PULL : PGP__PULL;
-            x[2 * id[f]] = P->dir[2 * f], x[2 * id[f] + 1] = P->dir[2 * f + 1];
-            b[2 * id[f]] += w * P->base[2 * f], b[2 * id[f] + 1] += w * P->base[2 * f + 1];
+            x[2 * id[f]] = P->dir[2 * f];
+            x[2 * id[f] + 1] = P->dir[2 * f + 1];
+            b[2 * id[f]] += w * P->base[2 * f];
+            b[2 * id[f] + 1] += w * P->base[2 * f + 1];
             r = pw_ztriplets_add(&t, id[f], id[f], w, 0.0, e);
         }
     for (h = 0; r == PW_OK && n > 0 && h < 3 * m->nf; h++)
@@ -255,8 +265,12 @@ static int pgp__dir_smooth(pgp__state *P, const unsigned char *free, const doubl
     for (f = 0; r == PW_OK && n > 0 && f < m->nf; f++)
         if (id[f] >= 0) {
             double *z = P->dir + 2 * f;
-            z[0] = x[2 * id[f]], z[1] = x[2 * id[f] + 1];
-            if (!pw_df_unit(z)) z[0] = P->base[2 * f], z[1] = P->base[2 * f + 1];
+            z[0] = x[2 * id[f]];
+            z[1] = x[2 * id[f] + 1];
+            if (!pw_df_unit(z)) {
+                z[0] = P->base[2 * f];
+                z[1] = P->base[2 * f + 1];
+            }
         }
     pw_triplets_free(&t);
     pw_free(&P->a, id);
@@ -282,17 +296,20 @@ static int pgp__base_field(pgp__state *P, pw_err *e)
     pw_v3 up = pw_v3_norm(pw_v3_load(P->o.up));
     int r = known && pull ? PW_OK : PW_ERR_NOMEM, f;
     pw_df_field F;
-    F.m = &P->m, F.conn = P->conn, F.z = P->base, F.known = known;
-    if (r == PW_OK && P->o.field == PGP_FIELD_CURVATURE)
-        r = pw_df_curvature(&P->a, &F, up, P->o.smoothing, e);
-    else if (r == PW_OK)
-        r = pw_df_up(&P->a, &F, up, e);
+    F.m = &P->m;
+    F.conn = P->conn;
+    F.z = P->base;
+    F.known = known;
+    if (r == PW_OK && P->o.field == PGP_FIELD_CURVATURE) r = pw_df_curvature(&P->a, &F, up, P->o.smoothing, e);
+    else if (r == PW_OK) r = pw_df_up(&P->a, &F, up, e);
     for (f = 0; r == PW_OK && f < P->m.nf; f++) { /* that is d_t; d_s = rot(-90)(d_t) */
         double x = P->base[2 * f], c = pw_v3_dot(up, pw_v3_load(P->m.normal + 3 * f));
         P->base[2 * f] = P->base[2 * f + 1];
         P->base[2 * f + 1] = -x;
-        P->dir[2 * f] = P->base[2 * f], P->dir[2 * f + 1] = P->base[2 * f + 1];
-        pull[f] = (P->o.field == PGP_FIELD_CURVATURE ? 1.0 : 1.0 - c * c) * P->m.area[f] / ((double)P->scale0 * P->scale0);
+        P->dir[2 * f] = P->base[2 * f];
+        P->dir[2 * f + 1] = P->base[2 * f + 1];
+        pull[f] =
+            (P->o.field == PGP_FIELD_CURVATURE ? 1.0 : 1.0 - c * c) * P->m.area[f] / ((double)P->scale0 * P->scale0);
         known[f] = 1;
     }
     if (r == PW_OK) r = pgp__dir_smooth(P, known, pull, e);
@@ -332,7 +349,10 @@ static int pgp__interp_dir(pgp__state *P, const unsigned char *in, int whole, un
         mark[c->element] = 0;
     }
     for (f = 0; whole && f < P->m.nf; f++) /* nothing outside: start from the default */
-        if (mark[f]) P->dir[2 * f] = P->base[2 * f], P->dir[2 * f + 1] = P->base[2 * f + 1];
+        if (mark[f]) {
+            P->dir[2 * f] = P->base[2 * f];
+            P->dir[2 * f + 1] = P->base[2 * f + 1];
+        }
     return pgp__dir_smooth(P, mark, NULL, e);
 }
 
@@ -344,7 +364,8 @@ static int pgp__interp_vertex(pgp__state *P, pgp_constraint_kind kind, const uns
 {
     float *val = kind == PGP_CONSTRAINT_SCALE ? P->scale : P->mat;
     float fallback = kind == PGP_CONSTRAINT_SCALE ? P->scale0 : P->o.material;
-    float lo = kind == PGP_CONSTRAINT_SCALE ? P->o.min_scale * P->scale0 : 0.0f, hi = kind == PGP_CONSTRAINT_SCALE ? FLT_MAX : 1.0f;
+    float lo = kind == PGP_CONSTRAINT_SCALE ? P->o.min_scale * P->scale0 : 0.0f,
+          hi = kind == PGP_CONSTRAINT_SCALE ? FLT_MAX : 1.0f;
     int v, i, r;
     memset(locked, 0, (size_t)P->m.nv);
     for (i = 0; i < P->ncon; i++)

@@ -36,11 +36,15 @@ static int pgp__tile_view(const pgp_tile *t, pw_volume *v, pw_err *e)
     int r;
     if (!t || !t->pixels) return pw_fail(e, PW_ERR_INVALID, "tile: empty (no texels)");
     if (t->width < 1 || t->height < 1 || t->layers < 1 || t->channels < 1 || t->channels > 4)
-        return pw_fail(e, PW_ERR_INVALID, "tile: %dx%d texels, %d layers, %d channels (1 to 4) is not a tile",
-                       t->width, t->height, t->layers, t->channels);
+        return pw_fail(e, PW_ERR_INVALID, "tile: %dx%d texels, %d layers, %d channels (1 to 4) is not a tile", t->width,
+                       t->height, t->layers, t->channels);
     if ((r = pw__volume_check_size("tile", (uint64_t)t->width, (uint64_t)t->height, (uint64_t)t->layers, e)) != PW_OK)
         return r;
-    v->c = t->channels, v->x = t->width, v->y = t->height, v->z = t->layers, v->px = t->pixels;
+    v->c = t->channels;
+    v->x = t->width;
+    v->y = t->height;
+    v->z = t->layers;
+    v->px = t->pixels;
     n = (size_t)v->c * v->x * v->y * v->z;
     for (k = 0; k < n; k++)
         if (!pw_is_finite(v->px[k]))
@@ -78,8 +82,8 @@ PGPDEF pgp_result pgp_tile_from_image(const pgp_image *img, const pgp_options *o
 }
 
 /* NRRD when the data starts with its magic, else a 2D image (one layer). */
-PGPDEF pgp_result pgp_read_tile(const void *data, size_t size, const char *name, const pgp_options *opt,
-                                            pgp_tile *out, pgp_error *err)
+PGPDEF pgp_result pgp_read_tile(const void *data, size_t size, const char *name, const pgp_options *opt, pgp_tile *out,
+                                pgp_error *err)
 {
     pgp_options o = pgp__options(opt);
     pw_alloc a = pgp__alloc(&o.allocator);
@@ -94,7 +98,11 @@ PGPDEF pgp_result pgp_read_tile(const void *data, size_t size, const char *name,
     else if (size >= 4 && !memcmp(d, "NRRD", 4)) {
         if (pw_nrrd_read_memory(&a, d, size, name, &vol, &pe) == PW_OK) pgp__take_volume(&vol, &a, out);
     } else if (pw_image_read_memory(&a, d, size, name, &img, &pe) == PW_OK) {
-        vol.c = img.c, vol.x = img.w, vol.y = img.h, vol.z = 1, vol.px = img.px;
+        vol.c = img.c;
+        vol.x = img.w;
+        vol.y = img.h;
+        vol.z = 1;
+        vol.px = img.px;
         pgp__take_volume(&vol, &a, out);
     }
     return pgp__done(&pe, err);
@@ -116,8 +124,8 @@ PGPDEF pgp_result pgp_write_tile(const pgp_tile *tile, pgp_write_fn fn, void *ct
 
 /* ---- meshes and images --------------------------------------------------------- */
 
-PGPDEF pgp_result pgp_read_mesh(const void *data, size_t size, const char *name, const pgp_options *opt,
-                                            pgp_mesh *out, pgp_error *err)
+PGPDEF pgp_result pgp_read_mesh(const void *data, size_t size, const char *name, const pgp_options *opt, pgp_mesh *out,
+                                pgp_error *err)
 {
     pgp_options o = pgp__options(opt);
     pw_alloc a = pgp__alloc(&o.allocator);
@@ -126,8 +134,7 @@ PGPDEF pgp_result pgp_read_mesh(const void *data, size_t size, const char *name,
     pw_err_clear(&pe);
     if (out) memset(out, 0, sizeof *out);
     if (!out || (!data && size)) pw_fail(&pe, PW_ERR_INVALID, "pgp_read_mesh: NULL argument");
-    else if (pw_mesh_read_memory(&a, data, size, name ? name : "mesh", &m, &pe) == PW_OK)
-        pgp__take_mesh(&m, &a, out);
+    else if (pw_mesh_read_memory(&a, data, size, name ? name : "mesh", &m, &pe) == PW_OK) pgp__take_mesh(&m, &a, out);
     return pgp__done(&pe, err);
 }
 
@@ -146,8 +153,7 @@ PGPDEF pgp_result pgp_read_image(const void *data, size_t size, const char *name
     return pgp__done(&pe, err);
 }
 
-PGPDEF pgp_result pgp_write_image(const pgp_image *img, const char *format, pgp_write_fn fn, void *ctx,
-                                  pgp_error *err)
+PGPDEF pgp_result pgp_write_image(const pgp_image *img, const char *format, pgp_write_fn fn, void *ctx, pgp_error *err)
 {
     pw_err pe;
     pw_err_clear(&pe);
@@ -164,16 +170,17 @@ static int pgp__same_mesh(const pgp_mesh *mesh, const pgp__state *P, pw_err *e)
 {
     int f, k, t = 0;
     if (mesh->nverts != P->m.nv || mesh->nfaces < 0 || !mesh->face_start || !mesh->face_verts)
-        return pw_fail(e, PW_ERR_INVALID, "the mesh (%d vertices) is not the map's (%d vertices)", mesh->nverts, P->m.nv);
+        return pw_fail(e, PW_ERR_INVALID, "the mesh (%d vertices) is not the map's (%d vertices)", mesh->nverts,
+                       P->m.nv);
     for (f = 0; f < mesh->nfaces; f++) {
         const int *c = mesh->face_verts + mesh->face_start[f];
         int d = mesh->face_start[f + 1] - mesh->face_start[f];
         for (k = 1; k + 1 < d; k++, t++)
-            if (t >= P->m.nf || P->m.tri[3 * t] != c[0] || P->m.tri[3 * t + 1] != c[k] || P->m.tri[3 * t + 2] != c[k + 1])
+            if (t >= P->m.nf || P->m.tri[3 * t] != c[0] || P->m.tri[3 * t + 1] != c[k] ||
+                P->m.tri[3 * t + 2] != c[k + 1])
                 return pw_fail(e, PW_ERR_INVALID, "the mesh is not the map's (face %d differs)", f);
     }
-    if (t != P->m.nf)
-        return pw_fail(e, PW_ERR_INVALID, "the mesh has %d triangles, the map %d", t, P->m.nf);
+    if (t != P->m.nf) return pw_fail(e, PW_ERR_INVALID, "the mesh has %d triangles, the map %d", t, P->m.nf);
     return PW_OK;
 }
 
@@ -216,15 +223,13 @@ static int pgp__write_obj(const pgp__state *P, pw_write_fn fn, void *ctx, pw_err
     return pw__wb_done(&b, e);
 }
 
-PGPDEF pgp_result pgp_write_obj(const pgp_mesh *mesh, const pgp_map *map, pgp_write_fn fn, void *ctx,
-                                pgp_error *err)
+PGPDEF pgp_result pgp_write_obj(const pgp_mesh *mesh, const pgp_map *map, pgp_write_fn fn, void *ctx, pgp_error *err)
 {
     const pgp__state *P = pgp__state_of(map);
     pw_err pe;
     pw_err_clear(&pe);
     if (!P || !fn) pw_fail(&pe, PW_ERR_INVALID, "pgp_write_obj: NULL or empty map, or NULL writer");
-    else if (!mesh || pgp__same_mesh(mesh, P, &pe) == PW_OK)
-        pgp__write_obj(P, fn, ctx, &pe);
+    else if (!mesh || pgp__same_mesh(mesh, P, &pe) == PW_OK) pgp__write_obj(P, fn, ctx, &pe);
     return pgp__done(&pe, err);
 }
 
@@ -267,10 +272,14 @@ static int pgp__con_line(pw__sc *s, float *radius, pgp_constraint *c, int *got)
     int kind, r;
     pw_err le;
     w = pw__sc_word(s, &n);
-    kind = pw__sc_is(w, n, "radius") ? 0 : pw__sc_is(w, n, "orient") ? 1 : pw__sc_is(w, n, "scale") ? 2
-           : pw__sc_is(w, n, "material") ? 3 : -1;
+    kind = pw__sc_is(w, n, "radius")     ? 0
+           : pw__sc_is(w, n, "orient")   ? 1
+           : pw__sc_is(w, n, "scale")    ? 2
+           : pw__sc_is(w, n, "material") ? 3
+                                         : -1;
     if (kind < 0)
-        return pw__sc_fail(s, PW_ERR_PARSE, "unknown keyword '%s' (orient, scale, material, radius)", pw__sc_tok(s, w, tok));
+        return pw__sc_fail(s, PW_ERR_PARSE, "unknown keyword '%s' (orient, scale, material, radius)",
+                           pw__sc_tok(s, w, tok));
     memset(c, 0, sizeof *c);
     if (kind == 1) r = pgp__con_index(s, "orient: triangle", &c->element);
     else if (kind > 1) r = pgp__con_index(s, kind == 2 ? "scale: vertex" : "material: vertex", &c->element);
@@ -378,7 +387,7 @@ static int pgp__job_body(void *arg, pw_write_fn w, void *ctx, pw_err *e)
 {
     const pgp__job *j = (const pgp__job *)arg;
     pgp_error le;
-    pgp_result r = j->img ? pgp_write_image(j->img, j->format, w, ctx, &le)
+    pgp_result r = j->img    ? pgp_write_image(j->img, j->format, w, ctx, &le)
                    : j->tile ? pgp_write_tile(j->tile, w, ctx, &le)
                              : pgp_write_obj(j->mesh, j->map, w, ctx, &le);
     return r != PGP_OK ? pw_fail(e, (int)r, "%s", le.message) : PW_OK;
@@ -406,11 +415,13 @@ PGPDEF pgp_result pgp_save_image(const char *path, const pgp_image *img, pgp_err
     memset(&j, 0, sizeof j);
     j.img = img;
     if (!path) pw_fail(&pe, PW_ERR_INVALID, "pgp_save_image: NULL path");
-    else if (!(j.format = pw_has_ext(path, ".png") ? "png" : pw_has_ext(path, ".ppm") || pw_has_ext(path, ".pnm")
-                          ? "ppm" : pw_has_ext(path, ".pgm") ? "pgm" : pw_has_ext(path, ".pam") ? "pam" : NULL))
+    else if (!(j.format = pw_has_ext(path, ".png")                               ? "png"
+                          : pw_has_ext(path, ".ppm") || pw_has_ext(path, ".pnm") ? "ppm"
+                          : pw_has_ext(path, ".pgm")                             ? "pgm"
+                          : pw_has_ext(path, ".pam")                             ? "pam"
+                                                                                 : NULL))
         pw_fail(&pe, PW_ERR_UNSUPPORTED, "%s: unknown image extension (use .png, .ppm, .pgm, .pam)", path);
-    else if (pgp__check_image(img, path, &pe) == PW_OK)
-        pw_write_file(path, pgp__job_body, &j, &pe);
+    else if (pgp__check_image(img, path, &pe) == PW_OK) pw_write_file(path, pgp__job_body, &j, &pe);
     return pgp__done(&pe, err);
 }
 
@@ -427,8 +438,7 @@ PGPDEF pgp_result pgp_save_obj(const char *path, const pgp_mesh *mesh, const pgp
     return pgp__done(&pe, err);
 }
 
-PGPDEF pgp_result pgp_load_constraints(const char *path, const pgp_options *opt, pgp_constraints *out,
-                                       pgp_error *err)
+PGPDEF pgp_result pgp_load_constraints(const char *path, const pgp_options *opt, pgp_constraints *out, pgp_error *err)
 {
     pgp_options o = pgp__options(opt);
     pw_alloc a = pgp__alloc(&o.allocator);
@@ -440,7 +450,8 @@ PGPDEF pgp_result pgp_load_constraints(const char *path, const pgp_options *opt,
     if (!out || !path) pw_fail(&pe, PW_ERR_INVALID, "pgp_load_constraints: NULL argument");
     else if (pw_read_file(&a, path, &data, &size, &pe) == PW_OK) {
         pgp_error le;
-        if (pgp_read_constraints(data, size, path, &o, out, &le) != PGP_OK) pw_fail(&pe, (int)le.code, "%s", le.message);
+        if (pgp_read_constraints(data, size, path, &o, out, &le) != PGP_OK)
+            pw_fail(&pe, (int)le.code, "%s", le.message);
         pw_free(&a, data);
     }
     return pgp__done(&pe, err);

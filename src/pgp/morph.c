@@ -94,7 +94,8 @@ static double pgp__line_diff(const pw_image *img, int dx, int i0, int i1)
     double s = 0.0;
     for (j = 0; j < len; j++)
         for (k = 0; k < c; k++) {
-            size_t p = dx ? ((size_t)j * w + i0) : ((size_t)i0 * w + j), q = dx ? ((size_t)j * w + i1) : ((size_t)i1 * w + j);
+            size_t p = dx ? ((size_t)j * w + i0) : ((size_t)i0 * w + j),
+                   q = dx ? ((size_t)j * w + i1) : ((size_t)i1 * w + j);
             s += fabs((double)px[p * c + k] - px[q * c + k]);
         }
     return s / ((double)len * c);
@@ -185,7 +186,10 @@ static float pgp__otsu(const float *v, size_t n)
     double hist[256], lo = v[0], hi = v[0], sum = 0.0, w0 = 0.0, s0 = 0.0, best = -1.0;
     size_t i;
     int b, tb = 0;
-    for (i = 1; i < n; i++) lo = v[i] < lo ? v[i] : lo, hi = v[i] > hi ? v[i] : hi;
+    for (i = 1; i < n; i++) {
+        lo = v[i] < lo ? v[i] : lo;
+        hi = v[i] > hi ? v[i] : hi;
+    }
     if (!(hi > lo)) return FLT_MAX;
     memset(hist, 0, sizeof hist);
     for (i = 0; i < n; i++) {
@@ -202,7 +206,10 @@ static float pgp__otsu(const float *v, size_t n)
         m0 = s0 / w0;
         m1 = (sum - s0) / w1;
         between = w0 * w1 * (m0 - m1) * (m0 - m1);
-        if (between > best) best = between, tb = b;
+        if (between > best) {
+            best = between;
+            tb = b;
+        }
     }
     return (float)(lo + (hi - lo) * (tb + 1) / 256.0);
 }
@@ -281,8 +288,8 @@ static int pgp__stack_key(const pw_alloc *a, const pgp_key *key, int c, float **
 
 /* §1 inputs for key k: validated, made tileable when needed (the mask cut
  * with the colours), resampled to n x n, its mask thresholded or computed. */
-static int pgp__prepare_key(const pw_alloc *a, const pgp_key *key, int c, const pgp_synth_options *o,
-                            pgp__key *out, pw_err *e)
+static int pgp__prepare_key(const pw_alloc *a, const pgp_key *key, int c, const pgp_synth_options *o, pgp__key *out,
+                            pw_err *e)
 {
     pw_image img = pgp__pw_image(key->image);
     int n = o->size, cs = c + (key->mask ? 1 : 0), r;
@@ -290,7 +297,9 @@ static int pgp__prepare_key(const pw_alloc *a, const pgp_key *key, int c, const 
     float *st = NULL, *cut = NULL, *rs = NULL;
     pw_image sv, tile; /* views: the stacked key (cs channels), and its n x n colour */
     r = pgp__stack_key(a, key, c, &st, e);
-    sv = img, sv.c = cs, sv.px = st;
+    sv = img;
+    sv.c = cs;
+    sv.px = st;
     if (r == PW_OK && (o->tileable == PGP_TILEABLE_MAKE || (o->tileable == PGP_TILEABLE_AUTO && !pgp__tiles(&sv)))) {
         cut = (float *)pw_alloc_array(a, (size_t)img.w * img.h * cs, sizeof(float), "tileable key", e);
         r = cut ? pw_quilt_make_tileable_px(a, &sv, cut, e) : PW_ERR_NOMEM;
@@ -305,7 +314,10 @@ static int pgp__prepare_key(const pw_alloc *a, const pgp_key *key, int c, const 
         memcpy(out->color + i * c, rs + i * cs, sizeof(float) * c);
         if (key->mask) out->mask[i] = (unsigned char)(rs[i * cs + c] > 0.5f);
     }
-    tile = img, tile.w = tile.h = n, tile.c = c, tile.px = out->color;
+    tile = img;
+    tile.w = tile.h = n;
+    tile.c = c;
+    tile.px = out->color;
     if (r == PW_OK && !key->mask) r = pgp__auto_mask(a, &tile, o->auto_mask, out->mask, e);
     pw_free(a, st);
     pw_free(a, cut);
@@ -392,9 +404,15 @@ static int pgp__morph_init(const pw_alloc *a, pgp__morph *m, const pgp__morph_jo
     m->nn = (size_t)n * n;
     m->words = (m->nn + 63) / 64;
     if (!(m->phi0 = (float *)pw_alloc_array(a, m->nn * 6, sizeof(float), "morph fields", e))) return PW_ERR_NOMEM;
-    m->psi = m->phi0 + m->nn, m->gx = m->psi + m->nn, m->gy = m->gx + m->nn;
-    m->phi = m->gy + m->nn, m->next = m->phi + m->nn;
-    im0.px = f0, im1.px = f1, im0.w = im0.h = im1.w = im1.h = n, im0.wrap = im1.wrap = 1; /* tiles */
+    m->psi = m->phi0 + m->nn;
+    m->gx = m->psi + m->nn;
+    m->gy = m->gx + m->nn;
+    m->phi = m->gy + m->nn;
+    m->next = m->phi + m->nn;
+    im0.px = f0;
+    im1.px = f1;
+    im0.w = im0.h = im1.w = im1.h = n;
+    im0.wrap = im1.wrap = 1; /* tiles */
     if ((r = pw_edt_signed(a, &im0, m->phi0, e)) != PW_OK || (r = pw_edt_signed(a, &im1, m->psi, e)) != PW_OK) return r;
     for (i = 0; i < m->nn; i++) {
         lo = m->psi[i] < lo ? m->psi[i] : lo;
@@ -436,8 +454,10 @@ static void pgp__advect(pgp__morph *m)
             }
             px = (float)x + m->gx[i] * m->dt;
             py = (float)y + m->gy[i] * m->dt;
-            x0 = (int)floorf(px), y0 = (int)floorf(py);
-            fx = px - (float)x0, fy = py - (float)y0;
+            x0 = (int)floorf(px);
+            y0 = (int)floorf(py);
+            fx = px - (float)x0;
+            fy = py - (float)y0;
             for (k = 0; k < 4; k++) {
                 int xx = ((x0 + (k & 1)) % n + n) % n, yy = ((y0 + (k >> 1)) % n + n) % n;
                 size_t j = (size_t)yy * n + xx;
@@ -494,7 +514,9 @@ static int pgp__morph_run(pgp__morph *m, const pw_progress *prog, float p0, floa
         pgp__advect(m);
         pgp__dilate(m);
         pgp__sweep(m, step);
-        t = m->phi, m->phi = m->next, m->next = t;
+        t = m->phi;
+        m->phi = m->next;
+        m->next = t;
         pgp__store_sign(m, step);
         if ((step & 15) == 0 && pw_report(prog, p0 + (p1 - p0) * (float)step / (float)m->N, "feature morphing", e))
             return PW_ERR_CANCELLED;
@@ -518,7 +540,10 @@ static void pgp__subsample(const pgp__morph *m, int M, int uniform, int *H)
             H[j] = (int)((long)j * m->N / M);
             continue;
         }
-        while (k < m->N && acc * M < total * j) acc += pgp__flips(m, k, k + 1), k++;
+        while (k < m->N && acc * M < total * j) {
+            acc += pgp__flips(m, k, k + 1);
+            k++;
+        }
         H[j] = pw_clampi(k, H[j - 1] + 1, m->N - (M - j));
     }
     for (sweep = 0; sweep < 8 * M && moved && !uniform; sweep++)
@@ -528,7 +553,10 @@ static void pgp__subsample(const pgp__morph *m, int M, int uniform, int *H)
             for (h = H[j - 1] + 1; h < H[j + 1]; h++) {
                 long d = pgp__flips(m, H[j - 1], h) - pgp__flips(m, h, H[j + 1]);
                 d = d < 0 ? -d : d;
-                if (best < 0 || d < best) best = d, bh = h;
+                if (best < 0 || d < best) {
+                    best = d;
+                    bh = h;
+                }
             }
             moved |= bh != H[j];
             H[j] = bh;
@@ -596,13 +624,16 @@ PGPDEF pgp_result pgp_feature_mask(const pgp_image *image, pgp_mask mode, const 
     memset(&res, 0, sizeof res);
     if (out) memset(out, 0, sizeof *out);
     if (!out) pw_fail(&pe, PW_ERR_INVALID, "pgp_feature_mask: NULL output");
-    else if (mode < PGP_MASK_DARK || mode > PGP_MASK_GRADIENT) pw_fail(&pe, PW_ERR_INVALID, "pgp_feature_mask: unknown mode %d", mode);
-    else if (pgp__check_image(image, "image", &pe) == PW_OK && (v = pgp__pw_image(image),
-             pw_image_alloc(&a, &res, v.w, v.h, 1, &pe) == PW_OK) &&
-             (mask = (unsigned char *)pw_alloc_array(&a, (size_t)v.w * v.h, 1, "mask", &pe)) != NULL &&
-             pgp__auto_mask(&a, &v, mode, mask, &pe) == PW_OK) {
-        for (i = 0; i < (size_t)v.w * v.h; i++) res.px[i] = mask[i] ? 1.0f : 0.0f;
-        pgp__take_image(&res, &a, out);
+    else if (mode < PGP_MASK_DARK || mode > PGP_MASK_GRADIENT)
+        pw_fail(&pe, PW_ERR_INVALID, "pgp_feature_mask: unknown mode %d", mode);
+    else if (pgp__check_image(image, "image", &pe) == PW_OK) {
+        v = pgp__pw_image(image);
+        if (pw_image_alloc(&a, &res, v.w, v.h, 1, &pe) == PW_OK &&
+            (mask = (unsigned char *)pw_alloc_array(&a, (size_t)v.w * v.h, 1, "mask", &pe)) != NULL &&
+            pgp__auto_mask(&a, &v, mode, mask, &pe) == PW_OK) {
+            for (i = 0; i < (size_t)v.w * v.h; i++) res.px[i] = mask[i] ? 1.0f : 0.0f;
+            pgp__take_image(&res, &a, out);
+        }
     }
     pw_free(&a, mask);
     pw_image_free(&a, &res);
@@ -623,17 +654,25 @@ PGPDEF pgp_result pgp_morph_masks(const pgp_image *mask0, const pgp_image *mask1
     pw_err_clear(&pe);
     if (out) memset(out, 0, sizeof *out);
     if (!out) pw_fail(&pe, PW_ERR_INVALID, "pgp_morph_masks: NULL output");
-    else if (layers < 2 || layers > 1024) pw_fail(&pe, PW_ERR_INVALID, "pgp_morph_masks: %d layers (2 to 1024)", layers);
+    else if (layers < 2 || layers > 1024)
+        pw_fail(&pe, PW_ERR_INVALID, "pgp_morph_masks: %d layers (2 to 1024)", layers);
     else if (pgp__check_image(mask0, "mask 0", &pe) == PW_OK && pgp__check_image(mask1, "mask 1", &pe) == PW_OK &&
              (mask0->width != mask0->height || mask1->width != mask0->width || mask1->height != mask0->height))
         pw_fail(&pe, PW_ERR_INVALID, "pgp_morph_masks: masks of %dx%d and %dx%d (both must be the same square)",
                 mask0->width, mask0->height, mask1->width, mask1->height);
     if (pe.code == PW_OK) {
-        n = mask0->width, nn = (size_t)n * n;
+        n = mask0->width;
+        nn = (size_t)n * n;
         f = (unsigned char *)pw_alloc_array(&a, nn * (layers + 2), 1, "masks", &pe);
     }
-    J.f0 = f, J.f1 = f + nn, J.n = n, J.M = layers - 1, J.masks = f + 2 * nn;
-    J.prog = &prog, J.p0 = 0.0f, J.p1 = 1.0f;
+    J.f0 = f;
+    J.f1 = f + nn;
+    J.n = n;
+    J.M = layers - 1;
+    J.masks = f + 2 * nn;
+    J.prog = &prog;
+    J.p0 = 0.0f;
+    J.p1 = 1.0f;
     if (f && pgp__binary_mask(&a, mask0, f, &pe) == PW_OK && pgp__binary_mask(&a, mask1, f + nn, &pe) == PW_OK &&
         pgp__check_mask(f, nn, "mask 0", &pe) == PW_OK && pgp__check_mask(f + nn, nn, "mask 1", &pe) == PW_OK &&
         pgp__morph_masks(&a, &J, &o, &pe) == PW_OK)

@@ -187,8 +187,8 @@ typedef struct pgp_mesh {
     int nverts;
     float *positions; /* nverts*3 */
     int nfaces;
-    int *face_start;  /* nfaces+1 */
-    int *face_verts;  /* face_start[nfaces] */
+    int *face_start; /* nfaces+1 */
+    int *face_verts; /* face_start[nfaces] */
     pgp_allocator allocator;
 } pgp_mesh;
 
@@ -243,24 +243,24 @@ typedef enum pgp_show {
  * them, NULL for the defaults). The tile is always sampled one way:
  * trilinear mipmaps in s and t, linear in m. */
 typedef struct pgp_render_options {
-    int width, height;       /* default 800 x 600 */
-    int supersample;         /* default 2 */
-    float view_dir[3];       /* default (-0.55,-0.45,-0.7) */
-    float up[3];             /* default (0,1,0) */
-    float background[3];     /* default white */
-    pgp_fix fix;             /* how vortices and singular triangles are drawn; default
+    int width, height;        /* default 800 x 600 */
+    int supersample;          /* default 2 */
+    float view_dir[3];        /* default (-0.55,-0.45,-0.7) */
+    float up[3];              /* default (0,1,0) */
+    float background[3];      /* default white */
+    pgp_fix fix;              /* how vortices and singular triangles are drawn; default
                                 CLEAN */
-    pgp_show show;           /* default TILE */
-    float zoom;              /* > 1: a close-up, the field of view divided by zoom,
+    pgp_show show;            /* default TILE */
+    float zoom;               /* > 1: a close-up, the field of view divided by zoom,
                                 looking at `center` from the same direction; default 1
                                 (the whole mesh; 0 or less is the same) */
-    float center[3];         /* the point a close-up looks at (used when zoom > 1) */
-    int threads;             /* rendering threads: 0 (default) one per processor when the
+    float center[3];          /* the point a close-up looks at (used when zoom > 1) */
+    int threads;              /* rendering threads: 0 (default) one per processor when the
                                 implementation is built with PW_THREADS (POSIX threads;
                                 link with -pthread), else 1; n: at most n. With more
                                 than one, the allocator is called from several threads */
     pgp_parallel_fn parallel; /* optional: the caller's parallel for, used instead of threads */
-    void *parallel_pool;     /* its first argument */
+    void *parallel_pool;      /* its first argument */
 } pgp_render_options;
 
 /* Masks computed from a key when none is given (§1: "constructed
@@ -285,35 +285,35 @@ typedef enum pgp_tileable {
 /* Tile synthesis settings (§1; pgp_options.synth; the synthesis calls take
  * a pointer to them, NULL for the defaults). */
 typedef struct pgp_synth_options {
-    int size;            /* tile side in texels; every key (and mask) is resampled
+    int size;                /* tile side in texels; every key (and mask) is resampled
                             periodically to size x size (bilinear up, box filter down;
                             never cropped); default 128, 16 to 4096 */
-    int layers;          /* layers of the tile (m from 0 to 1); the keys sit at evenly
+    int layers;              /* layers of the tile (m from 0 to 1); the keys sit at evenly
                             spaced layers, the first at 0 and the last at layers-1;
                             default 8 */
-    int single;          /* 1: single-tile mode (Fig. 14): one key, every layer
+    int single;              /* 1: single-tile mode (Fig. 14): one key, every layer
                             synthesised with the key's own mask, to hide periodicity */
-    pgp_tileable tileable; /* default AUTO */
-    pgp_mask auto_mask;  /* default DARK */
-    int steps;           /* §1.1 advection steps N per morph; 0: at least 16 per layer and
+    pgp_tileable tileable;   /* default AUTO */
+    pgp_mask auto_mask;      /* default DARK */
+    int steps;               /* §1.1 advection steps N per morph; 0: at least 16 per layer and
                             enough that dt <= 1/2 texel */
-    int uniform;         /* 1: layers at n = m N / M instead of the speed-adaptive H(m) */
-    int levels;          /* §1.2 pyramid levels; 0: halve while the side stays even and
+    int uniform;             /* 1: layers at n = m N / M instead of the speed-adaptive H(m) */
+    int levels;              /* §1.2 pyramid levels; 0: halve while the side stays even and
                             at least 32 texels */
-    int coarse_passes;   /* optimisation passes at the coarsest level; default 20 */
-    int fine_passes;     /* ... at every finer level; default 4 */
-    int color_window;    /* side of the colour neighbourhood (odd); default 5 */
-    int mask_window;     /* side of the mask neighbourhood (odd); default 3 */
-    int color_dims;      /* PCA coefficients kept of a colour neighbourhood; default 5, at
+    int coarse_passes;       /* optimisation passes at the coarsest level; default 20 */
+    int fine_passes;         /* ... at every finer level; default 4 */
+    int color_window;        /* side of the colour neighbourhood (odd); default 5 */
+    int mask_window;         /* side of the mask neighbourhood (odd); default 3 */
+    int color_dims;          /* PCA coefficients kept of a colour neighbourhood; default 5, at
                             most 8 */
-    int mask_dims;       /* ... of a mask neighbourhood; default 3, at most 8 */
-    float mask_weight;   /* scale of the mask coefficients ("scaled by two"); default 2 */
-    float usage_weight;  /* usage penalty: each current use of an input texel costs this
+    int mask_dims;           /* ... of a mask neighbourhood; default 3, at most 8 */
+    float mask_weight;       /* scale of the mask coefficients ("scaled by two"); default 2 */
+    float usage_weight;      /* usage penalty: each current use of an input texel costs this
                             fraction of the input vectors' total variance; default 0.2;
                             negative: no penalty */
-    float search_eps;    /* nearest neighbours within a factor 1 + eps of the nearest
+    float search_eps;        /* nearest neighbours within a factor 1 + eps of the nearest
                             distance, as the paper's ANN; default 1; negative: exact */
-    int search_buckets;  /* ... scanning at most this many kd-tree buckets (of 8 input
+    int search_buckets;      /* ... scanning at most this many kd-tree buckets (of 8 input
                             texels) per search, ANN's bound on the points visited;
                             default 64; negative: no bound. With search_eps < 0 and
                             search_buckets < 0 every match is the exact nearest one */
@@ -349,29 +349,29 @@ typedef struct pgp_constraints {
 
 /* A texture atlas of the mapping (pgp_bake_atlas), as lapped.h's. */
 typedef struct pgp_atlas_options {
-    int size;                /* atlas image side, pixels; default 1024 (16..8192) */
-    float cone_angle;        /* max angle between a chart's normals and its centre's,
+    int size;         /* atlas image side, pixels; default 1024 (16..8192) */
+    float cone_angle; /* max angle between a chart's normals and its centre's,
                                 degrees; default 60 */
-    int gutter;              /* pixels between charts, filled by dilation; default 2 */
+    int gutter;       /* pixels between charts, filled by dilation; default 2 */
 } pgp_atlas_options;
 
 typedef struct pgp_options {
-    pgp_field_mode field;    /* default UP */
-    float up[3];             /* default (0,1,0): the tile's t axis follows it */
-    float scale;             /* tile side in mesh units where no scale constraint
+    pgp_field_mode field;              /* default UP */
+    float up[3];                       /* default (0,1,0): the tile's t axis follows it */
+    float scale;                       /* tile side in mesh units where no scale constraint
                                 reaches; 0: a tenth of the bounding-box diagonal.
                                 pgp_create refuses a side given here over 10 diagonals
                                 (one flat colour) or under 2 mean edge lengths
                                 (periods the triangles cannot carry) */
-    float material;          /* m where no material constraint reaches; default 0 */
-    float min_scale;         /* floor of the interpolated scale (§2.2 epsilon), as a
+    float material;                    /* m where no material constraint reaches; default 0 */
+    float min_scale;                   /* floor of the interpolated scale (§2.2 epsilon), as a
                                 fraction of `scale`; default 0.05 */
-    int smoothing;           /* CURVATURE: smoothing sweeps; default 20 */
-    float singular_distortion; /* §3: a triangle is distorted when
+    int smoothing;                     /* CURVATURE: smoothing sweeps; default 20 */
+    float singular_distortion;         /* §3: a triangle is distorted when
                                 |grad s - g_s|^2 / |g_s|^2 (or for t) exceeds this;
                                 default 0.5 */
-    pgp_weights weights;     /* default COTAN */
-    float integrable;        /* beyond the paper: 0 (default) follows the field; > 0
+    pgp_weights weights;               /* default COTAN */
+    float integrable;                  /* beyond the paper: 0 (default) follows the field; > 0
                                 rotates the field and varies the tile side smoothly
                                 (within [1/2, 2] of `scale`, its mean kept) to cancel
                                 the curl of the gradients the PGP must follow (each
@@ -384,8 +384,8 @@ typedef struct pgp_options {
                                 solve); their ids are 0, 1, ...; default none */
     int nconstraints;
     pgp_render_options render; /* pgp_render's settings (pass &opt.render) */
-    pgp_synth_options synth; /* tile synthesis settings (pass &opt.synth) */
-    pgp_atlas_options atlas; /* pgp_bake_atlas's */
+    pgp_synth_options synth;   /* tile synthesis settings (pass &opt.synth) */
+    pgp_atlas_options atlas;   /* pgp_bake_atlas's */
     pgp_allocator allocator;
     pgp_progress_fn progress;
     void *progress_user;
@@ -395,9 +395,9 @@ typedef struct pgp_options {
  * calls, freed by pgp_map_free. The fields are for reading. */
 typedef struct pgp_map {
     int nverts, ntris;
-    int *tris;     /* ntris*3 vertex indices, counter-clockwise (the fan
+    int *tris;                   /* ntris*3 vertex indices, counter-clockwise (the fan
                       triangulation of the mesh's faces) */
-    float *coords; /* ntris*9: s, t, m of corners 0, 1, 2, the Eq. (4) coordinates
+    float *coords;               /* ntris*9: s, t, m of corners 0, 1, 2, the Eq. (4) coordinates
                       (before the rendering fix), kept current by pgp_create and by
                       every edit */
     struct pgp_map_state *state; /* private: solver, fields, constraints */
@@ -427,12 +427,12 @@ typedef struct pgp_field {
  * 30% of stretch or compression), sheared when grad s and grad t are more
  * than 20 degrees away from perpendicular. */
 typedef struct pgp_stats {
-    int triangles, vortices; /* pgp_map_vortices */
-    int singular;            /* §3's singular triangles (pgp_map_singular) */
+    int triangles, vortices;  /* pgp_map_vortices */
+    int singular;             /* §3's singular triangles (pgp_map_singular) */
     float stretched, sheared; /* shares of the surface, in [0, 1] */
-    float mean_edge;         /* mean edge length */
-    float diagonal;          /* bounding-box diagonal */
-    float scale;             /* the default tile side (options.scale or its default) */
+    float mean_edge;          /* mean edge length */
+    float diagonal;           /* bounding-box diagonal */
+    float scale;              /* the default tile side (options.scale or its default) */
 } pgp_stats;
 
 /* Every field filled in, sub-options (render, synth) included. */
@@ -449,12 +449,10 @@ PGPDEF void pgp_map_free(pgp_map *map);
  * within c->radius of the constraint, in order of distance; the rest is
  * locked. On success *id (if not NULL) names the constraint and *area (if
  * not NULL) lists the triangles recomputed. */
-PGPDEF pgp_result pgp_add_constraint(pgp_map *map, const pgp_constraint *c, int *id, pgp_area *area,
-                                     pgp_error *err);
+PGPDEF pgp_result pgp_add_constraint(pgp_map *map, const pgp_constraint *c, int *id, pgp_area *area, pgp_error *err);
 /* A new value for constraint `id` (the direction for ORIENT, value[0] for
  * SCALE and MATERIAL), recomputed over the same radius. */
-PGPDEF pgp_result pgp_edit_constraint(pgp_map *map, int id, const float value[3], pgp_area *area,
-                                      pgp_error *err);
+PGPDEF pgp_result pgp_edit_constraint(pgp_map *map, int id, const float value[3], pgp_area *area, pgp_error *err);
 PGPDEF pgp_result pgp_remove_constraint(pgp_map *map, int id, pgp_area *area, pgp_error *err);
 PGPDEF void pgp_area_free(pgp_area *area);
 
@@ -475,8 +473,8 @@ PGPDEF pgp_result pgp_map_field(const pgp_map *map, pgp_field *out, pgp_error *e
 PGPDEF void pgp_field_free(pgp_field *field);
 
 /* §3: renders the mapped mesh textured with the tile (ro NULL: defaults). */
-PGPDEF pgp_result pgp_render(const pgp_map *map, const pgp_tile *tile, const pgp_render_options *ro,
-                             pgp_image *out, pgp_error *err);
+PGPDEF pgp_result pgp_render(const pgp_map *map, const pgp_tile *tile, const pgp_render_options *ro, pgp_image *out,
+                             pgp_error *err);
 
 /* The mapping for other programs: per-corner texture coordinates and one
  * image. From pgp_bake_atlas, charts of the mesh and the image of what
@@ -487,10 +485,10 @@ PGPDEF pgp_result pgp_render(const pgp_map *map, const pgp_tile *tile, const pgp
  * then show their seams, §3). */
 typedef struct pgp_atlas {
     int ntris;
-    float *uvs;              /* ntris*6, per corner, v = 0 at the bottom of the image */
-    int ncharts;             /* charts of a baked atlas (0 for the raw coordinates) */
-    float fill;              /* fraction of the image the charts cover (1 for the raw) */
-    int repeat;              /* 1: the coordinates wrap (the raw (s, t)); 0: within [0, 1] */
+    float *uvs;  /* ntris*6, per corner, v = 0 at the bottom of the image */
+    int ncharts; /* charts of a baked atlas (0 for the raw coordinates) */
+    float fill;  /* fraction of the image the charts cover (1 for the raw) */
+    int repeat;  /* 1: the coordinates wrap (the raw (s, t)); 0: within [0, 1] */
     pgp_image image;
 } pgp_atlas;
 
@@ -517,31 +515,26 @@ PGPDEF pgp_result pgp_write_gltf(const pgp_map *map, const pgp_atlas *atlas, con
  * "grid" (a flat square, with a boundary). Tiles: "bricks" (bricks that
  * weather into pebbles along m, 4 layers), "stripes" (1 layer); their
  * noise follows opt->synth.seed. */
-PGPDEF pgp_result pgp_builtin_mesh(const char *name, const pgp_options *opt, pgp_mesh *out,
-                                   pgp_error *err);
-PGPDEF pgp_result pgp_builtin_tile(const char *name, int size, const pgp_options *opt, pgp_tile *out,
-                                   pgp_error *err);
+PGPDEF pgp_result pgp_builtin_mesh(const char *name, const pgp_options *opt, pgp_mesh *out, pgp_error *err);
+PGPDEF pgp_result pgp_builtin_tile(const char *name, int size, const pgp_options *opt, pgp_tile *out, pgp_error *err);
 
 /* Files and memory. Tiles: NRRD (uint8/uint16/float, dimension 4 with
  * sizes C W H M, or 3 with W H M, raw or gzip) or any 2D image (one
  * layer). Meshes: OBJ, OFF, PLY, STL. Images: PNG, PPM/PGM/PAM, GIMP .pat;
  * written as PNG, PPM, PGM or PAM (format "png", "ppm", "pgm", "pam"). */
-PGPDEF pgp_result pgp_tile_from_image(const pgp_image *img, const pgp_options *opt, pgp_tile *out,
-                                      pgp_error *err);
-PGPDEF pgp_result pgp_read_tile(const void *data, size_t size, const char *name, const pgp_options *opt,
-                                pgp_tile *out, pgp_error *err);
+PGPDEF pgp_result pgp_tile_from_image(const pgp_image *img, const pgp_options *opt, pgp_tile *out, pgp_error *err);
+PGPDEF pgp_result pgp_read_tile(const void *data, size_t size, const char *name, const pgp_options *opt, pgp_tile *out,
+                                pgp_error *err);
 PGPDEF pgp_result pgp_write_tile(const pgp_tile *tile, pgp_write_fn fn, void *ctx, pgp_error *err);
-PGPDEF pgp_result pgp_read_mesh(const void *data, size_t size, const char *name, const pgp_options *opt,
-                                pgp_mesh *out, pgp_error *err);
+PGPDEF pgp_result pgp_read_mesh(const void *data, size_t size, const char *name, const pgp_options *opt, pgp_mesh *out,
+                                pgp_error *err);
 PGPDEF pgp_result pgp_read_image(const void *data, size_t size, const char *name, const pgp_options *opt,
                                  pgp_image *out, pgp_error *err);
-PGPDEF pgp_result pgp_write_image(const pgp_image *img, const char *format, pgp_write_fn fn, void *ctx,
-                                  pgp_error *err);
+PGPDEF pgp_result pgp_write_image(const pgp_image *img, const char *format, pgp_write_fn fn, void *ctx, pgp_error *err);
 /* OBJ: the triangulated mesh with `vt s t m` per corner, faces grouped as
  * `g regular` then `g singular`. mesh may be NULL; if given it must be the
  * map's. */
-PGPDEF pgp_result pgp_write_obj(const pgp_mesh *mesh, const pgp_map *map, pgp_write_fn fn, void *ctx,
-                                pgp_error *err);
+PGPDEF pgp_result pgp_write_obj(const pgp_mesh *mesh, const pgp_map *map, pgp_write_fn fn, void *ctx, pgp_error *err);
 /* A constraints file (docs/pgp.md): UTF-8 text, one constraint per line,
  * "orient F dx dy dz", "scale V S", "material V m", and "radius R" for the
  * lines that follow (default 0: the whole mesh); '#' starts a comment. The
@@ -554,8 +547,7 @@ PGPDEF pgp_result pgp_read_constraints(const void *data, size_t size, const char
 PGPDEF pgp_result pgp_load_mesh(const char *path, const pgp_options *opt, pgp_mesh *out, pgp_error *err);
 PGPDEF pgp_result pgp_load_image(const char *path, const pgp_options *opt, pgp_image *out, pgp_error *err);
 PGPDEF pgp_result pgp_load_tile(const char *path, const pgp_options *opt, pgp_tile *out, pgp_error *err);
-PGPDEF pgp_result pgp_load_constraints(const char *path, const pgp_options *opt, pgp_constraints *out,
-                                       pgp_error *err);
+PGPDEF pgp_result pgp_load_constraints(const char *path, const pgp_options *opt, pgp_constraints *out, pgp_error *err);
 PGPDEF pgp_result pgp_save_tile(const char *path, const pgp_tile *tile, pgp_error *err);
 PGPDEF pgp_result pgp_save_image(const char *path, const pgp_image *img, pgp_error *err);
 PGPDEF pgp_result pgp_save_obj(const char *path, const pgp_mesh *mesh, const pgp_map *map, pgp_error *err);
@@ -582,8 +574,8 @@ typedef struct pgp_key {
 
 /* The feature mask of an image as computed when a key comes without one:
  * one channel, 1 on features and 0 elsewhere, the image's size. */
-PGPDEF pgp_result pgp_feature_mask(const pgp_image *image, pgp_mask mode, const pgp_synth_options *opt,
-                                   pgp_image *out, pgp_error *err);
+PGPDEF pgp_result pgp_feature_mask(const pgp_image *image, pgp_mask mode, const pgp_synth_options *opt, pgp_image *out,
+                                   pgp_error *err);
 
 /* §1.1 alone: the feature masks F_0 .. F_M (M = layers - 1, layers >= 2) of
  * the morph from mask0 to mask1 (same size, each with features and
@@ -598,8 +590,8 @@ PGPDEF pgp_result pgp_morph_masks(const pgp_image *mask0, const pgp_image *mask1
  * are morphed pairwise. masks (may be NULL) receives the feature mask of
  * every layer (one channel, 0/1). Key masks must have features and
  * background, except in single-tile mode. */
-PGPDEF pgp_result pgp_synthesize_tile(const pgp_key *keys, int nkeys, const pgp_synth_options *opt,
-                                      pgp_tile *out, pgp_tile *masks, pgp_error *err);
+PGPDEF pgp_result pgp_synthesize_tile(const pgp_key *keys, int nkeys, const pgp_synth_options *opt, pgp_tile *out,
+                                      pgp_tile *masks, pgp_error *err);
 /* ---- end of §1 tile synthesis ---- */
 
 #ifdef __cplusplus

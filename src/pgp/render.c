@@ -57,7 +57,10 @@ static void pgp__views(const pgp__state *P, int f, int all, float *out)
         for (b = 0; b < 3; b++) {
             float *o = out + 6 * a + 2 * b;
             if (all || P->vsing[P->m.tri[3 * f + a]]) pgp__view(P, f, a, b, o);
-            else o[0] = P->stm[9 * f + 3 * b], o[1] = P->stm[9 * f + 3 * b + 1];
+            else {
+                o[0] = P->stm[9 * f + 3 * b];
+                o[1] = P->stm[9 * f + 3 * b + 1];
+            }
         }
 }
 
@@ -79,20 +82,36 @@ static void pgp__clean_coord(const pgp__state *P, int f, int k, float *o)
         double d = (double)c[3 * ((a + 1) % 3) + k] - c[3 * a + k], al = pgp__alpha(P, 3 * f + a, k);
         D[a] = d + floor(al - d + 0.5);
     }
-    U[0] = c[k], U[1] = U[0] + D[0], U[2] = U[1] + D[1];
-    V[0] = c[k], V[1] = c[k] + pgp__alpha(P, 3 * f, k), V[2] = c[k] - pgp__alpha(P, 3 * f + 2, k);
-    for (a = 0; a < 3; a++) o[a] = (float)U[a], o[3 + a] = (float)D[a], o[6 + a] = (float)V[a];
-    o[9] = -1.0f, o[10] = o[11] = 0.0f;
+    U[0] = c[k];
+    U[1] = U[0] + D[0];
+    U[2] = U[1] + D[1];
+    V[0] = c[k];
+    V[1] = c[k] + pgp__alpha(P, 3 * f, k);
+    V[2] = c[k] - pgp__alpha(P, 3 * f + 2, k);
+    for (a = 0; a < 3; a++) {
+        o[a] = (float)U[a];
+        o[3 + a] = (float)D[a];
+        o[6 + a] = (float)V[a];
+    }
+    o[9] = -1.0f;
+    o[10] = o[11] = 0.0f;
     if (pgp__winding(P, f, k) == 0) return;
-    for (a = 0; a < 3; a++) r[a] = PGP__TWO_PI * (U[a] - V[a]), zr[a] = pw_cos(r[a]), zi[a] = pw_sin(r[a]);
+    for (a = 0; a < 3; a++) {
+        r[a] = PGP__TWO_PI * (U[a] - V[a]);
+        zr[a] = pw_cos(r[a]);
+        zi[a] = pw_sin(r[a]);
+    }
     /* [KCPS15]: the zero of z_0 + q1 (z_1 - z_0) + q2 (z_2 - z_0) */
     det = (zr[1] - zr[0]) * (zi[2] - zi[0]) - (zi[1] - zi[0]) * (zr[2] - zr[0]);
     q1 = det != 0.0 ? (-zr[0] * (zi[2] - zi[0]) + zi[0] * (zr[2] - zr[0])) / det : 1.0 / 3.0;
     q2 = det != 0.0 ? (-zi[0] * (zr[1] - zr[0]) + zr[0] * (zi[1] - zi[0])) / det : 1.0 / 3.0;
     if (!(q1 >= 0.0 && q2 >= 0.0 && q1 + q2 <= 1.0)) q1 = q2 = 1.0 / 3.0; /* |winding| > 1: the centre */
     /* kept off the edges, so that no sector of the fan is a sliver */
-    q1 = 0.1 + 0.7 * q1, q2 = 0.1 + 0.7 * q2;
-    o[9] = (float)(1.0 - q1 - q2), o[10] = (float)q1, o[11] = (float)q2;
+    q1 = 0.1 + 0.7 * q1;
+    q2 = 0.1 + 0.7 * q2;
+    o[9] = (float)(1.0 - q1 - q2);
+    o[10] = (float)q1;
+    o[11] = (float)q2;
 }
 
 /* The coordinate of a vortex triangle at barycentric b: the point x where
@@ -107,7 +126,10 @@ static double pgp__clean_eval(const float *o, const double *b)
     int c, e = 0;
     if (Q[0] < 0.0f) return b[0] * U[0] + b[1] * U[1] + b[2] * U[2];
     for (c = 0; c < 3; c++) /* the edge the ray leaves by: opposite the smallest b_c / Q_c */
-        if (b[c] / Q[c] < mu) mu = b[c] / Q[c], e = (c + 1) % 3;
+        if (b[c] / Q[c] < mu) {
+            mu = b[c] / Q[c];
+            e = (c + 1) % 3;
+        }
     if (mu >= 1.0 - 1e-9) return U[0]; /* at the zero itself */
     for (c = 0; c < 3; c++) x[c] = (b[c] - mu * Q[c]) / (1.0 - mu);
     u = U[e] + x[(e + 1) % 3] * D[e];
@@ -126,9 +148,15 @@ static void pgp__clean_st(const float *o, float b1, float b2, const float db[4],
     double b[3], bx[3], by[3];
     const double h = 0.25;
     int k;
-    b[0] = 1.0 - b1 - b2, b[1] = b1, b[2] = b2;
-    bx[1] = b1 + h * db[0], bx[2] = b2 + h * db[2], bx[0] = 1.0 - bx[1] - bx[2];
-    by[1] = b1 + h * db[1], by[2] = b2 + h * db[3], by[0] = 1.0 - by[1] - by[2];
+    b[0] = 1.0 - b1 - b2;
+    b[1] = b1;
+    b[2] = b2;
+    bx[1] = b1 + h * db[0];
+    bx[2] = b2 + h * db[2];
+    bx[0] = 1.0 - bx[1] - bx[2];
+    by[1] = b1 + h * db[1];
+    by[2] = b2 + h * db[3];
+    by[0] = 1.0 - by[1] - by[2];
     for (k = 0; k < 2; k++) {
         st[k] = pgp__clean_eval(o + 12 * k, b);
         d[2 * k] = pgp__wrap(pgp__clean_eval(o + 12 * k, bx) - st[k]) / h;
@@ -202,7 +230,9 @@ static void pgp__shade(void *user, int f, float b1, float b2, const float db[4],
     const float *stm = S->P->stm + 9 * f;
     float b[3], m;
     int k;
-    b[0] = 1.0f - b1 - b2, b[1] = b1, b[2] = b2;
+    b[0] = 1.0f - b1 - b2;
+    b[1] = b1;
+    b[2] = b2;
     m = b[0] * stm[2] + b[1] * stm[5] + b[2] * stm[8];
     rgba[3] = 1.0f;
     if (S->show == PGP_SHOW_MATERIAL) {
@@ -211,13 +241,18 @@ static void pgp__shade(void *user, int f, float b1, float b2, const float db[4],
     }
     if (S->show == PGP_SHOW_GHOSTS) { /* red where the blend mixes disagreeing lookups */
         int g = S->fixed[f] && S->mode != PGP_FIX_CLEAN && pgp__ghost(S->fix + PGP__FIXDATA * (size_t)f, b);
-        rgba[0] = 1.0f, rgba[1] = rgba[2] = g ? 0.0f : 1.0f;
+        rgba[0] = 1.0f;
+        rgba[1] = rgba[2] = g ? 0.0f : 1.0f;
         return;
     }
     pgp__color(S, f, b, db, m, rgba);
     if (rgba[3] > 0.0f) /* premultiplied -> straight */
         for (k = 0; k < 3; k++) rgba[k] /= rgba[3];
-    if (S->show == PGP_SHOW_SPECIAL && S->fixed[f]) rgba[0] = 0.5f + 0.5f * rgba[0], rgba[1] *= 0.5f, rgba[2] *= 0.5f;
+    if (S->show == PGP_SHOW_SPECIAL && S->fixed[f]) {
+        rgba[0] = 0.5f + 0.5f * rgba[0];
+        rgba[1] *= 0.5f;
+        rgba[2] *= 0.5f;
+    }
 }
 
 /* The tile as a pw_tile3 (layers of mip-mapped textures). */
@@ -226,7 +261,11 @@ static int pgp__tile3(const pw_alloc *a, const pgp_tile *t, pw_tile3 *out, pw_er
     pw_volume v;
     if (!t || !t->pixels || t->width < 1 || t->height < 1 || t->layers < 1 || t->channels < 1 || t->channels > 4)
         return pw_fail(e, PW_ERR_INVALID, "tile: empty, or bad size or channel count");
-    v.c = t->channels, v.x = t->width, v.y = t->height, v.z = t->layers, v.px = t->pixels;
+    v.c = t->channels;
+    v.x = t->width;
+    v.y = t->height;
+    v.z = t->layers;
+    v.px = t->pixels;
     return pw_tile3_create(a, out, &v, 0, e);
 }
 
@@ -308,8 +347,7 @@ static void pgp__fix_data(const pgp__state *P, int mode, unsigned char *fixed, f
         if (!(fixed[f] = (unsigned char)pgp__special(P, mode, f))) continue;
         if (mode == PGP_FIX_CLEAN)
             for (k = 0; k < 2; k++) pgp__clean_coord(P, f, k, o + 12 * k);
-        else
-            pgp__views(P, f, mode == PGP_FIX_ALL, o);
+        else pgp__views(P, f, mode == PGP_FIX_ALL, o);
     }
 }
 
@@ -322,8 +360,9 @@ static int pgp__render_options(const pgp_render_options *ro, pgp_render_options 
     if (o->width < 1 || o->height < 1 || o->supersample < 1 || o->supersample > 8 || o->threads < 0 || o->fix < 0 ||
         o->fix > PGP_FIX_PAPER || o->show < 0 || o->show > PGP_SHOW_GHOSTS || !(o->zoom <= 1e4f) ||
         !pw_is_finite(o->center[0]) || !pw_is_finite(o->center[1]) || !pw_is_finite(o->center[2]))
-        return pw_fail(e, PW_ERR_INVALID, "render options: size %dx%d, supersample %d, threads %d, fix %d, show %d, zoom %g",
-                       o->width, o->height, o->supersample, o->threads, o->fix, o->show, (double)o->zoom);
+        return pw_fail(e, PW_ERR_INVALID,
+                       "render options: size %dx%d, supersample %d, threads %d, fix %d, show %d, zoom %g", o->width,
+                       o->height, o->supersample, o->threads, o->fix, o->show, (double)o->zoom);
     return PW_OK;
 }
 
@@ -341,10 +380,13 @@ static int pgp__shading_init(const pgp__state *P, const pgp_tile *tile, pgp_fix 
     if (pgp__tile3(&P->a, tile, t3, e) != PW_OK) return e->code;
     data = (float *)pw_alloc_array(&P->a, (size_t)P->m.nf * PGP__FIXDATA, sizeof(float), "fix", e);
     fixed = (unsigned char *)pw_alloc_array(&P->a, (size_t)P->m.nf, 1, "fix", e);
-    S->fix = data, S->fixed = fixed;
+    S->fix = data;
+    S->fixed = fixed;
     if (!data || !fixed) return PW_ERR_NOMEM;
     pgp__fix_data(P, fix, fixed, data);
-    S->P = P, S->mode = fix, S->show = show;
+    S->P = P;
+    S->mode = fix;
+    S->show = show;
     return PW_OK;
 }
 
@@ -380,7 +422,9 @@ PGPDEF pgp_result pgp_render(const pgp_map *map, const pgp_tile *tile, const pgp
 PGPDEF pgp_result pgp_render(const pgp_map *map, const pgp_tile *tile, const pgp_render_options *ro, pgp_image *out,
                              pgp_error *err)
 {
-    (void)map, (void)tile, (void)ro;
+    (void)map;
+    (void)tile;
+    (void)ro;
     if (out) memset(out, 0, sizeof *out);
     return pgp__left_out("rendering", "PW_NO_RENDER", err);
 }

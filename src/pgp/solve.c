@@ -31,8 +31,7 @@ static double pgp__turns(double x, double y)
     if (fabs(y) <= fabs(x)) {
         a = pgp__atan(y / x);
         if (x < 0.0) a += y >= 0.0 ? pi : -pi;
-    } else
-        a = (y > 0.0 ? 0.5 * pi : -0.5 * pi) - pgp__atan(x / y);
+    } else a = (y > 0.0 ? 0.5 * pi : -0.5 * pi) - pgp__atan(x / y);
     return a / PGP__TWO_PI;
 }
 
@@ -72,8 +71,7 @@ static double pgp__alpha(const pgp__state *P, int h, int k)
 static double pgp__pgp_weight(const pgp__state *P, int h)
 {
     int tw = P->m.hm.twin[h];
-    if (P->o.weights == PGP_WEIGHTS_AREA)
-        return (double)P->m.area[h / 3] + (tw >= 0 ? (double)P->m.area[tw / 3] : 0.0);
+    if (P->o.weights == PGP_WEIGHTS_AREA) return (double)P->m.area[h / 3] + (tw >= 0 ? (double)P->m.area[tw / 3] : 0.0);
     return pgp__lap_weight(&P->m, h);
 }
 
@@ -86,8 +84,8 @@ static double pgp__pgp_weight(const pgp__state *P, int h)
  * flat grid, where the exact answer is linear.) In the complex Hermitian
  * system: w on both diagonals, -w e^{i alpha} at (j, i) and its conjugate
  * at (i, j); a fixed end moves to the right-hand side. */
-static int pgp__pgp_edge(const pgp__state *P, const double *z, const int *id, int h, int k, pw_triplets *t,
-                         double *b, pw_err *e)
+static int pgp__pgp_edge(const pgp__state *P, const double *z, const int *id, int h, int k, pw_triplets *t, double *b,
+                         pw_err *e)
 {
     int f = h / 3;
     int vi = P->m.tri[h], vj = P->m.tri[3 * f + (h % 3 + 1) % 3], i = id[vi], j = id[vj], r = PW_OK;
@@ -176,7 +174,8 @@ static int pgp__propagate(pgp__state *P, double *z, const int *id, int k, pw_err
             w = fw ? m->tri[3 * (hh / 3) + (hh % 3 + 1) % 3] : m->tri[hh];
             if (done[w]) continue;
             a = PGP__TWO_PI * pgp__alpha(P, hh, k) * (fw ? 1.0 : -1.0);
-            c = pw_cos(a), sn = pw_sin(a);
+            c = pw_cos(a);
+            sn = pw_sin(a);
             z[2 * w] = c * zu[0] - sn * zu[1];
             z[2 * w + 1] = sn * zu[0] + c * zu[1];
             done[w] = 1;
@@ -185,7 +184,10 @@ static int pgp__propagate(pgp__state *P, double *z, const int *id, int k, pw_err
         if (head == tail) /* a piece no fixed vertex reaches: start it at z = 1 */
             for (v = 0; v < m->nv; v++)
                 if (!done[v]) {
-                    done[v] = 1, z[2 * v] = 1.0, z[2 * v + 1] = 0.0, queue[tail++] = v;
+                    done[v] = 1;
+                    z[2 * v] = 1.0;
+                    z[2 * v + 1] = 0.0;
+                    queue[tail++] = v;
                     break;
                 }
     }
@@ -214,12 +216,12 @@ static int pgp__pgp_solve(pgp__state *P, double *z, const int *id, int n, int k,
     if (r == PW_OK) r = pw_triplets_init(&t, &P->a, n, 2 * n, e);
     for (h = 0; r == PW_OK && h < 3 * P->m.nf; h++)
         if (P->m.hm.twin[h] < h) r = pgp__pgp_edge(P, z, id, h, k, &t, b, e); /* each edge once */
-    for (q = 0; r == PW_OK && q < t.count; q++) /* the (real) diagonal of F's matrix */
+    for (q = 0; r == PW_OK && q < t.count; q++)                               /* the (real) diagonal of F's matrix */
         if (t.col[q] == 2 * t.row[q]) dg[t.row[q]] += t.val[q];
     if (r == PW_OK) r = pgp__propagate(P, z, id, k, e);
-    if (r == PW_OK && (r = pw_zcsr_from_triplets(&P->a, &t, &A, e)) == PW_OK)
-        r = pgp__diag_index(&P->a, &A, &dpos, e);
-    if (r == PW_OK && !(rhs = (double *)pw_alloc_array(&P->a, (size_t)n * 2, sizeof(double), "PGP", e))) r = PW_ERR_NOMEM;
+    if (r == PW_OK && (r = pw_zcsr_from_triplets(&P->a, &t, &A, e)) == PW_OK) r = pgp__diag_index(&P->a, &A, &dpos, e);
+    if (r == PW_OK && !(rhs = (double *)pw_alloc_array(&P->a, (size_t)n * 2, sizeof(double), "PGP", e)))
+        r = PW_ERR_NOMEM;
     o.max_iter = 4000;
     for (step = 0; r == PW_OK && step < PGP__STEPS; step++) {
         double mu = pgp__mu[step];
@@ -228,7 +230,8 @@ static int pgp__pgp_solve(pgp__state *P, double *z, const int *id, int n, int k,
         if ((r = pw_zic0_factor(&P->a, &A, &L, e)) != PW_OK) break;
         for (v = 0; v < P->m.nv; v++)
             if ((q = id[v]) >= 0) {
-                x[2 * q] = z[2 * v], x[2 * q + 1] = z[2 * v + 1];
+                x[2 * q] = z[2 * v];
+                x[2 * q + 1] = z[2 * v + 1];
                 rhs[2 * q] = b[2 * q] + mu * dg[q] * z[2 * v];
                 rhs[2 * q + 1] = b[2 * q + 1] + mu * dg[q] * z[2 * v + 1];
             }
@@ -237,8 +240,12 @@ static int pgp__pgp_solve(pgp__state *P, double *z, const int *id, int n, int k,
         for (v = 0; r == PW_OK && v < P->m.nv; v++)
             if ((q = id[v]) >= 0) {
                 double zz[2];
-                zz[0] = x[2 * q], zz[1] = x[2 * q + 1];
-                if (pw_df_unit(zz)) z[2 * v] = zz[0], z[2 * v + 1] = zz[1];
+                zz[0] = x[2 * q];
+                zz[1] = x[2 * q + 1];
+                if (pw_df_unit(zz)) {
+                    z[2 * v] = zz[0];
+                    z[2 * v + 1] = zz[1];
+                }
             }
     }
     pw_free(&P->a, dpos);
@@ -270,7 +277,10 @@ static int pgp__pgp(pgp__state *P, const unsigned char *vfree, int whole, pw_err
     for (c = 0; r == PW_OK && c < P->m.nv; c++) {
         v = P->vorder[c];
         id[v] = vfree[v] && !lock[v] ? n++ : -1;
-        if (lock[v]) P->zs[2 * v] = P->zt[2 * v] = 1.0, P->zs[2 * v + 1] = P->zt[2 * v + 1] = 0.0;
+        if (lock[v]) {
+            P->zs[2 * v] = P->zt[2 * v] = 1.0;
+            P->zs[2 * v + 1] = P->zt[2 * v + 1] = 0.0;
+        }
     }
     if (r == PW_OK && n > 0) r = pgp__pgp_solve(P, P->zs, id, n, 0, e);
     if (r == PW_OK && n > 0) r = pgp__pgp_solve(P, P->zt, id, n, 1, e);
@@ -341,7 +351,8 @@ static int pgp__mismatch(const pgp__state *P, int h)
 {
     int t = P->m.hm.twin[h], f = h / 3, g, c = h % 3, d, k;
     if (t < 0) return 0;
-    g = t / 3, d = t % 3; /* h runs from corner c to c+1 of f, t from corner d to d+1 of g */
+    g = t / 3;
+    d = t % 3; /* h runs from corner c to c+1 of f, t from corner d to d+1 of g */
     for (k = 0; k < 2; k++) {
         double df = P->stm[9 * f + 3 * ((c + 1) % 3) + k] - P->stm[9 * f + 3 * c + k];
         double dg = P->stm[9 * g + 3 * d + k] - P->stm[9 * g + 3 * ((d + 1) % 3) + k];
@@ -424,7 +435,10 @@ static int pgp__edit(pgp__state *P, pgp_constraint_kind kind, const int *seeds, 
     if (r == PW_OK && area) {
         area->faces = (int *)pw_alloc_array(&P->a, (size_t)n, sizeof(int), "effect area", e);
         if (!area->faces) r = PW_ERR_NOMEM;
-        else memcpy(area->faces, order, sizeof(int) * (size_t)n), area->nfaces = n;
+        else {
+            memcpy(area->faces, order, sizeof(int) * (size_t)n);
+            area->nfaces = n;
+        }
         area->allocator = pgp__allocator(&P->a);
     }
     pw_free(&P->a, in);
@@ -494,13 +508,20 @@ static void pgp__bfs_order(pgp__state *P)
     unsigned char *fdone = P->vsing + nv, *vdone = P->vsing;
     for (s = 0; s < nf; s++) {
         if (fdone[s]) continue;
-        fdone[s] = 1, P->forder[tail++] = s;
+        fdone[s] = 1;
+        P->forder[tail++] = s;
         while (head < tail) {
             int f = P->forder[head++];
             for (k = 0; k < 3; k++) {
                 int g = pw_trimesh_across(&P->m, f, k), v = P->m.tri[3 * f + k];
-                if (!vdone[v]) vdone[v] = 1, P->vorder[nvo++] = v;
-                if (g >= 0 && !fdone[g]) fdone[g] = 1, P->forder[tail++] = g;
+                if (!vdone[v]) {
+                    vdone[v] = 1;
+                    P->vorder[nvo++] = v;
+                }
+                if (g >= 0 && !fdone[g]) {
+                    fdone[g] = 1;
+                    P->forder[tail++] = g;
+                }
             }
         }
     }
@@ -521,9 +542,14 @@ static int pgp__setup(pgp__state *P, const pgp_mesh *in, pw_err *e)
     if (!P->pos) return PW_ERR_NOMEM;
     memcpy(P->pos, in->positions, sizeof(float) * 3 * (size_t)in->nverts);
     memset(&v, 0, sizeof v);
-    v.nv = in->nverts, v.pos = P->pos, v.nf = in->nfaces, v.fstart = in->face_start, v.fv = in->face_verts;
+    v.nv = in->nverts;
+    v.pos = P->pos;
+    v.nf = in->nfaces;
+    v.fstart = in->face_start;
+    v.fv = in->face_verts;
     if ((r = pw_trimesh_init(&P->a, &v, &P->m, e)) != PW_OK) return r;
-    nf = (size_t)P->m.nf, nv = (size_t)P->m.nv;
+    nf = (size_t)P->m.nf;
+    nv = (size_t)P->m.nv;
     P->dual = (double *)pw_alloc_array(&P->a, 3 * nf, sizeof(double), "mapping", e);
     P->base = (double *)pw_alloc_array(&P->a, 4 * nf, sizeof(double), "mapping", e);
     P->scale = (float *)pw_alloc_array(&P->a, 2 * nv + 9 * nf, sizeof(float), "mapping", e);
@@ -569,7 +595,8 @@ static int pgp__curl_rows(const pgp__state *P, int f, pw_triplets *t, double *b,
         for (a = 0, c = 0.0; a < 3; a++) c += al[k][a];
         for (a = 0; a < 3; a++) { /* corner a touches edges a and a - 1 */
             int am = (a + 2) % 3;
-            col[2 * a] = 2 * P->m.tri[3 * f + a], col[2 * a + 1] = col[2 * a] + 1;
+            col[2 * a] = 2 * P->m.tri[3 * f + a];
+            col[2 * a + 1] = col[2 * a] + 1;
             row[2 * a] = -0.5 * (al[k][a] + al[k][am]) + c / 3.0;
             row[2 * a + 1] = (k ? -0.5 : 0.5) * (al[1 - k][a] + al[1 - k][am]);
         }
@@ -591,7 +618,8 @@ static int pgp__curl_reg(const pgp__state *P, pw_triplets *t, pw_err *e)
     double S2 = (double)P->scale0 * P->scale0, lam = 1.0 / ((double)P->o.integrable * S2 * S2), w;
     int h, k, i, j, r = PW_OK;
     for (h = 0; h < 3 * P->m.nf && r == PW_OK; h++) {
-        i = P->m.tri[h], j = P->m.tri[3 * (h / 3) + (h % 3 + 1) % 3];
+        i = P->m.tri[h];
+        j = P->m.tri[3 * (h / 3) + (h % 3 + 1) % 3];
         for (k = 0; k < 2 && r == PW_OK; k++) /* a third of the triangle's area to each corner */
             r = pw_triplets_add(t, 2 * i + k, 2 * i + k, lam * P->m.area[h / 3] / 3.0, e);
         if (P->m.hm.twin[h] >= 0 && P->m.hm.twin[h] < h) continue;
@@ -614,7 +642,10 @@ static void pgp__curl_apply(pgp__state *P, const double *x)
     double mean = 0.0, area = 0.0;
     int v, f, h;
     for (h = 0; h < 3 * P->m.nf; h++) /* the mean of u is 0: the tile side the user asked for */
-        mean += x[2 * P->m.tri[h]] * P->m.area[h / 3], area += P->m.area[h / 3];
+    {
+        mean += x[2 * P->m.tri[h]] * P->m.area[h / 3];
+        area += P->m.area[h / 3];
+    }
     mean = area > 0.0 ? mean / area : 0.0;
     for (v = 0; v < P->m.nv; v++) {
         double s = P->sfac[v] * (1.0 + x[2 * v] - mean);
@@ -624,9 +655,13 @@ static void pgp__curl_apply(pgp__state *P, const double *x)
         const int *tr = P->m.tri + 3 * f;
         double th = (x[2 * tr[0] + 1] + x[2 * tr[1] + 1] + x[2 * tr[2] + 1]) / 3.0, c, s, *d = P->base + 2 * f;
         th = th > 0.5 ? 0.5 : (th < -0.5 ? -0.5 : th); /* at most ~30 degrees per step */
-        c = pw_cos(th), s = pw_sin(th);
-        th = c * d[0] - s * d[1], d[1] = s * d[0] + c * d[1], d[0] = th;
-        P->dir[2 * f] = d[0], P->dir[2 * f + 1] = d[1];
+        c = pw_cos(th);
+        s = pw_sin(th);
+        th = c * d[0] - s * d[1];
+        d[1] = s * d[0] + c * d[1];
+        d[0] = th;
+        P->dir[2 * f] = d[0];
+        P->dir[2 * f + 1] = d[1];
     }
 }
 
@@ -679,8 +714,10 @@ static int pgp__check_scale(const pgp__state *P, pw_err *e)
 {
     double lo = 2.0 * pgp__mean_edge(P), hi = 10.0 * P->m.diag;
     if (P->o.scale > 0.0f && (P->scale0 > hi || P->scale0 < lo))
-        return pw_fail(e, PW_ERR_INVALID, "tile side %g is outside [%g, %g] (2 mean edge lengths to 10 bounding-box "
-                       "diagonals)", (double)P->scale0, lo, hi);
+        return pw_fail(e, PW_ERR_INVALID,
+                       "tile side %g is outside [%g, %g] (2 mean edge lengths to 10 bounding-box "
+                       "diagonals)",
+                       (double)P->scale0, lo, hi);
     return PW_OK;
 }
 
@@ -701,14 +738,23 @@ static int pgp__create_map(const pgp_mesh *mesh, const pgp_options *opt, pgp_map
     out->allocator = pgp__allocator(&a);
     if (pgp__setup(P, mesh, e) != PW_OK) return e->code;
     P->scale0 = o.scale > 0.0f ? o.scale : 0.1f * P->m.diag;
-    for (v = 0; v < P->m.nv; v++) P->scale[v] = P->scale0, P->sfac[v] = 1.0f, P->mat[v] = o.material;
-    for (v = 0; v < P->m.nv; v++) P->zs[2 * v] = P->zt[2 * v] = 1.0, P->zs[2 * v + 1] = P->zt[2 * v + 1] = 0.0;
+    for (v = 0; v < P->m.nv; v++) {
+        P->scale[v] = P->scale0;
+        P->sfac[v] = 1.0f;
+        P->mat[v] = o.material;
+    }
+    for (v = 0; v < P->m.nv; v++) {
+        P->zs[2 * v] = P->zt[2 * v] = 1.0;
+        P->zs[2 * v + 1] = P->zt[2 * v + 1] = 0.0;
+    }
     if (pgp__check_scale(P, e) != PW_OK || pgp__base_field(P, e) != PW_OK ||
         (o.integrable > 0.0f && pgp__integrable(P, e) != PW_OK) ||
         pgp__edit(P, PGP_CONSTRAINT_ORIENT, NULL, 0, 0.0f, NULL, e) != PW_OK)
         return e->code;
-    out->nverts = P->m.nv, out->ntris = P->m.nf;
-    out->tris = P->m.tri, out->coords = P->stm;
+    out->nverts = P->m.nv;
+    out->ntris = P->m.nf;
+    out->tris = P->m.tri;
+    out->coords = P->stm;
     return PW_OK;
 }
 
@@ -725,11 +771,16 @@ static int pgp__distortion(const pgp__state *P, int f)
     double S = ((double)sc[tr3[0]] + sc[tr3[1]] + sc[tr3[2]]) / 3.0, a, b, c, d, tr, det, disc, s1, s2, cs;
     pw_v3 u, v, gs = pgp__gradient(P, f, o[0], o[3], o[6]), gt = pgp__gradient(P, f, o[1], o[4], o[7]);
     pgp__frame(P, f, &u, &v);
-    a = S * pw_v3_dot(gs, u), b = S * pw_v3_dot(gs, v), c = S * pw_v3_dot(gt, u), d = S * pw_v3_dot(gt, v);
-    tr = a * a + b * b + c * c + d * d, det = a * d - b * c; /* s1^2 + s2^2 and s1 s2 */
+    a = S * pw_v3_dot(gs, u);
+    b = S * pw_v3_dot(gs, v);
+    c = S * pw_v3_dot(gt, u);
+    d = S * pw_v3_dot(gt, v);
+    tr = a * a + b * b + c * c + d * d;
+    det = a * d - b * c; /* s1^2 + s2^2 and s1 s2 */
     disc = tr * tr - 4.0 * det * det;
     disc = sqrt(disc > 0.0 ? disc : 0.0);
-    s1 = sqrt(0.5 * (tr + disc)), s2 = tr > disc ? sqrt(0.5 * (tr - disc)) : 0.0;
+    s1 = sqrt(0.5 * (tr + disc));
+    s2 = tr > disc ? sqrt(0.5 * (tr - disc)) : 0.0;
     cs = (a * c + b * d) / (sqrt(a * a + b * b) * sqrt(c * c + d * d) + 1e-300);
     return (s1 > 1.3 || s2 < 1.0 / 1.3) + 2 * (fabs(cs) > 0.3420201433); /* sin 20 deg */
 }

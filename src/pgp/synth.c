@@ -59,7 +59,10 @@ static int pgp__level_count(int n, int want)
             if (s % 2) return 0;
         return want <= PGP__MAX_LEVELS ? want : 0;
     }
-    while (s % 2 == 0 && s / 2 >= 32 && l < PGP__MAX_LEVELS) s /= 2, l++;
+    while (s % 2 == 0 && s / 2 >= 32 && l < PGP__MAX_LEVELS) {
+        s /= 2;
+        l++;
+    }
     return l;
 }
 
@@ -87,7 +90,7 @@ typedef struct pgp__exlevel {
 
 typedef struct pgp__ex {
     int c, nlev, cw, mw, dc, dm, cd, md, D;
-    float weight;   /* mask_weight */
+    float weight;                      /* mask_weight */
     pgp__exlevel lev[PGP__MAX_LEVELS]; /* 0: coarsest */
 } pgp__ex;
 
@@ -144,7 +147,8 @@ static int pgp__ex_pca(const pw_alloc *a, pgp__ex *ex, pgp__exlevel *L, float us
     size_t np = (size_t)(ex->dc + ex->dm) * (1 + PW_PCA_PACK);
     float *buf = (float *)pw_alloc_array(a, (size_t)(ex->dc + ex->dm) * (PW_PCA_PACK + 1) + ex->D, sizeof(float),
                                          "PCA window", e);
-    float *basis = buf ? buf + ex->dc + ex->dm : NULL, *var = basis ? basis + (size_t)(ex->dc + ex->dm) * PW_PCA_PACK : NULL;
+    float *basis = buf ? buf + ex->dc + ex->dm : NULL,
+          *var = basis ? basis + (size_t)(ex->dc + ex->dm) * PW_PCA_PACK : NULL;
     float *mm;
     pw_pca pc, pm;
     pw_pca_out oc, om;
@@ -161,12 +165,16 @@ static int pgp__ex_pca(const pw_alloc *a, pgp__ex *ex, pgp__exlevel *L, float us
         pw_pca_add(&pm, buf);
     }
     mm = L->pca ? L->pca + (size_t)ex->dc * (1 + PW_PCA_PACK) : NULL;
-    oc.k = ex->cd, oc.mean = L->pca, oc.basis = basis, oc.var = var;
-    om.k = ex->md, om.mean = mm, om.basis = basis, om.var = var + ex->cd;
-    if (r == PW_OK && (r = pw_pca_solve(a, &pc, &oc, e)) == PW_OK)
-        pw_pca_pack(basis, ex->dc, ex->cd, L->pca + ex->dc);
-    if (r == PW_OK && (r = pw_pca_solve(a, &pm, &om, e)) == PW_OK)
-        pw_pca_pack(basis, ex->dm, ex->md, mm + ex->dm);
+    oc.k = ex->cd;
+    oc.mean = L->pca;
+    oc.basis = basis;
+    oc.var = var;
+    om.k = ex->md;
+    om.mean = mm;
+    om.basis = basis;
+    om.var = var + ex->cd;
+    if (r == PW_OK && (r = pw_pca_solve(a, &pc, &oc, e)) == PW_OK) pw_pca_pack(basis, ex->dc, ex->cd, L->pca + ex->dc);
+    if (r == PW_OK && (r = pw_pca_solve(a, &pm, &om, e)) == PW_OK) pw_pca_pack(basis, ex->dm, ex->md, mm + ex->dm);
     for (j = 0, L->lambda = 0.0f; r == PW_OK && j < ex->D; j++)
         L->lambda += var[j] * (j < ex->cd ? 1.0f : ex->weight * ex->weight);
     L->lambda *= usage;
@@ -201,9 +209,16 @@ static int pgp__ex_build(const pw_alloc *a, const pgp__key *key, int n, int c, i
     int r = tmp ? PW_OK : PW_ERR_NOMEM, l;
     size_t i;
     memset(ex, 0, sizeof *ex);
-    ex->c = c, ex->nlev = nlev, ex->cw = o->color_window, ex->mw = o->mask_window, ex->weight = o->mask_weight;
-    ex->dc = ex->cw * ex->cw * c, ex->dm = ex->mw * ex->mw;
-    ex->cd = pw_mini(o->color_dims, ex->dc), ex->md = pw_mini(o->mask_dims, ex->dm), ex->D = ex->cd + ex->md;
+    ex->c = c;
+    ex->nlev = nlev;
+    ex->cw = o->color_window;
+    ex->mw = o->mask_window;
+    ex->weight = o->mask_weight;
+    ex->dc = ex->cw * ex->cw * c;
+    ex->dm = ex->mw * ex->mw;
+    ex->cd = pw_mini(o->color_dims, ex->dc);
+    ex->md = pw_mini(o->mask_dims, ex->dm);
+    ex->D = ex->cd + ex->md;
     for (l = nlev - 1; r == PW_OK && l >= 0; l--, n /= 2) {
         pgp__exlevel *L = &ex->lev[l];
         L->n = n;
@@ -293,8 +308,12 @@ static void pgp__update_texel(pgp__synth *S, pgp__exlevel *L, int *ind, const fl
     int u0 = ind[p], u;
     pw_kdquery qy;
     pgp__vector(S->ex, L, ind, target, p % L->n, p / L->n, S->buf, S->q);
-    qy.q = S->q, qy.eps = S->o->search_eps, qy.buckets = S->o->search_buckets, qy.off = S->off;
-    qy.start = u0, qy.start_cost = pw_kdtree_cost(&L->tree, S->q, u0) - L->lambda;
+    qy.q = S->q;
+    qy.eps = S->o->search_eps;
+    qy.buckets = S->o->search_buckets;
+    qy.off = S->off;
+    qy.start = u0;
+    qy.start_cost = pw_kdtree_cost(&L->tree, S->q, u0) - L->lambda;
     u = pw_kdtree_nearest(&L->tree, &qy, NULL);
     if (u == u0) return;
     L->count[u0]--;
@@ -395,12 +414,14 @@ static int pgp__key_layer(int k, int nkeys, int layers)
 static int pgp__check_synth_options(const pgp_synth_options *o, int nkeys, int *nlev, pw_err *e)
 {
     int win = pw_maxi(o->color_window, o->mask_window);
-    if (o->single && nkeys != 1) return pw_fail(e, PW_ERR_INVALID, "single-tile mode takes exactly one key (%d given)", nkeys);
+    if (o->single && nkeys != 1)
+        return pw_fail(e, PW_ERR_INVALID, "single-tile mode takes exactly one key (%d given)", nkeys);
     if (!o->single && (nkeys < 2 || nkeys > 256))
         return pw_fail(e, PW_ERR_INVALID, "a morph takes 2 to 256 keys (%d given; single-tile mode takes one)", nkeys);
     if (o->size < 16 || o->size > 4096) return pw_fail(e, PW_ERR_INVALID, "tile size %d (16 to 4096 texels)", o->size);
     if (o->layers < (o->single ? 1 : nkeys) || o->layers > 1024)
-        return pw_fail(e, PW_ERR_INVALID, "%d layers for %d keys (at least one layer per key, at most 1024)", o->layers, nkeys);
+        return pw_fail(e, PW_ERR_INVALID, "%d layers for %d keys (at least one layer per key, at most 1024)", o->layers,
+                       nkeys);
     if (o->tileable < PGP_TILEABLE_AUTO || o->tileable > PGP_TILEABLE_MAKE || o->auto_mask < PGP_MASK_DARK ||
         o->auto_mask > PGP_MASK_GRADIENT)
         return pw_fail(e, PW_ERR_INVALID, "unknown tileable (%d) or auto_mask (%d) mode", o->tileable, o->auto_mask);
@@ -418,8 +439,10 @@ static int pgp__check_synth_options(const pgp_synth_options *o, int nkeys, int *
                        o->mask_weight, o->usage_weight, o->search_eps);
     *nlev = o->levels < 0 ? 0 : pgp__level_count(o->size, o->levels);
     if (!*nlev || (o->size >> (*nlev - 1)) < win)
-        return pw_fail(e, PW_ERR_INVALID, "%d pyramid levels do not fit a %d-texel tile (each halving needs an even "
-                       "side, and the coarsest one at least the %d-texel window)", o->levels, o->size, win);
+        return pw_fail(e, PW_ERR_INVALID,
+                       "%d pyramid levels do not fit a %d-texel tile (each halving needs an even "
+                       "side, and the coarsest one at least the %d-texel window)",
+                       o->levels, o->size, win);
     return PW_OK;
 }
 
@@ -433,7 +456,8 @@ static int pgp__check_keys(const pgp_key *keys, int nkeys, pw_err *e)
         if (pgp__check_image(keys[k].image, what, e) != PW_OK) return e->code;
         snprintf(what, sizeof what, "key %d mask", k);
         if (keys[k].mask && pgp__check_image(keys[k].mask, what, e) != PW_OK) return e->code;
-        if (keys[k].mask && (keys[k].mask->width != keys[k].image->width || keys[k].mask->height != keys[k].image->height))
+        if (keys[k].mask &&
+            (keys[k].mask->width != keys[k].image->width || keys[k].mask->height != keys[k].image->height))
             return pw_fail(e, PW_ERR_INVALID, "key %d: the mask is %dx%d but the image %dx%d", k, keys[k].mask->width,
                            keys[k].mask->height, keys[k].image->width, keys[k].image->height);
     }
@@ -460,10 +484,14 @@ static int pgp__layer_masks(const pw_alloc *a, const pgp__key *keys, int nkeys, 
     for (k = 0; k + 1 < nkeys && r == PW_OK; k++) {
         int b = pgp__key_layer(k, nkeys, o->layers);
         pgp__morph_job J;
-        J.f0 = keys[k].mask, J.f1 = keys[k + 1].mask, J.n = o->size;
+        J.f0 = keys[k].mask;
+        J.f1 = keys[k + 1].mask;
+        J.n = o->size;
         J.M = pgp__key_layer(k + 1, nkeys, o->layers) - b;
         J.masks = masks + b * nn;
-        J.prog = prog, J.p0 = 0.05f * k / (nkeys - 1), J.p1 = 0.05f * (k + 1) / (nkeys - 1);
+        J.prog = prog;
+        J.p0 = 0.05f * k / (nkeys - 1);
+        J.p1 = 0.05f * (k + 1) / (nkeys - 1);
         r = pgp__morph_masks(a, &J, o, e);
     }
     return r;
@@ -480,8 +508,10 @@ static int pgp__synth_side(pgp__synth *S, const unsigned char *masks, int M, int
     int k, r = PW_OK;
     for (k = 0; k < M && r == PW_OK; k++) {
         int m = from_end ? M - k : k;
-        r = pgp__synth_layer(S, masks + m * nn, k == 0 ? PGP__INIT_IDENTITY : PGP__INIT_PREVIOUS, stream + (uint64_t)m, e);
-        if (r == PW_OK && m < M) pgp__emit(S, from_end ? (float)m / (float)M : 1.0f - (float)m / (float)M, from_end, out + m * lay);
+        r = pgp__synth_layer(S, masks + m * nn, k == 0 ? PGP__INIT_IDENTITY : PGP__INIT_PREVIOUS, stream + (uint64_t)m,
+                             e);
+        if (r == PW_OK && m < M)
+            pgp__emit(S, from_end ? (float)m / (float)M : 1.0f - (float)m / (float)M, from_end, out + m * lay);
     }
     return r;
 }
@@ -515,10 +545,13 @@ static int pgp__synth_layers(const pw_alloc *a, const pgp__key *keys, int nkeys,
     memset(&S, 0, sizeof S);
     r = pgp__ex_build(a, &keys[0], o->size, c, nlev, o, &ex[0], e);
     if (r == PW_OK) r = pgp__synth_init(a, &S, &ex[0], o, e);
-    S.prog = pgp__synth_progress(o), S.done = &done, S.total = pgp__work(o, nkeys, nlev);
+    S.prog = pgp__synth_progress(o);
+    S.done = &done;
+    S.total = pgp__work(o, nkeys, nlev);
     memcpy(px, keys[0].color, sizeof(float) * lay);
     for (l = 1; o->single && r == PW_OK && l < o->layers; l++) {
-        if ((r = pgp__synth_layer(&S, masks, PGP__INIT_RANDOM, (uint64_t)l, e)) == PW_OK) pgp__emit(&S, 1.0f, 0, px + l * lay);
+        if ((r = pgp__synth_layer(&S, masks, PGP__INIT_RANDOM, (uint64_t)l, e)) == PW_OK)
+            pgp__emit(&S, 1.0f, 0, px + l * lay);
     }
     for (k = 0; !o->single && r == PW_OK && k + 1 < nkeys; k++) {
         int b = pgp__key_layer(k, nkeys, o->layers), M = pgp__key_layer(k + 1, nkeys, o->layers) - b;

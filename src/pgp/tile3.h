@@ -54,16 +54,13 @@ PW__DEF void pw_tile3_free(const pw_alloc *a, pw_tile3 *t)
  * mip chain of at most max_levels levels (0: the full chain down to 1x1).
  * Layers are limited as images are (PW_MAX_IMAGE_DIM, _PIXELS). Free with
  * pw_tile3_free. */
-PW__DEF int pw_tile3_create(const pw_alloc *a, pw_tile3 *t, const pw_volume *vol, int max_levels,
-                            pw_err *e)
+PW__DEF int pw_tile3_create(const pw_alloc *a, pw_tile3 *t, const pw_volume *vol, int max_levels, pw_err *e)
 {
     int k, rc;
     memset(t, 0, sizeof *t);
     if ((rc = pw__volume_check(vol, e))) return rc;
-    if ((rc = pw__image_check_size("material-space tile", (uint64_t)vol->x, (uint64_t)vol->y, e)))
-        return rc;
-    t->layer = (pw_texture *)pw_calloc_array(a, (size_t)vol->z, sizeof(pw_texture),
-                                             "material-space tile layers", e);
+    if ((rc = pw__image_check_size("material-space tile", (uint64_t)vol->x, (uint64_t)vol->y, e))) return rc;
+    t->layer = (pw_texture *)pw_calloc_array(a, (size_t)vol->z, sizeof(pw_texture), "material-space tile layers", e);
     if (!t->layer) return PW_ERR_NOMEM;
     t->w = vol->x;
     t->h = vol->y;
@@ -87,8 +84,7 @@ PW__DEF int pw_tile3_create(const pw_alloc *a, pw_tile3 *t, const pw_volume *vol
 
 /* Samples the tile at (s, t, m) with mip level lod; see the top of this
  * module. out: premultiplied RGBA in [0, 1]. */
-PW__DEF void pw_tile3_sample(const pw_tile3 *tile, float s, float t, float m, float lod,
-                             float out[4])
+PW__DEF void pw_tile3_sample(const pw_tile3 *tile, float s, float t, float m, float lod, float out[4])
 {
     const float scale = 1.0f / 65535.0f;
     float a[4], b[4], p, f = 0.0f;
@@ -98,10 +94,8 @@ PW__DEF void pw_tile3_sample(const pw_tile3 *tile, float s, float t, float m, fl
         m = m > 0.0f ? (m < 1.0f ? m : 1.0f) : 0.0f;
         p = m * (float)(tile->m - 1);
         k0 = (int)p;
-        if (k0 >= tile->m - 1)
-            k0 = tile->m - 1;
-        else
-            f = p - (float)k0;
+        if (k0 >= tile->m - 1) k0 = tile->m - 1;
+        else f = p - (float)k0;
     }
     pw__tex_trilinear(&tile->layer[k0], s, t, lod, PW_WRAP_REPEAT, a);
     if (f > 0.0f) {

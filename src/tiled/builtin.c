@@ -21,12 +21,10 @@ static void tiled__normalise(tiled_mesh *m)
     s = 0.0f;
     for (k = 0; k < 3; k++) s = hi[k] - lo[k] > s ? hi[k] - lo[k] : s;
     for (v = 0; v < m->nverts; v++)
-        for (k = 0; k < 3; k++)
-            m->positions[3 * v + k] = (m->positions[3 * v + k] - 0.5f * (lo[k] + hi[k])) * 2.0f / s;
+        for (k = 0; k < 3; k++) m->positions[3 * v + k] = (m->positions[3 * v + k] - 0.5f * (lo[k] + hi[k])) * 2.0f / s;
 }
 
-TILEDDEF tiled_result tiled_builtin_mesh(const char *name, const tiled_options *opt,
-                                         tiled_mesh *out, tiled_error *err)
+TILEDDEF tiled_result tiled_builtin_mesh(const char *name, const tiled_options *opt, tiled_mesh *out, tiled_error *err)
 {
     /* genus 2: a 5x3x2 slab of voxels with two holes through it */
     static const unsigned char slab[30] = {1, 1, 1, 1, 1, 1, 0, 1, 0, 1, 1, 1, 1, 1, 1,
@@ -46,8 +44,10 @@ TILEDDEF tiled_result tiled_builtin_mesh(const char *name, const tiled_options *
     else if (!strcmp(name, "icosahedron")) pw_shape_icosahedron(&a, &pm, &pe);
     else if (!strcmp(name, "grid")) pw_shape_grid(&a, 12, 0.2, 1, &pm, &pe);
     else
-        pw_fail(&pe, PW_ERR_INVALID, "unknown built-in mesh '%s' (cube, torus, double-torus, "
-                "icosahedron, grid)", name);
+        pw_fail(&pe, PW_ERR_INVALID,
+                "unknown built-in mesh '%s' (cube, torus, double-torus, "
+                "icosahedron, grid)",
+                name);
     if (pe.code == PW_OK) tiled__take_mesh(&pm, &a, out);
     if (pe.code == PW_OK) tiled__normalise(out);
     return tiled__done(&pe, err);
@@ -56,7 +56,7 @@ TILEDDEF tiled_result tiled_builtin_mesh(const char *name, const tiled_options *
 /* Procedural exemplars: periodic on the unit torus, built from + - * / and
  * sqrt only, so they are identical on every platform. */
 typedef struct tiled__cells {
-    int m;           /* m x m jittered cells */
+    int m;                  /* m x m jittered cells */
     float px[256], py[256]; /* one feature point per cell, in [0,1) */
     float col[256][3];
 } tiled__cells;
@@ -85,16 +85,31 @@ static void tiled__cells_eval(const tiled__cells *c, float x, float y, float *f1
         for (dx = -2; dx <= 2; dx++) {
             int gx = cx + dx, gy = cy + dy, k;
             float ox = 0.0f, oy = 0.0f, ddx, ddy, d;
-            if (gx < 0) { gx += c->m; ox = -1.0f; }
-            if (gx >= c->m) { gx -= c->m; ox = 1.0f; }
-            if (gy < 0) { gy += c->m; oy = -1.0f; }
-            if (gy >= c->m) { gy -= c->m; oy = 1.0f; }
+            if (gx < 0) {
+                gx += c->m;
+                ox = -1.0f;
+            }
+            if (gx >= c->m) {
+                gx -= c->m;
+                ox = 1.0f;
+            }
+            if (gy < 0) {
+                gy += c->m;
+                oy = -1.0f;
+            }
+            if (gy >= c->m) {
+                gy -= c->m;
+                oy = 1.0f;
+            }
             k = gy * c->m + gx;
             ddx = c->px[k] + ox - x;
             ddy = c->py[k] + oy - y;
             d = sqrtf(ddx * ddx + ddy * ddy);
-            if (d < *f1) { *f2 = *f1; *f1 = d; *id = k; }
-            else if (d < *f2) *f2 = d;
+            if (d < *f1) {
+                *f2 = *f1;
+                *f1 = d;
+                *id = k;
+            } else if (d < *f2) *f2 = d;
         }
 }
 
@@ -129,11 +144,11 @@ static void tiled__spots(const tiled__cells *c, uint64_t seed, float x, float y,
     int id;
     tiled__cells_eval(c, x, y, &f1, &f2, &id);
     r = (0.25f + 0.12f * c->col[id][0]) / (float)c->m; /* rosette radius */
-    k = 40.0f * (float)c->m;                             /* edge sharpness */
+    k = 40.0f * (float)c->m;                           /* edge sharpness */
     broken = (float)pw_noise2(seed + 11, 16 * x, 16 * y, 16) > 0.3f ? 1.0f : 0.0f;
     tiled__mix(base, ground, centre, (0.5f * r - f1) * k);
-    tiled__mix(rgb, base, ring, broken * pw_clampf((f1 - 0.5f * r) * k, 0.0f, 1.0f) *
-                                    pw_clampf((r - f1) * k, 0.0f, 1.0f));
+    tiled__mix(rgb, base, ring,
+               broken * pw_clampf((f1 - 0.5f * r) * k, 0.0f, 1.0f) * pw_clampf((r - f1) * k, 0.0f, 1.0f));
     rgb[0] *= 0.85f + 0.3f * n;
     rgb[1] *= 0.85f + 0.3f * n;
     rgb[2] *= 0.85f + 0.3f * n;
@@ -142,15 +157,14 @@ static void tiled__spots(const tiled__cells *c, uint64_t seed, float x, float y,
 /* Lichen: yellow-green crusts on grey stone, from thresholded fBm. */
 static void tiled__lichen(uint64_t seed, float x, float y, float *rgb)
 {
-    static const float stone[3] = {0.5f, 0.5f, 0.48f}, moss[3] = {0.55f, 0.62f, 0.2f},
-                       dark[3] = {0.2f, 0.22f, 0.12f};
+    static const float stone[3] = {0.5f, 0.5f, 0.48f}, moss[3] = {0.55f, 0.62f, 0.2f}, dark[3] = {0.2f, 0.22f, 0.12f};
     float n = (float)pw_fbm2(seed, 4.0 * x, 4.0 * y, 4), d = (float)pw_fbm2(seed + 7, 4.0 * x, 4.0 * y, 4), base[3];
     tiled__mix(base, stone, moss, (n - 0.5f) * 12.0f);
     tiled__mix(rgb, base, dark, (d - 0.62f) * 8.0f);
 }
 
-TILEDDEF tiled_result tiled_builtin_exemplar(const char *name, int size, const tiled_options *opt,
-                                             tiled_image *out, tiled_error *err)
+TILEDDEF tiled_result tiled_builtin_exemplar(const char *name, int size, const tiled_options *opt, tiled_image *out,
+                                             tiled_error *err)
 {
     tiled_options o = tiled__options(opt);
     pw_alloc a = tiled__alloc(&o.allocator);
@@ -163,10 +177,8 @@ TILEDDEF tiled_result tiled_builtin_exemplar(const char *name, int size, const t
     if (out) memset(out, 0, sizeof *out);
     if (name) kind = !strcmp(name, "pebbles") ? 0 : !strcmp(name, "spots") ? 1 : !strcmp(name, "lichen") ? 2 : -1;
     if (!out || kind < 0)
-        pw_fail(&pe, PW_ERR_INVALID, "unknown built-in exemplar '%s' (pebbles, spots, lichen)",
-                name ? name : "(null)");
-    else if (size < 8 || size > 4096)
-        pw_fail(&pe, PW_ERR_INVALID, "exemplar size must be 8..4096 (got %d)", size);
+        pw_fail(&pe, PW_ERR_INVALID, "unknown built-in exemplar '%s' (pebbles, spots, lichen)", name ? name : "(null)");
+    else if (size < 8 || size > 4096) pw_fail(&pe, PW_ERR_INVALID, "exemplar size must be 8..4096 (got %d)", size);
     else if (pw_image_alloc(&a, &img, size, size, 3, &pe) == PW_OK) {
         tiled__cells_init(&cells, kind == 0 ? 4 : 3, &r);
         for (y = 0; y < size; y++)

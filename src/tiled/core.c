@@ -53,17 +53,14 @@ TILEDDEF tiled_options tiled_default_options(void)
     o.layout.case_number = 2;
     o.layout.pairs = 1;
     o.layout.grid = 4;
-    pw_view_defaults(&o.render.width, &o.render.height, &o.render.supersample, o.render.view_dir,
-                     o.render.up, o.render.background);
+    pw_view_defaults(&o.render.width, &o.render.height, &o.render.supersample, o.render.view_dir, o.render.up,
+                     o.render.background);
     return o;
 }
 
 TILEDDEF const char *tiled_result_string(tiled_result r) { return pw_result_string((int)r); }
 
-static tiled_options tiled__options(const tiled_options *opt)
-{
-    return opt ? *opt : tiled_default_options();
-}
+static tiled_options tiled__options(const tiled_options *opt) { return opt ? *opt : tiled_default_options(); }
 
 static pw_progress tiled__progress(const tiled_options *o)
 {
@@ -80,11 +77,9 @@ static int tiled__check_mesh(const tiled_mesh *m, pw_err *e)
     if (!m || !m->positions || !m->face_start || !m->face_verts)
         return pw_fail(e, PW_ERR_INVALID, "mesh has NULL arrays");
     if (m->nverts < 3 || m->nverts > PW_MAX_MESH_ELEMENTS || m->nfaces > PW_MAX_MESH_ELEMENTS)
-        return pw_fail(e, PW_ERR_INVALID, "mesh has %d vertices and %d faces", m->nverts,
-                       m->nfaces);
+        return pw_fail(e, PW_ERR_INVALID, "mesh has %d vertices and %d faces", m->nverts, m->nfaces);
     if (m->nfaces < 1) return pw_fail(e, PW_ERR_DEGENERATE, "mesh has no faces");
-    if (m->face_start[0] != 0)
-        return pw_fail(e, PW_ERR_INVALID, "face_start[0] must be 0 (got %d)", m->face_start[0]);
+    if (m->face_start[0] != 0) return pw_fail(e, PW_ERR_INVALID, "face_start[0] must be 0 (got %d)", m->face_start[0]);
     for (f = 0; f < m->nfaces; f++) {
         int d = m->face_start[f + 1] - m->face_start[f];
         if (d < 3 || d > PW_MAX_FACE_DEGREE || m->face_start[f + 1] > PW_MAX_MESH_ELEMENTS)
@@ -92,8 +87,8 @@ static int tiled__check_mesh(const tiled_mesh *m, pw_err *e)
     }
     for (k = 0; k < m->face_start[m->nfaces]; k++)
         if (m->face_verts[k] < 0 || m->face_verts[k] >= m->nverts)
-            return pw_fail(e, PW_ERR_INVALID, "face corner %d refers to vertex %d of %d", k,
-                           m->face_verts[k], m->nverts);
+            return pw_fail(e, PW_ERR_INVALID, "face corner %d refers to vertex %d of %d", k, m->face_verts[k],
+                           m->nverts);
     for (k = 0; k < 3 * m->nverts; k++)
         if (!pw_is_finite(m->positions[k]))
             return pw_fail(e, PW_ERR_INVALID, "vertex %d has a non-finite coordinate", k / 3);

@@ -3,9 +3,8 @@
  * thesis took its meshes from and to Maya, ch. IV.2 and V), and images. */
 #include "render.c"
 
-TILEDDEF tiled_result tiled_read_mesh(const void *data, size_t size, const char *name,
-                                      const tiled_options *opt, tiled_mesh *out,
-                                      tiled_error *err)
+TILEDDEF tiled_result tiled_read_mesh(const void *data, size_t size, const char *name, const tiled_options *opt,
+                                      tiled_mesh *out, tiled_error *err)
 {
     tiled_options o = tiled__options(opt);
     pw_alloc a = tiled__alloc(&o.allocator);
@@ -14,14 +13,12 @@ TILEDDEF tiled_result tiled_read_mesh(const void *data, size_t size, const char 
     pw_err_clear(&pe);
     if (out) memset(out, 0, sizeof *out);
     if (!out || (!data && size)) pw_fail(&pe, PW_ERR_INVALID, "tiled_read_mesh: NULL argument");
-    else if (pw_mesh_read_memory(&a, data, size, name ? name : "mesh", &m, &pe) == PW_OK)
-        tiled__take_mesh(&m, &a, out);
+    else if (pw_mesh_read_memory(&a, data, size, name ? name : "mesh", &m, &pe) == PW_OK) tiled__take_mesh(&m, &a, out);
     return tiled__done(&pe, err);
 }
 
-TILEDDEF tiled_result tiled_read_image(const void *data, size_t size, const char *name,
-                                       const tiled_options *opt, tiled_image *out,
-                                       tiled_error *err)
+TILEDDEF tiled_result tiled_read_image(const void *data, size_t size, const char *name, const tiled_options *opt,
+                                       tiled_image *out, tiled_error *err)
 {
     tiled_options o = tiled__options(opt);
     pw_alloc a = tiled__alloc(&o.allocator);
@@ -30,14 +27,13 @@ TILEDDEF tiled_result tiled_read_image(const void *data, size_t size, const char
     pw_err_clear(&pe);
     if (out) memset(out, 0, sizeof *out);
     if (!out || (!data && size)) pw_fail(&pe, PW_ERR_INVALID, "tiled_read_image: NULL argument");
-    else if (pw_image_read_memory(&a, (const unsigned char *)data, size, name ? name : "image", &img,
-                                  &pe) == PW_OK)
+    else if (pw_image_read_memory(&a, (const unsigned char *)data, size, name ? name : "image", &img, &pe) == PW_OK)
         tiled__take_image(&img, &a, out);
     return tiled__done(&pe, err);
 }
 
-TILEDDEF tiled_result tiled_write_image(const tiled_image *img, const char *format,
-                                        tiled_write_fn fn, void *ctx, tiled_error *err)
+TILEDDEF tiled_result tiled_write_image(const tiled_image *img, const char *format, tiled_write_fn fn, void *ctx,
+                                        tiled_error *err)
 {
     pw_err pe;
     pw_err_clear(&pe);
@@ -77,8 +73,8 @@ static int tiled__index_uvs(const pw_alloc *a, const tiled_mesh *m, pw_mesh *pm,
     return PW_OK;
 }
 
-TILEDDEF tiled_result tiled_write_obj(const tiled_mesh *m, const char *mtl_name,
-                                      tiled_write_fn fn, void *ctx, tiled_error *err)
+TILEDDEF tiled_result tiled_write_obj(const tiled_mesh *m, const char *mtl_name, tiled_write_fn fn, void *ctx,
+                                      tiled_error *err)
 {
     pw_alloc a = tiled__alloc(m ? &m->allocator : NULL);
     pw_mesh pm;
@@ -98,8 +94,7 @@ TILEDDEF tiled_result tiled_write_obj(const tiled_mesh *m, const char *mtl_name,
 }
 
 TILEDDEF tiled_result tiled_write_gltf(const tiled_mesh *m, const tiled_image *texture,
-                                       const tiled_render_options *view, tiled_write_fn fn, void *ctx,
-                                       tiled_error *err)
+                                       const tiled_render_options *view, tiled_write_fn fn, void *ctx, tiled_error *err)
 {
     pw_alloc a = tiled__alloc(m ? &m->allocator : NULL);
     pw_gltf_part part;
@@ -114,11 +109,19 @@ TILEDDEF tiled_result tiled_write_gltf(const tiled_mesh *m, const tiled_image *t
     else if (texture && !m->uvs) pw_fail(&pe, PW_ERR_INVALID, "glTF: a texture for a mesh without texture coordinates");
     else if (tiled__check_mesh(m, &pe) == PW_OK && (!texture || tiled__check_image(texture, "texture", &pe) == PW_OK)) {
         part.name = "tiled";
-        part.nv = m->nverts, part.pos = m->positions;
-        part.nf = m->nfaces, part.fstart = m->face_start, part.fv = m->face_verts;
+        part.nv = m->nverts;
+        part.pos = m->positions;
+        part.nf = m->nfaces;
+        part.fstart = m->face_start;
+        part.fv = m->face_verts;
         part.corner_uv = m->uvs;
-        if (texture) img = tiled__pw_image(texture), part.texture = &img;
-        scene.parts = &part, scene.nparts = 1, scene.generator = "patchwork tiled.h " TILED_VERSION_STRING;
+        if (texture) {
+            img = tiled__pw_image(texture);
+            part.texture = &img;
+        }
+        scene.parts = &part;
+        scene.nparts = 1;
+        scene.generator = "patchwork tiled.h " TILED_VERSION_STRING;
         if (view) {
             cam = pw_gltf_view_camera(m->positions, m->nverts, view->width, view->height, view->view_dir, view->up,
                                       &scene.aspect);
@@ -129,8 +132,7 @@ TILEDDEF tiled_result tiled_write_gltf(const tiled_mesh *m, const tiled_image *t
     return tiled__done(&pe, err);
 }
 
-TILEDDEF tiled_result tiled_write_mtl(const char *texture_name, tiled_write_fn fn,
-                                      void *ctx, tiled_error *err)
+TILEDDEF tiled_result tiled_write_mtl(const char *texture_name, tiled_write_fn fn, void *ctx, tiled_error *err)
 {
     pw_err pe;
     pw_err_clear(&pe);
@@ -140,8 +142,7 @@ TILEDDEF tiled_result tiled_write_mtl(const char *texture_name, tiled_write_fn f
 }
 
 #ifndef PW_NO_STDIO
-TILEDDEF tiled_result tiled_load_mesh(const char *path, const tiled_options *opt, tiled_mesh *out,
-                                      tiled_error *err)
+TILEDDEF tiled_result tiled_load_mesh(const char *path, const tiled_options *opt, tiled_mesh *out, tiled_error *err)
 {
     tiled_options o = tiled__options(opt);
     pw_alloc a = tiled__alloc(&o.allocator);
@@ -154,8 +155,7 @@ TILEDDEF tiled_result tiled_load_mesh(const char *path, const tiled_options *opt
     return tiled__done(&pe, err);
 }
 
-TILEDDEF tiled_result tiled_load_image(const char *path, const tiled_options *opt,
-                                       tiled_image *out, tiled_error *err)
+TILEDDEF tiled_result tiled_load_image(const char *path, const tiled_options *opt, tiled_image *out, tiled_error *err)
 {
     tiled_options o = tiled__options(opt);
     pw_alloc a = tiled__alloc(&o.allocator);
@@ -226,8 +226,7 @@ TILEDDEF tiled_result tiled_save_image(const char *path, const tiled_image *img,
     if (!path) pw_fail(&pe, PW_ERR_INVALID, "tiled_save_image: NULL path");
     else if (!(j.format = tiled__format_of(path)))
         pw_fail(&pe, PW_ERR_UNSUPPORTED, "%s: unknown image extension (use .png, .ppm, .pgm, .pam)", path);
-    else if (tiled__check_image(img, path, &pe) == PW_OK)
-        pw_write_file(path, tiled__image_job, &j, &pe);
+    else if (tiled__check_image(img, path, &pe) == PW_OK) pw_write_file(path, tiled__image_job, &j, &pe);
     return tiled__done(&pe, err);
 }
 
@@ -238,14 +237,16 @@ TILEDDEF tiled_result tiled_save_gltf(const char *path, const tiled_mesh *m, con
     pw_err pe;
     pw_err_clear(&pe);
     memset(&j, 0, sizeof j);
-    j.mesh = m, j.img = texture, j.view = view;
+    j.mesh = m;
+    j.img = texture;
+    j.view = view;
     if (!path) pw_fail(&pe, PW_ERR_INVALID, "tiled_save_gltf: NULL path");
     else pw_write_file(path, tiled__gltf_job, &j, &pe);
     return tiled__done(&pe, err);
 }
 
-TILEDDEF tiled_result tiled_save_obj(const char *obj_path, const tiled_mesh *m,
-                                     const char *texture_path, tiled_error *err)
+TILEDDEF tiled_result tiled_save_obj(const char *obj_path, const tiled_mesh *m, const char *texture_path,
+                                     tiled_error *err)
 {
     char mtl[1024];
     const char *mtl_name = NULL;

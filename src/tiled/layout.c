@@ -14,10 +14,10 @@ static int tiled__pow2_near(int x)
 
 /* Pixel geometry of an atlas. */
 typedef struct tiled__geom {
-    int n;     /* types per side: 2n (case 2) or 1 (case 1) */
-    int N;     /* tiles per row and column */
-    int T, g;  /* tile size and guard */
-    int C, W;  /* cell size and atlas size */
+    int n;    /* types per side: 2n (case 2) or 1 (case 1) */
+    int N;    /* tiles per row and column */
+    int T, g; /* tile size and guard */
+    int C, W; /* cell size and atlas size */
 } tiled__geom;
 
 static tiled__geom tiled__geometry(const tiled_layout *l)
@@ -43,23 +43,21 @@ static int tiled__resolve(const tiled_layout *in, int tile_hint, tiled_layout *o
     if (!l.grid) l.grid = 4;
     if (l.case_number != 1 && l.case_number != 2)
         return pw_fail(e, PW_ERR_INVALID, "case must be 1 or 2 (got %d)", l.case_number);
-    if (l.pairs < 1 || l.pairs > 8)
-        return pw_fail(e, PW_ERR_INVALID, "pairs must be 1..8 (got %d)", l.pairs);
-    if (l.grid < 1 || l.grid > 256)
-        return pw_fail(e, PW_ERR_INVALID, "grid must be 1..256 (got %d)", l.grid);
+    if (l.pairs < 1 || l.pairs > 8) return pw_fail(e, PW_ERR_INVALID, "pairs must be 1..8 (got %d)", l.pairs);
+    if (l.grid < 1 || l.grid > 256) return pw_fail(e, PW_ERR_INVALID, "grid must be 1..256 (got %d)", l.grid);
     if (!l.tile_size) l.tile_size = tile_hint > 0 ? pw_clampi(tiled__pow2_near(tile_hint), 16, 256) : 64;
     if (l.tile_size < 4 || l.tile_size > 4096)
         return pw_fail(e, PW_ERR_INVALID, "tile size must be 4..4096 pixels (got %d)", l.tile_size);
     if (!l.guard) l.guard = pw_mini(pw_maxi(tiled__pow2_near(l.tile_size / 8), 2), l.tile_size);
     if (l.guard != TILED_NO_GUARD && (l.guard < 1 || l.guard > l.tile_size))
-        return pw_fail(e, PW_ERR_INVALID, "guard must be 1..%d pixels or TILED_NO_GUARD (got %d)",
-                       l.tile_size, l.guard);
+        return pw_fail(e, PW_ERR_INVALID, "guard must be 1..%d pixels or TILED_NO_GUARD (got %d)", l.tile_size,
+                       l.guard);
     gm = tiled__geometry(&l);
-    if ((int64_t)gm.N * gm.C > PW_MAX_IMAGE_DIM ||
-        (int64_t)gm.N * gm.C * gm.N * gm.C > PW_MAX_IMAGE_PIXELS)
+    if ((int64_t)gm.N * gm.C > PW_MAX_IMAGE_DIM || (int64_t)gm.N * gm.C * gm.N * gm.C > PW_MAX_IMAGE_PIXELS)
         return pw_fail(e, PW_ERR_LIMIT,
                        "a tiled texture of %dx%d tiles of %d px would be %lld px wide, over the "
-                       "image size limit", gm.N, gm.N, gm.C, (long long)gm.N * gm.C);
+                       "image size limit",
+                       gm.N, gm.N, gm.C, (long long)gm.N * gm.C);
     *out = l;
     return PW_OK;
 }
@@ -113,27 +111,50 @@ static int tiled__partner(int case1, int t) { return case1 ? t : t ^ 1; }
 static void tiled__to_side(int side, int T, int i, int j, int *a, int *b)
 {
     switch (side) {
-    case 0: *a = i; *b = j; break;
-    case 1: *a = j; *b = T - 1 - i; break;
-    case 2: *a = T - 1 - i; *b = T - 1 - j; break;
-    default: *a = T - 1 - j; *b = i; break;
+    case 0:
+        *a = i;
+        *b = j;
+        break;
+    case 1:
+        *a = j;
+        *b = T - 1 - i;
+        break;
+    case 2:
+        *a = T - 1 - i;
+        *b = T - 1 - j;
+        break;
+    default:
+        *a = T - 1 - j;
+        *b = i;
+        break;
     }
 }
 
 static void tiled__from_side(int side, int T, int a, int b, int *i, int *j)
 {
     switch (side) {
-    case 0: *i = a; *j = b; break;
-    case 1: *j = a; *i = T - 1 - b; break;
-    case 2: *i = T - 1 - a; *j = T - 1 - b; break;
-    default: *j = T - 1 - a; *i = b; break;
+    case 0:
+        *i = a;
+        *j = b;
+        break;
+    case 1:
+        *j = a;
+        *i = T - 1 - b;
+        break;
+    case 2:
+        *i = T - 1 - a;
+        *j = T - 1 - b;
+        break;
+    default:
+        *j = T - 1 - a;
+        *i = b;
+        break;
     }
 }
 
 /* Pixel (i, j) of tile (col, row) in an atlas; i, j may reach into the
  * guard band (-g .. T+g-1). Cells count rows from the bottom of the image. */
-static float *tiled__atlas_px(const pw_image *atlas, const tiled__geom *gm, int tile, int i,
-                              int j)
+static float *tiled__atlas_px(const pw_image *atlas, const tiled__geom *gm, int tile, int i, int j)
 {
     int col = tile % gm->N, row = tile / gm->N;
     int x = col * gm->C + gm->g + i, y = row * gm->C + gm->g + j;
@@ -190,24 +211,23 @@ static void tiled__fill_guards(pw_image *atlas, const tiled__geom *gm, int case1
                 if ((i < 0 || i >= T) && (j < 0 || j >= T)) {
                     /* beyond a corner the pattern depends on the vertex's
                      * valence: reflect the tile's own corner instead */
-                    memcpy(tiled__atlas_px(atlas, gm, t, i, j),
-                           tiled__atlas_px(atlas, gm, t, i < 0 ? -1 - i : 2 * T - 1 - i,
-                                           j < 0 ? -1 - j : 2 * T - 1 - j),
-                           sizeof(float) * atlas->c);
+                    memcpy(
+                        tiled__atlas_px(atlas, gm, t, i, j),
+                        tiled__atlas_px(atlas, gm, t, i < 0 ? -1 - i : 2 * T - 1 - i, j < 0 ? -1 - j : 2 * T - 1 - j),
+                        sizeof(float) * atlas->c);
                     continue;
                 }
                 tiled__to_side(s, T, pw_clampi(i, 0, T - 1), pw_clampi(j, 0, T - 1), &a, &b);
                 pt = tiled__partner(case1, types[s]);
                 tiled__from_side(rep_side[pt], T, T - 1 - a, depth - 1, &pi, &pj);
-                memcpy(tiled__atlas_px(atlas, gm, t, i, j),
-                       tiled__atlas_px(atlas, gm, rep_tile[pt], pi, pj), sizeof(float) * atlas->c);
+                memcpy(tiled__atlas_px(atlas, gm, t, i, j), tiled__atlas_px(atlas, gm, rep_tile[pt], pi, pj),
+                       sizeof(float) * atlas->c);
             }
     }
 }
 
 /* Allocates a tile set's atlas for a resolved layout. */
-static int tiled__new_tileset(const pw_alloc *a, const tiled_layout *l, int channels,
-                              tiled_tileset *ts, pw_err *e)
+static int tiled__new_tileset(const pw_alloc *a, const tiled_layout *l, int channels, tiled_tileset *ts, pw_err *e)
 {
     tiled__geom gm = tiled__geometry(l);
     pw_image img;
@@ -223,22 +243,21 @@ static int tiled__new_tileset(const pw_alloc *a, const tiled_layout *l, int chan
 /* The resolved layout of a hand-made tiled texture (thesis layout: square,
  * no guard bands); its tile size comes from the image, the guard band to
  * add from `want`. */
-static int tiled__layout_of_image(const tiled_layout *want, const tiled_image *img,
-                                  tiled_layout *out, pw_err *e)
+static int tiled__layout_of_image(const tiled_layout *want, const tiled_image *img, tiled_layout *out, pw_err *e)
 {
     tiled_layout l = *want;
     tiled__geom gm;
     int r;
     l.tile_size = 4;
     l.guard = TILED_NO_GUARD;
-    if ((r = tiled__check_image(img, "tiled texture", e)) != PW_OK ||
-        (r = tiled__resolve(&l, 0, &l, e)) != PW_OK)
+    if ((r = tiled__check_image(img, "tiled texture", e)) != PW_OK || (r = tiled__resolve(&l, 0, &l, e)) != PW_OK)
         return r;
     gm = tiled__geometry(&l);
     if (img->width != img->height || img->width % gm.N || img->width / gm.N < 4)
-        return pw_fail(e, PW_ERR_INVALID, "a tiled texture for this layout must be square with a "
-                       "side divisible by %d, tiles of 4 px or more (got %dx%d)", gm.N,
-                       img->width, img->height);
+        return pw_fail(e, PW_ERR_INVALID,
+                       "a tiled texture for this layout must be square with a "
+                       "side divisible by %d, tiles of 4 px or more (got %dx%d)",
+                       gm.N, img->width, img->height);
     l.tile_size = img->width / gm.N;
     l.guard = want->guard;
     return tiled__resolve(&l, 0, out, e);

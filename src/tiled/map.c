@@ -17,16 +17,18 @@ static int tiled__all_quads(const pw_mesh *m)
  * counts every level still to come (smoothing included) for the size
  * check made before any work. On success *q owns its arrays and *hm is its
  * half-edge structure. */
-static int tiled__quadrangulate(const pw_alloc *a, const tiled_mesh *in, int planned, int extra,
-                                const pw_progress *pr, pw_mesh *q, pw_hmesh *hm, pw_err *e)
+static int tiled__quadrangulate(const pw_alloc *a, const tiled_mesh *in, int planned, int extra, const pw_progress *pr,
+                                pw_mesh *q, pw_hmesh *hm, pw_err *e)
 {
     pw_mesh view = tiled__pw_mesh(in), next;
     int levels = (tiled__all_quads(&view) ? 0 : 1) + extra, l, r;
     double faces = in->face_start[in->nfaces];
     for (l = 0; l < levels - extra + planned; l++) faces *= 4; /* every level planned, smoothing too */
     if (faces > PW_MAX_MESH_ELEMENTS)
-        return pw_fail(e, PW_ERR_LIMIT, "subdividing %d faces %d times would make %.0f faces "
-                       "(limit %d)", in->nfaces, levels - extra + planned, faces, PW_MAX_MESH_ELEMENTS);
+        return pw_fail(e, PW_ERR_LIMIT,
+                       "subdividing %d faces %d times would make %.0f faces "
+                       "(limit %d)",
+                       in->nfaces, levels - extra + planned, faces, PW_MAX_MESH_ELEMENTS);
     if ((r = pw_mesh_copy(a, &view, q, e)) != PW_OK) return r;
     for (l = 0;; l++) {
         if ((r = pw_hmesh_build(a, q->nv, q->nf, q->fstart, q->fv, hm, e)) != PW_OK) break;
@@ -47,8 +49,7 @@ static int tiled__quadrangulate(const pw_alloc *a, const tiled_mesh *in, int pla
  * draws a pair k and an orientation; its half-edges get 2k and 2k+1. One
  * 32-bit draw per edge: bit 0 orients, the rest picks k by a multiply-shift
  * (bias below 1e-8). Case 1 has the single self-matching type 0. */
-static void tiled__assign_boundaries(const pw_hmesh *hm, const tiled_layout *l, uint64_t seed,
-                                     int *types)
+static void tiled__assign_boundaries(const pw_hmesh *hm, const tiled_layout *l, uint64_t seed, int *types)
 {
     pw_rng r = pw_rng_seed(seed, 1);
     const int nh = hm->nh, *twin = hm->twin;
@@ -73,9 +74,8 @@ static void tiled__assign_boundaries(const pw_hmesh *hm, const tiled_layout *l, 
  * guard bands): a random starting edge per quad ("further randomness") makes
  * the walk e0e1e2e3 start at corner `rot`; corner (rot+k) mod 4 takes the
  * tile's corner k. Case 1 draws a tile, a rotation and a mirror instead. */
-static void tiled__assign_uvs(const pw_mesh *q, const int *types, const tiled__geom *gm,
-                              int case1, const tiled_options *o, const float *coord, float *uv,
-                              int *face_tiles)
+static void tiled__assign_uvs(const pw_mesh *q, const int *types, const tiled__geom *gm, int case1,
+                              const tiled_options *o, const float *coord, float *uv, int *face_tiles)
 {
     pw_rng r = pw_rng_seed(o->seed, 2);
     const int nf = q->nf, n = gm->n, N = gm->N, nn = N * N;
@@ -127,8 +127,7 @@ static void tiled__mapped_free(const pw_alloc *a, tiled__mapped *m)
 }
 
 /* Allocates the per-corner and per-face arrays for nc corners, nf faces. */
-static int tiled__mapped_arrays(const pw_alloc *a, int nc, int nf, float **uv, int **types,
-                                int **tiles, pw_err *e)
+static int tiled__mapped_arrays(const pw_alloc *a, int nc, int nf, float **uv, int **types, int **tiles, pw_err *e)
 {
     *uv = (float *)pw_alloc_array(a, (size_t)nc * 2, sizeof(float), "texture coordinates", e);
     *types = (int *)pw_alloc_array(a, (size_t)nc, sizeof(int), "boundary types", e);
@@ -143,13 +142,11 @@ static int tiled__mapped_arrays(const pw_alloc *a, int nc, int nf, float **uv, i
 }
 
 /* Runs both procedures of Fig. 29 on the quad mesh. */
-static int tiled__assign(const pw_alloc *a, tiled__mapped *m, const tiled_layout *l,
-                         const tiled_options *o, pw_err *e)
+static int tiled__assign(const pw_alloc *a, tiled__mapped *m, const tiled_layout *l, const tiled_options *o, pw_err *e)
 {
     tiled__geom gm = tiled__geometry(l);
     float *coord = (float *)pw_alloc_array(a, (size_t)gm.N * 2, sizeof(float), "coordinates", e);
-    if (!coord ||
-        tiled__mapped_arrays(a, m->q.fstart[m->q.nf], m->q.nf, &m->uv, &m->types, &m->tiles, e)) {
+    if (!coord || tiled__mapped_arrays(a, m->q.fstart[m->q.nf], m->q.nf, &m->uv, &m->types, &m->tiles, e)) {
         pw_free(a, coord);
         return PW_ERR_NOMEM;
     }
@@ -207,8 +204,8 @@ static int tiled__smooth(const pw_alloc *a, tiled__mapped *m, pw_err *e)
     return PW_OK;
 }
 
-TILEDDEF tiled_result tiled_map(const tiled_mesh *in, const tiled_layout *layout,
-                                const tiled_options *opt, tiled_mesh *out, tiled_error *err)
+TILEDDEF tiled_result tiled_map(const tiled_mesh *in, const tiled_layout *layout, const tiled_options *opt,
+                                tiled_mesh *out, tiled_error *err)
 {
     tiled_options o = tiled__options(opt);
     pw_alloc a = tiled__alloc(&o.allocator);
@@ -222,13 +219,10 @@ TILEDDEF tiled_result tiled_map(const tiled_mesh *in, const tiled_layout *layout
     if (out) memset(out, 0, sizeof *out);
     if (!out || !layout) pw_fail(&pe, PW_ERR_INVALID, "tiled_map: NULL argument");
     else if (o.subdivide < 0 || o.subdivide > 8 || o.smooth < 0 || o.smooth > 8)
-        pw_fail(&pe, PW_ERR_INVALID, "subdivide and smooth must be 0..8 (got %d and %d)",
-                o.subdivide, o.smooth);
+        pw_fail(&pe, PW_ERR_INVALID, "subdivide and smooth must be 0..8 (got %d and %d)", o.subdivide, o.smooth);
     else if (tiled__resolve(layout, 0, &l, &pe) == PW_OK && tiled__check_mesh(in, &pe) == PW_OK &&
-             tiled__quadrangulate(&a, in, o.subdivide + o.smooth, o.subdivide, &pr, &m.q, &m.hm,
-                                  &pe) == PW_OK &&
-             pw_report(&pr, 0.8f, "texture coordinates", &pe) == PW_OK &&
-             tiled__assign(&a, &m, &l, &o, &pe) == PW_OK) {
+             tiled__quadrangulate(&a, in, o.subdivide + o.smooth, o.subdivide, &pr, &m.q, &m.hm, &pe) == PW_OK &&
+             pw_report(&pr, 0.8f, "texture coordinates", &pe) == PW_OK && tiled__assign(&a, &m, &l, &o, &pe) == PW_OK) {
         for (k = 0; k < o.smooth && pe.code == PW_OK; k++)
             if (pw_report(&pr, 0.85f + 0.1f * (float)k / (float)o.smooth, "smoothing", &pe) == PW_OK)
                 tiled__smooth(&a, &m, &pe);

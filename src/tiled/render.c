@@ -8,8 +8,7 @@
 #ifndef PW_NO_RENDER
 /* Fan-triangulates a mapped mesh into triangles with per-corner texture
  * coordinates. */
-static int tiled__triangles(const pw_alloc *a, const tiled_mesh *m, int **tris, float **uvs,
-                            int *ntris, pw_err *e)
+static int tiled__triangles(const pw_alloc *a, const tiled_mesh *m, int **tris, float **uvs, int *ntris, pw_err *e)
 {
     int f, k, t = 0, n = m->face_start[m->nfaces] - 2 * m->nfaces;
     *tris = (int *)pw_alloc_array(a, (size_t)n * 3, sizeof(int), "triangles", e);
@@ -38,9 +37,8 @@ static int tiled__triangles(const pw_alloc *a, const tiled_mesh *m, int **tris, 
 /* Draws the triangles lit, textured from the atlas with mip levels capped
  * where they would mix tiles, band by band (pw_render_frame), and resolves
  * the supersamples. */
-static int tiled__draw(const pw_alloc *a, const tiled_mesh *m, const tiled_tileset *ts,
-                       const tiled_render_options *ro, const int *tris, const float *uvs, int ntris,
-                       pw_image *out, pw_err *e)
+static int tiled__draw(const pw_alloc *a, const tiled_mesh *m, const tiled_tileset *ts, const tiled_render_options *ro,
+                       const int *tris, const float *uvs, int ntris, pw_image *out, pw_err *e)
 {
     pw_image atlas = tiled__pw_image(&ts->atlas);
     pw_texture tex;
@@ -95,9 +93,8 @@ static tiled_render_options tiled__render_options(const tiled_render_options *ro
 }
 
 #ifndef PW_NO_RENDER
-TILEDDEF tiled_result tiled_render(const tiled_mesh *mapped, const tiled_tileset *ts,
-                                   const tiled_render_options *ro, tiled_image *out,
-                                   tiled_error *err)
+TILEDDEF tiled_result tiled_render(const tiled_mesh *mapped, const tiled_tileset *ts, const tiled_render_options *ro,
+                                   tiled_image *out, tiled_error *err)
 {
     tiled_render_options o = tiled__render_options(ro);
     pw_alloc a = tiled__alloc(ts ? &ts->atlas.allocator : NULL);
@@ -108,17 +105,17 @@ TILEDDEF tiled_result tiled_render(const tiled_mesh *mapped, const tiled_tileset
     pw_err_clear(&pe);
     if (out) memset(out, 0, sizeof *out);
     if (!out || !ts || !mapped || !mapped->uvs)
-        pw_fail(&pe, PW_ERR_INVALID, "tiled_render: needs a mapped mesh (with uvs), a tile set "
+        pw_fail(&pe, PW_ERR_INVALID,
+                "tiled_render: needs a mapped mesh (with uvs), a tile set "
                 "and an output image");
-    else if (o.width < 1 || o.height < 1 || o.supersample < 1 || o.supersample > 8 ||
-             (int)o.filter < 0 || (int)o.filter > 2 || o.threads < 0)
-        pw_fail(&pe, PW_ERR_INVALID, "render options: size %dx%d, supersample %d, filter %d, threads %d",
-                o.width, o.height, o.supersample, (int)o.filter, o.threads);
+    else if (o.width < 1 || o.height < 1 || o.supersample < 1 || o.supersample > 8 || (int)o.filter < 0 ||
+             (int)o.filter > 2 || o.threads < 0)
+        pw_fail(&pe, PW_ERR_INVALID, "render options: size %dx%d, supersample %d, filter %d, threads %d", o.width,
+                o.height, o.supersample, (int)o.filter, o.threads);
     else if (tiled__check_mesh(mapped, &pe) == PW_OK &&
              tiled__check_image(&ts->atlas, "tile set atlas", &pe) == PW_OK &&
              tiled__triangles(&a, mapped, &tris, &uvs, &ntris, &pe) == PW_OK) {
-        if (tiled__draw(&a, mapped, ts, &o, tris, uvs, ntris, &pic, &pe) == PW_OK)
-            tiled__take_image(&pic, &a, out);
+        if (tiled__draw(&a, mapped, ts, &o, tris, uvs, ntris, &pic, &pe) == PW_OK) tiled__take_image(&pic, &a, out);
         pw_free(&a, tris);
         pw_free(&a, uvs);
     }
@@ -126,11 +123,12 @@ TILEDDEF tiled_result tiled_render(const tiled_mesh *mapped, const tiled_tileset
 }
 
 #else
-TILEDDEF tiled_result tiled_render(const tiled_mesh *mapped, const tiled_tileset *ts,
-                                   const tiled_render_options *ro, tiled_image *out,
-                                   tiled_error *err)
+TILEDDEF tiled_result tiled_render(const tiled_mesh *mapped, const tiled_tileset *ts, const tiled_render_options *ro,
+                                   tiled_image *out, tiled_error *err)
 {
-    (void)mapped, (void)ts, (void)ro;
+    (void)mapped;
+    (void)ts;
+    (void)ro;
     if (out) memset(out, 0, sizeof *out);
     return tiled__left_out("rendering", "PW_NO_RENDER", err);
 }
@@ -147,7 +145,10 @@ static void tiled__face_areas(const tiled_mesh *m, int f, double *world, double 
         const float *t1 = m->uvs + 2 * k, *t2 = m->uvs + 2 * (k + 1);
         double a[3], b[3], n[3];
         int j;
-        for (j = 0; j < 3; j++) a[j] = p1[j] - p0[j], b[j] = p2[j] - p0[j];
+        for (j = 0; j < 3; j++) {
+            a[j] = p1[j] - p0[j];
+            b[j] = p2[j] - p0[j];
+        }
         pw_cross3(a, b, n);
         *world += 0.5 * sqrt(pw_dot3(n, n));
         *tex += 0.5 * fabs((t1[0] - t0[0]) * (t2[1] - t0[1]) - (t2[0] - t0[0]) * (t1[1] - t0[1]));
@@ -181,8 +182,7 @@ static double tiled__tile_length(const pw_alloc *a, const tiled_mesh *m, const t
 }
 
 TILEDDEF tiled_result tiled_drawn_tile_size(const tiled_mesh *mapped, const tiled_tileset *ts,
-                                            const tiled_render_options *ro, float *pixels,
-                                            tiled_error *err)
+                                            const tiled_render_options *ro, float *pixels, tiled_error *err)
 {
     tiled_render_options o = tiled__render_options(ro);
     pw_alloc a = tiled__alloc(ts ? &ts->atlas.allocator : NULL);
@@ -190,7 +190,8 @@ TILEDDEF tiled_result tiled_drawn_tile_size(const tiled_mesh *mapped, const tile
     pw_err_clear(&pe);
     if (pixels) *pixels = 0.0f;
     if (!pixels || !ts || !mapped || !mapped->uvs || ts->atlas.width < 1 || o.width < 1 || o.height < 1)
-        pw_fail(&pe, PW_ERR_INVALID, "tiled_drawn_tile_size: needs a mapped mesh (with uvs), its "
+        pw_fail(&pe, PW_ERR_INVALID,
+                "tiled_drawn_tile_size: needs a mapped mesh (with uvs), its "
                 "tile set, an output and a valid render size");
     else if (tiled__check_mesh(mapped, &pe) == PW_OK) {
         double len = tiled__tile_length(&a, mapped, ts, &pe), d[3], dist;
@@ -200,8 +201,7 @@ TILEDDEF tiled_result tiled_drawn_tile_size(const tiled_mesh *mapped, const tile
         for (k = 0; k < 3; k++) d[k] = cam.eye[k] - cam.target[k];
         dist = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
         /* pixels per world unit at the framed mesh's centre */
-        if (len >= 0.0 && dist > 0.0)
-            *pixels = (float)(len * o.height / (2.0 * dist * pw__tan_deg(0.5 * TILED__FOVY)));
+        if (len >= 0.0 && dist > 0.0) *pixels = (float)(len * o.height / (2.0 * dist * pw__tan_deg(0.5 * TILED__FOVY)));
     }
     return tiled__done(&pe, err);
 }

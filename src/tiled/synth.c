@@ -3,8 +3,8 @@
  * user made (tiled_tileset_from_image). */
 #include "layout.c"
 
-TILEDDEF tiled_result tiled_tileset_from_image(const tiled_image *tiles, const tiled_options *opt,
-                                               tiled_tileset *out, tiled_error *err)
+TILEDDEF tiled_result tiled_tileset_from_image(const tiled_image *tiles, const tiled_options *opt, tiled_tileset *out,
+                                               tiled_error *err)
 {
     tiled_options o = tiled__options(opt);
     pw_alloc a = tiled__alloc(&o.allocator);
@@ -54,11 +54,11 @@ TILEDDEF tiled_result tiled_tileset_from_image(const tiled_image *tiles, const t
  *    both sides of the edge and, because tiles are mirrored, from both
  *    ends: it is made symmetric by reflection (C0, not C1, across edges). */
 typedef struct tiled__synth {
-    pw_image src;   /* periodic source */
-    int T, wc;      /* tile size; rows next to a side constrained to it */
-    int band;       /* rows from a side where its diamond may appear */
+    pw_image src; /* periodic source */
+    int T, wc;    /* tile size; rows next to a side constrained to it */
+    int band;     /* rows from a side where its diamond may appear */
     int case1;
-    int dx[9], dy[9]; /* diamond origins (pair k) in the source; [8]: scratch */
+    int dx[9], dy[9];     /* diamond origins (pair k) in the source; [8]: scratch */
     float *motif;         /* the periodic source's motif map (pw_quilt_motif_map) */
     float motif_weight;   /* seam cost per source pixel inside a motif */
     pw_seam_stats *stats; /* NULL, or where to add every tile's seam statistics */
@@ -183,8 +183,8 @@ static void tiled__centre_source(const tiled__synth *s, pw_rng *rng, tiled__scra
 }
 
 /* Composes tile t into the atlas. */
-static int tiled__compose(const pw_alloc *a, const tiled__synth *s, pw_rng *rng, tiled__scratch *sc,
-                          pw_image *atlas, const tiled__geom *gm, int t, pw_err *e)
+static int tiled__compose(const pw_alloc *a, const tiled__synth *s, pw_rng *rng, tiled__scratch *sc, pw_image *atlas,
+                          const tiled__geom *gm, int t, pw_err *e)
 {
     int types[4], T = s->T, c = s->src.c, j, r;
     pw_quilt q;
@@ -206,8 +206,7 @@ static int tiled__compose(const pw_alloc *a, const tiled__synth *s, pw_rng *rng,
     for (j = 0; j < T; j++) { /* compose row by row into the atlas */
         int i;
         for (i = 0; i < T; i++)
-            memcpy(tiled__atlas_px(atlas, gm, t, i, j),
-                   sc->src + ((size_t)(sc->label[j * T + i] * T + j) * T + i) * c,
+            memcpy(tiled__atlas_px(atlas, gm, t, i, j), sc->src + ((size_t)(sc->label[j * T + i] * T + j) * T + i) * c,
                    sizeof(float) * c);
     }
     return PW_OK;
@@ -273,7 +272,8 @@ static void tiled__place_diamond(tiled__synth *s, pw_rng *rng, int k, int ntypes
         cost += tiled__corners_of(s, k, ntypes);
         if (best < 0.0 || cost < best) {
             best = cost;
-            s->dx[8] = ox, s->dy[8] = oy;
+            s->dx[8] = ox;
+            s->dy[8] = oy;
         }
     }
     s->dx[k] = s->dx[8];
@@ -281,8 +281,8 @@ static void tiled__place_diamond(tiled__synth *s, pw_rng *rng, int k, int ntypes
 }
 
 /* Builds every tile of a resolved layout from the periodic source. */
-static int tiled__synth_tiles(const pw_alloc *a, tiled__synth *s, const tiled_options *o,
-                              pw_image *atlas, const tiled__geom *gm, pw_err *e)
+static int tiled__synth_tiles(const pw_alloc *a, tiled__synth *s, const tiled_options *o, pw_image *atlas,
+                              const tiled__geom *gm, pw_err *e)
 {
     pw_progress pr = tiled__progress(o);
     pw_rng rng = pw_rng_seed(o->seed, 3);
@@ -313,8 +313,8 @@ static int tiled__synth_tiles(const pw_alloc *a, tiled__synth *s, const tiled_op
 
 /* tiled_synthesize, also adding the seam statistics of every tile (see
  * pw_quilt_seam_stats) to *stats when it is not NULL. */
-static int tiled__synthesize(const tiled_image *exemplar, const tiled_options *o,
-                             tiled_tileset *out, pw_seam_stats *stats, pw_err *pe)
+static int tiled__synthesize(const tiled_image *exemplar, const tiled_options *o, tiled_tileset *out,
+                             pw_seam_stats *stats, pw_err *pe)
 {
     pw_alloc a = tiled__alloc(&o->allocator);
     pw_progress pr = tiled__progress(o);
@@ -340,20 +340,18 @@ static int tiled__synthesize(const tiled_image *exemplar, const tiled_options *o
         s.stats = stats;
         s.motif_weight = TILED__MOTIF_WEIGHT;
         s.motif = (float *)pw_alloc_array(&a, (size_t)s.src.w * s.src.h, sizeof(float), "motif map", pe);
-        r = s.motif ? pw_quilt_motif_map(&a, &s.src, s.motif, &s.tau, pe)
-                    : PW_ERR_NOMEM;
+        r = s.motif ? pw_quilt_motif_map(&a, &s.src, s.motif, &s.tau, pe) : PW_ERR_NOMEM;
         if (r == PW_OK && (r = tiled__synth_tiles(&a, &s, o, &atlas, &gm, pe)) == PW_OK)
             tiled__fill_guards(&atlas, &gm, s.case1);
-        else
-            tiled_tileset_free(out);
+        else tiled_tileset_free(out);
     }
     pw_image_free(&a, &s.src);
     pw_free(&a, s.motif);
     return r;
 }
 
-TILEDDEF tiled_result tiled_synthesize(const tiled_image *exemplar, const tiled_options *opt,
-                                       tiled_tileset *out, tiled_error *err)
+TILEDDEF tiled_result tiled_synthesize(const tiled_image *exemplar, const tiled_options *opt, tiled_tileset *out,
+                                       tiled_error *err)
 {
     tiled_options o = tiled__options(opt);
     pw_err pe;

@@ -173,8 +173,8 @@ typedef void (*tiled_parallel_fn)(void *pool, int n, tiled_task_fn task, void *c
  * 2 gray+alpha, 3 RGB, 4 RGBA), row 0 at the top. */
 typedef struct tiled_image {
     int width, height, channels;
-    float *pixels; /* width*height*channels, pixels[(y*width + x)*channels + c] */
-    int bits;      /* sample depth the image was read with (8 or 16); 0 means 8 */
+    float *pixels;             /* width*height*channels, pixels[(y*width + x)*channels + c] */
+    int bits;                  /* sample depth the image was read with (8 or 16); 0 means 8 */
     tiled_allocator allocator; /* set by the library on images it allocates */
 } tiled_image;
 
@@ -185,12 +185,12 @@ typedef struct tiled_mesh {
     int nverts;
     float *positions; /* nverts*3 */
     int nfaces;
-    int *face_start;  /* nfaces+1 */
-    int *face_verts;  /* face_start[nfaces] vertex indices */
-    float *uvs;       /* face_start[nfaces]*2 per-corner texture coordinates, or NULL */
-    int *corner_types;/* face_start[nfaces]: boundary type of the half-edge that
+    int *face_start;   /* nfaces+1 */
+    int *face_verts;   /* face_start[nfaces] vertex indices */
+    float *uvs;        /* face_start[nfaces]*2 per-corner texture coordinates, or NULL */
+    int *corner_types; /* face_start[nfaces]: boundary type of the half-edge that
                          leaves each corner (to the next corner), or NULL */
-    int *face_tiles;  /* nfaces: tile index row*N + col in the atlas, or NULL */
+    int *face_tiles;   /* nfaces: tile index row*N + col in the atlas, or NULL */
     tiled_allocator allocator;
 } tiled_mesh;
 
@@ -216,34 +216,34 @@ typedef enum tiled_filter {
 
 /* Render settings. Zero-initialised means defaults. */
 typedef struct tiled_render_options {
-    int width, height;  /* default 800 x 600 */
-    int supersample;    /* samples per pixel along each axis; default 2 */
-    float view_dir[3];  /* direction the camera looks along; default (-0.55,-0.45,-0.7) */
-    float up[3];        /* world direction shown upwards; default (0,1,0) */
-    float background[3];/* default (1,1,1) */
-    tiled_filter filter;/* default TILED_FILTER_TRILINEAR */
-    int threads;             /* rendering threads: 0 (default) one per processor when the
+    int width, height;          /* default 800 x 600 */
+    int supersample;            /* samples per pixel along each axis; default 2 */
+    float view_dir[3];          /* direction the camera looks along; default (-0.55,-0.45,-0.7) */
+    float up[3];                /* world direction shown upwards; default (0,1,0) */
+    float background[3];        /* default (1,1,1) */
+    tiled_filter filter;        /* default TILED_FILTER_TRILINEAR */
+    int threads;                /* rendering threads: 0 (default) one per processor when the
                                 implementation is built with PW_THREADS (POSIX threads;
                                 link with -pthread), else 1; n: at most n. With more
                                 than one, the allocator is called from several threads */
     tiled_parallel_fn parallel; /* optional: the caller's parallel for, used instead of threads */
-    void *parallel_pool;     /* its first argument */
+    void *parallel_pool;        /* its first argument */
 } tiled_render_options;
 
 /* Options. Zero-initialised means defaults; tiled_default_options() returns
  * them filled in. */
 typedef struct tiled_options {
     tiled_layout layout;
-    unsigned long long seed; /* RNG seed; default 0 */
-    int subdivide;           /* extra Catmull-Clark levels once the mesh is all
+    unsigned long long seed;     /* RNG seed; default 0 */
+    int subdivide;               /* extra Catmull-Clark levels once the mesh is all
                                 quads, before mapping (more, smaller tiles);
                                 default 0 */
-    int smooth;              /* Catmull-Clark levels after mapping, carrying the
+    int smooth;                  /* Catmull-Clark levels after mapping, carrying the
                                 texture coordinates along (thesis Figs. 30, 31):
                                 a smooth surface, each tile still spanning one
                                 original quad; default 0 */
-    int no_mirror;           /* case 1: do not mirror tiles (rotation only) */
-    int fixed_start;         /* 1: always start the tile walk at a face's first
+    int no_mirror;               /* case 1: do not mirror tiles (rotation only) */
+    int fixed_start;             /* 1: always start the tile walk at a face's first
                                 corner instead of a random one (thesis's
                                 "further randomness" off); default 0 */
     tiled_render_options render; /* tiled_render's settings (pass &opt.render) */
@@ -254,18 +254,18 @@ typedef struct tiled_options {
 
 /* A tile set: its resolved layout and the tiled texture with guard bands. */
 typedef struct tiled_tileset {
-    tiled_layout layout;   /* every field resolved (no zero defaults left) */
-    int tiles_per_side;    /* N: the atlas is N x N cells */
-    int max_mip_level;     /* mip levels 0..this never mix two tiles */
-    tiled_image atlas;     /* N*(T+2g) pixels square */
+    tiled_layout layout; /* every field resolved (no zero defaults left) */
+    int tiles_per_side;  /* N: the atlas is N x N cells */
+    int max_mip_level;   /* mip levels 0..this never mix two tiles */
+    tiled_image atlas;   /* N*(T+2g) pixels square */
 } tiled_tileset;
 
 /* One tile side whose pattern does not continue into its partners'. */
 typedef struct tiled_side_mismatch {
-    int tile;      /* tile index row*N + col */
-    int side;      /* 0 bottom, 1 right, 2 top, 3 left */
-    int type;      /* its boundary type */
-    float seam;    /* mean colour jump across the side, 0..1 */
+    int tile;   /* tile index row*N + col */
+    int side;   /* 0 bottom, 1 right, 2 top, 3 left */
+    int type;   /* its boundary type */
+    float seam; /* mean colour jump across the side, 0..1 */
 } tiled_side_mismatch;
 
 #define TILED_MAX_MISMATCHES 64
@@ -273,13 +273,12 @@ typedef struct tiled_side_mismatch {
 /* Report of tiled_validate_tiles. */
 typedef struct tiled_validation {
     int sides_checked;
-    int nbad;               /* sides that do not match (all of them counted) */
-    float interior;         /* typical jump between neighbouring pixels inside tiles */
-    float threshold;        /* a side fails when its seam exceeds this */
-    float worst;            /* largest seam found */
+    int nbad;                                      /* sides that do not match (all of them counted) */
+    float interior;                                /* typical jump between neighbouring pixels inside tiles */
+    float threshold;                               /* a side fails when its seam exceeds this */
+    float worst;                                   /* largest seam found */
     tiled_side_mismatch bad[TILED_MAX_MISMATCHES]; /* the first ones, worst first */
 } tiled_validation;
-
 
 /* Defaults and messages. */
 TILEDDEF tiled_options tiled_default_options(void);
@@ -290,21 +289,21 @@ TILEDDEF const char *tiled_result_string(tiled_result r);
 /* Builds an edge-matched tile set from an exemplar image (opt->layout says
  * which case, how many pairs or tiles, tile size and guard). The exemplar
  * should be homogeneous and isotropic: tiles are rotated on the mesh. */
-TILEDDEF tiled_result tiled_synthesize(const tiled_image *exemplar, const tiled_options *opt,
-                                       tiled_tileset *out, tiled_error *err);
+TILEDDEF tiled_result tiled_synthesize(const tiled_image *exemplar, const tiled_options *opt, tiled_tileset *out,
+                                       tiled_error *err);
 
 /* Wraps a user-made tiled texture laid out as in the thesis (no guard
  * bands: (2n)^2 x (2n)^2 tiles in case 2, grid x grid in case 1, square)
  * into a tile set with guard bands. Does not check that sides match: see
  * tiled_validate_tiles. */
-TILEDDEF tiled_result tiled_tileset_from_image(const tiled_image *tiles, const tiled_options *opt,
-                                               tiled_tileset *out, tiled_error *err);
+TILEDDEF tiled_result tiled_tileset_from_image(const tiled_image *tiles, const tiled_options *opt, tiled_tileset *out,
+                                               tiled_error *err);
 
 /* Checks a user-made tiled texture (thesis layout, no guard bands): every
  * side must continue into every side it can meet on a mesh. Returns
  * TILED_OK when the check ran; report->nbad says how many sides fail. */
-TILEDDEF tiled_result tiled_validate_tiles(const tiled_image *tiles, const tiled_options *opt,
-                                           tiled_validation *report, tiled_error *err);
+TILEDDEF tiled_result tiled_validate_tiles(const tiled_image *tiles, const tiled_options *opt, tiled_validation *report,
+                                           tiled_error *err);
 
 TILEDDEF void tiled_tileset_free(tiled_tileset *ts);
 
@@ -316,13 +315,12 @@ TILEDDEF void tiled_tileset_free(tiled_tileset *ts);
  * opt->smooth levels of Catmull-Clark that carry the mapping along. The
  * output mesh has uvs, corner_types (-1 on edges made by smoothing) and
  * face_tiles. */
-TILEDDEF tiled_result tiled_map(const tiled_mesh *in, const tiled_layout *layout,
-                                const tiled_options *opt, tiled_mesh *out, tiled_error *err);
+TILEDDEF tiled_result tiled_map(const tiled_mesh *in, const tiled_layout *layout, const tiled_options *opt,
+                                tiled_mesh *out, tiled_error *err);
 
 /* Renders a mapped mesh with its tile set's atlas. */
-TILEDDEF tiled_result tiled_render(const tiled_mesh *mapped, const tiled_tileset *ts,
-                                   const tiled_render_options *ro, tiled_image *out,
-                                   tiled_error *err);
+TILEDDEF tiled_result tiled_render(const tiled_mesh *mapped, const tiled_tileset *ts, const tiled_render_options *ro,
+                                   tiled_image *out, tiled_error *err);
 
 /* How wide tiled_render draws a tile, in pixels: the median over faces of
  * a tile side's world length (from each face's areas in world and texture
@@ -330,37 +328,33 @@ TILEDDEF tiled_result tiled_render(const tiled_mesh *mapped, const tiled_tileset
  * pixels the texture cannot be seen: the mesh has too many quads for this
  * method (one tile per quad), see tiled_map. */
 TILEDDEF tiled_result tiled_drawn_tile_size(const tiled_mesh *mapped, const tiled_tileset *ts,
-                                            const tiled_render_options *ro, float *pixels,
-                                            tiled_error *err);
+                                            const tiled_render_options *ro, float *pixels, tiled_error *err);
 
 /* Built-in data ----------------------------------------------------------- */
 
 /* Procedural meshes, scaled to fit [-1,1]^3: "cube", "torus" (24x12 quads),
  * "double-torus" (genus 2, quads), "icosahedron" (triangles), "grid" (open
  * 12x12 quads, with a boundary). */
-TILEDDEF tiled_result tiled_builtin_mesh(const char *name, const tiled_options *opt,
-                                         tiled_mesh *out, tiled_error *err);
+TILEDDEF tiled_result tiled_builtin_mesh(const char *name, const tiled_options *opt, tiled_mesh *out, tiled_error *err);
 /* Procedural exemplars, size x size pixels, RGB, periodic, isotropic:
  * "pebbles", "spots", "lichen". The seed in opt varies them. */
-TILEDDEF tiled_result tiled_builtin_exemplar(const char *name, int size, const tiled_options *opt,
-                                             tiled_image *out, tiled_error *err);
+TILEDDEF tiled_result tiled_builtin_exemplar(const char *name, int size, const tiled_options *opt, tiled_image *out,
+                                             tiled_error *err);
 
 /* Files ------------------------------------------------------------------ */
 
 /* Meshes: OBJ, OFF (COFF/NOFF...), PLY (ASCII and binary), by content. */
-TILEDDEF tiled_result tiled_read_mesh(const void *data, size_t size, const char *name,
-                                      const tiled_options *opt, tiled_mesh *out,
-                                      tiled_error *err);
+TILEDDEF tiled_result tiled_read_mesh(const void *data, size_t size, const char *name, const tiled_options *opt,
+                                      tiled_mesh *out, tiled_error *err);
 /* Images: PPM, PGM, PAM (8/16 bit), PNG, GIMP .pat, by content. */
-TILEDDEF tiled_result tiled_read_image(const void *data, size_t size, const char *name,
-                                       const tiled_options *opt, tiled_image *out,
-                                       tiled_error *err);
+TILEDDEF tiled_result tiled_read_image(const void *data, size_t size, const char *name, const tiled_options *opt,
+                                       tiled_image *out, tiled_error *err);
 /* format: "png", "ppm", "pgm", "pam" (ppm/pgm pick by channel count). */
-TILEDDEF tiled_result tiled_write_image(const tiled_image *img, const char *format,
-                                        tiled_write_fn fn, void *ctx, tiled_error *err);
+TILEDDEF tiled_result tiled_write_image(const tiled_image *img, const char *format, tiled_write_fn fn, void *ctx,
+                                        tiled_error *err);
 /* OBJ with per-corner vt; mtllib/usemtl lines when mtl_name is not NULL. */
-TILEDDEF tiled_result tiled_write_obj(const tiled_mesh *m, const char *mtl_name,
-                                      tiled_write_fn fn, void *ctx, tiled_error *err);
+TILEDDEF tiled_result tiled_write_obj(const tiled_mesh *m, const char *mtl_name, tiled_write_fn fn, void *ctx,
+                                      tiled_error *err);
 /* Binary glTF 2.0 (.glb, one self-contained file): the mesh with its
  * per-corner coordinates and, when texture is not NULL, the tiled texture
  * as its base colour (PNG inside), sampled LINEAR / LINEAR_MIPMAP_LINEAR
@@ -373,19 +367,16 @@ TILEDDEF tiled_result tiled_write_gltf(const tiled_mesh *m, const tiled_image *t
                                        const tiled_render_options *view, tiled_write_fn fn, void *ctx,
                                        tiled_error *err);
 /* An MTL file with one material "tiled" whose map_Kd is texture_name. */
-TILEDDEF tiled_result tiled_write_mtl(const char *texture_name, tiled_write_fn fn,
-                                      void *ctx, tiled_error *err);
+TILEDDEF tiled_result tiled_write_mtl(const char *texture_name, tiled_write_fn fn, void *ctx, tiled_error *err);
 #ifndef PW_NO_STDIO
-TILEDDEF tiled_result tiled_load_mesh(const char *path, const tiled_options *opt, tiled_mesh *out,
-                                      tiled_error *err);
-TILEDDEF tiled_result tiled_load_image(const char *path, const tiled_options *opt,
-                                       tiled_image *out, tiled_error *err);
+TILEDDEF tiled_result tiled_load_mesh(const char *path, const tiled_options *opt, tiled_mesh *out, tiled_error *err);
+TILEDDEF tiled_result tiled_load_image(const char *path, const tiled_options *opt, tiled_image *out, tiled_error *err);
 /* Format from the extension: .png .ppm .pgm .pnm .pam */
 TILEDDEF tiled_result tiled_save_image(const char *path, const tiled_image *img, tiled_error *err);
 /* Writes obj_path and, when texture_path is not NULL, an MTL beside it
  * (obj_path with .mtl) whose map_Kd names texture_path. */
-TILEDDEF tiled_result tiled_save_obj(const char *obj_path, const tiled_mesh *m,
-                                     const char *texture_path, tiled_error *err);
+TILEDDEF tiled_result tiled_save_obj(const char *obj_path, const tiled_mesh *m, const char *texture_path,
+                                     tiled_error *err);
 /* tiled_write_gltf into the file path (.glb). */
 TILEDDEF tiled_result tiled_save_gltf(const char *path, const tiled_mesh *m, const tiled_image *texture,
                                       const tiled_render_options *view, tiled_error *err);

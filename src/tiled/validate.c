@@ -37,8 +37,7 @@ typedef struct tiled__side {
 /* Mean jump across side `here` when it meets side `there` of another tile
  * (reversed walk; `mirrored` compares the partner walked the same way, as
  * happens when case-1 tiles are mirrored). */
-static float tiled__seam(const pw_image *img, const tiled__geom *gm, tiled__side here, tiled__side there,
-                         int mirrored)
+static float tiled__seam(const pw_image *img, const tiled__geom *gm, tiled__side here, tiled__side there, int mirrored)
 {
     int t = here.tile, s = here.side, pt = there.tile, ps = there.side;
     double sum = 0.0;
@@ -47,8 +46,7 @@ static float tiled__seam(const pw_image *img, const tiled__geom *gm, tiled__side
         int i, j, pi, pj;
         tiled__from_side(s, T, a, 0, &i, &j);
         tiled__from_side(ps, T, mirrored ? a : T - 1 - a, 0, &pi, &pj);
-        sum += tiled__dist(tiled__plain_px(img, gm, t, i, j), tiled__plain_px(img, gm, pt, pi, pj),
-                           img->c);
+        sum += tiled__dist(tiled__plain_px(img, gm, t, i, j), tiled__plain_px(img, gm, pt, pi, pj), img->c);
     }
     return (float)(sum / T);
 }
@@ -64,7 +62,8 @@ static float tiled__side_seam(const pw_image *img, const tiled__geom *gm, int ca
         tiled__tile_types(gm, case1, u, types);
         for (us = 0; us < 4 && n < 64; us++) {
             if (types[us] != tiled__partner(case1, type)) continue;
-            there.tile = u, there.side = us;
+            there.tile = u;
+            there.side = us;
             sum += tiled__seam(img, gm, here, there, 0);
             n++;
             if (mirror) {
@@ -93,8 +92,8 @@ static void tiled__note_bad(tiled_validation *rep, int t, int s, int type, float
 /* A side passes when its seam is at most twice the typical jump between
  * neighbouring pixels inside tiles (plus one 8-bit step): matching sides
  * continue the pattern, so their seams look like interior neighbours. */
-TILEDDEF tiled_result tiled_validate_tiles(const tiled_image *tiles, const tiled_options *opt,
-                                           tiled_validation *report, tiled_error *err)
+TILEDDEF tiled_result tiled_validate_tiles(const tiled_image *tiles, const tiled_options *opt, tiled_validation *report,
+                                           tiled_error *err)
 {
     tiled_options o = tiled__options(opt);
     tiled_layout l;
@@ -115,7 +114,8 @@ TILEDDEF tiled_result tiled_validate_tiles(const tiled_image *tiles, const tiled
             for (s = 0; s < 4; s++) {
                 tiled__side here;
                 float seam;
-                here.tile = t, here.side = s;
+                here.tile = t;
+                here.side = s;
                 seam = tiled__side_seam(&img, &gm, case1, case1 && !o.no_mirror, here, types[s]);
                 report->sides_checked++;
                 if (seam > report->worst) report->worst = seam;
