@@ -11,27 +11,27 @@
  *   1757: src/common/deflate.h, zlib (RFC 1950) and deflate (RFC 1951) compression and
  *   2756: src/common/png.h, PNG writer and reader, and the image front end.
  *   3314: src/common/text.h, locale-independent number parsing and formatting, a line s
- *   3717: src/common/mesh.h, polygon meshes as flat arrays, and their file formats.
- *   5246: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
- *   5747: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
- *   6171: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
- *   7434: src/common/raster.h, exact scan conversion of 2D triangles.
- *   7908: src/common/render.h, a small deterministic software renderer for textured trian
- *   9675: src/lapped/polyhull.h, the polygonal hull of a texture patch (Praun, Finkelstein 
- *  10533: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
- *  10720: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
- *  10805: src/common/atlas.h, texture atlases of triangle meshes — charts, packing, ba
- *  12778: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
- *  13542: src/common/glue.h, what every method header needs between its public types an
- *  13743: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  14407: src/lapped/core.c, lapped.h's glue to the shared core, its defaults, and the 
- *  14565: src/lapped/field.c, §3.2 the tangent field, one frame (S, T) per triangle, an
- *  15020: src/lapped/patch.c, §3.1 texture patches. A patch is the texture as RGBA whos
- *  15311: src/lapped/builtin.c, built-in meshes (made by the shared shapes module) and tex
- *  15491: src/lapped/grow.c, pasting (§3.3-3.6): grow a surface patch around an uncove
- *  16917: src/lapped/render.c, runtime pasting (§4): the mesh drawn once per paste, in p
- *  17120: src/lapped/atlas.c, §4 "Rendering with a texture atlas".
- *  17354: src/lapped/io.c, the paste file format and the file conveniences of lapped.
+ *   3737: src/common/mesh.h, polygon meshes as flat arrays, and their file formats.
+ *   5266: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
+ *   5767: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
+ *   6191: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
+ *   7454: src/common/raster.h, exact scan conversion of 2D triangles.
+ *   7928: src/common/render.h, a small deterministic software renderer for textured trian
+ *   9695: src/lapped/polyhull.h, the polygonal hull of a texture patch (Praun, Finkelstein 
+ *  10553: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
+ *  10740: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
+ *  10825: src/common/atlas.h, texture atlases of triangle meshes — charts, packing, ba
+ *  12798: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
+ *  13562: src/common/glue.h, what every method header needs between its public types an
+ *  13763: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  14427: src/lapped/core.c, lapped.h's glue to the shared core, its defaults, and the 
+ *  14585: src/lapped/field.c, §3.2 the tangent field, one frame (S, T) per triangle, an
+ *  15040: src/lapped/patch.c, §3.1 texture patches. A patch is the texture as RGBA whos
+ *  15331: src/lapped/builtin.c, built-in meshes (made by the shared shapes module) and tex
+ *  15511: src/lapped/grow.c, pasting (§3.3-3.6): grow a surface patch around an uncove
+ *  16937: src/lapped/render.c, runtime pasting (§4): the mesh drawn once per paste, in p
+ *  17140: src/lapped/atlas.c, §4 "Rendering with a texture atlas".
+ *  17374: src/lapped/io.c, the paste file format and the file conveniences of lapped.
  */
 /* lapped.h - lapped textures: overlapping texture patches pasted over a mesh.
  *
@@ -3566,6 +3566,26 @@ PW__DEF int pw__sc_num(pw__sc *s, double *v, const char *what, long long index)
 PW__DEF int pw__sc_int(pw__sc *s, long long *v, const char *what, long long index)
 {
     return pw__sc_value(s, NULL, v, what, index);
+}
+
+/* Reads the line "<keyword> n1 ... nk" (after blank and comment lines), each
+ * integer within [lo, hi], and moves to the next line. */
+PW__DEF int pw__sc_read_ints(pw__sc *s, const char *keyword, long long *v, int n, long long lo, long long hi)
+{
+    size_t len;
+    const char *w;
+    int k, r;
+    pw__sc_skip_empty(s);
+    w = pw__sc_word(s, &len);
+    if (!pw__sc_is(w, len, keyword)) return pw__sc_fail(s, PW_ERR_PARSE, "expected '%s'", keyword);
+    for (k = 0; k < n; k++) {
+        if ((r = pw__sc_int(s, &v[k], keyword, -1)) != PW_OK) return r;
+        if (v[k] < lo || v[k] > hi)
+            return pw__sc_fail(s, PW_ERR_LIMIT, "%s: %lld is outside %lld..%lld", keyword, v[k], lo, hi);
+    }
+    if (!pw__sc_eol(s)) return pw__sc_fail(s, PW_ERR_PARSE, "unexpected text after '%s'", keyword);
+    pw__sc_next_line(s);
+    return PW_OK;
 }
 
 /* Buffered output over a pw_write_fn. */
@@ -17420,37 +17440,18 @@ LAPPEDDEF lapped_result lapped_write_pastes(const lapped_texture *t, lapped_writ
 
 /* ---- reading ----------------------------------------------------------------- */
 
-/* Reads "<keyword> n1 ... nk" on one line, each within [lo, hi]. */
-static int lapped__read_line(pw__sc *s, const char *keyword, long long *v, int n, long long lo, long long hi)
-{
-    size_t len;
-    const char *w;
-    int k, r;
-    pw__sc_skip_empty(s);
-    w = pw__sc_word(s, &len);
-    if (!pw__sc_is(w, len, keyword)) return pw__sc_fail(s, PW_ERR_PARSE, "expected '%s'", keyword);
-    for (k = 0; k < n; k++) {
-        if ((r = pw__sc_int(s, &v[k], keyword, -1)) != PW_OK) return r;
-        if (v[k] < lo || v[k] > hi)
-            return pw__sc_fail(s, PW_ERR_LIMIT, "%s: %lld is outside %lld..%lld", keyword, v[k], lo, hi);
-    }
-    if (!pw__sc_eol(s)) return pw__sc_fail(s, PW_ERR_PARSE, "unexpected text after '%s'", keyword);
-    pw__sc_next_line(s);
-    return PW_OK;
-}
-
 static int lapped__read_header(pw__sc *s, const pw_alloc *a, lapped_texture *t, pw_err *e)
 {
     long long v[3];
     int k, r;
-    if ((r = lapped__read_line(s, "lapped-pastes", v, 1, 1, 1)) != PW_OK ||
-        (r = lapped__read_line(s, "patches", v, 1, 1, 4096)) != PW_OK)
+    if ((r = pw__sc_read_ints(s, "lapped-pastes", v, 1, 1, 1)) != PW_OK ||
+        (r = pw__sc_read_ints(s, "patches", v, 1, 1, 4096)) != PW_OK)
         return r;
     t->npatches = (int)v[0];
     if (!(t->patch_size = (int *)pw_alloc_array(a, (size_t)t->npatches * 2, sizeof(int), "patch sizes", e)))
         return PW_ERR_NOMEM;
     for (k = 0; k < t->npatches; k++) {
-        if ((r = lapped__read_line(s, "patch", v, 3, 0, PW_MAX_IMAGE_DIM)) != PW_OK) return r;
+        if ((r = pw__sc_read_ints(s, "patch", v, 3, 0, PW_MAX_IMAGE_DIM)) != PW_OK) return r;
         if (v[0] != k) return pw__sc_fail(s, PW_ERR_PARSE, "patch %lld listed where patch %d belongs", v[0], k);
         if (v[1] < 1 || v[2] < 1) return pw__sc_fail(s, PW_ERR_PARSE, "patch %d has an empty size", k);
         t->patch_size[2 * k] = (int)v[1];
@@ -17485,7 +17486,7 @@ static int lapped__read_pastes(pw__sc *s, const pw_alloc *a, lapped_texture *t, 
     long long v[2];
     int p, i, r;
     /* a face line has at least 14 bytes: checked before allocating */
-    if ((r = lapped__read_line(s, "pastes", v, 1, 0, PW_MAX_MESH_ELEMENTS)) != PW_OK) return r;
+    if ((r = pw__sc_read_ints(s, "pastes", v, 1, 0, PW_MAX_MESH_ELEMENTS)) != PW_OK) return r;
     if (v[0] > (long long)(s->end - s->p) / 8 + 1)
         return pw__sc_fail(s, PW_ERR_PARSE, "%lld pastes announced, the file is too short for them", v[0]);
     if (!(t->pastes = (lapped_paste *)pw_calloc_array(a, (size_t)v[0], sizeof(lapped_paste), "pastes", e)))
@@ -17493,7 +17494,7 @@ static int lapped__read_pastes(pw__sc *s, const pw_alloc *a, lapped_texture *t, 
     t->npastes = (int)v[0];
     for (p = 0; p < t->npastes; p++) {
         lapped_paste *q = &t->pastes[p];
-        if ((r = lapped__read_line(s, "paste", v, 2, 0, PW_MAX_MESH_ELEMENTS)) != PW_OK) return r;
+        if ((r = pw__sc_read_ints(s, "paste", v, 2, 0, PW_MAX_MESH_ELEMENTS)) != PW_OK) return r;
         if (v[0] >= t->npatches)
             return pw__sc_fail(s, PW_ERR_PARSE, "paste %d uses patch %lld of %d", p, v[0], t->npatches);
         if (v[1] > (long long)(s->end - s->p) / 14 + 1)

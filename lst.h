@@ -11,33 +11,33 @@
  *   1999: src/common/deflate.h, zlib (RFC 1950) and deflate (RFC 1951) compression and
  *   2996: src/common/png.h, PNG writer and reader, and the image front end.
  *   3554: src/common/text.h, locale-independent number parsing and formatting, a line s
- *   3957: src/common/mesh.h, polygon meshes as flat arrays, and their file formats.
- *   5486: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
- *   5987: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
- *   6411: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
- *   6598: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
- *   6683: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
- *   7946: src/common/raster.h, exact scan conversion of 2D triangles.
- *   8420: src/common/render.h, a small deterministic software renderer for textured trian
- *  10187: src/common/atlas.h, texture atlases of triangle meshes — charts, packing, ba
- *  12160: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
- *  12921: src/common/tetmesh.h, the tetrahedral mesh that lapped solid textures work on, a
- *  13405: src/common/tetio.h, tetrahedral mesh files, TetGen .node/.ele and MEDIT .mesh.
- *  13897: src/common/bisect.h, graded, conforming tetrahedral meshes of a box by newest-v
- *  14217: src/common/stuffing.h, the built-in tetrahedralizer of lst.h, so that no external
- *  17350: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
- *  17493: src/common/pca.h, principal component analysis of vectors streamed one at a 
- *  17680: src/common/glue.h, what every method header needs between its public types an
- *  17881: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  18545: src/lst/core.c, lst.h's glue to the shared core, its defaults, the convers
- *  18890: src/lst/exemplar.c, solid exemplars (§5): sampling, the procedural exemplars 
- *  19441: src/lst/field.c, §5.2.2, the fields that orient and scale the pastes. The 
- *  20649: src/lst/paste.c, §5.2.3-5.2.7, filling the model. Each paste picks a rando
- *  21630: src/lst/render.c, §5.1, showing a model. Every point of a tetrahedron is th
- *  22527: src/lst/cut.c, §5.1.1, cutting a model along the zero set of a scalar fi
- *  23132: src/lst/builtin.c, the tetrahedralizer entry point, checks of caller meshes, 
- *  23654: src/lst/io.c, the model file, the constraint files and the file convenie
- *  24515: src/lst/export.c, the visible boundary with a baked texture atlas, for glTF.
+ *   3977: src/common/mesh.h, polygon meshes as flat arrays, and their file formats.
+ *   5506: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
+ *   6007: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
+ *   6431: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
+ *   6618: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
+ *   6703: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
+ *   7966: src/common/raster.h, exact scan conversion of 2D triangles.
+ *   8440: src/common/render.h, a small deterministic software renderer for textured trian
+ *  10207: src/common/atlas.h, texture atlases of triangle meshes — charts, packing, ba
+ *  12180: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
+ *  12941: src/common/tetmesh.h, the tetrahedral mesh that lapped solid textures work on, a
+ *  13425: src/common/tetio.h, tetrahedral mesh files, TetGen .node/.ele and MEDIT .mesh.
+ *  13917: src/common/bisect.h, graded, conforming tetrahedral meshes of a box by newest-v
+ *  14237: src/common/stuffing.h, the built-in tetrahedralizer of lst.h, so that no external
+ *  17370: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
+ *  17513: src/common/pca.h, principal component analysis of vectors streamed one at a 
+ *  17700: src/common/glue.h, what every method header needs between its public types an
+ *  17901: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  18565: src/lst/core.c, lst.h's glue to the shared core, its defaults, the convers
+ *  18910: src/lst/exemplar.c, solid exemplars (§5): sampling, the procedural exemplars 
+ *  19461: src/lst/field.c, §5.2.2, the fields that orient and scale the pastes. The 
+ *  20669: src/lst/paste.c, §5.2.3-5.2.7, filling the model. Each paste picks a rando
+ *  21650: src/lst/render.c, §5.1, showing a model. Every point of a tetrahedron is th
+ *  22547: src/lst/cut.c, §5.1.1, cutting a model along the zero set of a scalar fi
+ *  23152: src/lst/builtin.c, the tetrahedralizer entry point, checks of caller meshes, 
+ *  23674: src/lst/io.c, the model file, the constraint files and the file convenie
+ *  24516: src/lst/export.c, the visible boundary with a baked texture atlas, for glTF.
  */
 /* lst.h - lapped solid textures: solid exemplars pasted inside a model.
  *
@@ -3806,6 +3806,26 @@ PW__DEF int pw__sc_num(pw__sc *s, double *v, const char *what, long long index)
 PW__DEF int pw__sc_int(pw__sc *s, long long *v, const char *what, long long index)
 {
     return pw__sc_value(s, NULL, v, what, index);
+}
+
+/* Reads the line "<keyword> n1 ... nk" (after blank and comment lines), each
+ * integer within [lo, hi], and moves to the next line. */
+PW__DEF int pw__sc_read_ints(pw__sc *s, const char *keyword, long long *v, int n, long long lo, long long hi)
+{
+    size_t len;
+    const char *w;
+    int k, r;
+    pw__sc_skip_empty(s);
+    w = pw__sc_word(s, &len);
+    if (!pw__sc_is(w, len, keyword)) return pw__sc_fail(s, PW_ERR_PARSE, "expected '%s'", keyword);
+    for (k = 0; k < n; k++) {
+        if ((r = pw__sc_int(s, &v[k], keyword, -1)) != PW_OK) return r;
+        if (v[k] < lo || v[k] > hi)
+            return pw__sc_fail(s, PW_ERR_LIMIT, "%s: %lld is outside %lld..%lld", keyword, v[k], lo, hi);
+    }
+    if (!pw__sc_eol(s)) return pw__sc_fail(s, PW_ERR_PARSE, "unexpected text after '%s'", keyword);
+    pw__sc_next_line(s);
+    return PW_OK;
 }
 
 /* Buffered output over a pw_write_fn. */
@@ -23802,30 +23822,11 @@ LSTDEF lst_result lst_write_model(const lst_model *m, lst_write_fn fn, void *ctx
 
 /* ---- reading the model ---------------------------------------------------------------------- */
 
-/* "<keyword> n1 ... nk" on one line, each within [lo, hi]. */
-static int lst__read_line(pw__sc *s, const char *keyword, long long *v, int n, long long lo, long long hi)
-{
-    size_t len;
-    const char *w;
-    int k, r;
-    pw__sc_skip_empty(s);
-    w = pw__sc_word(s, &len);
-    if (!pw__sc_is(w, len, keyword)) return pw__sc_fail(s, PW_ERR_PARSE, "expected '%s'", keyword);
-    for (k = 0; k < n; k++) {
-        if ((r = pw__sc_int(s, &v[k], keyword, -1)) != PW_OK) return r;
-        if (v[k] < lo || v[k] > hi)
-            return pw__sc_fail(s, PW_ERR_LIMIT, "%s: %lld is outside %lld..%lld", keyword, v[k], lo, hi);
-    }
-    if (!pw__sc_eol(s)) return pw__sc_fail(s, PW_ERR_PARSE, "unexpected text after '%s'", keyword);
-    pw__sc_next_line(s);
-    return PW_OK;
-}
-
 /* A count announced in the file, at most one per `min_bytes` left. */
 static int lst__read_count(pw__sc *s, const char *keyword, size_t min_bytes, int *out)
 {
     long long v;
-    int r = lst__read_line(s, keyword, &v, 1, 0, PW_MAX_MESH_ELEMENTS);
+    int r = pw__sc_read_ints(s, keyword, &v, 1, 0, PW_MAX_MESH_ELEMENTS);
     if (r != PW_OK) return r;
     if ((unsigned long long)v > (unsigned long long)(s->end - s->p) / min_bytes + 1)
         return pw__sc_fail(s, PW_ERR_PARSE, "%lld %s announced, the file is too short for them", v, keyword);
@@ -23876,7 +23877,7 @@ static int lst__read_exemplars_part(pw__sc *s, const pw_alloc *a, lst_model *m, 
     m->masks.count = n;
     m->masks.allocator = lst__allocator(a);
     for (k = 0; k < n; k++) {
-        if ((r = lst__read_line(s, "exemplar", v, 4, 0, 65536)) != PW_OK) return r;
+        if ((r = pw__sc_read_ints(s, "exemplar", v, 4, 0, 65536)) != PW_OK) return r;
         if (v[0] != k) return pw__sc_fail(s, PW_ERR_PARSE, "exemplar %lld listed where exemplar %d belongs", v[0], k);
         if (v[1] < 1 || v[2] < 1 || v[3] < 1) return pw__sc_fail(s, PW_ERR_PARSE, "exemplar %d has an empty size", k);
         m->masks.volumes[k].width = (int)v[1];
@@ -23956,7 +23957,7 @@ static int lst__read_pastes_part(pw__sc *s, const pw_alloc *a, lst_model *m, pw_
         P.loc = vloc;
         P.cap = 0;
         m->npastes = p + 1;
-        if ((r = lst__read_line(s, "paste", v, 2, 0, PW_MAX_MESH_ELEMENTS)) != PW_OK) break;
+        if ((r = pw__sc_read_ints(s, "paste", v, 2, 0, PW_MAX_MESH_ELEMENTS)) != PW_OK) break;
         if (v[0] >= m->masks.count)
             r = pw__sc_fail(s, PW_ERR_PARSE, "paste %d uses exemplar %lld of %d", p, v[0], m->masks.count);
         else if (v[1] < 1 || v[1] > (long long)(s->end - s->p) / 26 + 1)
@@ -24004,7 +24005,7 @@ LSTDEF lst_result lst_read_model(const void *data, size_t size, const char *name
     out->allocator = out->mesh.allocator = lst__allocator(&a);
     out->type = -1; /* not recorded in the file */
     pw__sc_init(&s, data, size, name ? name : "model", 0, &e);
-    if (lst__read_line(&s, "lst", &v, 1, 1, 1) == PW_OK && lst__read_mesh_part(&s, &a, out, &e) == PW_OK) {
+    if (pw__sc_read_ints(&s, "lst", &v, 1, 1, 1) == PW_OK && lst__read_mesh_part(&s, &a, out, &e) == PW_OK) {
         if (lst__check_tets(&out->mesh, &e) == PW_OK && lst__read_exemplars_part(&s, &a, out, &e) == PW_OK &&
             lst__read_pastes_part(&s, &a, out, &e) == PW_OK)
             lst__model_stats(out);

@@ -11,36 +11,36 @@
  *   1942: src/common/deflate.h, zlib (RFC 1950) and deflate (RFC 1951) compression and
  *   2939: src/common/png.h, PNG writer and reader, and the image front end.
  *   3497: src/common/text.h, locale-independent number parsing and formatting, a line s
- *   3900: src/common/mesh.h, polygon meshes as flat arrays, and their file formats.
- *   5429: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
- *   5930: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
- *   6354: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
- *   7617: src/common/zsparse.h, complex Hermitian sparse systems, solved by conjugate grad
- *   7877: src/common/raster.h, exact scan conversion of 2D triangles.
- *   8351: src/common/render.h, a small deterministic software renderer for textured trian
- *  10118: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
- *  10305: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
- *  10390: src/common/atlas.h, texture atlases of triangle meshes — charts, packing, ba
- *  12363: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
- *  13127: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
- *  13888: src/pgp/tile3.h, sampling a material-space tile (Ray et al. 2009, §2: "a 3
- *  13996: src/common/glue.h, what every method header needs between its public types an
- *  14197: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  14861: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
- *  15358: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
- *  15857: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
- *  16000: src/common/kdtree.h, nearest-neighbour search among n points of dimension d, wi
- *  16343: src/common/pca.h, principal component analysis of vectors streamed one at a 
- *  16530: src/pgp/core.c, pgp.h's glue to the shared core, its defaults, and the map
- *  16787: src/pgp/field.c, §2.1 effect areas and §2.2 interpolation of the constrai
- *  17169: src/pgp/solve.c, §2.3 the periodic global parameterization, the recovery o
- *  17980: src/pgp/edit.c, the public editing calls of a mapping. §2.1 (Ray, Lévy, 
- *  18119: src/pgp/render.c, §3 rendering, and a cleaner treatment of the vortices.
- *  18551: src/pgp/builtin.c, built-in meshes and material-space tiles for demos and tes
- *  18807: src/pgp/io.c, files and memory for pgp.h: material-space tiles (NRRD, or
- *  19267: src/pgp/export.c, the mapping for other programs. A viewer that knows nothin
- *  19484: src/pgp/morph.c, the inputs of §1 (keys brought to the tile size, made til
- *  20163: src/pgp/synth.c, §1.2 constrained tile synthesis, and the whole of §1: ke
+ *   3920: src/common/mesh.h, polygon meshes as flat arrays, and their file formats.
+ *   5449: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
+ *   5950: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
+ *   6374: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
+ *   7637: src/common/zsparse.h, complex Hermitian sparse systems, solved by conjugate grad
+ *   7897: src/common/raster.h, exact scan conversion of 2D triangles.
+ *   8371: src/common/render.h, a small deterministic software renderer for textured trian
+ *  10138: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
+ *  10325: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
+ *  10410: src/common/atlas.h, texture atlases of triangle meshes — charts, packing, ba
+ *  12383: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
+ *  13147: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
+ *  13908: src/pgp/tile3.h, sampling a material-space tile (Ray et al. 2009, §2: "a 3
+ *  14016: src/common/glue.h, what every method header needs between its public types an
+ *  14217: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  14881: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
+ *  15378: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
+ *  15877: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
+ *  16020: src/common/kdtree.h, nearest-neighbour search among n points of dimension d, wi
+ *  16363: src/common/pca.h, principal component analysis of vectors streamed one at a 
+ *  16550: src/pgp/core.c, pgp.h's glue to the shared core, its defaults, and the map
+ *  16807: src/pgp/field.c, §2.1 effect areas and §2.2 interpolation of the constrai
+ *  17189: src/pgp/solve.c, §2.3 the periodic global parameterization, the recovery o
+ *  18000: src/pgp/edit.c, the public editing calls of a mapping. §2.1 (Ray, Lévy, 
+ *  18139: src/pgp/render.c, §3 rendering, and a cleaner treatment of the vortices.
+ *  18571: src/pgp/builtin.c, built-in meshes and material-space tiles for demos and tes
+ *  18827: src/pgp/io.c, files and memory for pgp.h: material-space tiles (NRRD, or
+ *  19287: src/pgp/export.c, the mapping for other programs. A viewer that knows nothin
+ *  19504: src/pgp/morph.c, the inputs of §1 (keys brought to the tile size, made til
+ *  20183: src/pgp/synth.c, §1.2 constrained tile synthesis, and the whole of §1: ke
  */
 /* pgp.h - material-space texturing with a periodic global parameterization.
  *
@@ -3749,6 +3749,26 @@ PW__DEF int pw__sc_num(pw__sc *s, double *v, const char *what, long long index)
 PW__DEF int pw__sc_int(pw__sc *s, long long *v, const char *what, long long index)
 {
     return pw__sc_value(s, NULL, v, what, index);
+}
+
+/* Reads the line "<keyword> n1 ... nk" (after blank and comment lines), each
+ * integer within [lo, hi], and moves to the next line. */
+PW__DEF int pw__sc_read_ints(pw__sc *s, const char *keyword, long long *v, int n, long long lo, long long hi)
+{
+    size_t len;
+    const char *w;
+    int k, r;
+    pw__sc_skip_empty(s);
+    w = pw__sc_word(s, &len);
+    if (!pw__sc_is(w, len, keyword)) return pw__sc_fail(s, PW_ERR_PARSE, "expected '%s'", keyword);
+    for (k = 0; k < n; k++) {
+        if ((r = pw__sc_int(s, &v[k], keyword, -1)) != PW_OK) return r;
+        if (v[k] < lo || v[k] > hi)
+            return pw__sc_fail(s, PW_ERR_LIMIT, "%s: %lld is outside %lld..%lld", keyword, v[k], lo, hi);
+    }
+    if (!pw__sc_eol(s)) return pw__sc_fail(s, PW_ERR_PARSE, "unexpected text after '%s'", keyword);
+    pw__sc_next_line(s);
+    return PW_OK;
 }
 
 /* Buffered output over a pw_write_fn. */

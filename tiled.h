@@ -11,24 +11,24 @@
  *   1721: src/common/deflate.h, zlib (RFC 1950) and deflate (RFC 1951) compression and
  *   2720: src/common/png.h, PNG writer and reader, and the image front end.
  *   3278: src/common/text.h, locale-independent number parsing and formatting, a line s
- *   3681: src/common/mesh.h, polygon meshes as flat arrays, and their file formats.
- *   5210: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
- *   5711: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
- *   6135: src/common/subdiv.h, Catmull-Clark subdivision (Catmull and Clark 1978) with
- *   6274: src/common/raster.h, exact scan conversion of 2D triangles.
- *   6750: src/common/render.h, a small deterministic software renderer for textured trian
- *   8517: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
- *   9014: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
- *   9513: src/common/glue.h, what every method header needs between its public types an
- *   9714: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  10378: src/tiled/core.c, tiled.h's glue to the shared core, its defaults, result
- *  10480: src/tiled/layout.c, ch. III.1, the boundary types and the tiled texture they
- *  10752: src/tiled/map.c, ch. III.2, the texture mapping algorithm of Fig. 29
- *  10993: src/tiled/synth.c, ch. III.1.3, tiled texture image synthesis: an edge-matche
- *  11357: src/tiled/validate.c, checks a hand-made tiled texture (the thesis's Figs. 39,
- *  11485: src/tiled/builtin.c, built-in meshes and exemplars for demos and tests: the
- *  11683: src/tiled/render.c, a software rendering of a mapped mesh (the thesis rendered
- *  11891: src/tiled/io.c, files. Meshes and exemplars in; the mapped mesh with its t
+ *   3701: src/common/mesh.h, polygon meshes as flat arrays, and their file formats.
+ *   5230: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
+ *   5731: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
+ *   6155: src/common/subdiv.h, Catmull-Clark subdivision (Catmull and Clark 1978) with
+ *   6294: src/common/raster.h, exact scan conversion of 2D triangles.
+ *   6770: src/common/render.h, a small deterministic software renderer for textured trian
+ *   8537: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
+ *   9034: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
+ *   9533: src/common/glue.h, what every method header needs between its public types an
+ *   9734: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  10398: src/tiled/core.c, tiled.h's glue to the shared core, its defaults, result
+ *  10500: src/tiled/layout.c, ch. III.1, the boundary types and the tiled texture they
+ *  10772: src/tiled/map.c, ch. III.2, the texture mapping algorithm of Fig. 29
+ *  11013: src/tiled/synth.c, ch. III.1.3, tiled texture image synthesis: an edge-matche
+ *  11377: src/tiled/validate.c, checks a hand-made tiled texture (the thesis's Figs. 39,
+ *  11505: src/tiled/builtin.c, built-in meshes and exemplars for demos and tests: the
+ *  11703: src/tiled/render.c, a software rendering of a mapped mesh (the thesis rendered
+ *  11911: src/tiled/io.c, files. Meshes and exemplars in; the mapped mesh with its t
  */
 /* tiled.h - seamless, singularity-free tiled textures on quad meshes.
  *
@@ -3530,6 +3530,26 @@ PW__DEF int pw__sc_num(pw__sc *s, double *v, const char *what, long long index)
 PW__DEF int pw__sc_int(pw__sc *s, long long *v, const char *what, long long index)
 {
     return pw__sc_value(s, NULL, v, what, index);
+}
+
+/* Reads the line "<keyword> n1 ... nk" (after blank and comment lines), each
+ * integer within [lo, hi], and moves to the next line. */
+PW__DEF int pw__sc_read_ints(pw__sc *s, const char *keyword, long long *v, int n, long long lo, long long hi)
+{
+    size_t len;
+    const char *w;
+    int k, r;
+    pw__sc_skip_empty(s);
+    w = pw__sc_word(s, &len);
+    if (!pw__sc_is(w, len, keyword)) return pw__sc_fail(s, PW_ERR_PARSE, "expected '%s'", keyword);
+    for (k = 0; k < n; k++) {
+        if ((r = pw__sc_int(s, &v[k], keyword, -1)) != PW_OK) return r;
+        if (v[k] < lo || v[k] > hi)
+            return pw__sc_fail(s, PW_ERR_LIMIT, "%s: %lld is outside %lld..%lld", keyword, v[k], lo, hi);
+    }
+    if (!pw__sc_eol(s)) return pw__sc_fail(s, PW_ERR_PARSE, "unexpected text after '%s'", keyword);
+    pw__sc_next_line(s);
+    return PW_OK;
 }
 
 /* Buffered output over a pw_write_fn. */

@@ -255,6 +255,26 @@ PW__DEF int pw__sc_int(pw__sc *s, long long *v, const char *what, long long inde
     return pw__sc_value(s, NULL, v, what, index);
 }
 
+/* Reads the line "<keyword> n1 ... nk" (after blank and comment lines), each
+ * integer within [lo, hi], and moves to the next line. */
+PW__DEF int pw__sc_read_ints(pw__sc *s, const char *keyword, long long *v, int n, long long lo, long long hi)
+{
+    size_t len;
+    const char *w;
+    int k, r;
+    pw__sc_skip_empty(s);
+    w = pw__sc_word(s, &len);
+    if (!pw__sc_is(w, len, keyword)) return pw__sc_fail(s, PW_ERR_PARSE, "expected '%s'", keyword);
+    for (k = 0; k < n; k++) {
+        if ((r = pw__sc_int(s, &v[k], keyword, -1)) != PW_OK) return r;
+        if (v[k] < lo || v[k] > hi)
+            return pw__sc_fail(s, PW_ERR_LIMIT, "%s: %lld is outside %lld..%lld", keyword, v[k], lo, hi);
+    }
+    if (!pw__sc_eol(s)) return pw__sc_fail(s, PW_ERR_PARSE, "unexpected text after '%s'", keyword);
+    pw__sc_next_line(s);
+    return PW_OK;
+}
+
 /* Buffered output over a pw_write_fn. */
 typedef struct pw__wb {
     pw_write_fn w;

@@ -67,37 +67,18 @@ LAPPEDDEF lapped_result lapped_write_pastes(const lapped_texture *t, lapped_writ
 
 /* ---- reading ----------------------------------------------------------------- */
 
-/* Reads "<keyword> n1 ... nk" on one line, each within [lo, hi]. */
-static int lapped__read_line(pw__sc *s, const char *keyword, long long *v, int n, long long lo, long long hi)
-{
-    size_t len;
-    const char *w;
-    int k, r;
-    pw__sc_skip_empty(s);
-    w = pw__sc_word(s, &len);
-    if (!pw__sc_is(w, len, keyword)) return pw__sc_fail(s, PW_ERR_PARSE, "expected '%s'", keyword);
-    for (k = 0; k < n; k++) {
-        if ((r = pw__sc_int(s, &v[k], keyword, -1)) != PW_OK) return r;
-        if (v[k] < lo || v[k] > hi)
-            return pw__sc_fail(s, PW_ERR_LIMIT, "%s: %lld is outside %lld..%lld", keyword, v[k], lo, hi);
-    }
-    if (!pw__sc_eol(s)) return pw__sc_fail(s, PW_ERR_PARSE, "unexpected text after '%s'", keyword);
-    pw__sc_next_line(s);
-    return PW_OK;
-}
-
 static int lapped__read_header(pw__sc *s, const pw_alloc *a, lapped_texture *t, pw_err *e)
 {
     long long v[3];
     int k, r;
-    if ((r = lapped__read_line(s, "lapped-pastes", v, 1, 1, 1)) != PW_OK ||
-        (r = lapped__read_line(s, "patches", v, 1, 1, 4096)) != PW_OK)
+    if ((r = pw__sc_read_ints(s, "lapped-pastes", v, 1, 1, 1)) != PW_OK ||
+        (r = pw__sc_read_ints(s, "patches", v, 1, 1, 4096)) != PW_OK)
         return r;
     t->npatches = (int)v[0];
     if (!(t->patch_size = (int *)pw_alloc_array(a, (size_t)t->npatches * 2, sizeof(int), "patch sizes", e)))
         return PW_ERR_NOMEM;
     for (k = 0; k < t->npatches; k++) {
-        if ((r = lapped__read_line(s, "patch", v, 3, 0, PW_MAX_IMAGE_DIM)) != PW_OK) return r;
+        if ((r = pw__sc_read_ints(s, "patch", v, 3, 0, PW_MAX_IMAGE_DIM)) != PW_OK) return r;
         if (v[0] != k) return pw__sc_fail(s, PW_ERR_PARSE, "patch %lld listed where patch %d belongs", v[0], k);
         if (v[1] < 1 || v[2] < 1) return pw__sc_fail(s, PW_ERR_PARSE, "patch %d has an empty size", k);
         t->patch_size[2 * k] = (int)v[1];
@@ -132,7 +113,7 @@ static int lapped__read_pastes(pw__sc *s, const pw_alloc *a, lapped_texture *t, 
     long long v[2];
     int p, i, r;
     /* a face line has at least 14 bytes: checked before allocating */
-    if ((r = lapped__read_line(s, "pastes", v, 1, 0, PW_MAX_MESH_ELEMENTS)) != PW_OK) return r;
+    if ((r = pw__sc_read_ints(s, "pastes", v, 1, 0, PW_MAX_MESH_ELEMENTS)) != PW_OK) return r;
     if (v[0] > (long long)(s->end - s->p) / 8 + 1)
         return pw__sc_fail(s, PW_ERR_PARSE, "%lld pastes announced, the file is too short for them", v[0]);
     if (!(t->pastes = (lapped_paste *)pw_calloc_array(a, (size_t)v[0], sizeof(lapped_paste), "pastes", e)))
@@ -140,7 +121,7 @@ static int lapped__read_pastes(pw__sc *s, const pw_alloc *a, lapped_texture *t, 
     t->npastes = (int)v[0];
     for (p = 0; p < t->npastes; p++) {
         lapped_paste *q = &t->pastes[p];
-        if ((r = lapped__read_line(s, "paste", v, 2, 0, PW_MAX_MESH_ELEMENTS)) != PW_OK) return r;
+        if ((r = pw__sc_read_ints(s, "paste", v, 2, 0, PW_MAX_MESH_ELEMENTS)) != PW_OK) return r;
         if (v[0] >= t->npatches)
             return pw__sc_fail(s, PW_ERR_PARSE, "paste %d uses patch %lld of %d", p, v[0], t->npatches);
         if (v[1] > (long long)(s->end - s->p) / 14 + 1)

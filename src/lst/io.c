@@ -149,30 +149,11 @@ LSTDEF lst_result lst_write_model(const lst_model *m, lst_write_fn fn, void *ctx
 
 /* ---- reading the model ---------------------------------------------------------------------- */
 
-/* "<keyword> n1 ... nk" on one line, each within [lo, hi]. */
-static int lst__read_line(pw__sc *s, const char *keyword, long long *v, int n, long long lo, long long hi)
-{
-    size_t len;
-    const char *w;
-    int k, r;
-    pw__sc_skip_empty(s);
-    w = pw__sc_word(s, &len);
-    if (!pw__sc_is(w, len, keyword)) return pw__sc_fail(s, PW_ERR_PARSE, "expected '%s'", keyword);
-    for (k = 0; k < n; k++) {
-        if ((r = pw__sc_int(s, &v[k], keyword, -1)) != PW_OK) return r;
-        if (v[k] < lo || v[k] > hi)
-            return pw__sc_fail(s, PW_ERR_LIMIT, "%s: %lld is outside %lld..%lld", keyword, v[k], lo, hi);
-    }
-    if (!pw__sc_eol(s)) return pw__sc_fail(s, PW_ERR_PARSE, "unexpected text after '%s'", keyword);
-    pw__sc_next_line(s);
-    return PW_OK;
-}
-
 /* A count announced in the file, at most one per `min_bytes` left. */
 static int lst__read_count(pw__sc *s, const char *keyword, size_t min_bytes, int *out)
 {
     long long v;
-    int r = lst__read_line(s, keyword, &v, 1, 0, PW_MAX_MESH_ELEMENTS);
+    int r = pw__sc_read_ints(s, keyword, &v, 1, 0, PW_MAX_MESH_ELEMENTS);
     if (r != PW_OK) return r;
     if ((unsigned long long)v > (unsigned long long)(s->end - s->p) / min_bytes + 1)
         return pw__sc_fail(s, PW_ERR_PARSE, "%lld %s announced, the file is too short for them", v, keyword);
@@ -223,7 +204,7 @@ static int lst__read_exemplars_part(pw__sc *s, const pw_alloc *a, lst_model *m, 
     m->masks.count = n;
     m->masks.allocator = lst__allocator(a);
     for (k = 0; k < n; k++) {
-        if ((r = lst__read_line(s, "exemplar", v, 4, 0, 65536)) != PW_OK) return r;
+        if ((r = pw__sc_read_ints(s, "exemplar", v, 4, 0, 65536)) != PW_OK) return r;
         if (v[0] != k) return pw__sc_fail(s, PW_ERR_PARSE, "exemplar %lld listed where exemplar %d belongs", v[0], k);
         if (v[1] < 1 || v[2] < 1 || v[3] < 1) return pw__sc_fail(s, PW_ERR_PARSE, "exemplar %d has an empty size", k);
         m->masks.volumes[k].width = (int)v[1];
@@ -303,7 +284,7 @@ static int lst__read_pastes_part(pw__sc *s, const pw_alloc *a, lst_model *m, pw_
         P.loc = vloc;
         P.cap = 0;
         m->npastes = p + 1;
-        if ((r = lst__read_line(s, "paste", v, 2, 0, PW_MAX_MESH_ELEMENTS)) != PW_OK) break;
+        if ((r = pw__sc_read_ints(s, "paste", v, 2, 0, PW_MAX_MESH_ELEMENTS)) != PW_OK) break;
         if (v[0] >= m->masks.count)
             r = pw__sc_fail(s, PW_ERR_PARSE, "paste %d uses exemplar %lld of %d", p, v[0], m->masks.count);
         else if (v[1] < 1 || v[1] > (long long)(s->end - s->p) / 26 + 1)
@@ -351,7 +332,7 @@ LSTDEF lst_result lst_read_model(const void *data, size_t size, const char *name
     out->allocator = out->mesh.allocator = lst__allocator(&a);
     out->type = -1; /* not recorded in the file */
     pw__sc_init(&s, data, size, name ? name : "model", 0, &e);
-    if (lst__read_line(&s, "lst", &v, 1, 1, 1) == PW_OK && lst__read_mesh_part(&s, &a, out, &e) == PW_OK) {
+    if (pw__sc_read_ints(&s, "lst", &v, 1, 1, 1) == PW_OK && lst__read_mesh_part(&s, &a, out, &e) == PW_OK) {
         if (lst__check_tets(&out->mesh, &e) == PW_OK && lst__read_exemplars_part(&s, &a, out, &e) == PW_OK &&
             lst__read_pastes_part(&s, &a, out, &e) == PW_OK)
             lst__model_stats(out);
