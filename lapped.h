@@ -23,15 +23,15 @@
  *  10825: src/common/atlas.h, texture atlases of triangle meshes — charts, packing, ba
  *  12798: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
  *  13562: src/common/glue.h, what every method header needs between its public types an
- *  13763: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  14427: src/lapped/core.c, lapped.h's glue to the shared core, its defaults, and the 
- *  14585: src/lapped/field.c, §3.2 the tangent field, one frame (S, T) per triangle, an
- *  15040: src/lapped/patch.c, §3.1 texture patches. A patch is the texture as RGBA whos
- *  15331: src/lapped/builtin.c, built-in meshes (made by the shared shapes module) and tex
- *  15511: src/lapped/grow.c, pasting (§3.3-3.6): grow a surface patch around an uncove
- *  16937: src/lapped/render.c, runtime pasting (§4): the mesh drawn once per paste, in p
- *  17140: src/lapped/atlas.c, §4 "Rendering with a texture atlas".
- *  17374: src/lapped/io.c, the paste file format and the file conveniences of lapped.
+ *  13775: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  14439: src/lapped/core.c, lapped.h's glue to the shared core, its defaults, and the 
+ *  14592: src/lapped/field.c, §3.2 the tangent field, one frame (S, T) per triangle, an
+ *  15047: src/lapped/patch.c, §3.1 texture patches. A patch is the texture as RGBA whos
+ *  15338: src/lapped/builtin.c, built-in meshes (made by the shared shapes module) and tex
+ *  15518: src/lapped/grow.c, pasting (§3.3-3.6): grow a surface patch around an uncove
+ *  16944: src/lapped/render.c, runtime pasting (§4): the mesh drawn once per paste, in p
+ *  17147: src/lapped/atlas.c, §4 "Rendering with a texture atlas".
+ *  17381: src/lapped/io.c, the paste file format and the file conveniences of lapped.
  */
 /* lapped.h - lapped textures: overlapping texture patches pasted over a mesh.
  *
@@ -13634,6 +13634,7 @@ PW__DEF void pw_view_defaults(int *width, int *height, int *supersample, float v
  *   p_result    p__done(const pw_err *, p_error *)  copies an error out, returns its code
  *   pw_image    p__pw_image(const p_image *)        a view, no copy
  *   void        p__take_image(pw_image *, const pw_alloc *, p_image *)  moves pixels out
+ *   pw_mesh     p__pw_mesh(const p_mesh *)          a view of the shared fields, no copy
  *   int         p__check_image(const p_image *, const char *what, pw_err *)
  *   int         p__encode(const p_image *, const char *format, pw_write_fn, void *, pw_err *)
  *   p_result    p__left_out(const char *what, const char *macro, p_error *)
@@ -13701,6 +13702,17 @@ PW__DEF void pw_view_defaults(int *width, int *height, int *supersample, float v
         pw_image v = p##__pw_image(t);                                                                              \
         pw_alloc a = p##__alloc(&t->allocator);                                                                     \
         return pw_image_encode(&a, &v, format, fn, ctx, e);                                                         \
+    }                                                                                                               \
+    static PW__UNUSED pw_mesh p##__pw_mesh(const p##_mesh *t)                                                       \
+    {                                                                                                               \
+        pw_mesh m;                                                                                                  \
+        memset(&m, 0, sizeof m);                                                                                    \
+        m.nv = t->nverts;                                                                                           \
+        m.pos = t->positions;                                                                                       \
+        m.nf = t->nfaces;                                                                                           \
+        m.fstart = t->face_start;                                                                                   \
+        m.fv = t->face_verts;                                                                                       \
+        return m;                                                                                                   \
     }                                                                                                               \
     static PW__UNUSED void p##__take_mesh(pw_mesh *m, const pw_alloc *a, p##_mesh *t)                               \
     {                                                                                                               \
@@ -14492,12 +14504,7 @@ static int lapped__mesh_init(const pw_alloc *a, const lapped_mesh *in, pw_trimes
     pw_mesh v;
     memset(m, 0, sizeof *m);
     if (!in) return pw_fail(e, PW_ERR_INVALID, "no mesh given");
-    memset(&v, 0, sizeof v);
-    v.nv = in->nverts;
-    v.pos = in->positions;
-    v.nf = in->nfaces;
-    v.fstart = in->face_start;
-    v.fv = in->face_verts;
+    v = lapped__pw_mesh(in);
     return pw_trimesh_init_ex(a, &v, 1, m, e);
 }
 

@@ -28,8 +28,8 @@
  *  17370: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
  *  17513: src/common/pca.h, principal component analysis of vectors streamed one at a 
  *  17700: src/common/glue.h, what every method header needs between its public types an
- *  17901: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  18565: src/lst/core.c, lst.h's glue to the shared core, its defaults, the convers
+ *  17913: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  18577: src/lst/core.c, lst.h's glue to the shared core, its defaults, the convers
  *  18910: src/lst/exemplar.c, solid exemplars (§5): sampling, the procedural exemplars 
  *  19461: src/lst/field.c, §5.2.2, the fields that orient and scale the pastes. The 
  *  20669: src/lst/paste.c, §5.2.3-5.2.7, filling the model. Each paste picks a rando
@@ -17772,6 +17772,7 @@ PW__DEF void pw_view_defaults(int *width, int *height, int *supersample, float v
  *   p_result    p__done(const pw_err *, p_error *)  copies an error out, returns its code
  *   pw_image    p__pw_image(const p_image *)        a view, no copy
  *   void        p__take_image(pw_image *, const pw_alloc *, p_image *)  moves pixels out
+ *   pw_mesh     p__pw_mesh(const p_mesh *)          a view of the shared fields, no copy
  *   int         p__check_image(const p_image *, const char *what, pw_err *)
  *   int         p__encode(const p_image *, const char *format, pw_write_fn, void *, pw_err *)
  *   p_result    p__left_out(const char *what, const char *macro, p_error *)
@@ -17839,6 +17840,17 @@ PW__DEF void pw_view_defaults(int *width, int *height, int *supersample, float v
         pw_image v = p##__pw_image(t);                                                                              \
         pw_alloc a = p##__alloc(&t->allocator);                                                                     \
         return pw_image_encode(&a, &v, format, fn, ctx, e);                                                         \
+    }                                                                                                               \
+    static PW__UNUSED pw_mesh p##__pw_mesh(const p##_mesh *t)                                                       \
+    {                                                                                                               \
+        pw_mesh m;                                                                                                  \
+        memset(&m, 0, sizeof m);                                                                                    \
+        m.nv = t->nverts;                                                                                           \
+        m.pos = t->positions;                                                                                       \
+        m.nf = t->nfaces;                                                                                           \
+        m.fstart = t->face_start;                                                                                   \
+        m.fv = t->face_verts;                                                                                       \
+        return m;                                                                                                   \
     }                                                                                                               \
     static PW__UNUSED void p##__take_mesh(pw_mesh *m, const pw_alloc *a, p##_mesh *t)                               \
     {                                                                                                               \
@@ -18703,18 +18715,6 @@ static void lst__take_volume(pw_volume *p, const pw_alloc *a, lst_volume *v)
     v->voxels = p->px;
     v->allocator = lst__allocator(a);
     memset(p, 0, sizeof *p);
-}
-
-static pw_mesh lst__pw_mesh(const lst_mesh *t)
-{
-    pw_mesh m;
-    memset(&m, 0, sizeof m);
-    m.nv = t->nverts;
-    m.pos = t->positions;
-    m.nf = t->nfaces;
-    m.fstart = t->face_start;
-    m.fv = t->face_verts;
-    return m;
 }
 
 /* A caller's volume: sizes within the limit, 1-4 channels, finite voxels. */

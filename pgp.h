@@ -25,22 +25,22 @@
  *  13147: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
  *  13908: src/pgp/tile3.h, sampling a material-space tile (Ray et al. 2009, §2: "a 3
  *  14016: src/common/glue.h, what every method header needs between its public types an
- *  14217: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  14881: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
- *  15378: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
- *  15877: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
- *  16020: src/common/kdtree.h, nearest-neighbour search among n points of dimension d, wi
- *  16363: src/common/pca.h, principal component analysis of vectors streamed one at a 
- *  16550: src/pgp/core.c, pgp.h's glue to the shared core, its defaults, and the map
- *  16807: src/pgp/field.c, §2.1 effect areas and §2.2 interpolation of the constrai
- *  17189: src/pgp/solve.c, §2.3 the periodic global parameterization, the recovery o
- *  18000: src/pgp/edit.c, the public editing calls of a mapping. §2.1 (Ray, Lévy, 
- *  18139: src/pgp/render.c, §3 rendering, and a cleaner treatment of the vortices.
- *  18571: src/pgp/builtin.c, built-in meshes and material-space tiles for demos and tes
- *  18827: src/pgp/io.c, files and memory for pgp.h: material-space tiles (NRRD, or
- *  19287: src/pgp/export.c, the mapping for other programs. A viewer that knows nothin
- *  19504: src/pgp/morph.c, the inputs of §1 (keys brought to the tile size, made til
- *  20183: src/pgp/synth.c, §1.2 constrained tile synthesis, and the whole of §1: ke
+ *  14229: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  14893: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
+ *  15390: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
+ *  15889: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
+ *  16032: src/common/kdtree.h, nearest-neighbour search among n points of dimension d, wi
+ *  16375: src/common/pca.h, principal component analysis of vectors streamed one at a 
+ *  16562: src/pgp/core.c, pgp.h's glue to the shared core, its defaults, and the map
+ *  16819: src/pgp/field.c, §2.1 effect areas and §2.2 interpolation of the constrai
+ *  17201: src/pgp/solve.c, §2.3 the periodic global parameterization, the recovery o
+ *  18008: src/pgp/edit.c, the public editing calls of a mapping. §2.1 (Ray, Lévy, 
+ *  18147: src/pgp/render.c, §3 rendering, and a cleaner treatment of the vortices.
+ *  18579: src/pgp/builtin.c, built-in meshes and material-space tiles for demos and tes
+ *  18835: src/pgp/io.c, files and memory for pgp.h: material-space tiles (NRRD, or
+ *  19295: src/pgp/export.c, the mapping for other programs. A viewer that knows nothin
+ *  19512: src/pgp/morph.c, the inputs of §1 (keys brought to the tile size, made til
+ *  20191: src/pgp/synth.c, §1.2 constrained tile synthesis, and the whole of §1: ke
  */
 /* pgp.h - material-space texturing with a periodic global parameterization.
  *
@@ -14088,6 +14088,7 @@ PW__DEF void pw_view_defaults(int *width, int *height, int *supersample, float v
  *   p_result    p__done(const pw_err *, p_error *)  copies an error out, returns its code
  *   pw_image    p__pw_image(const p_image *)        a view, no copy
  *   void        p__take_image(pw_image *, const pw_alloc *, p_image *)  moves pixels out
+ *   pw_mesh     p__pw_mesh(const p_mesh *)          a view of the shared fields, no copy
  *   int         p__check_image(const p_image *, const char *what, pw_err *)
  *   int         p__encode(const p_image *, const char *format, pw_write_fn, void *, pw_err *)
  *   p_result    p__left_out(const char *what, const char *macro, p_error *)
@@ -14155,6 +14156,17 @@ PW__DEF void pw_view_defaults(int *width, int *height, int *supersample, float v
         pw_image v = p##__pw_image(t);                                                                              \
         pw_alloc a = p##__alloc(&t->allocator);                                                                     \
         return pw_image_encode(&a, &v, format, fn, ctx, e);                                                         \
+    }                                                                                                               \
+    static PW__UNUSED pw_mesh p##__pw_mesh(const p##_mesh *t)                                                       \
+    {                                                                                                               \
+        pw_mesh m;                                                                                                  \
+        memset(&m, 0, sizeof m);                                                                                    \
+        m.nv = t->nverts;                                                                                           \
+        m.pos = t->positions;                                                                                       \
+        m.nf = t->nfaces;                                                                                           \
+        m.fstart = t->face_start;                                                                                   \
+        m.fv = t->face_verts;                                                                                       \
+        return m;                                                                                                   \
     }                                                                                                               \
     static PW__UNUSED void p##__take_mesh(pw_mesh *m, const pw_alloc *a, p##_mesh *t)                               \
     {                                                                                                               \
@@ -17729,12 +17741,8 @@ static int pgp__setup(pgp__state *P, const pgp_mesh *in, pw_err *e)
     P->pos = (float *)pw_alloc_array(&P->a, (size_t)in->nverts * 3, sizeof(float), "positions", e);
     if (!P->pos) return PW_ERR_NOMEM;
     memcpy(P->pos, in->positions, sizeof(float) * 3 * (size_t)in->nverts);
-    memset(&v, 0, sizeof v);
-    v.nv = in->nverts;
-    v.pos = P->pos;
-    v.nf = in->nfaces;
-    v.fstart = in->face_start;
-    v.fv = in->face_verts;
+    v = pgp__pw_mesh(in);
+    v.pos = P->pos; /* the map's own copy */
     if ((r = pw_trimesh_init(&P->a, &v, &P->m, e)) != PW_OK) return r;
     nf = (size_t)P->m.nf;
     nv = (size_t)P->m.nv;

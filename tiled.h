@@ -20,15 +20,15 @@
  *   8537: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
  *   9034: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
  *   9533: src/common/glue.h, what every method header needs between its public types an
- *   9734: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  10398: src/tiled/core.c, tiled.h's glue to the shared core, its defaults, result
- *  10500: src/tiled/layout.c, ch. III.1, the boundary types and the tiled texture they
- *  10772: src/tiled/map.c, ch. III.2, the texture mapping algorithm of Fig. 29
- *  11013: src/tiled/synth.c, ch. III.1.3, tiled texture image synthesis: an edge-matche
- *  11377: src/tiled/validate.c, checks a hand-made tiled texture (the thesis's Figs. 39,
- *  11505: src/tiled/builtin.c, built-in meshes and exemplars for demos and tests: the
- *  11703: src/tiled/render.c, a software rendering of a mapped mesh (the thesis rendered
- *  11911: src/tiled/io.c, files. Meshes and exemplars in; the mapped mesh with its t
+ *   9746: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  10410: src/tiled/core.c, tiled.h's glue to the shared core, its defaults, result
+ *  10499: src/tiled/layout.c, ch. III.1, the boundary types and the tiled texture they
+ *  10771: src/tiled/map.c, ch. III.2, the texture mapping algorithm of Fig. 29
+ *  11012: src/tiled/synth.c, ch. III.1.3, tiled texture image synthesis: an edge-matche
+ *  11376: src/tiled/validate.c, checks a hand-made tiled texture (the thesis's Figs. 39,
+ *  11504: src/tiled/builtin.c, built-in meshes and exemplars for demos and tests: the
+ *  11702: src/tiled/render.c, a software rendering of a mapped mesh (the thesis rendered
+ *  11910: src/tiled/io.c, files. Meshes and exemplars in; the mapped mesh with its t
  */
 /* tiled.h - seamless, singularity-free tiled textures on quad meshes.
  *
@@ -9605,6 +9605,7 @@ PW__DEF void pw_view_defaults(int *width, int *height, int *supersample, float v
  *   p_result    p__done(const pw_err *, p_error *)  copies an error out, returns its code
  *   pw_image    p__pw_image(const p_image *)        a view, no copy
  *   void        p__take_image(pw_image *, const pw_alloc *, p_image *)  moves pixels out
+ *   pw_mesh     p__pw_mesh(const p_mesh *)          a view of the shared fields, no copy
  *   int         p__check_image(const p_image *, const char *what, pw_err *)
  *   int         p__encode(const p_image *, const char *format, pw_write_fn, void *, pw_err *)
  *   p_result    p__left_out(const char *what, const char *macro, p_error *)
@@ -9672,6 +9673,17 @@ PW__DEF void pw_view_defaults(int *width, int *height, int *supersample, float v
         pw_image v = p##__pw_image(t);                                                                              \
         pw_alloc a = p##__alloc(&t->allocator);                                                                     \
         return pw_image_encode(&a, &v, format, fn, ctx, e);                                                         \
+    }                                                                                                               \
+    static PW__UNUSED pw_mesh p##__pw_mesh(const p##_mesh *t)                                                       \
+    {                                                                                                               \
+        pw_mesh m;                                                                                                  \
+        memset(&m, 0, sizeof m);                                                                                    \
+        m.nv = t->nverts;                                                                                           \
+        m.pos = t->positions;                                                                                       \
+        m.nf = t->nfaces;                                                                                           \
+        m.fstart = t->face_start;                                                                                   \
+        m.fv = t->face_verts;                                                                                       \
+        return m;                                                                                                   \
     }                                                                                                               \
     static PW__UNUSED void p##__take_mesh(pw_mesh *m, const pw_alloc *a, p##_mesh *t)                               \
     {                                                                                                               \
@@ -10411,19 +10423,6 @@ typedef char tiled__codes_match[(int)TILED_ERR_NOCONVERGE == PW_ERR_NOCONVERGE ?
 
 PW_PUBLIC_GLUE(tiled);
 PW_PUBLIC_IMAGE_FREE(tiled, TILEDDEF);
-
-/* A pw_mesh view of a public mesh (no copy, no texture coordinates). */
-static pw_mesh tiled__pw_mesh(const tiled_mesh *t)
-{
-    pw_mesh m;
-    memset(&m, 0, sizeof m);
-    m.nv = t->nverts;
-    m.pos = t->positions;
-    m.nf = t->nfaces;
-    m.fstart = t->face_start;
-    m.fv = t->face_verts;
-    return m;
-}
 
 /* Moves a pw_mesh's geometry into a public mesh (texture coordinates of a
  * loaded file are dropped: tiled.h computes its own). */

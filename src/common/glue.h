@@ -76,6 +76,7 @@ PW__DEF void pw_view_defaults(int *width, int *height, int *supersample, float v
  *   p_result    p__done(const pw_err *, p_error *)  copies an error out, returns its code
  *   pw_image    p__pw_image(const p_image *)        a view, no copy
  *   void        p__take_image(pw_image *, const pw_alloc *, p_image *)  moves pixels out
+ *   pw_mesh     p__pw_mesh(const p_mesh *)          a view of the shared fields, no copy
  *   int         p__check_image(const p_image *, const char *what, pw_err *)
  *   int         p__encode(const p_image *, const char *format, pw_write_fn, void *, pw_err *)
  *   p_result    p__left_out(const char *what, const char *macro, p_error *)
@@ -143,6 +144,17 @@ PW__DEF void pw_view_defaults(int *width, int *height, int *supersample, float v
         pw_image v = p##__pw_image(t);                                                                              \
         pw_alloc a = p##__alloc(&t->allocator);                                                                     \
         return pw_image_encode(&a, &v, format, fn, ctx, e);                                                         \
+    }                                                                                                               \
+    static PW__UNUSED pw_mesh p##__pw_mesh(const p##_mesh *t)                                                       \
+    {                                                                                                               \
+        pw_mesh m;                                                                                                  \
+        memset(&m, 0, sizeof m);                                                                                    \
+        m.nv = t->nverts;                                                                                           \
+        m.pos = t->positions;                                                                                       \
+        m.nf = t->nfaces;                                                                                           \
+        m.fstart = t->face_start;                                                                                   \
+        m.fv = t->face_verts;                                                                                       \
+        return m;                                                                                                   \
     }                                                                                                               \
     static PW__UNUSED void p##__take_mesh(pw_mesh *m, const pw_alloc *a, p##_mesh *t)                               \
     {                                                                                                               \

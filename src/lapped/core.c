@@ -82,12 +82,7 @@ static int lapped__mesh_init(const pw_alloc *a, const lapped_mesh *in, pw_trimes
     pw_mesh v;
     memset(m, 0, sizeof *m);
     if (!in) return pw_fail(e, PW_ERR_INVALID, "no mesh given");
-    memset(&v, 0, sizeof v);
-    v.nv = in->nverts;
-    v.pos = in->positions;
-    v.nf = in->nfaces;
-    v.fstart = in->face_start;
-    v.fv = in->face_verts;
+    v = lapped__pw_mesh(in);
     return pw_trimesh_init_ex(a, &v, 1, m, e);
 }
 

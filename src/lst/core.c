@@ -165,18 +165,6 @@ static void lst__take_volume(pw_volume *p, const pw_alloc *a, lst_volume *v)
     memset(p, 0, sizeof *p);
 }
 
-static pw_mesh lst__pw_mesh(const lst_mesh *t)
-{
-    pw_mesh m;
-    memset(&m, 0, sizeof m);
-    m.nv = t->nverts;
-    m.pos = t->positions;
-    m.nf = t->nfaces;
-    m.fstart = t->face_start;
-    m.fv = t->face_verts;
-    return m;
-}
-
 /* A caller's volume: sizes within the limit, 1-4 channels, finite voxels. */
 static int lst__check_volume(const lst_volume *v, const char *what, pw_err *e)
 {

@@ -541,12 +541,8 @@ static int pgp__setup(pgp__state *P, const pgp_mesh *in, pw_err *e)
     P->pos = (float *)pw_alloc_array(&P->a, (size_t)in->nverts * 3, sizeof(float), "positions", e);
     if (!P->pos) return PW_ERR_NOMEM;
     memcpy(P->pos, in->positions, sizeof(float) * 3 * (size_t)in->nverts);
-    memset(&v, 0, sizeof v);
-    v.nv = in->nverts;
-    v.pos = P->pos;
-    v.nf = in->nfaces;
-    v.fstart = in->face_start;
-    v.fv = in->face_verts;
+    v = pgp__pw_mesh(in);
+    v.pos = P->pos; /* the map's own copy */
     if ((r = pw_trimesh_init(&P->a, &v, &P->m, e)) != PW_OK) return r;
     nf = (size_t)P->m.nf;
     nv = (size_t)P->m.nv;

@@ -31,19 +31,6 @@ typedef char tiled__codes_match[(int)TILED_ERR_NOCONVERGE == PW_ERR_NOCONVERGE ?
 PW_PUBLIC_GLUE(tiled);
 PW_PUBLIC_IMAGE_FREE(tiled, TILEDDEF);
 
-/* A pw_mesh view of a public mesh (no copy, no texture coordinates). */
-static pw_mesh tiled__pw_mesh(const tiled_mesh *t)
-{
-    pw_mesh m;
-    memset(&m, 0, sizeof m);
-    m.nv = t->nverts;
-    m.pos = t->positions;
-    m.nf = t->nfaces;
-    m.fstart = t->face_start;
-    m.fv = t->face_verts;
-    return m;
-}
-
 /* Moves a pw_mesh's geometry into a public mesh (texture coordinates of a
  * loaded file are dropped: tiled.h computes its own). */
 TILEDDEF tiled_options tiled_default_options(void)
