@@ -8,12 +8,12 @@
 
 /* ---- sampling ------------------------------------------------------------------ */
 
-/* Trilinear interpolation at texture coordinates (u, v, w) (v = 0 at the
- * bottom row), clamped to the edge voxels; out gets vol->c values. */
-static void lst__sample(const pw_volume *vol, double u, double v, double w, float *out)
+/* Trilinear interpolation of vol's c channels at voxel coordinates (x, y, z)
+ * (voxel centres at integers), clamped to the edge voxels. */
+static void lst__trilinear(const pw_volume *vol, float x, float y, float z, float *out)
 {
     const int X = vol->x, Y = vol->y, Z = vol->z, c = vol->c;
-    float x = (float)(u * X - 0.5), y = (float)((1.0 - v) * Y - 0.5), z = (float)(w * Z - 0.5), fx, fy, fz;
+    float fx, fy, fz;
     size_t dx, dy, dz;
     const float *p;
     int x0, y0, z0, k;
@@ -39,37 +39,23 @@ static void lst__sample(const pw_volume *vol, double u, double v, double w, floa
     }
 }
 
+/* Trilinear interpolation at texture coordinates (u, v, w) (v = 0 at the
+ * bottom row), clamped to the edge voxels; out gets vol->c values. */
+static void lst__sample(const pw_volume *vol, double u, double v, double w, float *out)
+{
+    lst__trilinear(vol, (float)(u * vol->x - 0.5), (float)((1.0 - v) * vol->y - 0.5), (float)(w * vol->z - 0.5), out);
+}
+
 /* A mask's alpha at voxel coordinates (x, y, z) (voxel centres at
  * integers; the unit cube spans -0.5 .. size-0.5): trilinear inside, 0
- * outside (the paste ends at the exemplar's faces). */
+ * outside (the paste ends at the exemplar's faces). Masks have one channel. */
 static float lst__mask_alpha_vox(const pw_volume *mask, float x, float y, float z)
 {
-    const int X = mask->x, Y = mask->y, Z = mask->z;
-    const size_t sy = (size_t)X, sz = (size_t)X * Y;
-    float fx, fy, fz, a, b, c, d;
-    const float *p;
-    int x0, y0, z0, dx, dy, dz;
-    if (!(x >= -0.5f && x <= X - 0.5f && y >= -0.5f && y <= Y - 0.5f && z >= -0.5f && z <= Z - 0.5f)) return 0.0f;
-    x = x < 0.0f ? 0.0f : (x > X - 1 ? (float)(X - 1) : x);
-    y = y < 0.0f ? 0.0f : (y > Y - 1 ? (float)(Y - 1) : y);
-    z = z < 0.0f ? 0.0f : (z > Z - 1 ? (float)(Z - 1) : z);
-    x0 = (int)x;
-    y0 = (int)y;
-    z0 = (int)z;
-    fx = x - x0;
-    fy = y - y0;
-    fz = z - z0;
-    dx = x0 + 1 < X;
-    dy = y0 + 1 < Y ? (int)sy : 0;
-    dz = z0 + 1 < Z ? (int)sz : 0;
-    p = mask->px + z0 * sz + y0 * sy + x0;
-    a = p[0] + fx * (p[dx] - p[0]);
-    b = p[dy] + fx * (p[dy + dx] - p[dy]);
-    c = p[dz] + fx * (p[dz + dx] - p[dz]);
-    d = p[dz + dy] + fx * (p[dz + dy + dx] - p[dz + dy]);
-    a += fy * (b - a);
-    c += fy * (d - c);
-    return a + fz * (c - a);
+    float a;
+    if (!(x >= -0.5f && x <= mask->x - 0.5f && y >= -0.5f && y <= mask->y - 0.5f && z >= -0.5f && z <= mask->z - 0.5f))
+        return 0.0f;
+    lst__trilinear(mask, x, y, z, &a);
+    return a;
 }
 
 /* Texture coordinates to a mask's voxel coordinates. */
