@@ -21,17 +21,17 @@
  *  10553: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
  *  10740: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
  *  10825: src/common/atlas.h, texture atlases of triangle meshes — charts, packing, ba
- *  12798: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
- *  13562: src/common/glue.h, what every method header needs between its public types an
- *  13775: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  14439: src/lapped/core.c, lapped.h's glue to the shared core, its defaults, and the 
- *  14592: src/lapped/field.c, §3.2 the tangent field, one frame (S, T) per triangle, an
- *  15047: src/lapped/patch.c, §3.1 texture patches. A patch is the texture as RGBA whos
- *  15338: src/lapped/builtin.c, built-in meshes (made by the shared shapes module) and tex
- *  15518: src/lapped/grow.c, pasting (§3.3-3.6): grow a surface patch around an uncove
- *  16944: src/lapped/render.c, runtime pasting (§4): the mesh drawn once per paste, in p
- *  17147: src/lapped/atlas.c, §4 "Rendering with a texture atlas".
- *  17381: src/lapped/io.c, the paste file format and the file conveniences of lapped.
+ *  12827: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
+ *  13591: src/common/glue.h, what every method header needs between its public types an
+ *  13804: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  14468: src/lapped/core.c, lapped.h's glue to the shared core, its defaults, and the 
+ *  14633: src/lapped/field.c, §3.2 the tangent field, one frame (S, T) per triangle, an
+ *  15088: src/lapped/patch.c, §3.1 texture patches. A patch is the texture as RGBA whos
+ *  15402: src/lapped/builtin.c, built-in meshes (made by the shared shapes module) and tex
+ *  15602: src/lapped/grow.c, pasting (§3.3-3.6): grow a surface patch around an uncove
+ *  17086: src/lapped/render.c, runtime pasting (§4): the mesh drawn once per paste, in p
+ *  17290: src/lapped/atlas.c, §4 "Rendering with a texture atlas".
+ *  17533: src/lapped/io.c, the paste file format and the file conveniences of lapped.
  */
 /* lapped.h - lapped textures: overlapping texture patches pasted over a mesh.
  *
@@ -11521,9 +11521,9 @@ PW__DEF void pw__atlas_rescale(pw__atlas_grower *G)
  * the map U = u + i v is conformal on f when sum_j W_j U_j = 0; each row
  * is weighted by 1/sqrt(area), so the residual is the conformal energy.
  * Pinned vertices (col < 0) move to the right-hand side. */
-PW__DEF int pw__atlas_lscm_rows(const pw__atlas_grower *G, int f, int r, const int *col, pw_triplets *T, double *b,
-                                pw_err *e)
+PW__DEF int pw__atlas_lscm_rows(const pw__atlas_grower *G, int f, int r, const int *col, pw_triplets *T, double *b)
 {
+    pw_err *e = G->e;
     int j;
     double x[3], y[3], w = 1.0 / sqrt((double)G->m->area[f]);
     pw__atlas_frame(G->m, f, x, y);
@@ -11609,7 +11609,7 @@ PW__DEF int pw__atlas_lscm(pw__atlas_grower *G, int from, int max_iter)
         for (i = 0, r = PW_OK; i < G->nfc && r == PW_OK; i++) {
             const int *t = G->m->tri + 3 * G->faces[i];
             if (col[G->local[t[0]]] < 0 && col[G->local[t[1]]] < 0 && col[G->local[t[2]]] < 0) continue;
-            r = pw__atlas_lscm_rows(G, G->faces[i], rows, col, &T, b, G->e);
+            r = pw__atlas_lscm_rows(G, G->faces[i], rows, col, &T, b);
             rows += 2;
         }
         T.n = rows;
@@ -11861,6 +11861,18 @@ PW__DEF int pw_atlas_charts_build(const pw_alloc *a, const pw_trimesh *m, double
  * to the left of and below each chart, the rest to the right and above,
  * so also to the image border). Beyond 1024 pixels the grid's cells are
  * several pixels wide and both parts are rounded up to whole cells. */
+/* One atlas of a mesh: the allocator, the mesh m, the charts' cone (in
+ * degrees), the image's size (size x size pixels) and gutter (pixels
+ * between charts), and the progress; what pw_atlas_layout, pw_atlas_pack
+ * and pw_atlas_bake share. */
+typedef struct pw_atlas_job {
+    const pw_alloc *a;
+    const pw_trimesh *m;
+    float cone;
+    int size, gutter;
+    const pw_progress *prog;
+} pw_atlas_job;
+
 typedef struct pw__atlas_packer {
     const pw_trimesh *m;
     const pw_atlas_charts *C;
@@ -12368,12 +12380,13 @@ PW__DEF int pw__atlas_pack_prepare(const pw_alloc *a, pw__atlas_packer *P, pw_er
 /* The packing grid: cells of one pixel up to 1024 pixels a side, of
  * ceil(size / 1024) pixels beyond (the search costs grow with the grid's
  * area; a chart then loses at most a cell's rounding per side). */
-PW__DEF int pw__atlas_packer_init(const pw_alloc *a, pw__atlas_packer *P, const pw_trimesh *m, const pw_atlas_charts *C,
-                                  int size, int gutter, pw_err *e)
+PW__DEF int pw__atlas_packer_init(const pw_atlas_job *job, pw__atlas_packer *P, const pw_atlas_charts *C, pw_err *e)
 {
+    const pw_alloc *a = job->a;
+    int size = job->size, gutter = job->gutter;
     size_t n = (size_t)C->n, rows, cells, spans, runs;
     memset(P, 0, sizeof *P);
-    P->m = m;
+    P->m = job->m;
     P->C = C;
     P->pixels = size;
     P->unit = (size + 1023) / 1024;
@@ -12485,17 +12498,18 @@ PW__DEF void pw__atlas_pack_uvs(const pw__atlas_packer *P, double s, float *uvs,
     *fill = (float)sum;
 }
 
-/* packing: charts into the unit square; uvs gets nf*6 coordinates. */
-PW__DEF int pw_atlas_pack(const pw_alloc *a, const pw_trimesh *m, const pw_atlas_charts *C, int size, int gutter,
-                          const pw_progress *prog, float *uvs, float *fill, pw_err *e)
+/* packing: the charts C of job->m into the unit square; uvs gets nf*6
+ * coordinates. */
+PW__DEF int pw_atlas_pack(const pw_atlas_job *job, const pw_atlas_charts *C, float *uvs, float *fill, pw_err *e)
 {
     pw__atlas_packer P;
     double s = 0.0;
     int r;
-    if ((r = pw__atlas_packer_init(a, &P, m, C, size, gutter, e))) return r;
-    if ((r = pw__atlas_pack_prepare(a, &P, e)) == PW_OK && (r = pw__atlas_pack_search(&P, prog, &s, e)) == PW_OK)
+    if ((r = pw__atlas_packer_init(job, &P, C, e))) return r;
+    if ((r = pw__atlas_pack_prepare(job->a, &P, e)) == PW_OK &&
+        (r = pw__atlas_pack_search(&P, job->prog, &s, e)) == PW_OK)
         pw__atlas_pack_uvs(&P, s, uvs, fill);
-    pw__atlas_packer_free(a, &P);
+    pw__atlas_packer_free(job->a, &P);
     return r;
 }
 
@@ -12504,6 +12518,13 @@ PW__DEF int pw_atlas_pack(const pw_alloc *a, const pw_trimesh *m, const pw_atlas
 /* The texture at a point of triangle f, barycentrics b (in the triangle's
  * corner order): `oc` channels into out. */
 typedef void (*pw_atlas_texel_fn)(void *user, int f, const float b[3], float *out);
+
+/* What an atlas shows: fn(user, ...) gives `oc` channels per point. */
+typedef struct pw_atlas_source {
+    pw_atlas_texel_fn fn;
+    void *user;
+    int oc;
+} pw_atlas_source;
 
 typedef struct pw__atlas_baker {
     pw_atlas_texel_fn fn;
@@ -12672,20 +12693,24 @@ PW__DEF int pw__atlas_dilate(const pw_alloc *a, pw__atlas_baker *B, int gutter, 
     return PW_OK;
 }
 
-/* Baking: fn's texture into an image of size x size pixels with oc
- * channels (allocated here), through the per-corner atlas coordinates uvs
- * (m->nf * 6, v = 0 at the bottom row): every texel whose centre a
- * triangle covers, then the texels a bilinear lookup inside a triangle can
- * reach (the texture at the triangle's nearest point), then `gutter`
- * rounds of dilation. */
-PW__DEF int pw_atlas_bake(const pw_alloc *a, const pw_trimesh *m, const float *uvs, int oc, int size, int gutter,
-                          pw_atlas_texel_fn fn, void *user, const pw_progress *prog, pw_image *out, pw_err *e)
+/* Baking: src's texture into an image of job->size x job->size pixels
+ * with src->oc channels (allocated here), through the per-corner atlas
+ * coordinates uvs (m->nf * 6, v = 0 at the bottom row): every texel whose
+ * centre a triangle covers, then the texels a bilinear lookup inside a
+ * triangle can reach (the texture at the triangle's nearest point), then
+ * job->gutter rounds of dilation. */
+PW__DEF int pw_atlas_bake(const pw_atlas_job *job, const float *uvs, const pw_atlas_source *src, pw_image *out,
+                          pw_err *e)
 {
+    const pw_alloc *a = job->a;
+    const pw_trimesh *m = job->m;
+    const pw_progress *prog = job->prog;
+    int size = job->size, oc = src->oc;
     pw__atlas_baker B;
     int f, k, r;
     memset(&B, 0, sizeof B);
-    B.fn = fn;
-    B.user = user;
+    B.fn = src->fn;
+    B.user = src->user;
     B.uvs = uvs;
     B.img = out;
     B.size = size;
@@ -12704,7 +12729,7 @@ PW__DEF int pw_atlas_bake(const pw_alloc *a, const pw_trimesh *m, const float *u
     for (f = 0; f < m->nf && r == PW_OK; f++) pw__atlas_bake_ring(&B, f);
     if (r == PW_OK) {
         pw__atlas_bake_ring_values(&B);
-        r = pw__atlas_dilate(a, &B, gutter, e);
+        r = pw__atlas_dilate(a, &B, job->gutter, e);
     }
     pw_free(a, B.id);
     return r;
@@ -12714,8 +12739,10 @@ PW__DEF int pw_atlas_bake(const pw_alloc *a, const pw_trimesh *m, const float *u
 /* Deduplicated texture coordinates: index of each corner's (u, v) in the
  * list of distinct pairs, in order of first appearance (open addressing
  * on the pairs' bits). */
-PW__DEF int pw__atlas_dedup_uvs(const pw_alloc *a, const float *uvs, int nc, float *uv, int *fuv, int *nuv, pw_err *e)
+PW__DEF int pw__atlas_dedup_uvs(const pw_alloc *a, const float *uvs, int nc, pw_mesh *pm, pw_err *e)
 {
+    float *uv = pm->uv;
+    int *fuv = pm->fuv;
     size_t cap = 16, mask, k;
     int *slot, c, n = 0;
     while (cap < 2 * (size_t)nc) cap <<= 1;
@@ -12743,7 +12770,7 @@ PW__DEF int pw__atlas_dedup_uvs(const pw_alloc *a, const float *uvs, int nc, flo
         }
     }
     pw_free(a, slot);
-    *nuv = n;
+    pm->nuv = n;
     return PW_OK;
 }
 
@@ -12766,24 +12793,26 @@ PW__DEF int pw_atlas_mesh(const pw_alloc *a, const pw_trimesh *m, const float *u
     pm->fuv = (int *)pw_alloc_array(a, (size_t)m->nf * 3, sizeof(int), "OBJ texture coordinates", e);
     if (!pm->fstart || !pm->uv || !pm->fuv) return PW_ERR_NOMEM;
     for (f = 0; f <= m->nf; f++) pm->fstart[f] = 3 * f;
-    return pw__atlas_dedup_uvs(a, uvs, 3 * m->nf, pm->uv, pm->fuv, &pm->nuv, e);
+    return pw__atlas_dedup_uvs(a, uvs, 3 * m->nf, pm, e);
 }
 
 /* ---- layout ------------------------------------------------------------------- */
 
-/* Charts of m (cone in degrees) packed into a size x size atlas with
- * `gutter` pixels between them: per-corner coordinates uvs (m->nf * 6,
- * allocated here), the chart count and the fraction of the image covered. */
-PW__DEF int pw_atlas_layout(const pw_alloc *a, const pw_trimesh *m, float cone, int size, int gutter,
-                            const pw_progress *prog, float **uvs, int *ncharts, float *fill, pw_err *e)
+/* Charts of job->m (job->cone in degrees) packed into a size x size atlas
+ * with `gutter` pixels between them: per-corner coordinates uvs (m->nf *
+ * 6, allocated here), the chart count and the fraction of the image
+ * covered. */
+PW__DEF int pw_atlas_layout(const pw_atlas_job *job, float **uvs, int *ncharts, float *fill, pw_err *e)
 {
+    const pw_alloc *a = job->a;
+    const pw_trimesh *m = job->m;
     pw_atlas_charts C;
     int r;
     *uvs = (float *)pw_alloc_array(a, (size_t)m->nf * 6, sizeof(float), "atlas coordinates", e);
     if (!*uvs) return PW_ERR_NOMEM;
-    if ((r = pw_atlas_charts_build(a, m, cone, prog, &C, e)) == PW_OK) {
+    if ((r = pw_atlas_charts_build(a, m, job->cone, job->prog, &C, e)) == PW_OK) {
         *ncharts = C.n;
-        r = pw_atlas_pack(a, m, &C, size, gutter, prog, *uvs, fill, e);
+        r = pw_atlas_pack(job, &C, *uvs, fill, e);
         pw_atlas_charts_free(a, &C);
     }
     if (r != PW_OK) {
@@ -14566,13 +14595,25 @@ static void lapped__lookup(const pw_image *img, float u, float v, float *out)
     pw_image_sample_bilinear(img, x, y, out);
 }
 
-/* The lapped texture at barycentric point b of triangle f: every paste that
- * contains f composited "over" in order. Colours come from values[patch]
- * (channel count vc), opacity from the patches' alpha (channel 4). The
- * result is straight colour in out[0..vc-1] and total opacity in *alpha. */
-static void lapped__eval(const lapped__index *ix, const lapped_texture *t, const pw_image *patches,
-                         const pw_image *values, int f, const float b[3], float *out, float *alpha)
+/* A lapped texture ready to evaluate: its pastes t, their index ix, and
+ * per patch the RGBA image (patches) and the colour source (values; the
+ * patches themselves unless the caller gave a values channel). */
+typedef struct lapped__look {
+    const lapped__index *ix;
+    const lapped_texture *t;
+    const pw_image *patches, *values;
+} lapped__look;
+
+/* The lapped texture L at barycentric point b of triangle f: every paste
+ * that contains f composited "over" in order. Colours come from
+ * values[patch] (channel count vc), opacity from the patches' alpha
+ * (channel 4). The result is straight colour in out[0..vc-1] and total
+ * opacity in *alpha. */
+static void lapped__eval(const lapped__look *L, int f, const float b[3], float *out, float *alpha)
 {
+    const lapped__index *ix = L->ix;
+    const lapped_texture *t = L->t;
+    const pw_image *patches = L->patches, *values = L->values;
     float acc[4] = {0, 0, 0, 0}, a = 0.0f, px[4], vx[4];
     int i, k, vc = values[0].c;
     for (i = ix->start[f]; i < ix->start[f + 1]; i++) {
@@ -15171,13 +15212,22 @@ static void lapped__edt_line(const double *f, int n, double *d, int *v, double *
     }
 }
 
+/* Scratch of the distance transform of a w x h image, with W = w + 2,
+ * H = h + 2: g, W*H doubles (the padded image); sd, 4 (W + H + 2) doubles
+ * and si, W + H ints (one line's values, distances, envelope). */
+typedef struct {
+    double *g, *sd;
+    int *si;
+} lapped__edt_scratch;
+
 /* dist[i] = Euclidean distance from pixel i's centre to the nearest centre
  * of a transparent pixel (a0 <= 0), where the pixels just outside the image
  * count as transparent. Works on the image padded by one ring of those:
- * columns, then rows. scratch: 4 (W + H + 2) doubles and W + H ints, where
- * W = w + 2, H = h + 2, plus W*H doubles in g. */
-static void lapped__edt(const float *a0, int w, int h, float *dist, double *g, double *sd, int *si)
+ * columns, then rows. */
+static void lapped__edt(const float *a0, int w, int h, float *dist, const lapped__edt_scratch *ws)
 {
+    double *g = ws->g, *sd = ws->sd;
+    int *si = ws->si;
     int W = w + 2, H = h + 2, n = W > H ? W : H, x, y;
     double inf = 2.0 * ((double)W * W + (double)H * H), *f = sd, *d = sd + n, *z = sd + 2 * n;
     for (y = 0; y < H; y++)
@@ -15240,14 +15290,24 @@ static int lapped__alpha_mode(const lapped_image *tex, const lapped_image *mask,
     return PW_OK;
 }
 
+/* One patch to make: the caller's texture and optional mask, the alpha
+ * source (LAPPED_ALPHA_*), the splotch seed and the fall-off width. */
+typedef struct {
+    const lapped_image *tex, *mask;
+    int mode;
+    unsigned long long seed;
+    float falloff;
+} lapped__patch_job;
+
 /* The alpha before the fall-off, in [0, 1]; refuses an all-zero one. */
-static int lapped__base_alpha(const lapped_image *tex, const lapped_image *mask, int mode, unsigned long long seed,
-                              float *a0, pw_err *e)
+static int lapped__base_alpha(const lapped__patch_job *job, float *a0, pw_err *e)
 {
+    const lapped_image *tex = job->tex, *mask = job->mask;
+    int mode = job->mode;
     size_t i, n = (size_t)tex->width * tex->height;
     long nonzero = 0;
     if (mode == LAPPED_ALPHA_CIRCLE) lapped__shape_circle(tex->width, tex->height, a0);
-    if (mode == LAPPED_ALPHA_SPLOTCH) lapped__shape_splotch(tex->width, tex->height, seed, a0);
+    if (mode == LAPPED_ALPHA_SPLOTCH) lapped__shape_splotch(tex->width, tex->height, job->seed, a0);
     for (i = 0; i < n; i++) {
         if (mode == LAPPED_ALPHA_IMAGE) a0[i] = tex->pixels[(i + 1) * tex->channels - 1];
         if (mode == LAPPED_ALPHA_MASK) a0[i] = mask->pixels[i * mask->channels];
@@ -15275,30 +15335,32 @@ static int lapped__patch_args(const lapped_image *tex, const lapped_image *mask,
 }
 
 /* Alpha and fall-off into rgba (whose colour is already the texture's). */
-static int lapped__patch_alpha(const pw_alloc *a, const lapped_image *tex, const lapped_image *mask, int mode,
-                               unsigned long long seed, float falloff, pw_image *rgba, pw_err *e)
+static int lapped__patch_alpha(const pw_alloc *a, const lapped__patch_job *job, pw_image *rgba, pw_err *e)
 {
+    const lapped_image *tex = job->tex;
     size_t n = (size_t)tex->width * tex->height, nl = (size_t)(tex->width + tex->height + 4);
     float *a0 = (float *)pw_alloc_array(a, n * 2, sizeof(float), "patch alpha", e);
-    double *g = a0 ? (double *)pw_alloc_array(a, (size_t)(tex->width + 2) * (tex->height + 2), sizeof(double),
-                                              "distance transform", e)
-                   : NULL;
-    double *sd = g ? (double *)pw_alloc_array(a, 4 * nl, sizeof(double), "distance transform", e) : NULL;
-    int *si = sd ? (int *)pw_alloc_array(a, nl, sizeof(int), "distance transform", e) : NULL;
-    int r = si ? PW_OK : PW_ERR_NOMEM;
-    if (r == PW_OK) r = lapped__base_alpha(tex, mask, mode, seed, a0, e);
+    lapped__edt_scratch ws;
+    int r;
+    ws.g = a0 ? (double *)pw_alloc_array(a, (size_t)(tex->width + 2) * (tex->height + 2), sizeof(double),
+                                         "distance transform", e)
+              : NULL;
+    ws.sd = ws.g ? (double *)pw_alloc_array(a, 4 * nl, sizeof(double), "distance transform", e) : NULL;
+    ws.si = ws.sd ? (int *)pw_alloc_array(a, nl, sizeof(int), "distance transform", e) : NULL;
+    r = ws.si ? PW_OK : PW_ERR_NOMEM;
+    if (r == PW_OK) r = lapped__base_alpha(job, a0, e);
     if (r == PW_OK) {
-        lapped__edt(a0, tex->width, tex->height, a0 + n, g, sd, si);
-        if (lapped__falloff(rgba, a0, a0 + n, falloff) == 0)
+        lapped__edt(a0, tex->width, tex->height, a0 + n, &ws);
+        if (lapped__falloff(rgba, a0, a0 + n, job->falloff) == 0)
             r = pw_fail(e, PW_ERR_INVALID,
                         "the patch is fully transparent after the %g-pixel fall-off "
                         "(the image or its opaque region is too small)",
-                        (double)falloff);
+                        (double)job->falloff);
     }
     pw_free(a, a0);
-    pw_free(a, g);
-    pw_free(a, sd);
-    pw_free(a, si);
+    pw_free(a, ws.g);
+    pw_free(a, ws.sd);
+    pw_free(a, ws.si);
     return r;
 }
 
@@ -15309,17 +15371,19 @@ LAPPEDDEF lapped_result lapped_make_patch(const lapped_image *texture, const lap
     pw_alloc a = lapped__alloc(&o.allocator);
     pw_image src, rgba;
     pw_err pe;
-    float falloff = 0.0f;
-    int mode = 0;
+    lapped__patch_job job;
+    memset(&job, 0, sizeof job);
+    job.tex = texture;
+    job.mask = mask;
+    job.seed = o.seed;
     pw_err_clear(&pe);
     memset(&rgba, 0, sizeof rgba);
     if (out) memset(out, 0, sizeof *out);
     if (!out) pw_fail(&pe, PW_ERR_INVALID, "lapped_make_patch: NULL output");
-    else if (lapped__patch_args(texture, mask, opt, &falloff, &pe) == PW_OK &&
-             lapped__alpha_mode(texture, mask, o.alpha, &mode, &pe) == PW_OK) {
+    else if (lapped__patch_args(texture, mask, opt, &job.falloff, &pe) == PW_OK &&
+             lapped__alpha_mode(texture, mask, o.alpha, &job.mode, &pe) == PW_OK) {
         src = lapped__pw_image(texture);
-        if (pw_image_convert(&a, &src, 4, &rgba, &pe) == PW_OK &&
-            lapped__patch_alpha(&a, texture, mask, mode, o.seed, falloff, &rgba, &pe) == PW_OK)
+        if (pw_image_convert(&a, &src, 4, &rgba, &pe) == PW_OK && lapped__patch_alpha(&a, &job, &rgba, &pe) == PW_OK)
             lapped__take_image(&rgba, &a, out);
         pw_image_free(&a, &rgba);
     }
@@ -15451,9 +15515,20 @@ static void lapped__stripes(unsigned long long seed, float x, float y, float px,
 /* "dots": polka dots of varied sizes and colours, one per cell of a
  * jittered 6x6 grid, and small dots of a finer 13x13 grid between them, on
  * a warm off-white ground. Isotropic. (x, y) in image widths. */
-static void lapped__dot_layer(unsigned long long seed, int cells, float rmin, float rmax, float x, float y, float px,
-                              float *rgb)
+
+/* One layer of dots: a cells x cells grid, each dot's radius in
+ * [rmin, rmax] cells, placed and coloured by the lattice noise of seed. */
+typedef struct {
+    unsigned long long seed;
+    int cells;
+    float rmin, rmax;
+} lapped__dot_grid;
+
+static void lapped__dot_layer(const lapped__dot_grid *grid, float x, float y, float px, float *rgb)
 {
+    unsigned long long seed = grid->seed;
+    int cells = grid->cells;
+    float rmin = grid->rmin, rmax = grid->rmax;
     static const float pal[6][3] = {{0.86f, 0.24f, 0.28f}, {0.19f, 0.44f, 0.76f}, {0.96f, 0.72f, 0.16f},
                                     {0.25f, 0.63f, 0.4f},  {0.55f, 0.33f, 0.72f}, {0.95f, 0.5f, 0.22f}};
     float gx = x * (float)cells, gy = y * (float)cells;
@@ -15476,11 +15551,20 @@ static void lapped__dot_layer(unsigned long long seed, int cells, float rmin, fl
 static void lapped__dots(unsigned long long seed, float x, float y, float px, float *rgb)
 {
     float g = 0.94f + 0.06f * (float)pw_fbm2(seed + 11, 20.0f * x, 20.0f * y, 0);
+    lapped__dot_grid small, big;
     rgb[0] = 0.97f * g;
     rgb[1] = 0.94f * g;
     rgb[2] = 0.86f * g;
-    lapped__dot_layer(seed + 20, 13, 0.12f, 0.22f, x, y, px, rgb);
-    lapped__dot_layer(seed + 40, 6, 0.2f, 0.42f, x, y, px, rgb);
+    small.seed = seed + 20;
+    small.cells = 13;
+    small.rmin = 0.12f;
+    small.rmax = 0.22f;
+    big.seed = seed + 40;
+    big.cells = 6;
+    big.rmin = 0.2f;
+    big.rmax = 0.42f;
+    lapped__dot_layer(&small, x, y, px, rgb);
+    lapped__dot_layer(&big, x, y, px, rgb);
 }
 
 LAPPEDDEF lapped_result lapped_builtin_exemplar(const char *name, int size, const lapped_options *opt,
@@ -15548,6 +15632,12 @@ typedef struct lapped__eroded {
     float *lev[LAPPED__NLEV]; /* w*h alpha, eroded by radius 0, 1, 2, 4, ... */
 } lapped__eroded;
 
+/* A mesh with its field: the frame (S, T) of each triangle, nf*3 each. */
+typedef struct {
+    const pw_trimesh *m;
+    const float *fs, *ft;
+} lapped__surface;
+
 static void lapped__eroded_free(const pw_alloc *a, lapped__eroded *er)
 {
     int l;
@@ -15555,11 +15645,17 @@ static void lapped__eroded_free(const pw_alloc *a, lapped__eroded *er)
     memset(er, 0, sizeof *er);
 }
 
-/* out = minimum of src over [x-r, x+r] along one axis (stride between
- * samples `step`, n samples per line, `lines` lines `pitch` apart);
+/* One axis of an image seen as parallel lines: n samples per line `step`
+ * apart, `lines` lines `pitch` apart (rows: 1 and w; columns: w and 1). */
+typedef struct {
+    int n, step, lines, pitch;
+} lapped__lines;
+
+/* out = minimum of src over [x-r, x+r] along the lines of L;
  * outside the image counts as 0. */
-static void lapped__min_1d(const float *src, float *out, int n, int step, int lines, int pitch, int r)
+static void lapped__min_1d(const float *src, float *out, const lapped__lines *L, int r)
 {
+    int n = L->n, step = L->step, lines = L->lines, pitch = L->pitch;
     int l, i, k;
     for (l = 0; l < lines; l++)
         for (i = 0; i < n; i++) {
@@ -15576,6 +15672,7 @@ static int lapped__eroded_init(const pw_alloc *a, const pw_image *rgba, lapped__
 {
     size_t n = (size_t)rgba->w * rgba->h, i;
     float *tmp = (float *)pw_alloc_array(a, n, sizeof(float), "erosion", e);
+    lapped__lines rows, cols;
     int l;
     memset(er, 0, sizeof *er);
     er->w = rgba->w;
@@ -15588,10 +15685,18 @@ static int lapped__eroded_init(const pw_alloc *a, const pw_image *rgba, lapped__
         return PW_ERR_NOMEM;
     }
     for (i = 0; i < n; i++) er->lev[0][i] = rgba->px[4 * i + 3];
+    rows.n = er->w;
+    rows.step = 1;
+    rows.lines = er->h;
+    rows.pitch = er->w;
+    cols.n = er->h;
+    cols.step = er->w;
+    cols.lines = er->w;
+    cols.pitch = 1;
     for (l = 1; l < LAPPED__NLEV; l++) { /* separable: rows, then columns */
         int r = 1 << (l - 1);
-        lapped__min_1d(er->lev[0], tmp, er->w, 1, er->h, er->w, r);
-        lapped__min_1d(tmp, er->lev[l], er->h, er->w, er->w, 1, r);
+        lapped__min_1d(er->lev[0], tmp, &rows, r);
+        lapped__min_1d(tmp, er->lev[l], &cols, r);
     }
     pw_free(a, tmp);
     return PW_OK;
@@ -15684,9 +15789,11 @@ static int lapped__cover_sizes(lapped__cover *c, const pw_trimesh *m, const floa
     return PW_OK;
 }
 
-static int lapped__cover_init(const pw_alloc *a, const pw_trimesh *m, const float *t, int texels, float need,
-                              lapped__cover *c, pw_err *e)
+static int lapped__cover_init(const pw_alloc *a, const lapped__surface *s, int texels, float need, lapped__cover *c,
+                              pw_err *e)
 {
+    const pw_trimesh *m = s->m;
+    const float *t = s->ft;
     int f, r;
     memset(c, 0, sizeof *c);
     c->off = (size_t *)pw_alloc_array(a, (size_t)m->nf + 1, sizeof(size_t), "coverage", e);
@@ -16215,6 +16322,14 @@ static int lapped__align_nrows(const lapped__patchbuf *p)
     return n;
 }
 
+/* One paste's least-squares system (§3.4), allocated once for all pastes:
+ * its rows tr, right-hand sides b (u then v for alignment), unknowns x
+ * (u then v) and the scratch rhs for the normal equations' Aᵀb. */
+typedef struct {
+    pw_triplets *tr;
+    double *b, *x, *rhs;
+} lapped__lsq;
+
 /* |T| / (longest edge) of triangle f: the size of its rows. */
 static double lapped__row_weight(const lapped__paster *P, int f)
 {
@@ -16228,8 +16343,10 @@ static double lapped__row_weight(const lapped__paster *P, int f)
 }
 
 /* The three edge rows of degenerate triangle f from row `row` on. */
-static int lapped__sliver_rows(lapped__paster *P, int f, int row, pw_triplets *tr, double *bu, double *bv, pw_err *e)
+static int lapped__sliver_rows(lapped__paster *P, int f, int row, const lapped__lsq *ls, pw_err *e)
 {
+    pw_triplets *tr = ls->tr;
+    double *bu = ls->b, *bv = ls->b + tr->n;
     double w = lapped__row_weight(P, f);
     float l[6];
     int k, r = PW_OK;
@@ -16244,15 +16361,19 @@ static int lapped__sliver_rows(lapped__paster *P, int f, int row, pw_triplets *t
     return r;
 }
 
-static int lapped__align_rows(lapped__paster *P, pw_triplets *tr, double *bu, double *bv, pw_err *e)
+/* Rows of the alignment system (§3.4) into ls: u right-hand sides in
+ * ls->b, v ones after them. */
+static int lapped__align_rows(lapped__paster *P, const lapped__lsq *ls, pw_err *e)
 {
     lapped__patchbuf *p = &P->pb;
+    pw_triplets *tr = ls->tr;
+    double *bu = ls->b, *bv = ls->b + tr->n;
     int i, k, row = 0, r = PW_OK;
     for (i = 0; i < p->nfaces && r == PW_OK; i++) {
         int f = p->faces[i];
         float ws[3], wt[3];
         if (p->sliver[f]) {
-            r = lapped__sliver_rows(P, f, row, tr, bu, bv, e);
+            r = lapped__sliver_rows(P, f, row, ls, e);
             row += 3;
             continue;
         }
@@ -16370,7 +16491,7 @@ static int lapped__lscm_rows(lapped__paster *P, int seed, pw_triplets *tr, doubl
 }
 
 /* Solves the least-squares systems A x_j = b_j (nrhs right-hand sides of
- * tr->n rows, unknowns of tr->m columns, warm-started from x) through their
+ * tr->n rows, unknowns of tr->m columns, warm-started from x; all in ls) through their
  * normal equations AᵀA x = Aᵀb by conjugate gradients preconditioned with
  * incomplete Cholesky (the paper's CG, §3.4; IC(0) cuts the iterations
  * threefold over Jacobi). A ridge of 1e-8 of the mean diagonal makes AᵀA
@@ -16379,9 +16500,11 @@ static int lapped__lscm_rows(lapped__paster *P, int seed, pw_triplets *tr, doubl
  * iteration cap (only patches of tens of thousands of triangles come near
  * it) is not an error here: the warm start is already a usable
  * parametrisation and every iterate improves it. */
-static int lapped__solve(lapped__paster *P, const pw_triplets *tr, const double *b, double *x, int nrhs, double *rhs,
-                         pw_err *e)
+static int lapped__solve(lapped__paster *P, const lapped__lsq *ls, int nrhs, pw_err *e)
 {
+    const pw_triplets *tr = ls->tr;
+    const double *b = ls->b;
+    double *x = ls->x, *rhs = ls->rhs;
     pw_csr A, N;
     pw_ic0 M;
     pw_cg_options co = pw_cg_default_options();
@@ -16418,9 +16541,11 @@ static int lapped__solve(lapped__paster *P, const pw_triplets *tr, const double 
  * seed point stays at the patch centre ("a positional constraint to fix
  * the location of the patch center": the functional ignores translations,
  * so fixing it afterwards is exact). */
-static int lapped__optimize(lapped__paster *P, int seed, const float bary[3], int patch, pw_triplets *tr, double *x,
-                            double *b, double *rhs, pw_err *e)
+static int lapped__optimize(lapped__paster *P, int seed, const float bary[3], int patch, const lapped__lsq *ls,
+                            pw_err *e)
 {
+    pw_triplets *tr = ls->tr;
+    double *x = ls->x, *b = ls->b;
     lapped__patchbuf *p = &P->pb;
     int n = p->nverts, i, j, r, lscm = P->o.lscm && P->o.field == LAPPED_FIELD_ISOTROPIC;
     float du, dv;
@@ -16433,10 +16558,10 @@ static int lapped__optimize(lapped__paster *P, int seed, const float bary[3], in
     }
     if (lscm) {
         r = lapped__lscm_rows(P, seed, tr, b, e);
-        if (r == PW_OK) r = lapped__solve(P, tr, b, x, 1, rhs, e);
+        if (r == PW_OK) r = lapped__solve(P, ls, 1, e);
     } else {
-        r = lapped__align_rows(P, tr, b, b + tr->n, e);
-        if (r == PW_OK) r = lapped__solve(P, tr, b, x, 2, rhs, e);
+        r = lapped__align_rows(P, ls, e);
+        if (r == PW_OK) r = lapped__solve(P, ls, 2, e);
     }
     if (r != PW_OK) return r;
     for (i = 0; i < n; i++) lapped__map_vertex(p, p->verts[i], (float)x[i], (float)x[n + i]);
@@ -16515,15 +16640,14 @@ static void lapped__pick(lapped__paster *P, int early, int *f, float b[3])
 /* Triangle f with corner coordinates uv: its texture area *tex and its
  * surface area over S^2, *surf, where S^2 = |S x T| (the area the frame
  * maps to the unit square; |T|^2 for every field but a caller's FACES). */
-static void lapped__tri_areas(const pw_trimesh *m, const float *fs, const float *ft, int f, const float uv[6],
-                              double *tex, double *surf)
+static void lapped__tri_areas(const lapped__surface *s, int f, const float uv[6], double *tex, double *surf)
 {
-    pw_v3 c = pw_v3_cross(pw_v3_load(fs + 3 * f), pw_v3_load(ft + 3 * f));
+    pw_v3 c = pw_v3_cross(pw_v3_load(s->fs + 3 * f), pw_v3_load(s->ft + 3 * f));
     double s2 = (double)c.x * c.x + (double)c.y * c.y + (double)c.z * c.z;
     s2 = sqrt(s2);
     *tex = 0.5 *
            fabs(((double)uv[2] - uv[0]) * ((double)uv[5] - uv[1]) - ((double)uv[4] - uv[0]) * ((double)uv[3] - uv[1]));
-    *surf = (double)m->area[f] / s2;
+    *surf = (double)s->m->area[f] / s2;
 }
 
 /* Whether texture area tex, summed over n triangles, is within [lo, hi]
@@ -16534,20 +16658,25 @@ static int lapped__area_ok(double tex, double surf, double lo, double hi, int n)
     return tex >= lo * surf - n * LAPPED__AREA_SLACK && tex <= hi * surf + n * LAPPED__AREA_SLACK;
 }
 
-/* For paste q (the tests and the fuzzer check the guarantee with it):
- * *tex = its texture area, *surf = the sum of its A_f / S_f^2, *inside =
- * the part of *surf whose triangles keep their own ratio within [lo, hi]. */
-static PW__UNUSED void lapped__paste_areas(const pw_trimesh *m, const float *fs, const float *ft, const lapped_paste *q,
-                                           double lo, double hi, double *tex, double *surf, double *inside)
+/* The areas of one paste (the tests and the fuzzer check the guarantee
+ * with them): tex = its texture area, surf = the sum of its A_f / S_f^2,
+ * inside = the part of surf whose triangles keep their own ratio within
+ * [lo, hi]. */
+typedef struct {
+    double tex, surf, inside;
+} lapped__areas;
+
+static PW__UNUSED void lapped__paste_areas(const lapped__surface *s, const lapped_paste *q, double lo, double hi,
+                                           lapped__areas *out)
 {
     int i;
-    *tex = *surf = *inside = 0.0;
+    out->tex = out->surf = out->inside = 0.0;
     for (i = 0; i < q->nfaces; i++) {
         double ta, sa;
-        lapped__tri_areas(m, fs, ft, q->faces[i], q->uvs + 6 * i, &ta, &sa);
-        *tex += ta;
-        *surf += sa;
-        if (lapped__area_ok(ta, sa, lo, hi, 1)) *inside += sa;
+        lapped__tri_areas(s, q->faces[i], q->uvs + 6 * i, &ta, &sa);
+        out->tex += ta;
+        out->surf += sa;
+        if (lapped__area_ok(ta, sa, lo, hi, 1)) out->inside += sa;
     }
 }
 
@@ -16564,6 +16693,7 @@ static PW__UNUSED void lapped__paste_areas(const pw_trimesh *m, const float *fs,
 static int lapped__trim_out(lapped__paster *P, int f)
 {
     lapped__patchbuf *p = &P->pb;
+    lapped__surface s;
     float uv[6];
     double ta, sa, d2 = (double)P->o.max_distortion * P->o.max_distortion;
     int k;
@@ -16572,7 +16702,10 @@ static int lapped__trim_out(lapped__paster *P, int f)
         uv[2 * k] = p->vuv[2 * P->m.tri[3 * f + k]];
         uv[2 * k + 1] = p->vuv[2 * P->m.tri[3 * f + k] + 1];
     }
-    lapped__tri_areas(&P->m, P->fs, P->ft, f, uv, &ta, &sa);
+    s.m = &P->m;
+    s.fs = P->fs;
+    s.ft = P->ft;
+    lapped__tri_areas(&s, f, uv, &ta, &sa);
     return !lapped__area_ok(ta, sa, 1.0 / d2, d2, 1);
 }
 
@@ -16610,7 +16743,7 @@ static void lapped__keep(lapped__patchbuf *p, int restore)
 
 /* One paste: seed, grow, optimise, grow again where the optimisation
  * uncovered texture, up to three rounds (§3.3, §3.4), trim, record. */
-static int lapped__paste(lapped__paster *P, int early, pw_triplets *tr, double *x, double *b, pw_err *e)
+static int lapped__paste(lapped__paster *P, int early, const lapped__lsq *ls, pw_err *e)
 {
     int f, patch, round, r = PW_OK;
     float bary[3];
@@ -16621,7 +16754,7 @@ static int lapped__paste(lapped__paster *P, int early, pw_triplets *tr, double *
     lapped__grow(P, &P->hulls[patch], centre3);
     for (round = 0; round < 3 && r == PW_OK; round++) {
         lapped__keep(&P->pb, 0);
-        r = lapped__optimize(P, f, bary, patch, tr, x, b, x + 2 * P->m.nv, e);
+        r = lapped__optimize(P, f, bary, patch, ls, e);
         if (r == PW_OK && lapped__trim_out(P, f)) {
             lapped__keep(&P->pb, 1); /* the seed itself got distorted: the last coordinates stay */
             break;
@@ -16824,6 +16957,7 @@ static double lapped__len_d(const float *v)
 static int lapped__setup(lapped__paster *P, const lapped_mesh *mesh, const lapped_image *patches, int npatches,
                          double *estimate, pw_err *e)
 {
+    lapped__surface surf;
     int nf, r;
     if ((r = lapped__mesh_init(P->a, mesh, &P->m, e)) != PW_OK) return r;
     nf = P->m.nf;
@@ -16851,7 +16985,10 @@ static int lapped__setup(lapped__paster *P, const lapped_mesh *mesh, const lappe
                        "the texture scale %g is more than 20 times the mesh's size "
                        "(%g): one patch would have to cover the whole mesh",
                        lapped__len_d(P->ft), P->m.diag);
-    if ((r = lapped__cover_init(P->a, &P->m, P->ft, lapped__max_side(P), P->o.coverage, &P->cover, e)) != PW_OK ||
+    surf.m = &P->m;
+    surf.fs = P->fs;
+    surf.ft = P->ft;
+    if ((r = lapped__cover_init(P->a, &surf, lapped__max_side(P), P->o.coverage, &P->cover, e)) != PW_OK ||
         (r = lapped__patchbuf_init(P->a, &P->m, &P->pb, e)) != PW_OK)
         return r;
     P->rng = pw_rng_seed(P->o.seed, 5);
@@ -16863,9 +17000,14 @@ static int lapped__run(lapped__paster *P, double estimate, pw_err *e)
 {
     pw_progress pr = lapped__progress(&P->o);
     pw_triplets tr;
+    lapped__lsq ls;
     double *x = (double *)pw_alloc_array(P->a, (size_t)P->m.nv * 4, sizeof(double), "solver unknowns", e);
     double *b = (double *)pw_alloc_array(P->a, (size_t)P->m.nf * 6 + 8, sizeof(double), "solver rows", e);
     int r = x && b ? pw_triplets_init(&tr, P->a, 1, 1, e) : PW_ERR_NOMEM;
+    ls.tr = &tr;
+    ls.x = x;
+    ls.b = b;
+    ls.rhs = x ? x + 2 * P->m.nv : NULL;
     if (!x || !b) {
         pw_free(P->a, x);
         pw_free(P->a, b);
@@ -16878,7 +17020,7 @@ static int lapped__run(lapped__paster *P, double estimate, pw_err *e)
                         "(lapped_options.max_pastes; --max-pastes)",
                         P->o.max_pastes, P->cover.nopen);
         else if (P->npastes % 16 == 0) r = pw_report(&pr, 1.0f - (float)P->cover.nopen / (float)P->m.nf, "pasting", e);
-        if (r == PW_OK) r = lapped__paste(P, (double)P->npastes < P->o.early * estimate, &tr, x, b, e);
+        if (r == PW_OK) r = lapped__paste(P, (double)P->npastes < P->o.early * estimate, &ls, e);
     }
     pw_triplets_free(&tr);
     pw_free(P->a, x);
@@ -17062,11 +17204,12 @@ static int lapped__draw_band(void *user, pw_fb *fb, pw_err *e)
 }
 
 /* The frame, band by band (pw_render_frame): the normals once, from the
- * whole mesh (every paste is lit as the surface), then the bands. */
-static int lapped__draw_pastes(const pw_alloc *a, const pw_trimesh *m, const lapped_texture *t, const pw_texture *tex,
-                               const lapped_render_options *ro, pw_image *pic, pw_err *e)
+ * whole mesh (every paste is lit as the surface), then the bands. F comes
+ * with its allocator, mesh, texture and patch textures; this sets the rest. */
+static int lapped__draw_pastes(lapped__picture *F, const lapped_render_options *ro, pw_image *pic, pw_err *e)
 {
-    lapped__picture F;
+    const pw_alloc *a = F->a;
+    const pw_trimesh *m = F->m;
     pw_frame f;
     pw_parallel par;
     pw_draw d;
@@ -17079,17 +17222,13 @@ static int lapped__draw_pastes(const pw_alloc *a, const pw_trimesh *m, const lap
     d.tris = m->tri;
     d.ntris = m->nf;
     pw__smooth_normals(&d, normals);
-    F.a = a;
-    F.m = m;
-    F.t = t;
-    F.tex = tex;
-    F.normals = normals;
-    F.cam = pw_camera_frame(m->pos, m->nv, ro->view_dir, ro->up, 35.0f, (float)ro->width / (float)ro->height);
-    F.filter = (int)ro->filter;
+    F->normals = normals;
+    F->cam = pw_camera_frame(m->pos, m->nv, ro->view_dir, ro->up, 35.0f, (float)ro->width / (float)ro->height);
+    F->filter = (int)ro->filter;
     par = lapped__parallel(ro);
     pw_frame_init(&f, ro->width, ro->height, ro->supersample, ro->background, &par);
     f.draw = lapped__draw_band;
-    f.user = &F;
+    f.user = F;
     r = pw_render_frame(a, &f, pic, e);
     pw_free(a, normals);
     return r;
@@ -17100,6 +17239,7 @@ LAPPEDDEF lapped_result lapped_render(const lapped_mesh *mesh, const lapped_text
 {
     lapped_render_options o;
     pw_alloc a = lapped__alloc(t ? &t->allocator : NULL);
+    lapped__picture F;
     pw_trimesh m;
     pw_texture *tex = NULL;
     pw_image pic;
@@ -17122,8 +17262,11 @@ LAPPEDDEF lapped_result lapped_render(const lapped_mesh *mesh, const lapped_text
         for (k = 0; r == PW_OK && k < t->npatches; k++)
             r = lapped__patch_texture(&a, &src->patches[k], src->values ? &src->values[k] : &src->patches[k], &tex[k],
                                       &pe);
-        if (r == PW_OK && lapped__draw_pastes(&a, &m, t, tex, &o, &pic, &pe) == PW_OK)
-            lapped__take_image(&pic, &a, out);
+        F.a = &a;
+        F.m = &m;
+        F.t = t;
+        F.tex = tex;
+        if (r == PW_OK && lapped__draw_pastes(&F, &o, &pic, &pe) == PW_OK) lapped__take_image(&pic, &a, out);
         for (k = 0; tex && k < t->npatches; k++) pw_texture_free(&a, &tex[k]);
         pw_free(&a, tex);
         pw_trimesh_free(&a, &m);
@@ -17246,9 +17389,7 @@ static pw_image *lapped__atlas_image_views(const pw_alloc *a, const lapped_textu
 /* What a texel of the atlas holds: the lapped texture (or the values
  * channel) at that point, composited over mid-grey. */
 typedef struct lapped__atlas_texel {
-    const lapped__index *ix;
-    const lapped_texture *t;
-    const pw_image *patches, *values;
+    lapped__look look;
     int oc;
 } lapped__atlas_texel;
 
@@ -17257,29 +17398,29 @@ static void lapped__atlas_eval(void *user, int f, const float b[3], float *px)
     const lapped__atlas_texel *T = (const lapped__atlas_texel *)user;
     float out[4], alpha;
     int k;
-    lapped__eval(T->ix, T->t, T->patches, T->values, f, b, out, &alpha);
+    lapped__eval(&T->look, f, b, out, &alpha);
     for (k = 0; k < T->oc; k++) px[k] = out[k] * alpha + 0.5f * (1.0f - alpha);
 }
 
-/* Charts, packing and baking, once everything has been checked. */
-static int lapped__atlas_run(const pw_alloc *a, const pw_trimesh *m, const lapped_texture *t, const pw_image *views,
-                             int oc, const lapped_atlas_options *o, const pw_progress *prog, lapped_atlas *out,
-                             pw_image *img, pw_err *e)
+/* Charts, packing and baking of the atlas `job`, once everything has been
+ * checked; T says what its texels hold (its index is built here). */
+static int lapped__atlas_run(const pw_atlas_job *job, lapped__atlas_texel *T, lapped_atlas *out, pw_image *img,
+                             pw_err *e)
 {
+    pw_atlas_source src;
     lapped__index ix;
-    lapped__atlas_texel T;
     int r;
     memset(&ix, 0, sizeof ix);
-    r = pw_atlas_layout(a, m, o->cone_angle, o->size, o->gutter, prog, &out->uvs, &out->ncharts, &out->fill, e);
-    if (r == PW_OK) r = lapped__index_build(a, t, &ix, e);
-    T.ix = &ix;
-    T.t = t;
-    T.patches = views;
-    T.values = views + t->npatches;
-    T.oc = oc;
-    if (r == PW_OK) r = pw_atlas_bake(a, m, out->uvs, oc, o->size, o->gutter, lapped__atlas_eval, &T, prog, img, e);
-    lapped__index_free(a, &ix);
-    if (r == PW_OK) r = pw_report(prog, 1.0f, "atlas", e);
+    src.fn = lapped__atlas_eval;
+    src.user = T;
+    src.oc = T->oc;
+    r = pw_atlas_layout(job, &out->uvs, &out->ncharts, &out->fill, e);
+    if (r == PW_OK) r = lapped__index_build(job->a, T->look.t, &ix, e);
+    T->look.ix = &ix;
+    if (r == PW_OK) r = pw_atlas_bake(job, out->uvs, &src, img, e);
+    lapped__index_free(job->a, &ix);
+    T->look.ix = NULL; /* freed */
+    if (r == PW_OK) r = pw_report(job->prog, 1.0f, "atlas", e);
     return r;
 }
 
@@ -17310,9 +17451,20 @@ LAPPEDDEF lapped_result lapped_bake_atlas(const lapped_mesh *mesh, const lapped_
     if (!pe.code && !lapped__atlas_options(&o.atlas, &ato, &pe) && !lapped__mesh_init(&a, mesh, &m, &pe) &&
         !lapped__atlas_check_pastes(t, m.nf, &pe) && !lapped__atlas_check_images(t, patches, values, &pe) &&
         (views = lapped__atlas_image_views(&a, t, patches, values, &pe)) != NULL) {
-        int oc = values ? values[0].channels : 3; /* the patches' colour without their alpha */
+        pw_atlas_job job;
+        lapped__atlas_texel T;
+        job.a = &a;
+        job.m = &m;
+        job.cone = ato.cone_angle;
+        job.size = ato.size;
+        job.gutter = ato.gutter;
+        job.prog = &prog;
+        T.look.t = t;
+        T.look.patches = views;
+        T.look.values = views + t->npatches;
+        T.oc = values ? values[0].channels : 3; /* the patches' colour without their alpha */
         out->ntris = m.nf;
-        r = lapped__atlas_run(&a, &m, t, views, oc, &ato, &prog, out, &img, &pe);
+        r = lapped__atlas_run(&job, &T, out, &img, &pe);
         if (r != PW_OK) pw_fail(&pe, r, "atlas: %s", pw_result_string(r)); /* keeps a recorded message */
         else lapped__take_image(&img, &a, &out->image);
     }

@@ -20,24 +20,24 @@
  *   7966: src/common/raster.h, exact scan conversion of 2D triangles.
  *   8440: src/common/render.h, a small deterministic software renderer for textured trian
  *  10207: src/common/atlas.h, texture atlases of triangle meshes — charts, packing, ba
- *  12180: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
- *  12941: src/common/tetmesh.h, the tetrahedral mesh that lapped solid textures work on, a
- *  13425: src/common/tetio.h, tetrahedral mesh files, TetGen .node/.ele and MEDIT .mesh.
- *  13917: src/common/bisect.h, graded, conforming tetrahedral meshes of a box by newest-v
- *  14237: src/common/stuffing.h, the built-in tetrahedralizer of lst.h, so that no external
- *  17370: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
- *  17513: src/common/pca.h, principal component analysis of vectors streamed one at a 
- *  17700: src/common/glue.h, what every method header needs between its public types an
- *  17913: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  18577: src/lst/core.c, lst.h's glue to the shared core, its defaults, the convers
- *  18910: src/lst/exemplar.c, solid exemplars (§5): sampling, the procedural exemplars 
- *  19447: src/lst/field.c, §5.2.2, the fields that orient and scale the pastes. The 
- *  20655: src/lst/paste.c, §5.2.3-5.2.7, filling the model. Each paste picks a rando
- *  21636: src/lst/render.c, §5.1, showing a model. Every point of a tetrahedron is th
- *  22533: src/lst/cut.c, §5.1.1, cutting a model along the zero set of a scalar fi
- *  23138: src/lst/builtin.c, the tetrahedralizer entry point, checks of caller meshes, 
- *  23660: src/lst/io.c, the model file, the constraint files and the file convenie
- *  24502: src/lst/export.c, the visible boundary with a baked texture atlas, for glTF.
+ *  12209: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
+ *  12970: src/common/tetmesh.h, the tetrahedral mesh that lapped solid textures work on, a
+ *  13454: src/common/tetio.h, tetrahedral mesh files, TetGen .node/.ele and MEDIT .mesh.
+ *  13946: src/common/bisect.h, graded, conforming tetrahedral meshes of a box by newest-v
+ *  14266: src/common/stuffing.h, the built-in tetrahedralizer of lst.h, so that no external
+ *  17399: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
+ *  17542: src/common/pca.h, principal component analysis of vectors streamed one at a 
+ *  17729: src/common/glue.h, what every method header needs between its public types an
+ *  17942: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  18606: src/lst/core.c, lst.h's glue to the shared core, its defaults, the convers
+ *  18939: src/lst/exemplar.c, solid exemplars (§5): sampling, the procedural exemplars 
+ *  19476: src/lst/field.c, §5.2.2, the fields that orient and scale the pastes. The 
+ *  20684: src/lst/paste.c, §5.2.3-5.2.7, filling the model. Each paste picks a rando
+ *  21665: src/lst/render.c, §5.1, showing a model. Every point of a tetrahedron is th
+ *  22562: src/lst/cut.c, §5.1.1, cutting a model along the zero set of a scalar fi
+ *  23167: src/lst/builtin.c, the tetrahedralizer entry point, checks of caller meshes, 
+ *  23689: src/lst/io.c, the model file, the constraint files and the file convenie
+ *  24531: src/lst/export.c, the visible boundary with a baked texture atlas, for glTF.
  */
 /* lst.h - lapped solid textures: solid exemplars pasted inside a model.
  *
@@ -10903,9 +10903,9 @@ PW__DEF void pw__atlas_rescale(pw__atlas_grower *G)
  * the map U = u + i v is conformal on f when sum_j W_j U_j = 0; each row
  * is weighted by 1/sqrt(area), so the residual is the conformal energy.
  * Pinned vertices (col < 0) move to the right-hand side. */
-PW__DEF int pw__atlas_lscm_rows(const pw__atlas_grower *G, int f, int r, const int *col, pw_triplets *T, double *b,
-                                pw_err *e)
+PW__DEF int pw__atlas_lscm_rows(const pw__atlas_grower *G, int f, int r, const int *col, pw_triplets *T, double *b)
 {
+    pw_err *e = G->e;
     int j;
     double x[3], y[3], w = 1.0 / sqrt((double)G->m->area[f]);
     pw__atlas_frame(G->m, f, x, y);
@@ -10991,7 +10991,7 @@ PW__DEF int pw__atlas_lscm(pw__atlas_grower *G, int from, int max_iter)
         for (i = 0, r = PW_OK; i < G->nfc && r == PW_OK; i++) {
             const int *t = G->m->tri + 3 * G->faces[i];
             if (col[G->local[t[0]]] < 0 && col[G->local[t[1]]] < 0 && col[G->local[t[2]]] < 0) continue;
-            r = pw__atlas_lscm_rows(G, G->faces[i], rows, col, &T, b, G->e);
+            r = pw__atlas_lscm_rows(G, G->faces[i], rows, col, &T, b);
             rows += 2;
         }
         T.n = rows;
@@ -11243,6 +11243,18 @@ PW__DEF int pw_atlas_charts_build(const pw_alloc *a, const pw_trimesh *m, double
  * to the left of and below each chart, the rest to the right and above,
  * so also to the image border). Beyond 1024 pixels the grid's cells are
  * several pixels wide and both parts are rounded up to whole cells. */
+/* One atlas of a mesh: the allocator, the mesh m, the charts' cone (in
+ * degrees), the image's size (size x size pixels) and gutter (pixels
+ * between charts), and the progress; what pw_atlas_layout, pw_atlas_pack
+ * and pw_atlas_bake share. */
+typedef struct pw_atlas_job {
+    const pw_alloc *a;
+    const pw_trimesh *m;
+    float cone;
+    int size, gutter;
+    const pw_progress *prog;
+} pw_atlas_job;
+
 typedef struct pw__atlas_packer {
     const pw_trimesh *m;
     const pw_atlas_charts *C;
@@ -11750,12 +11762,13 @@ PW__DEF int pw__atlas_pack_prepare(const pw_alloc *a, pw__atlas_packer *P, pw_er
 /* The packing grid: cells of one pixel up to 1024 pixels a side, of
  * ceil(size / 1024) pixels beyond (the search costs grow with the grid's
  * area; a chart then loses at most a cell's rounding per side). */
-PW__DEF int pw__atlas_packer_init(const pw_alloc *a, pw__atlas_packer *P, const pw_trimesh *m, const pw_atlas_charts *C,
-                                  int size, int gutter, pw_err *e)
+PW__DEF int pw__atlas_packer_init(const pw_atlas_job *job, pw__atlas_packer *P, const pw_atlas_charts *C, pw_err *e)
 {
+    const pw_alloc *a = job->a;
+    int size = job->size, gutter = job->gutter;
     size_t n = (size_t)C->n, rows, cells, spans, runs;
     memset(P, 0, sizeof *P);
-    P->m = m;
+    P->m = job->m;
     P->C = C;
     P->pixels = size;
     P->unit = (size + 1023) / 1024;
@@ -11867,17 +11880,18 @@ PW__DEF void pw__atlas_pack_uvs(const pw__atlas_packer *P, double s, float *uvs,
     *fill = (float)sum;
 }
 
-/* packing: charts into the unit square; uvs gets nf*6 coordinates. */
-PW__DEF int pw_atlas_pack(const pw_alloc *a, const pw_trimesh *m, const pw_atlas_charts *C, int size, int gutter,
-                          const pw_progress *prog, float *uvs, float *fill, pw_err *e)
+/* packing: the charts C of job->m into the unit square; uvs gets nf*6
+ * coordinates. */
+PW__DEF int pw_atlas_pack(const pw_atlas_job *job, const pw_atlas_charts *C, float *uvs, float *fill, pw_err *e)
 {
     pw__atlas_packer P;
     double s = 0.0;
     int r;
-    if ((r = pw__atlas_packer_init(a, &P, m, C, size, gutter, e))) return r;
-    if ((r = pw__atlas_pack_prepare(a, &P, e)) == PW_OK && (r = pw__atlas_pack_search(&P, prog, &s, e)) == PW_OK)
+    if ((r = pw__atlas_packer_init(job, &P, C, e))) return r;
+    if ((r = pw__atlas_pack_prepare(job->a, &P, e)) == PW_OK &&
+        (r = pw__atlas_pack_search(&P, job->prog, &s, e)) == PW_OK)
         pw__atlas_pack_uvs(&P, s, uvs, fill);
-    pw__atlas_packer_free(a, &P);
+    pw__atlas_packer_free(job->a, &P);
     return r;
 }
 
@@ -11886,6 +11900,13 @@ PW__DEF int pw_atlas_pack(const pw_alloc *a, const pw_trimesh *m, const pw_atlas
 /* The texture at a point of triangle f, barycentrics b (in the triangle's
  * corner order): `oc` channels into out. */
 typedef void (*pw_atlas_texel_fn)(void *user, int f, const float b[3], float *out);
+
+/* What an atlas shows: fn(user, ...) gives `oc` channels per point. */
+typedef struct pw_atlas_source {
+    pw_atlas_texel_fn fn;
+    void *user;
+    int oc;
+} pw_atlas_source;
 
 typedef struct pw__atlas_baker {
     pw_atlas_texel_fn fn;
@@ -12054,20 +12075,24 @@ PW__DEF int pw__atlas_dilate(const pw_alloc *a, pw__atlas_baker *B, int gutter, 
     return PW_OK;
 }
 
-/* Baking: fn's texture into an image of size x size pixels with oc
- * channels (allocated here), through the per-corner atlas coordinates uvs
- * (m->nf * 6, v = 0 at the bottom row): every texel whose centre a
- * triangle covers, then the texels a bilinear lookup inside a triangle can
- * reach (the texture at the triangle's nearest point), then `gutter`
- * rounds of dilation. */
-PW__DEF int pw_atlas_bake(const pw_alloc *a, const pw_trimesh *m, const float *uvs, int oc, int size, int gutter,
-                          pw_atlas_texel_fn fn, void *user, const pw_progress *prog, pw_image *out, pw_err *e)
+/* Baking: src's texture into an image of job->size x job->size pixels
+ * with src->oc channels (allocated here), through the per-corner atlas
+ * coordinates uvs (m->nf * 6, v = 0 at the bottom row): every texel whose
+ * centre a triangle covers, then the texels a bilinear lookup inside a
+ * triangle can reach (the texture at the triangle's nearest point), then
+ * job->gutter rounds of dilation. */
+PW__DEF int pw_atlas_bake(const pw_atlas_job *job, const float *uvs, const pw_atlas_source *src, pw_image *out,
+                          pw_err *e)
 {
+    const pw_alloc *a = job->a;
+    const pw_trimesh *m = job->m;
+    const pw_progress *prog = job->prog;
+    int size = job->size, oc = src->oc;
     pw__atlas_baker B;
     int f, k, r;
     memset(&B, 0, sizeof B);
-    B.fn = fn;
-    B.user = user;
+    B.fn = src->fn;
+    B.user = src->user;
     B.uvs = uvs;
     B.img = out;
     B.size = size;
@@ -12086,7 +12111,7 @@ PW__DEF int pw_atlas_bake(const pw_alloc *a, const pw_trimesh *m, const float *u
     for (f = 0; f < m->nf && r == PW_OK; f++) pw__atlas_bake_ring(&B, f);
     if (r == PW_OK) {
         pw__atlas_bake_ring_values(&B);
-        r = pw__atlas_dilate(a, &B, gutter, e);
+        r = pw__atlas_dilate(a, &B, job->gutter, e);
     }
     pw_free(a, B.id);
     return r;
@@ -12096,8 +12121,10 @@ PW__DEF int pw_atlas_bake(const pw_alloc *a, const pw_trimesh *m, const float *u
 /* Deduplicated texture coordinates: index of each corner's (u, v) in the
  * list of distinct pairs, in order of first appearance (open addressing
  * on the pairs' bits). */
-PW__DEF int pw__atlas_dedup_uvs(const pw_alloc *a, const float *uvs, int nc, float *uv, int *fuv, int *nuv, pw_err *e)
+PW__DEF int pw__atlas_dedup_uvs(const pw_alloc *a, const float *uvs, int nc, pw_mesh *pm, pw_err *e)
 {
+    float *uv = pm->uv;
+    int *fuv = pm->fuv;
     size_t cap = 16, mask, k;
     int *slot, c, n = 0;
     while (cap < 2 * (size_t)nc) cap <<= 1;
@@ -12125,7 +12152,7 @@ PW__DEF int pw__atlas_dedup_uvs(const pw_alloc *a, const float *uvs, int nc, flo
         }
     }
     pw_free(a, slot);
-    *nuv = n;
+    pm->nuv = n;
     return PW_OK;
 }
 
@@ -12148,24 +12175,26 @@ PW__DEF int pw_atlas_mesh(const pw_alloc *a, const pw_trimesh *m, const float *u
     pm->fuv = (int *)pw_alloc_array(a, (size_t)m->nf * 3, sizeof(int), "OBJ texture coordinates", e);
     if (!pm->fstart || !pm->uv || !pm->fuv) return PW_ERR_NOMEM;
     for (f = 0; f <= m->nf; f++) pm->fstart[f] = 3 * f;
-    return pw__atlas_dedup_uvs(a, uvs, 3 * m->nf, pm->uv, pm->fuv, &pm->nuv, e);
+    return pw__atlas_dedup_uvs(a, uvs, 3 * m->nf, pm, e);
 }
 
 /* ---- layout ------------------------------------------------------------------- */
 
-/* Charts of m (cone in degrees) packed into a size x size atlas with
- * `gutter` pixels between them: per-corner coordinates uvs (m->nf * 6,
- * allocated here), the chart count and the fraction of the image covered. */
-PW__DEF int pw_atlas_layout(const pw_alloc *a, const pw_trimesh *m, float cone, int size, int gutter,
-                            const pw_progress *prog, float **uvs, int *ncharts, float *fill, pw_err *e)
+/* Charts of job->m (job->cone in degrees) packed into a size x size atlas
+ * with `gutter` pixels between them: per-corner coordinates uvs (m->nf *
+ * 6, allocated here), the chart count and the fraction of the image
+ * covered. */
+PW__DEF int pw_atlas_layout(const pw_atlas_job *job, float **uvs, int *ncharts, float *fill, pw_err *e)
 {
+    const pw_alloc *a = job->a;
+    const pw_trimesh *m = job->m;
     pw_atlas_charts C;
     int r;
     *uvs = (float *)pw_alloc_array(a, (size_t)m->nf * 6, sizeof(float), "atlas coordinates", e);
     if (!*uvs) return PW_ERR_NOMEM;
-    if ((r = pw_atlas_charts_build(a, m, cone, prog, &C, e)) == PW_OK) {
+    if ((r = pw_atlas_charts_build(a, m, job->cone, job->prog, &C, e)) == PW_OK) {
         *ncharts = C.n;
-        r = pw_atlas_pack(a, m, &C, size, gutter, prog, *uvs, fill, e);
+        r = pw_atlas_pack(job, &C, *uvs, fill, e);
         pw_atlas_charts_free(a, &C);
     }
     if (r != PW_OK) {
@@ -24699,11 +24728,19 @@ static int lst__atlas_run(const pw_alloc *a, const lst_model *m, const lst__tris
     pw_atlas_charts C;
     lst__view v;
     lst__atlas_texel T;
+    pw_atlas_job job;
+    pw_atlas_source src;
     int *fstart = (int *)pw_alloc_array(a, (size_t)out->ntris + 1, sizeof(int), "atlas faces", e), f, r;
     memset(&pm, 0, sizeof pm);
     memset(&tm, 0, sizeof tm);
     memset(&v, 0, sizeof v);
     memset(&pic, 0, sizeof pic);
+    job.a = a;
+    job.m = &tm;
+    job.cone = o->cone_angle;
+    job.size = o->size;
+    job.gutter = o->gutter;
+    job.prog = prog;
     out->uvs = (float *)pw_alloc_array(a, (size_t)out->ntris * 6, sizeof(float), "atlas coordinates", e);
     if (!fstart || !out->uvs) {
         pw_free(a, fstart);
@@ -24719,13 +24756,16 @@ static int lst__atlas_run(const pw_alloc *a, const lst_model *m, const lst__tris
     if (r == PW_OK) r = pw_atlas_charts_build(a, &tm, o->cone_angle, prog, &C, e);
     if (r == PW_OK) {
         out->ncharts = C.n;
-        r = pw_atlas_pack(a, &tm, &C, o->size, o->gutter, prog, out->uvs, &out->fill, e);
+        r = pw_atlas_pack(&job, &C, out->uvs, &out->fill, e);
         pw_atlas_charts_free(a, &C);
     }
     if (r == PW_OK) r = lst__view_init(a, m, LST_SHOW_COLOR, &v, e);
     T.v = &v;
     T.tris = tris;
-    if (r == PW_OK) r = pw_atlas_bake(a, &tm, out->uvs, 3, o->size, o->gutter, lst__atlas_eval, &T, prog, img, e);
+    src.fn = lst__atlas_eval;
+    src.user = &T;
+    src.oc = 3;
+    if (r == PW_OK) r = pw_atlas_bake(&job, out->uvs, &src, img, e);
     lst__view_free(&v);
     pw_trimesh_free(a, &tm);
     pw_free(a, fstart);

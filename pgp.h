@@ -21,26 +21,26 @@
  *  10138: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
  *  10325: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
  *  10410: src/common/atlas.h, texture atlases of triangle meshes — charts, packing, ba
- *  12383: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
- *  13147: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
- *  13908: src/pgp/tile3.h, sampling a material-space tile (Ray et al. 2009, §2: "a 3
- *  14016: src/common/glue.h, what every method header needs between its public types an
- *  14229: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  14893: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
- *  15390: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
- *  15889: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
- *  16032: src/common/kdtree.h, nearest-neighbour search among n points of dimension d, wi
- *  16375: src/common/pca.h, principal component analysis of vectors streamed one at a 
- *  16562: src/pgp/core.c, pgp.h's glue to the shared core, its defaults, and the map
- *  16819: src/pgp/field.c, §2.1 effect areas and §2.2 interpolation of the constrai
- *  17201: src/pgp/solve.c, §2.3 the periodic global parameterization, the recovery o
- *  18008: src/pgp/edit.c, the public editing calls of a mapping. §2.1 (Ray, Lévy, 
- *  18147: src/pgp/render.c, §3 rendering, and a cleaner treatment of the vortices.
- *  18579: src/pgp/builtin.c, built-in meshes and material-space tiles for demos and tes
- *  18835: src/pgp/io.c, files and memory for pgp.h: material-space tiles (NRRD, or
- *  19295: src/pgp/export.c, the mapping for other programs. A viewer that knows nothin
- *  19512: src/pgp/morph.c, the inputs of §1 (keys brought to the tile size, made til
- *  20191: src/pgp/synth.c, §1.2 constrained tile synthesis, and the whole of §1: ke
+ *  12412: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
+ *  13176: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
+ *  13937: src/pgp/tile3.h, sampling a material-space tile (Ray et al. 2009, §2: "a 3
+ *  14045: src/common/glue.h, what every method header needs between its public types an
+ *  14258: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  14922: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
+ *  15419: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
+ *  15918: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
+ *  16061: src/common/kdtree.h, nearest-neighbour search among n points of dimension d, wi
+ *  16404: src/common/pca.h, principal component analysis of vectors streamed one at a 
+ *  16591: src/pgp/core.c, pgp.h's glue to the shared core, its defaults, and the map
+ *  16848: src/pgp/field.c, §2.1 effect areas and §2.2 interpolation of the constrai
+ *  17230: src/pgp/solve.c, §2.3 the periodic global parameterization, the recovery o
+ *  18037: src/pgp/edit.c, the public editing calls of a mapping. §2.1 (Ray, Lévy, 
+ *  18176: src/pgp/render.c, §3 rendering, and a cleaner treatment of the vortices.
+ *  18608: src/pgp/builtin.c, built-in meshes and material-space tiles for demos and tes
+ *  18864: src/pgp/io.c, files and memory for pgp.h: material-space tiles (NRRD, or
+ *  19324: src/pgp/export.c, the mapping for other programs. A viewer that knows nothin
+ *  19550: src/pgp/morph.c, the inputs of §1 (keys brought to the tile size, made til
+ *  20229: src/pgp/synth.c, §1.2 constrained tile synthesis, and the whole of §1: ke
  */
 /* pgp.h - material-space texturing with a periodic global parameterization.
  *
@@ -11106,9 +11106,9 @@ PW__DEF void pw__atlas_rescale(pw__atlas_grower *G)
  * the map U = u + i v is conformal on f when sum_j W_j U_j = 0; each row
  * is weighted by 1/sqrt(area), so the residual is the conformal energy.
  * Pinned vertices (col < 0) move to the right-hand side. */
-PW__DEF int pw__atlas_lscm_rows(const pw__atlas_grower *G, int f, int r, const int *col, pw_triplets *T, double *b,
-                                pw_err *e)
+PW__DEF int pw__atlas_lscm_rows(const pw__atlas_grower *G, int f, int r, const int *col, pw_triplets *T, double *b)
 {
+    pw_err *e = G->e;
     int j;
     double x[3], y[3], w = 1.0 / sqrt((double)G->m->area[f]);
     pw__atlas_frame(G->m, f, x, y);
@@ -11194,7 +11194,7 @@ PW__DEF int pw__atlas_lscm(pw__atlas_grower *G, int from, int max_iter)
         for (i = 0, r = PW_OK; i < G->nfc && r == PW_OK; i++) {
             const int *t = G->m->tri + 3 * G->faces[i];
             if (col[G->local[t[0]]] < 0 && col[G->local[t[1]]] < 0 && col[G->local[t[2]]] < 0) continue;
-            r = pw__atlas_lscm_rows(G, G->faces[i], rows, col, &T, b, G->e);
+            r = pw__atlas_lscm_rows(G, G->faces[i], rows, col, &T, b);
             rows += 2;
         }
         T.n = rows;
@@ -11446,6 +11446,18 @@ PW__DEF int pw_atlas_charts_build(const pw_alloc *a, const pw_trimesh *m, double
  * to the left of and below each chart, the rest to the right and above,
  * so also to the image border). Beyond 1024 pixels the grid's cells are
  * several pixels wide and both parts are rounded up to whole cells. */
+/* One atlas of a mesh: the allocator, the mesh m, the charts' cone (in
+ * degrees), the image's size (size x size pixels) and gutter (pixels
+ * between charts), and the progress; what pw_atlas_layout, pw_atlas_pack
+ * and pw_atlas_bake share. */
+typedef struct pw_atlas_job {
+    const pw_alloc *a;
+    const pw_trimesh *m;
+    float cone;
+    int size, gutter;
+    const pw_progress *prog;
+} pw_atlas_job;
+
 typedef struct pw__atlas_packer {
     const pw_trimesh *m;
     const pw_atlas_charts *C;
@@ -11953,12 +11965,13 @@ PW__DEF int pw__atlas_pack_prepare(const pw_alloc *a, pw__atlas_packer *P, pw_er
 /* The packing grid: cells of one pixel up to 1024 pixels a side, of
  * ceil(size / 1024) pixels beyond (the search costs grow with the grid's
  * area; a chart then loses at most a cell's rounding per side). */
-PW__DEF int pw__atlas_packer_init(const pw_alloc *a, pw__atlas_packer *P, const pw_trimesh *m, const pw_atlas_charts *C,
-                                  int size, int gutter, pw_err *e)
+PW__DEF int pw__atlas_packer_init(const pw_atlas_job *job, pw__atlas_packer *P, const pw_atlas_charts *C, pw_err *e)
 {
+    const pw_alloc *a = job->a;
+    int size = job->size, gutter = job->gutter;
     size_t n = (size_t)C->n, rows, cells, spans, runs;
     memset(P, 0, sizeof *P);
-    P->m = m;
+    P->m = job->m;
     P->C = C;
     P->pixels = size;
     P->unit = (size + 1023) / 1024;
@@ -12070,17 +12083,18 @@ PW__DEF void pw__atlas_pack_uvs(const pw__atlas_packer *P, double s, float *uvs,
     *fill = (float)sum;
 }
 
-/* packing: charts into the unit square; uvs gets nf*6 coordinates. */
-PW__DEF int pw_atlas_pack(const pw_alloc *a, const pw_trimesh *m, const pw_atlas_charts *C, int size, int gutter,
-                          const pw_progress *prog, float *uvs, float *fill, pw_err *e)
+/* packing: the charts C of job->m into the unit square; uvs gets nf*6
+ * coordinates. */
+PW__DEF int pw_atlas_pack(const pw_atlas_job *job, const pw_atlas_charts *C, float *uvs, float *fill, pw_err *e)
 {
     pw__atlas_packer P;
     double s = 0.0;
     int r;
-    if ((r = pw__atlas_packer_init(a, &P, m, C, size, gutter, e))) return r;
-    if ((r = pw__atlas_pack_prepare(a, &P, e)) == PW_OK && (r = pw__atlas_pack_search(&P, prog, &s, e)) == PW_OK)
+    if ((r = pw__atlas_packer_init(job, &P, C, e))) return r;
+    if ((r = pw__atlas_pack_prepare(job->a, &P, e)) == PW_OK &&
+        (r = pw__atlas_pack_search(&P, job->prog, &s, e)) == PW_OK)
         pw__atlas_pack_uvs(&P, s, uvs, fill);
-    pw__atlas_packer_free(a, &P);
+    pw__atlas_packer_free(job->a, &P);
     return r;
 }
 
@@ -12089,6 +12103,13 @@ PW__DEF int pw_atlas_pack(const pw_alloc *a, const pw_trimesh *m, const pw_atlas
 /* The texture at a point of triangle f, barycentrics b (in the triangle's
  * corner order): `oc` channels into out. */
 typedef void (*pw_atlas_texel_fn)(void *user, int f, const float b[3], float *out);
+
+/* What an atlas shows: fn(user, ...) gives `oc` channels per point. */
+typedef struct pw_atlas_source {
+    pw_atlas_texel_fn fn;
+    void *user;
+    int oc;
+} pw_atlas_source;
 
 typedef struct pw__atlas_baker {
     pw_atlas_texel_fn fn;
@@ -12257,20 +12278,24 @@ PW__DEF int pw__atlas_dilate(const pw_alloc *a, pw__atlas_baker *B, int gutter, 
     return PW_OK;
 }
 
-/* Baking: fn's texture into an image of size x size pixels with oc
- * channels (allocated here), through the per-corner atlas coordinates uvs
- * (m->nf * 6, v = 0 at the bottom row): every texel whose centre a
- * triangle covers, then the texels a bilinear lookup inside a triangle can
- * reach (the texture at the triangle's nearest point), then `gutter`
- * rounds of dilation. */
-PW__DEF int pw_atlas_bake(const pw_alloc *a, const pw_trimesh *m, const float *uvs, int oc, int size, int gutter,
-                          pw_atlas_texel_fn fn, void *user, const pw_progress *prog, pw_image *out, pw_err *e)
+/* Baking: src's texture into an image of job->size x job->size pixels
+ * with src->oc channels (allocated here), through the per-corner atlas
+ * coordinates uvs (m->nf * 6, v = 0 at the bottom row): every texel whose
+ * centre a triangle covers, then the texels a bilinear lookup inside a
+ * triangle can reach (the texture at the triangle's nearest point), then
+ * job->gutter rounds of dilation. */
+PW__DEF int pw_atlas_bake(const pw_atlas_job *job, const float *uvs, const pw_atlas_source *src, pw_image *out,
+                          pw_err *e)
 {
+    const pw_alloc *a = job->a;
+    const pw_trimesh *m = job->m;
+    const pw_progress *prog = job->prog;
+    int size = job->size, oc = src->oc;
     pw__atlas_baker B;
     int f, k, r;
     memset(&B, 0, sizeof B);
-    B.fn = fn;
-    B.user = user;
+    B.fn = src->fn;
+    B.user = src->user;
     B.uvs = uvs;
     B.img = out;
     B.size = size;
@@ -12289,7 +12314,7 @@ PW__DEF int pw_atlas_bake(const pw_alloc *a, const pw_trimesh *m, const float *u
     for (f = 0; f < m->nf && r == PW_OK; f++) pw__atlas_bake_ring(&B, f);
     if (r == PW_OK) {
         pw__atlas_bake_ring_values(&B);
-        r = pw__atlas_dilate(a, &B, gutter, e);
+        r = pw__atlas_dilate(a, &B, job->gutter, e);
     }
     pw_free(a, B.id);
     return r;
@@ -12299,8 +12324,10 @@ PW__DEF int pw_atlas_bake(const pw_alloc *a, const pw_trimesh *m, const float *u
 /* Deduplicated texture coordinates: index of each corner's (u, v) in the
  * list of distinct pairs, in order of first appearance (open addressing
  * on the pairs' bits). */
-PW__DEF int pw__atlas_dedup_uvs(const pw_alloc *a, const float *uvs, int nc, float *uv, int *fuv, int *nuv, pw_err *e)
+PW__DEF int pw__atlas_dedup_uvs(const pw_alloc *a, const float *uvs, int nc, pw_mesh *pm, pw_err *e)
 {
+    float *uv = pm->uv;
+    int *fuv = pm->fuv;
     size_t cap = 16, mask, k;
     int *slot, c, n = 0;
     while (cap < 2 * (size_t)nc) cap <<= 1;
@@ -12328,7 +12355,7 @@ PW__DEF int pw__atlas_dedup_uvs(const pw_alloc *a, const float *uvs, int nc, flo
         }
     }
     pw_free(a, slot);
-    *nuv = n;
+    pm->nuv = n;
     return PW_OK;
 }
 
@@ -12351,24 +12378,26 @@ PW__DEF int pw_atlas_mesh(const pw_alloc *a, const pw_trimesh *m, const float *u
     pm->fuv = (int *)pw_alloc_array(a, (size_t)m->nf * 3, sizeof(int), "OBJ texture coordinates", e);
     if (!pm->fstart || !pm->uv || !pm->fuv) return PW_ERR_NOMEM;
     for (f = 0; f <= m->nf; f++) pm->fstart[f] = 3 * f;
-    return pw__atlas_dedup_uvs(a, uvs, 3 * m->nf, pm->uv, pm->fuv, &pm->nuv, e);
+    return pw__atlas_dedup_uvs(a, uvs, 3 * m->nf, pm, e);
 }
 
 /* ---- layout ------------------------------------------------------------------- */
 
-/* Charts of m (cone in degrees) packed into a size x size atlas with
- * `gutter` pixels between them: per-corner coordinates uvs (m->nf * 6,
- * allocated here), the chart count and the fraction of the image covered. */
-PW__DEF int pw_atlas_layout(const pw_alloc *a, const pw_trimesh *m, float cone, int size, int gutter,
-                            const pw_progress *prog, float **uvs, int *ncharts, float *fill, pw_err *e)
+/* Charts of job->m (job->cone in degrees) packed into a size x size atlas
+ * with `gutter` pixels between them: per-corner coordinates uvs (m->nf *
+ * 6, allocated here), the chart count and the fraction of the image
+ * covered. */
+PW__DEF int pw_atlas_layout(const pw_atlas_job *job, float **uvs, int *ncharts, float *fill, pw_err *e)
 {
+    const pw_alloc *a = job->a;
+    const pw_trimesh *m = job->m;
     pw_atlas_charts C;
     int r;
     *uvs = (float *)pw_alloc_array(a, (size_t)m->nf * 6, sizeof(float), "atlas coordinates", e);
     if (!*uvs) return PW_ERR_NOMEM;
-    if ((r = pw_atlas_charts_build(a, m, cone, prog, &C, e)) == PW_OK) {
+    if ((r = pw_atlas_charts_build(a, m, job->cone, job->prog, &C, e)) == PW_OK) {
         *ncharts = C.n;
-        r = pw_atlas_pack(a, m, &C, size, gutter, prog, *uvs, fill, e);
+        r = pw_atlas_pack(job, &C, *uvs, fill, e);
         pw_atlas_charts_free(a, &C);
     }
     if (r != PW_OK) {
@@ -19340,6 +19369,8 @@ PGPDEF pgp_result pgp_bake_atlas(const pgp_map *map, const pgp_tile *tile, const
     pw_progress prog = pgp__progress(&o);
     pgp__shading S;
     pgp__bake B;
+    pw_atlas_job job;
+    pw_atlas_source src;
     pw_image img;
     pw_err pe;
     pw_err_clear(&pe);
@@ -19352,16 +19383,23 @@ PGPDEF pgp_result pgp_bake_atlas(const pgp_map *map, const pgp_tile *tile, const
     }
     if (pw_atlas_options(&o.atlas.size, &o.atlas.cone_angle, &o.atlas.gutter, &pe) == PW_OK &&
         pgp__render_options(&o.render, &ro, &pe) == PW_OK &&
-        pgp__shading_init(P, tile, ro.fix, ro.show, &S, &pe) == PW_OK &&
-        pw_atlas_layout(&P->a, &P->m, o.atlas.cone_angle, o.atlas.size, o.atlas.gutter, &prog, &out->uvs, &out->ncharts,
-                        &out->fill, &pe) == PW_OK) {
-        B.S = &S;
-        B.uvs = out->uvs;
-        B.size = o.atlas.size;
-        out->ntris = P->m.nf;
-        if (pw_atlas_bake(&P->a, &P->m, out->uvs, 3, o.atlas.size, o.atlas.gutter, pgp__bake_texel, &B, &prog, &img,
-                          &pe) == PW_OK)
-            pgp__take_image(&img, &P->a, &out->image);
+        pgp__shading_init(P, tile, ro.fix, ro.show, &S, &pe) == PW_OK) {
+        job.a = &P->a;
+        job.m = &P->m;
+        job.cone = o.atlas.cone_angle;
+        job.size = o.atlas.size;
+        job.gutter = o.atlas.gutter;
+        job.prog = &prog;
+        if (pw_atlas_layout(&job, &out->uvs, &out->ncharts, &out->fill, &pe) == PW_OK) {
+            B.S = &S;
+            B.uvs = out->uvs;
+            B.size = o.atlas.size;
+            out->ntris = P->m.nf;
+            src.fn = pgp__bake_texel;
+            src.user = &B;
+            src.oc = 3;
+            if (pw_atlas_bake(&job, out->uvs, &src, &img, &pe) == PW_OK) pgp__take_image(&img, &P->a, &out->image);
+        }
     }
     pgp__shading_free(P, &S);
     if (pe.code) {

@@ -267,16 +267,27 @@ static lapped_result write_glb(cli_outputs *outs, const char *path, const lapped
     return err->code = r;
 }
 
+/* What a run's renderings and atlases are made from: the command, its
+ * outputs, the mesh and the lapped texture made for it. */
+typedef struct lapped_made {
+    lapped_cmd *c;
+    cli_outputs *outs;
+    const lapped_mesh *mesh;
+    const lapped_texture *t;
+} lapped_made;
+
 /* The lapped texture (src->values NULL) or the extra channel baked into an
  * atlas image at `path` (if not NULL); with `obj`, also the OBJ + MTL, and
  * with `glb` the binary glTF. The layout depends only on the mesh and the
  * pastes, so both atlases share it. */
-static lapped_result write_atlas(lapped_cmd *c, cli_outputs *outs, const lapped_mesh *mesh, const lapped_texture *t,
-                                 const lapped_source *src, const char *path, int obj, const char *glb,
-                                 lapped_error *err)
+static lapped_result write_atlas(const lapped_made *M, const lapped_source *src, const char *path, int obj,
+                                 const char *glb, lapped_error *err)
 {
+    lapped_cmd *c = M->c;
+    cli_outputs *outs = M->outs;
+    const lapped_mesh *mesh = M->mesh;
     lapped_atlas atlas;
-    lapped_result r = lapped_bake_atlas(mesh, t, src, &c->opt, &atlas, err);
+    lapped_result r = lapped_bake_atlas(mesh, M->t, src, &c->opt, &atlas, err);
     if (r != LAPPED_OK) return r;
     if (obj) r = write_obj(c, outs, mesh, &atlas, err);
     if (r == LAPPED_OK && glb) r = write_glb(outs, glb, mesh, &atlas, &c->opt.render, err);
@@ -290,13 +301,12 @@ static lapped_result write_atlas(lapped_cmd *c, cli_outputs *outs, const lapped_
 
 /* The runtime-pasting rendering of the patches (src->values NULL) or of
  * the extra channel. */
-static lapped_result write_render(lapped_cmd *c, cli_outputs *outs, const lapped_mesh *mesh, const lapped_texture *t,
-                                  const lapped_source *src, const char *path, lapped_error *err)
+static lapped_result write_render(const lapped_made *M, const lapped_source *src, const char *path, lapped_error *err)
 {
     lapped_image pic;
-    lapped_result r = lapped_render(mesh, t, src, &c->opt.render, &pic, err);
+    lapped_result r = lapped_render(M->mesh, M->t, src, &M->c->opt.render, &pic, err);
     if (r != LAPPED_OK) return r;
-    r = write_image(outs, path, &pic, err);
+    r = write_image(M->outs, path, &pic, err);
     lapped_image_free(&pic);
     return r;
 }
@@ -305,6 +315,7 @@ static lapped_result run(lapped_cmd *c, cli_outputs *outs, lapped_error *err)
 {
     lapped_image patches[MAX_TEXTURES], channels[MAX_TEXTURES];
     lapped_source src, channel_src;
+    lapped_made made;
     lapped_constraints cons;
     lapped_texture t;
     lapped_mesh mesh;
@@ -334,13 +345,16 @@ static lapped_result run(lapped_cmd *c, cli_outputs *outs, lapped_error *err)
                t.ntris, t.npastes, t.layers, t.layers_before, t.hard_edges);
     if (r == LAPPED_OK && c->out_patch) r = write_image(outs, c->out_patch, &patches[0], err);
     if (r == LAPPED_OK && c->out_pastes) r = write_pastes(outs, c->out_pastes, &t, err);
-    if (r == LAPPED_OK && c->out_image) r = write_render(c, outs, &mesh, &t, &src, c->out_image, err);
-    if (r == LAPPED_OK && c->out_channel_image)
-        r = write_render(c, outs, &mesh, &t, &channel_src, c->out_channel_image, err);
+    made.c = c;
+    made.outs = outs;
+    made.mesh = &mesh;
+    made.t = &t;
+    if (r == LAPPED_OK && c->out_image) r = write_render(&made, &src, c->out_image, err);
+    if (r == LAPPED_OK && c->out_channel_image) r = write_render(&made, &channel_src, c->out_channel_image, err);
     if (r == LAPPED_OK && (c->out_obj || c->out_glb))
-        r = write_atlas(c, outs, &mesh, &t, &src, c->out_atlas, c->out_obj != NULL, c->out_glb, err);
+        r = write_atlas(&made, &src, c->out_atlas, c->out_obj != NULL, c->out_glb, err);
     if (r == LAPPED_OK && c->out_channel_atlas)
-        r = write_atlas(c, outs, &mesh, &t, &channel_src, c->out_channel_atlas, 0, NULL, err);
+        r = write_atlas(&made, &channel_src, c->out_channel_atlas, 0, NULL, err);
     lapped_texture_free(&t);
     lapped_mesh_free(&mesh);
     lapped_constraints_free(&cons);

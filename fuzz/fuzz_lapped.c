@@ -233,6 +233,7 @@ static void fz_check_texture(const lapped_texture *t, int ntris, const lapped_im
 static void fz_check_areas(const lapped_mesh *mesh, const lapped_texture *t, const lapped_options *o)
 {
     lapped_field f;
+    lapped__surface sf;
     double d = o->max_distortion > 0.0f ? o->max_distortion : 2.0, lo = 0.999 / (d * d), hi = 1.001 * d * d;
     lapped_error err;
     pw_trimesh m;
@@ -243,10 +244,13 @@ static void fz_check_areas(const lapped_mesh *mesh, const lapped_texture *t, con
     pw_err_clear(&e);
     FZ_CHECK(lapped_compute_field(mesh, o, &f, &err) == LAPPED_OK && f.ntris == t->ntris);
     FZ_CHECK(lapped__mesh_init(&a, mesh, &m, &e) == PW_OK);
+    sf.m = &m;
+    sf.fs = f.s;
+    sf.ft = f.t;
     for (p = 0; p < t->npastes; p++) {
-        double tex, surf, inside;
-        lapped__paste_areas(&m, f.s, f.t, &t->pastes[p], lo, hi, &tex, &surf, &inside);
-        FZ_CHECK(lapped__area_ok(tex, surf, lo, hi, t->pastes[p].nfaces));
+        lapped__areas ar;
+        lapped__paste_areas(&sf, &t->pastes[p], lo, hi, &ar);
+        FZ_CHECK(lapped__area_ok(ar.tex, ar.surf, lo, hi, t->pastes[p].nfaces));
     }
     pw_trimesh_free(&a, &m);
     lapped_field_free(&f);

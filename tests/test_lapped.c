@@ -32,6 +32,7 @@ static float dense_coverage(const lapped_texture *t, const lapped_image *patches
 {
     const int R = 12;
     lapped__index ix;
+    lapped__look L;
     pw_alloc a;
     pw_err e;
     pw_image *views = (pw_image *)calloc((size_t)t->npatches, sizeof(pw_image));
@@ -42,6 +43,10 @@ static float dense_coverage(const lapped_texture *t, const lapped_image *patches
     pw_err_clear(&e);
     for (k = 0; k < t->npatches; k++) views[k] = lapped__pw_image(&patches[k]);
     if (lapped__index_build(&a, t, &ix, &e) != PW_OK) return -1.0f;
+    L.ix = &ix;
+    L.t = t;
+    L.patches = views;
+    L.values = views;
     for (f = 0; f < t->ntris; f++)
         for (i = 0; i <= R; i++)
             for (j = 0; i + j <= R; j++) {
@@ -49,7 +54,7 @@ static float dense_coverage(const lapped_texture *t, const lapped_image *patches
                 b[0] = (float)i / R;
                 b[1] = (float)j / R;
                 b[2] = (float)(R - i - j) / R;
-                lapped__eval(&ix, t, views, views, f, b, rgba, &alpha);
+                lapped__eval(&L, f, b, rgba, &alpha);
                 if (alpha < worst) worst = alpha;
                 low += alpha < need;
                 n++;

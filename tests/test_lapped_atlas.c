@@ -611,9 +611,7 @@ static void measure_maps(const pw_trimesh *m, const pw_atlas_charts *C, const la
 }
 
 typedef struct evalcheck {
-    const lapped__index *ix;
-    const lapped_texture *t;
-    const pw_image *patches, *values;
+    lapped__look look;
     const lapped_image *img;
     int f, bad;
 } evalcheck;
@@ -625,7 +623,7 @@ static void eval_texel(void *user, int x, int y, float b0, float b1, float b2)
     const float *px = E->img->pixels + (size_t)(y * E->img->width + x) * E->img->channels;
     int k;
     b[0] = b0, b[1] = b1, b[2] = b2;
-    lapped__eval(E->ix, E->t, E->patches, E->values, E->f, b, out, &alpha);
+    lapped__eval(&E->look, E->f, b, out, &alpha);
     for (k = 0; k < E->img->channels; k++)
         if (px[k] != out[k] * alpha + 0.5f * (1.0f - alpha)) E->bad++;
 }
@@ -636,7 +634,12 @@ static void check_texel_centres(const pw_trimesh *m, const lapped__index *ix, co
 {
     evalcheck E;
     int n = at->image.width;
-    E.ix = ix, E.t = t, E.patches = pv, E.values = vv, E.img = &at->image, E.bad = 0;
+    E.look.ix = ix;
+    E.look.t = t;
+    E.look.patches = pv;
+    E.look.values = vv;
+    E.img = &at->image;
+    E.bad = 0;
     for (E.f = 0; E.f < m->nf; E.f++) {
         const float *uv = at->uvs + 6 * E.f;
         {
@@ -676,7 +679,12 @@ static void check_samples(const pw_trimesh *m, const pw_atlas_charts *C, const l
     double *eall = (double *)malloc(sizeof(double) * N);
     unsigned long long seed = 12345;
     pw_image img = lapped__pw_image(&at->image);
+    lapped__look L;
     int f, i, nin = 0, n = at->image.width;
+    L.ix = ix;
+    L.t = t;
+    L.patches = pv;
+    L.values = vv;
     for (f = 0; f < m->nf; f++) cum[f] = (f ? cum[f - 1] : 0) + m->area[f];
     for (i = 0; i < N; i++) {
         double r = rnd(&seed) * cum[m->nf - 1], s = sqrt(rnd(&seed)), q = rnd(&seed), u = 0, v = 0, err = 0;
@@ -691,7 +699,7 @@ static void check_samples(const pw_trimesh *m, const pw_atlas_charts *C, const l
         b[0] = (float)(1 - s), b[1] = (float)(s * (1 - q)), b[2] = (float)(s * q);
         for (k = 0; k < 3; k++) u += b[k] * at->uvs[6 * f + 2 * k], v += b[k] * at->uvs[6 * f + 2 * k + 1];
         pw_image_sample_bilinear(&img, (float)(u * n), (float)((1 - v) * n), got);
-        lapped__eval(ix, t, pv, vv, f, b, out, &alpha);
+        lapped__eval(&L, f, b, out, &alpha);
         for (k = 0; k < img.c; k++) {
             double d = fabs(got[k] - (out[k] * alpha + 0.5 * (1 - alpha)));
             if (d > err) err = d;

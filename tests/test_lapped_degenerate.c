@@ -125,7 +125,7 @@ static areas measure(const lapped_mesh *mesh, const lapped_texture *t, const lap
     pw_err e;
     lapped_error le;
     lapped_field field;
-    float *s, *ft;
+    lapped__surface sf;
     char *seen = (char *)calloc((size_t)t->ntris, 1);
     double in = 0.0, all = 0.0;
     int p, i;
@@ -140,15 +140,20 @@ static areas measure(const lapped_mesh *mesh, const lapped_texture *t, const lap
         free(seen);
         return r;
     }
-    s = field.s, ft = field.t;
+    sf.m = &m;
+    sf.fs = field.s;
+    sf.ft = field.t;
     for (p = 0; p < t->npastes; p++) {
         const lapped_paste *q = &t->pastes[p];
-        double tex, surf, inside;
-        lapped__paste_areas(&m, s, ft, q, 0.25, 4.0, &tex, &surf, &inside);
+        lapped__areas ar;
+        double tex, surf;
+        lapped__paste_areas(&sf, q, 0.25, 4.0, &ar);
+        tex = ar.tex;
+        surf = ar.surf;
         r.bad_pastes += !lapped__area_ok(tex, surf, 0.25, 4.0, q->nfaces);
         if (surf > 0.0 && tex / surf < r.lo) r.lo = tex / surf;
         if (surf > 0.0 && tex / surf > r.hi) r.hi = tex / surf;
-        in += inside;
+        in += ar.inside;
         all += surf;
         for (i = 0; i < 6 * q->nfaces; i++) r.nonfinite += !pw_is_finite(q->uvs[i]);
         for (i = 0; i < q->nfaces; i++) seen[q->faces[i]] = 1;

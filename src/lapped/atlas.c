@@ -100,9 +100,7 @@ static pw_image *lapped__atlas_image_views(const pw_alloc *a, const lapped_textu
 /* What a texel of the atlas holds: the lapped texture (or the values
  * channel) at that point, composited over mid-grey. */
 typedef struct lapped__atlas_texel {
-    const lapped__index *ix;
-    const lapped_texture *t;
-    const pw_image *patches, *values;
+    lapped__look look;
     int oc;
 } lapped__atlas_texel;
 
@@ -111,29 +109,29 @@ static void lapped__atlas_eval(void *user, int f, const float b[3], float *px)
     const lapped__atlas_texel *T = (const lapped__atlas_texel *)user;
     float out[4], alpha;
     int k;
-    lapped__eval(T->ix, T->t, T->patches, T->values, f, b, out, &alpha);
+    lapped__eval(&T->look, f, b, out, &alpha);
     for (k = 0; k < T->oc; k++) px[k] = out[k] * alpha + 0.5f * (1.0f - alpha);
 }
 
-/* Charts, packing and baking, once everything has been checked. */
-static int lapped__atlas_run(const pw_alloc *a, const pw_trimesh *m, const lapped_texture *t, const pw_image *views,
-                             int oc, const lapped_atlas_options *o, const pw_progress *prog, lapped_atlas *out,
-                             pw_image *img, pw_err *e)
+/* Charts, packing and baking of the atlas `job`, once everything has been
+ * checked; T says what its texels hold (its index is built here). */
+static int lapped__atlas_run(const pw_atlas_job *job, lapped__atlas_texel *T, lapped_atlas *out, pw_image *img,
+                             pw_err *e)
 {
+    pw_atlas_source src;
     lapped__index ix;
-    lapped__atlas_texel T;
     int r;
     memset(&ix, 0, sizeof ix);
-    r = pw_atlas_layout(a, m, o->cone_angle, o->size, o->gutter, prog, &out->uvs, &out->ncharts, &out->fill, e);
-    if (r == PW_OK) r = lapped__index_build(a, t, &ix, e);
-    T.ix = &ix;
-    T.t = t;
-    T.patches = views;
-    T.values = views + t->npatches;
-    T.oc = oc;
-    if (r == PW_OK) r = pw_atlas_bake(a, m, out->uvs, oc, o->size, o->gutter, lapped__atlas_eval, &T, prog, img, e);
-    lapped__index_free(a, &ix);
-    if (r == PW_OK) r = pw_report(prog, 1.0f, "atlas", e);
+    src.fn = lapped__atlas_eval;
+    src.user = T;
+    src.oc = T->oc;
+    r = pw_atlas_layout(job, &out->uvs, &out->ncharts, &out->fill, e);
+    if (r == PW_OK) r = lapped__index_build(job->a, T->look.t, &ix, e);
+    T->look.ix = &ix;
+    if (r == PW_OK) r = pw_atlas_bake(job, out->uvs, &src, img, e);
+    lapped__index_free(job->a, &ix);
+    T->look.ix = NULL; /* freed */
+    if (r == PW_OK) r = pw_report(job->prog, 1.0f, "atlas", e);
     return r;
 }
 
@@ -164,9 +162,20 @@ LAPPEDDEF lapped_result lapped_bake_atlas(const lapped_mesh *mesh, const lapped_
     if (!pe.code && !lapped__atlas_options(&o.atlas, &ato, &pe) && !lapped__mesh_init(&a, mesh, &m, &pe) &&
         !lapped__atlas_check_pastes(t, m.nf, &pe) && !lapped__atlas_check_images(t, patches, values, &pe) &&
         (views = lapped__atlas_image_views(&a, t, patches, values, &pe)) != NULL) {
-        int oc = values ? values[0].channels : 3; /* the patches' colour without their alpha */
+        pw_atlas_job job;
+        lapped__atlas_texel T;
+        job.a = &a;
+        job.m = &m;
+        job.cone = ato.cone_angle;
+        job.size = ato.size;
+        job.gutter = ato.gutter;
+        job.prog = &prog;
+        T.look.t = t;
+        T.look.patches = views;
+        T.look.values = views + t->npatches;
+        T.oc = values ? values[0].channels : 3; /* the patches' colour without their alpha */
         out->ntris = m.nf;
-        r = lapped__atlas_run(&a, &m, t, views, oc, &ato, &prog, out, &img, &pe);
+        r = lapped__atlas_run(&job, &T, out, &img, &pe);
         if (r != PW_OK) pw_fail(&pe, r, "atlas: %s", pw_result_string(r)); /* keeps a recorded message */
         else lapped__take_image(&img, &a, &out->image);
     }

@@ -116,9 +116,20 @@ static void lapped__stripes(unsigned long long seed, float x, float y, float px,
 /* "dots": polka dots of varied sizes and colours, one per cell of a
  * jittered 6x6 grid, and small dots of a finer 13x13 grid between them, on
  * a warm off-white ground. Isotropic. (x, y) in image widths. */
-static void lapped__dot_layer(unsigned long long seed, int cells, float rmin, float rmax, float x, float y, float px,
-                              float *rgb)
+
+/* One layer of dots: a cells x cells grid, each dot's radius in
+ * [rmin, rmax] cells, placed and coloured by the lattice noise of seed. */
+typedef struct {
+    unsigned long long seed;
+    int cells;
+    float rmin, rmax;
+} lapped__dot_grid;
+
+static void lapped__dot_layer(const lapped__dot_grid *grid, float x, float y, float px, float *rgb)
 {
+    unsigned long long seed = grid->seed;
+    int cells = grid->cells;
+    float rmin = grid->rmin, rmax = grid->rmax;
     static const float pal[6][3] = {{0.86f, 0.24f, 0.28f}, {0.19f, 0.44f, 0.76f}, {0.96f, 0.72f, 0.16f},
                                     {0.25f, 0.63f, 0.4f},  {0.55f, 0.33f, 0.72f}, {0.95f, 0.5f, 0.22f}};
     float gx = x * (float)cells, gy = y * (float)cells;
@@ -141,11 +152,20 @@ static void lapped__dot_layer(unsigned long long seed, int cells, float rmin, fl
 static void lapped__dots(unsigned long long seed, float x, float y, float px, float *rgb)
 {
     float g = 0.94f + 0.06f * (float)pw_fbm2(seed + 11, 20.0f * x, 20.0f * y, 0);
+    lapped__dot_grid small, big;
     rgb[0] = 0.97f * g;
     rgb[1] = 0.94f * g;
     rgb[2] = 0.86f * g;
-    lapped__dot_layer(seed + 20, 13, 0.12f, 0.22f, x, y, px, rgb);
-    lapped__dot_layer(seed + 40, 6, 0.2f, 0.42f, x, y, px, rgb);
+    small.seed = seed + 20;
+    small.cells = 13;
+    small.rmin = 0.12f;
+    small.rmax = 0.22f;
+    big.seed = seed + 40;
+    big.cells = 6;
+    big.rmin = 0.2f;
+    big.rmax = 0.42f;
+    lapped__dot_layer(&small, x, y, px, rgb);
+    lapped__dot_layer(&big, x, y, px, rgb);
 }
 
 LAPPEDDEF lapped_result lapped_builtin_exemplar(const char *name, int size, const lapped_options *opt,

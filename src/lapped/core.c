@@ -144,13 +144,25 @@ static void lapped__lookup(const pw_image *img, float u, float v, float *out)
     pw_image_sample_bilinear(img, x, y, out);
 }
 
-/* The lapped texture at barycentric point b of triangle f: every paste that
- * contains f composited "over" in order. Colours come from values[patch]
- * (channel count vc), opacity from the patches' alpha (channel 4). The
- * result is straight colour in out[0..vc-1] and total opacity in *alpha. */
-static void lapped__eval(const lapped__index *ix, const lapped_texture *t, const pw_image *patches,
-                         const pw_image *values, int f, const float b[3], float *out, float *alpha)
+/* A lapped texture ready to evaluate: its pastes t, their index ix, and
+ * per patch the RGBA image (patches) and the colour source (values; the
+ * patches themselves unless the caller gave a values channel). */
+typedef struct lapped__look {
+    const lapped__index *ix;
+    const lapped_texture *t;
+    const pw_image *patches, *values;
+} lapped__look;
+
+/* The lapped texture L at barycentric point b of triangle f: every paste
+ * that contains f composited "over" in order. Colours come from
+ * values[patch] (channel count vc), opacity from the patches' alpha
+ * (channel 4). The result is straight colour in out[0..vc-1] and total
+ * opacity in *alpha. */
+static void lapped__eval(const lapped__look *L, int f, const float b[3], float *out, float *alpha)
 {
+    const lapped__index *ix = L->ix;
+    const lapped_texture *t = L->t;
+    const pw_image *patches = L->patches, *values = L->values;
     float acc[4] = {0, 0, 0, 0}, a = 0.0f, px[4], vx[4];
     int i, k, vc = values[0].c;
     for (i = ix->start[f]; i < ix->start[f + 1]; i++) {

@@ -31,6 +31,12 @@ typedef struct lapped__eroded {
     float *lev[LAPPED__NLEV]; /* w*h alpha, eroded by radius 0, 1, 2, 4, ... */
 } lapped__eroded;
 
+/* A mesh with its field: the frame (S, T) of each triangle, nf*3 each. */
+typedef struct {
+    const pw_trimesh *m;
+    const float *fs, *ft;
+} lapped__surface;
+
 static void lapped__eroded_free(const pw_alloc *a, lapped__eroded *er)
 {
     int l;
@@ -38,11 +44,17 @@ static void lapped__eroded_free(const pw_alloc *a, lapped__eroded *er)
     memset(er, 0, sizeof *er);
 }
 
-/* out = minimum of src over [x-r, x+r] along one axis (stride between
- * samples `step`, n samples per line, `lines` lines `pitch` apart);
+/* One axis of an image seen as parallel lines: n samples per line `step`
+ * apart, `lines` lines `pitch` apart (rows: 1 and w; columns: w and 1). */
+typedef struct {
+    int n, step, lines, pitch;
+} lapped__lines;
+
+/* out = minimum of src over [x-r, x+r] along the lines of L;
  * outside the image counts as 0. */
-static void lapped__min_1d(const float *src, float *out, int n, int step, int lines, int pitch, int r)
+static void lapped__min_1d(const float *src, float *out, const lapped__lines *L, int r)
 {
+    int n = L->n, step = L->step, lines = L->lines, pitch = L->pitch;
     int l, i, k;
     for (l = 0; l < lines; l++)
         for (i = 0; i < n; i++) {
@@ -59,6 +71,7 @@ static int lapped__eroded_init(const pw_alloc *a, const pw_image *rgba, lapped__
 {
     size_t n = (size_t)rgba->w * rgba->h, i;
     float *tmp = (float *)pw_alloc_array(a, n, sizeof(float), "erosion", e);
+    lapped__lines rows, cols;
     int l;
     memset(er, 0, sizeof *er);
     er->w = rgba->w;
@@ -71,10 +84,18 @@ static int lapped__eroded_init(const pw_alloc *a, const pw_image *rgba, lapped__
         return PW_ERR_NOMEM;
     }
     for (i = 0; i < n; i++) er->lev[0][i] = rgba->px[4 * i + 3];
+    rows.n = er->w;
+    rows.step = 1;
+    rows.lines = er->h;
+    rows.pitch = er->w;
+    cols.n = er->h;
+    cols.step = er->w;
+    cols.lines = er->w;
+    cols.pitch = 1;
     for (l = 1; l < LAPPED__NLEV; l++) { /* separable: rows, then columns */
         int r = 1 << (l - 1);
-        lapped__min_1d(er->lev[0], tmp, er->w, 1, er->h, er->w, r);
-        lapped__min_1d(tmp, er->lev[l], er->h, er->w, er->w, 1, r);
+        lapped__min_1d(er->lev[0], tmp, &rows, r);
+        lapped__min_1d(tmp, er->lev[l], &cols, r);
     }
     pw_free(a, tmp);
     return PW_OK;
@@ -167,9 +188,11 @@ static int lapped__cover_sizes(lapped__cover *c, const pw_trimesh *m, const floa
     return PW_OK;
 }
 
-static int lapped__cover_init(const pw_alloc *a, const pw_trimesh *m, const float *t, int texels, float need,
-                              lapped__cover *c, pw_err *e)
+static int lapped__cover_init(const pw_alloc *a, const lapped__surface *s, int texels, float need, lapped__cover *c,
+                              pw_err *e)
 {
+    const pw_trimesh *m = s->m;
+    const float *t = s->ft;
     int f, r;
     memset(c, 0, sizeof *c);
     c->off = (size_t *)pw_alloc_array(a, (size_t)m->nf + 1, sizeof(size_t), "coverage", e);
@@ -698,6 +721,14 @@ static int lapped__align_nrows(const lapped__patchbuf *p)
     return n;
 }
 
+/* One paste's least-squares system (§3.4), allocated once for all pastes:
+ * its rows tr, right-hand sides b (u then v for alignment), unknowns x
+ * (u then v) and the scratch rhs for the normal equations' Aᵀb. */
+typedef struct {
+    pw_triplets *tr;
+    double *b, *x, *rhs;
+} lapped__lsq;
+
 /* |T| / (longest edge) of triangle f: the size of its rows. */
 static double lapped__row_weight(const lapped__paster *P, int f)
 {
@@ -711,8 +742,10 @@ static double lapped__row_weight(const lapped__paster *P, int f)
 }
 
 /* The three edge rows of degenerate triangle f from row `row` on. */
-static int lapped__sliver_rows(lapped__paster *P, int f, int row, pw_triplets *tr, double *bu, double *bv, pw_err *e)
+static int lapped__sliver_rows(lapped__paster *P, int f, int row, const lapped__lsq *ls, pw_err *e)
 {
+    pw_triplets *tr = ls->tr;
+    double *bu = ls->b, *bv = ls->b + tr->n;
     double w = lapped__row_weight(P, f);
     float l[6];
     int k, r = PW_OK;
@@ -727,15 +760,19 @@ static int lapped__sliver_rows(lapped__paster *P, int f, int row, pw_triplets *t
     return r;
 }
 
-static int lapped__align_rows(lapped__paster *P, pw_triplets *tr, double *bu, double *bv, pw_err *e)
+/* Rows of the alignment system (§3.4) into ls: u right-hand sides in
+ * ls->b, v ones after them. */
+static int lapped__align_rows(lapped__paster *P, const lapped__lsq *ls, pw_err *e)
 {
     lapped__patchbuf *p = &P->pb;
+    pw_triplets *tr = ls->tr;
+    double *bu = ls->b, *bv = ls->b + tr->n;
     int i, k, row = 0, r = PW_OK;
     for (i = 0; i < p->nfaces && r == PW_OK; i++) {
         int f = p->faces[i];
         float ws[3], wt[3];
         if (p->sliver[f]) {
-            r = lapped__sliver_rows(P, f, row, tr, bu, bv, e);
+            r = lapped__sliver_rows(P, f, row, ls, e);
             row += 3;
             continue;
         }
@@ -853,7 +890,7 @@ static int lapped__lscm_rows(lapped__paster *P, int seed, pw_triplets *tr, doubl
 }
 
 /* Solves the least-squares systems A x_j = b_j (nrhs right-hand sides of
- * tr->n rows, unknowns of tr->m columns, warm-started from x) through their
+ * tr->n rows, unknowns of tr->m columns, warm-started from x; all in ls) through their
  * normal equations AᵀA x = Aᵀb by conjugate gradients preconditioned with
  * incomplete Cholesky (the paper's CG, §3.4; IC(0) cuts the iterations
  * threefold over Jacobi). A ridge of 1e-8 of the mean diagonal makes AᵀA
@@ -862,9 +899,11 @@ static int lapped__lscm_rows(lapped__paster *P, int seed, pw_triplets *tr, doubl
  * iteration cap (only patches of tens of thousands of triangles come near
  * it) is not an error here: the warm start is already a usable
  * parametrisation and every iterate improves it. */
-static int lapped__solve(lapped__paster *P, const pw_triplets *tr, const double *b, double *x, int nrhs, double *rhs,
-                         pw_err *e)
+static int lapped__solve(lapped__paster *P, const lapped__lsq *ls, int nrhs, pw_err *e)
 {
+    const pw_triplets *tr = ls->tr;
+    const double *b = ls->b;
+    double *x = ls->x, *rhs = ls->rhs;
     pw_csr A, N;
     pw_ic0 M;
     pw_cg_options co = pw_cg_default_options();
@@ -901,9 +940,11 @@ static int lapped__solve(lapped__paster *P, const pw_triplets *tr, const double 
  * seed point stays at the patch centre ("a positional constraint to fix
  * the location of the patch center": the functional ignores translations,
  * so fixing it afterwards is exact). */
-static int lapped__optimize(lapped__paster *P, int seed, const float bary[3], int patch, pw_triplets *tr, double *x,
-                            double *b, double *rhs, pw_err *e)
+static int lapped__optimize(lapped__paster *P, int seed, const float bary[3], int patch, const lapped__lsq *ls,
+                            pw_err *e)
 {
+    pw_triplets *tr = ls->tr;
+    double *x = ls->x, *b = ls->b;
     lapped__patchbuf *p = &P->pb;
     int n = p->nverts, i, j, r, lscm = P->o.lscm && P->o.field == LAPPED_FIELD_ISOTROPIC;
     float du, dv;
@@ -916,10 +957,10 @@ static int lapped__optimize(lapped__paster *P, int seed, const float bary[3], in
     }
     if (lscm) {
         r = lapped__lscm_rows(P, seed, tr, b, e);
-        if (r == PW_OK) r = lapped__solve(P, tr, b, x, 1, rhs, e);
+        if (r == PW_OK) r = lapped__solve(P, ls, 1, e);
     } else {
-        r = lapped__align_rows(P, tr, b, b + tr->n, e);
-        if (r == PW_OK) r = lapped__solve(P, tr, b, x, 2, rhs, e);
+        r = lapped__align_rows(P, ls, e);
+        if (r == PW_OK) r = lapped__solve(P, ls, 2, e);
     }
     if (r != PW_OK) return r;
     for (i = 0; i < n; i++) lapped__map_vertex(p, p->verts[i], (float)x[i], (float)x[n + i]);
@@ -998,15 +1039,14 @@ static void lapped__pick(lapped__paster *P, int early, int *f, float b[3])
 /* Triangle f with corner coordinates uv: its texture area *tex and its
  * surface area over S^2, *surf, where S^2 = |S x T| (the area the frame
  * maps to the unit square; |T|^2 for every field but a caller's FACES). */
-static void lapped__tri_areas(const pw_trimesh *m, const float *fs, const float *ft, int f, const float uv[6],
-                              double *tex, double *surf)
+static void lapped__tri_areas(const lapped__surface *s, int f, const float uv[6], double *tex, double *surf)
 {
-    pw_v3 c = pw_v3_cross(pw_v3_load(fs + 3 * f), pw_v3_load(ft + 3 * f));
+    pw_v3 c = pw_v3_cross(pw_v3_load(s->fs + 3 * f), pw_v3_load(s->ft + 3 * f));
     double s2 = (double)c.x * c.x + (double)c.y * c.y + (double)c.z * c.z;
     s2 = sqrt(s2);
     *tex = 0.5 *
            fabs(((double)uv[2] - uv[0]) * ((double)uv[5] - uv[1]) - ((double)uv[4] - uv[0]) * ((double)uv[3] - uv[1]));
-    *surf = (double)m->area[f] / s2;
+    *surf = (double)s->m->area[f] / s2;
 }
 
 /* Whether texture area tex, summed over n triangles, is within [lo, hi]
@@ -1017,20 +1057,25 @@ static int lapped__area_ok(double tex, double surf, double lo, double hi, int n)
     return tex >= lo * surf - n * LAPPED__AREA_SLACK && tex <= hi * surf + n * LAPPED__AREA_SLACK;
 }
 
-/* For paste q (the tests and the fuzzer check the guarantee with it):
- * *tex = its texture area, *surf = the sum of its A_f / S_f^2, *inside =
- * the part of *surf whose triangles keep their own ratio within [lo, hi]. */
-static PW__UNUSED void lapped__paste_areas(const pw_trimesh *m, const float *fs, const float *ft, const lapped_paste *q,
-                                           double lo, double hi, double *tex, double *surf, double *inside)
+/* The areas of one paste (the tests and the fuzzer check the guarantee
+ * with them): tex = its texture area, surf = the sum of its A_f / S_f^2,
+ * inside = the part of surf whose triangles keep their own ratio within
+ * [lo, hi]. */
+typedef struct {
+    double tex, surf, inside;
+} lapped__areas;
+
+static PW__UNUSED void lapped__paste_areas(const lapped__surface *s, const lapped_paste *q, double lo, double hi,
+                                           lapped__areas *out)
 {
     int i;
-    *tex = *surf = *inside = 0.0;
+    out->tex = out->surf = out->inside = 0.0;
     for (i = 0; i < q->nfaces; i++) {
         double ta, sa;
-        lapped__tri_areas(m, fs, ft, q->faces[i], q->uvs + 6 * i, &ta, &sa);
-        *tex += ta;
-        *surf += sa;
-        if (lapped__area_ok(ta, sa, lo, hi, 1)) *inside += sa;
+        lapped__tri_areas(s, q->faces[i], q->uvs + 6 * i, &ta, &sa);
+        out->tex += ta;
+        out->surf += sa;
+        if (lapped__area_ok(ta, sa, lo, hi, 1)) out->inside += sa;
     }
 }
 
@@ -1047,6 +1092,7 @@ static PW__UNUSED void lapped__paste_areas(const pw_trimesh *m, const float *fs,
 static int lapped__trim_out(lapped__paster *P, int f)
 {
     lapped__patchbuf *p = &P->pb;
+    lapped__surface s;
     float uv[6];
     double ta, sa, d2 = (double)P->o.max_distortion * P->o.max_distortion;
     int k;
@@ -1055,7 +1101,10 @@ static int lapped__trim_out(lapped__paster *P, int f)
         uv[2 * k] = p->vuv[2 * P->m.tri[3 * f + k]];
         uv[2 * k + 1] = p->vuv[2 * P->m.tri[3 * f + k] + 1];
     }
-    lapped__tri_areas(&P->m, P->fs, P->ft, f, uv, &ta, &sa);
+    s.m = &P->m;
+    s.fs = P->fs;
+    s.ft = P->ft;
+    lapped__tri_areas(&s, f, uv, &ta, &sa);
     return !lapped__area_ok(ta, sa, 1.0 / d2, d2, 1);
 }
 
@@ -1093,7 +1142,7 @@ static void lapped__keep(lapped__patchbuf *p, int restore)
 
 /* One paste: seed, grow, optimise, grow again where the optimisation
  * uncovered texture, up to three rounds (§3.3, §3.4), trim, record. */
-static int lapped__paste(lapped__paster *P, int early, pw_triplets *tr, double *x, double *b, pw_err *e)
+static int lapped__paste(lapped__paster *P, int early, const lapped__lsq *ls, pw_err *e)
 {
     int f, patch, round, r = PW_OK;
     float bary[3];
@@ -1104,7 +1153,7 @@ static int lapped__paste(lapped__paster *P, int early, pw_triplets *tr, double *
     lapped__grow(P, &P->hulls[patch], centre3);
     for (round = 0; round < 3 && r == PW_OK; round++) {
         lapped__keep(&P->pb, 0);
-        r = lapped__optimize(P, f, bary, patch, tr, x, b, x + 2 * P->m.nv, e);
+        r = lapped__optimize(P, f, bary, patch, ls, e);
         if (r == PW_OK && lapped__trim_out(P, f)) {
             lapped__keep(&P->pb, 1); /* the seed itself got distorted: the last coordinates stay */
             break;
@@ -1307,6 +1356,7 @@ static double lapped__len_d(const float *v)
 static int lapped__setup(lapped__paster *P, const lapped_mesh *mesh, const lapped_image *patches, int npatches,
                          double *estimate, pw_err *e)
 {
+    lapped__surface surf;
     int nf, r;
     if ((r = lapped__mesh_init(P->a, mesh, &P->m, e)) != PW_OK) return r;
     nf = P->m.nf;
@@ -1334,7 +1384,10 @@ static int lapped__setup(lapped__paster *P, const lapped_mesh *mesh, const lappe
                        "the texture scale %g is more than 20 times the mesh's size "
                        "(%g): one patch would have to cover the whole mesh",
                        lapped__len_d(P->ft), P->m.diag);
-    if ((r = lapped__cover_init(P->a, &P->m, P->ft, lapped__max_side(P), P->o.coverage, &P->cover, e)) != PW_OK ||
+    surf.m = &P->m;
+    surf.fs = P->fs;
+    surf.ft = P->ft;
+    if ((r = lapped__cover_init(P->a, &surf, lapped__max_side(P), P->o.coverage, &P->cover, e)) != PW_OK ||
         (r = lapped__patchbuf_init(P->a, &P->m, &P->pb, e)) != PW_OK)
         return r;
     P->rng = pw_rng_seed(P->o.seed, 5);
@@ -1346,9 +1399,14 @@ static int lapped__run(lapped__paster *P, double estimate, pw_err *e)
 {
     pw_progress pr = lapped__progress(&P->o);
     pw_triplets tr;
+    lapped__lsq ls;
     double *x = (double *)pw_alloc_array(P->a, (size_t)P->m.nv * 4, sizeof(double), "solver unknowns", e);
     double *b = (double *)pw_alloc_array(P->a, (size_t)P->m.nf * 6 + 8, sizeof(double), "solver rows", e);
     int r = x && b ? pw_triplets_init(&tr, P->a, 1, 1, e) : PW_ERR_NOMEM;
+    ls.tr = &tr;
+    ls.x = x;
+    ls.b = b;
+    ls.rhs = x ? x + 2 * P->m.nv : NULL;
     if (!x || !b) {
         pw_free(P->a, x);
         pw_free(P->a, b);
@@ -1361,7 +1419,7 @@ static int lapped__run(lapped__paster *P, double estimate, pw_err *e)
                         "(lapped_options.max_pastes; --max-pastes)",
                         P->o.max_pastes, P->cover.nopen);
         else if (P->npastes % 16 == 0) r = pw_report(&pr, 1.0f - (float)P->cover.nopen / (float)P->m.nf, "pasting", e);
-        if (r == PW_OK) r = lapped__paste(P, (double)P->npastes < P->o.early * estimate, &tr, x, b, e);
+        if (r == PW_OK) r = lapped__paste(P, (double)P->npastes < P->o.early * estimate, &ls, e);
     }
     pw_triplets_free(&tr);
     pw_free(P->a, x);

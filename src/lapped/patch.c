@@ -125,13 +125,22 @@ static void lapped__edt_line(const double *f, int n, double *d, int *v, double *
     }
 }
 
+/* Scratch of the distance transform of a w x h image, with W = w + 2,
+ * H = h + 2: g, W*H doubles (the padded image); sd, 4 (W + H + 2) doubles
+ * and si, W + H ints (one line's values, distances, envelope). */
+typedef struct {
+    double *g, *sd;
+    int *si;
+} lapped__edt_scratch;
+
 /* dist[i] = Euclidean distance from pixel i's centre to the nearest centre
  * of a transparent pixel (a0 <= 0), where the pixels just outside the image
  * count as transparent. Works on the image padded by one ring of those:
- * columns, then rows. scratch: 4 (W + H + 2) doubles and W + H ints, where
- * W = w + 2, H = h + 2, plus W*H doubles in g. */
-static void lapped__edt(const float *a0, int w, int h, float *dist, double *g, double *sd, int *si)
+ * columns, then rows. */
+static void lapped__edt(const float *a0, int w, int h, float *dist, const lapped__edt_scratch *ws)
 {
+    double *g = ws->g, *sd = ws->sd;
+    int *si = ws->si;
     int W = w + 2, H = h + 2, n = W > H ? W : H, x, y;
     double inf = 2.0 * ((double)W * W + (double)H * H), *f = sd, *d = sd + n, *z = sd + 2 * n;
     for (y = 0; y < H; y++)
@@ -194,14 +203,24 @@ static int lapped__alpha_mode(const lapped_image *tex, const lapped_image *mask,
     return PW_OK;
 }
 
+/* One patch to make: the caller's texture and optional mask, the alpha
+ * source (LAPPED_ALPHA_*), the splotch seed and the fall-off width. */
+typedef struct {
+    const lapped_image *tex, *mask;
+    int mode;
+    unsigned long long seed;
+    float falloff;
+} lapped__patch_job;
+
 /* The alpha before the fall-off, in [0, 1]; refuses an all-zero one. */
-static int lapped__base_alpha(const lapped_image *tex, const lapped_image *mask, int mode, unsigned long long seed,
-                              float *a0, pw_err *e)
+static int lapped__base_alpha(const lapped__patch_job *job, float *a0, pw_err *e)
 {
+    const lapped_image *tex = job->tex, *mask = job->mask;
+    int mode = job->mode;
     size_t i, n = (size_t)tex->width * tex->height;
     long nonzero = 0;
     if (mode == LAPPED_ALPHA_CIRCLE) lapped__shape_circle(tex->width, tex->height, a0);
-    if (mode == LAPPED_ALPHA_SPLOTCH) lapped__shape_splotch(tex->width, tex->height, seed, a0);
+    if (mode == LAPPED_ALPHA_SPLOTCH) lapped__shape_splotch(tex->width, tex->height, job->seed, a0);
     for (i = 0; i < n; i++) {
         if (mode == LAPPED_ALPHA_IMAGE) a0[i] = tex->pixels[(i + 1) * tex->channels - 1];
         if (mode == LAPPED_ALPHA_MASK) a0[i] = mask->pixels[i * mask->channels];
@@ -229,30 +248,32 @@ static int lapped__patch_args(const lapped_image *tex, const lapped_image *mask,
 }
 
 /* Alpha and fall-off into rgba (whose colour is already the texture's). */
-static int lapped__patch_alpha(const pw_alloc *a, const lapped_image *tex, const lapped_image *mask, int mode,
-                               unsigned long long seed, float falloff, pw_image *rgba, pw_err *e)
+static int lapped__patch_alpha(const pw_alloc *a, const lapped__patch_job *job, pw_image *rgba, pw_err *e)
 {
+    const lapped_image *tex = job->tex;
     size_t n = (size_t)tex->width * tex->height, nl = (size_t)(tex->width + tex->height + 4);
     float *a0 = (float *)pw_alloc_array(a, n * 2, sizeof(float), "patch alpha", e);
-    double *g = a0 ? (double *)pw_alloc_array(a, (size_t)(tex->width + 2) * (tex->height + 2), sizeof(double),
-                                              "distance transform", e)
-                   : NULL;
-    double *sd = g ? (double *)pw_alloc_array(a, 4 * nl, sizeof(double), "distance transform", e) : NULL;
-    int *si = sd ? (int *)pw_alloc_array(a, nl, sizeof(int), "distance transform", e) : NULL;
-    int r = si ? PW_OK : PW_ERR_NOMEM;
-    if (r == PW_OK) r = lapped__base_alpha(tex, mask, mode, seed, a0, e);
+    lapped__edt_scratch ws;
+    int r;
+    ws.g = a0 ? (double *)pw_alloc_array(a, (size_t)(tex->width + 2) * (tex->height + 2), sizeof(double),
+                                         "distance transform", e)
+              : NULL;
+    ws.sd = ws.g ? (double *)pw_alloc_array(a, 4 * nl, sizeof(double), "distance transform", e) : NULL;
+    ws.si = ws.sd ? (int *)pw_alloc_array(a, nl, sizeof(int), "distance transform", e) : NULL;
+    r = ws.si ? PW_OK : PW_ERR_NOMEM;
+    if (r == PW_OK) r = lapped__base_alpha(job, a0, e);
     if (r == PW_OK) {
-        lapped__edt(a0, tex->width, tex->height, a0 + n, g, sd, si);
-        if (lapped__falloff(rgba, a0, a0 + n, falloff) == 0)
+        lapped__edt(a0, tex->width, tex->height, a0 + n, &ws);
+        if (lapped__falloff(rgba, a0, a0 + n, job->falloff) == 0)
             r = pw_fail(e, PW_ERR_INVALID,
                         "the patch is fully transparent after the %g-pixel fall-off "
                         "(the image or its opaque region is too small)",
-                        (double)falloff);
+                        (double)job->falloff);
     }
     pw_free(a, a0);
-    pw_free(a, g);
-    pw_free(a, sd);
-    pw_free(a, si);
+    pw_free(a, ws.g);
+    pw_free(a, ws.sd);
+    pw_free(a, ws.si);
     return r;
 }
 
@@ -263,17 +284,19 @@ LAPPEDDEF lapped_result lapped_make_patch(const lapped_image *texture, const lap
     pw_alloc a = lapped__alloc(&o.allocator);
     pw_image src, rgba;
     pw_err pe;
-    float falloff = 0.0f;
-    int mode = 0;
+    lapped__patch_job job;
+    memset(&job, 0, sizeof job);
+    job.tex = texture;
+    job.mask = mask;
+    job.seed = o.seed;
     pw_err_clear(&pe);
     memset(&rgba, 0, sizeof rgba);
     if (out) memset(out, 0, sizeof *out);
     if (!out) pw_fail(&pe, PW_ERR_INVALID, "lapped_make_patch: NULL output");
-    else if (lapped__patch_args(texture, mask, opt, &falloff, &pe) == PW_OK &&
-             lapped__alpha_mode(texture, mask, o.alpha, &mode, &pe) == PW_OK) {
+    else if (lapped__patch_args(texture, mask, opt, &job.falloff, &pe) == PW_OK &&
+             lapped__alpha_mode(texture, mask, o.alpha, &job.mode, &pe) == PW_OK) {
         src = lapped__pw_image(texture);
-        if (pw_image_convert(&a, &src, 4, &rgba, &pe) == PW_OK &&
-            lapped__patch_alpha(&a, texture, mask, mode, o.seed, falloff, &rgba, &pe) == PW_OK)
+        if (pw_image_convert(&a, &src, 4, &rgba, &pe) == PW_OK && lapped__patch_alpha(&a, &job, &rgba, &pe) == PW_OK)
             lapped__take_image(&rgba, &a, out);
         pw_image_free(&a, &rgba);
     }

@@ -119,11 +119,12 @@ static int lapped__draw_band(void *user, pw_fb *fb, pw_err *e)
 }
 
 /* The frame, band by band (pw_render_frame): the normals once, from the
- * whole mesh (every paste is lit as the surface), then the bands. */
-static int lapped__draw_pastes(const pw_alloc *a, const pw_trimesh *m, const lapped_texture *t, const pw_texture *tex,
-                               const lapped_render_options *ro, pw_image *pic, pw_err *e)
+ * whole mesh (every paste is lit as the surface), then the bands. F comes
+ * with its allocator, mesh, texture and patch textures; this sets the rest. */
+static int lapped__draw_pastes(lapped__picture *F, const lapped_render_options *ro, pw_image *pic, pw_err *e)
 {
-    lapped__picture F;
+    const pw_alloc *a = F->a;
+    const pw_trimesh *m = F->m;
     pw_frame f;
     pw_parallel par;
     pw_draw d;
@@ -136,17 +137,13 @@ static int lapped__draw_pastes(const pw_alloc *a, const pw_trimesh *m, const lap
     d.tris = m->tri;
     d.ntris = m->nf;
     pw__smooth_normals(&d, normals);
-    F.a = a;
-    F.m = m;
-    F.t = t;
-    F.tex = tex;
-    F.normals = normals;
-    F.cam = pw_camera_frame(m->pos, m->nv, ro->view_dir, ro->up, 35.0f, (float)ro->width / (float)ro->height);
-    F.filter = (int)ro->filter;
+    F->normals = normals;
+    F->cam = pw_camera_frame(m->pos, m->nv, ro->view_dir, ro->up, 35.0f, (float)ro->width / (float)ro->height);
+    F->filter = (int)ro->filter;
     par = lapped__parallel(ro);
     pw_frame_init(&f, ro->width, ro->height, ro->supersample, ro->background, &par);
     f.draw = lapped__draw_band;
-    f.user = &F;
+    f.user = F;
     r = pw_render_frame(a, &f, pic, e);
     pw_free(a, normals);
     return r;
@@ -157,6 +154,7 @@ LAPPEDDEF lapped_result lapped_render(const lapped_mesh *mesh, const lapped_text
 {
     lapped_render_options o;
     pw_alloc a = lapped__alloc(t ? &t->allocator : NULL);
+    lapped__picture F;
     pw_trimesh m;
     pw_texture *tex = NULL;
     pw_image pic;
@@ -179,8 +177,11 @@ LAPPEDDEF lapped_result lapped_render(const lapped_mesh *mesh, const lapped_text
         for (k = 0; r == PW_OK && k < t->npatches; k++)
             r = lapped__patch_texture(&a, &src->patches[k], src->values ? &src->values[k] : &src->patches[k], &tex[k],
                                       &pe);
-        if (r == PW_OK && lapped__draw_pastes(&a, &m, t, tex, &o, &pic, &pe) == PW_OK)
-            lapped__take_image(&pic, &a, out);
+        F.a = &a;
+        F.m = &m;
+        F.t = t;
+        F.tex = tex;
+        if (r == PW_OK && lapped__draw_pastes(&F, &o, &pic, &pe) == PW_OK) lapped__take_image(&pic, &a, out);
         for (k = 0; tex && k < t->npatches; k++) pw_texture_free(&a, &tex[k]);
         pw_free(&a, tex);
         pw_trimesh_free(&a, &m);

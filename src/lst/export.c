@@ -198,11 +198,19 @@ static int lst__atlas_run(const pw_alloc *a, const lst_model *m, const lst__tris
     pw_atlas_charts C;
     lst__view v;
     lst__atlas_texel T;
+    pw_atlas_job job;
+    pw_atlas_source src;
     int *fstart = (int *)pw_alloc_array(a, (size_t)out->ntris + 1, sizeof(int), "atlas faces", e), f, r;
     memset(&pm, 0, sizeof pm);
     memset(&tm, 0, sizeof tm);
     memset(&v, 0, sizeof v);
     memset(&pic, 0, sizeof pic);
+    job.a = a;
+    job.m = &tm;
+    job.cone = o->cone_angle;
+    job.size = o->size;
+    job.gutter = o->gutter;
+    job.prog = prog;
     out->uvs = (float *)pw_alloc_array(a, (size_t)out->ntris * 6, sizeof(float), "atlas coordinates", e);
     if (!fstart || !out->uvs) {
         pw_free(a, fstart);
@@ -218,13 +226,16 @@ static int lst__atlas_run(const pw_alloc *a, const lst_model *m, const lst__tris
     if (r == PW_OK) r = pw_atlas_charts_build(a, &tm, o->cone_angle, prog, &C, e);
     if (r == PW_OK) {
         out->ncharts = C.n;
-        r = pw_atlas_pack(a, &tm, &C, o->size, o->gutter, prog, out->uvs, &out->fill, e);
+        r = pw_atlas_pack(&job, &C, out->uvs, &out->fill, e);
         pw_atlas_charts_free(a, &C);
     }
     if (r == PW_OK) r = lst__view_init(a, m, LST_SHOW_COLOR, &v, e);
     T.v = &v;
     T.tris = tris;
-    if (r == PW_OK) r = pw_atlas_bake(a, &tm, out->uvs, 3, o->size, o->gutter, lst__atlas_eval, &T, prog, img, e);
+    src.fn = lst__atlas_eval;
+    src.user = &T;
+    src.oc = 3;
+    if (r == PW_OK) r = pw_atlas_bake(&job, out->uvs, &src, img, e);
     lst__view_free(&v);
     pw_trimesh_free(a, &tm);
     pw_free(a, fstart);

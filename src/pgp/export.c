@@ -48,6 +48,8 @@ PGPDEF pgp_result pgp_bake_atlas(const pgp_map *map, const pgp_tile *tile, const
     pw_progress prog = pgp__progress(&o);
     pgp__shading S;
     pgp__bake B;
+    pw_atlas_job job;
+    pw_atlas_source src;
     pw_image img;
     pw_err pe;
     pw_err_clear(&pe);
@@ -60,16 +62,23 @@ PGPDEF pgp_result pgp_bake_atlas(const pgp_map *map, const pgp_tile *tile, const
     }
     if (pw_atlas_options(&o.atlas.size, &o.atlas.cone_angle, &o.atlas.gutter, &pe) == PW_OK &&
         pgp__render_options(&o.render, &ro, &pe) == PW_OK &&
-        pgp__shading_init(P, tile, ro.fix, ro.show, &S, &pe) == PW_OK &&
-        pw_atlas_layout(&P->a, &P->m, o.atlas.cone_angle, o.atlas.size, o.atlas.gutter, &prog, &out->uvs, &out->ncharts,
-                        &out->fill, &pe) == PW_OK) {
-        B.S = &S;
-        B.uvs = out->uvs;
-        B.size = o.atlas.size;
-        out->ntris = P->m.nf;
-        if (pw_atlas_bake(&P->a, &P->m, out->uvs, 3, o.atlas.size, o.atlas.gutter, pgp__bake_texel, &B, &prog, &img,
-                          &pe) == PW_OK)
-            pgp__take_image(&img, &P->a, &out->image);
+        pgp__shading_init(P, tile, ro.fix, ro.show, &S, &pe) == PW_OK) {
+        job.a = &P->a;
+        job.m = &P->m;
+        job.cone = o.atlas.cone_angle;
+        job.size = o.atlas.size;
+        job.gutter = o.atlas.gutter;
+        job.prog = &prog;
+        if (pw_atlas_layout(&job, &out->uvs, &out->ncharts, &out->fill, &pe) == PW_OK) {
+            B.S = &S;
+            B.uvs = out->uvs;
+            B.size = o.atlas.size;
+            out->ntris = P->m.nf;
+            src.fn = pgp__bake_texel;
+            src.user = &B;
+            src.oc = 3;
+            if (pw_atlas_bake(&job, out->uvs, &src, &img, &pe) == PW_OK) pgp__take_image(&img, &P->a, &out->image);
+        }
     }
     pgp__shading_free(P, &S);
     if (pe.code) {
