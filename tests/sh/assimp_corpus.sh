@@ -6,14 +6,13 @@
 # (status 1, one line on stderr naming the problem, nothing left behind);
 # no crash, no hang. Files under invalid/ must fail. Skipped when the
 # package is absent.
-bin=${BUILD:-build}/patchwork
+suite=assimp_corpus cmd=
+. "$(dirname "$0")/lib.sh"
 root=/usr/share/assimp/models
 if [ ! -d "$root" ]; then
-    echo "SKIP assimp_corpus: $root absent (Debian package assimp-testmodels)"
+    skip corpus "$root absent (Debian package assimp-testmodels)"
     exit 0
 fi
-tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT INT TERM
 list=$(find "$root" -type f \( -iname '*.obj' -o -iname '*.off' -o -iname '*.ply' -o -iname '*.stl' \) | sort)
 loaded=0 refused=0 bad=0
 for f in $list; do
@@ -36,10 +35,10 @@ for f in $list; do
             refused=$((refused + 1))
         else
             bad=$((bad + 1))
-            echo "FAIL assimp_corpus/$cmd/$rel: status $status, $lines stderr lines, $left files left: $(head -2 "$tmp/err" | tr '\n' '|')"
+            fail "$cmd/$rel" "status $status, $lines stderr lines, $left files left: $(head -2 "$tmp/err" | tr '\n' '|')"
         fi
     done
 done
 n=$(echo "$list" | wc -l)
 echo "INFO assimp_corpus: $n files x 2 commands: $loaded runs succeeded, $refused refused cleanly, $bad wrong"
-[ $bad -eq 0 ] && [ $loaded -gt 0 ] && [ $refused -gt 0 ] && echo "PASS assimp_corpus" || echo "FAIL assimp_corpus: see above"
+if [ $bad -eq 0 ] && [ $loaded -gt 0 ] && [ $refused -gt 0 ]; then pass corpus; else fail corpus "see above"; fi

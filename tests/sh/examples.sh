@@ -1,8 +1,8 @@
 #!/bin/sh
 # Every example program runs and writes the images it promises.
+suite=examples cmd=
+. "$(dirname "$0")/lib.sh"
 build=${BUILD:-build}
-tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT INT TERM
 for ex in "$build"/examples/*; do
     [ -x "$ex" ] || continue
     name=$(basename "$ex")
@@ -11,8 +11,8 @@ for ex in "$build"/examples/*; do
         for f in $(grep -o '[a-z_]*\.\(ppm\|png\|pastes\|obj\|mtl\)' "$tmp/out.txt"); do
             [ -s "$tmp/$f" ] || missing="$missing $f"
         done
-        if [ -z "$missing" ]; then echo "PASS examples/$name"; else echo "FAIL examples/$name: missing$missing"; fi
+        if [ -z "$missing" ]; then pass "$name"; else fail "$name" "missing$missing"; fi
     else
-        echo "FAIL examples/$name: $(tail -1 "$tmp/out.txt")"
+        fail "$name" "$(tail -1 "$tmp/out.txt")"
     fi
 done

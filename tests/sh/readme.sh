@@ -2,8 +2,8 @@
 # The C programs quoted in README.md and the guides in docs/ compile
 # against the headers as they are (warnings are errors), so the
 # documentation cannot drift from the API.
-tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT INT TERM
+suite=readme cmd=
+. "$(dirname "$0")/lib.sh"
 awk -v dir="$tmp" '
     /^```c$/ { n++; f = dir "/block" n ".c"; print "#include <stdio.h>" > f; inside = 1; next }
     /^```/   { inside = 0; next }
@@ -15,9 +15,9 @@ for f in "$tmp"/block*.c; do
     count=$((count + 1))
     what=$(grep -m1 -o '[a-z]*\.h"' "$f" | tr -d '"')
     if ${CC:-cc} -std=c99 -Wall -Wextra -Werror -I. -o "$tmp/a.out" "$f" -lm 2> "$tmp/err.txt"; then
-        echo "PASS readme: the $what quick start compiles ($(basename "$f"))"
+        pass "$what quick start compiles ($(basename "$f"))"
     else
-        echo "FAIL readme: the $what quick start does not compile: $(head -3 "$tmp/err.txt" | tr '\n' ' ')"
+        fail "$what quick start ($(basename "$f"))" "does not compile: $(head -3 "$tmp/err.txt" | tr '\n' ' ')"
     fi
 done
-[ "$count" -ge 4 ] || echo "FAIL readme: $count C programs in README.md and docs/, one per header expected"
+[ "$count" -ge 4 ] || fail count "$count C programs in README.md and docs/, one per header expected"
