@@ -24,11 +24,11 @@
  *  10378: src/tiled/core.c, tiled.h's glue to the shared core, its defaults, result
  *  10480: src/tiled/layout.c, ch. III.1, the boundary types and the tiled texture they
  *  10752: src/tiled/map.c, ch. III.2, the texture mapping algorithm of Fig. 29
- *  10993: src/tiled/synth.c, ch. III.1.3, tiled texture image synthesis: an edge-matche
- *  11357: src/tiled/validate.c, checks a hand-made tiled texture (the thesis's Figs. 39,
- *  11485: src/tiled/builtin.c, built-in meshes and exemplars for demos and tests: the
- *  11683: src/tiled/render.c, a software rendering of a mapped mesh (the thesis rendered
- *  11891: src/tiled/io.c, files. Meshes and exemplars in; the mapped mesh with its t
+ *  11001: src/tiled/synth.c, ch. III.1.3, tiled texture image synthesis: an edge-matche
+ *  11383: src/tiled/validate.c, checks a hand-made tiled texture (the thesis's Figs. 39,
+ *  11511: src/tiled/builtin.c, built-in meshes and exemplars for demos and tests: the
+ *  11709: src/tiled/render.c, a software rendering of a mapped mesh (the thesis rendered
+ *  11932: src/tiled/io.c, files. Meshes and exemplars in; the mapped mesh with its t
  */
 /* tiled.h - seamless, singularity-free tiled textures on quad meshes.
  *
@@ -10763,14 +10763,27 @@ static int tiled__all_quads(const pw_mesh *m)
     return 1;
 }
 
+/* A quad mesh being mapped: geometry, its half-edges, and per corner the
+ * texture coordinates and boundary types, per face the tile. */
+typedef struct tiled__mapped {
+    pw_mesh q;
+    pw_hmesh hm;
+    float *uv;
+    int *types, *tiles;
+} tiled__mapped;
+
 /* Catmull-Clark until all faces are quads (ch. VI: "any mesh can easily be
  * converted to a quadrilateral mesh"), then `extra` more levels; `planned`
  * counts every level still to come (smoothing included) for the size
- * check made before any work. On success *q owns its arrays and *hm is its
- * half-edge structure. */
-static int tiled__quadrangulate(const pw_alloc *a, const tiled_mesh *in, int planned, int extra, const pw_progress *pr,
-                                pw_mesh *q, pw_hmesh *hm, pw_err *e)
+ * check made before any work; here extra = o->subdivide and planned =
+ * o->subdivide + o->smooth. On success m->q owns its arrays and m->hm is
+ * its half-edge structure. */
+static int tiled__quadrangulate(const pw_alloc *a, const tiled_mesh *in, const tiled_options *o, const pw_progress *pr,
+                                tiled__mapped *m, pw_err *e)
 {
+    const int planned = o->subdivide + o->smooth, extra = o->subdivide;
+    pw_mesh *q = &m->q;
+    pw_hmesh *hm = &m->hm;
     pw_mesh view = tiled__pw_mesh(in), next;
     int levels = (tiled__all_quads(&view) ? 0 : 1) + extra, l, r;
     double faces = in->face_start[in->nfaces];
@@ -10824,12 +10837,16 @@ static void tiled__assign_boundaries(const pw_hmesh *hm, const tiled_layout *l, 
 /* AssignTextureCoordinates (Fig. 29, with the u-offset erratum fixed and
  * guard bands): a random starting edge per quad ("further randomness") makes
  * the walk e0e1e2e3 start at corner `rot`; corner (rot+k) mod 4 takes the
- * tile's corner k. Case 1 draws a tile, a rotation and a mirror instead. */
-static void tiled__assign_uvs(const pw_mesh *q, const int *types, const tiled__geom *gm, int case1,
-                              const tiled_options *o, const float *coord, float *uv, int *face_tiles)
+ * tile's corner k. Case 1 draws a tile, a rotation and a mirror instead.
+ * Reads m's quads and boundary types, writes its uv and tiles. */
+static void tiled__assign_uvs(tiled__mapped *m, const tiled__geom *gm, int case1, const tiled_options *o,
+                              const float *coord)
 {
     pw_rng r = pw_rng_seed(o->seed, 2);
-    const int nf = q->nf, n = gm->n, N = gm->N, nn = N * N;
+    const int *types = m->types;
+    float *uv = m->uv;
+    int *face_tiles = m->tiles;
+    const int nf = m->q.nf, n = gm->n, N = gm->N, nn = N * N;
     const uint32_t rot_mask = o->fixed_start ? 0u : 3u, flip_mask = case1 && !o->no_mirror;
     int f, c;
     for (f = 0; f < nf; f++) {
@@ -10858,15 +10875,6 @@ static void tiled__assign_uvs(const pw_mesh *q, const int *types, const tiled__g
     }
 }
 
-/* A quad mesh being mapped: geometry, its half-edges, and per corner the
- * texture coordinates and boundary types, per face the tile. */
-typedef struct tiled__mapped {
-    pw_mesh q;
-    pw_hmesh hm;
-    float *uv;
-    int *types, *tiles;
-} tiled__mapped;
-
 static void tiled__mapped_free(const pw_alloc *a, tiled__mapped *m)
 {
     pw_mesh_free(a, &m->q);
@@ -10877,18 +10885,18 @@ static void tiled__mapped_free(const pw_alloc *a, tiled__mapped *m)
     memset(m, 0, sizeof *m);
 }
 
-/* Allocates the per-corner and per-face arrays for nc corners, nf faces. */
-static int tiled__mapped_arrays(const pw_alloc *a, int nc, int nf, float **uv, int **types, int **tiles, pw_err *e)
+/* Allocates m's per-corner and per-face arrays for nc corners, nf faces. */
+static int tiled__mapped_arrays(const pw_alloc *a, tiled__mapped *m, int nc, int nf, pw_err *e)
 {
-    *uv = (float *)pw_alloc_array(a, (size_t)nc * 2, sizeof(float), "texture coordinates", e);
-    *types = (int *)pw_alloc_array(a, (size_t)nc, sizeof(int), "boundary types", e);
-    *tiles = (int *)pw_alloc_array(a, (size_t)nf, sizeof(int), "face tiles", e);
-    if (*uv && *types && *tiles) return PW_OK;
-    pw_free(a, *uv);
-    pw_free(a, *types);
-    pw_free(a, *tiles);
-    *uv = NULL;
-    *types = *tiles = NULL;
+    m->uv = (float *)pw_alloc_array(a, (size_t)nc * 2, sizeof(float), "texture coordinates", e);
+    m->types = (int *)pw_alloc_array(a, (size_t)nc, sizeof(int), "boundary types", e);
+    m->tiles = (int *)pw_alloc_array(a, (size_t)nf, sizeof(int), "face tiles", e);
+    if (m->uv && m->types && m->tiles) return PW_OK;
+    pw_free(a, m->uv);
+    pw_free(a, m->types);
+    pw_free(a, m->tiles);
+    m->uv = NULL;
+    m->types = m->tiles = NULL;
     return PW_ERR_NOMEM;
 }
 
@@ -10897,13 +10905,13 @@ static int tiled__assign(const pw_alloc *a, tiled__mapped *m, const tiled_layout
 {
     tiled__geom gm = tiled__geometry(l);
     float *coord = (float *)pw_alloc_array(a, (size_t)gm.N * 2, sizeof(float), "coordinates", e);
-    if (!coord || tiled__mapped_arrays(a, m->q.fstart[m->q.nf], m->q.nf, &m->uv, &m->types, &m->tiles, e)) {
+    if (!coord || tiled__mapped_arrays(a, m, m->q.fstart[m->q.nf], m->q.nf, e)) {
         pw_free(a, coord);
         return PW_ERR_NOMEM;
     }
     tiled__coord_table(&gm, coord);
     tiled__assign_boundaries(&m->hm, l, o->seed, m->types);
-    tiled__assign_uvs(&m->q, m->types, &gm, l->case_number == 1, o, coord, m->uv, m->tiles);
+    tiled__assign_uvs(m, &gm, l->case_number == 1, o, coord);
     pw_free(a, coord);
     return PW_OK;
 }
@@ -10944,7 +10952,7 @@ static int tiled__smooth(const pw_alloc *a, tiled__mapped *m, pw_err *e)
     int r;
     memset(&next, 0, sizeof next);
     if ((r = pw_catmull_clark(a, &m->hm, m->q.pos, &next.q, e)) != PW_OK ||
-        (r = tiled__mapped_arrays(a, 4 * m->hm.nh, m->hm.nh, &next.uv, &next.types, &next.tiles, e)) != PW_OK ||
+        (r = tiled__mapped_arrays(a, &next, 4 * m->hm.nh, m->hm.nh, e)) != PW_OK ||
         (r = pw_hmesh_build(a, next.q.nv, next.q.nf, next.q.fstart, next.q.fv, &next.hm, e)) != PW_OK) {
         tiled__mapped_free(a, &next);
         return r;
@@ -10972,7 +10980,7 @@ TILEDDEF tiled_result tiled_map(const tiled_mesh *in, const tiled_layout *layout
     else if (o.subdivide < 0 || o.subdivide > 8 || o.smooth < 0 || o.smooth > 8)
         pw_fail(&pe, PW_ERR_INVALID, "subdivide and smooth must be 0..8 (got %d and %d)", o.subdivide, o.smooth);
     else if (tiled__resolve(layout, 0, &l, &pe) == PW_OK && tiled__check_mesh(in, &pe) == PW_OK &&
-             tiled__quadrangulate(&a, in, o.subdivide + o.smooth, o.subdivide, &pr, &m.q, &m.hm, &pe) == PW_OK &&
+             tiled__quadrangulate(&a, in, &o, &pr, &m, &pe) == PW_OK &&
              pw_report(&pr, 0.8f, "texture coordinates", &pe) == PW_OK && tiled__assign(&a, &m, &l, &o, &pe) == PW_OK) {
         for (k = 0; k < o.smooth && pe.code == PW_OK; k++)
             if (pw_report(&pr, 0.85f + 0.1f * (float)k / (float)o.smooth, "smoothing", &pe) == PW_OK)
@@ -11174,10 +11182,23 @@ static void tiled__centre_source(const tiled__synth *s, pw_rng *rng, tiled__scra
         }
 }
 
-/* Composes tile t into the atlas. */
-static int tiled__compose(const pw_alloc *a, const tiled__synth *s, pw_rng *rng, tiled__scratch *sc, pw_image *atlas,
-                          const tiled__geom *gm, int t, pw_err *e)
+/* The loop of tiled__synth_tiles over the tiles: the atlas being filled
+ * and its tile geometry, the random stream and the scratch shared by all
+ * tiles. */
+typedef struct tiled__tile_work {
+    pw_image *atlas;
+    const tiled__geom *gm;
+    pw_rng *rng;
+    tiled__scratch *sc;
+} tiled__tile_work;
+
+/* Composes tile t into the atlas of w. */
+static int tiled__compose(const pw_alloc *a, const tiled__synth *s, const tiled__tile_work *w, int t, pw_err *e)
 {
+    pw_image *atlas = w->atlas;
+    const tiled__geom *gm = w->gm;
+    pw_rng *rng = w->rng;
+    tiled__scratch *sc = w->sc;
     int types[4], T = s->T, c = s->src.c, j, r;
     pw_quilt q;
     tiled__tile_types(gm, s->case1, t, types);
@@ -11279,8 +11300,13 @@ static int tiled__synth_tiles(const pw_alloc *a, tiled__synth *s, const tiled_op
     pw_progress pr = tiled__progress(o);
     pw_rng rng = pw_rng_seed(o->seed, 3);
     tiled__scratch sc;
+    tiled__tile_work w;
     size_t tt = (size_t)s->T * s->T;
     int k, t, r = PW_OK;
+    w.atlas = atlas;
+    w.gm = gm;
+    w.rng = &rng;
+    w.sc = &sc;
     for (k = 0; k < 8; k++) tiled__place_diamond(s, &rng, k, gm->n);
     sc.src = (float *)pw_alloc_array(a, tt * 5 * s->src.c, sizeof(float), "tile sources", e);
     sc.allowed = (uint32_t *)pw_alloc_array(a, tt, sizeof(uint32_t), "tile constraints", e);
@@ -11289,7 +11315,7 @@ static int tiled__synth_tiles(const pw_alloc *a, tiled__synth *s, const tiled_op
     if (!sc.src || !sc.allowed || !sc.label || !sc.motif) r = PW_ERR_NOMEM;
     for (t = 0; t < gm->N * gm->N && r == PW_OK; t++) {
         r = pw_report(&pr, 0.1f + 0.9f * (float)t / (float)(gm->N * gm->N), "tile synthesis", e);
-        if (r == PW_OK) r = tiled__compose(a, s, &rng, &sc, atlas, gm, t, e);
+        if (r == PW_OK) r = tiled__compose(a, s, &w, t, e);
     }
     pw_free(a, sc.src);
     pw_free(a, sc.allowed);
@@ -11688,16 +11714,29 @@ TILEDDEF tiled_result tiled_builtin_exemplar(const char *name, int size, const t
 #define TILED__FOVY 35.0f
 
 #ifndef PW_NO_RENDER
-/* Fan-triangulates a mapped mesh into triangles with per-corner texture
- * coordinates. */
-static int tiled__triangles(const pw_alloc *a, const tiled_mesh *m, int **tris, float **uvs, int *ntris, pw_err *e)
+/* What tiled_render draws: a mapped mesh and its fan triangulation, with
+ * per-corner texture coordinates (uvs: 6 floats a triangle). */
+typedef struct tiled__tris {
+    const tiled_mesh *m;
+    int *tris; /* 3*ntris vertex indices of m */
+    float *uvs;
+    int ntris;
+} tiled__tris;
+
+/* Fan-triangulates the mapped mesh tl->m into tl's triangles. */
+static int tiled__triangles(const pw_alloc *a, tiled__tris *tl, pw_err *e)
 {
+    const tiled_mesh *m = tl->m;
     int f, k, t = 0, n = m->face_start[m->nfaces] - 2 * m->nfaces;
+    int **tris = &tl->tris, *ntris = &tl->ntris;
+    float **uvs = &tl->uvs;
     *tris = (int *)pw_alloc_array(a, (size_t)n * 3, sizeof(int), "triangles", e);
     *uvs = (float *)pw_alloc_array(a, (size_t)n * 6, sizeof(float), "triangle coordinates", e);
     if (!*tris || !*uvs) {
         pw_free(a, *tris);
         pw_free(a, *uvs);
+        *tris = NULL;
+        *uvs = NULL;
         return PW_ERR_NOMEM;
     }
     for (f = 0; f < m->nfaces; f++)
@@ -11719,9 +11758,10 @@ static int tiled__triangles(const pw_alloc *a, const tiled_mesh *m, int **tris, 
 /* Draws the triangles lit, textured from the atlas with mip levels capped
  * where they would mix tiles, band by band (pw_render_frame), and resolves
  * the supersamples. */
-static int tiled__draw(const pw_alloc *a, const tiled_mesh *m, const tiled_tileset *ts, const tiled_render_options *ro,
-                       const int *tris, const float *uvs, int ntris, pw_image *out, pw_err *e)
+static int tiled__draw(const pw_alloc *a, const tiled__tris *tl, const tiled_tileset *ts, const tiled_render_options *ro,
+                       pw_image *out, pw_err *e)
 {
+    const tiled_mesh *m = tl->m;
     pw_image atlas = tiled__pw_image(&ts->atlas);
     pw_texture tex;
     pw_draw d;
@@ -11737,9 +11777,9 @@ static int tiled__draw(const pw_alloc *a, const tiled_mesh *m, const tiled_tiles
     memset(&d, 0, sizeof d);
     d.positions = m->positions;
     d.nv = m->nverts;
-    d.tris = tris;
-    d.ntris = ntris;
-    d.uvs = uvs;
+    d.tris = tl->tris;
+    d.ntris = tl->ntris;
+    d.uvs = tl->uvs;
     d.tex = &tex;
     d.filter = (int)ro->filter;
     d.wrap = PW_WRAP_CLAMP;
@@ -11782,8 +11822,9 @@ TILEDDEF tiled_result tiled_render(const tiled_mesh *mapped, const tiled_tileset
     pw_alloc a = tiled__alloc(ts ? &ts->atlas.allocator : NULL);
     pw_image pic;
     pw_err pe;
-    int *tris = NULL, ntris = 0;
-    float *uvs = NULL;
+    tiled__tris tl;
+    memset(&tl, 0, sizeof tl);
+    tl.m = mapped;
     pw_err_clear(&pe);
     if (out) memset(out, 0, sizeof *out);
     if (!out || !ts || !mapped || !mapped->uvs)
@@ -11796,10 +11837,10 @@ TILEDDEF tiled_result tiled_render(const tiled_mesh *mapped, const tiled_tileset
                 o.height, o.supersample, (int)o.filter, o.threads);
     else if (tiled__check_mesh(mapped, &pe) == PW_OK &&
              tiled__check_image(&ts->atlas, "tile set atlas", &pe) == PW_OK &&
-             tiled__triangles(&a, mapped, &tris, &uvs, &ntris, &pe) == PW_OK) {
-        if (tiled__draw(&a, mapped, ts, &o, tris, uvs, ntris, &pic, &pe) == PW_OK) tiled__take_image(&pic, &a, out);
-        pw_free(&a, tris);
-        pw_free(&a, uvs);
+             tiled__triangles(&a, &tl, &pe) == PW_OK) {
+        if (tiled__draw(&a, &tl, ts, &o, &pic, &pe) == PW_OK) tiled__take_image(&pic, &a, out);
+        pw_free(&a, tl.tris);
+        pw_free(&a, tl.uvs);
     }
     return tiled__done(&pe, err);
 }
