@@ -13,25 +13,25 @@
  *   3314: src/common/text.h, locale-independent number parsing and formatting, a line s
  *   3737: src/common/mesh.h, polygon meshes as flat arrays, and their file formats.
  *   5266: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
- *   5767: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
- *   6191: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
- *   7454: src/common/raster.h, exact scan conversion of 2D triangles.
- *   7928: src/common/render.h, a small deterministic software renderer for textured trian
- *   9695: src/lapped/polyhull.h, the polygonal hull of a texture patch (Praun, Finkelstein 
- *  10553: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
- *  10740: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
- *  10825: src/common/atlas.h, texture atlases of triangle meshes — charts, packing, ba
- *  12827: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
- *  13591: src/common/glue.h, what every method header needs between its public types an
- *  13804: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  14468: src/lapped/core.c, lapped.h's glue to the shared core, its defaults, and the 
- *  14633: src/lapped/field.c, §3.2 the tangent field, one frame (S, T) per triangle, an
- *  15088: src/lapped/patch.c, §3.1 texture patches. A patch is the texture as RGBA whos
- *  15402: src/lapped/builtin.c, built-in meshes (made by the shared shapes module) and tex
- *  15602: src/lapped/grow.c, pasting (§3.3-3.6): grow a surface patch around an uncove
- *  17086: src/lapped/render.c, runtime pasting (§4): the mesh drawn once per paste, in p
- *  17290: src/lapped/atlas.c, §4 "Rendering with a texture atlas".
- *  17533: src/lapped/io.c, the paste file format and the file conveniences of lapped.
+ *   5795: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
+ *   6235: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
+ *   7498: src/common/raster.h, exact scan conversion of 2D triangles.
+ *   7972: src/common/render.h, a small deterministic software renderer for textured trian
+ *   9739: src/lapped/polyhull.h, the polygonal hull of a texture patch (Praun, Finkelstein 
+ *  10597: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
+ *  10784: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
+ *  10869: src/common/atlas.h, texture atlases of triangle meshes — charts, packing, ba
+ *  12871: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
+ *  13635: src/common/glue.h, what every method header needs between its public types an
+ *  13848: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  14512: src/lapped/core.c, lapped.h's glue to the shared core, its defaults, and the 
+ *  14677: src/lapped/field.c, §3.2 the tangent field, one frame (S, T) per triangle, an
+ *  15132: src/lapped/patch.c, §3.1 texture patches. A patch is the texture as RGBA whos
+ *  15446: src/lapped/builtin.c, built-in meshes (made by the shared shapes module) and tex
+ *  15646: src/lapped/grow.c, pasting (§3.3-3.6): grow a surface patch around an uncove
+ *  17130: src/lapped/render.c, runtime pasting (§4): the mesh drawn once per paste, in p
+ *  17334: src/lapped/atlas.c, §4 "Rendering with a texture atlas".
+ *  17577: src/lapped/io.c, the paste file format and the file conveniences of lapped.
  */
 /* lapped.h - lapped textures: overlapping texture patches pasted over a mesh.
  *
@@ -5442,27 +5442,45 @@ PW__DEF int pw_shape_bumpy(const pw_alloc *a, int n, pw_mesh *m, pw_err *e)
     return PW_OK;
 }
 
-PW__DEF int pw__shape_torus(const pw_alloc *a, int nu, int nv, int quads, double tube, pw_mesh *m, pw_err *e);
+/* A torus of radius 1 around the z axis: nu x nv quads (quads != 0) or
+ * each split in two triangles, tube radius `tube`. */
+typedef struct pw__torus {
+    int nu, nv, quads;
+    double tube;
+} pw__torus;
+
+PW__DEF int pw__shape_torus(const pw_alloc *a, const pw__torus *T, pw_mesh *m, pw_err *e);
 
 /* Torus around the z axis: radii 1 and 0.4, nu x nv quads (quads != 0) or
  * each quad split in two triangles. Vertex i*nv + j sits at angle 2 pi i/nu
  * around the axis and 2 pi j/nv around the tube. */
 PW__DEF int pw_shape_torus(const pw_alloc *a, int nu, int nv, int quads, pw_mesh *m, pw_err *e)
 {
-    return pw__shape_torus(a, nu, nv, quads, 0.4, m, e);
+    pw__torus T;
+    T.nu = nu;
+    T.nv = nv;
+    T.quads = quads;
+    T.tube = 0.4;
+    return pw__shape_torus(a, &T, m, e);
 }
 
 /* The same torus of radius 1 with tube radius `tube` (0 < tube < 1), in
  * triangles: a thin ring for the tetrahedralizer's tests. */
 PW__DEF int pw_shape_thin_torus(const pw_alloc *a, int nu, int nv, double tube, pw_mesh *m, pw_err *e)
 {
+    pw__torus T;
     if (!(tube > 0.0 && tube < 1.0)) return pw_fail(e, PW_ERR_INVALID, "torus: tube radius %g not in (0, 1)", tube);
-    return pw__shape_torus(a, nu, nv, 0, tube, m, e);
+    T.nu = nu;
+    T.nv = nv;
+    T.quads = 0;
+    T.tube = tube;
+    return pw__shape_torus(a, &T, m, e);
 }
 
-PW__DEF int pw__shape_torus(const pw_alloc *a, int nu, int nv, int quads, double tube, pw_mesh *m, pw_err *e)
+PW__DEF int pw__shape_torus(const pw_alloc *a, const pw__torus *T, pw_mesh *m, pw_err *e)
 {
-    const double pi2 = 6.28318530717958647692;
+    const double pi2 = 6.28318530717958647692, tube = T->tube;
+    const int nu = T->nu, nv = T->nv, quads = T->quads;
     int d = quads ? 4 : 3, i, j, r = pw_shape_alloc(a, nu * nv, (quads ? 1 : 2) * nu * nv, d, m, e);
     if (r != PW_OK) return r;
     for (i = 0; i < nu; i++)
@@ -5662,14 +5680,20 @@ PW__DEF double pw__shape_asin(double x)
     return 0.5 * (lo + hi);
 }
 
-/* A closed surface of revolution about z: the profile (z[k], r[k]),
- * k = 0..n-1, runs from the top pole to the bottom one (r > 0 between),
- * each inner point a ring of `around` vertices; the poles are single
- * vertices. Faces counter-clockwise seen from outside. */
-PW__DEF int pw__shape_revolve(const pw_alloc *a, const double *z, const double *r, int n, int around, pw_mesh *m,
-                              pw_err *e)
+/* The profile of a surface of revolution about z: points (z[k], r[k]),
+ * k = 0..n-1, from the top pole to the bottom one (r > 0 between). */
+typedef struct pw__profile {
+    const double *z, *r;
+    int n;
+} pw__profile;
+
+/* A closed surface of revolution about z of profile P, each inner point a
+ * ring of `around` vertices; the poles are single vertices. Faces
+ * counter-clockwise seen from outside. */
+PW__DEF int pw__shape_revolve(const pw_alloc *a, const pw__profile *P, int around, pw_mesh *m, pw_err *e)
 {
-    const double pi2 = 6.28318530717958647692;
+    const double pi2 = 6.28318530717958647692, *z = P->z, *r = P->r;
+    const int n = P->n;
     int rings = n - 2, nv = rings * around + 2, k, j, nt = 0, res;
     int bot = nv - 1; /* vertex 0 is the top pole; ring k (1..rings) starts at 1 + (k-1) * around */
     if ((res = pw_shape_alloc(a, nv, 2 * around * (rings - 1) + 2 * around, 3, m, e)) != PW_OK) return res;
@@ -5716,6 +5740,7 @@ PW__DEF int pw_shape_dumbbell(const pw_alloc *a, double neck, int around, pw_mes
 {
     const double pi = 3.14159265358979323846;
     double *z, *r, tn, zn, step = 2.0 * pi / around, len;
+    pw__profile prof;
     int nb, nn, n, k, res;
     if (!(neck > 0.0 && neck < 1.0) || around < 3)
         return pw_fail(e, PW_ERR_INVALID, "dumbbell: neck %g not in (0, 1) or %d vertices around", neck, around);
@@ -5744,7 +5769,10 @@ PW__DEF int pw_shape_dumbbell(const pw_alloc *a, double neck, int around, pw_mes
         z[n - 1 - k] = -z[k];
         r[n - 1 - k] = r[k];
     }
-    res = pw__shape_revolve(a, z, r, n, around, m, e);
+    prof.z = z;
+    prof.r = r;
+    prof.n = n;
+    res = pw__shape_revolve(a, &prof, around, m, e);
     pw_free(a, z);
     pw_free(a, r);
     return res;
@@ -5896,17 +5924,29 @@ PW__DEF void pw__hm_face_list(char *buf, size_t cap, const int *f, int n)
     if (n > 6 && len < cap) snprintf(buf + len, cap - len, ", ... (%d faces)", n);
 }
 
-/* The error for edge a-b of half-edge h: more than two faces, or two
- * faces in the same direction. */
-PW__DEF int pw__hm_edge_error(const pw_hmesh *hm, const int *ostart, const int *oh, const int *odest, int a, int b,
-                              int same, int opp, pw_err *e)
+/* The half-edges sorted by origin (pw__hm_sort): those leaving v are
+ * h[start[v]] .. h[start[v+1]-1], and dest[k] is the destination of h[k]. */
+typedef struct pw__hm_out {
+    const int *start, *h, *dest;
+} pw__hm_out;
+
+/* The error for edge a-b: more than two faces, or two faces in the same
+ * direction (counted again here: the error path only). */
+PW__DEF int pw__hm_edge_error(const pw_hmesh *hm, const pw__hm_out *o, int a, int b, pw_err *e)
 {
-    int faces[8], n = 0, k, i, j;
+    const int *ostart = o->start, *oh = o->h, *odest = o->dest;
+    int faces[8], n = 0, same = 0, opp = 0, k, i, j;
     char list[96];
     for (k = ostart[a]; k < ostart[a + 1]; k++)
-        if (odest[k] == b && n < 8) faces[n++] = hm->hface[oh[k]];
+        if (odest[k] == b) {
+            same++;
+            if (n < 8) faces[n++] = hm->hface[oh[k]];
+        }
     for (k = ostart[b]; k < ostart[b + 1]; k++)
-        if (odest[k] == a && n < 8) faces[n++] = hm->hface[oh[k]];
+        if (odest[k] == a) {
+            opp++;
+            if (n < 8) faces[n++] = hm->hface[oh[k]];
+        }
     for (i = 1; i < n; i++) /* insertion sort: at most 8 */
         for (j = i; j > 0 && faces[j - 1] > faces[j]; j--) {
             k = faces[j];
@@ -5926,8 +5966,9 @@ PW__DEF int pw__hm_edge_error(const pw_hmesh *hm, const int *ostart, const int *
  * one b->a not yet paired, needs no more checks: a second a->b would find
  * it taken. Otherwise the half-edges a->b (same) and b->a (opp) are counted
  * to catch bad edges. */
-PW__DEF int pw__hm_pair(pw_hmesh *hm, const int *ostart, const int *oh, const int *odest, int h, int b, pw_err *e)
+PW__DEF int pw__hm_pair(pw_hmesh *hm, const pw__hm_out *o, int h, int b, pw_err *e)
 {
+    const int *ostart = o->start, *oh = o->h, *odest = o->dest;
     int a = hm->fv[h], same = 0, opp = 0, g = -1, k;
     for (k = ostart[b]; k < ostart[b + 1]; k++)
         if (odest[k] == a) {
@@ -5936,7 +5977,7 @@ PW__DEF int pw__hm_pair(pw_hmesh *hm, const int *ostart, const int *oh, const in
         }
     if (opp != 1 || hm->twin[g] != -2) {
         for (k = ostart[a]; k < ostart[a + 1]; k++) same += odest[k] == b;
-        if (same + opp > 2 || same > 1) return pw__hm_edge_error(hm, ostart, oh, odest, a, b, same, opp, e);
+        if (same + opp > 2 || same > 1) return pw__hm_edge_error(hm, o, a, b, e);
     }
     hm->twin[h] = g;
     if (g >= 0) hm->twin[g] = h;
@@ -5946,15 +5987,14 @@ PW__DEF int pw__hm_pair(pw_hmesh *hm, const int *ostart, const int *oh, const in
 
 /* Pairs every half-edge with its opposite, in half-edge order (so the
  * first bad edge reported is deterministic). */
-PW__DEF int pw__hm_twins(pw_hmesh *hm, const int *ostart, const int *oh, const int *odest, pw_err *e)
+PW__DEF int pw__hm_twins(pw_hmesh *hm, const pw__hm_out *o, pw_err *e)
 {
     int h, f, r;
     hm->nboundary = 0; /* twins were set to -2 (not yet paired) by pw__hm_faces */
     for (f = 0; f < hm->nf; f++) {
         int b = hm->fstart[f], end = hm->fstart[f + 1];
         for (h = b; h < end; h++)
-            if (hm->twin[h] == -2 && (r = pw__hm_pair(hm, ostart, oh, odest, h, hm->fv[h + 1 < end ? h + 1 : b], e)))
-                return r;
+            if (hm->twin[h] == -2 && (r = pw__hm_pair(hm, o, h, hm->fv[h + 1 < end ? h + 1 : b], e))) return r;
     }
     hm->ne = (hm->nh + hm->nboundary) / 2;
     return PW_OK;
@@ -6082,11 +6122,15 @@ PW__DEF int pw__hm_offsets(const pw_alloc *a, pw_hmesh *hm, const int *fstart, p
 PW__DEF int pw__hm_steps(const pw_alloc *a, pw_hmesh *hm, int *tmp, pw_err *e)
 {
     int *ostart = tmp, *odest = tmp + hm->nv + 1, *oh = hm->hedge, r, v;
+    pw__hm_out out;
+    out.start = ostart;
+    out.h = oh;
+    out.dest = odest;
     for (v = 0; v < hm->nv; v++) hm->vout[v] = -1;
     memset(ostart, 0, ((size_t)hm->nv + 1) * sizeof(int));
     if ((r = pw__hm_faces(hm, hm->vout, ostart, e))) return r;
     pw__hm_sort(hm, ostart, oh, odest);
-    if ((r = pw__hm_twins(hm, ostart, oh, odest, e))) return r;
+    if ((r = pw__hm_twins(hm, &out, e))) return r;
     if ((r = pw__hm_vertices(hm, ostart, oh, a, e))) return r;
     hm->edgeh = (int *)pw_alloc_array(a, (size_t)hm->ne, sizeof(int), "edges", e);
     if (!hm->edgeh) return PW_ERR_NOMEM;

@@ -13,31 +13,31 @@
  *   3554: src/common/text.h, locale-independent number parsing and formatting, a line s
  *   3977: src/common/mesh.h, polygon meshes as flat arrays, and their file formats.
  *   5506: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
- *   6007: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
- *   6431: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
- *   6618: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
- *   6703: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
- *   7966: src/common/raster.h, exact scan conversion of 2D triangles.
- *   8440: src/common/render.h, a small deterministic software renderer for textured trian
- *  10207: src/common/atlas.h, texture atlases of triangle meshes — charts, packing, ba
- *  12209: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
- *  12970: src/common/tetmesh.h, the tetrahedral mesh that lapped solid textures work on, a
- *  13454: src/common/tetio.h, tetrahedral mesh files, TetGen .node/.ele and MEDIT .mesh.
- *  13946: src/common/bisect.h, graded, conforming tetrahedral meshes of a box by newest-v
- *  14266: src/common/stuffing.h, the built-in tetrahedralizer of lst.h, so that no external
- *  17399: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
- *  17542: src/common/pca.h, principal component analysis of vectors streamed one at a 
- *  17729: src/common/glue.h, what every method header needs between its public types an
- *  17942: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  18606: src/lst/core.c, lst.h's glue to the shared core, its defaults, the convers
- *  18939: src/lst/exemplar.c, solid exemplars (§5): sampling, the procedural exemplars 
- *  19476: src/lst/field.c, §5.2.2, the fields that orient and scale the pastes. The 
- *  20684: src/lst/paste.c, §5.2.3-5.2.7, filling the model. Each paste picks a rando
- *  21665: src/lst/render.c, §5.1, showing a model. Every point of a tetrahedron is th
- *  22562: src/lst/cut.c, §5.1.1, cutting a model along the zero set of a scalar fi
- *  23167: src/lst/builtin.c, the tetrahedralizer entry point, checks of caller meshes, 
- *  23689: src/lst/io.c, the model file, the constraint files and the file convenie
- *  24531: src/lst/export.c, the visible boundary with a baked texture atlas, for glTF.
+ *   6035: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
+ *   6475: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
+ *   6662: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
+ *   6747: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
+ *   8010: src/common/raster.h, exact scan conversion of 2D triangles.
+ *   8484: src/common/render.h, a small deterministic software renderer for textured trian
+ *  10251: src/common/atlas.h, texture atlases of triangle meshes — charts, packing, ba
+ *  12253: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
+ *  13014: src/common/tetmesh.h, the tetrahedral mesh that lapped solid textures work on, a
+ *  13498: src/common/tetio.h, tetrahedral mesh files, TetGen .node/.ele and MEDIT .mesh.
+ *  13990: src/common/bisect.h, graded, conforming tetrahedral meshes of a box by newest-v
+ *  14310: src/common/stuffing.h, the built-in tetrahedralizer of lst.h, so that no external
+ *  17443: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
+ *  17586: src/common/pca.h, principal component analysis of vectors streamed one at a 
+ *  17773: src/common/glue.h, what every method header needs between its public types an
+ *  17986: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  18650: src/lst/core.c, lst.h's glue to the shared core, its defaults, the convers
+ *  18983: src/lst/exemplar.c, solid exemplars (§5): sampling, the procedural exemplars 
+ *  19520: src/lst/field.c, §5.2.2, the fields that orient and scale the pastes. The 
+ *  20728: src/lst/paste.c, §5.2.3-5.2.7, filling the model. Each paste picks a rando
+ *  21709: src/lst/render.c, §5.1, showing a model. Every point of a tetrahedron is th
+ *  22606: src/lst/cut.c, §5.1.1, cutting a model along the zero set of a scalar fi
+ *  23211: src/lst/builtin.c, the tetrahedralizer entry point, checks of caller meshes, 
+ *  23733: src/lst/io.c, the model file, the constraint files and the file convenie
+ *  24575: src/lst/export.c, the visible boundary with a baked texture atlas, for glTF.
  */
 /* lst.h - lapped solid textures: solid exemplars pasted inside a model.
  *
@@ -5682,27 +5682,45 @@ PW__DEF int pw_shape_bumpy(const pw_alloc *a, int n, pw_mesh *m, pw_err *e)
     return PW_OK;
 }
 
-PW__DEF int pw__shape_torus(const pw_alloc *a, int nu, int nv, int quads, double tube, pw_mesh *m, pw_err *e);
+/* A torus of radius 1 around the z axis: nu x nv quads (quads != 0) or
+ * each split in two triangles, tube radius `tube`. */
+typedef struct pw__torus {
+    int nu, nv, quads;
+    double tube;
+} pw__torus;
+
+PW__DEF int pw__shape_torus(const pw_alloc *a, const pw__torus *T, pw_mesh *m, pw_err *e);
 
 /* Torus around the z axis: radii 1 and 0.4, nu x nv quads (quads != 0) or
  * each quad split in two triangles. Vertex i*nv + j sits at angle 2 pi i/nu
  * around the axis and 2 pi j/nv around the tube. */
 PW__DEF int pw_shape_torus(const pw_alloc *a, int nu, int nv, int quads, pw_mesh *m, pw_err *e)
 {
-    return pw__shape_torus(a, nu, nv, quads, 0.4, m, e);
+    pw__torus T;
+    T.nu = nu;
+    T.nv = nv;
+    T.quads = quads;
+    T.tube = 0.4;
+    return pw__shape_torus(a, &T, m, e);
 }
 
 /* The same torus of radius 1 with tube radius `tube` (0 < tube < 1), in
  * triangles: a thin ring for the tetrahedralizer's tests. */
 PW__DEF int pw_shape_thin_torus(const pw_alloc *a, int nu, int nv, double tube, pw_mesh *m, pw_err *e)
 {
+    pw__torus T;
     if (!(tube > 0.0 && tube < 1.0)) return pw_fail(e, PW_ERR_INVALID, "torus: tube radius %g not in (0, 1)", tube);
-    return pw__shape_torus(a, nu, nv, 0, tube, m, e);
+    T.nu = nu;
+    T.nv = nv;
+    T.quads = 0;
+    T.tube = tube;
+    return pw__shape_torus(a, &T, m, e);
 }
 
-PW__DEF int pw__shape_torus(const pw_alloc *a, int nu, int nv, int quads, double tube, pw_mesh *m, pw_err *e)
+PW__DEF int pw__shape_torus(const pw_alloc *a, const pw__torus *T, pw_mesh *m, pw_err *e)
 {
-    const double pi2 = 6.28318530717958647692;
+    const double pi2 = 6.28318530717958647692, tube = T->tube;
+    const int nu = T->nu, nv = T->nv, quads = T->quads;
     int d = quads ? 4 : 3, i, j, r = pw_shape_alloc(a, nu * nv, (quads ? 1 : 2) * nu * nv, d, m, e);
     if (r != PW_OK) return r;
     for (i = 0; i < nu; i++)
@@ -5902,14 +5920,20 @@ PW__DEF double pw__shape_asin(double x)
     return 0.5 * (lo + hi);
 }
 
-/* A closed surface of revolution about z: the profile (z[k], r[k]),
- * k = 0..n-1, runs from the top pole to the bottom one (r > 0 between),
- * each inner point a ring of `around` vertices; the poles are single
- * vertices. Faces counter-clockwise seen from outside. */
-PW__DEF int pw__shape_revolve(const pw_alloc *a, const double *z, const double *r, int n, int around, pw_mesh *m,
-                              pw_err *e)
+/* The profile of a surface of revolution about z: points (z[k], r[k]),
+ * k = 0..n-1, from the top pole to the bottom one (r > 0 between). */
+typedef struct pw__profile {
+    const double *z, *r;
+    int n;
+} pw__profile;
+
+/* A closed surface of revolution about z of profile P, each inner point a
+ * ring of `around` vertices; the poles are single vertices. Faces
+ * counter-clockwise seen from outside. */
+PW__DEF int pw__shape_revolve(const pw_alloc *a, const pw__profile *P, int around, pw_mesh *m, pw_err *e)
 {
-    const double pi2 = 6.28318530717958647692;
+    const double pi2 = 6.28318530717958647692, *z = P->z, *r = P->r;
+    const int n = P->n;
     int rings = n - 2, nv = rings * around + 2, k, j, nt = 0, res;
     int bot = nv - 1; /* vertex 0 is the top pole; ring k (1..rings) starts at 1 + (k-1) * around */
     if ((res = pw_shape_alloc(a, nv, 2 * around * (rings - 1) + 2 * around, 3, m, e)) != PW_OK) return res;
@@ -5956,6 +5980,7 @@ PW__DEF int pw_shape_dumbbell(const pw_alloc *a, double neck, int around, pw_mes
 {
     const double pi = 3.14159265358979323846;
     double *z, *r, tn, zn, step = 2.0 * pi / around, len;
+    pw__profile prof;
     int nb, nn, n, k, res;
     if (!(neck > 0.0 && neck < 1.0) || around < 3)
         return pw_fail(e, PW_ERR_INVALID, "dumbbell: neck %g not in (0, 1) or %d vertices around", neck, around);
@@ -5984,7 +6009,10 @@ PW__DEF int pw_shape_dumbbell(const pw_alloc *a, double neck, int around, pw_mes
         z[n - 1 - k] = -z[k];
         r[n - 1 - k] = r[k];
     }
-    res = pw__shape_revolve(a, z, r, n, around, m, e);
+    prof.z = z;
+    prof.r = r;
+    prof.n = n;
+    res = pw__shape_revolve(a, &prof, around, m, e);
     pw_free(a, z);
     pw_free(a, r);
     return res;
@@ -6136,17 +6164,29 @@ PW__DEF void pw__hm_face_list(char *buf, size_t cap, const int *f, int n)
     if (n > 6 && len < cap) snprintf(buf + len, cap - len, ", ... (%d faces)", n);
 }
 
-/* The error for edge a-b of half-edge h: more than two faces, or two
- * faces in the same direction. */
-PW__DEF int pw__hm_edge_error(const pw_hmesh *hm, const int *ostart, const int *oh, const int *odest, int a, int b,
-                              int same, int opp, pw_err *e)
+/* The half-edges sorted by origin (pw__hm_sort): those leaving v are
+ * h[start[v]] .. h[start[v+1]-1], and dest[k] is the destination of h[k]. */
+typedef struct pw__hm_out {
+    const int *start, *h, *dest;
+} pw__hm_out;
+
+/* The error for edge a-b: more than two faces, or two faces in the same
+ * direction (counted again here: the error path only). */
+PW__DEF int pw__hm_edge_error(const pw_hmesh *hm, const pw__hm_out *o, int a, int b, pw_err *e)
 {
-    int faces[8], n = 0, k, i, j;
+    const int *ostart = o->start, *oh = o->h, *odest = o->dest;
+    int faces[8], n = 0, same = 0, opp = 0, k, i, j;
     char list[96];
     for (k = ostart[a]; k < ostart[a + 1]; k++)
-        if (odest[k] == b && n < 8) faces[n++] = hm->hface[oh[k]];
+        if (odest[k] == b) {
+            same++;
+            if (n < 8) faces[n++] = hm->hface[oh[k]];
+        }
     for (k = ostart[b]; k < ostart[b + 1]; k++)
-        if (odest[k] == a && n < 8) faces[n++] = hm->hface[oh[k]];
+        if (odest[k] == a) {
+            opp++;
+            if (n < 8) faces[n++] = hm->hface[oh[k]];
+        }
     for (i = 1; i < n; i++) /* insertion sort: at most 8 */
         for (j = i; j > 0 && faces[j - 1] > faces[j]; j--) {
             k = faces[j];
@@ -6166,8 +6206,9 @@ PW__DEF int pw__hm_edge_error(const pw_hmesh *hm, const int *ostart, const int *
  * one b->a not yet paired, needs no more checks: a second a->b would find
  * it taken. Otherwise the half-edges a->b (same) and b->a (opp) are counted
  * to catch bad edges. */
-PW__DEF int pw__hm_pair(pw_hmesh *hm, const int *ostart, const int *oh, const int *odest, int h, int b, pw_err *e)
+PW__DEF int pw__hm_pair(pw_hmesh *hm, const pw__hm_out *o, int h, int b, pw_err *e)
 {
+    const int *ostart = o->start, *oh = o->h, *odest = o->dest;
     int a = hm->fv[h], same = 0, opp = 0, g = -1, k;
     for (k = ostart[b]; k < ostart[b + 1]; k++)
         if (odest[k] == a) {
@@ -6176,7 +6217,7 @@ PW__DEF int pw__hm_pair(pw_hmesh *hm, const int *ostart, const int *oh, const in
         }
     if (opp != 1 || hm->twin[g] != -2) {
         for (k = ostart[a]; k < ostart[a + 1]; k++) same += odest[k] == b;
-        if (same + opp > 2 || same > 1) return pw__hm_edge_error(hm, ostart, oh, odest, a, b, same, opp, e);
+        if (same + opp > 2 || same > 1) return pw__hm_edge_error(hm, o, a, b, e);
     }
     hm->twin[h] = g;
     if (g >= 0) hm->twin[g] = h;
@@ -6186,15 +6227,14 @@ PW__DEF int pw__hm_pair(pw_hmesh *hm, const int *ostart, const int *oh, const in
 
 /* Pairs every half-edge with its opposite, in half-edge order (so the
  * first bad edge reported is deterministic). */
-PW__DEF int pw__hm_twins(pw_hmesh *hm, const int *ostart, const int *oh, const int *odest, pw_err *e)
+PW__DEF int pw__hm_twins(pw_hmesh *hm, const pw__hm_out *o, pw_err *e)
 {
     int h, f, r;
     hm->nboundary = 0; /* twins were set to -2 (not yet paired) by pw__hm_faces */
     for (f = 0; f < hm->nf; f++) {
         int b = hm->fstart[f], end = hm->fstart[f + 1];
         for (h = b; h < end; h++)
-            if (hm->twin[h] == -2 && (r = pw__hm_pair(hm, ostart, oh, odest, h, hm->fv[h + 1 < end ? h + 1 : b], e)))
-                return r;
+            if (hm->twin[h] == -2 && (r = pw__hm_pair(hm, o, h, hm->fv[h + 1 < end ? h + 1 : b], e))) return r;
     }
     hm->ne = (hm->nh + hm->nboundary) / 2;
     return PW_OK;
@@ -6322,11 +6362,15 @@ PW__DEF int pw__hm_offsets(const pw_alloc *a, pw_hmesh *hm, const int *fstart, p
 PW__DEF int pw__hm_steps(const pw_alloc *a, pw_hmesh *hm, int *tmp, pw_err *e)
 {
     int *ostart = tmp, *odest = tmp + hm->nv + 1, *oh = hm->hedge, r, v;
+    pw__hm_out out;
+    out.start = ostart;
+    out.h = oh;
+    out.dest = odest;
     for (v = 0; v < hm->nv; v++) hm->vout[v] = -1;
     memset(ostart, 0, ((size_t)hm->nv + 1) * sizeof(int));
     if ((r = pw__hm_faces(hm, hm->vout, ostart, e))) return r;
     pw__hm_sort(hm, ostart, oh, odest);
-    if ((r = pw__hm_twins(hm, ostart, oh, odest, e))) return r;
+    if ((r = pw__hm_twins(hm, &out, e))) return r;
     if ((r = pw__hm_vertices(hm, ostart, oh, a, e))) return r;
     hm->edgeh = (int *)pw_alloc_array(a, (size_t)hm->ne, sizeof(int), "edges", e);
     if (!hm->edgeh) return PW_ERR_NOMEM;

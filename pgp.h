@@ -13,34 +13,34 @@
  *   3497: src/common/text.h, locale-independent number parsing and formatting, a line s
  *   3920: src/common/mesh.h, polygon meshes as flat arrays, and their file formats.
  *   5449: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
- *   5950: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
- *   6374: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
- *   7637: src/common/zsparse.h, complex Hermitian sparse systems, solved by conjugate grad
- *   7897: src/common/raster.h, exact scan conversion of 2D triangles.
- *   8371: src/common/render.h, a small deterministic software renderer for textured trian
- *  10138: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
- *  10325: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
- *  10410: src/common/atlas.h, texture atlases of triangle meshes — charts, packing, ba
- *  12412: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
- *  13176: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
- *  13937: src/pgp/tile3.h, sampling a material-space tile (Ray et al. 2009, §2: "a 3
- *  14045: src/common/glue.h, what every method header needs between its public types an
- *  14258: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  14922: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
- *  15419: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
- *  15918: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
- *  16061: src/common/kdtree.h, nearest-neighbour search among n points of dimension d, wi
- *  16404: src/common/pca.h, principal component analysis of vectors streamed one at a 
- *  16591: src/pgp/core.c, pgp.h's glue to the shared core, its defaults, and the map
- *  16848: src/pgp/field.c, §2.1 effect areas and §2.2 interpolation of the constrai
- *  17230: src/pgp/solve.c, §2.3 the periodic global parameterization, the recovery o
- *  18037: src/pgp/edit.c, the public editing calls of a mapping. §2.1 (Ray, Lévy, 
- *  18176: src/pgp/render.c, §3 rendering, and a cleaner treatment of the vortices.
- *  18608: src/pgp/builtin.c, built-in meshes and material-space tiles for demos and tes
- *  18864: src/pgp/io.c, files and memory for pgp.h: material-space tiles (NRRD, or
- *  19324: src/pgp/export.c, the mapping for other programs. A viewer that knows nothin
- *  19550: src/pgp/morph.c, the inputs of §1 (keys brought to the tile size, made til
- *  20229: src/pgp/synth.c, §1.2 constrained tile synthesis, and the whole of §1: ke
+ *   5978: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
+ *   6418: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
+ *   7681: src/common/zsparse.h, complex Hermitian sparse systems, solved by conjugate grad
+ *   7941: src/common/raster.h, exact scan conversion of 2D triangles.
+ *   8415: src/common/render.h, a small deterministic software renderer for textured trian
+ *  10182: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
+ *  10369: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
+ *  10454: src/common/atlas.h, texture atlases of triangle meshes — charts, packing, ba
+ *  12456: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
+ *  13220: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
+ *  13981: src/pgp/tile3.h, sampling a material-space tile (Ray et al. 2009, §2: "a 3
+ *  14089: src/common/glue.h, what every method header needs between its public types an
+ *  14302: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  14966: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
+ *  15463: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
+ *  15962: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
+ *  16105: src/common/kdtree.h, nearest-neighbour search among n points of dimension d, wi
+ *  16448: src/common/pca.h, principal component analysis of vectors streamed one at a 
+ *  16635: src/pgp/core.c, pgp.h's glue to the shared core, its defaults, and the map
+ *  16892: src/pgp/field.c, §2.1 effect areas and §2.2 interpolation of the constrai
+ *  17282: src/pgp/solve.c, §2.3 the periodic global parameterization, the recovery o
+ *  18112: src/pgp/edit.c, the public editing calls of a mapping. §2.1 (Ray, Lévy, 
+ *  18257: src/pgp/render.c, §3 rendering, and a cleaner treatment of the vortices.
+ *  18689: src/pgp/builtin.c, built-in meshes and material-space tiles for demos and tes
+ *  18964: src/pgp/io.c, files and memory for pgp.h: material-space tiles (NRRD, or
+ *  19424: src/pgp/export.c, the mapping for other programs. A viewer that knows nothin
+ *  19650: src/pgp/morph.c, the inputs of §1 (keys brought to the tile size, made til
+ *  20329: src/pgp/synth.c, §1.2 constrained tile synthesis, and the whole of §1: ke
  */
 /* pgp.h - material-space texturing with a periodic global parameterization.
  *
@@ -5625,27 +5625,45 @@ PW__DEF int pw_shape_bumpy(const pw_alloc *a, int n, pw_mesh *m, pw_err *e)
     return PW_OK;
 }
 
-PW__DEF int pw__shape_torus(const pw_alloc *a, int nu, int nv, int quads, double tube, pw_mesh *m, pw_err *e);
+/* A torus of radius 1 around the z axis: nu x nv quads (quads != 0) or
+ * each split in two triangles, tube radius `tube`. */
+typedef struct pw__torus {
+    int nu, nv, quads;
+    double tube;
+} pw__torus;
+
+PW__DEF int pw__shape_torus(const pw_alloc *a, const pw__torus *T, pw_mesh *m, pw_err *e);
 
 /* Torus around the z axis: radii 1 and 0.4, nu x nv quads (quads != 0) or
  * each quad split in two triangles. Vertex i*nv + j sits at angle 2 pi i/nu
  * around the axis and 2 pi j/nv around the tube. */
 PW__DEF int pw_shape_torus(const pw_alloc *a, int nu, int nv, int quads, pw_mesh *m, pw_err *e)
 {
-    return pw__shape_torus(a, nu, nv, quads, 0.4, m, e);
+    pw__torus T;
+    T.nu = nu;
+    T.nv = nv;
+    T.quads = quads;
+    T.tube = 0.4;
+    return pw__shape_torus(a, &T, m, e);
 }
 
 /* The same torus of radius 1 with tube radius `tube` (0 < tube < 1), in
  * triangles: a thin ring for the tetrahedralizer's tests. */
 PW__DEF int pw_shape_thin_torus(const pw_alloc *a, int nu, int nv, double tube, pw_mesh *m, pw_err *e)
 {
+    pw__torus T;
     if (!(tube > 0.0 && tube < 1.0)) return pw_fail(e, PW_ERR_INVALID, "torus: tube radius %g not in (0, 1)", tube);
-    return pw__shape_torus(a, nu, nv, 0, tube, m, e);
+    T.nu = nu;
+    T.nv = nv;
+    T.quads = 0;
+    T.tube = tube;
+    return pw__shape_torus(a, &T, m, e);
 }
 
-PW__DEF int pw__shape_torus(const pw_alloc *a, int nu, int nv, int quads, double tube, pw_mesh *m, pw_err *e)
+PW__DEF int pw__shape_torus(const pw_alloc *a, const pw__torus *T, pw_mesh *m, pw_err *e)
 {
-    const double pi2 = 6.28318530717958647692;
+    const double pi2 = 6.28318530717958647692, tube = T->tube;
+    const int nu = T->nu, nv = T->nv, quads = T->quads;
     int d = quads ? 4 : 3, i, j, r = pw_shape_alloc(a, nu * nv, (quads ? 1 : 2) * nu * nv, d, m, e);
     if (r != PW_OK) return r;
     for (i = 0; i < nu; i++)
@@ -5845,14 +5863,20 @@ PW__DEF double pw__shape_asin(double x)
     return 0.5 * (lo + hi);
 }
 
-/* A closed surface of revolution about z: the profile (z[k], r[k]),
- * k = 0..n-1, runs from the top pole to the bottom one (r > 0 between),
- * each inner point a ring of `around` vertices; the poles are single
- * vertices. Faces counter-clockwise seen from outside. */
-PW__DEF int pw__shape_revolve(const pw_alloc *a, const double *z, const double *r, int n, int around, pw_mesh *m,
-                              pw_err *e)
+/* The profile of a surface of revolution about z: points (z[k], r[k]),
+ * k = 0..n-1, from the top pole to the bottom one (r > 0 between). */
+typedef struct pw__profile {
+    const double *z, *r;
+    int n;
+} pw__profile;
+
+/* A closed surface of revolution about z of profile P, each inner point a
+ * ring of `around` vertices; the poles are single vertices. Faces
+ * counter-clockwise seen from outside. */
+PW__DEF int pw__shape_revolve(const pw_alloc *a, const pw__profile *P, int around, pw_mesh *m, pw_err *e)
 {
-    const double pi2 = 6.28318530717958647692;
+    const double pi2 = 6.28318530717958647692, *z = P->z, *r = P->r;
+    const int n = P->n;
     int rings = n - 2, nv = rings * around + 2, k, j, nt = 0, res;
     int bot = nv - 1; /* vertex 0 is the top pole; ring k (1..rings) starts at 1 + (k-1) * around */
     if ((res = pw_shape_alloc(a, nv, 2 * around * (rings - 1) + 2 * around, 3, m, e)) != PW_OK) return res;
@@ -5899,6 +5923,7 @@ PW__DEF int pw_shape_dumbbell(const pw_alloc *a, double neck, int around, pw_mes
 {
     const double pi = 3.14159265358979323846;
     double *z, *r, tn, zn, step = 2.0 * pi / around, len;
+    pw__profile prof;
     int nb, nn, n, k, res;
     if (!(neck > 0.0 && neck < 1.0) || around < 3)
         return pw_fail(e, PW_ERR_INVALID, "dumbbell: neck %g not in (0, 1) or %d vertices around", neck, around);
@@ -5927,7 +5952,10 @@ PW__DEF int pw_shape_dumbbell(const pw_alloc *a, double neck, int around, pw_mes
         z[n - 1 - k] = -z[k];
         r[n - 1 - k] = r[k];
     }
-    res = pw__shape_revolve(a, z, r, n, around, m, e);
+    prof.z = z;
+    prof.r = r;
+    prof.n = n;
+    res = pw__shape_revolve(a, &prof, around, m, e);
     pw_free(a, z);
     pw_free(a, r);
     return res;
@@ -6079,17 +6107,29 @@ PW__DEF void pw__hm_face_list(char *buf, size_t cap, const int *f, int n)
     if (n > 6 && len < cap) snprintf(buf + len, cap - len, ", ... (%d faces)", n);
 }
 
-/* The error for edge a-b of half-edge h: more than two faces, or two
- * faces in the same direction. */
-PW__DEF int pw__hm_edge_error(const pw_hmesh *hm, const int *ostart, const int *oh, const int *odest, int a, int b,
-                              int same, int opp, pw_err *e)
+/* The half-edges sorted by origin (pw__hm_sort): those leaving v are
+ * h[start[v]] .. h[start[v+1]-1], and dest[k] is the destination of h[k]. */
+typedef struct pw__hm_out {
+    const int *start, *h, *dest;
+} pw__hm_out;
+
+/* The error for edge a-b: more than two faces, or two faces in the same
+ * direction (counted again here: the error path only). */
+PW__DEF int pw__hm_edge_error(const pw_hmesh *hm, const pw__hm_out *o, int a, int b, pw_err *e)
 {
-    int faces[8], n = 0, k, i, j;
+    const int *ostart = o->start, *oh = o->h, *odest = o->dest;
+    int faces[8], n = 0, same = 0, opp = 0, k, i, j;
     char list[96];
     for (k = ostart[a]; k < ostart[a + 1]; k++)
-        if (odest[k] == b && n < 8) faces[n++] = hm->hface[oh[k]];
+        if (odest[k] == b) {
+            same++;
+            if (n < 8) faces[n++] = hm->hface[oh[k]];
+        }
     for (k = ostart[b]; k < ostart[b + 1]; k++)
-        if (odest[k] == a && n < 8) faces[n++] = hm->hface[oh[k]];
+        if (odest[k] == a) {
+            opp++;
+            if (n < 8) faces[n++] = hm->hface[oh[k]];
+        }
     for (i = 1; i < n; i++) /* insertion sort: at most 8 */
         for (j = i; j > 0 && faces[j - 1] > faces[j]; j--) {
             k = faces[j];
@@ -6109,8 +6149,9 @@ PW__DEF int pw__hm_edge_error(const pw_hmesh *hm, const int *ostart, const int *
  * one b->a not yet paired, needs no more checks: a second a->b would find
  * it taken. Otherwise the half-edges a->b (same) and b->a (opp) are counted
  * to catch bad edges. */
-PW__DEF int pw__hm_pair(pw_hmesh *hm, const int *ostart, const int *oh, const int *odest, int h, int b, pw_err *e)
+PW__DEF int pw__hm_pair(pw_hmesh *hm, const pw__hm_out *o, int h, int b, pw_err *e)
 {
+    const int *ostart = o->start, *oh = o->h, *odest = o->dest;
     int a = hm->fv[h], same = 0, opp = 0, g = -1, k;
     for (k = ostart[b]; k < ostart[b + 1]; k++)
         if (odest[k] == a) {
@@ -6119,7 +6160,7 @@ PW__DEF int pw__hm_pair(pw_hmesh *hm, const int *ostart, const int *oh, const in
         }
     if (opp != 1 || hm->twin[g] != -2) {
         for (k = ostart[a]; k < ostart[a + 1]; k++) same += odest[k] == b;
-        if (same + opp > 2 || same > 1) return pw__hm_edge_error(hm, ostart, oh, odest, a, b, same, opp, e);
+        if (same + opp > 2 || same > 1) return pw__hm_edge_error(hm, o, a, b, e);
     }
     hm->twin[h] = g;
     if (g >= 0) hm->twin[g] = h;
@@ -6129,15 +6170,14 @@ PW__DEF int pw__hm_pair(pw_hmesh *hm, const int *ostart, const int *oh, const in
 
 /* Pairs every half-edge with its opposite, in half-edge order (so the
  * first bad edge reported is deterministic). */
-PW__DEF int pw__hm_twins(pw_hmesh *hm, const int *ostart, const int *oh, const int *odest, pw_err *e)
+PW__DEF int pw__hm_twins(pw_hmesh *hm, const pw__hm_out *o, pw_err *e)
 {
     int h, f, r;
     hm->nboundary = 0; /* twins were set to -2 (not yet paired) by pw__hm_faces */
     for (f = 0; f < hm->nf; f++) {
         int b = hm->fstart[f], end = hm->fstart[f + 1];
         for (h = b; h < end; h++)
-            if (hm->twin[h] == -2 && (r = pw__hm_pair(hm, ostart, oh, odest, h, hm->fv[h + 1 < end ? h + 1 : b], e)))
-                return r;
+            if (hm->twin[h] == -2 && (r = pw__hm_pair(hm, o, h, hm->fv[h + 1 < end ? h + 1 : b], e))) return r;
     }
     hm->ne = (hm->nh + hm->nboundary) / 2;
     return PW_OK;
@@ -6265,11 +6305,15 @@ PW__DEF int pw__hm_offsets(const pw_alloc *a, pw_hmesh *hm, const int *fstart, p
 PW__DEF int pw__hm_steps(const pw_alloc *a, pw_hmesh *hm, int *tmp, pw_err *e)
 {
     int *ostart = tmp, *odest = tmp + hm->nv + 1, *oh = hm->hedge, r, v;
+    pw__hm_out out;
+    out.start = ostart;
+    out.h = oh;
+    out.dest = odest;
     for (v = 0; v < hm->nv; v++) hm->vout[v] = -1;
     memset(ostart, 0, ((size_t)hm->nv + 1) * sizeof(int));
     if ((r = pw__hm_faces(hm, hm->vout, ostart, e))) return r;
     pw__hm_sort(hm, ostart, oh, odest);
-    if ((r = pw__hm_twins(hm, ostart, oh, odest, e))) return r;
+    if ((r = pw__hm_twins(hm, &out, e))) return r;
     if ((r = pw__hm_vertices(hm, ostart, oh, a, e))) return r;
     hm->edgeh = (int *)pw_alloc_array(a, (size_t)hm->ne, sizeof(int), "edges", e);
     if (!hm->edgeh) return PW_ERR_NOMEM;
@@ -16854,13 +16898,12 @@ PGPDEF pgp_result pgp_map_field(const pgp_map *map, pgp_field *out, pgp_error *e
 /* ---- sparse symmetric positive definite solves ----------------------------- */
 
 /* Solves the system collected in t for x (warm start: x's current values)
- * to a relative residual tol: real symmetric positive definite (n x n) by
- * IC(0)-preconditioned CG, or, with `complex` set, complex Hermitian
- * (zsparse.h: n x 2n triplets, b and x complex) by its complex
- * counterpart. */
-static int pgp__pd_solve(const pw_alloc *a, const pw_triplets *t, int complex, const double *b, double *x, double tol,
-                         pw_err *e)
+ * to a relative residual tol: real symmetric positive definite (n x n
+ * triplets) by IC(0)-preconditioned CG, or complex Hermitian (zsparse.h:
+ * n x 2n triplets, b and x complex) by its complex counterpart. */
+static int pgp__pd_solve(const pw_alloc *a, const pw_triplets *t, const double *b, double *x, double tol, pw_err *e)
 {
+    const int complex = t->m == 2 * t->n;
     pw_csr A;
     pw_ic0 L;
     pw_zcsr ZA;
@@ -16887,15 +16930,24 @@ static int pgp__pd_solve(const pw_alloc *a, const pw_triplets *t, int complex, c
 
 /* ---- §2.1 effect area ------------------------------------------------------------ */
 
-/* The triangles within `radius` (geodesic, over the dual graph) of the seed
- * triangles, in order of distance ("a classical greedy algorithm that
+/* Where an edit acts: its seed triangles and the geodesic radius of its
+ * effect area around them (<= 0: the whole mesh). */
+typedef struct pgp__seeds {
+    const int *tri;
+    int n;
+    float radius;
+} pgp__seeds;
+
+/* The triangles within sd->radius (geodesic, over the dual graph) of the
+ * seed triangles, in order of distance ("a classical greedy algorithm that
  * visits the triangles in order of increasing distance to the nearest
  * constraint"); radius <= 0 takes every triangle. in[f] = 1 for them;
  * order (nf) lists them, *n their number. */
-static int pgp__area(const pgp__state *P, const int *seeds, int nseeds, float radius, unsigned char *in, int *order,
-                     int *n, pw_err *e)
+static int pgp__area(const pgp__state *P, const pgp__seeds *sd, unsigned char *in, int *order, int *n, pw_err *e)
 {
     const pw_trimesh *m = &P->m;
+    const int *seeds = sd->tri, nseeds = sd->n;
+    const float radius = sd->radius;
     double *dist = (double *)pw_alloc_array(&P->a, (size_t)m->nf * 4 + 1, sizeof(double), "effect area", e);
     int *hf = (int *)pw_alloc_array(&P->a, (size_t)m->nf * 3 + 1 + (size_t)nseeds, sizeof(int), "effect area", e);
     pw_heap hp;
@@ -17025,7 +17077,7 @@ static int pgp__harmonic(pgp__state *P, const unsigned char *vfree, const unsign
     for (v = 0; r == PW_OK && n > 0 && v < m->nv; v++) /* a faint pull towards the fallback */
         if (id[v] >= 0 && (r = pw_triplets_add(&t, id[v], id[v], PGP__PULL, e)) == PW_OK)
             b[id[v]] += PGP__PULL * fallback;
-    if (r == PW_OK && n > 0) r = pgp__pd_solve(&P->a, &t, 0, b, x, 1e-8, e);
+    if (r == PW_OK && n > 0) r = pgp__pd_solve(&P->a, &t, b, x, 1e-8, e);
     for (v = 0; r == PW_OK && n > 0 && v < m->nv; v++)
         if (id[v] >= 0) val[v] = (float)x[id[v]];
     pw_triplets_free(&t);
@@ -17108,7 +17160,7 @@ static int pgp__dir_smooth(pgp__state *P, const unsigned char *free, const doubl
         }
     for (h = 0; r == PW_OK && n > 0 && h < 3 * m->nf; h++)
         if (m->hm.twin[h] > h && (id[h / 3] >= 0 || id[m->hm.twin[h] / 3] >= 0)) r = pgp__dir_edge(P, id, h, &t, b, e);
-    if (r == PW_OK && n > 0) r = pgp__pd_solve(&P->a, &t, 1, b, x, PGP__DIR_TOL, e);
+    if (r == PW_OK && n > 0) r = pgp__pd_solve(&P->a, &t, b, x, PGP__DIR_TOL, e);
     for (f = 0; r == PW_OK && n > 0 && f < m->nf; f++)
         if (id[f] >= 0) {
             double *z = P->dir + 2 * f;
@@ -17304,6 +17356,16 @@ static double pgp__pgp_weight(const pgp__state *P, int h)
     return pgp__lap_weight(&P->m, h);
 }
 
+/* The complex Hermitian system of coordinate k over the free vertices,
+ * being assembled. */
+typedef struct pgp__zsys {
+    const double *z; /* nv*2: the current z, read at the fixed vertices */
+    const int *id;   /* nv: vertex -> unknown (-1: fixed) */
+    int k;           /* the coordinate: 0 for s, 1 for t */
+    pw_triplets *t;  /* the matrix being assembled (n x 2n) */
+    double *b;       /* 2n: the right-hand side */
+} pgp__zsys;
+
 /* Adds the term w |z_j - R(alpha) z_i|^2 |z_j - R(alpha) z_i|^2 of edge h (i -> j) to
  * the system of the free vertices (id >= 0). R(alpha) is the rotation by
  * +alpha, [cos -sin; sin cos], i.e. the product with e^{i alpha}: with
@@ -17313,10 +17375,13 @@ static double pgp__pgp_weight(const pgp__state *P, int h)
  * flat grid, where the exact answer is linear.) In the complex Hermitian
  * system: w on both diagonals, -w e^{i alpha} at (j, i) and its conjugate
  * at (i, j); a fixed end moves to the right-hand side. */
-static int pgp__pgp_edge(const pgp__state *P, const double *z, const int *id, int h, int k, pw_triplets *t, double *b,
-                         pw_err *e)
+static int pgp__pgp_edge(const pgp__state *P, const pgp__zsys *Z, int h, pw_err *e)
 {
-    int f = h / 3;
+    const double *z = Z->z;
+    const int *id = Z->id;
+    pw_triplets *t = Z->t;
+    double *b = Z->b;
+    int k = Z->k, f = h / 3;
     int vi = P->m.tri[h], vj = P->m.tri[3 * f + (h % 3 + 1) % 3], i = id[vi], j = id[vj], r = PW_OK;
     double w = pgp__pgp_weight(P, h);
     double a = PGP__TWO_PI * pgp__alpha(P, h, k), c = pw_cos(a), sn = pw_sin(a);
@@ -17438,14 +17503,20 @@ static int pgp__pgp_solve(pgp__state *P, double *z, const int *id, int n, int k,
     pw_zcsr A;
     pw_zic0 L;
     pw_cg_options o = pw_cg_default_options();
+    pgp__zsys Z;
     int v, h, q, step, r = b ? PW_OK : PW_ERR_NOMEM;
+    Z.z = z;
+    Z.id = id;
+    Z.k = k;
+    Z.t = &t;
+    Z.b = b;
     memset(&t, 0, sizeof t);
     memset(&A, 0, sizeof A);
     memset(&L, 0, sizeof L);
     if (r == PW_OK) r = pw_triplets_init(&t, &P->a, n, 2 * n, e);
     for (h = 0; r == PW_OK && h < 3 * P->m.nf; h++)
-        if (P->m.hm.twin[h] < h) r = pgp__pgp_edge(P, z, id, h, k, &t, b, e); /* each edge once */
-    for (q = 0; r == PW_OK && q < t.count; q++)                               /* the (real) diagonal of F's matrix */
+        if (P->m.hm.twin[h] < h) r = pgp__pgp_edge(P, &Z, h, e); /* each edge once */
+    for (q = 0; r == PW_OK && q < t.count; q++)                  /* the (real) diagonal of F's matrix */
         if (t.col[q] == 2 * t.row[q]) dg[t.row[q]] += t.val[q];
     if (r == PW_OK) r = pgp__propagate(P, z, id, k, e);
     if (r == PW_OK && (r = pw_zcsr_from_triplets(&P->a, &t, &A, e)) == PW_OK) r = pgp__diag_index(&P->a, &A, &dpos, e);
@@ -17642,16 +17713,16 @@ static int pgp__singularities(pgp__state *P, pw_err *e)
 
 /* Recomputes the fields of `kind` and the coordinates over the area around
  * the seed triangles (radius <= 0: the whole mesh). */
-static int pgp__edit(pgp__state *P, pgp_constraint_kind kind, const int *seeds, int nseeds, float radius,
-                     pgp_area *area, pw_err *e)
+static int pgp__edit(pgp__state *P, pgp_constraint_kind kind, const pgp__seeds *sd, pgp_area *area, pw_err *e)
 {
+    const float radius = sd->radius;
     size_t nf = (size_t)P->m.nf, nv = (size_t)P->m.nv;
     unsigned char *in = (unsigned char *)pw_alloc_array(&P->a, 2 * nf + 2 * nv, 1, "effect area", e);
     int *order = (int *)pw_alloc_array(&P->a, nf, sizeof(int), "effect area", e);
     pw_progress pr = pgp__progress(&P->o);
     int n = 0, i, whole = !(radius > 0.0f), r = in && order ? PW_OK : PW_ERR_NOMEM;
     unsigned char *mark = in + nf, *vfree = in + 2 * nf, *locked = vfree + nv;
-    if (r == PW_OK) r = pgp__area(P, seeds, nseeds, radius, in, order, &n, e);
+    if (r == PW_OK) r = pgp__area(P, sd, in, order, &n, e);
     if (r == PW_OK) pgp__free_vertices(P, in, vfree);
     if (r == PW_OK) r = pw_report(&pr, 0.2f, "interpolation", e);
     if (r == PW_OK && kind == PGP_CONSTRAINT_ORIENT) r = pgp__interp_dir(P, in, whole, mark, e);
@@ -17908,7 +17979,7 @@ static int pgp__integrable(pgp__state *P, pw_err *e)
         r = pw_triplets_init(&t, &P->a, (int)n, (int)n, e);
         for (f = 0; f < P->m.nf && r == PW_OK; f++) r = pgp__curl_rows(P, f, &t, b, e);
         if (r == PW_OK) r = pgp__curl_reg(P, &t, e);
-        if (r == PW_OK) r = pgp__pd_solve(&P->a, &t, 0, b, x, 1e-6, e);
+        if (r == PW_OK) r = pgp__pd_solve(&P->a, &t, b, x, 1e-6, e);
         if (r == PW_OK) pgp__curl_apply(P, x);
         pw_triplets_free(&t);
     }
@@ -17953,7 +18024,11 @@ static int pgp__create_map(const pgp_mesh *mesh, const pgp_options *opt, pgp_map
     pgp_options o = pgp__options(opt);
     pw_alloc a = pgp__alloc(&o.allocator);
     pgp__state *P;
+    pgp__seeds whole; /* no seeds, radius 0: the whole mesh */
     int v;
+    whole.tri = NULL;
+    whole.n = 0;
+    whole.radius = 0.0f;
     if (pgp__check_options(&o, e) != PW_OK ||
         (P = (pgp__state *)pw_calloc_array(&a, 1, sizeof *P, "mapping", e)) == NULL)
         return e->code;
@@ -17974,7 +18049,7 @@ static int pgp__create_map(const pgp_mesh *mesh, const pgp_options *opt, pgp_map
     }
     if (pgp__check_scale(P, e) != PW_OK || pgp__base_field(P, e) != PW_OK ||
         (o.integrable > 0.0f && pgp__integrable(P, e) != PW_OK) ||
-        pgp__edit(P, PGP_CONSTRAINT_ORIENT, NULL, 0, 0.0f, NULL, e) != PW_OK)
+        pgp__edit(P, PGP_CONSTRAINT_ORIENT, &whole, NULL, e) != PW_OK)
         return e->code;
     out->nverts = P->m.nv;
     out->ntris = P->m.nf;
@@ -18050,12 +18125,18 @@ PGPDEF void pgp_map_stats(const pgp_map *map, pgp_stats *out)
 static int pgp__edit_constraint(pgp__state *P, const pgp_constraint *c, pgp_area *area, pw_err *e)
 {
     int *seeds, n = 0, h, r;
-    if (c->kind == PGP_CONSTRAINT_ORIENT) return pgp__edit(P, c->kind, &c->element, 1, c->radius, area, e);
+    pgp__seeds sd;
+    sd.tri = &c->element;
+    sd.n = 1;
+    sd.radius = c->radius;
+    if (c->kind == PGP_CONSTRAINT_ORIENT) return pgp__edit(P, c->kind, &sd, area, e);
     seeds = (int *)pw_alloc_array(&P->a, (size_t)P->m.nf, sizeof(int), "effect area", e);
     if (!seeds) return PW_ERR_NOMEM;
     for (h = 0; h < 3 * P->m.nf; h++)
         if (P->m.tri[h] == c->element) seeds[n++] = h / 3;
-    r = pgp__edit(P, c->kind, seeds, n, c->radius, area, e);
+    sd.tri = seeds;
+    sd.n = n;
+    r = pgp__edit(P, c->kind, &sd, area, e);
     pw_free(&P->a, seeds);
     return r;
 }
@@ -18669,10 +18750,12 @@ static double pgp__rand(unsigned long long seed, int id, int k)
  * divide the tile, so the bond is periodic. Lengths are in row heights. */
 enum { PGP__BX = 3, PGP__BY = 8 };
 
-/* What a point of the wall is: its cell's brick, the signed distance to
- * that stone's edge (< 0 inside) and the surface height there. */
+/* What a point of the wall is: its cell's brick, where it lies from the
+ * cell's centre (x, y, in row heights), the signed distance to that
+ * stone's edge (< 0 inside) and the surface height there. */
 typedef struct pgp__wall {
     int id;
+    double x, y;
     double d, h, cover, hy;
 } pgp__wall;
 
@@ -18685,13 +18768,13 @@ static double pgp__round_box(double x, double y, double bx, double by, double rc
     return sqrt(ox * ox + oy * oy) + (in < 0 ? in : 0) - rc;
 }
 
-/* The stone of brick `id` at weathering w in [0, 1], at (x, y) from its
- * cell's centre: the mortar gap widens with w, the brick shrinks and moves
- * a little, its corners round off until it is a pebble, some pebbles get a
- * waist, and the edge is eaten by noise. */
-static void pgp__stone(unsigned long long seed, double w, double s, double t, double x, double y, pgp__wall *o)
+/* The stone of brick o->id at weathering w in [0, 1], at (o->x, o->y)
+ * from its cell's centre: the mortar gap widens with w, the brick shrinks
+ * and moves a little, its corners round off until it is a pebble, some
+ * pebbles get a waist, and the edge is eaten by noise. */
+static void pgp__stone(unsigned long long seed, double w, double s, double t, pgp__wall *o)
 {
-    const double L = (double)PGP__BY / PGP__BX;
+    const double L = (double)PGP__BY / PGP__BX, x = o->x, y = o->y;
     double mw = 0.045 + 0.12 * w, r1 = pgp__rand(seed, o->id, 1), r2 = pgp__rand(seed, o->id, 2);
     double bx = 0.5 * L - mw - 0.4 * w * r1, by = 0.5 - mw - 0.12 * w * r2;
     double cx = 0.3 * w * r1 * (pgp__rand(seed, o->id, 3) - 0.5), cy = 0.07 * w * (pgp__rand(seed, o->id, 4) - 0.5);
@@ -18719,7 +18802,9 @@ static void pgp__wall_at(unsigned long long seed, double w, double s, double t, 
     row = ((row % PGP__BY) + PGP__BY) % PGP__BY;
     col = ((col % PGP__BX) + PGP__BX) % PGP__BX;
     o->id = row * PGP__BX + col;
-    pgp__stone(seed, w, s, t, x - off - (fx + 0.5) * L, y - fy - 0.5, o);
+    o->x = x - off - (fx + 0.5) * L;
+    o->y = y - fy - 0.5;
+    pgp__stone(seed, w, s, t, o);
     o->cover = pw_smoothstep(-0.5, 0.5, -o->d / px);
     in = -o->d;
     bevel = 0.035 + 0.9 * w * o->hy;
@@ -18817,12 +18902,22 @@ static void pgp__stripes(unsigned long long seed, double s, double t, double px,
 
 enum { PGP__TILE_BRICKS = 0, PGP__TILE_STRIPES = 1 };
 
-/* The colour of a built-in tile at (s, t) of layer `layer` of `layers`; px
- * is the side of a texel in tile units. Periodic: (s + 1, t) and (s, t + 1)
- * give the same colour up to rounding. */
-static void pgp__tile_texel(int kind, unsigned long long seed, int layer, int layers, double s, double t, double px,
-                            float *rgb)
+/* A built-in tile being drawn: its kind, seed, layer count and the side
+ * of a texel in tile units. */
+typedef struct pgp__builtin {
+    int kind;
+    unsigned long long seed;
+    int layers;
+    double px;
+} pgp__builtin;
+
+/* The colour of built-in tile B at (s, t) of layer `layer`. Periodic:
+ * (s + 1, t) and (s, t + 1) give the same colour up to rounding. */
+static void pgp__tile_texel(const pgp__builtin *B, int layer, double s, double t, float *rgb)
 {
+    const int kind = B->kind, layers = B->layers;
+    const unsigned long long seed = B->seed;
+    const double px = B->px;
     double c[3];
     int k;
     if (kind == PGP__TILE_BRICKS)
@@ -18836,6 +18931,7 @@ PGPDEF pgp_result pgp_builtin_tile(const char *name, int size, const pgp_options
     pgp_options o = pgp__options(opt);
     pw_alloc a = pgp__alloc(&o.allocator);
     pw_volume vol;
+    pgp__builtin B;
     pw_err pe;
     int kind = -1, layers, x, y, z;
     pw_err_clear(&pe);
@@ -18847,10 +18943,14 @@ PGPDEF pgp_result pgp_builtin_tile(const char *name, int size, const pgp_options
     else if (size < 8 || size > 4096) pw_fail(&pe, PW_ERR_INVALID, "built-in tile size must be 8..4096 (got %d)", size);
     else if (pw_volume_alloc(&a, &vol, 3, size, size, layers, &pe) == PW_OK) {
         double px = 1.0 / size;
+        B.kind = kind;
+        B.seed = o.synth.seed;
+        B.layers = layers;
+        B.px = px;
         for (z = 0; z < layers; z++)
             for (y = 0; y < size; y++)
                 for (x = 0; x < size; x++) /* texel centres; row 0 at the top, t = 0 at the bottom */
-                    pgp__tile_texel(kind, o.synth.seed, z, layers, (x + 0.5) * px, 1.0 - (y + 0.5) * px, px,
+                    pgp__tile_texel(&B, z, (x + 0.5) * px, 1.0 - (y + 0.5) * px,
                                     vol.px + (((size_t)z * size + y) * size + x) * 3);
         out->width = out->height = size;
         out->layers = layers;
@@ -20334,11 +20434,20 @@ static void pgp__ex_free(const pw_alloc *a, pgp__ex *ex)
     memset(ex, 0, sizeof *ex);
 }
 
-/* The win x win window of `c`-channel samples around (x, y) of an n x n
- * level, sample q read at ind[q] (ind NULL: at q). */
-static void pgp__gather(const float *f, int c, int n, const int *ind, int x, int y, int win, float *out)
+/* One plane of an n x n level: its `c`-channel samples (the colours or
+ * the mask), read through an indirection map when there is one. */
+typedef struct pgp__plane {
+    const float *f;
+    int c, n;
+    const int *ind; /* sample q read at ind[q]; NULL: at q */
+} pgp__plane;
+
+/* The win x win window of plane P's samples around texel p = y*n + x. */
+static void pgp__gather(const pgp__plane *P, int p, int win, float *out)
 {
-    int h = win / 2, dx, dy, j;
+    const float *f = P->f;
+    const int *ind = P->ind;
+    int c = P->c, n = P->n, x = p % n, y = p / n, h = win / 2, dx, dy, j;
     for (dy = -h; dy <= h; dy++) {
         int row = ((y + dy + n) % n) * n;
         for (dx = -h; dx <= h; dx++) {
@@ -20349,17 +20458,33 @@ static void pgp__gather(const float *f, int c, int n, const int *ind, int x, int
     }
 }
 
-/* The neighbourhood vector (D floats) of texel (x, y) of level L: colour
- * through ind, mask from `mask`. buf: dc + dm + 2 PW_PCA_PACK floats. */
-static void pgp__vector(const pgp__ex *ex, const pgp__exlevel *L, const int *ind, const float *mask, int x, int y,
-                        float *buf, float *v)
+/* What a neighbourhood vector reads at a level: the colours through an
+ * indirection map (NULL: the level's own, for the input) and a mask (the
+ * key's for the input, the target for an output). */
+typedef struct pgp__source {
+    const int *ind;
+    const float *mask;
+} pgp__source;
+
+/* The neighbourhood vector (D floats) of texel p = y*n + x of level L as
+ * read from src. buf: dc + dm + 2 PW_PCA_PACK floats. */
+static void pgp__vector(const pgp__ex *ex, const pgp__exlevel *L, const pgp__source *src, int p, float *buf, float *v)
 {
     const float *cm = L->pca, *cb = cm + ex->dc, *mm = cb + (size_t)ex->dc * PW_PCA_PACK, *mb = mm + ex->dm;
     float *y8 = buf + ex->dc + ex->dm;
+    pgp__plane pc, pm;
     int j;
-    pgp__gather(L->color, ex->c, L->n, ind, x, y, ex->cw, buf);
+    pc.f = L->color;
+    pc.c = ex->c;
+    pc.n = L->n;
+    pc.ind = src->ind;
+    pm.f = src->mask;
+    pm.c = 1;
+    pm.n = L->n;
+    pm.ind = NULL;
+    pgp__gather(&pc, p, ex->cw, buf);
     pw_pca_project_packed(buf, cm, cb, ex->dc, y8);
-    pgp__gather(mask, 1, L->n, NULL, x, y, ex->mw, buf + ex->dc);
+    pgp__gather(&pm, p, ex->mw, buf + ex->dc);
     pw_pca_project_packed(buf + ex->dc, mm, mb, ex->dm, y8 + PW_PCA_PACK);
     for (j = 0; j < ex->cd; j++) v[j] = y8[j];
     for (j = 0; j < ex->md; j++) v[ex->cd + j] = ex->weight * y8[PW_PCA_PACK + j];
@@ -20378,16 +20503,25 @@ static int pgp__ex_pca(const pw_alloc *a, pgp__ex *ex, pgp__exlevel *L, float us
     float *mm;
     pw_pca pc, pm;
     pw_pca_out oc, om;
+    pgp__plane lc, lm;
     int r, j;
+    lc.f = L->color;
+    lc.c = ex->c;
+    lc.n = L->n;
+    lc.ind = NULL;
+    lm.f = L->mask;
+    lm.c = 1;
+    lm.n = L->n;
+    lm.ind = NULL;
     memset(&pc, 0, sizeof pc);
     memset(&pm, 0, sizeof pm);
     L->pca = (float *)pw_alloc_array(a, np, sizeof(float), "PCA bases", e);
     r = buf && L->pca ? PW_OK : PW_ERR_NOMEM;
     if (r == PW_OK && (r = pw_pca_init(a, &pc, ex->dc, e)) == PW_OK) r = pw_pca_init(a, &pm, ex->dm, e);
     for (u = 0; r == PW_OK && u < nn; u += step) {
-        pgp__gather(L->color, ex->c, L->n, NULL, (int)(u % L->n), (int)(u / L->n), ex->cw, buf);
+        pgp__gather(&lc, (int)u, ex->cw, buf);
         pw_pca_add(&pc, buf);
-        pgp__gather(L->mask, 1, L->n, NULL, (int)(u % L->n), (int)(u / L->n), ex->mw, buf);
+        pgp__gather(&lm, (int)u, ex->mw, buf);
         pw_pca_add(&pm, buf);
     }
     mm = L->pca ? L->pca + (size_t)ex->dc * (1 + PW_PCA_PACK) : NULL;
@@ -20417,8 +20551,10 @@ static int pgp__ex_tree(const pw_alloc *a, pgp__ex *ex, pgp__exlevel *L, pw_err 
     float *pts = (float *)pw_alloc_array(a, nn * ex->D, sizeof(float), "neighbourhood vectors", e);
     float *buf = (float *)pw_alloc_array(a, (size_t)ex->dc + ex->dm + 2 * PW_PCA_PACK, sizeof(float), "window", e);
     int r = pts && buf ? PW_OK : PW_ERR_NOMEM;
-    for (u = 0; r == PW_OK && u < nn; u++)
-        pgp__vector(ex, L, NULL, L->mask, (int)(u % L->n), (int)(u / L->n), buf, pts + u * ex->D);
+    pgp__source src;
+    src.ind = NULL;
+    src.mask = L->mask;
+    for (u = 0; r == PW_OK && u < nn; u++) pgp__vector(ex, L, &src, (int)u, buf, pts + u * ex->D);
     if (r == PW_OK) r = pw_kdtree_build(a, &L->tree, pts, (int)nn, ex->D, e);
     if (r == PW_OK && !(L->count = (int *)pw_calloc_array(a, nn, sizeof(int), "usage counts", e))) r = PW_ERR_NOMEM;
     pw_free(a, pts);
@@ -20426,11 +20562,23 @@ static int pgp__ex_tree(const pw_alloc *a, pgp__ex *ex, pgp__exlevel *L, pw_err 
     return r;
 }
 
-/* Exemplar of a prepared key: pyramids of colour and mask, then PCA and
- * kd-tree per level. */
-static int pgp__ex_build(const pw_alloc *a, const pgp__key *key, int n, int c, int nlev, const pgp_synth_options *o,
-                         pgp__ex *ex, pw_err *e)
+/* One tile synthesis (§1): the allocator, the checked options, the
+ * prepared keys and the tile's channels and pyramid levels, shared by the
+ * steps of pgp__synth_run. */
+typedef struct pgp__tile_job {
+    const pw_alloc *a;
+    const pgp_synth_options *o;
+    const pgp__key *keys; /* nkeys, prepared (pgp__prepare_key) */
+    int nkeys, c, nlev;
+} pgp__tile_job;
+
+/* Exemplar of a prepared key of job T: pyramids of colour and mask, then
+ * PCA and kd-tree per level. */
+static int pgp__ex_build(const pgp__tile_job *T, const pgp__key *key, pgp__ex *ex, pw_err *e)
 {
+    const pw_alloc *a = T->a;
+    const pgp_synth_options *o = T->o;
+    int n = o->size, c = T->c, nlev = T->nlev;
     float *tmp = (float *)pw_alloc_array(a, (size_t)n * n * c / 2 + 1, sizeof(float), "pyramid", e);
     int r = tmp ? PW_OK : PW_ERR_NOMEM, l;
     size_t i;
@@ -20533,7 +20681,10 @@ static void pgp__update_texel(pgp__synth *S, pgp__exlevel *L, int *ind, const fl
 {
     int u0 = ind[p], u;
     pw_kdquery qy;
-    pgp__vector(S->ex, L, ind, target, p % L->n, p / L->n, S->buf, S->q);
+    pgp__source src;
+    src.ind = ind;
+    src.mask = target;
+    pgp__vector(S->ex, L, &src, p, S->buf, S->q);
     qy.q = S->q;
     qy.eps = S->o->search_eps;
     qy.buckets = S->o->search_buckets;
@@ -20693,9 +20844,11 @@ static int pgp__check_keys(const pgp_key *keys, int nkeys, pw_err *e)
 /* Feature masks of every layer (layers*n*n): the keys' masks at their
  * layers and §1.1 between them, or the one key's mask everywhere in
  * single-tile mode. */
-static int pgp__layer_masks(const pw_alloc *a, const pgp__key *keys, int nkeys, const pgp_synth_options *o,
-                            const pw_progress *prog, unsigned char *masks, pw_err *e)
+static int pgp__layer_masks(const pgp__tile_job *T, const pw_progress *prog, unsigned char *masks, pw_err *e)
 {
+    const pgp_synth_options *o = T->o;
+    const pgp__key *keys = T->keys;
+    int nkeys = T->nkeys;
     size_t nn = (size_t)o->size * o->size;
     char what[64];
     int k, l, r = PW_OK;
@@ -20718,17 +20871,27 @@ static int pgp__layer_masks(const pw_alloc *a, const pgp__key *keys, int nkeys, 
         J.prog = prog;
         J.p0 = 0.05f * k / (nkeys - 1);
         J.p1 = 0.05f * (k + 1) / (nkeys - 1);
-        r = pgp__morph_masks(a, &J, o, e);
+        r = pgp__morph_masks(T->a, &J, o, e);
     }
     return r;
 }
 
-/* One end of a morph of M layers: from its own key (from_end 0: m = 0, 1,
- * ..., M-1, weight 1 - m/M, written) or from the other (from_end 1: m = M,
- * ..., 1, weight m/M, added), §1 step 3. */
-static int pgp__synth_side(pgp__synth *S, const unsigned char *masks, int M, int from_end, uint64_t stream, float *out,
-                           pw_err *e)
+/* The layers of one morph: M + 1 masks (n*n each) from one key's layer to
+ * the next key's, and the colours of its first M layers (n*n*c each). */
+typedef struct pgp__span {
+    const unsigned char *masks;
+    int M;
+    float *out;
+} pgp__span;
+
+/* One end of morph span sp: from its own key (from_end 0: m = 0, 1, ...,
+ * M-1, weight 1 - m/M, written) or from the other (from_end 1: m = M, ...,
+ * 1, weight m/M, added), §1 step 3. */
+static int pgp__synth_side(pgp__synth *S, const pgp__span *sp, int from_end, uint64_t stream, pw_err *e)
 {
+    const unsigned char *masks = sp->masks;
+    int M = sp->M;
+    float *out = sp->out;
     const pgp__exlevel *L = &S->ex->lev[S->ex->nlev - 1];
     size_t nn = (size_t)L->n * L->n, lay = nn * S->ex->c;
     int k, r = PW_OK;
@@ -20759,9 +20922,12 @@ static double pgp__work(const pgp_synth_options *o, int nkeys, int nlev)
 
 /* Every layer's colours (layers*n*n*c): the morphs with a rolling pair of
  * exemplars, or the single-tile layers. */
-static int pgp__synth_layers(const pw_alloc *a, const pgp__key *keys, int nkeys, int c, int nlev,
-                             const pgp_synth_options *o, const unsigned char *masks, float *px, pw_err *e)
+static int pgp__synth_layers(const pgp__tile_job *T, const unsigned char *masks, float *px, pw_err *e)
 {
+    const pw_alloc *a = T->a;
+    const pgp_synth_options *o = T->o;
+    const pgp__key *keys = T->keys;
+    int nkeys = T->nkeys, c = T->c, nlev = T->nlev;
     size_t nn = (size_t)o->size * o->size, lay = nn * c;
     pgp__ex ex[2];
     pgp__synth S;
@@ -20769,7 +20935,7 @@ static int pgp__synth_layers(const pw_alloc *a, const pgp__key *keys, int nkeys,
     int k, l, r;
     memset(ex, 0, sizeof ex);
     memset(&S, 0, sizeof S);
-    r = pgp__ex_build(a, &keys[0], o->size, c, nlev, o, &ex[0], e);
+    r = pgp__ex_build(T, &keys[0], &ex[0], e);
     if (r == PW_OK) r = pgp__synth_init(a, &S, &ex[0], o, e);
     S.prog = pgp__synth_progress(o);
     S.done = &done;
@@ -20781,11 +20947,15 @@ static int pgp__synth_layers(const pw_alloc *a, const pgp__key *keys, int nkeys,
     }
     for (k = 0; !o->single && r == PW_OK && k + 1 < nkeys; k++) {
         int b = pgp__key_layer(k, nkeys, o->layers), M = pgp__key_layer(k + 1, nkeys, o->layers) - b;
-        if ((r = pgp__ex_build(a, &keys[k + 1], o->size, c, nlev, o, &ex[1], e)) != PW_OK) break;
+        pgp__span sp;
+        if ((r = pgp__ex_build(T, &keys[k + 1], &ex[1], e)) != PW_OK) break;
+        sp.masks = masks + b * nn;
+        sp.M = M;
+        sp.out = px + b * lay;
         S.ex = &ex[0];
-        r = pgp__synth_side(&S, masks + b * nn, M, 0, (uint64_t)k * 4096, px + b * lay, e);
+        r = pgp__synth_side(&S, &sp, 0, (uint64_t)k * 4096, e);
         S.ex = &ex[1];
-        if (r == PW_OK) r = pgp__synth_side(&S, masks + b * nn, M, 1, (uint64_t)k * 4096 + 2048, px + b * lay, e);
+        if (r == PW_OK) r = pgp__synth_side(&S, &sp, 1, (uint64_t)k * 4096 + 2048, e);
         memcpy(px + (b + M) * lay, keys[k + 1].color, sizeof(float) * lay);
         pgp__ex_free(a, &ex[0]);
         ex[0] = ex[1];
@@ -20797,10 +20967,14 @@ static int pgp__synth_layers(const pw_alloc *a, const pgp__key *keys, int nkeys,
     return r;
 }
 
-/* The pipeline behind pgp_synthesize_tile, on checked arguments. */
-static int pgp__synth_run(const pw_alloc *a, const pgp_key *keys, int nkeys, const pgp_synth_options *o, int nlev,
-                          pgp_tile *out, pgp_tile *masks_out, pw_err *e)
+/* The pipeline behind pgp_synthesize_tile, on checked arguments: T holds
+ * the allocator, options, key count and levels; its channels and prepared
+ * keys are filled here from `keys`. */
+static int pgp__synth_run(pgp__tile_job *T, const pgp_key *keys, pgp_tile *out, pgp_tile *masks_out, pw_err *e)
 {
+    const pw_alloc *a = T->a;
+    const pgp_synth_options *o = T->o;
+    int nkeys = T->nkeys;
     size_t nn = (size_t)o->size * o->size;
     int c = pgp__tile_channels(keys, nkeys), k, r = PW_OK;
     pw_progress prog = pgp__synth_progress(o);
@@ -20809,8 +20983,10 @@ static int pgp__synth_run(const pw_alloc *a, const pgp_key *keys, int nkeys, con
     float *px = (float *)pw_alloc_array(a, nn * c * o->layers, sizeof(float), "tile", e);
     if (!pk || !masks || !px) r = PW_ERR_NOMEM;
     for (k = 0; k < nkeys && r == PW_OK; k++) r = pgp__prepare_key(a, &keys[k], c, o, &pk[k], e);
-    if (r == PW_OK) r = pgp__layer_masks(a, pk, nkeys, o, &prog, masks, e);
-    if (r == PW_OK) r = pgp__synth_layers(a, pk, nkeys, c, nlev, o, masks, px, e);
+    T->c = c;
+    T->keys = pk;
+    if (r == PW_OK) r = pgp__layer_masks(T, &prog, masks, e);
+    if (r == PW_OK) r = pgp__synth_layers(T, masks, px, e);
     if (r == PW_OK && masks_out) r = pgp__mask_tile(a, masks, o->size, o->layers, masks_out, e);
     if (r == PW_OK && (r = pw_report(&prog, 1.0f, "tile synthesis", e)) == PW_OK) {
         out->width = out->height = o->size;
@@ -20834,13 +21010,21 @@ PGPDEF pgp_result pgp_synthesize_tile(const pgp_key *keys, int nkeys, const pgp_
     pgp_synth_options o = pgp__synth_options(opt);
     pw_alloc a = pgp__alloc(&o.allocator);
     int nlev = 0;
+    pgp__tile_job T;
     pw_err pe;
     pw_err_clear(&pe);
     if (out) memset(out, 0, sizeof *out);
     if (masks) memset(masks, 0, sizeof *masks);
     if (!out) pw_fail(&pe, PW_ERR_INVALID, "pgp_synthesize_tile: NULL output");
-    else if (pgp__check_synth_options(&o, nkeys, &nlev, &pe) == PW_OK && pgp__check_keys(keys, nkeys, &pe) == PW_OK)
-        pgp__synth_run(&a, keys, nkeys, &o, nlev, out, masks, &pe);
+    else if (pgp__check_synth_options(&o, nkeys, &nlev, &pe) == PW_OK && pgp__check_keys(keys, nkeys, &pe) == PW_OK) {
+        T.a = &a;
+        T.o = &o;
+        T.keys = NULL;
+        T.nkeys = nkeys;
+        T.c = 0;
+        T.nlev = nlev;
+        pgp__synth_run(&T, keys, out, masks, &pe);
+    }
     return pgp__done(&pe, err);
 }
 #endif /* PGP__IMPLEMENTATION_DONE */

@@ -13,22 +13,22 @@
  *   3278: src/common/text.h, locale-independent number parsing and formatting, a line s
  *   3701: src/common/mesh.h, polygon meshes as flat arrays, and their file formats.
  *   5230: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
- *   5731: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
- *   6155: src/common/subdiv.h, Catmull-Clark subdivision (Catmull and Clark 1978) with
- *   6294: src/common/raster.h, exact scan conversion of 2D triangles.
- *   6770: src/common/render.h, a small deterministic software renderer for textured trian
- *   8537: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
- *   9034: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
- *   9533: src/common/glue.h, what every method header needs between its public types an
- *   9746: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  10410: src/tiled/core.c, tiled.h's glue to the shared core, its defaults, result
- *  10499: src/tiled/layout.c, ch. III.1, the boundary types and the tiled texture they
- *  10771: src/tiled/map.c, ch. III.2, the texture mapping algorithm of Fig. 29
- *  11012: src/tiled/synth.c, ch. III.1.3, tiled texture image synthesis: an edge-matche
- *  11376: src/tiled/validate.c, checks a hand-made tiled texture (the thesis's Figs. 39,
- *  11504: src/tiled/builtin.c, built-in meshes and exemplars for demos and tests: the
- *  11702: src/tiled/render.c, a software rendering of a mapped mesh (the thesis rendered
- *  11910: src/tiled/io.c, files. Meshes and exemplars in; the mapped mesh with its t
+ *   5759: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
+ *   6199: src/common/subdiv.h, Catmull-Clark subdivision (Catmull and Clark 1978) with
+ *   6338: src/common/raster.h, exact scan conversion of 2D triangles.
+ *   6814: src/common/render.h, a small deterministic software renderer for textured trian
+ *   8581: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
+ *   9078: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
+ *   9577: src/common/glue.h, what every method header needs between its public types an
+ *   9790: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  10454: src/tiled/core.c, tiled.h's glue to the shared core, its defaults, result
+ *  10543: src/tiled/layout.c, ch. III.1, the boundary types and the tiled texture they
+ *  10815: src/tiled/map.c, ch. III.2, the texture mapping algorithm of Fig. 29
+ *  11064: src/tiled/synth.c, ch. III.1.3, tiled texture image synthesis: an edge-matche
+ *  11446: src/tiled/validate.c, checks a hand-made tiled texture (the thesis's Figs. 39,
+ *  11574: src/tiled/builtin.c, built-in meshes and exemplars for demos and tests: the
+ *  11772: src/tiled/render.c, a software rendering of a mapped mesh (the thesis rendered
+ *  11995: src/tiled/io.c, files. Meshes and exemplars in; the mapped mesh with its t
  */
 /* tiled.h - seamless, singularity-free tiled textures on quad meshes.
  *
@@ -5406,27 +5406,45 @@ PW__DEF int pw_shape_bumpy(const pw_alloc *a, int n, pw_mesh *m, pw_err *e)
     return PW_OK;
 }
 
-PW__DEF int pw__shape_torus(const pw_alloc *a, int nu, int nv, int quads, double tube, pw_mesh *m, pw_err *e);
+/* A torus of radius 1 around the z axis: nu x nv quads (quads != 0) or
+ * each split in two triangles, tube radius `tube`. */
+typedef struct pw__torus {
+    int nu, nv, quads;
+    double tube;
+} pw__torus;
+
+PW__DEF int pw__shape_torus(const pw_alloc *a, const pw__torus *T, pw_mesh *m, pw_err *e);
 
 /* Torus around the z axis: radii 1 and 0.4, nu x nv quads (quads != 0) or
  * each quad split in two triangles. Vertex i*nv + j sits at angle 2 pi i/nu
  * around the axis and 2 pi j/nv around the tube. */
 PW__DEF int pw_shape_torus(const pw_alloc *a, int nu, int nv, int quads, pw_mesh *m, pw_err *e)
 {
-    return pw__shape_torus(a, nu, nv, quads, 0.4, m, e);
+    pw__torus T;
+    T.nu = nu;
+    T.nv = nv;
+    T.quads = quads;
+    T.tube = 0.4;
+    return pw__shape_torus(a, &T, m, e);
 }
 
 /* The same torus of radius 1 with tube radius `tube` (0 < tube < 1), in
  * triangles: a thin ring for the tetrahedralizer's tests. */
 PW__DEF int pw_shape_thin_torus(const pw_alloc *a, int nu, int nv, double tube, pw_mesh *m, pw_err *e)
 {
+    pw__torus T;
     if (!(tube > 0.0 && tube < 1.0)) return pw_fail(e, PW_ERR_INVALID, "torus: tube radius %g not in (0, 1)", tube);
-    return pw__shape_torus(a, nu, nv, 0, tube, m, e);
+    T.nu = nu;
+    T.nv = nv;
+    T.quads = 0;
+    T.tube = tube;
+    return pw__shape_torus(a, &T, m, e);
 }
 
-PW__DEF int pw__shape_torus(const pw_alloc *a, int nu, int nv, int quads, double tube, pw_mesh *m, pw_err *e)
+PW__DEF int pw__shape_torus(const pw_alloc *a, const pw__torus *T, pw_mesh *m, pw_err *e)
 {
-    const double pi2 = 6.28318530717958647692;
+    const double pi2 = 6.28318530717958647692, tube = T->tube;
+    const int nu = T->nu, nv = T->nv, quads = T->quads;
     int d = quads ? 4 : 3, i, j, r = pw_shape_alloc(a, nu * nv, (quads ? 1 : 2) * nu * nv, d, m, e);
     if (r != PW_OK) return r;
     for (i = 0; i < nu; i++)
@@ -5626,14 +5644,20 @@ PW__DEF double pw__shape_asin(double x)
     return 0.5 * (lo + hi);
 }
 
-/* A closed surface of revolution about z: the profile (z[k], r[k]),
- * k = 0..n-1, runs from the top pole to the bottom one (r > 0 between),
- * each inner point a ring of `around` vertices; the poles are single
- * vertices. Faces counter-clockwise seen from outside. */
-PW__DEF int pw__shape_revolve(const pw_alloc *a, const double *z, const double *r, int n, int around, pw_mesh *m,
-                              pw_err *e)
+/* The profile of a surface of revolution about z: points (z[k], r[k]),
+ * k = 0..n-1, from the top pole to the bottom one (r > 0 between). */
+typedef struct pw__profile {
+    const double *z, *r;
+    int n;
+} pw__profile;
+
+/* A closed surface of revolution about z of profile P, each inner point a
+ * ring of `around` vertices; the poles are single vertices. Faces
+ * counter-clockwise seen from outside. */
+PW__DEF int pw__shape_revolve(const pw_alloc *a, const pw__profile *P, int around, pw_mesh *m, pw_err *e)
 {
-    const double pi2 = 6.28318530717958647692;
+    const double pi2 = 6.28318530717958647692, *z = P->z, *r = P->r;
+    const int n = P->n;
     int rings = n - 2, nv = rings * around + 2, k, j, nt = 0, res;
     int bot = nv - 1; /* vertex 0 is the top pole; ring k (1..rings) starts at 1 + (k-1) * around */
     if ((res = pw_shape_alloc(a, nv, 2 * around * (rings - 1) + 2 * around, 3, m, e)) != PW_OK) return res;
@@ -5680,6 +5704,7 @@ PW__DEF int pw_shape_dumbbell(const pw_alloc *a, double neck, int around, pw_mes
 {
     const double pi = 3.14159265358979323846;
     double *z, *r, tn, zn, step = 2.0 * pi / around, len;
+    pw__profile prof;
     int nb, nn, n, k, res;
     if (!(neck > 0.0 && neck < 1.0) || around < 3)
         return pw_fail(e, PW_ERR_INVALID, "dumbbell: neck %g not in (0, 1) or %d vertices around", neck, around);
@@ -5708,7 +5733,10 @@ PW__DEF int pw_shape_dumbbell(const pw_alloc *a, double neck, int around, pw_mes
         z[n - 1 - k] = -z[k];
         r[n - 1 - k] = r[k];
     }
-    res = pw__shape_revolve(a, z, r, n, around, m, e);
+    prof.z = z;
+    prof.r = r;
+    prof.n = n;
+    res = pw__shape_revolve(a, &prof, around, m, e);
     pw_free(a, z);
     pw_free(a, r);
     return res;
@@ -5860,17 +5888,29 @@ PW__DEF void pw__hm_face_list(char *buf, size_t cap, const int *f, int n)
     if (n > 6 && len < cap) snprintf(buf + len, cap - len, ", ... (%d faces)", n);
 }
 
-/* The error for edge a-b of half-edge h: more than two faces, or two
- * faces in the same direction. */
-PW__DEF int pw__hm_edge_error(const pw_hmesh *hm, const int *ostart, const int *oh, const int *odest, int a, int b,
-                              int same, int opp, pw_err *e)
+/* The half-edges sorted by origin (pw__hm_sort): those leaving v are
+ * h[start[v]] .. h[start[v+1]-1], and dest[k] is the destination of h[k]. */
+typedef struct pw__hm_out {
+    const int *start, *h, *dest;
+} pw__hm_out;
+
+/* The error for edge a-b: more than two faces, or two faces in the same
+ * direction (counted again here: the error path only). */
+PW__DEF int pw__hm_edge_error(const pw_hmesh *hm, const pw__hm_out *o, int a, int b, pw_err *e)
 {
-    int faces[8], n = 0, k, i, j;
+    const int *ostart = o->start, *oh = o->h, *odest = o->dest;
+    int faces[8], n = 0, same = 0, opp = 0, k, i, j;
     char list[96];
     for (k = ostart[a]; k < ostart[a + 1]; k++)
-        if (odest[k] == b && n < 8) faces[n++] = hm->hface[oh[k]];
+        if (odest[k] == b) {
+            same++;
+            if (n < 8) faces[n++] = hm->hface[oh[k]];
+        }
     for (k = ostart[b]; k < ostart[b + 1]; k++)
-        if (odest[k] == a && n < 8) faces[n++] = hm->hface[oh[k]];
+        if (odest[k] == a) {
+            opp++;
+            if (n < 8) faces[n++] = hm->hface[oh[k]];
+        }
     for (i = 1; i < n; i++) /* insertion sort: at most 8 */
         for (j = i; j > 0 && faces[j - 1] > faces[j]; j--) {
             k = faces[j];
@@ -5890,8 +5930,9 @@ PW__DEF int pw__hm_edge_error(const pw_hmesh *hm, const int *ostart, const int *
  * one b->a not yet paired, needs no more checks: a second a->b would find
  * it taken. Otherwise the half-edges a->b (same) and b->a (opp) are counted
  * to catch bad edges. */
-PW__DEF int pw__hm_pair(pw_hmesh *hm, const int *ostart, const int *oh, const int *odest, int h, int b, pw_err *e)
+PW__DEF int pw__hm_pair(pw_hmesh *hm, const pw__hm_out *o, int h, int b, pw_err *e)
 {
+    const int *ostart = o->start, *oh = o->h, *odest = o->dest;
     int a = hm->fv[h], same = 0, opp = 0, g = -1, k;
     for (k = ostart[b]; k < ostart[b + 1]; k++)
         if (odest[k] == a) {
@@ -5900,7 +5941,7 @@ PW__DEF int pw__hm_pair(pw_hmesh *hm, const int *ostart, const int *oh, const in
         }
     if (opp != 1 || hm->twin[g] != -2) {
         for (k = ostart[a]; k < ostart[a + 1]; k++) same += odest[k] == b;
-        if (same + opp > 2 || same > 1) return pw__hm_edge_error(hm, ostart, oh, odest, a, b, same, opp, e);
+        if (same + opp > 2 || same > 1) return pw__hm_edge_error(hm, o, a, b, e);
     }
     hm->twin[h] = g;
     if (g >= 0) hm->twin[g] = h;
@@ -5910,15 +5951,14 @@ PW__DEF int pw__hm_pair(pw_hmesh *hm, const int *ostart, const int *oh, const in
 
 /* Pairs every half-edge with its opposite, in half-edge order (so the
  * first bad edge reported is deterministic). */
-PW__DEF int pw__hm_twins(pw_hmesh *hm, const int *ostart, const int *oh, const int *odest, pw_err *e)
+PW__DEF int pw__hm_twins(pw_hmesh *hm, const pw__hm_out *o, pw_err *e)
 {
     int h, f, r;
     hm->nboundary = 0; /* twins were set to -2 (not yet paired) by pw__hm_faces */
     for (f = 0; f < hm->nf; f++) {
         int b = hm->fstart[f], end = hm->fstart[f + 1];
         for (h = b; h < end; h++)
-            if (hm->twin[h] == -2 && (r = pw__hm_pair(hm, ostart, oh, odest, h, hm->fv[h + 1 < end ? h + 1 : b], e)))
-                return r;
+            if (hm->twin[h] == -2 && (r = pw__hm_pair(hm, o, h, hm->fv[h + 1 < end ? h + 1 : b], e))) return r;
     }
     hm->ne = (hm->nh + hm->nboundary) / 2;
     return PW_OK;
@@ -6046,11 +6086,15 @@ PW__DEF int pw__hm_offsets(const pw_alloc *a, pw_hmesh *hm, const int *fstart, p
 PW__DEF int pw__hm_steps(const pw_alloc *a, pw_hmesh *hm, int *tmp, pw_err *e)
 {
     int *ostart = tmp, *odest = tmp + hm->nv + 1, *oh = hm->hedge, r, v;
+    pw__hm_out out;
+    out.start = ostart;
+    out.h = oh;
+    out.dest = odest;
     for (v = 0; v < hm->nv; v++) hm->vout[v] = -1;
     memset(ostart, 0, ((size_t)hm->nv + 1) * sizeof(int));
     if ((r = pw__hm_faces(hm, hm->vout, ostart, e))) return r;
     pw__hm_sort(hm, ostart, oh, odest);
-    if ((r = pw__hm_twins(hm, ostart, oh, odest, e))) return r;
+    if ((r = pw__hm_twins(hm, &out, e))) return r;
     if ((r = pw__hm_vertices(hm, ostart, oh, a, e))) return r;
     hm->edgeh = (int *)pw_alloc_array(a, (size_t)hm->ne, sizeof(int), "edges", e);
     if (!hm->edgeh) return PW_ERR_NOMEM;
@@ -10782,14 +10826,27 @@ static int tiled__all_quads(const pw_mesh *m)
     return 1;
 }
 
+/* A quad mesh being mapped: geometry, its half-edges, and per corner the
+ * texture coordinates and boundary types, per face the tile. */
+typedef struct tiled__mapped {
+    pw_mesh q;
+    pw_hmesh hm;
+    float *uv;
+    int *types, *tiles;
+} tiled__mapped;
+
 /* Catmull-Clark until all faces are quads (ch. VI: "any mesh can easily be
  * converted to a quadrilateral mesh"), then `extra` more levels; `planned`
  * counts every level still to come (smoothing included) for the size
- * check made before any work. On success *q owns its arrays and *hm is its
- * half-edge structure. */
-static int tiled__quadrangulate(const pw_alloc *a, const tiled_mesh *in, int planned, int extra, const pw_progress *pr,
-                                pw_mesh *q, pw_hmesh *hm, pw_err *e)
+ * check made before any work; here extra = o->subdivide and planned =
+ * o->subdivide + o->smooth. On success m->q owns its arrays and m->hm is
+ * its half-edge structure. */
+static int tiled__quadrangulate(const pw_alloc *a, const tiled_mesh *in, const tiled_options *o, const pw_progress *pr,
+                                tiled__mapped *m, pw_err *e)
 {
+    const int planned = o->subdivide + o->smooth, extra = o->subdivide;
+    pw_mesh *q = &m->q;
+    pw_hmesh *hm = &m->hm;
     pw_mesh view = tiled__pw_mesh(in), next;
     int levels = (tiled__all_quads(&view) ? 0 : 1) + extra, l, r;
     double faces = in->face_start[in->nfaces];
@@ -10843,12 +10900,16 @@ static void tiled__assign_boundaries(const pw_hmesh *hm, const tiled_layout *l, 
 /* AssignTextureCoordinates (Fig. 29, with the u-offset erratum fixed and
  * guard bands): a random starting edge per quad ("further randomness") makes
  * the walk e0e1e2e3 start at corner `rot`; corner (rot+k) mod 4 takes the
- * tile's corner k. Case 1 draws a tile, a rotation and a mirror instead. */
-static void tiled__assign_uvs(const pw_mesh *q, const int *types, const tiled__geom *gm, int case1,
-                              const tiled_options *o, const float *coord, float *uv, int *face_tiles)
+ * tile's corner k. Case 1 draws a tile, a rotation and a mirror instead.
+ * Reads m's quads and boundary types, writes its uv and tiles. */
+static void tiled__assign_uvs(tiled__mapped *m, const tiled__geom *gm, int case1, const tiled_options *o,
+                              const float *coord)
 {
     pw_rng r = pw_rng_seed(o->seed, 2);
-    const int nf = q->nf, n = gm->n, N = gm->N, nn = N * N;
+    const int *types = m->types;
+    float *uv = m->uv;
+    int *face_tiles = m->tiles;
+    const int nf = m->q.nf, n = gm->n, N = gm->N, nn = N * N;
     const uint32_t rot_mask = o->fixed_start ? 0u : 3u, flip_mask = case1 && !o->no_mirror;
     int f, c;
     for (f = 0; f < nf; f++) {
@@ -10877,15 +10938,6 @@ static void tiled__assign_uvs(const pw_mesh *q, const int *types, const tiled__g
     }
 }
 
-/* A quad mesh being mapped: geometry, its half-edges, and per corner the
- * texture coordinates and boundary types, per face the tile. */
-typedef struct tiled__mapped {
-    pw_mesh q;
-    pw_hmesh hm;
-    float *uv;
-    int *types, *tiles;
-} tiled__mapped;
-
 static void tiled__mapped_free(const pw_alloc *a, tiled__mapped *m)
 {
     pw_mesh_free(a, &m->q);
@@ -10896,18 +10948,18 @@ static void tiled__mapped_free(const pw_alloc *a, tiled__mapped *m)
     memset(m, 0, sizeof *m);
 }
 
-/* Allocates the per-corner and per-face arrays for nc corners, nf faces. */
-static int tiled__mapped_arrays(const pw_alloc *a, int nc, int nf, float **uv, int **types, int **tiles, pw_err *e)
+/* Allocates m's per-corner and per-face arrays for nc corners, nf faces. */
+static int tiled__mapped_arrays(const pw_alloc *a, tiled__mapped *m, int nc, int nf, pw_err *e)
 {
-    *uv = (float *)pw_alloc_array(a, (size_t)nc * 2, sizeof(float), "texture coordinates", e);
-    *types = (int *)pw_alloc_array(a, (size_t)nc, sizeof(int), "boundary types", e);
-    *tiles = (int *)pw_alloc_array(a, (size_t)nf, sizeof(int), "face tiles", e);
-    if (*uv && *types && *tiles) return PW_OK;
-    pw_free(a, *uv);
-    pw_free(a, *types);
-    pw_free(a, *tiles);
-    *uv = NULL;
-    *types = *tiles = NULL;
+    m->uv = (float *)pw_alloc_array(a, (size_t)nc * 2, sizeof(float), "texture coordinates", e);
+    m->types = (int *)pw_alloc_array(a, (size_t)nc, sizeof(int), "boundary types", e);
+    m->tiles = (int *)pw_alloc_array(a, (size_t)nf, sizeof(int), "face tiles", e);
+    if (m->uv && m->types && m->tiles) return PW_OK;
+    pw_free(a, m->uv);
+    pw_free(a, m->types);
+    pw_free(a, m->tiles);
+    m->uv = NULL;
+    m->types = m->tiles = NULL;
     return PW_ERR_NOMEM;
 }
 
@@ -10916,13 +10968,13 @@ static int tiled__assign(const pw_alloc *a, tiled__mapped *m, const tiled_layout
 {
     tiled__geom gm = tiled__geometry(l);
     float *coord = (float *)pw_alloc_array(a, (size_t)gm.N * 2, sizeof(float), "coordinates", e);
-    if (!coord || tiled__mapped_arrays(a, m->q.fstart[m->q.nf], m->q.nf, &m->uv, &m->types, &m->tiles, e)) {
+    if (!coord || tiled__mapped_arrays(a, m, m->q.fstart[m->q.nf], m->q.nf, e)) {
         pw_free(a, coord);
         return PW_ERR_NOMEM;
     }
     tiled__coord_table(&gm, coord);
     tiled__assign_boundaries(&m->hm, l, o->seed, m->types);
-    tiled__assign_uvs(&m->q, m->types, &gm, l->case_number == 1, o, coord, m->uv, m->tiles);
+    tiled__assign_uvs(m, &gm, l->case_number == 1, o, coord);
     pw_free(a, coord);
     return PW_OK;
 }
@@ -10963,7 +11015,7 @@ static int tiled__smooth(const pw_alloc *a, tiled__mapped *m, pw_err *e)
     int r;
     memset(&next, 0, sizeof next);
     if ((r = pw_catmull_clark(a, &m->hm, m->q.pos, &next.q, e)) != PW_OK ||
-        (r = tiled__mapped_arrays(a, 4 * m->hm.nh, m->hm.nh, &next.uv, &next.types, &next.tiles, e)) != PW_OK ||
+        (r = tiled__mapped_arrays(a, &next, 4 * m->hm.nh, m->hm.nh, e)) != PW_OK ||
         (r = pw_hmesh_build(a, next.q.nv, next.q.nf, next.q.fstart, next.q.fv, &next.hm, e)) != PW_OK) {
         tiled__mapped_free(a, &next);
         return r;
@@ -10991,7 +11043,7 @@ TILEDDEF tiled_result tiled_map(const tiled_mesh *in, const tiled_layout *layout
     else if (o.subdivide < 0 || o.subdivide > 8 || o.smooth < 0 || o.smooth > 8)
         pw_fail(&pe, PW_ERR_INVALID, "subdivide and smooth must be 0..8 (got %d and %d)", o.subdivide, o.smooth);
     else if (tiled__resolve(layout, 0, &l, &pe) == PW_OK && tiled__check_mesh(in, &pe) == PW_OK &&
-             tiled__quadrangulate(&a, in, o.subdivide + o.smooth, o.subdivide, &pr, &m.q, &m.hm, &pe) == PW_OK &&
+             tiled__quadrangulate(&a, in, &o, &pr, &m, &pe) == PW_OK &&
              pw_report(&pr, 0.8f, "texture coordinates", &pe) == PW_OK && tiled__assign(&a, &m, &l, &o, &pe) == PW_OK) {
         for (k = 0; k < o.smooth && pe.code == PW_OK; k++)
             if (pw_report(&pr, 0.85f + 0.1f * (float)k / (float)o.smooth, "smoothing", &pe) == PW_OK)
@@ -11193,10 +11245,23 @@ static void tiled__centre_source(const tiled__synth *s, pw_rng *rng, tiled__scra
         }
 }
 
-/* Composes tile t into the atlas. */
-static int tiled__compose(const pw_alloc *a, const tiled__synth *s, pw_rng *rng, tiled__scratch *sc, pw_image *atlas,
-                          const tiled__geom *gm, int t, pw_err *e)
+/* The loop of tiled__synth_tiles over the tiles: the atlas being filled
+ * and its tile geometry, the random stream and the scratch shared by all
+ * tiles. */
+typedef struct tiled__tile_work {
+    pw_image *atlas;
+    const tiled__geom *gm;
+    pw_rng *rng;
+    tiled__scratch *sc;
+} tiled__tile_work;
+
+/* Composes tile t into the atlas of w. */
+static int tiled__compose(const pw_alloc *a, const tiled__synth *s, const tiled__tile_work *w, int t, pw_err *e)
 {
+    pw_image *atlas = w->atlas;
+    const tiled__geom *gm = w->gm;
+    pw_rng *rng = w->rng;
+    tiled__scratch *sc = w->sc;
     int types[4], T = s->T, c = s->src.c, j, r;
     pw_quilt q;
     tiled__tile_types(gm, s->case1, t, types);
@@ -11298,8 +11363,13 @@ static int tiled__synth_tiles(const pw_alloc *a, tiled__synth *s, const tiled_op
     pw_progress pr = tiled__progress(o);
     pw_rng rng = pw_rng_seed(o->seed, 3);
     tiled__scratch sc;
+    tiled__tile_work w;
     size_t tt = (size_t)s->T * s->T;
     int k, t, r = PW_OK;
+    w.atlas = atlas;
+    w.gm = gm;
+    w.rng = &rng;
+    w.sc = &sc;
     for (k = 0; k < 8; k++) tiled__place_diamond(s, &rng, k, gm->n);
     sc.src = (float *)pw_alloc_array(a, tt * 5 * s->src.c, sizeof(float), "tile sources", e);
     sc.allowed = (uint32_t *)pw_alloc_array(a, tt, sizeof(uint32_t), "tile constraints", e);
@@ -11308,7 +11378,7 @@ static int tiled__synth_tiles(const pw_alloc *a, tiled__synth *s, const tiled_op
     if (!sc.src || !sc.allowed || !sc.label || !sc.motif) r = PW_ERR_NOMEM;
     for (t = 0; t < gm->N * gm->N && r == PW_OK; t++) {
         r = pw_report(&pr, 0.1f + 0.9f * (float)t / (float)(gm->N * gm->N), "tile synthesis", e);
-        if (r == PW_OK) r = tiled__compose(a, s, &rng, &sc, atlas, gm, t, e);
+        if (r == PW_OK) r = tiled__compose(a, s, &w, t, e);
     }
     pw_free(a, sc.src);
     pw_free(a, sc.allowed);
@@ -11707,16 +11777,29 @@ TILEDDEF tiled_result tiled_builtin_exemplar(const char *name, int size, const t
 #define TILED__FOVY 35.0f
 
 #ifndef PW_NO_RENDER
-/* Fan-triangulates a mapped mesh into triangles with per-corner texture
- * coordinates. */
-static int tiled__triangles(const pw_alloc *a, const tiled_mesh *m, int **tris, float **uvs, int *ntris, pw_err *e)
+/* What tiled_render draws: a mapped mesh and its fan triangulation, with
+ * per-corner texture coordinates (uvs: 6 floats a triangle). */
+typedef struct tiled__tris {
+    const tiled_mesh *m;
+    int *tris; /* 3*ntris vertex indices of m */
+    float *uvs;
+    int ntris;
+} tiled__tris;
+
+/* Fan-triangulates the mapped mesh tl->m into tl's triangles. */
+static int tiled__triangles(const pw_alloc *a, tiled__tris *tl, pw_err *e)
 {
+    const tiled_mesh *m = tl->m;
     int f, k, t = 0, n = m->face_start[m->nfaces] - 2 * m->nfaces;
+    int **tris = &tl->tris, *ntris = &tl->ntris;
+    float **uvs = &tl->uvs;
     *tris = (int *)pw_alloc_array(a, (size_t)n * 3, sizeof(int), "triangles", e);
     *uvs = (float *)pw_alloc_array(a, (size_t)n * 6, sizeof(float), "triangle coordinates", e);
     if (!*tris || !*uvs) {
         pw_free(a, *tris);
         pw_free(a, *uvs);
+        *tris = NULL;
+        *uvs = NULL;
         return PW_ERR_NOMEM;
     }
     for (f = 0; f < m->nfaces; f++)
@@ -11738,9 +11821,10 @@ static int tiled__triangles(const pw_alloc *a, const tiled_mesh *m, int **tris, 
 /* Draws the triangles lit, textured from the atlas with mip levels capped
  * where they would mix tiles, band by band (pw_render_frame), and resolves
  * the supersamples. */
-static int tiled__draw(const pw_alloc *a, const tiled_mesh *m, const tiled_tileset *ts, const tiled_render_options *ro,
-                       const int *tris, const float *uvs, int ntris, pw_image *out, pw_err *e)
+static int tiled__draw(const pw_alloc *a, const tiled__tris *tl, const tiled_tileset *ts,
+                       const tiled_render_options *ro, pw_image *out, pw_err *e)
 {
+    const tiled_mesh *m = tl->m;
     pw_image atlas = tiled__pw_image(&ts->atlas);
     pw_texture tex;
     pw_draw d;
@@ -11756,9 +11840,9 @@ static int tiled__draw(const pw_alloc *a, const tiled_mesh *m, const tiled_tiles
     memset(&d, 0, sizeof d);
     d.positions = m->positions;
     d.nv = m->nverts;
-    d.tris = tris;
-    d.ntris = ntris;
-    d.uvs = uvs;
+    d.tris = tl->tris;
+    d.ntris = tl->ntris;
+    d.uvs = tl->uvs;
     d.tex = &tex;
     d.filter = (int)ro->filter;
     d.wrap = PW_WRAP_CLAMP;
@@ -11801,8 +11885,9 @@ TILEDDEF tiled_result tiled_render(const tiled_mesh *mapped, const tiled_tileset
     pw_alloc a = tiled__alloc(ts ? &ts->atlas.allocator : NULL);
     pw_image pic;
     pw_err pe;
-    int *tris = NULL, ntris = 0;
-    float *uvs = NULL;
+    tiled__tris tl;
+    memset(&tl, 0, sizeof tl);
+    tl.m = mapped;
     pw_err_clear(&pe);
     if (out) memset(out, 0, sizeof *out);
     if (!out || !ts || !mapped || !mapped->uvs)
@@ -11815,10 +11900,10 @@ TILEDDEF tiled_result tiled_render(const tiled_mesh *mapped, const tiled_tileset
                 o.height, o.supersample, (int)o.filter, o.threads);
     else if (tiled__check_mesh(mapped, &pe) == PW_OK &&
              tiled__check_image(&ts->atlas, "tile set atlas", &pe) == PW_OK &&
-             tiled__triangles(&a, mapped, &tris, &uvs, &ntris, &pe) == PW_OK) {
-        if (tiled__draw(&a, mapped, ts, &o, tris, uvs, ntris, &pic, &pe) == PW_OK) tiled__take_image(&pic, &a, out);
-        pw_free(&a, tris);
-        pw_free(&a, uvs);
+             tiled__triangles(&a, &tl, &pe) == PW_OK) {
+        if (tiled__draw(&a, &tl, ts, &o, &pic, &pe) == PW_OK) tiled__take_image(&pic, &a, out);
+        pw_free(&a, tl.tris);
+        pw_free(&a, tl.uvs);
     }
     return tiled__done(&pe, err);
 }

@@ -226,10 +226,14 @@ static void t_builtin_tiles_periodic_generator(void)
                 double s = pw_rng_double(&rng), t = pw_rng_double(&rng);
                 static const double shift[3][2] = {{1, 0}, {0, 1}, {-1, -1}};
                 float a[3], b[3];
-                pgp__tile_texel(kind, 3, layer, kind == PGP__TILE_BRICKS ? 4 : 1, s, t, 1.0 / 128, a);
+                pgp__builtin B;
+                B.kind = kind;
+                B.seed = 3;
+                B.layers = kind == PGP__TILE_BRICKS ? 4 : 1;
+                B.px = 1.0 / 128;
+                pgp__tile_texel(&B, layer, s, t, a);
                 for (j = 0; j < 3; j++) {
-                    pgp__tile_texel(kind, 3, layer, kind == PGP__TILE_BRICKS ? 4 : 1, s + shift[j][0], t + shift[j][1],
-                                    1.0 / 128, b);
+                    pgp__tile_texel(&B, layer, s + shift[j][0], t + shift[j][1], b);
                     for (k = 0; k < 3; k++) {
                         double d = a[k] > b[k] ? a[k] - b[k] : b[k] - a[k];
                         worst = d > worst ? d : worst;
@@ -256,8 +260,13 @@ static void t_builtin_tiles_periodic(void)
         for (z = 0; z < t.layers; z++)
             for (y = 0; y < n; y++) { /* column n is column 0, row n is row 0 */
                 float c[3], r[3];
-                pgp__tile_texel(kind, 0, z, t.layers, (n + 0.5) / n, 1.0 - (y + 0.5) / n, 1.0 / n, c);
-                pgp__tile_texel(kind, 0, z, t.layers, (y + 0.5) / n, 1.0 - (n + 0.5) / n, 1.0 / n, r);
+                pgp__builtin B;
+                B.kind = kind;
+                B.seed = 0;
+                B.layers = t.layers;
+                B.px = 1.0 / n;
+                pgp__tile_texel(&B, z, (n + 0.5) / n, 1.0 - (y + 0.5) / n, c);
+                pgp__tile_texel(&B, z, (y + 0.5) / n, 1.0 - (n + 0.5) / n, r);
                 for (k = 0; k < 3; k++) {
                     double dc = c[k] - t.pixels[(((size_t)z * n + y) * n) * 3 + k];
                     double dr = r[k] - t.pixels[(((size_t)z * n) * n + y) * 3 + k];

@@ -487,12 +487,19 @@ static void synth_sides(const pgp_synth_options *o, const pgp__key *keys, const 
     double done = 0.0;
     pgp__ex ex;
     pgp__synth S;
+    pgp__tile_job T; /* o->size is 64 */
     pw_err e;
     int k, m, side, cls, count = 0;
     pw_err_clear(&e);
     worst[0] = worst[1] = 0.0, *agree = 1.0;
+    T.a = NULL;
+    T.o = o;
+    T.keys = keys;
+    T.nkeys = 2;
+    T.c = 3;
+    T.nlev = pgp__level_count(64, 0);
     for (side = 0; side < 2; side++) {
-        REQUIRE(pgp__ex_build(NULL, &keys[side], 64, 3, pgp__level_count(64, 0), o, &ex, &e) == PW_OK);
+        REQUIRE(pgp__ex_build(&T, &keys[side], &ex, &e) == PW_OK);
         REQUIRE(pgp__synth_init(NULL, &S, &ex, o, &e) == PW_OK);
         S.done = &done, S.total = 1e12;
         for (k = 0; k <= M; k++) {

@@ -130,17 +130,29 @@ PW__DEF void pw__hm_face_list(char *buf, size_t cap, const int *f, int n)
     if (n > 6 && len < cap) snprintf(buf + len, cap - len, ", ... (%d faces)", n);
 }
 
-/* The error for edge a-b of half-edge h: more than two faces, or two
- * faces in the same direction. */
-PW__DEF int pw__hm_edge_error(const pw_hmesh *hm, const int *ostart, const int *oh, const int *odest, int a, int b,
-                              int same, int opp, pw_err *e)
+/* The half-edges sorted by origin (pw__hm_sort): those leaving v are
+ * h[start[v]] .. h[start[v+1]-1], and dest[k] is the destination of h[k]. */
+typedef struct pw__hm_out {
+    const int *start, *h, *dest;
+} pw__hm_out;
+
+/* The error for edge a-b: more than two faces, or two faces in the same
+ * direction (counted again here: the error path only). */
+PW__DEF int pw__hm_edge_error(const pw_hmesh *hm, const pw__hm_out *o, int a, int b, pw_err *e)
 {
-    int faces[8], n = 0, k, i, j;
+    const int *ostart = o->start, *oh = o->h, *odest = o->dest;
+    int faces[8], n = 0, same = 0, opp = 0, k, i, j;
     char list[96];
     for (k = ostart[a]; k < ostart[a + 1]; k++)
-        if (odest[k] == b && n < 8) faces[n++] = hm->hface[oh[k]];
+        if (odest[k] == b) {
+            same++;
+            if (n < 8) faces[n++] = hm->hface[oh[k]];
+        }
     for (k = ostart[b]; k < ostart[b + 1]; k++)
-        if (odest[k] == a && n < 8) faces[n++] = hm->hface[oh[k]];
+        if (odest[k] == a) {
+            opp++;
+            if (n < 8) faces[n++] = hm->hface[oh[k]];
+        }
     for (i = 1; i < n; i++) /* insertion sort: at most 8 */
         for (j = i; j > 0 && faces[j - 1] > faces[j]; j--) {
             k = faces[j];
@@ -160,8 +172,9 @@ PW__DEF int pw__hm_edge_error(const pw_hmesh *hm, const int *ostart, const int *
  * one b->a not yet paired, needs no more checks: a second a->b would find
  * it taken. Otherwise the half-edges a->b (same) and b->a (opp) are counted
  * to catch bad edges. */
-PW__DEF int pw__hm_pair(pw_hmesh *hm, const int *ostart, const int *oh, const int *odest, int h, int b, pw_err *e)
+PW__DEF int pw__hm_pair(pw_hmesh *hm, const pw__hm_out *o, int h, int b, pw_err *e)
 {
+    const int *ostart = o->start, *oh = o->h, *odest = o->dest;
     int a = hm->fv[h], same = 0, opp = 0, g = -1, k;
     for (k = ostart[b]; k < ostart[b + 1]; k++)
         if (odest[k] == a) {
@@ -170,7 +183,7 @@ PW__DEF int pw__hm_pair(pw_hmesh *hm, const int *ostart, const int *oh, const in
         }
     if (opp != 1 || hm->twin[g] != -2) {
         for (k = ostart[a]; k < ostart[a + 1]; k++) same += odest[k] == b;
-        if (same + opp > 2 || same > 1) return pw__hm_edge_error(hm, ostart, oh, odest, a, b, same, opp, e);
+        if (same + opp > 2 || same > 1) return pw__hm_edge_error(hm, o, a, b, e);
     }
     hm->twin[h] = g;
     if (g >= 0) hm->twin[g] = h;
@@ -180,15 +193,14 @@ PW__DEF int pw__hm_pair(pw_hmesh *hm, const int *ostart, const int *oh, const in
 
 /* Pairs every half-edge with its opposite, in half-edge order (so the
  * first bad edge reported is deterministic). */
-PW__DEF int pw__hm_twins(pw_hmesh *hm, const int *ostart, const int *oh, const int *odest, pw_err *e)
+PW__DEF int pw__hm_twins(pw_hmesh *hm, const pw__hm_out *o, pw_err *e)
 {
     int h, f, r;
     hm->nboundary = 0; /* twins were set to -2 (not yet paired) by pw__hm_faces */
     for (f = 0; f < hm->nf; f++) {
         int b = hm->fstart[f], end = hm->fstart[f + 1];
         for (h = b; h < end; h++)
-            if (hm->twin[h] == -2 && (r = pw__hm_pair(hm, ostart, oh, odest, h, hm->fv[h + 1 < end ? h + 1 : b], e)))
-                return r;
+            if (hm->twin[h] == -2 && (r = pw__hm_pair(hm, o, h, hm->fv[h + 1 < end ? h + 1 : b], e))) return r;
     }
     hm->ne = (hm->nh + hm->nboundary) / 2;
     return PW_OK;
@@ -316,11 +328,15 @@ PW__DEF int pw__hm_offsets(const pw_alloc *a, pw_hmesh *hm, const int *fstart, p
 PW__DEF int pw__hm_steps(const pw_alloc *a, pw_hmesh *hm, int *tmp, pw_err *e)
 {
     int *ostart = tmp, *odest = tmp + hm->nv + 1, *oh = hm->hedge, r, v;
+    pw__hm_out out;
+    out.start = ostart;
+    out.h = oh;
+    out.dest = odest;
     for (v = 0; v < hm->nv; v++) hm->vout[v] = -1;
     memset(ostart, 0, ((size_t)hm->nv + 1) * sizeof(int));
     if ((r = pw__hm_faces(hm, hm->vout, ostart, e))) return r;
     pw__hm_sort(hm, ostart, oh, odest);
-    if ((r = pw__hm_twins(hm, ostart, oh, odest, e))) return r;
+    if ((r = pw__hm_twins(hm, &out, e))) return r;
     if ((r = pw__hm_vertices(hm, ostart, oh, a, e))) return r;
     hm->edgeh = (int *)pw_alloc_array(a, (size_t)hm->ne, sizeof(int), "edges", e);
     if (!hm->edgeh) return PW_ERR_NOMEM;

@@ -180,27 +180,45 @@ PW__DEF int pw_shape_bumpy(const pw_alloc *a, int n, pw_mesh *m, pw_err *e)
     return PW_OK;
 }
 
-PW__DEF int pw__shape_torus(const pw_alloc *a, int nu, int nv, int quads, double tube, pw_mesh *m, pw_err *e);
+/* A torus of radius 1 around the z axis: nu x nv quads (quads != 0) or
+ * each split in two triangles, tube radius `tube`. */
+typedef struct pw__torus {
+    int nu, nv, quads;
+    double tube;
+} pw__torus;
+
+PW__DEF int pw__shape_torus(const pw_alloc *a, const pw__torus *T, pw_mesh *m, pw_err *e);
 
 /* Torus around the z axis: radii 1 and 0.4, nu x nv quads (quads != 0) or
  * each quad split in two triangles. Vertex i*nv + j sits at angle 2 pi i/nu
  * around the axis and 2 pi j/nv around the tube. */
 PW__DEF int pw_shape_torus(const pw_alloc *a, int nu, int nv, int quads, pw_mesh *m, pw_err *e)
 {
-    return pw__shape_torus(a, nu, nv, quads, 0.4, m, e);
+    pw__torus T;
+    T.nu = nu;
+    T.nv = nv;
+    T.quads = quads;
+    T.tube = 0.4;
+    return pw__shape_torus(a, &T, m, e);
 }
 
 /* The same torus of radius 1 with tube radius `tube` (0 < tube < 1), in
  * triangles: a thin ring for the tetrahedralizer's tests. */
 PW__DEF int pw_shape_thin_torus(const pw_alloc *a, int nu, int nv, double tube, pw_mesh *m, pw_err *e)
 {
+    pw__torus T;
     if (!(tube > 0.0 && tube < 1.0)) return pw_fail(e, PW_ERR_INVALID, "torus: tube radius %g not in (0, 1)", tube);
-    return pw__shape_torus(a, nu, nv, 0, tube, m, e);
+    T.nu = nu;
+    T.nv = nv;
+    T.quads = 0;
+    T.tube = tube;
+    return pw__shape_torus(a, &T, m, e);
 }
 
-PW__DEF int pw__shape_torus(const pw_alloc *a, int nu, int nv, int quads, double tube, pw_mesh *m, pw_err *e)
+PW__DEF int pw__shape_torus(const pw_alloc *a, const pw__torus *T, pw_mesh *m, pw_err *e)
 {
-    const double pi2 = 6.28318530717958647692;
+    const double pi2 = 6.28318530717958647692, tube = T->tube;
+    const int nu = T->nu, nv = T->nv, quads = T->quads;
     int d = quads ? 4 : 3, i, j, r = pw_shape_alloc(a, nu * nv, (quads ? 1 : 2) * nu * nv, d, m, e);
     if (r != PW_OK) return r;
     for (i = 0; i < nu; i++)
@@ -400,14 +418,20 @@ PW__DEF double pw__shape_asin(double x)
     return 0.5 * (lo + hi);
 }
 
-/* A closed surface of revolution about z: the profile (z[k], r[k]),
- * k = 0..n-1, runs from the top pole to the bottom one (r > 0 between),
- * each inner point a ring of `around` vertices; the poles are single
- * vertices. Faces counter-clockwise seen from outside. */
-PW__DEF int pw__shape_revolve(const pw_alloc *a, const double *z, const double *r, int n, int around, pw_mesh *m,
-                              pw_err *e)
+/* The profile of a surface of revolution about z: points (z[k], r[k]),
+ * k = 0..n-1, from the top pole to the bottom one (r > 0 between). */
+typedef struct pw__profile {
+    const double *z, *r;
+    int n;
+} pw__profile;
+
+/* A closed surface of revolution about z of profile P, each inner point a
+ * ring of `around` vertices; the poles are single vertices. Faces
+ * counter-clockwise seen from outside. */
+PW__DEF int pw__shape_revolve(const pw_alloc *a, const pw__profile *P, int around, pw_mesh *m, pw_err *e)
 {
-    const double pi2 = 6.28318530717958647692;
+    const double pi2 = 6.28318530717958647692, *z = P->z, *r = P->r;
+    const int n = P->n;
     int rings = n - 2, nv = rings * around + 2, k, j, nt = 0, res;
     int bot = nv - 1; /* vertex 0 is the top pole; ring k (1..rings) starts at 1 + (k-1) * around */
     if ((res = pw_shape_alloc(a, nv, 2 * around * (rings - 1) + 2 * around, 3, m, e)) != PW_OK) return res;
@@ -454,6 +478,7 @@ PW__DEF int pw_shape_dumbbell(const pw_alloc *a, double neck, int around, pw_mes
 {
     const double pi = 3.14159265358979323846;
     double *z, *r, tn, zn, step = 2.0 * pi / around, len;
+    pw__profile prof;
     int nb, nn, n, k, res;
     if (!(neck > 0.0 && neck < 1.0) || around < 3)
         return pw_fail(e, PW_ERR_INVALID, "dumbbell: neck %g not in (0, 1) or %d vertices around", neck, around);
@@ -482,7 +507,10 @@ PW__DEF int pw_shape_dumbbell(const pw_alloc *a, double neck, int around, pw_mes
         z[n - 1 - k] = -z[k];
         r[n - 1 - k] = r[k];
     }
-    res = pw__shape_revolve(a, z, r, n, around, m, e);
+    prof.z = z;
+    prof.r = r;
+    prof.n = n;
+    res = pw__shape_revolve(a, &prof, around, m, e);
     pw_free(a, z);
     pw_free(a, r);
     return res;

@@ -64,10 +64,12 @@ static double pgp__rand(unsigned long long seed, int id, int k)
  * divide the tile, so the bond is periodic. Lengths are in row heights. */
 enum { PGP__BX = 3, PGP__BY = 8 };
 
-/* What a point of the wall is: its cell's brick, the signed distance to
- * that stone's edge (< 0 inside) and the surface height there. */
+/* What a point of the wall is: its cell's brick, where it lies from the
+ * cell's centre (x, y, in row heights), the signed distance to that
+ * stone's edge (< 0 inside) and the surface height there. */
 typedef struct pgp__wall {
     int id;
+    double x, y;
     double d, h, cover, hy;
 } pgp__wall;
 
@@ -80,13 +82,13 @@ static double pgp__round_box(double x, double y, double bx, double by, double rc
     return sqrt(ox * ox + oy * oy) + (in < 0 ? in : 0) - rc;
 }
 
-/* The stone of brick `id` at weathering w in [0, 1], at (x, y) from its
- * cell's centre: the mortar gap widens with w, the brick shrinks and moves
- * a little, its corners round off until it is a pebble, some pebbles get a
- * waist, and the edge is eaten by noise. */
-static void pgp__stone(unsigned long long seed, double w, double s, double t, double x, double y, pgp__wall *o)
+/* The stone of brick o->id at weathering w in [0, 1], at (o->x, o->y)
+ * from its cell's centre: the mortar gap widens with w, the brick shrinks
+ * and moves a little, its corners round off until it is a pebble, some
+ * pebbles get a waist, and the edge is eaten by noise. */
+static void pgp__stone(unsigned long long seed, double w, double s, double t, pgp__wall *o)
 {
-    const double L = (double)PGP__BY / PGP__BX;
+    const double L = (double)PGP__BY / PGP__BX, x = o->x, y = o->y;
     double mw = 0.045 + 0.12 * w, r1 = pgp__rand(seed, o->id, 1), r2 = pgp__rand(seed, o->id, 2);
     double bx = 0.5 * L - mw - 0.4 * w * r1, by = 0.5 - mw - 0.12 * w * r2;
     double cx = 0.3 * w * r1 * (pgp__rand(seed, o->id, 3) - 0.5), cy = 0.07 * w * (pgp__rand(seed, o->id, 4) - 0.5);
@@ -114,7 +116,9 @@ static void pgp__wall_at(unsigned long long seed, double w, double s, double t, 
     row = ((row % PGP__BY) + PGP__BY) % PGP__BY;
     col = ((col % PGP__BX) + PGP__BX) % PGP__BX;
     o->id = row * PGP__BX + col;
-    pgp__stone(seed, w, s, t, x - off - (fx + 0.5) * L, y - fy - 0.5, o);
+    o->x = x - off - (fx + 0.5) * L;
+    o->y = y - fy - 0.5;
+    pgp__stone(seed, w, s, t, o);
     o->cover = pw_smoothstep(-0.5, 0.5, -o->d / px);
     in = -o->d;
     bevel = 0.035 + 0.9 * w * o->hy;
@@ -212,12 +216,22 @@ static void pgp__stripes(unsigned long long seed, double s, double t, double px,
 
 enum { PGP__TILE_BRICKS = 0, PGP__TILE_STRIPES = 1 };
 
-/* The colour of a built-in tile at (s, t) of layer `layer` of `layers`; px
- * is the side of a texel in tile units. Periodic: (s + 1, t) and (s, t + 1)
- * give the same colour up to rounding. */
-static void pgp__tile_texel(int kind, unsigned long long seed, int layer, int layers, double s, double t, double px,
-                            float *rgb)
+/* A built-in tile being drawn: its kind, seed, layer count and the side
+ * of a texel in tile units. */
+typedef struct pgp__builtin {
+    int kind;
+    unsigned long long seed;
+    int layers;
+    double px;
+} pgp__builtin;
+
+/* The colour of built-in tile B at (s, t) of layer `layer`. Periodic:
+ * (s + 1, t) and (s, t + 1) give the same colour up to rounding. */
+static void pgp__tile_texel(const pgp__builtin *B, int layer, double s, double t, float *rgb)
 {
+    const int kind = B->kind, layers = B->layers;
+    const unsigned long long seed = B->seed;
+    const double px = B->px;
     double c[3];
     int k;
     if (kind == PGP__TILE_BRICKS)
@@ -231,6 +245,7 @@ PGPDEF pgp_result pgp_builtin_tile(const char *name, int size, const pgp_options
     pgp_options o = pgp__options(opt);
     pw_alloc a = pgp__alloc(&o.allocator);
     pw_volume vol;
+    pgp__builtin B;
     pw_err pe;
     int kind = -1, layers, x, y, z;
     pw_err_clear(&pe);
@@ -242,10 +257,14 @@ PGPDEF pgp_result pgp_builtin_tile(const char *name, int size, const pgp_options
     else if (size < 8 || size > 4096) pw_fail(&pe, PW_ERR_INVALID, "built-in tile size must be 8..4096 (got %d)", size);
     else if (pw_volume_alloc(&a, &vol, 3, size, size, layers, &pe) == PW_OK) {
         double px = 1.0 / size;
+        B.kind = kind;
+        B.seed = o.synth.seed;
+        B.layers = layers;
+        B.px = px;
         for (z = 0; z < layers; z++)
             for (y = 0; y < size; y++)
                 for (x = 0; x < size; x++) /* texel centres; row 0 at the top, t = 0 at the bottom */
-                    pgp__tile_texel(kind, o.synth.seed, z, layers, (x + 0.5) * px, 1.0 - (y + 0.5) * px, px,
+                    pgp__tile_texel(&B, z, (x + 0.5) * px, 1.0 - (y + 0.5) * px,
                                     vol.px + (((size_t)z * size + y) * size + x) * 3);
         out->width = out->height = size;
         out->layers = layers;

@@ -14,12 +14,18 @@
 static int pgp__edit_constraint(pgp__state *P, const pgp_constraint *c, pgp_area *area, pw_err *e)
 {
     int *seeds, n = 0, h, r;
-    if (c->kind == PGP_CONSTRAINT_ORIENT) return pgp__edit(P, c->kind, &c->element, 1, c->radius, area, e);
+    pgp__seeds sd;
+    sd.tri = &c->element;
+    sd.n = 1;
+    sd.radius = c->radius;
+    if (c->kind == PGP_CONSTRAINT_ORIENT) return pgp__edit(P, c->kind, &sd, area, e);
     seeds = (int *)pw_alloc_array(&P->a, (size_t)P->m.nf, sizeof(int), "effect area", e);
     if (!seeds) return PW_ERR_NOMEM;
     for (h = 0; h < 3 * P->m.nf; h++)
         if (P->m.tri[h] == c->element) seeds[n++] = h / 3;
-    r = pgp__edit(P, c->kind, seeds, n, c->radius, area, e);
+    sd.tri = seeds;
+    sd.n = n;
+    r = pgp__edit(P, c->kind, &sd, area, e);
     pw_free(&P->a, seeds);
     return r;
 }

@@ -7,13 +7,12 @@
 /* ---- sparse symmetric positive definite solves ----------------------------- */
 
 /* Solves the system collected in t for x (warm start: x's current values)
- * to a relative residual tol: real symmetric positive definite (n x n) by
- * IC(0)-preconditioned CG, or, with `complex` set, complex Hermitian
- * (zsparse.h: n x 2n triplets, b and x complex) by its complex
- * counterpart. */
-static int pgp__pd_solve(const pw_alloc *a, const pw_triplets *t, int complex, const double *b, double *x, double tol,
-                         pw_err *e)
+ * to a relative residual tol: real symmetric positive definite (n x n
+ * triplets) by IC(0)-preconditioned CG, or complex Hermitian (zsparse.h:
+ * n x 2n triplets, b and x complex) by its complex counterpart. */
+static int pgp__pd_solve(const pw_alloc *a, const pw_triplets *t, const double *b, double *x, double tol, pw_err *e)
 {
+    const int complex = t->m == 2 * t->n;
     pw_csr A;
     pw_ic0 L;
     pw_zcsr ZA;
@@ -40,15 +39,24 @@ static int pgp__pd_solve(const pw_alloc *a, const pw_triplets *t, int complex, c
 
 /* ---- §2.1 effect area ------------------------------------------------------------ */
 
-/* The triangles within `radius` (geodesic, over the dual graph) of the seed
- * triangles, in order of distance ("a classical greedy algorithm that
+/* Where an edit acts: its seed triangles and the geodesic radius of its
+ * effect area around them (<= 0: the whole mesh). */
+typedef struct pgp__seeds {
+    const int *tri;
+    int n;
+    float radius;
+} pgp__seeds;
+
+/* The triangles within sd->radius (geodesic, over the dual graph) of the
+ * seed triangles, in order of distance ("a classical greedy algorithm that
  * visits the triangles in order of increasing distance to the nearest
  * constraint"); radius <= 0 takes every triangle. in[f] = 1 for them;
  * order (nf) lists them, *n their number. */
-static int pgp__area(const pgp__state *P, const int *seeds, int nseeds, float radius, unsigned char *in, int *order,
-                     int *n, pw_err *e)
+static int pgp__area(const pgp__state *P, const pgp__seeds *sd, unsigned char *in, int *order, int *n, pw_err *e)
 {
     const pw_trimesh *m = &P->m;
+    const int *seeds = sd->tri, nseeds = sd->n;
+    const float radius = sd->radius;
     double *dist = (double *)pw_alloc_array(&P->a, (size_t)m->nf * 4 + 1, sizeof(double), "effect area", e);
     int *hf = (int *)pw_alloc_array(&P->a, (size_t)m->nf * 3 + 1 + (size_t)nseeds, sizeof(int), "effect area", e);
     pw_heap hp;
@@ -178,7 +186,7 @@ static int pgp__harmonic(pgp__state *P, const unsigned char *vfree, const unsign
     for (v = 0; r == PW_OK && n > 0 && v < m->nv; v++) /* a faint pull towards the fallback */
         if (id[v] >= 0 && (r = pw_triplets_add(&t, id[v], id[v], PGP__PULL, e)) == PW_OK)
             b[id[v]] += PGP__PULL * fallback;
-    if (r == PW_OK && n > 0) r = pgp__pd_solve(&P->a, &t, 0, b, x, 1e-8, e);
+    if (r == PW_OK && n > 0) r = pgp__pd_solve(&P->a, &t, b, x, 1e-8, e);
     for (v = 0; r == PW_OK && n > 0 && v < m->nv; v++)
         if (id[v] >= 0) val[v] = (float)x[id[v]];
     pw_triplets_free(&t);
@@ -261,7 +269,7 @@ static int pgp__dir_smooth(pgp__state *P, const unsigned char *free, const doubl
         }
     for (h = 0; r == PW_OK && n > 0 && h < 3 * m->nf; h++)
         if (m->hm.twin[h] > h && (id[h / 3] >= 0 || id[m->hm.twin[h] / 3] >= 0)) r = pgp__dir_edge(P, id, h, &t, b, e);
-    if (r == PW_OK && n > 0) r = pgp__pd_solve(&P->a, &t, 1, b, x, PGP__DIR_TOL, e);
+    if (r == PW_OK && n > 0) r = pgp__pd_solve(&P->a, &t, b, x, PGP__DIR_TOL, e);
     for (f = 0; r == PW_OK && n > 0 && f < m->nf; f++)
         if (id[f] >= 0) {
             double *z = P->dir + 2 * f;

@@ -75,6 +75,16 @@ static double pgp__pgp_weight(const pgp__state *P, int h)
     return pgp__lap_weight(&P->m, h);
 }
 
+/* The complex Hermitian system of coordinate k over the free vertices,
+ * being assembled. */
+typedef struct pgp__zsys {
+    const double *z; /* nv*2: the current z, read at the fixed vertices */
+    const int *id;   /* nv: vertex -> unknown (-1: fixed) */
+    int k;           /* the coordinate: 0 for s, 1 for t */
+    pw_triplets *t;  /* the matrix being assembled (n x 2n) */
+    double *b;       /* 2n: the right-hand side */
+} pgp__zsys;
+
 /* Adds the term w |z_j - R(alpha) z_i|^2 |z_j - R(alpha) z_i|^2 of edge h (i -> j) to
  * the system of the free vertices (id >= 0). R(alpha) is the rotation by
  * +alpha, [cos -sin; sin cos], i.e. the product with e^{i alpha}: with
@@ -84,10 +94,13 @@ static double pgp__pgp_weight(const pgp__state *P, int h)
  * flat grid, where the exact answer is linear.) In the complex Hermitian
  * system: w on both diagonals, -w e^{i alpha} at (j, i) and its conjugate
  * at (i, j); a fixed end moves to the right-hand side. */
-static int pgp__pgp_edge(const pgp__state *P, const double *z, const int *id, int h, int k, pw_triplets *t, double *b,
-                         pw_err *e)
+static int pgp__pgp_edge(const pgp__state *P, const pgp__zsys *Z, int h, pw_err *e)
 {
-    int f = h / 3;
+    const double *z = Z->z;
+    const int *id = Z->id;
+    pw_triplets *t = Z->t;
+    double *b = Z->b;
+    int k = Z->k, f = h / 3;
     int vi = P->m.tri[h], vj = P->m.tri[3 * f + (h % 3 + 1) % 3], i = id[vi], j = id[vj], r = PW_OK;
     double w = pgp__pgp_weight(P, h);
     double a = PGP__TWO_PI * pgp__alpha(P, h, k), c = pw_cos(a), sn = pw_sin(a);
@@ -209,14 +222,20 @@ static int pgp__pgp_solve(pgp__state *P, double *z, const int *id, int n, int k,
     pw_zcsr A;
     pw_zic0 L;
     pw_cg_options o = pw_cg_default_options();
+    pgp__zsys Z;
     int v, h, q, step, r = b ? PW_OK : PW_ERR_NOMEM;
+    Z.z = z;
+    Z.id = id;
+    Z.k = k;
+    Z.t = &t;
+    Z.b = b;
     memset(&t, 0, sizeof t);
     memset(&A, 0, sizeof A);
     memset(&L, 0, sizeof L);
     if (r == PW_OK) r = pw_triplets_init(&t, &P->a, n, 2 * n, e);
     for (h = 0; r == PW_OK && h < 3 * P->m.nf; h++)
-        if (P->m.hm.twin[h] < h) r = pgp__pgp_edge(P, z, id, h, k, &t, b, e); /* each edge once */
-    for (q = 0; r == PW_OK && q < t.count; q++)                               /* the (real) diagonal of F's matrix */
+        if (P->m.hm.twin[h] < h) r = pgp__pgp_edge(P, &Z, h, e); /* each edge once */
+    for (q = 0; r == PW_OK && q < t.count; q++)                  /* the (real) diagonal of F's matrix */
         if (t.col[q] == 2 * t.row[q]) dg[t.row[q]] += t.val[q];
     if (r == PW_OK) r = pgp__propagate(P, z, id, k, e);
     if (r == PW_OK && (r = pw_zcsr_from_triplets(&P->a, &t, &A, e)) == PW_OK) r = pgp__diag_index(&P->a, &A, &dpos, e);
@@ -413,16 +432,16 @@ static int pgp__singularities(pgp__state *P, pw_err *e)
 
 /* Recomputes the fields of `kind` and the coordinates over the area around
  * the seed triangles (radius <= 0: the whole mesh). */
-static int pgp__edit(pgp__state *P, pgp_constraint_kind kind, const int *seeds, int nseeds, float radius,
-                     pgp_area *area, pw_err *e)
+static int pgp__edit(pgp__state *P, pgp_constraint_kind kind, const pgp__seeds *sd, pgp_area *area, pw_err *e)
 {
+    const float radius = sd->radius;
     size_t nf = (size_t)P->m.nf, nv = (size_t)P->m.nv;
     unsigned char *in = (unsigned char *)pw_alloc_array(&P->a, 2 * nf + 2 * nv, 1, "effect area", e);
     int *order = (int *)pw_alloc_array(&P->a, nf, sizeof(int), "effect area", e);
     pw_progress pr = pgp__progress(&P->o);
     int n = 0, i, whole = !(radius > 0.0f), r = in && order ? PW_OK : PW_ERR_NOMEM;
     unsigned char *mark = in + nf, *vfree = in + 2 * nf, *locked = vfree + nv;
-    if (r == PW_OK) r = pgp__area(P, seeds, nseeds, radius, in, order, &n, e);
+    if (r == PW_OK) r = pgp__area(P, sd, in, order, &n, e);
     if (r == PW_OK) pgp__free_vertices(P, in, vfree);
     if (r == PW_OK) r = pw_report(&pr, 0.2f, "interpolation", e);
     if (r == PW_OK && kind == PGP_CONSTRAINT_ORIENT) r = pgp__interp_dir(P, in, whole, mark, e);
@@ -679,7 +698,7 @@ static int pgp__integrable(pgp__state *P, pw_err *e)
         r = pw_triplets_init(&t, &P->a, (int)n, (int)n, e);
         for (f = 0; f < P->m.nf && r == PW_OK; f++) r = pgp__curl_rows(P, f, &t, b, e);
         if (r == PW_OK) r = pgp__curl_reg(P, &t, e);
-        if (r == PW_OK) r = pgp__pd_solve(&P->a, &t, 0, b, x, 1e-6, e);
+        if (r == PW_OK) r = pgp__pd_solve(&P->a, &t, b, x, 1e-6, e);
         if (r == PW_OK) pgp__curl_apply(P, x);
         pw_triplets_free(&t);
     }
@@ -724,7 +743,11 @@ static int pgp__create_map(const pgp_mesh *mesh, const pgp_options *opt, pgp_map
     pgp_options o = pgp__options(opt);
     pw_alloc a = pgp__alloc(&o.allocator);
     pgp__state *P;
+    pgp__seeds whole; /* no seeds, radius 0: the whole mesh */
     int v;
+    whole.tri = NULL;
+    whole.n = 0;
+    whole.radius = 0.0f;
     if (pgp__check_options(&o, e) != PW_OK ||
         (P = (pgp__state *)pw_calloc_array(&a, 1, sizeof *P, "mapping", e)) == NULL)
         return e->code;
@@ -745,7 +768,7 @@ static int pgp__create_map(const pgp_mesh *mesh, const pgp_options *opt, pgp_map
     }
     if (pgp__check_scale(P, e) != PW_OK || pgp__base_field(P, e) != PW_OK ||
         (o.integrable > 0.0f && pgp__integrable(P, e) != PW_OK) ||
-        pgp__edit(P, PGP_CONSTRAINT_ORIENT, NULL, 0, 0.0f, NULL, e) != PW_OK)
+        pgp__edit(P, PGP_CONSTRAINT_ORIENT, &whole, NULL, e) != PW_OK)
         return e->code;
     out->nverts = P->m.nv;
     out->ntris = P->m.nf;

@@ -108,11 +108,20 @@ static void pgp__ex_free(const pw_alloc *a, pgp__ex *ex)
     memset(ex, 0, sizeof *ex);
 }
 
-/* The win x win window of `c`-channel samples around (x, y) of an n x n
- * level, sample q read at ind[q] (ind NULL: at q). */
-static void pgp__gather(const float *f, int c, int n, const int *ind, int x, int y, int win, float *out)
+/* One plane of an n x n level: its `c`-channel samples (the colours or
+ * the mask), read through an indirection map when there is one. */
+typedef struct pgp__plane {
+    const float *f;
+    int c, n;
+    const int *ind; /* sample q read at ind[q]; NULL: at q */
+} pgp__plane;
+
+/* The win x win window of plane P's samples around texel p = y*n + x. */
+static void pgp__gather(const pgp__plane *P, int p, int win, float *out)
 {
-    int h = win / 2, dx, dy, j;
+    const float *f = P->f;
+    const int *ind = P->ind;
+    int c = P->c, n = P->n, x = p % n, y = p / n, h = win / 2, dx, dy, j;
     for (dy = -h; dy <= h; dy++) {
         int row = ((y + dy + n) % n) * n;
         for (dx = -h; dx <= h; dx++) {
@@ -123,17 +132,33 @@ static void pgp__gather(const float *f, int c, int n, const int *ind, int x, int
     }
 }
 
-/* The neighbourhood vector (D floats) of texel (x, y) of level L: colour
- * through ind, mask from `mask`. buf: dc + dm + 2 PW_PCA_PACK floats. */
-static void pgp__vector(const pgp__ex *ex, const pgp__exlevel *L, const int *ind, const float *mask, int x, int y,
-                        float *buf, float *v)
+/* What a neighbourhood vector reads at a level: the colours through an
+ * indirection map (NULL: the level's own, for the input) and a mask (the
+ * key's for the input, the target for an output). */
+typedef struct pgp__source {
+    const int *ind;
+    const float *mask;
+} pgp__source;
+
+/* The neighbourhood vector (D floats) of texel p = y*n + x of level L as
+ * read from src. buf: dc + dm + 2 PW_PCA_PACK floats. */
+static void pgp__vector(const pgp__ex *ex, const pgp__exlevel *L, const pgp__source *src, int p, float *buf, float *v)
 {
     const float *cm = L->pca, *cb = cm + ex->dc, *mm = cb + (size_t)ex->dc * PW_PCA_PACK, *mb = mm + ex->dm;
     float *y8 = buf + ex->dc + ex->dm;
+    pgp__plane pc, pm;
     int j;
-    pgp__gather(L->color, ex->c, L->n, ind, x, y, ex->cw, buf);
+    pc.f = L->color;
+    pc.c = ex->c;
+    pc.n = L->n;
+    pc.ind = src->ind;
+    pm.f = src->mask;
+    pm.c = 1;
+    pm.n = L->n;
+    pm.ind = NULL;
+    pgp__gather(&pc, p, ex->cw, buf);
     pw_pca_project_packed(buf, cm, cb, ex->dc, y8);
-    pgp__gather(mask, 1, L->n, NULL, x, y, ex->mw, buf + ex->dc);
+    pgp__gather(&pm, p, ex->mw, buf + ex->dc);
     pw_pca_project_packed(buf + ex->dc, mm, mb, ex->dm, y8 + PW_PCA_PACK);
     for (j = 0; j < ex->cd; j++) v[j] = y8[j];
     for (j = 0; j < ex->md; j++) v[ex->cd + j] = ex->weight * y8[PW_PCA_PACK + j];
@@ -152,16 +177,25 @@ static int pgp__ex_pca(const pw_alloc *a, pgp__ex *ex, pgp__exlevel *L, float us
     float *mm;
     pw_pca pc, pm;
     pw_pca_out oc, om;
+    pgp__plane lc, lm;
     int r, j;
+    lc.f = L->color;
+    lc.c = ex->c;
+    lc.n = L->n;
+    lc.ind = NULL;
+    lm.f = L->mask;
+    lm.c = 1;
+    lm.n = L->n;
+    lm.ind = NULL;
     memset(&pc, 0, sizeof pc);
     memset(&pm, 0, sizeof pm);
     L->pca = (float *)pw_alloc_array(a, np, sizeof(float), "PCA bases", e);
     r = buf && L->pca ? PW_OK : PW_ERR_NOMEM;
     if (r == PW_OK && (r = pw_pca_init(a, &pc, ex->dc, e)) == PW_OK) r = pw_pca_init(a, &pm, ex->dm, e);
     for (u = 0; r == PW_OK && u < nn; u += step) {
-        pgp__gather(L->color, ex->c, L->n, NULL, (int)(u % L->n), (int)(u / L->n), ex->cw, buf);
+        pgp__gather(&lc, (int)u, ex->cw, buf);
         pw_pca_add(&pc, buf);
-        pgp__gather(L->mask, 1, L->n, NULL, (int)(u % L->n), (int)(u / L->n), ex->mw, buf);
+        pgp__gather(&lm, (int)u, ex->mw, buf);
         pw_pca_add(&pm, buf);
     }
     mm = L->pca ? L->pca + (size_t)ex->dc * (1 + PW_PCA_PACK) : NULL;
@@ -191,8 +225,10 @@ static int pgp__ex_tree(const pw_alloc *a, pgp__ex *ex, pgp__exlevel *L, pw_err 
     float *pts = (float *)pw_alloc_array(a, nn * ex->D, sizeof(float), "neighbourhood vectors", e);
     float *buf = (float *)pw_alloc_array(a, (size_t)ex->dc + ex->dm + 2 * PW_PCA_PACK, sizeof(float), "window", e);
     int r = pts && buf ? PW_OK : PW_ERR_NOMEM;
-    for (u = 0; r == PW_OK && u < nn; u++)
-        pgp__vector(ex, L, NULL, L->mask, (int)(u % L->n), (int)(u / L->n), buf, pts + u * ex->D);
+    pgp__source src;
+    src.ind = NULL;
+    src.mask = L->mask;
+    for (u = 0; r == PW_OK && u < nn; u++) pgp__vector(ex, L, &src, (int)u, buf, pts + u * ex->D);
     if (r == PW_OK) r = pw_kdtree_build(a, &L->tree, pts, (int)nn, ex->D, e);
     if (r == PW_OK && !(L->count = (int *)pw_calloc_array(a, nn, sizeof(int), "usage counts", e))) r = PW_ERR_NOMEM;
     pw_free(a, pts);
@@ -200,11 +236,23 @@ static int pgp__ex_tree(const pw_alloc *a, pgp__ex *ex, pgp__exlevel *L, pw_err 
     return r;
 }
 
-/* Exemplar of a prepared key: pyramids of colour and mask, then PCA and
- * kd-tree per level. */
-static int pgp__ex_build(const pw_alloc *a, const pgp__key *key, int n, int c, int nlev, const pgp_synth_options *o,
-                         pgp__ex *ex, pw_err *e)
+/* One tile synthesis (§1): the allocator, the checked options, the
+ * prepared keys and the tile's channels and pyramid levels, shared by the
+ * steps of pgp__synth_run. */
+typedef struct pgp__tile_job {
+    const pw_alloc *a;
+    const pgp_synth_options *o;
+    const pgp__key *keys; /* nkeys, prepared (pgp__prepare_key) */
+    int nkeys, c, nlev;
+} pgp__tile_job;
+
+/* Exemplar of a prepared key of job T: pyramids of colour and mask, then
+ * PCA and kd-tree per level. */
+static int pgp__ex_build(const pgp__tile_job *T, const pgp__key *key, pgp__ex *ex, pw_err *e)
 {
+    const pw_alloc *a = T->a;
+    const pgp_synth_options *o = T->o;
+    int n = o->size, c = T->c, nlev = T->nlev;
     float *tmp = (float *)pw_alloc_array(a, (size_t)n * n * c / 2 + 1, sizeof(float), "pyramid", e);
     int r = tmp ? PW_OK : PW_ERR_NOMEM, l;
     size_t i;
@@ -307,7 +355,10 @@ static void pgp__update_texel(pgp__synth *S, pgp__exlevel *L, int *ind, const fl
 {
     int u0 = ind[p], u;
     pw_kdquery qy;
-    pgp__vector(S->ex, L, ind, target, p % L->n, p / L->n, S->buf, S->q);
+    pgp__source src;
+    src.ind = ind;
+    src.mask = target;
+    pgp__vector(S->ex, L, &src, p, S->buf, S->q);
     qy.q = S->q;
     qy.eps = S->o->search_eps;
     qy.buckets = S->o->search_buckets;
@@ -467,9 +518,11 @@ static int pgp__check_keys(const pgp_key *keys, int nkeys, pw_err *e)
 /* Feature masks of every layer (layers*n*n): the keys' masks at their
  * layers and §1.1 between them, or the one key's mask everywhere in
  * single-tile mode. */
-static int pgp__layer_masks(const pw_alloc *a, const pgp__key *keys, int nkeys, const pgp_synth_options *o,
-                            const pw_progress *prog, unsigned char *masks, pw_err *e)
+static int pgp__layer_masks(const pgp__tile_job *T, const pw_progress *prog, unsigned char *masks, pw_err *e)
 {
+    const pgp_synth_options *o = T->o;
+    const pgp__key *keys = T->keys;
+    int nkeys = T->nkeys;
     size_t nn = (size_t)o->size * o->size;
     char what[64];
     int k, l, r = PW_OK;
@@ -492,17 +545,27 @@ static int pgp__layer_masks(const pw_alloc *a, const pgp__key *keys, int nkeys, 
         J.prog = prog;
         J.p0 = 0.05f * k / (nkeys - 1);
         J.p1 = 0.05f * (k + 1) / (nkeys - 1);
-        r = pgp__morph_masks(a, &J, o, e);
+        r = pgp__morph_masks(T->a, &J, o, e);
     }
     return r;
 }
 
-/* One end of a morph of M layers: from its own key (from_end 0: m = 0, 1,
- * ..., M-1, weight 1 - m/M, written) or from the other (from_end 1: m = M,
- * ..., 1, weight m/M, added), §1 step 3. */
-static int pgp__synth_side(pgp__synth *S, const unsigned char *masks, int M, int from_end, uint64_t stream, float *out,
-                           pw_err *e)
+/* The layers of one morph: M + 1 masks (n*n each) from one key's layer to
+ * the next key's, and the colours of its first M layers (n*n*c each). */
+typedef struct pgp__span {
+    const unsigned char *masks;
+    int M;
+    float *out;
+} pgp__span;
+
+/* One end of morph span sp: from its own key (from_end 0: m = 0, 1, ...,
+ * M-1, weight 1 - m/M, written) or from the other (from_end 1: m = M, ...,
+ * 1, weight m/M, added), §1 step 3. */
+static int pgp__synth_side(pgp__synth *S, const pgp__span *sp, int from_end, uint64_t stream, pw_err *e)
 {
+    const unsigned char *masks = sp->masks;
+    int M = sp->M;
+    float *out = sp->out;
     const pgp__exlevel *L = &S->ex->lev[S->ex->nlev - 1];
     size_t nn = (size_t)L->n * L->n, lay = nn * S->ex->c;
     int k, r = PW_OK;
@@ -533,9 +596,12 @@ static double pgp__work(const pgp_synth_options *o, int nkeys, int nlev)
 
 /* Every layer's colours (layers*n*n*c): the morphs with a rolling pair of
  * exemplars, or the single-tile layers. */
-static int pgp__synth_layers(const pw_alloc *a, const pgp__key *keys, int nkeys, int c, int nlev,
-                             const pgp_synth_options *o, const unsigned char *masks, float *px, pw_err *e)
+static int pgp__synth_layers(const pgp__tile_job *T, const unsigned char *masks, float *px, pw_err *e)
 {
+    const pw_alloc *a = T->a;
+    const pgp_synth_options *o = T->o;
+    const pgp__key *keys = T->keys;
+    int nkeys = T->nkeys, c = T->c, nlev = T->nlev;
     size_t nn = (size_t)o->size * o->size, lay = nn * c;
     pgp__ex ex[2];
     pgp__synth S;
@@ -543,7 +609,7 @@ static int pgp__synth_layers(const pw_alloc *a, const pgp__key *keys, int nkeys,
     int k, l, r;
     memset(ex, 0, sizeof ex);
     memset(&S, 0, sizeof S);
-    r = pgp__ex_build(a, &keys[0], o->size, c, nlev, o, &ex[0], e);
+    r = pgp__ex_build(T, &keys[0], &ex[0], e);
     if (r == PW_OK) r = pgp__synth_init(a, &S, &ex[0], o, e);
     S.prog = pgp__synth_progress(o);
     S.done = &done;
@@ -555,11 +621,15 @@ static int pgp__synth_layers(const pw_alloc *a, const pgp__key *keys, int nkeys,
     }
     for (k = 0; !o->single && r == PW_OK && k + 1 < nkeys; k++) {
         int b = pgp__key_layer(k, nkeys, o->layers), M = pgp__key_layer(k + 1, nkeys, o->layers) - b;
-        if ((r = pgp__ex_build(a, &keys[k + 1], o->size, c, nlev, o, &ex[1], e)) != PW_OK) break;
+        pgp__span sp;
+        if ((r = pgp__ex_build(T, &keys[k + 1], &ex[1], e)) != PW_OK) break;
+        sp.masks = masks + b * nn;
+        sp.M = M;
+        sp.out = px + b * lay;
         S.ex = &ex[0];
-        r = pgp__synth_side(&S, masks + b * nn, M, 0, (uint64_t)k * 4096, px + b * lay, e);
+        r = pgp__synth_side(&S, &sp, 0, (uint64_t)k * 4096, e);
         S.ex = &ex[1];
-        if (r == PW_OK) r = pgp__synth_side(&S, masks + b * nn, M, 1, (uint64_t)k * 4096 + 2048, px + b * lay, e);
+        if (r == PW_OK) r = pgp__synth_side(&S, &sp, 1, (uint64_t)k * 4096 + 2048, e);
         memcpy(px + (b + M) * lay, keys[k + 1].color, sizeof(float) * lay);
         pgp__ex_free(a, &ex[0]);
         ex[0] = ex[1];
@@ -571,10 +641,14 @@ static int pgp__synth_layers(const pw_alloc *a, const pgp__key *keys, int nkeys,
     return r;
 }
 
-/* The pipeline behind pgp_synthesize_tile, on checked arguments. */
-static int pgp__synth_run(const pw_alloc *a, const pgp_key *keys, int nkeys, const pgp_synth_options *o, int nlev,
-                          pgp_tile *out, pgp_tile *masks_out, pw_err *e)
+/* The pipeline behind pgp_synthesize_tile, on checked arguments: T holds
+ * the allocator, options, key count and levels; its channels and prepared
+ * keys are filled here from `keys`. */
+static int pgp__synth_run(pgp__tile_job *T, const pgp_key *keys, pgp_tile *out, pgp_tile *masks_out, pw_err *e)
 {
+    const pw_alloc *a = T->a;
+    const pgp_synth_options *o = T->o;
+    int nkeys = T->nkeys;
     size_t nn = (size_t)o->size * o->size;
     int c = pgp__tile_channels(keys, nkeys), k, r = PW_OK;
     pw_progress prog = pgp__synth_progress(o);
@@ -583,8 +657,10 @@ static int pgp__synth_run(const pw_alloc *a, const pgp_key *keys, int nkeys, con
     float *px = (float *)pw_alloc_array(a, nn * c * o->layers, sizeof(float), "tile", e);
     if (!pk || !masks || !px) r = PW_ERR_NOMEM;
     for (k = 0; k < nkeys && r == PW_OK; k++) r = pgp__prepare_key(a, &keys[k], c, o, &pk[k], e);
-    if (r == PW_OK) r = pgp__layer_masks(a, pk, nkeys, o, &prog, masks, e);
-    if (r == PW_OK) r = pgp__synth_layers(a, pk, nkeys, c, nlev, o, masks, px, e);
+    T->c = c;
+    T->keys = pk;
+    if (r == PW_OK) r = pgp__layer_masks(T, &prog, masks, e);
+    if (r == PW_OK) r = pgp__synth_layers(T, masks, px, e);
     if (r == PW_OK && masks_out) r = pgp__mask_tile(a, masks, o->size, o->layers, masks_out, e);
     if (r == PW_OK && (r = pw_report(&prog, 1.0f, "tile synthesis", e)) == PW_OK) {
         out->width = out->height = o->size;
@@ -608,12 +684,20 @@ PGPDEF pgp_result pgp_synthesize_tile(const pgp_key *keys, int nkeys, const pgp_
     pgp_synth_options o = pgp__synth_options(opt);
     pw_alloc a = pgp__alloc(&o.allocator);
     int nlev = 0;
+    pgp__tile_job T;
     pw_err pe;
     pw_err_clear(&pe);
     if (out) memset(out, 0, sizeof *out);
     if (masks) memset(masks, 0, sizeof *masks);
     if (!out) pw_fail(&pe, PW_ERR_INVALID, "pgp_synthesize_tile: NULL output");
-    else if (pgp__check_synth_options(&o, nkeys, &nlev, &pe) == PW_OK && pgp__check_keys(keys, nkeys, &pe) == PW_OK)
-        pgp__synth_run(&a, keys, nkeys, &o, nlev, out, masks, &pe);
+    else if (pgp__check_synth_options(&o, nkeys, &nlev, &pe) == PW_OK && pgp__check_keys(keys, nkeys, &pe) == PW_OK) {
+        T.a = &a;
+        T.o = &o;
+        T.keys = NULL;
+        T.nkeys = nkeys;
+        T.c = 0;
+        T.nlev = nlev;
+        pgp__synth_run(&T, keys, out, masks, &pe);
+    }
     return pgp__done(&pe, err);
 }

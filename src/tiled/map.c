@@ -12,14 +12,27 @@ static int tiled__all_quads(const pw_mesh *m)
     return 1;
 }
 
+/* A quad mesh being mapped: geometry, its half-edges, and per corner the
+ * texture coordinates and boundary types, per face the tile. */
+typedef struct tiled__mapped {
+    pw_mesh q;
+    pw_hmesh hm;
+    float *uv;
+    int *types, *tiles;
+} tiled__mapped;
+
 /* Catmull-Clark until all faces are quads (ch. VI: "any mesh can easily be
  * converted to a quadrilateral mesh"), then `extra` more levels; `planned`
  * counts every level still to come (smoothing included) for the size
- * check made before any work. On success *q owns its arrays and *hm is its
- * half-edge structure. */
-static int tiled__quadrangulate(const pw_alloc *a, const tiled_mesh *in, int planned, int extra, const pw_progress *pr,
-                                pw_mesh *q, pw_hmesh *hm, pw_err *e)
+ * check made before any work; here extra = o->subdivide and planned =
+ * o->subdivide + o->smooth. On success m->q owns its arrays and m->hm is
+ * its half-edge structure. */
+static int tiled__quadrangulate(const pw_alloc *a, const tiled_mesh *in, const tiled_options *o, const pw_progress *pr,
+                                tiled__mapped *m, pw_err *e)
 {
+    const int planned = o->subdivide + o->smooth, extra = o->subdivide;
+    pw_mesh *q = &m->q;
+    pw_hmesh *hm = &m->hm;
     pw_mesh view = tiled__pw_mesh(in), next;
     int levels = (tiled__all_quads(&view) ? 0 : 1) + extra, l, r;
     double faces = in->face_start[in->nfaces];
@@ -73,12 +86,16 @@ static void tiled__assign_boundaries(const pw_hmesh *hm, const tiled_layout *l, 
 /* AssignTextureCoordinates (Fig. 29, with the u-offset erratum fixed and
  * guard bands): a random starting edge per quad ("further randomness") makes
  * the walk e0e1e2e3 start at corner `rot`; corner (rot+k) mod 4 takes the
- * tile's corner k. Case 1 draws a tile, a rotation and a mirror instead. */
-static void tiled__assign_uvs(const pw_mesh *q, const int *types, const tiled__geom *gm, int case1,
-                              const tiled_options *o, const float *coord, float *uv, int *face_tiles)
+ * tile's corner k. Case 1 draws a tile, a rotation and a mirror instead.
+ * Reads m's quads and boundary types, writes its uv and tiles. */
+static void tiled__assign_uvs(tiled__mapped *m, const tiled__geom *gm, int case1, const tiled_options *o,
+                              const float *coord)
 {
     pw_rng r = pw_rng_seed(o->seed, 2);
-    const int nf = q->nf, n = gm->n, N = gm->N, nn = N * N;
+    const int *types = m->types;
+    float *uv = m->uv;
+    int *face_tiles = m->tiles;
+    const int nf = m->q.nf, n = gm->n, N = gm->N, nn = N * N;
     const uint32_t rot_mask = o->fixed_start ? 0u : 3u, flip_mask = case1 && !o->no_mirror;
     int f, c;
     for (f = 0; f < nf; f++) {
@@ -107,15 +124,6 @@ static void tiled__assign_uvs(const pw_mesh *q, const int *types, const tiled__g
     }
 }
 
-/* A quad mesh being mapped: geometry, its half-edges, and per corner the
- * texture coordinates and boundary types, per face the tile. */
-typedef struct tiled__mapped {
-    pw_mesh q;
-    pw_hmesh hm;
-    float *uv;
-    int *types, *tiles;
-} tiled__mapped;
-
 static void tiled__mapped_free(const pw_alloc *a, tiled__mapped *m)
 {
     pw_mesh_free(a, &m->q);
@@ -126,18 +134,18 @@ static void tiled__mapped_free(const pw_alloc *a, tiled__mapped *m)
     memset(m, 0, sizeof *m);
 }
 
-/* Allocates the per-corner and per-face arrays for nc corners, nf faces. */
-static int tiled__mapped_arrays(const pw_alloc *a, int nc, int nf, float **uv, int **types, int **tiles, pw_err *e)
+/* Allocates m's per-corner and per-face arrays for nc corners, nf faces. */
+static int tiled__mapped_arrays(const pw_alloc *a, tiled__mapped *m, int nc, int nf, pw_err *e)
 {
-    *uv = (float *)pw_alloc_array(a, (size_t)nc * 2, sizeof(float), "texture coordinates", e);
-    *types = (int *)pw_alloc_array(a, (size_t)nc, sizeof(int), "boundary types", e);
-    *tiles = (int *)pw_alloc_array(a, (size_t)nf, sizeof(int), "face tiles", e);
-    if (*uv && *types && *tiles) return PW_OK;
-    pw_free(a, *uv);
-    pw_free(a, *types);
-    pw_free(a, *tiles);
-    *uv = NULL;
-    *types = *tiles = NULL;
+    m->uv = (float *)pw_alloc_array(a, (size_t)nc * 2, sizeof(float), "texture coordinates", e);
+    m->types = (int *)pw_alloc_array(a, (size_t)nc, sizeof(int), "boundary types", e);
+    m->tiles = (int *)pw_alloc_array(a, (size_t)nf, sizeof(int), "face tiles", e);
+    if (m->uv && m->types && m->tiles) return PW_OK;
+    pw_free(a, m->uv);
+    pw_free(a, m->types);
+    pw_free(a, m->tiles);
+    m->uv = NULL;
+    m->types = m->tiles = NULL;
     return PW_ERR_NOMEM;
 }
 
@@ -146,13 +154,13 @@ static int tiled__assign(const pw_alloc *a, tiled__mapped *m, const tiled_layout
 {
     tiled__geom gm = tiled__geometry(l);
     float *coord = (float *)pw_alloc_array(a, (size_t)gm.N * 2, sizeof(float), "coordinates", e);
-    if (!coord || tiled__mapped_arrays(a, m->q.fstart[m->q.nf], m->q.nf, &m->uv, &m->types, &m->tiles, e)) {
+    if (!coord || tiled__mapped_arrays(a, m, m->q.fstart[m->q.nf], m->q.nf, e)) {
         pw_free(a, coord);
         return PW_ERR_NOMEM;
     }
     tiled__coord_table(&gm, coord);
     tiled__assign_boundaries(&m->hm, l, o->seed, m->types);
-    tiled__assign_uvs(&m->q, m->types, &gm, l->case_number == 1, o, coord, m->uv, m->tiles);
+    tiled__assign_uvs(m, &gm, l->case_number == 1, o, coord);
     pw_free(a, coord);
     return PW_OK;
 }
@@ -193,7 +201,7 @@ static int tiled__smooth(const pw_alloc *a, tiled__mapped *m, pw_err *e)
     int r;
     memset(&next, 0, sizeof next);
     if ((r = pw_catmull_clark(a, &m->hm, m->q.pos, &next.q, e)) != PW_OK ||
-        (r = tiled__mapped_arrays(a, 4 * m->hm.nh, m->hm.nh, &next.uv, &next.types, &next.tiles, e)) != PW_OK ||
+        (r = tiled__mapped_arrays(a, &next, 4 * m->hm.nh, m->hm.nh, e)) != PW_OK ||
         (r = pw_hmesh_build(a, next.q.nv, next.q.nf, next.q.fstart, next.q.fv, &next.hm, e)) != PW_OK) {
         tiled__mapped_free(a, &next);
         return r;
@@ -221,7 +229,7 @@ TILEDDEF tiled_result tiled_map(const tiled_mesh *in, const tiled_layout *layout
     else if (o.subdivide < 0 || o.subdivide > 8 || o.smooth < 0 || o.smooth > 8)
         pw_fail(&pe, PW_ERR_INVALID, "subdivide and smooth must be 0..8 (got %d and %d)", o.subdivide, o.smooth);
     else if (tiled__resolve(layout, 0, &l, &pe) == PW_OK && tiled__check_mesh(in, &pe) == PW_OK &&
-             tiled__quadrangulate(&a, in, o.subdivide + o.smooth, o.subdivide, &pr, &m.q, &m.hm, &pe) == PW_OK &&
+             tiled__quadrangulate(&a, in, &o, &pr, &m, &pe) == PW_OK &&
              pw_report(&pr, 0.8f, "texture coordinates", &pe) == PW_OK && tiled__assign(&a, &m, &l, &o, &pe) == PW_OK) {
         for (k = 0; k < o.smooth && pe.code == PW_OK; k++)
             if (pw_report(&pr, 0.85f + 0.1f * (float)k / (float)o.smooth, "smoothing", &pe) == PW_OK)

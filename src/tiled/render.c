@@ -6,16 +6,29 @@
 #define TILED__FOVY 35.0f
 
 #ifndef PW_NO_RENDER
-/* Fan-triangulates a mapped mesh into triangles with per-corner texture
- * coordinates. */
-static int tiled__triangles(const pw_alloc *a, const tiled_mesh *m, int **tris, float **uvs, int *ntris, pw_err *e)
+/* What tiled_render draws: a mapped mesh and its fan triangulation, with
+ * per-corner texture coordinates (uvs: 6 floats a triangle). */
+typedef struct tiled__tris {
+    const tiled_mesh *m;
+    int *tris; /* 3*ntris vertex indices of m */
+    float *uvs;
+    int ntris;
+} tiled__tris;
+
+/* Fan-triangulates the mapped mesh tl->m into tl's triangles. */
+static int tiled__triangles(const pw_alloc *a, tiled__tris *tl, pw_err *e)
 {
+    const tiled_mesh *m = tl->m;
     int f, k, t = 0, n = m->face_start[m->nfaces] - 2 * m->nfaces;
+    int **tris = &tl->tris, *ntris = &tl->ntris;
+    float **uvs = &tl->uvs;
     *tris = (int *)pw_alloc_array(a, (size_t)n * 3, sizeof(int), "triangles", e);
     *uvs = (float *)pw_alloc_array(a, (size_t)n * 6, sizeof(float), "triangle coordinates", e);
     if (!*tris || !*uvs) {
         pw_free(a, *tris);
         pw_free(a, *uvs);
+        *tris = NULL;
+        *uvs = NULL;
         return PW_ERR_NOMEM;
     }
     for (f = 0; f < m->nfaces; f++)
@@ -37,9 +50,10 @@ static int tiled__triangles(const pw_alloc *a, const tiled_mesh *m, int **tris, 
 /* Draws the triangles lit, textured from the atlas with mip levels capped
  * where they would mix tiles, band by band (pw_render_frame), and resolves
  * the supersamples. */
-static int tiled__draw(const pw_alloc *a, const tiled_mesh *m, const tiled_tileset *ts, const tiled_render_options *ro,
-                       const int *tris, const float *uvs, int ntris, pw_image *out, pw_err *e)
+static int tiled__draw(const pw_alloc *a, const tiled__tris *tl, const tiled_tileset *ts,
+                       const tiled_render_options *ro, pw_image *out, pw_err *e)
 {
+    const tiled_mesh *m = tl->m;
     pw_image atlas = tiled__pw_image(&ts->atlas);
     pw_texture tex;
     pw_draw d;
@@ -55,9 +69,9 @@ static int tiled__draw(const pw_alloc *a, const tiled_mesh *m, const tiled_tiles
     memset(&d, 0, sizeof d);
     d.positions = m->positions;
     d.nv = m->nverts;
-    d.tris = tris;
-    d.ntris = ntris;
-    d.uvs = uvs;
+    d.tris = tl->tris;
+    d.ntris = tl->ntris;
+    d.uvs = tl->uvs;
     d.tex = &tex;
     d.filter = (int)ro->filter;
     d.wrap = PW_WRAP_CLAMP;
@@ -100,8 +114,9 @@ TILEDDEF tiled_result tiled_render(const tiled_mesh *mapped, const tiled_tileset
     pw_alloc a = tiled__alloc(ts ? &ts->atlas.allocator : NULL);
     pw_image pic;
     pw_err pe;
-    int *tris = NULL, ntris = 0;
-    float *uvs = NULL;
+    tiled__tris tl;
+    memset(&tl, 0, sizeof tl);
+    tl.m = mapped;
     pw_err_clear(&pe);
     if (out) memset(out, 0, sizeof *out);
     if (!out || !ts || !mapped || !mapped->uvs)
@@ -114,10 +129,10 @@ TILEDDEF tiled_result tiled_render(const tiled_mesh *mapped, const tiled_tileset
                 o.height, o.supersample, (int)o.filter, o.threads);
     else if (tiled__check_mesh(mapped, &pe) == PW_OK &&
              tiled__check_image(&ts->atlas, "tile set atlas", &pe) == PW_OK &&
-             tiled__triangles(&a, mapped, &tris, &uvs, &ntris, &pe) == PW_OK) {
-        if (tiled__draw(&a, mapped, ts, &o, tris, uvs, ntris, &pic, &pe) == PW_OK) tiled__take_image(&pic, &a, out);
-        pw_free(&a, tris);
-        pw_free(&a, uvs);
+             tiled__triangles(&a, &tl, &pe) == PW_OK) {
+        if (tiled__draw(&a, &tl, ts, &o, &pic, &pe) == PW_OK) tiled__take_image(&pic, &a, out);
+        pw_free(&a, tl.tris);
+        pw_free(&a, tl.uvs);
     }
     return tiled__done(&pe, err);
 }

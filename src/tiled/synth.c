@@ -182,10 +182,23 @@ static void tiled__centre_source(const tiled__synth *s, pw_rng *rng, tiled__scra
         }
 }
 
-/* Composes tile t into the atlas. */
-static int tiled__compose(const pw_alloc *a, const tiled__synth *s, pw_rng *rng, tiled__scratch *sc, pw_image *atlas,
-                          const tiled__geom *gm, int t, pw_err *e)
+/* The loop of tiled__synth_tiles over the tiles: the atlas being filled
+ * and its tile geometry, the random stream and the scratch shared by all
+ * tiles. */
+typedef struct tiled__tile_work {
+    pw_image *atlas;
+    const tiled__geom *gm;
+    pw_rng *rng;
+    tiled__scratch *sc;
+} tiled__tile_work;
+
+/* Composes tile t into the atlas of w. */
+static int tiled__compose(const pw_alloc *a, const tiled__synth *s, const tiled__tile_work *w, int t, pw_err *e)
 {
+    pw_image *atlas = w->atlas;
+    const tiled__geom *gm = w->gm;
+    pw_rng *rng = w->rng;
+    tiled__scratch *sc = w->sc;
     int types[4], T = s->T, c = s->src.c, j, r;
     pw_quilt q;
     tiled__tile_types(gm, s->case1, t, types);
@@ -287,8 +300,13 @@ static int tiled__synth_tiles(const pw_alloc *a, tiled__synth *s, const tiled_op
     pw_progress pr = tiled__progress(o);
     pw_rng rng = pw_rng_seed(o->seed, 3);
     tiled__scratch sc;
+    tiled__tile_work w;
     size_t tt = (size_t)s->T * s->T;
     int k, t, r = PW_OK;
+    w.atlas = atlas;
+    w.gm = gm;
+    w.rng = &rng;
+    w.sc = &sc;
     for (k = 0; k < 8; k++) tiled__place_diamond(s, &rng, k, gm->n);
     sc.src = (float *)pw_alloc_array(a, tt * 5 * s->src.c, sizeof(float), "tile sources", e);
     sc.allowed = (uint32_t *)pw_alloc_array(a, tt, sizeof(uint32_t), "tile constraints", e);
@@ -297,7 +315,7 @@ static int tiled__synth_tiles(const pw_alloc *a, tiled__synth *s, const tiled_op
     if (!sc.src || !sc.allowed || !sc.label || !sc.motif) r = PW_ERR_NOMEM;
     for (t = 0; t < gm->N * gm->N && r == PW_OK; t++) {
         r = pw_report(&pr, 0.1f + 0.9f * (float)t / (float)(gm->N * gm->N), "tile synthesis", e);
-        if (r == PW_OK) r = tiled__compose(a, s, &rng, &sc, atlas, gm, t, e);
+        if (r == PW_OK) r = tiled__compose(a, s, &w, t, e);
     }
     pw_free(a, sc.src);
     pw_free(a, sc.allowed);
