@@ -23,7 +23,7 @@ static void run_assign(void *arg)
 {
     job *j = (job *)arg;
     tiled__assign_boundaries(&j->m.hm, &j->layout, j->opt.seed, j->m.types);
-    tiled__assign_uvs(&j->m.q, j->m.types, &j->gm, 0, &j->opt, j->coord, j->m.uv, j->m.tiles);
+    tiled__assign_uvs(&j->m, &j->gm, 0, &j->opt, j->coord);
 }
 
 static void run_map(void *arg)
@@ -88,6 +88,7 @@ int main(void)
     job j;
     pw_alloc a;
     pw_err e;
+    tiled_options quads;
     bench_stat s;
     memset(&j, 0, sizeof j);
     memset(&a, 0, sizeof a);
@@ -95,9 +96,12 @@ int main(void)
     j.opt = tiled_default_options();
     j.layout = j.opt.layout;
     j.layout.tile_size = 64;
+    quads = j.opt; /* the torus is all quads: no subdivision, no smoothing */
+    quads.subdivide = 0;
+    quads.smooth = 0;
     if (tiled__resolve(&j.layout, 0, &j.layout, &e) || bench_torus(&a, 1000, &j.mesh, &e) ||
-        tiled__quadrangulate(&a, &j.mesh, 0, 0, NULL, &j.m.q, &j.m.hm, &e) ||
-        tiled__mapped_arrays(&a, j.m.q.fstart[j.m.q.nf], j.m.q.nf, &j.m.uv, &j.m.types, &j.m.tiles, &e)) {
+        tiled__quadrangulate(&a, &j.mesh, &quads, NULL, &j.m, &e) ||
+        tiled__mapped_arrays(&a, &j.m, j.m.q.fstart[j.m.q.nf], j.m.q.nf, &e)) {
         printf("setup failed: %s\n", e.msg);
         return 1;
     }
