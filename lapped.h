@@ -14,24 +14,24 @@
  *   3737: src/common/mesh.h, polygon meshes as flat arrays, and their file formats.
  *   5266: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
  *   5795: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
- *   6235: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
- *   7498: src/common/raster.h, exact scan conversion of 2D triangles.
- *   7972: src/common/render.h, a small deterministic software renderer for textured trian
- *   9739: src/lapped/polyhull.h, the polygonal hull of a texture patch (Praun, Finkelstein 
- *  10597: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
- *  10784: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
- *  10869: src/common/atlas.h, texture atlases of triangle meshes — charts, packing, ba
- *  12871: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
- *  13635: src/common/glue.h, what every method header needs between its public types an
- *  13848: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  14512: src/lapped/core.c, lapped.h's glue to the shared core, its defaults, and the 
- *  14677: src/lapped/field.c, §3.2 the tangent field, one frame (S, T) per triangle, an
- *  15132: src/lapped/patch.c, §3.1 texture patches. A patch is the texture as RGBA whos
- *  15446: src/lapped/builtin.c, built-in meshes (made by the shared shapes module) and tex
- *  15646: src/lapped/grow.c, pasting (§3.3-3.6): grow a surface patch around an uncove
- *  17130: src/lapped/render.c, runtime pasting (§4): the mesh drawn once per paste, in p
- *  17334: src/lapped/atlas.c, §4 "Rendering with a texture atlas".
- *  17577: src/lapped/io.c, the paste file format and the file conveniences of lapped.
+ *   6219: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
+ *   7482: src/common/raster.h, exact scan conversion of 2D triangles.
+ *   7956: src/common/render.h, a small deterministic software renderer for textured trian
+ *   9723: src/lapped/polyhull.h, the polygonal hull of a texture patch (Praun, Finkelstein 
+ *  10554: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
+ *  10741: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
+ *  10826: src/common/atlas.h, texture atlases of triangle meshes — charts, packing, ba
+ *  12828: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
+ *  13592: src/common/glue.h, what every method header needs between its public types an
+ *  13805: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  14469: src/lapped/core.c, lapped.h's glue to the shared core, its defaults, and the 
+ *  14634: src/lapped/field.c, §3.2 the tangent field, one frame (S, T) per triangle, an
+ *  15089: src/lapped/patch.c, §3.1 texture patches. A patch is the texture as RGBA whos
+ *  15403: src/lapped/builtin.c, built-in meshes (made by the shared shapes module) and tex
+ *  15603: src/lapped/grow.c, pasting (§3.3-3.6): grow a surface patch around an uncove
+ *  17087: src/lapped/render.c, runtime pasting (§4): the mesh drawn once per paste, in p
+ *  17291: src/lapped/atlas.c, §4 "Rendering with a texture atlas".
+ *  17534: src/lapped/io.c, the paste file format and the file conveniences of lapped.
  */
 /* lapped.h - lapped textures: overlapping texture patches pasted over a mesh.
  *
@@ -6214,22 +6214,6 @@ PW__DEF int pw_hmesh_euler(const pw_hmesh *hm)
     return nv - hm->ne + hm->nf;
 }
 
-/* Total genus of an orientable surface with `ncomp` components and
- * hm->nloops boundary loops: chi = 2c - 2g - b. */
-PW__DEF int pw_hmesh_genus(const pw_hmesh *hm, int ncomp) { return (2 * ncomp - pw_hmesh_euler(hm) - hm->nloops) / 2; }
-
-/* Number of edges at vertex v (0 if isolated). */
-PW__DEF int pw_hmesh_valence(const pw_hmesh *hm, int v)
-{
-    int h = hm->vout[v], n = 0, start = h;
-    if (h < 0) return 0;
-    do {
-        n++;
-        h = pw_he_ccw(hm, h);
-    } while (h >= 0 && h != start);
-    return h < 0 ? n + 1 : n; /* an open fan has one more edge than faces */
-}
-
 #endif /* PW__HALFEDGE_V1 */
 
 /* ---- shared module src/common/sparse.h ---- */
@@ -10526,17 +10510,6 @@ PW__DEF int pw_polyhull_build(const pw_alloc *a, const float *alpha, int w, int 
     return r == PW_OK ? PW_OK : pw_fail(e, r, "polygonal hull: out of memory");
 }
 
-/* The area enclosed, in texture coordinates (the unit square has area 1). */
-PW__DEF double pw_polyhull_area(const pw_polyhull *h)
-{
-    double s = 0.0;
-    int i, j;
-    if (!h || !h->uv) return 0.0;
-    for (i = 0, j = h->n - 1; i < h->n; j = i++)
-        s += (double)h->uv[2 * j] * h->uv[2 * i + 1] - (double)h->uv[2 * i] * h->uv[2 * j + 1];
-    return 0.5 * s;
-}
-
 /* Is (u, v) inside the hull or within PW_POLYHULL_EPS of it? Even-odd rule
  * plus a distance test for the boundary. */
 PW__DEF int pw_polyhull_contains(const pw_polyhull *h, float u, float v)
@@ -10574,22 +10547,6 @@ PW__DEF int pw_polyhull_segment_hits(const pw_polyhull *h, float u0, float v0, f
         if (pw__hull_sseg2(s0, s1, a, b) <= eps2) return 1;
     }
     return 0;
-}
-
-/* Does the triangle uv[0..5] meet the hull? One of its edges meets it, or
- * the hull lies inside the triangle (then so does its first vertex). */
-PW__DEF int pw_polyhull_triangle_hits(const pw_polyhull *h, const float uv[6])
-{
-    double o[3], x, y;
-    int k;
-    if (!h || !h->uv || h->n < 3 || !uv) return 0;
-    for (k = 0; k < 3; k++)
-        if (pw_polyhull_segment_hits(h, uv[2 * k], uv[2 * k + 1], uv[(2 * k + 2) % 6], uv[(2 * k + 3) % 6])) return 1;
-    x = h->uv[0];
-    y = h->uv[1];
-    for (k = 0; k < 3; k++)
-        o[k] = pw__hull_orient(uv[2 * k], uv[2 * k + 1], uv[(2 * k + 2) % 6], uv[(2 * k + 3) % 6], x, y);
-    return (o[0] > 0 && o[1] > 0 && o[2] > 0) || (o[0] < 0 && o[1] < 0 && o[2] < 0);
 }
 
 #endif /* PW__POLYHULL_V1 */

@@ -14,30 +14,30 @@
  *   3977: src/common/mesh.h, polygon meshes as flat arrays, and their file formats.
  *   5506: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
  *   6035: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
- *   6475: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
- *   6662: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
- *   6747: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
- *   8010: src/common/raster.h, exact scan conversion of 2D triangles.
- *   8484: src/common/render.h, a small deterministic software renderer for textured trian
- *  10251: src/common/atlas.h, texture atlases of triangle meshes — charts, packing, ba
- *  12253: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
- *  13014: src/common/tetmesh.h, the tetrahedral mesh that lapped solid textures work on, a
- *  13498: src/common/tetio.h, tetrahedral mesh files, TetGen .node/.ele and MEDIT .mesh.
- *  13990: src/common/bisect.h, graded, conforming tetrahedral meshes of a box by newest-v
- *  14310: src/common/stuffing.h, the built-in tetrahedralizer of lst.h, so that no external
- *  17443: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
- *  17586: src/common/pca.h, principal component analysis of vectors streamed one at a 
- *  17773: src/common/glue.h, what every method header needs between its public types an
- *  17986: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  18650: src/lst/core.c, lst.h's glue to the shared core, its defaults, the convers
- *  18983: src/lst/exemplar.c, solid exemplars (§5): sampling, the procedural exemplars 
- *  19520: src/lst/field.c, §5.2.2, the fields that orient and scale the pastes. The 
- *  20728: src/lst/paste.c, §5.2.3-5.2.7, filling the model. Each paste picks a rando
- *  21709: src/lst/render.c, §5.1, showing a model. Every point of a tetrahedron is th
- *  22606: src/lst/cut.c, §5.1.1, cutting a model along the zero set of a scalar fi
- *  23211: src/lst/builtin.c, the tetrahedralizer entry point, checks of caller meshes, 
- *  23733: src/lst/io.c, the model file, the constraint files and the file convenie
- *  24575: src/lst/export.c, the visible boundary with a baked texture atlas, for glTF.
+ *   6459: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
+ *   6646: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
+ *   6731: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
+ *   7994: src/common/raster.h, exact scan conversion of 2D triangles.
+ *   8468: src/common/render.h, a small deterministic software renderer for textured trian
+ *  10235: src/common/atlas.h, texture atlases of triangle meshes — charts, packing, ba
+ *  12237: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
+ *  12998: src/common/tetmesh.h, the tetrahedral mesh that lapped solid textures work on, a
+ *  13482: src/common/tetio.h, tetrahedral mesh files, TetGen .node/.ele and MEDIT .mesh.
+ *  13974: src/common/bisect.h, graded, conforming tetrahedral meshes of a box by newest-v
+ *  14294: src/common/stuffing.h, the built-in tetrahedralizer of lst.h, so that no external
+ *  17427: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
+ *  17570: src/common/pca.h, principal component analysis of vectors streamed one at a 
+ *  17757: src/common/glue.h, what every method header needs between its public types an
+ *  17970: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  18634: src/lst/core.c, lst.h's glue to the shared core, its defaults, the convers
+ *  18967: src/lst/exemplar.c, solid exemplars (§5): sampling, the procedural exemplars 
+ *  19504: src/lst/field.c, §5.2.2, the fields that orient and scale the pastes. The 
+ *  20712: src/lst/paste.c, §5.2.3-5.2.7, filling the model. Each paste picks a rando
+ *  21693: src/lst/render.c, §5.1, showing a model. Every point of a tetrahedron is th
+ *  22590: src/lst/cut.c, §5.1.1, cutting a model along the zero set of a scalar fi
+ *  23195: src/lst/builtin.c, the tetrahedralizer entry point, checks of caller meshes, 
+ *  23717: src/lst/io.c, the model file, the constraint files and the file convenie
+ *  24559: src/lst/export.c, the visible boundary with a baked texture atlas, for glTF.
  */
 /* lst.h - lapped solid textures: solid exemplars pasted inside a model.
  *
@@ -6452,22 +6452,6 @@ PW__DEF int pw_hmesh_euler(const pw_hmesh *hm)
     int v, nv = 0;
     for (v = 0; v < hm->nv; v++) nv += hm->vout[v] >= 0;
     return nv - hm->ne + hm->nf;
-}
-
-/* Total genus of an orientable surface with `ncomp` components and
- * hm->nloops boundary loops: chi = 2c - 2g - b. */
-PW__DEF int pw_hmesh_genus(const pw_hmesh *hm, int ncomp) { return (2 * ncomp - pw_hmesh_euler(hm) - hm->nloops) / 2; }
-
-/* Number of edges at vertex v (0 if isolated). */
-PW__DEF int pw_hmesh_valence(const pw_hmesh *hm, int v)
-{
-    int h = hm->vout[v], n = 0, start = h;
-    if (h < 0) return 0;
-    do {
-        n++;
-        h = pw_he_ccw(hm, h);
-    } while (h >= 0 && h != start);
-    return h < 0 ? n + 1 : n; /* an open fan has one more edge than faces */
 }
 
 #endif /* PW__HALFEDGE_V1 */

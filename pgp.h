@@ -14,33 +14,33 @@
  *   3920: src/common/mesh.h, polygon meshes as flat arrays, and their file formats.
  *   5449: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
  *   5978: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
- *   6418: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
- *   7681: src/common/zsparse.h, complex Hermitian sparse systems, solved by conjugate grad
- *   7941: src/common/raster.h, exact scan conversion of 2D triangles.
- *   8415: src/common/render.h, a small deterministic software renderer for textured trian
- *  10182: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
- *  10369: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
- *  10454: src/common/atlas.h, texture atlases of triangle meshes — charts, packing, ba
- *  12456: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
- *  13220: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
- *  13981: src/pgp/tile3.h, sampling a material-space tile (Ray et al. 2009, §2: "a 3
- *  14089: src/common/glue.h, what every method header needs between its public types an
- *  14302: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  14966: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
- *  15463: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
- *  15962: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
- *  16105: src/common/kdtree.h, nearest-neighbour search among n points of dimension d, wi
- *  16448: src/common/pca.h, principal component analysis of vectors streamed one at a 
- *  16635: src/pgp/core.c, pgp.h's glue to the shared core, its defaults, and the map
- *  16892: src/pgp/field.c, §2.1 effect areas and §2.2 interpolation of the constrai
- *  17282: src/pgp/solve.c, §2.3 the periodic global parameterization, the recovery o
- *  18112: src/pgp/edit.c, the public editing calls of a mapping. §2.1 (Ray, Lévy, 
- *  18257: src/pgp/render.c, §3 rendering, and a cleaner treatment of the vortices.
- *  18689: src/pgp/builtin.c, built-in meshes and material-space tiles for demos and tes
- *  18964: src/pgp/io.c, files and memory for pgp.h: material-space tiles (NRRD, or
- *  19424: src/pgp/export.c, the mapping for other programs. A viewer that knows nothin
- *  19650: src/pgp/morph.c, the inputs of §1 (keys brought to the tile size, made til
- *  20329: src/pgp/synth.c, §1.2 constrained tile synthesis, and the whole of §1: ke
+ *   6402: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
+ *   7665: src/common/zsparse.h, complex Hermitian sparse systems, solved by conjugate grad
+ *   7925: src/common/raster.h, exact scan conversion of 2D triangles.
+ *   8399: src/common/render.h, a small deterministic software renderer for textured trian
+ *  10166: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
+ *  10353: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
+ *  10438: src/common/atlas.h, texture atlases of triangle meshes — charts, packing, ba
+ *  12440: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
+ *  13204: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
+ *  13965: src/pgp/tile3.h, sampling a material-space tile (Ray et al. 2009, §2: "a 3
+ *  14073: src/common/glue.h, what every method header needs between its public types an
+ *  14286: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  14950: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
+ *  15447: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
+ *  15933: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
+ *  16076: src/common/kdtree.h, nearest-neighbour search among n points of dimension d, wi
+ *  16419: src/common/pca.h, principal component analysis of vectors streamed one at a 
+ *  16606: src/pgp/core.c, pgp.h's glue to the shared core, its defaults, and the map
+ *  16863: src/pgp/field.c, §2.1 effect areas and §2.2 interpolation of the constrai
+ *  17253: src/pgp/solve.c, §2.3 the periodic global parameterization, the recovery o
+ *  18083: src/pgp/edit.c, the public editing calls of a mapping. §2.1 (Ray, Lévy, 
+ *  18228: src/pgp/render.c, §3 rendering, and a cleaner treatment of the vortices.
+ *  18660: src/pgp/builtin.c, built-in meshes and material-space tiles for demos and tes
+ *  18935: src/pgp/io.c, files and memory for pgp.h: material-space tiles (NRRD, or
+ *  19395: src/pgp/export.c, the mapping for other programs. A viewer that knows nothin
+ *  19621: src/pgp/morph.c, the inputs of §1 (keys brought to the tile size, made til
+ *  20300: src/pgp/synth.c, §1.2 constrained tile synthesis, and the whole of §1: ke
  */
 /* pgp.h - material-space texturing with a periodic global parameterization.
  *
@@ -6395,22 +6395,6 @@ PW__DEF int pw_hmesh_euler(const pw_hmesh *hm)
     int v, nv = 0;
     for (v = 0; v < hm->nv; v++) nv += hm->vout[v] >= 0;
     return nv - hm->ne + hm->nf;
-}
-
-/* Total genus of an orientable surface with `ncomp` components and
- * hm->nloops boundary loops: chi = 2c - 2g - b. */
-PW__DEF int pw_hmesh_genus(const pw_hmesh *hm, int ncomp) { return (2 * ncomp - pw_hmesh_euler(hm) - hm->nloops) / 2; }
-
-/* Number of edges at vertex v (0 if isolated). */
-PW__DEF int pw_hmesh_valence(const pw_hmesh *hm, int v)
-{
-    int h = hm->vout[v], n = 0, start = h;
-    if (h < 0) return 0;
-    do {
-        n++;
-        h = pw_he_ccw(hm, h);
-    } while (h >= 0 && h != start);
-    return h < 0 ? n + 1 : n; /* an open fan has one more edge than faces */
 }
 
 #endif /* PW__HALFEDGE_V1 */
@@ -15531,19 +15515,6 @@ PW__DEF void pw__quilt_neighbours(const pw_quilt *q, int i, int nb[2])
     int x = i % q->w, y = i / q->w;
     nb[0] = x + 1 < q->w ? i + 1 : (q->wrap_x && q->w > 2 ? i + 1 - q->w : -1);
     nb[1] = y + 1 < q->h ? i + q->w : (q->wrap_y && q->h > 2 ? x : -1);
-}
-
-/* Total seam cost of the current labelling. */
-PW__DEF double pw_quilt_energy(const pw_quilt *q)
-{
-    double s = 0.0;
-    int i, k, n = q->w * q->h, nb[2];
-    for (i = 0; i < n; i++) {
-        pw__quilt_neighbours(q, i, nb);
-        for (k = 0; k < 2; k++)
-            if (nb[k] >= 0) s += pw_quilt_pair_cost(q, i, nb[k], q->label[i], q->label[nb[k]]);
-    }
-    return s;
 }
 
 /* Seam statistics of a labelling, the measure of cut motifs: `pairs`

@@ -14,21 +14,21 @@
  *   3701: src/common/mesh.h, polygon meshes as flat arrays, and their file formats.
  *   5230: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
  *   5759: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
- *   6199: src/common/subdiv.h, Catmull-Clark subdivision (Catmull and Clark 1978) with
- *   6338: src/common/raster.h, exact scan conversion of 2D triangles.
- *   6814: src/common/render.h, a small deterministic software renderer for textured trian
- *   8581: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
- *   9078: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
- *   9577: src/common/glue.h, what every method header needs between its public types an
- *   9790: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  10454: src/tiled/core.c, tiled.h's glue to the shared core, its defaults, result
- *  10543: src/tiled/layout.c, ch. III.1, the boundary types and the tiled texture they
- *  10815: src/tiled/map.c, ch. III.2, the texture mapping algorithm of Fig. 29
- *  11064: src/tiled/synth.c, ch. III.1.3, tiled texture image synthesis: an edge-matche
- *  11446: src/tiled/validate.c, checks a hand-made tiled texture (the thesis's Figs. 39,
- *  11574: src/tiled/builtin.c, built-in meshes and exemplars for demos and tests: the
- *  11772: src/tiled/render.c, a software rendering of a mapped mesh (the thesis rendered
- *  11995: src/tiled/io.c, files. Meshes and exemplars in; the mapped mesh with its t
+ *   6183: src/common/subdiv.h, Catmull-Clark subdivision (Catmull and Clark 1978) with
+ *   6322: src/common/raster.h, exact scan conversion of 2D triangles.
+ *   6798: src/common/render.h, a small deterministic software renderer for textured trian
+ *   8565: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
+ *   9062: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
+ *   9548: src/common/glue.h, what every method header needs between its public types an
+ *   9761: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  10425: src/tiled/core.c, tiled.h's glue to the shared core, its defaults, result
+ *  10514: src/tiled/layout.c, ch. III.1, the boundary types and the tiled texture they
+ *  10786: src/tiled/map.c, ch. III.2, the texture mapping algorithm of Fig. 29
+ *  11035: src/tiled/synth.c, ch. III.1.3, tiled texture image synthesis: an edge-matche
+ *  11417: src/tiled/validate.c, checks a hand-made tiled texture (the thesis's Figs. 39,
+ *  11545: src/tiled/builtin.c, built-in meshes and exemplars for demos and tests: the
+ *  11743: src/tiled/render.c, a software rendering of a mapped mesh (the thesis rendered
+ *  11966: src/tiled/io.c, files. Meshes and exemplars in; the mapped mesh with its t
  */
 /* tiled.h - seamless, singularity-free tiled textures on quad meshes.
  *
@@ -6178,22 +6178,6 @@ PW__DEF int pw_hmesh_euler(const pw_hmesh *hm)
     return nv - hm->ne + hm->nf;
 }
 
-/* Total genus of an orientable surface with `ncomp` components and
- * hm->nloops boundary loops: chi = 2c - 2g - b. */
-PW__DEF int pw_hmesh_genus(const pw_hmesh *hm, int ncomp) { return (2 * ncomp - pw_hmesh_euler(hm) - hm->nloops) / 2; }
-
-/* Number of edges at vertex v (0 if isolated). */
-PW__DEF int pw_hmesh_valence(const pw_hmesh *hm, int v)
-{
-    int h = hm->vout[v], n = 0, start = h;
-    if (h < 0) return 0;
-    do {
-        n++;
-        h = pw_he_ccw(hm, h);
-    } while (h >= 0 && h != start);
-    return h < 0 ? n + 1 : n; /* an open fan has one more edge than faces */
-}
-
 #endif /* PW__HALFEDGE_V1 */
 
 /* ---- shared module src/common/subdiv.h ---- */
@@ -9146,19 +9130,6 @@ PW__DEF void pw__quilt_neighbours(const pw_quilt *q, int i, int nb[2])
     int x = i % q->w, y = i / q->w;
     nb[0] = x + 1 < q->w ? i + 1 : (q->wrap_x && q->w > 2 ? i + 1 - q->w : -1);
     nb[1] = y + 1 < q->h ? i + q->w : (q->wrap_y && q->h > 2 ? x : -1);
-}
-
-/* Total seam cost of the current labelling. */
-PW__DEF double pw_quilt_energy(const pw_quilt *q)
-{
-    double s = 0.0;
-    int i, k, n = q->w * q->h, nb[2];
-    for (i = 0; i < n; i++) {
-        pw__quilt_neighbours(q, i, nb);
-        for (k = 0; k < 2; k++)
-            if (nb[k] >= 0) s += pw_quilt_pair_cost(q, i, nb[k], q->label[i], q->label[nb[k]]);
-    }
-    return s;
 }
 
 /* Seam statistics of a labelling, the measure of cut motifs: `pairs`

@@ -5,6 +5,22 @@
 #include "../src/common/subdiv.h"
 #include "pwtest.h"
 
+/* Number of edges at vertex v (0 if isolated). */
+static int hmesh_valence(const pw_hmesh *hm, int v)
+{
+    int h = hm->vout[v], n = 0, start = h;
+    if (h < 0) return 0;
+    do {
+        n++;
+        h = pw_he_ccw(hm, h);
+    } while (h >= 0 && h != start);
+    return h < 0 ? n + 1 : n; /* an open fan has one more edge than faces */
+}
+
+/* Total genus of an orientable surface with `ncomp` components and
+ * hm->nloops boundary loops: chi = 2c - 2g - b. */
+static int hmesh_genus(const pw_hmesh *hm, int ncomp) { return (2 * ncomp - pw_hmesh_euler(hm) - hm->nloops) / 2; }
+
 /* ---- procedural meshes ---------------------------------------------------- */
 
 /* A mesh under construction with fixed capacity. */
@@ -248,9 +264,9 @@ static void t_grid(void)
     CHECK_EQ_INT(hm.nloops, 1);
     CHECK_EQ_INT(pw_hmesh_euler(&hm), 1);
     CHECK_EQ_INT(components(&hm), 1);
-    CHECK_EQ_INT(pw_hmesh_genus(&hm, 1), 0);
+    CHECK_EQ_INT(hmesh_genus(&hm, 1), 0);
     for (v = 0; v < hm.nv; v++) {
-        int val = pw_hmesh_valence(&hm, v);
+        int val = hmesh_valence(&hm, v);
         if (hm.twin[hm.vout[v]] < 0) boundary++;
         else {
             interior++;
@@ -259,8 +275,8 @@ static void t_grid(void)
     }
     CHECK_EQ_INT(interior, 3 * 2);
     CHECK_EQ_INT(boundary, 14);
-    CHECK_EQ_INT(pw_hmesh_valence(&hm, 0), 2);  /* corner */
-    CHECK_EQ_INT(pw_hmesh_valence(&hm, 1), 3);  /* side */
+    CHECK_EQ_INT(hmesh_valence(&hm, 0), 2);  /* corner */
+    CHECK_EQ_INT(hmesh_valence(&hm, 1), 3);  /* side */
     /* walking the boundary loop visits every boundary edge once */
     {
         int h0 = hm.vout[0], h = h0, n = 0;
@@ -284,19 +300,19 @@ static void t_closed(void)
     CHECK_EQ_INT(check_invariants(&hm), 0);
     CHECK(hm.nv == 8 && hm.ne == 12 && hm.nf == 6 && hm.nboundary == 0 && hm.nloops == 0);
     CHECK_EQ_INT(pw_hmesh_euler(&hm), 2);
-    CHECK_EQ_INT(pw_hmesh_genus(&hm, components(&hm)), 0);
+    CHECK_EQ_INT(hmesh_genus(&hm, components(&hm)), 0);
     pw_hmesh_free(NULL, &hm);
     REQUIRE(build(&torus, &hm, &e) == PW_OK);
     CHECK_EQ_INT(check_invariants(&hm), 0);
     CHECK_EQ_INT(pw_hmesh_euler(&hm), 0);
-    CHECK_EQ_INT(pw_hmesh_genus(&hm, components(&hm)), 1);
+    CHECK_EQ_INT(hmesh_genus(&hm, components(&hm)), 1);
     pw_hmesh_free(NULL, &hm);
     REQUIRE(build(&g2, &hm, &e) == PW_OK);
     CHECK_EQ_INT(check_invariants(&hm), 0);
     CHECK_EQ_INT(hm.nloops, 0);
     CHECK_EQ_INT(pw_hmesh_euler(&hm), -2);
     CHECK_EQ_INT(components(&hm), 1);
-    CHECK_EQ_INT(pw_hmesh_genus(&hm, 1), 2);
+    CHECK_EQ_INT(hmesh_genus(&hm, 1), 2);
     pw_hmesh_free(NULL, &hm);
     pw_mesh_free(NULL, &cube);
     pw_mesh_free(NULL, &torus);
@@ -316,7 +332,7 @@ static void t_components_and_isolated(void)
     CHECK_EQ_INT(n, 2);
     for (f = 0; f < 6; f++) CHECK(comp[f] == 0 && comp[f + 6] == 1);
     CHECK_EQ_INT(pw_hmesh_euler(&hm), 4);
-    CHECK_EQ_INT(pw_hmesh_genus(&hm, n), 0);
+    CHECK_EQ_INT(hmesh_genus(&hm, n), 0);
     pw_hmesh_free(NULL, &hm);
     /* isolated vertices: allowed, vout = -1, not part of the Euler count */
     {
@@ -326,7 +342,7 @@ static void t_components_and_isolated(void)
         CHECK_EQ_INT(pw_hmesh_euler(&hm), 1);
         CHECK_EQ_INT(hm.nloops, 1);
         CHECK_EQ_INT(check_invariants(&hm), 0);
-        CHECK_EQ_INT(pw_hmesh_valence(&hm, 1), 0);
+        CHECK_EQ_INT(hmesh_valence(&hm, 1), 0);
         pw_hmesh_free(NULL, &hm);
     }
     pw_mesh_free(NULL, &m);
@@ -597,7 +613,7 @@ static void t_subdivide_levels(void)
     REQUIRE(subdivide_levels(NULL, &g2, 2, &out, &e) == PW_OK);
     REQUIRE(build(&out, &hm, &e) == PW_OK);
     CHECK_EQ_INT(hm.nf, g2.fstart[g2.nf] * 4);
-    CHECK_EQ_INT(pw_hmesh_genus(&hm, components(&hm)), 2);
+    CHECK_EQ_INT(hmesh_genus(&hm, components(&hm)), 2);
     pw_hmesh_free(NULL, &hm);
     pw_mesh_free(NULL, &out);
     REQUIRE(subdivide_levels(NULL, &g2, 0, &out, &e) == PW_OK);
@@ -662,8 +678,8 @@ static void t_real_data(void)
             continue;
         }
         CHECKF(check_invariants(&hm) == 0, "%s: invariants", path);
-        CHECKF(pw_hmesh_genus(&hm, components(&hm)) == genus[i] && hm.nloops == loops[i], "%s: genus %d, %d loops",
-               path, pw_hmesh_genus(&hm, components(&hm)), hm.nloops);
+        CHECKF(hmesh_genus(&hm, components(&hm)) == genus[i] && hm.nloops == loops[i], "%s: genus %d, %d loops",
+               path, hmesh_genus(&hm, components(&hm)), hm.nloops);
         CHECK_EQ_INT(pw_catmull_clark(NULL, &hm, m.pos, &s, &e), PW_OK);
         CHECK_EQ_INT(s.nf, hm.nh);
         pw_mesh_free(NULL, &s);

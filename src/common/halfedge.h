@@ -420,20 +420,4 @@ PW__DEF int pw_hmesh_euler(const pw_hmesh *hm)
     return nv - hm->ne + hm->nf;
 }
 
-/* Total genus of an orientable surface with `ncomp` components and
- * hm->nloops boundary loops: chi = 2c - 2g - b. */
-PW__DEF int pw_hmesh_genus(const pw_hmesh *hm, int ncomp) { return (2 * ncomp - pw_hmesh_euler(hm) - hm->nloops) / 2; }
-
-/* Number of edges at vertex v (0 if isolated). */
-PW__DEF int pw_hmesh_valence(const pw_hmesh *hm, int v)
-{
-    int h = hm->vout[v], n = 0, start = h;
-    if (h < 0) return 0;
-    do {
-        n++;
-        h = pw_he_ccw(hm, h);
-    } while (h >= 0 && h != start);
-    return h < 0 ? n + 1 : n; /* an open fan has one more edge than faces */
-}
-
 #endif /* PW__HALFEDGE_V1 */

@@ -73,19 +73,6 @@ PW__DEF void pw__quilt_neighbours(const pw_quilt *q, int i, int nb[2])
     nb[1] = y + 1 < q->h ? i + q->w : (q->wrap_y && q->h > 2 ? x : -1);
 }
 
-/* Total seam cost of the current labelling. */
-PW__DEF double pw_quilt_energy(const pw_quilt *q)
-{
-    double s = 0.0;
-    int i, k, n = q->w * q->h, nb[2];
-    for (i = 0; i < n; i++) {
-        pw__quilt_neighbours(q, i, nb);
-        for (k = 0; k < 2; k++)
-            if (nb[k] >= 0) s += pw_quilt_pair_cost(q, i, nb[k], q->label[i], q->label[nb[k]]);
-    }
-    return s;
-}
-
 /* Seam statistics of a labelling, the measure of cut motifs: `pairs`
  * counts neighbour pairs (p, q) whose labels A, B differ (seam pairs),
  * `cut` those where, at p or at q, the seam passes inside a motif of A or

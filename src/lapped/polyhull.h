@@ -788,17 +788,6 @@ PW__DEF int pw_polyhull_build(const pw_alloc *a, const float *alpha, int w, int 
     return r == PW_OK ? PW_OK : pw_fail(e, r, "polygonal hull: out of memory");
 }
 
-/* The area enclosed, in texture coordinates (the unit square has area 1). */
-PW__DEF double pw_polyhull_area(const pw_polyhull *h)
-{
-    double s = 0.0;
-    int i, j;
-    if (!h || !h->uv) return 0.0;
-    for (i = 0, j = h->n - 1; i < h->n; j = i++)
-        s += (double)h->uv[2 * j] * h->uv[2 * i + 1] - (double)h->uv[2 * i] * h->uv[2 * j + 1];
-    return 0.5 * s;
-}
-
 /* Is (u, v) inside the hull or within PW_POLYHULL_EPS of it? Even-odd rule
  * plus a distance test for the boundary. */
 PW__DEF int pw_polyhull_contains(const pw_polyhull *h, float u, float v)
@@ -836,22 +825,6 @@ PW__DEF int pw_polyhull_segment_hits(const pw_polyhull *h, float u0, float v0, f
         if (pw__hull_sseg2(s0, s1, a, b) <= eps2) return 1;
     }
     return 0;
-}
-
-/* Does the triangle uv[0..5] meet the hull? One of its edges meets it, or
- * the hull lies inside the triangle (then so does its first vertex). */
-PW__DEF int pw_polyhull_triangle_hits(const pw_polyhull *h, const float uv[6])
-{
-    double o[3], x, y;
-    int k;
-    if (!h || !h->uv || h->n < 3 || !uv) return 0;
-    for (k = 0; k < 3; k++)
-        if (pw_polyhull_segment_hits(h, uv[2 * k], uv[2 * k + 1], uv[(2 * k + 2) % 6], uv[(2 * k + 3) % 6])) return 1;
-    x = h->uv[0];
-    y = h->uv[1];
-    for (k = 0; k < 3; k++)
-        o[k] = pw__hull_orient(uv[2 * k], uv[2 * k + 1], uv[(2 * k + 2) % 6], uv[(2 * k + 3) % 6], x, y);
-    return (o[0] > 0 && o[1] > 0 && o[2] > 0) || (o[0] < 0 && o[1] < 0 && o[2] < 0);
 }
 
 #endif /* PW__POLYHULL_V1 */
