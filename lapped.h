@@ -5,33 +5,33 @@
  *     36: src/lapped/lapped.h, the public API and its documentation
  *    469: src/common/base.h, allocation hooks, result codes, error messages, limits, he
  *    781: src/common/vec.h, small vector math on float[3] arrays and a 3-float struct.
- *    884: src/common/rng.h, seeded random numbers with the same output on every platfo
- *    961: src/common/noise.h, value noise and its fractal sum, for the built-in procedur
- *   1063: src/common/image.h, float images and their file formats.
- *   1757: src/common/deflate.h, zlib (RFC 1950) and deflate (RFC 1951) compression and
- *   2756: src/common/png.h, PNG writer and reader, and the image front end.
- *   3314: src/common/text.h, locale-independent number parsing and formatting, a line s
- *   3737: src/common/mesh.h, polygon meshes as flat arrays, and their file formats.
- *   5266: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
- *   5795: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
- *   6219: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
- *   7482: src/common/raster.h, exact scan conversion of 2D triangles.
- *   7956: src/common/render.h, a small deterministic software renderer for textured trian
- *   9723: src/lapped/polyhull.h, the polygonal hull of a texture patch (Praun, Finkelstein 
- *  10554: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
- *  10741: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
- *  10826: src/common/atlas.h, texture atlases of triangle meshes — charts, packing, ba
- *  12828: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
- *  13592: src/common/glue.h, what every method header needs between its public types an
- *  13805: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  14469: src/lapped/core.c, lapped.h's glue to the shared core, its defaults, and the 
- *  14634: src/lapped/field.c, §3.2 the tangent field, one frame (S, T) per triangle, an
- *  15089: src/lapped/patch.c, §3.1 texture patches. A patch is the texture as RGBA whos
- *  15403: src/lapped/builtin.c, built-in meshes (made by the shared shapes module) and tex
- *  15603: src/lapped/grow.c, pasting (§3.3-3.6): grow a surface patch around an uncove
- *  17087: src/lapped/render.c, runtime pasting (§4): the mesh drawn once per paste, in p
- *  17291: src/lapped/atlas.c, §4 "Rendering with a texture atlas".
- *  17534: src/lapped/io.c, the paste file format and the file conveniences of lapped.
+ *    895: src/common/rng.h, seeded random numbers with the same output on every platfo
+ *    972: src/common/noise.h, value noise and its fractal sum, for the built-in procedur
+ *   1074: src/common/image.h, float images and their file formats.
+ *   1768: src/common/deflate.h, zlib (RFC 1950) and deflate (RFC 1951) compression and
+ *   2767: src/common/png.h, PNG writer and reader, and the image front end.
+ *   3325: src/common/text.h, locale-independent number parsing and formatting, a line s
+ *   3748: src/common/mesh.h, polygon meshes as flat arrays, and their file formats.
+ *   5277: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
+ *   5806: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
+ *   6230: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
+ *   7493: src/common/raster.h, exact scan conversion of 2D triangles.
+ *   7967: src/common/render.h, a small deterministic software renderer for textured trian
+ *   9734: src/lapped/polyhull.h, the polygonal hull of a texture patch (Praun, Finkelstein 
+ *  10565: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
+ *  10752: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
+ *  10837: src/common/atlas.h, texture atlases of triangle meshes — charts, packing, ba
+ *  12839: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
+ *  13603: src/common/glue.h, what every method header needs between its public types an
+ *  13816: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  14480: src/lapped/core.c, lapped.h's glue to the shared core, its defaults, and the 
+ *  14645: src/lapped/field.c, §3.2 the tangent field, one frame (S, T) per triangle, an
+ *  15100: src/lapped/patch.c, §3.1 texture patches. A patch is the texture as RGBA whos
+ *  15414: src/lapped/builtin.c, built-in meshes (made by the shared shapes module) and tex
+ *  15608: src/lapped/grow.c, pasting (§3.3-3.6): grow a surface patch around an uncove
+ *  17092: src/lapped/render.c, runtime pasting (§4): the mesh drawn once per paste, in p
+ *  17296: src/lapped/atlas.c, §4 "Rendering with a texture atlas".
+ *  17539: src/lapped/io.c, the paste file format and the file conveniences of lapped.
  */
 /* lapped.h - lapped textures: overlapping texture patches pasted over a mesh.
  *
@@ -829,6 +829,17 @@ PW__DEF pw_v3 pw_v3_max(pw_v3 a, pw_v3 b)
 
 /* Double-precision 3-vectors as arrays. */
 PW__DEF double pw_dot3(const double *a, const double *b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+/* out = a + (b - a) t, for colours and points (out may alias a or b). */
+PW__DEF void pw_mix3(double *out, const double *a, const double *b, double t)
+{
+    int k;
+    for (k = 0; k < 3; k++) out[k] = a[k] + (b[k] - a[k]) * t;
+}
+PW__DEF void pw_mix3f(float *out, const float *a, const float *b, float t)
+{
+    int k;
+    for (k = 0; k < 3; k++) out[k] = a[k] + (b[k] - a[k]) * t;
+}
 
 PW__DEF void pw_cross3(const double *a, const double *b, double *out)
 {
@@ -15435,12 +15446,6 @@ LAPPEDDEF lapped_result lapped_builtin_mesh(const char *name, const lapped_optio
 
 /* ---- textures ----------------------------------------------------------------- */
 
-static void lapped__mix(float *out, const float *a, const float *b, float t)
-{
-    int k;
-    for (k = 0; k < 3; k++) out[k] = a[k] + (b[k] - a[k]) * t;
-}
-
 /* "scales": overlapping scales in rows like roof tiles: the rows above lie
  * over the rows below, so each scale shows its lower half, with a dark
  * rounded free edge at the bottom and a shadow under the scale above. 8
@@ -15472,7 +15477,7 @@ static void lapped__scales(unsigned long long seed, float x, float y, float px, 
     }
     rho = sqrtf(dx * dx + dy * dy) / R;
     h = (float)pw_lattice01(seed, ci, cj, 0);
-    lapped__mix(base, lo, hi, 0.25f + 0.5f * h + 0.35f * (dy / R));
+    pw_mix3f(base, lo, hi, 0.25f + 0.5f * h + 0.35f * (dy / R));
     shade = (0.55f + 0.45f * (float)pw_smoothstep(0.0f, 0.22f, up)) *
             (0.85f + 0.3f * (float)pw_lattice01(seed + 5, ci, cj, 0));
     shade *= 0.9f + 0.2f * (float)pw_fbm2(seed + 9, 24.0f * x, 6.0f * y, 0); /* fine striations */
@@ -15480,7 +15485,7 @@ static void lapped__scales(unsigned long long seed, float x, float y, float px, 
     base[0] *= shade;
     base[1] *= shade;
     base[2] *= shade;
-    lapped__mix(rgb, base, edge, (float)pw_smoothstep(1.0f - 0.09f - px, 1.0f - 0.02f, rho));
+    pw_mix3f(rgb, base, edge, (float)pw_smoothstep(1.0f - 0.09f - px, 1.0f - 0.02f, rho));
 }
 
 /* "stripes": zebra-like, roughly horizontal dark stripes warped by noise,
@@ -15506,7 +15511,7 @@ static void lapped__stripes(unsigned long long seed, float x, float y, float px,
     float v = lapped__stripe_inside(seed, x, y), gx = lapped__stripe_inside(seed, x + px, y) - v;
     float gy = lapped__stripe_inside(seed, x, y + px) - v, g = sqrtf(gx * gx + gy * gy);
     float t = g > 1e-6f ? pw_clampf(v / g + 0.5f, 0.0f, 1.0f) : (v > 0.0f ? 1.0f : 0.0f);
-    lapped__mix(rgb, light, dark, t);
+    pw_mix3f(rgb, light, dark, t);
     g = 0.92f + 0.16f * (float)pw_fbm2(seed + 7, 40.0f * x, 12.0f * y, 0); /* hair grain */
     rgb[0] *= g;
     rgb[1] *= g;
@@ -15546,7 +15551,7 @@ static void lapped__dot_layer(const lapped__dot_grid *grid, float x, float y, fl
     col[0] = pw_clampf(pal[c][0] * light, 0.0f, 1.0f);
     col[1] = pw_clampf(pal[c][1] * light, 0.0f, 1.0f);
     col[2] = pw_clampf(pal[c][2] * light, 0.0f, 1.0f);
-    lapped__mix(rgb, rgb, col, cover);
+    pw_mix3f(rgb, rgb, col, cover);
 }
 
 static void lapped__dots(unsigned long long seed, float x, float y, float px, float *rgb)

@@ -5,39 +5,39 @@
  *     42: src/lst/lst.h, the public API and its documentation
  *    711: src/common/base.h, allocation hooks, result codes, error messages, limits, he
  *   1023: src/common/vec.h, small vector math on float[3] arrays and a 3-float struct.
- *   1126: src/common/rng.h, seeded random numbers with the same output on every platfo
- *   1203: src/common/noise.h, value noise and its fractal sum, for the built-in procedur
- *   1305: src/common/image.h, float images and their file formats.
- *   1999: src/common/deflate.h, zlib (RFC 1950) and deflate (RFC 1951) compression and
- *   2996: src/common/png.h, PNG writer and reader, and the image front end.
- *   3554: src/common/text.h, locale-independent number parsing and formatting, a line s
- *   3977: src/common/mesh.h, polygon meshes as flat arrays, and their file formats.
- *   5506: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
- *   6035: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
- *   6459: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
- *   6646: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
- *   6731: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
- *   7994: src/common/raster.h, exact scan conversion of 2D triangles.
- *   8468: src/common/render.h, a small deterministic software renderer for textured trian
- *  10235: src/common/atlas.h, texture atlases of triangle meshes — charts, packing, ba
- *  12237: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
- *  12998: src/common/tetmesh.h, the tetrahedral mesh that lapped solid textures work on, a
- *  13482: src/common/tetio.h, tetrahedral mesh files, TetGen .node/.ele and MEDIT .mesh.
- *  13974: src/common/bisect.h, graded, conforming tetrahedral meshes of a box by newest-v
- *  14294: src/common/stuffing.h, the built-in tetrahedralizer of lst.h, so that no external
- *  17427: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
- *  17570: src/common/pca.h, principal component analysis of vectors streamed one at a 
- *  17757: src/common/glue.h, what every method header needs between its public types an
- *  17970: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  18634: src/lst/core.c, lst.h's glue to the shared core, its defaults, the convers
- *  18967: src/lst/exemplar.c, solid exemplars (§5): sampling, the procedural exemplars 
- *  19504: src/lst/field.c, §5.2.2, the fields that orient and scale the pastes. The 
- *  20712: src/lst/paste.c, §5.2.3-5.2.7, filling the model. Each paste picks a rando
- *  21693: src/lst/render.c, §5.1, showing a model. Every point of a tetrahedron is th
- *  22590: src/lst/cut.c, §5.1.1, cutting a model along the zero set of a scalar fi
- *  23195: src/lst/builtin.c, the tetrahedralizer entry point, checks of caller meshes, 
- *  23717: src/lst/io.c, the model file, the constraint files and the file convenie
- *  24559: src/lst/export.c, the visible boundary with a baked texture atlas, for glTF.
+ *   1137: src/common/rng.h, seeded random numbers with the same output on every platfo
+ *   1214: src/common/noise.h, value noise and its fractal sum, for the built-in procedur
+ *   1316: src/common/image.h, float images and their file formats.
+ *   2010: src/common/deflate.h, zlib (RFC 1950) and deflate (RFC 1951) compression and
+ *   3007: src/common/png.h, PNG writer and reader, and the image front end.
+ *   3565: src/common/text.h, locale-independent number parsing and formatting, a line s
+ *   3988: src/common/mesh.h, polygon meshes as flat arrays, and their file formats.
+ *   5517: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
+ *   6046: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
+ *   6470: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
+ *   6657: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
+ *   6742: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
+ *   8005: src/common/raster.h, exact scan conversion of 2D triangles.
+ *   8479: src/common/render.h, a small deterministic software renderer for textured trian
+ *  10246: src/common/atlas.h, texture atlases of triangle meshes — charts, packing, ba
+ *  12248: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
+ *  13009: src/common/tetmesh.h, the tetrahedral mesh that lapped solid textures work on, a
+ *  13493: src/common/tetio.h, tetrahedral mesh files, TetGen .node/.ele and MEDIT .mesh.
+ *  13985: src/common/bisect.h, graded, conforming tetrahedral meshes of a box by newest-v
+ *  14305: src/common/stuffing.h, the built-in tetrahedralizer of lst.h, so that no external
+ *  17438: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
+ *  17581: src/common/pca.h, principal component analysis of vectors streamed one at a 
+ *  17768: src/common/glue.h, what every method header needs between its public types an
+ *  17981: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  18645: src/lst/core.c, lst.h's glue to the shared core, its defaults, the convers
+ *  18978: src/lst/exemplar.c, solid exemplars (§5): sampling, the procedural exemplars 
+ *  19509: src/lst/field.c, §5.2.2, the fields that orient and scale the pastes. The 
+ *  20717: src/lst/paste.c, §5.2.3-5.2.7, filling the model. Each paste picks a rando
+ *  21698: src/lst/render.c, §5.1, showing a model. Every point of a tetrahedron is th
+ *  22595: src/lst/cut.c, §5.1.1, cutting a model along the zero set of a scalar fi
+ *  23200: src/lst/builtin.c, the tetrahedralizer entry point, checks of caller meshes, 
+ *  23722: src/lst/io.c, the model file, the constraint files and the file convenie
+ *  24564: src/lst/export.c, the visible boundary with a baked texture atlas, for glTF.
  */
 /* lst.h - lapped solid textures: solid exemplars pasted inside a model.
  *
@@ -1071,6 +1071,17 @@ PW__DEF pw_v3 pw_v3_max(pw_v3 a, pw_v3 b)
 
 /* Double-precision 3-vectors as arrays. */
 PW__DEF double pw_dot3(const double *a, const double *b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+/* out = a + (b - a) t, for colours and points (out may alias a or b). */
+PW__DEF void pw_mix3(double *out, const double *a, const double *b, double t)
+{
+    int k;
+    for (k = 0; k < 3; k++) out[k] = a[k] + (b[k] - a[k]) * t;
+}
+PW__DEF void pw_mix3f(float *out, const float *a, const float *b, float t)
+{
+    int k;
+    for (k = 0; k < 3; k++) out[k] = a[k] + (b[k] - a[k]) * t;
+}
 
 PW__DEF void pw_cross3(const double *a, const double *b, double *out)
 {
@@ -19040,12 +19051,6 @@ static float lst__mask_alpha(const pw_volume *mask, double u, double v, double w
     return lst__mask_alpha_vox(mask, x[0], x[1], x[2]);
 }
 
-static void lst__mix3(double *o, const double *a, const double *b, double t)
-{
-    int k;
-    for (k = 0; k < 3; k++) o[k] = a[k] + (b[k] - a[k]) * t;
-}
-
 /* ---- the procedural exemplars (u, v, w in the unit cube; v = 0 the skin) ----------- */
 
 /* 1-b: a thin skin at v = 0, then strata whose borders wave with u and w. */
@@ -19058,11 +19063,11 @@ static void lst__layers(unsigned long long seed, double u, double v, double w, d
            g = pw_fbm3(seed + 7, 24.0 * u, 24.0 * v, 24.0 * w);
     int b = (int)floor(band);
     b = ((b % 6) + 6) % 6;
-    lst__mix3(c, pal[b], pal[b], 0.0);
+    pw_mix3(c, pal[b], pal[b], 0.0);
     c[0] *= 0.85 + 0.3 * g;
     c[1] *= 0.85 + 0.3 * g;
     c[2] *= 0.85 + 0.3 * g;
-    if (v < 0.035) lst__mix3(c, skin, skin, 0.0);
+    if (v < 0.035) pw_mix3(c, skin, skin, 0.0);
     *val = v < 0.035 ? 0.5 + 0.4 * (pw_fbm3(seed + 9, 12.0 * u, 0.0, 12.0 * w) - 0.5) : 0.5;
 }
 
@@ -19087,8 +19092,8 @@ static void lst__fibers(unsigned long long seed, double u, double v, double w, d
             } else if (d < d2) d2 = d;
         }
     streak = pw_fbm3(seed + 3, 3.6 * u, 30.0 * v, 30.0 * w);
-    lst__mix3(c, dark, light, 0.25 + 0.45 * shade + 0.5 * (streak - 0.5));
-    if (d2 - d1 < 0.012) lst__mix3(c, c, sheath, 0.85);
+    pw_mix3(c, dark, light, 0.25 + 0.45 * shade + 0.5 * (streak - 0.5));
+    if (d2 - d1 < 0.012) pw_mix3(c, c, sheath, 0.85);
     *val = 0.35 + 0.3 * streak;
 }
 
@@ -19113,8 +19118,8 @@ static void lst__spots(unsigned long long seed, double u, double v, double w, do
                     id = (i * 7 + j * 13 + k * 29) & 3;
                 }
             }
-    lst__mix3(c, matrix, matrix, 0.0);
-    if (best < 1.0) lst__mix3(c, matrix, stone[id], pw_smoothstep(1.0, 0.85, best));
+    pw_mix3(c, matrix, matrix, 0.0);
+    if (best < 1.0) pw_mix3(c, matrix, stone[id], pw_smoothstep(1.0, 0.85, best));
     c[0] *= 0.9 + 0.2 * g;
     c[1] *= 0.9 + 0.2 * g;
     c[2] *= 0.9 + 0.2 * g;
@@ -19132,22 +19137,22 @@ static void lst__rings(unsigned long long seed, double u, double v, double w, do
     double ridge = 1.0 - fabs(2.0 * furrow - 1.0), phase, ring, grain;
     *val = 0.5 + 0.45 * (ridge - 0.5) * 2.0 * (1.0 - pw_smoothstep(0.05, 0.09, v));
     if (v < 0.075 - 0.025 * ridge) {
-        lst__mix3(c, bark, barkhi, ridge * (0.6 + 0.4 * pw_fbm3(seed + 6, 16.0 * u, 16.0 * v, 16.0 * w)));
+        pw_mix3(c, bark, barkhi, ridge * (0.6 + 0.4 * pw_fbm3(seed + 6, 16.0 * u, 16.0 * v, 16.0 * w)));
         return;
     }
     if (v < 0.09) {
-        lst__mix3(c, cambium, early, (v - 0.05) / 0.04);
+        pw_mix3(c, cambium, early, (v - 0.05) / 0.04);
         return;
     }
     phase = v * 11.0 + 0.35 * (pw_fbm3(seed, 1.2 * u, 4.0 * v, 4.0 * w) - 0.5);
     ring = pw_smoothstep(0.55, 0.85, phase - floor(phase)) * (1.0 - pw_smoothstep(0.9, 1.0, phase - floor(phase)));
     grain = pw_fbm3(seed + 8, 3.2 * u, 40.0 * v, 40.0 * w);
-    lst__mix3(c, early, late, ring);
-    if (v > 0.55) lst__mix3(c, c, heart, pw_smoothstep(0.55, 0.7, v) * 0.6);
+    pw_mix3(c, early, late, ring);
+    if (v > 0.55) pw_mix3(c, c, heart, pw_smoothstep(0.55, 0.7, v) * 0.6);
     c[0] *= 0.88 + 0.24 * grain;
     c[1] *= 0.88 + 0.24 * grain;
     c[2] *= 0.88 + 0.24 * grain;
-    if (v > 0.975) lst__mix3(c, c, late, 0.8);
+    if (v > 0.975) pw_mix3(c, c, late, 0.8);
 }
 
 /* 2-b: a kiwi fruit: a fuzzy skin, green flesh that pales inward with
@@ -19164,14 +19169,14 @@ static void lst__kiwi(unsigned long long seed, double u, double v, double w, dou
     long cu = (long)floor(u * cells), cw = (long)floor(w * cells), i, k;
     *val = v < 0.04 ? 0.5 + 0.45 * (pw_fbm3(seed + 3, 30.0 * u, 0.0, 30.0 * w) - 0.5) : 0.5;
     if (v < 0.028 + 0.01 * g) {
-        lst__mix3(c, skin, skin, 0.0);
+        pw_mix3(c, skin, skin, 0.0);
         c[0] *= 0.8 + 0.4 * g;
         c[1] *= 0.8 + 0.4 * g;
         c[2] *= 0.8 + 0.4 * g;
         return;
     }
     if (v > edge) {
-        lst__mix3(c, core, pale, 0.3 * g);
+        pw_mix3(c, core, pale, 0.3 * g);
         return;
     }
     for (i = cu - 1; i <= cu + 1; i++)
@@ -19184,10 +19189,10 @@ static void lst__kiwi(unsigned long long seed, double u, double v, double w, dou
             if (d < best) best = d;
             if (r < raydist) raydist = r;
         }
-    lst__mix3(c, flesh, pale, pw_smoothstep(0.1, 0.85, v) * 0.75 + 0.25 * g);
-    if (v > 0.4 && raydist < 0.008) lst__mix3(c, c, ray, 0.75 * pw_smoothstep(0.4, 0.7, v));
-    if (v > 0.7) lst__mix3(c, c, core, 0.35 * pw_smoothstep(0.7, edge, v));
-    if (best < 1.0) lst__mix3(c, c, seedc, pw_smoothstep(1.0, 0.7, best));
+    pw_mix3(c, flesh, pale, pw_smoothstep(0.1, 0.85, v) * 0.75 + 0.25 * g);
+    if (v > 0.4 && raydist < 0.008) pw_mix3(c, c, ray, 0.75 * pw_smoothstep(0.4, 0.7, v));
+    if (v > 0.7) pw_mix3(c, c, core, 0.35 * pw_smoothstep(0.7, edge, v));
+    if (best < 1.0) pw_mix3(c, c, seedc, pw_smoothstep(1.0, 0.7, best));
 }
 
 typedef void (*lst__exemplar_fn)(unsigned long long seed, double u, double v, double w, double *c, double *val);

@@ -5,42 +5,42 @@
  *     45: src/pgp/pgp.h, the public API and its documentation
  *    654: src/common/base.h, allocation hooks, result codes, error messages, limits, he
  *    966: src/common/vec.h, small vector math on float[3] arrays and a 3-float struct.
- *   1069: src/common/rng.h, seeded random numbers with the same output on every platfo
- *   1146: src/common/noise.h, value noise and its fractal sum, for the built-in procedur
- *   1248: src/common/image.h, float images and their file formats.
- *   1942: src/common/deflate.h, zlib (RFC 1950) and deflate (RFC 1951) compression and
- *   2939: src/common/png.h, PNG writer and reader, and the image front end.
- *   3497: src/common/text.h, locale-independent number parsing and formatting, a line s
- *   3920: src/common/mesh.h, polygon meshes as flat arrays, and their file formats.
- *   5449: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
- *   5978: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
- *   6402: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
- *   7665: src/common/zsparse.h, complex Hermitian sparse systems, solved by conjugate grad
- *   7925: src/common/raster.h, exact scan conversion of 2D triangles.
- *   8399: src/common/render.h, a small deterministic software renderer for textured trian
- *  10166: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
- *  10353: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
- *  10438: src/common/atlas.h, texture atlases of triangle meshes — charts, packing, ba
- *  12440: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
- *  13204: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
- *  13965: src/pgp/tile3.h, sampling a material-space tile (Ray et al. 2009, §2: "a 3
- *  14073: src/common/glue.h, what every method header needs between its public types an
- *  14286: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  14950: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
- *  15447: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
- *  15933: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
- *  16076: src/common/kdtree.h, nearest-neighbour search among n points of dimension d, wi
- *  16419: src/common/pca.h, principal component analysis of vectors streamed one at a 
- *  16606: src/pgp/core.c, pgp.h's glue to the shared core, its defaults, and the map
- *  16863: src/pgp/field.c, §2.1 effect areas and §2.2 interpolation of the constrai
- *  17253: src/pgp/solve.c, §2.3 the periodic global parameterization, the recovery o
- *  18083: src/pgp/edit.c, the public editing calls of a mapping. §2.1 (Ray, Lévy, 
- *  18228: src/pgp/render.c, §3 rendering, and a cleaner treatment of the vortices.
- *  18660: src/pgp/builtin.c, built-in meshes and material-space tiles for demos and tes
- *  18935: src/pgp/io.c, files and memory for pgp.h: material-space tiles (NRRD, or
- *  19395: src/pgp/export.c, the mapping for other programs. A viewer that knows nothin
- *  19621: src/pgp/morph.c, the inputs of §1 (keys brought to the tile size, made til
- *  20300: src/pgp/synth.c, §1.2 constrained tile synthesis, and the whole of §1: ke
+ *   1080: src/common/rng.h, seeded random numbers with the same output on every platfo
+ *   1157: src/common/noise.h, value noise and its fractal sum, for the built-in procedur
+ *   1259: src/common/image.h, float images and their file formats.
+ *   1953: src/common/deflate.h, zlib (RFC 1950) and deflate (RFC 1951) compression and
+ *   2950: src/common/png.h, PNG writer and reader, and the image front end.
+ *   3508: src/common/text.h, locale-independent number parsing and formatting, a line s
+ *   3931: src/common/mesh.h, polygon meshes as flat arrays, and their file formats.
+ *   5460: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
+ *   5989: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
+ *   6413: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
+ *   7676: src/common/zsparse.h, complex Hermitian sparse systems, solved by conjugate grad
+ *   7936: src/common/raster.h, exact scan conversion of 2D triangles.
+ *   8410: src/common/render.h, a small deterministic software renderer for textured trian
+ *  10177: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
+ *  10364: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
+ *  10449: src/common/atlas.h, texture atlases of triangle meshes — charts, packing, ba
+ *  12451: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
+ *  13215: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
+ *  13976: src/pgp/tile3.h, sampling a material-space tile (Ray et al. 2009, §2: "a 3
+ *  14084: src/common/glue.h, what every method header needs between its public types an
+ *  14297: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  14961: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
+ *  15458: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
+ *  15944: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
+ *  16087: src/common/kdtree.h, nearest-neighbour search among n points of dimension d, wi
+ *  16430: src/common/pca.h, principal component analysis of vectors streamed one at a 
+ *  16617: src/pgp/core.c, pgp.h's glue to the shared core, its defaults, and the map
+ *  16874: src/pgp/field.c, §2.1 effect areas and §2.2 interpolation of the constrai
+ *  17264: src/pgp/solve.c, §2.3 the periodic global parameterization, the recovery o
+ *  18094: src/pgp/edit.c, the public editing calls of a mapping. §2.1 (Ray, Lévy, 
+ *  18239: src/pgp/render.c, §3 rendering, and a cleaner treatment of the vortices.
+ *  18671: src/pgp/builtin.c, built-in meshes and material-space tiles for demos and tes
+ *  18940: src/pgp/io.c, files and memory for pgp.h: material-space tiles (NRRD, or
+ *  19400: src/pgp/export.c, the mapping for other programs. A viewer that knows nothin
+ *  19626: src/pgp/morph.c, the inputs of §1 (keys brought to the tile size, made til
+ *  20305: src/pgp/synth.c, §1.2 constrained tile synthesis, and the whole of §1: ke
  */
 /* pgp.h - material-space texturing with a periodic global parameterization.
  *
@@ -1014,6 +1014,17 @@ PW__DEF pw_v3 pw_v3_max(pw_v3 a, pw_v3 b)
 
 /* Double-precision 3-vectors as arrays. */
 PW__DEF double pw_dot3(const double *a, const double *b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+/* out = a + (b - a) t, for colours and points (out may alias a or b). */
+PW__DEF void pw_mix3(double *out, const double *a, const double *b, double t)
+{
+    int k;
+    for (k = 0; k < 3; k++) out[k] = a[k] + (b[k] - a[k]) * t;
+}
+PW__DEF void pw_mix3f(float *out, const float *a, const float *b, float t)
+{
+    int k;
+    for (k = 0; k < 3; k++) out[k] = a[k] + (b[k] - a[k]) * t;
+}
 
 PW__DEF void pw_cross3(const double *a, const double *b, double *out)
 {
@@ -18702,12 +18713,6 @@ PGPDEF pgp_result pgp_builtin_mesh(const char *name, const pgp_options *opt, pgp
 
 /* ---- periodic noise ----------------------------------------------------------- */
 
-static void pgp__mix(double *out, const double *a, const double *b, double t)
-{
-    int k;
-    for (k = 0; k < 3; k++) out[k] = a[k] + (b[k] - a[k]) * t;
-}
-
 /* Uniform in [0, 1): the k-th random number of element `id`. */
 static double pgp__rand(unsigned long long seed, int id, int k)
 {
@@ -18813,9 +18818,9 @@ static void pgp__stone_colour(unsigned long long seed, double w, double s, doubl
     static const double burnt[3] = {0.34, 0.17, 0.13};
     double b[3], st[3], v = 0.88 + 0.24 * pgp__rand(seed, id, 8), grain, blotch;
     int k;
-    pgp__mix(b, brick[(int)(5.0 * pgp__rand(seed, id, 10))], burnt, pgp__rand(seed, id, 7) < 0.1 ? 0.8 : 0.0);
+    pw_mix3(b, brick[(int)(5.0 * pgp__rand(seed, id, 10))], burnt, pgp__rand(seed, id, 7) < 0.1 ? 0.8 : 0.0);
     memcpy(st, stone[(int)(6.0 * pgp__rand(seed, id, 9))], sizeof st);
-    pgp__mix(c, b, st, w);
+    pw_mix3(c, b, st, w);
     grain = 0.9 + 0.2 * pw_fbm2(seed + 30, s * 96, t * 96, 96) * (1.0 + w);
     blotch = 1.0 - (0.1 + 0.5 * w * (1.0 - w)) * pw_smoothstep(0.45, 0.8, pw_fbm2(seed + 31, s * 12, t * 12, 12));
     for (k = 0; k < 3; k++) c[k] *= v * grain * blotch;
@@ -18827,8 +18832,8 @@ static void pgp__mortar_colour(unsigned long long seed, double w, double s, doub
     static const double fresh[3] = {0.80, 0.78, 0.73}, old[3] = {0.43, 0.39, 0.31}, moss[3] = {0.31, 0.41, 0.17};
     double g = 0.85 + 0.3 * pw_fbm2(seed + 40, s * 128, t * 128, 128);
     int k;
-    pgp__mix(c, fresh, old, w);
-    if (w > 0.0) pgp__mix(c, c, moss, w * pw_smoothstep(0.5, 0.68, pw_fbm2(seed + 41, s * 8, t * 8, 8)));
+    pw_mix3(c, fresh, old, w);
+    if (w > 0.0) pw_mix3(c, c, moss, w * pw_smoothstep(0.5, 0.68, pw_fbm2(seed + 41, s * 8, t * 8, 8)));
     for (k = 0; k < 3; k++) c[k] *= g;
 }
 

@@ -5,30 +5,30 @@
  *     33: src/tiled/tiled.h, the public API and its documentation
  *    433: src/common/base.h, allocation hooks, result codes, error messages, limits, he
  *    745: src/common/vec.h, small vector math on float[3] arrays and a 3-float struct.
- *    848: src/common/rng.h, seeded random numbers with the same output on every platfo
- *    925: src/common/noise.h, value noise and its fractal sum, for the built-in procedur
- *   1027: src/common/image.h, float images and their file formats.
- *   1721: src/common/deflate.h, zlib (RFC 1950) and deflate (RFC 1951) compression and
- *   2720: src/common/png.h, PNG writer and reader, and the image front end.
- *   3278: src/common/text.h, locale-independent number parsing and formatting, a line s
- *   3701: src/common/mesh.h, polygon meshes as flat arrays, and their file formats.
- *   5230: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
- *   5759: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
- *   6183: src/common/subdiv.h, Catmull-Clark subdivision (Catmull and Clark 1978) with
- *   6322: src/common/raster.h, exact scan conversion of 2D triangles.
- *   6798: src/common/render.h, a small deterministic software renderer for textured trian
- *   8565: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
- *   9062: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
- *   9548: src/common/glue.h, what every method header needs between its public types an
- *   9761: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  10425: src/tiled/core.c, tiled.h's glue to the shared core, its defaults, result
- *  10514: src/tiled/layout.c, ch. III.1, the boundary types and the tiled texture they
- *  10786: src/tiled/map.c, ch. III.2, the texture mapping algorithm of Fig. 29
- *  11035: src/tiled/synth.c, ch. III.1.3, tiled texture image synthesis: an edge-matche
- *  11417: src/tiled/validate.c, checks a hand-made tiled texture (the thesis's Figs. 39,
- *  11545: src/tiled/builtin.c, built-in meshes and exemplars for demos and tests: the
- *  11743: src/tiled/render.c, a software rendering of a mapped mesh (the thesis rendered
- *  11966: src/tiled/io.c, files. Meshes and exemplars in; the mapped mesh with its t
+ *    859: src/common/rng.h, seeded random numbers with the same output on every platfo
+ *    936: src/common/noise.h, value noise and its fractal sum, for the built-in procedur
+ *   1038: src/common/image.h, float images and their file formats.
+ *   1732: src/common/deflate.h, zlib (RFC 1950) and deflate (RFC 1951) compression and
+ *   2731: src/common/png.h, PNG writer and reader, and the image front end.
+ *   3289: src/common/text.h, locale-independent number parsing and formatting, a line s
+ *   3712: src/common/mesh.h, polygon meshes as flat arrays, and their file formats.
+ *   5241: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
+ *   5770: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
+ *   6194: src/common/subdiv.h, Catmull-Clark subdivision (Catmull and Clark 1978) with
+ *   6333: src/common/raster.h, exact scan conversion of 2D triangles.
+ *   6809: src/common/render.h, a small deterministic software renderer for textured trian
+ *   8576: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
+ *   9073: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
+ *   9559: src/common/glue.h, what every method header needs between its public types an
+ *   9772: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  10436: src/tiled/core.c, tiled.h's glue to the shared core, its defaults, result
+ *  10525: src/tiled/layout.c, ch. III.1, the boundary types and the tiled texture they
+ *  10797: src/tiled/map.c, ch. III.2, the texture mapping algorithm of Fig. 29
+ *  11046: src/tiled/synth.c, ch. III.1.3, tiled texture image synthesis: an edge-matche
+ *  11428: src/tiled/validate.c, checks a hand-made tiled texture (the thesis's Figs. 39,
+ *  11556: src/tiled/builtin.c, built-in meshes and exemplars for demos and tests: the
+ *  11753: src/tiled/render.c, a software rendering of a mapped mesh (the thesis rendered
+ *  11976: src/tiled/io.c, files. Meshes and exemplars in; the mapped mesh with its t
  */
 /* tiled.h - seamless, singularity-free tiled textures on quad meshes.
  *
@@ -793,6 +793,17 @@ PW__DEF pw_v3 pw_v3_max(pw_v3 a, pw_v3 b)
 
 /* Double-precision 3-vectors as arrays. */
 PW__DEF double pw_dot3(const double *a, const double *b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+/* out = a + (b - a) t, for colours and points (out may alias a or b). */
+PW__DEF void pw_mix3(double *out, const double *a, const double *b, double t)
+{
+    int k;
+    for (k = 0; k < 3; k++) out[k] = a[k] + (b[k] - a[k]) * t;
+}
+PW__DEF void pw_mix3f(float *out, const float *a, const float *b, float t)
+{
+    int k;
+    for (k = 0; k < 3; k++) out[k] = a[k] + (b[k] - a[k]) * t;
+}
 
 PW__DEF void pw_cross3(const double *a, const double *b, double *out)
 {
@@ -11656,11 +11667,10 @@ static void tiled__cells_eval(const tiled__cells *c, float x, float y, float *f1
         }
 }
 
+/* pw_mix3f with t clamped to [0, 1]. */
 static void tiled__mix(float *out, const float *a, const float *b, float t)
 {
-    int k;
-    t = pw_clampf(t, 0.0f, 1.0f);
-    for (k = 0; k < 3; k++) out[k] = a[k] + (b[k] - a[k]) * t;
+    pw_mix3f(out, a, b, pw_clampf(t, 0.0f, 1.0f));
 }
 
 /* Pebbles: rounded stones of varied greys and browns in dark mortar. */

@@ -49,6 +49,17 @@ PW__DEF pw_v3 pw_v3_max(pw_v3 a, pw_v3 b)
 
 /* Double-precision 3-vectors as arrays. */
 PW__DEF double pw_dot3(const double *a, const double *b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+/* out = a + (b - a) t, for colours and points (out may alias a or b). */
+PW__DEF void pw_mix3(double *out, const double *a, const double *b, double t)
+{
+    int k;
+    for (k = 0; k < 3; k++) out[k] = a[k] + (b[k] - a[k]) * t;
+}
+PW__DEF void pw_mix3f(float *out, const float *a, const float *b, float t)
+{
+    int k;
+    for (k = 0; k < 3; k++) out[k] = a[k] + (b[k] - a[k]) * t;
+}
 
 PW__DEF void pw_cross3(const double *a, const double *b, double *out)
 {

@@ -35,12 +35,6 @@ LAPPEDDEF lapped_result lapped_builtin_mesh(const char *name, const lapped_optio
 
 /* ---- textures ----------------------------------------------------------------- */
 
-static void lapped__mix(float *out, const float *a, const float *b, float t)
-{
-    int k;
-    for (k = 0; k < 3; k++) out[k] = a[k] + (b[k] - a[k]) * t;
-}
-
 /* "scales": overlapping scales in rows like roof tiles: the rows above lie
  * over the rows below, so each scale shows its lower half, with a dark
  * rounded free edge at the bottom and a shadow under the scale above. 8
@@ -72,7 +66,7 @@ static void lapped__scales(unsigned long long seed, float x, float y, float px, 
     }
     rho = sqrtf(dx * dx + dy * dy) / R;
     h = (float)pw_lattice01(seed, ci, cj, 0);
-    lapped__mix(base, lo, hi, 0.25f + 0.5f * h + 0.35f * (dy / R));
+    pw_mix3f(base, lo, hi, 0.25f + 0.5f * h + 0.35f * (dy / R));
     shade = (0.55f + 0.45f * (float)pw_smoothstep(0.0f, 0.22f, up)) *
             (0.85f + 0.3f * (float)pw_lattice01(seed + 5, ci, cj, 0));
     shade *= 0.9f + 0.2f * (float)pw_fbm2(seed + 9, 24.0f * x, 6.0f * y, 0); /* fine striations */
@@ -80,7 +74,7 @@ static void lapped__scales(unsigned long long seed, float x, float y, float px, 
     base[0] *= shade;
     base[1] *= shade;
     base[2] *= shade;
-    lapped__mix(rgb, base, edge, (float)pw_smoothstep(1.0f - 0.09f - px, 1.0f - 0.02f, rho));
+    pw_mix3f(rgb, base, edge, (float)pw_smoothstep(1.0f - 0.09f - px, 1.0f - 0.02f, rho));
 }
 
 /* "stripes": zebra-like, roughly horizontal dark stripes warped by noise,
@@ -106,7 +100,7 @@ static void lapped__stripes(unsigned long long seed, float x, float y, float px,
     float v = lapped__stripe_inside(seed, x, y), gx = lapped__stripe_inside(seed, x + px, y) - v;
     float gy = lapped__stripe_inside(seed, x, y + px) - v, g = sqrtf(gx * gx + gy * gy);
     float t = g > 1e-6f ? pw_clampf(v / g + 0.5f, 0.0f, 1.0f) : (v > 0.0f ? 1.0f : 0.0f);
-    lapped__mix(rgb, light, dark, t);
+    pw_mix3f(rgb, light, dark, t);
     g = 0.92f + 0.16f * (float)pw_fbm2(seed + 7, 40.0f * x, 12.0f * y, 0); /* hair grain */
     rgb[0] *= g;
     rgb[1] *= g;
@@ -146,7 +140,7 @@ static void lapped__dot_layer(const lapped__dot_grid *grid, float x, float y, fl
     col[0] = pw_clampf(pal[c][0] * light, 0.0f, 1.0f);
     col[1] = pw_clampf(pal[c][1] * light, 0.0f, 1.0f);
     col[2] = pw_clampf(pal[c][2] * light, 0.0f, 1.0f);
-    lapped__mix(rgb, rgb, col, cover);
+    pw_mix3f(rgb, rgb, col, cover);
 }
 
 static void lapped__dots(unsigned long long seed, float x, float y, float px, float *rgb)

@@ -75,12 +75,6 @@ static float lst__mask_alpha(const pw_volume *mask, double u, double v, double w
     return lst__mask_alpha_vox(mask, x[0], x[1], x[2]);
 }
 
-static void lst__mix3(double *o, const double *a, const double *b, double t)
-{
-    int k;
-    for (k = 0; k < 3; k++) o[k] = a[k] + (b[k] - a[k]) * t;
-}
-
 /* ---- the procedural exemplars (u, v, w in the unit cube; v = 0 the skin) ----------- */
 
 /* 1-b: a thin skin at v = 0, then strata whose borders wave with u and w. */
@@ -93,11 +87,11 @@ static void lst__layers(unsigned long long seed, double u, double v, double w, d
            g = pw_fbm3(seed + 7, 24.0 * u, 24.0 * v, 24.0 * w);
     int b = (int)floor(band);
     b = ((b % 6) + 6) % 6;
-    lst__mix3(c, pal[b], pal[b], 0.0);
+    pw_mix3(c, pal[b], pal[b], 0.0);
     c[0] *= 0.85 + 0.3 * g;
     c[1] *= 0.85 + 0.3 * g;
     c[2] *= 0.85 + 0.3 * g;
-    if (v < 0.035) lst__mix3(c, skin, skin, 0.0);
+    if (v < 0.035) pw_mix3(c, skin, skin, 0.0);
     *val = v < 0.035 ? 0.5 + 0.4 * (pw_fbm3(seed + 9, 12.0 * u, 0.0, 12.0 * w) - 0.5) : 0.5;
 }
 
@@ -122,8 +116,8 @@ static void lst__fibers(unsigned long long seed, double u, double v, double w, d
             } else if (d < d2) d2 = d;
         }
     streak = pw_fbm3(seed + 3, 3.6 * u, 30.0 * v, 30.0 * w);
-    lst__mix3(c, dark, light, 0.25 + 0.45 * shade + 0.5 * (streak - 0.5));
-    if (d2 - d1 < 0.012) lst__mix3(c, c, sheath, 0.85);
+    pw_mix3(c, dark, light, 0.25 + 0.45 * shade + 0.5 * (streak - 0.5));
+    if (d2 - d1 < 0.012) pw_mix3(c, c, sheath, 0.85);
     *val = 0.35 + 0.3 * streak;
 }
 
@@ -148,8 +142,8 @@ static void lst__spots(unsigned long long seed, double u, double v, double w, do
                     id = (i * 7 + j * 13 + k * 29) & 3;
                 }
             }
-    lst__mix3(c, matrix, matrix, 0.0);
-    if (best < 1.0) lst__mix3(c, matrix, stone[id], pw_smoothstep(1.0, 0.85, best));
+    pw_mix3(c, matrix, matrix, 0.0);
+    if (best < 1.0) pw_mix3(c, matrix, stone[id], pw_smoothstep(1.0, 0.85, best));
     c[0] *= 0.9 + 0.2 * g;
     c[1] *= 0.9 + 0.2 * g;
     c[2] *= 0.9 + 0.2 * g;
@@ -167,22 +161,22 @@ static void lst__rings(unsigned long long seed, double u, double v, double w, do
     double ridge = 1.0 - fabs(2.0 * furrow - 1.0), phase, ring, grain;
     *val = 0.5 + 0.45 * (ridge - 0.5) * 2.0 * (1.0 - pw_smoothstep(0.05, 0.09, v));
     if (v < 0.075 - 0.025 * ridge) {
-        lst__mix3(c, bark, barkhi, ridge * (0.6 + 0.4 * pw_fbm3(seed + 6, 16.0 * u, 16.0 * v, 16.0 * w)));
+        pw_mix3(c, bark, barkhi, ridge * (0.6 + 0.4 * pw_fbm3(seed + 6, 16.0 * u, 16.0 * v, 16.0 * w)));
         return;
     }
     if (v < 0.09) {
-        lst__mix3(c, cambium, early, (v - 0.05) / 0.04);
+        pw_mix3(c, cambium, early, (v - 0.05) / 0.04);
         return;
     }
     phase = v * 11.0 + 0.35 * (pw_fbm3(seed, 1.2 * u, 4.0 * v, 4.0 * w) - 0.5);
     ring = pw_smoothstep(0.55, 0.85, phase - floor(phase)) * (1.0 - pw_smoothstep(0.9, 1.0, phase - floor(phase)));
     grain = pw_fbm3(seed + 8, 3.2 * u, 40.0 * v, 40.0 * w);
-    lst__mix3(c, early, late, ring);
-    if (v > 0.55) lst__mix3(c, c, heart, pw_smoothstep(0.55, 0.7, v) * 0.6);
+    pw_mix3(c, early, late, ring);
+    if (v > 0.55) pw_mix3(c, c, heart, pw_smoothstep(0.55, 0.7, v) * 0.6);
     c[0] *= 0.88 + 0.24 * grain;
     c[1] *= 0.88 + 0.24 * grain;
     c[2] *= 0.88 + 0.24 * grain;
-    if (v > 0.975) lst__mix3(c, c, late, 0.8);
+    if (v > 0.975) pw_mix3(c, c, late, 0.8);
 }
 
 /* 2-b: a kiwi fruit: a fuzzy skin, green flesh that pales inward with
@@ -199,14 +193,14 @@ static void lst__kiwi(unsigned long long seed, double u, double v, double w, dou
     long cu = (long)floor(u * cells), cw = (long)floor(w * cells), i, k;
     *val = v < 0.04 ? 0.5 + 0.45 * (pw_fbm3(seed + 3, 30.0 * u, 0.0, 30.0 * w) - 0.5) : 0.5;
     if (v < 0.028 + 0.01 * g) {
-        lst__mix3(c, skin, skin, 0.0);
+        pw_mix3(c, skin, skin, 0.0);
         c[0] *= 0.8 + 0.4 * g;
         c[1] *= 0.8 + 0.4 * g;
         c[2] *= 0.8 + 0.4 * g;
         return;
     }
     if (v > edge) {
-        lst__mix3(c, core, pale, 0.3 * g);
+        pw_mix3(c, core, pale, 0.3 * g);
         return;
     }
     for (i = cu - 1; i <= cu + 1; i++)
@@ -219,10 +213,10 @@ static void lst__kiwi(unsigned long long seed, double u, double v, double w, dou
             if (d < best) best = d;
             if (r < raydist) raydist = r;
         }
-    lst__mix3(c, flesh, pale, pw_smoothstep(0.1, 0.85, v) * 0.75 + 0.25 * g);
-    if (v > 0.4 && raydist < 0.008) lst__mix3(c, c, ray, 0.75 * pw_smoothstep(0.4, 0.7, v));
-    if (v > 0.7) lst__mix3(c, c, core, 0.35 * pw_smoothstep(0.7, edge, v));
-    if (best < 1.0) lst__mix3(c, c, seedc, pw_smoothstep(1.0, 0.7, best));
+    pw_mix3(c, flesh, pale, pw_smoothstep(0.1, 0.85, v) * 0.75 + 0.25 * g);
+    if (v > 0.4 && raydist < 0.008) pw_mix3(c, c, ray, 0.75 * pw_smoothstep(0.4, 0.7, v));
+    if (v > 0.7) pw_mix3(c, c, core, 0.35 * pw_smoothstep(0.7, edge, v));
+    if (best < 1.0) pw_mix3(c, c, seedc, pw_smoothstep(1.0, 0.7, best));
 }
 
 typedef void (*lst__exemplar_fn)(unsigned long long seed, double u, double v, double w, double *c, double *val);

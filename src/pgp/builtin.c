@@ -45,12 +45,6 @@ PGPDEF pgp_result pgp_builtin_mesh(const char *name, const pgp_options *opt, pgp
 
 /* ---- periodic noise ----------------------------------------------------------- */
 
-static void pgp__mix(double *out, const double *a, const double *b, double t)
-{
-    int k;
-    for (k = 0; k < 3; k++) out[k] = a[k] + (b[k] - a[k]) * t;
-}
-
 /* Uniform in [0, 1): the k-th random number of element `id`. */
 static double pgp__rand(unsigned long long seed, int id, int k)
 {
@@ -156,9 +150,9 @@ static void pgp__stone_colour(unsigned long long seed, double w, double s, doubl
     static const double burnt[3] = {0.34, 0.17, 0.13};
     double b[3], st[3], v = 0.88 + 0.24 * pgp__rand(seed, id, 8), grain, blotch;
     int k;
-    pgp__mix(b, brick[(int)(5.0 * pgp__rand(seed, id, 10))], burnt, pgp__rand(seed, id, 7) < 0.1 ? 0.8 : 0.0);
+    pw_mix3(b, brick[(int)(5.0 * pgp__rand(seed, id, 10))], burnt, pgp__rand(seed, id, 7) < 0.1 ? 0.8 : 0.0);
     memcpy(st, stone[(int)(6.0 * pgp__rand(seed, id, 9))], sizeof st);
-    pgp__mix(c, b, st, w);
+    pw_mix3(c, b, st, w);
     grain = 0.9 + 0.2 * pw_fbm2(seed + 30, s * 96, t * 96, 96) * (1.0 + w);
     blotch = 1.0 - (0.1 + 0.5 * w * (1.0 - w)) * pw_smoothstep(0.45, 0.8, pw_fbm2(seed + 31, s * 12, t * 12, 12));
     for (k = 0; k < 3; k++) c[k] *= v * grain * blotch;
@@ -170,8 +164,8 @@ static void pgp__mortar_colour(unsigned long long seed, double w, double s, doub
     static const double fresh[3] = {0.80, 0.78, 0.73}, old[3] = {0.43, 0.39, 0.31}, moss[3] = {0.31, 0.41, 0.17};
     double g = 0.85 + 0.3 * pw_fbm2(seed + 40, s * 128, t * 128, 128);
     int k;
-    pgp__mix(c, fresh, old, w);
-    if (w > 0.0) pgp__mix(c, c, moss, w * pw_smoothstep(0.5, 0.68, pw_fbm2(seed + 41, s * 8, t * 8, 8)));
+    pw_mix3(c, fresh, old, w);
+    if (w > 0.0) pw_mix3(c, c, moss, w * pw_smoothstep(0.5, 0.68, pw_fbm2(seed + 41, s * 8, t * 8, 8)));
     for (k = 0; k < 3; k++) c[k] *= g;
 }
 

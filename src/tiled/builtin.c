@@ -113,11 +113,10 @@ static void tiled__cells_eval(const tiled__cells *c, float x, float y, float *f1
         }
 }
 
+/* pw_mix3f with t clamped to [0, 1]. */
 static void tiled__mix(float *out, const float *a, const float *b, float t)
 {
-    int k;
-    t = pw_clampf(t, 0.0f, 1.0f);
-    for (k = 0; k < 3; k++) out[k] = a[k] + (b[k] - a[k]) * t;
+    pw_mix3f(out, a, b, pw_clampf(t, 0.0f, 1.0f));
 }
 
 /* Pebbles: rounded stones of varied greys and browns in dark mortar. */
