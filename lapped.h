@@ -11,27 +11,27 @@
  *   1768: src/common/deflate.h, zlib (RFC 1950) and deflate (RFC 1951) compression and
  *   2767: src/common/png.h, PNG writer and reader, and the image front end.
  *   3325: src/common/text.h, locale-independent number parsing and formatting, a line s
- *   3748: src/common/mesh.h, polygon meshes as flat arrays, and their file formats.
- *   5277: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
- *   5806: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
- *   6230: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
- *   7493: src/common/raster.h, exact scan conversion of 2D triangles.
- *   7967: src/common/render.h, a small deterministic software renderer for textured trian
- *   9734: src/lapped/polyhull.h, the polygonal hull of a texture patch (Praun, Finkelstein 
- *  10565: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
- *  10752: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
- *  10837: src/common/atlas.h, texture atlases of triangle meshes — charts, packing, ba
- *  12839: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
- *  13603: src/common/glue.h, what every method header needs between its public types an
- *  13816: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  14480: src/lapped/core.c, lapped.h's glue to the shared core, its defaults, and the 
- *  14645: src/lapped/field.c, §3.2 the tangent field, one frame (S, T) per triangle, an
- *  15100: src/lapped/patch.c, §3.1 texture patches. A patch is the texture as RGBA whos
- *  15414: src/lapped/builtin.c, built-in meshes (made by the shared shapes module) and tex
- *  15608: src/lapped/grow.c, pasting (§3.3-3.6): grow a surface patch around an uncove
- *  17092: src/lapped/render.c, runtime pasting (§4): the mesh drawn once per paste, in p
- *  17296: src/lapped/atlas.c, §4 "Rendering with a texture atlas".
- *  17539: src/lapped/io.c, the paste file format and the file conveniences of lapped.
+ *   3738: src/common/mesh.h, polygon meshes as flat arrays, and their file formats.
+ *   5267: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
+ *   5796: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
+ *   6220: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
+ *   7483: src/common/raster.h, exact scan conversion of 2D triangles.
+ *   7957: src/common/render.h, a small deterministic software renderer for textured trian
+ *   9724: src/lapped/polyhull.h, the polygonal hull of a texture patch (Praun, Finkelstein 
+ *  10555: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
+ *  10742: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
+ *  10827: src/common/atlas.h, texture atlases of triangle meshes — charts, packing, ba
+ *  12829: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
+ *  13593: src/common/glue.h, what every method header needs between its public types an
+ *  13806: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  14470: src/lapped/core.c, lapped.h's glue to the shared core, its defaults, and the 
+ *  14635: src/lapped/field.c, §3.2 the tangent field, one frame (S, T) per triangle, an
+ *  15090: src/lapped/patch.c, §3.1 texture patches. A patch is the texture as RGBA whos
+ *  15404: src/lapped/builtin.c, built-in meshes (made by the shared shapes module) and tex
+ *  15598: src/lapped/grow.c, pasting (§3.3-3.6): grow a surface patch around an uncove
+ *  17082: src/lapped/render.c, runtime pasting (§4): the mesh drawn once per paste, in p
+ *  17286: src/lapped/atlas.c, §4 "Rendering with a texture atlas".
+ *  17529: src/lapped/io.c, the paste file format and the file conveniences of lapped.
  */
 /* lapped.h - lapped textures: overlapping texture patches pasted over a mesh.
  *
@@ -3336,6 +3336,20 @@ PW__DEF int pw_image_save(const char *path, const pw_image *img, pw_err *e)
 static const double pw__num_pow10[23] = {1e0,  1e1,  1e2,  1e3,  1e4,  1e5,  1e6,  1e7,  1e8,  1e9,  1e10, 1e11,
                                          1e12, 1e13, 1e14, 1e15, 1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22};
 
+/* v * 10^x with exact powers of ten (deterministic: only + - * /). */
+PW__DEF double pw__num_mul10(double v, int x)
+{
+    while (x > 22) {
+        v *= 1e22;
+        x -= 22;
+    }
+    while (x < -22) {
+        v /= 1e22;
+        x += 22;
+    }
+    return x >= 0 ? v * pw__num_pow10[x] : v / pw__num_pow10[-x];
+}
+
 /* m * 10^x. Powers of ten up to 1e22 are exact doubles, so the common case
  * (up to 17 significant digits, small exponent) is one rounding, and the
  * shortest "%.9g" text of a float reads back to the same float. */
@@ -3345,17 +3359,7 @@ PW__DEF double pw__num_scale10(uint64_t m, long x, int neg)
     if (m == 0) x = 0;
     if (x > 400) v = HUGE_VAL;  /* m >= 1, so at least 1e400 */
     else if (x < -400) v = 0.0; /* m < 1e18, so below 1e-382 */
-    else {
-        while (x > 22) {
-            v *= 1e22;
-            x -= 22;
-        }
-        while (x < -22) {
-            v /= 1e22;
-            x += 22;
-        }
-        v = x >= 0 ? v * pw__num_pow10[x] : v / pw__num_pow10[-x];
-    }
+    else v = pw__num_mul10(v, (int)x);
     return neg ? -v : v;
 }
 
@@ -3639,20 +3643,6 @@ PW__DEF void pw__wb_int(pw__wb *b, long long v, char lead)
     if (v < 0) t[--n] = '-';
     if (lead) t[--n] = lead;
     pw__wb_put(b, t + n, sizeof t - (size_t)n);
-}
-
-/* v * 10^x with exact powers of ten (deterministic: only + - * /). */
-PW__DEF double pw__num_mul10(double v, int x)
-{
-    while (x > 22) {
-        v *= 1e22;
-        x -= 22;
-    }
-    while (x < -22) {
-        v /= 1e22;
-        x += 22;
-    }
-    return x >= 0 ? v * pw__num_pow10[x] : v / pw__num_pow10[-x];
 }
 
 /* Nine significant digits of |x| > 0 as an integer in [1e8, 1e9), and the

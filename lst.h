@@ -11,33 +11,33 @@
  *   2010: src/common/deflate.h, zlib (RFC 1950) and deflate (RFC 1951) compression and
  *   3007: src/common/png.h, PNG writer and reader, and the image front end.
  *   3565: src/common/text.h, locale-independent number parsing and formatting, a line s
- *   3988: src/common/mesh.h, polygon meshes as flat arrays, and their file formats.
- *   5517: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
- *   6046: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
- *   6470: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
- *   6657: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
- *   6742: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
- *   8005: src/common/raster.h, exact scan conversion of 2D triangles.
- *   8479: src/common/render.h, a small deterministic software renderer for textured trian
- *  10246: src/common/atlas.h, texture atlases of triangle meshes — charts, packing, ba
- *  12248: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
- *  13009: src/common/tetmesh.h, the tetrahedral mesh that lapped solid textures work on, a
- *  13493: src/common/tetio.h, tetrahedral mesh files, TetGen .node/.ele and MEDIT .mesh.
- *  13985: src/common/bisect.h, graded, conforming tetrahedral meshes of a box by newest-v
- *  14305: src/common/stuffing.h, the built-in tetrahedralizer of lst.h, so that no external
- *  17438: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
- *  17581: src/common/pca.h, principal component analysis of vectors streamed one at a 
- *  17768: src/common/glue.h, what every method header needs between its public types an
- *  17981: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  18645: src/lst/core.c, lst.h's glue to the shared core, its defaults, the convers
- *  18978: src/lst/exemplar.c, solid exemplars (§5): sampling, the procedural exemplars 
- *  19509: src/lst/field.c, §5.2.2, the fields that orient and scale the pastes. The 
- *  20717: src/lst/paste.c, §5.2.3-5.2.7, filling the model. Each paste picks a rando
- *  21698: src/lst/render.c, §5.1, showing a model. Every point of a tetrahedron is th
- *  22595: src/lst/cut.c, §5.1.1, cutting a model along the zero set of a scalar fi
- *  23200: src/lst/builtin.c, the tetrahedralizer entry point, checks of caller meshes, 
- *  23722: src/lst/io.c, the model file, the constraint files and the file convenie
- *  24564: src/lst/export.c, the visible boundary with a baked texture atlas, for glTF.
+ *   3978: src/common/mesh.h, polygon meshes as flat arrays, and their file formats.
+ *   5507: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
+ *   6036: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
+ *   6460: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
+ *   6647: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
+ *   6732: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
+ *   7995: src/common/raster.h, exact scan conversion of 2D triangles.
+ *   8469: src/common/render.h, a small deterministic software renderer for textured trian
+ *  10236: src/common/atlas.h, texture atlases of triangle meshes — charts, packing, ba
+ *  12238: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
+ *  12999: src/common/tetmesh.h, the tetrahedral mesh that lapped solid textures work on, a
+ *  13483: src/common/tetio.h, tetrahedral mesh files, TetGen .node/.ele and MEDIT .mesh.
+ *  13975: src/common/bisect.h, graded, conforming tetrahedral meshes of a box by newest-v
+ *  14295: src/common/stuffing.h, the built-in tetrahedralizer of lst.h, so that no external
+ *  17428: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
+ *  17571: src/common/pca.h, principal component analysis of vectors streamed one at a 
+ *  17758: src/common/glue.h, what every method header needs between its public types an
+ *  17971: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  18635: src/lst/core.c, lst.h's glue to the shared core, its defaults, the convers
+ *  18968: src/lst/exemplar.c, solid exemplars (§5): sampling, the procedural exemplars 
+ *  19499: src/lst/field.c, §5.2.2, the fields that orient and scale the pastes. The 
+ *  20707: src/lst/paste.c, §5.2.3-5.2.7, filling the model. Each paste picks a rando
+ *  21688: src/lst/render.c, §5.1, showing a model. Every point of a tetrahedron is th
+ *  22585: src/lst/cut.c, §5.1.1, cutting a model along the zero set of a scalar fi
+ *  23190: src/lst/builtin.c, the tetrahedralizer entry point, checks of caller meshes, 
+ *  23712: src/lst/io.c, the model file, the constraint files and the file convenie
+ *  24554: src/lst/export.c, the visible boundary with a baked texture atlas, for glTF.
  */
 /* lst.h - lapped solid textures: solid exemplars pasted inside a model.
  *
@@ -3576,6 +3576,20 @@ PW__DEF int pw_image_save(const char *path, const pw_image *img, pw_err *e)
 static const double pw__num_pow10[23] = {1e0,  1e1,  1e2,  1e3,  1e4,  1e5,  1e6,  1e7,  1e8,  1e9,  1e10, 1e11,
                                          1e12, 1e13, 1e14, 1e15, 1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22};
 
+/* v * 10^x with exact powers of ten (deterministic: only + - * /). */
+PW__DEF double pw__num_mul10(double v, int x)
+{
+    while (x > 22) {
+        v *= 1e22;
+        x -= 22;
+    }
+    while (x < -22) {
+        v /= 1e22;
+        x += 22;
+    }
+    return x >= 0 ? v * pw__num_pow10[x] : v / pw__num_pow10[-x];
+}
+
 /* m * 10^x. Powers of ten up to 1e22 are exact doubles, so the common case
  * (up to 17 significant digits, small exponent) is one rounding, and the
  * shortest "%.9g" text of a float reads back to the same float. */
@@ -3585,17 +3599,7 @@ PW__DEF double pw__num_scale10(uint64_t m, long x, int neg)
     if (m == 0) x = 0;
     if (x > 400) v = HUGE_VAL;  /* m >= 1, so at least 1e400 */
     else if (x < -400) v = 0.0; /* m < 1e18, so below 1e-382 */
-    else {
-        while (x > 22) {
-            v *= 1e22;
-            x -= 22;
-        }
-        while (x < -22) {
-            v /= 1e22;
-            x += 22;
-        }
-        v = x >= 0 ? v * pw__num_pow10[x] : v / pw__num_pow10[-x];
-    }
+    else v = pw__num_mul10(v, (int)x);
     return neg ? -v : v;
 }
 
@@ -3879,20 +3883,6 @@ PW__DEF void pw__wb_int(pw__wb *b, long long v, char lead)
     if (v < 0) t[--n] = '-';
     if (lead) t[--n] = lead;
     pw__wb_put(b, t + n, sizeof t - (size_t)n);
-}
-
-/* v * 10^x with exact powers of ten (deterministic: only + - * /). */
-PW__DEF double pw__num_mul10(double v, int x)
-{
-    while (x > 22) {
-        v *= 1e22;
-        x -= 22;
-    }
-    while (x < -22) {
-        v /= 1e22;
-        x += 22;
-    }
-    return x >= 0 ? v * pw__num_pow10[x] : v / pw__num_pow10[-x];
 }
 
 /* Nine significant digits of |x| > 0 as an integer in [1e8, 1e9), and the

@@ -11,36 +11,36 @@
  *   1953: src/common/deflate.h, zlib (RFC 1950) and deflate (RFC 1951) compression and
  *   2950: src/common/png.h, PNG writer and reader, and the image front end.
  *   3508: src/common/text.h, locale-independent number parsing and formatting, a line s
- *   3931: src/common/mesh.h, polygon meshes as flat arrays, and their file formats.
- *   5460: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
- *   5989: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
- *   6413: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
- *   7676: src/common/zsparse.h, complex Hermitian sparse systems, solved by conjugate grad
- *   7936: src/common/raster.h, exact scan conversion of 2D triangles.
- *   8410: src/common/render.h, a small deterministic software renderer for textured trian
- *  10177: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
- *  10364: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
- *  10449: src/common/atlas.h, texture atlases of triangle meshes — charts, packing, ba
- *  12451: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
- *  13215: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
- *  13976: src/pgp/tile3.h, sampling a material-space tile (Ray et al. 2009, §2: "a 3
- *  14084: src/common/glue.h, what every method header needs between its public types an
- *  14297: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  14961: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
- *  15458: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
- *  15944: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
- *  16087: src/common/kdtree.h, nearest-neighbour search among n points of dimension d, wi
- *  16430: src/common/pca.h, principal component analysis of vectors streamed one at a 
- *  16617: src/pgp/core.c, pgp.h's glue to the shared core, its defaults, and the map
- *  16874: src/pgp/field.c, §2.1 effect areas and §2.2 interpolation of the constrai
- *  17264: src/pgp/solve.c, §2.3 the periodic global parameterization, the recovery o
- *  18094: src/pgp/edit.c, the public editing calls of a mapping. §2.1 (Ray, Lévy, 
- *  18239: src/pgp/render.c, §3 rendering, and a cleaner treatment of the vortices.
- *  18671: src/pgp/builtin.c, built-in meshes and material-space tiles for demos and tes
- *  18940: src/pgp/io.c, files and memory for pgp.h: material-space tiles (NRRD, or
- *  19400: src/pgp/export.c, the mapping for other programs. A viewer that knows nothin
- *  19626: src/pgp/morph.c, the inputs of §1 (keys brought to the tile size, made til
- *  20305: src/pgp/synth.c, §1.2 constrained tile synthesis, and the whole of §1: ke
+ *   3921: src/common/mesh.h, polygon meshes as flat arrays, and their file formats.
+ *   5450: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
+ *   5979: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
+ *   6403: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
+ *   7666: src/common/zsparse.h, complex Hermitian sparse systems, solved by conjugate grad
+ *   7926: src/common/raster.h, exact scan conversion of 2D triangles.
+ *   8400: src/common/render.h, a small deterministic software renderer for textured trian
+ *  10167: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
+ *  10354: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
+ *  10439: src/common/atlas.h, texture atlases of triangle meshes — charts, packing, ba
+ *  12441: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
+ *  13205: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
+ *  13966: src/pgp/tile3.h, sampling a material-space tile (Ray et al. 2009, §2: "a 3
+ *  14074: src/common/glue.h, what every method header needs between its public types an
+ *  14287: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  14951: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
+ *  15448: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
+ *  15934: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
+ *  16077: src/common/kdtree.h, nearest-neighbour search among n points of dimension d, wi
+ *  16420: src/common/pca.h, principal component analysis of vectors streamed one at a 
+ *  16607: src/pgp/core.c, pgp.h's glue to the shared core, its defaults, and the map
+ *  16864: src/pgp/field.c, §2.1 effect areas and §2.2 interpolation of the constrai
+ *  17254: src/pgp/solve.c, §2.3 the periodic global parameterization, the recovery o
+ *  18084: src/pgp/edit.c, the public editing calls of a mapping. §2.1 (Ray, Lévy, 
+ *  18229: src/pgp/render.c, §3 rendering, and a cleaner treatment of the vortices.
+ *  18661: src/pgp/builtin.c, built-in meshes and material-space tiles for demos and tes
+ *  18930: src/pgp/io.c, files and memory for pgp.h: material-space tiles (NRRD, or
+ *  19390: src/pgp/export.c, the mapping for other programs. A viewer that knows nothin
+ *  19616: src/pgp/morph.c, the inputs of §1 (keys brought to the tile size, made til
+ *  20295: src/pgp/synth.c, §1.2 constrained tile synthesis, and the whole of §1: ke
  */
 /* pgp.h - material-space texturing with a periodic global parameterization.
  *
@@ -3519,6 +3519,20 @@ PW__DEF int pw_image_save(const char *path, const pw_image *img, pw_err *e)
 static const double pw__num_pow10[23] = {1e0,  1e1,  1e2,  1e3,  1e4,  1e5,  1e6,  1e7,  1e8,  1e9,  1e10, 1e11,
                                          1e12, 1e13, 1e14, 1e15, 1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22};
 
+/* v * 10^x with exact powers of ten (deterministic: only + - * /). */
+PW__DEF double pw__num_mul10(double v, int x)
+{
+    while (x > 22) {
+        v *= 1e22;
+        x -= 22;
+    }
+    while (x < -22) {
+        v /= 1e22;
+        x += 22;
+    }
+    return x >= 0 ? v * pw__num_pow10[x] : v / pw__num_pow10[-x];
+}
+
 /* m * 10^x. Powers of ten up to 1e22 are exact doubles, so the common case
  * (up to 17 significant digits, small exponent) is one rounding, and the
  * shortest "%.9g" text of a float reads back to the same float. */
@@ -3528,17 +3542,7 @@ PW__DEF double pw__num_scale10(uint64_t m, long x, int neg)
     if (m == 0) x = 0;
     if (x > 400) v = HUGE_VAL;  /* m >= 1, so at least 1e400 */
     else if (x < -400) v = 0.0; /* m < 1e18, so below 1e-382 */
-    else {
-        while (x > 22) {
-            v *= 1e22;
-            x -= 22;
-        }
-        while (x < -22) {
-            v /= 1e22;
-            x += 22;
-        }
-        v = x >= 0 ? v * pw__num_pow10[x] : v / pw__num_pow10[-x];
-    }
+    else v = pw__num_mul10(v, (int)x);
     return neg ? -v : v;
 }
 
@@ -3822,20 +3826,6 @@ PW__DEF void pw__wb_int(pw__wb *b, long long v, char lead)
     if (v < 0) t[--n] = '-';
     if (lead) t[--n] = lead;
     pw__wb_put(b, t + n, sizeof t - (size_t)n);
-}
-
-/* v * 10^x with exact powers of ten (deterministic: only + - * /). */
-PW__DEF double pw__num_mul10(double v, int x)
-{
-    while (x > 22) {
-        v *= 1e22;
-        x -= 22;
-    }
-    while (x < -22) {
-        v /= 1e22;
-        x += 22;
-    }
-    return x >= 0 ? v * pw__num_pow10[x] : v / pw__num_pow10[-x];
 }
 
 /* Nine significant digits of |x| > 0 as an integer in [1e8, 1e9), and the

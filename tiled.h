@@ -11,24 +11,24 @@
  *   1732: src/common/deflate.h, zlib (RFC 1950) and deflate (RFC 1951) compression and
  *   2731: src/common/png.h, PNG writer and reader, and the image front end.
  *   3289: src/common/text.h, locale-independent number parsing and formatting, a line s
- *   3712: src/common/mesh.h, polygon meshes as flat arrays, and their file formats.
- *   5241: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
- *   5770: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
- *   6194: src/common/subdiv.h, Catmull-Clark subdivision (Catmull and Clark 1978) with
- *   6333: src/common/raster.h, exact scan conversion of 2D triangles.
- *   6809: src/common/render.h, a small deterministic software renderer for textured trian
- *   8576: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
- *   9073: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
- *   9559: src/common/glue.h, what every method header needs between its public types an
- *   9772: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  10436: src/tiled/core.c, tiled.h's glue to the shared core, its defaults, result
- *  10525: src/tiled/layout.c, ch. III.1, the boundary types and the tiled texture they
- *  10797: src/tiled/map.c, ch. III.2, the texture mapping algorithm of Fig. 29
- *  11046: src/tiled/synth.c, ch. III.1.3, tiled texture image synthesis: an edge-matche
- *  11428: src/tiled/validate.c, checks a hand-made tiled texture (the thesis's Figs. 39,
- *  11556: src/tiled/builtin.c, built-in meshes and exemplars for demos and tests: the
- *  11753: src/tiled/render.c, a software rendering of a mapped mesh (the thesis rendered
- *  11976: src/tiled/io.c, files. Meshes and exemplars in; the mapped mesh with its t
+ *   3702: src/common/mesh.h, polygon meshes as flat arrays, and their file formats.
+ *   5231: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
+ *   5760: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
+ *   6184: src/common/subdiv.h, Catmull-Clark subdivision (Catmull and Clark 1978) with
+ *   6323: src/common/raster.h, exact scan conversion of 2D triangles.
+ *   6799: src/common/render.h, a small deterministic software renderer for textured trian
+ *   8566: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
+ *   9063: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
+ *   9549: src/common/glue.h, what every method header needs between its public types an
+ *   9762: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  10426: src/tiled/core.c, tiled.h's glue to the shared core, its defaults, result
+ *  10515: src/tiled/layout.c, ch. III.1, the boundary types and the tiled texture they
+ *  10787: src/tiled/map.c, ch. III.2, the texture mapping algorithm of Fig. 29
+ *  11036: src/tiled/synth.c, ch. III.1.3, tiled texture image synthesis: an edge-matche
+ *  11418: src/tiled/validate.c, checks a hand-made tiled texture (the thesis's Figs. 39,
+ *  11546: src/tiled/builtin.c, built-in meshes and exemplars for demos and tests: the
+ *  11743: src/tiled/render.c, a software rendering of a mapped mesh (the thesis rendered
+ *  11966: src/tiled/io.c, files. Meshes and exemplars in; the mapped mesh with its t
  */
 /* tiled.h - seamless, singularity-free tiled textures on quad meshes.
  *
@@ -3300,6 +3300,20 @@ PW__DEF int pw_image_save(const char *path, const pw_image *img, pw_err *e)
 static const double pw__num_pow10[23] = {1e0,  1e1,  1e2,  1e3,  1e4,  1e5,  1e6,  1e7,  1e8,  1e9,  1e10, 1e11,
                                          1e12, 1e13, 1e14, 1e15, 1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22};
 
+/* v * 10^x with exact powers of ten (deterministic: only + - * /). */
+PW__DEF double pw__num_mul10(double v, int x)
+{
+    while (x > 22) {
+        v *= 1e22;
+        x -= 22;
+    }
+    while (x < -22) {
+        v /= 1e22;
+        x += 22;
+    }
+    return x >= 0 ? v * pw__num_pow10[x] : v / pw__num_pow10[-x];
+}
+
 /* m * 10^x. Powers of ten up to 1e22 are exact doubles, so the common case
  * (up to 17 significant digits, small exponent) is one rounding, and the
  * shortest "%.9g" text of a float reads back to the same float. */
@@ -3309,17 +3323,7 @@ PW__DEF double pw__num_scale10(uint64_t m, long x, int neg)
     if (m == 0) x = 0;
     if (x > 400) v = HUGE_VAL;  /* m >= 1, so at least 1e400 */
     else if (x < -400) v = 0.0; /* m < 1e18, so below 1e-382 */
-    else {
-        while (x > 22) {
-            v *= 1e22;
-            x -= 22;
-        }
-        while (x < -22) {
-            v /= 1e22;
-            x += 22;
-        }
-        v = x >= 0 ? v * pw__num_pow10[x] : v / pw__num_pow10[-x];
-    }
+    else v = pw__num_mul10(v, (int)x);
     return neg ? -v : v;
 }
 
@@ -3603,20 +3607,6 @@ PW__DEF void pw__wb_int(pw__wb *b, long long v, char lead)
     if (v < 0) t[--n] = '-';
     if (lead) t[--n] = lead;
     pw__wb_put(b, t + n, sizeof t - (size_t)n);
-}
-
-/* v * 10^x with exact powers of ten (deterministic: only + - * /). */
-PW__DEF double pw__num_mul10(double v, int x)
-{
-    while (x > 22) {
-        v *= 1e22;
-        x -= 22;
-    }
-    while (x < -22) {
-        v /= 1e22;
-        x += 22;
-    }
-    return x >= 0 ? v * pw__num_pow10[x] : v / pw__num_pow10[-x];
 }
 
 /* Nine significant digits of |x| > 0 as an integer in [1e8, 1e9), and the

@@ -12,6 +12,20 @@
 static const double pw__num_pow10[23] = {1e0,  1e1,  1e2,  1e3,  1e4,  1e5,  1e6,  1e7,  1e8,  1e9,  1e10, 1e11,
                                          1e12, 1e13, 1e14, 1e15, 1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22};
 
+/* v * 10^x with exact powers of ten (deterministic: only + - * /). */
+PW__DEF double pw__num_mul10(double v, int x)
+{
+    while (x > 22) {
+        v *= 1e22;
+        x -= 22;
+    }
+    while (x < -22) {
+        v /= 1e22;
+        x += 22;
+    }
+    return x >= 0 ? v * pw__num_pow10[x] : v / pw__num_pow10[-x];
+}
+
 /* m * 10^x. Powers of ten up to 1e22 are exact doubles, so the common case
  * (up to 17 significant digits, small exponent) is one rounding, and the
  * shortest "%.9g" text of a float reads back to the same float. */
@@ -21,17 +35,7 @@ PW__DEF double pw__num_scale10(uint64_t m, long x, int neg)
     if (m == 0) x = 0;
     if (x > 400) v = HUGE_VAL;  /* m >= 1, so at least 1e400 */
     else if (x < -400) v = 0.0; /* m < 1e18, so below 1e-382 */
-    else {
-        while (x > 22) {
-            v *= 1e22;
-            x -= 22;
-        }
-        while (x < -22) {
-            v /= 1e22;
-            x += 22;
-        }
-        v = x >= 0 ? v * pw__num_pow10[x] : v / pw__num_pow10[-x];
-    }
+    else v = pw__num_mul10(v, (int)x);
     return neg ? -v : v;
 }
 
@@ -315,20 +319,6 @@ PW__DEF void pw__wb_int(pw__wb *b, long long v, char lead)
     if (v < 0) t[--n] = '-';
     if (lead) t[--n] = lead;
     pw__wb_put(b, t + n, sizeof t - (size_t)n);
-}
-
-/* v * 10^x with exact powers of ten (deterministic: only + - * /). */
-PW__DEF double pw__num_mul10(double v, int x)
-{
-    while (x > 22) {
-        v *= 1e22;
-        x -= 22;
-    }
-    while (x < -22) {
-        v /= 1e22;
-        x += 22;
-    }
-    return x >= 0 ? v * pw__num_pow10[x] : v / pw__num_pow10[-x];
 }
 
 /* Nine significant digits of |x| > 0 as an integer in [1e8, 1e9), and the
