@@ -2,42 +2,45 @@
  * Do not edit: change the sources and run `make headers`.
  *
  * CONTENTS (line: source, what it holds)
- *     42: src/lst/lst.h, the public API and its documentation
- *    711: src/common/base.h, allocation hooks, result codes, error messages, limits, he
- *   1023: src/common/vec.h, small vector math on float[3] arrays and a 3-float struct.
- *   1137: src/common/rng.h, seeded random numbers with the same output on every platfo
- *   1214: src/common/noise.h, value noise and its fractal sum, for the built-in procedur
- *   1316: src/common/image.h, float images and their file formats.
- *   2010: src/common/deflate.h, zlib (RFC 1950) and deflate (RFC 1951) compression and
- *   3007: src/common/png.h, PNG writer and reader, and the image front end.
- *   3565: src/common/text.h, locale-independent number parsing and formatting, a line s
- *   3978: src/common/mesh.h, polygon meshes as flat arrays, and their file formats.
- *   5507: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
- *   6036: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
- *   6460: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
- *   6647: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
- *   6732: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
- *   7995: src/common/raster.h, exact scan conversion of 2D triangles.
- *   8469: src/common/render.h, a small deterministic software renderer for textured trian
- *  10236: src/common/atlas.h, texture atlases of triangle meshes — charts, packing, ba
- *  12238: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
- *  12999: src/common/tetmesh.h, the tetrahedral mesh that lapped solid textures work on, a
- *  13483: src/common/tetio.h, tetrahedral mesh files, TetGen .node/.ele and MEDIT .mesh.
- *  13975: src/common/bisect.h, graded, conforming tetrahedral meshes of a box by newest-v
- *  14295: src/common/stuffing.h, the built-in tetrahedralizer of lst.h, so that no external
- *  17428: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
- *  17571: src/common/pca.h, principal component analysis of vectors streamed one at a 
- *  17758: src/common/glue.h, what every method header needs between its public types an
- *  17971: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  18635: src/lst/core.c, lst.h's glue to the shared core, its defaults, the convers
- *  18968: src/lst/exemplar.c, solid exemplars (§5): sampling, the procedural exemplars 
- *  19499: src/lst/field.c, §5.2.2, the fields that orient and scale the pastes. The 
- *  20707: src/lst/paste.c, §5.2.3-5.2.7, filling the model. Each paste picks a rando
- *  21688: src/lst/render.c, §5.1, showing a model. Every point of a tetrahedron is th
- *  22585: src/lst/cut.c, §5.1.1, cutting a model along the zero set of a scalar fi
- *  23190: src/lst/builtin.c, the tetrahedralizer entry point, checks of caller meshes, 
- *  23712: src/lst/io.c, the model file, the constraint files and the file convenie
- *  24554: src/lst/export.c, the visible boundary with a baked texture atlas, for glTF.
+ *     45: src/lst/lst.h, the public API and its documentation
+ *    714: src/common/base.h, allocation hooks, result codes, error messages, limits, he
+ *   1026: src/common/vec.h, small vector math on float[3] arrays and a 3-float struct.
+ *   1140: src/common/rng.h, seeded random numbers with the same output on every platfo
+ *   1217: src/common/noise.h, value noise and its fractal sum, for the built-in procedur
+ *   1319: src/common/image.h, float images and their file formats.
+ *   2013: src/common/deflate.h, zlib (RFC 1950) and deflate (RFC 1951) compression and
+ *   3010: src/common/png.h, PNG writer and reader, and the image front end.
+ *   3568: src/common/text.h, locale-independent number parsing and formatting, a line s
+ *   3981: src/common/mesh.h, polygon meshes as flat arrays, and their file formats.
+ *   5510: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
+ *   6039: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
+ *   6463: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
+ *   6650: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
+ *   6735: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
+ *   7998: src/common/raster.h, exact scan conversion of 2D triangles.
+ *   8472: src/common/render.h, a small deterministic software renderer for textured trian
+ *  10239: src/common/atlas.h, texture atlases of triangle meshes — charts, packing, ba
+ *  10428: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
+ *  11346: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
+ *  12044: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
+ *  12280: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
+ *  13041: src/common/tetmesh.h, the tetrahedral mesh that lapped solid textures work on, a
+ *  13525: src/common/tetio.h, tetrahedral mesh files, TetGen .node/.ele and MEDIT .mesh.
+ *  14017: src/common/bisect.h, graded, conforming tetrahedral meshes of a box by newest-v
+ *  14337: src/common/stuffing.h, the built-in tetrahedralizer of lst.h, so that no external
+ *  17470: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
+ *  17613: src/common/pca.h, principal component analysis of vectors streamed one at a 
+ *  17800: src/common/glue.h, what every method header needs between its public types an
+ *  18013: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  18677: src/lst/core.c, lst.h's glue to the shared core, its defaults, the convers
+ *  19010: src/lst/exemplar.c, solid exemplars (§5): sampling, the procedural exemplars 
+ *  19541: src/lst/field.c, §5.2.2, the fields that orient and scale the pastes. The 
+ *  20749: src/lst/paste.c, §5.2.3-5.2.7, filling the model. Each paste picks a rando
+ *  21730: src/lst/render.c, §5.1, showing a model. Every point of a tetrahedron is th
+ *  22627: src/lst/cut.c, §5.1.1, cutting a model along the zero set of a scalar fi
+ *  23232: src/lst/builtin.c, the tetrahedralizer entry point, checks of caller meshes, 
+ *  23754: src/lst/io.c, the model file, the constraint files and the file convenie
+ *  24596: src/lst/export.c, the visible boundary with a baked texture atlas, for glTF.
  */
 /* lst.h - lapped solid textures: solid exemplars pasted inside a model.
  *
@@ -10244,57 +10247,20 @@ PW__DEF int pw_render_frame(const pw_alloc *a, const pw_frame *f, pw_image *out,
  * flattened and arranged in the unit square, and the texture is baked into
  * them. lapped.h bakes its pastes this way; pgp.h and lst.h bake their
  * renderings for glTF export with the same code.
+ * renderings for glTF export with the same code.
  *
- * Charts (pw_atlas_charts_build). A chart is seeded at the lowest-index
- * unassigned triangle, placed isometrically, and grown from a queue of
- * neighbouring faces ordered by the distance of their centroid from the
- * seed's (a face the chart already borders on two sides first). A face
- * joins when
- *   - its normal is within cone_angle of the seed's (otherwise it is
- *     refused for this chart for good);
- *   - the chart stays a disc: across one shared edge its third vertex
- *     must be new, across two it fills a notch, across three it would
- *     close a sphere (otherwise it waits until another neighbour joins);
- *   - its flattened image (the new vertex placed by Maillot's prediction,
- *     the centroid of similar-triangle extensions of the chart's edges
- *     around it) is counter-clockwise with an area not vanishing next to
- *     its 3D area, and overlaps no flattened chart triangle by more than
- *     1e-7 of the mean edge (separating axes against the triangles that a
- *     spatial hash of the chart's flattened triangles, cells of the mean
- *     edge length, returns). Otherwise it is deferred and tried again after
- *     the layout next changes.
- * Each time the chart has grown by half, the vertices added since the
- * previous time are relaxed by least-squares conformal maps (LSCM, the
- * lapped authors' hindsight for isotropic parametrisation) with the rest
- * fixed. When nothing more can join, the whole chart is flattened by LSCM
- * with two pinned vertices (far apart in 3D), solved with pw_lsq_solve
- * warm-started from the current layout, and scaled so that its 2D area
- * equals its 3D area. After every relaxation and after the final
- * flattening the layout is checked in growth order (hash rebuilt from
- * scratch): at the first face that is flipped, degenerate, or overlaps an
- * earlier face, the chart is cut; that face and all faces grown after it
- * return to the pool for later charts (growth stops). The prefix before it
- * is a disc whose layout was just checked, so a cut never leaves an invalid
- * chart; after a cut in the final flattening, the chart is flattened once
- * more and checked (and cut) again. A seed alone is always a valid chart,
- * so every triangle ends in exactly one chart.
- *
- * Packing (pw_atlas_pack): each chart turned so that its minimal-area
- * enclosing rectangle (rotating calipers on its convex hull) is
- * axis-aligned; one scale for all (texels per mesh unit: the texel density
- * is uniform); bottom-left fill of the charts' covered cells, dilated by
- * the gutter, on a bitmap of the atlas, largest chart first, in the
- * quarter turn that ends lowest; a binary search for the largest scale at
- * which everything fits. Charts are at least `gutter` pixels apart.
- *
- * Baking (pw_atlas_bake): every texel whose centre a chart triangle covers
- * (pw_raster_tri) gets the caller's texture there; texels that a bilinear
- * lookup inside a chart can reach but no triangle covers get the texture at
- * the nearest point of the nearest triangle; `gutter` rounds of dilation
- * fill the gutter with the nearest chart texel.
- *
- * Export: pw_atlas_mesh makes the pw_mesh (per-corner coordinates,
- * deduplicated) that the OBJ and glTF writers take. */
+ * One file per stage, in the order they run (each file describes its
+ * stage):
+ *   atlas_charts.h  the charts: grown face by face, flattened by LSCM
+ *                   (pw_atlas_charts_build);
+ *   atlas_pack.h    the charts packed into the unit square at one scale
+ *                   (pw_atlas_pack; pw_atlas_layout runs both);
+ *   atlas_bake.h    the texture baked into the packed charts, then the
+ *                   gutter (pw_atlas_bake).
+ * This file holds what they share: the options every header exposes, the
+ * job they all take, and the export of the result (pw_atlas_mesh makes the
+ * pw_mesh, per-corner coordinates deduplicated, that the OBJ and glTF
+ * writers take). */
 #ifndef PW__ATLAS_V1
 #define PW__ATLAS_V1
 
@@ -10380,6 +10346,124 @@ PW__DEF int pw__atlas_tris_overlap(const double *a, const double *b, double tol)
         }
     return 1;
 }
+
+/* ---- the job ----------------------------------------------------------------- */
+
+/* One atlas of a mesh: the allocator, the mesh m, the charts' cone (in
+ * degrees), the image's size (size x size pixels) and gutter (pixels
+ * between charts), and the progress; what pw_atlas_layout, pw_atlas_pack
+ * and pw_atlas_bake share. */
+typedef struct pw_atlas_job {
+    const pw_alloc *a;
+    const pw_trimesh *m;
+    float cone;
+    int size, gutter;
+    const pw_progress *prog;
+} pw_atlas_job;
+
+/* ---- export ------------------------------------------------------------------- */
+
+/* Deduplicated texture coordinates: index of each corner's (u, v) in the
+ * list of distinct pairs, in order of first appearance (open addressing
+ * on the pairs' bits). */
+PW__DEF int pw__atlas_dedup_uvs(const pw_alloc *a, const float *uvs, int nc, pw_mesh *pm, pw_err *e)
+{
+    float *uv = pm->uv;
+    int *fuv = pm->fuv;
+    size_t cap = 16, mask, k;
+    int *slot, c, n = 0;
+    while (cap < 2 * (size_t)nc) cap <<= 1;
+    mask = cap - 1;
+    slot = (int *)pw_alloc_array(a, cap, sizeof(int), "OBJ texture coordinates", e);
+    if (!slot) return PW_ERR_NOMEM;
+    for (k = 0; k < cap; k++) slot[k] = -1;
+    for (c = 0; c < nc; c++) {
+        uint32_t bu, bv;
+        memcpy(&bu, uvs + 2 * c, 4);
+        memcpy(&bv, uvs + 2 * c + 1, 4);
+        for (k = ((size_t)bu * 2654435761u ^ (size_t)bv * 40503u) & mask;; k = (k + 1) & mask) {
+            int s = slot[k];
+            if (s < 0) {
+                slot[k] = n;
+                uv[2 * n] = uvs[2 * c];
+                uv[2 * n + 1] = uvs[2 * c + 1];
+                fuv[c] = n++;
+                break;
+            }
+            if (!memcmp(uv + 2 * s, uvs + 2 * c, 2 * sizeof(float))) {
+                fuv[c] = s;
+                break;
+            }
+        }
+    }
+    pw_free(a, slot);
+    pm->nuv = n;
+    return PW_OK;
+}
+
+/* The triangulated mesh with per-corner atlas coordinates uvs (m->nf * 6) as
+ * a pw_mesh for the OBJ and glTF writers (positions borrowed); free fstart,
+ * uv and fuv. */
+PW__DEF int pw_atlas_mesh(const pw_alloc *a, const pw_trimesh *m, const float *uvs, pw_mesh *pm, pw_err *e)
+{
+    int f, k;
+    memset(pm, 0, sizeof *pm);
+    for (k = 0; k < 6 * m->nf; k++)
+        if (!pw_is_finite(uvs[k]))
+            return pw_fail(e, PW_ERR_INVALID, "atlas: coordinate %d of triangle %d is not finite", k % 6, k / 6);
+    pm->nv = m->nv;
+    pm->pos = (float *)m->pos;
+    pm->nf = m->nf;
+    pm->fv = m->tri;
+    pm->fstart = (int *)pw_alloc_array(a, (size_t)m->nf + 1, sizeof(int), "OBJ faces", e);
+    pm->uv = (float *)pw_alloc_array(a, (size_t)m->nf * 6, sizeof(float), "OBJ texture coordinates", e);
+    pm->fuv = (int *)pw_alloc_array(a, (size_t)m->nf * 3, sizeof(int), "OBJ texture coordinates", e);
+    if (!pm->fstart || !pm->uv || !pm->fuv) return PW_ERR_NOMEM;
+    for (f = 0; f <= m->nf; f++) pm->fstart[f] = 3 * f;
+    return pw__atlas_dedup_uvs(a, uvs, 3 * m->nf, pm, e);
+}
+
+#endif /* PW__ATLAS_V1 */
+
+/* ---- shared module src/common/atlas_charts.h ---- */
+/* atlas_charts: the charts of a texture atlas (lapped textures §4).
+ *
+ * A chart is seeded at the lowest-index
+ * unassigned triangle, placed isometrically, and grown from a queue of
+ * neighbouring faces ordered by the distance of their centroid from the
+ * seed's (a face the chart already borders on two sides first). A face
+ * joins when
+ *   - its normal is within cone_angle of the seed's (otherwise it is
+ *     refused for this chart for good);
+ *   - the chart stays a disc: across one shared edge its third vertex
+ *     must be new, across two it fills a notch, across three it would
+ *     close a sphere (otherwise it waits until another neighbour joins);
+ *   - its flattened image (the new vertex placed by Maillot's prediction,
+ *     the centroid of similar-triangle extensions of the chart's edges
+ *     around it) is counter-clockwise with an area not vanishing next to
+ *     its 3D area, and overlaps no flattened chart triangle by more than
+ *     1e-7 of the mean edge (separating axes against the triangles that a
+ *     spatial hash of the chart's flattened triangles, cells of the mean
+ *     edge length, returns). Otherwise it is deferred and tried again after
+ *     the layout next changes.
+ * Each time the chart has grown by half, the vertices added since the
+ * previous time are relaxed by least-squares conformal maps (LSCM, the
+ * lapped authors' hindsight for isotropic parametrisation) with the rest
+ * fixed. When nothing more can join, the whole chart is flattened by LSCM
+ * with two pinned vertices (far apart in 3D), solved with pw_lsq_solve
+ * warm-started from the current layout, and scaled so that its 2D area
+ * equals its 3D area. After every relaxation and after the final
+ * flattening the layout is checked in growth order (hash rebuilt from
+ * scratch): at the first face that is flipped, degenerate, or overlaps an
+ * earlier face, the chart is cut; that face and all faces grown after it
+ * return to the pool for later charts (growth stops). The prefix before it
+ * is a disc whose layout was just checked, so a cut never leaves an invalid
+ * chart; after a cut in the final flattening, the chart is flattened once
+ * more and checked (and cut) again. A seed alone is always a valid chart,
+ * so every triangle ends in exactly one chart. */
+#ifndef PW__ATLAS_CHARTS_V1
+#define PW__ATLAS_CHARTS_V1
+
 
 /* ---- spatial hash of a chart's flattened triangles ---------------------- */
 
@@ -11226,12 +11310,14 @@ PW__DEF int pw__atlas_grower_init(pw__atlas_grower *G, const pw_alloc *a, const 
     return PW_OK;
 }
 
-/* §4: the charts. Each is seeded at the lowest-index unassigned triangle
- * and grown until nothing more can join; every triangle ends in exactly
- * one chart (a seed always forms a chart by itself). */
-PW__DEF int pw_atlas_charts_build(const pw_alloc *a, const pw_trimesh *m, double cone_deg, const pw_progress *prog,
-                                  pw_atlas_charts *C, pw_err *e)
+/* §4: the charts of job->m (job->cone in degrees). Each is seeded at the
+ * lowest-index unassigned triangle and grown until nothing more can join;
+ * every triangle ends in exactly one chart (a seed always forms a chart by
+ * itself). */
+PW__DEF int pw_atlas_charts_build(const pw_atlas_job *job, pw_atlas_charts *C, pw_err *e)
 {
+    const pw_alloc *a = job->a;
+    const pw_trimesh *m = job->m;
     pw__atlas_grower G;
     int f, r, nfaces = 0;
     memset(C, 0, sizeof *C);
@@ -11239,7 +11325,7 @@ PW__DEF int pw_atlas_charts_build(const pw_alloc *a, const pw_trimesh *m, double
     C->faces = (int *)pw_alloc_array(a, (size_t)m->nf, sizeof(int), "charts", e);
     C->uv = (double *)pw_alloc_array(a, (size_t)m->nf * 6, sizeof(double), "charts", e);
     r = pw_grow(a, (void **)&C->start, &C->scap, 1, sizeof(int), "charts", e);
-    if (!C->chart || !C->faces || !C->uv || r || pw__atlas_grower_init(&G, a, m, cone_deg, C->chart, e)) {
+    if (!C->chart || !C->faces || !C->uv || r || pw__atlas_grower_init(&G, a, m, job->cone, C->chart, e)) {
         pw_atlas_charts_free(a, C);
         return PW_ERR_NOMEM;
     }
@@ -11248,41 +11334,44 @@ PW__DEF int pw_atlas_charts_build(const pw_alloc *a, const pw_trimesh *m, double
         if (C->chart[f] >= 0) continue;
         G.cur = C->n;
         if ((r = pw__atlas_grow_chart(&G, f)) || (r = pw__atlas_chart_finish(&G, C, &nfaces))) break;
-        r = pw_report(prog, 0.5f * (float)nfaces / (float)m->nf, "atlas charts", e);
+        r = pw_report(job->prog, 0.5f * (float)nfaces / (float)m->nf, "atlas charts", e);
     }
     pw__atlas_grower_free(&G);
     if (r != PW_OK) pw_atlas_charts_free(a, C);
     return r;
 }
 
-/* ---- packing --------------------------------------------------------------- */
+#endif /* PW__ATLAS_CHARTS_V1 */
 
-/* The paper let the user arrange the charts ("heuristic algorithms ...
+/* ---- shared module src/common/atlas_pack.h ---- */
+/* atlas_pack: the charts of an atlas packed into the unit square.
+ *
+ * The paper let the user arrange the charts ("heuristic algorithms ...
  * produce significantly worse results than a trained human"); here they
  * are packed automatically. Each chart is turned so that its minimal-area
- * enclosing rectangle is axis-aligned, and all charts share one scale
- * (texels per mesh unit, so the texel density is uniform over the mesh).
- * The charts, largest first, are placed bottom-left-fill on a bitmap of
- * the atlas: each as the cells it covers, dilated by the gutter, stored as
- * runs per row, at the lowest position where those cells are free, in
- * whichever of four quarter turns ends lowest. Unlike a skyline, the
- * bitmap lets small charts fill the room left beside, under and inside
- * large irregular ones. A binary search finds the largest scale at which
- * all charts fit with `gutter` pixels between charts (floor(gutter/2)
- * to the left of and below each chart, the rest to the right and above,
- * so also to the image border). Beyond 1024 pixels the grid's cells are
- * several pixels wide and both parts are rounded up to whole cells. */
-/* One atlas of a mesh: the allocator, the mesh m, the charts' cone (in
- * degrees), the image's size (size x size pixels) and gutter (pixels
- * between charts), and the progress; what pw_atlas_layout, pw_atlas_pack
- * and pw_atlas_bake share. */
-typedef struct pw_atlas_job {
-    const pw_alloc *a;
-    const pw_trimesh *m;
-    float cone;
-    int size, gutter;
-    const pw_progress *prog;
-} pw_atlas_job;
+ * enclosing rectangle (rotating calipers on its convex hull) is
+ * axis-aligned, and all charts share one scale (texels per mesh unit, so
+ * the texel density is uniform over the mesh). The charts, largest first,
+ * are placed bottom-left-fill on a bitmap of the atlas: each as the cells
+ * it covers, dilated by the gutter, stored as runs per row, at the lowest
+ * position where those cells are free, in whichever of four quarter turns
+ * ends lowest. Unlike a skyline, the bitmap lets small charts fill the
+ * room left beside, under and inside large irregular ones. A binary search
+ * finds the largest scale at which all charts fit with `gutter` pixels
+ * between charts (floor(gutter/2) to the left of and below each chart, the
+ * rest to the right and above, so also to the image border). Beyond 1024
+ * pixels the grid's cells are several pixels wide and both parts are
+ * rounded up to whole cells.
+ *
+ * Nothing here depends on how the charts were made: any partition of a
+ * triangle mesh into flattened charts (pw_atlas_charts) packs the same way.
+ * pw_atlas_layout, at the end, runs the two stages that make an atlas's
+ * coordinates: charts, then packing. */
+#ifndef PW__ATLAS_PACK_V1
+#define PW__ATLAS_PACK_V1
+
+
+/* ---- packing --------------------------------------------------------------- */
 
 typedef struct pw__atlas_packer {
     const pw_trimesh *m;
@@ -11924,6 +12013,46 @@ PW__DEF int pw_atlas_pack(const pw_atlas_job *job, const pw_atlas_charts *C, flo
     return r;
 }
 
+/* ---- layout ------------------------------------------------------------------- */
+
+/* Charts of job->m (job->cone in degrees) packed into a size x size atlas
+ * with `gutter` pixels between them: per-corner coordinates uvs (m->nf *
+ * 6, allocated here), the chart count and the fraction of the image
+ * covered. */
+PW__DEF int pw_atlas_layout(const pw_atlas_job *job, float **uvs, int *ncharts, float *fill, pw_err *e)
+{
+    const pw_alloc *a = job->a;
+    const pw_trimesh *m = job->m;
+    pw_atlas_charts C;
+    int r;
+    *uvs = (float *)pw_alloc_array(a, (size_t)m->nf * 6, sizeof(float), "atlas coordinates", e);
+    if (!*uvs) return PW_ERR_NOMEM;
+    if ((r = pw_atlas_charts_build(job, &C, e)) == PW_OK) {
+        *ncharts = C.n;
+        r = pw_atlas_pack(job, &C, *uvs, fill, e);
+        pw_atlas_charts_free(a, &C);
+    }
+    if (r != PW_OK) {
+        pw_free(a, *uvs);
+        *uvs = NULL;
+    }
+    return r;
+}
+
+#endif /* PW__ATLAS_PACK_V1 */
+
+/* ---- shared module src/common/atlas_bake.h ---- */
+/* atlas_bake: a texture baked into the packed charts of an atlas.
+ *
+ * Every texel whose centre a chart triangle covers
+ * (pw_raster_tri) gets the caller's texture there; texels that a bilinear
+ * lookup inside a chart can reach but no triangle covers get the texture at
+ * the nearest point of the nearest triangle; `gutter` rounds of dilation
+ * fill the gutter with the nearest chart texel. */
+#ifndef PW__ATLAS_BAKE_V1
+#define PW__ATLAS_BAKE_V1
+
+
 /* ---- baking ------------------------------------------------------------------- */
 
 /* The texture at a point of triangle f, barycentrics b (in the triangle's
@@ -12145,95 +12274,8 @@ PW__DEF int pw_atlas_bake(const pw_atlas_job *job, const float *uvs, const pw_at
     pw_free(a, B.id);
     return r;
 }
-/* ---- export ------------------------------------------------------------------- */
 
-/* Deduplicated texture coordinates: index of each corner's (u, v) in the
- * list of distinct pairs, in order of first appearance (open addressing
- * on the pairs' bits). */
-PW__DEF int pw__atlas_dedup_uvs(const pw_alloc *a, const float *uvs, int nc, pw_mesh *pm, pw_err *e)
-{
-    float *uv = pm->uv;
-    int *fuv = pm->fuv;
-    size_t cap = 16, mask, k;
-    int *slot, c, n = 0;
-    while (cap < 2 * (size_t)nc) cap <<= 1;
-    mask = cap - 1;
-    slot = (int *)pw_alloc_array(a, cap, sizeof(int), "OBJ texture coordinates", e);
-    if (!slot) return PW_ERR_NOMEM;
-    for (k = 0; k < cap; k++) slot[k] = -1;
-    for (c = 0; c < nc; c++) {
-        uint32_t bu, bv;
-        memcpy(&bu, uvs + 2 * c, 4);
-        memcpy(&bv, uvs + 2 * c + 1, 4);
-        for (k = ((size_t)bu * 2654435761u ^ (size_t)bv * 40503u) & mask;; k = (k + 1) & mask) {
-            int s = slot[k];
-            if (s < 0) {
-                slot[k] = n;
-                uv[2 * n] = uvs[2 * c];
-                uv[2 * n + 1] = uvs[2 * c + 1];
-                fuv[c] = n++;
-                break;
-            }
-            if (!memcmp(uv + 2 * s, uvs + 2 * c, 2 * sizeof(float))) {
-                fuv[c] = s;
-                break;
-            }
-        }
-    }
-    pw_free(a, slot);
-    pm->nuv = n;
-    return PW_OK;
-}
-
-/* The triangulated mesh with per-corner atlas coordinates uvs (m->nf * 6) as
- * a pw_mesh for the OBJ and glTF writers (positions borrowed); free fstart,
- * uv and fuv. */
-PW__DEF int pw_atlas_mesh(const pw_alloc *a, const pw_trimesh *m, const float *uvs, pw_mesh *pm, pw_err *e)
-{
-    int f, k;
-    memset(pm, 0, sizeof *pm);
-    for (k = 0; k < 6 * m->nf; k++)
-        if (!pw_is_finite(uvs[k]))
-            return pw_fail(e, PW_ERR_INVALID, "atlas: coordinate %d of triangle %d is not finite", k % 6, k / 6);
-    pm->nv = m->nv;
-    pm->pos = (float *)m->pos;
-    pm->nf = m->nf;
-    pm->fv = m->tri;
-    pm->fstart = (int *)pw_alloc_array(a, (size_t)m->nf + 1, sizeof(int), "OBJ faces", e);
-    pm->uv = (float *)pw_alloc_array(a, (size_t)m->nf * 6, sizeof(float), "OBJ texture coordinates", e);
-    pm->fuv = (int *)pw_alloc_array(a, (size_t)m->nf * 3, sizeof(int), "OBJ texture coordinates", e);
-    if (!pm->fstart || !pm->uv || !pm->fuv) return PW_ERR_NOMEM;
-    for (f = 0; f <= m->nf; f++) pm->fstart[f] = 3 * f;
-    return pw__atlas_dedup_uvs(a, uvs, 3 * m->nf, pm, e);
-}
-
-/* ---- layout ------------------------------------------------------------------- */
-
-/* Charts of job->m (job->cone in degrees) packed into a size x size atlas
- * with `gutter` pixels between them: per-corner coordinates uvs (m->nf *
- * 6, allocated here), the chart count and the fraction of the image
- * covered. */
-PW__DEF int pw_atlas_layout(const pw_atlas_job *job, float **uvs, int *ncharts, float *fill, pw_err *e)
-{
-    const pw_alloc *a = job->a;
-    const pw_trimesh *m = job->m;
-    pw_atlas_charts C;
-    int r;
-    *uvs = (float *)pw_alloc_array(a, (size_t)m->nf * 6, sizeof(float), "atlas coordinates", e);
-    if (!*uvs) return PW_ERR_NOMEM;
-    if ((r = pw_atlas_charts_build(a, m, job->cone, job->prog, &C, e)) == PW_OK) {
-        *ncharts = C.n;
-        r = pw_atlas_pack(job, &C, *uvs, fill, e);
-        pw_atlas_charts_free(a, &C);
-    }
-    if (r != PW_OK) {
-        pw_free(a, *uvs);
-        *uvs = NULL;
-    }
-    return r;
-}
-
-#endif /* PW__ATLAS_V1 */
+#endif /* PW__ATLAS_BAKE_V1 */
 
 /* ---- shared module src/common/nrrd.h ---- */
 /* nrrd: volumes and the NRRD file format, with gzip streams.
@@ -24748,7 +24790,6 @@ static int lst__atlas_run(const pw_alloc *a, const lst_model *m, const lst__tris
     pw_image pic, *img = &pic;
     pw_mesh pm;
     pw_trimesh tm;
-    pw_atlas_charts C;
     lst__view v;
     lst__atlas_texel T;
     pw_atlas_job job;
@@ -24764,11 +24805,7 @@ static int lst__atlas_run(const pw_alloc *a, const lst_model *m, const lst__tris
     job.size = o->size;
     job.gutter = o->gutter;
     job.prog = prog;
-    out->uvs = (float *)pw_alloc_array(a, (size_t)out->ntris * 6, sizeof(float), "atlas coordinates", e);
-    if (!fstart || !out->uvs) {
-        pw_free(a, fstart);
-        return PW_ERR_NOMEM;
-    }
+    if (!fstart) return PW_ERR_NOMEM;
     for (f = 0; f <= out->ntris; f++) fstart[f] = 3 * f;
     pm.nv = out->nverts;
     pm.pos = out->positions;
@@ -24776,12 +24813,7 @@ static int lst__atlas_run(const pw_alloc *a, const lst_model *m, const lst__tris
     pm.fstart = fstart;
     pm.fv = out->tris;
     r = pw_trimesh_init_ex(a, &pm, 1, &tm, e);
-    if (r == PW_OK) r = pw_atlas_charts_build(a, &tm, o->cone_angle, prog, &C, e);
-    if (r == PW_OK) {
-        out->ncharts = C.n;
-        r = pw_atlas_pack(&job, &C, out->uvs, &out->fill, e);
-        pw_atlas_charts_free(a, &C);
-    }
+    if (r == PW_OK) r = pw_atlas_layout(&job, &out->uvs, &out->ncharts, &out->fill, e);
     if (r == PW_OK) r = lst__view_init(a, m, LST_SHOW_COLOR, &v, e);
     T.v = &v;
     T.tris = tris;

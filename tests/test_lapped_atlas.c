@@ -798,6 +798,7 @@ static void check_mesh_with(const char *name, const lapped_mesh *mesh, int npast
 {
     pw_trimesh m;
     pw_atlas_charts C;
+    pw_atlas_job job;
     lapped__index ix;
     handmade H;
     lapped_atlas at;
@@ -824,7 +825,10 @@ static void check_mesh_with(const char *name, const lapped_mesh *mesh, int npast
         pw_trimesh_free(NULL, &m);
         return;
     }
-    REQUIRE(pw_atlas_charts_build(NULL, &m, cone, NULL, &C, &e) == PW_OK);
+    memset(&job, 0, sizeof job);
+    job.m = &m;
+    job.cone = (float)cone;
+    REQUIRE(pw_atlas_charts_build(&job, &C, &e) == PW_OK);
     t2 = now();
     CHECK_EQ_INT(check_partition(&m, &C, cone), at.ncharts);
     CHECK_EQ_INT(at.ntris, m.nf);

@@ -17,6 +17,8 @@
  * Export: lapped_write_obj (the triangulated mesh with per-corner
  * coordinates), lapped_write_mtl. */
 #include "core.c"
+#include "../common/atlas_pack.h"
+#include "../common/atlas_bake.h"
 
 /* ---- public functions ---------------------------------------------------------- */
 

@@ -30,6 +30,8 @@
  * are boundary vertices, so framing the atlas's vertices gives the same
  * camera), lst_write_atlas_obj. */
 #include "io.c"
+#include "../common/atlas_pack.h"
+#include "../common/atlas_bake.h"
 
 /* ---- the visible boundary as a manifold triangle mesh ------------------------------------- */
 
@@ -195,7 +197,6 @@ static int lst__atlas_run(const pw_alloc *a, const lst_model *m, const lst__tris
     pw_image pic, *img = &pic;
     pw_mesh pm;
     pw_trimesh tm;
-    pw_atlas_charts C;
     lst__view v;
     lst__atlas_texel T;
     pw_atlas_job job;
@@ -211,11 +212,7 @@ static int lst__atlas_run(const pw_alloc *a, const lst_model *m, const lst__tris
     job.size = o->size;
     job.gutter = o->gutter;
     job.prog = prog;
-    out->uvs = (float *)pw_alloc_array(a, (size_t)out->ntris * 6, sizeof(float), "atlas coordinates", e);
-    if (!fstart || !out->uvs) {
-        pw_free(a, fstart);
-        return PW_ERR_NOMEM;
-    }
+    if (!fstart) return PW_ERR_NOMEM;
     for (f = 0; f <= out->ntris; f++) fstart[f] = 3 * f;
     pm.nv = out->nverts;
     pm.pos = out->positions;
@@ -223,12 +220,7 @@ static int lst__atlas_run(const pw_alloc *a, const lst_model *m, const lst__tris
     pm.fstart = fstart;
     pm.fv = out->tris;
     r = pw_trimesh_init_ex(a, &pm, 1, &tm, e);
-    if (r == PW_OK) r = pw_atlas_charts_build(a, &tm, o->cone_angle, prog, &C, e);
-    if (r == PW_OK) {
-        out->ncharts = C.n;
-        r = pw_atlas_pack(&job, &C, out->uvs, &out->fill, e);
-        pw_atlas_charts_free(a, &C);
-    }
+    if (r == PW_OK) r = pw_atlas_layout(&job, &out->uvs, &out->ncharts, &out->fill, e);
     if (r == PW_OK) r = lst__view_init(a, m, LST_SHOW_COLOR, &v, e);
     T.v = &v;
     T.tris = tris;

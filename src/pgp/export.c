@@ -6,7 +6,8 @@
  * raw coordinates of Eq. (4) with one layer of the tile, for a program that
  * shades material space itself. pgp_write_gltf writes either. */
 #include "io.c"
-#include "../common/atlas.h"
+#include "../common/atlas_pack.h"
+#include "../common/atlas_bake.h"
 #include "../common/gltf.h"
 
 /* ---- baking ------------------------------------------------------------------------------ */

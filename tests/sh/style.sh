@@ -52,3 +52,14 @@ for h in $(make -s print-headers); do
     done
     if [ -z "$bad" ]; then pass "parts_alone/$h"; else fail "parts_alone/$h" "$bad"; fi
 done
+
+# The same for every shared module (src/common/*.h and a method's own
+# src/NAME/MODULE.h): it includes the modules it uses.
+bad=""
+for m in src/common/*.h src/*/*.h; do
+    [ "$(basename "$m" .h)" = "$(basename "$(dirname "$m")")" ] && continue # the public API of a method
+    printf '#include "%s"\n' "$m" > "$tmp/module.c"
+    ${CC:-cc} -std=c99 -Wall -Wextra -pedantic -Werror -fsyntax-only -I. "$tmp/module.c" > "$tmp/log" 2>&1 ||
+        bad="$bad $m: $(grep -m1 'error' "$tmp/log")"
+done
+if [ -z "$bad" ]; then pass modules_alone; else fail modules_alone "$bad"; fi
