@@ -8,33 +8,33 @@
  *    898: src/common/rng.h, seeded random numbers with the same output on every platfo
  *    975: src/common/noise.h, value noise and its fractal sum, for the built-in procedur
  *   1077: src/common/image.h, float images and their file formats.
- *   1771: src/common/deflate.h, zlib (RFC 1950) and deflate (RFC 1951) compression and
- *   2770: src/common/png.h, PNG writer and reader, and the image front end.
- *   3328: src/common/text.h, locale-independent number parsing and formatting, a line s
- *   3741: src/common/mesh.h, polygon meshes as flat arrays, and their file formats.
- *   5270: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
- *   5799: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
- *   6223: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
- *   7486: src/common/raster.h, exact scan conversion of 2D triangles.
- *   7960: src/common/render.h, a small deterministic software renderer for textured trian
- *   9727: src/lapped/polyhull.h, the polygonal hull of a texture patch (Praun, Finkelstein 
- *  10558: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
- *  10745: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
- *  10830: src/common/atlas.h, texture atlases of triangle meshes — charts, packing, ba
- *  11019: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
- *  11937: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
- *  12635: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
- *  12871: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
- *  13635: src/common/glue.h, what every method header needs between its public types an
- *  13848: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  14512: src/lapped/core.c, lapped.h's glue to the shared core, its defaults, and the 
- *  14677: src/lapped/field.c, §3.2 the tangent field, one frame (S, T) per triangle, an
- *  15132: src/lapped/patch.c, §3.1 texture patches. A patch is the texture as RGBA whos
- *  15446: src/lapped/builtin.c, built-in meshes (made by the shared shapes module) and tex
- *  15640: src/lapped/grow.c, pasting (§3.3-3.6): grow a surface patch around an uncove
- *  17124: src/lapped/render.c, runtime pasting (§4): the mesh drawn once per paste, in p
- *  17328: src/lapped/atlas.c, §4 "Rendering with a texture atlas".
- *  17571: src/lapped/io.c, the paste file format and the file conveniences of lapped.
+ *   1782: src/common/deflate.h, zlib (RFC 1950) and deflate (RFC 1951) compression and
+ *   2781: src/common/png.h, PNG writer and reader, and the image front end.
+ *   3340: src/common/text.h, locale-independent number parsing and formatting, a line s
+ *   3753: src/common/mesh.h, polygon meshes as flat arrays, and their file formats.
+ *   5282: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
+ *   5811: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
+ *   6235: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
+ *   7498: src/common/raster.h, exact scan conversion of 2D triangles.
+ *   7972: src/common/render.h, a small deterministic software renderer for textured trian
+ *   9739: src/lapped/polyhull.h, the polygonal hull of a texture patch (Praun, Finkelstein 
+ *  10570: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
+ *  10757: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
+ *  10842: src/common/atlas.h, texture atlases of triangle meshes — charts, packing, ba
+ *  11031: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
+ *  11949: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
+ *  12647: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
+ *  12883: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
+ *  13647: src/common/glue.h, what every method header needs between its public types an
+ *  13982: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  14646: src/lapped/core.c, lapped.h's glue to the shared core, its defaults, and the 
+ *  14811: src/lapped/field.c, §3.2 the tangent field, one frame (S, T) per triangle, an
+ *  15266: src/lapped/patch.c, §3.1 texture patches. A patch is the texture as RGBA whos
+ *  15580: src/lapped/builtin.c, built-in meshes (made by the shared shapes module) and tex
+ *  15774: src/lapped/grow.c, pasting (§3.3-3.6): grow a surface patch around an uncove
+ *  17258: src/lapped/render.c, runtime pasting (§4): the mesh drawn once per paste, in p
+ *  17462: src/lapped/atlas.c, §4 "Rendering with a texture atlas".
+ *  17705: src/lapped/io.c, the paste file format and the file conveniences of lapped.
  */
 /* lapped.h - lapped textures: overlapping texture patches pasted over a mesh.
  *
@@ -1162,6 +1162,17 @@ PW__DEF int pw__image_check(const pw_image *img, pw_err *e)
 }
 
 /* A deep copy of src (same size, channels and bits). */
+/* The image format a file name's extension names (case-insensitive):
+ * "png", "ppm" (.ppm and .pnm), "pgm", "pam"; NULL for any other. */
+PW__DEF const char *pw_image_format_of(const char *path)
+{
+    if (pw_has_ext(path, ".png")) return "png";
+    if (pw_has_ext(path, ".ppm") || pw_has_ext(path, ".pnm")) return "ppm";
+    if (pw_has_ext(path, ".pgm")) return "pgm";
+    if (pw_has_ext(path, ".pam")) return "pam";
+    return NULL;
+}
+
 PW__DEF int pw_image_copy(const pw_alloc *a, const pw_image *src, pw_image *out, pw_err *e)
 {
     int r = pw__image_check(src, e);
@@ -3304,21 +3315,22 @@ PW__DEF int pw__save_body(void *arg, pw_write_fn w, void *ctx, pw_err *e)
     return pw_image_write_pnm(j->img, 0, 0, w, ctx, e);
 }
 
-/* Writes img at its own depth (img->bits) in the format the extension
- * names (case-insensitive): .ppm .pgm .pnm (binary PGM/PPM, or PAM when the
- * image has alpha), .pam, .png. */
+/* Writes img at its own depth (img->bits) and channels in the format the
+ * extension names (pw_image_format_of): .ppm .pgm .pnm (binary PGM or PPM
+ * by the channels, or PAM when the image has alpha), .pam, .png. Keeps
+ * every channel (tests and benchmarks store images with it); the public
+ * X_save_image converts to what the format holds (pw_image_save_as). */
 PW__DEF int pw_image_save(const char *path, const pw_image *img, pw_err *e)
 {
     pw__save_job j;
+    const char *format = pw_image_format_of(path);
     int rc = pw__image_check(img, e);
     if (rc) return rc;
-    j.img = img;
-    if (pw_has_ext(path, ".ppm") || pw_has_ext(path, ".pgm") || pw_has_ext(path, ".pnm")) j.kind = 0;
-    else if (pw_has_ext(path, ".pam")) j.kind = 1;
-    else if (pw_has_ext(path, ".png")) j.kind = 2;
-    else
+    if (!format)
         return pw_fail(e, PW_ERR_UNSUPPORTED, "%s: unknown image file extension (use .png, .ppm, .pgm, .pnm or .pam)",
                        path);
+    j.img = img;
+    j.kind = !strcmp(format, "png") ? 2 : !strcmp(format, "pam") ? 1 : 0;
     return pw_write_file(path, pw__save_body, &j, e);
 }
 #endif /* PW_NO_STDIO */
@@ -13685,6 +13697,38 @@ PW__DEF int pw_image_encode(const pw_alloc *a, const pw_image *img, const char *
     return pw_png_write(a, img, 0, fn, ctx, e);
 }
 
+#ifndef PW_NO_STDIO
+typedef struct pw__encode_job {
+    const pw_alloc *a;
+    const pw_image *img;
+    const char *format;
+} pw__encode_job;
+
+PW__DEF int pw__encode_body(void *arg, pw_write_fn w, void *ctx, pw_err *e)
+{
+    const pw__encode_job *j = (const pw__encode_job *)arg;
+    return pw_image_encode(j->a, j->img, j->format, w, ctx, e);
+}
+
+/* What every X_save_image does: img (a caller's, or NULL: checked, the
+ * path names it in messages) in the format path's extension names
+ * (pw_image_format_of), converted to the channels that format holds
+ * (pw_image_encode). */
+PW__DEF int pw_image_save_as(const pw_alloc *a, const char *path, const pw_image *img, pw_err *e)
+{
+    pw__encode_job j;
+    int r;
+    j.a = a;
+    j.img = img;
+    j.format = pw_image_format_of(path);
+    if (!j.format)
+        return pw_fail(e, PW_ERR_UNSUPPORTED, "%s: unknown image extension (use .png, .ppm, .pgm, .pam)", path);
+    if (!img) return pw_fail(e, PW_ERR_INVALID, "%s: empty image (none given)", path);
+    if ((r = pw_image_validate(img, path, e)) != PW_OK) return r;
+    return pw_write_file(path, pw__encode_body, &j, e);
+}
+#endif
+
 /* Fills the zero fields of a view (public render options) with the
  * defaults every method shares: 800x600, 2x2 supersampling, looking along
  * (-0.55,-0.45,-0.7) with +Y up, on white. */
@@ -13816,6 +13860,96 @@ PW__DEF void pw_view_defaults(int *width, int *height, int *supersample, float v
         return par;                                                                                                 \
     }                                                                                                               \
     typedef int p##__glue_defined /* so that the use ends with a semicolon */
+
+/* PW_PUBLIC_IO(p, DEF) defines the public mesh and image I/O that every
+ * header has, written once (DEF: the header's XDEF; the header's p_mesh
+ * has the shared fields, p_write_fn is a pw_write_fn):
+ *   DEF p_result p_read_mesh(const void *data, size_t size, const char *name, const p_options *, p_mesh *, p_error *)
+ *   DEF p_result p_read_image(const void *data, size_t size, const char *name, const p_options *, p_image *,
+ *                             p_error *)
+ *   DEF p_result p_write_image(const p_image *, const char *format, p_write_fn, void *ctx, p_error *)
+ * A reader takes the format from the bytes (a mesh: from the name's
+ * extension when the bytes do not say), and the name in its messages. */
+#define PW__PUBLIC_READ(p, DEF, what, pwT, T, read, take)                                                           \
+    DEF p##_result p##_read_##what(const void *data, size_t size, const char *name, const p##_options *opt, T *out, \
+                                   p##_error *err)                                                                  \
+    {                                                                                                               \
+        p##_options o = p##__options(opt);                                                                          \
+        pw_alloc a = p##__alloc(&o.allocator);                                                                      \
+        pwT v;                                                                                                      \
+        pw_err pe;                                                                                                  \
+        pw_err_clear(&pe);                                                                                          \
+        if (out) memset(out, 0, sizeof *out);                                                                       \
+        if (!out || (!data && size)) pw_fail(&pe, PW_ERR_INVALID, #p "_read_" #what ": NULL argument");             \
+        else if (read(&a, (const unsigned char *)data, size, name ? name : #what, &v, &pe) == PW_OK)                \
+            take(&v, &a, out);                                                                                      \
+        return p##__done(&pe, err);                                                                                 \
+    }
+#define PW_PUBLIC_IO(p, DEF)                                                                             \
+    PW__PUBLIC_READ(p, DEF, mesh, pw_mesh, p##_mesh, pw_mesh_read_memory, p##__take_mesh)                \
+    PW__PUBLIC_READ(p, DEF, image, pw_image, p##_image, pw_image_read_memory, p##__take_image)           \
+    DEF p##_result p##_write_image(const p##_image *img, const char *format, p##_write_fn fn, void *ctx, \
+                                   p##_error *err)                                                       \
+    {                                                                                                    \
+        pw_err pe;                                                                                       \
+        pw_err_clear(&pe);                                                                               \
+        if (!fn) pw_fail(&pe, PW_ERR_INVALID, #p "_write_image: NULL writer");                           \
+        else if (p##__check_image(img, "image", &pe) == PW_OK) p##__encode(img, format, fn, ctx, &pe);   \
+        return p##__done(&pe, err);                                                                      \
+    }                                                                                                    \
+    typedef int p##__io_defined /* so that the use ends with a semicolon */
+
+/* PW_PUBLIC_LOAD(p, DEF, what, T) defines the public loader of a file
+ * (DEF: the header's XDEF), which every header writes the same way: the
+ * whole file read, then handed to the header's own from-memory reader,
+ *   DEF p_result p_load_WHAT(const char *path, const p_options *, T *out, p_error *)
+ * reads path with p_read_WHAT (the path names the file in messages and
+ * gives the format by its extension). A reader's warning on success (a
+ * message with code 0) reaches the caller as well. Needs p__options and
+ * stdio (not PW_NO_STDIO). */
+#define PW_PUBLIC_LOAD(p, DEF, what, T)                                                              \
+    DEF p##_result p##_load_##what(const char *path, const p##_options *opt, T *out, p##_error *err) \
+    {                                                                                                \
+        p##_options o = p##__options(opt);                                                           \
+        pw_alloc a = p##__alloc(&o.allocator);                                                       \
+        unsigned char *data;                                                                         \
+        size_t size;                                                                                 \
+        pw_err pe;                                                                                   \
+        pw_err_clear(&pe);                                                                           \
+        if (out) memset(out, 0, sizeof *out);                                                        \
+        if (!path || !out) pw_fail(&pe, PW_ERR_INVALID, #p "_load_" #what ": NULL argument");        \
+        else if (pw_read_file(&a, path, &data, &size, &pe) == PW_OK) {                               \
+            p##_error le;                                                                            \
+            memset(&le, 0, sizeof le);                                                               \
+            if (p##_read_##what(data, size, path, &o, out, &le) != 0 || le.message[0])               \
+                pw_fail(&pe, (int)le.code, "%s", le.message);                                        \
+            pw_free(&a, data);                                                                       \
+        }                                                                                            \
+        return p##__done(&pe, err);                                                                  \
+    }                                                                                                \
+    typedef int p##__load_##what##_defined /* so that the use ends with a semicolon */
+
+/* PW_PUBLIC_SAVE_IMAGE(p, DEF) defines
+ *   DEF p_result p_save_image(const char *path, const p_image *img, p_error *)
+ * with pw_image_save_as: the format by the extension, no file left on
+ * failure. */
+#define PW_PUBLIC_SAVE_IMAGE(p, DEF)                                                      \
+    DEF p##_result p##_save_image(const char *path, const p##_image *img, p##_error *err) \
+    {                                                                                     \
+        pw_image v;                                                                       \
+        pw_alloc a;                                                                       \
+        pw_err pe;                                                                        \
+        pw_err_clear(&pe);                                                                \
+        memset(&a, 0, sizeof a);                                                          \
+        if (img) {                                                                        \
+            v = p##__pw_image(img);                                                       \
+            a = p##__alloc(&img->allocator);                                              \
+        }                                                                                 \
+        if (!path) pw_fail(&pe, PW_ERR_INVALID, #p "_save_image: NULL path");             \
+        else pw_image_save_as(&a, path, img ? &v : NULL, &pe);                            \
+        return p##__done(&pe, err);                                                       \
+    }                                                                                     \
+    typedef int p##__save_image_defined /* so that the use ends with a semicolon */
 
 /* The public frees of an image and of a mesh with the shared fields only
  * (DEF: the header's XDEF): with the allocator the object remembers, then
@@ -17831,45 +17965,7 @@ LAPPEDDEF void lapped_constraints_free(lapped_constraints *c)
 
 /* ---- meshes and images --------------------------------------------------------- */
 
-LAPPEDDEF lapped_result lapped_read_mesh(const void *data, size_t size, const char *name, const lapped_options *opt,
-                                         lapped_mesh *out, lapped_error *err)
-{
-    lapped_options o = lapped__options(opt);
-    pw_alloc a = lapped__alloc(&o.allocator);
-    pw_mesh m;
-    pw_err pe;
-    pw_err_clear(&pe);
-    if (out) memset(out, 0, sizeof *out);
-    if (!out || (!data && size)) pw_fail(&pe, PW_ERR_INVALID, "lapped_read_mesh: NULL argument");
-    else if (pw_mesh_read_memory(&a, data, size, name ? name : "mesh", &m, &pe) == PW_OK)
-        lapped__take_mesh(&m, &a, out);
-    return lapped__done(&pe, err);
-}
-
-LAPPEDDEF lapped_result lapped_read_image(const void *data, size_t size, const char *name, const lapped_options *opt,
-                                          lapped_image *out, lapped_error *err)
-{
-    lapped_options o = lapped__options(opt);
-    pw_alloc a = lapped__alloc(&o.allocator);
-    pw_image img;
-    pw_err pe;
-    pw_err_clear(&pe);
-    if (out) memset(out, 0, sizeof *out);
-    if (!out || (!data && size)) pw_fail(&pe, PW_ERR_INVALID, "lapped_read_image: NULL argument");
-    else if (pw_image_read_memory(&a, (const unsigned char *)data, size, name ? name : "image", &img, &pe) == PW_OK)
-        lapped__take_image(&img, &a, out);
-    return lapped__done(&pe, err);
-}
-
-LAPPEDDEF lapped_result lapped_write_image(const lapped_image *img, const char *format, lapped_write_fn fn, void *ctx,
-                                           lapped_error *err)
-{
-    pw_err pe;
-    pw_err_clear(&pe);
-    if (!fn) pw_fail(&pe, PW_ERR_INVALID, "lapped_write_image: NULL writer");
-    else if (lapped__check_image(img, "image", &pe) == PW_OK) lapped__encode(img, format, fn, ctx, &pe);
-    return lapped__done(&pe, err);
-}
+PW_PUBLIC_IO(lapped, LAPPEDDEF);
 
 /* The atlas's mesh as one glTF part: the fan triangles with their
  * per-corner atlas coordinates, the atlas image as the texture. */
@@ -17918,36 +18014,13 @@ LAPPEDDEF lapped_result lapped_write_gltf(const lapped_mesh *mesh, const lapped_
 }
 
 #ifndef PW_NO_STDIO
-LAPPEDDEF lapped_result lapped_load_mesh(const char *path, const lapped_options *opt, lapped_mesh *out,
-                                         lapped_error *err)
-{
-    lapped_options o = lapped__options(opt);
-    pw_alloc a = lapped__alloc(&o.allocator);
-    pw_mesh m;
-    pw_err pe;
-    pw_err_clear(&pe);
-    if (out) memset(out, 0, sizeof *out);
-    if (!out || !path) pw_fail(&pe, PW_ERR_INVALID, "lapped_load_mesh: NULL argument");
-    else if (pw_mesh_load(&a, path, &m, &pe) == PW_OK) lapped__take_mesh(&m, &a, out);
-    return lapped__done(&pe, err);
-}
-
-LAPPEDDEF lapped_result lapped_load_image(const char *path, const lapped_options *opt, lapped_image *out,
-                                          lapped_error *err)
-{
-    lapped_options o = lapped__options(opt);
-    pw_alloc a = lapped__alloc(&o.allocator);
-    pw_image img;
-    pw_err pe;
-    pw_err_clear(&pe);
-    if (out) memset(out, 0, sizeof *out);
-    if (!out || !path) pw_fail(&pe, PW_ERR_INVALID, "lapped_load_image: NULL argument");
-    else if (pw_image_load(&a, path, &img, &pe) == PW_OK) lapped__take_image(&img, &a, out);
-    return lapped__done(&pe, err);
-}
+/* the public file loaders: each file read whole, then read from memory */
+PW_PUBLIC_LOAD(lapped, LAPPEDDEF, mesh, lapped_mesh);
+PW_PUBLIC_LOAD(lapped, LAPPEDDEF, image, lapped_image);
+PW_PUBLIC_LOAD(lapped, LAPPEDDEF, constraints, lapped_constraints);
+PW_PUBLIC_LOAD(lapped, LAPPEDDEF, pastes, lapped_texture);
 
 typedef struct lapped__job {
-    const lapped_image *img;
     const char *format;
     const lapped_texture *tex;
     const lapped_mesh *mesh;
@@ -18014,12 +18087,6 @@ LAPPEDDEF lapped_result lapped_save_gltf(const char *path, const lapped_mesh *me
     return lapped__done(&pe, err);
 }
 
-static int lapped__image_job(void *arg, pw_write_fn w, void *ctx, pw_err *e)
-{
-    const lapped__job *j = (const lapped__job *)arg;
-    return lapped__encode(j->img, j->format, w, ctx, e);
-}
-
 static int lapped__pastes_job(void *arg, pw_write_fn w, void *ctx, pw_err *e)
 {
     const lapped__job *j = (const lapped__job *)arg;
@@ -18028,23 +18095,7 @@ static int lapped__pastes_job(void *arg, pw_write_fn w, void *ctx, pw_err *e)
     return r ? pw_fail(e, r, "%s", le.message) : PW_OK;
 }
 
-LAPPEDDEF lapped_result lapped_save_image(const char *path, const lapped_image *img, lapped_error *err)
-{
-    lapped__job j;
-    pw_err pe;
-    pw_err_clear(&pe);
-    memset(&j, 0, sizeof j);
-    j.img = img;
-    if (!path) pw_fail(&pe, PW_ERR_INVALID, "lapped_save_image: NULL path");
-    else if (!(j.format = pw_has_ext(path, ".png")                               ? "png"
-                          : pw_has_ext(path, ".ppm") || pw_has_ext(path, ".pnm") ? "ppm"
-                          : pw_has_ext(path, ".pgm")                             ? "pgm"
-                          : pw_has_ext(path, ".pam")                             ? "pam"
-                                                                                 : NULL))
-        pw_fail(&pe, PW_ERR_UNSUPPORTED, "%s: unknown image extension (use .png, .ppm, .pgm, .pam)", path);
-    else if (lapped__check_image(img, path, &pe) == PW_OK) pw_write_file(path, lapped__image_job, &j, &pe);
-    return lapped__done(&pe, err);
-}
+PW_PUBLIC_SAVE_IMAGE(lapped, LAPPEDDEF);
 
 LAPPEDDEF lapped_result lapped_save_pastes(const char *path, const lapped_texture *t, lapped_error *err)
 {
@@ -18058,45 +18109,6 @@ LAPPEDDEF lapped_result lapped_save_pastes(const char *path, const lapped_textur
     return lapped__done(&pe, err);
 }
 
-LAPPEDDEF lapped_result lapped_load_constraints(const char *path, const lapped_options *opt, lapped_constraints *out,
-                                                lapped_error *err)
-{
-    lapped_options o = lapped__options(opt);
-    pw_alloc a = lapped__alloc(&o.allocator);
-    unsigned char *data;
-    size_t size;
-    pw_err pe;
-    pw_err_clear(&pe);
-    if (out) memset(out, 0, sizeof *out);
-    if (!path || !out) pw_fail(&pe, PW_ERR_INVALID, "lapped_load_constraints: NULL argument");
-    else if (pw_read_file(&a, path, &data, &size, &pe) == PW_OK) {
-        lapped_error le;
-        if (lapped_read_constraints(data, size, path, &o, out, &le) != LAPPED_OK || le.message[0])
-            pw_fail(&pe, (int)le.code, "%s", le.message); /* an error, or the warning of a success */
-        pw_free(&a, data);
-    }
-    return lapped__done(&pe, err);
-}
-
-LAPPEDDEF lapped_result lapped_load_pastes(const char *path, const lapped_options *opt, lapped_texture *out,
-                                           lapped_error *err)
-{
-    lapped_options o = lapped__options(opt);
-    pw_alloc a = lapped__alloc(&o.allocator);
-    unsigned char *data;
-    size_t size;
-    pw_err pe;
-    pw_err_clear(&pe);
-    if (out) memset(out, 0, sizeof *out);
-    if (!path || !out) pw_fail(&pe, PW_ERR_INVALID, "lapped_load_pastes: NULL argument");
-    else if (pw_read_file(&a, path, &data, &size, &pe) == PW_OK) {
-        lapped_error le;
-        if (lapped_read_pastes(data, size, path, &o, out, &le) != LAPPED_OK)
-            pw_fail(&pe, (int)le.code, "%s", le.message);
-        pw_free(&a, data);
-    }
-    return lapped__done(&pe, err);
-}
 #endif
 #endif /* LAPPED__IMPLEMENTATION_DONE */
 #endif /* LAPPED_IMPLEMENTATION || PATCHWORK_IMPLEMENTATION */

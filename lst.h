@@ -8,39 +8,39 @@
  *   1140: src/common/rng.h, seeded random numbers with the same output on every platfo
  *   1217: src/common/noise.h, value noise and its fractal sum, for the built-in procedur
  *   1319: src/common/image.h, float images and their file formats.
- *   2013: src/common/deflate.h, zlib (RFC 1950) and deflate (RFC 1951) compression and
- *   3010: src/common/png.h, PNG writer and reader, and the image front end.
- *   3568: src/common/text.h, locale-independent number parsing and formatting, a line s
- *   3981: src/common/mesh.h, polygon meshes as flat arrays, and their file formats.
- *   5510: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
- *   6039: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
- *   6463: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
- *   6650: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
- *   6735: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
- *   7998: src/common/raster.h, exact scan conversion of 2D triangles.
- *   8472: src/common/render.h, a small deterministic software renderer for textured trian
- *  10239: src/common/atlas.h, texture atlases of triangle meshes — charts, packing, ba
- *  10428: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
- *  11346: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
- *  12044: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
- *  12280: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
- *  13041: src/common/tetmesh.h, the tetrahedral mesh that lapped solid textures work on, a
- *  13525: src/common/tetio.h, tetrahedral mesh files, TetGen .node/.ele and MEDIT .mesh.
- *  14017: src/common/bisect.h, graded, conforming tetrahedral meshes of a box by newest-v
- *  14337: src/common/stuffing.h, the built-in tetrahedralizer of lst.h, so that no external
- *  17470: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
- *  17613: src/common/pca.h, principal component analysis of vectors streamed one at a 
- *  17800: src/common/glue.h, what every method header needs between its public types an
- *  18013: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  18677: src/lst/core.c, lst.h's glue to the shared core, its defaults, the convers
- *  19010: src/lst/exemplar.c, solid exemplars (§5): sampling, the procedural exemplars 
- *  19541: src/lst/field.c, §5.2.2, the fields that orient and scale the pastes. The 
- *  20749: src/lst/paste.c, §5.2.3-5.2.7, filling the model. Each paste picks a rando
- *  21730: src/lst/render.c, §5.1, showing a model. Every point of a tetrahedron is th
- *  22627: src/lst/cut.c, §5.1.1, cutting a model along the zero set of a scalar fi
- *  23232: src/lst/builtin.c, the tetrahedralizer entry point, checks of caller meshes, 
- *  23754: src/lst/io.c, the model file, the constraint files and the file convenie
- *  24596: src/lst/export.c, the visible boundary with a baked texture atlas, for glTF.
+ *   2024: src/common/deflate.h, zlib (RFC 1950) and deflate (RFC 1951) compression and
+ *   3021: src/common/png.h, PNG writer and reader, and the image front end.
+ *   3580: src/common/text.h, locale-independent number parsing and formatting, a line s
+ *   3993: src/common/mesh.h, polygon meshes as flat arrays, and their file formats.
+ *   5522: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
+ *   6051: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
+ *   6475: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
+ *   6662: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
+ *   6747: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
+ *   8010: src/common/raster.h, exact scan conversion of 2D triangles.
+ *   8484: src/common/render.h, a small deterministic software renderer for textured trian
+ *  10251: src/common/atlas.h, texture atlases of triangle meshes — charts, packing, ba
+ *  10440: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
+ *  11358: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
+ *  12056: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
+ *  12292: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
+ *  13053: src/common/tetmesh.h, the tetrahedral mesh that lapped solid textures work on, a
+ *  13537: src/common/tetio.h, tetrahedral mesh files, TetGen .node/.ele and MEDIT .mesh.
+ *  14029: src/common/bisect.h, graded, conforming tetrahedral meshes of a box by newest-v
+ *  14349: src/common/stuffing.h, the built-in tetrahedralizer of lst.h, so that no external
+ *  17482: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
+ *  17625: src/common/pca.h, principal component analysis of vectors streamed one at a 
+ *  17812: src/common/glue.h, what every method header needs between its public types an
+ *  18147: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  18811: src/lst/core.c, lst.h's glue to the shared core, its defaults, the convers
+ *  19144: src/lst/exemplar.c, solid exemplars (§5): sampling, the procedural exemplars 
+ *  19675: src/lst/field.c, §5.2.2, the fields that orient and scale the pastes. The 
+ *  20883: src/lst/paste.c, §5.2.3-5.2.7, filling the model. Each paste picks a rando
+ *  21864: src/lst/render.c, §5.1, showing a model. Every point of a tetrahedron is th
+ *  22761: src/lst/cut.c, §5.1.1, cutting a model along the zero set of a scalar fi
+ *  23366: src/lst/builtin.c, the tetrahedralizer entry point, checks of caller meshes, 
+ *  23888: src/lst/io.c, the model file, the constraint files and the file convenie
+ *  24606: src/lst/export.c, the visible boundary with a baked texture atlas, for glTF.
  */
 /* lst.h - lapped solid textures: solid exemplars pasted inside a model.
  *
@@ -1404,6 +1404,17 @@ PW__DEF int pw__image_check(const pw_image *img, pw_err *e)
 }
 
 /* A deep copy of src (same size, channels and bits). */
+/* The image format a file name's extension names (case-insensitive):
+ * "png", "ppm" (.ppm and .pnm), "pgm", "pam"; NULL for any other. */
+PW__DEF const char *pw_image_format_of(const char *path)
+{
+    if (pw_has_ext(path, ".png")) return "png";
+    if (pw_has_ext(path, ".ppm") || pw_has_ext(path, ".pnm")) return "ppm";
+    if (pw_has_ext(path, ".pgm")) return "pgm";
+    if (pw_has_ext(path, ".pam")) return "pam";
+    return NULL;
+}
+
 PW__DEF int pw_image_copy(const pw_alloc *a, const pw_image *src, pw_image *out, pw_err *e)
 {
     int r = pw__image_check(src, e);
@@ -3544,21 +3555,22 @@ PW__DEF int pw__save_body(void *arg, pw_write_fn w, void *ctx, pw_err *e)
     return pw_image_write_pnm(j->img, 0, 0, w, ctx, e);
 }
 
-/* Writes img at its own depth (img->bits) in the format the extension
- * names (case-insensitive): .ppm .pgm .pnm (binary PGM/PPM, or PAM when the
- * image has alpha), .pam, .png. */
+/* Writes img at its own depth (img->bits) and channels in the format the
+ * extension names (pw_image_format_of): .ppm .pgm .pnm (binary PGM or PPM
+ * by the channels, or PAM when the image has alpha), .pam, .png. Keeps
+ * every channel (tests and benchmarks store images with it); the public
+ * X_save_image converts to what the format holds (pw_image_save_as). */
 PW__DEF int pw_image_save(const char *path, const pw_image *img, pw_err *e)
 {
     pw__save_job j;
+    const char *format = pw_image_format_of(path);
     int rc = pw__image_check(img, e);
     if (rc) return rc;
-    j.img = img;
-    if (pw_has_ext(path, ".ppm") || pw_has_ext(path, ".pgm") || pw_has_ext(path, ".pnm")) j.kind = 0;
-    else if (pw_has_ext(path, ".pam")) j.kind = 1;
-    else if (pw_has_ext(path, ".png")) j.kind = 2;
-    else
+    if (!format)
         return pw_fail(e, PW_ERR_UNSUPPORTED, "%s: unknown image file extension (use .png, .ppm, .pgm, .pnm or .pam)",
                        path);
+    j.img = img;
+    j.kind = !strcmp(format, "png") ? 2 : !strcmp(format, "pam") ? 1 : 0;
     return pw_write_file(path, pw__save_body, &j, e);
 }
 #endif /* PW_NO_STDIO */
@@ -17850,6 +17862,38 @@ PW__DEF int pw_image_encode(const pw_alloc *a, const pw_image *img, const char *
     return pw_png_write(a, img, 0, fn, ctx, e);
 }
 
+#ifndef PW_NO_STDIO
+typedef struct pw__encode_job {
+    const pw_alloc *a;
+    const pw_image *img;
+    const char *format;
+} pw__encode_job;
+
+PW__DEF int pw__encode_body(void *arg, pw_write_fn w, void *ctx, pw_err *e)
+{
+    const pw__encode_job *j = (const pw__encode_job *)arg;
+    return pw_image_encode(j->a, j->img, j->format, w, ctx, e);
+}
+
+/* What every X_save_image does: img (a caller's, or NULL: checked, the
+ * path names it in messages) in the format path's extension names
+ * (pw_image_format_of), converted to the channels that format holds
+ * (pw_image_encode). */
+PW__DEF int pw_image_save_as(const pw_alloc *a, const char *path, const pw_image *img, pw_err *e)
+{
+    pw__encode_job j;
+    int r;
+    j.a = a;
+    j.img = img;
+    j.format = pw_image_format_of(path);
+    if (!j.format)
+        return pw_fail(e, PW_ERR_UNSUPPORTED, "%s: unknown image extension (use .png, .ppm, .pgm, .pam)", path);
+    if (!img) return pw_fail(e, PW_ERR_INVALID, "%s: empty image (none given)", path);
+    if ((r = pw_image_validate(img, path, e)) != PW_OK) return r;
+    return pw_write_file(path, pw__encode_body, &j, e);
+}
+#endif
+
 /* Fills the zero fields of a view (public render options) with the
  * defaults every method shares: 800x600, 2x2 supersampling, looking along
  * (-0.55,-0.45,-0.7) with +Y up, on white. */
@@ -17981,6 +18025,96 @@ PW__DEF void pw_view_defaults(int *width, int *height, int *supersample, float v
         return par;                                                                                                 \
     }                                                                                                               \
     typedef int p##__glue_defined /* so that the use ends with a semicolon */
+
+/* PW_PUBLIC_IO(p, DEF) defines the public mesh and image I/O that every
+ * header has, written once (DEF: the header's XDEF; the header's p_mesh
+ * has the shared fields, p_write_fn is a pw_write_fn):
+ *   DEF p_result p_read_mesh(const void *data, size_t size, const char *name, const p_options *, p_mesh *, p_error *)
+ *   DEF p_result p_read_image(const void *data, size_t size, const char *name, const p_options *, p_image *,
+ *                             p_error *)
+ *   DEF p_result p_write_image(const p_image *, const char *format, p_write_fn, void *ctx, p_error *)
+ * A reader takes the format from the bytes (a mesh: from the name's
+ * extension when the bytes do not say), and the name in its messages. */
+#define PW__PUBLIC_READ(p, DEF, what, pwT, T, read, take)                                                           \
+    DEF p##_result p##_read_##what(const void *data, size_t size, const char *name, const p##_options *opt, T *out, \
+                                   p##_error *err)                                                                  \
+    {                                                                                                               \
+        p##_options o = p##__options(opt);                                                                          \
+        pw_alloc a = p##__alloc(&o.allocator);                                                                      \
+        pwT v;                                                                                                      \
+        pw_err pe;                                                                                                  \
+        pw_err_clear(&pe);                                                                                          \
+        if (out) memset(out, 0, sizeof *out);                                                                       \
+        if (!out || (!data && size)) pw_fail(&pe, PW_ERR_INVALID, #p "_read_" #what ": NULL argument");             \
+        else if (read(&a, (const unsigned char *)data, size, name ? name : #what, &v, &pe) == PW_OK)                \
+            take(&v, &a, out);                                                                                      \
+        return p##__done(&pe, err);                                                                                 \
+    }
+#define PW_PUBLIC_IO(p, DEF)                                                                             \
+    PW__PUBLIC_READ(p, DEF, mesh, pw_mesh, p##_mesh, pw_mesh_read_memory, p##__take_mesh)                \
+    PW__PUBLIC_READ(p, DEF, image, pw_image, p##_image, pw_image_read_memory, p##__take_image)           \
+    DEF p##_result p##_write_image(const p##_image *img, const char *format, p##_write_fn fn, void *ctx, \
+                                   p##_error *err)                                                       \
+    {                                                                                                    \
+        pw_err pe;                                                                                       \
+        pw_err_clear(&pe);                                                                               \
+        if (!fn) pw_fail(&pe, PW_ERR_INVALID, #p "_write_image: NULL writer");                           \
+        else if (p##__check_image(img, "image", &pe) == PW_OK) p##__encode(img, format, fn, ctx, &pe);   \
+        return p##__done(&pe, err);                                                                      \
+    }                                                                                                    \
+    typedef int p##__io_defined /* so that the use ends with a semicolon */
+
+/* PW_PUBLIC_LOAD(p, DEF, what, T) defines the public loader of a file
+ * (DEF: the header's XDEF), which every header writes the same way: the
+ * whole file read, then handed to the header's own from-memory reader,
+ *   DEF p_result p_load_WHAT(const char *path, const p_options *, T *out, p_error *)
+ * reads path with p_read_WHAT (the path names the file in messages and
+ * gives the format by its extension). A reader's warning on success (a
+ * message with code 0) reaches the caller as well. Needs p__options and
+ * stdio (not PW_NO_STDIO). */
+#define PW_PUBLIC_LOAD(p, DEF, what, T)                                                              \
+    DEF p##_result p##_load_##what(const char *path, const p##_options *opt, T *out, p##_error *err) \
+    {                                                                                                \
+        p##_options o = p##__options(opt);                                                           \
+        pw_alloc a = p##__alloc(&o.allocator);                                                       \
+        unsigned char *data;                                                                         \
+        size_t size;                                                                                 \
+        pw_err pe;                                                                                   \
+        pw_err_clear(&pe);                                                                           \
+        if (out) memset(out, 0, sizeof *out);                                                        \
+        if (!path || !out) pw_fail(&pe, PW_ERR_INVALID, #p "_load_" #what ": NULL argument");        \
+        else if (pw_read_file(&a, path, &data, &size, &pe) == PW_OK) {                               \
+            p##_error le;                                                                            \
+            memset(&le, 0, sizeof le);                                                               \
+            if (p##_read_##what(data, size, path, &o, out, &le) != 0 || le.message[0])               \
+                pw_fail(&pe, (int)le.code, "%s", le.message);                                        \
+            pw_free(&a, data);                                                                       \
+        }                                                                                            \
+        return p##__done(&pe, err);                                                                  \
+    }                                                                                                \
+    typedef int p##__load_##what##_defined /* so that the use ends with a semicolon */
+
+/* PW_PUBLIC_SAVE_IMAGE(p, DEF) defines
+ *   DEF p_result p_save_image(const char *path, const p_image *img, p_error *)
+ * with pw_image_save_as: the format by the extension, no file left on
+ * failure. */
+#define PW_PUBLIC_SAVE_IMAGE(p, DEF)                                                      \
+    DEF p##_result p##_save_image(const char *path, const p##_image *img, p##_error *err) \
+    {                                                                                     \
+        pw_image v;                                                                       \
+        pw_alloc a;                                                                       \
+        pw_err pe;                                                                        \
+        pw_err_clear(&pe);                                                                \
+        memset(&a, 0, sizeof a);                                                          \
+        if (img) {                                                                        \
+            v = p##__pw_image(img);                                                       \
+            a = p##__alloc(&img->allocator);                                              \
+        }                                                                                 \
+        if (!path) pw_fail(&pe, PW_ERR_INVALID, #p "_save_image: NULL path");             \
+        else pw_image_save_as(&a, path, img ? &v : NULL, &pe);                            \
+        return p##__done(&pe, err);                                                       \
+    }                                                                                     \
+    typedef int p##__save_image_defined /* so that the use ends with a semicolon */
 
 /* The public frees of an image and of a mesh with the shared fields only
  * (DEF: the header's XDEF): with the allocator the object remembers, then
@@ -24369,34 +24503,7 @@ LSTDEF lst_result lst_write_volume(const lst_volume *vol, lst_write_fn fn, void 
     return lst__done(&e, err);
 }
 
-LSTDEF lst_result lst_read_mesh(const void *data, size_t size, const char *name, const lst_options *opt, lst_mesh *out,
-                                lst_error *err)
-{
-    lst_options o = lst__options(opt);
-    pw_alloc a = lst__alloc(&o.allocator);
-    pw_mesh m;
-    pw_err e;
-    pw_err_clear(&e);
-    if (out) memset(out, 0, sizeof *out);
-    if (!out || (!data && size)) pw_fail(&e, PW_ERR_INVALID, "lst_read_mesh: NULL argument");
-    else if (pw_mesh_read_memory(&a, data, size, name ? name : "mesh", &m, &e) == PW_OK) lst__take_mesh(&m, &a, out);
-    return lst__done(&e, err);
-}
-
-LSTDEF lst_result lst_read_image(const void *data, size_t size, const char *name, const lst_options *opt,
-                                 lst_image *out, lst_error *err)
-{
-    lst_options o = lst__options(opt);
-    pw_alloc a = lst__alloc(&o.allocator);
-    pw_image img;
-    pw_err e;
-    pw_err_clear(&e);
-    if (out) memset(out, 0, sizeof *out);
-    if (!out || (!data && size)) pw_fail(&e, PW_ERR_INVALID, "lst_read_image: NULL argument");
-    else if (pw_image_read_memory(&a, (const unsigned char *)data, size, name ? name : "image", &img, &e) == PW_OK)
-        lst__take_image(&img, &a, out);
-    return lst__done(&e, err);
-}
+PW_PUBLIC_IO(lst, LSTDEF);
 
 LSTDEF lst_result lst_write_obj(const lst_mesh *mesh, lst_write_fn fn, void *ctx, lst_error *err)
 {
@@ -24411,94 +24518,13 @@ LSTDEF lst_result lst_write_obj(const lst_mesh *mesh, lst_write_fn fn, void *ctx
     return lst__done(&e, err);
 }
 
-LSTDEF lst_result lst_write_image(const lst_image *img, const char *format, lst_write_fn fn, void *ctx, lst_error *err)
-{
-    pw_err e;
-    pw_err_clear(&e);
-    if (!fn) pw_fail(&e, PW_ERR_INVALID, "lst_write_image: NULL writer");
-    else if (lst__check_image(img, "image", &e) == PW_OK) lst__encode(img, format, fn, ctx, &e);
-    return lst__done(&e, err);
-}
-
 #ifndef PW_NO_STDIO
-/* Runs a from-memory reader (lst_read_X with its output untyped) on a
- * whole file. */
-typedef int (*lst__reader)(const unsigned char *data, size_t size, const char *path, void *out, const lst_options *o,
-                           lst_error *le);
-
-static lst_result lst__load(const char *path, const lst_options *opt, void *out, lst__reader fn, const char *what,
-                            lst_error *err)
-{
-    lst_options o = lst__options(opt);
-    pw_alloc a = lst__alloc(&o.allocator);
-    unsigned char *data;
-    size_t size;
-    pw_err e;
-    pw_err_clear(&e);
-    if (!path || !out) pw_fail(&e, PW_ERR_INVALID, "%s: NULL argument", what);
-    else if (pw_read_file(&a, path, &data, &size, &e) == PW_OK) {
-        lst_error le;
-        if (fn(data, size, path, out, &o, &le) != LST_OK) pw_fail(&e, (int)le.code, "%s", le.message);
-        pw_free(&a, data);
-    }
-    return lst__done(&e, err);
-}
-
-static int lst__rd_mesh(const unsigned char *d, size_t n, const char *p, void *out, const lst_options *o, lst_error *le)
-{
-    return (int)lst_read_mesh(d, n, p, o, (lst_mesh *)out, le);
-}
-static int lst__rd_volume(const unsigned char *d, size_t n, const char *p, void *out, const lst_options *o,
-                          lst_error *le)
-{
-    return (int)lst_read_volume(d, n, p, o, (lst_volume *)out, le);
-}
-static int lst__rd_model(const unsigned char *d, size_t n, const char *p, void *out, const lst_options *o,
-                         lst_error *le)
-{
-    return (int)lst_read_model(d, n, p, o, (lst_model *)out, le);
-}
-
-static int lst__rd_constraints(const unsigned char *d, size_t n, const char *p, void *out, const lst_options *o,
-                               lst_error *le)
-{
-    return (int)lst_read_constraints(d, n, p, o, (lst_constraints *)out, le);
-}
-static int lst__rd_image(const unsigned char *d, size_t n, const char *p, void *out, const lst_options *o,
-                         lst_error *le)
-{
-    return (int)lst_read_image(d, n, p, o, (lst_image *)out, le);
-}
-
-LSTDEF lst_result lst_load_mesh(const char *path, const lst_options *opt, lst_mesh *out, lst_error *err)
-{
-    if (out) memset(out, 0, sizeof *out);
-    return lst__load(path, opt, out, lst__rd_mesh, "lst_load_mesh", err);
-}
-
-LSTDEF lst_result lst_load_volume(const char *path, const lst_options *opt, lst_volume *out, lst_error *err)
-{
-    if (out) memset(out, 0, sizeof *out);
-    return lst__load(path, opt, out, lst__rd_volume, "lst_load_volume", err);
-}
-
-LSTDEF lst_result lst_load_model(const char *path, const lst_options *opt, lst_model *out, lst_error *err)
-{
-    if (out) memset(out, 0, sizeof *out);
-    return lst__load(path, opt, out, lst__rd_model, "lst_load_model", err);
-}
-
-LSTDEF lst_result lst_load_constraints(const char *path, const lst_options *opt, lst_constraints *out, lst_error *err)
-{
-    if (out) memset(out, 0, sizeof *out);
-    return lst__load(path, opt, out, lst__rd_constraints, "lst_load_constraints", err);
-}
-
-LSTDEF lst_result lst_load_image(const char *path, const lst_options *opt, lst_image *out, lst_error *err)
-{
-    if (out) memset(out, 0, sizeof *out);
-    return lst__load(path, opt, out, lst__rd_image, "lst_load_image", err);
-}
+/* the public file loaders: each file read whole, then read from memory */
+PW_PUBLIC_LOAD(lst, LSTDEF, mesh, lst_mesh);
+PW_PUBLIC_LOAD(lst, LSTDEF, volume, lst_volume);
+PW_PUBLIC_LOAD(lst, LSTDEF, model, lst_model);
+PW_PUBLIC_LOAD(lst, LSTDEF, constraints, lst_constraints);
+PW_PUBLIC_LOAD(lst, LSTDEF, image, lst_image);
 
 LSTDEF lst_result lst_load_tetmesh(const char *path, const lst_options *opt, lst_tetmesh *out, lst_error *err)
 {
@@ -24527,8 +24553,6 @@ LSTDEF lst_result lst_save_tetmesh(const char *path, const lst_tetmesh *mesh, ls
 }
 
 typedef struct lst__job {
-    const lst_image *img;
-    const char *format;
     const lst_volume *vol;
     const lst_model *model;
     const lst_mesh *mesh;
@@ -24538,11 +24562,9 @@ static int lst__job_body(void *arg, pw_write_fn w, void *ctx, pw_err *e)
 {
     const lst__job *j = (const lst__job *)arg;
     lst_error le;
-    int r;
-    if (j->img) return lst__encode(j->img, j->format, w, ctx, e);
-    r = j->vol    ? (int)lst_write_volume(j->vol, w, ctx, &le)
-        : j->mesh ? (int)lst_write_obj(j->mesh, w, ctx, &le)
-                  : (int)lst_write_model(j->model, w, ctx, &le);
+    int r = j->vol    ? (int)lst_write_volume(j->vol, w, ctx, &le)
+            : j->mesh ? (int)lst_write_obj(j->mesh, w, ctx, &le)
+                      : (int)lst_write_model(j->model, w, ctx, &le);
     return r ? pw_fail(e, r, "%s", le.message) : PW_OK;
 }
 
@@ -24550,24 +24572,12 @@ static lst_result lst__save(const char *path, lst__job *j, lst_error *err)
 {
     pw_err e;
     pw_err_clear(&e);
-    if (!path || (!j->img && !j->vol && !j->model && !j->mesh)) pw_fail(&e, PW_ERR_INVALID, "save: NULL argument");
-    else if (j->img && !(j->format = pw_has_ext(path, ".png")                               ? "png"
-                                     : pw_has_ext(path, ".ppm") || pw_has_ext(path, ".pnm") ? "ppm"
-                                     : pw_has_ext(path, ".pgm")                             ? "pgm"
-                                     : pw_has_ext(path, ".pam")                             ? "pam"
-                                                                                            : NULL))
-        pw_fail(&e, PW_ERR_UNSUPPORTED, "%s: unknown image extension (use .png, .ppm, .pgm, .pam)", path);
-    else if (!j->img || lst__check_image(j->img, path, &e) == PW_OK) pw_write_file(path, lst__job_body, j, &e);
+    if (!path || (!j->vol && !j->model && !j->mesh)) pw_fail(&e, PW_ERR_INVALID, "save: NULL argument");
+    else pw_write_file(path, lst__job_body, j, &e);
     return lst__done(&e, err);
 }
 
-LSTDEF lst_result lst_save_image(const char *path, const lst_image *img, lst_error *err)
-{
-    lst__job j;
-    memset(&j, 0, sizeof j);
-    j.img = img;
-    return lst__save(path, &j, err);
-}
+PW_PUBLIC_SAVE_IMAGE(lst, LSTDEF);
 
 LSTDEF lst_result lst_save_volume(const char *path, const lst_volume *vol, lst_error *err)
 {

@@ -8,42 +8,42 @@
  *   1083: src/common/rng.h, seeded random numbers with the same output on every platfo
  *   1160: src/common/noise.h, value noise and its fractal sum, for the built-in procedur
  *   1262: src/common/image.h, float images and their file formats.
- *   1956: src/common/deflate.h, zlib (RFC 1950) and deflate (RFC 1951) compression and
- *   2953: src/common/png.h, PNG writer and reader, and the image front end.
- *   3511: src/common/text.h, locale-independent number parsing and formatting, a line s
- *   3924: src/common/mesh.h, polygon meshes as flat arrays, and their file formats.
- *   5453: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
- *   5982: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
- *   6406: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
- *   7669: src/common/zsparse.h, complex Hermitian sparse systems, solved by conjugate grad
- *   7929: src/common/raster.h, exact scan conversion of 2D triangles.
- *   8403: src/common/render.h, a small deterministic software renderer for textured trian
- *  10170: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
- *  10357: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
- *  10442: src/common/atlas.h, texture atlases of triangle meshes — charts, packing, ba
- *  10631: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
- *  11549: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
- *  12247: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
- *  12483: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
- *  13247: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
- *  14008: src/pgp/tile3.h, sampling a material-space tile (Ray et al. 2009, §2: "a 3
- *  14116: src/common/glue.h, what every method header needs between its public types an
- *  14329: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  14993: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
- *  15490: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
- *  15976: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
- *  16119: src/common/kdtree.h, nearest-neighbour search among n points of dimension d, wi
- *  16462: src/common/pca.h, principal component analysis of vectors streamed one at a 
- *  16649: src/pgp/core.c, pgp.h's glue to the shared core, its defaults, and the map
- *  16906: src/pgp/field.c, §2.1 effect areas and §2.2 interpolation of the constrai
- *  17296: src/pgp/solve.c, §2.3 the periodic global parameterization, the recovery o
- *  18126: src/pgp/edit.c, the public editing calls of a mapping. §2.1 (Ray, Lévy, 
- *  18271: src/pgp/render.c, §3 rendering, and a cleaner treatment of the vortices.
- *  18703: src/pgp/builtin.c, built-in meshes and material-space tiles for demos and tes
- *  18972: src/pgp/io.c, files and memory for pgp.h: material-space tiles (NRRD, or
- *  19432: src/pgp/export.c, the mapping for other programs. A viewer that knows nothin
- *  19658: src/pgp/morph.c, the inputs of §1 (keys brought to the tile size, made til
- *  20337: src/pgp/synth.c, §1.2 constrained tile synthesis, and the whole of §1: ke
+ *   1967: src/common/deflate.h, zlib (RFC 1950) and deflate (RFC 1951) compression and
+ *   2964: src/common/png.h, PNG writer and reader, and the image front end.
+ *   3523: src/common/text.h, locale-independent number parsing and formatting, a line s
+ *   3936: src/common/mesh.h, polygon meshes as flat arrays, and their file formats.
+ *   5465: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
+ *   5994: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
+ *   6418: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
+ *   7681: src/common/zsparse.h, complex Hermitian sparse systems, solved by conjugate grad
+ *   7941: src/common/raster.h, exact scan conversion of 2D triangles.
+ *   8415: src/common/render.h, a small deterministic software renderer for textured trian
+ *  10182: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
+ *  10369: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
+ *  10454: src/common/atlas.h, texture atlases of triangle meshes — charts, packing, ba
+ *  10643: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
+ *  11561: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
+ *  12259: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
+ *  12495: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
+ *  13259: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
+ *  14020: src/pgp/tile3.h, sampling a material-space tile (Ray et al. 2009, §2: "a 3
+ *  14128: src/common/glue.h, what every method header needs between its public types an
+ *  14463: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  15127: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
+ *  15624: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
+ *  16110: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
+ *  16253: src/common/kdtree.h, nearest-neighbour search among n points of dimension d, wi
+ *  16596: src/common/pca.h, principal component analysis of vectors streamed one at a 
+ *  16783: src/pgp/core.c, pgp.h's glue to the shared core, its defaults, and the map
+ *  17040: src/pgp/field.c, §2.1 effect areas and §2.2 interpolation of the constrai
+ *  17430: src/pgp/solve.c, §2.3 the periodic global parameterization, the recovery o
+ *  18260: src/pgp/edit.c, the public editing calls of a mapping. §2.1 (Ray, Lévy, 
+ *  18405: src/pgp/render.c, §3 rendering, and a cleaner treatment of the vortices.
+ *  18837: src/pgp/builtin.c, built-in meshes and material-space tiles for demos and tes
+ *  19106: src/pgp/io.c, files and memory for pgp.h: material-space tiles (NRRD, or
+ *  19454: src/pgp/export.c, the mapping for other programs. A viewer that knows nothin
+ *  19680: src/pgp/morph.c, the inputs of §1 (keys brought to the tile size, made til
+ *  20359: src/pgp/synth.c, §1.2 constrained tile synthesis, and the whole of §1: ke
  */
 /* pgp.h - material-space texturing with a periodic global parameterization.
  *
@@ -1347,6 +1347,17 @@ PW__DEF int pw__image_check(const pw_image *img, pw_err *e)
 }
 
 /* A deep copy of src (same size, channels and bits). */
+/* The image format a file name's extension names (case-insensitive):
+ * "png", "ppm" (.ppm and .pnm), "pgm", "pam"; NULL for any other. */
+PW__DEF const char *pw_image_format_of(const char *path)
+{
+    if (pw_has_ext(path, ".png")) return "png";
+    if (pw_has_ext(path, ".ppm") || pw_has_ext(path, ".pnm")) return "ppm";
+    if (pw_has_ext(path, ".pgm")) return "pgm";
+    if (pw_has_ext(path, ".pam")) return "pam";
+    return NULL;
+}
+
 PW__DEF int pw_image_copy(const pw_alloc *a, const pw_image *src, pw_image *out, pw_err *e)
 {
     int r = pw__image_check(src, e);
@@ -3487,21 +3498,22 @@ PW__DEF int pw__save_body(void *arg, pw_write_fn w, void *ctx, pw_err *e)
     return pw_image_write_pnm(j->img, 0, 0, w, ctx, e);
 }
 
-/* Writes img at its own depth (img->bits) in the format the extension
- * names (case-insensitive): .ppm .pgm .pnm (binary PGM/PPM, or PAM when the
- * image has alpha), .pam, .png. */
+/* Writes img at its own depth (img->bits) and channels in the format the
+ * extension names (pw_image_format_of): .ppm .pgm .pnm (binary PGM or PPM
+ * by the channels, or PAM when the image has alpha), .pam, .png. Keeps
+ * every channel (tests and benchmarks store images with it); the public
+ * X_save_image converts to what the format holds (pw_image_save_as). */
 PW__DEF int pw_image_save(const char *path, const pw_image *img, pw_err *e)
 {
     pw__save_job j;
+    const char *format = pw_image_format_of(path);
     int rc = pw__image_check(img, e);
     if (rc) return rc;
-    j.img = img;
-    if (pw_has_ext(path, ".ppm") || pw_has_ext(path, ".pgm") || pw_has_ext(path, ".pnm")) j.kind = 0;
-    else if (pw_has_ext(path, ".pam")) j.kind = 1;
-    else if (pw_has_ext(path, ".png")) j.kind = 2;
-    else
+    if (!format)
         return pw_fail(e, PW_ERR_UNSUPPORTED, "%s: unknown image file extension (use .png, .ppm, .pgm, .pnm or .pam)",
                        path);
+    j.img = img;
+    j.kind = !strcmp(format, "png") ? 2 : !strcmp(format, "pam") ? 1 : 0;
     return pw_write_file(path, pw__save_body, &j, e);
 }
 #endif /* PW_NO_STDIO */
@@ -14166,6 +14178,38 @@ PW__DEF int pw_image_encode(const pw_alloc *a, const pw_image *img, const char *
     return pw_png_write(a, img, 0, fn, ctx, e);
 }
 
+#ifndef PW_NO_STDIO
+typedef struct pw__encode_job {
+    const pw_alloc *a;
+    const pw_image *img;
+    const char *format;
+} pw__encode_job;
+
+PW__DEF int pw__encode_body(void *arg, pw_write_fn w, void *ctx, pw_err *e)
+{
+    const pw__encode_job *j = (const pw__encode_job *)arg;
+    return pw_image_encode(j->a, j->img, j->format, w, ctx, e);
+}
+
+/* What every X_save_image does: img (a caller's, or NULL: checked, the
+ * path names it in messages) in the format path's extension names
+ * (pw_image_format_of), converted to the channels that format holds
+ * (pw_image_encode). */
+PW__DEF int pw_image_save_as(const pw_alloc *a, const char *path, const pw_image *img, pw_err *e)
+{
+    pw__encode_job j;
+    int r;
+    j.a = a;
+    j.img = img;
+    j.format = pw_image_format_of(path);
+    if (!j.format)
+        return pw_fail(e, PW_ERR_UNSUPPORTED, "%s: unknown image extension (use .png, .ppm, .pgm, .pam)", path);
+    if (!img) return pw_fail(e, PW_ERR_INVALID, "%s: empty image (none given)", path);
+    if ((r = pw_image_validate(img, path, e)) != PW_OK) return r;
+    return pw_write_file(path, pw__encode_body, &j, e);
+}
+#endif
+
 /* Fills the zero fields of a view (public render options) with the
  * defaults every method shares: 800x600, 2x2 supersampling, looking along
  * (-0.55,-0.45,-0.7) with +Y up, on white. */
@@ -14297,6 +14341,96 @@ PW__DEF void pw_view_defaults(int *width, int *height, int *supersample, float v
         return par;                                                                                                 \
     }                                                                                                               \
     typedef int p##__glue_defined /* so that the use ends with a semicolon */
+
+/* PW_PUBLIC_IO(p, DEF) defines the public mesh and image I/O that every
+ * header has, written once (DEF: the header's XDEF; the header's p_mesh
+ * has the shared fields, p_write_fn is a pw_write_fn):
+ *   DEF p_result p_read_mesh(const void *data, size_t size, const char *name, const p_options *, p_mesh *, p_error *)
+ *   DEF p_result p_read_image(const void *data, size_t size, const char *name, const p_options *, p_image *,
+ *                             p_error *)
+ *   DEF p_result p_write_image(const p_image *, const char *format, p_write_fn, void *ctx, p_error *)
+ * A reader takes the format from the bytes (a mesh: from the name's
+ * extension when the bytes do not say), and the name in its messages. */
+#define PW__PUBLIC_READ(p, DEF, what, pwT, T, read, take)                                                           \
+    DEF p##_result p##_read_##what(const void *data, size_t size, const char *name, const p##_options *opt, T *out, \
+                                   p##_error *err)                                                                  \
+    {                                                                                                               \
+        p##_options o = p##__options(opt);                                                                          \
+        pw_alloc a = p##__alloc(&o.allocator);                                                                      \
+        pwT v;                                                                                                      \
+        pw_err pe;                                                                                                  \
+        pw_err_clear(&pe);                                                                                          \
+        if (out) memset(out, 0, sizeof *out);                                                                       \
+        if (!out || (!data && size)) pw_fail(&pe, PW_ERR_INVALID, #p "_read_" #what ": NULL argument");             \
+        else if (read(&a, (const unsigned char *)data, size, name ? name : #what, &v, &pe) == PW_OK)                \
+            take(&v, &a, out);                                                                                      \
+        return p##__done(&pe, err);                                                                                 \
+    }
+#define PW_PUBLIC_IO(p, DEF)                                                                             \
+    PW__PUBLIC_READ(p, DEF, mesh, pw_mesh, p##_mesh, pw_mesh_read_memory, p##__take_mesh)                \
+    PW__PUBLIC_READ(p, DEF, image, pw_image, p##_image, pw_image_read_memory, p##__take_image)           \
+    DEF p##_result p##_write_image(const p##_image *img, const char *format, p##_write_fn fn, void *ctx, \
+                                   p##_error *err)                                                       \
+    {                                                                                                    \
+        pw_err pe;                                                                                       \
+        pw_err_clear(&pe);                                                                               \
+        if (!fn) pw_fail(&pe, PW_ERR_INVALID, #p "_write_image: NULL writer");                           \
+        else if (p##__check_image(img, "image", &pe) == PW_OK) p##__encode(img, format, fn, ctx, &pe);   \
+        return p##__done(&pe, err);                                                                      \
+    }                                                                                                    \
+    typedef int p##__io_defined /* so that the use ends with a semicolon */
+
+/* PW_PUBLIC_LOAD(p, DEF, what, T) defines the public loader of a file
+ * (DEF: the header's XDEF), which every header writes the same way: the
+ * whole file read, then handed to the header's own from-memory reader,
+ *   DEF p_result p_load_WHAT(const char *path, const p_options *, T *out, p_error *)
+ * reads path with p_read_WHAT (the path names the file in messages and
+ * gives the format by its extension). A reader's warning on success (a
+ * message with code 0) reaches the caller as well. Needs p__options and
+ * stdio (not PW_NO_STDIO). */
+#define PW_PUBLIC_LOAD(p, DEF, what, T)                                                              \
+    DEF p##_result p##_load_##what(const char *path, const p##_options *opt, T *out, p##_error *err) \
+    {                                                                                                \
+        p##_options o = p##__options(opt);                                                           \
+        pw_alloc a = p##__alloc(&o.allocator);                                                       \
+        unsigned char *data;                                                                         \
+        size_t size;                                                                                 \
+        pw_err pe;                                                                                   \
+        pw_err_clear(&pe);                                                                           \
+        if (out) memset(out, 0, sizeof *out);                                                        \
+        if (!path || !out) pw_fail(&pe, PW_ERR_INVALID, #p "_load_" #what ": NULL argument");        \
+        else if (pw_read_file(&a, path, &data, &size, &pe) == PW_OK) {                               \
+            p##_error le;                                                                            \
+            memset(&le, 0, sizeof le);                                                               \
+            if (p##_read_##what(data, size, path, &o, out, &le) != 0 || le.message[0])               \
+                pw_fail(&pe, (int)le.code, "%s", le.message);                                        \
+            pw_free(&a, data);                                                                       \
+        }                                                                                            \
+        return p##__done(&pe, err);                                                                  \
+    }                                                                                                \
+    typedef int p##__load_##what##_defined /* so that the use ends with a semicolon */
+
+/* PW_PUBLIC_SAVE_IMAGE(p, DEF) defines
+ *   DEF p_result p_save_image(const char *path, const p_image *img, p_error *)
+ * with pw_image_save_as: the format by the extension, no file left on
+ * failure. */
+#define PW_PUBLIC_SAVE_IMAGE(p, DEF)                                                      \
+    DEF p##_result p##_save_image(const char *path, const p##_image *img, p##_error *err) \
+    {                                                                                     \
+        pw_image v;                                                                       \
+        pw_alloc a;                                                                       \
+        pw_err pe;                                                                        \
+        pw_err_clear(&pe);                                                                \
+        memset(&a, 0, sizeof a);                                                          \
+        if (img) {                                                                        \
+            v = p##__pw_image(img);                                                       \
+            a = p##__alloc(&img->allocator);                                              \
+        }                                                                                 \
+        if (!path) pw_fail(&pe, PW_ERR_INVALID, #p "_save_image: NULL path");             \
+        else pw_image_save_as(&a, path, img ? &v : NULL, &pe);                            \
+        return p##__done(&pe, err);                                                       \
+    }                                                                                     \
+    typedef int p##__save_image_defined /* so that the use ends with a semicolon */
 
 /* The public frees of an image and of a mesh with the shared fields only
  * (DEF: the header's XDEF): with the allocator the object remembers, then
@@ -19005,6 +19139,7 @@ static int pgp__tile_view(const pgp_tile *t, pw_volume *v, pw_err *e)
 {
     size_t k, n;
     int r;
+    memset(v, 0, sizeof *v);
     if (!t || !t->pixels) return pw_fail(e, PW_ERR_INVALID, "tile: empty (no texels)");
     if (t->width < 1 || t->height < 1 || t->layers < 1 || t->channels < 1 || t->channels > 4)
         return pw_fail(e, PW_ERR_INVALID, "tile: %dx%d texels, %d layers, %d channels (1 to 4) is not a tile", t->width,
@@ -19095,43 +19230,7 @@ PGPDEF pgp_result pgp_write_tile(const pgp_tile *tile, pgp_write_fn fn, void *ct
 
 /* ---- meshes and images --------------------------------------------------------- */
 
-PGPDEF pgp_result pgp_read_mesh(const void *data, size_t size, const char *name, const pgp_options *opt, pgp_mesh *out,
-                                pgp_error *err)
-{
-    pgp_options o = pgp__options(opt);
-    pw_alloc a = pgp__alloc(&o.allocator);
-    pw_mesh m;
-    pw_err pe;
-    pw_err_clear(&pe);
-    if (out) memset(out, 0, sizeof *out);
-    if (!out || (!data && size)) pw_fail(&pe, PW_ERR_INVALID, "pgp_read_mesh: NULL argument");
-    else if (pw_mesh_read_memory(&a, data, size, name ? name : "mesh", &m, &pe) == PW_OK) pgp__take_mesh(&m, &a, out);
-    return pgp__done(&pe, err);
-}
-
-PGPDEF pgp_result pgp_read_image(const void *data, size_t size, const char *name, const pgp_options *opt,
-                                 pgp_image *out, pgp_error *err)
-{
-    pgp_options o = pgp__options(opt);
-    pw_alloc a = pgp__alloc(&o.allocator);
-    pw_image img;
-    pw_err pe;
-    pw_err_clear(&pe);
-    if (out) memset(out, 0, sizeof *out);
-    if (!out || (!data && size)) pw_fail(&pe, PW_ERR_INVALID, "pgp_read_image: NULL argument");
-    else if (pw_image_read_memory(&a, (const unsigned char *)data, size, name ? name : "image", &img, &pe) == PW_OK)
-        pgp__take_image(&img, &a, out);
-    return pgp__done(&pe, err);
-}
-
-PGPDEF pgp_result pgp_write_image(const pgp_image *img, const char *format, pgp_write_fn fn, void *ctx, pgp_error *err)
-{
-    pw_err pe;
-    pw_err_clear(&pe);
-    if (!fn) pw_fail(&pe, PW_ERR_INVALID, "pgp_write_image: NULL writer");
-    else if (pgp__check_image(img, "image", &pe) == PW_OK) pgp__encode(img, format, fn, ctx, &pe);
-    return pgp__done(&pe, err);
-}
+PW_PUBLIC_IO(pgp, PGPDEF);
 
 /* ---- the textured OBJ ------------------------------------------------------------ */
 
@@ -19301,54 +19400,14 @@ PGPDEF pgp_result pgp_read_constraints(const void *data, size_t size, const char
 /* ---- files ------------------------------------------------------------------------------ */
 
 #ifndef PW_NO_STDIO
-PGPDEF pgp_result pgp_load_mesh(const char *path, const pgp_options *opt, pgp_mesh *out, pgp_error *err)
-{
-    pgp_options o = pgp__options(opt);
-    pw_alloc a = pgp__alloc(&o.allocator);
-    pw_mesh m;
-    pw_err pe;
-    pw_err_clear(&pe);
-    if (out) memset(out, 0, sizeof *out);
-    if (!out || !path) pw_fail(&pe, PW_ERR_INVALID, "pgp_load_mesh: NULL argument");
-    else if (pw_mesh_load(&a, path, &m, &pe) == PW_OK) pgp__take_mesh(&m, &a, out);
-    return pgp__done(&pe, err);
-}
-
-PGPDEF pgp_result pgp_load_image(const char *path, const pgp_options *opt, pgp_image *out, pgp_error *err)
-{
-    pgp_options o = pgp__options(opt);
-    pw_alloc a = pgp__alloc(&o.allocator);
-    pw_image img;
-    pw_err pe;
-    pw_err_clear(&pe);
-    if (out) memset(out, 0, sizeof *out);
-    if (!out || !path) pw_fail(&pe, PW_ERR_INVALID, "pgp_load_image: NULL argument");
-    else if (pw_image_load(&a, path, &img, &pe) == PW_OK) pgp__take_image(&img, &a, out);
-    return pgp__done(&pe, err);
-}
-
-PGPDEF pgp_result pgp_load_tile(const char *path, const pgp_options *opt, pgp_tile *out, pgp_error *err)
-{
-    pgp_options o = pgp__options(opt);
-    pw_alloc a = pgp__alloc(&o.allocator);
-    unsigned char *data;
-    size_t size;
-    pw_err pe;
-    pw_err_clear(&pe);
-    if (out) memset(out, 0, sizeof *out);
-    if (!out || !path) pw_fail(&pe, PW_ERR_INVALID, "pgp_load_tile: NULL argument");
-    else if (pw_read_file(&a, path, &data, &size, &pe) == PW_OK) {
-        pgp_error le;
-        if (pgp_read_tile(data, size, path, &o, out, &le) != PGP_OK) pw_fail(&pe, (int)le.code, "%s", le.message);
-        pw_free(&a, data);
-    }
-    return pgp__done(&pe, err);
-}
+/* the public file loaders: each file read whole, then read from memory */
+PW_PUBLIC_LOAD(pgp, PGPDEF, mesh, pgp_mesh);
+PW_PUBLIC_LOAD(pgp, PGPDEF, image, pgp_image);
+PW_PUBLIC_LOAD(pgp, PGPDEF, tile, pgp_tile);
+PW_PUBLIC_LOAD(pgp, PGPDEF, constraints, pgp_constraints);
 
 /* What a file writer writes: one of these is set. */
 typedef struct pgp__job {
-    const pgp_image *img;
-    const char *format;
     const pgp_tile *tile;
     const pgp_mesh *mesh;
     const pgp_map *map;
@@ -19358,9 +19417,7 @@ static int pgp__job_body(void *arg, pw_write_fn w, void *ctx, pw_err *e)
 {
     const pgp__job *j = (const pgp__job *)arg;
     pgp_error le;
-    pgp_result r = j->img    ? pgp_write_image(j->img, j->format, w, ctx, &le)
-                   : j->tile ? pgp_write_tile(j->tile, w, ctx, &le)
-                             : pgp_write_obj(j->mesh, j->map, w, ctx, &le);
+    pgp_result r = j->tile ? pgp_write_tile(j->tile, w, ctx, &le) : pgp_write_obj(j->mesh, j->map, w, ctx, &le);
     return r != PGP_OK ? pw_fail(e, (int)r, "%s", le.message) : PW_OK;
 }
 
@@ -19378,23 +19435,7 @@ PGPDEF pgp_result pgp_save_tile(const char *path, const pgp_tile *tile, pgp_erro
     return pgp__done(&pe, err);
 }
 
-PGPDEF pgp_result pgp_save_image(const char *path, const pgp_image *img, pgp_error *err)
-{
-    pgp__job j;
-    pw_err pe;
-    pw_err_clear(&pe);
-    memset(&j, 0, sizeof j);
-    j.img = img;
-    if (!path) pw_fail(&pe, PW_ERR_INVALID, "pgp_save_image: NULL path");
-    else if (!(j.format = pw_has_ext(path, ".png")                               ? "png"
-                          : pw_has_ext(path, ".ppm") || pw_has_ext(path, ".pnm") ? "ppm"
-                          : pw_has_ext(path, ".pgm")                             ? "pgm"
-                          : pw_has_ext(path, ".pam")                             ? "pam"
-                                                                                 : NULL))
-        pw_fail(&pe, PW_ERR_UNSUPPORTED, "%s: unknown image extension (use .png, .ppm, .pgm, .pam)", path);
-    else if (pgp__check_image(img, path, &pe) == PW_OK) pw_write_file(path, pgp__job_body, &j, &pe);
-    return pgp__done(&pe, err);
-}
+PW_PUBLIC_SAVE_IMAGE(pgp, PGPDEF);
 
 PGPDEF pgp_result pgp_save_obj(const char *path, const pgp_mesh *mesh, const pgp_map *map, pgp_error *err)
 {
@@ -19406,25 +19447,6 @@ PGPDEF pgp_result pgp_save_obj(const char *path, const pgp_mesh *mesh, const pgp
     j.map = map;
     if (!path || !pgp__state_of(map)) pw_fail(&pe, PW_ERR_INVALID, "pgp_save_obj: NULL argument or empty map");
     else if (!mesh || pgp__same_mesh(mesh, map->state, &pe) == PW_OK) pw_write_file(path, pgp__job_body, &j, &pe);
-    return pgp__done(&pe, err);
-}
-
-PGPDEF pgp_result pgp_load_constraints(const char *path, const pgp_options *opt, pgp_constraints *out, pgp_error *err)
-{
-    pgp_options o = pgp__options(opt);
-    pw_alloc a = pgp__alloc(&o.allocator);
-    unsigned char *data;
-    size_t size;
-    pw_err pe;
-    pw_err_clear(&pe);
-    if (out) memset(out, 0, sizeof *out);
-    if (!out || !path) pw_fail(&pe, PW_ERR_INVALID, "pgp_load_constraints: NULL argument");
-    else if (pw_read_file(&a, path, &data, &size, &pe) == PW_OK) {
-        pgp_error le;
-        if (pgp_read_constraints(data, size, path, &o, out, &le) != PGP_OK)
-            pw_fail(&pe, (int)le.code, "%s", le.message);
-        pw_free(&a, data);
-    }
     return pgp__done(&pe, err);
 }
 #endif

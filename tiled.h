@@ -8,27 +8,27 @@
  *    859: src/common/rng.h, seeded random numbers with the same output on every platfo
  *    936: src/common/noise.h, value noise and its fractal sum, for the built-in procedur
  *   1038: src/common/image.h, float images and their file formats.
- *   1732: src/common/deflate.h, zlib (RFC 1950) and deflate (RFC 1951) compression and
- *   2731: src/common/png.h, PNG writer and reader, and the image front end.
- *   3289: src/common/text.h, locale-independent number parsing and formatting, a line s
- *   3702: src/common/mesh.h, polygon meshes as flat arrays, and their file formats.
- *   5231: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
- *   5760: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
- *   6184: src/common/subdiv.h, Catmull-Clark subdivision (Catmull and Clark 1978) with
- *   6323: src/common/raster.h, exact scan conversion of 2D triangles.
- *   6799: src/common/render.h, a small deterministic software renderer for textured trian
- *   8566: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
- *   9063: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
- *   9549: src/common/glue.h, what every method header needs between its public types an
- *   9762: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  10426: src/tiled/core.c, tiled.h's glue to the shared core, its defaults, result
- *  10515: src/tiled/layout.c, ch. III.1, the boundary types and the tiled texture they
- *  10787: src/tiled/map.c, ch. III.2, the texture mapping algorithm of Fig. 29
- *  11036: src/tiled/synth.c, ch. III.1.3, tiled texture image synthesis: an edge-matche
- *  11418: src/tiled/validate.c, checks a hand-made tiled texture (the thesis's Figs. 39,
- *  11546: src/tiled/builtin.c, built-in meshes and exemplars for demos and tests: the
- *  11743: src/tiled/render.c, a software rendering of a mapped mesh (the thesis rendered
- *  11966: src/tiled/io.c, files. Meshes and exemplars in; the mapped mesh with its t
+ *   1743: src/common/deflate.h, zlib (RFC 1950) and deflate (RFC 1951) compression and
+ *   2742: src/common/png.h, PNG writer and reader, and the image front end.
+ *   3301: src/common/text.h, locale-independent number parsing and formatting, a line s
+ *   3714: src/common/mesh.h, polygon meshes as flat arrays, and their file formats.
+ *   5243: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
+ *   5772: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
+ *   6196: src/common/subdiv.h, Catmull-Clark subdivision (Catmull and Clark 1978) with
+ *   6335: src/common/raster.h, exact scan conversion of 2D triangles.
+ *   6811: src/common/render.h, a small deterministic software renderer for textured trian
+ *   8578: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
+ *   9075: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
+ *   9561: src/common/glue.h, what every method header needs between its public types an
+ *   9896: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  10560: src/tiled/core.c, tiled.h's glue to the shared core, its defaults, result
+ *  10649: src/tiled/layout.c, ch. III.1, the boundary types and the tiled texture they
+ *  10921: src/tiled/map.c, ch. III.2, the texture mapping algorithm of Fig. 29
+ *  11170: src/tiled/synth.c, ch. III.1.3, tiled texture image synthesis: an edge-matche
+ *  11552: src/tiled/validate.c, checks a hand-made tiled texture (the thesis's Figs. 39,
+ *  11680: src/tiled/builtin.c, built-in meshes and exemplars for demos and tests: the
+ *  11877: src/tiled/render.c, a software rendering of a mapped mesh (the thesis rendered
+ *  12100: src/tiled/io.c, files. Meshes and exemplars in; the mapped mesh with its t
  */
 /* tiled.h - seamless, singularity-free tiled textures on quad meshes.
  *
@@ -1123,6 +1123,17 @@ PW__DEF int pw__image_check(const pw_image *img, pw_err *e)
 }
 
 /* A deep copy of src (same size, channels and bits). */
+/* The image format a file name's extension names (case-insensitive):
+ * "png", "ppm" (.ppm and .pnm), "pgm", "pam"; NULL for any other. */
+PW__DEF const char *pw_image_format_of(const char *path)
+{
+    if (pw_has_ext(path, ".png")) return "png";
+    if (pw_has_ext(path, ".ppm") || pw_has_ext(path, ".pnm")) return "ppm";
+    if (pw_has_ext(path, ".pgm")) return "pgm";
+    if (pw_has_ext(path, ".pam")) return "pam";
+    return NULL;
+}
+
 PW__DEF int pw_image_copy(const pw_alloc *a, const pw_image *src, pw_image *out, pw_err *e)
 {
     int r = pw__image_check(src, e);
@@ -3265,21 +3276,22 @@ PW__DEF int pw__save_body(void *arg, pw_write_fn w, void *ctx, pw_err *e)
     return pw_image_write_pnm(j->img, 0, 0, w, ctx, e);
 }
 
-/* Writes img at its own depth (img->bits) in the format the extension
- * names (case-insensitive): .ppm .pgm .pnm (binary PGM/PPM, or PAM when the
- * image has alpha), .pam, .png. */
+/* Writes img at its own depth (img->bits) and channels in the format the
+ * extension names (pw_image_format_of): .ppm .pgm .pnm (binary PGM or PPM
+ * by the channels, or PAM when the image has alpha), .pam, .png. Keeps
+ * every channel (tests and benchmarks store images with it); the public
+ * X_save_image converts to what the format holds (pw_image_save_as). */
 PW__DEF int pw_image_save(const char *path, const pw_image *img, pw_err *e)
 {
     pw__save_job j;
+    const char *format = pw_image_format_of(path);
     int rc = pw__image_check(img, e);
     if (rc) return rc;
-    j.img = img;
-    if (pw_has_ext(path, ".ppm") || pw_has_ext(path, ".pgm") || pw_has_ext(path, ".pnm")) j.kind = 0;
-    else if (pw_has_ext(path, ".pam")) j.kind = 1;
-    else if (pw_has_ext(path, ".png")) j.kind = 2;
-    else
+    if (!format)
         return pw_fail(e, PW_ERR_UNSUPPORTED, "%s: unknown image file extension (use .png, .ppm, .pgm, .pnm or .pam)",
                        path);
+    j.img = img;
+    j.kind = !strcmp(format, "png") ? 2 : !strcmp(format, "pam") ? 1 : 0;
     return pw_write_file(path, pw__save_body, &j, e);
 }
 #endif /* PW_NO_STDIO */
@@ -9599,6 +9611,38 @@ PW__DEF int pw_image_encode(const pw_alloc *a, const pw_image *img, const char *
     return pw_png_write(a, img, 0, fn, ctx, e);
 }
 
+#ifndef PW_NO_STDIO
+typedef struct pw__encode_job {
+    const pw_alloc *a;
+    const pw_image *img;
+    const char *format;
+} pw__encode_job;
+
+PW__DEF int pw__encode_body(void *arg, pw_write_fn w, void *ctx, pw_err *e)
+{
+    const pw__encode_job *j = (const pw__encode_job *)arg;
+    return pw_image_encode(j->a, j->img, j->format, w, ctx, e);
+}
+
+/* What every X_save_image does: img (a caller's, or NULL: checked, the
+ * path names it in messages) in the format path's extension names
+ * (pw_image_format_of), converted to the channels that format holds
+ * (pw_image_encode). */
+PW__DEF int pw_image_save_as(const pw_alloc *a, const char *path, const pw_image *img, pw_err *e)
+{
+    pw__encode_job j;
+    int r;
+    j.a = a;
+    j.img = img;
+    j.format = pw_image_format_of(path);
+    if (!j.format)
+        return pw_fail(e, PW_ERR_UNSUPPORTED, "%s: unknown image extension (use .png, .ppm, .pgm, .pam)", path);
+    if (!img) return pw_fail(e, PW_ERR_INVALID, "%s: empty image (none given)", path);
+    if ((r = pw_image_validate(img, path, e)) != PW_OK) return r;
+    return pw_write_file(path, pw__encode_body, &j, e);
+}
+#endif
+
 /* Fills the zero fields of a view (public render options) with the
  * defaults every method shares: 800x600, 2x2 supersampling, looking along
  * (-0.55,-0.45,-0.7) with +Y up, on white. */
@@ -9730,6 +9774,96 @@ PW__DEF void pw_view_defaults(int *width, int *height, int *supersample, float v
         return par;                                                                                                 \
     }                                                                                                               \
     typedef int p##__glue_defined /* so that the use ends with a semicolon */
+
+/* PW_PUBLIC_IO(p, DEF) defines the public mesh and image I/O that every
+ * header has, written once (DEF: the header's XDEF; the header's p_mesh
+ * has the shared fields, p_write_fn is a pw_write_fn):
+ *   DEF p_result p_read_mesh(const void *data, size_t size, const char *name, const p_options *, p_mesh *, p_error *)
+ *   DEF p_result p_read_image(const void *data, size_t size, const char *name, const p_options *, p_image *,
+ *                             p_error *)
+ *   DEF p_result p_write_image(const p_image *, const char *format, p_write_fn, void *ctx, p_error *)
+ * A reader takes the format from the bytes (a mesh: from the name's
+ * extension when the bytes do not say), and the name in its messages. */
+#define PW__PUBLIC_READ(p, DEF, what, pwT, T, read, take)                                                           \
+    DEF p##_result p##_read_##what(const void *data, size_t size, const char *name, const p##_options *opt, T *out, \
+                                   p##_error *err)                                                                  \
+    {                                                                                                               \
+        p##_options o = p##__options(opt);                                                                          \
+        pw_alloc a = p##__alloc(&o.allocator);                                                                      \
+        pwT v;                                                                                                      \
+        pw_err pe;                                                                                                  \
+        pw_err_clear(&pe);                                                                                          \
+        if (out) memset(out, 0, sizeof *out);                                                                       \
+        if (!out || (!data && size)) pw_fail(&pe, PW_ERR_INVALID, #p "_read_" #what ": NULL argument");             \
+        else if (read(&a, (const unsigned char *)data, size, name ? name : #what, &v, &pe) == PW_OK)                \
+            take(&v, &a, out);                                                                                      \
+        return p##__done(&pe, err);                                                                                 \
+    }
+#define PW_PUBLIC_IO(p, DEF)                                                                             \
+    PW__PUBLIC_READ(p, DEF, mesh, pw_mesh, p##_mesh, pw_mesh_read_memory, p##__take_mesh)                \
+    PW__PUBLIC_READ(p, DEF, image, pw_image, p##_image, pw_image_read_memory, p##__take_image)           \
+    DEF p##_result p##_write_image(const p##_image *img, const char *format, p##_write_fn fn, void *ctx, \
+                                   p##_error *err)                                                       \
+    {                                                                                                    \
+        pw_err pe;                                                                                       \
+        pw_err_clear(&pe);                                                                               \
+        if (!fn) pw_fail(&pe, PW_ERR_INVALID, #p "_write_image: NULL writer");                           \
+        else if (p##__check_image(img, "image", &pe) == PW_OK) p##__encode(img, format, fn, ctx, &pe);   \
+        return p##__done(&pe, err);                                                                      \
+    }                                                                                                    \
+    typedef int p##__io_defined /* so that the use ends with a semicolon */
+
+/* PW_PUBLIC_LOAD(p, DEF, what, T) defines the public loader of a file
+ * (DEF: the header's XDEF), which every header writes the same way: the
+ * whole file read, then handed to the header's own from-memory reader,
+ *   DEF p_result p_load_WHAT(const char *path, const p_options *, T *out, p_error *)
+ * reads path with p_read_WHAT (the path names the file in messages and
+ * gives the format by its extension). A reader's warning on success (a
+ * message with code 0) reaches the caller as well. Needs p__options and
+ * stdio (not PW_NO_STDIO). */
+#define PW_PUBLIC_LOAD(p, DEF, what, T)                                                              \
+    DEF p##_result p##_load_##what(const char *path, const p##_options *opt, T *out, p##_error *err) \
+    {                                                                                                \
+        p##_options o = p##__options(opt);                                                           \
+        pw_alloc a = p##__alloc(&o.allocator);                                                       \
+        unsigned char *data;                                                                         \
+        size_t size;                                                                                 \
+        pw_err pe;                                                                                   \
+        pw_err_clear(&pe);                                                                           \
+        if (out) memset(out, 0, sizeof *out);                                                        \
+        if (!path || !out) pw_fail(&pe, PW_ERR_INVALID, #p "_load_" #what ": NULL argument");        \
+        else if (pw_read_file(&a, path, &data, &size, &pe) == PW_OK) {                               \
+            p##_error le;                                                                            \
+            memset(&le, 0, sizeof le);                                                               \
+            if (p##_read_##what(data, size, path, &o, out, &le) != 0 || le.message[0])               \
+                pw_fail(&pe, (int)le.code, "%s", le.message);                                        \
+            pw_free(&a, data);                                                                       \
+        }                                                                                            \
+        return p##__done(&pe, err);                                                                  \
+    }                                                                                                \
+    typedef int p##__load_##what##_defined /* so that the use ends with a semicolon */
+
+/* PW_PUBLIC_SAVE_IMAGE(p, DEF) defines
+ *   DEF p_result p_save_image(const char *path, const p_image *img, p_error *)
+ * with pw_image_save_as: the format by the extension, no file left on
+ * failure. */
+#define PW_PUBLIC_SAVE_IMAGE(p, DEF)                                                      \
+    DEF p##_result p##_save_image(const char *path, const p##_image *img, p##_error *err) \
+    {                                                                                     \
+        pw_image v;                                                                       \
+        pw_alloc a;                                                                       \
+        pw_err pe;                                                                        \
+        pw_err_clear(&pe);                                                                \
+        memset(&a, 0, sizeof a);                                                          \
+        if (img) {                                                                        \
+            v = p##__pw_image(img);                                                       \
+            a = p##__alloc(&img->allocator);                                              \
+        }                                                                                 \
+        if (!path) pw_fail(&pe, PW_ERR_INVALID, #p "_save_image: NULL path");             \
+        else pw_image_save_as(&a, path, img ? &v : NULL, &pe);                            \
+        return p##__done(&pe, err);                                                       \
+    }                                                                                     \
+    typedef int p##__save_image_defined /* so that the use ends with a semicolon */
 
 /* The public frees of an image and of a mesh with the shared fields only
  * (DEF: the header's XDEF): with the allocator the object remembers, then
@@ -11968,44 +12102,7 @@ TILEDDEF tiled_result tiled_drawn_tile_size(const tiled_mesh *mapped, const tile
  * coordinates out as OBJ + MTL or glTF, for other programs to render (the
  * thesis took its meshes from and to Maya, ch. IV.2 and V), and images. */
 
-TILEDDEF tiled_result tiled_read_mesh(const void *data, size_t size, const char *name, const tiled_options *opt,
-                                      tiled_mesh *out, tiled_error *err)
-{
-    tiled_options o = tiled__options(opt);
-    pw_alloc a = tiled__alloc(&o.allocator);
-    pw_mesh m;
-    pw_err pe;
-    pw_err_clear(&pe);
-    if (out) memset(out, 0, sizeof *out);
-    if (!out || (!data && size)) pw_fail(&pe, PW_ERR_INVALID, "tiled_read_mesh: NULL argument");
-    else if (pw_mesh_read_memory(&a, data, size, name ? name : "mesh", &m, &pe) == PW_OK) tiled__take_mesh(&m, &a, out);
-    return tiled__done(&pe, err);
-}
-
-TILEDDEF tiled_result tiled_read_image(const void *data, size_t size, const char *name, const tiled_options *opt,
-                                       tiled_image *out, tiled_error *err)
-{
-    tiled_options o = tiled__options(opt);
-    pw_alloc a = tiled__alloc(&o.allocator);
-    pw_image img;
-    pw_err pe;
-    pw_err_clear(&pe);
-    if (out) memset(out, 0, sizeof *out);
-    if (!out || (!data && size)) pw_fail(&pe, PW_ERR_INVALID, "tiled_read_image: NULL argument");
-    else if (pw_image_read_memory(&a, (const unsigned char *)data, size, name ? name : "image", &img, &pe) == PW_OK)
-        tiled__take_image(&img, &a, out);
-    return tiled__done(&pe, err);
-}
-
-TILEDDEF tiled_result tiled_write_image(const tiled_image *img, const char *format, tiled_write_fn fn, void *ctx,
-                                        tiled_error *err)
-{
-    pw_err pe;
-    pw_err_clear(&pe);
-    if (!fn) pw_fail(&pe, PW_ERR_INVALID, "tiled_write_image: NULL writer");
-    else if (tiled__check_image(img, "image", &pe) == PW_OK) tiled__encode(img, format, fn, ctx, &pe);
-    return tiled__done(&pe, err);
-}
+PW_PUBLIC_IO(tiled, TILEDDEF);
 
 /* Distinct texture coordinates in order of first use (an open-addressing
  * table on their bit patterns), so the OBJ lists each vt once. */
@@ -12107,31 +12204,9 @@ TILEDDEF tiled_result tiled_write_mtl(const char *texture_name, tiled_write_fn f
 }
 
 #ifndef PW_NO_STDIO
-TILEDDEF tiled_result tiled_load_mesh(const char *path, const tiled_options *opt, tiled_mesh *out, tiled_error *err)
-{
-    tiled_options o = tiled__options(opt);
-    pw_alloc a = tiled__alloc(&o.allocator);
-    pw_mesh m;
-    pw_err pe;
-    pw_err_clear(&pe);
-    if (out) memset(out, 0, sizeof *out);
-    if (!out || !path) pw_fail(&pe, PW_ERR_INVALID, "tiled_load_mesh: NULL argument");
-    else if (pw_mesh_load(&a, path, &m, &pe) == PW_OK) tiled__take_mesh(&m, &a, out);
-    return tiled__done(&pe, err);
-}
-
-TILEDDEF tiled_result tiled_load_image(const char *path, const tiled_options *opt, tiled_image *out, tiled_error *err)
-{
-    tiled_options o = tiled__options(opt);
-    pw_alloc a = tiled__alloc(&o.allocator);
-    pw_image img;
-    pw_err pe;
-    pw_err_clear(&pe);
-    if (out) memset(out, 0, sizeof *out);
-    if (!out || !path) pw_fail(&pe, PW_ERR_INVALID, "tiled_load_image: NULL argument");
-    else if (pw_image_load(&a, path, &img, &pe) == PW_OK) tiled__take_image(&img, &a, out);
-    return tiled__done(&pe, err);
-}
+/* the public file loaders: each file read whole, then read from memory */
+PW_PUBLIC_LOAD(tiled, TILEDDEF, mesh, tiled_mesh);
+PW_PUBLIC_LOAD(tiled, TILEDDEF, image, tiled_image);
 
 /* Writers behind pw_write_file. */
 typedef struct tiled__job {
@@ -12141,12 +12216,6 @@ typedef struct tiled__job {
     const char *name; /* mtl name or texture name */
     const tiled_render_options *view;
 } tiled__job;
-
-static int tiled__image_job(void *arg, pw_write_fn w, void *ctx, pw_err *e)
-{
-    const tiled__job *j = (const tiled__job *)arg;
-    return tiled__encode(j->img, j->format, w, ctx, e);
-}
 
 static int tiled__obj_job(void *arg, pw_write_fn w, void *ctx, pw_err *e)
 {
@@ -12172,28 +12241,7 @@ static int tiled__gltf_job(void *arg, pw_write_fn w, void *ctx, pw_err *e)
     return r;
 }
 
-static const char *tiled__format_of(const char *path)
-{
-    if (pw_has_ext(path, ".png")) return "png";
-    if (pw_has_ext(path, ".ppm") || pw_has_ext(path, ".pnm")) return "ppm";
-    if (pw_has_ext(path, ".pgm")) return "pgm";
-    if (pw_has_ext(path, ".pam")) return "pam";
-    return NULL;
-}
-
-TILEDDEF tiled_result tiled_save_image(const char *path, const tiled_image *img, tiled_error *err)
-{
-    tiled__job j;
-    pw_err pe;
-    pw_err_clear(&pe);
-    memset(&j, 0, sizeof j);
-    j.img = img;
-    if (!path) pw_fail(&pe, PW_ERR_INVALID, "tiled_save_image: NULL path");
-    else if (!(j.format = tiled__format_of(path)))
-        pw_fail(&pe, PW_ERR_UNSUPPORTED, "%s: unknown image extension (use .png, .ppm, .pgm, .pam)", path);
-    else if (tiled__check_image(img, path, &pe) == PW_OK) pw_write_file(path, tiled__image_job, &j, &pe);
-    return tiled__done(&pe, err);
-}
+PW_PUBLIC_SAVE_IMAGE(tiled, TILEDDEF);
 
 TILEDDEF tiled_result tiled_save_gltf(const char *path, const tiled_mesh *m, const tiled_image *texture,
                                       const tiled_render_options *view, tiled_error *err)

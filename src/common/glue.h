@@ -13,6 +13,7 @@
 #include "base.h"
 #include "image.h"
 #include "png.h"
+#include "mesh.h"
 #include "render.h"
 
 /* Checks an image that came from a caller: size, channel count, and every
@@ -53,6 +54,38 @@ PW__DEF int pw_image_encode(const pw_alloc *a, const pw_image *img, const char *
     if (!strcmp(format, "pam")) return pw_image_write_pam(img, 0, fn, ctx, e);
     return pw_png_write(a, img, 0, fn, ctx, e);
 }
+
+#ifndef PW_NO_STDIO
+typedef struct pw__encode_job {
+    const pw_alloc *a;
+    const pw_image *img;
+    const char *format;
+} pw__encode_job;
+
+PW__DEF int pw__encode_body(void *arg, pw_write_fn w, void *ctx, pw_err *e)
+{
+    const pw__encode_job *j = (const pw__encode_job *)arg;
+    return pw_image_encode(j->a, j->img, j->format, w, ctx, e);
+}
+
+/* What every X_save_image does: img (a caller's, or NULL: checked, the
+ * path names it in messages) in the format path's extension names
+ * (pw_image_format_of), converted to the channels that format holds
+ * (pw_image_encode). */
+PW__DEF int pw_image_save_as(const pw_alloc *a, const char *path, const pw_image *img, pw_err *e)
+{
+    pw__encode_job j;
+    int r;
+    j.a = a;
+    j.img = img;
+    j.format = pw_image_format_of(path);
+    if (!j.format)
+        return pw_fail(e, PW_ERR_UNSUPPORTED, "%s: unknown image extension (use .png, .ppm, .pgm, .pam)", path);
+    if (!img) return pw_fail(e, PW_ERR_INVALID, "%s: empty image (none given)", path);
+    if ((r = pw_image_validate(img, path, e)) != PW_OK) return r;
+    return pw_write_file(path, pw__encode_body, &j, e);
+}
+#endif
 
 /* Fills the zero fields of a view (public render options) with the
  * defaults every method shares: 800x600, 2x2 supersampling, looking along
@@ -185,6 +218,96 @@ PW__DEF void pw_view_defaults(int *width, int *height, int *supersample, float v
         return par;                                                                                                 \
     }                                                                                                               \
     typedef int p##__glue_defined /* so that the use ends with a semicolon */
+
+/* PW_PUBLIC_IO(p, DEF) defines the public mesh and image I/O that every
+ * header has, written once (DEF: the header's XDEF; the header's p_mesh
+ * has the shared fields, p_write_fn is a pw_write_fn):
+ *   DEF p_result p_read_mesh(const void *data, size_t size, const char *name, const p_options *, p_mesh *, p_error *)
+ *   DEF p_result p_read_image(const void *data, size_t size, const char *name, const p_options *, p_image *,
+ *                             p_error *)
+ *   DEF p_result p_write_image(const p_image *, const char *format, p_write_fn, void *ctx, p_error *)
+ * A reader takes the format from the bytes (a mesh: from the name's
+ * extension when the bytes do not say), and the name in its messages. */
+#define PW__PUBLIC_READ(p, DEF, what, pwT, T, read, take)                                                           \
+    DEF p##_result p##_read_##what(const void *data, size_t size, const char *name, const p##_options *opt, T *out, \
+                                   p##_error *err)                                                                  \
+    {                                                                                                               \
+        p##_options o = p##__options(opt);                                                                          \
+        pw_alloc a = p##__alloc(&o.allocator);                                                                      \
+        pwT v;                                                                                                      \
+        pw_err pe;                                                                                                  \
+        pw_err_clear(&pe);                                                                                          \
+        if (out) memset(out, 0, sizeof *out);                                                                       \
+        if (!out || (!data && size)) pw_fail(&pe, PW_ERR_INVALID, #p "_read_" #what ": NULL argument");             \
+        else if (read(&a, (const unsigned char *)data, size, name ? name : #what, &v, &pe) == PW_OK)                \
+            take(&v, &a, out);                                                                                      \
+        return p##__done(&pe, err);                                                                                 \
+    }
+#define PW_PUBLIC_IO(p, DEF)                                                                             \
+    PW__PUBLIC_READ(p, DEF, mesh, pw_mesh, p##_mesh, pw_mesh_read_memory, p##__take_mesh)                \
+    PW__PUBLIC_READ(p, DEF, image, pw_image, p##_image, pw_image_read_memory, p##__take_image)           \
+    DEF p##_result p##_write_image(const p##_image *img, const char *format, p##_write_fn fn, void *ctx, \
+                                   p##_error *err)                                                       \
+    {                                                                                                    \
+        pw_err pe;                                                                                       \
+        pw_err_clear(&pe);                                                                               \
+        if (!fn) pw_fail(&pe, PW_ERR_INVALID, #p "_write_image: NULL writer");                           \
+        else if (p##__check_image(img, "image", &pe) == PW_OK) p##__encode(img, format, fn, ctx, &pe);   \
+        return p##__done(&pe, err);                                                                      \
+    }                                                                                                    \
+    typedef int p##__io_defined /* so that the use ends with a semicolon */
+
+/* PW_PUBLIC_LOAD(p, DEF, what, T) defines the public loader of a file
+ * (DEF: the header's XDEF), which every header writes the same way: the
+ * whole file read, then handed to the header's own from-memory reader,
+ *   DEF p_result p_load_WHAT(const char *path, const p_options *, T *out, p_error *)
+ * reads path with p_read_WHAT (the path names the file in messages and
+ * gives the format by its extension). A reader's warning on success (a
+ * message with code 0) reaches the caller as well. Needs p__options and
+ * stdio (not PW_NO_STDIO). */
+#define PW_PUBLIC_LOAD(p, DEF, what, T)                                                              \
+    DEF p##_result p##_load_##what(const char *path, const p##_options *opt, T *out, p##_error *err) \
+    {                                                                                                \
+        p##_options o = p##__options(opt);                                                           \
+        pw_alloc a = p##__alloc(&o.allocator);                                                       \
+        unsigned char *data;                                                                         \
+        size_t size;                                                                                 \
+        pw_err pe;                                                                                   \
+        pw_err_clear(&pe);                                                                           \
+        if (out) memset(out, 0, sizeof *out);                                                        \
+        if (!path || !out) pw_fail(&pe, PW_ERR_INVALID, #p "_load_" #what ": NULL argument");        \
+        else if (pw_read_file(&a, path, &data, &size, &pe) == PW_OK) {                               \
+            p##_error le;                                                                            \
+            memset(&le, 0, sizeof le);                                                               \
+            if (p##_read_##what(data, size, path, &o, out, &le) != 0 || le.message[0])               \
+                pw_fail(&pe, (int)le.code, "%s", le.message);                                        \
+            pw_free(&a, data);                                                                       \
+        }                                                                                            \
+        return p##__done(&pe, err);                                                                  \
+    }                                                                                                \
+    typedef int p##__load_##what##_defined /* so that the use ends with a semicolon */
+
+/* PW_PUBLIC_SAVE_IMAGE(p, DEF) defines
+ *   DEF p_result p_save_image(const char *path, const p_image *img, p_error *)
+ * with pw_image_save_as: the format by the extension, no file left on
+ * failure. */
+#define PW_PUBLIC_SAVE_IMAGE(p, DEF)                                                      \
+    DEF p##_result p##_save_image(const char *path, const p##_image *img, p##_error *err) \
+    {                                                                                     \
+        pw_image v;                                                                       \
+        pw_alloc a;                                                                       \
+        pw_err pe;                                                                        \
+        pw_err_clear(&pe);                                                                \
+        memset(&a, 0, sizeof a);                                                          \
+        if (img) {                                                                        \
+            v = p##__pw_image(img);                                                       \
+            a = p##__alloc(&img->allocator);                                              \
+        }                                                                                 \
+        if (!path) pw_fail(&pe, PW_ERR_INVALID, #p "_save_image: NULL path");             \
+        else pw_image_save_as(&a, path, img ? &v : NULL, &pe);                            \
+        return p##__done(&pe, err);                                                       \
+    }                                                                                     \
+    typedef int p##__save_image_defined /* so that the use ends with a semicolon */
 
 /* The public frees of an image and of a mesh with the shared fields only
  * (DEF: the header's XDEF): with the allocator the object remembers, then

@@ -86,6 +86,17 @@ PW__DEF int pw__image_check(const pw_image *img, pw_err *e)
 }
 
 /* A deep copy of src (same size, channels and bits). */
+/* The image format a file name's extension names (case-insensitive):
+ * "png", "ppm" (.ppm and .pnm), "pgm", "pam"; NULL for any other. */
+PW__DEF const char *pw_image_format_of(const char *path)
+{
+    if (pw_has_ext(path, ".png")) return "png";
+    if (pw_has_ext(path, ".ppm") || pw_has_ext(path, ".pnm")) return "ppm";
+    if (pw_has_ext(path, ".pgm")) return "pgm";
+    if (pw_has_ext(path, ".pam")) return "pam";
+    return NULL;
+}
+
 PW__DEF int pw_image_copy(const pw_alloc *a, const pw_image *src, pw_image *out, pw_err *e)
 {
     int r = pw__image_check(src, e);

@@ -537,21 +537,22 @@ PW__DEF int pw__save_body(void *arg, pw_write_fn w, void *ctx, pw_err *e)
     return pw_image_write_pnm(j->img, 0, 0, w, ctx, e);
 }
 
-/* Writes img at its own depth (img->bits) in the format the extension
- * names (case-insensitive): .ppm .pgm .pnm (binary PGM/PPM, or PAM when the
- * image has alpha), .pam, .png. */
+/* Writes img at its own depth (img->bits) and channels in the format the
+ * extension names (pw_image_format_of): .ppm .pgm .pnm (binary PGM or PPM
+ * by the channels, or PAM when the image has alpha), .pam, .png. Keeps
+ * every channel (tests and benchmarks store images with it); the public
+ * X_save_image converts to what the format holds (pw_image_save_as). */
 PW__DEF int pw_image_save(const char *path, const pw_image *img, pw_err *e)
 {
     pw__save_job j;
+    const char *format = pw_image_format_of(path);
     int rc = pw__image_check(img, e);
     if (rc) return rc;
-    j.img = img;
-    if (pw_has_ext(path, ".ppm") || pw_has_ext(path, ".pgm") || pw_has_ext(path, ".pnm")) j.kind = 0;
-    else if (pw_has_ext(path, ".pam")) j.kind = 1;
-    else if (pw_has_ext(path, ".png")) j.kind = 2;
-    else
+    if (!format)
         return pw_fail(e, PW_ERR_UNSUPPORTED, "%s: unknown image file extension (use .png, .ppm, .pgm, .pnm or .pam)",
                        path);
+    j.img = img;
+    j.kind = !strcmp(format, "png") ? 2 : !strcmp(format, "pam") ? 1 : 0;
     return pw_write_file(path, pw__save_body, &j, e);
 }
 #endif /* PW_NO_STDIO */

@@ -261,45 +261,7 @@ LAPPEDDEF void lapped_constraints_free(lapped_constraints *c)
 
 /* ---- meshes and images --------------------------------------------------------- */
 
-LAPPEDDEF lapped_result lapped_read_mesh(const void *data, size_t size, const char *name, const lapped_options *opt,
-                                         lapped_mesh *out, lapped_error *err)
-{
-    lapped_options o = lapped__options(opt);
-    pw_alloc a = lapped__alloc(&o.allocator);
-    pw_mesh m;
-    pw_err pe;
-    pw_err_clear(&pe);
-    if (out) memset(out, 0, sizeof *out);
-    if (!out || (!data && size)) pw_fail(&pe, PW_ERR_INVALID, "lapped_read_mesh: NULL argument");
-    else if (pw_mesh_read_memory(&a, data, size, name ? name : "mesh", &m, &pe) == PW_OK)
-        lapped__take_mesh(&m, &a, out);
-    return lapped__done(&pe, err);
-}
-
-LAPPEDDEF lapped_result lapped_read_image(const void *data, size_t size, const char *name, const lapped_options *opt,
-                                          lapped_image *out, lapped_error *err)
-{
-    lapped_options o = lapped__options(opt);
-    pw_alloc a = lapped__alloc(&o.allocator);
-    pw_image img;
-    pw_err pe;
-    pw_err_clear(&pe);
-    if (out) memset(out, 0, sizeof *out);
-    if (!out || (!data && size)) pw_fail(&pe, PW_ERR_INVALID, "lapped_read_image: NULL argument");
-    else if (pw_image_read_memory(&a, (const unsigned char *)data, size, name ? name : "image", &img, &pe) == PW_OK)
-        lapped__take_image(&img, &a, out);
-    return lapped__done(&pe, err);
-}
-
-LAPPEDDEF lapped_result lapped_write_image(const lapped_image *img, const char *format, lapped_write_fn fn, void *ctx,
-                                           lapped_error *err)
-{
-    pw_err pe;
-    pw_err_clear(&pe);
-    if (!fn) pw_fail(&pe, PW_ERR_INVALID, "lapped_write_image: NULL writer");
-    else if (lapped__check_image(img, "image", &pe) == PW_OK) lapped__encode(img, format, fn, ctx, &pe);
-    return lapped__done(&pe, err);
-}
+PW_PUBLIC_IO(lapped, LAPPEDDEF);
 
 /* The atlas's mesh as one glTF part: the fan triangles with their
  * per-corner atlas coordinates, the atlas image as the texture. */
@@ -348,36 +310,13 @@ LAPPEDDEF lapped_result lapped_write_gltf(const lapped_mesh *mesh, const lapped_
 }
 
 #ifndef PW_NO_STDIO
-LAPPEDDEF lapped_result lapped_load_mesh(const char *path, const lapped_options *opt, lapped_mesh *out,
-                                         lapped_error *err)
-{
-    lapped_options o = lapped__options(opt);
-    pw_alloc a = lapped__alloc(&o.allocator);
-    pw_mesh m;
-    pw_err pe;
-    pw_err_clear(&pe);
-    if (out) memset(out, 0, sizeof *out);
-    if (!out || !path) pw_fail(&pe, PW_ERR_INVALID, "lapped_load_mesh: NULL argument");
-    else if (pw_mesh_load(&a, path, &m, &pe) == PW_OK) lapped__take_mesh(&m, &a, out);
-    return lapped__done(&pe, err);
-}
-
-LAPPEDDEF lapped_result lapped_load_image(const char *path, const lapped_options *opt, lapped_image *out,
-                                          lapped_error *err)
-{
-    lapped_options o = lapped__options(opt);
-    pw_alloc a = lapped__alloc(&o.allocator);
-    pw_image img;
-    pw_err pe;
-    pw_err_clear(&pe);
-    if (out) memset(out, 0, sizeof *out);
-    if (!out || !path) pw_fail(&pe, PW_ERR_INVALID, "lapped_load_image: NULL argument");
-    else if (pw_image_load(&a, path, &img, &pe) == PW_OK) lapped__take_image(&img, &a, out);
-    return lapped__done(&pe, err);
-}
+/* the public file loaders: each file read whole, then read from memory */
+PW_PUBLIC_LOAD(lapped, LAPPEDDEF, mesh, lapped_mesh);
+PW_PUBLIC_LOAD(lapped, LAPPEDDEF, image, lapped_image);
+PW_PUBLIC_LOAD(lapped, LAPPEDDEF, constraints, lapped_constraints);
+PW_PUBLIC_LOAD(lapped, LAPPEDDEF, pastes, lapped_texture);
 
 typedef struct lapped__job {
-    const lapped_image *img;
     const char *format;
     const lapped_texture *tex;
     const lapped_mesh *mesh;
@@ -444,12 +383,6 @@ LAPPEDDEF lapped_result lapped_save_gltf(const char *path, const lapped_mesh *me
     return lapped__done(&pe, err);
 }
 
-static int lapped__image_job(void *arg, pw_write_fn w, void *ctx, pw_err *e)
-{
-    const lapped__job *j = (const lapped__job *)arg;
-    return lapped__encode(j->img, j->format, w, ctx, e);
-}
-
 static int lapped__pastes_job(void *arg, pw_write_fn w, void *ctx, pw_err *e)
 {
     const lapped__job *j = (const lapped__job *)arg;
@@ -458,23 +391,7 @@ static int lapped__pastes_job(void *arg, pw_write_fn w, void *ctx, pw_err *e)
     return r ? pw_fail(e, r, "%s", le.message) : PW_OK;
 }
 
-LAPPEDDEF lapped_result lapped_save_image(const char *path, const lapped_image *img, lapped_error *err)
-{
-    lapped__job j;
-    pw_err pe;
-    pw_err_clear(&pe);
-    memset(&j, 0, sizeof j);
-    j.img = img;
-    if (!path) pw_fail(&pe, PW_ERR_INVALID, "lapped_save_image: NULL path");
-    else if (!(j.format = pw_has_ext(path, ".png")                               ? "png"
-                          : pw_has_ext(path, ".ppm") || pw_has_ext(path, ".pnm") ? "ppm"
-                          : pw_has_ext(path, ".pgm")                             ? "pgm"
-                          : pw_has_ext(path, ".pam")                             ? "pam"
-                                                                                 : NULL))
-        pw_fail(&pe, PW_ERR_UNSUPPORTED, "%s: unknown image extension (use .png, .ppm, .pgm, .pam)", path);
-    else if (lapped__check_image(img, path, &pe) == PW_OK) pw_write_file(path, lapped__image_job, &j, &pe);
-    return lapped__done(&pe, err);
-}
+PW_PUBLIC_SAVE_IMAGE(lapped, LAPPEDDEF);
 
 LAPPEDDEF lapped_result lapped_save_pastes(const char *path, const lapped_texture *t, lapped_error *err)
 {
@@ -488,43 +405,4 @@ LAPPEDDEF lapped_result lapped_save_pastes(const char *path, const lapped_textur
     return lapped__done(&pe, err);
 }
 
-LAPPEDDEF lapped_result lapped_load_constraints(const char *path, const lapped_options *opt, lapped_constraints *out,
-                                                lapped_error *err)
-{
-    lapped_options o = lapped__options(opt);
-    pw_alloc a = lapped__alloc(&o.allocator);
-    unsigned char *data;
-    size_t size;
-    pw_err pe;
-    pw_err_clear(&pe);
-    if (out) memset(out, 0, sizeof *out);
-    if (!path || !out) pw_fail(&pe, PW_ERR_INVALID, "lapped_load_constraints: NULL argument");
-    else if (pw_read_file(&a, path, &data, &size, &pe) == PW_OK) {
-        lapped_error le;
-        if (lapped_read_constraints(data, size, path, &o, out, &le) != LAPPED_OK || le.message[0])
-            pw_fail(&pe, (int)le.code, "%s", le.message); /* an error, or the warning of a success */
-        pw_free(&a, data);
-    }
-    return lapped__done(&pe, err);
-}
-
-LAPPEDDEF lapped_result lapped_load_pastes(const char *path, const lapped_options *opt, lapped_texture *out,
-                                           lapped_error *err)
-{
-    lapped_options o = lapped__options(opt);
-    pw_alloc a = lapped__alloc(&o.allocator);
-    unsigned char *data;
-    size_t size;
-    pw_err pe;
-    pw_err_clear(&pe);
-    if (out) memset(out, 0, sizeof *out);
-    if (!path || !out) pw_fail(&pe, PW_ERR_INVALID, "lapped_load_pastes: NULL argument");
-    else if (pw_read_file(&a, path, &data, &size, &pe) == PW_OK) {
-        lapped_error le;
-        if (lapped_read_pastes(data, size, path, &o, out, &le) != LAPPED_OK)
-            pw_fail(&pe, (int)le.code, "%s", le.message);
-        pw_free(&a, data);
-    }
-    return lapped__done(&pe, err);
-}
 #endif

@@ -616,34 +616,7 @@ LSTDEF lst_result lst_write_volume(const lst_volume *vol, lst_write_fn fn, void 
     return lst__done(&e, err);
 }
 
-LSTDEF lst_result lst_read_mesh(const void *data, size_t size, const char *name, const lst_options *opt, lst_mesh *out,
-                                lst_error *err)
-{
-    lst_options o = lst__options(opt);
-    pw_alloc a = lst__alloc(&o.allocator);
-    pw_mesh m;
-    pw_err e;
-    pw_err_clear(&e);
-    if (out) memset(out, 0, sizeof *out);
-    if (!out || (!data && size)) pw_fail(&e, PW_ERR_INVALID, "lst_read_mesh: NULL argument");
-    else if (pw_mesh_read_memory(&a, data, size, name ? name : "mesh", &m, &e) == PW_OK) lst__take_mesh(&m, &a, out);
-    return lst__done(&e, err);
-}
-
-LSTDEF lst_result lst_read_image(const void *data, size_t size, const char *name, const lst_options *opt,
-                                 lst_image *out, lst_error *err)
-{
-    lst_options o = lst__options(opt);
-    pw_alloc a = lst__alloc(&o.allocator);
-    pw_image img;
-    pw_err e;
-    pw_err_clear(&e);
-    if (out) memset(out, 0, sizeof *out);
-    if (!out || (!data && size)) pw_fail(&e, PW_ERR_INVALID, "lst_read_image: NULL argument");
-    else if (pw_image_read_memory(&a, (const unsigned char *)data, size, name ? name : "image", &img, &e) == PW_OK)
-        lst__take_image(&img, &a, out);
-    return lst__done(&e, err);
-}
+PW_PUBLIC_IO(lst, LSTDEF);
 
 LSTDEF lst_result lst_write_obj(const lst_mesh *mesh, lst_write_fn fn, void *ctx, lst_error *err)
 {
@@ -658,94 +631,13 @@ LSTDEF lst_result lst_write_obj(const lst_mesh *mesh, lst_write_fn fn, void *ctx
     return lst__done(&e, err);
 }
 
-LSTDEF lst_result lst_write_image(const lst_image *img, const char *format, lst_write_fn fn, void *ctx, lst_error *err)
-{
-    pw_err e;
-    pw_err_clear(&e);
-    if (!fn) pw_fail(&e, PW_ERR_INVALID, "lst_write_image: NULL writer");
-    else if (lst__check_image(img, "image", &e) == PW_OK) lst__encode(img, format, fn, ctx, &e);
-    return lst__done(&e, err);
-}
-
 #ifndef PW_NO_STDIO
-/* Runs a from-memory reader (lst_read_X with its output untyped) on a
- * whole file. */
-typedef int (*lst__reader)(const unsigned char *data, size_t size, const char *path, void *out, const lst_options *o,
-                           lst_error *le);
-
-static lst_result lst__load(const char *path, const lst_options *opt, void *out, lst__reader fn, const char *what,
-                            lst_error *err)
-{
-    lst_options o = lst__options(opt);
-    pw_alloc a = lst__alloc(&o.allocator);
-    unsigned char *data;
-    size_t size;
-    pw_err e;
-    pw_err_clear(&e);
-    if (!path || !out) pw_fail(&e, PW_ERR_INVALID, "%s: NULL argument", what);
-    else if (pw_read_file(&a, path, &data, &size, &e) == PW_OK) {
-        lst_error le;
-        if (fn(data, size, path, out, &o, &le) != LST_OK) pw_fail(&e, (int)le.code, "%s", le.message);
-        pw_free(&a, data);
-    }
-    return lst__done(&e, err);
-}
-
-static int lst__rd_mesh(const unsigned char *d, size_t n, const char *p, void *out, const lst_options *o, lst_error *le)
-{
-    return (int)lst_read_mesh(d, n, p, o, (lst_mesh *)out, le);
-}
-static int lst__rd_volume(const unsigned char *d, size_t n, const char *p, void *out, const lst_options *o,
-                          lst_error *le)
-{
-    return (int)lst_read_volume(d, n, p, o, (lst_volume *)out, le);
-}
-static int lst__rd_model(const unsigned char *d, size_t n, const char *p, void *out, const lst_options *o,
-                         lst_error *le)
-{
-    return (int)lst_read_model(d, n, p, o, (lst_model *)out, le);
-}
-
-static int lst__rd_constraints(const unsigned char *d, size_t n, const char *p, void *out, const lst_options *o,
-                               lst_error *le)
-{
-    return (int)lst_read_constraints(d, n, p, o, (lst_constraints *)out, le);
-}
-static int lst__rd_image(const unsigned char *d, size_t n, const char *p, void *out, const lst_options *o,
-                         lst_error *le)
-{
-    return (int)lst_read_image(d, n, p, o, (lst_image *)out, le);
-}
-
-LSTDEF lst_result lst_load_mesh(const char *path, const lst_options *opt, lst_mesh *out, lst_error *err)
-{
-    if (out) memset(out, 0, sizeof *out);
-    return lst__load(path, opt, out, lst__rd_mesh, "lst_load_mesh", err);
-}
-
-LSTDEF lst_result lst_load_volume(const char *path, const lst_options *opt, lst_volume *out, lst_error *err)
-{
-    if (out) memset(out, 0, sizeof *out);
-    return lst__load(path, opt, out, lst__rd_volume, "lst_load_volume", err);
-}
-
-LSTDEF lst_result lst_load_model(const char *path, const lst_options *opt, lst_model *out, lst_error *err)
-{
-    if (out) memset(out, 0, sizeof *out);
-    return lst__load(path, opt, out, lst__rd_model, "lst_load_model", err);
-}
-
-LSTDEF lst_result lst_load_constraints(const char *path, const lst_options *opt, lst_constraints *out, lst_error *err)
-{
-    if (out) memset(out, 0, sizeof *out);
-    return lst__load(path, opt, out, lst__rd_constraints, "lst_load_constraints", err);
-}
-
-LSTDEF lst_result lst_load_image(const char *path, const lst_options *opt, lst_image *out, lst_error *err)
-{
-    if (out) memset(out, 0, sizeof *out);
-    return lst__load(path, opt, out, lst__rd_image, "lst_load_image", err);
-}
+/* the public file loaders: each file read whole, then read from memory */
+PW_PUBLIC_LOAD(lst, LSTDEF, mesh, lst_mesh);
+PW_PUBLIC_LOAD(lst, LSTDEF, volume, lst_volume);
+PW_PUBLIC_LOAD(lst, LSTDEF, model, lst_model);
+PW_PUBLIC_LOAD(lst, LSTDEF, constraints, lst_constraints);
+PW_PUBLIC_LOAD(lst, LSTDEF, image, lst_image);
 
 LSTDEF lst_result lst_load_tetmesh(const char *path, const lst_options *opt, lst_tetmesh *out, lst_error *err)
 {
@@ -774,8 +666,6 @@ LSTDEF lst_result lst_save_tetmesh(const char *path, const lst_tetmesh *mesh, ls
 }
 
 typedef struct lst__job {
-    const lst_image *img;
-    const char *format;
     const lst_volume *vol;
     const lst_model *model;
     const lst_mesh *mesh;
@@ -785,11 +675,9 @@ static int lst__job_body(void *arg, pw_write_fn w, void *ctx, pw_err *e)
 {
     const lst__job *j = (const lst__job *)arg;
     lst_error le;
-    int r;
-    if (j->img) return lst__encode(j->img, j->format, w, ctx, e);
-    r = j->vol    ? (int)lst_write_volume(j->vol, w, ctx, &le)
-        : j->mesh ? (int)lst_write_obj(j->mesh, w, ctx, &le)
-                  : (int)lst_write_model(j->model, w, ctx, &le);
+    int r = j->vol    ? (int)lst_write_volume(j->vol, w, ctx, &le)
+            : j->mesh ? (int)lst_write_obj(j->mesh, w, ctx, &le)
+                      : (int)lst_write_model(j->model, w, ctx, &le);
     return r ? pw_fail(e, r, "%s", le.message) : PW_OK;
 }
 
@@ -797,24 +685,12 @@ static lst_result lst__save(const char *path, lst__job *j, lst_error *err)
 {
     pw_err e;
     pw_err_clear(&e);
-    if (!path || (!j->img && !j->vol && !j->model && !j->mesh)) pw_fail(&e, PW_ERR_INVALID, "save: NULL argument");
-    else if (j->img && !(j->format = pw_has_ext(path, ".png")                               ? "png"
-                                     : pw_has_ext(path, ".ppm") || pw_has_ext(path, ".pnm") ? "ppm"
-                                     : pw_has_ext(path, ".pgm")                             ? "pgm"
-                                     : pw_has_ext(path, ".pam")                             ? "pam"
-                                                                                            : NULL))
-        pw_fail(&e, PW_ERR_UNSUPPORTED, "%s: unknown image extension (use .png, .ppm, .pgm, .pam)", path);
-    else if (!j->img || lst__check_image(j->img, path, &e) == PW_OK) pw_write_file(path, lst__job_body, j, &e);
+    if (!path || (!j->vol && !j->model && !j->mesh)) pw_fail(&e, PW_ERR_INVALID, "save: NULL argument");
+    else pw_write_file(path, lst__job_body, j, &e);
     return lst__done(&e, err);
 }
 
-LSTDEF lst_result lst_save_image(const char *path, const lst_image *img, lst_error *err)
-{
-    lst__job j;
-    memset(&j, 0, sizeof j);
-    j.img = img;
-    return lst__save(path, &j, err);
-}
+PW_PUBLIC_SAVE_IMAGE(lst, LSTDEF);
 
 LSTDEF lst_result lst_save_volume(const char *path, const lst_volume *vol, lst_error *err)
 {

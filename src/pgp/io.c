@@ -34,6 +34,7 @@ static int pgp__tile_view(const pgp_tile *t, pw_volume *v, pw_err *e)
 {
     size_t k, n;
     int r;
+    memset(v, 0, sizeof *v);
     if (!t || !t->pixels) return pw_fail(e, PW_ERR_INVALID, "tile: empty (no texels)");
     if (t->width < 1 || t->height < 1 || t->layers < 1 || t->channels < 1 || t->channels > 4)
         return pw_fail(e, PW_ERR_INVALID, "tile: %dx%d texels, %d layers, %d channels (1 to 4) is not a tile", t->width,
@@ -124,43 +125,7 @@ PGPDEF pgp_result pgp_write_tile(const pgp_tile *tile, pgp_write_fn fn, void *ct
 
 /* ---- meshes and images --------------------------------------------------------- */
 
-PGPDEF pgp_result pgp_read_mesh(const void *data, size_t size, const char *name, const pgp_options *opt, pgp_mesh *out,
-                                pgp_error *err)
-{
-    pgp_options o = pgp__options(opt);
-    pw_alloc a = pgp__alloc(&o.allocator);
-    pw_mesh m;
-    pw_err pe;
-    pw_err_clear(&pe);
-    if (out) memset(out, 0, sizeof *out);
-    if (!out || (!data && size)) pw_fail(&pe, PW_ERR_INVALID, "pgp_read_mesh: NULL argument");
-    else if (pw_mesh_read_memory(&a, data, size, name ? name : "mesh", &m, &pe) == PW_OK) pgp__take_mesh(&m, &a, out);
-    return pgp__done(&pe, err);
-}
-
-PGPDEF pgp_result pgp_read_image(const void *data, size_t size, const char *name, const pgp_options *opt,
-                                 pgp_image *out, pgp_error *err)
-{
-    pgp_options o = pgp__options(opt);
-    pw_alloc a = pgp__alloc(&o.allocator);
-    pw_image img;
-    pw_err pe;
-    pw_err_clear(&pe);
-    if (out) memset(out, 0, sizeof *out);
-    if (!out || (!data && size)) pw_fail(&pe, PW_ERR_INVALID, "pgp_read_image: NULL argument");
-    else if (pw_image_read_memory(&a, (const unsigned char *)data, size, name ? name : "image", &img, &pe) == PW_OK)
-        pgp__take_image(&img, &a, out);
-    return pgp__done(&pe, err);
-}
-
-PGPDEF pgp_result pgp_write_image(const pgp_image *img, const char *format, pgp_write_fn fn, void *ctx, pgp_error *err)
-{
-    pw_err pe;
-    pw_err_clear(&pe);
-    if (!fn) pw_fail(&pe, PW_ERR_INVALID, "pgp_write_image: NULL writer");
-    else if (pgp__check_image(img, "image", &pe) == PW_OK) pgp__encode(img, format, fn, ctx, &pe);
-    return pgp__done(&pe, err);
-}
+PW_PUBLIC_IO(pgp, PGPDEF);
 
 /* ---- the textured OBJ ------------------------------------------------------------ */
 
@@ -330,54 +295,14 @@ PGPDEF pgp_result pgp_read_constraints(const void *data, size_t size, const char
 /* ---- files ------------------------------------------------------------------------------ */
 
 #ifndef PW_NO_STDIO
-PGPDEF pgp_result pgp_load_mesh(const char *path, const pgp_options *opt, pgp_mesh *out, pgp_error *err)
-{
-    pgp_options o = pgp__options(opt);
-    pw_alloc a = pgp__alloc(&o.allocator);
-    pw_mesh m;
-    pw_err pe;
-    pw_err_clear(&pe);
-    if (out) memset(out, 0, sizeof *out);
-    if (!out || !path) pw_fail(&pe, PW_ERR_INVALID, "pgp_load_mesh: NULL argument");
-    else if (pw_mesh_load(&a, path, &m, &pe) == PW_OK) pgp__take_mesh(&m, &a, out);
-    return pgp__done(&pe, err);
-}
-
-PGPDEF pgp_result pgp_load_image(const char *path, const pgp_options *opt, pgp_image *out, pgp_error *err)
-{
-    pgp_options o = pgp__options(opt);
-    pw_alloc a = pgp__alloc(&o.allocator);
-    pw_image img;
-    pw_err pe;
-    pw_err_clear(&pe);
-    if (out) memset(out, 0, sizeof *out);
-    if (!out || !path) pw_fail(&pe, PW_ERR_INVALID, "pgp_load_image: NULL argument");
-    else if (pw_image_load(&a, path, &img, &pe) == PW_OK) pgp__take_image(&img, &a, out);
-    return pgp__done(&pe, err);
-}
-
-PGPDEF pgp_result pgp_load_tile(const char *path, const pgp_options *opt, pgp_tile *out, pgp_error *err)
-{
-    pgp_options o = pgp__options(opt);
-    pw_alloc a = pgp__alloc(&o.allocator);
-    unsigned char *data;
-    size_t size;
-    pw_err pe;
-    pw_err_clear(&pe);
-    if (out) memset(out, 0, sizeof *out);
-    if (!out || !path) pw_fail(&pe, PW_ERR_INVALID, "pgp_load_tile: NULL argument");
-    else if (pw_read_file(&a, path, &data, &size, &pe) == PW_OK) {
-        pgp_error le;
-        if (pgp_read_tile(data, size, path, &o, out, &le) != PGP_OK) pw_fail(&pe, (int)le.code, "%s", le.message);
-        pw_free(&a, data);
-    }
-    return pgp__done(&pe, err);
-}
+/* the public file loaders: each file read whole, then read from memory */
+PW_PUBLIC_LOAD(pgp, PGPDEF, mesh, pgp_mesh);
+PW_PUBLIC_LOAD(pgp, PGPDEF, image, pgp_image);
+PW_PUBLIC_LOAD(pgp, PGPDEF, tile, pgp_tile);
+PW_PUBLIC_LOAD(pgp, PGPDEF, constraints, pgp_constraints);
 
 /* What a file writer writes: one of these is set. */
 typedef struct pgp__job {
-    const pgp_image *img;
-    const char *format;
     const pgp_tile *tile;
     const pgp_mesh *mesh;
     const pgp_map *map;
@@ -387,9 +312,7 @@ static int pgp__job_body(void *arg, pw_write_fn w, void *ctx, pw_err *e)
 {
     const pgp__job *j = (const pgp__job *)arg;
     pgp_error le;
-    pgp_result r = j->img    ? pgp_write_image(j->img, j->format, w, ctx, &le)
-                   : j->tile ? pgp_write_tile(j->tile, w, ctx, &le)
-                             : pgp_write_obj(j->mesh, j->map, w, ctx, &le);
+    pgp_result r = j->tile ? pgp_write_tile(j->tile, w, ctx, &le) : pgp_write_obj(j->mesh, j->map, w, ctx, &le);
     return r != PGP_OK ? pw_fail(e, (int)r, "%s", le.message) : PW_OK;
 }
 
@@ -407,23 +330,7 @@ PGPDEF pgp_result pgp_save_tile(const char *path, const pgp_tile *tile, pgp_erro
     return pgp__done(&pe, err);
 }
 
-PGPDEF pgp_result pgp_save_image(const char *path, const pgp_image *img, pgp_error *err)
-{
-    pgp__job j;
-    pw_err pe;
-    pw_err_clear(&pe);
-    memset(&j, 0, sizeof j);
-    j.img = img;
-    if (!path) pw_fail(&pe, PW_ERR_INVALID, "pgp_save_image: NULL path");
-    else if (!(j.format = pw_has_ext(path, ".png")                               ? "png"
-                          : pw_has_ext(path, ".ppm") || pw_has_ext(path, ".pnm") ? "ppm"
-                          : pw_has_ext(path, ".pgm")                             ? "pgm"
-                          : pw_has_ext(path, ".pam")                             ? "pam"
-                                                                                 : NULL))
-        pw_fail(&pe, PW_ERR_UNSUPPORTED, "%s: unknown image extension (use .png, .ppm, .pgm, .pam)", path);
-    else if (pgp__check_image(img, path, &pe) == PW_OK) pw_write_file(path, pgp__job_body, &j, &pe);
-    return pgp__done(&pe, err);
-}
+PW_PUBLIC_SAVE_IMAGE(pgp, PGPDEF);
 
 PGPDEF pgp_result pgp_save_obj(const char *path, const pgp_mesh *mesh, const pgp_map *map, pgp_error *err)
 {
@@ -435,25 +342,6 @@ PGPDEF pgp_result pgp_save_obj(const char *path, const pgp_mesh *mesh, const pgp
     j.map = map;
     if (!path || !pgp__state_of(map)) pw_fail(&pe, PW_ERR_INVALID, "pgp_save_obj: NULL argument or empty map");
     else if (!mesh || pgp__same_mesh(mesh, map->state, &pe) == PW_OK) pw_write_file(path, pgp__job_body, &j, &pe);
-    return pgp__done(&pe, err);
-}
-
-PGPDEF pgp_result pgp_load_constraints(const char *path, const pgp_options *opt, pgp_constraints *out, pgp_error *err)
-{
-    pgp_options o = pgp__options(opt);
-    pw_alloc a = pgp__alloc(&o.allocator);
-    unsigned char *data;
-    size_t size;
-    pw_err pe;
-    pw_err_clear(&pe);
-    if (out) memset(out, 0, sizeof *out);
-    if (!out || !path) pw_fail(&pe, PW_ERR_INVALID, "pgp_load_constraints: NULL argument");
-    else if (pw_read_file(&a, path, &data, &size, &pe) == PW_OK) {
-        pgp_error le;
-        if (pgp_read_constraints(data, size, path, &o, out, &le) != PGP_OK)
-            pw_fail(&pe, (int)le.code, "%s", le.message);
-        pw_free(&a, data);
-    }
     return pgp__done(&pe, err);
 }
 #endif

@@ -3,44 +3,7 @@
  * thesis took its meshes from and to Maya, ch. IV.2 and V), and images. */
 #include "render.c"
 
-TILEDDEF tiled_result tiled_read_mesh(const void *data, size_t size, const char *name, const tiled_options *opt,
-                                      tiled_mesh *out, tiled_error *err)
-{
-    tiled_options o = tiled__options(opt);
-    pw_alloc a = tiled__alloc(&o.allocator);
-    pw_mesh m;
-    pw_err pe;
-    pw_err_clear(&pe);
-    if (out) memset(out, 0, sizeof *out);
-    if (!out || (!data && size)) pw_fail(&pe, PW_ERR_INVALID, "tiled_read_mesh: NULL argument");
-    else if (pw_mesh_read_memory(&a, data, size, name ? name : "mesh", &m, &pe) == PW_OK) tiled__take_mesh(&m, &a, out);
-    return tiled__done(&pe, err);
-}
-
-TILEDDEF tiled_result tiled_read_image(const void *data, size_t size, const char *name, const tiled_options *opt,
-                                       tiled_image *out, tiled_error *err)
-{
-    tiled_options o = tiled__options(opt);
-    pw_alloc a = tiled__alloc(&o.allocator);
-    pw_image img;
-    pw_err pe;
-    pw_err_clear(&pe);
-    if (out) memset(out, 0, sizeof *out);
-    if (!out || (!data && size)) pw_fail(&pe, PW_ERR_INVALID, "tiled_read_image: NULL argument");
-    else if (pw_image_read_memory(&a, (const unsigned char *)data, size, name ? name : "image", &img, &pe) == PW_OK)
-        tiled__take_image(&img, &a, out);
-    return tiled__done(&pe, err);
-}
-
-TILEDDEF tiled_result tiled_write_image(const tiled_image *img, const char *format, tiled_write_fn fn, void *ctx,
-                                        tiled_error *err)
-{
-    pw_err pe;
-    pw_err_clear(&pe);
-    if (!fn) pw_fail(&pe, PW_ERR_INVALID, "tiled_write_image: NULL writer");
-    else if (tiled__check_image(img, "image", &pe) == PW_OK) tiled__encode(img, format, fn, ctx, &pe);
-    return tiled__done(&pe, err);
-}
+PW_PUBLIC_IO(tiled, TILEDDEF);
 
 /* Distinct texture coordinates in order of first use (an open-addressing
  * table on their bit patterns), so the OBJ lists each vt once. */
@@ -142,31 +105,9 @@ TILEDDEF tiled_result tiled_write_mtl(const char *texture_name, tiled_write_fn f
 }
 
 #ifndef PW_NO_STDIO
-TILEDDEF tiled_result tiled_load_mesh(const char *path, const tiled_options *opt, tiled_mesh *out, tiled_error *err)
-{
-    tiled_options o = tiled__options(opt);
-    pw_alloc a = tiled__alloc(&o.allocator);
-    pw_mesh m;
-    pw_err pe;
-    pw_err_clear(&pe);
-    if (out) memset(out, 0, sizeof *out);
-    if (!out || !path) pw_fail(&pe, PW_ERR_INVALID, "tiled_load_mesh: NULL argument");
-    else if (pw_mesh_load(&a, path, &m, &pe) == PW_OK) tiled__take_mesh(&m, &a, out);
-    return tiled__done(&pe, err);
-}
-
-TILEDDEF tiled_result tiled_load_image(const char *path, const tiled_options *opt, tiled_image *out, tiled_error *err)
-{
-    tiled_options o = tiled__options(opt);
-    pw_alloc a = tiled__alloc(&o.allocator);
-    pw_image img;
-    pw_err pe;
-    pw_err_clear(&pe);
-    if (out) memset(out, 0, sizeof *out);
-    if (!out || !path) pw_fail(&pe, PW_ERR_INVALID, "tiled_load_image: NULL argument");
-    else if (pw_image_load(&a, path, &img, &pe) == PW_OK) tiled__take_image(&img, &a, out);
-    return tiled__done(&pe, err);
-}
+/* the public file loaders: each file read whole, then read from memory */
+PW_PUBLIC_LOAD(tiled, TILEDDEF, mesh, tiled_mesh);
+PW_PUBLIC_LOAD(tiled, TILEDDEF, image, tiled_image);
 
 /* Writers behind pw_write_file. */
 typedef struct tiled__job {
@@ -176,12 +117,6 @@ typedef struct tiled__job {
     const char *name; /* mtl name or texture name */
     const tiled_render_options *view;
 } tiled__job;
-
-static int tiled__image_job(void *arg, pw_write_fn w, void *ctx, pw_err *e)
-{
-    const tiled__job *j = (const tiled__job *)arg;
-    return tiled__encode(j->img, j->format, w, ctx, e);
-}
 
 static int tiled__obj_job(void *arg, pw_write_fn w, void *ctx, pw_err *e)
 {
@@ -207,28 +142,7 @@ static int tiled__gltf_job(void *arg, pw_write_fn w, void *ctx, pw_err *e)
     return r;
 }
 
-static const char *tiled__format_of(const char *path)
-{
-    if (pw_has_ext(path, ".png")) return "png";
-    if (pw_has_ext(path, ".ppm") || pw_has_ext(path, ".pnm")) return "ppm";
-    if (pw_has_ext(path, ".pgm")) return "pgm";
-    if (pw_has_ext(path, ".pam")) return "pam";
-    return NULL;
-}
-
-TILEDDEF tiled_result tiled_save_image(const char *path, const tiled_image *img, tiled_error *err)
-{
-    tiled__job j;
-    pw_err pe;
-    pw_err_clear(&pe);
-    memset(&j, 0, sizeof j);
-    j.img = img;
-    if (!path) pw_fail(&pe, PW_ERR_INVALID, "tiled_save_image: NULL path");
-    else if (!(j.format = tiled__format_of(path)))
-        pw_fail(&pe, PW_ERR_UNSUPPORTED, "%s: unknown image extension (use .png, .ppm, .pgm, .pam)", path);
-    else if (tiled__check_image(img, path, &pe) == PW_OK) pw_write_file(path, tiled__image_job, &j, &pe);
-    return tiled__done(&pe, err);
-}
+PW_PUBLIC_SAVE_IMAGE(tiled, TILEDDEF);
 
 TILEDDEF tiled_result tiled_save_gltf(const char *path, const tiled_mesh *m, const tiled_image *texture,
                                       const tiled_render_options *view, tiled_error *err)
