@@ -61,7 +61,7 @@ PARTS_lst      := core exemplar field paste render cut builtin io export
 COMMON_SRC := $(wildcard src/common/*.h src/*/*.h)
 HEADER_FILES := $(addsuffix .h,$(HEADERS))
 
-.PHONY: all demo test test-build bench bench-report data headers check-headers print-headers format print-format-files dev-header fuzz fuzz-build fuzz-targets fuzz-long js clean
+.PHONY: all demo test test-build bench bench-report bench-compile data headers check-headers print-headers format print-format-files dev-header fuzz fuzz-build fuzz-targets fuzz-long js clean
 
 CLI_SRC   := $(wildcard cli/*.c)
 TEST_SRC  := $(wildcard tests/test_*.c)
@@ -176,6 +176,10 @@ bench: $(BENCH_BIN) $(BENCH_TOOLS) $(BUILD)/patchwork
 
 bench-report: $(BENCH_BIN) $(BENCH_TOOLS) $(BUILD)/patchwork
 	@sh bench/run.sh $(BUILD) bench/results.md
+
+# compile time of each header's implementation; BASE=rev adds that revision's headers
+bench-compile: headers
+	@bash bench/compile.sh $(BASE)
 
 data: $(BUILD)/patchwork
 	@sh tools/make_data.sh $(BUILD)/patchwork

@@ -26,15 +26,15 @@
  *  12647: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
  *  12883: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
  *  13647: src/common/glue.h, what every method header needs between its public types an
- *  13982: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  14646: src/lapped/core.c, lapped.h's glue to the shared core, its defaults, and the 
- *  14811: src/lapped/field.c, §3.2 the tangent field, one frame (S, T) per triangle, an
- *  15266: src/lapped/patch.c, §3.1 texture patches. A patch is the texture as RGBA whos
- *  15580: src/lapped/builtin.c, built-in meshes (made by the shared shapes module) and tex
- *  15774: src/lapped/grow.c, pasting (§3.3-3.6): grow a surface patch around an uncove
- *  17258: src/lapped/render.c, runtime pasting (§4): the mesh drawn once per paste, in p
- *  17462: src/lapped/atlas.c, §4 "Rendering with a texture atlas".
- *  17705: src/lapped/io.c, the paste file format and the file conveniences of lapped.
+ *  13987: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  14651: src/lapped/core.c, lapped.h's glue to the shared core, its defaults, and the 
+ *  14816: src/lapped/field.c, §3.2 the tangent field, one frame (S, T) per triangle, an
+ *  15271: src/lapped/patch.c, §3.1 texture patches. A patch is the texture as RGBA whos
+ *  15585: src/lapped/builtin.c, built-in meshes (made by the shared shapes module) and tex
+ *  15779: src/lapped/grow.c, pasting (§3.3-3.6): grow a surface patch around an uncove
+ *  17263: src/lapped/render.c, runtime pasting (§4): the mesh drawn once per paste, in p
+ *  17467: src/lapped/atlas.c, §4 "Rendering with a texture atlas".
+ *  17710: src/lapped/io.c, the paste file format and the file conveniences of lapped.
  */
 /* lapped.h - lapped textures: overlapping texture patches pasted over a mesh.
  *
@@ -13869,8 +13869,12 @@ PW__DEF void pw_view_defaults(int *width, int *height, int *supersample, float v
  *                             p_error *)
  *   DEF p_result p_write_image(const p_image *, const char *format, p_write_fn, void *ctx, p_error *)
  * A reader takes the format from the bytes (a mesh: from the name's
- * extension when the bytes do not say), and the name in its messages. */
-#define PW__PUBLIC_READ(p, DEF, what, pwT, T, read, take)                                                           \
+ * extension when the bytes do not say), and the name in its messages.
+ * PW_PUBLIC_READ(p, DEF, what, pwT, T, read, take) is one such reader,
+ *   DEF p_result p_read_WHAT(const void *data, size_t size, const char *name, const p_options *, T *out, p_error *)
+ * through the shared read(alloc, bytes, size, name, pwT *, pw_err *) and
+ * take(pwT *, alloc, T *out), which moves the result into the public type. */
+#define PW_PUBLIC_READ(p, DEF, what, pwT, T, read, take)                                                            \
     DEF p##_result p##_read_##what(const void *data, size_t size, const char *name, const p##_options *opt, T *out, \
                                    p##_error *err)                                                                  \
     {                                                                                                               \
@@ -13884,10 +13888,11 @@ PW__DEF void pw_view_defaults(int *width, int *height, int *supersample, float v
         else if (read(&a, (const unsigned char *)data, size, name ? name : #what, &v, &pe) == PW_OK)                \
             take(&v, &a, out);                                                                                      \
         return p##__done(&pe, err);                                                                                 \
-    }
+    }                                                                                                               \
+    typedef int p##__read_##what##_defined /* so that the use ends with a semicolon */
 #define PW_PUBLIC_IO(p, DEF)                                                                             \
-    PW__PUBLIC_READ(p, DEF, mesh, pw_mesh, p##_mesh, pw_mesh_read_memory, p##__take_mesh)                \
-    PW__PUBLIC_READ(p, DEF, image, pw_image, p##_image, pw_image_read_memory, p##__take_image)           \
+    PW_PUBLIC_READ(p, DEF, mesh, pw_mesh, p##_mesh, pw_mesh_read_memory, p##__take_mesh);                \
+    PW_PUBLIC_READ(p, DEF, image, pw_image, p##_image, pw_image_read_memory, p##__take_image);           \
     DEF p##_result p##_write_image(const p##_image *img, const char *format, p##_write_fn fn, void *ctx, \
                                    p##_error *err)                                                       \
     {                                                                                                    \

@@ -31,16 +31,16 @@
  *  17482: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
  *  17625: src/common/pca.h, principal component analysis of vectors streamed one at a 
  *  17812: src/common/glue.h, what every method header needs between its public types an
- *  18147: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  18811: src/lst/core.c, lst.h's glue to the shared core, its defaults, the convers
- *  19144: src/lst/exemplar.c, solid exemplars (§5): sampling, the procedural exemplars 
- *  19675: src/lst/field.c, §5.2.2, the fields that orient and scale the pastes. The 
- *  20883: src/lst/paste.c, §5.2.3-5.2.7, filling the model. Each paste picks a rando
- *  21864: src/lst/render.c, §5.1, showing a model. Every point of a tetrahedron is th
- *  22761: src/lst/cut.c, §5.1.1, cutting a model along the zero set of a scalar fi
- *  23366: src/lst/builtin.c, the tetrahedralizer entry point, checks of caller meshes, 
- *  23888: src/lst/io.c, the model file, the constraint files and the file convenie
- *  24606: src/lst/export.c, the visible boundary with a baked texture atlas, for glTF.
+ *  18152: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  18816: src/lst/core.c, lst.h's glue to the shared core, its defaults, the convers
+ *  19149: src/lst/exemplar.c, solid exemplars (§5): sampling, the procedural exemplars 
+ *  19680: src/lst/field.c, §5.2.2, the fields that orient and scale the pastes. The 
+ *  20888: src/lst/paste.c, §5.2.3-5.2.7, filling the model. Each paste picks a rando
+ *  21869: src/lst/render.c, §5.1, showing a model. Every point of a tetrahedron is th
+ *  22766: src/lst/cut.c, §5.1.1, cutting a model along the zero set of a scalar fi
+ *  23371: src/lst/builtin.c, the tetrahedralizer entry point, checks of caller meshes, 
+ *  23893: src/lst/io.c, the model file, the constraint files and the file convenie
+ *  24586: src/lst/export.c, the visible boundary with a baked texture atlas, for glTF.
  */
 /* lst.h - lapped solid textures: solid exemplars pasted inside a model.
  *
@@ -18034,8 +18034,12 @@ PW__DEF void pw_view_defaults(int *width, int *height, int *supersample, float v
  *                             p_error *)
  *   DEF p_result p_write_image(const p_image *, const char *format, p_write_fn, void *ctx, p_error *)
  * A reader takes the format from the bytes (a mesh: from the name's
- * extension when the bytes do not say), and the name in its messages. */
-#define PW__PUBLIC_READ(p, DEF, what, pwT, T, read, take)                                                           \
+ * extension when the bytes do not say), and the name in its messages.
+ * PW_PUBLIC_READ(p, DEF, what, pwT, T, read, take) is one such reader,
+ *   DEF p_result p_read_WHAT(const void *data, size_t size, const char *name, const p_options *, T *out, p_error *)
+ * through the shared read(alloc, bytes, size, name, pwT *, pw_err *) and
+ * take(pwT *, alloc, T *out), which moves the result into the public type. */
+#define PW_PUBLIC_READ(p, DEF, what, pwT, T, read, take)                                                            \
     DEF p##_result p##_read_##what(const void *data, size_t size, const char *name, const p##_options *opt, T *out, \
                                    p##_error *err)                                                                  \
     {                                                                                                               \
@@ -18049,10 +18053,11 @@ PW__DEF void pw_view_defaults(int *width, int *height, int *supersample, float v
         else if (read(&a, (const unsigned char *)data, size, name ? name : #what, &v, &pe) == PW_OK)                \
             take(&v, &a, out);                                                                                      \
         return p##__done(&pe, err);                                                                                 \
-    }
+    }                                                                                                               \
+    typedef int p##__read_##what##_defined /* so that the use ends with a semicolon */
 #define PW_PUBLIC_IO(p, DEF)                                                                             \
-    PW__PUBLIC_READ(p, DEF, mesh, pw_mesh, p##_mesh, pw_mesh_read_memory, p##__take_mesh)                \
-    PW__PUBLIC_READ(p, DEF, image, pw_image, p##_image, pw_image_read_memory, p##__take_image)           \
+    PW_PUBLIC_READ(p, DEF, mesh, pw_mesh, p##_mesh, pw_mesh_read_memory, p##__take_mesh);                \
+    PW_PUBLIC_READ(p, DEF, image, pw_image, p##_image, pw_image_read_memory, p##__take_image);           \
     DEF p##_result p##_write_image(const p##_image *img, const char *format, p##_write_fn fn, void *ctx, \
                                    p##_error *err)                                                       \
     {                                                                                                    \
@@ -24432,19 +24437,7 @@ LSTDEF lst_result lst_read_tetgen(const void *node, size_t node_size, const void
     return lst__done(&e, err);
 }
 
-LSTDEF lst_result lst_read_medit(const void *data, size_t size, const char *name, const lst_options *opt,
-                                 lst_tetmesh *out, lst_error *err)
-{
-    lst_options o = lst__options(opt);
-    pw_alloc a = lst__alloc(&o.allocator);
-    pw_tetmesh m;
-    pw_err e;
-    pw_err_clear(&e);
-    if (out) memset(out, 0, sizeof *out);
-    if (!out || (!data && size)) pw_fail(&e, PW_ERR_INVALID, "lst_read_medit: NULL argument");
-    else if (pw_medit_read_memory(&a, data, size, name ? name : "mesh", &m, &e) == PW_OK) lst__take_tets(&m, &a, out);
-    return lst__done(&e, err);
-}
+PW_PUBLIC_READ(lst, LSTDEF, medit, pw_tetmesh, lst_tetmesh, pw_medit_read_memory, lst__take_tets);
 
 LSTDEF lst_result lst_write_tetgen(const lst_tetmesh *mesh, lst_write_fn node_fn, void *node_ctx, lst_write_fn ele_fn,
                                    void *ele_ctx, lst_error *err)
@@ -24473,20 +24466,7 @@ LSTDEF lst_result lst_write_medit(const lst_tetmesh *mesh, lst_write_fn fn, void
     return lst__done(&e, err);
 }
 
-LSTDEF lst_result lst_read_volume(const void *data, size_t size, const char *name, const lst_options *opt,
-                                  lst_volume *out, lst_error *err)
-{
-    lst_options o = lst__options(opt);
-    pw_alloc a = lst__alloc(&o.allocator);
-    pw_volume v;
-    pw_err e;
-    pw_err_clear(&e);
-    if (out) memset(out, 0, sizeof *out);
-    if (!out || (!data && size)) pw_fail(&e, PW_ERR_INVALID, "lst_read_volume: NULL argument");
-    else if (pw_nrrd_read_memory(&a, (const unsigned char *)data, size, name ? name : "volume", &v, &e) == PW_OK)
-        lst__take_volume(&v, &a, out);
-    return lst__done(&e, err);
-}
+PW_PUBLIC_READ(lst, LSTDEF, volume, pw_volume, lst_volume, pw_nrrd_read_memory, lst__take_volume);
 
 LSTDEF lst_result lst_write_volume(const lst_volume *vol, lst_write_fn fn, void *ctx, lst_error *err)
 {

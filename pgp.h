@@ -28,22 +28,22 @@
  *  13259: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
  *  14020: src/pgp/tile3.h, sampling a material-space tile (Ray et al. 2009, §2: "a 3
  *  14128: src/common/glue.h, what every method header needs between its public types an
- *  14463: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  15127: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
- *  15624: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
- *  16110: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
- *  16253: src/common/kdtree.h, nearest-neighbour search among n points of dimension d, wi
- *  16596: src/common/pca.h, principal component analysis of vectors streamed one at a 
- *  16783: src/pgp/core.c, pgp.h's glue to the shared core, its defaults, and the map
- *  17040: src/pgp/field.c, §2.1 effect areas and §2.2 interpolation of the constrai
- *  17430: src/pgp/solve.c, §2.3 the periodic global parameterization, the recovery o
- *  18260: src/pgp/edit.c, the public editing calls of a mapping. §2.1 (Ray, Lévy, 
- *  18405: src/pgp/render.c, §3 rendering, and a cleaner treatment of the vortices.
- *  18837: src/pgp/builtin.c, built-in meshes and material-space tiles for demos and tes
- *  19106: src/pgp/io.c, files and memory for pgp.h: material-space tiles (NRRD, or
- *  19454: src/pgp/export.c, the mapping for other programs. A viewer that knows nothin
- *  19680: src/pgp/morph.c, the inputs of §1 (keys brought to the tile size, made til
- *  20359: src/pgp/synth.c, §1.2 constrained tile synthesis, and the whole of §1: ke
+ *  14468: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  15132: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
+ *  15629: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
+ *  16115: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
+ *  16258: src/common/kdtree.h, nearest-neighbour search among n points of dimension d, wi
+ *  16601: src/common/pca.h, principal component analysis of vectors streamed one at a 
+ *  16788: src/pgp/core.c, pgp.h's glue to the shared core, its defaults, and the map
+ *  17045: src/pgp/field.c, §2.1 effect areas and §2.2 interpolation of the constrai
+ *  17435: src/pgp/solve.c, §2.3 the periodic global parameterization, the recovery o
+ *  18265: src/pgp/edit.c, the public editing calls of a mapping. §2.1 (Ray, Lévy, 
+ *  18410: src/pgp/render.c, §3 rendering, and a cleaner treatment of the vortices.
+ *  18842: src/pgp/builtin.c, built-in meshes and material-space tiles for demos and tes
+ *  19111: src/pgp/io.c, files and memory for pgp.h: material-space tiles (NRRD, or
+ *  19459: src/pgp/export.c, the mapping for other programs. A viewer that knows nothin
+ *  19685: src/pgp/morph.c, the inputs of §1 (keys brought to the tile size, made til
+ *  20364: src/pgp/synth.c, §1.2 constrained tile synthesis, and the whole of §1: ke
  */
 /* pgp.h - material-space texturing with a periodic global parameterization.
  *
@@ -14350,8 +14350,12 @@ PW__DEF void pw_view_defaults(int *width, int *height, int *supersample, float v
  *                             p_error *)
  *   DEF p_result p_write_image(const p_image *, const char *format, p_write_fn, void *ctx, p_error *)
  * A reader takes the format from the bytes (a mesh: from the name's
- * extension when the bytes do not say), and the name in its messages. */
-#define PW__PUBLIC_READ(p, DEF, what, pwT, T, read, take)                                                           \
+ * extension when the bytes do not say), and the name in its messages.
+ * PW_PUBLIC_READ(p, DEF, what, pwT, T, read, take) is one such reader,
+ *   DEF p_result p_read_WHAT(const void *data, size_t size, const char *name, const p_options *, T *out, p_error *)
+ * through the shared read(alloc, bytes, size, name, pwT *, pw_err *) and
+ * take(pwT *, alloc, T *out), which moves the result into the public type. */
+#define PW_PUBLIC_READ(p, DEF, what, pwT, T, read, take)                                                            \
     DEF p##_result p##_read_##what(const void *data, size_t size, const char *name, const p##_options *opt, T *out, \
                                    p##_error *err)                                                                  \
     {                                                                                                               \
@@ -14365,10 +14369,11 @@ PW__DEF void pw_view_defaults(int *width, int *height, int *supersample, float v
         else if (read(&a, (const unsigned char *)data, size, name ? name : #what, &v, &pe) == PW_OK)                \
             take(&v, &a, out);                                                                                      \
         return p##__done(&pe, err);                                                                                 \
-    }
+    }                                                                                                               \
+    typedef int p##__read_##what##_defined /* so that the use ends with a semicolon */
 #define PW_PUBLIC_IO(p, DEF)                                                                             \
-    PW__PUBLIC_READ(p, DEF, mesh, pw_mesh, p##_mesh, pw_mesh_read_memory, p##__take_mesh)                \
-    PW__PUBLIC_READ(p, DEF, image, pw_image, p##_image, pw_image_read_memory, p##__take_image)           \
+    PW_PUBLIC_READ(p, DEF, mesh, pw_mesh, p##_mesh, pw_mesh_read_memory, p##__take_mesh);                \
+    PW_PUBLIC_READ(p, DEF, image, pw_image, p##_image, pw_image_read_memory, p##__take_image);           \
     DEF p##_result p##_write_image(const p##_image *img, const char *format, p##_write_fn fn, void *ctx, \
                                    p##_error *err)                                                       \
     {                                                                                                    \

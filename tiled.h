@@ -20,15 +20,15 @@
  *   8578: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
  *   9075: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
  *   9561: src/common/glue.h, what every method header needs between its public types an
- *   9896: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  10560: src/tiled/core.c, tiled.h's glue to the shared core, its defaults, result
- *  10649: src/tiled/layout.c, ch. III.1, the boundary types and the tiled texture they
- *  10921: src/tiled/map.c, ch. III.2, the texture mapping algorithm of Fig. 29
- *  11170: src/tiled/synth.c, ch. III.1.3, tiled texture image synthesis: an edge-matche
- *  11552: src/tiled/validate.c, checks a hand-made tiled texture (the thesis's Figs. 39,
- *  11680: src/tiled/builtin.c, built-in meshes and exemplars for demos and tests: the
- *  11877: src/tiled/render.c, a software rendering of a mapped mesh (the thesis rendered
- *  12100: src/tiled/io.c, files. Meshes and exemplars in; the mapped mesh with its t
+ *   9901: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  10565: src/tiled/core.c, tiled.h's glue to the shared core, its defaults, result
+ *  10654: src/tiled/layout.c, ch. III.1, the boundary types and the tiled texture they
+ *  10926: src/tiled/map.c, ch. III.2, the texture mapping algorithm of Fig. 29
+ *  11175: src/tiled/synth.c, ch. III.1.3, tiled texture image synthesis: an edge-matche
+ *  11557: src/tiled/validate.c, checks a hand-made tiled texture (the thesis's Figs. 39,
+ *  11685: src/tiled/builtin.c, built-in meshes and exemplars for demos and tests: the
+ *  11882: src/tiled/render.c, a software rendering of a mapped mesh (the thesis rendered
+ *  12105: src/tiled/io.c, files. Meshes and exemplars in; the mapped mesh with its t
  */
 /* tiled.h - seamless, singularity-free tiled textures on quad meshes.
  *
@@ -9783,8 +9783,12 @@ PW__DEF void pw_view_defaults(int *width, int *height, int *supersample, float v
  *                             p_error *)
  *   DEF p_result p_write_image(const p_image *, const char *format, p_write_fn, void *ctx, p_error *)
  * A reader takes the format from the bytes (a mesh: from the name's
- * extension when the bytes do not say), and the name in its messages. */
-#define PW__PUBLIC_READ(p, DEF, what, pwT, T, read, take)                                                           \
+ * extension when the bytes do not say), and the name in its messages.
+ * PW_PUBLIC_READ(p, DEF, what, pwT, T, read, take) is one such reader,
+ *   DEF p_result p_read_WHAT(const void *data, size_t size, const char *name, const p_options *, T *out, p_error *)
+ * through the shared read(alloc, bytes, size, name, pwT *, pw_err *) and
+ * take(pwT *, alloc, T *out), which moves the result into the public type. */
+#define PW_PUBLIC_READ(p, DEF, what, pwT, T, read, take)                                                            \
     DEF p##_result p##_read_##what(const void *data, size_t size, const char *name, const p##_options *opt, T *out, \
                                    p##_error *err)                                                                  \
     {                                                                                                               \
@@ -9798,10 +9802,11 @@ PW__DEF void pw_view_defaults(int *width, int *height, int *supersample, float v
         else if (read(&a, (const unsigned char *)data, size, name ? name : #what, &v, &pe) == PW_OK)                \
             take(&v, &a, out);                                                                                      \
         return p##__done(&pe, err);                                                                                 \
-    }
+    }                                                                                                               \
+    typedef int p##__read_##what##_defined /* so that the use ends with a semicolon */
 #define PW_PUBLIC_IO(p, DEF)                                                                             \
-    PW__PUBLIC_READ(p, DEF, mesh, pw_mesh, p##_mesh, pw_mesh_read_memory, p##__take_mesh)                \
-    PW__PUBLIC_READ(p, DEF, image, pw_image, p##_image, pw_image_read_memory, p##__take_image)           \
+    PW_PUBLIC_READ(p, DEF, mesh, pw_mesh, p##_mesh, pw_mesh_read_memory, p##__take_mesh);                \
+    PW_PUBLIC_READ(p, DEF, image, pw_image, p##_image, pw_image_read_memory, p##__take_image);           \
     DEF p##_result p##_write_image(const p##_image *img, const char *format, p##_write_fn fn, void *ctx, \
                                    p##_error *err)                                                       \
     {                                                                                                    \

@@ -227,8 +227,12 @@ PW__DEF void pw_view_defaults(int *width, int *height, int *supersample, float v
  *                             p_error *)
  *   DEF p_result p_write_image(const p_image *, const char *format, p_write_fn, void *ctx, p_error *)
  * A reader takes the format from the bytes (a mesh: from the name's
- * extension when the bytes do not say), and the name in its messages. */
-#define PW__PUBLIC_READ(p, DEF, what, pwT, T, read, take)                                                           \
+ * extension when the bytes do not say), and the name in its messages.
+ * PW_PUBLIC_READ(p, DEF, what, pwT, T, read, take) is one such reader,
+ *   DEF p_result p_read_WHAT(const void *data, size_t size, const char *name, const p_options *, T *out, p_error *)
+ * through the shared read(alloc, bytes, size, name, pwT *, pw_err *) and
+ * take(pwT *, alloc, T *out), which moves the result into the public type. */
+#define PW_PUBLIC_READ(p, DEF, what, pwT, T, read, take)                                                            \
     DEF p##_result p##_read_##what(const void *data, size_t size, const char *name, const p##_options *opt, T *out, \
                                    p##_error *err)                                                                  \
     {                                                                                                               \
@@ -242,10 +246,11 @@ PW__DEF void pw_view_defaults(int *width, int *height, int *supersample, float v
         else if (read(&a, (const unsigned char *)data, size, name ? name : #what, &v, &pe) == PW_OK)                \
             take(&v, &a, out);                                                                                      \
         return p##__done(&pe, err);                                                                                 \
-    }
+    }                                                                                                               \
+    typedef int p##__read_##what##_defined /* so that the use ends with a semicolon */
 #define PW_PUBLIC_IO(p, DEF)                                                                             \
-    PW__PUBLIC_READ(p, DEF, mesh, pw_mesh, p##_mesh, pw_mesh_read_memory, p##__take_mesh)                \
-    PW__PUBLIC_READ(p, DEF, image, pw_image, p##_image, pw_image_read_memory, p##__take_image)           \
+    PW_PUBLIC_READ(p, DEF, mesh, pw_mesh, p##_mesh, pw_mesh_read_memory, p##__take_mesh);                \
+    PW_PUBLIC_READ(p, DEF, image, pw_image, p##_image, pw_image_read_memory, p##__take_image);           \
     DEF p##_result p##_write_image(const p##_image *img, const char *format, p##_write_fn fn, void *ctx, \
                                    p##_error *err)                                                       \
     {                                                                                                    \

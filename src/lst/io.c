@@ -545,19 +545,7 @@ LSTDEF lst_result lst_read_tetgen(const void *node, size_t node_size, const void
     return lst__done(&e, err);
 }
 
-LSTDEF lst_result lst_read_medit(const void *data, size_t size, const char *name, const lst_options *opt,
-                                 lst_tetmesh *out, lst_error *err)
-{
-    lst_options o = lst__options(opt);
-    pw_alloc a = lst__alloc(&o.allocator);
-    pw_tetmesh m;
-    pw_err e;
-    pw_err_clear(&e);
-    if (out) memset(out, 0, sizeof *out);
-    if (!out || (!data && size)) pw_fail(&e, PW_ERR_INVALID, "lst_read_medit: NULL argument");
-    else if (pw_medit_read_memory(&a, data, size, name ? name : "mesh", &m, &e) == PW_OK) lst__take_tets(&m, &a, out);
-    return lst__done(&e, err);
-}
+PW_PUBLIC_READ(lst, LSTDEF, medit, pw_tetmesh, lst_tetmesh, pw_medit_read_memory, lst__take_tets);
 
 LSTDEF lst_result lst_write_tetgen(const lst_tetmesh *mesh, lst_write_fn node_fn, void *node_ctx, lst_write_fn ele_fn,
                                    void *ele_ctx, lst_error *err)
@@ -586,20 +574,7 @@ LSTDEF lst_result lst_write_medit(const lst_tetmesh *mesh, lst_write_fn fn, void
     return lst__done(&e, err);
 }
 
-LSTDEF lst_result lst_read_volume(const void *data, size_t size, const char *name, const lst_options *opt,
-                                  lst_volume *out, lst_error *err)
-{
-    lst_options o = lst__options(opt);
-    pw_alloc a = lst__alloc(&o.allocator);
-    pw_volume v;
-    pw_err e;
-    pw_err_clear(&e);
-    if (out) memset(out, 0, sizeof *out);
-    if (!out || (!data && size)) pw_fail(&e, PW_ERR_INVALID, "lst_read_volume: NULL argument");
-    else if (pw_nrrd_read_memory(&a, (const unsigned char *)data, size, name ? name : "volume", &v, &e) == PW_OK)
-        lst__take_volume(&v, &a, out);
-    return lst__done(&e, err);
-}
+PW_PUBLIC_READ(lst, LSTDEF, volume, pw_volume, lst_volume, pw_nrrd_read_memory, lst__take_volume);
 
 LSTDEF lst_result lst_write_volume(const lst_volume *vol, lst_write_fn fn, void *ctx, lst_error *err)
 {
