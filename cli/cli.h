@@ -38,10 +38,10 @@ int cli_vec3(cli_args *a, float out[3]);
  * pixel. Returns -1 when argv[i] is none of them, else 1 (parsed) or 0 (an
  * error, printed). */
 int cli_view_flag(cli_args *a, float view_dir[3], float up[3], int *supersample, int *threads);
-#define CLI_VIEW_USAGE                                                                        \
-    "  --view X,Y,Z        the direction the camera looks along (default -0.55,-0.45,-0.7)\n" \
-    "  --view-up X,Y,Z|z   the world direction shown upwards (default y; z for Z-up scans)\n" \
-    "  --supersample N     N x N samples per pixel, 1..8 (default 2)\n"
+#define CLI_VIEW_USAGE                                                                   \
+    "  --view X,Y,Z         the camera's direction of view (default -0.55,-0.45,-0.7)\n" \
+    "  --view-up X,Y,Z|z    the world direction shown up (default y; z: Z-up scans)\n"   \
+    "  --supersample N      N x N samples per pixel, 1..8 (default 2)\n"
 /* True if argv[i] is `name` or `name=...`. */
 int cli_is(const cli_args *a, const char *name);
 

@@ -1,6 +1,5 @@
 /* embed_example.c: what a program that embeds patchwork needs, shown with
- * lapped.h (the other headers have the same hooks).
- *
+ * lapped.h (the other headers have the same hooks):
  *   cc -O2 -I.. embed_example.c -lm && ./a.out
  *
  *   - memory I/O: the mesh is read from a string, the result is written as
@@ -8,49 +7,28 @@
  *   - a progress callback that cancels: the first run stops at 30%, returns
  *     LAPPED_ERR_CANCELLED and leaves nothing allocated;
  *   - a custom allocator: every allocation goes through it (here: counting
- *     live blocks and the peak of live bytes). */
+ *     the live blocks). */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #define LAPPED_IMPLEMENTATION
 #include "../lapped.h"
 
-typedef struct counter {
-    long live;
-    size_t bytes, peak;
-} counter;
-/* each block carries its size in front, so that free knows it */
-static void *my_malloc(void *user, size_t n)
-{
-    counter *c = (counter *)user;
-    size_t *p = (size_t *)malloc(n + sizeof(size_t));
-    if (!p) return NULL;
-    *p = n;
-    c->live++;
-    c->bytes += n;
-    if (c->bytes > c->peak) c->peak = c->bytes;
-    return p + 1;
-}
-static void my_free(void *user, void *ptr)
-{
-    counter *c = (counter *)user;
-    if (!ptr) return;
-    c->live--;
-    c->bytes -= ((size_t *)ptr)[-1];
-    free((size_t *)ptr - 1);
-}
+/* counts the blocks it hands out that are not freed yet */
 static void *my_realloc(void *user, void *ptr, size_t n)
 {
-    void *q = my_malloc(user, n);
-    if (q && ptr) {
-        memcpy(q, ptr, ((size_t *)ptr)[-1] < n ? ((size_t *)ptr)[-1] : n);
-        my_free(user, ptr);
-    }
-    return q;
+    void *p = realloc(ptr, n);
+    if (p && !ptr) ++*(long *)user;
+    return p;
+}
+static void *my_malloc(void *user, size_t n) { return my_realloc(user, NULL, n); }
+static void my_free(void *user, void *ptr)
+{
+    if (ptr) --*(long *)user;
+    free(ptr);
 }
 
 static int stop_at_30(void *user, float done, const char *stage) { return *(int *)user && done > 0.3f && stage; }
-
 typedef struct buffer {
     unsigned char *data;
     size_t size;
@@ -72,7 +50,7 @@ static const char octahedron[] = "v 1 0 0\nv -1 0 0\nv 0 1 0\nv 0 -1 0\nv 0 0 1\
 
 int main(void)
 {
-    counter count = {0, 0, 0};
+    long live = 0;
     int cancel = 1, ok;
     lapped_options opt = lapped_default_options();
     lapped_source src = {0};
@@ -86,7 +64,7 @@ int main(void)
     opt.allocator.malloc_fn = my_malloc;
     opt.allocator.realloc_fn = my_realloc;
     opt.allocator.free_fn = my_free;
-    opt.allocator.user = &count;
+    opt.allocator.user = &live;
     opt.progress = stop_at_30;
     opt.progress_user = &cancel;
     opt.scale = 0.6f;
@@ -97,7 +75,7 @@ int main(void)
          lapped_builtin_exemplar("dots", 64, &opt, &texture, &err) == LAPPED_OK &&
          lapped_make_patch(&texture, NULL, &opt, &patch, &err) == LAPPED_OK;
     if (ok && lapped_create(&mesh, &src, &opt, &lt, &err) == LAPPED_ERR_CANCELLED)
-        printf("cancelled at 30%%: %s; %ld blocks live (the mesh, texture and patch)\n", err.message, count.live);
+        printf("cancelled at 30%%: %s; %ld blocks live (the mesh, texture and patch)\n", err.message, live);
     cancel = 0;
     ok = ok && lapped_create(&mesh, &src, &opt, &lt, &err) == LAPPED_OK &&
          lapped_bake_atlas(&mesh, &lt, &src, &opt, &atlas, &err) == LAPPED_OK &&
@@ -107,8 +85,8 @@ int main(void)
         ok = fclose(f) == 0 && ok;
     }
     if (ok)
-        printf("%d pastes; %lu bytes of glTF in memory, saved as embed_example.glb; peak %lu bytes allocated\n",
-               lt.npastes, (unsigned long)glb.size, (unsigned long)count.peak);
+        printf("%d pastes; %lu bytes of glTF in memory, saved as embed_example.glb\n", lt.npastes,
+               (unsigned long)glb.size);
     else fprintf(stderr, "embed_example: %s\n", err.message);
     lapped_atlas_free(&atlas);
     lapped_texture_free(&lt);
@@ -116,6 +94,6 @@ int main(void)
     lapped_image_free(&texture);
     lapped_mesh_free(&mesh);
     free(glb.data);
-    printf("%ld blocks still allocated after the frees\n", count.live);
-    return ok && count.live == 0 ? 0 : 1;
+    printf("%ld blocks still allocated after the frees\n", live);
+    return ok && live == 0 ? 0 : 1;
 }
