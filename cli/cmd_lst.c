@@ -411,13 +411,24 @@ static lst_result load_tets(const lst_cmd *c, lst_run *r, lst_error *err)
     return res;
 }
 
+/* The exemplar (and its values): a volume, so a 2D image is refused by name
+ * with the way to a solid one. */
 static lst_result load_exemplar(const lst_cmd *c, lst_run *r, lst_error *err)
 {
     const char *name;
+    lst_image img;
+    lst_error ie;
     lst_result res;
     if (cli_is_procedural(c->exemplar, &name))
         res = lst_builtin_exemplar(name, c->exemplar_size, &c->opt, &r->ex, c->values ? NULL : &r->val, err);
-    else res = lst_load_volume(c->exemplar, &c->opt, &r->ex, err);
+    else if ((res = lst_load_volume(c->exemplar, &c->opt, &r->ex, err)) == LST_ERR_PARSE &&
+             lst_load_image(c->exemplar, &c->opt, &img, &ie) == LST_OK) {
+        snprintf(err->message, sizeof err->message,
+                 "%s is a 2D image (%dx%d); lst pastes solid exemplars: a NRRD volume or procedural:NAME "
+                 "(--exemplar procedural:layers --out-exemplar layers.nrrd writes one to start from)",
+                 c->exemplar, img.width, img.height);
+        lst_image_free(&img);
+    }
     if (res == LST_OK && c->values) res = lst_load_volume(c->values, &c->opt, &r->val, err);
     return res;
 }
@@ -722,7 +733,7 @@ int cmd_lst(int argc, char **argv)
     if (exemplar_only(&c)) { /* a built-in exemplar to a file, e.g. to edit it */
         if ((res = load_exemplar(&c, &r, &err)) == LST_OK)
             res = write_out(&outs, c.out_exemplar, w_volume, &r.ex, &err);
-    } else if ((res = load_tets(&c, &r, &err)) == LST_OK && (res = load_exemplar(&c, &r, &err)) == LST_OK &&
+    } else if ((res = load_exemplar(&c, &r, &err)) == LST_OK && (res = load_tets(&c, &r, &err)) == LST_OK &&
                (res = load_constraints(&c, &r, &err)) == LST_OK && (res = fill(&c, &r, &err)) == LST_OK)
         res = outputs(&c, &r, &outs, &err);
     run_free(&r);

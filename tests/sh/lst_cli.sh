@@ -153,6 +153,10 @@ expect_error no_input "required" --exemplar procedural:spots --out-lst $tmp/out/
 expect_error no_output "nothing to write" $small
 expect_error unknown_option "unknown option" $small --frobnicate --out-lst $tmp/out/x.lst
 expect_error bad_type "--type" $small --type 3c --out-lst $tmp/out/x.lst
+# a 2D image as the exemplar: refused by name, before the tetrahedralization
+printf 'P6\n2 2\n255\n%012d' 0 > "$tmp/flat.ppm"
+expect_error flat_exemplar "2D image" --mesh procedural:sphere --exemplar "$tmp/flat.ppm" --out-image $tmp/out/x.png
+if [ -s "$tmp/stdout" ]; then fail flat_exemplar_first "worked before refusing: $(head -1 "$tmp/stdout")"; else pass flat_exemplar_first; fi
 expect_error bad_cut "--cut" $small --cut "1 2 3" --out-lst $tmp/out/x.lst
 expect_error section_needs_cut "needs a --cut" $small --out-section $tmp/out/x.png
 expect_error missing_mesh "cannot open" --mesh $tmp/none.off --exemplar procedural:spots --out-lst $tmp/out/x.lst
