@@ -20,21 +20,21 @@
  *   9739: src/lapped/polyhull.h, the polygonal hull of a texture patch (Praun, Finkelstein 
  *  10570: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
  *  10757: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
- *  10842: src/common/atlas.h, texture atlases of triangle meshes — charts, packing, ba
+ *  10842: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
  *  11031: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
- *  11949: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
- *  12647: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
- *  12883: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
- *  13647: src/common/glue.h, what every method header needs between its public types an
- *  13987: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  14651: src/lapped/core.c, lapped.h's glue to the shared core, its defaults, and the 
- *  14816: src/lapped/field.c, §3.2 the tangent field, one frame (S, T) per triangle, an
- *  15271: src/lapped/patch.c, §3.1 texture patches. A patch is the texture as RGBA whos
- *  15585: src/lapped/builtin.c, built-in meshes (made by the shared shapes module) and tex
- *  15779: src/lapped/grow.c, pasting (§3.3-3.6): grow a surface patch around an uncove
- *  17263: src/lapped/render.c, runtime pasting (§4): the mesh drawn once per paste, in p
- *  17467: src/lapped/atlas.c, §4 "Rendering with a texture atlas".
- *  17710: src/lapped/io.c, the paste file format and the file conveniences of lapped.
+ *  11948: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
+ *  12646: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
+ *  12882: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
+ *  13646: src/common/glue.h, what every method header needs between its public types an
+ *  13986: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  14650: src/lapped/core.c, lapped.h's glue to the shared core, its defaults, and the 
+ *  14815: src/lapped/field.c, §3.2 the tangent field, one frame (S, T) per triangle, an
+ *  15270: src/lapped/patch.c, §3.1 texture patches. A patch is the texture as RGBA whos
+ *  15584: src/lapped/builtin.c, built-in meshes (made by the shared shapes module) and tex
+ *  15778: src/lapped/grow.c, pasting (§3.3-3.6): grow a surface patch around an uncove
+ *  17262: src/lapped/render.c, runtime pasting (§4): the mesh drawn once per paste, in p
+ *  17466: src/lapped/atlas.c, §4 "Rendering with a texture atlas".
+ *  17709: src/lapped/io.c, the paste file format and the file conveniences of lapped.
  */
 /* lapped.h - lapped textures: overlapping texture patches pasted over a mesh.
  *
@@ -1161,7 +1161,6 @@ PW__DEF int pw__image_check(const pw_image *img, pw_err *e)
     return PW_OK;
 }
 
-/* A deep copy of src (same size, channels and bits). */
 /* The image format a file name's extension names (case-insensitive):
  * "png", "ppm" (.ppm and .pnm), "pgm", "pam"; NULL for any other. */
 PW__DEF const char *pw_image_format_of(const char *path)
@@ -1173,6 +1172,7 @@ PW__DEF const char *pw_image_format_of(const char *path)
     return NULL;
 }
 
+/* A deep copy of src (same size, channels and bits). */
 PW__DEF int pw_image_copy(const pw_alloc *a, const pw_image *src, pw_image *out, pw_err *e)
 {
     int r = pw__image_check(src, e);
@@ -10840,7 +10840,7 @@ PW__DEF void pw_heap_free(const pw_alloc *a, pw_heap *h)
 #endif /* PW__HEAP_V1 */
 
 /* ---- shared module src/common/atlas.h ---- */
-/* atlas: texture atlases of triangle meshes — charts, packing, baking.
+/* atlas: texture atlases of triangle meshes — what the stages share.
  *
  * Lapped textures' §4 ("Rendering with a texture atlas", Praun et al. 2000)
  * builds its atlas "with a method similar to Maillot et al.": regions grown
@@ -10849,7 +10849,6 @@ PW__DEF void pw_heap_free(const pw_alloc *a, pw_heap *h)
  * texture space, checked "using a spatial hash table"; the regions are
  * flattened and arranged in the unit square, and the texture is baked into
  * them. lapped.h bakes its pastes this way; pgp.h and lst.h bake their
- * renderings for glTF export with the same code.
  * renderings for glTF export with the same code.
  *
  * One file per stage, in the order they run (each file describes its
@@ -10861,7 +10860,8 @@ PW__DEF void pw_heap_free(const pw_alloc *a, pw_heap *h)
  *   atlas_bake.h    the texture baked into the packed charts, then the
  *                   gutter (pw_atlas_bake).
  * This file holds what they share: the options every header exposes, the
- * job they all take, and the export of the result (pw_atlas_mesh makes the
+ * overlap test of 2D triangles, the job they all take, and the export of
+ * the result (pw_atlas_mesh makes the
  * pw_mesh, per-corner coordinates deduplicated, that the OBJ and glTF
  * writers take). */
 #ifndef PW__ATLAS_V1
@@ -11031,11 +11031,10 @@ PW__DEF int pw_atlas_mesh(const pw_alloc *a, const pw_trimesh *m, const float *u
 /* ---- shared module src/common/atlas_charts.h ---- */
 /* atlas_charts: the charts of a texture atlas (lapped textures §4).
  *
- * A chart is seeded at the lowest-index
- * unassigned triangle, placed isometrically, and grown from a queue of
- * neighbouring faces ordered by the distance of their centroid from the
- * seed's (a face the chart already borders on two sides first). A face
- * joins when
+ * A chart is seeded at the lowest-index unassigned triangle, placed
+ * isometrically, and grown from a queue of neighbouring faces ordered by
+ * the distance of their centroid from the seed's (a face the chart already
+ * borders on two sides first). A face joins when
  *   - its normal is within cone_angle of the seed's (otherwise it is
  *     refused for this chart for good);
  *   - the chart stays a disc: across one shared edge its third vertex
@@ -12647,11 +12646,11 @@ PW__DEF int pw_atlas_layout(const pw_atlas_job *job, float **uvs, int *ncharts, 
 /* ---- shared module src/common/atlas_bake.h ---- */
 /* atlas_bake: a texture baked into the packed charts of an atlas.
  *
- * Every texel whose centre a chart triangle covers
- * (pw_raster_tri) gets the caller's texture there; texels that a bilinear
- * lookup inside a chart can reach but no triangle covers get the texture at
- * the nearest point of the nearest triangle; `gutter` rounds of dilation
- * fill the gutter with the nearest chart texel. */
+ * Every texel whose centre a chart triangle covers (pw_raster_tri) gets
+ * the caller's texture there; texels that a bilinear lookup inside a chart
+ * can reach but no triangle covers get the texture at the nearest point of
+ * the nearest triangle; `gutter` rounds of dilation fill the gutter with
+ * the nearest chart texel. */
 #ifndef PW__ATLAS_BAKE_V1
 #define PW__ATLAS_BAKE_V1
 

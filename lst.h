@@ -19,28 +19,28 @@
  *   6747: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
  *   8010: src/common/raster.h, exact scan conversion of 2D triangles.
  *   8484: src/common/render.h, a small deterministic software renderer for textured trian
- *  10251: src/common/atlas.h, texture atlases of triangle meshes — charts, packing, ba
+ *  10251: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
  *  10440: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
- *  11358: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
- *  12056: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
- *  12292: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
- *  13053: src/common/tetmesh.h, the tetrahedral mesh that lapped solid textures work on, a
- *  13537: src/common/tetio.h, tetrahedral mesh files, TetGen .node/.ele and MEDIT .mesh.
- *  14029: src/common/bisect.h, graded, conforming tetrahedral meshes of a box by newest-v
- *  14349: src/common/stuffing.h, the built-in tetrahedralizer of lst.h, so that no external
- *  17482: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
- *  17625: src/common/pca.h, principal component analysis of vectors streamed one at a 
- *  17812: src/common/glue.h, what every method header needs between its public types an
- *  18152: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  18816: src/lst/core.c, lst.h's glue to the shared core, its defaults, the convers
- *  19149: src/lst/exemplar.c, solid exemplars (§5): sampling, the procedural exemplars 
- *  19680: src/lst/field.c, §5.2.2, the fields that orient and scale the pastes. The 
- *  20888: src/lst/paste.c, §5.2.3-5.2.7, filling the model. Each paste picks a rando
- *  21869: src/lst/render.c, §5.1, showing a model. Every point of a tetrahedron is th
- *  22766: src/lst/cut.c, §5.1.1, cutting a model along the zero set of a scalar fi
- *  23371: src/lst/builtin.c, the tetrahedralizer entry point, checks of caller meshes, 
- *  23893: src/lst/io.c, the model file, the constraint files and the file convenie
- *  24586: src/lst/export.c, the visible boundary with a baked texture atlas, for glTF.
+ *  11357: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
+ *  12055: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
+ *  12291: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
+ *  13052: src/common/tetmesh.h, the tetrahedral mesh that lapped solid textures work on, a
+ *  13536: src/common/tetio.h, tetrahedral mesh files, TetGen .node/.ele and MEDIT .mesh.
+ *  14028: src/common/bisect.h, graded, conforming tetrahedral meshes of a box by newest-v
+ *  14348: src/common/stuffing.h, the built-in tetrahedralizer of lst.h, so that no external
+ *  17481: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
+ *  17624: src/common/pca.h, principal component analysis of vectors streamed one at a 
+ *  17811: src/common/glue.h, what every method header needs between its public types an
+ *  18151: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  18815: src/lst/core.c, lst.h's glue to the shared core, its defaults, the convers
+ *  19148: src/lst/exemplar.c, solid exemplars (§5): sampling, the procedural exemplars 
+ *  19679: src/lst/field.c, §5.2.2, the fields that orient and scale the pastes. The 
+ *  20887: src/lst/paste.c, §5.2.3-5.2.7, filling the model. Each paste picks a rando
+ *  21868: src/lst/render.c, §5.1, showing a model. Every point of a tetrahedron is th
+ *  22765: src/lst/cut.c, §5.1.1, cutting a model along the zero set of a scalar fi
+ *  23370: src/lst/builtin.c, the tetrahedralizer entry point, checks of caller meshes, 
+ *  23892: src/lst/io.c, the model file, the constraint files and the file convenie
+ *  24585: src/lst/export.c, the visible boundary with a baked texture atlas, for glTF.
  */
 /* lst.h - lapped solid textures: solid exemplars pasted inside a model.
  *
@@ -1403,7 +1403,6 @@ PW__DEF int pw__image_check(const pw_image *img, pw_err *e)
     return PW_OK;
 }
 
-/* A deep copy of src (same size, channels and bits). */
 /* The image format a file name's extension names (case-insensitive):
  * "png", "ppm" (.ppm and .pnm), "pgm", "pam"; NULL for any other. */
 PW__DEF const char *pw_image_format_of(const char *path)
@@ -1415,6 +1414,7 @@ PW__DEF const char *pw_image_format_of(const char *path)
     return NULL;
 }
 
+/* A deep copy of src (same size, channels and bits). */
 PW__DEF int pw_image_copy(const pw_alloc *a, const pw_image *src, pw_image *out, pw_err *e)
 {
     int r = pw__image_check(src, e);
@@ -10249,7 +10249,7 @@ PW__DEF int pw_render_frame(const pw_alloc *a, const pw_frame *f, pw_image *out,
 #endif /* PW__RENDER_V1 */
 
 /* ---- shared module src/common/atlas.h ---- */
-/* atlas: texture atlases of triangle meshes — charts, packing, baking.
+/* atlas: texture atlases of triangle meshes — what the stages share.
  *
  * Lapped textures' §4 ("Rendering with a texture atlas", Praun et al. 2000)
  * builds its atlas "with a method similar to Maillot et al.": regions grown
@@ -10258,7 +10258,6 @@ PW__DEF int pw_render_frame(const pw_alloc *a, const pw_frame *f, pw_image *out,
  * texture space, checked "using a spatial hash table"; the regions are
  * flattened and arranged in the unit square, and the texture is baked into
  * them. lapped.h bakes its pastes this way; pgp.h and lst.h bake their
- * renderings for glTF export with the same code.
  * renderings for glTF export with the same code.
  *
  * One file per stage, in the order they run (each file describes its
@@ -10270,7 +10269,8 @@ PW__DEF int pw_render_frame(const pw_alloc *a, const pw_frame *f, pw_image *out,
  *   atlas_bake.h    the texture baked into the packed charts, then the
  *                   gutter (pw_atlas_bake).
  * This file holds what they share: the options every header exposes, the
- * job they all take, and the export of the result (pw_atlas_mesh makes the
+ * overlap test of 2D triangles, the job they all take, and the export of
+ * the result (pw_atlas_mesh makes the
  * pw_mesh, per-corner coordinates deduplicated, that the OBJ and glTF
  * writers take). */
 #ifndef PW__ATLAS_V1
@@ -10440,11 +10440,10 @@ PW__DEF int pw_atlas_mesh(const pw_alloc *a, const pw_trimesh *m, const float *u
 /* ---- shared module src/common/atlas_charts.h ---- */
 /* atlas_charts: the charts of a texture atlas (lapped textures §4).
  *
- * A chart is seeded at the lowest-index
- * unassigned triangle, placed isometrically, and grown from a queue of
- * neighbouring faces ordered by the distance of their centroid from the
- * seed's (a face the chart already borders on two sides first). A face
- * joins when
+ * A chart is seeded at the lowest-index unassigned triangle, placed
+ * isometrically, and grown from a queue of neighbouring faces ordered by
+ * the distance of their centroid from the seed's (a face the chart already
+ * borders on two sides first). A face joins when
  *   - its normal is within cone_angle of the seed's (otherwise it is
  *     refused for this chart for good);
  *   - the chart stays a disc: across one shared edge its third vertex
@@ -12056,11 +12055,11 @@ PW__DEF int pw_atlas_layout(const pw_atlas_job *job, float **uvs, int *ncharts, 
 /* ---- shared module src/common/atlas_bake.h ---- */
 /* atlas_bake: a texture baked into the packed charts of an atlas.
  *
- * Every texel whose centre a chart triangle covers
- * (pw_raster_tri) gets the caller's texture there; texels that a bilinear
- * lookup inside a chart can reach but no triangle covers get the texture at
- * the nearest point of the nearest triangle; `gutter` rounds of dilation
- * fill the gutter with the nearest chart texel. */
+ * Every texel whose centre a chart triangle covers (pw_raster_tri) gets
+ * the caller's texture there; texels that a bilinear lookup inside a chart
+ * can reach but no triangle covers get the texture at the nearest point of
+ * the nearest triangle; `gutter` rounds of dilation fill the gutter with
+ * the nearest chart texel. */
 #ifndef PW__ATLAS_BAKE_V1
 #define PW__ATLAS_BAKE_V1
 

@@ -20,30 +20,30 @@
  *   8415: src/common/render.h, a small deterministic software renderer for textured trian
  *  10182: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
  *  10369: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
- *  10454: src/common/atlas.h, texture atlases of triangle meshes — charts, packing, ba
+ *  10454: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
  *  10643: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
- *  11561: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
- *  12259: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
- *  12495: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
- *  13259: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
- *  14020: src/pgp/tile3.h, sampling a material-space tile (Ray et al. 2009, §2: "a 3
- *  14128: src/common/glue.h, what every method header needs between its public types an
- *  14468: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  15132: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
- *  15629: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
- *  16115: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
- *  16258: src/common/kdtree.h, nearest-neighbour search among n points of dimension d, wi
- *  16601: src/common/pca.h, principal component analysis of vectors streamed one at a 
- *  16788: src/pgp/core.c, pgp.h's glue to the shared core, its defaults, and the map
- *  17045: src/pgp/field.c, §2.1 effect areas and §2.2 interpolation of the constrai
- *  17435: src/pgp/solve.c, §2.3 the periodic global parameterization, the recovery o
- *  18265: src/pgp/edit.c, the public editing calls of a mapping. §2.1 (Ray, Lévy, 
- *  18410: src/pgp/render.c, §3 rendering, and a cleaner treatment of the vortices.
- *  18842: src/pgp/builtin.c, built-in meshes and material-space tiles for demos and tes
- *  19111: src/pgp/io.c, files and memory for pgp.h: material-space tiles (NRRD, or
- *  19459: src/pgp/export.c, the mapping for other programs. A viewer that knows nothin
- *  19685: src/pgp/morph.c, the inputs of §1 (keys brought to the tile size, made til
- *  20364: src/pgp/synth.c, §1.2 constrained tile synthesis, and the whole of §1: ke
+ *  11560: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
+ *  12258: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
+ *  12494: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
+ *  13258: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
+ *  14019: src/pgp/tile3.h, sampling a material-space tile (Ray et al. 2009, §2: "a 3
+ *  14127: src/common/glue.h, what every method header needs between its public types an
+ *  14467: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  15131: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
+ *  15628: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
+ *  16114: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
+ *  16257: src/common/kdtree.h, nearest-neighbour search among n points of dimension d, wi
+ *  16600: src/common/pca.h, principal component analysis of vectors streamed one at a 
+ *  16787: src/pgp/core.c, pgp.h's glue to the shared core, its defaults, and the map
+ *  17044: src/pgp/field.c, §2.1 effect areas and §2.2 interpolation of the constrai
+ *  17434: src/pgp/solve.c, §2.3 the periodic global parameterization, the recovery o
+ *  18264: src/pgp/edit.c, the public editing calls of a mapping. §2.1 (Ray, Lévy, 
+ *  18409: src/pgp/render.c, §3 rendering, and a cleaner treatment of the vortices.
+ *  18841: src/pgp/builtin.c, built-in meshes and material-space tiles for demos and tes
+ *  19110: src/pgp/io.c, files and memory for pgp.h: material-space tiles (NRRD, or
+ *  19458: src/pgp/export.c, the mapping for other programs. A viewer that knows nothin
+ *  19684: src/pgp/morph.c, the inputs of §1 (keys brought to the tile size, made til
+ *  20363: src/pgp/synth.c, §1.2 constrained tile synthesis, and the whole of §1: ke
  */
 /* pgp.h - material-space texturing with a periodic global parameterization.
  *
@@ -1346,7 +1346,6 @@ PW__DEF int pw__image_check(const pw_image *img, pw_err *e)
     return PW_OK;
 }
 
-/* A deep copy of src (same size, channels and bits). */
 /* The image format a file name's extension names (case-insensitive):
  * "png", "ppm" (.ppm and .pnm), "pgm", "pam"; NULL for any other. */
 PW__DEF const char *pw_image_format_of(const char *path)
@@ -1358,6 +1357,7 @@ PW__DEF const char *pw_image_format_of(const char *path)
     return NULL;
 }
 
+/* A deep copy of src (same size, channels and bits). */
 PW__DEF int pw_image_copy(const pw_alloc *a, const pw_image *src, pw_image *out, pw_err *e)
 {
     int r = pw__image_check(src, e);
@@ -10452,7 +10452,7 @@ PW__DEF void pw_heap_free(const pw_alloc *a, pw_heap *h)
 #endif /* PW__HEAP_V1 */
 
 /* ---- shared module src/common/atlas.h ---- */
-/* atlas: texture atlases of triangle meshes — charts, packing, baking.
+/* atlas: texture atlases of triangle meshes — what the stages share.
  *
  * Lapped textures' §4 ("Rendering with a texture atlas", Praun et al. 2000)
  * builds its atlas "with a method similar to Maillot et al.": regions grown
@@ -10461,7 +10461,6 @@ PW__DEF void pw_heap_free(const pw_alloc *a, pw_heap *h)
  * texture space, checked "using a spatial hash table"; the regions are
  * flattened and arranged in the unit square, and the texture is baked into
  * them. lapped.h bakes its pastes this way; pgp.h and lst.h bake their
- * renderings for glTF export with the same code.
  * renderings for glTF export with the same code.
  *
  * One file per stage, in the order they run (each file describes its
@@ -10473,7 +10472,8 @@ PW__DEF void pw_heap_free(const pw_alloc *a, pw_heap *h)
  *   atlas_bake.h    the texture baked into the packed charts, then the
  *                   gutter (pw_atlas_bake).
  * This file holds what they share: the options every header exposes, the
- * job they all take, and the export of the result (pw_atlas_mesh makes the
+ * overlap test of 2D triangles, the job they all take, and the export of
+ * the result (pw_atlas_mesh makes the
  * pw_mesh, per-corner coordinates deduplicated, that the OBJ and glTF
  * writers take). */
 #ifndef PW__ATLAS_V1
@@ -10643,11 +10643,10 @@ PW__DEF int pw_atlas_mesh(const pw_alloc *a, const pw_trimesh *m, const float *u
 /* ---- shared module src/common/atlas_charts.h ---- */
 /* atlas_charts: the charts of a texture atlas (lapped textures §4).
  *
- * A chart is seeded at the lowest-index
- * unassigned triangle, placed isometrically, and grown from a queue of
- * neighbouring faces ordered by the distance of their centroid from the
- * seed's (a face the chart already borders on two sides first). A face
- * joins when
+ * A chart is seeded at the lowest-index unassigned triangle, placed
+ * isometrically, and grown from a queue of neighbouring faces ordered by
+ * the distance of their centroid from the seed's (a face the chart already
+ * borders on two sides first). A face joins when
  *   - its normal is within cone_angle of the seed's (otherwise it is
  *     refused for this chart for good);
  *   - the chart stays a disc: across one shared edge its third vertex
@@ -12259,11 +12258,11 @@ PW__DEF int pw_atlas_layout(const pw_atlas_job *job, float **uvs, int *ncharts, 
 /* ---- shared module src/common/atlas_bake.h ---- */
 /* atlas_bake: a texture baked into the packed charts of an atlas.
  *
- * Every texel whose centre a chart triangle covers
- * (pw_raster_tri) gets the caller's texture there; texels that a bilinear
- * lookup inside a chart can reach but no triangle covers get the texture at
- * the nearest point of the nearest triangle; `gutter` rounds of dilation
- * fill the gutter with the nearest chart texel. */
+ * Every texel whose centre a chart triangle covers (pw_raster_tri) gets
+ * the caller's texture there; texels that a bilinear lookup inside a chart
+ * can reach but no triangle covers get the texture at the nearest point of
+ * the nearest triangle; `gutter` rounds of dilation fill the gutter with
+ * the nearest chart texel. */
 #ifndef PW__ATLAS_BAKE_V1
 #define PW__ATLAS_BAKE_V1
 

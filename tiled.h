@@ -1122,7 +1122,6 @@ PW__DEF int pw__image_check(const pw_image *img, pw_err *e)
     return PW_OK;
 }
 
-/* A deep copy of src (same size, channels and bits). */
 /* The image format a file name's extension names (case-insensitive):
  * "png", "ppm" (.ppm and .pnm), "pgm", "pam"; NULL for any other. */
 PW__DEF const char *pw_image_format_of(const char *path)
@@ -1134,6 +1133,7 @@ PW__DEF const char *pw_image_format_of(const char *path)
     return NULL;
 }
 
+/* A deep copy of src (same size, channels and bits). */
 PW__DEF int pw_image_copy(const pw_alloc *a, const pw_image *src, pw_image *out, pw_err *e)
 {
     int r = pw__image_check(src, e);

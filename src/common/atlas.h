@@ -1,4 +1,4 @@
-/* atlas: texture atlases of triangle meshes — charts, packing, baking.
+/* atlas: texture atlases of triangle meshes — what the stages share.
  *
  * Lapped textures' §4 ("Rendering with a texture atlas", Praun et al. 2000)
  * builds its atlas "with a method similar to Maillot et al.": regions grown
@@ -7,7 +7,6 @@
  * texture space, checked "using a spatial hash table"; the regions are
  * flattened and arranged in the unit square, and the texture is baked into
  * them. lapped.h bakes its pastes this way; pgp.h and lst.h bake their
- * renderings for glTF export with the same code.
  * renderings for glTF export with the same code.
  *
  * One file per stage, in the order they run (each file describes its
@@ -19,7 +18,8 @@
  *   atlas_bake.h    the texture baked into the packed charts, then the
  *                   gutter (pw_atlas_bake).
  * This file holds what they share: the options every header exposes, the
- * job they all take, and the export of the result (pw_atlas_mesh makes the
+ * overlap test of 2D triangles, the job they all take, and the export of
+ * the result (pw_atlas_mesh makes the
  * pw_mesh, per-corner coordinates deduplicated, that the OBJ and glTF
  * writers take). */
 #ifndef PW__ATLAS_V1

@@ -1,10 +1,10 @@
 /* atlas_bake: a texture baked into the packed charts of an atlas.
  *
- * Every texel whose centre a chart triangle covers
- * (pw_raster_tri) gets the caller's texture there; texels that a bilinear
- * lookup inside a chart can reach but no triangle covers get the texture at
- * the nearest point of the nearest triangle; `gutter` rounds of dilation
- * fill the gutter with the nearest chart texel. */
+ * Every texel whose centre a chart triangle covers (pw_raster_tri) gets
+ * the caller's texture there; texels that a bilinear lookup inside a chart
+ * can reach but no triangle covers get the texture at the nearest point of
+ * the nearest triangle; `gutter` rounds of dilation fill the gutter with
+ * the nearest chart texel. */
 #ifndef PW__ATLAS_BAKE_V1
 #define PW__ATLAS_BAKE_V1
 

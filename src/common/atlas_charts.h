@@ -1,10 +1,9 @@
 /* atlas_charts: the charts of a texture atlas (lapped textures §4).
  *
- * A chart is seeded at the lowest-index
- * unassigned triangle, placed isometrically, and grown from a queue of
- * neighbouring faces ordered by the distance of their centroid from the
- * seed's (a face the chart already borders on two sides first). A face
- * joins when
+ * A chart is seeded at the lowest-index unassigned triangle, placed
+ * isometrically, and grown from a queue of neighbouring faces ordered by
+ * the distance of their centroid from the seed's (a face the chart already
+ * borders on two sides first). A face joins when
  *   - its normal is within cone_angle of the seed's (otherwise it is
  *     refused for this chart for good);
  *   - the chart stays a disc: across one shared edge its third vertex
