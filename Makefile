@@ -49,13 +49,13 @@ ALL_CFLAGS = $(WARN) $(CFLAGS) $(SANFLAGS) -I.
 
 # ---- single-file headers: name and the shared modules each one carries ----
 HEADERS        := tiled lapped pgp lst
-MODULES_tiled  := base vec rng noise image deflate:PW_NO_PNG png text mesh shapes halfedge subdiv raster:PW_NO_RENDER render graphcut quilt glue gltf
-MODULES_lapped := base vec rng noise image deflate:PW_NO_PNG png text mesh shapes halfedge sparse raster render polyhull trimesh heap atlas atlas_charts atlas_pack atlas_bake dirfield glue gltf
+MODULES_tiled  := base vec rng noise image deflate:PW_NO_PNG png text mesh shapes halfedge subdiv raster:PW_NO_RENDER parallel render graphcut quilt glue gltf
+MODULES_lapped := base vec rng noise image deflate:PW_NO_PNG png text mesh shapes halfedge sparse raster parallel render polyhull trimesh heap atlas atlas_charts atlas_pack atlas_bake dirfield glue gltf
 PARTS_lapped   := core field patch builtin grow render atlas io
 PARTS_tiled    := core layout map synth validate builtin render io
-MODULES_pgp    := base vec rng noise image deflate png text mesh shapes halfedge sparse zsparse raster render trimesh heap atlas atlas_charts atlas_pack atlas_bake dirfield nrrd tile3 glue gltf graphcut quilt edt kdtree pca
+MODULES_pgp    := base vec rng noise image deflate png text mesh shapes halfedge sparse zsparse raster parallel render trimesh heap atlas atlas_charts atlas_pack atlas_bake dirfield nrrd tile3 glue gltf graphcut quilt edt kdtree pca
 PARTS_pgp      := core field solve edit render builtin io export morph synth
-MODULES_lst    := base vec rng noise image deflate png text mesh shapes halfedge trimesh heap sparse raster render atlas atlas_charts atlas_pack atlas_bake nrrd tetmesh tetio bisect stuffing edt pca glue gltf
+MODULES_lst    := base vec rng noise image deflate png text mesh shapes halfedge trimesh heap sparse raster parallel render atlas atlas_charts atlas_pack atlas_bake nrrd tetmesh tetio bisect stuffing edt pca glue gltf
 PARTS_lst      := core exemplar field paste render cut builtin io export
 
 COMMON_SRC := $(wildcard src/common/*.h src/*/*.h)
@@ -125,8 +125,8 @@ $(BUILD)/tests/%: tests/%.c tests/pwtest.h $(COMMON_SRC) $(HEADER_FILES)
 	@mkdir -p $(BUILD)/tests
 	$(CC) $(ALL_CFLAGS) -o $@ $< $(LDLIBS)
 
-# the renderer's tests and benchmark run its bands on POSIX threads (PW_THREADS)
-$(BUILD)/tests/test_render $(BUILD)/tests/test_threads $(BUILD)/bench/bench_render: LDLIBS += -pthread
+# the renderer's tests and benchmark run its bands on POSIX threads (PW_THREADS), the synthesis benchmarks their tiles
+$(BUILD)/tests/test_render $(BUILD)/tests/test_threads $(BUILD)/bench/bench_render $(BUILD)/bench/bench_tiled $(BUILD)/bench/bench_pgp_synth: LDLIBS += -pthread
 
 $(BUILD)/examples/%: examples/%.c $(HEADER_FILES)
 	@mkdir -p $(BUILD)/examples

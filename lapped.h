@@ -2,39 +2,40 @@
  * Do not edit: change the sources and run `make headers`.
  *
  * CONTENTS (line: source, what it holds)
- *     39: src/lapped/lapped.h, the public API and its documentation
- *    472: src/common/base.h, allocation hooks, result codes, error messages, limits, he
- *    784: src/common/vec.h, small vector math on float[3] arrays and a 3-float struct.
- *    898: src/common/rng.h, seeded random numbers with the same output on every platfo
- *    975: src/common/noise.h, value noise and its fractal sum, for the built-in procedur
- *   1077: src/common/image.h, float images and their file formats.
- *   1782: src/common/deflate.h, zlib (RFC 1950) and deflate (RFC 1951) compression and
- *   2781: src/common/png.h, PNG writer and reader, and the image front end.
- *   3340: src/common/text.h, locale-independent number parsing and formatting, a line s
- *   3753: src/common/mesh.h, polygon meshes as flat arrays, and their file formats.
- *   5282: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
- *   5811: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
- *   6235: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
- *   7498: src/common/raster.h, exact scan conversion of 2D triangles.
- *   7972: src/common/render.h, a small deterministic software renderer for textured trian
- *   9739: src/lapped/polyhull.h, the polygonal hull of a texture patch (Praun, Finkelstein 
- *  10570: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
- *  10757: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
- *  10842: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
- *  11031: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
- *  11948: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
- *  12646: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
- *  12882: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
- *  13646: src/common/glue.h, what every method header needs between its public types an
- *  13986: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  14650: src/lapped/core.c, lapped.h's glue to the shared core, its defaults, and the 
- *  14815: src/lapped/field.c, §3.2 the tangent field, one frame (S, T) per triangle, an
- *  15270: src/lapped/patch.c, §3.1 texture patches. A patch is the texture as RGBA whos
- *  15584: src/lapped/builtin.c, built-in meshes (made by the shared shapes module) and tex
- *  15778: src/lapped/grow.c, pasting (§3.3-3.6): grow a surface patch around an uncove
- *  17262: src/lapped/render.c, runtime pasting (§4): the mesh drawn once per paste, in p
- *  17466: src/lapped/atlas.c, §4 "Rendering with a texture atlas".
- *  17709: src/lapped/io.c, the paste file format and the file conveniences of lapped.
+ *     40: src/lapped/lapped.h, the public API and its documentation
+ *    473: src/common/base.h, allocation hooks, result codes, error messages, limits, he
+ *    785: src/common/vec.h, small vector math on float[3] arrays and a 3-float struct.
+ *    899: src/common/rng.h, seeded random numbers with the same output on every platfo
+ *    976: src/common/noise.h, value noise and its fractal sum, for the built-in procedur
+ *   1078: src/common/image.h, float images and their file formats.
+ *   1783: src/common/deflate.h, zlib (RFC 1950) and deflate (RFC 1951) compression and
+ *   2782: src/common/png.h, PNG writer and reader, and the image front end.
+ *   3341: src/common/text.h, locale-independent number parsing and formatting, a line s
+ *   3754: src/common/mesh.h, polygon meshes as flat arrays, and their file formats.
+ *   5283: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
+ *   5812: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
+ *   6236: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
+ *   7499: src/common/raster.h, exact scan conversion of 2D triangles.
+ *   7973: src/common/parallel.h, a parallel for, the one way work is split across threads.
+ *   8101: src/common/render.h, a small deterministic software renderer for textured trian
+ *   9766: src/lapped/polyhull.h, the polygonal hull of a texture patch (Praun, Finkelstein 
+ *  10597: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
+ *  10784: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
+ *  10869: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
+ *  11058: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
+ *  11975: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
+ *  12673: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
+ *  12909: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
+ *  13673: src/common/glue.h, what every method header needs between its public types an
+ *  14009: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  14673: src/lapped/core.c, lapped.h's glue to the shared core, its defaults, and the 
+ *  14838: src/lapped/field.c, §3.2 the tangent field, one frame (S, T) per triangle, an
+ *  15293: src/lapped/patch.c, §3.1 texture patches. A patch is the texture as RGBA whos
+ *  15607: src/lapped/builtin.c, built-in meshes (made by the shared shapes module) and tex
+ *  15801: src/lapped/grow.c, pasting (§3.3-3.6): grow a surface patch around an uncove
+ *  17285: src/lapped/render.c, runtime pasting (§4): the mesh drawn once per paste, in p
+ *  17489: src/lapped/atlas.c, §4 "Rendering with a texture atlas".
+ *  17732: src/lapped/io.c, the paste file format and the file conveniences of lapped.
  */
 /* lapped.h - lapped textures: overlapping texture patches pasted over a mesh.
  *
@@ -7969,6 +7970,134 @@ PW__DEF void pw_raster_tri_spans(const float xy[6], int w, int h, pw_raster_span
 
 #endif /* PW__RASTER_V1 */
 
+/* ---- shared module src/common/parallel.h ---- */
+/* parallel: a parallel for, the one way work is split across threads.
+ *
+ *   pw_parallel      where work runs: the caller's parallel-for (an
+ *                    embedder's job system), POSIX threads when built with
+ *                    PW_THREADS, or the calling thread alone.
+ *   pw_parallel_for  runs task(ctx, i) for every i in [0, n) as it says.
+ *   pw_parallel_width how many tasks may run at once.
+ *
+ * Every user (rendering bands, tile synthesis, ...) makes each task write
+ * its own part of the output and combines the parts in index order, so a
+ * result is the same, bit for bit, for any number of threads. */
+#ifndef PW__PARALLEL_V1
+#define PW__PARALLEL_V1
+
+
+/* A parallel for: runs task(ctx, i) once for every i in [0, n), in any
+ * order, on any threads, and returns when all have run. Results never
+ * depend on the order (each task writes its own part of the output). */
+typedef void (*pw_task_fn)(void *ctx, int index);
+typedef void (*pw_parallel_fn)(void *pool, int n, pw_task_fn task, void *ctx);
+
+/* Where work runs: the caller's parallel for (run, pool: an embedder's job
+ * system), else with PW_THREADS `threads` POSIX threads (0: one per
+ * processor), else one thread. */
+typedef struct pw_parallel {
+    pw_parallel_fn run;
+    void *pool;
+    int threads;
+} pw_parallel;
+
+/* The pw_parallel of a public options struct's threads, parallel-for and
+ * pool. */
+PW__DEF pw_parallel pw_parallel_make(int threads, pw_parallel_fn run, void *pool)
+{
+    pw_parallel par;
+    par.threads = threads;
+    par.run = run;
+    par.pool = pool;
+    return par;
+}
+
+#ifdef PW_THREADS
+#include <pthread.h>
+#include <unistd.h>
+
+typedef struct pw__pool {
+    pthread_mutex_t lock;
+    int next, n;
+    pw_task_fn task;
+    void *ctx;
+} pw__pool;
+
+PW__DEF void *pw__pool_worker(void *arg)
+{
+    pw__pool *p = (pw__pool *)arg;
+    for (;;) {
+        int i;
+        pthread_mutex_lock(&p->lock);
+        i = p->next < p->n ? p->next++ : -1;
+        pthread_mutex_unlock(&p->lock);
+        if (i < 0) return NULL;
+        p->task(p->ctx, i);
+    }
+}
+
+/* n tasks on up to `threads` threads (0: one per processor); the calling
+ * thread works too. Falls back to fewer threads if some cannot start. */
+PW__DEF void pw__pool_run(int threads, int n, pw_task_fn task, void *ctx)
+{
+    pthread_t th[64];
+    pw__pool p;
+    int k, started = 0;
+    if (threads <= 0) {
+        long np = sysconf(_SC_NPROCESSORS_ONLN);
+        threads = np > 0 ? (int)np : 1;
+    }
+    if (threads > n) threads = n;
+    if (threads > 64) threads = 64;
+    p.next = 0;
+    p.n = n;
+    p.task = task;
+    p.ctx = ctx;
+    pthread_mutex_init(&p.lock, NULL);
+    for (k = 1; k < threads; k++)
+        if (pthread_create(&th[started], NULL, pw__pool_worker, &p) == 0) started++;
+    pw__pool_worker(&p);
+    for (k = 0; k < started; k++) pthread_join(th[k], NULL);
+    pthread_mutex_destroy(&p.lock);
+}
+#endif
+
+/* The number of tasks that may run at once under par. */
+PW__DEF int pw_parallel_width(const pw_parallel *par)
+{
+    if (!par || par->threads == 1) return 1;
+    if (par->run) return par->threads > 1 ? par->threads : 8;
+#ifdef PW_THREADS
+    if (par->threads > 1) return par->threads;
+    {
+        long np = sysconf(_SC_NPROCESSORS_ONLN);
+        return np > 1 ? (int)np : 1;
+    }
+#else
+    return 1;
+#endif
+}
+
+/* Runs task(ctx, i) for i in [0, n) as par says (NULL: in order, here). */
+PW__DEF void pw_parallel_for(const pw_parallel *par, int n, pw_task_fn task, void *ctx)
+{
+    int i;
+    if (n <= 0) return;
+    if (par && par->run && par->threads != 1) {
+        par->run(par->pool, n, task, ctx);
+        return;
+    }
+#ifdef PW_THREADS
+    if (par && par->threads != 1 && n > 1) {
+        pw__pool_run(par->threads, n, task, ctx);
+        return;
+    }
+#endif
+    for (i = 0; i < n; i++) task(ctx, i);
+}
+
+#endif /* PW__PARALLEL_V1 */
+
 /* ---- shared module src/common/render.h ---- */
 /* render: a small deterministic software renderer for textured triangle meshes.
  *
@@ -7984,8 +8113,8 @@ PW__DEF void pw_raster_tri_spans(const float xy[6], int w, int h, pw_raster_span
  *   pw_render_draw draws one triangle mesh (pw_draw) into a framebuffer.
  *   pw_render_frame renders a whole frame band by band (a band: a few rows
  *                of the frame, every draw clipped to them), on several
- *                threads when asked (pw_parallel: PW_THREADS or the
- *                caller's parallel-for), the same picture bit for bit.
+ *                threads when asked (pw_parallel of parallel.h: PW_THREADS
+ *                or the caller's parallel-for), the same picture bit for bit.
  *
  * Conventions. Image rows go down (row 0 at the top); texture coordinate
  * v = 0 is the BOTTOM row of the texture image (OBJ/OpenGL). Triangles whose
@@ -8627,10 +8756,10 @@ PW__DEF float pw__log2f(float x)
     return (float)ex + s * (2.8853900818f + s2 * (0.9617966939f + s2 * (0.5770780164f + s2 * 0.4121985831f)));
 }
 
-/* PW_NO_RENDER leaves out the rest but the pw_parallel type the public
- * render options convert to: what the methods compute without drawing still
- * needs the camera (glTF export frames its view with pw_camera_frame) and
- * the textures (pgp's tile3.h samples its tile through them). */
+/* PW_NO_RENDER leaves out the rest: what the methods compute without
+ * drawing still needs the camera (glTF export frames its view with
+ * pw_camera_frame) and the textures (pgp's tile3.h samples its tile
+ * through them). */
 #ifndef PW_NO_RENDER
 
 /* ----------------------------------------------------------- framebuffer */
@@ -9525,109 +9654,7 @@ PW__DEF float *pw_draw_normals(const pw_alloc *a, const pw_draw *d, pw_err *e)
     return n;
 }
 
-#endif /* PW_NO_RENDER */
-
 /* ---------------------------------------------------------------- frames */
-
-/* A parallel for: runs task(ctx, i) once for every i in [0, n), in any
- * order, on any threads, and returns when all have run. Results never
- * depend on the order (each task writes its own part of the output). */
-typedef void (*pw_task_fn)(void *ctx, int index);
-typedef void (*pw_parallel_fn)(void *pool, int n, pw_task_fn task, void *ctx);
-
-/* Where work runs: the caller's parallel for (run, pool: an embedder's job
- * system), else with PW_THREADS `threads` POSIX threads (0: one per
- * processor), else one thread. */
-typedef struct pw_parallel {
-    pw_parallel_fn run;
-    void *pool;
-    int threads;
-} pw_parallel;
-
-#ifndef PW_NO_RENDER
-#ifdef PW_THREADS
-#include <pthread.h>
-#include <unistd.h>
-
-typedef struct pw__pool {
-    pthread_mutex_t lock;
-    int next, n;
-    pw_task_fn task;
-    void *ctx;
-} pw__pool;
-
-PW__DEF void *pw__pool_worker(void *arg)
-{
-    pw__pool *p = (pw__pool *)arg;
-    for (;;) {
-        int i;
-        pthread_mutex_lock(&p->lock);
-        i = p->next < p->n ? p->next++ : -1;
-        pthread_mutex_unlock(&p->lock);
-        if (i < 0) return NULL;
-        p->task(p->ctx, i);
-    }
-}
-
-/* n tasks on up to `threads` threads (0: one per processor); the calling
- * thread works too. Falls back to fewer threads if some cannot start. */
-PW__DEF void pw__pool_run(int threads, int n, pw_task_fn task, void *ctx)
-{
-    pthread_t th[64];
-    pw__pool p;
-    int k, started = 0;
-    if (threads <= 0) {
-        long np = sysconf(_SC_NPROCESSORS_ONLN);
-        threads = np > 0 ? (int)np : 1;
-    }
-    if (threads > n) threads = n;
-    if (threads > 64) threads = 64;
-    p.next = 0;
-    p.n = n;
-    p.task = task;
-    p.ctx = ctx;
-    pthread_mutex_init(&p.lock, NULL);
-    for (k = 1; k < threads; k++)
-        if (pthread_create(&th[started], NULL, pw__pool_worker, &p) == 0) started++;
-    pw__pool_worker(&p);
-    for (k = 0; k < started; k++) pthread_join(th[k], NULL);
-    pthread_mutex_destroy(&p.lock);
-}
-#endif
-
-/* The number of tasks that may run at once under par. */
-PW__DEF int pw_parallel_width(const pw_parallel *par)
-{
-    if (!par || par->threads == 1) return 1;
-    if (par->run) return par->threads > 1 ? par->threads : 8;
-#ifdef PW_THREADS
-    if (par->threads > 1) return par->threads;
-    {
-        long np = sysconf(_SC_NPROCESSORS_ONLN);
-        return np > 1 ? (int)np : 1;
-    }
-#else
-    return 1;
-#endif
-}
-
-/* Runs task(ctx, i) for i in [0, n) as par says (NULL: in order, here). */
-PW__DEF void pw_parallel_for(const pw_parallel *par, int n, pw_task_fn task, void *ctx)
-{
-    int i;
-    if (n <= 0) return;
-    if (par && par->run && par->threads != 1) {
-        par->run(par->pool, n, task, ctx);
-        return;
-    }
-#ifdef PW_THREADS
-    if (par && par->threads != 1 && n > 1) {
-        pw__pool_run(par->threads, n, task, ctx);
-        return;
-    }
-#endif
-    for (i = 0; i < n; i++) task(ctx, i);
-}
 
 /* Draws one band: the caller's draws into fb (a band of the frame, already
  * cleared). Called once per band, maybe on several threads at once: it may
@@ -13852,11 +13879,7 @@ PW__DEF void pw_view_defaults(int *width, int *height, int *supersample, float v
     }                                                                                                               \
     static PW__UNUSED pw_parallel p##__parallel(const p##_render_options *ro)                                       \
     {                                                                                                               \
-        pw_parallel par;                                                                                            \
-        par.threads = ro->threads;                                                                                  \
-        par.run = ro->parallel;                                                                                     \
-        par.pool = ro->parallel_pool;                                                                               \
-        return par;                                                                                                 \
+        return pw_parallel_make(ro->threads, ro->parallel, ro->parallel_pool);                                      \
     }                                                                                                               \
     typedef int p##__glue_defined /* so that the use ends with a semicolon */
 

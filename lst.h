@@ -2,45 +2,46 @@
  * Do not edit: change the sources and run `make headers`.
  *
  * CONTENTS (line: source, what it holds)
- *     45: src/lst/lst.h, the public API and its documentation
- *    714: src/common/base.h, allocation hooks, result codes, error messages, limits, he
- *   1026: src/common/vec.h, small vector math on float[3] arrays and a 3-float struct.
- *   1140: src/common/rng.h, seeded random numbers with the same output on every platfo
- *   1217: src/common/noise.h, value noise and its fractal sum, for the built-in procedur
- *   1319: src/common/image.h, float images and their file formats.
- *   2024: src/common/deflate.h, zlib (RFC 1950) and deflate (RFC 1951) compression and
- *   3021: src/common/png.h, PNG writer and reader, and the image front end.
- *   3580: src/common/text.h, locale-independent number parsing and formatting, a line s
- *   3993: src/common/mesh.h, polygon meshes as flat arrays, and their file formats.
- *   5522: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
- *   6051: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
- *   6475: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
- *   6662: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
- *   6747: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
- *   8010: src/common/raster.h, exact scan conversion of 2D triangles.
- *   8484: src/common/render.h, a small deterministic software renderer for textured trian
- *  10251: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
- *  10440: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
- *  11357: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
- *  12055: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
- *  12291: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
- *  13052: src/common/tetmesh.h, the tetrahedral mesh that lapped solid textures work on, a
- *  13536: src/common/tetio.h, tetrahedral mesh files, TetGen .node/.ele and MEDIT .mesh.
- *  14028: src/common/bisect.h, graded, conforming tetrahedral meshes of a box by newest-v
- *  14348: src/common/stuffing.h, the built-in tetrahedralizer of lst.h, so that no external
- *  17481: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
- *  17624: src/common/pca.h, principal component analysis of vectors streamed one at a 
- *  17811: src/common/glue.h, what every method header needs between its public types an
- *  18151: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  18815: src/lst/core.c, lst.h's glue to the shared core, its defaults, the convers
- *  19148: src/lst/exemplar.c, solid exemplars (§5): sampling, the procedural exemplars 
- *  19679: src/lst/field.c, §5.2.2, the fields that orient and scale the pastes. The 
- *  20887: src/lst/paste.c, §5.2.3-5.2.7, filling the model. Each paste picks a rando
- *  21868: src/lst/render.c, §5.1, showing a model. Every point of a tetrahedron is th
- *  22765: src/lst/cut.c, §5.1.1, cutting a model along the zero set of a scalar fi
- *  23370: src/lst/builtin.c, the tetrahedralizer entry point, checks of caller meshes, 
- *  23892: src/lst/io.c, the model file, the constraint files and the file convenie
- *  24585: src/lst/export.c, the visible boundary with a baked texture atlas, for glTF.
+ *     46: src/lst/lst.h, the public API and its documentation
+ *    715: src/common/base.h, allocation hooks, result codes, error messages, limits, he
+ *   1027: src/common/vec.h, small vector math on float[3] arrays and a 3-float struct.
+ *   1141: src/common/rng.h, seeded random numbers with the same output on every platfo
+ *   1218: src/common/noise.h, value noise and its fractal sum, for the built-in procedur
+ *   1320: src/common/image.h, float images and their file formats.
+ *   2025: src/common/deflate.h, zlib (RFC 1950) and deflate (RFC 1951) compression and
+ *   3022: src/common/png.h, PNG writer and reader, and the image front end.
+ *   3581: src/common/text.h, locale-independent number parsing and formatting, a line s
+ *   3994: src/common/mesh.h, polygon meshes as flat arrays, and their file formats.
+ *   5523: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
+ *   6052: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
+ *   6476: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
+ *   6663: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
+ *   6748: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
+ *   8011: src/common/raster.h, exact scan conversion of 2D triangles.
+ *   8485: src/common/parallel.h, a parallel for, the one way work is split across threads.
+ *   8613: src/common/render.h, a small deterministic software renderer for textured trian
+ *  10278: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
+ *  10467: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
+ *  11384: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
+ *  12082: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
+ *  12318: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
+ *  13079: src/common/tetmesh.h, the tetrahedral mesh that lapped solid textures work on, a
+ *  13563: src/common/tetio.h, tetrahedral mesh files, TetGen .node/.ele and MEDIT .mesh.
+ *  14055: src/common/bisect.h, graded, conforming tetrahedral meshes of a box by newest-v
+ *  14375: src/common/stuffing.h, the built-in tetrahedralizer of lst.h, so that no external
+ *  17508: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
+ *  17651: src/common/pca.h, principal component analysis of vectors streamed one at a 
+ *  17838: src/common/glue.h, what every method header needs between its public types an
+ *  18174: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  18838: src/lst/core.c, lst.h's glue to the shared core, its defaults, the convers
+ *  19171: src/lst/exemplar.c, solid exemplars (§5): sampling, the procedural exemplars 
+ *  19702: src/lst/field.c, §5.2.2, the fields that orient and scale the pastes. The 
+ *  20910: src/lst/paste.c, §5.2.3-5.2.7, filling the model. Each paste picks a rando
+ *  21891: src/lst/render.c, §5.1, showing a model. Every point of a tetrahedron is th
+ *  22788: src/lst/cut.c, §5.1.1, cutting a model along the zero set of a scalar fi
+ *  23393: src/lst/builtin.c, the tetrahedralizer entry point, checks of caller meshes, 
+ *  23915: src/lst/io.c, the model file, the constraint files and the file convenie
+ *  24608: src/lst/export.c, the visible boundary with a baked texture atlas, for glTF.
  */
 /* lst.h - lapped solid textures: solid exemplars pasted inside a model.
  *
@@ -8481,6 +8482,134 @@ PW__DEF void pw_raster_tri_spans(const float xy[6], int w, int h, pw_raster_span
 
 #endif /* PW__RASTER_V1 */
 
+/* ---- shared module src/common/parallel.h ---- */
+/* parallel: a parallel for, the one way work is split across threads.
+ *
+ *   pw_parallel      where work runs: the caller's parallel-for (an
+ *                    embedder's job system), POSIX threads when built with
+ *                    PW_THREADS, or the calling thread alone.
+ *   pw_parallel_for  runs task(ctx, i) for every i in [0, n) as it says.
+ *   pw_parallel_width how many tasks may run at once.
+ *
+ * Every user (rendering bands, tile synthesis, ...) makes each task write
+ * its own part of the output and combines the parts in index order, so a
+ * result is the same, bit for bit, for any number of threads. */
+#ifndef PW__PARALLEL_V1
+#define PW__PARALLEL_V1
+
+
+/* A parallel for: runs task(ctx, i) once for every i in [0, n), in any
+ * order, on any threads, and returns when all have run. Results never
+ * depend on the order (each task writes its own part of the output). */
+typedef void (*pw_task_fn)(void *ctx, int index);
+typedef void (*pw_parallel_fn)(void *pool, int n, pw_task_fn task, void *ctx);
+
+/* Where work runs: the caller's parallel for (run, pool: an embedder's job
+ * system), else with PW_THREADS `threads` POSIX threads (0: one per
+ * processor), else one thread. */
+typedef struct pw_parallel {
+    pw_parallel_fn run;
+    void *pool;
+    int threads;
+} pw_parallel;
+
+/* The pw_parallel of a public options struct's threads, parallel-for and
+ * pool. */
+PW__DEF pw_parallel pw_parallel_make(int threads, pw_parallel_fn run, void *pool)
+{
+    pw_parallel par;
+    par.threads = threads;
+    par.run = run;
+    par.pool = pool;
+    return par;
+}
+
+#ifdef PW_THREADS
+#include <pthread.h>
+#include <unistd.h>
+
+typedef struct pw__pool {
+    pthread_mutex_t lock;
+    int next, n;
+    pw_task_fn task;
+    void *ctx;
+} pw__pool;
+
+PW__DEF void *pw__pool_worker(void *arg)
+{
+    pw__pool *p = (pw__pool *)arg;
+    for (;;) {
+        int i;
+        pthread_mutex_lock(&p->lock);
+        i = p->next < p->n ? p->next++ : -1;
+        pthread_mutex_unlock(&p->lock);
+        if (i < 0) return NULL;
+        p->task(p->ctx, i);
+    }
+}
+
+/* n tasks on up to `threads` threads (0: one per processor); the calling
+ * thread works too. Falls back to fewer threads if some cannot start. */
+PW__DEF void pw__pool_run(int threads, int n, pw_task_fn task, void *ctx)
+{
+    pthread_t th[64];
+    pw__pool p;
+    int k, started = 0;
+    if (threads <= 0) {
+        long np = sysconf(_SC_NPROCESSORS_ONLN);
+        threads = np > 0 ? (int)np : 1;
+    }
+    if (threads > n) threads = n;
+    if (threads > 64) threads = 64;
+    p.next = 0;
+    p.n = n;
+    p.task = task;
+    p.ctx = ctx;
+    pthread_mutex_init(&p.lock, NULL);
+    for (k = 1; k < threads; k++)
+        if (pthread_create(&th[started], NULL, pw__pool_worker, &p) == 0) started++;
+    pw__pool_worker(&p);
+    for (k = 0; k < started; k++) pthread_join(th[k], NULL);
+    pthread_mutex_destroy(&p.lock);
+}
+#endif
+
+/* The number of tasks that may run at once under par. */
+PW__DEF int pw_parallel_width(const pw_parallel *par)
+{
+    if (!par || par->threads == 1) return 1;
+    if (par->run) return par->threads > 1 ? par->threads : 8;
+#ifdef PW_THREADS
+    if (par->threads > 1) return par->threads;
+    {
+        long np = sysconf(_SC_NPROCESSORS_ONLN);
+        return np > 1 ? (int)np : 1;
+    }
+#else
+    return 1;
+#endif
+}
+
+/* Runs task(ctx, i) for i in [0, n) as par says (NULL: in order, here). */
+PW__DEF void pw_parallel_for(const pw_parallel *par, int n, pw_task_fn task, void *ctx)
+{
+    int i;
+    if (n <= 0) return;
+    if (par && par->run && par->threads != 1) {
+        par->run(par->pool, n, task, ctx);
+        return;
+    }
+#ifdef PW_THREADS
+    if (par && par->threads != 1 && n > 1) {
+        pw__pool_run(par->threads, n, task, ctx);
+        return;
+    }
+#endif
+    for (i = 0; i < n; i++) task(ctx, i);
+}
+
+#endif /* PW__PARALLEL_V1 */
+
 /* ---- shared module src/common/render.h ---- */
 /* render: a small deterministic software renderer for textured triangle meshes.
  *
@@ -8496,8 +8625,8 @@ PW__DEF void pw_raster_tri_spans(const float xy[6], int w, int h, pw_raster_span
  *   pw_render_draw draws one triangle mesh (pw_draw) into a framebuffer.
  *   pw_render_frame renders a whole frame band by band (a band: a few rows
  *                of the frame, every draw clipped to them), on several
- *                threads when asked (pw_parallel: PW_THREADS or the
- *                caller's parallel-for), the same picture bit for bit.
+ *                threads when asked (pw_parallel of parallel.h: PW_THREADS
+ *                or the caller's parallel-for), the same picture bit for bit.
  *
  * Conventions. Image rows go down (row 0 at the top); texture coordinate
  * v = 0 is the BOTTOM row of the texture image (OBJ/OpenGL). Triangles whose
@@ -9139,10 +9268,10 @@ PW__DEF float pw__log2f(float x)
     return (float)ex + s * (2.8853900818f + s2 * (0.9617966939f + s2 * (0.5770780164f + s2 * 0.4121985831f)));
 }
 
-/* PW_NO_RENDER leaves out the rest but the pw_parallel type the public
- * render options convert to: what the methods compute without drawing still
- * needs the camera (glTF export frames its view with pw_camera_frame) and
- * the textures (pgp's tile3.h samples its tile through them). */
+/* PW_NO_RENDER leaves out the rest: what the methods compute without
+ * drawing still needs the camera (glTF export frames its view with
+ * pw_camera_frame) and the textures (pgp's tile3.h samples its tile
+ * through them). */
 #ifndef PW_NO_RENDER
 
 /* ----------------------------------------------------------- framebuffer */
@@ -10037,109 +10166,7 @@ PW__DEF float *pw_draw_normals(const pw_alloc *a, const pw_draw *d, pw_err *e)
     return n;
 }
 
-#endif /* PW_NO_RENDER */
-
 /* ---------------------------------------------------------------- frames */
-
-/* A parallel for: runs task(ctx, i) once for every i in [0, n), in any
- * order, on any threads, and returns when all have run. Results never
- * depend on the order (each task writes its own part of the output). */
-typedef void (*pw_task_fn)(void *ctx, int index);
-typedef void (*pw_parallel_fn)(void *pool, int n, pw_task_fn task, void *ctx);
-
-/* Where work runs: the caller's parallel for (run, pool: an embedder's job
- * system), else with PW_THREADS `threads` POSIX threads (0: one per
- * processor), else one thread. */
-typedef struct pw_parallel {
-    pw_parallel_fn run;
-    void *pool;
-    int threads;
-} pw_parallel;
-
-#ifndef PW_NO_RENDER
-#ifdef PW_THREADS
-#include <pthread.h>
-#include <unistd.h>
-
-typedef struct pw__pool {
-    pthread_mutex_t lock;
-    int next, n;
-    pw_task_fn task;
-    void *ctx;
-} pw__pool;
-
-PW__DEF void *pw__pool_worker(void *arg)
-{
-    pw__pool *p = (pw__pool *)arg;
-    for (;;) {
-        int i;
-        pthread_mutex_lock(&p->lock);
-        i = p->next < p->n ? p->next++ : -1;
-        pthread_mutex_unlock(&p->lock);
-        if (i < 0) return NULL;
-        p->task(p->ctx, i);
-    }
-}
-
-/* n tasks on up to `threads` threads (0: one per processor); the calling
- * thread works too. Falls back to fewer threads if some cannot start. */
-PW__DEF void pw__pool_run(int threads, int n, pw_task_fn task, void *ctx)
-{
-    pthread_t th[64];
-    pw__pool p;
-    int k, started = 0;
-    if (threads <= 0) {
-        long np = sysconf(_SC_NPROCESSORS_ONLN);
-        threads = np > 0 ? (int)np : 1;
-    }
-    if (threads > n) threads = n;
-    if (threads > 64) threads = 64;
-    p.next = 0;
-    p.n = n;
-    p.task = task;
-    p.ctx = ctx;
-    pthread_mutex_init(&p.lock, NULL);
-    for (k = 1; k < threads; k++)
-        if (pthread_create(&th[started], NULL, pw__pool_worker, &p) == 0) started++;
-    pw__pool_worker(&p);
-    for (k = 0; k < started; k++) pthread_join(th[k], NULL);
-    pthread_mutex_destroy(&p.lock);
-}
-#endif
-
-/* The number of tasks that may run at once under par. */
-PW__DEF int pw_parallel_width(const pw_parallel *par)
-{
-    if (!par || par->threads == 1) return 1;
-    if (par->run) return par->threads > 1 ? par->threads : 8;
-#ifdef PW_THREADS
-    if (par->threads > 1) return par->threads;
-    {
-        long np = sysconf(_SC_NPROCESSORS_ONLN);
-        return np > 1 ? (int)np : 1;
-    }
-#else
-    return 1;
-#endif
-}
-
-/* Runs task(ctx, i) for i in [0, n) as par says (NULL: in order, here). */
-PW__DEF void pw_parallel_for(const pw_parallel *par, int n, pw_task_fn task, void *ctx)
-{
-    int i;
-    if (n <= 0) return;
-    if (par && par->run && par->threads != 1) {
-        par->run(par->pool, n, task, ctx);
-        return;
-    }
-#ifdef PW_THREADS
-    if (par && par->threads != 1 && n > 1) {
-        pw__pool_run(par->threads, n, task, ctx);
-        return;
-    }
-#endif
-    for (i = 0; i < n; i++) task(ctx, i);
-}
 
 /* Draws one band: the caller's draws into fb (a band of the frame, already
  * cleared). Called once per band, maybe on several threads at once: it may
@@ -18017,11 +18044,7 @@ PW__DEF void pw_view_defaults(int *width, int *height, int *supersample, float v
     }                                                                                                               \
     static PW__UNUSED pw_parallel p##__parallel(const p##_render_options *ro)                                       \
     {                                                                                                               \
-        pw_parallel par;                                                                                            \
-        par.threads = ro->threads;                                                                                  \
-        par.run = ro->parallel;                                                                                     \
-        par.pool = ro->parallel_pool;                                                                               \
-        return par;                                                                                                 \
+        return pw_parallel_make(ro->threads, ro->parallel, ro->parallel_pool);                                      \
     }                                                                                                               \
     typedef int p##__glue_defined /* so that the use ends with a semicolon */
 

@@ -2,48 +2,49 @@
  * Do not edit: change the sources and run `make headers`.
  *
  * CONTENTS (line: source, what it holds)
- *     48: src/pgp/pgp.h, the public API and its documentation
- *    657: src/common/base.h, allocation hooks, result codes, error messages, limits, he
- *    969: src/common/vec.h, small vector math on float[3] arrays and a 3-float struct.
- *   1083: src/common/rng.h, seeded random numbers with the same output on every platfo
- *   1160: src/common/noise.h, value noise and its fractal sum, for the built-in procedur
- *   1262: src/common/image.h, float images and their file formats.
- *   1967: src/common/deflate.h, zlib (RFC 1950) and deflate (RFC 1951) compression and
- *   2964: src/common/png.h, PNG writer and reader, and the image front end.
- *   3523: src/common/text.h, locale-independent number parsing and formatting, a line s
- *   3936: src/common/mesh.h, polygon meshes as flat arrays, and their file formats.
- *   5465: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
- *   5994: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
- *   6418: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
- *   7681: src/common/zsparse.h, complex Hermitian sparse systems, solved by conjugate grad
- *   7941: src/common/raster.h, exact scan conversion of 2D triangles.
- *   8415: src/common/render.h, a small deterministic software renderer for textured trian
- *  10182: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
- *  10369: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
- *  10454: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
- *  10643: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
- *  11560: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
- *  12258: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
- *  12494: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
- *  13258: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
- *  14019: src/pgp/tile3.h, sampling a material-space tile (Ray et al. 2009, §2: "a 3
- *  14127: src/common/glue.h, what every method header needs between its public types an
- *  14467: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  15131: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
- *  15628: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
- *  16114: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
- *  16257: src/common/kdtree.h, nearest-neighbour search among n points of dimension d, wi
- *  16600: src/common/pca.h, principal component analysis of vectors streamed one at a 
- *  16787: src/pgp/core.c, pgp.h's glue to the shared core, its defaults, and the map
- *  17044: src/pgp/field.c, §2.1 effect areas and §2.2 interpolation of the constrai
- *  17434: src/pgp/solve.c, §2.3 the periodic global parameterization, the recovery o
- *  18264: src/pgp/edit.c, the public editing calls of a mapping. §2.1 (Ray, Lévy, 
- *  18409: src/pgp/render.c, §3 rendering, and a cleaner treatment of the vortices.
- *  18841: src/pgp/builtin.c, built-in meshes and material-space tiles for demos and tes
- *  19110: src/pgp/io.c, files and memory for pgp.h: material-space tiles (NRRD, or
- *  19458: src/pgp/export.c, the mapping for other programs. A viewer that knows nothin
- *  19684: src/pgp/morph.c, the inputs of §1 (keys brought to the tile size, made til
- *  20363: src/pgp/synth.c, §1.2 constrained tile synthesis, and the whole of §1: ke
+ *     49: src/pgp/pgp.h, the public API and its documentation
+ *    666: src/common/base.h, allocation hooks, result codes, error messages, limits, he
+ *    978: src/common/vec.h, small vector math on float[3] arrays and a 3-float struct.
+ *   1092: src/common/rng.h, seeded random numbers with the same output on every platfo
+ *   1169: src/common/noise.h, value noise and its fractal sum, for the built-in procedur
+ *   1271: src/common/image.h, float images and their file formats.
+ *   1976: src/common/deflate.h, zlib (RFC 1950) and deflate (RFC 1951) compression and
+ *   2973: src/common/png.h, PNG writer and reader, and the image front end.
+ *   3532: src/common/text.h, locale-independent number parsing and formatting, a line s
+ *   3945: src/common/mesh.h, polygon meshes as flat arrays, and their file formats.
+ *   5474: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
+ *   6003: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
+ *   6427: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
+ *   7690: src/common/zsparse.h, complex Hermitian sparse systems, solved by conjugate grad
+ *   7950: src/common/raster.h, exact scan conversion of 2D triangles.
+ *   8424: src/common/parallel.h, a parallel for, the one way work is split across threads.
+ *   8552: src/common/render.h, a small deterministic software renderer for textured trian
+ *  10217: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
+ *  10404: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
+ *  10489: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
+ *  10678: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
+ *  11595: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
+ *  12293: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
+ *  12529: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
+ *  13293: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
+ *  14054: src/pgp/tile3.h, sampling a material-space tile (Ray et al. 2009, §2: "a 3
+ *  14162: src/common/glue.h, what every method header needs between its public types an
+ *  14498: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  15162: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
+ *  15659: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
+ *  16145: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
+ *  16288: src/common/kdtree.h, nearest-neighbour search among n points of dimension d, wi
+ *  16631: src/common/pca.h, principal component analysis of vectors streamed one at a 
+ *  16818: src/pgp/core.c, pgp.h's glue to the shared core, its defaults, and the map
+ *  17075: src/pgp/field.c, §2.1 effect areas and §2.2 interpolation of the constrai
+ *  17465: src/pgp/solve.c, §2.3 the periodic global parameterization, the recovery o
+ *  18295: src/pgp/edit.c, the public editing calls of a mapping. §2.1 (Ray, Lévy, 
+ *  18440: src/pgp/render.c, §3 rendering, and a cleaner treatment of the vortices.
+ *  18872: src/pgp/builtin.c, built-in meshes and material-space tiles for demos and tes
+ *  19141: src/pgp/io.c, files and memory for pgp.h: material-space tiles (NRRD, or
+ *  19489: src/pgp/export.c, the mapping for other programs. A viewer that knows nothin
+ *  19715: src/pgp/morph.c, the inputs of §1 (keys brought to the tile size, made til
+ *  20394: src/pgp/synth.c, §1.2 constrained tile synthesis, and the whole of §1: ke
  */
 /* pgp.h - material-space texturing with a periodic global parameterization.
  *
@@ -116,9 +117,10 @@
  *   PATCHWORK_IMPLEMENTATION turns on every patchwork header included after
  *   it. Build macros: PGP_STATIC (all functions static), PW_MALLOC /
  *   PW_REALLOC / PW_FREE (all or none), PW_ASSERT, PW_NO_STDIO, the PW_MAX_*
- *   size limits, as in every patchwork header, and PW_THREADS: rendering on
- *   several threads (POSIX threads; link with -pthread; pgp_render_options.
- *   threads, 0 = one per processor), the same picture for any count.
+ *   size limits, as in every patchwork header, and PW_THREADS: rendering and
+ *   tile synthesis on several threads (POSIX threads; link with -pthread;
+ *   pgp_render_options.threads and pgp_synth_options.threads, 0 = one per
+ *   processor), the same picture and tile for any count.
  *   PW_NO_RENDER and PW_NO_PNG leave out the renderer (pgp_render fails
  *   with PGP_ERR_UNSUPPORTED) and the PNG codec (loading or saving PNG fails
  *   the same way): faster builds for programs that only compute (docs/api.md).
@@ -332,42 +334,49 @@ typedef enum pgp_tileable {
 /* Tile synthesis settings (§1; pgp_options.synth; the synthesis calls take
  * a pointer to them, NULL for the defaults). */
 typedef struct pgp_synth_options {
-    int size;                /* tile side in texels; every key (and mask) is resampled
+    int size;                 /* tile side in texels; every key (and mask) is resampled
                             periodically to size x size (bilinear up, box filter down;
                             never cropped); default 128, 16 to 4096 */
-    int layers;              /* layers of the tile (m from 0 to 1); the keys sit at evenly
+    int layers;               /* layers of the tile (m from 0 to 1); the keys sit at evenly
                             spaced layers, the first at 0 and the last at layers-1;
                             default 8 */
-    int single;              /* 1: single-tile mode (Fig. 14): one key, every layer
+    int single;               /* 1: single-tile mode (Fig. 14): one key, every layer
                             synthesised with the key's own mask, to hide periodicity */
-    pgp_tileable tileable;   /* default AUTO */
-    pgp_mask auto_mask;      /* default DARK */
-    int steps;               /* §1.1 advection steps N per morph; 0: at least 16 per layer and
+    pgp_tileable tileable;    /* default AUTO */
+    pgp_mask auto_mask;       /* default DARK */
+    int steps;                /* §1.1 advection steps N per morph; 0: at least 16 per layer and
                             enough that dt <= 1/2 texel */
-    int uniform;             /* 1: layers at n = m N / M instead of the speed-adaptive H(m) */
-    int levels;              /* §1.2 pyramid levels; 0: halve while the side stays even and
+    int uniform;              /* 1: layers at n = m N / M instead of the speed-adaptive H(m) */
+    int levels;               /* §1.2 pyramid levels; 0: halve while the side stays even and
                             at least 32 texels */
-    int coarse_passes;       /* optimisation passes at the coarsest level; default 20 */
-    int fine_passes;         /* ... at every finer level; default 4 */
-    int color_window;        /* side of the colour neighbourhood (odd); default 5 */
-    int mask_window;         /* side of the mask neighbourhood (odd); default 3 */
-    int color_dims;          /* PCA coefficients kept of a colour neighbourhood; default 5, at
+    int coarse_passes;        /* optimisation passes at the coarsest level; default 20 */
+    int fine_passes;          /* ... at every finer level; default 4 */
+    int color_window;         /* side of the colour neighbourhood (odd); default 5 */
+    int mask_window;          /* side of the mask neighbourhood (odd); default 3 */
+    int color_dims;           /* PCA coefficients kept of a colour neighbourhood; default 5, at
                             most 8 */
-    int mask_dims;           /* ... of a mask neighbourhood; default 3, at most 8 */
-    float mask_weight;       /* scale of the mask coefficients ("scaled by two"); default 2 */
-    float usage_weight;      /* usage penalty: each current use of an input texel costs this
+    int mask_dims;            /* ... of a mask neighbourhood; default 3, at most 8 */
+    float mask_weight;        /* scale of the mask coefficients ("scaled by two"); default 2 */
+    float usage_weight;       /* usage penalty: each current use of an input texel costs this
                             fraction of the input vectors' total variance; default 0.2;
                             negative: no penalty */
-    float search_eps;        /* nearest neighbours within a factor 1 + eps of the nearest
+    float search_eps;         /* nearest neighbours within a factor 1 + eps of the nearest
                             distance, as the paper's ANN; default 1; negative: exact */
-    int search_buckets;      /* ... scanning at most this many kd-tree buckets (of 8 input
+    int search_buckets;       /* ... scanning at most this many kd-tree buckets (of 8 input
                             texels) per search, ANN's bound on the points visited;
                             default 64; negative: no bound. With search_eps < 0 and
                             search_buckets < 0 every match is the exact nearest one */
-    unsigned long long seed; /* random pixel order and single-tile initialisation, and the
+    unsigned long long seed;  /* random pixel order and single-tile initialisation, and the
                             noise of the built-in tiles (pgp_builtin_tile); default 0 */
+    int threads;              /* synthesis threads, as pgp_render_options.threads: 0 (default)
+                             one per processor with PW_THREADS, else 1. The two ends of
+                             each morph run side by side; the tile is the same for any
+                             number */
+    pgp_parallel_fn parallel; /* optional: the caller's parallel for, used instead of threads */
+    void *parallel_pool;      /* its first argument */
     pgp_allocator allocator;
-    pgp_progress_fn progress; /* may cancel: non-zero return stops with PGP_ERR_CANCELLED */
+    pgp_progress_fn progress; /* may cancel: non-zero return stops with PGP_ERR_CANCELLED; with
+                             threads, called from the thread of each morph's first end */
     void *progress_user;
 } pgp_synth_options;
 
@@ -8412,6 +8421,134 @@ PW__DEF void pw_raster_tri_spans(const float xy[6], int w, int h, pw_raster_span
 
 #endif /* PW__RASTER_V1 */
 
+/* ---- shared module src/common/parallel.h ---- */
+/* parallel: a parallel for, the one way work is split across threads.
+ *
+ *   pw_parallel      where work runs: the caller's parallel-for (an
+ *                    embedder's job system), POSIX threads when built with
+ *                    PW_THREADS, or the calling thread alone.
+ *   pw_parallel_for  runs task(ctx, i) for every i in [0, n) as it says.
+ *   pw_parallel_width how many tasks may run at once.
+ *
+ * Every user (rendering bands, tile synthesis, ...) makes each task write
+ * its own part of the output and combines the parts in index order, so a
+ * result is the same, bit for bit, for any number of threads. */
+#ifndef PW__PARALLEL_V1
+#define PW__PARALLEL_V1
+
+
+/* A parallel for: runs task(ctx, i) once for every i in [0, n), in any
+ * order, on any threads, and returns when all have run. Results never
+ * depend on the order (each task writes its own part of the output). */
+typedef void (*pw_task_fn)(void *ctx, int index);
+typedef void (*pw_parallel_fn)(void *pool, int n, pw_task_fn task, void *ctx);
+
+/* Where work runs: the caller's parallel for (run, pool: an embedder's job
+ * system), else with PW_THREADS `threads` POSIX threads (0: one per
+ * processor), else one thread. */
+typedef struct pw_parallel {
+    pw_parallel_fn run;
+    void *pool;
+    int threads;
+} pw_parallel;
+
+/* The pw_parallel of a public options struct's threads, parallel-for and
+ * pool. */
+PW__DEF pw_parallel pw_parallel_make(int threads, pw_parallel_fn run, void *pool)
+{
+    pw_parallel par;
+    par.threads = threads;
+    par.run = run;
+    par.pool = pool;
+    return par;
+}
+
+#ifdef PW_THREADS
+#include <pthread.h>
+#include <unistd.h>
+
+typedef struct pw__pool {
+    pthread_mutex_t lock;
+    int next, n;
+    pw_task_fn task;
+    void *ctx;
+} pw__pool;
+
+PW__DEF void *pw__pool_worker(void *arg)
+{
+    pw__pool *p = (pw__pool *)arg;
+    for (;;) {
+        int i;
+        pthread_mutex_lock(&p->lock);
+        i = p->next < p->n ? p->next++ : -1;
+        pthread_mutex_unlock(&p->lock);
+        if (i < 0) return NULL;
+        p->task(p->ctx, i);
+    }
+}
+
+/* n tasks on up to `threads` threads (0: one per processor); the calling
+ * thread works too. Falls back to fewer threads if some cannot start. */
+PW__DEF void pw__pool_run(int threads, int n, pw_task_fn task, void *ctx)
+{
+    pthread_t th[64];
+    pw__pool p;
+    int k, started = 0;
+    if (threads <= 0) {
+        long np = sysconf(_SC_NPROCESSORS_ONLN);
+        threads = np > 0 ? (int)np : 1;
+    }
+    if (threads > n) threads = n;
+    if (threads > 64) threads = 64;
+    p.next = 0;
+    p.n = n;
+    p.task = task;
+    p.ctx = ctx;
+    pthread_mutex_init(&p.lock, NULL);
+    for (k = 1; k < threads; k++)
+        if (pthread_create(&th[started], NULL, pw__pool_worker, &p) == 0) started++;
+    pw__pool_worker(&p);
+    for (k = 0; k < started; k++) pthread_join(th[k], NULL);
+    pthread_mutex_destroy(&p.lock);
+}
+#endif
+
+/* The number of tasks that may run at once under par. */
+PW__DEF int pw_parallel_width(const pw_parallel *par)
+{
+    if (!par || par->threads == 1) return 1;
+    if (par->run) return par->threads > 1 ? par->threads : 8;
+#ifdef PW_THREADS
+    if (par->threads > 1) return par->threads;
+    {
+        long np = sysconf(_SC_NPROCESSORS_ONLN);
+        return np > 1 ? (int)np : 1;
+    }
+#else
+    return 1;
+#endif
+}
+
+/* Runs task(ctx, i) for i in [0, n) as par says (NULL: in order, here). */
+PW__DEF void pw_parallel_for(const pw_parallel *par, int n, pw_task_fn task, void *ctx)
+{
+    int i;
+    if (n <= 0) return;
+    if (par && par->run && par->threads != 1) {
+        par->run(par->pool, n, task, ctx);
+        return;
+    }
+#ifdef PW_THREADS
+    if (par && par->threads != 1 && n > 1) {
+        pw__pool_run(par->threads, n, task, ctx);
+        return;
+    }
+#endif
+    for (i = 0; i < n; i++) task(ctx, i);
+}
+
+#endif /* PW__PARALLEL_V1 */
+
 /* ---- shared module src/common/render.h ---- */
 /* render: a small deterministic software renderer for textured triangle meshes.
  *
@@ -8427,8 +8564,8 @@ PW__DEF void pw_raster_tri_spans(const float xy[6], int w, int h, pw_raster_span
  *   pw_render_draw draws one triangle mesh (pw_draw) into a framebuffer.
  *   pw_render_frame renders a whole frame band by band (a band: a few rows
  *                of the frame, every draw clipped to them), on several
- *                threads when asked (pw_parallel: PW_THREADS or the
- *                caller's parallel-for), the same picture bit for bit.
+ *                threads when asked (pw_parallel of parallel.h: PW_THREADS
+ *                or the caller's parallel-for), the same picture bit for bit.
  *
  * Conventions. Image rows go down (row 0 at the top); texture coordinate
  * v = 0 is the BOTTOM row of the texture image (OBJ/OpenGL). Triangles whose
@@ -9070,10 +9207,10 @@ PW__DEF float pw__log2f(float x)
     return (float)ex + s * (2.8853900818f + s2 * (0.9617966939f + s2 * (0.5770780164f + s2 * 0.4121985831f)));
 }
 
-/* PW_NO_RENDER leaves out the rest but the pw_parallel type the public
- * render options convert to: what the methods compute without drawing still
- * needs the camera (glTF export frames its view with pw_camera_frame) and
- * the textures (pgp's tile3.h samples its tile through them). */
+/* PW_NO_RENDER leaves out the rest: what the methods compute without
+ * drawing still needs the camera (glTF export frames its view with
+ * pw_camera_frame) and the textures (pgp's tile3.h samples its tile
+ * through them). */
 #ifndef PW_NO_RENDER
 
 /* ----------------------------------------------------------- framebuffer */
@@ -9968,109 +10105,7 @@ PW__DEF float *pw_draw_normals(const pw_alloc *a, const pw_draw *d, pw_err *e)
     return n;
 }
 
-#endif /* PW_NO_RENDER */
-
 /* ---------------------------------------------------------------- frames */
-
-/* A parallel for: runs task(ctx, i) once for every i in [0, n), in any
- * order, on any threads, and returns when all have run. Results never
- * depend on the order (each task writes its own part of the output). */
-typedef void (*pw_task_fn)(void *ctx, int index);
-typedef void (*pw_parallel_fn)(void *pool, int n, pw_task_fn task, void *ctx);
-
-/* Where work runs: the caller's parallel for (run, pool: an embedder's job
- * system), else with PW_THREADS `threads` POSIX threads (0: one per
- * processor), else one thread. */
-typedef struct pw_parallel {
-    pw_parallel_fn run;
-    void *pool;
-    int threads;
-} pw_parallel;
-
-#ifndef PW_NO_RENDER
-#ifdef PW_THREADS
-#include <pthread.h>
-#include <unistd.h>
-
-typedef struct pw__pool {
-    pthread_mutex_t lock;
-    int next, n;
-    pw_task_fn task;
-    void *ctx;
-} pw__pool;
-
-PW__DEF void *pw__pool_worker(void *arg)
-{
-    pw__pool *p = (pw__pool *)arg;
-    for (;;) {
-        int i;
-        pthread_mutex_lock(&p->lock);
-        i = p->next < p->n ? p->next++ : -1;
-        pthread_mutex_unlock(&p->lock);
-        if (i < 0) return NULL;
-        p->task(p->ctx, i);
-    }
-}
-
-/* n tasks on up to `threads` threads (0: one per processor); the calling
- * thread works too. Falls back to fewer threads if some cannot start. */
-PW__DEF void pw__pool_run(int threads, int n, pw_task_fn task, void *ctx)
-{
-    pthread_t th[64];
-    pw__pool p;
-    int k, started = 0;
-    if (threads <= 0) {
-        long np = sysconf(_SC_NPROCESSORS_ONLN);
-        threads = np > 0 ? (int)np : 1;
-    }
-    if (threads > n) threads = n;
-    if (threads > 64) threads = 64;
-    p.next = 0;
-    p.n = n;
-    p.task = task;
-    p.ctx = ctx;
-    pthread_mutex_init(&p.lock, NULL);
-    for (k = 1; k < threads; k++)
-        if (pthread_create(&th[started], NULL, pw__pool_worker, &p) == 0) started++;
-    pw__pool_worker(&p);
-    for (k = 0; k < started; k++) pthread_join(th[k], NULL);
-    pthread_mutex_destroy(&p.lock);
-}
-#endif
-
-/* The number of tasks that may run at once under par. */
-PW__DEF int pw_parallel_width(const pw_parallel *par)
-{
-    if (!par || par->threads == 1) return 1;
-    if (par->run) return par->threads > 1 ? par->threads : 8;
-#ifdef PW_THREADS
-    if (par->threads > 1) return par->threads;
-    {
-        long np = sysconf(_SC_NPROCESSORS_ONLN);
-        return np > 1 ? (int)np : 1;
-    }
-#else
-    return 1;
-#endif
-}
-
-/* Runs task(ctx, i) for i in [0, n) as par says (NULL: in order, here). */
-PW__DEF void pw_parallel_for(const pw_parallel *par, int n, pw_task_fn task, void *ctx)
-{
-    int i;
-    if (n <= 0) return;
-    if (par && par->run && par->threads != 1) {
-        par->run(par->pool, n, task, ctx);
-        return;
-    }
-#ifdef PW_THREADS
-    if (par && par->threads != 1 && n > 1) {
-        pw__pool_run(par->threads, n, task, ctx);
-        return;
-    }
-#endif
-    for (i = 0; i < n; i++) task(ctx, i);
-}
 
 /* Draws one band: the caller's draws into fb (a band of the frame, already
  * cleared). Called once per band, maybe on several threads at once: it may
@@ -14333,11 +14368,7 @@ PW__DEF void pw_view_defaults(int *width, int *height, int *supersample, float v
     }                                                                                                               \
     static PW__UNUSED pw_parallel p##__parallel(const p##_render_options *ro)                                       \
     {                                                                                                               \
-        pw_parallel par;                                                                                            \
-        par.threads = ro->threads;                                                                                  \
-        par.run = ro->parallel;                                                                                     \
-        par.pool = ro->parallel_pool;                                                                               \
-        return par;                                                                                                 \
+        return pw_parallel_make(ro->threads, ro->parallel, ro->parallel_pool);                                      \
     }                                                                                                               \
     typedef int p##__glue_defined /* so that the use ends with a semicolon */
 
@@ -20661,6 +20692,7 @@ typedef struct pgp__synth {
     int *perm;
     pw_progress prog;
     double *done, total;
+    double share; /* work counted per texel update: 2 when the other side runs unreported beside it */
 } pgp__synth;
 
 static void pgp__synth_free(const pw_alloc *a, pgp__synth *S)
@@ -20681,6 +20713,7 @@ static int pgp__synth_init(const pw_alloc *a, pgp__synth *S, pgp__ex *ex, const 
     memset(S, 0, sizeof *S);
     S->o = o;
     S->ex = ex;
+    S->share = 1.0;
     for (r = 0; r < ex->nlev; r++) {
         size_t nn = (size_t)ex->lev[r].n * ex->lev[r].n;
         S->ind[r] = (int *)pw_alloc_array(a, nn, sizeof(int), "indirection map", e);
@@ -20745,7 +20778,7 @@ static int pgp__optimize(pgp__synth *S, int r, pw_rng *rng, pw_err *e)
     for (pass = 0; pass < passes; pass++) {
         pw_rng_shuffle(rng, S->perm, nn);
         for (i = 0; i < nn; i++) pgp__update_texel(S, L, S->ind[r], S->target[r], S->perm[i]);
-        *S->done += nn;
+        *S->done += S->share * nn;
         if (pw_report(&S->prog, (float)(0.05 + 0.95 * *S->done / S->total), "tile synthesis", e))
             return PW_ERR_CANCELLED;
     }
@@ -20915,17 +20948,18 @@ static int pgp__layer_masks(const pgp__tile_job *T, const pw_progress *prog, uns
 typedef struct pgp__span {
     const unsigned char *masks;
     int M;
-    float *out;
+    float *out[2]; /* the layers of each end's synthesis; [1] may be [0] */
 } pgp__span;
 
 /* One end of morph span sp: from its own key (from_end 0: m = 0, 1, ...,
- * M-1, weight 1 - m/M, written) or from the other (from_end 1: m = M, ...,
- * 1, weight m/M, added), §1 step 3. */
+ * M-1, weight 1 - m/M, written to out[0]) or from the other (from_end 1:
+ * m = M, ..., 1, weight m/M, added to out[1] if it is out[0], else
+ * written), §1 step 3. */
 static int pgp__synth_side(pgp__synth *S, const pgp__span *sp, int from_end, uint64_t stream, pw_err *e)
 {
     const unsigned char *masks = sp->masks;
-    int M = sp->M;
-    float *out = sp->out;
+    int M = sp->M, add = from_end && sp->out[1] == sp->out[0];
+    float *out = sp->out[from_end];
     const pgp__exlevel *L = &S->ex->lev[S->ex->nlev - 1];
     size_t nn = (size_t)L->n * L->n, lay = nn * S->ex->c;
     int k, r = PW_OK;
@@ -20934,7 +20968,7 @@ static int pgp__synth_side(pgp__synth *S, const pgp__span *sp, int from_end, uin
         r = pgp__synth_layer(S, masks + m * nn, k == 0 ? PGP__INIT_IDENTITY : PGP__INIT_PREVIOUS, stream + (uint64_t)m,
                              e);
         if (r == PW_OK && m < M)
-            pgp__emit(S, from_end ? (float)m / (float)M : 1.0f - (float)m / (float)M, from_end, out + m * lay);
+            pgp__emit(S, from_end ? (float)m / (float)M : 1.0f - (float)m / (float)M, add, out + m * lay);
     }
     return r;
 }
@@ -20954,8 +20988,71 @@ static double pgp__work(const pgp_synth_options *o, int nkeys, int nlev)
     return per * (layers > 0 ? layers : 1);
 }
 
+/* The two ends of a morph span as two tasks of a pw_parallel: each with its
+ * own synthesis state, exemplar and layers, nothing shared but the span's
+ * masks. */
+typedef struct pgp__sides {
+    pgp__synth *S; /* [2] */
+    const pgp__span *sp;
+    uint64_t stream;
+    int codes[2];
+    pw_err errs[2];
+} pgp__sides;
+
+static void pgp__side_task(void *ctx, int j)
+{
+    pgp__sides *D = (pgp__sides *)ctx;
+    pw_err_clear(&D->errs[j]);
+    D->codes[j] = pgp__synth_side(&D->S[j], D->sp, j, D->stream + (uint64_t)j * 2048, &D->errs[j]);
+}
+
+/* How the morph spans run: the parallel settings, the synthesis states
+ * S[2], the exemplars ex[2] (the span's start and end) and, when the ends
+ * run side by side, the far end's layers (else NULL). */
+typedef struct pgp__span_run {
+    const pw_parallel *par;
+    pgp__synth *S;
+    pgp__ex *ex;
+    float *apart;
+} pgp__span_run;
+
+/* Both ends of span sp: one after the other with S[0] when R->apart is
+ * NULL, else side by side, the far end's layers in R->apart and added
+ * after (the same sums in the same order: the tile does not depend on the
+ * threads). */
+static int pgp__synth_span(const pgp__span_run *R, pgp__span *sp, uint64_t stream, pw_err *e)
+{
+    pgp__synth *S = R->S;
+    pgp__ex *ex = R->ex;
+    float *apart = R->apart;
+    size_t lay = (size_t)S[0].o->size * S[0].o->size * ex[0].c, i;
+    pgp__sides D;
+    int r;
+    if (!apart) {
+        sp->out[1] = sp->out[0];
+        S[0].ex = &ex[0];
+        r = pgp__synth_side(&S[0], sp, 0, stream, e);
+        S[0].ex = &ex[1];
+        return r == PW_OK ? pgp__synth_side(&S[0], sp, 1, stream + 2048, e) : r;
+    }
+    sp->out[1] = apart;
+    S[0].ex = &ex[0];
+    S[1].ex = &ex[1];
+    D.S = S;
+    D.sp = sp;
+    D.stream = stream;
+    pw_parallel_for(R->par, 2, pgp__side_task, &D);
+    if ((r = D.codes[0]) != PW_OK || (r = D.codes[1]) != PW_OK) {
+        *e = D.errs[D.codes[0] != PW_OK ? 0 : 1];
+        return r;
+    }
+    for (i = lay; i < (size_t)sp->M * lay; i++) sp->out[0][i] += apart[i];
+    return PW_OK;
+}
+
 /* Every layer's colours (layers*n*n*c): the morphs with a rolling pair of
- * exemplars, or the single-tile layers. */
+ * exemplars, the two ends of each morph side by side when o's parallel
+ * settings allow two tasks at once, or the single-tile layers. */
 static int pgp__synth_layers(const pgp__tile_job *T, const unsigned char *masks, float *px, pw_err *e)
 {
     const pw_alloc *a = T->a;
@@ -20963,21 +21060,31 @@ static int pgp__synth_layers(const pgp__tile_job *T, const unsigned char *masks,
     const pgp__key *keys = T->keys;
     int nkeys = T->nkeys, c = T->c, nlev = T->nlev;
     size_t nn = (size_t)o->size * o->size, lay = nn * c;
+    pw_parallel par = pw_parallel_make(o->threads, o->parallel, o->parallel_pool);
+    int two = !o->single && nkeys > 1 && pw_parallel_width(&par) > 1;
+    float *apart = NULL;
     pgp__ex ex[2];
-    pgp__synth S;
-    double done = 0.0;
+    pgp__synth S[2];
+    pgp__span_run R;
+    double done = 0.0, done_apart = 0.0;
     int k, l, r;
     memset(ex, 0, sizeof ex);
-    memset(&S, 0, sizeof S);
+    memset(S, 0, sizeof S);
     r = pgp__ex_build(T, &keys[0], &ex[0], e);
-    if (r == PW_OK) r = pgp__synth_init(a, &S, &ex[0], o, e);
-    S.prog = pgp__synth_progress(o);
-    S.done = &done;
-    S.total = pgp__work(o, nkeys, nlev);
+    if (r == PW_OK) r = pgp__synth_init(a, &S[0], &ex[0], o, e);
+    if (r == PW_OK && two && (r = pgp__synth_init(a, &S[1], &ex[0], o, e)) == PW_OK) {
+        apart = (float *)pw_alloc_array(a, lay * o->layers, sizeof(float), "far-end layers", e);
+        if (!apart) r = PW_ERR_NOMEM;
+    }
+    S[0].prog = pgp__synth_progress(o);
+    S[0].done = &done;
+    S[0].total = S[1].total = pgp__work(o, nkeys, nlev);
+    S[0].share = two ? 2.0 : 1.0;
+    S[1].done = &done_apart; /* the far end reports nothing: its thread is not the caller's */
     memcpy(px, keys[0].color, sizeof(float) * lay);
     for (l = 1; o->single && r == PW_OK && l < o->layers; l++) {
-        if ((r = pgp__synth_layer(&S, masks, PGP__INIT_RANDOM, (uint64_t)l, e)) == PW_OK)
-            pgp__emit(&S, 1.0f, 0, px + l * lay);
+        if ((r = pgp__synth_layer(&S[0], masks, PGP__INIT_RANDOM, (uint64_t)l, e)) == PW_OK)
+            pgp__emit(&S[0], 1.0f, 0, px + l * lay);
     }
     for (k = 0; !o->single && r == PW_OK && k + 1 < nkeys; k++) {
         int b = pgp__key_layer(k, nkeys, o->layers), M = pgp__key_layer(k + 1, nkeys, o->layers) - b;
@@ -20985,17 +21092,20 @@ static int pgp__synth_layers(const pgp__tile_job *T, const unsigned char *masks,
         if ((r = pgp__ex_build(T, &keys[k + 1], &ex[1], e)) != PW_OK) break;
         sp.masks = masks + b * nn;
         sp.M = M;
-        sp.out = px + b * lay;
-        S.ex = &ex[0];
-        r = pgp__synth_side(&S, &sp, 0, (uint64_t)k * 4096, e);
-        S.ex = &ex[1];
-        if (r == PW_OK) r = pgp__synth_side(&S, &sp, 1, (uint64_t)k * 4096 + 2048, e);
+        sp.out[0] = px + b * lay;
+        R.par = &par;
+        R.S = S;
+        R.ex = ex;
+        R.apart = apart;
+        r = pgp__synth_span(&R, &sp, (uint64_t)k * 4096, e);
         memcpy(px + (b + M) * lay, keys[k + 1].color, sizeof(float) * lay);
         pgp__ex_free(a, &ex[0]);
         ex[0] = ex[1];
         memset(&ex[1], 0, sizeof ex[1]);
     }
-    pgp__synth_free(a, &S);
+    pgp__synth_free(a, &S[0]);
+    pgp__synth_free(a, &S[1]);
+    pw_free(a, apart);
     pgp__ex_free(a, &ex[0]);
     pgp__ex_free(a, &ex[1]);
     return r;

@@ -2,33 +2,34 @@
  * Do not edit: change the sources and run `make headers`.
  *
  * CONTENTS (line: source, what it holds)
- *     33: src/tiled/tiled.h, the public API and its documentation
- *    433: src/common/base.h, allocation hooks, result codes, error messages, limits, he
- *    745: src/common/vec.h, small vector math on float[3] arrays and a 3-float struct.
- *    859: src/common/rng.h, seeded random numbers with the same output on every platfo
- *    936: src/common/noise.h, value noise and its fractal sum, for the built-in procedur
- *   1038: src/common/image.h, float images and their file formats.
- *   1743: src/common/deflate.h, zlib (RFC 1950) and deflate (RFC 1951) compression and
- *   2742: src/common/png.h, PNG writer and reader, and the image front end.
- *   3301: src/common/text.h, locale-independent number parsing and formatting, a line s
- *   3714: src/common/mesh.h, polygon meshes as flat arrays, and their file formats.
- *   5243: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
- *   5772: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
- *   6196: src/common/subdiv.h, Catmull-Clark subdivision (Catmull and Clark 1978) with
- *   6335: src/common/raster.h, exact scan conversion of 2D triangles.
- *   6811: src/common/render.h, a small deterministic software renderer for textured trian
- *   8578: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
- *   9075: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
- *   9561: src/common/glue.h, what every method header needs between its public types an
- *   9901: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  10565: src/tiled/core.c, tiled.h's glue to the shared core, its defaults, result
- *  10654: src/tiled/layout.c, ch. III.1, the boundary types and the tiled texture they
- *  10926: src/tiled/map.c, ch. III.2, the texture mapping algorithm of Fig. 29
- *  11175: src/tiled/synth.c, ch. III.1.3, tiled texture image synthesis: an edge-matche
- *  11557: src/tiled/validate.c, checks a hand-made tiled texture (the thesis's Figs. 39,
- *  11685: src/tiled/builtin.c, built-in meshes and exemplars for demos and tests: the
- *  11882: src/tiled/render.c, a software rendering of a mapped mesh (the thesis rendered
- *  12105: src/tiled/io.c, files. Meshes and exemplars in; the mapped mesh with its t
+ *     34: src/tiled/tiled.h, the public API and its documentation
+ *    442: src/common/base.h, allocation hooks, result codes, error messages, limits, he
+ *    754: src/common/vec.h, small vector math on float[3] arrays and a 3-float struct.
+ *    868: src/common/rng.h, seeded random numbers with the same output on every platfo
+ *    945: src/common/noise.h, value noise and its fractal sum, for the built-in procedur
+ *   1047: src/common/image.h, float images and their file formats.
+ *   1752: src/common/deflate.h, zlib (RFC 1950) and deflate (RFC 1951) compression and
+ *   2751: src/common/png.h, PNG writer and reader, and the image front end.
+ *   3310: src/common/text.h, locale-independent number parsing and formatting, a line s
+ *   3723: src/common/mesh.h, polygon meshes as flat arrays, and their file formats.
+ *   5252: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
+ *   5781: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
+ *   6205: src/common/subdiv.h, Catmull-Clark subdivision (Catmull and Clark 1978) with
+ *   6344: src/common/raster.h, exact scan conversion of 2D triangles.
+ *   6820: src/common/parallel.h, a parallel for, the one way work is split across threads.
+ *   6948: src/common/render.h, a small deterministic software renderer for textured trian
+ *   8613: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
+ *   9110: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
+ *   9596: src/common/glue.h, what every method header needs between its public types an
+ *   9932: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  10596: src/tiled/core.c, tiled.h's glue to the shared core, its defaults, result
+ *  10685: src/tiled/layout.c, ch. III.1, the boundary types and the tiled texture they
+ *  10957: src/tiled/map.c, ch. III.2, the texture mapping algorithm of Fig. 29
+ *  11206: src/tiled/synth.c, ch. III.1.3, tiled texture image synthesis: an edge-matche
+ *  11652: src/tiled/validate.c, checks a hand-made tiled texture (the thesis's Figs. 39,
+ *  11780: src/tiled/builtin.c, built-in meshes and exemplars for demos and tests: the
+ *  11977: src/tiled/render.c, a software rendering of a mapped mesh (the thesis rendered
+ *  12200: src/tiled/io.c, files. Meshes and exemplars in; the mapped mesh with its t
  */
 /* tiled.h - seamless, singularity-free tiled textures on quad meshes.
  *
@@ -72,9 +73,11 @@
  *                          TILED_ERR_UNSUPPORTED) and the PNG codec (loading
  *                          or saving PNG fails the same way): faster builds
  *                          for programs that only compute (docs/api.md)
- *   PW_THREADS             render on several threads (POSIX threads; link with
- *                          -pthread): tiled_render_options.threads, 0 = one
- *                          per processor; the picture is the same for any count
+ *   PW_THREADS             render and synthesise tiles on several threads
+ *                          (POSIX threads; link with -pthread):
+ *                          tiled_render_options.threads and
+ *                          tiled_options.threads, 0 = one per processor; the
+ *                          picture and the tile set are the same for any count
  *   PW_MAX_IMAGE_DIM, PW_MAX_IMAGE_PIXELS, PW_MAX_MESH_ELEMENTS,
  *   PW_MAX_FACE_DEGREE     size limits checked on input (see base module)
  *
@@ -278,9 +281,15 @@ typedef struct tiled_options {
     int fixed_start;             /* 1: always start the tile walk at a face's first
                                 corner instead of a random one (thesis's
                                 "further randomness" off); default 0 */
+    int threads;                 /* tile synthesis threads, as render.threads: 0 (default)
+                                one per processor with PW_THREADS, else 1; the tile set
+                                is the same for any number */
+    tiled_parallel_fn parallel;  /* optional: the caller's parallel for, used instead of threads */
+    void *parallel_pool;         /* its first argument */
     tiled_render_options render; /* tiled_render's settings (pass &opt.render) */
     tiled_allocator allocator;
-    tiled_progress_fn progress; /* may be NULL */
+    tiled_progress_fn progress; /* may be NULL; with threads, called from the thread that
+                                composes the first share of the tiles */
     void *progress_user;
 } tiled_options;
 
@@ -6808,6 +6817,134 @@ PW__DEF void pw_raster_tri_spans(const float xy[6], int w, int h, pw_raster_span
 #endif /* PW__RASTER_V1 */
 #endif /* PW_NO_RENDER */
 
+/* ---- shared module src/common/parallel.h ---- */
+/* parallel: a parallel for, the one way work is split across threads.
+ *
+ *   pw_parallel      where work runs: the caller's parallel-for (an
+ *                    embedder's job system), POSIX threads when built with
+ *                    PW_THREADS, or the calling thread alone.
+ *   pw_parallel_for  runs task(ctx, i) for every i in [0, n) as it says.
+ *   pw_parallel_width how many tasks may run at once.
+ *
+ * Every user (rendering bands, tile synthesis, ...) makes each task write
+ * its own part of the output and combines the parts in index order, so a
+ * result is the same, bit for bit, for any number of threads. */
+#ifndef PW__PARALLEL_V1
+#define PW__PARALLEL_V1
+
+
+/* A parallel for: runs task(ctx, i) once for every i in [0, n), in any
+ * order, on any threads, and returns when all have run. Results never
+ * depend on the order (each task writes its own part of the output). */
+typedef void (*pw_task_fn)(void *ctx, int index);
+typedef void (*pw_parallel_fn)(void *pool, int n, pw_task_fn task, void *ctx);
+
+/* Where work runs: the caller's parallel for (run, pool: an embedder's job
+ * system), else with PW_THREADS `threads` POSIX threads (0: one per
+ * processor), else one thread. */
+typedef struct pw_parallel {
+    pw_parallel_fn run;
+    void *pool;
+    int threads;
+} pw_parallel;
+
+/* The pw_parallel of a public options struct's threads, parallel-for and
+ * pool. */
+PW__DEF pw_parallel pw_parallel_make(int threads, pw_parallel_fn run, void *pool)
+{
+    pw_parallel par;
+    par.threads = threads;
+    par.run = run;
+    par.pool = pool;
+    return par;
+}
+
+#ifdef PW_THREADS
+#include <pthread.h>
+#include <unistd.h>
+
+typedef struct pw__pool {
+    pthread_mutex_t lock;
+    int next, n;
+    pw_task_fn task;
+    void *ctx;
+} pw__pool;
+
+PW__DEF void *pw__pool_worker(void *arg)
+{
+    pw__pool *p = (pw__pool *)arg;
+    for (;;) {
+        int i;
+        pthread_mutex_lock(&p->lock);
+        i = p->next < p->n ? p->next++ : -1;
+        pthread_mutex_unlock(&p->lock);
+        if (i < 0) return NULL;
+        p->task(p->ctx, i);
+    }
+}
+
+/* n tasks on up to `threads` threads (0: one per processor); the calling
+ * thread works too. Falls back to fewer threads if some cannot start. */
+PW__DEF void pw__pool_run(int threads, int n, pw_task_fn task, void *ctx)
+{
+    pthread_t th[64];
+    pw__pool p;
+    int k, started = 0;
+    if (threads <= 0) {
+        long np = sysconf(_SC_NPROCESSORS_ONLN);
+        threads = np > 0 ? (int)np : 1;
+    }
+    if (threads > n) threads = n;
+    if (threads > 64) threads = 64;
+    p.next = 0;
+    p.n = n;
+    p.task = task;
+    p.ctx = ctx;
+    pthread_mutex_init(&p.lock, NULL);
+    for (k = 1; k < threads; k++)
+        if (pthread_create(&th[started], NULL, pw__pool_worker, &p) == 0) started++;
+    pw__pool_worker(&p);
+    for (k = 0; k < started; k++) pthread_join(th[k], NULL);
+    pthread_mutex_destroy(&p.lock);
+}
+#endif
+
+/* The number of tasks that may run at once under par. */
+PW__DEF int pw_parallel_width(const pw_parallel *par)
+{
+    if (!par || par->threads == 1) return 1;
+    if (par->run) return par->threads > 1 ? par->threads : 8;
+#ifdef PW_THREADS
+    if (par->threads > 1) return par->threads;
+    {
+        long np = sysconf(_SC_NPROCESSORS_ONLN);
+        return np > 1 ? (int)np : 1;
+    }
+#else
+    return 1;
+#endif
+}
+
+/* Runs task(ctx, i) for i in [0, n) as par says (NULL: in order, here). */
+PW__DEF void pw_parallel_for(const pw_parallel *par, int n, pw_task_fn task, void *ctx)
+{
+    int i;
+    if (n <= 0) return;
+    if (par && par->run && par->threads != 1) {
+        par->run(par->pool, n, task, ctx);
+        return;
+    }
+#ifdef PW_THREADS
+    if (par && par->threads != 1 && n > 1) {
+        pw__pool_run(par->threads, n, task, ctx);
+        return;
+    }
+#endif
+    for (i = 0; i < n; i++) task(ctx, i);
+}
+
+#endif /* PW__PARALLEL_V1 */
+
 /* ---- shared module src/common/render.h ---- */
 /* render: a small deterministic software renderer for textured triangle meshes.
  *
@@ -6823,8 +6960,8 @@ PW__DEF void pw_raster_tri_spans(const float xy[6], int w, int h, pw_raster_span
  *   pw_render_draw draws one triangle mesh (pw_draw) into a framebuffer.
  *   pw_render_frame renders a whole frame band by band (a band: a few rows
  *                of the frame, every draw clipped to them), on several
- *                threads when asked (pw_parallel: PW_THREADS or the
- *                caller's parallel-for), the same picture bit for bit.
+ *                threads when asked (pw_parallel of parallel.h: PW_THREADS
+ *                or the caller's parallel-for), the same picture bit for bit.
  *
  * Conventions. Image rows go down (row 0 at the top); texture coordinate
  * v = 0 is the BOTTOM row of the texture image (OBJ/OpenGL). Triangles whose
@@ -7466,10 +7603,10 @@ PW__DEF float pw__log2f(float x)
     return (float)ex + s * (2.8853900818f + s2 * (0.9617966939f + s2 * (0.5770780164f + s2 * 0.4121985831f)));
 }
 
-/* PW_NO_RENDER leaves out the rest but the pw_parallel type the public
- * render options convert to: what the methods compute without drawing still
- * needs the camera (glTF export frames its view with pw_camera_frame) and
- * the textures (pgp's tile3.h samples its tile through them). */
+/* PW_NO_RENDER leaves out the rest: what the methods compute without
+ * drawing still needs the camera (glTF export frames its view with
+ * pw_camera_frame) and the textures (pgp's tile3.h samples its tile
+ * through them). */
 #ifndef PW_NO_RENDER
 
 /* ----------------------------------------------------------- framebuffer */
@@ -8364,109 +8501,7 @@ PW__DEF float *pw_draw_normals(const pw_alloc *a, const pw_draw *d, pw_err *e)
     return n;
 }
 
-#endif /* PW_NO_RENDER */
-
 /* ---------------------------------------------------------------- frames */
-
-/* A parallel for: runs task(ctx, i) once for every i in [0, n), in any
- * order, on any threads, and returns when all have run. Results never
- * depend on the order (each task writes its own part of the output). */
-typedef void (*pw_task_fn)(void *ctx, int index);
-typedef void (*pw_parallel_fn)(void *pool, int n, pw_task_fn task, void *ctx);
-
-/* Where work runs: the caller's parallel for (run, pool: an embedder's job
- * system), else with PW_THREADS `threads` POSIX threads (0: one per
- * processor), else one thread. */
-typedef struct pw_parallel {
-    pw_parallel_fn run;
-    void *pool;
-    int threads;
-} pw_parallel;
-
-#ifndef PW_NO_RENDER
-#ifdef PW_THREADS
-#include <pthread.h>
-#include <unistd.h>
-
-typedef struct pw__pool {
-    pthread_mutex_t lock;
-    int next, n;
-    pw_task_fn task;
-    void *ctx;
-} pw__pool;
-
-PW__DEF void *pw__pool_worker(void *arg)
-{
-    pw__pool *p = (pw__pool *)arg;
-    for (;;) {
-        int i;
-        pthread_mutex_lock(&p->lock);
-        i = p->next < p->n ? p->next++ : -1;
-        pthread_mutex_unlock(&p->lock);
-        if (i < 0) return NULL;
-        p->task(p->ctx, i);
-    }
-}
-
-/* n tasks on up to `threads` threads (0: one per processor); the calling
- * thread works too. Falls back to fewer threads if some cannot start. */
-PW__DEF void pw__pool_run(int threads, int n, pw_task_fn task, void *ctx)
-{
-    pthread_t th[64];
-    pw__pool p;
-    int k, started = 0;
-    if (threads <= 0) {
-        long np = sysconf(_SC_NPROCESSORS_ONLN);
-        threads = np > 0 ? (int)np : 1;
-    }
-    if (threads > n) threads = n;
-    if (threads > 64) threads = 64;
-    p.next = 0;
-    p.n = n;
-    p.task = task;
-    p.ctx = ctx;
-    pthread_mutex_init(&p.lock, NULL);
-    for (k = 1; k < threads; k++)
-        if (pthread_create(&th[started], NULL, pw__pool_worker, &p) == 0) started++;
-    pw__pool_worker(&p);
-    for (k = 0; k < started; k++) pthread_join(th[k], NULL);
-    pthread_mutex_destroy(&p.lock);
-}
-#endif
-
-/* The number of tasks that may run at once under par. */
-PW__DEF int pw_parallel_width(const pw_parallel *par)
-{
-    if (!par || par->threads == 1) return 1;
-    if (par->run) return par->threads > 1 ? par->threads : 8;
-#ifdef PW_THREADS
-    if (par->threads > 1) return par->threads;
-    {
-        long np = sysconf(_SC_NPROCESSORS_ONLN);
-        return np > 1 ? (int)np : 1;
-    }
-#else
-    return 1;
-#endif
-}
-
-/* Runs task(ctx, i) for i in [0, n) as par says (NULL: in order, here). */
-PW__DEF void pw_parallel_for(const pw_parallel *par, int n, pw_task_fn task, void *ctx)
-{
-    int i;
-    if (n <= 0) return;
-    if (par && par->run && par->threads != 1) {
-        par->run(par->pool, n, task, ctx);
-        return;
-    }
-#ifdef PW_THREADS
-    if (par && par->threads != 1 && n > 1) {
-        pw__pool_run(par->threads, n, task, ctx);
-        return;
-    }
-#endif
-    for (i = 0; i < n; i++) task(ctx, i);
-}
 
 /* Draws one band: the caller's draws into fb (a band of the frame, already
  * cleared). Called once per band, maybe on several threads at once: it may
@@ -9767,11 +9802,7 @@ PW__DEF void pw_view_defaults(int *width, int *height, int *supersample, float v
     }                                                                                                               \
     static PW__UNUSED pw_parallel p##__parallel(const p##_render_options *ro)                                       \
     {                                                                                                               \
-        pw_parallel par;                                                                                            \
-        par.threads = ro->threads;                                                                                  \
-        par.run = ro->parallel;                                                                                     \
-        par.pool = ro->parallel_pool;                                                                               \
-        return par;                                                                                                 \
+        return pw_parallel_make(ro->threads, ro->parallel, ro->parallel_pool);                                      \
     }                                                                                                               \
     typedef int p##__glue_defined /* so that the use ends with a semicolon */
 
@@ -11324,14 +11355,19 @@ static void tiled__constraints(const tiled__synth *s, tiled__scratch *sc)
         }
 }
 
+/* Candidate centre windows per tile: drawn for every tile, in tile order,
+ * before any tile is composed, so that tiles can be composed in any order. */
+#define TILED__CENTRE_CANDIDATES 16
+
 /* Picks the centre window that best agrees with the side diamonds where
- * both may appear (best of a few random origins), and fills label 4. */
-static void tiled__centre_source(const tiled__synth *s, pw_rng *rng, tiled__scratch *sc)
+ * both may appear (the best of the tile's candidate origins org[2k],
+ * org[2k+1]), and fills label 4. */
+static void tiled__centre_source(const tiled__synth *s, const int *org, tiled__scratch *sc)
 {
     int T = s->T, c = s->src.c, cand, i, j, k, bx = 0, by = 0;
     double best = -1.0;
-    for (cand = 0; cand < 16; cand++) {
-        int ox = (int)pw_rng_below(rng, (uint32_t)s->src.w), oy = (int)pw_rng_below(rng, (uint32_t)s->src.h);
+    for (cand = 0; cand < TILED__CENTRE_CANDIDATES; cand++) {
+        int ox = org[2 * cand], oy = org[2 * cand + 1];
         double cost = 0.0;
         for (j = 0; j < T; j++)
             for (i = 0; i < T; i++) {
@@ -11356,29 +11392,58 @@ static void tiled__centre_source(const tiled__synth *s, pw_rng *rng, tiled__scra
         }
 }
 
-/* The loop of tiled__synth_tiles over the tiles: the atlas being filled
- * and its tile geometry, the random stream and the scratch shared by all
- * tiles. */
+static void tiled__scratch_free(const pw_alloc *a, tiled__scratch *sc)
+{
+    pw_free(a, sc->src);
+    pw_free(a, sc->allowed);
+    pw_free(a, sc->label);
+    pw_free(a, sc->motif);
+    memset(sc, 0, sizeof *sc);
+}
+
+static int tiled__scratch_alloc(const pw_alloc *a, int T, int c, tiled__scratch *sc, pw_err *e)
+{
+    size_t tt = (size_t)T * T;
+    sc->src = (float *)pw_alloc_array(a, tt * 5 * c, sizeof(float), "tile sources", e);
+    sc->allowed = (uint32_t *)pw_alloc_array(a, tt, sizeof(uint32_t), "tile constraints", e);
+    sc->label = (int *)pw_alloc_array(a, tt, sizeof(int), "tile labels", e);
+    sc->motif = (float *)pw_alloc_array(a, tt * 5, sizeof(float), "tile motif maps", e);
+    if (sc->src && sc->allowed && sc->label && sc->motif) return PW_OK;
+    tiled__scratch_free(a, sc);
+    return PW_ERR_NOMEM;
+}
+
+/* The tiles of one synthesis, composed in `shares` shares (share j: tiles
+ * j, j + shares, ...), each share with its own scratch, result and seam
+ * statistics, so that the shares can run on several threads. Only share 0
+ * reports progress. */
 typedef struct tiled__tile_work {
+    const pw_alloc *a;
+    const tiled__synth *s;
     pw_image *atlas;
     const tiled__geom *gm;
-    pw_rng *rng;
-    tiled__scratch *sc;
+    const int *origins; /* per tile, its candidate centre origins */
+    const pw_progress *pr;
+    int shares;
+    tiled__scratch *sc;   /* [shares] */
+    pw_seam_stats *stats; /* [shares] */
+    int *codes;           /* [shares] */
+    pw_err *errs;         /* [shares] */
 } tiled__tile_work;
 
-/* Composes tile t into the atlas of w. */
-static int tiled__compose(const pw_alloc *a, const tiled__synth *s, const tiled__tile_work *w, int t, pw_err *e)
+/* Composes tile t into the atlas of w with the scratch of share j. */
+static int tiled__compose(const tiled__tile_work *w, int j, int t)
 {
+    const tiled__synth *s = w->s;
     pw_image *atlas = w->atlas;
     const tiled__geom *gm = w->gm;
-    pw_rng *rng = w->rng;
-    tiled__scratch *sc = w->sc;
-    int types[4], T = s->T, c = s->src.c, j, r;
+    tiled__scratch *sc = &w->sc[j];
+    int types[4], T = s->T, c = s->src.c, y, r;
     pw_quilt q;
     tiled__tile_types(gm, s->case1, t, types);
     tiled__side_sources(s, types, sc->src, sc->motif);
     tiled__constraints(s, sc);
-    tiled__centre_source(s, rng, sc);
+    tiled__centre_source(s, w->origins + (size_t)t * 2 * TILED__CENTRE_CANDIDATES, sc);
     q.w = q.h = T;
     q.c = c;
     q.nlabels = 5;
@@ -11388,15 +11453,28 @@ static int tiled__compose(const pw_alloc *a, const tiled__synth *s, const tiled_
     q.wrap_x = q.wrap_y = 0;
     q.motif = sc->motif;
     q.motif_weight = s->motif_weight;
-    if ((r = pw_quilt_optimize(a, &q, 2, e)) != PW_OK) return r;
-    if (s->stats) pw_quilt_seam_stats(&q, s->tau, s->stats);
-    for (j = 0; j < T; j++) { /* compose row by row into the atlas */
+    if ((r = pw_quilt_optimize(w->a, &q, 2, &w->errs[j])) != PW_OK) return r;
+    if (s->stats) pw_quilt_seam_stats(&q, s->tau, &w->stats[j]);
+    for (y = 0; y < T; y++) { /* compose row by row into the atlas */
         int i;
         for (i = 0; i < T; i++)
-            memcpy(tiled__atlas_px(atlas, gm, t, i, j), sc->src + ((size_t)(sc->label[j * T + i] * T + j) * T + i) * c,
+            memcpy(tiled__atlas_px(atlas, gm, t, i, y), sc->src + ((size_t)(sc->label[y * T + i] * T + y) * T + i) * c,
                    sizeof(float) * c);
     }
     return PW_OK;
+}
+
+/* Share j of the tiles (a pw_parallel task). */
+static void tiled__compose_share(void *ctx, int j)
+{
+    const tiled__tile_work *w = (const tiled__tile_work *)ctx;
+    int n = w->gm->N * w->gm->N, t, r = PW_OK;
+    pw_err_clear(&w->errs[j]);
+    for (t = j; t < n && r == PW_OK; t += w->shares) {
+        if (j == 0) r = pw_report(w->pr, 0.1f + 0.9f * (float)t / (float)n, "tile synthesis", &w->errs[j]);
+        if (r == PW_OK) r = tiled__compose(w, j, t);
+    }
+    w->codes[j] = r;
 }
 
 /* Cost of the corner between the bottom side (type t0) and the right side
@@ -11467,34 +11545,51 @@ static void tiled__place_diamond(tiled__synth *s, pw_rng *rng, int k, int ntypes
     s->dy[k] = s->dy[8];
 }
 
-/* Builds every tile of a resolved layout from the periodic source. */
+/* Builds every tile of a resolved layout from the periodic source, the
+ * tiles shared among the threads of o's parallel settings: every random
+ * choice is drawn first, in tile order, and every tile is composed from
+ * its own choices alone, so the tile set does not depend on the threads. */
 static int tiled__synth_tiles(const pw_alloc *a, tiled__synth *s, const tiled_options *o, pw_image *atlas,
                               const tiled__geom *gm, pw_err *e)
 {
     pw_progress pr = tiled__progress(o);
+    pw_parallel par = pw_parallel_make(o->threads, o->parallel, o->parallel_pool);
     pw_rng rng = pw_rng_seed(o->seed, 3);
-    tiled__scratch sc;
     tiled__tile_work w;
-    size_t tt = (size_t)s->T * s->T;
-    int k, t, r = PW_OK;
-    w.atlas = atlas;
-    w.gm = gm;
-    w.rng = &rng;
-    w.sc = &sc;
-    for (k = 0; k < 8; k++) tiled__place_diamond(s, &rng, k, gm->n);
-    sc.src = (float *)pw_alloc_array(a, tt * 5 * s->src.c, sizeof(float), "tile sources", e);
-    sc.allowed = (uint32_t *)pw_alloc_array(a, tt, sizeof(uint32_t), "tile constraints", e);
-    sc.label = (int *)pw_alloc_array(a, tt, sizeof(int), "tile labels", e);
-    sc.motif = (float *)pw_alloc_array(a, tt * 5, sizeof(float), "tile motif maps", e);
-    if (!sc.src || !sc.allowed || !sc.label || !sc.motif) r = PW_ERR_NOMEM;
-    for (t = 0; t < gm->N * gm->N && r == PW_OK; t++) {
-        r = pw_report(&pr, 0.1f + 0.9f * (float)t / (float)(gm->N * gm->N), "tile synthesis", e);
-        if (r == PW_OK) r = tiled__compose(a, s, &w, t, e);
+    int n = gm->N * gm->N, k, j, r = PW_OK;
+    int *origins = (int *)pw_alloc_array(a, (size_t)n * 2 * TILED__CENTRE_CANDIDATES, sizeof(int), "tile choices", e);
+    memset(&w, 0, sizeof w);
+    w.shares = pw_mini(pw_parallel_width(&par), n);
+    w.sc = (tiled__scratch *)pw_calloc_array(a, (size_t)w.shares, sizeof(tiled__scratch), "tile scratch", e);
+    w.stats = (pw_seam_stats *)pw_calloc_array(a, (size_t)w.shares, sizeof(pw_seam_stats), "seam statistics", e);
+    w.codes = (int *)pw_calloc_array(a, (size_t)w.shares, sizeof(int), "tile results", e);
+    w.errs = (pw_err *)pw_calloc_array(a, (size_t)w.shares, sizeof(pw_err), "tile messages", e);
+    if (!origins || !w.sc || !w.stats || !w.codes || !w.errs) r = PW_ERR_NOMEM;
+    for (j = 0; j < w.shares && r == PW_OK; j++) r = tiled__scratch_alloc(a, s->T, s->src.c, &w.sc[j], e);
+    if (r == PW_OK) {
+        for (k = 0; k < 8; k++) tiled__place_diamond(s, &rng, k, gm->n);
+        for (k = 0; k < n * 2 * TILED__CENTRE_CANDIDATES; k++)
+            origins[k] = (int)pw_rng_below(&rng, (uint32_t)(k % 2 ? s->src.h : s->src.w));
+        w.a = a;
+        w.s = s;
+        w.atlas = atlas;
+        w.gm = gm;
+        w.origins = origins;
+        w.pr = &pr;
+        pw_parallel_for(&par, w.shares, tiled__compose_share, &w);
+        for (j = 0; j < w.shares && r == PW_OK; j++)
+            if ((r = w.codes[j]) != PW_OK) *e = w.errs[j];
+        for (j = 0; j < w.shares && s->stats; j++) {
+            s->stats->pairs += w.stats[j].pairs;
+            s->stats->cut += w.stats[j].cut;
+        }
     }
-    pw_free(a, sc.src);
-    pw_free(a, sc.allowed);
-    pw_free(a, sc.label);
-    pw_free(a, sc.motif);
+    for (j = 0; w.sc && j < w.shares; j++) tiled__scratch_free(a, &w.sc[j]);
+    pw_free(a, w.sc);
+    pw_free(a, w.stats);
+    pw_free(a, w.codes);
+    pw_free(a, w.errs);
+    pw_free(a, origins);
     return r;
 }
 

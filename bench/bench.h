@@ -215,6 +215,36 @@ static inline void bench_row_pair(const char *task, const bench_multi *m, int pe
     bench_row(task, a, b, peer_name, q, paper, sp, qc.median > 0.95 ? slower_note : NULL);
 }
 
+/* Thread scaling: fn(one) on one thread against fn(two) on two, interleaved
+ * `runs` rounds after a warm-up, wall time (what threads shorten); prints
+ * the medians and the speed-up and emits a row whose peer is the one-thread
+ * run. `same`: whether the two results were compared equal bit for bit. */
+static inline void bench_threads_row(const char *task, void (*fn)(void *), void *one, void *two, int runs,
+                                     int (*same)(void *, void *))
+{
+    void (*fns[2])(void *);
+    void *args[2];
+    bench_multi m;
+    bench_stat a, b, q;
+    char fa[32], fb[32], ratio[32], sp[160], t0[32];
+    int eq;
+    fns[0] = fns[1] = fn;
+    args[0] = two, args[1] = one;
+    bench_interleave(&m, fns, args, 2, runs, 1);
+    b = bench_multi_stat(&m, 0, NULL);
+    a = bench_multi_stat(&m, 1, NULL);
+    q = bench_multi_ratio(&m, 0, 1, 0);
+    eq = same(one, two);
+    printf("threads: %s: 1 thread %s, 2 threads %s, speed-up %.2fx (rounds %.2f..%.2f); results %s\n", task,
+           bench_fmt_time(a.median, fa, sizeof fa), bench_fmt_time(b.median, fb, sizeof fb), 1.0 / q.median,
+           1.0 / q.max, 1.0 / q.min, eq ? "identical" : "DIFFER");
+    snprintf(ratio, sizeof ratio, "%.2f", q.median);
+    snprintf(sp, sizeof sp, "%d rounds, wall time; speed-up %.2fx (%.2f..%.2f); results %s", runs, 1.0 / q.median,
+             1.0 / q.max, 1.0 / q.min, eq ? "identical" : "DIFFER");
+    bench_row(task, bench_fmt_time(b.median, fb, sizeof fb), bench_fmt_time(a.median, t0, sizeof t0),
+              "the same on 1 thread", ratio, NULL, sp, NULL);
+}
+
 static inline void bench_growth(const char *method, double exponent, const char *over, const char *note)
 {
     printf("GROWTH\t%s\t%.2f\t%s\t%s\n", method, exponent, over && *over ? over : "-", note && *note ? note : "-");

@@ -17,6 +17,7 @@
  * spread reported), the larger ones once (512^2 alone takes about a
  * minute). */
 #include "bench.h"
+#define PW_THREADS
 #define PGP_IMPLEMENTATION
 #include "../pgp.h"
 
@@ -79,6 +80,7 @@ typedef struct job {
     pgp_key keys[2];
     pgp_synth_options o;
     double wall, cpu;
+    pgp_tile kept; /* the last tile of run_keep */
 } job;
 
 /* One synthesis; exits on error (a benchmark has no use for a failed run). */
@@ -118,6 +120,42 @@ static double morph_time(const job *j, const pgp_tile *masks)
 
 static void run_once(void *arg) { run((job *)arg, NULL); }
 
+/* One synthesis kept for comparison (the previous one freed first). */
+static void run_keep(void *arg)
+{
+    job *j = (job *)arg;
+    pgp_error err;
+    pgp_tile_free(&j->kept);
+    if (pgp_synthesize_tile(j->keys, 2, &j->o, &j->kept, NULL, &err) != PGP_OK) {
+        fprintf(stderr, "bench_pgp_synth: %s\n", err.message);
+        exit(1);
+    }
+}
+
+static int same_tile(void *a, void *b)
+{
+    const pgp_tile *x = &((job *)a)->kept, *y = &((job *)b)->kept;
+    return x->pixels && y->pixels && x->width == y->width && x->layers == y->layers &&
+           !memcmp(x->pixels, y->pixels, sizeof(float) * x->width * x->height * x->channels * x->layers);
+}
+
+/* The synthesis at 128^2 on 1 and 2 threads (the two ends of the morph side
+ * by side). */
+static void synth_threads(const job *base)
+{
+    job j[2];
+    int k;
+    for (k = 0; k < 2; k++) {
+        j[k] = *base;
+        memset(&j[k].kept, 0, sizeof j[k].kept);
+        j[k].o = pgp_default_options().synth;
+        j[k].o.size = 128;
+        j[k].o.threads = k + 1;
+    }
+    bench_threads_row("pgp_synthesize_tile on 2 threads, 128x128 x 8 layers", run_keep, &j[0], &j[1], 3, same_tile);
+    for (k = 0; k < 2; k++) pgp_tile_free(&j[k].kept);
+}
+
 int main(void)
 {
     static const int sizes[NRUNGS] = {64, 128, 256, 512};
@@ -139,6 +177,7 @@ int main(void)
         pgp_tile masks;
         double c0;
         j.o = pgp_default_options().synth;
+        j.o.threads = 1; /* one thread but in synth_threads */
         j.o.size = sizes[r];
         texels[r] = (double)sizes[r] * sizes[r] * 8;
         run(&j, &masks);
@@ -164,7 +203,9 @@ int main(void)
     printf("\n");
     printf("target: 8 layers at %d^2 from two keys in %.1f s of cpu (%.1f s wall; target < %.0f s: %s; the paper: 300 s "
            "per morph)\n", TARGET_SIZE, target, target_wall, TARGET_SECONDS, target < TARGET_SECONDS ? "met" : "NOT met");
+    synth_threads(&j);
     j.o = pgp_default_options().synth;
+    j.o.threads = 1;
     j.o.size = TARGET_SIZE;
     j.o.search_eps = -1.0f;
     j.o.search_buckets = -1;

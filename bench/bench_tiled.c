@@ -5,6 +5,7 @@
  *   - tiled_map end to end on the same mesh (checks, half-edges, assignment)
  *   - tile-set synthesis: 16 tiles of 128 px from a 128 px exemplar: target < 1 s */
 #include "bench.h"
+#define PW_THREADS
 #define TILED_IMPLEMENTATION
 #include "../tiled.h"
 
@@ -40,6 +41,37 @@ static void run_synth(void *arg)
     tiled_error err;
     if (tiled_synthesize(&j->ex, &j->opt, &j->ts, &err)) printf("synthesis failed: %s\n", err.message);
     tiled_tileset_free(&j->ts);
+}
+
+/* A synthesis kept for comparison (the previous one freed first). */
+static void run_synth_keep(void *arg)
+{
+    job *j = (job *)arg;
+    tiled_error err;
+    tiled_tileset_free(&j->ts);
+    if (tiled_synthesize(&j->ex, &j->opt, &j->ts, &err)) printf("synthesis failed: %s\n", err.message);
+}
+
+static int same_tiles(void *a, void *b)
+{
+    const tiled_image *x = &((job *)a)->ts.atlas, *y = &((job *)b)->ts.atlas;
+    return x->pixels && y->pixels && x->width == y->width && x->height == y->height &&
+           !memcmp(x->pixels, y->pixels, sizeof(float) * x->width * x->height * x->channels);
+}
+
+/* Synthesis on 1 and 2 threads (the tiles shared among them). */
+static void synth_threads(const job *base)
+{
+    job j[2];
+    int k;
+    for (k = 0; k < 2; k++) {
+        j[k] = *base;
+        memset(&j[k].ts, 0, sizeof j[k].ts);
+        j[k].opt.threads = k + 1;
+    }
+    bench_threads_row("tiled_synthesize on 2 threads, 16 tiles of 128 px (pebbles)", run_synth_keep, &j[0], &j[1], 5,
+                      same_tiles);
+    for (k = 0; k < 2; k++) tiled_tileset_free(&j[k].ts);
 }
 
 /* A row of the summary: no peer, and the thesis gives no timings. */
@@ -94,6 +126,7 @@ int main(void)
     memset(&a, 0, sizeof a);
     pw_err_clear(&e);
     j.opt = tiled_default_options();
+    j.opt.threads = 1; /* one thread but where the threads are compared */
     j.layout = j.opt.layout;
     j.layout.tile_size = 64;
     quads = j.opt; /* the torus is all quads: no subdivision, no smoothing */
@@ -119,6 +152,7 @@ int main(void)
     s = bench_time(run_synth, &j, 5);
     bench_report("tiled: synthesis, 16 tiles of 128 px (pebbles)", s, 0, "");
     row("tiled_synthesize, 16 tiles of 128 px from a 128 px exemplar (pebbles)", s);
+    synth_threads(&j);
     tiled_image_free(&j.ex);
     if (tiled_builtin_exemplar("spots", 128, &j.opt, &j.ex, NULL)) return 1;
     s = bench_time(run_synth, &j, 5);

@@ -5,7 +5,9 @@
  * with a counting allocator as the growth between two picture sizes, stays
  * within 48 bytes at the default 2 x 2 samples (the bands under way hold a
  * quarter of the frame's samples of 24 bytes, 24 bytes per pixel; the RGB
- * picture 12). */
+ * picture 12). Tile synthesis on threads (tiled's tiles, pgp's morph
+ * sides): the same tile set, bit for bit, on 1, 2 and 3 threads and through
+ * the reversed parallel-for. */
 #define PW_THREADS
 #define PATCHWORK_IMPLEMENTATION
 #include "../tiled.h"
@@ -163,6 +165,69 @@ static void t_tiled(void)
     tiled_tileset_free(&S.tiles);
 }
 
+/* Tile synthesis: the tile set of 1 thread, of 2 and 3, and of a reversed
+ * parallel-for, bit for bit. */
+static void t_tiled_synthesis(void)
+{
+    tiled_options opt = tiled_default_options();
+    tiled_image ex;
+    tiled_tileset ref, ts;
+    size_t n;
+    int threads, calls = reverse_calls;
+    opt.layout.tile_size = 32;
+    REQUIRE(tiled_builtin_exemplar("pebbles", 64, &opt, &ex, NULL) == TILED_OK);
+    opt.threads = 1;
+    REQUIRE(tiled_synthesize(&ex, &opt, &ref, NULL) == TILED_OK);
+    n = (size_t)ref.atlas.width * ref.atlas.height * ref.atlas.channels;
+    for (threads = 2; threads <= 4; threads++) {
+        opt.threads = threads == 4 ? 0 : threads;
+        opt.parallel = threads == 4 ? reverse_for : NULL;
+        REQUIRE(tiled_synthesize(&ex, &opt, &ts, NULL) == TILED_OK);
+        CHECKF(ts.atlas.width == ref.atlas.width && memcmp(ts.atlas.pixels, ref.atlas.pixels, n * sizeof(float)) == 0,
+               "tiled synthesis: the tile set %s differs from one thread's",
+               threads == 4 ? "through a reversed parallel-for" : threads == 2 ? "on 2 threads" : "on 3 threads");
+        tiled_tileset_free(&ts);
+    }
+    CHECKF(reverse_calls > calls, "tiled synthesis: the caller's parallel-for was not used");
+    tiled_tileset_free(&ref);
+    tiled_image_free(&ex);
+}
+
+/* pgp's tile synthesis: the two ends of a morph side by side. Keys: tiled's
+ * built-in pebbles and spots, viewed as pgp images. */
+static void t_pgp_synthesis(void)
+{
+    tiled_image ex[2];
+    pgp_image img[2];
+    pgp_key keys[2];
+    pgp_synth_options o = pgp_default_options().synth;
+    pgp_tile ref, t;
+    size_t n;
+    int k, threads, calls = reverse_calls;
+    REQUIRE(tiled_builtin_exemplar("pebbles", 32, NULL, &ex[0], NULL) == TILED_OK);
+    REQUIRE(tiled_builtin_exemplar("spots", 32, NULL, &ex[1], NULL) == TILED_OK);
+    for (k = 0; k < 2; k++) {
+        memset(&img[k], 0, sizeof img[k]);
+        img[k].width = ex[k].width, img[k].height = ex[k].height, img[k].channels = ex[k].channels;
+        img[k].pixels = ex[k].pixels;
+        keys[k].image = &img[k], keys[k].mask = NULL;
+    }
+    o.size = 32, o.layers = 5, o.threads = 1;
+    REQUIRE(pgp_synthesize_tile(keys, 2, &o, &ref, NULL, NULL) == PGP_OK);
+    n = (size_t)ref.width * ref.height * ref.channels * ref.layers;
+    for (threads = 2; threads <= 3; threads++) {
+        o.threads = threads == 3 ? 0 : threads;
+        o.parallel = threads == 3 ? reverse_for : NULL;
+        REQUIRE(pgp_synthesize_tile(keys, 2, &o, &t, NULL, NULL) == PGP_OK);
+        CHECKF(memcmp(t.pixels, ref.pixels, n * sizeof(float)) == 0, "pgp synthesis: the tile %s differs from one thread's",
+               threads == 3 ? "through a reversed parallel-for" : "on 2 threads");
+        pgp_tile_free(&t);
+    }
+    CHECKF(reverse_calls > calls, "pgp synthesis: the caller's parallel-for was not used");
+    pgp_tile_free(&ref);
+    for (k = 0; k < 2; k++) tiled_image_free(&ex[k]);
+}
+
 /* ---- lapped ---- */
 
 typedef struct lapped_scene {
@@ -302,6 +367,8 @@ static void t_lst(void)
 
 static const pwt_case cases[] = {
     {"threads_tiled", t_tiled},
+    {"threads_tiled_synthesis", t_tiled_synthesis},
+    {"threads_pgp_synthesis", t_pgp_synthesis},
     {"threads_lapped", t_lapped},
     {"threads_pgp", t_pgp},
     {"threads_lst", t_lst},

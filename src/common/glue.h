@@ -211,11 +211,7 @@ PW__DEF void pw_view_defaults(int *width, int *height, int *supersample, float v
     }                                                                                                               \
     static PW__UNUSED pw_parallel p##__parallel(const p##_render_options *ro)                                       \
     {                                                                                                               \
-        pw_parallel par;                                                                                            \
-        par.threads = ro->threads;                                                                                  \
-        par.run = ro->parallel;                                                                                     \
-        par.pool = ro->parallel_pool;                                                                               \
-        return par;                                                                                                 \
+        return pw_parallel_make(ro->threads, ro->parallel, ro->parallel_pool);                                      \
     }                                                                                                               \
     typedef int p##__glue_defined /* so that the use ends with a semicolon */
 

@@ -69,9 +69,10 @@
  *   PATCHWORK_IMPLEMENTATION turns on every patchwork header included after
  *   it. Build macros: PGP_STATIC (all functions static), PW_MALLOC /
  *   PW_REALLOC / PW_FREE (all or none), PW_ASSERT, PW_NO_STDIO, the PW_MAX_*
- *   size limits, as in every patchwork header, and PW_THREADS: rendering on
- *   several threads (POSIX threads; link with -pthread; pgp_render_options.
- *   threads, 0 = one per processor), the same picture for any count.
+ *   size limits, as in every patchwork header, and PW_THREADS: rendering and
+ *   tile synthesis on several threads (POSIX threads; link with -pthread;
+ *   pgp_render_options.threads and pgp_synth_options.threads, 0 = one per
+ *   processor), the same picture and tile for any count.
  *   PW_NO_RENDER and PW_NO_PNG leave out the renderer (pgp_render fails
  *   with PGP_ERR_UNSUPPORTED) and the PNG codec (loading or saving PNG fails
  *   the same way): faster builds for programs that only compute (docs/api.md).
@@ -285,42 +286,49 @@ typedef enum pgp_tileable {
 /* Tile synthesis settings (§1; pgp_options.synth; the synthesis calls take
  * a pointer to them, NULL for the defaults). */
 typedef struct pgp_synth_options {
-    int size;                /* tile side in texels; every key (and mask) is resampled
+    int size;                 /* tile side in texels; every key (and mask) is resampled
                             periodically to size x size (bilinear up, box filter down;
                             never cropped); default 128, 16 to 4096 */
-    int layers;              /* layers of the tile (m from 0 to 1); the keys sit at evenly
+    int layers;               /* layers of the tile (m from 0 to 1); the keys sit at evenly
                             spaced layers, the first at 0 and the last at layers-1;
                             default 8 */
-    int single;              /* 1: single-tile mode (Fig. 14): one key, every layer
+    int single;               /* 1: single-tile mode (Fig. 14): one key, every layer
                             synthesised with the key's own mask, to hide periodicity */
-    pgp_tileable tileable;   /* default AUTO */
-    pgp_mask auto_mask;      /* default DARK */
-    int steps;               /* §1.1 advection steps N per morph; 0: at least 16 per layer and
+    pgp_tileable tileable;    /* default AUTO */
+    pgp_mask auto_mask;       /* default DARK */
+    int steps;                /* §1.1 advection steps N per morph; 0: at least 16 per layer and
                             enough that dt <= 1/2 texel */
-    int uniform;             /* 1: layers at n = m N / M instead of the speed-adaptive H(m) */
-    int levels;              /* §1.2 pyramid levels; 0: halve while the side stays even and
+    int uniform;              /* 1: layers at n = m N / M instead of the speed-adaptive H(m) */
+    int levels;               /* §1.2 pyramid levels; 0: halve while the side stays even and
                             at least 32 texels */
-    int coarse_passes;       /* optimisation passes at the coarsest level; default 20 */
-    int fine_passes;         /* ... at every finer level; default 4 */
-    int color_window;        /* side of the colour neighbourhood (odd); default 5 */
-    int mask_window;         /* side of the mask neighbourhood (odd); default 3 */
-    int color_dims;          /* PCA coefficients kept of a colour neighbourhood; default 5, at
+    int coarse_passes;        /* optimisation passes at the coarsest level; default 20 */
+    int fine_passes;          /* ... at every finer level; default 4 */
+    int color_window;         /* side of the colour neighbourhood (odd); default 5 */
+    int mask_window;          /* side of the mask neighbourhood (odd); default 3 */
+    int color_dims;           /* PCA coefficients kept of a colour neighbourhood; default 5, at
                             most 8 */
-    int mask_dims;           /* ... of a mask neighbourhood; default 3, at most 8 */
-    float mask_weight;       /* scale of the mask coefficients ("scaled by two"); default 2 */
-    float usage_weight;      /* usage penalty: each current use of an input texel costs this
+    int mask_dims;            /* ... of a mask neighbourhood; default 3, at most 8 */
+    float mask_weight;        /* scale of the mask coefficients ("scaled by two"); default 2 */
+    float usage_weight;       /* usage penalty: each current use of an input texel costs this
                             fraction of the input vectors' total variance; default 0.2;
                             negative: no penalty */
-    float search_eps;        /* nearest neighbours within a factor 1 + eps of the nearest
+    float search_eps;         /* nearest neighbours within a factor 1 + eps of the nearest
                             distance, as the paper's ANN; default 1; negative: exact */
-    int search_buckets;      /* ... scanning at most this many kd-tree buckets (of 8 input
+    int search_buckets;       /* ... scanning at most this many kd-tree buckets (of 8 input
                             texels) per search, ANN's bound on the points visited;
                             default 64; negative: no bound. With search_eps < 0 and
                             search_buckets < 0 every match is the exact nearest one */
-    unsigned long long seed; /* random pixel order and single-tile initialisation, and the
+    unsigned long long seed;  /* random pixel order and single-tile initialisation, and the
                             noise of the built-in tiles (pgp_builtin_tile); default 0 */
+    int threads;              /* synthesis threads, as pgp_render_options.threads: 0 (default)
+                             one per processor with PW_THREADS, else 1. The two ends of
+                             each morph run side by side; the tile is the same for any
+                             number */
+    pgp_parallel_fn parallel; /* optional: the caller's parallel for, used instead of threads */
+    void *parallel_pool;      /* its first argument */
     pgp_allocator allocator;
-    pgp_progress_fn progress; /* may cancel: non-zero return stops with PGP_ERR_CANCELLED */
+    pgp_progress_fn progress; /* may cancel: non-zero return stops with PGP_ERR_CANCELLED; with
+                             threads, called from the thread of each morph's first end */
     void *progress_user;
 } pgp_synth_options;
 

@@ -301,6 +301,7 @@ typedef struct pgp__synth {
     int *perm;
     pw_progress prog;
     double *done, total;
+    double share; /* work counted per texel update: 2 when the other side runs unreported beside it */
 } pgp__synth;
 
 static void pgp__synth_free(const pw_alloc *a, pgp__synth *S)
@@ -321,6 +322,7 @@ static int pgp__synth_init(const pw_alloc *a, pgp__synth *S, pgp__ex *ex, const 
     memset(S, 0, sizeof *S);
     S->o = o;
     S->ex = ex;
+    S->share = 1.0;
     for (r = 0; r < ex->nlev; r++) {
         size_t nn = (size_t)ex->lev[r].n * ex->lev[r].n;
         S->ind[r] = (int *)pw_alloc_array(a, nn, sizeof(int), "indirection map", e);
@@ -385,7 +387,7 @@ static int pgp__optimize(pgp__synth *S, int r, pw_rng *rng, pw_err *e)
     for (pass = 0; pass < passes; pass++) {
         pw_rng_shuffle(rng, S->perm, nn);
         for (i = 0; i < nn; i++) pgp__update_texel(S, L, S->ind[r], S->target[r], S->perm[i]);
-        *S->done += nn;
+        *S->done += S->share * nn;
         if (pw_report(&S->prog, (float)(0.05 + 0.95 * *S->done / S->total), "tile synthesis", e))
             return PW_ERR_CANCELLED;
     }
@@ -555,17 +557,18 @@ static int pgp__layer_masks(const pgp__tile_job *T, const pw_progress *prog, uns
 typedef struct pgp__span {
     const unsigned char *masks;
     int M;
-    float *out;
+    float *out[2]; /* the layers of each end's synthesis; [1] may be [0] */
 } pgp__span;
 
 /* One end of morph span sp: from its own key (from_end 0: m = 0, 1, ...,
- * M-1, weight 1 - m/M, written) or from the other (from_end 1: m = M, ...,
- * 1, weight m/M, added), §1 step 3. */
+ * M-1, weight 1 - m/M, written to out[0]) or from the other (from_end 1:
+ * m = M, ..., 1, weight m/M, added to out[1] if it is out[0], else
+ * written), §1 step 3. */
 static int pgp__synth_side(pgp__synth *S, const pgp__span *sp, int from_end, uint64_t stream, pw_err *e)
 {
     const unsigned char *masks = sp->masks;
-    int M = sp->M;
-    float *out = sp->out;
+    int M = sp->M, add = from_end && sp->out[1] == sp->out[0];
+    float *out = sp->out[from_end];
     const pgp__exlevel *L = &S->ex->lev[S->ex->nlev - 1];
     size_t nn = (size_t)L->n * L->n, lay = nn * S->ex->c;
     int k, r = PW_OK;
@@ -574,7 +577,7 @@ static int pgp__synth_side(pgp__synth *S, const pgp__span *sp, int from_end, uin
         r = pgp__synth_layer(S, masks + m * nn, k == 0 ? PGP__INIT_IDENTITY : PGP__INIT_PREVIOUS, stream + (uint64_t)m,
                              e);
         if (r == PW_OK && m < M)
-            pgp__emit(S, from_end ? (float)m / (float)M : 1.0f - (float)m / (float)M, from_end, out + m * lay);
+            pgp__emit(S, from_end ? (float)m / (float)M : 1.0f - (float)m / (float)M, add, out + m * lay);
     }
     return r;
 }
@@ -594,8 +597,71 @@ static double pgp__work(const pgp_synth_options *o, int nkeys, int nlev)
     return per * (layers > 0 ? layers : 1);
 }
 
+/* The two ends of a morph span as two tasks of a pw_parallel: each with its
+ * own synthesis state, exemplar and layers, nothing shared but the span's
+ * masks. */
+typedef struct pgp__sides {
+    pgp__synth *S; /* [2] */
+    const pgp__span *sp;
+    uint64_t stream;
+    int codes[2];
+    pw_err errs[2];
+} pgp__sides;
+
+static void pgp__side_task(void *ctx, int j)
+{
+    pgp__sides *D = (pgp__sides *)ctx;
+    pw_err_clear(&D->errs[j]);
+    D->codes[j] = pgp__synth_side(&D->S[j], D->sp, j, D->stream + (uint64_t)j * 2048, &D->errs[j]);
+}
+
+/* How the morph spans run: the parallel settings, the synthesis states
+ * S[2], the exemplars ex[2] (the span's start and end) and, when the ends
+ * run side by side, the far end's layers (else NULL). */
+typedef struct pgp__span_run {
+    const pw_parallel *par;
+    pgp__synth *S;
+    pgp__ex *ex;
+    float *apart;
+} pgp__span_run;
+
+/* Both ends of span sp: one after the other with S[0] when R->apart is
+ * NULL, else side by side, the far end's layers in R->apart and added
+ * after (the same sums in the same order: the tile does not depend on the
+ * threads). */
+static int pgp__synth_span(const pgp__span_run *R, pgp__span *sp, uint64_t stream, pw_err *e)
+{
+    pgp__synth *S = R->S;
+    pgp__ex *ex = R->ex;
+    float *apart = R->apart;
+    size_t lay = (size_t)S[0].o->size * S[0].o->size * ex[0].c, i;
+    pgp__sides D;
+    int r;
+    if (!apart) {
+        sp->out[1] = sp->out[0];
+        S[0].ex = &ex[0];
+        r = pgp__synth_side(&S[0], sp, 0, stream, e);
+        S[0].ex = &ex[1];
+        return r == PW_OK ? pgp__synth_side(&S[0], sp, 1, stream + 2048, e) : r;
+    }
+    sp->out[1] = apart;
+    S[0].ex = &ex[0];
+    S[1].ex = &ex[1];
+    D.S = S;
+    D.sp = sp;
+    D.stream = stream;
+    pw_parallel_for(R->par, 2, pgp__side_task, &D);
+    if ((r = D.codes[0]) != PW_OK || (r = D.codes[1]) != PW_OK) {
+        *e = D.errs[D.codes[0] != PW_OK ? 0 : 1];
+        return r;
+    }
+    for (i = lay; i < (size_t)sp->M * lay; i++) sp->out[0][i] += apart[i];
+    return PW_OK;
+}
+
 /* Every layer's colours (layers*n*n*c): the morphs with a rolling pair of
- * exemplars, or the single-tile layers. */
+ * exemplars, the two ends of each morph side by side when o's parallel
+ * settings allow two tasks at once, or the single-tile layers. */
 static int pgp__synth_layers(const pgp__tile_job *T, const unsigned char *masks, float *px, pw_err *e)
 {
     const pw_alloc *a = T->a;
@@ -603,21 +669,31 @@ static int pgp__synth_layers(const pgp__tile_job *T, const unsigned char *masks,
     const pgp__key *keys = T->keys;
     int nkeys = T->nkeys, c = T->c, nlev = T->nlev;
     size_t nn = (size_t)o->size * o->size, lay = nn * c;
+    pw_parallel par = pw_parallel_make(o->threads, o->parallel, o->parallel_pool);
+    int two = !o->single && nkeys > 1 && pw_parallel_width(&par) > 1;
+    float *apart = NULL;
     pgp__ex ex[2];
-    pgp__synth S;
-    double done = 0.0;
+    pgp__synth S[2];
+    pgp__span_run R;
+    double done = 0.0, done_apart = 0.0;
     int k, l, r;
     memset(ex, 0, sizeof ex);
-    memset(&S, 0, sizeof S);
+    memset(S, 0, sizeof S);
     r = pgp__ex_build(T, &keys[0], &ex[0], e);
-    if (r == PW_OK) r = pgp__synth_init(a, &S, &ex[0], o, e);
-    S.prog = pgp__synth_progress(o);
-    S.done = &done;
-    S.total = pgp__work(o, nkeys, nlev);
+    if (r == PW_OK) r = pgp__synth_init(a, &S[0], &ex[0], o, e);
+    if (r == PW_OK && two && (r = pgp__synth_init(a, &S[1], &ex[0], o, e)) == PW_OK) {
+        apart = (float *)pw_alloc_array(a, lay * o->layers, sizeof(float), "far-end layers", e);
+        if (!apart) r = PW_ERR_NOMEM;
+    }
+    S[0].prog = pgp__synth_progress(o);
+    S[0].done = &done;
+    S[0].total = S[1].total = pgp__work(o, nkeys, nlev);
+    S[0].share = two ? 2.0 : 1.0;
+    S[1].done = &done_apart; /* the far end reports nothing: its thread is not the caller's */
     memcpy(px, keys[0].color, sizeof(float) * lay);
     for (l = 1; o->single && r == PW_OK && l < o->layers; l++) {
-        if ((r = pgp__synth_layer(&S, masks, PGP__INIT_RANDOM, (uint64_t)l, e)) == PW_OK)
-            pgp__emit(&S, 1.0f, 0, px + l * lay);
+        if ((r = pgp__synth_layer(&S[0], masks, PGP__INIT_RANDOM, (uint64_t)l, e)) == PW_OK)
+            pgp__emit(&S[0], 1.0f, 0, px + l * lay);
     }
     for (k = 0; !o->single && r == PW_OK && k + 1 < nkeys; k++) {
         int b = pgp__key_layer(k, nkeys, o->layers), M = pgp__key_layer(k + 1, nkeys, o->layers) - b;
@@ -625,17 +701,20 @@ static int pgp__synth_layers(const pgp__tile_job *T, const unsigned char *masks,
         if ((r = pgp__ex_build(T, &keys[k + 1], &ex[1], e)) != PW_OK) break;
         sp.masks = masks + b * nn;
         sp.M = M;
-        sp.out = px + b * lay;
-        S.ex = &ex[0];
-        r = pgp__synth_side(&S, &sp, 0, (uint64_t)k * 4096, e);
-        S.ex = &ex[1];
-        if (r == PW_OK) r = pgp__synth_side(&S, &sp, 1, (uint64_t)k * 4096 + 2048, e);
+        sp.out[0] = px + b * lay;
+        R.par = &par;
+        R.S = S;
+        R.ex = ex;
+        R.apart = apart;
+        r = pgp__synth_span(&R, &sp, (uint64_t)k * 4096, e);
         memcpy(px + (b + M) * lay, keys[k + 1].color, sizeof(float) * lay);
         pgp__ex_free(a, &ex[0]);
         ex[0] = ex[1];
         memset(&ex[1], 0, sizeof ex[1]);
     }
-    pgp__synth_free(a, &S);
+    pgp__synth_free(a, &S[0]);
+    pgp__synth_free(a, &S[1]);
+    pw_free(a, apart);
     pgp__ex_free(a, &ex[0]);
     pgp__ex_free(a, &ex[1]);
     return r;

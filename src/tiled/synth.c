@@ -150,14 +150,19 @@ static void tiled__constraints(const tiled__synth *s, tiled__scratch *sc)
         }
 }
 
+/* Candidate centre windows per tile: drawn for every tile, in tile order,
+ * before any tile is composed, so that tiles can be composed in any order. */
+#define TILED__CENTRE_CANDIDATES 16
+
 /* Picks the centre window that best agrees with the side diamonds where
- * both may appear (best of a few random origins), and fills label 4. */
-static void tiled__centre_source(const tiled__synth *s, pw_rng *rng, tiled__scratch *sc)
+ * both may appear (the best of the tile's candidate origins org[2k],
+ * org[2k+1]), and fills label 4. */
+static void tiled__centre_source(const tiled__synth *s, const int *org, tiled__scratch *sc)
 {
     int T = s->T, c = s->src.c, cand, i, j, k, bx = 0, by = 0;
     double best = -1.0;
-    for (cand = 0; cand < 16; cand++) {
-        int ox = (int)pw_rng_below(rng, (uint32_t)s->src.w), oy = (int)pw_rng_below(rng, (uint32_t)s->src.h);
+    for (cand = 0; cand < TILED__CENTRE_CANDIDATES; cand++) {
+        int ox = org[2 * cand], oy = org[2 * cand + 1];
         double cost = 0.0;
         for (j = 0; j < T; j++)
             for (i = 0; i < T; i++) {
@@ -182,29 +187,58 @@ static void tiled__centre_source(const tiled__synth *s, pw_rng *rng, tiled__scra
         }
 }
 
-/* The loop of tiled__synth_tiles over the tiles: the atlas being filled
- * and its tile geometry, the random stream and the scratch shared by all
- * tiles. */
+static void tiled__scratch_free(const pw_alloc *a, tiled__scratch *sc)
+{
+    pw_free(a, sc->src);
+    pw_free(a, sc->allowed);
+    pw_free(a, sc->label);
+    pw_free(a, sc->motif);
+    memset(sc, 0, sizeof *sc);
+}
+
+static int tiled__scratch_alloc(const pw_alloc *a, int T, int c, tiled__scratch *sc, pw_err *e)
+{
+    size_t tt = (size_t)T * T;
+    sc->src = (float *)pw_alloc_array(a, tt * 5 * c, sizeof(float), "tile sources", e);
+    sc->allowed = (uint32_t *)pw_alloc_array(a, tt, sizeof(uint32_t), "tile constraints", e);
+    sc->label = (int *)pw_alloc_array(a, tt, sizeof(int), "tile labels", e);
+    sc->motif = (float *)pw_alloc_array(a, tt * 5, sizeof(float), "tile motif maps", e);
+    if (sc->src && sc->allowed && sc->label && sc->motif) return PW_OK;
+    tiled__scratch_free(a, sc);
+    return PW_ERR_NOMEM;
+}
+
+/* The tiles of one synthesis, composed in `shares` shares (share j: tiles
+ * j, j + shares, ...), each share with its own scratch, result and seam
+ * statistics, so that the shares can run on several threads. Only share 0
+ * reports progress. */
 typedef struct tiled__tile_work {
+    const pw_alloc *a;
+    const tiled__synth *s;
     pw_image *atlas;
     const tiled__geom *gm;
-    pw_rng *rng;
-    tiled__scratch *sc;
+    const int *origins; /* per tile, its candidate centre origins */
+    const pw_progress *pr;
+    int shares;
+    tiled__scratch *sc;   /* [shares] */
+    pw_seam_stats *stats; /* [shares] */
+    int *codes;           /* [shares] */
+    pw_err *errs;         /* [shares] */
 } tiled__tile_work;
 
-/* Composes tile t into the atlas of w. */
-static int tiled__compose(const pw_alloc *a, const tiled__synth *s, const tiled__tile_work *w, int t, pw_err *e)
+/* Composes tile t into the atlas of w with the scratch of share j. */
+static int tiled__compose(const tiled__tile_work *w, int j, int t)
 {
+    const tiled__synth *s = w->s;
     pw_image *atlas = w->atlas;
     const tiled__geom *gm = w->gm;
-    pw_rng *rng = w->rng;
-    tiled__scratch *sc = w->sc;
-    int types[4], T = s->T, c = s->src.c, j, r;
+    tiled__scratch *sc = &w->sc[j];
+    int types[4], T = s->T, c = s->src.c, y, r;
     pw_quilt q;
     tiled__tile_types(gm, s->case1, t, types);
     tiled__side_sources(s, types, sc->src, sc->motif);
     tiled__constraints(s, sc);
-    tiled__centre_source(s, rng, sc);
+    tiled__centre_source(s, w->origins + (size_t)t * 2 * TILED__CENTRE_CANDIDATES, sc);
     q.w = q.h = T;
     q.c = c;
     q.nlabels = 5;
@@ -214,15 +248,28 @@ static int tiled__compose(const pw_alloc *a, const tiled__synth *s, const tiled_
     q.wrap_x = q.wrap_y = 0;
     q.motif = sc->motif;
     q.motif_weight = s->motif_weight;
-    if ((r = pw_quilt_optimize(a, &q, 2, e)) != PW_OK) return r;
-    if (s->stats) pw_quilt_seam_stats(&q, s->tau, s->stats);
-    for (j = 0; j < T; j++) { /* compose row by row into the atlas */
+    if ((r = pw_quilt_optimize(w->a, &q, 2, &w->errs[j])) != PW_OK) return r;
+    if (s->stats) pw_quilt_seam_stats(&q, s->tau, &w->stats[j]);
+    for (y = 0; y < T; y++) { /* compose row by row into the atlas */
         int i;
         for (i = 0; i < T; i++)
-            memcpy(tiled__atlas_px(atlas, gm, t, i, j), sc->src + ((size_t)(sc->label[j * T + i] * T + j) * T + i) * c,
+            memcpy(tiled__atlas_px(atlas, gm, t, i, y), sc->src + ((size_t)(sc->label[y * T + i] * T + y) * T + i) * c,
                    sizeof(float) * c);
     }
     return PW_OK;
+}
+
+/* Share j of the tiles (a pw_parallel task). */
+static void tiled__compose_share(void *ctx, int j)
+{
+    const tiled__tile_work *w = (const tiled__tile_work *)ctx;
+    int n = w->gm->N * w->gm->N, t, r = PW_OK;
+    pw_err_clear(&w->errs[j]);
+    for (t = j; t < n && r == PW_OK; t += w->shares) {
+        if (j == 0) r = pw_report(w->pr, 0.1f + 0.9f * (float)t / (float)n, "tile synthesis", &w->errs[j]);
+        if (r == PW_OK) r = tiled__compose(w, j, t);
+    }
+    w->codes[j] = r;
 }
 
 /* Cost of the corner between the bottom side (type t0) and the right side
@@ -293,34 +340,51 @@ static void tiled__place_diamond(tiled__synth *s, pw_rng *rng, int k, int ntypes
     s->dy[k] = s->dy[8];
 }
 
-/* Builds every tile of a resolved layout from the periodic source. */
+/* Builds every tile of a resolved layout from the periodic source, the
+ * tiles shared among the threads of o's parallel settings: every random
+ * choice is drawn first, in tile order, and every tile is composed from
+ * its own choices alone, so the tile set does not depend on the threads. */
 static int tiled__synth_tiles(const pw_alloc *a, tiled__synth *s, const tiled_options *o, pw_image *atlas,
                               const tiled__geom *gm, pw_err *e)
 {
     pw_progress pr = tiled__progress(o);
+    pw_parallel par = pw_parallel_make(o->threads, o->parallel, o->parallel_pool);
     pw_rng rng = pw_rng_seed(o->seed, 3);
-    tiled__scratch sc;
     tiled__tile_work w;
-    size_t tt = (size_t)s->T * s->T;
-    int k, t, r = PW_OK;
-    w.atlas = atlas;
-    w.gm = gm;
-    w.rng = &rng;
-    w.sc = &sc;
-    for (k = 0; k < 8; k++) tiled__place_diamond(s, &rng, k, gm->n);
-    sc.src = (float *)pw_alloc_array(a, tt * 5 * s->src.c, sizeof(float), "tile sources", e);
-    sc.allowed = (uint32_t *)pw_alloc_array(a, tt, sizeof(uint32_t), "tile constraints", e);
-    sc.label = (int *)pw_alloc_array(a, tt, sizeof(int), "tile labels", e);
-    sc.motif = (float *)pw_alloc_array(a, tt * 5, sizeof(float), "tile motif maps", e);
-    if (!sc.src || !sc.allowed || !sc.label || !sc.motif) r = PW_ERR_NOMEM;
-    for (t = 0; t < gm->N * gm->N && r == PW_OK; t++) {
-        r = pw_report(&pr, 0.1f + 0.9f * (float)t / (float)(gm->N * gm->N), "tile synthesis", e);
-        if (r == PW_OK) r = tiled__compose(a, s, &w, t, e);
+    int n = gm->N * gm->N, k, j, r = PW_OK;
+    int *origins = (int *)pw_alloc_array(a, (size_t)n * 2 * TILED__CENTRE_CANDIDATES, sizeof(int), "tile choices", e);
+    memset(&w, 0, sizeof w);
+    w.shares = pw_mini(pw_parallel_width(&par), n);
+    w.sc = (tiled__scratch *)pw_calloc_array(a, (size_t)w.shares, sizeof(tiled__scratch), "tile scratch", e);
+    w.stats = (pw_seam_stats *)pw_calloc_array(a, (size_t)w.shares, sizeof(pw_seam_stats), "seam statistics", e);
+    w.codes = (int *)pw_calloc_array(a, (size_t)w.shares, sizeof(int), "tile results", e);
+    w.errs = (pw_err *)pw_calloc_array(a, (size_t)w.shares, sizeof(pw_err), "tile messages", e);
+    if (!origins || !w.sc || !w.stats || !w.codes || !w.errs) r = PW_ERR_NOMEM;
+    for (j = 0; j < w.shares && r == PW_OK; j++) r = tiled__scratch_alloc(a, s->T, s->src.c, &w.sc[j], e);
+    if (r == PW_OK) {
+        for (k = 0; k < 8; k++) tiled__place_diamond(s, &rng, k, gm->n);
+        for (k = 0; k < n * 2 * TILED__CENTRE_CANDIDATES; k++)
+            origins[k] = (int)pw_rng_below(&rng, (uint32_t)(k % 2 ? s->src.h : s->src.w));
+        w.a = a;
+        w.s = s;
+        w.atlas = atlas;
+        w.gm = gm;
+        w.origins = origins;
+        w.pr = &pr;
+        pw_parallel_for(&par, w.shares, tiled__compose_share, &w);
+        for (j = 0; j < w.shares && r == PW_OK; j++)
+            if ((r = w.codes[j]) != PW_OK) *e = w.errs[j];
+        for (j = 0; j < w.shares && s->stats; j++) {
+            s->stats->pairs += w.stats[j].pairs;
+            s->stats->cut += w.stats[j].cut;
+        }
     }
-    pw_free(a, sc.src);
-    pw_free(a, sc.allowed);
-    pw_free(a, sc.label);
-    pw_free(a, sc.motif);
+    for (j = 0; w.sc && j < w.shares; j++) tiled__scratch_free(a, &w.sc[j]);
+    pw_free(a, w.sc);
+    pw_free(a, w.stats);
+    pw_free(a, w.codes);
+    pw_free(a, w.errs);
+    pw_free(a, origins);
     return r;
 }
 

@@ -40,9 +40,11 @@
  *                          TILED_ERR_UNSUPPORTED) and the PNG codec (loading
  *                          or saving PNG fails the same way): faster builds
  *                          for programs that only compute (docs/api.md)
- *   PW_THREADS             render on several threads (POSIX threads; link with
- *                          -pthread): tiled_render_options.threads, 0 = one
- *                          per processor; the picture is the same for any count
+ *   PW_THREADS             render and synthesise tiles on several threads
+ *                          (POSIX threads; link with -pthread):
+ *                          tiled_render_options.threads and
+ *                          tiled_options.threads, 0 = one per processor; the
+ *                          picture and the tile set are the same for any count
  *   PW_MAX_IMAGE_DIM, PW_MAX_IMAGE_PIXELS, PW_MAX_MESH_ELEMENTS,
  *   PW_MAX_FACE_DEGREE     size limits checked on input (see base module)
  *
@@ -246,9 +248,15 @@ typedef struct tiled_options {
     int fixed_start;             /* 1: always start the tile walk at a face's first
                                 corner instead of a random one (thesis's
                                 "further randomness" off); default 0 */
+    int threads;                 /* tile synthesis threads, as render.threads: 0 (default)
+                                one per processor with PW_THREADS, else 1; the tile set
+                                is the same for any number */
+    tiled_parallel_fn parallel;  /* optional: the caller's parallel for, used instead of threads */
+    void *parallel_pool;         /* its first argument */
     tiled_render_options render; /* tiled_render's settings (pass &opt.render) */
     tiled_allocator allocator;
-    tiled_progress_fn progress; /* may be NULL */
+    tiled_progress_fn progress; /* may be NULL; with threads, called from the thread that
+                                composes the first share of the tiles */
     void *progress_user;
 } tiled_options;
 
