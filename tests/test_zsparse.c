@@ -1,9 +1,14 @@
 /* Tests of src/common/zsparse.h: complex Hermitian CSR, complex IC(0) and
  * PCG, checked against the same systems written as real 2n x 2n matrices
- * (2x2 blocks [re -im; im re]) and solved by sparse.h's real PCG. */
-#include "../src/common/zsparse.h"
+ * (2x2 blocks [re -im; im re]) and solved by sparse.h's real PCG; and of
+ * src/common/zamg.h, the multigrid preconditioner, against IC(0). */
+#include "../src/common/zamg.h"
 #include "../src/common/rng.h"
 #include "pwtest.h"
+
+/* The transports' angles: uniform in [0, 2 pi) times this (1: a random,
+ * strongly curved connection; small: a smooth one, as on a mesh). */
+static double spread = 1.0;
 
 /* A connection Laplacian on a w x h grid with random unit transports plus
  * a diagonal shift: sum over edges of |z_i - c z_j|^2 + shift |z|^2, the
@@ -23,7 +28,7 @@ static int build(int w, int h, double shift, unsigned seed, pw_triplets *zt, pw_
         for (x = 0; x < w; x++)
             for (d = 0; d < 2; d++) {
                 int j = d ? (y + 1 < h ? (y + 1) * w + x : -1) : (x + 1 < w ? y * w + x + 1 : -1);
-                double a = 6.283185307179586 * pw_rng_float(&rng), c = cos(a), s = sin(a), wt = 0.5 + pw_rng_float(&rng);
+                double a = 6.283185307179586 * spread * pw_rng_float(&rng), c = cos(a), s = sin(a), wt = 0.5 + pw_rng_float(&rng);
                 if (j < 0) continue;
                 i = y * w + x;
                 /* w |z_i - c z_j|^2: diag w at i and j, -w c at (i, j), -w conj(c) at (j, i) */
@@ -176,10 +181,147 @@ static void t_alloc_failures(void)
     pw_triplets_free(&rt);
 }
 
+/* A smooth connection Laplacian on a w x h grid (transports within 0.02
+ * turns of 1, a shift of 1e-5 of the edge weights: the low end of pgp's
+ * spectrum, where IC(0) needs ever more iterations), packed; b a fixed
+ * right-hand side. */
+static int grid_system(int w, int h, pw_zcsr *Z, double **b)
+{
+    pw_triplets zt, rt;
+    pw_err e;
+    int i, n = w * h;
+    pw_rng rng = pw_rng_seed(11, 3);
+    spread = 0.02;
+    i = build(w, h, 1e-5, 9, &zt, &rt);
+    spread = 1.0;
+    if (i) return 1;
+    i = pw_zcsr_from_triplets(NULL, &zt, Z, &e);
+    pw_triplets_free(&zt);
+    pw_triplets_free(&rt);
+    if (i || !(*b = (double *)malloc(sizeof(double) * 2 * n))) return 1;
+    for (i = 0; i < 2 * n; i++) (*b)[i] = pw_rng_float(&rng) - 0.5;
+    return 0;
+}
+
+/* Iterations of IC(0)-PCG and of multigrid PCG to 1e-8 on a w x h grid;
+ * both must converge, and the multigrid answer must solve the system. */
+static void amg_vs_ic0(int w, int h, int *it_ic0, int *it_amg, int *levels)
+{
+    pw_zcsr Z;
+    pw_zic0 L;
+    pw_zamg M;
+    pw_cg_options o;
+    pw_cg_stats s1, s2;
+    pw_err e;
+    double *b, *x;
+    int n = w * h;
+    REQUIRE(!grid_system(w, h, &Z, &b));
+    x = (double *)calloc(2 * (size_t)n, sizeof(double));
+    memset(&o, 0, sizeof o);
+    o.tol = 1e-8;
+    REQUIRE(pw_zic0_factor(NULL, &Z, &L, &e) == PW_OK);
+    REQUIRE(pw_zpcg_solve(NULL, &Z, &L, b, x, &o, &s1, &e) == PW_OK);
+    memset(x, 0, sizeof(double) * 2 * n);
+    REQUIRE(pw_zamg_setup(NULL, &Z, &M, &e) == PW_OK);
+    REQUIRE(pw_zamg_solve(NULL, &Z, &M, b, x, &o, &s2, &e) == PW_OK);
+    CHECKF(s1.converged && s2.converged && s2.residual <= 1e-8, "%dx%d: IC(0) %d, multigrid %d (residual %.2g)", w, h,
+           s1.converged, s2.converged, s2.residual);
+    *it_ic0 = s1.iterations;
+    *it_amg = s2.iterations;
+    *levels = M.levels;
+    pw_zamg_free(NULL, &M);
+    pw_zic0_free(NULL, &L);
+    pw_zcsr_free(NULL, &Z);
+    free(b);
+    free(x);
+}
+
+/* The multigrid iteration count stays about the same from 64x64 to 256x256
+ * unknowns (16x more) while IC(0)'s grows with the side, and is below it. */
+static void t_amg_scaling(void)
+{
+    int ic[2], mg[2], lv[2], k, side[2] = {64, 256};
+    for (k = 0; k < 2; k++) {
+        amg_vs_ic0(side[k], side[k], &ic[k], &mg[k], &lv[k]);
+        pwt_info("%dx%d grid: IC(0)-PCG %d iterations, multigrid PCG %d (%d coarser levels)", side[k], side[k], ic[k],
+                 mg[k], lv[k]);
+    }
+    CHECKF(lv[0] >= 1 && lv[1] > lv[0], "levels %d, %d", lv[0], lv[1]);
+    CHECKF(mg[1] <= mg[0] + 6, "multigrid iterations grow from %d to %d", mg[0], mg[1]);
+    CHECKF(2 * ic[1] >= 3 * ic[0], "IC(0) iterations %d -> %d: the grid is too easy to tell", ic[0], ic[1]);
+    CHECKF(2 * mg[1] < ic[1], "multigrid %d against IC(0) %d iterations at 256x256", mg[1], ic[1]);
+}
+
+/* Below the coarsest size the preconditioner is the exact inverse (one
+ * iteration); the same system twice gives the same bits. */
+static void t_amg_small_and_determinism(void)
+{
+    pw_zcsr Z;
+    pw_zamg M;
+    pw_cg_options o;
+    pw_cg_stats s;
+    pw_err e;
+    double *b, *x[2];
+    int k, n = 96 * 96;
+    REQUIRE(!grid_system(16, 16, &Z, &b));
+    x[0] = (double *)calloc(2 * 256, sizeof(double));
+    memset(&o, 0, sizeof o);
+    o.tol = 1e-10;
+    REQUIRE(pw_zamg_setup(NULL, &Z, &M, &e) == PW_OK);
+    CHECK_EQ_INT(M.levels, 0);
+    REQUIRE(pw_zamg_solve(NULL, &Z, &M, b, x[0], &o, &s, &e) == PW_OK);
+    CHECKF(s.iterations <= 2 && s.converged, "%d iterations on a directly solved level", s.iterations);
+    pw_zamg_free(NULL, &M);
+    pw_zcsr_free(NULL, &Z);
+    free(b);
+    free(x[0]);
+    REQUIRE(!grid_system(96, 96, &Z, &b));
+    for (k = 0; k < 2; k++) {
+        x[k] = (double *)calloc(2 * (size_t)n, sizeof(double));
+        REQUIRE(pw_zamg_setup(NULL, &Z, &M, &e) == PW_OK);
+        REQUIRE(pw_zamg_solve(NULL, &Z, &M, b, x[k], &o, &s, &e) == PW_OK);
+        pw_zamg_free(NULL, &M);
+    }
+    CHECK(!memcmp(x[0], x[1], sizeof(double) * 2 * n));
+    pw_zcsr_free(NULL, &Z);
+    free(b);
+    free(x[0]);
+    free(x[1]);
+}
+
+/* Every allocation of the setup failing in turn: PW_ERR_NOMEM, nothing left. */
+static void t_amg_alloc_failures(void)
+{
+    pw_zcsr Z;
+    double *b;
+    int k, fails = 0;
+    REQUIRE(!grid_system(40, 40, &Z, &b));
+    for (k = 0; k < 400; k++) {
+        pwt_alloc_state st = {0, 0, -1};
+        pw_alloc al = {pwt_malloc, pwt_realloc, pwt_free, &st};
+        pw_zamg M;
+        pw_err e;
+        int r;
+        st.fail_after = k;
+        r = pw_zamg_setup(&al, &Z, &M, &e);
+        if (r == PW_OK) pw_zamg_free(&al, &M);
+        CHECKF(r == PW_OK || r == PW_ERR_NOMEM, "failure point %d: %d", k, r);
+        CHECKF(st.live == 0, "failure point %d leaks %d blocks", k, st.live);
+        if (r == PW_OK) break;
+        fails++;
+    }
+    CHECK(fails > 10);
+    pw_zcsr_free(NULL, &Z);
+    free(b);
+}
+
 static const pwt_case cases[] = {
     {"zsparse/mul_matches_real", t_mul_matches_real},
     {"zsparse/solve_matches_real", t_solve_matches_real},
     {"zsparse/errors", t_errors},
     {"zsparse/alloc_failures", t_alloc_failures},
+    {"zsparse/amg_scaling", t_amg_scaling},
+    {"zsparse/amg_small_and_determinism", t_amg_small_and_determinism},
+    {"zsparse/amg_alloc_failures", t_amg_alloc_failures},
 };
 PWT_MAIN(cases)

@@ -1,0 +1,556 @@
+/* zamg: a smoothed-aggregation multigrid preconditioner for the complex
+ * Hermitian systems of zsparse.h, for meshes too large for IC(0).
+ *
+ * IC(0)-preconditioned CG needs about sqrt(n) iterations on a surface
+ * Laplacian of n unknowns, so its time grows as n^1.5; a multigrid
+ * V-cycle keeps the iteration count about constant. The systems pgp.h
+ * solves are connection Laplacians: terms w |z_j - R z_i|^2 with unit
+ * complex R, so the smooth (low-energy) vectors are not constant but turn
+ * by R from unknown to unknown. The coarse spaces follow that:
+ *
+ *   - Aggregation (Vanek, Mandel, Brezina 1996): unknowns joined by a
+ *     strong entry (|a_ij| >= theta sqrt(a_ii a_jj)) are grouped around
+ *     roots taken in index order, leftovers join their strongest
+ *     aggregated neighbour.
+ *   - Tentative prolongation, one entry per row: the phase that carries the
+ *     aggregate's value from the root to the unknown along the edge that
+ *     joined it (-a_ij / |a_ij|, which is R for a term as above), so the
+ *     coarse vector 1 stands for a section parallel along those edges.
+ *   - One damped Jacobi step smooths it (P = (I - omega D^-1 A) P_t,
+ *     omega = 2/3), and the coarse matrix is P^H A P (Galerkin).
+ *   - A V(1,1) cycle: forward Gauss-Seidel before the coarse correction,
+ *     backward after, so the cycle is a symmetric positive definite
+ *     preconditioner for CG; the coarsest level (at most 512 unknowns) is
+ *     solved by a dense Cholesky factor.
+ *
+ *     pw_zamg M;
+ *     pw_zamg_setup(NULL, &A, &M, &e);
+ *     pw_zamg_solve(NULL, &A, &M, b, x, NULL, &stats, &e);
+ *     pw_zamg_free(NULL, &M);
+ *
+ * Deterministic: every loop runs in index order, no threads. */
+#ifndef PW__ZAMG_V1
+#define PW__ZAMG_V1
+
+#include "zsparse.h"
+
+#define PW__ZAMG_LEVELS 16
+#define PW__ZAMG_COARSEST 512
+
+/* One level: its matrix, the prolongation from the next (coarser) level's
+ * unknowns (n x nc, complex CSR), and the cycle's vectors (2n doubles). */
+typedef struct pw__zamg_level {
+    pw_zcsr A;
+    int nc;
+    int *prow, *pcol;
+    double *pval;
+    double *x, *b, *r;
+} pw__zamg_level;
+
+typedef struct pw_zamg {
+    int levels;                          /* levels below the finest (0: A is the coarsest) */
+    pw__zamg_level lev[PW__ZAMG_LEVELS]; /* lev[0].A: a copy of the caller's matrix's pattern holder (not owned) */
+    int nc;                              /* unknowns of the coarsest level */
+    double *chol;                        /* its dense Cholesky factor, nc x nc complex, lower */
+    double *cx;                          /* scratch for the coarsest solve, 2 nc */
+} pw_zamg;
+
+/* ---- complex helpers ------------------------------------------------------ */
+
+/* The diagonal entry of row i (real); 0 if absent. */
+PW__DEF double pw__zamg_diag(const pw_zcsr *A, int i)
+{
+    int k;
+    for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++)
+        if (A->col[k] == i) return A->val[2 * k];
+    return 0.0;
+}
+
+/* ---- aggregation ---------------------------------------------------------- */
+
+/* The tentative prolongation of A: agg[i], the aggregate of unknown i, and
+ * (ph[2i], ph[2i+1]), its unit phase; returns the number of aggregates. */
+PW__DEF int pw__zamg_aggregate(const pw_zcsr *A, const double *d, int *agg, double *ph)
+{
+    const double theta = 0.08;
+    int n = A->n, i, k, nc = 0;
+    for (i = 0; i < n; i++) agg[i] = -1;
+    for (i = 0; i < n; i++) { /* roots whose strong neighbours are all free */
+        int free_all = 1;
+        if (agg[i] >= 0) continue;
+        for (k = A->rowptr[i]; k < A->rowptr[i + 1] && free_all; k++) {
+            int j = A->col[k];
+            double m = hypot(A->val[2 * k], A->val[2 * k + 1]);
+            if (j != i && m >= theta * sqrt(d[i] * d[j]) && agg[j] >= 0) free_all = 0;
+        }
+        if (!free_all) continue;
+        agg[i] = nc;
+        ph[2 * i] = 1.0;
+        ph[2 * i + 1] = 0.0;
+        for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++) {
+            int j = A->col[k];
+            double m = hypot(A->val[2 * k], A->val[2 * k + 1]);
+            if (j == i || m < theta * sqrt(d[i] * d[j]) || m == 0.0) continue;
+            agg[j] = nc; /* z_j = R z_i with a_ji = -w R = conj(a_ij) */
+            ph[2 * j] = -A->val[2 * k] / m;
+            ph[2 * j + 1] = A->val[2 * k + 1] / m;
+        }
+        nc++;
+    }
+    for (i = 0; i < n; i++) { /* leftovers join their strongest aggregated neighbour */
+        int best = -1;
+        double bm = 0.0;
+        if (agg[i] >= 0) continue;
+        for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++) {
+            int j = A->col[k];
+            double m = hypot(A->val[2 * k], A->val[2 * k + 1]);
+            if (j != i && agg[j] >= 0 && m > bm) {
+                bm = m;
+                best = k;
+            }
+        }
+        if (best < 0) { /* isolated: an aggregate of its own */
+            agg[i] = nc++;
+            ph[2 * i] = 1.0;
+            ph[2 * i + 1] = 0.0;
+        } else { /* z_i = (-a_ij / |a_ij|) z_j */
+            int j = A->col[best];
+            double re = -A->val[2 * best] / bm, im = -A->val[2 * best + 1] / bm;
+            agg[i] = agg[j];
+            ph[2 * i] = re * ph[2 * j] - im * ph[2 * j + 1];
+            ph[2 * i + 1] = re * ph[2 * j + 1] + im * ph[2 * j];
+        }
+    }
+    return nc;
+}
+
+/* ---- sparse products -------------------------------------------------------- */
+
+/* Sorts the first n ints of v (short rows: insertion sort). */
+PW__DEF void pw__zamg_sort(int *v, int n)
+{
+    int i, j;
+    for (i = 1; i < n; i++) {
+        int x = v[i];
+        for (j = i; j > 0 && v[j - 1] > x; j--) v[j] = v[j - 1];
+        v[j] = x;
+    }
+}
+
+/* Scratch of a row-by-row product: per column of the result, its slot in
+ * the row being built (-1: none) and its sum; the row's columns. */
+typedef struct pw__zamg_acc {
+    int *mark, *list;
+    double *sum;
+    int cnt;
+} pw__zamg_acc;
+
+PW__DEF void pw__zamg_acc_free(const pw_alloc *a, pw__zamg_acc *w)
+{
+    pw_free(a, w->mark);
+    pw_free(a, w->list);
+    pw_free(a, w->sum);
+}
+
+PW__DEF int pw__zamg_acc_init(const pw_alloc *a, int ncols, pw__zamg_acc *w, pw_err *e)
+{
+    int i;
+    w->cnt = 0;
+    w->mark = (int *)pw_alloc_array(a, (size_t)ncols, sizeof(int), "multigrid scratch", e);
+    w->list = (int *)pw_alloc_array(a, (size_t)ncols, sizeof(int), "multigrid scratch", e);
+    w->sum = (double *)pw_alloc_array(a, 2 * (size_t)ncols, sizeof(double), "multigrid scratch", e);
+    if (!w->mark || !w->list || !w->sum) {
+        pw__zamg_acc_free(a, w);
+        return PW_ERR_NOMEM;
+    }
+    for (i = 0; i < ncols; i++) w->mark[i] = -1;
+    return PW_OK;
+}
+
+/* Adds (re, im) to column c of the row being built. */
+PW__DEF void pw__zamg_acc_add(pw__zamg_acc *w, int c, double re, double im)
+{
+    if (w->mark[c] < 0) {
+        w->mark[c] = w->cnt;
+        w->list[w->cnt++] = c;
+        w->sum[2 * c] = w->sum[2 * c + 1] = 0.0;
+    }
+    w->sum[2 * c] += re;
+    w->sum[2 * c + 1] += im;
+}
+
+/* Ends the row: its entries, columns increasing, into (col, val) from
+ * position *nnz on (or only counted when col is NULL). */
+PW__DEF void pw__zamg_acc_flush(pw__zamg_acc *w, int *col, double *val, int *nnz)
+{
+    int m;
+    pw__zamg_sort(w->list, w->cnt);
+    for (m = 0; m < w->cnt; m++) {
+        int c = w->list[m];
+        if (col) {
+            col[*nnz] = c;
+            val[2 * *nnz] = w->sum[2 * c];
+            val[2 * *nnz + 1] = w->sum[2 * c + 1];
+        }
+        ++*nnz;
+        w->mark[c] = -1;
+    }
+    w->cnt = 0;
+}
+
+/* C = op(X) Y for complex CSR X (rows of X, or with conj_t the rows of X^H
+ * given as X's transpose already: see pw__zamg_galerkin) and Y of ncols
+ * columns; C gets C->n = X->n rows. Two passes: count, then fill. */
+PW__DEF int pw__zamg_mul(const pw_alloc *a, const pw_zcsr *X, const pw_zcsr *Y, int ncols, pw_zcsr *C, pw_err *e)
+{
+    pw__zamg_acc w;
+    int pass, i, k, q, nnz = 0;
+    memset(C, 0, sizeof *C);
+    if (pw__zamg_acc_init(a, ncols, &w, e)) return PW_ERR_NOMEM;
+    C->n = X->n;
+    C->rowptr = (int *)pw_alloc_array(a, (size_t)X->n + 1, sizeof(int), "multigrid matrix", e);
+    for (pass = 0; pass < 2 && C->rowptr; pass++) {
+        nnz = 0;
+        C->rowptr[0] = 0;
+        for (i = 0; i < X->n; i++) {
+            for (k = X->rowptr[i]; k < X->rowptr[i + 1]; k++) {
+                const double *x = X->val + 2 * k;
+                int j = X->col[k];
+                for (q = Y->rowptr[j]; q < Y->rowptr[j + 1]; q++) {
+                    const double *y = Y->val + 2 * q;
+                    pw__zamg_acc_add(&w, Y->col[q], x[0] * y[0] - x[1] * y[1], x[0] * y[1] + x[1] * y[0]);
+                }
+            }
+            pw__zamg_acc_flush(&w, C->col, C->val, &nnz);
+            C->rowptr[i + 1] = nnz;
+        }
+        if (pass == 0) {
+            C->col = (int *)pw_alloc_array(a, (size_t)nnz + 1, sizeof(int), "multigrid matrix", e);
+            C->val = (double *)pw_alloc_array(a, 2 * (size_t)nnz + 2, sizeof(double), "multigrid matrix", e);
+            if (!C->col || !C->val) break;
+        }
+    }
+    pw__zamg_acc_free(a, &w);
+    if (!C->rowptr || !C->col || !C->val) {
+        pw_zcsr_free(a, C);
+        return PW_ERR_NOMEM;
+    }
+    return PW_OK;
+}
+
+/* The conjugate transpose of an n x ncols complex CSR. */
+PW__DEF int pw__zamg_adjoint(const pw_alloc *a, const pw_zcsr *P, int ncols, pw_zcsr *T, pw_err *e)
+{
+    int i, k, nnz = P->rowptr[P->n], *fill;
+    memset(T, 0, sizeof *T);
+    T->n = ncols;
+    T->rowptr = (int *)pw_calloc_array(a, (size_t)ncols + 1, sizeof(int), "multigrid matrix", e);
+    T->col = (int *)pw_alloc_array(a, (size_t)nnz + 1, sizeof(int), "multigrid matrix", e);
+    T->val = (double *)pw_alloc_array(a, 2 * (size_t)nnz + 2, sizeof(double), "multigrid matrix", e);
+    fill = (int *)pw_alloc_array(a, (size_t)ncols + 1, sizeof(int), "multigrid scratch", e);
+    if (!T->rowptr || !T->col || !T->val || !fill) {
+        pw_zcsr_free(a, T);
+        pw_free(a, fill);
+        return PW_ERR_NOMEM;
+    }
+    for (k = 0; k < nnz; k++) T->rowptr[P->col[k] + 1]++;
+    for (i = 0; i < ncols; i++) T->rowptr[i + 1] += T->rowptr[i];
+    memcpy(fill, T->rowptr, sizeof(int) * ((size_t)ncols + 1));
+    for (i = 0; i < P->n; i++) /* rows in order: every row of T gets its columns increasing */
+        for (k = P->rowptr[i]; k < P->rowptr[i + 1]; k++) {
+            int q = fill[P->col[k]]++;
+            T->col[q] = i;
+            T->val[2 * q] = P->val[2 * k];
+            T->val[2 * q + 1] = -P->val[2 * k + 1];
+        }
+    pw_free(a, fill);
+    return PW_OK;
+}
+
+/* ---- one coarser level ------------------------------------------------------ */
+
+/* The smoothed prolongation P = (I - omega D^-1 A) P_t of level L (n x nc),
+ * P_t given by agg and ph (pw__zamg_aggregate), into P. */
+PW__DEF int pw__zamg_prolong(const pw_alloc *a, const pw__zamg_level *L, const int *agg, const double *ph,
+                             const double *d, pw_zcsr *P, pw_err *e)
+{
+    const pw_zcsr *A = &L->A;
+    const double omega = 2.0 / 3.0;
+    pw__zamg_acc w;
+    int n = A->n, i, k, nnz = 0;
+    memset(P, 0, sizeof *P);
+    if (pw__zamg_acc_init(a, L->nc, &w, e)) return PW_ERR_NOMEM;
+    P->n = n;
+    P->rowptr = (int *)pw_alloc_array(a, (size_t)n + 1, sizeof(int), "multigrid prolongation", e);
+    P->col = (int *)pw_alloc_array(a, (size_t)A->rowptr[n] + n, sizeof(int), "multigrid prolongation", e);
+    P->val = (double *)pw_alloc_array(a, 2 * ((size_t)A->rowptr[n] + n), sizeof(double), "multigrid prolongation", e);
+    if (!P->rowptr || !P->col || !P->val) {
+        pw__zamg_acc_free(a, &w);
+        pw_zcsr_free(a, P);
+        return PW_ERR_NOMEM;
+    }
+    P->rowptr[0] = 0;
+    for (i = 0; i < n; i++) {
+        double s = d[i] > 0.0 ? omega / d[i] : 0.0;
+        pw__zamg_acc_add(&w, agg[i], ph[2 * i], ph[2 * i + 1]);
+        for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++) {
+            const double *v = A->val + 2 * k, *p = ph + 2 * A->col[k];
+            pw__zamg_acc_add(&w, agg[A->col[k]], -s * (v[0] * p[0] - v[1] * p[1]), -s * (v[0] * p[1] + v[1] * p[0]));
+        }
+        pw__zamg_acc_flush(&w, P->col, P->val, &nnz);
+        P->rowptr[i + 1] = nnz;
+    }
+    pw__zamg_acc_free(a, &w);
+    return PW_OK;
+}
+
+/* Level L's prolongation (from aggregates of L->A) and the next level's
+ * matrix P^H A P into *C. */
+PW__DEF int pw__zamg_coarsen(const pw_alloc *a, pw__zamg_level *L, pw_zcsr *C, pw_err *e)
+{
+    const pw_zcsr *A = &L->A;
+    int n = A->n, i, r;
+    int *agg = (int *)pw_alloc_array(a, (size_t)n, sizeof(int), "multigrid aggregates", e);
+    double *ph = (double *)pw_alloc_array(a, 2 * (size_t)n, sizeof(double), "multigrid aggregates", e);
+    double *d = (double *)pw_alloc_array(a, (size_t)n, sizeof(double), "multigrid aggregates", e);
+    pw_zcsr P, PH, AP;
+    memset(&P, 0, sizeof P);
+    memset(&PH, 0, sizeof PH);
+    memset(&AP, 0, sizeof AP);
+    r = agg && ph && d ? PW_OK : PW_ERR_NOMEM;
+    if (r == PW_OK) {
+        for (i = 0; i < n; i++) d[i] = pw__zamg_diag(A, i);
+        L->nc = pw__zamg_aggregate(A, d, agg, ph);
+        r = pw__zamg_prolong(a, L, agg, ph, d, &P, e);
+    }
+    if (r == PW_OK) r = pw__zamg_adjoint(a, &P, L->nc, &PH, e);
+    if (r == PW_OK) r = pw__zamg_mul(a, A, &P, L->nc, &AP, e);
+    if (r == PW_OK) r = pw__zamg_mul(a, &PH, &AP, L->nc, C, e);
+    if (r == PW_OK) {
+        L->prow = P.rowptr;
+        L->pcol = P.col;
+        L->pval = P.val;
+    } else pw_zcsr_free(a, &P);
+    pw_zcsr_free(a, &PH);
+    pw_zcsr_free(a, &AP);
+    pw_free(a, agg);
+    pw_free(a, ph);
+    pw_free(a, d);
+    return r;
+}
+
+/* ---- the coarsest level: dense Cholesky --------------------------------------- */
+
+/* Factors the n x n Hermitian A (sparse) into the dense lower L (row-major,
+ * complex) with L L^H = A + shift diag(A); 0 when a pivot is not positive. */
+PW__DEF int pw__zamg_chol_try(const pw_zcsr *A, double shift, double *L)
+{
+    int n = A->n, i, j, k;
+    memset(L, 0, sizeof(double) * 2 * (size_t)n * n);
+    for (i = 0; i < n; i++)
+        for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++)
+            if (A->col[k] <= i) {
+                double *l = L + 2 * ((size_t)i * n + A->col[k]);
+                l[0] = A->val[2 * k] * (A->col[k] == i ? 1.0 + shift : 1.0);
+                l[1] = A->val[2 * k + 1];
+            }
+    for (j = 0; j < n; j++) {
+        double *ljj = L + 2 * ((size_t)j * n + j), dj;
+        for (k = 0; k < j; k++) {
+            const double *v = L + 2 * ((size_t)j * n + k);
+            ljj[0] -= v[0] * v[0] + v[1] * v[1];
+        }
+        if (!(ljj[0] > 0.0) || !pw_is_finite(ljj[0])) return 0;
+        dj = ljj[0] = sqrt(ljj[0]);
+        ljj[1] = 0.0;
+        for (i = j + 1; i < n; i++) { /* L_ij = (A_ij - sum_k L_ik conj(L_jk)) / L_jj */
+            double *lij = L + 2 * ((size_t)i * n + j);
+            for (k = 0; k < j; k++) {
+                const double *u = L + 2 * ((size_t)i * n + k), *v = L + 2 * ((size_t)j * n + k);
+                lij[0] -= u[0] * v[0] + u[1] * v[1];
+                lij[1] -= u[1] * v[0] - u[0] * v[1];
+            }
+            lij[0] /= dj;
+            lij[1] /= dj;
+        }
+    }
+    return 1;
+}
+
+/* x = (L L^H)^-1 b, dense, complex; x may be b. */
+PW__DEF void pw__zamg_chol_solve(const double *L, int n, const double *b, double *x)
+{
+    int i, k;
+    for (i = 0; i < n; i++) {
+        double sr = b[2 * i], si = b[2 * i + 1];
+        for (k = 0; k < i; k++) {
+            const double *v = L + 2 * ((size_t)i * n + k), *y = x + 2 * k;
+            sr -= v[0] * y[0] - v[1] * y[1];
+            si -= v[0] * y[1] + v[1] * y[0];
+        }
+        x[2 * i] = sr / L[2 * ((size_t)i * n + i)];
+        x[2 * i + 1] = si / L[2 * ((size_t)i * n + i)];
+    }
+    for (i = n - 1; i >= 0; i--) { /* L^H x = y: (L^H)_ik = conj(L_ki) */
+        double sr = x[2 * i], si = x[2 * i + 1];
+        for (k = i + 1; k < n; k++) {
+            const double *v = L + 2 * ((size_t)k * n + i), *y = x + 2 * k;
+            sr -= v[0] * y[0] + v[1] * y[1];
+            si -= v[0] * y[1] - v[1] * y[0];
+        }
+        x[2 * i] = sr / L[2 * ((size_t)i * n + i)];
+        x[2 * i + 1] = si / L[2 * ((size_t)i * n + i)];
+    }
+}
+
+/* ---- the hierarchy and the cycle ---------------------------------------------- */
+
+PW__DEF void pw_zamg_free(const pw_alloc *a, pw_zamg *M)
+{
+    int l;
+    for (l = 0; l <= M->levels && l < PW__ZAMG_LEVELS; l++) {
+        pw__zamg_level *L = &M->lev[l];
+        if (l > 0) pw_zcsr_free(a, &L->A); /* level 0's matrix is the caller's */
+        pw_free(a, L->prow);
+        pw_free(a, L->pcol);
+        pw_free(a, L->pval);
+        pw_free(a, L->x);
+        pw_free(a, L->b);
+        pw_free(a, L->r);
+    }
+    pw_free(a, M->chol);
+    pw_free(a, M->cx);
+    memset(M, 0, sizeof *M);
+}
+
+/* Builds the hierarchy of a Hermitian positive (semi)definite A whose
+ * diagonal entries are all present; A must outlive M (level 0 uses it). */
+PW__DEF int pw_zamg_setup(const pw_alloc *a, const pw_zcsr *A, pw_zamg *M, pw_err *e)
+{
+    int l = 0, r = PW_OK, k;
+    double shift = 0.0;
+    memset(M, 0, sizeof *M);
+    M->lev[0].A = *A;
+    while (r == PW_OK && M->lev[l].A.n > PW__ZAMG_COARSEST && l + 1 < PW__ZAMG_LEVELS) {
+        pw__zamg_level *L = &M->lev[l];
+        size_t n2 = 2 * (size_t)L->A.n;
+        L->x = (double *)pw_alloc_array(a, n2, sizeof(double), "multigrid vectors", e);
+        L->b = (double *)pw_alloc_array(a, n2, sizeof(double), "multigrid vectors", e);
+        L->r = (double *)pw_alloc_array(a, n2, sizeof(double), "multigrid vectors", e);
+        if (!L->x || !L->b || !L->r) r = PW_ERR_NOMEM;
+        if (r == PW_OK) r = pw__zamg_coarsen(a, L, &M->lev[l + 1].A, e);
+        if (r != PW_OK) break;
+        M->levels = ++l;
+        if (M->lev[l].A.n * 10 > L->A.n * 9) break; /* aggregation stalls: solve here */
+    }
+    M->nc = M->lev[l].A.n;
+    if (r == PW_OK && M->nc > 4 * PW__ZAMG_COARSEST)
+        r = pw_fail(e, PW_ERR_INVALID, "multigrid: coarsening stopped at %d unknowns", M->nc);
+    if (r == PW_OK) {
+        M->chol = (double *)pw_alloc_array(a, 2 * (size_t)M->nc * M->nc, sizeof(double), "multigrid coarse factor", e);
+        M->cx = (double *)pw_alloc_array(a, 2 * (size_t)M->nc, sizeof(double), "multigrid vectors", e);
+        M->lev[l].x = (double *)pw_alloc_array(a, 2 * (size_t)M->nc, sizeof(double), "multigrid vectors", e);
+        M->lev[l].b = (double *)pw_alloc_array(a, 2 * (size_t)M->nc, sizeof(double), "multigrid vectors", e);
+        if (!M->chol || !M->cx || !M->lev[l].x || !M->lev[l].b) r = PW_ERR_NOMEM;
+    }
+    for (k = 0; r == PW_OK && k<40; k++, shift = shift> 0.0 ? 2.0 * shift : 1e-10)
+        if (pw__zamg_chol_try(&M->lev[l].A, shift, M->chol)) break;
+    if (r == PW_OK && k == 40)
+        r = pw_fail(e, PW_ERR_INVALID, "multigrid: the coarsest matrix is not positive definite");
+    if (r != PW_OK) pw_zamg_free(a, M);
+    return r;
+}
+
+/* One Gauss-Seidel sweep on A x = b, forward or backward. */
+PW__DEF void pw__zamg_gs(const pw_zcsr *A, const double *b, double *x, int backward)
+{
+    int n = A->n, s, i, k;
+    for (s = 0; s < n; s++) {
+        double sr, si, dr = 0.0;
+        i = backward ? n - 1 - s : s;
+        sr = b[2 * i];
+        si = b[2 * i + 1];
+        for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++) {
+            const double *v = A->val + 2 * k, *y = x + 2 * A->col[k];
+            if (A->col[k] == i) {
+                dr = v[0];
+                continue;
+            }
+            sr -= v[0] * y[0] - v[1] * y[1];
+            si -= v[0] * y[1] + v[1] * y[0];
+        }
+        if (dr > 0.0) {
+            x[2 * i] = sr / dr;
+            x[2 * i + 1] = si / dr;
+        }
+    }
+}
+
+/* The V-cycle from level l: lev[l].x ~ A_l^-1 lev[l].b, from x = 0. */
+PW__DEF void pw__zamg_cycle(const pw_zamg *M, int l)
+{
+    const pw__zamg_level *L = &M->lev[l], *C;
+    int n, i, k;
+    if (l == M->levels) {
+        pw__zamg_chol_solve(M->chol, M->nc, L->b, L->x);
+        return;
+    }
+    C = &M->lev[l + 1];
+    n = L->A.n;
+    memset(L->x, 0, sizeof(double) * 2 * (size_t)n);
+    pw__zamg_gs(&L->A, L->b, L->x, 0);
+    pw_zcsr_mul(&L->A, L->x, L->r);
+    for (i = 0; i < 2 * n; i++) L->r[i] = L->b[i] - L->r[i];
+    memset(C->b, 0, sizeof(double) * 2 * (size_t)C->A.n);
+    for (i = 0; i < n; i++) /* b_c = P^H r */
+        for (k = L->prow[i]; k < L->prow[i + 1]; k++) {
+            const double *p = L->pval + 2 * k, *rr = L->r + 2 * i;
+            double *bc = C->b + 2 * L->pcol[k];
+            bc[0] += p[0] * rr[0] + p[1] * rr[1];
+            bc[1] += p[0] * rr[1] - p[1] * rr[0];
+        }
+    pw__zamg_cycle(M, l + 1);
+    for (i = 0; i < n; i++) /* x += P x_c */
+        for (k = L->prow[i]; k < L->prow[i + 1]; k++) {
+            const double *p = L->pval + 2 * k, *xc = C->x + 2 * L->pcol[k];
+            L->x[2 * i] += p[0] * xc[0] - p[1] * xc[1];
+            L->x[2 * i + 1] += p[0] * xc[1] + p[1] * xc[0];
+        }
+    pw__zamg_gs(&L->A, L->b, L->x, 1);
+}
+
+/* z = one V-cycle applied to r (2n doubles each). */
+PW__DEF void pw_zamg_apply(const pw_zamg *M, const double *r, double *z)
+{
+    const pw__zamg_level *L = &M->lev[0];
+    memcpy(L->b, r, sizeof(double) * 2 * (size_t)L->A.n);
+    pw__zamg_cycle(M, 0);
+    memcpy(z, L->x, sizeof(double) * 2 * (size_t)L->A.n);
+}
+
+PW__DEF void pw__zamg_op(const void *M, const double *r, double *z) { pw_zamg_apply((const pw_zamg *)M, r, z); }
+
+/* Solves A x = b as pw_zpcg_solve does, preconditioned by a V-cycle of M
+ * (pw_zamg_setup of A). */
+PW__DEF int pw_zamg_solve(const pw_alloc *a, const pw_zcsr *A, const pw_zamg *M, const double *b, double *x,
+                          const pw_cg_options *o, pw_cg_stats *s, pw_err *e)
+{
+    pw__pcg_op op;
+    if (s) memset(s, 0, sizeof *s);
+    if (pw__check_vec(b, 2 * A->n, "multigrid PCG right-hand side b", e) ||
+        pw__check_vec(x, 2 * A->n, "multigrid PCG guess x", e) ||
+        pw__check_vec(A->val, 2 * A->rowptr[A->n], "complex matrix", e))
+        return PW_ERR_INVALID;
+    PW_SOLVE_HOOK("zamg", A, b, x, o);
+    op.n = 2 * A->n;
+    op.mul = pw__zcsr_op_mul;
+    op.precond = pw__zamg_op;
+    op.actx = A;
+    op.mctx = M;
+    op.b = b;
+    op.x = x;
+    op.what = "multigrid PCG";
+    return pw__pcg_run(a, &op, o, s, e);
+}
+
+#endif /* PW__ZAMG_V1 */
