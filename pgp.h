@@ -2,49 +2,50 @@
  * Do not edit: change the sources and run `make headers`.
  *
  * CONTENTS (line: source, what it holds)
- *     49: src/pgp/pgp.h, the public API and its documentation
- *    666: src/common/base.h, allocation hooks, result codes, error messages, limits, he
- *    978: src/common/vec.h, small vector math on float[3] arrays and a 3-float struct.
- *   1092: src/common/rng.h, seeded random numbers with the same output on every platfo
- *   1169: src/common/noise.h, value noise and its fractal sum, for the built-in procedur
- *   1271: src/common/image.h, float images and their file formats.
- *   1976: src/common/deflate.h, zlib (RFC 1950) and deflate (RFC 1951) compression and
- *   2973: src/common/png.h, PNG writer and reader, and the image front end.
- *   3532: src/common/text.h, locale-independent number parsing and formatting, a line s
- *   3945: src/common/mesh.h, polygon meshes as flat arrays, and their file formats.
- *   5474: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
- *   6003: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
- *   6427: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
- *   7690: src/common/zsparse.h, complex Hermitian sparse systems, solved by conjugate grad
- *   7950: src/common/raster.h, exact scan conversion of 2D triangles.
- *   8424: src/common/parallel.h, a parallel for, the one way work is split across threads.
- *   8552: src/common/render.h, a small deterministic software renderer for textured trian
- *  10217: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
- *  10404: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
- *  10489: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
- *  10678: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
- *  11595: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
- *  12293: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
- *  12529: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
- *  13293: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
- *  14054: src/pgp/tile3.h, sampling a material-space tile (Ray et al. 2009, §2: "a 3
- *  14162: src/common/glue.h, what every method header needs between its public types an
- *  14498: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  15162: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
- *  15659: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
- *  16145: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
- *  16288: src/common/kdtree.h, nearest-neighbour search among n points of dimension d, wi
- *  16631: src/common/pca.h, principal component analysis of vectors streamed one at a 
- *  16818: src/pgp/core.c, pgp.h's glue to the shared core, its defaults, and the map
- *  17075: src/pgp/field.c, §2.1 effect areas and §2.2 interpolation of the constrai
- *  17465: src/pgp/solve.c, §2.3 the periodic global parameterization, the recovery o
- *  18295: src/pgp/edit.c, the public editing calls of a mapping. §2.1 (Ray, Lévy, 
- *  18440: src/pgp/render.c, §3 rendering, and a cleaner treatment of the vortices.
- *  18872: src/pgp/builtin.c, built-in meshes and material-space tiles for demos and tes
- *  19141: src/pgp/io.c, files and memory for pgp.h: material-space tiles (NRRD, or
- *  19489: src/pgp/export.c, the mapping for other programs. A viewer that knows nothin
- *  19715: src/pgp/morph.c, the inputs of §1 (keys brought to the tile size, made til
- *  20394: src/pgp/synth.c, §1.2 constrained tile synthesis, and the whole of §1: ke
+ *     50: src/pgp/pgp.h, the public API and its documentation
+ *    667: src/common/base.h, allocation hooks, result codes, error messages, limits, he
+ *    979: src/common/vec.h, small vector math on float[3] arrays and a 3-float struct.
+ *   1093: src/common/rng.h, seeded random numbers with the same output on every platfo
+ *   1170: src/common/noise.h, value noise and its fractal sum, for the built-in procedur
+ *   1272: src/common/image.h, float images and their file formats.
+ *   1977: src/common/deflate.h, zlib (RFC 1950) and deflate (RFC 1951) compression and
+ *   2974: src/common/png.h, PNG writer and reader, and the image front end.
+ *   3533: src/common/text.h, locale-independent number parsing and formatting, a line s
+ *   3946: src/common/mesh.h, polygon meshes as flat arrays, and their file formats.
+ *   5475: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
+ *   6004: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
+ *   6428: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
+ *   7691: src/common/zsparse.h, complex Hermitian sparse systems, solved by conjugate grad
+ *   7951: src/common/raster.h, exact scan conversion of 2D triangles.
+ *   8425: src/common/parallel.h, a parallel for, the one way work is split across threads.
+ *   8553: src/common/render.h, a small deterministic software renderer for textured trian
+ *  10218: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
+ *  10405: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
+ *  10490: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
+ *  10679: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
+ *  11596: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
+ *  12294: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
+ *  12530: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
+ *  13294: src/common/periodic.h, the periodic global parameterization of a triangle mesh al
+ *  14115: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
+ *  14876: src/pgp/tile3.h, sampling a material-space tile (Ray et al. 2009, §2: "a 3
+ *  14984: src/common/glue.h, what every method header needs between its public types an
+ *  15320: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  15984: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
+ *  16481: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
+ *  16967: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
+ *  17110: src/common/kdtree.h, nearest-neighbour search among n points of dimension d, wi
+ *  17453: src/common/pca.h, principal component analysis of vectors streamed one at a 
+ *  17640: src/pgp/core.c, pgp.h's glue to the shared core, its defaults, and the map
+ *  17853: src/pgp/field.c, §2.1 effect areas and §2.2 interpolation of the constrai
+ *  18052: src/pgp/solve.c, §2.3 the periodic global parameterization, the recovery o
+ *  18471: src/pgp/edit.c, the public editing calls of a mapping. §2.1 (Ray, Lévy, 
+ *  18616: src/pgp/render.c, §3 rendering, and a cleaner treatment of the vortices.
+ *  18977: src/pgp/builtin.c, built-in meshes and material-space tiles for demos and tes
+ *  19246: src/pgp/io.c, files and memory for pgp.h: material-space tiles (NRRD, or
+ *  19594: src/pgp/export.c, the mapping for other programs. A viewer that knows nothin
+ *  19820: src/pgp/morph.c, the inputs of §1 (keys brought to the tile size, made til
+ *  20499: src/pgp/synth.c, §1.2 constrained tile synthesis, and the whole of §1: ke
  */
 /* pgp.h - material-space texturing with a periodic global parameterization.
  *
@@ -13290,6 +13291,827 @@ PW__DEF int pw_df_curvature(const pw_alloc *a, const pw_df_field *F, pw_v3 up, i
 
 #endif /* PW__DIRFIELD_V1 */
 
+/* ---- shared module src/common/periodic.h ---- */
+/* periodic: the periodic global parameterization of a triangle mesh along
+ * a direction field, shared by pgp.h (Ray, Lévy, Wang, Turk and Vallet
+ * 2009, "Material Space Texturing", whose section numbers the comments
+ * use) and tiled.h's mode for any mesh.
+ *
+ * Pieces: the default field (§2.2: the tile's t axis along a global up
+ * direction or the direction of least curvature, smoothed); the PGP of
+ * §2.3 (one unit complex number per vertex for s and for t, by proximal
+ * steps of a complex Hermitian least squares); the per-corner (s, t) of
+ * Eq. (4); the winding of s and t around a triangle (a vortex where it is
+ * not 0); and the clean coordinates of a vortex triangle (beyond the
+ * paper: the differences its neighbours use along its edges, the zero
+ * where the pattern forks).
+ *
+ * A pw_periodic owns its arrays; the method fills scale and sfac (and
+ * reads or edits dir) between the steps. stm has 9 floats per triangle,
+ * (s, t, m) per corner: the shared code writes s and t, the method m.
+ *
+ * Determinism: only + - * / and sqrt in the angles (pw_periodic_turns). */
+#ifndef PW__PERIODIC_V1
+#define PW__PERIODIC_V1
+
+
+#define PW_PERIODIC_TWO_PI 6.28318530717958647692
+
+typedef struct pw_periodic {
+    pw_alloc a;
+    pw_trimesh m;
+    float *conn;          /* dirfield connection, 3nf*2 */
+    double *dual;         /* dual edge lengths per half-edge (Dijkstra) */
+    double *base;         /* nf*2: default field direction per triangle (frame) */
+    double *dir;          /* nf*2: d_s per triangle, unit, in the triangle frame */
+    float *scale;         /* nv: S_i */
+    float *sfac;          /* nv: a factor of S_i (1 but where the method
+                             makes the field integrable) */
+    double *zs, *zt;      /* nv*2: the unit complex unknowns of s and t (§2.3) */
+    float *stm;           /* nf*9: per corner s, t, m (Eq. 4) */
+    int *forder, *vorder; /* triangles and vertices in breadth-first order: the
+                             order of the unknowns of every solve */
+    float scale0;         /* default tile side */
+    int area_weights;     /* 1: the paper's A_T + A_T' edge weights */
+} pw_periodic;
+
+/* ---- sparse symmetric positive definite solves ----------------------------- */
+
+/* Solves the system collected in t for x (warm start: x's current values)
+ * to a relative residual tol: real symmetric positive definite (n x n
+ * triplets) by IC(0)-preconditioned CG, or complex Hermitian (zsparse.h:
+ * n x 2n triplets, b and x complex) by its complex counterpart. */
+PW__DEF int pw_periodic_pd_solve(const pw_alloc *a, const pw_triplets *t, const double *b, double *x, double tol,
+                                 pw_err *e)
+{
+    const int complex = t->m == 2 * t->n;
+    pw_csr A;
+    pw_ic0 L;
+    pw_zcsr ZA;
+    pw_zic0 ZL;
+    pw_cg_options o = pw_cg_default_options();
+    int r;
+    o.tol = tol;
+    o.max_iter = 4000;
+    if (complex) {
+        memset(&ZL, 0, sizeof ZL);
+        if ((r = pw_zcsr_from_triplets(a, t, &ZA, e)) != PW_OK) return r;
+        if ((r = pw_zic0_factor(a, &ZA, &ZL, e)) == PW_OK) r = pw_zpcg_solve(a, &ZA, &ZL, b, x, &o, NULL, e);
+        pw_zic0_free(a, &ZL);
+        pw_zcsr_free(a, &ZA);
+        return r;
+    }
+    memset(&L, 0, sizeof L);
+    if ((r = pw_csr_from_triplets(a, t, &A, e)) != PW_OK) return r;
+    if ((r = pw_ic0_factor(a, &A, &L, e)) == PW_OK) r = pw_pcg_solve(a, &A, &L, b, x, &o, NULL, e);
+    pw_ic0_free(a, &L);
+    pw_csr_free(a, &A);
+    return r;
+}
+
+/* ---- set-up ---------------------------------------------------------------- */
+
+/* The order of the unknowns: triangles breadth first over the dual graph
+ * (each component from its first triangle), vertices as those triangles
+ * first reach them. Neighbours then sit close in memory and in the
+ * incomplete-Cholesky elimination: on a subdivided mesh, whose new vertices
+ * the file lists far from their neighbours, the solves take 40% less time.
+ * done (nv + nf, all zero) marks what has been placed. */
+PW__DEF void pw_periodic_bfs_order(pw_periodic *P, unsigned char *done)
+{
+    int nf = P->m.nf, nv = P->m.nv, head = 0, tail = 0, nvo = 0, s, k;
+    unsigned char *fdone = done + nv, *vdone = done;
+    for (s = 0; s < nf; s++) {
+        if (fdone[s]) continue;
+        fdone[s] = 1;
+        P->forder[tail++] = s;
+        while (head < tail) {
+            int f = P->forder[head++];
+            for (k = 0; k < 3; k++) {
+                int g = pw_trimesh_across(&P->m, f, k), v = P->m.tri[3 * f + k];
+                if (!vdone[v]) {
+                    vdone[v] = 1;
+                    P->vorder[nvo++] = v;
+                }
+                if (g >= 0 && !fdone[g]) {
+                    fdone[g] = 1;
+                    P->forder[tail++] = g;
+                }
+            }
+        }
+    }
+    for (s = 0; s < nv; s++) /* vertices no triangle uses */
+        if (!vdone[s]) P->vorder[nvo++] = s;
+}
+
+PW__DEF void pw_periodic_free(pw_periodic *P)
+{
+    pw_alloc a = P->a;
+    pw_trimesh_free(&a, &P->m);
+    pw_free(&a, P->conn);
+    pw_free(&a, P->dual);
+    pw_free(&a, P->base);
+    pw_free(&a, P->scale);
+    pw_free(&a, P->zs);
+    pw_free(&a, P->forder);
+    memset(P, 0, sizeof *P);
+    P->a = a;
+}
+
+/* Builds the triangle mesh of v (its positions borrowed), allocates every
+ * array and computes the order of the unknowns, the dual edge lengths and
+ * the connection. P->a must be set; on failure what was allocated is left
+ * for pw_periodic_free. */
+PW__DEF int pw_periodic_init(pw_periodic *P, const pw_mesh *v, pw_err *e)
+{
+    unsigned char *done;
+    size_t nf, nv;
+    int r;
+    if ((r = pw_trimesh_init(&P->a, v, &P->m, e)) != PW_OK) return r;
+    nf = (size_t)P->m.nf;
+    nv = (size_t)P->m.nv;
+    P->dual = (double *)pw_alloc_array(&P->a, 3 * nf, sizeof(double), "mapping", e);
+    P->base = (double *)pw_alloc_array(&P->a, 4 * nf, sizeof(double), "mapping", e);
+    P->scale = (float *)pw_alloc_array(&P->a, 2 * nv + 9 * nf, sizeof(float), "mapping", e);
+    P->zs = (double *)pw_alloc_array(&P->a, 4 * nv, sizeof(double), "mapping", e);
+    P->forder = (int *)pw_alloc_array(&P->a, nf + nv, sizeof(int), "mapping", e);
+    done = (unsigned char *)pw_calloc_array(&P->a, nv + nf, 1, "mapping", e);
+    if (!P->dual || !P->base || !P->scale || !P->zs || !P->forder || !done) {
+        pw_free(&P->a, done);
+        return PW_ERR_NOMEM;
+    }
+    P->vorder = P->forder + nf;
+    pw_periodic_bfs_order(P, done);
+    pw_free(&P->a, done);
+    P->dir = P->base + 2 * nf;
+    P->sfac = P->scale + nv;
+    P->stm = P->sfac + nv;
+    P->zt = P->zs + 2 * nv;
+    pw_df_dual(&P->m, P->dual);
+    return pw_df_connection(&P->a, &P->m, &P->conn, e);
+}
+
+/* ---- the field and the gradients it asks for ---------------------------------------- */
+
+/* The frame of triangle f as 3D vectors (u along its first edge, v = N x u). */
+PW__DEF void pw_periodic_frame(const pw_periodic *P, int f, pw_v3 *u, pw_v3 *v) { pw_df_frame(&P->m, f, u, v); }
+
+/* d_s (k = 0) or d_t = N x d_s (k = 1) of triangle f in 3D. */
+PW__DEF pw_v3 pw_periodic_dir3(const pw_periodic *P, int f, int k)
+{
+    pw_v3 u, v, d;
+    double x = P->dir[2 * f], y = P->dir[2 * f + 1];
+    pw_periodic_frame(P, f, &u, &v);
+    if (k == 1) { /* rot90 in the frame */
+        double t = x;
+        x = -y;
+        y = t;
+    }
+    d = pw_v3_add(pw_v3_scale(u, (float)x), pw_v3_scale(v, (float)y));
+    return d;
+}
+
+/* S^T = (S_i + S_j + S_k) / 3 (§2.3), each S_i times its factor. */
+PW__DEF double pw_periodic_face_scale(const pw_periodic *P, int f)
+{
+    const int *t = P->m.tri + 3 * f;
+    return ((double)P->scale[t[0]] * P->sfac[t[0]] + (double)P->scale[t[1]] * P->sfac[t[1]] +
+            (double)P->scale[t[2]] * P->sfac[t[2]]) /
+           3.0;
+}
+
+/* g = d / S^T for s (k = 0) or t (k = 1). */
+PW__DEF pw_v3 pw_periodic_grad(const pw_periodic *P, int f, int k)
+{
+    return pw_v3_scale(pw_periodic_dir3(P, f, k), (float)(1.0 / pw_periodic_face_scale(P, f)));
+}
+
+/* Cotangent of the angle at corner k of triangle f. */
+PW__DEF double pw_periodic_cot(const pw_trimesh *m, int f, int k)
+{
+    pw_v3 p = pw_trimesh_corner(m, f, k);
+    pw_v3 a = pw_v3_sub(pw_trimesh_corner(m, f, (k + 1) % 3), p),
+          b = pw_v3_sub(pw_trimesh_corner(m, f, (k + 2) % 3), p);
+    double c = pw_v3_dot(a, b), s = pw_v3_len(pw_v3_cross(a, b));
+    return s > 0.0 ? c / s : 0.0;
+}
+
+/* The Laplacian weight of the edge of half-edge h (the cotangents of the
+ * angles facing it, halved), floored so that obtuse triangles keep every
+ * weight positive and the smoothing a maximum principle. */
+PW__DEF double pw_periodic_lap_weight(const pw_trimesh *m, int h)
+{
+    double w = 0.5 * pw_periodic_cot(m, h / 3, (h % 3 + 2) % 3);
+    if (m->hm.twin[h] >= 0) {
+        int t = m->hm.twin[h];
+        w += 0.5 * pw_periodic_cot(m, t / 3, (t % 3 + 2) % 3);
+    }
+    return w > 0.05 ? w : 0.05;
+}
+
+/* Weight of the pull of every unknown towards its default: small enough to
+ * change nothing visible where constraints or the area's border fix the
+ * values, and it makes a component with nothing fixed take the default
+ * (where the Laplacian alone would be singular). */
+#define PW_PERIODIC_PULL 1e-7
+
+/* Weight of the edge of half-edge h in the orientation smoothing: its
+ * length over the dual edge's (the cotangent weight of the dual mesh). */
+PW__DEF double pw_periodic_dir_weight(const pw_periodic *P, int h)
+{
+    int f = h / 3, k = h % 3;
+    double len = pw_v3_len(pw_v3_sub(pw_trimesh_corner(&P->m, f, (k + 1) % 3), pw_trimesh_corner(&P->m, f, k)));
+    return P->dual[h] > 0.0 ? len / P->dual[h] : 1.0;
+}
+
+/* Adds one interior edge (half-edge h of triangle f, twin in g) to the
+ * orientation system: w |z_f - c z_g|^2 with c the transport from g into f
+ * (pw_df_connection): w on both diagonals, -w c at (f, g) and its
+ * conjugate at (g, f); a fixed neighbour moves to b. */
+PW__DEF int pw_periodic_dir_edge(const pw_periodic *P, const int *id, int h, pw_triplets *t, double *b, pw_err *e)
+{
+    int f = h / 3, g = P->m.hm.twin[h] / 3, i = id[f], j = id[g], r = PW_OK;
+    double w = pw_periodic_dir_weight(P, h), cx = P->conn[2 * h], cy = P->conn[2 * h + 1];
+    const double *zf = P->dir + 2 * f, *zg = P->dir + 2 * g;
+    if (i >= 0) r = pw_ztriplets_add(t, i, i, w, 0.0, e);
+    if (r == PW_OK && j >= 0) r = pw_ztriplets_add(t, j, j, w, 0.0, e);
+    if (r == PW_OK && i >= 0 && j >= 0) {
+        r = pw_ztriplets_add(t, i, j, -w * cx, -w * cy, e);
+        if (r == PW_OK) r = pw_ztriplets_add(t, j, i, -w * cx, w * cy, e);
+    } else if (i >= 0) { /* b_f += w c z_g */
+        b[2 * i] += w * (cx * zg[0] - cy * zg[1]);
+        b[2 * i + 1] += w * (cx * zg[1] + cy * zg[0]);
+    } else if (j >= 0) { /* b_g += w conj(c) z_f */
+        b[2 * j] += w * (cx * zf[0] + cy * zf[1]);
+        b[2 * j + 1] += w * (cx * zf[1] - cy * zf[0]);
+    }
+    return r;
+}
+
+/* Directions are normalised after the solve: a loose tolerance suffices. */
+#define PW_PERIODIC_DIR_TOL 3e-3
+
+/* Smooths the directions of the free triangles (free[f]) with the others
+ * fixed, each pulled towards the default field with weight pull[f] (NULL:
+ * a faint pull that only decides components with nothing fixed), then
+ * normalises: "orientations rather than vectors" (the scale is
+ * interpolated separately). Singularities emerge where the fixed directions
+ * force them. A free component with nothing fixed takes the default field. */
+PW__DEF int pw_periodic_dir_smooth(pw_periodic *P, const unsigned char *free, const double *pull, pw_err *e)
+{
+    const pw_trimesh *m = &P->m;
+    int *id = (int *)pw_alloc_array(&P->a, (size_t)m->nf, sizeof(int), "orientation", e);
+    double *b = NULL, *x = NULL;
+    pw_triplets t;
+    int n = 0, f, h, r = id ? PW_OK : PW_ERR_NOMEM;
+    memset(&t, 0, sizeof t);
+    for (h = 0; r == PW_OK && h < m->nf; h++) { /* breadth-first order */
+        f = P->forder[h];
+        id[f] = free[f] ? n++ : -1;
+    }
+    if (r == PW_OK && n > 0) {
+        b = (double *)pw_calloc_array(&P->a, (size_t)n * 2, sizeof(double), "orientation", e);
+        x = (double *)pw_alloc_array(&P->a, (size_t)n * 2, sizeof(double), "orientation", e);
+        if (!b || !x) r = PW_ERR_NOMEM;
+        else r = pw_triplets_init(&t, &P->a, n, 2 * n, e);
+    }
+    for (f = 0; r == PW_OK && n > 0 && f < m->nf; f++)
+        if (id[f] >= 0) {
+            double w = pull ? pull[f] + PW_PERIODIC_PULL : PW_PERIODIC_PULL;
+            x[2 * id[f]] = P->dir[2 * f];
+            x[2 * id[f] + 1] = P->dir[2 * f + 1];
+            b[2 * id[f]] += w * P->base[2 * f];
+            b[2 * id[f] + 1] += w * P->base[2 * f + 1];
+            r = pw_ztriplets_add(&t, id[f], id[f], w, 0.0, e);
+        }
+    for (h = 0; r == PW_OK && n > 0 && h < 3 * m->nf; h++)
+        if (m->hm.twin[h] > h && (id[h / 3] >= 0 || id[m->hm.twin[h] / 3] >= 0))
+            r = pw_periodic_dir_edge(P, id, h, &t, b, e);
+    if (r == PW_OK && n > 0) r = pw_periodic_pd_solve(&P->a, &t, b, x, PW_PERIODIC_DIR_TOL, e);
+    for (f = 0; r == PW_OK && n > 0 && f < m->nf; f++)
+        if (id[f] >= 0) {
+            double *z = P->dir + 2 * f;
+            z[0] = x[2 * id[f]];
+            z[1] = x[2 * id[f] + 1];
+            if (!pw_df_unit(z)) {
+                z[0] = P->base[2 * f];
+                z[1] = P->base[2 * f + 1];
+            }
+        }
+    pw_triplets_free(&t);
+    pw_free(&P->a, id);
+    pw_free(&P->a, b);
+    pw_free(&P->a, x);
+    return r;
+}
+
+/* The default field (§2.2, where no constraint reaches): the tile's t axis
+ * along the global up direction projected onto each triangle, or along the
+ * direction of least curvature (curvature != 0, smoothed `smoothing`
+ * times); then smoothed ("a vector field smoothing algorithm" [LRL06]):
+ * each triangle is pulled towards that direction with a weight A_f c_f /
+ * S^2 against the smoothness terms between neighbours, so that the field
+ * varies over about one tile size and the poles of the projection (c_f =
+ * 1 - (up . n)^2 small: up nearly normal to the face) are filled smoothly.
+ * A field that turns within a tile cannot be followed by a periodic
+ * parameterization without distortion. Writes base and dir. */
+PW__DEF int pw_periodic_base_field(pw_periodic *P, const float *up3, int curvature, int smoothing, pw_err *e)
+{
+    size_t nf = (size_t)P->m.nf;
+    unsigned char *known = (unsigned char *)pw_alloc_array(&P->a, nf, 1, "field", e);
+    double *pull = (double *)pw_alloc_array(&P->a, nf, sizeof(double), "field", e);
+    pw_v3 up = pw_v3_norm(pw_v3_load(up3));
+    int r = known && pull ? PW_OK : PW_ERR_NOMEM, f;
+    pw_df_field F;
+    F.m = &P->m;
+    F.conn = P->conn;
+    F.z = P->base;
+    F.known = known;
+    if (r == PW_OK && curvature) r = pw_df_curvature(&P->a, &F, up, smoothing, e);
+    else if (r == PW_OK) r = pw_df_up(&P->a, &F, up, e);
+    for (f = 0; r == PW_OK && f < P->m.nf; f++) { /* that is d_t; d_s = rot(-90)(d_t) */
+        double x = P->base[2 * f], c = pw_v3_dot(up, pw_v3_load(P->m.normal + 3 * f));
+        P->base[2 * f] = P->base[2 * f + 1];
+        P->base[2 * f + 1] = -x;
+        P->dir[2 * f] = P->base[2 * f];
+        P->dir[2 * f + 1] = P->base[2 * f + 1];
+        pull[f] = (curvature ? 1.0 : 1.0 - c * c) * P->m.area[f] / ((double)P->scale0 * P->scale0);
+        known[f] = 1;
+    }
+    if (r == PW_OK) r = pw_periodic_dir_smooth(P, known, pull, e);
+    if (r == PW_OK) memcpy(P->base, P->dir, sizeof(double) * 2 * nf);
+    pw_free(&P->a, known);
+    pw_free(&P->a, pull);
+    return r;
+}
+
+/* ---- angles without libm -------------------------------------------------------------- */
+
+/* atan(x) for |x| <= 1: two half-angle steps (atan x = 2 atan(x / (1 +
+ * sqrt(1 + x^2)))) bring |x| below tan(pi/16) ~ 0.2, then the Taylor series
+ * to x^21 (truncation below 1e-17). Only + - * / sqrt: the same bits on
+ * every IEEE platform, which libm's atan2 does not promise. */
+PW__DEF double pw_periodic_atan(double x)
+{
+    double y = x / (1.0 + sqrt(1.0 + x * x)), y2, p = 1.0 / 21.0;
+    int k;
+    y = y / (1.0 + sqrt(1.0 + y * y));
+    y2 = y * y;
+    for (k = 19; k >= 1; k -= 2) p = 1.0 / k - y2 * p;
+    return 4.0 * y * p;
+}
+
+/* Arg(x + iy) / 2 pi, in (-1/2, 1/2]; 0 for 0. */
+PW__DEF double pw_periodic_turns(double x, double y)
+{
+    const double pi = 3.14159265358979323846;
+    double a;
+    if (x == 0.0 && y == 0.0) return 0.0;
+    if (fabs(y) <= fabs(x)) {
+        a = pw_periodic_atan(y / x);
+        if (x < 0.0) a += y >= 0.0 ? pi : -pi;
+    } else a = (y > 0.0 ? 0.5 * pi : -0.5 * pi) - pw_periodic_atan(x / y);
+    return a / PW_PERIODIC_TWO_PI;
+}
+
+/* ---- §2.3 per-edge rotations ------------------------------------------------------------ */
+
+/* alpha / 2 pi of half-edge h (from tri[h] to the next corner) for s (k = 0)
+ * or t (k = 1): e_ij . (g_T + g_T') / 2, the gradient averaged over the two
+ * triangles of the edge (the one triangle on a boundary). This is the
+ * coordinate difference s_j - s_i the field asks for along the edge. */
+PW__DEF double pw_periodic_alpha(const pw_periodic *P, int h, int k)
+{
+    int f = h / 3, c = h % 3, t = P->m.hm.twin[h];
+    pw_v3 ed = pw_v3_sub(pw_trimesh_corner(&P->m, f, (c + 1) % 3), pw_trimesh_corner(&P->m, f, c));
+    pw_v3 g = pw_periodic_grad(P, f, k);
+    if (t >= 0) g = pw_v3_scale(pw_v3_add(g, pw_periodic_grad(P, t / 3, k)), 0.5f);
+    return (double)pw_v3_dot(ed, g);
+}
+
+/* ---- §2.3 the least-squares system ----------------------------------------------------- */
+
+/* The weight of edge h in F_PGP. The paper prints A_T + A_T' (kept as
+ * area_weights): a term |z_j - R z_i|^2 ~ |e . (grad s - g)|^2 is then
+ * an integral of the distortion times A_T / |e|^2 ~ A_T per unit area, so
+ * large triangles cost more and the solve pushes the distortion into the
+ * small ones (on CGAL's meshes, where triangle sizes vary by 100x, that is
+ * where the singular share comes from). Cotangent weights make F_PGP the
+ * discrete integral of |grad s - g|^2 (the connection Laplacian of [KCPS15]
+ * "Stripe patterns" and of geogram's PGP), the same cost per unit area
+ * everywhere. Cotangents of obtuse angles can make a weight negative and
+ * the system indefinite: the weight is floored at 0.05, as the §2.2
+ * Laplacian's (pw_periodic_lap_weight), which keeps IC(0) and CG well
+ * defined. CGAL's meshes are far from Delaunay: the floor holds 2% of the
+ * edges of elephant, 7% of knot, 12% of mushroom and 19% of cow (16% of
+ * cow's have a negative sum); floors from 0.001 to 0.1 give the same
+ * counts within 1 vortex and 0.5% singular. Cotangents of an intrinsic
+ * Delaunay triangulation would avoid the floor; they are not implemented. */
+PW__DEF double pw_periodic_weight(const pw_periodic *P, int h)
+{
+    int tw = P->m.hm.twin[h];
+    if (P->area_weights) return (double)P->m.area[h / 3] + (tw >= 0 ? (double)P->m.area[tw / 3] : 0.0);
+    return pw_periodic_lap_weight(&P->m, h);
+}
+
+/* The complex Hermitian system of coordinate k over the free vertices,
+ * being assembled. */
+typedef struct pw_periodic_zsys {
+    const double *z; /* nv*2: the current z, read at the fixed vertices */
+    const int *id;   /* nv: vertex -> unknown (-1: fixed) */
+    int k;           /* the coordinate: 0 for s, 1 for t */
+    pw_triplets *t;  /* the matrix being assembled (n x 2n) */
+    double *b;       /* 2n: the right-hand side */
+} pw_periodic_zsys;
+
+/* Adds the term w |z_j - R(alpha) z_i|^2 of edge h (i -> j) to the system
+ * of the free vertices (id >= 0). R(alpha) is the rotation by +alpha,
+ * [cos -sin; sin cos], i.e. the product with e^{i alpha}: with z = e^{2 pi
+ * i s}, s_j = s_i + alpha/2pi is z_j = e^{i alpha} z_i. (The matrix printed
+ * in the paper has the signs of the sines the other way round, which would
+ * make s decrease along g; tests/test_pgp.c checks a flat grid, where the
+ * exact answer is linear.) In the complex Hermitian system: w on both
+ * diagonals, -w e^{i alpha} at (j, i) and its conjugate at (i, j); a fixed
+ * end moves to the right-hand side. */
+PW__DEF int pw_periodic_edge(const pw_periodic *P, const pw_periodic_zsys *Z, int h, pw_err *e)
+{
+    const double *z = Z->z;
+    const int *id = Z->id;
+    pw_triplets *t = Z->t;
+    double *b = Z->b;
+    int k = Z->k, f = h / 3;
+    int vi = P->m.tri[h], vj = P->m.tri[3 * f + (h % 3 + 1) % 3], i = id[vi], j = id[vj], r = PW_OK;
+    double w = pw_periodic_weight(P, h);
+    double a = PW_PERIODIC_TWO_PI * pw_periodic_alpha(P, h, k), c = pw_cos(a), sn = pw_sin(a);
+    const double *zi = z + 2 * vi, *zj = z + 2 * vj;
+    if (i >= 0) r = pw_ztriplets_add(t, i, i, w, 0.0, e);
+    if (r == PW_OK && j >= 0) r = pw_ztriplets_add(t, j, j, w, 0.0, e);
+    if (r == PW_OK && i >= 0 && j >= 0) {
+        r = pw_ztriplets_add(t, j, i, -w * c, -w * sn, e);
+        if (r == PW_OK) r = pw_ztriplets_add(t, i, j, -w * c, w * sn, e);
+    } else if (j >= 0) { /* b_j += w e^{i a} z_i */
+        b[2 * j] += w * (c * zi[0] - sn * zi[1]);
+        b[2 * j + 1] += w * (c * zi[1] + sn * zi[0]);
+    } else if (i >= 0) { /* b_i += w e^{-i a} z_j */
+        b[2 * i] += w * (c * zj[0] + sn * zj[1]);
+        b[2 * i + 1] += w * (c * zj[1] - sn * zj[0]);
+    }
+    return r;
+}
+
+/* Proximal steps and their weights: each step minimises
+ * F_PGP(z) + mu sum_i d_i |z_i - zhat_i|^2 (d_i the diagonal of F's
+ * matrix) around the current unit estimate zhat, then normalises. The
+ * plain least squares with one vertex locked decays towards 0 away from it
+ * wherever the field is not a gradient (its minimum is z = 0 but near the
+ * lock), leaving only noise in Arg(z); the unit-length constraint |z_i| = 1
+ * of PGP [RLL*06] is what these steps restore, one linear solve each. The
+ * first, weak steps let the estimate relax over long distances (the
+ * breadth-first start has seams along its tree); the later ones converge.
+ * The first step at mu = 1e-5 is nearly an inverse-iteration step towards
+ * the smallest eigenvector of F (the global optimum of [KCPS15]): with the
+ * cotangent weights, starting at 1e-3 instead leaves more vortices (CGAL's
+ * elephant, cow, knot, mushroom at S = diag/10: 46, 44, 67, 36 against 40,
+ * 46, 61, 32). Only the last step needs an accurate solve: the others are
+ * normalised and refined after, and a relative residual of 1e-3 there
+ * takes 40% fewer CG iterations for the same counts. (A fifth step at 0.1
+ * or tighter solves change neither the vortex count nor the singular
+ * triangles.) */
+#define PW_PERIODIC_STEPS 4
+static const double pw_periodic_mu[PW_PERIODIC_STEPS] = {1e-5, 1e-3, 1e-2, 0.1};
+
+/* Where each row's diagonal entry sits in A (every row has one). */
+PW__DEF int pw_periodic_diag_index(const pw_alloc *a, const pw_zcsr *A, int **out, pw_err *e)
+{
+    int i, k, *d = (int *)pw_alloc_array(a, (size_t)A->n, sizeof(int), "PGP", e);
+    *out = d;
+    if (!d) return PW_ERR_NOMEM;
+    for (i = 0; i < A->n; i++)
+        for (d[i] = -1, k = A->rowptr[i]; k < A->rowptr[i + 1]; k++)
+            if (A->col[k] == i) d[i] = k;
+    for (i = 0; i < A->n; i++)
+        if (d[i] < 0) return pw_fail(e, PW_ERR_INVALID, "PGP: row %d has no diagonal", i);
+    return PW_OK;
+}
+
+/* A first estimate: z carried from the fixed vertices along a breadth-first
+ * tree, z_j = e^{i alpha_ij} z_i, i.e. the field integrated along the tree. */
+PW__DEF int pw_periodic_propagate(pw_periodic *P, double *z, const int *id, int k, pw_err *e)
+{
+    const pw_trimesh *m = &P->m;
+    int nh = 3 * m->nf, *start = (int *)pw_calloc_array(&P->a, (size_t)m->nv + 1, sizeof(int), "PGP", e);
+    int *adj = (int *)pw_alloc_array(&P->a, (size_t)nh * 2, sizeof(int), "PGP", e);
+    int *queue = (int *)pw_alloc_array(&P->a, (size_t)m->nv, sizeof(int), "PGP", e);
+    unsigned char *done = (unsigned char *)pw_alloc_array(&P->a, (size_t)m->nv, 1, "PGP", e);
+    int h, v, head = 0, tail = 0, i, r = start && adj && queue && done ? PW_OK : PW_ERR_NOMEM;
+    for (h = 0; r == PW_OK && h < nh; h++) { /* each edge from both ends: +(h+1) forward, -(h+1) backward */
+        start[m->tri[h] + 1]++;
+        if (m->hm.twin[h] < 0) start[m->tri[3 * (h / 3) + (h % 3 + 1) % 3] + 1]++;
+    }
+    for (v = 0; r == PW_OK && v < m->nv; v++) start[v + 1] += start[v];
+    for (h = 0; r == PW_OK && h < nh; h++) {
+        int j = m->tri[3 * (h / 3) + (h % 3 + 1) % 3];
+        adj[start[m->tri[h]]++] = h + 1;
+        if (m->hm.twin[h] < 0) adj[start[j]++] = -(h + 1);
+    }
+    for (v = m->nv; r == PW_OK && v > 0; v--) start[v] = start[v - 1];
+    if (r == PW_OK) start[0] = 0;
+    for (v = 0; r == PW_OK && v < m->nv; v++)
+        if ((done[v] = (unsigned char)(id[v] < 0)) != 0) queue[tail++] = v;
+    while (r == PW_OK && head < tail) {
+        int u = queue[head++];
+        for (i = start[u]; i < start[u + 1]; i++) {
+            int hh = adj[i] > 0 ? adj[i] - 1 : -adj[i] - 1, fw = adj[i] > 0, w;
+            double a, c, sn, *zu = z + 2 * u;
+            w = fw ? m->tri[3 * (hh / 3) + (hh % 3 + 1) % 3] : m->tri[hh];
+            if (done[w]) continue;
+            a = PW_PERIODIC_TWO_PI * pw_periodic_alpha(P, hh, k) * (fw ? 1.0 : -1.0);
+            c = pw_cos(a);
+            sn = pw_sin(a);
+            z[2 * w] = c * zu[0] - sn * zu[1];
+            z[2 * w + 1] = sn * zu[0] + c * zu[1];
+            done[w] = 1;
+            queue[tail++] = w;
+        }
+        if (head == tail) /* a piece no fixed vertex reaches: start it at z = 1 */
+            for (v = 0; v < m->nv; v++)
+                if (!done[v]) {
+                    done[v] = 1;
+                    z[2 * v] = 1.0;
+                    z[2 * v + 1] = 0.0;
+                    queue[tail++] = v;
+                    break;
+                }
+    }
+    pw_free(&P->a, start);
+    pw_free(&P->a, adj);
+    pw_free(&P->a, queue);
+    pw_free(&P->a, done);
+    return r;
+}
+
+/* Solves for the unit complex numbers z (nv*2) of coordinate k at the free
+ * vertices (id >= 0, n of them), the others fixed. */
+PW__DEF int pw_periodic_solve_k(pw_periodic *P, double *z, const int *id, int n, int k, pw_err *e)
+{
+    double *b = (double *)pw_calloc_array(&P->a, (size_t)n * 5, sizeof(double), "PGP", e);
+    double *x = b + 2 * n, *dg = b + 4 * n, *rhs = NULL;
+    int *dpos = NULL;
+    pw_triplets t;
+    pw_zcsr A;
+    pw_zic0 L;
+    pw_cg_options o = pw_cg_default_options();
+    pw_periodic_zsys Z;
+    int v, h, q, step, r = b ? PW_OK : PW_ERR_NOMEM;
+    Z.z = z;
+    Z.id = id;
+    Z.k = k;
+    Z.t = &t;
+    Z.b = b;
+    memset(&t, 0, sizeof t);
+    memset(&A, 0, sizeof A);
+    memset(&L, 0, sizeof L);
+    if (r == PW_OK) r = pw_triplets_init(&t, &P->a, n, 2 * n, e);
+    for (h = 0; r == PW_OK && h < 3 * P->m.nf; h++)
+        if (P->m.hm.twin[h] < h) r = pw_periodic_edge(P, &Z, h, e); /* each edge once */
+    for (q = 0; r == PW_OK && q < t.count; q++)                     /* the (real) diagonal of F's matrix */
+        if (t.col[q] == 2 * t.row[q]) dg[t.row[q]] += t.val[q];
+    if (r == PW_OK) r = pw_periodic_propagate(P, z, id, k, e);
+    if (r == PW_OK && (r = pw_zcsr_from_triplets(&P->a, &t, &A, e)) == PW_OK)
+        r = pw_periodic_diag_index(&P->a, &A, &dpos, e);
+    if (r == PW_OK && !(rhs = (double *)pw_alloc_array(&P->a, (size_t)n * 2, sizeof(double), "PGP", e)))
+        r = PW_ERR_NOMEM;
+    o.max_iter = 4000;
+    for (step = 0; r == PW_OK && step < PW_PERIODIC_STEPS; step++) {
+        double mu = pw_periodic_mu[step];
+        for (q = 0; q < n; q++) A.val[2 * dpos[q]] = dg[q] * (1.0 + mu);
+        pw_zic0_free(&P->a, &L);
+        if ((r = pw_zic0_factor(&P->a, &A, &L, e)) != PW_OK) break;
+        for (v = 0; v < P->m.nv; v++)
+            if ((q = id[v]) >= 0) {
+                x[2 * q] = z[2 * v];
+                x[2 * q + 1] = z[2 * v + 1];
+                rhs[2 * q] = b[2 * q] + mu * dg[q] * z[2 * v];
+                rhs[2 * q + 1] = b[2 * q + 1] + mu * dg[q] * z[2 * v + 1];
+            }
+        o.tol = step < PW_PERIODIC_STEPS - 1 ? 1e-3 : 1e-4; /* each step is normalised: no need for more */
+        r = pw_zpcg_solve(&P->a, &A, &L, rhs, x, &o, NULL, e);
+        for (v = 0; r == PW_OK && v < P->m.nv; v++)
+            if ((q = id[v]) >= 0) {
+                double zz[2];
+                zz[0] = x[2 * q];
+                zz[1] = x[2 * q + 1];
+                if (pw_df_unit(zz)) {
+                    z[2 * v] = zz[0];
+                    z[2 * v + 1] = zz[1];
+                }
+            }
+    }
+    pw_free(&P->a, dpos);
+    pw_zic0_free(&P->a, &L);
+    pw_zcsr_free(&P->a, &A);
+    pw_triplets_free(&t);
+    pw_free(&P->a, b);
+    pw_free(&P->a, rhs);
+    return r;
+}
+
+/* §2.3 over the free vertices: "in the special case of initialization, we
+ * lock a single vertex s_0 = 0 <=> z_0 = [1,0], else s is locked outside
+ * the effect area" (whole: the first vertex of every component locked). */
+PW__DEF int pw_periodic_solve(pw_periodic *P, const unsigned char *vfree, int whole, pw_err *e)
+{
+    int *id = (int *)pw_alloc_array(&P->a, (size_t)P->m.nv, sizeof(int), "PGP", e);
+    int *comp = (int *)pw_calloc_array(&P->a, (size_t)P->m.nf * 2, sizeof(int), "PGP", e);
+    unsigned char *lock = (unsigned char *)pw_calloc_array(&P->a, (size_t)P->m.nv, 1, "PGP", e);
+    int n = 0, v, f, c, nc = 0, r = id && comp && lock ? PW_OK : PW_ERR_NOMEM;
+    if (r == PW_OK && whole) r = pw_hmesh_components(&P->a, &P->m.hm, comp, &nc, e);
+    for (f = 0; r == PW_OK && whole && f < P->m.nf; f++) /* the first triangle of each component */
+        if (!comp[P->m.nf + comp[f]]) {
+            int lo = P->m.tri[3 * f];
+            comp[P->m.nf + comp[f]] = 1;
+            for (c = 1; c < 3; c++) lo = P->m.tri[3 * f + c] < lo ? P->m.tri[3 * f + c] : lo;
+            lock[lo] = 1;
+        }
+    for (c = 0; r == PW_OK && c < P->m.nv; c++) {
+        v = P->vorder[c];
+        id[v] = vfree[v] && !lock[v] ? n++ : -1;
+        if (lock[v]) {
+            P->zs[2 * v] = P->zt[2 * v] = 1.0;
+            P->zs[2 * v + 1] = P->zt[2 * v + 1] = 0.0;
+        }
+    }
+    if (r == PW_OK && n > 0) r = pw_periodic_solve_k(P, P->zs, id, n, 0, e);
+    if (r == PW_OK && n > 0) r = pw_periodic_solve_k(P, P->zt, id, n, 1, e);
+    pw_free(&P->a, id);
+    pw_free(&P->a, comp);
+    pw_free(&P->a, lock);
+    return r;
+}
+
+/* ---- Eq. (4): per-corner coordinates -------------------------------------------------- */
+
+/* s and t of triangle f's corners: corner 0 reads Arg(z)/2pi, corners 1
+ * and 2 add the integer p that brings their difference to corner 0 closest
+ * to what the field asks for along the edge (alpha), so that every vertex
+ * differs between its triangles by integers only. */
+PW__DEF void pw_periodic_recover(pw_periodic *P, int f)
+{
+    const int *tri = P->m.tri + 3 * f;
+    float *o = P->stm + 9 * f;
+    int c, k;
+    for (k = 0; k < 2; k++) {
+        const double *z = k ? P->zt : P->zs;
+        double s0 = pw_periodic_turns(z[2 * tri[0]], z[2 * tri[0] + 1]);
+        o[k] = (float)s0;
+        for (c = 1; c < 3; c++) {
+            /* alpha from corner 0 to corner c: edge 0->1 is half-edge 3f, edge 0->2 is 3f+2 reversed */
+            double want = s0 + (c == 1 ? pw_periodic_alpha(P, 3 * f, k) : -pw_periodic_alpha(P, 3 * f + 2, k));
+            double sc = pw_periodic_turns(z[2 * tri[c]], z[2 * tri[c] + 1]);
+            o[3 * c + k] = (float)(sc + floor(want - sc + 0.5));
+        }
+    }
+}
+
+/* ---- vortices ---------------------------------------------------------------------------- */
+
+/* The 3D gradient of the linear function with corner values w0, w1, w2 on
+ * triangle f. */
+PW__DEF pw_v3 pw_periodic_gradient(const pw_periodic *P, int f, double w0, double w1, double w2)
+{
+    pw_v3 p = pw_trimesh_corner(&P->m, f, 0);
+    pw_v3 e1 = pw_v3_sub(pw_trimesh_corner(&P->m, f, 1), p), e2 = pw_v3_sub(pw_trimesh_corner(&P->m, f, 2), p);
+    double a11 = pw_v3_dot(e1, e1), a12 = pw_v3_dot(e1, e2), a22 = pw_v3_dot(e2, e2), det = a11 * a22 - a12 * a12;
+    double d1 = w1 - w0, d2 = w2 - w0, x, y;
+    if (!(det > 0.0)) return pw_v3_make(0.0f, 0.0f, 0.0f);
+    x = (d1 * a22 - d2 * a12) / det;
+    y = (d2 * a11 - d1 * a12) / det;
+    return pw_v3_add(pw_v3_scale(e1, (float)x), pw_v3_scale(e2, (float)y));
+}
+
+/* The winding of coordinate k around triangle f, an integer (0 but at a
+ * vortex of the periodic parameterization): Eq. (4) brought corners 1 and 2
+ * next to corner 0 along the field, so the edge from 1 to 2 carries it all.
+ * The sum over the edges of alpha plus the wrapped rest is
+ * -round(s_2 - s_1 - alpha_12). */
+PW__DEF int pw_periodic_winding(const pw_periodic *P, int f, int k)
+{
+    const float *o = P->stm + 9 * f;
+    return -(int)floor((double)o[6 + k] - o[3 + k] - pw_periodic_alpha(P, 3 * f + 1, k) + 0.5);
+}
+
+/* Whether s or t winds around triangle f. */
+PW__DEF int pw_periodic_vortex(const pw_periodic *P, int f)
+{
+    return pw_periodic_winding(P, f, 0) != 0 || pw_periodic_winding(P, f, 1) != 0;
+}
+
+/* ---- the clean coordinates of a vortex triangle (beyond §3) ----------------------------- */
+
+/* Layout of a vortex triangle's data, per coordinate k (12 floats):
+ * U[3] the boundary values at the corners walking 0 -> 1 -> 2 (U_0 = s_0),
+ * D[3] the difference along edge a -> a+1 (the integer shift nearest
+ * alpha, as every regular neighbour has it; U_2 + D_2 = U_0 - winding),
+ * V[3] the field's linear function L at the corners (corner 0's view, §3),
+ * Q[3] the barycentric coordinates of the zero. A coordinate that does not
+ * wind here has Q[0] < 0 and is linear in U. The zero is that of the
+ * linearly interpolated residual e^{2 pi i (U - V)} ("stripe patterns",
+ * Knöppel, Crane, Pinkall and Schröder 2015), kept off the edges. */
+PW__DEF void pw_periodic_clean_coord(const pw_periodic *P, int f, int k, float *o)
+{
+    const float *c = P->stm + 9 * f;
+    double U[3], D[3], V[3], r[3], zr[3], zi[3], det, q1, q2;
+    int a;
+    for (a = 0; a < 3; a++) { /* the edge from corner a to a+1: half-edge 3f + a */
+        double d = (double)c[3 * ((a + 1) % 3) + k] - c[3 * a + k], al = pw_periodic_alpha(P, 3 * f + a, k);
+        D[a] = d + floor(al - d + 0.5);
+    }
+    U[0] = c[k];
+    U[1] = U[0] + D[0];
+    U[2] = U[1] + D[1];
+    V[0] = c[k];
+    V[1] = c[k] + pw_periodic_alpha(P, 3 * f, k);
+    V[2] = c[k] - pw_periodic_alpha(P, 3 * f + 2, k);
+    for (a = 0; a < 3; a++) {
+        o[a] = (float)U[a];
+        o[3 + a] = (float)D[a];
+        o[6 + a] = (float)V[a];
+    }
+    o[9] = -1.0f;
+    o[10] = o[11] = 0.0f;
+    if (pw_periodic_winding(P, f, k) == 0) return;
+    for (a = 0; a < 3; a++) {
+        r[a] = PW_PERIODIC_TWO_PI * (U[a] - V[a]);
+        zr[a] = pw_cos(r[a]);
+        zi[a] = pw_sin(r[a]);
+    }
+    /* [KCPS15]: the zero of z_0 + q1 (z_1 - z_0) + q2 (z_2 - z_0) */
+    det = (zr[1] - zr[0]) * (zi[2] - zi[0]) - (zi[1] - zi[0]) * (zr[2] - zr[0]);
+    q1 = det != 0.0 ? (-zr[0] * (zi[2] - zi[0]) + zi[0] * (zr[2] - zr[0])) / det : 1.0 / 3.0;
+    q2 = det != 0.0 ? (-zi[0] * (zr[1] - zr[0]) + zr[0] * (zi[1] - zi[0])) / det : 1.0 / 3.0;
+    if (!(q1 >= 0.0 && q2 >= 0.0 && q1 + q2 <= 1.0)) q1 = q2 = 1.0 / 3.0; /* |winding| > 1: the centre */
+    /* kept off the edges, so that no sector of the fan is a sliver */
+    q1 = 0.1 + 0.7 * q1;
+    q2 = 0.1 + 0.7 * q2;
+    o[9] = (float)(1.0 - q1 - q2);
+    o[10] = (float)q1;
+    o[11] = (float)q2;
+}
+
+/* The clean coordinate (o: pw_periodic_clean_coord's 12 floats of one
+ * coordinate) of a vortex triangle at barycentric b: the point x where
+ * the ray from the zero Q through b leaves the triangle takes the boundary
+ * value (linear along the edge, as the neighbour's), and b takes it plus
+ * L(b) - L(x): the field's gradient inside, the residual constant along
+ * rays, so the coordinate winds once (n times) around Q. */
+PW__DEF double pw_periodic_clean_eval(const float *o, const double *b)
+{
+    const float *U = o, *D = o + 3, *V = o + 6, *Q = o + 9;
+    double mu = 2.0, x[3], u;
+    int c, e = 0;
+    if (Q[0] < 0.0f) return b[0] * U[0] + b[1] * U[1] + b[2] * U[2];
+    for (c = 0; c < 3; c++) /* the edge the ray leaves by: opposite the smallest b_c / Q_c */
+        if (b[c] / Q[c] < mu) {
+            mu = b[c] / Q[c];
+            e = (c + 1) % 3;
+        }
+    if (mu >= 1.0 - 1e-9) return U[0]; /* at the zero itself */
+    for (c = 0; c < 3; c++) x[c] = (b[c] - mu * Q[c]) / (1.0 - mu);
+    u = U[e] + x[(e + 1) % 3] * D[e];
+    for (c = 0; c < 3; c++) u += (b[c] - x[c]) * V[c];
+    return u;
+}
+
+/* Mean edge length of the triangle mesh. */
+PW__DEF double pw_periodic_mean_edge(const pw_periodic *P)
+{
+    double sum = 0.0;
+    int h, n = 0;
+    for (h = 0; h < 3 * P->m.nf; h++) {
+        int f = h / 3, c = h % 3;
+        if (P->m.hm.twin[h] > h) continue; /* each edge once */
+        sum += pw_v3_len(pw_v3_sub(pw_trimesh_corner(&P->m, f, (c + 1) % 3), pw_trimesh_corner(&P->m, f, c)));
+        n++;
+    }
+    return n ? sum / n : 0.0;
+}
+
+/* A tile side the mesh can carry: at most 10 bounding-box diagonals (beyond,
+ * the whole mesh is one colour) and at least 2 mean edge lengths (below, a
+ * period spans less than two triangles and Eq. 4 cannot recover it). */
+PW__DEF int pw_periodic_check_scale(const pw_periodic *P, double side, pw_err *e)
+{
+    double lo = 2.0 * pw_periodic_mean_edge(P), hi = 10.0 * P->m.diag;
+    if (side > hi || side < lo)
+        return pw_fail(e, PW_ERR_INVALID,
+                       "tile side %g is outside [%g, %g] (2 mean edge lengths to 10 bounding-box "
+                       "diagonals)",
+                       side, lo, hi);
+    return PW_OK;
+}
+
+#endif /* PW__PERIODIC_V1 */
+
 /* ---- shared module src/common/nrrd.h ---- */
 /* nrrd: volumes and the NRRD file format, with gzip streams.
  *
@@ -16961,74 +17783,30 @@ typedef struct pgp_map_state pgp__state;
 struct pgp_map_state {
     pw_alloc a;
     pgp_options o;
-    float *pos; /* nv*3, the map's own copy of the positions */
-    pw_trimesh m;
-    float *conn;          /* dirfield connection, 3nf*2 */
-    double *dual;         /* dual edge lengths per half-edge (Dijkstra) */
-    double *base;         /* nf*2: default field direction per triangle (frame) */
-    double *dir;          /* nf*2: d_s per triangle, unit, in the triangle frame */
-    float *scale;         /* nv: S_i */
-    float *sfac;          /* nv: the integrability factor of S_i (1 but with
-                             options.integrable, pgp__integrable) */
+    float *pos;           /* nv*3, the map's own copy of the positions */
+    pw_periodic pp;       /* the mesh, the field, s and t (src/common/periodic.h);
+                             pp.sfac is the integrability factor of S_i (1 but
+                             with options.integrable, pgp__integrable) */
     float *mat;           /* nv: m_i */
-    double *zs, *zt;      /* nv*2: the unit complex unknowns of s and t (§2.3) */
-    float *stm;           /* nf*9: per corner s, t, m (Eq. 4); pgp_map.coords */
-    int *forder, *vorder; /* triangles and vertices in breadth-first order: the
-                             order of the unknowns of every solve */
     unsigned char *vsing; /* nv: singular 1-ring (§3) */
     unsigned char *fsing; /* nf: a corner's 1-ring is singular */
     int nsing;
-    float scale0; /* default tile side */
     pgp__constraint *con;
     int ncon;
     size_t concap;
 };
 
-/* The frame of triangle f as 3D vectors (u along its first edge, v = N x u). */
-static void pgp__frame(const pgp__state *P, int f, pw_v3 *u, pw_v3 *v) { pw_df_frame(&P->m, f, u, v); }
-
-/* d_s (k = 0) or d_t = N x d_s (k = 1) of triangle f in 3D. */
-static pw_v3 pgp__dir3(const pgp__state *P, int f, int k)
-{
-    pw_v3 u, v, d;
-    double x = P->dir[2 * f], y = P->dir[2 * f + 1];
-    pgp__frame(P, f, &u, &v);
-    if (k == 1) { /* rot90 in the frame */
-        double t = x;
-        x = -y;
-        y = t;
-    }
-    d = pw_v3_add(pw_v3_scale(u, (float)x), pw_v3_scale(v, (float)y));
-    return d;
-}
-
-/* S^T = (S_i + S_j + S_k) / 3 (§2.3), each S_i times its integrability
- * factor. */
-static double pgp__face_scale(const pgp__state *P, int f)
-{
-    const int *t = P->m.tri + 3 * f;
-    return ((double)P->scale[t[0]] * P->sfac[t[0]] + (double)P->scale[t[1]] * P->sfac[t[1]] +
-            (double)P->scale[t[2]] * P->sfac[t[2]]) /
-           3.0;
-}
-
-/* g = d / S^T for s (k = 0) or t (k = 1). */
-static pw_v3 pgp__grad(const pgp__state *P, int f, int k)
-{
-    return pw_v3_scale(pgp__dir3(P, f, k), (float)(1.0 / pgp__face_scale(P, f)));
-}
-
 static int pgp__check_vertex(const pgp__state *P, int v, pw_err *e)
 {
-    if (v < 0 || v >= P->m.nv)
-        return pw_fail(e, PW_ERR_INVALID, "vertex %d does not exist (the mesh has %d)", v, P->m.nv);
+    if (v < 0 || v >= P->pp.m.nv)
+        return pw_fail(e, PW_ERR_INVALID, "vertex %d does not exist (the mesh has %d)", v, P->pp.m.nv);
     return PW_OK;
 }
 
 static int pgp__check_face(const pgp__state *P, int f, pw_err *e)
 {
-    if (f < 0 || f >= P->m.nf)
-        return pw_fail(e, PW_ERR_INVALID, "triangle %d does not exist (the mesh has %d)", f, P->m.nf);
+    if (f < 0 || f >= P->pp.m.nf)
+        return pw_fail(e, PW_ERR_INVALID, "triangle %d does not exist (the mesh has %d)", f, P->pp.m.nf);
     return PW_OK;
 }
 
@@ -17039,7 +17817,7 @@ PGPDEF int pgp_map_singular(const pgp_map *map, unsigned char *flags)
 {
     const pgp__state *P = pgp__state_of(map);
     if (!P) return 0;
-    if (flags) memcpy(flags, P->fsing, (size_t)P->m.nf);
+    if (flags) memcpy(flags, P->fsing, (size_t)P->pp.m.nf);
     return P->nsing;
 }
 
@@ -17056,19 +17834,19 @@ PGPDEF pgp_result pgp_map_field(const pgp_map *map, pgp_field *out, pgp_error *e
         return pgp__done(&pe, err);
     }
     a = P->a;
-    out->dir = (float *)pw_alloc_array(&a, (size_t)P->m.nf * 3, sizeof(float), "field", &pe);
-    out->scale = (float *)pw_alloc_array(&a, (size_t)P->m.nv, sizeof(float), "field", &pe);
-    out->material = (float *)pw_alloc_array(&a, (size_t)P->m.nv, sizeof(float), "field", &pe);
+    out->dir = (float *)pw_alloc_array(&a, (size_t)P->pp.m.nf * 3, sizeof(float), "field", &pe);
+    out->scale = (float *)pw_alloc_array(&a, (size_t)P->pp.m.nv, sizeof(float), "field", &pe);
+    out->material = (float *)pw_alloc_array(&a, (size_t)P->pp.m.nv, sizeof(float), "field", &pe);
     out->allocator = pgp__allocator(&a);
     if (!out->dir || !out->scale || !out->material) {
         pgp_field_free(out);
         return pgp__done(&pe, err);
     }
-    out->ntris = P->m.nf;
-    out->nverts = P->m.nv;
-    for (f = 0; f < P->m.nf; f++) pw_v3_store(out->dir + 3 * f, pgp__dir3(P, f, 0));
-    memcpy(out->scale, P->scale, sizeof(float) * (size_t)P->m.nv);
-    memcpy(out->material, P->mat, sizeof(float) * (size_t)P->m.nv);
+    out->ntris = P->pp.m.nf;
+    out->nverts = P->pp.m.nv;
+    for (f = 0; f < P->pp.m.nf; f++) pw_v3_store(out->dir + 3 * f, pw_periodic_dir3(&P->pp, f, 0));
+    memcpy(out->scale, P->pp.scale, sizeof(float) * (size_t)P->pp.m.nv);
+    memcpy(out->material, P->mat, sizeof(float) * (size_t)P->pp.m.nv);
     return pgp__done(&pe, err);
 }
 
@@ -17077,39 +17855,6 @@ PGPDEF pgp_result pgp_map_field(const pgp_map *map, pgp_field *out, pgp_error *e
  * scale and material by Laplacian smoothing, orientation by smoothing unit
  * directions, each with the constraints and everything outside the effect
  * area locked. */
-
-/* ---- sparse symmetric positive definite solves ----------------------------- */
-
-/* Solves the system collected in t for x (warm start: x's current values)
- * to a relative residual tol: real symmetric positive definite (n x n
- * triplets) by IC(0)-preconditioned CG, or complex Hermitian (zsparse.h:
- * n x 2n triplets, b and x complex) by its complex counterpart. */
-static int pgp__pd_solve(const pw_alloc *a, const pw_triplets *t, const double *b, double *x, double tol, pw_err *e)
-{
-    const int complex = t->m == 2 * t->n;
-    pw_csr A;
-    pw_ic0 L;
-    pw_zcsr ZA;
-    pw_zic0 ZL;
-    pw_cg_options o = pw_cg_default_options();
-    int r;
-    o.tol = tol;
-    o.max_iter = 4000;
-    if (complex) {
-        memset(&ZL, 0, sizeof ZL);
-        if ((r = pw_zcsr_from_triplets(a, t, &ZA, e)) != PW_OK) return r;
-        if ((r = pw_zic0_factor(a, &ZA, &ZL, e)) == PW_OK) r = pw_zpcg_solve(a, &ZA, &ZL, b, x, &o, NULL, e);
-        pw_zic0_free(a, &ZL);
-        pw_zcsr_free(a, &ZA);
-        return r;
-    }
-    memset(&L, 0, sizeof L);
-    if ((r = pw_csr_from_triplets(a, t, &A, e)) != PW_OK) return r;
-    if ((r = pw_ic0_factor(a, &A, &L, e)) == PW_OK) r = pw_pcg_solve(a, &A, &L, b, x, &o, NULL, e);
-    pw_ic0_free(a, &L);
-    pw_csr_free(a, &A);
-    return r;
-}
 
 /* ---- §2.1 effect area ------------------------------------------------------------ */
 
@@ -17128,7 +17873,7 @@ typedef struct pgp__seeds {
  * order (nf) lists them, *n their number. */
 static int pgp__area(const pgp__state *P, const pgp__seeds *sd, unsigned char *in, int *order, int *n, pw_err *e)
 {
-    const pw_trimesh *m = &P->m;
+    const pw_trimesh *m = &P->pp.m;
     const int *seeds = sd->tri, nseeds = sd->n;
     const float radius = sd->radius;
     double *dist = (double *)pw_alloc_array(&P->a, (size_t)m->nf * 4 + 1, sizeof(double), "effect area", e);
@@ -17159,7 +17904,7 @@ static int pgp__area(const pgp__state *P, const pgp__seeds *sd, unsigned char *i
         in[f] = 1;
         order[(*n)++] = f;
         for (k = 0; k < 3; k++) {
-            double nd = d + P->dual[3 * f + k];
+            double nd = d + P->pp.dual[3 * f + k];
             if ((g = pw_trimesh_across(m, f, k)) >= 0 && !in[g] && nd < dist[g]) {
                 dist[g] = nd;
                 pw_heap_insert(&hp, nd, g);
@@ -17182,43 +17927,14 @@ static int pgp__area(const pgp__state *P, const pgp__seeds *sd, unsigned char *i
 static void pgp__free_vertices(const pgp__state *P, const unsigned char *in, unsigned char *vfree)
 {
     int f, k;
-    memset(vfree, 0, (size_t)P->m.nv);
-    for (f = 0; f < P->m.nf; f++)
-        for (k = 0; in[f] && k < 3; k++) vfree[P->m.tri[3 * f + k]] = 1;
-    for (f = 0; f < P->m.nf; f++)
-        for (k = 0; !in[f] && k < 3; k++) vfree[P->m.tri[3 * f + k]] = 0;
+    memset(vfree, 0, (size_t)P->pp.m.nv);
+    for (f = 0; f < P->pp.m.nf; f++)
+        for (k = 0; in[f] && k < 3; k++) vfree[P->pp.m.tri[3 * f + k]] = 1;
+    for (f = 0; f < P->pp.m.nf; f++)
+        for (k = 0; !in[f] && k < 3; k++) vfree[P->pp.m.tri[3 * f + k]] = 0;
 }
 
 /* ---- §2.2 scale and material: Laplacian smoothing ---------------------------------- */
-
-/* Cotangent of the angle at corner k of triangle f. */
-static double pgp__cot(const pw_trimesh *m, int f, int k)
-{
-    pw_v3 p = pw_trimesh_corner(m, f, k);
-    pw_v3 a = pw_v3_sub(pw_trimesh_corner(m, f, (k + 1) % 3), p),
-          b = pw_v3_sub(pw_trimesh_corner(m, f, (k + 2) % 3), p);
-    double c = pw_v3_dot(a, b), s = pw_v3_len(pw_v3_cross(a, b));
-    return s > 0.0 ? c / s : 0.0;
-}
-
-/* The Laplacian weight of the edge of half-edge h (the cotangents of the
- * angles facing it, halved), floored so that obtuse triangles keep every
- * weight positive and the smoothing a maximum principle. */
-static double pgp__lap_weight(const pw_trimesh *m, int h)
-{
-    double w = 0.5 * pgp__cot(m, h / 3, (h % 3 + 2) % 3);
-    if (m->hm.twin[h] >= 0) {
-        int t = m->hm.twin[h];
-        w += 0.5 * pgp__cot(m, t / 3, (t % 3 + 2) % 3);
-    }
-    return w > 0.05 ? w : 0.05;
-}
-
-/* Weight of the pull of every unknown towards its default: small enough to
- * change nothing visible where constraints or the area's border fix the
- * values, and it makes a component with nothing fixed take the default
- * (where the Laplacian alone would be singular). */
-#define PGP__PULL 1e-7
 
 /* Harmonic interpolation of a vertex value (S or m): the free vertices
  * (vfree, minus the `locked` ones) solve the Laplace equation with the
@@ -17227,14 +17943,14 @@ static double pgp__lap_weight(const pw_trimesh *m, int h)
 static int pgp__harmonic(pgp__state *P, const unsigned char *vfree, const unsigned char *locked, float fallback,
                          float *val, pw_err *e)
 {
-    const pw_trimesh *m = &P->m;
+    const pw_trimesh *m = &P->pp.m;
     int *id = (int *)pw_alloc_array(&P->a, (size_t)m->nv, sizeof(int), "interpolation", e);
     double *b = NULL, *x = NULL;
     pw_triplets t;
     int n = 0, v, h, r = id ? PW_OK : PW_ERR_NOMEM;
     memset(&t, 0, sizeof t);
     for (h = 0; r == PW_OK && h < m->nv; h++) { /* breadth-first order */
-        v = P->vorder[h];
+        v = P->pp.vorder[h];
         id[v] = vfree[v] && !locked[v] ? n++ : -1;
     }
     if (r == PW_OK && n > 0) {
@@ -17248,7 +17964,7 @@ static int pgp__harmonic(pgp__state *P, const unsigned char *vfree, const unsign
         int i = m->tri[h], j = m->tri[3 * (h / 3) + (h % 3 + 1) % 3];
         double w;
         if (m->hm.twin[h] >= 0 && m->hm.twin[h] < h) continue; /* each edge once */
-        w = pgp__lap_weight(m, h);
+        w = pw_periodic_lap_weight(m, h);
         if (id[i] >= 0) r = pw_triplets_add(&t, id[i], id[i], w, e);
         if (r == PW_OK && id[j] >= 0) r = pw_triplets_add(&t, id[j], id[j], w, e);
         if (r == PW_OK && id[i] >= 0 && id[j] >= 0) {
@@ -17258,9 +17974,9 @@ static int pgp__harmonic(pgp__state *P, const unsigned char *vfree, const unsign
         else if (r == PW_OK && id[j] >= 0) b[id[j]] += w * val[i];
     }
     for (v = 0; r == PW_OK && n > 0 && v < m->nv; v++) /* a faint pull towards the fallback */
-        if (id[v] >= 0 && (r = pw_triplets_add(&t, id[v], id[v], PGP__PULL, e)) == PW_OK)
-            b[id[v]] += PGP__PULL * fallback;
-    if (r == PW_OK && n > 0) r = pgp__pd_solve(&P->a, &t, b, x, 1e-8, e);
+        if (id[v] >= 0 && (r = pw_triplets_add(&t, id[v], id[v], PW_PERIODIC_PULL, e)) == PW_OK)
+            b[id[v]] += PW_PERIODIC_PULL * fallback;
+    if (r == PW_OK && n > 0) r = pw_periodic_pd_solve(&P->a, &t, b, x, 1e-8, e);
     for (v = 0; r == PW_OK && n > 0 && v < m->nv; v++)
         if (id[v] >= 0) val[v] = (float)x[id[v]];
     pw_triplets_free(&t);
@@ -17271,135 +17987,6 @@ static int pgp__harmonic(pgp__state *P, const unsigned char *vfree, const unsign
 }
 
 /* ---- §2.2 orientation: smoothing of unit directions ------------------------------------- */
-
-/* Weight of the edge of half-edge h in the orientation smoothing: its
- * length over the dual edge's (the cotangent weight of the dual mesh). */
-static double pgp__dir_weight(const pgp__state *P, int h)
-{
-    int f = h / 3, k = h % 3;
-    double len = pw_v3_len(pw_v3_sub(pw_trimesh_corner(&P->m, f, (k + 1) % 3), pw_trimesh_corner(&P->m, f, k)));
-    return P->dual[h] > 0.0 ? len / P->dual[h] : 1.0;
-}
-
-/* Adds one interior edge (half-edge h of triangle f, twin in g) to the
- * orientation system: w |z_f - c z_g|^2 with c the transport from g into f
- * (pw_df_connection): w on both diagonals, -w c at (f, g) and its
- * conjugate at (g, f); a fixed neighbour moves to b. */
-static int pgp__dir_edge(const pgp__state *P, const int *id, int h, pw_triplets *t, double *b, pw_err *e)
-{
-    int f = h / 3, g = P->m.hm.twin[h] / 3, i = id[f], j = id[g], r = PW_OK;
-    double w = pgp__dir_weight(P, h), cx = P->conn[2 * h], cy = P->conn[2 * h + 1];
-    const double *zf = P->dir + 2 * f, *zg = P->dir + 2 * g;
-    if (i >= 0) r = pw_ztriplets_add(t, i, i, w, 0.0, e);
-    if (r == PW_OK && j >= 0) r = pw_ztriplets_add(t, j, j, w, 0.0, e);
-    if (r == PW_OK && i >= 0 && j >= 0) {
-        r = pw_ztriplets_add(t, i, j, -w * cx, -w * cy, e);
-        if (r == PW_OK) r = pw_ztriplets_add(t, j, i, -w * cx, w * cy, e);
-    } else if (i >= 0) { /* b_f += w c z_g */
-        b[2 * i] += w * (cx * zg[0] - cy * zg[1]);
-        b[2 * i + 1] += w * (cx * zg[1] + cy * zg[0]);
-    } else if (j >= 0) { /* b_g += w conj(c) z_f */
-        b[2 * j] += w * (cx * zf[0] + cy * zf[1]);
-        b[2 * j + 1] += w * (cx * zf[1] - cy * zf[0]);
-    }
-    return r;
-}
-
-/* Directions are normalised after the solve: a loose tolerance suffices. */
-#define PGP__DIR_TOL 3e-3
-
-/* Smooths the directions of the free triangles (free[f]) with the others
- * fixed, each pulled towards the default field with weight pull[f] (NULL:
- * a faint pull that only decides components with nothing fixed), then
- * normalises: "orientations rather than vectors" (the scale is
- * interpolated separately). Singularities emerge where the fixed directions
- * force them. A free component with nothing fixed takes the default field. */
-static int pgp__dir_smooth(pgp__state *P, const unsigned char *free, const double *pull, pw_err *e)
-{
-    const pw_trimesh *m = &P->m;
-    int *id = (int *)pw_alloc_array(&P->a, (size_t)m->nf, sizeof(int), "orientation", e);
-    double *b = NULL, *x = NULL;
-    pw_triplets t;
-    int n = 0, f, h, r = id ? PW_OK : PW_ERR_NOMEM;
-    memset(&t, 0, sizeof t);
-    for (h = 0; r == PW_OK && h < m->nf; h++) { /* breadth-first order */
-        f = P->forder[h];
-        id[f] = free[f] ? n++ : -1;
-    }
-    if (r == PW_OK && n > 0) {
-        b = (double *)pw_calloc_array(&P->a, (size_t)n * 2, sizeof(double), "orientation", e);
-        x = (double *)pw_alloc_array(&P->a, (size_t)n * 2, sizeof(double), "orientation", e);
-        if (!b || !x) r = PW_ERR_NOMEM;
-        else r = pw_triplets_init(&t, &P->a, n, 2 * n, e);
-    }
-    for (f = 0; r == PW_OK && n > 0 && f < m->nf; f++)
-        if (id[f] >= 0) {
-            double w = pull ? pull[f] + PGP__PULL : PGP__PULL;
-            x[2 * id[f]] = P->dir[2 * f];
-            x[2 * id[f] + 1] = P->dir[2 * f + 1];
-            b[2 * id[f]] += w * P->base[2 * f];
-            b[2 * id[f] + 1] += w * P->base[2 * f + 1];
-            r = pw_ztriplets_add(&t, id[f], id[f], w, 0.0, e);
-        }
-    for (h = 0; r == PW_OK && n > 0 && h < 3 * m->nf; h++)
-        if (m->hm.twin[h] > h && (id[h / 3] >= 0 || id[m->hm.twin[h] / 3] >= 0)) r = pgp__dir_edge(P, id, h, &t, b, e);
-    if (r == PW_OK && n > 0) r = pgp__pd_solve(&P->a, &t, b, x, PGP__DIR_TOL, e);
-    for (f = 0; r == PW_OK && n > 0 && f < m->nf; f++)
-        if (id[f] >= 0) {
-            double *z = P->dir + 2 * f;
-            z[0] = x[2 * id[f]];
-            z[1] = x[2 * id[f] + 1];
-            if (!pw_df_unit(z)) {
-                z[0] = P->base[2 * f];
-                z[1] = P->base[2 * f + 1];
-            }
-        }
-    pw_triplets_free(&t);
-    pw_free(&P->a, id);
-    pw_free(&P->a, b);
-    pw_free(&P->a, x);
-    return r;
-}
-
-/* The default field (§2.2, where no constraint reaches): the tile's t axis
- * along the global up direction projected onto each triangle, or along the
- * direction of least curvature; then smoothed ("a vector field smoothing
- * algorithm" [LRL06]): each triangle is pulled towards that direction with
- * a weight A_f c_f / S^2 against the smoothness terms between neighbours,
- * so that the field varies over about one tile size and the poles of the
- * projection (c_f = 1 - (up . n)^2 small: up nearly normal to the face) are
- * filled smoothly. A field that turns within a tile cannot be followed by a
- * periodic parameterization without distortion. */
-static int pgp__base_field(pgp__state *P, pw_err *e)
-{
-    size_t nf = (size_t)P->m.nf;
-    unsigned char *known = (unsigned char *)pw_alloc_array(&P->a, nf, 1, "field", e);
-    double *pull = (double *)pw_alloc_array(&P->a, nf, sizeof(double), "field", e);
-    pw_v3 up = pw_v3_norm(pw_v3_load(P->o.up));
-    int r = known && pull ? PW_OK : PW_ERR_NOMEM, f;
-    pw_df_field F;
-    F.m = &P->m;
-    F.conn = P->conn;
-    F.z = P->base;
-    F.known = known;
-    if (r == PW_OK && P->o.field == PGP_FIELD_CURVATURE) r = pw_df_curvature(&P->a, &F, up, P->o.smoothing, e);
-    else if (r == PW_OK) r = pw_df_up(&P->a, &F, up, e);
-    for (f = 0; r == PW_OK && f < P->m.nf; f++) { /* that is d_t; d_s = rot(-90)(d_t) */
-        double x = P->base[2 * f], c = pw_v3_dot(up, pw_v3_load(P->m.normal + 3 * f));
-        P->base[2 * f] = P->base[2 * f + 1];
-        P->base[2 * f + 1] = -x;
-        P->dir[2 * f] = P->base[2 * f];
-        P->dir[2 * f + 1] = P->base[2 * f + 1];
-        pull[f] =
-            (P->o.field == PGP_FIELD_CURVATURE ? 1.0 : 1.0 - c * c) * P->m.area[f] / ((double)P->scale0 * P->scale0);
-        known[f] = 1;
-    }
-    if (r == PW_OK) r = pgp__dir_smooth(P, known, pull, e);
-    if (r == PW_OK) memcpy(P->base, P->dir, sizeof(double) * 2 * nf);
-    pw_free(&P->a, known);
-    pw_free(&P->a, pull);
-    return r;
-}
 
 /* ---- re-interpolation over an effect area ------------------------------------------------ */
 
@@ -17420,22 +18007,22 @@ static int pgp__interp_dir(pgp__state *P, const unsigned char *in, int whole, un
 {
     int f, i;
     if (whole && !pgp__has(P, PGP_CONSTRAINT_ORIENT)) {
-        memcpy(P->dir, P->base, sizeof(double) * 2 * (size_t)P->m.nf);
+        memcpy(P->pp.dir, P->pp.base, sizeof(double) * 2 * (size_t)P->pp.m.nf);
         return PW_OK;
     }
-    memcpy(mark, in, (size_t)P->m.nf);
+    memcpy(mark, in, (size_t)P->pp.m.nf);
     for (i = 0; i < P->ncon; i++) {
         const pgp_constraint *c = &P->con[i].c;
         if (!P->con[i].alive || c->kind != PGP_CONSTRAINT_ORIENT) continue;
-        pw_df_project(&P->m, c->element, pw_v3_load(c->value), P->dir + 2 * c->element); /* checked when added */
+        pw_df_project(&P->pp.m, c->element, pw_v3_load(c->value), P->pp.dir + 2 * c->element); /* checked when added */
         mark[c->element] = 0;
     }
-    for (f = 0; whole && f < P->m.nf; f++) /* nothing outside: start from the default */
+    for (f = 0; whole && f < P->pp.m.nf; f++) /* nothing outside: start from the default */
         if (mark[f]) {
-            P->dir[2 * f] = P->base[2 * f];
-            P->dir[2 * f + 1] = P->base[2 * f + 1];
+            P->pp.dir[2 * f] = P->pp.base[2 * f];
+            P->pp.dir[2 * f + 1] = P->pp.base[2 * f + 1];
         }
-    return pgp__dir_smooth(P, mark, NULL, e);
+    return pw_periodic_dir_smooth(&P->pp, mark, NULL, e);
 }
 
 /* Scale (kind PGP_CONSTRAINT_SCALE) or material over the area's free vertices:
@@ -17444,21 +18031,21 @@ static int pgp__interp_dir(pgp__state *P, const unsigned char *in, int whole, un
 static int pgp__interp_vertex(pgp__state *P, pgp_constraint_kind kind, const unsigned char *vfree, int whole,
                               unsigned char *locked, pw_err *e)
 {
-    float *val = kind == PGP_CONSTRAINT_SCALE ? P->scale : P->mat;
-    float fallback = kind == PGP_CONSTRAINT_SCALE ? P->scale0 : P->o.material;
-    float lo = kind == PGP_CONSTRAINT_SCALE ? P->o.min_scale * P->scale0 : 0.0f,
+    float *val = kind == PGP_CONSTRAINT_SCALE ? P->pp.scale : P->mat;
+    float fallback = kind == PGP_CONSTRAINT_SCALE ? P->pp.scale0 : P->o.material;
+    float lo = kind == PGP_CONSTRAINT_SCALE ? P->o.min_scale * P->pp.scale0 : 0.0f,
           hi = kind == PGP_CONSTRAINT_SCALE ? FLT_MAX : 1.0f;
     int v, i, r;
-    memset(locked, 0, (size_t)P->m.nv);
+    memset(locked, 0, (size_t)P->pp.m.nv);
     for (i = 0; i < P->ncon; i++)
         if (P->con[i].alive && P->con[i].c.kind == kind) {
             val[P->con[i].c.element] = P->con[i].c.value[0];
             locked[P->con[i].c.element] = 1;
         }
-    for (v = 0; whole && v < P->m.nv; v++)
+    for (v = 0; whole && v < P->pp.m.nv; v++)
         if (!locked[v]) val[v] = fallback;
     if ((r = pgp__harmonic(P, vfree, locked, fallback, val, e)) != PW_OK) return r;
-    for (v = 0; v < P->m.nv; v++) val[v] = val[v] < lo ? lo : (val[v] > hi ? hi : val[v]);
+    for (v = 0; v < P->pp.m.nv; v++) val[v] = val[v] < lo ? lo : (val[v] > hi ? hi : val[v]);
     return PW_OK;
 }
 
@@ -17468,361 +18055,31 @@ static int pgp__interp_vertex(pgp__state *P, pgp_constraint_kind kind, const uns
  * recomputation of an effect area that every edit runs, and the map of a
  * mesh before any constraint (edit.c holds the public editing calls). */
 
-#define PGP__TWO_PI 6.28318530717958647692
-
-/* ---- angles without libm -------------------------------------------------------------- */
-
-/* atan(x) for |x| <= 1: two half-angle steps (atan x = 2 atan(x / (1 +
- * sqrt(1 + x^2)))) bring |x| below tan(pi/16) ~ 0.2, then the Taylor series
- * to x^21 (truncation below 1e-17). Only + - * / sqrt: the same bits on
- * every IEEE platform, which libm's atan2 does not promise. */
-static double pgp__atan(double x)
-{
-    double y = x / (1.0 + sqrt(1.0 + x * x)), y2, p = 1.0 / 21.0;
-    int k;
-    y = y / (1.0 + sqrt(1.0 + y * y));
-    y2 = y * y;
-    for (k = 19; k >= 1; k -= 2) p = 1.0 / k - y2 * p;
-    return 4.0 * y * p;
-}
-
-/* Arg(x + iy) / 2 pi, in (-1/2, 1/2]; 0 for 0. */
-static double pgp__turns(double x, double y)
-{
-    const double pi = 3.14159265358979323846;
-    double a;
-    if (x == 0.0 && y == 0.0) return 0.0;
-    if (fabs(y) <= fabs(x)) {
-        a = pgp__atan(y / x);
-        if (x < 0.0) a += y >= 0.0 ? pi : -pi;
-    } else a = (y > 0.0 ? 0.5 * pi : -0.5 * pi) - pgp__atan(x / y);
-    return a / PGP__TWO_PI;
-}
-
-/* ---- §2.3 per-edge rotations ------------------------------------------------------------ */
-
-/* alpha / 2 pi of half-edge h (from tri[h] to the next corner) for s (k = 0)
- * or t (k = 1): e_ij . (g_T + g_T') / 2, the gradient averaged over the two
- * triangles of the edge (the one triangle on a boundary). This is the
- * coordinate difference s_j - s_i the field asks for along the edge. */
-static double pgp__alpha(const pgp__state *P, int h, int k)
-{
-    int f = h / 3, c = h % 3, t = P->m.hm.twin[h];
-    pw_v3 ed = pw_v3_sub(pw_trimesh_corner(&P->m, f, (c + 1) % 3), pw_trimesh_corner(&P->m, f, c));
-    pw_v3 g = pgp__grad(P, f, k);
-    if (t >= 0) g = pw_v3_scale(pw_v3_add(g, pgp__grad(P, t / 3, k)), 0.5f);
-    return (double)pw_v3_dot(ed, g);
-}
-
-/* ---- §2.3 the least-squares system ----------------------------------------------------- */
-
-/* The weight of edge h in F_PGP. The paper prints A_T + A_T' (kept as
- * PGP_WEIGHTS_AREA): a term |z_j - R z_i|^2 ~ |e . (grad s - g)|^2 is then
- * an integral of the distortion times A_T / |e|^2 ~ A_T per unit area, so
- * large triangles cost more and the solve pushes the distortion into the
- * small ones (on CGAL's meshes, where triangle sizes vary by 100x, that is
- * where the singular share comes from). Cotangent weights make F_PGP the
- * discrete integral of |grad s - g|^2 (the connection Laplacian of [KCPS15]
- * "Stripe patterns" and of geogram's PGP), the same cost per unit area
- * everywhere. Cotangents of obtuse angles can make a weight negative and
- * the system indefinite: the weight is floored at 0.05, as the §2.2
- * Laplacian's (pgp__lap_weight), which keeps IC(0) and CG well defined.
- * CGAL's meshes are far from Delaunay: the floor holds 2% of the edges of
- * elephant, 7% of knot, 12% of mushroom and 19% of cow (16% of cow's have
- * a negative sum); floors from 0.001 to 0.1 give the same counts within
- * 1 vortex and 0.5% singular. Cotangents of an intrinsic Delaunay
- * triangulation would avoid the floor; they are not implemented. */
-static double pgp__pgp_weight(const pgp__state *P, int h)
-{
-    int tw = P->m.hm.twin[h];
-    if (P->o.weights == PGP_WEIGHTS_AREA) return (double)P->m.area[h / 3] + (tw >= 0 ? (double)P->m.area[tw / 3] : 0.0);
-    return pgp__lap_weight(&P->m, h);
-}
-
-/* The complex Hermitian system of coordinate k over the free vertices,
- * being assembled. */
-typedef struct pgp__zsys {
-    const double *z; /* nv*2: the current z, read at the fixed vertices */
-    const int *id;   /* nv: vertex -> unknown (-1: fixed) */
-    int k;           /* the coordinate: 0 for s, 1 for t */
-    pw_triplets *t;  /* the matrix being assembled (n x 2n) */
-    double *b;       /* 2n: the right-hand side */
-} pgp__zsys;
-
-/* Adds the term w |z_j - R(alpha) z_i|^2 |z_j - R(alpha) z_i|^2 of edge h (i -> j) to
- * the system of the free vertices (id >= 0). R(alpha) is the rotation by
- * +alpha, [cos -sin; sin cos], i.e. the product with e^{i alpha}: with
- * z = e^{2 pi i s}, s_j = s_i + alpha/2pi is z_j = e^{i alpha} z_i. (The
- * matrix printed in the paper has the signs of the sines the other way
- * round, which would make s decrease along g; tests/test_pgp.c checks a
- * flat grid, where the exact answer is linear.) In the complex Hermitian
- * system: w on both diagonals, -w e^{i alpha} at (j, i) and its conjugate
- * at (i, j); a fixed end moves to the right-hand side. */
-static int pgp__pgp_edge(const pgp__state *P, const pgp__zsys *Z, int h, pw_err *e)
-{
-    const double *z = Z->z;
-    const int *id = Z->id;
-    pw_triplets *t = Z->t;
-    double *b = Z->b;
-    int k = Z->k, f = h / 3;
-    int vi = P->m.tri[h], vj = P->m.tri[3 * f + (h % 3 + 1) % 3], i = id[vi], j = id[vj], r = PW_OK;
-    double w = pgp__pgp_weight(P, h);
-    double a = PGP__TWO_PI * pgp__alpha(P, h, k), c = pw_cos(a), sn = pw_sin(a);
-    const double *zi = z + 2 * vi, *zj = z + 2 * vj;
-    if (i >= 0) r = pw_ztriplets_add(t, i, i, w, 0.0, e);
-    if (r == PW_OK && j >= 0) r = pw_ztriplets_add(t, j, j, w, 0.0, e);
-    if (r == PW_OK && i >= 0 && j >= 0) {
-        r = pw_ztriplets_add(t, j, i, -w * c, -w * sn, e);
-        if (r == PW_OK) r = pw_ztriplets_add(t, i, j, -w * c, w * sn, e);
-    } else if (j >= 0) { /* b_j += w e^{i a} z_i */
-        b[2 * j] += w * (c * zi[0] - sn * zi[1]);
-        b[2 * j + 1] += w * (c * zi[1] + sn * zi[0]);
-    } else if (i >= 0) { /* b_i += w e^{-i a} z_j */
-        b[2 * i] += w * (c * zj[0] + sn * zj[1]);
-        b[2 * i + 1] += w * (c * zj[1] - sn * zj[0]);
-    }
-    return r;
-}
-
-/* Proximal steps and their weights: each step minimises
- * F_PGP(z) + mu sum_i d_i |z_i - zhat_i|^2 (d_i the diagonal of F's
- * matrix) around the current unit estimate zhat, then normalises. The
- * plain least squares with one vertex locked decays towards 0 away from it
- * wherever the field is not a gradient (its minimum is z = 0 but near the
- * lock), leaving only noise in Arg(z); the unit-length constraint |z_i| = 1
- * of PGP [RLL*06] is what these steps restore, one linear solve each. The
- * first, weak steps let the estimate relax over long distances (the
- * breadth-first start has seams along its tree); the later ones converge.
- * The first step at mu = 1e-5 is nearly an inverse-iteration step towards
- * the smallest eigenvector of F (the global optimum of [KCPS15]): with the
- * cotangent weights, starting at 1e-3 instead leaves more vortices (CGAL's
- * elephant, cow, knot, mushroom at S = diag/10: 46, 44, 67, 36 against 40,
- * 46, 61, 32). Only the last step needs an accurate solve: the others are
- * normalised and refined after, and a relative residual of 1e-3 there
- * takes 40% fewer CG iterations for the same counts. (A fifth step at 0.1
- * or tighter solves change neither the vortex count nor the singular
- * triangles.) */
-#define PGP__STEPS 4
-static const double pgp__mu[PGP__STEPS] = {1e-5, 1e-3, 1e-2, 0.1};
-
-/* Where each row's diagonal entry sits in A (every row has one). */
-static int pgp__diag_index(const pw_alloc *a, const pw_zcsr *A, int **out, pw_err *e)
-{
-    int i, k, *d = (int *)pw_alloc_array(a, (size_t)A->n, sizeof(int), "PGP", e);
-    *out = d;
-    if (!d) return PW_ERR_NOMEM;
-    for (i = 0; i < A->n; i++)
-        for (d[i] = -1, k = A->rowptr[i]; k < A->rowptr[i + 1]; k++)
-            if (A->col[k] == i) d[i] = k;
-    for (i = 0; i < A->n; i++)
-        if (d[i] < 0) return pw_fail(e, PW_ERR_INVALID, "PGP: row %d has no diagonal", i);
-    return PW_OK;
-}
-
-/* A first estimate: z carried from the fixed vertices along a breadth-first
- * tree, z_j = e^{i alpha_ij} z_i, i.e. the field integrated along the tree. */
-static int pgp__propagate(pgp__state *P, double *z, const int *id, int k, pw_err *e)
-{
-    const pw_trimesh *m = &P->m;
-    int nh = 3 * m->nf, *start = (int *)pw_calloc_array(&P->a, (size_t)m->nv + 1, sizeof(int), "PGP", e);
-    int *adj = (int *)pw_alloc_array(&P->a, (size_t)nh * 2, sizeof(int), "PGP", e);
-    int *queue = (int *)pw_alloc_array(&P->a, (size_t)m->nv, sizeof(int), "PGP", e);
-    unsigned char *done = (unsigned char *)pw_alloc_array(&P->a, (size_t)m->nv, 1, "PGP", e);
-    int h, v, head = 0, tail = 0, i, r = start && adj && queue && done ? PW_OK : PW_ERR_NOMEM;
-    for (h = 0; r == PW_OK && h < nh; h++) { /* each edge from both ends: +(h+1) forward, -(h+1) backward */
-        start[m->tri[h] + 1]++;
-        if (m->hm.twin[h] < 0) start[m->tri[3 * (h / 3) + (h % 3 + 1) % 3] + 1]++;
-    }
-    for (v = 0; r == PW_OK && v < m->nv; v++) start[v + 1] += start[v];
-    for (h = 0; r == PW_OK && h < nh; h++) {
-        int j = m->tri[3 * (h / 3) + (h % 3 + 1) % 3];
-        adj[start[m->tri[h]]++] = h + 1;
-        if (m->hm.twin[h] < 0) adj[start[j]++] = -(h + 1);
-    }
-    for (v = m->nv; r == PW_OK && v > 0; v--) start[v] = start[v - 1];
-    if (r == PW_OK) start[0] = 0;
-    for (v = 0; r == PW_OK && v < m->nv; v++)
-        if ((done[v] = (unsigned char)(id[v] < 0)) != 0) queue[tail++] = v;
-    while (r == PW_OK && head < tail) {
-        int u = queue[head++];
-        for (i = start[u]; i < start[u + 1]; i++) {
-            int hh = adj[i] > 0 ? adj[i] - 1 : -adj[i] - 1, fw = adj[i] > 0, w;
-            double a, c, sn, *zu = z + 2 * u;
-            w = fw ? m->tri[3 * (hh / 3) + (hh % 3 + 1) % 3] : m->tri[hh];
-            if (done[w]) continue;
-            a = PGP__TWO_PI * pgp__alpha(P, hh, k) * (fw ? 1.0 : -1.0);
-            c = pw_cos(a);
-            sn = pw_sin(a);
-            z[2 * w] = c * zu[0] - sn * zu[1];
-            z[2 * w + 1] = sn * zu[0] + c * zu[1];
-            done[w] = 1;
-            queue[tail++] = w;
-        }
-        if (head == tail) /* a piece no fixed vertex reaches: start it at z = 1 */
-            for (v = 0; v < m->nv; v++)
-                if (!done[v]) {
-                    done[v] = 1;
-                    z[2 * v] = 1.0;
-                    z[2 * v + 1] = 0.0;
-                    queue[tail++] = v;
-                    break;
-                }
-    }
-    pw_free(&P->a, start);
-    pw_free(&P->a, adj);
-    pw_free(&P->a, queue);
-    pw_free(&P->a, done);
-    return r;
-}
-
-/* Solves for the unit complex numbers z (nv*2) of coordinate k at the free
- * vertices (id >= 0, n of them), the others fixed. */
-static int pgp__pgp_solve(pgp__state *P, double *z, const int *id, int n, int k, pw_err *e)
-{
-    double *b = (double *)pw_calloc_array(&P->a, (size_t)n * 5, sizeof(double), "PGP", e);
-    double *x = b + 2 * n, *dg = b + 4 * n, *rhs = NULL;
-    int *dpos = NULL;
-    pw_triplets t;
-    pw_zcsr A;
-    pw_zic0 L;
-    pw_cg_options o = pw_cg_default_options();
-    pgp__zsys Z;
-    int v, h, q, step, r = b ? PW_OK : PW_ERR_NOMEM;
-    Z.z = z;
-    Z.id = id;
-    Z.k = k;
-    Z.t = &t;
-    Z.b = b;
-    memset(&t, 0, sizeof t);
-    memset(&A, 0, sizeof A);
-    memset(&L, 0, sizeof L);
-    if (r == PW_OK) r = pw_triplets_init(&t, &P->a, n, 2 * n, e);
-    for (h = 0; r == PW_OK && h < 3 * P->m.nf; h++)
-        if (P->m.hm.twin[h] < h) r = pgp__pgp_edge(P, &Z, h, e); /* each edge once */
-    for (q = 0; r == PW_OK && q < t.count; q++)                  /* the (real) diagonal of F's matrix */
-        if (t.col[q] == 2 * t.row[q]) dg[t.row[q]] += t.val[q];
-    if (r == PW_OK) r = pgp__propagate(P, z, id, k, e);
-    if (r == PW_OK && (r = pw_zcsr_from_triplets(&P->a, &t, &A, e)) == PW_OK) r = pgp__diag_index(&P->a, &A, &dpos, e);
-    if (r == PW_OK && !(rhs = (double *)pw_alloc_array(&P->a, (size_t)n * 2, sizeof(double), "PGP", e)))
-        r = PW_ERR_NOMEM;
-    o.max_iter = 4000;
-    for (step = 0; r == PW_OK && step < PGP__STEPS; step++) {
-        double mu = pgp__mu[step];
-        for (q = 0; q < n; q++) A.val[2 * dpos[q]] = dg[q] * (1.0 + mu);
-        pw_zic0_free(&P->a, &L);
-        if ((r = pw_zic0_factor(&P->a, &A, &L, e)) != PW_OK) break;
-        for (v = 0; v < P->m.nv; v++)
-            if ((q = id[v]) >= 0) {
-                x[2 * q] = z[2 * v];
-                x[2 * q + 1] = z[2 * v + 1];
-                rhs[2 * q] = b[2 * q] + mu * dg[q] * z[2 * v];
-                rhs[2 * q + 1] = b[2 * q + 1] + mu * dg[q] * z[2 * v + 1];
-            }
-        o.tol = step < PGP__STEPS - 1 ? 1e-3 : 1e-4; /* each step is normalised: no need for more */
-        r = pw_zpcg_solve(&P->a, &A, &L, rhs, x, &o, NULL, e);
-        for (v = 0; r == PW_OK && v < P->m.nv; v++)
-            if ((q = id[v]) >= 0) {
-                double zz[2];
-                zz[0] = x[2 * q];
-                zz[1] = x[2 * q + 1];
-                if (pw_df_unit(zz)) {
-                    z[2 * v] = zz[0];
-                    z[2 * v + 1] = zz[1];
-                }
-            }
-    }
-    pw_free(&P->a, dpos);
-    pw_zic0_free(&P->a, &L);
-    pw_zcsr_free(&P->a, &A);
-    pw_triplets_free(&t);
-    pw_free(&P->a, b);
-    pw_free(&P->a, rhs);
-    return r;
-}
-
-/* §2.3 over the free vertices: "in the special case of initialization, we
- * lock a single vertex s_0 = 0 <=> z_0 = [1,0], else s is locked outside
- * the effect area" (whole: the first vertex of every component locked). */
-static int pgp__pgp(pgp__state *P, const unsigned char *vfree, int whole, pw_err *e)
-{
-    int *id = (int *)pw_alloc_array(&P->a, (size_t)P->m.nv, sizeof(int), "PGP", e);
-    int *comp = (int *)pw_calloc_array(&P->a, (size_t)P->m.nf * 2, sizeof(int), "PGP", e);
-    unsigned char *lock = (unsigned char *)pw_calloc_array(&P->a, (size_t)P->m.nv, 1, "PGP", e);
-    int n = 0, v, f, c, nc = 0, r = id && comp && lock ? PW_OK : PW_ERR_NOMEM;
-    if (r == PW_OK && whole) r = pw_hmesh_components(&P->a, &P->m.hm, comp, &nc, e);
-    for (f = 0; r == PW_OK && whole && f < P->m.nf; f++) /* the first triangle of each component */
-        if (!comp[P->m.nf + comp[f]]) {
-            int lo = P->m.tri[3 * f];
-            comp[P->m.nf + comp[f]] = 1;
-            for (c = 1; c < 3; c++) lo = P->m.tri[3 * f + c] < lo ? P->m.tri[3 * f + c] : lo;
-            lock[lo] = 1;
-        }
-    for (c = 0; r == PW_OK && c < P->m.nv; c++) {
-        v = P->vorder[c];
-        id[v] = vfree[v] && !lock[v] ? n++ : -1;
-        if (lock[v]) {
-            P->zs[2 * v] = P->zt[2 * v] = 1.0;
-            P->zs[2 * v + 1] = P->zt[2 * v + 1] = 0.0;
-        }
-    }
-    if (r == PW_OK && n > 0) r = pgp__pgp_solve(P, P->zs, id, n, 0, e);
-    if (r == PW_OK && n > 0) r = pgp__pgp_solve(P, P->zt, id, n, 1, e);
-    pw_free(&P->a, id);
-    pw_free(&P->a, comp);
-    pw_free(&P->a, lock);
-    return r;
-}
-
 /* ---- Eq. (4): per-corner coordinates -------------------------------------------------- */
 
-/* s, t, m of triangle f's corners: corner 0 reads Arg(z)/2pi, corners 1 and
- * 2 add the integer p that brings their difference to corner 0 closest to
- * what the field asks for along the edge (alpha), so that every vertex
- * differs between its triangles by integers only. */
+/* s, t (the shared recovery, src/common/periodic.h) and m of triangle f's
+ * corners. */
 static void pgp__recover(pgp__state *P, int f)
 {
-    const int *tri = P->m.tri + 3 * f;
-    float *o = P->stm + 9 * f;
-    int c, k;
-    for (k = 0; k < 2; k++) {
-        const double *z = k ? P->zt : P->zs;
-        double s0 = pgp__turns(z[2 * tri[0]], z[2 * tri[0] + 1]);
-        o[k] = (float)s0;
-        for (c = 1; c < 3; c++) {
-            /* alpha from corner 0 to corner c: edge 0->1 is half-edge 3f, edge 0->2 is 3f+2 reversed */
-            double want = s0 + (c == 1 ? pgp__alpha(P, 3 * f, k) : -pgp__alpha(P, 3 * f + 2, k));
-            double sc = pgp__turns(z[2 * tri[c]], z[2 * tri[c] + 1]);
-            o[3 * c + k] = (float)(sc + floor(want - sc + 0.5));
-        }
-    }
+    const int *tri = P->pp.m.tri + 3 * f;
+    float *o = P->pp.stm + 9 * f;
+    int c;
+    pw_periodic_recover(&P->pp, f);
     for (c = 0; c < 3; c++) o[3 * c + 2] = P->mat[tri[c]];
 }
 
 /* ---- §3 singular 1-rings --------------------------------------------------------------- */
-
-/* The 3D gradient of the linear function with corner values w0, w1, w2 on
- * triangle f. */
-static pw_v3 pgp__gradient(const pgp__state *P, int f, double w0, double w1, double w2)
-{
-    pw_v3 p = pw_trimesh_corner(&P->m, f, 0);
-    pw_v3 e1 = pw_v3_sub(pw_trimesh_corner(&P->m, f, 1), p), e2 = pw_v3_sub(pw_trimesh_corner(&P->m, f, 2), p);
-    double a11 = pw_v3_dot(e1, e1), a12 = pw_v3_dot(e1, e2), a22 = pw_v3_dot(e2, e2), det = a11 * a22 - a12 * a12;
-    double d1 = w1 - w0, d2 = w2 - w0, x, y;
-    if (!(det > 0.0)) return pw_v3_make(0.0f, 0.0f, 0.0f);
-    x = (d1 * a22 - d2 * a12) / det;
-    y = (d2 * a11 - d1 * a12) / det;
-    return pw_v3_add(pw_v3_scale(e1, (float)x), pw_v3_scale(e2, (float)y));
-}
 
 /* "Highly distorted": ||grad s - g_s||^2 > threshold, or the same for t.
  * The paper's 0.5 is read relative to |g|^2 = 1/S^2 (the paper's tiles have
  * unit size), so that the test does not depend on the units of the mesh. */
 static int pgp__distorted(const pgp__state *P, int f)
 {
-    const float *o = P->stm + 9 * f;
+    const float *o = P->pp.stm + 9 * f;
     int k;
     for (k = 0; k < 2; k++) {
-        pw_v3 g = pgp__grad(P, f, k), d = pw_v3_sub(pgp__gradient(P, f, o[k], o[3 + k], o[6 + k]), g);
+        pw_v3 g = pw_periodic_grad(&P->pp, f, k),
+              d = pw_v3_sub(pw_periodic_gradient(&P->pp, f, o[k], o[3 + k], o[6 + k]), g);
         if ((double)pw_v3_dot(d, d) > (double)P->o.singular_distortion * pw_v3_dot(g, g)) return 1;
     }
     return 0;
@@ -17832,35 +18089,25 @@ static int pgp__distorted(const pgp__state *P, int f)
  * difference along it (s_i^T - s_j^T != s_i^T' - s_j^T', or for t). */
 static int pgp__mismatch(const pgp__state *P, int h)
 {
-    int t = P->m.hm.twin[h], f = h / 3, g, c = h % 3, d, k;
+    int t = P->pp.m.hm.twin[h], f = h / 3, g, c = h % 3, d, k;
     if (t < 0) return 0;
     g = t / 3;
     d = t % 3; /* h runs from corner c to c+1 of f, t from corner d to d+1 of g */
     for (k = 0; k < 2; k++) {
-        double df = P->stm[9 * f + 3 * ((c + 1) % 3) + k] - P->stm[9 * f + 3 * c + k];
-        double dg = P->stm[9 * g + 3 * d + k] - P->stm[9 * g + 3 * ((d + 1) % 3) + k];
+        double df = P->pp.stm[9 * f + 3 * ((c + 1) % 3) + k] - P->pp.stm[9 * f + 3 * c + k];
+        double dg = P->pp.stm[9 * g + 3 * d + k] - P->pp.stm[9 * g + 3 * ((d + 1) % 3) + k];
         if (fabs(df - dg) > 0.5) return 1;
     }
     return 0;
-}
-
-/* The winding of coordinate k around triangle f, an integer (0 but at a
- * vortex of the periodic parameterization): Eq. (4) brought corners 1 and 2
- * next to corner 0 along the field, so the edge from 1 to 2 carries it all.
- * The sum over the edges of alpha plus the wrapped rest is
- * -round(s_2 - s_1 - alpha_12). */
-static int pgp__winding(const pgp__state *P, int f, int k)
-{
-    const float *o = P->stm + 9 * f;
-    return -(int)floor((double)o[6 + k] - o[3 + k] - pgp__alpha(P, 3 * f + 1, k) + 0.5);
 }
 
 PGPDEF int pgp_map_vortices(const pgp_map *map, unsigned char *flags)
 {
     const pgp__state *P = pgp__state_of(map);
     int f, n = 0;
-    for (f = 0; P && f < P->m.nf; f++) {
-        unsigned char v = (unsigned char)((pgp__winding(P, f, 0) != 0) + 2 * (pgp__winding(P, f, 1) != 0));
+    for (f = 0; P && f < P->pp.m.nf; f++) {
+        unsigned char v =
+            (unsigned char)((pw_periodic_winding(&P->pp, f, 0) != 0) + 2 * (pw_periodic_winding(&P->pp, f, 1) != 0));
         if (flags) flags[f] = v;
         n += v != 0;
     }
@@ -17872,20 +18119,20 @@ PGPDEF int pgp_map_vortices(const pgp_map *map, unsigned char *flags)
  * with three lookups) if one of its corners is. */
 static int pgp__singularities(pgp__state *P, pw_err *e)
 {
-    unsigned char *dist = (unsigned char *)pw_alloc_array(&P->a, (size_t)P->m.nf, 1, "singularities", e);
+    unsigned char *dist = (unsigned char *)pw_alloc_array(&P->a, (size_t)P->pp.m.nf, 1, "singularities", e);
     int f, c, h;
     if (!dist) return PW_ERR_NOMEM;
-    memset(P->vsing, 0, (size_t)P->m.nv);
-    for (f = 0; f < P->m.nf; f++) dist[f] = (unsigned char)pgp__distorted(P, f);
-    for (h = 0; h < 3 * P->m.nf; h++) {
+    memset(P->vsing, 0, (size_t)P->pp.m.nv);
+    for (f = 0; f < P->pp.m.nf; f++) dist[f] = (unsigned char)pgp__distorted(P, f);
+    for (h = 0; h < 3 * P->pp.m.nf; h++) {
         int f3 = h / 3, c3 = h % 3;
-        if (dist[f3]) P->vsing[P->m.tri[h]] = 1;
-        if (pgp__mismatch(P, h)) P->vsing[P->m.tri[h]] = P->vsing[P->m.tri[3 * f3 + (c3 + 1) % 3]] = 1;
+        if (dist[f3]) P->vsing[P->pp.m.tri[h]] = 1;
+        if (pgp__mismatch(P, h)) P->vsing[P->pp.m.tri[h]] = P->vsing[P->pp.m.tri[3 * f3 + (c3 + 1) % 3]] = 1;
     }
     P->nsing = 0;
-    for (f = 0; f < P->m.nf; f++) {
+    for (f = 0; f < P->pp.m.nf; f++) {
         P->fsing[f] = 0;
-        for (c = 0; c < 3; c++) P->fsing[f] |= P->vsing[P->m.tri[3 * f + c]];
+        for (c = 0; c < 3; c++) P->fsing[f] |= P->vsing[P->pp.m.tri[3 * f + c]];
         P->nsing += P->fsing[f];
     }
     pw_free(&P->a, dist);
@@ -17899,7 +18146,7 @@ static int pgp__singularities(pgp__state *P, pw_err *e)
 static int pgp__edit(pgp__state *P, pgp_constraint_kind kind, const pgp__seeds *sd, pgp_area *area, pw_err *e)
 {
     const float radius = sd->radius;
-    size_t nf = (size_t)P->m.nf, nv = (size_t)P->m.nv;
+    size_t nf = (size_t)P->pp.m.nf, nv = (size_t)P->pp.m.nv;
     unsigned char *in = (unsigned char *)pw_alloc_array(&P->a, 2 * nf + 2 * nv, 1, "effect area", e);
     int *order = (int *)pw_alloc_array(&P->a, nf, sizeof(int), "effect area", e);
     pw_progress pr = pgp__progress(&P->o);
@@ -17911,7 +18158,7 @@ static int pgp__edit(pgp__state *P, pgp_constraint_kind kind, const pgp__seeds *
     if (r == PW_OK && kind == PGP_CONSTRAINT_ORIENT) r = pgp__interp_dir(P, in, whole, mark, e);
     if (r == PW_OK && kind != PGP_CONSTRAINT_ORIENT) r = pgp__interp_vertex(P, kind, vfree, whole, locked, e);
     if (r == PW_OK) r = pw_report(&pr, 0.4f, "periodic global parameterization", e);
-    if (r == PW_OK && kind != PGP_CONSTRAINT_MATERIAL) r = pgp__pgp(P, vfree, whole, e);
+    if (r == PW_OK && kind != PGP_CONSTRAINT_MATERIAL) r = pw_periodic_solve(&P->pp, vfree, whole, e);
     for (i = 0; r == PW_OK && i < n; i++) pgp__recover(P, order[i]);
     if (r == PW_OK) r = pw_report(&pr, 0.9f, "singularities", e);
     if (r == PW_OK) r = pgp__singularities(P, e);
@@ -17936,16 +18183,10 @@ static void pgp__state_free(pgp__state *P)
     pw_alloc a;
     if (!P) return;
     a = P->a;
-    pw_trimesh_free(&a, &P->m);
+    pw_periodic_free(&P->pp);
     pw_free(&a, P->pos);
-    pw_free(&a, P->conn);
-    pw_free(&a, P->dual);
-    pw_free(&a, P->base);
-    pw_free(&a, P->scale);
-    pw_free(&a, P->sfac);
-    pw_free(&a, P->zs);
+    pw_free(&a, P->mat);
     pw_free(&a, P->vsing);
-    pw_free(&a, P->forder);
     pw_free(&a, P->con);
     pw_free(&a, P);
 }
@@ -17979,44 +18220,9 @@ static int pgp__check_options(const pgp_options *o, pw_err *e)
     return PW_OK;
 }
 
-/* The order of the unknowns: triangles breadth first over the dual graph
- * (each component from its first triangle), vertices as those triangles
- * first reach them. Neighbours then sit close in memory and in the
- * incomplete-Cholesky elimination: on a subdivided mesh, whose new vertices
- * the file lists far from their neighbours, the solves take 40% less time.
- * vsing (all zero here) marks what has been placed. */
-static void pgp__bfs_order(pgp__state *P)
-{
-    int nf = P->m.nf, nv = P->m.nv, head = 0, tail = 0, nvo = 0, s, k;
-    unsigned char *fdone = P->vsing + nv, *vdone = P->vsing;
-    for (s = 0; s < nf; s++) {
-        if (fdone[s]) continue;
-        fdone[s] = 1;
-        P->forder[tail++] = s;
-        while (head < tail) {
-            int f = P->forder[head++];
-            for (k = 0; k < 3; k++) {
-                int g = pw_trimesh_across(&P->m, f, k), v = P->m.tri[3 * f + k];
-                if (!vdone[v]) {
-                    vdone[v] = 1;
-                    P->vorder[nvo++] = v;
-                }
-                if (g >= 0 && !fdone[g]) {
-                    fdone[g] = 1;
-                    P->forder[tail++] = g;
-                }
-            }
-        }
-    }
-    for (s = 0; s < nv; s++) /* vertices no triangle uses */
-        if (!vdone[s]) P->vorder[nvo++] = s;
-    memset(P->vsing, 0, (size_t)(nv + nf));
-}
-
 /* Copies the mesh, builds the triangle mesh and allocates every array. */
 static int pgp__setup(pgp__state *P, const pgp_mesh *in, pw_err *e)
 {
-    size_t nf, nv;
     pw_mesh v;
     int r;
     if (!in || !in->positions || in->nverts < 1) return pw_fail(e, PW_ERR_INVALID, "no mesh or no vertices");
@@ -18026,26 +18232,13 @@ static int pgp__setup(pgp__state *P, const pgp_mesh *in, pw_err *e)
     memcpy(P->pos, in->positions, sizeof(float) * 3 * (size_t)in->nverts);
     v = pgp__pw_mesh(in);
     v.pos = P->pos; /* the map's own copy */
-    if ((r = pw_trimesh_init(&P->a, &v, &P->m, e)) != PW_OK) return r;
-    nf = (size_t)P->m.nf;
-    nv = (size_t)P->m.nv;
-    P->dual = (double *)pw_alloc_array(&P->a, 3 * nf, sizeof(double), "mapping", e);
-    P->base = (double *)pw_alloc_array(&P->a, 4 * nf, sizeof(double), "mapping", e);
-    P->scale = (float *)pw_alloc_array(&P->a, 2 * nv + 9 * nf, sizeof(float), "mapping", e);
-    P->sfac = (float *)pw_alloc_array(&P->a, nv, sizeof(float), "mapping", e);
-    P->zs = (double *)pw_alloc_array(&P->a, 4 * nv, sizeof(double), "mapping", e);
-    P->vsing = (unsigned char *)pw_calloc_array(&P->a, nv + nf, 1, "mapping", e);
-    P->forder = (int *)pw_alloc_array(&P->a, nf + nv, sizeof(int), "mapping", e);
-    if (!P->dual || !P->base || !P->scale || !P->sfac || !P->zs || !P->vsing || !P->forder) return PW_ERR_NOMEM;
-    P->vorder = P->forder + nf;
-    pgp__bfs_order(P);
-    P->dir = P->base + 2 * nf;
-    P->mat = P->scale + nv;
-    P->stm = P->mat + nv;
-    P->zt = P->zs + 2 * nv;
-    P->fsing = P->vsing + nv;
-    pw_df_dual(&P->m, P->dual);
-    return pw_df_connection(&P->a, &P->m, &P->conn, e);
+    P->pp.area_weights = P->o.weights == PGP_WEIGHTS_AREA;
+    if ((r = pw_periodic_init(&P->pp, &v, e)) != PW_OK) return r;
+    P->mat = (float *)pw_alloc_array(&P->a, (size_t)P->pp.m.nv, sizeof(float), "mapping", e);
+    P->vsing = (unsigned char *)pw_calloc_array(&P->a, (size_t)(P->pp.m.nv + P->pp.m.nf), 1, "mapping", e);
+    if (!P->mat || !P->vsing) return PW_ERR_NOMEM;
+    P->fsing = P->vsing + P->pp.m.nv;
+    return PW_OK;
 }
 
 /* ---- beyond the paper: an integrable field --------------------------------------------- */
@@ -18066,15 +18259,15 @@ static int pgp__setup(pgp__state *P, const pgp_mesh *in, pw_err *e)
  * at 2 i + 1. */
 static int pgp__curl_rows(const pgp__state *P, int f, pw_triplets *t, double *b, pw_err *e)
 {
-    double al[2][3], row[6], c, w = 1.0 / ((double)P->m.area[f] + 1e-300);
+    double al[2][3], row[6], c, w = 1.0 / ((double)P->pp.m.area[f] + 1e-300);
     int k, a, i, j, col[6], r = PW_OK;
     for (k = 0; k < 2; k++)
-        for (a = 0; a < 3; a++) al[k][a] = pgp__alpha(P, 3 * f + a, k);
+        for (a = 0; a < 3; a++) al[k][a] = pw_periodic_alpha(&P->pp, 3 * f + a, k);
     for (k = 0; k < 2 && r == PW_OK; k++) {
         for (a = 0, c = 0.0; a < 3; a++) c += al[k][a];
         for (a = 0; a < 3; a++) { /* corner a touches edges a and a - 1 */
             int am = (a + 2) % 3;
-            col[2 * a] = 2 * P->m.tri[3 * f + a];
+            col[2 * a] = 2 * P->pp.m.tri[3 * f + a];
             col[2 * a + 1] = col[2 * a] + 1;
             row[2 * a] = -0.5 * (al[k][a] + al[k][am]) + c / 3.0;
             row[2 * a + 1] = (k ? -0.5 : 0.5) * (al[1 - k][a] + al[1 - k][am]);
@@ -18094,15 +18287,15 @@ static int pgp__curl_rows(const pgp__state *P, int f, pw_triplets *t, double *b,
  * of u and theta. */
 static int pgp__curl_reg(const pgp__state *P, pw_triplets *t, pw_err *e)
 {
-    double S2 = (double)P->scale0 * P->scale0, lam = 1.0 / ((double)P->o.integrable * S2 * S2), w;
+    double S2 = (double)P->pp.scale0 * P->pp.scale0, lam = 1.0 / ((double)P->o.integrable * S2 * S2), w;
     int h, k, i, j, r = PW_OK;
-    for (h = 0; h < 3 * P->m.nf && r == PW_OK; h++) {
-        i = P->m.tri[h];
-        j = P->m.tri[3 * (h / 3) + (h % 3 + 1) % 3];
+    for (h = 0; h < 3 * P->pp.m.nf && r == PW_OK; h++) {
+        i = P->pp.m.tri[h];
+        j = P->pp.m.tri[3 * (h / 3) + (h % 3 + 1) % 3];
         for (k = 0; k < 2 && r == PW_OK; k++) /* a third of the triangle's area to each corner */
-            r = pw_triplets_add(t, 2 * i + k, 2 * i + k, lam * P->m.area[h / 3] / 3.0, e);
-        if (P->m.hm.twin[h] >= 0 && P->m.hm.twin[h] < h) continue;
-        w = 0.01 * pgp__lap_weight(&P->m, h) / S2;
+            r = pw_triplets_add(t, 2 * i + k, 2 * i + k, lam * P->pp.m.area[h / 3] / 3.0, e);
+        if (P->pp.m.hm.twin[h] >= 0 && P->pp.m.hm.twin[h] < h) continue;
+        w = 0.01 * pw_periodic_lap_weight(&P->pp.m, h) / S2;
         for (k = 0; k < 2 && r == PW_OK; k++) {
             r = pw_triplets_add(t, 2 * i + k, 2 * i + k, w, e);
             if (r == PW_OK) r = pw_triplets_add(t, 2 * j + k, 2 * j + k, w, e);
@@ -18120,27 +18313,27 @@ static void pgp__curl_apply(pgp__state *P, const double *x)
 {
     double mean = 0.0, area = 0.0;
     int v, f, h;
-    for (h = 0; h < 3 * P->m.nf; h++) /* the mean of u is 0: the tile side the user asked for */
+    for (h = 0; h < 3 * P->pp.m.nf; h++) /* the mean of u is 0: the tile side the user asked for */
     {
-        mean += x[2 * P->m.tri[h]] * P->m.area[h / 3];
-        area += P->m.area[h / 3];
+        mean += x[2 * P->pp.m.tri[h]] * P->pp.m.area[h / 3];
+        area += P->pp.m.area[h / 3];
     }
     mean = area > 0.0 ? mean / area : 0.0;
-    for (v = 0; v < P->m.nv; v++) {
-        double s = P->sfac[v] * (1.0 + x[2 * v] - mean);
-        P->sfac[v] = (float)(s < 0.5 ? 0.5 : (s > 2.0 ? 2.0 : s));
+    for (v = 0; v < P->pp.m.nv; v++) {
+        double s = P->pp.sfac[v] * (1.0 + x[2 * v] - mean);
+        P->pp.sfac[v] = (float)(s < 0.5 ? 0.5 : (s > 2.0 ? 2.0 : s));
     }
-    for (f = 0; f < P->m.nf; f++) {
-        const int *tr = P->m.tri + 3 * f;
-        double th = (x[2 * tr[0] + 1] + x[2 * tr[1] + 1] + x[2 * tr[2] + 1]) / 3.0, c, s, *d = P->base + 2 * f;
+    for (f = 0; f < P->pp.m.nf; f++) {
+        const int *tr = P->pp.m.tri + 3 * f;
+        double th = (x[2 * tr[0] + 1] + x[2 * tr[1] + 1] + x[2 * tr[2] + 1]) / 3.0, c, s, *d = P->pp.base + 2 * f;
         th = th > 0.5 ? 0.5 : (th < -0.5 ? -0.5 : th); /* at most ~30 degrees per step */
         c = pw_cos(th);
         s = pw_sin(th);
         th = c * d[0] - s * d[1];
         d[1] = s * d[0] + c * d[1];
         d[0] = th;
-        P->dir[2 * f] = d[0];
-        P->dir[2 * f + 1] = d[1];
+        P->pp.dir[2 * f] = d[0];
+        P->pp.dir[2 * f + 1] = d[1];
     }
 }
 
@@ -18151,37 +18344,23 @@ static void pgp__curl_apply(pgp__state *P, const double *x)
 #define PGP__CURL_STEPS 3
 static int pgp__integrable(pgp__state *P, pw_err *e)
 {
-    size_t n = 2 * (size_t)P->m.nv;
+    size_t n = 2 * (size_t)P->pp.m.nv;
     double *b = (double *)pw_alloc_array(&P->a, 2 * n, sizeof(double), "integrability", e), *x = b + n;
     pw_triplets t;
     int step, f, r = b ? PW_OK : PW_ERR_NOMEM;
     memset(&t, 0, sizeof t);
-    memcpy(P->dir, P->base, sizeof(double) * 2 * (size_t)P->m.nf);
+    memcpy(P->pp.dir, P->pp.base, sizeof(double) * 2 * (size_t)P->pp.m.nf);
     for (step = 0; step < PGP__CURL_STEPS && r == PW_OK; step++) {
         memset(b, 0, sizeof(double) * 2 * n); /* b and x, a cold start: x is the step */
         r = pw_triplets_init(&t, &P->a, (int)n, (int)n, e);
-        for (f = 0; f < P->m.nf && r == PW_OK; f++) r = pgp__curl_rows(P, f, &t, b, e);
+        for (f = 0; f < P->pp.m.nf && r == PW_OK; f++) r = pgp__curl_rows(P, f, &t, b, e);
         if (r == PW_OK) r = pgp__curl_reg(P, &t, e);
-        if (r == PW_OK) r = pgp__pd_solve(&P->a, &t, b, x, 1e-6, e);
+        if (r == PW_OK) r = pw_periodic_pd_solve(&P->a, &t, b, x, 1e-6, e);
         if (r == PW_OK) pgp__curl_apply(P, x);
         pw_triplets_free(&t);
     }
     pw_free(&P->a, b);
     return r;
-}
-
-/* Mean edge length of the triangle mesh. */
-static double pgp__mean_edge(const pgp__state *P)
-{
-    double sum = 0.0;
-    int h, n = 0;
-    for (h = 0; h < 3 * P->m.nf; h++) {
-        int f = h / 3, c = h % 3;
-        if (P->m.hm.twin[h] > h) continue; /* each edge once */
-        sum += pw_v3_len(pw_v3_sub(pw_trimesh_corner(&P->m, f, (c + 1) % 3), pw_trimesh_corner(&P->m, f, c)));
-        n++;
-    }
-    return n ? sum / n : 0.0;
 }
 
 /* A tile side the mesh can carry: at most 10 bounding-box diagonals (beyond,
@@ -18191,13 +18370,7 @@ static double pgp__mean_edge(const pgp__state *P)
  * meshes of a few triangles, where it is all one can do. */
 static int pgp__check_scale(const pgp__state *P, pw_err *e)
 {
-    double lo = 2.0 * pgp__mean_edge(P), hi = 10.0 * P->m.diag;
-    if (P->o.scale > 0.0f && (P->scale0 > hi || P->scale0 < lo))
-        return pw_fail(e, PW_ERR_INVALID,
-                       "tile side %g is outside [%g, %g] (2 mean edge lengths to 10 bounding-box "
-                       "diagonals)",
-                       (double)P->scale0, lo, hi);
-    return PW_OK;
+    return P->o.scale > 0.0f ? pw_periodic_check_scale(&P->pp, P->pp.scale0, e) : PW_OK;
 }
 
 /* The map of a mesh without constraints (pgp_create, edit.c, adds them):
@@ -18216,28 +18389,30 @@ static int pgp__create_map(const pgp_mesh *mesh, const pgp_options *opt, pgp_map
         (P = (pgp__state *)pw_calloc_array(&a, 1, sizeof *P, "mapping", e)) == NULL)
         return e->code;
     P->a = a;
+    P->pp.a = a;
     P->o = o;
     out->state = P;
     out->allocator = pgp__allocator(&a);
     if (pgp__setup(P, mesh, e) != PW_OK) return e->code;
-    P->scale0 = o.scale > 0.0f ? o.scale : 0.1f * P->m.diag;
-    for (v = 0; v < P->m.nv; v++) {
-        P->scale[v] = P->scale0;
-        P->sfac[v] = 1.0f;
+    P->pp.scale0 = o.scale > 0.0f ? o.scale : 0.1f * P->pp.m.diag;
+    for (v = 0; v < P->pp.m.nv; v++) {
+        P->pp.scale[v] = P->pp.scale0;
+        P->pp.sfac[v] = 1.0f;
         P->mat[v] = o.material;
     }
-    for (v = 0; v < P->m.nv; v++) {
-        P->zs[2 * v] = P->zt[2 * v] = 1.0;
-        P->zs[2 * v + 1] = P->zt[2 * v + 1] = 0.0;
+    for (v = 0; v < P->pp.m.nv; v++) {
+        P->pp.zs[2 * v] = P->pp.zt[2 * v] = 1.0;
+        P->pp.zs[2 * v + 1] = P->pp.zt[2 * v + 1] = 0.0;
     }
-    if (pgp__check_scale(P, e) != PW_OK || pgp__base_field(P, e) != PW_OK ||
+    if (pgp__check_scale(P, e) != PW_OK ||
+        pw_periodic_base_field(&P->pp, P->o.up, P->o.field == PGP_FIELD_CURVATURE, P->o.smoothing, e) != PW_OK ||
         (o.integrable > 0.0f && pgp__integrable(P, e) != PW_OK) ||
         pgp__edit(P, PGP_CONSTRAINT_ORIENT, &whole, NULL, e) != PW_OK)
         return e->code;
-    out->nverts = P->m.nv;
-    out->ntris = P->m.nf;
-    out->tris = P->m.tri;
-    out->coords = P->stm;
+    out->nverts = P->pp.m.nv;
+    out->ntris = P->pp.m.nf;
+    out->tris = P->pp.m.tri;
+    out->coords = P->pp.stm;
     return PW_OK;
 }
 
@@ -18249,11 +18424,12 @@ static int pgp__create_map(const pgp_mesh *mesh, const pgp_options *opt, pgp_map
  * angle between grad s and grad t more than 20 degrees off 90. */
 static int pgp__distortion(const pgp__state *P, int f)
 {
-    const float *o = P->stm + 9 * f, *sc = P->scale;
-    const int *tr3 = P->m.tri + 3 * f;
+    const float *o = P->pp.stm + 9 * f, *sc = P->pp.scale;
+    const int *tr3 = P->pp.m.tri + 3 * f;
     double S = ((double)sc[tr3[0]] + sc[tr3[1]] + sc[tr3[2]]) / 3.0, a, b, c, d, tr, det, disc, s1, s2, cs;
-    pw_v3 u, v, gs = pgp__gradient(P, f, o[0], o[3], o[6]), gt = pgp__gradient(P, f, o[1], o[4], o[7]);
-    pgp__frame(P, f, &u, &v);
+    pw_v3 u, v, gs = pw_periodic_gradient(&P->pp, f, o[0], o[3], o[6]),
+                gt = pw_periodic_gradient(&P->pp, f, o[1], o[4], o[7]);
+    pw_periodic_frame(&P->pp, f, &u, &v);
     a = S * pw_v3_dot(gs, u);
     b = S * pw_v3_dot(gs, v);
     c = S * pw_v3_dot(gt, u);
@@ -18276,20 +18452,20 @@ PGPDEF void pgp_map_stats(const pgp_map *map, pgp_stats *out)
     if (!out) return;
     memset(out, 0, sizeof *out);
     if (!P) return;
-    for (f = 0; f < P->m.nf; f++) {
+    for (f = 0; f < P->pp.m.nf; f++) {
         d = pgp__distortion(P, f);
-        total += P->m.area[f];
-        st += (d & 1) ? P->m.area[f] : 0.0;
-        sh += (d & 2) ? P->m.area[f] : 0.0;
+        total += P->pp.m.area[f];
+        st += (d & 1) ? P->pp.m.area[f] : 0.0;
+        sh += (d & 2) ? P->pp.m.area[f] : 0.0;
     }
-    out->triangles = P->m.nf;
+    out->triangles = P->pp.m.nf;
     out->vortices = pgp_map_vortices(map, NULL);
     out->singular = P->nsing;
     out->stretched = total > 0.0 ? (float)(st / total) : 0.0f;
     out->sheared = total > 0.0 ? (float)(sh / total) : 0.0f;
-    out->mean_edge = (float)pgp__mean_edge(P);
-    out->diagonal = P->m.diag;
-    out->scale = P->scale0;
+    out->mean_edge = (float)pw_periodic_mean_edge(&P->pp);
+    out->diagonal = P->pp.m.diag;
+    out->scale = P->pp.scale0;
 }
 
 /* ---- src/pgp/edit.c ---- */
@@ -18313,10 +18489,10 @@ static int pgp__edit_constraint(pgp__state *P, const pgp_constraint *c, pgp_area
     sd.n = 1;
     sd.radius = c->radius;
     if (c->kind == PGP_CONSTRAINT_ORIENT) return pgp__edit(P, c->kind, &sd, area, e);
-    seeds = (int *)pw_alloc_array(&P->a, (size_t)P->m.nf, sizeof(int), "effect area", e);
+    seeds = (int *)pw_alloc_array(&P->a, (size_t)P->pp.m.nf, sizeof(int), "effect area", e);
     if (!seeds) return PW_ERR_NOMEM;
-    for (h = 0; h < 3 * P->m.nf; h++)
-        if (P->m.tri[h] == c->element) seeds[n++] = h / 3;
+    for (h = 0; h < 3 * P->pp.m.nf; h++)
+        if (P->pp.m.tri[h] == c->element) seeds[n++] = h / 3;
     sd.tri = seeds;
     sd.n = n;
     r = pgp__edit(P, c->kind, &sd, area, e);
@@ -18332,7 +18508,7 @@ static int pgp__check_constraint(const pgp__state *P, const pgp_constraint *c, p
     int r = pgp__check_values(c, e);
     if (r == PW_OK)
         r = c->kind == PGP_CONSTRAINT_ORIENT ? pgp__check_face(P, c->element, e) : pgp__check_vertex(P, c->element, e);
-    if (r == PW_OK && c->kind == PGP_CONSTRAINT_ORIENT && !pw_df_project(&P->m, c->element, pw_v3_load(c->value), z))
+    if (r == PW_OK && c->kind == PGP_CONSTRAINT_ORIENT && !pw_df_project(&P->pp.m, c->element, pw_v3_load(c->value), z))
         return pw_fail(e, PW_ERR_INVALID, "orientation (%g, %g, %g) at triangle %d is normal to the triangle",
                        (double)c->value[0], (double)c->value[1], (double)c->value[2], c->element);
     return r;
@@ -18480,9 +18656,9 @@ static void pgp__view(const pgp__state *P, int f, int a, int b, float *out)
     int k;
     for (k = 0; k < 2; k++) {
         double al = 0.0;
-        if (b == (a + 1) % 3) al = pgp__alpha(P, 3 * f + a, k);
-        else if (b != a) al = -pgp__alpha(P, 3 * f + b, k); /* edge b -> a */
-        out[k] = (float)(P->stm[9 * f + 3 * a + k] + al);
+        if (b == (a + 1) % 3) al = pw_periodic_alpha(&P->pp, 3 * f + a, k);
+        else if (b != a) al = -pw_periodic_alpha(&P->pp, 3 * f + b, k); /* edge b -> a */
+        out[k] = (float)(P->pp.stm[9 * f + 3 * a + k] + al);
     }
 }
 
@@ -18495,86 +18671,15 @@ static void pgp__views(const pgp__state *P, int f, int all, float *out)
     for (a = 0; a < 3; a++)
         for (b = 0; b < 3; b++) {
             float *o = out + 6 * a + 2 * b;
-            if (all || P->vsing[P->m.tri[3 * f + a]]) pgp__view(P, f, a, b, o);
+            if (all || P->vsing[P->pp.m.tri[3 * f + a]]) pgp__view(P, f, a, b, o);
             else {
-                o[0] = P->stm[9 * f + 3 * b];
-                o[1] = P->stm[9 * f + 3 * b + 1];
+                o[0] = P->pp.stm[9 * f + 3 * b];
+                o[1] = P->pp.stm[9 * f + 3 * b + 1];
             }
         }
 }
 
 /* ---- the clean fix of a vortex triangle (beyond §3) ------------------------------------ */
-
-/* Layout of a vortex triangle's data, per coordinate k at offset 12 k:
- * U[3] the boundary values at the corners walking 0 -> 1 -> 2 (U_0 = s_0),
- * D[3] the difference along edge a -> a+1 (the integer shift nearest
- * alpha, as every regular neighbour has it; U_2 + D_2 = U_0 - winding),
- * V[3] the field's linear function L at the corners (corner 0's view, §3),
- * Q[3] the barycentric coordinates of the zero. A coordinate that does not
- * wind here has Q[0] < 0 and is linear in U. */
-static void pgp__clean_coord(const pgp__state *P, int f, int k, float *o)
-{
-    const float *c = P->stm + 9 * f;
-    double U[3], D[3], V[3], r[3], zr[3], zi[3], det, q1, q2;
-    int a;
-    for (a = 0; a < 3; a++) { /* the edge from corner a to a+1: half-edge 3f + a */
-        double d = (double)c[3 * ((a + 1) % 3) + k] - c[3 * a + k], al = pgp__alpha(P, 3 * f + a, k);
-        D[a] = d + floor(al - d + 0.5);
-    }
-    U[0] = c[k];
-    U[1] = U[0] + D[0];
-    U[2] = U[1] + D[1];
-    V[0] = c[k];
-    V[1] = c[k] + pgp__alpha(P, 3 * f, k);
-    V[2] = c[k] - pgp__alpha(P, 3 * f + 2, k);
-    for (a = 0; a < 3; a++) {
-        o[a] = (float)U[a];
-        o[3 + a] = (float)D[a];
-        o[6 + a] = (float)V[a];
-    }
-    o[9] = -1.0f;
-    o[10] = o[11] = 0.0f;
-    if (pgp__winding(P, f, k) == 0) return;
-    for (a = 0; a < 3; a++) {
-        r[a] = PGP__TWO_PI * (U[a] - V[a]);
-        zr[a] = pw_cos(r[a]);
-        zi[a] = pw_sin(r[a]);
-    }
-    /* [KCPS15]: the zero of z_0 + q1 (z_1 - z_0) + q2 (z_2 - z_0) */
-    det = (zr[1] - zr[0]) * (zi[2] - zi[0]) - (zi[1] - zi[0]) * (zr[2] - zr[0]);
-    q1 = det != 0.0 ? (-zr[0] * (zi[2] - zi[0]) + zi[0] * (zr[2] - zr[0])) / det : 1.0 / 3.0;
-    q2 = det != 0.0 ? (-zi[0] * (zr[1] - zr[0]) + zr[0] * (zi[1] - zi[0])) / det : 1.0 / 3.0;
-    if (!(q1 >= 0.0 && q2 >= 0.0 && q1 + q2 <= 1.0)) q1 = q2 = 1.0 / 3.0; /* |winding| > 1: the centre */
-    /* kept off the edges, so that no sector of the fan is a sliver */
-    q1 = 0.1 + 0.7 * q1;
-    q2 = 0.1 + 0.7 * q2;
-    o[9] = (float)(1.0 - q1 - q2);
-    o[10] = (float)q1;
-    o[11] = (float)q2;
-}
-
-/* The coordinate of a vortex triangle at barycentric b: the point x where
- * the ray from the zero Q through b leaves the triangle takes the boundary
- * value (linear along the edge, as the neighbour's), and b takes it plus
- * L(b) - L(x): the field's gradient inside, the residual constant along
- * rays, so the coordinate winds once (n times) around Q. */
-static double pgp__clean_eval(const float *o, const double *b)
-{
-    const float *U = o, *D = o + 3, *V = o + 6, *Q = o + 9;
-    double mu = 2.0, x[3], u;
-    int c, e = 0;
-    if (Q[0] < 0.0f) return b[0] * U[0] + b[1] * U[1] + b[2] * U[2];
-    for (c = 0; c < 3; c++) /* the edge the ray leaves by: opposite the smallest b_c / Q_c */
-        if (b[c] / Q[c] < mu) {
-            mu = b[c] / Q[c];
-            e = (c + 1) % 3;
-        }
-    if (mu >= 1.0 - 1e-9) return U[0]; /* at the zero itself */
-    for (c = 0; c < 3; c++) x[c] = (b[c] - mu * Q[c]) / (1.0 - mu);
-    u = U[e] + x[(e + 1) % 3] * D[e];
-    for (c = 0; c < 3; c++) u += (b[c] - x[c]) * V[c];
-    return u;
-}
 
 /* Difference a - b brought into [-1/2, 1/2): coordinates wind by integers. */
 static double pgp__wrap(double d) { return d - floor(d + 0.5); }
@@ -18597,9 +18702,9 @@ static void pgp__clean_st(const float *o, float b1, float b2, const float db[4],
     by[2] = b2 + h * db[3];
     by[0] = 1.0 - by[1] - by[2];
     for (k = 0; k < 2; k++) {
-        st[k] = pgp__clean_eval(o + 12 * k, b);
-        d[2 * k] = pgp__wrap(pgp__clean_eval(o + 12 * k, bx) - st[k]) / h;
-        d[2 * k + 1] = pgp__wrap(pgp__clean_eval(o + 12 * k, by) - st[k]) / h;
+        st[k] = pw_periodic_clean_eval(o + 12 * k, b);
+        d[2 * k] = pgp__wrap(pw_periodic_clean_eval(o + 12 * k, bx) - st[k]) / h;
+        d[2 * k + 1] = pgp__wrap(pw_periodic_clean_eval(o + 12 * k, by) - st[k]) / h;
     }
 }
 
@@ -18651,7 +18756,7 @@ static void pgp__color(const pgp__shading *S, int f, const float *b, const float
     int a, k;
     if (!S->fixed[f] || S->mode == PGP_FIX_CLEAN) {
         if (S->fixed[f]) pgp__clean_st(fx, b[1], b[2], db, st, d);
-        else pgp__linear_st(S->P->stm + 9 * f, 3, b, db, st, d);
+        else pgp__linear_st(S->P->pp.stm + 9 * f, 3, b, db, st, d);
         pgp__sample(S, st[0], st[1], m, d, rgba);
         return;
     }
@@ -18666,7 +18771,7 @@ static void pgp__color(const pgp__shading *S, int f, const float *b, const float
 static void pgp__shade(void *user, int f, float b1, float b2, const float db[4], float rgba[4])
 {
     const pgp__shading *S = (const pgp__shading *)user;
-    const float *stm = S->P->stm + 9 * f;
+    const float *stm = S->P->pp.stm + 9 * f;
     float b[3], m;
     int k;
     b[0] = 1.0f - b1 - b2;
@@ -18713,7 +18818,7 @@ static int pgp__tile3(const pw_alloc *a, const pgp_tile *t, pw_tile3 *out, pw_er
  * looking at center. */
 static pw_camera pgp__camera(const pgp__state *P, const pgp_render_options *o)
 {
-    pw_camera cam = pw_camera_frame(P->pos, P->m.nv, o->view_dir, o->up, 35.0f, (float)o->width / (float)o->height);
+    pw_camera cam = pw_camera_frame(P->pos, P->pp.m.nv, o->view_dir, o->up, 35.0f, (float)o->width / (float)o->height);
     int k;
     if (o->zoom > 1.0f)
         for (cam.fovy_deg /= o->zoom, k = 0; k < 3; k++) {
@@ -18735,9 +18840,9 @@ static int pgp__draw(const pgp__state *P, pgp__shading *S, const pgp_render_opti
     int r;
     memset(&d, 0, sizeof d);
     d.positions = P->pos;
-    d.nv = P->m.nv;
-    d.tris = P->m.tri;
-    d.ntris = P->m.nf;
+    d.nv = P->pp.m.nv;
+    d.tris = P->pp.m.tri;
+    d.ntris = P->pp.m.nf;
     d.lighting = PW_LIGHT_CAMERA;
     d.ambient = 0.3f;
     d.shader = pgp__shade;
@@ -18761,7 +18866,7 @@ static int pgp__draw(const pgp__state *P, pgp__shading *S, const pgp_render_opti
  * vortex (CLEAN), a singular corner (PAPER, §3), every triangle (ALL). */
 static int pgp__special(const pgp__state *P, int mode, int f)
 {
-    if (mode == PGP_FIX_CLEAN) return pgp__winding(P, f, 0) != 0 || pgp__winding(P, f, 1) != 0;
+    if (mode == PGP_FIX_CLEAN) return pw_periodic_winding(&P->pp, f, 0) != 0 || pw_periodic_winding(&P->pp, f, 1) != 0;
     if (mode == PGP_FIX_PAPER) return P->fsing[f];
     return mode == PGP_FIX_ALL;
 }
@@ -18770,7 +18875,7 @@ PGPDEF int pgp_map_special(const pgp_map *map, pgp_fix fix, unsigned char *flags
 {
     const pgp__state *P = pgp__state_of(map);
     int f, n = 0, s;
-    for (f = 0; P && f < P->m.nf; f++) {
+    for (f = 0; P && f < P->pp.m.nf; f++) {
         n += s = pgp__special(P, fix, f);
         if (flags) flags[f] = (unsigned char)s;
     }
@@ -18781,11 +18886,11 @@ PGPDEF int pgp_map_special(const pgp_map *map, pgp_fix fix, unsigned char *flags
 static void pgp__fix_data(const pgp__state *P, int mode, unsigned char *fixed, float *data)
 {
     int f, k;
-    for (f = 0; f < P->m.nf; f++) {
+    for (f = 0; f < P->pp.m.nf; f++) {
         float *o = data + PGP__FIXDATA * (size_t)f;
         if (!(fixed[f] = (unsigned char)pgp__special(P, mode, f))) continue;
         if (mode == PGP_FIX_CLEAN)
-            for (k = 0; k < 2; k++) pgp__clean_coord(P, f, k, o + 12 * k);
+            for (k = 0; k < 2; k++) pw_periodic_clean_coord(&P->pp, f, k, o + 12 * k);
         else pgp__views(P, f, mode == PGP_FIX_ALL, o);
     }
 }
@@ -18817,8 +18922,8 @@ static int pgp__shading_init(const pgp__state *P, const pgp_tile *tile, pgp_fix 
     if (!t3) return PW_ERR_NOMEM;
     S->tile = t3;
     if (pgp__tile3(&P->a, tile, t3, e) != PW_OK) return e->code;
-    data = (float *)pw_alloc_array(&P->a, (size_t)P->m.nf * PGP__FIXDATA, sizeof(float), "fix", e);
-    fixed = (unsigned char *)pw_alloc_array(&P->a, (size_t)P->m.nf, 1, "fix", e);
+    data = (float *)pw_alloc_array(&P->a, (size_t)P->pp.m.nf * PGP__FIXDATA, sizeof(float), "fix", e);
+    fixed = (unsigned char *)pw_alloc_array(&P->a, (size_t)P->pp.m.nf, 1, "fix", e);
     S->fix = data;
     S->fixed = fixed;
     if (!data || !fixed) return PW_ERR_NOMEM;
@@ -19274,18 +19379,18 @@ PW_PUBLIC_IO(pgp, PGPDEF);
 static int pgp__same_mesh(const pgp_mesh *mesh, const pgp__state *P, pw_err *e)
 {
     int f, k, t = 0;
-    if (mesh->nverts != P->m.nv || mesh->nfaces < 0 || !mesh->face_start || !mesh->face_verts)
+    if (mesh->nverts != P->pp.m.nv || mesh->nfaces < 0 || !mesh->face_start || !mesh->face_verts)
         return pw_fail(e, PW_ERR_INVALID, "the mesh (%d vertices) is not the map's (%d vertices)", mesh->nverts,
-                       P->m.nv);
+                       P->pp.m.nv);
     for (f = 0; f < mesh->nfaces; f++) {
         const int *c = mesh->face_verts + mesh->face_start[f];
         int d = mesh->face_start[f + 1] - mesh->face_start[f];
         for (k = 1; k + 1 < d; k++, t++)
-            if (t >= P->m.nf || P->m.tri[3 * t] != c[0] || P->m.tri[3 * t + 1] != c[k] ||
-                P->m.tri[3 * t + 2] != c[k + 1])
+            if (t >= P->pp.m.nf || P->pp.m.tri[3 * t] != c[0] || P->pp.m.tri[3 * t + 1] != c[k] ||
+                P->pp.m.tri[3 * t + 2] != c[k + 1])
                 return pw_fail(e, PW_ERR_INVALID, "the mesh is not the map's (face %d differs)", f);
     }
-    if (t != P->m.nf) return pw_fail(e, PW_ERR_INVALID, "the mesh has %d triangles, the map %d", t, P->m.nf);
+    if (t != P->pp.m.nf) return pw_fail(e, PW_ERR_INVALID, "the mesh has %d triangles, the map %d", t, P->pp.m.nf);
     return PW_OK;
 }
 
@@ -19294,11 +19399,11 @@ static void pgp__obj_group(pw__wb *b, const pgp__state *P, int sing)
 {
     int f, k;
     pw__wb_str(b, sing ? "g singular\n" : "g regular\n");
-    for (f = 0; f < P->m.nf; f++) {
+    for (f = 0; f < P->pp.m.nf; f++) {
         if (!P->fsing[f] != !sing) continue;
         pw__wb_str(b, "f");
         for (k = 0; k < 3; k++) {
-            pw__wb_int(b, (long long)P->m.tri[3 * f + k] + 1, ' ');
+            pw__wb_int(b, (long long)P->pp.m.tri[3 * f + k] + 1, ' ');
             pw__wb_int(b, 3LL * f + k + 1, '/');
         }
         pw__wb_str(b, "\n");
@@ -19313,14 +19418,14 @@ static int pgp__write_obj(const pgp__state *P, pw_write_fn fn, void *ctx, pw_err
     b.w = fn;
     b.ctx = ctx;
     pw__wb_str(&b, "# patchwork pgp: vt s t m per triangle corner; groups regular and singular (§3)\n");
-    for (i = 0; i < P->m.nv; i++) {
+    for (i = 0; i < P->pp.m.nv; i++) {
         pw__wb_str(&b, "v");
         for (k = 0; k < 3; k++) pw__wb_float(&b, P->pos[3 * i + k]);
         pw__wb_str(&b, "\n");
     }
-    for (i = 0; i < 3 * P->m.nf; i++) {
+    for (i = 0; i < 3 * P->pp.m.nf; i++) {
         pw__wb_str(&b, "vt");
-        for (k = 0; k < 3; k++) pw__wb_float(&b, P->stm[3 * i + k]);
+        for (k = 0; k < 3; k++) pw__wb_float(&b, P->pp.stm[3 * i + k]);
         pw__wb_str(&b, "\n");
     }
     pgp__obj_group(&b, P, 0);
@@ -19550,7 +19655,7 @@ PGPDEF pgp_result pgp_bake_atlas(const pgp_map *map, const pgp_tile *tile, const
         pgp__render_options(&o.render, &ro, &pe) == PW_OK &&
         pgp__shading_init(P, tile, ro.fix, ro.show, &S, &pe) == PW_OK) {
         job.a = &P->a;
-        job.m = &P->m;
+        job.m = &P->pp.m;
         job.cone = o.atlas.cone_angle;
         job.size = o.atlas.size;
         job.gutter = o.atlas.gutter;
@@ -19559,7 +19664,7 @@ PGPDEF pgp_result pgp_bake_atlas(const pgp_map *map, const pgp_tile *tile, const
             B.S = &S;
             B.uvs = out->uvs;
             B.size = o.atlas.size;
-            out->ntris = P->m.nf;
+            out->ntris = P->pp.m.nf;
             src.fn = pgp__bake_texel;
             src.user = &B;
             src.oc = 3;
@@ -19605,14 +19710,14 @@ PGPDEF pgp_result pgp_tile_atlas(const pgp_map *map, const pgp_tile *tile, float
     else if (!pw_is_finite(m))
         pw_fail(&pe, PW_ERR_INVALID, "pgp_tile_atlas: material %g is not a finite number", (double)m);
     else if ((out->uvs =
-                  (float *)pw_alloc_array(&P->a, (size_t)P->m.nf * 6, sizeof(float), "atlas coordinates", &pe)) &&
+                  (float *)pw_alloc_array(&P->a, (size_t)P->pp.m.nf * 6, sizeof(float), "atlas coordinates", &pe)) &&
              pgp__tile_layer(&P->a, tile, m, &img, &pe) == PW_OK) {
-        for (f = 0; f < P->m.nf; f++)
+        for (f = 0; f < P->pp.m.nf; f++)
             for (k = 0; k < 3; k++) {
-                out->uvs[6 * f + 2 * k] = P->stm[9 * f + 3 * k];
-                out->uvs[6 * f + 2 * k + 1] = P->stm[9 * f + 3 * k + 1];
+                out->uvs[6 * f + 2 * k] = P->pp.stm[9 * f + 3 * k];
+                out->uvs[6 * f + 2 * k + 1] = P->pp.stm[9 * f + 3 * k + 1];
             }
-        out->ntris = P->m.nf;
+        out->ntris = P->pp.m.nf;
         out->fill = 1.0f;
         out->repeat = 1;
         pgp__take_image(&img, &P->a, &out->image);
@@ -19651,19 +19756,19 @@ PGPDEF pgp_result pgp_write_gltf(const pgp_map *map, const pgp_atlas *atlas, con
     memset(&part, 0, sizeof part);
     memset(&scene, 0, sizeof scene);
     if (!P || !atlas || !atlas->uvs || !fn) pw_fail(&pe, PW_ERR_INVALID, "glTF: no map, atlas or writer");
-    else if (atlas->ntris != P->m.nf)
-        pw_fail(&pe, PW_ERR_INVALID, "glTF: the atlas has %d triangles; the map has %d", atlas->ntris, P->m.nf);
+    else if (atlas->ntris != P->pp.m.nf)
+        pw_fail(&pe, PW_ERR_INVALID, "glTF: the atlas has %d triangles; the map has %d", atlas->ntris, P->pp.m.nf);
     else if (pgp__check_image(&atlas->image, "atlas image", &pe) == PW_OK &&
              (!view || pgp__render_options(view, &ro, &pe) == PW_OK) &&
-             (fstart = (int *)pw_alloc_array(&P->a, (size_t)P->m.nf + 1, sizeof(int), "glTF faces", &pe)) != NULL) {
-        for (f = 0; f <= P->m.nf; f++) fstart[f] = 3 * f;
+             (fstart = (int *)pw_alloc_array(&P->a, (size_t)P->pp.m.nf + 1, sizeof(int), "glTF faces", &pe)) != NULL) {
+        for (f = 0; f <= P->pp.m.nf; f++) fstart[f] = 3 * f;
         img = pgp__pw_image(&atlas->image);
         part.name = "pgp";
-        part.nv = P->m.nv;
+        part.nv = P->pp.m.nv;
         part.pos = P->pos;
-        part.nf = P->m.nf;
+        part.nf = P->pp.m.nf;
         part.fstart = fstart;
-        part.fv = P->m.tri;
+        part.fv = P->pp.m.tri;
         part.corner_uv = atlas->uvs;
         part.texture = &img;
         part.repeat = atlas->repeat != 0;

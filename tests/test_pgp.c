@@ -107,12 +107,12 @@ static void t_integer_jumps(void)
     CHECKF(pgp_create(&m, &o, &map, &err) == PGP_OK, "%s", err.message);
     P = map.state;
     if (!P) return;
-    for (h = 0; h < 3 * P->m.nf; h++) {
-        int t = P->m.hm.twin[h], f = h / 3, c = h % 3;
+    for (h = 0; h < 3 * P->pp.m.nf; h++) {
+        int t = P->pp.m.hm.twin[h], f = h / 3, c = h % 3;
         if (t < 0) continue;
         for (k = 0; k < 2; k++) { /* vertex tri[h] seen from both triangles */
             int g = t / 3, d = (t % 3 + 1) % 3; /* the twin runs the other way: its next corner is our start */
-            double jump = P->stm[9 * f + 3 * c + k] - P->stm[9 * g + 3 * d + k];
+            double jump = P->pp.stm[9 * f + 3 * c + k] - P->pp.stm[9 * g + 3 * d + k];
             if (fabs(jump - floor(jump + 0.5)) > 1e-5) bad++;
         }
         if (!P->fsing[f] && !P->fsing[t / 3]) mism += pgp__mismatch(P, h);
@@ -293,18 +293,18 @@ static void t_sphere_regime(void)
     pgp__take_mesh(&m, &a, &pm);
     CHECKF(pgp_create(&pm, &o, &map, &err) == PGP_OK, "%s", err.message);
     P = map.state;
-    if (P && (vort = (unsigned char *)malloc((size_t)P->m.nf)) != NULL) {
-        S = P->scale0;
+    if (P && (vort = (unsigned char *)malloc((size_t)P->pp.m.nf)) != NULL) {
+        S = P->pp.scale0;
         pgp_map_vortices(&map, vort);
-        for (f = 0; f < P->m.nf; f++) {
+        for (f = 0; f < P->pp.m.nf; f++) {
             ns += vort[f] & 1, nt += vort[f] >> 1;
-            area += P->m.area[f];
-            if (pgp__distorted(P, f)) dist += P->m.area[f];
+            area += P->pp.m.area[f];
+            if (pgp__distorted(P, f)) dist += P->pp.m.area[f];
         }
-        sing = (double)pgp_map_singular(&map, NULL) / P->m.nf;
+        sing = (double)pgp_map_singular(&map, NULL) / P->pp.m.nf;
         expect = 4.0 * 3.14159265358979 / S;
         pwt_info("sphere: %d triangles, %d s-vortices (expected %.1f), %d t-vortices, distorted area %.1f%% "
-                 "(expected %.1f%%), singular %.1f%%", P->m.nf, ns, expect, nt, 100.0 * dist / area,
+                 "(expected %.1f%%), singular %.1f%%", P->pp.m.nf, ns, expect, nt, 100.0 * dist / area,
                  100.0 * expect * 0.159 * S * S / area, 100.0 * sing);
         CHECKF(fabs(ns - expect) <= 0.15 * expect, "%d s-vortices, expected %.1f", ns, expect);
         CHECKF(nt <= 2, "%d t-vortices, expected none", nt);

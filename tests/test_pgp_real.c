@@ -48,11 +48,11 @@ static double median(double *v, int n)
 static void check_jumps(const pgp__state *P, const char *name)
 {
     int h, k, bad = 0, mism = 0;
-    for (h = 0; h < 3 * P->m.nf; h++) {
-        int t = P->m.hm.twin[h], f = h / 3, c = h % 3;
+    for (h = 0; h < 3 * P->pp.m.nf; h++) {
+        int t = P->pp.m.hm.twin[h], f = h / 3, c = h % 3;
         if (t < 0) continue;
         for (k = 0; k < 2; k++) {
-            double jump = P->stm[9 * f + 3 * c + k] - P->stm[9 * (t / 3) + 3 * ((t % 3 + 1) % 3) + k];
+            double jump = P->pp.stm[9 * f + 3 * c + k] - P->pp.stm[9 * (t / 3) + 3 * ((t % 3 + 1) % 3) + k];
             if (fabs(jump - floor(jump + 0.5)) > 1e-4) bad++;
         }
         if (!P->fsing[f] && !P->fsing[t / 3]) mism += pgp__mismatch(P, h);
@@ -64,14 +64,14 @@ static void check_jumps(const pgp__state *P, const char *name)
 /* Medians of | |grad| S - 1 | and of the angle (degrees) to the field. */
 static void field_errors(const pgp__state *P, double *len_med, double *ang_med)
 {
-    int nf = P->m.nf, f, k, n = 0;
+    int nf = P->pp.m.nf, f, k, n = 0;
     double *len = (double *)malloc(sizeof(double) * 2 * (size_t)nf), *ang = (double *)malloc(sizeof(double) * 2 * (size_t)nf);
     for (f = 0; len && ang && f < nf; f++)
         for (k = 0; k < 2; k++) {
-            const float *o = P->stm + 9 * f;
-            pw_v3 g = pgp__grad(P, f, k), gs = pgp__gradient(P, f, o[k], o[3 + k], o[6 + k]);
+            const float *o = P->pp.stm + 9 * f;
+            pw_v3 g = pw_periodic_grad(&P->pp, f, k), gs = pw_periodic_gradient(&P->pp, f, o[k], o[3 + k], o[6 + k]);
             double L = pw_v3_len(gs), c = L > 0.0 ? pw_v3_dot(gs, g) / (L * pw_v3_len(g)) : -1.0;
-            len[n] = fabs(L * pgp__face_scale(P, f) - 1.0);
+            len[n] = fabs(L * pw_periodic_face_scale(&P->pp, f) - 1.0);
             ang[n++] = acos(c > 1.0 ? 1.0 : (c < -1.0 ? -1.0 : c)) * (180.0 / 3.14159265358979);
         }
     *len_med = median(len, n);
@@ -95,10 +95,10 @@ static void real_mesh(const char *file, double max_singular, int max_vortices)
     if (P->state) {
         check_jumps(P->state, file);
         field_errors(P->state, &lm, &am);
-        sing = (double)pgp_map_singular(P, NULL) / P->state->m.nf;
-        for (f = 0, area = 0.0; f < P->state->m.nf; f++) area += P->state->m.area[f];
+        sing = (double)pgp_map_singular(P, NULL) / P->state->pp.m.nf;
+        for (f = 0, area = 0.0; f < P->state->pp.m.nf; f++) area += P->state->pp.m.area[f];
         pwt_info("%s: %d triangles, %.0f tiles, %d vortices, singular %.1f%% (paper: 5-10%%), median | |grad| S - 1 | "
-                 "%.3f, median angle %.2f deg", file, P->state->m.nf, area / ((double)P->state->scale0 * P->state->scale0),
+                 "%.3f, median angle %.2f deg", file, P->state->pp.m.nf, area / ((double)P->state->pp.scale0 * P->state->pp.scale0),
                  pgp_map_vortices(P, NULL), 100.0 * sing, lm, am);
         CHECKF(lm <= 0.15, "%s: median scale error %.3f", file, lm);
         CHECKF(am <= 8.0, "%s: median angle error %.2f deg", file, am);
@@ -288,8 +288,8 @@ static void drawn_st(const pgp__state *P, const unsigned char *fixed, const floa
     int k;
     b[0] = 1.0 - b1 - b2, b[1] = b1, b[2] = b2;
     for (k = 0; k < 2; k++)
-        st[k] = fixed[f] ? pgp__clean_eval(data + PGP__FIXDATA * (size_t)f + 12 * k, b)
-                         : b[0] * P->stm[9 * f + k] + b[1] * P->stm[9 * f + 3 + k] + b[2] * P->stm[9 * f + 6 + k];
+        st[k] = fixed[f] ? pw_periodic_clean_eval(data + PGP__FIXDATA * (size_t)f + 12 * k, b)
+                         : b[0] * P->pp.stm[9 * f + k] + b[1] * P->pp.stm[9 * f + 3 + k] + b[2] * P->pp.stm[9 * f + 6 + k];
 }
 
 /* Point c of 9 along half-edge h, in its triangle's barycentric coordinates. */
@@ -308,7 +308,7 @@ static void along(int h, int c, double *b1, double *b2)
 static void check_clean(const pgp_map *map, const char *name)
 {
     const pgp__state *P = map->state;
-    int nf = P->m.nf, h, c, k, f, seams = 0, raw = 0, unwound = 0, n;
+    int nf = P->pp.m.nf, h, c, k, f, seams = 0, raw = 0, unwound = 0, n;
     unsigned char *fixed = (unsigned char *)malloc((size_t)nf), *none = (unsigned char *)calloc((size_t)nf, 1);
     float *data = (float *)malloc(sizeof(float) * PGP__FIXDATA * (size_t)nf);
     double worst = 0.0, st0[2], st1[2], r0[2], r1[2], b1, b2;
@@ -316,7 +316,7 @@ static void check_clean(const pgp_map *map, const char *name)
     pgp__fix_data(P, PGP_FIX_CLEAN, fixed, data);
     n = pgp_map_special(map, PGP_FIX_CLEAN, NULL);
     for (h = 0; h < 3 * nf; h++) {
-        int t = P->m.hm.twin[h];
+        int t = P->pp.m.hm.twin[h];
         if (t < h) continue;
         for (c = 0; c < 9; c++) {
             along(h, c, &b1, &b2);
@@ -345,7 +345,7 @@ static void check_clean(const pgp_map *map, const char *name)
                 cur = st0[k];
                 if (i) sum += pgp__wrap(cur - prev);
             }
-            unwound += fabs(fabs(sum) - fabs((double)pgp__winding(P, f, k))) > 1e-6 || fabs(sum) < 0.5;
+            unwound += fabs(fabs(sum) - fabs((double)pw_periodic_winding(&P->pp, f, k))) > 1e-6 || fabs(sum) < 0.5;
         }
     pwt_info("%s: %d triangles drawn specially (%.2f%%), %d vortices; largest (s, t) difference across an edge %.2g "
              "(Eq. 4 alone: %d edge points off)", name, n, 100.0 * n / nf, pgp_map_vortices(map, NULL), worst, raw);

@@ -15,6 +15,7 @@
 #include "tile3.h"
 #include "../common/trimesh.h"
 #include "../common/dirfield.h"
+#include "../common/periodic.h"
 #include "../common/glue.h"
 #include "pgp.h"
 
@@ -159,74 +160,30 @@ typedef struct pgp_map_state pgp__state;
 struct pgp_map_state {
     pw_alloc a;
     pgp_options o;
-    float *pos; /* nv*3, the map's own copy of the positions */
-    pw_trimesh m;
-    float *conn;          /* dirfield connection, 3nf*2 */
-    double *dual;         /* dual edge lengths per half-edge (Dijkstra) */
-    double *base;         /* nf*2: default field direction per triangle (frame) */
-    double *dir;          /* nf*2: d_s per triangle, unit, in the triangle frame */
-    float *scale;         /* nv: S_i */
-    float *sfac;          /* nv: the integrability factor of S_i (1 but with
-                             options.integrable, pgp__integrable) */
+    float *pos;           /* nv*3, the map's own copy of the positions */
+    pw_periodic pp;       /* the mesh, the field, s and t (src/common/periodic.h);
+                             pp.sfac is the integrability factor of S_i (1 but
+                             with options.integrable, pgp__integrable) */
     float *mat;           /* nv: m_i */
-    double *zs, *zt;      /* nv*2: the unit complex unknowns of s and t (§2.3) */
-    float *stm;           /* nf*9: per corner s, t, m (Eq. 4); pgp_map.coords */
-    int *forder, *vorder; /* triangles and vertices in breadth-first order: the
-                             order of the unknowns of every solve */
     unsigned char *vsing; /* nv: singular 1-ring (§3) */
     unsigned char *fsing; /* nf: a corner's 1-ring is singular */
     int nsing;
-    float scale0; /* default tile side */
     pgp__constraint *con;
     int ncon;
     size_t concap;
 };
 
-/* The frame of triangle f as 3D vectors (u along its first edge, v = N x u). */
-static void pgp__frame(const pgp__state *P, int f, pw_v3 *u, pw_v3 *v) { pw_df_frame(&P->m, f, u, v); }
-
-/* d_s (k = 0) or d_t = N x d_s (k = 1) of triangle f in 3D. */
-static pw_v3 pgp__dir3(const pgp__state *P, int f, int k)
-{
-    pw_v3 u, v, d;
-    double x = P->dir[2 * f], y = P->dir[2 * f + 1];
-    pgp__frame(P, f, &u, &v);
-    if (k == 1) { /* rot90 in the frame */
-        double t = x;
-        x = -y;
-        y = t;
-    }
-    d = pw_v3_add(pw_v3_scale(u, (float)x), pw_v3_scale(v, (float)y));
-    return d;
-}
-
-/* S^T = (S_i + S_j + S_k) / 3 (§2.3), each S_i times its integrability
- * factor. */
-static double pgp__face_scale(const pgp__state *P, int f)
-{
-    const int *t = P->m.tri + 3 * f;
-    return ((double)P->scale[t[0]] * P->sfac[t[0]] + (double)P->scale[t[1]] * P->sfac[t[1]] +
-            (double)P->scale[t[2]] * P->sfac[t[2]]) /
-           3.0;
-}
-
-/* g = d / S^T for s (k = 0) or t (k = 1). */
-static pw_v3 pgp__grad(const pgp__state *P, int f, int k)
-{
-    return pw_v3_scale(pgp__dir3(P, f, k), (float)(1.0 / pgp__face_scale(P, f)));
-}
-
 static int pgp__check_vertex(const pgp__state *P, int v, pw_err *e)
 {
-    if (v < 0 || v >= P->m.nv)
-        return pw_fail(e, PW_ERR_INVALID, "vertex %d does not exist (the mesh has %d)", v, P->m.nv);
+    if (v < 0 || v >= P->pp.m.nv)
+        return pw_fail(e, PW_ERR_INVALID, "vertex %d does not exist (the mesh has %d)", v, P->pp.m.nv);
     return PW_OK;
 }
 
 static int pgp__check_face(const pgp__state *P, int f, pw_err *e)
 {
-    if (f < 0 || f >= P->m.nf)
-        return pw_fail(e, PW_ERR_INVALID, "triangle %d does not exist (the mesh has %d)", f, P->m.nf);
+    if (f < 0 || f >= P->pp.m.nf)
+        return pw_fail(e, PW_ERR_INVALID, "triangle %d does not exist (the mesh has %d)", f, P->pp.m.nf);
     return PW_OK;
 }
 
@@ -237,7 +194,7 @@ PGPDEF int pgp_map_singular(const pgp_map *map, unsigned char *flags)
 {
     const pgp__state *P = pgp__state_of(map);
     if (!P) return 0;
-    if (flags) memcpy(flags, P->fsing, (size_t)P->m.nf);
+    if (flags) memcpy(flags, P->fsing, (size_t)P->pp.m.nf);
     return P->nsing;
 }
 
@@ -254,18 +211,18 @@ PGPDEF pgp_result pgp_map_field(const pgp_map *map, pgp_field *out, pgp_error *e
         return pgp__done(&pe, err);
     }
     a = P->a;
-    out->dir = (float *)pw_alloc_array(&a, (size_t)P->m.nf * 3, sizeof(float), "field", &pe);
-    out->scale = (float *)pw_alloc_array(&a, (size_t)P->m.nv, sizeof(float), "field", &pe);
-    out->material = (float *)pw_alloc_array(&a, (size_t)P->m.nv, sizeof(float), "field", &pe);
+    out->dir = (float *)pw_alloc_array(&a, (size_t)P->pp.m.nf * 3, sizeof(float), "field", &pe);
+    out->scale = (float *)pw_alloc_array(&a, (size_t)P->pp.m.nv, sizeof(float), "field", &pe);
+    out->material = (float *)pw_alloc_array(&a, (size_t)P->pp.m.nv, sizeof(float), "field", &pe);
     out->allocator = pgp__allocator(&a);
     if (!out->dir || !out->scale || !out->material) {
         pgp_field_free(out);
         return pgp__done(&pe, err);
     }
-    out->ntris = P->m.nf;
-    out->nverts = P->m.nv;
-    for (f = 0; f < P->m.nf; f++) pw_v3_store(out->dir + 3 * f, pgp__dir3(P, f, 0));
-    memcpy(out->scale, P->scale, sizeof(float) * (size_t)P->m.nv);
-    memcpy(out->material, P->mat, sizeof(float) * (size_t)P->m.nv);
+    out->ntris = P->pp.m.nf;
+    out->nverts = P->pp.m.nv;
+    for (f = 0; f < P->pp.m.nf; f++) pw_v3_store(out->dir + 3 * f, pw_periodic_dir3(&P->pp, f, 0));
+    memcpy(out->scale, P->pp.scale, sizeof(float) * (size_t)P->pp.m.nv);
+    memcpy(out->material, P->mat, sizeof(float) * (size_t)P->pp.m.nv);
     return pgp__done(&pe, err);
 }

@@ -19,10 +19,10 @@ static int pgp__edit_constraint(pgp__state *P, const pgp_constraint *c, pgp_area
     sd.n = 1;
     sd.radius = c->radius;
     if (c->kind == PGP_CONSTRAINT_ORIENT) return pgp__edit(P, c->kind, &sd, area, e);
-    seeds = (int *)pw_alloc_array(&P->a, (size_t)P->m.nf, sizeof(int), "effect area", e);
+    seeds = (int *)pw_alloc_array(&P->a, (size_t)P->pp.m.nf, sizeof(int), "effect area", e);
     if (!seeds) return PW_ERR_NOMEM;
-    for (h = 0; h < 3 * P->m.nf; h++)
-        if (P->m.tri[h] == c->element) seeds[n++] = h / 3;
+    for (h = 0; h < 3 * P->pp.m.nf; h++)
+        if (P->pp.m.tri[h] == c->element) seeds[n++] = h / 3;
     sd.tri = seeds;
     sd.n = n;
     r = pgp__edit(P, c->kind, &sd, area, e);
@@ -38,7 +38,7 @@ static int pgp__check_constraint(const pgp__state *P, const pgp_constraint *c, p
     int r = pgp__check_values(c, e);
     if (r == PW_OK)
         r = c->kind == PGP_CONSTRAINT_ORIENT ? pgp__check_face(P, c->element, e) : pgp__check_vertex(P, c->element, e);
-    if (r == PW_OK && c->kind == PGP_CONSTRAINT_ORIENT && !pw_df_project(&P->m, c->element, pw_v3_load(c->value), z))
+    if (r == PW_OK && c->kind == PGP_CONSTRAINT_ORIENT && !pw_df_project(&P->pp.m, c->element, pw_v3_load(c->value), z))
         return pw_fail(e, PW_ERR_INVALID, "orientation (%g, %g, %g) at triangle %d is normal to the triangle",
                        (double)c->value[0], (double)c->value[1], (double)c->value[2], c->element);
     return r;

@@ -65,7 +65,7 @@ PGPDEF pgp_result pgp_bake_atlas(const pgp_map *map, const pgp_tile *tile, const
         pgp__render_options(&o.render, &ro, &pe) == PW_OK &&
         pgp__shading_init(P, tile, ro.fix, ro.show, &S, &pe) == PW_OK) {
         job.a = &P->a;
-        job.m = &P->m;
+        job.m = &P->pp.m;
         job.cone = o.atlas.cone_angle;
         job.size = o.atlas.size;
         job.gutter = o.atlas.gutter;
@@ -74,7 +74,7 @@ PGPDEF pgp_result pgp_bake_atlas(const pgp_map *map, const pgp_tile *tile, const
             B.S = &S;
             B.uvs = out->uvs;
             B.size = o.atlas.size;
-            out->ntris = P->m.nf;
+            out->ntris = P->pp.m.nf;
             src.fn = pgp__bake_texel;
             src.user = &B;
             src.oc = 3;
@@ -120,14 +120,14 @@ PGPDEF pgp_result pgp_tile_atlas(const pgp_map *map, const pgp_tile *tile, float
     else if (!pw_is_finite(m))
         pw_fail(&pe, PW_ERR_INVALID, "pgp_tile_atlas: material %g is not a finite number", (double)m);
     else if ((out->uvs =
-                  (float *)pw_alloc_array(&P->a, (size_t)P->m.nf * 6, sizeof(float), "atlas coordinates", &pe)) &&
+                  (float *)pw_alloc_array(&P->a, (size_t)P->pp.m.nf * 6, sizeof(float), "atlas coordinates", &pe)) &&
              pgp__tile_layer(&P->a, tile, m, &img, &pe) == PW_OK) {
-        for (f = 0; f < P->m.nf; f++)
+        for (f = 0; f < P->pp.m.nf; f++)
             for (k = 0; k < 3; k++) {
-                out->uvs[6 * f + 2 * k] = P->stm[9 * f + 3 * k];
-                out->uvs[6 * f + 2 * k + 1] = P->stm[9 * f + 3 * k + 1];
+                out->uvs[6 * f + 2 * k] = P->pp.stm[9 * f + 3 * k];
+                out->uvs[6 * f + 2 * k + 1] = P->pp.stm[9 * f + 3 * k + 1];
             }
-        out->ntris = P->m.nf;
+        out->ntris = P->pp.m.nf;
         out->fill = 1.0f;
         out->repeat = 1;
         pgp__take_image(&img, &P->a, &out->image);
@@ -166,19 +166,19 @@ PGPDEF pgp_result pgp_write_gltf(const pgp_map *map, const pgp_atlas *atlas, con
     memset(&part, 0, sizeof part);
     memset(&scene, 0, sizeof scene);
     if (!P || !atlas || !atlas->uvs || !fn) pw_fail(&pe, PW_ERR_INVALID, "glTF: no map, atlas or writer");
-    else if (atlas->ntris != P->m.nf)
-        pw_fail(&pe, PW_ERR_INVALID, "glTF: the atlas has %d triangles; the map has %d", atlas->ntris, P->m.nf);
+    else if (atlas->ntris != P->pp.m.nf)
+        pw_fail(&pe, PW_ERR_INVALID, "glTF: the atlas has %d triangles; the map has %d", atlas->ntris, P->pp.m.nf);
     else if (pgp__check_image(&atlas->image, "atlas image", &pe) == PW_OK &&
              (!view || pgp__render_options(view, &ro, &pe) == PW_OK) &&
-             (fstart = (int *)pw_alloc_array(&P->a, (size_t)P->m.nf + 1, sizeof(int), "glTF faces", &pe)) != NULL) {
-        for (f = 0; f <= P->m.nf; f++) fstart[f] = 3 * f;
+             (fstart = (int *)pw_alloc_array(&P->a, (size_t)P->pp.m.nf + 1, sizeof(int), "glTF faces", &pe)) != NULL) {
+        for (f = 0; f <= P->pp.m.nf; f++) fstart[f] = 3 * f;
         img = pgp__pw_image(&atlas->image);
         part.name = "pgp";
-        part.nv = P->m.nv;
+        part.nv = P->pp.m.nv;
         part.pos = P->pos;
-        part.nf = P->m.nf;
+        part.nf = P->pp.m.nf;
         part.fstart = fstart;
-        part.fv = P->m.tri;
+        part.fv = P->pp.m.tri;
         part.corner_uv = atlas->uvs;
         part.texture = &img;
         part.repeat = atlas->repeat != 0;

@@ -134,18 +134,18 @@ PW_PUBLIC_IO(pgp, PGPDEF);
 static int pgp__same_mesh(const pgp_mesh *mesh, const pgp__state *P, pw_err *e)
 {
     int f, k, t = 0;
-    if (mesh->nverts != P->m.nv || mesh->nfaces < 0 || !mesh->face_start || !mesh->face_verts)
+    if (mesh->nverts != P->pp.m.nv || mesh->nfaces < 0 || !mesh->face_start || !mesh->face_verts)
         return pw_fail(e, PW_ERR_INVALID, "the mesh (%d vertices) is not the map's (%d vertices)", mesh->nverts,
-                       P->m.nv);
+                       P->pp.m.nv);
     for (f = 0; f < mesh->nfaces; f++) {
         const int *c = mesh->face_verts + mesh->face_start[f];
         int d = mesh->face_start[f + 1] - mesh->face_start[f];
         for (k = 1; k + 1 < d; k++, t++)
-            if (t >= P->m.nf || P->m.tri[3 * t] != c[0] || P->m.tri[3 * t + 1] != c[k] ||
-                P->m.tri[3 * t + 2] != c[k + 1])
+            if (t >= P->pp.m.nf || P->pp.m.tri[3 * t] != c[0] || P->pp.m.tri[3 * t + 1] != c[k] ||
+                P->pp.m.tri[3 * t + 2] != c[k + 1])
                 return pw_fail(e, PW_ERR_INVALID, "the mesh is not the map's (face %d differs)", f);
     }
-    if (t != P->m.nf) return pw_fail(e, PW_ERR_INVALID, "the mesh has %d triangles, the map %d", t, P->m.nf);
+    if (t != P->pp.m.nf) return pw_fail(e, PW_ERR_INVALID, "the mesh has %d triangles, the map %d", t, P->pp.m.nf);
     return PW_OK;
 }
 
@@ -154,11 +154,11 @@ static void pgp__obj_group(pw__wb *b, const pgp__state *P, int sing)
 {
     int f, k;
     pw__wb_str(b, sing ? "g singular\n" : "g regular\n");
-    for (f = 0; f < P->m.nf; f++) {
+    for (f = 0; f < P->pp.m.nf; f++) {
         if (!P->fsing[f] != !sing) continue;
         pw__wb_str(b, "f");
         for (k = 0; k < 3; k++) {
-            pw__wb_int(b, (long long)P->m.tri[3 * f + k] + 1, ' ');
+            pw__wb_int(b, (long long)P->pp.m.tri[3 * f + k] + 1, ' ');
             pw__wb_int(b, 3LL * f + k + 1, '/');
         }
         pw__wb_str(b, "\n");
@@ -173,14 +173,14 @@ static int pgp__write_obj(const pgp__state *P, pw_write_fn fn, void *ctx, pw_err
     b.w = fn;
     b.ctx = ctx;
     pw__wb_str(&b, "# patchwork pgp: vt s t m per triangle corner; groups regular and singular (§3)\n");
-    for (i = 0; i < P->m.nv; i++) {
+    for (i = 0; i < P->pp.m.nv; i++) {
         pw__wb_str(&b, "v");
         for (k = 0; k < 3; k++) pw__wb_float(&b, P->pos[3 * i + k]);
         pw__wb_str(&b, "\n");
     }
-    for (i = 0; i < 3 * P->m.nf; i++) {
+    for (i = 0; i < 3 * P->pp.m.nf; i++) {
         pw__wb_str(&b, "vt");
-        for (k = 0; k < 3; k++) pw__wb_float(&b, P->stm[3 * i + k]);
+        for (k = 0; k < 3; k++) pw__wb_float(&b, P->pp.stm[3 * i + k]);
         pw__wb_str(&b, "\n");
     }
     pgp__obj_group(&b, P, 0);

@@ -41,9 +41,9 @@ static void pgp__view(const pgp__state *P, int f, int a, int b, float *out)
     int k;
     for (k = 0; k < 2; k++) {
         double al = 0.0;
-        if (b == (a + 1) % 3) al = pgp__alpha(P, 3 * f + a, k);
-        else if (b != a) al = -pgp__alpha(P, 3 * f + b, k); /* edge b -> a */
-        out[k] = (float)(P->stm[9 * f + 3 * a + k] + al);
+        if (b == (a + 1) % 3) al = pw_periodic_alpha(&P->pp, 3 * f + a, k);
+        else if (b != a) al = -pw_periodic_alpha(&P->pp, 3 * f + b, k); /* edge b -> a */
+        out[k] = (float)(P->pp.stm[9 * f + 3 * a + k] + al);
     }
 }
 
@@ -56,86 +56,15 @@ static void pgp__views(const pgp__state *P, int f, int all, float *out)
     for (a = 0; a < 3; a++)
         for (b = 0; b < 3; b++) {
             float *o = out + 6 * a + 2 * b;
-            if (all || P->vsing[P->m.tri[3 * f + a]]) pgp__view(P, f, a, b, o);
+            if (all || P->vsing[P->pp.m.tri[3 * f + a]]) pgp__view(P, f, a, b, o);
             else {
-                o[0] = P->stm[9 * f + 3 * b];
-                o[1] = P->stm[9 * f + 3 * b + 1];
+                o[0] = P->pp.stm[9 * f + 3 * b];
+                o[1] = P->pp.stm[9 * f + 3 * b + 1];
             }
         }
 }
 
 /* ---- the clean fix of a vortex triangle (beyond §3) ------------------------------------ */
-
-/* Layout of a vortex triangle's data, per coordinate k at offset 12 k:
- * U[3] the boundary values at the corners walking 0 -> 1 -> 2 (U_0 = s_0),
- * D[3] the difference along edge a -> a+1 (the integer shift nearest
- * alpha, as every regular neighbour has it; U_2 + D_2 = U_0 - winding),
- * V[3] the field's linear function L at the corners (corner 0's view, §3),
- * Q[3] the barycentric coordinates of the zero. A coordinate that does not
- * wind here has Q[0] < 0 and is linear in U. */
-static void pgp__clean_coord(const pgp__state *P, int f, int k, float *o)
-{
-    const float *c = P->stm + 9 * f;
-    double U[3], D[3], V[3], r[3], zr[3], zi[3], det, q1, q2;
-    int a;
-    for (a = 0; a < 3; a++) { /* the edge from corner a to a+1: half-edge 3f + a */
-        double d = (double)c[3 * ((a + 1) % 3) + k] - c[3 * a + k], al = pgp__alpha(P, 3 * f + a, k);
-        D[a] = d + floor(al - d + 0.5);
-    }
-    U[0] = c[k];
-    U[1] = U[0] + D[0];
-    U[2] = U[1] + D[1];
-    V[0] = c[k];
-    V[1] = c[k] + pgp__alpha(P, 3 * f, k);
-    V[2] = c[k] - pgp__alpha(P, 3 * f + 2, k);
-    for (a = 0; a < 3; a++) {
-        o[a] = (float)U[a];
-        o[3 + a] = (float)D[a];
-        o[6 + a] = (float)V[a];
-    }
-    o[9] = -1.0f;
-    o[10] = o[11] = 0.0f;
-    if (pgp__winding(P, f, k) == 0) return;
-    for (a = 0; a < 3; a++) {
-        r[a] = PGP__TWO_PI * (U[a] - V[a]);
-        zr[a] = pw_cos(r[a]);
-        zi[a] = pw_sin(r[a]);
-    }
-    /* [KCPS15]: the zero of z_0 + q1 (z_1 - z_0) + q2 (z_2 - z_0) */
-    det = (zr[1] - zr[0]) * (zi[2] - zi[0]) - (zi[1] - zi[0]) * (zr[2] - zr[0]);
-    q1 = det != 0.0 ? (-zr[0] * (zi[2] - zi[0]) + zi[0] * (zr[2] - zr[0])) / det : 1.0 / 3.0;
-    q2 = det != 0.0 ? (-zi[0] * (zr[1] - zr[0]) + zr[0] * (zi[1] - zi[0])) / det : 1.0 / 3.0;
-    if (!(q1 >= 0.0 && q2 >= 0.0 && q1 + q2 <= 1.0)) q1 = q2 = 1.0 / 3.0; /* |winding| > 1: the centre */
-    /* kept off the edges, so that no sector of the fan is a sliver */
-    q1 = 0.1 + 0.7 * q1;
-    q2 = 0.1 + 0.7 * q2;
-    o[9] = (float)(1.0 - q1 - q2);
-    o[10] = (float)q1;
-    o[11] = (float)q2;
-}
-
-/* The coordinate of a vortex triangle at barycentric b: the point x where
- * the ray from the zero Q through b leaves the triangle takes the boundary
- * value (linear along the edge, as the neighbour's), and b takes it plus
- * L(b) - L(x): the field's gradient inside, the residual constant along
- * rays, so the coordinate winds once (n times) around Q. */
-static double pgp__clean_eval(const float *o, const double *b)
-{
-    const float *U = o, *D = o + 3, *V = o + 6, *Q = o + 9;
-    double mu = 2.0, x[3], u;
-    int c, e = 0;
-    if (Q[0] < 0.0f) return b[0] * U[0] + b[1] * U[1] + b[2] * U[2];
-    for (c = 0; c < 3; c++) /* the edge the ray leaves by: opposite the smallest b_c / Q_c */
-        if (b[c] / Q[c] < mu) {
-            mu = b[c] / Q[c];
-            e = (c + 1) % 3;
-        }
-    if (mu >= 1.0 - 1e-9) return U[0]; /* at the zero itself */
-    for (c = 0; c < 3; c++) x[c] = (b[c] - mu * Q[c]) / (1.0 - mu);
-    u = U[e] + x[(e + 1) % 3] * D[e];
-    for (c = 0; c < 3; c++) u += (b[c] - x[c]) * V[c];
-    return u;
-}
 
 /* Difference a - b brought into [-1/2, 1/2): coordinates wind by integers. */
 static double pgp__wrap(double d) { return d - floor(d + 0.5); }
@@ -158,9 +87,9 @@ static void pgp__clean_st(const float *o, float b1, float b2, const float db[4],
     by[2] = b2 + h * db[3];
     by[0] = 1.0 - by[1] - by[2];
     for (k = 0; k < 2; k++) {
-        st[k] = pgp__clean_eval(o + 12 * k, b);
-        d[2 * k] = pgp__wrap(pgp__clean_eval(o + 12 * k, bx) - st[k]) / h;
-        d[2 * k + 1] = pgp__wrap(pgp__clean_eval(o + 12 * k, by) - st[k]) / h;
+        st[k] = pw_periodic_clean_eval(o + 12 * k, b);
+        d[2 * k] = pgp__wrap(pw_periodic_clean_eval(o + 12 * k, bx) - st[k]) / h;
+        d[2 * k + 1] = pgp__wrap(pw_periodic_clean_eval(o + 12 * k, by) - st[k]) / h;
     }
 }
 
@@ -212,7 +141,7 @@ static void pgp__color(const pgp__shading *S, int f, const float *b, const float
     int a, k;
     if (!S->fixed[f] || S->mode == PGP_FIX_CLEAN) {
         if (S->fixed[f]) pgp__clean_st(fx, b[1], b[2], db, st, d);
-        else pgp__linear_st(S->P->stm + 9 * f, 3, b, db, st, d);
+        else pgp__linear_st(S->P->pp.stm + 9 * f, 3, b, db, st, d);
         pgp__sample(S, st[0], st[1], m, d, rgba);
         return;
     }
@@ -227,7 +156,7 @@ static void pgp__color(const pgp__shading *S, int f, const float *b, const float
 static void pgp__shade(void *user, int f, float b1, float b2, const float db[4], float rgba[4])
 {
     const pgp__shading *S = (const pgp__shading *)user;
-    const float *stm = S->P->stm + 9 * f;
+    const float *stm = S->P->pp.stm + 9 * f;
     float b[3], m;
     int k;
     b[0] = 1.0f - b1 - b2;
@@ -274,7 +203,7 @@ static int pgp__tile3(const pw_alloc *a, const pgp_tile *t, pw_tile3 *out, pw_er
  * looking at center. */
 static pw_camera pgp__camera(const pgp__state *P, const pgp_render_options *o)
 {
-    pw_camera cam = pw_camera_frame(P->pos, P->m.nv, o->view_dir, o->up, 35.0f, (float)o->width / (float)o->height);
+    pw_camera cam = pw_camera_frame(P->pos, P->pp.m.nv, o->view_dir, o->up, 35.0f, (float)o->width / (float)o->height);
     int k;
     if (o->zoom > 1.0f)
         for (cam.fovy_deg /= o->zoom, k = 0; k < 3; k++) {
@@ -296,9 +225,9 @@ static int pgp__draw(const pgp__state *P, pgp__shading *S, const pgp_render_opti
     int r;
     memset(&d, 0, sizeof d);
     d.positions = P->pos;
-    d.nv = P->m.nv;
-    d.tris = P->m.tri;
-    d.ntris = P->m.nf;
+    d.nv = P->pp.m.nv;
+    d.tris = P->pp.m.tri;
+    d.ntris = P->pp.m.nf;
     d.lighting = PW_LIGHT_CAMERA;
     d.ambient = 0.3f;
     d.shader = pgp__shade;
@@ -322,7 +251,7 @@ static int pgp__draw(const pgp__state *P, pgp__shading *S, const pgp_render_opti
  * vortex (CLEAN), a singular corner (PAPER, §3), every triangle (ALL). */
 static int pgp__special(const pgp__state *P, int mode, int f)
 {
-    if (mode == PGP_FIX_CLEAN) return pgp__winding(P, f, 0) != 0 || pgp__winding(P, f, 1) != 0;
+    if (mode == PGP_FIX_CLEAN) return pw_periodic_winding(&P->pp, f, 0) != 0 || pw_periodic_winding(&P->pp, f, 1) != 0;
     if (mode == PGP_FIX_PAPER) return P->fsing[f];
     return mode == PGP_FIX_ALL;
 }
@@ -331,7 +260,7 @@ PGPDEF int pgp_map_special(const pgp_map *map, pgp_fix fix, unsigned char *flags
 {
     const pgp__state *P = pgp__state_of(map);
     int f, n = 0, s;
-    for (f = 0; P && f < P->m.nf; f++) {
+    for (f = 0; P && f < P->pp.m.nf; f++) {
         n += s = pgp__special(P, fix, f);
         if (flags) flags[f] = (unsigned char)s;
     }
@@ -342,11 +271,11 @@ PGPDEF int pgp_map_special(const pgp_map *map, pgp_fix fix, unsigned char *flags
 static void pgp__fix_data(const pgp__state *P, int mode, unsigned char *fixed, float *data)
 {
     int f, k;
-    for (f = 0; f < P->m.nf; f++) {
+    for (f = 0; f < P->pp.m.nf; f++) {
         float *o = data + PGP__FIXDATA * (size_t)f;
         if (!(fixed[f] = (unsigned char)pgp__special(P, mode, f))) continue;
         if (mode == PGP_FIX_CLEAN)
-            for (k = 0; k < 2; k++) pgp__clean_coord(P, f, k, o + 12 * k);
+            for (k = 0; k < 2; k++) pw_periodic_clean_coord(&P->pp, f, k, o + 12 * k);
         else pgp__views(P, f, mode == PGP_FIX_ALL, o);
     }
 }
@@ -378,8 +307,8 @@ static int pgp__shading_init(const pgp__state *P, const pgp_tile *tile, pgp_fix 
     if (!t3) return PW_ERR_NOMEM;
     S->tile = t3;
     if (pgp__tile3(&P->a, tile, t3, e) != PW_OK) return e->code;
-    data = (float *)pw_alloc_array(&P->a, (size_t)P->m.nf * PGP__FIXDATA, sizeof(float), "fix", e);
-    fixed = (unsigned char *)pw_alloc_array(&P->a, (size_t)P->m.nf, 1, "fix", e);
+    data = (float *)pw_alloc_array(&P->a, (size_t)P->pp.m.nf * PGP__FIXDATA, sizeof(float), "fix", e);
+    fixed = (unsigned char *)pw_alloc_array(&P->a, (size_t)P->pp.m.nf, 1, "fix", e);
     S->fix = data;
     S->fixed = fixed;
     if (!data || !fixed) return PW_ERR_NOMEM;
