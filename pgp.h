@@ -2,50 +2,51 @@
  * Do not edit: change the sources and run `make headers`.
  *
  * CONTENTS (line: source, what it holds)
- *     50: src/pgp/pgp.h, the public API and its documentation
- *    667: src/common/base.h, allocation hooks, result codes, error messages, limits, he
- *    979: src/common/vec.h, small vector math on float[3] arrays and a 3-float struct.
- *   1093: src/common/rng.h, seeded random numbers with the same output on every platfo
- *   1170: src/common/noise.h, value noise and its fractal sum, for the built-in procedur
- *   1272: src/common/image.h, float images and their file formats.
- *   1977: src/common/deflate.h, zlib (RFC 1950) and deflate (RFC 1951) compression and
- *   2974: src/common/png.h, PNG writer and reader, and the image front end.
- *   3533: src/common/text.h, locale-independent number parsing and formatting, a line s
- *   3946: src/common/mesh.h, polygon meshes as flat arrays, and their file formats.
- *   5475: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
- *   6004: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
- *   6428: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
- *   7691: src/common/zsparse.h, complex Hermitian sparse systems, solved by conjugate grad
- *   7951: src/common/raster.h, exact scan conversion of 2D triangles.
- *   8425: src/common/parallel.h, a parallel for, the one way work is split across threads.
- *   8553: src/common/render.h, a small deterministic software renderer for textured trian
- *  10218: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
- *  10405: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
- *  10490: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
- *  10679: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
- *  11596: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
- *  12294: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
- *  12530: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
- *  13294: src/common/periodic.h, the periodic global parameterization of a triangle mesh al
- *  14115: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
- *  14876: src/pgp/tile3.h, sampling a material-space tile (Ray et al. 2009, §2: "a 3
- *  14984: src/common/glue.h, what every method header needs between its public types an
- *  15320: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  15984: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
- *  16481: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
- *  16967: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
- *  17110: src/common/kdtree.h, nearest-neighbour search among n points of dimension d, wi
- *  17453: src/common/pca.h, principal component analysis of vectors streamed one at a 
- *  17640: src/pgp/core.c, pgp.h's glue to the shared core, its defaults, and the map
- *  17853: src/pgp/field.c, §2.1 effect areas and §2.2 interpolation of the constrai
- *  18052: src/pgp/solve.c, §2.3 the periodic global parameterization, the recovery o
- *  18471: src/pgp/edit.c, the public editing calls of a mapping. §2.1 (Ray, Lévy, 
- *  18616: src/pgp/render.c, §3 rendering, and a cleaner treatment of the vortices.
- *  18977: src/pgp/builtin.c, built-in meshes and material-space tiles for demos and tes
- *  19246: src/pgp/io.c, files and memory for pgp.h: material-space tiles (NRRD, or
- *  19594: src/pgp/export.c, the mapping for other programs. A viewer that knows nothin
- *  19820: src/pgp/morph.c, the inputs of §1 (keys brought to the tile size, made til
- *  20499: src/pgp/synth.c, §1.2 constrained tile synthesis, and the whole of §1: ke
+ *     51: src/pgp/pgp.h, the public API and its documentation
+ *    668: src/common/base.h, allocation hooks, result codes, error messages, limits, he
+ *    980: src/common/vec.h, small vector math on float[3] arrays and a 3-float struct.
+ *   1094: src/common/rng.h, seeded random numbers with the same output on every platfo
+ *   1171: src/common/noise.h, value noise and its fractal sum, for the built-in procedur
+ *   1273: src/common/image.h, float images and their file formats.
+ *   1978: src/common/deflate.h, zlib (RFC 1950) and deflate (RFC 1951) compression and
+ *   2975: src/common/png.h, PNG writer and reader, and the image front end.
+ *   3534: src/common/text.h, locale-independent number parsing and formatting, a line s
+ *   3947: src/common/mesh.h, polygon meshes as flat arrays, and their file formats.
+ *   5476: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
+ *   6005: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
+ *   6429: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
+ *   7692: src/common/zsparse.h, complex Hermitian sparse systems, solved by conjugate grad
+ *   7952: src/common/zamg.h, a smoothed-aggregation multigrid preconditioner for the co
+ *   8584: src/common/raster.h, exact scan conversion of 2D triangles.
+ *   9058: src/common/parallel.h, a parallel for, the one way work is split across threads.
+ *   9186: src/common/render.h, a small deterministic software renderer for textured trian
+ *  10851: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
+ *  11038: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
+ *  11123: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
+ *  11312: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
+ *  12229: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
+ *  12927: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
+ *  13163: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
+ *  13927: src/common/periodic.h, the periodic global parameterization of a triangle mesh al
+ *  14755: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
+ *  15516: src/pgp/tile3.h, sampling a material-space tile (Ray et al. 2009, §2: "a 3
+ *  15624: src/common/glue.h, what every method header needs between its public types an
+ *  15960: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  16624: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
+ *  17121: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
+ *  17607: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
+ *  17750: src/common/kdtree.h, nearest-neighbour search among n points of dimension d, wi
+ *  18093: src/common/pca.h, principal component analysis of vectors streamed one at a 
+ *  18280: src/pgp/core.c, pgp.h's glue to the shared core, its defaults, and the map
+ *  18493: src/pgp/field.c, §2.1 effect areas and §2.2 interpolation of the constrai
+ *  18692: src/pgp/solve.c, §2.3 the periodic global parameterization, the recovery o
+ *  19111: src/pgp/edit.c, the public editing calls of a mapping. §2.1 (Ray, Lévy, 
+ *  19256: src/pgp/render.c, §3 rendering, and a cleaner treatment of the vortices.
+ *  19617: src/pgp/builtin.c, built-in meshes and material-space tiles for demos and tes
+ *  19886: src/pgp/io.c, files and memory for pgp.h: material-space tiles (NRRD, or
+ *  20234: src/pgp/export.c, the mapping for other programs. A viewer that knows nothin
+ *  20460: src/pgp/morph.c, the inputs of §1 (keys brought to the tile size, made til
+ *  21139: src/pgp/synth.c, §1.2 constrained tile synthesis, and the whole of §1: ke
  */
 /* pgp.h - material-space texturing with a periodic global parameterization.
  *
@@ -7948,6 +7949,638 @@ PW__DEF int pw_zpcg_solve(const pw_alloc *a, const pw_zcsr *A, const pw_zic0 *M,
 
 #endif /* PW__ZSPARSE_V1 */
 
+/* ---- shared module src/common/zamg.h ---- */
+/* zamg: a smoothed-aggregation multigrid preconditioner for the complex
+ * Hermitian systems of zsparse.h, for meshes too large for IC(0).
+ *
+ * IC(0)-preconditioned CG needs about sqrt(n) iterations on a surface
+ * Laplacian of n unknowns, so its time grows as n^1.5; a multigrid
+ * V-cycle keeps the iteration count about constant. The systems pgp.h
+ * solves are connection Laplacians: terms w |z_j - R z_i|^2 with unit
+ * complex R, so the smooth (low-energy) vectors are not constant but turn
+ * by R from unknown to unknown. The coarse spaces follow that:
+ *
+ *   - Aggregation (Vanek, Mandel, Brezina 1996): unknowns joined by a
+ *     strong entry (|a_ij| >= theta sqrt(a_ii a_jj)) are grouped around
+ *     roots taken in index order, leftovers join their strongest
+ *     aggregated neighbour.
+ *   - Tentative prolongation, one entry per row: the phase that carries the
+ *     aggregate's value from the root to the unknown along the edge that
+ *     joined it (-a_ij / |a_ij|, which is R for a term as above), so the
+ *     coarse vector 1 stands for a section parallel along those edges.
+ *   - One damped Jacobi step smooths it (P = (I - omega D^-1 A) P_t,
+ *     omega = 2/3), and the coarse matrix is P^H A P (Galerkin).
+ *   - A V(1,1) cycle: forward Gauss-Seidel before the coarse correction,
+ *     backward after, so the cycle is a symmetric positive definite
+ *     preconditioner for CG; the coarsest level (at most 512 unknowns) is
+ *     solved by a dense Cholesky factor.
+ *
+ *     pw_zamg M;
+ *     pw_zamg_setup(NULL, &A, &M, &e);
+ *     pw_zamg_solve(NULL, &A, &M, b, x, NULL, &stats, &e);
+ *     pw_zamg_free(NULL, &M);
+ *
+ * Deterministic: every loop runs in index order, no threads. */
+#ifndef PW__ZAMG_V1
+#define PW__ZAMG_V1
+
+
+#define PW__ZAMG_LEVELS 16
+#define PW__ZAMG_COARSEST 512
+
+/* One level: its matrix, the prolongation from the next (coarser) level's
+ * unknowns (n x nc, complex CSR), and the cycle's vectors (2n doubles). */
+typedef struct pw__zamg_level {
+    pw_zcsr A;
+    int nc;
+    int *prow, *pcol;
+    double *pval;
+    double *x, *b, *r;
+} pw__zamg_level;
+
+typedef struct pw_zamg {
+    int levels;                          /* levels below the finest (0: A is the coarsest) */
+    pw__zamg_level lev[PW__ZAMG_LEVELS]; /* lev[0].A: a copy of the caller's matrix's pattern holder (not owned) */
+    int nc;                              /* unknowns of the coarsest level */
+    double *chol;                        /* its dense Cholesky factor, nc x nc complex, lower */
+    double *cx;                          /* scratch for the coarsest solve, 2 nc */
+} pw_zamg;
+
+/* ---- complex helpers ------------------------------------------------------ */
+
+/* |v| of the complex number (v[0], v[1]) (no hypot: the values are far from
+ * overflow, and hypot's care costs). */
+PW__DEF double pw__zamg_abs(const double *v) { return sqrt(v[0] * v[0] + v[1] * v[1]); }
+
+/* The diagonal entry of row i (real); 0 if absent. */
+PW__DEF double pw__zamg_diag(const pw_zcsr *A, int i)
+{
+    int k;
+    for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++)
+        if (A->col[k] == i) return A->val[2 * k];
+    return 0.0;
+}
+
+/* The strength threshold of row i: 0.08 of its largest off-diagonal |a_ij|
+ * (0 for a row without any). */
+PW__DEF double pw__zamg_strong(const pw_zcsr *A, int i)
+{
+    double m = 0.0;
+    int k;
+    for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++)
+        if (A->col[k] != i) m = pw__zamg_abs(A->val + 2 * k) > m ? pw__zamg_abs(A->val + 2 * k) : m;
+    return 0.08 * m;
+}
+
+/* ---- aggregation ---------------------------------------------------------- */
+
+/* The tentative prolongation of A: agg[i], the aggregate of unknown i, and
+ * (ph[2i], ph[2i+1]), its unit phase; returns the number of aggregates.
+ * d[i]: theta times the largest off-diagonal |a_ij| of row i, the strength
+ * threshold (relative to the row, not to the diagonal: a diagonal shift
+ * must not cut the links). */
+PW__DEF int pw__zamg_aggregate(const pw_zcsr *A, const double *d, int *agg, double *ph)
+{
+    int n = A->n, i, k, nc = 0;
+    for (i = 0; i < n; i++) agg[i] = -1;
+    for (i = 0; i < n; i++) { /* roots whose strong neighbours are all free */
+        int free_all = 1;
+        if (agg[i] >= 0) continue;
+        for (k = A->rowptr[i]; k < A->rowptr[i + 1] && free_all; k++) {
+            int j = A->col[k];
+            double m = pw__zamg_abs(A->val + 2 * k);
+            if (j != i && m >= d[i] && agg[j] >= 0) free_all = 0;
+        }
+        if (!free_all) continue;
+        agg[i] = nc;
+        ph[2 * i] = 1.0;
+        ph[2 * i + 1] = 0.0;
+        for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++) {
+            int j = A->col[k];
+            double m = pw__zamg_abs(A->val + 2 * k);
+            if (j == i || m < d[i] || m == 0.0) continue;
+            agg[j] = nc; /* z_j = R z_i with a_ji = -w R = conj(a_ij) */
+            ph[2 * j] = -A->val[2 * k] / m;
+            ph[2 * j + 1] = A->val[2 * k + 1] / m;
+        }
+        nc++;
+    }
+    for (i = 0; i < n; i++) { /* leftovers join their strongest aggregated neighbour */
+        int best = -1;
+        double bm = 0.0;
+        if (agg[i] >= 0) continue;
+        for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++) {
+            int j = A->col[k];
+            double m = pw__zamg_abs(A->val + 2 * k);
+            if (j != i && agg[j] >= 0 && m > bm) {
+                bm = m;
+                best = k;
+            }
+        }
+        if (best < 0) { /* isolated: an aggregate of its own */
+            agg[i] = nc++;
+            ph[2 * i] = 1.0;
+            ph[2 * i + 1] = 0.0;
+        } else { /* z_i = (-a_ij / |a_ij|) z_j */
+            int j = A->col[best];
+            double re = -A->val[2 * best] / bm, im = -A->val[2 * best + 1] / bm;
+            agg[i] = agg[j];
+            ph[2 * i] = re * ph[2 * j] - im * ph[2 * j + 1];
+            ph[2 * i + 1] = re * ph[2 * j + 1] + im * ph[2 * j];
+        }
+    }
+    return nc;
+}
+
+/* ---- sparse products -------------------------------------------------------- */
+
+/* Sorts the first n ints of v (short rows: insertion sort). */
+PW__DEF void pw__zamg_sort(int *v, int n)
+{
+    int i, j;
+    for (i = 1; i < n; i++) {
+        int x = v[i];
+        for (j = i; j > 0 && v[j - 1] > x; j--) v[j] = v[j - 1];
+        v[j] = x;
+    }
+}
+
+/* Scratch of a row-by-row product: per column of the result, its slot in
+ * the row being built (-1: none) and its sum; the row's columns. */
+typedef struct pw__zamg_acc {
+    int *mark, *list;
+    double *sum;
+    int cnt;
+} pw__zamg_acc;
+
+PW__DEF void pw__zamg_acc_free(const pw_alloc *a, pw__zamg_acc *w)
+{
+    pw_free(a, w->mark);
+    pw_free(a, w->list);
+    pw_free(a, w->sum);
+}
+
+PW__DEF int pw__zamg_acc_init(const pw_alloc *a, int ncols, pw__zamg_acc *w, pw_err *e)
+{
+    int i;
+    w->cnt = 0;
+    w->mark = (int *)pw_alloc_array(a, (size_t)ncols, sizeof(int), "multigrid scratch", e);
+    w->list = (int *)pw_alloc_array(a, (size_t)ncols, sizeof(int), "multigrid scratch", e);
+    w->sum = (double *)pw_alloc_array(a, 2 * (size_t)ncols, sizeof(double), "multigrid scratch", e);
+    if (!w->mark || !w->list || !w->sum) {
+        pw__zamg_acc_free(a, w);
+        return PW_ERR_NOMEM;
+    }
+    for (i = 0; i < ncols; i++) w->mark[i] = -1;
+    return PW_OK;
+}
+
+/* Adds (re, im) to column c of the row being built. */
+PW__DEF void pw__zamg_acc_add(pw__zamg_acc *w, int c, double re, double im)
+{
+    if (w->mark[c] < 0) {
+        w->mark[c] = w->cnt;
+        w->list[w->cnt++] = c;
+        w->sum[2 * c] = w->sum[2 * c + 1] = 0.0;
+    }
+    w->sum[2 * c] += re;
+    w->sum[2 * c + 1] += im;
+}
+
+/* Ends the row: its entries, columns increasing, into (col, val) from
+ * position *nnz on (or only counted when col is NULL). */
+PW__DEF void pw__zamg_acc_flush(pw__zamg_acc *w, int *col, double *val, int *nnz)
+{
+    int m;
+    pw__zamg_sort(w->list, w->cnt);
+    for (m = 0; m < w->cnt; m++) {
+        int c = w->list[m];
+        if (col) {
+            col[*nnz] = c;
+            val[2 * *nnz] = w->sum[2 * c];
+            val[2 * *nnz + 1] = w->sum[2 * c + 1];
+        }
+        ++*nnz;
+        w->mark[c] = -1;
+    }
+    w->cnt = 0;
+}
+
+/* C = op(X) Y for complex CSR X (rows of X, or with conj_t the rows of X^H
+ * given as X's transpose already: see pw__zamg_galerkin) and Y of ncols
+ * columns; C gets C->n = X->n rows. Two passes: count, then fill. */
+PW__DEF int pw__zamg_mul(const pw_alloc *a, const pw_zcsr *X, const pw_zcsr *Y, int ncols, pw_zcsr *C, pw_err *e)
+{
+    pw__zamg_acc w;
+    int pass, i, k, q, nnz = 0;
+    memset(C, 0, sizeof *C);
+    if (pw__zamg_acc_init(a, ncols, &w, e)) return PW_ERR_NOMEM;
+    C->n = X->n;
+    C->rowptr = (int *)pw_alloc_array(a, (size_t)X->n + 1, sizeof(int), "multigrid matrix", e);
+    for (pass = 0; pass < 2 && C->rowptr; pass++) {
+        nnz = 0;
+        C->rowptr[0] = 0;
+        for (i = 0; i < X->n; i++) {
+            for (k = X->rowptr[i]; k < X->rowptr[i + 1]; k++) {
+                const double *x = X->val + 2 * k;
+                int j = X->col[k];
+                for (q = Y->rowptr[j]; q < Y->rowptr[j + 1]; q++) {
+                    const double *y = Y->val + 2 * q;
+                    pw__zamg_acc_add(&w, Y->col[q], x[0] * y[0] - x[1] * y[1], x[0] * y[1] + x[1] * y[0]);
+                }
+            }
+            pw__zamg_acc_flush(&w, C->col, C->val, &nnz);
+            C->rowptr[i + 1] = nnz;
+        }
+        if (pass == 0) {
+            C->col = (int *)pw_alloc_array(a, (size_t)nnz + 1, sizeof(int), "multigrid matrix", e);
+            C->val = (double *)pw_alloc_array(a, 2 * (size_t)nnz + 2, sizeof(double), "multigrid matrix", e);
+            if (!C->col || !C->val) break;
+        }
+    }
+    pw__zamg_acc_free(a, &w);
+    if (!C->rowptr || !C->col || !C->val) {
+        pw_zcsr_free(a, C);
+        return PW_ERR_NOMEM;
+    }
+    return PW_OK;
+}
+
+/* The conjugate transpose of an n x ncols complex CSR. */
+PW__DEF int pw__zamg_adjoint(const pw_alloc *a, const pw_zcsr *P, int ncols, pw_zcsr *T, pw_err *e)
+{
+    int i, k, nnz = P->rowptr[P->n], *fill;
+    memset(T, 0, sizeof *T);
+    T->n = ncols;
+    T->rowptr = (int *)pw_calloc_array(a, (size_t)ncols + 1, sizeof(int), "multigrid matrix", e);
+    T->col = (int *)pw_alloc_array(a, (size_t)nnz + 1, sizeof(int), "multigrid matrix", e);
+    T->val = (double *)pw_alloc_array(a, 2 * (size_t)nnz + 2, sizeof(double), "multigrid matrix", e);
+    fill = (int *)pw_alloc_array(a, (size_t)ncols + 1, sizeof(int), "multigrid scratch", e);
+    if (!T->rowptr || !T->col || !T->val || !fill) {
+        pw_zcsr_free(a, T);
+        pw_free(a, fill);
+        return PW_ERR_NOMEM;
+    }
+    for (k = 0; k < nnz; k++) T->rowptr[P->col[k] + 1]++;
+    for (i = 0; i < ncols; i++) T->rowptr[i + 1] += T->rowptr[i];
+    memcpy(fill, T->rowptr, sizeof(int) * ((size_t)ncols + 1));
+    for (i = 0; i < P->n; i++) /* rows in order: every row of T gets its columns increasing */
+        for (k = P->rowptr[i]; k < P->rowptr[i + 1]; k++) {
+            int q = fill[P->col[k]]++;
+            T->col[q] = i;
+            T->val[2 * q] = P->val[2 * k];
+            T->val[2 * q + 1] = -P->val[2 * k + 1];
+        }
+    pw_free(a, fill);
+    return PW_OK;
+}
+
+/* ---- one coarser level ------------------------------------------------------ */
+
+/* The smoothed prolongation P = (I - omega D^-1 A) P_t of level L (n x nc),
+ * P_t given by agg and ph (pw__zamg_aggregate), into P. */
+PW__DEF int pw__zamg_prolong(const pw_alloc *a, const pw__zamg_level *L, const int *agg, const double *ph,
+                             const double *d, pw_zcsr *P, pw_err *e)
+{
+    const pw_zcsr *A = &L->A;
+    const double omega = 2.0 / 3.0;
+    pw__zamg_acc w;
+    int n = A->n, i, k, nnz = 0;
+    memset(P, 0, sizeof *P);
+    if (pw__zamg_acc_init(a, L->nc, &w, e)) return PW_ERR_NOMEM;
+    P->n = n;
+    P->rowptr = (int *)pw_alloc_array(a, (size_t)n + 1, sizeof(int), "multigrid prolongation", e);
+    P->col = (int *)pw_alloc_array(a, (size_t)A->rowptr[n] + n, sizeof(int), "multigrid prolongation", e);
+    P->val = (double *)pw_alloc_array(a, 2 * ((size_t)A->rowptr[n] + n), sizeof(double), "multigrid prolongation", e);
+    if (!P->rowptr || !P->col || !P->val) {
+        pw__zamg_acc_free(a, &w);
+        pw_zcsr_free(a, P);
+        return PW_ERR_NOMEM;
+    }
+    P->rowptr[0] = 0;
+    for (i = 0; i < n; i++) {
+        double s = d[i] > 0.0 ? omega / d[i] : 0.0;
+        pw__zamg_acc_add(&w, agg[i], ph[2 * i], ph[2 * i + 1]);
+        for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++) {
+            const double *v = A->val + 2 * k, *p = ph + 2 * A->col[k];
+            pw__zamg_acc_add(&w, agg[A->col[k]], -s * (v[0] * p[0] - v[1] * p[1]), -s * (v[0] * p[1] + v[1] * p[0]));
+        }
+        pw__zamg_acc_flush(&w, P->col, P->val, &nnz);
+        P->rowptr[i + 1] = nnz;
+    }
+    pw__zamg_acc_free(a, &w);
+    return PW_OK;
+}
+
+/* Level L's prolongation (from aggregates of L->A) and the next level's
+ * matrix P^H A P into *C. */
+PW__DEF int pw__zamg_coarsen(const pw_alloc *a, pw__zamg_level *L, pw_zcsr *C, pw_err *e)
+{
+    const pw_zcsr *A = &L->A;
+    int n = A->n, i, r;
+    int *agg = (int *)pw_alloc_array(a, (size_t)n, sizeof(int), "multigrid aggregates", e);
+    double *ph = (double *)pw_alloc_array(a, 2 * (size_t)n, sizeof(double), "multigrid aggregates", e);
+    double *d = (double *)pw_alloc_array(a, (size_t)n, sizeof(double), "multigrid aggregates", e);
+    pw_zcsr P, PH, AP;
+    memset(&P, 0, sizeof P);
+    memset(&PH, 0, sizeof PH);
+    memset(&AP, 0, sizeof AP);
+    r = agg && ph && d ? PW_OK : PW_ERR_NOMEM;
+    if (r == PW_OK) {
+        for (i = 0; i < n; i++) d[i] = pw__zamg_strong(A, i);
+        L->nc = pw__zamg_aggregate(A, d, agg, ph);
+        for (i = 0; i < n; i++) d[i] = pw__zamg_diag(A, i);
+        r = pw__zamg_prolong(a, L, agg, ph, d, &P, e);
+    }
+    if (r == PW_OK) r = pw__zamg_adjoint(a, &P, L->nc, &PH, e);
+    if (r == PW_OK) r = pw__zamg_mul(a, A, &P, L->nc, &AP, e);
+    if (r == PW_OK) r = pw__zamg_mul(a, &PH, &AP, L->nc, C, e);
+    if (r == PW_OK) {
+        L->prow = P.rowptr;
+        L->pcol = P.col;
+        L->pval = P.val;
+    } else pw_zcsr_free(a, &P);
+    pw_zcsr_free(a, &PH);
+    pw_zcsr_free(a, &AP);
+    pw_free(a, agg);
+    pw_free(a, ph);
+    pw_free(a, d);
+    return r;
+}
+
+/* ---- the coarsest level: dense Cholesky --------------------------------------- */
+
+/* Factors the n x n Hermitian A (sparse) into the dense lower L (row-major,
+ * complex) with L L^H = A + shift diag(A); 0 when a pivot is not positive. */
+PW__DEF int pw__zamg_chol_try(const pw_zcsr *A, double shift, double *L)
+{
+    int n = A->n, i, j, k;
+    memset(L, 0, sizeof(double) * 2 * (size_t)n * n);
+    for (i = 0; i < n; i++)
+        for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++)
+            if (A->col[k] <= i) {
+                double *l = L + 2 * ((size_t)i * n + A->col[k]);
+                l[0] = A->val[2 * k] * (A->col[k] == i ? 1.0 + shift : 1.0);
+                l[1] = A->val[2 * k + 1];
+            }
+    for (j = 0; j < n; j++) {
+        double *ljj = L + 2 * ((size_t)j * n + j), dj;
+        for (k = 0; k < j; k++) {
+            const double *v = L + 2 * ((size_t)j * n + k);
+            ljj[0] -= v[0] * v[0] + v[1] * v[1];
+        }
+        if (!(ljj[0] > 0.0) || !pw_is_finite(ljj[0])) return 0;
+        dj = ljj[0] = sqrt(ljj[0]);
+        ljj[1] = 0.0;
+        for (i = j + 1; i < n; i++) { /* L_ij = (A_ij - sum_k L_ik conj(L_jk)) / L_jj */
+            double *lij = L + 2 * ((size_t)i * n + j);
+            for (k = 0; k < j; k++) {
+                const double *u = L + 2 * ((size_t)i * n + k), *v = L + 2 * ((size_t)j * n + k);
+                lij[0] -= u[0] * v[0] + u[1] * v[1];
+                lij[1] -= u[1] * v[0] - u[0] * v[1];
+            }
+            lij[0] /= dj;
+            lij[1] /= dj;
+        }
+    }
+    return 1;
+}
+
+/* x = (L L^H)^-1 b, dense, complex; x may be b. */
+PW__DEF void pw__zamg_chol_solve(const double *L, int n, const double *b, double *x)
+{
+    int i, k;
+    for (i = 0; i < n; i++) {
+        double sr = b[2 * i], si = b[2 * i + 1];
+        for (k = 0; k < i; k++) {
+            const double *v = L + 2 * ((size_t)i * n + k), *y = x + 2 * k;
+            sr -= v[0] * y[0] - v[1] * y[1];
+            si -= v[0] * y[1] + v[1] * y[0];
+        }
+        x[2 * i] = sr / L[2 * ((size_t)i * n + i)];
+        x[2 * i + 1] = si / L[2 * ((size_t)i * n + i)];
+    }
+    for (i = n - 1; i >= 0; i--) { /* L^H x = y: (L^H)_ik = conj(L_ki) */
+        double sr = x[2 * i], si = x[2 * i + 1];
+        for (k = i + 1; k < n; k++) {
+            const double *v = L + 2 * ((size_t)k * n + i), *y = x + 2 * k;
+            sr -= v[0] * y[0] + v[1] * y[1];
+            si -= v[0] * y[1] - v[1] * y[0];
+        }
+        x[2 * i] = sr / L[2 * ((size_t)i * n + i)];
+        x[2 * i + 1] = si / L[2 * ((size_t)i * n + i)];
+    }
+}
+
+/* ---- the hierarchy and the cycle ---------------------------------------------- */
+
+PW__DEF void pw_zamg_free(const pw_alloc *a, pw_zamg *M)
+{
+    int l;
+    for (l = 0; l <= M->levels && l < PW__ZAMG_LEVELS; l++) {
+        pw__zamg_level *L = &M->lev[l];
+        if (l > 0) pw_zcsr_free(a, &L->A); /* level 0's matrix is the caller's */
+        pw_free(a, L->prow);
+        pw_free(a, L->pcol);
+        pw_free(a, L->pval);
+        pw_free(a, L->x);
+        pw_free(a, L->b);
+        pw_free(a, L->r);
+    }
+    pw_free(a, M->chol);
+    pw_free(a, M->cx);
+    memset(M, 0, sizeof *M);
+}
+
+/* Builds the hierarchy of a Hermitian positive (semi)definite A whose
+ * diagonal entries are all present; A must outlive M (level 0 uses it). */
+PW__DEF int pw_zamg_setup(const pw_alloc *a, const pw_zcsr *A, pw_zamg *M, pw_err *e)
+{
+    int l = 0, r = PW_OK, k;
+    double shift = 0.0;
+    memset(M, 0, sizeof *M);
+    M->lev[0].A = *A;
+    while (r == PW_OK && M->lev[l].A.n > PW__ZAMG_COARSEST && l + 1 < PW__ZAMG_LEVELS) {
+        pw__zamg_level *L = &M->lev[l];
+        size_t n2 = 2 * (size_t)L->A.n;
+        L->x = (double *)pw_alloc_array(a, n2, sizeof(double), "multigrid vectors", e);
+        L->b = (double *)pw_alloc_array(a, n2, sizeof(double), "multigrid vectors", e);
+        L->r = (double *)pw_alloc_array(a, n2, sizeof(double), "multigrid vectors", e);
+        if (!L->x || !L->b || !L->r) r = PW_ERR_NOMEM;
+        if (r == PW_OK) r = pw__zamg_coarsen(a, L, &M->lev[l + 1].A, e);
+        if (r != PW_OK) break;
+        M->levels = ++l;
+        if (M->lev[l].A.n * 10 > L->A.n * 9) break; /* aggregation stalls: solve here */
+    }
+    M->nc = M->lev[l].A.n;
+    if (r == PW_OK && M->nc > 4 * PW__ZAMG_COARSEST)
+        r = pw_fail(e, PW_ERR_INVALID, "multigrid: coarsening stopped at %d unknowns", M->nc);
+    if (r == PW_OK) {
+        M->chol = (double *)pw_alloc_array(a, 2 * (size_t)M->nc * M->nc, sizeof(double), "multigrid coarse factor", e);
+        M->cx = (double *)pw_alloc_array(a, 2 * (size_t)M->nc, sizeof(double), "multigrid vectors", e);
+        M->lev[l].x = (double *)pw_alloc_array(a, 2 * (size_t)M->nc, sizeof(double), "multigrid vectors", e);
+        M->lev[l].b = (double *)pw_alloc_array(a, 2 * (size_t)M->nc, sizeof(double), "multigrid vectors", e);
+        if (!M->chol || !M->cx || !M->lev[l].x || !M->lev[l].b) r = PW_ERR_NOMEM;
+    }
+    for (k = 0; r == PW_OK && k<40; k++, shift = shift> 0.0 ? 2.0 * shift : 1e-10)
+        if (pw__zamg_chol_try(&M->lev[l].A, shift, M->chol)) break;
+    if (r == PW_OK && k == 40)
+        r = pw_fail(e, PW_ERR_INVALID, "multigrid: the coarsest matrix is not positive definite");
+    if (r != PW_OK) pw_zamg_free(a, M);
+    return r;
+}
+
+/* One Gauss-Seidel sweep on A x = b, forward or backward. */
+PW__DEF void pw__zamg_gs(const pw_zcsr *A, const double *b, double *x, int backward)
+{
+    int n = A->n, s, i, k;
+    for (s = 0; s < n; s++) {
+        double sr, si, dr = 0.0;
+        i = backward ? n - 1 - s : s;
+        sr = b[2 * i];
+        si = b[2 * i + 1];
+        for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++) {
+            const double *v = A->val + 2 * k, *y = x + 2 * A->col[k];
+            if (A->col[k] == i) {
+                dr = v[0];
+                continue;
+            }
+            sr -= v[0] * y[0] - v[1] * y[1];
+            si -= v[0] * y[1] + v[1] * y[0];
+        }
+        if (dr > 0.0) {
+            x[2 * i] = sr / dr;
+            x[2 * i + 1] = si / dr;
+        }
+    }
+}
+
+/* The V-cycle from level l: lev[l].x ~ A_l^-1 lev[l].b, from x = 0. */
+PW__DEF void pw__zamg_cycle(const pw_zamg *M, int l)
+{
+    const pw__zamg_level *L = &M->lev[l], *C;
+    int n, i, k;
+    if (l == M->levels) {
+        pw__zamg_chol_solve(M->chol, M->nc, L->b, L->x);
+        return;
+    }
+    C = &M->lev[l + 1];
+    n = L->A.n;
+    memset(L->x, 0, sizeof(double) * 2 * (size_t)n);
+    pw__zamg_gs(&L->A, L->b, L->x, 0);
+    pw_zcsr_mul(&L->A, L->x, L->r);
+    for (i = 0; i < 2 * n; i++) L->r[i] = L->b[i] - L->r[i];
+    memset(C->b, 0, sizeof(double) * 2 * (size_t)C->A.n);
+    for (i = 0; i < n; i++) /* b_c = P^H r */
+        for (k = L->prow[i]; k < L->prow[i + 1]; k++) {
+            const double *p = L->pval + 2 * k, *rr = L->r + 2 * i;
+            double *bc = C->b + 2 * L->pcol[k];
+            bc[0] += p[0] * rr[0] + p[1] * rr[1];
+            bc[1] += p[0] * rr[1] - p[1] * rr[0];
+        }
+    pw__zamg_cycle(M, l + 1);
+    for (i = 0; i < n; i++) /* x += P x_c */
+        for (k = L->prow[i]; k < L->prow[i + 1]; k++) {
+            const double *p = L->pval + 2 * k, *xc = C->x + 2 * L->pcol[k];
+            L->x[2 * i] += p[0] * xc[0] - p[1] * xc[1];
+            L->x[2 * i + 1] += p[0] * xc[1] + p[1] * xc[0];
+        }
+    pw__zamg_gs(&L->A, L->b, L->x, 1);
+}
+
+/* z = one V-cycle applied to r (2n doubles each). */
+PW__DEF void pw_zamg_apply(const pw_zamg *M, const double *r, double *z)
+{
+    const pw__zamg_level *L = &M->lev[0];
+    memcpy(L->b, r, sizeof(double) * 2 * (size_t)L->A.n);
+    pw__zamg_cycle(M, 0);
+    memcpy(z, L->x, sizeof(double) * 2 * (size_t)L->A.n);
+}
+
+PW__DEF void pw__zamg_op(const void *M, const double *r, double *z) { pw_zamg_apply((const pw_zamg *)M, r, z); }
+
+/* Solves A x = b as pw_zpcg_solve does, preconditioned by a V-cycle of M
+ * (pw_zamg_setup of A). */
+PW__DEF int pw_zamg_solve(const pw_alloc *a, const pw_zcsr *A, const pw_zamg *M, const double *b, double *x,
+                          const pw_cg_options *o, pw_cg_stats *s, pw_err *e)
+{
+    pw__pcg_op op;
+    if (s) memset(s, 0, sizeof *s);
+    if (pw__check_vec(b, 2 * A->n, "multigrid PCG right-hand side b", e) ||
+        pw__check_vec(x, 2 * A->n, "multigrid PCG guess x", e) ||
+        pw__check_vec(A->val, 2 * A->rowptr[A->n], "complex matrix", e))
+        return PW_ERR_INVALID;
+    PW_SOLVE_HOOK("zamg", A, b, x, o);
+    op.n = 2 * A->n;
+    op.mul = pw__zcsr_op_mul;
+    op.precond = pw__zamg_op;
+    op.actx = A;
+    op.mctx = M;
+    op.b = b;
+    op.x = x;
+    op.what = "multigrid PCG";
+    return pw__pcg_run(a, &op, o, s, e);
+}
+
+/* Unknowns from which multigrid pays against IC(0) (its setup costs about
+ * ten IC(0)-PCG iterations; on pgp's systems the two break even near 40K
+ * unknowns), and the diagonal excess below which it is used: a matrix whose
+ * diagonal exceeds the off-diagonal sums by more than 0.5% on average is so
+ * well conditioned that IC(0) needs only a few iterations. */
+#define PW_ZAMG_MIN_UNKNOWNS 40000
+#define PW_ZAMG_MAX_EXCESS 0.005
+
+/* sum_i (a_ii - sum_j |a_ij|) / sum_i a_ii. */
+PW__DEF double pw__zamg_excess(const pw_zcsr *A)
+{
+    double dsum = 0.0, xs = 0.0;
+    int i, k;
+    for (i = 0; i < A->n; i++)
+        for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++) {
+            double m = pw__zamg_abs(A->val + 2 * k);
+            if (A->col[k] == i) {
+                dsum += A->val[2 * k];
+                xs += A->val[2 * k];
+            } else xs -= m;
+        }
+    return dsum > 0.0 ? xs / dsum : 0.0;
+}
+
+/* 1 if multigrid pays on A: large and poorly conditioned. */
+PW__DEF int pw_zamg_pays(const pw_zcsr *A)
+{
+    return A->n >= PW_ZAMG_MIN_UNKNOWNS && pw__zamg_excess(A) < PW_ZAMG_MAX_EXCESS;
+}
+
+/* Solves the Hermitian positive definite A x = b (x the warm start) by CG,
+ * preconditioned by multigrid where it pays and by IC(0) otherwise (also
+ * when the coarsening stalls); options and stopping rule as
+ * pw_zpcg_solve. */
+PW__DEF int pw_zpd_solve(const pw_alloc *a, const pw_zcsr *A, const double *b, double *x, const pw_cg_options *o,
+                         pw_err *e)
+{
+    pw_zic0 L;
+    int r;
+    if (pw_zamg_pays(A)) {
+        pw_zamg M;
+        pw_err se;
+        pw_err_clear(&se);
+        r = pw_zamg_setup(a, A, &M, &se);
+        if (r == PW_OK) {
+            r = pw_zamg_solve(a, A, &M, b, x, o, NULL, e);
+            pw_zamg_free(a, &M);
+            return r;
+        }
+        if (r != PW_ERR_INVALID) return pw_fail(e, r, "%s", se.msg);
+    }
+    if ((r = pw_zic0_factor(a, A, &L, e)) != PW_OK) return r;
+    r = pw_zpcg_solve(a, A, &L, b, x, o, NULL, e);
+    pw_zic0_free(a, &L);
+    return r;
+}
+
+#endif /* PW__ZAMG_V1 */
+
 /* ---- shared module src/common/raster.h ---- */
 /* raster: exact scan conversion of 2D triangles.
  *
@@ -13340,7 +13973,8 @@ typedef struct pw_periodic {
 /* Solves the system collected in t for x (warm start: x's current values)
  * to a relative residual tol: real symmetric positive definite (n x n
  * triplets) by IC(0)-preconditioned CG, or complex Hermitian (zsparse.h:
- * n x 2n triplets, b and x complex) by its complex counterpart. */
+ * n x 2n triplets, b and x complex) by CG with a multigrid (zamg.h) or
+ * IC(0) preconditioner, whichever pays (pw_zpd_solve). */
 PW__DEF int pw_periodic_pd_solve(const pw_alloc *a, const pw_triplets *t, const double *b, double *x, double tol,
                                  pw_err *e)
 {
@@ -13348,16 +13982,13 @@ PW__DEF int pw_periodic_pd_solve(const pw_alloc *a, const pw_triplets *t, const 
     pw_csr A;
     pw_ic0 L;
     pw_zcsr ZA;
-    pw_zic0 ZL;
     pw_cg_options o = pw_cg_default_options();
     int r;
     o.tol = tol;
     o.max_iter = 4000;
     if (complex) {
-        memset(&ZL, 0, sizeof ZL);
         if ((r = pw_zcsr_from_triplets(a, t, &ZA, e)) != PW_OK) return r;
-        if ((r = pw_zic0_factor(a, &ZA, &ZL, e)) == PW_OK) r = pw_zpcg_solve(a, &ZA, &ZL, b, x, &o, NULL, e);
-        pw_zic0_free(a, &ZL);
+        r = pw_zpd_solve(a, &ZA, b, x, &o, e);
         pw_zcsr_free(a, &ZA);
         return r;
     }
@@ -13859,10 +14490,10 @@ PW__DEF int pw_periodic_solve_k(pw_periodic *P, double *z, const int *id, int n,
     int *dpos = NULL;
     pw_triplets t;
     pw_zcsr A;
-    pw_zic0 L;
+    pw_zamg M;
     pw_cg_options o = pw_cg_default_options();
     pw_periodic_zsys Z;
-    int v, h, q, step, r = b ? PW_OK : PW_ERR_NOMEM;
+    int v, h, q, step, multigrid = 0, r = b ? PW_OK : PW_ERR_NOMEM;
     Z.z = z;
     Z.id = id;
     Z.k = k;
@@ -13870,7 +14501,6 @@ PW__DEF int pw_periodic_solve_k(pw_periodic *P, double *z, const int *id, int n,
     Z.b = b;
     memset(&t, 0, sizeof t);
     memset(&A, 0, sizeof A);
-    memset(&L, 0, sizeof L);
     if (r == PW_OK) r = pw_triplets_init(&t, &P->a, n, 2 * n, e);
     for (h = 0; r == PW_OK && h < 3 * P->m.nf; h++)
         if (P->m.hm.twin[h] < h) r = pw_periodic_edge(P, &Z, h, e); /* each edge once */
@@ -13882,11 +14512,18 @@ PW__DEF int pw_periodic_solve_k(pw_periodic *P, double *z, const int *id, int n,
     if (r == PW_OK && !(rhs = (double *)pw_alloc_array(&P->a, (size_t)n * 2, sizeof(double), "PGP", e)))
         r = PW_ERR_NOMEM;
     o.max_iter = 4000;
+    memset(&M, 0, sizeof M);
     for (step = 0; r == PW_OK && step < PW_PERIODIC_STEPS; step++) {
         double mu = pw_periodic_mu[step];
         for (q = 0; q < n; q++) A.val[2 * dpos[q]] = dg[q] * (1.0 + mu);
-        pw_zic0_free(&P->a, &L);
-        if ((r = pw_zic0_factor(&P->a, &A, &L, e)) != PW_OK) break;
+        if (step == 0 && pw_zamg_pays(&A)) { /* one hierarchy for the steps that need it */
+            pw_err se;
+            int sr;
+            pw_err_clear(&se);
+            sr = pw_zamg_setup(&P->a, &A, &M, &se);
+            multigrid = sr == PW_OK;
+            if (sr != PW_OK && sr != PW_ERR_INVALID) r = pw_fail(e, sr, "%s", se.msg); /* INVALID: IC(0) instead */
+        }
         for (v = 0; v < P->m.nv; v++)
             if ((q = id[v]) >= 0) {
                 x[2 * q] = z[2 * v];
@@ -13895,7 +14532,10 @@ PW__DEF int pw_periodic_solve_k(pw_periodic *P, double *z, const int *id, int n,
                 rhs[2 * q + 1] = b[2 * q + 1] + mu * dg[q] * z[2 * v + 1];
             }
         o.tol = step < PW_PERIODIC_STEPS - 1 ? 1e-3 : 1e-4; /* each step is normalised: no need for more */
-        r = pw_zpcg_solve(&P->a, &A, &L, rhs, x, &o, NULL, e);
+        if (r ==
+            PW_OK) /* the steps' matrices differ in the diagonal only: level 0 sees it, the coarse levels need not */
+            r = multigrid && pw_zamg_pays(&A) ? pw_zamg_solve(&P->a, &A, &M, rhs, x, &o, NULL, e)
+                                              : pw_zpd_solve(&P->a, &A, rhs, x, &o, e);
         for (v = 0; r == PW_OK && v < P->m.nv; v++)
             if ((q = id[v]) >= 0) {
                 double zz[2];
@@ -13907,8 +14547,8 @@ PW__DEF int pw_periodic_solve_k(pw_periodic *P, double *z, const int *id, int n,
                 }
             }
     }
+    if (multigrid) pw_zamg_free(&P->a, &M);
     pw_free(&P->a, dpos);
-    pw_zic0_free(&P->a, &L);
     pw_zcsr_free(&P->a, &A);
     pw_triplets_free(&t);
     pw_free(&P->a, b);

@@ -25,6 +25,7 @@
 #include "mesh.h"
 #include "sparse.h"
 #include "zsparse.h"
+#include "zamg.h"
 #include "trimesh.h"
 #include "dirfield.h"
 
@@ -53,7 +54,8 @@ typedef struct pw_periodic {
 /* Solves the system collected in t for x (warm start: x's current values)
  * to a relative residual tol: real symmetric positive definite (n x n
  * triplets) by IC(0)-preconditioned CG, or complex Hermitian (zsparse.h:
- * n x 2n triplets, b and x complex) by its complex counterpart. */
+ * n x 2n triplets, b and x complex) by CG with a multigrid (zamg.h) or
+ * IC(0) preconditioner, whichever pays (pw_zpd_solve). */
 PW__DEF int pw_periodic_pd_solve(const pw_alloc *a, const pw_triplets *t, const double *b, double *x, double tol,
                                  pw_err *e)
 {
@@ -61,16 +63,13 @@ PW__DEF int pw_periodic_pd_solve(const pw_alloc *a, const pw_triplets *t, const 
     pw_csr A;
     pw_ic0 L;
     pw_zcsr ZA;
-    pw_zic0 ZL;
     pw_cg_options o = pw_cg_default_options();
     int r;
     o.tol = tol;
     o.max_iter = 4000;
     if (complex) {
-        memset(&ZL, 0, sizeof ZL);
         if ((r = pw_zcsr_from_triplets(a, t, &ZA, e)) != PW_OK) return r;
-        if ((r = pw_zic0_factor(a, &ZA, &ZL, e)) == PW_OK) r = pw_zpcg_solve(a, &ZA, &ZL, b, x, &o, NULL, e);
-        pw_zic0_free(a, &ZL);
+        r = pw_zpd_solve(a, &ZA, b, x, &o, e);
         pw_zcsr_free(a, &ZA);
         return r;
     }
@@ -572,10 +571,10 @@ PW__DEF int pw_periodic_solve_k(pw_periodic *P, double *z, const int *id, int n,
     int *dpos = NULL;
     pw_triplets t;
     pw_zcsr A;
-    pw_zic0 L;
+    pw_zamg M;
     pw_cg_options o = pw_cg_default_options();
     pw_periodic_zsys Z;
-    int v, h, q, step, r = b ? PW_OK : PW_ERR_NOMEM;
+    int v, h, q, step, multigrid = 0, r = b ? PW_OK : PW_ERR_NOMEM;
     Z.z = z;
     Z.id = id;
     Z.k = k;
@@ -583,7 +582,6 @@ PW__DEF int pw_periodic_solve_k(pw_periodic *P, double *z, const int *id, int n,
     Z.b = b;
     memset(&t, 0, sizeof t);
     memset(&A, 0, sizeof A);
-    memset(&L, 0, sizeof L);
     if (r == PW_OK) r = pw_triplets_init(&t, &P->a, n, 2 * n, e);
     for (h = 0; r == PW_OK && h < 3 * P->m.nf; h++)
         if (P->m.hm.twin[h] < h) r = pw_periodic_edge(P, &Z, h, e); /* each edge once */
@@ -595,11 +593,18 @@ PW__DEF int pw_periodic_solve_k(pw_periodic *P, double *z, const int *id, int n,
     if (r == PW_OK && !(rhs = (double *)pw_alloc_array(&P->a, (size_t)n * 2, sizeof(double), "PGP", e)))
         r = PW_ERR_NOMEM;
     o.max_iter = 4000;
+    memset(&M, 0, sizeof M);
     for (step = 0; r == PW_OK && step < PW_PERIODIC_STEPS; step++) {
         double mu = pw_periodic_mu[step];
         for (q = 0; q < n; q++) A.val[2 * dpos[q]] = dg[q] * (1.0 + mu);
-        pw_zic0_free(&P->a, &L);
-        if ((r = pw_zic0_factor(&P->a, &A, &L, e)) != PW_OK) break;
+        if (step == 0 && pw_zamg_pays(&A)) { /* one hierarchy for the steps that need it */
+            pw_err se;
+            int sr;
+            pw_err_clear(&se);
+            sr = pw_zamg_setup(&P->a, &A, &M, &se);
+            multigrid = sr == PW_OK;
+            if (sr != PW_OK && sr != PW_ERR_INVALID) r = pw_fail(e, sr, "%s", se.msg); /* INVALID: IC(0) instead */
+        }
         for (v = 0; v < P->m.nv; v++)
             if ((q = id[v]) >= 0) {
                 x[2 * q] = z[2 * v];
@@ -608,7 +613,10 @@ PW__DEF int pw_periodic_solve_k(pw_periodic *P, double *z, const int *id, int n,
                 rhs[2 * q + 1] = b[2 * q + 1] + mu * dg[q] * z[2 * v + 1];
             }
         o.tol = step < PW_PERIODIC_STEPS - 1 ? 1e-3 : 1e-4; /* each step is normalised: no need for more */
-        r = pw_zpcg_solve(&P->a, &A, &L, rhs, x, &o, NULL, e);
+        if (r ==
+            PW_OK) /* the steps' matrices differ in the diagonal only: level 0 sees it, the coarse levels need not */
+            r = multigrid && pw_zamg_pays(&A) ? pw_zamg_solve(&P->a, &A, &M, rhs, x, &o, NULL, e)
+                                              : pw_zpd_solve(&P->a, &A, rhs, x, &o, e);
         for (v = 0; r == PW_OK && v < P->m.nv; v++)
             if ((q = id[v]) >= 0) {
                 double zz[2];
@@ -620,8 +628,8 @@ PW__DEF int pw_periodic_solve_k(pw_periodic *P, double *z, const int *id, int n,
                 }
             }
     }
+    if (multigrid) pw_zamg_free(&P->a, &M);
     pw_free(&P->a, dpos);
-    pw_zic0_free(&P->a, &L);
     pw_zcsr_free(&P->a, &A);
     pw_triplets_free(&t);
     pw_free(&P->a, b);

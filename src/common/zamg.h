@@ -57,6 +57,10 @@ typedef struct pw_zamg {
 
 /* ---- complex helpers ------------------------------------------------------ */
 
+/* |v| of the complex number (v[0], v[1]) (no hypot: the values are far from
+ * overflow, and hypot's care costs). */
+PW__DEF double pw__zamg_abs(const double *v) { return sqrt(v[0] * v[0] + v[1] * v[1]); }
+
 /* The diagonal entry of row i (real); 0 if absent. */
 PW__DEF double pw__zamg_diag(const pw_zcsr *A, int i)
 {
@@ -66,13 +70,26 @@ PW__DEF double pw__zamg_diag(const pw_zcsr *A, int i)
     return 0.0;
 }
 
+/* The strength threshold of row i: 0.08 of its largest off-diagonal |a_ij|
+ * (0 for a row without any). */
+PW__DEF double pw__zamg_strong(const pw_zcsr *A, int i)
+{
+    double m = 0.0;
+    int k;
+    for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++)
+        if (A->col[k] != i) m = pw__zamg_abs(A->val + 2 * k) > m ? pw__zamg_abs(A->val + 2 * k) : m;
+    return 0.08 * m;
+}
+
 /* ---- aggregation ---------------------------------------------------------- */
 
 /* The tentative prolongation of A: agg[i], the aggregate of unknown i, and
- * (ph[2i], ph[2i+1]), its unit phase; returns the number of aggregates. */
+ * (ph[2i], ph[2i+1]), its unit phase; returns the number of aggregates.
+ * d[i]: theta times the largest off-diagonal |a_ij| of row i, the strength
+ * threshold (relative to the row, not to the diagonal: a diagonal shift
+ * must not cut the links). */
 PW__DEF int pw__zamg_aggregate(const pw_zcsr *A, const double *d, int *agg, double *ph)
 {
-    const double theta = 0.08;
     int n = A->n, i, k, nc = 0;
     for (i = 0; i < n; i++) agg[i] = -1;
     for (i = 0; i < n; i++) { /* roots whose strong neighbours are all free */
@@ -80,8 +97,8 @@ PW__DEF int pw__zamg_aggregate(const pw_zcsr *A, const double *d, int *agg, doub
         if (agg[i] >= 0) continue;
         for (k = A->rowptr[i]; k < A->rowptr[i + 1] && free_all; k++) {
             int j = A->col[k];
-            double m = hypot(A->val[2 * k], A->val[2 * k + 1]);
-            if (j != i && m >= theta * sqrt(d[i] * d[j]) && agg[j] >= 0) free_all = 0;
+            double m = pw__zamg_abs(A->val + 2 * k);
+            if (j != i && m >= d[i] && agg[j] >= 0) free_all = 0;
         }
         if (!free_all) continue;
         agg[i] = nc;
@@ -89,8 +106,8 @@ PW__DEF int pw__zamg_aggregate(const pw_zcsr *A, const double *d, int *agg, doub
         ph[2 * i + 1] = 0.0;
         for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++) {
             int j = A->col[k];
-            double m = hypot(A->val[2 * k], A->val[2 * k + 1]);
-            if (j == i || m < theta * sqrt(d[i] * d[j]) || m == 0.0) continue;
+            double m = pw__zamg_abs(A->val + 2 * k);
+            if (j == i || m < d[i] || m == 0.0) continue;
             agg[j] = nc; /* z_j = R z_i with a_ji = -w R = conj(a_ij) */
             ph[2 * j] = -A->val[2 * k] / m;
             ph[2 * j + 1] = A->val[2 * k + 1] / m;
@@ -103,7 +120,7 @@ PW__DEF int pw__zamg_aggregate(const pw_zcsr *A, const double *d, int *agg, doub
         if (agg[i] >= 0) continue;
         for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++) {
             int j = A->col[k];
-            double m = hypot(A->val[2 * k], A->val[2 * k + 1]);
+            double m = pw__zamg_abs(A->val + 2 * k);
             if (j != i && agg[j] >= 0 && m > bm) {
                 bm = m;
                 best = k;
@@ -319,8 +336,9 @@ PW__DEF int pw__zamg_coarsen(const pw_alloc *a, pw__zamg_level *L, pw_zcsr *C, p
     memset(&AP, 0, sizeof AP);
     r = agg && ph && d ? PW_OK : PW_ERR_NOMEM;
     if (r == PW_OK) {
-        for (i = 0; i < n; i++) d[i] = pw__zamg_diag(A, i);
+        for (i = 0; i < n; i++) d[i] = pw__zamg_strong(A, i);
         L->nc = pw__zamg_aggregate(A, d, agg, ph);
+        for (i = 0; i < n; i++) d[i] = pw__zamg_diag(A, i);
         r = pw__zamg_prolong(a, L, agg, ph, d, &P, e);
     }
     if (r == PW_OK) r = pw__zamg_adjoint(a, &P, L->nc, &PH, e);
@@ -551,6 +569,63 @@ PW__DEF int pw_zamg_solve(const pw_alloc *a, const pw_zcsr *A, const pw_zamg *M,
     op.x = x;
     op.what = "multigrid PCG";
     return pw__pcg_run(a, &op, o, s, e);
+}
+
+/* Unknowns from which multigrid pays against IC(0) (its setup costs about
+ * ten IC(0)-PCG iterations; on pgp's systems the two break even near 40K
+ * unknowns), and the diagonal excess below which it is used: a matrix whose
+ * diagonal exceeds the off-diagonal sums by more than 0.5% on average is so
+ * well conditioned that IC(0) needs only a few iterations. */
+#define PW_ZAMG_MIN_UNKNOWNS 40000
+#define PW_ZAMG_MAX_EXCESS 0.005
+
+/* sum_i (a_ii - sum_j |a_ij|) / sum_i a_ii. */
+PW__DEF double pw__zamg_excess(const pw_zcsr *A)
+{
+    double dsum = 0.0, xs = 0.0;
+    int i, k;
+    for (i = 0; i < A->n; i++)
+        for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++) {
+            double m = pw__zamg_abs(A->val + 2 * k);
+            if (A->col[k] == i) {
+                dsum += A->val[2 * k];
+                xs += A->val[2 * k];
+            } else xs -= m;
+        }
+    return dsum > 0.0 ? xs / dsum : 0.0;
+}
+
+/* 1 if multigrid pays on A: large and poorly conditioned. */
+PW__DEF int pw_zamg_pays(const pw_zcsr *A)
+{
+    return A->n >= PW_ZAMG_MIN_UNKNOWNS && pw__zamg_excess(A) < PW_ZAMG_MAX_EXCESS;
+}
+
+/* Solves the Hermitian positive definite A x = b (x the warm start) by CG,
+ * preconditioned by multigrid where it pays and by IC(0) otherwise (also
+ * when the coarsening stalls); options and stopping rule as
+ * pw_zpcg_solve. */
+PW__DEF int pw_zpd_solve(const pw_alloc *a, const pw_zcsr *A, const double *b, double *x, const pw_cg_options *o,
+                         pw_err *e)
+{
+    pw_zic0 L;
+    int r;
+    if (pw_zamg_pays(A)) {
+        pw_zamg M;
+        pw_err se;
+        pw_err_clear(&se);
+        r = pw_zamg_setup(a, A, &M, &se);
+        if (r == PW_OK) {
+            r = pw_zamg_solve(a, A, &M, b, x, o, NULL, e);
+            pw_zamg_free(a, &M);
+            return r;
+        }
+        if (r != PW_ERR_INVALID) return pw_fail(e, r, "%s", se.msg);
+    }
+    if ((r = pw_zic0_factor(a, A, &L, e)) != PW_OK) return r;
+    r = pw_zpcg_solve(a, A, &L, b, x, o, NULL, e);
+    pw_zic0_free(a, &L);
+    return r;
 }
 
 #endif /* PW__ZAMG_V1 */
