@@ -4,10 +4,14 @@
  * headers call them and by Eigen's (libeigen3-dev, when bench/probe.sh
  * found it at build time), to the same relative residual, interleaved
  * round by round:
- *   patchwork  pcg:  pw_ic0_factor + pw_pcg_solve (lapped's patch
- *                    parametrisation, §3.4); zpcg: pw_zic0_factor +
- *                    pw_zpcg_solve (pgp's orientation field and PGP);
- *                    lsq: pw_lsq_solve (lapped's atlas charts)
+ *   patchwork  pcg:  pw_spd_factor + pw_spd_solve (lapped's patch
+ *                    parametrisation, §3.4: LDLT or IC(0)-PCG by
+ *                    sparse.h's rule), or pw_ic0_factor + pw_pcg_solve
+ *                    where the header calls them (lst's clumps); zpcg:
+ *                    pw_zic0_factor + pw_zpcg_solve (pgp's orientation
+ *                    field and PGP); lsq: pw_lsq_solve_small (lapped's
+ *                    atlas charts: LDLT of the normal equations or CGLS
+ *                    by the same rule) or pw_lsq_solve (lst's fields)
  *   Eigen      ConjugateGradient (its default diagonal preconditioner),
  *              ConjugateGradient + IncompleteCholesky, SimplicialLDLT
  *              (least squares: LeastSquaresConjugateGradient, and
@@ -33,6 +37,7 @@
 typedef struct sys {
     char name[160], kind[8], method[16], stage[40], mesh[40];
     int n, nnz, max_iter, lsq;
+    int direct; /* the header solves it by LDLT (lapped's systems that pass sparse.h's rule) */
     double tol;
     mm_csr A;
     double *b, *x0;
@@ -77,10 +82,15 @@ static void run_pw1(job *j)
     } else {
         pw_csr R;
         pw_ic0 L;
+        pw_spd S;
         R.n = s->A.n, R.m = s->A.m, R.rowptr = s->A.rowptr, R.col = s->A.col, R.val = s->A.val;
-        if (s->lsq) r = pw_lsq_solve(NULL, &R, s->b, j->x, &o, &st, &e);
+        if (s->lsq && s->direct) r = pw_lsq_solve_small(NULL, &R, s->b, j->x, &o, &e);
+        else if (s->lsq) r = pw_lsq_solve(NULL, &R, s->b, j->x, &o, &st, &e);
         else if (!strcmp(s->kind, "cg")) r = pw_cg_solve(NULL, &R, s->b, j->x, &o, &st, &e);
-        else if ((r = pw_ic0_factor(NULL, &R, &L, &e)) == PW_OK) {
+        else if (s->direct && (r = pw_spd_factor(NULL, &R, &S, &e)) == PW_OK) {
+            r = pw_spd_solve(NULL, &S, s->b, j->x, &o, &e);
+            pw_spd_free(NULL, &S);
+        } else if (!s->direct && (r = pw_ic0_factor(NULL, &R, &L, &e)) == PW_OK) {
             r = pw_pcg_solve(NULL, &R, &L, s->b, j->x, &o, &st, &e);
             pw_ic0_free(NULL, &L);
         }
@@ -157,6 +167,23 @@ static double relres(const sys *s, const double *x)
 
 /* ---- the dumped systems ------------------------------------------------------ */
 
+/* Whether sparse.h's rule solves s directly (pw_spd_factor for SPD
+ * systems, pw_lsq_solve_small on the normal equations for least squares). */
+static int takes_direct(const sys *s)
+{
+    pw_csr R, N;
+    pw_ldlt F;
+    pw_err e;
+    int r, direct;
+    R.n = s->A.n, R.m = s->A.m, R.rowptr = s->A.rowptr, R.col = s->A.col, R.val = s->A.val;
+    memset(&N, 0, sizeof N);
+    if (s->lsq && pw_csr_ata(NULL, &R, &N, &e)) return 0;
+    direct = pw__try_direct(NULL, s->lsq ? &N : &R, s->lsq ? PW__DIRECT_MIN_LSQ : PW__DIRECT_MIN_SPD, &F, &r, &e);
+    pw_ldlt_free(NULL, &F);
+    pw_csr_free(NULL, &N);
+    return direct;
+}
+
 static int load(const char *dir, const char *line, sys *s)
 {
     char path[512];
@@ -165,6 +192,7 @@ static int load(const char *dir, const char *line, sys *s)
                &s->nnz, &s->tol, &s->max_iter) != 9)
         return 1;
     s->lsq = !strcmp(s->kind, "lsq");
+
     snprintf(path, sizeof path, "%s/%s.mtx", dir, s->name);
     if (mm_read_csr(path, &s->A)) return printf("bench_sparse: cannot read %s\n", path), 1;
     snprintf(path, sizeof path, "%s/%s.b.mtx", dir, s->name);
@@ -172,6 +200,7 @@ static int load(const char *dir, const char *line, sys *s)
     snprintf(path, sizeof path, "%s/%s.x0.mtx", dir, s->name);
     s->x0 = mm_read_vec(path, s->A.m, s->A.cplx);
     if (!s->b || !s->x0) return printf("bench_sparse: cannot read the vectors of %s\n", s->name), 1;
+    s->direct = !strcmp(s->method, "lapped") && !s->A.cplx && takes_direct(s);
     return 0;
 }
 
@@ -196,8 +225,9 @@ typedef struct result {
  * seconds get 3 (without). */
 static int rounds(const sys *s) { return s->nnz < 50000 ? 15 : s->nnz < 150000 ? 7 : 3; }
 
-/* The IC(0) factorisation alone, which every patchwork solve here starts
- * with: median CPU time of `runs`. */
+/* The factorisation alone, which every patchwork solve here starts with
+ * (LDLT where sparse.h's rule takes it, else IC(0)): median CPU time of
+ * `runs`. */
 static double factor_time(const sys *s, int runs)
 {
     double t[64];
@@ -213,8 +243,10 @@ static double factor_time(const sys *s, int runs)
         } else {
             pw_csr R;
             pw_ic0 L;
+            pw_spd S;
             R.n = s->A.n, R.m = s->A.m, R.rowptr = s->A.rowptr, R.col = s->A.col, R.val = s->A.val;
-            if (pw_ic0_factor(NULL, &R, &L, &e) == PW_OK) pw_ic0_free(NULL, &L);
+            if (s->direct && pw_spd_factor(NULL, &R, &S, &e) == PW_OK) pw_spd_free(NULL, &S);
+            else if (!s->direct && pw_ic0_factor(NULL, &R, &L, &e) == PW_OK) pw_ic0_free(NULL, &L);
         }
         t[r] = bench_cpu_now() - t0;
     }
@@ -241,13 +273,18 @@ static void slower_note(const sys *s, const bench_multi *m, int k, const job *pw
     bench_multi_stat(m, k, &cq);
     bench_fmt_time((cp - ftime) / pi, a, sizeof a);
     bench_fmt_time(ftime, c, sizeof c);
-    if (peer->method == PEER_EIGEN_LDLT && !s->lsq)
+    if (s->direct)
+        snprintf(buf, size, "both factor %s directly: patchwork's minimum-degree ordering on an explicit elimination "
+                 "graph costs more than Eigen's AMD on a quotient graph", s->lsq ? "the normal equations" : "A");
+    else if (peer->method == PEER_EIGEN_LDLT && !s->lsq)
         snprintf(buf, size, "one sparse LDLT (AMD ordering; L has %.1fx the nonzeros of A's lower triangle) costs "
-                 "less than %d IC(0)-PCG iterations of %s each; patchwork has no direct solver",
-                 fill / (0.5 * (s->nnz - s->A.n)), pw->iters, a);
+                 "less than %d IC(0)-PCG iterations of %s each; %s", fill / (0.5 * (s->nnz - s->A.n)), pw->iters, a,
+                 strcmp(s->method, "lapped") ? "lst's clumps stay with IC(0)-PCG (LDLT made the fill slower)"
+                                             : "sparse.h's rule keeps PCG here (see docs/performance.md)");
     else if (peer->method == PEER_EIGEN_LDLT)
         snprintf(buf, size, "forming and factoring the %d-unknown normal equations once costs less than %d CGLS "
-                 "iterations of %s each at tol %g; patchwork has no direct solver", s->A.m, pw->iters, a, s->tol);
+                 "iterations of %s each at tol %g; sparse.h's rule keeps CGLS here (see docs/performance.md)",
+                 s->A.m, pw->iters, a, s->tol);
     else if (s->lsq)
         snprintf(buf, size, "the same algorithm (CGLS, column-norm Jacobi): %d iterations of %s against Eigen's %d of "
                  "%s", pw->iters, a, peer->iters, bench_fmt_time(cq / qi, b, sizeof b));
@@ -320,7 +357,7 @@ static void bench_system(sys *s, int emit_rows, result *res)
     }
     if (!s->lsq && strcmp(s->kind, "cg")) {
         ftime = factor_time(s, runs);
-        printf("  patchwork's IC(0) factorisation alone: median %.3f ms\n", ftime * 1e3);
+        printf("  patchwork's %s factorisation alone: median %.3f ms\n", s->direct ? "LDLT" : "IC(0)", ftime * 1e3);
     }
 #ifdef BENCH_EIGEN
     if (s->peer && !s->lsq) {

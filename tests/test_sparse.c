@@ -1030,6 +1030,9 @@ static void t_ldlt_random(void)
     CHECK(worst < 1e-10);
 }
 
+/* Nonzeros of L below the diagonal (to compare with A's). */
+static long ldlt_nnz(const pw_ldlt *F) { return F->n ? (long)F->Lp[F->n] : 0; }
+
 static void t_ldlt_laplacian(void)
 {
     int k = 48, n = k * k, i;
@@ -1048,8 +1051,8 @@ static void t_ldlt_laplacian(void)
         for (q = A.rowptr[i]; q < A.rowptr[i + 1]; q++) lower += A.col[q] < i;
     }
     REQUIRE(pw_ldlt_factor(NULL, &A, &F, &e) == PW_OK && pw_ldlt_factor(NULL, &A, &G, &e) == PW_OK);
-    CHECK(!memcmp(F.perm, G.perm, sizeof(int) * n) && pw_ldlt_nnz(&F) == pw_ldlt_nnz(&G) &&
-          !memcmp(F.Lx, G.Lx, sizeof(double) * (size_t)pw_ldlt_nnz(&F)));
+    CHECK(!memcmp(F.perm, G.perm, sizeof(int) * n) && ldlt_nnz(&F) == ldlt_nnz(&G) &&
+          !memcmp(F.Lx, G.Lx, sizeof(double) * (size_t)ldlt_nnz(&F)));
     pw_ldlt_solve(&F, b, x);
     o.tol = 1e-12;
     o.max_iter = 10000;
@@ -1059,8 +1062,8 @@ static void t_ldlt_laplacian(void)
     pw_ldlt_solve(&F, x2, x2); /* in place, the same factor again */
     pwt_info("%dx%d Laplacian (+1 on one diagonal): L has %ld nonzeros below the diagonal, %.1fx A's lower triangle "
              "(natural order: about %d); difference to IC(0)-PCG at 1e-12: %.2e",
-             k, k, pw_ldlt_nnz(&F), (double)pw_ldlt_nnz(&F) / (double)lower, k * n, diff);
-    CHECK(pw_ldlt_nnz(&F) < (long)k * n / 3);
+             k, k, ldlt_nnz(&F), (double)ldlt_nnz(&F) / (double)lower, k * n, diff);
+    CHECK(ldlt_nnz(&F) < (long)k * n / 3);
     CHECK(diff < 1e-6 && !memcmp(x, x2, sizeof(double) * n));
     pw_ldlt_free(NULL, &F), pw_ldlt_free(NULL, &G);
     pw_ic0_free(NULL, &M);
@@ -1091,6 +1094,153 @@ static void t_ldlt_not_spd(void)
     pw_csr_free(NULL, &A);
 }
 
+/* pw_spd's rule: a 32x32 Laplacian (1,024 unknowns) is factored directly
+ * and solved exactly; a 16x16 one (256, under the threshold) and a random
+ * pattern (whose factor would fill in far beyond 4x A) go to IC(0)-PCG;
+ * a singular one falls back to IC(0) too. All solve to their tolerance. */
+static void t_spd_rule(void)
+{
+    static const int sizes[2] = {32, 16};
+    pw_cg_options o = pw_cg_default_options();
+    pw_err e;
+    pw_csr A;
+    pw_spd S;
+    int c, i, n;
+    double b[1024], x[1024], r[1024], nr, nb;
+    o.tol = 1e-10;
+    for (c = 0; c < 3; c++) {
+        pw_err_clear(&e);
+        if (c < 2) REQUIRE(laplacian(&A, b, sizes[c], 0, 1.0, 5) == PW_OK);
+        else {
+            REQUIRE(random_spd(&A, 1000, 8, 4) == PW_OK);
+            for (i = 0; i < A.n; i++) b[i] = sin(0.1 * i);
+        }
+        n = A.n;
+        memset(x, 0, sizeof(double) * n);
+        REQUIRE(pw_spd_factor(NULL, &A, &S, &e) == PW_OK);
+        CHECKF(S.direct == (c == 0), "case %d: direct %d", c, S.direct);
+        CHECK(pw_spd_solve(NULL, &S, b, x, &o, &e) == PW_OK);
+        pw_csr_mul(&A, x, r);
+        for (i = 0, nr = nb = 0.0; i < n; i++) nr += (r[i] - b[i]) * (r[i] - b[i]), nb += b[i] * b[i];
+        pwt_info("case %d: %d unknowns, %s, relative residual %.2e", c, n, S.direct ? "LDLT" : "IC(0)-PCG",
+                 sqrt(nr / nb));
+        CHECK(sqrt(nr / nb) < (S.direct ? 1e-13 : 1e-9));
+        pw_spd_free(NULL, &S);
+        pw_csr_free(NULL, &A);
+    }
+    REQUIRE(laplacian(&A, b, 30, 0, 0.0, 6) == PW_OK); /* singular: LDLT refuses, IC(0) takes it */
+    REQUIRE(pw_spd_factor(NULL, &A, &S, &e) == PW_OK);
+    CHECK(!S.direct && S.M.val && !S.F.Lx);
+    pw_spd_free(NULL, &S);
+    pw_csr_free(NULL, &A);
+}
+
+/* The rows of a k x k grid's gradient (x_i - x_j per edge) and a weak
+ * tie of every unknown to a value: a well-posed least-squares problem with
+ * a sparse factor, as the atlas charts are. */
+static int grid_lsq(pw_csr *A, double *b, int k)
+{
+    pw_triplets t;
+    pw_err e;
+    int x, y, row = 0, rc;
+    pw_err_clear(&e);
+    rc = pw_triplets_init(&t, NULL, 3 * k * k, k * k, &e);
+    for (y = 0; y < k && !rc; y++)
+        for (x = 0; x < k && !rc; x++) {
+            int i = y * k + x;
+            if (x + 1 < k) {
+                rc |= pw_triplets_add(&t, row, i, 1.0, &e) | pw_triplets_add(&t, row, i + 1, -1.0, &e);
+                b[row++] = 0.01 * y;
+            }
+            if (y + 1 < k) {
+                rc |= pw_triplets_add(&t, row, i, 1.0, &e) | pw_triplets_add(&t, row, i + k, -1.0, &e);
+                b[row++] = -0.02 * x;
+            }
+            rc |= pw_triplets_add(&t, row, i, 0.1, &e);
+            b[row++] = sin(0.3 * i);
+        }
+    t.n = row;
+    if (!rc) rc = pw_csr_from_triplets(NULL, &t, A, &e);
+    pw_triplets_free(&t);
+    return rc;
+}
+
+/* pw_lsq_solve_small: the direct solve of the normal equations agrees with
+ * CGLS run to 1e-12 (a 24x24 grid: 576 unknowns, direct; 16x16: 256,
+ * CGLS); an unknown no row touches makes the normal equations singular,
+ * and CGLS takes over, keeping its guess. */
+static void t_lsq_small(void)
+{
+    pw_cg_options o = pw_cg_default_options(), tight = pw_cg_default_options();
+    pw_err e;
+    pw_csr A;
+    static double b[3 * 576], x[577], xi[577];
+    int c, i;
+    o.tol = 1e-5;
+    tight.tol = 1e-12;
+    tight.max_iter = 20000;
+    for (c = 0; c < 2; c++) {
+        int k = c == 0 ? 24 : 16;
+        double diff = 0.0;
+        pw_err_clear(&e);
+        REQUIRE(grid_lsq(&A, b, k) == PW_OK);
+        memset(x, 0, sizeof x);
+        memset(xi, 0, sizeof xi);
+        CHECK(pw_lsq_solve_small(NULL, &A, b, x, &o, &e) == PW_OK);
+        REQUIRE(pw_lsq_solve(NULL, &A, b, xi, &tight, NULL, &e) == PW_OK);
+        for (i = 0; i < A.m; i++) diff = fabs(x[i] - xi[i]) > diff ? fabs(x[i] - xi[i]) : diff;
+        pwt_info("%d unknowns: largest difference to CGLS at 1e-12: %.2e", A.m, diff);
+        CHECK(diff < (c == 0 ? 1e-9 : 1e-3));
+        pw_csr_free(NULL, &A);
+    }
+    REQUIRE(grid_lsq(&A, b, 24) == PW_OK);
+    A.m = 577; /* one more unknown, in no row */
+    for (i = 0; i < 577; i++) x[i] = 7.0;
+    CHECK(pw_lsq_solve_small(NULL, &A, b, x, &o, &e) == PW_OK && x[576] == 7.0);
+    pw_csr_free(NULL, &A);
+}
+
+/* The direct paths of pw_spd and pw_lsq_solve_small with every allocation
+ * failing in turn (a 29x29 Laplacian, 841 unknowns, and a 20x20 grid's
+ * least squares, 400: both over the thresholds): PW_ERR_NOMEM with a
+ * message, never a silent fallback to the iterative solver, nothing
+ * leaked; the last run takes the direct path. */
+static void t_alloc_direct(void)
+{
+    static double b[1200], x[841];
+    pw_csr A, G;
+    pw_err e;
+    int budget, c;
+    pw_err_clear(&e);
+    REQUIRE(laplacian(&A, b, 29, 0, 1.0, 8) == PW_OK && grid_lsq(&G, b, 20) == PW_OK);
+    for (c = 0; c < 2; c++) {
+        int finished = 0, direct = 0;
+        for (budget = 0; budget < 20000 && !finished; budget++) {
+            pwt_alloc_state f = {0, 0, budget};
+            pw_alloc al = {pwt_malloc, pwt_realloc, pwt_free, &f};
+            int rc;
+            pw_err_clear(&e);
+            memset(x, 0, sizeof x);
+            if (c == 0) {
+                pw_spd S;
+                rc = pw_spd_factor(&al, &A, &S, &e);
+                if (!rc) rc = pw_spd_solve(&al, &S, b, x, NULL, &e);
+                direct = S.direct;
+                pw_spd_free(&al, &S);
+            } else
+                rc = pw_lsq_solve_small(&al, &G, b, x, NULL, &e);
+            CHECKF(rc == PW_OK || (rc == PW_ERR_NOMEM && e.code == PW_ERR_NOMEM && e.msg[0]), "%d, budget %d: %d %s",
+                   c, budget, rc, e.msg);
+            CHECKF(f.live == 0, "%d, budget %d: %ld blocks leaked", c, budget, f.live);
+            finished = rc == PW_OK;
+        }
+        pwt_info("%s: %d allocation failure points", c ? "pw_lsq_solve_small" : "pw_spd", budget - 1);
+        CHECK(finished && (c == 1 || direct));
+    }
+    pw_csr_free(NULL, &A);
+    pw_csr_free(NULL, &G);
+}
+
 static const pwt_case cases[] = {
     {"triplets_duplicates", t_triplets_duplicates},
     {"triplets_invalid", t_triplets_invalid},
@@ -1105,6 +1255,9 @@ static const pwt_case cases[] = {
     {"ldlt_random", t_ldlt_random},
     {"ldlt_laplacian", t_ldlt_laplacian},
     {"ldlt_not_spd", t_ldlt_not_spd},
+    {"spd_rule", t_spd_rule},
+    {"lsq_small", t_lsq_small},
+    {"alloc_direct", t_alloc_direct},
     {"cg_warm_start", t_cg_warm_start},
     {"cg_iteration_cap", t_cg_iteration_cap},
     {"cg_tolerance", t_cg_tolerance},
