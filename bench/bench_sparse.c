@@ -7,9 +7,11 @@
  *   patchwork  pcg:  pw_spd_factor + pw_spd_solve (lapped's patch
  *                    parametrisation, §3.4: LDLT or IC(0)-PCG by
  *                    sparse.h's rule), or pw_ic0_factor + pw_pcg_solve
- *                    where the header calls them (lst's clumps); zpcg:
- *                    pw_zic0_factor + pw_zpcg_solve (pgp's orientation
- *                    field and PGP); lsq: pw_lsq_solve_small (lapped's
+ *                    where the header calls them (lst's clumps); zpcg,
+ *                    zamg: pgp's orientation field and PGP by
+ *                    pw_zpd_solve's rule: pw_zamg_setup + pw_zamg_solve
+ *                    (multigrid) on large systems, pw_zic0_factor +
+ *                    pw_zpcg_solve otherwise; lsq: pw_lsq_solve_small (lapped's
  *                    atlas charts: LDLT of the normal equations or CGLS
  *                    by the same rule) or pw_lsq_solve (lst's fields)
  *   Eigen      ConjugateGradient (its default diagonal preconditioner),
@@ -25,7 +27,7 @@
  * growth exponents of each solver against the unknowns.
  * Usage: bench_sparse [DIR] (default build/bench-data/systems). */
 #include "bench.h"
-#include "../src/common/zsparse.h"
+#include "../src/common/zamg.h"
 #include "mm.h"
 #ifdef BENCH_EIGEN
 #include "peer_eigen.h"
@@ -74,8 +76,12 @@ static void run_pw1(job *j)
     if (s->A.cplx) {
         pw_zcsr Z;
         pw_zic0 L;
+        pw_zamg M;
         Z.n = s->A.n, Z.rowptr = s->A.rowptr, Z.col = s->A.col, Z.val = s->A.val;
-        if ((r = pw_zic0_factor(NULL, &Z, &L, &e)) == PW_OK) {
+        if (pw_zamg_pays(&Z) && (r = pw_zamg_setup(NULL, &Z, &M, &e)) == PW_OK) {
+            r = pw_zamg_solve(NULL, &Z, &M, s->b, j->x, &o, &st, &e);
+            pw_zamg_free(NULL, &M);
+        } else if ((r = pw_zic0_factor(NULL, &Z, &L, &e)) == PW_OK) {
             r = pw_zpcg_solve(NULL, &Z, &L, s->b, j->x, &o, &st, &e);
             pw_zic0_free(NULL, &L);
         }

@@ -12,7 +12,8 @@
  * and one line per system in DIR/index.txt:
  *   NAME kind method stage mesh n nnz tol max_iter
  * kind is the solver the header called: pcg (IC(0)-preconditioned CG on a
- * real SPD matrix), zpcg (the same on a complex Hermitian one), lsq (CGLS on
+ * real SPD matrix), zpcg (the same on a complex Hermitian one), zamg (CG with
+ * the multigrid preconditioner of zamg.h on a large one), lsq (CGLS on
  * a rectangular one), cg (Jacobi CG).
  *
  * Adding a method is one line in `generators`: a function that runs it on
@@ -88,7 +89,7 @@ static kept *slot(const char *kind)
 static void sysdump_hook(const char *kind, const void *A, const double *b, const double *x, const void *opts)
 {
     const pw_cg_options *o = (const pw_cg_options *)opts;
-    int cplx = !strcmp(kind, "zpcg"), n, m, nnz, w;
+    int cplx = !strcmp(kind, "zpcg") || !strcmp(kind, "zamg"), n, m, nnz, w;
     const int *rowptr, *col;
     const double *val;
     kept *s;
