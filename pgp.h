@@ -17,36 +17,36 @@
  *   6429: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
  *   7815: src/common/zsparse.h, complex Hermitian sparse systems, solved by conjugate grad
  *   8075: src/common/zamg.h, a smoothed-aggregation multigrid preconditioner for the co
- *   8707: src/common/raster.h, exact scan conversion of 2D triangles.
- *   9181: src/common/parallel.h, a parallel for, the one way work is split across threads.
- *   9309: src/common/render.h, a small deterministic software renderer for textured trian
- *  10974: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
- *  11161: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
- *  11246: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
- *  11435: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
- *  12355: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
- *  13053: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
- *  13289: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
- *  14053: src/common/periodic.h, the periodic global parameterization of a triangle mesh al
- *  14881: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
- *  15642: src/pgp/tile3.h, sampling a material-space tile (Ray et al. 2009, §2: "a 3
- *  15750: src/common/glue.h, what every method header needs between its public types an
- *  16086: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  16750: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
- *  17247: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
- *  17733: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
- *  17876: src/common/kdtree.h, nearest-neighbour search among n points of dimension d, wi
- *  18219: src/common/pca.h, principal component analysis of vectors streamed one at a 
- *  18406: src/pgp/core.c, pgp.h's glue to the shared core, its defaults, and the map
- *  18619: src/pgp/field.c, §2.1 effect areas and §2.2 interpolation of the constrai
- *  18818: src/pgp/solve.c, §2.3 the periodic global parameterization, the recovery o
- *  19237: src/pgp/edit.c, the public editing calls of a mapping. §2.1 (Ray, Lévy, 
- *  19382: src/pgp/render.c, §3 rendering, and a cleaner treatment of the vortices.
- *  19743: src/pgp/builtin.c, built-in meshes and material-space tiles for demos and tes
- *  20012: src/pgp/io.c, files and memory for pgp.h: material-space tiles (NRRD, or
- *  20360: src/pgp/export.c, the mapping for other programs. A viewer that knows nothin
- *  20586: src/pgp/morph.c, the inputs of §1 (keys brought to the tile size, made til
- *  21265: src/pgp/synth.c, §1.2 constrained tile synthesis, and the whole of §1: ke
+ *   8730: src/common/raster.h, exact scan conversion of 2D triangles.
+ *   9204: src/common/parallel.h, a parallel for, the one way work is split across threads.
+ *   9332: src/common/render.h, a small deterministic software renderer for textured trian
+ *  10997: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
+ *  11184: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
+ *  11269: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
+ *  11458: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
+ *  12378: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
+ *  13076: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
+ *  13312: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
+ *  14076: src/common/periodic.h, the periodic global parameterization of a triangle mesh al
+ *  14904: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
+ *  15665: src/pgp/tile3.h, sampling a material-space tile (Ray et al. 2009, §2: "a 3
+ *  15773: src/common/glue.h, what every method header needs between its public types an
+ *  16109: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  16773: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
+ *  17270: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
+ *  17756: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
+ *  17899: src/common/kdtree.h, nearest-neighbour search among n points of dimension d, wi
+ *  18242: src/common/pca.h, principal component analysis of vectors streamed one at a 
+ *  18429: src/pgp/core.c, pgp.h's glue to the shared core, its defaults, and the map
+ *  18642: src/pgp/field.c, §2.1 effect areas and §2.2 interpolation of the constrai
+ *  18841: src/pgp/solve.c, §2.3 the periodic global parameterization, the recovery o
+ *  19260: src/pgp/edit.c, the public editing calls of a mapping. §2.1 (Ray, Lévy, 
+ *  19405: src/pgp/render.c, §3 rendering, and a cleaner treatment of the vortices.
+ *  19766: src/pgp/builtin.c, built-in meshes and material-space tiles for demos and tes
+ *  20035: src/pgp/io.c, files and memory for pgp.h: material-space tiles (NRRD, or
+ *  20383: src/pgp/export.c, the mapping for other programs. A viewer that knows nothin
+ *  20609: src/pgp/morph.c, the inputs of §1 (keys brought to the tile size, made til
+ *  21288: src/pgp/synth.c, §1.2 constrained tile synthesis, and the whole of §1: ke
  */
 /* pgp.h - material-space texturing with a periodic global parameterization.
  *
@@ -8578,6 +8578,30 @@ PW__DEF void pw__zamg_gs(const pw_zcsr *A, const double *b, double *x, int backw
     }
 }
 
+/* r = b - A x after one forward Gauss-Seidel sweep from x = 0: row i was
+ * solved with the new x_j (j < i) and zeros above, so only the part above
+ * the diagonal is left, r_i = -sum_{j > i} a_ij x_j (half a product); a
+ * row without a positive diagonal (all zero, A being semidefinite) keeps
+ * r_i = b_i. */
+PW__DEF void pw__zamg_upper_residual(const pw_zcsr *A, const double *b, const double *x, double *r)
+{
+    int i, k;
+    for (i = 0; i < A->n; i++) {
+        double sr = 0.0, si = 0.0, d = 0.0;
+        for (k = A->rowptr[i + 1] - 1; k >= A->rowptr[i] && A->col[k] >= i; k--) {
+            const double *v = A->val + 2 * k, *y = x + 2 * A->col[k];
+            if (A->col[k] == i) {
+                d = v[0];
+                continue;
+            }
+            sr -= v[0] * y[0] - v[1] * y[1];
+            si -= v[0] * y[1] + v[1] * y[0];
+        }
+        r[2 * i] = d > 0.0 ? sr : b[2 * i];
+        r[2 * i + 1] = d > 0.0 ? si : b[2 * i + 1];
+    }
+}
+
 /* The V-cycle from level l: lev[l].x ~ A_l^-1 lev[l].b, from x = 0. */
 PW__DEF void pw__zamg_cycle(const pw_zamg *M, int l)
 {
@@ -8591,8 +8615,7 @@ PW__DEF void pw__zamg_cycle(const pw_zamg *M, int l)
     n = L->A.n;
     memset(L->x, 0, sizeof(double) * 2 * (size_t)n);
     pw__zamg_gs(&L->A, L->b, L->x, 0);
-    pw_zcsr_mul(&L->A, L->x, L->r);
-    for (i = 0; i < 2 * n; i++) L->r[i] = L->b[i] - L->r[i];
+    pw__zamg_upper_residual(&L->A, L->b, L->x, L->r);
     memset(C->b, 0, sizeof(double) * 2 * (size_t)C->A.n);
     for (i = 0; i < n; i++) /* b_c = P^H r */
         for (k = L->prow[i]; k < L->prow[i + 1]; k++) {

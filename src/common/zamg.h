@@ -504,6 +504,30 @@ PW__DEF void pw__zamg_gs(const pw_zcsr *A, const double *b, double *x, int backw
     }
 }
 
+/* r = b - A x after one forward Gauss-Seidel sweep from x = 0: row i was
+ * solved with the new x_j (j < i) and zeros above, so only the part above
+ * the diagonal is left, r_i = -sum_{j > i} a_ij x_j (half a product); a
+ * row without a positive diagonal (all zero, A being semidefinite) keeps
+ * r_i = b_i. */
+PW__DEF void pw__zamg_upper_residual(const pw_zcsr *A, const double *b, const double *x, double *r)
+{
+    int i, k;
+    for (i = 0; i < A->n; i++) {
+        double sr = 0.0, si = 0.0, d = 0.0;
+        for (k = A->rowptr[i + 1] - 1; k >= A->rowptr[i] && A->col[k] >= i; k--) {
+            const double *v = A->val + 2 * k, *y = x + 2 * A->col[k];
+            if (A->col[k] == i) {
+                d = v[0];
+                continue;
+            }
+            sr -= v[0] * y[0] - v[1] * y[1];
+            si -= v[0] * y[1] + v[1] * y[0];
+        }
+        r[2 * i] = d > 0.0 ? sr : b[2 * i];
+        r[2 * i + 1] = d > 0.0 ? si : b[2 * i + 1];
+    }
+}
+
 /* The V-cycle from level l: lev[l].x ~ A_l^-1 lev[l].b, from x = 0. */
 PW__DEF void pw__zamg_cycle(const pw_zamg *M, int l)
 {
@@ -517,8 +541,7 @@ PW__DEF void pw__zamg_cycle(const pw_zamg *M, int l)
     n = L->A.n;
     memset(L->x, 0, sizeof(double) * 2 * (size_t)n);
     pw__zamg_gs(&L->A, L->b, L->x, 0);
-    pw_zcsr_mul(&L->A, L->x, L->r);
-    for (i = 0; i < 2 * n; i++) L->r[i] = L->b[i] - L->r[i];
+    pw__zamg_upper_residual(&L->A, L->b, L->x, L->r);
     memset(C->b, 0, sizeof(double) * 2 * (size_t)C->A.n);
     for (i = 0; i < n; i++) /* b_c = P^H r */
         for (k = L->prow[i]; k < L->prow[i + 1]; k++) {
