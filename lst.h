@@ -28,19 +28,19 @@
  *  13539: src/common/tetio.h, tetrahedral mesh files, TetGen .node/.ele and MEDIT .mesh.
  *  14031: src/common/bisect.h, graded, conforming tetrahedral meshes of a box by newest-v
  *  14353: src/common/stuffing.h, the built-in tetrahedralizer of lst.h, so that no external
- *  17634: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
- *  17777: src/common/pca.h, principal component analysis of vectors streamed one at a 
- *  17964: src/common/glue.h, what every method header needs between its public types an
- *  18304: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  18968: src/lst/core.c, lst.h's glue to the shared core, its defaults, the convers
- *  19301: src/lst/exemplar.c, solid exemplars (§5): sampling, the procedural exemplars 
- *  19832: src/lst/field.c, §5.2.2, the fields that orient and scale the pastes. The 
- *  21040: src/lst/paste.c, §5.2.3-5.2.7, filling the model. Each paste picks a rando
- *  22021: src/lst/render.c, §5.1, showing a model. Every point of a tetrahedron is th
- *  22918: src/lst/cut.c, §5.1.1, cutting a model along the zero set of a scalar fi
- *  23523: src/lst/builtin.c, the tetrahedralizer entry point, checks of caller meshes, 
- *  24045: src/lst/io.c, the model file, the constraint files and the file convenie
- *  24738: src/lst/export.c, the visible boundary with a baked texture atlas, for glTF.
+ *  17646: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
+ *  17789: src/common/pca.h, principal component analysis of vectors streamed one at a 
+ *  17976: src/common/glue.h, what every method header needs between its public types an
+ *  18316: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  18980: src/lst/core.c, lst.h's glue to the shared core, its defaults, the convers
+ *  19313: src/lst/exemplar.c, solid exemplars (§5): sampling, the procedural exemplars 
+ *  19844: src/lst/field.c, §5.2.2, the fields that orient and scale the pastes. The 
+ *  21052: src/lst/paste.c, §5.2.3-5.2.7, filling the model. Each paste picks a rando
+ *  22033: src/lst/render.c, §5.1, showing a model. Every point of a tetrahedron is th
+ *  22930: src/lst/cut.c, §5.1.1, cutting a model along the zero set of a scalar fi
+ *  23535: src/lst/builtin.c, the tetrahedralizer entry point, checks of caller meshes, 
+ *  24057: src/lst/io.c, the model file, the constraint files and the file convenie
+ *  24750: src/lst/export.c, the visible boundary with a baked texture atlas, for glTF.
  */
 /* lst.h - lapped solid textures: solid exemplars pasted inside a model.
  *
@@ -16390,6 +16390,18 @@ PW__DEF int pw__st_tri_inside(const pw__st *st, int t, const double *lo, const d
     return b[0] >= lo[0] && b[1] >= lo[1] && b[2] >= lo[2] && b[3] <= hi[0] && b[4] <= hi[1] && b[5] <= hi[2];
 }
 
+/* A corner of triangle t lies in the box lo..hi. */
+PW__DEF int pw__st_corner_inside(const pw__st *st, int t, const double *lo, const double *hi)
+{
+    int c;
+    for (c = 0; c < 3; c++) {
+        const double *p = pw__st_corner(&st->s, t, c);
+        if (p[0] >= lo[0] && p[1] >= lo[1] && p[2] >= lo[2] && p[0] <= hi[0] && p[1] <= hi[1] && p[2] <= hi[2])
+            return 1;
+    }
+    return 0;
+}
+
 /* The triangles list[0..count) that meet the query box: with PW__ST_ANY,
  * 1 at the first; with PW__ST_NEAR, appended to st->scratch (*n of them so
  * far), 0 (-1 without memory). */
@@ -16401,7 +16413,7 @@ PW__DEF int pw__st_filter(pw__st *st, const pw__stbox *q, const int *list, int c
     for (i = 0; i < count; i++) {
         int t = list[i];
         if (!pw__st_boxes_meet(st->tbox + 6 * (size_t)t, q->fb) ||
-            (!pw__st_tri_inside(st, t, q->lo, q->hi) &&
+            (!pw__st_corner_inside(st, t, q->lo, q->hi) &&
              !pw__st_tri_box(q->ctr, q->hw, pw__st_corner(s, t, 0), pw__st_corner(s, t, 1), pw__st_corner(s, t, 2))))
             continue;
         if (mode == PW__ST_ANY) return 1;

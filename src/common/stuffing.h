@@ -2041,6 +2041,18 @@ PW__DEF int pw__st_tri_inside(const pw__st *st, int t, const double *lo, const d
     return b[0] >= lo[0] && b[1] >= lo[1] && b[2] >= lo[2] && b[3] <= hi[0] && b[4] <= hi[1] && b[5] <= hi[2];
 }
 
+/* A corner of triangle t lies in the box lo..hi. */
+PW__DEF int pw__st_corner_inside(const pw__st *st, int t, const double *lo, const double *hi)
+{
+    int c;
+    for (c = 0; c < 3; c++) {
+        const double *p = pw__st_corner(&st->s, t, c);
+        if (p[0] >= lo[0] && p[1] >= lo[1] && p[2] >= lo[2] && p[0] <= hi[0] && p[1] <= hi[1] && p[2] <= hi[2])
+            return 1;
+    }
+    return 0;
+}
+
 /* The triangles list[0..count) that meet the query box: with PW__ST_ANY,
  * 1 at the first; with PW__ST_NEAR, appended to st->scratch (*n of them so
  * far), 0 (-1 without memory). */
@@ -2052,7 +2064,7 @@ PW__DEF int pw__st_filter(pw__st *st, const pw__stbox *q, const int *list, int c
     for (i = 0; i < count; i++) {
         int t = list[i];
         if (!pw__st_boxes_meet(st->tbox + 6 * (size_t)t, q->fb) ||
-            (!pw__st_tri_inside(st, t, q->lo, q->hi) &&
+            (!pw__st_corner_inside(st, t, q->lo, q->hi) &&
              !pw__st_tri_box(q->ctr, q->hw, pw__st_corner(s, t, 0), pw__st_corner(s, t, 1), pw__st_corner(s, t, 2))))
             continue;
         if (mode == PW__ST_ANY) return 1;
