@@ -28,19 +28,19 @@
  *  13539: src/common/tetio.h, tetrahedral mesh files, TetGen .node/.ele and MEDIT .mesh.
  *  14031: src/common/bisect.h, graded, conforming tetrahedral meshes of a box by newest-v
  *  14353: src/common/stuffing.h, the built-in tetrahedralizer of lst.h, so that no external
- *  17646: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
- *  17789: src/common/pca.h, principal component analysis of vectors streamed one at a 
- *  17976: src/common/glue.h, what every method header needs between its public types an
- *  18316: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  18980: src/lst/core.c, lst.h's glue to the shared core, its defaults, the convers
- *  19313: src/lst/exemplar.c, solid exemplars (§5): sampling, the procedural exemplars 
- *  19844: src/lst/field.c, §5.2.2, the fields that orient and scale the pastes. The 
- *  21052: src/lst/paste.c, §5.2.3-5.2.7, filling the model. Each paste picks a rando
- *  22033: src/lst/render.c, §5.1, showing a model. Every point of a tetrahedron is th
- *  22930: src/lst/cut.c, §5.1.1, cutting a model along the zero set of a scalar fi
- *  23535: src/lst/builtin.c, the tetrahedralizer entry point, checks of caller meshes, 
- *  24057: src/lst/io.c, the model file, the constraint files and the file convenie
- *  24750: src/lst/export.c, the visible boundary with a baked texture atlas, for glTF.
+ *  17648: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
+ *  17791: src/common/pca.h, principal component analysis of vectors streamed one at a 
+ *  17978: src/common/glue.h, what every method header needs between its public types an
+ *  18318: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  18982: src/lst/core.c, lst.h's glue to the shared core, its defaults, the convers
+ *  19315: src/lst/exemplar.c, solid exemplars (§5): sampling, the procedural exemplars 
+ *  19846: src/lst/field.c, §5.2.2, the fields that orient and scale the pastes. The 
+ *  21054: src/lst/paste.c, §5.2.3-5.2.7, filling the model. Each paste picks a rando
+ *  22035: src/lst/render.c, §5.1, showing a model. Every point of a tetrahedron is th
+ *  22932: src/lst/cut.c, §5.1.1, cutting a model along the zero set of a scalar fi
+ *  23537: src/lst/builtin.c, the tetrahedralizer entry point, checks of caller meshes, 
+ *  24059: src/lst/io.c, the model file, the constraint files and the file convenie
+ *  24752: src/lst/export.c, the visible boundary with a baked texture atlas, for glTF.
  */
 /* lst.h - lapped solid textures: solid exemplars pasted inside a model.
  *
@@ -16483,6 +16483,8 @@ PW__DEF int pw__st_clip(const pw__st *st, int t, const double *lo, const double 
         for (side = 0; side < 2 && n > 0; side++) {
             double(*a)[3] = buf[cur], (*b)[3] = buf[1 - cur], c = side ? hi[k] : lo[k], sg = side ? -1.0 : 1.0;
             int m = 0;
+            for (i = 0; i < n && sg * (a[i][k] - c) >= 0.0; i++) continue;
+            if (i == n) continue; /* all on the inner side: unchanged */
             for (i = 0; i < n; i++) {
                 const double *p = a[i], *q = a[(i + 1) % n];
                 double dp = sg * (p[k] - c), dq = sg * (q[k] - c);

@@ -2134,6 +2134,8 @@ PW__DEF int pw__st_clip(const pw__st *st, int t, const double *lo, const double 
         for (side = 0; side < 2 && n > 0; side++) {
             double(*a)[3] = buf[cur], (*b)[3] = buf[1 - cur], c = side ? hi[k] : lo[k], sg = side ? -1.0 : 1.0;
             int m = 0;
+            for (i = 0; i < n && sg * (a[i][k] - c) >= 0.0; i++) continue;
+            if (i == n) continue; /* all on the inner side: unchanged */
             for (i = 0; i < n; i++) {
                 const double *p = a[i], *q = a[(i + 1) % n];
                 double dp = sg * (p[k] - c), dq = sg * (q[k] - c);
