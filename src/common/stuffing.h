@@ -70,8 +70,8 @@
  * rounded, and two parts of the solid may touch along lattice edges.
  * Graded lattice: no proven bound; tests/test_stuffing.c holds it to 8..168
  * degrees over random shapes, placements and fits and over the CGAL
- * corpus (measured 15.0..163.8 there), and its boundary to within 0.5% of
- * the diagonal of the CGAL surfaces (measured 0.18-0.37%), their pieces
+ * corpus (measured 15.0..162.0 there), and its boundary to within 0.5% of
+ * the diagonal of the CGAL surfaces (measured 0.24-0.38%), their pieces
  * kept; the tips of spikes thinner than the smallest cell are lost. Several
  * components, nested shells and crossing triangles are fine: the inside is
  * where the winding number is at least 1/2. A surface whose triangles all
