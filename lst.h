@@ -26,22 +26,22 @@
  *  12208: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
  *  12444: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
  *  13205: src/common/tetmesh.h, the tetrahedral mesh that lapped solid textures work on, a
- *  13689: src/common/tetio.h, tetrahedral mesh files, TetGen .node/.ele and MEDIT .mesh.
- *  14181: src/common/bisect.h, graded, conforming tetrahedral meshes of a box by newest-v
- *  14501: src/common/stuffing.h, the built-in tetrahedralizer of lst.h, so that no external
- *  17634: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
- *  17777: src/common/pca.h, principal component analysis of vectors streamed one at a 
- *  17964: src/common/glue.h, what every method header needs between its public types an
- *  18300: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  18964: src/lst/core.c, lst.h's glue to the shared core, its defaults, the convers
- *  19297: src/lst/exemplar.c, solid exemplars (§5): sampling, the procedural exemplars 
- *  19828: src/lst/field.c, §5.2.2, the fields that orient and scale the pastes. The 
- *  21036: src/lst/paste.c, §5.2.3-5.2.7, filling the model. Each paste picks a rando
- *  22017: src/lst/render.c, §5.1, showing a model. Every point of a tetrahedron is th
- *  22914: src/lst/cut.c, §5.1.1, cutting a model along the zero set of a scalar fi
- *  23519: src/lst/builtin.c, the tetrahedralizer entry point, checks of caller meshes, 
- *  24041: src/lst/io.c, the model file, the constraint files and the file convenie
- *  24734: src/lst/export.c, the visible boundary with a baked texture atlas, for glTF.
+ *  13692: src/common/tetio.h, tetrahedral mesh files, TetGen .node/.ele and MEDIT .mesh.
+ *  14184: src/common/bisect.h, graded, conforming tetrahedral meshes of a box by newest-v
+ *  14506: src/common/stuffing.h, the built-in tetrahedralizer of lst.h, so that no external
+ *  17805: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
+ *  17948: src/common/pca.h, principal component analysis of vectors streamed one at a 
+ *  18135: src/common/glue.h, what every method header needs between its public types an
+ *  18471: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  19135: src/lst/core.c, lst.h's glue to the shared core, its defaults, the convers
+ *  19468: src/lst/exemplar.c, solid exemplars (§5): sampling, the procedural exemplars 
+ *  19999: src/lst/field.c, §5.2.2, the fields that orient and scale the pastes. The 
+ *  21207: src/lst/paste.c, §5.2.3-5.2.7, filling the model. Each paste picks a rando
+ *  22188: src/lst/render.c, §5.1, showing a model. Every point of a tetrahedron is th
+ *  23085: src/lst/cut.c, §5.1.1, cutting a model along the zero set of a scalar fi
+ *  23690: src/lst/builtin.c, the tetrahedralizer entry point, checks of caller meshes, 
+ *  24212: src/lst/io.c, the model file, the constraint files and the file convenie
+ *  24905: src/lst/export.c, the visible boundary with a baked texture atlas, for glTF.
  */
 /* lst.h - lapped solid textures: solid exemplars pasted inside a model.
  *
@@ -13485,19 +13485,16 @@ PW__DEF void pw_tetrings_free(const pw_alloc *a, pw_tetrings *g)
     memset(g, 0, sizeof *g);
 }
 
-/* Sorts row [lo, hi) of adj in place and removes repeats; returns its new end. */
-PW__DEF int pw__ring_unique(int *adj, int lo, int hi)
+/* Sorts row [lo, hi) of adj in place (insertion: rows are short). */
+PW__DEF void pw__ring_sort(int *adj, int lo, int hi)
 {
-    int i, j, n = lo;
+    int i, j;
     for (i = lo + 1; i < hi; i++)
         for (j = i; j > lo && adj[j - 1] > adj[j]; j--) {
             int tmp = adj[j];
             adj[j] = adj[j - 1];
             adj[j - 1] = tmp;
         }
-    for (i = lo; i < hi; i++)
-        if (i == lo || adj[i] != adj[i - 1]) adj[n++] = adj[i];
-    return n;
 }
 
 PW__DEF int pw_tetmesh_rings(const pw_alloc *a, const pw_tetmesh *m, pw_tetrings *g, pw_err *e)
@@ -13524,10 +13521,16 @@ PW__DEF int pw_tetmesh_rings(const pw_alloc *a, const pw_tetmesh *m, pw_tetrings
         for (i = 0; i < 4; i++)
             for (j = 0; j < 4; j++)
                 if (i != j) g->adj[fill[m->tet[4 * t + i]]++] = m->tet[4 * t + j];
-    for (v = 0; v < m->nv; v++) { /* compact: each row sorted without repeats */
-        int lo = g->start[v], hi = g->start[v + 1], end = pw__ring_unique(g->adj, lo, hi);
+    for (v = 0; v < m->nv; v++) fill[v] = -1;
+    for (v = 0; v < m->nv; v++) { /* compact: each row without repeats (fill[u] == v: u seen), then sorted */
+        int lo = g->start[v], hi = g->start[v + 1];
         g->start[v] = n;
-        for (i = lo; i < end; i++) g->adj[n++] = g->adj[i];
+        for (i = lo; i < hi; i++)
+            if (fill[g->adj[i]] != v) {
+                fill[g->adj[i]] = v;
+                g->adj[n++] = g->adj[i];
+            }
+        pw__ring_sort(g->adj, g->start[v], n);
     }
     g->start[m->nv] = n;
     pw_free(a, fill);
@@ -14213,6 +14216,7 @@ typedef struct pw_bstet {
     int depth; /* bisections from the coarse mesh */
     int kept;  /* pw_bisect_refine was told to keep it */
     int mark;  /* the caller's (need() may set it; 0 in new tetrahedra) */
+    int data;  /* the caller's (need() may set it; -1 in the coarse mesh; both halves inherit it) */
 } pw_bstet;
 
 typedef struct pw_bisect {
@@ -14365,6 +14369,7 @@ PW__DEF int pw_bisect_kuhn(pw_bisect *b, const int *n, int side)
                     t.tag = 3;
                     t.depth = 0;
                     t.kept = t.mark = 0;
+                    t.data = -1;
                     if ((t.v[0] = pw__bs_vertex(b, x)) < 0) return b->e ? b->e->code : PW_ERR_NOMEM;
                     for (i = 0; i < 3; i++) {
                         x[perm[p][i]] += side;
@@ -14571,8 +14576,8 @@ PW__DEF int pw_bisect_conform(pw_bisect *b)
  * rounded, and two parts of the solid may touch along lattice edges.
  * Graded lattice: no proven bound; tests/test_stuffing.c holds it to 8..168
  * degrees over random shapes, placements and fits and over the CGAL
- * corpus (measured 15.0..163.8 there), and its boundary to within 0.5% of
- * the diagonal of the CGAL surfaces (measured 0.18-0.37%), their pieces
+ * corpus (measured 15.0..162.0 there), and its boundary to within 0.5% of
+ * the diagonal of the CGAL surfaces (measured 0.24-0.38%), their pieces
  * kept; the tips of spikes thinner than the smallest cell are lost. Several
  * components, nested shells and crossing triangles are fine: the inside is
  * where the winding number is at least 1/2. A surface whose triangles all
@@ -15677,8 +15682,11 @@ typedef struct pw__st {
     size_t capeadj;
     int *vtoff, *vtadj; /* graded: lattice tetrahedra at each vertex, vtadj[vtoff[v] .. vtoff[v+1]) */
     int *scratch;       /* graded: triangles meeting a box */
-    double *tnorm;      /* graded: per triangle, unit normal and area */
-    float *tbox;        /* graded: per triangle, its box (lo xyz, hi xyz) */
+    int *pool;          /* graded: triangle lists of bisected tetrahedra (pw_bstet.data: count, then the ids) */
+    size_t npool, cappool;
+    struct pw__stmemo *memo; /* graded: the last sizing decisions, by box (PW__ST_MEMO of them) */
+    double *tnorm;           /* graded: per triangle, unit normal and area */
+    float *tbox;             /* graded: per triangle, its box (lo xyz, hi xyz) */
     size_t capscratch;
     signed char *side;   /* per lattice vertex: +1 inside, -1 outside, 0 not known yet */
     unsigned char *busy; /* per cube: the surface may meet it */
@@ -16509,37 +16517,89 @@ PW__DEF int pw__st_stencils(pw__st *st)
  * with one alpha for every edge, stencils with quadrilateral diagonals
  * from the inside corner whose cut point is nearer. */
 
-/* The triangles that meet the box lo..hi: with PW__ST_ANY, 1 if there is
- * one (0 if none); with PW__ST_NEAR, all of them in st->scratch, and their
- * count (-1 without memory). */
+/* A box query: the box lo..hi, its centre and padded half-widths for the
+ * separating axis test, and its float box for the triangle boxes. */
+typedef struct pw__stbox {
+    double lo[3], hi[3], ctr[3], hw[3];
+    float fb[6];
+} pw__stbox;
+
+PW__DEF void pw__st_query(const pw__st *st, const double *lo, const double *hi, pw__stbox *q)
+{
+    int k;
+    for (k = 0; k < 3; k++) {
+        q->lo[k] = lo[k];
+        q->hi[k] = hi[k];
+        q->ctr[k] = 0.5 * (lo[k] + hi[k]);
+        q->hw[k] = 0.5 * (hi[k] - lo[k]) * (1.0 + 1e-6) + 1e-9 * st->s.mag;
+    }
+    pw__st_fbox(lo, hi, 1e-9 * st->s.mag, q->fb);
+}
+
+/* Triangle t's box lies inside the box lo..hi. */
+PW__DEF int pw__st_tri_inside(const pw__st *st, int t, const double *lo, const double *hi)
+{
+    const float *b = st->tbox + 6 * (size_t)t;
+    return b[0] >= lo[0] && b[1] >= lo[1] && b[2] >= lo[2] && b[3] <= hi[0] && b[4] <= hi[1] && b[5] <= hi[2];
+}
+
+/* A corner of triangle t lies in the box lo..hi. */
+PW__DEF int pw__st_corner_inside(const pw__st *st, int t, const double *lo, const double *hi)
+{
+    int c;
+    for (c = 0; c < 3; c++) {
+        const double *p = pw__st_corner(&st->s, t, c);
+        if (p[0] >= lo[0] && p[1] >= lo[1] && p[2] >= lo[2] && p[0] <= hi[0] && p[1] <= hi[1] && p[2] <= hi[2])
+            return 1;
+    }
+    return 0;
+}
+
+/* The triangles list[0..count) that meet the query box: with PW__ST_ANY,
+ * 1 at the first; with PW__ST_NEAR, appended to st->scratch (*n of them so
+ * far), 0 (-1 without memory). */
 enum { PW__ST_ANY, PW__ST_NEAR };
-enum { PW__ST_FAR = 1 }; /* pw_bstet.mark: no triangle within reach (pw__st_need) */
-PW__DEF int pw__st_box_tris(pw__st *st, const double *lo, const double *hi, int mode)
+PW__DEF int pw__st_filter(pw__st *st, const pw__stbox *q, const int *list, int count, int mode, int *n)
 {
     const pw__stsurf *s = &st->s;
-    double ctr[3], hw[3];
-    float fb[6];
-    int stack[96], top = -1, n = 0, i, k, id;
-    for (k = 0; k < 3; k++) {
-        ctr[k] = 0.5 * (lo[k] + hi[k]);
-        hw[k] = 0.5 * (hi[k] - lo[k]) * (1.0 + 1e-6) + 1e-9 * s->mag;
+    int i;
+    for (i = 0; i < count; i++) {
+        int t = list[i];
+        if (!pw__st_boxes_meet(st->tbox + 6 * (size_t)t, q->fb) ||
+            (!pw__st_corner_inside(st, t, q->lo, q->hi) &&
+             !pw__st_tri_box(q->ctr, q->hw, pw__st_corner(s, t, 0), pw__st_corner(s, t, 1), pw__st_corner(s, t, 2))))
+            continue;
+        if (mode == PW__ST_ANY) return 1;
+        if (pw_grow(st->a, (void **)&st->scratch, &st->capscratch, (size_t)*n + 1, sizeof(int), "triangles in a box",
+                    st->e))
+            return -1;
+        st->scratch[(*n)++] = t;
     }
-    pw__st_fbox(lo, hi, 1e-9 * s->mag, fb);
-    while ((id = pw__st_next_leaf(s, fb, stack, &top)) >= 0) {
-        const int *nd = s->node + 3 * id;
-        for (i = nd[0]; i < nd[0] + nd[1]; i++) {
-            int t = s->slot[i];
-            if ((mode == PW__ST_NEAR && !pw__st_boxes_meet(st->tbox + 6 * (size_t)t, fb)) ||
-                !pw__st_tri_box(ctr, hw, pw__st_corner(s, t, 0), pw__st_corner(s, t, 1), pw__st_corner(s, t, 2)))
-                continue;
-            if (mode == PW__ST_ANY) return 1;
-            if (pw_grow(st->a, (void **)&st->scratch, &st->capscratch, (size_t)n + 1, sizeof(int), "triangles in a box",
-                        st->e))
-                return -1;
-            st->scratch[n++] = t;
-        }
-    }
-    return n;
+    return 0;
+}
+
+/* The triangles that meet the box lo..hi, among those of list `from` (an
+ * offset in st->pool: the list of a tetrahedron around this box) or, when
+ * it is negative, among all (through the hierarchy): with PW__ST_ANY, 1 if
+ * there is one (0 if none); with PW__ST_NEAR, all of them in st->scratch,
+ * and their count (-1 without memory). */
+enum {
+    PW__ST_FAR = 1,
+    PW__ST_CLEAR,
+    PW__ST_BUSY
+}; /* pw_bstet.mark (pw__st_need): no triangle within reach; some
+                                                       within reach, none in the tetrahedron's box; some in it */
+PW__DEF int pw__st_box_tris(pw__st *st, int from, const double *lo, const double *hi, int mode)
+{
+    const pw__stsurf *s = &st->s;
+    pw__stbox q;
+    int stack[96], top = -1, n = 0, r = 0, id;
+    pw__st_query(st, lo, hi, &q);
+    if (from >= 0) r = pw__st_filter(st, &q, st->pool + from + 1, st->pool[from], mode, &n);
+    else
+        while (r == 0 && (id = pw__st_next_leaf(s, q.fb, stack, &top)) >= 0)
+            r = pw__st_filter(st, &q, s->slot + s->node[3 * id], s->node[3 * id + 1], mode, &n);
+    return r ? r : n;
 }
 
 /* Box and longest edge of lattice tetrahedron t. */
@@ -16576,6 +16636,8 @@ PW__DEF int pw__st_clip(const pw__st *st, int t, const double *lo, const double 
         for (side = 0; side < 2 && n > 0; side++) {
             double(*a)[3] = buf[cur], (*b)[3] = buf[1 - cur], c = side ? hi[k] : lo[k], sg = side ? -1.0 : 1.0;
             int m = 0;
+            for (i = 0; i < n && sg * (a[i][k] - c) >= 0.0; i++) continue;
+            if (i == n) continue; /* all on the inner side: unchanged */
             for (i = 0; i < n; i++) {
                 const double *p = a[i], *q = a[(i + 1) % n];
                 double dp = sg * (p[k] - c), dq = sg * (q[k] - c);
@@ -16595,26 +16657,15 @@ PW__DEF int pw__st_clip(const pw__st *st, int t, const double *lo, const double 
     return n;
 }
 
-/* pw_bisect_need: the surface within reach of t (its box grown by how far
- * warping may move a corner) lies in a slab, across its mean normal, wider
- * than st->tol / PW__ST_BEND (the parts of the triangles inside the box: a
- * curve's sagitta, a crease's rise, exact on faceted input and blind to
- * the normals of slivers), or faces two ways (a thin part, a narrow gap). */
-PW__DEF int pw__st_need(void *user, const pw_bisect *b, pw_bstet *t)
+/* The triangles st->scratch[0..n) within reach of a tetrahedron (box
+ * lo..hi) lie in a slab, across their mean normal, wider than st->tol /
+ * PW__ST_BEND (the parts of the triangles inside the box), or face two
+ * ways. The slab of the whole triangles holds that of their parts: when it
+ * is thin enough, nothing is clipped. */
+PW__DEF int pw__st_bends(const pw__st *st, int n, const double *lo, const double *hi)
 {
-    pw__st *st = (pw__st *)user;
-    double lo[3], hi[3], len = pw__st_gbox(st, b, t->v, lo, hi), N[3] = {0.0, 0.0, 0.0}, A = 0.0, nn;
-    double wlo = DBL_MAX, whi = -DBL_MAX, poly[9][3];
-    int n, i, j, k;
-    if (len <= st->lmin) return 0;
-    for (k = 0; k < 3; k++) /* the reach of warping: corners may move onto the surface that far */
-    {
-        lo[k] -= PW__ST_ALPHA_GRADED * PW__ST_REACH * len;
-        hi[k] += PW__ST_ALPHA_GRADED * PW__ST_REACH * len;
-    }
-    if ((n = pw__st_box_tris(st, lo, hi, PW__ST_NEAR)) < 0) return PW_ERR_NOMEM;
-    t->mark = n == 0 ? PW__ST_FAR : 0;
-    if (n == 0) return 0;
+    double N[3] = {0.0, 0.0, 0.0}, A = 0.0, nn, wlo = DBL_MAX, whi = -DBL_MAX, poly[9][3];
+    int i, j, k, m;
     for (i = 0; i < n; i++) {
         const double *c = st->tnorm + 4 * (size_t)st->scratch[i];
         for (k = 0; k < 3; k++) N[k] += c[3] * c[k];
@@ -16623,8 +16674,21 @@ PW__DEF int pw__st_need(void *user, const pw_bisect *b, pw_bstet *t)
     nn = sqrt(pw_dot3(N, N));
     if (nn < 0.5 * A) return 1; /* sheets facing opposite ways */
     for (k = 0; k < 3; k++) N[k] /= nn;
+    for (i = 0; i < n; i++)
+        for (j = 0; j < 3; j++) {
+            double d = pw_dot3(pw__st_corner(&st->s, st->scratch[i], j), N);
+            wlo = d < wlo ? d : wlo;
+            whi = d > whi ? d : whi;
+        }
+    if (!(PW__ST_BEND * (whi - wlo) > st->tol)) return 0;
+    wlo = DBL_MAX;
+    whi = -DBL_MAX;
     for (i = 0; i < n; i++) {
-        int m = pw__st_clip(st, st->scratch[i], lo, hi, poly);
+        int t = st->scratch[i];
+        int inside = pw__st_tri_inside(st, t, lo, hi);
+        if (inside)
+            for (m = 0; m < 3; m++) memcpy(poly[m], pw__st_corner(&st->s, t, m), sizeof poly[m]);
+        m = inside ? 3 : pw__st_clip(st, t, lo, hi, poly);
         for (j = 0; j < m; j++) {
             double d = pw_dot3(poly[j], N);
             wlo = d < wlo ? d : wlo;
@@ -16633,6 +16697,108 @@ PW__DEF int pw__st_need(void *user, const pw_bisect *b, pw_bstet *t)
         if (PW__ST_BEND * (whi - wlo) > st->tol) return 1;
     }
     return 0;
+}
+
+/* Appends st->scratch[0..n) to st->pool as a list: its offset, -1
+ * without memory. */
+PW__DEF int pw__st_keep_list(pw__st *st, int n)
+{
+    size_t o = st->npool;
+    if (o + (size_t)n + 1 > (size_t)INT_MAX) {
+        pw_fail(st->e, PW_ERR_LIMIT, "tetrahedralize: more than %d triangle references in the sizing", INT_MAX);
+        return -1;
+    }
+    if (pw_grow(st->a, (void **)&st->pool, &st->cappool, o + (size_t)n + 1, sizeof(int), "sizing lists", st->e))
+        return -1;
+    st->pool[o] = n;
+    memcpy(st->pool + o + 1, st->scratch, (size_t)n * sizeof(int));
+    st->npool = o + (size_t)n + 1;
+    return (int)o;
+}
+
+/* pw_bisect_need: the surface within reach of t (its box grown by alpha
+ * times its longest edge: how far warping moves a corner along an edge no
+ * longer than t's; the longer edges that the warping's cap allows, up to
+ * PW__ST_REACH times, are left out, which halves the tetrahedra near the
+ * surface for a fit 0.01-0.05% of the diagonal looser on the CGAL corpus)
+ * bends (pw__st_bends). The candidates are the
+ * triangles within reach of the tetrahedron t was cut from (t->data, kept
+ * for both halves of a bisected one); t->mark says whether any triangle is
+ * within reach, and if so whether any meets t's own box. */
+PW__DEF int pw__st_decide(pw__st *st, const pw_bisect *b, pw_bstet *t)
+{
+    double lo[3], hi[3], glo[3], ghi[3], len = pw__st_gbox(st, b, t->v, lo, hi);
+    pw__stbox q;
+    int n, k, none = 0;
+    for (k = 0; k < 3; k++) { /* the reach of warping: corners move onto the surface about that far */
+        glo[k] = lo[k] - PW__ST_ALPHA_GRADED * len;
+        ghi[k] = hi[k] + PW__ST_ALPHA_GRADED * len;
+    }
+    if ((n = pw__st_box_tris(st, t->data, glo, ghi, PW__ST_NEAR)) < 0) return PW_ERR_NOMEM;
+    t->mark = PW__ST_FAR;
+    if (n == 0) return 0;
+    if (len > st->lmin && pw__st_bends(st, n, glo, ghi)) {
+        if ((t->data < 0 || n < st->pool[t->data]) && (t->data = pw__st_keep_list(st, n)) < 0)
+            return st->e ? st->e->code : PW_ERR_NOMEM;
+        return 1;
+    }
+    pw__st_query(st, lo, hi, &q);
+    t->mark = pw__st_filter(st, &q, st->scratch, n, PW__ST_ANY, &none) ? PW__ST_BUSY : PW__ST_CLEAR;
+    return 0;
+}
+
+/* The sizing decisions depend on a tetrahedron's box and longest edge
+ * only, and many tetrahedra share both (the six Kuhn tetrahedra of a cube,
+ * and many of their halves): the last decision of each of PW__ST_MEMO
+ * slots is kept, by its exact key (the box's integer corners and the
+ * squared longest edge), with its mark and triangle list. */
+#define PW__ST_MEMO 8192
+typedef struct pw__stmemo {
+    uint64_t lo, hi, len2; /* len2 0: empty */
+    int data, mark, split;
+} pw__stmemo;
+
+/* pw_bisect_need: pw__st_decide, remembered. */
+PW__DEF int pw__st_need(void *user, const pw_bisect *b, pw_bstet *t)
+{
+    pw__st *st = (pw__st *)user;
+    int lo[3], hi[3], i, j, k, r;
+    uint64_t len2 = 0, klo, khi, h;
+    pw__stmemo *m;
+    for (k = 0; k < 3; k++) {
+        lo[k] = hi[k] = b->vc[3 * t->v[0] + k];
+        for (i = 1; i < 4; i++) {
+            int c = b->vc[3 * t->v[i] + k];
+            lo[k] = c < lo[k] ? c : lo[k];
+            hi[k] = c > hi[k] ? c : hi[k];
+        }
+    }
+    for (i = 0; i < 4; i++)
+        for (j = i + 1; j < 4; j++) {
+            uint64_t d = 0;
+            for (k = 0; k < 3; k++) {
+                int64_t x = (int64_t)b->vc[3 * t->v[i] + k] - b->vc[3 * t->v[j] + k];
+                d += (uint64_t)(x * x);
+            }
+            len2 = d > len2 ? d : len2;
+        }
+    klo = pw__bs_key(lo);
+    khi = pw__bs_key(hi);
+    h = pw__bs_slot(klo ^ (khi * 0x9e3779b97f4a7c15ull) ^ (len2 * 0xc2b2ae3d27d4eb4full), PW__ST_MEMO - 1);
+    m = st->memo + h;
+    if (m->len2 == len2 && m->lo == klo && m->hi == khi) {
+        t->mark = m->mark;
+        if (m->split) t->data = m->data;
+        return m->split;
+    }
+    if ((r = pw__st_decide(st, b, t)) < 0) return r;
+    m->lo = klo;
+    m->hi = khi;
+    m->len2 = len2;
+    m->data = t->data;
+    m->mark = t->mark;
+    m->split = r;
+    return r;
 }
 
 /* The tetrahedra at each vertex, which tetrahedra the surface may meet,
@@ -16651,7 +16817,8 @@ PW__DEF int pw__st_gedges(pw__st *st)
     for (i = 0; r == PW_OK && i < st->bs.nt; i++) {
         double lo[3], hi[3];
         pw__st_gbox(st, &st->bs, st->bs.t[i].v, lo, hi);
-        st->tbusy[i] = st->bs.t[i].mark != PW__ST_FAR && pw__st_box_tris(st, lo, hi, PW__ST_ANY);
+        st->tbusy[i] = st->bs.t[i].mark ? st->bs.t[i].mark == PW__ST_BUSY
+                                        : pw__st_box_tris(st, st->bs.t[i].data, lo, hi, PW__ST_ANY) > 0;
         for (k = 0; k < 4; k++) st->vtoff[st->bs.t[i].v[k] + 2]++;
     }
     if (r == PW_OK) {
@@ -16750,6 +16917,8 @@ PW__DEF int pw__st_glattice(pw__st *st, const pw_stuff_options *o, double fit)
     st->bs.e = st->e;
     st->bs.max_tets = PW_MAX_STUFF_LATTICE;
     if ((r = pw__st_tri_frames(st))) return r;
+    st->memo = (pw__stmemo *)pw_calloc_array(st->a, PW__ST_MEMO, sizeof *st->memo, "sizing memo", st->e);
+    if (!st->memo) return PW_ERR_NOMEM;
     r = pw_bisect_kuhn(&st->bs, n, 1 << SIDE_LOG);
     if (r == PW_OK) r = pw_report(st->prog, 0.1f, "graded lattice", st->e);
     for (round = 0; r == PW_OK && round < 4; round++) { /* the closure's tetrahedra are sized too */
@@ -17090,6 +17259,8 @@ PW__DEF void pw__st_free(pw__st *st)
     pw_free(st->a, st->vtoff);
     pw_free(st->a, st->vtadj);
     pw_free(st->a, st->scratch);
+    pw_free(st->a, st->pool);
+    pw_free(st->a, st->memo);
     pw_free(st->a, st->tnorm);
     pw_free(st->a, st->tbox);
     pw_bisect_free(&st->bs);

@@ -33,6 +33,7 @@ typedef struct pw_bstet {
     int depth; /* bisections from the coarse mesh */
     int kept;  /* pw_bisect_refine was told to keep it */
     int mark;  /* the caller's (need() may set it; 0 in new tetrahedra) */
+    int data;  /* the caller's (need() may set it; -1 in the coarse mesh; both halves inherit it) */
 } pw_bstet;
 
 typedef struct pw_bisect {
@@ -185,6 +186,7 @@ PW__DEF int pw_bisect_kuhn(pw_bisect *b, const int *n, int side)
                     t.tag = 3;
                     t.depth = 0;
                     t.kept = t.mark = 0;
+                    t.data = -1;
                     if ((t.v[0] = pw__bs_vertex(b, x)) < 0) return b->e ? b->e->code : PW_ERR_NOMEM;
                     for (i = 0; i < 3; i++) {
                         x[perm[p][i]] += side;

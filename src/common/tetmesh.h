@@ -282,19 +282,16 @@ PW__DEF void pw_tetrings_free(const pw_alloc *a, pw_tetrings *g)
     memset(g, 0, sizeof *g);
 }
 
-/* Sorts row [lo, hi) of adj in place and removes repeats; returns its new end. */
-PW__DEF int pw__ring_unique(int *adj, int lo, int hi)
+/* Sorts row [lo, hi) of adj in place (insertion: rows are short). */
+PW__DEF void pw__ring_sort(int *adj, int lo, int hi)
 {
-    int i, j, n = lo;
+    int i, j;
     for (i = lo + 1; i < hi; i++)
         for (j = i; j > lo && adj[j - 1] > adj[j]; j--) {
             int tmp = adj[j];
             adj[j] = adj[j - 1];
             adj[j - 1] = tmp;
         }
-    for (i = lo; i < hi; i++)
-        if (i == lo || adj[i] != adj[i - 1]) adj[n++] = adj[i];
-    return n;
 }
 
 PW__DEF int pw_tetmesh_rings(const pw_alloc *a, const pw_tetmesh *m, pw_tetrings *g, pw_err *e)
@@ -321,10 +318,16 @@ PW__DEF int pw_tetmesh_rings(const pw_alloc *a, const pw_tetmesh *m, pw_tetrings
         for (i = 0; i < 4; i++)
             for (j = 0; j < 4; j++)
                 if (i != j) g->adj[fill[m->tet[4 * t + i]]++] = m->tet[4 * t + j];
-    for (v = 0; v < m->nv; v++) { /* compact: each row sorted without repeats */
-        int lo = g->start[v], hi = g->start[v + 1], end = pw__ring_unique(g->adj, lo, hi);
+    for (v = 0; v < m->nv; v++) fill[v] = -1;
+    for (v = 0; v < m->nv; v++) { /* compact: each row without repeats (fill[u] == v: u seen), then sorted */
+        int lo = g->start[v], hi = g->start[v + 1];
         g->start[v] = n;
-        for (i = lo; i < end; i++) g->adj[n++] = g->adj[i];
+        for (i = lo; i < hi; i++)
+            if (fill[g->adj[i]] != v) {
+                fill[g->adj[i]] = v;
+                g->adj[n++] = g->adj[i];
+            }
+        pw__ring_sort(g->adj, g->start[v], n);
     }
     g->start[m->nv] = n;
     pw_free(a, fill);

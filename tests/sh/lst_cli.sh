@@ -123,7 +123,7 @@ fit=$(sed -n 's/.*boundary within \([0-9.]*\)% .*/\1/p' $tmp/dg.log)
 if [ -n "$fit" ] && grep -q ', 1 piece,' $tmp/dg.log && [ ! -s $tmp/dg.err ] &&
     awk -v f="$fit" 'BEGIN { exit !(f < 0.5) }'
 then pass graded_keeps_neck; else fail graded_keeps_neck "$(head -1 $tmp/dg.log) $(head -1 $tmp/dg.err)"; fi
-"$bin" lst --mesh procedural:dumbbell --tet-fit 0.02 --exemplar procedural:spots --exemplar-size 16 \
+"$bin" lst --mesh procedural:dumbbell --tet-count 3000 --tet-fit 0.02 --exemplar procedural:spots --exemplar-size 16 \
     --out-lst $tmp/dl.lst > $tmp/dl.log 2>&1
 n1=$(sed -n 's/^lst: \([0-9]*\) tetrahedra.*/\1/p' $tmp/dg.log)
 n2=$(sed -n 's/^lst: \([0-9]*\) tetrahedra.*/\1/p' $tmp/dl.log)
