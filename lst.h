@@ -18,29 +18,29 @@
  *   6662: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
  *   6747: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
  *   8010: src/common/raster.h, exact scan conversion of 2D triangles.
- *   8484: src/common/render.h, a small deterministic software renderer for textured trian
- *  10392: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
- *  10581: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
- *  11498: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
- *  12196: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
- *  12432: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
- *  13193: src/common/tetmesh.h, the tetrahedral mesh that lapped solid textures work on, a
- *  13677: src/common/tetio.h, tetrahedral mesh files, TetGen .node/.ele and MEDIT .mesh.
- *  14169: src/common/bisect.h, graded, conforming tetrahedral meshes of a box by newest-v
- *  14489: src/common/stuffing.h, the built-in tetrahedralizer of lst.h, so that no external
- *  17622: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
- *  17765: src/common/pca.h, principal component analysis of vectors streamed one at a 
- *  17952: src/common/glue.h, what every method header needs between its public types an
- *  18292: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  18956: src/lst/core.c, lst.h's glue to the shared core, its defaults, the convers
- *  19289: src/lst/exemplar.c, solid exemplars (§5): sampling, the procedural exemplars 
- *  19820: src/lst/field.c, §5.2.2, the fields that orient and scale the pastes. The 
- *  21028: src/lst/paste.c, §5.2.3-5.2.7, filling the model. Each paste picks a rando
- *  22009: src/lst/render.c, §5.1, showing a model. Every point of a tetrahedron is th
- *  22906: src/lst/cut.c, §5.1.1, cutting a model along the zero set of a scalar fi
- *  23511: src/lst/builtin.c, the tetrahedralizer entry point, checks of caller meshes, 
- *  24033: src/lst/io.c, the model file, the constraint files and the file convenie
- *  24726: src/lst/export.c, the visible boundary with a baked texture atlas, for glTF.
+ *   8522: src/common/render.h, a small deterministic software renderer for textured trian
+ *  10474: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
+ *  10663: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
+ *  11580: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
+ *  12278: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
+ *  12514: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
+ *  13275: src/common/tetmesh.h, the tetrahedral mesh that lapped solid textures work on, a
+ *  13759: src/common/tetio.h, tetrahedral mesh files, TetGen .node/.ele and MEDIT .mesh.
+ *  14251: src/common/bisect.h, graded, conforming tetrahedral meshes of a box by newest-v
+ *  14571: src/common/stuffing.h, the built-in tetrahedralizer of lst.h, so that no external
+ *  17704: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
+ *  17847: src/common/pca.h, principal component analysis of vectors streamed one at a 
+ *  18034: src/common/glue.h, what every method header needs between its public types an
+ *  18374: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  19038: src/lst/core.c, lst.h's glue to the shared core, its defaults, the convers
+ *  19371: src/lst/exemplar.c, solid exemplars (§5): sampling, the procedural exemplars 
+ *  19902: src/lst/field.c, §5.2.2, the fields that orient and scale the pastes. The 
+ *  21110: src/lst/paste.c, §5.2.3-5.2.7, filling the model. Each paste picks a rando
+ *  22091: src/lst/render.c, §5.1, showing a model. Every point of a tetrahedron is th
+ *  22988: src/lst/cut.c, §5.1.1, cutting a model along the zero set of a scalar fi
+ *  23593: src/lst/builtin.c, the tetrahedralizer entry point, checks of caller meshes, 
+ *  24115: src/lst/io.c, the model file, the constraint files and the file convenie
+ *  24808: src/lst/export.c, the visible boundary with a baked texture atlas, for glTF.
  */
 /* lst.h - lapped solid textures: solid exemplars pasted inside a model.
  *
@@ -8238,11 +8238,10 @@ PW__DEF int pw_raster_next(pw_raster_edges *s, int *xa, int *xb)
     return 1;
 }
 
-/* Sets up the edge functions of a triangle whose coordinates all lie within
- * +-g->range (pw_raster_polygon handles the others; a triangle outside is
- * refused here). Returns 1 if some pixel of the viewport may be covered, 0
- * if none can be (zero area, off screen, out of range). */
-PW__DEF int pw_raster_setup(pw_raster_edges *s, const pw_raster_grid *g, const double xy[6])
+/* pw_raster_setup without the row walker (nw = -1): for triangles a few
+ * pixels wide, whose runs pw__raster_row finds by testing the candidate
+ * pixels of the row, cheaper than the walker's divisions. */
+PW__DEF int pw__raster_setup_edges(pw_raster_edges *s, const pw_raster_grid *g, const double xy[6])
 {
     int64_t X[3], Y[3], one = (int64_t)1 << g->bits, half = one >> 1, px, py;
     int k, xlo, xhi, ylo, yhi;
@@ -8278,8 +8277,47 @@ PW__DEF int pw_raster_setup(pw_raster_edges *s, const pw_raster_grid *g, const d
         s->ex[k] = A * one;
         s->ey[k] = B * one;
     }
-    if (!pw__raster_trim_rows(s)) return 0;
+    s->nl = 0;
+    s->nw = -1;
+    return pw__raster_trim_rows(s);
+}
+
+/* Sets up the edge functions of a triangle whose coordinates all lie within
+ * +-g->range (pw_raster_polygon handles the others; a triangle outside is
+ * refused here). Returns 1 if some pixel of the viewport may be covered, 0
+ * if none can be (zero area, off screen, out of range). */
+PW__DEF int pw_raster_setup(pw_raster_edges *s, const pw_raster_grid *g, const double xy[6])
+{
+    if (!pw__raster_setup_edges(s, g, xy)) return 0;
     pw__raster_walk_init(s);
+    return 1;
+}
+
+/* The covered run [*xa, *xb) of row y, for rows taken in order from y0 (as
+ * pw_raster_next): from the walker, or without one (nw < 0) by testing the
+ * edges at the row's candidate pixels (a convex run: the first covered
+ * pixel, then up to the first one not covered). Returns xb > xa. */
+PW__DEF int pw__raster_row(pw_raster_edges *s, int y, int *xa, int *xb)
+{
+    int64_t e0, e1, e2;
+    int d = 0, lo, n = s->x1 - s->x0;
+    if (s->nw >= 0) return pw_raster_next(s, xa, xb);
+    e0 = s->e[0] + s->ey[0] * (y - s->y0);
+    e1 = s->e[1] + s->ey[1] * (y - s->y0);
+    e2 = s->e[2] + s->ey[2] * (y - s->y0);
+    for (; d < n && (e0 | e1 | e2) < 0; d++) {
+        e0 += s->ex[0];
+        e1 += s->ex[1];
+        e2 += s->ex[2];
+    }
+    for (lo = d; d < n && (e0 | e1 | e2) >= 0; d++) {
+        e0 += s->ex[0];
+        e1 += s->ex[1];
+        e2 += s->ex[2];
+    }
+    if (lo >= d) return 0;
+    *xa = s->x0 + lo;
+    *xb = s->x0 + d;
     return 1;
 }
 
@@ -8489,7 +8527,8 @@ PW__DEF void pw_raster_tri_spans(const float xy[6], int w, int h, pw_raster_span
  *                near and far distances); pw_camera_frame fits a mesh in view.
  *   pw_texture   an image as premultiplied 16-bit RGBA with a box-filtered mip
  *                chain (any size, optionally capped), sampled nearest,
- *                bilinear or trilinear, wrapping or clamping.
+ *                bilinear or trilinear, wrapping or clamping; the renderer
+ *                filters an 8-bit copy unless the source has 16 bits.
  *   pw_fb        framebuffer: w x h pixels of ss x ss samples, float RGBA and
  *                float depth per sample; pw_fb_resolve box-filters it into a
  *                pw_image.
@@ -8524,7 +8563,12 @@ PW__DEF void pw_raster_tri_spans(const float xy[6], int w, int h, pw_raster_span
  *   and that pass the depth test are blended with one shaded colour.
  * Shading happens at the pixel centre when the triangle covers all samples of
  * the pixel, otherwise at the first covered sample; the mip level comes from
- * the pixel footprint.
+ * the pixel footprint. Pixels are shaded in batches of 64, each step of the
+ * shading (perspective divide, mip level, lighting, texels and filter) over
+ * the whole batch before the next, so that the processor overlaps pixels
+ * (each pixel's colour is computed as if alone). Triangles a few samples
+ * wide find their runs by testing the edges at each candidate sample
+ * rather than with the rasterizer's row walker (the same samples).
  *
  * Draws that only test depth (no_depth_write, as the passes of lapped
  * textures) first check each triangle against a coarse depth (the farthest
@@ -8538,10 +8582,11 @@ PW__DEF void pw_raster_tri_spans(const float xy[6], int w, int h, pw_raster_span
  * under way to a quarter of the frame (24 bytes per pixel of the frame at
  * ss = 2, plus 12 for an RGB picture). Draws add scratch kept in the
  * framebuffer for the next draw: 40 bytes per vertex (+12 with computed
- * normals), 84 bytes per triangle, and for blended draws 8 bytes per pixel
+ * normals), 80 bytes per triangle, and for blended draws 8 bytes per pixel
  * column plus 4 ss bytes per sample column and 4 bytes per 64 samples. A
- * texture holds 8 bytes per texel (16-bit premultiplied RGBA), times about
- * 4/3 for the mip chain.
+ * texture holds 12 bytes per texel (16-bit premultiplied RGBA and its 8-bit
+ * copy; 8 for 16-bit sources, which have no copy), times about 4/3 for the
+ * mip chain.
  *
  * Determinism: fixed orders within a band, bands that share nothing but the
  * read-only inputs (every band sees every draw, and the sample grid, the
@@ -9085,8 +9130,8 @@ PW__DEF void pw__tex_taps(const pw_texture *t, int L, float u, float v, int wrap
  * level lod (clamped to the chain), weighed to sum to scale: four in level
  * *L, four in level *L + 1 (the first four again, weighed 0, when one level
  * suffices). */
-PW__DEF void pw__tex_taps8(const pw_texture *t, float u, float v, float lod, int wrap, float scale, int *L, ptrdiff_t *p,
-                           float *w)
+PW__DEF void pw__tex_taps8(const pw_texture *t, float u, float v, float lod, int wrap, float scale, int *L,
+                           ptrdiff_t *p, float *w)
 {
     int k;
     *L = 0;
@@ -9325,7 +9370,8 @@ PW__DEF void pw_fb_resolve_band(const pw_fb *fb, pw_image *out)
         float *o = out->px + (size_t)row0 * fb->w * 3;
         size_t i, n = (size_t)fb->w * fb->bh;
         for (i = 0; i < n; i++)
-            for (k = 0; k < 3; k++) o[3 * i + k] = src[4 * i + k] > 0.0f ? (src[4 * i + k] < 1.0f ? src[4 * i + k] : 1.0f) : 0.0f;
+            for (k = 0; k < 3; k++)
+                o[3 * i + k] = src[4 * i + k] > 0.0f ? (src[4 * i + k] < 1.0f ? src[4 * i + k] : 1.0f) : 0.0f;
         return;
     }
     for (y = 0; y < fb->bh / fb->ss; y++) {
@@ -9416,8 +9462,9 @@ typedef struct pw_draw {
                                lapped textures after their base pass) */
 } pw_draw;
 
-#define PW__ZT 8   /* coarse depth tile, in samples */
-#define PW__NPL 20 /* floats per triangle: planes q(3) U(3) V(3) N(9), origin(2) */
+#define PW__ZT 8      /* coarse depth tile, in samples */
+#define PW__NARROW 16 /* triangles at most this many samples wide skip the row walker */
+#define PW__NPL 20    /* floats per triangle: planes q(3) U(3) V(3) N(9), origin(2) */
 #define PW__OX 18
 #define PW__OY 19
 
@@ -9428,10 +9475,10 @@ typedef struct pw_draw {
 #define PW__BATCH 64
 typedef struct pw__batch {
     int n;
-    int t[PW__BATCH];        /* triangle */
-    float x[PW__BATCH];      /* shading point on the sample grid */
+    int t[PW__BATCH];   /* triangle */
+    float x[PW__BATCH]; /* shading point on the sample grid */
     float y[PW__BATCH];
-    int px[PW__BATCH];       /* pixel */
+    int px[PW__BATCH]; /* pixel */
     int py[PW__BATCH];
     uint64_t mask[PW__BATCH]; /* blended draws: the samples to blend */
     float col[4 * PW__BATCH]; /* shaded colour, premultiplied */
@@ -9453,7 +9500,7 @@ typedef struct pw__ctx {
     int filter, wrap, blend, lit, cull, dwrite, cwrite;
     float tint[4], light[3], ambient, dfac, qfar, ss;
     int bx0, by0, bx1, by1; /* sample box touched by an opaque draw */
-    pw__batch batch;        /* pixels waiting to be shaded */
+    pw__batch *batch;       /* pixels waiting to be shaded */
 } pw__ctx;
 
 /* Checks the draw description; names the first problem found. */
@@ -9514,6 +9561,32 @@ PW__DEF void pw__transform(const pw__view *v, const pw_draw *d, double *vh)
         for (i = 0; i < 3 * d->ntris; i++) pw__transform_vertex(v, d->positions + 3 * d->tris[i], vh + 5 * d->tris[i]);
     else
         for (i = 0; i < d->nv; i++) pw__transform_vertex(v, d->positions + 3 * i, vh + 5 * i);
+}
+
+/* The range [*lo, *hi] of screen rows (in samples) that the corners of d's
+ * triangles project to under view v, exactly as pw_render_draw projects
+ * them; returns 0 (the draw may reach any row) if some corner is not at
+ * least znear in front or not finite. A band [y0, y0 + bh] that the range
+ * misses (*hi < y0 or *lo > y0 + bh) gets nothing from the draw: each of its
+ * triangles lies above or below the band (pw__offscreen), so a frame drawn
+ * in bands may skip the draw there. */
+PW__DEF int pw__draw_rows(const pw__view *v, const pw_draw *d, double *lo, double *hi)
+{
+    int i;
+    *lo = -DBL_MAX;
+    *hi = DBL_MAX;
+    for (i = 0; i < 3 * d->ntris; i++) {
+        double o[5];
+        pw__transform_vertex(v, d->positions + 3 * (size_t)d->tris[i], o);
+        if (!(o[2] >= v->znear)) {
+            *lo = -DBL_MAX;
+            *hi = DBL_MAX;
+            return 0;
+        }
+        if (i == 0 || o[4] < *lo) *lo = o[4];
+        if (i == 0 || o[4] > *hi) *hi = o[4];
+    }
+    return 1;
 }
 
 /* Unnormalised normal of triangle t (its area-weighted direction). */
@@ -9684,7 +9757,7 @@ PW__DEF void pw__raster_vis(pw__ctx *c, pw_raster_edges *s, uint32_t id, const f
         const float qrow = pl[1] * ((float)y + 0.5f - oy) + pl[2];
         float *dp = fb->depth + (size_t)(y - fb->y0) * fb->sw, fx;
         uint32_t *vp = fb->vis + (size_t)(y - fb->y0) * fb->sw;
-        if (!pw_raster_next(s, &xa, &xb)) continue;
+        if (!pw__raster_row(s, y, &xa, &xb)) continue;
         fx = (float)xa + 0.5f - ox;
         for (x = xa; x < xb; x++, fx += 1.0f) {
             const float q = qx * fx + qrow;
@@ -9821,7 +9894,7 @@ PW__DEF void pw__shade1(const pw__ctx *c, int t, float x, float y, float *out)
  * flushes every pixel row). */
 PW__DEF void pw__batch_flush(pw__ctx *c)
 {
-    pw__batch *b = &c->batch;
+    pw__batch *b = c->batch;
     pw_fb *fb = c->fb;
     const int ss = fb->ss, n = ss * ss;
     int i, k;
@@ -9852,7 +9925,7 @@ PW__DEF void pw__batch_flush(pw__ctx *c)
  * with the samples mask (blended draws); flushes a full batch. */
 PW__DEF void pw__batch_push(pw__ctx *c, int t, int px, int py, float x, float y, uint64_t mask)
 {
-    pw__batch *b = &c->batch;
+    pw__batch *b = c->batch;
     b->t[b->n] = t;
     b->px[b->n] = px;
     b->py[b->n] = py;
@@ -9896,7 +9969,8 @@ PW__DEF void pw__shade_vis(pw__ctx *c)
                 for (m = 0; m < k && ids[m] != ids[k]; m++) {
                 }
                 if (m < k) memcpy(dst, fb->color + (base + off[m]) * 4, 4 * sizeof(float));
-                else pw__shade1(c, (int)ids[k], (float)(px * ss + k % ss) + 0.5f, (float)(py * ss + k / ss) + 0.5f, dst);
+                else
+                    pw__shade1(c, (int)ids[k], (float)(px * ss + k % ss) + 0.5f, (float)(py * ss + k / ss) + 0.5f, dst);
             }
         }
     }
@@ -9942,7 +10016,7 @@ PW__DEF void pw__raster_over(pw__ctx *c, pw_raster_edges *s, int t, const float 
             const float *dp = fb->depth + (size_t)(y - fb->y0) * fb->sw;
             float *qr = c->qbuf + (size_t)j * fb->sw, fx;
             int i;
-            if (y < s->y0 || y >= s->y1 || !pw_raster_next(s, &xa, &xb)) continue;
+            if (y < s->y0 || y >= s->y1 || !pw__raster_row(s, y, &xa, &xb)) continue;
             fx = (float)xa + 0.5f - ox;
             px = xa / ss;
             i = xa - px * ss;
@@ -10052,7 +10126,12 @@ PW__DEF void pw__draw_tri(pw__ctx *c, int t)
     }
     if (!pw__tri_planes(c, t, poly, n, pl, r, &det)) return;
     /* the usual case (in front, within the raster range) needs no clipping */
-    np = inside ? pw_raster_setup(pieces, &c->grid, poly) : pw_raster_polygon(&c->grid, poly, n, pieces);
+    if (inside) { /* narrow triangles find their runs without the row walker */
+        np = pw__raster_setup_edges(pieces, &c->grid, poly);
+        if (np && pieces[0].x1 - pieces[0].x0 > PW__NARROW) pw__raster_walk_init(pieces);
+    } else {
+        np = pw_raster_polygon(&c->grid, poly, n, pieces);
+    }
     if (np && c->cwrite) pw__attr_planes(c, t, pl, r, det);
     for (k = 0; k < np; k++) {
         if (c->blend == PW_BLEND_OVER && c->cwrite) pw__raster_over(c, pieces + k, t, pl);
@@ -10131,9 +10210,12 @@ PW__DEF void pw__ctx_init(pw__ctx *c, pw_fb *fb, const pw_draw *d)
 PW__DEF int pw_render_draw(pw_fb *fb, const pw_camera *cam, const pw_draw *d, pw_err *e)
 {
     pw__ctx c;
+    pw__batch batch;
     int r, t, need_normals;
     PW_ASSERT(fb && fb->color && cam && d);
     memset(&c, 0, sizeof c);
+    batch.n = 0;
+    c.batch = &batch;
     if ((r = pw__draw_check(d, e)) != PW_OK) return r;
     if ((r = pw__view_init(&c.view, cam, fb->sw, fb->sh, e)) != PW_OK) return r;
     pw_raster_grid_init(&c.grid, fb->sw, fb->sh);

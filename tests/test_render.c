@@ -435,7 +435,8 @@ static int ref_covered(const double *v, int bits, int x, int y)
 
 /* Spans are exact: for ordinary, thin, huge and axis-aligned triangles,
  * one row at a time (pw_raster_span), walking down the rows
- * (pw_raster_next), per pixel (pw_raster_tri) and as runs
+ * (pw_raster_next), without the walker (pw__raster_row, the renderer's
+ * path for narrow triangles), per pixel (pw_raster_tri) and as runs
  * (pw_raster_tri_spans) all match the reference at every pixel. */
 static void t_raster_spans(void)
 {
@@ -467,6 +468,14 @@ static void t_raster_spans(void)
                 int walk = pw_raster_next(&s, &wa, &wb);
                 if (walk != has || (has && (wa != xa || wb != xb))) bad++;
                 for (x = xa; has && x < xb; x++) cover[y * CW + x]++;
+            }
+        if (memcmp(ref, cover, sizeof ref)) bad++;
+        memset(cover, 0, sizeof cover); /* the runs found without the walker (narrow triangles) */
+        if (pw__raster_setup_edges(&s, &g, dv))
+            for (y = s.y0; y < s.y1; y++) {
+                int xa = 0, xb = 0;
+                if (pw__raster_row(&s, y, &xa, &xb))
+                    for (x = xa; x < xb; x++) cover[y * CW + x]++;
             }
         if (memcmp(ref, cover, sizeof ref)) bad++;
         memset(cover, 0, sizeof cover);
