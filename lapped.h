@@ -17,24 +17,24 @@
  *   6235: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
  *   7498: src/common/raster.h, exact scan conversion of 2D triangles.
  *   8010: src/common/render.h, a small deterministic software renderer for textured trian
- *   9962: src/lapped/polyhull.h, the polygonal hull of a texture patch (Praun, Finkelstein 
- *  10793: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
- *  10980: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
- *  11065: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
- *  11254: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
- *  12171: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
- *  12869: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
- *  13105: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
- *  13869: src/common/glue.h, what every method header needs between its public types an
- *  14209: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  14873: src/lapped/core.c, lapped.h's glue to the shared core, its defaults, and the 
- *  15038: src/lapped/field.c, §3.2 the tangent field, one frame (S, T) per triangle, an
- *  15493: src/lapped/patch.c, §3.1 texture patches. A patch is the texture as RGBA whos
- *  15807: src/lapped/builtin.c, built-in meshes (made by the shared shapes module) and tex
- *  16001: src/lapped/grow.c, pasting (§3.3-3.6): grow a surface patch around an uncove
- *  17485: src/lapped/render.c, runtime pasting (§4): the mesh drawn once per paste, in p
- *  17726: src/lapped/atlas.c, §4 "Rendering with a texture atlas".
- *  17969: src/lapped/io.c, the paste file format and the file conveniences of lapped.
+ *   9964: src/lapped/polyhull.h, the polygonal hull of a texture patch (Praun, Finkelstein 
+ *  10795: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
+ *  10982: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
+ *  11067: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
+ *  11256: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
+ *  12173: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
+ *  12871: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
+ *  13107: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
+ *  13871: src/common/glue.h, what every method header needs between its public types an
+ *  14211: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  14875: src/lapped/core.c, lapped.h's glue to the shared core, its defaults, and the 
+ *  15040: src/lapped/field.c, §3.2 the tangent field, one frame (S, T) per triangle, an
+ *  15495: src/lapped/patch.c, §3.1 texture patches. A patch is the texture as RGBA whos
+ *  15809: src/lapped/builtin.c, built-in meshes (made by the shared shapes module) and tex
+ *  16003: src/lapped/grow.c, pasting (§3.3-3.6): grow a surface patch around an uncove
+ *  17487: src/lapped/render.c, runtime pasting (§4): the mesh drawn once per paste, in p
+ *  17728: src/lapped/atlas.c, §4 "Rendering with a texture atlas".
+ *  17971: src/lapped/io.c, the paste file format and the file conveniences of lapped.
  */
 /* lapped.h - lapped textures: overlapping texture patches pasted over a mesh.
  *
@@ -9384,26 +9384,28 @@ PW__DEF void pw__batch_flush(pw__ctx *c)
 {
     pw__batch *b = c->batch;
     pw_fb *fb = c->fb;
-    const int ss = fb->ss, n = ss * ss;
-    int i, k;
+    const int ss = fb->ss, over = c->blend == PW_BLEND_OVER;
+    int i, j, k;
     if (!b->n) return;
     pw__shade_batch(c, b);
     for (i = 0; i < b->n; i++) {
         const float *col = b->col + 4 * i, keep = 1.0f - col[3];
         const uint64_t mask = b->mask[i];
-        for (k = 0; k < n; k++) {
-            size_t at = (size_t)(b->py[i] * ss + k / ss - fb->y0) * fb->sw + (size_t)b->px[i] * ss + k % ss;
-            float *d = fb->color + at * 4;
-            if (c->blend != PW_BLEND_OVER) {
-                memcpy(d, col, 4 * sizeof(float));
-                continue;
+        for (j = 0; j < ss; j++) { /* sample row j, sample k of it: bit j ss + k */
+            const size_t row = (size_t)(b->py[i] * ss + j - fb->y0) * fb->sw + (size_t)b->px[i] * ss;
+            for (k = 0; k < ss; k++) {
+                float *d = fb->color + (row + k) * 4;
+                if (!over) {
+                    memcpy(d, col, 4 * sizeof(float));
+                    continue;
+                }
+                if (!(mask >> (j * ss + k) & 1)) continue;
+                d[0] = col[0] + keep * d[0];
+                d[1] = col[1] + keep * d[1];
+                d[2] = col[2] + keep * d[2];
+                d[3] = col[3] + keep * d[3];
+                if (c->dwrite) fb->depth[row + k] = c->qbuf[(size_t)j * fb->sw + (size_t)b->px[i] * ss + k];
             }
-            if (!(mask >> k & 1)) continue;
-            d[0] = col[0] + keep * d[0];
-            d[1] = col[1] + keep * d[1];
-            d[2] = col[2] + keep * d[2];
-            d[3] = col[3] + keep * d[3];
-            if (c->dwrite) fb->depth[at] = c->qbuf[(size_t)(k / ss) * fb->sw + (size_t)b->px[i] * ss + k % ss];
         }
     }
     b->n = 0;

@@ -19,28 +19,28 @@
  *   6747: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
  *   8010: src/common/raster.h, exact scan conversion of 2D triangles.
  *   8522: src/common/render.h, a small deterministic software renderer for textured trian
- *  10474: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
- *  10663: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
- *  11580: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
- *  12278: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
- *  12514: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
- *  13275: src/common/tetmesh.h, the tetrahedral mesh that lapped solid textures work on, a
- *  13759: src/common/tetio.h, tetrahedral mesh files, TetGen .node/.ele and MEDIT .mesh.
- *  14251: src/common/bisect.h, graded, conforming tetrahedral meshes of a box by newest-v
- *  14571: src/common/stuffing.h, the built-in tetrahedralizer of lst.h, so that no external
- *  17704: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
- *  17847: src/common/pca.h, principal component analysis of vectors streamed one at a 
- *  18034: src/common/glue.h, what every method header needs between its public types an
- *  18374: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  19038: src/lst/core.c, lst.h's glue to the shared core, its defaults, the convers
- *  19371: src/lst/exemplar.c, solid exemplars (§5): sampling, the procedural exemplars 
- *  19902: src/lst/field.c, §5.2.2, the fields that orient and scale the pastes. The 
- *  21110: src/lst/paste.c, §5.2.3-5.2.7, filling the model. Each paste picks a rando
- *  22091: src/lst/render.c, §5.1, showing a model. Every point of a tetrahedron is th
- *  22988: src/lst/cut.c, §5.1.1, cutting a model along the zero set of a scalar fi
- *  23593: src/lst/builtin.c, the tetrahedralizer entry point, checks of caller meshes, 
- *  24115: src/lst/io.c, the model file, the constraint files and the file convenie
- *  24808: src/lst/export.c, the visible boundary with a baked texture atlas, for glTF.
+ *  10476: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
+ *  10665: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
+ *  11582: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
+ *  12280: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
+ *  12516: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
+ *  13277: src/common/tetmesh.h, the tetrahedral mesh that lapped solid textures work on, a
+ *  13761: src/common/tetio.h, tetrahedral mesh files, TetGen .node/.ele and MEDIT .mesh.
+ *  14253: src/common/bisect.h, graded, conforming tetrahedral meshes of a box by newest-v
+ *  14573: src/common/stuffing.h, the built-in tetrahedralizer of lst.h, so that no external
+ *  17706: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
+ *  17849: src/common/pca.h, principal component analysis of vectors streamed one at a 
+ *  18036: src/common/glue.h, what every method header needs between its public types an
+ *  18376: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  19040: src/lst/core.c, lst.h's glue to the shared core, its defaults, the convers
+ *  19373: src/lst/exemplar.c, solid exemplars (§5): sampling, the procedural exemplars 
+ *  19904: src/lst/field.c, §5.2.2, the fields that orient and scale the pastes. The 
+ *  21112: src/lst/paste.c, §5.2.3-5.2.7, filling the model. Each paste picks a rando
+ *  22093: src/lst/render.c, §5.1, showing a model. Every point of a tetrahedron is th
+ *  22990: src/lst/cut.c, §5.1.1, cutting a model along the zero set of a scalar fi
+ *  23595: src/lst/builtin.c, the tetrahedralizer entry point, checks of caller meshes, 
+ *  24117: src/lst/io.c, the model file, the constraint files and the file convenie
+ *  24810: src/lst/export.c, the visible boundary with a baked texture atlas, for glTF.
  */
 /* lst.h - lapped solid textures: solid exemplars pasted inside a model.
  *
@@ -9896,26 +9896,28 @@ PW__DEF void pw__batch_flush(pw__ctx *c)
 {
     pw__batch *b = c->batch;
     pw_fb *fb = c->fb;
-    const int ss = fb->ss, n = ss * ss;
-    int i, k;
+    const int ss = fb->ss, over = c->blend == PW_BLEND_OVER;
+    int i, j, k;
     if (!b->n) return;
     pw__shade_batch(c, b);
     for (i = 0; i < b->n; i++) {
         const float *col = b->col + 4 * i, keep = 1.0f - col[3];
         const uint64_t mask = b->mask[i];
-        for (k = 0; k < n; k++) {
-            size_t at = (size_t)(b->py[i] * ss + k / ss - fb->y0) * fb->sw + (size_t)b->px[i] * ss + k % ss;
-            float *d = fb->color + at * 4;
-            if (c->blend != PW_BLEND_OVER) {
-                memcpy(d, col, 4 * sizeof(float));
-                continue;
+        for (j = 0; j < ss; j++) { /* sample row j, sample k of it: bit j ss + k */
+            const size_t row = (size_t)(b->py[i] * ss + j - fb->y0) * fb->sw + (size_t)b->px[i] * ss;
+            for (k = 0; k < ss; k++) {
+                float *d = fb->color + (row + k) * 4;
+                if (!over) {
+                    memcpy(d, col, 4 * sizeof(float));
+                    continue;
+                }
+                if (!(mask >> (j * ss + k) & 1)) continue;
+                d[0] = col[0] + keep * d[0];
+                d[1] = col[1] + keep * d[1];
+                d[2] = col[2] + keep * d[2];
+                d[3] = col[3] + keep * d[3];
+                if (c->dwrite) fb->depth[row + k] = c->qbuf[(size_t)j * fb->sw + (size_t)b->px[i] * ss + k];
             }
-            if (!(mask >> k & 1)) continue;
-            d[0] = col[0] + keep * d[0];
-            d[1] = col[1] + keep * d[1];
-            d[2] = col[2] + keep * d[2];
-            d[3] = col[3] + keep * d[3];
-            if (c->dwrite) fb->depth[at] = c->qbuf[(size_t)(k / ss) * fb->sw + (size_t)b->px[i] * ss + k % ss];
         }
     }
     b->n = 0;

@@ -18,32 +18,32 @@
  *   7681: src/common/zsparse.h, complex Hermitian sparse systems, solved by conjugate grad
  *   7941: src/common/raster.h, exact scan conversion of 2D triangles.
  *   8453: src/common/render.h, a small deterministic software renderer for textured trian
- *  10405: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
- *  10592: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
- *  10677: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
- *  10866: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
- *  11783: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
- *  12481: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
- *  12717: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
- *  13481: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
- *  14242: src/pgp/tile3.h, sampling a material-space tile (Ray et al. 2009, §2: "a 3
- *  14350: src/common/glue.h, what every method header needs between its public types an
- *  14690: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  15354: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
- *  15851: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
- *  16337: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
- *  16480: src/common/kdtree.h, nearest-neighbour search among n points of dimension d, wi
- *  16823: src/common/pca.h, principal component analysis of vectors streamed one at a 
- *  17010: src/pgp/core.c, pgp.h's glue to the shared core, its defaults, and the map
- *  17267: src/pgp/field.c, §2.1 effect areas and §2.2 interpolation of the constrai
- *  17657: src/pgp/solve.c, §2.3 the periodic global parameterization, the recovery o
- *  18487: src/pgp/edit.c, the public editing calls of a mapping. §2.1 (Ray, Lévy, 
- *  18632: src/pgp/render.c, §3 rendering, and a cleaner treatment of the vortices.
- *  19064: src/pgp/builtin.c, built-in meshes and material-space tiles for demos and tes
- *  19333: src/pgp/io.c, files and memory for pgp.h: material-space tiles (NRRD, or
- *  19681: src/pgp/export.c, the mapping for other programs. A viewer that knows nothin
- *  19907: src/pgp/morph.c, the inputs of §1 (keys brought to the tile size, made til
- *  20586: src/pgp/synth.c, §1.2 constrained tile synthesis, and the whole of §1: ke
+ *  10407: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
+ *  10594: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
+ *  10679: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
+ *  10868: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
+ *  11785: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
+ *  12483: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
+ *  12719: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
+ *  13483: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
+ *  14244: src/pgp/tile3.h, sampling a material-space tile (Ray et al. 2009, §2: "a 3
+ *  14352: src/common/glue.h, what every method header needs between its public types an
+ *  14692: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  15356: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
+ *  15853: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
+ *  16339: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
+ *  16482: src/common/kdtree.h, nearest-neighbour search among n points of dimension d, wi
+ *  16825: src/common/pca.h, principal component analysis of vectors streamed one at a 
+ *  17012: src/pgp/core.c, pgp.h's glue to the shared core, its defaults, and the map
+ *  17269: src/pgp/field.c, §2.1 effect areas and §2.2 interpolation of the constrai
+ *  17659: src/pgp/solve.c, §2.3 the periodic global parameterization, the recovery o
+ *  18489: src/pgp/edit.c, the public editing calls of a mapping. §2.1 (Ray, Lévy, 
+ *  18634: src/pgp/render.c, §3 rendering, and a cleaner treatment of the vortices.
+ *  19066: src/pgp/builtin.c, built-in meshes and material-space tiles for demos and tes
+ *  19335: src/pgp/io.c, files and memory for pgp.h: material-space tiles (NRRD, or
+ *  19683: src/pgp/export.c, the mapping for other programs. A viewer that knows nothin
+ *  19909: src/pgp/morph.c, the inputs of §1 (keys brought to the tile size, made til
+ *  20588: src/pgp/synth.c, §1.2 constrained tile synthesis, and the whole of §1: ke
  */
 /* pgp.h - material-space texturing with a periodic global parameterization.
  *
@@ -9827,26 +9827,28 @@ PW__DEF void pw__batch_flush(pw__ctx *c)
 {
     pw__batch *b = c->batch;
     pw_fb *fb = c->fb;
-    const int ss = fb->ss, n = ss * ss;
-    int i, k;
+    const int ss = fb->ss, over = c->blend == PW_BLEND_OVER;
+    int i, j, k;
     if (!b->n) return;
     pw__shade_batch(c, b);
     for (i = 0; i < b->n; i++) {
         const float *col = b->col + 4 * i, keep = 1.0f - col[3];
         const uint64_t mask = b->mask[i];
-        for (k = 0; k < n; k++) {
-            size_t at = (size_t)(b->py[i] * ss + k / ss - fb->y0) * fb->sw + (size_t)b->px[i] * ss + k % ss;
-            float *d = fb->color + at * 4;
-            if (c->blend != PW_BLEND_OVER) {
-                memcpy(d, col, 4 * sizeof(float));
-                continue;
+        for (j = 0; j < ss; j++) { /* sample row j, sample k of it: bit j ss + k */
+            const size_t row = (size_t)(b->py[i] * ss + j - fb->y0) * fb->sw + (size_t)b->px[i] * ss;
+            for (k = 0; k < ss; k++) {
+                float *d = fb->color + (row + k) * 4;
+                if (!over) {
+                    memcpy(d, col, 4 * sizeof(float));
+                    continue;
+                }
+                if (!(mask >> (j * ss + k) & 1)) continue;
+                d[0] = col[0] + keep * d[0];
+                d[1] = col[1] + keep * d[1];
+                d[2] = col[2] + keep * d[2];
+                d[3] = col[3] + keep * d[3];
+                if (c->dwrite) fb->depth[row + k] = c->qbuf[(size_t)j * fb->sw + (size_t)b->px[i] * ss + k];
             }
-            if (!(mask >> k & 1)) continue;
-            d[0] = col[0] + keep * d[0];
-            d[1] = col[1] + keep * d[1];
-            d[2] = col[2] + keep * d[2];
-            d[3] = col[3] + keep * d[3];
-            if (c->dwrite) fb->depth[at] = c->qbuf[(size_t)(k / ss) * fb->sw + (size_t)b->px[i] * ss + k % ss];
         }
     }
     b->n = 0;

@@ -17,18 +17,18 @@
  *   6196: src/common/subdiv.h, Catmull-Clark subdivision (Catmull and Clark 1978) with
  *   6335: src/common/raster.h, exact scan conversion of 2D triangles.
  *   6849: src/common/render.h, a small deterministic software renderer for textured trian
- *   8801: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
- *   9298: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
- *   9784: src/common/glue.h, what every method header needs between its public types an
- *  10124: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  10788: src/tiled/core.c, tiled.h's glue to the shared core, its defaults, result
- *  10877: src/tiled/layout.c, ch. III.1, the boundary types and the tiled texture they
- *  11149: src/tiled/map.c, ch. III.2, the texture mapping algorithm of Fig. 29
- *  11398: src/tiled/synth.c, ch. III.1.3, tiled texture image synthesis: an edge-matche
- *  11780: src/tiled/validate.c, checks a hand-made tiled texture (the thesis's Figs. 39,
- *  11908: src/tiled/builtin.c, built-in meshes and exemplars for demos and tests: the
- *  12105: src/tiled/render.c, a software rendering of a mapped mesh (the thesis rendered
- *  12328: src/tiled/io.c, files. Meshes and exemplars in; the mapped mesh with its t
+ *   8803: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
+ *   9300: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
+ *   9786: src/common/glue.h, what every method header needs between its public types an
+ *  10126: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  10790: src/tiled/core.c, tiled.h's glue to the shared core, its defaults, result
+ *  10879: src/tiled/layout.c, ch. III.1, the boundary types and the tiled texture they
+ *  11151: src/tiled/map.c, ch. III.2, the texture mapping algorithm of Fig. 29
+ *  11400: src/tiled/synth.c, ch. III.1.3, tiled texture image synthesis: an edge-matche
+ *  11782: src/tiled/validate.c, checks a hand-made tiled texture (the thesis's Figs. 39,
+ *  11910: src/tiled/builtin.c, built-in meshes and exemplars for demos and tests: the
+ *  12107: src/tiled/render.c, a software rendering of a mapped mesh (the thesis rendered
+ *  12330: src/tiled/io.c, files. Meshes and exemplars in; the mapped mesh with its t
  */
 /* tiled.h - seamless, singularity-free tiled textures on quad meshes.
  *
@@ -8223,26 +8223,28 @@ PW__DEF void pw__batch_flush(pw__ctx *c)
 {
     pw__batch *b = c->batch;
     pw_fb *fb = c->fb;
-    const int ss = fb->ss, n = ss * ss;
-    int i, k;
+    const int ss = fb->ss, over = c->blend == PW_BLEND_OVER;
+    int i, j, k;
     if (!b->n) return;
     pw__shade_batch(c, b);
     for (i = 0; i < b->n; i++) {
         const float *col = b->col + 4 * i, keep = 1.0f - col[3];
         const uint64_t mask = b->mask[i];
-        for (k = 0; k < n; k++) {
-            size_t at = (size_t)(b->py[i] * ss + k / ss - fb->y0) * fb->sw + (size_t)b->px[i] * ss + k % ss;
-            float *d = fb->color + at * 4;
-            if (c->blend != PW_BLEND_OVER) {
-                memcpy(d, col, 4 * sizeof(float));
-                continue;
+        for (j = 0; j < ss; j++) { /* sample row j, sample k of it: bit j ss + k */
+            const size_t row = (size_t)(b->py[i] * ss + j - fb->y0) * fb->sw + (size_t)b->px[i] * ss;
+            for (k = 0; k < ss; k++) {
+                float *d = fb->color + (row + k) * 4;
+                if (!over) {
+                    memcpy(d, col, 4 * sizeof(float));
+                    continue;
+                }
+                if (!(mask >> (j * ss + k) & 1)) continue;
+                d[0] = col[0] + keep * d[0];
+                d[1] = col[1] + keep * d[1];
+                d[2] = col[2] + keep * d[2];
+                d[3] = col[3] + keep * d[3];
+                if (c->dwrite) fb->depth[row + k] = c->qbuf[(size_t)j * fb->sw + (size_t)b->px[i] * ss + k];
             }
-            if (!(mask >> k & 1)) continue;
-            d[0] = col[0] + keep * d[0];
-            d[1] = col[1] + keep * d[1];
-            d[2] = col[2] + keep * d[2];
-            d[3] = col[3] + keep * d[3];
-            if (c->dwrite) fb->depth[at] = c->qbuf[(size_t)(k / ss) * fb->sw + (size_t)b->px[i] * ss + k % ss];
         }
     }
     b->n = 0;

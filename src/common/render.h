@@ -1377,26 +1377,28 @@ PW__DEF void pw__batch_flush(pw__ctx *c)
 {
     pw__batch *b = c->batch;
     pw_fb *fb = c->fb;
-    const int ss = fb->ss, n = ss * ss;
-    int i, k;
+    const int ss = fb->ss, over = c->blend == PW_BLEND_OVER;
+    int i, j, k;
     if (!b->n) return;
     pw__shade_batch(c, b);
     for (i = 0; i < b->n; i++) {
         const float *col = b->col + 4 * i, keep = 1.0f - col[3];
         const uint64_t mask = b->mask[i];
-        for (k = 0; k < n; k++) {
-            size_t at = (size_t)(b->py[i] * ss + k / ss - fb->y0) * fb->sw + (size_t)b->px[i] * ss + k % ss;
-            float *d = fb->color + at * 4;
-            if (c->blend != PW_BLEND_OVER) {
-                memcpy(d, col, 4 * sizeof(float));
-                continue;
+        for (j = 0; j < ss; j++) { /* sample row j, sample k of it: bit j ss + k */
+            const size_t row = (size_t)(b->py[i] * ss + j - fb->y0) * fb->sw + (size_t)b->px[i] * ss;
+            for (k = 0; k < ss; k++) {
+                float *d = fb->color + (row + k) * 4;
+                if (!over) {
+                    memcpy(d, col, 4 * sizeof(float));
+                    continue;
+                }
+                if (!(mask >> (j * ss + k) & 1)) continue;
+                d[0] = col[0] + keep * d[0];
+                d[1] = col[1] + keep * d[1];
+                d[2] = col[2] + keep * d[2];
+                d[3] = col[3] + keep * d[3];
+                if (c->dwrite) fb->depth[row + k] = c->qbuf[(size_t)j * fb->sw + (size_t)b->px[i] * ss + k];
             }
-            if (!(mask >> k & 1)) continue;
-            d[0] = col[0] + keep * d[0];
-            d[1] = col[1] + keep * d[1];
-            d[2] = col[2] + keep * d[2];
-            d[3] = col[3] + keep * d[3];
-            if (c->dwrite) fb->depth[at] = c->qbuf[(size_t)(k / ss) * fb->sw + (size_t)b->px[i] * ss + k % ss];
         }
     }
     b->n = 0;
