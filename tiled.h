@@ -16,20 +16,20 @@
  *   5781: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
  *   6205: src/common/subdiv.h, Catmull-Clark subdivision (Catmull and Clark 1978) with
  *   6344: src/common/raster.h, exact scan conversion of 2D triangles.
- *   6820: src/common/parallel.h, a parallel for, the one way work is split across threads.
- *   6948: src/common/render.h, a small deterministic software renderer for textured trian
- *   8613: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
- *   9110: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
- *   9596: src/common/glue.h, what every method header needs between its public types an
- *   9932: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  10596: src/tiled/core.c, tiled.h's glue to the shared core, its defaults, result
- *  10685: src/tiled/layout.c, ch. III.1, the boundary types and the tiled texture they
- *  10957: src/tiled/map.c, ch. III.2, the texture mapping algorithm of Fig. 29
- *  11206: src/tiled/synth.c, ch. III.1.3, tiled texture image synthesis: an edge-matche
- *  11652: src/tiled/validate.c, checks a hand-made tiled texture (the thesis's Figs. 39,
- *  11780: src/tiled/builtin.c, built-in meshes and exemplars for demos and tests: the
- *  11977: src/tiled/render.c, a software rendering of a mapped mesh (the thesis rendered
- *  12200: src/tiled/io.c, files. Meshes and exemplars in; the mapped mesh with its t
+ *   6858: src/common/parallel.h, a parallel for, the one way work is split across threads.
+ *   6986: src/common/render.h, a small deterministic software renderer for textured trian
+ *   8838: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
+ *   9335: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
+ *   9821: src/common/glue.h, what every method header needs between its public types an
+ *  10157: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  10821: src/tiled/core.c, tiled.h's glue to the shared core, its defaults, result
+ *  10910: src/tiled/layout.c, ch. III.1, the boundary types and the tiled texture they
+ *  11182: src/tiled/map.c, ch. III.2, the texture mapping algorithm of Fig. 29
+ *  11431: src/tiled/synth.c, ch. III.1.3, tiled texture image synthesis: an edge-matche
+ *  11877: src/tiled/validate.c, checks a hand-made tiled texture (the thesis's Figs. 39,
+ *  12005: src/tiled/builtin.c, built-in meshes and exemplars for demos and tests: the
+ *  12202: src/tiled/render.c, a software rendering of a mapped mesh (the thesis rendered
+ *  12425: src/tiled/io.c, files. Meshes and exemplars in; the mapped mesh with its t
  */
 /* tiled.h - seamless, singularity-free tiled textures on quad meshes.
  *
@@ -6573,11 +6573,10 @@ PW__DEF int pw_raster_next(pw_raster_edges *s, int *xa, int *xb)
     return 1;
 }
 
-/* Sets up the edge functions of a triangle whose coordinates all lie within
- * +-g->range (pw_raster_polygon handles the others; a triangle outside is
- * refused here). Returns 1 if some pixel of the viewport may be covered, 0
- * if none can be (zero area, off screen, out of range). */
-PW__DEF int pw_raster_setup(pw_raster_edges *s, const pw_raster_grid *g, const double xy[6])
+/* pw_raster_setup without the row walker (nw = -1): for triangles a few
+ * pixels wide, whose runs pw__raster_row finds by testing the candidate
+ * pixels of the row, cheaper than the walker's divisions. */
+PW__DEF int pw__raster_setup_edges(pw_raster_edges *s, const pw_raster_grid *g, const double xy[6])
 {
     int64_t X[3], Y[3], one = (int64_t)1 << g->bits, half = one >> 1, px, py;
     int k, xlo, xhi, ylo, yhi;
@@ -6613,8 +6612,47 @@ PW__DEF int pw_raster_setup(pw_raster_edges *s, const pw_raster_grid *g, const d
         s->ex[k] = A * one;
         s->ey[k] = B * one;
     }
-    if (!pw__raster_trim_rows(s)) return 0;
+    s->nl = 0;
+    s->nw = -1;
+    return pw__raster_trim_rows(s);
+}
+
+/* Sets up the edge functions of a triangle whose coordinates all lie within
+ * +-g->range (pw_raster_polygon handles the others; a triangle outside is
+ * refused here). Returns 1 if some pixel of the viewport may be covered, 0
+ * if none can be (zero area, off screen, out of range). */
+PW__DEF int pw_raster_setup(pw_raster_edges *s, const pw_raster_grid *g, const double xy[6])
+{
+    if (!pw__raster_setup_edges(s, g, xy)) return 0;
     pw__raster_walk_init(s);
+    return 1;
+}
+
+/* The covered run [*xa, *xb) of row y, for rows taken in order from y0 (as
+ * pw_raster_next): from the walker, or without one (nw < 0) by testing the
+ * edges at the row's candidate pixels (a convex run: the first covered
+ * pixel, then up to the first one not covered). Returns xb > xa. */
+PW__DEF int pw__raster_row(pw_raster_edges *s, int y, int *xa, int *xb)
+{
+    int64_t e0, e1, e2;
+    int d = 0, lo, n = s->x1 - s->x0;
+    if (s->nw >= 0) return pw_raster_next(s, xa, xb);
+    e0 = s->e[0] + s->ey[0] * (y - s->y0);
+    e1 = s->e[1] + s->ey[1] * (y - s->y0);
+    e2 = s->e[2] + s->ey[2] * (y - s->y0);
+    for (; d < n && (e0 | e1 | e2) < 0; d++) {
+        e0 += s->ex[0];
+        e1 += s->ex[1];
+        e2 += s->ex[2];
+    }
+    for (lo = d; d < n && (e0 | e1 | e2) >= 0; d++) {
+        e0 += s->ex[0];
+        e1 += s->ex[1];
+        e2 += s->ex[2];
+    }
+    if (lo >= d) return 0;
+    *xa = s->x0 + lo;
+    *xb = s->x0 + d;
     return 1;
 }
 
@@ -6953,7 +6991,8 @@ PW__DEF void pw_parallel_for(const pw_parallel *par, int n, pw_task_fn task, voi
  *                near and far distances); pw_camera_frame fits a mesh in view.
  *   pw_texture   an image as premultiplied 16-bit RGBA with a box-filtered mip
  *                chain (any size, optionally capped), sampled nearest,
- *                bilinear or trilinear, wrapping or clamping.
+ *                bilinear or trilinear, wrapping or clamping; the renderer
+ *                filters an 8-bit copy unless the source has 16 bits.
  *   pw_fb        framebuffer: w x h pixels of ss x ss samples, float RGBA and
  *                float depth per sample; pw_fb_resolve box-filters it into a
  *                pw_image.
@@ -6988,7 +7027,12 @@ PW__DEF void pw_parallel_for(const pw_parallel *par, int n, pw_task_fn task, voi
  *   and that pass the depth test are blended with one shaded colour.
  * Shading happens at the pixel centre when the triangle covers all samples of
  * the pixel, otherwise at the first covered sample; the mip level comes from
- * the pixel footprint.
+ * the pixel footprint. Pixels are shaded in batches of 64, each step of the
+ * shading (perspective divide, mip level, lighting, texels and filter) over
+ * the whole batch before the next, so that the processor overlaps pixels
+ * (each pixel's colour is computed as if alone). Triangles a few samples
+ * wide find their runs by testing the edges at each candidate sample
+ * rather than with the rasterizer's row walker (the same samples).
  *
  * Draws that only test depth (no_depth_write, as the passes of lapped
  * textures) first check each triangle against a coarse depth (the farthest
@@ -7002,10 +7046,11 @@ PW__DEF void pw_parallel_for(const pw_parallel *par, int n, pw_task_fn task, voi
  * under way to a quarter of the frame (24 bytes per pixel of the frame at
  * ss = 2, plus 12 for an RGB picture). Draws add scratch kept in the
  * framebuffer for the next draw: 40 bytes per vertex (+12 with computed
- * normals), 84 bytes per triangle, and for blended draws 8 bytes per pixel
+ * normals), 80 bytes per triangle, and for blended draws 8 bytes per pixel
  * column plus 4 ss bytes per sample column and 4 bytes per 64 samples. A
- * texture holds 8 bytes per texel (16-bit premultiplied RGBA), times about
- * 4/3 for the mip chain.
+ * texture holds 12 bytes per texel (16-bit premultiplied RGBA and its 8-bit
+ * copy; 8 for 16-bit sources, which have no copy), times about 4/3 for the
+ * mip chain.
  *
  * Determinism: fixed orders within a band, bands that share nothing but the
  * read-only inputs (every band sees every draw, and the sample grid, the
@@ -7325,6 +7370,11 @@ typedef struct pw_texture {
      * (v = 1). 16 bits keep 8- and 16-bit opaque sources exact and halve the
      * memory traffic of floats, which dominates the cost of texturing. */
     uint16_t *level[PW_TEXTURE_MAX_LEVELS];
+    /* the same rounded to 8 bits (255 = 1), which the renderer filters
+     * when the source is not a 16-bit image (bits != 16): half the bytes
+     * and a short conversion per texel, and within half a unit of 8 bits.
+     * NULL for 16-bit sources, which the renderer filters in 16 bits. */
+    uint8_t *level8[PW_TEXTURE_MAX_LEVELS];
 } pw_texture;
 
 /* Area-weighted box filter of n samples (stride sst floats, 4 channels) down
@@ -7379,13 +7429,15 @@ PW__DEF void pw__tex_convert(const pw_image *img, float *out)
     }
 }
 
-/* Float level to 16-bit fixed point, clamped to [0, 1] (NaN becomes 0). */
-PW__DEF void pw__tex_quantise(const float *src, size_t n, uint16_t *dst)
+/* Float level to 16-bit and to 8-bit fixed point, clamped to [0, 1] (NaN
+ * becomes 0). */
+PW__DEF void pw__tex_quantise(const float *src, size_t n, uint16_t *dst, uint8_t *dst8)
 {
     size_t i;
     for (i = 0; i < n; i++) {
         float v = src[i] > 0.0f ? (src[i] < 1.0f ? src[i] : 1.0f) : 0.0f;
         dst[i] = (uint16_t)(v * 65535.0f + 0.5f);
+        if (dst8) dst8[i] = (uint8_t)(v * 255.0f + 0.5f);
     }
 }
 
@@ -7422,7 +7474,8 @@ PW__DEF int pw_texture_create(const pw_alloc *a, pw_texture *t, const pw_image *
     pw__tex_sizes(t, max_levels);
     for (L = 0; L < t->nlevels; L++) total += (size_t)t->lw[L] * t->lh[L] * 4;
     n0 = (size_t)t->w * t->h * 4;
-    data = (uint16_t *)pw_alloc_array(a, total, sizeof(uint16_t), "texture", e);
+    /* 16-bit levels, then (not for 16-bit sources) 8-bit ones */
+    data = (uint16_t *)pw_alloc_array(a, total, img->bits == 16 ? 2 : 3, "texture", e);
     cur = data ? (float *)pw_alloc_array(a, n0, sizeof(float), "texture scratch", e) : NULL;
     if (cur && t->nlevels > 1) {
         next = (float *)pw_alloc_array(a, n0 / 2 + 4, sizeof(float), "texture scratch", e);
@@ -7442,8 +7495,9 @@ PW__DEF int pw_texture_create(const pw_alloc *a, pw_texture *t, const pw_image *
     for (L = 0; L < t->nlevels; L++) {
         size_t n = (size_t)t->lw[L] * t->lh[L] * 4;
         t->level[L] = data + off;
+        t->level8[L] = img->bits == 16 ? NULL : (uint8_t *)(data + total) + off;
         off += n;
-        pw__tex_quantise(cur, n, t->level[L]);
+        pw__tex_quantise(cur, n, t->level[L], t->level8[L]);
         if (L + 1 < t->nlevels) {
             float *sw;
             pw__mip_down(t, L, cur, next, tmp);
@@ -7470,13 +7524,19 @@ PW__DEF void pw_texture_clear_border(pw_texture *t, int min_size)
     for (L = 0; t && L < t->nlevels; L++) {
         int W = t->lw[L], H = t->lh[L];
         uint16_t *p = t->level[L];
+        uint8_t *p8 = t->level8[L];
         if (W <= min_size || H <= min_size) continue;
         memset(p, 0, (size_t)W * 4 * sizeof(uint16_t));                           /* top row */
         memset(p + (size_t)(H - 1) * W * 4, 0, (size_t)W * 4 * sizeof(uint16_t)); /* bottom row */
+        if (p8) {
+            memset(p8, 0, (size_t)W * 4);
+            memset(p8 + (size_t)(H - 1) * W * 4, 0, (size_t)W * 4);
+        }
         for (y = 1; y < H - 1; y++)
             for (x = 0; x < 4; x++) {
                 p[((size_t)y * W) * 4 + x] = 0;         /* left column */
                 p[((size_t)y * W + W - 1) * 4 + x] = 0; /* right column */
+                if (p8) p8[((size_t)y * W) * 4 + x] = p8[((size_t)y * W + W - 1) * 4 + x] = 0;
             }
     }
 }
@@ -7500,16 +7560,15 @@ PW__DEF float pw__tex_wrap(float u, int wrap)
     return u - f;
 }
 
-/* Bilinear lookup in level L of wrapped coordinates u, v in [0, 1]; out in
- * 16-bit units (65535 = 1). Texel centres sit at (i + 0.5) / W. */
-PW__DEF void pw__tex_bilinear(const pw_texture *t, int L, float u, float v, int wrap, float *out)
+/* The four texels of the bilinear lookup in level L of wrapped coordinates
+ * u, v in [0, 1] (their offsets in the level, in channels) and their
+ * weights, which sum to wgt. Texel centres sit at (i + 0.5) / W. */
+PW__DEF void pw__tex_taps(const pw_texture *t, int L, float u, float v, int wrap, float wgt, ptrdiff_t *p, float *w)
 {
     const int W = t->lw[L], H = t->lh[L];
     const float cx = u * (float)W - 0.5f, cy = (1.0f - v) * (float)H - 0.5f; /* >= -0.5 */
-    int x0 = (int)(cx + 1.0f) - 1, y0 = (int)(cy + 1.0f) - 1, x1 = x0 + 1, y1 = y0 + 1, k;
-    const float fx = cx - (float)x0, fy = cy - (float)y0;
-    const uint16_t *r0, *r1;
-    float r[4];
+    int x0 = (int)(cx + 1.0f) - 1, y0 = (int)(cy + 1.0f) - 1, x1 = x0 + 1, y1 = y0 + 1;
+    const float fx = cx - (float)x0, fy = cy - (float)y0, gy = wgt * fy, hy = wgt - gy;
     if (wrap == PW_WRAP_CLAMP) {
         if (x0 < 0) x0 = 0;
         if (y0 < 0) y0 = 0;
@@ -7521,41 +7580,80 @@ PW__DEF void pw__tex_bilinear(const pw_texture *t, int L, float u, float v, int 
         if (x1 >= W) x1 -= W;
         if (y1 >= H) y1 -= H;
     }
-    r0 = t->level[L] + (size_t)y0 * W * 4;
-    r1 = t->level[L] + (size_t)y1 * W * 4;
-    x0 *= 4;
-    x1 *= 4;
-    for (k = 0; k < 4; k++) {
-        float a = (float)r0[x0 + k], b = (float)r0[x1 + k], c = (float)r1[x0 + k], d = (float)r1[x1 + k];
-        float top = a + fx * (b - a), bot = c + fx * (d - c);
-        r[k] = top + fy * (bot - top);
+    p[0] = ((ptrdiff_t)y0 * W + x0) * 4;
+    p[1] = ((ptrdiff_t)y0 * W + x1) * 4;
+    p[2] = ((ptrdiff_t)y1 * W + x0) * 4;
+    p[3] = ((ptrdiff_t)y1 * W + x1) * 4;
+    w[0] = hy - hy * fx;
+    w[1] = hy * fx;
+    w[2] = gy - gy * fx;
+    w[3] = gy * fx;
+}
+
+/* The eight texels of a trilinear lookup of wrapped coordinates at mip
+ * level lod (clamped to the chain), weighed to sum to scale: four in level
+ * *L, four in level *L + 1 (the first four again, weighed 0, when one level
+ * suffices). */
+PW__DEF void pw__tex_taps8(const pw_texture *t, float u, float v, float lod, int wrap, float scale, int *L,
+                           ptrdiff_t *p, float *w)
+{
+    int k;
+    *L = 0;
+    u = pw__tex_wrap(u, wrap);
+    v = pw__tex_wrap(v, wrap);
+    if (lod >= (float)(t->nlevels - 1)) {
+        *L = t->nlevels - 1;
+        lod = 0.0f;
+    } else if (lod > 0.0f) {
+        *L = (int)lod;
+        lod -= (float)*L;
+    } else {
+        lod = 0.0f;
     }
-    memcpy(out, r, sizeof r);
+    pw__tex_taps(t, *L, u, v, wrap, scale - scale * lod, p, w);
+    if (lod > 0.0f) {
+        pw__tex_taps(t, *L + 1, u, v, wrap, scale * lod, p + 4, w + 4);
+        return;
+    }
+    for (k = 0; k < 4; k++) {
+        p[4 + k] = p[k] - (ptrdiff_t)t->lw[*L] * t->lh[*L] * 4; /* level L again, as seen from L + 1 */
+        w[4 + k] = 0.0f;
+    }
 }
 
 /* Trilinear lookup of wrapped coordinates at mip level lod (clamped to the
- * chain), in 16-bit units. */
+ * chain), in 16-bit units. The channel loop is one compilers vectorise. */
 PW__DEF void pw__tex_trilinear(const pw_texture *t, float u, float v, float lod, int wrap, float *out)
 {
-    float b[4];
+    const uint16_t *a, *b;
+    ptrdiff_t p[8];
+    float w[8];
     int L, k;
-    u = pw__tex_wrap(u, wrap);
-    v = pw__tex_wrap(v, wrap);
-    if (!(lod > 0.0f)) {
-        pw__tex_bilinear(t, 0, u, v, wrap, out);
-        return;
-    }
-    if (lod >= (float)(t->nlevels - 1)) {
-        pw__tex_bilinear(t, t->nlevels - 1, u, v, wrap, out);
-        return;
-    }
-    L = (int)lod;
-    lod -= (float)L;
-    pw__tex_bilinear(t, L, u, v, wrap, out);
-    if (lod > 0.0f) {
-        pw__tex_bilinear(t, L + 1, u, v, wrap, b);
-        for (k = 0; k < 4; k++) out[k] += lod * (b[k] - out[k]);
-    }
+    pw__tex_taps8(t, u, v, lod, wrap, 1.0f, &L, p, w);
+    a = t->level[L];
+    b = a + (size_t)t->lw[L] * t->lh[L] * 4; /* level L + 1 follows level L */
+    for (k = 0; k < 4; k++)
+        out[k] = ((w[0] * (float)a[p[0] + k] + w[1] * (float)a[p[1] + k]) +
+                  (w[2] * (float)a[p[2] + k] + w[3] * (float)a[p[3] + k])) +
+                 ((w[4] * (float)b[p[4] + k] + w[5] * (float)b[p[5] + k]) +
+                  (w[6] * (float)b[p[6] + k] + w[7] * (float)b[p[7] + k]));
+}
+
+/* The same in the 8-bit levels, times scale (1/255: premultiplied RGBA). */
+PW__DEF void pw__tex_trilinear8(const pw_texture *t, float u, float v, float lod, int wrap, float scale, float *out)
+{
+    const uint8_t *a, *b;
+    ptrdiff_t p[8];
+    float w[8];
+    int L, k;
+    pw__tex_taps8(t, u, v, lod, wrap, scale, &L, p, w);
+    a = t->level8[L];
+    b = a + (size_t)t->lw[L] * t->lh[L] * 4;
+    for (k = 0; k < 4; k++)
+        out[k] = ((w[0] * (float)a[p[0] + k] + w[1] * (float)a[p[1] + k]) +
+                  (w[2] * (float)a[p[2] + k] + w[3] * (float)a[p[3] + k])) +
+                 ((w[4] * (float)b[p[4] + k] + w[5] * (float)b[p[5] + k]) +
+                  (w[6] * (float)b[p[6] + k] + w[7] * (float)b[p[7] + k]));
 }
 
 /* Samples texture t at (u, v) (v = 0 at the bottom) with the given filter
@@ -7731,6 +7829,15 @@ PW__DEF void pw_fb_resolve_band(const pw_fb *fb, pw_image *out)
     const int channels = out->c, row0 = fb->y0 / fb->ss;
     int x, y, i, j, k;
     PW_ASSERT(fb->color && out->w == fb->w && out->h == fb->h && (channels == 3 || channels == 4));
+    if (fb->ss == 1 && channels == 3) { /* one sample per pixel, premultiplied: a clamped copy */
+        const float *src = fb->color;
+        float *o = out->px + (size_t)row0 * fb->w * 3;
+        size_t i, n = (size_t)fb->w * fb->bh;
+        for (i = 0; i < n; i++)
+            for (k = 0; k < 3; k++)
+                o[3 * i + k] = src[4 * i + k] > 0.0f ? (src[4 * i + k] < 1.0f ? src[4 * i + k] : 1.0f) : 0.0f;
+        return;
+    }
     for (y = 0; y < fb->bh / fb->ss; y++) {
         const float *blk = fb->color + (size_t)y * fb->ss * srow;
         float *o = out->px + (size_t)(row0 + y) * fb->w * channels;
@@ -7819,11 +7926,27 @@ typedef struct pw_draw {
                                lapped textures after their base pass) */
 } pw_draw;
 
-#define PW__ZT 8   /* coarse depth tile, in samples */
-#define PW__NPL 21 /* floats per triangle: planes q(3) U(3) V(3) N(9), origin(2), ready */
+#define PW__ZT 8      /* coarse depth tile, in samples */
+#define PW__NARROW 16 /* triangles at most this many samples wide skip the row walker */
+#define PW__NPL 20    /* floats per triangle: planes q(3) U(3) V(3) N(9), origin(2) */
 #define PW__OX 18
 #define PW__OY 19
-#define PW__READY 20
+
+/* Pixels waiting to be shaded, together: shading one pixel is a long chain
+ * of dependent steps (perspective divide, mip level, texel addresses,
+ * texels, filter, lighting), so each step runs over the whole batch before
+ * the next, and the processor overlaps the pixels. */
+#define PW__BATCH 64
+typedef struct pw__batch {
+    int n;
+    int t[PW__BATCH];   /* triangle */
+    float x[PW__BATCH]; /* shading point on the sample grid */
+    float y[PW__BATCH];
+    int px[PW__BATCH]; /* pixel */
+    int py[PW__BATCH];
+    uint64_t mask[PW__BATCH]; /* blended draws: the samples to blend */
+    float col[4 * PW__BATCH]; /* shaded colour, premultiplied */
+} pw__batch;
 
 /* Everything a draw needs in its inner loops. */
 typedef struct pw__ctx {
@@ -7841,6 +7964,7 @@ typedef struct pw__ctx {
     int filter, wrap, blend, lit, cull, dwrite, cwrite;
     float tint[4], light[3], ambient, dfac, qfar, ss;
     int bx0, by0, bx1, by1; /* sample box touched by an opaque draw */
+    pw__batch *batch;       /* pixels waiting to be shaded */
 } pw__ctx;
 
 /* Checks the draw description; names the first problem found. */
@@ -7901,6 +8025,32 @@ PW__DEF void pw__transform(const pw__view *v, const pw_draw *d, double *vh)
         for (i = 0; i < 3 * d->ntris; i++) pw__transform_vertex(v, d->positions + 3 * d->tris[i], vh + 5 * d->tris[i]);
     else
         for (i = 0; i < d->nv; i++) pw__transform_vertex(v, d->positions + 3 * i, vh + 5 * i);
+}
+
+/* The range [*lo, *hi] of screen rows (in samples) that the corners of d's
+ * triangles project to under view v, exactly as pw_render_draw projects
+ * them; returns 0 (the draw may reach any row) if some corner is not at
+ * least znear in front or not finite. A band [y0, y0 + bh] that the range
+ * misses (*hi < y0 or *lo > y0 + bh) gets nothing from the draw: each of its
+ * triangles lies above or below the band (pw__offscreen), so a frame drawn
+ * in bands may skip the draw there. */
+PW__DEF int pw__draw_rows(const pw__view *v, const pw_draw *d, double *lo, double *hi)
+{
+    int i;
+    *lo = -DBL_MAX;
+    *hi = DBL_MAX;
+    for (i = 0; i < 3 * d->ntris; i++) {
+        double o[5];
+        pw__transform_vertex(v, d->positions + 3 * (size_t)d->tris[i], o);
+        if (!(o[2] >= v->znear)) {
+            *lo = -DBL_MAX;
+            *hi = DBL_MAX;
+            return 0;
+        }
+        if (i == 0 || o[4] < *lo) *lo = o[4];
+        if (i == 0 || o[4] > *hi) *hi = o[4];
+    }
+    return 1;
 }
 
 /* Unnormalised normal of triangle t (its area-weighted direction). */
@@ -7978,14 +8128,13 @@ PW__DEF int pw__tri_adjugate(const pw__ctx *c, int t, double r[3][3], double *de
 }
 
 /* Depth plane q = 1/w of triangle t, relative to an integer origin near its
- * screen polygon poly[n] so that float evaluation does not cancel. The
- * attribute planes wait until a sample of the triangle is shaded (most
- * triangles of an opaque draw are hidden or tiny). */
-PW__DEF int pw__tri_planes(const pw__ctx *c, int t, const double *poly, int n, float *pl)
+ * screen polygon poly[n] so that float evaluation does not cancel; r and
+ * det receive the adjugate for the attribute planes (pw__attr_planes). */
+PW__DEF int pw__tri_planes(const pw__ctx *c, int t, const double *poly, int n, float *pl, double r[3][3], double *det)
 {
-    double r[3][3], det, ox = 0.0, oy = 0.0, one[3] = {1.0, 1.0, 1.0};
+    double ox = 0.0, oy = 0.0, one[3] = {1.0, 1.0, 1.0};
     int i;
-    if (!pw__tri_adjugate(c, t, r, &det)) return 0;
+    if (!pw__tri_adjugate(c, t, r, det)) return 0;
     for (i = 0; i < n; i++) {
         ox += poly[2 * i] / n;
         oy += poly[2 * i + 1] / n;
@@ -7995,20 +8144,20 @@ PW__DEF int pw__tri_planes(const pw__ctx *c, int t, const double *poly, int n, f
     pw__plane(r, one, ox, oy, pl);
     pl[PW__OX] = (float)ox;
     pl[PW__OY] = (float)oy;
-    pl[PW__READY] = 0.0f;
     return 1;
 }
 
-/* Attribute planes of triangle t (U/w, V/w, N/w), computed on first use. */
-PW__DEF void pw__attr_planes(const pw__ctx *c, int t, float *pl)
+/* Attribute planes of triangle t (U/w, V/w, N/w) from the adjugate r and
+ * determinant det of pw__tri_planes: set up with the depth plane of every
+ * triangle that covers a sample of a draw that writes colour (set up later,
+ * they would read the vertices and the triangle's planes again, from
+ * memory). */
+PW__DEF void pw__attr_planes(const pw__ctx *c, int t, float *pl, double r[3][3], double det)
 {
     const pw_draw *d = c->d;
-    double r[3][3], det, a[3], fn[3], sgn, ox = pl[PW__OX], oy = pl[PW__OY];
+    double a[3], fn[3], sgn, ox = pl[PW__OX], oy = pl[PW__OY];
     int i, k;
-    if (pl[PW__READY] != 0.0f) return;
-    pl[PW__READY] = 1.0f;
-    pw__tri_adjugate(c, t, r, &det); /* succeeded when the triangle was set up */
-    if (d->shader) {                 /* barycentric coordinates b1, b2 in the places of u, v */
+    if (d->shader) { /* barycentric coordinates b1, b2 in the places of u, v */
         for (k = 0; k < 2; k++) {
             for (i = 0; i < 3; i++) a[i] = i == k + 1 ? 1.0 : 0.0;
             pw__plane(r, a, ox, oy, pl + 3 + 3 * k);
@@ -8056,32 +8205,31 @@ PW__DEF int pw__near_clip(const pw__ctx *c, const int *ix, const double *const *
     return m;
 }
 
-/* Depth test of one sample (q = 1/depth): passes if q > dfac * stored
- * (LESS: dfac 1, LEQUAL: 1 - tolerance, ALWAYS: 0) and q is within the far
- * plane; then writes depth and/or the triangle id. */
-PW__DEF void pw__vis_sample(const pw__ctx *c, float *dp, uint32_t *vp, float q, uint32_t id)
-{
-    if (q > *dp * c->dfac && q >= c->qfar) {
-        if (c->dwrite) *dp = q;
-        if (c->cwrite) *vp = id;
-    }
-}
-
 /* Samples of one piece into the depth and visibility buffers (opaque draws
- * and depth-only draws). Sample centres x + 0.5 are stepped in float,
- * exactly (integers < 2^24), so q is the same whichever loop computes it. */
+ * and depth-only draws): a sample passes if its q = 1/depth > dfac * stored
+ * (LESS: dfac 1, LEQUAL: 1 - tolerance, ALWAYS: 0) and q is within the far
+ * plane; then depth and/or the triangle id are written. Sample centres
+ * x + 0.5 are stepped in float, exactly (integers < 2^24), so q is the same
+ * whichever loop computes it. */
 PW__DEF void pw__raster_vis(pw__ctx *c, pw_raster_edges *s, uint32_t id, const float *pl)
 {
     pw_fb *fb = c->fb;
-    const float ox = pl[PW__OX], oy = pl[PW__OY], qx = pl[0];
+    const float ox = pl[PW__OX], oy = pl[PW__OY], qx = pl[0], dfac = c->dfac, qfar = c->qfar;
+    const int dwrite = c->dwrite, cwrite = c->cwrite;
     int y, x, xa, xb;
     for (y = s->y0; y < s->y1; y++) {
         const float qrow = pl[1] * ((float)y + 0.5f - oy) + pl[2];
         float *dp = fb->depth + (size_t)(y - fb->y0) * fb->sw, fx;
         uint32_t *vp = fb->vis + (size_t)(y - fb->y0) * fb->sw;
-        if (!pw_raster_next(s, &xa, &xb)) continue;
+        if (!pw__raster_row(s, y, &xa, &xb)) continue;
         fx = (float)xa + 0.5f - ox;
-        for (x = xa; x < xb; x++, fx += 1.0f) pw__vis_sample(c, dp + x, vp + x, qx * fx + qrow, id);
+        for (x = xa; x < xb; x++, fx += 1.0f) {
+            const float q = qx * fx + qrow;
+            if (q > dp[x] * dfac && q >= qfar) {
+                if (dwrite) dp[x] = q;
+                if (cwrite) vp[x] = id;
+            }
+        }
     }
     if (s->x0 < c->bx0) c->bx0 = s->x0;
     if (s->y0 < c->by0) c->by0 = s->y0;
@@ -8098,32 +8246,23 @@ typedef struct pw__shade_pt {
     float dx, dy, iq;
 } pw__shade_pt;
 
-/* Texture colour at a shading point: perspective-correct (u, v) and their
- * exact screen derivatives from the planes (d(U/q)/dx = (U_x - u q_x) / q),
- * scaled to one pixel, give the mip level. Multiplies col. */
-PW__DEF void pw__shade_tex(const pw__ctx *c, const pw__shade_pt *P, float *col)
+/* Mip level at a shading point: the exact screen derivatives of the
+ * perspective-correct (u, v) from the planes (d(U/q)/dx = (U_x - u q_x) / q),
+ * scaled to one pixel, give the footprint in level-0 texels. */
+PW__DEF float pw__tex_lod(const pw__ctx *c, const float *pl, float u, float v, float iq)
 {
-    const float *pl = P->pl, dx = P->dx, dy = P->dy, iq = P->iq;
     const pw_texture *t = c->tex;
-    float u = (pl[3] * dx + pl[4] * dy + pl[5]) * iq, v = (pl[6] * dx + pl[7] * dy + pl[8]) * iq;
-    float tx[4];
-    int k;
-    if (c->filter == PW_FILTER_TRILINEAR) {
-        float su = c->ss * iq * (float)t->w, sv = c->ss * iq * (float)t->h;
-        float ux = (pl[3] - u * pl[0]) * su, uy = (pl[4] - u * pl[1]) * su;
-        float vx = (pl[6] - v * pl[0]) * sv, vy = (pl[7] - v * pl[1]) * sv;
-        float rx = ux * ux + vx * vx, ry = uy * uy + vy * vy;
-        pw__tex_trilinear(t, u, v, 0.5f * pw__log2f(rx > ry ? rx : ry), c->wrap, tx);
-        for (k = 0; k < 4; k++) col[k] *= tx[k] * (1.0f / 65535.0f);
-        return;
-    }
-    pw_texture_sample(t, u, v, 0.0f, c->filter, c->wrap, tx);
-    for (k = 0; k < 4; k++) col[k] *= tx[k];
+    float su = c->ss * iq * (float)t->w, sv = c->ss * iq * (float)t->h;
+    float ux = (pl[3] - u * pl[0]) * su, uy = (pl[4] - u * pl[1]) * su;
+    float vx = (pl[6] - v * pl[0]) * sv, vy = (pl[7] - v * pl[1]) * sv;
+    float rx = ux * ux + vx * vx, ry = uy * uy + vy * vy;
+    return 0.5f * pw__log2f(rx > ry ? rx : ry);
 }
 
 /* The caller's shader at a shading point: barycentric coordinates and
- * their derivatives per pixel, as pw__shade_tex finds u, v. Multiplies col. */
-PW__DEF void pw__shade_custom(const pw__ctx *c, const pw__shade_pt *P, float *col)
+ * their derivatives per pixel, as pw__tex_lod finds them for u, v. Writes
+ * its colour, premultiplied, to tx. */
+PW__DEF void pw__shade_custom(const pw__ctx *c, const pw__shade_pt *P, float *tx)
 {
     const float *pl = P->pl, dx = P->dx, dy = P->dy, iq = P->iq;
     float b1 = (pl[3] * dx + pl[4] * dy + pl[5]) * iq, b2 = (pl[6] * dx + pl[7] * dy + pl[8]) * iq;
@@ -8134,45 +8273,132 @@ PW__DEF void pw__shade_custom(const pw__ctx *c, const pw__shade_pt *P, float *co
     db[2] = (pl[6] - b2 * pl[0]) * s;
     db[3] = (pl[7] - b2 * pl[1]) * s;
     c->d->shader(c->d->shader_user, P->t, b1, b2, db, rgba);
-    for (k = 0; k < 3; k++) col[k] *= rgba[k] * rgba[3];
-    col[3] *= rgba[3];
+    for (k = 0; k < 3; k++) tx[k] = rgba[k] * rgba[3];
+    tx[3] = rgba[3];
 }
 
-/* Shades triangle t at sample-grid point (x, y): tint x texture, lit.
- * Output premultiplied RGBA. */
-PW__DEF void pw__shade(const pw__ctx *c, int t, float x, float y, float *out)
+/* Lambert + ambient factor at an offset (dx, dy) from the planes' origin. */
+PW__DEF float pw__light(const pw__ctx *c, const float *pl, float dx, float dy)
 {
-    float *pl = c->planes + (size_t)t * PW__NPL;
-    const float dx = x - pl[PW__OX], dy = y - pl[PW__OY];
-    float q = pl[0] * dx + pl[1] * dy + pl[2], col[4];
-    col[0] = c->tint[0];
-    col[1] = c->tint[1];
-    col[2] = c->tint[2];
-    col[3] = c->tint[3];
-    if (pl[PW__READY] == 0.0f) pw__attr_planes(c, t, pl);
-    if (!(q > 1e-30f)) q = 1e-30f; /* only reachable through rounding at a near-plane edge */
-    if (c->d->shader || c->tex) {
-        pw__shade_pt P;
-        P.t = t;
-        P.pl = pl;
-        P.dx = dx;
-        P.dy = dy;
-        P.iq = 1.0f / q;
-        if (c->d->shader) pw__shade_custom(c, &P, col);
-        else pw__shade_tex(c, &P, col);
+    float n0 = pl[9] * dx + pl[10] * dy + pl[11], n1 = pl[12] * dx + pl[13] * dy + pl[14];
+    float n2 = pl[15] * dx + pl[16] * dy + pl[17], nn = n0 * n0 + n1 * n1 + n2 * n2;
+    float dif = 1.0f;
+    if (nn > 0.0f) dif = (n0 * c->light[0] + n1 * c->light[1] + n2 * c->light[2]) / sqrtf(nn);
+    if (!(dif > 0.0f)) dif = 0.0f;
+    return c->ambient + (1.0f - c->ambient) * dif;
+}
+
+/* Shades the batch: pixel i is triangle t[i] at sample-grid point (x[i],
+ * y[i]): tint x texture (or the caller's shader), lit, premultiplied RGBA
+ * into col. Step by step over the batch, each pixel computed as alone.
+ * Filtered texture lookups read the 8-bit levels (16-bit sources: the
+ * 16-bit ones). */
+PW__DEF void pw__shade_batch(const pw__ctx *c, pw__batch *b)
+{
+    float dx[PW__BATCH], dy[PW__BATCH], iq[PW__BATCH], u[PW__BATCH], v[PW__BATCH], lod[PW__BATCH], lk[PW__BATCH];
+    const float *pl;
+    const int n = b->n, tex = c->tex && !c->d->shader;
+    int i, k;
+    for (i = 0; i < n; i++) { /* the perspective divisor */
+        float q;
+        pl = c->planes + (size_t)b->t[i] * PW__NPL;
+        dx[i] = b->x[i] - pl[PW__OX];
+        dy[i] = b->y[i] - pl[PW__OY];
+        q = pl[0] * dx[i] + pl[1] * dy[i] + pl[2];
+        if (!(q > 1e-30f)) q = 1e-30f; /* only reachable through rounding at a near-plane edge */
+        iq[i] = 1.0f / q;
     }
-    if (c->lit) {
-        float n0 = pl[9] * dx + pl[10] * dy + pl[11], n1 = pl[12] * dx + pl[13] * dy + pl[14];
-        float n2 = pl[15] * dx + pl[16] * dy + pl[17], nn = n0 * n0 + n1 * n1 + n2 * n2;
-        float dif = 1.0f, k;
-        if (nn > 0.0f) dif = (n0 * c->light[0] + n1 * c->light[1] + n2 * c->light[2]) / sqrtf(nn);
-        if (!(dif > 0.0f)) dif = 0.0f;
-        k = c->ambient + (1.0f - c->ambient) * dif;
-        col[0] *= k;
-        col[1] *= k;
-        col[2] *= k;
+    for (i = 0; tex && i < n; i++) { /* texture coordinates and mip level */
+        pl = c->planes + (size_t)b->t[i] * PW__NPL;
+        u[i] = (pl[3] * dx[i] + pl[4] * dy[i] + pl[5]) * iq[i];
+        v[i] = (pl[6] * dx[i] + pl[7] * dy[i] + pl[8]) * iq[i];
+        lod[i] = c->filter == PW_FILTER_TRILINEAR ? pw__tex_lod(c, pl, u[i], v[i], iq[i]) : 0.0f;
     }
-    memcpy(out, col, sizeof col);
+    for (i = 0; i < n; i++) lk[i] = c->lit ? pw__light(c, c->planes + (size_t)b->t[i] * PW__NPL, dx[i], dy[i]) : 1.0f;
+    for (i = 0; i < n; i++) {
+        float tx[4] = {1.0f, 1.0f, 1.0f, 1.0f}, *o = b->col + 4 * i;
+        if (tex && c->filter == PW_FILTER_NEAREST) {
+            pw_texture_sample(c->tex, u[i], v[i], 0.0f, c->filter, c->wrap, tx);
+        } else if (tex && c->tex->level8[0]) {
+            pw__tex_trilinear8(c->tex, u[i], v[i], lod[i], c->wrap, 1.0f / 255.0f, tx);
+        } else if (tex) { /* a 16-bit source */
+            pw__tex_trilinear(c->tex, u[i], v[i], lod[i], c->wrap, tx);
+            for (k = 0; k < 4; k++) tx[k] *= 1.0f / 65535.0f;
+        } else if (c->d->shader) {
+            pw__shade_pt P;
+            P.t = b->t[i];
+            P.pl = c->planes + (size_t)b->t[i] * PW__NPL;
+            P.dx = dx[i];
+            P.dy = dy[i];
+            P.iq = iq[i];
+            pw__shade_custom(c, &P, tx);
+        }
+        for (k = 0; k < 3; k++) o[k] = c->tint[k] * tx[k] * lk[i];
+        o[3] = c->tint[3] * tx[3];
+    }
+}
+
+/* Shades triangle t at sample-grid point (x, y) alone (a batch of one) into
+ * out. */
+PW__DEF void pw__shade1(const pw__ctx *c, int t, float x, float y, float *out)
+{
+    pw__batch one;
+    one.n = 1;
+    one.t[0] = t;
+    one.x[0] = x;
+    one.y[0] = y;
+    pw__shade_batch(c, &one);
+    memcpy(out, one.col, 4 * sizeof(float));
+}
+
+/* Shades the pending batch and writes it: an opaque draw's pixels get the
+ * colour in all their samples, a blended draw's are blended "over" in the
+ * samples of their masks (in the order they were queued), with their
+ * depths from the row buffer c->qbuf when the draw writes depth (it then
+ * flushes every pixel row). */
+PW__DEF void pw__batch_flush(pw__ctx *c)
+{
+    pw__batch *b = c->batch;
+    pw_fb *fb = c->fb;
+    const int ss = fb->ss, over = c->blend == PW_BLEND_OVER;
+    int i, j, k;
+    if (!b->n) return;
+    pw__shade_batch(c, b);
+    for (i = 0; i < b->n; i++) {
+        const float *col = b->col + 4 * i, keep = 1.0f - col[3];
+        const uint64_t mask = b->mask[i];
+        for (j = 0; j < ss; j++) { /* sample row j, sample k of it: bit j ss + k */
+            const size_t row = (size_t)(b->py[i] * ss + j - fb->y0) * fb->sw + (size_t)b->px[i] * ss;
+            for (k = 0; k < ss; k++) {
+                float *d = fb->color + (row + k) * 4;
+                if (!over) {
+                    memcpy(d, col, 4 * sizeof(float));
+                    continue;
+                }
+                if (!(mask >> (j * ss + k) & 1)) continue;
+                d[0] = col[0] + keep * d[0];
+                d[1] = col[1] + keep * d[1];
+                d[2] = col[2] + keep * d[2];
+                d[3] = col[3] + keep * d[3];
+                if (c->dwrite) fb->depth[row + k] = c->qbuf[(size_t)j * fb->sw + (size_t)b->px[i] * ss + k];
+            }
+        }
+    }
+    b->n = 0;
+}
+
+/* Queues pixel (px, py) of triangle t, shaded at sample-grid point (x, y),
+ * with the samples mask (blended draws); flushes a full batch. */
+PW__DEF void pw__batch_push(pw__ctx *c, int t, int px, int py, float x, float y, uint64_t mask)
+{
+    pw__batch *b = c->batch;
+    b->t[b->n] = t;
+    b->px[b->n] = px;
+    b->py[b->n] = py;
+    b->x[b->n] = x;
+    b->y[b->n] = y;
+    b->mask[b->n] = mask;
+    if (++b->n == PW__BATCH) pw__batch_flush(c);
 }
 
 /* Second phase of an opaque draw: each pixel of the touched box is shaded
@@ -8200,9 +8426,7 @@ PW__DEF void pw__shade_vis(pw__ctx *c)
             if (any == PW_FB_NONE) continue; /* all untouched (the AND of the ids) */
             for (k = 0; k < n; k++) vis[off[k]] = PW_FB_NONE;
             if (same) { /* the usual case: one triangle covers the pixel */
-                float col[4];
-                pw__shade(c, (int)first, (float)(px * ss) + half, (float)(py * ss) + half, col);
-                for (k = 0; k < n; k++) memcpy(fb->color + (base + off[k]) * 4, col, sizeof col);
+                pw__batch_push(c, (int)first, px, py, (float)(px * ss) + half, (float)(py * ss) + half, 0);
                 continue;
             }
             for (k = 0; k < n; k++) {
@@ -8211,53 +8435,43 @@ PW__DEF void pw__shade_vis(pw__ctx *c)
                 for (m = 0; m < k && ids[m] != ids[k]; m++) {
                 }
                 if (m < k) memcpy(dst, fb->color + (base + off[m]) * 4, 4 * sizeof(float));
-                else pw__shade(c, (int)ids[k], (float)(px * ss + k % ss) + 0.5f, (float)(py * ss + k / ss) + 0.5f, dst);
+                else
+                    pw__shade1(c, (int)ids[k], (float)(px * ss + k % ss) + 0.5f, (float)(py * ss + k / ss) + 0.5f, dst);
             }
         }
     }
+    pw__batch_flush(c);
 }
 
-/* Blends one shaded colour "over" the samples of pixel (px, py) set in
- * mask (bit j*ss + i: sample i of sample row j), whose depths wait in the
- * row buffer qb. Shaded at the pixel centre when every sample is covered,
- * else at the first covered sample. */
-PW__DEF void pw__over_pixel(pw__ctx *c, int t, int px, int py, uint64_t mask, const float *qb)
+/* Queues pixel (px, py) of a blended draw with the samples of mask (bit
+ * j*ss + i: sample i of sample row j) that passed the depth test: shaded at
+ * the pixel centre when every sample is covered, else at the first covered
+ * sample. */
+PW__DEF void pw__over_pixel(pw__ctx *c, int t, int px, int py, uint64_t mask)
 {
-    pw_fb *fb = c->fb;
-    const int ss = fb->ss, n = ss * ss;
+    const int ss = c->fb->ss, n = ss * ss;
     const uint64_t full = n == 64 ? ~(uint64_t)0 : ((uint64_t)1 << n) - 1;
-    float col[4], keep;
     int k;
     if (mask == full) {
-        pw__shade(c, t, (float)(px * ss) + 0.5f * ss, (float)(py * ss) + 0.5f * ss, col);
-    } else {
-        for (k = 0; !(mask >> k & 1); k++) {
-        }
-        pw__shade(c, t, (float)(px * ss + k % ss) + 0.5f, (float)(py * ss + k / ss) + 0.5f, col);
+        pw__batch_push(c, t, px, py, (float)(px * ss) + 0.5f * ss, (float)(py * ss) + 0.5f * ss, mask);
+        return;
     }
-    keep = 1.0f - col[3];
-    for (k = 0; k < n; k++) {
-        size_t at;
-        float *d;
-        if (!(mask >> k & 1)) continue;
-        at = (size_t)(py * ss + k / ss - fb->y0) * fb->sw + (size_t)px * ss + k % ss;
-        d = fb->color + at * 4;
-        d[0] = col[0] + keep * d[0];
-        d[1] = col[1] + keep * d[1];
-        d[2] = col[2] + keep * d[2];
-        d[3] = col[3] + keep * d[3];
-        if (c->dwrite) fb->depth[at] = qb[(size_t)(k / ss) * fb->sw + (size_t)px * ss + k % ss];
+    for (k = 0; !(mask >> k & 1); k++) {
     }
+    pw__batch_push(c, t, px, py, (float)(px * ss + k % ss) + 0.5f, (float)(py * ss + k / ss) + 0.5f, mask);
 }
 
 /* One piece of a blended draw, pixel row by pixel row: the depth test marks
  * the passing samples of the ss sample rows in per-pixel masks (keeping
- * their depths), then each marked pixel is shaded once and blended. */
+ * their depths), then each marked pixel is queued to be shaded once and
+ * blended. Draws that do not write depth keep the queue across rows and
+ * triangles (blending in queue order keeps the draw's order, and their
+ * depth tests do not depend on what is pending). */
 PW__DEF void pw__raster_over(pw__ctx *c, pw_raster_edges *s, int t, const float *pl)
 {
     pw_fb *fb = c->fb;
     const int ss = fb->ss;
-    const float ox = pl[PW__OX], oy = pl[PW__OY], qx = pl[0];
+    const float ox = pl[PW__OX], oy = pl[PW__OY], qx = pl[0], dfac = c->dfac, qfar = c->qfar;
     uint64_t *mask = c->mask;
     int py, j, x, xa, xb, px;
     for (py = s->y0 / ss; py * ss < s->y1; py++) {
@@ -8268,7 +8482,7 @@ PW__DEF void pw__raster_over(pw__ctx *c, pw_raster_edges *s, int t, const float 
             const float *dp = fb->depth + (size_t)(y - fb->y0) * fb->sw;
             float *qr = c->qbuf + (size_t)j * fb->sw, fx;
             int i;
-            if (y < s->y0 || y >= s->y1 || !pw_raster_next(s, &xa, &xb)) continue;
+            if (y < s->y0 || y >= s->y1 || !pw__raster_row(s, y, &xa, &xb)) continue;
             fx = (float)xa + 0.5f - ox;
             px = xa / ss;
             i = xa - px * ss;
@@ -8276,7 +8490,7 @@ PW__DEF void pw__raster_over(pw__ctx *c, pw_raster_edges *s, int t, const float 
             if ((xb - 1) / ss >= hi) hi = (xb - 1) / ss + 1;
             for (x = xa; x < xb; x++, fx += 1.0f) {
                 const float q = qx * fx + qrow;
-                if (q > dp[x] * c->dfac && q >= c->qfar) {
+                if (q > dp[x] * dfac && q >= qfar) {
                     qr[x] = q;
                     mask[px] |= (uint64_t)1 << (j * ss + i);
                 }
@@ -8288,9 +8502,10 @@ PW__DEF void pw__raster_over(pw__ctx *c, pw_raster_edges *s, int t, const float 
         }
         for (px = lo; px < hi; px++)
             if (mask[px]) {
-                pw__over_pixel(c, t, px, py, mask[px], c->qbuf);
+                pw__over_pixel(c, t, px, py, mask[px]);
                 mask[px] = 0;
             }
+        if (c->dwrite) pw__batch_flush(c);
     }
 }
 
@@ -8353,7 +8568,7 @@ PW__DEF void pw__draw_tri(pw__ctx *c, int t)
 {
     const int *ix = c->d->tris + 3 * (size_t)t;
     const double *h[3], R = c->grid.range;
-    double poly[8];
+    double poly[8], r[3][3], det;
     pw_raster_edges pieces[PW_RASTER_MAX_PIECES];
     float *pl = c->planes + (size_t)t * PW__NPL;
     int k, n = 3, np, nin = 0, nfar = 0, inside = 1;
@@ -8375,9 +8590,15 @@ PW__DEF void pw__draw_tri(pw__ctx *c, int t)
         n = pw__near_clip(c, ix, h, poly);
         inside = 0;
     }
-    if (!pw__tri_planes(c, t, poly, n, pl)) return;
+    if (!pw__tri_planes(c, t, poly, n, pl, r, &det)) return;
     /* the usual case (in front, within the raster range) needs no clipping */
-    np = inside ? pw_raster_setup(pieces, &c->grid, poly) : pw_raster_polygon(&c->grid, poly, n, pieces);
+    if (inside) { /* narrow triangles find their runs without the row walker */
+        np = pw__raster_setup_edges(pieces, &c->grid, poly);
+        if (np && pieces[0].x1 - pieces[0].x0 > PW__NARROW) pw__raster_walk_init(pieces);
+    } else {
+        np = pw_raster_polygon(&c->grid, poly, n, pieces);
+    }
+    if (np && c->cwrite) pw__attr_planes(c, t, pl, r, det);
     for (k = 0; k < np; k++) {
         if (c->blend == PW_BLEND_OVER && c->cwrite) pw__raster_over(c, pieces + k, t, pl);
         else pw__raster_vis(c, pieces + k, (uint32_t)t, pl);
@@ -8455,9 +8676,12 @@ PW__DEF void pw__ctx_init(pw__ctx *c, pw_fb *fb, const pw_draw *d)
 PW__DEF int pw_render_draw(pw_fb *fb, const pw_camera *cam, const pw_draw *d, pw_err *e)
 {
     pw__ctx c;
+    pw__batch batch;
     int r, t, need_normals;
     PW_ASSERT(fb && fb->color && cam && d);
     memset(&c, 0, sizeof c);
+    batch.n = 0;
+    c.batch = &batch;
     if ((r = pw__draw_check(d, e)) != PW_OK) return r;
     if ((r = pw__view_init(&c.view, cam, fb->sw, fb->sh, e)) != PW_OK) return r;
     pw_raster_grid_init(&c.grid, fb->sw, fb->sh);
@@ -8486,6 +8710,7 @@ PW__DEF int pw_render_draw(pw_fb *fb, const pw_camera *cam, const pw_draw *d, pw
         fb->zvalid = 0;
     }
     for (t = 0; t < d->ntris; t++) pw__draw_tri(&c, t);
+    pw__batch_flush(&c); /* a blended draw's last pixels */
     if (c.cwrite && c.blend == PW_BLEND_REPLACE && c.bx1 > c.bx0) pw__shade_vis(&c);
     return PW_OK;
 }

@@ -316,10 +316,12 @@ static void peer_rows(scene *s, const pw_image *img, double ss2_frame)
         bench_report("  patchwork pw_render_draw frame", bench_multi_stat(&m, 0, NULL), s->nt, "tri");
         bench_report("  OSMesa llvmpipe frame", bench_multi_stat(&m, 1, NULL), s->nt, "tri");
         bench_row_pair(task, &m, 1, "Mesa llvmpipe (OSMesa), 1 thread", NULL,
-                       "per-pixel texture filtering: perf puts half of patchwork's frame in pw__tex_bilinear, "
-                       "pw__tex_trilinear and pw__shade (scalar float, 8 texels of 16-bit RGBA per pixel), which "
-                       "llvmpipe runs as JIT-compiled SIMD over 4x4 pixel blocks; with 4 samples per pixel patchwork "
-                       "still shades once per pixel and the ranking reverses");
+                       "batched shading, 8-bit texels, walker-free narrow triangles (1.51 -> 1.25, 2026-12-03); "
+                       "perf: about 40% shading (texel fetch and filter, perspective divide and mip level, "
+                       "per-pixel lighting), 35% triangle setup and the depth pass (double-precision planes, 64-bit "
+                       "edge functions), 8% clearing and resolving the float RGBA framebuffer; llvmpipe runs "
+                       "JIT-compiled 8-wide SIMD over 4x4 pixel blocks of 8-bit colour; with 4 samples per pixel "
+                       "patchwork still shades once per pixel and the ranking reverses");
         printf("  the two pictures differ by %.2f/255 on average\n", gl_peer_diff(&g, &s->out));
         snprintf(path, sizeof path, "%s/render-pw-%dspp.png", bench_data_dir(), j.samples);
         pw_err_clear(&e);

@@ -435,7 +435,8 @@ static int ref_covered(const double *v, int bits, int x, int y)
 
 /* Spans are exact: for ordinary, thin, huge and axis-aligned triangles,
  * one row at a time (pw_raster_span), walking down the rows
- * (pw_raster_next), per pixel (pw_raster_tri) and as runs
+ * (pw_raster_next), without the walker (pw__raster_row, the renderer's
+ * path for narrow triangles), per pixel (pw_raster_tri) and as runs
  * (pw_raster_tri_spans) all match the reference at every pixel. */
 static void t_raster_spans(void)
 {
@@ -467,6 +468,14 @@ static void t_raster_spans(void)
                 int walk = pw_raster_next(&s, &wa, &wb);
                 if (walk != has || (has && (wa != xa || wb != xb))) bad++;
                 for (x = xa; has && x < xb; x++) cover[y * CW + x]++;
+            }
+        if (memcmp(ref, cover, sizeof ref)) bad++;
+        memset(cover, 0, sizeof cover); /* the runs found without the walker (narrow triangles) */
+        if (pw__raster_setup_edges(&s, &g, dv))
+            for (y = s.y0; y < s.y1; y++) {
+                int xa = 0, xb = 0;
+                if (pw__raster_row(&s, y, &xa, &xb))
+                    for (x = xa; x < xb; x++) cover[y * CW + x]++;
             }
         if (memcmp(ref, cover, sizeof ref)) bad++;
         memset(cover, 0, sizeof cover);
@@ -534,7 +543,9 @@ static void bilinear_ref(const pw_image *img, float tx, float ty, float *out)
 }
 
 /* A textured quad facing the camera reproduces its texture, the image's top
- * row at the top (v = 0 is the bottom row of the texture). */
+ * row at the top (v = 0 is the bottom row of the texture): nearest, then
+ * trilinear from a 16-bit source (filtered in 16 bits) and from an 8-bit one
+ * (filtered on 8-bit texels: within half a unit of 8 bits). */
 static void t_render_textured_quad(void)
 {
     mesh m;
@@ -545,11 +556,13 @@ static void t_render_textured_quad(void)
     int x, y, k, bad = 0, f;
     float bg[4] = {0, 0, 0, 1};
     make_coded(&img, 8, 8);
-    REQUIRE(pw_texture_create(NULL, &tex, &img, 0, NULL) == PW_OK);
     mesh_grid(&m, 3, p_quad, 1.0f);
     d = draw_of(&m);
     d.tex = &tex;
-    for (f = 0; f < 2; f++) {
+    for (f = 0; f < 3; f++) {
+        const float tol = f == 2 ? 0.5f / 255.0f + 2e-5f : 2e-5f;
+        img.bits = f == 1 ? 16 : 8;
+        REQUIRE(pw_texture_create(NULL, &tex, &img, 0, NULL) == PW_OK);
         d.filter = f ? PW_FILTER_TRILINEAR : PW_FILTER_NEAREST;
         REQUIRE(render1(&d, 1, &cam, 64, 64, 1, bg, &out));
         for (y = 0; y < 64; y++)
@@ -559,7 +572,7 @@ static void t_render_textured_quad(void)
                 if (f == 0) memcpy(t, img.px + ((y / 8) * 8 + x / 8) * 3, sizeof t);
                 else bilinear_ref(&img, (x + 0.5f) / 8 - 0.5f, (y + 0.5f) / 8 - 0.5f, t);
                 for (k = 0; k < 3; k++)
-                    if (fabsf(p[k] - t[k]) > 2e-5f) bad++;
+                    if (fabsf(p[k] - t[k]) > tol) bad++;
             }
         /* bottom-left pixel shows the bottom-left texel (v = 0, u = 0) */
         if (f == 0) {
@@ -567,9 +580,9 @@ static void t_render_textured_quad(void)
             CHECK_NEAR(fb_px(&out, 63, 0)[0], 7.0f / 8, 2e-5);
         }
         pw_image_free(NULL, &out);
+        pw_texture_free(NULL, &tex);
     }
     CHECK_EQ_INT(bad, 0);
-    pw_texture_free(NULL, &tex);
     pw_image_free(NULL, &img);
     mesh_free(&m);
 }
@@ -779,7 +792,7 @@ static void t_render_depth(void)
 }
 
 /* Two blended passes over an opaque one equal the analytic "over" (to the
- * 16-bit precision of textures). */
+ * 16-bit precision of textures: a 16-bit source is filtered in 16 bits). */
 static void t_render_blend_over(void)
 {
     float pos[12], bg[4] = {0, 0, 0, 1}, uv[12] = {0, 0, 1, 0, 1, 1, 0, 0, 1, 1, 0, 1};
@@ -791,7 +804,7 @@ static void t_render_blend_over(void)
     pw_draw d[3];
     img.w = img.h = 1;
     img.c = 4;
-    img.bits = 8;
+    img.bits = 16;
     img.px = px;
     REQUIRE(pw_texture_create(NULL, &tex, &img, 0, NULL) == PW_OK);
     quad_at(pos, tri, -1.5f, -1.5f, 1.5f, 1.5f, 0.0f);

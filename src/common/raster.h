@@ -229,11 +229,10 @@ PW__DEF int pw_raster_next(pw_raster_edges *s, int *xa, int *xb)
     return 1;
 }
 
-/* Sets up the edge functions of a triangle whose coordinates all lie within
- * +-g->range (pw_raster_polygon handles the others; a triangle outside is
- * refused here). Returns 1 if some pixel of the viewport may be covered, 0
- * if none can be (zero area, off screen, out of range). */
-PW__DEF int pw_raster_setup(pw_raster_edges *s, const pw_raster_grid *g, const double xy[6])
+/* pw_raster_setup without the row walker (nw = -1): for triangles a few
+ * pixels wide, whose runs pw__raster_row finds by testing the candidate
+ * pixels of the row, cheaper than the walker's divisions. */
+PW__DEF int pw__raster_setup_edges(pw_raster_edges *s, const pw_raster_grid *g, const double xy[6])
 {
     int64_t X[3], Y[3], one = (int64_t)1 << g->bits, half = one >> 1, px, py;
     int k, xlo, xhi, ylo, yhi;
@@ -269,8 +268,47 @@ PW__DEF int pw_raster_setup(pw_raster_edges *s, const pw_raster_grid *g, const d
         s->ex[k] = A * one;
         s->ey[k] = B * one;
     }
-    if (!pw__raster_trim_rows(s)) return 0;
+    s->nl = 0;
+    s->nw = -1;
+    return pw__raster_trim_rows(s);
+}
+
+/* Sets up the edge functions of a triangle whose coordinates all lie within
+ * +-g->range (pw_raster_polygon handles the others; a triangle outside is
+ * refused here). Returns 1 if some pixel of the viewport may be covered, 0
+ * if none can be (zero area, off screen, out of range). */
+PW__DEF int pw_raster_setup(pw_raster_edges *s, const pw_raster_grid *g, const double xy[6])
+{
+    if (!pw__raster_setup_edges(s, g, xy)) return 0;
     pw__raster_walk_init(s);
+    return 1;
+}
+
+/* The covered run [*xa, *xb) of row y, for rows taken in order from y0 (as
+ * pw_raster_next): from the walker, or without one (nw < 0) by testing the
+ * edges at the row's candidate pixels (a convex run: the first covered
+ * pixel, then up to the first one not covered). Returns xb > xa. */
+PW__DEF int pw__raster_row(pw_raster_edges *s, int y, int *xa, int *xb)
+{
+    int64_t e0, e1, e2;
+    int d = 0, lo, n = s->x1 - s->x0;
+    if (s->nw >= 0) return pw_raster_next(s, xa, xb);
+    e0 = s->e[0] + s->ey[0] * (y - s->y0);
+    e1 = s->e[1] + s->ey[1] * (y - s->y0);
+    e2 = s->e[2] + s->ey[2] * (y - s->y0);
+    for (; d < n && (e0 | e1 | e2) < 0; d++) {
+        e0 += s->ex[0];
+        e1 += s->ex[1];
+        e2 += s->ex[2];
+    }
+    for (lo = d; d < n && (e0 | e1 | e2) >= 0; d++) {
+        e0 += s->ex[0];
+        e1 += s->ex[1];
+        e2 += s->ex[2];
+    }
+    if (lo >= d) return 0;
+    *xa = s->x0 + lo;
+    *xb = s->x0 + d;
     return 1;
 }
 

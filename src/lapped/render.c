@@ -75,6 +75,7 @@ typedef struct lapped__picture {
     const lapped_texture *t;
     const pw_texture *tex;
     const float *normals; /* smooth vertex normals of the whole mesh */
+    const double *rows;   /* per paste: the sample rows its corners reach (pw__draw_rows) */
     pw_camera cam;
     int filter;
 } lapped__picture;
@@ -109,7 +110,8 @@ static int lapped__draw_band(void *user, pw_fb *fb, pw_err *e)
     d.no_depth_write = 1;
     d.same_vertices = 1;
     for (p = 0; p < F->t->npastes && r == PW_OK; p++) {
-        if (F->t->pastes[p].nfaces == 0) continue;
+        /* pastes wholly above or below the band draw nothing in it */
+        if (F->t->pastes[p].nfaces == 0 || F->rows[2 * p + 1] < fb->y0 || F->rows[2 * p] > fb->y0 + fb->bh) continue;
         lapped__paste_draw(m, &F->t->pastes[p], tris, &d);
         d.tex = &F->tex[F->t->pastes[p].patch];
         r = pw_render_draw(fb, &F->cam, &d, e);
@@ -118,9 +120,36 @@ static int lapped__draw_band(void *user, pw_fb *fb, pw_err *e)
     return r;
 }
 
+/* The sample rows each paste reaches in the frame (rows[2p], rows[2p + 1]),
+ * with its triangles' corners projected as the draws will (pw__draw_rows),
+ * so that the bands skip the pastes they do not meet. */
+static int lapped__paste_rows(const lapped__picture *F, const lapped_render_options *ro, double *rows, pw_err *e)
+{
+    const pw_trimesh *m = F->m;
+    int *tris = (int *)pw_alloc_array(F->a, (size_t)m->nf * 3, sizeof(int), "paste triangles", e), p;
+    pw__view v;
+    pw_draw d;
+    if (!tris) return PW_ERR_NOMEM;
+    memset(&d, 0, sizeof d);
+    d.positions = m->pos;
+    d.nv = m->nv;
+    for (p = 0; p < F->t->npastes; p++) {
+        rows[2 * p] = -DBL_MAX;
+        rows[2 * p + 1] = DBL_MAX;
+    }
+    if (pw__view_init(&v, &F->cam, ro->width * ro->supersample, ro->height * ro->supersample, NULL) == PW_OK)
+        for (p = 0; p < F->t->npastes; p++) {
+            lapped__paste_draw(m, &F->t->pastes[p], tris, &d);
+            pw__draw_rows(&v, &d, rows + 2 * p, rows + 2 * p + 1);
+        }
+    pw_free(F->a, tris);
+    return PW_OK;
+}
+
 /* The frame, band by band (pw_render_frame): the normals once, from the
- * whole mesh (every paste is lit as the surface), then the bands. F comes
- * with its allocator, mesh, texture and patch textures; this sets the rest. */
+ * whole mesh (every paste is lit as the surface), and the rows each paste
+ * reaches, then the bands. F comes with its allocator, mesh, texture and
+ * patch textures; this sets the rest. */
 static int lapped__draw_pastes(lapped__picture *F, const lapped_render_options *ro, pw_image *pic, pw_err *e)
 {
     const pw_alloc *a = F->a;
@@ -129,8 +158,15 @@ static int lapped__draw_pastes(lapped__picture *F, const lapped_render_options *
     pw_parallel par;
     pw_draw d;
     float *normals = (float *)pw_alloc_array(a, (size_t)m->nv * 3, sizeof(float), "normals", e);
+    double *rows =
+        normals ? (double *)pw_alloc_array(a, (size_t)F->t->npastes * 2 + 2, sizeof(double), "paste rows", e) : NULL;
     int r;
-    if (!normals) return PW_ERR_NOMEM;
+    F->cam = pw_camera_frame(m->pos, m->nv, ro->view_dir, ro->up, 35.0f, (float)ro->width / (float)ro->height);
+    if (!rows || lapped__paste_rows(F, ro, rows, e) != PW_OK) {
+        pw_free(a, normals);
+        pw_free(a, rows);
+        return PW_ERR_NOMEM;
+    }
     memset(&d, 0, sizeof d);
     d.positions = m->pos;
     d.nv = m->nv;
@@ -138,7 +174,7 @@ static int lapped__draw_pastes(lapped__picture *F, const lapped_render_options *
     d.ntris = m->nf;
     pw__smooth_normals(&d, normals);
     F->normals = normals;
-    F->cam = pw_camera_frame(m->pos, m->nv, ro->view_dir, ro->up, 35.0f, (float)ro->width / (float)ro->height);
+    F->rows = rows;
     F->filter = (int)ro->filter;
     par = lapped__parallel(ro);
     pw_frame_init(&f, ro->width, ro->height, ro->supersample, ro->background, &par);
@@ -146,6 +182,7 @@ static int lapped__draw_pastes(lapped__picture *F, const lapped_render_options *
     f.user = F;
     r = pw_render_frame(a, &f, pic, e);
     pw_free(a, normals);
+    pw_free(a, rows);
     return r;
 }
 
