@@ -265,20 +265,28 @@ static double lst__ball(double c[4][3], double *g)
 /* How the mask meets a tetrahedron whose corners map to c[0..3] (each 3
  * texture coordinates): wholly outside its support, wholly inside its
  * opaque core (the distance fields at the centroid against the bounding
- * ball, plus a margin for interpolation, decide), or partly, as the sample
- * points tell (§5.2.4 "partially inside the alpha mask", at the points
- * where coverage is measured). */
-static int lst__overlap(const lst__fill *F, const lst__mask *m, double c[4][3])
+ * ball, plus a margin for interpolation, decide: lst__overlap_fields,
+ * LST__PART when they do not), or partly, as the sample points tell
+ * (§5.2.4 "partially inside the alpha mask", at the points where coverage
+ * is measured). */
+static int lst__overlap_fields(const lst__mask *m, double c[4][3])
 {
-    double g[3], lim = lst__ball(c, g) + m->margin, p[10][3], o[4][3];
-    float vc[4][3];
-    int k, j, s, q;
-    if (lst__mask_dist(m, m->out, pw_clampf((float)g[0], 0, 1), pw_clampf((float)g[1], 0, 1),
-                       pw_clampf((float)g[2], 0, 1)) > lim)
+    double g[3], lim = lst__ball(c, g) + m->margin;
+    if (lst__mask_clear(m, pw_clampf((float)g[0], 0, 1), pw_clampf((float)g[1], 0, 1), pw_clampf((float)g[2], 0, 1),
+                        lim))
         return LST__OUT;
     if (g[0] >= 0 && g[0] <= 1 && g[1] >= 0 && g[1] <= 1 && g[2] >= 0 && g[2] <= 1 &&
-        lst__mask_dist(m, m->in, g[0], g[1], g[2]) > lim)
+        m->in[lst__mask_voxel(m, g[0], g[1], g[2])] > lim)
         return LST__CORE;
+    return LST__PART;
+}
+
+static int lst__overlap(const lst__fill *F, const lst__mask *m, double c[4][3])
+{
+    double g[3], lim, p[10][3], o[4][3];
+    float vc[4][3];
+    int k, j, s, q, ov = lst__overlap_fields(m, c);
+    if (ov != LST__PART) return ov;
     for (k = 0; k < 4; k++) {
         lst__to_voxel(&m->vol, c[k][0], c[k][1], c[k][2], vc[k]);
         memcpy(p[k], c[k], sizeof p[k]);
@@ -288,8 +296,8 @@ static int lst__overlap(const lst__fill *F, const lst__mask *m, double c[4][3])
     for (q = 0; q < 8; q++) { /* octants the distance field clears are not sampled */
         for (k = 0; k < 4; k++) memcpy(o[k], p[lst__octants[q][k]], sizeof o[k]);
         lim = lst__ball(o, g) + m->margin;
-        if (lst__mask_dist(m, m->out, pw_clampf((float)g[0], 0, 1), pw_clampf((float)g[1], 0, 1),
-                           pw_clampf((float)g[2], 0, 1)) > lim)
+        if (lst__mask_clear(m, pw_clampf((float)g[0], 0, 1), pw_clampf((float)g[1], 0, 1), pw_clampf((float)g[2], 0, 1),
+                            lim))
             continue;
         for (s = F->group[q]; s < F->group[q + 1]; s++) {
             const float *l = F->lattice + 4 * s;
@@ -510,20 +518,20 @@ static void lst__coverage(lst__fill *F, const lst__spec *s, int id)
         double c[4][3];
         float vc[4][3];
         for (k = 0; k < 4; k++) memcpy(c[k], F->w + 3 * F->ccorner[4 * i + k], sizeof c[k]);
-        ov = lst__overlap(F, m, c);
+        ov = F->upos[t] < 0 ? lst__overlap_fields(m, c) : lst__overlap(F, m, c); /* covered: only the core counts */
         if (ov == LST__CORE) F->opaque[t] = id;
         if (F->upos[t] < 0 || ov == LST__OUT) continue;
         for (k = 0; k < 4; k++) lst__to_voxel(&m->vol, c[k][0], c[k][1], c[k][2], vc[k]);
         for (q = 0; q < F->nsamp; q++) {
             const float *l = F->lattice + 4 * q;
-            float al;
+            float al = 1.0f, x, y, z;
             if (cv[q] == 255) continue;
-            al = ov == LST__CORE
-                     ? 1.0f
-                     : lst__mask_alpha_vox(&m->vol,
-                                           l[0] * vc[0][0] + l[1] * vc[1][0] + l[2] * vc[2][0] + l[3] * vc[3][0],
-                                           l[0] * vc[0][1] + l[1] * vc[1][1] + l[2] * vc[2][1] + l[3] * vc[3][1],
-                                           l[0] * vc[0][2] + l[1] * vc[1][2] + l[2] * vc[2][2] + l[3] * vc[3][2]);
+            if (ov != LST__CORE) { /* a cell of zero voxels gives exactly 0: one byte instead of eight floats */
+                x = l[0] * vc[0][0] + l[1] * vc[1][0] + l[2] * vc[2][0] + l[3] * vc[3][0];
+                y = l[0] * vc[0][1] + l[1] * vc[1][1] + l[2] * vc[2][1] + l[3] * vc[3][1];
+                z = l[0] * vc[0][2] + l[1] * vc[1][2] + l[2] * vc[2][2] + l[3] * vc[3][2];
+                al = lst__cell_any(&m->vol, m->cell, x, y, z) ? lst__mask_alpha_vox(&m->vol, x, y, z) : 0.0f;
+            }
             cv[q] = (unsigned char)(cv[q] + (int)(al * (255 - cv[q]) + 0.5f));
             all &= cv[q] >= F->threshold;
         }
