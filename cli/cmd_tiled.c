@@ -214,8 +214,9 @@ static tiled_result warn_small_tiles(const tiled_mesh *quads, const tiled_tilese
                 "patchwork tiled: warning: tiles are drawn about %.1f px wide on %d quads "
                 "(under %.0f px the texture cannot be seen): tiled.h puts one tile on every quad, "
                 "so give it a coarser quad mesh (fewer, larger quads; --subdivide only makes tiles "
-                "smaller), or texture dense meshes such as scans with `patchwork pgp` or "
-                "`patchwork lapped`, whose texture scale does not follow the faces\n",
+                "smaller), or --scale S for tiles of side S on any mesh, or texture dense meshes "
+                "such as scans with `patchwork pgp` or `patchwork lapped`, whose texture scale does "
+                "not follow the faces\n",
                 (double)px, quads->nfaces, (double)MIN_TILE_PX);
     return r;
 }

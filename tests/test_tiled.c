@@ -691,7 +691,9 @@ static int pipeline_with(tiled_options *o, tiled_error *err)
     return r;
 }
 
-static void t_alloc_failures(void)
+/* Every allocation failure of the whole pipeline, one tile per quad
+ * (scale 0) or tiles of side `scale`: NOMEM and nothing leaked. */
+static void alloc_loop(float scale)
 {
     int budget, done = 0;
     for (budget = 0; budget < 100000 && !done; budget++) {
@@ -704,7 +706,9 @@ static void t_alloc_failures(void)
         o.allocator.realloc_fn = pwt_realloc;
         o.allocator.free_fn = pwt_free;
         o.allocator.user = &st;
-        o.smooth = 1;
+        o.smooth = scale > 0.0f ? 0 : 1;
+        o.subdivide = scale > 0.0f;
+        o.scale = scale;
         r = pipeline_with(&o, &err);
         if (r == TILED_OK) done = 1;
         else CHECKF(r == TILED_ERR_NOMEM, "budget %d: %s", budget, err.message);
@@ -714,6 +718,9 @@ static void t_alloc_failures(void)
     CHECK(done);
     pwt_info("%d allocation failure points exercised", budget - 1);
 }
+
+static void t_alloc_failures(void) { alloc_loop(0.0f); }
+static void t_grid_alloc_failures(void) { alloc_loop(1.5f); }
 
 /* ---- real data (make data) --------------------------------------------------- */
 
@@ -1221,5 +1228,6 @@ static const pwt_case cases[] = {
     {"tiled/grid_determinism", t_grid_determinism},
     {"tiled/grid_bad_input", t_grid_bad_input},
     {"tiled/grid_curvature_case1", t_grid_curvature_case1},
+    {"tiled/grid_alloc_failures", t_grid_alloc_failures},
 };
 PWT_MAIN(cases)

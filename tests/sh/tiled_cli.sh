@@ -15,6 +15,7 @@ elif [ ! -s "$tmp/dense.png" ]; then fail dense_warns "no image written"
 elif [ -z "$px" ]; then fail dense_warns "no size in the warning: $(cat "$tmp/err")"
 elif ! awk -v p="$px" 'BEGIN { exit !(p > 0 && p < 16) }'; then fail dense_warns "tile size $px px, expected under 16"
 elif ! grep -q -- "coarser quad mesh" "$tmp/err" || ! grep -q -- "--subdivide" "$tmp/err" ||
+     ! grep -q -- "--scale S" "$tmp/err" ||
      ! grep -q "patchwork pgp" "$tmp/err" || ! grep -q "patchwork lapped" "$tmp/err"; then
     fail dense_warns "the warning does not say what to do: $(cat "$tmp/err")"
 else pass dense_warns; fi
