@@ -30,12 +30,12 @@
  *  13989: src/tiled/core.c, tiled.h's glue to the shared core, its defaults, result
  *  14078: src/tiled/layout.c, ch. III.1, the boundary types and the tiled texture they
  *  14350: src/tiled/cells.c, beyond the thesis (issue 23): tiles of a chosen size on an
- *  15005: src/tiled/map.c, ch. III.2, the texture mapping algorithm of Fig. 29
- *  15274: src/tiled/synth.c, ch. III.1.3, tiled texture image synthesis: an edge-matche
- *  15656: src/tiled/validate.c, checks a hand-made tiled texture (the thesis's Figs. 39,
- *  15784: src/tiled/builtin.c, built-in meshes and exemplars for demos and tests: the
- *  15981: src/tiled/render.c, a software rendering of a mapped mesh (the thesis rendered
- *  16204: src/tiled/io.c, files. Meshes and exemplars in; the mapped mesh with its t
+ *  15006: src/tiled/map.c, ch. III.2, the texture mapping algorithm of Fig. 29
+ *  15275: src/tiled/synth.c, ch. III.1.3, tiled texture image synthesis: an edge-matche
+ *  15657: src/tiled/validate.c, checks a hand-made tiled texture (the thesis's Figs. 39,
+ *  15785: src/tiled/builtin.c, built-in meshes and exemplars for demos and tests: the
+ *  15982: src/tiled/render.c, a software rendering of a mapped mesh (the thesis rendered
+ *  16205: src/tiled/io.c, files. Meshes and exemplars in; the mapped mesh with its t
  */
 /* tiled.h - seamless, singularity-free tiled textures on quad meshes.
  *
@@ -14371,10 +14371,11 @@ static const float *tiled__plain_px(const pw_image *img, const tiled__geom *gm, 
  * edges and a fan of TILED__FAN thin triangles per edge around the point
  * where the pattern ends, each carrying the clean coordinate (linear along
  * every ray from that point) at its corners. One lookup per pixel, so no
- * ghost; the fan's rays carry a jump of at most winding / (3 TILED__FAN)
- * of a period at the centre, falling to 0 at the triangle's edges. */
+ * ghost; the fan's rays carry a jump of about winding / (3 TILED__FAN) of
+ * a period at the centre (more where the residual turns fast), falling to
+ * 0 at the triangle's edges (docs/tiled.md has the figures). */
 
-#define TILED__FAN 4         /* thin triangles per edge of a vortex triangle */
+#define TILED__FAN 8         /* thin triangles per edge of a vortex triangle */
 #define TILED__MAX_SPAN 4096 /* cells a triangle may span before it is left uncut */
 
 /* A triangle to cut: a mesh triangle or one of a vortex triangle's fan. */

@@ -21,11 +21,12 @@
  * edges and a fan of TILED__FAN thin triangles per edge around the point
  * where the pattern ends, each carrying the clean coordinate (linear along
  * every ray from that point) at its corners. One lookup per pixel, so no
- * ghost; the fan's rays carry a jump of at most winding / (3 TILED__FAN)
- * of a period at the centre, falling to 0 at the triangle's edges. */
+ * ghost; the fan's rays carry a jump of about winding / (3 TILED__FAN) of
+ * a period at the centre (more where the residual turns fast), falling to
+ * 0 at the triangle's edges (docs/tiled.md has the figures). */
 #include "layout.c"
 
-#define TILED__FAN 4         /* thin triangles per edge of a vortex triangle */
+#define TILED__FAN 8         /* thin triangles per edge of a vortex triangle */
 #define TILED__MAX_SPAN 4096 /* cells a triangle may span before it is left uncut */
 
 /* A triangle to cut: a mesh triangle or one of a vortex triangle's fan. */
