@@ -49,10 +49,10 @@ ALL_CFLAGS = $(WARN) $(CFLAGS) $(SANFLAGS) -I.
 
 # ---- single-file headers: name and the shared modules each one carries ----
 HEADERS        := tiled lapped pgp lst
-MODULES_tiled  := base vec rng noise image deflate:PW_NO_PNG png text mesh shapes halfedge subdiv raster:PW_NO_RENDER parallel render graphcut quilt glue gltf
+MODULES_tiled  := base vec rng noise image deflate:PW_NO_PNG png text mesh shapes halfedge subdiv sparse zsparse zamg trimesh heap dirfield periodic raster:PW_NO_RENDER parallel render graphcut quilt glue gltf
 MODULES_lapped := base vec rng noise image deflate:PW_NO_PNG png text mesh shapes halfedge sparse raster parallel render polyhull trimesh heap atlas atlas_charts atlas_pack atlas_bake dirfield glue gltf
 PARTS_lapped   := core field patch builtin grow render atlas io
-PARTS_tiled    := core layout map synth validate builtin render io
+PARTS_tiled    := core layout cells map synth validate builtin render io
 MODULES_pgp    := base vec rng noise image deflate png text mesh shapes halfedge sparse zsparse zamg raster parallel render trimesh heap atlas atlas_charts atlas_pack atlas_bake dirfield periodic nrrd tile3 glue gltf graphcut quilt edt kdtree pca
 PARTS_pgp      := core field solve edit render builtin io export morph synth
 MODULES_lst    := base vec rng noise image deflate png text mesh shapes halfedge trimesh heap sparse raster parallel render atlas atlas_charts atlas_pack atlas_bake nrrd tetmesh tetio bisect stuffing edt pca glue gltf

@@ -2,34 +2,42 @@
  * Do not edit: change the sources and run `make headers`.
  *
  * CONTENTS (line: source, what it holds)
- *     34: src/tiled/tiled.h, the public API and its documentation
- *    442: src/common/base.h, allocation hooks, result codes, error messages, limits, he
- *    754: src/common/vec.h, small vector math on float[3] arrays and a 3-float struct.
- *    868: src/common/rng.h, seeded random numbers with the same output on every platfo
- *    945: src/common/noise.h, value noise and its fractal sum, for the built-in procedur
- *   1047: src/common/image.h, float images and their file formats.
- *   1752: src/common/deflate.h, zlib (RFC 1950) and deflate (RFC 1951) compression and
- *   2751: src/common/png.h, PNG writer and reader, and the image front end.
- *   3310: src/common/text.h, locale-independent number parsing and formatting, a line s
- *   3723: src/common/mesh.h, polygon meshes as flat arrays, and their file formats.
- *   5252: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
- *   5781: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
- *   6205: src/common/subdiv.h, Catmull-Clark subdivision (Catmull and Clark 1978) with
- *   6344: src/common/raster.h, exact scan conversion of 2D triangles.
- *   6858: src/common/parallel.h, a parallel for, the one way work is split across threads.
- *   6986: src/common/render.h, a small deterministic software renderer for textured trian
- *   8838: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
- *   9335: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
- *   9821: src/common/glue.h, what every method header needs between its public types an
- *  10157: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  10821: src/tiled/core.c, tiled.h's glue to the shared core, its defaults, result
- *  10910: src/tiled/layout.c, ch. III.1, the boundary types and the tiled texture they
- *  11182: src/tiled/map.c, ch. III.2, the texture mapping algorithm of Fig. 29
- *  11431: src/tiled/synth.c, ch. III.1.3, tiled texture image synthesis: an edge-matche
- *  11877: src/tiled/validate.c, checks a hand-made tiled texture (the thesis's Figs. 39,
- *  12005: src/tiled/builtin.c, built-in meshes and exemplars for demos and tests: the
- *  12202: src/tiled/render.c, a software rendering of a mapped mesh (the thesis rendered
- *  12425: src/tiled/io.c, files. Meshes and exemplars in; the mapped mesh with its t
+ *     42: src/tiled/tiled.h, the public API and its documentation
+ *    487: src/common/base.h, allocation hooks, result codes, error messages, limits, he
+ *    799: src/common/vec.h, small vector math on float[3] arrays and a 3-float struct.
+ *    913: src/common/rng.h, seeded random numbers with the same output on every platfo
+ *    990: src/common/noise.h, value noise and its fractal sum, for the built-in procedur
+ *   1092: src/common/image.h, float images and their file formats.
+ *   1797: src/common/deflate.h, zlib (RFC 1950) and deflate (RFC 1951) compression and
+ *   2796: src/common/png.h, PNG writer and reader, and the image front end.
+ *   3355: src/common/text.h, locale-independent number parsing and formatting, a line s
+ *   3768: src/common/mesh.h, polygon meshes as flat arrays, and their file formats.
+ *   5297: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
+ *   5826: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
+ *   6250: src/common/subdiv.h, Catmull-Clark subdivision (Catmull and Clark 1978) with
+ *   6389: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
+ *   7775: src/common/zsparse.h, complex Hermitian sparse systems, solved by conjugate grad
+ *   8035: src/common/zamg.h, a smoothed-aggregation multigrid preconditioner for the co
+ *   8690: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
+ *   8877: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
+ *   8962: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
+ *   9726: src/common/periodic.h, the periodic global parameterization of a triangle mesh al
+ *  10554: src/common/raster.h, exact scan conversion of 2D triangles.
+ *  11068: src/common/parallel.h, a parallel for, the one way work is split across threads.
+ *  11196: src/common/render.h, a small deterministic software renderer for textured trian
+ *  13048: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
+ *  13545: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
+ *  14031: src/common/glue.h, what every method header needs between its public types an
+ *  14367: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  15031: src/tiled/core.c, tiled.h's glue to the shared core, its defaults, result
+ *  15120: src/tiled/layout.c, ch. III.1, the boundary types and the tiled texture they
+ *  15392: src/tiled/cells.c, beyond the thesis (issue 23): tiles of a chosen size on an
+ *  16048: src/tiled/map.c, ch. III.2, the texture mapping algorithm of Fig. 29
+ *  16317: src/tiled/synth.c, ch. III.1.3, tiled texture image synthesis: an edge-matche
+ *  16763: src/tiled/validate.c, checks a hand-made tiled texture (the thesis's Figs. 39,
+ *  16891: src/tiled/builtin.c, built-in meshes and exemplars for demos and tests: the
+ *  17088: src/tiled/render.c, a software rendering of a mapped mesh (the thesis rendered
+ *  17311: src/tiled/io.c, files. Meshes and exemplars in; the mapped mesh with its t
  */
 /* tiled.h - seamless, singularity-free tiled textures on quad meshes.
  *
@@ -267,8 +275,37 @@ typedef struct tiled_render_options {
 
 /* Options. Zero-initialised means defaults; tiled_default_options() returns
  * them filled in. */
+/* The field the tiles follow in the mode for any mesh (tiled_options.scale),
+ * as pgp.h's: a tile's t axis along +y projected onto the surface, or along
+ * the direction of least curvature. */
+typedef enum tiled_field { TILED_FIELD_UP = 0, TILED_FIELD_CURVATURE = 1 } tiled_field;
+
+/* What the mode for any mesh did (tiled_options.stats). A cell is one
+ * square of the integer grid of the periodic parameterization: one tile. */
+typedef struct tiled_grid_stats {
+    int triangles;        /* triangles of the input (polygons fan-triangulated) */
+    int vortex_triangles; /* of them, where the grid winds (a T-junction):
+                             cut into a fan around the pattern's end point */
+    int pieces;           /* faces of the output: triangles cut along the grid */
+    int cells;            /* cells, one tile each */
+    int special_cells;    /* cells touching a vortex fan or whose neighbours
+                             disagree (two neighbours on one side) */
+    int grid_edges;       /* cell sides shared by two cells */
+    int mismatched_edges; /* of them, sides whose types could not be made partners */
+    int same_tile_edges;  /* of them, the same tile on both sides */
+    int repeated_edges;   /* of them, a (tile, side, tile) seen on an earlier edge */
+} tiled_grid_stats;
+
 typedef struct tiled_options {
     tiled_layout layout;
+    float scale;                 /* > 0: the mode for any triangle or polygon mesh
+                                (beyond the thesis): tiles of this side, in mesh
+                                units, on the integer grid of a periodic global
+                                parameterization (as pgp.h's), every cell one
+                                tile matching its neighbours; 0 (default): one
+                                tile per quad */
+    tiled_field field;           /* with scale: the field the tiles follow */
+    tiled_grid_stats *stats;     /* with scale: filled in when not NULL */
     unsigned long long seed;     /* RNG seed; default 0 */
     int subdivide;               /* extra Catmull-Clark levels once the mesh is all
                                 quads, before mapping (more, smaller tiles);
@@ -355,7 +392,15 @@ TILEDDEF void tiled_tileset_free(tiled_tileset *ts);
  * AssignTextureCoordinates for `layout` (use the tile set's), then
  * opt->smooth levels of Catmull-Clark that carry the mapping along. The
  * output mesh has uvs, corner_types (-1 on edges made by smoothing) and
- * face_tiles. */
+ * face_tiles.
+ * With opt->scale > 0, any mesh instead: a periodic global parameterization
+ * (s, t) along opt->field, with tiles of side opt->scale (2 mean edge
+ * lengths to 10 bounding-box diagonals; opt->subdivide levels of
+ * Catmull-Clark first make a coarse mesh fine enough, opt->smooth must be
+ * 0); the triangles are cut along the
+ * integer grid lines, every grid cell gets the tile its four sides' types
+ * name and every shared side partner types. The output's faces are the
+ * pieces (polygons in one cell each, corner_types -1 inside cells). */
 TILEDDEF tiled_result tiled_map(const tiled_mesh *in, const tiled_layout *layout, const tiled_options *opt,
                                 tiled_mesh *out, tiled_error *err);
 
@@ -6341,6 +6386,4171 @@ PW__DEF int pw_catmull_clark(const pw_alloc *a, const pw_hmesh *hm, const float 
 
 #endif /* PW__SUBDIV_V1 */
 
+/* ---- shared module src/common/sparse.h ---- */
+/* sparse: sparse matrices and a Jacobi-preconditioned conjugate gradient.
+ *
+ * Used for the least-squares parametrisations of lapped textures and lapped
+ * solid textures (warm-started from the previous patch), for Laplacian
+ * smoothing in PGP and for field interpolation. Everything is double
+ * precision, single-threaded and sums in a fixed order, so the same inputs
+ * give bit-identical results on every run.
+ *
+ * Build a matrix from (row, col, value) triplets added in any order, convert
+ * it to compressed sparse rows once, then multiply or solve:
+ *
+ *     pw_triplets t;  pw_csr A;  pw_cg_stats st;  pw_err e;
+ *     pw_err_clear(&e);
+ *     pw_triplets_init(&t, NULL, n, n, &e);
+ *     pw_triplets_add(&t, i, j, v, &e);  ...      (duplicates are summed)
+ *     pw_csr_from_triplets(NULL, &t, &A, &e);
+ *     pw_triplets_free(&t);
+ *     pw_cg_solve(NULL, &A, b, x, NULL, &st, &e);  (x: guess in, solution out)
+ *     pw_csr_free(NULL, &A);
+ *
+ * Solvers:
+ *   pw_ldlt_factor / pw_ldlt_solve   a direct sparse LDLᵀ with a minimum-
+ *                 degree ordering, for small SPD systems and several
+ *                 right-hand sides (see its section below).
+ *   pw_spd_factor / pw_spd_solve, pw_lsq_solve_small   LDLᵀ where it is
+ *                 measured to win (a few hundred to 20,000 unknowns, low
+ *                 fill), IC(0)-PCG or CGLS elsewhere ("choosing the
+ *                 solver" below).
+ *   pw_cg_solve   A x = b for symmetric positive (semi)definite A.
+ *   pw_lsq_solve  min |A x - b| for any rectangular A, by CGLS: conjugate
+ *                 gradients on the normal equations AᵀA x = Aᵀb without
+ *                 forming AᵀA, which keeps the residual b - Ax in row space
+ *                 and so loses less accuracy than CG on pw_csr_ata's output
+ *                 (the condition number is not squared a second time).
+ * Both stop when the relative residual falls to `tol`, recompute the true
+ * residual before accepting (and restart from it if rounding has made the
+ * recurrence drift), and on hitting the iteration cap return
+ * PW_ERR_NOCONVERGE with the residual in the message while x holds the last
+ * iterate: CG's best approximation in the energy norm (the A-norm of the
+ * error never grows from one iterate to the next), so callers that can live
+ * with the reported residual may use it. */
+#ifndef PW__SPARSE_V1
+#define PW__SPARSE_V1
+
+
+/* Instrumentation for benchmarks and experiments: a program that defines
+ * PW_SOLVE_HOOK(kind, A, b, x, opts) before including a header sees every
+ * system a solver is given, before it is solved: kind is "cg", "pcg" or
+ * "lsq" with A a const pw_csr *, or "zpcg" with A a const pw_zcsr *
+ * (zsparse.h); b the right-hand side, x the warm start, opts the
+ * pw_cg_options (tolerance) or NULL. Undefined, it costs nothing. */
+#ifndef PW_SOLVE_HOOK
+#define PW_SOLVE_HOOK(kind, A, b, x, opts) ((void)0)
+#endif
+
+/* ---- triplets ---------------------------------------------------------- */
+
+/* A growable list of (row, col, value) entries of an n x m matrix. */
+typedef struct pw_triplets {
+    int n, m;       /* rows, columns */
+    int count;      /* entries added */
+    int *row, *col; /* count each */
+    double *val;    /* count */
+    size_t cap;     /* allocated entries in each array */
+    pw_alloc alloc; /* copied at init; all-NULL means PW_MALLOC */
+} pw_triplets;
+
+/* Starts an empty n x m list. */
+PW__DEF int pw_triplets_init(pw_triplets *t, const pw_alloc *a, int n, int m, pw_err *e)
+{
+    memset(t, 0, sizeof *t);
+    if (a) t->alloc = *a;
+    if (n < 0 || m < 0) return pw_fail(e, PW_ERR_INVALID, "sparse matrix size %dx%d is negative", n, m);
+    t->n = n;
+    t->m = m;
+    return PW_OK;
+}
+
+/* Forgets the entries and keeps the memory, for building another matrix of
+ * the same size. */
+PW__DEF void pw_triplets_clear(pw_triplets *t) { t->count = 0; }
+
+PW__DEF void pw_triplets_free(pw_triplets *t)
+{
+    pw_alloc a = t->alloc;
+    pw_free(&a, t->row);
+    pw_free(&a, t->col);
+    pw_free(&a, t->val);
+    memset(t, 0, sizeof *t);
+    t->alloc = a;
+}
+
+/* Grows the three arrays together so that one capacity describes them all. */
+PW__DEF int pw__triplets_grow(pw_triplets *t, pw_err *e)
+{
+    size_t ncap = t->cap ? t->cap * 2 : 64;
+    void *p;
+    if (ncap > (size_t)INT_MAX) ncap = (size_t)INT_MAX;
+    if (ncap > (size_t)-1 / sizeof(double)) return pw_fail(e, PW_ERR_NOMEM, "sparse triplets: size overflow");
+    /* Each successful realloc is kept even if a later one fails: the list
+     * stays valid with the old capacity. */
+    if (!(p = pw_realloc(&t->alloc, t->row, ncap * sizeof(int)))) goto nomem;
+    t->row = (int *)p;
+    if (!(p = pw_realloc(&t->alloc, t->col, ncap * sizeof(int)))) goto nomem;
+    t->col = (int *)p;
+    if (!(p = pw_realloc(&t->alloc, t->val, ncap * sizeof(double)))) goto nomem;
+    t->val = (double *)p;
+    t->cap = ncap;
+    return PW_OK;
+nomem:
+    return pw_fail(e, PW_ERR_NOMEM, "out of memory growing sparse triplets to %lu entries", (unsigned long)ncap);
+}
+
+/* Adds v at (i, j). Entries at the same position are summed by
+ * pw_csr_from_triplets. Fails on an index out of range or a non-finite v. */
+PW__DEF int pw_triplets_add(pw_triplets *t, int i, int j, double v, pw_err *e)
+{
+    if (i < 0 || i >= t->n || j < 0 || j >= t->m)
+        return pw_fail(e, PW_ERR_INVALID, "sparse entry (%d, %d) outside the %dx%d matrix", i, j, t->n, t->m);
+    if (!pw_is_finite(v)) return pw_fail(e, PW_ERR_INVALID, "sparse entry (%d, %d) is not finite", i, j);
+    if (t->count == INT_MAX) return pw_fail(e, PW_ERR_LIMIT, "sparse matrix has more than %d entries", INT_MAX);
+    if ((size_t)t->count >= t->cap && pw__triplets_grow(t, e)) return PW_ERR_NOMEM;
+    t->row[t->count] = i;
+    t->col[t->count] = j;
+    t->val[t->count] = v;
+    t->count++;
+    return PW_OK;
+}
+
+/* ---- compressed sparse rows -------------------------------------------- */
+
+/* Row i holds col[k], val[k] for rowptr[i] <= k < rowptr[i+1]. Matrices made
+ * here have strictly increasing columns within each row. */
+typedef struct pw_csr {
+    int n, m;    /* rows, columns */
+    int *rowptr; /* n+1 */
+    int *col;    /* rowptr[n] */
+    double *val; /* rowptr[n] */
+} pw_csr;
+
+PW__DEF void pw_csr_free(const pw_alloc *a, pw_csr *A)
+{
+    if (!A) return;
+    pw_free(a, A->rowptr);
+    pw_free(a, A->col);
+    pw_free(a, A->val);
+    memset(A, 0, sizeof *A);
+}
+
+/* Allocates an n x m matrix with room for nnz entries; rowptr is zeroed. */
+PW__DEF int pw__csr_alloc(const pw_alloc *a, pw_csr *A, int n, int m, int nnz, pw_err *e)
+{
+    memset(A, 0, sizeof *A);
+    A->rowptr = (int *)pw_calloc_array(a, (size_t)n + 1, sizeof(int), "CSR rows", e);
+    A->col = (int *)pw_alloc_array(a, (size_t)nnz, sizeof(int), "CSR columns", e);
+    A->val = (double *)pw_alloc_array(a, (size_t)nnz, sizeof(double), "CSR values", e);
+    if (!A->rowptr || !A->col || !A->val) {
+        pw_csr_free(a, A);
+        return PW_ERR_NOMEM;
+    }
+    A->n = n;
+    A->m = m;
+    return PW_OK;
+}
+
+/* Stable counting sort of the entries idx[0..cnt) by key[idx[k]] in [0, nkeys):
+ * writes the order to out and the start of each key to start[0..nkeys]. */
+PW__DEF void pw__counting_sort(const int *key, const int *idx, int cnt, int nkeys, int *start, int *out)
+{
+    int k;
+    memset(start, 0, ((size_t)nkeys + 1) * sizeof(int));
+    for (k = 0; k < cnt; k++) start[key[idx ? idx[k] : k] + 1]++;
+    for (k = 0; k < nkeys; k++) start[k + 1] += start[k];
+    for (k = 0; k < cnt; k++) {
+        int id = idx ? idx[k] : k;
+        out[start[key[id]]++] = id;
+    }
+    /* the scatter advanced each start to the next key's start: shift back */
+    for (k = nkeys; k > 0; k--) start[k] = start[k - 1];
+    start[0] = 0;
+}
+
+/* Sums the duplicates of each row of `order` (sorted by row, then column,
+ * ties in insertion order, so the sums are taken in insertion order). */
+PW__DEF void pw__csr_compress(const pw_triplets *t, const int *order, const int *start, pw_csr *A)
+{
+    int r, k, nz = 0;
+    for (r = 0; r < t->n; r++) {
+        A->rowptr[r] = nz;
+        for (k = start[r]; k < start[r + 1]; k++) {
+            int id = order[k];
+            if (nz > A->rowptr[r] && A->col[nz - 1] == t->col[id]) {
+                A->val[nz - 1] += t->val[id];
+            } else {
+                A->col[nz] = t->col[id];
+                A->val[nz] = t->val[id];
+                nz++;
+            }
+        }
+    }
+    A->rowptr[t->n] = nz;
+}
+
+/* Builds the CSR matrix of t: duplicates summed (in insertion order),
+ * columns sorted within each row. Two stable counting sorts (by column,
+ * then by row) give that order in O(entries + n + m). Entries whose sum is
+ * zero are kept, so the structure depends only on the positions. */
+PW__DEF int pw_csr_from_triplets(const pw_alloc *a, const pw_triplets *t, pw_csr *out, pw_err *e)
+{
+    int nkeys = pw_maxi(t->n, t->m), *start, *bycol, *order;
+    memset(out, 0, sizeof *out);
+    start = (int *)pw_alloc_array(a, (size_t)nkeys + 1, sizeof(int), "CSR build", e);
+    bycol = (int *)pw_alloc_array(a, (size_t)t->count, sizeof(int), "CSR build", e);
+    order = (int *)pw_alloc_array(a, (size_t)t->count, sizeof(int), "CSR build", e);
+    if (!start || !bycol || !order || pw__csr_alloc(a, out, t->n, t->m, t->count, e)) {
+        pw_free(a, start);
+        pw_free(a, bycol);
+        pw_free(a, order);
+        return PW_ERR_NOMEM;
+    }
+    pw__counting_sort(t->col, NULL, t->count, t->m, start, bycol);
+    pw__counting_sort(t->row, bycol, t->count, t->n, start, order);
+    pw__csr_compress(t, order, start, out);
+    pw_free(a, start);
+    pw_free(a, bycol);
+    pw_free(a, order);
+    return PW_OK;
+}
+
+/* Checks the structure (row pointers, column range) and that every value is
+ * finite, so that solvers can fail cleanly on matrices built elsewhere. */
+PW__DEF int pw_csr_check(const pw_csr *A, pw_err *e)
+{
+    int i, k;
+    if (!A || A->n < 0 || A->m < 0 || !A->rowptr || A->rowptr[0] != 0)
+        return pw_fail(e, PW_ERR_INVALID, "malformed sparse matrix");
+    for (i = 0; i < A->n; i++) {
+        if (A->rowptr[i + 1] < A->rowptr[i])
+            return pw_fail(e, PW_ERR_INVALID, "sparse matrix row %d has a negative length", i);
+        for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++) {
+            if (A->col[k] < 0 || A->col[k] >= A->m)
+                return pw_fail(e, PW_ERR_INVALID,
+                               "sparse matrix entry %d of row %d: column %d "
+                               "outside 0..%d",
+                               k - A->rowptr[i], i, A->col[k], A->m - 1);
+            if (!pw_is_finite(A->val[k]))
+                return pw_fail(e, PW_ERR_INVALID, "sparse matrix entry (%d, %d) is not finite", i, A->col[k]);
+        }
+    }
+    return PW_OK;
+}
+
+/* y = A x   (x: m, y: n; y must not overlap x) */
+PW__DEF void pw_csr_mul(const pw_csr *A, const double *x, double *y)
+{
+    int i, k;
+    for (i = 0; i < A->n; i++) {
+        double s = 0;
+        for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++) s += A->val[k] * x[A->col[k]];
+        y[i] = s;
+    }
+}
+
+/* y = Aᵀ x   (x: n, y: m; y must not overlap x). Scatters row by row, so
+ * each y[j] is summed in increasing row order. */
+PW__DEF void pw_csr_mul_t(const pw_csr *A, const double *x, double *y)
+{
+    int i, k;
+    for (k = 0; k < A->m; k++) y[k] = 0;
+    for (i = 0; i < A->n; i++) {
+        double xi = x[i];
+        for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++) y[A->col[k]] += A->val[k] * xi;
+    }
+}
+
+/* d[i] = A(i, i) for i < min(n, m); 0 where the diagonal entry is absent. */
+PW__DEF void pw_csr_diag(const pw_csr *A, double *d)
+{
+    int i, k, nd = pw_mini(A->n, A->m);
+    for (i = 0; i < nd; i++) {
+        d[i] = 0;
+        for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++)
+            if (A->col[k] == i) d[i] += A->val[k];
+    }
+}
+
+/* out = Aᵀ (m x n). Scanning A's rows in order makes every row of the
+ * result come out with sorted columns. */
+PW__DEF int pw_csr_transpose(const pw_alloc *a, const pw_csr *A, pw_csr *out, pw_err *e)
+{
+    int i, k, nnz = A->rowptr[A->n], *next;
+    if (pw__csr_alloc(a, out, A->m, A->n, nnz, e)) return PW_ERR_NOMEM;
+    next = (int *)pw_alloc_array(a, (size_t)A->m + 1, sizeof(int), "CSR transpose", e);
+    if (!next) {
+        pw_csr_free(a, out);
+        return PW_ERR_NOMEM;
+    }
+    for (k = 0; k < nnz; k++) out->rowptr[A->col[k] + 1]++;
+    for (k = 0; k < A->m; k++) out->rowptr[k + 1] += out->rowptr[k];
+    memcpy(next, out->rowptr, ((size_t)A->m + 1) * sizeof(int));
+    for (i = 0; i < A->n; i++) {
+        for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++) {
+            int p = next[A->col[k]]++;
+            out->col[p] = i;
+            out->val[p] = A->val[k];
+        }
+    }
+    pw_free(a, next);
+    return PW_OK;
+}
+
+/* Counts the entries of AᵀA row by row (At = Aᵀ) into C->rowptr; fails
+ * when the total does not fit in an int. */
+PW__DEF int pw__ata_count(const pw_csr *A, const pw_csr *At, int *mark, int *rowptr, pw_err *e)
+{
+    int i, k, q;
+    int64_t nnz = 0;
+    for (i = 0; i < At->n; i++) mark[i] = -1;
+    rowptr[0] = 0;
+    for (i = 0; i < At->n; i++) {
+        for (k = At->rowptr[i]; k < At->rowptr[i + 1]; k++) {
+            int r = At->col[k];
+            for (q = A->rowptr[r]; q < A->rowptr[r + 1]; q++) {
+                if (mark[A->col[q]] != i) {
+                    mark[A->col[q]] = i;
+                    nnz++;
+                }
+            }
+        }
+        if (nnz > INT_MAX) return pw_fail(e, PW_ERR_LIMIT, "A^T A has more than %d entries", INT_MAX);
+        rowptr[i + 1] = (int)nnz;
+    }
+    return PW_OK;
+}
+
+/* Fills C = AᵀA (structure counted by pw__ata_count) with columns in order
+ * of first touch. C(i,j) = sum over rows r of A(r,i) A(r,j), always in
+ * increasing r, so C(i,j) and C(j,i) are bitwise equal. */
+PW__DEF void pw__ata_fill(const pw_csr *A, const pw_csr *At, int *pos, pw_csr *C)
+{
+    int i, k, q;
+    for (i = 0; i < At->n; i++) pos[i] = -1;
+    for (i = 0; i < At->n; i++) {
+        int nz = C->rowptr[i];
+        for (k = At->rowptr[i]; k < At->rowptr[i + 1]; k++) {
+            int r = At->col[k];
+            double ari = At->val[k];
+            for (q = A->rowptr[r]; q < A->rowptr[r + 1]; q++) {
+                int j = A->col[q];
+                /* pos[j] is a slot of row i only if it is not below row i's start */
+                if (pos[j] < C->rowptr[i]) {
+                    pos[j] = nz;
+                    C->col[nz] = j;
+                    C->val[nz++] = 0;
+                }
+                C->val[pos[j]] += ari * A->val[q];
+            }
+        }
+    }
+}
+
+/* out = AᵀA (m x m), the normal-equations matrix of min |Ax - b|.
+ * The product comes out with unsorted rows; since it is exactly symmetric
+ * (see pw__ata_fill), its transpose is the same matrix with sorted rows. */
+PW__DEF int pw_csr_ata(const pw_alloc *a, const pw_csr *A, pw_csr *out, pw_err *e)
+{
+    pw_csr At, C;
+    int *work, r = PW_ERR_NOMEM;
+    memset(out, 0, sizeof *out);
+    memset(&C, 0, sizeof C);
+    if (pw_csr_transpose(a, A, &At, e)) return PW_ERR_NOMEM;
+    work = (int *)pw_alloc_array(a, (size_t)A->m + 1, sizeof(int), "A^T A", e);
+    C.rowptr = (int *)pw_alloc_array(a, (size_t)A->m + 1, sizeof(int), "A^T A", e);
+    if (!work || !C.rowptr) goto fail;
+    if ((r = pw__ata_count(A, &At, work, C.rowptr, e)) != PW_OK) goto fail;
+    r = PW_ERR_NOMEM;
+    C.n = C.m = A->m;
+    C.col = (int *)pw_alloc_array(a, (size_t)C.rowptr[C.n], sizeof(int), "A^T A", e);
+    C.val = (double *)pw_alloc_array(a, (size_t)C.rowptr[C.n], sizeof(double), "A^T A", e);
+    if (!C.col || !C.val) goto fail;
+    pw__ata_fill(A, &At, work, &C);
+    if (pw_csr_transpose(a, &C, out, e)) goto fail;
+    pw_csr_free(a, &At);
+    pw_csr_free(a, &C);
+    pw_free(a, work);
+    return PW_OK;
+fail:
+    pw_csr_free(a, &At);
+    pw_csr_free(a, &C);
+    pw_free(a, work);
+    return r;
+}
+
+/* ---- conjugate gradients ----------------------------------------------- */
+
+typedef struct pw_cg_options {
+    int max_iter;         /* iteration cap; 0 = max(1000, 10 * unknowns) */
+    double tol;           /* stop at relative residual <= tol; 0 = 1e-8 (see each solver) */
+    pw_progress progress; /* optional; called every 64 iterations, may cancel */
+} pw_cg_options;
+
+typedef struct pw_cg_stats {
+    int iterations;  /* iterations run (0 when the guess already satisfies tol) */
+    double residual; /* relative residual of the returned x, recomputed from x */
+    int converged;   /* 1 if residual <= tol */
+} pw_cg_stats;
+
+PW__DEF pw_cg_options pw_cg_default_options(void)
+{
+    pw_cg_options o;
+    memset(&o, 0, sizeof o);
+    o.max_iter = 0; /* chosen from the size at solve time */
+    o.tol = 1e-8;
+    return o;
+}
+
+PW__DEF double pw__dot(const double *x, const double *y, int n)
+{
+    double s = 0;
+    int i;
+    for (i = 0; i < n; i++) s += x[i] * y[i];
+    return s;
+}
+
+/* r = b - A x */
+PW__DEF void pw__residual(const pw_csr *A, const double *b, const double *x, double *r)
+{
+    int i;
+    pw_csr_mul(A, x, r);
+    for (i = 0; i < A->n; i++) r[i] = b[i] - r[i];
+}
+
+PW__DEF int pw__check_vec(const double *v, int n, const char *what, pw_err *e)
+{
+    int i;
+    for (i = 0; i < n; i++)
+        if (!pw_is_finite(v[i])) return pw_fail(e, PW_ERR_INVALID, "%s[%d] is not finite", what, i);
+    return PW_OK;
+}
+
+/* Jacobi preconditioner: dinv[j] = 1 / d[j]. A zero or negative entry (an
+ * empty row of a semidefinite matrix, or a matrix that is not positive
+ * definite) falls back to 1, i.e. no scaling for that unknown. */
+PW__DEF void pw__jacobi(double *d, int n)
+{
+    int i;
+    for (i = 0; i < n; i++) d[i] = d[i] > 0 ? 1.0 / d[i] : 1.0;
+}
+
+/* State shared by CG and CGLS: settings, counters, the outcome. */
+typedef struct pw__krylov {
+    int n; /* unknowns */
+    int max_iter;
+    double tol;
+    double bnorm; /* norm the residual is measured against */
+    double rnorm; /* current (recurrence) residual norm */
+    int it;
+    int status; /* PW_OK, or why the loop stopped */
+    const pw_progress *progress;
+} pw__krylov;
+
+PW__DEF void pw__krylov_init(pw__krylov *k, int n, const pw_cg_options *o)
+{
+    memset(k, 0, sizeof *k);
+    k->n = n;
+    k->tol = o && o->tol > 0 ? o->tol : 1e-8;
+    k->max_iter = o ? o->max_iter : 0;
+    if (k->max_iter <= 0) k->max_iter = n > INT_MAX / 10 ? INT_MAX : pw_maxi(1000, 10 * n);
+    k->progress = o ? &o->progress : NULL;
+}
+
+/* Reports progress as the fraction of the way, in orders of magnitude, from
+ * relative residual 1 down to the tolerance. Returns non-zero to stop. */
+PW__DEF int pw__krylov_report(pw__krylov *k, pw_err *e)
+{
+    double done;
+    if (!k->progress || !k->progress->fn || k->it % 64 != 0) return PW_OK;
+    done = k->rnorm > 0 && k->tol < 1 ? log(k->rnorm / k->bnorm) / log(k->tol) : 1.0;
+    done = done < 0 ? 0 : (done > 1 ? 1 : done);
+    k->status = pw_report(k->progress, (float)done, "conjugate gradients", e);
+    return k->status;
+}
+
+/* Fills the stats and turns a stop without convergence into an error that
+ * carries the residual. `what` names the solver. */
+PW__DEF int pw__krylov_finish(const pw__krylov *k, double true_rnorm, const char *what, pw_cg_stats *s, pw_err *e)
+{
+    double rel = true_rnorm / k->bnorm;
+    if (s) {
+        s->iterations = k->it;
+        s->residual = rel;
+        s->converged = rel <= k->tol;
+    }
+    if (rel <= k->tol) return PW_OK;
+    if (k->status == PW_ERR_CANCELLED) return k->status;
+    if (k->status)
+        return pw_fail(e, PW_ERR_NOCONVERGE,
+                       "%s broke down after %d iterations (the matrix is "
+                       "not positive definite or the system is inconsistent): relative "
+                       "residual %.3g, tolerance %.3g",
+                       what, k->it, rel, k->tol);
+    return pw_fail(e, PW_ERR_NOCONVERGE,
+                   "%s stopped at the cap of %d iterations: relative "
+                   "residual %.3g, tolerance %.3g",
+                   what, k->it, rel, k->tol);
+}
+
+/* The loops below are fused so that each iteration streams the matrix once
+ * and the vectors as few times as possible: CG on large grids is limited
+ * by memory bandwidth, not arithmetic. The preconditioned residual
+ * z = D⁻¹r is never stored. Every sum still runs in index order. */
+
+/* q = A p; returns p·q (A square) or, if `norm`, q·q. */
+PW__DEF double pw__mul_dot(const pw_csr *A, const double *p, double *q, int norm)
+{
+    double d = 0;
+    int i, k;
+    for (i = 0; i < A->n; i++) {
+        double s = 0;
+        for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++) s += A->val[k] * p[A->col[k]];
+        q[i] = s;
+        d += (norm ? s : p[i]) * s;
+    }
+    return d;
+}
+
+/* Returns r·D⁻¹r, and |r|² in *rr. */
+PW__DEF double pw__precond_dots(const double *r, const double *dinv, int n, double *rr)
+{
+    double rz = 0, r2 = 0;
+    int i;
+    for (i = 0; i < n; i++) {
+        rz += r[i] * dinv[i] * r[i];
+        r2 += r[i] * r[i];
+    }
+    *rr = r2;
+    return rz;
+}
+
+/* p = D⁻¹r + beta p (beta = 0 restarts along the preconditioned residual). */
+PW__DEF void pw__new_direction(double *p, const double *r, const double *dinv, double beta, int n)
+{
+    int i;
+    if (beta == 0)
+        for (i = 0; i < n; i++) p[i] = dinv[i] * r[i];
+    else
+        for (i = 0; i < n; i++) p[i] = dinv[i] * r[i] + beta * p[i];
+}
+
+/* Work vectors of CG, one allocation: residual, direction, A times the
+ * direction, inverse diagonal. */
+typedef struct pw__cg_ws {
+    double *r, *p, *q, *dinv;
+} pw__cg_ws;
+
+/* One CG step along p (q = A p, pq = p·q): x += alpha p, r -= alpha q,
+ * then the next direction. Returns |r|²; *rz carries r·D⁻¹r along. */
+PW__DEF double pw__cg_step(double *x, pw__cg_ws *w, int n, double pq, double *rz)
+{
+    double alpha = *rz / pq, rz1 = 0, rr = 0;
+    int i;
+    for (i = 0; i < n; i++) {
+        double ri = w->r[i] - alpha * w->q[i];
+        x[i] += alpha * w->p[i];
+        w->r[i] = ri;
+        rz1 += ri * w->dinv[i] * ri;
+        rr += ri * ri;
+    }
+    pw__new_direction(w->p, w->r, w->dinv, rz1 / *rz, n);
+    *rz = rz1;
+    return rr;
+}
+
+/* Preconditioned CG iterations from x; r holds b - A x on entry. Restarts
+ * from the true residual when the recurrence claims convergence that the
+ * true residual does not confirm (rounding drift). */
+PW__DEF void pw__cg_loop(const pw_csr *A, const double *b, double *x, pw__cg_ws *w, pw__krylov *k, pw_err *e)
+{
+    int n = k->n, restart = 1, fresh = 1;
+    double rz = 0, rr;
+    rz = pw__precond_dots(w->r, w->dinv, n, &rr);
+    k->rnorm = sqrt(rr);
+    for (;;) {
+        double pq;
+        if (k->rnorm <= k->tol * k->bnorm) {
+            if (fresh) break;
+            pw__residual(A, b, x, w->r);
+            rz = pw__precond_dots(w->r, w->dinv, n, &rr);
+            k->rnorm = sqrt(rr);
+            fresh = restart = 1;
+            if (k->rnorm <= k->tol * k->bnorm) break;
+        }
+        if (k->it >= k->max_iter || pw__krylov_report(k, e)) break;
+        if (restart) pw__new_direction(w->p, w->r, w->dinv, 0, n);
+        restart = 0;
+        pq = pw__mul_dot(A, w->p, w->q, 0);
+        if (!(pq > 0) || !pw_is_finite(rz / pq)) {
+            k->status = PW_ERR_NOCONVERGE; /* p·Ap <= 0: not positive definite */
+            break;
+        }
+        k->rnorm = sqrt(pw__cg_step(x, w, n, pq, &rz));
+        k->it++;
+        fresh = 0;
+    }
+}
+
+/* Solves A x = b for a symmetric positive definite, or semidefinite with b
+ * in its range, matrix A (n x n) by conjugate gradients with a Jacobi
+ * preconditioner. x holds the initial guess (warm start) and receives the
+ * solution. Stops when |b - A x| <= tol |b| (opts may be NULL; see
+ * pw_cg_options). b = 0 gives x = 0 at once. Returns PW_ERR_INVALID for a
+ * non-square or non-finite input, PW_ERR_NOCONVERGE (residual in the
+ * message) at the iteration cap or on breakdown, PW_ERR_CANCELLED if the
+ * progress callback stopped it: in those three cases x holds the last
+ * iterate, never worse in the energy norm than the guess, and *s its
+ * residual. */
+PW__DEF int pw_cg_solve(const pw_alloc *a, const pw_csr *A, const double *b, double *x, const pw_cg_options *o,
+                        pw_cg_stats *s, pw_err *e)
+{
+    pw__krylov k;
+    pw__cg_ws w;
+    int n, r;
+    if (s) memset(s, 0, sizeof *s);
+    if (pw_csr_check(A, e)) return PW_ERR_INVALID;
+    n = A->n;
+    if (A->m != n) return pw_fail(e, PW_ERR_INVALID, "CG needs a square matrix, not %dx%d", n, A->m);
+    if (pw__check_vec(b, n, "CG right-hand side b", e) || pw__check_vec(x, n, "CG guess x", e)) return PW_ERR_INVALID;
+    PW_SOLVE_HOOK("cg", A, b, x, o);
+    pw__krylov_init(&k, n, o);
+    k.bnorm = sqrt(pw__dot(b, b, n));
+    if (k.bnorm == 0) {
+        memset(x, 0, (size_t)n * sizeof *x);
+        if (s) s->converged = 1;
+        return PW_OK;
+    }
+    w.r = (double *)pw_alloc_array(a, (size_t)n * 4, sizeof(double), "CG vectors", e);
+    if (!w.r) return PW_ERR_NOMEM;
+    w.p = w.r + n;
+    w.q = w.p + n;
+    w.dinv = w.q + n;
+    pw_csr_diag(A, w.dinv);
+    pw__jacobi(w.dinv, n);
+    pw__residual(A, b, x, w.r);
+    pw__cg_loop(A, b, x, &w, &k, e);
+    pw__residual(A, b, x, w.r); /* report what x achieves, not the recurrence */
+    r = pw__krylov_finish(&k, sqrt(pw__dot(w.r, w.r, n)), "CG", s, e);
+    pw_free(a, w.r);
+    return r;
+}
+
+/* ---- incomplete Cholesky preconditioning -------------------------------- */
+
+/* IC(0): a lower-triangular L with the sparsity of A's lower triangle and
+ * L Lᵀ ~ A. For the Laplacian-like systems of mesh parametrisation it cuts
+ * CG's iterations several-fold over Jacobi. Rows hold their diagonal last. */
+typedef struct pw_ic0 {
+    int n;
+    int *rowptr, *col;
+    double *val;
+} pw_ic0;
+
+PW__DEF void pw_ic0_free(const pw_alloc *a, pw_ic0 *L)
+{
+    pw_free(a, L->rowptr);
+    pw_free(a, L->col);
+    pw_free(a, L->val);
+    memset(L, 0, sizeof *L);
+}
+
+/* Sparse dot product of rows i and j of L over columns below `below`. */
+PW__DEF double pw__ic0_dot(const pw_ic0 *L, int i, int j, int below)
+{
+    int a = L->rowptr[i], b = L->rowptr[j], ea = L->rowptr[i + 1], eb = L->rowptr[j + 1];
+    double s = 0.0;
+    while (a < ea && b < eb && L->col[a] < below && L->col[b] < below) {
+        if (L->col[a] == L->col[b]) s += L->val[a++] * L->val[b++];
+        else if (L->col[a] < L->col[b]) a++;
+        else b++;
+    }
+    return s;
+}
+
+/* Factors A + shift diag(A) into L; returns 0 when a pivot is not
+ * positive (the caller retries with a larger shift). */
+PW__DEF int pw__ic0_try(const pw_csr *A, double shift, pw_ic0 *L)
+{
+    int i, k, out = 0;
+    for (i = 0; i < A->n; i++) {
+        double diag = 0.0;
+        for (k = A->rowptr[i]; k < A->rowptr[i + 1] && A->col[k] <= i; k++) {
+            int j = A->col[k];
+            if (j == i) diag = A->val[k] * (1.0 + shift);
+            else {
+                L->col[out] = j;
+                L->val[out] = (A->val[k] - pw__ic0_dot(L, i, j, j)) / L->val[L->rowptr[j + 1] - 1];
+                out++;
+                L->rowptr[i + 1] = out; /* rows read themselves while being filled */
+            }
+        }
+        L->rowptr[i + 1] = out;
+        diag -= pw__ic0_dot(L, i, i, i);
+        if (!(diag > 0.0) || !pw_is_finite(diag)) return 0;
+        L->col[out] = i;
+        L->val[out++] = sqrt(diag);
+        L->rowptr[i + 1] = out;
+    }
+    return 1;
+}
+
+/* Factors a symmetric positive (semi)definite A with sorted columns and
+ * every diagonal entry present. Breakdowns (IC(0) of an SPD matrix can meet
+ * a non-positive pivot) are cured by a growing diagonal shift. */
+PW__DEF int pw_ic0_factor(const pw_alloc *a, const pw_csr *A, pw_ic0 *L, pw_err *e)
+{
+    int i, k, nnz = 0;
+    double shift = 0.0;
+    memset(L, 0, sizeof *L);
+    if (A->n != A->m) return pw_fail(e, PW_ERR_INVALID, "IC(0) needs a square matrix, not %dx%d", A->n, A->m);
+    for (i = 0; i < A->n; i++)
+        for (k = A->rowptr[i]; k < A->rowptr[i + 1] && A->col[k] <= i; k++) nnz++;
+    L->n = A->n;
+    L->rowptr = (int *)pw_calloc_array(a, (size_t)A->n + 1, sizeof(int), "IC(0) rows", e);
+    L->col = (int *)pw_alloc_array(a, (size_t)nnz + (size_t)A->n, sizeof(int), "IC(0) columns", e);
+    L->val = (double *)pw_alloc_array(a, (size_t)nnz + (size_t)A->n, sizeof(double), "IC(0) values", e);
+    if (!L->rowptr || !L->col || !L->val) {
+        pw_ic0_free(a, L);
+        return PW_ERR_NOMEM;
+    }
+    for (k = 0; k<40; k++, shift = shift> 0.0 ? 2.0 * shift : 1e-3)
+        if (pw__ic0_try(A, shift, L)) return PW_OK;
+    pw_ic0_free(a, L);
+    return pw_fail(e, PW_ERR_INVALID, "IC(0): the matrix is not positive definite");
+}
+
+/* z = (L Lᵀ)⁻¹ r. */
+PW__DEF void pw_ic0_apply(const pw_ic0 *L, const double *r, double *z)
+{
+    int i, k;
+    for (i = 0; i < L->n; i++) { /* L y = r */
+        double s = r[i];
+        for (k = L->rowptr[i]; k < L->rowptr[i + 1] - 1; k++) s -= L->val[k] * z[L->col[k]];
+        z[i] = s / L->val[L->rowptr[i + 1] - 1];
+    }
+    for (i = L->n - 1; i >= 0; i--) { /* Lᵀ z = y, by columns of Lᵀ = rows of L */
+        z[i] /= L->val[L->rowptr[i + 1] - 1];
+        for (k = L->rowptr[i]; k < L->rowptr[i + 1] - 1; k++) z[L->col[k]] -= L->val[k] * z[i];
+    }
+}
+
+/* A preconditioned system A x = b for the CG core: mul computes y = A x
+ * and returns x . y, precond z = M^-1 r, both over n doubles; b and x (the
+ * warm start, then the solution) hold n doubles; `what` names the solver in
+ * errors. The complex Hermitian systems of zsparse.h run through the same
+ * core: with complex numbers stored as (re, im) pairs and real step
+ * lengths, every vector update is real, and Re(x^H y) is the real dot
+ * product of the pairs. */
+typedef struct pw__pcg_op {
+    int n;
+    double (*mul)(const void *ctx, const double *x, double *y);
+    void (*precond)(const void *ctx, const double *r, double *z);
+    const void *actx, *mctx;
+    const double *b;
+    double *x;
+    const char *what;
+} pw__pcg_op;
+
+/* The PCG iterations shared by pw_pcg_solve and pw_zpcg_solve: b and x
+ * already checked. */
+PW__DEF int pw__pcg_run(const pw_alloc *a, const pw__pcg_op *op, const pw_cg_options *o, pw_cg_stats *s, pw_err *e)
+{
+    const double *b = op->b;
+    double *x = op->x;
+    pw__krylov k;
+    double *r, *z, *p, *q, rz, rr;
+    int n = op->n, i, ret;
+    pw__krylov_init(&k, n, o);
+    k.bnorm = sqrt(pw__dot(b, b, n));
+    if (k.bnorm == 0) {
+        memset(x, 0, (size_t)n * sizeof *x);
+        if (s) s->converged = 1;
+        return PW_OK;
+    }
+    if (!(r = (double *)pw_alloc_array(a, (size_t)n * 4, sizeof(double), "PCG vectors", e))) return PW_ERR_NOMEM;
+    z = r + n;
+    p = z + n;
+    q = p + n;
+    op->mul(op->actx, x, r);
+    for (i = 0; i < n; i++) r[i] = b[i] - r[i];
+    op->precond(op->mctx, r, z);
+    memcpy(p, z, sizeof(double) * (size_t)n);
+    rz = pw__dot(r, z, n);
+    for (rr = pw__dot(r, r, n); (k.rnorm = sqrt(rr)) > k.tol * k.bnorm && k.it < k.max_iter; k.it++) {
+        double pq = op->mul(op->actx, p, q), alpha, rz1;
+        if (!(pq > 0) || !pw_is_finite(rz / pq) || pw__krylov_report(&k, e)) {
+            if (k.status == PW_OK) k.status = PW_ERR_NOCONVERGE;
+            break;
+        }
+        alpha = rz / pq;
+        for (i = 0; i < n; i++) {
+            x[i] += alpha * p[i];
+            r[i] -= alpha * q[i];
+        }
+        op->precond(op->mctx, r, z);
+        rz1 = pw__dot(r, z, n);
+        for (i = 0; i < n; i++) p[i] = z[i] + rz1 / rz * p[i];
+        rz = rz1;
+        rr = pw__dot(r, r, n);
+    }
+    op->mul(op->actx, x, r); /* report what x achieves, not the recurrence */
+    for (i = 0; i < n; i++) r[i] = b[i] - r[i];
+    ret = pw__krylov_finish(&k, sqrt(pw__dot(r, r, n)), op->what, s, e);
+    pw_free(a, r);
+    return ret;
+}
+
+PW__DEF double pw__csr_op_mul(const void *A, const double *x, double *y)
+{
+    return pw__mul_dot((const pw_csr *)A, x, y, 0);
+}
+
+PW__DEF void pw__ic0_op(const void *M, const double *r, double *z) { pw_ic0_apply((const pw_ic0 *)M, r, z); }
+
+/* CG preconditioned by an IC(0) factor M of A; otherwise as pw_cg_solve
+ * (same options, stopping rule, warm start and errors). */
+PW__DEF int pw_pcg_solve(const pw_alloc *a, const pw_csr *A, const pw_ic0 *M, const double *b, double *x,
+                         const pw_cg_options *o, pw_cg_stats *s, pw_err *e)
+{
+    pw__pcg_op op;
+    if (s) memset(s, 0, sizeof *s);
+    if (pw_csr_check(A, e) || pw__check_vec(b, A->n, "PCG right-hand side b", e) ||
+        pw__check_vec(x, A->n, "PCG guess x", e))
+        return PW_ERR_INVALID;
+    PW_SOLVE_HOOK("pcg", A, b, x, o);
+    op.n = A->n;
+    op.mul = pw__csr_op_mul;
+    op.precond = pw__ic0_op;
+    op.actx = A;
+    op.mctx = M;
+    op.b = b;
+    op.x = x;
+    op.what = "PCG";
+    return pw__pcg_run(a, &op, o, s, e);
+}
+
+/* ---- least squares (CGLS) ---------------------------------------------- */
+
+/* Work vectors of CGLS: r, q in row space (rows); s = Aᵀr, p, dinv in
+ * column space (cols). */
+typedef struct pw__cgls_ws {
+    double *r, *q, *s, *p, *dinv;
+} pw__cgls_ws;
+
+/* r = b - A x, s = Aᵀ r; returns |s|. */
+PW__DEF double pw__cgls_residual(const pw_csr *A, const double *b, const double *x, pw__cgls_ws *w)
+{
+    pw__residual(A, b, x, w->r);
+    pw_csr_mul_t(A, w->r, w->s);
+    return sqrt(pw__dot(w->s, w->s, A->m));
+}
+
+/* One CGLS step along p: x += alpha p with the residual updated in row
+ * space, then s = Aᵀr and the next direction. Returns |s|², or -1 on
+ * breakdown (A p = 0); *gamma carries s·D⁻¹s along. */
+PW__DEF double pw__cgls_step(const pw_csr *A, double *x, pw__cgls_ws *w, double *gamma)
+{
+    int i, m = A->m;
+    double qq = pw__mul_dot(A, w->p, w->q, 1), alpha, g1, ss;
+    if (!(qq > 0) || !pw_is_finite(*gamma / qq)) return -1;
+    alpha = *gamma / qq;
+    for (i = 0; i < m; i++) x[i] += alpha * w->p[i];
+    for (i = 0; i < A->n; i++) w->r[i] -= alpha * w->q[i];
+    pw_csr_mul_t(A, w->r, w->s);
+    g1 = pw__precond_dots(w->s, w->dinv, m, &ss);
+    pw__new_direction(w->p, w->s, w->dinv, g1 / *gamma, m);
+    *gamma = g1;
+    return ss;
+}
+
+/* CGLS iterations, structured like pw__cg_loop with the normal-equation
+ * residual s = Aᵀ(b - A x) in the role of CG's residual. */
+PW__DEF void pw__cgls_loop(const pw_csr *A, const double *b, double *x, pw__cgls_ws *w, pw__krylov *k, pw_err *e)
+{
+    int m = A->m, restart = 1, fresh = 1;
+    double gamma = 0, ss;
+    k->rnorm = pw__cgls_residual(A, b, x, w);
+    for (;;) {
+        if (k->rnorm <= k->tol * k->bnorm) {
+            if (fresh) break;
+            k->rnorm = pw__cgls_residual(A, b, x, w);
+            fresh = restart = 1;
+            if (k->rnorm <= k->tol * k->bnorm) break;
+        }
+        if (k->it >= k->max_iter || pw__krylov_report(k, e)) break;
+        if (restart) {
+            gamma = pw__precond_dots(w->s, w->dinv, m, &ss);
+            pw__new_direction(w->p, w->s, w->dinv, 0, m);
+            restart = 0;
+        }
+        ss = pw__cgls_step(A, x, w, &gamma);
+        if (ss < 0) {
+            k->status = PW_ERR_NOCONVERGE;
+            break;
+        }
+        k->rnorm = sqrt(ss);
+        k->it++;
+        fresh = 0;
+    }
+}
+
+/* Jacobi preconditioner of the normal equations: the squared column norms
+ * of A, i.e. diag(AᵀA), summed in row order. */
+PW__DEF void pw__col_norms2(const pw_csr *A, double *d)
+{
+    int i, k;
+    for (k = 0; k < A->m; k++) d[k] = 0;
+    for (i = 0; i < A->n; i++)
+        for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++) d[A->col[k]] += A->val[k] * A->val[k];
+}
+
+/* Least squares: x minimising |A x - b| for A with n rows and m columns
+ * (b: n, x: m), by Jacobi-preconditioned CGLS. x holds the initial guess
+ * and receives the solution. The tolerance applies to the normal-equation
+ * residual, |Aᵀ(b - A x)| <= tol |Aᵀ b| (the quantity that vanishes at the
+ * minimum even when A x = b has no solution); stats->residual reports it.
+ * Aᵀb = 0 gives x = 0. Unknowns that no row touches keep their guess. Errors
+ * and the meaning of x after a failure are as for pw_cg_solve. */
+PW__DEF int pw_lsq_solve(const pw_alloc *a, const pw_csr *A, const double *b, double *x, const pw_cg_options *o,
+                         pw_cg_stats *s, pw_err *e)
+{
+    pw__krylov k;
+    pw__cgls_ws w;
+    int m, r;
+    if (s) memset(s, 0, sizeof *s);
+    if (pw_csr_check(A, e)) return PW_ERR_INVALID;
+    m = A->m;
+    if (pw__check_vec(b, A->n, "least-squares right-hand side b", e) || pw__check_vec(x, m, "least-squares guess x", e))
+        return PW_ERR_INVALID;
+    PW_SOLVE_HOOK("lsq", A, b, x, o);
+    pw__krylov_init(&k, m, o);
+    w.r = (double *)pw_alloc_array(a, (size_t)A->n * 2 + (size_t)m * 3, sizeof(double), "least-squares vectors", e);
+    if (!w.r) return PW_ERR_NOMEM;
+    w.q = w.r + A->n;
+    w.s = w.q + A->n;
+    w.p = w.s + m;
+    w.dinv = w.p + m;
+    pw_csr_mul_t(A, b, w.s);
+    k.bnorm = sqrt(pw__dot(w.s, w.s, m));
+    if (k.bnorm == 0) {
+        memset(x, 0, (size_t)m * sizeof *x);
+        if (s) s->converged = 1;
+        pw_free(a, w.r);
+        return PW_OK;
+    }
+    pw__col_norms2(A, w.dinv);
+    pw__jacobi(w.dinv, m);
+    pw__cgls_loop(A, b, x, &w, &k, e);
+    r = pw__krylov_finish(&k, pw__cgls_residual(A, b, x, &w), "least-squares CG", s, e);
+    pw_free(a, w.r);
+    return r;
+}
+
+/* ---- sparse LDLᵀ ------------------------------------------------------------ */
+
+/* A direct solver for symmetric positive definite systems: P A Pᵀ = L D Lᵀ
+ * with a minimum-degree ordering P, then any number of right-hand sides in
+ * two triangular sweeps. On the small systems of the methods (a few
+ * thousand unknowns: a texture patch, a chart, a clump) one factorisation
+ * costs less than the tens to hundreds of preconditioned CG iterations a
+ * solve to tolerance needs, and the solution is exact to rounding.
+ *
+ * Ordering: minimum degree on the elimination graph (George & Liu 1989):
+ * eliminate a vertex of least current degree, make its neighbours a
+ * clique, repeat; ties go to the lowest index, so the order is
+ * deterministic. The graph is kept explicitly (adjacency lists, a
+ * degree bucket list), which is fine for the sizes this solver is meant for
+ * (fill stays within a small multiple of A).
+ * Factorisation: the up-looking LDLᵀ of Davis's LDL (ACM TOMS 2005): the
+ * elimination tree and column counts first, then row k of L from a sparse
+ * triangular solve along the tree, one row at a time. L is stored by
+ * columns, its rows increasing. */
+typedef struct pw_ldlt {
+    int n;
+    int *perm; /* n: new index k is the original unknown perm[k] */
+    int *Lp;   /* n+1: column j of L (strictly below the diagonal) is Li/Lx[Lp[j] .. Lp[j+1]-1] */
+    int *Li;
+    double *Lx;
+    double *D;    /* n: the diagonal */
+    double *work; /* n: solve scratch */
+} pw_ldlt;
+
+PW__DEF void pw_ldlt_free(const pw_alloc *a, pw_ldlt *F)
+{
+    pw_free(a, F->perm);
+    pw_free(a, F->Lp);
+    pw_free(a, F->Li);
+    pw_free(a, F->Lx);
+    pw_free(a, F->D);
+    pw_free(a, F->work);
+    memset(F, 0, sizeof *F);
+}
+
+/* The elimination graph of the minimum-degree ordering. */
+typedef struct pw__mdg {
+    const pw_alloc *a;
+    int n;
+    int **adj, *deg, *cap;   /* neighbour lists */
+    int *head, *next, *prev; /* degree buckets: doubly linked lists */
+    unsigned char *gone;
+    int *mark, stamp; /* merge marks, n: mark[x] == stamp while x is in the list being merged */
+} pw__mdg;
+
+PW__DEF void pw__mdg_free(pw__mdg *G)
+{
+    int i;
+    for (i = 0; G->adj && i < G->n; i++) pw_free(G->a, G->adj[i]);
+    pw_free(G->a, G->adj);
+    pw_free(G->a, G->deg);
+    pw_free(G->a, G->cap);
+    pw_free(G->a, G->head);
+    pw_free(G->a, G->next);
+    pw_free(G->a, G->prev);
+    pw_free(G->a, G->gone);
+    pw_free(G->a, G->mark);
+}
+
+PW__DEF void pw__mdg_unlink(pw__mdg *G, int v)
+{
+    if (G->prev[v] >= 0) G->next[G->prev[v]] = G->next[v];
+    else G->head[G->deg[v]] = G->next[v];
+    if (G->next[v] >= 0) G->prev[G->next[v]] = G->prev[v];
+}
+
+/* Pushes v on the front of its degree's bucket: among equal degrees the
+ * vertex touched last goes first (deterministic, and it keeps the
+ * elimination local, as multiple-elimination orderings do). */
+PW__DEF void pw__mdg_link(pw__mdg *G, int v)
+{
+    int d = G->deg[v];
+    G->next[v] = G->head[d];
+    G->prev[v] = -1;
+    if (G->head[d] >= 0) G->prev[G->head[d]] = v;
+    G->head[d] = v;
+}
+
+PW__DEF int pw__mdg_init(pw__mdg *G, const pw_alloc *a, const pw_csr *A, pw_err *e)
+{
+    int n = A->n, i, k;
+    memset(G, 0, sizeof *G);
+    G->a = a;
+    G->n = n;
+    G->adj = (int **)pw_calloc_array(a, (size_t)n, sizeof(int *), "ordering graph", e);
+    G->deg = (int *)pw_calloc_array(a, (size_t)n, sizeof(int), "ordering graph", e);
+    G->cap = (int *)pw_calloc_array(a, (size_t)n, sizeof(int), "ordering graph", e);
+    G->head = (int *)pw_alloc_array(a, (size_t)n + 1, sizeof(int), "ordering graph", e);
+    G->next = (int *)pw_alloc_array(a, (size_t)n, sizeof(int), "ordering graph", e);
+    G->prev = (int *)pw_alloc_array(a, (size_t)n, sizeof(int), "ordering graph", e);
+    G->gone = (unsigned char *)pw_calloc_array(a, (size_t)n, 1, "ordering graph", e);
+    G->mark = (int *)pw_calloc_array(a, (size_t)n, sizeof(int), "ordering graph", e);
+    if (!G->adj || !G->deg || !G->cap || !G->head || !G->next || !G->prev || !G->gone || !G->mark) return PW_ERR_NOMEM;
+    for (i = 0; i < n; i++) {
+        int d = 0;
+        for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++) d += A->col[k] != i;
+        G->cap[i] = d > 4 ? d : 4;
+        if (!(G->adj[i] = (int *)pw_alloc_array(a, (size_t)G->cap[i], sizeof(int), "ordering graph", e)))
+            return PW_ERR_NOMEM;
+        for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++)
+            if (A->col[k] != i) G->adj[i][G->deg[i]++] = A->col[k];
+    }
+    for (i = 0; i <= n; i++) G->head[i] = -1;
+    for (i = n - 1; i >= 0; i--) pw__mdg_link(G, i); /* vertex 0 first among equals */
+    return PW_OK;
+}
+
+/* adj(u) := adj(u) ∪ nb minus u and eliminated vertices: adj(u) is
+ * compacted and marked, then what nb adds is appended (lists unsorted; the
+ * order they take depends on the input alone). */
+PW__DEF int pw__mdg_merge(pw__mdg *G, int u, const int *nb, int nn, pw_err *e)
+{
+    int *au = G->adj[u], du = G->deg[u], i, m = 0, stamp = ++G->stamp;
+    for (i = 0; i < du; i++)
+        if (!G->gone[au[i]]) G->mark[au[m++] = au[i]] = stamp;
+    G->mark[u] = stamp;
+    if (m + nn > G->cap[u]) {
+        int cap = m + nn > 2 * G->cap[u] ? m + nn : 2 * G->cap[u];
+        int *grown = (int *)pw_realloc(G->a, au, sizeof(int) * (size_t)cap);
+        if (!grown) return pw_fail(e, PW_ERR_NOMEM, "out of memory ordering a sparse matrix");
+        G->adj[u] = au = grown;
+        G->cap[u] = cap;
+    }
+    for (i = 0; i < nn; i++)
+        if (G->mark[nb[i]] != stamp) au[m++] = nb[i];
+    G->deg[u] = m;
+    return PW_OK;
+}
+
+/* Minimum-degree order of A's graph into perm. */
+PW__DEF int pw__min_degree(const pw_alloc *a, const pw_csr *A, int *perm, pw_err *e)
+{
+    pw__mdg G;
+    int k, d, r = pw__mdg_init(&G, a, A, e);
+    int *nb = NULL;
+    if (r == PW_OK && !(nb = (int *)pw_alloc_array(a, (size_t)A->n, sizeof(int), "ordering graph", e)))
+        r = PW_ERR_NOMEM;
+    for (k = 0; k < A->n && r == PW_OK; k++) {
+        int v, nn, i;
+        d = 0;
+        while (G.head[d] < 0) d++;
+        v = G.head[d];
+        pw__mdg_unlink(&G, v);
+        G.gone[v] = 1;
+        perm[k] = v;
+        for (i = 0, nn = 0; i < G.deg[v]; i++)
+            if (!G.gone[G.adj[v][i]]) nb[nn++] = G.adj[v][i];
+        for (i = 0; i < nn && r == PW_OK; i++) {
+            int u = nb[i];
+            pw__mdg_unlink(&G, u);
+            r = pw__mdg_merge(&G, u, nb, nn, e);
+            pw__mdg_link(&G, u);
+        }
+    }
+    pw_free(a, nb);
+    pw__mdg_free(&G);
+    return r;
+}
+
+/* The elimination tree (parent) and the count of each column of L, for
+ * the permuted matrix (inverse permutation iperm); flag is scratch. */
+PW__DEF void pw__ldlt_symbolic(const pw_csr *A, const int *perm, const int *iperm, int *parent, int *count, int *flag)
+{
+    int k, p;
+    for (k = 0; k < A->n; k++) {
+        int old = perm[k];
+        parent[k] = -1;
+        flag[k] = k;
+        count[k] = 0;
+        for (p = A->rowptr[old]; p < A->rowptr[old + 1]; p++) {
+            int i = iperm[A->col[p]];
+            for (; i < k && flag[i] != k; i = parent[i]) {
+                if (parent[i] == -1) parent[i] = k;
+                count[i]++;
+                flag[i] = k;
+            }
+        }
+    }
+}
+
+/* Row k of L and D[k]: y = the permuted column k above the diagonal,
+ * solved against the rows before it along the elimination tree (pattern:
+ * the reach of its entries, in topological order). Returns 0 on a pivot
+ * that is not positive, or not above 1e-14 of the diagonal entry it came
+ * from (what a singular matrix leaves after cancellation). */
+/* The scratch of pw_ldlt_factor (n entries each): the inverse ordering, the
+ * elimination tree, the entries of each column of L so far, visit marks,
+ * the reach of a row, and the dense row being solved (zero between rows). */
+typedef struct pw__ldlt_work {
+    const int *iperm, *parent;
+    int *len, *flag, *pattern;
+    double *y;
+} pw__ldlt_work;
+
+PW__DEF int pw__ldlt_row(pw_ldlt *F, const pw_csr *A, const pw__ldlt_work *W, int k)
+{
+    const int *iperm = W->iperm, *parent = W->parent;
+    int *len = W->len, *flag = W->flag, *pattern = W->pattern;
+    double *y = W->y;
+    int old = F->perm[k], p, top = F->n;
+    double akk;
+    flag[k] = k;
+    y[k] = 0.0;
+    for (p = A->rowptr[old]; p < A->rowptr[old + 1]; p++) {
+        int i = iperm[A->col[p]], n = 0;
+        if (i > k) continue;
+        y[i] += A->val[p];
+        for (; flag[i] != k; i = parent[i]) {
+            pattern[n++] = i;
+            flag[i] = k;
+        }
+        while (n > 0) pattern[--top] = pattern[--n];
+    }
+    F->D[k] = akk = y[k];
+    y[k] = 0.0;
+    for (; top < F->n; top++) {
+        int i = pattern[top], q, end = F->Lp[i] + len[i];
+        double yi = y[i], l;
+        y[i] = 0.0;
+        for (q = F->Lp[i]; q < end; q++) y[F->Li[q]] -= F->Lx[q] * yi;
+        l = yi / F->D[i];
+        F->D[k] -= l * yi;
+        F->Li[end] = k;
+        F->Lx[end] = l;
+        len[i]++;
+    }
+    return F->D[k] > 1e-14 * akk && pw_is_finite(F->D[k]); /* relative: a singular matrix leaves rounding noise */
+}
+
+/* pw_ldlt_factor, refusing (PW_ERR_LIMIT, after the ordering and the
+ * symbolic analysis, before any numeric work) a factor of more than
+ * max_fill nonzeros below the diagonal. */
+PW__DEF int pw__ldlt_factor_capped(const pw_alloc *a, const pw_csr *A, long max_fill, pw_ldlt *F, pw_err *e)
+{
+    int n = A->n, k, r = PW_OK, *iperm, *parent, *flag, *len, *pattern;
+    double *y;
+    pw__ldlt_work W;
+    memset(F, 0, sizeof *F);
+    if (A->n != A->m) return pw_fail(e, PW_ERR_INVALID, "LDLT needs a square matrix, not %dx%d", A->n, A->m);
+    F->n = n;
+    F->perm = (int *)pw_alloc_array(a, (size_t)n, sizeof(int), "LDLT ordering", e);
+    F->Lp = (int *)pw_alloc_array(a, (size_t)n + 1, sizeof(int), "LDLT factor", e);
+    F->D = (double *)pw_alloc_array(a, (size_t)n, sizeof(double), "LDLT factor", e);
+    F->work = (double *)pw_alloc_array(a, (size_t)n, sizeof(double), "LDLT factor", e);
+    iperm = (int *)pw_alloc_array(a, (size_t)n * 5, sizeof(int), "LDLT scratch", e);
+    y = (double *)pw_calloc_array(a, (size_t)n, sizeof(double), "LDLT scratch", e);
+    if (!F->perm || !F->Lp || !F->D || !F->work || !iperm || !y) r = PW_ERR_NOMEM;
+    if (r == PW_OK) r = pw__min_degree(a, A, F->perm, e);
+    if (r == PW_OK) {
+        parent = iperm + n;
+        flag = parent + n;
+        len = flag + n;
+        pattern = len + n;
+        for (k = 0; k < n; k++) iperm[F->perm[k]] = k;
+        pw__ldlt_symbolic(A, F->perm, iperm, parent, len, flag);
+        for (F->Lp[0] = 0, k = 0; k < n; k++) F->Lp[k + 1] = F->Lp[k] + len[k];
+        if (F->Lp[n] > max_fill)
+            r = pw_fail(e, PW_ERR_LIMIT, "LDLT: the factor would hold %d nonzeros, over the %ld allowed", F->Lp[n],
+                        max_fill);
+    }
+    if (r == PW_OK) {
+        F->Li = (int *)pw_alloc_array(a, (size_t)F->Lp[n] + 1, sizeof(int), "LDLT factor", e);
+        F->Lx = (double *)pw_alloc_array(a, (size_t)F->Lp[n] + 1, sizeof(double), "LDLT factor", e);
+        if (!F->Li || !F->Lx) r = PW_ERR_NOMEM;
+        for (k = 0; k < n; k++) len[k] = 0;
+        W.iperm = iperm;
+        W.parent = parent;
+        W.len = len;
+        W.flag = flag;
+        W.pattern = pattern;
+        W.y = y;
+        for (k = 0; k < n && r == PW_OK; k++)
+            if (!pw__ldlt_row(F, A, &W, k))
+                r = pw_fail(e, PW_ERR_DEGENERATE,
+                            "LDLT: the matrix is not positive definite (pivot %d of %d, unknown %d, is %g)", k, n,
+                            F->perm[k], F->D[k]);
+    }
+    pw_free(a, iperm);
+    pw_free(a, y);
+    if (r != PW_OK) pw_ldlt_free(a, F);
+    return r;
+}
+
+/* Factors a symmetric positive definite A (full storage, both triangles,
+ * every diagonal entry present) as P A Pᵀ = L D Lᵀ. A matrix that is not
+ * positive definite fails with PW_ERR_DEGENERATE naming the pivot. */
+PW__DEF int pw_ldlt_factor(const pw_alloc *a, const pw_csr *A, pw_ldlt *F, pw_err *e)
+{
+    return pw__ldlt_factor_capped(a, A, (long)INT_MAX, F, e);
+}
+
+/* x = A⁻¹ b (x may be b). */
+PW__DEF void pw_ldlt_solve(const pw_ldlt *F, const double *b, double *x)
+{
+    double *w = F->work;
+    int j, p;
+    for (j = 0; j < F->n; j++) w[j] = b[F->perm[j]];
+    for (j = 0; j < F->n; j++) /* L w = P b, by columns */
+        for (p = F->Lp[j]; p < F->Lp[j + 1]; p++) w[F->Li[p]] -= F->Lx[p] * w[j];
+    for (j = 0; j < F->n; j++) w[j] /= F->D[j];
+    for (j = F->n - 1; j >= 0; j--) /* Lᵀ */
+        for (p = F->Lp[j]; p < F->Lp[j + 1]; p++) w[j] -= F->Lx[p] * w[F->Li[p]];
+    for (j = 0; j < F->n; j++) x[F->perm[j]] = w[j];
+}
+
+/* ---- choosing the solver ------------------------------------------------------ */
+
+/* Where LDLᵀ wins. The iterative solvers are warm-started from a close
+ * guess by every caller (the previous paste, the current chart layout), so
+ * on small systems they stop after a few iterations, and the ordering a
+ * direct factor needs costs more than that. Measured over every system
+ * lapped_create and lapped_bake_atlas solve on the armadillo, bunny and
+ * mushroom (docs/performance.md): LDLᵀ of the patch systems (against
+ * IC(0)-PCG) takes 1.5-4x PCG's time below 400 unknowns, 0.9-1.5x at
+ * 400-800 and 0.5-0.9x at 800-1,600; of the atlas's normal equations
+ * (against CGLS, which needs more iterations) 1.1-2x below 200, 0.7-1.2x
+ * at 200-400 and 0.1-0.8x from 400 up to the largest chart (about 10,000
+ * unknowns: 0.14). lst's clumps (tetrahedra: twice the neighbours of a
+ * surface vertex, more fill) stay with IC(0)-PCG: LDLᵀ made the fill 10%
+ * slower. The rule: a direct factor for a matrix of PW__DIRECT_MIN_SPD
+ * (pw_spd) or PW__DIRECT_MIN_LSQ (pw_lsq_solve_small) to PW__DIRECT_MAX_N
+ * unknowns whose factor holds at most PW__DIRECT_FILL times A's nonzeros
+ * (both triangles; the ordering and the symbolic analysis tell before any
+ * numeric work); otherwise, or when the factorisation meets a pivot that is
+ * not positive (a semidefinite matrix rounded the wrong way), the
+ * iterative solver. Both are deterministic; the direct solve is exact to
+ * rounding, so it meets any tolerance the iterative one would stop at. */
+#define PW__DIRECT_MIN_SPD 800
+#define PW__DIRECT_MIN_LSQ 400
+#define PW__DIRECT_MAX_N 20000
+#define PW__DIRECT_FILL 4
+
+/* A symmetric positive definite matrix ready for any number of solves:
+ * its LDLᵀ or, failing the rule above, its IC(0) factor for PCG. */
+typedef struct pw_spd {
+    const pw_csr *A;
+    int direct; /* 1: F holds the factor; 0: M does */
+    pw_ldlt F;
+    pw_ic0 M;
+} pw_spd;
+
+PW__DEF void pw_spd_free(const pw_alloc *a, pw_spd *S)
+{
+    pw_ldlt_free(a, &S->F);
+    pw_ic0_free(a, &S->M);
+    memset(S, 0, sizeof *S);
+}
+
+/* The direct factor of A when the rule allows it (min_n: the fewest
+ * unknowns) and it succeeds: 1, else 0 with nothing kept (only running out
+ * of memory is an error, in *r). */
+PW__DEF int pw__try_direct(const pw_alloc *a, const pw_csr *A, int min_n, pw_ldlt *F, int *r, pw_err *e)
+{
+    pw_err local;
+    int rc;
+    *r = PW_OK;
+    memset(F, 0, sizeof *F);
+    if (A->n > PW__DIRECT_MAX_N || A->n < min_n || A->n != A->m) return 0;
+    pw_err_clear(&local);
+    rc = pw__ldlt_factor_capped(a, A, (long)PW__DIRECT_FILL * A->rowptr[A->n], F, &local);
+    if (rc == PW_ERR_NOMEM) *r = pw_fail(e, rc, "%s", local.msg);
+    return rc == PW_OK;
+}
+
+/* Prepares A (as for pw_pcg_solve: square, sorted columns, every diagonal
+ * entry present) for pw_spd_solve; A must outlive S. */
+PW__DEF int pw_spd_factor(const pw_alloc *a, const pw_csr *A, pw_spd *S, pw_err *e)
+{
+    int r;
+    memset(S, 0, sizeof *S);
+    S->A = A;
+    if (pw_csr_check(A, e)) return PW_ERR_INVALID;
+    S->direct = pw__try_direct(a, A, PW__DIRECT_MIN_SPD, &S->F, &r, e);
+    if (r != PW_OK || S->direct) return r;
+    return pw_ic0_factor(a, A, &S->M, e);
+}
+
+/* A x = b: by the LDLᵀ factor, or by PCG from the guess in x with the
+ * options o (tolerance, cap, progress; its errors as pw_pcg_solve's). */
+PW__DEF int pw_spd_solve(const pw_alloc *a, const pw_spd *S, const double *b, double *x, const pw_cg_options *o,
+                         pw_err *e)
+{
+    if (!S->direct) return pw_pcg_solve(a, S->A, &S->M, b, x, o, NULL, e);
+    if (pw__check_vec(b, S->A->n, "right-hand side b", e)) return PW_ERR_INVALID;
+    PW_SOLVE_HOOK("pcg", S->A, b, x, o);
+    pw_ldlt_solve(&S->F, b, x);
+    return PW_OK;
+}
+
+/* min |A x - b| as pw_lsq_solve, but by LDLᵀ of the normal equations
+ * AᵀA x = Aᵀb when they pass the rule above (their condition number is
+ * the square of A's: fine for the well-posed parametrisations that call
+ * this, where the direct solution's residual is far below the CGLS
+ * tolerance), else by CGLS from the guess in x. */
+PW__DEF int pw_lsq_solve_small(const pw_alloc *a, const pw_csr *A, const double *b, double *x, const pw_cg_options *o,
+                               pw_err *e)
+{
+    pw_csr N;
+    pw_ldlt F;
+    int r = PW_OK, direct = 0;
+    if (pw_csr_check(A, e)) return PW_ERR_INVALID;
+    if (pw__check_vec(b, A->n, "least-squares right-hand side b", e) ||
+        pw__check_vec(x, A->m, "least-squares guess x", e))
+        return PW_ERR_INVALID;
+    memset(&N, 0, sizeof N);
+    if (A->m >= PW__DIRECT_MIN_LSQ && A->m <= PW__DIRECT_MAX_N && (r = pw_csr_ata(a, A, &N, e)) != PW_OK) return r;
+    if (N.n > 0 && (direct = pw__try_direct(a, &N, PW__DIRECT_MIN_LSQ, &F, &r, e)) != 0) {
+        PW_SOLVE_HOOK("lsq", A, b, x, o);
+        pw_csr_mul_t(A, b, x);
+        pw_ldlt_solve(&F, x, x);
+        pw_ldlt_free(a, &F);
+    }
+    pw_csr_free(a, &N);
+    if (r != PW_OK || direct) return r;
+    return pw_lsq_solve(a, A, b, x, o, NULL, e);
+}
+
+#endif /* PW__SPARSE_V1 */
+
+/* ---- shared module src/common/zsparse.h ---- */
+/* zsparse: complex Hermitian sparse systems, solved by conjugate gradients
+ * preconditioned with a complex incomplete Cholesky factor.
+ *
+ * The direction-field smoothing and the periodic global parameterization
+ * of pgp.h minimise sums of w |z_i - c z_j|^2 over unit complex numbers:
+ * Hermitian positive (semi)definite systems. Written as real systems of
+ * twice the size they store every complex coefficient as a 2x2 block (four
+ * values, four column indices); here each is one (re, im) pair under one
+ * index, which halves the memory CG streams per iteration, and IC(0) of the
+ * complex matrix keeps the pairs together.
+ *
+ * Complex numbers are (re, im) pairs of doubles: vectors of n complex
+ * entries are 2n doubles. Entries are collected in an ordinary pw_triplets
+ * of n rows and 2n columns (pw_ztriplets_add writes the real part at
+ * column 2j and the imaginary part at 2j + 1, both always, so that the
+ * structure depends on positions only), then packed:
+ *
+ *     pw_triplets t;  pw_zcsr A;  pw_zic0 L;
+ *     pw_triplets_init(&t, NULL, n, 2 * n, &e);
+ *     pw_ztriplets_add(&t, i, j, re, im, &e);  ...   (duplicates summed)
+ *     pw_zcsr_from_triplets(NULL, &t, &A, &e);
+ *     pw_zic0_factor(NULL, &A, &L, &e);
+ *     pw_zpcg_solve(NULL, &A, &L, b, x, NULL, &stats, &e);   (b, x: 2n)
+ *
+ * The caller adds both (i, j) and its conjugate (j, i): nothing checks that
+ * the matrix is Hermitian, CG just fails to converge if it is not.
+ * Determinism as in sparse.h: fixed summation order, no threads. */
+#ifndef PW__ZSPARSE_V1
+#define PW__ZSPARSE_V1
+
+
+/* Adds re + i im at (i, j) of the complex matrix collected in t. */
+PW__DEF int pw_ztriplets_add(pw_triplets *t, int i, int j, double re, double im, pw_err *e)
+{
+    int r = pw_triplets_add(t, i, 2 * j, re, e);
+    return r == PW_OK ? pw_triplets_add(t, i, 2 * j + 1, im, e) : r;
+}
+
+/* n x n complex CSR: row i holds col[k], (val[2k], val[2k+1]) for
+ * rowptr[i] <= k < rowptr[i+1], columns increasing. */
+typedef struct pw_zcsr {
+    int n;
+    int *rowptr, *col;
+    double *val; /* 2 per entry */
+} pw_zcsr;
+
+PW__DEF void pw_zcsr_free(const pw_alloc *a, pw_zcsr *A)
+{
+    if (!A) return;
+    pw_free(a, A->rowptr);
+    pw_free(a, A->col);
+    pw_free(a, A->val);
+    memset(A, 0, sizeof *A);
+}
+
+/* Packs t (n x 2n, filled by pw_ztriplets_add) into A. */
+PW__DEF int pw_zcsr_from_triplets(const pw_alloc *a, const pw_triplets *t, pw_zcsr *A, pw_err *e)
+{
+    pw_csr R;
+    int i, k, r;
+    memset(A, 0, sizeof *A);
+    if (t->m != 2 * t->n) return pw_fail(e, PW_ERR_INVALID, "complex triplets of %dx%d: need n x 2n", t->n, t->m);
+    if ((r = pw_csr_from_triplets(a, t, &R, e)) != PW_OK) return r;
+    for (k = 0; k < R.rowptr[t->n]; k += 2)
+        if (R.col[k] % 2 != 0 || k + 1 >= R.rowptr[t->n] || R.col[k + 1] != R.col[k] + 1) {
+            pw_csr_free(a, &R);
+            return pw_fail(e, PW_ERR_INVALID,
+                           "complex triplets: entry %d lacks its real or imaginary "
+                           "part (add entries with pw_ztriplets_add)",
+                           k);
+        }
+    A->n = t->n;
+    A->rowptr = (int *)pw_alloc_array(a, (size_t)t->n + 1, sizeof(int), "complex CSR", e);
+    A->col = (int *)pw_alloc_array(a, (size_t)R.rowptr[t->n] / 2 + 1, sizeof(int), "complex CSR", e);
+    if (!A->rowptr || !A->col) {
+        pw_csr_free(a, &R);
+        pw_zcsr_free(a, A);
+        return PW_ERR_NOMEM;
+    }
+    /* every complex entry is the adjacent pair (2j, 2j+1) of R's row */
+    for (i = 0; i <= t->n; i++) A->rowptr[i] = R.rowptr[i] / 2;
+    for (k = 0; k < R.rowptr[t->n]; k += 2) A->col[k / 2] = R.col[k] / 2;
+    A->val = R.val; /* the pairs are already interleaved in order */
+    R.val = NULL;
+    pw_csr_free(a, &R);
+    return PW_OK;
+}
+
+/* y = A x over complex vectors (2n doubles); returns Re(x^H y). */
+PW__DEF double pw_zcsr_mul(const pw_zcsr *A, const double *x, double *y)
+{
+    double d = 0.0;
+    int i, k;
+    for (i = 0; i < A->n; i++) {
+        double sr = 0.0, si = 0.0;
+        for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++) {
+            const double *v = A->val + 2 * k, *xx = x + 2 * A->col[k];
+            sr += v[0] * xx[0] - v[1] * xx[1];
+            si += v[0] * xx[1] + v[1] * xx[0];
+        }
+        y[2 * i] = sr;
+        y[2 * i + 1] = si;
+        d += x[2 * i] * sr + x[2 * i + 1] * si;
+    }
+    return d;
+}
+
+/* ---- complex IC(0) -------------------------------------------------------- */
+
+/* L lower triangular with A's lower sparsity and a real positive diagonal
+ * (stored last in each row, imaginary part 0), L L^H ~ A. */
+typedef struct pw_zic0 {
+    int n;
+    int *rowptr, *col;
+    double *val; /* 2 per entry */
+} pw_zic0;
+
+PW__DEF void pw_zic0_free(const pw_alloc *a, pw_zic0 *L)
+{
+    pw_free(a, L->rowptr);
+    pw_free(a, L->col);
+    pw_free(a, L->val);
+    memset(L, 0, sizeof *L);
+}
+
+/* sum over k < below of L_ik conj(L_jk), into (re, im). */
+PW__DEF void pw__zic0_dot(const pw_zic0 *L, int i, int j, int below, double *re, double *im)
+{
+    int a = L->rowptr[i], b = L->rowptr[j], ea = L->rowptr[i + 1], eb = L->rowptr[j + 1];
+    double sr = 0.0, si = 0.0;
+    while (a < ea && b < eb && L->col[a] < below && L->col[b] < below) {
+        if (L->col[a] == L->col[b]) {
+            const double *u = L->val + 2 * a++, *v = L->val + 2 * b++;
+            sr += u[0] * v[0] + u[1] * v[1];
+            si += u[1] * v[0] - u[0] * v[1];
+        } else if (L->col[a] < L->col[b]) a++;
+        else b++;
+    }
+    *re = sr;
+    *im = si;
+}
+
+/* Factors A + shift diag(A); 0 when a pivot is not positive. */
+PW__DEF int pw__zic0_try(const pw_zcsr *A, double shift, pw_zic0 *L)
+{
+    int i, k, out = 0;
+    for (i = 0; i < A->n; i++) {
+        double diag = 0.0, re, im;
+        for (k = A->rowptr[i]; k < A->rowptr[i + 1] && A->col[k] <= i; k++) {
+            int j = A->col[k];
+            if (j == i) diag = A->val[2 * k] * (1.0 + shift);
+            else { /* L_ij = (A_ij - sum_k L_ik conj(L_jk)) / L_jj, L_jj real */
+                double djj = L->val[2 * (L->rowptr[j + 1] - 1)];
+                pw__zic0_dot(L, i, j, j, &re, &im);
+                L->col[out] = j;
+                L->val[2 * out] = (A->val[2 * k] - re) / djj;
+                L->val[2 * out + 1] = (A->val[2 * k + 1] - im) / djj;
+                out++;
+                L->rowptr[i + 1] = out; /* rows read themselves while being filled */
+            }
+        }
+        L->rowptr[i + 1] = out;
+        pw__zic0_dot(L, i, i, i, &re, &im); /* sum |L_ik|^2: im is 0 */
+        diag -= re;
+        if (!(diag > 0.0) || !pw_is_finite(diag)) return 0;
+        L->col[out] = i;
+        L->val[2 * out] = sqrt(diag);
+        L->val[2 * out + 1] = 0.0;
+        L->rowptr[i + 1] = ++out;
+    }
+    return 1;
+}
+
+/* Factors a Hermitian positive (semi)definite A whose every diagonal entry
+ * is present (real); breakdowns are cured by a growing diagonal shift, as
+ * pw_ic0_factor does. */
+PW__DEF int pw_zic0_factor(const pw_alloc *a, const pw_zcsr *A, pw_zic0 *L, pw_err *e)
+{
+    int i, k, nnz = 0;
+    double shift = 0.0;
+    memset(L, 0, sizeof *L);
+    for (i = 0; i < A->n; i++)
+        for (k = A->rowptr[i]; k < A->rowptr[i + 1] && A->col[k] <= i; k++) nnz++;
+    L->n = A->n;
+    L->rowptr = (int *)pw_calloc_array(a, (size_t)A->n + 1, sizeof(int), "complex IC(0)", e);
+    L->col = (int *)pw_alloc_array(a, (size_t)nnz + (size_t)A->n, sizeof(int), "complex IC(0)", e);
+    L->val = (double *)pw_alloc_array(a, 2 * ((size_t)nnz + (size_t)A->n), sizeof(double), "complex IC(0)", e);
+    if (!L->rowptr || !L->col || !L->val) {
+        pw_zic0_free(a, L);
+        return PW_ERR_NOMEM;
+    }
+    for (k = 0; k<40; k++, shift = shift> 0.0 ? 2.0 * shift : 1e-3)
+        if (pw__zic0_try(A, shift, L)) return PW_OK;
+    pw_zic0_free(a, L);
+    return pw_fail(e, PW_ERR_INVALID, "complex IC(0): the matrix is not positive definite");
+}
+
+/* z = (L L^H)^-1 r over complex vectors. */
+PW__DEF void pw_zic0_apply(const pw_zic0 *L, const double *r, double *z)
+{
+    int i, k;
+    for (i = 0; i < L->n; i++) { /* L y = r */
+        double sr = r[2 * i], si = r[2 * i + 1], d;
+        for (k = L->rowptr[i]; k < L->rowptr[i + 1] - 1; k++) {
+            const double *v = L->val + 2 * k, *y = z + 2 * L->col[k];
+            sr -= v[0] * y[0] - v[1] * y[1];
+            si -= v[0] * y[1] + v[1] * y[0];
+        }
+        d = L->val[2 * (L->rowptr[i + 1] - 1)];
+        z[2 * i] = sr / d;
+        z[2 * i + 1] = si / d;
+    }
+    for (i = L->n - 1; i >= 0; i--) { /* L^H z = y, by columns of L^H = rows of L */
+        double d = L->val[2 * (L->rowptr[i + 1] - 1)], zr, zi;
+        zr = z[2 * i] /= d;
+        zi = z[2 * i + 1] /= d;
+        for (k = L->rowptr[i]; k < L->rowptr[i + 1] - 1; k++) { /* z_j -= conj(L_ij) z_i */
+            const double *v = L->val + 2 * k;
+            double *y = z + 2 * L->col[k];
+            y[0] -= v[0] * zr + v[1] * zi;
+            y[1] -= v[0] * zi - v[1] * zr;
+        }
+    }
+}
+
+PW__DEF double pw__zcsr_op_mul(const void *A, const double *x, double *y)
+{
+    return pw_zcsr_mul((const pw_zcsr *)A, x, y);
+}
+
+PW__DEF void pw__zic0_op(const void *M, const double *r, double *z) { pw_zic0_apply((const pw_zic0 *)M, r, z); }
+
+/* Solves A x = b (complex, 2n doubles each; x the warm start) for a
+ * Hermitian positive definite A, by CG preconditioned with M = pw_zic0 of
+ * A; options, stopping rule (|b - A x| <= tol |b|) and errors as
+ * pw_pcg_solve. */
+PW__DEF int pw_zpcg_solve(const pw_alloc *a, const pw_zcsr *A, const pw_zic0 *M, const double *b, double *x,
+                          const pw_cg_options *o, pw_cg_stats *s, pw_err *e)
+{
+    pw__pcg_op op;
+    if (s) memset(s, 0, sizeof *s);
+    if (pw__check_vec(b, 2 * A->n, "complex PCG right-hand side b", e) ||
+        pw__check_vec(x, 2 * A->n, "complex PCG guess x", e) ||
+        pw__check_vec(A->val, 2 * A->rowptr[A->n], "complex matrix", e))
+        return PW_ERR_INVALID;
+    PW_SOLVE_HOOK("zpcg", A, b, x, o);
+    op.n = 2 * A->n;
+    op.mul = pw__zcsr_op_mul;
+    op.precond = pw__zic0_op;
+    op.actx = A;
+    op.mctx = M;
+    op.b = b;
+    op.x = x;
+    op.what = "complex PCG";
+    return pw__pcg_run(a, &op, o, s, e);
+}
+
+#endif /* PW__ZSPARSE_V1 */
+
+/* ---- shared module src/common/zamg.h ---- */
+/* zamg: a smoothed-aggregation multigrid preconditioner for the complex
+ * Hermitian systems of zsparse.h, for meshes too large for IC(0).
+ *
+ * IC(0)-preconditioned CG needs about sqrt(n) iterations on a surface
+ * Laplacian of n unknowns, so its time grows as n^1.5; a multigrid
+ * V-cycle keeps the iteration count about constant. The systems pgp.h
+ * solves are connection Laplacians: terms w |z_j - R z_i|^2 with unit
+ * complex R, so the smooth (low-energy) vectors are not constant but turn
+ * by R from unknown to unknown. The coarse spaces follow that:
+ *
+ *   - Aggregation (Vanek, Mandel, Brezina 1996): unknowns joined by a
+ *     strong entry (|a_ij| >= theta sqrt(a_ii a_jj)) are grouped around
+ *     roots taken in index order, leftovers join their strongest
+ *     aggregated neighbour.
+ *   - Tentative prolongation, one entry per row: the phase that carries the
+ *     aggregate's value from the root to the unknown along the edge that
+ *     joined it (-a_ij / |a_ij|, which is R for a term as above), so the
+ *     coarse vector 1 stands for a section parallel along those edges.
+ *   - One damped Jacobi step smooths it (P = (I - omega D^-1 A) P_t,
+ *     omega = 2/3), and the coarse matrix is P^H A P (Galerkin).
+ *   - A V(1,1) cycle: forward Gauss-Seidel before the coarse correction,
+ *     backward after, so the cycle is a symmetric positive definite
+ *     preconditioner for CG; the coarsest level (at most 512 unknowns) is
+ *     solved by a dense Cholesky factor.
+ *
+ *     pw_zamg M;
+ *     pw_zamg_setup(NULL, &A, &M, &e);
+ *     pw_zamg_solve(NULL, &A, &M, b, x, NULL, &stats, &e);
+ *     pw_zamg_free(NULL, &M);
+ *
+ * Deterministic: every loop runs in index order, no threads. */
+#ifndef PW__ZAMG_V1
+#define PW__ZAMG_V1
+
+
+#define PW__ZAMG_LEVELS 16
+#define PW__ZAMG_COARSEST 512
+
+/* One level: its matrix, the prolongation from the next (coarser) level's
+ * unknowns (n x nc, complex CSR), and the cycle's vectors (2n doubles). */
+typedef struct pw__zamg_level {
+    pw_zcsr A;
+    int nc;
+    int *prow, *pcol;
+    double *pval;
+    double *x, *b, *r;
+} pw__zamg_level;
+
+typedef struct pw_zamg {
+    int levels;                          /* levels below the finest (0: A is the coarsest) */
+    pw__zamg_level lev[PW__ZAMG_LEVELS]; /* lev[0].A: a copy of the caller's matrix's pattern holder (not owned) */
+    int nc;                              /* unknowns of the coarsest level */
+    double *chol;                        /* its dense Cholesky factor, nc x nc complex, lower */
+    double *cx;                          /* scratch for the coarsest solve, 2 nc */
+} pw_zamg;
+
+/* ---- complex helpers ------------------------------------------------------ */
+
+/* |v| of the complex number (v[0], v[1]) (no hypot: the values are far from
+ * overflow, and hypot's care costs). */
+PW__DEF double pw__zamg_abs(const double *v) { return sqrt(v[0] * v[0] + v[1] * v[1]); }
+
+/* The diagonal entry of row i (real); 0 if absent. */
+PW__DEF double pw__zamg_diag(const pw_zcsr *A, int i)
+{
+    int k;
+    for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++)
+        if (A->col[k] == i) return A->val[2 * k];
+    return 0.0;
+}
+
+/* The strength threshold of row i: 0.08 of its largest off-diagonal |a_ij|
+ * (0 for a row without any). */
+PW__DEF double pw__zamg_strong(const pw_zcsr *A, int i)
+{
+    double m = 0.0;
+    int k;
+    for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++)
+        if (A->col[k] != i) m = pw__zamg_abs(A->val + 2 * k) > m ? pw__zamg_abs(A->val + 2 * k) : m;
+    return 0.08 * m;
+}
+
+/* ---- aggregation ---------------------------------------------------------- */
+
+/* The tentative prolongation of A: agg[i], the aggregate of unknown i, and
+ * (ph[2i], ph[2i+1]), its unit phase; returns the number of aggregates.
+ * d[i]: theta times the largest off-diagonal |a_ij| of row i, the strength
+ * threshold (relative to the row, not to the diagonal: a diagonal shift
+ * must not cut the links). */
+PW__DEF int pw__zamg_aggregate(const pw_zcsr *A, const double *d, int *agg, double *ph)
+{
+    int n = A->n, i, k, nc = 0;
+    for (i = 0; i < n; i++) agg[i] = -1;
+    for (i = 0; i < n; i++) { /* roots whose strong neighbours are all free */
+        int free_all = 1;
+        if (agg[i] >= 0) continue;
+        for (k = A->rowptr[i]; k < A->rowptr[i + 1] && free_all; k++) {
+            int j = A->col[k];
+            double m = pw__zamg_abs(A->val + 2 * k);
+            if (j != i && m >= d[i] && agg[j] >= 0) free_all = 0;
+        }
+        if (!free_all) continue;
+        agg[i] = nc;
+        ph[2 * i] = 1.0;
+        ph[2 * i + 1] = 0.0;
+        for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++) {
+            int j = A->col[k];
+            double m = pw__zamg_abs(A->val + 2 * k);
+            if (j == i || m < d[i] || m == 0.0) continue;
+            agg[j] = nc; /* z_j = R z_i with a_ji = -w R = conj(a_ij) */
+            ph[2 * j] = -A->val[2 * k] / m;
+            ph[2 * j + 1] = A->val[2 * k + 1] / m;
+        }
+        nc++;
+    }
+    for (i = 0; i < n; i++) { /* leftovers join their strongest aggregated neighbour */
+        int best = -1;
+        double bm = 0.0;
+        if (agg[i] >= 0) continue;
+        for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++) {
+            int j = A->col[k];
+            double m = pw__zamg_abs(A->val + 2 * k);
+            if (j != i && agg[j] >= 0 && m > bm) {
+                bm = m;
+                best = k;
+            }
+        }
+        if (best < 0) { /* isolated: an aggregate of its own */
+            agg[i] = nc++;
+            ph[2 * i] = 1.0;
+            ph[2 * i + 1] = 0.0;
+        } else { /* z_i = (-a_ij / |a_ij|) z_j */
+            int j = A->col[best];
+            double re = -A->val[2 * best] / bm, im = -A->val[2 * best + 1] / bm;
+            agg[i] = agg[j];
+            ph[2 * i] = re * ph[2 * j] - im * ph[2 * j + 1];
+            ph[2 * i + 1] = re * ph[2 * j + 1] + im * ph[2 * j];
+        }
+    }
+    return nc;
+}
+
+/* ---- sparse products -------------------------------------------------------- */
+
+/* Sorts the first n ints of v (short rows: insertion sort). */
+PW__DEF void pw__zamg_sort(int *v, int n)
+{
+    int i, j;
+    for (i = 1; i < n; i++) {
+        int x = v[i];
+        for (j = i; j > 0 && v[j - 1] > x; j--) v[j] = v[j - 1];
+        v[j] = x;
+    }
+}
+
+/* Scratch of a row-by-row product: per column of the result, its slot in
+ * the row being built (-1: none) and its sum; the row's columns. */
+typedef struct pw__zamg_acc {
+    int *mark, *list;
+    double *sum;
+    int cnt;
+} pw__zamg_acc;
+
+PW__DEF void pw__zamg_acc_free(const pw_alloc *a, pw__zamg_acc *w)
+{
+    pw_free(a, w->mark);
+    pw_free(a, w->list);
+    pw_free(a, w->sum);
+}
+
+PW__DEF int pw__zamg_acc_init(const pw_alloc *a, int ncols, pw__zamg_acc *w, pw_err *e)
+{
+    int i;
+    w->cnt = 0;
+    w->mark = (int *)pw_alloc_array(a, (size_t)ncols, sizeof(int), "multigrid scratch", e);
+    w->list = (int *)pw_alloc_array(a, (size_t)ncols, sizeof(int), "multigrid scratch", e);
+    w->sum = (double *)pw_alloc_array(a, 2 * (size_t)ncols, sizeof(double), "multigrid scratch", e);
+    if (!w->mark || !w->list || !w->sum) {
+        pw__zamg_acc_free(a, w);
+        return PW_ERR_NOMEM;
+    }
+    for (i = 0; i < ncols; i++) w->mark[i] = -1;
+    return PW_OK;
+}
+
+/* Adds (re, im) to column c of the row being built. */
+PW__DEF void pw__zamg_acc_add(pw__zamg_acc *w, int c, double re, double im)
+{
+    if (w->mark[c] < 0) {
+        w->mark[c] = w->cnt;
+        w->list[w->cnt++] = c;
+        w->sum[2 * c] = w->sum[2 * c + 1] = 0.0;
+    }
+    w->sum[2 * c] += re;
+    w->sum[2 * c + 1] += im;
+}
+
+/* Ends the row: its entries, columns increasing, into (col, val) from
+ * position *nnz on (or only counted when col is NULL). */
+PW__DEF void pw__zamg_acc_flush(pw__zamg_acc *w, int *col, double *val, int *nnz)
+{
+    int m;
+    pw__zamg_sort(w->list, w->cnt);
+    for (m = 0; m < w->cnt; m++) {
+        int c = w->list[m];
+        if (col) {
+            col[*nnz] = c;
+            val[2 * *nnz] = w->sum[2 * c];
+            val[2 * *nnz + 1] = w->sum[2 * c + 1];
+        }
+        ++*nnz;
+        w->mark[c] = -1;
+    }
+    w->cnt = 0;
+}
+
+/* C = op(X) Y for complex CSR X (rows of X, or with conj_t the rows of X^H
+ * given as X's transpose already: see pw__zamg_galerkin) and Y of ncols
+ * columns; C gets C->n = X->n rows. Two passes: count, then fill. */
+PW__DEF int pw__zamg_mul(const pw_alloc *a, const pw_zcsr *X, const pw_zcsr *Y, int ncols, pw_zcsr *C, pw_err *e)
+{
+    pw__zamg_acc w;
+    int pass, i, k, q, nnz = 0;
+    memset(C, 0, sizeof *C);
+    if (pw__zamg_acc_init(a, ncols, &w, e)) return PW_ERR_NOMEM;
+    C->n = X->n;
+    C->rowptr = (int *)pw_alloc_array(a, (size_t)X->n + 1, sizeof(int), "multigrid matrix", e);
+    for (pass = 0; pass < 2 && C->rowptr; pass++) {
+        nnz = 0;
+        C->rowptr[0] = 0;
+        for (i = 0; i < X->n; i++) {
+            for (k = X->rowptr[i]; k < X->rowptr[i + 1]; k++) {
+                const double *x = X->val + 2 * k;
+                int j = X->col[k];
+                for (q = Y->rowptr[j]; q < Y->rowptr[j + 1]; q++) {
+                    const double *y = Y->val + 2 * q;
+                    pw__zamg_acc_add(&w, Y->col[q], x[0] * y[0] - x[1] * y[1], x[0] * y[1] + x[1] * y[0]);
+                }
+            }
+            pw__zamg_acc_flush(&w, C->col, C->val, &nnz);
+            C->rowptr[i + 1] = nnz;
+        }
+        if (pass == 0) {
+            C->col = (int *)pw_alloc_array(a, (size_t)nnz + 1, sizeof(int), "multigrid matrix", e);
+            C->val = (double *)pw_alloc_array(a, 2 * (size_t)nnz + 2, sizeof(double), "multigrid matrix", e);
+            if (!C->col || !C->val) break;
+        }
+    }
+    pw__zamg_acc_free(a, &w);
+    if (!C->rowptr || !C->col || !C->val) {
+        pw_zcsr_free(a, C);
+        return PW_ERR_NOMEM;
+    }
+    return PW_OK;
+}
+
+/* The conjugate transpose of an n x ncols complex CSR. */
+PW__DEF int pw__zamg_adjoint(const pw_alloc *a, const pw_zcsr *P, int ncols, pw_zcsr *T, pw_err *e)
+{
+    int i, k, nnz = P->rowptr[P->n], *fill;
+    memset(T, 0, sizeof *T);
+    T->n = ncols;
+    T->rowptr = (int *)pw_calloc_array(a, (size_t)ncols + 1, sizeof(int), "multigrid matrix", e);
+    T->col = (int *)pw_alloc_array(a, (size_t)nnz + 1, sizeof(int), "multigrid matrix", e);
+    T->val = (double *)pw_alloc_array(a, 2 * (size_t)nnz + 2, sizeof(double), "multigrid matrix", e);
+    fill = (int *)pw_alloc_array(a, (size_t)ncols + 1, sizeof(int), "multigrid scratch", e);
+    if (!T->rowptr || !T->col || !T->val || !fill) {
+        pw_zcsr_free(a, T);
+        pw_free(a, fill);
+        return PW_ERR_NOMEM;
+    }
+    for (k = 0; k < nnz; k++) T->rowptr[P->col[k] + 1]++;
+    for (i = 0; i < ncols; i++) T->rowptr[i + 1] += T->rowptr[i];
+    memcpy(fill, T->rowptr, sizeof(int) * ((size_t)ncols + 1));
+    for (i = 0; i < P->n; i++) /* rows in order: every row of T gets its columns increasing */
+        for (k = P->rowptr[i]; k < P->rowptr[i + 1]; k++) {
+            int q = fill[P->col[k]]++;
+            T->col[q] = i;
+            T->val[2 * q] = P->val[2 * k];
+            T->val[2 * q + 1] = -P->val[2 * k + 1];
+        }
+    pw_free(a, fill);
+    return PW_OK;
+}
+
+/* ---- one coarser level ------------------------------------------------------ */
+
+/* The smoothed prolongation P = (I - omega D^-1 A) P_t of level L (n x nc),
+ * P_t given by agg and ph (pw__zamg_aggregate), into P. */
+PW__DEF int pw__zamg_prolong(const pw_alloc *a, const pw__zamg_level *L, const int *agg, const double *ph,
+                             const double *d, pw_zcsr *P, pw_err *e)
+{
+    const pw_zcsr *A = &L->A;
+    const double omega = 2.0 / 3.0;
+    pw__zamg_acc w;
+    int n = A->n, i, k, nnz = 0;
+    memset(P, 0, sizeof *P);
+    if (pw__zamg_acc_init(a, L->nc, &w, e)) return PW_ERR_NOMEM;
+    P->n = n;
+    P->rowptr = (int *)pw_alloc_array(a, (size_t)n + 1, sizeof(int), "multigrid prolongation", e);
+    P->col = (int *)pw_alloc_array(a, (size_t)A->rowptr[n] + n, sizeof(int), "multigrid prolongation", e);
+    P->val = (double *)pw_alloc_array(a, 2 * ((size_t)A->rowptr[n] + n), sizeof(double), "multigrid prolongation", e);
+    if (!P->rowptr || !P->col || !P->val) {
+        pw__zamg_acc_free(a, &w);
+        pw_zcsr_free(a, P);
+        return PW_ERR_NOMEM;
+    }
+    P->rowptr[0] = 0;
+    for (i = 0; i < n; i++) {
+        double s = d[i] > 0.0 ? omega / d[i] : 0.0;
+        pw__zamg_acc_add(&w, agg[i], ph[2 * i], ph[2 * i + 1]);
+        for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++) {
+            const double *v = A->val + 2 * k, *p = ph + 2 * A->col[k];
+            pw__zamg_acc_add(&w, agg[A->col[k]], -s * (v[0] * p[0] - v[1] * p[1]), -s * (v[0] * p[1] + v[1] * p[0]));
+        }
+        pw__zamg_acc_flush(&w, P->col, P->val, &nnz);
+        P->rowptr[i + 1] = nnz;
+    }
+    pw__zamg_acc_free(a, &w);
+    return PW_OK;
+}
+
+/* Level L's prolongation (from aggregates of L->A) and the next level's
+ * matrix P^H A P into *C. */
+PW__DEF int pw__zamg_coarsen(const pw_alloc *a, pw__zamg_level *L, pw_zcsr *C, pw_err *e)
+{
+    const pw_zcsr *A = &L->A;
+    int n = A->n, i, r;
+    int *agg = (int *)pw_alloc_array(a, (size_t)n, sizeof(int), "multigrid aggregates", e);
+    double *ph = (double *)pw_alloc_array(a, 2 * (size_t)n, sizeof(double), "multigrid aggregates", e);
+    double *d = (double *)pw_alloc_array(a, (size_t)n, sizeof(double), "multigrid aggregates", e);
+    pw_zcsr P, PH, AP;
+    memset(&P, 0, sizeof P);
+    memset(&PH, 0, sizeof PH);
+    memset(&AP, 0, sizeof AP);
+    r = agg && ph && d ? PW_OK : PW_ERR_NOMEM;
+    if (r == PW_OK) {
+        for (i = 0; i < n; i++) d[i] = pw__zamg_strong(A, i);
+        L->nc = pw__zamg_aggregate(A, d, agg, ph);
+        for (i = 0; i < n; i++) d[i] = pw__zamg_diag(A, i);
+        r = pw__zamg_prolong(a, L, agg, ph, d, &P, e);
+    }
+    if (r == PW_OK) r = pw__zamg_adjoint(a, &P, L->nc, &PH, e);
+    if (r == PW_OK) r = pw__zamg_mul(a, A, &P, L->nc, &AP, e);
+    if (r == PW_OK) r = pw__zamg_mul(a, &PH, &AP, L->nc, C, e);
+    if (r == PW_OK) {
+        L->prow = P.rowptr;
+        L->pcol = P.col;
+        L->pval = P.val;
+    } else pw_zcsr_free(a, &P);
+    pw_zcsr_free(a, &PH);
+    pw_zcsr_free(a, &AP);
+    pw_free(a, agg);
+    pw_free(a, ph);
+    pw_free(a, d);
+    return r;
+}
+
+/* ---- the coarsest level: dense Cholesky --------------------------------------- */
+
+/* Factors the n x n Hermitian A (sparse) into the dense lower L (row-major,
+ * complex) with L L^H = A + shift diag(A); 0 when a pivot is not positive. */
+PW__DEF int pw__zamg_chol_try(const pw_zcsr *A, double shift, double *L)
+{
+    int n = A->n, i, j, k;
+    memset(L, 0, sizeof(double) * 2 * (size_t)n * n);
+    for (i = 0; i < n; i++)
+        for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++)
+            if (A->col[k] <= i) {
+                double *l = L + 2 * ((size_t)i * n + A->col[k]);
+                l[0] = A->val[2 * k] * (A->col[k] == i ? 1.0 + shift : 1.0);
+                l[1] = A->val[2 * k + 1];
+            }
+    for (j = 0; j < n; j++) {
+        double *ljj = L + 2 * ((size_t)j * n + j), dj;
+        for (k = 0; k < j; k++) {
+            const double *v = L + 2 * ((size_t)j * n + k);
+            ljj[0] -= v[0] * v[0] + v[1] * v[1];
+        }
+        if (!(ljj[0] > 0.0) || !pw_is_finite(ljj[0])) return 0;
+        dj = ljj[0] = sqrt(ljj[0]);
+        ljj[1] = 0.0;
+        for (i = j + 1; i < n; i++) { /* L_ij = (A_ij - sum_k L_ik conj(L_jk)) / L_jj */
+            double *lij = L + 2 * ((size_t)i * n + j);
+            for (k = 0; k < j; k++) {
+                const double *u = L + 2 * ((size_t)i * n + k), *v = L + 2 * ((size_t)j * n + k);
+                lij[0] -= u[0] * v[0] + u[1] * v[1];
+                lij[1] -= u[1] * v[0] - u[0] * v[1];
+            }
+            lij[0] /= dj;
+            lij[1] /= dj;
+        }
+    }
+    return 1;
+}
+
+/* x = (L L^H)^-1 b, dense, complex; x may be b. */
+PW__DEF void pw__zamg_chol_solve(const double *L, int n, const double *b, double *x)
+{
+    int i, k;
+    for (i = 0; i < n; i++) {
+        double sr = b[2 * i], si = b[2 * i + 1];
+        for (k = 0; k < i; k++) {
+            const double *v = L + 2 * ((size_t)i * n + k), *y = x + 2 * k;
+            sr -= v[0] * y[0] - v[1] * y[1];
+            si -= v[0] * y[1] + v[1] * y[0];
+        }
+        x[2 * i] = sr / L[2 * ((size_t)i * n + i)];
+        x[2 * i + 1] = si / L[2 * ((size_t)i * n + i)];
+    }
+    for (i = n - 1; i >= 0; i--) { /* L^H x = y: (L^H)_ik = conj(L_ki) */
+        double sr = x[2 * i], si = x[2 * i + 1];
+        for (k = i + 1; k < n; k++) {
+            const double *v = L + 2 * ((size_t)k * n + i), *y = x + 2 * k;
+            sr -= v[0] * y[0] + v[1] * y[1];
+            si -= v[0] * y[1] - v[1] * y[0];
+        }
+        x[2 * i] = sr / L[2 * ((size_t)i * n + i)];
+        x[2 * i + 1] = si / L[2 * ((size_t)i * n + i)];
+    }
+}
+
+/* ---- the hierarchy and the cycle ---------------------------------------------- */
+
+PW__DEF void pw_zamg_free(const pw_alloc *a, pw_zamg *M)
+{
+    int l;
+    for (l = 0; l <= M->levels && l < PW__ZAMG_LEVELS; l++) {
+        pw__zamg_level *L = &M->lev[l];
+        if (l > 0) pw_zcsr_free(a, &L->A); /* level 0's matrix is the caller's */
+        pw_free(a, L->prow);
+        pw_free(a, L->pcol);
+        pw_free(a, L->pval);
+        pw_free(a, L->x);
+        pw_free(a, L->b);
+        pw_free(a, L->r);
+    }
+    pw_free(a, M->chol);
+    pw_free(a, M->cx);
+    memset(M, 0, sizeof *M);
+}
+
+/* Builds the hierarchy of a Hermitian positive (semi)definite A whose
+ * diagonal entries are all present; A must outlive M (level 0 uses it). */
+PW__DEF int pw_zamg_setup(const pw_alloc *a, const pw_zcsr *A, pw_zamg *M, pw_err *e)
+{
+    int l = 0, r = PW_OK, k;
+    double shift = 0.0;
+    memset(M, 0, sizeof *M);
+    M->lev[0].A = *A;
+    while (r == PW_OK && M->lev[l].A.n > PW__ZAMG_COARSEST && l + 1 < PW__ZAMG_LEVELS) {
+        pw__zamg_level *L = &M->lev[l];
+        size_t n2 = 2 * (size_t)L->A.n;
+        L->x = (double *)pw_alloc_array(a, n2, sizeof(double), "multigrid vectors", e);
+        L->b = (double *)pw_alloc_array(a, n2, sizeof(double), "multigrid vectors", e);
+        L->r = (double *)pw_alloc_array(a, n2, sizeof(double), "multigrid vectors", e);
+        if (!L->x || !L->b || !L->r) r = PW_ERR_NOMEM;
+        if (r == PW_OK) r = pw__zamg_coarsen(a, L, &M->lev[l + 1].A, e);
+        if (r != PW_OK) break;
+        M->levels = ++l;
+        if (M->lev[l].A.n * 10 > L->A.n * 9) break; /* aggregation stalls: solve here */
+    }
+    M->nc = M->lev[l].A.n;
+    if (r == PW_OK && M->nc > 4 * PW__ZAMG_COARSEST)
+        r = pw_fail(e, PW_ERR_INVALID, "multigrid: coarsening stopped at %d unknowns", M->nc);
+    if (r == PW_OK) {
+        M->chol = (double *)pw_alloc_array(a, 2 * (size_t)M->nc * M->nc, sizeof(double), "multigrid coarse factor", e);
+        M->cx = (double *)pw_alloc_array(a, 2 * (size_t)M->nc, sizeof(double), "multigrid vectors", e);
+        M->lev[l].x = (double *)pw_alloc_array(a, 2 * (size_t)M->nc, sizeof(double), "multigrid vectors", e);
+        M->lev[l].b = (double *)pw_alloc_array(a, 2 * (size_t)M->nc, sizeof(double), "multigrid vectors", e);
+        if (!M->chol || !M->cx || !M->lev[l].x || !M->lev[l].b) r = PW_ERR_NOMEM;
+    }
+    for (k = 0; r == PW_OK && k<40; k++, shift = shift> 0.0 ? 2.0 * shift : 1e-10)
+        if (pw__zamg_chol_try(&M->lev[l].A, shift, M->chol)) break;
+    if (r == PW_OK && k == 40)
+        r = pw_fail(e, PW_ERR_INVALID, "multigrid: the coarsest matrix is not positive definite");
+    if (r != PW_OK) pw_zamg_free(a, M);
+    return r;
+}
+
+/* One Gauss-Seidel sweep on A x = b, forward or backward. */
+PW__DEF void pw__zamg_gs(const pw_zcsr *A, const double *b, double *x, int backward)
+{
+    int n = A->n, s, i, k;
+    for (s = 0; s < n; s++) {
+        double sr, si, dr = 0.0;
+        i = backward ? n - 1 - s : s;
+        sr = b[2 * i];
+        si = b[2 * i + 1];
+        for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++) {
+            const double *v = A->val + 2 * k, *y = x + 2 * A->col[k];
+            if (A->col[k] == i) {
+                dr = v[0];
+                continue;
+            }
+            sr -= v[0] * y[0] - v[1] * y[1];
+            si -= v[0] * y[1] + v[1] * y[0];
+        }
+        if (dr > 0.0) {
+            x[2 * i] = sr / dr;
+            x[2 * i + 1] = si / dr;
+        }
+    }
+}
+
+/* r = b - A x after one forward Gauss-Seidel sweep from x = 0: row i was
+ * solved with the new x_j (j < i) and zeros above, so only the part above
+ * the diagonal is left, r_i = -sum_{j > i} a_ij x_j (half a product); a
+ * row without a positive diagonal (all zero, A being semidefinite) keeps
+ * r_i = b_i. */
+PW__DEF void pw__zamg_upper_residual(const pw_zcsr *A, const double *b, const double *x, double *r)
+{
+    int i, k;
+    for (i = 0; i < A->n; i++) {
+        double sr = 0.0, si = 0.0, d = 0.0;
+        for (k = A->rowptr[i + 1] - 1; k >= A->rowptr[i] && A->col[k] >= i; k--) {
+            const double *v = A->val + 2 * k, *y = x + 2 * A->col[k];
+            if (A->col[k] == i) {
+                d = v[0];
+                continue;
+            }
+            sr -= v[0] * y[0] - v[1] * y[1];
+            si -= v[0] * y[1] + v[1] * y[0];
+        }
+        r[2 * i] = d > 0.0 ? sr : b[2 * i];
+        r[2 * i + 1] = d > 0.0 ? si : b[2 * i + 1];
+    }
+}
+
+/* The V-cycle from level l: lev[l].x ~ A_l^-1 lev[l].b, from x = 0. */
+PW__DEF void pw__zamg_cycle(const pw_zamg *M, int l)
+{
+    const pw__zamg_level *L = &M->lev[l], *C;
+    int n, i, k;
+    if (l == M->levels) {
+        pw__zamg_chol_solve(M->chol, M->nc, L->b, L->x);
+        return;
+    }
+    C = &M->lev[l + 1];
+    n = L->A.n;
+    memset(L->x, 0, sizeof(double) * 2 * (size_t)n);
+    pw__zamg_gs(&L->A, L->b, L->x, 0);
+    pw__zamg_upper_residual(&L->A, L->b, L->x, L->r);
+    memset(C->b, 0, sizeof(double) * 2 * (size_t)C->A.n);
+    for (i = 0; i < n; i++) /* b_c = P^H r */
+        for (k = L->prow[i]; k < L->prow[i + 1]; k++) {
+            const double *p = L->pval + 2 * k, *rr = L->r + 2 * i;
+            double *bc = C->b + 2 * L->pcol[k];
+            bc[0] += p[0] * rr[0] + p[1] * rr[1];
+            bc[1] += p[0] * rr[1] - p[1] * rr[0];
+        }
+    pw__zamg_cycle(M, l + 1);
+    for (i = 0; i < n; i++) /* x += P x_c */
+        for (k = L->prow[i]; k < L->prow[i + 1]; k++) {
+            const double *p = L->pval + 2 * k, *xc = C->x + 2 * L->pcol[k];
+            L->x[2 * i] += p[0] * xc[0] - p[1] * xc[1];
+            L->x[2 * i + 1] += p[0] * xc[1] + p[1] * xc[0];
+        }
+    pw__zamg_gs(&L->A, L->b, L->x, 1);
+}
+
+/* z = one V-cycle applied to r (2n doubles each). */
+PW__DEF void pw_zamg_apply(const pw_zamg *M, const double *r, double *z)
+{
+    const pw__zamg_level *L = &M->lev[0];
+    memcpy(L->b, r, sizeof(double) * 2 * (size_t)L->A.n);
+    pw__zamg_cycle(M, 0);
+    memcpy(z, L->x, sizeof(double) * 2 * (size_t)L->A.n);
+}
+
+PW__DEF void pw__zamg_op(const void *M, const double *r, double *z) { pw_zamg_apply((const pw_zamg *)M, r, z); }
+
+/* Solves A x = b as pw_zpcg_solve does, preconditioned by a V-cycle of M
+ * (pw_zamg_setup of A). */
+PW__DEF int pw_zamg_solve(const pw_alloc *a, const pw_zcsr *A, const pw_zamg *M, const double *b, double *x,
+                          const pw_cg_options *o, pw_cg_stats *s, pw_err *e)
+{
+    pw__pcg_op op;
+    if (s) memset(s, 0, sizeof *s);
+    if (pw__check_vec(b, 2 * A->n, "multigrid PCG right-hand side b", e) ||
+        pw__check_vec(x, 2 * A->n, "multigrid PCG guess x", e) ||
+        pw__check_vec(A->val, 2 * A->rowptr[A->n], "complex matrix", e))
+        return PW_ERR_INVALID;
+    PW_SOLVE_HOOK("zamg", A, b, x, o);
+    op.n = 2 * A->n;
+    op.mul = pw__zcsr_op_mul;
+    op.precond = pw__zamg_op;
+    op.actx = A;
+    op.mctx = M;
+    op.b = b;
+    op.x = x;
+    op.what = "multigrid PCG";
+    return pw__pcg_run(a, &op, o, s, e);
+}
+
+/* Unknowns from which multigrid pays against IC(0) (its setup costs about
+ * ten IC(0)-PCG iterations; on pgp's systems the two break even near 40K
+ * unknowns), and the diagonal excess below which it is used: a matrix whose
+ * diagonal exceeds the off-diagonal sums by more than 0.5% on average is so
+ * well conditioned that IC(0) needs only a few iterations. */
+#define PW_ZAMG_MIN_UNKNOWNS 40000
+#define PW_ZAMG_MAX_EXCESS 0.005
+
+/* sum_i (a_ii - sum_j |a_ij|) / sum_i a_ii. */
+PW__DEF double pw__zamg_excess(const pw_zcsr *A)
+{
+    double dsum = 0.0, xs = 0.0;
+    int i, k;
+    for (i = 0; i < A->n; i++)
+        for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++) {
+            double m = pw__zamg_abs(A->val + 2 * k);
+            if (A->col[k] == i) {
+                dsum += A->val[2 * k];
+                xs += A->val[2 * k];
+            } else xs -= m;
+        }
+    return dsum > 0.0 ? xs / dsum : 0.0;
+}
+
+/* 1 if multigrid pays on A: large and poorly conditioned. */
+PW__DEF int pw_zamg_pays(const pw_zcsr *A)
+{
+    return A->n >= PW_ZAMG_MIN_UNKNOWNS && pw__zamg_excess(A) < PW_ZAMG_MAX_EXCESS;
+}
+
+/* Solves the Hermitian positive definite A x = b (x the warm start) by CG,
+ * preconditioned by multigrid where it pays and by IC(0) otherwise (also
+ * when the coarsening stalls); options and stopping rule as
+ * pw_zpcg_solve. */
+PW__DEF int pw_zpd_solve(const pw_alloc *a, const pw_zcsr *A, const double *b, double *x, const pw_cg_options *o,
+                         pw_err *e)
+{
+    pw_zic0 L;
+    int r;
+    if (pw_zamg_pays(A)) {
+        pw_zamg M;
+        pw_err se;
+        pw_err_clear(&se);
+        r = pw_zamg_setup(a, A, &M, &se);
+        if (r == PW_OK) {
+            r = pw_zamg_solve(a, A, &M, b, x, o, NULL, e);
+            pw_zamg_free(a, &M);
+            return r;
+        }
+        if (r != PW_ERR_INVALID) return pw_fail(e, r, "%s", se.msg);
+    }
+    if ((r = pw_zic0_factor(a, A, &L, e)) != PW_OK) return r;
+    r = pw_zpcg_solve(a, A, &L, b, x, o, NULL, e);
+    pw_zic0_free(a, &L);
+    return r;
+}
+
+#endif /* PW__ZAMG_V1 */
+
+/* ---- shared module src/common/trimesh.h ---- */
+/* trimesh: the triangle mesh that the surface methods (lapped, pgp) work on:
+ * the fan triangulation of a polygon mesh (polygon corners 0, k, k+1, in
+ * order, so triangle indices are stable and documented), its half-edges
+ * (h = 3f+k runs from tri[3f+k] to tri[3f+(k+1)%3]; twin -1 on a
+ * boundary), unit normals, areas and the bounding-box diagonal. */
+#ifndef PW__TRIMESH_V1
+#define PW__TRIMESH_V1
+
+
+typedef struct pw_trimesh {
+    int nv, nf;       /* vertices, triangles */
+    const float *pos; /* nv*3, borrowed */
+    int *tri;         /* nf*3 */
+    pw_hmesh hm;
+    float *normal; /* nf*3 */
+    float *area;   /* nf */
+    double total_area;
+    float diag; /* bounding-box diagonal */
+} pw_trimesh;
+
+PW__DEF void pw_trimesh_free(const pw_alloc *a, pw_trimesh *m)
+{
+    pw_free(a, m->tri);
+    pw_hmesh_free(a, &m->hm);
+    pw_free(a, m->normal);
+    pw_free(a, m->area);
+    memset(m, 0, sizeof *m);
+}
+
+PW__DEF pw_v3 pw_trimesh_vert(const pw_trimesh *m, int v) { return pw_v3_load(m->pos + 3 * v); }
+
+/* Corner k of triangle f. */
+PW__DEF pw_v3 pw_trimesh_corner(const pw_trimesh *m, int f, int k) { return pw_trimesh_vert(m, m->tri[3 * f + k]); }
+
+/* The triangle across edge k of triangle f (-1 on a boundary). */
+PW__DEF int pw_trimesh_across(const pw_trimesh *m, int f, int k)
+{
+    int t = m->hm.twin[3 * f + k];
+    return t < 0 ? -1 : t / 3;
+}
+
+/* Degenerate triangles (needles, caps, collinear or coincident corners):
+ * area below 1e-5 of the squared longest edge, or an angle whose sine is
+ * below sin 0.1 deg = 1.745e-3. Their own plane, normal and linear maps
+ * are numerically meaningless (a scan's near-collinear triple has a plane
+ * set by its noise), so methods that parametrise treat them apart. */
+#define PW_TRIMESH_SLIVER_AREA 1e-5
+#define PW_TRIMESH_SLIVER_SINE 1.745e-3
+
+PW__DEF int pw_trimesh_sliver(const pw_trimesh *m, int f)
+{
+    double l2[3], cr2, longest = 0.0;
+    pw_v3 p[3], e1, e2, n;
+    int k;
+    for (k = 0; k < 3; k++) p[k] = pw_trimesh_corner(m, f, k);
+    for (k = 0; k < 3; k++) {
+        pw_v3 d = pw_v3_sub(p[(k + 1) % 3], p[k]);
+        l2[k] = (double)d.x * d.x + (double)d.y * d.y + (double)d.z * d.z;
+        if (l2[k] > longest) longest = l2[k];
+    }
+    e1 = pw_v3_sub(p[1], p[0]);
+    e2 = pw_v3_sub(p[2], p[0]);
+    n = pw_v3_cross(e1, e2);
+    cr2 = (double)n.x * n.x + (double)n.y * n.y + (double)n.z * n.z; /* (2 area)^2 */
+    if (!(cr2 >= 4.0 * PW_TRIMESH_SLIVER_AREA * PW_TRIMESH_SLIVER_AREA * longest * longest)) return 1;
+    for (k = 0; k < 3; k++) /* sin^2 of the angle at corner k+1 (between edges k and k+1) */
+        if (cr2 < PW_TRIMESH_SLIVER_SINE * PW_TRIMESH_SLIVER_SINE * l2[k] * l2[(k + 1) % 3]) return 1;
+    return 0;
+}
+
+/* Normals, areas and the bounding box. Zero-area triangles are refused
+ * (neither a tangent field nor a parametrisation is defined on them)
+ * unless keep_degenerate, which gives them area 0 and a zero normal that
+ * pw_trimesh_repair_normals fills. */
+PW__DEF int pw__trimesh_geometry(pw_trimesh *m, int keep_degenerate, pw_err *e)
+{
+    pw_v3 lo, hi;
+    int f, v;
+    m->total_area = 0.0;
+    for (f = 0; f < m->nf; f++) {
+        pw_v3 a = pw_trimesh_corner(m, f, 0), b = pw_trimesh_corner(m, f, 1), c = pw_trimesh_corner(m, f, 2);
+        pw_v3 n = pw_v3_cross(pw_v3_sub(b, a), pw_v3_sub(c, a));
+        float len = pw_v3_len(n),
+              ref = pw_v3_dot(pw_v3_sub(b, a), pw_v3_sub(b, a)) + pw_v3_dot(pw_v3_sub(c, a), pw_v3_sub(c, a));
+        int zero = !(len > 1e-12f * ref) || !(len > 0.0f);
+        if (zero && !(keep_degenerate && pw_is_finite(len) && pw_is_finite(ref)))
+            return pw_fail(e, PW_ERR_DEGENERATE, "triangle %d (vertices %d, %d, %d) has zero area", f, m->tri[3 * f],
+                           m->tri[3 * f + 1], m->tri[3 * f + 2]);
+        pw_v3_store(m->normal + 3 * f, zero ? pw_v3_make(0, 0, 0) : pw_v3_scale(n, 1.0f / len));
+        m->area[f] = zero ? 0.0f : 0.5f * len;
+        m->total_area += m->area[f];
+    }
+    if (!(m->total_area > 0.0)) return pw_fail(e, PW_ERR_DEGENERATE, "every triangle of the mesh has zero area");
+    lo = hi = pw_trimesh_vert(m, m->tri[0]);
+    for (v = 0; v < 3 * m->nf; v++) {
+        lo = pw_v3_min(lo, pw_trimesh_vert(m, m->tri[v]));
+        hi = pw_v3_max(hi, pw_trimesh_vert(m, m->tri[v]));
+    }
+    m->diag = pw_v3_len(pw_v3_sub(hi, lo));
+    return PW_OK;
+}
+
+/* One pass of pw_trimesh_repair_normals: each degenerate triangle not yet
+ * done (done[f] == 0) whose neighbours include done ones takes their mean
+ * normal; returns how many were done in this pass. */
+PW__DEF int pw__trimesh_repair_pass(pw_trimesh *m, unsigned char *done, int pass)
+{
+    int f, k, n = 0;
+    for (f = 0; f < m->nf; f++) {
+        pw_v3 sum = pw_v3_make(0, 0, 0);
+        if (done[f]) continue;
+        for (k = 0; k < 3; k++) {
+            int g = pw_trimesh_across(m, f, k);
+            if (g >= 0 && done[g] && done[g] < pass) sum = pw_v3_add(sum, pw_v3_load(m->normal + 3 * g));
+        }
+        if (!(pw_v3_len(sum) > 1e-6f)) continue;
+        pw_v3_store(m->normal + 3 * f, pw_v3_norm(sum));
+        done[f] = (unsigned char)pass;
+        n++;
+    }
+    return n;
+}
+
+/* Degenerate triangles (pw_trimesh_sliver) take the mean normal of their
+ * nearest non-degenerate neighbours, pass by pass outwards; a component
+ * made only of them keeps its own normals, and a zero normal left after
+ * that is an error naming the triangle. */
+PW__DEF int pw_trimesh_repair_normals(const pw_alloc *a, pw_trimesh *m, pw_err *e)
+{
+    unsigned char *done = (unsigned char *)pw_alloc_array(a, (size_t)m->nf, 1, "degenerate triangles", e);
+    int f, pass = 2, r = PW_OK;
+    if (!done) return PW_ERR_NOMEM;
+    for (f = 0; f < m->nf; f++) done[f] = (unsigned char)!pw_trimesh_sliver(m, f);
+    while (pass < 250 && pw__trimesh_repair_pass(m, done, pass) > 0) pass++;
+    for (f = 0; f < m->nf && r == PW_OK; f++)
+        if (!(pw_v3_len(pw_v3_load(m->normal + 3 * f)) > 0.5f))
+            r = pw_fail(e, PW_ERR_DEGENERATE,
+                        "triangle %d (vertices %d, %d, %d) has zero area and no "
+                        "neighbour with a normal",
+                        f, m->tri[3 * f], m->tri[3 * f + 1], m->tri[3 * f + 2]);
+    pw_free(a, done);
+    return r;
+}
+
+/* Fan-triangulates a polygon mesh (positions borrowed: they must outlive
+ * the trimesh) and builds adjacency and geometry. Non-manifold or
+ * inconsistently oriented meshes and zero-area triangles are errors that
+ * name the element; with keep_degenerate, zero-area triangles are kept
+ * (area 0) and every degenerate triangle takes its neighbours' normal. */
+PW__DEF int pw_trimesh_init_ex(const pw_alloc *a, const pw_mesh *in, int keep_degenerate, pw_trimesh *m, pw_err *e)
+{
+    int f, k, t = 0, r, *fs;
+    memset(m, 0, sizeof *m);
+    if (!in->pos || !in->fstart || !in->fv) return pw_fail(e, PW_ERR_INVALID, "mesh has NULL arrays");
+    if (in->nf < 1) return pw_fail(e, PW_ERR_DEGENERATE, "mesh has no faces");
+    if ((r = pw_mesh_validate(in, e)) != PW_OK) return r;
+    m->nv = in->nv;
+    m->pos = in->pos;
+    m->nf = in->fstart[in->nf] - 2 * in->nf;
+    m->tri = (int *)pw_alloc_array(a, (size_t)m->nf * 3, sizeof(int), "triangles", e);
+    m->normal = (float *)pw_alloc_array(a, (size_t)m->nf * 3, sizeof(float), "normals", e);
+    m->area = (float *)pw_alloc_array(a, (size_t)m->nf, sizeof(float), "areas", e);
+    fs = (int *)pw_alloc_array(a, (size_t)m->nf + 1, sizeof(int), "triangle offsets", e);
+    if (!m->tri || !m->normal || !m->area || !fs) r = PW_ERR_NOMEM;
+    for (f = 0; r == PW_OK && f < in->nf; f++)
+        for (k = in->fstart[f] + 1; k + 1 < in->fstart[f + 1]; k++, t++) {
+            m->tri[3 * t] = in->fv[in->fstart[f]];
+            m->tri[3 * t + 1] = in->fv[k];
+            m->tri[3 * t + 2] = in->fv[k + 1];
+        }
+    for (f = 0; r == PW_OK && f <= m->nf; f++) fs[f] = 3 * f;
+    if (r == PW_OK) r = pw_hmesh_build(a, m->nv, m->nf, fs, m->tri, &m->hm, e);
+    if (r == PW_OK) r = pw__trimesh_geometry(m, keep_degenerate, e);
+    if (r == PW_OK && keep_degenerate) r = pw_trimesh_repair_normals(a, m, e);
+    pw_free(a, fs);
+    if (r != PW_OK) pw_trimesh_free(a, m);
+    return r;
+}
+
+PW__DEF int pw_trimesh_init(const pw_alloc *a, const pw_mesh *in, pw_trimesh *m, pw_err *e)
+{
+    return pw_trimesh_init_ex(a, in, 0, m, e);
+}
+
+#endif /* PW__TRIMESH_V1 */
+
+/* ---- shared module src/common/heap.h ---- */
+/* heap: a binary min-heap of (key, item) pairs, ties broken by the smaller
+ * item, so that the order in which entries come out depends on nothing but
+ * the entries (Dijkstra's distances over a mesh, region growing by
+ * distance). Equal pairs are interchangeable, so every correct heap pops
+ * the same sequence: the methods' results do not depend on this code's
+ * sifting. The arrays grow (pw_heap_push) or are the caller's, of a
+ * capacity it knows (pw_heap_insert). */
+#ifndef PW__HEAP_V1
+#define PW__HEAP_V1
+
+
+typedef struct pw_heap {
+    double *key;
+    int *item;
+    int n;             /* entries */
+    size_t kcap, icap; /* capacities of key and item, for pw_heap_push */
+} pw_heap;
+
+/* Whether entry i comes out before entry j. */
+PW__DEF int pw_heap_before(const pw_heap *h, int i, int j)
+{
+    return h->key[i] < h->key[j] || (h->key[i] == h->key[j] && h->item[i] < h->item[j]);
+}
+
+PW__DEF void pw__heap_swap(pw_heap *h, int i, int j)
+{
+    double k = h->key[i];
+    int t = h->item[i];
+    h->key[i] = h->key[j];
+    h->item[i] = h->item[j];
+    h->key[j] = k;
+    h->item[j] = t;
+}
+
+/* Adds an entry; the arrays must have room for it. */
+PW__DEF void pw_heap_insert(pw_heap *h, double key, int item)
+{
+    int i = h->n++;
+    h->key[i] = key;
+    h->item[i] = item;
+    while (i > 0 && pw_heap_before(h, i, (i - 1) / 2)) {
+        pw__heap_swap(h, i, (i - 1) / 2);
+        i = (i - 1) / 2;
+    }
+}
+
+/* Adds an entry, growing the arrays. */
+PW__DEF int pw_heap_push(const pw_alloc *a, pw_heap *h, double key, int item, pw_err *e)
+{
+    if (pw_grow(a, (void **)&h->key, &h->kcap, (size_t)h->n + 1, sizeof(double), "queue", e) ||
+        pw_grow(a, (void **)&h->item, &h->icap, (size_t)h->n + 1, sizeof(int), "queue", e))
+        return PW_ERR_NOMEM;
+    pw_heap_insert(h, key, item);
+    return PW_OK;
+}
+
+/* Removes the first entry (key[0], item[0]; n > 0) and returns its item. */
+PW__DEF int pw_heap_pop(pw_heap *h)
+{
+    int top = h->item[0], i = 0;
+    h->n--;
+    h->key[0] = h->key[h->n];
+    h->item[0] = h->item[h->n];
+    for (;;) {
+        int l = 2 * i + 1, r = l + 1, s = i;
+        if (l < h->n && pw_heap_before(h, l, s)) s = l;
+        if (r < h->n && pw_heap_before(h, r, s)) s = r;
+        if (s == i) break;
+        pw__heap_swap(h, i, s);
+        i = s;
+    }
+    return top;
+}
+
+/* Frees arrays that pw_heap_push grew. */
+PW__DEF void pw_heap_free(const pw_alloc *a, pw_heap *h)
+{
+    pw_free(a, h->key);
+    pw_free(a, h->item);
+    memset(h, 0, sizeof *h);
+}
+
+#endif /* PW__HEAP_V1 */
+
+/* ---- shared module src/common/dirfield.h ---- */
+/* dirfield: direction fields on a triangle mesh, one direction per
+ * triangle, shared by the surface methods (lapped §3.2, pgp §2.2).
+ *
+ * A direction is a complex number in the triangle's own frame (u = first
+ * edge, v = N x u), so that moving a direction to a neighbour is one complex
+ * product: the connection conn[h] of half-edge h unfolds the neighbour
+ * about the shared edge into this triangle's plane (a rotation about the
+ * edge: the identity for a flat pair, the discrete Levi-Civita transport
+ * otherwise). Line fields (directions up to sign: principal curvature
+ * directions) use the square (angle doubling) of the same numbers.
+ *
+ * Pieces: frames and the connection; projection of a global direction;
+ * breadth-first filling of unknown directions from known ones; the field
+ * of least absolute curvature (Rusinkiewicz 2004), smoothed and oriented;
+ * Dijkstra distances over the dual graph (centroid - edge midpoint -
+ * centroid) with a deterministic heap.
+ *
+ * Determinism: only + - * / and sqrt; pw_df_exp_neg replaces libm's exp. */
+#ifndef PW__DIRFIELD_V1
+#define PW__DIRFIELD_V1
+
+
+/* e^-x for x >= 0 from + - * / and an exact power of two: x = n ln2 - r
+ * with |r| <= ln2/2, e^r by its Taylor series to r^14 (truncation below
+ * 5e-18), then scaled by 2^-n with ldexp (exact). Relative error below 3e-16
+ * against libm over [0, 700], and the same bits on every IEEE platform,
+ * unlike libm's exp. Returns 0 beyond e^-700 and for NaN. */
+PW__DEF double pw_df_exp_neg(double x)
+{
+    static const double inv[15] = {0.0,     1.0,     1.0 / 2,  1.0 / 3,  1.0 / 4,  1.0 / 5,  1.0 / 6, 1.0 / 7,
+                                   1.0 / 8, 1.0 / 9, 1.0 / 10, 1.0 / 11, 1.0 / 12, 1.0 / 13, 1.0 / 14};
+    /* ln 2 split as in fdlibm: n * hi is exact for n < 2^20 */
+    const double hi = 6.93147180369123816490e-01, lo = 1.90821492927058770002e-10;
+    double r, p = 1.0;
+    int n, i;
+    if (!(x < 700.0)) return 0.0;
+    if (x < 0.0) x = 0.0;
+    n = (int)(x * 1.44269504088896338700 + 0.5);
+    r = ((double)n * hi - x) + (double)n * lo;
+    for (i = 14; i >= 1; i--) p = 1.0 + p * r * inv[i]; /* Horner: 1 + r(1 + r/2(1 + ...)) */
+    return ldexp(p, -n);
+}
+
+/* ---- frames, transport and small numerics -------------------------------- */
+
+PW__DEF pw_v3 pw_df_normal(const pw_trimesh *m, int f) { return pw_v3_load(m->normal + 3 * f); }
+
+PW__DEF pw_v3 pw_df_centroid(const pw_trimesh *m, int f)
+{
+    pw_v3 c = pw_v3_add(pw_v3_add(pw_trimesh_corner(m, f, 0), pw_trimesh_corner(m, f, 1)), pw_trimesh_corner(m, f, 2));
+    return pw_v3_scale(c, 1.0f / 3.0f);
+}
+
+/* Surface distance between the triangles on either side of half-edge h
+ * (which must have a twin): centroid to the edge's midpoint to centroid. */
+PW__DEF double pw_df_dual_len(const pw_trimesh *m, int h)
+{
+    int f = h / 3, k = h % 3;
+    pw_v3 mid = pw_v3_add(pw_trimesh_corner(m, f, k), pw_trimesh_corner(m, f, (k + 1) % 3));
+    mid = pw_v3_scale(mid, 0.5f);
+    return (double)pw_v3_len(pw_v3_sub(mid, pw_df_centroid(m, f))) +
+           (double)pw_v3_len(pw_v3_sub(pw_df_centroid(m, m->hm.twin[h] / 3), mid));
+}
+
+/* The frame of triangle f: u along its first edge, v = N x u. A degenerate
+ * triangle whose normal came from its neighbours (pw_trimesh_repair_normals)
+ * may have edges off that plane, or none at all: u is then the first edge
+ * that keeps a tangent part, projected, else the axis least aligned with N. */
+PW__DEF void pw_df_frame(const pw_trimesh *m, int f, pw_v3 *u, pw_v3 *v)
+{
+    pw_v3 n = pw_df_normal(m, f), e = pw_v3_sub(pw_trimesh_corner(m, f, 1), pw_trimesh_corner(m, f, 0)), t;
+    int k;
+    float el = pw_v3_len(e);
+    if (!(el > 0.0f) || fabsf(pw_v3_dot(e, n)) > 1e-3f * el) {
+        for (k = 0, e = pw_v3_make(0, 0, 0); k < 3 && !(pw_v3_len(e) > 1e-3f * el); k++) {
+            t = pw_v3_sub(pw_trimesh_corner(m, f, (k + 1) % 3), pw_trimesh_corner(m, f, k));
+            el = pw_v3_len(t);
+            e = pw_v3_sub(t, pw_v3_scale(n, pw_v3_dot(t, n)));
+        }
+        if (!(pw_v3_len(e) > 1e-3f * el) || !(el > 0.0f)) { /* no edge has a tangent part */
+            k = fabsf(n.x) <= fabsf(n.y) && fabsf(n.x) <= fabsf(n.z) ? 0 : (fabsf(n.y) <= fabsf(n.z) ? 1 : 2);
+            t = pw_v3_make(k == 0, k == 1, k == 2);
+            e = pw_v3_sub(t, pw_v3_scale(n, pw_v3_dot(t, n)));
+        }
+    }
+    *u = pw_v3_norm(e);
+    *v = pw_v3_cross(n, *u);
+}
+
+/* Tangent vector x of the triangle across half-edge h, unfolded about the
+ * shared edge into the plane of h's own triangle: the rotation about the
+ * edge that takes one normal to the other. */
+PW__DEF pw_v3 pw_df_hinge(const pw_trimesh *m, int h, pw_v3 x)
+{
+    int f = h / 3, g = m->hm.twin[h] / 3, k = h % 3;
+    pw_v3 ed = pw_v3_norm(pw_v3_sub(pw_trimesh_corner(m, f, (k + 1) % 3), pw_trimesh_corner(m, f, k)));
+    pw_v3 nf = pw_df_normal(m, f), ng = pw_df_normal(m, g);
+    pw_v3 r = pw_v3_scale(ed, pw_v3_dot(x, ed));
+    r = pw_v3_add(r, pw_v3_scale(pw_v3_cross(nf, ed), pw_v3_dot(x, pw_v3_cross(ng, ed))));
+    return pw_v3_add(r, pw_v3_scale(nf, pw_v3_dot(x, ng)));
+}
+
+/* Scales z to unit length; returns 0 (and leaves z) if it is zero. */
+PW__DEF int pw_df_unit(double *z)
+{
+    double l = sqrt(z[0] * z[0] + z[1] * z[1]);
+    if (!(l > 0.0) || !pw_is_finite(l)) return 0;
+    z[0] /= l;
+    z[1] /= l;
+    return 1;
+}
+
+/* The shared edge of half-edge h as a complex number in the frame of
+ * triangle f (either side of the edge). */
+PW__DEF void pw_df_edge_in(const pw_trimesh *m, int h, int f, double *w)
+{
+    int k = h % 3, g = h / 3;
+    pw_v3 u, v, ed = pw_v3_sub(pw_trimesh_corner(m, g, (k + 1) % 3), pw_trimesh_corner(m, g, k));
+    pw_df_frame(m, f, &u, &v);
+    w[0] = pw_v3_dot(ed, u);
+    w[1] = pw_v3_dot(ed, v);
+}
+
+/* conn[2h], conn[2h+1]: the rotation taking directions of the triangle
+ * across h into h's own triangle frame, so that a direction (x, y) over
+ * there is (x, y) * conn[h] here (complex product). It is the unfolding
+ * about the shared edge (pw_df_hinge): the edge keeps its angle to
+ * every vector, so with the edge at angle a_f here and a_g there,
+ * conn = e^{i (a_f - a_g)}. Boundary half-edges get 1. */
+PW__DEF int pw_df_connection(const pw_alloc *a, const pw_trimesh *m, float **out, pw_err *e)
+{
+    float *c = (float *)pw_alloc_array(a, (size_t)m->nf * 6, sizeof(float), "field connection", e);
+    int h;
+    *out = c;
+    if (!c) return PW_ERR_NOMEM;
+    for (h = 0; h < 3 * m->nf; h++) {
+        double wf[2], wg[2], z[2] = {1.0, 0.0};
+        if (m->hm.twin[h] >= 0) {
+            pw_df_edge_in(m, h, h / 3, wf);
+            pw_df_edge_in(m, h, m->hm.twin[h] / 3, wg);
+            z[0] = wf[0] * wg[0] + wf[1] * wg[1]; /* wf * conj(wg) */
+            z[1] = wf[1] * wg[0] - wf[0] * wg[1];
+            if (!pw_df_unit(z)) {
+                z[0] = 1.0;
+                z[1] = 0.0;
+            }
+        }
+        c[2 * h] = (float)z[0];
+        c[2 * h + 1] = (float)z[1];
+    }
+    return PW_OK;
+}
+
+/* z (a direction of the neighbour across h) transported into h's triangle;
+ * power 2 for line fields (doubled angles). */
+PW__DEF void pw_df_move(const float *conn, int h, int power, const double *z, double *out)
+{
+    double cx = conn[2 * h], cy = conn[2 * h + 1], t;
+    if (power == 2) {
+        t = cx * cx - cy * cy;
+        cy = 2.0 * cx * cy;
+        cx = t;
+    }
+    out[0] = z[0] * cx - z[1] * cy;
+    out[1] = z[0] * cy + z[1] * cx;
+}
+
+/* Doubles the angle of a unit direction (vector -> line field). */
+PW__DEF void pw_df_square(double *z)
+{
+    double x = z[0] * z[0] - z[1] * z[1];
+    z[1] = 2.0 * z[0] * z[1];
+    z[0] = x;
+}
+
+/* Halves the angle of a unit doubled-angle number with sqrt only (no atan2),
+ * giving the direction in (-90, 90] degrees. */
+PW__DEF void pw_df_halve(double *z)
+{
+    double c = z[0] < -1.0 ? -1.0 : (z[0] > 1.0 ? 1.0 : z[0]);
+    double x = sqrt(0.5 * (1.0 + c)), y = sqrt(0.5 * (1.0 - c));
+    z[0] = x;
+    z[1] = z[1] < 0.0 ? -y : y;
+}
+
+/* The 3D direction d projected onto triangle f, as a unit direction in its
+ * frame. Returns 0 when d is (within 1e-4 radians) normal to the face:
+ * "project the global up direction onto the surface" has no answer there.
+ * pw_df_project_tilt: the same with the bound on the squared sine of the
+ * angle between d and the face plane given. */
+PW__DEF int pw_df_project_tilt(const pw_trimesh *m, int f, pw_v3 d, double sin2, double *z)
+{
+    pw_v3 u, v;
+    double l2 = (double)pw_v3_dot(d, d);
+    pw_df_frame(m, f, &u, &v);
+    z[0] = pw_v3_dot(d, u);
+    z[1] = pw_v3_dot(d, v);
+    if (!(z[0] * z[0] + z[1] * z[1] > sin2 * l2)) return 0;
+    return pw_df_unit(z);
+}
+
+PW__DEF int pw_df_project(const pw_trimesh *m, int f, pw_v3 d, double *z)
+{
+    return pw_df_project_tilt(m, f, d, 1e-8, z);
+}
+
+/* A fixed direction for triangle f when nothing else defines one: the
+ * coordinate axis least aligned with its normal (lowest axis on ties),
+ * projected; never degenerate (at least sqrt(2/3) of it is tangent). */
+PW__DEF void pw_df_axis(const pw_trimesh *m, int f, double *z)
+{
+    const float *n = m->normal + 3 * f;
+    int k = 0, i;
+    float ax[3] = {0.0f, 0.0f, 0.0f};
+    for (i = 1; i < 3; i++)
+        if (fabsf(n[i]) < fabsf(n[k])) k = i;
+    ax[k] = 1.0f;
+    if (!pw_df_project(m, f, pw_v3_load(ax), z)) {
+        z[0] = 1.0;
+        z[1] = 0.0;
+    }
+}
+
+/* Where propagation stops (pw_df_up_creased): half-edges marked in `edge`
+ * (nf*3) are not crossed, and `sin2` is the squared sine of the tilt below
+ * which up does not define a direction. NULL: every edge is crossed, and
+ * the tilt bound is 1e-4 radians. */
+typedef struct pw_df_cut {
+    const unsigned char *edge;
+    double sin2;
+} pw_df_cut;
+
+/* A direction field being built on a mesh: z (nf*2) holds each triangle's
+ * direction in its frame (pw_df_frame), conn (pw_df_connection) carries
+ * directions across edges, and known (nf) marks the triangles whose
+ * direction is given rather than propagated. The fill and relax steps below
+ * all work on the same three arrays, so they travel together. */
+typedef struct pw_df_field {
+    const pw_trimesh *m;
+    const float *conn;
+    double *z;
+    unsigned char *known;
+} pw_df_field;
+
+/* One breadth-first propagation (pw_df_fill_cut): the field, how directions
+ * are seeded and carried (power 2: doubled angles; up; the cut or NULL),
+ * and the work arrays: level (nf; -1 not reached yet), the queue (nf) with
+ * its tail, and a stack (nf) for flooding a component. */
+typedef struct pw_df_prop {
+    const pw_df_field *F;
+    int power;
+    pw_v3 up;
+    const pw_df_cut *cut;
+    int *level, *queue, *stack;
+    int tail;
+} pw_df_prop;
+
+/* The triangle across edge k of f, or -1 on a boundary or a cut. */
+PW__DEF int pw_df_across(const pw_trimesh *m, const pw_df_cut *cut, int f, int k)
+{
+    return cut && cut->edge[3 * f + k] ? -1 : pw_trimesh_across(m, f, k);
+}
+
+/* Seeds a component in which no triangle has a direction yet (level -1 from
+ * `start` on): every triangle where `up` projects gets that projection, as
+ * in the up field; if none does (a flat piece normal to up), the lowest
+ * triangle gets the fixed axis. Seeds go to the queue with level 0. */
+PW__DEF void pw_df_seed(pw_df_prop *P, int start)
+{
+    const pw_trimesh *m = P->F->m;
+    const pw_df_cut *cut = P->cut;
+    double *z = P->F->z;
+    int *level = P->level, *queue = P->queue, *stack = P->stack, power = P->power;
+    pw_v3 up = P->up;
+    int top = 1, n = 0, i, k, f, g, seeded = 0;
+    stack[0] = start;
+    level[start] = -2;
+    while (n < top) { /* flood the component, in a deterministic order */
+        f = stack[n++];
+        for (k = 0; k < 3; k++)
+            if ((g = pw_df_across(m, cut, f, k)) >= 0 && level[g] == -1) {
+                level[g] = -2;
+                stack[top++] = g;
+            }
+    }
+    for (i = 0; i < top; i++) {
+        f = stack[i];
+        level[f] = -1;
+        if (pw_df_project_tilt(m, f, up, cut ? cut->sin2 : 1e-8, z + 2 * f)) {
+            if (power == 2) pw_df_square(z + 2 * f);
+            level[f] = 0;
+            queue[P->tail++] = f;
+            seeded = 1;
+        }
+    }
+    if (!seeded) {
+        pw_df_axis(m, start, z + 2 * start);
+        if (power == 2) pw_df_square(z + 2 * start);
+        level[start] = 0;
+        queue[P->tail++] = start;
+    }
+}
+
+/* Triangle f's direction from its neighbours one level closer to the known
+ * ones: the unit average of their directions transported into f (§3.2
+ * propagation: "projecting onto its face plane the average direction of
+ * neighboring faces"); the first neighbour's if the average cancels. */
+PW__DEF void pw_df_average(const pw_df_prop *P, int f)
+{
+    const pw_trimesh *m = P->F->m;
+    const float *conn = P->F->conn;
+    const pw_df_cut *cut = P->cut;
+    const int *level = P->level;
+    double *z = P->F->z;
+    int power = P->power;
+    double sum[2] = {0.0, 0.0}, first[2] = {0.0, 0.0}, w[2];
+    int k, g, n = 0;
+    for (k = 0; k < 3; k++) {
+        g = pw_df_across(m, cut, f, k);
+        if (g < 0 || level[g] < 0 || level[g] >= level[f]) continue;
+        pw_df_move(conn, 3 * f + k, power, z + 2 * g, w);
+        if (n++ == 0) {
+            first[0] = w[0];
+            first[1] = w[1];
+        }
+        sum[0] += w[0];
+        sum[1] += w[1];
+    }
+    if (!(sum[0] * sum[0] + sum[1] * sum[1] > 1e-12)) {
+        sum[0] = first[0];
+        sum[1] = first[1];
+    }
+    if (!pw_df_unit(sum)) {
+        sum[0] = 1.0;
+        sum[1] = 0.0;
+    }
+    z[2 * f] = sum[0];
+    z[2 * f + 1] = sum[1];
+}
+
+/* Gives every triangle with known[f] == 0 a unit direction (z, nf*2, in
+ * the triangle frames; power 2: doubled angles) by breadth-first propagation
+ * from the known ones, layer by layer, so that the result does not depend
+ * on which known triangle is met first. Components without a known triangle
+ * are seeded by pw_df_seed. Known directions must be unit. With a cut
+ * (pw_df_cut), propagation does not cross its edges. */
+PW__DEF int pw_df_fill_cut(const pw_alloc *a, const pw_df_field *F, int power, pw_v3 up, const pw_df_cut *cut,
+                           pw_err *e)
+{
+    const pw_trimesh *m = F->m;
+    const unsigned char *known = F->known;
+    int *level = (int *)pw_alloc_array(a, (size_t)m->nf * 3, sizeof(int), "field propagation", e);
+    int head = 0, next = 0, f, k, g;
+    pw_df_prop P;
+    if (!level) return PW_ERR_NOMEM;
+    P.F = F;
+    P.power = power;
+    P.up = up;
+    P.cut = cut;
+    P.level = level;
+    P.queue = level + m->nf;
+    P.stack = P.queue + m->nf;
+    P.tail = 0;
+    for (f = 0; f < m->nf; f++) {
+        level[f] = known[f] ? 0 : -1;
+        if (known[f]) P.queue[P.tail++] = f;
+    }
+    for (;;) {
+        if (head == P.tail) {
+            while (next < m->nf && level[next] >= 0) next++;
+            if (next == m->nf) break;
+            pw_df_seed(&P, next);
+        }
+        f = P.queue[head++];
+        if (level[f] > 0) pw_df_average(&P, f);
+        for (k = 0; k < 3; k++)
+            if ((g = pw_df_across(m, cut, f, k)) >= 0 && level[g] == -1) {
+                level[g] = level[f] + 1;
+                P.queue[P.tail++] = g;
+            }
+    }
+    pw_free(a, level);
+    return PW_OK;
+}
+
+PW__DEF int pw_df_fill(const pw_alloc *a, const pw_df_field *F, int power, pw_v3 up, pw_err *e)
+{
+    return pw_df_fill_cut(a, F, power, up, NULL, e);
+}
+
+/* §3.2: "project the global up direction onto the surface, and then
+ * normalize". Where up is normal to a triangle (the top of a box, a pole)
+ * the projection is undefined: such triangles take the average of their
+ * neighbours' directions, unfolded into their plane, by propagation; a
+ * component that is entirely normal to up (a flat sheet) uses a fixed axis
+ * (pw_df_axis). ISOTROPIC uses the same field: growth replaces the
+ * orientation by its own propagation, and a smooth start keeps the
+ * discontinuity part of lapped__difficulty quiet. */
+PW__DEF int pw_df_up(const pw_alloc *a, const pw_df_field *F, pw_v3 up, pw_err *e)
+{
+    int f;
+    for (f = 0; f < F->m->nf; f++) F->known[f] = (unsigned char)pw_df_project(F->m, f, up, F->z + 2 * f);
+    return pw_df_fill(a, F, 1, up, e);
+}
+
+/* The up field without bullseyes. Where up is (nearly) normal to the
+ * surface - a box top, a floor, a pole - the projection has no direction,
+ * and a field on a closed surface needs singularities of total index 2
+ * somewhere there. Breadth-first propagation from the sides (pw_df_up)
+ * puts it in the middle of a flat top and draws its layers as rings with
+ * creases along the medial axis. Here:
+ *   - triangles tilted less than PW_DF_UP_TILT degrees take no direction
+ *     from up (noise on a scanned floor would otherwise decide it);
+ *   - propagation does not cross edges sharper than PW_DF_UP_CREASE
+ *     degrees, so a flat up-facing region bounded by creases is a
+ *     component of its own, seeded once and transported across unchanged
+ *     (uniform on a plane: the singularity sits on the crease);
+ *   - the directions propagated into an up-facing region that no crease
+ *     bounds (a smooth cap: a pole, the top of a head) are relaxed by
+ *     Gauss-Seidel sweeps of the connection Laplacian (each the mean of
+ *     its neighbours transported, not normalised), the discrete harmonic
+ *     extension of its border, whose one zero is a clean point
+ *     singularity instead of the propagation's layers. */
+#define PW_DF_UP_TILT 8.0
+#define PW_DF_UP_CREASE 30.0
+#define PW_DF_UP_SWEEPS 200
+
+/* cut[h] for every half-edge whose dihedral angle exceeds PW_DF_UP_CREASE. */
+PW__DEF void pw_df_creases(const pw_trimesh *m, unsigned char *cut)
+{
+    double c = cos(PW_DF_UP_CREASE * 3.14159265358979323846 / 180.0);
+    int h;
+    for (h = 0; h < 3 * m->nf; h++) {
+        int t = m->hm.twin[h];
+        cut[h] = (unsigned char)(t >= 0 && pw_v3_dot(pw_df_normal(m, h / 3), pw_df_normal(m, t / 3)) < c);
+    }
+}
+
+/* One Gauss-Seidel sweep over the triangles not known: each becomes the
+ * mean of its uncut neighbours' directions transported into it. */
+PW__DEF void pw_df_relax(const pw_df_field *F, const pw_df_cut *cut)
+{
+    const pw_trimesh *m = F->m;
+    const float *conn = F->conn;
+    const unsigned char *known = F->known;
+    double *z = F->z;
+    int f, k, g;
+    for (f = 0; f < m->nf; f++) {
+        double sum[2] = {0.0, 0.0}, w[2];
+        int n = 0;
+        if (known[f]) continue;
+        for (k = 0; k < 3; k++) {
+            if ((g = pw_df_across(m, cut, f, k)) < 0) continue;
+            pw_df_move(conn, 3 * f + k, 1, z + 2 * g, w);
+            sum[0] += w[0];
+            sum[1] += w[1];
+            n++;
+        }
+        if (n > 0 && sum[0] * sum[0] + sum[1] * sum[1] > 0.0) {
+            z[2 * f] = sum[0] / n;
+            z[2 * f + 1] = sum[1] / n;
+        }
+    }
+}
+
+PW__DEF int pw_df_up_creased(const pw_alloc *a, const pw_df_field *F, pw_v3 up, pw_err *e)
+{
+    const pw_trimesh *m = F->m;
+    double *z = F->z;
+    unsigned char *edge = (unsigned char *)pw_alloc_array(a, (size_t)m->nf * 3, 1, "field creases", e);
+    double st = sin(PW_DF_UP_TILT * 3.14159265358979323846 / 180.0);
+    pw_df_cut cut;
+    int f, i, r;
+    if (!edge) return PW_ERR_NOMEM;
+    pw_df_creases(m, edge);
+    cut.edge = edge;
+    cut.sin2 = st * st;
+    for (f = 0; f < m->nf; f++) F->known[f] = (unsigned char)pw_df_project_tilt(m, f, up, cut.sin2, z + 2 * f);
+    r = pw_df_fill_cut(a, F, 1, up, &cut, e);
+    for (i = 0; r == PW_OK && i < PW_DF_UP_SWEEPS; i++) pw_df_relax(F, &cut);
+    for (f = 0; r == PW_OK && f < m->nf; f++)
+        if (!pw_df_unit(z + 2 * f)) pw_df_axis(m, f, z + 2 * f);
+    pw_free(a, edge);
+    return r;
+}
+
+/* Length of each dual edge: centroid to edge midpoint to centroid, a path
+ * on the surface even across a crease (the straight centroid-to-centroid
+ * segment would cut through it). 0 on the boundary. */
+PW__DEF void pw_df_dual(const pw_trimesh *m, double *len)
+{
+    int h;
+    for (h = 0; h < 3 * m->nf; h++) len[h] = m->hm.twin[h] < 0 ? 0.0 : pw_df_dual_len(m, h);
+}
+
+/* §3.2 "radius is defined as distance over the mesh, as computed using
+ * Dijkstra's algorithm": distances over the dual graph (triangle centroids
+ * joined through edge midpoints) from triangle src; DBL_MAX where
+ * unreachable. The heap holds at most 3*nf+1 entries (a triangle is pushed
+ * only when one of its <= 3 neighbours improves it). */
+PW__DEF void pw_df_dijkstra(const pw_trimesh *m, const double *len, int src, double *dist, pw_heap *hp)
+{
+    int f, k, g;
+    for (f = 0; f < m->nf; f++) dist[f] = DBL_MAX;
+    dist[src] = 0.0;
+    hp->n = 0;
+    pw_heap_insert(hp, 0.0, src);
+    while (hp->n > 0) {
+        double d = hp->key[0];
+        f = pw_heap_pop(hp);
+        if (d > dist[f]) continue; /* stale entry */
+        for (k = 0; k < 3; k++) {
+            double nd = d + len[3 * f + k];
+            if ((g = pw_trimesh_across(m, f, k)) >= 0 && nd < dist[g]) {
+                dist[g] = nd;
+                pw_heap_insert(hp, nd, g);
+            }
+        }
+    }
+}
+
+/* Vertex normals with Max's weights (J. Graphics Tools 4(2), 1999): each
+ * triangle's corner cross product over the squared lengths of its two
+ * edges; exact on a sphere, no trigonometry. */
+PW__DEF int pw_df_vertex_normals(const pw_alloc *a, const pw_trimesh *m, double **out, pw_err *e)
+{
+    double *vn = (double *)pw_calloc_array(a, (size_t)m->nv * 3, sizeof(double), "vertex normals", e);
+    int f, i, v;
+    *out = vn;
+    if (!vn) return PW_ERR_NOMEM;
+    for (f = 0; f < m->nf; f++)
+        for (i = 0; i < 3; i++) {
+            pw_v3 p = pw_trimesh_corner(m, f, i);
+            pw_v3 e1 = pw_v3_sub(pw_trimesh_corner(m, f, (i + 1) % 3), p);
+            pw_v3 e2 = pw_v3_sub(pw_trimesh_corner(m, f, (i + 2) % 3), p);
+            pw_v3 c = pw_v3_cross(e1, e2);
+            double w = 1.0 / ((double)pw_v3_dot(e1, e1) * (double)pw_v3_dot(e2, e2));
+            v = m->tri[3 * f + i];
+            vn[3 * v] += w * c.x;
+            vn[3 * v + 1] += w * c.y;
+            vn[3 * v + 2] += w * c.z;
+        }
+    for (v = 0; v < m->nv; v++) {
+        double *p = vn + 3 * v, l = sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
+        for (i = 0; l > 0.0 && i < 3; i++) vn[3 * v + i] /= l;
+    }
+    return PW_OK;
+}
+
+/* Second fundamental form [[a, b], [b, c]] of triangle f in its frame:
+ * least squares over its three edges e of II e = (dn . u, dn . v), dn the
+ * difference of the vertex normals along e (Rusinkiewicz 2004, eq. 5),
+ * solved by Cramer's rule on the 3x3 normal equations. */
+PW__DEF void pw_df_tensor(const pw_trimesh *m, const double *vn, int f, double abc[3])
+{
+    double suu = 0, suv = 0, svv = 0, r0 = 0, r1 = 0, r2 = 0, det;
+    pw_v3 u, v;
+    int i;
+    pw_df_frame(m, f, &u, &v);
+    for (i = 0; i < 3; i++) {
+        int p = m->tri[3 * f + (i + 1) % 3], q = m->tri[3 * f + (i + 2) % 3], k;
+        pw_v3 ed = pw_v3_sub(pw_trimesh_vert(m, q), pw_trimesh_vert(m, p));
+        double dn[3], eu = pw_v3_dot(ed, u), ev = pw_v3_dot(ed, v), du = 0, dv = 0;
+        for (k = 0; k < 3; k++) dn[k] = vn[3 * q + k] - vn[3 * p + k];
+        du = dn[0] * u.x + dn[1] * u.y + dn[2] * u.z;
+        dv = dn[0] * v.x + dn[1] * v.y + dn[2] * v.z;
+        suu += eu * eu;
+        suv += eu * ev;
+        svv += ev * ev;
+        r0 += eu * du;
+        r1 += ev * du + eu * dv;
+        r2 += ev * dv;
+    }
+    /* M = [[suu, suv, 0], [suv, suu + svv, suv], [0, suv, svv]] */
+    det = suu * ((suu + svv) * svv - suv * suv) - suv * suv * svv;
+    if (!(det != 0.0)) {
+        abc[0] = abc[1] = abc[2] = 0.0;
+        return;
+    }
+    abc[0] = (r0 * ((suu + svv) * svv - suv * suv) - suv * (r1 * svv - suv * r2)) / det;
+    abc[1] = (suu * (r1 * svv - suv * r2) - r0 * suv * svv) / det;
+    abc[2] = (suu * ((suu + svv) * r2 - suv * r1) - suv * (suv * r2) + r0 * suv * suv) / det;
+}
+
+/* Below this ratio of |k1| - |k2| to |k1| + |k2| a triangle is treated as
+ * umbilic (sphere-like): its least-curvature direction is noise, and it takes
+ * its neighbours' direction instead. */
+#define PW_DF_UMBILIC 0.1
+
+/* The direction of least absolute curvature of [[a, b], [b, c]] as a
+ * doubled-angle number whose length is the confidence |k1| - |k2|
+ * (0 where flat, umbilic or a balanced saddle). With mean curvature H and
+ * half-difference R = |k1 - k2| / 2, the eigenvector of the larger eigenvalue
+ * has doubled angle along (a - c, 2b); the least |k| is the smaller
+ * eigenvalue when H >= 0 and the larger one when H < 0. */
+PW__DEF void pw_df_least(const double abc[3], double flat, double *z)
+{
+    double hm = 0.5 * (abc[0] + abc[2]), dd = 0.5 * (abc[0] - abc[2]), b = abc[1];
+    double rr = sqrt(dd * dd + b * b), ah = fabs(hm), conf = 2.0 * (ah < rr ? ah : rr);
+    double big = 2.0 * (ah > rr ? ah : rr), sg = hm >= 0.0 ? -1.0 : 1.0;
+    z[0] = z[1] = 0.0;
+    if (!(rr > 0.0) || !(conf > flat) || !(conf > PW_DF_UMBILIC * big)) return;
+    z[0] = sg * dd / rr * conf;
+    z[1] = sg * b / rr * conf;
+}
+
+/* `iters` Jacobi sweeps: each triangle's doubled-angle number becomes the
+ * mean of its own and its neighbours' (transported): confident directions
+ * dominate weak ones, and the flat or umbilic ones (exactly 0) pick up their
+ * neighbours' direction one ring per sweep. */
+PW__DEF int pw_df_smooth(const pw_alloc *a, const pw_trimesh *m, const float *conn, int iters, double *z, pw_err *e)
+{
+    double *tmp = (double *)pw_alloc_array(a, (size_t)m->nf * 2, sizeof(double), "field smoothing", e), w[2];
+    int it, f, k, g, n;
+    if (!tmp) return PW_ERR_NOMEM;
+    for (it = 0; it < iters; it++) {
+        for (f = 0; f < m->nf; f++) {
+            double sx = z[2 * f], sy = z[2 * f + 1];
+            for (n = 1, k = 0; k < 3; k++)
+                if ((g = pw_trimesh_across(m, f, k)) >= 0) {
+                    pw_df_move(conn, 3 * f + k, 2, z + 2 * g, w);
+                    sx += w[0];
+                    sy += w[1];
+                    n++;
+                }
+            tmp[2 * f] = sx / n;
+            tmp[2 * f + 1] = sy / n;
+        }
+        memcpy(z, tmp, (size_t)m->nf * 2 * sizeof(double));
+    }
+    pw_free(a, tmp);
+    return PW_OK;
+}
+
+/* Relaxes the neighbours of triangle f (just oriented) in the orientation
+ * walk: a neighbour's key is 1 - |cos| of the angle between its line and
+ * f's direction carried over, the smallest key (best agreement) kept. */
+/* The orientation walk's state: seen (nf) marks oriented triangles, best
+ * (nf) the smallest key offered to each, via (nf) the half-edge it came
+ * through, hp the heap of offers (room for 3 nf + 1 entries). */
+typedef struct pw_df_walker {
+    unsigned char *seen;
+    double *best;
+    int *via;
+    pw_heap *hp;
+} pw_df_walker;
+
+PW__DEF void pw_df_offer(const pw_trimesh *m, const float *conn, const double *z, int f, const pw_df_walker *W)
+{
+    const unsigned char *seen = W->seen;
+    double *best = W->best;
+    int *via = W->via;
+    int k, g, th;
+    double w[2], key;
+    for (k = 0; k < 3; k++) {
+        if ((th = m->hm.twin[3 * f + k]) < 0 || seen[g = th / 3]) continue;
+        pw_df_move(conn, th, 1, z + 2 * f, w); /* f's direction seen from g */
+        key = 1.0 - fabs(w[0] * z[2 * g] + w[1] * z[2 * g + 1]);
+        if (key < best[g]) {
+            best[g] = key;
+            via[g] = th;
+            pw_heap_insert(W->hp, key, g);
+        }
+    }
+}
+
+/* The walk of pw_df_orient over the field z (nf*2, no known flags). */
+PW__DEF void pw_df_walk(const pw_df_field *F, pw_v3 up, const pw_df_walker *W)
+{
+    const pw_trimesh *m = F->m;
+    const float *conn = F->conn;
+    double *z = F->z, *best = W->best;
+    unsigned char *seen = W->seen;
+    int *via = W->via;
+    pw_heap *hp = W->hp;
+    double w[2];
+    int s, f;
+    for (f = 0; f < m->nf; f++) best[f] = 2.0;
+    for (s = 0; s < m->nf; s++) {
+        if (seen[s]) continue;
+        if (pw_df_project(m, s, up, w) && w[0] * z[2 * s] + w[1] * z[2 * s + 1] < 0.0) {
+            z[2 * s] = -z[2 * s];
+            z[2 * s + 1] = -z[2 * s + 1];
+        }
+        seen[s] = 1;
+        pw_df_offer(m, conn, z, s, W);
+        while (hp->n > 0) {
+            f = pw_heap_pop(hp);
+            if (seen[f]) continue; /* stale entry */
+            pw_df_move(conn, via[f], 1, z + 2 * (m->hm.twin[via[f]] / 3), w);
+            if (w[0] * z[2 * f] + w[1] * z[2 * f + 1] < 0.0) {
+                z[2 * f] = -z[2 * f];
+                z[2 * f + 1] = -z[2 * f + 1];
+            }
+            seen[f] = 1;
+            pw_df_offer(m, conn, z, f, W);
+        }
+    }
+}
+
+/* Turns a line field into a vector field. Each component starts at its
+ * lowest triangle (T made to point along `up` when not normal to it) and
+ * grows like Prim's spanning tree, always orienting next the triangle that
+ * agrees best with an oriented neighbour, flipped to agree with it. Around
+ * a half-integer singularity the signs must disagree somewhere: this puts
+ * the seams where neighbouring lines are closest to perpendicular, near the
+ * singularities, rather than wherever a breadth-first walk closes. */
+PW__DEF int pw_df_orient(const pw_alloc *a, const pw_trimesh *m, const float *conn, pw_v3 up, double *z, pw_err *e)
+{
+    size_t n = (size_t)m->nf;
+    double *dbl = (double *)pw_alloc_array(a, 4 * n + 1, sizeof(double), "field orientation", e);
+    int *ints = (int *)pw_alloc_array(a, 4 * n + 1, sizeof(int), "field orientation", e);
+    unsigned char *seen = (unsigned char *)pw_calloc_array(a, n, 1, "field orientation", e);
+    int r = dbl && ints && seen ? PW_OK : PW_ERR_NOMEM;
+    pw_heap hp;
+    pw_df_field F;
+    pw_df_walker W;
+    if (r == PW_OK) { /* dbl: best keys, then the heap's; ints: via, then the heap's */
+        memset(&hp, 0, sizeof hp);
+        hp.key = dbl + n;
+        hp.item = ints + n;
+        F.m = m;
+        F.conn = conn;
+        F.z = z;
+        F.known = NULL;
+        W.seen = seen;
+        W.best = dbl;
+        W.via = ints;
+        W.hp = &hp;
+        pw_df_walk(&F, up, &W);
+    }
+    pw_free(a, dbl);
+    pw_free(a, ints);
+    pw_free(a, seen);
+    return r;
+}
+
+/* The least-curvature field: raw per-triangle directions (flat below
+ * 1e-3 / diagonal, i.e. radii of curvature over a thousand mesh sizes),
+ * smoothing, unit length, gaps filled (components with no direction at all,
+ * like a sphere or a plane, get the up field), halved to vectors, oriented. */
+PW__DEF int pw_df_curvature(const pw_alloc *a, const pw_df_field *F, pw_v3 up, int smoothing, pw_err *e)
+{
+    const pw_trimesh *m = F->m;
+    const float *conn = F->conn;
+    double *z = F->z, *vn, abc[3];
+    int f, r;
+    if (smoothing < 0) return pw_fail(e, PW_ERR_INVALID, "curvature field: smoothing %d is negative", smoothing);
+    if ((r = pw_df_vertex_normals(a, m, &vn, e)) != PW_OK) return r;
+    for (f = 0; f < m->nf; f++) {
+        pw_df_tensor(m, vn, f, abc);
+        pw_df_least(abc, 1e-3 / m->diag, z + 2 * f);
+    }
+    pw_free(a, vn);
+    if ((r = pw_df_smooth(a, m, conn, smoothing, z, e)) != PW_OK) return r;
+    for (f = 0; f < m->nf; f++) F->known[f] = (unsigned char)pw_df_unit(z + 2 * f);
+    if ((r = pw_df_fill(a, F, 2, up, e)) != PW_OK) return r;
+    for (f = 0; f < m->nf; f++) pw_df_halve(z + 2 * f);
+    return pw_df_orient(a, m, conn, up, z, e);
+}
+
+#endif /* PW__DIRFIELD_V1 */
+
+/* ---- shared module src/common/periodic.h ---- */
+/* periodic: the periodic global parameterization of a triangle mesh along
+ * a direction field, shared by pgp.h (Ray, Lévy, Wang, Turk and Vallet
+ * 2009, "Material Space Texturing", whose section numbers the comments
+ * use) and tiled.h's mode for any mesh.
+ *
+ * Pieces: the default field (§2.2: the tile's t axis along a global up
+ * direction or the direction of least curvature, smoothed); the PGP of
+ * §2.3 (one unit complex number per vertex for s and for t, by proximal
+ * steps of a complex Hermitian least squares); the per-corner (s, t) of
+ * Eq. (4); the winding of s and t around a triangle (a vortex where it is
+ * not 0); and the clean coordinates of a vortex triangle (beyond the
+ * paper: the differences its neighbours use along its edges, the zero
+ * where the pattern forks).
+ *
+ * A pw_periodic owns its arrays; the method fills scale and sfac (and
+ * reads or edits dir) between the steps. stm has 9 floats per triangle,
+ * (s, t, m) per corner: the shared code writes s and t, the method m.
+ *
+ * Determinism: only + - * / and sqrt in the angles (pw_periodic_turns). */
+#ifndef PW__PERIODIC_V1
+#define PW__PERIODIC_V1
+
+
+#define PW_PERIODIC_TWO_PI 6.28318530717958647692
+
+typedef struct pw_periodic {
+    pw_alloc a;
+    pw_trimesh m;
+    float *conn;          /* dirfield connection, 3nf*2 */
+    double *dual;         /* dual edge lengths per half-edge (Dijkstra) */
+    double *base;         /* nf*2: default field direction per triangle (frame) */
+    double *dir;          /* nf*2: d_s per triangle, unit, in the triangle frame */
+    float *scale;         /* nv: S_i */
+    float *sfac;          /* nv: a factor of S_i (1 but where the method
+                             makes the field integrable) */
+    double *zs, *zt;      /* nv*2: the unit complex unknowns of s and t (§2.3) */
+    float *stm;           /* nf*9: per corner s, t, m (Eq. 4) */
+    int *forder, *vorder; /* triangles and vertices in breadth-first order: the
+                             order of the unknowns of every solve */
+    float scale0;         /* default tile side */
+    int area_weights;     /* 1: the paper's A_T + A_T' edge weights */
+} pw_periodic;
+
+/* ---- sparse symmetric positive definite solves ----------------------------- */
+
+/* Solves the system collected in t for x (warm start: x's current values)
+ * to a relative residual tol: real symmetric positive definite (n x n
+ * triplets) by IC(0)-preconditioned CG, or complex Hermitian (zsparse.h:
+ * n x 2n triplets, b and x complex) by CG with a multigrid (zamg.h) or
+ * IC(0) preconditioner, whichever pays (pw_zpd_solve). */
+PW__DEF int pw_periodic_pd_solve(const pw_alloc *a, const pw_triplets *t, const double *b, double *x, double tol,
+                                 pw_err *e)
+{
+    const int complex = t->m == 2 * t->n;
+    pw_csr A;
+    pw_ic0 L;
+    pw_zcsr ZA;
+    pw_cg_options o = pw_cg_default_options();
+    int r;
+    o.tol = tol;
+    o.max_iter = 4000;
+    if (complex) {
+        if ((r = pw_zcsr_from_triplets(a, t, &ZA, e)) != PW_OK) return r;
+        r = pw_zpd_solve(a, &ZA, b, x, &o, e);
+        pw_zcsr_free(a, &ZA);
+        return r;
+    }
+    memset(&L, 0, sizeof L);
+    if ((r = pw_csr_from_triplets(a, t, &A, e)) != PW_OK) return r;
+    if ((r = pw_ic0_factor(a, &A, &L, e)) == PW_OK) r = pw_pcg_solve(a, &A, &L, b, x, &o, NULL, e);
+    pw_ic0_free(a, &L);
+    pw_csr_free(a, &A);
+    return r;
+}
+
+/* ---- set-up ---------------------------------------------------------------- */
+
+/* The order of the unknowns: triangles breadth first over the dual graph
+ * (each component from its first triangle), vertices as those triangles
+ * first reach them. Neighbours then sit close in memory and in the
+ * incomplete-Cholesky elimination: on a subdivided mesh, whose new vertices
+ * the file lists far from their neighbours, the solves take 40% less time.
+ * done (nv + nf, all zero) marks what has been placed. */
+PW__DEF void pw_periodic_bfs_order(pw_periodic *P, unsigned char *done)
+{
+    int nf = P->m.nf, nv = P->m.nv, head = 0, tail = 0, nvo = 0, s, k;
+    unsigned char *fdone = done + nv, *vdone = done;
+    for (s = 0; s < nf; s++) {
+        if (fdone[s]) continue;
+        fdone[s] = 1;
+        P->forder[tail++] = s;
+        while (head < tail) {
+            int f = P->forder[head++];
+            for (k = 0; k < 3; k++) {
+                int g = pw_trimesh_across(&P->m, f, k), v = P->m.tri[3 * f + k];
+                if (!vdone[v]) {
+                    vdone[v] = 1;
+                    P->vorder[nvo++] = v;
+                }
+                if (g >= 0 && !fdone[g]) {
+                    fdone[g] = 1;
+                    P->forder[tail++] = g;
+                }
+            }
+        }
+    }
+    for (s = 0; s < nv; s++) /* vertices no triangle uses */
+        if (!vdone[s]) P->vorder[nvo++] = s;
+}
+
+PW__DEF void pw_periodic_free(pw_periodic *P)
+{
+    pw_alloc a = P->a;
+    pw_trimesh_free(&a, &P->m);
+    pw_free(&a, P->conn);
+    pw_free(&a, P->dual);
+    pw_free(&a, P->base);
+    pw_free(&a, P->scale);
+    pw_free(&a, P->zs);
+    pw_free(&a, P->forder);
+    memset(P, 0, sizeof *P);
+    P->a = a;
+}
+
+/* Builds the triangle mesh of v (its positions borrowed), allocates every
+ * array and computes the order of the unknowns, the dual edge lengths and
+ * the connection. P->a must be set; on failure what was allocated is left
+ * for pw_periodic_free. */
+PW__DEF int pw_periodic_init(pw_periodic *P, const pw_mesh *v, pw_err *e)
+{
+    unsigned char *done;
+    size_t nf, nv;
+    int r;
+    if ((r = pw_trimesh_init(&P->a, v, &P->m, e)) != PW_OK) return r;
+    nf = (size_t)P->m.nf;
+    nv = (size_t)P->m.nv;
+    P->dual = (double *)pw_alloc_array(&P->a, 3 * nf, sizeof(double), "mapping", e);
+    P->base = (double *)pw_alloc_array(&P->a, 4 * nf, sizeof(double), "mapping", e);
+    P->scale = (float *)pw_alloc_array(&P->a, 2 * nv + 9 * nf, sizeof(float), "mapping", e);
+    P->zs = (double *)pw_alloc_array(&P->a, 4 * nv, sizeof(double), "mapping", e);
+    P->forder = (int *)pw_alloc_array(&P->a, nf + nv, sizeof(int), "mapping", e);
+    done = (unsigned char *)pw_calloc_array(&P->a, nv + nf, 1, "mapping", e);
+    if (!P->dual || !P->base || !P->scale || !P->zs || !P->forder || !done) {
+        pw_free(&P->a, done);
+        return PW_ERR_NOMEM;
+    }
+    P->vorder = P->forder + nf;
+    pw_periodic_bfs_order(P, done);
+    pw_free(&P->a, done);
+    P->dir = P->base + 2 * nf;
+    P->sfac = P->scale + nv;
+    P->stm = P->sfac + nv;
+    P->zt = P->zs + 2 * nv;
+    pw_df_dual(&P->m, P->dual);
+    return pw_df_connection(&P->a, &P->m, &P->conn, e);
+}
+
+/* ---- the field and the gradients it asks for ---------------------------------------- */
+
+/* The frame of triangle f as 3D vectors (u along its first edge, v = N x u). */
+PW__DEF void pw_periodic_frame(const pw_periodic *P, int f, pw_v3 *u, pw_v3 *v) { pw_df_frame(&P->m, f, u, v); }
+
+/* d_s (k = 0) or d_t = N x d_s (k = 1) of triangle f in 3D. */
+PW__DEF pw_v3 pw_periodic_dir3(const pw_periodic *P, int f, int k)
+{
+    pw_v3 u, v, d;
+    double x = P->dir[2 * f], y = P->dir[2 * f + 1];
+    pw_periodic_frame(P, f, &u, &v);
+    if (k == 1) { /* rot90 in the frame */
+        double t = x;
+        x = -y;
+        y = t;
+    }
+    d = pw_v3_add(pw_v3_scale(u, (float)x), pw_v3_scale(v, (float)y));
+    return d;
+}
+
+/* S^T = (S_i + S_j + S_k) / 3 (§2.3), each S_i times its factor. */
+PW__DEF double pw_periodic_face_scale(const pw_periodic *P, int f)
+{
+    const int *t = P->m.tri + 3 * f;
+    return ((double)P->scale[t[0]] * P->sfac[t[0]] + (double)P->scale[t[1]] * P->sfac[t[1]] +
+            (double)P->scale[t[2]] * P->sfac[t[2]]) /
+           3.0;
+}
+
+/* g = d / S^T for s (k = 0) or t (k = 1). */
+PW__DEF pw_v3 pw_periodic_grad(const pw_periodic *P, int f, int k)
+{
+    return pw_v3_scale(pw_periodic_dir3(P, f, k), (float)(1.0 / pw_periodic_face_scale(P, f)));
+}
+
+/* Cotangent of the angle at corner k of triangle f. */
+PW__DEF double pw_periodic_cot(const pw_trimesh *m, int f, int k)
+{
+    pw_v3 p = pw_trimesh_corner(m, f, k);
+    pw_v3 a = pw_v3_sub(pw_trimesh_corner(m, f, (k + 1) % 3), p),
+          b = pw_v3_sub(pw_trimesh_corner(m, f, (k + 2) % 3), p);
+    double c = pw_v3_dot(a, b), s = pw_v3_len(pw_v3_cross(a, b));
+    return s > 0.0 ? c / s : 0.0;
+}
+
+/* The Laplacian weight of the edge of half-edge h (the cotangents of the
+ * angles facing it, halved), floored so that obtuse triangles keep every
+ * weight positive and the smoothing a maximum principle. */
+PW__DEF double pw_periodic_lap_weight(const pw_trimesh *m, int h)
+{
+    double w = 0.5 * pw_periodic_cot(m, h / 3, (h % 3 + 2) % 3);
+    if (m->hm.twin[h] >= 0) {
+        int t = m->hm.twin[h];
+        w += 0.5 * pw_periodic_cot(m, t / 3, (t % 3 + 2) % 3);
+    }
+    return w > 0.05 ? w : 0.05;
+}
+
+/* Weight of the pull of every unknown towards its default: small enough to
+ * change nothing visible where constraints or the area's border fix the
+ * values, and it makes a component with nothing fixed take the default
+ * (where the Laplacian alone would be singular). */
+#define PW_PERIODIC_PULL 1e-7
+
+/* Weight of the edge of half-edge h in the orientation smoothing: its
+ * length over the dual edge's (the cotangent weight of the dual mesh). */
+PW__DEF double pw_periodic_dir_weight(const pw_periodic *P, int h)
+{
+    int f = h / 3, k = h % 3;
+    double len = pw_v3_len(pw_v3_sub(pw_trimesh_corner(&P->m, f, (k + 1) % 3), pw_trimesh_corner(&P->m, f, k)));
+    return P->dual[h] > 0.0 ? len / P->dual[h] : 1.0;
+}
+
+/* Adds one interior edge (half-edge h of triangle f, twin in g) to the
+ * orientation system: w |z_f - c z_g|^2 with c the transport from g into f
+ * (pw_df_connection): w on both diagonals, -w c at (f, g) and its
+ * conjugate at (g, f); a fixed neighbour moves to b. */
+PW__DEF int pw_periodic_dir_edge(const pw_periodic *P, const int *id, int h, pw_triplets *t, double *b, pw_err *e)
+{
+    int f = h / 3, g = P->m.hm.twin[h] / 3, i = id[f], j = id[g], r = PW_OK;
+    double w = pw_periodic_dir_weight(P, h), cx = P->conn[2 * h], cy = P->conn[2 * h + 1];
+    const double *zf = P->dir + 2 * f, *zg = P->dir + 2 * g;
+    if (i >= 0) r = pw_ztriplets_add(t, i, i, w, 0.0, e);
+    if (r == PW_OK && j >= 0) r = pw_ztriplets_add(t, j, j, w, 0.0, e);
+    if (r == PW_OK && i >= 0 && j >= 0) {
+        r = pw_ztriplets_add(t, i, j, -w * cx, -w * cy, e);
+        if (r == PW_OK) r = pw_ztriplets_add(t, j, i, -w * cx, w * cy, e);
+    } else if (i >= 0) { /* b_f += w c z_g */
+        b[2 * i] += w * (cx * zg[0] - cy * zg[1]);
+        b[2 * i + 1] += w * (cx * zg[1] + cy * zg[0]);
+    } else if (j >= 0) { /* b_g += w conj(c) z_f */
+        b[2 * j] += w * (cx * zf[0] + cy * zf[1]);
+        b[2 * j + 1] += w * (cx * zf[1] - cy * zf[0]);
+    }
+    return r;
+}
+
+/* Directions are normalised after the solve: a loose tolerance suffices. */
+#define PW_PERIODIC_DIR_TOL 3e-3
+
+/* Smooths the directions of the free triangles (free[f]) with the others
+ * fixed, each pulled towards the default field with weight pull[f] (NULL:
+ * a faint pull that only decides components with nothing fixed), then
+ * normalises: "orientations rather than vectors" (the scale is
+ * interpolated separately). Singularities emerge where the fixed directions
+ * force them. A free component with nothing fixed takes the default field. */
+PW__DEF int pw_periodic_dir_smooth(pw_periodic *P, const unsigned char *free, const double *pull, pw_err *e)
+{
+    const pw_trimesh *m = &P->m;
+    int *id = (int *)pw_alloc_array(&P->a, (size_t)m->nf, sizeof(int), "orientation", e);
+    double *b = NULL, *x = NULL;
+    pw_triplets t;
+    int n = 0, f, h, r = id ? PW_OK : PW_ERR_NOMEM;
+    memset(&t, 0, sizeof t);
+    for (h = 0; r == PW_OK && h < m->nf; h++) { /* breadth-first order */
+        f = P->forder[h];
+        id[f] = free[f] ? n++ : -1;
+    }
+    if (r == PW_OK && n > 0) {
+        b = (double *)pw_calloc_array(&P->a, (size_t)n * 2, sizeof(double), "orientation", e);
+        x = (double *)pw_alloc_array(&P->a, (size_t)n * 2, sizeof(double), "orientation", e);
+        if (!b || !x) r = PW_ERR_NOMEM;
+        else r = pw_triplets_init(&t, &P->a, n, 2 * n, e);
+    }
+    for (f = 0; r == PW_OK && n > 0 && f < m->nf; f++)
+        if (id[f] >= 0) {
+            double w = pull ? pull[f] + PW_PERIODIC_PULL : PW_PERIODIC_PULL;
+            x[2 * id[f]] = P->dir[2 * f];
+            x[2 * id[f] + 1] = P->dir[2 * f + 1];
+            b[2 * id[f]] += w * P->base[2 * f];
+            b[2 * id[f] + 1] += w * P->base[2 * f + 1];
+            r = pw_ztriplets_add(&t, id[f], id[f], w, 0.0, e);
+        }
+    for (h = 0; r == PW_OK && n > 0 && h < 3 * m->nf; h++)
+        if (m->hm.twin[h] > h && (id[h / 3] >= 0 || id[m->hm.twin[h] / 3] >= 0))
+            r = pw_periodic_dir_edge(P, id, h, &t, b, e);
+    if (r == PW_OK && n > 0) r = pw_periodic_pd_solve(&P->a, &t, b, x, PW_PERIODIC_DIR_TOL, e);
+    for (f = 0; r == PW_OK && n > 0 && f < m->nf; f++)
+        if (id[f] >= 0) {
+            double *z = P->dir + 2 * f;
+            z[0] = x[2 * id[f]];
+            z[1] = x[2 * id[f] + 1];
+            if (!pw_df_unit(z)) {
+                z[0] = P->base[2 * f];
+                z[1] = P->base[2 * f + 1];
+            }
+        }
+    pw_triplets_free(&t);
+    pw_free(&P->a, id);
+    pw_free(&P->a, b);
+    pw_free(&P->a, x);
+    return r;
+}
+
+/* The default field (§2.2, where no constraint reaches): the tile's t axis
+ * along the global up direction projected onto each triangle, or along the
+ * direction of least curvature (curvature != 0, smoothed `smoothing`
+ * times); then smoothed ("a vector field smoothing algorithm" [LRL06]):
+ * each triangle is pulled towards that direction with a weight A_f c_f /
+ * S^2 against the smoothness terms between neighbours, so that the field
+ * varies over about one tile size and the poles of the projection (c_f =
+ * 1 - (up . n)^2 small: up nearly normal to the face) are filled smoothly.
+ * A field that turns within a tile cannot be followed by a periodic
+ * parameterization without distortion. Writes base and dir. */
+PW__DEF int pw_periodic_base_field(pw_periodic *P, const float *up3, int curvature, int smoothing, pw_err *e)
+{
+    size_t nf = (size_t)P->m.nf;
+    unsigned char *known = (unsigned char *)pw_alloc_array(&P->a, nf, 1, "field", e);
+    double *pull = (double *)pw_alloc_array(&P->a, nf, sizeof(double), "field", e);
+    pw_v3 up = pw_v3_norm(pw_v3_load(up3));
+    int r = known && pull ? PW_OK : PW_ERR_NOMEM, f;
+    pw_df_field F;
+    F.m = &P->m;
+    F.conn = P->conn;
+    F.z = P->base;
+    F.known = known;
+    if (r == PW_OK && curvature) r = pw_df_curvature(&P->a, &F, up, smoothing, e);
+    else if (r == PW_OK) r = pw_df_up(&P->a, &F, up, e);
+    for (f = 0; r == PW_OK && f < P->m.nf; f++) { /* that is d_t; d_s = rot(-90)(d_t) */
+        double x = P->base[2 * f], c = pw_v3_dot(up, pw_v3_load(P->m.normal + 3 * f));
+        P->base[2 * f] = P->base[2 * f + 1];
+        P->base[2 * f + 1] = -x;
+        P->dir[2 * f] = P->base[2 * f];
+        P->dir[2 * f + 1] = P->base[2 * f + 1];
+        pull[f] = (curvature ? 1.0 : 1.0 - c * c) * P->m.area[f] / ((double)P->scale0 * P->scale0);
+        known[f] = 1;
+    }
+    if (r == PW_OK) r = pw_periodic_dir_smooth(P, known, pull, e);
+    if (r == PW_OK) memcpy(P->base, P->dir, sizeof(double) * 2 * nf);
+    pw_free(&P->a, known);
+    pw_free(&P->a, pull);
+    return r;
+}
+
+/* ---- angles without libm -------------------------------------------------------------- */
+
+/* atan(x) for |x| <= 1: two half-angle steps (atan x = 2 atan(x / (1 +
+ * sqrt(1 + x^2)))) bring |x| below tan(pi/16) ~ 0.2, then the Taylor series
+ * to x^21 (truncation below 1e-17). Only + - * / sqrt: the same bits on
+ * every IEEE platform, which libm's atan2 does not promise. */
+PW__DEF double pw_periodic_atan(double x)
+{
+    double y = x / (1.0 + sqrt(1.0 + x * x)), y2, p = 1.0 / 21.0;
+    int k;
+    y = y / (1.0 + sqrt(1.0 + y * y));
+    y2 = y * y;
+    for (k = 19; k >= 1; k -= 2) p = 1.0 / k - y2 * p;
+    return 4.0 * y * p;
+}
+
+/* Arg(x + iy) / 2 pi, in (-1/2, 1/2]; 0 for 0. */
+PW__DEF double pw_periodic_turns(double x, double y)
+{
+    const double pi = 3.14159265358979323846;
+    double a;
+    if (x == 0.0 && y == 0.0) return 0.0;
+    if (fabs(y) <= fabs(x)) {
+        a = pw_periodic_atan(y / x);
+        if (x < 0.0) a += y >= 0.0 ? pi : -pi;
+    } else a = (y > 0.0 ? 0.5 * pi : -0.5 * pi) - pw_periodic_atan(x / y);
+    return a / PW_PERIODIC_TWO_PI;
+}
+
+/* ---- §2.3 per-edge rotations ------------------------------------------------------------ */
+
+/* alpha / 2 pi of half-edge h (from tri[h] to the next corner) for s (k = 0)
+ * or t (k = 1): e_ij . (g_T + g_T') / 2, the gradient averaged over the two
+ * triangles of the edge (the one triangle on a boundary). This is the
+ * coordinate difference s_j - s_i the field asks for along the edge. */
+PW__DEF double pw_periodic_alpha(const pw_periodic *P, int h, int k)
+{
+    int f = h / 3, c = h % 3, t = P->m.hm.twin[h];
+    pw_v3 ed = pw_v3_sub(pw_trimesh_corner(&P->m, f, (c + 1) % 3), pw_trimesh_corner(&P->m, f, c));
+    pw_v3 g = pw_periodic_grad(P, f, k);
+    if (t >= 0) g = pw_v3_scale(pw_v3_add(g, pw_periodic_grad(P, t / 3, k)), 0.5f);
+    return (double)pw_v3_dot(ed, g);
+}
+
+/* ---- §2.3 the least-squares system ----------------------------------------------------- */
+
+/* The weight of edge h in F_PGP. The paper prints A_T + A_T' (kept as
+ * area_weights): a term |z_j - R z_i|^2 ~ |e . (grad s - g)|^2 is then
+ * an integral of the distortion times A_T / |e|^2 ~ A_T per unit area, so
+ * large triangles cost more and the solve pushes the distortion into the
+ * small ones (on CGAL's meshes, where triangle sizes vary by 100x, that is
+ * where the singular share comes from). Cotangent weights make F_PGP the
+ * discrete integral of |grad s - g|^2 (the connection Laplacian of [KCPS15]
+ * "Stripe patterns" and of geogram's PGP), the same cost per unit area
+ * everywhere. Cotangents of obtuse angles can make a weight negative and
+ * the system indefinite: the weight is floored at 0.05, as the §2.2
+ * Laplacian's (pw_periodic_lap_weight), which keeps IC(0) and CG well
+ * defined. CGAL's meshes are far from Delaunay: the floor holds 2% of the
+ * edges of elephant, 7% of knot, 12% of mushroom and 19% of cow (16% of
+ * cow's have a negative sum); floors from 0.001 to 0.1 give the same
+ * counts within 1 vortex and 0.5% singular. Cotangents of an intrinsic
+ * Delaunay triangulation would avoid the floor; they are not implemented. */
+PW__DEF double pw_periodic_weight(const pw_periodic *P, int h)
+{
+    int tw = P->m.hm.twin[h];
+    if (P->area_weights) return (double)P->m.area[h / 3] + (tw >= 0 ? (double)P->m.area[tw / 3] : 0.0);
+    return pw_periodic_lap_weight(&P->m, h);
+}
+
+/* The complex Hermitian system of coordinate k over the free vertices,
+ * being assembled. */
+typedef struct pw_periodic_zsys {
+    const double *z; /* nv*2: the current z, read at the fixed vertices */
+    const int *id;   /* nv: vertex -> unknown (-1: fixed) */
+    int k;           /* the coordinate: 0 for s, 1 for t */
+    pw_triplets *t;  /* the matrix being assembled (n x 2n) */
+    double *b;       /* 2n: the right-hand side */
+} pw_periodic_zsys;
+
+/* Adds the term w |z_j - R(alpha) z_i|^2 of edge h (i -> j) to the system
+ * of the free vertices (id >= 0). R(alpha) is the rotation by +alpha,
+ * [cos -sin; sin cos], i.e. the product with e^{i alpha}: with z = e^{2 pi
+ * i s}, s_j = s_i + alpha/2pi is z_j = e^{i alpha} z_i. (The matrix printed
+ * in the paper has the signs of the sines the other way round, which would
+ * make s decrease along g; tests/test_pgp.c checks a flat grid, where the
+ * exact answer is linear.) In the complex Hermitian system: w on both
+ * diagonals, -w e^{i alpha} at (j, i) and its conjugate at (i, j); a fixed
+ * end moves to the right-hand side. */
+PW__DEF int pw_periodic_edge(const pw_periodic *P, const pw_periodic_zsys *Z, int h, pw_err *e)
+{
+    const double *z = Z->z;
+    const int *id = Z->id;
+    pw_triplets *t = Z->t;
+    double *b = Z->b;
+    int k = Z->k, f = h / 3;
+    int vi = P->m.tri[h], vj = P->m.tri[3 * f + (h % 3 + 1) % 3], i = id[vi], j = id[vj], r = PW_OK;
+    double w = pw_periodic_weight(P, h);
+    double a = PW_PERIODIC_TWO_PI * pw_periodic_alpha(P, h, k), c = pw_cos(a), sn = pw_sin(a);
+    const double *zi = z + 2 * vi, *zj = z + 2 * vj;
+    if (i >= 0) r = pw_ztriplets_add(t, i, i, w, 0.0, e);
+    if (r == PW_OK && j >= 0) r = pw_ztriplets_add(t, j, j, w, 0.0, e);
+    if (r == PW_OK && i >= 0 && j >= 0) {
+        r = pw_ztriplets_add(t, j, i, -w * c, -w * sn, e);
+        if (r == PW_OK) r = pw_ztriplets_add(t, i, j, -w * c, w * sn, e);
+    } else if (j >= 0) { /* b_j += w e^{i a} z_i */
+        b[2 * j] += w * (c * zi[0] - sn * zi[1]);
+        b[2 * j + 1] += w * (c * zi[1] + sn * zi[0]);
+    } else if (i >= 0) { /* b_i += w e^{-i a} z_j */
+        b[2 * i] += w * (c * zj[0] + sn * zj[1]);
+        b[2 * i + 1] += w * (c * zj[1] - sn * zj[0]);
+    }
+    return r;
+}
+
+/* Proximal steps and their weights: each step minimises
+ * F_PGP(z) + mu sum_i d_i |z_i - zhat_i|^2 (d_i the diagonal of F's
+ * matrix) around the current unit estimate zhat, then normalises. The
+ * plain least squares with one vertex locked decays towards 0 away from it
+ * wherever the field is not a gradient (its minimum is z = 0 but near the
+ * lock), leaving only noise in Arg(z); the unit-length constraint |z_i| = 1
+ * of PGP [RLL*06] is what these steps restore, one linear solve each. The
+ * first, weak steps let the estimate relax over long distances (the
+ * breadth-first start has seams along its tree); the later ones converge.
+ * The first step at mu = 1e-5 is nearly an inverse-iteration step towards
+ * the smallest eigenvector of F (the global optimum of [KCPS15]): with the
+ * cotangent weights, starting at 1e-3 instead leaves more vortices (CGAL's
+ * elephant, cow, knot, mushroom at S = diag/10: 46, 44, 67, 36 against 40,
+ * 46, 61, 32). Only the last step needs an accurate solve: the others are
+ * normalised and refined after, and a relative residual of 1e-3 there
+ * takes 40% fewer CG iterations for the same counts. (A fifth step at 0.1
+ * or tighter solves change neither the vortex count nor the singular
+ * triangles.) */
+#define PW_PERIODIC_STEPS 4
+static const double pw_periodic_mu[PW_PERIODIC_STEPS] = {1e-5, 1e-3, 1e-2, 0.1};
+
+/* Where each row's diagonal entry sits in A (every row has one). */
+PW__DEF int pw_periodic_diag_index(const pw_alloc *a, const pw_zcsr *A, int **out, pw_err *e)
+{
+    int i, k, *d = (int *)pw_alloc_array(a, (size_t)A->n, sizeof(int), "PGP", e);
+    *out = d;
+    if (!d) return PW_ERR_NOMEM;
+    for (i = 0; i < A->n; i++)
+        for (d[i] = -1, k = A->rowptr[i]; k < A->rowptr[i + 1]; k++)
+            if (A->col[k] == i) d[i] = k;
+    for (i = 0; i < A->n; i++)
+        if (d[i] < 0) return pw_fail(e, PW_ERR_INVALID, "PGP: row %d has no diagonal", i);
+    return PW_OK;
+}
+
+/* A first estimate: z carried from the fixed vertices along a breadth-first
+ * tree, z_j = e^{i alpha_ij} z_i, i.e. the field integrated along the tree. */
+PW__DEF int pw_periodic_propagate(pw_periodic *P, double *z, const int *id, int k, pw_err *e)
+{
+    const pw_trimesh *m = &P->m;
+    int nh = 3 * m->nf, *start = (int *)pw_calloc_array(&P->a, (size_t)m->nv + 1, sizeof(int), "PGP", e);
+    int *adj = (int *)pw_alloc_array(&P->a, (size_t)nh * 2, sizeof(int), "PGP", e);
+    int *queue = (int *)pw_alloc_array(&P->a, (size_t)m->nv, sizeof(int), "PGP", e);
+    unsigned char *done = (unsigned char *)pw_alloc_array(&P->a, (size_t)m->nv, 1, "PGP", e);
+    int h, v, head = 0, tail = 0, i, r = start && adj && queue && done ? PW_OK : PW_ERR_NOMEM;
+    for (h = 0; r == PW_OK && h < nh; h++) { /* each edge from both ends: +(h+1) forward, -(h+1) backward */
+        start[m->tri[h] + 1]++;
+        if (m->hm.twin[h] < 0) start[m->tri[3 * (h / 3) + (h % 3 + 1) % 3] + 1]++;
+    }
+    for (v = 0; r == PW_OK && v < m->nv; v++) start[v + 1] += start[v];
+    for (h = 0; r == PW_OK && h < nh; h++) {
+        int j = m->tri[3 * (h / 3) + (h % 3 + 1) % 3];
+        adj[start[m->tri[h]]++] = h + 1;
+        if (m->hm.twin[h] < 0) adj[start[j]++] = -(h + 1);
+    }
+    for (v = m->nv; r == PW_OK && v > 0; v--) start[v] = start[v - 1];
+    if (r == PW_OK) start[0] = 0;
+    for (v = 0; r == PW_OK && v < m->nv; v++)
+        if ((done[v] = (unsigned char)(id[v] < 0)) != 0) queue[tail++] = v;
+    while (r == PW_OK && head < tail) {
+        int u = queue[head++];
+        for (i = start[u]; i < start[u + 1]; i++) {
+            int hh = adj[i] > 0 ? adj[i] - 1 : -adj[i] - 1, fw = adj[i] > 0, w;
+            double a, c, sn, *zu = z + 2 * u;
+            w = fw ? m->tri[3 * (hh / 3) + (hh % 3 + 1) % 3] : m->tri[hh];
+            if (done[w]) continue;
+            a = PW_PERIODIC_TWO_PI * pw_periodic_alpha(P, hh, k) * (fw ? 1.0 : -1.0);
+            c = pw_cos(a);
+            sn = pw_sin(a);
+            z[2 * w] = c * zu[0] - sn * zu[1];
+            z[2 * w + 1] = sn * zu[0] + c * zu[1];
+            done[w] = 1;
+            queue[tail++] = w;
+        }
+        if (head == tail) /* a piece no fixed vertex reaches: start it at z = 1 */
+            for (v = 0; v < m->nv; v++)
+                if (!done[v]) {
+                    done[v] = 1;
+                    z[2 * v] = 1.0;
+                    z[2 * v + 1] = 0.0;
+                    queue[tail++] = v;
+                    break;
+                }
+    }
+    pw_free(&P->a, start);
+    pw_free(&P->a, adj);
+    pw_free(&P->a, queue);
+    pw_free(&P->a, done);
+    return r;
+}
+
+/* Solves for the unit complex numbers z (nv*2) of coordinate k at the free
+ * vertices (id >= 0, n of them), the others fixed. */
+PW__DEF int pw_periodic_solve_k(pw_periodic *P, double *z, const int *id, int n, int k, pw_err *e)
+{
+    double *b = (double *)pw_calloc_array(&P->a, (size_t)n * 5, sizeof(double), "PGP", e);
+    double *x = b + 2 * n, *dg = b + 4 * n, *rhs = NULL;
+    int *dpos = NULL;
+    pw_triplets t;
+    pw_zcsr A;
+    pw_zamg M;
+    pw_cg_options o = pw_cg_default_options();
+    pw_periodic_zsys Z;
+    int v, h, q, step, multigrid = 0, r = b ? PW_OK : PW_ERR_NOMEM;
+    Z.z = z;
+    Z.id = id;
+    Z.k = k;
+    Z.t = &t;
+    Z.b = b;
+    memset(&t, 0, sizeof t);
+    memset(&A, 0, sizeof A);
+    if (r == PW_OK) r = pw_triplets_init(&t, &P->a, n, 2 * n, e);
+    for (h = 0; r == PW_OK && h < 3 * P->m.nf; h++)
+        if (P->m.hm.twin[h] < h) r = pw_periodic_edge(P, &Z, h, e); /* each edge once */
+    for (q = 0; r == PW_OK && q < t.count; q++)                     /* the (real) diagonal of F's matrix */
+        if (t.col[q] == 2 * t.row[q]) dg[t.row[q]] += t.val[q];
+    if (r == PW_OK) r = pw_periodic_propagate(P, z, id, k, e);
+    if (r == PW_OK && (r = pw_zcsr_from_triplets(&P->a, &t, &A, e)) == PW_OK)
+        r = pw_periodic_diag_index(&P->a, &A, &dpos, e);
+    if (r == PW_OK && !(rhs = (double *)pw_alloc_array(&P->a, (size_t)n * 2, sizeof(double), "PGP", e)))
+        r = PW_ERR_NOMEM;
+    o.max_iter = 4000;
+    memset(&M, 0, sizeof M);
+    for (step = 0; r == PW_OK && step < PW_PERIODIC_STEPS; step++) {
+        double mu = pw_periodic_mu[step];
+        for (q = 0; q < n; q++) A.val[2 * dpos[q]] = dg[q] * (1.0 + mu);
+        if (step == 0 && pw_zamg_pays(&A)) { /* one hierarchy for the steps that need it */
+            pw_err se;
+            int sr;
+            pw_err_clear(&se);
+            sr = pw_zamg_setup(&P->a, &A, &M, &se);
+            multigrid = sr == PW_OK;
+            if (sr != PW_OK && sr != PW_ERR_INVALID) r = pw_fail(e, sr, "%s", se.msg); /* INVALID: IC(0) instead */
+        }
+        for (v = 0; v < P->m.nv; v++)
+            if ((q = id[v]) >= 0) {
+                x[2 * q] = z[2 * v];
+                x[2 * q + 1] = z[2 * v + 1];
+                rhs[2 * q] = b[2 * q] + mu * dg[q] * z[2 * v];
+                rhs[2 * q + 1] = b[2 * q + 1] + mu * dg[q] * z[2 * v + 1];
+            }
+        o.tol = step < PW_PERIODIC_STEPS - 1 ? 1e-3 : 1e-4; /* each step is normalised: no need for more */
+        if (r ==
+            PW_OK) /* the steps' matrices differ in the diagonal only: level 0 sees it, the coarse levels need not */
+            r = multigrid && pw_zamg_pays(&A) ? pw_zamg_solve(&P->a, &A, &M, rhs, x, &o, NULL, e)
+                                              : pw_zpd_solve(&P->a, &A, rhs, x, &o, e);
+        for (v = 0; r == PW_OK && v < P->m.nv; v++)
+            if ((q = id[v]) >= 0) {
+                double zz[2];
+                zz[0] = x[2 * q];
+                zz[1] = x[2 * q + 1];
+                if (pw_df_unit(zz)) {
+                    z[2 * v] = zz[0];
+                    z[2 * v + 1] = zz[1];
+                }
+            }
+    }
+    if (multigrid) pw_zamg_free(&P->a, &M);
+    pw_free(&P->a, dpos);
+    pw_zcsr_free(&P->a, &A);
+    pw_triplets_free(&t);
+    pw_free(&P->a, b);
+    pw_free(&P->a, rhs);
+    return r;
+}
+
+/* §2.3 over the free vertices: "in the special case of initialization, we
+ * lock a single vertex s_0 = 0 <=> z_0 = [1,0], else s is locked outside
+ * the effect area" (whole: the first vertex of every component locked). */
+PW__DEF int pw_periodic_solve(pw_periodic *P, const unsigned char *vfree, int whole, pw_err *e)
+{
+    int *id = (int *)pw_alloc_array(&P->a, (size_t)P->m.nv, sizeof(int), "PGP", e);
+    int *comp = (int *)pw_calloc_array(&P->a, (size_t)P->m.nf * 2, sizeof(int), "PGP", e);
+    unsigned char *lock = (unsigned char *)pw_calloc_array(&P->a, (size_t)P->m.nv, 1, "PGP", e);
+    int n = 0, v, f, c, nc = 0, r = id && comp && lock ? PW_OK : PW_ERR_NOMEM;
+    if (r == PW_OK && whole) r = pw_hmesh_components(&P->a, &P->m.hm, comp, &nc, e);
+    for (f = 0; r == PW_OK && whole && f < P->m.nf; f++) /* the first triangle of each component */
+        if (!comp[P->m.nf + comp[f]]) {
+            int lo = P->m.tri[3 * f];
+            comp[P->m.nf + comp[f]] = 1;
+            for (c = 1; c < 3; c++) lo = P->m.tri[3 * f + c] < lo ? P->m.tri[3 * f + c] : lo;
+            lock[lo] = 1;
+        }
+    for (c = 0; r == PW_OK && c < P->m.nv; c++) {
+        v = P->vorder[c];
+        id[v] = vfree[v] && !lock[v] ? n++ : -1;
+        if (lock[v]) {
+            P->zs[2 * v] = P->zt[2 * v] = 1.0;
+            P->zs[2 * v + 1] = P->zt[2 * v + 1] = 0.0;
+        }
+    }
+    if (r == PW_OK && n > 0) r = pw_periodic_solve_k(P, P->zs, id, n, 0, e);
+    if (r == PW_OK && n > 0) r = pw_periodic_solve_k(P, P->zt, id, n, 1, e);
+    pw_free(&P->a, id);
+    pw_free(&P->a, comp);
+    pw_free(&P->a, lock);
+    return r;
+}
+
+/* ---- Eq. (4): per-corner coordinates -------------------------------------------------- */
+
+/* s and t of triangle f's corners: corner 0 reads Arg(z)/2pi, corners 1
+ * and 2 add the integer p that brings their difference to corner 0 closest
+ * to what the field asks for along the edge (alpha), so that every vertex
+ * differs between its triangles by integers only. */
+PW__DEF void pw_periodic_recover(pw_periodic *P, int f)
+{
+    const int *tri = P->m.tri + 3 * f;
+    float *o = P->stm + 9 * f;
+    int c, k;
+    for (k = 0; k < 2; k++) {
+        const double *z = k ? P->zt : P->zs;
+        double s0 = pw_periodic_turns(z[2 * tri[0]], z[2 * tri[0] + 1]);
+        o[k] = (float)s0;
+        for (c = 1; c < 3; c++) {
+            /* alpha from corner 0 to corner c: edge 0->1 is half-edge 3f, edge 0->2 is 3f+2 reversed */
+            double want = s0 + (c == 1 ? pw_periodic_alpha(P, 3 * f, k) : -pw_periodic_alpha(P, 3 * f + 2, k));
+            double sc = pw_periodic_turns(z[2 * tri[c]], z[2 * tri[c] + 1]);
+            o[3 * c + k] = (float)(sc + floor(want - sc + 0.5));
+        }
+    }
+}
+
+/* ---- vortices ---------------------------------------------------------------------------- */
+
+/* The 3D gradient of the linear function with corner values w0, w1, w2 on
+ * triangle f. */
+PW__DEF pw_v3 pw_periodic_gradient(const pw_periodic *P, int f, double w0, double w1, double w2)
+{
+    pw_v3 p = pw_trimesh_corner(&P->m, f, 0);
+    pw_v3 e1 = pw_v3_sub(pw_trimesh_corner(&P->m, f, 1), p), e2 = pw_v3_sub(pw_trimesh_corner(&P->m, f, 2), p);
+    double a11 = pw_v3_dot(e1, e1), a12 = pw_v3_dot(e1, e2), a22 = pw_v3_dot(e2, e2), det = a11 * a22 - a12 * a12;
+    double d1 = w1 - w0, d2 = w2 - w0, x, y;
+    if (!(det > 0.0)) return pw_v3_make(0.0f, 0.0f, 0.0f);
+    x = (d1 * a22 - d2 * a12) / det;
+    y = (d2 * a11 - d1 * a12) / det;
+    return pw_v3_add(pw_v3_scale(e1, (float)x), pw_v3_scale(e2, (float)y));
+}
+
+/* The winding of coordinate k around triangle f, an integer (0 but at a
+ * vortex of the periodic parameterization): Eq. (4) brought corners 1 and 2
+ * next to corner 0 along the field, so the edge from 1 to 2 carries it all.
+ * The sum over the edges of alpha plus the wrapped rest is
+ * -round(s_2 - s_1 - alpha_12). */
+PW__DEF int pw_periodic_winding(const pw_periodic *P, int f, int k)
+{
+    const float *o = P->stm + 9 * f;
+    return -(int)floor((double)o[6 + k] - o[3 + k] - pw_periodic_alpha(P, 3 * f + 1, k) + 0.5);
+}
+
+/* Whether s or t winds around triangle f. */
+PW__DEF int pw_periodic_vortex(const pw_periodic *P, int f)
+{
+    return pw_periodic_winding(P, f, 0) != 0 || pw_periodic_winding(P, f, 1) != 0;
+}
+
+/* ---- the clean coordinates of a vortex triangle (beyond §3) ----------------------------- */
+
+/* Layout of a vortex triangle's data, per coordinate k (12 floats):
+ * U[3] the boundary values at the corners walking 0 -> 1 -> 2 (U_0 = s_0),
+ * D[3] the difference along edge a -> a+1 (the integer shift nearest
+ * alpha, as every regular neighbour has it; U_2 + D_2 = U_0 - winding),
+ * V[3] the field's linear function L at the corners (corner 0's view, §3),
+ * Q[3] the barycentric coordinates of the zero. A coordinate that does not
+ * wind here has Q[0] < 0 and is linear in U. The zero is that of the
+ * linearly interpolated residual e^{2 pi i (U - V)} ("stripe patterns",
+ * Knöppel, Crane, Pinkall and Schröder 2015), kept off the edges. */
+PW__DEF void pw_periodic_clean_coord(const pw_periodic *P, int f, int k, float *o)
+{
+    const float *c = P->stm + 9 * f;
+    double U[3], D[3], V[3], r[3], zr[3], zi[3], det, q1, q2;
+    int a;
+    for (a = 0; a < 3; a++) { /* the edge from corner a to a+1: half-edge 3f + a */
+        double d = (double)c[3 * ((a + 1) % 3) + k] - c[3 * a + k], al = pw_periodic_alpha(P, 3 * f + a, k);
+        D[a] = d + floor(al - d + 0.5);
+    }
+    U[0] = c[k];
+    U[1] = U[0] + D[0];
+    U[2] = U[1] + D[1];
+    V[0] = c[k];
+    V[1] = c[k] + pw_periodic_alpha(P, 3 * f, k);
+    V[2] = c[k] - pw_periodic_alpha(P, 3 * f + 2, k);
+    for (a = 0; a < 3; a++) {
+        o[a] = (float)U[a];
+        o[3 + a] = (float)D[a];
+        o[6 + a] = (float)V[a];
+    }
+    o[9] = -1.0f;
+    o[10] = o[11] = 0.0f;
+    if (pw_periodic_winding(P, f, k) == 0) return;
+    for (a = 0; a < 3; a++) {
+        r[a] = PW_PERIODIC_TWO_PI * (U[a] - V[a]);
+        zr[a] = pw_cos(r[a]);
+        zi[a] = pw_sin(r[a]);
+    }
+    /* [KCPS15]: the zero of z_0 + q1 (z_1 - z_0) + q2 (z_2 - z_0) */
+    det = (zr[1] - zr[0]) * (zi[2] - zi[0]) - (zi[1] - zi[0]) * (zr[2] - zr[0]);
+    q1 = det != 0.0 ? (-zr[0] * (zi[2] - zi[0]) + zi[0] * (zr[2] - zr[0])) / det : 1.0 / 3.0;
+    q2 = det != 0.0 ? (-zi[0] * (zr[1] - zr[0]) + zr[0] * (zi[1] - zi[0])) / det : 1.0 / 3.0;
+    if (!(q1 >= 0.0 && q2 >= 0.0 && q1 + q2 <= 1.0)) q1 = q2 = 1.0 / 3.0; /* |winding| > 1: the centre */
+    /* kept off the edges, so that no sector of the fan is a sliver */
+    q1 = 0.1 + 0.7 * q1;
+    q2 = 0.1 + 0.7 * q2;
+    o[9] = (float)(1.0 - q1 - q2);
+    o[10] = (float)q1;
+    o[11] = (float)q2;
+}
+
+/* The clean coordinate (o: pw_periodic_clean_coord's 12 floats of one
+ * coordinate) of a vortex triangle at barycentric b: the point x where
+ * the ray from the zero Q through b leaves the triangle takes the boundary
+ * value (linear along the edge, as the neighbour's), and b takes it plus
+ * L(b) - L(x): the field's gradient inside, the residual constant along
+ * rays, so the coordinate winds once (n times) around Q. */
+PW__DEF double pw_periodic_clean_eval(const float *o, const double *b)
+{
+    const float *U = o, *D = o + 3, *V = o + 6, *Q = o + 9;
+    double mu = 2.0, x[3], u;
+    int c, e = 0;
+    if (Q[0] < 0.0f) return b[0] * U[0] + b[1] * U[1] + b[2] * U[2];
+    for (c = 0; c < 3; c++) /* the edge the ray leaves by: opposite the smallest b_c / Q_c */
+        if (b[c] / Q[c] < mu) {
+            mu = b[c] / Q[c];
+            e = (c + 1) % 3;
+        }
+    if (mu >= 1.0 - 1e-9) return U[0]; /* at the zero itself */
+    for (c = 0; c < 3; c++) x[c] = (b[c] - mu * Q[c]) / (1.0 - mu);
+    u = U[e] + x[(e + 1) % 3] * D[e];
+    for (c = 0; c < 3; c++) u += (b[c] - x[c]) * V[c];
+    return u;
+}
+
+/* Mean edge length of the triangle mesh. */
+PW__DEF double pw_periodic_mean_edge(const pw_periodic *P)
+{
+    double sum = 0.0;
+    int h, n = 0;
+    for (h = 0; h < 3 * P->m.nf; h++) {
+        int f = h / 3, c = h % 3;
+        if (P->m.hm.twin[h] > h) continue; /* each edge once */
+        sum += pw_v3_len(pw_v3_sub(pw_trimesh_corner(&P->m, f, (c + 1) % 3), pw_trimesh_corner(&P->m, f, c)));
+        n++;
+    }
+    return n ? sum / n : 0.0;
+}
+
+/* A tile side the mesh can carry: at most 10 bounding-box diagonals (beyond,
+ * the whole mesh is one colour) and at least 2 mean edge lengths (below, a
+ * period spans less than two triangles and Eq. 4 cannot recover it). */
+PW__DEF int pw_periodic_check_scale(const pw_periodic *P, double side, pw_err *e)
+{
+    double lo = 2.0 * pw_periodic_mean_edge(P), hi = 10.0 * P->m.diag;
+    if (side > hi || side < lo)
+        return pw_fail(e, PW_ERR_INVALID,
+                       "tile side %g is outside [%g, %g] (2 mean edge lengths to 10 bounding-box "
+                       "diagonals)",
+                       side, lo, hi);
+    return PW_OK;
+}
+
+#endif /* PW__PERIODIC_V1 */
+
 /* ---- shared module src/common/raster.h ---- */
 #ifndef PW_NO_RENDER
 /* raster: exact scan conversion of 2D triangles.
@@ -11179,6 +15389,662 @@ static const float *tiled__plain_px(const pw_image *img, const tiled__geom *gm, 
     return img->px + ((size_t)(img->h - 1 - y) * img->w + x) * img->c;
 }
 
+/* ---- src/tiled/cells.c ---- */
+/* cells.c: beyond the thesis (issue 23): tiles of a chosen size on any
+ * mesh. The periodic global parameterization of pgp.h (shared,
+ * src/common/periodic.h) lays an integer grid (s, t) over the surface
+ * along a field; every triangle is cut along the grid lines so that each
+ * piece lies in one cell; the cells are identified across triangles by
+ * union-find over (triangle, cell) pairs, following the integer jumps of
+ * (s, t) between neighbours; every cell side then gets a boundary type,
+ * partner types (2k, 2k+1) on the two sides of every shared side, and
+ * every cell the tile its four sides name (ch. III.1.2's layout).
+ *
+ * Union-find rather than extracting the quad layout (QEx, Ebke et al.
+ * 2013): it needs no tracing of isolines through singularities, and where
+ * the grid is not a grid (a vortex, a T-junction) it still yields cells,
+ * with their neighbours counted. The types are solved as a 2-colouring:
+ * each shared side asks its two cell sides to be partners; sides of one
+ * cell met by several neighbours (a T-junction) are all made partners of
+ * it, and only an odd cycle of such constraints leaves a side unmatched.
+ *
+ * Vortex triangles (s or t winds around them, pw_periodic_winding) take
+ * pgp's clean treatment: the differences their neighbours use along their
+ * edges and a fan of TILED__FAN thin triangles per edge around the point
+ * where the pattern ends, each carrying the clean coordinate (linear along
+ * every ray from that point) at its corners. One lookup per pixel, so no
+ * ghost; the fan's rays carry a jump of about winding / (3 TILED__FAN) of
+ * a period at the centre (more where the residual turns fast), falling to
+ * 0 at the triangle's edges (docs/tiled.md has the figures). */
+
+#define TILED__FAN 8         /* thin triangles per edge of a vortex triangle */
+#define TILED__MAX_SPAN 4096 /* cells a triangle may span before it is left uncut */
+
+/* A triangle to cut: a mesh triangle or one of a vortex triangle's fan. */
+typedef struct tiled__src {
+    float pos[9];
+    double st[6];
+} tiled__src;
+
+/* A corner of a piece: (s, t), the point, and which sides of its cell it
+ * lies on (bit k: side k, 0 bottom, 1 right, 2 top, 3 left). */
+typedef struct tiled__pv {
+    double s, t;
+    float p[3];
+    int on;
+} tiled__pv;
+
+/* A piece: a convex polygon of one source triangle inside cell (ci, cj). */
+typedef struct tiled__piece {
+    int src, ci, cj, v0, nv;
+} tiled__piece;
+
+/* One shared cell side: the right (side 1) or top (side 2) of cell a is
+ * the left or bottom of cell b. */
+typedef struct tiled__adj {
+    int a, b, side;
+} tiled__adj;
+
+typedef struct tiled__grid {
+    pw_alloc a;
+    pw_periodic pp;
+    tiled__src *src;
+    int nsrc, *fan; /* fan[f]: first source triangle of vortex triangle f, or -1 */
+    float *clean;   /* 24 floats per triangle: pw_periodic_clean_coord of s and t */
+    tiled__pv *pv;
+    size_t npv, pvcap;
+    tiled__piece *pc;
+    size_t npc, pccap;
+    int *first; /* nsrc + 1: first piece of each source triangle */
+    int *uf;    /* per piece: union-find parent */
+    int *cls;   /* per piece: cell */
+    int ncls;
+    tiled__adj *adj; /* shared sides, sorted; a side met twice is listed twice */
+    size_t nadj, adjcap;
+    int *types; /* 4 per cell: the types of its sides (0 bottom, 1 right, 2 top, 3 left) */
+    int *tile;  /* per cell: its tile; then per cell: 1 if special */
+    tiled_grid_stats st;
+} tiled__grid;
+
+static void tiled__grid_free(tiled__grid *C)
+{
+    pw_periodic_free(&C->pp);
+    pw_free(&C->a, C->src);
+    pw_free(&C->a, C->fan);
+    pw_free(&C->a, C->clean);
+    pw_free(&C->a, C->pv);
+    pw_free(&C->a, C->pc);
+    pw_free(&C->a, C->first);
+    pw_free(&C->a, C->uf);
+    pw_free(&C->a, C->cls);
+    pw_free(&C->a, C->adj);
+    pw_free(&C->a, C->types);
+    pw_free(&C->a, C->tile);
+}
+
+/* ---- the parameterization ------------------------------------------------- */
+
+/* The field, the PGP over the whole mesh and the per-corner (s, t), as
+ * pgp_create does with no constraint (pgp's default smoothing, +y up). */
+static int tiled__parameterize(tiled__grid *C, const tiled_mesh *in, const tiled_options *o, pw_err *e)
+{
+    static const float up[3] = {0.0f, 1.0f, 0.0f};
+    pw_periodic *P = &C->pp;
+    pw_mesh v = tiled__pw_mesh(in);
+    unsigned char *vfree;
+    int i, r;
+    P->a = C->a;
+    if ((r = pw_periodic_init(P, &v, e)) != PW_OK) return r;
+    P->scale0 = o->scale;
+    if ((r = pw_periodic_check_scale(P, o->scale, e)) != PW_OK) return r;
+    for (i = 0; i < P->m.nv; i++) {
+        P->scale[i] = o->scale;
+        P->sfac[i] = 1.0f;
+        P->zs[2 * i] = P->zt[2 * i] = 1.0;
+        P->zs[2 * i + 1] = P->zt[2 * i + 1] = 0.0;
+    }
+    if ((r = pw_periodic_base_field(P, up, o->field == TILED_FIELD_CURVATURE, 20, e)) != PW_OK) return r;
+    if (!(vfree = (unsigned char *)pw_alloc_array(&C->a, (size_t)P->m.nv, 1, "tiles", e))) return PW_ERR_NOMEM;
+    memset(vfree, 1, (size_t)P->m.nv);
+    r = pw_periodic_solve(P, vfree, 1, e);
+    pw_free(&C->a, vfree);
+    for (i = 0; r == PW_OK && i < P->m.nf; i++) pw_periodic_recover(P, i);
+    return r;
+}
+
+/* (s, t) of triangle f's boundary at corner a + lam (edge a -> a+1): the
+ * Eq. (4) coordinates, or a vortex triangle's clean ones (U + lam D). */
+static void tiled__edge_st(const tiled__grid *C, int f, int a, double lam, double *st)
+{
+    int k;
+    for (k = 0; k < 2; k++) {
+        if (C->fan[f] >= 0) {
+            const float *o = C->clean + 24 * (size_t)f + 12 * k;
+            st[k] = o[a] + lam * o[3 + a];
+        } else {
+            const float *c = C->pp.stm + 9 * (size_t)f;
+            st[k] = c[3 * a + k] + lam * ((double)c[3 * ((a + 1) % 3) + k] - c[3 * a + k]);
+        }
+    }
+}
+
+/* The source triangles: every regular triangle as it is, every vortex
+ * triangle as its fan (centre c: where s ends, else where t ends). The
+ * centre corner of thin triangle i takes the clean coordinate's limit
+ * along the ray to the middle of its outer edge. */
+static void tiled__fan(tiled__grid *C, int f)
+{
+    const float *o = C->clean + 24 * (size_t)f, *q = o[9] >= 0.0f ? o + 9 : o + 21;
+    const int *tri = C->pp.m.tri + 3 * f;
+    double c[3], b[3], lam0, lam1, lm;
+    int i, a, k, j;
+    for (k = 0; k < 3; k++) c[k] = q[0] >= 0.0f ? q[k] : 1.0 / 3.0;
+    for (i = 0; i < 3 * TILED__FAN; i++) {
+        tiled__src *s = C->src + C->fan[f] + i;
+        a = i / TILED__FAN;
+        lam0 = (double)(i % TILED__FAN) / TILED__FAN;
+        lam1 = (double)(i % TILED__FAN + 1) / TILED__FAN;
+        lm = 0.5 * (lam0 + lam1);
+        for (k = 0; k < 3; k++) {
+            double p0 = C->pp.m.pos[3 * tri[a] + k], p1 = C->pp.m.pos[3 * tri[(a + 1) % 3] + k], pc = 0.0;
+            for (j = 0; j < 3; j++) pc += c[j] * C->pp.m.pos[3 * tri[j] + k];
+            s->pos[k] = (float)pc;
+            s->pos[3 + k] = (float)(p0 + lam0 * (p1 - p0));
+            s->pos[6 + k] = (float)(p0 + lam1 * (p1 - p0));
+        }
+        tiled__edge_st(C, f, a, lam0, s->st + 2);
+        tiled__edge_st(C, f, a, lam1, s->st + 4);
+        for (k = 0; k < 3; k++) b[k] = c[k] * (1.0 - 1e-4);
+        b[a] += 1e-4 * (1.0 - lm);
+        b[(a + 1) % 3] += 1e-4 * lm;
+        for (k = 0; k < 2; k++) s->st[k] = pw_periodic_clean_eval(o + 12 * k, b);
+    }
+}
+
+static int tiled__sources(tiled__grid *C, pw_err *e)
+{
+    const pw_periodic *P = &C->pp;
+    int f, k, nv = 0;
+    C->fan = (int *)pw_alloc_array(&C->a, (size_t)P->m.nf, sizeof(int), "tiles", e);
+    C->clean = (float *)pw_calloc_array(&C->a, (size_t)P->m.nf * 24, sizeof(float), "tiles", e);
+    if (!C->fan || !C->clean) return PW_ERR_NOMEM;
+    for (f = 0; f < P->m.nf; f++) {
+        C->fan[f] = pw_periodic_vortex(P, f) ? P->m.nf + 3 * TILED__FAN * nv++ : -1;
+        for (k = 0; C->fan[f] >= 0 && k < 2; k++) pw_periodic_clean_coord(P, f, k, C->clean + 24 * (size_t)f + 12 * k);
+    }
+    C->st.triangles = P->m.nf;
+    C->st.vortex_triangles = nv;
+    C->nsrc = P->m.nf + 3 * TILED__FAN * nv;
+    C->src = (tiled__src *)pw_calloc_array(&C->a, (size_t)C->nsrc, sizeof(tiled__src), "tiles", e);
+    if (!C->src) return PW_ERR_NOMEM;
+    for (f = 0; f < P->m.nf; f++) {
+        tiled__src *s = C->src + f;
+        if (C->fan[f] >= 0) {
+            tiled__fan(C, f);
+            continue;
+        }
+        for (k = 0; k < 9; k++) s->pos[k] = P->m.pos[3 * P->m.tri[3 * f + k / 3] + k % 3];
+        for (k = 0; k < 3; k++) tiled__edge_st(C, f, k, 0.0, s->st + 2 * k);
+    }
+    return PW_OK;
+}
+
+/* ---- cutting along the grid ------------------------------------------------ */
+
+/* Keeps the part of polygon in (n corners) on the inner side of line
+ * coordinate k (0: s, 1: t) = x (keep >= x if lower, else <= x); writes
+ * out, returns its corner count. Corners made on the line get it exactly. */
+static int tiled__clip(const tiled__pv *in, int n, int k, double x, int lower, tiled__pv *out)
+{
+    int i, j, m = 0;
+    for (i = 0; i < n; i++) {
+        const tiled__pv *p = in + i, *q = in + (i + 1) % n;
+        double vp = k ? p->t : p->s, vq = k ? q->t : q->s;
+        int ip = lower ? vp >= x : vp <= x, iq = lower ? vq >= x : vq <= x;
+        if (ip) out[m++] = *p;
+        if (ip != iq) {
+            double u = (x - vp) / (vq - vp);
+            tiled__pv *r = out + m++;
+            r->s = k ? p->s + u * (q->s - p->s) : x;
+            r->t = k ? x : p->t + u * (q->t - p->t);
+            for (j = 0; j < 3; j++) r->p[j] = (float)(p->p[j] + u * (q->p[j] - p->p[j]));
+        }
+    }
+    return m;
+}
+
+/* Twice the signed area of a polygon in (s, t). */
+static double tiled__st_area(const tiled__pv *v, int n)
+{
+    double A = 0.0;
+    int i;
+    for (i = 0; i < n; i++) A += v[i].s * v[(i + 1) % n].t - v[(i + 1) % n].s * v[i].t;
+    return A;
+}
+
+/* Appends the piece of source triangle src inside cell (i, j), if any. */
+static int tiled__add_piece(tiled__grid *C, int src, int i, int j, int whole, pw_err *e)
+{
+    tiled__pv a[16], b[16];
+    int n = 3, k, r;
+    for (k = 0; k < 3; k++) {
+        a[k].s = C->src[src].st[2 * k];
+        a[k].t = C->src[src].st[2 * k + 1];
+        memcpy(a[k].p, C->src[src].pos + 3 * k, sizeof a[k].p);
+    }
+    if (!whole) {
+        n = tiled__clip(a, n, 0, (double)i, 1, b);
+        n = tiled__clip(b, n, 0, (double)i + 1.0, 0, a);
+        n = tiled__clip(a, n, 1, (double)j, 1, b);
+        n = tiled__clip(b, n, 1, (double)j + 1.0, 0, a);
+        if (n < 3 || fabs(tiled__st_area(a, n)) < 1e-12) return PW_OK;
+    }
+    if ((r = pw_grow(&C->a, (void **)&C->pv, &C->pvcap, C->npv + (size_t)n, sizeof *C->pv, "pieces", e)) != PW_OK ||
+        (r = pw_grow(&C->a, (void **)&C->pc, &C->pccap, C->npc + 1, sizeof *C->pc, "pieces", e)) != PW_OK)
+        return r;
+    for (k = 0; k < n; k++) {
+        a[k].on = (a[k].t == (double)j) | (a[k].s == (double)i + 1.0) << 1 | (a[k].t == (double)j + 1.0) << 2 |
+                  (a[k].s == (double)i) << 3;
+        C->pv[C->npv + (size_t)k] = a[k];
+    }
+    C->pc[C->npc].src = src;
+    C->pc[C->npc].ci = i;
+    C->pc[C->npc].cj = j;
+    C->pc[C->npc].v0 = (int)C->npv;
+    C->pc[C->npc].nv = n;
+    C->npv += (size_t)n;
+    C->npc++;
+    return PW_OK;
+}
+
+/* Cuts every source triangle into its cells. A triangle spanning more than
+ * TILED__MAX_SPAN cells (a degenerate parameterization) stays whole, in
+ * the cell of its first corner. */
+static int tiled__cut(tiled__grid *C, pw_err *e)
+{
+    int s, k, r = PW_OK;
+    C->first = (int *)pw_alloc_array(&C->a, (size_t)C->nsrc + 1, sizeof(int), "pieces", e);
+    if (!C->first) return PW_ERR_NOMEM;
+    for (s = 0; s < C->nsrc && r == PW_OK; s++) {
+        const double *st = C->src[s].st;
+        double lo[2], hi[2];
+        int i, j;
+        C->first[s] = (int)C->npc;
+        if (s < C->pp.m.nf && C->fan[s] >= 0) continue;
+        for (k = 0; k < 2; k++) {
+            lo[k] = floor(st[k] < st[2 + k] ? (st[k] < st[4 + k] ? st[k] : st[4 + k])
+                                            : (st[2 + k] < st[4 + k] ? st[2 + k] : st[4 + k]));
+            hi[k] = floor(st[k] > st[2 + k] ? (st[k] > st[4 + k] ? st[k] : st[4 + k])
+                                            : (st[2 + k] > st[4 + k] ? st[2 + k] : st[4 + k]));
+        }
+        if ((hi[0] - lo[0] + 1.0) * (hi[1] - lo[1] + 1.0) > TILED__MAX_SPAN) {
+            r = tiled__add_piece(C, s, (int)floor(st[0]), (int)floor(st[1]), 1, e);
+            continue;
+        }
+        for (j = (int)lo[1]; j <= (int)hi[1] && r == PW_OK; j++)
+            for (i = (int)lo[0]; i <= (int)hi[0] && r == PW_OK; i++) r = tiled__add_piece(C, s, i, j, 0, e);
+    }
+    C->first[C->nsrc] = (int)C->npc;
+    C->st.pieces = (int)C->npc;
+    return r;
+}
+
+/* ---- cells: union-find over (triangle, cell) -------------------------------- */
+
+static int tiled__find(int *uf, int x)
+{
+    while (uf[x] != x) {
+        uf[x] = uf[uf[x]];
+        x = uf[x];
+    }
+    return x;
+}
+
+static void tiled__union(int *uf, int x, int y)
+{
+    x = tiled__find(uf, x);
+    y = tiled__find(uf, y);
+    if (x != y) uf[x > y ? x : y] = x < y ? x : y; /* the lower piece is the root */
+}
+
+/* The piece of source triangle src in cell (i, j), or -1. */
+static int tiled__node(const tiled__grid *C, int src, int i, int j)
+{
+    int p;
+    for (p = C->first[src]; p < C->first[src + 1]; p++)
+        if (C->pc[p].ci == i && C->pc[p].cj == j) return p;
+    return -1;
+}
+
+/* A stretch of boundary shared by source triangles sa and sb: its (s, t)
+ * at both ends seen from each (a0/b0 the same point, a1/b1 the other).
+ * Between consecutive grid crossings (seen from sa), the two cells under
+ * the stretch are the same cell: the integer jump of (s, t) between the
+ * sides says which. A jump that is not near an integer (a mismatch next to
+ * a vortex) joins nothing. */
+static void tiled__join(tiled__grid *C, int sa, const double *a0, const double *a1, int sb, const double *b0,
+                        const double *b1)
+{
+    double cut[2 * (TILED__MAX_SPAN + 2)], tmp;
+    int n = 0, k, i, j, x, lo, hi;
+    cut[n++] = 0.0;
+    for (k = 0; k < 2; k++) {
+        if (a0[k] == a1[k]) continue;
+        lo = (int)ceil(a0[k] < a1[k] ? a0[k] : a1[k]);
+        hi = (int)floor(a0[k] < a1[k] ? a1[k] : a0[k]);
+        for (x = lo; x <= hi && n < 2 * TILED__MAX_SPAN; x++) cut[n++] = ((double)x - a0[k]) / (a1[k] - a0[k]);
+    }
+    cut[n++] = 1.0;
+    for (i = 1; i < n; i++) /* insertion sort: few crossings */
+        for (j = i; j > 0 && cut[j - 1] > cut[j]; j--) {
+            tmp = cut[j];
+            cut[j] = cut[j - 1];
+            cut[j - 1] = tmp;
+        }
+    for (i = 0; i + 1 < n; i++) {
+        double u = 0.5 * (cut[i] + cut[i + 1]), sa_[2], d[2];
+        int pa, pb, ok = 1;
+        if (cut[i + 1] - cut[i] < 1e-9) continue;
+        for (k = 0; k < 2; k++) {
+            sa_[k] = a0[k] + u * (a1[k] - a0[k]);
+            d[k] = b0[k] + u * (b1[k] - b0[k]) - sa_[k];
+            ok &= fabs(d[k] - floor(d[k] + 0.5)) < 0.25;
+            d[k] = floor(d[k] + 0.5);
+        }
+        if (!ok) continue;
+        pa = tiled__node(C, sa, (int)floor(sa_[0]), (int)floor(sa_[1]));
+        pb = tiled__node(C, sb, (int)floor(sa_[0]) + (int)d[0], (int)floor(sa_[1]) + (int)d[1]);
+        if (pa >= 0 && pb >= 0) tiled__union(C->uf, pa, pb);
+    }
+}
+
+/* The source triangle of triangle f holding its boundary at corner a + lam. */
+static int tiled__src_at(const tiled__grid *C, int f, int a, double lam)
+{
+    int j = (int)floor(lam * TILED__FAN);
+    if (C->fan[f] < 0) return f;
+    return C->fan[f] + a * TILED__FAN + (j < 0 ? 0 : (j >= TILED__FAN ? TILED__FAN - 1 : j));
+}
+
+/* Joins across every mesh edge (in TILED__FAN parts where a side is a
+ * vortex fan) and across the rays of every fan. */
+static void tiled__join_all(tiled__grid *C)
+{
+    const pw_periodic *P = &C->pp;
+    int h, p, i, f;
+    for (h = 0; h < 3 * P->m.nf; h++) {
+        int t = P->m.hm.twin[h], f0 = h / 3, a = h % 3, g, b, parts;
+        if (t < h) continue;
+        g = t / 3;
+        b = t % 3;
+        parts = C->fan[f0] >= 0 || C->fan[g] >= 0 ? TILED__FAN : 1;
+        for (p = 0; p < parts; p++) {
+            double l0 = (double)p / parts, l1 = (double)(p + 1) / parts, a0[2], a1[2], b0[2], b1[2];
+            double lm = 0.5 * (l0 + l1);
+            tiled__edge_st(C, f0, a, l0, a0);
+            tiled__edge_st(C, f0, a, l1, a1);
+            tiled__edge_st(C, g, b, 1.0 - l0, b0);
+            tiled__edge_st(C, g, b, 1.0 - l1, b1);
+            tiled__join(C, tiled__src_at(C, f0, a, lm), a0, a1, tiled__src_at(C, g, b, 1.0 - lm), b0, b1);
+        }
+    }
+    for (f = 0; f < P->m.nf; f++)
+        for (i = 0; C->fan[f] >= 0 && i < 3 * TILED__FAN; i++) { /* thin i's ray x_{i+1} -> c is thin i+1's */
+            const tiled__src *A = C->src + C->fan[f] + i, *B = C->src + C->fan[f] + (i + 1) % (3 * TILED__FAN);
+            tiled__join(C, C->fan[f] + i, A->st + 4, A->st, C->fan[f] + (i + 1) % (3 * TILED__FAN), B->st + 2, B->st);
+        }
+}
+
+/* Numbers the cells in order of their first piece and lists the shared
+ * sides: a piece with a side on its cell's right (top) line meets the
+ * piece of the same source triangle in the next cell. */
+static int tiled__grid_sides(tiled__grid *C, pw_err *e)
+{
+    int p, k, r = PW_OK;
+    C->cls = (int *)pw_alloc_array(&C->a, C->npc + 1, sizeof(int), "cells", e);
+    if (!C->cls) return PW_ERR_NOMEM;
+    for (p = 0; p < (int)C->npc; p++)
+        C->cls[p] = tiled__find(C->uf, p) == p ? C->ncls++ : C->cls[tiled__find(C->uf, p)];
+    for (p = 0; p < (int)C->npc && r == PW_OK; p++) {
+        const tiled__piece *q = C->pc + p;
+        for (k = 0; k < q->nv && r == PW_OK; k++) {
+            int on = C->pv[q->v0 + k].on & C->pv[q->v0 + (k + 1) % q->nv].on, side, nb;
+            if (!(side = on & 2 ? 1 : (on & 4 ? 2 : 0))) continue;
+            nb = tiled__node(C, q->src, q->ci + (side == 1), q->cj + (side == 2));
+            if (nb < 0) continue;
+            if ((r = pw_grow(&C->a, (void **)&C->adj, &C->adjcap, C->nadj + 1, sizeof *C->adj, "cells", e)) != PW_OK)
+                break;
+            C->adj[C->nadj].a = C->cls[p];
+            C->adj[C->nadj].b = C->cls[nb];
+            C->adj[C->nadj].side = side;
+            C->nadj++;
+        }
+    }
+    return r;
+}
+
+static int tiled__adj_cmp(const void *x, const void *y)
+{
+    const tiled__adj *p = (const tiled__adj *)x, *q = (const tiled__adj *)y;
+    if (p->a != q->a) return p->a < q->a ? -1 : 1;
+    if (p->side != q->side) return p->side < q->side ? -1 : 1;
+    return p->b < q->b ? -1 : p->b > q->b;
+}
+
+/* ---- boundary types: partner sides as a 2-colouring ------------------------- */
+
+/* Root of cell side x and its parity (0: same type as the root, 1: the
+ * partner type). */
+static int tiled__pfind(int *uf, unsigned char *par, int x, int *parity)
+{
+    int r = x, q = 0, nx, px;
+    while (uf[r] != r) {
+        q ^= par[r];
+        r = uf[r];
+    }
+    *parity = q;
+    while (uf[x] != x) { /* compress: point every side on the path at the root */
+        nx = uf[x];
+        px = par[x];
+        uf[x] = r;
+        par[x] = (unsigned char)q;
+        q ^= px;
+        x = nx;
+    }
+    return r;
+}
+
+/* Types of the 4 sides of every cell (side k of cell c at 4c + k): every
+ * shared side asks partners; each group of sides tied together draws a
+ * pair k and an orientation, as AssignBoundaries does per edge. Case 1 has
+ * the one self-matching type 0. */
+static int tiled__side_types(tiled__grid *C, const tiled_layout *l, uint64_t seed, int *types, pw_err *e)
+{
+    int n4 = 4 * C->ncls, i, pa, pb, ra, rb,
+        *uf = (int *)pw_alloc_array(&C->a, (size_t)n4 + 1, sizeof(int), "types", e);
+    unsigned char *par = (unsigned char *)pw_calloc_array(&C->a, (size_t)n4 + 1, 1, "types", e);
+    pw_rng r = pw_rng_seed(seed, 1);
+    if (!uf || !par) {
+        pw_free(&C->a, uf);
+        pw_free(&C->a, par);
+        return PW_ERR_NOMEM;
+    }
+    for (i = 0; i < n4; i++) uf[i] = i;
+    for (i = 0; l->case_number == 2 && i < (int)C->nadj; i++) {
+        ra = tiled__pfind(uf, par, 4 * C->adj[i].a + C->adj[i].side, &pa);
+        rb = tiled__pfind(uf, par, 4 * C->adj[i].b + (C->adj[i].side + 2) % 4, &pb);
+        if (ra == rb) continue; /* an odd cycle shows as a mismatch below */
+        uf[ra > rb ? ra : rb] = ra < rb ? ra : rb;
+        par[ra > rb ? ra : rb] = (unsigned char)(pa ^ pb ^ 1);
+    }
+    for (i = 0; i < n4; i++) types[i] = -1;
+    for (i = 0; i < n4; i++) {
+        int root = tiled__pfind(uf, par, i, &pa);
+        if (l->case_number == 1) types[i] = 0;
+        else if (root == i) {
+            uint32_t x = pw_rng_u32(&r);
+            types[i] = 2 * (int)(((uint64_t)(x >> 1) * (uint32_t)l->pairs) >> 31) + (int)(x & 1u);
+        } else types[i] = types[root] ^ pa; /* the root comes first */
+    }
+    pw_free(&C->a, uf);
+    pw_free(&C->a, par);
+    return PW_OK;
+}
+
+static int tiled__u64_cmp(const void *x, const void *y)
+{
+    uint64_t p = *(const uint64_t *)x, q = *(const uint64_t *)y;
+    return p < q ? -1 : p > q;
+}
+
+/* The figures of tiled_grid_stats over the shared sides (adj sorted,
+ * duplicates once): sides met by two neighbours, mismatched types, the
+ * same tile on both sides, and (tile, side, tile) triples met before.
+ * special (ncls) is set where a cell has a vortex piece or such a side. */
+static int tiled__side_stats(tiled__grid *C, int case1, const int *types, const int *tile, int *special, pw_err *e)
+{
+    int *cnt = (int *)pw_calloc_array(&C->a, (size_t)C->ncls * 4 + 1, sizeof(int), "cells", e);
+    uint64_t *key = (uint64_t *)pw_alloc_array(&C->a, C->nadj + 1, sizeof(uint64_t), "cells", e);
+    int i, n = 0;
+    if (!cnt || !key) {
+        pw_free(&C->a, cnt);
+        pw_free(&C->a, key);
+        return PW_ERR_NOMEM;
+    }
+    for (i = 0; i < (int)C->npc; i++)
+        if (C->pc[i].src >= C->pp.m.nf) special[C->cls[i]] = 1;
+    for (i = 0; i < (int)C->nadj; i++) {
+        const tiled__adj *q = C->adj + i;
+        int ta = types[4 * q->a + q->side], tb = types[4 * q->b + (q->side + 2) % 4];
+        if (i && q[-1].a == q->a && q[-1].side == q->side && q[-1].b == q->b) continue;
+        cnt[4 * q->a + q->side]++;
+        cnt[4 * q->b + (q->side + 2) % 4]++;
+        C->st.grid_edges++;
+        if (tiled__partner(case1, ta) != tb) {
+            C->st.mismatched_edges++;
+            special[q->a] = special[q->b] = 1;
+        }
+        C->st.same_tile_edges += tile[q->a] == tile[q->b];
+        key[n++] =
+            ((uint64_t)(unsigned)tile[q->a] << 33) | ((uint64_t)(unsigned)tile[q->b] << 1) | (uint64_t)(q->side == 2);
+    }
+    qsort(key, (size_t)n, sizeof *key, tiled__u64_cmp);
+    for (i = 1; i < n; i++) C->st.repeated_edges += key[i] == key[i - 1];
+    for (i = 0; i < 4 * C->ncls; i++)
+        if (cnt[i] > 1) special[i / 4] = 1;
+    C->st.cells = C->ncls;
+    for (i = 0; i < C->ncls; i++) C->st.special_cells += special[i];
+    pw_free(&C->a, cnt);
+    pw_free(&C->a, key);
+    return PW_OK;
+}
+
+/* The tile of every cell: the one its four side types name (Fig. 23:
+ * column e0*2n+e1, row e2*2n+e3); case 1 draws one. */
+static void tiled__cell_tiles(const tiled__grid *C, const tiled__geom *gm, int case1, uint64_t seed, const int *types,
+                              int *tile)
+{
+    pw_rng r = pw_rng_seed(seed, 2);
+    int c;
+    for (c = 0; c < C->ncls; c++) {
+        const int *t = types + 4 * c;
+        if (case1) tile[c] = (int)(((uint64_t)pw_rng_u32(&r) * (uint32_t)(gm->N * gm->N)) >> 32);
+        else tile[c] = (t[2] * gm->n + t[3]) * gm->N + t[0] * gm->n + t[1];
+    }
+}
+
+/* ---- the mapped mesh ----------------------------------------------------------- */
+
+/* Writes the pieces as out's faces (corners unshared), each corner's
+ * texture coordinates in its cell's tile and the type of the cell side
+ * it starts, if any. */
+static int tiled__emit(tiled__grid *C, const tiled__geom *gm, const int *types, const int *tile, tiled_mesh *out,
+                       pw_err *e)
+{
+    float *coord = (float *)pw_alloc_array(&C->a, (size_t)gm->N * 2, sizeof(float), "coordinates", e);
+    int p, k, nc = (int)C->npv;
+    memset(out, 0, sizeof *out);
+    out->nverts = nc;
+    out->nfaces = (int)C->npc;
+    out->positions = (float *)pw_alloc_array(&C->a, (size_t)nc * 3, sizeof(float), "mapped mesh", e);
+    out->face_start = (int *)pw_alloc_array(&C->a, C->npc + 1, sizeof(int), "mapped mesh", e);
+    out->face_verts = (int *)pw_alloc_array(&C->a, (size_t)nc, sizeof(int), "mapped mesh", e);
+    out->uvs = (float *)pw_alloc_array(&C->a, (size_t)nc * 2, sizeof(float), "mapped mesh", e);
+    out->corner_types = (int *)pw_alloc_array(&C->a, (size_t)nc, sizeof(int), "mapped mesh", e);
+    out->face_tiles = (int *)pw_alloc_array(&C->a, C->npc + 1, sizeof(int), "mapped mesh", e);
+    out->allocator = tiled__allocator(&C->a);
+    if (!coord || !out->positions || !out->face_start || !out->face_verts || !out->uvs || !out->corner_types ||
+        !out->face_tiles) {
+        pw_free(&C->a, coord);
+        return PW_ERR_NOMEM;
+    }
+    tiled__coord_table(gm, coord);
+    for (p = 0; p < (int)C->npc; p++) {
+        const tiled__piece *q = C->pc + p;
+        int c = C->cls[p], col = tile[c] % gm->N, row = tile[c] / gm->N;
+        double u0 = coord[2 * col], du = (double)coord[2 * col + 1] - u0;
+        double v0 = coord[2 * row], dv = (double)coord[2 * row + 1] - v0;
+        out->face_start[p] = q->v0;
+        out->face_tiles[p] = tile[c];
+        for (k = 0; k < q->nv; k++) {
+            const tiled__pv *v = C->pv + q->v0 + k;
+            int on = v->on & C->pv[q->v0 + (k + 1) % q->nv].on, side = -1, i = q->v0 + k;
+            memcpy(out->positions + 3 * i, v->p, sizeof v->p);
+            out->face_verts[i] = i;
+            out->uvs[2 * i] = (float)(u0 + (v->s - q->ci) * du);
+            out->uvs[2 * i + 1] = (float)(v0 + (v->t - q->cj) * dv);
+            if (on) side = on & 1 ? 0 : (on & 2 ? 1 : (on & 4 ? 2 : 3));
+            out->corner_types[i] = side < 0 ? -1 : types[4 * c + side];
+        }
+    }
+    out->face_start[C->npc] = nc;
+    pw_free(&C->a, coord);
+    return PW_OK;
+}
+
+/* Everything but the output: the parameterization, the pieces, the cells,
+ * their sides' types and their tiles. */
+static int tiled__grid_build(tiled__grid *C, const tiled_mesh *in, const tiled_layout *l, const tiled_options *o,
+                             pw_err *e)
+{
+    pw_progress pr = tiled__progress(o);
+    tiled__geom gm = tiled__geometry(l);
+    int p, r;
+    if ((r = pw_report(&pr, 0.0f, "periodic global parameterization", e)) != PW_OK ||
+        (r = tiled__parameterize(C, in, o, e)) != PW_OK ||
+        (r = pw_report(&pr, 0.7f, "cutting along the grid", e)) != PW_OK || (r = tiled__sources(C, e)) != PW_OK ||
+        (r = tiled__cut(C, e)) != PW_OK)
+        return r;
+    if (!(C->uf = (int *)pw_alloc_array(&C->a, C->npc + 1, sizeof(int), "cells", e))) return PW_ERR_NOMEM;
+    for (p = 0; p < (int)C->npc; p++) C->uf[p] = p;
+    tiled__join_all(C);
+    if ((r = tiled__grid_sides(C, e)) != PW_OK) return r;
+    qsort(C->adj, C->nadj, sizeof *C->adj, tiled__adj_cmp);
+    C->types = (int *)pw_alloc_array(&C->a, (size_t)C->ncls * 4 + 1, sizeof(int), "types", e);
+    C->tile = (int *)pw_calloc_array(&C->a, (size_t)C->ncls * 2 + 1, sizeof(int), "tiles", e);
+    if (!C->types || !C->tile) return PW_ERR_NOMEM;
+    if ((r = tiled__side_types(C, l, o->seed, C->types, e)) != PW_OK) return r;
+    tiled__cell_tiles(C, &gm, l->case_number == 1, o->seed, C->types, C->tile);
+    return tiled__side_stats(C, l->case_number == 1, C->types, C->tile, C->tile + C->ncls, e);
+}
+
+/* tiled_map with opt->scale > 0. */
+static int tiled__map_cells(const pw_alloc *a, const tiled_mesh *in, const tiled_layout *l, const tiled_options *o,
+                            tiled_mesh *out, pw_err *e)
+{
+    tiled__geom gm = tiled__geometry(l);
+    tiled__grid C;
+    int r;
+    memset(&C, 0, sizeof C);
+    C.a = *a;
+    if ((r = tiled__grid_build(&C, in, l, o, e)) == PW_OK &&
+        (r = tiled__emit(&C, &gm, C.types, C.tile, out, e)) != PW_OK)
+        tiled_mesh_free(out);
+    if (r == PW_OK && o->stats) *o->stats = C.st;
+    tiled__grid_free(&C);
+    return r;
+}
+
 /* ---- src/tiled/map.c ---- */
 /* map.c: ch. III.2, the texture mapping algorithm of Fig. 29
  * (AssignBoundaries, AssignTextureCoordinates), and ch. VI: Catmull-Clark
@@ -11407,7 +16273,27 @@ TILEDDEF tiled_result tiled_map(const tiled_mesh *in, const tiled_layout *layout
     memset(&m, 0, sizeof m);
     if (out) memset(out, 0, sizeof *out);
     if (!out || !layout) pw_fail(&pe, PW_ERR_INVALID, "tiled_map: NULL argument");
-    else if (o.subdivide < 0 || o.subdivide > 8 || o.smooth < 0 || o.smooth > 8)
+    else if (!(o.scale >= 0.0f) || !pw_is_finite(o.scale))
+        pw_fail(&pe, PW_ERR_INVALID, "scale %g is not a positive finite number", (double)o.scale);
+    else if (o.scale > 0.0f && (o.field != TILED_FIELD_UP && o.field != TILED_FIELD_CURVATURE))
+        pw_fail(&pe, PW_ERR_INVALID, "unknown field %d", (int)o.field);
+    else if (o.scale > 0.0f && (o.subdivide < 0 || o.subdivide > 8 || o.smooth))
+        pw_fail(&pe, PW_ERR_INVALID, "with scale %g: subdivide must be 0..8 (got %d) and smooth 0 (got %d)",
+                (double)o.scale, o.subdivide, o.smooth);
+    else if (o.scale > 0.0f) { /* any mesh; subdivide: Catmull-Clark first, a finer mesh to cut */
+        if (tiled__resolve(layout, 0, &l, &pe) == PW_OK && tiled__check_mesh(in, &pe) == PW_OK &&
+            (!o.subdivide || tiled__quadrangulate(&a, in, &o, &pr, &m, &pe) == PW_OK)) {
+            tiled_mesh fine = *in;
+            if (o.subdivide) {
+                fine.nverts = m.q.nv;
+                fine.positions = m.q.pos;
+                fine.nfaces = m.q.nf;
+                fine.face_start = m.q.fstart;
+                fine.face_verts = m.q.fv;
+            }
+            tiled__map_cells(&a, &fine, &l, &o, out, &pe);
+        }
+    } else if (o.subdivide < 0 || o.subdivide > 8 || o.smooth < 0 || o.smooth > 8)
         pw_fail(&pe, PW_ERR_INVALID, "subdivide and smooth must be 0..8 (got %d and %d)", o.subdivide, o.smooth);
     else if (tiled__resolve(layout, 0, &l, &pe) == PW_OK && tiled__check_mesh(in, &pe) == PW_OK &&
              tiled__quadrangulate(&a, in, &o, &pr, &m, &pe) == PW_OK &&

@@ -7,7 +7,8 @@
 static const char *tiled_usage =
     "usage: patchwork tiled --mesh FILE [--exemplar IMG | --tiles IMG] [options]\n"
     "\n"
-    "Seamless, singularity-free tiled textures on quad meshes (Kaur 2003).\n"
+    "Seamless, singularity-free tiled textures on quad meshes (Kaur 2003), or\n"
+    "edge-matched tiles of any size on any mesh (--scale).\n"
     "\n"
     "inputs:\n"
     "  --mesh FILE          OBJ, OFF or PLY mesh, or procedural:NAME (cube, torus,\n"
@@ -22,6 +23,11 @@ static const char *tiled_usage =
     "  --case 1|2           2: boundary pairs (default), 1: self-matching boundary\n"
     "  --pairs N            case 2: N boundary pairs, (2N)^4 tiles (default 1)\n"
     "  --grid N             case 1: N x N tiles (default 4)\n"
+    "  --scale S            any mesh: tiles of side S (mesh units) on the grid of\n"
+    "                       a periodic global parameterization, instead of one\n"
+    "                       tile per quad\n"
+    "  --field up|curvature with --scale: tiles upright (+y, default) or along\n"
+    "                       the direction of least curvature\n"
     "  --subdivide K        K more Catmull-Clark levels before mapping: more,\n"
     "                       smaller tiles (default 0)\n"
     "  --smooth K           K Catmull-Clark levels after mapping, carrying the\n"
@@ -61,6 +67,18 @@ static int parse_guard(cli_args *a, tiled_cmd *c)
     return 1;
 }
 
+static int parse_field(cli_args *a, tiled_cmd *c)
+{
+    const char *v;
+    if (!cli_value(a, &v)) return 0;
+    if (!strcmp(v, "up") || !strcmp(v, "curvature")) {
+        c->opt.field = strcmp(v, "up") ? TILED_FIELD_CURVATURE : TILED_FIELD_UP;
+        return 1;
+    }
+    cli_error(a->cmd, "--field: '%s' is not up or curvature", v);
+    return 0;
+}
+
 /* One option; returns 0 on a parse error, -1 for --help. */
 static int parse_one(cli_args *a, tiled_cmd *c)
 {
@@ -79,6 +97,8 @@ static int parse_one(cli_args *a, tiled_cmd *c)
     if (cli_is(a, "--case")) return cli_int(a, 1, 2, &l->case_number);
     if (cli_is(a, "--pairs")) return cli_int(a, 1, 8, &l->pairs);
     if (cli_is(a, "--grid")) return cli_int(a, 1, 256, &l->grid);
+    if (cli_is(a, "--scale")) return cli_float(a, 1e-30f, 1e30f, &c->opt.scale);
+    if (cli_is(a, "--field")) return parse_field(a, c);
     if (cli_is(a, "--subdivide")) return cli_int(a, 0, 8, &c->opt.subdivide);
     if (cli_is(a, "--smooth")) return cli_int(a, 0, 8, &c->opt.smooth);
     if (cli_is(a, "--tile-size")) return cli_int(a, 4, 4096, &l->tile_size);
@@ -194,8 +214,9 @@ static tiled_result warn_small_tiles(const tiled_mesh *quads, const tiled_tilese
                 "patchwork tiled: warning: tiles are drawn about %.1f px wide on %d quads "
                 "(under %.0f px the texture cannot be seen): tiled.h puts one tile on every quad, "
                 "so give it a coarser quad mesh (fewer, larger quads; --subdivide only makes tiles "
-                "smaller), or texture dense meshes such as scans with `patchwork pgp` or "
-                "`patchwork lapped`, whose texture scale does not follow the faces\n",
+                "smaller), or --scale S for tiles of side S on any mesh, or texture dense meshes "
+                "such as scans with `patchwork pgp` or `patchwork lapped`, whose texture scale does "
+                "not follow the faces\n",
                 (double)px, quads->nfaces, (double)MIN_TILE_PX);
     return r;
 }
@@ -205,6 +226,7 @@ static tiled_result run(tiled_cmd *c, cli_outputs *outs, tiled_error *err)
     tiled_mesh mesh, quads;
     tiled_tileset ts;
     tiled_image pic;
+    tiled_grid_stats gs;
     tiled_result r;
     char tex_path[1024];
     memset(&mesh, 0, sizeof mesh);
@@ -215,6 +237,7 @@ static tiled_result run(tiled_cmd *c, cli_outputs *outs, tiled_error *err)
         cli_with_ext(c->out_obj, ".png", tex_path, sizeof tex_path);
         c->out_tiles = tex_path;
     }
+    c->opt.stats = &gs;
     if ((r = load_mesh(c->mesh, &c->opt, &mesh, err)) == TILED_OK &&
         (r = tiled_map(&mesh, &ts.layout, &c->opt, &quads, err)) != TILED_OK) {
         char msg[1400]; /* name the mesh: the library does not know it */
@@ -222,9 +245,16 @@ static tiled_result run(tiled_cmd *c, cli_outputs *outs, tiled_error *err)
         memcpy(err->message, msg, sizeof err->message - 1);
         err->message[sizeof err->message - 1] = 0;
     } else if (r == TILED_OK) {
-        printf("tiled: %d faces -> %d quads; %d x %d tiles of %d px (guard %d)\n", mesh.nfaces, quads.nfaces,
-               ts.tiles_per_side, ts.tiles_per_side, ts.layout.tile_size, ts.layout.guard < 0 ? 0 : ts.layout.guard);
-        if (r == TILED_OK) r = warn_small_tiles(&quads, &ts, &c->opt.render, err);
+        if (c->opt.scale > 0.0f)
+            printf("tiled: %d triangles -> %d pieces in %d cells (%d special, %d vortex triangles); %d shared "
+                   "cell sides, %d mismatched\n",
+                   gs.triangles, gs.pieces, gs.cells, gs.special_cells, gs.vortex_triangles, gs.grid_edges,
+                   gs.mismatched_edges);
+        else
+            printf("tiled: %d faces -> %d quads; %d x %d tiles of %d px (guard %d)\n", mesh.nfaces, quads.nfaces,
+                   ts.tiles_per_side, ts.tiles_per_side, ts.layout.tile_size,
+                   ts.layout.guard < 0 ? 0 : ts.layout.guard);
+        if (r == TILED_OK && c->opt.scale <= 0.0f) r = warn_small_tiles(&quads, &ts, &c->opt.render, err);
         if (r == TILED_OK && c->out_tiles) r = cli_write_image(outs, c->out_tiles, &ts.atlas, err);
         if (r == TILED_OK && c->out_obj) r = write_obj(outs, c->out_obj, c->out_tiles, &quads, err);
         if (r == TILED_OK && c->out_glb) r = write_glb(outs, c->out_glb, &quads, &ts.atlas, &c->opt.render, err);

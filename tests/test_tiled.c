@@ -691,7 +691,9 @@ static int pipeline_with(tiled_options *o, tiled_error *err)
     return r;
 }
 
-static void t_alloc_failures(void)
+/* Every allocation failure of the whole pipeline, one tile per quad
+ * (scale 0) or tiles of side `scale`: NOMEM and nothing leaked. */
+static void alloc_loop(float scale)
 {
     int budget, done = 0;
     for (budget = 0; budget < 100000 && !done; budget++) {
@@ -704,7 +706,9 @@ static void t_alloc_failures(void)
         o.allocator.realloc_fn = pwt_realloc;
         o.allocator.free_fn = pwt_free;
         o.allocator.user = &st;
-        o.smooth = 1;
+        o.smooth = scale > 0.0f ? 0 : 1;
+        o.subdivide = scale > 0.0f;
+        o.scale = scale;
         r = pipeline_with(&o, &err);
         if (r == TILED_OK) done = 1;
         else CHECKF(r == TILED_ERR_NOMEM, "budget %d: %s", budget, err.message);
@@ -714,6 +718,9 @@ static void t_alloc_failures(void)
     CHECK(done);
     pwt_info("%d allocation failure points exercised", budget - 1);
 }
+
+static void t_alloc_failures(void) { alloc_loop(0.0f); }
+static void t_grid_alloc_failures(void) { alloc_loop(1.5f); }
 
 /* ---- real data (make data) --------------------------------------------------- */
 
@@ -930,6 +937,256 @@ static void t_render_options(void)
     tiled_mesh_free(&q);
 }
 
+/* ---- tiles of a chosen size on any mesh (issue 23) ------------------------------ */
+
+/* The grid of a mesh at tile side `scale`: the library's own steps up to
+ * the tiles, so that the cells' shared sides can be measured. */
+static int grid_of(const tiled_mesh *mesh, const tiled_layout *l, const tiled_options *o, tiled__grid *C)
+{
+    pw_err e;
+    int r;
+    pw_err_clear(&e);
+    memset(C, 0, sizeof *C);
+    C->a = tiled__alloc(NULL);
+    r = tiled__grid_build(C, mesh, l, o, &e);
+    CHECKF(r == PW_OK, "grid: %s", e.msg);
+    return r == PW_OK;
+}
+
+/* Every shared cell side: its two cells' tiles name partner types there
+ * (2k against 2k+1, read back from the tiles' places in the atlas), and
+ * the colour jump across it, texel against texel along the side, as
+ * seam_jump does across mesh edges. Returns the mean jump; worst: the
+ * worst side's; *bad: sides whose tiles do not name partner types. */
+static double grid_seam(const tiled_tileset *ts, const tiled__grid *C, double *worst, int *bad)
+{
+    tiled__geom gm = tiled__geometry(&ts->layout);
+    pw_image atlas = tiled__pw_image(&ts->atlas);
+    int k, x, T = gm.T, case1 = ts->layout.case_number == 1;
+    double sum = 0.0;
+    long n = 0;
+    *worst = 0.0;
+    *bad = 0;
+    for (k = 0; k < (int)C->nadj; k++) {
+        const tiled__adj *q = C->adj + k;
+        int sa = q->side, sb = (q->side + 2) % 4, ta[4], tb[4], i, j, i2, j2;
+        double edge = 0.0;
+        if (k && q[-1].a == q->a && q[-1].side == q->side && q[-1].b == q->b) continue;
+        tiled__tile_types(&gm, case1, C->tile[q->a], ta);
+        tiled__tile_types(&gm, case1, C->tile[q->b], tb);
+        *bad += tiled__partner(case1, ta[sa]) != tb[sb];
+        for (x = 0; x < T; x++) {
+            tiled__from_side(sa, T, x, 0, &i, &j);
+            tiled__from_side(sb, T, T - 1 - x, 0, &i2, &j2);
+            edge += tiled__dist(tiled__atlas_px(&atlas, &gm, C->tile[q->a], i, j),
+                                tiled__atlas_px(&atlas, &gm, C->tile[q->b], i2, j2), atlas.c);
+        }
+        sum += edge;
+        n += T;
+        if (edge / T > *worst) *worst = edge / T;
+    }
+    return n ? sum / (double)n : -1.0;
+}
+
+/* Output corners on a cell side carry the type that the piece's tile has
+ * on that side; returns how many do not. */
+static int grid_corner_types(const tiled_tileset *ts, const tiled_mesh *q)
+{
+    tiled__geom gm = tiled__geometry(&ts->layout);
+    int f, k, bad = 0, t[4], s;
+    for (f = 0; f < q->nfaces; f++) {
+        tiled__tile_types(&gm, ts->layout.case_number == 1, q->face_tiles[f], t);
+        for (k = q->face_start[f]; k < q->face_start[f + 1]; k++) {
+            if (q->corner_types[k] < 0) continue;
+            for (s = 0; s < 4 && t[s] != q->corner_types[k]; s++) continue;
+            bad += s == 4;
+        }
+    }
+    return bad;
+}
+
+/* The mode for any mesh on a mesh at side `scale` (subdivide: Catmull-Clark
+ * first): every shared cell side matches, its seams look like the inside
+ * of the tiles, the output's corner types agree, and the figures. */
+static void grid_case(const tiled_mesh *mesh, const char *name, float scale, int subdivide, double max_special)
+{
+    tiled_options o = opts(2, 1);
+    tiled_tileset ts;
+    tiled_mesh q;
+    tiled_grid_stats st;
+    tiled_error err;
+    tiled__grid C;
+    double inside, p90, seam, worst;
+    int bad, r;
+    clock_t t0;
+    o.scale = scale;
+    o.subdivide = subdivide;
+    o.stats = &st;
+    if (!synth("pebbles", &o, &ts)) return;
+    t0 = clock();
+    r = tiled_map(mesh, &ts.layout, &o, &q, &err);
+    CHECKF(r == TILED_OK, "%s: %s", name, err.message);
+    if (r == TILED_OK) {
+        double secs = (double)(clock() - t0) / CLOCKS_PER_SEC;
+        int corners = grid_corner_types(&ts, &q);
+        inside = interior_jump(&ts, &p90);
+        o.subdivide = 0;
+        if (!subdivide && grid_of(mesh, &ts.layout, &o, &C)) {
+            seam = grid_seam(&ts, &C, &worst, &bad);
+            pwt_info("%s at side %g: seam %.4f, worst side %.4f; interior mean %.4f, 90th pct %.4f", name,
+                     (double)scale, seam, worst, inside, p90);
+            CHECKF(bad == 0 && bad == st.mismatched_edges, "%d shared sides without partner types (stats %d)", bad,
+                   st.mismatched_edges);
+            CHECKF(seam >= 0.0 && worst <= p90, "worst side %.4f > interior 90th percentile %.4f", worst, p90);
+            tiled__grid_free(&C);
+        }
+        pwt_info("%s: %d triangles (%d vortex, %.1f%%) -> %d pieces, %d cells, %d special (%.1f%%); %d shared "
+                 "sides, %d mismatched, same tile on both sides %.1f%%, repeated (tile, side, tile) %.1f%%; %.2f s",
+                 name, st.triangles, st.vortex_triangles, 100.0 * st.vortex_triangles / st.triangles, st.pieces,
+                 st.cells, st.special_cells, 100.0 * st.special_cells / st.cells, st.grid_edges, st.mismatched_edges,
+                 100.0 * st.same_tile_edges / st.grid_edges, 100.0 * st.repeated_edges / st.grid_edges, secs);
+        CHECKF(st.mismatched_edges == 0, "%d of %d shared sides mismatched", st.mismatched_edges, st.grid_edges);
+        CHECKF(corners == 0, "%d corners' types are not their tile's", corners);
+        CHECKF(st.cells > 0 && st.special_cells <= max_special * st.cells, "%d of %d cells special (at most %.0f%%)",
+               st.special_cells, st.cells, 100.0 * max_special);
+        /* with 16 tiles and independent sides, the same tile meets itself on
+           1 side in 16 (a periodic texture: on every side); a cell that spans
+           two (special) ties its neighbours' sides together, which makes it
+           2 to 5 times as often on these meshes (a cell next to itself counts) */
+        CHECKF(st.same_tile_edges <= 0.35 * st.grid_edges, "same tile on %d of %d sides", st.same_tile_edges,
+               st.grid_edges);
+        tiled_mesh_free(&q);
+    }
+    tiled_tileset_free(&ts);
+}
+
+static void t_grid_torus(void)
+{
+    tiled_options o = opts(2, 1);
+    tiled_mesh mesh, fine;
+    tiled_error err;
+    tiled_tileset ts = layout_only(2, 1, 8);
+    REQUIRE(tiled_builtin_mesh("torus", &o, &mesh, &err) == TILED_OK);
+    o.subdivide = 2; /* 9,216 triangles: the built-in torus is too coarse for tiles of 0.3 */
+    REQUIRE(tiled_map(&mesh, &ts.layout, &o, &fine, &err) == TILED_OK);
+    grid_case(&fine, "torus (subdivided twice)", 0.3f, 0, 0.4);
+    grid_case(&mesh, "torus --subdivide 2", 0.3f, 2, 0.4);
+    tiled_mesh_free(&mesh);
+    tiled_mesh_free(&fine);
+}
+
+static void t_grid_icosahedron(void)
+{
+    tiled_options o = opts(2, 1);
+    tiled_mesh mesh;
+    tiled_error err;
+    REQUIRE(tiled_builtin_mesh("icosahedron", &o, &mesh, &err) == TILED_OK);
+    grid_case(&mesh, "icosahedron --subdivide 3", 0.3f, 3, 0.4);
+    tiled_mesh_free(&mesh);
+}
+
+static void grid_real(const char *file, float diag_fraction, double max_special)
+{
+    const char *path = pwt_data(file);
+    tiled_options o = opts(2, 1);
+    tiled_mesh mesh;
+    tiled_error err;
+    pw_trimesh tm;
+    pw_err e;
+    pw_mesh v;
+    pw_alloc a = tiled__alloc(NULL);
+    if (!path) return;
+    REQUIRE(tiled_load_mesh(path, &o, &mesh, &err) == TILED_OK);
+    v = tiled__pw_mesh(&mesh);
+    REQUIRE(pw_trimesh_init(&a, &v, &tm, &e) == PW_OK);
+    grid_case(&mesh, file, diag_fraction * tm.diag, 0, max_special);
+    pw_trimesh_free(&a, &tm);
+    tiled_mesh_free(&mesh);
+}
+
+static void t_grid_real_elephant(void) { grid_real("meshes/elephant.off", 0.06f, 0.5); }
+static void t_grid_real_armadillo(void) { grid_real("meshes/armadillo.off", 0.026f, 0.3); }
+static void t_grid_real_bunny(void) { grid_real("meshes/bunny00.off", 0.05f, 0.4); }
+
+/* Same inputs, same mesh; another seed, other tiles on the same cells. */
+static void t_grid_determinism(void)
+{
+    tiled_options o = opts(2, 1);
+    tiled_tileset ts = layout_only(2, 1, 8);
+    tiled_mesh mesh, q[3];
+    tiled_error err;
+    int k, same01, same02;
+    REQUIRE(tiled_builtin_mesh("double-torus", &o, &mesh, &err) == TILED_OK);
+    o.scale = 1.2f;
+    o.subdivide = 2;
+    for (k = 0; k < 3; k++) {
+        o.seed = k == 2 ? 5 : 4;
+        REQUIRE(tiled_map(&mesh, &ts.layout, &o, &q[k], &err) == TILED_OK);
+    }
+    same01 = q[0].nfaces == q[1].nfaces && q[0].nverts == q[1].nverts &&
+             !memcmp(q[0].positions, q[1].positions, sizeof(float) * 3 * q[0].nverts) &&
+             !memcmp(q[0].uvs, q[1].uvs, sizeof(float) * 2 * q[0].nverts) &&
+             !memcmp(q[0].face_tiles, q[1].face_tiles, sizeof(int) * q[0].nfaces);
+    same02 = q[0].nfaces == q[2].nfaces && !memcmp(q[0].face_tiles, q[2].face_tiles, sizeof(int) * q[0].nfaces);
+    CHECK(same01);
+    CHECK(!same02);
+    for (k = 0; k < 3; k++) tiled_mesh_free(&q[k]);
+    tiled_mesh_free(&mesh);
+}
+
+/* Bad sides and options are refused by name, with the range. */
+static void t_grid_bad_input(void)
+{
+    tiled_options o = opts(2, 1);
+    tiled_tileset ts = layout_only(2, 1, 8);
+    tiled_mesh mesh, q;
+    tiled_error err;
+    static const float bad[3] = {-1.0f, 1e9f, 0.001f};
+    int k;
+    REQUIRE(tiled_builtin_mesh("torus", &o, &mesh, &err) == TILED_OK);
+    for (k = 0; k < 3; k++) {
+        o.scale = bad[k];
+        CHECK_EQ_INT(tiled_map(&mesh, &ts.layout, &o, &q, &err), TILED_ERR_INVALID);
+        CHECKF(strstr(err.message, k ? "outside [" : "not a positive") != NULL, "scale %g: %s", (double)bad[k],
+               err.message);
+        CHECK(q.nfaces == 0 && q.positions == NULL);
+    }
+    o.scale = (float)(0.0 * (1e300 * 1e300));
+    CHECK_EQ_INT(tiled_map(&mesh, &ts.layout, &o, &q, &err), TILED_ERR_INVALID);
+    CHECKF(strstr(err.message, "scale") != NULL, "message: %s", err.message);
+    o.scale = 0.5f;
+    o.smooth = 1;
+    CHECK_EQ_INT(tiled_map(&mesh, &ts.layout, &o, &q, &err), TILED_ERR_INVALID);
+    CHECKF(strstr(err.message, "smooth") != NULL, "message: %s", err.message);
+    o.smooth = 0;
+    o.field = (tiled_field)7;
+    CHECK_EQ_INT(tiled_map(&mesh, &ts.layout, &o, &q, &err), TILED_ERR_INVALID);
+    CHECKF(strstr(err.message, "field") != NULL, "message: %s", err.message);
+    tiled_mesh_free(&mesh);
+}
+
+/* The curvature field and case 1 run as well: case 1's one self-matching
+ * type leaves no side unmatched. */
+static void t_grid_curvature_case1(void)
+{
+    tiled_options o = opts(1, 3);
+    tiled_tileset ts = layout_only(1, 3, 8);
+    tiled_mesh mesh, q;
+    tiled_grid_stats st;
+    tiled_error err;
+    REQUIRE(tiled_builtin_mesh("torus", &o, &mesh, &err) == TILED_OK);
+    o.scale = 0.4f;
+    o.subdivide = 2;
+    o.field = TILED_FIELD_CURVATURE;
+    o.stats = &st;
+    REQUIRE(tiled_map(&mesh, &ts.layout, &o, &q, &err) == TILED_OK);
+    pwt_info("curvature field, case 1: %d cells, %d special, %d vortex triangles", st.cells, st.special_cells,
+             st.vortex_triangles);
+    CHECK(st.cells > 0 && st.mismatched_edges == 0 && q.nfaces == st.pieces);
+    tiled_mesh_free(&q);
+    tiled_mesh_free(&mesh);
+}
+
 static const pwt_case cases[] = {
     {"tiled/fig29_formula", t_fig29_formula},
     {"tiled/edge_invariants", t_edge_invariants},
@@ -963,5 +1220,14 @@ static const pwt_case cases[] = {
     {"tiled/render_options", t_render_options},
     {"tiled/motif_cuts_pebbles", t_motif_cuts_pebbles},
     {"tiled/motif_cuts_gimp", t_motif_cuts_gimp},
+    {"tiled/grid_torus", t_grid_torus},
+    {"tiled/grid_icosahedron", t_grid_icosahedron},
+    {"tiled/grid_real_elephant", t_grid_real_elephant},
+    {"tiled/grid_real_armadillo", t_grid_real_armadillo},
+    {"tiled/grid_real_bunny", t_grid_real_bunny},
+    {"tiled/grid_determinism", t_grid_determinism},
+    {"tiled/grid_bad_input", t_grid_bad_input},
+    {"tiled/grid_curvature_case1", t_grid_curvature_case1},
+    {"tiled/grid_alloc_failures", t_grid_alloc_failures},
 };
 PWT_MAIN(cases)

@@ -2,7 +2,7 @@
  * (AssignBoundaries, AssignTextureCoordinates), and ch. VI: Catmull-Clark
  * subdivision before mapping (any polygon mesh made all quads) and after
  * it, carrying the texture along (Figs. 30, 31). */
-#include "layout.c"
+#include "cells.c"
 
 static int tiled__all_quads(const pw_mesh *m)
 {
@@ -226,7 +226,27 @@ TILEDDEF tiled_result tiled_map(const tiled_mesh *in, const tiled_layout *layout
     memset(&m, 0, sizeof m);
     if (out) memset(out, 0, sizeof *out);
     if (!out || !layout) pw_fail(&pe, PW_ERR_INVALID, "tiled_map: NULL argument");
-    else if (o.subdivide < 0 || o.subdivide > 8 || o.smooth < 0 || o.smooth > 8)
+    else if (!(o.scale >= 0.0f) || !pw_is_finite(o.scale))
+        pw_fail(&pe, PW_ERR_INVALID, "scale %g is not a positive finite number", (double)o.scale);
+    else if (o.scale > 0.0f && (o.field != TILED_FIELD_UP && o.field != TILED_FIELD_CURVATURE))
+        pw_fail(&pe, PW_ERR_INVALID, "unknown field %d", (int)o.field);
+    else if (o.scale > 0.0f && (o.subdivide < 0 || o.subdivide > 8 || o.smooth))
+        pw_fail(&pe, PW_ERR_INVALID, "with scale %g: subdivide must be 0..8 (got %d) and smooth 0 (got %d)",
+                (double)o.scale, o.subdivide, o.smooth);
+    else if (o.scale > 0.0f) { /* any mesh; subdivide: Catmull-Clark first, a finer mesh to cut */
+        if (tiled__resolve(layout, 0, &l, &pe) == PW_OK && tiled__check_mesh(in, &pe) == PW_OK &&
+            (!o.subdivide || tiled__quadrangulate(&a, in, &o, &pr, &m, &pe) == PW_OK)) {
+            tiled_mesh fine = *in;
+            if (o.subdivide) {
+                fine.nverts = m.q.nv;
+                fine.positions = m.q.pos;
+                fine.nfaces = m.q.nf;
+                fine.face_start = m.q.fstart;
+                fine.face_verts = m.q.fv;
+            }
+            tiled__map_cells(&a, &fine, &l, &o, out, &pe);
+        }
+    } else if (o.subdivide < 0 || o.subdivide > 8 || o.smooth < 0 || o.smooth > 8)
         pw_fail(&pe, PW_ERR_INVALID, "subdivide and smooth must be 0..8 (got %d and %d)", o.subdivide, o.smooth);
     else if (tiled__resolve(layout, 0, &l, &pe) == PW_OK && tiled__check_mesh(in, &pe) == PW_OK &&
              tiled__quadrangulate(&a, in, &o, &pr, &m, &pe) == PW_OK &&

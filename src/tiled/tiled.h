@@ -234,8 +234,37 @@ typedef struct tiled_render_options {
 
 /* Options. Zero-initialised means defaults; tiled_default_options() returns
  * them filled in. */
+/* The field the tiles follow in the mode for any mesh (tiled_options.scale),
+ * as pgp.h's: a tile's t axis along +y projected onto the surface, or along
+ * the direction of least curvature. */
+typedef enum tiled_field { TILED_FIELD_UP = 0, TILED_FIELD_CURVATURE = 1 } tiled_field;
+
+/* What the mode for any mesh did (tiled_options.stats). A cell is one
+ * square of the integer grid of the periodic parameterization: one tile. */
+typedef struct tiled_grid_stats {
+    int triangles;        /* triangles of the input (polygons fan-triangulated) */
+    int vortex_triangles; /* of them, where the grid winds (a T-junction):
+                             cut into a fan around the pattern's end point */
+    int pieces;           /* faces of the output: triangles cut along the grid */
+    int cells;            /* cells, one tile each */
+    int special_cells;    /* cells touching a vortex fan or whose neighbours
+                             disagree (two neighbours on one side) */
+    int grid_edges;       /* cell sides shared by two cells */
+    int mismatched_edges; /* of them, sides whose types could not be made partners */
+    int same_tile_edges;  /* of them, the same tile on both sides */
+    int repeated_edges;   /* of them, a (tile, side, tile) seen on an earlier edge */
+} tiled_grid_stats;
+
 typedef struct tiled_options {
     tiled_layout layout;
+    float scale;                 /* > 0: the mode for any triangle or polygon mesh
+                                (beyond the thesis): tiles of this side, in mesh
+                                units, on the integer grid of a periodic global
+                                parameterization (as pgp.h's), every cell one
+                                tile matching its neighbours; 0 (default): one
+                                tile per quad */
+    tiled_field field;           /* with scale: the field the tiles follow */
+    tiled_grid_stats *stats;     /* with scale: filled in when not NULL */
     unsigned long long seed;     /* RNG seed; default 0 */
     int subdivide;               /* extra Catmull-Clark levels once the mesh is all
                                 quads, before mapping (more, smaller tiles);
@@ -322,7 +351,15 @@ TILEDDEF void tiled_tileset_free(tiled_tileset *ts);
  * AssignTextureCoordinates for `layout` (use the tile set's), then
  * opt->smooth levels of Catmull-Clark that carry the mapping along. The
  * output mesh has uvs, corner_types (-1 on edges made by smoothing) and
- * face_tiles. */
+ * face_tiles.
+ * With opt->scale > 0, any mesh instead: a periodic global parameterization
+ * (s, t) along opt->field, with tiles of side opt->scale (2 mean edge
+ * lengths to 10 bounding-box diagonals; opt->subdivide levels of
+ * Catmull-Clark first make a coarse mesh fine enough, opt->smooth must be
+ * 0); the triangles are cut along the
+ * integer grid lines, every grid cell gets the tile its four sides' types
+ * name and every shared side partner types. The output's faces are the
+ * pieces (polygons in one cell each, corner_types -1 inside cells). */
 TILEDDEF tiled_result tiled_map(const tiled_mesh *in, const tiled_layout *layout, const tiled_options *opt,
                                 tiled_mesh *out, tiled_error *err);
 

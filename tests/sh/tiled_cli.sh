@@ -15,6 +15,7 @@ elif [ ! -s "$tmp/dense.png" ]; then fail dense_warns "no image written"
 elif [ -z "$px" ]; then fail dense_warns "no size in the warning: $(cat "$tmp/err")"
 elif ! awk -v p="$px" 'BEGIN { exit !(p > 0 && p < 16) }'; then fail dense_warns "tile size $px px, expected under 16"
 elif ! grep -q -- "coarser quad mesh" "$tmp/err" || ! grep -q -- "--subdivide" "$tmp/err" ||
+     ! grep -q -- "--scale S" "$tmp/err" ||
      ! grep -q "patchwork pgp" "$tmp/err" || ! grep -q "patchwork lapped" "$tmp/err"; then
     fail dense_warns "the warning does not say what to do: $(cat "$tmp/err")"
 else pass dense_warns; fi
@@ -34,3 +35,35 @@ else pass coarse_quiet; fi
 if ! grep -q "tiles are drawn" "$tmp/err1"; then fail size_matters "no warning at 200x150: $(cat "$tmp/err1")"
 elif [ -s "$tmp/err2" ]; then fail size_matters "warning at 4000x3000: $(cat "$tmp/err2")"
 else pass size_matters; fi
+
+# any mesh (issue 23): tiles of a given side on the grid of a periodic
+# parameterization; the figures on stdout, no small-tile warning, OBJ and
+# glTF written
+"$bin" tiled --mesh procedural:torus --subdivide 2 --scale 0.3 --out-image "$tmp/pic.png" --size 200x150 \
+    --out-obj "$tmp/grid.obj" --out-glb "$tmp/grid.glb" > "$tmp/out" 2> "$tmp/err"
+status=$?
+if [ $status -ne 0 ]; then fail grid_mode "exit status $status: $(cat "$tmp/err")"
+elif [ ! -s "$tmp/pic.png" ] || [ ! -s "$tmp/grid.obj" ] || [ ! -s "$tmp/grid.glb" ] || [ ! -s "$tmp/grid.png" ]; then
+    fail grid_mode "an output is missing"
+elif ! grep -q "pieces in [0-9]* cells" "$tmp/out" || ! grep -q " 0 mismatched" "$tmp/out"; then
+    fail grid_mode "unexpected summary: $(cat "$tmp/out")"
+elif [ -s "$tmp/err" ]; then fail grid_mode "unexpected stderr: $(cat "$tmp/err")"
+else pass grid_mode; fi
+
+# tile sides the mesh cannot carry are refused with the range; so are
+# negative and non-numeric ones and an unknown field
+"$bin" tiled --mesh procedural:torus --scale 1000 --out-image "$tmp/x.png" > "$tmp/out" 2> "$tmp/err"
+status=$?
+if [ $status -eq 0 ] || ! grep -q "tile side 1000 is outside \[" "$tmp/err"; then
+    fail grid_bad_scale "status $status: $(cat "$tmp/err")"
+else pass grid_bad_scale; fi
+bad=0
+for args in "--scale -1" "--scale nan" "--scale x" "--scale 0.3 --field sideways"; do
+    # shellcheck disable=SC2086
+    if "$bin" tiled --mesh procedural:torus $args --out-image "$tmp/x.png" > "$tmp/out" 2> "$tmp/err" ||
+        ! grep -q -- "--" "$tmp/err"; then
+        bad=1
+        fail grid_bad_flags "$args accepted or no message: $(cat "$tmp/err")"
+    fi
+done
+[ $bad -eq 0 ] && pass grid_bad_flags
