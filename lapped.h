@@ -8955,7 +8955,7 @@ PW__DEF void pw_texture_sample(const pw_texture *t, float u, float v, float lod,
         return;
     }
     pw__tex_trilinear(t, u, v, filter == PW_FILTER_TRILINEAR ? lod : 0.0f, wrap, a);
-    for (k = 0; k < 4; k++) out[k] = a[k] * s;
+    for (k = 0; k < 4; k++) out[k] = pw_clampf(a[k] * s, 0.0f, 1.0f); /* the weights' rounding may pass 1 */
 }
 
 /* log2(x) from the exponent bits and the series of atanh: about 2e-5

@@ -10063,7 +10063,7 @@ PW__DEF void pw_texture_sample(const pw_texture *t, float u, float v, float lod,
         return;
     }
     pw__tex_trilinear(t, u, v, filter == PW_FILTER_TRILINEAR ? lod : 0.0f, wrap, a);
-    for (k = 0; k < 4; k++) out[k] = a[k] * s;
+    for (k = 0; k < 4; k++) out[k] = pw_clampf(a[k] * s, 0.0f, 1.0f); /* the weights' rounding may pass 1 */
 }
 
 /* log2(x) from the exponent bits and the series of atanh: about 2e-5
@@ -15990,7 +15990,7 @@ PW__DEF void pw_tile3_sample(const pw_tile3 *tile, float s, float t, float m, fl
         pw__tex_trilinear(&tile->layer[k0 + 1], s, t, lod, PW_WRAP_REPEAT, b);
         for (i = 0; i < 4; i++) a[i] += f * (b[i] - a[i]);
     }
-    for (i = 0; i < 4; i++) out[i] = a[i] * scale;
+    for (i = 0; i < 4; i++) out[i] = pw_clampf(a[i] * scale, 0.0f, 1.0f); /* the weights' rounding may pass 1 */
 }
 
 #endif /* PW__TILE3_V1 */

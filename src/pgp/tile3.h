@@ -102,7 +102,7 @@ PW__DEF void pw_tile3_sample(const pw_tile3 *tile, float s, float t, float m, fl
         pw__tex_trilinear(&tile->layer[k0 + 1], s, t, lod, PW_WRAP_REPEAT, b);
         for (i = 0; i < 4; i++) a[i] += f * (b[i] - a[i]);
     }
-    for (i = 0; i < 4; i++) out[i] = a[i] * scale;
+    for (i = 0; i < 4; i++) out[i] = pw_clampf(a[i] * scale, 0.0f, 1.0f); /* the weights' rounding may pass 1 */
 }
 
 #endif /* PW__TILE3_V1 */
