@@ -16,37 +16,37 @@
  *   6005: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
  *   6429: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
  *   7815: src/common/zsparse.h, complex Hermitian sparse systems, solved by conjugate grad
- *   8075: src/common/zamg.h, a smoothed-aggregation multigrid preconditioner for the co
- *   8730: src/common/raster.h, exact scan conversion of 2D triangles.
- *   9242: src/common/parallel.h, a parallel for, the one way work is split across threads.
- *   9370: src/common/render.h, a small deterministic software renderer for textured trian
- *  11222: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
- *  11409: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
- *  11494: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
- *  11683: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
- *  12603: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
- *  13301: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
- *  13537: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
- *  14301: src/common/periodic.h, the periodic global parameterization of a triangle mesh al
- *  15129: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
- *  15890: src/pgp/tile3.h, sampling a material-space tile (Ray et al. 2009, §2: "a 3
- *  15998: src/common/glue.h, what every method header needs between its public types an
- *  16334: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  16998: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
- *  17495: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
- *  17981: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
- *  18124: src/common/kdtree.h, nearest-neighbour search among n points of dimension d, wi
- *  18467: src/common/pca.h, principal component analysis of vectors streamed one at a 
- *  18654: src/pgp/core.c, pgp.h's glue to the shared core, its defaults, and the map
- *  18867: src/pgp/field.c, §2.1 effect areas and §2.2 interpolation of the constrai
- *  19066: src/pgp/solve.c, §2.3 the periodic global parameterization, the recovery o
- *  19485: src/pgp/edit.c, the public editing calls of a mapping. §2.1 (Ray, Lévy, 
- *  19630: src/pgp/render.c, §3 rendering, and a cleaner treatment of the vortices.
- *  19991: src/pgp/builtin.c, built-in meshes and material-space tiles for demos and tes
- *  20260: src/pgp/io.c, files and memory for pgp.h: material-space tiles (NRRD, or
- *  20608: src/pgp/export.c, the mapping for other programs. A viewer that knows nothin
- *  20834: src/pgp/morph.c, the inputs of §1 (keys brought to the tile size, made til
- *  21513: src/pgp/synth.c, §1.2 constrained tile synthesis, and the whole of §1: ke
+ *   8098: src/common/zamg.h, a smoothed-aggregation multigrid preconditioner for the co
+ *   8741: src/common/raster.h, exact scan conversion of 2D triangles.
+ *   9253: src/common/parallel.h, a parallel for, the one way work is split across threads.
+ *   9381: src/common/render.h, a small deterministic software renderer for textured trian
+ *  11233: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
+ *  11420: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
+ *  11505: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
+ *  11694: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
+ *  12614: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
+ *  13312: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
+ *  13548: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
+ *  14312: src/common/periodic.h, the periodic global parameterization of a triangle mesh al
+ *  15140: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
+ *  15901: src/pgp/tile3.h, sampling a material-space tile (Ray et al. 2009, §2: "a 3
+ *  16009: src/common/glue.h, what every method header needs between its public types an
+ *  16345: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  17009: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
+ *  17506: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
+ *  17992: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
+ *  18135: src/common/kdtree.h, nearest-neighbour search among n points of dimension d, wi
+ *  18478: src/common/pca.h, principal component analysis of vectors streamed one at a 
+ *  18665: src/pgp/core.c, pgp.h's glue to the shared core, its defaults, and the map
+ *  18878: src/pgp/field.c, §2.1 effect areas and §2.2 interpolation of the constrai
+ *  19077: src/pgp/solve.c, §2.3 the periodic global parameterization, the recovery o
+ *  19496: src/pgp/edit.c, the public editing calls of a mapping. §2.1 (Ray, Lévy, 
+ *  19641: src/pgp/render.c, §3 rendering, and a cleaner treatment of the vortices.
+ *  20002: src/pgp/builtin.c, built-in meshes and material-space tiles for demos and tes
+ *  20271: src/pgp/io.c, files and memory for pgp.h: material-space tiles (NRRD, or
+ *  20619: src/pgp/export.c, the mapping for other programs. A viewer that knows nothin
+ *  20845: src/pgp/morph.c, the inputs of §1 (keys brought to the tile size, made til
+ *  21524: src/pgp/synth.c, §1.2 constrained tile synthesis, and the whole of §1: ke
  */
 /* pgp.h - material-space texturing with a periodic global parameterization.
  *
@@ -8045,6 +8045,25 @@ PW__DEF double pw__zcsr_op_mul(const void *A, const double *x, double *y)
 
 PW__DEF void pw__zic0_op(const void *M, const double *r, double *z) { pw_zic0_apply((const pw_zic0 *)M, r, z); }
 
+/* The complex PCG of op on the matrix A = op->actx (op's b, x, precond,
+ * mctx and what filled in): the inputs checked, the solve shown to
+ * PW_SOLVE_HOOK as `kind`, then the iterations. */
+PW__DEF int pw__zpcg_checked(const pw_alloc *a, pw__pcg_op *op, const char *kind, const pw_cg_options *o,
+                             pw_cg_stats *s, pw_err *e)
+{
+    const pw_zcsr *A = (const pw_zcsr *)op->actx;
+    if (s) memset(s, 0, sizeof *s);
+    if (pw__check_vec(op->b, 2 * A->n, "complex PCG right-hand side b", e) ||
+        pw__check_vec(op->x, 2 * A->n, "complex PCG guess x", e) ||
+        pw__check_vec(A->val, 2 * A->rowptr[A->n], "complex matrix", e))
+        return PW_ERR_INVALID;
+    (void)kind; /* seen by PW_SOLVE_HOOK only */
+    PW_SOLVE_HOOK(kind, A, op->b, op->x, o);
+    op->n = 2 * A->n;
+    op->mul = pw__zcsr_op_mul;
+    return pw__pcg_run(a, op, o, s, e);
+}
+
 /* Solves A x = b (complex, 2n doubles each; x the warm start) for a
  * Hermitian positive definite A, by CG preconditioned with M = pw_zic0 of
  * A; options, stopping rule (|b - A x| <= tol |b|) and errors as
@@ -8053,21 +8072,25 @@ PW__DEF int pw_zpcg_solve(const pw_alloc *a, const pw_zcsr *A, const pw_zic0 *M,
                           const pw_cg_options *o, pw_cg_stats *s, pw_err *e)
 {
     pw__pcg_op op;
-    if (s) memset(s, 0, sizeof *s);
-    if (pw__check_vec(b, 2 * A->n, "complex PCG right-hand side b", e) ||
-        pw__check_vec(x, 2 * A->n, "complex PCG guess x", e) ||
-        pw__check_vec(A->val, 2 * A->rowptr[A->n], "complex matrix", e))
-        return PW_ERR_INVALID;
-    PW_SOLVE_HOOK("zpcg", A, b, x, o);
-    op.n = 2 * A->n;
-    op.mul = pw__zcsr_op_mul;
     op.precond = pw__zic0_op;
     op.actx = A;
     op.mctx = M;
     op.b = b;
     op.x = x;
     op.what = "complex PCG";
-    return pw__pcg_run(a, &op, o, s, e);
+    return pw__zpcg_checked(a, &op, "zpcg", o, s, e);
+}
+
+/* pw_zpcg_solve with A's own IC(0) factor, made and freed here. */
+PW__DEF int pw_zic0_solve(const pw_alloc *a, const pw_zcsr *A, const double *b, double *x, const pw_cg_options *o,
+                          pw_err *e)
+{
+    pw_zic0 L;
+    int r;
+    if ((r = pw_zic0_factor(a, A, &L, e)) != PW_OK) return r;
+    r = pw_zpcg_solve(a, A, &L, b, x, o, NULL, e);
+    pw_zic0_free(a, &L);
+    return r;
 }
 
 #endif /* PW__ZSPARSE_V1 */
@@ -8651,21 +8674,13 @@ PW__DEF int pw_zamg_solve(const pw_alloc *a, const pw_zcsr *A, const pw_zamg *M,
                           const pw_cg_options *o, pw_cg_stats *s, pw_err *e)
 {
     pw__pcg_op op;
-    if (s) memset(s, 0, sizeof *s);
-    if (pw__check_vec(b, 2 * A->n, "multigrid PCG right-hand side b", e) ||
-        pw__check_vec(x, 2 * A->n, "multigrid PCG guess x", e) ||
-        pw__check_vec(A->val, 2 * A->rowptr[A->n], "complex matrix", e))
-        return PW_ERR_INVALID;
-    PW_SOLVE_HOOK("zamg", A, b, x, o);
-    op.n = 2 * A->n;
-    op.mul = pw__zcsr_op_mul;
     op.precond = pw__zamg_op;
     op.actx = A;
     op.mctx = M;
     op.b = b;
     op.x = x;
     op.what = "multigrid PCG";
-    return pw__pcg_run(a, &op, o, s, e);
+    return pw__zpcg_checked(a, &op, "zamg", o, s, e);
 }
 
 /* Unknowns from which multigrid pays against IC(0) (its setup costs about
@@ -8705,7 +8720,6 @@ PW__DEF int pw_zamg_pays(const pw_zcsr *A)
 PW__DEF int pw_zpd_solve(const pw_alloc *a, const pw_zcsr *A, const double *b, double *x, const pw_cg_options *o,
                          pw_err *e)
 {
-    pw_zic0 L;
     int r;
     if (pw_zamg_pays(A)) {
         pw_zamg M;
@@ -8719,10 +8733,7 @@ PW__DEF int pw_zpd_solve(const pw_alloc *a, const pw_zcsr *A, const double *b, d
         }
         if (r != PW_ERR_INVALID) return pw_fail(e, r, "%s", se.msg);
     }
-    if ((r = pw_zic0_factor(a, A, &L, e)) != PW_OK) return r;
-    r = pw_zpcg_solve(a, A, &L, b, x, o, NULL, e);
-    pw_zic0_free(a, &L);
-    return r;
+    return pw_zic0_solve(a, A, b, x, o, e);
 }
 
 #endif /* PW__ZAMG_V1 */
@@ -14906,10 +14917,10 @@ PW__DEF int pw_periodic_solve_k(pw_periodic *P, double *z, const int *id, int n,
                 rhs[2 * q + 1] = b[2 * q + 1] + mu * dg[q] * z[2 * v + 1];
             }
         o.tol = step < PW_PERIODIC_STEPS - 1 ? 1e-3 : 1e-4; /* each step is normalised: no need for more */
-        if (r ==
-            PW_OK) /* the steps' matrices differ in the diagonal only: level 0 sees it, the coarse levels need not */
+        /* the steps' matrices differ in the diagonal only: level 0 sees it, the coarse levels need not */
+        if (r == PW_OK)
             r = multigrid && pw_zamg_pays(&A) ? pw_zamg_solve(&P->a, &A, &M, rhs, x, &o, NULL, e)
-                                              : pw_zpd_solve(&P->a, &A, rhs, x, &o, e);
+                                              : pw_zic0_solve(&P->a, &A, rhs, x, &o, e);
         for (v = 0; r == PW_OK && v < P->m.nv; v++)
             if ((q = id[v]) >= 0) {
                 double zz[2];

@@ -17,27 +17,27 @@
  *   6250: src/common/subdiv.h, Catmull-Clark subdivision (Catmull and Clark 1978) with
  *   6389: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
  *   7775: src/common/zsparse.h, complex Hermitian sparse systems, solved by conjugate grad
- *   8035: src/common/zamg.h, a smoothed-aggregation multigrid preconditioner for the co
- *   8690: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
- *   8877: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
- *   8962: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
- *   9726: src/common/periodic.h, the periodic global parameterization of a triangle mesh al
- *  10554: src/common/raster.h, exact scan conversion of 2D triangles.
- *  11068: src/common/parallel.h, a parallel for, the one way work is split across threads.
- *  11196: src/common/render.h, a small deterministic software renderer for textured trian
- *  13048: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
- *  13545: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
- *  14031: src/common/glue.h, what every method header needs between its public types an
- *  14367: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  15031: src/tiled/core.c, tiled.h's glue to the shared core, its defaults, result
- *  15120: src/tiled/layout.c, ch. III.1, the boundary types and the tiled texture they
- *  15392: src/tiled/cells.c, beyond the thesis (issue 23): tiles of a chosen size on an
- *  16048: src/tiled/map.c, ch. III.2, the texture mapping algorithm of Fig. 29
- *  16317: src/tiled/synth.c, ch. III.1.3, tiled texture image synthesis: an edge-matche
- *  16763: src/tiled/validate.c, checks a hand-made tiled texture (the thesis's Figs. 39,
- *  16891: src/tiled/builtin.c, built-in meshes and exemplars for demos and tests: the
- *  17088: src/tiled/render.c, a software rendering of a mapped mesh (the thesis rendered
- *  17311: src/tiled/io.c, files. Meshes and exemplars in; the mapped mesh with its t
+ *   8058: src/common/zamg.h, a smoothed-aggregation multigrid preconditioner for the co
+ *   8701: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
+ *   8888: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
+ *   8973: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
+ *   9737: src/common/periodic.h, the periodic global parameterization of a triangle mesh al
+ *  10565: src/common/raster.h, exact scan conversion of 2D triangles.
+ *  11079: src/common/parallel.h, a parallel for, the one way work is split across threads.
+ *  11207: src/common/render.h, a small deterministic software renderer for textured trian
+ *  13059: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
+ *  13556: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
+ *  14042: src/common/glue.h, what every method header needs between its public types an
+ *  14378: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  15042: src/tiled/core.c, tiled.h's glue to the shared core, its defaults, result
+ *  15131: src/tiled/layout.c, ch. III.1, the boundary types and the tiled texture they
+ *  15403: src/tiled/cells.c, beyond the thesis (issue 23): tiles of a chosen size on an
+ *  16059: src/tiled/map.c, ch. III.2, the texture mapping algorithm of Fig. 29
+ *  16328: src/tiled/synth.c, ch. III.1.3, tiled texture image synthesis: an edge-matche
+ *  16774: src/tiled/validate.c, checks a hand-made tiled texture (the thesis's Figs. 39,
+ *  16902: src/tiled/builtin.c, built-in meshes and exemplars for demos and tests: the
+ *  17099: src/tiled/render.c, a software rendering of a mapped mesh (the thesis rendered
+ *  17322: src/tiled/io.c, files. Meshes and exemplars in; the mapped mesh with its t
  */
 /* tiled.h - seamless, singularity-free tiled textures on quad meshes.
  *
@@ -8005,6 +8005,25 @@ PW__DEF double pw__zcsr_op_mul(const void *A, const double *x, double *y)
 
 PW__DEF void pw__zic0_op(const void *M, const double *r, double *z) { pw_zic0_apply((const pw_zic0 *)M, r, z); }
 
+/* The complex PCG of op on the matrix A = op->actx (op's b, x, precond,
+ * mctx and what filled in): the inputs checked, the solve shown to
+ * PW_SOLVE_HOOK as `kind`, then the iterations. */
+PW__DEF int pw__zpcg_checked(const pw_alloc *a, pw__pcg_op *op, const char *kind, const pw_cg_options *o,
+                             pw_cg_stats *s, pw_err *e)
+{
+    const pw_zcsr *A = (const pw_zcsr *)op->actx;
+    if (s) memset(s, 0, sizeof *s);
+    if (pw__check_vec(op->b, 2 * A->n, "complex PCG right-hand side b", e) ||
+        pw__check_vec(op->x, 2 * A->n, "complex PCG guess x", e) ||
+        pw__check_vec(A->val, 2 * A->rowptr[A->n], "complex matrix", e))
+        return PW_ERR_INVALID;
+    (void)kind; /* seen by PW_SOLVE_HOOK only */
+    PW_SOLVE_HOOK(kind, A, op->b, op->x, o);
+    op->n = 2 * A->n;
+    op->mul = pw__zcsr_op_mul;
+    return pw__pcg_run(a, op, o, s, e);
+}
+
 /* Solves A x = b (complex, 2n doubles each; x the warm start) for a
  * Hermitian positive definite A, by CG preconditioned with M = pw_zic0 of
  * A; options, stopping rule (|b - A x| <= tol |b|) and errors as
@@ -8013,21 +8032,25 @@ PW__DEF int pw_zpcg_solve(const pw_alloc *a, const pw_zcsr *A, const pw_zic0 *M,
                           const pw_cg_options *o, pw_cg_stats *s, pw_err *e)
 {
     pw__pcg_op op;
-    if (s) memset(s, 0, sizeof *s);
-    if (pw__check_vec(b, 2 * A->n, "complex PCG right-hand side b", e) ||
-        pw__check_vec(x, 2 * A->n, "complex PCG guess x", e) ||
-        pw__check_vec(A->val, 2 * A->rowptr[A->n], "complex matrix", e))
-        return PW_ERR_INVALID;
-    PW_SOLVE_HOOK("zpcg", A, b, x, o);
-    op.n = 2 * A->n;
-    op.mul = pw__zcsr_op_mul;
     op.precond = pw__zic0_op;
     op.actx = A;
     op.mctx = M;
     op.b = b;
     op.x = x;
     op.what = "complex PCG";
-    return pw__pcg_run(a, &op, o, s, e);
+    return pw__zpcg_checked(a, &op, "zpcg", o, s, e);
+}
+
+/* pw_zpcg_solve with A's own IC(0) factor, made and freed here. */
+PW__DEF int pw_zic0_solve(const pw_alloc *a, const pw_zcsr *A, const double *b, double *x, const pw_cg_options *o,
+                          pw_err *e)
+{
+    pw_zic0 L;
+    int r;
+    if ((r = pw_zic0_factor(a, A, &L, e)) != PW_OK) return r;
+    r = pw_zpcg_solve(a, A, &L, b, x, o, NULL, e);
+    pw_zic0_free(a, &L);
+    return r;
 }
 
 #endif /* PW__ZSPARSE_V1 */
@@ -8611,21 +8634,13 @@ PW__DEF int pw_zamg_solve(const pw_alloc *a, const pw_zcsr *A, const pw_zamg *M,
                           const pw_cg_options *o, pw_cg_stats *s, pw_err *e)
 {
     pw__pcg_op op;
-    if (s) memset(s, 0, sizeof *s);
-    if (pw__check_vec(b, 2 * A->n, "multigrid PCG right-hand side b", e) ||
-        pw__check_vec(x, 2 * A->n, "multigrid PCG guess x", e) ||
-        pw__check_vec(A->val, 2 * A->rowptr[A->n], "complex matrix", e))
-        return PW_ERR_INVALID;
-    PW_SOLVE_HOOK("zamg", A, b, x, o);
-    op.n = 2 * A->n;
-    op.mul = pw__zcsr_op_mul;
     op.precond = pw__zamg_op;
     op.actx = A;
     op.mctx = M;
     op.b = b;
     op.x = x;
     op.what = "multigrid PCG";
-    return pw__pcg_run(a, &op, o, s, e);
+    return pw__zpcg_checked(a, &op, "zamg", o, s, e);
 }
 
 /* Unknowns from which multigrid pays against IC(0) (its setup costs about
@@ -8665,7 +8680,6 @@ PW__DEF int pw_zamg_pays(const pw_zcsr *A)
 PW__DEF int pw_zpd_solve(const pw_alloc *a, const pw_zcsr *A, const double *b, double *x, const pw_cg_options *o,
                          pw_err *e)
 {
-    pw_zic0 L;
     int r;
     if (pw_zamg_pays(A)) {
         pw_zamg M;
@@ -8679,10 +8693,7 @@ PW__DEF int pw_zpd_solve(const pw_alloc *a, const pw_zcsr *A, const double *b, d
         }
         if (r != PW_ERR_INVALID) return pw_fail(e, r, "%s", se.msg);
     }
-    if ((r = pw_zic0_factor(a, A, &L, e)) != PW_OK) return r;
-    r = pw_zpcg_solve(a, A, &L, b, x, o, NULL, e);
-    pw_zic0_free(a, &L);
-    return r;
+    return pw_zic0_solve(a, A, b, x, o, e);
 }
 
 #endif /* PW__ZAMG_V1 */
@@ -10331,10 +10342,10 @@ PW__DEF int pw_periodic_solve_k(pw_periodic *P, double *z, const int *id, int n,
                 rhs[2 * q + 1] = b[2 * q + 1] + mu * dg[q] * z[2 * v + 1];
             }
         o.tol = step < PW_PERIODIC_STEPS - 1 ? 1e-3 : 1e-4; /* each step is normalised: no need for more */
-        if (r ==
-            PW_OK) /* the steps' matrices differ in the diagonal only: level 0 sees it, the coarse levels need not */
+        /* the steps' matrices differ in the diagonal only: level 0 sees it, the coarse levels need not */
+        if (r == PW_OK)
             r = multigrid && pw_zamg_pays(&A) ? pw_zamg_solve(&P->a, &A, &M, rhs, x, &o, NULL, e)
-                                              : pw_zpd_solve(&P->a, &A, rhs, x, &o, e);
+                                              : pw_zic0_solve(&P->a, &A, rhs, x, &o, e);
         for (v = 0; r == PW_OK && v < P->m.nv; v++)
             if ((q = id[v]) >= 0) {
                 double zz[2];

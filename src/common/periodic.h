@@ -613,10 +613,10 @@ PW__DEF int pw_periodic_solve_k(pw_periodic *P, double *z, const int *id, int n,
                 rhs[2 * q + 1] = b[2 * q + 1] + mu * dg[q] * z[2 * v + 1];
             }
         o.tol = step < PW_PERIODIC_STEPS - 1 ? 1e-3 : 1e-4; /* each step is normalised: no need for more */
-        if (r ==
-            PW_OK) /* the steps' matrices differ in the diagonal only: level 0 sees it, the coarse levels need not */
+        /* the steps' matrices differ in the diagonal only: level 0 sees it, the coarse levels need not */
+        if (r == PW_OK)
             r = multigrid && pw_zamg_pays(&A) ? pw_zamg_solve(&P->a, &A, &M, rhs, x, &o, NULL, e)
-                                              : pw_zpd_solve(&P->a, &A, rhs, x, &o, e);
+                                              : pw_zic0_solve(&P->a, &A, rhs, x, &o, e);
         for (v = 0; r == PW_OK && v < P->m.nv; v++)
             if ((q = id[v]) >= 0) {
                 double zz[2];

@@ -577,21 +577,13 @@ PW__DEF int pw_zamg_solve(const pw_alloc *a, const pw_zcsr *A, const pw_zamg *M,
                           const pw_cg_options *o, pw_cg_stats *s, pw_err *e)
 {
     pw__pcg_op op;
-    if (s) memset(s, 0, sizeof *s);
-    if (pw__check_vec(b, 2 * A->n, "multigrid PCG right-hand side b", e) ||
-        pw__check_vec(x, 2 * A->n, "multigrid PCG guess x", e) ||
-        pw__check_vec(A->val, 2 * A->rowptr[A->n], "complex matrix", e))
-        return PW_ERR_INVALID;
-    PW_SOLVE_HOOK("zamg", A, b, x, o);
-    op.n = 2 * A->n;
-    op.mul = pw__zcsr_op_mul;
     op.precond = pw__zamg_op;
     op.actx = A;
     op.mctx = M;
     op.b = b;
     op.x = x;
     op.what = "multigrid PCG";
-    return pw__pcg_run(a, &op, o, s, e);
+    return pw__zpcg_checked(a, &op, "zamg", o, s, e);
 }
 
 /* Unknowns from which multigrid pays against IC(0) (its setup costs about
@@ -631,7 +623,6 @@ PW__DEF int pw_zamg_pays(const pw_zcsr *A)
 PW__DEF int pw_zpd_solve(const pw_alloc *a, const pw_zcsr *A, const double *b, double *x, const pw_cg_options *o,
                          pw_err *e)
 {
-    pw_zic0 L;
     int r;
     if (pw_zamg_pays(A)) {
         pw_zamg M;
@@ -645,10 +636,7 @@ PW__DEF int pw_zpd_solve(const pw_alloc *a, const pw_zcsr *A, const double *b, d
         }
         if (r != PW_ERR_INVALID) return pw_fail(e, r, "%s", se.msg);
     }
-    if ((r = pw_zic0_factor(a, A, &L, e)) != PW_OK) return r;
-    r = pw_zpcg_solve(a, A, &L, b, x, o, NULL, e);
-    pw_zic0_free(a, &L);
-    return r;
+    return pw_zic0_solve(a, A, b, x, o, e);
 }
 
 #endif /* PW__ZAMG_V1 */

@@ -231,6 +231,25 @@ PW__DEF double pw__zcsr_op_mul(const void *A, const double *x, double *y)
 
 PW__DEF void pw__zic0_op(const void *M, const double *r, double *z) { pw_zic0_apply((const pw_zic0 *)M, r, z); }
 
+/* The complex PCG of op on the matrix A = op->actx (op's b, x, precond,
+ * mctx and what filled in): the inputs checked, the solve shown to
+ * PW_SOLVE_HOOK as `kind`, then the iterations. */
+PW__DEF int pw__zpcg_checked(const pw_alloc *a, pw__pcg_op *op, const char *kind, const pw_cg_options *o,
+                             pw_cg_stats *s, pw_err *e)
+{
+    const pw_zcsr *A = (const pw_zcsr *)op->actx;
+    if (s) memset(s, 0, sizeof *s);
+    if (pw__check_vec(op->b, 2 * A->n, "complex PCG right-hand side b", e) ||
+        pw__check_vec(op->x, 2 * A->n, "complex PCG guess x", e) ||
+        pw__check_vec(A->val, 2 * A->rowptr[A->n], "complex matrix", e))
+        return PW_ERR_INVALID;
+    (void)kind; /* seen by PW_SOLVE_HOOK only */
+    PW_SOLVE_HOOK(kind, A, op->b, op->x, o);
+    op->n = 2 * A->n;
+    op->mul = pw__zcsr_op_mul;
+    return pw__pcg_run(a, op, o, s, e);
+}
+
 /* Solves A x = b (complex, 2n doubles each; x the warm start) for a
  * Hermitian positive definite A, by CG preconditioned with M = pw_zic0 of
  * A; options, stopping rule (|b - A x| <= tol |b|) and errors as
@@ -239,21 +258,25 @@ PW__DEF int pw_zpcg_solve(const pw_alloc *a, const pw_zcsr *A, const pw_zic0 *M,
                           const pw_cg_options *o, pw_cg_stats *s, pw_err *e)
 {
     pw__pcg_op op;
-    if (s) memset(s, 0, sizeof *s);
-    if (pw__check_vec(b, 2 * A->n, "complex PCG right-hand side b", e) ||
-        pw__check_vec(x, 2 * A->n, "complex PCG guess x", e) ||
-        pw__check_vec(A->val, 2 * A->rowptr[A->n], "complex matrix", e))
-        return PW_ERR_INVALID;
-    PW_SOLVE_HOOK("zpcg", A, b, x, o);
-    op.n = 2 * A->n;
-    op.mul = pw__zcsr_op_mul;
     op.precond = pw__zic0_op;
     op.actx = A;
     op.mctx = M;
     op.b = b;
     op.x = x;
     op.what = "complex PCG";
-    return pw__pcg_run(a, &op, o, s, e);
+    return pw__zpcg_checked(a, &op, "zpcg", o, s, e);
+}
+
+/* pw_zpcg_solve with A's own IC(0) factor, made and freed here. */
+PW__DEF int pw_zic0_solve(const pw_alloc *a, const pw_zcsr *A, const double *b, double *x, const pw_cg_options *o,
+                          pw_err *e)
+{
+    pw_zic0 L;
+    int r;
+    if ((r = pw_zic0_factor(a, A, &L, e)) != PW_OK) return r;
+    r = pw_zpcg_solve(a, A, &L, b, x, o, NULL, e);
+    pw_zic0_free(a, &L);
+    return r;
 }
 
 #endif /* PW__ZSPARSE_V1 */
