@@ -121,12 +121,14 @@ $(BUILD)/cli/%.o: cli/%.c $(wildcard cli/*.h) $(HEADER_FILES)
 	@mkdir -p $(BUILD)/cli
 	$(CC) $(ALL_CFLAGS) -c -o $@ $<
 
+$(BUILD)/tests/test_render_portable: tests/test_render.c
+
 $(BUILD)/tests/%: tests/%.c tests/pwtest.h $(COMMON_SRC) $(HEADER_FILES)
 	@mkdir -p $(BUILD)/tests
 	$(CC) $(ALL_CFLAGS) -o $@ $< $(LDLIBS)
 
 # the renderer's tests and benchmark run its bands on POSIX threads (PW_THREADS), the synthesis benchmarks their tiles
-$(BUILD)/tests/test_render $(BUILD)/tests/test_threads $(BUILD)/bench/bench_render $(BUILD)/bench/bench_tiled $(BUILD)/bench/bench_pgp_synth: LDLIBS += -pthread
+$(BUILD)/tests/test_render $(BUILD)/tests/test_render_portable $(BUILD)/tests/test_threads $(BUILD)/bench/bench_render $(BUILD)/bench/bench_tiled $(BUILD)/bench/bench_pgp_synth: LDLIBS += -pthread
 
 $(BUILD)/examples/%: examples/%.c $(HEADER_FILES)
 	@mkdir -p $(BUILD)/examples

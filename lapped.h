@@ -18,24 +18,24 @@
  *   7622: src/common/raster.h, exact scan conversion of 2D triangles.
  *   8134: src/common/parallel.h, a parallel for, the one way work is split across threads.
  *   8262: src/common/render.h, a small deterministic software renderer for textured trian
- *  10114: src/lapped/polyhull.h, the polygonal hull of a texture patch (Praun, Finkelstein 
- *  10945: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
- *  11132: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
- *  11217: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
- *  11406: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
- *  12326: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
- *  13024: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
- *  13260: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
- *  14024: src/common/glue.h, what every method header needs between its public types an
- *  14360: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  15024: src/lapped/core.c, lapped.h's glue to the shared core, its defaults, and the 
- *  15189: src/lapped/field.c, §3.2 the tangent field, one frame (S, T) per triangle, an
- *  15644: src/lapped/patch.c, §3.1 texture patches. A patch is the texture as RGBA whos
- *  15958: src/lapped/builtin.c, built-in meshes (made by the shared shapes module) and tex
- *  16152: src/lapped/grow.c, pasting (§3.3-3.6): grow a surface patch around an uncove
- *  17640: src/lapped/render.c, runtime pasting (§4): the mesh drawn once per paste, in p
- *  17881: src/lapped/atlas.c, §4 "Rendering with a texture atlas".
- *  18124: src/lapped/io.c, the paste file format and the file conveniences of lapped.
+ *  10152: src/lapped/polyhull.h, the polygonal hull of a texture patch (Praun, Finkelstein 
+ *  10983: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
+ *  11170: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
+ *  11255: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
+ *  11444: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
+ *  12364: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
+ *  13062: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
+ *  13298: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
+ *  14062: src/common/glue.h, what every method header needs between its public types an
+ *  14398: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  15062: src/lapped/core.c, lapped.h's glue to the shared core, its defaults, and the 
+ *  15227: src/lapped/field.c, §3.2 the tangent field, one frame (S, T) per triangle, an
+ *  15682: src/lapped/patch.c, §3.1 texture patches. A patch is the texture as RGBA whos
+ *  15996: src/lapped/builtin.c, built-in meshes (made by the shared shapes module) and tex
+ *  16190: src/lapped/grow.c, pasting (§3.3-3.6): grow a surface patch around an uncove
+ *  17678: src/lapped/render.c, runtime pasting (§4): the mesh drawn once per paste, in p
+ *  17919: src/lapped/atlas.c, §4 "Rendering with a texture atlas".
+ *  18162: src/lapped/io.c, the paste file format and the file conveniences of lapped.
  */
 /* lapped.h - lapped textures: overlapping texture patches pasted over a mesh.
  *
@@ -8354,6 +8354,15 @@ PW__DEF void pw_parallel_for(const pw_parallel *par, int n, pw_task_fn task, voi
 #define PW__RENDER_V1
 
 
+/* SSE2 (every x86-64) filters the four channels of a texel at once and
+ * clamps a pixel's at once, with the same float operations in the same
+ * order as the portable C, so the pictures are the same bit for bit;
+ * define PW_NO_SIMD to use the C. */
+#if defined(__SSE2__) && !defined(PW_NO_SIMD)
+#include <emmintrin.h>
+#define PW__SSE2 1
+#endif
+
 enum { PW_FILTER_TRILINEAR = 0, PW_FILTER_BILINEAR = 1, PW_FILTER_NEAREST = 2 };
 enum { PW_WRAP_REPEAT = 0, PW_WRAP_CLAMP = 1 };
 enum { PW_BLEND_REPLACE = 0, PW_BLEND_OVER = 1 };
@@ -8915,21 +8924,43 @@ PW__DEF void pw__tex_trilinear(const pw_texture *t, float u, float v, float lod,
                   (w[6] * (float)b[p[6] + k] + w[7] * (float)b[p[7] + k]));
 }
 
+#ifdef PW__SSE2
+/* The four channels of the 8-bit texel at px, times w. */
+PW__DEF __m128 pw__texel8(const uint8_t *px, float w)
+{
+    const __m128i z = _mm_setzero_si128();
+    int32_t v;
+    memcpy(&v, px, sizeof v);
+    return _mm_mul_ps(_mm_cvtepi32_ps(_mm_unpacklo_epi16(_mm_unpacklo_epi8(_mm_cvtsi32_si128(v), z), z)),
+                      _mm_set1_ps(w));
+}
+#endif
+
 /* The same in the 8-bit levels, times scale (1/255: premultiplied RGBA). */
 PW__DEF void pw__tex_trilinear8(const pw_texture *t, float u, float v, float lod, int wrap, float scale, float *out)
 {
     const uint8_t *a, *b;
     ptrdiff_t p[8];
     float w[8];
-    int L, k;
+    int L;
     pw__tex_taps8(t, u, v, lod, wrap, scale, &L, p, w);
     a = t->level8[L];
     b = a + (size_t)t->lw[L] * t->lh[L] * 4;
-    for (k = 0; k < 4; k++)
-        out[k] = ((w[0] * (float)a[p[0] + k] + w[1] * (float)a[p[1] + k]) +
-                  (w[2] * (float)a[p[2] + k] + w[3] * (float)a[p[3] + k])) +
-                 ((w[4] * (float)b[p[4] + k] + w[5] * (float)b[p[5] + k]) +
-                  (w[6] * (float)b[p[6] + k] + w[7] * (float)b[p[7] + k]));
+#ifdef PW__SSE2
+    _mm_storeu_ps(out, _mm_add_ps(_mm_add_ps(_mm_add_ps(pw__texel8(a + p[0], w[0]), pw__texel8(a + p[1], w[1])),
+                                             _mm_add_ps(pw__texel8(a + p[2], w[2]), pw__texel8(a + p[3], w[3]))),
+                                  _mm_add_ps(_mm_add_ps(pw__texel8(b + p[4], w[4]), pw__texel8(b + p[5], w[5])),
+                                             _mm_add_ps(pw__texel8(b + p[6], w[6]), pw__texel8(b + p[7], w[7])))));
+#else
+    {
+        int k;
+        for (k = 0; k < 4; k++)
+            out[k] = ((w[0] * (float)a[p[0] + k] + w[1] * (float)a[p[1] + k]) +
+                      (w[2] * (float)a[p[2] + k] + w[3] * (float)a[p[3] + k])) +
+                     ((w[4] * (float)b[p[4] + k] + w[5] * (float)b[p[5] + k]) +
+                      (w[6] * (float)b[p[6] + k] + w[7] * (float)b[p[7] + k]));
+    }
+#endif
 }
 
 /* Samples texture t at (u, v) (v = 0 at the bottom) with the given filter
@@ -9108,8 +9139,15 @@ PW__DEF void pw_fb_resolve_band(const pw_fb *fb, pw_image *out)
     if (fb->ss == 1 && channels == 3) { /* one sample per pixel, premultiplied: a clamped copy */
         const float *src = fb->color;
         float *o = out->px + (size_t)row0 * fb->w * 3;
-        size_t i, n = (size_t)fb->w * fb->bh;
-        for (i = 0; i < n; i++)
+        size_t i = 0, n = (size_t)fb->w * fb->bh;
+#ifdef PW__SSE2
+        { /* max(x, 0) then min(., 1): 0 for NaN, as below; the fourth lane is the next pixel's, written again */
+            const __m128 zero = _mm_setzero_ps(), one = _mm_set1_ps(1.0f);
+            for (; i + 1 < n; i++)
+                _mm_storeu_ps(o + 3 * i, _mm_min_ps(_mm_max_ps(_mm_loadu_ps(src + 4 * i), zero), one));
+        }
+#endif
+        for (; i < n; i++)
             for (k = 0; k < 3; k++)
                 o[3 * i + k] = src[4 * i + k] > 0.0f ? (src[4 * i + k] < 1.0f ? src[4 * i + k] : 1.0f) : 0.0f;
         return;

@@ -20,28 +20,28 @@
  *   8134: src/common/raster.h, exact scan conversion of 2D triangles.
  *   8646: src/common/parallel.h, a parallel for, the one way work is split across threads.
  *   8774: src/common/render.h, a small deterministic software renderer for textured trian
- *  10626: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
- *  10815: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
- *  11735: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
- *  12433: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
- *  12669: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
- *  13430: src/common/tetmesh.h, the tetrahedral mesh that lapped solid textures work on, a
- *  13917: src/common/tetio.h, tetrahedral mesh files, TetGen .node/.ele and MEDIT .mesh.
- *  14409: src/common/bisect.h, graded, conforming tetrahedral meshes of a box by newest-v
- *  14731: src/common/stuffing.h, the built-in tetrahedralizer of lst.h, so that no external
- *  18030: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
- *  18173: src/common/pca.h, principal component analysis of vectors streamed one at a 
- *  18360: src/common/glue.h, what every method header needs between its public types an
- *  18696: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  19360: src/lst/core.c, lst.h's glue to the shared core, its defaults, the convers
- *  19693: src/lst/exemplar.c, solid exemplars (§5): sampling, the procedural exemplars 
- *  20262: src/lst/field.c, §5.2.2, the fields that orient and scale the pastes. The 
- *  21470: src/lst/paste.c, §5.2.3-5.2.7, filling the model. Each paste picks a rando
- *  22459: src/lst/render.c, §5.1, showing a model. Every point of a tetrahedron is th
- *  23356: src/lst/cut.c, §5.1.1, cutting a model along the zero set of a scalar fi
- *  23961: src/lst/builtin.c, the tetrahedralizer entry point, checks of caller meshes, 
- *  24483: src/lst/io.c, the model file, the constraint files and the file convenie
- *  25176: src/lst/export.c, the visible boundary with a baked texture atlas, for glTF.
+ *  10664: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
+ *  10853: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
+ *  11773: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
+ *  12471: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
+ *  12707: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
+ *  13468: src/common/tetmesh.h, the tetrahedral mesh that lapped solid textures work on, a
+ *  13955: src/common/tetio.h, tetrahedral mesh files, TetGen .node/.ele and MEDIT .mesh.
+ *  14447: src/common/bisect.h, graded, conforming tetrahedral meshes of a box by newest-v
+ *  14769: src/common/stuffing.h, the built-in tetrahedralizer of lst.h, so that no external
+ *  18068: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
+ *  18211: src/common/pca.h, principal component analysis of vectors streamed one at a 
+ *  18398: src/common/glue.h, what every method header needs between its public types an
+ *  18734: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  19398: src/lst/core.c, lst.h's glue to the shared core, its defaults, the convers
+ *  19731: src/lst/exemplar.c, solid exemplars (§5): sampling, the procedural exemplars 
+ *  20300: src/lst/field.c, §5.2.2, the fields that orient and scale the pastes. The 
+ *  21508: src/lst/paste.c, §5.2.3-5.2.7, filling the model. Each paste picks a rando
+ *  22497: src/lst/render.c, §5.1, showing a model. Every point of a tetrahedron is th
+ *  23394: src/lst/cut.c, §5.1.1, cutting a model along the zero set of a scalar fi
+ *  23999: src/lst/builtin.c, the tetrahedralizer entry point, checks of caller meshes, 
+ *  24521: src/lst/io.c, the model file, the constraint files and the file convenie
+ *  25214: src/lst/export.c, the visible boundary with a baked texture atlas, for glTF.
  */
 /* lst.h - lapped solid textures: solid exemplars pasted inside a model.
  *
@@ -8866,6 +8866,15 @@ PW__DEF void pw_parallel_for(const pw_parallel *par, int n, pw_task_fn task, voi
 #define PW__RENDER_V1
 
 
+/* SSE2 (every x86-64) filters the four channels of a texel at once and
+ * clamps a pixel's at once, with the same float operations in the same
+ * order as the portable C, so the pictures are the same bit for bit;
+ * define PW_NO_SIMD to use the C. */
+#if defined(__SSE2__) && !defined(PW_NO_SIMD)
+#include <emmintrin.h>
+#define PW__SSE2 1
+#endif
+
 enum { PW_FILTER_TRILINEAR = 0, PW_FILTER_BILINEAR = 1, PW_FILTER_NEAREST = 2 };
 enum { PW_WRAP_REPEAT = 0, PW_WRAP_CLAMP = 1 };
 enum { PW_BLEND_REPLACE = 0, PW_BLEND_OVER = 1 };
@@ -9427,21 +9436,43 @@ PW__DEF void pw__tex_trilinear(const pw_texture *t, float u, float v, float lod,
                   (w[6] * (float)b[p[6] + k] + w[7] * (float)b[p[7] + k]));
 }
 
+#ifdef PW__SSE2
+/* The four channels of the 8-bit texel at px, times w. */
+PW__DEF __m128 pw__texel8(const uint8_t *px, float w)
+{
+    const __m128i z = _mm_setzero_si128();
+    int32_t v;
+    memcpy(&v, px, sizeof v);
+    return _mm_mul_ps(_mm_cvtepi32_ps(_mm_unpacklo_epi16(_mm_unpacklo_epi8(_mm_cvtsi32_si128(v), z), z)),
+                      _mm_set1_ps(w));
+}
+#endif
+
 /* The same in the 8-bit levels, times scale (1/255: premultiplied RGBA). */
 PW__DEF void pw__tex_trilinear8(const pw_texture *t, float u, float v, float lod, int wrap, float scale, float *out)
 {
     const uint8_t *a, *b;
     ptrdiff_t p[8];
     float w[8];
-    int L, k;
+    int L;
     pw__tex_taps8(t, u, v, lod, wrap, scale, &L, p, w);
     a = t->level8[L];
     b = a + (size_t)t->lw[L] * t->lh[L] * 4;
-    for (k = 0; k < 4; k++)
-        out[k] = ((w[0] * (float)a[p[0] + k] + w[1] * (float)a[p[1] + k]) +
-                  (w[2] * (float)a[p[2] + k] + w[3] * (float)a[p[3] + k])) +
-                 ((w[4] * (float)b[p[4] + k] + w[5] * (float)b[p[5] + k]) +
-                  (w[6] * (float)b[p[6] + k] + w[7] * (float)b[p[7] + k]));
+#ifdef PW__SSE2
+    _mm_storeu_ps(out, _mm_add_ps(_mm_add_ps(_mm_add_ps(pw__texel8(a + p[0], w[0]), pw__texel8(a + p[1], w[1])),
+                                             _mm_add_ps(pw__texel8(a + p[2], w[2]), pw__texel8(a + p[3], w[3]))),
+                                  _mm_add_ps(_mm_add_ps(pw__texel8(b + p[4], w[4]), pw__texel8(b + p[5], w[5])),
+                                             _mm_add_ps(pw__texel8(b + p[6], w[6]), pw__texel8(b + p[7], w[7])))));
+#else
+    {
+        int k;
+        for (k = 0; k < 4; k++)
+            out[k] = ((w[0] * (float)a[p[0] + k] + w[1] * (float)a[p[1] + k]) +
+                      (w[2] * (float)a[p[2] + k] + w[3] * (float)a[p[3] + k])) +
+                     ((w[4] * (float)b[p[4] + k] + w[5] * (float)b[p[5] + k]) +
+                      (w[6] * (float)b[p[6] + k] + w[7] * (float)b[p[7] + k]));
+    }
+#endif
 }
 
 /* Samples texture t at (u, v) (v = 0 at the bottom) with the given filter
@@ -9620,8 +9651,15 @@ PW__DEF void pw_fb_resolve_band(const pw_fb *fb, pw_image *out)
     if (fb->ss == 1 && channels == 3) { /* one sample per pixel, premultiplied: a clamped copy */
         const float *src = fb->color;
         float *o = out->px + (size_t)row0 * fb->w * 3;
-        size_t i, n = (size_t)fb->w * fb->bh;
-        for (i = 0; i < n; i++)
+        size_t i = 0, n = (size_t)fb->w * fb->bh;
+#ifdef PW__SSE2
+        { /* max(x, 0) then min(., 1): 0 for NaN, as below; the fourth lane is the next pixel's, written again */
+            const __m128 zero = _mm_setzero_ps(), one = _mm_set1_ps(1.0f);
+            for (; i + 1 < n; i++)
+                _mm_storeu_ps(o + 3 * i, _mm_min_ps(_mm_max_ps(_mm_loadu_ps(src + 4 * i), zero), one));
+        }
+#endif
+        for (; i < n; i++)
             for (k = 0; k < 3; k++)
                 o[3 * i + k] = src[4 * i + k] > 0.0f ? (src[4 * i + k] < 1.0f ? src[4 * i + k] : 1.0f) : 0.0f;
         return;

@@ -20,33 +20,33 @@
  *   8741: src/common/raster.h, exact scan conversion of 2D triangles.
  *   9253: src/common/parallel.h, a parallel for, the one way work is split across threads.
  *   9381: src/common/render.h, a small deterministic software renderer for textured trian
- *  11233: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
- *  11420: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
- *  11505: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
- *  11694: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
- *  12614: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
- *  13312: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
- *  13548: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
- *  14312: src/common/periodic.h, the periodic global parameterization of a triangle mesh al
- *  15140: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
- *  15901: src/pgp/tile3.h, sampling a material-space tile (Ray et al. 2009, §2: "a 3
- *  16009: src/common/glue.h, what every method header needs between its public types an
- *  16345: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  17009: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
- *  17506: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
- *  17992: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
- *  18135: src/common/kdtree.h, nearest-neighbour search among n points of dimension d, wi
- *  18478: src/common/pca.h, principal component analysis of vectors streamed one at a 
- *  18665: src/pgp/core.c, pgp.h's glue to the shared core, its defaults, and the map
- *  18878: src/pgp/field.c, §2.1 effect areas and §2.2 interpolation of the constrai
- *  19077: src/pgp/solve.c, §2.3 the periodic global parameterization, the recovery o
- *  19496: src/pgp/edit.c, the public editing calls of a mapping. §2.1 (Ray, Lévy, 
- *  19641: src/pgp/render.c, §3 rendering, and a cleaner treatment of the vortices.
- *  20002: src/pgp/builtin.c, built-in meshes and material-space tiles for demos and tes
- *  20271: src/pgp/io.c, files and memory for pgp.h: material-space tiles (NRRD, or
- *  20619: src/pgp/export.c, the mapping for other programs. A viewer that knows nothin
- *  20845: src/pgp/morph.c, the inputs of §1 (keys brought to the tile size, made til
- *  21524: src/pgp/synth.c, §1.2 constrained tile synthesis, and the whole of §1: ke
+ *  11271: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
+ *  11458: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
+ *  11543: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
+ *  11732: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
+ *  12652: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
+ *  13350: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
+ *  13586: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
+ *  14350: src/common/periodic.h, the periodic global parameterization of a triangle mesh al
+ *  15178: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
+ *  15939: src/pgp/tile3.h, sampling a material-space tile (Ray et al. 2009, §2: "a 3
+ *  16047: src/common/glue.h, what every method header needs between its public types an
+ *  16383: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  17047: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
+ *  17544: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
+ *  18030: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
+ *  18173: src/common/kdtree.h, nearest-neighbour search among n points of dimension d, wi
+ *  18516: src/common/pca.h, principal component analysis of vectors streamed one at a 
+ *  18703: src/pgp/core.c, pgp.h's glue to the shared core, its defaults, and the map
+ *  18916: src/pgp/field.c, §2.1 effect areas and §2.2 interpolation of the constrai
+ *  19115: src/pgp/solve.c, §2.3 the periodic global parameterization, the recovery o
+ *  19534: src/pgp/edit.c, the public editing calls of a mapping. §2.1 (Ray, Lévy, 
+ *  19679: src/pgp/render.c, §3 rendering, and a cleaner treatment of the vortices.
+ *  20040: src/pgp/builtin.c, built-in meshes and material-space tiles for demos and tes
+ *  20309: src/pgp/io.c, files and memory for pgp.h: material-space tiles (NRRD, or
+ *  20657: src/pgp/export.c, the mapping for other programs. A viewer that knows nothin
+ *  20883: src/pgp/morph.c, the inputs of §1 (keys brought to the tile size, made til
+ *  21562: src/pgp/synth.c, §1.2 constrained tile synthesis, and the whole of §1: ke
  */
 /* pgp.h - material-space texturing with a periodic global parameterization.
  *
@@ -9473,6 +9473,15 @@ PW__DEF void pw_parallel_for(const pw_parallel *par, int n, pw_task_fn task, voi
 #define PW__RENDER_V1
 
 
+/* SSE2 (every x86-64) filters the four channels of a texel at once and
+ * clamps a pixel's at once, with the same float operations in the same
+ * order as the portable C, so the pictures are the same bit for bit;
+ * define PW_NO_SIMD to use the C. */
+#if defined(__SSE2__) && !defined(PW_NO_SIMD)
+#include <emmintrin.h>
+#define PW__SSE2 1
+#endif
+
 enum { PW_FILTER_TRILINEAR = 0, PW_FILTER_BILINEAR = 1, PW_FILTER_NEAREST = 2 };
 enum { PW_WRAP_REPEAT = 0, PW_WRAP_CLAMP = 1 };
 enum { PW_BLEND_REPLACE = 0, PW_BLEND_OVER = 1 };
@@ -10034,21 +10043,43 @@ PW__DEF void pw__tex_trilinear(const pw_texture *t, float u, float v, float lod,
                   (w[6] * (float)b[p[6] + k] + w[7] * (float)b[p[7] + k]));
 }
 
+#ifdef PW__SSE2
+/* The four channels of the 8-bit texel at px, times w. */
+PW__DEF __m128 pw__texel8(const uint8_t *px, float w)
+{
+    const __m128i z = _mm_setzero_si128();
+    int32_t v;
+    memcpy(&v, px, sizeof v);
+    return _mm_mul_ps(_mm_cvtepi32_ps(_mm_unpacklo_epi16(_mm_unpacklo_epi8(_mm_cvtsi32_si128(v), z), z)),
+                      _mm_set1_ps(w));
+}
+#endif
+
 /* The same in the 8-bit levels, times scale (1/255: premultiplied RGBA). */
 PW__DEF void pw__tex_trilinear8(const pw_texture *t, float u, float v, float lod, int wrap, float scale, float *out)
 {
     const uint8_t *a, *b;
     ptrdiff_t p[8];
     float w[8];
-    int L, k;
+    int L;
     pw__tex_taps8(t, u, v, lod, wrap, scale, &L, p, w);
     a = t->level8[L];
     b = a + (size_t)t->lw[L] * t->lh[L] * 4;
-    for (k = 0; k < 4; k++)
-        out[k] = ((w[0] * (float)a[p[0] + k] + w[1] * (float)a[p[1] + k]) +
-                  (w[2] * (float)a[p[2] + k] + w[3] * (float)a[p[3] + k])) +
-                 ((w[4] * (float)b[p[4] + k] + w[5] * (float)b[p[5] + k]) +
-                  (w[6] * (float)b[p[6] + k] + w[7] * (float)b[p[7] + k]));
+#ifdef PW__SSE2
+    _mm_storeu_ps(out, _mm_add_ps(_mm_add_ps(_mm_add_ps(pw__texel8(a + p[0], w[0]), pw__texel8(a + p[1], w[1])),
+                                             _mm_add_ps(pw__texel8(a + p[2], w[2]), pw__texel8(a + p[3], w[3]))),
+                                  _mm_add_ps(_mm_add_ps(pw__texel8(b + p[4], w[4]), pw__texel8(b + p[5], w[5])),
+                                             _mm_add_ps(pw__texel8(b + p[6], w[6]), pw__texel8(b + p[7], w[7])))));
+#else
+    {
+        int k;
+        for (k = 0; k < 4; k++)
+            out[k] = ((w[0] * (float)a[p[0] + k] + w[1] * (float)a[p[1] + k]) +
+                      (w[2] * (float)a[p[2] + k] + w[3] * (float)a[p[3] + k])) +
+                     ((w[4] * (float)b[p[4] + k] + w[5] * (float)b[p[5] + k]) +
+                      (w[6] * (float)b[p[6] + k] + w[7] * (float)b[p[7] + k]));
+    }
+#endif
 }
 
 /* Samples texture t at (u, v) (v = 0 at the bottom) with the given filter
@@ -10227,8 +10258,15 @@ PW__DEF void pw_fb_resolve_band(const pw_fb *fb, pw_image *out)
     if (fb->ss == 1 && channels == 3) { /* one sample per pixel, premultiplied: a clamped copy */
         const float *src = fb->color;
         float *o = out->px + (size_t)row0 * fb->w * 3;
-        size_t i, n = (size_t)fb->w * fb->bh;
-        for (i = 0; i < n; i++)
+        size_t i = 0, n = (size_t)fb->w * fb->bh;
+#ifdef PW__SSE2
+        { /* max(x, 0) then min(., 1): 0 for NaN, as below; the fourth lane is the next pixel's, written again */
+            const __m128 zero = _mm_setzero_ps(), one = _mm_set1_ps(1.0f);
+            for (; i + 1 < n; i++)
+                _mm_storeu_ps(o + 3 * i, _mm_min_ps(_mm_max_ps(_mm_loadu_ps(src + 4 * i), zero), one));
+        }
+#endif
+        for (; i < n; i++)
             for (k = 0; k < 3; k++)
                 o[3 * i + k] = src[4 * i + k] > 0.0f ? (src[4 * i + k] < 1.0f ? src[4 * i + k] : 1.0f) : 0.0f;
         return;

@@ -25,19 +25,19 @@
  *  10565: src/common/raster.h, exact scan conversion of 2D triangles.
  *  11079: src/common/parallel.h, a parallel for, the one way work is split across threads.
  *  11207: src/common/render.h, a small deterministic software renderer for textured trian
- *  13059: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
- *  13556: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
- *  14042: src/common/glue.h, what every method header needs between its public types an
- *  14378: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  15042: src/tiled/core.c, tiled.h's glue to the shared core, its defaults, result
- *  15131: src/tiled/layout.c, ch. III.1, the boundary types and the tiled texture they
- *  15403: src/tiled/cells.c, beyond the thesis (issue 23): tiles of a chosen size on an
- *  16059: src/tiled/map.c, ch. III.2, the texture mapping algorithm of Fig. 29
- *  16328: src/tiled/synth.c, ch. III.1.3, tiled texture image synthesis: an edge-matche
- *  16774: src/tiled/validate.c, checks a hand-made tiled texture (the thesis's Figs. 39,
- *  16902: src/tiled/builtin.c, built-in meshes and exemplars for demos and tests: the
- *  17099: src/tiled/render.c, a software rendering of a mapped mesh (the thesis rendered
- *  17322: src/tiled/io.c, files. Meshes and exemplars in; the mapped mesh with its t
+ *  13097: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
+ *  13594: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
+ *  14080: src/common/glue.h, what every method header needs between its public types an
+ *  14416: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  15080: src/tiled/core.c, tiled.h's glue to the shared core, its defaults, result
+ *  15169: src/tiled/layout.c, ch. III.1, the boundary types and the tiled texture they
+ *  15441: src/tiled/cells.c, beyond the thesis (issue 23): tiles of a chosen size on an
+ *  16097: src/tiled/map.c, ch. III.2, the texture mapping algorithm of Fig. 29
+ *  16366: src/tiled/synth.c, ch. III.1.3, tiled texture image synthesis: an edge-matche
+ *  16812: src/tiled/validate.c, checks a hand-made tiled texture (the thesis's Figs. 39,
+ *  16940: src/tiled/builtin.c, built-in meshes and exemplars for demos and tests: the
+ *  17137: src/tiled/render.c, a software rendering of a mapped mesh (the thesis rendered
+ *  17360: src/tiled/io.c, files. Meshes and exemplars in; the mapped mesh with its t
  */
 /* tiled.h - seamless, singularity-free tiled textures on quad meshes.
  *
@@ -11299,6 +11299,15 @@ PW__DEF void pw_parallel_for(const pw_parallel *par, int n, pw_task_fn task, voi
 #define PW__RENDER_V1
 
 
+/* SSE2 (every x86-64) filters the four channels of a texel at once and
+ * clamps a pixel's at once, with the same float operations in the same
+ * order as the portable C, so the pictures are the same bit for bit;
+ * define PW_NO_SIMD to use the C. */
+#if defined(__SSE2__) && !defined(PW_NO_SIMD)
+#include <emmintrin.h>
+#define PW__SSE2 1
+#endif
+
 enum { PW_FILTER_TRILINEAR = 0, PW_FILTER_BILINEAR = 1, PW_FILTER_NEAREST = 2 };
 enum { PW_WRAP_REPEAT = 0, PW_WRAP_CLAMP = 1 };
 enum { PW_BLEND_REPLACE = 0, PW_BLEND_OVER = 1 };
@@ -11860,21 +11869,43 @@ PW__DEF void pw__tex_trilinear(const pw_texture *t, float u, float v, float lod,
                   (w[6] * (float)b[p[6] + k] + w[7] * (float)b[p[7] + k]));
 }
 
+#ifdef PW__SSE2
+/* The four channels of the 8-bit texel at px, times w. */
+PW__DEF __m128 pw__texel8(const uint8_t *px, float w)
+{
+    const __m128i z = _mm_setzero_si128();
+    int32_t v;
+    memcpy(&v, px, sizeof v);
+    return _mm_mul_ps(_mm_cvtepi32_ps(_mm_unpacklo_epi16(_mm_unpacklo_epi8(_mm_cvtsi32_si128(v), z), z)),
+                      _mm_set1_ps(w));
+}
+#endif
+
 /* The same in the 8-bit levels, times scale (1/255: premultiplied RGBA). */
 PW__DEF void pw__tex_trilinear8(const pw_texture *t, float u, float v, float lod, int wrap, float scale, float *out)
 {
     const uint8_t *a, *b;
     ptrdiff_t p[8];
     float w[8];
-    int L, k;
+    int L;
     pw__tex_taps8(t, u, v, lod, wrap, scale, &L, p, w);
     a = t->level8[L];
     b = a + (size_t)t->lw[L] * t->lh[L] * 4;
-    for (k = 0; k < 4; k++)
-        out[k] = ((w[0] * (float)a[p[0] + k] + w[1] * (float)a[p[1] + k]) +
-                  (w[2] * (float)a[p[2] + k] + w[3] * (float)a[p[3] + k])) +
-                 ((w[4] * (float)b[p[4] + k] + w[5] * (float)b[p[5] + k]) +
-                  (w[6] * (float)b[p[6] + k] + w[7] * (float)b[p[7] + k]));
+#ifdef PW__SSE2
+    _mm_storeu_ps(out, _mm_add_ps(_mm_add_ps(_mm_add_ps(pw__texel8(a + p[0], w[0]), pw__texel8(a + p[1], w[1])),
+                                             _mm_add_ps(pw__texel8(a + p[2], w[2]), pw__texel8(a + p[3], w[3]))),
+                                  _mm_add_ps(_mm_add_ps(pw__texel8(b + p[4], w[4]), pw__texel8(b + p[5], w[5])),
+                                             _mm_add_ps(pw__texel8(b + p[6], w[6]), pw__texel8(b + p[7], w[7])))));
+#else
+    {
+        int k;
+        for (k = 0; k < 4; k++)
+            out[k] = ((w[0] * (float)a[p[0] + k] + w[1] * (float)a[p[1] + k]) +
+                      (w[2] * (float)a[p[2] + k] + w[3] * (float)a[p[3] + k])) +
+                     ((w[4] * (float)b[p[4] + k] + w[5] * (float)b[p[5] + k]) +
+                      (w[6] * (float)b[p[6] + k] + w[7] * (float)b[p[7] + k]));
+    }
+#endif
 }
 
 /* Samples texture t at (u, v) (v = 0 at the bottom) with the given filter
@@ -12053,8 +12084,15 @@ PW__DEF void pw_fb_resolve_band(const pw_fb *fb, pw_image *out)
     if (fb->ss == 1 && channels == 3) { /* one sample per pixel, premultiplied: a clamped copy */
         const float *src = fb->color;
         float *o = out->px + (size_t)row0 * fb->w * 3;
-        size_t i, n = (size_t)fb->w * fb->bh;
-        for (i = 0; i < n; i++)
+        size_t i = 0, n = (size_t)fb->w * fb->bh;
+#ifdef PW__SSE2
+        { /* max(x, 0) then min(., 1): 0 for NaN, as below; the fourth lane is the next pixel's, written again */
+            const __m128 zero = _mm_setzero_ps(), one = _mm_set1_ps(1.0f);
+            for (; i + 1 < n; i++)
+                _mm_storeu_ps(o + 3 * i, _mm_min_ps(_mm_max_ps(_mm_loadu_ps(src + 4 * i), zero), one));
+        }
+#endif
+        for (; i < n; i++)
             for (k = 0; k < 3; k++)
                 o[3 * i + k] = src[4 * i + k] > 0.0f ? (src[4 * i + k] < 1.0f ? src[4 * i + k] : 1.0f) : 0.0f;
         return;

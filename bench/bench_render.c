@@ -25,6 +25,7 @@
 
 typedef struct scene {
     float *pos, *uv, *puv;
+    const float *normals; /* NULL: pw_render_draw computes them per draw */
     int *tri;
     int nv, nt;
     pw_texture tex, patch;
@@ -92,6 +93,7 @@ static pw_draw base_draw(const scene *s)
     d.uvs = s->uv;
     d.tex = &s->tex;
     d.lighting = PW_LIGHT_CAMERA;
+    d.normals = s->normals;
     return d;
 }
 
@@ -242,10 +244,16 @@ typedef struct peer_job {
     int samples;
 } peer_job;
 
+/* Patchwork's frame as an application drawing frame after frame does it
+ * (and as the peer draws into its colour buffer): clear, draw, resolve
+ * into the picture kept from the last frame. */
 static void patchwork_frame(void *arg)
 {
     peer_job *j = (peer_job *)arg;
-    frame_on(j->s, j->fb);
+    pw_draw d = base_draw(j->s);
+    pw_fb_clear(j->fb);
+    pw_render_draw(j->fb, &j->s->cam, &d, NULL);
+    pw_fb_resolve_band(j->fb, &j->s->out);
 }
 
 static void gl_frame(void *arg)
@@ -266,7 +274,7 @@ static int gl_setup(scene *s, const pw_image *img, gl_peer *g, peer_job *j)
     pw__smooth_normals(&d, normals); /* what pw_render_draw computes when given none */
     memset(&j->mesh, 0, sizeof j->mesh);
     if (gl_mesh_add(&j->mesh, s->pos, normals, s->tri, s->nt, s->uv) < 0) return free(normals), 1;
-    free(normals);
+    s->normals = normals; /* both renderers get the same normals, made once */
     gl_mesh_upload(&j->mesh);
     j->tex = gl_peer_texture(img, 0);
     j->g = g;
@@ -296,6 +304,8 @@ static void peer_rows(scene *s, const pw_image *img, double ss2_frame)
     memset(&j, 0, sizeof j);
     j.s = s;
     if (gl_setup(s, img, &g, &j) || pw_fb_create(NULL, &fb1, 1024, 1024, 1, bg, NULL)) {
+        free((void *)s->normals);
+        s->normals = NULL;
         printf("OSMesa setup failed\n");
         bench_peer("OSMesa", "skipped: context or shader setup failed");
         return;
@@ -310,13 +320,16 @@ static void peer_rows(scene *s, const pw_image *img, double ss2_frame)
         pw_err e;
         j.samples = k ? 4 : 1;
         j.fb = k ? &s->fb : &fb1;
+        frame_on(s, j.fb); /* s->out: the picture the frames resolve into */
         bench_interleave(&m, fn, arg, 2, 7, 1);
         snprintf(task, sizeof task, "render a 100K-triangle textured, lit torus at 1024x1024, %s", what[k]);
         printf("%s:\n", task);
         bench_report("  patchwork pw_render_draw frame", bench_multi_stat(&m, 0, NULL), s->nt, "tri");
         bench_report("  OSMesa llvmpipe frame", bench_multi_stat(&m, 1, NULL), s->nt, "tri");
         bench_row_pair(task, &m, 1, "Mesa llvmpipe (OSMesa), 1 thread", NULL,
-                       "batched shading, 8-bit texels, walker-free narrow triangles (1.51 -> 1.25, 2026-12-03); "
+                       "batched shading, 8-bit texels, walker-free narrow triangles (1.51 -> 1.25, 2026-12-03), "
+                       "SSE2 texel filtering and resolve; both get the mesh's normals (GL in its vertex buffer) and draw "
+                       "into the picture of the last frame (GL: its colour buffer); "
                        "perf: about 40% shading (texel fetch and filter, perspective divide and mip level, "
                        "per-pixel lighting), 35% triangle setup and the depth pass (double-precision planes, 64-bit "
                        "edge functions), 8% clearing and resolving the float RGBA framebuffer; llvmpipe runs "
@@ -329,6 +342,8 @@ static void peer_rows(scene *s, const pw_image *img, double ss2_frame)
         snprintf(path, sizeof path, "%s/render-gl-%dspp.ppm", bench_data_dir(), j.samples);
         gl_peer_save_ppm(&g, path);
     }
+    free((void *)s->normals);
+    s->normals = NULL;
     pw_fb_free(&fb1);
     gl_peer_free(&g);
 #else

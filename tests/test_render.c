@@ -1573,30 +1573,91 @@ static void t_render_shader(void)
     pw_fb_free(&fb);
 }
 
+/* The SSE2 paths (texel filtering, the resolve's clamp) against the
+ * portable C's formulas, bit for bit: random lookups at random mip levels
+ * in both wrap modes, and framebuffer values with NaN, infinities, -0 and
+ * values around 0 and 1. (test_render_portable runs every case here
+ * again built with PW_NO_SIMD.) */
+static void t_render_simd_exact(void)
+{
+    pw_image img, out;
+    pw_texture tex;
+    pw_fb fb;
+    pw_rng rng = pw_rng_seed(7, 1);
+    static const float special[8] = {0.0f, -0.0f, 1.0f, 0.5f, -1e-30f, 1.0000001f, 3.0e38f, -2.0f};
+    const float bg[4] = {0.0f, 0.0f, 0.0f, 1.0f};
+    int i, k, bad = 0;
+    make_checker(&img, 37, 5);
+    REQUIRE(pw_texture_create(NULL, &tex, &img, 0, NULL) == PW_OK);
+    for (i = 0; i < 20000; i++) {
+        float u = 4.0f * pw_rng_float(&rng) - 2.0f, v = 4.0f * pw_rng_float(&rng) - 2.0f;
+        float lod = 8.0f * pw_rng_float(&rng) - 1.0f, got[4], want[4], w[8];
+        int wrap = i & 1 ? PW_WRAP_CLAMP : PW_WRAP_REPEAT, L;
+        ptrdiff_t p[8];
+        const uint8_t *a, *b;
+        pw__tex_trilinear8(&tex, u, v, lod, wrap, 1.0f / 255.0f, got);
+        pw__tex_taps8(&tex, u, v, lod, wrap, 1.0f / 255.0f, &L, p, w);
+        a = tex.level8[L];
+        b = a + (size_t)tex.lw[L] * tex.lh[L] * 4;
+        for (k = 0; k < 4; k++)
+            want[k] = ((w[0] * (float)a[p[0] + k] + w[1] * (float)a[p[1] + k]) +
+                       (w[2] * (float)a[p[2] + k] + w[3] * (float)a[p[3] + k])) +
+                      ((w[4] * (float)b[p[4] + k] + w[5] * (float)b[p[5] + k]) +
+                       (w[6] * (float)b[p[6] + k] + w[7] * (float)b[p[7] + k]));
+        bad += memcmp(got, want, sizeof got) != 0;
+    }
+    CHECKF(bad == 0, "%d of 20000 filtered lookups differ from the C formula", bad);
+    REQUIRE(pw_fb_create(NULL, &fb, 33, 7, 1, bg, NULL) == PW_OK);
+    for (i = 0; i < 33 * 7 * 4; i++) {
+        float x = i % 3 == 0 ? special[(i / 3) % 8] : 3.0f * pw_rng_float(&rng) - 1.0f;
+        fb.color[i] = i % 11 == 5 ? nanf("") : (i % 13 == 7 ? (i & 1 ? INFINITY : -INFINITY) : x);
+    }
+    REQUIRE(pw_fb_resolve(&fb, &out, 3, NULL) == PW_OK);
+    for (i = 0, bad = 0; i < 33 * 7; i++)
+        for (k = 0; k < 3; k++) {
+            float x = fb.color[4 * i + k], want = x > 0.0f ? (x < 1.0f ? x : 1.0f) : 0.0f;
+            bad += memcmp(&out.px[3 * i + k], &want, sizeof want) != 0;
+        }
+    CHECKF(bad == 0, "%d resolved values differ from the C clamp", bad);
+    pw_image_free(NULL, &out);
+    pw_fb_free(&fb);
+    pw_texture_free(NULL, &tex);
+    pw_image_free(NULL, &img);
+}
+
+/* test_render_portable builds this file with PW_NO_SIMD: its cases are
+ * named portable/... */
+#ifdef PW_NO_SIMD
+#define CASE(name) "portable/" name
+#else
+#define CASE(name) name
+#endif
+
 static const pwt_case cases[] = {
-    {"raster_triangulation", t_raster_triangulation},
-    {"raster_fan", t_raster_fan},
-    {"raster_barycentrics", t_raster_barycentrics},
-    {"raster_degenerate", t_raster_degenerate},
-    {"raster_clipping", t_raster_clipping},
-    {"raster_spans", t_raster_spans},
-    {"render_textured_quad", t_render_textured_quad},
-    {"render_perspective", t_render_perspective},
-    {"render_depth", t_render_depth},
-    {"render_blend_over", t_render_blend_over},
-    {"render_lequal", t_render_lequal},
-    {"render_mip_levels", t_render_mip_levels},
-    {"render_texture_npot", t_render_texture_npot},
-    {"render_texture_thin", t_render_texture_thin},
-    {"render_supersampling", t_render_supersampling},
-    {"render_camera_frame", t_render_camera_frame},
-    {"render_near_clip", t_render_near_clip},
-    {"render_lighting", t_render_lighting},
-    {"render_determinism", t_render_determinism},
-    {"render_bands", t_render_bands},
-    {"render_paths_agree", t_render_paths_agree},
-    {"render_garbage", t_render_garbage},
-    {"render_errors", t_render_errors},
-    {"render_shader", t_render_shader},
+    {CASE("raster_triangulation"), t_raster_triangulation},
+    {CASE("raster_fan"), t_raster_fan},
+    {CASE("raster_barycentrics"), t_raster_barycentrics},
+    {CASE("raster_degenerate"), t_raster_degenerate},
+    {CASE("raster_clipping"), t_raster_clipping},
+    {CASE("raster_spans"), t_raster_spans},
+    {CASE("render_textured_quad"), t_render_textured_quad},
+    {CASE("render_perspective"), t_render_perspective},
+    {CASE("render_depth"), t_render_depth},
+    {CASE("render_blend_over"), t_render_blend_over},
+    {CASE("render_lequal"), t_render_lequal},
+    {CASE("render_mip_levels"), t_render_mip_levels},
+    {CASE("render_texture_npot"), t_render_texture_npot},
+    {CASE("render_texture_thin"), t_render_texture_thin},
+    {CASE("render_supersampling"), t_render_supersampling},
+    {CASE("render_camera_frame"), t_render_camera_frame},
+    {CASE("render_near_clip"), t_render_near_clip},
+    {CASE("render_lighting"), t_render_lighting},
+    {CASE("render_determinism"), t_render_determinism},
+    {CASE("render_bands"), t_render_bands},
+    {CASE("render_paths_agree"), t_render_paths_agree},
+    {CASE("render_garbage"), t_render_garbage},
+    {CASE("render_errors"), t_render_errors},
+    {CASE("render_shader"), t_render_shader},
+    {CASE("render_simd_exact"), t_render_simd_exact},
 };
 PWT_MAIN(cases)
