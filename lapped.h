@@ -18,24 +18,24 @@
  *   7622: src/common/raster.h, exact scan conversion of 2D triangles.
  *   8134: src/common/parallel.h, a parallel for, the one way work is split across threads.
  *   8262: src/common/render.h, a small deterministic software renderer for textured trian
- *  10152: src/lapped/polyhull.h, the polygonal hull of a texture patch (Praun, Finkelstein 
- *  10983: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
- *  11170: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
- *  11255: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
- *  11444: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
- *  12364: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
- *  13062: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
- *  13298: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
- *  14062: src/common/glue.h, what every method header needs between its public types an
- *  14398: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  15062: src/lapped/core.c, lapped.h's glue to the shared core, its defaults, and the 
- *  15227: src/lapped/field.c, §3.2 the tangent field, one frame (S, T) per triangle, an
- *  15682: src/lapped/patch.c, §3.1 texture patches. A patch is the texture as RGBA whos
- *  15996: src/lapped/builtin.c, built-in meshes (made by the shared shapes module) and tex
- *  16190: src/lapped/grow.c, pasting (§3.3-3.6): grow a surface patch around an uncove
- *  17678: src/lapped/render.c, runtime pasting (§4): the mesh drawn once per paste, in p
- *  17919: src/lapped/atlas.c, §4 "Rendering with a texture atlas".
- *  18162: src/lapped/io.c, the paste file format and the file conveniences of lapped.
+ *  10161: src/lapped/polyhull.h, the polygonal hull of a texture patch (Praun, Finkelstein 
+ *  10992: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
+ *  11179: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
+ *  11264: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
+ *  11453: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
+ *  12373: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
+ *  13071: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
+ *  13307: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
+ *  14071: src/common/glue.h, what every method header needs between its public types an
+ *  14407: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  15071: src/lapped/core.c, lapped.h's glue to the shared core, its defaults, and the 
+ *  15236: src/lapped/field.c, §3.2 the tangent field, one frame (S, T) per triangle, an
+ *  15691: src/lapped/patch.c, §3.1 texture patches. A patch is the texture as RGBA whos
+ *  16005: src/lapped/builtin.c, built-in meshes (made by the shared shapes module) and tex
+ *  16199: src/lapped/grow.c, pasting (§3.3-3.6): grow a surface patch around an uncove
+ *  17687: src/lapped/render.c, runtime pasting (§4): the mesh drawn once per paste, in p
+ *  17928: src/lapped/atlas.c, §4 "Rendering with a texture atlas".
+ *  18171: src/lapped/io.c, the paste file format and the file conveniences of lapped.
  */
 /* lapped.h - lapped textures: overlapping texture patches pasted over a mesh.
  *
@@ -8354,8 +8354,8 @@ PW__DEF void pw_parallel_for(const pw_parallel *par, int n, pw_task_fn task, voi
 #define PW__RENDER_V1
 
 
-/* SSE2 (every x86-64) filters the four channels of a texel at once and
- * clamps a pixel's at once, with the same float operations in the same
+/* SSE2 (every x86-64) filters, blends and clamps the four channels of a
+ * texel or a pixel at once, with the same float operations in the same
  * order as the portable C, so the pictures are the same bit for bit;
  * define PW_NO_SIMD to use the C. */
 #if defined(__SSE2__) && !defined(PW_NO_SIMD)
@@ -9647,8 +9647,13 @@ PW__DEF void pw__shade_batch(const pw__ctx *c, pw__batch *b)
             P.iq = iq[i];
             pw__shade_custom(c, &P, tx);
         }
+#ifdef PW__SSE2
+        _mm_storeu_ps(o, _mm_mul_ps(_mm_mul_ps(_mm_loadu_ps(c->tint), _mm_loadu_ps(tx)),
+                                    _mm_setr_ps(lk[i], lk[i], lk[i], 1.0f))); /* times 1: exact */
+#else
         for (k = 0; k < 3; k++) o[k] = c->tint[k] * tx[k] * lk[i];
         o[3] = c->tint[3] * tx[3];
+#endif
     }
 }
 
@@ -9690,10 +9695,14 @@ PW__DEF void pw__batch_flush(pw__ctx *c)
                     continue;
                 }
                 if (!(mask >> (j * ss + k) & 1)) continue;
+#ifdef PW__SSE2
+                _mm_storeu_ps(d, _mm_add_ps(_mm_loadu_ps(col), _mm_mul_ps(_mm_set1_ps(keep), _mm_loadu_ps(d))));
+#else
                 d[0] = col[0] + keep * d[0];
                 d[1] = col[1] + keep * d[1];
                 d[2] = col[2] + keep * d[2];
                 d[3] = col[3] + keep * d[3];
+#endif
                 if (c->dwrite) fb->depth[row + k] = c->qbuf[(size_t)j * fb->sw + (size_t)b->px[i] * ss + k];
             }
         }

@@ -20,28 +20,28 @@
  *   8134: src/common/raster.h, exact scan conversion of 2D triangles.
  *   8646: src/common/parallel.h, a parallel for, the one way work is split across threads.
  *   8774: src/common/render.h, a small deterministic software renderer for textured trian
- *  10664: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
- *  10853: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
- *  11773: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
- *  12471: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
- *  12707: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
- *  13468: src/common/tetmesh.h, the tetrahedral mesh that lapped solid textures work on, a
- *  13955: src/common/tetio.h, tetrahedral mesh files, TetGen .node/.ele and MEDIT .mesh.
- *  14447: src/common/bisect.h, graded, conforming tetrahedral meshes of a box by newest-v
- *  14769: src/common/stuffing.h, the built-in tetrahedralizer of lst.h, so that no external
- *  18068: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
- *  18211: src/common/pca.h, principal component analysis of vectors streamed one at a 
- *  18398: src/common/glue.h, what every method header needs between its public types an
- *  18734: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  19398: src/lst/core.c, lst.h's glue to the shared core, its defaults, the convers
- *  19731: src/lst/exemplar.c, solid exemplars (§5): sampling, the procedural exemplars 
- *  20300: src/lst/field.c, §5.2.2, the fields that orient and scale the pastes. The 
- *  21508: src/lst/paste.c, §5.2.3-5.2.7, filling the model. Each paste picks a rando
- *  22497: src/lst/render.c, §5.1, showing a model. Every point of a tetrahedron is th
- *  23394: src/lst/cut.c, §5.1.1, cutting a model along the zero set of a scalar fi
- *  23999: src/lst/builtin.c, the tetrahedralizer entry point, checks of caller meshes, 
- *  24521: src/lst/io.c, the model file, the constraint files and the file convenie
- *  25214: src/lst/export.c, the visible boundary with a baked texture atlas, for glTF.
+ *  10673: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
+ *  10862: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
+ *  11782: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
+ *  12480: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
+ *  12716: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
+ *  13477: src/common/tetmesh.h, the tetrahedral mesh that lapped solid textures work on, a
+ *  13964: src/common/tetio.h, tetrahedral mesh files, TetGen .node/.ele and MEDIT .mesh.
+ *  14456: src/common/bisect.h, graded, conforming tetrahedral meshes of a box by newest-v
+ *  14778: src/common/stuffing.h, the built-in tetrahedralizer of lst.h, so that no external
+ *  18077: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
+ *  18220: src/common/pca.h, principal component analysis of vectors streamed one at a 
+ *  18407: src/common/glue.h, what every method header needs between its public types an
+ *  18743: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  19407: src/lst/core.c, lst.h's glue to the shared core, its defaults, the convers
+ *  19740: src/lst/exemplar.c, solid exemplars (§5): sampling, the procedural exemplars 
+ *  20309: src/lst/field.c, §5.2.2, the fields that orient and scale the pastes. The 
+ *  21517: src/lst/paste.c, §5.2.3-5.2.7, filling the model. Each paste picks a rando
+ *  22506: src/lst/render.c, §5.1, showing a model. Every point of a tetrahedron is th
+ *  23403: src/lst/cut.c, §5.1.1, cutting a model along the zero set of a scalar fi
+ *  24008: src/lst/builtin.c, the tetrahedralizer entry point, checks of caller meshes, 
+ *  24530: src/lst/io.c, the model file, the constraint files and the file convenie
+ *  25223: src/lst/export.c, the visible boundary with a baked texture atlas, for glTF.
  */
 /* lst.h - lapped solid textures: solid exemplars pasted inside a model.
  *
@@ -8866,8 +8866,8 @@ PW__DEF void pw_parallel_for(const pw_parallel *par, int n, pw_task_fn task, voi
 #define PW__RENDER_V1
 
 
-/* SSE2 (every x86-64) filters the four channels of a texel at once and
- * clamps a pixel's at once, with the same float operations in the same
+/* SSE2 (every x86-64) filters, blends and clamps the four channels of a
+ * texel or a pixel at once, with the same float operations in the same
  * order as the portable C, so the pictures are the same bit for bit;
  * define PW_NO_SIMD to use the C. */
 #if defined(__SSE2__) && !defined(PW_NO_SIMD)
@@ -10159,8 +10159,13 @@ PW__DEF void pw__shade_batch(const pw__ctx *c, pw__batch *b)
             P.iq = iq[i];
             pw__shade_custom(c, &P, tx);
         }
+#ifdef PW__SSE2
+        _mm_storeu_ps(o, _mm_mul_ps(_mm_mul_ps(_mm_loadu_ps(c->tint), _mm_loadu_ps(tx)),
+                                    _mm_setr_ps(lk[i], lk[i], lk[i], 1.0f))); /* times 1: exact */
+#else
         for (k = 0; k < 3; k++) o[k] = c->tint[k] * tx[k] * lk[i];
         o[3] = c->tint[3] * tx[3];
+#endif
     }
 }
 
@@ -10202,10 +10207,14 @@ PW__DEF void pw__batch_flush(pw__ctx *c)
                     continue;
                 }
                 if (!(mask >> (j * ss + k) & 1)) continue;
+#ifdef PW__SSE2
+                _mm_storeu_ps(d, _mm_add_ps(_mm_loadu_ps(col), _mm_mul_ps(_mm_set1_ps(keep), _mm_loadu_ps(d))));
+#else
                 d[0] = col[0] + keep * d[0];
                 d[1] = col[1] + keep * d[1];
                 d[2] = col[2] + keep * d[2];
                 d[3] = col[3] + keep * d[3];
+#endif
                 if (c->dwrite) fb->depth[row + k] = c->qbuf[(size_t)j * fb->sw + (size_t)b->px[i] * ss + k];
             }
         }

@@ -20,33 +20,33 @@
  *   8741: src/common/raster.h, exact scan conversion of 2D triangles.
  *   9253: src/common/parallel.h, a parallel for, the one way work is split across threads.
  *   9381: src/common/render.h, a small deterministic software renderer for textured trian
- *  11271: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
- *  11458: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
- *  11543: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
- *  11732: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
- *  12652: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
- *  13350: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
- *  13586: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
- *  14350: src/common/periodic.h, the periodic global parameterization of a triangle mesh al
- *  15178: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
- *  15939: src/pgp/tile3.h, sampling a material-space tile (Ray et al. 2009, §2: "a 3
- *  16047: src/common/glue.h, what every method header needs between its public types an
- *  16383: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  17047: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
- *  17544: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
- *  18030: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
- *  18173: src/common/kdtree.h, nearest-neighbour search among n points of dimension d, wi
- *  18516: src/common/pca.h, principal component analysis of vectors streamed one at a 
- *  18703: src/pgp/core.c, pgp.h's glue to the shared core, its defaults, and the map
- *  18916: src/pgp/field.c, §2.1 effect areas and §2.2 interpolation of the constrai
- *  19115: src/pgp/solve.c, §2.3 the periodic global parameterization, the recovery o
- *  19534: src/pgp/edit.c, the public editing calls of a mapping. §2.1 (Ray, Lévy, 
- *  19679: src/pgp/render.c, §3 rendering, and a cleaner treatment of the vortices.
- *  20040: src/pgp/builtin.c, built-in meshes and material-space tiles for demos and tes
- *  20309: src/pgp/io.c, files and memory for pgp.h: material-space tiles (NRRD, or
- *  20657: src/pgp/export.c, the mapping for other programs. A viewer that knows nothin
- *  20883: src/pgp/morph.c, the inputs of §1 (keys brought to the tile size, made til
- *  21562: src/pgp/synth.c, §1.2 constrained tile synthesis, and the whole of §1: ke
+ *  11280: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
+ *  11467: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
+ *  11552: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
+ *  11741: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
+ *  12661: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
+ *  13359: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
+ *  13595: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
+ *  14359: src/common/periodic.h, the periodic global parameterization of a triangle mesh al
+ *  15187: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
+ *  15948: src/pgp/tile3.h, sampling a material-space tile (Ray et al. 2009, §2: "a 3
+ *  16056: src/common/glue.h, what every method header needs between its public types an
+ *  16392: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  17056: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
+ *  17553: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
+ *  18039: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
+ *  18182: src/common/kdtree.h, nearest-neighbour search among n points of dimension d, wi
+ *  18525: src/common/pca.h, principal component analysis of vectors streamed one at a 
+ *  18712: src/pgp/core.c, pgp.h's glue to the shared core, its defaults, and the map
+ *  18925: src/pgp/field.c, §2.1 effect areas and §2.2 interpolation of the constrai
+ *  19124: src/pgp/solve.c, §2.3 the periodic global parameterization, the recovery o
+ *  19543: src/pgp/edit.c, the public editing calls of a mapping. §2.1 (Ray, Lévy, 
+ *  19688: src/pgp/render.c, §3 rendering, and a cleaner treatment of the vortices.
+ *  20049: src/pgp/builtin.c, built-in meshes and material-space tiles for demos and tes
+ *  20318: src/pgp/io.c, files and memory for pgp.h: material-space tiles (NRRD, or
+ *  20666: src/pgp/export.c, the mapping for other programs. A viewer that knows nothin
+ *  20892: src/pgp/morph.c, the inputs of §1 (keys brought to the tile size, made til
+ *  21571: src/pgp/synth.c, §1.2 constrained tile synthesis, and the whole of §1: ke
  */
 /* pgp.h - material-space texturing with a periodic global parameterization.
  *
@@ -9473,8 +9473,8 @@ PW__DEF void pw_parallel_for(const pw_parallel *par, int n, pw_task_fn task, voi
 #define PW__RENDER_V1
 
 
-/* SSE2 (every x86-64) filters the four channels of a texel at once and
- * clamps a pixel's at once, with the same float operations in the same
+/* SSE2 (every x86-64) filters, blends and clamps the four channels of a
+ * texel or a pixel at once, with the same float operations in the same
  * order as the portable C, so the pictures are the same bit for bit;
  * define PW_NO_SIMD to use the C. */
 #if defined(__SSE2__) && !defined(PW_NO_SIMD)
@@ -10766,8 +10766,13 @@ PW__DEF void pw__shade_batch(const pw__ctx *c, pw__batch *b)
             P.iq = iq[i];
             pw__shade_custom(c, &P, tx);
         }
+#ifdef PW__SSE2
+        _mm_storeu_ps(o, _mm_mul_ps(_mm_mul_ps(_mm_loadu_ps(c->tint), _mm_loadu_ps(tx)),
+                                    _mm_setr_ps(lk[i], lk[i], lk[i], 1.0f))); /* times 1: exact */
+#else
         for (k = 0; k < 3; k++) o[k] = c->tint[k] * tx[k] * lk[i];
         o[3] = c->tint[3] * tx[3];
+#endif
     }
 }
 
@@ -10809,10 +10814,14 @@ PW__DEF void pw__batch_flush(pw__ctx *c)
                     continue;
                 }
                 if (!(mask >> (j * ss + k) & 1)) continue;
+#ifdef PW__SSE2
+                _mm_storeu_ps(d, _mm_add_ps(_mm_loadu_ps(col), _mm_mul_ps(_mm_set1_ps(keep), _mm_loadu_ps(d))));
+#else
                 d[0] = col[0] + keep * d[0];
                 d[1] = col[1] + keep * d[1];
                 d[2] = col[2] + keep * d[2];
                 d[3] = col[3] + keep * d[3];
+#endif
                 if (c->dwrite) fb->depth[row + k] = c->qbuf[(size_t)j * fb->sw + (size_t)b->px[i] * ss + k];
             }
         }

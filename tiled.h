@@ -25,19 +25,19 @@
  *  10565: src/common/raster.h, exact scan conversion of 2D triangles.
  *  11079: src/common/parallel.h, a parallel for, the one way work is split across threads.
  *  11207: src/common/render.h, a small deterministic software renderer for textured trian
- *  13097: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
- *  13594: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
- *  14080: src/common/glue.h, what every method header needs between its public types an
- *  14416: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  15080: src/tiled/core.c, tiled.h's glue to the shared core, its defaults, result
- *  15169: src/tiled/layout.c, ch. III.1, the boundary types and the tiled texture they
- *  15441: src/tiled/cells.c, beyond the thesis (issue 23): tiles of a chosen size on an
- *  16097: src/tiled/map.c, ch. III.2, the texture mapping algorithm of Fig. 29
- *  16366: src/tiled/synth.c, ch. III.1.3, tiled texture image synthesis: an edge-matche
- *  16812: src/tiled/validate.c, checks a hand-made tiled texture (the thesis's Figs. 39,
- *  16940: src/tiled/builtin.c, built-in meshes and exemplars for demos and tests: the
- *  17137: src/tiled/render.c, a software rendering of a mapped mesh (the thesis rendered
- *  17360: src/tiled/io.c, files. Meshes and exemplars in; the mapped mesh with its t
+ *  13106: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
+ *  13603: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
+ *  14089: src/common/glue.h, what every method header needs between its public types an
+ *  14425: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  15089: src/tiled/core.c, tiled.h's glue to the shared core, its defaults, result
+ *  15178: src/tiled/layout.c, ch. III.1, the boundary types and the tiled texture they
+ *  15450: src/tiled/cells.c, beyond the thesis (issue 23): tiles of a chosen size on an
+ *  16106: src/tiled/map.c, ch. III.2, the texture mapping algorithm of Fig. 29
+ *  16375: src/tiled/synth.c, ch. III.1.3, tiled texture image synthesis: an edge-matche
+ *  16821: src/tiled/validate.c, checks a hand-made tiled texture (the thesis's Figs. 39,
+ *  16949: src/tiled/builtin.c, built-in meshes and exemplars for demos and tests: the
+ *  17146: src/tiled/render.c, a software rendering of a mapped mesh (the thesis rendered
+ *  17369: src/tiled/io.c, files. Meshes and exemplars in; the mapped mesh with its t
  */
 /* tiled.h - seamless, singularity-free tiled textures on quad meshes.
  *
@@ -11299,8 +11299,8 @@ PW__DEF void pw_parallel_for(const pw_parallel *par, int n, pw_task_fn task, voi
 #define PW__RENDER_V1
 
 
-/* SSE2 (every x86-64) filters the four channels of a texel at once and
- * clamps a pixel's at once, with the same float operations in the same
+/* SSE2 (every x86-64) filters, blends and clamps the four channels of a
+ * texel or a pixel at once, with the same float operations in the same
  * order as the portable C, so the pictures are the same bit for bit;
  * define PW_NO_SIMD to use the C. */
 #if defined(__SSE2__) && !defined(PW_NO_SIMD)
@@ -12592,8 +12592,13 @@ PW__DEF void pw__shade_batch(const pw__ctx *c, pw__batch *b)
             P.iq = iq[i];
             pw__shade_custom(c, &P, tx);
         }
+#ifdef PW__SSE2
+        _mm_storeu_ps(o, _mm_mul_ps(_mm_mul_ps(_mm_loadu_ps(c->tint), _mm_loadu_ps(tx)),
+                                    _mm_setr_ps(lk[i], lk[i], lk[i], 1.0f))); /* times 1: exact */
+#else
         for (k = 0; k < 3; k++) o[k] = c->tint[k] * tx[k] * lk[i];
         o[3] = c->tint[3] * tx[3];
+#endif
     }
 }
 
@@ -12635,10 +12640,14 @@ PW__DEF void pw__batch_flush(pw__ctx *c)
                     continue;
                 }
                 if (!(mask >> (j * ss + k) & 1)) continue;
+#ifdef PW__SSE2
+                _mm_storeu_ps(d, _mm_add_ps(_mm_loadu_ps(col), _mm_mul_ps(_mm_set1_ps(keep), _mm_loadu_ps(d))));
+#else
                 d[0] = col[0] + keep * d[0];
                 d[1] = col[1] + keep * d[1];
                 d[2] = col[2] + keep * d[2];
                 d[3] = col[3] + keep * d[3];
+#endif
                 if (c->dwrite) fb->depth[row + k] = c->qbuf[(size_t)j * fb->sw + (size_t)b->px[i] * ss + k];
             }
         }

@@ -96,8 +96,8 @@
 #include "vec.h"
 #include "image.h"
 
-/* SSE2 (every x86-64) filters the four channels of a texel at once and
- * clamps a pixel's at once, with the same float operations in the same
+/* SSE2 (every x86-64) filters, blends and clamps the four channels of a
+ * texel or a pixel at once, with the same float operations in the same
  * order as the portable C, so the pictures are the same bit for bit;
  * define PW_NO_SIMD to use the C. */
 #if defined(__SSE2__) && !defined(PW_NO_SIMD)
@@ -1389,8 +1389,13 @@ PW__DEF void pw__shade_batch(const pw__ctx *c, pw__batch *b)
             P.iq = iq[i];
             pw__shade_custom(c, &P, tx);
         }
+#ifdef PW__SSE2
+        _mm_storeu_ps(o, _mm_mul_ps(_mm_mul_ps(_mm_loadu_ps(c->tint), _mm_loadu_ps(tx)),
+                                    _mm_setr_ps(lk[i], lk[i], lk[i], 1.0f))); /* times 1: exact */
+#else
         for (k = 0; k < 3; k++) o[k] = c->tint[k] * tx[k] * lk[i];
         o[3] = c->tint[3] * tx[3];
+#endif
     }
 }
 
@@ -1432,10 +1437,14 @@ PW__DEF void pw__batch_flush(pw__ctx *c)
                     continue;
                 }
                 if (!(mask >> (j * ss + k) & 1)) continue;
+#ifdef PW__SSE2
+                _mm_storeu_ps(d, _mm_add_ps(_mm_loadu_ps(col), _mm_mul_ps(_mm_set1_ps(keep), _mm_loadu_ps(d))));
+#else
                 d[0] = col[0] + keep * d[0];
                 d[1] = col[1] + keep * d[1];
                 d[2] = col[2] + keep * d[2];
                 d[3] = col[3] + keep * d[3];
+#endif
                 if (c->dwrite) fb->depth[row + k] = c->qbuf[(size_t)j * fb->sw + (size_t)b->px[i] * ss + k];
             }
         }
