@@ -16,28 +16,28 @@
  *   5826: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
  *   6250: src/common/subdiv.h, Catmull-Clark subdivision (Catmull and Clark 1978) with
  *   6389: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
- *   7775: src/common/zsparse.h, complex Hermitian sparse systems, solved by conjugate grad
- *   8058: src/common/zamg.h, a smoothed-aggregation multigrid preconditioner for the co
- *   8701: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
- *   8888: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
- *   8973: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
- *   9737: src/common/periodic.h, the periodic global parameterization of a triangle mesh al
- *  10565: src/common/raster.h, exact scan conversion of 2D triangles.
- *  11079: src/common/parallel.h, a parallel for, the one way work is split across threads.
- *  11207: src/common/render.h, a small deterministic software renderer for textured trian
- *  13106: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
- *  13603: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
- *  14089: src/common/glue.h, what every method header needs between its public types an
- *  14425: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  15089: src/tiled/core.c, tiled.h's glue to the shared core, its defaults, result
- *  15178: src/tiled/layout.c, ch. III.1, the boundary types and the tiled texture they
- *  15450: src/tiled/cells.c, beyond the thesis (issue 23): tiles of a chosen size on an
- *  16106: src/tiled/map.c, ch. III.2, the texture mapping algorithm of Fig. 29
- *  16375: src/tiled/synth.c, ch. III.1.3, tiled texture image synthesis: an edge-matche
- *  16821: src/tiled/validate.c, checks a hand-made tiled texture (the thesis's Figs. 39,
- *  16949: src/tiled/builtin.c, built-in meshes and exemplars for demos and tests: the
- *  17146: src/tiled/render.c, a software rendering of a mapped mesh (the thesis rendered
- *  17369: src/tiled/io.c, files. Meshes and exemplars in; the mapped mesh with its t
+ *   7871: src/common/zsparse.h, complex Hermitian sparse systems, solved by conjugate grad
+ *   8154: src/common/zamg.h, a smoothed-aggregation multigrid preconditioner for the co
+ *   8797: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
+ *   8984: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
+ *   9069: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
+ *   9833: src/common/periodic.h, the periodic global parameterization of a triangle mesh al
+ *  10661: src/common/raster.h, exact scan conversion of 2D triangles.
+ *  11175: src/common/parallel.h, a parallel for, the one way work is split across threads.
+ *  11303: src/common/render.h, a small deterministic software renderer for textured trian
+ *  13202: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
+ *  13699: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
+ *  14185: src/common/glue.h, what every method header needs between its public types an
+ *  14521: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  15185: src/tiled/core.c, tiled.h's glue to the shared core, its defaults, result
+ *  15274: src/tiled/layout.c, ch. III.1, the boundary types and the tiled texture they
+ *  15546: src/tiled/cells.c, beyond the thesis (issue 23): tiles of a chosen size on an
+ *  16202: src/tiled/map.c, ch. III.2, the texture mapping algorithm of Fig. 29
+ *  16471: src/tiled/synth.c, ch. III.1.3, tiled texture image synthesis: an edge-matche
+ *  16917: src/tiled/validate.c, checks a hand-made tiled texture (the thesis's Figs. 39,
+ *  17045: src/tiled/builtin.c, built-in meshes and exemplars for demos and tests: the
+ *  17242: src/tiled/render.c, a software rendering of a mapped mesh (the thesis rendered
+ *  17465: src/tiled/io.c, files. Meshes and exemplars in; the mapped mesh with its t
  */
 /* tiled.h - seamless, singularity-free tiled textures on quad meshes.
  *
@@ -7388,31 +7388,41 @@ PW__DEF void pw_ldlt_free(const pw_alloc *a, pw_ldlt *F)
     memset(F, 0, sizeof *F);
 }
 
-/* The elimination graph of the minimum-degree ordering. */
-typedef struct pw__mdg {
+/* The quotient graph of the minimum-degree ordering (George and Liu; the
+ * approximate degrees of Amestoy, Davis and Duff's AMD, 1996). An
+ * eliminated variable becomes an element, whose list L_e holds the live
+ * variables its elimination joined into a clique; the clique is never
+ * formed. A live variable i keeps its variable neighbours not yet covered
+ * by an element (var(i)) and the elements it belongs to (elt(i)). Every
+ * element containing the pivot is absorbed into the pivot's new element,
+ * so element lists hold live variables only. All lists live in one pool
+ * of ints (offsets, never pointers, since the pool moves as it grows): a
+ * new element's list and an elt list that outgrows its room are placed at
+ * its end. */
+typedef struct pw__amd {
     const pw_alloc *a;
     int n;
-    int **adj, *deg, *cap;   /* neighbour lists */
+    int *pool;
+    size_t used, cap;
+    size_t *var, *elt, *L;   /* list offsets in pool */
+    int *nvar, *nelt, *celt; /* counts, room of elt lists */
+    int *nL, *deg;           /* element sizes; approximate external degrees */
     int *head, *next, *prev; /* degree buckets: doubly linked lists */
-    unsigned char *gone;
-    int *mark, stamp; /* merge marks, n: mark[x] == stamp while x is in the list being merged */
-} pw__mdg;
+    unsigned char *status;   /* 0 variable, 1 element, 2 absorbed element */
+    int *mark, *w, *wmark, stamp;
+    int dmin; /* no live variable has a smaller degree */
+} pw__amd;
 
-PW__DEF void pw__mdg_free(pw__mdg *G)
+PW__DEF void pw__amd_free(pw__amd *G)
 {
-    int i;
-    for (i = 0; G->adj && i < G->n; i++) pw_free(G->a, G->adj[i]);
-    pw_free(G->a, G->adj);
-    pw_free(G->a, G->deg);
-    pw_free(G->a, G->cap);
+    pw_free(G->a, G->pool);
+    pw_free(G->a, G->var);
+    pw_free(G->a, G->nvar);
     pw_free(G->a, G->head);
-    pw_free(G->a, G->next);
-    pw_free(G->a, G->prev);
-    pw_free(G->a, G->gone);
-    pw_free(G->a, G->mark);
+    pw_free(G->a, G->status);
 }
 
-PW__DEF void pw__mdg_unlink(pw__mdg *G, int v)
+PW__DEF void pw__amd_unlink(pw__amd *G, int v)
 {
     if (G->prev[v] >= 0) G->next[G->prev[v]] = G->next[v];
     else G->head[G->deg[v]] = G->next[v];
@@ -7422,93 +7432,179 @@ PW__DEF void pw__mdg_unlink(pw__mdg *G, int v)
 /* Pushes v on the front of its degree's bucket: among equal degrees the
  * vertex touched last goes first (deterministic, and it keeps the
  * elimination local, as multiple-elimination orderings do). */
-PW__DEF void pw__mdg_link(pw__mdg *G, int v)
+PW__DEF void pw__amd_link(pw__amd *G, int v)
 {
     int d = G->deg[v];
     G->next[v] = G->head[d];
     G->prev[v] = -1;
     if (G->head[d] >= 0) G->prev[G->head[d]] = v;
     G->head[d] = v;
+    if (d < G->dmin) G->dmin = d;
 }
 
-PW__DEF int pw__mdg_init(pw__mdg *G, const pw_alloc *a, const pw_csr *A, pw_err *e)
+/* Room for k more ints at the end of the pool; returns their offset. */
+PW__DEF int pw__amd_room(pw__amd *G, size_t k, size_t *at, pw_err *e)
+{
+    if (G->used + k > G->cap) {
+        size_t cap = G->used + k > 2 * G->cap ? G->used + k : 2 * G->cap;
+        int *grown = (int *)pw_realloc(G->a, G->pool, sizeof(int) * cap);
+        if (!grown) return pw_fail(e, PW_ERR_NOMEM, "out of memory ordering a sparse matrix");
+        G->pool = grown;
+        G->cap = cap;
+    }
+    *at = G->used;
+    G->used += k;
+    return PW_OK;
+}
+
+PW__DEF int pw__amd_init(pw__amd *G, const pw_alloc *a, const pw_csr *A, pw_err *e)
 {
     int n = A->n, i, k;
+    size_t at = 0;
     memset(G, 0, sizeof *G);
     G->a = a;
     G->n = n;
-    G->adj = (int **)pw_calloc_array(a, (size_t)n, sizeof(int *), "ordering graph", e);
-    G->deg = (int *)pw_calloc_array(a, (size_t)n, sizeof(int), "ordering graph", e);
-    G->cap = (int *)pw_calloc_array(a, (size_t)n, sizeof(int), "ordering graph", e);
+    G->var = (size_t *)pw_alloc_array(a, (size_t)n * 3, sizeof(size_t), "ordering graph", e);
+    G->nvar = (int *)pw_calloc_array(a, (size_t)n * 11, sizeof(int), "ordering graph", e);
     G->head = (int *)pw_alloc_array(a, (size_t)n + 1, sizeof(int), "ordering graph", e);
-    G->next = (int *)pw_alloc_array(a, (size_t)n, sizeof(int), "ordering graph", e);
-    G->prev = (int *)pw_alloc_array(a, (size_t)n, sizeof(int), "ordering graph", e);
-    G->gone = (unsigned char *)pw_calloc_array(a, (size_t)n, 1, "ordering graph", e);
-    G->mark = (int *)pw_calloc_array(a, (size_t)n, sizeof(int), "ordering graph", e);
-    if (!G->adj || !G->deg || !G->cap || !G->head || !G->next || !G->prev || !G->gone || !G->mark) return PW_ERR_NOMEM;
+    G->status = (unsigned char *)pw_calloc_array(a, (size_t)n, 1, "ordering graph", e);
+    if (!G->var || !G->nvar || !G->head || !G->status ||
+        pw__amd_room(G, (size_t)A->rowptr[n] + 4 * (size_t)n, &at, e) != PW_OK)
+        return PW_ERR_NOMEM;
+    G->elt = G->var + n;
+    G->L = G->elt + n;
+    G->nelt = G->nvar + n;
+    G->celt = G->nelt + n;
+    G->nL = G->celt + n;
+    G->deg = G->nL + n;
+    G->next = G->deg + n;
+    G->prev = G->next + n;
+    G->mark = G->prev + n;
+    G->w = G->mark + n;
+    G->wmark = G->w + n;
     for (i = 0; i < n; i++) {
-        int d = 0;
-        for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++) d += A->col[k] != i;
-        G->cap[i] = d > 4 ? d : 4;
-        if (!(G->adj[i] = (int *)pw_alloc_array(a, (size_t)G->cap[i], sizeof(int), "ordering graph", e)))
-            return PW_ERR_NOMEM;
+        G->var[i] = at;
         for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++)
-            if (A->col[k] != i) G->adj[i][G->deg[i]++] = A->col[k];
+            if (A->col[k] != i) G->pool[at + G->nvar[i]++] = A->col[k];
+        at += (size_t)G->nvar[i];
+        G->elt[i] = at;
+        G->celt[i] = 4;
+        at += 4;
+        G->deg[i] = G->nvar[i];
     }
+    G->used = at;
+    G->dmin = n;
     for (i = 0; i <= n; i++) G->head[i] = -1;
-    for (i = n - 1; i >= 0; i--) pw__mdg_link(G, i); /* vertex 0 first among equals */
+    for (i = n - 1; i >= 0; i--) pw__amd_link(G, i); /* vertex 0 first among equals */
     return PW_OK;
 }
 
-/* adj(u) := adj(u) ∪ nb minus u and eliminated vertices: adj(u) is
- * compacted and marked, then what nb adds is appended (lists unsorted; the
- * order they take depends on the input alone). */
-PW__DEF int pw__mdg_merge(pw__mdg *G, int u, const int *nb, int nn, pw_err *e)
+/* Appends element p to elt(i), moving the list to the pool's end with
+ * twice the room when it is full. */
+PW__DEF int pw__amd_add_elt(pw__amd *G, int i, int p, pw_err *e)
 {
-    int *au = G->adj[u], du = G->deg[u], i, m = 0, stamp = ++G->stamp;
-    for (i = 0; i < du; i++)
-        if (!G->gone[au[i]]) G->mark[au[m++] = au[i]] = stamp;
-    G->mark[u] = stamp;
-    if (m + nn > G->cap[u]) {
-        int cap = m + nn > 2 * G->cap[u] ? m + nn : 2 * G->cap[u];
-        int *grown = (int *)pw_realloc(G->a, au, sizeof(int) * (size_t)cap);
-        if (!grown) return pw_fail(e, PW_ERR_NOMEM, "out of memory ordering a sparse matrix");
-        G->adj[u] = au = grown;
-        G->cap[u] = cap;
+    if (G->nelt[i] == G->celt[i]) {
+        size_t at;
+        if (pw__amd_room(G, 2 * (size_t)G->celt[i], &at, e) != PW_OK) return PW_ERR_NOMEM;
+        memcpy(G->pool + at, G->pool + G->elt[i], sizeof(int) * (size_t)G->nelt[i]);
+        G->elt[i] = at;
+        G->celt[i] *= 2;
     }
-    for (i = 0; i < nn; i++)
-        if (G->mark[nb[i]] != stamp) au[m++] = nb[i];
-    G->deg[u] = m;
+    G->pool[G->elt[i] + G->nelt[i]++] = p;
     return PW_OK;
 }
 
-/* Minimum-degree order of A's graph into perm. */
+/* Eliminates variable p, the k-th: its element's list L_p (its variable
+ * neighbours and the lists of the elements it belongs to, which it
+ * absorbs) into nb, then, for every i in L_p, |L_e \ L_p| of i's other
+ * elements (w), the absorption of elements wholly inside L_p, i's lists
+ * pruned, and its approximate external degree: |var(i)| + |L_p| - 1 + the
+ * sum of w over its other elements, at most its old degree plus
+ * |L_p| - 1 and the variables left. */
+PW__DEF int pw__amd_eliminate(pw__amd *G, int p, int k, int *nb, pw_err *e)
+{
+    int stamp = ++G->stamp, nn = 0, i, j, q;
+    const int *pool;
+    size_t at;
+    G->status[p] = 1;
+    G->mark[p] = stamp;
+    pool = G->pool;
+    for (j = 0; j < G->nvar[p]; j++) {
+        int v = pool[G->var[p] + j];
+        if (G->status[v] == 0 && G->mark[v] != stamp) G->mark[nb[nn++] = v] = stamp;
+    }
+    for (j = 0; j < G->nelt[p]; j++) {
+        int el = pool[G->elt[p] + j];
+        if (G->status[el] != 1) continue;
+        for (q = 0; q < G->nL[el]; q++) {
+            int v = pool[G->L[el] + q];
+            if (G->mark[v] != stamp) G->mark[nb[nn++] = v] = stamp;
+        }
+        G->status[el] = 2;
+    }
+    G->nvar[p] = G->nelt[p] = 0;
+    if (pw__amd_room(G, (size_t)nn, &at, e) != PW_OK) return PW_ERR_NOMEM;
+    memcpy(G->pool + at, nb, sizeof(int) * (size_t)nn);
+    G->L[p] = at;
+    G->nL[p] = nn;
+    pool = G->pool;
+    for (i = 0; i < nn; i++) /* w(e) = |L_e \ L_p| */
+        for (j = 0; j < G->nelt[nb[i]]; j++) {
+            int el = pool[G->elt[nb[i]] + j];
+            if (G->status[el] != 1) continue;
+            if (G->wmark[el] != stamp) {
+                G->wmark[el] = stamp;
+                G->w[el] = G->nL[el];
+            }
+            G->w[el]--;
+        }
+    for (i = 0; i < nn; i++) { /* elements inside L_p are absorbed (aggressive absorption) */
+        int v = nb[i], m = 0, ext = 0;
+        long d;
+        int *ev = G->pool + G->elt[v], *vv = G->pool + G->var[v];
+        for (j = 0; j < G->nelt[v]; j++) {
+            int el = ev[j];
+            if (G->status[el] != 1 || G->w[el] == 0) {
+                G->status[el] = G->status[el] == 1 ? 2 : G->status[el];
+                continue;
+            }
+            ev[m++] = el;
+            ext += G->w[el];
+        }
+        G->nelt[v] = m;
+        for (j = 0, m = 0; j < G->nvar[v]; j++)
+            if (G->status[vv[j]] == 0 && G->mark[vv[j]] != stamp) vv[m++] = vv[j];
+        G->nvar[v] = m;
+        if (pw__amd_add_elt(G, v, p, e) != PW_OK) return PW_ERR_NOMEM;
+        d = (long)m + nn - 1 + ext;
+        if (d > (long)G->deg[v] + nn - 1) d = (long)G->deg[v] + nn - 1;
+        if (d > G->n - k - 2) d = G->n - k - 2;
+        pw__amd_unlink(G, v);
+        G->deg[v] = (int)(d > 0 ? d : 0);
+        pw__amd_link(G, v);
+    }
+    return PW_OK;
+}
+
+/* Minimum-degree order of A's graph into perm (approximate degrees on the
+ * quotient graph: the cost follows the nonzeros, not the fill). */
 PW__DEF int pw__min_degree(const pw_alloc *a, const pw_csr *A, int *perm, pw_err *e)
 {
-    pw__mdg G;
-    int k, d, r = pw__mdg_init(&G, a, A, e);
+    pw__amd G;
+    int k, r = pw__amd_init(&G, a, A, e);
     int *nb = NULL;
     if (r == PW_OK && !(nb = (int *)pw_alloc_array(a, (size_t)A->n, sizeof(int), "ordering graph", e)))
         r = PW_ERR_NOMEM;
     for (k = 0; k < A->n && r == PW_OK; k++) {
-        int v, nn, i;
-        d = 0;
-        while (G.head[d] < 0) d++;
-        v = G.head[d];
-        pw__mdg_unlink(&G, v);
-        G.gone[v] = 1;
+        int v;
+        while (G.head[G.dmin] < 0) G.dmin++;
+        v = G.head[G.dmin];
+        pw__amd_unlink(&G, v);
         perm[k] = v;
-        for (i = 0, nn = 0; i < G.deg[v]; i++)
-            if (!G.gone[G.adj[v][i]]) nb[nn++] = G.adj[v][i];
-        for (i = 0; i < nn && r == PW_OK; i++) {
-            int u = nb[i];
-            pw__mdg_unlink(&G, u);
-            r = pw__mdg_merge(&G, u, nb, nn, e);
-            pw__mdg_link(&G, u);
-        }
+        r = pw__amd_eliminate(&G, v, k, nb, e);
     }
     pw_free(a, nb);
-    pw__mdg_free(&G);
+    pw__amd_free(&G);
     return r;
 }
 
