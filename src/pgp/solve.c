@@ -340,8 +340,9 @@ static void pgp__axes(const float *up3, float *ax)
  * (on a closed surface of genus 0), and around each the curl the
  * correction cannot cancel (the tile side stops shrinking at 1/2) is as
  * many vortices as periods fit around the pole there: on CGAL's mushroom,
- * up = +Y puts the poles on the rims of the square cap, 9 vortices each,
- * +Z on the round end of the stem, 15 in all. So the up field is tried
+ * up = +Y puts the poles on the rim of its round cap, 9 vortices each, Z
+ * at the centres of the cap's top and of the square foot, 15 in all (at
+ * the cap). So the up field is tried
  * along three perpendicular axes (pgp__axes), each made integrable and
  * parameterized, and the one with the fewest vortices is kept (the first
  * on a tie: up itself). The least-curvature field has no axis to choose. */
@@ -351,13 +352,14 @@ static int pgp__integrable_field(pgp__state *P, pw_err *e)
     double *keep = (double *)pw_alloc_array(&P->a, 2 * nf, sizeof(double), "integrability", e);
     float *kfac = (float *)pw_alloc_array(&P->a, nv, sizeof(float), "integrability", e), ax[9];
     unsigned char *all = (unsigned char *)pw_alloc_array(&P->a, nv, 1, "integrability", e);
-    int c, f, n, best = -1, ncand = P->o.field == PGP_FIELD_CURVATURE ? 1 : 3,
-                 r = keep && kfac && all ? PW_OK : PW_ERR_NOMEM;
+    int c, f, v, n, best = -1, ncand = P->o.field == PGP_FIELD_CURVATURE ? 1 : 3,
+                    r = keep && kfac && all ? PW_OK : PW_ERR_NOMEM;
     pgp__axes(P->o.up, ax);
     if (all) memset(all, 1, nv);
     for (c = 0; c < ncand && r == PW_OK; c++) {
-        for (f = 0; f < P->pp.m.nv; f++) P->pp.sfac[f] = 1.0f;
-        r = pw_periodic_base_field(&P->pp, ax + 3 * c, P->o.field == PGP_FIELD_CURVATURE, P->o.smoothing, e);
+        for (v = 0; v < P->pp.m.nv; v++) P->pp.sfac[v] = 1.0f;
+        r = pw_periodic_base_field(&P->pp, c ? ax + 3 * c : P->o.up, P->o.field == PGP_FIELD_CURVATURE, P->o.smoothing,
+                                   e);
         if (r == PW_OK) r = pgp__integrable(P, e);
         if (r == PW_OK && ncand > 1) r = pw_periodic_solve(&P->pp, all, 1, e);
         for (f = 0; r == PW_OK && ncand > 1 && f < P->pp.m.nf; f++) pw_periodic_recover(&P->pp, f);
