@@ -3,50 +3,50 @@
  *
  * CONTENTS (line: source, what it holds)
  *     51: src/pgp/pgp.h, the public API and its documentation
- *    668: src/common/base.h, allocation hooks, result codes, error messages, limits, he
- *    980: src/common/vec.h, small vector math on float[3] arrays and a 3-float struct.
- *   1094: src/common/rng.h, seeded random numbers with the same output on every platfo
- *   1171: src/common/noise.h, value noise and its fractal sum, for the built-in procedur
- *   1273: src/common/image.h, float images and their file formats.
- *   1978: src/common/deflate.h, zlib (RFC 1950) and deflate (RFC 1951) compression and
- *   2975: src/common/png.h, PNG writer and reader, and the image front end.
- *   3534: src/common/text.h, locale-independent number parsing and formatting, a line s
- *   3947: src/common/mesh.h, polygon meshes as flat arrays, and their file formats.
- *   5476: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
- *   6005: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
- *   6429: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
- *   7911: src/common/zsparse.h, complex Hermitian sparse systems, solved by conjugate grad
- *   8194: src/common/zamg.h, a smoothed-aggregation multigrid preconditioner for the co
- *   8837: src/common/raster.h, exact scan conversion of 2D triangles.
- *   9349: src/common/parallel.h, a parallel for, the one way work is split across threads.
- *   9477: src/common/render.h, a small deterministic software renderer for textured trian
- *  11376: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
- *  11563: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
- *  11648: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
- *  11837: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
- *  12757: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
- *  13455: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
- *  13691: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
- *  14455: src/common/periodic.h, the periodic global parameterization of a triangle mesh al
- *  15283: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
- *  16044: src/pgp/tile3.h, sampling a material-space tile (Ray et al. 2009, §2: "a 3
- *  16152: src/common/glue.h, what every method header needs between its public types an
- *  16488: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  17152: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
- *  17649: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
- *  18135: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
- *  18278: src/common/kdtree.h, nearest-neighbour search among n points of dimension d, wi
- *  18621: src/common/pca.h, principal component analysis of vectors streamed one at a 
- *  18808: src/pgp/core.c, pgp.h's glue to the shared core, its defaults, and the map
- *  19021: src/pgp/field.c, §2.1 effect areas and §2.2 interpolation of the constrai
- *  19220: src/pgp/solve.c, §2.3 the periodic global parameterization, the recovery o
- *  19639: src/pgp/edit.c, the public editing calls of a mapping. §2.1 (Ray, Lévy, 
- *  19784: src/pgp/render.c, §3 rendering, and a cleaner treatment of the vortices.
- *  20145: src/pgp/builtin.c, built-in meshes and material-space tiles for demos and tes
- *  20414: src/pgp/io.c, files and memory for pgp.h: material-space tiles (NRRD, or
- *  20762: src/pgp/export.c, the mapping for other programs. A viewer that knows nothin
- *  20988: src/pgp/morph.c, the inputs of §1 (keys brought to the tile size, made til
- *  21667: src/pgp/synth.c, §1.2 constrained tile synthesis, and the whole of §1: ke
+ *    670: src/common/base.h, allocation hooks, result codes, error messages, limits, he
+ *    982: src/common/vec.h, small vector math on float[3] arrays and a 3-float struct.
+ *   1096: src/common/rng.h, seeded random numbers with the same output on every platfo
+ *   1173: src/common/noise.h, value noise and its fractal sum, for the built-in procedur
+ *   1275: src/common/image.h, float images and their file formats.
+ *   1980: src/common/deflate.h, zlib (RFC 1950) and deflate (RFC 1951) compression and
+ *   2977: src/common/png.h, PNG writer and reader, and the image front end.
+ *   3536: src/common/text.h, locale-independent number parsing and formatting, a line s
+ *   3949: src/common/mesh.h, polygon meshes as flat arrays, and their file formats.
+ *   5478: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
+ *   6007: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
+ *   6431: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
+ *   7913: src/common/zsparse.h, complex Hermitian sparse systems, solved by conjugate grad
+ *   8196: src/common/zamg.h, a smoothed-aggregation multigrid preconditioner for the co
+ *   8839: src/common/raster.h, exact scan conversion of 2D triangles.
+ *   9351: src/common/parallel.h, a parallel for, the one way work is split across threads.
+ *   9479: src/common/render.h, a small deterministic software renderer for textured trian
+ *  11378: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
+ *  11565: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
+ *  11650: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
+ *  11839: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
+ *  12759: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
+ *  13457: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
+ *  13693: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
+ *  14457: src/common/periodic.h, the periodic global parameterization of a triangle mesh al
+ *  15285: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
+ *  16046: src/pgp/tile3.h, sampling a material-space tile (Ray et al. 2009, §2: "a 3
+ *  16154: src/common/glue.h, what every method header needs between its public types an
+ *  16490: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  17154: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
+ *  17651: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
+ *  18137: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
+ *  18280: src/common/kdtree.h, nearest-neighbour search among n points of dimension d, wi
+ *  18623: src/common/pca.h, principal component analysis of vectors streamed one at a 
+ *  18810: src/pgp/core.c, pgp.h's glue to the shared core, its defaults, and the map
+ *  19023: src/pgp/field.c, §2.1 effect areas and §2.2 interpolation of the constrai
+ *  19222: src/pgp/solve.c, §2.3 the periodic global parameterization, the recovery o
+ *  19711: src/pgp/edit.c, the public editing calls of a mapping. §2.1 (Ray, Lévy, 
+ *  19856: src/pgp/render.c, §3 rendering, and a cleaner treatment of the vortices.
+ *  20217: src/pgp/builtin.c, built-in meshes and material-space tiles for demos and tes
+ *  20486: src/pgp/io.c, files and memory for pgp.h: material-space tiles (NRRD, or
+ *  20834: src/pgp/export.c, the mapping for other programs. A viewer that knows nothin
+ *  21060: src/pgp/morph.c, the inputs of §1 (keys brought to the tile size, made til
+ *  21739: src/pgp/synth.c, §1.2 constrained tile synthesis, and the whole of §1: ke
  */
 /* pgp.h - material-space texturing with a periodic global parameterization.
  *
@@ -435,7 +435,9 @@ typedef struct pgp_options {
                                 the curl of the gradients the PGP must follow (each
                                 uncancelled turn is a vortex): fewer vortices for less
                                 alignment. Larger values let the field stray further
-                                (1: the CLI's --field smooth) */
+                                (1: the CLI's --field smooth). The UP field is then
+                                tried along `up` and two axes perpendicular to it and
+                                the one leaving the fewest vortices kept (up on a tie) */
     const pgp_constraint *constraints; /* nconstraints constraints pgp_create applies
                                 after building the map, in order, each exactly as
                                 pgp_add_constraint would (its own effect area and
@@ -19269,17 +19271,23 @@ static int pgp__mismatch(const pgp__state *P, int h)
     return 0;
 }
 
-PGPDEF int pgp_map_vortices(const pgp_map *map, unsigned char *flags)
+/* The triangles around which s or t winds (flags: 1 for s, 2 for t). */
+static int pgp__vortices(const pgp__state *P, unsigned char *flags)
 {
-    const pgp__state *P = pgp__state_of(map);
     int f, n = 0;
-    for (f = 0; P && f < P->pp.m.nf; f++) {
+    for (f = 0; f < P->pp.m.nf; f++) {
         unsigned char v =
             (unsigned char)((pw_periodic_winding(&P->pp, f, 0) != 0) + 2 * (pw_periodic_winding(&P->pp, f, 1) != 0));
         if (flags) flags[f] = v;
         n += v != 0;
     }
     return n;
+}
+
+PGPDEF int pgp_map_vortices(const pgp_map *map, unsigned char *flags)
+{
+    const pgp__state *P = pgp__state_of(map);
+    return P ? pgp__vortices(P, flags) : 0;
 }
 
 /* §3: a vertex's 1-ring is singular if it holds a distorted triangle or a
@@ -19531,6 +19539,69 @@ static int pgp__integrable(pgp__state *P, pw_err *e)
     return r;
 }
 
+/* The three axes the up field is tried along with options.integrable: up,
+ * the world axis least parallel to it made perpendicular, and their cross
+ * product. */
+static void pgp__axes(const float *up3, float *ax)
+{
+    float u[3], w[3] = {0.0f, 0.0f, 0.0f};
+    pw_v3 up = pw_v3_norm(pw_v3_load(up3)), a;
+    int c, least = 0;
+    pw_v3_store(u, up);
+    for (c = 1; c < 3; c++)
+        if (fabsf(u[c]) < fabsf(u[least])) least = c;
+    w[least] = 1.0f;
+    a = pw_v3_norm(pw_v3_sub(pw_v3_load(w), pw_v3_scale(up, u[least])));
+    pw_v3_store(ax, up);
+    pw_v3_store(ax + 3, a);
+    pw_v3_store(ax + 6, pw_v3_cross(up, a));
+}
+
+/* The default field with options.integrable. An up field has two poles
+ * (on a closed surface of genus 0), and around each the curl the
+ * correction cannot cancel (the tile side stops shrinking at 1/2) is as
+ * many vortices as periods fit around the pole there: on CGAL's mushroom,
+ * up = +Y puts the poles on the rim of its round cap, 9 vortices each, Z
+ * at the centres of the cap's top and of the square foot, 15 in all (at
+ * the cap). So the up field is tried
+ * along three perpendicular axes (pgp__axes), each made integrable and
+ * parameterized, and the one with the fewest vortices is kept (the first
+ * on a tie: up itself). The least-curvature field has no axis to choose. */
+static int pgp__integrable_field(pgp__state *P, pw_err *e)
+{
+    size_t nf = (size_t)P->pp.m.nf, nv = (size_t)P->pp.m.nv;
+    double *keep = (double *)pw_alloc_array(&P->a, 2 * nf, sizeof(double), "integrability", e);
+    float *kfac = (float *)pw_alloc_array(&P->a, nv, sizeof(float), "integrability", e), ax[9];
+    unsigned char *all = (unsigned char *)pw_alloc_array(&P->a, nv, 1, "integrability", e);
+    int c, f, v, n, best = -1, ncand = P->o.field == PGP_FIELD_CURVATURE ? 1 : 3,
+                    r = keep && kfac && all ? PW_OK : PW_ERR_NOMEM;
+    pgp__axes(P->o.up, ax);
+    if (all) memset(all, 1, nv);
+    for (c = 0; c < ncand && r == PW_OK; c++) {
+        for (v = 0; v < P->pp.m.nv; v++) P->pp.sfac[v] = 1.0f;
+        r = pw_periodic_base_field(&P->pp, c ? ax + 3 * c : P->o.up, P->o.field == PGP_FIELD_CURVATURE, P->o.smoothing,
+                                   e);
+        if (r == PW_OK) r = pgp__integrable(P, e);
+        if (r == PW_OK && ncand > 1) r = pw_periodic_solve(&P->pp, all, 1, e);
+        for (f = 0; r == PW_OK && ncand > 1 && f < P->pp.m.nf; f++) pw_periodic_recover(&P->pp, f);
+        n = r == PW_OK && ncand > 1 ? pgp__vortices(P, NULL) : 0;
+        if (r == PW_OK && (best < 0 || n < best)) {
+            best = n;
+            memcpy(keep, P->pp.base, sizeof(double) * 2 * nf);
+            memcpy(kfac, P->pp.sfac, sizeof(float) * nv);
+        }
+    }
+    if (r == PW_OK) {
+        memcpy(P->pp.base, keep, sizeof(double) * 2 * nf);
+        memcpy(P->pp.dir, keep, sizeof(double) * 2 * nf);
+        memcpy(P->pp.sfac, kfac, sizeof(float) * nv);
+    }
+    pw_free(&P->a, keep);
+    pw_free(&P->a, kfac);
+    pw_free(&P->a, all);
+    return r;
+}
+
 /* A tile side the mesh can carry: at most 10 bounding-box diagonals (beyond,
  * the whole mesh is one colour) and at least 2 mean edge lengths (below, a
  * period spans less than two triangles and Eq. 4 cannot recover it). Only
@@ -19573,8 +19644,9 @@ static int pgp__create_map(const pgp_mesh *mesh, const pgp_options *opt, pgp_map
         P->pp.zs[2 * v + 1] = P->pp.zt[2 * v + 1] = 0.0;
     }
     if (pgp__check_scale(P, e) != PW_OK ||
-        pw_periodic_base_field(&P->pp, P->o.up, P->o.field == PGP_FIELD_CURVATURE, P->o.smoothing, e) != PW_OK ||
-        (o.integrable > 0.0f && pgp__integrable(P, e) != PW_OK) ||
+        (o.integrable > 0.0f ? pgp__integrable_field(P, e)
+                             : pw_periodic_base_field(&P->pp, P->o.up, P->o.field == PGP_FIELD_CURVATURE,
+                                                      P->o.smoothing, e)) != PW_OK ||
         pgp__edit(P, PGP_CONSTRAINT_ORIENT, &whole, NULL, e) != PW_OK)
         return e->code;
     out->nverts = P->pp.m.nv;

@@ -385,7 +385,9 @@ typedef struct pgp_options {
                                 the curl of the gradients the PGP must follow (each
                                 uncancelled turn is a vortex): fewer vortices for less
                                 alignment. Larger values let the field stray further
-                                (1: the CLI's --field smooth) */
+                                (1: the CLI's --field smooth). The UP field is then
+                                tried along `up` and two axes perpendicular to it and
+                                the one leaving the fewest vortices kept (up on a tie) */
     const pgp_constraint *constraints; /* nconstraints constraints pgp_create applies
                                 after building the map, in order, each exactly as
                                 pgp_add_constraint would (its own effect area and

@@ -50,17 +50,23 @@ static int pgp__mismatch(const pgp__state *P, int h)
     return 0;
 }
 
-PGPDEF int pgp_map_vortices(const pgp_map *map, unsigned char *flags)
+/* The triangles around which s or t winds (flags: 1 for s, 2 for t). */
+static int pgp__vortices(const pgp__state *P, unsigned char *flags)
 {
-    const pgp__state *P = pgp__state_of(map);
     int f, n = 0;
-    for (f = 0; P && f < P->pp.m.nf; f++) {
+    for (f = 0; f < P->pp.m.nf; f++) {
         unsigned char v =
             (unsigned char)((pw_periodic_winding(&P->pp, f, 0) != 0) + 2 * (pw_periodic_winding(&P->pp, f, 1) != 0));
         if (flags) flags[f] = v;
         n += v != 0;
     }
     return n;
+}
+
+PGPDEF int pgp_map_vortices(const pgp_map *map, unsigned char *flags)
+{
+    const pgp__state *P = pgp__state_of(map);
+    return P ? pgp__vortices(P, flags) : 0;
 }
 
 /* §3: a vertex's 1-ring is singular if it holds a distorted triangle or a
@@ -312,6 +318,69 @@ static int pgp__integrable(pgp__state *P, pw_err *e)
     return r;
 }
 
+/* The three axes the up field is tried along with options.integrable: up,
+ * the world axis least parallel to it made perpendicular, and their cross
+ * product. */
+static void pgp__axes(const float *up3, float *ax)
+{
+    float u[3], w[3] = {0.0f, 0.0f, 0.0f};
+    pw_v3 up = pw_v3_norm(pw_v3_load(up3)), a;
+    int c, least = 0;
+    pw_v3_store(u, up);
+    for (c = 1; c < 3; c++)
+        if (fabsf(u[c]) < fabsf(u[least])) least = c;
+    w[least] = 1.0f;
+    a = pw_v3_norm(pw_v3_sub(pw_v3_load(w), pw_v3_scale(up, u[least])));
+    pw_v3_store(ax, up);
+    pw_v3_store(ax + 3, a);
+    pw_v3_store(ax + 6, pw_v3_cross(up, a));
+}
+
+/* The default field with options.integrable. An up field has two poles
+ * (on a closed surface of genus 0), and around each the curl the
+ * correction cannot cancel (the tile side stops shrinking at 1/2) is as
+ * many vortices as periods fit around the pole there: on CGAL's mushroom,
+ * up = +Y puts the poles on the rim of its round cap, 9 vortices each, Z
+ * at the centres of the cap's top and of the square foot, 15 in all (at
+ * the cap). So the up field is tried
+ * along three perpendicular axes (pgp__axes), each made integrable and
+ * parameterized, and the one with the fewest vortices is kept (the first
+ * on a tie: up itself). The least-curvature field has no axis to choose. */
+static int pgp__integrable_field(pgp__state *P, pw_err *e)
+{
+    size_t nf = (size_t)P->pp.m.nf, nv = (size_t)P->pp.m.nv;
+    double *keep = (double *)pw_alloc_array(&P->a, 2 * nf, sizeof(double), "integrability", e);
+    float *kfac = (float *)pw_alloc_array(&P->a, nv, sizeof(float), "integrability", e), ax[9];
+    unsigned char *all = (unsigned char *)pw_alloc_array(&P->a, nv, 1, "integrability", e);
+    int c, f, v, n, best = -1, ncand = P->o.field == PGP_FIELD_CURVATURE ? 1 : 3,
+                    r = keep && kfac && all ? PW_OK : PW_ERR_NOMEM;
+    pgp__axes(P->o.up, ax);
+    if (all) memset(all, 1, nv);
+    for (c = 0; c < ncand && r == PW_OK; c++) {
+        for (v = 0; v < P->pp.m.nv; v++) P->pp.sfac[v] = 1.0f;
+        r = pw_periodic_base_field(&P->pp, c ? ax + 3 * c : P->o.up, P->o.field == PGP_FIELD_CURVATURE, P->o.smoothing,
+                                   e);
+        if (r == PW_OK) r = pgp__integrable(P, e);
+        if (r == PW_OK && ncand > 1) r = pw_periodic_solve(&P->pp, all, 1, e);
+        for (f = 0; r == PW_OK && ncand > 1 && f < P->pp.m.nf; f++) pw_periodic_recover(&P->pp, f);
+        n = r == PW_OK && ncand > 1 ? pgp__vortices(P, NULL) : 0;
+        if (r == PW_OK && (best < 0 || n < best)) {
+            best = n;
+            memcpy(keep, P->pp.base, sizeof(double) * 2 * nf);
+            memcpy(kfac, P->pp.sfac, sizeof(float) * nv);
+        }
+    }
+    if (r == PW_OK) {
+        memcpy(P->pp.base, keep, sizeof(double) * 2 * nf);
+        memcpy(P->pp.dir, keep, sizeof(double) * 2 * nf);
+        memcpy(P->pp.sfac, kfac, sizeof(float) * nv);
+    }
+    pw_free(&P->a, keep);
+    pw_free(&P->a, kfac);
+    pw_free(&P->a, all);
+    return r;
+}
+
 /* A tile side the mesh can carry: at most 10 bounding-box diagonals (beyond,
  * the whole mesh is one colour) and at least 2 mean edge lengths (below, a
  * period spans less than two triangles and Eq. 4 cannot recover it). Only
@@ -354,8 +423,9 @@ static int pgp__create_map(const pgp_mesh *mesh, const pgp_options *opt, pgp_map
         P->pp.zs[2 * v + 1] = P->pp.zt[2 * v + 1] = 0.0;
     }
     if (pgp__check_scale(P, e) != PW_OK ||
-        pw_periodic_base_field(&P->pp, P->o.up, P->o.field == PGP_FIELD_CURVATURE, P->o.smoothing, e) != PW_OK ||
-        (o.integrable > 0.0f && pgp__integrable(P, e) != PW_OK) ||
+        (o.integrable > 0.0f ? pgp__integrable_field(P, e)
+                             : pw_periodic_base_field(&P->pp, P->o.up, P->o.field == PGP_FIELD_CURVATURE,
+                                                      P->o.smoothing, e)) != PW_OK ||
         pgp__edit(P, PGP_CONSTRAINT_ORIENT, &whole, NULL, e) != PW_OK)
         return e->code;
     out->nverts = P->pp.m.nv;
