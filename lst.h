@@ -17,31 +17,31 @@
  *   6476: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
  *   6663: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
  *   6748: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
- *   8230: src/common/raster.h, exact scan conversion of 2D triangles.
- *   8742: src/common/parallel.h, a parallel for, the one way work is split across threads.
- *   8870: src/common/render.h, a small deterministic software renderer for textured trian
- *  10769: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
- *  10958: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
- *  11878: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
- *  12576: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
- *  12812: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
- *  13573: src/common/tetmesh.h, the tetrahedral mesh that lapped solid textures work on, a
- *  14060: src/common/tetio.h, tetrahedral mesh files, TetGen .node/.ele and MEDIT .mesh.
- *  14552: src/common/bisect.h, graded, conforming tetrahedral meshes of a box by newest-v
- *  14874: src/common/stuffing.h, the built-in tetrahedralizer of lst.h, so that no external
- *  18173: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
- *  18316: src/common/pca.h, principal component analysis of vectors streamed one at a 
- *  18503: src/common/glue.h, what every method header needs between its public types an
- *  18839: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  19503: src/lst/core.c, lst.h's glue to the shared core, its defaults, the convers
- *  19836: src/lst/exemplar.c, solid exemplars (§5): sampling, the procedural exemplars 
- *  20405: src/lst/field.c, §5.2.2, the fields that orient and scale the pastes. The 
- *  21613: src/lst/paste.c, §5.2.3-5.2.7, filling the model. Each paste picks a rando
- *  22602: src/lst/render.c, §5.1, showing a model. Every point of a tetrahedron is th
- *  23499: src/lst/cut.c, §5.1.1, cutting a model along the zero set of a scalar fi
- *  24104: src/lst/builtin.c, the tetrahedralizer entry point, checks of caller meshes, 
- *  24626: src/lst/io.c, the model file, the constraint files and the file convenie
- *  25319: src/lst/export.c, the visible boundary with a baked texture atlas, for glTF.
+ *   8285: src/common/raster.h, exact scan conversion of 2D triangles.
+ *   8797: src/common/parallel.h, a parallel for, the one way work is split across threads.
+ *   8925: src/common/render.h, a small deterministic software renderer for textured trian
+ *  10824: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
+ *  11013: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
+ *  11933: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
+ *  12631: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
+ *  12867: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
+ *  13628: src/common/tetmesh.h, the tetrahedral mesh that lapped solid textures work on, a
+ *  14115: src/common/tetio.h, tetrahedral mesh files, TetGen .node/.ele and MEDIT .mesh.
+ *  14607: src/common/bisect.h, graded, conforming tetrahedral meshes of a box by newest-v
+ *  14929: src/common/stuffing.h, the built-in tetrahedralizer of lst.h, so that no external
+ *  18228: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
+ *  18371: src/common/pca.h, principal component analysis of vectors streamed one at a 
+ *  18558: src/common/glue.h, what every method header needs between its public types an
+ *  18894: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  19558: src/lst/core.c, lst.h's glue to the shared core, its defaults, the convers
+ *  19891: src/lst/exemplar.c, solid exemplars (§5): sampling, the procedural exemplars 
+ *  20460: src/lst/field.c, §5.2.2, the fields that orient and scale the pastes. The 
+ *  21672: src/lst/paste.c, §5.2.3-5.2.7, filling the model. Each paste picks a rando
+ *  22661: src/lst/render.c, §5.1, showing a model. Every point of a tetrahedron is th
+ *  23558: src/lst/cut.c, §5.1.1, cutting a model along the zero set of a scalar fi
+ *  24163: src/lst/builtin.c, the tetrahedralizer entry point, checks of caller meshes, 
+ *  24685: src/lst/io.c, the model file, the constraint files and the file convenie
+ *  25378: src/lst/export.c, the visible boundary with a baked texture atlas, for glTF.
  */
 /* lst.h - lapped solid textures: solid exemplars pasted inside a model.
  *
@@ -8125,9 +8125,15 @@ PW__DEF void pw_ldlt_solve(const pw_ldlt *F, const double *b, double *x)
  * 400-800 and 0.5-0.9x at 800-1,600; of the atlas's normal equations
  * (against CGLS, which needs more iterations) 1.1-2x below 200, 0.7-1.2x
  * at 200-400 and 0.1-0.8x from 400 up to the largest chart (about 10,000
- * unknowns: 0.14). lst's clumps (tetrahedra: twice the neighbours of a
- * surface vertex, more fill) stay with IC(0)-PCG: LDLᵀ made the fill 10%
- * slower. The rule: a direct factor for a matrix of PW__DIRECT_MIN_SPD
+ * unknowns: 0.14). lst's smoothing of its fields (30,070 unknowns on the
+ * elephant at the default fill, three solves of one matrix): 0.47x CGLS
+ * for one solve, and lst_create 10.4 s -> 4.0 s with one factor for the
+ * three (at 100K tetrahedra the factor would hold 8x the normal
+ * equations' nonzeros: the fill cap keeps CGLS there). lst's clumps
+ * (tetrahedra: twice the neighbours of a surface vertex, more fill) stay
+ * with IC(0)-PCG: LDLᵀ made the fill 10% slower. (These were measured with
+ * the ordering before AMD's approximate degrees, which made it 4-20x
+ * faster: the direct factor now wins from fewer unknowns.) The rule: a direct factor for a matrix of PW__DIRECT_MIN_SPD
  * (pw_spd) or PW__DIRECT_MIN_LSQ (pw_lsq_solve_small) to PW__DIRECT_MAX_N
  * unknowns whose factor holds at most PW__DIRECT_FILL times A's nonzeros
  * (both triangles; the ordering and the symbolic analysis tell before any
@@ -8137,7 +8143,7 @@ PW__DEF void pw_ldlt_solve(const pw_ldlt *F, const double *b, double *x)
  * rounding, so it meets any tolerance the iterative one would stop at. */
 #define PW__DIRECT_MIN_SPD 800
 #define PW__DIRECT_MIN_LSQ 400
-#define PW__DIRECT_MAX_N 20000
+#define PW__DIRECT_MAX_N 40000
 #define PW__DIRECT_FILL 4
 
 /* A symmetric positive definite matrix ready for any number of solves:
@@ -8197,32 +8203,81 @@ PW__DEF int pw_spd_solve(const pw_alloc *a, const pw_spd *S, const double *b, do
     return PW_OK;
 }
 
-/* min |A x - b| as pw_lsq_solve, but by LDLᵀ of the normal equations
- * AᵀA x = Aᵀb when they pass the rule above (their condition number is
- * the square of A's: fine for the well-posed parametrisations that call
- * this, where the direct solution's residual is far below the CGLS
- * tolerance), else by CGLS from the guess in x. */
-PW__DEF int pw_lsq_solve_small(const pw_alloc *a, const pw_csr *A, const double *b, double *x, const pw_cg_options *o,
-                               pw_err *e)
+/* A least-squares matrix ready for any number of right-hand sides: the
+ * LDLᵀ factor of its normal equations AᵀA when they pass the rule above
+ * (their condition number is the square of A's: fine for the well-posed
+ * smoothing and parametrisation systems that call this, where the direct
+ * solution's residual is far below the CGLS tolerance), else nothing, and
+ * every solve runs CGLS. */
+typedef struct pw_lsq {
+    const pw_csr *A;
+    int direct; /* 1: F holds the factor of AᵀA */
+    pw_ldlt F;
+} pw_lsq;
+
+PW__DEF void pw_lsq_free(const pw_alloc *a, pw_lsq *L)
+{
+    pw_ldlt_free(a, &L->F);
+    memset(L, 0, sizeof *L);
+}
+
+/* Prepares A (m x n, as for pw_lsq_solve) for pw_lsq_solve_prepared; A
+ * must outlive L. */
+PW__DEF int pw_lsq_prepare(const pw_alloc *a, const pw_csr *A, pw_lsq *L, pw_err *e)
 {
     pw_csr N;
-    pw_ldlt F;
-    int r = PW_OK, direct = 0;
+    int r = PW_OK;
+    memset(L, 0, sizeof *L);
+    L->A = A;
     if (pw_csr_check(A, e)) return PW_ERR_INVALID;
+    memset(&N, 0, sizeof N);
+    if (A->m >= PW__DIRECT_MIN_LSQ && A->m <= PW__DIRECT_MAX_N && (r = pw_csr_ata(a, A, &N, e)) != PW_OK) return r;
+    if (N.n > 0) L->direct = pw__try_direct(a, &N, PW__DIRECT_MIN_LSQ, &L->F, &r, e);
+    pw_csr_free(a, &N);
+    return r;
+}
+
+/* min |A x - b| for the matrix L was prepared from: by the factor (stats:
+ * no iterations, the residual of the normal equations), or by CGLS from
+ * the guess in x (as pw_lsq_solve, stats and errors included). */
+PW__DEF int pw_lsq_solve_prepared(const pw_alloc *a, const pw_lsq *L, const double *b, double *x,
+                                  const pw_cg_options *o, pw_cg_stats *stats, pw_err *e)
+{
+    const pw_csr *A = L->A;
+    if (!L->direct) return pw_lsq_solve(a, A, b, x, o, stats, e);
     if (pw__check_vec(b, A->n, "least-squares right-hand side b", e) ||
         pw__check_vec(x, A->m, "least-squares guess x", e))
         return PW_ERR_INVALID;
-    memset(&N, 0, sizeof N);
-    if (A->m >= PW__DIRECT_MIN_LSQ && A->m <= PW__DIRECT_MAX_N && (r = pw_csr_ata(a, A, &N, e)) != PW_OK) return r;
-    if (N.n > 0 && (direct = pw__try_direct(a, &N, PW__DIRECT_MIN_LSQ, &F, &r, e)) != 0) {
-        PW_SOLVE_HOOK("lsq", A, b, x, o);
-        pw_csr_mul_t(A, b, x);
-        pw_ldlt_solve(&F, x, x);
-        pw_ldlt_free(a, &F);
+    PW_SOLVE_HOOK("lsq", A, b, x, o);
+    pw_csr_mul_t(A, b, x);
+    pw_ldlt_solve(&L->F, x, x);
+    if (stats) {
+        double *r = (double *)pw_alloc_array(a, (size_t)A->n + 2 * (size_t)A->m, sizeof(double), "residual", e);
+        double *g = r ? r + A->n : NULL, *g0 = g ? g + A->m : NULL;
+        int i;
+        if (!r) return PW_ERR_NOMEM;
+        pw_csr_mul(A, x, r);
+        for (i = 0; i < A->n; i++) r[i] = b[i] - r[i];
+        pw_csr_mul_t(A, r, g);
+        pw_csr_mul_t(A, b, g0);
+        memset(stats, 0, sizeof *stats);
+        stats->converged = 1;
+        stats->residual = pw__dot(g0, g0, A->m) > 0.0 ? sqrt(pw__dot(g, g, A->m) / pw__dot(g0, g0, A->m)) : 0.0;
+        pw_free(a, r);
     }
-    pw_csr_free(a, &N);
-    if (r != PW_OK || direct) return r;
-    return pw_lsq_solve(a, A, b, x, o, NULL, e);
+    return PW_OK;
+}
+
+/* min |A x - b| as pw_lsq_solve, but by LDLᵀ of the normal equations when
+ * they pass the rule above (pw_lsq_prepare), for one right-hand side. */
+PW__DEF int pw_lsq_solve_small(const pw_alloc *a, const pw_csr *A, const double *b, double *x, const pw_cg_options *o,
+                               pw_err *e)
+{
+    pw_lsq L;
+    int r = pw_lsq_prepare(a, A, &L, e);
+    if (r == PW_OK) r = pw_lsq_solve_prepared(a, &L, b, x, o, NULL, e);
+    pw_lsq_free(a, &L);
+    return r;
 }
 
 #endif /* PW__SPARSE_V1 */
@@ -21243,15 +21298,19 @@ static void lst__cons_free(const pw_alloc *a, lst__cons *c)
 }
 
 /* One smoothing system (Eqs. 1-2): the located constraints, their weight
- * W and the least-squares matrix built from them. */
+ * W, the least-squares matrix built from them, and the matrix prepared for
+ * the solves of every component (a factor of its normal equations where
+ * sparse.h's rule finds that pays: one factor, then a cheap solve each). */
 typedef struct lst__lsq {
     lst__cons c;
     double W;
     pw_csr A;
+    pw_lsq L;
 } lst__lsq;
 
 static void lst__lsq_free(const pw_alloc *a, lst__lsq *s)
 {
+    pw_lsq_free(a, &s->L);
     pw_csr_free(a, &s->A);
     lst__cons_free(a, &s->c);
 }
@@ -21322,6 +21381,7 @@ static int lst__smooth_matrix(const lst__field_job *j, const double *depth, doub
             r = pw_triplets_add(&t, g->m.nv + i, g->m.tet[4 * c->tet[i] + k], W * c->bary[4 * i + k], e);
     if (r == PW_OK) r = pw_csr_from_triplets(a, &t, &s->A, e);
     pw_triplets_free(&t);
+    if (r == PW_OK) r = pw_lsq_prepare(a, &s->A, &s->L, e);
     return r;
 }
 
@@ -21340,7 +21400,6 @@ static int lst__smooth_solve(const lst__field_job *j, const lst__lsq *s, int dim
     pw_err *e = j->e;
     double *b = (double *)pw_calloc_array(a, (size_t)A->n, sizeof(double), "smoothing", e);
     pw_cg_options co = pw_cg_default_options();
-    pw_cg_stats st;
     pw_err local;
     int i, r;
     if (!b) return PW_ERR_NOMEM;
@@ -21349,7 +21408,7 @@ static int lst__smooth_solve(const lst__field_job *j, const lst__lsq *s, int dim
     co.max_iter = 4000;
     if (p) co.progress = *p;
     pw_err_clear(&local);
-    r = pw_lsq_solve(a, A, b, x, &co, &st, &local);
+    r = pw_lsq_solve_prepared(a, &s->L, b, x, &co, NULL, &local);
     pw_free(a, b);
     if (r == PW_ERR_NOCONVERGE) return PW_OK;
     if (r != PW_OK) return pw_fail(e, r, "%s", local.msg);

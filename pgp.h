@@ -15,38 +15,38 @@
  *   5478: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
  *   6007: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
  *   6431: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
- *   7913: src/common/zsparse.h, complex Hermitian sparse systems, solved by conjugate grad
- *   8196: src/common/zamg.h, a smoothed-aggregation multigrid preconditioner for the co
- *   8839: src/common/raster.h, exact scan conversion of 2D triangles.
- *   9351: src/common/parallel.h, a parallel for, the one way work is split across threads.
- *   9479: src/common/render.h, a small deterministic software renderer for textured trian
- *  11378: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
- *  11565: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
- *  11650: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
- *  11839: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
- *  12759: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
- *  13457: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
- *  13693: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
- *  14457: src/common/periodic.h, the periodic global parameterization of a triangle mesh al
- *  15285: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
- *  16046: src/pgp/tile3.h, sampling a material-space tile (Ray et al. 2009, §2: "a 3
- *  16154: src/common/glue.h, what every method header needs between its public types an
- *  16490: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  17154: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
- *  17651: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
- *  18137: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
- *  18280: src/common/kdtree.h, nearest-neighbour search among n points of dimension d, wi
- *  18623: src/common/pca.h, principal component analysis of vectors streamed one at a 
- *  18810: src/pgp/core.c, pgp.h's glue to the shared core, its defaults, and the map
- *  19023: src/pgp/field.c, §2.1 effect areas and §2.2 interpolation of the constrai
- *  19222: src/pgp/solve.c, §2.3 the periodic global parameterization, the recovery o
- *  19711: src/pgp/edit.c, the public editing calls of a mapping. §2.1 (Ray, Lévy, 
- *  19856: src/pgp/render.c, §3 rendering, and a cleaner treatment of the vortices.
- *  20217: src/pgp/builtin.c, built-in meshes and material-space tiles for demos and tes
- *  20486: src/pgp/io.c, files and memory for pgp.h: material-space tiles (NRRD, or
- *  20834: src/pgp/export.c, the mapping for other programs. A viewer that knows nothin
- *  21060: src/pgp/morph.c, the inputs of §1 (keys brought to the tile size, made til
- *  21739: src/pgp/synth.c, §1.2 constrained tile synthesis, and the whole of §1: ke
+ *   7968: src/common/zsparse.h, complex Hermitian sparse systems, solved by conjugate grad
+ *   8251: src/common/zamg.h, a smoothed-aggregation multigrid preconditioner for the co
+ *   8894: src/common/raster.h, exact scan conversion of 2D triangles.
+ *   9406: src/common/parallel.h, a parallel for, the one way work is split across threads.
+ *   9534: src/common/render.h, a small deterministic software renderer for textured trian
+ *  11433: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
+ *  11620: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
+ *  11705: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
+ *  11894: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
+ *  12814: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
+ *  13512: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
+ *  13748: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
+ *  14512: src/common/periodic.h, the periodic global parameterization of a triangle mesh al
+ *  15340: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
+ *  16101: src/pgp/tile3.h, sampling a material-space tile (Ray et al. 2009, §2: "a 3
+ *  16209: src/common/glue.h, what every method header needs between its public types an
+ *  16545: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  17209: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
+ *  17706: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
+ *  18192: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
+ *  18335: src/common/kdtree.h, nearest-neighbour search among n points of dimension d, wi
+ *  18678: src/common/pca.h, principal component analysis of vectors streamed one at a 
+ *  18865: src/pgp/core.c, pgp.h's glue to the shared core, its defaults, and the map
+ *  19078: src/pgp/field.c, §2.1 effect areas and §2.2 interpolation of the constrai
+ *  19277: src/pgp/solve.c, §2.3 the periodic global parameterization, the recovery o
+ *  19766: src/pgp/edit.c, the public editing calls of a mapping. §2.1 (Ray, Lévy, 
+ *  19911: src/pgp/render.c, §3 rendering, and a cleaner treatment of the vortices.
+ *  20272: src/pgp/builtin.c, built-in meshes and material-space tiles for demos and tes
+ *  20541: src/pgp/io.c, files and memory for pgp.h: material-space tiles (NRRD, or
+ *  20889: src/pgp/export.c, the mapping for other programs. A viewer that knows nothin
+ *  21115: src/pgp/morph.c, the inputs of §1 (keys brought to the tile size, made til
+ *  21794: src/pgp/synth.c, §1.2 constrained tile synthesis, and the whole of §1: ke
  */
 /* pgp.h - material-space texturing with a periodic global parameterization.
  *
@@ -7808,9 +7808,15 @@ PW__DEF void pw_ldlt_solve(const pw_ldlt *F, const double *b, double *x)
  * 400-800 and 0.5-0.9x at 800-1,600; of the atlas's normal equations
  * (against CGLS, which needs more iterations) 1.1-2x below 200, 0.7-1.2x
  * at 200-400 and 0.1-0.8x from 400 up to the largest chart (about 10,000
- * unknowns: 0.14). lst's clumps (tetrahedra: twice the neighbours of a
- * surface vertex, more fill) stay with IC(0)-PCG: LDLᵀ made the fill 10%
- * slower. The rule: a direct factor for a matrix of PW__DIRECT_MIN_SPD
+ * unknowns: 0.14). lst's smoothing of its fields (30,070 unknowns on the
+ * elephant at the default fill, three solves of one matrix): 0.47x CGLS
+ * for one solve, and lst_create 10.4 s -> 4.0 s with one factor for the
+ * three (at 100K tetrahedra the factor would hold 8x the normal
+ * equations' nonzeros: the fill cap keeps CGLS there). lst's clumps
+ * (tetrahedra: twice the neighbours of a surface vertex, more fill) stay
+ * with IC(0)-PCG: LDLᵀ made the fill 10% slower. (These were measured with
+ * the ordering before AMD's approximate degrees, which made it 4-20x
+ * faster: the direct factor now wins from fewer unknowns.) The rule: a direct factor for a matrix of PW__DIRECT_MIN_SPD
  * (pw_spd) or PW__DIRECT_MIN_LSQ (pw_lsq_solve_small) to PW__DIRECT_MAX_N
  * unknowns whose factor holds at most PW__DIRECT_FILL times A's nonzeros
  * (both triangles; the ordering and the symbolic analysis tell before any
@@ -7820,7 +7826,7 @@ PW__DEF void pw_ldlt_solve(const pw_ldlt *F, const double *b, double *x)
  * rounding, so it meets any tolerance the iterative one would stop at. */
 #define PW__DIRECT_MIN_SPD 800
 #define PW__DIRECT_MIN_LSQ 400
-#define PW__DIRECT_MAX_N 20000
+#define PW__DIRECT_MAX_N 40000
 #define PW__DIRECT_FILL 4
 
 /* A symmetric positive definite matrix ready for any number of solves:
@@ -7880,32 +7886,81 @@ PW__DEF int pw_spd_solve(const pw_alloc *a, const pw_spd *S, const double *b, do
     return PW_OK;
 }
 
-/* min |A x - b| as pw_lsq_solve, but by LDLᵀ of the normal equations
- * AᵀA x = Aᵀb when they pass the rule above (their condition number is
- * the square of A's: fine for the well-posed parametrisations that call
- * this, where the direct solution's residual is far below the CGLS
- * tolerance), else by CGLS from the guess in x. */
-PW__DEF int pw_lsq_solve_small(const pw_alloc *a, const pw_csr *A, const double *b, double *x, const pw_cg_options *o,
-                               pw_err *e)
+/* A least-squares matrix ready for any number of right-hand sides: the
+ * LDLᵀ factor of its normal equations AᵀA when they pass the rule above
+ * (their condition number is the square of A's: fine for the well-posed
+ * smoothing and parametrisation systems that call this, where the direct
+ * solution's residual is far below the CGLS tolerance), else nothing, and
+ * every solve runs CGLS. */
+typedef struct pw_lsq {
+    const pw_csr *A;
+    int direct; /* 1: F holds the factor of AᵀA */
+    pw_ldlt F;
+} pw_lsq;
+
+PW__DEF void pw_lsq_free(const pw_alloc *a, pw_lsq *L)
+{
+    pw_ldlt_free(a, &L->F);
+    memset(L, 0, sizeof *L);
+}
+
+/* Prepares A (m x n, as for pw_lsq_solve) for pw_lsq_solve_prepared; A
+ * must outlive L. */
+PW__DEF int pw_lsq_prepare(const pw_alloc *a, const pw_csr *A, pw_lsq *L, pw_err *e)
 {
     pw_csr N;
-    pw_ldlt F;
-    int r = PW_OK, direct = 0;
+    int r = PW_OK;
+    memset(L, 0, sizeof *L);
+    L->A = A;
     if (pw_csr_check(A, e)) return PW_ERR_INVALID;
+    memset(&N, 0, sizeof N);
+    if (A->m >= PW__DIRECT_MIN_LSQ && A->m <= PW__DIRECT_MAX_N && (r = pw_csr_ata(a, A, &N, e)) != PW_OK) return r;
+    if (N.n > 0) L->direct = pw__try_direct(a, &N, PW__DIRECT_MIN_LSQ, &L->F, &r, e);
+    pw_csr_free(a, &N);
+    return r;
+}
+
+/* min |A x - b| for the matrix L was prepared from: by the factor (stats:
+ * no iterations, the residual of the normal equations), or by CGLS from
+ * the guess in x (as pw_lsq_solve, stats and errors included). */
+PW__DEF int pw_lsq_solve_prepared(const pw_alloc *a, const pw_lsq *L, const double *b, double *x,
+                                  const pw_cg_options *o, pw_cg_stats *stats, pw_err *e)
+{
+    const pw_csr *A = L->A;
+    if (!L->direct) return pw_lsq_solve(a, A, b, x, o, stats, e);
     if (pw__check_vec(b, A->n, "least-squares right-hand side b", e) ||
         pw__check_vec(x, A->m, "least-squares guess x", e))
         return PW_ERR_INVALID;
-    memset(&N, 0, sizeof N);
-    if (A->m >= PW__DIRECT_MIN_LSQ && A->m <= PW__DIRECT_MAX_N && (r = pw_csr_ata(a, A, &N, e)) != PW_OK) return r;
-    if (N.n > 0 && (direct = pw__try_direct(a, &N, PW__DIRECT_MIN_LSQ, &F, &r, e)) != 0) {
-        PW_SOLVE_HOOK("lsq", A, b, x, o);
-        pw_csr_mul_t(A, b, x);
-        pw_ldlt_solve(&F, x, x);
-        pw_ldlt_free(a, &F);
+    PW_SOLVE_HOOK("lsq", A, b, x, o);
+    pw_csr_mul_t(A, b, x);
+    pw_ldlt_solve(&L->F, x, x);
+    if (stats) {
+        double *r = (double *)pw_alloc_array(a, (size_t)A->n + 2 * (size_t)A->m, sizeof(double), "residual", e);
+        double *g = r ? r + A->n : NULL, *g0 = g ? g + A->m : NULL;
+        int i;
+        if (!r) return PW_ERR_NOMEM;
+        pw_csr_mul(A, x, r);
+        for (i = 0; i < A->n; i++) r[i] = b[i] - r[i];
+        pw_csr_mul_t(A, r, g);
+        pw_csr_mul_t(A, b, g0);
+        memset(stats, 0, sizeof *stats);
+        stats->converged = 1;
+        stats->residual = pw__dot(g0, g0, A->m) > 0.0 ? sqrt(pw__dot(g, g, A->m) / pw__dot(g0, g0, A->m)) : 0.0;
+        pw_free(a, r);
     }
-    pw_csr_free(a, &N);
-    if (r != PW_OK || direct) return r;
-    return pw_lsq_solve(a, A, b, x, o, NULL, e);
+    return PW_OK;
+}
+
+/* min |A x - b| as pw_lsq_solve, but by LDLᵀ of the normal equations when
+ * they pass the rule above (pw_lsq_prepare), for one right-hand side. */
+PW__DEF int pw_lsq_solve_small(const pw_alloc *a, const pw_csr *A, const double *b, double *x, const pw_cg_options *o,
+                               pw_err *e)
+{
+    pw_lsq L;
+    int r = pw_lsq_prepare(a, A, &L, e);
+    if (r == PW_OK) r = pw_lsq_solve_prepared(a, &L, b, x, o, NULL, e);
+    pw_lsq_free(a, &L);
+    return r;
 }
 
 #endif /* PW__SPARSE_V1 */

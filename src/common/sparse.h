@@ -1378,9 +1378,15 @@ PW__DEF void pw_ldlt_solve(const pw_ldlt *F, const double *b, double *x)
  * 400-800 and 0.5-0.9x at 800-1,600; of the atlas's normal equations
  * (against CGLS, which needs more iterations) 1.1-2x below 200, 0.7-1.2x
  * at 200-400 and 0.1-0.8x from 400 up to the largest chart (about 10,000
- * unknowns: 0.14). lst's clumps (tetrahedra: twice the neighbours of a
- * surface vertex, more fill) stay with IC(0)-PCG: LDLᵀ made the fill 10%
- * slower. The rule: a direct factor for a matrix of PW__DIRECT_MIN_SPD
+ * unknowns: 0.14). lst's smoothing of its fields (30,070 unknowns on the
+ * elephant at the default fill, three solves of one matrix): 0.47x CGLS
+ * for one solve, and lst_create 10.4 s -> 4.0 s with one factor for the
+ * three (at 100K tetrahedra the factor would hold 8x the normal
+ * equations' nonzeros: the fill cap keeps CGLS there). lst's clumps
+ * (tetrahedra: twice the neighbours of a surface vertex, more fill) stay
+ * with IC(0)-PCG: LDLᵀ made the fill 10% slower. (These were measured with
+ * the ordering before AMD's approximate degrees, which made it 4-20x
+ * faster: the direct factor now wins from fewer unknowns.) The rule: a direct factor for a matrix of PW__DIRECT_MIN_SPD
  * (pw_spd) or PW__DIRECT_MIN_LSQ (pw_lsq_solve_small) to PW__DIRECT_MAX_N
  * unknowns whose factor holds at most PW__DIRECT_FILL times A's nonzeros
  * (both triangles; the ordering and the symbolic analysis tell before any
@@ -1390,7 +1396,7 @@ PW__DEF void pw_ldlt_solve(const pw_ldlt *F, const double *b, double *x)
  * rounding, so it meets any tolerance the iterative one would stop at. */
 #define PW__DIRECT_MIN_SPD 800
 #define PW__DIRECT_MIN_LSQ 400
-#define PW__DIRECT_MAX_N 20000
+#define PW__DIRECT_MAX_N 40000
 #define PW__DIRECT_FILL 4
 
 /* A symmetric positive definite matrix ready for any number of solves:
@@ -1450,32 +1456,81 @@ PW__DEF int pw_spd_solve(const pw_alloc *a, const pw_spd *S, const double *b, do
     return PW_OK;
 }
 
-/* min |A x - b| as pw_lsq_solve, but by LDLᵀ of the normal equations
- * AᵀA x = Aᵀb when they pass the rule above (their condition number is
- * the square of A's: fine for the well-posed parametrisations that call
- * this, where the direct solution's residual is far below the CGLS
- * tolerance), else by CGLS from the guess in x. */
-PW__DEF int pw_lsq_solve_small(const pw_alloc *a, const pw_csr *A, const double *b, double *x, const pw_cg_options *o,
-                               pw_err *e)
+/* A least-squares matrix ready for any number of right-hand sides: the
+ * LDLᵀ factor of its normal equations AᵀA when they pass the rule above
+ * (their condition number is the square of A's: fine for the well-posed
+ * smoothing and parametrisation systems that call this, where the direct
+ * solution's residual is far below the CGLS tolerance), else nothing, and
+ * every solve runs CGLS. */
+typedef struct pw_lsq {
+    const pw_csr *A;
+    int direct; /* 1: F holds the factor of AᵀA */
+    pw_ldlt F;
+} pw_lsq;
+
+PW__DEF void pw_lsq_free(const pw_alloc *a, pw_lsq *L)
+{
+    pw_ldlt_free(a, &L->F);
+    memset(L, 0, sizeof *L);
+}
+
+/* Prepares A (m x n, as for pw_lsq_solve) for pw_lsq_solve_prepared; A
+ * must outlive L. */
+PW__DEF int pw_lsq_prepare(const pw_alloc *a, const pw_csr *A, pw_lsq *L, pw_err *e)
 {
     pw_csr N;
-    pw_ldlt F;
-    int r = PW_OK, direct = 0;
+    int r = PW_OK;
+    memset(L, 0, sizeof *L);
+    L->A = A;
     if (pw_csr_check(A, e)) return PW_ERR_INVALID;
+    memset(&N, 0, sizeof N);
+    if (A->m >= PW__DIRECT_MIN_LSQ && A->m <= PW__DIRECT_MAX_N && (r = pw_csr_ata(a, A, &N, e)) != PW_OK) return r;
+    if (N.n > 0) L->direct = pw__try_direct(a, &N, PW__DIRECT_MIN_LSQ, &L->F, &r, e);
+    pw_csr_free(a, &N);
+    return r;
+}
+
+/* min |A x - b| for the matrix L was prepared from: by the factor (stats:
+ * no iterations, the residual of the normal equations), or by CGLS from
+ * the guess in x (as pw_lsq_solve, stats and errors included). */
+PW__DEF int pw_lsq_solve_prepared(const pw_alloc *a, const pw_lsq *L, const double *b, double *x,
+                                  const pw_cg_options *o, pw_cg_stats *stats, pw_err *e)
+{
+    const pw_csr *A = L->A;
+    if (!L->direct) return pw_lsq_solve(a, A, b, x, o, stats, e);
     if (pw__check_vec(b, A->n, "least-squares right-hand side b", e) ||
         pw__check_vec(x, A->m, "least-squares guess x", e))
         return PW_ERR_INVALID;
-    memset(&N, 0, sizeof N);
-    if (A->m >= PW__DIRECT_MIN_LSQ && A->m <= PW__DIRECT_MAX_N && (r = pw_csr_ata(a, A, &N, e)) != PW_OK) return r;
-    if (N.n > 0 && (direct = pw__try_direct(a, &N, PW__DIRECT_MIN_LSQ, &F, &r, e)) != 0) {
-        PW_SOLVE_HOOK("lsq", A, b, x, o);
-        pw_csr_mul_t(A, b, x);
-        pw_ldlt_solve(&F, x, x);
-        pw_ldlt_free(a, &F);
+    PW_SOLVE_HOOK("lsq", A, b, x, o);
+    pw_csr_mul_t(A, b, x);
+    pw_ldlt_solve(&L->F, x, x);
+    if (stats) {
+        double *r = (double *)pw_alloc_array(a, (size_t)A->n + 2 * (size_t)A->m, sizeof(double), "residual", e);
+        double *g = r ? r + A->n : NULL, *g0 = g ? g + A->m : NULL;
+        int i;
+        if (!r) return PW_ERR_NOMEM;
+        pw_csr_mul(A, x, r);
+        for (i = 0; i < A->n; i++) r[i] = b[i] - r[i];
+        pw_csr_mul_t(A, r, g);
+        pw_csr_mul_t(A, b, g0);
+        memset(stats, 0, sizeof *stats);
+        stats->converged = 1;
+        stats->residual = pw__dot(g0, g0, A->m) > 0.0 ? sqrt(pw__dot(g, g, A->m) / pw__dot(g0, g0, A->m)) : 0.0;
+        pw_free(a, r);
     }
-    pw_csr_free(a, &N);
-    if (r != PW_OK || direct) return r;
-    return pw_lsq_solve(a, A, b, x, o, NULL, e);
+    return PW_OK;
+}
+
+/* min |A x - b| as pw_lsq_solve, but by LDLᵀ of the normal equations when
+ * they pass the rule above (pw_lsq_prepare), for one right-hand side. */
+PW__DEF int pw_lsq_solve_small(const pw_alloc *a, const pw_csr *A, const double *b, double *x, const pw_cg_options *o,
+                               pw_err *e)
+{
+    pw_lsq L;
+    int r = pw_lsq_prepare(a, A, &L, e);
+    if (r == PW_OK) r = pw_lsq_solve_prepared(a, &L, b, x, o, NULL, e);
+    pw_lsq_free(a, &L);
+    return r;
 }
 
 #endif /* PW__SPARSE_V1 */

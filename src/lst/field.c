@@ -839,15 +839,19 @@ static void lst__cons_free(const pw_alloc *a, lst__cons *c)
 }
 
 /* One smoothing system (Eqs. 1-2): the located constraints, their weight
- * W and the least-squares matrix built from them. */
+ * W, the least-squares matrix built from them, and the matrix prepared for
+ * the solves of every component (a factor of its normal equations where
+ * sparse.h's rule finds that pays: one factor, then a cheap solve each). */
 typedef struct lst__lsq {
     lst__cons c;
     double W;
     pw_csr A;
+    pw_lsq L;
 } lst__lsq;
 
 static void lst__lsq_free(const pw_alloc *a, lst__lsq *s)
 {
+    pw_lsq_free(a, &s->L);
     pw_csr_free(a, &s->A);
     lst__cons_free(a, &s->c);
 }
@@ -918,6 +922,7 @@ static int lst__smooth_matrix(const lst__field_job *j, const double *depth, doub
             r = pw_triplets_add(&t, g->m.nv + i, g->m.tet[4 * c->tet[i] + k], W * c->bary[4 * i + k], e);
     if (r == PW_OK) r = pw_csr_from_triplets(a, &t, &s->A, e);
     pw_triplets_free(&t);
+    if (r == PW_OK) r = pw_lsq_prepare(a, &s->A, &s->L, e);
     return r;
 }
 
@@ -936,7 +941,6 @@ static int lst__smooth_solve(const lst__field_job *j, const lst__lsq *s, int dim
     pw_err *e = j->e;
     double *b = (double *)pw_calloc_array(a, (size_t)A->n, sizeof(double), "smoothing", e);
     pw_cg_options co = pw_cg_default_options();
-    pw_cg_stats st;
     pw_err local;
     int i, r;
     if (!b) return PW_ERR_NOMEM;
@@ -945,7 +949,7 @@ static int lst__smooth_solve(const lst__field_job *j, const lst__lsq *s, int dim
     co.max_iter = 4000;
     if (p) co.progress = *p;
     pw_err_clear(&local);
-    r = pw_lsq_solve(a, A, b, x, &co, &st, &local);
+    r = pw_lsq_solve_prepared(a, &s->L, b, x, &co, NULL, &local);
     pw_free(a, b);
     if (r == PW_ERR_NOCONVERGE) return PW_OK;
     if (r != PW_OK) return pw_fail(e, r, "%s", local.msg);
