@@ -28,20 +28,20 @@
  *  13430: src/common/tetmesh.h, the tetrahedral mesh that lapped solid textures work on, a
  *  13917: src/common/tetio.h, tetrahedral mesh files, TetGen .node/.ele and MEDIT .mesh.
  *  14409: src/common/bisect.h, graded, conforming tetrahedral meshes of a box by newest-v
- *  14731: src/common/stuffing.h, the built-in tetrahedralizer of lst.h, so that no external
- *  18030: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
- *  18173: src/common/pca.h, principal component analysis of vectors streamed one at a 
- *  18360: src/common/glue.h, what every method header needs between its public types an
- *  18696: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  19360: src/lst/core.c, lst.h's glue to the shared core, its defaults, the convers
- *  19693: src/lst/exemplar.c, solid exemplars (§5): sampling, the procedural exemplars 
- *  20262: src/lst/field.c, §5.2.2, the fields that orient and scale the pastes. The 
- *  21470: src/lst/paste.c, §5.2.3-5.2.7, filling the model. Each paste picks a rando
- *  22459: src/lst/render.c, §5.1, showing a model. Every point of a tetrahedron is th
- *  23356: src/lst/cut.c, §5.1.1, cutting a model along the zero set of a scalar fi
- *  23961: src/lst/builtin.c, the tetrahedralizer entry point, checks of caller meshes, 
- *  24483: src/lst/io.c, the model file, the constraint files and the file convenie
- *  25176: src/lst/export.c, the visible boundary with a baked texture atlas, for glTF.
+ *  14738: src/common/stuffing.h, the built-in tetrahedralizer of lst.h, so that no external
+ *  18049: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
+ *  18192: src/common/pca.h, principal component analysis of vectors streamed one at a 
+ *  18379: src/common/glue.h, what every method header needs between its public types an
+ *  18715: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  19379: src/lst/core.c, lst.h's glue to the shared core, its defaults, the convers
+ *  19712: src/lst/exemplar.c, solid exemplars (§5): sampling, the procedural exemplars 
+ *  20281: src/lst/field.c, §5.2.2, the fields that orient and scale the pastes. The 
+ *  21489: src/lst/paste.c, §5.2.3-5.2.7, filling the model. Each paste picks a rando
+ *  22478: src/lst/render.c, §5.1, showing a model. Every point of a tetrahedron is th
+ *  23375: src/lst/cut.c, §5.1.1, cutting a model along the zero set of a scalar fi
+ *  23980: src/lst/builtin.c, the tetrahedralizer entry point, checks of caller meshes, 
+ *  24502: src/lst/io.c, the model file, the constraint files and the file convenie
+ *  25195: src/lst/export.c, the visible boundary with a baked texture atlas, for glTF.
  */
 /* lst.h - lapped solid textures: solid exemplars pasted inside a model.
  *
@@ -14440,7 +14440,7 @@ typedef struct pw_bstet {
     int tag;   /* refinement edge v[0] - v[tag] */
     int depth; /* bisections from the coarse mesh */
     int kept;  /* pw_bisect_refine was told to keep it */
-    int mark;  /* the caller's (need() may set it; 0 in new tetrahedra) */
+    int mark;  /* the caller's (need() may set it; 0 in the coarse mesh; both halves inherit it) */
     int data;  /* the caller's (need() may set it; -1 in the coarse mesh; both halves inherit it) */
 } pw_bstet;
 
@@ -14449,8 +14449,9 @@ typedef struct pw_bisect {
     pw_err *e;
     int *vc; /* nv*3 integer coordinates, each below 2^21 */
     int nv;
-    size_t capv;
-    uint64_t *hkey; /* vertex hash: packed coordinates + 1 (0: empty) */
+    size_t capv, capends;
+    unsigned char *ends; /* nv: the vertex is an end of a bisected edge (only such edges have midpoints) */
+    uint64_t *hkey;      /* vertex hash: packed coordinates + 1 (0: empty) */
     int *hval;
     size_t hcap; /* power of two */
     pw_bstet *t; /* the tetrahedra (the leaves of the bisection forest) */
@@ -14470,6 +14471,7 @@ typedef int (*pw_bisect_need)(void *user, const pw_bisect *b, pw_bstet *t);
 PW__DEF void pw_bisect_free(pw_bisect *b)
 {
     pw_free(b->a, b->vc);
+    pw_free(b->a, b->ends);
     pw_free(b->a, b->hkey);
     pw_free(b->a, b->hval);
     pw_free(b->a, b->t);
@@ -14478,12 +14480,13 @@ PW__DEF void pw_bisect_free(pw_bisect *b)
     pw_free(b->a, b->snext);
     pw_free(b->a, b->queue);
     b->vc = NULL;
+    b->ends = NULL;
     b->hkey = NULL;
     b->hval = NULL;
     b->t = NULL;
     b->head = b->stet = b->snext = b->queue = NULL;
     b->nv = 0;
-    b->capv = b->hcap = b->nt = b->capt = 0;
+    b->capv = b->capends = b->hcap = b->nt = b->capt = 0;
     b->cap_head = b->ns = b->cap_stet = b->cap_snext = b->nq = b->capq = 0;
 }
 
@@ -14550,9 +14553,11 @@ PW__DEF int pw__bs_vertex(pw_bisect *b, const int *c)
         return -1;
     }
     if (2 * ((size_t)b->nv + 1) > b->hcap && pw__bs_rehash(b, b->hcap ? 2 * b->hcap : 1024)) return -1;
-    if (pw_grow(b->a, (void **)&b->vc, &b->capv, 3 * ((size_t)b->nv + 1), sizeof(int), "bisection vertices", b->e))
+    if (pw_grow(b->a, (void **)&b->vc, &b->capv, 3 * ((size_t)b->nv + 1), sizeof(int), "bisection vertices", b->e) ||
+        pw_grow(b->a, (void **)&b->ends, &b->capends, (size_t)b->nv + 1, 1, "bisection vertices", b->e))
         return -1;
     memcpy(b->vc + 3 * b->nv, c, 3 * sizeof(int));
+    b->ends[b->nv] = 0;
     mask = b->hcap - 1;
     for (i = pw__bs_slot(k, mask); b->hkey[i]; i = (i + 1) & mask) continue;
     b->hkey[i] = k;
@@ -14639,13 +14644,14 @@ PW__DEF int pw__bs_split(pw_bisect *b, size_t i)
         z[j] = s / 2;
     }
     if ((m = pw__bs_vertex(b, z)) < 0) return b->e ? b->e->code : PW_ERR_NOMEM;
+    b->ends[a] = b->ends[c] = 1;
     c1 = t;
     c2 = t;
     for (j = 0; j < k; j++) c2.v[j] = t.v[j + 1];
     c1.v[k] = c2.v[k] = m;
     c1.tag = c2.tag = k > 1 ? k - 1 : 3;
     c1.depth = c2.depth = t.depth + 1;
-    c1.kept = c2.kept = c1.mark = c2.mark = 0;
+    c1.kept = c2.kept = 0;
     b->t[i] = c1;
     if ((r = pw__bs_push(b, &c2)) || !b->head) return r;
     if (pw_grow(b->a, (void **)&b->head, &b->cap_head, (size_t)b->nv, sizeof(int), "vertex stars", b->e))
@@ -14693,6 +14699,7 @@ PW__DEF int pw__bs_hanging(const pw_bisect *b, const pw_bstet *t)
     int i, j, k, c[3];
     for (i = 0; i < 4; i++)
         for (j = i + 1; j < 4; j++) {
+            if (!b->ends[t->v[i]] || !b->ends[t->v[j]]) continue;
             for (k = 0; k < 3; k++) {
                 int s = b->vc[3 * t->v[i] + k] + b->vc[3 * t->v[j] + k];
                 if (s & 1) break;
@@ -15078,7 +15085,8 @@ PW__DEF int pw__st_one_side(const double *a, const double *b, const double *c, c
 
 typedef struct pw__stsurf {
     int nv, nt;
-    double *p; /* nv*3, the float input as doubles */
+    double *p;  /* nv*3, the float input as doubles */
+    double *tc; /* nt*9: each triangle's corners, in order (one read instead of three) */
     const int *tri;
     int nnode;
     float *box;               /* nnode*6: lo xyz, hi xyz (exact bounds of the float input) */
@@ -15094,6 +15102,7 @@ typedef struct pw__stsurf {
 PW__DEF void pw__st_surf_free(const pw_alloc *a, pw__stsurf *s)
 {
     pw_free(a, s->p);
+    pw_free(a, s->tc);
     pw_free(a, s->box);
     pw_free(a, s->node);
     pw_free(a, s->slot);
@@ -15102,7 +15111,7 @@ PW__DEF void pw__st_surf_free(const pw_alloc *a, pw__stsurf *s)
     memset(s, 0, sizeof *s);
 }
 
-PW__DEF const double *pw__st_corner(const pw__stsurf *s, int t, int k) { return s->p + 3 * s->tri[3 * t + k]; }
+PW__DEF const double *pw__st_corner(const pw__stsurf *s, int t, int k) { return s->tc + 9 * (size_t)t + 3 * k; }
 
 /* Slot order for the median split: by centroid coordinate, ties by index. */
 PW__DEF int pw__st_before(const double *cen, int axis, int t, int u)
@@ -15194,16 +15203,18 @@ PW__DEF int pw__st_surf_init(const pw_alloc *a, const pw_stuff_tris *m, pw__stsu
     s->nt = nt;
     s->tri = tri;
     s->p = (double *)pw_alloc_array(a, (size_t)nv * 3, sizeof(double), "surface positions", e);
+    s->tc = (double *)pw_alloc_array(a, (size_t)nt * 9, sizeof(double), "surface positions", e);
     s->box = (float *)pw_alloc_array(a, (size_t)(2 * nt) * 6, sizeof(float), "surface hierarchy", e);
     s->node = (int *)pw_alloc_array(a, (size_t)(2 * nt) * 3, sizeof(int), "surface hierarchy", e);
     s->slot = (int *)pw_alloc_array(a, (size_t)nt, sizeof(int), "surface hierarchy", e);
     cen = (double *)pw_alloc_array(a, (size_t)nt * 3, sizeof(double), "triangle centroids", e);
-    if (!s->p || !s->box || !s->node || !s->slot || !cen) {
+    if (!s->p || !s->tc || !s->box || !s->node || !s->slot || !cen) {
         pw_free(a, cen);
         pw__st_surf_free(a, s);
         return PW_ERR_NOMEM;
     }
     for (i = 0; i < 3 * nv; i++) s->p[i] = pos[i];
+    for (i = 0; i < 3 * nt; i++) memcpy(s->tc + 3 * (size_t)i, s->p + 3 * (size_t)tri[i], 3 * sizeof(double));
     for (i = 0; i < nt; i++) {
         s->slot[i] = i;
         for (k = 0; k < 3; k++)
@@ -16791,7 +16802,7 @@ PW__DEF int pw__st_filter(pw__st *st, const pw__stbox *q, const int *list, int c
     for (i = 0; i < count; i++) {
         int t = list[i];
         if (!pw__st_boxes_meet(st->tbox + 6 * (size_t)t, q->fb) ||
-            (!pw__st_corner_inside(st, t, q->lo, q->hi) &&
+            (!pw__st_tri_inside(st, t, q->lo, q->hi) && !pw__st_corner_inside(st, t, q->lo, q->hi) &&
              !pw__st_tri_box(q->ctr, q->hw, pw__st_corner(s, t, 0), pw__st_corner(s, t, 1), pw__st_corner(s, t, 2))))
             continue;
         if (mode == PW__ST_ANY) return 1;
@@ -16963,6 +16974,7 @@ PW__DEF int pw__st_decide(pw__st *st, const pw_bisect *b, pw_bstet *t)
     t->mark = PW__ST_FAR;
     if (n == 0) return 0;
     if (len > st->lmin && pw__st_bends(st, n, glo, ghi)) {
+        t->mark = 0; /* unknown in both halves */
         if ((t->data < 0 || n < st->pool[t->data]) && (t->data = pw__st_keep_list(st, n)) < 0)
             return st->e ? st->e->code : PW_ERR_NOMEM;
         return 1;
@@ -16990,6 +17002,7 @@ PW__DEF int pw__st_need(void *user, const pw_bisect *b, pw_bstet *t)
     int lo[3], hi[3], i, j, k, r;
     uint64_t len2 = 0, klo, khi, h;
     pw__stmemo *m;
+    if (t->mark == PW__ST_FAR) return 0; /* cut from a tetrahedron with nothing within its (larger) reach */
     for (k = 0; k < 3; k++) {
         lo[k] = hi[k] = b->vc[3 * t->v[0] + k];
         for (i = 1; i < 4; i++) {
@@ -17334,8 +17347,10 @@ PW__DEF int pw__st_drop_fragments(pw__st *st)
 
 /* The largest |cos| of a dihedral angle over the tetrahedra of v with v
  * at x (2: one of them is not positive); the worst tetrahedron to *worst_tet
- * (may be NULL). */
-PW__DEF double pw__st_star_worst(const pw__st *st, const pw_tetrings *g, int v, const float *x, int *worst_tet)
+ * (may be NULL). Stops early at `limit` or above (the value returned is then
+ * at least limit). */
+PW__DEF double pw__st_star_worst(const pw__st *st, const pw_tetrings *g, int v, const float *x, double limit,
+                                 int *worst_tet)
 {
     double worst = 0.0, p[4][3], clo, chi, u[3], w[3], z[3], n[3];
     int i, k, j;
@@ -17354,6 +17369,7 @@ PW__DEF double pw__st_star_worst(const pw__st *st, const pw_tetrings *g, int v, 
         clo = clo > -chi ? clo : -chi;
         if (clo > worst && worst_tet) *worst_tet = g->star[i];
         worst = clo > worst ? clo : worst;
+        if (worst >= limit) break;
     }
     return worst;
 }
@@ -17396,7 +17412,7 @@ PW__DEF int pw__st_smooth_vertex(pw__st *st, const pw_tetrings *g, int v)
     float *pv = st->opos + 3 * (size_t)v, x[3], best[3];
     double c[3] = {0.0, 0.0, 0.0}, y[3], q[3], nrm[3], len, mean = 0.0, bq, now;
     int i, k, n = 0, s, wt = -1;
-    now = bq = pw__st_star_worst(st, g, v, pv, &wt);
+    now = bq = pw__st_star_worst(st, g, v, pv, 2.0, &wt);
     if (now <= PW__ST_GOAL || wt < 0) return 0;
     for (i = g->start[v]; i < g->start[v + 1]; i++) {
         int u = g->adj[i];
@@ -17419,7 +17435,7 @@ PW__DEF int pw__st_smooth_vertex(pw__st *st, const pw_tetrings *g, int v)
             memcpy(y, q, sizeof q);
         }
         for (k = 0; k < 3; k++) x[k] = (float)y[k];
-        if ((w = pw__st_star_worst(st, g, v, x, NULL)) < bq) {
+        if ((w = pw__st_star_worst(st, g, v, x, bq, NULL)) < bq) { /* (no better: stops at bq) */
             bq = w;
             memcpy(best, x, sizeof x);
         }
@@ -17447,6 +17463,9 @@ PW__DEF int pw__st_smooth(pw__st *st)
     }
     for (i = 0; i < m.nt; i++) { /* the corners of the tetrahedra outside the goal */
         double p[4][3], clo, chi;
+        const int *c = m.tet + 4 * (size_t)i;
+        if (!st->osurf[c[0]] && !st->osurf[c[1]] && !st->osurf[c[2]] && !st->osurf[c[3]])
+            continue; /* a whole lattice tetrahedron: 45..120 degrees */
         for (k = 0; k < 4; k++)
             for (j = 0; j < 3; j++) p[k][j] = st->opos[3 * (size_t)m.tet[4 * i + k] + j];
         pw_tet_cosines((const double(*)[3])p, &clo, &chi);

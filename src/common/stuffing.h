@@ -351,7 +351,8 @@ PW__DEF int pw__st_one_side(const double *a, const double *b, const double *c, c
 
 typedef struct pw__stsurf {
     int nv, nt;
-    double *p; /* nv*3, the float input as doubles */
+    double *p;  /* nv*3, the float input as doubles */
+    double *tc; /* nt*9: each triangle's corners, in order (one read instead of three) */
     const int *tri;
     int nnode;
     float *box;               /* nnode*6: lo xyz, hi xyz (exact bounds of the float input) */
@@ -367,6 +368,7 @@ typedef struct pw__stsurf {
 PW__DEF void pw__st_surf_free(const pw_alloc *a, pw__stsurf *s)
 {
     pw_free(a, s->p);
+    pw_free(a, s->tc);
     pw_free(a, s->box);
     pw_free(a, s->node);
     pw_free(a, s->slot);
@@ -375,7 +377,7 @@ PW__DEF void pw__st_surf_free(const pw_alloc *a, pw__stsurf *s)
     memset(s, 0, sizeof *s);
 }
 
-PW__DEF const double *pw__st_corner(const pw__stsurf *s, int t, int k) { return s->p + 3 * s->tri[3 * t + k]; }
+PW__DEF const double *pw__st_corner(const pw__stsurf *s, int t, int k) { return s->tc + 9 * (size_t)t + 3 * k; }
 
 /* Slot order for the median split: by centroid coordinate, ties by index. */
 PW__DEF int pw__st_before(const double *cen, int axis, int t, int u)
@@ -467,16 +469,18 @@ PW__DEF int pw__st_surf_init(const pw_alloc *a, const pw_stuff_tris *m, pw__stsu
     s->nt = nt;
     s->tri = tri;
     s->p = (double *)pw_alloc_array(a, (size_t)nv * 3, sizeof(double), "surface positions", e);
+    s->tc = (double *)pw_alloc_array(a, (size_t)nt * 9, sizeof(double), "surface positions", e);
     s->box = (float *)pw_alloc_array(a, (size_t)(2 * nt) * 6, sizeof(float), "surface hierarchy", e);
     s->node = (int *)pw_alloc_array(a, (size_t)(2 * nt) * 3, sizeof(int), "surface hierarchy", e);
     s->slot = (int *)pw_alloc_array(a, (size_t)nt, sizeof(int), "surface hierarchy", e);
     cen = (double *)pw_alloc_array(a, (size_t)nt * 3, sizeof(double), "triangle centroids", e);
-    if (!s->p || !s->box || !s->node || !s->slot || !cen) {
+    if (!s->p || !s->tc || !s->box || !s->node || !s->slot || !cen) {
         pw_free(a, cen);
         pw__st_surf_free(a, s);
         return PW_ERR_NOMEM;
     }
     for (i = 0; i < 3 * nv; i++) s->p[i] = pos[i];
+    for (i = 0; i < 3 * nt; i++) memcpy(s->tc + 3 * (size_t)i, s->p + 3 * (size_t)tri[i], 3 * sizeof(double));
     for (i = 0; i < nt; i++) {
         s->slot[i] = i;
         for (k = 0; k < 3; k++)
@@ -2064,7 +2068,7 @@ PW__DEF int pw__st_filter(pw__st *st, const pw__stbox *q, const int *list, int c
     for (i = 0; i < count; i++) {
         int t = list[i];
         if (!pw__st_boxes_meet(st->tbox + 6 * (size_t)t, q->fb) ||
-            (!pw__st_corner_inside(st, t, q->lo, q->hi) &&
+            (!pw__st_tri_inside(st, t, q->lo, q->hi) && !pw__st_corner_inside(st, t, q->lo, q->hi) &&
              !pw__st_tri_box(q->ctr, q->hw, pw__st_corner(s, t, 0), pw__st_corner(s, t, 1), pw__st_corner(s, t, 2))))
             continue;
         if (mode == PW__ST_ANY) return 1;
@@ -2236,6 +2240,7 @@ PW__DEF int pw__st_decide(pw__st *st, const pw_bisect *b, pw_bstet *t)
     t->mark = PW__ST_FAR;
     if (n == 0) return 0;
     if (len > st->lmin && pw__st_bends(st, n, glo, ghi)) {
+        t->mark = 0; /* unknown in both halves */
         if ((t->data < 0 || n < st->pool[t->data]) && (t->data = pw__st_keep_list(st, n)) < 0)
             return st->e ? st->e->code : PW_ERR_NOMEM;
         return 1;
@@ -2263,6 +2268,7 @@ PW__DEF int pw__st_need(void *user, const pw_bisect *b, pw_bstet *t)
     int lo[3], hi[3], i, j, k, r;
     uint64_t len2 = 0, klo, khi, h;
     pw__stmemo *m;
+    if (t->mark == PW__ST_FAR) return 0; /* cut from a tetrahedron with nothing within its (larger) reach */
     for (k = 0; k < 3; k++) {
         lo[k] = hi[k] = b->vc[3 * t->v[0] + k];
         for (i = 1; i < 4; i++) {
@@ -2607,8 +2613,10 @@ PW__DEF int pw__st_drop_fragments(pw__st *st)
 
 /* The largest |cos| of a dihedral angle over the tetrahedra of v with v
  * at x (2: one of them is not positive); the worst tetrahedron to *worst_tet
- * (may be NULL). */
-PW__DEF double pw__st_star_worst(const pw__st *st, const pw_tetrings *g, int v, const float *x, int *worst_tet)
+ * (may be NULL). Stops early at `limit` or above (the value returned is then
+ * at least limit). */
+PW__DEF double pw__st_star_worst(const pw__st *st, const pw_tetrings *g, int v, const float *x, double limit,
+                                 int *worst_tet)
 {
     double worst = 0.0, p[4][3], clo, chi, u[3], w[3], z[3], n[3];
     int i, k, j;
@@ -2627,6 +2635,7 @@ PW__DEF double pw__st_star_worst(const pw__st *st, const pw_tetrings *g, int v, 
         clo = clo > -chi ? clo : -chi;
         if (clo > worst && worst_tet) *worst_tet = g->star[i];
         worst = clo > worst ? clo : worst;
+        if (worst >= limit) break;
     }
     return worst;
 }
@@ -2669,7 +2678,7 @@ PW__DEF int pw__st_smooth_vertex(pw__st *st, const pw_tetrings *g, int v)
     float *pv = st->opos + 3 * (size_t)v, x[3], best[3];
     double c[3] = {0.0, 0.0, 0.0}, y[3], q[3], nrm[3], len, mean = 0.0, bq, now;
     int i, k, n = 0, s, wt = -1;
-    now = bq = pw__st_star_worst(st, g, v, pv, &wt);
+    now = bq = pw__st_star_worst(st, g, v, pv, 2.0, &wt);
     if (now <= PW__ST_GOAL || wt < 0) return 0;
     for (i = g->start[v]; i < g->start[v + 1]; i++) {
         int u = g->adj[i];
@@ -2692,7 +2701,7 @@ PW__DEF int pw__st_smooth_vertex(pw__st *st, const pw_tetrings *g, int v)
             memcpy(y, q, sizeof q);
         }
         for (k = 0; k < 3; k++) x[k] = (float)y[k];
-        if ((w = pw__st_star_worst(st, g, v, x, NULL)) < bq) {
+        if ((w = pw__st_star_worst(st, g, v, x, bq, NULL)) < bq) { /* (no better: stops at bq) */
             bq = w;
             memcpy(best, x, sizeof x);
         }
@@ -2720,6 +2729,9 @@ PW__DEF int pw__st_smooth(pw__st *st)
     }
     for (i = 0; i < m.nt; i++) { /* the corners of the tetrahedra outside the goal */
         double p[4][3], clo, chi;
+        const int *c = m.tet + 4 * (size_t)i;
+        if (!st->osurf[c[0]] && !st->osurf[c[1]] && !st->osurf[c[2]] && !st->osurf[c[3]])
+            continue; /* a whole lattice tetrahedron: 45..120 degrees */
         for (k = 0; k < 4; k++)
             for (j = 0; j < 3; j++) p[k][j] = st->opos[3 * (size_t)m.tet[4 * i + k] + j];
         pw_tet_cosines((const double(*)[3])p, &clo, &chi);
