@@ -32,7 +32,7 @@ typedef struct pw_bstet {
     int tag;   /* refinement edge v[0] - v[tag] */
     int depth; /* bisections from the coarse mesh */
     int kept;  /* pw_bisect_refine was told to keep it */
-    int mark;  /* the caller's (need() may set it; 0 in the coarse mesh; both halves inherit it) */
+    int mark;  /* the caller's (need() may set it; 0 in new tetrahedra) */
     int data;  /* the caller's (need() may set it; -1 in the coarse mesh; both halves inherit it) */
 } pw_bstet;
 
@@ -243,7 +243,7 @@ PW__DEF int pw__bs_split(pw_bisect *b, size_t i)
     c1.v[k] = c2.v[k] = m;
     c1.tag = c2.tag = k > 1 ? k - 1 : 3;
     c1.depth = c2.depth = t.depth + 1;
-    c1.kept = c2.kept = 0;
+    c1.kept = c2.kept = c1.mark = c2.mark = 0;
     b->t[i] = c1;
     if ((r = pw__bs_push(b, &c2)) || !b->head) return r;
     if (pw_grow(b->a, (void **)&b->head, &b->cap_head, (size_t)b->nv, sizeof(int), "vertex stars", b->e))
@@ -266,10 +266,10 @@ PW__DEF int pw__bs_split(pw_bisect *b, size_t i)
 /* Bisects every tetrahedron while need() asks and its depth is below
  * max_depth (3 per halving of the side; at most 3 log2(side) - 3 keeps the
  * midpoints of the closure on the lattice); tetrahedra need() kept before
- * are not asked again. *splits (may be NULL) counts the bisections. */
-PW__DEF int pw_bisect_refine(pw_bisect *b, pw_bisect_need need, void *user, int max_depth, size_t *splits)
+ * are not asked again. */
+PW__DEF int pw_bisect_refine(pw_bisect *b, pw_bisect_need need, void *user, int max_depth)
 {
-    size_t i, n = 0;
+    size_t i;
     int r;
     for (i = 0; i < b->nt; i++)
         while (!b->t[i].kept && b->t[i].depth < max_depth) {
@@ -279,9 +279,7 @@ PW__DEF int pw_bisect_refine(pw_bisect *b, pw_bisect_need need, void *user, int 
                 break;
             }
             if ((r = pw__bs_split(b, i))) return r;
-            n++;
         }
-    if (splits) *splits = n;
     return PW_OK;
 }
 
