@@ -29,19 +29,19 @@
  *  13917: src/common/tetio.h, tetrahedral mesh files, TetGen .node/.ele and MEDIT .mesh.
  *  14409: src/common/bisect.h, graded, conforming tetrahedral meshes of a box by newest-v
  *  14736: src/common/stuffing.h, the built-in tetrahedralizer of lst.h, so that no external
- *  18104: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
- *  18247: src/common/pca.h, principal component analysis of vectors streamed one at a 
- *  18434: src/common/glue.h, what every method header needs between its public types an
- *  18770: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  19434: src/lst/core.c, lst.h's glue to the shared core, its defaults, the convers
- *  19767: src/lst/exemplar.c, solid exemplars (§5): sampling, the procedural exemplars 
- *  20336: src/lst/field.c, §5.2.2, the fields that orient and scale the pastes. The 
- *  21544: src/lst/paste.c, §5.2.3-5.2.7, filling the model. Each paste picks a rando
- *  22533: src/lst/render.c, §5.1, showing a model. Every point of a tetrahedron is th
- *  23430: src/lst/cut.c, §5.1.1, cutting a model along the zero set of a scalar fi
- *  24035: src/lst/builtin.c, the tetrahedralizer entry point, checks of caller meshes, 
- *  24557: src/lst/io.c, the model file, the constraint files and the file convenie
- *  25250: src/lst/export.c, the visible boundary with a baked texture atlas, for glTF.
+ *  18107: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
+ *  18250: src/common/pca.h, principal component analysis of vectors streamed one at a 
+ *  18437: src/common/glue.h, what every method header needs between its public types an
+ *  18773: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  19437: src/lst/core.c, lst.h's glue to the shared core, its defaults, the convers
+ *  19770: src/lst/exemplar.c, solid exemplars (§5): sampling, the procedural exemplars 
+ *  20339: src/lst/field.c, §5.2.2, the fields that orient and scale the pastes. The 
+ *  21547: src/lst/paste.c, §5.2.3-5.2.7, filling the model. Each paste picks a rando
+ *  22536: src/lst/render.c, §5.1, showing a model. Every point of a tetrahedron is th
+ *  23433: src/lst/cut.c, §5.1.1, cutting a model along the zero set of a scalar fi
+ *  24038: src/lst/builtin.c, the tetrahedralizer entry point, checks of caller meshes, 
+ *  24560: src/lst/io.c, the model file, the constraint files and the file convenie
+ *  25253: src/lst/export.c, the visible boundary with a baked texture atlas, for glTF.
  */
 /* lst.h - lapped solid textures: solid exemplars pasted inside a model.
  *
@@ -14440,7 +14440,7 @@ typedef struct pw_bstet {
     int tag;   /* refinement edge v[0] - v[tag] */
     int depth; /* bisections from the coarse mesh */
     int kept;  /* pw_bisect_refine was told to keep it */
-    int mark;  /* the caller's (need() may set it; 0 in new tetrahedra) */
+    int mark;  /* the caller's (need() may set it; 0 in the coarse mesh; both halves inherit it) */
     int data;  /* the caller's (need() may set it; -1 in the coarse mesh; both halves inherit it) */
 } pw_bstet;
 
@@ -14651,7 +14651,7 @@ PW__DEF int pw__bs_split(pw_bisect *b, size_t i)
     c1.v[k] = c2.v[k] = m;
     c1.tag = c2.tag = k > 1 ? k - 1 : 3;
     c1.depth = c2.depth = t.depth + 1;
-    c1.kept = c2.kept = c1.mark = c2.mark = 0;
+    c1.kept = c2.kept = 0;
     b->t[i] = c1;
     if ((r = pw__bs_push(b, &c2)) || !b->head) return r;
     if (pw_grow(b->a, (void **)&b->head, &b->cap_head, (size_t)b->nv, sizeof(int), "vertex stars", b->e))
@@ -16994,6 +16994,7 @@ PW__DEF int pw__st_decide(pw__st *st, const pw_bisect *b, pw_bstet *t)
     t->mark = PW__ST_FAR;
     if (n == 0) return 0;
     if ((len > st->lmin || (len > st->ltip && pw__st_tip_near(st, n, glo, ghi))) && pw__st_bends(st, n, glo, ghi)) {
+        t->mark = 0; /* unknown in both halves */
         if ((t->data < 0 || n < st->pool[t->data]) && (t->data = pw__st_keep_list(st, n)) < 0)
             return st->e ? st->e->code : PW_ERR_NOMEM;
         return 1;
@@ -17073,8 +17074,10 @@ PW__DEF int pw__st_gedges(pw__st *st)
     for (i = 0; r == PW_OK && i < st->bs.nt; i++) {
         double lo[3], hi[3];
         pw__st_gbox(st, &st->bs, st->bs.t[i].v, lo, hi);
-        st->tbusy[i] = st->bs.t[i].mark ? st->bs.t[i].mark == PW__ST_BUSY
-                                        : pw__st_box_tris(st, st->bs.t[i].data, lo, hi, PW__ST_ANY) > 0;
+        if (st->bs.t[i].kept) st->tbusy[i] = st->bs.t[i].mark == PW__ST_BUSY; /* sized */
+        else /* cut by the closure: empty if its parent's box was */
+            st->tbusy[i] = st->bs.t[i].mark != PW__ST_FAR && st->bs.t[i].mark != PW__ST_CLEAR &&
+                           pw__st_box_tris(st, st->bs.t[i].data, lo, hi, PW__ST_ANY) > 0;
         for (k = 0; k < 4; k++) st->vtoff[st->bs.t[i].v[k] + 2]++;
     }
     if (r == PW_OK) {

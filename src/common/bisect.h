@@ -32,7 +32,7 @@ typedef struct pw_bstet {
     int tag;   /* refinement edge v[0] - v[tag] */
     int depth; /* bisections from the coarse mesh */
     int kept;  /* pw_bisect_refine was told to keep it */
-    int mark;  /* the caller's (need() may set it; 0 in new tetrahedra) */
+    int mark;  /* the caller's (need() may set it; 0 in the coarse mesh; both halves inherit it) */
     int data;  /* the caller's (need() may set it; -1 in the coarse mesh; both halves inherit it) */
 } pw_bstet;
 
@@ -243,7 +243,7 @@ PW__DEF int pw__bs_split(pw_bisect *b, size_t i)
     c1.v[k] = c2.v[k] = m;
     c1.tag = c2.tag = k > 1 ? k - 1 : 3;
     c1.depth = c2.depth = t.depth + 1;
-    c1.kept = c2.kept = c1.mark = c2.mark = 0;
+    c1.kept = c2.kept = 0;
     b->t[i] = c1;
     if ((r = pw__bs_push(b, &c2)) || !b->head) return r;
     if (pw_grow(b->a, (void **)&b->head, &b->cap_head, (size_t)b->nv, sizeof(int), "vertex stars", b->e))

@@ -2262,6 +2262,7 @@ PW__DEF int pw__st_decide(pw__st *st, const pw_bisect *b, pw_bstet *t)
     t->mark = PW__ST_FAR;
     if (n == 0) return 0;
     if ((len > st->lmin || (len > st->ltip && pw__st_tip_near(st, n, glo, ghi))) && pw__st_bends(st, n, glo, ghi)) {
+        t->mark = 0; /* unknown in both halves */
         if ((t->data < 0 || n < st->pool[t->data]) && (t->data = pw__st_keep_list(st, n)) < 0)
             return st->e ? st->e->code : PW_ERR_NOMEM;
         return 1;
@@ -2341,8 +2342,10 @@ PW__DEF int pw__st_gedges(pw__st *st)
     for (i = 0; r == PW_OK && i < st->bs.nt; i++) {
         double lo[3], hi[3];
         pw__st_gbox(st, &st->bs, st->bs.t[i].v, lo, hi);
-        st->tbusy[i] = st->bs.t[i].mark ? st->bs.t[i].mark == PW__ST_BUSY
-                                        : pw__st_box_tris(st, st->bs.t[i].data, lo, hi, PW__ST_ANY) > 0;
+        if (st->bs.t[i].kept) st->tbusy[i] = st->bs.t[i].mark == PW__ST_BUSY; /* sized */
+        else /* cut by the closure: empty if its parent's box was */
+            st->tbusy[i] = st->bs.t[i].mark != PW__ST_FAR && st->bs.t[i].mark != PW__ST_CLEAR &&
+                           pw__st_box_tris(st, st->bs.t[i].data, lo, hi, PW__ST_ANY) > 0;
         for (k = 0; k < 4; k++) st->vtoff[st->bs.t[i].v[k] + 2]++;
     }
     if (r == PW_OK) {
