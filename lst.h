@@ -29,19 +29,19 @@
  *  13917: src/common/tetio.h, tetrahedral mesh files, TetGen .node/.ele and MEDIT .mesh.
  *  14409: src/common/bisect.h, graded, conforming tetrahedral meshes of a box by newest-v
  *  14736: src/common/stuffing.h, the built-in tetrahedralizer of lst.h, so that no external
- *  18107: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
- *  18250: src/common/pca.h, principal component analysis of vectors streamed one at a 
- *  18437: src/common/glue.h, what every method header needs between its public types an
- *  18773: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  19437: src/lst/core.c, lst.h's glue to the shared core, its defaults, the convers
- *  19770: src/lst/exemplar.c, solid exemplars (§5): sampling, the procedural exemplars 
- *  20339: src/lst/field.c, §5.2.2, the fields that orient and scale the pastes. The 
- *  21547: src/lst/paste.c, §5.2.3-5.2.7, filling the model. Each paste picks a rando
- *  22536: src/lst/render.c, §5.1, showing a model. Every point of a tetrahedron is th
- *  23433: src/lst/cut.c, §5.1.1, cutting a model along the zero set of a scalar fi
- *  24038: src/lst/builtin.c, the tetrahedralizer entry point, checks of caller meshes, 
- *  24560: src/lst/io.c, the model file, the constraint files and the file convenie
- *  25253: src/lst/export.c, the visible boundary with a baked texture atlas, for glTF.
+ *  18113: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
+ *  18256: src/common/pca.h, principal component analysis of vectors streamed one at a 
+ *  18443: src/common/glue.h, what every method header needs between its public types an
+ *  18779: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  19443: src/lst/core.c, lst.h's glue to the shared core, its defaults, the convers
+ *  19776: src/lst/exemplar.c, solid exemplars (§5): sampling, the procedural exemplars 
+ *  20345: src/lst/field.c, §5.2.2, the fields that orient and scale the pastes. The 
+ *  21553: src/lst/paste.c, §5.2.3-5.2.7, filling the model. Each paste picks a rando
+ *  22542: src/lst/render.c, §5.1, showing a model. Every point of a tetrahedron is th
+ *  23439: src/lst/cut.c, §5.1.1, cutting a model along the zero set of a scalar fi
+ *  24044: src/lst/builtin.c, the tetrahedralizer entry point, checks of caller meshes, 
+ *  24566: src/lst/io.c, the model file, the constraint files and the file convenie
+ *  25259: src/lst/export.c, the visible boundary with a baked texture atlas, for glTF.
  */
 /* lst.h - lapped solid textures: solid exemplars pasted inside a model.
  *
@@ -16904,7 +16904,7 @@ PW__DEF int pw__st_clip(const pw__st *st, int t, const double *lo, const double 
 PW__DEF int pw__st_bends(const pw__st *st, int n, const double *lo, const double *hi)
 {
     double N[3] = {0.0, 0.0, 0.0}, A = 0.0, nn, wlo = DBL_MAX, whi = -DBL_MAX, poly[9][3];
-    int i, j, k, m;
+    int i, j, k, m, first;
     for (i = 0; i < n; i++) {
         const double *c = st->tnorm + 4 * (size_t)st->scratch[i];
         for (k = 0; k < 3; k++) N[k] += c[3] * c[k];
@@ -16920,11 +16920,17 @@ PW__DEF int pw__st_bends(const pw__st *st, int n, const double *lo, const double
             whi = d > whi ? d : whi;
         }
     if (!(PW__ST_BEND * (whi - wlo) > st->tol)) return 0;
+    for (i = 0, first = 0, wlo = 2.0; i < n; i++) { /* the triangle most tilted from N first: a bend shows soonest */
+        double c = pw_dot3(st->tnorm + 4 * (size_t)st->scratch[i], N);
+        first = c < wlo ? i : first;
+        wlo = c < wlo ? c : wlo;
+    }
     wlo = DBL_MAX;
     whi = -DBL_MAX;
-    for (i = 0; i < n; i++) {
-        int t = st->scratch[i];
-        int inside = pw__st_tri_inside(st, t, lo, hi);
+    for (i = -1; i < n; i++) {
+        int t = st->scratch[i < 0 ? first : i], inside;
+        if (i == first) continue;
+        inside = pw__st_tri_inside(st, t, lo, hi);
         if (inside)
             for (m = 0; m < 3; m++) memcpy(poly[m], pw__st_corner(&st->s, t, m), sizeof poly[m]);
         m = inside ? 3 : pw__st_clip(st, t, lo, hi, poly);

@@ -2172,7 +2172,7 @@ PW__DEF int pw__st_clip(const pw__st *st, int t, const double *lo, const double 
 PW__DEF int pw__st_bends(const pw__st *st, int n, const double *lo, const double *hi)
 {
     double N[3] = {0.0, 0.0, 0.0}, A = 0.0, nn, wlo = DBL_MAX, whi = -DBL_MAX, poly[9][3];
-    int i, j, k, m;
+    int i, j, k, m, first;
     for (i = 0; i < n; i++) {
         const double *c = st->tnorm + 4 * (size_t)st->scratch[i];
         for (k = 0; k < 3; k++) N[k] += c[3] * c[k];
@@ -2188,11 +2188,17 @@ PW__DEF int pw__st_bends(const pw__st *st, int n, const double *lo, const double
             whi = d > whi ? d : whi;
         }
     if (!(PW__ST_BEND * (whi - wlo) > st->tol)) return 0;
+    for (i = 0, first = 0, wlo = 2.0; i < n; i++) { /* the triangle most tilted from N first: a bend shows soonest */
+        double c = pw_dot3(st->tnorm + 4 * (size_t)st->scratch[i], N);
+        first = c < wlo ? i : first;
+        wlo = c < wlo ? c : wlo;
+    }
     wlo = DBL_MAX;
     whi = -DBL_MAX;
-    for (i = 0; i < n; i++) {
-        int t = st->scratch[i];
-        int inside = pw__st_tri_inside(st, t, lo, hi);
+    for (i = -1; i < n; i++) {
+        int t = st->scratch[i < 0 ? first : i], inside;
+        if (i == first) continue;
+        inside = pw__st_tri_inside(st, t, lo, hi);
         if (inside)
             for (m = 0; m < 3; m++) memcpy(poly[m], pw__st_corner(&st->s, t, m), sizeof poly[m]);
         m = inside ? 3 : pw__st_clip(st, t, lo, hi, poly);
