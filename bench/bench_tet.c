@@ -243,8 +243,8 @@ static void table_row(const char *name, const pw_mesh *m, const tet_result *ours
     bench_row(task, a, b, flags, q, "TetGen was the paper's mesher (2008)",
               "ours: median of 3 after a warm-up; TetGen: 1 run, its own running time",
               tg->cpu > 0 && ours->cpu > 1.05 * tg->cpu
-                  ? "about half of our time is the sizing (a filter of a triangle list and a clip per candidate "
-                    "tetrahedron), a sixth the closure; see docs/lst.md"
+                  ? "about 40% of our time is the sizing (a filter of a triangle list and a clip per candidate "
+                    "tetrahedron), a tenth the closure, a seventh the sides and cut points; see docs/lst.md"
                   : NULL);
 }
 

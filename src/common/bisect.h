@@ -32,7 +32,7 @@ typedef struct pw_bstet {
     int tag;   /* refinement edge v[0] - v[tag] */
     int depth; /* bisections from the coarse mesh */
     int kept;  /* pw_bisect_refine was told to keep it */
-    int mark;  /* the caller's (need() may set it; 0 in new tetrahedra) */
+    int mark;  /* the caller's (need() may set it; 0 in the coarse mesh; both halves inherit it) */
     int data;  /* the caller's (need() may set it; -1 in the coarse mesh; both halves inherit it) */
 } pw_bstet;
 
@@ -41,8 +41,9 @@ typedef struct pw_bisect {
     pw_err *e;
     int *vc; /* nv*3 integer coordinates, each below 2^21 */
     int nv;
-    size_t capv;
-    uint64_t *hkey; /* vertex hash: packed coordinates + 1 (0: empty) */
+    size_t capv, capends;
+    unsigned char *ends; /* nv: the vertex is an end of a bisected edge (only such edges have midpoints) */
+    uint64_t *hkey;      /* vertex hash: packed coordinates + 1 (0: empty) */
     int *hval;
     size_t hcap; /* power of two */
     pw_bstet *t; /* the tetrahedra (the leaves of the bisection forest) */
@@ -62,6 +63,7 @@ typedef int (*pw_bisect_need)(void *user, const pw_bisect *b, pw_bstet *t);
 PW__DEF void pw_bisect_free(pw_bisect *b)
 {
     pw_free(b->a, b->vc);
+    pw_free(b->a, b->ends);
     pw_free(b->a, b->hkey);
     pw_free(b->a, b->hval);
     pw_free(b->a, b->t);
@@ -70,12 +72,13 @@ PW__DEF void pw_bisect_free(pw_bisect *b)
     pw_free(b->a, b->snext);
     pw_free(b->a, b->queue);
     b->vc = NULL;
+    b->ends = NULL;
     b->hkey = NULL;
     b->hval = NULL;
     b->t = NULL;
     b->head = b->stet = b->snext = b->queue = NULL;
     b->nv = 0;
-    b->capv = b->hcap = b->nt = b->capt = 0;
+    b->capv = b->capends = b->hcap = b->nt = b->capt = 0;
     b->cap_head = b->ns = b->cap_stet = b->cap_snext = b->nq = b->capq = 0;
 }
 
@@ -142,9 +145,11 @@ PW__DEF int pw__bs_vertex(pw_bisect *b, const int *c)
         return -1;
     }
     if (2 * ((size_t)b->nv + 1) > b->hcap && pw__bs_rehash(b, b->hcap ? 2 * b->hcap : 1024)) return -1;
-    if (pw_grow(b->a, (void **)&b->vc, &b->capv, 3 * ((size_t)b->nv + 1), sizeof(int), "bisection vertices", b->e))
+    if (pw_grow(b->a, (void **)&b->vc, &b->capv, 3 * ((size_t)b->nv + 1), sizeof(int), "bisection vertices", b->e) ||
+        pw_grow(b->a, (void **)&b->ends, &b->capends, (size_t)b->nv + 1, 1, "bisection vertices", b->e))
         return -1;
     memcpy(b->vc + 3 * b->nv, c, 3 * sizeof(int));
+    b->ends[b->nv] = 0;
     mask = b->hcap - 1;
     for (i = pw__bs_slot(k, mask); b->hkey[i]; i = (i + 1) & mask) continue;
     b->hkey[i] = k;
@@ -231,13 +236,14 @@ PW__DEF int pw__bs_split(pw_bisect *b, size_t i)
         z[j] = s / 2;
     }
     if ((m = pw__bs_vertex(b, z)) < 0) return b->e ? b->e->code : PW_ERR_NOMEM;
+    b->ends[a] = b->ends[c] = 1;
     c1 = t;
     c2 = t;
     for (j = 0; j < k; j++) c2.v[j] = t.v[j + 1];
     c1.v[k] = c2.v[k] = m;
     c1.tag = c2.tag = k > 1 ? k - 1 : 3;
     c1.depth = c2.depth = t.depth + 1;
-    c1.kept = c2.kept = c1.mark = c2.mark = 0;
+    c1.kept = c2.kept = 0;
     b->t[i] = c1;
     if ((r = pw__bs_push(b, &c2)) || !b->head) return r;
     if (pw_grow(b->a, (void **)&b->head, &b->cap_head, (size_t)b->nv, sizeof(int), "vertex stars", b->e))
@@ -260,10 +266,10 @@ PW__DEF int pw__bs_split(pw_bisect *b, size_t i)
 /* Bisects every tetrahedron while need() asks and its depth is below
  * max_depth (3 per halving of the side; at most 3 log2(side) - 3 keeps the
  * midpoints of the closure on the lattice); tetrahedra need() kept before
- * are not asked again. *splits (may be NULL) counts the bisections. */
-PW__DEF int pw_bisect_refine(pw_bisect *b, pw_bisect_need need, void *user, int max_depth, size_t *splits)
+ * are not asked again. */
+PW__DEF int pw_bisect_refine(pw_bisect *b, pw_bisect_need need, void *user, int max_depth)
 {
-    size_t i, n = 0;
+    size_t i;
     int r;
     for (i = 0; i < b->nt; i++)
         while (!b->t[i].kept && b->t[i].depth < max_depth) {
@@ -273,9 +279,7 @@ PW__DEF int pw_bisect_refine(pw_bisect *b, pw_bisect_need need, void *user, int 
                 break;
             }
             if ((r = pw__bs_split(b, i))) return r;
-            n++;
         }
-    if (splits) *splits = n;
     return PW_OK;
 }
 
@@ -285,6 +289,7 @@ PW__DEF int pw__bs_hanging(const pw_bisect *b, const pw_bstet *t)
     int i, j, k, c[3];
     for (i = 0; i < 4; i++)
         for (j = i + 1; j < 4; j++) {
+            if (!b->ends[t->v[i]] || !b->ends[t->v[j]]) continue;
             for (k = 0; k < 3; k++) {
                 int s = b->vc[3 * t->v[i] + k] + b->vc[3 * t->v[j] + k];
                 if (s & 1) break;

@@ -163,6 +163,8 @@ PW__DEF pw_stuff_options pw_stuff_default_options(void)
 #define PW__ST_REACH 1.5
 #define PW__ST_BEND 0.4          /* fit bound per width of the slab holding the surface near a tetrahedron */
 #define PW__ST_MIN_CELL 0.000625 /* no bisection of tetrahedra shorter than this (or fit / 4), over the diagonal */
+#define PW__ST_TIP_CELL 0.5      /* near a sharp tip, down to this fraction of it */
+#define PW__ST_TIP_ANGLE 1.5707963267948966 /* a sharp tip: the angles of its triangles there sum to less */
 /* Quadrilateral faces with a long cut edge take the diagonal from that
  * edge's cut point when it lies within this fraction of the edge from its
  * inside end (see pw__st_diagonal). */
@@ -351,7 +353,8 @@ PW__DEF int pw__st_one_side(const double *a, const double *b, const double *c, c
 
 typedef struct pw__stsurf {
     int nv, nt;
-    double *p; /* nv*3, the float input as doubles */
+    double *p;  /* nv*3, the float input as doubles */
+    double *tc; /* nt*9: each triangle's corners, in order (one read instead of three) */
     const int *tri;
     int nnode;
     float *box;               /* nnode*6: lo xyz, hi xyz (exact bounds of the float input) */
@@ -367,6 +370,7 @@ typedef struct pw__stsurf {
 PW__DEF void pw__st_surf_free(const pw_alloc *a, pw__stsurf *s)
 {
     pw_free(a, s->p);
+    pw_free(a, s->tc);
     pw_free(a, s->box);
     pw_free(a, s->node);
     pw_free(a, s->slot);
@@ -375,7 +379,7 @@ PW__DEF void pw__st_surf_free(const pw_alloc *a, pw__stsurf *s)
     memset(s, 0, sizeof *s);
 }
 
-PW__DEF const double *pw__st_corner(const pw__stsurf *s, int t, int k) { return s->p + 3 * s->tri[3 * t + k]; }
+PW__DEF const double *pw__st_corner(const pw__stsurf *s, int t, int k) { return s->tc + 9 * (size_t)t + 3 * k; }
 
 /* Slot order for the median split: by centroid coordinate, ties by index. */
 PW__DEF int pw__st_before(const double *cen, int axis, int t, int u)
@@ -467,16 +471,18 @@ PW__DEF int pw__st_surf_init(const pw_alloc *a, const pw_stuff_tris *m, pw__stsu
     s->nt = nt;
     s->tri = tri;
     s->p = (double *)pw_alloc_array(a, (size_t)nv * 3, sizeof(double), "surface positions", e);
+    s->tc = (double *)pw_alloc_array(a, (size_t)nt * 9, sizeof(double), "surface positions", e);
     s->box = (float *)pw_alloc_array(a, (size_t)(2 * nt) * 6, sizeof(float), "surface hierarchy", e);
     s->node = (int *)pw_alloc_array(a, (size_t)(2 * nt) * 3, sizeof(int), "surface hierarchy", e);
     s->slot = (int *)pw_alloc_array(a, (size_t)nt, sizeof(int), "surface hierarchy", e);
     cen = (double *)pw_alloc_array(a, (size_t)nt * 3, sizeof(double), "triangle centroids", e);
-    if (!s->p || !s->box || !s->node || !s->slot || !cen) {
+    if (!s->p || !s->tc || !s->box || !s->node || !s->slot || !cen) {
         pw_free(a, cen);
         pw__st_surf_free(a, s);
         return PW_ERR_NOMEM;
     }
     for (i = 0; i < 3 * nv; i++) s->p[i] = pos[i];
+    for (i = 0; i < 3 * nt; i++) memcpy(s->tc + 3 * (size_t)i, s->p + 3 * (size_t)tri[i], 3 * sizeof(double));
     for (i = 0; i < nt; i++) {
         s->slot[i] = i;
         for (k = 0; k < 3; k++)
@@ -1174,6 +1180,9 @@ typedef struct pw__st {
     double *vp;           /* graded: nlv*3 vertex positions */
     double unit;          /* graded: mesh units per lattice unit */
     double tol, lmin;     /* graded: surface deviation allowed in a tetrahedron; no refinement below this edge */
+    double ltip;          /* graded: nor below this one near a sharp tip of the surface */
+    unsigned char *tip;   /* graded: per triangle, bit k: its corner k is a sharp tip */
+    double *tipr;         /* graded: per surface vertex, how far from it the finer cells reach (0: not a tip) */
     pw_bisect bs;         /* graded: the tetrahedra and integer vertex coordinates */
     unsigned char *tbusy; /* graded: per tetrahedron, the surface may meet it */
     int *eoff, *eadj;     /* graded: lattice edges from each vertex, eadj[eoff[v] .. eoff[v+1]), free ones flagged */
@@ -2064,7 +2073,7 @@ PW__DEF int pw__st_filter(pw__st *st, const pw__stbox *q, const int *list, int c
     for (i = 0; i < count; i++) {
         int t = list[i];
         if (!pw__st_boxes_meet(st->tbox + 6 * (size_t)t, q->fb) ||
-            (!pw__st_corner_inside(st, t, q->lo, q->hi) &&
+            (!pw__st_tri_inside(st, t, q->lo, q->hi) && !pw__st_corner_inside(st, t, q->lo, q->hi) &&
              !pw__st_tri_box(q->ctr, q->hw, pw__st_corner(s, t, 0), pw__st_corner(s, t, 1), pw__st_corner(s, t, 2))))
             continue;
         if (mode == PW__ST_ANY) return 1;
@@ -2163,7 +2172,7 @@ PW__DEF int pw__st_clip(const pw__st *st, int t, const double *lo, const double 
 PW__DEF int pw__st_bends(const pw__st *st, int n, const double *lo, const double *hi)
 {
     double N[3] = {0.0, 0.0, 0.0}, A = 0.0, nn, wlo = DBL_MAX, whi = -DBL_MAX, poly[9][3];
-    int i, j, k, m;
+    int i, j, k, m, first;
     for (i = 0; i < n; i++) {
         const double *c = st->tnorm + 4 * (size_t)st->scratch[i];
         for (k = 0; k < 3; k++) N[k] += c[3] * c[k];
@@ -2179,11 +2188,17 @@ PW__DEF int pw__st_bends(const pw__st *st, int n, const double *lo, const double
             whi = d > whi ? d : whi;
         }
     if (!(PW__ST_BEND * (whi - wlo) > st->tol)) return 0;
+    for (i = 0, first = 0, wlo = 2.0; i < n; i++) { /* the triangle most tilted from N first: a bend shows soonest */
+        double c = pw_dot3(st->tnorm + 4 * (size_t)st->scratch[i], N);
+        first = c < wlo ? i : first;
+        wlo = c < wlo ? c : wlo;
+    }
     wlo = DBL_MAX;
     whi = -DBL_MAX;
-    for (i = 0; i < n; i++) {
-        int t = st->scratch[i];
-        int inside = pw__st_tri_inside(st, t, lo, hi);
+    for (i = -1; i < n; i++) {
+        int t = st->scratch[i < 0 ? first : i], inside;
+        if (i == first) continue;
+        inside = pw__st_tri_inside(st, t, lo, hi);
         if (inside)
             for (m = 0; m < 3; m++) memcpy(poly[m], pw__st_corner(&st->s, t, m), sizeof poly[m]);
         m = inside ? 3 : pw__st_clip(st, t, lo, hi, poly);
@@ -2194,6 +2209,23 @@ PW__DEF int pw__st_bends(const pw__st *st, int n, const double *lo, const double
         }
         if (PW__ST_BEND * (whi - wlo) > st->tol) return 1;
     }
+    return 0;
+}
+
+/* A sharp tip of the surface (a corner of one of st->scratch[0..n)) lies
+ * in the box lo..hi. */
+PW__DEF int pw__st_tip_near(const pw__st *st, int n, const double *lo, const double *hi)
+{
+    int i, k;
+    for (i = 0; i < n; i++)
+        for (k = 0; k < 3; k++)
+            if (st->tip[st->scratch[i]] >> k & 1) {
+                const double *p = pw__st_corner(&st->s, st->scratch[i], k);
+                double r = st->tipr[st->s.tri[3 * st->scratch[i] + k]];
+                if (p[0] >= lo[0] - r && p[1] >= lo[1] - r && p[2] >= lo[2] - r && p[0] <= hi[0] + r &&
+                    p[1] <= hi[1] + r && p[2] <= hi[2] + r)
+                    return 1;
+            }
     return 0;
 }
 
@@ -2235,7 +2267,8 @@ PW__DEF int pw__st_decide(pw__st *st, const pw_bisect *b, pw_bstet *t)
     if ((n = pw__st_box_tris(st, t->data, glo, ghi, PW__ST_NEAR)) < 0) return PW_ERR_NOMEM;
     t->mark = PW__ST_FAR;
     if (n == 0) return 0;
-    if (len > st->lmin && pw__st_bends(st, n, glo, ghi)) {
+    if ((len > st->lmin || (len > st->ltip && pw__st_tip_near(st, n, glo, ghi))) && pw__st_bends(st, n, glo, ghi)) {
+        t->mark = 0; /* unknown in both halves */
         if ((t->data < 0 || n < st->pool[t->data]) && (t->data = pw__st_keep_list(st, n)) < 0)
             return st->e ? st->e->code : PW_ERR_NOMEM;
         return 1;
@@ -2315,8 +2348,10 @@ PW__DEF int pw__st_gedges(pw__st *st)
     for (i = 0; r == PW_OK && i < st->bs.nt; i++) {
         double lo[3], hi[3];
         pw__st_gbox(st, &st->bs, st->bs.t[i].v, lo, hi);
-        st->tbusy[i] = st->bs.t[i].mark ? st->bs.t[i].mark == PW__ST_BUSY
-                                        : pw__st_box_tris(st, st->bs.t[i].data, lo, hi, PW__ST_ANY) > 0;
+        if (st->bs.t[i].kept) st->tbusy[i] = st->bs.t[i].mark == PW__ST_BUSY; /* sized */
+        else /* cut by the closure: empty if its parent's box was */
+            st->tbusy[i] = st->bs.t[i].mark != PW__ST_FAR && st->bs.t[i].mark != PW__ST_CLEAR &&
+                           pw__st_box_tris(st, st->bs.t[i].data, lo, hi, PW__ST_ANY) > 0;
         for (k = 0; k < 4; k++) st->vtoff[st->bs.t[i].v[k] + 2]++;
     }
     if (r == PW_OK) {
@@ -2354,14 +2389,44 @@ PW__DEF int pw__st_gedges(pw__st *st)
     return r;
 }
 
-/* Unit normal, area and box of every triangle, for the sizing of the
- * graded lattice. */
+/* The corners of the surface where the angles of its triangles sum to
+ * less than PW__ST_TIP_ANGLE (the apex of a thin spike), as st->tip. */
+PW__DEF int pw__st_tips(pw__st *st)
+{
+    double *sum = (double *)pw_calloc_array(st->a, (size_t)st->s.nv + 1, sizeof(double), "vertex angles", st->e);
+    int t, k, j;
+    st->tip = (unsigned char *)pw_calloc_array(st->a, (size_t)st->s.nt + 1, 1, "sharp tips", st->e);
+    st->tipr = sum;
+    if (!sum || !st->tip) return PW_ERR_NOMEM;
+    for (t = 0; t < st->s.nt; t++)
+        for (k = 0; k < 3; k++) {
+            const double *a = pw__st_corner(&st->s, t, k), *b = pw__st_corner(&st->s, t, (k + 1) % 3);
+            const double *c = pw__st_corner(&st->s, t, (k + 2) % 3);
+            double u[3], v[3], n[3];
+            for (j = 0; j < 3; j++) {
+                u[j] = b[j] - a[j];
+                v[j] = c[j] - a[j];
+            }
+            pw_cross3(u, v, n);
+            sum[st->s.tri[3 * t + k]] += pw__st_atan2(sqrt(pw_dot3(n, n)), pw_dot3(u, v));
+        }
+    for (t = 0; t < st->s.nt; t++)
+        for (k = 0; k < 3; k++)
+            if (sum[st->s.tri[3 * t + k]] < PW__ST_TIP_ANGLE) st->tip[t] |= (unsigned char)(1 << k);
+    for (j = 0; j < st->s.nv; j++) /* a cone of half-angle a: angles summing to 2 pi sin a at its apex, and
+                                      thinner than lmin up to about lmin / sin a from it (at most 64 lmin) */
+        sum[j] = sum[j] < PW__ST_TIP_ANGLE ? st->lmin * (sum[j] > 0.1 ? 6.283185307179586 / sum[j] : 64.0) : 0.0;
+    return PW_OK;
+}
+
+/* Unit normal, area and box of every triangle, and the sharp tips, for the
+ * sizing of the graded lattice. */
 PW__DEF int pw__st_tri_frames(pw__st *st)
 {
     int t, k;
     st->tnorm = (double *)pw_alloc_array(st->a, 4 * (size_t)st->s.nt, sizeof(double), "triangle normals", st->e);
     st->tbox = (float *)pw_alloc_array(st->a, 6 * (size_t)st->s.nt, sizeof(float), "triangle boxes", st->e);
-    if (!st->tnorm || !st->tbox) return PW_ERR_NOMEM;
+    if (!st->tnorm || !st->tbox || pw__st_tips(st)) return PW_ERR_NOMEM;
     for (t = 0; t < st->s.nt; t++) {
         int j = pw__st_first_corner(&st->s, t);
         const double *a = pw__st_corner(&st->s, t, j), *b = pw__st_corner(&st->s, t, (j + 1) % 3);
@@ -2388,7 +2453,7 @@ PW__DEF int pw__st_glattice(pw__st *st, const pw_stuff_options *o, double fit)
 {
     enum { SIDE_LOG = 10 };
     double h, count = 1.0, diag = 0.0;
-    int k, n[3], r, round;
+    int k, n[3], r;
     if ((r = pw__st_cell(st, o, 0.5 * st->s.volume, &h))) return r; /* six Kuhn tetrahedra per cube, BCC's twelve */
     for (k = 0; k < 3; k++) {
         double c = (st->s.hi[k] - st->s.lo[k]) / h;
@@ -2410,6 +2475,7 @@ PW__DEF int pw__st_glattice(pw__st *st, const pw_stuff_options *o, double fit)
     st->unit = h / (1 << SIDE_LOG);
     st->tol = fit * sqrt(diag);
     st->lmin = (fit > 4.0 * PW__ST_MIN_CELL ? 0.25 * fit : PW__ST_MIN_CELL) * sqrt(diag);
+    st->ltip = PW__ST_TIP_CELL * st->lmin;
     for (k = 0; k < 3; k++) st->org[k] = 0.5 * (st->s.lo[k] + st->s.hi[k]) - 0.5 * h * n[k];
     st->bs.a = st->a;
     st->bs.e = st->e;
@@ -2419,12 +2485,10 @@ PW__DEF int pw__st_glattice(pw__st *st, const pw_stuff_options *o, double fit)
     if (!st->memo) return PW_ERR_NOMEM;
     r = pw_bisect_kuhn(&st->bs, n, 1 << SIDE_LOG);
     if (r == PW_OK) r = pw_report(st->prog, 0.1f, "graded lattice", st->e);
-    for (round = 0; r == PW_OK && round < 4; round++) { /* the closure's tetrahedra are sized too */
-        size_t splits = 0;
-        r = pw_bisect_refine(&st->bs, pw__st_need, st, 3 * (SIDE_LOG - 1), &splits);
-        if (r == PW_OK && round > 0 && splits == 0) break;
-        if (r == PW_OK) r = pw_bisect_conform(&st->bs);
-    }
+    if (r == PW_OK) r = pw_bisect_refine(&st->bs, pw__st_need, st, 3 * (SIDE_LOG - 1));
+    if (r == PW_OK)
+        r = pw_bisect_conform(&st->bs); /* the closure's tetrahedra are not sized again (it would
+                                                        add 1-25% of tetrahedra for no better fit) */
     if (r) return r;
     st->nlv = st->bs.nv;
     st->vp = (double *)pw_alloc_array(st->a, 3 * (size_t)st->nlv, sizeof(double), "lattice vertices", st->e);
@@ -2606,14 +2670,21 @@ PW__DEF int pw__st_drop_fragments(pw__st *st)
 #define PW__ST_GOAL 0.96592582628906829 /* cos 15 degrees */
 
 /* The largest |cos| of a dihedral angle over the tetrahedra of v with v
- * at x (2: one of them is not positive); the worst tetrahedron to *worst_tet
- * (may be NULL). */
-PW__DEF double pw__st_star_worst(const pw__st *st, const pw_tetrings *g, int v, const float *x, int *worst_tet)
+ * at x (2: one of them is not positive); the worst tetrahedron to
+ * *worst_tet, which on entry names one to look at first (-1: none). Stops
+ * early at `limit` or above (the value returned is then at least limit):
+ * looking first at the tetrahedron that was the worst, most candidates
+ * that do no better stop there. */
+PW__DEF double pw__st_star_worst(const pw__st *st, const pw_tetrings *g, int v, const float *x, double limit,
+                                 int *worst_tet)
 {
     double worst = 0.0, p[4][3], clo, chi, u[3], w[3], z[3], n[3];
-    int i, k, j;
-    for (i = g->sstart[v]; i < g->sstart[v + 1]; i++) {
-        const int *c = st->otet + 4 * (size_t)g->star[i];
+    int i, k, j, first = *worst_tet;
+    for (i = g->sstart[v] - 1; i < g->sstart[v + 1]; i++) {
+        int t = i < g->sstart[v] ? first : g->star[i];
+        const int *c;
+        if (t < 0 || (i >= g->sstart[v] && t == first)) continue;
+        c = st->otet + 4 * (size_t)t;
         for (k = 0; k < 4; k++)
             for (j = 0; j < 3; j++) p[k][j] = c[k] == v ? x[j] : st->opos[3 * (size_t)c[k] + j];
         for (j = 0; j < 3; j++) {
@@ -2625,8 +2696,9 @@ PW__DEF double pw__st_star_worst(const pw__st *st, const pw_tetrings *g, int v, 
         if (!(pw_dot3(n, z) > 0.0)) return 2.0;
         pw_tet_cosines((const double(*)[3])p, &clo, &chi);
         clo = clo > -chi ? clo : -chi;
-        if (clo > worst && worst_tet) *worst_tet = g->star[i];
+        if (clo > worst) *worst_tet = t;
         worst = clo > worst ? clo : worst;
+        if (worst >= limit) break;
     }
     return worst;
 }
@@ -2668,8 +2740,8 @@ PW__DEF int pw__st_smooth_vertex(pw__st *st, const pw_tetrings *g, int v)
     static const double steps[6] = {1.0, 0.5, 0.25, 0.1, 0.2, 0.35};
     float *pv = st->opos + 3 * (size_t)v, x[3], best[3];
     double c[3] = {0.0, 0.0, 0.0}, y[3], q[3], nrm[3], len, mean = 0.0, bq, now;
-    int i, k, n = 0, s, wt = -1;
-    now = bq = pw__st_star_worst(st, g, v, pv, &wt);
+    int i, k, n = 0, s, wt = -1, ct;
+    now = bq = pw__st_star_worst(st, g, v, pv, 2.0, &wt);
     if (now <= PW__ST_GOAL || wt < 0) return 0;
     for (i = g->start[v]; i < g->start[v + 1]; i++) {
         int u = g->adj[i];
@@ -2692,7 +2764,8 @@ PW__DEF int pw__st_smooth_vertex(pw__st *st, const pw_tetrings *g, int v)
             memcpy(y, q, sizeof q);
         }
         for (k = 0; k < 3; k++) x[k] = (float)y[k];
-        if ((w = pw__st_star_worst(st, g, v, x, NULL)) < bq) {
+        ct = wt;
+        if ((w = pw__st_star_worst(st, g, v, x, bq, &ct)) < bq) { /* (no better: stops at bq) */
             bq = w;
             memcpy(best, x, sizeof x);
         }
@@ -2720,6 +2793,9 @@ PW__DEF int pw__st_smooth(pw__st *st)
     }
     for (i = 0; i < m.nt; i++) { /* the corners of the tetrahedra outside the goal */
         double p[4][3], clo, chi;
+        const int *c = m.tet + 4 * (size_t)i;
+        if (!st->osurf[c[0]] && !st->osurf[c[1]] && !st->osurf[c[2]] && !st->osurf[c[3]])
+            continue; /* a whole lattice tetrahedron: 45..120 degrees */
         for (k = 0; k < 4; k++)
             for (j = 0; j < 3; j++) p[k][j] = st->opos[3 * (size_t)m.tet[4 * i + k] + j];
         pw_tet_cosines((const double(*)[3])p, &clo, &chi);
@@ -2760,6 +2836,8 @@ PW__DEF void pw__st_free(pw__st *st)
     pw_free(st->a, st->pool);
     pw_free(st->a, st->memo);
     pw_free(st->a, st->tnorm);
+    pw_free(st->a, st->tip);
+    pw_free(st->a, st->tipr);
     pw_free(st->a, st->tbox);
     pw_bisect_free(&st->bs);
     memset(st, 0, sizeof *st);
