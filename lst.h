@@ -19,29 +19,29 @@
  *   6754: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
  *   8140: src/common/raster.h, exact scan conversion of 2D triangles.
  *   8652: src/common/parallel.h, a parallel for, the one way work is split across threads.
- *   8780: src/common/render.h, a small deterministic software renderer for textured trian
- *  10632: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
- *  10821: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
- *  11741: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
- *  12439: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
- *  12675: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
- *  13436: src/common/tetmesh.h, the tetrahedral mesh that lapped solid textures work on, a
- *  13923: src/common/tetio.h, tetrahedral mesh files, TetGen .node/.ele and MEDIT .mesh.
- *  14415: src/common/bisect.h, graded, conforming tetrahedral meshes of a box by newest-v
- *  14737: src/common/stuffing.h, the built-in tetrahedralizer of lst.h, so that no external
- *  18036: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
- *  18179: src/common/pca.h, principal component analysis of vectors streamed one at a 
- *  18366: src/common/glue.h, what every method header needs between its public types an
- *  18702: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  19366: src/lst/core.c, lst.h's glue to the shared core, its defaults, the convers
- *  19700: src/lst/exemplar.c, solid exemplars (§5): sampling, the procedural exemplars 
- *  20269: src/lst/field.c, §5.2.2, the fields that orient and scale the pastes. The 
- *  21477: src/lst/paste.c, §5.2.3-5.2.7, filling the model. Each paste picks a rando
- *  22505: src/lst/render.c, §5.1, showing a model. Every point of a tetrahedron is th
- *  23402: src/lst/cut.c, §5.1.1, cutting a model along the zero set of a scalar fi
- *  24007: src/lst/builtin.c, the tetrahedralizer entry point, checks of caller meshes, 
- *  24529: src/lst/io.c, the model file, the constraint files and the file convenie
- *  25222: src/lst/export.c, the visible boundary with a baked texture atlas, for glTF.
+ *   8825: src/common/render.h, a small deterministic software renderer for textured trian
+ *  10677: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
+ *  10866: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
+ *  11786: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
+ *  12484: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
+ *  12720: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
+ *  13481: src/common/tetmesh.h, the tetrahedral mesh that lapped solid textures work on, a
+ *  13968: src/common/tetio.h, tetrahedral mesh files, TetGen .node/.ele and MEDIT .mesh.
+ *  14460: src/common/bisect.h, graded, conforming tetrahedral meshes of a box by newest-v
+ *  14782: src/common/stuffing.h, the built-in tetrahedralizer of lst.h, so that no external
+ *  18081: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
+ *  18224: src/common/pca.h, principal component analysis of vectors streamed one at a 
+ *  18411: src/common/glue.h, what every method header needs between its public types an
+ *  18747: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  19411: src/lst/core.c, lst.h's glue to the shared core, its defaults, the convers
+ *  19745: src/lst/exemplar.c, solid exemplars (§5): sampling, the procedural exemplars 
+ *  20314: src/lst/field.c, §5.2.2, the fields that orient and scale the pastes. The 
+ *  21522: src/lst/paste.c, §5.2.3-5.2.7, filling the model. Each paste picks a rando
+ *  22550: src/lst/render.c, §5.1, showing a model. Every point of a tetrahedron is th
+ *  23447: src/lst/cut.c, §5.1.1, cutting a model along the zero set of a scalar fi
+ *  24052: src/lst/builtin.c, the tetrahedralizer entry point, checks of caller meshes, 
+ *  24574: src/lst/io.c, the model file, the constraint files and the file convenie
+ *  25267: src/lst/export.c, the visible boundary with a baked texture atlas, for glTF.
  */
 /* lst.h - lapped solid textures: solid exemplars pasted inside a model.
  *
@@ -8695,49 +8695,94 @@ PW__DEF pw_parallel pw_parallel_make(int threads, pw_parallel_fn run, void *pool
 #include <pthread.h>
 #include <unistd.h>
 
+/* One parallel for on POSIX threads. The caller waits for the tasks, not
+ * for the threads: a thread that starts late (the processors busy with
+ * other work) finds nothing left and leaves, and the last one out frees
+ * the pool (refs counts the caller and every started thread). */
 typedef struct pw__pool {
     pthread_mutex_t lock;
-    int next, n;
+    pthread_cond_t finished;
+    int next, n, done, refs;
     pw_task_fn task;
     void *ctx;
 } pw__pool;
 
-PW__DEF void *pw__pool_worker(void *arg)
+/* Drops one reference to p; the last frees it. */
+PW__DEF void pw__pool_release(pw__pool *p)
 {
-    pw__pool *p = (pw__pool *)arg;
+    int last;
+    pthread_mutex_lock(&p->lock);
+    last = --p->refs == 0;
+    pthread_mutex_unlock(&p->lock);
+    if (last) {
+        pthread_cond_destroy(&p->finished);
+        pthread_mutex_destroy(&p->lock);
+        PW_FREE(p);
+    }
+}
+
+/* Runs tasks until none is left to claim. */
+PW__DEF void pw__pool_work(pw__pool *p)
+{
     for (;;) {
         int i;
         pthread_mutex_lock(&p->lock);
         i = p->next < p->n ? p->next++ : -1;
         pthread_mutex_unlock(&p->lock);
-        if (i < 0) return NULL;
+        if (i < 0) return;
         p->task(p->ctx, i);
+        pthread_mutex_lock(&p->lock);
+        if (++p->done == p->n) pthread_cond_signal(&p->finished);
+        pthread_mutex_unlock(&p->lock);
     }
+}
+
+PW__DEF void *pw__pool_worker(void *arg)
+{
+    pw__pool_work((pw__pool *)arg);
+    pw__pool_release((pw__pool *)arg);
+    return NULL;
 }
 
 /* n tasks on up to `threads` threads (0: one per processor); the calling
  * thread works too. Falls back to fewer threads if some cannot start. */
 PW__DEF void pw__pool_run(int threads, int n, pw_task_fn task, void *ctx)
 {
-    pthread_t th[64];
-    pw__pool p;
-    int k, started = 0;
+    pthread_attr_t attr;
+    pthread_t th;
+    pw__pool *p = (pw__pool *)PW_MALLOC(sizeof(pw__pool));
+    int k;
     if (threads <= 0) {
         long np = sysconf(_SC_NPROCESSORS_ONLN);
         threads = np > 0 ? (int)np : 1;
     }
     if (threads > n) threads = n;
     if (threads > 64) threads = 64;
-    p.next = 0;
-    p.n = n;
-    p.task = task;
-    p.ctx = ctx;
-    pthread_mutex_init(&p.lock, NULL);
-    for (k = 1; k < threads; k++)
-        if (pthread_create(&th[started], NULL, pw__pool_worker, &p) == 0) started++;
-    pw__pool_worker(&p);
-    for (k = 0; k < started; k++) pthread_join(th[k], NULL);
-    pthread_mutex_destroy(&p.lock);
+    if (!p || pthread_attr_init(&attr) != 0) {
+        PW_FREE(p);
+        for (k = 0; k < n; k++) task(ctx, k);
+        return;
+    }
+    p->next = p->done = 0;
+    p->n = n;
+    p->refs = 1;
+    p->task = task;
+    p->ctx = ctx;
+    pthread_mutex_init(&p->lock, NULL);
+    pthread_cond_init(&p->finished, NULL);
+    pthread_attr_setdetachstate(&attr, PTHREAD_CREATE_DETACHED);
+    for (k = 1; k < threads; k++) {
+        pthread_mutex_lock(&p->lock);
+        p->refs++;
+        pthread_mutex_unlock(&p->lock);
+        if (pthread_create(&th, &attr, pw__pool_worker, p) != 0) pw__pool_release(p);
+    }
+    pthread_attr_destroy(&attr);
+    pw__pool_work(p);
+    pthread_mutex_lock(&p->lock);
+    while (p->done < p->n) pthread_cond_wait(&p->finished, &p->lock);
+    pthread_mutex_unlock(&p->lock);
+    pw__pool_release(p);
 }
 #endif
 
