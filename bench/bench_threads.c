@@ -106,7 +106,8 @@ static void lst_run(void *arg)
     lst_job *j = (lst_job *)arg;
     lst_error err;
     lst_model_free(&j->model);
-    if (lst_create(j->tets, j->surface, &j->src, &j->opt, &j->model, &err)) printf("lst_create failed: %s\n", err.message);
+    if (lst_create(j->tets, j->surface, &j->src, &j->opt, &j->model, &err))
+        printf("lst_create failed: %s\n", err.message);
 }
 
 static int lst_same(void *a, void *b)
