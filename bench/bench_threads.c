@@ -177,7 +177,7 @@ static void lst_threads(void)
     printf("  %d pastes\n", j[0].model.npastes);
     for (k = 0; k < 2; k++) j[k].show = &j[0].model;
     snprintf(task, sizeof task, "lst_render_volume on 2 threads, 200 slices, 640x480, kiwi %d tetrahedra", m.ntets);
-    bench_threads_row(task, volume_run, &j[0], &j[1], 5, volume_same);
+    bench_threads_row(task, volume_run, &j[0], &j[1], 3, volume_same);
     for (k = 0; k < 2; k++) {
         lst_model_free(&j[k].model);
         lst_image_free(&j[k].img);
