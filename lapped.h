@@ -3,39 +3,39 @@
  *
  * CONTENTS (line: source, what it holds)
  *     40: src/lapped/lapped.h, the public API and its documentation
- *    473: src/common/base.h, allocation hooks, result codes, error messages, limits, he
- *    785: src/common/vec.h, small vector math on float[3] arrays and a 3-float struct.
- *    899: src/common/rng.h, seeded random numbers with the same output on every platfo
- *    976: src/common/noise.h, value noise and its fractal sum, for the built-in procedur
- *   1078: src/common/image.h, float images and their file formats.
- *   1783: src/common/deflate.h, zlib (RFC 1950) and deflate (RFC 1951) compression and
- *   2782: src/common/png.h, PNG writer and reader, and the image front end.
- *   3341: src/common/text.h, locale-independent number parsing and formatting, a line s
- *   3754: src/common/mesh.h, polygon meshes as flat arrays, and their file formats.
- *   5283: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
- *   5812: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
- *   6236: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
- *   7773: src/common/raster.h, exact scan conversion of 2D triangles.
- *   8285: src/common/parallel.h, a parallel for, the one way work is split across threads.
- *   8413: src/common/render.h, a small deterministic software renderer for textured trian
- *  10312: src/lapped/polyhull.h, the polygonal hull of a texture patch (Praun, Finkelstein 
- *  11143: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
- *  11330: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
- *  11415: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
- *  11604: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
- *  12524: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
- *  13222: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
- *  13458: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
- *  14222: src/common/glue.h, what every method header needs between its public types an
- *  14558: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  15222: src/lapped/core.c, lapped.h's glue to the shared core, its defaults, and the 
- *  15387: src/lapped/field.c, §3.2 the tangent field, one frame (S, T) per triangle, an
- *  15842: src/lapped/patch.c, §3.1 texture patches. A patch is the texture as RGBA whos
- *  16156: src/lapped/builtin.c, built-in meshes (made by the shared shapes module) and tex
- *  16350: src/lapped/grow.c, pasting (§3.3-3.6): grow a surface patch around an uncove
- *  17838: src/lapped/render.c, runtime pasting (§4): the mesh drawn once per paste, in p
- *  18079: src/lapped/atlas.c, §4 "Rendering with a texture atlas".
- *  18322: src/lapped/io.c, the paste file format and the file conveniences of lapped.
+ *    480: src/common/base.h, allocation hooks, result codes, error messages, limits, he
+ *    792: src/common/vec.h, small vector math on float[3] arrays and a 3-float struct.
+ *    906: src/common/rng.h, seeded random numbers with the same output on every platfo
+ *    983: src/common/noise.h, value noise and its fractal sum, for the built-in procedur
+ *   1085: src/common/image.h, float images and their file formats.
+ *   1790: src/common/deflate.h, zlib (RFC 1950) and deflate (RFC 1951) compression and
+ *   2789: src/common/png.h, PNG writer and reader, and the image front end.
+ *   3348: src/common/text.h, locale-independent number parsing and formatting, a line s
+ *   3761: src/common/mesh.h, polygon meshes as flat arrays, and their file formats.
+ *   5290: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
+ *   5819: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
+ *   6243: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
+ *   7780: src/common/raster.h, exact scan conversion of 2D triangles.
+ *   8292: src/common/parallel.h, a parallel for, the one way work is split across threads.
+ *   8465: src/common/render.h, a small deterministic software renderer for textured trian
+ *  10364: src/lapped/polyhull.h, the polygonal hull of a texture patch (Praun, Finkelstein 
+ *  11195: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
+ *  11382: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
+ *  11467: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
+ *  11656: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
+ *  12576: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
+ *  13274: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
+ *  13510: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
+ *  14274: src/common/glue.h, what every method header needs between its public types an
+ *  14610: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  15274: src/lapped/core.c, lapped.h's glue to the shared core, its defaults, and the 
+ *  15439: src/lapped/field.c, §3.2 the tangent field, one frame (S, T) per triangle, an
+ *  15894: src/lapped/patch.c, §3.1 texture patches. A patch is the texture as RGBA whos
+ *  16208: src/lapped/builtin.c, built-in meshes (made by the shared shapes module) and tex
+ *  16402: src/lapped/grow.c, pasting (§3.3-3.6): grow a surface patch around an uncove
+ *  18008: src/lapped/render.c, runtime pasting (§4): the mesh drawn once per paste, in p
+ *  18249: src/lapped/atlas.c, §4 "Rendering with a texture atlas".
+ *  18492: src/lapped/io.c, the paste file format and the file conveniences of lapped.
  */
 /* lapped.h - lapped textures: overlapping texture patches pasted over a mesh.
  *
@@ -71,9 +71,10 @@
  *   PATCHWORK_IMPLEMENTATION turns on every patchwork header included after
  *   it. Build macros: LAPPED_STATIC (all functions static), PW_MALLOC /
  *   PW_REALLOC / PW_FREE (all or none), PW_ASSERT, PW_NO_STDIO, the PW_MAX_*
- *   size limits, as in every patchwork header, and PW_THREADS: rendering on
- *   several threads (POSIX threads; link with -pthread; lapped_render_options.
- *   threads, 0 = one per processor), the same picture for any count.
+ *   size limits, as in every patchwork header, and PW_THREADS: rendering and
+ *   lapped_create's coverage on several threads (POSIX threads; link with
+ *   -pthread; lapped_render_options.threads and lapped_options.threads, 0 =
+ *   one per processor), the same picture and pastes for any count.
  *   PW_NO_RENDER and PW_NO_PNG leave out the renderer (lapped_render fails
  *   with LAPPED_ERR_UNSUPPORTED) and the PNG codec (loading or saving PNG fails
  *   the same way): faster builds for programs that only compute (docs/api.md).
@@ -177,7 +178,8 @@ typedef struct lapped_allocator {
 typedef int (*lapped_progress_fn)(void *user, float done, const char *stage);
 typedef int (*lapped_write_fn)(void *ctx, const void *data, size_t size);
 
-/* Work split across threads (rendering: bands of the frame). A parallel
+/* Work split across threads (rendering: bands of the frame; lapped_create:
+ * the triangles of each paste painted into the coverage). A parallel
  * for, for embedders with their own job system: run task(ctx, i) once for
  * every i in [0, n), on any threads, in any order, and return when all
  * have run. Results never depend on the order or the thread count. */
@@ -295,6 +297,11 @@ typedef struct lapped_options {
     int keep_hidden;              /* 1: keep triangles that later pastes hide (§4 removes
                                   them); each paste is then a whole surface patch */
     unsigned long long seed;      /* default 0 */
+    int threads;                  /* lapped_create's coverage threads, as render.threads: 0
+                                  (default) one per processor with PW_THREADS, else 1; the
+                                  pastes are the same for any number */
+    lapped_parallel_fn parallel;  /* optional: the caller's parallel for, used instead of threads */
+    void *parallel_pool;          /* its first argument */
     lapped_render_options render; /* lapped_render's settings (pass &opt.render) */
     lapped_atlas_options atlas;   /* lapped_bake_atlas's settings */
     lapped_allocator allocator;
@@ -8328,49 +8335,94 @@ PW__DEF pw_parallel pw_parallel_make(int threads, pw_parallel_fn run, void *pool
 #include <pthread.h>
 #include <unistd.h>
 
+/* One parallel for on POSIX threads. The caller waits for the tasks, not
+ * for the threads: a thread that starts late (the processors busy with
+ * other work) finds nothing left and leaves, and the last one out frees
+ * the pool (refs counts the caller and every started thread). */
 typedef struct pw__pool {
     pthread_mutex_t lock;
-    int next, n;
+    pthread_cond_t finished;
+    int next, n, done, refs;
     pw_task_fn task;
     void *ctx;
 } pw__pool;
 
-PW__DEF void *pw__pool_worker(void *arg)
+/* Drops one reference to p; the last frees it. */
+PW__DEF void pw__pool_release(pw__pool *p)
 {
-    pw__pool *p = (pw__pool *)arg;
+    int last;
+    pthread_mutex_lock(&p->lock);
+    last = --p->refs == 0;
+    pthread_mutex_unlock(&p->lock);
+    if (last) {
+        pthread_cond_destroy(&p->finished);
+        pthread_mutex_destroy(&p->lock);
+        PW_FREE(p);
+    }
+}
+
+/* Runs tasks until none is left to claim. */
+PW__DEF void pw__pool_work(pw__pool *p)
+{
     for (;;) {
         int i;
         pthread_mutex_lock(&p->lock);
         i = p->next < p->n ? p->next++ : -1;
         pthread_mutex_unlock(&p->lock);
-        if (i < 0) return NULL;
+        if (i < 0) return;
         p->task(p->ctx, i);
+        pthread_mutex_lock(&p->lock);
+        if (++p->done == p->n) pthread_cond_signal(&p->finished);
+        pthread_mutex_unlock(&p->lock);
     }
+}
+
+PW__DEF void *pw__pool_worker(void *arg)
+{
+    pw__pool_work((pw__pool *)arg);
+    pw__pool_release((pw__pool *)arg);
+    return NULL;
 }
 
 /* n tasks on up to `threads` threads (0: one per processor); the calling
  * thread works too. Falls back to fewer threads if some cannot start. */
 PW__DEF void pw__pool_run(int threads, int n, pw_task_fn task, void *ctx)
 {
-    pthread_t th[64];
-    pw__pool p;
-    int k, started = 0;
+    pthread_attr_t attr;
+    pthread_t th;
+    pw__pool *p = (pw__pool *)PW_MALLOC(sizeof(pw__pool));
+    int k;
     if (threads <= 0) {
         long np = sysconf(_SC_NPROCESSORS_ONLN);
         threads = np > 0 ? (int)np : 1;
     }
     if (threads > n) threads = n;
     if (threads > 64) threads = 64;
-    p.next = 0;
-    p.n = n;
-    p.task = task;
-    p.ctx = ctx;
-    pthread_mutex_init(&p.lock, NULL);
-    for (k = 1; k < threads; k++)
-        if (pthread_create(&th[started], NULL, pw__pool_worker, &p) == 0) started++;
-    pw__pool_worker(&p);
-    for (k = 0; k < started; k++) pthread_join(th[k], NULL);
-    pthread_mutex_destroy(&p.lock);
+    if (!p || pthread_attr_init(&attr) != 0) {
+        PW_FREE(p);
+        for (k = 0; k < n; k++) task(ctx, k);
+        return;
+    }
+    p->next = p->done = 0;
+    p->n = n;
+    p->refs = 1;
+    p->task = task;
+    p->ctx = ctx;
+    pthread_mutex_init(&p->lock, NULL);
+    pthread_cond_init(&p->finished, NULL);
+    pthread_attr_setdetachstate(&attr, PTHREAD_CREATE_DETACHED);
+    for (k = 1; k < threads; k++) {
+        pthread_mutex_lock(&p->lock);
+        p->refs++;
+        pthread_mutex_unlock(&p->lock);
+        if (pthread_create(&th, &attr, pw__pool_worker, p) != 0) pw__pool_release(p);
+    }
+    pthread_attr_destroy(&attr);
+    pw__pool_work(p);
+    pthread_mutex_lock(&p->lock);
+    while (p->done < p->n) pthread_cond_wait(&p->finished, &p->lock);
+    pthread_mutex_unlock(&p->lock);
+    pw__pool_release(p);
 }
 #endif
 
@@ -16593,15 +16645,58 @@ static int lapped__cover_paint(lapped__cover *c, int f, const float uv[6], const
     return full;
 }
 
-/* Paints a paste over triangle f and retires f once it is covered. */
-static void lapped__cover_add(lapped__cover *c, int f, const float uv[6], const lapped__eroded *er)
+/* Retires triangle f from the open list once it is covered. */
+static void lapped__cover_retire(lapped__cover *c, int f)
 {
-    if (lapped__cover_paint(c, f, uv, er) && c->where[f] >= 0) { /* swap-remove from the open list */
+    if (c->where[f] >= 0) { /* swap-remove from the open list */
         int last = c->open[--c->nopen];
         c->open[c->where[f]] = last;
         c->where[last] = c->where[f];
         c->where[f] = -1;
     }
+}
+
+/* One paste painted into the coverage, its triangles in shares on threads
+ * (a paste holds each triangle once, and each triangle's lattice is its
+ * own): full[i] says whether triangle i of the paste is now covered. The
+ * open list changes after, in the paste's order, so the coverage is the
+ * same for any number of threads. */
+typedef struct lapped__painting {
+    lapped__cover *c;
+    const lapped_paste *q;
+    const lapped__eroded *er;
+    unsigned char *full;
+    int shares;
+} lapped__painting;
+
+static void lapped__paint_share(void *ctx, int share)
+{
+    const lapped__painting *w = (const lapped__painting *)ctx;
+    const lapped_paste *q = w->q;
+    int i = (int)((long long)q->nfaces * share / w->shares),
+        end = (int)((long long)q->nfaces * (share + 1) / w->shares);
+    for (; i < end; i++) w->full[i] = (unsigned char)lapped__cover_paint(w->c, q->faces[i], q->uvs + 6 * i, w->er);
+}
+
+/* Lattice points below which a paste is painted on the calling thread
+ * alone (handing work to threads costs about as much as painting this
+ * many). */
+#define LAPPED__PAINT_SERIAL 4096
+
+static void lapped__paint(const pw_parallel *par, lapped__cover *c, const lapped_paste *q, const lapped__eroded *er,
+                          unsigned char *full)
+{
+    lapped__painting w;
+    size_t points = 0;
+    int i, width = pw_parallel_width(par);
+    for (i = 0; i < q->nfaces && width > 1; i++) points += c->off[q->faces[i] + 1] - c->off[q->faces[i]];
+    w.c = c;
+    w.q = q;
+    w.er = er;
+    w.full = full;
+    w.shares = points < LAPPED__PAINT_SERIAL ? 1 : (q->nfaces < 4 * width ? q->nfaces : 4 * width);
+    if (w.shares <= 1) lapped__paint_share(&w, 0);
+    else pw_parallel_for(par, w.shares, lapped__paint_share, &w);
 }
 
 /* The least covered lattice point of triangle f, as barycentrics. */
@@ -16898,6 +16993,8 @@ typedef struct lapped__paster {
     lapped_paste *pastes;
     size_t npastes, cap;
     int hard_edges;
+    pw_parallel par;     /* the coverage's threads (lapped__paint) */
+    unsigned char *full; /* nf: per triangle of a paste, covered now (lapped__paint) */
 } lapped__paster;
 
 static pw_v3 lapped__centroid(const pw_trimesh *m, int f)
@@ -17360,8 +17457,10 @@ static int lapped__record(lapped__paster *P, int patch, pw_err *e)
             q->uvs[6 * i + 2 * k] = p->vuv[2 * P->m.tri[3 * f + k]];
             q->uvs[6 * i + 2 * k + 1] = p->vuv[2 * P->m.tri[3 * f + k] + 1];
         }
-        lapped__cover_add(&P->cover, f, q->uvs + 6 * i, &P->eroded[patch]);
     }
+    lapped__paint(&P->par, &P->cover, q, &P->eroded[patch], P->full);
+    for (i = 0; i < p->nfaces; i++)
+        if (P->full[i]) lapped__cover_retire(&P->cover, p->faces[i]);
     P->hard_edges += p->hard;
     return PW_OK;
 }
@@ -17541,34 +17640,96 @@ static void lapped__drop_empty(lapped__paster *P)
  * a triangle is hidden once the later pastes' opacity, accumulated at its
  * lattice points with the eroded alphas of the coverage (so that it holds
  * between the points too), is 0.999 everywhere. With remove = 0 the
- * triangles stay; the layer counts are the same. */
-static void lapped__prune(lapped__paster *P, int remove, double *before, double *after)
+ * triangles stay; the layer counts are the same.
+ *
+ * On threads, each share of the triangles (a range of them, about equal
+ * in lattice points) walks every paste for its own triangles: a
+ * triangle's lattice sees the same paints in the same order for any
+ * number of threads. hidden[first[p] + i] answers for triangle i of paste p. */
+typedef struct lapped__pruning {
+    lapped__cover *c;
+    const lapped__paster *P;
+    const size_t *first;
+    unsigned char *hidden;
+    int nf, shares;
+} lapped__pruning;
+
+/* The first triangle of share k: the lattice points split evenly. */
+static int lapped__prune_bound(const lapped__pruning *w, int k)
+{
+    size_t goal = w->c->off[w->nf] / (size_t)w->shares * (size_t)k;
+    int lo = 0, hi = w->nf;
+    if (k >= w->shares) return w->nf;
+    while (lo < hi) {
+        int mid = lo + (hi - lo) / 2;
+        if (w->c->off[mid] < goal) lo = mid + 1;
+        else hi = mid;
+    }
+    return lo;
+}
+
+static void lapped__prune_share(void *ctx, int share)
+{
+    const lapped__pruning *w = (const lapped__pruning *)ctx;
+    const lapped__cover *c = w->c;
+    int lo = lapped__prune_bound(w, share), hi = lapped__prune_bound(w, share + 1), p, i;
+    for (p = (int)w->P->npastes - 1; p >= 0; p--) {
+        const lapped_paste *q = &w->P->pastes[p];
+        for (i = 0; i < q->nfaces; i++) {
+            int f = q->faces[i], hidden = 1;
+            const float *acc = c->alpha + c->off[f];
+            size_t np = c->off[f + 1] - c->off[f], s;
+            if (f < lo || f >= hi) continue;
+            for (s = 0; s < np && hidden; s++) hidden = acc[s] >= 0.999f;
+            lapped__cover_paint(w->c, f, q->uvs + 6 * i, &w->P->eroded[q->patch]);
+            w->hidden[w->first[p] + (size_t)i] = (unsigned char)hidden;
+        }
+    }
+}
+
+static int lapped__prune(lapped__paster *P, int remove, double *before, double *after, pw_err *e)
 {
     lapped__cover *c = &P->cover;
-    long total = 0, kept = 0;
-    int p, i;
+    lapped__pruning w;
+    size_t *first = (size_t *)pw_alloc_array(P->a, P->npastes + 1, sizeof(size_t), "pruning", e), p;
+    unsigned char *hidden = NULL;
+    long kept = 0;
+    int i, width = pw_parallel_width(&P->par);
+    if (first) {
+        first[0] = 0;
+        for (p = 0; p < P->npastes; p++) first[p + 1] = first[p] + (size_t)P->pastes[p].nfaces;
+        hidden = (unsigned char *)pw_alloc_array(P->a, first[P->npastes] + 1, 1, "pruning", e);
+    }
+    if (!hidden) {
+        pw_free(P->a, first);
+        return PW_ERR_NOMEM;
+    }
     memset(c->alpha, 0, sizeof(float) * c->off[P->m.nf]);
-    for (p = (int)P->npastes - 1; p >= 0; p--) {
+    w.c = c;
+    w.P = P;
+    w.first = first;
+    w.hidden = hidden;
+    w.nf = P->m.nf;
+    w.shares = width > 1 ? 4 * width : 1;
+    pw_parallel_for(&P->par, w.shares, lapped__prune_share, &w);
+    for (p = 0; p < P->npastes; p++) {
         lapped_paste *q = &P->pastes[p];
         int n = 0;
         for (i = 0; i < q->nfaces; i++) {
-            const float *acc = c->alpha + c->off[q->faces[i]];
-            size_t np = c->off[q->faces[i] + 1] - c->off[q->faces[i]], s;
-            int hidden = 1;
-            for (s = 0; s < np && hidden; s++) hidden = acc[s] >= 0.999f;
-            lapped__cover_paint(c, q->faces[i], q->uvs + 6 * i, &P->eroded[q->patch]);
-            kept += !hidden;
-            if (hidden && remove) continue;
+            kept += !hidden[first[p] + (size_t)i];
+            if (hidden[first[p] + (size_t)i] && remove) continue;
             q->faces[n] = q->faces[i];
             memmove(q->uvs + 6 * n, q->uvs + 6 * i, sizeof(float) * 6);
             n++;
         }
-        total += q->nfaces;
         q->nfaces = n;
     }
-    *before = (double)total / P->m.nf;
+    *before = (double)first[P->npastes] / P->m.nf;
     *after = (double)kept / P->m.nf;
+    pw_free(P->a, first);
+    pw_free(P->a, hidden);
     lapped__drop_empty(P);
+    return PW_OK;
 }
 
 /* ---- set-up -------------------------------------------------------------------------- */
@@ -17624,6 +17785,7 @@ static void lapped__paster_free(lapped__paster *P)
     pw_free(P->a, P->fs);
     pw_free(P->a, P->ft);
     pw_free(P->a, P->difficulty);
+    pw_free(P->a, P->full);
     lapped__cover_free(P->a, &P->cover);
     lapped__patchbuf_free(P->a, &P->pb);
     lapped__free_pastes(P->a, P->pastes, P->npastes);
@@ -17716,7 +17878,9 @@ static int lapped__setup(lapped__paster *P, const lapped_mesh *mesh, const lappe
     P->fs = (float *)pw_alloc_array(P->a, (size_t)nf * 3, sizeof(float), "field", e);
     P->ft = (float *)pw_alloc_array(P->a, (size_t)nf * 3, sizeof(float), "field", e);
     P->difficulty = (float *)pw_alloc_array(P->a, (size_t)nf, sizeof(float), "difficulty", e);
-    if (!P->fs || !P->ft || !P->difficulty) return PW_ERR_NOMEM;
+    P->full = (unsigned char *)pw_alloc_array(P->a, (size_t)nf, 1, "coverage", e);
+    if (!P->fs || !P->ft || !P->difficulty || !P->full) return PW_ERR_NOMEM;
+    P->par = pw_parallel_make(P->o.threads, P->o.parallel, P->o.parallel_pool);
     if ((r = lapped__field(P->a, &P->m, &P->o, P->fs, P->ft, e)) != PW_OK ||
         (r = lapped__difficulty(P->a, &P->m, P->o.field == LAPPED_FIELD_ISOTROPIC ? NULL : P->ft, P->difficulty, e)) !=
             PW_OK ||
@@ -17795,7 +17959,11 @@ static int lapped__output(lapped__paster *P, lapped_texture *out, pw_err *e)
     out->npatches = P->npatches;
     out->hard_edges = P->hard_edges;
     out->allocator = lapped__allocator(P->a);
-    lapped__prune(P, !P->o.keep_hidden, &out->layers_before, &out->layers);
+    if (lapped__prune(P, !P->o.keep_hidden, &out->layers_before, &out->layers, e) != PW_OK) {
+        pw_free(P->a, out->patch_size);
+        memset(out, 0, sizeof *out);
+        return PW_ERR_NOMEM;
+    }
     out->npastes = (int)P->npastes;
     out->pastes = P->pastes;
     P->pastes = NULL;
@@ -17818,6 +17986,8 @@ LAPPEDDEF lapped_result lapped_create(const lapped_mesh *mesh, const lapped_sour
     if (out) memset(out, 0, sizeof *out);
     if (!out) pw_fail(&pe, PW_ERR_INVALID, "lapped_create: NULL output");
     else if (!src) pw_fail(&pe, PW_ERR_INVALID, "lapped_create: no source (texture patches)");
+    else if (P.o.threads < 0)
+        pw_fail(&pe, PW_ERR_INVALID, "lapped_create: threads %d (0: one per processor)", P.o.threads);
     else if (lapped__setup(&P, mesh, src->patches, src->npatches, &estimate, &pe) == PW_OK &&
              lapped__run(&P, estimate, &pe) == PW_OK)
         lapped__output(&P, out, &pe);

@@ -3,45 +3,45 @@
  *
  * CONTENTS (line: source, what it holds)
  *     46: src/lst/lst.h, the public API and its documentation
- *    715: src/common/base.h, allocation hooks, result codes, error messages, limits, he
- *   1027: src/common/vec.h, small vector math on float[3] arrays and a 3-float struct.
- *   1141: src/common/rng.h, seeded random numbers with the same output on every platfo
- *   1218: src/common/noise.h, value noise and its fractal sum, for the built-in procedur
- *   1320: src/common/image.h, float images and their file formats.
- *   2025: src/common/deflate.h, zlib (RFC 1950) and deflate (RFC 1951) compression and
- *   3022: src/common/png.h, PNG writer and reader, and the image front end.
- *   3581: src/common/text.h, locale-independent number parsing and formatting, a line s
- *   3994: src/common/mesh.h, polygon meshes as flat arrays, and their file formats.
- *   5523: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
- *   6052: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
- *   6476: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
- *   6663: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
- *   6748: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
- *   8285: src/common/raster.h, exact scan conversion of 2D triangles.
- *   8797: src/common/parallel.h, a parallel for, the one way work is split across threads.
- *   8925: src/common/render.h, a small deterministic software renderer for textured trian
- *  10824: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
- *  11013: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
- *  11933: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
- *  12631: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
- *  12867: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
- *  13628: src/common/tetmesh.h, the tetrahedral mesh that lapped solid textures work on, a
- *  14115: src/common/tetio.h, tetrahedral mesh files, TetGen .node/.ele and MEDIT .mesh.
- *  14607: src/common/bisect.h, graded, conforming tetrahedral meshes of a box by newest-v
- *  14934: src/common/stuffing.h, the built-in tetrahedralizer of lst.h, so that no external
- *  18311: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
- *  18454: src/common/pca.h, principal component analysis of vectors streamed one at a 
- *  18641: src/common/glue.h, what every method header needs between its public types an
- *  18977: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  19641: src/lst/core.c, lst.h's glue to the shared core, its defaults, the convers
- *  19974: src/lst/exemplar.c, solid exemplars (§5): sampling, the procedural exemplars 
- *  20543: src/lst/field.c, §5.2.2, the fields that orient and scale the pastes. The 
- *  21755: src/lst/paste.c, §5.2.3-5.2.7, filling the model. Each paste picks a rando
- *  22744: src/lst/render.c, §5.1, showing a model. Every point of a tetrahedron is th
- *  23641: src/lst/cut.c, §5.1.1, cutting a model along the zero set of a scalar fi
- *  24246: src/lst/builtin.c, the tetrahedralizer entry point, checks of caller meshes, 
- *  24768: src/lst/io.c, the model file, the constraint files and the file convenie
- *  25461: src/lst/export.c, the visible boundary with a baked texture atlas, for glTF.
+ *    721: src/common/base.h, allocation hooks, result codes, error messages, limits, he
+ *   1033: src/common/vec.h, small vector math on float[3] arrays and a 3-float struct.
+ *   1147: src/common/rng.h, seeded random numbers with the same output on every platfo
+ *   1224: src/common/noise.h, value noise and its fractal sum, for the built-in procedur
+ *   1326: src/common/image.h, float images and their file formats.
+ *   2031: src/common/deflate.h, zlib (RFC 1950) and deflate (RFC 1951) compression and
+ *   3028: src/common/png.h, PNG writer and reader, and the image front end.
+ *   3587: src/common/text.h, locale-independent number parsing and formatting, a line s
+ *   4000: src/common/mesh.h, polygon meshes as flat arrays, and their file formats.
+ *   5529: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
+ *   6058: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
+ *   6482: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
+ *   6669: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
+ *   6754: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
+ *   8291: src/common/raster.h, exact scan conversion of 2D triangles.
+ *   8803: src/common/parallel.h, a parallel for, the one way work is split across threads.
+ *   8976: src/common/render.h, a small deterministic software renderer for textured trian
+ *  10875: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
+ *  11064: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
+ *  11984: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
+ *  12682: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
+ *  12918: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
+ *  13679: src/common/tetmesh.h, the tetrahedral mesh that lapped solid textures work on, a
+ *  14166: src/common/tetio.h, tetrahedral mesh files, TetGen .node/.ele and MEDIT .mesh.
+ *  14658: src/common/bisect.h, graded, conforming tetrahedral meshes of a box by newest-v
+ *  14985: src/common/stuffing.h, the built-in tetrahedralizer of lst.h, so that no external
+ *  18362: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
+ *  18505: src/common/pca.h, principal component analysis of vectors streamed one at a 
+ *  18692: src/common/glue.h, what every method header needs between its public types an
+ *  19028: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  19692: src/lst/core.c, lst.h's glue to the shared core, its defaults, the convers
+ *  20026: src/lst/exemplar.c, solid exemplars (§5): sampling, the procedural exemplars 
+ *  20595: src/lst/field.c, §5.2.2, the fields that orient and scale the pastes. The 
+ *  21807: src/lst/paste.c, §5.2.3-5.2.7, filling the model. Each paste picks a rando
+ *  22835: src/lst/render.c, §5.1, showing a model. Every point of a tetrahedron is th
+ *  23732: src/lst/cut.c, §5.1.1, cutting a model along the zero set of a scalar fi
+ *  24337: src/lst/builtin.c, the tetrahedralizer entry point, checks of caller meshes, 
+ *  24859: src/lst/io.c, the model file, the constraint files and the file convenie
+ *  25552: src/lst/export.c, the visible boundary with a baked texture atlas, for glTF.
  */
 /* lst.h - lapped solid textures: solid exemplars pasted inside a model.
  *
@@ -101,9 +101,10 @@
  *   PATCHWORK_IMPLEMENTATION turns on every patchwork header included after
  *   it. Build macros: LST_STATIC (all functions static), PW_MALLOC /
  *   PW_REALLOC / PW_FREE (all or none), PW_ASSERT, PW_NO_STDIO, the PW_MAX_*
- *   size limits, as in every patchwork header, and PW_THREADS: rendering on
- *   several threads (POSIX threads; link with -pthread; lst_render_options.
- *   threads, 0 = one per processor), the same picture for any count.
+ *   size limits, as in every patchwork header, and PW_THREADS: rendering and
+ *   lst_create's coverage on several threads (POSIX threads; link with
+ *   -pthread; lst_render_options.threads and lst_options.threads, 0 = one
+ *   per processor), the same picture and pastes for any count.
  *   PW_NO_RENDER and PW_NO_PNG leave out the renderer (lst_render and
  *   lst_render_volume fail with LST_ERR_UNSUPPORTED) and the PNG codec
  *   (loading or saving PNG fails the same way): faster builds for programs that only compute (docs/api.md).
@@ -199,8 +200,8 @@ typedef struct lst_allocator {
 typedef int (*lst_progress_fn)(void *user, float done, const char *stage);
 typedef int (*lst_write_fn)(void *ctx, const void *data, size_t size);
 
-/* Work split across threads (rendering: bands of the frame). A parallel
- * for, for embedders with their own job system: run task(ctx, i) once for
+/* Work split across threads (rendering: bands of the frame; lst_create:
+ * the tetrahedra of each paste's coverage). A parallel for, for embedders with their own job system: run task(ctx, i) once for
  * every i in [0, n), on any threads, in any order, and return when all
  * have run. Results never depend on the order or the thread count. */
 typedef void (*lst_task_fn)(void *ctx, int index);
@@ -409,6 +410,11 @@ typedef struct lst_options {
                                  paste's opaque core covers entirely (default: drop them) */
     int max_pastes;            /* refuse inputs needing more; default 200000 */
     unsigned long long seed;   /* default 0 */
+    int threads;               /* lst_create's coverage threads, as render.threads: 0 (default)
+                                 one per processor with PW_THREADS, else 1; the pastes are
+                                 the same for any number */
+    lst_parallel_fn parallel;  /* optional: the caller's parallel for, used instead of threads */
+    void *parallel_pool;       /* its first argument */
     lst_render_options render; /* lst_render's settings (callers pass &opt.render) */
     lst_tet_options tet;       /* lst_tetrahedralize's */
     lst_volume_options volume; /* lst_render_volume's (callers pass &opt.volume) */
@@ -8840,49 +8846,94 @@ PW__DEF pw_parallel pw_parallel_make(int threads, pw_parallel_fn run, void *pool
 #include <pthread.h>
 #include <unistd.h>
 
+/* One parallel for on POSIX threads. The caller waits for the tasks, not
+ * for the threads: a thread that starts late (the processors busy with
+ * other work) finds nothing left and leaves, and the last one out frees
+ * the pool (refs counts the caller and every started thread). */
 typedef struct pw__pool {
     pthread_mutex_t lock;
-    int next, n;
+    pthread_cond_t finished;
+    int next, n, done, refs;
     pw_task_fn task;
     void *ctx;
 } pw__pool;
 
-PW__DEF void *pw__pool_worker(void *arg)
+/* Drops one reference to p; the last frees it. */
+PW__DEF void pw__pool_release(pw__pool *p)
 {
-    pw__pool *p = (pw__pool *)arg;
+    int last;
+    pthread_mutex_lock(&p->lock);
+    last = --p->refs == 0;
+    pthread_mutex_unlock(&p->lock);
+    if (last) {
+        pthread_cond_destroy(&p->finished);
+        pthread_mutex_destroy(&p->lock);
+        PW_FREE(p);
+    }
+}
+
+/* Runs tasks until none is left to claim. */
+PW__DEF void pw__pool_work(pw__pool *p)
+{
     for (;;) {
         int i;
         pthread_mutex_lock(&p->lock);
         i = p->next < p->n ? p->next++ : -1;
         pthread_mutex_unlock(&p->lock);
-        if (i < 0) return NULL;
+        if (i < 0) return;
         p->task(p->ctx, i);
+        pthread_mutex_lock(&p->lock);
+        if (++p->done == p->n) pthread_cond_signal(&p->finished);
+        pthread_mutex_unlock(&p->lock);
     }
+}
+
+PW__DEF void *pw__pool_worker(void *arg)
+{
+    pw__pool_work((pw__pool *)arg);
+    pw__pool_release((pw__pool *)arg);
+    return NULL;
 }
 
 /* n tasks on up to `threads` threads (0: one per processor); the calling
  * thread works too. Falls back to fewer threads if some cannot start. */
 PW__DEF void pw__pool_run(int threads, int n, pw_task_fn task, void *ctx)
 {
-    pthread_t th[64];
-    pw__pool p;
-    int k, started = 0;
+    pthread_attr_t attr;
+    pthread_t th;
+    pw__pool *p = (pw__pool *)PW_MALLOC(sizeof(pw__pool));
+    int k;
     if (threads <= 0) {
         long np = sysconf(_SC_NPROCESSORS_ONLN);
         threads = np > 0 ? (int)np : 1;
     }
     if (threads > n) threads = n;
     if (threads > 64) threads = 64;
-    p.next = 0;
-    p.n = n;
-    p.task = task;
-    p.ctx = ctx;
-    pthread_mutex_init(&p.lock, NULL);
-    for (k = 1; k < threads; k++)
-        if (pthread_create(&th[started], NULL, pw__pool_worker, &p) == 0) started++;
-    pw__pool_worker(&p);
-    for (k = 0; k < started; k++) pthread_join(th[k], NULL);
-    pthread_mutex_destroy(&p.lock);
+    if (!p || pthread_attr_init(&attr) != 0) {
+        PW_FREE(p);
+        for (k = 0; k < n; k++) task(ctx, k);
+        return;
+    }
+    p->next = p->done = 0;
+    p->n = n;
+    p->refs = 1;
+    p->task = task;
+    p->ctx = ctx;
+    pthread_mutex_init(&p->lock, NULL);
+    pthread_cond_init(&p->finished, NULL);
+    pthread_attr_setdetachstate(&attr, PTHREAD_CREATE_DETACHED);
+    for (k = 1; k < threads; k++) {
+        pthread_mutex_lock(&p->lock);
+        p->refs++;
+        pthread_mutex_unlock(&p->lock);
+        if (pthread_create(&th, &attr, pw__pool_worker, p) != 0) pw__pool_release(p);
+    }
+    pthread_attr_destroy(&attr);
+    pw__pool_work(p);
+    pthread_mutex_lock(&p->lock);
+    while (p->done < p->n) pthread_cond_wait(&p->finished, &p->lock);
+    pthread_mutex_unlock(&p->lock);
+    pw__pool_release(p);
 }
 #endif
 
@@ -19711,6 +19762,7 @@ static int lst__check_options(const lst_options *o, pw_err *e)
                        o->mask_radius, o->falloff);
     if (o->samples > 32) return pw_fail(e, PW_ERR_LIMIT, "sample lattice order %d is over 32", o->samples);
     if (o->coverage > 1.0f) return pw_fail(e, PW_ERR_INVALID, "coverage %g is over 1", o->coverage);
+    if (o->threads < 0) return pw_fail(e, PW_ERR_INVALID, "threads %d (0: one per processor)", o->threads);
     if (o->max_angle > 180.0f) return pw_fail(e, PW_ERR_INVALID, "max_angle %g is over 180 degrees", o->max_angle);
     if (o->nconstraints < 0 || (o->nconstraints > 0 && !o->constraints))
         return pw_fail(e, PW_ERR_INVALID, "constraint array and count disagree");
@@ -21794,6 +21846,8 @@ typedef struct lst__fill {
     int *uncov, *upos, nuncov;             /* the uncovered list and each tetrahedron's place in it (-1: covered) */
     int *opaque;                           /* nt: the latest paste whose opaque core holds the whole tetrahedron */
     unsigned char *seeded;                 /* nt: 1 once the tetrahedron has been a seed */
+    unsigned char *full;                   /* nt: per clump tetrahedron, covered now (lst__coverage) */
+    pw_parallel par;                       /* the coverage's threads */
     int threshold;                         /* opacity, 0..255, that counts as covered */
     int *tstamp, *tstate;                  /* nt: paste id of the last visit; 1 in the clump, 2 refused */
     int *vstamp, *vlocal;                  /* nv: paste id; local index of the vertex in the clump */
@@ -22261,19 +22315,34 @@ static void lst__uncover_remove(lst__fill *F, int t)
  * of the clump's uncovered tetrahedra; a tetrahedron whose points all
  * reach the threshold leaves the uncovered list. A tetrahedron inside the
  * paste's opaque core is marked, so that earlier pastes there can be
- * dropped as hidden. Points already opaque are not sampled again. */
-static void lst__coverage(lst__fill *F, const lst__spec *s, int id)
+ * dropped as hidden. Points already opaque are not sampled again.
+ *
+ * On threads the clump goes in shares: a clump holds each tetrahedron
+ * once, and each one's samples and mark are its own. full[i] says whether
+ * clump tetrahedron i is now covered; the uncovered list changes after, in
+ * the clump's order, so the fill is the same for any number of threads. */
+typedef struct lst__covering {
+    lst__fill *F;
+    const lst__mask *m;
+    int id, shares;
+} lst__covering;
+
+static void lst__coverage_share(void *ctx, int share)
 {
-    const lst__mask *m = &F->mask[s->mask];
-    int i, k, q;
-    for (i = 0; i < F->nct; i++) {
+    const lst__covering *w = (const lst__covering *)ctx;
+    lst__fill *F = w->F;
+    const lst__mask *m = w->m;
+    int i = (int)((long long)F->nct * share / w->shares), end = (int)((long long)F->nct * (share + 1) / w->shares), k,
+        q;
+    for (; i < end; i++) {
         int t = F->ctet[i], all = 1, ov;
         unsigned char *cv = F->cov + (size_t)t * F->nsamp;
         double c[4][3];
         float vc[4][3];
+        F->full[i] = 0;
         for (k = 0; k < 4; k++) memcpy(c[k], F->w + 3 * F->ccorner[4 * i + k], sizeof c[k]);
         ov = F->upos[t] < 0 ? lst__overlap_fields(m, c) : lst__overlap(F, m, c); /* covered: only the core counts */
-        if (ov == LST__CORE) F->opaque[t] = id;
+        if (ov == LST__CORE) F->opaque[t] = w->id;
         if (F->upos[t] < 0 || ov == LST__OUT) continue;
         for (k = 0; k < 4; k++) lst__to_voxel(&m->vol, c[k][0], c[k][1], c[k][2], vc[k]);
         for (q = 0; q < F->nsamp; q++) {
@@ -22289,8 +22358,27 @@ static void lst__coverage(lst__fill *F, const lst__spec *s, int id)
             cv[q] = (unsigned char)(cv[q] + (int)(al * (255 - cv[q]) + 0.5f));
             all &= cv[q] >= F->threshold;
         }
-        if (all) lst__uncover_remove(F, t);
+        F->full[i] = (unsigned char)all;
     }
+}
+
+/* Samples below which a clump is covered on the calling thread alone
+ * (handing work to threads costs about as much as this many). */
+#define LST__COVER_SERIAL 16384
+
+static void lst__coverage(lst__fill *F, const lst__spec *s, int id)
+{
+    lst__covering w;
+    int i, width = pw_parallel_width(&F->par);
+    w.F = F;
+    w.m = &F->mask[s->mask];
+    w.id = id;
+    w.shares =
+        width < 2 || (long long)F->nct * F->nsamp < LST__COVER_SERIAL ? 1 : (F->nct < 4 * width ? F->nct : 4 * width);
+    if (w.shares <= 1) lst__coverage_share(&w, 0);
+    else pw_parallel_for(&F->par, w.shares, lst__coverage_share, &w);
+    for (i = 0; i < F->nct; i++)
+        if (F->full[i]) lst__uncover_remove(F, F->ctet[i]);
 }
 
 /* Keeps the clump as paste `id`: tetrahedra, corners, vertices and their
@@ -22387,6 +22475,7 @@ static void lst__fill_free(lst__fill *F)
     pw_free(a, F->upos);
     pw_free(a, F->opaque);
     pw_free(a, F->seeded);
+    pw_free(a, F->full);
     pw_free(a, F->tstamp);
     pw_free(a, F->tstate);
     pw_free(a, F->vstamp);
@@ -22428,7 +22517,9 @@ static int lst__fill_init(lst__fill *F, const pw_volume *masks, int nmasks, int 
     F->uncov = (int *)pw_alloc_array(a, (size_t)nt, sizeof(int), "uncovered list", e);
     F->upos = (int *)pw_alloc_array(a, (size_t)nt, sizeof(int), "uncovered list", e);
     F->seeded = (unsigned char *)pw_calloc_array(a, (size_t)nt, 1, "uncovered list", e);
-    if (!F->cov || !F->uncov || !F->upos || !F->seeded) return PW_ERR_NOMEM;
+    F->full = (unsigned char *)pw_alloc_array(a, (size_t)nt, 1, "uncovered list", e);
+    if (!F->cov || !F->uncov || !F->upos || !F->seeded || !F->full) return PW_ERR_NOMEM;
+    F->par = pw_parallel_make(o->threads, o->parallel, o->parallel_pool);
     for (k = 0; k < nt; k++) F->uncov[k] = F->upos[k] = k;
     F->nuncov = nt;
     return PW_OK;

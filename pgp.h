@@ -19,34 +19,34 @@
  *   8251: src/common/zamg.h, a smoothed-aggregation multigrid preconditioner for the co
  *   8894: src/common/raster.h, exact scan conversion of 2D triangles.
  *   9406: src/common/parallel.h, a parallel for, the one way work is split across threads.
- *   9534: src/common/render.h, a small deterministic software renderer for textured trian
- *  11433: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
- *  11620: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
- *  11705: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
- *  11894: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
- *  12814: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
- *  13512: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
- *  13748: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
- *  14512: src/common/periodic.h, the periodic global parameterization of a triangle mesh al
- *  15340: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
- *  16101: src/pgp/tile3.h, sampling a material-space tile (Ray et al. 2009, §2: "a 3
- *  16209: src/common/glue.h, what every method header needs between its public types an
- *  16545: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  17209: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
- *  17706: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
- *  18192: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
- *  18335: src/common/kdtree.h, nearest-neighbour search among n points of dimension d, wi
- *  18678: src/common/pca.h, principal component analysis of vectors streamed one at a 
- *  18865: src/pgp/core.c, pgp.h's glue to the shared core, its defaults, and the map
- *  19078: src/pgp/field.c, §2.1 effect areas and §2.2 interpolation of the constrai
- *  19277: src/pgp/solve.c, §2.3 the periodic global parameterization, the recovery o
- *  19766: src/pgp/edit.c, the public editing calls of a mapping. §2.1 (Ray, Lévy, 
- *  19911: src/pgp/render.c, §3 rendering, and a cleaner treatment of the vortices.
- *  20272: src/pgp/builtin.c, built-in meshes and material-space tiles for demos and tes
- *  20541: src/pgp/io.c, files and memory for pgp.h: material-space tiles (NRRD, or
- *  20889: src/pgp/export.c, the mapping for other programs. A viewer that knows nothin
- *  21115: src/pgp/morph.c, the inputs of §1 (keys brought to the tile size, made til
- *  21794: src/pgp/synth.c, §1.2 constrained tile synthesis, and the whole of §1: ke
+ *   9579: src/common/render.h, a small deterministic software renderer for textured trian
+ *  11478: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
+ *  11665: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
+ *  11750: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
+ *  11939: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
+ *  12859: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
+ *  13557: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
+ *  13793: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
+ *  14557: src/common/periodic.h, the periodic global parameterization of a triangle mesh al
+ *  15385: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
+ *  16146: src/pgp/tile3.h, sampling a material-space tile (Ray et al. 2009, §2: "a 3
+ *  16254: src/common/glue.h, what every method header needs between its public types an
+ *  16590: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  17254: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
+ *  17751: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
+ *  18237: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
+ *  18380: src/common/kdtree.h, nearest-neighbour search among n points of dimension d, wi
+ *  18723: src/common/pca.h, principal component analysis of vectors streamed one at a 
+ *  18910: src/pgp/core.c, pgp.h's glue to the shared core, its defaults, and the map
+ *  19123: src/pgp/field.c, §2.1 effect areas and §2.2 interpolation of the constrai
+ *  19322: src/pgp/solve.c, §2.3 the periodic global parameterization, the recovery o
+ *  19811: src/pgp/edit.c, the public editing calls of a mapping. §2.1 (Ray, Lévy, 
+ *  19956: src/pgp/render.c, §3 rendering, and a cleaner treatment of the vortices.
+ *  20317: src/pgp/builtin.c, built-in meshes and material-space tiles for demos and tes
+ *  20586: src/pgp/io.c, files and memory for pgp.h: material-space tiles (NRRD, or
+ *  20934: src/pgp/export.c, the mapping for other programs. A viewer that knows nothin
+ *  21160: src/pgp/morph.c, the inputs of §1 (keys brought to the tile size, made til
+ *  21839: src/pgp/synth.c, §1.2 constrained tile synthesis, and the whole of §1: ke
  */
 /* pgp.h - material-space texturing with a periodic global parameterization.
  *
@@ -9449,49 +9449,94 @@ PW__DEF pw_parallel pw_parallel_make(int threads, pw_parallel_fn run, void *pool
 #include <pthread.h>
 #include <unistd.h>
 
+/* One parallel for on POSIX threads. The caller waits for the tasks, not
+ * for the threads: a thread that starts late (the processors busy with
+ * other work) finds nothing left and leaves, and the last one out frees
+ * the pool (refs counts the caller and every started thread). */
 typedef struct pw__pool {
     pthread_mutex_t lock;
-    int next, n;
+    pthread_cond_t finished;
+    int next, n, done, refs;
     pw_task_fn task;
     void *ctx;
 } pw__pool;
 
-PW__DEF void *pw__pool_worker(void *arg)
+/* Drops one reference to p; the last frees it. */
+PW__DEF void pw__pool_release(pw__pool *p)
 {
-    pw__pool *p = (pw__pool *)arg;
+    int last;
+    pthread_mutex_lock(&p->lock);
+    last = --p->refs == 0;
+    pthread_mutex_unlock(&p->lock);
+    if (last) {
+        pthread_cond_destroy(&p->finished);
+        pthread_mutex_destroy(&p->lock);
+        PW_FREE(p);
+    }
+}
+
+/* Runs tasks until none is left to claim. */
+PW__DEF void pw__pool_work(pw__pool *p)
+{
     for (;;) {
         int i;
         pthread_mutex_lock(&p->lock);
         i = p->next < p->n ? p->next++ : -1;
         pthread_mutex_unlock(&p->lock);
-        if (i < 0) return NULL;
+        if (i < 0) return;
         p->task(p->ctx, i);
+        pthread_mutex_lock(&p->lock);
+        if (++p->done == p->n) pthread_cond_signal(&p->finished);
+        pthread_mutex_unlock(&p->lock);
     }
+}
+
+PW__DEF void *pw__pool_worker(void *arg)
+{
+    pw__pool_work((pw__pool *)arg);
+    pw__pool_release((pw__pool *)arg);
+    return NULL;
 }
 
 /* n tasks on up to `threads` threads (0: one per processor); the calling
  * thread works too. Falls back to fewer threads if some cannot start. */
 PW__DEF void pw__pool_run(int threads, int n, pw_task_fn task, void *ctx)
 {
-    pthread_t th[64];
-    pw__pool p;
-    int k, started = 0;
+    pthread_attr_t attr;
+    pthread_t th;
+    pw__pool *p = (pw__pool *)PW_MALLOC(sizeof(pw__pool));
+    int k;
     if (threads <= 0) {
         long np = sysconf(_SC_NPROCESSORS_ONLN);
         threads = np > 0 ? (int)np : 1;
     }
     if (threads > n) threads = n;
     if (threads > 64) threads = 64;
-    p.next = 0;
-    p.n = n;
-    p.task = task;
-    p.ctx = ctx;
-    pthread_mutex_init(&p.lock, NULL);
-    for (k = 1; k < threads; k++)
-        if (pthread_create(&th[started], NULL, pw__pool_worker, &p) == 0) started++;
-    pw__pool_worker(&p);
-    for (k = 0; k < started; k++) pthread_join(th[k], NULL);
-    pthread_mutex_destroy(&p.lock);
+    if (!p || pthread_attr_init(&attr) != 0) {
+        PW_FREE(p);
+        for (k = 0; k < n; k++) task(ctx, k);
+        return;
+    }
+    p->next = p->done = 0;
+    p->n = n;
+    p->refs = 1;
+    p->task = task;
+    p->ctx = ctx;
+    pthread_mutex_init(&p->lock, NULL);
+    pthread_cond_init(&p->finished, NULL);
+    pthread_attr_setdetachstate(&attr, PTHREAD_CREATE_DETACHED);
+    for (k = 1; k < threads; k++) {
+        pthread_mutex_lock(&p->lock);
+        p->refs++;
+        pthread_mutex_unlock(&p->lock);
+        if (pthread_create(&th, &attr, pw__pool_worker, p) != 0) pw__pool_release(p);
+    }
+    pthread_attr_destroy(&attr);
+    pw__pool_work(p);
+    pthread_mutex_lock(&p->lock);
+    while (p->done < p->n) pthread_cond_wait(&p->finished, &p->lock);
+    pthread_mutex_unlock(&p->lock);
+    pw__pool_release(p);
 }
 #endif
 

@@ -24,20 +24,20 @@
  *   9888: src/common/periodic.h, the periodic global parameterization of a triangle mesh al
  *  10716: src/common/raster.h, exact scan conversion of 2D triangles.
  *  11230: src/common/parallel.h, a parallel for, the one way work is split across threads.
- *  11358: src/common/render.h, a small deterministic software renderer for textured trian
- *  13257: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
- *  13754: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
- *  14240: src/common/glue.h, what every method header needs between its public types an
- *  14576: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  15240: src/tiled/core.c, tiled.h's glue to the shared core, its defaults, result
- *  15329: src/tiled/layout.c, ch. III.1, the boundary types and the tiled texture they
- *  15601: src/tiled/cells.c, beyond the thesis (issue 23): tiles of a chosen size on an
- *  16257: src/tiled/map.c, ch. III.2, the texture mapping algorithm of Fig. 29
- *  16526: src/tiled/synth.c, ch. III.1.3, tiled texture image synthesis: an edge-matche
- *  16972: src/tiled/validate.c, checks a hand-made tiled texture (the thesis's Figs. 39,
- *  17100: src/tiled/builtin.c, built-in meshes and exemplars for demos and tests: the
- *  17297: src/tiled/render.c, a software rendering of a mapped mesh (the thesis rendered
- *  17520: src/tiled/io.c, files. Meshes and exemplars in; the mapped mesh with its t
+ *  11403: src/common/render.h, a small deterministic software renderer for textured trian
+ *  13302: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
+ *  13799: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
+ *  14285: src/common/glue.h, what every method header needs between its public types an
+ *  14621: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  15285: src/tiled/core.c, tiled.h's glue to the shared core, its defaults, result
+ *  15374: src/tiled/layout.c, ch. III.1, the boundary types and the tiled texture they
+ *  15646: src/tiled/cells.c, beyond the thesis (issue 23): tiles of a chosen size on an
+ *  16302: src/tiled/map.c, ch. III.2, the texture mapping algorithm of Fig. 29
+ *  16571: src/tiled/synth.c, ch. III.1.3, tiled texture image synthesis: an edge-matche
+ *  17017: src/tiled/validate.c, checks a hand-made tiled texture (the thesis's Figs. 39,
+ *  17145: src/tiled/builtin.c, built-in meshes and exemplars for demos and tests: the
+ *  17342: src/tiled/render.c, a software rendering of a mapped mesh (the thesis rendered
+ *  17565: src/tiled/io.c, files. Meshes and exemplars in; the mapped mesh with its t
  */
 /* tiled.h - seamless, singularity-free tiled textures on quad meshes.
  *
@@ -11273,49 +11273,94 @@ PW__DEF pw_parallel pw_parallel_make(int threads, pw_parallel_fn run, void *pool
 #include <pthread.h>
 #include <unistd.h>
 
+/* One parallel for on POSIX threads. The caller waits for the tasks, not
+ * for the threads: a thread that starts late (the processors busy with
+ * other work) finds nothing left and leaves, and the last one out frees
+ * the pool (refs counts the caller and every started thread). */
 typedef struct pw__pool {
     pthread_mutex_t lock;
-    int next, n;
+    pthread_cond_t finished;
+    int next, n, done, refs;
     pw_task_fn task;
     void *ctx;
 } pw__pool;
 
-PW__DEF void *pw__pool_worker(void *arg)
+/* Drops one reference to p; the last frees it. */
+PW__DEF void pw__pool_release(pw__pool *p)
 {
-    pw__pool *p = (pw__pool *)arg;
+    int last;
+    pthread_mutex_lock(&p->lock);
+    last = --p->refs == 0;
+    pthread_mutex_unlock(&p->lock);
+    if (last) {
+        pthread_cond_destroy(&p->finished);
+        pthread_mutex_destroy(&p->lock);
+        PW_FREE(p);
+    }
+}
+
+/* Runs tasks until none is left to claim. */
+PW__DEF void pw__pool_work(pw__pool *p)
+{
     for (;;) {
         int i;
         pthread_mutex_lock(&p->lock);
         i = p->next < p->n ? p->next++ : -1;
         pthread_mutex_unlock(&p->lock);
-        if (i < 0) return NULL;
+        if (i < 0) return;
         p->task(p->ctx, i);
+        pthread_mutex_lock(&p->lock);
+        if (++p->done == p->n) pthread_cond_signal(&p->finished);
+        pthread_mutex_unlock(&p->lock);
     }
+}
+
+PW__DEF void *pw__pool_worker(void *arg)
+{
+    pw__pool_work((pw__pool *)arg);
+    pw__pool_release((pw__pool *)arg);
+    return NULL;
 }
 
 /* n tasks on up to `threads` threads (0: one per processor); the calling
  * thread works too. Falls back to fewer threads if some cannot start. */
 PW__DEF void pw__pool_run(int threads, int n, pw_task_fn task, void *ctx)
 {
-    pthread_t th[64];
-    pw__pool p;
-    int k, started = 0;
+    pthread_attr_t attr;
+    pthread_t th;
+    pw__pool *p = (pw__pool *)PW_MALLOC(sizeof(pw__pool));
+    int k;
     if (threads <= 0) {
         long np = sysconf(_SC_NPROCESSORS_ONLN);
         threads = np > 0 ? (int)np : 1;
     }
     if (threads > n) threads = n;
     if (threads > 64) threads = 64;
-    p.next = 0;
-    p.n = n;
-    p.task = task;
-    p.ctx = ctx;
-    pthread_mutex_init(&p.lock, NULL);
-    for (k = 1; k < threads; k++)
-        if (pthread_create(&th[started], NULL, pw__pool_worker, &p) == 0) started++;
-    pw__pool_worker(&p);
-    for (k = 0; k < started; k++) pthread_join(th[k], NULL);
-    pthread_mutex_destroy(&p.lock);
+    if (!p || pthread_attr_init(&attr) != 0) {
+        PW_FREE(p);
+        for (k = 0; k < n; k++) task(ctx, k);
+        return;
+    }
+    p->next = p->done = 0;
+    p->n = n;
+    p->refs = 1;
+    p->task = task;
+    p->ctx = ctx;
+    pthread_mutex_init(&p->lock, NULL);
+    pthread_cond_init(&p->finished, NULL);
+    pthread_attr_setdetachstate(&attr, PTHREAD_CREATE_DETACHED);
+    for (k = 1; k < threads; k++) {
+        pthread_mutex_lock(&p->lock);
+        p->refs++;
+        pthread_mutex_unlock(&p->lock);
+        if (pthread_create(&th, &attr, pw__pool_worker, p) != 0) pw__pool_release(p);
+    }
+    pthread_attr_destroy(&attr);
+    pw__pool_work(p);
+    pthread_mutex_lock(&p->lock);
+    while (p->done < p->n) pthread_cond_wait(&p->finished, &p->lock);
+    pthread_mutex_unlock(&p->lock);
+    pw__pool_release(p);
 }
 #endif
 

@@ -339,6 +339,7 @@ static lapped_result run(lapped_cmd *c, cli_outputs *outs, lapped_error *err)
         c->opt.nconstraints = cons.count;
     }
     if (r == LAPPED_OK) r = load_mesh(c->mesh, &c->opt, &mesh, err);
+    c->opt.threads = c->opt.render.threads; /* --threads: the coverage's too */
     if (r == LAPPED_OK && (r = lapped_create(&mesh, &src, &c->opt, &t, err)) == LAPPED_OK)
         printf("lapped: %d triangles covered by %d pastes, %.2f layers per triangle (%.2f before "
                "removing hidden ones), %d with hard edges\n",

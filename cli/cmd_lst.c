@@ -495,6 +495,7 @@ static lst_result fill(lst_cmd *c, lst_run *r, lst_error *err)
     t0 = seconds();
     src.exemplar = &r->ex;
     src.values = r->val.voxels ? &r->val : NULL;
+    c->opt.threads = c->opt.render.threads; /* --threads: the coverage's too */
     res = lst_create(&r->tets, &r->surface, &src, &c->opt, &r->model, err);
     if (res != LST_OK) return res;
     printf("lst: type %s, %d pastes, %.2f per tetrahedron (%.2f before hidden ones were dropped), %d masks, "

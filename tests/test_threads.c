@@ -7,7 +7,8 @@
  * quarter of the frame's samples of 24 bytes, 24 bytes per pixel; the RGB
  * picture 12). Tile synthesis on threads (tiled's tiles, pgp's morph
  * sides): the same tile set, bit for bit, on 1, 2 and 3 threads and through
- * the reversed parallel-for. */
+ * the reversed parallel-for. lapped's and lst's coverage on threads: the
+ * same pastes, bit for bit, likewise. */
 #define PW_THREADS
 #define PATCHWORK_IMPLEMENTATION
 #include "../tiled.h"
@@ -276,6 +277,61 @@ static void t_lapped(void)
     lapped_mesh_free(&S.mesh);
 }
 
+/* lapped_create's coverage on threads: the same pastes, bit for bit, on
+ * 1, 2 and 3 threads and through the reversed parallel-for (the pruning
+ * runs there in shares of the triangles, the pastes' painting in shares of
+ * their triangles). */
+static int lapped_same(const lapped_texture *a, const lapped_texture *b)
+{
+    int p;
+    if (a->npastes != b->npastes || a->layers != b->layers || a->layers_before != b->layers_before ||
+        a->hard_edges != b->hard_edges)
+        return 0;
+    for (p = 0; p < a->npastes; p++) {
+        const lapped_paste *x = &a->pastes[p], *y = &b->pastes[p];
+        if (x->patch != y->patch || x->nfaces != y->nfaces ||
+            memcmp(x->faces, y->faces, sizeof(int) * (size_t)x->nfaces) != 0 ||
+            memcmp(x->uvs, y->uvs, sizeof(float) * 6 * (size_t)x->nfaces) != 0)
+            return 0;
+    }
+    return 1;
+}
+
+static void t_lapped_coverage(void)
+{
+    lapped_options opt = lapped_default_options();
+    lapped_mesh mesh;
+    lapped_image ex, patch;
+    lapped_source src;
+    lapped_texture ref, t;
+    int threads, calls = reverse_calls;
+    REQUIRE(lapped_builtin_mesh("bumpy", &opt, &mesh, NULL) == LAPPED_OK);
+    REQUIRE(lapped_builtin_exemplar("scales", 192, &opt, &ex, NULL) == LAPPED_OK);
+    REQUIRE(lapped_make_patch(&ex, NULL, &opt, &patch, NULL) == LAPPED_OK);
+    memset(&src, 0, sizeof src);
+    src.patches = &patch;
+    src.npatches = 1;
+    opt.scale = 0.6f, opt.threads = 1;
+    REQUIRE(lapped_create(&mesh, &src, &opt, &ref, NULL) == LAPPED_OK);
+    for (threads = 2; threads <= 4; threads++) {
+        opt.threads = threads == 4 ? 0 : threads;
+        opt.parallel = threads == 4 ? reverse_for : NULL;
+        REQUIRE(lapped_create(&mesh, &src, &opt, &t, NULL) == LAPPED_OK);
+        CHECKF(lapped_same(&ref, &t), "lapped coverage: the pastes %s differ from one thread's",
+               threads == 4 ? "through a reversed parallel-for" : threads == 2 ? "on 2 threads" : "on 3 threads");
+        lapped_texture_free(&t);
+    }
+    CHECKF(reverse_calls > calls + 1, "lapped coverage: the caller's parallel-for was used %d times",
+           reverse_calls - calls);
+    pwt_info("lapped coverage: %d pastes, %d calls of the parallel-for", ref.npastes, reverse_calls - calls);
+    opt.threads = -1, opt.parallel = NULL;
+    CHECK(lapped_create(&mesh, &src, &opt, &t, NULL) == LAPPED_ERR_INVALID);
+    lapped_texture_free(&ref);
+    lapped_image_free(&patch);
+    lapped_image_free(&ex);
+    lapped_mesh_free(&mesh);
+}
+
 /* ---- pgp ---- */
 
 typedef struct pgp_scene {
@@ -365,12 +421,66 @@ static void t_lst(void)
     lst_mesh_free(&surface);
 }
 
+/* lst_create's coverage on threads: the same pastes, bit for bit, on 1,
+ * 2 and 3 threads and through the reversed parallel-for. */
+static int lst_same(const lst_model *a, const lst_model *b)
+{
+    int p;
+    if (a->npastes != b->npastes || a->layers != b->layers || a->layers_before != b->layers_before) return 0;
+    for (p = 0; p < a->npastes; p++) {
+        const lst_paste *x = &a->pastes[p], *y = &b->pastes[p];
+        if (x->exemplar != y->exemplar || x->ntets != y->ntets || x->nverts != y->nverts ||
+            memcmp(x->tets, y->tets, sizeof(int) * (size_t)x->ntets) != 0 ||
+            memcmp(x->corners, y->corners, sizeof(int) * 4 * (size_t)x->ntets) != 0 ||
+            memcmp(x->verts, y->verts, sizeof(int) * (size_t)x->nverts) != 0 ||
+            memcmp(x->uvw, y->uvw, sizeof(float) * 3 * (size_t)x->nverts) != 0)
+            return 0;
+    }
+    return 1;
+}
+
+static void t_lst_coverage(void)
+{
+    lst_options opt = lst_default_options();
+    lst_mesh surface;
+    lst_tetmesh tets;
+    lst_volume ex;
+    lst_source src;
+    lst_model ref, m;
+    int threads, calls = reverse_calls;
+    opt.tet.target_tets = 3000, opt.tet.uniform = 1;
+    REQUIRE(lst_builtin_mesh("sphere", &opt, &surface, NULL) == LST_OK);
+    REQUIRE(lst_tetrahedralize(&surface, &opt, &tets, NULL, NULL) == LST_OK);
+    REQUIRE(lst_builtin_exemplar("spots", 32, &opt, &ex, NULL, NULL) == LST_OK);
+    src.exemplar = &ex, src.values = NULL;
+    opt.threads = 1;
+    REQUIRE(lst_create(&tets, &surface, &src, &opt, &ref, NULL) == LST_OK);
+    for (threads = 2; threads <= 4; threads++) {
+        opt.threads = threads == 4 ? 0 : threads;
+        opt.parallel = threads == 4 ? reverse_for : NULL;
+        REQUIRE(lst_create(&tets, &surface, &src, &opt, &m, NULL) == LST_OK);
+        CHECKF(lst_same(&ref, &m), "lst coverage: the pastes %s differ from one thread's",
+               threads == 4 ? "through a reversed parallel-for" : threads == 2 ? "on 2 threads" : "on 3 threads");
+        lst_model_free(&m);
+    }
+    CHECKF(reverse_calls > calls, "lst coverage: the caller's parallel-for was not used");
+    pwt_info("lst coverage: %d pastes, %d calls of the parallel-for", ref.npastes, reverse_calls - calls);
+    opt.threads = -1, opt.parallel = NULL;
+    CHECK(lst_create(&tets, &surface, &src, &opt, &m, NULL) == LST_ERR_INVALID);
+    lst_model_free(&ref);
+    lst_volume_free(&ex);
+    lst_tetmesh_free(&tets);
+    lst_mesh_free(&surface);
+}
+
 static const pwt_case cases[] = {
     {"threads_tiled", t_tiled},
     {"threads_tiled_synthesis", t_tiled_synthesis},
     {"threads_pgp_synthesis", t_pgp_synthesis},
     {"threads_lapped", t_lapped},
+    {"threads_lapped_coverage", t_lapped_coverage},
     {"threads_pgp", t_pgp},
     {"threads_lst", t_lst},
+    {"threads_lst_coverage", t_lst_coverage},
 };
 PWT_MAIN(cases)

@@ -244,15 +244,58 @@ static int lapped__cover_paint(lapped__cover *c, int f, const float uv[6], const
     return full;
 }
 
-/* Paints a paste over triangle f and retires f once it is covered. */
-static void lapped__cover_add(lapped__cover *c, int f, const float uv[6], const lapped__eroded *er)
+/* Retires triangle f from the open list once it is covered. */
+static void lapped__cover_retire(lapped__cover *c, int f)
 {
-    if (lapped__cover_paint(c, f, uv, er) && c->where[f] >= 0) { /* swap-remove from the open list */
+    if (c->where[f] >= 0) { /* swap-remove from the open list */
         int last = c->open[--c->nopen];
         c->open[c->where[f]] = last;
         c->where[last] = c->where[f];
         c->where[f] = -1;
     }
+}
+
+/* One paste painted into the coverage, its triangles in shares on threads
+ * (a paste holds each triangle once, and each triangle's lattice is its
+ * own): full[i] says whether triangle i of the paste is now covered. The
+ * open list changes after, in the paste's order, so the coverage is the
+ * same for any number of threads. */
+typedef struct lapped__painting {
+    lapped__cover *c;
+    const lapped_paste *q;
+    const lapped__eroded *er;
+    unsigned char *full;
+    int shares;
+} lapped__painting;
+
+static void lapped__paint_share(void *ctx, int share)
+{
+    const lapped__painting *w = (const lapped__painting *)ctx;
+    const lapped_paste *q = w->q;
+    int i = (int)((long long)q->nfaces * share / w->shares),
+        end = (int)((long long)q->nfaces * (share + 1) / w->shares);
+    for (; i < end; i++) w->full[i] = (unsigned char)lapped__cover_paint(w->c, q->faces[i], q->uvs + 6 * i, w->er);
+}
+
+/* Lattice points below which a paste is painted on the calling thread
+ * alone (handing work to threads costs about as much as painting this
+ * many). */
+#define LAPPED__PAINT_SERIAL 4096
+
+static void lapped__paint(const pw_parallel *par, lapped__cover *c, const lapped_paste *q, const lapped__eroded *er,
+                          unsigned char *full)
+{
+    lapped__painting w;
+    size_t points = 0;
+    int i, width = pw_parallel_width(par);
+    for (i = 0; i < q->nfaces && width > 1; i++) points += c->off[q->faces[i] + 1] - c->off[q->faces[i]];
+    w.c = c;
+    w.q = q;
+    w.er = er;
+    w.full = full;
+    w.shares = points < LAPPED__PAINT_SERIAL ? 1 : (q->nfaces < 4 * width ? q->nfaces : 4 * width);
+    if (w.shares <= 1) lapped__paint_share(&w, 0);
+    else pw_parallel_for(par, w.shares, lapped__paint_share, &w);
 }
 
 /* The least covered lattice point of triangle f, as barycentrics. */
@@ -549,6 +592,8 @@ typedef struct lapped__paster {
     lapped_paste *pastes;
     size_t npastes, cap;
     int hard_edges;
+    pw_parallel par;     /* the coverage's threads (lapped__paint) */
+    unsigned char *full; /* nf: per triangle of a paste, covered now (lapped__paint) */
 } lapped__paster;
 
 static pw_v3 lapped__centroid(const pw_trimesh *m, int f)
@@ -1011,8 +1056,10 @@ static int lapped__record(lapped__paster *P, int patch, pw_err *e)
             q->uvs[6 * i + 2 * k] = p->vuv[2 * P->m.tri[3 * f + k]];
             q->uvs[6 * i + 2 * k + 1] = p->vuv[2 * P->m.tri[3 * f + k] + 1];
         }
-        lapped__cover_add(&P->cover, f, q->uvs + 6 * i, &P->eroded[patch]);
     }
+    lapped__paint(&P->par, &P->cover, q, &P->eroded[patch], P->full);
+    for (i = 0; i < p->nfaces; i++)
+        if (P->full[i]) lapped__cover_retire(&P->cover, p->faces[i]);
     P->hard_edges += p->hard;
     return PW_OK;
 }
@@ -1192,34 +1239,96 @@ static void lapped__drop_empty(lapped__paster *P)
  * a triangle is hidden once the later pastes' opacity, accumulated at its
  * lattice points with the eroded alphas of the coverage (so that it holds
  * between the points too), is 0.999 everywhere. With remove = 0 the
- * triangles stay; the layer counts are the same. */
-static void lapped__prune(lapped__paster *P, int remove, double *before, double *after)
+ * triangles stay; the layer counts are the same.
+ *
+ * On threads, each share of the triangles (a range of them, about equal
+ * in lattice points) walks every paste for its own triangles: a
+ * triangle's lattice sees the same paints in the same order for any
+ * number of threads. hidden[first[p] + i] answers for triangle i of paste p. */
+typedef struct lapped__pruning {
+    lapped__cover *c;
+    const lapped__paster *P;
+    const size_t *first;
+    unsigned char *hidden;
+    int nf, shares;
+} lapped__pruning;
+
+/* The first triangle of share k: the lattice points split evenly. */
+static int lapped__prune_bound(const lapped__pruning *w, int k)
+{
+    size_t goal = w->c->off[w->nf] / (size_t)w->shares * (size_t)k;
+    int lo = 0, hi = w->nf;
+    if (k >= w->shares) return w->nf;
+    while (lo < hi) {
+        int mid = lo + (hi - lo) / 2;
+        if (w->c->off[mid] < goal) lo = mid + 1;
+        else hi = mid;
+    }
+    return lo;
+}
+
+static void lapped__prune_share(void *ctx, int share)
+{
+    const lapped__pruning *w = (const lapped__pruning *)ctx;
+    const lapped__cover *c = w->c;
+    int lo = lapped__prune_bound(w, share), hi = lapped__prune_bound(w, share + 1), p, i;
+    for (p = (int)w->P->npastes - 1; p >= 0; p--) {
+        const lapped_paste *q = &w->P->pastes[p];
+        for (i = 0; i < q->nfaces; i++) {
+            int f = q->faces[i], hidden = 1;
+            const float *acc = c->alpha + c->off[f];
+            size_t np = c->off[f + 1] - c->off[f], s;
+            if (f < lo || f >= hi) continue;
+            for (s = 0; s < np && hidden; s++) hidden = acc[s] >= 0.999f;
+            lapped__cover_paint(w->c, f, q->uvs + 6 * i, &w->P->eroded[q->patch]);
+            w->hidden[w->first[p] + (size_t)i] = (unsigned char)hidden;
+        }
+    }
+}
+
+static int lapped__prune(lapped__paster *P, int remove, double *before, double *after, pw_err *e)
 {
     lapped__cover *c = &P->cover;
-    long total = 0, kept = 0;
-    int p, i;
+    lapped__pruning w;
+    size_t *first = (size_t *)pw_alloc_array(P->a, P->npastes + 1, sizeof(size_t), "pruning", e), p;
+    unsigned char *hidden = NULL;
+    long kept = 0;
+    int i, width = pw_parallel_width(&P->par);
+    if (first) {
+        first[0] = 0;
+        for (p = 0; p < P->npastes; p++) first[p + 1] = first[p] + (size_t)P->pastes[p].nfaces;
+        hidden = (unsigned char *)pw_alloc_array(P->a, first[P->npastes] + 1, 1, "pruning", e);
+    }
+    if (!hidden) {
+        pw_free(P->a, first);
+        return PW_ERR_NOMEM;
+    }
     memset(c->alpha, 0, sizeof(float) * c->off[P->m.nf]);
-    for (p = (int)P->npastes - 1; p >= 0; p--) {
+    w.c = c;
+    w.P = P;
+    w.first = first;
+    w.hidden = hidden;
+    w.nf = P->m.nf;
+    w.shares = width > 1 ? 4 * width : 1;
+    pw_parallel_for(&P->par, w.shares, lapped__prune_share, &w);
+    for (p = 0; p < P->npastes; p++) {
         lapped_paste *q = &P->pastes[p];
         int n = 0;
         for (i = 0; i < q->nfaces; i++) {
-            const float *acc = c->alpha + c->off[q->faces[i]];
-            size_t np = c->off[q->faces[i] + 1] - c->off[q->faces[i]], s;
-            int hidden = 1;
-            for (s = 0; s < np && hidden; s++) hidden = acc[s] >= 0.999f;
-            lapped__cover_paint(c, q->faces[i], q->uvs + 6 * i, &P->eroded[q->patch]);
-            kept += !hidden;
-            if (hidden && remove) continue;
+            kept += !hidden[first[p] + (size_t)i];
+            if (hidden[first[p] + (size_t)i] && remove) continue;
             q->faces[n] = q->faces[i];
             memmove(q->uvs + 6 * n, q->uvs + 6 * i, sizeof(float) * 6);
             n++;
         }
-        total += q->nfaces;
         q->nfaces = n;
     }
-    *before = (double)total / P->m.nf;
+    *before = (double)first[P->npastes] / P->m.nf;
     *after = (double)kept / P->m.nf;
+    pw_free(P->a, first);
+    pw_free(P->a, hidden);
     lapped__drop_empty(P);
+    return PW_OK;
 }
 
 /* ---- set-up -------------------------------------------------------------------------- */
@@ -1275,6 +1384,7 @@ static void lapped__paster_free(lapped__paster *P)
     pw_free(P->a, P->fs);
     pw_free(P->a, P->ft);
     pw_free(P->a, P->difficulty);
+    pw_free(P->a, P->full);
     lapped__cover_free(P->a, &P->cover);
     lapped__patchbuf_free(P->a, &P->pb);
     lapped__free_pastes(P->a, P->pastes, P->npastes);
@@ -1367,7 +1477,9 @@ static int lapped__setup(lapped__paster *P, const lapped_mesh *mesh, const lappe
     P->fs = (float *)pw_alloc_array(P->a, (size_t)nf * 3, sizeof(float), "field", e);
     P->ft = (float *)pw_alloc_array(P->a, (size_t)nf * 3, sizeof(float), "field", e);
     P->difficulty = (float *)pw_alloc_array(P->a, (size_t)nf, sizeof(float), "difficulty", e);
-    if (!P->fs || !P->ft || !P->difficulty) return PW_ERR_NOMEM;
+    P->full = (unsigned char *)pw_alloc_array(P->a, (size_t)nf, 1, "coverage", e);
+    if (!P->fs || !P->ft || !P->difficulty || !P->full) return PW_ERR_NOMEM;
+    P->par = pw_parallel_make(P->o.threads, P->o.parallel, P->o.parallel_pool);
     if ((r = lapped__field(P->a, &P->m, &P->o, P->fs, P->ft, e)) != PW_OK ||
         (r = lapped__difficulty(P->a, &P->m, P->o.field == LAPPED_FIELD_ISOTROPIC ? NULL : P->ft, P->difficulty, e)) !=
             PW_OK ||
@@ -1446,7 +1558,11 @@ static int lapped__output(lapped__paster *P, lapped_texture *out, pw_err *e)
     out->npatches = P->npatches;
     out->hard_edges = P->hard_edges;
     out->allocator = lapped__allocator(P->a);
-    lapped__prune(P, !P->o.keep_hidden, &out->layers_before, &out->layers);
+    if (lapped__prune(P, !P->o.keep_hidden, &out->layers_before, &out->layers, e) != PW_OK) {
+        pw_free(P->a, out->patch_size);
+        memset(out, 0, sizeof *out);
+        return PW_ERR_NOMEM;
+    }
     out->npastes = (int)P->npastes;
     out->pastes = P->pastes;
     P->pastes = NULL;
@@ -1469,6 +1585,8 @@ LAPPEDDEF lapped_result lapped_create(const lapped_mesh *mesh, const lapped_sour
     if (out) memset(out, 0, sizeof *out);
     if (!out) pw_fail(&pe, PW_ERR_INVALID, "lapped_create: NULL output");
     else if (!src) pw_fail(&pe, PW_ERR_INVALID, "lapped_create: no source (texture patches)");
+    else if (P.o.threads < 0)
+        pw_fail(&pe, PW_ERR_INVALID, "lapped_create: threads %d (0: one per processor)", P.o.threads);
     else if (lapped__setup(&P, mesh, src->patches, src->npatches, &estimate, &pe) == PW_OK &&
              lapped__run(&P, estimate, &pe) == PW_OK)
         lapped__output(&P, out, &pe);

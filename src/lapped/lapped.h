@@ -32,9 +32,10 @@
  *   PATCHWORK_IMPLEMENTATION turns on every patchwork header included after
  *   it. Build macros: LAPPED_STATIC (all functions static), PW_MALLOC /
  *   PW_REALLOC / PW_FREE (all or none), PW_ASSERT, PW_NO_STDIO, the PW_MAX_*
- *   size limits, as in every patchwork header, and PW_THREADS: rendering on
- *   several threads (POSIX threads; link with -pthread; lapped_render_options.
- *   threads, 0 = one per processor), the same picture for any count.
+ *   size limits, as in every patchwork header, and PW_THREADS: rendering and
+ *   lapped_create's coverage on several threads (POSIX threads; link with
+ *   -pthread; lapped_render_options.threads and lapped_options.threads, 0 =
+ *   one per processor), the same picture and pastes for any count.
  *   PW_NO_RENDER and PW_NO_PNG leave out the renderer (lapped_render fails
  *   with LAPPED_ERR_UNSUPPORTED) and the PNG codec (loading or saving PNG fails
  *   the same way): faster builds for programs that only compute (docs/api.md).
@@ -138,7 +139,8 @@ typedef struct lapped_allocator {
 typedef int (*lapped_progress_fn)(void *user, float done, const char *stage);
 typedef int (*lapped_write_fn)(void *ctx, const void *data, size_t size);
 
-/* Work split across threads (rendering: bands of the frame). A parallel
+/* Work split across threads (rendering: bands of the frame; lapped_create:
+ * the triangles of each paste painted into the coverage). A parallel
  * for, for embedders with their own job system: run task(ctx, i) once for
  * every i in [0, n), on any threads, in any order, and return when all
  * have run. Results never depend on the order or the thread count. */
@@ -256,6 +258,11 @@ typedef struct lapped_options {
     int keep_hidden;              /* 1: keep triangles that later pastes hide (§4 removes
                                   them); each paste is then a whole surface patch */
     unsigned long long seed;      /* default 0 */
+    int threads;                  /* lapped_create's coverage threads, as render.threads: 0
+                                  (default) one per processor with PW_THREADS, else 1; the
+                                  pastes are the same for any number */
+    lapped_parallel_fn parallel;  /* optional: the caller's parallel for, used instead of threads */
+    void *parallel_pool;          /* its first argument */
     lapped_render_options render; /* lapped_render's settings (pass &opt.render) */
     lapped_atlas_options atlas;   /* lapped_bake_atlas's settings */
     lapped_allocator allocator;

@@ -95,6 +95,7 @@ static int lst__check_options(const lst_options *o, pw_err *e)
                        o->mask_radius, o->falloff);
     if (o->samples > 32) return pw_fail(e, PW_ERR_LIMIT, "sample lattice order %d is over 32", o->samples);
     if (o->coverage > 1.0f) return pw_fail(e, PW_ERR_INVALID, "coverage %g is over 1", o->coverage);
+    if (o->threads < 0) return pw_fail(e, PW_ERR_INVALID, "threads %d (0: one per processor)", o->threads);
     if (o->max_angle > 180.0f) return pw_fail(e, PW_ERR_INVALID, "max_angle %g is over 180 degrees", o->max_angle);
     if (o->nconstraints < 0 || (o->nconstraints > 0 && !o->constraints))
         return pw_fail(e, PW_ERR_INVALID, "constraint array and count disagree");

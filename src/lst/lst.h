@@ -56,9 +56,10 @@
  *   PATCHWORK_IMPLEMENTATION turns on every patchwork header included after
  *   it. Build macros: LST_STATIC (all functions static), PW_MALLOC /
  *   PW_REALLOC / PW_FREE (all or none), PW_ASSERT, PW_NO_STDIO, the PW_MAX_*
- *   size limits, as in every patchwork header, and PW_THREADS: rendering on
- *   several threads (POSIX threads; link with -pthread; lst_render_options.
- *   threads, 0 = one per processor), the same picture for any count.
+ *   size limits, as in every patchwork header, and PW_THREADS: rendering and
+ *   lst_create's coverage on several threads (POSIX threads; link with
+ *   -pthread; lst_render_options.threads and lst_options.threads, 0 = one
+ *   per processor), the same picture and pastes for any count.
  *   PW_NO_RENDER and PW_NO_PNG leave out the renderer (lst_render and
  *   lst_render_volume fail with LST_ERR_UNSUPPORTED) and the PNG codec
  *   (loading or saving PNG fails the same way): faster builds for programs that only compute (docs/api.md).
@@ -154,8 +155,8 @@ typedef struct lst_allocator {
 typedef int (*lst_progress_fn)(void *user, float done, const char *stage);
 typedef int (*lst_write_fn)(void *ctx, const void *data, size_t size);
 
-/* Work split across threads (rendering: bands of the frame). A parallel
- * for, for embedders with their own job system: run task(ctx, i) once for
+/* Work split across threads (rendering: bands of the frame; lst_create:
+ * the tetrahedra of each paste's coverage). A parallel for, for embedders with their own job system: run task(ctx, i) once for
  * every i in [0, n), on any threads, in any order, and return when all
  * have run. Results never depend on the order or the thread count. */
 typedef void (*lst_task_fn)(void *ctx, int index);
@@ -364,6 +365,11 @@ typedef struct lst_options {
                                  paste's opaque core covers entirely (default: drop them) */
     int max_pastes;            /* refuse inputs needing more; default 200000 */
     unsigned long long seed;   /* default 0 */
+    int threads;               /* lst_create's coverage threads, as render.threads: 0 (default)
+                                 one per processor with PW_THREADS, else 1; the pastes are
+                                 the same for any number */
+    lst_parallel_fn parallel;  /* optional: the caller's parallel for, used instead of threads */
+    void *parallel_pool;       /* its first argument */
     lst_render_options render; /* lst_render's settings (callers pass &opt.render) */
     lst_tet_options tet;       /* lst_tetrahedralize's */
     lst_volume_options volume; /* lst_render_volume's (callers pass &opt.volume) */

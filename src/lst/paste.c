@@ -40,6 +40,8 @@ typedef struct lst__fill {
     int *uncov, *upos, nuncov;             /* the uncovered list and each tetrahedron's place in it (-1: covered) */
     int *opaque;                           /* nt: the latest paste whose opaque core holds the whole tetrahedron */
     unsigned char *seeded;                 /* nt: 1 once the tetrahedron has been a seed */
+    unsigned char *full;                   /* nt: per clump tetrahedron, covered now (lst__coverage) */
+    pw_parallel par;                       /* the coverage's threads */
     int threshold;                         /* opacity, 0..255, that counts as covered */
     int *tstamp, *tstate;                  /* nt: paste id of the last visit; 1 in the clump, 2 refused */
     int *vstamp, *vlocal;                  /* nv: paste id; local index of the vertex in the clump */
@@ -507,19 +509,34 @@ static void lst__uncover_remove(lst__fill *F, int t)
  * of the clump's uncovered tetrahedra; a tetrahedron whose points all
  * reach the threshold leaves the uncovered list. A tetrahedron inside the
  * paste's opaque core is marked, so that earlier pastes there can be
- * dropped as hidden. Points already opaque are not sampled again. */
-static void lst__coverage(lst__fill *F, const lst__spec *s, int id)
+ * dropped as hidden. Points already opaque are not sampled again.
+ *
+ * On threads the clump goes in shares: a clump holds each tetrahedron
+ * once, and each one's samples and mark are its own. full[i] says whether
+ * clump tetrahedron i is now covered; the uncovered list changes after, in
+ * the clump's order, so the fill is the same for any number of threads. */
+typedef struct lst__covering {
+    lst__fill *F;
+    const lst__mask *m;
+    int id, shares;
+} lst__covering;
+
+static void lst__coverage_share(void *ctx, int share)
 {
-    const lst__mask *m = &F->mask[s->mask];
-    int i, k, q;
-    for (i = 0; i < F->nct; i++) {
+    const lst__covering *w = (const lst__covering *)ctx;
+    lst__fill *F = w->F;
+    const lst__mask *m = w->m;
+    int i = (int)((long long)F->nct * share / w->shares), end = (int)((long long)F->nct * (share + 1) / w->shares), k,
+        q;
+    for (; i < end; i++) {
         int t = F->ctet[i], all = 1, ov;
         unsigned char *cv = F->cov + (size_t)t * F->nsamp;
         double c[4][3];
         float vc[4][3];
+        F->full[i] = 0;
         for (k = 0; k < 4; k++) memcpy(c[k], F->w + 3 * F->ccorner[4 * i + k], sizeof c[k]);
         ov = F->upos[t] < 0 ? lst__overlap_fields(m, c) : lst__overlap(F, m, c); /* covered: only the core counts */
-        if (ov == LST__CORE) F->opaque[t] = id;
+        if (ov == LST__CORE) F->opaque[t] = w->id;
         if (F->upos[t] < 0 || ov == LST__OUT) continue;
         for (k = 0; k < 4; k++) lst__to_voxel(&m->vol, c[k][0], c[k][1], c[k][2], vc[k]);
         for (q = 0; q < F->nsamp; q++) {
@@ -535,8 +552,27 @@ static void lst__coverage(lst__fill *F, const lst__spec *s, int id)
             cv[q] = (unsigned char)(cv[q] + (int)(al * (255 - cv[q]) + 0.5f));
             all &= cv[q] >= F->threshold;
         }
-        if (all) lst__uncover_remove(F, t);
+        F->full[i] = (unsigned char)all;
     }
+}
+
+/* Samples below which a clump is covered on the calling thread alone
+ * (handing work to threads costs about as much as this many). */
+#define LST__COVER_SERIAL 16384
+
+static void lst__coverage(lst__fill *F, const lst__spec *s, int id)
+{
+    lst__covering w;
+    int i, width = pw_parallel_width(&F->par);
+    w.F = F;
+    w.m = &F->mask[s->mask];
+    w.id = id;
+    w.shares =
+        width < 2 || (long long)F->nct * F->nsamp < LST__COVER_SERIAL ? 1 : (F->nct < 4 * width ? F->nct : 4 * width);
+    if (w.shares <= 1) lst__coverage_share(&w, 0);
+    else pw_parallel_for(&F->par, w.shares, lst__coverage_share, &w);
+    for (i = 0; i < F->nct; i++)
+        if (F->full[i]) lst__uncover_remove(F, F->ctet[i]);
 }
 
 /* Keeps the clump as paste `id`: tetrahedra, corners, vertices and their
@@ -633,6 +669,7 @@ static void lst__fill_free(lst__fill *F)
     pw_free(a, F->upos);
     pw_free(a, F->opaque);
     pw_free(a, F->seeded);
+    pw_free(a, F->full);
     pw_free(a, F->tstamp);
     pw_free(a, F->tstate);
     pw_free(a, F->vstamp);
@@ -674,7 +711,9 @@ static int lst__fill_init(lst__fill *F, const pw_volume *masks, int nmasks, int 
     F->uncov = (int *)pw_alloc_array(a, (size_t)nt, sizeof(int), "uncovered list", e);
     F->upos = (int *)pw_alloc_array(a, (size_t)nt, sizeof(int), "uncovered list", e);
     F->seeded = (unsigned char *)pw_calloc_array(a, (size_t)nt, 1, "uncovered list", e);
-    if (!F->cov || !F->uncov || !F->upos || !F->seeded) return PW_ERR_NOMEM;
+    F->full = (unsigned char *)pw_alloc_array(a, (size_t)nt, 1, "uncovered list", e);
+    if (!F->cov || !F->uncov || !F->upos || !F->seeded || !F->full) return PW_ERR_NOMEM;
+    F->par = pw_parallel_make(o->threads, o->parallel, o->parallel_pool);
     for (k = 0; k < nt; k++) F->uncov[k] = F->upos[k] = k;
     F->nuncov = nt;
     return PW_OK;

@@ -1,0 +1,194 @@
+/* bench_threads: the work issue 21 spreads on threads that the other
+ * benchmarks time on one, each on 1 and on 2 threads (wall time, rounds
+ * interleaved after a warm-up, bench_threads_row), the results compared
+ * bit for bit:
+ *   1. lapped_create on the bunny (75K triangles, data/meshes/bunny00.off;
+ *      the built-in "bumpy" without data), the built-in "scales" patch at
+ *      256 px, defaults: the coverage (each paste painted in shares of its
+ *      triangles, the pruning in shares of the mesh) runs on threads, the
+ *      growth and the solves on one.
+ *   2. lst_create of the built-in kiwi (type 2-b, painted depth, 64^3) in
+ *      a uniform lattice of about 5K tetrahedra (bench_lst's): the coverage
+ *      of each clump runs on threads.
+ *   3. lst_render_volume of that kiwi, 200 slices at 640x480 (the frame's
+ *      bands on threads).
+ * Built with PW_THREADS (POSIX threads). The whole create is timed, so its
+ * speed-up is bounded by the parts still on one thread (docs/performance.md
+ * gives the coverage's own). */
+#include "bench.h"
+#define PW_THREADS
+#define PATCHWORK_IMPLEMENTATION
+#include "../lapped.h"
+#include "../lst.h"
+
+/* ---- lapped_create ---- */
+
+typedef struct lapped_job {
+    const lapped_mesh *mesh;
+    lapped_source src;
+    lapped_options opt;
+    lapped_texture t; /* the last result, kept for the comparison */
+} lapped_job;
+
+static void lapped_run(void *arg)
+{
+    lapped_job *j = (lapped_job *)arg;
+    lapped_error err;
+    lapped_texture_free(&j->t);
+    if (lapped_create(j->mesh, &j->src, &j->opt, &j->t, &err)) printf("lapped_create failed: %s\n", err.message);
+}
+
+static int lapped_same(void *a, void *b)
+{
+    const lapped_texture *x = &((lapped_job *)a)->t, *y = &((lapped_job *)b)->t;
+    int p;
+    if (!x->pastes || x->npastes != y->npastes || x->layers != y->layers) return 0;
+    for (p = 0; p < x->npastes; p++)
+        if (x->pastes[p].nfaces != y->pastes[p].nfaces ||
+            memcmp(x->pastes[p].faces, y->pastes[p].faces, sizeof(int) * (size_t)x->pastes[p].nfaces) ||
+            memcmp(x->pastes[p].uvs, y->pastes[p].uvs, sizeof(float) * 6 * (size_t)x->pastes[p].nfaces))
+            return 0;
+    return 1;
+}
+
+static void lapped_threads(void)
+{
+    lapped_options opt = lapped_default_options();
+    lapped_mesh mesh;
+    lapped_image ex, patch;
+    lapped_error err;
+    lapped_job j[2];
+    char task[160];
+    int k, builtin = 0;
+    if (lapped_load_mesh("data/meshes/bunny00.off", &opt, &mesh, &err)) {
+        builtin = 1;
+        if (lapped_builtin_mesh("bumpy", &opt, &mesh, &err)) {
+            printf("no mesh: %s\n", err.message);
+            return;
+        }
+    }
+    if (lapped_builtin_exemplar("scales", 256, &opt, &ex, &err) || lapped_make_patch(&ex, NULL, &opt, &patch, &err)) {
+        printf("no patch: %s\n", err.message);
+        return;
+    }
+    for (k = 0; k < 2; k++) {
+        memset(&j[k], 0, sizeof j[k]);
+        j[k].mesh = &mesh;
+        j[k].src.patches = &patch;
+        j[k].src.npatches = 1;
+        j[k].opt = opt;
+        j[k].opt.threads = k + 1;
+    }
+    snprintf(task, sizeof task, "lapped_create on 2 threads (coverage), %s (%d triangles), scales 256 px",
+             builtin ? "built-in bumpy" : "bunny00", mesh.nfaces);
+    bench_threads_row(task, lapped_run, &j[0], &j[1], 5, lapped_same);
+    printf("  %d pastes\n", j[0].t.npastes);
+    for (k = 0; k < 2; k++) lapped_texture_free(&j[k].t);
+    lapped_image_free(&patch);
+    lapped_image_free(&ex);
+    lapped_mesh_free(&mesh);
+}
+
+/* ---- lst_create and lst_render_volume ---- */
+
+typedef struct lst_job {
+    const lst_tetmesh *tets;
+    const lst_mesh *surface;
+    lst_source src;
+    lst_options opt;
+    lst_model model; /* the last fill, kept */
+    lst_image img;   /* the last volume rendering, kept */
+    const lst_model *show;
+} lst_job;
+
+static void lst_run(void *arg)
+{
+    lst_job *j = (lst_job *)arg;
+    lst_error err;
+    lst_model_free(&j->model);
+    if (lst_create(j->tets, j->surface, &j->src, &j->opt, &j->model, &err))
+        printf("lst_create failed: %s\n", err.message);
+}
+
+static int lst_same(void *a, void *b)
+{
+    const lst_model *x = &((lst_job *)a)->model, *y = &((lst_job *)b)->model;
+    int p;
+    if (!x->pastes || x->npastes != y->npastes || x->layers != y->layers) return 0;
+    for (p = 0; p < x->npastes; p++)
+        if (x->pastes[p].ntets != y->pastes[p].ntets || x->pastes[p].nverts != y->pastes[p].nverts ||
+            memcmp(x->pastes[p].tets, y->pastes[p].tets, sizeof(int) * (size_t)x->pastes[p].ntets) ||
+            memcmp(x->pastes[p].uvw, y->pastes[p].uvw, sizeof(float) * 3 * (size_t)x->pastes[p].nverts))
+            return 0;
+    return 1;
+}
+
+static void volume_run(void *arg)
+{
+    lst_job *j = (lst_job *)arg;
+    lst_error err;
+    lst_image_free(&j->img);
+    if (lst_render_volume(j->show, &j->opt.render, &j->opt.volume, &j->img, &err))
+        printf("lst_render_volume failed: %s\n", err.message);
+}
+
+static int volume_same(void *a, void *b)
+{
+    const lst_image *x = &((lst_job *)a)->img, *y = &((lst_job *)b)->img;
+    return x->pixels && y->pixels && x->width == y->width && x->height == y->height &&
+           !memcmp(x->pixels, y->pixels, sizeof(float) * (size_t)x->width * (size_t)x->height * (size_t)x->channels);
+}
+
+static void lst_threads(void)
+{
+    lst_options o = lst_default_options();
+    lst_mesh s;
+    lst_tetmesh m;
+    lst_volume ex, val;
+    lst_constraints c;
+    lst_error err;
+    lst_job j[2];
+    char task[160];
+    int k;
+    o.tet.target_tets = 5000, o.tet.uniform = 1; /* bench_lst's kiwi */
+    if (lst_builtin_mesh("kiwi", &o, &s, &err) || lst_tetrahedralize(&s, &o, &m, NULL, &err)) {
+        printf("no kiwi: %s\n", err.message);
+        return;
+    }
+    o.type = LST_TYPE_2B;
+    if (lst_builtin_constraints("kiwi", &s, &o, &c, &err) || lst_builtin_exemplar("kiwi", 64, &o, &ex, &val, &err)) {
+        printf("no kiwi: %s\n", err.message);
+        return;
+    }
+    o.constraints = c.items, o.nconstraints = c.count;
+    o.render.width = 640, o.render.height = 480, o.render.supersample = 1;
+    o.volume.slices = 200;
+    for (k = 0; k < 2; k++) {
+        memset(&j[k], 0, sizeof j[k]);
+        j[k].tets = &m;
+        j[k].surface = &s;
+        j[k].src.exemplar = &ex;
+        j[k].src.values = &val;
+        j[k].opt = o;
+        j[k].opt.threads = j[k].opt.render.threads = k + 1;
+    }
+    snprintf(task, sizeof task, "lst_create on 2 threads (coverage), kiwi 2-b, %d tetrahedra", m.ntets);
+    bench_threads_row(task, lst_run, &j[0], &j[1], 5, lst_same);
+    printf("  %d pastes\n", j[0].model.npastes);
+    for (k = 0; k < 2; k++) j[k].show = &j[0].model;
+    snprintf(task, sizeof task, "lst_render_volume on 2 threads, 200 slices, 640x480, kiwi %d tetrahedra", m.ntets);
+    bench_threads_row(task, volume_run, &j[0], &j[1], 3, volume_same);
+    for (k = 0; k < 2; k++) {
+        lst_model_free(&j[k].model);
+        lst_image_free(&j[k].img);
+    }
+    lst_constraints_free(&c);
+    lst_volume_free(&ex), lst_volume_free(&val), lst_tetmesh_free(&m), lst_mesh_free(&s);
+}
+
+int main(void)
+{
+    lapped_threads();
+    lst_threads();
+    return 0;
+}
