@@ -3,41 +3,41 @@
  *
  * CONTENTS (line: source, what it holds)
  *     42: src/tiled/tiled.h, the public API and its documentation
- *    489: src/common/base.h, allocation hooks, result codes, error messages, limits, he
- *    801: src/common/vec.h, small vector math on float[3] arrays and a 3-float struct.
- *    915: src/common/rng.h, seeded random numbers with the same output on every platfo
- *    992: src/common/noise.h, value noise and its fractal sum, for the built-in procedur
- *   1094: src/common/image.h, float images and their file formats.
- *   1799: src/common/deflate.h, zlib (RFC 1950) and deflate (RFC 1951) compression and
- *   2798: src/common/png.h, PNG writer and reader, and the image front end.
- *   3357: src/common/text.h, locale-independent number parsing and formatting, a line s
- *   3770: src/common/mesh.h, polygon meshes as flat arrays, and their file formats.
- *   5299: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
- *   5828: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
- *   6252: src/common/subdiv.h, Catmull-Clark subdivision (Catmull and Clark 1978) with
- *   6391: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
- *   7777: src/common/zsparse.h, complex Hermitian sparse systems, solved by conjugate grad
- *   8060: src/common/zamg.h, a smoothed-aggregation multigrid preconditioner for the co
- *   8703: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
- *   8890: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
- *   8975: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
- *   9739: src/common/periodic.h, the periodic global parameterization of a triangle mesh al
- *  10567: src/common/raster.h, exact scan conversion of 2D triangles.
- *  11081: src/common/parallel.h, a parallel for, the one way work is split across threads.
- *  11209: src/common/render.h, a small deterministic software renderer for textured trian
- *  13061: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
- *  13558: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
- *  14044: src/common/glue.h, what every method header needs between its public types an
- *  14380: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  15044: src/tiled/core.c, tiled.h's glue to the shared core, its defaults, result
- *  15133: src/tiled/layout.c, ch. III.1, the boundary types and the tiled texture they
- *  15405: src/tiled/cells.c, beyond the thesis (issue 23): tiles of a chosen size on an
- *  16244: src/tiled/map.c, ch. III.2, the texture mapping algorithm of Fig. 29
- *  16513: src/tiled/synth.c, ch. III.1.3, tiled texture image synthesis: an edge-matche
- *  16959: src/tiled/validate.c, checks a hand-made tiled texture (the thesis's Figs. 39,
- *  17087: src/tiled/builtin.c, built-in meshes and exemplars for demos and tests: the
- *  17284: src/tiled/render.c, a software rendering of a mapped mesh (the thesis rendered
- *  17507: src/tiled/io.c, files. Meshes and exemplars in; the mapped mesh with its t
+ *    490: src/common/base.h, allocation hooks, result codes, error messages, limits, he
+ *    802: src/common/vec.h, small vector math on float[3] arrays and a 3-float struct.
+ *    916: src/common/rng.h, seeded random numbers with the same output on every platfo
+ *    993: src/common/noise.h, value noise and its fractal sum, for the built-in procedur
+ *   1095: src/common/image.h, float images and their file formats.
+ *   1800: src/common/deflate.h, zlib (RFC 1950) and deflate (RFC 1951) compression and
+ *   2799: src/common/png.h, PNG writer and reader, and the image front end.
+ *   3358: src/common/text.h, locale-independent number parsing and formatting, a line s
+ *   3771: src/common/mesh.h, polygon meshes as flat arrays, and their file formats.
+ *   5300: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
+ *   5829: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
+ *   6253: src/common/subdiv.h, Catmull-Clark subdivision (Catmull and Clark 1978) with
+ *   6392: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
+ *   7778: src/common/zsparse.h, complex Hermitian sparse systems, solved by conjugate grad
+ *   8061: src/common/zamg.h, a smoothed-aggregation multigrid preconditioner for the co
+ *   8704: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
+ *   8891: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
+ *   8976: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
+ *   9740: src/common/periodic.h, the periodic global parameterization of a triangle mesh al
+ *  10568: src/common/raster.h, exact scan conversion of 2D triangles.
+ *  11082: src/common/parallel.h, a parallel for, the one way work is split across threads.
+ *  11210: src/common/render.h, a small deterministic software renderer for textured trian
+ *  13062: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
+ *  13559: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
+ *  14045: src/common/glue.h, what every method header needs between its public types an
+ *  14381: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  15045: src/tiled/core.c, tiled.h's glue to the shared core, its defaults, result
+ *  15134: src/tiled/layout.c, ch. III.1, the boundary types and the tiled texture they
+ *  15406: src/tiled/cells.c, beyond the thesis (issue 23): tiles of a chosen size on an
+ *  16254: src/tiled/map.c, ch. III.2, the texture mapping algorithm of Fig. 29
+ *  16523: src/tiled/synth.c, ch. III.1.3, tiled texture image synthesis: an edge-matche
+ *  16969: src/tiled/validate.c, checks a hand-made tiled texture (the thesis's Figs. 39,
+ *  17097: src/tiled/builtin.c, built-in meshes and exemplars for demos and tests: the
+ *  17294: src/tiled/render.c, a software rendering of a mapped mesh (the thesis rendered
+ *  17517: src/tiled/io.c, files. Meshes and exemplars in; the mapped mesh with its t
  */
 /* tiled.h - seamless, singularity-free tiled textures on quad meshes.
  *
@@ -319,7 +319,8 @@ typedef struct tiled_options {
     int no_mirror;               /* case 1: do not mirror tiles (rotation only) */
     int fixed_start;             /* 1: always start the tile walk at a face's first
                                 corner instead of a random one (thesis's
-                                "further randomness" off); default 0 */
+                                "further randomness" off; with scale: no
+                                random half turn per cell); default 0 */
     int threads;                 /* tile synthesis threads, as render.threads: 0 (default)
                                 one per processor with PW_THREADS, else 1; the tile set
                                 is the same for any number */
@@ -15492,7 +15493,7 @@ typedef struct tiled__grid {
     tiled__adj *adj; /* shared sides, sorted; a side met twice is listed twice */
     size_t nadj, adjcap;
     int *types; /* 4 per cell: the types of its sides (0 bottom, 1 right, 2 top, 3 left) */
-    int *tile;  /* per cell: its tile; then per cell: 1 if special */
+    int *tile;  /* per cell: its tile; then per cell: 1 if special; then its quarter turns */
     tiled_grid_stats st;
 } tiled__grid;
 
@@ -16132,17 +16133,22 @@ static int tiled__side_stats(tiled__grid *C, int case1, const int *types, const 
     return PW_OK;
 }
 
-/* The tile of every cell: the one its four side types name (Fig. 23:
- * column e0*2n+e1, row e2*2n+e3); case 1 draws one. */
-static void tiled__cell_tiles(const tiled__grid *C, const tiled__geom *gm, int case1, uint64_t seed, const int *types,
-                              int *tile)
+/* The tile of every cell: the one its four side types name, read from
+ * side rot on (Fig. 23: column e0*2n+e1, row e2*2n+e3); case 1 draws one.
+ * rot (tile + 2 ncls): the cell's tile turns by rot quarter turns, 0 or 2
+ * at random unless fixed_start: the thesis's "further randomness" (a
+ * random starting side), by half turns only so that the tile's axes stay
+ * along the field. */
+static void tiled__cell_tiles(const tiled__grid *C, const tiled__geom *gm, int case1, const tiled_options *o,
+                              const int *types, int *tile)
 {
-    pw_rng r = pw_rng_seed(seed, 2);
-    int c;
+    pw_rng r = pw_rng_seed(o->seed, 2), q = pw_rng_seed(o->seed, 3);
+    int c, k, *rot = tile + 2 * C->ncls;
     for (c = 0; c < C->ncls; c++) {
         const int *t = types + 4 * c;
+        k = rot[c] = o->fixed_start ? 0 : 2 * (int)(pw_rng_u32(&q) >> 31);
         if (case1) tile[c] = (int)(((uint64_t)pw_rng_u32(&r) * (uint32_t)(gm->N * gm->N)) >> 32);
-        else tile[c] = (t[2] * gm->n + t[3]) * gm->N + t[0] * gm->n + t[1];
+        else tile[c] = (t[(k + 2) & 3] * gm->n + t[(k + 3) & 3]) * gm->N + t[k] * gm->n + t[(k + 1) & 3];
     }
 }
 
@@ -16187,6 +16193,10 @@ static int tiled__emit(tiled__grid *C, const tiled__geom *gm, const int *types, 
             x[1] = v->t - q->cj;
             if (q->ck >= 0) /* a band of a cut cell: its tile spans the band */
                 x[q->ck] = ((q->ck ? v->t : v->s) - q->lo) / (q->hi - q->lo);
+            if (tile[2 * C->ncls + c]) { /* a half turn */
+                x[0] = 1.0 - x[0];
+                x[1] = 1.0 - x[1];
+            }
             memcpy(out->positions + 3 * i, v->p, sizeof v->p);
             out->face_verts[i] = i;
             out->uvs[2 * i] = (float)(u0 + x[0] * du);
@@ -16217,10 +16227,10 @@ static int tiled__grid_build(tiled__grid *C, const tiled_mesh *in, const tiled_l
     if ((r = tiled__cut_cells(C, e)) != PW_OK || (r = tiled__grid_sides(C, e)) != PW_OK) return r;
     qsort(C->adj, C->nadj, sizeof *C->adj, tiled__adj_cmp);
     C->types = (int *)pw_alloc_array(&C->a, (size_t)C->ncls * 4 + 1, sizeof(int), "types", e);
-    C->tile = (int *)pw_calloc_array(&C->a, (size_t)C->ncls * 2 + 1, sizeof(int), "tiles", e);
+    C->tile = (int *)pw_calloc_array(&C->a, (size_t)C->ncls * 3 + 1, sizeof(int), "tiles", e);
     if (!C->types || !C->tile) return PW_ERR_NOMEM;
     if ((r = tiled__side_types(C, l, o->seed, C->types, e)) != PW_OK) return r;
-    tiled__cell_tiles(C, &gm, l->case_number == 1, o->seed, C->types, C->tile);
+    tiled__cell_tiles(C, &gm, l->case_number == 1, o, C->types, C->tile);
     return tiled__side_stats(C, l->case_number == 1, C->types, C->tile, C->tile + C->ncls, e);
 }
 

@@ -969,7 +969,10 @@ static double grid_seam(const tiled_tileset *ts, const tiled__grid *C, double *w
     *bad = 0;
     for (k = 0; k < (int)C->nadj; k++) {
         const tiled__adj *q = C->adj + k;
-        int sa = q->side, sb = (q->side + 2) % 4, ta[4], tb[4], i, j, i2, j2;
+        /* the tiles' sides there: a cell turned by rot quarter turns shows
+           its tile's side (side - rot) mod 4 */
+        int sa = (q->side - C->tile[2 * C->ncls + q->a] + 4) % 4, sb = (q->side + 2 - C->tile[2 * C->ncls + q->b] + 4) % 4;
+        int ta[4], tb[4], i, j, i2, j2;
         double edge = 0.0;
         if (k && q[-1].a == q->a && q[-1].side == q->side && q[-1].b == q->b) continue;
         tiled__tile_types(&gm, case1, C->tile[q->a], ta);
@@ -1136,19 +1139,21 @@ static void t_grid_real_elephant(void) { grid_real("meshes/elephant.off", 0.06f,
 static void t_grid_real_armadillo(void) { grid_real("meshes/armadillo.off", 0.026f, 0.12); }
 static void t_grid_real_bunny(void) { grid_real("meshes/bunny00.off", 0.05f, 0.13); }
 
-/* Same inputs, same mesh; another seed, other tiles on the same cells. */
+/* Same inputs, same mesh; another seed, other tiles on the same cells;
+ * fixed_start: the same cells without half turns. */
 static void t_grid_determinism(void)
 {
     tiled_options o = opts(2, 1);
     tiled_tileset ts = layout_only(2, 1, 8);
-    tiled_mesh mesh, q[3];
+    tiled_mesh mesh, q[4];
     tiled_error err;
-    int k, same01, same02;
+    int k, same01, same02, same03;
     REQUIRE(tiled_builtin_mesh("double-torus", &o, &mesh, &err) == TILED_OK);
     o.scale = 1.2f;
     o.subdivide = 2;
-    for (k = 0; k < 3; k++) {
+    for (k = 0; k < 4; k++) { /* q[3]: no half turns (fixed_start) */
         o.seed = k == 2 ? 5 : 4;
+        o.fixed_start = k == 3;
         REQUIRE(tiled_map(&mesh, &ts.layout, &o, &q[k], &err) == TILED_OK);
     }
     same01 = q[0].nfaces == q[1].nfaces && q[0].nverts == q[1].nverts &&
@@ -1156,9 +1161,11 @@ static void t_grid_determinism(void)
              !memcmp(q[0].uvs, q[1].uvs, sizeof(float) * 2 * q[0].nverts) &&
              !memcmp(q[0].face_tiles, q[1].face_tiles, sizeof(int) * q[0].nfaces);
     same02 = q[0].nfaces == q[2].nfaces && !memcmp(q[0].face_tiles, q[2].face_tiles, sizeof(int) * q[0].nfaces);
+    same03 = q[0].nfaces == q[3].nfaces && !memcmp(q[0].uvs, q[3].uvs, sizeof(float) * 2 * q[0].nverts);
     CHECK(same01);
     CHECK(!same02);
-    for (k = 0; k < 3; k++) tiled_mesh_free(&q[k]);
+    CHECK(q[0].nfaces == q[3].nfaces && !same03);
+    for (k = 0; k < 4; k++) tiled_mesh_free(&q[k]);
     tiled_mesh_free(&mesh);
 }
 

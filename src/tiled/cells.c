@@ -88,7 +88,7 @@ typedef struct tiled__grid {
     tiled__adj *adj; /* shared sides, sorted; a side met twice is listed twice */
     size_t nadj, adjcap;
     int *types; /* 4 per cell: the types of its sides (0 bottom, 1 right, 2 top, 3 left) */
-    int *tile;  /* per cell: its tile; then per cell: 1 if special */
+    int *tile;  /* per cell: its tile; then per cell: 1 if special; then its quarter turns */
     tiled_grid_stats st;
 } tiled__grid;
 
@@ -728,17 +728,22 @@ static int tiled__side_stats(tiled__grid *C, int case1, const int *types, const 
     return PW_OK;
 }
 
-/* The tile of every cell: the one its four side types name (Fig. 23:
- * column e0*2n+e1, row e2*2n+e3); case 1 draws one. */
-static void tiled__cell_tiles(const tiled__grid *C, const tiled__geom *gm, int case1, uint64_t seed, const int *types,
-                              int *tile)
+/* The tile of every cell: the one its four side types name, read from
+ * side rot on (Fig. 23: column e0*2n+e1, row e2*2n+e3); case 1 draws one.
+ * rot (tile + 2 ncls): the cell's tile turns by rot quarter turns, 0 or 2
+ * at random unless fixed_start: the thesis's "further randomness" (a
+ * random starting side), by half turns only so that the tile's axes stay
+ * along the field. */
+static void tiled__cell_tiles(const tiled__grid *C, const tiled__geom *gm, int case1, const tiled_options *o,
+                              const int *types, int *tile)
 {
-    pw_rng r = pw_rng_seed(seed, 2);
-    int c;
+    pw_rng r = pw_rng_seed(o->seed, 2), q = pw_rng_seed(o->seed, 3);
+    int c, k, *rot = tile + 2 * C->ncls;
     for (c = 0; c < C->ncls; c++) {
         const int *t = types + 4 * c;
+        k = rot[c] = o->fixed_start ? 0 : 2 * (int)(pw_rng_u32(&q) >> 31);
         if (case1) tile[c] = (int)(((uint64_t)pw_rng_u32(&r) * (uint32_t)(gm->N * gm->N)) >> 32);
-        else tile[c] = (t[2] * gm->n + t[3]) * gm->N + t[0] * gm->n + t[1];
+        else tile[c] = (t[(k + 2) & 3] * gm->n + t[(k + 3) & 3]) * gm->N + t[k] * gm->n + t[(k + 1) & 3];
     }
 }
 
@@ -783,6 +788,10 @@ static int tiled__emit(tiled__grid *C, const tiled__geom *gm, const int *types, 
             x[1] = v->t - q->cj;
             if (q->ck >= 0) /* a band of a cut cell: its tile spans the band */
                 x[q->ck] = ((q->ck ? v->t : v->s) - q->lo) / (q->hi - q->lo);
+            if (tile[2 * C->ncls + c]) { /* a half turn */
+                x[0] = 1.0 - x[0];
+                x[1] = 1.0 - x[1];
+            }
             memcpy(out->positions + 3 * i, v->p, sizeof v->p);
             out->face_verts[i] = i;
             out->uvs[2 * i] = (float)(u0 + x[0] * du);
@@ -813,10 +822,10 @@ static int tiled__grid_build(tiled__grid *C, const tiled_mesh *in, const tiled_l
     if ((r = tiled__cut_cells(C, e)) != PW_OK || (r = tiled__grid_sides(C, e)) != PW_OK) return r;
     qsort(C->adj, C->nadj, sizeof *C->adj, tiled__adj_cmp);
     C->types = (int *)pw_alloc_array(&C->a, (size_t)C->ncls * 4 + 1, sizeof(int), "types", e);
-    C->tile = (int *)pw_calloc_array(&C->a, (size_t)C->ncls * 2 + 1, sizeof(int), "tiles", e);
+    C->tile = (int *)pw_calloc_array(&C->a, (size_t)C->ncls * 3 + 1, sizeof(int), "tiles", e);
     if (!C->types || !C->tile) return PW_ERR_NOMEM;
     if ((r = tiled__side_types(C, l, o->seed, C->types, e)) != PW_OK) return r;
-    tiled__cell_tiles(C, &gm, l->case_number == 1, o->seed, C->types, C->tile);
+    tiled__cell_tiles(C, &gm, l->case_number == 1, o, C->types, C->tile);
     return tiled__side_stats(C, l->case_number == 1, C->types, C->tile, C->tile + C->ncls, e);
 }
 

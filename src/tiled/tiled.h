@@ -278,7 +278,8 @@ typedef struct tiled_options {
     int no_mirror;               /* case 1: do not mirror tiles (rotation only) */
     int fixed_start;             /* 1: always start the tile walk at a face's first
                                 corner instead of a random one (thesis's
-                                "further randomness" off); default 0 */
+                                "further randomness" off; with scale: no
+                                random half turn per cell); default 0 */
     int threads;                 /* tile synthesis threads, as render.threads: 0 (default)
                                 one per processor with PW_THREADS, else 1; the tile set
                                 is the same for any number */
