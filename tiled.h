@@ -3,41 +3,41 @@
  *
  * CONTENTS (line: source, what it holds)
  *     42: src/tiled/tiled.h, the public API and its documentation
- *    487: src/common/base.h, allocation hooks, result codes, error messages, limits, he
- *    799: src/common/vec.h, small vector math on float[3] arrays and a 3-float struct.
- *    913: src/common/rng.h, seeded random numbers with the same output on every platfo
- *    990: src/common/noise.h, value noise and its fractal sum, for the built-in procedur
- *   1092: src/common/image.h, float images and their file formats.
- *   1797: src/common/deflate.h, zlib (RFC 1950) and deflate (RFC 1951) compression and
- *   2796: src/common/png.h, PNG writer and reader, and the image front end.
- *   3355: src/common/text.h, locale-independent number parsing and formatting, a line s
- *   3768: src/common/mesh.h, polygon meshes as flat arrays, and their file formats.
- *   5297: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
- *   5826: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
- *   6250: src/common/subdiv.h, Catmull-Clark subdivision (Catmull and Clark 1978) with
- *   6389: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
- *   7926: src/common/zsparse.h, complex Hermitian sparse systems, solved by conjugate grad
- *   8209: src/common/zamg.h, a smoothed-aggregation multigrid preconditioner for the co
- *   8852: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
- *   9039: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
- *   9124: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
- *   9888: src/common/periodic.h, the periodic global parameterization of a triangle mesh al
- *  10716: src/common/raster.h, exact scan conversion of 2D triangles.
- *  11230: src/common/parallel.h, a parallel for, the one way work is split across threads.
- *  11403: src/common/render.h, a small deterministic software renderer for textured trian
- *  13302: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
- *  13799: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
- *  14285: src/common/glue.h, what every method header needs between its public types an
- *  14621: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  15285: src/tiled/core.c, tiled.h's glue to the shared core, its defaults, result
- *  15374: src/tiled/layout.c, ch. III.1, the boundary types and the tiled texture they
- *  15646: src/tiled/cells.c, beyond the thesis (issue 23): tiles of a chosen size on an
- *  16302: src/tiled/map.c, ch. III.2, the texture mapping algorithm of Fig. 29
- *  16571: src/tiled/synth.c, ch. III.1.3, tiled texture image synthesis: an edge-matche
- *  17017: src/tiled/validate.c, checks a hand-made tiled texture (the thesis's Figs. 39,
- *  17145: src/tiled/builtin.c, built-in meshes and exemplars for demos and tests: the
- *  17342: src/tiled/render.c, a software rendering of a mapped mesh (the thesis rendered
- *  17565: src/tiled/io.c, files. Meshes and exemplars in; the mapped mesh with its t
+ *    490: src/common/base.h, allocation hooks, result codes, error messages, limits, he
+ *    802: src/common/vec.h, small vector math on float[3] arrays and a 3-float struct.
+ *    916: src/common/rng.h, seeded random numbers with the same output on every platfo
+ *    993: src/common/noise.h, value noise and its fractal sum, for the built-in procedur
+ *   1095: src/common/image.h, float images and their file formats.
+ *   1800: src/common/deflate.h, zlib (RFC 1950) and deflate (RFC 1951) compression and
+ *   2799: src/common/png.h, PNG writer and reader, and the image front end.
+ *   3358: src/common/text.h, locale-independent number parsing and formatting, a line s
+ *   3771: src/common/mesh.h, polygon meshes as flat arrays, and their file formats.
+ *   5300: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
+ *   5829: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
+ *   6253: src/common/subdiv.h, Catmull-Clark subdivision (Catmull and Clark 1978) with
+ *   6392: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
+ *   7929: src/common/zsparse.h, complex Hermitian sparse systems, solved by conjugate grad
+ *   8212: src/common/zamg.h, a smoothed-aggregation multigrid preconditioner for the co
+ *   8855: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
+ *   9042: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
+ *   9127: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
+ *   9891: src/common/periodic.h, the periodic global parameterization of a triangle mesh al
+ *  10719: src/common/raster.h, exact scan conversion of 2D triangles.
+ *  11233: src/common/parallel.h, a parallel for, the one way work is split across threads.
+ *  11406: src/common/render.h, a small deterministic software renderer for textured trian
+ *  13305: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
+ *  13802: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
+ *  14288: src/common/glue.h, what every method header needs between its public types an
+ *  14624: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  15288: src/tiled/core.c, tiled.h's glue to the shared core, its defaults, result
+ *  15377: src/tiled/layout.c, ch. III.1, the boundary types and the tiled texture they
+ *  15649: src/tiled/cells.c, beyond the thesis (issue 23): tiles of a chosen size on an
+ *  16497: src/tiled/map.c, ch. III.2, the texture mapping algorithm of Fig. 29
+ *  16766: src/tiled/synth.c, ch. III.1.3, tiled texture image synthesis: an edge-matche
+ *  17212: src/tiled/validate.c, checks a hand-made tiled texture (the thesis's Figs. 39,
+ *  17340: src/tiled/builtin.c, built-in meshes and exemplars for demos and tests: the
+ *  17537: src/tiled/render.c, a software rendering of a mapped mesh (the thesis rendered
+ *  17760: src/tiled/io.c, files. Meshes and exemplars in; the mapped mesh with its t
  */
 /* tiled.h - seamless, singularity-free tiled textures on quad meshes.
  *
@@ -288,8 +288,10 @@ typedef struct tiled_grid_stats {
                              cut into a fan around the pattern's end point */
     int pieces;           /* faces of the output: triangles cut along the grid */
     int cells;            /* cells, one tile each */
-    int special_cells;    /* cells touching a vortex fan or whose neighbours
-                             disagree (two neighbours on one side) */
+    int special_cells;    /* cells covering more than 1.5 cells of the grid or
+                             their own neighbour: a vortex's face left whole */
+    int cut_vortices;     /* vortices whose face was cut in two along the
+                             isoline through them (the others: special) */
     int grid_edges;       /* cell sides shared by two cells */
     int mismatched_edges; /* of them, sides whose types could not be made partners */
     int same_tile_edges;  /* of them, the same tile on both sides */
@@ -317,7 +319,8 @@ typedef struct tiled_options {
     int no_mirror;               /* case 1: do not mirror tiles (rotation only) */
     int fixed_start;             /* 1: always start the tile walk at a face's first
                                 corner instead of a random one (thesis's
-                                "further randomness" off); default 0 */
+                                "further randomness" off; with scale: no
+                                random half turn per cell); default 0 */
     int threads;                 /* tile synthesis threads, as render.threads: 0 (default)
                                 one per processor with PW_THREADS, else 1; the tile set
                                 is the same for any number */
@@ -15662,6 +15665,11 @@ static const float *tiled__plain_px(const pw_image *img, const tiled__geom *gm, 
  * cell met by several neighbours (a T-junction) are all made partners of
  * it, and only an odd cycle of such constraints leaves a side unmatched.
  *
+ * Around a vortex the union-find joins the cells the extra row of tiles
+ * ends in (one cell of 2 to 4 cells' area); tiled__vortex_cuts cuts that
+ * cell along the isoline of the other coordinate through the vortex, each
+ * part a rectangle of the (s, t) plane drawn with a whole tile.
+ *
  * Vortex triangles (s or t winds around them, pw_periodic_winding) take
  * pgp's clean treatment: the differences their neighbours use along their
  * edges and a fan of TILED__FAN thin triangles per edge around the point
@@ -15673,6 +15681,7 @@ static const float *tiled__plain_px(const pw_image *img, const tiled__geom *gm, 
 
 #define TILED__FAN 8         /* thin triangles per edge of a vortex triangle */
 #define TILED__MAX_SPAN 4096 /* cells a triangle may span before it is left uncut */
+#define TILED__CUT_MIN 0.25  /* a vortex's cell is cut no closer to its sides (cells) */
 
 /* A triangle to cut: a mesh triangle or one of a vortex triangle's fan. */
 typedef struct tiled__src {
@@ -15688,10 +15697,21 @@ typedef struct tiled__pv {
     int on;
 } tiled__pv;
 
-/* A piece: a convex polygon of one source triangle inside cell (ci, cj). */
+/* A piece: a convex polygon of one source triangle inside cell (ci, cj).
+ * Where vortices' cells are cut into bands (tiled__vortex_cuts), ck is the
+ * coordinate cut (0: s, 1: t; -1: none), [lo, hi] the piece's band along
+ * it and sub its number (from 1). */
 typedef struct tiled__piece {
-    int src, ci, cj, v0, nv;
+    int src, ci, cj, v0, nv, ck, sub;
+    double lo, hi;
 } tiled__piece;
+
+/* A cut line through a vortex: the union-find root of its cell, the
+ * coordinate cut and the line's offset in the cell. */
+typedef struct tiled__line {
+    int root, c;
+    double m;
+} tiled__line;
 
 /* One shared cell side: the right (side 1) or top (side 2) of cell a is
  * the left or bottom of cell b. */
@@ -15716,7 +15736,7 @@ typedef struct tiled__grid {
     tiled__adj *adj; /* shared sides, sorted; a side met twice is listed twice */
     size_t nadj, adjcap;
     int *types; /* 4 per cell: the types of its sides (0 bottom, 1 right, 2 top, 3 left) */
-    int *tile;  /* per cell: its tile; then per cell: 1 if special */
+    int *tile;  /* per cell: its tile; then per cell: 1 if special; then its quarter turns */
     tiled_grid_stats st;
 } tiled__grid;
 
@@ -15811,7 +15831,8 @@ static void tiled__fan(tiled__grid *C, int f)
         for (k = 0; k < 3; k++) b[k] = c[k] * (1.0 - 1e-4);
         b[a] += 1e-4 * (1.0 - lm);
         b[(a + 1) % 3] += 1e-4 * lm;
-        for (k = 0; k < 2; k++) s->st[k] = pw_periodic_clean_eval(o + 12 * k, b);
+        for (k = 0; k < 2; k++) /* a coordinate that does not wind: its value at the centre, exactly */
+            s->st[k] = pw_periodic_clean_eval(o + 12 * k, o[12 * k + 9] < 0.0f ? c : b);
     }
 }
 
@@ -15876,11 +15897,35 @@ static double tiled__st_area(const tiled__pv *v, int n)
     return A;
 }
 
+/* Appends polygon a (n corners) as piece q. Bit k of a corner's `on`: on
+ * side k of the cell; bit 4: on the band's lower line, bit 5: its upper. */
+static int tiled__append(tiled__grid *C, const tiled__piece *q, tiled__pv *a, int n, pw_err *e)
+{
+    int k, r;
+    double i = q->ci, j = q->cj;
+    if ((r = pw_grow(&C->a, (void **)&C->pv, &C->pvcap, C->npv + (size_t)n, sizeof *C->pv, "pieces", e)) != PW_OK ||
+        (r = pw_grow(&C->a, (void **)&C->pc, &C->pccap, C->npc + 1, sizeof *C->pc, "pieces", e)) != PW_OK)
+        return r;
+    for (k = 0; k < n; k++) {
+        a[k].on = (a[k].t == j) | (a[k].s == i + 1.0) << 1 | (a[k].t == j + 1.0) << 2 | (a[k].s == i) << 3 |
+                  (q->ck >= 0 && q->sub > 1 && (q->ck ? a[k].t : a[k].s) == q->lo) << 4 |
+                  (q->ck >= 0 && (q->ck ? a[k].t : a[k].s) == q->hi && q->hi < (q->ck ? j : i) + 1.0) << 5;
+        C->pv[C->npv + (size_t)k] = a[k];
+    }
+    C->pc[C->npc] = *q;
+    C->pc[C->npc].v0 = (int)C->npv;
+    C->pc[C->npc].nv = n;
+    C->npv += (size_t)n;
+    C->npc++;
+    return PW_OK;
+}
+
 /* Appends the piece of source triangle src inside cell (i, j), if any. */
 static int tiled__add_piece(tiled__grid *C, int src, int i, int j, int whole, pw_err *e)
 {
     tiled__pv a[16], b[16];
-    int n = 3, k, r;
+    tiled__piece q;
+    int n = 3, k;
     for (k = 0; k < 3; k++) {
         a[k].s = C->src[src].st[2 * k];
         a[k].t = C->src[src].st[2 * k + 1];
@@ -15893,22 +15938,12 @@ static int tiled__add_piece(tiled__grid *C, int src, int i, int j, int whole, pw
         n = tiled__clip(b, n, 1, (double)j + 1.0, 0, a);
         if (n < 3 || fabs(tiled__st_area(a, n)) < 1e-12) return PW_OK;
     }
-    if ((r = pw_grow(&C->a, (void **)&C->pv, &C->pvcap, C->npv + (size_t)n, sizeof *C->pv, "pieces", e)) != PW_OK ||
-        (r = pw_grow(&C->a, (void **)&C->pc, &C->pccap, C->npc + 1, sizeof *C->pc, "pieces", e)) != PW_OK)
-        return r;
-    for (k = 0; k < n; k++) {
-        a[k].on = (a[k].t == (double)j) | (a[k].s == (double)i + 1.0) << 1 | (a[k].t == (double)j + 1.0) << 2 |
-                  (a[k].s == (double)i) << 3;
-        C->pv[C->npv + (size_t)k] = a[k];
-    }
-    C->pc[C->npc].src = src;
-    C->pc[C->npc].ci = i;
-    C->pc[C->npc].cj = j;
-    C->pc[C->npc].v0 = (int)C->npv;
-    C->pc[C->npc].nv = n;
-    C->npv += (size_t)n;
-    C->npc++;
-    return PW_OK;
+    memset(&q, 0, sizeof q);
+    q.src = src;
+    q.ci = i;
+    q.cj = j;
+    q.ck = -1;
+    return tiled__append(C, &q, a, n, e);
 }
 
 /* Cuts every source triangle into its cells. A triangle spanning more than
@@ -15961,12 +15996,15 @@ static void tiled__union(int *uf, int x, int y)
     if (x != y) uf[x > y ? x : y] = x < y ? x : y; /* the lower piece is the root */
 }
 
-/* The piece of source triangle src in cell (i, j), or -1. */
-static int tiled__node(const tiled__grid *C, int src, int i, int j)
+/* The piece of source triangle src in cell (i, j) holding point st (the
+ * band it lies in; st NULL: the first), or -1. */
+static int tiled__node(const tiled__grid *C, int src, int i, int j, const double *st)
 {
     int p;
-    for (p = C->first[src]; p < C->first[src + 1]; p++)
-        if (C->pc[p].ci == i && C->pc[p].cj == j) return p;
+    for (p = C->first[src]; p < C->first[src + 1]; p++) {
+        const tiled__piece *q = C->pc + p;
+        if (q->ci == i && q->cj == j && (q->ck < 0 || !st || (st[q->ck] >= q->lo && st[q->ck] <= q->hi))) return p;
+    }
     return -1;
 }
 
@@ -15988,6 +16026,13 @@ static void tiled__join(tiled__grid *C, int sa, const double *a0, const double *
         hi = (int)floor(a0[k] < a1[k] ? a1[k] : a0[k]);
         for (x = lo; x <= hi && n < 2 * TILED__MAX_SPAN; x++) cut[n++] = ((double)x - a0[k]) / (a1[k] - a0[k]);
     }
+    for (i = C->first[sa]; i < C->first[sa + 1] && n < 2 * TILED__MAX_SPAN + 2; i++) { /* cut lines */
+        const tiled__piece *q = C->pc + i;
+        double u;
+        if (q->ck < 0 || q->sub == 1 || a0[q->ck] == a1[q->ck]) continue;
+        u = (q->lo - a0[q->ck]) / (a1[q->ck] - a0[q->ck]);
+        if (u > 0.0 && u < 1.0) cut[n++] = u;
+    }
     cut[n++] = 1.0;
     for (i = 1; i < n; i++) /* insertion sort: few crossings */
         for (j = i; j > 0 && cut[j - 1] > cut[j]; j--) {
@@ -15996,19 +16041,21 @@ static void tiled__join(tiled__grid *C, int sa, const double *a0, const double *
             cut[j - 1] = tmp;
         }
     for (i = 0; i + 1 < n; i++) {
-        double u = 0.5 * (cut[i] + cut[i + 1]), sa_[2], d[2];
+        double u = 0.5 * (cut[i] + cut[i + 1]), sa_[2], sb_[2], d[2];
         int pa, pb, ok = 1;
         if (cut[i + 1] - cut[i] < 1e-9) continue;
         for (k = 0; k < 2; k++) {
             sa_[k] = a0[k] + u * (a1[k] - a0[k]);
-            d[k] = b0[k] + u * (b1[k] - b0[k]) - sa_[k];
+            sb_[k] = b0[k] + u * (b1[k] - b0[k]);
+            d[k] = sb_[k] - sa_[k];
             ok &= fabs(d[k] - floor(d[k] + 0.5)) < 0.25;
             d[k] = floor(d[k] + 0.5);
         }
         if (!ok) continue;
-        pa = tiled__node(C, sa, (int)floor(sa_[0]), (int)floor(sa_[1]));
-        pb = tiled__node(C, sb, (int)floor(sa_[0]) + (int)d[0], (int)floor(sa_[1]) + (int)d[1]);
-        if (pa >= 0 && pb >= 0) tiled__union(C->uf, pa, pb);
+        pa = tiled__node(C, sa, (int)floor(sa_[0]), (int)floor(sa_[1]), sa_);
+        pb = tiled__node(C, sb, (int)floor(sa_[0]) + (int)d[0], (int)floor(sa_[1]) + (int)d[1], sb_);
+        if (pa >= 0 && pb >= 0 && C->pc[pa].sub == C->pc[pb].sub) /* never across a cut line */
+            tiled__union(C->uf, pa, pb);
     }
 }
 
@@ -16049,9 +16096,139 @@ static void tiled__join_all(tiled__grid *C)
         }
 }
 
+/* ---- vortices: their cell cut in two ------------------------------------------ */
+
+static int tiled__cut_cmp(const void *x, const void *y)
+{
+    const tiled__line *p = (const tiled__line *)x, *q = (const tiled__line *)y;
+    if (p->root != q->root) return p->root < q->root ? -1 : 1;
+    return p->m < q->m ? -1 : p->m > q->m;
+}
+
+/* Around a vortex of s (where the extra column of tiles ends), the
+ * union-find joins the cells on both sides of the isoline s = k that ends
+ * at the zero, through the face of the isolines around it: one cell of 2
+ * to 4 cells' area. The isoline of t through the zero (t does not wind
+ * there, so it is a plain line, straight in the vortex triangle; the
+ * ending isoline arrives along it) cuts that face in two: on one side the
+ * cells (k-1, j) and (k, j), on the other one cell, each an axis-aligned
+ * rectangle of the (s, t) plane. A face holding several vortices is cut
+ * into bands, along the coordinate its first vortex asks for; lines closer
+ * than TILED__CUT_MIN of a cell to another or to a grid line are left (a
+ * sliver). Lists the cuts by root (cuts, *n); returns how many vortices
+ * were cut. */
+static int tiled__vortex_cuts(tiled__grid *C, tiled__line **cuts, size_t *n, pw_err *e)
+{
+    const pw_periodic *P = &C->pp;
+    size_t cap = 0, i, k = 0;
+    int f, a, r;
+    for (f = 0; f < P->m.nf; f++) {
+        const float *o = C->clean + 24 * (size_t)f;
+        int c, p = -1;
+        double b[3];
+        if (C->fan[f] < 0 || (pw_periodic_winding(P, f, 0) != 0) == (pw_periodic_winding(P, f, 1) != 0)) continue;
+        c = pw_periodic_winding(P, f, 0) != 0; /* the coordinate that does not wind */
+        for (a = 0; a < 3; a++) b[a] = o[12 * (1 - c) + 9 + a];
+        for (a = 0; p < 0 && a < 3 * TILED__FAN; a++) { /* the cell at the zero */
+            const double *ap = C->src[C->fan[f] + a].st;
+            p = tiled__node(C, C->fan[f] + a, (int)floor(ap[0]), (int)floor(ap[1]), NULL);
+        }
+        if (p < 0) continue;
+        if ((r = pw_grow(&C->a, (void **)cuts, &cap, k + 1, sizeof **cuts, "cells", e)) != PW_OK) return -1;
+        (*cuts)[k].root = tiled__find(C->uf, p);
+        (*cuts)[k].c = c;
+        (*cuts)[k].m = pw_periodic_clean_eval(o + 12 * c, b) - (c ? C->pc[p].cj : C->pc[p].ci);
+        k++;
+    }
+    if (k) qsort(*cuts, k, sizeof **cuts, tiled__cut_cmp);
+    for (i = 0, *n = 0; i < k; i++) { /* keep: the face's coordinate, no slivers */
+        tiled__line *q = *cuts + i, *prev = *n && (*cuts)[*n - 1].root == q->root ? *cuts + *n - 1 : NULL;
+        if (q->m < TILED__CUT_MIN || q->m > 1.0 - TILED__CUT_MIN) continue;
+        if (prev && (prev->c != q->c || q->m - prev->m < TILED__CUT_MIN)) continue;
+        (*cuts)[(*n)++] = *q;
+    }
+    return (int)*n;
+}
+
+/* Cuts every piece whose cell (union-find root) has cut lines into its
+ * bands, in place of the pieces. cut[root]: the root's first cut in cuts
+ * (sorted by root), or -1. */
+static int tiled__split(tiled__grid *C, const tiled__line *cuts, size_t ncut, const int *cut, pw_err *e)
+{
+    tiled__pv *pv = C->pv, a[16], b[16], d[16];
+    tiled__piece *pc = C->pc;
+    int s, p, end = C->first[0], r = PW_OK;
+    C->pv = NULL;
+    C->pc = NULL;
+    C->npv = C->npc = C->pvcap = C->pccap = 0;
+    for (s = 0; s < C->nsrc && r == PW_OK; s++) {
+        int p0 = end;
+        end = C->first[s + 1];
+        C->first[s] = (int)C->npc;
+        for (p = p0; p < end && r == PW_OK; p++) {
+            tiled__piece q = pc[p];
+            int root = tiled__find(C->uf, p), n = q.nv, m, h, c0;
+            memcpy(a, pv + q.v0, (size_t)n * sizeof *a);
+            if (cut[root] < 0) {
+                r = tiled__append(C, &q, a, n, e);
+                continue;
+            }
+            q.ck = cuts[cut[root]].c;
+            c0 = q.ck ? q.cj : q.ci;
+            for (h = cut[root]; r == PW_OK; h++) { /* band h - cut[root] + 1 */
+                int last = h == (int)ncut || cuts[h].root != root;
+                q.sub = h - cut[root] + 1;
+                q.lo = q.sub == 1 ? c0 : c0 + cuts[h - 1].m;
+                q.hi = last ? c0 + 1.0 : c0 + cuts[h].m;
+                m = q.sub == 1 ? n : tiled__clip(a, n, q.ck, q.lo, 1, b);
+                memcpy(d, q.sub == 1 ? a : b, (size_t)m * sizeof *d);
+                if (!last) m = tiled__clip(d, m, q.ck, q.hi, 0, b);
+                else memcpy(b, d, (size_t)m * sizeof *b);
+                if (m >= 3 && fabs(tiled__st_area(b, m)) >= 1e-12) r = tiled__append(C, &q, b, m, e);
+                if (last) break;
+            }
+        }
+    }
+    C->first[C->nsrc] = (int)C->npc;
+    C->st.pieces = (int)C->npc;
+    pw_free(&C->a, pv);
+    pw_free(&C->a, pc);
+    return r;
+}
+
+/* The union-find over the pieces, joined across every edge and ray. */
+static int tiled__cell_uf(tiled__grid *C, pw_err *e)
+{
+    int p;
+    pw_free(&C->a, C->uf);
+    if (!(C->uf = (int *)pw_alloc_array(&C->a, C->npc + 1, sizeof(int), "cells", e))) return PW_ERR_NOMEM;
+    for (p = 0; p < (int)C->npc; p++) C->uf[p] = p;
+    tiled__join_all(C);
+    return PW_OK;
+}
+
+/* The cells, with every vortex's cell cut where it can be. */
+static int tiled__cut_cells(tiled__grid *C, pw_err *e)
+{
+    tiled__line *cuts = NULL;
+    size_t ncut = 0, i;
+    int *cut, r;
+    if ((r = tiled__cell_uf(C, e)) != PW_OK) return r;
+    if (!(cut = (int *)pw_alloc_array(&C->a, C->npc + 1, sizeof(int), "cells", e))) return PW_ERR_NOMEM;
+    for (i = 0; i < C->npc; i++) cut[i] = -1;
+    if ((C->st.cut_vortices = tiled__vortex_cuts(C, &cuts, &ncut, e)) < 0) r = PW_ERR_NOMEM;
+    for (i = ncut; i-- > 0;) cut[cuts[i].root] = (int)i;
+    if (r == PW_OK && ncut && (r = tiled__split(C, cuts, ncut, cut, e)) == PW_OK) r = tiled__cell_uf(C, e);
+    pw_free(&C->a, cut);
+    pw_free(&C->a, cuts);
+    return r;
+}
+
 /* Numbers the cells in order of their first piece and lists the shared
  * sides: a piece with a side on its cell's right (top) line meets the
- * piece of the same source triangle in the next cell. */
+ * piece of the same source triangle in the next cell; one with a side on
+ * a cut line below (left of) it, the piece of the same source triangle
+ * above (right of) it in the same cell. */
 static int tiled__grid_sides(tiled__grid *C, pw_err *e)
 {
     int p, k, r = PW_OK;
@@ -16062,9 +16239,20 @@ static int tiled__grid_sides(tiled__grid *C, pw_err *e)
     for (p = 0; p < (int)C->npc && r == PW_OK; p++) {
         const tiled__piece *q = C->pc + p;
         for (k = 0; k < q->nv && r == PW_OK; k++) {
-            int on = C->pv[q->v0 + k].on & C->pv[q->v0 + (k + 1) % q->nv].on, side, nb;
-            if (!(side = on & 2 ? 1 : (on & 4 ? 2 : 0))) continue;
-            nb = tiled__node(C, q->src, q->ci + (side == 1), q->cj + (side == 2));
+            const tiled__pv *v = C->pv + q->v0 + k, *w = C->pv + q->v0 + (k + 1) % q->nv;
+            double mid[2];
+            int on = v->on & w->on, side, nb;
+            mid[0] = 0.5 * (v->s + w->s);
+            mid[1] = 0.5 * (v->t + w->t);
+            if (on & 32) { /* the next band's piece of the same triangle */
+                side = q->ck ? 2 : 1;
+                for (nb = C->first[q->src]; nb < C->first[q->src + 1]; nb++)
+                    if (C->pc[nb].ci == q->ci && C->pc[nb].cj == q->cj && C->pc[nb].sub == q->sub + 1) break;
+                if (nb == C->first[q->src + 1]) nb = -1;
+            } else {
+                if (!(side = on & 2 ? 1 : (on & 4 ? 2 : 0))) continue;
+                nb = tiled__node(C, q->src, q->ci + (side == 1), q->cj + (side == 2), mid);
+            }
             if (nb < 0) continue;
             if ((r = pw_grow(&C->a, (void **)&C->adj, &C->adjcap, C->nadj + 1, sizeof *C->adj, "cells", e)) != PW_OK)
                 break;
@@ -16152,58 +16340,58 @@ static int tiled__u64_cmp(const void *x, const void *y)
 }
 
 /* The figures of tiled_grid_stats over the shared sides (adj sorted,
- * duplicates once): sides met by two neighbours, mismatched types, the
- * same tile on both sides, and (tile, side, tile) triples met before.
- * special (ncls) is set where a cell has a vortex piece or such a side. */
+ * duplicates once): mismatched types, the same tile on both sides, and
+ * (tile, side, tile) triples met before. special (ncls) is set where a
+ * cell covers more than 1.5 cells of the (s, t) plane or is its own
+ * neighbour: a vortex's face left whole. */
 static int tiled__side_stats(tiled__grid *C, int case1, const int *types, const int *tile, int *special, pw_err *e)
 {
-    int *cnt = (int *)pw_calloc_array(&C->a, (size_t)C->ncls * 4 + 1, sizeof(int), "cells", e);
+    double *area = (double *)pw_calloc_array(&C->a, (size_t)C->ncls + 1, sizeof(double), "cells", e);
     uint64_t *key = (uint64_t *)pw_alloc_array(&C->a, C->nadj + 1, sizeof(uint64_t), "cells", e);
     int i, n = 0;
-    if (!cnt || !key) {
-        pw_free(&C->a, cnt);
+    if (!area || !key) {
+        pw_free(&C->a, area);
         pw_free(&C->a, key);
         return PW_ERR_NOMEM;
     }
-    for (i = 0; i < (int)C->npc; i++)
-        if (C->pc[i].src >= C->pp.m.nf) special[C->cls[i]] = 1;
+    for (i = 0; i < (int)C->npc; i++) area[C->cls[i]] += 0.5 * fabs(tiled__st_area(C->pv + C->pc[i].v0, C->pc[i].nv));
+    for (i = 0; i < C->ncls; i++) special[i] = area[i] > 1.5;
     for (i = 0; i < (int)C->nadj; i++) {
         const tiled__adj *q = C->adj + i;
         int ta = types[4 * q->a + q->side], tb = types[4 * q->b + (q->side + 2) % 4];
         if (i && q[-1].a == q->a && q[-1].side == q->side && q[-1].b == q->b) continue;
-        cnt[4 * q->a + q->side]++;
-        cnt[4 * q->b + (q->side + 2) % 4]++;
+        if (q->a == q->b) special[q->a] = 1;
         C->st.grid_edges++;
-        if (tiled__partner(case1, ta) != tb) {
-            C->st.mismatched_edges++;
-            special[q->a] = special[q->b] = 1;
-        }
+        C->st.mismatched_edges += tiled__partner(case1, ta) != tb;
         C->st.same_tile_edges += tile[q->a] == tile[q->b];
         key[n++] =
             ((uint64_t)(unsigned)tile[q->a] << 33) | ((uint64_t)(unsigned)tile[q->b] << 1) | (uint64_t)(q->side == 2);
     }
     qsort(key, (size_t)n, sizeof *key, tiled__u64_cmp);
     for (i = 1; i < n; i++) C->st.repeated_edges += key[i] == key[i - 1];
-    for (i = 0; i < 4 * C->ncls; i++)
-        if (cnt[i] > 1) special[i / 4] = 1;
     C->st.cells = C->ncls;
     for (i = 0; i < C->ncls; i++) C->st.special_cells += special[i];
-    pw_free(&C->a, cnt);
+    pw_free(&C->a, area);
     pw_free(&C->a, key);
     return PW_OK;
 }
 
-/* The tile of every cell: the one its four side types name (Fig. 23:
- * column e0*2n+e1, row e2*2n+e3); case 1 draws one. */
-static void tiled__cell_tiles(const tiled__grid *C, const tiled__geom *gm, int case1, uint64_t seed, const int *types,
-                              int *tile)
+/* The tile of every cell: the one its four side types name, read from
+ * side rot on (Fig. 23: column e0*2n+e1, row e2*2n+e3); case 1 draws one.
+ * rot (tile + 2 ncls): the cell's tile turns by rot quarter turns, 0 or 2
+ * at random unless fixed_start: the thesis's "further randomness" (a
+ * random starting side), by half turns only so that the tile's axes stay
+ * along the field. */
+static void tiled__cell_tiles(const tiled__grid *C, const tiled__geom *gm, int case1, const tiled_options *o,
+                              const int *types, int *tile)
 {
-    pw_rng r = pw_rng_seed(seed, 2);
-    int c;
+    pw_rng r = pw_rng_seed(o->seed, 2), q = pw_rng_seed(o->seed, 3);
+    int c, k, *rot = tile + 2 * C->ncls;
     for (c = 0; c < C->ncls; c++) {
         const int *t = types + 4 * c;
+        k = rot[c] = o->fixed_start ? 0 : 2 * (int)(pw_rng_u32(&q) >> 31);
         if (case1) tile[c] = (int)(((uint64_t)pw_rng_u32(&r) * (uint32_t)(gm->N * gm->N)) >> 32);
-        else tile[c] = (t[2] * gm->n + t[3]) * gm->N + t[0] * gm->n + t[1];
+        else tile[c] = (t[(k + 2) & 3] * gm->n + t[(k + 3) & 3]) * gm->N + t[k] * gm->n + t[(k + 1) & 3];
     }
 }
 
@@ -16243,11 +16431,21 @@ static int tiled__emit(tiled__grid *C, const tiled__geom *gm, const int *types, 
         for (k = 0; k < q->nv; k++) {
             const tiled__pv *v = C->pv + q->v0 + k;
             int on = v->on & C->pv[q->v0 + (k + 1) % q->nv].on, side = -1, i = q->v0 + k;
+            double x[2];
+            x[0] = v->s - q->ci;
+            x[1] = v->t - q->cj;
+            if (q->ck >= 0) /* a band of a cut cell: its tile spans the band */
+                x[q->ck] = ((q->ck ? v->t : v->s) - q->lo) / (q->hi - q->lo);
+            if (tile[2 * C->ncls + c]) { /* a half turn */
+                x[0] = 1.0 - x[0];
+                x[1] = 1.0 - x[1];
+            }
             memcpy(out->positions + 3 * i, v->p, sizeof v->p);
             out->face_verts[i] = i;
-            out->uvs[2 * i] = (float)(u0 + (v->s - q->ci) * du);
-            out->uvs[2 * i + 1] = (float)(v0 + (v->t - q->cj) * dv);
-            if (on) side = on & 1 ? 0 : (on & 2 ? 1 : (on & 4 ? 2 : 3));
+            out->uvs[2 * i] = (float)(u0 + x[0] * du);
+            out->uvs[2 * i + 1] = (float)(v0 + x[1] * dv);
+            if (on & 48) side = on & 32 ? (q->ck ? 2 : 1) : (q->ck ? 0 : 3);
+            else if (on) side = on & 1 ? 0 : (on & 2 ? 1 : (on & 4 ? 2 : 3));
             out->corner_types[i] = side < 0 ? -1 : types[4 * c + side];
         }
     }
@@ -16263,22 +16461,19 @@ static int tiled__grid_build(tiled__grid *C, const tiled_mesh *in, const tiled_l
 {
     pw_progress pr = tiled__progress(o);
     tiled__geom gm = tiled__geometry(l);
-    int p, r;
+    int r;
     if ((r = pw_report(&pr, 0.0f, "periodic global parameterization", e)) != PW_OK ||
         (r = tiled__parameterize(C, in, o, e)) != PW_OK ||
         (r = pw_report(&pr, 0.7f, "cutting along the grid", e)) != PW_OK || (r = tiled__sources(C, e)) != PW_OK ||
         (r = tiled__cut(C, e)) != PW_OK)
         return r;
-    if (!(C->uf = (int *)pw_alloc_array(&C->a, C->npc + 1, sizeof(int), "cells", e))) return PW_ERR_NOMEM;
-    for (p = 0; p < (int)C->npc; p++) C->uf[p] = p;
-    tiled__join_all(C);
-    if ((r = tiled__grid_sides(C, e)) != PW_OK) return r;
+    if ((r = tiled__cut_cells(C, e)) != PW_OK || (r = tiled__grid_sides(C, e)) != PW_OK) return r;
     qsort(C->adj, C->nadj, sizeof *C->adj, tiled__adj_cmp);
     C->types = (int *)pw_alloc_array(&C->a, (size_t)C->ncls * 4 + 1, sizeof(int), "types", e);
-    C->tile = (int *)pw_calloc_array(&C->a, (size_t)C->ncls * 2 + 1, sizeof(int), "tiles", e);
+    C->tile = (int *)pw_calloc_array(&C->a, (size_t)C->ncls * 3 + 1, sizeof(int), "tiles", e);
     if (!C->types || !C->tile) return PW_ERR_NOMEM;
     if ((r = tiled__side_types(C, l, o->seed, C->types, e)) != PW_OK) return r;
-    tiled__cell_tiles(C, &gm, l->case_number == 1, o->seed, C->types, C->tile);
+    tiled__cell_tiles(C, &gm, l->case_number == 1, o, C->types, C->tile);
     return tiled__side_stats(C, l->case_number == 1, C->types, C->tile, C->tile + C->ncls, e);
 }
 

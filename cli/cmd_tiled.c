@@ -246,10 +246,10 @@ static tiled_result run(tiled_cmd *c, cli_outputs *outs, tiled_error *err)
         err->message[sizeof err->message - 1] = 0;
     } else if (r == TILED_OK) {
         if (c->opt.scale > 0.0f)
-            printf("tiled: %d triangles -> %d pieces in %d cells (%d special, %d vortex triangles); %d shared "
-                   "cell sides, %d mismatched\n",
-                   gs.triangles, gs.pieces, gs.cells, gs.special_cells, gs.vortex_triangles, gs.grid_edges,
-                   gs.mismatched_edges);
+            printf("tiled: %d triangles -> %d pieces in %d cells (%d special, %d vortex triangles, %d vortex cells "
+                   "cut); %d shared cell sides, %d mismatched\n",
+                   gs.triangles, gs.pieces, gs.cells, gs.special_cells, gs.vortex_triangles, gs.cut_vortices,
+                   gs.grid_edges, gs.mismatched_edges);
         else
             printf("tiled: %d faces -> %d quads; %d x %d tiles of %d px (guard %d)\n", mesh.nfaces, quads.nfaces,
                    ts.tiles_per_side, ts.tiles_per_side, ts.layout.tile_size,

@@ -247,8 +247,10 @@ typedef struct tiled_grid_stats {
                              cut into a fan around the pattern's end point */
     int pieces;           /* faces of the output: triangles cut along the grid */
     int cells;            /* cells, one tile each */
-    int special_cells;    /* cells touching a vortex fan or whose neighbours
-                             disagree (two neighbours on one side) */
+    int special_cells;    /* cells covering more than 1.5 cells of the grid or
+                             their own neighbour: a vortex's face left whole */
+    int cut_vortices;     /* vortices whose face was cut in two along the
+                             isoline through them (the others: special) */
     int grid_edges;       /* cell sides shared by two cells */
     int mismatched_edges; /* of them, sides whose types could not be made partners */
     int same_tile_edges;  /* of them, the same tile on both sides */
@@ -276,7 +278,8 @@ typedef struct tiled_options {
     int no_mirror;               /* case 1: do not mirror tiles (rotation only) */
     int fixed_start;             /* 1: always start the tile walk at a face's first
                                 corner instead of a random one (thesis's
-                                "further randomness" off); default 0 */
+                                "further randomness" off; with scale: no
+                                random half turn per cell); default 0 */
     int threads;                 /* tile synthesis threads, as render.threads: 0 (default)
                                 one per processor with PW_THREADS, else 1; the tile set
                                 is the same for any number */
