@@ -128,7 +128,7 @@ $(BUILD)/tests/%: tests/%.c tests/pwtest.h $(COMMON_SRC) $(HEADER_FILES)
 	$(CC) $(ALL_CFLAGS) -o $@ $< $(LDLIBS)
 
 # the renderer's tests and benchmark run its bands on POSIX threads (PW_THREADS), the synthesis benchmarks their tiles
-$(BUILD)/tests/test_render $(BUILD)/tests/test_render_portable $(BUILD)/tests/test_threads $(BUILD)/bench/bench_render $(BUILD)/bench/bench_tiled $(BUILD)/bench/bench_pgp_synth: LDLIBS += -pthread
+$(BUILD)/tests/test_render $(BUILD)/tests/test_render_portable $(BUILD)/tests/test_threads $(BUILD)/bench/bench_render $(BUILD)/bench/bench_tiled $(BUILD)/bench/bench_pgp_synth $(BUILD)/bench/bench_threads: LDLIBS += -pthread
 
 $(BUILD)/examples/%: examples/%.c $(HEADER_FILES)
 	@mkdir -p $(BUILD)/examples
