@@ -288,8 +288,9 @@ static void slower_note(const sys *s, const bench_multi *m, int k, const job *pw
     else if (peer->method == PEER_EIGEN_LDLT && !s->lsq)
         snprintf(buf, size, "one sparse LDLT (AMD ordering; L has %.1fx the nonzeros of A's lower triangle) costs "
                  "less than %d IC(0)-PCG iterations of %s each; %s", fill / (0.5 * (s->nnz - s->A.n)), pw->iters, a,
-                 strcmp(s->method, "lapped") ? "lst's clumps stay with IC(0)-PCG (LDLT made the fill slower)"
-                                             : "sparse.h's rule keeps PCG here (see docs/performance.md)");
+                 !strcmp(s->method, "lapped") ? "sparse.h's rule keeps PCG here (see docs/performance.md)"
+                 : !strcmp(s->method, "lst")  ? "lst's clumps stay with IC(0)-PCG (LDLT made the fill slower)"
+                                              : "zsparse.h has no direct solver for the complex systems");
     else if (peer->method == PEER_EIGEN_LDLT)
         snprintf(buf, size, "forming and factoring the %d-unknown normal equations once costs less than %d CGLS "
                  "iterations of %s each at tol %g; sparse.h's rule keeps CGLS here (see docs/performance.md)",
