@@ -15,27 +15,27 @@
  *   5290: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
  *   5819: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
  *   6243: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
- *   7780: src/common/raster.h, exact scan conversion of 2D triangles.
- *   8292: src/common/parallel.h, a parallel for, the one way work is split across threads.
- *   8465: src/common/render.h, a small deterministic software renderer for textured trian
- *  10364: src/lapped/polyhull.h, the polygonal hull of a texture patch (Praun, Finkelstein 
- *  11195: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
- *  11382: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
- *  11467: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
- *  11656: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
- *  12576: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
- *  13274: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
- *  13510: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
- *  14274: src/common/glue.h, what every method header needs between its public types an
- *  14610: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  15274: src/lapped/core.c, lapped.h's glue to the shared core, its defaults, and the 
- *  15439: src/lapped/field.c, §3.2 the tangent field, one frame (S, T) per triangle, an
- *  15894: src/lapped/patch.c, §3.1 texture patches. A patch is the texture as RGBA whos
- *  16208: src/lapped/builtin.c, built-in meshes (made by the shared shapes module) and tex
- *  16402: src/lapped/grow.c, pasting (§3.3-3.6): grow a surface patch around an uncove
- *  18008: src/lapped/render.c, runtime pasting (§4): the mesh drawn once per paste, in p
- *  18249: src/lapped/atlas.c, §4 "Rendering with a texture atlas".
- *  18492: src/lapped/io.c, the paste file format and the file conveniences of lapped.
+ *   7778: src/common/raster.h, exact scan conversion of 2D triangles.
+ *   8290: src/common/parallel.h, a parallel for, the one way work is split across threads.
+ *   8463: src/common/render.h, a small deterministic software renderer for textured trian
+ *  10362: src/lapped/polyhull.h, the polygonal hull of a texture patch (Praun, Finkelstein 
+ *  11193: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
+ *  11380: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
+ *  11465: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
+ *  11654: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
+ *  12574: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
+ *  13272: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
+ *  13508: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
+ *  14272: src/common/glue.h, what every method header needs between its public types an
+ *  14608: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  15272: src/lapped/core.c, lapped.h's glue to the shared core, its defaults, and the 
+ *  15437: src/lapped/field.c, §3.2 the tangent field, one frame (S, T) per triangle, an
+ *  15892: src/lapped/patch.c, §3.1 texture patches. A patch is the texture as RGBA whos
+ *  16206: src/lapped/builtin.c, built-in meshes (made by the shared shapes module) and tex
+ *  16400: src/lapped/grow.c, pasting (§3.3-3.6): grow a surface patch around an uncove
+ *  18006: src/lapped/render.c, runtime pasting (§4): the mesh drawn once per paste, in p
+ *  18247: src/lapped/atlas.c, §4 "Rendering with a texture atlas".
+ *  18490: src/lapped/io.c, the paste file format and the file conveniences of lapped.
  */
 /* lapped.h - lapped textures: overlapping texture patches pasted over a mesh.
  *
@@ -7319,7 +7319,7 @@ PW__DEF int pw__amd_init(pw__amd *G, const pw_alloc *a, const pw_csr *A, pw_err 
     G->a = a;
     G->n = n;
     G->var = (size_t *)pw_alloc_array(a, (size_t)n * 3, sizeof(size_t), "ordering graph", e);
-    G->nvar = (int *)pw_calloc_array(a, (size_t)n * 11, sizeof(int), "ordering graph", e);
+    G->nvar = (int *)pw_calloc_array(a, (size_t)n * 10, sizeof(int), "ordering graph", e);
     G->head = (int *)pw_alloc_array(a, (size_t)n + 1, sizeof(int), "ordering graph", e);
     G->status = (unsigned char *)pw_calloc_array(a, (size_t)n, 1, "ordering graph", e);
     if (!G->var || !G->nvar || !G->head || !G->status ||
@@ -7412,16 +7412,14 @@ PW__DEF int pw__amd_eliminate(pw__amd *G, int p, int k, int *nb, pw_err *e)
             }
             G->w[el]--;
         }
-    for (i = 0; i < nn; i++) { /* elements inside L_p are absorbed (aggressive absorption) */
+    for (i = 0; i < nn; i++) { /* absorption, pruning and the new degree of each variable of L_p */
         int v = nb[i], m = 0, ext = 0;
         long d;
         int *ev = G->pool + G->elt[v], *vv = G->pool + G->var[v];
         for (j = 0; j < G->nelt[v]; j++) {
             int el = ev[j];
-            if (G->status[el] != 1 || G->w[el] == 0) {
-                G->status[el] = G->status[el] == 1 ? 2 : G->status[el];
-                continue;
-            }
+            if (G->status[el] == 1 && G->w[el] == 0) G->status[el] = 2; /* inside L_p: absorbed */
+            if (G->status[el] != 1) continue;
             ev[m++] = el;
             ext += G->w[el];
         }

@@ -17,31 +17,31 @@
  *   6482: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
  *   6669: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
  *   6754: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
- *   8291: src/common/raster.h, exact scan conversion of 2D triangles.
- *   8803: src/common/parallel.h, a parallel for, the one way work is split across threads.
- *   8976: src/common/render.h, a small deterministic software renderer for textured trian
- *  10875: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
- *  11064: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
- *  11984: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
- *  12682: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
- *  12918: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
- *  13679: src/common/tetmesh.h, the tetrahedral mesh that lapped solid textures work on, a
- *  14166: src/common/tetio.h, tetrahedral mesh files, TetGen .node/.ele and MEDIT .mesh.
- *  14658: src/common/bisect.h, graded, conforming tetrahedral meshes of a box by newest-v
- *  14985: src/common/stuffing.h, the built-in tetrahedralizer of lst.h, so that no external
- *  18362: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
- *  18505: src/common/pca.h, principal component analysis of vectors streamed one at a 
- *  18692: src/common/glue.h, what every method header needs between its public types an
- *  19028: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  19692: src/lst/core.c, lst.h's glue to the shared core, its defaults, the convers
- *  20026: src/lst/exemplar.c, solid exemplars (§5): sampling, the procedural exemplars 
- *  20595: src/lst/field.c, §5.2.2, the fields that orient and scale the pastes. The 
- *  21807: src/lst/paste.c, §5.2.3-5.2.7, filling the model. Each paste picks a rando
- *  22835: src/lst/render.c, §5.1, showing a model. Every point of a tetrahedron is th
- *  23732: src/lst/cut.c, §5.1.1, cutting a model along the zero set of a scalar fi
- *  24337: src/lst/builtin.c, the tetrahedralizer entry point, checks of caller meshes, 
- *  24859: src/lst/io.c, the model file, the constraint files and the file convenie
- *  25552: src/lst/export.c, the visible boundary with a baked texture atlas, for glTF.
+ *   8289: src/common/raster.h, exact scan conversion of 2D triangles.
+ *   8801: src/common/parallel.h, a parallel for, the one way work is split across threads.
+ *   8974: src/common/render.h, a small deterministic software renderer for textured trian
+ *  10873: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
+ *  11062: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
+ *  11982: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
+ *  12680: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
+ *  12916: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
+ *  13677: src/common/tetmesh.h, the tetrahedral mesh that lapped solid textures work on, a
+ *  14164: src/common/tetio.h, tetrahedral mesh files, TetGen .node/.ele and MEDIT .mesh.
+ *  14656: src/common/bisect.h, graded, conforming tetrahedral meshes of a box by newest-v
+ *  14983: src/common/stuffing.h, the built-in tetrahedralizer of lst.h, so that no external
+ *  18360: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
+ *  18503: src/common/pca.h, principal component analysis of vectors streamed one at a 
+ *  18690: src/common/glue.h, what every method header needs between its public types an
+ *  19026: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  19690: src/lst/core.c, lst.h's glue to the shared core, its defaults, the convers
+ *  20024: src/lst/exemplar.c, solid exemplars (§5): sampling, the procedural exemplars 
+ *  20593: src/lst/field.c, §5.2.2, the fields that orient and scale the pastes. The 
+ *  21805: src/lst/paste.c, §5.2.3-5.2.7, filling the model. Each paste picks a rando
+ *  22833: src/lst/render.c, §5.1, showing a model. Every point of a tetrahedron is th
+ *  23730: src/lst/cut.c, §5.1.1, cutting a model along the zero set of a scalar fi
+ *  24335: src/lst/builtin.c, the tetrahedralizer entry point, checks of caller meshes, 
+ *  24857: src/lst/io.c, the model file, the constraint files and the file convenie
+ *  25550: src/lst/export.c, the visible boundary with a baked texture atlas, for glTF.
  */
 /* lst.h - lapped solid textures: solid exemplars pasted inside a model.
  *
@@ -7830,7 +7830,7 @@ PW__DEF int pw__amd_init(pw__amd *G, const pw_alloc *a, const pw_csr *A, pw_err 
     G->a = a;
     G->n = n;
     G->var = (size_t *)pw_alloc_array(a, (size_t)n * 3, sizeof(size_t), "ordering graph", e);
-    G->nvar = (int *)pw_calloc_array(a, (size_t)n * 11, sizeof(int), "ordering graph", e);
+    G->nvar = (int *)pw_calloc_array(a, (size_t)n * 10, sizeof(int), "ordering graph", e);
     G->head = (int *)pw_alloc_array(a, (size_t)n + 1, sizeof(int), "ordering graph", e);
     G->status = (unsigned char *)pw_calloc_array(a, (size_t)n, 1, "ordering graph", e);
     if (!G->var || !G->nvar || !G->head || !G->status ||
@@ -7923,16 +7923,14 @@ PW__DEF int pw__amd_eliminate(pw__amd *G, int p, int k, int *nb, pw_err *e)
             }
             G->w[el]--;
         }
-    for (i = 0; i < nn; i++) { /* elements inside L_p are absorbed (aggressive absorption) */
+    for (i = 0; i < nn; i++) { /* absorption, pruning and the new degree of each variable of L_p */
         int v = nb[i], m = 0, ext = 0;
         long d;
         int *ev = G->pool + G->elt[v], *vv = G->pool + G->var[v];
         for (j = 0; j < G->nelt[v]; j++) {
             int el = ev[j];
-            if (G->status[el] != 1 || G->w[el] == 0) {
-                G->status[el] = G->status[el] == 1 ? 2 : G->status[el];
-                continue;
-            }
+            if (G->status[el] == 1 && G->w[el] == 0) G->status[el] = 2; /* inside L_p: absorbed */
+            if (G->status[el] != 1) continue;
             ev[m++] = el;
             ext += G->w[el];
         }

@@ -15,38 +15,38 @@
  *   5478: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
  *   6007: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
  *   6431: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
- *   7968: src/common/zsparse.h, complex Hermitian sparse systems, solved by conjugate grad
- *   8251: src/common/zamg.h, a smoothed-aggregation multigrid preconditioner for the co
- *   8894: src/common/raster.h, exact scan conversion of 2D triangles.
- *   9406: src/common/parallel.h, a parallel for, the one way work is split across threads.
- *   9579: src/common/render.h, a small deterministic software renderer for textured trian
- *  11478: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
- *  11665: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
- *  11750: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
- *  11939: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
- *  12859: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
- *  13557: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
- *  13793: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
- *  14557: src/common/periodic.h, the periodic global parameterization of a triangle mesh al
- *  15385: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
- *  16146: src/pgp/tile3.h, sampling a material-space tile (Ray et al. 2009, §2: "a 3
- *  16254: src/common/glue.h, what every method header needs between its public types an
- *  16590: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  17254: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
- *  17751: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
- *  18237: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
- *  18380: src/common/kdtree.h, nearest-neighbour search among n points of dimension d, wi
- *  18723: src/common/pca.h, principal component analysis of vectors streamed one at a 
- *  18910: src/pgp/core.c, pgp.h's glue to the shared core, its defaults, and the map
- *  19123: src/pgp/field.c, §2.1 effect areas and §2.2 interpolation of the constrai
- *  19322: src/pgp/solve.c, §2.3 the periodic global parameterization, the recovery o
- *  19811: src/pgp/edit.c, the public editing calls of a mapping. §2.1 (Ray, Lévy, 
- *  19956: src/pgp/render.c, §3 rendering, and a cleaner treatment of the vortices.
- *  20317: src/pgp/builtin.c, built-in meshes and material-space tiles for demos and tes
- *  20586: src/pgp/io.c, files and memory for pgp.h: material-space tiles (NRRD, or
- *  20934: src/pgp/export.c, the mapping for other programs. A viewer that knows nothin
- *  21160: src/pgp/morph.c, the inputs of §1 (keys brought to the tile size, made til
- *  21839: src/pgp/synth.c, §1.2 constrained tile synthesis, and the whole of §1: ke
+ *   7966: src/common/zsparse.h, complex Hermitian sparse systems, solved by conjugate grad
+ *   8249: src/common/zamg.h, a smoothed-aggregation multigrid preconditioner for the co
+ *   8892: src/common/raster.h, exact scan conversion of 2D triangles.
+ *   9404: src/common/parallel.h, a parallel for, the one way work is split across threads.
+ *   9577: src/common/render.h, a small deterministic software renderer for textured trian
+ *  11476: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
+ *  11663: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
+ *  11748: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
+ *  11937: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
+ *  12857: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
+ *  13555: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
+ *  13791: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
+ *  14555: src/common/periodic.h, the periodic global parameterization of a triangle mesh al
+ *  15383: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
+ *  16144: src/pgp/tile3.h, sampling a material-space tile (Ray et al. 2009, §2: "a 3
+ *  16252: src/common/glue.h, what every method header needs between its public types an
+ *  16588: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  17252: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
+ *  17749: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
+ *  18235: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
+ *  18378: src/common/kdtree.h, nearest-neighbour search among n points of dimension d, wi
+ *  18721: src/common/pca.h, principal component analysis of vectors streamed one at a 
+ *  18908: src/pgp/core.c, pgp.h's glue to the shared core, its defaults, and the map
+ *  19121: src/pgp/field.c, §2.1 effect areas and §2.2 interpolation of the constrai
+ *  19320: src/pgp/solve.c, §2.3 the periodic global parameterization, the recovery o
+ *  19809: src/pgp/edit.c, the public editing calls of a mapping. §2.1 (Ray, Lévy, 
+ *  19954: src/pgp/render.c, §3 rendering, and a cleaner treatment of the vortices.
+ *  20315: src/pgp/builtin.c, built-in meshes and material-space tiles for demos and tes
+ *  20584: src/pgp/io.c, files and memory for pgp.h: material-space tiles (NRRD, or
+ *  20932: src/pgp/export.c, the mapping for other programs. A viewer that knows nothin
+ *  21158: src/pgp/morph.c, the inputs of §1 (keys brought to the tile size, made til
+ *  21837: src/pgp/synth.c, §1.2 constrained tile synthesis, and the whole of §1: ke
  */
 /* pgp.h - material-space texturing with a periodic global parameterization.
  *
@@ -7507,7 +7507,7 @@ PW__DEF int pw__amd_init(pw__amd *G, const pw_alloc *a, const pw_csr *A, pw_err 
     G->a = a;
     G->n = n;
     G->var = (size_t *)pw_alloc_array(a, (size_t)n * 3, sizeof(size_t), "ordering graph", e);
-    G->nvar = (int *)pw_calloc_array(a, (size_t)n * 11, sizeof(int), "ordering graph", e);
+    G->nvar = (int *)pw_calloc_array(a, (size_t)n * 10, sizeof(int), "ordering graph", e);
     G->head = (int *)pw_alloc_array(a, (size_t)n + 1, sizeof(int), "ordering graph", e);
     G->status = (unsigned char *)pw_calloc_array(a, (size_t)n, 1, "ordering graph", e);
     if (!G->var || !G->nvar || !G->head || !G->status ||
@@ -7600,16 +7600,14 @@ PW__DEF int pw__amd_eliminate(pw__amd *G, int p, int k, int *nb, pw_err *e)
             }
             G->w[el]--;
         }
-    for (i = 0; i < nn; i++) { /* elements inside L_p are absorbed (aggressive absorption) */
+    for (i = 0; i < nn; i++) { /* absorption, pruning and the new degree of each variable of L_p */
         int v = nb[i], m = 0, ext = 0;
         long d;
         int *ev = G->pool + G->elt[v], *vv = G->pool + G->var[v];
         for (j = 0; j < G->nelt[v]; j++) {
             int el = ev[j];
-            if (G->status[el] != 1 || G->w[el] == 0) {
-                G->status[el] = G->status[el] == 1 ? 2 : G->status[el];
-                continue;
-            }
+            if (G->status[el] == 1 && G->w[el] == 0) G->status[el] = 2; /* inside L_p: absorbed */
+            if (G->status[el] != 1) continue;
             ev[m++] = el;
             ext += G->w[el];
         }

@@ -16,28 +16,28 @@
  *   5829: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
  *   6253: src/common/subdiv.h, Catmull-Clark subdivision (Catmull and Clark 1978) with
  *   6392: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
- *   7929: src/common/zsparse.h, complex Hermitian sparse systems, solved by conjugate grad
- *   8212: src/common/zamg.h, a smoothed-aggregation multigrid preconditioner for the co
- *   8855: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
- *   9042: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
- *   9127: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
- *   9891: src/common/periodic.h, the periodic global parameterization of a triangle mesh al
- *  10719: src/common/raster.h, exact scan conversion of 2D triangles.
- *  11233: src/common/parallel.h, a parallel for, the one way work is split across threads.
- *  11406: src/common/render.h, a small deterministic software renderer for textured trian
- *  13305: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
- *  13802: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
- *  14288: src/common/glue.h, what every method header needs between its public types an
- *  14624: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  15288: src/tiled/core.c, tiled.h's glue to the shared core, its defaults, result
- *  15377: src/tiled/layout.c, ch. III.1, the boundary types and the tiled texture they
- *  15649: src/tiled/cells.c, beyond the thesis (issue 23): tiles of a chosen size on an
- *  16497: src/tiled/map.c, ch. III.2, the texture mapping algorithm of Fig. 29
- *  16766: src/tiled/synth.c, ch. III.1.3, tiled texture image synthesis: an edge-matche
- *  17212: src/tiled/validate.c, checks a hand-made tiled texture (the thesis's Figs. 39,
- *  17340: src/tiled/builtin.c, built-in meshes and exemplars for demos and tests: the
- *  17537: src/tiled/render.c, a software rendering of a mapped mesh (the thesis rendered
- *  17760: src/tiled/io.c, files. Meshes and exemplars in; the mapped mesh with its t
+ *   7927: src/common/zsparse.h, complex Hermitian sparse systems, solved by conjugate grad
+ *   8210: src/common/zamg.h, a smoothed-aggregation multigrid preconditioner for the co
+ *   8853: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
+ *   9040: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
+ *   9125: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
+ *   9889: src/common/periodic.h, the periodic global parameterization of a triangle mesh al
+ *  10717: src/common/raster.h, exact scan conversion of 2D triangles.
+ *  11231: src/common/parallel.h, a parallel for, the one way work is split across threads.
+ *  11404: src/common/render.h, a small deterministic software renderer for textured trian
+ *  13303: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
+ *  13800: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
+ *  14286: src/common/glue.h, what every method header needs between its public types an
+ *  14622: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  15286: src/tiled/core.c, tiled.h's glue to the shared core, its defaults, result
+ *  15375: src/tiled/layout.c, ch. III.1, the boundary types and the tiled texture they
+ *  15647: src/tiled/cells.c, beyond the thesis (issue 23): tiles of a chosen size on an
+ *  16495: src/tiled/map.c, ch. III.2, the texture mapping algorithm of Fig. 29
+ *  16764: src/tiled/synth.c, ch. III.1.3, tiled texture image synthesis: an edge-matche
+ *  17210: src/tiled/validate.c, checks a hand-made tiled texture (the thesis's Figs. 39,
+ *  17338: src/tiled/builtin.c, built-in meshes and exemplars for demos and tests: the
+ *  17535: src/tiled/render.c, a software rendering of a mapped mesh (the thesis rendered
+ *  17758: src/tiled/io.c, files. Meshes and exemplars in; the mapped mesh with its t
  */
 /* tiled.h - seamless, singularity-free tiled textures on quad meshes.
  *
@@ -7468,7 +7468,7 @@ PW__DEF int pw__amd_init(pw__amd *G, const pw_alloc *a, const pw_csr *A, pw_err 
     G->a = a;
     G->n = n;
     G->var = (size_t *)pw_alloc_array(a, (size_t)n * 3, sizeof(size_t), "ordering graph", e);
-    G->nvar = (int *)pw_calloc_array(a, (size_t)n * 11, sizeof(int), "ordering graph", e);
+    G->nvar = (int *)pw_calloc_array(a, (size_t)n * 10, sizeof(int), "ordering graph", e);
     G->head = (int *)pw_alloc_array(a, (size_t)n + 1, sizeof(int), "ordering graph", e);
     G->status = (unsigned char *)pw_calloc_array(a, (size_t)n, 1, "ordering graph", e);
     if (!G->var || !G->nvar || !G->head || !G->status ||
@@ -7561,16 +7561,14 @@ PW__DEF int pw__amd_eliminate(pw__amd *G, int p, int k, int *nb, pw_err *e)
             }
             G->w[el]--;
         }
-    for (i = 0; i < nn; i++) { /* elements inside L_p are absorbed (aggressive absorption) */
+    for (i = 0; i < nn; i++) { /* absorption, pruning and the new degree of each variable of L_p */
         int v = nb[i], m = 0, ext = 0;
         long d;
         int *ev = G->pool + G->elt[v], *vv = G->pool + G->var[v];
         for (j = 0; j < G->nelt[v]; j++) {
             int el = ev[j];
-            if (G->status[el] != 1 || G->w[el] == 0) {
-                G->status[el] = G->status[el] == 1 ? 2 : G->status[el];
-                continue;
-            }
+            if (G->status[el] == 1 && G->w[el] == 0) G->status[el] = 2; /* inside L_p: absorbed */
+            if (G->status[el] != 1) continue;
             ev[m++] = el;
             ext += G->w[el];
         }

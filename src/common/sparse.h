@@ -1077,7 +1077,7 @@ PW__DEF int pw__amd_init(pw__amd *G, const pw_alloc *a, const pw_csr *A, pw_err 
     G->a = a;
     G->n = n;
     G->var = (size_t *)pw_alloc_array(a, (size_t)n * 3, sizeof(size_t), "ordering graph", e);
-    G->nvar = (int *)pw_calloc_array(a, (size_t)n * 11, sizeof(int), "ordering graph", e);
+    G->nvar = (int *)pw_calloc_array(a, (size_t)n * 10, sizeof(int), "ordering graph", e);
     G->head = (int *)pw_alloc_array(a, (size_t)n + 1, sizeof(int), "ordering graph", e);
     G->status = (unsigned char *)pw_calloc_array(a, (size_t)n, 1, "ordering graph", e);
     if (!G->var || !G->nvar || !G->head || !G->status ||
@@ -1170,16 +1170,14 @@ PW__DEF int pw__amd_eliminate(pw__amd *G, int p, int k, int *nb, pw_err *e)
             }
             G->w[el]--;
         }
-    for (i = 0; i < nn; i++) { /* elements inside L_p are absorbed (aggressive absorption) */
+    for (i = 0; i < nn; i++) { /* absorption, pruning and the new degree of each variable of L_p */
         int v = nb[i], m = 0, ext = 0;
         long d;
         int *ev = G->pool + G->elt[v], *vv = G->pool + G->var[v];
         for (j = 0; j < G->nelt[v]; j++) {
             int el = ev[j];
-            if (G->status[el] != 1 || G->w[el] == 0) {
-                G->status[el] = G->status[el] == 1 ? 2 : G->status[el];
-                continue;
-            }
+            if (G->status[el] == 1 && G->w[el] == 0) G->status[el] = 2; /* inside L_p: absorbed */
+            if (G->status[el] != 1) continue;
             ev[m++] = el;
             ext += G->w[el];
         }
