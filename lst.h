@@ -15,33 +15,33 @@
  *   5529: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
  *   6058: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
  *   6482: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
- *   6669: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
- *   6754: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
- *   8289: src/common/raster.h, exact scan conversion of 2D triangles.
- *   8801: src/common/parallel.h, a parallel for, the one way work is split across threads.
- *   8974: src/common/render.h, a small deterministic software renderer for textured trian
- *  10873: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
- *  11062: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
- *  11982: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
- *  12680: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
- *  12916: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
- *  13677: src/common/tetmesh.h, the tetrahedral mesh that lapped solid textures work on, a
- *  14164: src/common/tetio.h, tetrahedral mesh files, TetGen .node/.ele and MEDIT .mesh.
- *  14656: src/common/bisect.h, graded, conforming tetrahedral meshes of a box by newest-v
- *  14983: src/common/stuffing.h, the built-in tetrahedralizer of lst.h, so that no external
- *  18360: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
- *  18503: src/common/pca.h, principal component analysis of vectors streamed one at a 
- *  18690: src/common/glue.h, what every method header needs between its public types an
- *  19026: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  19690: src/lst/core.c, lst.h's glue to the shared core, its defaults, the convers
- *  20024: src/lst/exemplar.c, solid exemplars (§5): sampling, the procedural exemplars 
- *  20593: src/lst/field.c, §5.2.2, the fields that orient and scale the pastes. The 
- *  21805: src/lst/paste.c, §5.2.3-5.2.7, filling the model. Each paste picks a rando
- *  22833: src/lst/render.c, §5.1, showing a model. Every point of a tetrahedron is th
- *  23730: src/lst/cut.c, §5.1.1, cutting a model along the zero set of a scalar fi
- *  24335: src/lst/builtin.c, the tetrahedralizer entry point, checks of caller meshes, 
- *  24857: src/lst/io.c, the model file, the constraint files and the file convenie
- *  25550: src/lst/export.c, the visible boundary with a baked texture atlas, for glTF.
+ *   6679: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
+ *   6764: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
+ *   8299: src/common/raster.h, exact scan conversion of 2D triangles.
+ *   8811: src/common/parallel.h, a parallel for, the one way work is split across threads.
+ *   8984: src/common/render.h, a small deterministic software renderer for textured trian
+ *  11134: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
+ *  11323: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
+ *  12243: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
+ *  12941: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
+ *  13177: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
+ *  13938: src/common/tetmesh.h, the tetrahedral mesh that lapped solid textures work on, a
+ *  14425: src/common/tetio.h, tetrahedral mesh files, TetGen .node/.ele and MEDIT .mesh.
+ *  14917: src/common/bisect.h, graded, conforming tetrahedral meshes of a box by newest-v
+ *  15244: src/common/stuffing.h, the built-in tetrahedralizer of lst.h, so that no external
+ *  18621: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
+ *  18764: src/common/pca.h, principal component analysis of vectors streamed one at a 
+ *  18951: src/common/glue.h, what every method header needs between its public types an
+ *  19287: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  19951: src/lst/core.c, lst.h's glue to the shared core, its defaults, the convers
+ *  20285: src/lst/exemplar.c, solid exemplars (§5): sampling, the procedural exemplars 
+ *  20854: src/lst/field.c, §5.2.2, the fields that orient and scale the pastes. The 
+ *  22066: src/lst/paste.c, §5.2.3-5.2.7, filling the model. Each paste picks a rando
+ *  23094: src/lst/render.c, §5.1, showing a model. Every point of a tetrahedron is th
+ *  23991: src/lst/cut.c, §5.1.1, cutting a model along the zero set of a scalar fi
+ *  24596: src/lst/builtin.c, the tetrahedralizer entry point, checks of caller meshes, 
+ *  25118: src/lst/io.c, the model file, the constraint files and the file convenie
+ *  25811: src/lst/export.c, the visible boundary with a baked texture atlas, for glTF.
  */
 /* lst.h - lapped solid textures: solid exemplars pasted inside a model.
  *
@@ -6629,9 +6629,11 @@ PW__DEF int pw_trimesh_repair_normals(const pw_alloc *a, pw_trimesh *m, pw_err *
  * inconsistently oriented meshes and zero-area triangles are errors that
  * name the element; with keep_degenerate, zero-area triangles are kept
  * (area 0) and every degenerate triangle takes its neighbours' normal. */
-PW__DEF int pw_trimesh_init_ex(const pw_alloc *a, const pw_mesh *in, int keep_degenerate, pw_trimesh *m, pw_err *e)
+/* The validated mesh's faces as fans of triangles, and nothing else (no
+ * adjacency, normals or areas): what drawing needs. */
+PW__DEF int pw_trimesh_init_tris(const pw_alloc *a, const pw_mesh *in, pw_trimesh *m, pw_err *e)
 {
-    int f, k, t = 0, r, *fs;
+    int f, k, t = 0, r;
     memset(m, 0, sizeof *m);
     if (!in->pos || !in->fstart || !in->fv) return pw_fail(e, PW_ERR_INVALID, "mesh has NULL arrays");
     if (in->nf < 1) return pw_fail(e, PW_ERR_DEGENERATE, "mesh has no faces");
@@ -6640,16 +6642,24 @@ PW__DEF int pw_trimesh_init_ex(const pw_alloc *a, const pw_mesh *in, int keep_de
     m->pos = in->pos;
     m->nf = in->fstart[in->nf] - 2 * in->nf;
     m->tri = (int *)pw_alloc_array(a, (size_t)m->nf * 3, sizeof(int), "triangles", e);
-    m->normal = (float *)pw_alloc_array(a, (size_t)m->nf * 3, sizeof(float), "normals", e);
-    m->area = (float *)pw_alloc_array(a, (size_t)m->nf, sizeof(float), "areas", e);
-    fs = (int *)pw_alloc_array(a, (size_t)m->nf + 1, sizeof(int), "triangle offsets", e);
-    if (!m->tri || !m->normal || !m->area || !fs) r = PW_ERR_NOMEM;
-    for (f = 0; r == PW_OK && f < in->nf; f++)
+    if (!m->tri) return PW_ERR_NOMEM;
+    for (f = 0; f < in->nf; f++)
         for (k = in->fstart[f] + 1; k + 1 < in->fstart[f + 1]; k++, t++) {
             m->tri[3 * t] = in->fv[in->fstart[f]];
             m->tri[3 * t + 1] = in->fv[k];
             m->tri[3 * t + 2] = in->fv[k + 1];
         }
+    return PW_OK;
+}
+
+PW__DEF int pw_trimesh_init_ex(const pw_alloc *a, const pw_mesh *in, int keep_degenerate, pw_trimesh *m, pw_err *e)
+{
+    int f, r, *fs;
+    if ((r = pw_trimesh_init_tris(a, in, m, e)) != PW_OK) return r;
+    m->normal = (float *)pw_alloc_array(a, (size_t)m->nf * 3, sizeof(float), "normals", e);
+    m->area = (float *)pw_alloc_array(a, (size_t)m->nf, sizeof(float), "areas", e);
+    fs = (int *)pw_alloc_array(a, (size_t)m->nf + 1, sizeof(int), "triangle offsets", e);
+    if (!m->normal || !m->area || !fs) r = PW_ERR_NOMEM;
     for (f = 0; r == PW_OK && f <= m->nf; f++) fs[f] = 3 * f;
     if (r == PW_OK) r = pw_hmesh_build(a, m->nv, m->nf, fs, m->tri, &m->hm, e);
     if (r == PW_OK) r = pw__trimesh_geometry(m, keep_degenerate, e);
@@ -9637,6 +9647,12 @@ PW__DEF void pw__tex_trilinear(const pw_texture *t, float u, float v, float lod,
 }
 
 #ifdef PW__SSE2
+/* Per lane: mask ? a : b (mask from a comparison: all ones or zeros). */
+PW__DEF __m128 pw__select4(__m128 mask, __m128 a, __m128 b)
+{
+    return _mm_or_ps(_mm_and_ps(mask, a), _mm_andnot_ps(mask, b));
+}
+
 /* The four channels of the 8-bit texel at px, times w. */
 PW__DEF __m128 pw__texel8(const uint8_t *px, float w)
 {
@@ -9648,16 +9664,11 @@ PW__DEF __m128 pw__texel8(const uint8_t *px, float w)
 }
 #endif
 
-/* The same in the 8-bit levels, times scale (1/255: premultiplied RGBA). */
-PW__DEF void pw__tex_trilinear8(const pw_texture *t, float u, float v, float lod, int wrap, float scale, float *out)
+/* The eight weighed texels of pw__tex_taps8's lookup in the 8-bit levels
+ * (level L and L + 1), summed. */
+PW__DEF void pw__tex_fetch8(const pw_texture *t, int L, const ptrdiff_t *p, const float *w, float *out)
 {
-    const uint8_t *a, *b;
-    ptrdiff_t p[8];
-    float w[8];
-    int L;
-    pw__tex_taps8(t, u, v, lod, wrap, scale, &L, p, w);
-    a = t->level8[L];
-    b = a + (size_t)t->lw[L] * t->lh[L] * 4;
+    const uint8_t *a = t->level8[L], *b = a + (size_t)t->lw[L] * t->lh[L] * 4;
 #ifdef PW__SSE2
     _mm_storeu_ps(out, _mm_add_ps(_mm_add_ps(_mm_add_ps(pw__texel8(a + p[0], w[0]), pw__texel8(a + p[1], w[1])),
                                              _mm_add_ps(pw__texel8(a + p[2], w[2]), pw__texel8(a + p[3], w[3]))),
@@ -9674,6 +9685,148 @@ PW__DEF void pw__tex_trilinear8(const pw_texture *t, float u, float v, float lod
     }
 #endif
 }
+
+/* The same in the 8-bit levels, times scale (1/255: premultiplied RGBA). */
+PW__DEF void pw__tex_trilinear8(const pw_texture *t, float u, float v, float lod, int wrap, float scale, float *out)
+{
+    ptrdiff_t p[8];
+    float w[8];
+    int L;
+    pw__tex_taps8(t, u, v, lod, wrap, scale, &L, p, w);
+    pw__tex_fetch8(t, L, p, w, out);
+}
+
+#ifdef PW__SSE2
+/* pw__tex_taps8 of four lookups at once (u[j], v[j], lod[j]): lookup j's
+ * level in L[j], its texels and weights in p[8 j ..], w[8 j ..]; the same
+ * float operations as the scalar code, so the same taps. */
+typedef struct pw__taps4 {
+    const float *u, *v, *lod; /* the four lookups */
+    int L[4];
+    ptrdiff_t p[32];
+    float w[32];
+} pw__taps4;
+
+/* pw__tex_wrap of four coordinates. */
+PW__DEF __m128 pw__tex_wrap4(__m128 u, int wrap)
+{
+    const __m128 zero = _mm_setzero_ps(), one = _mm_set1_ps(1.0f);
+    const __m128 ok = _mm_and_ps(_mm_cmpgt_ps(u, _mm_set1_ps(-1e9f)), _mm_cmplt_ps(u, _mm_set1_ps(1e9f)));
+    __m128 r;
+    if (wrap == PW_WRAP_CLAMP) {
+        r = pw__select4(_mm_cmplt_ps(u, zero), zero, pw__select4(_mm_cmpgt_ps(u, one), one, u));
+    } else {
+        __m128 f = _mm_cvtepi32_ps(_mm_cvttps_epi32(_mm_and_ps(ok, u)));
+        f = pw__select4(_mm_cmpgt_ps(f, u), _mm_sub_ps(f, one), f);
+        r = _mm_sub_ps(u, f);
+    }
+    return _mm_and_ps(ok, r);
+}
+
+/* Per lane: x < lo ? x + add_lo : (x > hi ? x + add_hi : x), in integers. */
+PW__DEF __m128i pw__fold4(__m128i x, __m128i lo, __m128i add_lo, __m128i hi, __m128i add_hi)
+{
+    const __m128i below = _mm_cmplt_epi32(x, lo), above = _mm_cmpgt_epi32(x, hi);
+    return _mm_add_epi32(x, _mm_or_si128(_mm_and_si128(below, add_lo), _mm_and_si128(above, add_hi)));
+}
+
+/* Per lane a * b + c, for products and sums below 2^31 (SSE2 multiplies
+ * two lanes at a time). */
+PW__DEF __m128i pw__madd4(__m128i a, __m128i b, __m128i c)
+{
+    const __m128i even = _mm_mul_epu32(a, b), odd = _mm_mul_epu32(_mm_srli_si128(a, 4), _mm_srli_si128(b, 4));
+    return _mm_add_epi32(_mm_unpacklo_epi32(_mm_shuffle_epi32(even, _MM_SHUFFLE(0, 0, 2, 0)),
+                                            _mm_shuffle_epi32(odd, _MM_SHUFFLE(0, 0, 2, 0))),
+                         c);
+}
+
+/* pw__tex_taps of the four lookups in their levels lv[j] (lookup j's taps
+ * at p[8 j + k0 ..], w[8 j + k0 ..]), weights summing to wgt; the level's
+ * offsets must stay below 2^31. */
+PW__DEF void pw__tex_taps4(const pw_texture *t, const int *lv, __m128 u, __m128 v, __m128 wgt, int wrap, int k0,
+                           pw__taps4 *T)
+{
+    const __m128i W = _mm_setr_epi32(t->lw[lv[0]], t->lw[lv[1]], t->lw[lv[2]], t->lw[lv[3]]);
+    const __m128i H = _mm_setr_epi32(t->lh[lv[0]], t->lh[lv[1]], t->lh[lv[2]], t->lh[lv[3]]);
+    const __m128i one = _mm_set1_epi32(1), zero = _mm_setzero_si128();
+    const __m128 half = _mm_set1_ps(0.5f), onef = _mm_set1_ps(1.0f);
+    const __m128 cx = _mm_sub_ps(_mm_mul_ps(u, _mm_cvtepi32_ps(W)), half);
+    const __m128 cy = _mm_sub_ps(_mm_mul_ps(_mm_sub_ps(onef, v), _mm_cvtepi32_ps(H)), half);
+    __m128i x0 = _mm_sub_epi32(_mm_cvttps_epi32(_mm_add_ps(cx, onef)), one);
+    __m128i y0 = _mm_sub_epi32(_mm_cvttps_epi32(_mm_add_ps(cy, onef)), one);
+    __m128i x1 = _mm_add_epi32(x0, one), y1 = _mm_add_epi32(y0, one);
+    const __m128 fx = _mm_sub_ps(cx, _mm_cvtepi32_ps(x0)), fy = _mm_sub_ps(cy, _mm_cvtepi32_ps(y0));
+    const __m128 gy = _mm_mul_ps(wgt, fy), hy = _mm_sub_ps(wgt, gy);
+    const __m128i W1 = _mm_sub_epi32(W, one), H1 = _mm_sub_epi32(H, one);
+    __m128 w0 = _mm_sub_ps(hy, _mm_mul_ps(hy, fx)), w1 = _mm_mul_ps(hy, fx);
+    __m128 w2 = _mm_sub_ps(gy, _mm_mul_ps(gy, fx)), w3 = _mm_mul_ps(gy, fx);
+    __m128 p0, p1, p2, p3;
+    int j;
+    if (wrap == PW_WRAP_CLAMP) { /* x < 0: 0; x > W - 1: W - 1 */
+        x0 = _mm_andnot_si128(_mm_cmplt_epi32(x0, zero), x0);
+        y0 = _mm_andnot_si128(_mm_cmplt_epi32(y0, zero), y0);
+        x1 = pw__fold4(x1, zero, zero, W1, _mm_sub_epi32(W1, x1));
+        y1 = pw__fold4(y1, zero, zero, H1, _mm_sub_epi32(H1, y1));
+    } else { /* x < 0: x + W; x >= W: x - W */
+        x0 = pw__fold4(x0, zero, W, W1, _mm_sub_epi32(zero, W));
+        y0 = pw__fold4(y0, zero, H, H1, _mm_sub_epi32(zero, H));
+        x1 = pw__fold4(x1, zero, W, W1, _mm_sub_epi32(zero, W));
+        y1 = pw__fold4(y1, zero, H, H1, _mm_sub_epi32(zero, H));
+    }
+    p0 = _mm_castsi128_ps(_mm_slli_epi32(pw__madd4(y0, W, x0), 2)); /* offsets in channels */
+    p1 = _mm_castsi128_ps(_mm_slli_epi32(pw__madd4(y0, W, x1), 2));
+    p2 = _mm_castsi128_ps(_mm_slli_epi32(pw__madd4(y1, W, x0), 2));
+    p3 = _mm_castsi128_ps(_mm_slli_epi32(pw__madd4(y1, W, x1), 2));
+    _MM_TRANSPOSE4_PS(w0, w1, w2, w3); /* per lookup: its four taps */
+    _MM_TRANSPOSE4_PS(p0, p1, p2, p3);
+    for (j = 0; j < 4; j++) {
+        const __m128 wj = j == 0 ? w0 : j == 1 ? w1 : j == 2 ? w2 : w3;
+        const __m128i pj = _mm_castps_si128(j == 0 ? p0 : j == 1 ? p1 : j == 2 ? p2 : p3);
+        ptrdiff_t *p = T->p + 8 * j + k0;
+        _mm_storeu_ps(T->w + 8 * j + k0, wj);
+        if (sizeof(ptrdiff_t) == 8) { /* non-negative: widened by zeros */
+            _mm_storeu_si128((__m128i *)p, _mm_unpacklo_epi32(pj, zero));
+            _mm_storeu_si128((__m128i *)(p + 2), _mm_unpackhi_epi32(pj, zero));
+        } else {
+            _mm_storeu_si128((__m128i *)p, pj);
+        }
+    }
+}
+
+/* pw__tex_taps8 of T's four lookups. */
+PW__DEF void pw__tex_taps8x4(const pw_texture *t, int wrap, float scale, pw__taps4 *T)
+{
+    const __m128 u = pw__tex_wrap4(_mm_loadu_ps(T->u), wrap), v = pw__tex_wrap4(_mm_loadu_ps(T->v), wrap);
+    float frac[4];
+    int j, k, L1[4];
+    for (j = 0; j < 4; j++) { /* the level split, as pw__tex_taps8 */
+        float lod = T->lod[j];
+        T->L[j] = 0;
+        if (lod >= (float)(t->nlevels - 1)) {
+            T->L[j] = t->nlevels - 1;
+            lod = 0.0f;
+        } else if (lod > 0.0f) {
+            T->L[j] = (int)lod;
+            lod -= (float)T->L[j];
+        } else {
+            lod = 0.0f;
+        }
+        frac[j] = lod;
+        L1[j] = lod > 0.0f ? T->L[j] + 1 : T->L[j];
+    }
+    {
+        const __m128 s = _mm_set1_ps(scale), sl = _mm_mul_ps(s, _mm_loadu_ps(frac));
+        pw__tex_taps4(t, T->L, u, v, _mm_sub_ps(s, sl), wrap, 0, T);
+        pw__tex_taps4(t, L1, u, v, sl, wrap, 4, T);
+    }
+    for (j = 0; j < 4; j++)
+        if (!(frac[j] > 0.0f))
+            for (k = 0; k < 4; k++) { /* level L again, as seen from L + 1 */
+                T->p[8 * j + 4 + k] = T->p[8 * j + k] - (ptrdiff_t)t->lw[T->L[j]] * t->lh[T->L[j]] * 4;
+                T->w[8 * j + 4 + k] = 0.0f;
+            }
+}
+#endif
 
 /* Samples texture t at (u, v) (v = 0 at the bottom) with the given filter
  * and wrap mode; lod (log2 of the footprint in level-0 texels) selects and
@@ -10055,19 +10208,19 @@ PW__DEF void pw__transform(const pw__view *v, const pw_draw *d, double *vh)
 
 /* The range [*lo, *hi] of screen rows (in samples) that the corners of d's
  * triangles project to under view v, exactly as pw_render_draw projects
- * them; returns 0 (the draw may reach any row) if some corner is not at
- * least znear in front or not finite. A band [y0, y0 + bh] that the range
- * misses (*hi < y0 or *lo > y0 + bh) gets nothing from the draw: each of its
+ * them (vh: every vertex of d transformed by pw__transform under v);
+ * returns 0 (the draw may reach any row) if some corner is not at least
+ * znear in front or not finite. A band [y0, y0 + bh] that the range misses
+ * (*hi < y0 or *lo > y0 + bh) gets nothing from the draw: each of its
  * triangles lies above or below the band (pw__offscreen), so a frame drawn
  * in bands may skip the draw there. */
-PW__DEF int pw__draw_rows(const pw__view *v, const pw_draw *d, double *lo, double *hi)
+PW__DEF int pw__draw_rows(const pw__view *v, const pw_draw *d, const double *vh, double *lo, double *hi)
 {
     int i;
     *lo = -DBL_MAX;
     *hi = DBL_MAX;
     for (i = 0; i < 3 * d->ntris; i++) {
-        double o[5];
-        pw__transform_vertex(v, d->positions + 3 * (size_t)d->tris[i], o);
+        const double *o = vh + 5 * (size_t)d->tris[i];
         if (!(o[2] >= v->znear)) {
             *lo = -DBL_MAX;
             *hi = DBL_MAX;
@@ -10314,6 +10467,95 @@ PW__DEF float pw__light(const pw__ctx *c, const float *pl, float dx, float dy)
     return c->ambient + (1.0f - c->ambient) * dif;
 }
 
+#ifdef PW__SSE2
+/* pw__log2f of four values at once, the same float operations. */
+PW__DEF __m128 pw__log2f4(__m128 x)
+{
+    const __m128i bits = _mm_castps_si128(x);
+    const __m128 ex = _mm_cvtepi32_ps(
+        _mm_sub_epi32(_mm_and_si128(_mm_srli_epi32(bits, 23), _mm_set1_epi32(255)), _mm_set1_epi32(127)));
+    const __m128 m =
+        _mm_castsi128_ps(_mm_or_si128(_mm_and_si128(bits, _mm_set1_epi32(0x007FFFFF)), _mm_set1_epi32(0x3F800000)));
+    const __m128 one = _mm_set1_ps(1.0f), s = _mm_div_ps(_mm_sub_ps(m, one), _mm_add_ps(m, one)), s2 = _mm_mul_ps(s, s);
+    __m128 r = _mm_add_ps(_mm_set1_ps(0.5770780164f), _mm_mul_ps(s2, _mm_set1_ps(0.4121985831f)));
+    r = _mm_add_ps(_mm_set1_ps(0.9617966939f), _mm_mul_ps(s2, r));
+    r = _mm_add_ps(_mm_set1_ps(2.8853900818f), _mm_mul_ps(s2, r));
+    r = _mm_add_ps(ex, _mm_mul_ps(s, r));
+    r = pw__select4(_mm_cmpgt_ps(x, _mm_set1_ps(1e30f)), _mm_set1_ps(100.0f), r);
+    return pw__select4(_mm_cmpgt_ps(x, _mm_set1_ps(1e-30f)), r, _mm_set1_ps(-100.0f));
+}
+
+/* The planes of pixels i .. i + 3 of batch b, transposed: P[k] holds
+ * coefficient k of each pixel's triangle. */
+PW__DEF void pw__planes4(const pw__ctx *c, const pw__batch *b, int i, __m128 P[PW__NPL])
+{
+    const float *p0 = c->planes + (size_t)b->t[i] * PW__NPL, *p1 = c->planes + (size_t)b->t[i + 1] * PW__NPL;
+    const float *p2 = c->planes + (size_t)b->t[i + 2] * PW__NPL, *p3 = c->planes + (size_t)b->t[i + 3] * PW__NPL;
+    int k;
+    for (k = 0; k < PW__NPL; k += 4) {
+        __m128 r0 = _mm_loadu_ps(p0 + k), r1 = _mm_loadu_ps(p1 + k), r2 = _mm_loadu_ps(p2 + k),
+               r3 = _mm_loadu_ps(p3 + k);
+        _MM_TRANSPOSE4_PS(r0, r1, r2, r3);
+        P[k] = r0;
+        P[k + 1] = r1;
+        P[k + 2] = r2;
+        P[k + 3] = r3;
+    }
+}
+
+/* What pw__shade_batch computes per pixel before the texture lookup, for
+ * pixels i .. i + 3 at once, with the same float operations in the same
+ * order as the scalar loops (perspective divisor, texture coordinates and
+ * mip level when tex, lighting when lit). */
+PW__DEF void pw__shade_coords4(const pw__ctx *c, const pw__batch *b, int i, int tex, float *dx, float *dy, float *iq,
+                               float *uvl)
+{
+    __m128 P[PW__NPL], X, Y, q, r;
+    pw__planes4(c, b, i, P);
+    X = _mm_sub_ps(_mm_loadu_ps(b->x + i), P[PW__OX]);
+    Y = _mm_sub_ps(_mm_loadu_ps(b->y + i), P[PW__OY]);
+    q = _mm_add_ps(_mm_add_ps(_mm_mul_ps(P[0], X), _mm_mul_ps(P[1], Y)), P[2]);
+    q = pw__select4(_mm_cmpgt_ps(q, _mm_set1_ps(1e-30f)), q, _mm_set1_ps(1e-30f));
+    r = _mm_div_ps(_mm_set1_ps(1.0f), q);
+    _mm_storeu_ps(dx + i, X);
+    _mm_storeu_ps(dy + i, Y);
+    _mm_storeu_ps(iq + i, r);
+    if (tex) { /* uvl: u, v, lod, light rows of PW__BATCH */
+        __m128 u = _mm_mul_ps(_mm_add_ps(_mm_add_ps(_mm_mul_ps(P[3], X), _mm_mul_ps(P[4], Y)), P[5]), r);
+        __m128 v = _mm_mul_ps(_mm_add_ps(_mm_add_ps(_mm_mul_ps(P[6], X), _mm_mul_ps(P[7], Y)), P[8]), r);
+        __m128 lod = _mm_setzero_ps();
+        _mm_storeu_ps(uvl + i, u);
+        _mm_storeu_ps(uvl + PW__BATCH + i, v);
+        if (c->filter == PW_FILTER_TRILINEAR) {
+            const __m128 su = _mm_mul_ps(_mm_mul_ps(_mm_set1_ps(c->ss), r), _mm_set1_ps((float)c->tex->w));
+            const __m128 sv = _mm_mul_ps(_mm_mul_ps(_mm_set1_ps(c->ss), r), _mm_set1_ps((float)c->tex->h));
+            const __m128 ux = _mm_mul_ps(_mm_sub_ps(P[3], _mm_mul_ps(u, P[0])), su);
+            const __m128 uy = _mm_mul_ps(_mm_sub_ps(P[4], _mm_mul_ps(u, P[1])), su);
+            const __m128 vx = _mm_mul_ps(_mm_sub_ps(P[6], _mm_mul_ps(v, P[0])), sv);
+            const __m128 vy = _mm_mul_ps(_mm_sub_ps(P[7], _mm_mul_ps(v, P[1])), sv);
+            const __m128 rx = _mm_add_ps(_mm_mul_ps(ux, ux), _mm_mul_ps(vx, vx));
+            const __m128 ry = _mm_add_ps(_mm_mul_ps(uy, uy), _mm_mul_ps(vy, vy));
+            lod = _mm_mul_ps(_mm_set1_ps(0.5f), pw__log2f4(pw__select4(_mm_cmpgt_ps(rx, ry), rx, ry)));
+        }
+        _mm_storeu_ps(uvl + 2 * PW__BATCH + i, lod);
+    }
+    if (c->lit) {
+        const __m128 n0 = _mm_add_ps(_mm_add_ps(_mm_mul_ps(P[9], X), _mm_mul_ps(P[10], Y)), P[11]);
+        const __m128 n1 = _mm_add_ps(_mm_add_ps(_mm_mul_ps(P[12], X), _mm_mul_ps(P[13], Y)), P[14]);
+        const __m128 n2 = _mm_add_ps(_mm_add_ps(_mm_mul_ps(P[15], X), _mm_mul_ps(P[16], Y)), P[17]);
+        const __m128 nn = _mm_add_ps(_mm_add_ps(_mm_mul_ps(n0, n0), _mm_mul_ps(n1, n1)), _mm_mul_ps(n2, n2));
+        const __m128 ln =
+            _mm_add_ps(_mm_add_ps(_mm_mul_ps(n0, _mm_set1_ps(c->light[0])), _mm_mul_ps(n1, _mm_set1_ps(c->light[1]))),
+                       _mm_mul_ps(n2, _mm_set1_ps(c->light[2])));
+        __m128 dif =
+            pw__select4(_mm_cmpgt_ps(nn, _mm_setzero_ps()), _mm_div_ps(ln, _mm_sqrt_ps(nn)), _mm_set1_ps(1.0f));
+        dif = pw__select4(_mm_cmpgt_ps(dif, _mm_setzero_ps()), dif, _mm_setzero_ps());
+        _mm_storeu_ps(uvl + 3 * PW__BATCH + i,
+                      _mm_add_ps(_mm_set1_ps(c->ambient), _mm_mul_ps(_mm_set1_ps(1.0f - c->ambient), dif)));
+    }
+}
+#endif
+
 /* Shades the batch: pixel i is triangle t[i] at sample-grid point (x[i],
  * y[i]): tint x texture (or the caller's shader), lit, premultiplied RGBA
  * into col. Step by step over the batch, each pixel computed as alone.
@@ -10321,11 +10563,18 @@ PW__DEF float pw__light(const pw__ctx *c, const float *pl, float dx, float dy)
  * 16-bit ones). */
 PW__DEF void pw__shade_batch(const pw__ctx *c, pw__batch *b)
 {
-    float dx[PW__BATCH], dy[PW__BATCH], iq[PW__BATCH], u[PW__BATCH], v[PW__BATCH], lod[PW__BATCH], lk[PW__BATCH];
+    float dx[PW__BATCH], dy[PW__BATCH], iq[PW__BATCH], uvl[4 * PW__BATCH];
+    float *u = uvl, *v = uvl + PW__BATCH, *lod = uvl + 2 * PW__BATCH, *lk = uvl + 3 * PW__BATCH;
     const float *pl;
     const int n = b->n, tex = c->tex && !c->d->shader;
-    int i, k;
-    for (i = 0; i < n; i++) { /* the perspective divisor */
+    int i, i0 = 0, k;
+#ifdef PW__SSE2
+    pw__taps4 T4;
+    int i4; /* pixels before i4 take their taps four at a time: offsets below 2^31 */
+    for (; i0 + 4 <= n; i0 += 4) pw__shade_coords4(c, b, i0, tex, dx, dy, iq, uvl);
+    i4 = tex && (size_t)c->tex->w * c->tex->h < ((size_t)1 << 29) ? i0 : 0;
+#endif
+    for (i = i0; i < n; i++) { /* the perspective divisor */
         float q;
         pl = c->planes + (size_t)b->t[i] * PW__NPL;
         dx[i] = b->x[i] - pl[PW__OX];
@@ -10334,19 +10583,31 @@ PW__DEF void pw__shade_batch(const pw__ctx *c, pw__batch *b)
         if (!(q > 1e-30f)) q = 1e-30f; /* only reachable through rounding at a near-plane edge */
         iq[i] = 1.0f / q;
     }
-    for (i = 0; tex && i < n; i++) { /* texture coordinates and mip level */
+    for (i = i0; tex && i < n; i++) { /* texture coordinates and mip level */
         pl = c->planes + (size_t)b->t[i] * PW__NPL;
         u[i] = (pl[3] * dx[i] + pl[4] * dy[i] + pl[5]) * iq[i];
         v[i] = (pl[6] * dx[i] + pl[7] * dy[i] + pl[8]) * iq[i];
         lod[i] = c->filter == PW_FILTER_TRILINEAR ? pw__tex_lod(c, pl, u[i], v[i], iq[i]) : 0.0f;
     }
-    for (i = 0; i < n; i++) lk[i] = c->lit ? pw__light(c, c->planes + (size_t)b->t[i] * PW__NPL, dx[i], dy[i]) : 1.0f;
+    for (i = c->lit ? i0 : 0; i < n; i++)
+        lk[i] = c->lit ? pw__light(c, c->planes + (size_t)b->t[i] * PW__NPL, dx[i], dy[i]) : 1.0f;
     for (i = 0; i < n; i++) {
         float tx[4] = {1.0f, 1.0f, 1.0f, 1.0f}, *o = b->col + 4 * i;
         if (tex && c->filter == PW_FILTER_NEAREST) {
             pw_texture_sample(c->tex, u[i], v[i], 0.0f, c->filter, c->wrap, tx);
         } else if (tex && c->tex->level8[0]) {
+#ifdef PW__SSE2
+            if (i < i4 && i % 4 == 0) { /* the taps of pixels i .. i + 3 */
+                T4.u = u + i;
+                T4.v = v + i;
+                T4.lod = lod + i;
+                pw__tex_taps8x4(c->tex, c->wrap, 1.0f / 255.0f, &T4);
+            }
+            if (i < i4) pw__tex_fetch8(c->tex, T4.L[i % 4], T4.p + 8 * (i % 4), T4.w + 8 * (i % 4), tx);
+            else pw__tex_trilinear8(c->tex, u[i], v[i], lod[i], c->wrap, 1.0f / 255.0f, tx);
+#else
             pw__tex_trilinear8(c->tex, u[i], v[i], lod[i], c->wrap, 1.0f / 255.0f, tx);
+#endif
         } else if (tex) { /* a 16-bit source */
             pw__tex_trilinear(c->tex, u[i], v[i], lod[i], c->wrap, tx);
             for (k = 0; k < 4; k++) tx[k] *= 1.0f / 65535.0f;

@@ -1625,6 +1625,93 @@ static void t_render_simd_exact(void)
     pw_image_free(NULL, &img);
 }
 
+#ifdef PW__SSE2
+/* A float for the four-wide checks: mostly in [lo, hi), sometimes one of
+ * the values that take other branches (NaN, infinities, huge, tiny). */
+static float simd_value(pw_rng *rng, float lo, float hi)
+{
+    static const float odd[8] = {0.0f, -0.0f, 1e-35f, 1e35f, -1e35f, 1.0f, 2e9f, -2e9f};
+    uint32_t k = pw_rng_below(rng, 40);
+    if (k == 0) return nanf("");
+    if (k == 1) return k & 1 ? INFINITY : -INFINITY;
+    if (k < 10) return odd[k - 2];
+    return lo + (hi - lo) * pw_rng_float(rng);
+}
+
+/* The four-wide shading steps (coordinates, mip level, lighting, log2,
+ * trilinear taps) against the scalar code they stand for, bit for bit. */
+static void t_render_simd_batch(void)
+{
+    pw_image img;
+    pw_texture tex;
+    pw__ctx c;
+    pw__batch b;
+    pw_rng rng = pw_rng_seed(11, 1);
+    float planes[8 * PW__NPL], dx[PW__BATCH], dy[PW__BATCH], iq[PW__BATCH], uvl[4 * PW__BATCH];
+    int round, i, j, bad_coords = 0, bad_log = 0, bad_taps = 0;
+    make_checker(&img, 37, 5);
+    REQUIRE(pw_texture_create(NULL, &tex, &img, 0, NULL) == PW_OK);
+    memset(&c, 0, sizeof c);
+    c.planes = planes;
+    c.tex = &tex;
+    c.lit = 1;
+    c.ss = 2.0f;
+    c.ambient = 0.3f;
+    c.light[0] = -0.3f;
+    c.light[1] = 0.4f;
+    c.light[2] = 0.87f;
+    for (round = 0; round < 500; round++) {
+        c.filter = round % 3 == 2 ? PW_FILTER_BILINEAR : PW_FILTER_TRILINEAR;
+        for (i = 0; i < 8 * PW__NPL; i++) planes[i] = simd_value(&rng, -2.0f, 2.0f);
+        b.n = PW__BATCH;
+        for (i = 0; i < PW__BATCH; i++) {
+            b.t[i] = (int)pw_rng_below(&rng, 8);
+            b.x[i] = simd_value(&rng, 0.0f, 500.0f);
+            b.y[i] = simd_value(&rng, 0.0f, 500.0f);
+        }
+        for (i = 0; i < PW__BATCH; i += 4) pw__shade_coords4(&c, &b, i, 1, dx, dy, iq, uvl);
+        for (i = 0; i < PW__BATCH; i++) {
+            const float *pl = planes + (size_t)b.t[i] * PW__NPL;
+            float X = b.x[i] - pl[PW__OX], Y = b.y[i] - pl[PW__OY], q = pl[0] * X + pl[1] * Y + pl[2], w[4];
+            if (!(q > 1e-30f)) q = 1e-30f;
+            w[0] = (pl[3] * X + pl[4] * Y + pl[5]) * (1.0f / q);
+            w[1] = (pl[6] * X + pl[7] * Y + pl[8]) * (1.0f / q);
+            w[2] = c.filter == PW_FILTER_TRILINEAR ? pw__tex_lod(&c, pl, w[0], w[1], 1.0f / q) : 0.0f;
+            w[3] = pw__light(&c, pl, X, Y);
+            bad_coords += memcmp(&dx[i], &X, sizeof X) || memcmp(&dy[i], &Y, sizeof Y);
+            bad_coords += iq[i] != 1.0f / q;
+            for (j = 0; j < 4; j++) bad_coords += memcmp(&uvl[j * PW__BATCH + i], &w[j], sizeof(float)) != 0;
+        }
+        for (i = 0; i < PW__BATCH; i += 4) {
+            float x[4], got[4];
+            pw__taps4 T;
+            for (j = 0; j < 4; j++) x[j] = simd_value(&rng, 0.0f, 4.0f);
+            _mm_storeu_ps(got, pw__log2f4(_mm_loadu_ps(x)));
+            for (j = 0; j < 4; j++) {
+                float want = pw__log2f(x[j]);
+                bad_log += memcmp(&got[j], &want, sizeof want) != 0;
+            }
+            T.u = uvl + i;
+            T.v = uvl + PW__BATCH + i;
+            T.lod = uvl + 2 * PW__BATCH + i;
+            pw__tex_taps8x4(&tex, round & 1, 1.0f / 255.0f, &T);
+            for (j = 0; j < 4; j++) {
+                ptrdiff_t p[8];
+                float w[8];
+                int L;
+                pw__tex_taps8(&tex, T.u[j], T.v[j], T.lod[j], round & 1, 1.0f / 255.0f, &L, p, w);
+                bad_taps += L != T.L[j] || memcmp(p, T.p + 8 * j, sizeof p) || memcmp(w, T.w + 8 * j, sizeof w);
+            }
+        }
+    }
+    CHECKF(bad_coords == 0, "%d four-wide coordinates, mip levels or lights differ from the scalar code", bad_coords);
+    CHECKF(bad_log == 0, "%d four-wide log2 values differ from pw__log2f", bad_log);
+    CHECKF(bad_taps == 0, "%d four-wide trilinear taps differ from pw__tex_taps8", bad_taps);
+    pw_texture_free(NULL, &tex);
+    pw_image_free(NULL, &img);
+}
+#endif
+
 /* test_render_portable builds this file with PW_NO_SIMD: its cases are
  * named portable/... */
 #ifdef PW_NO_SIMD
@@ -1659,5 +1746,8 @@ static const pwt_case cases[] = {
     {CASE("render_errors"), t_render_errors},
     {CASE("render_shader"), t_render_shader},
     {CASE("render_simd_exact"), t_render_simd_exact},
+#ifdef PW__SSE2
+    {CASE("render_simd_batch"), t_render_simd_batch},
+#endif
 };
 PWT_MAIN(cases)

@@ -151,9 +151,11 @@ PW__DEF int pw_trimesh_repair_normals(const pw_alloc *a, pw_trimesh *m, pw_err *
  * inconsistently oriented meshes and zero-area triangles are errors that
  * name the element; with keep_degenerate, zero-area triangles are kept
  * (area 0) and every degenerate triangle takes its neighbours' normal. */
-PW__DEF int pw_trimesh_init_ex(const pw_alloc *a, const pw_mesh *in, int keep_degenerate, pw_trimesh *m, pw_err *e)
+/* The validated mesh's faces as fans of triangles, and nothing else (no
+ * adjacency, normals or areas): what drawing needs. */
+PW__DEF int pw_trimesh_init_tris(const pw_alloc *a, const pw_mesh *in, pw_trimesh *m, pw_err *e)
 {
-    int f, k, t = 0, r, *fs;
+    int f, k, t = 0, r;
     memset(m, 0, sizeof *m);
     if (!in->pos || !in->fstart || !in->fv) return pw_fail(e, PW_ERR_INVALID, "mesh has NULL arrays");
     if (in->nf < 1) return pw_fail(e, PW_ERR_DEGENERATE, "mesh has no faces");
@@ -162,16 +164,24 @@ PW__DEF int pw_trimesh_init_ex(const pw_alloc *a, const pw_mesh *in, int keep_de
     m->pos = in->pos;
     m->nf = in->fstart[in->nf] - 2 * in->nf;
     m->tri = (int *)pw_alloc_array(a, (size_t)m->nf * 3, sizeof(int), "triangles", e);
-    m->normal = (float *)pw_alloc_array(a, (size_t)m->nf * 3, sizeof(float), "normals", e);
-    m->area = (float *)pw_alloc_array(a, (size_t)m->nf, sizeof(float), "areas", e);
-    fs = (int *)pw_alloc_array(a, (size_t)m->nf + 1, sizeof(int), "triangle offsets", e);
-    if (!m->tri || !m->normal || !m->area || !fs) r = PW_ERR_NOMEM;
-    for (f = 0; r == PW_OK && f < in->nf; f++)
+    if (!m->tri) return PW_ERR_NOMEM;
+    for (f = 0; f < in->nf; f++)
         for (k = in->fstart[f] + 1; k + 1 < in->fstart[f + 1]; k++, t++) {
             m->tri[3 * t] = in->fv[in->fstart[f]];
             m->tri[3 * t + 1] = in->fv[k];
             m->tri[3 * t + 2] = in->fv[k + 1];
         }
+    return PW_OK;
+}
+
+PW__DEF int pw_trimesh_init_ex(const pw_alloc *a, const pw_mesh *in, int keep_degenerate, pw_trimesh *m, pw_err *e)
+{
+    int f, r, *fs;
+    if ((r = pw_trimesh_init_tris(a, in, m, e)) != PW_OK) return r;
+    m->normal = (float *)pw_alloc_array(a, (size_t)m->nf * 3, sizeof(float), "normals", e);
+    m->area = (float *)pw_alloc_array(a, (size_t)m->nf, sizeof(float), "areas", e);
+    fs = (int *)pw_alloc_array(a, (size_t)m->nf + 1, sizeof(int), "triangle offsets", e);
+    if (!m->normal || !m->area || !fs) r = PW_ERR_NOMEM;
     for (f = 0; r == PW_OK && f <= m->nf; f++) fs[f] = 3 * f;
     if (r == PW_OK) r = pw_hmesh_build(a, m->nv, m->nf, fs, m->tri, &m->hm, e);
     if (r == PW_OK) r = pw__trimesh_geometry(m, keep_degenerate, e);

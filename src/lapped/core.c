@@ -76,14 +76,19 @@ static pw_progress lapped__progress(const lapped_options *o)
  * Degenerate triangles (pw_trimesh_sliver: zero-area, needles, caps) are
  * kept: they take their neighbours' normal, and growth and the
  * parametrisation treat them apart (grow.c), since real scans are full of
- * them. */
-static int lapped__mesh_init(const pw_alloc *a, const lapped_mesh *in, pw_trimesh *m, pw_err *e)
+ * them. draw_only: the triangles alone, all that rendering needs. */
+static int lapped__mesh_init_as(const pw_alloc *a, const lapped_mesh *in, int draw_only, pw_trimesh *m, pw_err *e)
 {
     pw_mesh v;
     memset(m, 0, sizeof *m);
     if (!in) return pw_fail(e, PW_ERR_INVALID, "no mesh given");
     v = lapped__pw_mesh(in);
-    return pw_trimesh_init_ex(a, &v, 1, m, e);
+    return draw_only ? pw_trimesh_init_tris(a, &v, m, e) : pw_trimesh_init_ex(a, &v, 1, m, e);
+}
+
+static int lapped__mesh_init(const pw_alloc *a, const lapped_mesh *in, pw_trimesh *m, pw_err *e)
+{
+    return lapped__mesh_init_as(a, in, 0, m, e);
 }
 
 /* ---- pastes per triangle, and evaluating the lapped texture ---------------- */

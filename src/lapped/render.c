@@ -127,22 +127,32 @@ static int lapped__paste_rows(const lapped__picture *F, const lapped_render_opti
 {
     const pw_trimesh *m = F->m;
     int *tris = (int *)pw_alloc_array(F->a, (size_t)m->nf * 3, sizeof(int), "paste triangles", e), p;
+    double *vh =
+        tris ? (double *)pw_alloc_array(F->a, (size_t)m->nv * 5, sizeof(double), "projected vertices", e) : NULL;
     pw__view v;
     pw_draw d;
-    if (!tris) return PW_ERR_NOMEM;
+    if (!vh) {
+        pw_free(F->a, tris);
+        return PW_ERR_NOMEM;
+    }
     memset(&d, 0, sizeof d);
     d.positions = m->pos;
     d.nv = m->nv;
+    d.tris = m->tri;
+    d.ntris = m->nf;
     for (p = 0; p < F->t->npastes; p++) {
         rows[2 * p] = -DBL_MAX;
         rows[2 * p + 1] = DBL_MAX;
     }
-    if (pw__view_init(&v, &F->cam, ro->width * ro->supersample, ro->height * ro->supersample, NULL) == PW_OK)
+    if (pw__view_init(&v, &F->cam, ro->width * ro->supersample, ro->height * ro->supersample, NULL) == PW_OK) {
+        pw__transform(&v, &d, vh);
         for (p = 0; p < F->t->npastes; p++) {
             lapped__paste_draw(m, &F->t->pastes[p], tris, &d);
-            pw__draw_rows(&v, &d, rows + 2 * p, rows + 2 * p + 1);
+            pw__draw_rows(&v, &d, vh, rows + 2 * p, rows + 2 * p + 1);
         }
+    }
     pw_free(F->a, tris);
+    pw_free(F->a, vh);
     return PW_OK;
 }
 
@@ -207,7 +217,7 @@ LAPPEDDEF lapped_result lapped_render(const lapped_mesh *mesh, const lapped_text
              (int)o.filter > 2 || o.threads < 0)
         pw_fail(&pe, PW_ERR_INVALID, "render options: size %dx%d, supersample %d, filter %d, threads %d", o.width,
                 o.height, o.supersample, (int)o.filter, o.threads);
-    else if (lapped__mesh_init(&a, mesh, &m, &pe) == PW_OK) {
+    else if (lapped__mesh_init_as(&a, mesh, 1, &m, &pe) == PW_OK) { /* triangles only: no adjacency */
         r = lapped__check_texture(&m, t, src, &pe);
         if (r == PW_OK && !(tex = (pw_texture *)pw_calloc_array(&a, (size_t)t->npatches, sizeof *tex, "textures", &pe)))
             r = PW_ERR_NOMEM;
