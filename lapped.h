@@ -18,24 +18,24 @@
  *   7778: src/common/raster.h, exact scan conversion of 2D triangles.
  *   8290: src/common/parallel.h, a parallel for, the one way work is split across threads.
  *   8463: src/common/render.h, a small deterministic software renderer for textured trian
- *  10613: src/lapped/polyhull.h, the polygonal hull of a texture patch (Praun, Finkelstein 
- *  11444: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
- *  11641: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
- *  11726: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
- *  11915: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
- *  12835: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
- *  13533: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
- *  13769: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
- *  14533: src/common/glue.h, what every method header needs between its public types an
- *  14869: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  15533: src/lapped/core.c, lapped.h's glue to the shared core, its defaults, and the 
- *  15703: src/lapped/field.c, §3.2 the tangent field, one frame (S, T) per triangle, an
- *  16158: src/lapped/patch.c, §3.1 texture patches. A patch is the texture as RGBA whos
- *  16472: src/lapped/builtin.c, built-in meshes (made by the shared shapes module) and tex
- *  16666: src/lapped/grow.c, pasting (§3.3-3.6): grow a surface patch around an uncove
- *  18272: src/lapped/render.c, runtime pasting (§4): the mesh drawn once per paste, in p
- *  18523: src/lapped/atlas.c, §4 "Rendering with a texture atlas".
- *  18766: src/lapped/io.c, the paste file format and the file conveniences of lapped.
+ *  10626: src/lapped/polyhull.h, the polygonal hull of a texture patch (Praun, Finkelstein 
+ *  11457: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
+ *  11654: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
+ *  11739: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
+ *  11928: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
+ *  12848: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
+ *  13546: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
+ *  13782: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
+ *  14546: src/common/glue.h, what every method header needs between its public types an
+ *  14882: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  15546: src/lapped/core.c, lapped.h's glue to the shared core, its defaults, and the 
+ *  15716: src/lapped/field.c, §3.2 the tangent field, one frame (S, T) per triangle, an
+ *  16171: src/lapped/patch.c, §3.1 texture patches. A patch is the texture as RGBA whos
+ *  16485: src/lapped/builtin.c, built-in meshes (made by the shared shapes module) and tex
+ *  16679: src/lapped/grow.c, pasting (§3.3-3.6): grow a surface patch around an uncove
+ *  18285: src/lapped/render.c, runtime pasting (§4): the mesh drawn once per paste, in p
+ *  18532: src/lapped/atlas.c, §4 "Rendering with a texture atlas".
+ *  18775: src/lapped/io.c, the paste file format and the file conveniences of lapped.
  */
 /* lapped.h - lapped textures: overlapping texture patches pasted over a mesh.
  *
@@ -9377,8 +9377,6 @@ typedef struct pw_fb {
     float *qbuf;    /* draw scratch: depths of ss sample rows */
     float *zmin;    /* coarse depth: per tile of PW__ZT x PW__ZT samples of the band, the smallest q */
     int zvalid;     /* zmin matches depth; set 0 if you write depth yourself */
-    int vnv;        /* vertices of the last draw (0: none yet) */
-    int vall;       /* 1: all vnv of them are transformed in vbuf (not only the drawn corners) */
     size_t vcap, ncap, pcap, mcap, qcap, zcap;
     const pw_alloc *alloc;
 } pw_fb;
@@ -9578,10 +9576,9 @@ typedef struct pw_draw {
      * a texture lookup would be; uvs are not needed. */
     void (*shader)(void *user, int tri, float b1, float b2, const float db[4], float rgba[4]);
     void *shader_user;
-    int same_vertices; /* 1: positions, nv and camera are those of the previous draw into
-                               this framebuffer; when that draw transformed all the vertices
-                               (it drew at least nv/3 triangles) they are reused (the passes of
-                               lapped textures after their base pass) */
+    const double *projected; /* optional: the vertices as pw_draw_project gives them for
+                                this camera and frame size, so that the bands of a frame
+                                (and the passes of a lapped texture) project the mesh once */
 } pw_draw;
 
 #define PW__ZT 8      /* coarse depth tile, in samples */
@@ -10384,7 +10381,8 @@ PW__DEF void pw__draw_tri(pw__ctx *c, int t)
 PW__DEF int pw__draw_scratch(pw_fb *fb, const pw_draw *d, int need_normals, pw_err *e)
 {
     size_t oldm = fb->mcap;
-    if (pw_grow(fb->alloc, (void **)&fb->vbuf, &fb->vcap, (size_t)d->nv * 5, sizeof(double), "render vertices", e) ||
+    if ((!d->projected &&
+         pw_grow(fb->alloc, (void **)&fb->vbuf, &fb->vcap, (size_t)d->nv * 5, sizeof(double), "render vertices", e)) ||
         pw_grow(fb->alloc, (void **)&fb->pbuf, &fb->pcap, (size_t)d->ntris * PW__NPL, sizeof(float),
                 "render triangle planes", e) ||
         (need_normals &&
@@ -10465,12 +10463,8 @@ PW__DEF int pw_render_draw(pw_fb *fb, const pw_camera *cam, const pw_draw *d, pw
     need_normals = d->lighting != PW_LIGHT_NONE && !d->flat && !d->normals;
     if ((r = pw__draw_scratch(fb, d, need_normals, e)) != PW_OK) return r;
     pw__ctx_init(&c, fb, d);
-    if (!(d->same_vertices && fb->vnv == d->nv && fb->vall)) {
-        pw__transform(&c.view, d, fb->vbuf);
-        fb->vall = (size_t)d->ntris * 3 >= (size_t)d->nv;
-    }
-    fb->vnv = d->nv;
-    c.vh = fb->vbuf;
+    if (!d->projected) pw__transform(&c.view, d, fb->vbuf);
+    c.vh = d->projected ? d->projected : fb->vbuf;
     c.planes = fb->pbuf;
     c.mask = fb->mbuf;
     c.qbuf = fb->qbuf;
@@ -10552,6 +10546,25 @@ PW__DEF void pw_frame_init(pw_frame *f, int w, int h, int ss, const float bg[3],
     f->bg[3] = 1.0f;
     f->channels = 3;
     f->par = par;
+}
+
+/* Sets d->projected to d's vertices as pw_render_draw projects them under
+ * cam into the samples of frame f (allocated: free it with pw_free), so
+ * that the draws of every band share one projection. Only the corners of
+ * d's triangles are projected when they are fewer than its vertices.
+ * PW_OK, PW_ERR_INVALID (the camera) or PW_ERR_NOMEM, d->projected NULL. */
+PW__DEF int pw_draw_project(const pw_alloc *a, const pw_frame *f, const pw_camera *cam, pw_draw *d, pw_err *e)
+{
+    pw__view v;
+    double *vh;
+    int r;
+    d->projected = NULL;
+    if ((r = pw__view_init(&v, cam, f->w * f->ss, f->h * f->ss, e)) != PW_OK) return r;
+    if (!(vh = (double *)pw_alloc_array(a, (size_t)d->nv * 5 + 1, sizeof(double), "projected vertices", e)))
+        return PW_ERR_NOMEM;
+    pw__transform(&v, d, vh);
+    d->projected = vh;
+    return PW_OK;
 }
 
 /* The usual band: one draw (pw_frame_draw1 as the user pointer). */
@@ -18345,15 +18358,16 @@ typedef struct lapped__picture {
     const pw_trimesh *m;
     const lapped_texture *t;
     const pw_texture *tex;
-    const float *normals; /* smooth vertex normals of the whole mesh */
-    const double *rows;   /* per paste: the sample rows its corners reach (pw__draw_rows) */
+    const float *normals;    /* smooth vertex normals of the whole mesh */
+    const double *rows;      /* per paste: the sample rows its corners reach (pw__draw_rows) */
+    const double *projected; /* the mesh's vertices projected once for all bands, or NULL */
     pw_camera cam;
     int filter;
 } lapped__picture;
 
 /* One band: the base pass, the bare mesh, mid-grey, writing depth; then
  * every paste over it with depth test "less or equal" and no depth write,
- * reusing the base pass's transformed vertices. */
+ * all with the vertices projected once for the frame. */
 static int lapped__draw_band(void *user, pw_fb *fb, pw_err *e)
 {
     const lapped__picture *F = (const lapped__picture *)user;
@@ -18368,6 +18382,7 @@ static int lapped__draw_band(void *user, pw_fb *fb, pw_err *e)
     d.tris = m->tri;
     d.ntris = m->nf;
     d.normals = F->normals;
+    d.projected = F->projected;
     d.color[0] = d.color[1] = d.color[2] = 0.5f;
     d.color[3] = 1.0f;
     d.lighting = PW_LIGHT_CAMERA;
@@ -18379,7 +18394,6 @@ static int lapped__draw_band(void *user, pw_fb *fb, pw_err *e)
     d.blend = PW_BLEND_OVER;
     d.depth_test = PW_DEPTH_LEQUAL;
     d.no_depth_write = 1;
-    d.same_vertices = 1;
     for (p = 0; p < F->t->npastes && r == PW_OK; p++) {
         /* pastes wholly above or below the band draw nothing in it */
         if (F->t->pastes[p].nfaces == 0 || F->rows[2 * p + 1] < fb->y0 || F->rows[2 * p] > fb->y0 + fb->bh) continue;
@@ -18392,38 +18406,28 @@ static int lapped__draw_band(void *user, pw_fb *fb, pw_err *e)
 }
 
 /* The sample rows each paste reaches in the frame (rows[2p], rows[2p + 1]),
- * with its triangles' corners projected as the draws will (pw__draw_rows),
+ * from its triangles' corners as the draws project them (pw__draw_rows),
  * so that the bands skip the pastes they do not meet. */
 static int lapped__paste_rows(const lapped__picture *F, const lapped_render_options *ro, double *rows, pw_err *e)
 {
     const pw_trimesh *m = F->m;
     int *tris = (int *)pw_alloc_array(F->a, (size_t)m->nf * 3, sizeof(int), "paste triangles", e), p;
-    double *vh =
-        tris ? (double *)pw_alloc_array(F->a, (size_t)m->nv * 5, sizeof(double), "projected vertices", e) : NULL;
     pw__view v;
     pw_draw d;
-    if (!vh) {
-        pw_free(F->a, tris);
-        return PW_ERR_NOMEM;
-    }
+    if (!tris) return PW_ERR_NOMEM;
     memset(&d, 0, sizeof d);
     d.positions = m->pos;
     d.nv = m->nv;
-    d.tris = m->tri;
-    d.ntris = m->nf;
     for (p = 0; p < F->t->npastes; p++) {
         rows[2 * p] = -DBL_MAX;
         rows[2 * p + 1] = DBL_MAX;
     }
-    if (pw__view_init(&v, &F->cam, ro->width * ro->supersample, ro->height * ro->supersample, NULL) == PW_OK) {
-        pw__transform(&v, &d, vh);
+    if (pw__view_init(&v, &F->cam, ro->width * ro->supersample, ro->height * ro->supersample, NULL) == PW_OK)
         for (p = 0; p < F->t->npastes; p++) {
             lapped__paste_draw(m, &F->t->pastes[p], tris, &d);
-            pw__draw_rows(&v, &d, vh, rows + 2 * p, rows + 2 * p + 1);
+            pw__draw_rows(&v, &d, F->projected, rows + 2 * p, rows + 2 * p + 1);
         }
-    }
     pw_free(F->a, tris);
-    pw_free(F->a, vh);
     return PW_OK;
 }
 
@@ -18443,27 +18447,32 @@ static int lapped__draw_pastes(lapped__picture *F, const lapped_render_options *
         normals ? (double *)pw_alloc_array(a, (size_t)F->t->npastes * 2 + 2, sizeof(double), "paste rows", e) : NULL;
     int r;
     F->cam = pw_camera_frame(m->pos, m->nv, ro->view_dir, ro->up, 35.0f, (float)ro->width / (float)ro->height);
-    if (!rows || lapped__paste_rows(F, ro, rows, e) != PW_OK) {
-        pw_free(a, normals);
-        pw_free(a, rows);
-        return PW_ERR_NOMEM;
-    }
     memset(&d, 0, sizeof d);
     d.positions = m->pos;
     d.nv = m->nv;
     d.tris = m->tri;
     d.ntris = m->nf;
+    par = lapped__parallel(ro);
+    pw_frame_init(&f, ro->width, ro->height, ro->supersample, ro->background, &par);
+    r = rows ? pw_draw_project(a, &f, &F->cam, &d, e) : PW_ERR_NOMEM;
+    F->projected = d.projected;
+    if (r == PW_OK) r = lapped__paste_rows(F, ro, rows, e);
+    if (r != PW_OK) {
+        pw_free(a, normals);
+        pw_free(a, rows);
+        pw_free(a, (void *)d.projected);
+        return r;
+    }
     pw__smooth_normals(&d, normals);
     F->normals = normals;
     F->rows = rows;
     F->filter = (int)ro->filter;
-    par = lapped__parallel(ro);
-    pw_frame_init(&f, ro->width, ro->height, ro->supersample, ro->background, &par);
     f.draw = lapped__draw_band;
     f.user = F;
     r = pw_render_frame(a, &f, pic, e);
     pw_free(a, normals);
     pw_free(a, rows);
+    pw_free(a, (void *)F->projected);
     return r;
 }
 

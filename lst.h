@@ -20,28 +20,28 @@
  *   8299: src/common/raster.h, exact scan conversion of 2D triangles.
  *   8811: src/common/parallel.h, a parallel for, the one way work is split across threads.
  *   8984: src/common/render.h, a small deterministic software renderer for textured trian
- *  11134: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
- *  11323: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
- *  12243: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
- *  12941: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
- *  13177: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
- *  13938: src/common/tetmesh.h, the tetrahedral mesh that lapped solid textures work on, a
- *  14425: src/common/tetio.h, tetrahedral mesh files, TetGen .node/.ele and MEDIT .mesh.
- *  14917: src/common/bisect.h, graded, conforming tetrahedral meshes of a box by newest-v
- *  15244: src/common/stuffing.h, the built-in tetrahedralizer of lst.h, so that no external
- *  18621: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
- *  18764: src/common/pca.h, principal component analysis of vectors streamed one at a 
- *  18951: src/common/glue.h, what every method header needs between its public types an
- *  19287: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  19951: src/lst/core.c, lst.h's glue to the shared core, its defaults, the convers
- *  20285: src/lst/exemplar.c, solid exemplars (§5): sampling, the procedural exemplars 
- *  20854: src/lst/field.c, §5.2.2, the fields that orient and scale the pastes. The 
- *  22066: src/lst/paste.c, §5.2.3-5.2.7, filling the model. Each paste picks a rando
- *  23094: src/lst/render.c, §5.1, showing a model. Every point of a tetrahedron is th
- *  23991: src/lst/cut.c, §5.1.1, cutting a model along the zero set of a scalar fi
- *  24596: src/lst/builtin.c, the tetrahedralizer entry point, checks of caller meshes, 
- *  25118: src/lst/io.c, the model file, the constraint files and the file convenie
- *  25811: src/lst/export.c, the visible boundary with a baked texture atlas, for glTF.
+ *  11147: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
+ *  11336: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
+ *  12256: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
+ *  12954: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
+ *  13190: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
+ *  13951: src/common/tetmesh.h, the tetrahedral mesh that lapped solid textures work on, a
+ *  14438: src/common/tetio.h, tetrahedral mesh files, TetGen .node/.ele and MEDIT .mesh.
+ *  14930: src/common/bisect.h, graded, conforming tetrahedral meshes of a box by newest-v
+ *  15257: src/common/stuffing.h, the built-in tetrahedralizer of lst.h, so that no external
+ *  18634: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
+ *  18777: src/common/pca.h, principal component analysis of vectors streamed one at a 
+ *  18964: src/common/glue.h, what every method header needs between its public types an
+ *  19300: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  19964: src/lst/core.c, lst.h's glue to the shared core, its defaults, the convers
+ *  20298: src/lst/exemplar.c, solid exemplars (§5): sampling, the procedural exemplars 
+ *  20867: src/lst/field.c, §5.2.2, the fields that orient and scale the pastes. The 
+ *  22079: src/lst/paste.c, §5.2.3-5.2.7, filling the model. Each paste picks a rando
+ *  23107: src/lst/render.c, §5.1, showing a model. Every point of a tetrahedron is th
+ *  24004: src/lst/cut.c, §5.1.1, cutting a model along the zero set of a scalar fi
+ *  24609: src/lst/builtin.c, the tetrahedralizer entry point, checks of caller meshes, 
+ *  25131: src/lst/io.c, the model file, the constraint files and the file convenie
+ *  25824: src/lst/export.c, the visible boundary with a baked texture atlas, for glTF.
  */
 /* lst.h - lapped solid textures: solid exemplars pasted inside a model.
  *
@@ -9898,8 +9898,6 @@ typedef struct pw_fb {
     float *qbuf;    /* draw scratch: depths of ss sample rows */
     float *zmin;    /* coarse depth: per tile of PW__ZT x PW__ZT samples of the band, the smallest q */
     int zvalid;     /* zmin matches depth; set 0 if you write depth yourself */
-    int vnv;        /* vertices of the last draw (0: none yet) */
-    int vall;       /* 1: all vnv of them are transformed in vbuf (not only the drawn corners) */
     size_t vcap, ncap, pcap, mcap, qcap, zcap;
     const pw_alloc *alloc;
 } pw_fb;
@@ -10099,10 +10097,9 @@ typedef struct pw_draw {
      * a texture lookup would be; uvs are not needed. */
     void (*shader)(void *user, int tri, float b1, float b2, const float db[4], float rgba[4]);
     void *shader_user;
-    int same_vertices; /* 1: positions, nv and camera are those of the previous draw into
-                               this framebuffer; when that draw transformed all the vertices
-                               (it drew at least nv/3 triangles) they are reused (the passes of
-                               lapped textures after their base pass) */
+    const double *projected; /* optional: the vertices as pw_draw_project gives them for
+                                this camera and frame size, so that the bands of a frame
+                                (and the passes of a lapped texture) project the mesh once */
 } pw_draw;
 
 #define PW__ZT 8      /* coarse depth tile, in samples */
@@ -10905,7 +10902,8 @@ PW__DEF void pw__draw_tri(pw__ctx *c, int t)
 PW__DEF int pw__draw_scratch(pw_fb *fb, const pw_draw *d, int need_normals, pw_err *e)
 {
     size_t oldm = fb->mcap;
-    if (pw_grow(fb->alloc, (void **)&fb->vbuf, &fb->vcap, (size_t)d->nv * 5, sizeof(double), "render vertices", e) ||
+    if ((!d->projected &&
+         pw_grow(fb->alloc, (void **)&fb->vbuf, &fb->vcap, (size_t)d->nv * 5, sizeof(double), "render vertices", e)) ||
         pw_grow(fb->alloc, (void **)&fb->pbuf, &fb->pcap, (size_t)d->ntris * PW__NPL, sizeof(float),
                 "render triangle planes", e) ||
         (need_normals &&
@@ -10986,12 +10984,8 @@ PW__DEF int pw_render_draw(pw_fb *fb, const pw_camera *cam, const pw_draw *d, pw
     need_normals = d->lighting != PW_LIGHT_NONE && !d->flat && !d->normals;
     if ((r = pw__draw_scratch(fb, d, need_normals, e)) != PW_OK) return r;
     pw__ctx_init(&c, fb, d);
-    if (!(d->same_vertices && fb->vnv == d->nv && fb->vall)) {
-        pw__transform(&c.view, d, fb->vbuf);
-        fb->vall = (size_t)d->ntris * 3 >= (size_t)d->nv;
-    }
-    fb->vnv = d->nv;
-    c.vh = fb->vbuf;
+    if (!d->projected) pw__transform(&c.view, d, fb->vbuf);
+    c.vh = d->projected ? d->projected : fb->vbuf;
     c.planes = fb->pbuf;
     c.mask = fb->mbuf;
     c.qbuf = fb->qbuf;
@@ -11073,6 +11067,25 @@ PW__DEF void pw_frame_init(pw_frame *f, int w, int h, int ss, const float bg[3],
     f->bg[3] = 1.0f;
     f->channels = 3;
     f->par = par;
+}
+
+/* Sets d->projected to d's vertices as pw_render_draw projects them under
+ * cam into the samples of frame f (allocated: free it with pw_free), so
+ * that the draws of every band share one projection. Only the corners of
+ * d's triangles are projected when they are fewer than its vertices.
+ * PW_OK, PW_ERR_INVALID (the camera) or PW_ERR_NOMEM, d->projected NULL. */
+PW__DEF int pw_draw_project(const pw_alloc *a, const pw_frame *f, const pw_camera *cam, pw_draw *d, pw_err *e)
+{
+    pw__view v;
+    double *vh;
+    int r;
+    d->projected = NULL;
+    if ((r = pw__view_init(&v, cam, f->w * f->ss, f->h * f->ss, e)) != PW_OK) return r;
+    if (!(vh = (double *)pw_alloc_array(a, (size_t)d->nv * 5 + 1, sizeof(double), "projected vertices", e)))
+        return PW_ERR_NOMEM;
+    pw__transform(&v, d, vh);
+    d->projected = vh;
+    return PW_OK;
 }
 
 /* The usual band: one draw (pw_frame_draw1 as the user pointer). */

@@ -20,33 +20,33 @@
  *   8892: src/common/raster.h, exact scan conversion of 2D triangles.
  *   9404: src/common/parallel.h, a parallel for, the one way work is split across threads.
  *   9577: src/common/render.h, a small deterministic software renderer for textured trian
- *  11727: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
- *  11924: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
- *  12009: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
- *  12198: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
- *  13118: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
- *  13816: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
- *  14052: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
- *  14816: src/common/periodic.h, the periodic global parameterization of a triangle mesh al
- *  15644: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
- *  16405: src/pgp/tile3.h, sampling a material-space tile (Ray et al. 2009, §2: "a 3
- *  16513: src/common/glue.h, what every method header needs between its public types an
- *  16849: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  17513: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
- *  18010: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
- *  18496: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
- *  18639: src/common/kdtree.h, nearest-neighbour search among n points of dimension d, wi
- *  18982: src/common/pca.h, principal component analysis of vectors streamed one at a 
- *  19169: src/pgp/core.c, pgp.h's glue to the shared core, its defaults, and the map
- *  19382: src/pgp/field.c, §2.1 effect areas and §2.2 interpolation of the constrai
- *  19581: src/pgp/solve.c, §2.3 the periodic global parameterization, the recovery o
- *  20070: src/pgp/edit.c, the public editing calls of a mapping. §2.1 (Ray, Lévy, 
- *  20215: src/pgp/render.c, §3 rendering, and a cleaner treatment of the vortices.
- *  20576: src/pgp/builtin.c, built-in meshes and material-space tiles for demos and tes
- *  20845: src/pgp/io.c, files and memory for pgp.h: material-space tiles (NRRD, or
- *  21193: src/pgp/export.c, the mapping for other programs. A viewer that knows nothin
- *  21419: src/pgp/morph.c, the inputs of §1 (keys brought to the tile size, made til
- *  22098: src/pgp/synth.c, §1.2 constrained tile synthesis, and the whole of §1: ke
+ *  11740: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
+ *  11937: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
+ *  12022: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
+ *  12211: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
+ *  13131: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
+ *  13829: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
+ *  14065: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
+ *  14829: src/common/periodic.h, the periodic global parameterization of a triangle mesh al
+ *  15657: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
+ *  16418: src/pgp/tile3.h, sampling a material-space tile (Ray et al. 2009, §2: "a 3
+ *  16526: src/common/glue.h, what every method header needs between its public types an
+ *  16862: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  17526: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
+ *  18023: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
+ *  18509: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
+ *  18652: src/common/kdtree.h, nearest-neighbour search among n points of dimension d, wi
+ *  18995: src/common/pca.h, principal component analysis of vectors streamed one at a 
+ *  19182: src/pgp/core.c, pgp.h's glue to the shared core, its defaults, and the map
+ *  19395: src/pgp/field.c, §2.1 effect areas and §2.2 interpolation of the constrai
+ *  19594: src/pgp/solve.c, §2.3 the periodic global parameterization, the recovery o
+ *  20083: src/pgp/edit.c, the public editing calls of a mapping. §2.1 (Ray, Lévy, 
+ *  20228: src/pgp/render.c, §3 rendering, and a cleaner treatment of the vortices.
+ *  20590: src/pgp/builtin.c, built-in meshes and material-space tiles for demos and tes
+ *  20859: src/pgp/io.c, files and memory for pgp.h: material-space tiles (NRRD, or
+ *  21207: src/pgp/export.c, the mapping for other programs. A viewer that knows nothin
+ *  21433: src/pgp/morph.c, the inputs of §1 (keys brought to the tile size, made til
+ *  22112: src/pgp/synth.c, §1.2 constrained tile synthesis, and the whole of §1: ke
  */
 /* pgp.h - material-space texturing with a periodic global parameterization.
  *
@@ -10491,8 +10491,6 @@ typedef struct pw_fb {
     float *qbuf;    /* draw scratch: depths of ss sample rows */
     float *zmin;    /* coarse depth: per tile of PW__ZT x PW__ZT samples of the band, the smallest q */
     int zvalid;     /* zmin matches depth; set 0 if you write depth yourself */
-    int vnv;        /* vertices of the last draw (0: none yet) */
-    int vall;       /* 1: all vnv of them are transformed in vbuf (not only the drawn corners) */
     size_t vcap, ncap, pcap, mcap, qcap, zcap;
     const pw_alloc *alloc;
 } pw_fb;
@@ -10692,10 +10690,9 @@ typedef struct pw_draw {
      * a texture lookup would be; uvs are not needed. */
     void (*shader)(void *user, int tri, float b1, float b2, const float db[4], float rgba[4]);
     void *shader_user;
-    int same_vertices; /* 1: positions, nv and camera are those of the previous draw into
-                               this framebuffer; when that draw transformed all the vertices
-                               (it drew at least nv/3 triangles) they are reused (the passes of
-                               lapped textures after their base pass) */
+    const double *projected; /* optional: the vertices as pw_draw_project gives them for
+                                this camera and frame size, so that the bands of a frame
+                                (and the passes of a lapped texture) project the mesh once */
 } pw_draw;
 
 #define PW__ZT 8      /* coarse depth tile, in samples */
@@ -11498,7 +11495,8 @@ PW__DEF void pw__draw_tri(pw__ctx *c, int t)
 PW__DEF int pw__draw_scratch(pw_fb *fb, const pw_draw *d, int need_normals, pw_err *e)
 {
     size_t oldm = fb->mcap;
-    if (pw_grow(fb->alloc, (void **)&fb->vbuf, &fb->vcap, (size_t)d->nv * 5, sizeof(double), "render vertices", e) ||
+    if ((!d->projected &&
+         pw_grow(fb->alloc, (void **)&fb->vbuf, &fb->vcap, (size_t)d->nv * 5, sizeof(double), "render vertices", e)) ||
         pw_grow(fb->alloc, (void **)&fb->pbuf, &fb->pcap, (size_t)d->ntris * PW__NPL, sizeof(float),
                 "render triangle planes", e) ||
         (need_normals &&
@@ -11579,12 +11577,8 @@ PW__DEF int pw_render_draw(pw_fb *fb, const pw_camera *cam, const pw_draw *d, pw
     need_normals = d->lighting != PW_LIGHT_NONE && !d->flat && !d->normals;
     if ((r = pw__draw_scratch(fb, d, need_normals, e)) != PW_OK) return r;
     pw__ctx_init(&c, fb, d);
-    if (!(d->same_vertices && fb->vnv == d->nv && fb->vall)) {
-        pw__transform(&c.view, d, fb->vbuf);
-        fb->vall = (size_t)d->ntris * 3 >= (size_t)d->nv;
-    }
-    fb->vnv = d->nv;
-    c.vh = fb->vbuf;
+    if (!d->projected) pw__transform(&c.view, d, fb->vbuf);
+    c.vh = d->projected ? d->projected : fb->vbuf;
     c.planes = fb->pbuf;
     c.mask = fb->mbuf;
     c.qbuf = fb->qbuf;
@@ -11666,6 +11660,25 @@ PW__DEF void pw_frame_init(pw_frame *f, int w, int h, int ss, const float bg[3],
     f->bg[3] = 1.0f;
     f->channels = 3;
     f->par = par;
+}
+
+/* Sets d->projected to d's vertices as pw_render_draw projects them under
+ * cam into the samples of frame f (allocated: free it with pw_free), so
+ * that the draws of every band share one projection. Only the corners of
+ * d's triangles are projected when they are fewer than its vertices.
+ * PW_OK, PW_ERR_INVALID (the camera) or PW_ERR_NOMEM, d->projected NULL. */
+PW__DEF int pw_draw_project(const pw_alloc *a, const pw_frame *f, const pw_camera *cam, pw_draw *d, pw_err *e)
+{
+    pw__view v;
+    double *vh;
+    int r;
+    d->projected = NULL;
+    if ((r = pw__view_init(&v, cam, f->w * f->ss, f->h * f->ss, e)) != PW_OK) return r;
+    if (!(vh = (double *)pw_alloc_array(a, (size_t)d->nv * 5 + 1, sizeof(double), "projected vertices", e)))
+        return PW_ERR_NOMEM;
+    pw__transform(&v, d, vh);
+    d->projected = vh;
+    return PW_OK;
 }
 
 /* The usual band: one draw (pw_frame_draw1 as the user pointer). */
@@ -20447,15 +20460,16 @@ static int pgp__draw(const pgp__state *P, pgp__shading *S, const pgp_render_opti
     d.shader = pgp__shade;
     d.shader_user = S;
     if (!(normals = pw_draw_normals(&P->a, &d, e))) return PW_ERR_NOMEM;
-    d.normals = normals; /* once, not per band */
+    d.normals = normals; /* once, not per band, as the projection */
     one.d = &d;
     one.cam = &cam;
     par = pgp__parallel(o);
     pw_frame_init(&f, o->width, o->height, o->supersample, o->background, &par);
     f.draw = pw_frame_draw1_fn;
     f.user = &one;
-    r = pw_render_frame(&P->a, &f, pic, e);
+    if ((r = pw_draw_project(&P->a, &f, &cam, &d, e)) == PW_OK) r = pw_render_frame(&P->a, &f, pic, e);
     pw_free(&P->a, normals);
+    pw_free(&P->a, (void *)d.projected);
     return r;
 }
 

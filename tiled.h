@@ -25,19 +25,19 @@
  *  10727: src/common/raster.h, exact scan conversion of 2D triangles.
  *  11241: src/common/parallel.h, a parallel for, the one way work is split across threads.
  *  11414: src/common/render.h, a small deterministic software renderer for textured trian
- *  13564: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
- *  14061: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
- *  14547: src/common/glue.h, what every method header needs between its public types an
- *  14883: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  15547: src/tiled/core.c, tiled.h's glue to the shared core, its defaults, result
- *  15636: src/tiled/layout.c, ch. III.1, the boundary types and the tiled texture they
- *  15908: src/tiled/cells.c, beyond the thesis (issue 23): tiles of a chosen size on an
- *  16756: src/tiled/map.c, ch. III.2, the texture mapping algorithm of Fig. 29
- *  17025: src/tiled/synth.c, ch. III.1.3, tiled texture image synthesis: an edge-matche
- *  17471: src/tiled/validate.c, checks a hand-made tiled texture (the thesis's Figs. 39,
- *  17599: src/tiled/builtin.c, built-in meshes and exemplars for demos and tests: the
- *  17796: src/tiled/render.c, a software rendering of a mapped mesh (the thesis rendered
- *  18019: src/tiled/io.c, files. Meshes and exemplars in; the mapped mesh with its t
+ *  13577: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
+ *  14074: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
+ *  14560: src/common/glue.h, what every method header needs between its public types an
+ *  14896: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  15560: src/tiled/core.c, tiled.h's glue to the shared core, its defaults, result
+ *  15649: src/tiled/layout.c, ch. III.1, the boundary types and the tiled texture they
+ *  15921: src/tiled/cells.c, beyond the thesis (issue 23): tiles of a chosen size on an
+ *  16769: src/tiled/map.c, ch. III.2, the texture mapping algorithm of Fig. 29
+ *  17038: src/tiled/synth.c, ch. III.1.3, tiled texture image synthesis: an edge-matche
+ *  17484: src/tiled/validate.c, checks a hand-made tiled texture (the thesis's Figs. 39,
+ *  17612: src/tiled/builtin.c, built-in meshes and exemplars for demos and tests: the
+ *  17809: src/tiled/render.c, a software rendering of a mapped mesh (the thesis rendered
+ *  18033: src/tiled/io.c, files. Meshes and exemplars in; the mapped mesh with its t
  */
 /* tiled.h - seamless, singularity-free tiled textures on quad meshes.
  *
@@ -12328,8 +12328,6 @@ typedef struct pw_fb {
     float *qbuf;    /* draw scratch: depths of ss sample rows */
     float *zmin;    /* coarse depth: per tile of PW__ZT x PW__ZT samples of the band, the smallest q */
     int zvalid;     /* zmin matches depth; set 0 if you write depth yourself */
-    int vnv;        /* vertices of the last draw (0: none yet) */
-    int vall;       /* 1: all vnv of them are transformed in vbuf (not only the drawn corners) */
     size_t vcap, ncap, pcap, mcap, qcap, zcap;
     const pw_alloc *alloc;
 } pw_fb;
@@ -12529,10 +12527,9 @@ typedef struct pw_draw {
      * a texture lookup would be; uvs are not needed. */
     void (*shader)(void *user, int tri, float b1, float b2, const float db[4], float rgba[4]);
     void *shader_user;
-    int same_vertices; /* 1: positions, nv and camera are those of the previous draw into
-                               this framebuffer; when that draw transformed all the vertices
-                               (it drew at least nv/3 triangles) they are reused (the passes of
-                               lapped textures after their base pass) */
+    const double *projected; /* optional: the vertices as pw_draw_project gives them for
+                                this camera and frame size, so that the bands of a frame
+                                (and the passes of a lapped texture) project the mesh once */
 } pw_draw;
 
 #define PW__ZT 8      /* coarse depth tile, in samples */
@@ -13335,7 +13332,8 @@ PW__DEF void pw__draw_tri(pw__ctx *c, int t)
 PW__DEF int pw__draw_scratch(pw_fb *fb, const pw_draw *d, int need_normals, pw_err *e)
 {
     size_t oldm = fb->mcap;
-    if (pw_grow(fb->alloc, (void **)&fb->vbuf, &fb->vcap, (size_t)d->nv * 5, sizeof(double), "render vertices", e) ||
+    if ((!d->projected &&
+         pw_grow(fb->alloc, (void **)&fb->vbuf, &fb->vcap, (size_t)d->nv * 5, sizeof(double), "render vertices", e)) ||
         pw_grow(fb->alloc, (void **)&fb->pbuf, &fb->pcap, (size_t)d->ntris * PW__NPL, sizeof(float),
                 "render triangle planes", e) ||
         (need_normals &&
@@ -13416,12 +13414,8 @@ PW__DEF int pw_render_draw(pw_fb *fb, const pw_camera *cam, const pw_draw *d, pw
     need_normals = d->lighting != PW_LIGHT_NONE && !d->flat && !d->normals;
     if ((r = pw__draw_scratch(fb, d, need_normals, e)) != PW_OK) return r;
     pw__ctx_init(&c, fb, d);
-    if (!(d->same_vertices && fb->vnv == d->nv && fb->vall)) {
-        pw__transform(&c.view, d, fb->vbuf);
-        fb->vall = (size_t)d->ntris * 3 >= (size_t)d->nv;
-    }
-    fb->vnv = d->nv;
-    c.vh = fb->vbuf;
+    if (!d->projected) pw__transform(&c.view, d, fb->vbuf);
+    c.vh = d->projected ? d->projected : fb->vbuf;
     c.planes = fb->pbuf;
     c.mask = fb->mbuf;
     c.qbuf = fb->qbuf;
@@ -13503,6 +13497,25 @@ PW__DEF void pw_frame_init(pw_frame *f, int w, int h, int ss, const float bg[3],
     f->bg[3] = 1.0f;
     f->channels = 3;
     f->par = par;
+}
+
+/* Sets d->projected to d's vertices as pw_render_draw projects them under
+ * cam into the samples of frame f (allocated: free it with pw_free), so
+ * that the draws of every band share one projection. Only the corners of
+ * d's triangles are projected when they are fewer than its vertices.
+ * PW_OK, PW_ERR_INVALID (the camera) or PW_ERR_NOMEM, d->projected NULL. */
+PW__DEF int pw_draw_project(const pw_alloc *a, const pw_frame *f, const pw_camera *cam, pw_draw *d, pw_err *e)
+{
+    pw__view v;
+    double *vh;
+    int r;
+    d->projected = NULL;
+    if ((r = pw__view_init(&v, cam, f->w * f->ss, f->h * f->ss, e)) != PW_OK) return r;
+    if (!(vh = (double *)pw_alloc_array(a, (size_t)d->nv * 5 + 1, sizeof(double), "projected vertices", e)))
+        return PW_ERR_NOMEM;
+    pw__transform(&v, d, vh);
+    d->projected = vh;
+    return PW_OK;
 }
 
 /* The usual band: one draw (pw_frame_draw1 as the user pointer). */
@@ -17876,15 +17889,16 @@ static int tiled__draw(const pw_alloc *a, const tiled__tris *tl, const tiled_til
         pw_texture_free(a, &tex);
         return PW_ERR_NOMEM;
     }
-    d.normals = normals; /* once, not per band */
+    d.normals = normals; /* once, not per band, as the projection */
     one.d = &d;
     one.cam = &cam;
     par = tiled__parallel(ro);
     pw_frame_init(&f, ro->width, ro->height, ro->supersample, ro->background, &par);
     f.draw = pw_frame_draw1_fn;
     f.user = &one;
-    r = pw_render_frame(a, &f, out, e);
+    if ((r = pw_draw_project(a, &f, &cam, &d, e)) == PW_OK) r = pw_render_frame(a, &f, out, e);
     pw_free(a, normals);
+    pw_free(a, (void *)d.projected);
     pw_texture_free(a, &tex);
     return r;
 }

@@ -158,11 +158,13 @@ typedef struct band_job {
     pw_image out;
 } band_job;
 
-/* The bands' draws share the smooth normals, computed once per frame as the
- * methods' renderers do (pw_draw_normals). */
+/* The bands' draws share the smooth normals and the projected vertices,
+ * computed once per frame as the methods' renderers do (pw_draw_normals,
+ * pw_draw_project). */
 typedef struct band_scene {
     const scene *s;
     const float *normals;
+    const double *projected;
 } band_scene;
 
 static int band_draw(void *user, pw_fb *fb, pw_err *e)
@@ -172,6 +174,7 @@ static int band_draw(void *user, pw_fb *fb, pw_err *e)
     pw_draw d = base_draw(s);
     int p, r;
     d.normals = b->normals;
+    d.projected = b->projected;
     r = pw_render_draw(fb, &s->cam, &d, e);
     d.tex = &s->patch;
     d.uvs = s->puv;
@@ -179,7 +182,6 @@ static int band_draw(void *user, pw_fb *fb, pw_err *e)
     d.depth_test = PW_DEPTH_LEQUAL;
     d.no_depth_write = 1;
     d.wrap = PW_WRAP_CLAMP;
-    d.same_vertices = 1;
     for (p = 0; p < 10 && r == PW_OK; p++) r = pw_render_draw(fb, &s->cam, &d, e);
     return r;
 }
@@ -200,9 +202,12 @@ static void band_frame(void *arg)
     f.draw = band_draw;
     f.user = &b;
     f.par = &j->par;
+    pw_draw_project(NULL, &f, &j->s->cam, &d, NULL);
+    b.projected = d.projected;
     pw_image_free(NULL, &j->out);
     pw_render_frame(NULL, &f, &j->out, NULL);
     pw_free(NULL, (void *)b.normals);
+    pw_free(NULL, (void *)d.projected);
 }
 
 static void thread_rows(scene *s)

@@ -1230,13 +1230,14 @@ static void t_render_determinism(void)
  * torus scene with lapped-style passes, drawn whole, band by band with
  * bands of 1, 7 and 13 rows, by pw_render_frame on one thread, on 2 and 3
  * threads, and through a caller's parallel-for that runs the bands in
- * reverse: every picture is the same, bit for bit. */
+ * reverse, the bands with the mesh projected once (pw_draw_project): every
+ * picture is the same, bit for bit. */
 typedef struct band_scene {
     const mesh *m;
     const pw_texture *tex, *patch;
     float *puv[6];
     pw_camera cam;
-    int same;
+    const double *projected; /* NULL: every draw projects the mesh */
 } band_scene;
 
 static int band_draw(void *user, pw_fb *fb, pw_err *e)
@@ -1246,13 +1247,13 @@ static int band_draw(void *user, pw_fb *fb, pw_err *e)
     int p, r;
     d.tex = S->tex;
     d.lighting = PW_LIGHT_CAMERA;
+    d.projected = S->projected;
     r = pw_render_draw(fb, &S->cam, &d, e);
     d.tex = S->patch;
     d.blend = PW_BLEND_OVER;
     d.depth_test = PW_DEPTH_LEQUAL;
     d.no_depth_write = 1;
     d.wrap = PW_WRAP_CLAMP;
-    d.same_vertices = S->same;
     for (p = 0; p < 6 && r == PW_OK; p++) {
         d.uvs = S->puv[p];
         r = pw_render_draw(fb, &S->cam, &d, e);
@@ -1303,14 +1304,24 @@ static void t_render_bands(void)
     }
     for (size = 0; size < 2; size++) {
         int W = size ? 301 : 320, H = size ? 157 : 240, ss = size ? 3 : 2;
+        pw_draw whole = draw_of(&m);
         S.cam = pw_camera_frame(m.pos, m.nv, vd, NULL, 35.0f, (float)W / H);
-        S.same = 0;
+        S.projected = NULL;
         REQUIRE(pw_fb_create(NULL, &fb, W, H, ss, bg, NULL) == PW_OK);
         REQUIRE(band_draw(&S, &fb, NULL) == PW_OK);
         REQUIRE(pw_fb_resolve(&fb, &ref, 3, NULL) == PW_OK);
         pw_fb_free(&fb);
         bytes = sizeof(float) * 3 * W * H;
-        S.same = 1;
+        memset(&f, 0, sizeof f);
+        f.w = W;
+        f.h = H;
+        f.ss = ss;
+        memcpy(f.bg, bg, sizeof bg);
+        f.channels = 3;
+        f.draw = band_draw;
+        f.user = &S;
+        REQUIRE(pw_draw_project(NULL, &f, &S.cam, &whole, NULL) == PW_OK);
+        S.projected = whole.projected;
         for (i = 0; i < 3; i++) {
             REQUIRE(pw_image_alloc(NULL, &out, W, H, 3, NULL) == PW_OK);
             REQUIRE(pw_fb_create_band(NULL, &fb, W, H, ss, rows[i], bg, NULL) == PW_OK);
@@ -1324,14 +1335,6 @@ static void t_render_bands(void)
                       W, H, rows[i]);
             pw_image_free(NULL, &out);
         }
-        memset(&f, 0, sizeof f);
-        f.w = W;
-        f.h = H;
-        f.ss = ss;
-        memcpy(f.bg, bg, sizeof bg);
-        f.channels = 3;
-        f.draw = band_draw;
-        f.user = &S;
         memset(&par, 0, sizeof par);
         for (i = 0; i < 4; i++) {
             par.threads = i < 3 ? i + 1 : 0;
@@ -1343,6 +1346,7 @@ static void t_render_bands(void)
                       i == 3 ? "caller's parallel-for" : "threads", par.threads);
             pw_image_free(NULL, &out);
         }
+        pw_free(NULL, (void *)whole.projected);
         pw_image_free(NULL, &ref);
     }
     CHECK(calls > 2); /* the caller's parallel-for ran the bands */

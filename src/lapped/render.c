@@ -74,15 +74,16 @@ typedef struct lapped__picture {
     const pw_trimesh *m;
     const lapped_texture *t;
     const pw_texture *tex;
-    const float *normals; /* smooth vertex normals of the whole mesh */
-    const double *rows;   /* per paste: the sample rows its corners reach (pw__draw_rows) */
+    const float *normals;    /* smooth vertex normals of the whole mesh */
+    const double *rows;      /* per paste: the sample rows its corners reach (pw__draw_rows) */
+    const double *projected; /* the mesh's vertices projected once for all bands, or NULL */
     pw_camera cam;
     int filter;
 } lapped__picture;
 
 /* One band: the base pass, the bare mesh, mid-grey, writing depth; then
  * every paste over it with depth test "less or equal" and no depth write,
- * reusing the base pass's transformed vertices. */
+ * all with the vertices projected once for the frame. */
 static int lapped__draw_band(void *user, pw_fb *fb, pw_err *e)
 {
     const lapped__picture *F = (const lapped__picture *)user;
@@ -97,6 +98,7 @@ static int lapped__draw_band(void *user, pw_fb *fb, pw_err *e)
     d.tris = m->tri;
     d.ntris = m->nf;
     d.normals = F->normals;
+    d.projected = F->projected;
     d.color[0] = d.color[1] = d.color[2] = 0.5f;
     d.color[3] = 1.0f;
     d.lighting = PW_LIGHT_CAMERA;
@@ -108,7 +110,6 @@ static int lapped__draw_band(void *user, pw_fb *fb, pw_err *e)
     d.blend = PW_BLEND_OVER;
     d.depth_test = PW_DEPTH_LEQUAL;
     d.no_depth_write = 1;
-    d.same_vertices = 1;
     for (p = 0; p < F->t->npastes && r == PW_OK; p++) {
         /* pastes wholly above or below the band draw nothing in it */
         if (F->t->pastes[p].nfaces == 0 || F->rows[2 * p + 1] < fb->y0 || F->rows[2 * p] > fb->y0 + fb->bh) continue;
@@ -121,38 +122,28 @@ static int lapped__draw_band(void *user, pw_fb *fb, pw_err *e)
 }
 
 /* The sample rows each paste reaches in the frame (rows[2p], rows[2p + 1]),
- * with its triangles' corners projected as the draws will (pw__draw_rows),
+ * from its triangles' corners as the draws project them (pw__draw_rows),
  * so that the bands skip the pastes they do not meet. */
 static int lapped__paste_rows(const lapped__picture *F, const lapped_render_options *ro, double *rows, pw_err *e)
 {
     const pw_trimesh *m = F->m;
     int *tris = (int *)pw_alloc_array(F->a, (size_t)m->nf * 3, sizeof(int), "paste triangles", e), p;
-    double *vh =
-        tris ? (double *)pw_alloc_array(F->a, (size_t)m->nv * 5, sizeof(double), "projected vertices", e) : NULL;
     pw__view v;
     pw_draw d;
-    if (!vh) {
-        pw_free(F->a, tris);
-        return PW_ERR_NOMEM;
-    }
+    if (!tris) return PW_ERR_NOMEM;
     memset(&d, 0, sizeof d);
     d.positions = m->pos;
     d.nv = m->nv;
-    d.tris = m->tri;
-    d.ntris = m->nf;
     for (p = 0; p < F->t->npastes; p++) {
         rows[2 * p] = -DBL_MAX;
         rows[2 * p + 1] = DBL_MAX;
     }
-    if (pw__view_init(&v, &F->cam, ro->width * ro->supersample, ro->height * ro->supersample, NULL) == PW_OK) {
-        pw__transform(&v, &d, vh);
+    if (pw__view_init(&v, &F->cam, ro->width * ro->supersample, ro->height * ro->supersample, NULL) == PW_OK)
         for (p = 0; p < F->t->npastes; p++) {
             lapped__paste_draw(m, &F->t->pastes[p], tris, &d);
-            pw__draw_rows(&v, &d, vh, rows + 2 * p, rows + 2 * p + 1);
+            pw__draw_rows(&v, &d, F->projected, rows + 2 * p, rows + 2 * p + 1);
         }
-    }
     pw_free(F->a, tris);
-    pw_free(F->a, vh);
     return PW_OK;
 }
 
@@ -172,27 +163,32 @@ static int lapped__draw_pastes(lapped__picture *F, const lapped_render_options *
         normals ? (double *)pw_alloc_array(a, (size_t)F->t->npastes * 2 + 2, sizeof(double), "paste rows", e) : NULL;
     int r;
     F->cam = pw_camera_frame(m->pos, m->nv, ro->view_dir, ro->up, 35.0f, (float)ro->width / (float)ro->height);
-    if (!rows || lapped__paste_rows(F, ro, rows, e) != PW_OK) {
-        pw_free(a, normals);
-        pw_free(a, rows);
-        return PW_ERR_NOMEM;
-    }
     memset(&d, 0, sizeof d);
     d.positions = m->pos;
     d.nv = m->nv;
     d.tris = m->tri;
     d.ntris = m->nf;
+    par = lapped__parallel(ro);
+    pw_frame_init(&f, ro->width, ro->height, ro->supersample, ro->background, &par);
+    r = rows ? pw_draw_project(a, &f, &F->cam, &d, e) : PW_ERR_NOMEM;
+    F->projected = d.projected;
+    if (r == PW_OK) r = lapped__paste_rows(F, ro, rows, e);
+    if (r != PW_OK) {
+        pw_free(a, normals);
+        pw_free(a, rows);
+        pw_free(a, (void *)d.projected);
+        return r;
+    }
     pw__smooth_normals(&d, normals);
     F->normals = normals;
     F->rows = rows;
     F->filter = (int)ro->filter;
-    par = lapped__parallel(ro);
-    pw_frame_init(&f, ro->width, ro->height, ro->supersample, ro->background, &par);
     f.draw = lapped__draw_band;
     f.user = F;
     r = pw_render_frame(a, &f, pic, e);
     pw_free(a, normals);
     pw_free(a, rows);
+    pw_free(a, (void *)F->projected);
     return r;
 }
 

@@ -233,15 +233,16 @@ static int pgp__draw(const pgp__state *P, pgp__shading *S, const pgp_render_opti
     d.shader = pgp__shade;
     d.shader_user = S;
     if (!(normals = pw_draw_normals(&P->a, &d, e))) return PW_ERR_NOMEM;
-    d.normals = normals; /* once, not per band */
+    d.normals = normals; /* once, not per band, as the projection */
     one.d = &d;
     one.cam = &cam;
     par = pgp__parallel(o);
     pw_frame_init(&f, o->width, o->height, o->supersample, o->background, &par);
     f.draw = pw_frame_draw1_fn;
     f.user = &one;
-    r = pw_render_frame(&P->a, &f, pic, e);
+    if ((r = pw_draw_project(&P->a, &f, &cam, &d, e)) == PW_OK) r = pw_render_frame(&P->a, &f, pic, e);
     pw_free(&P->a, normals);
+    pw_free(&P->a, (void *)d.projected);
     return r;
 }
 

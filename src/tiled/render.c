@@ -81,15 +81,16 @@ static int tiled__draw(const pw_alloc *a, const tiled__tris *tl, const tiled_til
         pw_texture_free(a, &tex);
         return PW_ERR_NOMEM;
     }
-    d.normals = normals; /* once, not per band */
+    d.normals = normals; /* once, not per band, as the projection */
     one.d = &d;
     one.cam = &cam;
     par = tiled__parallel(ro);
     pw_frame_init(&f, ro->width, ro->height, ro->supersample, ro->background, &par);
     f.draw = pw_frame_draw1_fn;
     f.user = &one;
-    r = pw_render_frame(a, &f, out, e);
+    if ((r = pw_draw_project(a, &f, &cam, &d, e)) == PW_OK) r = pw_render_frame(a, &f, out, e);
     pw_free(a, normals);
+    pw_free(a, (void *)d.projected);
     pw_texture_free(a, &tex);
     return r;
 }
