@@ -861,6 +861,83 @@ static void t_motif_cuts_gimp(void)
     }
 }
 
+/* Mean colour difference of two r x r squares: one at (ax, ay) stepping
+ * (adx, ady) into the image, the other likewise, transposed if tr. */
+static double square_diff(const tiled_image *a, const int *pa, const tiled_image *b, const int *pb, int r, int tr)
+{
+    double sum = 0.0;
+    int u, v, k;
+    for (v = 0; v < r; v++)
+        for (u = 0; u < r; u++) {
+            const int bu = tr ? v : u, bv = tr ? u : v;
+            const float *x = a->pixels + ((size_t)(pa[1] + pa[3] * v) * a->width + pa[0] + pa[2] * u) * a->channels;
+            const float *y = b->pixels + ((size_t)(pb[1] + pb[3] * bv) * b->width + pb[0] + pb[2] * bu) * b->channels;
+            for (k = 0; k < 3; k++) sum += fabs(x[k] - y[k]);
+        }
+    return sum / (3.0 * r * r);
+}
+
+/* How alike the corners of a tile set are: the mean colour difference of
+ * the T/4 squares at the corners of two tiles (seen from each corner into
+ * its tile, transposed or not, whichever matches better), over the mean
+ * difference of two random squares of the exemplar. At a mesh vertex the
+ * corners of all its tiles meet; 1 means they differ as much as any two
+ * places of the exemplar, 0 that every vertex shows the same star. */
+static double corner_repetition(const tiled_tileset *ts, const tiled_image *ex)
+{
+    const int T = ts->layout.tile_size, g = ts->layout.guard, N = ts->tiles_per_side, r = T / 4, nc = 4 * N * N;
+    pw_rng rng = pw_rng_seed(5, 1);
+    double corners = 0.0, windows = 0.0;
+    int i, n = 4000;
+    for (i = 0; i < n; i++) {
+        int q[2][4], j;
+        for (j = 0; j < 2; j++) {
+            const int c = (int)pw_rng_below(&rng, (uint32_t)nc), t = c / 4, k = c % 4;
+            q[j][0] = (t % N) * (T + 2 * g) + g + (k == 1 || k == 2 ? T - 1 : 0);
+            q[j][1] = (t / N) * (T + 2 * g) + g + (k >= 2 ? T - 1 : 0);
+            q[j][2] = k == 1 || k == 2 ? -1 : 1;
+            q[j][3] = k >= 2 ? -1 : 1;
+        }
+        corners += fmin(square_diff(&ts->atlas, q[0], &ts->atlas, q[1], r, 0),
+                        square_diff(&ts->atlas, q[0], &ts->atlas, q[1], r, 1));
+        for (j = 0; j < 2; j++) {
+            q[j][0] = (int)pw_rng_below(&rng, (uint32_t)(ex->width - r));
+            q[j][1] = (int)pw_rng_below(&rng, (uint32_t)(ex->height - r));
+            q[j][2] = q[j][3] = 1;
+        }
+        windows += fmin(square_diff(ex, q[0], ex, q[1], r, 0), square_diff(ex, q[0], ex, q[1], r, 1));
+    }
+    return corners / windows;
+}
+
+/* Issue 18's star at mesh vertices: with one boundary pair every corner
+ * of every tile shows the ends of the same diamond, so the corners are
+ * far more alike than places of the exemplar; two pairs give each vertex
+ * ends of two diamonds to combine (see docs/tiled.md). */
+static void t_corner_repetition(void)
+{
+    tiled_image ex;
+    tiled_error err;
+    double rep[2];
+    int pairs;
+    tiled_options o = opts(2, 1);
+    REQUIRE(tiled_builtin_exemplar("pebbles", 128, &o, &ex, &err) == TILED_OK);
+    for (pairs = 1; pairs <= 2; pairs++) {
+        tiled_tileset ts;
+        o = opts(2, pairs);
+        o.layout.tile_size = 64;
+        REQUIRE(tiled_synthesize(&ex, &o, &ts, &err) == TILED_OK);
+        rep[pairs - 1] = corner_repetition(&ts, &ex);
+        pwt_info("procedural pebbles, %d pair(s), tiles of 64 px: corners differ %.2f as much as places of the "
+                 "exemplar", pairs, rep[pairs - 1]);
+        tiled_tileset_free(&ts);
+    }
+    CHECKF(rep[0] > 0.2, "one pair: corners %.2f (at least 0.2)", rep[0]);
+    CHECKF(rep[1] > rep[0] + 0.15, "two pairs: corners %.2f, not clearly more varied than one pair's %.2f", rep[1],
+           rep[0]);
+    tiled_image_free(&ex);
+}
+
 /* The drawn tile size: tiles of the cube span its faces, so a tile is as
  * wide on screen as a face; twice the picture height draws it twice as
  * wide; a subdivision level about halves it; bad arguments are errors. */
@@ -1254,6 +1331,7 @@ static const pwt_case cases[] = {
     {"tiled/drawn_tile_size", t_drawn_tile_size},
     {"tiled/render_options", t_render_options},
     {"tiled/motif_cuts_pebbles", t_motif_cuts_pebbles},
+    {"tiled/corner_repetition", t_corner_repetition},
     {"tiled/motif_cuts_gimp", t_motif_cuts_gimp},
     {"tiled/grid_torus", t_grid_torus},
     {"tiled/grid_icosahedron", t_grid_icosahedron},
