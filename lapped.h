@@ -18,24 +18,24 @@
  *   7778: src/common/raster.h, exact scan conversion of 2D triangles.
  *   8290: src/common/parallel.h, a parallel for, the one way work is split across threads.
  *   8463: src/common/render.h, a small deterministic software renderer for textured trian
- *  10626: src/lapped/polyhull.h, the polygonal hull of a texture patch (Praun, Finkelstein 
- *  11457: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
- *  11654: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
- *  11739: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
- *  11928: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
- *  12848: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
- *  13546: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
- *  13782: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
- *  14546: src/common/glue.h, what every method header needs between its public types an
- *  14882: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  15546: src/lapped/core.c, lapped.h's glue to the shared core, its defaults, and the 
- *  15716: src/lapped/field.c, §3.2 the tangent field, one frame (S, T) per triangle, an
- *  16171: src/lapped/patch.c, §3.1 texture patches. A patch is the texture as RGBA whos
- *  16485: src/lapped/builtin.c, built-in meshes (made by the shared shapes module) and tex
- *  16679: src/lapped/grow.c, pasting (§3.3-3.6): grow a surface patch around an uncove
- *  18285: src/lapped/render.c, runtime pasting (§4): the mesh drawn once per paste, in p
- *  18532: src/lapped/atlas.c, §4 "Rendering with a texture atlas".
- *  18775: src/lapped/io.c, the paste file format and the file conveniences of lapped.
+ *  10627: src/lapped/polyhull.h, the polygonal hull of a texture patch (Praun, Finkelstein 
+ *  11458: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
+ *  11655: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
+ *  11740: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
+ *  11929: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
+ *  12849: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
+ *  13547: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
+ *  13783: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
+ *  14547: src/common/glue.h, what every method header needs between its public types an
+ *  14883: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  15547: src/lapped/core.c, lapped.h's glue to the shared core, its defaults, and the 
+ *  15717: src/lapped/field.c, §3.2 the tangent field, one frame (S, T) per triangle, an
+ *  16172: src/lapped/patch.c, §3.1 texture patches. A patch is the texture as RGBA whos
+ *  16486: src/lapped/builtin.c, built-in meshes (made by the shared shapes module) and tex
+ *  16680: src/lapped/grow.c, pasting (§3.3-3.6): grow a surface patch around an uncove
+ *  18286: src/lapped/render.c, runtime pasting (§4): the mesh drawn once per paste, in p
+ *  18533: src/lapped/atlas.c, §4 "Rendering with a texture atlas".
+ *  18776: src/lapped/io.c, the paste file format and the file conveniences of lapped.
  */
 /* lapped.h - lapped textures: overlapping texture patches pasted over a mesh.
  *
@@ -8556,9 +8556,10 @@ PW__DEF void pw_parallel_for(const pw_parallel *par, int n, pw_task_fn task, voi
 
 
 /* SSE2 (every x86-64) filters, blends and clamps the four channels of a
- * texel or a pixel at once, with the same float operations in the same
- * order as the portable C, so the pictures are the same bit for bit;
- * define PW_NO_SIMD to use the C. */
+ * texel or a pixel at once, and finds the texture coordinates, mip levels,
+ * lighting and texel addresses of four pixels at once, with the same float
+ * operations in the same order as the portable C, so the pictures are the
+ * same bit for bit; define PW_NO_SIMD to use the C. */
 #if defined(__SSE2__) && !defined(PW_NO_SIMD)
 #include <emmintrin.h>
 #define PW__SSE2 1

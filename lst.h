@@ -20,28 +20,28 @@
  *   8299: src/common/raster.h, exact scan conversion of 2D triangles.
  *   8811: src/common/parallel.h, a parallel for, the one way work is split across threads.
  *   8984: src/common/render.h, a small deterministic software renderer for textured trian
- *  11147: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
- *  11336: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
- *  12256: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
- *  12954: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
- *  13190: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
- *  13951: src/common/tetmesh.h, the tetrahedral mesh that lapped solid textures work on, a
- *  14438: src/common/tetio.h, tetrahedral mesh files, TetGen .node/.ele and MEDIT .mesh.
- *  14930: src/common/bisect.h, graded, conforming tetrahedral meshes of a box by newest-v
- *  15257: src/common/stuffing.h, the built-in tetrahedralizer of lst.h, so that no external
- *  18634: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
- *  18777: src/common/pca.h, principal component analysis of vectors streamed one at a 
- *  18964: src/common/glue.h, what every method header needs between its public types an
- *  19300: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  19964: src/lst/core.c, lst.h's glue to the shared core, its defaults, the convers
- *  20298: src/lst/exemplar.c, solid exemplars (§5): sampling, the procedural exemplars 
- *  20867: src/lst/field.c, §5.2.2, the fields that orient and scale the pastes. The 
- *  22079: src/lst/paste.c, §5.2.3-5.2.7, filling the model. Each paste picks a rando
- *  23107: src/lst/render.c, §5.1, showing a model. Every point of a tetrahedron is th
- *  24004: src/lst/cut.c, §5.1.1, cutting a model along the zero set of a scalar fi
- *  24609: src/lst/builtin.c, the tetrahedralizer entry point, checks of caller meshes, 
- *  25131: src/lst/io.c, the model file, the constraint files and the file convenie
- *  25824: src/lst/export.c, the visible boundary with a baked texture atlas, for glTF.
+ *  11148: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
+ *  11337: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
+ *  12257: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
+ *  12955: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
+ *  13191: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
+ *  13952: src/common/tetmesh.h, the tetrahedral mesh that lapped solid textures work on, a
+ *  14439: src/common/tetio.h, tetrahedral mesh files, TetGen .node/.ele and MEDIT .mesh.
+ *  14931: src/common/bisect.h, graded, conforming tetrahedral meshes of a box by newest-v
+ *  15258: src/common/stuffing.h, the built-in tetrahedralizer of lst.h, so that no external
+ *  18635: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
+ *  18778: src/common/pca.h, principal component analysis of vectors streamed one at a 
+ *  18965: src/common/glue.h, what every method header needs between its public types an
+ *  19301: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  19965: src/lst/core.c, lst.h's glue to the shared core, its defaults, the convers
+ *  20299: src/lst/exemplar.c, solid exemplars (§5): sampling, the procedural exemplars 
+ *  20868: src/lst/field.c, §5.2.2, the fields that orient and scale the pastes. The 
+ *  22080: src/lst/paste.c, §5.2.3-5.2.7, filling the model. Each paste picks a rando
+ *  23108: src/lst/render.c, §5.1, showing a model. Every point of a tetrahedron is th
+ *  24005: src/lst/cut.c, §5.1.1, cutting a model along the zero set of a scalar fi
+ *  24610: src/lst/builtin.c, the tetrahedralizer entry point, checks of caller meshes, 
+ *  25132: src/lst/io.c, the model file, the constraint files and the file convenie
+ *  25825: src/lst/export.c, the visible boundary with a baked texture atlas, for glTF.
  */
 /* lst.h - lapped solid textures: solid exemplars pasted inside a model.
  *
@@ -9077,9 +9077,10 @@ PW__DEF void pw_parallel_for(const pw_parallel *par, int n, pw_task_fn task, voi
 
 
 /* SSE2 (every x86-64) filters, blends and clamps the four channels of a
- * texel or a pixel at once, with the same float operations in the same
- * order as the portable C, so the pictures are the same bit for bit;
- * define PW_NO_SIMD to use the C. */
+ * texel or a pixel at once, and finds the texture coordinates, mip levels,
+ * lighting and texel addresses of four pixels at once, with the same float
+ * operations in the same order as the portable C, so the pictures are the
+ * same bit for bit; define PW_NO_SIMD to use the C. */
 #if defined(__SSE2__) && !defined(PW_NO_SIMD)
 #include <emmintrin.h>
 #define PW__SSE2 1

@@ -20,33 +20,33 @@
  *   8892: src/common/raster.h, exact scan conversion of 2D triangles.
  *   9404: src/common/parallel.h, a parallel for, the one way work is split across threads.
  *   9577: src/common/render.h, a small deterministic software renderer for textured trian
- *  11740: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
- *  11937: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
- *  12022: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
- *  12211: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
- *  13131: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
- *  13829: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
- *  14065: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
- *  14829: src/common/periodic.h, the periodic global parameterization of a triangle mesh al
- *  15657: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
- *  16418: src/pgp/tile3.h, sampling a material-space tile (Ray et al. 2009, §2: "a 3
- *  16526: src/common/glue.h, what every method header needs between its public types an
- *  16862: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  17526: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
- *  18023: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
- *  18509: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
- *  18652: src/common/kdtree.h, nearest-neighbour search among n points of dimension d, wi
- *  18995: src/common/pca.h, principal component analysis of vectors streamed one at a 
- *  19182: src/pgp/core.c, pgp.h's glue to the shared core, its defaults, and the map
- *  19395: src/pgp/field.c, §2.1 effect areas and §2.2 interpolation of the constrai
- *  19594: src/pgp/solve.c, §2.3 the periodic global parameterization, the recovery o
- *  20083: src/pgp/edit.c, the public editing calls of a mapping. §2.1 (Ray, Lévy, 
- *  20228: src/pgp/render.c, §3 rendering, and a cleaner treatment of the vortices.
- *  20590: src/pgp/builtin.c, built-in meshes and material-space tiles for demos and tes
- *  20859: src/pgp/io.c, files and memory for pgp.h: material-space tiles (NRRD, or
- *  21207: src/pgp/export.c, the mapping for other programs. A viewer that knows nothin
- *  21433: src/pgp/morph.c, the inputs of §1 (keys brought to the tile size, made til
- *  22112: src/pgp/synth.c, §1.2 constrained tile synthesis, and the whole of §1: ke
+ *  11741: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
+ *  11938: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
+ *  12023: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
+ *  12212: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
+ *  13132: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
+ *  13830: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
+ *  14066: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
+ *  14830: src/common/periodic.h, the periodic global parameterization of a triangle mesh al
+ *  15658: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
+ *  16419: src/pgp/tile3.h, sampling a material-space tile (Ray et al. 2009, §2: "a 3
+ *  16527: src/common/glue.h, what every method header needs between its public types an
+ *  16863: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  17527: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
+ *  18024: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
+ *  18510: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
+ *  18653: src/common/kdtree.h, nearest-neighbour search among n points of dimension d, wi
+ *  18996: src/common/pca.h, principal component analysis of vectors streamed one at a 
+ *  19183: src/pgp/core.c, pgp.h's glue to the shared core, its defaults, and the map
+ *  19396: src/pgp/field.c, §2.1 effect areas and §2.2 interpolation of the constrai
+ *  19595: src/pgp/solve.c, §2.3 the periodic global parameterization, the recovery o
+ *  20084: src/pgp/edit.c, the public editing calls of a mapping. §2.1 (Ray, Lévy, 
+ *  20229: src/pgp/render.c, §3 rendering, and a cleaner treatment of the vortices.
+ *  20591: src/pgp/builtin.c, built-in meshes and material-space tiles for demos and tes
+ *  20860: src/pgp/io.c, files and memory for pgp.h: material-space tiles (NRRD, or
+ *  21208: src/pgp/export.c, the mapping for other programs. A viewer that knows nothin
+ *  21434: src/pgp/morph.c, the inputs of §1 (keys brought to the tile size, made til
+ *  22113: src/pgp/synth.c, §1.2 constrained tile synthesis, and the whole of §1: ke
  */
 /* pgp.h - material-space texturing with a periodic global parameterization.
  *
@@ -9670,9 +9670,10 @@ PW__DEF void pw_parallel_for(const pw_parallel *par, int n, pw_task_fn task, voi
 
 
 /* SSE2 (every x86-64) filters, blends and clamps the four channels of a
- * texel or a pixel at once, with the same float operations in the same
- * order as the portable C, so the pictures are the same bit for bit;
- * define PW_NO_SIMD to use the C. */
+ * texel or a pixel at once, and finds the texture coordinates, mip levels,
+ * lighting and texel addresses of four pixels at once, with the same float
+ * operations in the same order as the portable C, so the pictures are the
+ * same bit for bit; define PW_NO_SIMD to use the C. */
 #if defined(__SSE2__) && !defined(PW_NO_SIMD)
 #include <emmintrin.h>
 #define PW__SSE2 1

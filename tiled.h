@@ -25,19 +25,19 @@
  *  10727: src/common/raster.h, exact scan conversion of 2D triangles.
  *  11241: src/common/parallel.h, a parallel for, the one way work is split across threads.
  *  11414: src/common/render.h, a small deterministic software renderer for textured trian
- *  13577: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
- *  14074: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
- *  14560: src/common/glue.h, what every method header needs between its public types an
- *  14896: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  15560: src/tiled/core.c, tiled.h's glue to the shared core, its defaults, result
- *  15649: src/tiled/layout.c, ch. III.1, the boundary types and the tiled texture they
- *  15921: src/tiled/cells.c, beyond the thesis (issue 23): tiles of a chosen size on an
- *  16769: src/tiled/map.c, ch. III.2, the texture mapping algorithm of Fig. 29
- *  17038: src/tiled/synth.c, ch. III.1.3, tiled texture image synthesis: an edge-matche
- *  17484: src/tiled/validate.c, checks a hand-made tiled texture (the thesis's Figs. 39,
- *  17612: src/tiled/builtin.c, built-in meshes and exemplars for demos and tests: the
- *  17809: src/tiled/render.c, a software rendering of a mapped mesh (the thesis rendered
- *  18033: src/tiled/io.c, files. Meshes and exemplars in; the mapped mesh with its t
+ *  13578: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
+ *  14075: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
+ *  14561: src/common/glue.h, what every method header needs between its public types an
+ *  14897: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  15561: src/tiled/core.c, tiled.h's glue to the shared core, its defaults, result
+ *  15650: src/tiled/layout.c, ch. III.1, the boundary types and the tiled texture they
+ *  15922: src/tiled/cells.c, beyond the thesis (issue 23): tiles of a chosen size on an
+ *  16770: src/tiled/map.c, ch. III.2, the texture mapping algorithm of Fig. 29
+ *  17039: src/tiled/synth.c, ch. III.1.3, tiled texture image synthesis: an edge-matche
+ *  17485: src/tiled/validate.c, checks a hand-made tiled texture (the thesis's Figs. 39,
+ *  17613: src/tiled/builtin.c, built-in meshes and exemplars for demos and tests: the
+ *  17810: src/tiled/render.c, a software rendering of a mapped mesh (the thesis rendered
+ *  18034: src/tiled/io.c, files. Meshes and exemplars in; the mapped mesh with its t
  */
 /* tiled.h - seamless, singularity-free tiled textures on quad meshes.
  *
@@ -11507,9 +11507,10 @@ PW__DEF void pw_parallel_for(const pw_parallel *par, int n, pw_task_fn task, voi
 
 
 /* SSE2 (every x86-64) filters, blends and clamps the four channels of a
- * texel or a pixel at once, with the same float operations in the same
- * order as the portable C, so the pictures are the same bit for bit;
- * define PW_NO_SIMD to use the C. */
+ * texel or a pixel at once, and finds the texture coordinates, mip levels,
+ * lighting and texel addresses of four pixels at once, with the same float
+ * operations in the same order as the portable C, so the pictures are the
+ * same bit for bit; define PW_NO_SIMD to use the C. */
 #if defined(__SSE2__) && !defined(PW_NO_SIMD)
 #include <emmintrin.h>
 #define PW__SSE2 1

@@ -97,9 +97,10 @@
 #include "image.h"
 
 /* SSE2 (every x86-64) filters, blends and clamps the four channels of a
- * texel or a pixel at once, with the same float operations in the same
- * order as the portable C, so the pictures are the same bit for bit;
- * define PW_NO_SIMD to use the C. */
+ * texel or a pixel at once, and finds the texture coordinates, mip levels,
+ * lighting and texel addresses of four pixels at once, with the same float
+ * operations in the same order as the portable C, so the pictures are the
+ * same bit for bit; define PW_NO_SIMD to use the C. */
 #if defined(__SSE2__) && !defined(PW_NO_SIMD)
 #include <emmintrin.h>
 #define PW__SSE2 1
