@@ -15,27 +15,27 @@
  *   5290: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
  *   5819: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
  *   6243: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
- *   7778: src/common/raster.h, exact scan conversion of 2D triangles.
- *   8290: src/common/parallel.h, a parallel for, the one way work is split across threads.
- *   8463: src/common/render.h, a small deterministic software renderer for textured trian
- *  10627: src/lapped/polyhull.h, the polygonal hull of a texture patch (Praun, Finkelstein 
- *  11458: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
- *  11655: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
- *  11740: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
- *  11929: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
- *  12849: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
- *  13547: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
- *  13783: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
- *  14547: src/common/glue.h, what every method header needs between its public types an
- *  14883: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  15547: src/lapped/core.c, lapped.h's glue to the shared core, its defaults, and the 
- *  15717: src/lapped/field.c, §3.2 the tangent field, one frame (S, T) per triangle, an
- *  16172: src/lapped/patch.c, §3.1 texture patches. A patch is the texture as RGBA whos
- *  16486: src/lapped/builtin.c, built-in meshes (made by the shared shapes module) and tex
- *  16680: src/lapped/grow.c, pasting (§3.3-3.6): grow a surface patch around an uncove
- *  18286: src/lapped/render.c, runtime pasting (§4): the mesh drawn once per paste, in p
- *  18533: src/lapped/atlas.c, §4 "Rendering with a texture atlas".
- *  18776: src/lapped/io.c, the paste file format and the file conveniences of lapped.
+ *   7904: src/common/raster.h, exact scan conversion of 2D triangles.
+ *   8416: src/common/parallel.h, a parallel for, the one way work is split across threads.
+ *   8589: src/common/render.h, a small deterministic software renderer for textured trian
+ *  10753: src/lapped/polyhull.h, the polygonal hull of a texture patch (Praun, Finkelstein 
+ *  11584: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
+ *  11781: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
+ *  11866: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
+ *  12055: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
+ *  12975: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
+ *  13673: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
+ *  13909: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
+ *  14673: src/common/glue.h, what every method header needs between its public types an
+ *  15009: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  15673: src/lapped/core.c, lapped.h's glue to the shared core, its defaults, and the 
+ *  15843: src/lapped/field.c, §3.2 the tangent field, one frame (S, T) per triangle, an
+ *  16298: src/lapped/patch.c, §3.1 texture patches. A patch is the texture as RGBA whos
+ *  16612: src/lapped/builtin.c, built-in meshes (made by the shared shapes module) and tex
+ *  16806: src/lapped/grow.c, pasting (§3.3-3.6): grow a surface patch around an uncove
+ *  18412: src/lapped/render.c, runtime pasting (§4): the mesh drawn once per paste, in p
+ *  18659: src/lapped/atlas.c, §4 "Rendering with a texture atlas".
+ *  18902: src/lapped/io.c, the paste file format and the file conveniences of lapped.
  */
 /* lapped.h - lapped textures: overlapping texture patches pasted over a mesh.
  *
@@ -7440,7 +7440,7 @@ PW__DEF int pw__amd_eliminate(pw__amd *G, int p, int k, int *nb, pw_err *e)
 
 /* Minimum-degree order of A's graph into perm (approximate degrees on the
  * quotient graph: the cost follows the nonzeros, not the fill). */
-PW__DEF int pw__min_degree(const pw_alloc *a, const pw_csr *A, int *perm, pw_err *e)
+PW__DEF int pw__min_degree_graph(const pw_alloc *a, const pw_csr *A, int *perm, pw_err *e)
 {
     pw__amd G;
     int k, r = pw__amd_init(&G, a, A, e);
@@ -7457,6 +7457,132 @@ PW__DEF int pw__min_degree(const pw_alloc *a, const pw_csr *A, int *perm, pw_err
     }
     pw_free(a, nb);
     pw__amd_free(&G);
+    return r;
+}
+
+/* Order-independent hash of node i's closed neighbourhood in A. */
+PW__DEF uint64_t pw__nbhd_hash(const pw_csr *A, int i)
+{
+    uint64_t h = 0;
+    int k, self = 0;
+    for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++) {
+        uint64_t x = (uint64_t)A->col[k] * 0x9E3779B97F4A7C15ull;
+        h += (x ^ (x >> 29)) * 0xBF58476D1CE4E5B9ull;
+        self |= A->col[k] == i;
+    }
+    if (!self) {
+        uint64_t x = (uint64_t)i * 0x9E3779B97F4A7C15ull;
+        h += (x ^ (x >> 29)) * 0xBF58476D1CE4E5B9ull;
+    }
+    return h;
+}
+
+/* Node order for grouping: by hash, then index. */
+typedef struct pw__nbhd_key {
+    uint64_t h;
+    int i;
+} pw__nbhd_key;
+
+PW__DEF int pw__nbhd_cmp(const void *x, const void *y)
+{
+    const pw__nbhd_key *a = (const pw__nbhd_key *)x, *b = (const pw__nbhd_key *)y;
+    if (a->h != b->h) return a->h < b->h ? -1 : 1;
+    return a->i - b->i;
+}
+
+/* 1 if nodes i and j of A have the same closed neighbourhood (mark: n
+ * entries, none equal to stamp on entry; rows without repeated columns). */
+PW__DEF int pw__same_nbhd(const pw_csr *A, int i, int j, int *mark, int stamp)
+{
+    int k, ni = 1, nj = 1;
+    mark[i] = stamp;
+    for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++)
+        if (A->col[k] != i) {
+            mark[A->col[k]] = stamp;
+            ni++;
+        }
+    if (mark[j] != stamp) return 0; /* j is not next to i */
+    for (k = A->rowptr[j]; k < A->rowptr[j + 1]; k++)
+        if (A->col[k] != j) {
+            if (mark[A->col[k]] != stamp) return 0;
+            nj++;
+        }
+    return ni == nj;
+}
+
+/* Minimum-degree order of A's graph into perm, on the graph of its groups
+ * of indistinguishable nodes when there are some: nodes with the same
+ * closed neighbourhood (the unknowns of one vertex, as a parameterisation's
+ * u and v are) are eliminated together in any minimum-degree order, so
+ * they are merged first, the merged graph is ordered, and each group's
+ * nodes follow one another (AMD finds such supervariables as elimination
+ * goes; finding those present from the start gets most of the gain on the
+ * systems that have them). */
+PW__DEF int pw__min_degree(const pw_alloc *a, const pw_csr *A, int *perm, pw_err *e)
+{
+    const int n = A->n;
+    pw__nbhd_key *key = (pw__nbhd_key *)pw_alloc_array(a, (size_t)n + 1, sizeof *key, "ordering groups", e);
+    int *group = (int *)pw_alloc_array(a, (size_t)n * 4 + 1, sizeof(int), "ordering groups", e);
+    int *leader = group ? group + n : NULL, *mark = group ? group + 2 * n : NULL, *start = group ? group + 3 * n : NULL;
+    int i, j, k, g = 0, r = PW_OK, stamp = 0;
+    pw_csr C;
+    memset(&C, 0, sizeof C);
+    if (!key || !group) r = PW_ERR_NOMEM;
+    for (i = 0; r == PW_OK && i < n; i++) {
+        key[i].h = pw__nbhd_hash(A, i);
+        key[i].i = i;
+        mark[i] = 0;
+        leader[i] = i;
+    }
+    if (r == PW_OK) qsort(key, (size_t)n, sizeof *key, pw__nbhd_cmp);
+    for (i = 0; r == PW_OK && i < n; i = j) { /* a run of equal hashes: each node joins the first earlier match */
+        for (j = i + 1; j < n && key[j].h == key[i].h; j++)
+            for (k = i; k < j; k++)
+                if (leader[key[k].i] == key[k].i && pw__same_nbhd(A, key[k].i, key[j].i, mark, ++stamp)) {
+                    leader[key[j].i] = key[k].i;
+                    break;
+                }
+    }
+    for (i = 0; r == PW_OK && i < n; i++) group[i] = leader[i] == i ? g++ : group[leader[i]];
+    if (r == PW_OK && g > n - n / 10) { /* few groups: order the graph itself */
+        pw_free(a, key);
+        pw_free(a, group);
+        return pw__min_degree_graph(a, A, perm, e);
+    }
+    if (r == PW_OK) { /* the graph of the groups: each group's edges are its leader's */
+        C.n = C.m = g;
+        C.rowptr = (int *)pw_calloc_array(a, (size_t)g + 1, sizeof(int), "ordering groups", e);
+        C.col = (int *)pw_alloc_array(a, (size_t)A->rowptr[n] + 1, sizeof(int), "ordering groups", e);
+        if (!C.rowptr || !C.col) r = PW_ERR_NOMEM;
+    }
+    for (i = 0; r == PW_OK && i < n; i++) mark[i] = -1;
+    for (i = 0, k = 0; r == PW_OK && i < n; i++) {
+        int q;
+        if (leader[i] != i) continue;
+        for (q = A->rowptr[i]; q < A->rowptr[i + 1]; q++) {
+            const int h = group[A->col[q]];
+            if (h != group[i] && mark[h] != group[i]) C.col[k++] = h;
+            mark[h] = group[i];
+        }
+        C.rowptr[group[i] + 1] = k;
+    }
+    if (r == PW_OK) r = pw__min_degree_graph(a, &C, perm + (n - g), e); /* the groups' order, at the end */
+    if (r == PW_OK) { /* each group's nodes in index order, where the group comes */
+        for (i = 0; i <= g; i++) start[i] = 0;
+        for (i = 0; i < n; i++) start[group[i] + 1]++;
+        for (i = 0; i < g; i++) start[i + 1] += start[i];
+        for (i = 0; i < n; i++) mark[start[group[i]]++] = i; /* members, grouped */
+        for (i = g; i > 0; i--) start[i] = start[i - 1];
+        start[0] = 0;
+        for (k = 0, j = n - g; j < n; j++) {
+            const int h = perm[j];
+            for (i = start[h]; i < start[h + 1]; i++) perm[k++] = mark[i];
+        }
+    }
+    pw_free(a, C.rowptr);
+    pw_free(a, C.col);
+    pw_free(a, key);
+    pw_free(a, group);
     return r;
 }
 

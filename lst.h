@@ -17,31 +17,31 @@
  *   6482: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
  *   6679: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
  *   6764: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
- *   8299: src/common/raster.h, exact scan conversion of 2D triangles.
- *   8811: src/common/parallel.h, a parallel for, the one way work is split across threads.
- *   8984: src/common/render.h, a small deterministic software renderer for textured trian
- *  11148: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
- *  11337: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
- *  12257: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
- *  12955: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
- *  13191: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
- *  13952: src/common/tetmesh.h, the tetrahedral mesh that lapped solid textures work on, a
- *  14439: src/common/tetio.h, tetrahedral mesh files, TetGen .node/.ele and MEDIT .mesh.
- *  14931: src/common/bisect.h, graded, conforming tetrahedral meshes of a box by newest-v
- *  15258: src/common/stuffing.h, the built-in tetrahedralizer of lst.h, so that no external
- *  18635: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
- *  18778: src/common/pca.h, principal component analysis of vectors streamed one at a 
- *  18965: src/common/glue.h, what every method header needs between its public types an
- *  19301: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  19965: src/lst/core.c, lst.h's glue to the shared core, its defaults, the convers
- *  20299: src/lst/exemplar.c, solid exemplars (§5): sampling, the procedural exemplars 
- *  20868: src/lst/field.c, §5.2.2, the fields that orient and scale the pastes. The 
- *  22080: src/lst/paste.c, §5.2.3-5.2.7, filling the model. Each paste picks a rando
- *  23108: src/lst/render.c, §5.1, showing a model. Every point of a tetrahedron is th
- *  24005: src/lst/cut.c, §5.1.1, cutting a model along the zero set of a scalar fi
- *  24610: src/lst/builtin.c, the tetrahedralizer entry point, checks of caller meshes, 
- *  25132: src/lst/io.c, the model file, the constraint files and the file convenie
- *  25825: src/lst/export.c, the visible boundary with a baked texture atlas, for glTF.
+ *   8425: src/common/raster.h, exact scan conversion of 2D triangles.
+ *   8937: src/common/parallel.h, a parallel for, the one way work is split across threads.
+ *   9110: src/common/render.h, a small deterministic software renderer for textured trian
+ *  11274: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
+ *  11463: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
+ *  12383: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
+ *  13081: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
+ *  13317: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
+ *  14078: src/common/tetmesh.h, the tetrahedral mesh that lapped solid textures work on, a
+ *  14565: src/common/tetio.h, tetrahedral mesh files, TetGen .node/.ele and MEDIT .mesh.
+ *  15057: src/common/bisect.h, graded, conforming tetrahedral meshes of a box by newest-v
+ *  15384: src/common/stuffing.h, the built-in tetrahedralizer of lst.h, so that no external
+ *  18761: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
+ *  18904: src/common/pca.h, principal component analysis of vectors streamed one at a 
+ *  19091: src/common/glue.h, what every method header needs between its public types an
+ *  19427: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  20091: src/lst/core.c, lst.h's glue to the shared core, its defaults, the convers
+ *  20425: src/lst/exemplar.c, solid exemplars (§5): sampling, the procedural exemplars 
+ *  20994: src/lst/field.c, §5.2.2, the fields that orient and scale the pastes. The 
+ *  22206: src/lst/paste.c, §5.2.3-5.2.7, filling the model. Each paste picks a rando
+ *  23234: src/lst/render.c, §5.1, showing a model. Every point of a tetrahedron is th
+ *  24131: src/lst/cut.c, §5.1.1, cutting a model along the zero set of a scalar fi
+ *  24736: src/lst/builtin.c, the tetrahedralizer entry point, checks of caller meshes, 
+ *  25258: src/lst/io.c, the model file, the constraint files and the file convenie
+ *  25951: src/lst/export.c, the visible boundary with a baked texture atlas, for glTF.
  */
 /* lst.h - lapped solid textures: solid exemplars pasted inside a model.
  *
@@ -7961,7 +7961,7 @@ PW__DEF int pw__amd_eliminate(pw__amd *G, int p, int k, int *nb, pw_err *e)
 
 /* Minimum-degree order of A's graph into perm (approximate degrees on the
  * quotient graph: the cost follows the nonzeros, not the fill). */
-PW__DEF int pw__min_degree(const pw_alloc *a, const pw_csr *A, int *perm, pw_err *e)
+PW__DEF int pw__min_degree_graph(const pw_alloc *a, const pw_csr *A, int *perm, pw_err *e)
 {
     pw__amd G;
     int k, r = pw__amd_init(&G, a, A, e);
@@ -7978,6 +7978,132 @@ PW__DEF int pw__min_degree(const pw_alloc *a, const pw_csr *A, int *perm, pw_err
     }
     pw_free(a, nb);
     pw__amd_free(&G);
+    return r;
+}
+
+/* Order-independent hash of node i's closed neighbourhood in A. */
+PW__DEF uint64_t pw__nbhd_hash(const pw_csr *A, int i)
+{
+    uint64_t h = 0;
+    int k, self = 0;
+    for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++) {
+        uint64_t x = (uint64_t)A->col[k] * 0x9E3779B97F4A7C15ull;
+        h += (x ^ (x >> 29)) * 0xBF58476D1CE4E5B9ull;
+        self |= A->col[k] == i;
+    }
+    if (!self) {
+        uint64_t x = (uint64_t)i * 0x9E3779B97F4A7C15ull;
+        h += (x ^ (x >> 29)) * 0xBF58476D1CE4E5B9ull;
+    }
+    return h;
+}
+
+/* Node order for grouping: by hash, then index. */
+typedef struct pw__nbhd_key {
+    uint64_t h;
+    int i;
+} pw__nbhd_key;
+
+PW__DEF int pw__nbhd_cmp(const void *x, const void *y)
+{
+    const pw__nbhd_key *a = (const pw__nbhd_key *)x, *b = (const pw__nbhd_key *)y;
+    if (a->h != b->h) return a->h < b->h ? -1 : 1;
+    return a->i - b->i;
+}
+
+/* 1 if nodes i and j of A have the same closed neighbourhood (mark: n
+ * entries, none equal to stamp on entry; rows without repeated columns). */
+PW__DEF int pw__same_nbhd(const pw_csr *A, int i, int j, int *mark, int stamp)
+{
+    int k, ni = 1, nj = 1;
+    mark[i] = stamp;
+    for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++)
+        if (A->col[k] != i) {
+            mark[A->col[k]] = stamp;
+            ni++;
+        }
+    if (mark[j] != stamp) return 0; /* j is not next to i */
+    for (k = A->rowptr[j]; k < A->rowptr[j + 1]; k++)
+        if (A->col[k] != j) {
+            if (mark[A->col[k]] != stamp) return 0;
+            nj++;
+        }
+    return ni == nj;
+}
+
+/* Minimum-degree order of A's graph into perm, on the graph of its groups
+ * of indistinguishable nodes when there are some: nodes with the same
+ * closed neighbourhood (the unknowns of one vertex, as a parameterisation's
+ * u and v are) are eliminated together in any minimum-degree order, so
+ * they are merged first, the merged graph is ordered, and each group's
+ * nodes follow one another (AMD finds such supervariables as elimination
+ * goes; finding those present from the start gets most of the gain on the
+ * systems that have them). */
+PW__DEF int pw__min_degree(const pw_alloc *a, const pw_csr *A, int *perm, pw_err *e)
+{
+    const int n = A->n;
+    pw__nbhd_key *key = (pw__nbhd_key *)pw_alloc_array(a, (size_t)n + 1, sizeof *key, "ordering groups", e);
+    int *group = (int *)pw_alloc_array(a, (size_t)n * 4 + 1, sizeof(int), "ordering groups", e);
+    int *leader = group ? group + n : NULL, *mark = group ? group + 2 * n : NULL, *start = group ? group + 3 * n : NULL;
+    int i, j, k, g = 0, r = PW_OK, stamp = 0;
+    pw_csr C;
+    memset(&C, 0, sizeof C);
+    if (!key || !group) r = PW_ERR_NOMEM;
+    for (i = 0; r == PW_OK && i < n; i++) {
+        key[i].h = pw__nbhd_hash(A, i);
+        key[i].i = i;
+        mark[i] = 0;
+        leader[i] = i;
+    }
+    if (r == PW_OK) qsort(key, (size_t)n, sizeof *key, pw__nbhd_cmp);
+    for (i = 0; r == PW_OK && i < n; i = j) { /* a run of equal hashes: each node joins the first earlier match */
+        for (j = i + 1; j < n && key[j].h == key[i].h; j++)
+            for (k = i; k < j; k++)
+                if (leader[key[k].i] == key[k].i && pw__same_nbhd(A, key[k].i, key[j].i, mark, ++stamp)) {
+                    leader[key[j].i] = key[k].i;
+                    break;
+                }
+    }
+    for (i = 0; r == PW_OK && i < n; i++) group[i] = leader[i] == i ? g++ : group[leader[i]];
+    if (r == PW_OK && g > n - n / 10) { /* few groups: order the graph itself */
+        pw_free(a, key);
+        pw_free(a, group);
+        return pw__min_degree_graph(a, A, perm, e);
+    }
+    if (r == PW_OK) { /* the graph of the groups: each group's edges are its leader's */
+        C.n = C.m = g;
+        C.rowptr = (int *)pw_calloc_array(a, (size_t)g + 1, sizeof(int), "ordering groups", e);
+        C.col = (int *)pw_alloc_array(a, (size_t)A->rowptr[n] + 1, sizeof(int), "ordering groups", e);
+        if (!C.rowptr || !C.col) r = PW_ERR_NOMEM;
+    }
+    for (i = 0; r == PW_OK && i < n; i++) mark[i] = -1;
+    for (i = 0, k = 0; r == PW_OK && i < n; i++) {
+        int q;
+        if (leader[i] != i) continue;
+        for (q = A->rowptr[i]; q < A->rowptr[i + 1]; q++) {
+            const int h = group[A->col[q]];
+            if (h != group[i] && mark[h] != group[i]) C.col[k++] = h;
+            mark[h] = group[i];
+        }
+        C.rowptr[group[i] + 1] = k;
+    }
+    if (r == PW_OK) r = pw__min_degree_graph(a, &C, perm + (n - g), e); /* the groups' order, at the end */
+    if (r == PW_OK) { /* each group's nodes in index order, where the group comes */
+        for (i = 0; i <= g; i++) start[i] = 0;
+        for (i = 0; i < n; i++) start[group[i] + 1]++;
+        for (i = 0; i < g; i++) start[i + 1] += start[i];
+        for (i = 0; i < n; i++) mark[start[group[i]]++] = i; /* members, grouped */
+        for (i = g; i > 0; i--) start[i] = start[i - 1];
+        start[0] = 0;
+        for (k = 0, j = n - g; j < n; j++) {
+            const int h = perm[j];
+            for (i = start[h]; i < start[h + 1]; i++) perm[k++] = mark[i];
+        }
+    }
+    pw_free(a, C.rowptr);
+    pw_free(a, C.col);
+    pw_free(a, key);
+    pw_free(a, group);
     return r;
 }
 

@@ -15,38 +15,38 @@
  *   5478: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
  *   6007: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
  *   6431: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
- *   7966: src/common/zsparse.h, complex Hermitian sparse systems, solved by conjugate grad
- *   8249: src/common/zamg.h, a smoothed-aggregation multigrid preconditioner for the co
- *   8892: src/common/raster.h, exact scan conversion of 2D triangles.
- *   9404: src/common/parallel.h, a parallel for, the one way work is split across threads.
- *   9577: src/common/render.h, a small deterministic software renderer for textured trian
- *  11741: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
- *  11938: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
- *  12023: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
- *  12212: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
- *  13132: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
- *  13830: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
- *  14066: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
- *  14830: src/common/periodic.h, the periodic global parameterization of a triangle mesh al
- *  15658: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
- *  16419: src/pgp/tile3.h, sampling a material-space tile (Ray et al. 2009, §2: "a 3
- *  16527: src/common/glue.h, what every method header needs between its public types an
- *  16863: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  17527: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
- *  18024: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
- *  18510: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
- *  18653: src/common/kdtree.h, nearest-neighbour search among n points of dimension d, wi
- *  18996: src/common/pca.h, principal component analysis of vectors streamed one at a 
- *  19183: src/pgp/core.c, pgp.h's glue to the shared core, its defaults, and the map
- *  19396: src/pgp/field.c, §2.1 effect areas and §2.2 interpolation of the constrai
- *  19595: src/pgp/solve.c, §2.3 the periodic global parameterization, the recovery o
- *  20084: src/pgp/edit.c, the public editing calls of a mapping. §2.1 (Ray, Lévy, 
- *  20229: src/pgp/render.c, §3 rendering, and a cleaner treatment of the vortices.
- *  20591: src/pgp/builtin.c, built-in meshes and material-space tiles for demos and tes
- *  20860: src/pgp/io.c, files and memory for pgp.h: material-space tiles (NRRD, or
- *  21208: src/pgp/export.c, the mapping for other programs. A viewer that knows nothin
- *  21434: src/pgp/morph.c, the inputs of §1 (keys brought to the tile size, made til
- *  22113: src/pgp/synth.c, §1.2 constrained tile synthesis, and the whole of §1: ke
+ *   8092: src/common/zsparse.h, complex Hermitian sparse systems, solved by conjugate grad
+ *   8375: src/common/zamg.h, a smoothed-aggregation multigrid preconditioner for the co
+ *   9018: src/common/raster.h, exact scan conversion of 2D triangles.
+ *   9530: src/common/parallel.h, a parallel for, the one way work is split across threads.
+ *   9703: src/common/render.h, a small deterministic software renderer for textured trian
+ *  11867: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
+ *  12064: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
+ *  12149: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
+ *  12338: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
+ *  13258: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
+ *  13956: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
+ *  14192: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
+ *  14956: src/common/periodic.h, the periodic global parameterization of a triangle mesh al
+ *  15784: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
+ *  16545: src/pgp/tile3.h, sampling a material-space tile (Ray et al. 2009, §2: "a 3
+ *  16653: src/common/glue.h, what every method header needs between its public types an
+ *  16989: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  17653: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
+ *  18150: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
+ *  18636: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
+ *  18779: src/common/kdtree.h, nearest-neighbour search among n points of dimension d, wi
+ *  19122: src/common/pca.h, principal component analysis of vectors streamed one at a 
+ *  19309: src/pgp/core.c, pgp.h's glue to the shared core, its defaults, and the map
+ *  19522: src/pgp/field.c, §2.1 effect areas and §2.2 interpolation of the constrai
+ *  19721: src/pgp/solve.c, §2.3 the periodic global parameterization, the recovery o
+ *  20210: src/pgp/edit.c, the public editing calls of a mapping. §2.1 (Ray, Lévy, 
+ *  20355: src/pgp/render.c, §3 rendering, and a cleaner treatment of the vortices.
+ *  20717: src/pgp/builtin.c, built-in meshes and material-space tiles for demos and tes
+ *  20986: src/pgp/io.c, files and memory for pgp.h: material-space tiles (NRRD, or
+ *  21334: src/pgp/export.c, the mapping for other programs. A viewer that knows nothin
+ *  21560: src/pgp/morph.c, the inputs of §1 (keys brought to the tile size, made til
+ *  22239: src/pgp/synth.c, §1.2 constrained tile synthesis, and the whole of §1: ke
  */
 /* pgp.h - material-space texturing with a periodic global parameterization.
  *
@@ -7628,7 +7628,7 @@ PW__DEF int pw__amd_eliminate(pw__amd *G, int p, int k, int *nb, pw_err *e)
 
 /* Minimum-degree order of A's graph into perm (approximate degrees on the
  * quotient graph: the cost follows the nonzeros, not the fill). */
-PW__DEF int pw__min_degree(const pw_alloc *a, const pw_csr *A, int *perm, pw_err *e)
+PW__DEF int pw__min_degree_graph(const pw_alloc *a, const pw_csr *A, int *perm, pw_err *e)
 {
     pw__amd G;
     int k, r = pw__amd_init(&G, a, A, e);
@@ -7645,6 +7645,132 @@ PW__DEF int pw__min_degree(const pw_alloc *a, const pw_csr *A, int *perm, pw_err
     }
     pw_free(a, nb);
     pw__amd_free(&G);
+    return r;
+}
+
+/* Order-independent hash of node i's closed neighbourhood in A. */
+PW__DEF uint64_t pw__nbhd_hash(const pw_csr *A, int i)
+{
+    uint64_t h = 0;
+    int k, self = 0;
+    for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++) {
+        uint64_t x = (uint64_t)A->col[k] * 0x9E3779B97F4A7C15ull;
+        h += (x ^ (x >> 29)) * 0xBF58476D1CE4E5B9ull;
+        self |= A->col[k] == i;
+    }
+    if (!self) {
+        uint64_t x = (uint64_t)i * 0x9E3779B97F4A7C15ull;
+        h += (x ^ (x >> 29)) * 0xBF58476D1CE4E5B9ull;
+    }
+    return h;
+}
+
+/* Node order for grouping: by hash, then index. */
+typedef struct pw__nbhd_key {
+    uint64_t h;
+    int i;
+} pw__nbhd_key;
+
+PW__DEF int pw__nbhd_cmp(const void *x, const void *y)
+{
+    const pw__nbhd_key *a = (const pw__nbhd_key *)x, *b = (const pw__nbhd_key *)y;
+    if (a->h != b->h) return a->h < b->h ? -1 : 1;
+    return a->i - b->i;
+}
+
+/* 1 if nodes i and j of A have the same closed neighbourhood (mark: n
+ * entries, none equal to stamp on entry; rows without repeated columns). */
+PW__DEF int pw__same_nbhd(const pw_csr *A, int i, int j, int *mark, int stamp)
+{
+    int k, ni = 1, nj = 1;
+    mark[i] = stamp;
+    for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++)
+        if (A->col[k] != i) {
+            mark[A->col[k]] = stamp;
+            ni++;
+        }
+    if (mark[j] != stamp) return 0; /* j is not next to i */
+    for (k = A->rowptr[j]; k < A->rowptr[j + 1]; k++)
+        if (A->col[k] != j) {
+            if (mark[A->col[k]] != stamp) return 0;
+            nj++;
+        }
+    return ni == nj;
+}
+
+/* Minimum-degree order of A's graph into perm, on the graph of its groups
+ * of indistinguishable nodes when there are some: nodes with the same
+ * closed neighbourhood (the unknowns of one vertex, as a parameterisation's
+ * u and v are) are eliminated together in any minimum-degree order, so
+ * they are merged first, the merged graph is ordered, and each group's
+ * nodes follow one another (AMD finds such supervariables as elimination
+ * goes; finding those present from the start gets most of the gain on the
+ * systems that have them). */
+PW__DEF int pw__min_degree(const pw_alloc *a, const pw_csr *A, int *perm, pw_err *e)
+{
+    const int n = A->n;
+    pw__nbhd_key *key = (pw__nbhd_key *)pw_alloc_array(a, (size_t)n + 1, sizeof *key, "ordering groups", e);
+    int *group = (int *)pw_alloc_array(a, (size_t)n * 4 + 1, sizeof(int), "ordering groups", e);
+    int *leader = group ? group + n : NULL, *mark = group ? group + 2 * n : NULL, *start = group ? group + 3 * n : NULL;
+    int i, j, k, g = 0, r = PW_OK, stamp = 0;
+    pw_csr C;
+    memset(&C, 0, sizeof C);
+    if (!key || !group) r = PW_ERR_NOMEM;
+    for (i = 0; r == PW_OK && i < n; i++) {
+        key[i].h = pw__nbhd_hash(A, i);
+        key[i].i = i;
+        mark[i] = 0;
+        leader[i] = i;
+    }
+    if (r == PW_OK) qsort(key, (size_t)n, sizeof *key, pw__nbhd_cmp);
+    for (i = 0; r == PW_OK && i < n; i = j) { /* a run of equal hashes: each node joins the first earlier match */
+        for (j = i + 1; j < n && key[j].h == key[i].h; j++)
+            for (k = i; k < j; k++)
+                if (leader[key[k].i] == key[k].i && pw__same_nbhd(A, key[k].i, key[j].i, mark, ++stamp)) {
+                    leader[key[j].i] = key[k].i;
+                    break;
+                }
+    }
+    for (i = 0; r == PW_OK && i < n; i++) group[i] = leader[i] == i ? g++ : group[leader[i]];
+    if (r == PW_OK && g > n - n / 10) { /* few groups: order the graph itself */
+        pw_free(a, key);
+        pw_free(a, group);
+        return pw__min_degree_graph(a, A, perm, e);
+    }
+    if (r == PW_OK) { /* the graph of the groups: each group's edges are its leader's */
+        C.n = C.m = g;
+        C.rowptr = (int *)pw_calloc_array(a, (size_t)g + 1, sizeof(int), "ordering groups", e);
+        C.col = (int *)pw_alloc_array(a, (size_t)A->rowptr[n] + 1, sizeof(int), "ordering groups", e);
+        if (!C.rowptr || !C.col) r = PW_ERR_NOMEM;
+    }
+    for (i = 0; r == PW_OK && i < n; i++) mark[i] = -1;
+    for (i = 0, k = 0; r == PW_OK && i < n; i++) {
+        int q;
+        if (leader[i] != i) continue;
+        for (q = A->rowptr[i]; q < A->rowptr[i + 1]; q++) {
+            const int h = group[A->col[q]];
+            if (h != group[i] && mark[h] != group[i]) C.col[k++] = h;
+            mark[h] = group[i];
+        }
+        C.rowptr[group[i] + 1] = k;
+    }
+    if (r == PW_OK) r = pw__min_degree_graph(a, &C, perm + (n - g), e); /* the groups' order, at the end */
+    if (r == PW_OK) { /* each group's nodes in index order, where the group comes */
+        for (i = 0; i <= g; i++) start[i] = 0;
+        for (i = 0; i < n; i++) start[group[i] + 1]++;
+        for (i = 0; i < g; i++) start[i + 1] += start[i];
+        for (i = 0; i < n; i++) mark[start[group[i]]++] = i; /* members, grouped */
+        for (i = g; i > 0; i--) start[i] = start[i - 1];
+        start[0] = 0;
+        for (k = 0, j = n - g; j < n; j++) {
+            const int h = perm[j];
+            for (i = start[h]; i < start[h + 1]; i++) perm[k++] = mark[i];
+        }
+    }
+    pw_free(a, C.rowptr);
+    pw_free(a, C.col);
+    pw_free(a, key);
+    pw_free(a, group);
     return r;
 }
 

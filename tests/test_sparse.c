@@ -1071,6 +1071,48 @@ static void t_ldlt_laplacian(void)
     free(b), free(x), free(xi), free(x2);
 }
 
+/* Two unknowns per node, coupled (the Laplacian times [[2, 1], [1, 2]]),
+ * as a parameterisation's u and v are: the ordering merges each node's
+ * pair (same closed neighbourhood) and keeps it together, the factor has
+ * about four times the scalar factor's nonzeros (its 2x2 blocks), and
+ * solves as well. */
+static void t_ldlt_groups(void)
+{
+    static const double B[2][2] = {{2.0, 1.0}, {1.0, 2.0}};
+    int k = 32, n = k * k, i, q, c, d, split = 0;
+    pw_csr A, A2;
+    pw_ldlt F, F2;
+    pw_triplets t;
+    pw_err e;
+    double *b = (double *)malloc(sizeof(double) * n), *b2 = (double *)malloc(sizeof(double) * 2 * n);
+    double *x2 = (double *)malloc(sizeof(double) * 2 * n), *r2 = (double *)malloc(sizeof(double) * 2 * n), res = 0;
+    pw_err_clear(&e);
+    REQUIRE(laplacian(&A, b, k, 0, 1.0, 78) == PW_OK);
+    REQUIRE(pw_triplets_init(&t, NULL, 2 * n, 2 * n, &e) == PW_OK);
+    for (i = 0; i < n; i++)
+        for (q = A.rowptr[i]; q < A.rowptr[i + 1]; q++)
+            for (c = 0; c < 2; c++)
+                for (d = 0; d < 2; d++)
+                    REQUIRE(pw_triplets_add(&t, 2 * i + c, 2 * A.col[q] + d, A.val[q] * B[c][d], &e) == PW_OK);
+    REQUIRE(pw_csr_from_triplets(NULL, &t, &A2, &e) == PW_OK);
+    pw_triplets_free(&t);
+    REQUIRE(pw_ldlt_factor(NULL, &A, &F, &e) == PW_OK && pw_ldlt_factor(NULL, &A2, &F2, &e) == PW_OK);
+    for (i = 0; i < 2 * n; i += 2) split += F2.perm[i] / 2 != F2.perm[i + 1] / 2;
+    for (i = 0; i < 2 * n; i++) b2[i] = b[i / 2] + (i & 1) * 0.5 * b[i / 2];
+    pw_ldlt_solve(&F2, b2, x2);
+    pw_csr_mul(&A2, x2, r2);
+    for (i = 0; i < 2 * n; i++) res = fmax(res, fabs(r2[i] - b2[i]));
+    pwt_info("%dx%d Laplacian, two unknowns per node: L has %ld nonzeros below the diagonal, %.2fx the scalar "
+             "factor's %ld; %d pairs split; largest residual %.2e",
+             k, k, ldlt_nnz(&F2), (double)ldlt_nnz(&F2) / (double)ldlt_nnz(&F), ldlt_nnz(&F), split, res);
+    CHECK(split == 0);
+    CHECK(ldlt_nnz(&F2) <= 4 * ldlt_nnz(&F) + n + n / 10);
+    CHECK(res < 1e-10);
+    pw_ldlt_free(NULL, &F), pw_ldlt_free(NULL, &F2);
+    pw_csr_free(NULL, &A), pw_csr_free(NULL, &A2);
+    free(b), free(b2), free(x2), free(r2);
+}
+
 /* Not positive definite (a singular Neumann Laplacian; an indefinite
  * matrix): an error naming the pivot, nothing left allocated. */
 static void t_ldlt_not_spd(void)
@@ -1254,6 +1296,7 @@ static const pwt_case cases[] = {
     {"pcg_ic0", t_pcg_ic0},
     {"ldlt_random", t_ldlt_random},
     {"ldlt_laplacian", t_ldlt_laplacian},
+    {"ldlt_groups", t_ldlt_groups},
     {"ldlt_not_spd", t_ldlt_not_spd},
     {"spd_rule", t_spd_rule},
     {"lsq_small", t_lsq_small},
