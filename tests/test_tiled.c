@@ -1188,6 +1188,33 @@ static void grid_side_fit(const tiled_tileset *ts, const tiled__grid *C, const t
     if (njump) f[2] = jump / (double)njump;
 }
 
+/* The share of the surface in special cells (C->tile + C->ncls): drawn,
+ * like every cell, one tile lookup per pixel at the parameterization's
+ * scale, but a tile shown more than once or next to itself. */
+static double grid_special_area(const tiled__grid *C)
+{
+    double all = 0.0, sp = 0.0;
+    int p, k, j;
+    for (p = 0; p < (int)C->npc; p++) {
+        const tiled__pv *v = C->pv + C->pc[p].v0;
+        double a = 0.0;
+        for (k = 1; k + 1 < C->pc[p].nv; k++) {
+            double e1[3], e2[3], n[3];
+            for (j = 0; j < 3; j++) {
+                e1[j] = (double)v[k].p[j] - v[0].p[j];
+                e2[j] = (double)v[k + 1].p[j] - v[0].p[j];
+            }
+            n[0] = e1[1] * e2[2] - e1[2] * e2[1];
+            n[1] = e1[2] * e2[0] - e1[0] * e2[2];
+            n[2] = e1[0] * e2[1] - e1[1] * e2[0];
+            a += 0.5 * sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+        }
+        all += a;
+        if (C->tile[C->ncls + C->cls[p]]) sp += a;
+    }
+    return all > 0.0 ? sp / all : -1.0;
+}
+
 /* A writer that only counts bytes. */
 static int grid_count_bytes(void *ctx, const void *data, size_t size)
 {
@@ -1254,9 +1281,9 @@ static void grid_case(const tiled_mesh *mesh, const char *name, float scale, int
             stretched = grid_stretched(&ts, &q, scale);
             pwt_info("%s at side %g: seam %.4f, worst side %.4f; interior mean %.4f, 90th pct %.4f; tiles "
                      "stretched (> 1.5x or < 0.67x) on %.2f%% of the area; sides drawn unmatched on %.2f%% of their "
-                     "length; cut lines %.2f%% of it, jump across them %.4f",
+                     "length; cut lines %.2f%% of it, jump across them %.4f; special cells %.2f%% of the area",
                      name, (double)scale, seam, worst, inside, p90, 100.0 * stretched, 100.0 * fit[0],
-                     100.0 * fit[1], fit[2]);
+                     100.0 * fit[1], fit[2], 100.0 * grid_special_area(&C));
             /* before the cut cells' bands showed whole tiles squashed into
                them: 18% to 28% of the area stretched, 11% to 13% of the
                sides' length drawn unmatched */
