@@ -15666,7 +15666,8 @@ static const float *tiled__plain_px(const pw_image *img, const tiled__geom *gm, 
  * Around a vortex the union-find joins the cells the extra row of tiles
  * ends in (one cell of 2 to 4 cells' area); tiled__vortex_cuts cuts that
  * cell along the isoline of the other coordinate through the vortex, each
- * part a rectangle of the (s, t) plane drawn with a whole tile.
+ * part a rectangle of the (s, t) plane showing its tile's part there at
+ * full size (the cut line lies inside the tiles, not on a cell side).
  *
  * Vortex triangles (s or t winds around them, pw_periodic_winding) take
  * pgp's clean treatment: the differences their neighbours use along their
@@ -15679,7 +15680,7 @@ static const float *tiled__plain_px(const pw_image *img, const tiled__geom *gm, 
 
 #define TILED__FAN 8         /* thin triangles per edge of a vortex triangle */
 #define TILED__MAX_SPAN 4096 /* cells a triangle may span before it is left uncut */
-#define TILED__CUT_MIN 0.25  /* a vortex's cell is cut no closer to its sides (cells) */
+#define TILED__CUT_MIN 0.25  /* a vortex's cell is cut no closer to its sides (cells): fewer cut lines */
 
 /* A triangle to cut: a mesh triangle or one of a vortex triangle's fan. */
 typedef struct tiled__src {
@@ -16113,7 +16114,7 @@ static int tiled__cut_cmp(const void *x, const void *y)
  * rectangle of the (s, t) plane. A face holding several vortices is cut
  * into bands, along the coordinate its first vortex asks for; lines closer
  * than TILED__CUT_MIN of a cell to another or to a grid line are left (a
- * sliver). Lists the cuts by root (cuts, *n); returns how many vortices
+ * sliver of another tile along a side). Lists the cuts by root (cuts, *n); returns how many vortices
  * were cut. */
 static int tiled__vortex_cuts(tiled__grid *C, tiled__line **cuts, size_t *n, pw_err *e)
 {
@@ -16224,9 +16225,8 @@ static int tiled__cut_cells(tiled__grid *C, pw_err *e)
 
 /* Numbers the cells in order of their first piece and lists the shared
  * sides: a piece with a side on its cell's right (top) line meets the
- * piece of the same source triangle in the next cell; one with a side on
- * a cut line below (left of) it, the piece of the same source triangle
- * above (right of) it in the same cell. */
+ * piece of the same source triangle in the next cell. A cut line is no
+ * side: the bands either side of it show the insides of their tiles. */
 static int tiled__grid_sides(tiled__grid *C, pw_err *e)
 {
     int p, k, r = PW_OK;
