@@ -19,7 +19,8 @@
  * Around a vortex the union-find joins the cells the extra row of tiles
  * ends in (one cell of 2 to 4 cells' area); tiled__vortex_cuts cuts that
  * cell along the isoline of the other coordinate through the vortex, each
- * part a rectangle of the (s, t) plane drawn with a whole tile.
+ * part a rectangle of the (s, t) plane showing its tile's part there at
+ * full size (the cut line lies inside the tiles, not on a cell side).
  *
  * Vortex triangles (s or t winds around them, pw_periodic_winding) take
  * pgp's clean treatment: the differences their neighbours use along their
@@ -33,7 +34,7 @@
 
 #define TILED__FAN 8         /* thin triangles per edge of a vortex triangle */
 #define TILED__MAX_SPAN 4096 /* cells a triangle may span before it is left uncut */
-#define TILED__CUT_MIN 0.25  /* a vortex's cell is cut no closer to its sides (cells) */
+#define TILED__CUT_MIN 0.25  /* a vortex's cell is cut no closer to its sides (cells): fewer cut lines */
 
 /* A triangle to cut: a mesh triangle or one of a vortex triangle's fan. */
 typedef struct tiled__src {
@@ -467,7 +468,7 @@ static int tiled__cut_cmp(const void *x, const void *y)
  * rectangle of the (s, t) plane. A face holding several vortices is cut
  * into bands, along the coordinate its first vortex asks for; lines closer
  * than TILED__CUT_MIN of a cell to another or to a grid line are left (a
- * sliver). Lists the cuts by root (cuts, *n); returns how many vortices
+ * sliver of another tile along a side). Lists the cuts by root (cuts, *n); returns how many vortices
  * were cut. */
 static int tiled__vortex_cuts(tiled__grid *C, tiled__line **cuts, size_t *n, pw_err *e)
 {
@@ -578,9 +579,8 @@ static int tiled__cut_cells(tiled__grid *C, pw_err *e)
 
 /* Numbers the cells in order of their first piece and lists the shared
  * sides: a piece with a side on its cell's right (top) line meets the
- * piece of the same source triangle in the next cell; one with a side on
- * a cut line below (left of) it, the piece of the same source triangle
- * above (right of) it in the same cell. */
+ * piece of the same source triangle in the next cell. A cut line is no
+ * side: the bands either side of it show the insides of their tiles. */
 static int tiled__grid_sides(tiled__grid *C, pw_err *e)
 {
     int p, k, r = PW_OK;
@@ -596,16 +596,8 @@ static int tiled__grid_sides(tiled__grid *C, pw_err *e)
             int on = v->on & w->on, side, nb;
             mid[0] = 0.5 * (v->s + w->s);
             mid[1] = 0.5 * (v->t + w->t);
-            if (on & 32) { /* the next band's piece of the same triangle */
-                side = q->ck ? 2 : 1;
-                for (nb = C->first[q->src]; nb < C->first[q->src + 1]; nb++)
-                    if (C->pc[nb].ci == q->ci && C->pc[nb].cj == q->cj && C->pc[nb].sub == q->sub + 1) break;
-                if (nb == C->first[q->src + 1]) nb = -1;
-            } else {
-                if (!(side = on & 2 ? 1 : (on & 4 ? 2 : 0))) continue;
-                nb = tiled__node(C, q->src, q->ci + (side == 1), q->cj + (side == 2), mid);
-            }
-            if (nb < 0) continue;
+            if (on & 48 || !(side = on & 2 ? 1 : (on & 4 ? 2 : 0))) continue;
+            if ((nb = tiled__node(C, q->src, q->ci + (side == 1), q->cj + (side == 2), mid)) < 0) continue;
             if ((r = pw_grow(&C->a, (void **)&C->adj, &C->adjcap, C->nadj + 1, sizeof *C->adj, "cells", e)) != PW_OK)
                 break;
             C->adj[C->nadj].a = C->cls[p];
@@ -749,9 +741,89 @@ static void tiled__cell_tiles(const tiled__grid *C, const tiled__geom *gm, int c
 
 /* ---- the mapped mesh ----------------------------------------------------------- */
 
-/* Writes the pieces as out's faces (corners unshared), each corner's
- * texture coordinates in its cell's tile and the type of the cell side
- * it starts, if any. */
+/* A corner's place on the welding grid: its position in steps of h. */
+static void tiled__weld_key(const float *p, const double *lo, double h, int64_t *k)
+{
+    int j;
+    for (j = 0; j < 3; j++) k[j] = (int64_t)floor(((double)p[j] - lo[j]) / h);
+}
+
+/* Welds out's corners (one vertex each, as tiled__emit writes them) into
+ * shared vertices: corners in the same step of 1e-5 of the bounding box's
+ * diagonal (pieces' corners on one grid crossing, computed from different
+ * triangles, differ in the last bits) become one vertex at the first one's
+ * position, unless that vertex is already a corner of the same face (a
+ * sliver stays a triangle); a corner whose texture coordinates are within
+ * 1e-6 of another's at its vertex takes them exactly, so that exports
+ * share the vertex too. Corners either side of a step stay apart, which
+ * only leaves the mesh a little larger. */
+static int tiled__weld(tiled__grid *C, tiled_mesh *out, pw_err *e)
+{
+    int nc = out->nverts, cap = 64, f, i, j, nv = 0, *slot, *next, *head;
+    double lo[3], hi[3], h = 0.0;
+    int64_t ki[3], kv[3];
+    float *pos;
+    while (cap < 2 * nc && cap < (1 << 30)) cap *= 2;
+    slot = (int *)pw_alloc_array(&C->a, (size_t)cap, sizeof(int), "welding", e);
+    next = (int *)pw_alloc_array(&C->a, (size_t)nc + 1, sizeof(int), "welding", e);
+    head = (int *)pw_alloc_array(&C->a, (size_t)nc + 1, sizeof(int), "welding", e);
+    pos = (float *)pw_alloc_array(&C->a, (size_t)nc * 3 + 1, sizeof(float), "mapped mesh", e);
+    if (!slot || !next || !head || !pos) {
+        pw_free(&C->a, slot);
+        pw_free(&C->a, next);
+        pw_free(&C->a, head);
+        pw_free(&C->a, pos);
+        return PW_ERR_NOMEM;
+    }
+    memset(slot, 0xFF, sizeof(int) * (size_t)cap);
+    for (j = 0; j < 3; j++) lo[j] = hi[j] = nc ? out->positions[j] : 0.0;
+    for (i = 0; i < 3 * nc; i++) {
+        lo[i % 3] = out->positions[i] < lo[i % 3] ? out->positions[i] : lo[i % 3];
+        hi[i % 3] = out->positions[i] > hi[i % 3] ? out->positions[i] : hi[i % 3];
+    }
+    for (j = 0; j < 3; j++) h += (hi[j] - lo[j]) * (hi[j] - lo[j]);
+    h = sqrt(h) > 0.0 ? 1e-5 * sqrt(h) : 1.0;
+    for (f = 0; f < out->nfaces; f++)
+        for (i = out->face_start[f]; i < out->face_start[f + 1]; i++) {
+            const float *p = out->positions + 3 * i;
+            uint32_t b = 0, x;
+            int v, c, k;
+            tiled__weld_key(p, lo, h, ki);
+            for (j = 0; j < 3; j++) b = (uint32_t)pw_hash64(b ^ (uint64_t)ki[j], (uint64_t)j);
+            for (x = b & (uint32_t)(cap - 1); (v = slot[x]) >= 0; x = (x + 1) & (uint32_t)(cap - 1)) {
+                tiled__weld_key(pos + 3 * v, lo, h, kv);
+                if (kv[0] == ki[0] && kv[1] == ki[1] && kv[2] == ki[2]) break;
+            }
+            for (k = out->face_start[f]; v >= 0 && k < i; k++)
+                if (out->face_verts[k] == v) v = -2; /* already this face's: a new vertex, unlisted */
+            if (v < 0) {
+                if (v == -1) slot[x] = nv;
+                v = nv++;
+                memcpy(pos + 3 * v, p, 3 * sizeof(float));
+                head[v] = -1;
+            }
+            for (c = head[v]; c >= 0; c = next[c])
+                if (fabs(out->uvs[2 * c] - out->uvs[2 * i]) < 1e-6 &&
+                    fabs(out->uvs[2 * c + 1] - out->uvs[2 * i + 1]) < 1e-6) {
+                    memcpy(out->uvs + 2 * i, out->uvs + 2 * c, 2 * sizeof(float));
+                    break;
+                }
+            next[i] = head[v];
+            head[v] = i;
+            out->face_verts[i] = v;
+        }
+    pw_free(&C->a, slot);
+    pw_free(&C->a, next);
+    pw_free(&C->a, head);
+    pw_free(&C->a, out->positions);
+    out->positions = pos;
+    out->nverts = nv;
+    return PW_OK;
+}
+
+/* Writes the pieces as out's faces, each corner's texture coordinates in
+ * its cell's tile and the type of the cell side it starts, if any; then
+ * welds the corners into shared vertices. */
 static int tiled__emit(tiled__grid *C, const tiled__geom *gm, const int *types, const int *tile, tiled_mesh *out,
                        pw_err *e)
 {
@@ -786,8 +858,6 @@ static int tiled__emit(tiled__grid *C, const tiled__geom *gm, const int *types, 
             double x[2];
             x[0] = v->s - q->ci;
             x[1] = v->t - q->cj;
-            if (q->ck >= 0) /* a band of a cut cell: its tile spans the band */
-                x[q->ck] = ((q->ck ? v->t : v->s) - q->lo) / (q->hi - q->lo);
             if (tile[2 * C->ncls + c]) { /* a half turn */
                 x[0] = 1.0 - x[0];
                 x[1] = 1.0 - x[1];
@@ -796,14 +866,14 @@ static int tiled__emit(tiled__grid *C, const tiled__geom *gm, const int *types, 
             out->face_verts[i] = i;
             out->uvs[2 * i] = (float)(u0 + x[0] * du);
             out->uvs[2 * i + 1] = (float)(v0 + x[1] * dv);
-            if (on & 48) side = on & 32 ? (q->ck ? 2 : 1) : (q->ck ? 0 : 3);
+            if (on & 48) side = -1; /* a cut line: inside the tiles */
             else if (on) side = on & 1 ? 0 : (on & 2 ? 1 : (on & 4 ? 2 : 3));
             out->corner_types[i] = side < 0 ? -1 : types[4 * c + side];
         }
     }
     out->face_start[C->npc] = nc;
     pw_free(&C->a, coord);
-    return PW_OK;
+    return tiled__weld(C, out, e);
 }
 
 /* Everything but the output: the parameterization, the pieces, the cells,

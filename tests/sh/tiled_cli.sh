@@ -50,6 +50,19 @@ elif ! grep -q "pieces in [0-9]* cells" "$tmp/out" || ! grep -q " 0 mismatched" 
 elif [ -s "$tmp/err" ]; then fail grid_mode "unexpected stderr: $(cat "$tmp/err")"
 else pass grid_mode; fi
 
+# its pieces share their corners (welded): fewer OBJ vertices than corners,
+# and the .glb passes Khronos' validator and reads back as the OBJ
+verts=$(grep -c '^v ' "$tmp/grid.obj") corners=$(awk '/^f /{n += NF - 1} END {print n}' "$tmp/grid.obj")
+if [ "$verts" -gt 0 ] && [ $((2 * verts)) -lt "$corners" ]; then pass grid_welded
+else fail grid_welded "$verts OBJ vertices for $corners corners"; fi
+js=$(dirname "$0")/../js
+if ! command -v node > /dev/null 2>&1 || [ ! -d "$js/node_modules/gltf-validator" ]; then
+    echo "SKIP tiled_cli/grid_gltf: node or tests/js/node_modules missing (apt-get install nodejs npm; make js)"
+else
+    node "$js/validate.mjs" "$tmp/grid.glb"
+    node "$js/roundtrip.mjs" "$tmp/grid.glb" "$tmp/grid.obj"
+fi
+
 # tile sides the mesh cannot carry are refused with the range; so are
 # negative and non-numeric ones and an unknown field
 "$bin" tiled --mesh procedural:torus --scale 1000 --out-image "$tmp/x.png" > "$tmp/out" 2> "$tmp/err"
