@@ -284,7 +284,8 @@ static void slower_note(const sys *s, const bench_multi *m, int k, const job *pw
     bench_fmt_time(ftime, c, sizeof c);
     if (s->direct)
         snprintf(buf, size, "both factor %s directly (up-looking LDLT after an approximate minimum degree ordering; "
-                 "patchwork's ordering has no supervariables)", s->lsq ? "the normal equations" : "A");
+                 "patchwork's ordering merges only the supervariables present from the start, which leaves more "
+                 "fill on 3D systems: see docs/performance.md)", s->lsq ? "the normal equations" : "A");
     else if (peer->method == PEER_EIGEN_LDLT && !s->lsq)
         snprintf(buf, size, "one sparse LDLT (AMD ordering; L has %.1fx the nonzeros of A's lower triangle) costs "
                  "less than %d IC(0)-PCG iterations of %s each; %s", fill / (0.5 * (s->nnz - s->A.n)), pw->iters, a,
