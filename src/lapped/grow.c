@@ -1375,6 +1375,7 @@ static void lapped__free_pastes(const pw_alloc *a, lapped_paste *pastes, size_t 
 static void lapped__paster_free(lapped__paster *P)
 {
     int k;
+    pw_parallel_stop(&P->par);
     for (k = 0; P->hulls && k < P->npatches; k++) pw_polyhull_free(P->a, &P->hulls[k]);
     for (k = 0; P->eroded && k < P->npatches; k++) lapped__eroded_free(P->a, &P->eroded[k]);
     pw_free(P->a, P->hulls);
@@ -1480,6 +1481,7 @@ static int lapped__setup(lapped__paster *P, const lapped_mesh *mesh, const lappe
     P->full = (unsigned char *)pw_alloc_array(P->a, (size_t)nf, 1, "coverage", e);
     if (!P->fs || !P->ft || !P->difficulty || !P->full) return PW_ERR_NOMEM;
     P->par = pw_parallel_make(P->o.threads, P->o.parallel, P->o.parallel_pool);
+    pw_parallel_start(&P->par); /* one crew for every paste's painting and the pruning */
     if ((r = lapped__field(P->a, &P->m, &P->o, P->fs, P->ft, e)) != PW_OK ||
         (r = lapped__difficulty(P->a, &P->m, P->o.field == LAPPED_FIELD_ISOTROPIC ? NULL : P->ft, P->difficulty, e)) !=
             PW_OK ||
