@@ -17,25 +17,25 @@
  *   6243: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
  *   7904: src/common/raster.h, exact scan conversion of 2D triangles.
  *   8416: src/common/parallel.h, a parallel for, the one way work is split across threads.
- *   8589: src/common/render.h, a small deterministic software renderer for textured trian
- *  10753: src/lapped/polyhull.h, the polygonal hull of a texture patch (Praun, Finkelstein 
- *  11584: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
- *  11781: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
- *  11866: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
- *  12055: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
- *  12975: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
- *  13673: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
- *  13909: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
- *  14673: src/common/glue.h, what every method header needs between its public types an
- *  15009: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  15673: src/lapped/core.c, lapped.h's glue to the shared core, its defaults, and the 
- *  15843: src/lapped/field.c, §3.2 the tangent field, one frame (S, T) per triangle, an
- *  16298: src/lapped/patch.c, §3.1 texture patches. A patch is the texture as RGBA whos
- *  16612: src/lapped/builtin.c, built-in meshes (made by the shared shapes module) and tex
- *  16806: src/lapped/grow.c, pasting (§3.3-3.6): grow a surface patch around an uncove
- *  18412: src/lapped/render.c, runtime pasting (§4): the mesh drawn once per paste, in p
- *  18659: src/lapped/atlas.c, §4 "Rendering with a texture atlas".
- *  18902: src/lapped/io.c, the paste file format and the file conveniences of lapped.
+ *   8740: src/common/render.h, a small deterministic software renderer for textured trian
+ *  10904: src/lapped/polyhull.h, the polygonal hull of a texture patch (Praun, Finkelstein 
+ *  11735: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
+ *  11932: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
+ *  12017: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
+ *  12206: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
+ *  13126: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
+ *  13824: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
+ *  14060: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
+ *  14824: src/common/glue.h, what every method header needs between its public types an
+ *  15160: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  15824: src/lapped/core.c, lapped.h's glue to the shared core, its defaults, and the 
+ *  15994: src/lapped/field.c, §3.2 the tangent field, one frame (S, T) per triangle, an
+ *  16449: src/lapped/patch.c, §3.1 texture patches. A patch is the texture as RGBA whos
+ *  16763: src/lapped/builtin.c, built-in meshes (made by the shared shapes module) and tex
+ *  16957: src/lapped/grow.c, pasting (§3.3-3.6): grow a surface patch around an uncove
+ *  18590: src/lapped/render.c, runtime pasting (§4): the mesh drawn once per paste, in p
+ *  18837: src/lapped/atlas.c, §4 "Rendering with a texture atlas".
+ *  19080: src/lapped/io.c, the paste file format and the file conveniences of lapped.
  */
 /* lapped.h - lapped textures: overlapping texture patches pasted over a mesh.
  *
@@ -8421,6 +8421,9 @@ PW__DEF void pw_raster_tri_spans(const float xy[6], int w, int h, pw_raster_span
  *                    PW_THREADS, or the calling thread alone.
  *   pw_parallel_for  runs task(ctx, i) for every i in [0, n) as it says.
  *   pw_parallel_width how many tasks may run at once.
+ *   pw_parallel_start, pw_parallel_stop  keep the POSIX threads between
+ *                    parallel-fors (a crew, for work made of many short
+ *                    parallel-fors); without them each one starts its own.
  *
  * Every user (rendering bands, tile synthesis, ...) makes each task write
  * its own part of the output and combines the parts in index order, so a
@@ -8442,6 +8445,7 @@ typedef struct pw_parallel {
     pw_parallel_fn run;
     void *pool;
     int threads;
+    struct pw__crew *crew; /* with PW_THREADS, between pw_parallel_start and _stop */
 } pw_parallel;
 
 /* The pw_parallel of a public options struct's threads, parallel-for and
@@ -8452,6 +8456,7 @@ PW__DEF pw_parallel pw_parallel_make(int threads, pw_parallel_fn run, void *pool
     par.threads = threads;
     par.run = run;
     par.pool = pool;
+    par.crew = NULL;
     return par;
 }
 
@@ -8548,6 +8553,104 @@ PW__DEF void pw__pool_run(int threads, int n, pw_task_fn task, void *ctx)
     pthread_mutex_unlock(&p->lock);
     pw__pool_release(p);
 }
+/* A crew: POSIX threads kept between parallel-fors (pw_parallel_start),
+ * each asleep until the caller hands out a task set. The caller works on
+ * the set too, and returns when all its tasks have run. gen counts the
+ * sets handed out (and the stop): a thread that has seen set `seen` waits
+ * for gen to move, spinning a little first (under its lock a crew's
+ * sets often follow each other within microseconds), then asleep. */
+typedef struct pw__crew {
+    pthread_mutex_t lock;
+    pthread_cond_t wake, finished;
+    pw_task_fn task;
+    void *ctx;
+    int next, n, done; /* the set under way: tasks claimed, in all, finished */
+    unsigned gen;
+    int busy, quit, nthreads;
+    pthread_t th[64];
+} pw__crew;
+
+/* gen and done are read outside the lock while spinning: atomically where
+ * the compiler has the builtins, else not at all (no spin). */
+#if defined(__GNUC__) || defined(__clang__)
+#define PW__CREW_SPIN 20000
+#define PW__CREW_PEEK(x) __atomic_load_n(&(x), __ATOMIC_ACQUIRE)
+#define PW__CREW_SET(x, v) __atomic_store_n(&(x), (v), __ATOMIC_RELEASE)
+#else
+#define PW__CREW_SPIN 0
+#define PW__CREW_PEEK(x) (x)
+#define PW__CREW_SET(x, v) ((x) = (v))
+#endif
+
+/* Runs the set's tasks until none is left to claim; called, and returns,
+ * with the lock held. */
+PW__DEF void pw__crew_work(pw__crew *c)
+{
+    while (c->next < c->n) {
+        int i = c->next++;
+        pw_task_fn task = c->task;
+        void *ctx = c->ctx;
+        pthread_mutex_unlock(&c->lock);
+        task(ctx, i);
+        pthread_mutex_lock(&c->lock);
+        PW__CREW_SET(c->done, c->done + 1);
+        if (c->done == c->n) pthread_cond_signal(&c->finished);
+    }
+}
+
+PW__DEF void *pw__crew_main(void *arg)
+{
+    pw__crew *c = (pw__crew *)arg;
+    unsigned seen = 0;
+    int k;
+    pthread_mutex_lock(&c->lock);
+    for (;;) {
+        if (c->gen == seen) {
+            pthread_mutex_unlock(&c->lock);
+            for (k = 0; k < PW__CREW_SPIN && PW__CREW_PEEK(c->gen) == seen; k++) {
+            }
+            pthread_mutex_lock(&c->lock);
+        }
+        while (c->gen == seen) pthread_cond_wait(&c->wake, &c->lock);
+        if (c->quit) break;
+        seen = c->gen;
+        pw__crew_work(c);
+    }
+    pthread_mutex_unlock(&c->lock);
+    return NULL;
+}
+
+/* n tasks on the crew and the calling thread; 0 (nothing run) when the
+ * crew is already running a set (a task's own parallel-for, or another
+ * thread's). */
+PW__DEF int pw__crew_run(pw__crew *c, int n, pw_task_fn task, void *ctx)
+{
+    int k;
+    pthread_mutex_lock(&c->lock);
+    if (c->busy) {
+        pthread_mutex_unlock(&c->lock);
+        return 0;
+    }
+    c->busy = 1;
+    c->task = task;
+    c->ctx = ctx;
+    c->next = 0;
+    c->n = n;
+    PW__CREW_SET(c->done, 0);
+    PW__CREW_SET(c->gen, c->gen + 1);
+    pthread_cond_broadcast(&c->wake);
+    pw__crew_work(c);
+    if (c->done < n) {
+        pthread_mutex_unlock(&c->lock);
+        for (k = 0; k < PW__CREW_SPIN && PW__CREW_PEEK(c->done) < n; k++) {
+        }
+        pthread_mutex_lock(&c->lock);
+    }
+    while (c->done < n) pthread_cond_wait(&c->finished, &c->lock);
+    c->busy = 0;
+    pthread_mutex_unlock(&c->lock);
+    return 1;
+}
 #endif
 
 /* The number of tasks that may run at once under par. */
@@ -8566,6 +8669,53 @@ PW__DEF int pw_parallel_width(const pw_parallel *par)
 #endif
 }
 
+/* Stops par's crew, if any: its threads end and are joined. */
+PW__DEF void pw_parallel_stop(pw_parallel *par)
+{
+#ifdef PW_THREADS
+    pw__crew *c = par ? par->crew : NULL;
+    int k;
+    if (!c) return;
+    pthread_mutex_lock(&c->lock);
+    c->quit = 1;
+    PW__CREW_SET(c->gen, c->gen + 1);
+    pthread_cond_broadcast(&c->wake);
+    pthread_mutex_unlock(&c->lock);
+    for (k = 0; k < c->nthreads; k++) pthread_join(c->th[k], NULL);
+    pthread_cond_destroy(&c->finished);
+    pthread_cond_destroy(&c->wake);
+    pthread_mutex_destroy(&c->lock);
+    PW_FREE(c);
+    par->crew = NULL;
+#else
+    (void)par;
+#endif
+}
+
+/* Starts a crew for par (with PW_THREADS, POSIX threads: not for a
+ * caller's parallel-for or one thread), so that the parallel-fors until
+ * pw_parallel_stop wake threads instead of starting them. Without a crew
+ * (no PW_THREADS, or threads that cannot start) they run as before. */
+PW__DEF void pw_parallel_start(pw_parallel *par)
+{
+#ifdef PW_THREADS
+    pw__crew *c;
+    int width = pw_parallel_width(par);
+    if (!par || par->run || par->crew || width < 2) return;
+    if (!(c = (pw__crew *)PW_MALLOC(sizeof(pw__crew)))) return;
+    memset(c, 0, sizeof *c);
+    pthread_mutex_init(&c->lock, NULL);
+    pthread_cond_init(&c->wake, NULL);
+    pthread_cond_init(&c->finished, NULL);
+    for (width = width > 64 ? 64 : width; c->nthreads < width - 1; c->nthreads++)
+        if (pthread_create(&c->th[c->nthreads], NULL, pw__crew_main, c) != 0) break;
+    par->crew = c;
+    if (c->nthreads == 0) pw_parallel_stop(par);
+#else
+    (void)par;
+#endif
+}
+
 /* Runs task(ctx, i) for i in [0, n) as par says (NULL: in order, here). */
 PW__DEF void pw_parallel_for(const pw_parallel *par, int n, pw_task_fn task, void *ctx)
 {
@@ -8576,6 +8726,7 @@ PW__DEF void pw_parallel_for(const pw_parallel *par, int n, pw_task_fn task, voi
         return;
     }
 #ifdef PW_THREADS
+    if (par && par->crew && n > 1 && pw__crew_run(par->crew, n, task, ctx)) return;
     if (par && par->threads != 1 && n > 1) {
         pw__pool_run(par->threads, n, task, ctx);
         return;
@@ -17739,11 +17890,35 @@ static int lapped__lscm_rows(lapped__paster *P, int seed, pw_triplets *tr, doubl
     return r == PW_OK ? lapped__lscm_pins(P, seed, rows, tr, b, e) : r;
 }
 
+/* Fill (times the nonzeros of AᵀA) up to which a paste's system that
+ * pw_spd_factor's rule leaves to IC(0)-PCG for its fill still gets an LDLᵀ
+ * factor: the pastes of a fine mesh (thousands of vertices each, since
+ * their count is set by the scale) ran PCG to its iteration cap, 97% of
+ * lapped_create's time at 1.2M triangles. */
+#define LAPPED__DIRECT_FILL 24
+
+static int lapped__direct(const pw_alloc *a, const pw_csr *N, pw_spd *S, pw_err *e)
+{
+    pw_ldlt F;
+    pw_err local;
+    int r;
+    if (S->direct || N->n < PW__DIRECT_MIN_SPD) return PW_OK;
+    pw_err_clear(&local);
+    r = pw__ldlt_factor_capped(a, N, (long)LAPPED__DIRECT_FILL * N->rowptr[N->n], &F, &local);
+    if (r == PW_ERR_NOMEM) return pw_fail(e, r, "%s", local.msg);
+    if (r != PW_OK) return PW_OK; /* past the cap, or a pivot not positive: PCG stays */
+    pw_ic0_free(a, &S->M);
+    S->F = F;
+    S->direct = 1;
+    return PW_OK;
+}
+
 /* Solves the least-squares systems A x_j = b_j (nrhs right-hand sides of
  * tr->n rows, unknowns of tr->m columns, warm-started from x; all in ls) through their
  * normal equations AᵀA x = Aᵀb: one sparse LDLᵀ for all right-hand sides
  * where pw_spd_factor's rule takes it (patches of 800 to 20,000 vertices:
- * 0.5-0.9 of the iterative solve's time), else conjugate gradients
+ * 0.5-0.9 of the iterative solve's time) or lapped__direct does, else
+ * conjugate gradients
  * preconditioned with incomplete Cholesky from the warm start (the paper's
  * CG, §3.4; IC(0) cuts the iterations threefold over Jacobi; on smaller
  * patches it stops after a few iterations). A ridge of 1e-8 of the mean
@@ -17776,6 +17951,7 @@ static int lapped__solve(lapped__paster *P, const lapped__lsq *ls, int nrhs, pw_
             for (k = N.rowptr[i]; k < N.rowptr[i + 1]; k++)
                 if (N.col[k] == i) N.val[k] += 1e-8 * mean;
         r = pw_spd_factor(P->a, &N, &S, e);
+        if (r == PW_OK) r = lapped__direct(P->a, &N, &S, e);
     }
     for (j = 0; j < nrhs && r == PW_OK; j++) {
         pw_csr_mul_t(&A, b + (size_t)j * A.n, rhs);
@@ -18180,6 +18356,7 @@ static void lapped__free_pastes(const pw_alloc *a, lapped_paste *pastes, size_t 
 static void lapped__paster_free(lapped__paster *P)
 {
     int k;
+    pw_parallel_stop(&P->par);
     for (k = 0; P->hulls && k < P->npatches; k++) pw_polyhull_free(P->a, &P->hulls[k]);
     for (k = 0; P->eroded && k < P->npatches; k++) lapped__eroded_free(P->a, &P->eroded[k]);
     pw_free(P->a, P->hulls);
@@ -18285,6 +18462,7 @@ static int lapped__setup(lapped__paster *P, const lapped_mesh *mesh, const lappe
     P->full = (unsigned char *)pw_alloc_array(P->a, (size_t)nf, 1, "coverage", e);
     if (!P->fs || !P->ft || !P->difficulty || !P->full) return PW_ERR_NOMEM;
     P->par = pw_parallel_make(P->o.threads, P->o.parallel, P->o.parallel_pool);
+    pw_parallel_start(&P->par); /* one crew for every paste's painting and the pruning */
     if ((r = lapped__field(P->a, &P->m, &P->o, P->fs, P->ft, e)) != PW_OK ||
         (r = lapped__difficulty(P->a, &P->m, P->o.field == LAPPED_FIELD_ISOTROPIC ? NULL : P->ft, P->difficulty, e)) !=
             PW_OK ||

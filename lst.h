@@ -19,29 +19,29 @@
  *   6764: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
  *   8425: src/common/raster.h, exact scan conversion of 2D triangles.
  *   8937: src/common/parallel.h, a parallel for, the one way work is split across threads.
- *   9110: src/common/render.h, a small deterministic software renderer for textured trian
- *  11274: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
- *  11463: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
- *  12383: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
- *  13081: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
- *  13317: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
- *  14078: src/common/tetmesh.h, the tetrahedral mesh that lapped solid textures work on, a
- *  14565: src/common/tetio.h, tetrahedral mesh files, TetGen .node/.ele and MEDIT .mesh.
- *  15057: src/common/bisect.h, graded, conforming tetrahedral meshes of a box by newest-v
- *  15384: src/common/stuffing.h, the built-in tetrahedralizer of lst.h, so that no external
- *  18761: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
- *  18904: src/common/pca.h, principal component analysis of vectors streamed one at a 
- *  19091: src/common/glue.h, what every method header needs between its public types an
- *  19427: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  20091: src/lst/core.c, lst.h's glue to the shared core, its defaults, the convers
- *  20425: src/lst/exemplar.c, solid exemplars (§5): sampling, the procedural exemplars 
- *  20994: src/lst/field.c, §5.2.2, the fields that orient and scale the pastes. The 
- *  22206: src/lst/paste.c, §5.2.3-5.2.7, filling the model. Each paste picks a rando
- *  23234: src/lst/render.c, §5.1, showing a model. Every point of a tetrahedron is th
- *  24131: src/lst/cut.c, §5.1.1, cutting a model along the zero set of a scalar fi
- *  24736: src/lst/builtin.c, the tetrahedralizer entry point, checks of caller meshes, 
- *  25258: src/lst/io.c, the model file, the constraint files and the file convenie
- *  25951: src/lst/export.c, the visible boundary with a baked texture atlas, for glTF.
+ *   9261: src/common/render.h, a small deterministic software renderer for textured trian
+ *  11425: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
+ *  11614: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
+ *  12534: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
+ *  13232: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
+ *  13468: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
+ *  14229: src/common/tetmesh.h, the tetrahedral mesh that lapped solid textures work on, a
+ *  14716: src/common/tetio.h, tetrahedral mesh files, TetGen .node/.ele and MEDIT .mesh.
+ *  15208: src/common/bisect.h, graded, conforming tetrahedral meshes of a box by newest-v
+ *  15535: src/common/stuffing.h, the built-in tetrahedralizer of lst.h, so that no external
+ *  18912: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
+ *  19055: src/common/pca.h, principal component analysis of vectors streamed one at a 
+ *  19242: src/common/glue.h, what every method header needs between its public types an
+ *  19578: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  20242: src/lst/core.c, lst.h's glue to the shared core, its defaults, the convers
+ *  20576: src/lst/exemplar.c, solid exemplars (§5): sampling, the procedural exemplars 
+ *  21145: src/lst/field.c, §5.2.2, the fields that orient and scale the pastes. The 
+ *  22357: src/lst/paste.c, §5.2.3-5.2.7, filling the model. Each paste picks a rando
+ *  23387: src/lst/render.c, §5.1, showing a model. Every point of a tetrahedron is th
+ *  24284: src/lst/cut.c, §5.1.1, cutting a model along the zero set of a scalar fi
+ *  24889: src/lst/builtin.c, the tetrahedralizer entry point, checks of caller meshes, 
+ *  25411: src/lst/io.c, the model file, the constraint files and the file convenie
+ *  26104: src/lst/export.c, the visible boundary with a baked texture atlas, for glTF.
  */
 /* lst.h - lapped solid textures: solid exemplars pasted inside a model.
  *
@@ -8942,6 +8942,9 @@ PW__DEF void pw_raster_tri_spans(const float xy[6], int w, int h, pw_raster_span
  *                    PW_THREADS, or the calling thread alone.
  *   pw_parallel_for  runs task(ctx, i) for every i in [0, n) as it says.
  *   pw_parallel_width how many tasks may run at once.
+ *   pw_parallel_start, pw_parallel_stop  keep the POSIX threads between
+ *                    parallel-fors (a crew, for work made of many short
+ *                    parallel-fors); without them each one starts its own.
  *
  * Every user (rendering bands, tile synthesis, ...) makes each task write
  * its own part of the output and combines the parts in index order, so a
@@ -8963,6 +8966,7 @@ typedef struct pw_parallel {
     pw_parallel_fn run;
     void *pool;
     int threads;
+    struct pw__crew *crew; /* with PW_THREADS, between pw_parallel_start and _stop */
 } pw_parallel;
 
 /* The pw_parallel of a public options struct's threads, parallel-for and
@@ -8973,6 +8977,7 @@ PW__DEF pw_parallel pw_parallel_make(int threads, pw_parallel_fn run, void *pool
     par.threads = threads;
     par.run = run;
     par.pool = pool;
+    par.crew = NULL;
     return par;
 }
 
@@ -9069,6 +9074,104 @@ PW__DEF void pw__pool_run(int threads, int n, pw_task_fn task, void *ctx)
     pthread_mutex_unlock(&p->lock);
     pw__pool_release(p);
 }
+/* A crew: POSIX threads kept between parallel-fors (pw_parallel_start),
+ * each asleep until the caller hands out a task set. The caller works on
+ * the set too, and returns when all its tasks have run. gen counts the
+ * sets handed out (and the stop): a thread that has seen set `seen` waits
+ * for gen to move, spinning a little first (under its lock a crew's
+ * sets often follow each other within microseconds), then asleep. */
+typedef struct pw__crew {
+    pthread_mutex_t lock;
+    pthread_cond_t wake, finished;
+    pw_task_fn task;
+    void *ctx;
+    int next, n, done; /* the set under way: tasks claimed, in all, finished */
+    unsigned gen;
+    int busy, quit, nthreads;
+    pthread_t th[64];
+} pw__crew;
+
+/* gen and done are read outside the lock while spinning: atomically where
+ * the compiler has the builtins, else not at all (no spin). */
+#if defined(__GNUC__) || defined(__clang__)
+#define PW__CREW_SPIN 20000
+#define PW__CREW_PEEK(x) __atomic_load_n(&(x), __ATOMIC_ACQUIRE)
+#define PW__CREW_SET(x, v) __atomic_store_n(&(x), (v), __ATOMIC_RELEASE)
+#else
+#define PW__CREW_SPIN 0
+#define PW__CREW_PEEK(x) (x)
+#define PW__CREW_SET(x, v) ((x) = (v))
+#endif
+
+/* Runs the set's tasks until none is left to claim; called, and returns,
+ * with the lock held. */
+PW__DEF void pw__crew_work(pw__crew *c)
+{
+    while (c->next < c->n) {
+        int i = c->next++;
+        pw_task_fn task = c->task;
+        void *ctx = c->ctx;
+        pthread_mutex_unlock(&c->lock);
+        task(ctx, i);
+        pthread_mutex_lock(&c->lock);
+        PW__CREW_SET(c->done, c->done + 1);
+        if (c->done == c->n) pthread_cond_signal(&c->finished);
+    }
+}
+
+PW__DEF void *pw__crew_main(void *arg)
+{
+    pw__crew *c = (pw__crew *)arg;
+    unsigned seen = 0;
+    int k;
+    pthread_mutex_lock(&c->lock);
+    for (;;) {
+        if (c->gen == seen) {
+            pthread_mutex_unlock(&c->lock);
+            for (k = 0; k < PW__CREW_SPIN && PW__CREW_PEEK(c->gen) == seen; k++) {
+            }
+            pthread_mutex_lock(&c->lock);
+        }
+        while (c->gen == seen) pthread_cond_wait(&c->wake, &c->lock);
+        if (c->quit) break;
+        seen = c->gen;
+        pw__crew_work(c);
+    }
+    pthread_mutex_unlock(&c->lock);
+    return NULL;
+}
+
+/* n tasks on the crew and the calling thread; 0 (nothing run) when the
+ * crew is already running a set (a task's own parallel-for, or another
+ * thread's). */
+PW__DEF int pw__crew_run(pw__crew *c, int n, pw_task_fn task, void *ctx)
+{
+    int k;
+    pthread_mutex_lock(&c->lock);
+    if (c->busy) {
+        pthread_mutex_unlock(&c->lock);
+        return 0;
+    }
+    c->busy = 1;
+    c->task = task;
+    c->ctx = ctx;
+    c->next = 0;
+    c->n = n;
+    PW__CREW_SET(c->done, 0);
+    PW__CREW_SET(c->gen, c->gen + 1);
+    pthread_cond_broadcast(&c->wake);
+    pw__crew_work(c);
+    if (c->done < n) {
+        pthread_mutex_unlock(&c->lock);
+        for (k = 0; k < PW__CREW_SPIN && PW__CREW_PEEK(c->done) < n; k++) {
+        }
+        pthread_mutex_lock(&c->lock);
+    }
+    while (c->done < n) pthread_cond_wait(&c->finished, &c->lock);
+    c->busy = 0;
+    pthread_mutex_unlock(&c->lock);
+    return 1;
+}
 #endif
 
 /* The number of tasks that may run at once under par. */
@@ -9087,6 +9190,53 @@ PW__DEF int pw_parallel_width(const pw_parallel *par)
 #endif
 }
 
+/* Stops par's crew, if any: its threads end and are joined. */
+PW__DEF void pw_parallel_stop(pw_parallel *par)
+{
+#ifdef PW_THREADS
+    pw__crew *c = par ? par->crew : NULL;
+    int k;
+    if (!c) return;
+    pthread_mutex_lock(&c->lock);
+    c->quit = 1;
+    PW__CREW_SET(c->gen, c->gen + 1);
+    pthread_cond_broadcast(&c->wake);
+    pthread_mutex_unlock(&c->lock);
+    for (k = 0; k < c->nthreads; k++) pthread_join(c->th[k], NULL);
+    pthread_cond_destroy(&c->finished);
+    pthread_cond_destroy(&c->wake);
+    pthread_mutex_destroy(&c->lock);
+    PW_FREE(c);
+    par->crew = NULL;
+#else
+    (void)par;
+#endif
+}
+
+/* Starts a crew for par (with PW_THREADS, POSIX threads: not for a
+ * caller's parallel-for or one thread), so that the parallel-fors until
+ * pw_parallel_stop wake threads instead of starting them. Without a crew
+ * (no PW_THREADS, or threads that cannot start) they run as before. */
+PW__DEF void pw_parallel_start(pw_parallel *par)
+{
+#ifdef PW_THREADS
+    pw__crew *c;
+    int width = pw_parallel_width(par);
+    if (!par || par->run || par->crew || width < 2) return;
+    if (!(c = (pw__crew *)PW_MALLOC(sizeof(pw__crew)))) return;
+    memset(c, 0, sizeof *c);
+    pthread_mutex_init(&c->lock, NULL);
+    pthread_cond_init(&c->wake, NULL);
+    pthread_cond_init(&c->finished, NULL);
+    for (width = width > 64 ? 64 : width; c->nthreads < width - 1; c->nthreads++)
+        if (pthread_create(&c->th[c->nthreads], NULL, pw__crew_main, c) != 0) break;
+    par->crew = c;
+    if (c->nthreads == 0) pw_parallel_stop(par);
+#else
+    (void)par;
+#endif
+}
+
 /* Runs task(ctx, i) for i in [0, n) as par says (NULL: in order, here). */
 PW__DEF void pw_parallel_for(const pw_parallel *par, int n, pw_task_fn task, void *ctx)
 {
@@ -9097,6 +9247,7 @@ PW__DEF void pw_parallel_for(const pw_parallel *par, int n, pw_task_fn task, voi
         return;
     }
 #ifdef PW_THREADS
+    if (par && par->crew && n > 1 && pw__crew_run(par->crew, n, task, ctx)) return;
     if (par && par->threads != 1 && n > 1) {
         pw__pool_run(par->threads, n, task, ctx);
         return;
@@ -22867,6 +23018,7 @@ static void lst__fill_free(lst__fill *F)
 {
     const pw_alloc *a = F->a;
     int k;
+    pw_parallel_stop(&F->par);
     for (k = 0; k < F->nmasks; k++) lst__mask_free(a, &F->mask[k]);
     pw_free(a, F->lattice);
     pw_free(a, F->cov);
@@ -22919,6 +23071,7 @@ static int lst__fill_init(lst__fill *F, const pw_volume *masks, int nmasks, int 
     F->full = (unsigned char *)pw_alloc_array(a, (size_t)nt, 1, "uncovered list", e);
     if (!F->cov || !F->uncov || !F->upos || !F->seeded || !F->full) return PW_ERR_NOMEM;
     F->par = pw_parallel_make(o->threads, o->parallel, o->parallel_pool);
+    pw_parallel_start(&F->par); /* one crew for every clump's coverage */
     for (k = 0; k < nt; k++) F->uncov[k] = F->upos[k] = k;
     F->nuncov = nt;
     return PW_OK;

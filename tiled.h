@@ -24,20 +24,20 @@
  *  10025: src/common/periodic.h, the periodic global parameterization of a triangle mesh al
  *  10853: src/common/raster.h, exact scan conversion of 2D triangles.
  *  11367: src/common/parallel.h, a parallel for, the one way work is split across threads.
- *  11540: src/common/render.h, a small deterministic software renderer for textured trian
- *  13704: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
- *  14201: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
- *  14687: src/common/glue.h, what every method header needs between its public types an
- *  15023: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  15687: src/tiled/core.c, tiled.h's glue to the shared core, its defaults, result
- *  15776: src/tiled/layout.c, ch. III.1, the boundary types and the tiled texture they
- *  16048: src/tiled/cells.c, beyond the thesis (issue 23): tiles of a chosen size on an
- *  16966: src/tiled/map.c, ch. III.2, the texture mapping algorithm of Fig. 29
- *  17235: src/tiled/synth.c, ch. III.1.3, tiled texture image synthesis: an edge-matche
- *  17681: src/tiled/validate.c, checks a hand-made tiled texture (the thesis's Figs. 39,
- *  17809: src/tiled/builtin.c, built-in meshes and exemplars for demos and tests: the
- *  18006: src/tiled/render.c, a software rendering of a mapped mesh (the thesis rendered
- *  18230: src/tiled/io.c, files. Meshes and exemplars in; the mapped mesh with its t
+ *  11691: src/common/render.h, a small deterministic software renderer for textured trian
+ *  13855: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
+ *  14352: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
+ *  14838: src/common/glue.h, what every method header needs between its public types an
+ *  15174: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  15838: src/tiled/core.c, tiled.h's glue to the shared core, its defaults, result
+ *  15927: src/tiled/layout.c, ch. III.1, the boundary types and the tiled texture they
+ *  16199: src/tiled/cells.c, beyond the thesis (issue 23): tiles of a chosen size on an
+ *  17117: src/tiled/map.c, ch. III.2, the texture mapping algorithm of Fig. 29
+ *  17386: src/tiled/synth.c, ch. III.1.3, tiled texture image synthesis: an edge-matche
+ *  17832: src/tiled/validate.c, checks a hand-made tiled texture (the thesis's Figs. 39,
+ *  17960: src/tiled/builtin.c, built-in meshes and exemplars for demos and tests: the
+ *  18157: src/tiled/render.c, a software rendering of a mapped mesh (the thesis rendered
+ *  18381: src/tiled/io.c, files. Meshes and exemplars in; the mapped mesh with its t
  */
 /* tiled.h - seamless, singularity-free tiled textures on quad meshes.
  *
@@ -11372,6 +11372,9 @@ PW__DEF void pw_raster_tri_spans(const float xy[6], int w, int h, pw_raster_span
  *                    PW_THREADS, or the calling thread alone.
  *   pw_parallel_for  runs task(ctx, i) for every i in [0, n) as it says.
  *   pw_parallel_width how many tasks may run at once.
+ *   pw_parallel_start, pw_parallel_stop  keep the POSIX threads between
+ *                    parallel-fors (a crew, for work made of many short
+ *                    parallel-fors); without them each one starts its own.
  *
  * Every user (rendering bands, tile synthesis, ...) makes each task write
  * its own part of the output and combines the parts in index order, so a
@@ -11393,6 +11396,7 @@ typedef struct pw_parallel {
     pw_parallel_fn run;
     void *pool;
     int threads;
+    struct pw__crew *crew; /* with PW_THREADS, between pw_parallel_start and _stop */
 } pw_parallel;
 
 /* The pw_parallel of a public options struct's threads, parallel-for and
@@ -11403,6 +11407,7 @@ PW__DEF pw_parallel pw_parallel_make(int threads, pw_parallel_fn run, void *pool
     par.threads = threads;
     par.run = run;
     par.pool = pool;
+    par.crew = NULL;
     return par;
 }
 
@@ -11499,6 +11504,104 @@ PW__DEF void pw__pool_run(int threads, int n, pw_task_fn task, void *ctx)
     pthread_mutex_unlock(&p->lock);
     pw__pool_release(p);
 }
+/* A crew: POSIX threads kept between parallel-fors (pw_parallel_start),
+ * each asleep until the caller hands out a task set. The caller works on
+ * the set too, and returns when all its tasks have run. gen counts the
+ * sets handed out (and the stop): a thread that has seen set `seen` waits
+ * for gen to move, spinning a little first (under its lock a crew's
+ * sets often follow each other within microseconds), then asleep. */
+typedef struct pw__crew {
+    pthread_mutex_t lock;
+    pthread_cond_t wake, finished;
+    pw_task_fn task;
+    void *ctx;
+    int next, n, done; /* the set under way: tasks claimed, in all, finished */
+    unsigned gen;
+    int busy, quit, nthreads;
+    pthread_t th[64];
+} pw__crew;
+
+/* gen and done are read outside the lock while spinning: atomically where
+ * the compiler has the builtins, else not at all (no spin). */
+#if defined(__GNUC__) || defined(__clang__)
+#define PW__CREW_SPIN 20000
+#define PW__CREW_PEEK(x) __atomic_load_n(&(x), __ATOMIC_ACQUIRE)
+#define PW__CREW_SET(x, v) __atomic_store_n(&(x), (v), __ATOMIC_RELEASE)
+#else
+#define PW__CREW_SPIN 0
+#define PW__CREW_PEEK(x) (x)
+#define PW__CREW_SET(x, v) ((x) = (v))
+#endif
+
+/* Runs the set's tasks until none is left to claim; called, and returns,
+ * with the lock held. */
+PW__DEF void pw__crew_work(pw__crew *c)
+{
+    while (c->next < c->n) {
+        int i = c->next++;
+        pw_task_fn task = c->task;
+        void *ctx = c->ctx;
+        pthread_mutex_unlock(&c->lock);
+        task(ctx, i);
+        pthread_mutex_lock(&c->lock);
+        PW__CREW_SET(c->done, c->done + 1);
+        if (c->done == c->n) pthread_cond_signal(&c->finished);
+    }
+}
+
+PW__DEF void *pw__crew_main(void *arg)
+{
+    pw__crew *c = (pw__crew *)arg;
+    unsigned seen = 0;
+    int k;
+    pthread_mutex_lock(&c->lock);
+    for (;;) {
+        if (c->gen == seen) {
+            pthread_mutex_unlock(&c->lock);
+            for (k = 0; k < PW__CREW_SPIN && PW__CREW_PEEK(c->gen) == seen; k++) {
+            }
+            pthread_mutex_lock(&c->lock);
+        }
+        while (c->gen == seen) pthread_cond_wait(&c->wake, &c->lock);
+        if (c->quit) break;
+        seen = c->gen;
+        pw__crew_work(c);
+    }
+    pthread_mutex_unlock(&c->lock);
+    return NULL;
+}
+
+/* n tasks on the crew and the calling thread; 0 (nothing run) when the
+ * crew is already running a set (a task's own parallel-for, or another
+ * thread's). */
+PW__DEF int pw__crew_run(pw__crew *c, int n, pw_task_fn task, void *ctx)
+{
+    int k;
+    pthread_mutex_lock(&c->lock);
+    if (c->busy) {
+        pthread_mutex_unlock(&c->lock);
+        return 0;
+    }
+    c->busy = 1;
+    c->task = task;
+    c->ctx = ctx;
+    c->next = 0;
+    c->n = n;
+    PW__CREW_SET(c->done, 0);
+    PW__CREW_SET(c->gen, c->gen + 1);
+    pthread_cond_broadcast(&c->wake);
+    pw__crew_work(c);
+    if (c->done < n) {
+        pthread_mutex_unlock(&c->lock);
+        for (k = 0; k < PW__CREW_SPIN && PW__CREW_PEEK(c->done) < n; k++) {
+        }
+        pthread_mutex_lock(&c->lock);
+    }
+    while (c->done < n) pthread_cond_wait(&c->finished, &c->lock);
+    c->busy = 0;
+    pthread_mutex_unlock(&c->lock);
+    return 1;
+}
 #endif
 
 /* The number of tasks that may run at once under par. */
@@ -11517,6 +11620,53 @@ PW__DEF int pw_parallel_width(const pw_parallel *par)
 #endif
 }
 
+/* Stops par's crew, if any: its threads end and are joined. */
+PW__DEF void pw_parallel_stop(pw_parallel *par)
+{
+#ifdef PW_THREADS
+    pw__crew *c = par ? par->crew : NULL;
+    int k;
+    if (!c) return;
+    pthread_mutex_lock(&c->lock);
+    c->quit = 1;
+    PW__CREW_SET(c->gen, c->gen + 1);
+    pthread_cond_broadcast(&c->wake);
+    pthread_mutex_unlock(&c->lock);
+    for (k = 0; k < c->nthreads; k++) pthread_join(c->th[k], NULL);
+    pthread_cond_destroy(&c->finished);
+    pthread_cond_destroy(&c->wake);
+    pthread_mutex_destroy(&c->lock);
+    PW_FREE(c);
+    par->crew = NULL;
+#else
+    (void)par;
+#endif
+}
+
+/* Starts a crew for par (with PW_THREADS, POSIX threads: not for a
+ * caller's parallel-for or one thread), so that the parallel-fors until
+ * pw_parallel_stop wake threads instead of starting them. Without a crew
+ * (no PW_THREADS, or threads that cannot start) they run as before. */
+PW__DEF void pw_parallel_start(pw_parallel *par)
+{
+#ifdef PW_THREADS
+    pw__crew *c;
+    int width = pw_parallel_width(par);
+    if (!par || par->run || par->crew || width < 2) return;
+    if (!(c = (pw__crew *)PW_MALLOC(sizeof(pw__crew)))) return;
+    memset(c, 0, sizeof *c);
+    pthread_mutex_init(&c->lock, NULL);
+    pthread_cond_init(&c->wake, NULL);
+    pthread_cond_init(&c->finished, NULL);
+    for (width = width > 64 ? 64 : width; c->nthreads < width - 1; c->nthreads++)
+        if (pthread_create(&c->th[c->nthreads], NULL, pw__crew_main, c) != 0) break;
+    par->crew = c;
+    if (c->nthreads == 0) pw_parallel_stop(par);
+#else
+    (void)par;
+#endif
+}
+
 /* Runs task(ctx, i) for i in [0, n) as par says (NULL: in order, here). */
 PW__DEF void pw_parallel_for(const pw_parallel *par, int n, pw_task_fn task, void *ctx)
 {
@@ -11527,6 +11677,7 @@ PW__DEF void pw_parallel_for(const pw_parallel *par, int n, pw_task_fn task, voi
         return;
     }
 #ifdef PW_THREADS
+    if (par && par->crew && n > 1 && pw__crew_run(par->crew, n, task, ctx)) return;
     if (par && par->threads != 1 && n > 1) {
         pw__pool_run(par->threads, n, task, ctx);
         return;

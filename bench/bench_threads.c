@@ -12,14 +12,76 @@
  *      of each clump runs on threads.
  *   3. lst_render_volume of that kiwi, 200 slices at 640x480 (the frame's
  *      bands on threads).
- * Built with PW_THREADS (POSIX threads). The whole create is timed, so its
- * speed-up is bounded by the parts still on one thread (docs/performance.md
- * gives the coverage's own). */
+ * Built with PW_THREADS (POSIX threads; each create call keeps one crew of
+ * threads for all its parallel-fors). The whole create is timed, so its
+ * speed-up is bounded by the parts still on one thread; the coverage stage
+ * alone is timed too (stage_row): its parallel-fors go through a timing
+ * parallel-for that runs them on 1 or 2 threads. */
 #include "bench.h"
 #define PW_THREADS
 #define PATCHWORK_IMPLEMENTATION
 #include "../lapped.h"
 #include "../lst.h"
+
+/* ---- the coverage stage alone ---- */
+
+/* A create call's parallel-fors through stage_for, which runs each on
+ * `inner` (1 thread, or a crew of 2 as the create's own) and adds up their
+ * wall time. The create's threads are 2 for both, so its shares are the
+ * same and only where they run differs. runs[]: the sum of each call. */
+typedef struct stage {
+    pw_parallel inner;
+    double sum, runs[16];
+    int nruns;
+} stage;
+
+static void stage_for(void *pool, int n, pw_task_fn task, void *ctx)
+{
+    stage *s = (stage *)pool;
+    double t0 = bench_now();
+    pw_parallel_for(&s->inner, n, task, ctx);
+    s->sum += bench_now() - t0;
+}
+
+static void stage_init(stage *s, int threads)
+{
+    memset(s, 0, sizeof *s);
+    s->inner = pw_parallel_make(threads, NULL, NULL);
+    pw_parallel_start(&s->inner);
+}
+
+static int stage_cmp(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return x < y ? -1 : x > y;
+}
+
+/* Runs fn on one (stage st[0], 1 thread) and two (st[1], 2 threads) `rounds`
+ * times interleaved after a warm-up each; prints the stage's medians. */
+static void stage_row(const char *task, void (*fn)(void *), void *one, void *two, stage *st, int rounds)
+{
+    char fa[32], fb[32], ratio[32], sp[160];
+    double med[2];
+    int r, k;
+    for (r = 0; r <= rounds; r++) {
+        for (k = 0; k < 2; k++) {
+            st[k].sum = 0.0;
+            fn(k ? two : one);
+            if (r > 0) st[k].runs[st[k].nruns++] = st[k].sum;
+        }
+    }
+    for (k = 0; k < 2; k++) {
+        qsort(st[k].runs, (size_t)st[k].nruns, sizeof(double), stage_cmp);
+        med[k] = st[k].runs[st[k].nruns / 2];
+        pw_parallel_stop(&st[k].inner);
+    }
+    printf("threads: %s: 1 thread %s, 2 threads %s, speed-up %.2fx (medians of %d rounds)\n", task,
+           bench_fmt_time(med[0], fa, sizeof fa), bench_fmt_time(med[1], fb, sizeof fb), med[0] / med[1], rounds);
+    snprintf(ratio, sizeof ratio, "%.2f", med[1] / med[0]);
+    snprintf(sp, sizeof sp, "%d rounds, wall time of the stage's parallel-fors; speed-up %.2fx", rounds,
+             med[0] / med[1]);
+    bench_row(task, fb, fa, "the same on 1 thread", ratio, NULL, sp, NULL);
+}
 
 /* ---- lapped_create ---- */
 
@@ -58,6 +120,7 @@ static void lapped_threads(void)
     lapped_image ex, patch;
     lapped_error err;
     lapped_job j[2];
+    stage st[2];
     char task[160];
     int k, builtin = 0;
     if (lapped_load_mesh("data/meshes/bunny00.off", &opt, &mesh, &err)) {
@@ -83,6 +146,15 @@ static void lapped_threads(void)
              builtin ? "built-in bumpy" : "bunny00", mesh.nfaces);
     bench_threads_row(task, lapped_run, &j[0], &j[1], 5, lapped_same);
     printf("  %d pastes\n", j[0].t.npastes);
+    for (k = 0; k < 2; k++) {
+        stage_init(&st[k], k + 1);
+        j[k].opt.threads = 2;
+        j[k].opt.parallel = stage_for;
+        j[k].opt.parallel_pool = &st[k];
+    }
+    snprintf(task, sizeof task, "lapped_create's coverage stage on 2 threads, %s, scales 256 px",
+             builtin ? "built-in bumpy" : "bunny00");
+    stage_row(task, lapped_run, &j[0], &j[1], st, 5);
     for (k = 0; k < 2; k++) lapped_texture_free(&j[k].t);
     lapped_image_free(&patch);
     lapped_image_free(&ex);
@@ -148,6 +220,7 @@ static void lst_threads(void)
     lst_constraints c;
     lst_error err;
     lst_job j[2];
+    stage st[2];
     char task[160];
     int k;
     o.tet.target_tets = 5000, o.tet.uniform = 1; /* bench_lst's kiwi */
@@ -175,6 +248,18 @@ static void lst_threads(void)
     snprintf(task, sizeof task, "lst_create on 2 threads (coverage), kiwi 2-b, %d tetrahedra", m.ntets);
     bench_threads_row(task, lst_run, &j[0], &j[1], 5, lst_same);
     printf("  %d pastes\n", j[0].model.npastes);
+    for (k = 0; k < 2; k++) {
+        stage_init(&st[k], k + 1);
+        j[k].opt.threads = 2;
+        j[k].opt.parallel = stage_for;
+        j[k].opt.parallel_pool = &st[k];
+    }
+    snprintf(task, sizeof task, "lst_create's coverage stage on 2 threads, kiwi 2-b, %d tetrahedra", m.ntets);
+    stage_row(task, lst_run, &j[0], &j[1], st, 5);
+    for (k = 0; k < 2; k++) {
+        j[k].opt.threads = k + 1;
+        j[k].opt.parallel = NULL;
+    }
     for (k = 0; k < 2; k++) j[k].show = &j[0].model;
     snprintf(task, sizeof task, "lst_render_volume on 2 threads, 200 slices, 640x480, kiwi %d tetrahedra", m.ntets);
     bench_threads_row(task, volume_run, &j[0], &j[1], 3, volume_same);

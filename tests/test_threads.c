@@ -8,7 +8,10 @@
  * picture 12). Tile synthesis on threads (tiled's tiles, pgp's morph
  * sides): the same tile set, bit for bit, on 1, 2 and 3 threads and through
  * the reversed parallel-for. lapped's and lst's coverage on threads: the
- * same pastes, bit for bit, likewise. */
+ * same pastes, bit for bit, likewise (their parallel-fors run on a crew,
+ * threads kept for the whole create call). The crew itself: thousands of
+ * parallel-fors on the same threads, every task run once, none on one
+ * thread or under a caller's parallel-for, a parallel-for inside a task. */
 #define PW_THREADS
 #define PATCHWORK_IMPLEMENTATION
 #include "../tiled.h"
@@ -473,6 +476,116 @@ static void t_lst_coverage(void)
     lst_mesh_free(&surface);
 }
 
+/* ---- the crew: threads kept between parallel-fors ---- */
+
+/* One task set: hits[i] counts the runs of task i; a task of a nested set
+ * runs an inner parallel-for on the same crew. Threads that ran a task
+ * count themselves out when they end (the key's destructor). */
+typedef struct crew_job {
+    pthread_mutex_t lock;
+    int hits[64], inner[64], nested, n;
+    const pw_parallel *par;
+} crew_job;
+
+static pthread_key_t crew_key;
+static int crew_exits;
+static pthread_mutex_t crew_exit_lock = PTHREAD_MUTEX_INITIALIZER;
+
+static void crew_exit(void *v)
+{
+    (void)v;
+    pthread_mutex_lock(&crew_exit_lock);
+    crew_exits++;
+    pthread_mutex_unlock(&crew_exit_lock);
+}
+
+static void crew_inner(void *ctx, int i)
+{
+    crew_job *j = (crew_job *)ctx;
+    pthread_mutex_lock(&j->lock);
+    j->inner[i]++;
+    pthread_mutex_unlock(&j->lock);
+}
+
+static void crew_task(void *ctx, int i)
+{
+    crew_job *j = (crew_job *)ctx;
+    pthread_setspecific(crew_key, j);
+    pthread_mutex_lock(&j->lock);
+    j->hits[i]++;
+    pthread_mutex_unlock(&j->lock);
+    if (j->nested) pw_parallel_for(j->par, 5, crew_inner, j);
+}
+
+static int crew_exits_now(void)
+{
+    int n;
+    pthread_mutex_lock(&crew_exit_lock);
+    n = crew_exits;
+    pthread_mutex_unlock(&crew_exit_lock);
+    return n;
+}
+
+/* Runs `sets` task sets of sizes 1..17 on par; 1 if each task ran exactly once
+ * (and, nested, each task's inner set of 5 once per task). */
+static int crew_sets(const pw_parallel *par, int sets, int nested)
+{
+    crew_job j;
+    int s, i, ok = 1;
+    memset(&j, 0, sizeof j);
+    pthread_mutex_init(&j.lock, NULL);
+    j.par = par;
+    j.nested = nested;
+    for (s = 0; s < sets && ok; s++) {
+        int n = 1 + s % 17;
+        memset(j.hits, 0, sizeof j.hits);
+        memset(j.inner, 0, sizeof j.inner);
+        pw_parallel_for(par, n, crew_task, &j);
+        for (i = 0; i < 64; i++) ok &= j.hits[i] == (i < n) && j.inner[i] == (nested && i < 5 ? n : 0);
+    }
+    pthread_mutex_destroy(&j.lock);
+    return ok;
+}
+
+static void t_crew(void)
+{
+    pw_parallel par;
+    int threads, exits;
+    REQUIRE(pthread_key_create(&crew_key, crew_exit) == 0);
+    for (threads = 2; threads <= 3; threads++) {
+        par = pw_parallel_make(threads, NULL, NULL);
+        pw_parallel_start(&par);
+        REQUIRE(par.crew != NULL);
+        CHECKF(par.crew->nthreads == threads - 1, "crew of %d: %d threads started", threads, par.crew->nthreads);
+        exits = crew_exits_now();
+        CHECKF(crew_sets(&par, 3000, 0), "crew of %d: a task of 3000 parallel-fors ran other than once", threads);
+        CHECKF(crew_exits_now() == exits, "crew of %d: %d threads ended during its parallel-fors", threads,
+               crew_exits_now() - exits);
+        CHECKF(crew_sets(&par, 200, 1), "crew of %d: a parallel-for inside a task ran other than once", threads);
+        pw_parallel_stop(&par);
+        CHECK(par.crew == NULL);
+        CHECKF(crew_exits_now() - exits <= threads - 1, "crew of %d: %d threads ended at its stop", threads,
+               crew_exits_now() - exits);
+        pw_parallel_stop(&par); /* a second stop does nothing */
+    }
+    exits = crew_exits_now(); /* without a crew, each parallel-for starts (and ends) its threads */
+    par = pw_parallel_make(2, NULL, NULL);
+    CHECK(crew_sets(&par, 200, 0));
+    pwt_info("crew: without one, %d threads ended over 200 parallel-fors", crew_exits_now() - exits);
+    par = pw_parallel_make(1, NULL, NULL); /* one thread: no crew, tasks in order here */
+    pw_parallel_start(&par);
+    CHECK(par.crew == NULL);
+    CHECK(crew_sets(&par, 100, 1));
+    par = pw_parallel_make(3, reverse_for, NULL); /* the caller's parallel-for: no crew, the caller's runs */
+    pw_parallel_start(&par);
+    CHECK(par.crew == NULL);
+    exits = reverse_calls;
+    CHECK(crew_sets(&par, 100, 0));
+    CHECKF(reverse_calls == exits + 100, "crew: the caller's parallel-for ran %d of 100 sets", reverse_calls - exits);
+    pw_parallel_stop(&par);
+    pthread_key_delete(crew_key);
+}
+
 static const pwt_case cases[] = {
     {"threads_tiled", t_tiled},
     {"threads_tiled_synthesis", t_tiled_synthesis},
@@ -482,5 +595,6 @@ static const pwt_case cases[] = {
     {"threads_pgp", t_pgp},
     {"threads_lst", t_lst},
     {"threads_lst_coverage", t_lst_coverage},
+    {"threads_crew", t_crew},
 };
 PWT_MAIN(cases)

@@ -5,6 +5,9 @@
  *                    PW_THREADS, or the calling thread alone.
  *   pw_parallel_for  runs task(ctx, i) for every i in [0, n) as it says.
  *   pw_parallel_width how many tasks may run at once.
+ *   pw_parallel_start, pw_parallel_stop  keep the POSIX threads between
+ *                    parallel-fors (a crew, for work made of many short
+ *                    parallel-fors); without them each one starts its own.
  *
  * Every user (rendering bands, tile synthesis, ...) makes each task write
  * its own part of the output and combines the parts in index order, so a
@@ -27,6 +30,7 @@ typedef struct pw_parallel {
     pw_parallel_fn run;
     void *pool;
     int threads;
+    struct pw__crew *crew; /* with PW_THREADS, between pw_parallel_start and _stop */
 } pw_parallel;
 
 /* The pw_parallel of a public options struct's threads, parallel-for and
@@ -37,6 +41,7 @@ PW__DEF pw_parallel pw_parallel_make(int threads, pw_parallel_fn run, void *pool
     par.threads = threads;
     par.run = run;
     par.pool = pool;
+    par.crew = NULL;
     return par;
 }
 
@@ -133,6 +138,104 @@ PW__DEF void pw__pool_run(int threads, int n, pw_task_fn task, void *ctx)
     pthread_mutex_unlock(&p->lock);
     pw__pool_release(p);
 }
+/* A crew: POSIX threads kept between parallel-fors (pw_parallel_start),
+ * each asleep until the caller hands out a task set. The caller works on
+ * the set too, and returns when all its tasks have run. gen counts the
+ * sets handed out (and the stop): a thread that has seen set `seen` waits
+ * for gen to move, spinning a little first (under its lock a crew's
+ * sets often follow each other within microseconds), then asleep. */
+typedef struct pw__crew {
+    pthread_mutex_t lock;
+    pthread_cond_t wake, finished;
+    pw_task_fn task;
+    void *ctx;
+    int next, n, done; /* the set under way: tasks claimed, in all, finished */
+    unsigned gen;
+    int busy, quit, nthreads;
+    pthread_t th[64];
+} pw__crew;
+
+/* gen and done are read outside the lock while spinning: atomically where
+ * the compiler has the builtins, else not at all (no spin). */
+#if defined(__GNUC__) || defined(__clang__)
+#define PW__CREW_SPIN 20000
+#define PW__CREW_PEEK(x) __atomic_load_n(&(x), __ATOMIC_ACQUIRE)
+#define PW__CREW_SET(x, v) __atomic_store_n(&(x), (v), __ATOMIC_RELEASE)
+#else
+#define PW__CREW_SPIN 0
+#define PW__CREW_PEEK(x) (x)
+#define PW__CREW_SET(x, v) ((x) = (v))
+#endif
+
+/* Runs the set's tasks until none is left to claim; called, and returns,
+ * with the lock held. */
+PW__DEF void pw__crew_work(pw__crew *c)
+{
+    while (c->next < c->n) {
+        int i = c->next++;
+        pw_task_fn task = c->task;
+        void *ctx = c->ctx;
+        pthread_mutex_unlock(&c->lock);
+        task(ctx, i);
+        pthread_mutex_lock(&c->lock);
+        PW__CREW_SET(c->done, c->done + 1);
+        if (c->done == c->n) pthread_cond_signal(&c->finished);
+    }
+}
+
+PW__DEF void *pw__crew_main(void *arg)
+{
+    pw__crew *c = (pw__crew *)arg;
+    unsigned seen = 0;
+    int k;
+    pthread_mutex_lock(&c->lock);
+    for (;;) {
+        if (c->gen == seen) {
+            pthread_mutex_unlock(&c->lock);
+            for (k = 0; k < PW__CREW_SPIN && PW__CREW_PEEK(c->gen) == seen; k++) {
+            }
+            pthread_mutex_lock(&c->lock);
+        }
+        while (c->gen == seen) pthread_cond_wait(&c->wake, &c->lock);
+        if (c->quit) break;
+        seen = c->gen;
+        pw__crew_work(c);
+    }
+    pthread_mutex_unlock(&c->lock);
+    return NULL;
+}
+
+/* n tasks on the crew and the calling thread; 0 (nothing run) when the
+ * crew is already running a set (a task's own parallel-for, or another
+ * thread's). */
+PW__DEF int pw__crew_run(pw__crew *c, int n, pw_task_fn task, void *ctx)
+{
+    int k;
+    pthread_mutex_lock(&c->lock);
+    if (c->busy) {
+        pthread_mutex_unlock(&c->lock);
+        return 0;
+    }
+    c->busy = 1;
+    c->task = task;
+    c->ctx = ctx;
+    c->next = 0;
+    c->n = n;
+    PW__CREW_SET(c->done, 0);
+    PW__CREW_SET(c->gen, c->gen + 1);
+    pthread_cond_broadcast(&c->wake);
+    pw__crew_work(c);
+    if (c->done < n) {
+        pthread_mutex_unlock(&c->lock);
+        for (k = 0; k < PW__CREW_SPIN && PW__CREW_PEEK(c->done) < n; k++) {
+        }
+        pthread_mutex_lock(&c->lock);
+    }
+    while (c->done < n) pthread_cond_wait(&c->finished, &c->lock);
+    c->busy = 0;
+    pthread_mutex_unlock(&c->lock);
+    return 1;
+}
 #endif
 
 /* The number of tasks that may run at once under par. */
@@ -151,6 +254,53 @@ PW__DEF int pw_parallel_width(const pw_parallel *par)
 #endif
 }
 
+/* Stops par's crew, if any: its threads end and are joined. */
+PW__DEF void pw_parallel_stop(pw_parallel *par)
+{
+#ifdef PW_THREADS
+    pw__crew *c = par ? par->crew : NULL;
+    int k;
+    if (!c) return;
+    pthread_mutex_lock(&c->lock);
+    c->quit = 1;
+    PW__CREW_SET(c->gen, c->gen + 1);
+    pthread_cond_broadcast(&c->wake);
+    pthread_mutex_unlock(&c->lock);
+    for (k = 0; k < c->nthreads; k++) pthread_join(c->th[k], NULL);
+    pthread_cond_destroy(&c->finished);
+    pthread_cond_destroy(&c->wake);
+    pthread_mutex_destroy(&c->lock);
+    PW_FREE(c);
+    par->crew = NULL;
+#else
+    (void)par;
+#endif
+}
+
+/* Starts a crew for par (with PW_THREADS, POSIX threads: not for a
+ * caller's parallel-for or one thread), so that the parallel-fors until
+ * pw_parallel_stop wake threads instead of starting them. Without a crew
+ * (no PW_THREADS, or threads that cannot start) they run as before. */
+PW__DEF void pw_parallel_start(pw_parallel *par)
+{
+#ifdef PW_THREADS
+    pw__crew *c;
+    int width = pw_parallel_width(par);
+    if (!par || par->run || par->crew || width < 2) return;
+    if (!(c = (pw__crew *)PW_MALLOC(sizeof(pw__crew)))) return;
+    memset(c, 0, sizeof *c);
+    pthread_mutex_init(&c->lock, NULL);
+    pthread_cond_init(&c->wake, NULL);
+    pthread_cond_init(&c->finished, NULL);
+    for (width = width > 64 ? 64 : width; c->nthreads < width - 1; c->nthreads++)
+        if (pthread_create(&c->th[c->nthreads], NULL, pw__crew_main, c) != 0) break;
+    par->crew = c;
+    if (c->nthreads == 0) pw_parallel_stop(par);
+#else
+    (void)par;
+#endif
+}
+
 /* Runs task(ctx, i) for i in [0, n) as par says (NULL: in order, here). */
 PW__DEF void pw_parallel_for(const pw_parallel *par, int n, pw_task_fn task, void *ctx)
 {
@@ -161,6 +311,7 @@ PW__DEF void pw_parallel_for(const pw_parallel *par, int n, pw_task_fn task, voi
         return;
     }
 #ifdef PW_THREADS
+    if (par && par->crew && n > 1 && pw__crew_run(par->crew, n, task, ctx)) return;
     if (par && par->threads != 1 && n > 1) {
         pw__pool_run(par->threads, n, task, ctx);
         return;

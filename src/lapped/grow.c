@@ -934,11 +934,35 @@ static int lapped__lscm_rows(lapped__paster *P, int seed, pw_triplets *tr, doubl
     return r == PW_OK ? lapped__lscm_pins(P, seed, rows, tr, b, e) : r;
 }
 
+/* Fill (times the nonzeros of AᵀA) up to which a paste's system that
+ * pw_spd_factor's rule leaves to IC(0)-PCG for its fill still gets an LDLᵀ
+ * factor: the pastes of a fine mesh (thousands of vertices each, since
+ * their count is set by the scale) ran PCG to its iteration cap, 97% of
+ * lapped_create's time at 1.2M triangles. */
+#define LAPPED__DIRECT_FILL 24
+
+static int lapped__direct(const pw_alloc *a, const pw_csr *N, pw_spd *S, pw_err *e)
+{
+    pw_ldlt F;
+    pw_err local;
+    int r;
+    if (S->direct || N->n < PW__DIRECT_MIN_SPD) return PW_OK;
+    pw_err_clear(&local);
+    r = pw__ldlt_factor_capped(a, N, (long)LAPPED__DIRECT_FILL * N->rowptr[N->n], &F, &local);
+    if (r == PW_ERR_NOMEM) return pw_fail(e, r, "%s", local.msg);
+    if (r != PW_OK) return PW_OK; /* past the cap, or a pivot not positive: PCG stays */
+    pw_ic0_free(a, &S->M);
+    S->F = F;
+    S->direct = 1;
+    return PW_OK;
+}
+
 /* Solves the least-squares systems A x_j = b_j (nrhs right-hand sides of
  * tr->n rows, unknowns of tr->m columns, warm-started from x; all in ls) through their
  * normal equations AᵀA x = Aᵀb: one sparse LDLᵀ for all right-hand sides
  * where pw_spd_factor's rule takes it (patches of 800 to 20,000 vertices:
- * 0.5-0.9 of the iterative solve's time), else conjugate gradients
+ * 0.5-0.9 of the iterative solve's time) or lapped__direct does, else
+ * conjugate gradients
  * preconditioned with incomplete Cholesky from the warm start (the paper's
  * CG, §3.4; IC(0) cuts the iterations threefold over Jacobi; on smaller
  * patches it stops after a few iterations). A ridge of 1e-8 of the mean
@@ -971,6 +995,7 @@ static int lapped__solve(lapped__paster *P, const lapped__lsq *ls, int nrhs, pw_
             for (k = N.rowptr[i]; k < N.rowptr[i + 1]; k++)
                 if (N.col[k] == i) N.val[k] += 1e-8 * mean;
         r = pw_spd_factor(P->a, &N, &S, e);
+        if (r == PW_OK) r = lapped__direct(P->a, &N, &S, e);
     }
     for (j = 0; j < nrhs && r == PW_OK; j++) {
         pw_csr_mul_t(&A, b + (size_t)j * A.n, rhs);
@@ -1375,6 +1400,7 @@ static void lapped__free_pastes(const pw_alloc *a, lapped_paste *pastes, size_t 
 static void lapped__paster_free(lapped__paster *P)
 {
     int k;
+    pw_parallel_stop(&P->par);
     for (k = 0; P->hulls && k < P->npatches; k++) pw_polyhull_free(P->a, &P->hulls[k]);
     for (k = 0; P->eroded && k < P->npatches; k++) lapped__eroded_free(P->a, &P->eroded[k]);
     pw_free(P->a, P->hulls);
@@ -1480,6 +1506,7 @@ static int lapped__setup(lapped__paster *P, const lapped_mesh *mesh, const lappe
     P->full = (unsigned char *)pw_alloc_array(P->a, (size_t)nf, 1, "coverage", e);
     if (!P->fs || !P->ft || !P->difficulty || !P->full) return PW_ERR_NOMEM;
     P->par = pw_parallel_make(P->o.threads, P->o.parallel, P->o.parallel_pool);
+    pw_parallel_start(&P->par); /* one crew for every paste's painting and the pruning */
     if ((r = lapped__field(P->a, &P->m, &P->o, P->fs, P->ft, e)) != PW_OK ||
         (r = lapped__difficulty(P->a, &P->m, P->o.field == LAPPED_FIELD_ISOTROPIC ? NULL : P->ft, P->difficulty, e)) !=
             PW_OK ||

@@ -662,6 +662,7 @@ static void lst__fill_free(lst__fill *F)
 {
     const pw_alloc *a = F->a;
     int k;
+    pw_parallel_stop(&F->par);
     for (k = 0; k < F->nmasks; k++) lst__mask_free(a, &F->mask[k]);
     pw_free(a, F->lattice);
     pw_free(a, F->cov);
@@ -714,6 +715,7 @@ static int lst__fill_init(lst__fill *F, const pw_volume *masks, int nmasks, int 
     F->full = (unsigned char *)pw_alloc_array(a, (size_t)nt, 1, "uncovered list", e);
     if (!F->cov || !F->uncov || !F->upos || !F->seeded || !F->full) return PW_ERR_NOMEM;
     F->par = pw_parallel_make(o->threads, o->parallel, o->parallel_pool);
+    pw_parallel_start(&F->par); /* one crew for every clump's coverage */
     for (k = 0; k < nt; k++) F->uncov[k] = F->upos[k] = k;
     F->nuncov = nt;
     return PW_OK;
