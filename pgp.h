@@ -3,50 +3,50 @@
  *
  * CONTENTS (line: source, what it holds)
  *     51: src/pgp/pgp.h, the public API and its documentation
- *    670: src/common/base.h, allocation hooks, result codes, error messages, limits, he
- *    982: src/common/vec.h, small vector math on float[3] arrays and a 3-float struct.
- *   1096: src/common/rng.h, seeded random numbers with the same output on every platfo
- *   1173: src/common/noise.h, value noise and its fractal sum, for the built-in procedur
- *   1275: src/common/image.h, float images and their file formats.
- *   1980: src/common/deflate.h, zlib (RFC 1950) and deflate (RFC 1951) compression and
- *   2977: src/common/png.h, PNG writer and reader, and the image front end.
- *   3536: src/common/text.h, locale-independent number parsing and formatting, a line s
- *   3949: src/common/mesh.h, polygon meshes as flat arrays, and their file formats.
- *   5478: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
- *   6007: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
- *   6431: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
- *   7966: src/common/zsparse.h, complex Hermitian sparse systems, solved by conjugate grad
- *   8249: src/common/zamg.h, a smoothed-aggregation multigrid preconditioner for the co
- *   8892: src/common/raster.h, exact scan conversion of 2D triangles.
- *   9404: src/common/parallel.h, a parallel for, the one way work is split across threads.
- *   9577: src/common/render.h, a small deterministic software renderer for textured trian
- *  11476: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
- *  11663: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
- *  11748: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
- *  11937: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
- *  12857: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
- *  13555: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
- *  13791: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
- *  14555: src/common/periodic.h, the periodic global parameterization of a triangle mesh al
- *  15383: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
- *  16144: src/pgp/tile3.h, sampling a material-space tile (Ray et al. 2009, §2: "a 3
- *  16252: src/common/glue.h, what every method header needs between its public types an
- *  16588: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  17252: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
- *  17749: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
- *  18235: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
- *  18378: src/common/kdtree.h, nearest-neighbour search among n points of dimension d, wi
- *  18721: src/common/pca.h, principal component analysis of vectors streamed one at a 
- *  18908: src/pgp/core.c, pgp.h's glue to the shared core, its defaults, and the map
- *  19121: src/pgp/field.c, §2.1 effect areas and §2.2 interpolation of the constrai
- *  19320: src/pgp/solve.c, §2.3 the periodic global parameterization, the recovery o
- *  19809: src/pgp/edit.c, the public editing calls of a mapping. §2.1 (Ray, Lévy, 
- *  19954: src/pgp/render.c, §3 rendering, and a cleaner treatment of the vortices.
- *  20315: src/pgp/builtin.c, built-in meshes and material-space tiles for demos and tes
- *  20584: src/pgp/io.c, files and memory for pgp.h: material-space tiles (NRRD, or
- *  20932: src/pgp/export.c, the mapping for other programs. A viewer that knows nothin
- *  21158: src/pgp/morph.c, the inputs of §1 (keys brought to the tile size, made til
- *  21837: src/pgp/synth.c, §1.2 constrained tile synthesis, and the whole of §1: ke
+ *    678: src/common/base.h, allocation hooks, result codes, error messages, limits, he
+ *    990: src/common/vec.h, small vector math on float[3] arrays and a 3-float struct.
+ *   1104: src/common/rng.h, seeded random numbers with the same output on every platfo
+ *   1181: src/common/noise.h, value noise and its fractal sum, for the built-in procedur
+ *   1283: src/common/image.h, float images and their file formats.
+ *   1988: src/common/deflate.h, zlib (RFC 1950) and deflate (RFC 1951) compression and
+ *   2985: src/common/png.h, PNG writer and reader, and the image front end.
+ *   3544: src/common/text.h, locale-independent number parsing and formatting, a line s
+ *   3957: src/common/mesh.h, polygon meshes as flat arrays, and their file formats.
+ *   5486: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
+ *   6015: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
+ *   6439: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
+ *   7974: src/common/zsparse.h, complex Hermitian sparse systems, solved by conjugate grad
+ *   8328: src/common/zamg.h, a smoothed-aggregation multigrid preconditioner for the co
+ *   9084: src/common/raster.h, exact scan conversion of 2D triangles.
+ *   9596: src/common/parallel.h, a parallel for, the one way work is split across threads.
+ *   9769: src/common/render.h, a small deterministic software renderer for textured trian
+ *  11668: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
+ *  11855: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
+ *  11940: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
+ *  12129: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
+ *  13049: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
+ *  13747: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
+ *  13983: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
+ *  14747: src/common/periodic.h, the periodic global parameterization of a triangle mesh al
+ *  15581: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
+ *  16342: src/pgp/tile3.h, sampling a material-space tile (Ray et al. 2009, §2: "a 3
+ *  16450: src/common/glue.h, what every method header needs between its public types an
+ *  16786: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  17450: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
+ *  17947: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
+ *  18433: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
+ *  18576: src/common/kdtree.h, nearest-neighbour search among n points of dimension d, wi
+ *  18919: src/common/pca.h, principal component analysis of vectors streamed one at a 
+ *  19106: src/pgp/core.c, pgp.h's glue to the shared core, its defaults, and the map
+ *  19320: src/pgp/field.c, §2.1 effect areas and §2.2 interpolation of the constrai
+ *  19519: src/pgp/solve.c, §2.3 the periodic global parameterization, the recovery o
+ *  20012: src/pgp/edit.c, the public editing calls of a mapping. §2.1 (Ray, Lévy, 
+ *  20157: src/pgp/render.c, §3 rendering, and a cleaner treatment of the vortices.
+ *  20518: src/pgp/builtin.c, built-in meshes and material-space tiles for demos and tes
+ *  20787: src/pgp/io.c, files and memory for pgp.h: material-space tiles (NRRD, or
+ *  21135: src/pgp/export.c, the mapping for other programs. A viewer that knows nothin
+ *  21361: src/pgp/morph.c, the inputs of §1 (keys brought to the tile size, made til
+ *  22040: src/pgp/synth.c, §1.2 constrained tile synthesis, and the whole of §1: ke
  */
 /* pgp.h - material-space texturing with a periodic global parameterization.
  *
@@ -119,10 +119,11 @@
  *   PATCHWORK_IMPLEMENTATION turns on every patchwork header included after
  *   it. Build macros: PGP_STATIC (all functions static), PW_MALLOC /
  *   PW_REALLOC / PW_FREE (all or none), PW_ASSERT, PW_NO_STDIO, the PW_MAX_*
- *   size limits, as in every patchwork header, and PW_THREADS: rendering and
- *   tile synthesis on several threads (POSIX threads; link with -pthread;
- *   pgp_render_options.threads and pgp_synth_options.threads, 0 = one per
- *   processor), the same picture and tile for any count.
+ *   size limits, as in every patchwork header, and PW_THREADS: rendering,
+ *   tile synthesis and the solves of pgp_create and the edits on several
+ *   threads (POSIX threads; link with -pthread; pgp_render_options.threads,
+ *   pgp_synth_options.threads and pgp_options.threads, 0 = one per
+ *   processor), the same picture, tile and map for any count.
  *   PW_NO_RENDER and PW_NO_PNG leave out the renderer (pgp_render fails
  *   with PGP_ERR_UNSUPPORTED) and the PNG codec (loading or saving PNG fails
  *   the same way): faster builds for programs that only compute (docs/api.md).
@@ -443,6 +444,13 @@ typedef struct pgp_options {
                                 pgp_add_constraint would (its own effect area and
                                 solve); their ids are 0, 1, ...; default none */
     int nconstraints;
+    int threads;               /* threads of pgp_create's and the edits' solves (the
+                                multigrid sweeps and the products of their conjugate
+                                gradients), as render.threads: 0 (default) one per
+                                processor with PW_THREADS, else 1; the map is the same,
+                                bit for bit, for any number */
+    pgp_parallel_fn parallel;  /* optional: the caller's parallel for, used instead of threads */
+    void *parallel_pool;       /* its first argument */
     pgp_render_options render; /* pgp_render's settings (pass &opt.render) */
     pgp_synth_options synth;   /* tile synthesis settings (pass &opt.synth) */
     pgp_atlas_options atlas;   /* pgp_bake_atlas's */
@@ -8002,12 +8010,56 @@ PW__DEF int pw_ztriplets_add(pw_triplets *t, int i, int j, double re, double im,
     return r == PW_OK ? pw_triplets_add(t, i, 2 * j + 1, im, e) : r;
 }
 
+/* ---- rows in blocks, on threads ---------------------------------------------- */
+
+/* How the solvers' row loops may run on threads: pfor(par, n, task, ctx)
+ * runs task(ctx, i) for every i in [0, n), in any order (pw_parallel_for
+ * and its pw_parallel, which the headers define later; pfor NULL: in order
+ * on the calling thread). Rows go to tasks in blocks that depend on the
+ * number of rows only, and every sum over rows is a sum per block and then
+ * the blocks in order, so results are the same bits on any number of
+ * threads and in any task order. */
+struct pw_parallel;
+typedef struct pw_zrun {
+    void (*pfor)(const struct pw_parallel *par, int n, void (*task)(void *, int), void *ctx);
+    const struct pw_parallel *par;
+} pw_zrun;
+
+/* At most this many blocks of at least PW__ZBLOCK_ROWS rows; loops over
+ * fewer than PW__ZPAR_ROWS rows stay on the calling thread (a parallel for
+ * costs more than they do). */
+#define PW__ZBLOCKS 16
+#define PW__ZBLOCK_ROWS 4096
+#define PW__ZPAR_ROWS 16384
+
+/* The number of blocks of n rows. */
+PW__DEF int pw__zblocks(int n)
+{
+    int nb = (n + PW__ZBLOCK_ROWS - 1) / PW__ZBLOCK_ROWS;
+    return nb < 1 ? 1 : (nb > PW__ZBLOCKS ? PW__ZBLOCKS : nb);
+}
+
+/* The first row of block b of nb over n rows. */
+PW__DEF int pw__zblock_start(int n, int nb, int b) { return (int)((long long)n * b / nb); }
+
+/* Runs task(ctx, b) for the nb blocks of n rows, on run's threads when
+ * there are enough rows. */
+PW__DEF void pw__zfor(const pw_zrun *run, int n, int nb, void (*task)(void *, int), void *ctx)
+{
+    int b;
+    if (run && run->pfor && n >= PW__ZPAR_ROWS && nb > 1) run->pfor(run->par, nb, task, ctx);
+    else
+        for (b = 0; b < nb; b++) task(ctx, b);
+}
+
 /* n x n complex CSR: row i holds col[k], (val[2k], val[2k+1]) for
- * rowptr[i] <= k < rowptr[i+1], columns increasing. */
+ * rowptr[i] <= k < rowptr[i+1], columns increasing. run (NULL: one
+ * thread) says how its products run. */
 typedef struct pw_zcsr {
     int n;
     int *rowptr, *col;
     double *val; /* 2 per entry */
+    const pw_zrun *run;
 } pw_zcsr;
 
 PW__DEF void pw_zcsr_free(const pw_alloc *a, pw_zcsr *A)
@@ -8052,22 +8104,49 @@ PW__DEF int pw_zcsr_from_triplets(const pw_alloc *a, const pw_triplets *t, pw_zc
     return PW_OK;
 }
 
-/* y = A x over complex vectors (2n doubles); returns Re(x^H y). */
-PW__DEF double pw_zcsr_mul(const pw_zcsr *A, const double *x, double *y)
+/* A product y = A x by blocks of rows: each block's share of Re(x^H y). */
+typedef struct pw__zmul {
+    const pw_zcsr *A;
+    const double *x;
+    double *y;
+    int nb;
+    double part[PW__ZBLOCKS];
+} pw__zmul;
+
+PW__DEF void pw__zmul_block(void *ctx, int b)
 {
+    pw__zmul *w = (pw__zmul *)ctx;
+    const pw_zcsr *A = w->A;
+    const double *x = w->x;
     double d = 0.0;
-    int i, k;
-    for (i = 0; i < A->n; i++) {
+    int i, k, hi = pw__zblock_start(A->n, w->nb, b + 1);
+    for (i = pw__zblock_start(A->n, w->nb, b); i < hi; i++) {
         double sr = 0.0, si = 0.0;
         for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++) {
             const double *v = A->val + 2 * k, *xx = x + 2 * A->col[k];
             sr += v[0] * xx[0] - v[1] * xx[1];
             si += v[0] * xx[1] + v[1] * xx[0];
         }
-        y[2 * i] = sr;
-        y[2 * i + 1] = si;
+        w->y[2 * i] = sr;
+        w->y[2 * i + 1] = si;
         d += x[2 * i] * sr + x[2 * i + 1] * si;
     }
+    w->part[b] = d;
+}
+
+/* y = A x over complex vectors (2n doubles), on A->run's threads; returns
+ * Re(x^H y), summed per block of rows and then over the blocks in order. */
+PW__DEF double pw_zcsr_mul(const pw_zcsr *A, const double *x, double *y)
+{
+    pw__zmul w;
+    double d = 0.0;
+    int b;
+    w.A = A;
+    w.x = x;
+    w.y = y;
+    w.nb = pw__zblocks(A->n);
+    pw__zfor(A->run, A->n, w.nb, pw__zmul_block, &w);
+    for (b = 0; b < w.nb; b++) d += w.part[b];
     return d;
 }
 
@@ -8271,13 +8350,24 @@ PW__DEF int pw_zic0_solve(const pw_alloc *a, const pw_zcsr *A, const double *b, 
  *     backward after, so the cycle is a symmetric positive definite
  *     preconditioner for CG; the coarsest level (at most 512 unknowns) is
  *     solved by a dense Cholesky factor.
+ *   - The Gauss-Seidel sweeps are hybrid, so that they run on threads:
+ *     each block of rows (zsparse.h's blocks, set by the number of rows
+ *     alone) sweeps its own rows in order and reads the rows of other
+ *     blocks as they were before the sweep; their terms are added to the
+ *     row's diagonal as sum |a_ij| (the l1 smoother of Baker, Falgout,
+ *     Kolev and Yang 2011), which keeps the sweep convergent however the
+ *     blocks cut the graph. Within a block it is the plain sweep, so with
+ *     blocks of 1024 rows or more it smooths about as well.
  *
  *     pw_zamg M;
  *     pw_zamg_setup(NULL, &A, &M, &e);
  *     pw_zamg_solve(NULL, &A, &M, b, x, NULL, &stats, &e);
  *     pw_zamg_free(NULL, &M);
  *
- * Deterministic: every loop runs in index order, no threads. */
+ * Deterministic: the sweeps, residuals, restrictions and prolongations
+ * run by blocks of rows on the matrix's run (zsparse.h), each block
+ * writing its own rows, so the result is the same on any number of
+ * threads; the set-up runs on one. */
 #ifndef PW__ZAMG_V1
 #define PW__ZAMG_V1
 
@@ -8286,12 +8376,16 @@ PW__DEF int pw_zic0_solve(const pw_alloc *a, const pw_zcsr *A, const double *b, 
 #define PW__ZAMG_COARSEST 512
 
 /* One level: its matrix, the prolongation from the next (coarser) level's
- * unknowns (n x nc, complex CSR), and the cycle's vectors (2n doubles). */
+ * unknowns (n x nc, complex CSR) and its adjoint (nc x n), the sums of
+ * |a_ij| over each row's columns in other blocks (l1, n), and the cycle's
+ * vectors (2n doubles). */
 typedef struct pw__zamg_level {
     pw_zcsr A;
     int nc;
     int *prow, *pcol;
     double *pval;
+    pw_zcsr PH;
+    double *l1;
     double *x, *b, *r;
 } pw__zamg_level;
 
@@ -8596,8 +8690,12 @@ PW__DEF int pw__zamg_coarsen(const pw_alloc *a, pw__zamg_level *L, pw_zcsr *C, p
         L->prow = P.rowptr;
         L->pcol = P.col;
         L->pval = P.val;
-    } else pw_zcsr_free(a, &P);
-    pw_zcsr_free(a, &PH);
+        L->PH = PH;
+        L->PH.run = A->run;
+    } else {
+        pw_zcsr_free(a, &P);
+        pw_zcsr_free(a, &PH);
+    }
     pw_zcsr_free(a, &AP);
     pw_free(a, agg);
     pw_free(a, ph);
@@ -8669,6 +8767,26 @@ PW__DEF void pw__zamg_chol_solve(const double *L, int n, const double *b, double
     }
 }
 
+/* The l1 terms of level L's smoother: for every row, sum |a_ij| over
+ * the columns outside its block. */
+PW__DEF int pw__zamg_l1(const pw_alloc *a, pw__zamg_level *L, pw_err *e)
+{
+    const pw_zcsr *A = &L->A;
+    int n = A->n, nb = pw__zblocks(n), b, i, k;
+    L->l1 = (double *)pw_alloc_array(a, (size_t)n, sizeof(double), "multigrid smoother", e);
+    if (!L->l1) return PW_ERR_NOMEM;
+    for (b = 0; b < nb; b++) {
+        int lo = pw__zblock_start(n, nb, b), hi = pw__zblock_start(n, nb, b + 1);
+        for (i = lo; i < hi; i++) {
+            double s = 0.0;
+            for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++)
+                if (A->col[k] < lo || A->col[k] >= hi) s += pw__zamg_abs(A->val + 2 * k);
+            L->l1[i] = s;
+        }
+    }
+    return PW_OK;
+}
+
 /* ---- the hierarchy and the cycle ---------------------------------------------- */
 
 PW__DEF void pw_zamg_free(const pw_alloc *a, pw_zamg *M)
@@ -8680,6 +8798,8 @@ PW__DEF void pw_zamg_free(const pw_alloc *a, pw_zamg *M)
         pw_free(a, L->prow);
         pw_free(a, L->pcol);
         pw_free(a, L->pval);
+        pw_zcsr_free(a, &L->PH);
+        pw_free(a, L->l1);
         pw_free(a, L->x);
         pw_free(a, L->b);
         pw_free(a, L->r);
@@ -8704,8 +8824,10 @@ PW__DEF int pw_zamg_setup(const pw_alloc *a, const pw_zcsr *A, pw_zamg *M, pw_er
         L->b = (double *)pw_alloc_array(a, n2, sizeof(double), "multigrid vectors", e);
         L->r = (double *)pw_alloc_array(a, n2, sizeof(double), "multigrid vectors", e);
         if (!L->x || !L->b || !L->r) r = PW_ERR_NOMEM;
+        if (r == PW_OK) r = pw__zamg_l1(a, L, e);
         if (r == PW_OK) r = pw__zamg_coarsen(a, L, &M->lev[l + 1].A, e);
         if (r != PW_OK) break;
+        M->lev[l + 1].A.run = A->run;
         M->levels = ++l;
         if (M->lev[l].A.n * 10 > L->A.n * 9) break; /* aggregation stalls: solve here */
     }
@@ -8727,18 +8849,120 @@ PW__DEF int pw_zamg_setup(const pw_alloc *a, const pw_zcsr *A, pw_zamg *M, pw_er
     return r;
 }
 
-/* One Gauss-Seidel sweep on A x = b, forward or backward. */
-PW__DEF void pw__zamg_gs(const pw_zcsr *A, const double *b, double *x, int backward)
+/* One step of the cycle at one level, by blocks of rows. */
+typedef struct pw__zamg_step {
+    const pw__zamg_level *L, *C;
+    int nb;
+} pw__zamg_step;
+
+/* The forward sweep of block b from x = 0: rows of other blocks read 0,
+ * the block's rows above the current one too (not swept yet). */
+PW__DEF void pw__zamg_pre(void *ctx, int b)
 {
-    int n = A->n, s, i, k;
-    for (s = 0; s < n; s++) {
-        double sr, si, dr = 0.0;
-        i = backward ? n - 1 - s : s;
-        sr = b[2 * i];
-        si = b[2 * i + 1];
+    const pw__zamg_step *w = (const pw__zamg_step *)ctx;
+    const pw_zcsr *A = &w->L->A;
+    const double *rhs = w->L->b;
+    double *x = w->L->x;
+    int i, k, lo = pw__zblock_start(A->n, w->nb, b), hi = pw__zblock_start(A->n, w->nb, b + 1);
+    for (i = lo; i < hi; i++) {
+        double sr = rhs[2 * i], si = rhs[2 * i + 1], dr = 0.0;
+        for (k = A->rowptr[i]; k < A->rowptr[i + 1] && A->col[k] <= i; k++) {
+            const double *v = A->val + 2 * k, *y = x + 2 * A->col[k];
+            if (A->col[k] == i) dr = v[0];
+            else if (A->col[k] >= lo) {
+                sr -= v[0] * y[0] - v[1] * y[1];
+                si -= v[0] * y[1] + v[1] * y[0];
+            }
+        }
+        x[2 * i] = dr > 0.0 ? sr / (dr + w->L->l1[i]) : 0.0;
+        x[2 * i + 1] = dr > 0.0 ? si / (dr + w->L->l1[i]) : 0.0;
+    }
+}
+
+/* r = b - A x after the forward sweep of block b: row i was solved with
+ * the block's rows below it and (a_ii + l1_i) on the diagonal, so what is
+ * left is l1_i x_i less the terms of the block's rows above it and of the
+ * other blocks' rows; a row without a positive diagonal (all zero, A
+ * being semidefinite) keeps r_i = b_i. */
+PW__DEF void pw__zamg_residual(void *ctx, int b)
+{
+    const pw__zamg_step *w = (const pw__zamg_step *)ctx;
+    const pw_zcsr *A = &w->L->A;
+    const double *x = w->L->x, *rhs = w->L->b;
+    double *r = w->L->r;
+    int i, k, lo = pw__zblock_start(A->n, w->nb, b), hi = pw__zblock_start(A->n, w->nb, b + 1);
+    for (i = lo; i < hi; i++) {
+        double sr = w->L->l1[i] * x[2 * i], si = w->L->l1[i] * x[2 * i + 1], d = 0.0;
         for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++) {
             const double *v = A->val + 2 * k, *y = x + 2 * A->col[k];
-            if (A->col[k] == i) {
+            int j = A->col[k];
+            if (j == i) d = v[0];
+            else if (j > i || j < lo) {
+                sr -= v[0] * y[0] - v[1] * y[1];
+                si -= v[0] * y[1] + v[1] * y[0];
+            }
+        }
+        r[2 * i] = d > 0.0 ? sr : rhs[2 * i];
+        r[2 * i + 1] = d > 0.0 ? si : rhs[2 * i + 1];
+    }
+}
+
+/* b_c = P^H r over block b of the coarse rows (the adjoint's rows: each
+ * sum over the fine rows in order). */
+PW__DEF void pw__zamg_restrict(void *ctx, int b)
+{
+    const pw__zamg_step *w = (const pw__zamg_step *)ctx;
+    const pw_zcsr *H = &w->L->PH;
+    const double *r = w->L->r;
+    double *bc = w->C->b;
+    int I, k, hi = pw__zblock_start(H->n, w->nb, b + 1);
+    for (I = pw__zblock_start(H->n, w->nb, b); I < hi; I++) {
+        double sr = 0.0, si = 0.0;
+        for (k = H->rowptr[I]; k < H->rowptr[I + 1]; k++) {
+            const double *h = H->val + 2 * k, *y = r + 2 * H->col[k];
+            sr += h[0] * y[0] - h[1] * y[1];
+            si += h[0] * y[1] + h[1] * y[0];
+        }
+        bc[2 * I] = sr;
+        bc[2 * I + 1] = si;
+    }
+}
+
+/* x += P x_c over block b, and r = x: what the backward sweep reads of
+ * the rows of other blocks. */
+PW__DEF void pw__zamg_prolong_add(void *ctx, int b)
+{
+    const pw__zamg_step *w = (const pw__zamg_step *)ctx;
+    const pw__zamg_level *L = w->L;
+    const double *xc = w->C->x;
+    int i, k, hi = pw__zblock_start(L->A.n, w->nb, b + 1);
+    for (i = pw__zblock_start(L->A.n, w->nb, b); i < hi; i++) {
+        double sr = L->x[2 * i], si = L->x[2 * i + 1];
+        for (k = L->prow[i]; k < L->prow[i + 1]; k++) {
+            const double *p = L->pval + 2 * k, *y = xc + 2 * L->pcol[k];
+            sr += p[0] * y[0] - p[1] * y[1];
+            si += p[0] * y[1] + p[1] * y[0];
+        }
+        L->x[2 * i] = L->r[2 * i] = sr;
+        L->x[2 * i + 1] = L->r[2 * i + 1] = si;
+    }
+}
+
+/* The backward sweep of block b: rows of other blocks read as they were
+ * before it (r, pw__zamg_prolong_add). */
+PW__DEF void pw__zamg_post(void *ctx, int b)
+{
+    const pw__zamg_step *w = (const pw__zamg_step *)ctx;
+    const pw_zcsr *A = &w->L->A;
+    const double *rhs = w->L->b, *old = w->L->r;
+    double *x = w->L->x;
+    int i, k, lo = pw__zblock_start(A->n, w->nb, b), hi = pw__zblock_start(A->n, w->nb, b + 1);
+    for (i = hi - 1; i >= lo; i--) { /* x_i += (b - A x)_i / (a_ii + l1_i) */
+        double sr = rhs[2 * i] + w->L->l1[i] * x[2 * i], si = rhs[2 * i + 1] + w->L->l1[i] * x[2 * i + 1], dr = 0.0;
+        for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++) {
+            int j = A->col[k];
+            const double *v = A->val + 2 * k, *y = (j >= lo && j < hi ? x : old) + 2 * j;
+            if (j == i) {
                 dr = v[0];
                 continue;
             }
@@ -8746,66 +8970,33 @@ PW__DEF void pw__zamg_gs(const pw_zcsr *A, const double *b, double *x, int backw
             si -= v[0] * y[1] + v[1] * y[0];
         }
         if (dr > 0.0) {
-            x[2 * i] = sr / dr;
-            x[2 * i + 1] = si / dr;
+            x[2 * i] = sr / (dr + w->L->l1[i]);
+            x[2 * i + 1] = si / (dr + w->L->l1[i]);
         }
-    }
-}
-
-/* r = b - A x after one forward Gauss-Seidel sweep from x = 0: row i was
- * solved with the new x_j (j < i) and zeros above, so only the part above
- * the diagonal is left, r_i = -sum_{j > i} a_ij x_j (half a product); a
- * row without a positive diagonal (all zero, A being semidefinite) keeps
- * r_i = b_i. */
-PW__DEF void pw__zamg_upper_residual(const pw_zcsr *A, const double *b, const double *x, double *r)
-{
-    int i, k;
-    for (i = 0; i < A->n; i++) {
-        double sr = 0.0, si = 0.0, d = 0.0;
-        for (k = A->rowptr[i + 1] - 1; k >= A->rowptr[i] && A->col[k] >= i; k--) {
-            const double *v = A->val + 2 * k, *y = x + 2 * A->col[k];
-            if (A->col[k] == i) {
-                d = v[0];
-                continue;
-            }
-            sr -= v[0] * y[0] - v[1] * y[1];
-            si -= v[0] * y[1] + v[1] * y[0];
-        }
-        r[2 * i] = d > 0.0 ? sr : b[2 * i];
-        r[2 * i + 1] = d > 0.0 ? si : b[2 * i + 1];
     }
 }
 
 /* The V-cycle from level l: lev[l].x ~ A_l^-1 lev[l].b, from x = 0. */
 PW__DEF void pw__zamg_cycle(const pw_zamg *M, int l)
 {
-    const pw__zamg_level *L = &M->lev[l], *C;
-    int n, i, k;
+    const pw__zamg_level *L = &M->lev[l];
+    pw__zamg_step w, wc;
+    int n;
     if (l == M->levels) {
         pw__zamg_chol_solve(M->chol, M->nc, L->b, L->x);
         return;
     }
-    C = &M->lev[l + 1];
     n = L->A.n;
-    memset(L->x, 0, sizeof(double) * 2 * (size_t)n);
-    pw__zamg_gs(&L->A, L->b, L->x, 0);
-    pw__zamg_upper_residual(&L->A, L->b, L->x, L->r);
-    memset(C->b, 0, sizeof(double) * 2 * (size_t)C->A.n);
-    for (i = 0; i < n; i++) /* b_c = P^H r */
-        for (k = L->prow[i]; k < L->prow[i + 1]; k++) {
-            const double *p = L->pval + 2 * k, *rr = L->r + 2 * i;
-            double *bc = C->b + 2 * L->pcol[k];
-            bc[0] += p[0] * rr[0] + p[1] * rr[1];
-            bc[1] += p[0] * rr[1] - p[1] * rr[0];
-        }
+    w.L = wc.L = L;
+    w.C = wc.C = &M->lev[l + 1];
+    w.nb = pw__zblocks(n);
+    wc.nb = pw__zblocks(L->nc);
+    pw__zfor(L->A.run, n, w.nb, pw__zamg_pre, &w);
+    pw__zfor(L->A.run, n, w.nb, pw__zamg_residual, &w);
+    pw__zfor(L->A.run, L->nc, wc.nb, pw__zamg_restrict, &wc);
     pw__zamg_cycle(M, l + 1);
-    for (i = 0; i < n; i++) /* x += P x_c */
-        for (k = L->prow[i]; k < L->prow[i + 1]; k++) {
-            const double *p = L->pval + 2 * k, *xc = C->x + 2 * L->pcol[k];
-            L->x[2 * i] += p[0] * xc[0] - p[1] * xc[1];
-            L->x[2 * i + 1] += p[0] * xc[1] + p[1] * xc[0];
-        }
-    pw__zamg_gs(&L->A, L->b, L->x, 1);
+    pw__zfor(L->A.run, n, w.nb, pw__zamg_prolong_add, &w);
+    pw__zfor(L->A.run, n, w.nb, pw__zamg_post, &w);
 }
 
 /* z = one V-cycle applied to r (2n doubles each). */
@@ -8835,11 +9026,12 @@ PW__DEF int pw_zamg_solve(const pw_alloc *a, const pw_zcsr *A, const pw_zamg *M,
 }
 
 /* Unknowns from which multigrid pays against IC(0) (its setup costs about
- * ten IC(0)-PCG iterations; on pgp's systems the two break even near 40K
- * unknowns), and the diagonal excess below which it is used: a matrix whose
+ * ten IC(0)-PCG iterations; on pgp's systems the two break even near 20K
+ * unknowns: the PGP of CGAL's bunny00, 37.7K unknowns, takes 10 V-cycles
+ * where IC(0) takes 80), and the diagonal excess below which it is used: a matrix whose
  * diagonal exceeds the off-diagonal sums by more than 0.5% on average is so
  * well conditioned that IC(0) needs only a few iterations. */
-#define PW_ZAMG_MIN_UNKNOWNS 40000
+#define PW_ZAMG_MIN_UNKNOWNS 20000
 #define PW_ZAMG_MAX_EXCESS 0.005
 
 /* sum_i (a_ii - sum_j |a_ij|) / sum_i a_ii. */
@@ -14594,6 +14786,8 @@ typedef struct pw_periodic {
                              order of the unknowns of every solve */
     float scale0;         /* default tile side */
     int area_weights;     /* 1: the paper's A_T + A_T' edge weights */
+    pw_zrun run;          /* how the complex solves run (zsparse.h; zero: on
+                             the calling thread), set by the method */
 } pw_periodic;
 
 /* ---- sparse symmetric positive definite solves ----------------------------- */
@@ -14603,9 +14797,10 @@ typedef struct pw_periodic {
  * triplets) by IC(0)-preconditioned CG, or complex Hermitian (zsparse.h:
  * n x 2n triplets, b and x complex) by CG with a multigrid (zamg.h) or
  * IC(0) preconditioner, whichever pays (pw_zpd_solve). */
-PW__DEF int pw_periodic_pd_solve(const pw_alloc *a, const pw_triplets *t, const double *b, double *x, double tol,
+PW__DEF int pw_periodic_pd_solve(const pw_periodic *P, const pw_triplets *t, const double *b, double *x, double tol,
                                  pw_err *e)
 {
+    const pw_alloc *a = &P->a;
     const int complex = t->m == 2 * t->n;
     pw_csr A;
     pw_ic0 L;
@@ -14616,6 +14811,7 @@ PW__DEF int pw_periodic_pd_solve(const pw_alloc *a, const pw_triplets *t, const 
     o.max_iter = 4000;
     if (complex) {
         if ((r = pw_zcsr_from_triplets(a, t, &ZA, e)) != PW_OK) return r;
+        ZA.run = &P->run;
         r = pw_zpd_solve(a, &ZA, b, x, &o, e);
         pw_zcsr_free(a, &ZA);
         return r;
@@ -14846,7 +15042,7 @@ PW__DEF int pw_periodic_dir_smooth(pw_periodic *P, const unsigned char *free, co
     for (h = 0; r == PW_OK && n > 0 && h < 3 * m->nf; h++)
         if (m->hm.twin[h] > h && (id[h / 3] >= 0 || id[m->hm.twin[h] / 3] >= 0))
             r = pw_periodic_dir_edge(P, id, h, &t, b, e);
-    if (r == PW_OK && n > 0) r = pw_periodic_pd_solve(&P->a, &t, b, x, PW_PERIODIC_DIR_TOL, e);
+    if (r == PW_OK && n > 0) r = pw_periodic_pd_solve(P, &t, b, x, PW_PERIODIC_DIR_TOL, e);
     for (f = 0; r == PW_OK && n > 0 && f < m->nf; f++)
         if (id[f] >= 0) {
             double *z = P->dir + 2 * f;
@@ -15135,8 +15331,10 @@ PW__DEF int pw_periodic_solve_k(pw_periodic *P, double *z, const int *id, int n,
     for (q = 0; r == PW_OK && q < t.count; q++)                     /* the (real) diagonal of F's matrix */
         if (t.col[q] == 2 * t.row[q]) dg[t.row[q]] += t.val[q];
     if (r == PW_OK) r = pw_periodic_propagate(P, z, id, k, e);
-    if (r == PW_OK && (r = pw_zcsr_from_triplets(&P->a, &t, &A, e)) == PW_OK)
+    if (r == PW_OK && (r = pw_zcsr_from_triplets(&P->a, &t, &A, e)) == PW_OK) {
+        A.run = &P->run;
         r = pw_periodic_diag_index(&P->a, &A, &dpos, e);
+    }
     if (r == PW_OK && !(rhs = (double *)pw_alloc_array(&P->a, (size_t)n * 2, sizeof(double), "PGP", e)))
         r = PW_ERR_NOMEM;
     o.max_iter = 4000;
@@ -19062,6 +19260,7 @@ struct pgp_map_state {
     pgp__constraint *con;
     int ncon;
     size_t concap;
+    pw_parallel par; /* options.threads, parallel, parallel_pool: pp.run's */
 };
 
 static int pgp__check_vertex(const pgp__state *P, int v, pw_err *e)
@@ -19244,7 +19443,7 @@ static int pgp__harmonic(pgp__state *P, const unsigned char *vfree, const unsign
     for (v = 0; r == PW_OK && n > 0 && v < m->nv; v++) /* a faint pull towards the fallback */
         if (id[v] >= 0 && (r = pw_triplets_add(&t, id[v], id[v], PW_PERIODIC_PULL, e)) == PW_OK)
             b[id[v]] += PW_PERIODIC_PULL * fallback;
-    if (r == PW_OK && n > 0) r = pw_periodic_pd_solve(&P->a, &t, b, x, 1e-8, e);
+    if (r == PW_OK && n > 0) r = pw_periodic_pd_solve(&P->pp, &t, b, x, 1e-8, e);
     for (v = 0; r == PW_OK && n > 0 && v < m->nv; v++)
         if (id[v] >= 0) val[v] = (float)x[id[v]];
     pw_triplets_free(&t);
@@ -19487,6 +19686,7 @@ static int pgp__check_options(const pgp_options *o, pw_err *e)
     if (!(o->singular_distortion > 0.0f) || !pw_is_finite(o->singular_distortion))
         return pw_fail(e, PW_ERR_INVALID, "singular_distortion %g is not positive", (double)o->singular_distortion);
     if (o->smoothing < 0) return pw_fail(e, PW_ERR_INVALID, "smoothing %d is negative", o->smoothing);
+    if (o->threads < 0) return pw_fail(e, PW_ERR_INVALID, "threads %d is negative", o->threads);
     if (!(o->integrable >= 0.0f && o->integrable <= 1e6f))
         return pw_fail(e, PW_ERR_INVALID, "integrable %g is not in [0, 1e6]", (double)o->integrable);
     if (o->weights != PGP_WEIGHTS_COTAN && o->weights != PGP_WEIGHTS_AREA)
@@ -19629,7 +19829,7 @@ static int pgp__integrable(pgp__state *P, pw_err *e)
         r = pw_triplets_init(&t, &P->a, (int)n, (int)n, e);
         for (f = 0; f < P->pp.m.nf && r == PW_OK; f++) r = pgp__curl_rows(P, f, &t, b, e);
         if (r == PW_OK) r = pgp__curl_reg(P, &t, e);
-        if (r == PW_OK) r = pw_periodic_pd_solve(&P->a, &t, b, x, 1e-6, e);
+        if (r == PW_OK) r = pw_periodic_pd_solve(&P->pp, &t, b, x, 1e-6, e);
         if (r == PW_OK) pgp__curl_apply(P, x);
         pw_triplets_free(&t);
     }
@@ -19728,6 +19928,9 @@ static int pgp__create_map(const pgp_mesh *mesh, const pgp_options *opt, pgp_map
     P->a = a;
     P->pp.a = a;
     P->o = o;
+    P->par = pw_parallel_make(o.threads, o.parallel, o.parallel_pool);
+    P->pp.run.pfor = pw_parallel_for;
+    P->pp.run.par = &P->par;
     out->state = P;
     out->allocator = pgp__allocator(&a);
     if (pgp__setup(P, mesh, e) != PW_OK) return e->code;

@@ -17,27 +17,27 @@
  *   6253: src/common/subdiv.h, Catmull-Clark subdivision (Catmull and Clark 1978) with
  *   6392: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
  *   7927: src/common/zsparse.h, complex Hermitian sparse systems, solved by conjugate grad
- *   8210: src/common/zamg.h, a smoothed-aggregation multigrid preconditioner for the co
- *   8853: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
- *   9040: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
- *   9125: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
- *   9889: src/common/periodic.h, the periodic global parameterization of a triangle mesh al
- *  10717: src/common/raster.h, exact scan conversion of 2D triangles.
- *  11231: src/common/parallel.h, a parallel for, the one way work is split across threads.
- *  11404: src/common/render.h, a small deterministic software renderer for textured trian
- *  13303: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
- *  13800: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
- *  14286: src/common/glue.h, what every method header needs between its public types an
- *  14622: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  15286: src/tiled/core.c, tiled.h's glue to the shared core, its defaults, result
- *  15375: src/tiled/layout.c, ch. III.1, the boundary types and the tiled texture they
- *  15647: src/tiled/cells.c, beyond the thesis (issue 23): tiles of a chosen size on an
- *  16495: src/tiled/map.c, ch. III.2, the texture mapping algorithm of Fig. 29
- *  16764: src/tiled/synth.c, ch. III.1.3, tiled texture image synthesis: an edge-matche
- *  17210: src/tiled/validate.c, checks a hand-made tiled texture (the thesis's Figs. 39,
- *  17338: src/tiled/builtin.c, built-in meshes and exemplars for demos and tests: the
- *  17535: src/tiled/render.c, a software rendering of a mapped mesh (the thesis rendered
- *  17758: src/tiled/io.c, files. Meshes and exemplars in; the mapped mesh with its t
+ *   8281: src/common/zamg.h, a smoothed-aggregation multigrid preconditioner for the co
+ *   9037: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
+ *   9224: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
+ *   9309: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
+ *  10073: src/common/periodic.h, the periodic global parameterization of a triangle mesh al
+ *  10907: src/common/raster.h, exact scan conversion of 2D triangles.
+ *  11421: src/common/parallel.h, a parallel for, the one way work is split across threads.
+ *  11594: src/common/render.h, a small deterministic software renderer for textured trian
+ *  13493: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
+ *  13990: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
+ *  14476: src/common/glue.h, what every method header needs between its public types an
+ *  14812: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  15476: src/tiled/core.c, tiled.h's glue to the shared core, its defaults, result
+ *  15565: src/tiled/layout.c, ch. III.1, the boundary types and the tiled texture they
+ *  15837: src/tiled/cells.c, beyond the thesis (issue 23): tiles of a chosen size on an
+ *  16685: src/tiled/map.c, ch. III.2, the texture mapping algorithm of Fig. 29
+ *  16954: src/tiled/synth.c, ch. III.1.3, tiled texture image synthesis: an edge-matche
+ *  17400: src/tiled/validate.c, checks a hand-made tiled texture (the thesis's Figs. 39,
+ *  17528: src/tiled/builtin.c, built-in meshes and exemplars for demos and tests: the
+ *  17725: src/tiled/render.c, a software rendering of a mapped mesh (the thesis rendered
+ *  17948: src/tiled/io.c, files. Meshes and exemplars in; the mapped mesh with its t
  */
 /* tiled.h - seamless, singularity-free tiled textures on quad meshes.
  *
@@ -7963,12 +7963,56 @@ PW__DEF int pw_ztriplets_add(pw_triplets *t, int i, int j, double re, double im,
     return r == PW_OK ? pw_triplets_add(t, i, 2 * j + 1, im, e) : r;
 }
 
+/* ---- rows in blocks, on threads ---------------------------------------------- */
+
+/* How the solvers' row loops may run on threads: pfor(par, n, task, ctx)
+ * runs task(ctx, i) for every i in [0, n), in any order (pw_parallel_for
+ * and its pw_parallel, which the headers define later; pfor NULL: in order
+ * on the calling thread). Rows go to tasks in blocks that depend on the
+ * number of rows only, and every sum over rows is a sum per block and then
+ * the blocks in order, so results are the same bits on any number of
+ * threads and in any task order. */
+struct pw_parallel;
+typedef struct pw_zrun {
+    void (*pfor)(const struct pw_parallel *par, int n, void (*task)(void *, int), void *ctx);
+    const struct pw_parallel *par;
+} pw_zrun;
+
+/* At most this many blocks of at least PW__ZBLOCK_ROWS rows; loops over
+ * fewer than PW__ZPAR_ROWS rows stay on the calling thread (a parallel for
+ * costs more than they do). */
+#define PW__ZBLOCKS 16
+#define PW__ZBLOCK_ROWS 4096
+#define PW__ZPAR_ROWS 16384
+
+/* The number of blocks of n rows. */
+PW__DEF int pw__zblocks(int n)
+{
+    int nb = (n + PW__ZBLOCK_ROWS - 1) / PW__ZBLOCK_ROWS;
+    return nb < 1 ? 1 : (nb > PW__ZBLOCKS ? PW__ZBLOCKS : nb);
+}
+
+/* The first row of block b of nb over n rows. */
+PW__DEF int pw__zblock_start(int n, int nb, int b) { return (int)((long long)n * b / nb); }
+
+/* Runs task(ctx, b) for the nb blocks of n rows, on run's threads when
+ * there are enough rows. */
+PW__DEF void pw__zfor(const pw_zrun *run, int n, int nb, void (*task)(void *, int), void *ctx)
+{
+    int b;
+    if (run && run->pfor && n >= PW__ZPAR_ROWS && nb > 1) run->pfor(run->par, nb, task, ctx);
+    else
+        for (b = 0; b < nb; b++) task(ctx, b);
+}
+
 /* n x n complex CSR: row i holds col[k], (val[2k], val[2k+1]) for
- * rowptr[i] <= k < rowptr[i+1], columns increasing. */
+ * rowptr[i] <= k < rowptr[i+1], columns increasing. run (NULL: one
+ * thread) says how its products run. */
 typedef struct pw_zcsr {
     int n;
     int *rowptr, *col;
     double *val; /* 2 per entry */
+    const pw_zrun *run;
 } pw_zcsr;
 
 PW__DEF void pw_zcsr_free(const pw_alloc *a, pw_zcsr *A)
@@ -8013,22 +8057,49 @@ PW__DEF int pw_zcsr_from_triplets(const pw_alloc *a, const pw_triplets *t, pw_zc
     return PW_OK;
 }
 
-/* y = A x over complex vectors (2n doubles); returns Re(x^H y). */
-PW__DEF double pw_zcsr_mul(const pw_zcsr *A, const double *x, double *y)
+/* A product y = A x by blocks of rows: each block's share of Re(x^H y). */
+typedef struct pw__zmul {
+    const pw_zcsr *A;
+    const double *x;
+    double *y;
+    int nb;
+    double part[PW__ZBLOCKS];
+} pw__zmul;
+
+PW__DEF void pw__zmul_block(void *ctx, int b)
 {
+    pw__zmul *w = (pw__zmul *)ctx;
+    const pw_zcsr *A = w->A;
+    const double *x = w->x;
     double d = 0.0;
-    int i, k;
-    for (i = 0; i < A->n; i++) {
+    int i, k, hi = pw__zblock_start(A->n, w->nb, b + 1);
+    for (i = pw__zblock_start(A->n, w->nb, b); i < hi; i++) {
         double sr = 0.0, si = 0.0;
         for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++) {
             const double *v = A->val + 2 * k, *xx = x + 2 * A->col[k];
             sr += v[0] * xx[0] - v[1] * xx[1];
             si += v[0] * xx[1] + v[1] * xx[0];
         }
-        y[2 * i] = sr;
-        y[2 * i + 1] = si;
+        w->y[2 * i] = sr;
+        w->y[2 * i + 1] = si;
         d += x[2 * i] * sr + x[2 * i + 1] * si;
     }
+    w->part[b] = d;
+}
+
+/* y = A x over complex vectors (2n doubles), on A->run's threads; returns
+ * Re(x^H y), summed per block of rows and then over the blocks in order. */
+PW__DEF double pw_zcsr_mul(const pw_zcsr *A, const double *x, double *y)
+{
+    pw__zmul w;
+    double d = 0.0;
+    int b;
+    w.A = A;
+    w.x = x;
+    w.y = y;
+    w.nb = pw__zblocks(A->n);
+    pw__zfor(A->run, A->n, w.nb, pw__zmul_block, &w);
+    for (b = 0; b < w.nb; b++) d += w.part[b];
     return d;
 }
 
@@ -8232,13 +8303,24 @@ PW__DEF int pw_zic0_solve(const pw_alloc *a, const pw_zcsr *A, const double *b, 
  *     backward after, so the cycle is a symmetric positive definite
  *     preconditioner for CG; the coarsest level (at most 512 unknowns) is
  *     solved by a dense Cholesky factor.
+ *   - The Gauss-Seidel sweeps are hybrid, so that they run on threads:
+ *     each block of rows (zsparse.h's blocks, set by the number of rows
+ *     alone) sweeps its own rows in order and reads the rows of other
+ *     blocks as they were before the sweep; their terms are added to the
+ *     row's diagonal as sum |a_ij| (the l1 smoother of Baker, Falgout,
+ *     Kolev and Yang 2011), which keeps the sweep convergent however the
+ *     blocks cut the graph. Within a block it is the plain sweep, so with
+ *     blocks of 1024 rows or more it smooths about as well.
  *
  *     pw_zamg M;
  *     pw_zamg_setup(NULL, &A, &M, &e);
  *     pw_zamg_solve(NULL, &A, &M, b, x, NULL, &stats, &e);
  *     pw_zamg_free(NULL, &M);
  *
- * Deterministic: every loop runs in index order, no threads. */
+ * Deterministic: the sweeps, residuals, restrictions and prolongations
+ * run by blocks of rows on the matrix's run (zsparse.h), each block
+ * writing its own rows, so the result is the same on any number of
+ * threads; the set-up runs on one. */
 #ifndef PW__ZAMG_V1
 #define PW__ZAMG_V1
 
@@ -8247,12 +8329,16 @@ PW__DEF int pw_zic0_solve(const pw_alloc *a, const pw_zcsr *A, const double *b, 
 #define PW__ZAMG_COARSEST 512
 
 /* One level: its matrix, the prolongation from the next (coarser) level's
- * unknowns (n x nc, complex CSR), and the cycle's vectors (2n doubles). */
+ * unknowns (n x nc, complex CSR) and its adjoint (nc x n), the sums of
+ * |a_ij| over each row's columns in other blocks (l1, n), and the cycle's
+ * vectors (2n doubles). */
 typedef struct pw__zamg_level {
     pw_zcsr A;
     int nc;
     int *prow, *pcol;
     double *pval;
+    pw_zcsr PH;
+    double *l1;
     double *x, *b, *r;
 } pw__zamg_level;
 
@@ -8557,8 +8643,12 @@ PW__DEF int pw__zamg_coarsen(const pw_alloc *a, pw__zamg_level *L, pw_zcsr *C, p
         L->prow = P.rowptr;
         L->pcol = P.col;
         L->pval = P.val;
-    } else pw_zcsr_free(a, &P);
-    pw_zcsr_free(a, &PH);
+        L->PH = PH;
+        L->PH.run = A->run;
+    } else {
+        pw_zcsr_free(a, &P);
+        pw_zcsr_free(a, &PH);
+    }
     pw_zcsr_free(a, &AP);
     pw_free(a, agg);
     pw_free(a, ph);
@@ -8630,6 +8720,26 @@ PW__DEF void pw__zamg_chol_solve(const double *L, int n, const double *b, double
     }
 }
 
+/* The l1 terms of level L's smoother: for every row, sum |a_ij| over
+ * the columns outside its block. */
+PW__DEF int pw__zamg_l1(const pw_alloc *a, pw__zamg_level *L, pw_err *e)
+{
+    const pw_zcsr *A = &L->A;
+    int n = A->n, nb = pw__zblocks(n), b, i, k;
+    L->l1 = (double *)pw_alloc_array(a, (size_t)n, sizeof(double), "multigrid smoother", e);
+    if (!L->l1) return PW_ERR_NOMEM;
+    for (b = 0; b < nb; b++) {
+        int lo = pw__zblock_start(n, nb, b), hi = pw__zblock_start(n, nb, b + 1);
+        for (i = lo; i < hi; i++) {
+            double s = 0.0;
+            for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++)
+                if (A->col[k] < lo || A->col[k] >= hi) s += pw__zamg_abs(A->val + 2 * k);
+            L->l1[i] = s;
+        }
+    }
+    return PW_OK;
+}
+
 /* ---- the hierarchy and the cycle ---------------------------------------------- */
 
 PW__DEF void pw_zamg_free(const pw_alloc *a, pw_zamg *M)
@@ -8641,6 +8751,8 @@ PW__DEF void pw_zamg_free(const pw_alloc *a, pw_zamg *M)
         pw_free(a, L->prow);
         pw_free(a, L->pcol);
         pw_free(a, L->pval);
+        pw_zcsr_free(a, &L->PH);
+        pw_free(a, L->l1);
         pw_free(a, L->x);
         pw_free(a, L->b);
         pw_free(a, L->r);
@@ -8665,8 +8777,10 @@ PW__DEF int pw_zamg_setup(const pw_alloc *a, const pw_zcsr *A, pw_zamg *M, pw_er
         L->b = (double *)pw_alloc_array(a, n2, sizeof(double), "multigrid vectors", e);
         L->r = (double *)pw_alloc_array(a, n2, sizeof(double), "multigrid vectors", e);
         if (!L->x || !L->b || !L->r) r = PW_ERR_NOMEM;
+        if (r == PW_OK) r = pw__zamg_l1(a, L, e);
         if (r == PW_OK) r = pw__zamg_coarsen(a, L, &M->lev[l + 1].A, e);
         if (r != PW_OK) break;
+        M->lev[l + 1].A.run = A->run;
         M->levels = ++l;
         if (M->lev[l].A.n * 10 > L->A.n * 9) break; /* aggregation stalls: solve here */
     }
@@ -8688,18 +8802,120 @@ PW__DEF int pw_zamg_setup(const pw_alloc *a, const pw_zcsr *A, pw_zamg *M, pw_er
     return r;
 }
 
-/* One Gauss-Seidel sweep on A x = b, forward or backward. */
-PW__DEF void pw__zamg_gs(const pw_zcsr *A, const double *b, double *x, int backward)
+/* One step of the cycle at one level, by blocks of rows. */
+typedef struct pw__zamg_step {
+    const pw__zamg_level *L, *C;
+    int nb;
+} pw__zamg_step;
+
+/* The forward sweep of block b from x = 0: rows of other blocks read 0,
+ * the block's rows above the current one too (not swept yet). */
+PW__DEF void pw__zamg_pre(void *ctx, int b)
 {
-    int n = A->n, s, i, k;
-    for (s = 0; s < n; s++) {
-        double sr, si, dr = 0.0;
-        i = backward ? n - 1 - s : s;
-        sr = b[2 * i];
-        si = b[2 * i + 1];
+    const pw__zamg_step *w = (const pw__zamg_step *)ctx;
+    const pw_zcsr *A = &w->L->A;
+    const double *rhs = w->L->b;
+    double *x = w->L->x;
+    int i, k, lo = pw__zblock_start(A->n, w->nb, b), hi = pw__zblock_start(A->n, w->nb, b + 1);
+    for (i = lo; i < hi; i++) {
+        double sr = rhs[2 * i], si = rhs[2 * i + 1], dr = 0.0;
+        for (k = A->rowptr[i]; k < A->rowptr[i + 1] && A->col[k] <= i; k++) {
+            const double *v = A->val + 2 * k, *y = x + 2 * A->col[k];
+            if (A->col[k] == i) dr = v[0];
+            else if (A->col[k] >= lo) {
+                sr -= v[0] * y[0] - v[1] * y[1];
+                si -= v[0] * y[1] + v[1] * y[0];
+            }
+        }
+        x[2 * i] = dr > 0.0 ? sr / (dr + w->L->l1[i]) : 0.0;
+        x[2 * i + 1] = dr > 0.0 ? si / (dr + w->L->l1[i]) : 0.0;
+    }
+}
+
+/* r = b - A x after the forward sweep of block b: row i was solved with
+ * the block's rows below it and (a_ii + l1_i) on the diagonal, so what is
+ * left is l1_i x_i less the terms of the block's rows above it and of the
+ * other blocks' rows; a row without a positive diagonal (all zero, A
+ * being semidefinite) keeps r_i = b_i. */
+PW__DEF void pw__zamg_residual(void *ctx, int b)
+{
+    const pw__zamg_step *w = (const pw__zamg_step *)ctx;
+    const pw_zcsr *A = &w->L->A;
+    const double *x = w->L->x, *rhs = w->L->b;
+    double *r = w->L->r;
+    int i, k, lo = pw__zblock_start(A->n, w->nb, b), hi = pw__zblock_start(A->n, w->nb, b + 1);
+    for (i = lo; i < hi; i++) {
+        double sr = w->L->l1[i] * x[2 * i], si = w->L->l1[i] * x[2 * i + 1], d = 0.0;
         for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++) {
             const double *v = A->val + 2 * k, *y = x + 2 * A->col[k];
-            if (A->col[k] == i) {
+            int j = A->col[k];
+            if (j == i) d = v[0];
+            else if (j > i || j < lo) {
+                sr -= v[0] * y[0] - v[1] * y[1];
+                si -= v[0] * y[1] + v[1] * y[0];
+            }
+        }
+        r[2 * i] = d > 0.0 ? sr : rhs[2 * i];
+        r[2 * i + 1] = d > 0.0 ? si : rhs[2 * i + 1];
+    }
+}
+
+/* b_c = P^H r over block b of the coarse rows (the adjoint's rows: each
+ * sum over the fine rows in order). */
+PW__DEF void pw__zamg_restrict(void *ctx, int b)
+{
+    const pw__zamg_step *w = (const pw__zamg_step *)ctx;
+    const pw_zcsr *H = &w->L->PH;
+    const double *r = w->L->r;
+    double *bc = w->C->b;
+    int I, k, hi = pw__zblock_start(H->n, w->nb, b + 1);
+    for (I = pw__zblock_start(H->n, w->nb, b); I < hi; I++) {
+        double sr = 0.0, si = 0.0;
+        for (k = H->rowptr[I]; k < H->rowptr[I + 1]; k++) {
+            const double *h = H->val + 2 * k, *y = r + 2 * H->col[k];
+            sr += h[0] * y[0] - h[1] * y[1];
+            si += h[0] * y[1] + h[1] * y[0];
+        }
+        bc[2 * I] = sr;
+        bc[2 * I + 1] = si;
+    }
+}
+
+/* x += P x_c over block b, and r = x: what the backward sweep reads of
+ * the rows of other blocks. */
+PW__DEF void pw__zamg_prolong_add(void *ctx, int b)
+{
+    const pw__zamg_step *w = (const pw__zamg_step *)ctx;
+    const pw__zamg_level *L = w->L;
+    const double *xc = w->C->x;
+    int i, k, hi = pw__zblock_start(L->A.n, w->nb, b + 1);
+    for (i = pw__zblock_start(L->A.n, w->nb, b); i < hi; i++) {
+        double sr = L->x[2 * i], si = L->x[2 * i + 1];
+        for (k = L->prow[i]; k < L->prow[i + 1]; k++) {
+            const double *p = L->pval + 2 * k, *y = xc + 2 * L->pcol[k];
+            sr += p[0] * y[0] - p[1] * y[1];
+            si += p[0] * y[1] + p[1] * y[0];
+        }
+        L->x[2 * i] = L->r[2 * i] = sr;
+        L->x[2 * i + 1] = L->r[2 * i + 1] = si;
+    }
+}
+
+/* The backward sweep of block b: rows of other blocks read as they were
+ * before it (r, pw__zamg_prolong_add). */
+PW__DEF void pw__zamg_post(void *ctx, int b)
+{
+    const pw__zamg_step *w = (const pw__zamg_step *)ctx;
+    const pw_zcsr *A = &w->L->A;
+    const double *rhs = w->L->b, *old = w->L->r;
+    double *x = w->L->x;
+    int i, k, lo = pw__zblock_start(A->n, w->nb, b), hi = pw__zblock_start(A->n, w->nb, b + 1);
+    for (i = hi - 1; i >= lo; i--) { /* x_i += (b - A x)_i / (a_ii + l1_i) */
+        double sr = rhs[2 * i] + w->L->l1[i] * x[2 * i], si = rhs[2 * i + 1] + w->L->l1[i] * x[2 * i + 1], dr = 0.0;
+        for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++) {
+            int j = A->col[k];
+            const double *v = A->val + 2 * k, *y = (j >= lo && j < hi ? x : old) + 2 * j;
+            if (j == i) {
                 dr = v[0];
                 continue;
             }
@@ -8707,66 +8923,33 @@ PW__DEF void pw__zamg_gs(const pw_zcsr *A, const double *b, double *x, int backw
             si -= v[0] * y[1] + v[1] * y[0];
         }
         if (dr > 0.0) {
-            x[2 * i] = sr / dr;
-            x[2 * i + 1] = si / dr;
+            x[2 * i] = sr / (dr + w->L->l1[i]);
+            x[2 * i + 1] = si / (dr + w->L->l1[i]);
         }
-    }
-}
-
-/* r = b - A x after one forward Gauss-Seidel sweep from x = 0: row i was
- * solved with the new x_j (j < i) and zeros above, so only the part above
- * the diagonal is left, r_i = -sum_{j > i} a_ij x_j (half a product); a
- * row without a positive diagonal (all zero, A being semidefinite) keeps
- * r_i = b_i. */
-PW__DEF void pw__zamg_upper_residual(const pw_zcsr *A, const double *b, const double *x, double *r)
-{
-    int i, k;
-    for (i = 0; i < A->n; i++) {
-        double sr = 0.0, si = 0.0, d = 0.0;
-        for (k = A->rowptr[i + 1] - 1; k >= A->rowptr[i] && A->col[k] >= i; k--) {
-            const double *v = A->val + 2 * k, *y = x + 2 * A->col[k];
-            if (A->col[k] == i) {
-                d = v[0];
-                continue;
-            }
-            sr -= v[0] * y[0] - v[1] * y[1];
-            si -= v[0] * y[1] + v[1] * y[0];
-        }
-        r[2 * i] = d > 0.0 ? sr : b[2 * i];
-        r[2 * i + 1] = d > 0.0 ? si : b[2 * i + 1];
     }
 }
 
 /* The V-cycle from level l: lev[l].x ~ A_l^-1 lev[l].b, from x = 0. */
 PW__DEF void pw__zamg_cycle(const pw_zamg *M, int l)
 {
-    const pw__zamg_level *L = &M->lev[l], *C;
-    int n, i, k;
+    const pw__zamg_level *L = &M->lev[l];
+    pw__zamg_step w, wc;
+    int n;
     if (l == M->levels) {
         pw__zamg_chol_solve(M->chol, M->nc, L->b, L->x);
         return;
     }
-    C = &M->lev[l + 1];
     n = L->A.n;
-    memset(L->x, 0, sizeof(double) * 2 * (size_t)n);
-    pw__zamg_gs(&L->A, L->b, L->x, 0);
-    pw__zamg_upper_residual(&L->A, L->b, L->x, L->r);
-    memset(C->b, 0, sizeof(double) * 2 * (size_t)C->A.n);
-    for (i = 0; i < n; i++) /* b_c = P^H r */
-        for (k = L->prow[i]; k < L->prow[i + 1]; k++) {
-            const double *p = L->pval + 2 * k, *rr = L->r + 2 * i;
-            double *bc = C->b + 2 * L->pcol[k];
-            bc[0] += p[0] * rr[0] + p[1] * rr[1];
-            bc[1] += p[0] * rr[1] - p[1] * rr[0];
-        }
+    w.L = wc.L = L;
+    w.C = wc.C = &M->lev[l + 1];
+    w.nb = pw__zblocks(n);
+    wc.nb = pw__zblocks(L->nc);
+    pw__zfor(L->A.run, n, w.nb, pw__zamg_pre, &w);
+    pw__zfor(L->A.run, n, w.nb, pw__zamg_residual, &w);
+    pw__zfor(L->A.run, L->nc, wc.nb, pw__zamg_restrict, &wc);
     pw__zamg_cycle(M, l + 1);
-    for (i = 0; i < n; i++) /* x += P x_c */
-        for (k = L->prow[i]; k < L->prow[i + 1]; k++) {
-            const double *p = L->pval + 2 * k, *xc = C->x + 2 * L->pcol[k];
-            L->x[2 * i] += p[0] * xc[0] - p[1] * xc[1];
-            L->x[2 * i + 1] += p[0] * xc[1] + p[1] * xc[0];
-        }
-    pw__zamg_gs(&L->A, L->b, L->x, 1);
+    pw__zfor(L->A.run, n, w.nb, pw__zamg_prolong_add, &w);
+    pw__zfor(L->A.run, n, w.nb, pw__zamg_post, &w);
 }
 
 /* z = one V-cycle applied to r (2n doubles each). */
@@ -8796,11 +8979,12 @@ PW__DEF int pw_zamg_solve(const pw_alloc *a, const pw_zcsr *A, const pw_zamg *M,
 }
 
 /* Unknowns from which multigrid pays against IC(0) (its setup costs about
- * ten IC(0)-PCG iterations; on pgp's systems the two break even near 40K
- * unknowns), and the diagonal excess below which it is used: a matrix whose
+ * ten IC(0)-PCG iterations; on pgp's systems the two break even near 20K
+ * unknowns: the PGP of CGAL's bunny00, 37.7K unknowns, takes 10 V-cycles
+ * where IC(0) takes 80), and the diagonal excess below which it is used: a matrix whose
  * diagonal exceeds the off-diagonal sums by more than 0.5% on average is so
  * well conditioned that IC(0) needs only a few iterations. */
-#define PW_ZAMG_MIN_UNKNOWNS 40000
+#define PW_ZAMG_MIN_UNKNOWNS 20000
 #define PW_ZAMG_MAX_EXCESS 0.005
 
 /* sum_i (a_ii - sum_j |a_ij|) / sum_i a_ii. */
@@ -9928,6 +10112,8 @@ typedef struct pw_periodic {
                              order of the unknowns of every solve */
     float scale0;         /* default tile side */
     int area_weights;     /* 1: the paper's A_T + A_T' edge weights */
+    pw_zrun run;          /* how the complex solves run (zsparse.h; zero: on
+                             the calling thread), set by the method */
 } pw_periodic;
 
 /* ---- sparse symmetric positive definite solves ----------------------------- */
@@ -9937,9 +10123,10 @@ typedef struct pw_periodic {
  * triplets) by IC(0)-preconditioned CG, or complex Hermitian (zsparse.h:
  * n x 2n triplets, b and x complex) by CG with a multigrid (zamg.h) or
  * IC(0) preconditioner, whichever pays (pw_zpd_solve). */
-PW__DEF int pw_periodic_pd_solve(const pw_alloc *a, const pw_triplets *t, const double *b, double *x, double tol,
+PW__DEF int pw_periodic_pd_solve(const pw_periodic *P, const pw_triplets *t, const double *b, double *x, double tol,
                                  pw_err *e)
 {
+    const pw_alloc *a = &P->a;
     const int complex = t->m == 2 * t->n;
     pw_csr A;
     pw_ic0 L;
@@ -9950,6 +10137,7 @@ PW__DEF int pw_periodic_pd_solve(const pw_alloc *a, const pw_triplets *t, const 
     o.max_iter = 4000;
     if (complex) {
         if ((r = pw_zcsr_from_triplets(a, t, &ZA, e)) != PW_OK) return r;
+        ZA.run = &P->run;
         r = pw_zpd_solve(a, &ZA, b, x, &o, e);
         pw_zcsr_free(a, &ZA);
         return r;
@@ -10180,7 +10368,7 @@ PW__DEF int pw_periodic_dir_smooth(pw_periodic *P, const unsigned char *free, co
     for (h = 0; r == PW_OK && n > 0 && h < 3 * m->nf; h++)
         if (m->hm.twin[h] > h && (id[h / 3] >= 0 || id[m->hm.twin[h] / 3] >= 0))
             r = pw_periodic_dir_edge(P, id, h, &t, b, e);
-    if (r == PW_OK && n > 0) r = pw_periodic_pd_solve(&P->a, &t, b, x, PW_PERIODIC_DIR_TOL, e);
+    if (r == PW_OK && n > 0) r = pw_periodic_pd_solve(P, &t, b, x, PW_PERIODIC_DIR_TOL, e);
     for (f = 0; r == PW_OK && n > 0 && f < m->nf; f++)
         if (id[f] >= 0) {
             double *z = P->dir + 2 * f;
@@ -10469,8 +10657,10 @@ PW__DEF int pw_periodic_solve_k(pw_periodic *P, double *z, const int *id, int n,
     for (q = 0; r == PW_OK && q < t.count; q++)                     /* the (real) diagonal of F's matrix */
         if (t.col[q] == 2 * t.row[q]) dg[t.row[q]] += t.val[q];
     if (r == PW_OK) r = pw_periodic_propagate(P, z, id, k, e);
-    if (r == PW_OK && (r = pw_zcsr_from_triplets(&P->a, &t, &A, e)) == PW_OK)
+    if (r == PW_OK && (r = pw_zcsr_from_triplets(&P->a, &t, &A, e)) == PW_OK) {
+        A.run = &P->run;
         r = pw_periodic_diag_index(&P->a, &A, &dpos, e);
+    }
     if (r == PW_OK && !(rhs = (double *)pw_alloc_array(&P->a, (size_t)n * 2, sizeof(double), "PGP", e)))
         r = PW_ERR_NOMEM;
     o.max_iter = 4000;

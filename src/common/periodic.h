@@ -47,6 +47,8 @@ typedef struct pw_periodic {
                              order of the unknowns of every solve */
     float scale0;         /* default tile side */
     int area_weights;     /* 1: the paper's A_T + A_T' edge weights */
+    pw_zrun run;          /* how the complex solves run (zsparse.h; zero: on
+                             the calling thread), set by the method */
 } pw_periodic;
 
 /* ---- sparse symmetric positive definite solves ----------------------------- */
@@ -56,9 +58,10 @@ typedef struct pw_periodic {
  * triplets) by IC(0)-preconditioned CG, or complex Hermitian (zsparse.h:
  * n x 2n triplets, b and x complex) by CG with a multigrid (zamg.h) or
  * IC(0) preconditioner, whichever pays (pw_zpd_solve). */
-PW__DEF int pw_periodic_pd_solve(const pw_alloc *a, const pw_triplets *t, const double *b, double *x, double tol,
+PW__DEF int pw_periodic_pd_solve(const pw_periodic *P, const pw_triplets *t, const double *b, double *x, double tol,
                                  pw_err *e)
 {
+    const pw_alloc *a = &P->a;
     const int complex = t->m == 2 * t->n;
     pw_csr A;
     pw_ic0 L;
@@ -69,6 +72,7 @@ PW__DEF int pw_periodic_pd_solve(const pw_alloc *a, const pw_triplets *t, const 
     o.max_iter = 4000;
     if (complex) {
         if ((r = pw_zcsr_from_triplets(a, t, &ZA, e)) != PW_OK) return r;
+        ZA.run = &P->run;
         r = pw_zpd_solve(a, &ZA, b, x, &o, e);
         pw_zcsr_free(a, &ZA);
         return r;
@@ -299,7 +303,7 @@ PW__DEF int pw_periodic_dir_smooth(pw_periodic *P, const unsigned char *free, co
     for (h = 0; r == PW_OK && n > 0 && h < 3 * m->nf; h++)
         if (m->hm.twin[h] > h && (id[h / 3] >= 0 || id[m->hm.twin[h] / 3] >= 0))
             r = pw_periodic_dir_edge(P, id, h, &t, b, e);
-    if (r == PW_OK && n > 0) r = pw_periodic_pd_solve(&P->a, &t, b, x, PW_PERIODIC_DIR_TOL, e);
+    if (r == PW_OK && n > 0) r = pw_periodic_pd_solve(P, &t, b, x, PW_PERIODIC_DIR_TOL, e);
     for (f = 0; r == PW_OK && n > 0 && f < m->nf; f++)
         if (id[f] >= 0) {
             double *z = P->dir + 2 * f;
@@ -588,8 +592,10 @@ PW__DEF int pw_periodic_solve_k(pw_periodic *P, double *z, const int *id, int n,
     for (q = 0; r == PW_OK && q < t.count; q++)                     /* the (real) diagonal of F's matrix */
         if (t.col[q] == 2 * t.row[q]) dg[t.row[q]] += t.val[q];
     if (r == PW_OK) r = pw_periodic_propagate(P, z, id, k, e);
-    if (r == PW_OK && (r = pw_zcsr_from_triplets(&P->a, &t, &A, e)) == PW_OK)
+    if (r == PW_OK && (r = pw_zcsr_from_triplets(&P->a, &t, &A, e)) == PW_OK) {
+        A.run = &P->run;
         r = pw_periodic_diag_index(&P->a, &A, &dpos, e);
+    }
     if (r == PW_OK && !(rhs = (double *)pw_alloc_array(&P->a, (size_t)n * 2, sizeof(double), "PGP", e)))
         r = PW_ERR_NOMEM;
     o.max_iter = 4000;

@@ -22,13 +22,24 @@
  *     backward after, so the cycle is a symmetric positive definite
  *     preconditioner for CG; the coarsest level (at most 512 unknowns) is
  *     solved by a dense Cholesky factor.
+ *   - The Gauss-Seidel sweeps are hybrid, so that they run on threads:
+ *     each block of rows (zsparse.h's blocks, set by the number of rows
+ *     alone) sweeps its own rows in order and reads the rows of other
+ *     blocks as they were before the sweep; their terms are added to the
+ *     row's diagonal as sum |a_ij| (the l1 smoother of Baker, Falgout,
+ *     Kolev and Yang 2011), which keeps the sweep convergent however the
+ *     blocks cut the graph. Within a block it is the plain sweep, so with
+ *     blocks of 1024 rows or more it smooths about as well.
  *
  *     pw_zamg M;
  *     pw_zamg_setup(NULL, &A, &M, &e);
  *     pw_zamg_solve(NULL, &A, &M, b, x, NULL, &stats, &e);
  *     pw_zamg_free(NULL, &M);
  *
- * Deterministic: every loop runs in index order, no threads. */
+ * Deterministic: the sweeps, residuals, restrictions and prolongations
+ * run by blocks of rows on the matrix's run (zsparse.h), each block
+ * writing its own rows, so the result is the same on any number of
+ * threads; the set-up runs on one. */
 #ifndef PW__ZAMG_V1
 #define PW__ZAMG_V1
 
@@ -38,12 +49,16 @@
 #define PW__ZAMG_COARSEST 512
 
 /* One level: its matrix, the prolongation from the next (coarser) level's
- * unknowns (n x nc, complex CSR), and the cycle's vectors (2n doubles). */
+ * unknowns (n x nc, complex CSR) and its adjoint (nc x n), the sums of
+ * |a_ij| over each row's columns in other blocks (l1, n), and the cycle's
+ * vectors (2n doubles). */
 typedef struct pw__zamg_level {
     pw_zcsr A;
     int nc;
     int *prow, *pcol;
     double *pval;
+    pw_zcsr PH;
+    double *l1;
     double *x, *b, *r;
 } pw__zamg_level;
 
@@ -348,8 +363,12 @@ PW__DEF int pw__zamg_coarsen(const pw_alloc *a, pw__zamg_level *L, pw_zcsr *C, p
         L->prow = P.rowptr;
         L->pcol = P.col;
         L->pval = P.val;
-    } else pw_zcsr_free(a, &P);
-    pw_zcsr_free(a, &PH);
+        L->PH = PH;
+        L->PH.run = A->run;
+    } else {
+        pw_zcsr_free(a, &P);
+        pw_zcsr_free(a, &PH);
+    }
     pw_zcsr_free(a, &AP);
     pw_free(a, agg);
     pw_free(a, ph);
@@ -421,6 +440,26 @@ PW__DEF void pw__zamg_chol_solve(const double *L, int n, const double *b, double
     }
 }
 
+/* The l1 terms of level L's smoother: for every row, sum |a_ij| over
+ * the columns outside its block. */
+PW__DEF int pw__zamg_l1(const pw_alloc *a, pw__zamg_level *L, pw_err *e)
+{
+    const pw_zcsr *A = &L->A;
+    int n = A->n, nb = pw__zblocks(n), b, i, k;
+    L->l1 = (double *)pw_alloc_array(a, (size_t)n, sizeof(double), "multigrid smoother", e);
+    if (!L->l1) return PW_ERR_NOMEM;
+    for (b = 0; b < nb; b++) {
+        int lo = pw__zblock_start(n, nb, b), hi = pw__zblock_start(n, nb, b + 1);
+        for (i = lo; i < hi; i++) {
+            double s = 0.0;
+            for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++)
+                if (A->col[k] < lo || A->col[k] >= hi) s += pw__zamg_abs(A->val + 2 * k);
+            L->l1[i] = s;
+        }
+    }
+    return PW_OK;
+}
+
 /* ---- the hierarchy and the cycle ---------------------------------------------- */
 
 PW__DEF void pw_zamg_free(const pw_alloc *a, pw_zamg *M)
@@ -432,6 +471,8 @@ PW__DEF void pw_zamg_free(const pw_alloc *a, pw_zamg *M)
         pw_free(a, L->prow);
         pw_free(a, L->pcol);
         pw_free(a, L->pval);
+        pw_zcsr_free(a, &L->PH);
+        pw_free(a, L->l1);
         pw_free(a, L->x);
         pw_free(a, L->b);
         pw_free(a, L->r);
@@ -456,8 +497,10 @@ PW__DEF int pw_zamg_setup(const pw_alloc *a, const pw_zcsr *A, pw_zamg *M, pw_er
         L->b = (double *)pw_alloc_array(a, n2, sizeof(double), "multigrid vectors", e);
         L->r = (double *)pw_alloc_array(a, n2, sizeof(double), "multigrid vectors", e);
         if (!L->x || !L->b || !L->r) r = PW_ERR_NOMEM;
+        if (r == PW_OK) r = pw__zamg_l1(a, L, e);
         if (r == PW_OK) r = pw__zamg_coarsen(a, L, &M->lev[l + 1].A, e);
         if (r != PW_OK) break;
+        M->lev[l + 1].A.run = A->run;
         M->levels = ++l;
         if (M->lev[l].A.n * 10 > L->A.n * 9) break; /* aggregation stalls: solve here */
     }
@@ -479,18 +522,120 @@ PW__DEF int pw_zamg_setup(const pw_alloc *a, const pw_zcsr *A, pw_zamg *M, pw_er
     return r;
 }
 
-/* One Gauss-Seidel sweep on A x = b, forward or backward. */
-PW__DEF void pw__zamg_gs(const pw_zcsr *A, const double *b, double *x, int backward)
+/* One step of the cycle at one level, by blocks of rows. */
+typedef struct pw__zamg_step {
+    const pw__zamg_level *L, *C;
+    int nb;
+} pw__zamg_step;
+
+/* The forward sweep of block b from x = 0: rows of other blocks read 0,
+ * the block's rows above the current one too (not swept yet). */
+PW__DEF void pw__zamg_pre(void *ctx, int b)
 {
-    int n = A->n, s, i, k;
-    for (s = 0; s < n; s++) {
-        double sr, si, dr = 0.0;
-        i = backward ? n - 1 - s : s;
-        sr = b[2 * i];
-        si = b[2 * i + 1];
+    const pw__zamg_step *w = (const pw__zamg_step *)ctx;
+    const pw_zcsr *A = &w->L->A;
+    const double *rhs = w->L->b;
+    double *x = w->L->x;
+    int i, k, lo = pw__zblock_start(A->n, w->nb, b), hi = pw__zblock_start(A->n, w->nb, b + 1);
+    for (i = lo; i < hi; i++) {
+        double sr = rhs[2 * i], si = rhs[2 * i + 1], dr = 0.0;
+        for (k = A->rowptr[i]; k < A->rowptr[i + 1] && A->col[k] <= i; k++) {
+            const double *v = A->val + 2 * k, *y = x + 2 * A->col[k];
+            if (A->col[k] == i) dr = v[0];
+            else if (A->col[k] >= lo) {
+                sr -= v[0] * y[0] - v[1] * y[1];
+                si -= v[0] * y[1] + v[1] * y[0];
+            }
+        }
+        x[2 * i] = dr > 0.0 ? sr / (dr + w->L->l1[i]) : 0.0;
+        x[2 * i + 1] = dr > 0.0 ? si / (dr + w->L->l1[i]) : 0.0;
+    }
+}
+
+/* r = b - A x after the forward sweep of block b: row i was solved with
+ * the block's rows below it and (a_ii + l1_i) on the diagonal, so what is
+ * left is l1_i x_i less the terms of the block's rows above it and of the
+ * other blocks' rows; a row without a positive diagonal (all zero, A
+ * being semidefinite) keeps r_i = b_i. */
+PW__DEF void pw__zamg_residual(void *ctx, int b)
+{
+    const pw__zamg_step *w = (const pw__zamg_step *)ctx;
+    const pw_zcsr *A = &w->L->A;
+    const double *x = w->L->x, *rhs = w->L->b;
+    double *r = w->L->r;
+    int i, k, lo = pw__zblock_start(A->n, w->nb, b), hi = pw__zblock_start(A->n, w->nb, b + 1);
+    for (i = lo; i < hi; i++) {
+        double sr = w->L->l1[i] * x[2 * i], si = w->L->l1[i] * x[2 * i + 1], d = 0.0;
         for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++) {
             const double *v = A->val + 2 * k, *y = x + 2 * A->col[k];
-            if (A->col[k] == i) {
+            int j = A->col[k];
+            if (j == i) d = v[0];
+            else if (j > i || j < lo) {
+                sr -= v[0] * y[0] - v[1] * y[1];
+                si -= v[0] * y[1] + v[1] * y[0];
+            }
+        }
+        r[2 * i] = d > 0.0 ? sr : rhs[2 * i];
+        r[2 * i + 1] = d > 0.0 ? si : rhs[2 * i + 1];
+    }
+}
+
+/* b_c = P^H r over block b of the coarse rows (the adjoint's rows: each
+ * sum over the fine rows in order). */
+PW__DEF void pw__zamg_restrict(void *ctx, int b)
+{
+    const pw__zamg_step *w = (const pw__zamg_step *)ctx;
+    const pw_zcsr *H = &w->L->PH;
+    const double *r = w->L->r;
+    double *bc = w->C->b;
+    int I, k, hi = pw__zblock_start(H->n, w->nb, b + 1);
+    for (I = pw__zblock_start(H->n, w->nb, b); I < hi; I++) {
+        double sr = 0.0, si = 0.0;
+        for (k = H->rowptr[I]; k < H->rowptr[I + 1]; k++) {
+            const double *h = H->val + 2 * k, *y = r + 2 * H->col[k];
+            sr += h[0] * y[0] - h[1] * y[1];
+            si += h[0] * y[1] + h[1] * y[0];
+        }
+        bc[2 * I] = sr;
+        bc[2 * I + 1] = si;
+    }
+}
+
+/* x += P x_c over block b, and r = x: what the backward sweep reads of
+ * the rows of other blocks. */
+PW__DEF void pw__zamg_prolong_add(void *ctx, int b)
+{
+    const pw__zamg_step *w = (const pw__zamg_step *)ctx;
+    const pw__zamg_level *L = w->L;
+    const double *xc = w->C->x;
+    int i, k, hi = pw__zblock_start(L->A.n, w->nb, b + 1);
+    for (i = pw__zblock_start(L->A.n, w->nb, b); i < hi; i++) {
+        double sr = L->x[2 * i], si = L->x[2 * i + 1];
+        for (k = L->prow[i]; k < L->prow[i + 1]; k++) {
+            const double *p = L->pval + 2 * k, *y = xc + 2 * L->pcol[k];
+            sr += p[0] * y[0] - p[1] * y[1];
+            si += p[0] * y[1] + p[1] * y[0];
+        }
+        L->x[2 * i] = L->r[2 * i] = sr;
+        L->x[2 * i + 1] = L->r[2 * i + 1] = si;
+    }
+}
+
+/* The backward sweep of block b: rows of other blocks read as they were
+ * before it (r, pw__zamg_prolong_add). */
+PW__DEF void pw__zamg_post(void *ctx, int b)
+{
+    const pw__zamg_step *w = (const pw__zamg_step *)ctx;
+    const pw_zcsr *A = &w->L->A;
+    const double *rhs = w->L->b, *old = w->L->r;
+    double *x = w->L->x;
+    int i, k, lo = pw__zblock_start(A->n, w->nb, b), hi = pw__zblock_start(A->n, w->nb, b + 1);
+    for (i = hi - 1; i >= lo; i--) { /* x_i += (b - A x)_i / (a_ii + l1_i) */
+        double sr = rhs[2 * i] + w->L->l1[i] * x[2 * i], si = rhs[2 * i + 1] + w->L->l1[i] * x[2 * i + 1], dr = 0.0;
+        for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++) {
+            int j = A->col[k];
+            const double *v = A->val + 2 * k, *y = (j >= lo && j < hi ? x : old) + 2 * j;
+            if (j == i) {
                 dr = v[0];
                 continue;
             }
@@ -498,66 +643,33 @@ PW__DEF void pw__zamg_gs(const pw_zcsr *A, const double *b, double *x, int backw
             si -= v[0] * y[1] + v[1] * y[0];
         }
         if (dr > 0.0) {
-            x[2 * i] = sr / dr;
-            x[2 * i + 1] = si / dr;
+            x[2 * i] = sr / (dr + w->L->l1[i]);
+            x[2 * i + 1] = si / (dr + w->L->l1[i]);
         }
-    }
-}
-
-/* r = b - A x after one forward Gauss-Seidel sweep from x = 0: row i was
- * solved with the new x_j (j < i) and zeros above, so only the part above
- * the diagonal is left, r_i = -sum_{j > i} a_ij x_j (half a product); a
- * row without a positive diagonal (all zero, A being semidefinite) keeps
- * r_i = b_i. */
-PW__DEF void pw__zamg_upper_residual(const pw_zcsr *A, const double *b, const double *x, double *r)
-{
-    int i, k;
-    for (i = 0; i < A->n; i++) {
-        double sr = 0.0, si = 0.0, d = 0.0;
-        for (k = A->rowptr[i + 1] - 1; k >= A->rowptr[i] && A->col[k] >= i; k--) {
-            const double *v = A->val + 2 * k, *y = x + 2 * A->col[k];
-            if (A->col[k] == i) {
-                d = v[0];
-                continue;
-            }
-            sr -= v[0] * y[0] - v[1] * y[1];
-            si -= v[0] * y[1] + v[1] * y[0];
-        }
-        r[2 * i] = d > 0.0 ? sr : b[2 * i];
-        r[2 * i + 1] = d > 0.0 ? si : b[2 * i + 1];
     }
 }
 
 /* The V-cycle from level l: lev[l].x ~ A_l^-1 lev[l].b, from x = 0. */
 PW__DEF void pw__zamg_cycle(const pw_zamg *M, int l)
 {
-    const pw__zamg_level *L = &M->lev[l], *C;
-    int n, i, k;
+    const pw__zamg_level *L = &M->lev[l];
+    pw__zamg_step w, wc;
+    int n;
     if (l == M->levels) {
         pw__zamg_chol_solve(M->chol, M->nc, L->b, L->x);
         return;
     }
-    C = &M->lev[l + 1];
     n = L->A.n;
-    memset(L->x, 0, sizeof(double) * 2 * (size_t)n);
-    pw__zamg_gs(&L->A, L->b, L->x, 0);
-    pw__zamg_upper_residual(&L->A, L->b, L->x, L->r);
-    memset(C->b, 0, sizeof(double) * 2 * (size_t)C->A.n);
-    for (i = 0; i < n; i++) /* b_c = P^H r */
-        for (k = L->prow[i]; k < L->prow[i + 1]; k++) {
-            const double *p = L->pval + 2 * k, *rr = L->r + 2 * i;
-            double *bc = C->b + 2 * L->pcol[k];
-            bc[0] += p[0] * rr[0] + p[1] * rr[1];
-            bc[1] += p[0] * rr[1] - p[1] * rr[0];
-        }
+    w.L = wc.L = L;
+    w.C = wc.C = &M->lev[l + 1];
+    w.nb = pw__zblocks(n);
+    wc.nb = pw__zblocks(L->nc);
+    pw__zfor(L->A.run, n, w.nb, pw__zamg_pre, &w);
+    pw__zfor(L->A.run, n, w.nb, pw__zamg_residual, &w);
+    pw__zfor(L->A.run, L->nc, wc.nb, pw__zamg_restrict, &wc);
     pw__zamg_cycle(M, l + 1);
-    for (i = 0; i < n; i++) /* x += P x_c */
-        for (k = L->prow[i]; k < L->prow[i + 1]; k++) {
-            const double *p = L->pval + 2 * k, *xc = C->x + 2 * L->pcol[k];
-            L->x[2 * i] += p[0] * xc[0] - p[1] * xc[1];
-            L->x[2 * i + 1] += p[0] * xc[1] + p[1] * xc[0];
-        }
-    pw__zamg_gs(&L->A, L->b, L->x, 1);
+    pw__zfor(L->A.run, n, w.nb, pw__zamg_prolong_add, &w);
+    pw__zfor(L->A.run, n, w.nb, pw__zamg_post, &w);
 }
 
 /* z = one V-cycle applied to r (2n doubles each). */
@@ -587,11 +699,12 @@ PW__DEF int pw_zamg_solve(const pw_alloc *a, const pw_zcsr *A, const pw_zamg *M,
 }
 
 /* Unknowns from which multigrid pays against IC(0) (its setup costs about
- * ten IC(0)-PCG iterations; on pgp's systems the two break even near 40K
- * unknowns), and the diagonal excess below which it is used: a matrix whose
+ * ten IC(0)-PCG iterations; on pgp's systems the two break even near 20K
+ * unknowns: the PGP of CGAL's bunny00, 37.7K unknowns, takes 10 V-cycles
+ * where IC(0) takes 80), and the diagonal excess below which it is used: a matrix whose
  * diagonal exceeds the off-diagonal sums by more than 0.5% on average is so
  * well conditioned that IC(0) needs only a few iterations. */
-#define PW_ZAMG_MIN_UNKNOWNS 40000
+#define PW_ZAMG_MIN_UNKNOWNS 20000
 #define PW_ZAMG_MAX_EXCESS 0.005
 
 /* sum_i (a_ii - sum_j |a_ij|) / sum_i a_ii. */

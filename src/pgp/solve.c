@@ -168,6 +168,7 @@ static int pgp__check_options(const pgp_options *o, pw_err *e)
     if (!(o->singular_distortion > 0.0f) || !pw_is_finite(o->singular_distortion))
         return pw_fail(e, PW_ERR_INVALID, "singular_distortion %g is not positive", (double)o->singular_distortion);
     if (o->smoothing < 0) return pw_fail(e, PW_ERR_INVALID, "smoothing %d is negative", o->smoothing);
+    if (o->threads < 0) return pw_fail(e, PW_ERR_INVALID, "threads %d is negative", o->threads);
     if (!(o->integrable >= 0.0f && o->integrable <= 1e6f))
         return pw_fail(e, PW_ERR_INVALID, "integrable %g is not in [0, 1e6]", (double)o->integrable);
     if (o->weights != PGP_WEIGHTS_COTAN && o->weights != PGP_WEIGHTS_AREA)
@@ -310,7 +311,7 @@ static int pgp__integrable(pgp__state *P, pw_err *e)
         r = pw_triplets_init(&t, &P->a, (int)n, (int)n, e);
         for (f = 0; f < P->pp.m.nf && r == PW_OK; f++) r = pgp__curl_rows(P, f, &t, b, e);
         if (r == PW_OK) r = pgp__curl_reg(P, &t, e);
-        if (r == PW_OK) r = pw_periodic_pd_solve(&P->a, &t, b, x, 1e-6, e);
+        if (r == PW_OK) r = pw_periodic_pd_solve(&P->pp, &t, b, x, 1e-6, e);
         if (r == PW_OK) pgp__curl_apply(P, x);
         pw_triplets_free(&t);
     }
@@ -409,6 +410,9 @@ static int pgp__create_map(const pgp_mesh *mesh, const pgp_options *opt, pgp_map
     P->a = a;
     P->pp.a = a;
     P->o = o;
+    P->par = pw_parallel_make(o.threads, o.parallel, o.parallel_pool);
+    P->pp.run.pfor = pw_parallel_for;
+    P->pp.run.par = &P->par;
     out->state = P;
     out->allocator = pgp__allocator(&a);
     if (pgp__setup(P, mesh, e) != PW_OK) return e->code;
