@@ -17,36 +17,36 @@
  *   6439: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
  *   7974: src/common/zsparse.h, complex Hermitian sparse systems, solved by conjugate grad
  *   8328: src/common/zamg.h, a smoothed-aggregation multigrid preconditioner for the co
- *   9084: src/common/raster.h, exact scan conversion of 2D triangles.
- *   9596: src/common/parallel.h, a parallel for, the one way work is split across threads.
- *   9769: src/common/render.h, a small deterministic software renderer for textured trian
- *  11668: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
- *  11855: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
- *  11940: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
- *  12129: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
- *  13049: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
- *  13747: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
- *  13983: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
- *  14747: src/common/periodic.h, the periodic global parameterization of a triangle mesh al
- *  15581: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
- *  16342: src/pgp/tile3.h, sampling a material-space tile (Ray et al. 2009, §2: "a 3
- *  16450: src/common/glue.h, what every method header needs between its public types an
- *  16786: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  17450: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
- *  17947: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
- *  18433: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
- *  18576: src/common/kdtree.h, nearest-neighbour search among n points of dimension d, wi
- *  18919: src/common/pca.h, principal component analysis of vectors streamed one at a 
- *  19106: src/pgp/core.c, pgp.h's glue to the shared core, its defaults, and the map
- *  19320: src/pgp/field.c, §2.1 effect areas and §2.2 interpolation of the constrai
- *  19519: src/pgp/solve.c, §2.3 the periodic global parameterization, the recovery o
- *  20012: src/pgp/edit.c, the public editing calls of a mapping. §2.1 (Ray, Lévy, 
- *  20157: src/pgp/render.c, §3 rendering, and a cleaner treatment of the vortices.
- *  20518: src/pgp/builtin.c, built-in meshes and material-space tiles for demos and tes
- *  20787: src/pgp/io.c, files and memory for pgp.h: material-space tiles (NRRD, or
- *  21135: src/pgp/export.c, the mapping for other programs. A viewer that knows nothin
- *  21361: src/pgp/morph.c, the inputs of §1 (keys brought to the tile size, made til
- *  22040: src/pgp/synth.c, §1.2 constrained tile synthesis, and the whole of §1: ke
+ *   9107: src/common/raster.h, exact scan conversion of 2D triangles.
+ *   9619: src/common/parallel.h, a parallel for, the one way work is split across threads.
+ *   9792: src/common/render.h, a small deterministic software renderer for textured trian
+ *  11691: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
+ *  11878: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
+ *  11963: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
+ *  12152: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
+ *  13072: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
+ *  13770: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
+ *  14006: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
+ *  14770: src/common/periodic.h, the periodic global parameterization of a triangle mesh al
+ *  15630: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
+ *  16391: src/pgp/tile3.h, sampling a material-space tile (Ray et al. 2009, §2: "a 3
+ *  16499: src/common/glue.h, what every method header needs between its public types an
+ *  16835: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  17499: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
+ *  17996: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
+ *  18482: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
+ *  18625: src/common/kdtree.h, nearest-neighbour search among n points of dimension d, wi
+ *  18968: src/common/pca.h, principal component analysis of vectors streamed one at a 
+ *  19155: src/pgp/core.c, pgp.h's glue to the shared core, its defaults, and the map
+ *  19369: src/pgp/field.c, §2.1 effect areas and §2.2 interpolation of the constrai
+ *  19568: src/pgp/solve.c, §2.3 the periodic global parameterization, the recovery o
+ *  20081: src/pgp/edit.c, the public editing calls of a mapping. §2.1 (Ray, Lévy, 
+ *  20226: src/pgp/render.c, §3 rendering, and a cleaner treatment of the vortices.
+ *  20587: src/pgp/builtin.c, built-in meshes and material-space tiles for demos and tes
+ *  20856: src/pgp/io.c, files and memory for pgp.h: material-space tiles (NRRD, or
+ *  21204: src/pgp/export.c, the mapping for other programs. A viewer that knows nothin
+ *  21430: src/pgp/morph.c, the inputs of §1 (keys brought to the tile size, made til
+ *  22109: src/pgp/synth.c, §1.2 constrained tile synthesis, and the whole of §1: ke
  */
 /* pgp.h - material-space texturing with a periodic global parameterization.
  *
@@ -8557,40 +8557,64 @@ PW__DEF void pw__zamg_acc_flush(pw__zamg_acc *w, int *col, double *val, int *nnz
     w->cnt = 0;
 }
 
-/* C = op(X) Y for complex CSR X (rows of X, or with conj_t the rows of X^H
- * given as X's transpose already: see pw__zamg_galerkin) and Y of ncols
- * columns; C gets C->n = X->n rows. Two passes: count, then fill. */
+/* One pass of a product C = X Y over block b of X's rows, with the
+ * block's own scratch: each row's entries counted into C->rowptr[i + 1]
+ * (C->col NULL) or written from C->rowptr[i] on. */
+typedef struct pw__zamg_prod {
+    const pw_zcsr *X, *Y;
+    pw_zcsr *C;
+    pw__zamg_acc *w;
+    int nb;
+} pw__zamg_prod;
+
+PW__DEF void pw__zamg_prod_block(void *ctx, int b)
+{
+    const pw__zamg_prod *p = (const pw__zamg_prod *)ctx;
+    const pw_zcsr *X = p->X, *Y = p->Y;
+    pw_zcsr *C = p->C;
+    int i, k, q, hi = pw__zblock_start(X->n, p->nb, b + 1);
+    for (i = pw__zblock_start(X->n, p->nb, b); i < hi; i++) {
+        int nnz = C->col ? C->rowptr[i] : 0;
+        for (k = X->rowptr[i]; k < X->rowptr[i + 1]; k++) {
+            const double *x = X->val + 2 * k;
+            int j = X->col[k];
+            for (q = Y->rowptr[j]; q < Y->rowptr[j + 1]; q++) {
+                const double *y = Y->val + 2 * q;
+                pw__zamg_acc_add(&p->w[b], Y->col[q], x[0] * y[0] - x[1] * y[1], x[0] * y[1] + x[1] * y[0]);
+            }
+        }
+        pw__zamg_acc_flush(&p->w[b], C->col, C->val, &nnz);
+        if (!C->col) C->rowptr[i + 1] = nnz;
+    }
+}
+
+/* C = X Y for complex CSR X and Y of ncols columns; C gets C->n = X->n
+ * rows. Two passes on X's run, by blocks of rows: count, then fill. */
 PW__DEF int pw__zamg_mul(const pw_alloc *a, const pw_zcsr *X, const pw_zcsr *Y, int ncols, pw_zcsr *C, pw_err *e)
 {
-    pw__zamg_acc w;
-    int pass, i, k, q, nnz = 0;
+    pw__zamg_acc w[PW__ZBLOCKS];
+    pw__zamg_prod p;
+    int i, b, r = PW_OK;
     memset(C, 0, sizeof *C);
-    if (pw__zamg_acc_init(a, ncols, &w, e)) return PW_ERR_NOMEM;
+    p.X = X;
+    p.Y = Y;
+    p.C = C;
+    p.w = w;
+    p.nb = pw__zblocks(X->n);
+    for (b = 0; b < p.nb; b++) /* (a failed init has freed its own) */
+        if (r != PW_OK || (r = pw__zamg_acc_init(a, ncols, &w[b], e)) != PW_OK) memset(&w[b], 0, sizeof w[b]);
     C->n = X->n;
     C->rowptr = (int *)pw_alloc_array(a, (size_t)X->n + 1, sizeof(int), "multigrid matrix", e);
-    for (pass = 0; pass < 2 && C->rowptr; pass++) {
-        nnz = 0;
+    if (r == PW_OK && C->rowptr) {
+        pw__zfor(X->run, X->n, p.nb, pw__zamg_prod_block, &p);
         C->rowptr[0] = 0;
-        for (i = 0; i < X->n; i++) {
-            for (k = X->rowptr[i]; k < X->rowptr[i + 1]; k++) {
-                const double *x = X->val + 2 * k;
-                int j = X->col[k];
-                for (q = Y->rowptr[j]; q < Y->rowptr[j + 1]; q++) {
-                    const double *y = Y->val + 2 * q;
-                    pw__zamg_acc_add(&w, Y->col[q], x[0] * y[0] - x[1] * y[1], x[0] * y[1] + x[1] * y[0]);
-                }
-            }
-            pw__zamg_acc_flush(&w, C->col, C->val, &nnz);
-            C->rowptr[i + 1] = nnz;
-        }
-        if (pass == 0) {
-            C->col = (int *)pw_alloc_array(a, (size_t)nnz + 1, sizeof(int), "multigrid matrix", e);
-            C->val = (double *)pw_alloc_array(a, 2 * (size_t)nnz + 2, sizeof(double), "multigrid matrix", e);
-            if (!C->col || !C->val) break;
-        }
+        for (i = 0; i < X->n; i++) C->rowptr[i + 1] += C->rowptr[i];
+        C->col = (int *)pw_alloc_array(a, (size_t)C->rowptr[X->n] + 1, sizeof(int), "multigrid matrix", e);
+        C->val = (double *)pw_alloc_array(a, 2 * (size_t)C->rowptr[X->n] + 2, sizeof(double), "multigrid matrix", e);
+        if (C->col && C->val) pw__zfor(X->run, X->n, p.nb, pw__zamg_prod_block, &p);
     }
-    pw__zamg_acc_free(a, &w);
-    if (!C->rowptr || !C->col || !C->val) {
+    for (b = 0; b < p.nb; b++) pw__zamg_acc_free(a, &w[b]);
+    if (r != PW_OK || !C->rowptr || !C->col || !C->val) {
         pw_zcsr_free(a, C);
         return PW_ERR_NOMEM;
     }
@@ -8683,7 +8707,7 @@ PW__DEF int pw__zamg_coarsen(const pw_alloc *a, pw__zamg_level *L, pw_zcsr *C, p
         for (i = 0; i < n; i++) d[i] = pw__zamg_diag(A, i);
         r = pw__zamg_prolong(a, L, agg, ph, d, &P, e);
     }
-    if (r == PW_OK) r = pw__zamg_adjoint(a, &P, L->nc, &PH, e);
+    if (r == PW_OK && (r = pw__zamg_adjoint(a, &P, L->nc, &PH, e)) == PW_OK) PH.run = A->run;
     if (r == PW_OK) r = pw__zamg_mul(a, A, &P, L->nc, &AP, e);
     if (r == PW_OK) r = pw__zamg_mul(a, &PH, &AP, L->nc, C, e);
     if (r == PW_OK) {
@@ -8691,7 +8715,6 @@ PW__DEF int pw__zamg_coarsen(const pw_alloc *a, pw__zamg_level *L, pw_zcsr *C, p
         L->pcol = P.col;
         L->pval = P.val;
         L->PH = PH;
-        L->PH.run = A->run;
     } else {
         pw_zcsr_free(a, &P);
         pw_zcsr_free(a, &PH);
@@ -15177,7 +15200,27 @@ typedef struct pw_periodic_zsys {
     int k;           /* the coordinate: 0 for s, 1 for t */
     pw_triplets *t;  /* the matrix being assembled (n x 2n) */
     double *b;       /* 2n: the right-hand side */
+    double *edge;    /* 3nf*3: per half-edge assembled (twin < h) its weight
+                         and e^{i alpha}, pw_periodic_edge_terms */
+    const pw_periodic *P;
 } pw_periodic_zsys;
+
+/* The weight and rotation of every half-edge of a block of triangles
+ * that the assembly visits (twin < h), on the solve's threads: the
+ * cotangents and the field's gradients cost more than the assembly. */
+PW__DEF void pw_periodic_edge_terms(void *ctx, int blk)
+{
+    const pw_periodic_zsys *Z = (const pw_periodic_zsys *)ctx;
+    const pw_periodic *P = Z->P;
+    int nf = P->m.nf, nb = pw__zblocks(nf), h, hi = 3 * pw__zblock_start(nf, nb, blk + 1);
+    for (h = 3 * pw__zblock_start(nf, nb, blk); h < hi; h++)
+        if (P->m.hm.twin[h] < h) {
+            double a = PW_PERIODIC_TWO_PI * pw_periodic_alpha(P, h, Z->k), *o = Z->edge + 3 * (size_t)h;
+            o[0] = pw_periodic_weight(P, h);
+            o[1] = pw_cos(a);
+            o[2] = pw_sin(a);
+        }
+}
 
 /* Adds the term w |z_j - R(alpha) z_i|^2 of edge h (i -> j) to the system
  * of the free vertices (id >= 0). R(alpha) is the rotation by +alpha,
@@ -15194,10 +15237,10 @@ PW__DEF int pw_periodic_edge(const pw_periodic *P, const pw_periodic_zsys *Z, in
     const int *id = Z->id;
     pw_triplets *t = Z->t;
     double *b = Z->b;
-    int k = Z->k, f = h / 3;
+    int f = h / 3;
     int vi = P->m.tri[h], vj = P->m.tri[3 * f + (h % 3 + 1) % 3], i = id[vi], j = id[vj], r = PW_OK;
-    double w = pw_periodic_weight(P, h);
-    double a = PW_PERIODIC_TWO_PI * pw_periodic_alpha(P, h, k), c = pw_cos(a), sn = pw_sin(a);
+    const double *term = Z->edge + 3 * (size_t)h;
+    double w = term[0], c = term[1], sn = term[2];
     const double *zi = z + 2 * vi, *zj = z + 2 * vj;
     if (i >= 0) r = pw_ztriplets_add(t, i, i, w, 0.0, e);
     if (r == PW_OK && j >= 0) r = pw_ztriplets_add(t, j, j, w, 0.0, e);
@@ -15323,12 +15366,18 @@ PW__DEF int pw_periodic_solve_k(pw_periodic *P, double *z, const int *id, int n,
     Z.k = k;
     Z.t = &t;
     Z.b = b;
+    Z.P = P;
+    Z.edge = (double *)pw_alloc_array(&P->a, 9 * (size_t)P->m.nf + 1, sizeof(double), "PGP", e);
+    if (!Z.edge) r = PW_ERR_NOMEM;
+    else pw__zfor(&P->run, P->m.nf, pw__zblocks(P->m.nf), pw_periodic_edge_terms, &Z);
     memset(&t, 0, sizeof t);
     memset(&A, 0, sizeof A);
     if (r == PW_OK) r = pw_triplets_init(&t, &P->a, n, 2 * n, e);
     for (h = 0; r == PW_OK && h < 3 * P->m.nf; h++)
         if (P->m.hm.twin[h] < h) r = pw_periodic_edge(P, &Z, h, e); /* each edge once */
-    for (q = 0; r == PW_OK && q < t.count; q++)                     /* the (real) diagonal of F's matrix */
+    pw_free(&P->a, Z.edge);
+    Z.edge = NULL;
+    for (q = 0; r == PW_OK && q < t.count; q++) /* the (real) diagonal of F's matrix */
         if (t.col[q] == 2 * t.row[q]) dg[t.row[q]] += t.val[q];
     if (r == PW_OK) r = pw_periodic_propagate(P, z, id, k, e);
     if (r == PW_OK && (r = pw_zcsr_from_triplets(&P->a, &t, &A, e)) == PW_OK) {
@@ -19535,6 +19584,21 @@ static void pgp__recover(pgp__state *P, int f)
     for (c = 0; c < 3; c++) o[3 * c + 2] = P->mat[tri[c]];
 }
 
+/* The triangles of an area whose coordinates Eq. (4) recovers, by blocks
+ * on the solves' threads (each triangle writes its own corners). */
+typedef struct pgp__recovery {
+    pgp__state *P;
+    const int *order;
+    int n, nb;
+} pgp__recovery;
+
+static void pgp__recover_block(void *ctx, int b)
+{
+    const pgp__recovery *w = (const pgp__recovery *)ctx;
+    int i, hi = pw__zblock_start(w->n, w->nb, b + 1);
+    for (i = pw__zblock_start(w->n, w->nb, b); i < hi; i++) pgp__recover(w->P, w->order[i]);
+}
+
 /* ---- §3 singular 1-rings --------------------------------------------------------------- */
 
 /* "Highly distorted": ||grad s - g_s||^2 > threshold, or the same for t.
@@ -19623,7 +19687,8 @@ static int pgp__edit(pgp__state *P, pgp_constraint_kind kind, const pgp__seeds *
     unsigned char *in = (unsigned char *)pw_alloc_array(&P->a, 2 * nf + 2 * nv, 1, "effect area", e);
     int *order = (int *)pw_alloc_array(&P->a, nf, sizeof(int), "effect area", e);
     pw_progress pr = pgp__progress(&P->o);
-    int n = 0, i, whole = !(radius > 0.0f), r = in && order ? PW_OK : PW_ERR_NOMEM;
+    int n = 0, whole = !(radius > 0.0f), r = in && order ? PW_OK : PW_ERR_NOMEM;
+    pgp__recovery rec;
     unsigned char *mark = in + nf, *vfree = in + 2 * nf, *locked = vfree + nv;
     if (r == PW_OK) r = pgp__area(P, sd, in, order, &n, e);
     if (r == PW_OK) pgp__free_vertices(P, in, vfree);
@@ -19632,7 +19697,11 @@ static int pgp__edit(pgp__state *P, pgp_constraint_kind kind, const pgp__seeds *
     if (r == PW_OK && kind != PGP_CONSTRAINT_ORIENT) r = pgp__interp_vertex(P, kind, vfree, whole, locked, e);
     if (r == PW_OK) r = pw_report(&pr, 0.4f, "periodic global parameterization", e);
     if (r == PW_OK && kind != PGP_CONSTRAINT_MATERIAL) r = pw_periodic_solve(&P->pp, vfree, whole, e);
-    for (i = 0; r == PW_OK && i < n; i++) pgp__recover(P, order[i]);
+    rec.P = P;
+    rec.order = order;
+    rec.n = n;
+    rec.nb = pw__zblocks(n);
+    if (r == PW_OK) pw__zfor(&P->pp.run, n, rec.nb, pgp__recover_block, &rec);
     if (r == PW_OK) r = pw_report(&pr, 0.9f, "singularities", e);
     if (r == PW_OK) r = pgp__singularities(P, e);
     if (r == PW_OK && area) {

@@ -18,26 +18,26 @@
  *   6392: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
  *   7927: src/common/zsparse.h, complex Hermitian sparse systems, solved by conjugate grad
  *   8281: src/common/zamg.h, a smoothed-aggregation multigrid preconditioner for the co
- *   9037: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
- *   9224: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
- *   9309: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
- *  10073: src/common/periodic.h, the periodic global parameterization of a triangle mesh al
- *  10907: src/common/raster.h, exact scan conversion of 2D triangles.
- *  11421: src/common/parallel.h, a parallel for, the one way work is split across threads.
- *  11594: src/common/render.h, a small deterministic software renderer for textured trian
- *  13493: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
- *  13990: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
- *  14476: src/common/glue.h, what every method header needs between its public types an
- *  14812: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  15476: src/tiled/core.c, tiled.h's glue to the shared core, its defaults, result
- *  15565: src/tiled/layout.c, ch. III.1, the boundary types and the tiled texture they
- *  15837: src/tiled/cells.c, beyond the thesis (issue 23): tiles of a chosen size on an
- *  16685: src/tiled/map.c, ch. III.2, the texture mapping algorithm of Fig. 29
- *  16954: src/tiled/synth.c, ch. III.1.3, tiled texture image synthesis: an edge-matche
- *  17400: src/tiled/validate.c, checks a hand-made tiled texture (the thesis's Figs. 39,
- *  17528: src/tiled/builtin.c, built-in meshes and exemplars for demos and tests: the
- *  17725: src/tiled/render.c, a software rendering of a mapped mesh (the thesis rendered
- *  17948: src/tiled/io.c, files. Meshes and exemplars in; the mapped mesh with its t
+ *   9060: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
+ *   9247: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
+ *   9332: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
+ *  10096: src/common/periodic.h, the periodic global parameterization of a triangle mesh al
+ *  10956: src/common/raster.h, exact scan conversion of 2D triangles.
+ *  11470: src/common/parallel.h, a parallel for, the one way work is split across threads.
+ *  11643: src/common/render.h, a small deterministic software renderer for textured trian
+ *  13542: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
+ *  14039: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
+ *  14525: src/common/glue.h, what every method header needs between its public types an
+ *  14861: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  15525: src/tiled/core.c, tiled.h's glue to the shared core, its defaults, result
+ *  15614: src/tiled/layout.c, ch. III.1, the boundary types and the tiled texture they
+ *  15886: src/tiled/cells.c, beyond the thesis (issue 23): tiles of a chosen size on an
+ *  16734: src/tiled/map.c, ch. III.2, the texture mapping algorithm of Fig. 29
+ *  17003: src/tiled/synth.c, ch. III.1.3, tiled texture image synthesis: an edge-matche
+ *  17449: src/tiled/validate.c, checks a hand-made tiled texture (the thesis's Figs. 39,
+ *  17577: src/tiled/builtin.c, built-in meshes and exemplars for demos and tests: the
+ *  17774: src/tiled/render.c, a software rendering of a mapped mesh (the thesis rendered
+ *  17997: src/tiled/io.c, files. Meshes and exemplars in; the mapped mesh with its t
  */
 /* tiled.h - seamless, singularity-free tiled textures on quad meshes.
  *
@@ -8510,40 +8510,64 @@ PW__DEF void pw__zamg_acc_flush(pw__zamg_acc *w, int *col, double *val, int *nnz
     w->cnt = 0;
 }
 
-/* C = op(X) Y for complex CSR X (rows of X, or with conj_t the rows of X^H
- * given as X's transpose already: see pw__zamg_galerkin) and Y of ncols
- * columns; C gets C->n = X->n rows. Two passes: count, then fill. */
+/* One pass of a product C = X Y over block b of X's rows, with the
+ * block's own scratch: each row's entries counted into C->rowptr[i + 1]
+ * (C->col NULL) or written from C->rowptr[i] on. */
+typedef struct pw__zamg_prod {
+    const pw_zcsr *X, *Y;
+    pw_zcsr *C;
+    pw__zamg_acc *w;
+    int nb;
+} pw__zamg_prod;
+
+PW__DEF void pw__zamg_prod_block(void *ctx, int b)
+{
+    const pw__zamg_prod *p = (const pw__zamg_prod *)ctx;
+    const pw_zcsr *X = p->X, *Y = p->Y;
+    pw_zcsr *C = p->C;
+    int i, k, q, hi = pw__zblock_start(X->n, p->nb, b + 1);
+    for (i = pw__zblock_start(X->n, p->nb, b); i < hi; i++) {
+        int nnz = C->col ? C->rowptr[i] : 0;
+        for (k = X->rowptr[i]; k < X->rowptr[i + 1]; k++) {
+            const double *x = X->val + 2 * k;
+            int j = X->col[k];
+            for (q = Y->rowptr[j]; q < Y->rowptr[j + 1]; q++) {
+                const double *y = Y->val + 2 * q;
+                pw__zamg_acc_add(&p->w[b], Y->col[q], x[0] * y[0] - x[1] * y[1], x[0] * y[1] + x[1] * y[0]);
+            }
+        }
+        pw__zamg_acc_flush(&p->w[b], C->col, C->val, &nnz);
+        if (!C->col) C->rowptr[i + 1] = nnz;
+    }
+}
+
+/* C = X Y for complex CSR X and Y of ncols columns; C gets C->n = X->n
+ * rows. Two passes on X's run, by blocks of rows: count, then fill. */
 PW__DEF int pw__zamg_mul(const pw_alloc *a, const pw_zcsr *X, const pw_zcsr *Y, int ncols, pw_zcsr *C, pw_err *e)
 {
-    pw__zamg_acc w;
-    int pass, i, k, q, nnz = 0;
+    pw__zamg_acc w[PW__ZBLOCKS];
+    pw__zamg_prod p;
+    int i, b, r = PW_OK;
     memset(C, 0, sizeof *C);
-    if (pw__zamg_acc_init(a, ncols, &w, e)) return PW_ERR_NOMEM;
+    p.X = X;
+    p.Y = Y;
+    p.C = C;
+    p.w = w;
+    p.nb = pw__zblocks(X->n);
+    for (b = 0; b < p.nb; b++) /* (a failed init has freed its own) */
+        if (r != PW_OK || (r = pw__zamg_acc_init(a, ncols, &w[b], e)) != PW_OK) memset(&w[b], 0, sizeof w[b]);
     C->n = X->n;
     C->rowptr = (int *)pw_alloc_array(a, (size_t)X->n + 1, sizeof(int), "multigrid matrix", e);
-    for (pass = 0; pass < 2 && C->rowptr; pass++) {
-        nnz = 0;
+    if (r == PW_OK && C->rowptr) {
+        pw__zfor(X->run, X->n, p.nb, pw__zamg_prod_block, &p);
         C->rowptr[0] = 0;
-        for (i = 0; i < X->n; i++) {
-            for (k = X->rowptr[i]; k < X->rowptr[i + 1]; k++) {
-                const double *x = X->val + 2 * k;
-                int j = X->col[k];
-                for (q = Y->rowptr[j]; q < Y->rowptr[j + 1]; q++) {
-                    const double *y = Y->val + 2 * q;
-                    pw__zamg_acc_add(&w, Y->col[q], x[0] * y[0] - x[1] * y[1], x[0] * y[1] + x[1] * y[0]);
-                }
-            }
-            pw__zamg_acc_flush(&w, C->col, C->val, &nnz);
-            C->rowptr[i + 1] = nnz;
-        }
-        if (pass == 0) {
-            C->col = (int *)pw_alloc_array(a, (size_t)nnz + 1, sizeof(int), "multigrid matrix", e);
-            C->val = (double *)pw_alloc_array(a, 2 * (size_t)nnz + 2, sizeof(double), "multigrid matrix", e);
-            if (!C->col || !C->val) break;
-        }
+        for (i = 0; i < X->n; i++) C->rowptr[i + 1] += C->rowptr[i];
+        C->col = (int *)pw_alloc_array(a, (size_t)C->rowptr[X->n] + 1, sizeof(int), "multigrid matrix", e);
+        C->val = (double *)pw_alloc_array(a, 2 * (size_t)C->rowptr[X->n] + 2, sizeof(double), "multigrid matrix", e);
+        if (C->col && C->val) pw__zfor(X->run, X->n, p.nb, pw__zamg_prod_block, &p);
     }
-    pw__zamg_acc_free(a, &w);
-    if (!C->rowptr || !C->col || !C->val) {
+    for (b = 0; b < p.nb; b++) pw__zamg_acc_free(a, &w[b]);
+    if (r != PW_OK || !C->rowptr || !C->col || !C->val) {
         pw_zcsr_free(a, C);
         return PW_ERR_NOMEM;
     }
@@ -8636,7 +8660,7 @@ PW__DEF int pw__zamg_coarsen(const pw_alloc *a, pw__zamg_level *L, pw_zcsr *C, p
         for (i = 0; i < n; i++) d[i] = pw__zamg_diag(A, i);
         r = pw__zamg_prolong(a, L, agg, ph, d, &P, e);
     }
-    if (r == PW_OK) r = pw__zamg_adjoint(a, &P, L->nc, &PH, e);
+    if (r == PW_OK && (r = pw__zamg_adjoint(a, &P, L->nc, &PH, e)) == PW_OK) PH.run = A->run;
     if (r == PW_OK) r = pw__zamg_mul(a, A, &P, L->nc, &AP, e);
     if (r == PW_OK) r = pw__zamg_mul(a, &PH, &AP, L->nc, C, e);
     if (r == PW_OK) {
@@ -8644,7 +8668,6 @@ PW__DEF int pw__zamg_coarsen(const pw_alloc *a, pw__zamg_level *L, pw_zcsr *C, p
         L->pcol = P.col;
         L->pval = P.val;
         L->PH = PH;
-        L->PH.run = A->run;
     } else {
         pw_zcsr_free(a, &P);
         pw_zcsr_free(a, &PH);
@@ -10503,7 +10526,27 @@ typedef struct pw_periodic_zsys {
     int k;           /* the coordinate: 0 for s, 1 for t */
     pw_triplets *t;  /* the matrix being assembled (n x 2n) */
     double *b;       /* 2n: the right-hand side */
+    double *edge;    /* 3nf*3: per half-edge assembled (twin < h) its weight
+                         and e^{i alpha}, pw_periodic_edge_terms */
+    const pw_periodic *P;
 } pw_periodic_zsys;
+
+/* The weight and rotation of every half-edge of a block of triangles
+ * that the assembly visits (twin < h), on the solve's threads: the
+ * cotangents and the field's gradients cost more than the assembly. */
+PW__DEF void pw_periodic_edge_terms(void *ctx, int blk)
+{
+    const pw_periodic_zsys *Z = (const pw_periodic_zsys *)ctx;
+    const pw_periodic *P = Z->P;
+    int nf = P->m.nf, nb = pw__zblocks(nf), h, hi = 3 * pw__zblock_start(nf, nb, blk + 1);
+    for (h = 3 * pw__zblock_start(nf, nb, blk); h < hi; h++)
+        if (P->m.hm.twin[h] < h) {
+            double a = PW_PERIODIC_TWO_PI * pw_periodic_alpha(P, h, Z->k), *o = Z->edge + 3 * (size_t)h;
+            o[0] = pw_periodic_weight(P, h);
+            o[1] = pw_cos(a);
+            o[2] = pw_sin(a);
+        }
+}
 
 /* Adds the term w |z_j - R(alpha) z_i|^2 of edge h (i -> j) to the system
  * of the free vertices (id >= 0). R(alpha) is the rotation by +alpha,
@@ -10520,10 +10563,10 @@ PW__DEF int pw_periodic_edge(const pw_periodic *P, const pw_periodic_zsys *Z, in
     const int *id = Z->id;
     pw_triplets *t = Z->t;
     double *b = Z->b;
-    int k = Z->k, f = h / 3;
+    int f = h / 3;
     int vi = P->m.tri[h], vj = P->m.tri[3 * f + (h % 3 + 1) % 3], i = id[vi], j = id[vj], r = PW_OK;
-    double w = pw_periodic_weight(P, h);
-    double a = PW_PERIODIC_TWO_PI * pw_periodic_alpha(P, h, k), c = pw_cos(a), sn = pw_sin(a);
+    const double *term = Z->edge + 3 * (size_t)h;
+    double w = term[0], c = term[1], sn = term[2];
     const double *zi = z + 2 * vi, *zj = z + 2 * vj;
     if (i >= 0) r = pw_ztriplets_add(t, i, i, w, 0.0, e);
     if (r == PW_OK && j >= 0) r = pw_ztriplets_add(t, j, j, w, 0.0, e);
@@ -10649,12 +10692,18 @@ PW__DEF int pw_periodic_solve_k(pw_periodic *P, double *z, const int *id, int n,
     Z.k = k;
     Z.t = &t;
     Z.b = b;
+    Z.P = P;
+    Z.edge = (double *)pw_alloc_array(&P->a, 9 * (size_t)P->m.nf + 1, sizeof(double), "PGP", e);
+    if (!Z.edge) r = PW_ERR_NOMEM;
+    else pw__zfor(&P->run, P->m.nf, pw__zblocks(P->m.nf), pw_periodic_edge_terms, &Z);
     memset(&t, 0, sizeof t);
     memset(&A, 0, sizeof A);
     if (r == PW_OK) r = pw_triplets_init(&t, &P->a, n, 2 * n, e);
     for (h = 0; r == PW_OK && h < 3 * P->m.nf; h++)
         if (P->m.hm.twin[h] < h) r = pw_periodic_edge(P, &Z, h, e); /* each edge once */
-    for (q = 0; r == PW_OK && q < t.count; q++)                     /* the (real) diagonal of F's matrix */
+    pw_free(&P->a, Z.edge);
+    Z.edge = NULL;
+    for (q = 0; r == PW_OK && q < t.count; q++) /* the (real) diagonal of F's matrix */
         if (t.col[q] == 2 * t.row[q]) dg[t.row[q]] += t.val[q];
     if (r == PW_OK) r = pw_periodic_propagate(P, z, id, k, e);
     if (r == PW_OK && (r = pw_zcsr_from_triplets(&P->a, &t, &A, e)) == PW_OK) {

@@ -438,7 +438,27 @@ typedef struct pw_periodic_zsys {
     int k;           /* the coordinate: 0 for s, 1 for t */
     pw_triplets *t;  /* the matrix being assembled (n x 2n) */
     double *b;       /* 2n: the right-hand side */
+    double *edge;    /* 3nf*3: per half-edge assembled (twin < h) its weight
+                         and e^{i alpha}, pw_periodic_edge_terms */
+    const pw_periodic *P;
 } pw_periodic_zsys;
+
+/* The weight and rotation of every half-edge of a block of triangles
+ * that the assembly visits (twin < h), on the solve's threads: the
+ * cotangents and the field's gradients cost more than the assembly. */
+PW__DEF void pw_periodic_edge_terms(void *ctx, int blk)
+{
+    const pw_periodic_zsys *Z = (const pw_periodic_zsys *)ctx;
+    const pw_periodic *P = Z->P;
+    int nf = P->m.nf, nb = pw__zblocks(nf), h, hi = 3 * pw__zblock_start(nf, nb, blk + 1);
+    for (h = 3 * pw__zblock_start(nf, nb, blk); h < hi; h++)
+        if (P->m.hm.twin[h] < h) {
+            double a = PW_PERIODIC_TWO_PI * pw_periodic_alpha(P, h, Z->k), *o = Z->edge + 3 * (size_t)h;
+            o[0] = pw_periodic_weight(P, h);
+            o[1] = pw_cos(a);
+            o[2] = pw_sin(a);
+        }
+}
 
 /* Adds the term w |z_j - R(alpha) z_i|^2 of edge h (i -> j) to the system
  * of the free vertices (id >= 0). R(alpha) is the rotation by +alpha,
@@ -455,10 +475,10 @@ PW__DEF int pw_periodic_edge(const pw_periodic *P, const pw_periodic_zsys *Z, in
     const int *id = Z->id;
     pw_triplets *t = Z->t;
     double *b = Z->b;
-    int k = Z->k, f = h / 3;
+    int f = h / 3;
     int vi = P->m.tri[h], vj = P->m.tri[3 * f + (h % 3 + 1) % 3], i = id[vi], j = id[vj], r = PW_OK;
-    double w = pw_periodic_weight(P, h);
-    double a = PW_PERIODIC_TWO_PI * pw_periodic_alpha(P, h, k), c = pw_cos(a), sn = pw_sin(a);
+    const double *term = Z->edge + 3 * (size_t)h;
+    double w = term[0], c = term[1], sn = term[2];
     const double *zi = z + 2 * vi, *zj = z + 2 * vj;
     if (i >= 0) r = pw_ztriplets_add(t, i, i, w, 0.0, e);
     if (r == PW_OK && j >= 0) r = pw_ztriplets_add(t, j, j, w, 0.0, e);
@@ -584,12 +604,18 @@ PW__DEF int pw_periodic_solve_k(pw_periodic *P, double *z, const int *id, int n,
     Z.k = k;
     Z.t = &t;
     Z.b = b;
+    Z.P = P;
+    Z.edge = (double *)pw_alloc_array(&P->a, 9 * (size_t)P->m.nf + 1, sizeof(double), "PGP", e);
+    if (!Z.edge) r = PW_ERR_NOMEM;
+    else pw__zfor(&P->run, P->m.nf, pw__zblocks(P->m.nf), pw_periodic_edge_terms, &Z);
     memset(&t, 0, sizeof t);
     memset(&A, 0, sizeof A);
     if (r == PW_OK) r = pw_triplets_init(&t, &P->a, n, 2 * n, e);
     for (h = 0; r == PW_OK && h < 3 * P->m.nf; h++)
         if (P->m.hm.twin[h] < h) r = pw_periodic_edge(P, &Z, h, e); /* each edge once */
-    for (q = 0; r == PW_OK && q < t.count; q++)                     /* the (real) diagonal of F's matrix */
+    pw_free(&P->a, Z.edge);
+    Z.edge = NULL;
+    for (q = 0; r == PW_OK && q < t.count; q++) /* the (real) diagonal of F's matrix */
         if (t.col[q] == 2 * t.row[q]) dg[t.row[q]] += t.val[q];
     if (r == PW_OK) r = pw_periodic_propagate(P, z, id, k, e);
     if (r == PW_OK && (r = pw_zcsr_from_triplets(&P->a, &t, &A, e)) == PW_OK) {

@@ -230,40 +230,64 @@ PW__DEF void pw__zamg_acc_flush(pw__zamg_acc *w, int *col, double *val, int *nnz
     w->cnt = 0;
 }
 
-/* C = op(X) Y for complex CSR X (rows of X, or with conj_t the rows of X^H
- * given as X's transpose already: see pw__zamg_galerkin) and Y of ncols
- * columns; C gets C->n = X->n rows. Two passes: count, then fill. */
+/* One pass of a product C = X Y over block b of X's rows, with the
+ * block's own scratch: each row's entries counted into C->rowptr[i + 1]
+ * (C->col NULL) or written from C->rowptr[i] on. */
+typedef struct pw__zamg_prod {
+    const pw_zcsr *X, *Y;
+    pw_zcsr *C;
+    pw__zamg_acc *w;
+    int nb;
+} pw__zamg_prod;
+
+PW__DEF void pw__zamg_prod_block(void *ctx, int b)
+{
+    const pw__zamg_prod *p = (const pw__zamg_prod *)ctx;
+    const pw_zcsr *X = p->X, *Y = p->Y;
+    pw_zcsr *C = p->C;
+    int i, k, q, hi = pw__zblock_start(X->n, p->nb, b + 1);
+    for (i = pw__zblock_start(X->n, p->nb, b); i < hi; i++) {
+        int nnz = C->col ? C->rowptr[i] : 0;
+        for (k = X->rowptr[i]; k < X->rowptr[i + 1]; k++) {
+            const double *x = X->val + 2 * k;
+            int j = X->col[k];
+            for (q = Y->rowptr[j]; q < Y->rowptr[j + 1]; q++) {
+                const double *y = Y->val + 2 * q;
+                pw__zamg_acc_add(&p->w[b], Y->col[q], x[0] * y[0] - x[1] * y[1], x[0] * y[1] + x[1] * y[0]);
+            }
+        }
+        pw__zamg_acc_flush(&p->w[b], C->col, C->val, &nnz);
+        if (!C->col) C->rowptr[i + 1] = nnz;
+    }
+}
+
+/* C = X Y for complex CSR X and Y of ncols columns; C gets C->n = X->n
+ * rows. Two passes on X's run, by blocks of rows: count, then fill. */
 PW__DEF int pw__zamg_mul(const pw_alloc *a, const pw_zcsr *X, const pw_zcsr *Y, int ncols, pw_zcsr *C, pw_err *e)
 {
-    pw__zamg_acc w;
-    int pass, i, k, q, nnz = 0;
+    pw__zamg_acc w[PW__ZBLOCKS];
+    pw__zamg_prod p;
+    int i, b, r = PW_OK;
     memset(C, 0, sizeof *C);
-    if (pw__zamg_acc_init(a, ncols, &w, e)) return PW_ERR_NOMEM;
+    p.X = X;
+    p.Y = Y;
+    p.C = C;
+    p.w = w;
+    p.nb = pw__zblocks(X->n);
+    for (b = 0; b < p.nb; b++) /* (a failed init has freed its own) */
+        if (r != PW_OK || (r = pw__zamg_acc_init(a, ncols, &w[b], e)) != PW_OK) memset(&w[b], 0, sizeof w[b]);
     C->n = X->n;
     C->rowptr = (int *)pw_alloc_array(a, (size_t)X->n + 1, sizeof(int), "multigrid matrix", e);
-    for (pass = 0; pass < 2 && C->rowptr; pass++) {
-        nnz = 0;
+    if (r == PW_OK && C->rowptr) {
+        pw__zfor(X->run, X->n, p.nb, pw__zamg_prod_block, &p);
         C->rowptr[0] = 0;
-        for (i = 0; i < X->n; i++) {
-            for (k = X->rowptr[i]; k < X->rowptr[i + 1]; k++) {
-                const double *x = X->val + 2 * k;
-                int j = X->col[k];
-                for (q = Y->rowptr[j]; q < Y->rowptr[j + 1]; q++) {
-                    const double *y = Y->val + 2 * q;
-                    pw__zamg_acc_add(&w, Y->col[q], x[0] * y[0] - x[1] * y[1], x[0] * y[1] + x[1] * y[0]);
-                }
-            }
-            pw__zamg_acc_flush(&w, C->col, C->val, &nnz);
-            C->rowptr[i + 1] = nnz;
-        }
-        if (pass == 0) {
-            C->col = (int *)pw_alloc_array(a, (size_t)nnz + 1, sizeof(int), "multigrid matrix", e);
-            C->val = (double *)pw_alloc_array(a, 2 * (size_t)nnz + 2, sizeof(double), "multigrid matrix", e);
-            if (!C->col || !C->val) break;
-        }
+        for (i = 0; i < X->n; i++) C->rowptr[i + 1] += C->rowptr[i];
+        C->col = (int *)pw_alloc_array(a, (size_t)C->rowptr[X->n] + 1, sizeof(int), "multigrid matrix", e);
+        C->val = (double *)pw_alloc_array(a, 2 * (size_t)C->rowptr[X->n] + 2, sizeof(double), "multigrid matrix", e);
+        if (C->col && C->val) pw__zfor(X->run, X->n, p.nb, pw__zamg_prod_block, &p);
     }
-    pw__zamg_acc_free(a, &w);
-    if (!C->rowptr || !C->col || !C->val) {
+    for (b = 0; b < p.nb; b++) pw__zamg_acc_free(a, &w[b]);
+    if (r != PW_OK || !C->rowptr || !C->col || !C->val) {
         pw_zcsr_free(a, C);
         return PW_ERR_NOMEM;
     }
@@ -356,7 +380,7 @@ PW__DEF int pw__zamg_coarsen(const pw_alloc *a, pw__zamg_level *L, pw_zcsr *C, p
         for (i = 0; i < n; i++) d[i] = pw__zamg_diag(A, i);
         r = pw__zamg_prolong(a, L, agg, ph, d, &P, e);
     }
-    if (r == PW_OK) r = pw__zamg_adjoint(a, &P, L->nc, &PH, e);
+    if (r == PW_OK && (r = pw__zamg_adjoint(a, &P, L->nc, &PH, e)) == PW_OK) PH.run = A->run;
     if (r == PW_OK) r = pw__zamg_mul(a, A, &P, L->nc, &AP, e);
     if (r == PW_OK) r = pw__zamg_mul(a, &PH, &AP, L->nc, C, e);
     if (r == PW_OK) {
@@ -364,7 +388,6 @@ PW__DEF int pw__zamg_coarsen(const pw_alloc *a, pw__zamg_level *L, pw_zcsr *C, p
         L->pcol = P.col;
         L->pval = P.val;
         L->PH = PH;
-        L->PH.run = A->run;
     } else {
         pw_zcsr_free(a, &P);
         pw_zcsr_free(a, &PH);

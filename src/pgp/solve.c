@@ -17,6 +17,21 @@ static void pgp__recover(pgp__state *P, int f)
     for (c = 0; c < 3; c++) o[3 * c + 2] = P->mat[tri[c]];
 }
 
+/* The triangles of an area whose coordinates Eq. (4) recovers, by blocks
+ * on the solves' threads (each triangle writes its own corners). */
+typedef struct pgp__recovery {
+    pgp__state *P;
+    const int *order;
+    int n, nb;
+} pgp__recovery;
+
+static void pgp__recover_block(void *ctx, int b)
+{
+    const pgp__recovery *w = (const pgp__recovery *)ctx;
+    int i, hi = pw__zblock_start(w->n, w->nb, b + 1);
+    for (i = pw__zblock_start(w->n, w->nb, b); i < hi; i++) pgp__recover(w->P, w->order[i]);
+}
+
 /* ---- §3 singular 1-rings --------------------------------------------------------------- */
 
 /* "Highly distorted": ||grad s - g_s||^2 > threshold, or the same for t.
@@ -105,7 +120,8 @@ static int pgp__edit(pgp__state *P, pgp_constraint_kind kind, const pgp__seeds *
     unsigned char *in = (unsigned char *)pw_alloc_array(&P->a, 2 * nf + 2 * nv, 1, "effect area", e);
     int *order = (int *)pw_alloc_array(&P->a, nf, sizeof(int), "effect area", e);
     pw_progress pr = pgp__progress(&P->o);
-    int n = 0, i, whole = !(radius > 0.0f), r = in && order ? PW_OK : PW_ERR_NOMEM;
+    int n = 0, whole = !(radius > 0.0f), r = in && order ? PW_OK : PW_ERR_NOMEM;
+    pgp__recovery rec;
     unsigned char *mark = in + nf, *vfree = in + 2 * nf, *locked = vfree + nv;
     if (r == PW_OK) r = pgp__area(P, sd, in, order, &n, e);
     if (r == PW_OK) pgp__free_vertices(P, in, vfree);
@@ -114,7 +130,11 @@ static int pgp__edit(pgp__state *P, pgp_constraint_kind kind, const pgp__seeds *
     if (r == PW_OK && kind != PGP_CONSTRAINT_ORIENT) r = pgp__interp_vertex(P, kind, vfree, whole, locked, e);
     if (r == PW_OK) r = pw_report(&pr, 0.4f, "periodic global parameterization", e);
     if (r == PW_OK && kind != PGP_CONSTRAINT_MATERIAL) r = pw_periodic_solve(&P->pp, vfree, whole, e);
-    for (i = 0; r == PW_OK && i < n; i++) pgp__recover(P, order[i]);
+    rec.P = P;
+    rec.order = order;
+    rec.n = n;
+    rec.nb = pw__zblocks(n);
+    if (r == PW_OK) pw__zfor(&P->pp.run, n, rec.nb, pgp__recover_block, &rec);
     if (r == PW_OK) r = pw_report(&pr, 0.9f, "singularities", e);
     if (r == PW_OK) r = pgp__singularities(P, e);
     if (r == PW_OK && area) {
