@@ -40,13 +40,13 @@
  *  19155: src/pgp/core.c, pgp.h's glue to the shared core, its defaults, and the map
  *  19369: src/pgp/field.c, §2.1 effect areas and §2.2 interpolation of the constrai
  *  19568: src/pgp/solve.c, §2.3 the periodic global parameterization, the recovery o
- *  20081: src/pgp/edit.c, the public editing calls of a mapping. §2.1 (Ray, Lévy, 
- *  20226: src/pgp/render.c, §3 rendering, and a cleaner treatment of the vortices.
- *  20587: src/pgp/builtin.c, built-in meshes and material-space tiles for demos and tes
- *  20856: src/pgp/io.c, files and memory for pgp.h: material-space tiles (NRRD, or
- *  21204: src/pgp/export.c, the mapping for other programs. A viewer that knows nothin
- *  21430: src/pgp/morph.c, the inputs of §1 (keys brought to the tile size, made til
- *  22109: src/pgp/synth.c, §1.2 constrained tile synthesis, and the whole of §1: ke
+ *  20099: src/pgp/edit.c, the public editing calls of a mapping. §2.1 (Ray, Lévy, 
+ *  20244: src/pgp/render.c, §3 rendering, and a cleaner treatment of the vortices.
+ *  20605: src/pgp/builtin.c, built-in meshes and material-space tiles for demos and tes
+ *  20874: src/pgp/io.c, files and memory for pgp.h: material-space tiles (NRRD, or
+ *  21222: src/pgp/export.c, the mapping for other programs. A viewer that knows nothin
+ *  21448: src/pgp/morph.c, the inputs of §1 (keys brought to the tile size, made til
+ *  22127: src/pgp/synth.c, §1.2 constrained tile synthesis, and the whole of §1: ke
  */
 /* pgp.h - material-space texturing with a periodic global parameterization.
  *
@@ -19651,16 +19651,34 @@ PGPDEF int pgp_map_vortices(const pgp_map *map, unsigned char *flags)
     return P ? pgp__vortices(P, flags) : 0;
 }
 
+/* The distorted triangles of a block, on the solves' threads. */
+typedef struct pgp__distortion_job {
+    const pgp__state *P;
+    unsigned char *dist;
+    int nb;
+} pgp__distortion_job;
+
+static void pgp__distorted_block(void *ctx, int b)
+{
+    const pgp__distortion_job *w = (const pgp__distortion_job *)ctx;
+    int f, nf = w->P->pp.m.nf, hi = pw__zblock_start(nf, w->nb, b + 1);
+    for (f = pw__zblock_start(nf, w->nb, b); f < hi; f++) w->dist[f] = (unsigned char)pgp__distorted(w->P, f);
+}
+
 /* §3: a vertex's 1-ring is singular if it holds a distorted triangle or a
  * spoke edge whose two triangles disagree; a triangle is singular (drawn
  * with three lookups) if one of its corners is. */
 static int pgp__singularities(pgp__state *P, pw_err *e)
 {
     unsigned char *dist = (unsigned char *)pw_alloc_array(&P->a, (size_t)P->pp.m.nf, 1, "singularities", e);
+    pgp__distortion_job job;
     int f, c, h;
     if (!dist) return PW_ERR_NOMEM;
     memset(P->vsing, 0, (size_t)P->pp.m.nv);
-    for (f = 0; f < P->pp.m.nf; f++) dist[f] = (unsigned char)pgp__distorted(P, f);
+    job.P = P;
+    job.dist = dist;
+    job.nb = pw__zblocks(P->pp.m.nf);
+    pw__zfor(&P->pp.run, P->pp.m.nf, job.nb, pgp__distorted_block, &job);
     for (h = 0; h < 3 * P->pp.m.nf; h++) {
         int f3 = h / 3, c3 = h % 3;
         if (dist[f3]) P->vsing[P->pp.m.tri[h]] = 1;
