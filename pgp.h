@@ -17,36 +17,36 @@
  *   6439: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
  *   7974: src/common/zsparse.h, complex Hermitian sparse systems, solved by conjugate grad
  *   8328: src/common/zamg.h, a smoothed-aggregation multigrid preconditioner for the co
- *   9107: src/common/raster.h, exact scan conversion of 2D triangles.
- *   9619: src/common/parallel.h, a parallel for, the one way work is split across threads.
- *   9792: src/common/render.h, a small deterministic software renderer for textured trian
- *  11691: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
- *  11878: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
- *  11963: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
- *  12152: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
- *  13072: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
- *  13770: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
- *  14006: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
- *  14770: src/common/periodic.h, the periodic global parameterization of a triangle mesh al
- *  15630: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
- *  16391: src/pgp/tile3.h, sampling a material-space tile (Ray et al. 2009, §2: "a 3
- *  16499: src/common/glue.h, what every method header needs between its public types an
- *  16835: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  17499: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
- *  17996: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
- *  18482: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
- *  18625: src/common/kdtree.h, nearest-neighbour search among n points of dimension d, wi
- *  18968: src/common/pca.h, principal component analysis of vectors streamed one at a 
- *  19155: src/pgp/core.c, pgp.h's glue to the shared core, its defaults, and the map
- *  19369: src/pgp/field.c, §2.1 effect areas and §2.2 interpolation of the constrai
- *  19568: src/pgp/solve.c, §2.3 the periodic global parameterization, the recovery o
- *  20099: src/pgp/edit.c, the public editing calls of a mapping. §2.1 (Ray, Lévy, 
- *  20244: src/pgp/render.c, §3 rendering, and a cleaner treatment of the vortices.
- *  20605: src/pgp/builtin.c, built-in meshes and material-space tiles for demos and tes
- *  20874: src/pgp/io.c, files and memory for pgp.h: material-space tiles (NRRD, or
- *  21222: src/pgp/export.c, the mapping for other programs. A viewer that knows nothin
- *  21448: src/pgp/morph.c, the inputs of §1 (keys brought to the tile size, made til
- *  22127: src/pgp/synth.c, §1.2 constrained tile synthesis, and the whole of §1: ke
+ *   9147: src/common/raster.h, exact scan conversion of 2D triangles.
+ *   9659: src/common/parallel.h, a parallel for, the one way work is split across threads.
+ *   9832: src/common/render.h, a small deterministic software renderer for textured trian
+ *  11731: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
+ *  11918: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
+ *  12003: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
+ *  12192: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
+ *  13112: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
+ *  13810: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
+ *  14046: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
+ *  14810: src/common/periodic.h, the periodic global parameterization of a triangle mesh al
+ *  15670: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
+ *  16431: src/pgp/tile3.h, sampling a material-space tile (Ray et al. 2009, §2: "a 3
+ *  16539: src/common/glue.h, what every method header needs between its public types an
+ *  16875: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  17539: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
+ *  18036: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
+ *  18522: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
+ *  18665: src/common/kdtree.h, nearest-neighbour search among n points of dimension d, wi
+ *  19008: src/common/pca.h, principal component analysis of vectors streamed one at a 
+ *  19195: src/pgp/core.c, pgp.h's glue to the shared core, its defaults, and the map
+ *  19409: src/pgp/field.c, §2.1 effect areas and §2.2 interpolation of the constrai
+ *  19608: src/pgp/solve.c, §2.3 the periodic global parameterization, the recovery o
+ *  20139: src/pgp/edit.c, the public editing calls of a mapping. §2.1 (Ray, Lévy, 
+ *  20284: src/pgp/render.c, §3 rendering, and a cleaner treatment of the vortices.
+ *  20645: src/pgp/builtin.c, built-in meshes and material-space tiles for demos and tes
+ *  20914: src/pgp/io.c, files and memory for pgp.h: material-space tiles (NRRD, or
+ *  21262: src/pgp/export.c, the mapping for other programs. A viewer that knows nothin
+ *  21488: src/pgp/morph.c, the inputs of §1 (keys brought to the tile size, made til
+ *  22167: src/pgp/synth.c, §1.2 constrained tile synthesis, and the whole of §1: ke
  */
 /* pgp.h - material-space texturing with a periodic global parameterization.
  *
@@ -8557,61 +8557,60 @@ PW__DEF void pw__zamg_acc_flush(pw__zamg_acc *w, int *col, double *val, int *nnz
     w->cnt = 0;
 }
 
-/* One pass of a product C = X Y over block b of X's rows, with the
- * block's own scratch: each row's entries counted into C->rowptr[i + 1]
- * (C->col NULL) or written from C->rowptr[i] on. */
-typedef struct pw__zamg_prod {
-    const pw_zcsr *X, *Y;
+/* A sparse matrix built row by row: row(ctx, i, w) adds the entries of
+ * row i to w (columns below ncols). pw__zamg_rows builds it in two
+ * passes on run, by blocks of rows each with its own scratch: count, then
+ * fill; each row is the same as built alone. */
+typedef struct pw__zamg_rowjob {
+    void (*row)(const void *ctx, int i, pw__zamg_acc *w);
+    const void *ctx;
+    const pw_zrun *run;
+    int n;
+} pw__zamg_rowjob;
+
+typedef struct pw__zamg_pass {
+    const pw__zamg_rowjob *job;
     pw_zcsr *C;
     pw__zamg_acc *w;
     int nb;
-} pw__zamg_prod;
+} pw__zamg_pass;
 
-PW__DEF void pw__zamg_prod_block(void *ctx, int b)
+/* One pass over block b: each row's entries counted into C->rowptr[i + 1]
+ * (C->col NULL) or written from C->rowptr[i] on. */
+PW__DEF void pw__zamg_pass_block(void *ctx, int b)
 {
-    const pw__zamg_prod *p = (const pw__zamg_prod *)ctx;
-    const pw_zcsr *X = p->X, *Y = p->Y;
+    const pw__zamg_pass *p = (const pw__zamg_pass *)ctx;
     pw_zcsr *C = p->C;
-    int i, k, q, hi = pw__zblock_start(X->n, p->nb, b + 1);
-    for (i = pw__zblock_start(X->n, p->nb, b); i < hi; i++) {
+    int i, hi = pw__zblock_start(C->n, p->nb, b + 1);
+    for (i = pw__zblock_start(C->n, p->nb, b); i < hi; i++) {
         int nnz = C->col ? C->rowptr[i] : 0;
-        for (k = X->rowptr[i]; k < X->rowptr[i + 1]; k++) {
-            const double *x = X->val + 2 * k;
-            int j = X->col[k];
-            for (q = Y->rowptr[j]; q < Y->rowptr[j + 1]; q++) {
-                const double *y = Y->val + 2 * q;
-                pw__zamg_acc_add(&p->w[b], Y->col[q], x[0] * y[0] - x[1] * y[1], x[0] * y[1] + x[1] * y[0]);
-            }
-        }
+        p->job->row(p->job->ctx, i, &p->w[b]);
         pw__zamg_acc_flush(&p->w[b], C->col, C->val, &nnz);
         if (!C->col) C->rowptr[i + 1] = nnz;
     }
 }
 
-/* C = X Y for complex CSR X and Y of ncols columns; C gets C->n = X->n
- * rows. Two passes on X's run, by blocks of rows: count, then fill. */
-PW__DEF int pw__zamg_mul(const pw_alloc *a, const pw_zcsr *X, const pw_zcsr *Y, int ncols, pw_zcsr *C, pw_err *e)
+PW__DEF int pw__zamg_rows(const pw_alloc *a, const pw__zamg_rowjob *job, int ncols, pw_zcsr *C, pw_err *e)
 {
     pw__zamg_acc w[PW__ZBLOCKS];
-    pw__zamg_prod p;
+    pw__zamg_pass p;
     int i, b, r = PW_OK;
     memset(C, 0, sizeof *C);
-    p.X = X;
-    p.Y = Y;
+    p.job = job;
     p.C = C;
     p.w = w;
-    p.nb = pw__zblocks(X->n);
+    p.nb = pw__zblocks(job->n);
     for (b = 0; b < p.nb; b++) /* (a failed init has freed its own) */
         if (r != PW_OK || (r = pw__zamg_acc_init(a, ncols, &w[b], e)) != PW_OK) memset(&w[b], 0, sizeof w[b]);
-    C->n = X->n;
-    C->rowptr = (int *)pw_alloc_array(a, (size_t)X->n + 1, sizeof(int), "multigrid matrix", e);
+    C->n = job->n;
+    C->rowptr = (int *)pw_alloc_array(a, (size_t)job->n + 1, sizeof(int), "multigrid matrix", e);
     if (r == PW_OK && C->rowptr) {
-        pw__zfor(X->run, X->n, p.nb, pw__zamg_prod_block, &p);
+        pw__zfor(job->run, job->n, p.nb, pw__zamg_pass_block, &p);
         C->rowptr[0] = 0;
-        for (i = 0; i < X->n; i++) C->rowptr[i + 1] += C->rowptr[i];
-        C->col = (int *)pw_alloc_array(a, (size_t)C->rowptr[X->n] + 1, sizeof(int), "multigrid matrix", e);
-        C->val = (double *)pw_alloc_array(a, 2 * (size_t)C->rowptr[X->n] + 2, sizeof(double), "multigrid matrix", e);
-        if (C->col && C->val) pw__zfor(X->run, X->n, p.nb, pw__zamg_prod_block, &p);
+        for (i = 0; i < job->n; i++) C->rowptr[i + 1] += C->rowptr[i];
+        C->col = (int *)pw_alloc_array(a, (size_t)C->rowptr[job->n] + 1, sizeof(int), "multigrid matrix", e);
+        C->val = (double *)pw_alloc_array(a, 2 * (size_t)C->rowptr[job->n] + 2, sizeof(double), "multigrid matrix", e);
+        if (C->col && C->val) pw__zfor(job->run, job->n, p.nb, pw__zamg_pass_block, &p);
     }
     for (b = 0; b < p.nb; b++) pw__zamg_acc_free(a, &w[b]);
     if (r != PW_OK || !C->rowptr || !C->col || !C->val) {
@@ -8619,6 +8618,42 @@ PW__DEF int pw__zamg_mul(const pw_alloc *a, const pw_zcsr *X, const pw_zcsr *Y, 
         return PW_ERR_NOMEM;
     }
     return PW_OK;
+}
+
+/* The operands of a product X Y. */
+typedef struct pw__zamg_prod {
+    const pw_zcsr *X, *Y;
+} pw__zamg_prod;
+
+/* Row i of X Y. */
+PW__DEF void pw__zamg_prod_row(const void *ctx, int i, pw__zamg_acc *w)
+{
+    const pw__zamg_prod *p = (const pw__zamg_prod *)ctx;
+    const pw_zcsr *X = p->X, *Y = p->Y;
+    int k, q;
+    for (k = X->rowptr[i]; k < X->rowptr[i + 1]; k++) {
+        const double *x = X->val + 2 * k;
+        int j = X->col[k];
+        for (q = Y->rowptr[j]; q < Y->rowptr[j + 1]; q++) {
+            const double *y = Y->val + 2 * q;
+            pw__zamg_acc_add(w, Y->col[q], x[0] * y[0] - x[1] * y[1], x[0] * y[1] + x[1] * y[0]);
+        }
+    }
+}
+
+/* C = X Y for complex CSR X and Y of ncols columns; C gets C->n = X->n
+ * rows (on X's run). */
+PW__DEF int pw__zamg_mul(const pw_alloc *a, const pw_zcsr *X, const pw_zcsr *Y, int ncols, pw_zcsr *C, pw_err *e)
+{
+    pw__zamg_prod p;
+    pw__zamg_rowjob job;
+    p.X = X;
+    p.Y = Y;
+    job.row = pw__zamg_prod_row;
+    job.ctx = &p;
+    job.run = X->run;
+    job.n = X->n;
+    return pw__zamg_rows(a, &job, ncols, C, e);
 }
 
 /* The conjugate transpose of an n x ncols complex CSR. */
@@ -8652,39 +8687,44 @@ PW__DEF int pw__zamg_adjoint(const pw_alloc *a, const pw_zcsr *P, int ncols, pw_
 
 /* ---- one coarser level ------------------------------------------------------ */
 
+/* The smoothed prolongation's inputs: level L's matrix, the tentative
+ * prolongation (agg, ph: pw__zamg_aggregate) and the diagonal d. */
+typedef struct pw__zamg_smooth {
+    const pw_zcsr *A;
+    const int *agg;
+    const double *ph, *d;
+} pw__zamg_smooth;
+
+/* Row i of P = (I - omega D^-1 A) P_t. */
+PW__DEF void pw__zamg_prolong_row(const void *ctx, int i, pw__zamg_acc *w)
+{
+    const pw__zamg_smooth *m = (const pw__zamg_smooth *)ctx;
+    const pw_zcsr *A = m->A;
+    const double omega = 2.0 / 3.0, s = m->d[i] > 0.0 ? omega / m->d[i] : 0.0;
+    int k;
+    pw__zamg_acc_add(w, m->agg[i], m->ph[2 * i], m->ph[2 * i + 1]);
+    for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++) {
+        const double *v = A->val + 2 * k, *p = m->ph + 2 * A->col[k];
+        pw__zamg_acc_add(w, m->agg[A->col[k]], -s * (v[0] * p[0] - v[1] * p[1]), -s * (v[0] * p[1] + v[1] * p[0]));
+    }
+}
+
 /* The smoothed prolongation P = (I - omega D^-1 A) P_t of level L (n x nc),
  * P_t given by agg and ph (pw__zamg_aggregate), into P. */
 PW__DEF int pw__zamg_prolong(const pw_alloc *a, const pw__zamg_level *L, const int *agg, const double *ph,
                              const double *d, pw_zcsr *P, pw_err *e)
 {
-    const pw_zcsr *A = &L->A;
-    const double omega = 2.0 / 3.0;
-    pw__zamg_acc w;
-    int n = A->n, i, k, nnz = 0;
-    memset(P, 0, sizeof *P);
-    if (pw__zamg_acc_init(a, L->nc, &w, e)) return PW_ERR_NOMEM;
-    P->n = n;
-    P->rowptr = (int *)pw_alloc_array(a, (size_t)n + 1, sizeof(int), "multigrid prolongation", e);
-    P->col = (int *)pw_alloc_array(a, (size_t)A->rowptr[n] + n, sizeof(int), "multigrid prolongation", e);
-    P->val = (double *)pw_alloc_array(a, 2 * ((size_t)A->rowptr[n] + n), sizeof(double), "multigrid prolongation", e);
-    if (!P->rowptr || !P->col || !P->val) {
-        pw__zamg_acc_free(a, &w);
-        pw_zcsr_free(a, P);
-        return PW_ERR_NOMEM;
-    }
-    P->rowptr[0] = 0;
-    for (i = 0; i < n; i++) {
-        double s = d[i] > 0.0 ? omega / d[i] : 0.0;
-        pw__zamg_acc_add(&w, agg[i], ph[2 * i], ph[2 * i + 1]);
-        for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++) {
-            const double *v = A->val + 2 * k, *p = ph + 2 * A->col[k];
-            pw__zamg_acc_add(&w, agg[A->col[k]], -s * (v[0] * p[0] - v[1] * p[1]), -s * (v[0] * p[1] + v[1] * p[0]));
-        }
-        pw__zamg_acc_flush(&w, P->col, P->val, &nnz);
-        P->rowptr[i + 1] = nnz;
-    }
-    pw__zamg_acc_free(a, &w);
-    return PW_OK;
+    pw__zamg_smooth m;
+    pw__zamg_rowjob job;
+    m.A = &L->A;
+    m.agg = agg;
+    m.ph = ph;
+    m.d = d;
+    job.row = pw__zamg_prolong_row;
+    job.ctx = &m;
+    job.run = L->A.run;
+    job.n = L->A.n;
+    return pw__zamg_rows(a, &job, L->nc, P, e);
 }
 
 /* Level L's prolongation (from aggregates of L->A) and the next level's
