@@ -17,36 +17,36 @@
  *   6439: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
  *   7974: src/common/zsparse.h, complex Hermitian sparse systems, solved by conjugate grad
  *   8328: src/common/zamg.h, a smoothed-aggregation multigrid preconditioner for the co
- *   9147: src/common/raster.h, exact scan conversion of 2D triangles.
- *   9659: src/common/parallel.h, a parallel for, the one way work is split across threads.
- *   9832: src/common/render.h, a small deterministic software renderer for textured trian
- *  11731: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
- *  11918: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
- *  12003: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
- *  12192: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
- *  13112: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
- *  13810: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
- *  14046: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
- *  14810: src/common/periodic.h, the periodic global parameterization of a triangle mesh al
- *  15670: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
- *  16431: src/pgp/tile3.h, sampling a material-space tile (Ray et al. 2009, §2: "a 3
- *  16539: src/common/glue.h, what every method header needs between its public types an
- *  16875: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  17539: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
- *  18036: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
- *  18522: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
- *  18665: src/common/kdtree.h, nearest-neighbour search among n points of dimension d, wi
- *  19008: src/common/pca.h, principal component analysis of vectors streamed one at a 
- *  19195: src/pgp/core.c, pgp.h's glue to the shared core, its defaults, and the map
- *  19409: src/pgp/field.c, §2.1 effect areas and §2.2 interpolation of the constrai
- *  19608: src/pgp/solve.c, §2.3 the periodic global parameterization, the recovery o
- *  20139: src/pgp/edit.c, the public editing calls of a mapping. §2.1 (Ray, Lévy, 
- *  20284: src/pgp/render.c, §3 rendering, and a cleaner treatment of the vortices.
- *  20645: src/pgp/builtin.c, built-in meshes and material-space tiles for demos and tes
- *  20914: src/pgp/io.c, files and memory for pgp.h: material-space tiles (NRRD, or
- *  21262: src/pgp/export.c, the mapping for other programs. A viewer that knows nothin
- *  21488: src/pgp/morph.c, the inputs of §1 (keys brought to the tile size, made til
- *  22167: src/pgp/synth.c, §1.2 constrained tile synthesis, and the whole of §1: ke
+ *   9148: src/common/raster.h, exact scan conversion of 2D triangles.
+ *   9660: src/common/parallel.h, a parallel for, the one way work is split across threads.
+ *   9833: src/common/render.h, a small deterministic software renderer for textured trian
+ *  11732: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
+ *  11919: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
+ *  12004: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
+ *  12193: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
+ *  13113: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
+ *  13811: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
+ *  14047: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
+ *  14811: src/common/periodic.h, the periodic global parameterization of a triangle mesh al
+ *  15671: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
+ *  16432: src/pgp/tile3.h, sampling a material-space tile (Ray et al. 2009, §2: "a 3
+ *  16540: src/common/glue.h, what every method header needs between its public types an
+ *  16876: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  17540: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
+ *  18037: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
+ *  18523: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
+ *  18666: src/common/kdtree.h, nearest-neighbour search among n points of dimension d, wi
+ *  19009: src/common/pca.h, principal component analysis of vectors streamed one at a 
+ *  19196: src/pgp/core.c, pgp.h's glue to the shared core, its defaults, and the map
+ *  19410: src/pgp/field.c, §2.1 effect areas and §2.2 interpolation of the constrai
+ *  19609: src/pgp/solve.c, §2.3 the periodic global parameterization, the recovery o
+ *  20140: src/pgp/edit.c, the public editing calls of a mapping. §2.1 (Ray, Lévy, 
+ *  20285: src/pgp/render.c, §3 rendering, and a cleaner treatment of the vortices.
+ *  20646: src/pgp/builtin.c, built-in meshes and material-space tiles for demos and tes
+ *  20915: src/pgp/io.c, files and memory for pgp.h: material-space tiles (NRRD, or
+ *  21263: src/pgp/export.c, the mapping for other programs. A viewer that knows nothin
+ *  21489: src/pgp/morph.c, the inputs of §1 (keys brought to the tile size, made til
+ *  22168: src/pgp/synth.c, §1.2 constrained tile synthesis, and the whole of §1: ke
  */
 /* pgp.h - material-space texturing with a periodic global parameterization.
  *
@@ -8357,7 +8357,7 @@ PW__DEF int pw_zic0_solve(const pw_alloc *a, const pw_zcsr *A, const double *b, 
  *     row's diagonal as sum |a_ij| (the l1 smoother of Baker, Falgout,
  *     Kolev and Yang 2011), which keeps the sweep convergent however the
  *     blocks cut the graph. Within a block it is the plain sweep, so with
- *     blocks of 1024 rows or more it smooths about as well.
+ *     at most 16 blocks of at least 4096 rows it smooths about as well.
  *
  *     pw_zamg M;
  *     pw_zamg_setup(NULL, &A, &M, &e);
@@ -8365,9 +8365,10 @@ PW__DEF int pw_zic0_solve(const pw_alloc *a, const pw_zcsr *A, const double *b, 
  *     pw_zamg_free(NULL, &M);
  *
  * Deterministic: the sweeps, residuals, restrictions and prolongations
- * run by blocks of rows on the matrix's run (zsparse.h), each block
- * writing its own rows, so the result is the same on any number of
- * threads; the set-up runs on one. */
+ * of the cycle and the smoothed prolongation and Galerkin products of the
+ * set-up run by blocks of rows on the matrix's run (zsparse.h), each
+ * block writing its own rows, so the result is the same on any number of
+ * threads; the aggregation and the coarsest factor run on one. */
 #ifndef PW__ZAMG_V1
 #define PW__ZAMG_V1
 

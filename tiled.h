@@ -18,26 +18,26 @@
  *   6392: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
  *   7927: src/common/zsparse.h, complex Hermitian sparse systems, solved by conjugate grad
  *   8281: src/common/zamg.h, a smoothed-aggregation multigrid preconditioner for the co
- *   9100: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
- *   9287: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
- *   9372: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
- *  10136: src/common/periodic.h, the periodic global parameterization of a triangle mesh al
- *  10996: src/common/raster.h, exact scan conversion of 2D triangles.
- *  11510: src/common/parallel.h, a parallel for, the one way work is split across threads.
- *  11683: src/common/render.h, a small deterministic software renderer for textured trian
- *  13582: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
- *  14079: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
- *  14565: src/common/glue.h, what every method header needs between its public types an
- *  14901: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  15565: src/tiled/core.c, tiled.h's glue to the shared core, its defaults, result
- *  15654: src/tiled/layout.c, ch. III.1, the boundary types and the tiled texture they
- *  15926: src/tiled/cells.c, beyond the thesis (issue 23): tiles of a chosen size on an
- *  16774: src/tiled/map.c, ch. III.2, the texture mapping algorithm of Fig. 29
- *  17043: src/tiled/synth.c, ch. III.1.3, tiled texture image synthesis: an edge-matche
- *  17489: src/tiled/validate.c, checks a hand-made tiled texture (the thesis's Figs. 39,
- *  17617: src/tiled/builtin.c, built-in meshes and exemplars for demos and tests: the
- *  17814: src/tiled/render.c, a software rendering of a mapped mesh (the thesis rendered
- *  18037: src/tiled/io.c, files. Meshes and exemplars in; the mapped mesh with its t
+ *   9101: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
+ *   9288: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
+ *   9373: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
+ *  10137: src/common/periodic.h, the periodic global parameterization of a triangle mesh al
+ *  10997: src/common/raster.h, exact scan conversion of 2D triangles.
+ *  11511: src/common/parallel.h, a parallel for, the one way work is split across threads.
+ *  11684: src/common/render.h, a small deterministic software renderer for textured trian
+ *  13583: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
+ *  14080: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
+ *  14566: src/common/glue.h, what every method header needs between its public types an
+ *  14902: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  15566: src/tiled/core.c, tiled.h's glue to the shared core, its defaults, result
+ *  15655: src/tiled/layout.c, ch. III.1, the boundary types and the tiled texture they
+ *  15927: src/tiled/cells.c, beyond the thesis (issue 23): tiles of a chosen size on an
+ *  16775: src/tiled/map.c, ch. III.2, the texture mapping algorithm of Fig. 29
+ *  17044: src/tiled/synth.c, ch. III.1.3, tiled texture image synthesis: an edge-matche
+ *  17490: src/tiled/validate.c, checks a hand-made tiled texture (the thesis's Figs. 39,
+ *  17618: src/tiled/builtin.c, built-in meshes and exemplars for demos and tests: the
+ *  17815: src/tiled/render.c, a software rendering of a mapped mesh (the thesis rendered
+ *  18038: src/tiled/io.c, files. Meshes and exemplars in; the mapped mesh with its t
  */
 /* tiled.h - seamless, singularity-free tiled textures on quad meshes.
  *
@@ -8310,7 +8310,7 @@ PW__DEF int pw_zic0_solve(const pw_alloc *a, const pw_zcsr *A, const double *b, 
  *     row's diagonal as sum |a_ij| (the l1 smoother of Baker, Falgout,
  *     Kolev and Yang 2011), which keeps the sweep convergent however the
  *     blocks cut the graph. Within a block it is the plain sweep, so with
- *     blocks of 1024 rows or more it smooths about as well.
+ *     at most 16 blocks of at least 4096 rows it smooths about as well.
  *
  *     pw_zamg M;
  *     pw_zamg_setup(NULL, &A, &M, &e);
@@ -8318,9 +8318,10 @@ PW__DEF int pw_zic0_solve(const pw_alloc *a, const pw_zcsr *A, const double *b, 
  *     pw_zamg_free(NULL, &M);
  *
  * Deterministic: the sweeps, residuals, restrictions and prolongations
- * run by blocks of rows on the matrix's run (zsparse.h), each block
- * writing its own rows, so the result is the same on any number of
- * threads; the set-up runs on one. */
+ * of the cycle and the smoothed prolongation and Galerkin products of the
+ * set-up run by blocks of rows on the matrix's run (zsparse.h), each
+ * block writing its own rows, so the result is the same on any number of
+ * threads; the aggregation and the coarsest factor run on one. */
 #ifndef PW__ZAMG_V1
 #define PW__ZAMG_V1
 
