@@ -3,50 +3,50 @@
  *
  * CONTENTS (line: source, what it holds)
  *     51: src/pgp/pgp.h, the public API and its documentation
- *    670: src/common/base.h, allocation hooks, result codes, error messages, limits, he
- *    982: src/common/vec.h, small vector math on float[3] arrays and a 3-float struct.
- *   1096: src/common/rng.h, seeded random numbers with the same output on every platfo
- *   1173: src/common/noise.h, value noise and its fractal sum, for the built-in procedur
- *   1275: src/common/image.h, float images and their file formats.
- *   1980: src/common/deflate.h, zlib (RFC 1950) and deflate (RFC 1951) compression and
- *   2977: src/common/png.h, PNG writer and reader, and the image front end.
- *   3536: src/common/text.h, locale-independent number parsing and formatting, a line s
- *   3949: src/common/mesh.h, polygon meshes as flat arrays, and their file formats.
- *   5478: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
- *   6007: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
- *   6431: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
- *   8092: src/common/zsparse.h, complex Hermitian sparse systems, solved by conjugate grad
- *   8375: src/common/zamg.h, a smoothed-aggregation multigrid preconditioner for the co
- *   9018: src/common/raster.h, exact scan conversion of 2D triangles.
- *   9530: src/common/parallel.h, a parallel for, the one way work is split across threads.
- *   9854: src/common/render.h, a small deterministic software renderer for textured trian
- *  12018: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
- *  12215: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
- *  12300: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
- *  12489: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
- *  13409: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
- *  14107: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
- *  14343: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
- *  15107: src/common/periodic.h, the periodic global parameterization of a triangle mesh al
- *  15935: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
- *  16696: src/pgp/tile3.h, sampling a material-space tile (Ray et al. 2009, §2: "a 3
- *  16804: src/common/glue.h, what every method header needs between its public types an
- *  17140: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  17804: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
- *  18301: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
- *  18787: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
- *  18930: src/common/kdtree.h, nearest-neighbour search among n points of dimension d, wi
- *  19273: src/common/pca.h, principal component analysis of vectors streamed one at a 
- *  19460: src/pgp/core.c, pgp.h's glue to the shared core, its defaults, and the map
- *  19673: src/pgp/field.c, §2.1 effect areas and §2.2 interpolation of the constrai
- *  19872: src/pgp/solve.c, §2.3 the periodic global parameterization, the recovery o
- *  20361: src/pgp/edit.c, the public editing calls of a mapping. §2.1 (Ray, Lévy, 
- *  20506: src/pgp/render.c, §3 rendering, and a cleaner treatment of the vortices.
- *  20868: src/pgp/builtin.c, built-in meshes and material-space tiles for demos and tes
- *  21137: src/pgp/io.c, files and memory for pgp.h: material-space tiles (NRRD, or
- *  21485: src/pgp/export.c, the mapping for other programs. A viewer that knows nothin
- *  21711: src/pgp/morph.c, the inputs of §1 (keys brought to the tile size, made til
- *  22390: src/pgp/synth.c, §1.2 constrained tile synthesis, and the whole of §1: ke
+ *    678: src/common/base.h, allocation hooks, result codes, error messages, limits, he
+ *    990: src/common/vec.h, small vector math on float[3] arrays and a 3-float struct.
+ *   1104: src/common/rng.h, seeded random numbers with the same output on every platfo
+ *   1181: src/common/noise.h, value noise and its fractal sum, for the built-in procedur
+ *   1283: src/common/image.h, float images and their file formats.
+ *   1988: src/common/deflate.h, zlib (RFC 1950) and deflate (RFC 1951) compression and
+ *   2985: src/common/png.h, PNG writer and reader, and the image front end.
+ *   3544: src/common/text.h, locale-independent number parsing and formatting, a line s
+ *   3957: src/common/mesh.h, polygon meshes as flat arrays, and their file formats.
+ *   5486: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
+ *   6015: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
+ *   6439: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
+ *   8100: src/common/zsparse.h, complex Hermitian sparse systems, solved by conjugate grad
+ *   8454: src/common/zamg.h, a smoothed-aggregation multigrid preconditioner for the co
+ *   9274: src/common/raster.h, exact scan conversion of 2D triangles.
+ *   9786: src/common/parallel.h, a parallel for, the one way work is split across threads.
+ *  10110: src/common/render.h, a small deterministic software renderer for textured trian
+ *  12274: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
+ *  12471: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
+ *  12556: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
+ *  12745: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
+ *  13665: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
+ *  14363: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
+ *  14599: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
+ *  15363: src/common/periodic.h, the periodic global parameterization of a triangle mesh al
+ *  16223: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
+ *  16984: src/pgp/tile3.h, sampling a material-space tile (Ray et al. 2009, §2: "a 3
+ *  17092: src/common/glue.h, what every method header needs between its public types an
+ *  17428: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  18092: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
+ *  18589: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
+ *  19075: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
+ *  19218: src/common/kdtree.h, nearest-neighbour search among n points of dimension d, wi
+ *  19561: src/common/pca.h, principal component analysis of vectors streamed one at a 
+ *  19748: src/pgp/core.c, pgp.h's glue to the shared core, its defaults, and the map
+ *  19962: src/pgp/field.c, §2.1 effect areas and §2.2 interpolation of the constrai
+ *  20161: src/pgp/solve.c, §2.3 the periodic global parameterization, the recovery o
+ *  20692: src/pgp/edit.c, the public editing calls of a mapping. §2.1 (Ray, Lévy, 
+ *  20837: src/pgp/render.c, §3 rendering, and a cleaner treatment of the vortices.
+ *  21199: src/pgp/builtin.c, built-in meshes and material-space tiles for demos and tes
+ *  21468: src/pgp/io.c, files and memory for pgp.h: material-space tiles (NRRD, or
+ *  21816: src/pgp/export.c, the mapping for other programs. A viewer that knows nothin
+ *  22042: src/pgp/morph.c, the inputs of §1 (keys brought to the tile size, made til
+ *  22721: src/pgp/synth.c, §1.2 constrained tile synthesis, and the whole of §1: ke
  */
 /* pgp.h - material-space texturing with a periodic global parameterization.
  *
@@ -119,10 +119,11 @@
  *   PATCHWORK_IMPLEMENTATION turns on every patchwork header included after
  *   it. Build macros: PGP_STATIC (all functions static), PW_MALLOC /
  *   PW_REALLOC / PW_FREE (all or none), PW_ASSERT, PW_NO_STDIO, the PW_MAX_*
- *   size limits, as in every patchwork header, and PW_THREADS: rendering and
- *   tile synthesis on several threads (POSIX threads; link with -pthread;
- *   pgp_render_options.threads and pgp_synth_options.threads, 0 = one per
- *   processor), the same picture and tile for any count.
+ *   size limits, as in every patchwork header, and PW_THREADS: rendering,
+ *   tile synthesis and the solves of pgp_create and the edits on several
+ *   threads (POSIX threads; link with -pthread; pgp_render_options.threads,
+ *   pgp_synth_options.threads and pgp_options.threads, 0 = one per
+ *   processor), the same picture, tile and map for any count.
  *   PW_NO_RENDER and PW_NO_PNG leave out the renderer (pgp_render fails
  *   with PGP_ERR_UNSUPPORTED) and the PNG codec (loading or saving PNG fails
  *   the same way): faster builds for programs that only compute (docs/api.md).
@@ -443,6 +444,13 @@ typedef struct pgp_options {
                                 pgp_add_constraint would (its own effect area and
                                 solve); their ids are 0, 1, ...; default none */
     int nconstraints;
+    int threads;               /* threads of pgp_create's and the edits' solves (the
+                                multigrid sweeps and the products of their conjugate
+                                gradients), as render.threads: 0 (default) one per
+                                processor with PW_THREADS, else 1; the map is the same,
+                                bit for bit, for any number */
+    pgp_parallel_fn parallel;  /* optional: the caller's parallel for, used instead of threads */
+    void *parallel_pool;       /* its first argument */
     pgp_render_options render; /* pgp_render's settings (pass &opt.render) */
     pgp_synth_options synth;   /* tile synthesis settings (pass &opt.synth) */
     pgp_atlas_options atlas;   /* pgp_bake_atlas's */
@@ -8128,12 +8136,56 @@ PW__DEF int pw_ztriplets_add(pw_triplets *t, int i, int j, double re, double im,
     return r == PW_OK ? pw_triplets_add(t, i, 2 * j + 1, im, e) : r;
 }
 
+/* ---- rows in blocks, on threads ---------------------------------------------- */
+
+/* How the solvers' row loops may run on threads: pfor(par, n, task, ctx)
+ * runs task(ctx, i) for every i in [0, n), in any order (pw_parallel_for
+ * and its pw_parallel, which the headers define later; pfor NULL: in order
+ * on the calling thread). Rows go to tasks in blocks that depend on the
+ * number of rows only, and every sum over rows is a sum per block and then
+ * the blocks in order, so results are the same bits on any number of
+ * threads and in any task order. */
+struct pw_parallel;
+typedef struct pw_zrun {
+    void (*pfor)(const struct pw_parallel *par, int n, void (*task)(void *, int), void *ctx);
+    const struct pw_parallel *par;
+} pw_zrun;
+
+/* At most this many blocks of at least PW__ZBLOCK_ROWS rows; loops over
+ * fewer than PW__ZPAR_ROWS rows stay on the calling thread (a parallel for
+ * costs more than they do). */
+#define PW__ZBLOCKS 16
+#define PW__ZBLOCK_ROWS 4096
+#define PW__ZPAR_ROWS 16384
+
+/* The number of blocks of n rows. */
+PW__DEF int pw__zblocks(int n)
+{
+    int nb = (n + PW__ZBLOCK_ROWS - 1) / PW__ZBLOCK_ROWS;
+    return nb < 1 ? 1 : (nb > PW__ZBLOCKS ? PW__ZBLOCKS : nb);
+}
+
+/* The first row of block b of nb over n rows. */
+PW__DEF int pw__zblock_start(int n, int nb, int b) { return (int)((long long)n * b / nb); }
+
+/* Runs task(ctx, b) for the nb blocks of n rows, on run's threads when
+ * there are enough rows. */
+PW__DEF void pw__zfor(const pw_zrun *run, int n, int nb, void (*task)(void *, int), void *ctx)
+{
+    int b;
+    if (run && run->pfor && n >= PW__ZPAR_ROWS && nb > 1) run->pfor(run->par, nb, task, ctx);
+    else
+        for (b = 0; b < nb; b++) task(ctx, b);
+}
+
 /* n x n complex CSR: row i holds col[k], (val[2k], val[2k+1]) for
- * rowptr[i] <= k < rowptr[i+1], columns increasing. */
+ * rowptr[i] <= k < rowptr[i+1], columns increasing. run (NULL: one
+ * thread) says how its products run. */
 typedef struct pw_zcsr {
     int n;
     int *rowptr, *col;
     double *val; /* 2 per entry */
+    const pw_zrun *run;
 } pw_zcsr;
 
 PW__DEF void pw_zcsr_free(const pw_alloc *a, pw_zcsr *A)
@@ -8178,22 +8230,49 @@ PW__DEF int pw_zcsr_from_triplets(const pw_alloc *a, const pw_triplets *t, pw_zc
     return PW_OK;
 }
 
-/* y = A x over complex vectors (2n doubles); returns Re(x^H y). */
-PW__DEF double pw_zcsr_mul(const pw_zcsr *A, const double *x, double *y)
+/* A product y = A x by blocks of rows: each block's share of Re(x^H y). */
+typedef struct pw__zmul {
+    const pw_zcsr *A;
+    const double *x;
+    double *y;
+    int nb;
+    double part[PW__ZBLOCKS];
+} pw__zmul;
+
+PW__DEF void pw__zmul_block(void *ctx, int b)
 {
+    pw__zmul *w = (pw__zmul *)ctx;
+    const pw_zcsr *A = w->A;
+    const double *x = w->x;
     double d = 0.0;
-    int i, k;
-    for (i = 0; i < A->n; i++) {
+    int i, k, hi = pw__zblock_start(A->n, w->nb, b + 1);
+    for (i = pw__zblock_start(A->n, w->nb, b); i < hi; i++) {
         double sr = 0.0, si = 0.0;
         for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++) {
             const double *v = A->val + 2 * k, *xx = x + 2 * A->col[k];
             sr += v[0] * xx[0] - v[1] * xx[1];
             si += v[0] * xx[1] + v[1] * xx[0];
         }
-        y[2 * i] = sr;
-        y[2 * i + 1] = si;
+        w->y[2 * i] = sr;
+        w->y[2 * i + 1] = si;
         d += x[2 * i] * sr + x[2 * i + 1] * si;
     }
+    w->part[b] = d;
+}
+
+/* y = A x over complex vectors (2n doubles), on A->run's threads; returns
+ * Re(x^H y), summed per block of rows and then over the blocks in order. */
+PW__DEF double pw_zcsr_mul(const pw_zcsr *A, const double *x, double *y)
+{
+    pw__zmul w;
+    double d = 0.0;
+    int b;
+    w.A = A;
+    w.x = x;
+    w.y = y;
+    w.nb = pw__zblocks(A->n);
+    pw__zfor(A->run, A->n, w.nb, pw__zmul_block, &w);
+    for (b = 0; b < w.nb; b++) d += w.part[b];
     return d;
 }
 
@@ -8397,13 +8476,25 @@ PW__DEF int pw_zic0_solve(const pw_alloc *a, const pw_zcsr *A, const double *b, 
  *     backward after, so the cycle is a symmetric positive definite
  *     preconditioner for CG; the coarsest level (at most 512 unknowns) is
  *     solved by a dense Cholesky factor.
+ *   - The Gauss-Seidel sweeps are hybrid, so that they run on threads:
+ *     each block of rows (zsparse.h's blocks, set by the number of rows
+ *     alone) sweeps its own rows in order and reads the rows of other
+ *     blocks as they were before the sweep; their terms are added to the
+ *     row's diagonal as sum |a_ij| (the l1 smoother of Baker, Falgout,
+ *     Kolev and Yang 2011), which keeps the sweep convergent however the
+ *     blocks cut the graph. Within a block it is the plain sweep, so with
+ *     at most 16 blocks of at least 4096 rows it smooths about as well.
  *
  *     pw_zamg M;
  *     pw_zamg_setup(NULL, &A, &M, &e);
  *     pw_zamg_solve(NULL, &A, &M, b, x, NULL, &stats, &e);
  *     pw_zamg_free(NULL, &M);
  *
- * Deterministic: every loop runs in index order, no threads. */
+ * Deterministic: the sweeps, residuals, restrictions and prolongations
+ * of the cycle and the smoothed prolongation and Galerkin products of the
+ * set-up run by blocks of rows on the matrix's run (zsparse.h), each
+ * block writing its own rows, so the result is the same on any number of
+ * threads; the aggregation and the coarsest factor run on one. */
 #ifndef PW__ZAMG_V1
 #define PW__ZAMG_V1
 
@@ -8412,12 +8503,16 @@ PW__DEF int pw_zic0_solve(const pw_alloc *a, const pw_zcsr *A, const double *b, 
 #define PW__ZAMG_COARSEST 512
 
 /* One level: its matrix, the prolongation from the next (coarser) level's
- * unknowns (n x nc, complex CSR), and the cycle's vectors (2n doubles). */
+ * unknowns (n x nc, complex CSR) and its adjoint (nc x n), the sums of
+ * |a_ij| over each row's columns in other blocks (l1, n), and the cycle's
+ * vectors (2n doubles). */
 typedef struct pw__zamg_level {
     pw_zcsr A;
     int nc;
     int *prow, *pcol;
     double *pval;
+    pw_zcsr PH;
+    double *l1;
     double *x, *b, *r;
 } pw__zamg_level;
 
@@ -8589,44 +8684,103 @@ PW__DEF void pw__zamg_acc_flush(pw__zamg_acc *w, int *col, double *val, int *nnz
     w->cnt = 0;
 }
 
-/* C = op(X) Y for complex CSR X (rows of X, or with conj_t the rows of X^H
- * given as X's transpose already: see pw__zamg_galerkin) and Y of ncols
- * columns; C gets C->n = X->n rows. Two passes: count, then fill. */
-PW__DEF int pw__zamg_mul(const pw_alloc *a, const pw_zcsr *X, const pw_zcsr *Y, int ncols, pw_zcsr *C, pw_err *e)
+/* A sparse matrix built row by row: row(ctx, i, w) adds the entries of
+ * row i to w (columns below ncols). pw__zamg_rows builds it in two
+ * passes on run, by blocks of rows each with its own scratch: count, then
+ * fill; each row is the same as built alone. */
+typedef struct pw__zamg_rowjob {
+    void (*row)(const void *ctx, int i, pw__zamg_acc *w);
+    const void *ctx;
+    const pw_zrun *run;
+    int n;
+} pw__zamg_rowjob;
+
+typedef struct pw__zamg_pass {
+    const pw__zamg_rowjob *job;
+    pw_zcsr *C;
+    pw__zamg_acc *w;
+    int nb;
+} pw__zamg_pass;
+
+/* One pass over block b: each row's entries counted into C->rowptr[i + 1]
+ * (C->col NULL) or written from C->rowptr[i] on. */
+PW__DEF void pw__zamg_pass_block(void *ctx, int b)
 {
-    pw__zamg_acc w;
-    int pass, i, k, q, nnz = 0;
-    memset(C, 0, sizeof *C);
-    if (pw__zamg_acc_init(a, ncols, &w, e)) return PW_ERR_NOMEM;
-    C->n = X->n;
-    C->rowptr = (int *)pw_alloc_array(a, (size_t)X->n + 1, sizeof(int), "multigrid matrix", e);
-    for (pass = 0; pass < 2 && C->rowptr; pass++) {
-        nnz = 0;
-        C->rowptr[0] = 0;
-        for (i = 0; i < X->n; i++) {
-            for (k = X->rowptr[i]; k < X->rowptr[i + 1]; k++) {
-                const double *x = X->val + 2 * k;
-                int j = X->col[k];
-                for (q = Y->rowptr[j]; q < Y->rowptr[j + 1]; q++) {
-                    const double *y = Y->val + 2 * q;
-                    pw__zamg_acc_add(&w, Y->col[q], x[0] * y[0] - x[1] * y[1], x[0] * y[1] + x[1] * y[0]);
-                }
-            }
-            pw__zamg_acc_flush(&w, C->col, C->val, &nnz);
-            C->rowptr[i + 1] = nnz;
-        }
-        if (pass == 0) {
-            C->col = (int *)pw_alloc_array(a, (size_t)nnz + 1, sizeof(int), "multigrid matrix", e);
-            C->val = (double *)pw_alloc_array(a, 2 * (size_t)nnz + 2, sizeof(double), "multigrid matrix", e);
-            if (!C->col || !C->val) break;
-        }
+    const pw__zamg_pass *p = (const pw__zamg_pass *)ctx;
+    pw_zcsr *C = p->C;
+    int i, hi = pw__zblock_start(C->n, p->nb, b + 1);
+    for (i = pw__zblock_start(C->n, p->nb, b); i < hi; i++) {
+        int nnz = C->col ? C->rowptr[i] : 0;
+        p->job->row(p->job->ctx, i, &p->w[b]);
+        pw__zamg_acc_flush(&p->w[b], C->col, C->val, &nnz);
+        if (!C->col) C->rowptr[i + 1] = nnz;
     }
-    pw__zamg_acc_free(a, &w);
-    if (!C->rowptr || !C->col || !C->val) {
+}
+
+PW__DEF int pw__zamg_rows(const pw_alloc *a, const pw__zamg_rowjob *job, int ncols, pw_zcsr *C, pw_err *e)
+{
+    pw__zamg_acc w[PW__ZBLOCKS];
+    pw__zamg_pass p;
+    int i, b, r = PW_OK;
+    memset(C, 0, sizeof *C);
+    p.job = job;
+    p.C = C;
+    p.w = w;
+    p.nb = pw__zblocks(job->n);
+    for (b = 0; b < p.nb; b++) /* (a failed init has freed its own) */
+        if (r != PW_OK || (r = pw__zamg_acc_init(a, ncols, &w[b], e)) != PW_OK) memset(&w[b], 0, sizeof w[b]);
+    C->n = job->n;
+    C->rowptr = (int *)pw_alloc_array(a, (size_t)job->n + 1, sizeof(int), "multigrid matrix", e);
+    if (r == PW_OK && C->rowptr) {
+        pw__zfor(job->run, job->n, p.nb, pw__zamg_pass_block, &p);
+        C->rowptr[0] = 0;
+        for (i = 0; i < job->n; i++) C->rowptr[i + 1] += C->rowptr[i];
+        C->col = (int *)pw_alloc_array(a, (size_t)C->rowptr[job->n] + 1, sizeof(int), "multigrid matrix", e);
+        C->val = (double *)pw_alloc_array(a, 2 * (size_t)C->rowptr[job->n] + 2, sizeof(double), "multigrid matrix", e);
+        if (C->col && C->val) pw__zfor(job->run, job->n, p.nb, pw__zamg_pass_block, &p);
+    }
+    for (b = 0; b < p.nb; b++) pw__zamg_acc_free(a, &w[b]);
+    if (r != PW_OK || !C->rowptr || !C->col || !C->val) {
         pw_zcsr_free(a, C);
         return PW_ERR_NOMEM;
     }
     return PW_OK;
+}
+
+/* The operands of a product X Y. */
+typedef struct pw__zamg_prod {
+    const pw_zcsr *X, *Y;
+} pw__zamg_prod;
+
+/* Row i of X Y. */
+PW__DEF void pw__zamg_prod_row(const void *ctx, int i, pw__zamg_acc *w)
+{
+    const pw__zamg_prod *p = (const pw__zamg_prod *)ctx;
+    const pw_zcsr *X = p->X, *Y = p->Y;
+    int k, q;
+    for (k = X->rowptr[i]; k < X->rowptr[i + 1]; k++) {
+        const double *x = X->val + 2 * k;
+        int j = X->col[k];
+        for (q = Y->rowptr[j]; q < Y->rowptr[j + 1]; q++) {
+            const double *y = Y->val + 2 * q;
+            pw__zamg_acc_add(w, Y->col[q], x[0] * y[0] - x[1] * y[1], x[0] * y[1] + x[1] * y[0]);
+        }
+    }
+}
+
+/* C = X Y for complex CSR X and Y of ncols columns; C gets C->n = X->n
+ * rows (on X's run). */
+PW__DEF int pw__zamg_mul(const pw_alloc *a, const pw_zcsr *X, const pw_zcsr *Y, int ncols, pw_zcsr *C, pw_err *e)
+{
+    pw__zamg_prod p;
+    pw__zamg_rowjob job;
+    p.X = X;
+    p.Y = Y;
+    job.row = pw__zamg_prod_row;
+    job.ctx = &p;
+    job.run = X->run;
+    job.n = X->n;
+    return pw__zamg_rows(a, &job, ncols, C, e);
 }
 
 /* The conjugate transpose of an n x ncols complex CSR. */
@@ -8660,39 +8814,44 @@ PW__DEF int pw__zamg_adjoint(const pw_alloc *a, const pw_zcsr *P, int ncols, pw_
 
 /* ---- one coarser level ------------------------------------------------------ */
 
+/* The smoothed prolongation's inputs: level L's matrix, the tentative
+ * prolongation (agg, ph: pw__zamg_aggregate) and the diagonal d. */
+typedef struct pw__zamg_smooth {
+    const pw_zcsr *A;
+    const int *agg;
+    const double *ph, *d;
+} pw__zamg_smooth;
+
+/* Row i of P = (I - omega D^-1 A) P_t. */
+PW__DEF void pw__zamg_prolong_row(const void *ctx, int i, pw__zamg_acc *w)
+{
+    const pw__zamg_smooth *m = (const pw__zamg_smooth *)ctx;
+    const pw_zcsr *A = m->A;
+    const double omega = 2.0 / 3.0, s = m->d[i] > 0.0 ? omega / m->d[i] : 0.0;
+    int k;
+    pw__zamg_acc_add(w, m->agg[i], m->ph[2 * i], m->ph[2 * i + 1]);
+    for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++) {
+        const double *v = A->val + 2 * k, *p = m->ph + 2 * A->col[k];
+        pw__zamg_acc_add(w, m->agg[A->col[k]], -s * (v[0] * p[0] - v[1] * p[1]), -s * (v[0] * p[1] + v[1] * p[0]));
+    }
+}
+
 /* The smoothed prolongation P = (I - omega D^-1 A) P_t of level L (n x nc),
  * P_t given by agg and ph (pw__zamg_aggregate), into P. */
 PW__DEF int pw__zamg_prolong(const pw_alloc *a, const pw__zamg_level *L, const int *agg, const double *ph,
                              const double *d, pw_zcsr *P, pw_err *e)
 {
-    const pw_zcsr *A = &L->A;
-    const double omega = 2.0 / 3.0;
-    pw__zamg_acc w;
-    int n = A->n, i, k, nnz = 0;
-    memset(P, 0, sizeof *P);
-    if (pw__zamg_acc_init(a, L->nc, &w, e)) return PW_ERR_NOMEM;
-    P->n = n;
-    P->rowptr = (int *)pw_alloc_array(a, (size_t)n + 1, sizeof(int), "multigrid prolongation", e);
-    P->col = (int *)pw_alloc_array(a, (size_t)A->rowptr[n] + n, sizeof(int), "multigrid prolongation", e);
-    P->val = (double *)pw_alloc_array(a, 2 * ((size_t)A->rowptr[n] + n), sizeof(double), "multigrid prolongation", e);
-    if (!P->rowptr || !P->col || !P->val) {
-        pw__zamg_acc_free(a, &w);
-        pw_zcsr_free(a, P);
-        return PW_ERR_NOMEM;
-    }
-    P->rowptr[0] = 0;
-    for (i = 0; i < n; i++) {
-        double s = d[i] > 0.0 ? omega / d[i] : 0.0;
-        pw__zamg_acc_add(&w, agg[i], ph[2 * i], ph[2 * i + 1]);
-        for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++) {
-            const double *v = A->val + 2 * k, *p = ph + 2 * A->col[k];
-            pw__zamg_acc_add(&w, agg[A->col[k]], -s * (v[0] * p[0] - v[1] * p[1]), -s * (v[0] * p[1] + v[1] * p[0]));
-        }
-        pw__zamg_acc_flush(&w, P->col, P->val, &nnz);
-        P->rowptr[i + 1] = nnz;
-    }
-    pw__zamg_acc_free(a, &w);
-    return PW_OK;
+    pw__zamg_smooth m;
+    pw__zamg_rowjob job;
+    m.A = &L->A;
+    m.agg = agg;
+    m.ph = ph;
+    m.d = d;
+    job.row = pw__zamg_prolong_row;
+    job.ctx = &m;
+    job.run = L->A.run;
+    job.n = L->A.n;
+    return pw__zamg_rows(a, &job, L->nc, P, e);
 }
 
 /* Level L's prolongation (from aggregates of L->A) and the next level's
@@ -8715,15 +8874,18 @@ PW__DEF int pw__zamg_coarsen(const pw_alloc *a, pw__zamg_level *L, pw_zcsr *C, p
         for (i = 0; i < n; i++) d[i] = pw__zamg_diag(A, i);
         r = pw__zamg_prolong(a, L, agg, ph, d, &P, e);
     }
-    if (r == PW_OK) r = pw__zamg_adjoint(a, &P, L->nc, &PH, e);
+    if (r == PW_OK && (r = pw__zamg_adjoint(a, &P, L->nc, &PH, e)) == PW_OK) PH.run = A->run;
     if (r == PW_OK) r = pw__zamg_mul(a, A, &P, L->nc, &AP, e);
     if (r == PW_OK) r = pw__zamg_mul(a, &PH, &AP, L->nc, C, e);
     if (r == PW_OK) {
         L->prow = P.rowptr;
         L->pcol = P.col;
         L->pval = P.val;
-    } else pw_zcsr_free(a, &P);
-    pw_zcsr_free(a, &PH);
+        L->PH = PH;
+    } else {
+        pw_zcsr_free(a, &P);
+        pw_zcsr_free(a, &PH);
+    }
     pw_zcsr_free(a, &AP);
     pw_free(a, agg);
     pw_free(a, ph);
@@ -8795,6 +8957,26 @@ PW__DEF void pw__zamg_chol_solve(const double *L, int n, const double *b, double
     }
 }
 
+/* The l1 terms of level L's smoother: for every row, sum |a_ij| over
+ * the columns outside its block. */
+PW__DEF int pw__zamg_l1(const pw_alloc *a, pw__zamg_level *L, pw_err *e)
+{
+    const pw_zcsr *A = &L->A;
+    int n = A->n, nb = pw__zblocks(n), b, i, k;
+    L->l1 = (double *)pw_alloc_array(a, (size_t)n, sizeof(double), "multigrid smoother", e);
+    if (!L->l1) return PW_ERR_NOMEM;
+    for (b = 0; b < nb; b++) {
+        int lo = pw__zblock_start(n, nb, b), hi = pw__zblock_start(n, nb, b + 1);
+        for (i = lo; i < hi; i++) {
+            double s = 0.0;
+            for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++)
+                if (A->col[k] < lo || A->col[k] >= hi) s += pw__zamg_abs(A->val + 2 * k);
+            L->l1[i] = s;
+        }
+    }
+    return PW_OK;
+}
+
 /* ---- the hierarchy and the cycle ---------------------------------------------- */
 
 PW__DEF void pw_zamg_free(const pw_alloc *a, pw_zamg *M)
@@ -8806,6 +8988,8 @@ PW__DEF void pw_zamg_free(const pw_alloc *a, pw_zamg *M)
         pw_free(a, L->prow);
         pw_free(a, L->pcol);
         pw_free(a, L->pval);
+        pw_zcsr_free(a, &L->PH);
+        pw_free(a, L->l1);
         pw_free(a, L->x);
         pw_free(a, L->b);
         pw_free(a, L->r);
@@ -8830,8 +9014,10 @@ PW__DEF int pw_zamg_setup(const pw_alloc *a, const pw_zcsr *A, pw_zamg *M, pw_er
         L->b = (double *)pw_alloc_array(a, n2, sizeof(double), "multigrid vectors", e);
         L->r = (double *)pw_alloc_array(a, n2, sizeof(double), "multigrid vectors", e);
         if (!L->x || !L->b || !L->r) r = PW_ERR_NOMEM;
+        if (r == PW_OK) r = pw__zamg_l1(a, L, e);
         if (r == PW_OK) r = pw__zamg_coarsen(a, L, &M->lev[l + 1].A, e);
         if (r != PW_OK) break;
+        M->lev[l + 1].A.run = A->run;
         M->levels = ++l;
         if (M->lev[l].A.n * 10 > L->A.n * 9) break; /* aggregation stalls: solve here */
     }
@@ -8853,18 +9039,120 @@ PW__DEF int pw_zamg_setup(const pw_alloc *a, const pw_zcsr *A, pw_zamg *M, pw_er
     return r;
 }
 
-/* One Gauss-Seidel sweep on A x = b, forward or backward. */
-PW__DEF void pw__zamg_gs(const pw_zcsr *A, const double *b, double *x, int backward)
+/* One step of the cycle at one level, by blocks of rows. */
+typedef struct pw__zamg_step {
+    const pw__zamg_level *L, *C;
+    int nb;
+} pw__zamg_step;
+
+/* The forward sweep of block b from x = 0: rows of other blocks read 0,
+ * the block's rows above the current one too (not swept yet). */
+PW__DEF void pw__zamg_pre(void *ctx, int b)
 {
-    int n = A->n, s, i, k;
-    for (s = 0; s < n; s++) {
-        double sr, si, dr = 0.0;
-        i = backward ? n - 1 - s : s;
-        sr = b[2 * i];
-        si = b[2 * i + 1];
+    const pw__zamg_step *w = (const pw__zamg_step *)ctx;
+    const pw_zcsr *A = &w->L->A;
+    const double *rhs = w->L->b;
+    double *x = w->L->x;
+    int i, k, lo = pw__zblock_start(A->n, w->nb, b), hi = pw__zblock_start(A->n, w->nb, b + 1);
+    for (i = lo; i < hi; i++) {
+        double sr = rhs[2 * i], si = rhs[2 * i + 1], dr = 0.0;
+        for (k = A->rowptr[i]; k < A->rowptr[i + 1] && A->col[k] <= i; k++) {
+            const double *v = A->val + 2 * k, *y = x + 2 * A->col[k];
+            if (A->col[k] == i) dr = v[0];
+            else if (A->col[k] >= lo) {
+                sr -= v[0] * y[0] - v[1] * y[1];
+                si -= v[0] * y[1] + v[1] * y[0];
+            }
+        }
+        x[2 * i] = dr > 0.0 ? sr / (dr + w->L->l1[i]) : 0.0;
+        x[2 * i + 1] = dr > 0.0 ? si / (dr + w->L->l1[i]) : 0.0;
+    }
+}
+
+/* r = b - A x after the forward sweep of block b: row i was solved with
+ * the block's rows below it and (a_ii + l1_i) on the diagonal, so what is
+ * left is l1_i x_i less the terms of the block's rows above it and of the
+ * other blocks' rows; a row without a positive diagonal (all zero, A
+ * being semidefinite) keeps r_i = b_i. */
+PW__DEF void pw__zamg_residual(void *ctx, int b)
+{
+    const pw__zamg_step *w = (const pw__zamg_step *)ctx;
+    const pw_zcsr *A = &w->L->A;
+    const double *x = w->L->x, *rhs = w->L->b;
+    double *r = w->L->r;
+    int i, k, lo = pw__zblock_start(A->n, w->nb, b), hi = pw__zblock_start(A->n, w->nb, b + 1);
+    for (i = lo; i < hi; i++) {
+        double sr = w->L->l1[i] * x[2 * i], si = w->L->l1[i] * x[2 * i + 1], d = 0.0;
         for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++) {
             const double *v = A->val + 2 * k, *y = x + 2 * A->col[k];
-            if (A->col[k] == i) {
+            int j = A->col[k];
+            if (j == i) d = v[0];
+            else if (j > i || j < lo) {
+                sr -= v[0] * y[0] - v[1] * y[1];
+                si -= v[0] * y[1] + v[1] * y[0];
+            }
+        }
+        r[2 * i] = d > 0.0 ? sr : rhs[2 * i];
+        r[2 * i + 1] = d > 0.0 ? si : rhs[2 * i + 1];
+    }
+}
+
+/* b_c = P^H r over block b of the coarse rows (the adjoint's rows: each
+ * sum over the fine rows in order). */
+PW__DEF void pw__zamg_restrict(void *ctx, int b)
+{
+    const pw__zamg_step *w = (const pw__zamg_step *)ctx;
+    const pw_zcsr *H = &w->L->PH;
+    const double *r = w->L->r;
+    double *bc = w->C->b;
+    int I, k, hi = pw__zblock_start(H->n, w->nb, b + 1);
+    for (I = pw__zblock_start(H->n, w->nb, b); I < hi; I++) {
+        double sr = 0.0, si = 0.0;
+        for (k = H->rowptr[I]; k < H->rowptr[I + 1]; k++) {
+            const double *h = H->val + 2 * k, *y = r + 2 * H->col[k];
+            sr += h[0] * y[0] - h[1] * y[1];
+            si += h[0] * y[1] + h[1] * y[0];
+        }
+        bc[2 * I] = sr;
+        bc[2 * I + 1] = si;
+    }
+}
+
+/* x += P x_c over block b, and r = x: what the backward sweep reads of
+ * the rows of other blocks. */
+PW__DEF void pw__zamg_prolong_add(void *ctx, int b)
+{
+    const pw__zamg_step *w = (const pw__zamg_step *)ctx;
+    const pw__zamg_level *L = w->L;
+    const double *xc = w->C->x;
+    int i, k, hi = pw__zblock_start(L->A.n, w->nb, b + 1);
+    for (i = pw__zblock_start(L->A.n, w->nb, b); i < hi; i++) {
+        double sr = L->x[2 * i], si = L->x[2 * i + 1];
+        for (k = L->prow[i]; k < L->prow[i + 1]; k++) {
+            const double *p = L->pval + 2 * k, *y = xc + 2 * L->pcol[k];
+            sr += p[0] * y[0] - p[1] * y[1];
+            si += p[0] * y[1] + p[1] * y[0];
+        }
+        L->x[2 * i] = L->r[2 * i] = sr;
+        L->x[2 * i + 1] = L->r[2 * i + 1] = si;
+    }
+}
+
+/* The backward sweep of block b: rows of other blocks read as they were
+ * before it (r, pw__zamg_prolong_add). */
+PW__DEF void pw__zamg_post(void *ctx, int b)
+{
+    const pw__zamg_step *w = (const pw__zamg_step *)ctx;
+    const pw_zcsr *A = &w->L->A;
+    const double *rhs = w->L->b, *old = w->L->r;
+    double *x = w->L->x;
+    int i, k, lo = pw__zblock_start(A->n, w->nb, b), hi = pw__zblock_start(A->n, w->nb, b + 1);
+    for (i = hi - 1; i >= lo; i--) { /* x_i += (b - A x)_i / (a_ii + l1_i) */
+        double sr = rhs[2 * i] + w->L->l1[i] * x[2 * i], si = rhs[2 * i + 1] + w->L->l1[i] * x[2 * i + 1], dr = 0.0;
+        for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++) {
+            int j = A->col[k];
+            const double *v = A->val + 2 * k, *y = (j >= lo && j < hi ? x : old) + 2 * j;
+            if (j == i) {
                 dr = v[0];
                 continue;
             }
@@ -8872,66 +9160,33 @@ PW__DEF void pw__zamg_gs(const pw_zcsr *A, const double *b, double *x, int backw
             si -= v[0] * y[1] + v[1] * y[0];
         }
         if (dr > 0.0) {
-            x[2 * i] = sr / dr;
-            x[2 * i + 1] = si / dr;
+            x[2 * i] = sr / (dr + w->L->l1[i]);
+            x[2 * i + 1] = si / (dr + w->L->l1[i]);
         }
-    }
-}
-
-/* r = b - A x after one forward Gauss-Seidel sweep from x = 0: row i was
- * solved with the new x_j (j < i) and zeros above, so only the part above
- * the diagonal is left, r_i = -sum_{j > i} a_ij x_j (half a product); a
- * row without a positive diagonal (all zero, A being semidefinite) keeps
- * r_i = b_i. */
-PW__DEF void pw__zamg_upper_residual(const pw_zcsr *A, const double *b, const double *x, double *r)
-{
-    int i, k;
-    for (i = 0; i < A->n; i++) {
-        double sr = 0.0, si = 0.0, d = 0.0;
-        for (k = A->rowptr[i + 1] - 1; k >= A->rowptr[i] && A->col[k] >= i; k--) {
-            const double *v = A->val + 2 * k, *y = x + 2 * A->col[k];
-            if (A->col[k] == i) {
-                d = v[0];
-                continue;
-            }
-            sr -= v[0] * y[0] - v[1] * y[1];
-            si -= v[0] * y[1] + v[1] * y[0];
-        }
-        r[2 * i] = d > 0.0 ? sr : b[2 * i];
-        r[2 * i + 1] = d > 0.0 ? si : b[2 * i + 1];
     }
 }
 
 /* The V-cycle from level l: lev[l].x ~ A_l^-1 lev[l].b, from x = 0. */
 PW__DEF void pw__zamg_cycle(const pw_zamg *M, int l)
 {
-    const pw__zamg_level *L = &M->lev[l], *C;
-    int n, i, k;
+    const pw__zamg_level *L = &M->lev[l];
+    pw__zamg_step w, wc;
+    int n;
     if (l == M->levels) {
         pw__zamg_chol_solve(M->chol, M->nc, L->b, L->x);
         return;
     }
-    C = &M->lev[l + 1];
     n = L->A.n;
-    memset(L->x, 0, sizeof(double) * 2 * (size_t)n);
-    pw__zamg_gs(&L->A, L->b, L->x, 0);
-    pw__zamg_upper_residual(&L->A, L->b, L->x, L->r);
-    memset(C->b, 0, sizeof(double) * 2 * (size_t)C->A.n);
-    for (i = 0; i < n; i++) /* b_c = P^H r */
-        for (k = L->prow[i]; k < L->prow[i + 1]; k++) {
-            const double *p = L->pval + 2 * k, *rr = L->r + 2 * i;
-            double *bc = C->b + 2 * L->pcol[k];
-            bc[0] += p[0] * rr[0] + p[1] * rr[1];
-            bc[1] += p[0] * rr[1] - p[1] * rr[0];
-        }
+    w.L = wc.L = L;
+    w.C = wc.C = &M->lev[l + 1];
+    w.nb = pw__zblocks(n);
+    wc.nb = pw__zblocks(L->nc);
+    pw__zfor(L->A.run, n, w.nb, pw__zamg_pre, &w);
+    pw__zfor(L->A.run, n, w.nb, pw__zamg_residual, &w);
+    pw__zfor(L->A.run, L->nc, wc.nb, pw__zamg_restrict, &wc);
     pw__zamg_cycle(M, l + 1);
-    for (i = 0; i < n; i++) /* x += P x_c */
-        for (k = L->prow[i]; k < L->prow[i + 1]; k++) {
-            const double *p = L->pval + 2 * k, *xc = C->x + 2 * L->pcol[k];
-            L->x[2 * i] += p[0] * xc[0] - p[1] * xc[1];
-            L->x[2 * i + 1] += p[0] * xc[1] + p[1] * xc[0];
-        }
-    pw__zamg_gs(&L->A, L->b, L->x, 1);
+    pw__zfor(L->A.run, n, w.nb, pw__zamg_prolong_add, &w);
+    pw__zfor(L->A.run, n, w.nb, pw__zamg_post, &w);
 }
 
 /* z = one V-cycle applied to r (2n doubles each). */
@@ -8961,11 +9216,12 @@ PW__DEF int pw_zamg_solve(const pw_alloc *a, const pw_zcsr *A, const pw_zamg *M,
 }
 
 /* Unknowns from which multigrid pays against IC(0) (its setup costs about
- * ten IC(0)-PCG iterations; on pgp's systems the two break even near 40K
- * unknowns), and the diagonal excess below which it is used: a matrix whose
+ * ten IC(0)-PCG iterations; on pgp's systems the two break even near 20K
+ * unknowns: the PGP of CGAL's bunny00, 37.7K unknowns, takes 10 V-cycles
+ * where IC(0) takes 80), and the diagonal excess below which it is used: a matrix whose
  * diagonal exceeds the off-diagonal sums by more than 0.5% on average is so
  * well conditioned that IC(0) needs only a few iterations. */
-#define PW_ZAMG_MIN_UNKNOWNS 40000
+#define PW_ZAMG_MIN_UNKNOWNS 20000
 #define PW_ZAMG_MAX_EXCESS 0.005
 
 /* sum_i (a_ii - sum_j |a_ij|) / sum_i a_ii. */
@@ -15146,6 +15402,8 @@ typedef struct pw_periodic {
                              order of the unknowns of every solve */
     float scale0;         /* default tile side */
     int area_weights;     /* 1: the paper's A_T + A_T' edge weights */
+    pw_zrun run;          /* how the complex solves run (zsparse.h; zero: on
+                             the calling thread), set by the method */
 } pw_periodic;
 
 /* ---- sparse symmetric positive definite solves ----------------------------- */
@@ -15155,9 +15413,10 @@ typedef struct pw_periodic {
  * triplets) by IC(0)-preconditioned CG, or complex Hermitian (zsparse.h:
  * n x 2n triplets, b and x complex) by CG with a multigrid (zamg.h) or
  * IC(0) preconditioner, whichever pays (pw_zpd_solve). */
-PW__DEF int pw_periodic_pd_solve(const pw_alloc *a, const pw_triplets *t, const double *b, double *x, double tol,
+PW__DEF int pw_periodic_pd_solve(const pw_periodic *P, const pw_triplets *t, const double *b, double *x, double tol,
                                  pw_err *e)
 {
+    const pw_alloc *a = &P->a;
     const int complex = t->m == 2 * t->n;
     pw_csr A;
     pw_ic0 L;
@@ -15168,6 +15427,7 @@ PW__DEF int pw_periodic_pd_solve(const pw_alloc *a, const pw_triplets *t, const 
     o.max_iter = 4000;
     if (complex) {
         if ((r = pw_zcsr_from_triplets(a, t, &ZA, e)) != PW_OK) return r;
+        ZA.run = &P->run;
         r = pw_zpd_solve(a, &ZA, b, x, &o, e);
         pw_zcsr_free(a, &ZA);
         return r;
@@ -15398,7 +15658,7 @@ PW__DEF int pw_periodic_dir_smooth(pw_periodic *P, const unsigned char *free, co
     for (h = 0; r == PW_OK && n > 0 && h < 3 * m->nf; h++)
         if (m->hm.twin[h] > h && (id[h / 3] >= 0 || id[m->hm.twin[h] / 3] >= 0))
             r = pw_periodic_dir_edge(P, id, h, &t, b, e);
-    if (r == PW_OK && n > 0) r = pw_periodic_pd_solve(&P->a, &t, b, x, PW_PERIODIC_DIR_TOL, e);
+    if (r == PW_OK && n > 0) r = pw_periodic_pd_solve(P, &t, b, x, PW_PERIODIC_DIR_TOL, e);
     for (f = 0; r == PW_OK && n > 0 && f < m->nf; f++)
         if (id[f] >= 0) {
             double *z = P->dir + 2 * f;
@@ -15533,7 +15793,27 @@ typedef struct pw_periodic_zsys {
     int k;           /* the coordinate: 0 for s, 1 for t */
     pw_triplets *t;  /* the matrix being assembled (n x 2n) */
     double *b;       /* 2n: the right-hand side */
+    double *edge;    /* 3nf*3: per half-edge assembled (twin < h) its weight
+                         and e^{i alpha}, pw_periodic_edge_terms */
+    const pw_periodic *P;
 } pw_periodic_zsys;
+
+/* The weight and rotation of every half-edge of a block of triangles
+ * that the assembly visits (twin < h), on the solve's threads: the
+ * cotangents and the field's gradients cost more than the assembly. */
+PW__DEF void pw_periodic_edge_terms(void *ctx, int blk)
+{
+    const pw_periodic_zsys *Z = (const pw_periodic_zsys *)ctx;
+    const pw_periodic *P = Z->P;
+    int nf = P->m.nf, nb = pw__zblocks(nf), h, hi = 3 * pw__zblock_start(nf, nb, blk + 1);
+    for (h = 3 * pw__zblock_start(nf, nb, blk); h < hi; h++)
+        if (P->m.hm.twin[h] < h) {
+            double a = PW_PERIODIC_TWO_PI * pw_periodic_alpha(P, h, Z->k), *o = Z->edge + 3 * (size_t)h;
+            o[0] = pw_periodic_weight(P, h);
+            o[1] = pw_cos(a);
+            o[2] = pw_sin(a);
+        }
+}
 
 /* Adds the term w |z_j - R(alpha) z_i|^2 of edge h (i -> j) to the system
  * of the free vertices (id >= 0). R(alpha) is the rotation by +alpha,
@@ -15550,10 +15830,10 @@ PW__DEF int pw_periodic_edge(const pw_periodic *P, const pw_periodic_zsys *Z, in
     const int *id = Z->id;
     pw_triplets *t = Z->t;
     double *b = Z->b;
-    int k = Z->k, f = h / 3;
+    int f = h / 3;
     int vi = P->m.tri[h], vj = P->m.tri[3 * f + (h % 3 + 1) % 3], i = id[vi], j = id[vj], r = PW_OK;
-    double w = pw_periodic_weight(P, h);
-    double a = PW_PERIODIC_TWO_PI * pw_periodic_alpha(P, h, k), c = pw_cos(a), sn = pw_sin(a);
+    const double *term = Z->edge + 3 * (size_t)h;
+    double w = term[0], c = term[1], sn = term[2];
     const double *zi = z + 2 * vi, *zj = z + 2 * vj;
     if (i >= 0) r = pw_ztriplets_add(t, i, i, w, 0.0, e);
     if (r == PW_OK && j >= 0) r = pw_ztriplets_add(t, j, j, w, 0.0, e);
@@ -15679,16 +15959,24 @@ PW__DEF int pw_periodic_solve_k(pw_periodic *P, double *z, const int *id, int n,
     Z.k = k;
     Z.t = &t;
     Z.b = b;
+    Z.P = P;
+    Z.edge = (double *)pw_alloc_array(&P->a, 9 * (size_t)P->m.nf + 1, sizeof(double), "PGP", e);
+    if (!Z.edge) r = PW_ERR_NOMEM;
+    else pw__zfor(&P->run, P->m.nf, pw__zblocks(P->m.nf), pw_periodic_edge_terms, &Z);
     memset(&t, 0, sizeof t);
     memset(&A, 0, sizeof A);
     if (r == PW_OK) r = pw_triplets_init(&t, &P->a, n, 2 * n, e);
     for (h = 0; r == PW_OK && h < 3 * P->m.nf; h++)
         if (P->m.hm.twin[h] < h) r = pw_periodic_edge(P, &Z, h, e); /* each edge once */
-    for (q = 0; r == PW_OK && q < t.count; q++)                     /* the (real) diagonal of F's matrix */
+    pw_free(&P->a, Z.edge);
+    Z.edge = NULL;
+    for (q = 0; r == PW_OK && q < t.count; q++) /* the (real) diagonal of F's matrix */
         if (t.col[q] == 2 * t.row[q]) dg[t.row[q]] += t.val[q];
     if (r == PW_OK) r = pw_periodic_propagate(P, z, id, k, e);
-    if (r == PW_OK && (r = pw_zcsr_from_triplets(&P->a, &t, &A, e)) == PW_OK)
+    if (r == PW_OK && (r = pw_zcsr_from_triplets(&P->a, &t, &A, e)) == PW_OK) {
+        A.run = &P->run;
         r = pw_periodic_diag_index(&P->a, &A, &dpos, e);
+    }
     if (r == PW_OK && !(rhs = (double *)pw_alloc_array(&P->a, (size_t)n * 2, sizeof(double), "PGP", e)))
         r = PW_ERR_NOMEM;
     o.max_iter = 4000;
@@ -19614,6 +19902,7 @@ struct pgp_map_state {
     pgp__constraint *con;
     int ncon;
     size_t concap;
+    pw_parallel par; /* options.threads, parallel, parallel_pool: pp.run's */
 };
 
 static int pgp__check_vertex(const pgp__state *P, int v, pw_err *e)
@@ -19796,7 +20085,7 @@ static int pgp__harmonic(pgp__state *P, const unsigned char *vfree, const unsign
     for (v = 0; r == PW_OK && n > 0 && v < m->nv; v++) /* a faint pull towards the fallback */
         if (id[v] >= 0 && (r = pw_triplets_add(&t, id[v], id[v], PW_PERIODIC_PULL, e)) == PW_OK)
             b[id[v]] += PW_PERIODIC_PULL * fallback;
-    if (r == PW_OK && n > 0) r = pw_periodic_pd_solve(&P->a, &t, b, x, 1e-8, e);
+    if (r == PW_OK && n > 0) r = pw_periodic_pd_solve(&P->pp, &t, b, x, 1e-8, e);
     for (v = 0; r == PW_OK && n > 0 && v < m->nv; v++)
         if (id[v] >= 0) val[v] = (float)x[id[v]];
     pw_triplets_free(&t);
@@ -19888,6 +20177,21 @@ static void pgp__recover(pgp__state *P, int f)
     for (c = 0; c < 3; c++) o[3 * c + 2] = P->mat[tri[c]];
 }
 
+/* The triangles of an area whose coordinates Eq. (4) recovers, by blocks
+ * on the solves' threads (each triangle writes its own corners). */
+typedef struct pgp__recovery {
+    pgp__state *P;
+    const int *order;
+    int n, nb;
+} pgp__recovery;
+
+static void pgp__recover_block(void *ctx, int b)
+{
+    const pgp__recovery *w = (const pgp__recovery *)ctx;
+    int i, hi = pw__zblock_start(w->n, w->nb, b + 1);
+    for (i = pw__zblock_start(w->n, w->nb, b); i < hi; i++) pgp__recover(w->P, w->order[i]);
+}
+
 /* ---- §3 singular 1-rings --------------------------------------------------------------- */
 
 /* "Highly distorted": ||grad s - g_s||^2 > threshold, or the same for t.
@@ -19940,16 +20244,34 @@ PGPDEF int pgp_map_vortices(const pgp_map *map, unsigned char *flags)
     return P ? pgp__vortices(P, flags) : 0;
 }
 
+/* The distorted triangles of a block, on the solves' threads. */
+typedef struct pgp__distortion_job {
+    const pgp__state *P;
+    unsigned char *dist;
+    int nb;
+} pgp__distortion_job;
+
+static void pgp__distorted_block(void *ctx, int b)
+{
+    const pgp__distortion_job *w = (const pgp__distortion_job *)ctx;
+    int f, nf = w->P->pp.m.nf, hi = pw__zblock_start(nf, w->nb, b + 1);
+    for (f = pw__zblock_start(nf, w->nb, b); f < hi; f++) w->dist[f] = (unsigned char)pgp__distorted(w->P, f);
+}
+
 /* §3: a vertex's 1-ring is singular if it holds a distorted triangle or a
  * spoke edge whose two triangles disagree; a triangle is singular (drawn
  * with three lookups) if one of its corners is. */
 static int pgp__singularities(pgp__state *P, pw_err *e)
 {
     unsigned char *dist = (unsigned char *)pw_alloc_array(&P->a, (size_t)P->pp.m.nf, 1, "singularities", e);
+    pgp__distortion_job job;
     int f, c, h;
     if (!dist) return PW_ERR_NOMEM;
     memset(P->vsing, 0, (size_t)P->pp.m.nv);
-    for (f = 0; f < P->pp.m.nf; f++) dist[f] = (unsigned char)pgp__distorted(P, f);
+    job.P = P;
+    job.dist = dist;
+    job.nb = pw__zblocks(P->pp.m.nf);
+    pw__zfor(&P->pp.run, P->pp.m.nf, job.nb, pgp__distorted_block, &job);
     for (h = 0; h < 3 * P->pp.m.nf; h++) {
         int f3 = h / 3, c3 = h % 3;
         if (dist[f3]) P->vsing[P->pp.m.tri[h]] = 1;
@@ -19976,7 +20298,8 @@ static int pgp__edit(pgp__state *P, pgp_constraint_kind kind, const pgp__seeds *
     unsigned char *in = (unsigned char *)pw_alloc_array(&P->a, 2 * nf + 2 * nv, 1, "effect area", e);
     int *order = (int *)pw_alloc_array(&P->a, nf, sizeof(int), "effect area", e);
     pw_progress pr = pgp__progress(&P->o);
-    int n = 0, i, whole = !(radius > 0.0f), r = in && order ? PW_OK : PW_ERR_NOMEM;
+    int n = 0, whole = !(radius > 0.0f), r = in && order ? PW_OK : PW_ERR_NOMEM;
+    pgp__recovery rec;
     unsigned char *mark = in + nf, *vfree = in + 2 * nf, *locked = vfree + nv;
     if (r == PW_OK) r = pgp__area(P, sd, in, order, &n, e);
     if (r == PW_OK) pgp__free_vertices(P, in, vfree);
@@ -19985,7 +20308,11 @@ static int pgp__edit(pgp__state *P, pgp_constraint_kind kind, const pgp__seeds *
     if (r == PW_OK && kind != PGP_CONSTRAINT_ORIENT) r = pgp__interp_vertex(P, kind, vfree, whole, locked, e);
     if (r == PW_OK) r = pw_report(&pr, 0.4f, "periodic global parameterization", e);
     if (r == PW_OK && kind != PGP_CONSTRAINT_MATERIAL) r = pw_periodic_solve(&P->pp, vfree, whole, e);
-    for (i = 0; r == PW_OK && i < n; i++) pgp__recover(P, order[i]);
+    rec.P = P;
+    rec.order = order;
+    rec.n = n;
+    rec.nb = pw__zblocks(n);
+    if (r == PW_OK) pw__zfor(&P->pp.run, n, rec.nb, pgp__recover_block, &rec);
     if (r == PW_OK) r = pw_report(&pr, 0.9f, "singularities", e);
     if (r == PW_OK) r = pgp__singularities(P, e);
     if (r == PW_OK && area) {
@@ -20039,6 +20366,7 @@ static int pgp__check_options(const pgp_options *o, pw_err *e)
     if (!(o->singular_distortion > 0.0f) || !pw_is_finite(o->singular_distortion))
         return pw_fail(e, PW_ERR_INVALID, "singular_distortion %g is not positive", (double)o->singular_distortion);
     if (o->smoothing < 0) return pw_fail(e, PW_ERR_INVALID, "smoothing %d is negative", o->smoothing);
+    if (o->threads < 0) return pw_fail(e, PW_ERR_INVALID, "threads %d is negative", o->threads);
     if (!(o->integrable >= 0.0f && o->integrable <= 1e6f))
         return pw_fail(e, PW_ERR_INVALID, "integrable %g is not in [0, 1e6]", (double)o->integrable);
     if (o->weights != PGP_WEIGHTS_COTAN && o->weights != PGP_WEIGHTS_AREA)
@@ -20181,7 +20509,7 @@ static int pgp__integrable(pgp__state *P, pw_err *e)
         r = pw_triplets_init(&t, &P->a, (int)n, (int)n, e);
         for (f = 0; f < P->pp.m.nf && r == PW_OK; f++) r = pgp__curl_rows(P, f, &t, b, e);
         if (r == PW_OK) r = pgp__curl_reg(P, &t, e);
-        if (r == PW_OK) r = pw_periodic_pd_solve(&P->a, &t, b, x, 1e-6, e);
+        if (r == PW_OK) r = pw_periodic_pd_solve(&P->pp, &t, b, x, 1e-6, e);
         if (r == PW_OK) pgp__curl_apply(P, x);
         pw_triplets_free(&t);
     }
@@ -20280,6 +20608,9 @@ static int pgp__create_map(const pgp_mesh *mesh, const pgp_options *opt, pgp_map
     P->a = a;
     P->pp.a = a;
     P->o = o;
+    P->par = pw_parallel_make(o.threads, o.parallel, o.parallel_pool);
+    P->pp.run.pfor = pw_parallel_for;
+    P->pp.run.par = &P->par;
     out->state = P;
     out->allocator = pgp__allocator(&a);
     if (pgp__setup(P, mesh, e) != PW_OK) return e->code;

@@ -12,6 +12,11 @@
  *      of each clump runs on threads.
  *   3. lst_render_volume of that kiwi, 200 slices at 640x480 (the frame's
  *      bands on threads).
+ *   4. pgp_create on the bunny (75K triangles) and its 1-to-4 subdivision
+ *      (300K), tile side a tenth of the diagonal: the multigrid sweeps,
+ *      residuals and transfers, the products of CG, the Galerkin products,
+ *      the PGP's edge terms and the Eq. (4) recovery run on threads; the
+ *      assembly, the aggregation and the IC(0) solves on one.
  * Built with PW_THREADS (POSIX threads; each create call keeps one crew of
  * threads for all its parallel-fors). The whole create is timed, so its
  * speed-up is bounded by the parts still on one thread; the coverage stage
@@ -22,6 +27,7 @@
 #define PATCHWORK_IMPLEMENTATION
 #include "../lapped.h"
 #include "../lst.h"
+#include "../pgp.h"
 
 /* ---- the coverage stage alone ---- */
 
@@ -271,9 +277,82 @@ static void lst_threads(void)
     lst_volume_free(&ex), lst_volume_free(&val), lst_tetmesh_free(&m), lst_mesh_free(&s);
 }
 
+/* ---- pgp_create ---- */
+
+typedef struct pgp_job {
+    const pgp_mesh *mesh;
+    pgp_options opt;
+    float *coords; /* the last map's, kept */
+    int vortices;
+} pgp_job;
+
+static void pgp_run(void *arg)
+{
+    pgp_job *j = (pgp_job *)arg;
+    pgp_map map;
+    pgp_error err;
+    if (pgp_create(j->mesh, &j->opt, &map, &err)) {
+        printf("pgp_create failed: %s\n", err.message);
+        return;
+    }
+    free(j->coords);
+    j->coords = (float *)malloc(sizeof(float) * 9 * (size_t)map.ntris);
+    if (j->coords) memcpy(j->coords, map.coords, sizeof(float) * 9 * (size_t)map.ntris);
+    j->vortices = pgp_map_vortices(&map, NULL);
+    pgp_map_free(&map);
+}
+
+static int pgp_same(void *a, void *b)
+{
+    const pgp_job *x = (const pgp_job *)a, *y = (const pgp_job *)b;
+    return x->coords && y->coords && !memcmp(x->coords, y->coords, sizeof(float) * 9 * (size_t)x->mesh->nfaces);
+}
+
+static void pgp_threads(void)
+{
+    pgp_options opt = pgp_default_options();
+    pgp_mesh mesh, m;
+    pgp_error err;
+    bench_mesh rung[2];
+    pgp_job j[2];
+    char task[160];
+    int i, k, builtin = 0;
+    if (pgp_load_mesh("data/meshes/bunny00.off", &opt, &mesh, &err)) {
+        builtin = 1;
+        if (pgp_builtin_mesh("bumpy", &opt, &mesh, &err)) {
+            printf("no mesh: %s\n", err.message);
+            return;
+        }
+    }
+    BENCH_MESH_COPY(rung[0], mesh);
+    if (bench_ladder(&rung[0], rung, 2, 70000)) {
+        printf("subdivision failed\n");
+        return;
+    }
+    for (i = 0; i < 2; i++) {
+        memset(&m, 0, sizeof m);
+        BENCH_MESH_COPY(m, rung[i]);
+        for (k = 0; k < 2; k++) {
+            memset(&j[k], 0, sizeof j[k]);
+            j[k].mesh = &m;
+            j[k].opt = opt;
+            j[k].opt.scale = 0.1f * bench_bbox_diagonal(rung[i].positions, rung[i].nverts);
+            j[k].opt.threads = k + 1;
+        }
+        snprintf(task, sizeof task, "pgp_create on 2 threads (solves), %s (%d triangles)",
+                 builtin ? "built-in bumpy" : "bunny00", m.nfaces);
+        bench_threads_row(task, pgp_run, &j[0], &j[1], 5, pgp_same);
+        printf("  %d vortices\n", j[0].vortices);
+        for (k = 0; k < 2; k++) free(j[k].coords);
+    }
+    bench_mesh_free(&rung[0]);
+    bench_mesh_free(&rung[1]);
+}
+
 int main(void)
 {
     lapped_threads();
     lst_threads();
+    pgp_threads();
     return 0;
 }

@@ -377,6 +377,7 @@ static pgp_result run(pgp_cmd *c, cli_outputs *outs, pgp_error *err)
     memset(&cons, 0, sizeof cons);
     memset(&map, 0, sizeof map);
     if ((r = load_tile(c, &tile, err)) != PGP_OK) return r;
+    c->opt.threads = c->opt.render.threads; /* --threads: the solves' too */
     if ((r = load_mesh(c->mesh, &c->opt, &mesh, err)) == PGP_OK &&
         (!c->constraints || (r = pgp_load_constraints(c->constraints, &c->opt, &cons, err)) == PGP_OK) &&
         (r = pgp_create(&mesh, &c->opt, &map, err)) == PGP_OK && (r = add_constraints(c, &cons, &map, err)) == PGP_OK)

@@ -11,7 +11,9 @@
  * same pastes, bit for bit, likewise (their parallel-fors run on a crew,
  * threads kept for the whole create call). The crew itself: thousands of
  * parallel-fors on the same threads, every task run once, none on one
- * thread or under a caller's parallel-for, a parallel-for inside a task. */
+ * thread or under a caller's parallel-for, a parallel-for inside a task.
+ * pgp_create's solves on threads (the multigrid sweeps and products): the
+ * same map, bit for bit, likewise. */
 #define PW_THREADS
 #define PATCHWORK_IMPLEMENTATION
 #include "../tiled.h"
@@ -371,6 +373,101 @@ static void t_pgp(void)
     pgp_mesh_free(&mesh);
 }
 
+/* pgp_create's solves on threads: a bumpy height field of 150 x 150
+ * vertices (22,500 PGP unknowns, 44,402 orientation unknowns: multigrid
+ * for both, and rows enough for the parallel sweeps), then an orientation
+ * constraint over half of it; the coordinates and the singular triangles
+ * compared bit for bit. */
+#define GRID 150
+static int pgp_grid(pgp_mesh *m)
+{
+    int i, j, f = 0;
+    memset(m, 0, sizeof *m);
+    m->nverts = GRID * GRID;
+    m->nfaces = 2 * (GRID - 1) * (GRID - 1);
+    m->positions = (float *)malloc(sizeof(float) * 3 * (size_t)m->nverts);
+    m->face_start = (int *)malloc(sizeof(int) * ((size_t)m->nfaces + 1));
+    m->face_verts = (int *)malloc(sizeof(int) * 3 * (size_t)m->nfaces);
+    if (!m->positions || !m->face_start || !m->face_verts) return 1;
+    for (j = 0; j < GRID; j++)
+        for (i = 0; i < GRID; i++) {
+            float *p = m->positions + 3 * (j * GRID + i), x = (float)i / (GRID - 1), y = (float)j / (GRID - 1);
+            p[0] = x;
+            p[1] = y;
+            p[2] = 0.05f * sinf(9.0f * x) * cosf(7.0f * y) + 0.1f * x * y;
+        }
+    for (j = 0; j + 1 < GRID; j++)
+        for (i = 0; i + 1 < GRID; i++) {
+            int v = j * GRID + i, *q = m->face_verts + 3 * f;
+            q[0] = v, q[1] = v + 1, q[2] = v + GRID + 1;
+            q[3] = v, q[4] = v + GRID + 1, q[5] = v + GRID;
+            m->face_start[f] = 3 * f;
+            m->face_start[f + 1] = 3 * (f + 1);
+            m->face_start[f + 2] = 3 * (f + 2);
+            f += 2;
+        }
+    return 0;
+}
+
+/* The map of the grid with o, then with an orientation constraint over
+ * half of it: its coordinates and singular flags into out (ntris * 10
+ * floats), 0 on success. */
+static int pgp_grid_map(const pgp_mesh *m, const pgp_options *o, float *out)
+{
+    pgp_map map;
+    pgp_constraint c;
+    unsigned char *sing = (unsigned char *)malloc((size_t)m->nfaces);
+    int f, id, r;
+    memset(&c, 0, sizeof c);
+    c.kind = PGP_CONSTRAINT_ORIENT;
+    c.element = m->nfaces / 2;
+    c.value[0] = 1.0f, c.value[1] = 1.0f;
+    c.radius = 0.5f;
+    r = !sing || pgp_create(m, o, &map, NULL) != PGP_OK;
+    if (!r) {
+        r = pgp_add_constraint(&map, &c, &id, NULL, NULL) != PGP_OK;
+        memcpy(out, map.coords, sizeof(float) * 9 * (size_t)m->nfaces);
+        pgp_map_singular(&map, sing);
+        for (f = 0; f < m->nfaces; f++) out[9 * (size_t)m->nfaces + f] = sing[f];
+        pgp_map_free(&map);
+    }
+    free(sing);
+    return r;
+}
+
+static void t_pgp_create(void)
+{
+    pgp_options opt = pgp_default_options();
+    pgp_mesh mesh;
+    size_t n;
+    float *ref, *got;
+    int threads, calls = reverse_calls;
+    REQUIRE(pgp_grid(&mesh) == 0);
+    n = 10 * (size_t)mesh.nfaces;
+    ref = (float *)malloc(sizeof(float) * n);
+    got = (float *)malloc(sizeof(float) * n);
+    REQUIRE(ref && got);
+    opt.scale = 0.05f, opt.threads = 1;
+    REQUIRE(pgp_grid_map(&mesh, &opt, ref) == 0);
+    for (threads = 2; threads <= 4; threads++) {
+        opt.threads = threads == 4 ? 0 : threads;
+        opt.parallel = threads == 4 ? reverse_for : NULL;
+        REQUIRE(pgp_grid_map(&mesh, &opt, got) == 0);
+        CHECKF(memcmp(ref, got, sizeof(float) * n) == 0, "pgp_create: the map %s differs from one thread's",
+               threads == 4 ? "through a reversed parallel-for" : threads == 2 ? "on 2 threads" : "on 3 threads");
+    }
+    CHECKF(reverse_calls > calls + 100, "pgp_create: the caller's parallel-for was used %d times",
+           reverse_calls - calls);
+    pwt_info("pgp_create: %d triangles, %d calls of the parallel-for", mesh.nfaces, reverse_calls - calls);
+    opt.threads = -1, opt.parallel = NULL;
+    CHECK(pgp_grid_map(&mesh, &opt, got) != 0);
+    free(ref);
+    free(got);
+    free(mesh.positions);
+    free(mesh.face_start);
+    free(mesh.face_verts);
+}
+
 /* ---- lst: the surface and the volume ---- */
 
 typedef struct lst_scene {
@@ -593,6 +690,7 @@ static const pwt_case cases[] = {
     {"threads_lapped", t_lapped},
     {"threads_lapped_coverage", t_lapped_coverage},
     {"threads_pgp", t_pgp},
+    {"threads_pgp_create", t_pgp_create},
     {"threads_lst", t_lst},
     {"threads_lst_coverage", t_lst_coverage},
     {"threads_crew", t_crew},

@@ -47,6 +47,8 @@ typedef struct pw_periodic {
                              order of the unknowns of every solve */
     float scale0;         /* default tile side */
     int area_weights;     /* 1: the paper's A_T + A_T' edge weights */
+    pw_zrun run;          /* how the complex solves run (zsparse.h; zero: on
+                             the calling thread), set by the method */
 } pw_periodic;
 
 /* ---- sparse symmetric positive definite solves ----------------------------- */
@@ -56,9 +58,10 @@ typedef struct pw_periodic {
  * triplets) by IC(0)-preconditioned CG, or complex Hermitian (zsparse.h:
  * n x 2n triplets, b and x complex) by CG with a multigrid (zamg.h) or
  * IC(0) preconditioner, whichever pays (pw_zpd_solve). */
-PW__DEF int pw_periodic_pd_solve(const pw_alloc *a, const pw_triplets *t, const double *b, double *x, double tol,
+PW__DEF int pw_periodic_pd_solve(const pw_periodic *P, const pw_triplets *t, const double *b, double *x, double tol,
                                  pw_err *e)
 {
+    const pw_alloc *a = &P->a;
     const int complex = t->m == 2 * t->n;
     pw_csr A;
     pw_ic0 L;
@@ -69,6 +72,7 @@ PW__DEF int pw_periodic_pd_solve(const pw_alloc *a, const pw_triplets *t, const 
     o.max_iter = 4000;
     if (complex) {
         if ((r = pw_zcsr_from_triplets(a, t, &ZA, e)) != PW_OK) return r;
+        ZA.run = &P->run;
         r = pw_zpd_solve(a, &ZA, b, x, &o, e);
         pw_zcsr_free(a, &ZA);
         return r;
@@ -299,7 +303,7 @@ PW__DEF int pw_periodic_dir_smooth(pw_periodic *P, const unsigned char *free, co
     for (h = 0; r == PW_OK && n > 0 && h < 3 * m->nf; h++)
         if (m->hm.twin[h] > h && (id[h / 3] >= 0 || id[m->hm.twin[h] / 3] >= 0))
             r = pw_periodic_dir_edge(P, id, h, &t, b, e);
-    if (r == PW_OK && n > 0) r = pw_periodic_pd_solve(&P->a, &t, b, x, PW_PERIODIC_DIR_TOL, e);
+    if (r == PW_OK && n > 0) r = pw_periodic_pd_solve(P, &t, b, x, PW_PERIODIC_DIR_TOL, e);
     for (f = 0; r == PW_OK && n > 0 && f < m->nf; f++)
         if (id[f] >= 0) {
             double *z = P->dir + 2 * f;
@@ -434,7 +438,27 @@ typedef struct pw_periodic_zsys {
     int k;           /* the coordinate: 0 for s, 1 for t */
     pw_triplets *t;  /* the matrix being assembled (n x 2n) */
     double *b;       /* 2n: the right-hand side */
+    double *edge;    /* 3nf*3: per half-edge assembled (twin < h) its weight
+                         and e^{i alpha}, pw_periodic_edge_terms */
+    const pw_periodic *P;
 } pw_periodic_zsys;
+
+/* The weight and rotation of every half-edge of a block of triangles
+ * that the assembly visits (twin < h), on the solve's threads: the
+ * cotangents and the field's gradients cost more than the assembly. */
+PW__DEF void pw_periodic_edge_terms(void *ctx, int blk)
+{
+    const pw_periodic_zsys *Z = (const pw_periodic_zsys *)ctx;
+    const pw_periodic *P = Z->P;
+    int nf = P->m.nf, nb = pw__zblocks(nf), h, hi = 3 * pw__zblock_start(nf, nb, blk + 1);
+    for (h = 3 * pw__zblock_start(nf, nb, blk); h < hi; h++)
+        if (P->m.hm.twin[h] < h) {
+            double a = PW_PERIODIC_TWO_PI * pw_periodic_alpha(P, h, Z->k), *o = Z->edge + 3 * (size_t)h;
+            o[0] = pw_periodic_weight(P, h);
+            o[1] = pw_cos(a);
+            o[2] = pw_sin(a);
+        }
+}
 
 /* Adds the term w |z_j - R(alpha) z_i|^2 of edge h (i -> j) to the system
  * of the free vertices (id >= 0). R(alpha) is the rotation by +alpha,
@@ -451,10 +475,10 @@ PW__DEF int pw_periodic_edge(const pw_periodic *P, const pw_periodic_zsys *Z, in
     const int *id = Z->id;
     pw_triplets *t = Z->t;
     double *b = Z->b;
-    int k = Z->k, f = h / 3;
+    int f = h / 3;
     int vi = P->m.tri[h], vj = P->m.tri[3 * f + (h % 3 + 1) % 3], i = id[vi], j = id[vj], r = PW_OK;
-    double w = pw_periodic_weight(P, h);
-    double a = PW_PERIODIC_TWO_PI * pw_periodic_alpha(P, h, k), c = pw_cos(a), sn = pw_sin(a);
+    const double *term = Z->edge + 3 * (size_t)h;
+    double w = term[0], c = term[1], sn = term[2];
     const double *zi = z + 2 * vi, *zj = z + 2 * vj;
     if (i >= 0) r = pw_ztriplets_add(t, i, i, w, 0.0, e);
     if (r == PW_OK && j >= 0) r = pw_ztriplets_add(t, j, j, w, 0.0, e);
@@ -580,16 +604,24 @@ PW__DEF int pw_periodic_solve_k(pw_periodic *P, double *z, const int *id, int n,
     Z.k = k;
     Z.t = &t;
     Z.b = b;
+    Z.P = P;
+    Z.edge = (double *)pw_alloc_array(&P->a, 9 * (size_t)P->m.nf + 1, sizeof(double), "PGP", e);
+    if (!Z.edge) r = PW_ERR_NOMEM;
+    else pw__zfor(&P->run, P->m.nf, pw__zblocks(P->m.nf), pw_periodic_edge_terms, &Z);
     memset(&t, 0, sizeof t);
     memset(&A, 0, sizeof A);
     if (r == PW_OK) r = pw_triplets_init(&t, &P->a, n, 2 * n, e);
     for (h = 0; r == PW_OK && h < 3 * P->m.nf; h++)
         if (P->m.hm.twin[h] < h) r = pw_periodic_edge(P, &Z, h, e); /* each edge once */
-    for (q = 0; r == PW_OK && q < t.count; q++)                     /* the (real) diagonal of F's matrix */
+    pw_free(&P->a, Z.edge);
+    Z.edge = NULL;
+    for (q = 0; r == PW_OK && q < t.count; q++) /* the (real) diagonal of F's matrix */
         if (t.col[q] == 2 * t.row[q]) dg[t.row[q]] += t.val[q];
     if (r == PW_OK) r = pw_periodic_propagate(P, z, id, k, e);
-    if (r == PW_OK && (r = pw_zcsr_from_triplets(&P->a, &t, &A, e)) == PW_OK)
+    if (r == PW_OK && (r = pw_zcsr_from_triplets(&P->a, &t, &A, e)) == PW_OK) {
+        A.run = &P->run;
         r = pw_periodic_diag_index(&P->a, &A, &dpos, e);
+    }
     if (r == PW_OK && !(rhs = (double *)pw_alloc_array(&P->a, (size_t)n * 2, sizeof(double), "PGP", e)))
         r = PW_ERR_NOMEM;
     o.max_iter = 4000;

@@ -22,13 +22,25 @@
  *     backward after, so the cycle is a symmetric positive definite
  *     preconditioner for CG; the coarsest level (at most 512 unknowns) is
  *     solved by a dense Cholesky factor.
+ *   - The Gauss-Seidel sweeps are hybrid, so that they run on threads:
+ *     each block of rows (zsparse.h's blocks, set by the number of rows
+ *     alone) sweeps its own rows in order and reads the rows of other
+ *     blocks as they were before the sweep; their terms are added to the
+ *     row's diagonal as sum |a_ij| (the l1 smoother of Baker, Falgout,
+ *     Kolev and Yang 2011), which keeps the sweep convergent however the
+ *     blocks cut the graph. Within a block it is the plain sweep, so with
+ *     at most 16 blocks of at least 4096 rows it smooths about as well.
  *
  *     pw_zamg M;
  *     pw_zamg_setup(NULL, &A, &M, &e);
  *     pw_zamg_solve(NULL, &A, &M, b, x, NULL, &stats, &e);
  *     pw_zamg_free(NULL, &M);
  *
- * Deterministic: every loop runs in index order, no threads. */
+ * Deterministic: the sweeps, residuals, restrictions and prolongations
+ * of the cycle and the smoothed prolongation and Galerkin products of the
+ * set-up run by blocks of rows on the matrix's run (zsparse.h), each
+ * block writing its own rows, so the result is the same on any number of
+ * threads; the aggregation and the coarsest factor run on one. */
 #ifndef PW__ZAMG_V1
 #define PW__ZAMG_V1
 
@@ -38,12 +50,16 @@
 #define PW__ZAMG_COARSEST 512
 
 /* One level: its matrix, the prolongation from the next (coarser) level's
- * unknowns (n x nc, complex CSR), and the cycle's vectors (2n doubles). */
+ * unknowns (n x nc, complex CSR) and its adjoint (nc x n), the sums of
+ * |a_ij| over each row's columns in other blocks (l1, n), and the cycle's
+ * vectors (2n doubles). */
 typedef struct pw__zamg_level {
     pw_zcsr A;
     int nc;
     int *prow, *pcol;
     double *pval;
+    pw_zcsr PH;
+    double *l1;
     double *x, *b, *r;
 } pw__zamg_level;
 
@@ -215,44 +231,103 @@ PW__DEF void pw__zamg_acc_flush(pw__zamg_acc *w, int *col, double *val, int *nnz
     w->cnt = 0;
 }
 
-/* C = op(X) Y for complex CSR X (rows of X, or with conj_t the rows of X^H
- * given as X's transpose already: see pw__zamg_galerkin) and Y of ncols
- * columns; C gets C->n = X->n rows. Two passes: count, then fill. */
-PW__DEF int pw__zamg_mul(const pw_alloc *a, const pw_zcsr *X, const pw_zcsr *Y, int ncols, pw_zcsr *C, pw_err *e)
+/* A sparse matrix built row by row: row(ctx, i, w) adds the entries of
+ * row i to w (columns below ncols). pw__zamg_rows builds it in two
+ * passes on run, by blocks of rows each with its own scratch: count, then
+ * fill; each row is the same as built alone. */
+typedef struct pw__zamg_rowjob {
+    void (*row)(const void *ctx, int i, pw__zamg_acc *w);
+    const void *ctx;
+    const pw_zrun *run;
+    int n;
+} pw__zamg_rowjob;
+
+typedef struct pw__zamg_pass {
+    const pw__zamg_rowjob *job;
+    pw_zcsr *C;
+    pw__zamg_acc *w;
+    int nb;
+} pw__zamg_pass;
+
+/* One pass over block b: each row's entries counted into C->rowptr[i + 1]
+ * (C->col NULL) or written from C->rowptr[i] on. */
+PW__DEF void pw__zamg_pass_block(void *ctx, int b)
 {
-    pw__zamg_acc w;
-    int pass, i, k, q, nnz = 0;
-    memset(C, 0, sizeof *C);
-    if (pw__zamg_acc_init(a, ncols, &w, e)) return PW_ERR_NOMEM;
-    C->n = X->n;
-    C->rowptr = (int *)pw_alloc_array(a, (size_t)X->n + 1, sizeof(int), "multigrid matrix", e);
-    for (pass = 0; pass < 2 && C->rowptr; pass++) {
-        nnz = 0;
-        C->rowptr[0] = 0;
-        for (i = 0; i < X->n; i++) {
-            for (k = X->rowptr[i]; k < X->rowptr[i + 1]; k++) {
-                const double *x = X->val + 2 * k;
-                int j = X->col[k];
-                for (q = Y->rowptr[j]; q < Y->rowptr[j + 1]; q++) {
-                    const double *y = Y->val + 2 * q;
-                    pw__zamg_acc_add(&w, Y->col[q], x[0] * y[0] - x[1] * y[1], x[0] * y[1] + x[1] * y[0]);
-                }
-            }
-            pw__zamg_acc_flush(&w, C->col, C->val, &nnz);
-            C->rowptr[i + 1] = nnz;
-        }
-        if (pass == 0) {
-            C->col = (int *)pw_alloc_array(a, (size_t)nnz + 1, sizeof(int), "multigrid matrix", e);
-            C->val = (double *)pw_alloc_array(a, 2 * (size_t)nnz + 2, sizeof(double), "multigrid matrix", e);
-            if (!C->col || !C->val) break;
-        }
+    const pw__zamg_pass *p = (const pw__zamg_pass *)ctx;
+    pw_zcsr *C = p->C;
+    int i, hi = pw__zblock_start(C->n, p->nb, b + 1);
+    for (i = pw__zblock_start(C->n, p->nb, b); i < hi; i++) {
+        int nnz = C->col ? C->rowptr[i] : 0;
+        p->job->row(p->job->ctx, i, &p->w[b]);
+        pw__zamg_acc_flush(&p->w[b], C->col, C->val, &nnz);
+        if (!C->col) C->rowptr[i + 1] = nnz;
     }
-    pw__zamg_acc_free(a, &w);
-    if (!C->rowptr || !C->col || !C->val) {
+}
+
+PW__DEF int pw__zamg_rows(const pw_alloc *a, const pw__zamg_rowjob *job, int ncols, pw_zcsr *C, pw_err *e)
+{
+    pw__zamg_acc w[PW__ZBLOCKS];
+    pw__zamg_pass p;
+    int i, b, r = PW_OK;
+    memset(C, 0, sizeof *C);
+    p.job = job;
+    p.C = C;
+    p.w = w;
+    p.nb = pw__zblocks(job->n);
+    for (b = 0; b < p.nb; b++) /* (a failed init has freed its own) */
+        if (r != PW_OK || (r = pw__zamg_acc_init(a, ncols, &w[b], e)) != PW_OK) memset(&w[b], 0, sizeof w[b]);
+    C->n = job->n;
+    C->rowptr = (int *)pw_alloc_array(a, (size_t)job->n + 1, sizeof(int), "multigrid matrix", e);
+    if (r == PW_OK && C->rowptr) {
+        pw__zfor(job->run, job->n, p.nb, pw__zamg_pass_block, &p);
+        C->rowptr[0] = 0;
+        for (i = 0; i < job->n; i++) C->rowptr[i + 1] += C->rowptr[i];
+        C->col = (int *)pw_alloc_array(a, (size_t)C->rowptr[job->n] + 1, sizeof(int), "multigrid matrix", e);
+        C->val = (double *)pw_alloc_array(a, 2 * (size_t)C->rowptr[job->n] + 2, sizeof(double), "multigrid matrix", e);
+        if (C->col && C->val) pw__zfor(job->run, job->n, p.nb, pw__zamg_pass_block, &p);
+    }
+    for (b = 0; b < p.nb; b++) pw__zamg_acc_free(a, &w[b]);
+    if (r != PW_OK || !C->rowptr || !C->col || !C->val) {
         pw_zcsr_free(a, C);
         return PW_ERR_NOMEM;
     }
     return PW_OK;
+}
+
+/* The operands of a product X Y. */
+typedef struct pw__zamg_prod {
+    const pw_zcsr *X, *Y;
+} pw__zamg_prod;
+
+/* Row i of X Y. */
+PW__DEF void pw__zamg_prod_row(const void *ctx, int i, pw__zamg_acc *w)
+{
+    const pw__zamg_prod *p = (const pw__zamg_prod *)ctx;
+    const pw_zcsr *X = p->X, *Y = p->Y;
+    int k, q;
+    for (k = X->rowptr[i]; k < X->rowptr[i + 1]; k++) {
+        const double *x = X->val + 2 * k;
+        int j = X->col[k];
+        for (q = Y->rowptr[j]; q < Y->rowptr[j + 1]; q++) {
+            const double *y = Y->val + 2 * q;
+            pw__zamg_acc_add(w, Y->col[q], x[0] * y[0] - x[1] * y[1], x[0] * y[1] + x[1] * y[0]);
+        }
+    }
+}
+
+/* C = X Y for complex CSR X and Y of ncols columns; C gets C->n = X->n
+ * rows (on X's run). */
+PW__DEF int pw__zamg_mul(const pw_alloc *a, const pw_zcsr *X, const pw_zcsr *Y, int ncols, pw_zcsr *C, pw_err *e)
+{
+    pw__zamg_prod p;
+    pw__zamg_rowjob job;
+    p.X = X;
+    p.Y = Y;
+    job.row = pw__zamg_prod_row;
+    job.ctx = &p;
+    job.run = X->run;
+    job.n = X->n;
+    return pw__zamg_rows(a, &job, ncols, C, e);
 }
 
 /* The conjugate transpose of an n x ncols complex CSR. */
@@ -286,39 +361,44 @@ PW__DEF int pw__zamg_adjoint(const pw_alloc *a, const pw_zcsr *P, int ncols, pw_
 
 /* ---- one coarser level ------------------------------------------------------ */
 
+/* The smoothed prolongation's inputs: level L's matrix, the tentative
+ * prolongation (agg, ph: pw__zamg_aggregate) and the diagonal d. */
+typedef struct pw__zamg_smooth {
+    const pw_zcsr *A;
+    const int *agg;
+    const double *ph, *d;
+} pw__zamg_smooth;
+
+/* Row i of P = (I - omega D^-1 A) P_t. */
+PW__DEF void pw__zamg_prolong_row(const void *ctx, int i, pw__zamg_acc *w)
+{
+    const pw__zamg_smooth *m = (const pw__zamg_smooth *)ctx;
+    const pw_zcsr *A = m->A;
+    const double omega = 2.0 / 3.0, s = m->d[i] > 0.0 ? omega / m->d[i] : 0.0;
+    int k;
+    pw__zamg_acc_add(w, m->agg[i], m->ph[2 * i], m->ph[2 * i + 1]);
+    for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++) {
+        const double *v = A->val + 2 * k, *p = m->ph + 2 * A->col[k];
+        pw__zamg_acc_add(w, m->agg[A->col[k]], -s * (v[0] * p[0] - v[1] * p[1]), -s * (v[0] * p[1] + v[1] * p[0]));
+    }
+}
+
 /* The smoothed prolongation P = (I - omega D^-1 A) P_t of level L (n x nc),
  * P_t given by agg and ph (pw__zamg_aggregate), into P. */
 PW__DEF int pw__zamg_prolong(const pw_alloc *a, const pw__zamg_level *L, const int *agg, const double *ph,
                              const double *d, pw_zcsr *P, pw_err *e)
 {
-    const pw_zcsr *A = &L->A;
-    const double omega = 2.0 / 3.0;
-    pw__zamg_acc w;
-    int n = A->n, i, k, nnz = 0;
-    memset(P, 0, sizeof *P);
-    if (pw__zamg_acc_init(a, L->nc, &w, e)) return PW_ERR_NOMEM;
-    P->n = n;
-    P->rowptr = (int *)pw_alloc_array(a, (size_t)n + 1, sizeof(int), "multigrid prolongation", e);
-    P->col = (int *)pw_alloc_array(a, (size_t)A->rowptr[n] + n, sizeof(int), "multigrid prolongation", e);
-    P->val = (double *)pw_alloc_array(a, 2 * ((size_t)A->rowptr[n] + n), sizeof(double), "multigrid prolongation", e);
-    if (!P->rowptr || !P->col || !P->val) {
-        pw__zamg_acc_free(a, &w);
-        pw_zcsr_free(a, P);
-        return PW_ERR_NOMEM;
-    }
-    P->rowptr[0] = 0;
-    for (i = 0; i < n; i++) {
-        double s = d[i] > 0.0 ? omega / d[i] : 0.0;
-        pw__zamg_acc_add(&w, agg[i], ph[2 * i], ph[2 * i + 1]);
-        for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++) {
-            const double *v = A->val + 2 * k, *p = ph + 2 * A->col[k];
-            pw__zamg_acc_add(&w, agg[A->col[k]], -s * (v[0] * p[0] - v[1] * p[1]), -s * (v[0] * p[1] + v[1] * p[0]));
-        }
-        pw__zamg_acc_flush(&w, P->col, P->val, &nnz);
-        P->rowptr[i + 1] = nnz;
-    }
-    pw__zamg_acc_free(a, &w);
-    return PW_OK;
+    pw__zamg_smooth m;
+    pw__zamg_rowjob job;
+    m.A = &L->A;
+    m.agg = agg;
+    m.ph = ph;
+    m.d = d;
+    job.row = pw__zamg_prolong_row;
+    job.ctx = &m;
+    job.run = L->A.run;
+    job.n = L->A.n;
+    return pw__zamg_rows(a, &job, L->nc, P, e);
 }
 
 /* Level L's prolongation (from aggregates of L->A) and the next level's
@@ -341,15 +421,18 @@ PW__DEF int pw__zamg_coarsen(const pw_alloc *a, pw__zamg_level *L, pw_zcsr *C, p
         for (i = 0; i < n; i++) d[i] = pw__zamg_diag(A, i);
         r = pw__zamg_prolong(a, L, agg, ph, d, &P, e);
     }
-    if (r == PW_OK) r = pw__zamg_adjoint(a, &P, L->nc, &PH, e);
+    if (r == PW_OK && (r = pw__zamg_adjoint(a, &P, L->nc, &PH, e)) == PW_OK) PH.run = A->run;
     if (r == PW_OK) r = pw__zamg_mul(a, A, &P, L->nc, &AP, e);
     if (r == PW_OK) r = pw__zamg_mul(a, &PH, &AP, L->nc, C, e);
     if (r == PW_OK) {
         L->prow = P.rowptr;
         L->pcol = P.col;
         L->pval = P.val;
-    } else pw_zcsr_free(a, &P);
-    pw_zcsr_free(a, &PH);
+        L->PH = PH;
+    } else {
+        pw_zcsr_free(a, &P);
+        pw_zcsr_free(a, &PH);
+    }
     pw_zcsr_free(a, &AP);
     pw_free(a, agg);
     pw_free(a, ph);
@@ -421,6 +504,26 @@ PW__DEF void pw__zamg_chol_solve(const double *L, int n, const double *b, double
     }
 }
 
+/* The l1 terms of level L's smoother: for every row, sum |a_ij| over
+ * the columns outside its block. */
+PW__DEF int pw__zamg_l1(const pw_alloc *a, pw__zamg_level *L, pw_err *e)
+{
+    const pw_zcsr *A = &L->A;
+    int n = A->n, nb = pw__zblocks(n), b, i, k;
+    L->l1 = (double *)pw_alloc_array(a, (size_t)n, sizeof(double), "multigrid smoother", e);
+    if (!L->l1) return PW_ERR_NOMEM;
+    for (b = 0; b < nb; b++) {
+        int lo = pw__zblock_start(n, nb, b), hi = pw__zblock_start(n, nb, b + 1);
+        for (i = lo; i < hi; i++) {
+            double s = 0.0;
+            for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++)
+                if (A->col[k] < lo || A->col[k] >= hi) s += pw__zamg_abs(A->val + 2 * k);
+            L->l1[i] = s;
+        }
+    }
+    return PW_OK;
+}
+
 /* ---- the hierarchy and the cycle ---------------------------------------------- */
 
 PW__DEF void pw_zamg_free(const pw_alloc *a, pw_zamg *M)
@@ -432,6 +535,8 @@ PW__DEF void pw_zamg_free(const pw_alloc *a, pw_zamg *M)
         pw_free(a, L->prow);
         pw_free(a, L->pcol);
         pw_free(a, L->pval);
+        pw_zcsr_free(a, &L->PH);
+        pw_free(a, L->l1);
         pw_free(a, L->x);
         pw_free(a, L->b);
         pw_free(a, L->r);
@@ -456,8 +561,10 @@ PW__DEF int pw_zamg_setup(const pw_alloc *a, const pw_zcsr *A, pw_zamg *M, pw_er
         L->b = (double *)pw_alloc_array(a, n2, sizeof(double), "multigrid vectors", e);
         L->r = (double *)pw_alloc_array(a, n2, sizeof(double), "multigrid vectors", e);
         if (!L->x || !L->b || !L->r) r = PW_ERR_NOMEM;
+        if (r == PW_OK) r = pw__zamg_l1(a, L, e);
         if (r == PW_OK) r = pw__zamg_coarsen(a, L, &M->lev[l + 1].A, e);
         if (r != PW_OK) break;
+        M->lev[l + 1].A.run = A->run;
         M->levels = ++l;
         if (M->lev[l].A.n * 10 > L->A.n * 9) break; /* aggregation stalls: solve here */
     }
@@ -479,18 +586,120 @@ PW__DEF int pw_zamg_setup(const pw_alloc *a, const pw_zcsr *A, pw_zamg *M, pw_er
     return r;
 }
 
-/* One Gauss-Seidel sweep on A x = b, forward or backward. */
-PW__DEF void pw__zamg_gs(const pw_zcsr *A, const double *b, double *x, int backward)
+/* One step of the cycle at one level, by blocks of rows. */
+typedef struct pw__zamg_step {
+    const pw__zamg_level *L, *C;
+    int nb;
+} pw__zamg_step;
+
+/* The forward sweep of block b from x = 0: rows of other blocks read 0,
+ * the block's rows above the current one too (not swept yet). */
+PW__DEF void pw__zamg_pre(void *ctx, int b)
 {
-    int n = A->n, s, i, k;
-    for (s = 0; s < n; s++) {
-        double sr, si, dr = 0.0;
-        i = backward ? n - 1 - s : s;
-        sr = b[2 * i];
-        si = b[2 * i + 1];
+    const pw__zamg_step *w = (const pw__zamg_step *)ctx;
+    const pw_zcsr *A = &w->L->A;
+    const double *rhs = w->L->b;
+    double *x = w->L->x;
+    int i, k, lo = pw__zblock_start(A->n, w->nb, b), hi = pw__zblock_start(A->n, w->nb, b + 1);
+    for (i = lo; i < hi; i++) {
+        double sr = rhs[2 * i], si = rhs[2 * i + 1], dr = 0.0;
+        for (k = A->rowptr[i]; k < A->rowptr[i + 1] && A->col[k] <= i; k++) {
+            const double *v = A->val + 2 * k, *y = x + 2 * A->col[k];
+            if (A->col[k] == i) dr = v[0];
+            else if (A->col[k] >= lo) {
+                sr -= v[0] * y[0] - v[1] * y[1];
+                si -= v[0] * y[1] + v[1] * y[0];
+            }
+        }
+        x[2 * i] = dr > 0.0 ? sr / (dr + w->L->l1[i]) : 0.0;
+        x[2 * i + 1] = dr > 0.0 ? si / (dr + w->L->l1[i]) : 0.0;
+    }
+}
+
+/* r = b - A x after the forward sweep of block b: row i was solved with
+ * the block's rows below it and (a_ii + l1_i) on the diagonal, so what is
+ * left is l1_i x_i less the terms of the block's rows above it and of the
+ * other blocks' rows; a row without a positive diagonal (all zero, A
+ * being semidefinite) keeps r_i = b_i. */
+PW__DEF void pw__zamg_residual(void *ctx, int b)
+{
+    const pw__zamg_step *w = (const pw__zamg_step *)ctx;
+    const pw_zcsr *A = &w->L->A;
+    const double *x = w->L->x, *rhs = w->L->b;
+    double *r = w->L->r;
+    int i, k, lo = pw__zblock_start(A->n, w->nb, b), hi = pw__zblock_start(A->n, w->nb, b + 1);
+    for (i = lo; i < hi; i++) {
+        double sr = w->L->l1[i] * x[2 * i], si = w->L->l1[i] * x[2 * i + 1], d = 0.0;
         for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++) {
             const double *v = A->val + 2 * k, *y = x + 2 * A->col[k];
-            if (A->col[k] == i) {
+            int j = A->col[k];
+            if (j == i) d = v[0];
+            else if (j > i || j < lo) {
+                sr -= v[0] * y[0] - v[1] * y[1];
+                si -= v[0] * y[1] + v[1] * y[0];
+            }
+        }
+        r[2 * i] = d > 0.0 ? sr : rhs[2 * i];
+        r[2 * i + 1] = d > 0.0 ? si : rhs[2 * i + 1];
+    }
+}
+
+/* b_c = P^H r over block b of the coarse rows (the adjoint's rows: each
+ * sum over the fine rows in order). */
+PW__DEF void pw__zamg_restrict(void *ctx, int b)
+{
+    const pw__zamg_step *w = (const pw__zamg_step *)ctx;
+    const pw_zcsr *H = &w->L->PH;
+    const double *r = w->L->r;
+    double *bc = w->C->b;
+    int I, k, hi = pw__zblock_start(H->n, w->nb, b + 1);
+    for (I = pw__zblock_start(H->n, w->nb, b); I < hi; I++) {
+        double sr = 0.0, si = 0.0;
+        for (k = H->rowptr[I]; k < H->rowptr[I + 1]; k++) {
+            const double *h = H->val + 2 * k, *y = r + 2 * H->col[k];
+            sr += h[0] * y[0] - h[1] * y[1];
+            si += h[0] * y[1] + h[1] * y[0];
+        }
+        bc[2 * I] = sr;
+        bc[2 * I + 1] = si;
+    }
+}
+
+/* x += P x_c over block b, and r = x: what the backward sweep reads of
+ * the rows of other blocks. */
+PW__DEF void pw__zamg_prolong_add(void *ctx, int b)
+{
+    const pw__zamg_step *w = (const pw__zamg_step *)ctx;
+    const pw__zamg_level *L = w->L;
+    const double *xc = w->C->x;
+    int i, k, hi = pw__zblock_start(L->A.n, w->nb, b + 1);
+    for (i = pw__zblock_start(L->A.n, w->nb, b); i < hi; i++) {
+        double sr = L->x[2 * i], si = L->x[2 * i + 1];
+        for (k = L->prow[i]; k < L->prow[i + 1]; k++) {
+            const double *p = L->pval + 2 * k, *y = xc + 2 * L->pcol[k];
+            sr += p[0] * y[0] - p[1] * y[1];
+            si += p[0] * y[1] + p[1] * y[0];
+        }
+        L->x[2 * i] = L->r[2 * i] = sr;
+        L->x[2 * i + 1] = L->r[2 * i + 1] = si;
+    }
+}
+
+/* The backward sweep of block b: rows of other blocks read as they were
+ * before it (r, pw__zamg_prolong_add). */
+PW__DEF void pw__zamg_post(void *ctx, int b)
+{
+    const pw__zamg_step *w = (const pw__zamg_step *)ctx;
+    const pw_zcsr *A = &w->L->A;
+    const double *rhs = w->L->b, *old = w->L->r;
+    double *x = w->L->x;
+    int i, k, lo = pw__zblock_start(A->n, w->nb, b), hi = pw__zblock_start(A->n, w->nb, b + 1);
+    for (i = hi - 1; i >= lo; i--) { /* x_i += (b - A x)_i / (a_ii + l1_i) */
+        double sr = rhs[2 * i] + w->L->l1[i] * x[2 * i], si = rhs[2 * i + 1] + w->L->l1[i] * x[2 * i + 1], dr = 0.0;
+        for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++) {
+            int j = A->col[k];
+            const double *v = A->val + 2 * k, *y = (j >= lo && j < hi ? x : old) + 2 * j;
+            if (j == i) {
                 dr = v[0];
                 continue;
             }
@@ -498,66 +707,33 @@ PW__DEF void pw__zamg_gs(const pw_zcsr *A, const double *b, double *x, int backw
             si -= v[0] * y[1] + v[1] * y[0];
         }
         if (dr > 0.0) {
-            x[2 * i] = sr / dr;
-            x[2 * i + 1] = si / dr;
+            x[2 * i] = sr / (dr + w->L->l1[i]);
+            x[2 * i + 1] = si / (dr + w->L->l1[i]);
         }
-    }
-}
-
-/* r = b - A x after one forward Gauss-Seidel sweep from x = 0: row i was
- * solved with the new x_j (j < i) and zeros above, so only the part above
- * the diagonal is left, r_i = -sum_{j > i} a_ij x_j (half a product); a
- * row without a positive diagonal (all zero, A being semidefinite) keeps
- * r_i = b_i. */
-PW__DEF void pw__zamg_upper_residual(const pw_zcsr *A, const double *b, const double *x, double *r)
-{
-    int i, k;
-    for (i = 0; i < A->n; i++) {
-        double sr = 0.0, si = 0.0, d = 0.0;
-        for (k = A->rowptr[i + 1] - 1; k >= A->rowptr[i] && A->col[k] >= i; k--) {
-            const double *v = A->val + 2 * k, *y = x + 2 * A->col[k];
-            if (A->col[k] == i) {
-                d = v[0];
-                continue;
-            }
-            sr -= v[0] * y[0] - v[1] * y[1];
-            si -= v[0] * y[1] + v[1] * y[0];
-        }
-        r[2 * i] = d > 0.0 ? sr : b[2 * i];
-        r[2 * i + 1] = d > 0.0 ? si : b[2 * i + 1];
     }
 }
 
 /* The V-cycle from level l: lev[l].x ~ A_l^-1 lev[l].b, from x = 0. */
 PW__DEF void pw__zamg_cycle(const pw_zamg *M, int l)
 {
-    const pw__zamg_level *L = &M->lev[l], *C;
-    int n, i, k;
+    const pw__zamg_level *L = &M->lev[l];
+    pw__zamg_step w, wc;
+    int n;
     if (l == M->levels) {
         pw__zamg_chol_solve(M->chol, M->nc, L->b, L->x);
         return;
     }
-    C = &M->lev[l + 1];
     n = L->A.n;
-    memset(L->x, 0, sizeof(double) * 2 * (size_t)n);
-    pw__zamg_gs(&L->A, L->b, L->x, 0);
-    pw__zamg_upper_residual(&L->A, L->b, L->x, L->r);
-    memset(C->b, 0, sizeof(double) * 2 * (size_t)C->A.n);
-    for (i = 0; i < n; i++) /* b_c = P^H r */
-        for (k = L->prow[i]; k < L->prow[i + 1]; k++) {
-            const double *p = L->pval + 2 * k, *rr = L->r + 2 * i;
-            double *bc = C->b + 2 * L->pcol[k];
-            bc[0] += p[0] * rr[0] + p[1] * rr[1];
-            bc[1] += p[0] * rr[1] - p[1] * rr[0];
-        }
+    w.L = wc.L = L;
+    w.C = wc.C = &M->lev[l + 1];
+    w.nb = pw__zblocks(n);
+    wc.nb = pw__zblocks(L->nc);
+    pw__zfor(L->A.run, n, w.nb, pw__zamg_pre, &w);
+    pw__zfor(L->A.run, n, w.nb, pw__zamg_residual, &w);
+    pw__zfor(L->A.run, L->nc, wc.nb, pw__zamg_restrict, &wc);
     pw__zamg_cycle(M, l + 1);
-    for (i = 0; i < n; i++) /* x += P x_c */
-        for (k = L->prow[i]; k < L->prow[i + 1]; k++) {
-            const double *p = L->pval + 2 * k, *xc = C->x + 2 * L->pcol[k];
-            L->x[2 * i] += p[0] * xc[0] - p[1] * xc[1];
-            L->x[2 * i + 1] += p[0] * xc[1] + p[1] * xc[0];
-        }
-    pw__zamg_gs(&L->A, L->b, L->x, 1);
+    pw__zfor(L->A.run, n, w.nb, pw__zamg_prolong_add, &w);
+    pw__zfor(L->A.run, n, w.nb, pw__zamg_post, &w);
 }
 
 /* z = one V-cycle applied to r (2n doubles each). */
@@ -587,11 +763,12 @@ PW__DEF int pw_zamg_solve(const pw_alloc *a, const pw_zcsr *A, const pw_zamg *M,
 }
 
 /* Unknowns from which multigrid pays against IC(0) (its setup costs about
- * ten IC(0)-PCG iterations; on pgp's systems the two break even near 40K
- * unknowns), and the diagonal excess below which it is used: a matrix whose
+ * ten IC(0)-PCG iterations; on pgp's systems the two break even near 20K
+ * unknowns: the PGP of CGAL's bunny00, 37.7K unknowns, takes 10 V-cycles
+ * where IC(0) takes 80), and the diagonal excess below which it is used: a matrix whose
  * diagonal exceeds the off-diagonal sums by more than 0.5% on average is so
  * well conditioned that IC(0) needs only a few iterations. */
-#define PW_ZAMG_MIN_UNKNOWNS 40000
+#define PW_ZAMG_MIN_UNKNOWNS 20000
 #define PW_ZAMG_MAX_EXCESS 0.005
 
 /* sum_i (a_ii - sum_j |a_ij|) / sum_i a_ii. */

@@ -37,12 +37,56 @@ PW__DEF int pw_ztriplets_add(pw_triplets *t, int i, int j, double re, double im,
     return r == PW_OK ? pw_triplets_add(t, i, 2 * j + 1, im, e) : r;
 }
 
+/* ---- rows in blocks, on threads ---------------------------------------------- */
+
+/* How the solvers' row loops may run on threads: pfor(par, n, task, ctx)
+ * runs task(ctx, i) for every i in [0, n), in any order (pw_parallel_for
+ * and its pw_parallel, which the headers define later; pfor NULL: in order
+ * on the calling thread). Rows go to tasks in blocks that depend on the
+ * number of rows only, and every sum over rows is a sum per block and then
+ * the blocks in order, so results are the same bits on any number of
+ * threads and in any task order. */
+struct pw_parallel;
+typedef struct pw_zrun {
+    void (*pfor)(const struct pw_parallel *par, int n, void (*task)(void *, int), void *ctx);
+    const struct pw_parallel *par;
+} pw_zrun;
+
+/* At most this many blocks of at least PW__ZBLOCK_ROWS rows; loops over
+ * fewer than PW__ZPAR_ROWS rows stay on the calling thread (a parallel for
+ * costs more than they do). */
+#define PW__ZBLOCKS 16
+#define PW__ZBLOCK_ROWS 4096
+#define PW__ZPAR_ROWS 16384
+
+/* The number of blocks of n rows. */
+PW__DEF int pw__zblocks(int n)
+{
+    int nb = (n + PW__ZBLOCK_ROWS - 1) / PW__ZBLOCK_ROWS;
+    return nb < 1 ? 1 : (nb > PW__ZBLOCKS ? PW__ZBLOCKS : nb);
+}
+
+/* The first row of block b of nb over n rows. */
+PW__DEF int pw__zblock_start(int n, int nb, int b) { return (int)((long long)n * b / nb); }
+
+/* Runs task(ctx, b) for the nb blocks of n rows, on run's threads when
+ * there are enough rows. */
+PW__DEF void pw__zfor(const pw_zrun *run, int n, int nb, void (*task)(void *, int), void *ctx)
+{
+    int b;
+    if (run && run->pfor && n >= PW__ZPAR_ROWS && nb > 1) run->pfor(run->par, nb, task, ctx);
+    else
+        for (b = 0; b < nb; b++) task(ctx, b);
+}
+
 /* n x n complex CSR: row i holds col[k], (val[2k], val[2k+1]) for
- * rowptr[i] <= k < rowptr[i+1], columns increasing. */
+ * rowptr[i] <= k < rowptr[i+1], columns increasing. run (NULL: one
+ * thread) says how its products run. */
 typedef struct pw_zcsr {
     int n;
     int *rowptr, *col;
     double *val; /* 2 per entry */
+    const pw_zrun *run;
 } pw_zcsr;
 
 PW__DEF void pw_zcsr_free(const pw_alloc *a, pw_zcsr *A)
@@ -87,22 +131,49 @@ PW__DEF int pw_zcsr_from_triplets(const pw_alloc *a, const pw_triplets *t, pw_zc
     return PW_OK;
 }
 
-/* y = A x over complex vectors (2n doubles); returns Re(x^H y). */
-PW__DEF double pw_zcsr_mul(const pw_zcsr *A, const double *x, double *y)
+/* A product y = A x by blocks of rows: each block's share of Re(x^H y). */
+typedef struct pw__zmul {
+    const pw_zcsr *A;
+    const double *x;
+    double *y;
+    int nb;
+    double part[PW__ZBLOCKS];
+} pw__zmul;
+
+PW__DEF void pw__zmul_block(void *ctx, int b)
 {
+    pw__zmul *w = (pw__zmul *)ctx;
+    const pw_zcsr *A = w->A;
+    const double *x = w->x;
     double d = 0.0;
-    int i, k;
-    for (i = 0; i < A->n; i++) {
+    int i, k, hi = pw__zblock_start(A->n, w->nb, b + 1);
+    for (i = pw__zblock_start(A->n, w->nb, b); i < hi; i++) {
         double sr = 0.0, si = 0.0;
         for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++) {
             const double *v = A->val + 2 * k, *xx = x + 2 * A->col[k];
             sr += v[0] * xx[0] - v[1] * xx[1];
             si += v[0] * xx[1] + v[1] * xx[0];
         }
-        y[2 * i] = sr;
-        y[2 * i + 1] = si;
+        w->y[2 * i] = sr;
+        w->y[2 * i + 1] = si;
         d += x[2 * i] * sr + x[2 * i + 1] * si;
     }
+    w->part[b] = d;
+}
+
+/* y = A x over complex vectors (2n doubles), on A->run's threads; returns
+ * Re(x^H y), summed per block of rows and then over the blocks in order. */
+PW__DEF double pw_zcsr_mul(const pw_zcsr *A, const double *x, double *y)
+{
+    pw__zmul w;
+    double d = 0.0;
+    int b;
+    w.A = A;
+    w.x = x;
+    w.y = y;
+    w.nb = pw__zblocks(A->n);
+    pw__zfor(A->run, A->n, w.nb, pw__zmul_block, &w);
+    for (b = 0; b < w.nb; b++) d += w.part[b];
     return d;
 }
 

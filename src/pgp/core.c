@@ -171,6 +171,7 @@ struct pgp_map_state {
     pgp__constraint *con;
     int ncon;
     size_t concap;
+    pw_parallel par; /* options.threads, parallel, parallel_pool: pp.run's */
 };
 
 static int pgp__check_vertex(const pgp__state *P, int v, pw_err *e)

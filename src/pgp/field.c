@@ -124,7 +124,7 @@ static int pgp__harmonic(pgp__state *P, const unsigned char *vfree, const unsign
     for (v = 0; r == PW_OK && n > 0 && v < m->nv; v++) /* a faint pull towards the fallback */
         if (id[v] >= 0 && (r = pw_triplets_add(&t, id[v], id[v], PW_PERIODIC_PULL, e)) == PW_OK)
             b[id[v]] += PW_PERIODIC_PULL * fallback;
-    if (r == PW_OK && n > 0) r = pw_periodic_pd_solve(&P->a, &t, b, x, 1e-8, e);
+    if (r == PW_OK && n > 0) r = pw_periodic_pd_solve(&P->pp, &t, b, x, 1e-8, e);
     for (v = 0; r == PW_OK && n > 0 && v < m->nv; v++)
         if (id[v] >= 0) val[v] = (float)x[id[v]];
     pw_triplets_free(&t);

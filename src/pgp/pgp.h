@@ -69,10 +69,11 @@
  *   PATCHWORK_IMPLEMENTATION turns on every patchwork header included after
  *   it. Build macros: PGP_STATIC (all functions static), PW_MALLOC /
  *   PW_REALLOC / PW_FREE (all or none), PW_ASSERT, PW_NO_STDIO, the PW_MAX_*
- *   size limits, as in every patchwork header, and PW_THREADS: rendering and
- *   tile synthesis on several threads (POSIX threads; link with -pthread;
- *   pgp_render_options.threads and pgp_synth_options.threads, 0 = one per
- *   processor), the same picture and tile for any count.
+ *   size limits, as in every patchwork header, and PW_THREADS: rendering,
+ *   tile synthesis and the solves of pgp_create and the edits on several
+ *   threads (POSIX threads; link with -pthread; pgp_render_options.threads,
+ *   pgp_synth_options.threads and pgp_options.threads, 0 = one per
+ *   processor), the same picture, tile and map for any count.
  *   PW_NO_RENDER and PW_NO_PNG leave out the renderer (pgp_render fails
  *   with PGP_ERR_UNSUPPORTED) and the PNG codec (loading or saving PNG fails
  *   the same way): faster builds for programs that only compute (docs/api.md).
@@ -393,6 +394,13 @@ typedef struct pgp_options {
                                 pgp_add_constraint would (its own effect area and
                                 solve); their ids are 0, 1, ...; default none */
     int nconstraints;
+    int threads;               /* threads of pgp_create's and the edits' solves (the
+                                multigrid sweeps and the products of their conjugate
+                                gradients), as render.threads: 0 (default) one per
+                                processor with PW_THREADS, else 1; the map is the same,
+                                bit for bit, for any number */
+    pgp_parallel_fn parallel;  /* optional: the caller's parallel for, used instead of threads */
+    void *parallel_pool;       /* its first argument */
     pgp_render_options render; /* pgp_render's settings (pass &opt.render) */
     pgp_synth_options synth;   /* tile synthesis settings (pass &opt.synth) */
     pgp_atlas_options atlas;   /* pgp_bake_atlas's */

@@ -17,6 +17,21 @@ static void pgp__recover(pgp__state *P, int f)
     for (c = 0; c < 3; c++) o[3 * c + 2] = P->mat[tri[c]];
 }
 
+/* The triangles of an area whose coordinates Eq. (4) recovers, by blocks
+ * on the solves' threads (each triangle writes its own corners). */
+typedef struct pgp__recovery {
+    pgp__state *P;
+    const int *order;
+    int n, nb;
+} pgp__recovery;
+
+static void pgp__recover_block(void *ctx, int b)
+{
+    const pgp__recovery *w = (const pgp__recovery *)ctx;
+    int i, hi = pw__zblock_start(w->n, w->nb, b + 1);
+    for (i = pw__zblock_start(w->n, w->nb, b); i < hi; i++) pgp__recover(w->P, w->order[i]);
+}
+
 /* ---- §3 singular 1-rings --------------------------------------------------------------- */
 
 /* "Highly distorted": ||grad s - g_s||^2 > threshold, or the same for t.
@@ -69,16 +84,34 @@ PGPDEF int pgp_map_vortices(const pgp_map *map, unsigned char *flags)
     return P ? pgp__vortices(P, flags) : 0;
 }
 
+/* The distorted triangles of a block, on the solves' threads. */
+typedef struct pgp__distortion_job {
+    const pgp__state *P;
+    unsigned char *dist;
+    int nb;
+} pgp__distortion_job;
+
+static void pgp__distorted_block(void *ctx, int b)
+{
+    const pgp__distortion_job *w = (const pgp__distortion_job *)ctx;
+    int f, nf = w->P->pp.m.nf, hi = pw__zblock_start(nf, w->nb, b + 1);
+    for (f = pw__zblock_start(nf, w->nb, b); f < hi; f++) w->dist[f] = (unsigned char)pgp__distorted(w->P, f);
+}
+
 /* §3: a vertex's 1-ring is singular if it holds a distorted triangle or a
  * spoke edge whose two triangles disagree; a triangle is singular (drawn
  * with three lookups) if one of its corners is. */
 static int pgp__singularities(pgp__state *P, pw_err *e)
 {
     unsigned char *dist = (unsigned char *)pw_alloc_array(&P->a, (size_t)P->pp.m.nf, 1, "singularities", e);
+    pgp__distortion_job job;
     int f, c, h;
     if (!dist) return PW_ERR_NOMEM;
     memset(P->vsing, 0, (size_t)P->pp.m.nv);
-    for (f = 0; f < P->pp.m.nf; f++) dist[f] = (unsigned char)pgp__distorted(P, f);
+    job.P = P;
+    job.dist = dist;
+    job.nb = pw__zblocks(P->pp.m.nf);
+    pw__zfor(&P->pp.run, P->pp.m.nf, job.nb, pgp__distorted_block, &job);
     for (h = 0; h < 3 * P->pp.m.nf; h++) {
         int f3 = h / 3, c3 = h % 3;
         if (dist[f3]) P->vsing[P->pp.m.tri[h]] = 1;
@@ -105,7 +138,8 @@ static int pgp__edit(pgp__state *P, pgp_constraint_kind kind, const pgp__seeds *
     unsigned char *in = (unsigned char *)pw_alloc_array(&P->a, 2 * nf + 2 * nv, 1, "effect area", e);
     int *order = (int *)pw_alloc_array(&P->a, nf, sizeof(int), "effect area", e);
     pw_progress pr = pgp__progress(&P->o);
-    int n = 0, i, whole = !(radius > 0.0f), r = in && order ? PW_OK : PW_ERR_NOMEM;
+    int n = 0, whole = !(radius > 0.0f), r = in && order ? PW_OK : PW_ERR_NOMEM;
+    pgp__recovery rec;
     unsigned char *mark = in + nf, *vfree = in + 2 * nf, *locked = vfree + nv;
     if (r == PW_OK) r = pgp__area(P, sd, in, order, &n, e);
     if (r == PW_OK) pgp__free_vertices(P, in, vfree);
@@ -114,7 +148,11 @@ static int pgp__edit(pgp__state *P, pgp_constraint_kind kind, const pgp__seeds *
     if (r == PW_OK && kind != PGP_CONSTRAINT_ORIENT) r = pgp__interp_vertex(P, kind, vfree, whole, locked, e);
     if (r == PW_OK) r = pw_report(&pr, 0.4f, "periodic global parameterization", e);
     if (r == PW_OK && kind != PGP_CONSTRAINT_MATERIAL) r = pw_periodic_solve(&P->pp, vfree, whole, e);
-    for (i = 0; r == PW_OK && i < n; i++) pgp__recover(P, order[i]);
+    rec.P = P;
+    rec.order = order;
+    rec.n = n;
+    rec.nb = pw__zblocks(n);
+    if (r == PW_OK) pw__zfor(&P->pp.run, n, rec.nb, pgp__recover_block, &rec);
     if (r == PW_OK) r = pw_report(&pr, 0.9f, "singularities", e);
     if (r == PW_OK) r = pgp__singularities(P, e);
     if (r == PW_OK && area) {
@@ -168,6 +206,7 @@ static int pgp__check_options(const pgp_options *o, pw_err *e)
     if (!(o->singular_distortion > 0.0f) || !pw_is_finite(o->singular_distortion))
         return pw_fail(e, PW_ERR_INVALID, "singular_distortion %g is not positive", (double)o->singular_distortion);
     if (o->smoothing < 0) return pw_fail(e, PW_ERR_INVALID, "smoothing %d is negative", o->smoothing);
+    if (o->threads < 0) return pw_fail(e, PW_ERR_INVALID, "threads %d is negative", o->threads);
     if (!(o->integrable >= 0.0f && o->integrable <= 1e6f))
         return pw_fail(e, PW_ERR_INVALID, "integrable %g is not in [0, 1e6]", (double)o->integrable);
     if (o->weights != PGP_WEIGHTS_COTAN && o->weights != PGP_WEIGHTS_AREA)
@@ -310,7 +349,7 @@ static int pgp__integrable(pgp__state *P, pw_err *e)
         r = pw_triplets_init(&t, &P->a, (int)n, (int)n, e);
         for (f = 0; f < P->pp.m.nf && r == PW_OK; f++) r = pgp__curl_rows(P, f, &t, b, e);
         if (r == PW_OK) r = pgp__curl_reg(P, &t, e);
-        if (r == PW_OK) r = pw_periodic_pd_solve(&P->a, &t, b, x, 1e-6, e);
+        if (r == PW_OK) r = pw_periodic_pd_solve(&P->pp, &t, b, x, 1e-6, e);
         if (r == PW_OK) pgp__curl_apply(P, x);
         pw_triplets_free(&t);
     }
@@ -409,6 +448,9 @@ static int pgp__create_map(const pgp_mesh *mesh, const pgp_options *opt, pgp_map
     P->a = a;
     P->pp.a = a;
     P->o = o;
+    P->par = pw_parallel_make(o.threads, o.parallel, o.parallel_pool);
+    P->pp.run.pfor = pw_parallel_for;
+    P->pp.run.par = &P->par;
     out->state = P;
     out->allocator = pgp__allocator(&a);
     if (pgp__setup(P, mesh, e) != PW_OK) return e->code;
