@@ -432,16 +432,41 @@ static int pgp__check_scale(const pgp__state *P, pw_err *e)
 
 /* The map of a mesh without constraints (pgp_create, edit.c, adds them):
  * the default field, scale and material and the initial parameterization. */
-static int pgp__create_map(const pgp_mesh *mesh, const pgp_options *opt, pgp_map *out, pw_err *e)
+/* pgp_create's work on its state P: the mesh, the field and the PGP. */
+static int pgp__map_solve(pgp__state *P, const pgp_mesh *mesh, pw_err *e)
 {
-    pgp_options o = pgp__options(opt);
-    pw_alloc a = pgp__alloc(&o.allocator);
-    pgp__state *P;
+    const pgp_options *o = &P->o;
     pgp__seeds whole; /* no seeds, radius 0: the whole mesh */
     int v;
     whole.tri = NULL;
     whole.n = 0;
     whole.radius = 0.0f;
+    if (pgp__setup(P, mesh, e) != PW_OK) return e->code;
+    P->pp.scale0 = o->scale > 0.0f ? o->scale : 0.1f * P->pp.m.diag;
+    for (v = 0; v < P->pp.m.nv; v++) {
+        P->pp.scale[v] = P->pp.scale0;
+        P->pp.sfac[v] = 1.0f;
+        P->mat[v] = o->material;
+    }
+    for (v = 0; v < P->pp.m.nv; v++) {
+        P->pp.zs[2 * v] = P->pp.zt[2 * v] = 1.0;
+        P->pp.zs[2 * v + 1] = P->pp.zt[2 * v + 1] = 0.0;
+    }
+    if (pgp__check_scale(P, e) != PW_OK ||
+        (o->integrable > 0.0f
+             ? pgp__integrable_field(P, e)
+             : pw_periodic_base_field(&P->pp, o->up, o->field == PGP_FIELD_CURVATURE, o->smoothing, e)) != PW_OK ||
+        pgp__edit(P, PGP_CONSTRAINT_ORIENT, &whole, NULL, e) != PW_OK)
+        return e->code;
+    return PW_OK;
+}
+
+static int pgp__create_map(const pgp_mesh *mesh, const pgp_options *opt, pgp_map *out, pw_err *e)
+{
+    pgp_options o = pgp__options(opt);
+    pw_alloc a = pgp__alloc(&o.allocator);
+    pgp__state *P;
+    int r;
     if (pgp__check_options(&o, e) != PW_OK ||
         (P = (pgp__state *)pw_calloc_array(&a, 1, sizeof *P, "mapping", e)) == NULL)
         return e->code;
@@ -453,23 +478,10 @@ static int pgp__create_map(const pgp_mesh *mesh, const pgp_options *opt, pgp_map
     P->pp.run.par = &P->par;
     out->state = P;
     out->allocator = pgp__allocator(&a);
-    if (pgp__setup(P, mesh, e) != PW_OK) return e->code;
-    P->pp.scale0 = o.scale > 0.0f ? o.scale : 0.1f * P->pp.m.diag;
-    for (v = 0; v < P->pp.m.nv; v++) {
-        P->pp.scale[v] = P->pp.scale0;
-        P->pp.sfac[v] = 1.0f;
-        P->mat[v] = o.material;
-    }
-    for (v = 0; v < P->pp.m.nv; v++) {
-        P->pp.zs[2 * v] = P->pp.zt[2 * v] = 1.0;
-        P->pp.zs[2 * v + 1] = P->pp.zt[2 * v + 1] = 0.0;
-    }
-    if (pgp__check_scale(P, e) != PW_OK ||
-        (o.integrable > 0.0f ? pgp__integrable_field(P, e)
-                             : pw_periodic_base_field(&P->pp, P->o.up, P->o.field == PGP_FIELD_CURVATURE,
-                                                      P->o.smoothing, e)) != PW_OK ||
-        pgp__edit(P, PGP_CONSTRAINT_ORIENT, &whole, NULL, e) != PW_OK)
-        return e->code;
+    pw_parallel_start(&P->par); /* one crew for the whole map's solves */
+    r = pgp__map_solve(P, mesh, e);
+    pw_parallel_stop(&P->par);
+    if (r != PW_OK) return r;
     out->nverts = P->pp.m.nv;
     out->ntris = P->pp.m.nf;
     out->tris = P->pp.m.tri;
