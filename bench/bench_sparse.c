@@ -78,6 +78,7 @@ static void run_pw1(job *j)
         pw_zcsr Z;
         pw_zic0 L;
         pw_zamg M;
+        memset(&Z, 0, sizeof Z); /* no parallel-for: one thread */
         Z.n = s->A.n, Z.rowptr = s->A.rowptr, Z.col = s->A.col, Z.val = s->A.val;
         if (pw_zamg_pays(&Z) && (r = pw_zamg_setup(NULL, &Z, &M, &e)) == PW_OK) {
             r = pw_zamg_solve(NULL, &Z, &M, s->b, j->x, &o, &st, &e);
@@ -247,6 +248,7 @@ static double factor_time(const sys *s, int runs)
         if (s->A.cplx) {
             pw_zcsr Z;
             pw_zic0 L;
+            memset(&Z, 0, sizeof Z);
             Z.n = s->A.n, Z.rowptr = s->A.rowptr, Z.col = s->A.col, Z.val = s->A.val;
             if (pw_zic0_factor(NULL, &Z, &L, &e) == PW_OK) pw_zic0_free(NULL, &L);
         } else {
@@ -284,8 +286,9 @@ static void slower_note(const sys *s, const bench_multi *m, int k, const job *pw
     bench_fmt_time(ftime, c, sizeof c);
     if (s->direct)
         snprintf(buf, size, "both factor %s directly (up-looking LDLT after an approximate minimum degree ordering; "
-                 "patchwork's ordering merges only the supervariables present from the start, which leaves more "
-                 "fill on 3D systems: see docs/performance.md)", s->lsq ? "the normal equations" : "A");
+                 "patchwork's ordering finds only the supervariables present from the start, not those AMD finds "
+                 "as elimination goes: it takes longer and leaves more fill; see docs/performance.md)",
+                 s->lsq ? "the normal equations" : "A");
     else if (peer->method == PEER_EIGEN_LDLT && !s->lsq)
         snprintf(buf, size, "one sparse LDLT (AMD ordering; L has %.1fx the nonzeros of A's lower triangle) costs "
                  "less than %d IC(0)-PCG iterations of %s each; %s", fill / (0.5 * (s->nnz - s->A.n)), pw->iters, a,
