@@ -76,7 +76,7 @@ typedef struct lapped__picture {
     const pw_texture *tex;
     const float *normals;    /* smooth vertex normals of the whole mesh */
     const double *rows;      /* per paste: the sample rows its corners reach (pw__draw_rows) */
-    const double *projected; /* the mesh's vertices projected once for all bands, or NULL */
+    const double *projected; /* the mesh's vertices, projected once for all the bands */
     pw_camera cam;
     int filter;
 } lapped__picture;
