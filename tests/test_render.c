@@ -1642,6 +1642,11 @@ static float simd_value(pw_rng *rng, float lo, float hi)
     return lo + (hi - lo) * pw_rng_float(rng);
 }
 
+/* Bit for bit the same, or both NaN: which NaN an operation on two NaNs
+ * gives depends on its operands' order, which the compiler may swap in the
+ * scalar code, and every later step treats all NaNs alike. */
+static int same_float(float a, float b) { return (a != a && b != b) || !memcmp(&a, &b, sizeof a); }
+
 /* The four-wide shading steps (coordinates, mip level, lighting, log2,
  * trilinear taps) against the scalar code they stand for, bit for bit. */
 static void t_render_simd_batch(void)
@@ -1682,9 +1687,8 @@ static void t_render_simd_batch(void)
             w[1] = (pl[6] * X + pl[7] * Y + pl[8]) * (1.0f / q);
             w[2] = c.filter == PW_FILTER_TRILINEAR ? pw__tex_lod(&c, pl, w[0], w[1], 1.0f / q) : 0.0f;
             w[3] = pw__light(&c, pl, X, Y);
-            bad_coords += memcmp(&dx[i], &X, sizeof X) || memcmp(&dy[i], &Y, sizeof Y);
-            bad_coords += iq[i] != 1.0f / q;
-            for (j = 0; j < 4; j++) bad_coords += memcmp(&uvl[j * PW__BATCH + i], &w[j], sizeof(float)) != 0;
+            bad_coords += !same_float(dx[i], X) || !same_float(dy[i], Y) || !same_float(iq[i], 1.0f / q);
+            for (j = 0; j < 4; j++) bad_coords += !same_float(uvl[j * PW__BATCH + i], w[j]);
         }
         for (i = 0; i < PW__BATCH; i += 4) {
             float x[4], got[4];
@@ -1693,7 +1697,7 @@ static void t_render_simd_batch(void)
             _mm_storeu_ps(got, pw__log2f4(_mm_loadu_ps(x)));
             for (j = 0; j < 4; j++) {
                 float want = pw__log2f(x[j]);
-                bad_log += memcmp(&got[j], &want, sizeof want) != 0;
+                bad_log += !same_float(got[j], want);
             }
             T.u = uvl + i;
             T.v = uvl + PW__BATCH + i;
