@@ -15,27 +15,27 @@
  *   5290: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
  *   5819: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
  *   6243: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
- *   7904: src/common/raster.h, exact scan conversion of 2D triangles.
- *   8416: src/common/parallel.h, a parallel for, the one way work is split across threads.
- *   8740: src/common/render.h, a small deterministic software renderer for textured trian
- *  10904: src/lapped/polyhull.h, the polygonal hull of a texture patch (Praun, Finkelstein 
- *  11735: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
- *  11932: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
- *  12017: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
- *  12206: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
- *  13126: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
- *  13824: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
- *  14060: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
- *  14824: src/common/glue.h, what every method header needs between its public types an
- *  15160: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  15824: src/lapped/core.c, lapped.h's glue to the shared core, its defaults, and the 
- *  15994: src/lapped/field.c, §3.2 the tangent field, one frame (S, T) per triangle, an
- *  16449: src/lapped/patch.c, §3.1 texture patches. A patch is the texture as RGBA whos
- *  16763: src/lapped/builtin.c, built-in meshes (made by the shared shapes module) and tex
- *  16957: src/lapped/grow.c, pasting (§3.3-3.6): grow a surface patch around an uncove
- *  18590: src/lapped/render.c, runtime pasting (§4): the mesh drawn once per paste, in p
- *  18837: src/lapped/atlas.c, §4 "Rendering with a texture atlas".
- *  19080: src/lapped/io.c, the paste file format and the file conveniences of lapped.
+ *   7991: src/common/raster.h, exact scan conversion of 2D triangles.
+ *   8503: src/common/parallel.h, a parallel for, the one way work is split across threads.
+ *   8827: src/common/render.h, a small deterministic software renderer for textured trian
+ *  10991: src/lapped/polyhull.h, the polygonal hull of a texture patch (Praun, Finkelstein 
+ *  11822: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
+ *  12019: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
+ *  12104: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
+ *  12293: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
+ *  13213: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
+ *  13911: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
+ *  14147: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
+ *  14911: src/common/glue.h, what every method header needs between its public types an
+ *  15247: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  15911: src/lapped/core.c, lapped.h's glue to the shared core, its defaults, and the 
+ *  16081: src/lapped/field.c, §3.2 the tangent field, one frame (S, T) per triangle, an
+ *  16536: src/lapped/patch.c, §3.1 texture patches. A patch is the texture as RGBA whos
+ *  16850: src/lapped/builtin.c, built-in meshes (made by the shared shapes module) and tex
+ *  17044: src/lapped/grow.c, pasting (§3.3-3.6): grow a surface patch around an uncove
+ *  18677: src/lapped/render.c, runtime pasting (§4): the mesh drawn once per paste, in p
+ *  18924: src/lapped/atlas.c, §4 "Rendering with a texture atlas".
+ *  19167: src/lapped/io.c, the paste file format and the file conveniences of lapped.
  */
 /* lapped.h - lapped textures: overlapping texture patches pasted over a mesh.
  *
@@ -7243,26 +7243,31 @@ PW__DEF void pw_ldlt_free(const pw_alloc *a, pw_ldlt *F)
 }
 
 /* The quotient graph of the minimum-degree ordering (George and Liu; the
- * approximate degrees of Amestoy, Davis and Duff's AMD, 1996). An
- * eliminated variable becomes an element, whose list L_e holds the live
- * variables its elimination joined into a clique; the clique is never
- * formed. A live variable i keeps its variable neighbours not yet covered
- * by an element (var(i)) and the elements it belongs to (elt(i)). Every
- * element containing the pivot is absorbed into the pivot's new element,
- * so element lists hold live variables only. All lists live in one pool
- * of ints (offsets, never pointers, since the pool moves as it grows): a
- * new element's list and an elt list that outgrows its room are placed at
- * its end. */
+ * approximate degrees, supervariables and aggressive absorption of
+ * Amestoy, Davis and Duff's AMD, 1996). An eliminated variable becomes an
+ * element, whose list L_e holds the live variables its elimination joined
+ * into a clique; the clique is never formed. A live variable i keeps its
+ * variable neighbours not yet covered by an element (var(i)) and the
+ * elements it belongs to (elt(i)). Every element containing the pivot is
+ * absorbed into the pivot's new element, and so is every element whose
+ * list lies inside the new one's. Variables with the same lists (the same
+ * neighbours) are merged into one supervariable of weight nv, eliminated
+ * at once; degrees count weights. All lists live in one pool of ints
+ * (offsets, never pointers, since the pool moves as it grows): a new
+ * element's list and an elt list that outgrows its room are placed at its
+ * end. */
 typedef struct pw__amd {
     const pw_alloc *a;
-    int n;
+    int n, total, done; /* nodes; their weights' sum; weight eliminated so far */
     int *pool;
     size_t used, cap;
     size_t *var, *elt, *L;   /* list offsets in pool */
     int *nvar, *nelt, *celt; /* counts, room of elt lists */
-    int *nL, *deg;           /* element sizes; approximate external degrees */
+    int *nL, *deg;           /* elements' weighted sizes; approximate external degrees */
     int *head, *next, *prev; /* degree buckets: doubly linked lists */
-    unsigned char *status;   /* 0 variable, 1 element, 2 absorbed element */
+    int *nv, *chain, *tail;  /* supervariables: weight (0: merged), next member, last member */
+    int *hhead, *hnext;      /* hash buckets of the supervariable search */
+    unsigned char *status;   /* 0 variable, 1 element, 2 absorbed element, 3 merged variable */
     int *mark, *w, *wmark, stamp;
     int dmin; /* no live variable has a smaller degree */
 } pw__amd;
@@ -7311,16 +7316,18 @@ PW__DEF int pw__amd_room(pw__amd *G, size_t k, size_t *at, pw_err *e)
     return PW_OK;
 }
 
-PW__DEF int pw__amd_init(pw__amd *G, const pw_alloc *a, const pw_csr *A, pw_err *e)
+/* The graph of A, node i of weight weight[i] (NULL: all 1). */
+PW__DEF int pw__amd_init(pw__amd *G, const pw_alloc *a, const pw_csr *A, const int *weight, pw_err *e)
 {
     int n = A->n, i, k;
     size_t at = 0;
     memset(G, 0, sizeof *G);
     G->a = a;
     G->n = n;
+    for (i = 0; i < n; i++) G->total += weight ? weight[i] : 1;
     G->var = (size_t *)pw_alloc_array(a, (size_t)n * 3, sizeof(size_t), "ordering graph", e);
-    G->nvar = (int *)pw_calloc_array(a, (size_t)n * 10, sizeof(int), "ordering graph", e);
-    G->head = (int *)pw_alloc_array(a, (size_t)n + 1, sizeof(int), "ordering graph", e);
+    G->nvar = (int *)pw_calloc_array(a, (size_t)n * 15, sizeof(int), "ordering graph", e);
+    G->head = (int *)pw_alloc_array(a, (size_t)G->total + 1, sizeof(int), "ordering graph", e);
     G->status = (unsigned char *)pw_calloc_array(a, (size_t)n, 1, "ordering graph", e);
     if (!G->var || !G->nvar || !G->head || !G->status ||
         pw__amd_room(G, (size_t)A->rowptr[n] + 4 * (size_t)n, &at, e) != PW_OK)
@@ -7336,19 +7343,31 @@ PW__DEF int pw__amd_init(pw__amd *G, const pw_alloc *a, const pw_csr *A, pw_err 
     G->mark = G->prev + n;
     G->w = G->mark + n;
     G->wmark = G->w + n;
+    G->nv = G->wmark + n;
+    G->chain = G->nv + n;
+    G->tail = G->chain + n;
+    G->hhead = G->tail + n;
+    G->hnext = G->hhead + n;
+    for (i = 0; i < n; i++) {
+        G->nv[i] = weight ? weight[i] : 1;
+        G->chain[i] = G->hhead[i] = -1;
+        G->tail[i] = i;
+    }
     for (i = 0; i < n; i++) {
         G->var[i] = at;
         for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++)
-            if (A->col[k] != i) G->pool[at + G->nvar[i]++] = A->col[k];
+            if (A->col[k] != i) {
+                G->pool[at + G->nvar[i]++] = A->col[k];
+                G->deg[i] += G->nv[A->col[k]];
+            }
         at += (size_t)G->nvar[i];
         G->elt[i] = at;
         G->celt[i] = 4;
         at += 4;
-        G->deg[i] = G->nvar[i];
     }
     G->used = at;
-    G->dmin = n;
-    for (i = 0; i <= n; i++) G->head[i] = -1;
+    G->dmin = G->total;
+    for (i = 0; i <= G->total; i++) G->head[i] = -1;
     for (i = n - 1; i >= 0; i--) pw__amd_link(G, i); /* vertex 0 first among equals */
     return PW_OK;
 }
@@ -7368,20 +7387,75 @@ PW__DEF int pw__amd_add_elt(pw__amd *G, int i, int p, pw_err *e)
     return PW_OK;
 }
 
-/* Eliminates variable p, the k-th: its element's list L_p (its variable
- * neighbours and the lists of the elements it belongs to, which it
- * absorbs) into nb, then, for every i in L_p, |L_e \ L_p| of i's other
- * elements (w), the absorption of elements wholly inside L_p, i's lists
- * pruned, and its approximate external degree: |var(i)| + |L_p| - 1 + the
- * sum of w over its other elements, at most its old degree plus
- * |L_p| - 1 and the variables left. */
-PW__DEF int pw__amd_eliminate(pw__amd *G, int p, int k, int *nb, pw_err *e)
+/* 1 if variables i and j have the same elements and variable neighbours
+ * (lists without repeats). */
+PW__DEF int pw__amd_same(pw__amd *G, int i, int j)
 {
-    int stamp = ++G->stamp, nn = 0, i, j, q;
+    const int *pool = G->pool;
+    int q, stamp = ++G->stamp;
+    if (G->nelt[i] != G->nelt[j] || G->nvar[i] != G->nvar[j]) return 0;
+    for (q = 0; q < G->nelt[i]; q++) G->mark[pool[G->elt[i] + q]] = stamp;
+    for (q = 0; q < G->nvar[i]; q++) G->mark[pool[G->var[i] + q]] = stamp;
+    for (q = 0; q < G->nelt[j]; q++)
+        if (G->mark[pool[G->elt[j] + q]] != stamp) return 0;
+    for (q = 0; q < G->nvar[j]; q++)
+        if (G->mark[pool[G->var[j] + q]] != stamp) return 0;
+    return 1;
+}
+
+/* Merges the variables of nb (the new element's list, nn of them) that
+ * have the same lists into supervariables: the first of each keeps the
+ * weight, its degree less the others' weights, and their members. */
+PW__DEF void pw__amd_supervariables(pw__amd *G, const int *nb, int nn)
+{
+    const int *pool = G->pool;
+    int i, q;
+    for (i = 0; i < nn; i++) { /* hash: the sum of the lists' entries */
+        int v = nb[i];
+        unsigned long h = 0;
+        for (q = 0; q < G->nelt[v]; q++) h += (unsigned)pool[G->elt[v] + q];
+        for (q = 0; q < G->nvar[v]; q++) h += (unsigned)pool[G->var[v] + q];
+        G->w[v] = (int)(h % (unsigned long)G->n); /* v is a variable: its w (an element's) is free */
+        G->hnext[v] = G->hhead[G->w[v]];
+        G->hhead[G->w[v]] = v;
+    }
+    for (i = 0; i < nn; i++) {
+        int v = nb[i], h = G->w[v], j, *link;
+        if (G->hhead[h] < 0) continue;
+        for (v = G->hhead[h]; v >= 0; v = G->hnext[v]) {
+            if (G->status[v] != 0) continue;
+            for (link = &G->hnext[v], j = *link; j >= 0; j = *link) {
+                if (G->status[j] == 0 && pw__amd_same(G, v, j)) {
+                    G->deg[v] -= G->nv[j];
+                    G->nv[v] += G->nv[j];
+                    G->nv[j] = 0;
+                    G->status[j] = 3;
+                    G->chain[G->tail[v]] = j;
+                    G->tail[v] = G->tail[j];
+                    *link = G->hnext[j];
+                } else link = &G->hnext[j];
+            }
+        }
+        G->hhead[h] = -1;
+    }
+}
+
+/* Eliminates supervariable p: its element's list L_p (its variable
+ * neighbours and the lists of the elements it belongs to, which it
+ * absorbs) into nb, then, for every i in L_p, |L_e \ L_p| (weighted) of
+ * i's other elements (w), the absorption of elements wholly inside L_p,
+ * i's lists pruned, and its approximate external degree: |var(i)| +
+ * |L_p| - nv(i) + the sum of w over its other elements, at most its old
+ * degree plus |L_p| - nv(i) and the weight left; then the supervariables
+ * among L_p. */
+PW__DEF int pw__amd_eliminate(pw__amd *G, int p, int *nb, pw_err *e)
+{
+    int stamp = ++G->stamp, nn = 0, wp = 0, i, j, q;
     const int *pool;
     size_t at;
     G->status[p] = 1;
     G->mark[p] = stamp;
+    G->done += G->nv[p];
     pool = G->pool;
     for (j = 0; j < G->nvar[p]; j++) {
         int v = pool[G->var[p] + j];
@@ -7392,28 +7466,26 @@ PW__DEF int pw__amd_eliminate(pw__amd *G, int p, int k, int *nb, pw_err *e)
         if (G->status[el] != 1) continue;
         for (q = 0; q < G->nL[el]; q++) {
             int v = pool[G->L[el] + q];
-            if (G->mark[v] != stamp) G->mark[nb[nn++] = v] = stamp;
+            if (G->status[v] == 0 && G->mark[v] != stamp) G->mark[nb[nn++] = v] = stamp;
         }
         G->status[el] = 2;
     }
+    for (i = 0; i < nn; i++) wp += G->nv[nb[i]];
     G->nvar[p] = G->nelt[p] = 0;
     if (pw__amd_room(G, (size_t)nn, &at, e) != PW_OK) return PW_ERR_NOMEM;
-    memcpy(G->pool + at, nb, sizeof(int) * (size_t)nn);
-    G->L[p] = at;
-    G->nL[p] = nn;
     pool = G->pool;
-    for (i = 0; i < nn; i++) /* w(e) = |L_e \ L_p| */
+    for (i = 0; i < nn; i++) /* w(e) = |L_e \ L_p|, weighted */
         for (j = 0; j < G->nelt[nb[i]]; j++) {
             int el = pool[G->elt[nb[i]] + j];
             if (G->status[el] != 1) continue;
             if (G->wmark[el] != stamp) {
                 G->wmark[el] = stamp;
-                G->w[el] = G->nL[el];
+                G->w[el] = G->deg[el];
             }
-            G->w[el]--;
+            G->w[el] -= G->nv[nb[i]];
         }
     for (i = 0; i < nn; i++) { /* absorption, pruning and the new degree of each variable of L_p */
-        int v = nb[i], m = 0, ext = 0;
+        int v = nb[i], m = 0, ext = 0, vw = 0;
         long d;
         int *ev = G->pool + G->elt[v], *vv = G->pool + G->var[v];
         for (j = 0; j < G->nelt[v]; j++) {
@@ -7425,35 +7497,48 @@ PW__DEF int pw__amd_eliminate(pw__amd *G, int p, int k, int *nb, pw_err *e)
         }
         G->nelt[v] = m;
         for (j = 0, m = 0; j < G->nvar[v]; j++)
-            if (G->status[vv[j]] == 0 && G->mark[vv[j]] != stamp) vv[m++] = vv[j];
+            if (G->status[vv[j]] == 0 && G->mark[vv[j]] != stamp) {
+                vw += G->nv[vv[j]];
+                vv[m++] = vv[j];
+            }
         G->nvar[v] = m;
         if (pw__amd_add_elt(G, v, p, e) != PW_OK) return PW_ERR_NOMEM;
-        d = (long)m + nn - 1 + ext;
-        if (d > (long)G->deg[v] + nn - 1) d = (long)G->deg[v] + nn - 1;
-        if (d > G->n - k - 2) d = G->n - k - 2;
+        d = (long)vw + wp - G->nv[v] + ext;
+        if (d > (long)G->deg[v] + wp - G->nv[v]) d = (long)G->deg[v] + wp - G->nv[v];
+        if (d > G->total - G->done - G->nv[v]) d = G->total - G->done - G->nv[v];
         pw__amd_unlink(G, v);
         G->deg[v] = (int)(d > 0 ? d : 0);
-        pw__amd_link(G, v);
     }
+    pw__amd_supervariables(G, nb, nn);
+    for (i = 0, q = 0; i < nn; i++) /* L_p: the supervariables left */
+        if (G->status[nb[i]] == 0) {
+            G->pool[at + q++] = nb[i];
+            if (G->deg[nb[i]] < 0) G->deg[nb[i]] = 0;
+            pw__amd_link(G, nb[i]);
+        }
+    G->L[p] = at;
+    G->nL[p] = q;
+    G->deg[p] = wp; /* an element's degree: its list's weight */
     return PW_OK;
 }
 
-/* Minimum-degree order of A's graph into perm (approximate degrees on the
- * quotient graph: the cost follows the nonzeros, not the fill). */
-PW__DEF int pw__min_degree_graph(const pw_alloc *a, const pw_csr *A, int *perm, pw_err *e)
+/* Minimum-degree order of A's graph (node i of weight weight[i], NULL: 1)
+ * into perm (approximate degrees on the quotient graph: the cost follows
+ * the nonzeros, not the fill). */
+PW__DEF int pw__min_degree_graph(const pw_alloc *a, const pw_csr *A, const int *weight, int *perm, pw_err *e)
 {
     pw__amd G;
-    int k, r = pw__amd_init(&G, a, A, e);
+    int k = 0, r = pw__amd_init(&G, a, A, weight, e);
     int *nb = NULL;
     if (r == PW_OK && !(nb = (int *)pw_alloc_array(a, (size_t)A->n, sizeof(int), "ordering graph", e)))
         r = PW_ERR_NOMEM;
-    for (k = 0; k < A->n && r == PW_OK; k++) {
-        int v;
+    while (r == PW_OK && G.done < G.total) {
+        int v, u;
         while (G.head[G.dmin] < 0) G.dmin++;
         v = G.head[G.dmin];
         pw__amd_unlink(&G, v);
-        perm[k] = v;
-        r = pw__amd_eliminate(&G, v, k, nb, e);
+        for (u = v; u >= 0; u = G.chain[u]) perm[k++] = u;
+        r = pw__amd_eliminate(&G, v, nb, e);
     }
     pw_free(a, nb);
     pw__amd_free(&G);
@@ -7547,7 +7632,7 @@ PW__DEF int pw__min_degree(const pw_alloc *a, const pw_csr *A, int *perm, pw_err
     if (r == PW_OK && g > n - n / 10) { /* few groups: order the graph itself */
         pw_free(a, key);
         pw_free(a, group);
-        return pw__min_degree_graph(a, A, perm, e);
+        return pw__min_degree_graph(a, A, NULL, perm, e);
     }
     if (r == PW_OK) { /* the graph of the groups: each group's edges are its leader's */
         C.n = C.m = g;
@@ -7566,7 +7651,9 @@ PW__DEF int pw__min_degree(const pw_alloc *a, const pw_csr *A, int *perm, pw_err
         }
         C.rowptr[group[i] + 1] = k;
     }
-    if (r == PW_OK) r = pw__min_degree_graph(a, &C, perm + (n - g), e); /* the groups' order, at the end */
+    for (i = 0; r == PW_OK && i < g; i++) start[i] = 0; /* the groups' weights: their sizes */
+    for (i = 0; r == PW_OK && i < n; i++) start[group[i]]++;
+    if (r == PW_OK) r = pw__min_degree_graph(a, &C, start, perm + (n - g), e); /* the groups' order, at the end */
     if (r == PW_OK) { /* each group's nodes in index order, where the group comes */
         for (i = 0; i <= g; i++) start[i] = 0;
         for (i = 0; i < n; i++) start[group[i] + 1]++;

@@ -285,9 +285,8 @@ static void slower_note(const sys *s, const bench_multi *m, int k, const job *pw
     bench_fmt_time((cp - ftime) / pi, a, sizeof a);
     bench_fmt_time(ftime, c, sizeof c);
     if (s->direct)
-        snprintf(buf, size, "both factor %s directly (up-looking LDLT after an approximate minimum degree ordering; "
-                 "patchwork's ordering finds only the supervariables present from the start, not those AMD finds "
-                 "as elimination goes: it takes longer and leaves more fill; see docs/performance.md)",
+        snprintf(buf, size, "both factor %s directly (up-looking LDLT after an approximate minimum degree ordering "
+                 "with AMD's supervariables and element absorption; see docs/performance.md)",
                  s->lsq ? "the normal equations" : "A");
     else if (peer->method == PEER_EIGEN_LDLT && !s->lsq)
         snprintf(buf, size, "one sparse LDLT (AMD ordering; L has %.1fx the nonzeros of A's lower triangle) costs "
