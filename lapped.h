@@ -15,27 +15,27 @@
  *   5290: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
  *   5819: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
  *   6243: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
- *   7991: src/common/raster.h, exact scan conversion of 2D triangles.
- *   8503: src/common/parallel.h, a parallel for, the one way work is split across threads.
- *   8827: src/common/render.h, a small deterministic software renderer for textured trian
- *  10991: src/lapped/polyhull.h, the polygonal hull of a texture patch (Praun, Finkelstein 
- *  11822: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
- *  12019: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
- *  12104: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
- *  12293: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
- *  13213: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
- *  13911: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
- *  14147: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
- *  14911: src/common/glue.h, what every method header needs between its public types an
- *  15247: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  15911: src/lapped/core.c, lapped.h's glue to the shared core, its defaults, and the 
- *  16081: src/lapped/field.c, §3.2 the tangent field, one frame (S, T) per triangle, an
- *  16536: src/lapped/patch.c, §3.1 texture patches. A patch is the texture as RGBA whos
- *  16850: src/lapped/builtin.c, built-in meshes (made by the shared shapes module) and tex
- *  17044: src/lapped/grow.c, pasting (§3.3-3.6): grow a surface patch around an uncove
- *  18677: src/lapped/render.c, runtime pasting (§4): the mesh drawn once per paste, in p
- *  18924: src/lapped/atlas.c, §4 "Rendering with a texture atlas".
- *  19167: src/lapped/io.c, the paste file format and the file conveniences of lapped.
+ *   7975: src/common/raster.h, exact scan conversion of 2D triangles.
+ *   8487: src/common/parallel.h, a parallel for, the one way work is split across threads.
+ *   8811: src/common/render.h, a small deterministic software renderer for textured trian
+ *  10975: src/lapped/polyhull.h, the polygonal hull of a texture patch (Praun, Finkelstein 
+ *  11806: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
+ *  12003: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
+ *  12088: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
+ *  12277: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
+ *  13197: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
+ *  13895: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
+ *  14131: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
+ *  14895: src/common/glue.h, what every method header needs between its public types an
+ *  15231: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  15895: src/lapped/core.c, lapped.h's glue to the shared core, its defaults, and the 
+ *  16065: src/lapped/field.c, §3.2 the tangent field, one frame (S, T) per triangle, an
+ *  16520: src/lapped/patch.c, §3.1 texture patches. A patch is the texture as RGBA whos
+ *  16834: src/lapped/builtin.c, built-in meshes (made by the shared shapes module) and tex
+ *  17028: src/lapped/grow.c, pasting (§3.3-3.6): grow a surface patch around an uncove
+ *  18661: src/lapped/render.c, runtime pasting (§4): the mesh drawn once per paste, in p
+ *  18908: src/lapped/atlas.c, §4 "Rendering with a texture atlas".
+ *  19151: src/lapped/io.c, the paste file format and the file conveniences of lapped.
  */
 /* lapped.h - lapped textures: overlapping texture patches pasted over a mesh.
  *
@@ -7562,19 +7562,6 @@ PW__DEF uint64_t pw__nbhd_hash(const pw_csr *A, int i)
     return h;
 }
 
-/* Node order for grouping: by hash, then index. */
-typedef struct pw__nbhd_key {
-    uint64_t h;
-    int i;
-} pw__nbhd_key;
-
-PW__DEF int pw__nbhd_cmp(const void *x, const void *y)
-{
-    const pw__nbhd_key *a = (const pw__nbhd_key *)x, *b = (const pw__nbhd_key *)y;
-    if (a->h != b->h) return a->h < b->h ? -1 : 1;
-    return a->i - b->i;
-}
-
 /* 1 if nodes i and j of A have the same closed neighbourhood (mark: n
  * entries, none equal to stamp on entry; rows without repeated columns). */
 PW__DEF int pw__same_nbhd(const pw_csr *A, int i, int j, int *mark, int stamp)
@@ -7606,28 +7593,25 @@ PW__DEF int pw__same_nbhd(const pw_csr *A, int i, int j, int *mark, int stamp)
 PW__DEF int pw__min_degree(const pw_alloc *a, const pw_csr *A, int *perm, pw_err *e)
 {
     const int n = A->n;
-    pw__nbhd_key *key = (pw__nbhd_key *)pw_alloc_array(a, (size_t)n + 1, sizeof *key, "ordering groups", e);
-    int *group = (int *)pw_alloc_array(a, (size_t)n * 4 + 1, sizeof(int), "ordering groups", e);
+    uint64_t *key = (uint64_t *)pw_alloc_array(a, (size_t)n + 1, sizeof *key, "ordering groups", e);
+    int *group = (int *)pw_alloc_array(a, (size_t)n * 6 + 1, sizeof(int), "ordering groups", e);
     int *leader = group ? group + n : NULL, *mark = group ? group + 2 * n : NULL, *start = group ? group + 3 * n : NULL;
+    int *head = group ? group + 4 * n : NULL, *next = group ? group + 5 * n : NULL;
     int i, j, k, g = 0, r = PW_OK, stamp = 0;
     pw_csr C;
     memset(&C, 0, sizeof C);
     if (!key || !group) r = PW_ERR_NOMEM;
-    for (i = 0; r == PW_OK && i < n; i++) {
-        key[i].h = pw__nbhd_hash(A, i);
-        key[i].i = i;
+    for (i = 0; r == PW_OK && i < n; i++) head[i] = -1;
+    for (i = n - 1; r == PW_OK && i >= 0; i--) { /* buckets by hash, each in index order */
+        key[i] = pw__nbhd_hash(A, i);
+        next[i] = head[key[i] % (uint64_t)n];
+        head[key[i] % (uint64_t)n] = i;
         mark[i] = 0;
         leader[i] = i;
     }
-    if (r == PW_OK) qsort(key, (size_t)n, sizeof *key, pw__nbhd_cmp);
-    for (i = 0; r == PW_OK && i < n; i = j) { /* a run of equal hashes: each node joins the first earlier match */
-        for (j = i + 1; j < n && key[j].h == key[i].h; j++)
-            for (k = i; k < j; k++)
-                if (leader[key[k].i] == key[k].i && pw__same_nbhd(A, key[k].i, key[j].i, mark, ++stamp)) {
-                    leader[key[j].i] = key[k].i;
-                    break;
-                }
-    }
+    for (i = 0; r == PW_OK && i < n; i++) /* each node joins the first earlier match */
+        for (j = next[i]; leader[i] == i && j >= 0; j = next[j])
+            if (leader[j] == j && key[j] == key[i] && pw__same_nbhd(A, i, j, mark, ++stamp)) leader[j] = i;
     for (i = 0; r == PW_OK && i < n; i++) group[i] = leader[i] == i ? g++ : group[leader[i]];
     if (r == PW_OK && g > n - n / 10) { /* few groups: order the graph itself */
         pw_free(a, key);

@@ -17,31 +17,31 @@
  *   6482: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
  *   6679: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
  *   6764: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
- *   8512: src/common/raster.h, exact scan conversion of 2D triangles.
- *   9024: src/common/parallel.h, a parallel for, the one way work is split across threads.
- *   9348: src/common/render.h, a small deterministic software renderer for textured trian
- *  11512: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
- *  11701: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
- *  12621: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
- *  13319: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
- *  13555: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
- *  14316: src/common/tetmesh.h, the tetrahedral mesh that lapped solid textures work on, a
- *  14803: src/common/tetio.h, tetrahedral mesh files, TetGen .node/.ele and MEDIT .mesh.
- *  15295: src/common/bisect.h, graded, conforming tetrahedral meshes of a box by newest-v
- *  15622: src/common/stuffing.h, the built-in tetrahedralizer of lst.h, so that no external
- *  18999: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
- *  19142: src/common/pca.h, principal component analysis of vectors streamed one at a 
- *  19329: src/common/glue.h, what every method header needs between its public types an
- *  19665: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  20329: src/lst/core.c, lst.h's glue to the shared core, its defaults, the convers
- *  20663: src/lst/exemplar.c, solid exemplars (§5): sampling, the procedural exemplars 
- *  21232: src/lst/field.c, §5.2.2, the fields that orient and scale the pastes. The 
- *  22444: src/lst/paste.c, §5.2.3-5.2.7, filling the model. Each paste picks a rando
- *  23474: src/lst/render.c, §5.1, showing a model. Every point of a tetrahedron is th
- *  24371: src/lst/cut.c, §5.1.1, cutting a model along the zero set of a scalar fi
- *  24976: src/lst/builtin.c, the tetrahedralizer entry point, checks of caller meshes, 
- *  25498: src/lst/io.c, the model file, the constraint files and the file convenie
- *  26191: src/lst/export.c, the visible boundary with a baked texture atlas, for glTF.
+ *   8496: src/common/raster.h, exact scan conversion of 2D triangles.
+ *   9008: src/common/parallel.h, a parallel for, the one way work is split across threads.
+ *   9332: src/common/render.h, a small deterministic software renderer for textured trian
+ *  11496: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
+ *  11685: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
+ *  12605: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
+ *  13303: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
+ *  13539: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
+ *  14300: src/common/tetmesh.h, the tetrahedral mesh that lapped solid textures work on, a
+ *  14787: src/common/tetio.h, tetrahedral mesh files, TetGen .node/.ele and MEDIT .mesh.
+ *  15279: src/common/bisect.h, graded, conforming tetrahedral meshes of a box by newest-v
+ *  15606: src/common/stuffing.h, the built-in tetrahedralizer of lst.h, so that no external
+ *  18983: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
+ *  19126: src/common/pca.h, principal component analysis of vectors streamed one at a 
+ *  19313: src/common/glue.h, what every method header needs between its public types an
+ *  19649: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  20313: src/lst/core.c, lst.h's glue to the shared core, its defaults, the convers
+ *  20647: src/lst/exemplar.c, solid exemplars (§5): sampling, the procedural exemplars 
+ *  21216: src/lst/field.c, §5.2.2, the fields that orient and scale the pastes. The 
+ *  22428: src/lst/paste.c, §5.2.3-5.2.7, filling the model. Each paste picks a rando
+ *  23458: src/lst/render.c, §5.1, showing a model. Every point of a tetrahedron is th
+ *  24355: src/lst/cut.c, §5.1.1, cutting a model along the zero set of a scalar fi
+ *  24960: src/lst/builtin.c, the tetrahedralizer entry point, checks of caller meshes, 
+ *  25482: src/lst/io.c, the model file, the constraint files and the file convenie
+ *  26175: src/lst/export.c, the visible boundary with a baked texture atlas, for glTF.
  */
 /* lst.h - lapped solid textures: solid exemplars pasted inside a model.
  *
@@ -8083,19 +8083,6 @@ PW__DEF uint64_t pw__nbhd_hash(const pw_csr *A, int i)
     return h;
 }
 
-/* Node order for grouping: by hash, then index. */
-typedef struct pw__nbhd_key {
-    uint64_t h;
-    int i;
-} pw__nbhd_key;
-
-PW__DEF int pw__nbhd_cmp(const void *x, const void *y)
-{
-    const pw__nbhd_key *a = (const pw__nbhd_key *)x, *b = (const pw__nbhd_key *)y;
-    if (a->h != b->h) return a->h < b->h ? -1 : 1;
-    return a->i - b->i;
-}
-
 /* 1 if nodes i and j of A have the same closed neighbourhood (mark: n
  * entries, none equal to stamp on entry; rows without repeated columns). */
 PW__DEF int pw__same_nbhd(const pw_csr *A, int i, int j, int *mark, int stamp)
@@ -8127,28 +8114,25 @@ PW__DEF int pw__same_nbhd(const pw_csr *A, int i, int j, int *mark, int stamp)
 PW__DEF int pw__min_degree(const pw_alloc *a, const pw_csr *A, int *perm, pw_err *e)
 {
     const int n = A->n;
-    pw__nbhd_key *key = (pw__nbhd_key *)pw_alloc_array(a, (size_t)n + 1, sizeof *key, "ordering groups", e);
-    int *group = (int *)pw_alloc_array(a, (size_t)n * 4 + 1, sizeof(int), "ordering groups", e);
+    uint64_t *key = (uint64_t *)pw_alloc_array(a, (size_t)n + 1, sizeof *key, "ordering groups", e);
+    int *group = (int *)pw_alloc_array(a, (size_t)n * 6 + 1, sizeof(int), "ordering groups", e);
     int *leader = group ? group + n : NULL, *mark = group ? group + 2 * n : NULL, *start = group ? group + 3 * n : NULL;
+    int *head = group ? group + 4 * n : NULL, *next = group ? group + 5 * n : NULL;
     int i, j, k, g = 0, r = PW_OK, stamp = 0;
     pw_csr C;
     memset(&C, 0, sizeof C);
     if (!key || !group) r = PW_ERR_NOMEM;
-    for (i = 0; r == PW_OK && i < n; i++) {
-        key[i].h = pw__nbhd_hash(A, i);
-        key[i].i = i;
+    for (i = 0; r == PW_OK && i < n; i++) head[i] = -1;
+    for (i = n - 1; r == PW_OK && i >= 0; i--) { /* buckets by hash, each in index order */
+        key[i] = pw__nbhd_hash(A, i);
+        next[i] = head[key[i] % (uint64_t)n];
+        head[key[i] % (uint64_t)n] = i;
         mark[i] = 0;
         leader[i] = i;
     }
-    if (r == PW_OK) qsort(key, (size_t)n, sizeof *key, pw__nbhd_cmp);
-    for (i = 0; r == PW_OK && i < n; i = j) { /* a run of equal hashes: each node joins the first earlier match */
-        for (j = i + 1; j < n && key[j].h == key[i].h; j++)
-            for (k = i; k < j; k++)
-                if (leader[key[k].i] == key[k].i && pw__same_nbhd(A, key[k].i, key[j].i, mark, ++stamp)) {
-                    leader[key[j].i] = key[k].i;
-                    break;
-                }
-    }
+    for (i = 0; r == PW_OK && i < n; i++) /* each node joins the first earlier match */
+        for (j = next[i]; leader[i] == i && j >= 0; j = next[j])
+            if (leader[j] == j && key[j] == key[i] && pw__same_nbhd(A, i, j, mark, ++stamp)) leader[j] = i;
     for (i = 0; r == PW_OK && i < n; i++) group[i] = leader[i] == i ? g++ : group[leader[i]];
     if (r == PW_OK && g > n - n / 10) { /* few groups: order the graph itself */
         pw_free(a, key);

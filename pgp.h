@@ -15,38 +15,38 @@
  *   5486: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
  *   6015: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
  *   6439: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
- *   8187: src/common/zsparse.h, complex Hermitian sparse systems, solved by conjugate grad
- *   8541: src/common/zamg.h, a smoothed-aggregation multigrid preconditioner for the co
- *   9361: src/common/raster.h, exact scan conversion of 2D triangles.
- *   9873: src/common/parallel.h, a parallel for, the one way work is split across threads.
- *  10197: src/common/render.h, a small deterministic software renderer for textured trian
- *  12361: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
- *  12558: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
- *  12643: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
- *  12832: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
- *  13752: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
- *  14450: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
- *  14686: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
- *  15450: src/common/periodic.h, the periodic global parameterization of a triangle mesh al
- *  16310: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
- *  17071: src/pgp/tile3.h, sampling a material-space tile (Ray et al. 2009, §2: "a 3
- *  17179: src/common/glue.h, what every method header needs between its public types an
- *  17515: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  18179: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
- *  18676: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
- *  19162: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
- *  19305: src/common/kdtree.h, nearest-neighbour search among n points of dimension d, wi
- *  19648: src/common/pca.h, principal component analysis of vectors streamed one at a 
- *  19835: src/pgp/core.c, pgp.h's glue to the shared core, its defaults, and the map
- *  20049: src/pgp/field.c, §2.1 effect areas and §2.2 interpolation of the constrai
- *  20248: src/pgp/solve.c, §2.3 the periodic global parameterization, the recovery o
- *  20791: src/pgp/edit.c, the public editing calls of a mapping. §2.1 (Ray, Lévy, 
- *  20936: src/pgp/render.c, §3 rendering, and a cleaner treatment of the vortices.
- *  21298: src/pgp/builtin.c, built-in meshes and material-space tiles for demos and tes
- *  21567: src/pgp/io.c, files and memory for pgp.h: material-space tiles (NRRD, or
- *  21915: src/pgp/export.c, the mapping for other programs. A viewer that knows nothin
- *  22141: src/pgp/morph.c, the inputs of §1 (keys brought to the tile size, made til
- *  22820: src/pgp/synth.c, §1.2 constrained tile synthesis, and the whole of §1: ke
+ *   8171: src/common/zsparse.h, complex Hermitian sparse systems, solved by conjugate grad
+ *   8525: src/common/zamg.h, a smoothed-aggregation multigrid preconditioner for the co
+ *   9345: src/common/raster.h, exact scan conversion of 2D triangles.
+ *   9857: src/common/parallel.h, a parallel for, the one way work is split across threads.
+ *  10181: src/common/render.h, a small deterministic software renderer for textured trian
+ *  12345: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
+ *  12542: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
+ *  12627: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
+ *  12816: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
+ *  13736: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
+ *  14434: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
+ *  14670: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
+ *  15434: src/common/periodic.h, the periodic global parameterization of a triangle mesh al
+ *  16294: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
+ *  17055: src/pgp/tile3.h, sampling a material-space tile (Ray et al. 2009, §2: "a 3
+ *  17163: src/common/glue.h, what every method header needs between its public types an
+ *  17499: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  18163: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
+ *  18660: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
+ *  19146: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
+ *  19289: src/common/kdtree.h, nearest-neighbour search among n points of dimension d, wi
+ *  19632: src/common/pca.h, principal component analysis of vectors streamed one at a 
+ *  19819: src/pgp/core.c, pgp.h's glue to the shared core, its defaults, and the map
+ *  20033: src/pgp/field.c, §2.1 effect areas and §2.2 interpolation of the constrai
+ *  20232: src/pgp/solve.c, §2.3 the periodic global parameterization, the recovery o
+ *  20775: src/pgp/edit.c, the public editing calls of a mapping. §2.1 (Ray, Lévy, 
+ *  20920: src/pgp/render.c, §3 rendering, and a cleaner treatment of the vortices.
+ *  21282: src/pgp/builtin.c, built-in meshes and material-space tiles for demos and tes
+ *  21551: src/pgp/io.c, files and memory for pgp.h: material-space tiles (NRRD, or
+ *  21899: src/pgp/export.c, the mapping for other programs. A viewer that knows nothin
+ *  22125: src/pgp/morph.c, the inputs of §1 (keys brought to the tile size, made til
+ *  22804: src/pgp/synth.c, §1.2 constrained tile synthesis, and the whole of §1: ke
  */
 /* pgp.h - material-space texturing with a periodic global parameterization.
  *
@@ -7758,19 +7758,6 @@ PW__DEF uint64_t pw__nbhd_hash(const pw_csr *A, int i)
     return h;
 }
 
-/* Node order for grouping: by hash, then index. */
-typedef struct pw__nbhd_key {
-    uint64_t h;
-    int i;
-} pw__nbhd_key;
-
-PW__DEF int pw__nbhd_cmp(const void *x, const void *y)
-{
-    const pw__nbhd_key *a = (const pw__nbhd_key *)x, *b = (const pw__nbhd_key *)y;
-    if (a->h != b->h) return a->h < b->h ? -1 : 1;
-    return a->i - b->i;
-}
-
 /* 1 if nodes i and j of A have the same closed neighbourhood (mark: n
  * entries, none equal to stamp on entry; rows without repeated columns). */
 PW__DEF int pw__same_nbhd(const pw_csr *A, int i, int j, int *mark, int stamp)
@@ -7802,28 +7789,25 @@ PW__DEF int pw__same_nbhd(const pw_csr *A, int i, int j, int *mark, int stamp)
 PW__DEF int pw__min_degree(const pw_alloc *a, const pw_csr *A, int *perm, pw_err *e)
 {
     const int n = A->n;
-    pw__nbhd_key *key = (pw__nbhd_key *)pw_alloc_array(a, (size_t)n + 1, sizeof *key, "ordering groups", e);
-    int *group = (int *)pw_alloc_array(a, (size_t)n * 4 + 1, sizeof(int), "ordering groups", e);
+    uint64_t *key = (uint64_t *)pw_alloc_array(a, (size_t)n + 1, sizeof *key, "ordering groups", e);
+    int *group = (int *)pw_alloc_array(a, (size_t)n * 6 + 1, sizeof(int), "ordering groups", e);
     int *leader = group ? group + n : NULL, *mark = group ? group + 2 * n : NULL, *start = group ? group + 3 * n : NULL;
+    int *head = group ? group + 4 * n : NULL, *next = group ? group + 5 * n : NULL;
     int i, j, k, g = 0, r = PW_OK, stamp = 0;
     pw_csr C;
     memset(&C, 0, sizeof C);
     if (!key || !group) r = PW_ERR_NOMEM;
-    for (i = 0; r == PW_OK && i < n; i++) {
-        key[i].h = pw__nbhd_hash(A, i);
-        key[i].i = i;
+    for (i = 0; r == PW_OK && i < n; i++) head[i] = -1;
+    for (i = n - 1; r == PW_OK && i >= 0; i--) { /* buckets by hash, each in index order */
+        key[i] = pw__nbhd_hash(A, i);
+        next[i] = head[key[i] % (uint64_t)n];
+        head[key[i] % (uint64_t)n] = i;
         mark[i] = 0;
         leader[i] = i;
     }
-    if (r == PW_OK) qsort(key, (size_t)n, sizeof *key, pw__nbhd_cmp);
-    for (i = 0; r == PW_OK && i < n; i = j) { /* a run of equal hashes: each node joins the first earlier match */
-        for (j = i + 1; j < n && key[j].h == key[i].h; j++)
-            for (k = i; k < j; k++)
-                if (leader[key[k].i] == key[k].i && pw__same_nbhd(A, key[k].i, key[j].i, mark, ++stamp)) {
-                    leader[key[j].i] = key[k].i;
-                    break;
-                }
-    }
+    for (i = 0; r == PW_OK && i < n; i++) /* each node joins the first earlier match */
+        for (j = next[i]; leader[i] == i && j >= 0; j = next[j])
+            if (leader[j] == j && key[j] == key[i] && pw__same_nbhd(A, i, j, mark, ++stamp)) leader[j] = i;
     for (i = 0; r == PW_OK && i < n; i++) group[i] = leader[i] == i ? g++ : group[leader[i]];
     if (r == PW_OK && g > n - n / 10) { /* few groups: order the graph itself */
         pw_free(a, key);

@@ -16,28 +16,28 @@
  *   5829: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
  *   6253: src/common/subdiv.h, Catmull-Clark subdivision (Catmull and Clark 1978) with
  *   6392: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
- *   8140: src/common/zsparse.h, complex Hermitian sparse systems, solved by conjugate grad
- *   8494: src/common/zamg.h, a smoothed-aggregation multigrid preconditioner for the co
- *   9314: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
- *   9511: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
- *   9596: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
- *  10360: src/common/periodic.h, the periodic global parameterization of a triangle mesh al
- *  11220: src/common/raster.h, exact scan conversion of 2D triangles.
- *  11734: src/common/parallel.h, a parallel for, the one way work is split across threads.
- *  12058: src/common/render.h, a small deterministic software renderer for textured trian
- *  14222: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
- *  14719: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
- *  15205: src/common/glue.h, what every method header needs between its public types an
- *  15541: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  16205: src/tiled/core.c, tiled.h's glue to the shared core, its defaults, result
- *  16294: src/tiled/layout.c, ch. III.1, the boundary types and the tiled texture they
- *  16566: src/tiled/cells.c, beyond the thesis (issue 23): tiles of a chosen size on an
- *  17484: src/tiled/map.c, ch. III.2, the texture mapping algorithm of Fig. 29
- *  17753: src/tiled/synth.c, ch. III.1.3, tiled texture image synthesis: an edge-matche
- *  18199: src/tiled/validate.c, checks a hand-made tiled texture (the thesis's Figs. 39,
- *  18327: src/tiled/builtin.c, built-in meshes and exemplars for demos and tests: the
- *  18524: src/tiled/render.c, a software rendering of a mapped mesh (the thesis rendered
- *  18748: src/tiled/io.c, files. Meshes and exemplars in; the mapped mesh with its t
+ *   8124: src/common/zsparse.h, complex Hermitian sparse systems, solved by conjugate grad
+ *   8478: src/common/zamg.h, a smoothed-aggregation multigrid preconditioner for the co
+ *   9298: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
+ *   9495: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
+ *   9580: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
+ *  10344: src/common/periodic.h, the periodic global parameterization of a triangle mesh al
+ *  11204: src/common/raster.h, exact scan conversion of 2D triangles.
+ *  11718: src/common/parallel.h, a parallel for, the one way work is split across threads.
+ *  12042: src/common/render.h, a small deterministic software renderer for textured trian
+ *  14206: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
+ *  14703: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
+ *  15189: src/common/glue.h, what every method header needs between its public types an
+ *  15525: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  16189: src/tiled/core.c, tiled.h's glue to the shared core, its defaults, result
+ *  16278: src/tiled/layout.c, ch. III.1, the boundary types and the tiled texture they
+ *  16550: src/tiled/cells.c, beyond the thesis (issue 23): tiles of a chosen size on an
+ *  17468: src/tiled/map.c, ch. III.2, the texture mapping algorithm of Fig. 29
+ *  17737: src/tiled/synth.c, ch. III.1.3, tiled texture image synthesis: an edge-matche
+ *  18183: src/tiled/validate.c, checks a hand-made tiled texture (the thesis's Figs. 39,
+ *  18311: src/tiled/builtin.c, built-in meshes and exemplars for demos and tests: the
+ *  18508: src/tiled/render.c, a software rendering of a mapped mesh (the thesis rendered
+ *  18732: src/tiled/io.c, files. Meshes and exemplars in; the mapped mesh with its t
  */
 /* tiled.h - seamless, singularity-free tiled textures on quad meshes.
  *
@@ -7711,19 +7711,6 @@ PW__DEF uint64_t pw__nbhd_hash(const pw_csr *A, int i)
     return h;
 }
 
-/* Node order for grouping: by hash, then index. */
-typedef struct pw__nbhd_key {
-    uint64_t h;
-    int i;
-} pw__nbhd_key;
-
-PW__DEF int pw__nbhd_cmp(const void *x, const void *y)
-{
-    const pw__nbhd_key *a = (const pw__nbhd_key *)x, *b = (const pw__nbhd_key *)y;
-    if (a->h != b->h) return a->h < b->h ? -1 : 1;
-    return a->i - b->i;
-}
-
 /* 1 if nodes i and j of A have the same closed neighbourhood (mark: n
  * entries, none equal to stamp on entry; rows without repeated columns). */
 PW__DEF int pw__same_nbhd(const pw_csr *A, int i, int j, int *mark, int stamp)
@@ -7755,28 +7742,25 @@ PW__DEF int pw__same_nbhd(const pw_csr *A, int i, int j, int *mark, int stamp)
 PW__DEF int pw__min_degree(const pw_alloc *a, const pw_csr *A, int *perm, pw_err *e)
 {
     const int n = A->n;
-    pw__nbhd_key *key = (pw__nbhd_key *)pw_alloc_array(a, (size_t)n + 1, sizeof *key, "ordering groups", e);
-    int *group = (int *)pw_alloc_array(a, (size_t)n * 4 + 1, sizeof(int), "ordering groups", e);
+    uint64_t *key = (uint64_t *)pw_alloc_array(a, (size_t)n + 1, sizeof *key, "ordering groups", e);
+    int *group = (int *)pw_alloc_array(a, (size_t)n * 6 + 1, sizeof(int), "ordering groups", e);
     int *leader = group ? group + n : NULL, *mark = group ? group + 2 * n : NULL, *start = group ? group + 3 * n : NULL;
+    int *head = group ? group + 4 * n : NULL, *next = group ? group + 5 * n : NULL;
     int i, j, k, g = 0, r = PW_OK, stamp = 0;
     pw_csr C;
     memset(&C, 0, sizeof C);
     if (!key || !group) r = PW_ERR_NOMEM;
-    for (i = 0; r == PW_OK && i < n; i++) {
-        key[i].h = pw__nbhd_hash(A, i);
-        key[i].i = i;
+    for (i = 0; r == PW_OK && i < n; i++) head[i] = -1;
+    for (i = n - 1; r == PW_OK && i >= 0; i--) { /* buckets by hash, each in index order */
+        key[i] = pw__nbhd_hash(A, i);
+        next[i] = head[key[i] % (uint64_t)n];
+        head[key[i] % (uint64_t)n] = i;
         mark[i] = 0;
         leader[i] = i;
     }
-    if (r == PW_OK) qsort(key, (size_t)n, sizeof *key, pw__nbhd_cmp);
-    for (i = 0; r == PW_OK && i < n; i = j) { /* a run of equal hashes: each node joins the first earlier match */
-        for (j = i + 1; j < n && key[j].h == key[i].h; j++)
-            for (k = i; k < j; k++)
-                if (leader[key[k].i] == key[k].i && pw__same_nbhd(A, key[k].i, key[j].i, mark, ++stamp)) {
-                    leader[key[j].i] = key[k].i;
-                    break;
-                }
-    }
+    for (i = 0; r == PW_OK && i < n; i++) /* each node joins the first earlier match */
+        for (j = next[i]; leader[i] == i && j >= 0; j = next[j])
+            if (leader[j] == j && key[j] == key[i] && pw__same_nbhd(A, i, j, mark, ++stamp)) leader[j] = i;
     for (i = 0; r == PW_OK && i < n; i++) group[i] = leader[i] == i ? g++ : group[leader[i]];
     if (r == PW_OK && g > n - n / 10) { /* few groups: order the graph itself */
         pw_free(a, key);

@@ -1320,19 +1320,6 @@ PW__DEF uint64_t pw__nbhd_hash(const pw_csr *A, int i)
     return h;
 }
 
-/* Node order for grouping: by hash, then index. */
-typedef struct pw__nbhd_key {
-    uint64_t h;
-    int i;
-} pw__nbhd_key;
-
-PW__DEF int pw__nbhd_cmp(const void *x, const void *y)
-{
-    const pw__nbhd_key *a = (const pw__nbhd_key *)x, *b = (const pw__nbhd_key *)y;
-    if (a->h != b->h) return a->h < b->h ? -1 : 1;
-    return a->i - b->i;
-}
-
 /* 1 if nodes i and j of A have the same closed neighbourhood (mark: n
  * entries, none equal to stamp on entry; rows without repeated columns). */
 PW__DEF int pw__same_nbhd(const pw_csr *A, int i, int j, int *mark, int stamp)
@@ -1364,28 +1351,25 @@ PW__DEF int pw__same_nbhd(const pw_csr *A, int i, int j, int *mark, int stamp)
 PW__DEF int pw__min_degree(const pw_alloc *a, const pw_csr *A, int *perm, pw_err *e)
 {
     const int n = A->n;
-    pw__nbhd_key *key = (pw__nbhd_key *)pw_alloc_array(a, (size_t)n + 1, sizeof *key, "ordering groups", e);
-    int *group = (int *)pw_alloc_array(a, (size_t)n * 4 + 1, sizeof(int), "ordering groups", e);
+    uint64_t *key = (uint64_t *)pw_alloc_array(a, (size_t)n + 1, sizeof *key, "ordering groups", e);
+    int *group = (int *)pw_alloc_array(a, (size_t)n * 6 + 1, sizeof(int), "ordering groups", e);
     int *leader = group ? group + n : NULL, *mark = group ? group + 2 * n : NULL, *start = group ? group + 3 * n : NULL;
+    int *head = group ? group + 4 * n : NULL, *next = group ? group + 5 * n : NULL;
     int i, j, k, g = 0, r = PW_OK, stamp = 0;
     pw_csr C;
     memset(&C, 0, sizeof C);
     if (!key || !group) r = PW_ERR_NOMEM;
-    for (i = 0; r == PW_OK && i < n; i++) {
-        key[i].h = pw__nbhd_hash(A, i);
-        key[i].i = i;
+    for (i = 0; r == PW_OK && i < n; i++) head[i] = -1;
+    for (i = n - 1; r == PW_OK && i >= 0; i--) { /* buckets by hash, each in index order */
+        key[i] = pw__nbhd_hash(A, i);
+        next[i] = head[key[i] % (uint64_t)n];
+        head[key[i] % (uint64_t)n] = i;
         mark[i] = 0;
         leader[i] = i;
     }
-    if (r == PW_OK) qsort(key, (size_t)n, sizeof *key, pw__nbhd_cmp);
-    for (i = 0; r == PW_OK && i < n; i = j) { /* a run of equal hashes: each node joins the first earlier match */
-        for (j = i + 1; j < n && key[j].h == key[i].h; j++)
-            for (k = i; k < j; k++)
-                if (leader[key[k].i] == key[k].i && pw__same_nbhd(A, key[k].i, key[j].i, mark, ++stamp)) {
-                    leader[key[j].i] = key[k].i;
-                    break;
-                }
-    }
+    for (i = 0; r == PW_OK && i < n; i++) /* each node joins the first earlier match */
+        for (j = next[i]; leader[i] == i && j >= 0; j = next[j])
+            if (leader[j] == j && key[j] == key[i] && pw__same_nbhd(A, i, j, mark, ++stamp)) leader[j] = i;
     for (i = 0; r == PW_OK && i < n; i++) group[i] = leader[i] == i ? g++ : group[leader[i]];
     if (r == PW_OK && g > n - n / 10) { /* few groups: order the graph itself */
         pw_free(a, key);
