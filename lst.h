@@ -35,13 +35,13 @@
  *  19649: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
  *  20313: src/lst/core.c, lst.h's glue to the shared core, its defaults, the convers
  *  20647: src/lst/exemplar.c, solid exemplars (§5): sampling, the procedural exemplars 
- *  21216: src/lst/field.c, §5.2.2, the fields that orient and scale the pastes. The 
- *  22428: src/lst/paste.c, §5.2.3-5.2.7, filling the model. Each paste picks a rando
- *  23458: src/lst/render.c, §5.1, showing a model. Every point of a tetrahedron is th
- *  24355: src/lst/cut.c, §5.1.1, cutting a model along the zero set of a scalar fi
- *  24960: src/lst/builtin.c, the tetrahedralizer entry point, checks of caller meshes, 
- *  25482: src/lst/io.c, the model file, the constraint files and the file convenie
- *  26175: src/lst/export.c, the visible boundary with a baked texture atlas, for glTF.
+ *  21219: src/lst/field.c, §5.2.2, the fields that orient and scale the pastes. The 
+ *  22431: src/lst/paste.c, §5.2.3-5.2.7, filling the model. Each paste picks a rando
+ *  23461: src/lst/render.c, §5.1, showing a model. Every point of a tetrahedron is th
+ *  24358: src/lst/cut.c, §5.1.1, cutting a model along the zero set of a scalar fi
+ *  24963: src/lst/builtin.c, the tetrahedralizer entry point, checks of caller meshes, 
+ *  25485: src/lst/io.c, the model file, the constraint files and the file convenie
+ *  26178: src/lst/export.c, the visible boundary with a baked texture atlas, for glTF.
  */
 /* lst.h - lapped solid textures: solid exemplars pasted inside a model.
  *
@@ -21101,6 +21101,7 @@ typedef struct lst__mask {
     double ostep;
     float *in;
     unsigned char *cell; /* a bit per voxel: 1 if trilinear alpha is > 0 somewhere in the cell it starts */
+    float hi[3];         /* the volume's sides less half a voxel: where lookups stop */
     double margin;       /* how far trilinear interpolation and the nearest-voxel lookup reach */
 } lst__mask;
 
@@ -21136,17 +21137,16 @@ static void lst__mask_cells(const pw_volume *v, unsigned char *cell)
             }
 }
 
-/* Whether alpha is > 0 at voxel coordinates (x, y, z) of volume v
- * (exactly as lst__mask_alpha_vox would say), from one byte of its cells. */
-static int lst__cell_any(const pw_volume *v, const unsigned char *cell, float x, float y, float z)
+/* Whether alpha is > 0 at voxel coordinates (x, y, z) of mask m (exactly
+ * as lst__mask_alpha_vox would say), from one byte of its cells. Inside
+ * [-0.5, side - 0.5] truncation is the clamp to the voxels (a coordinate
+ * in [-0.5, 0) gives 0, one above side - 1 gives side - 1). */
+static int lst__cell_any(const lst__mask *m, float x, float y, float z)
 {
     size_t i;
-    if (!(x >= -0.5f && x <= v->x - 0.5f && y >= -0.5f && y <= v->y - 0.5f && z >= -0.5f && z <= v->z - 0.5f)) return 0;
-    x = x < 0.0f ? 0.0f : (x > v->x - 1 ? (float)(v->x - 1) : x);
-    y = y < 0.0f ? 0.0f : (y > v->y - 1 ? (float)(v->y - 1) : y);
-    z = z < 0.0f ? 0.0f : (z > v->z - 1 ? (float)(v->z - 1) : z);
-    i = ((size_t)(int)z * v->y + (int)y) * v->x + (int)x;
-    return cell[i >> 3] >> (i & 7) & 1;
+    if (!(x >= -0.5f && x <= m->hi[0] && y >= -0.5f && y <= m->hi[1] && z >= -0.5f && z <= m->hi[2])) return 0;
+    i = ((size_t)(int)z * m->vol.y + (int)y) * m->vol.x + (int)x;
+    return m->cell[i >> 3] >> (i & 7) & 1;
 }
 
 /* out8 and ostep from the exact distances d: the largest multiple of
@@ -21175,6 +21175,9 @@ static int lst__mask_init(const pw_alloc *a, const pw_volume *vol, lst__mask *m,
     m->in = (float *)pw_alloc_array(a, total, sizeof(float), "mask distances", e);
     m->cell = (unsigned char *)pw_calloc_array(a, total / 8 + 1, 1, "mask cells", e);
     m->margin = 2.6 / pw_mini(vol->x, pw_mini(vol->y, vol->z));
+    m->hi[0] = (float)vol->x - 0.5f;
+    m->hi[1] = (float)vol->y - 0.5f;
+    m->hi[2] = (float)vol->z - 0.5f;
     if (!out || !m->out8 || !m->in || !m->cell) r = PW_ERR_NOMEM;
     if (r == PW_OK && (lst__edt(a, vol, 1, out, e) || lst__edt(a, vol, 0, m->in, e))) r = e->code;
     if (r == PW_OK) lst__quantise_out(out, total, m);
@@ -22730,7 +22733,7 @@ static int lst__overlap(const lst__fill *F, const lst__mask *m, double c[4][3])
             continue;
         for (s = F->group[q]; s < F->group[q + 1]; s++) {
             const float *l = F->lattice + 4 * s;
-            if (lst__cell_any(&m->vol, m->cell, l[0] * vc[0][0] + l[1] * vc[1][0] + l[2] * vc[2][0] + l[3] * vc[3][0],
+            if (lst__cell_any(m, l[0] * vc[0][0] + l[1] * vc[1][0] + l[2] * vc[2][0] + l[3] * vc[3][0],
                               l[0] * vc[0][1] + l[1] * vc[1][1] + l[2] * vc[2][1] + l[3] * vc[3][1],
                               l[0] * vc[0][2] + l[1] * vc[1][2] + l[2] * vc[2][2] + l[3] * vc[3][2]))
                 return LST__PART;
@@ -22974,7 +22977,7 @@ static void lst__coverage_share(void *ctx, int share)
                 x = l[0] * vc[0][0] + l[1] * vc[1][0] + l[2] * vc[2][0] + l[3] * vc[3][0];
                 y = l[0] * vc[0][1] + l[1] * vc[1][1] + l[2] * vc[2][1] + l[3] * vc[3][1];
                 z = l[0] * vc[0][2] + l[1] * vc[1][2] + l[2] * vc[2][2] + l[3] * vc[3][2];
-                al = lst__cell_any(&m->vol, m->cell, x, y, z) ? lst__mask_alpha_vox(&m->vol, x, y, z) : 0.0f;
+                al = lst__cell_any(m, x, y, z) ? lst__mask_alpha_vox(&m->vol, x, y, z) : 0.0f;
             }
             cv[q] = (unsigned char)(cv[q] + (int)(al * (255 - cv[q]) + 0.5f));
             all &= cv[q] >= F->threshold;

@@ -456,6 +456,7 @@ typedef struct lst__mask {
     double ostep;
     float *in;
     unsigned char *cell; /* a bit per voxel: 1 if trilinear alpha is > 0 somewhere in the cell it starts */
+    float hi[3];         /* the volume's sides less half a voxel: where lookups stop */
     double margin;       /* how far trilinear interpolation and the nearest-voxel lookup reach */
 } lst__mask;
 
@@ -491,17 +492,16 @@ static void lst__mask_cells(const pw_volume *v, unsigned char *cell)
             }
 }
 
-/* Whether alpha is > 0 at voxel coordinates (x, y, z) of volume v
- * (exactly as lst__mask_alpha_vox would say), from one byte of its cells. */
-static int lst__cell_any(const pw_volume *v, const unsigned char *cell, float x, float y, float z)
+/* Whether alpha is > 0 at voxel coordinates (x, y, z) of mask m (exactly
+ * as lst__mask_alpha_vox would say), from one byte of its cells. Inside
+ * [-0.5, side - 0.5] truncation is the clamp to the voxels (a coordinate
+ * in [-0.5, 0) gives 0, one above side - 1 gives side - 1). */
+static int lst__cell_any(const lst__mask *m, float x, float y, float z)
 {
     size_t i;
-    if (!(x >= -0.5f && x <= v->x - 0.5f && y >= -0.5f && y <= v->y - 0.5f && z >= -0.5f && z <= v->z - 0.5f)) return 0;
-    x = x < 0.0f ? 0.0f : (x > v->x - 1 ? (float)(v->x - 1) : x);
-    y = y < 0.0f ? 0.0f : (y > v->y - 1 ? (float)(v->y - 1) : y);
-    z = z < 0.0f ? 0.0f : (z > v->z - 1 ? (float)(v->z - 1) : z);
-    i = ((size_t)(int)z * v->y + (int)y) * v->x + (int)x;
-    return cell[i >> 3] >> (i & 7) & 1;
+    if (!(x >= -0.5f && x <= m->hi[0] && y >= -0.5f && y <= m->hi[1] && z >= -0.5f && z <= m->hi[2])) return 0;
+    i = ((size_t)(int)z * m->vol.y + (int)y) * m->vol.x + (int)x;
+    return m->cell[i >> 3] >> (i & 7) & 1;
 }
 
 /* out8 and ostep from the exact distances d: the largest multiple of
@@ -530,6 +530,9 @@ static int lst__mask_init(const pw_alloc *a, const pw_volume *vol, lst__mask *m,
     m->in = (float *)pw_alloc_array(a, total, sizeof(float), "mask distances", e);
     m->cell = (unsigned char *)pw_calloc_array(a, total / 8 + 1, 1, "mask cells", e);
     m->margin = 2.6 / pw_mini(vol->x, pw_mini(vol->y, vol->z));
+    m->hi[0] = (float)vol->x - 0.5f;
+    m->hi[1] = (float)vol->y - 0.5f;
+    m->hi[2] = (float)vol->z - 0.5f;
     if (!out || !m->out8 || !m->in || !m->cell) r = PW_ERR_NOMEM;
     if (r == PW_OK && (lst__edt(a, vol, 1, out, e) || lst__edt(a, vol, 0, m->in, e))) r = e->code;
     if (r == PW_OK) lst__quantise_out(out, total, m);

@@ -303,7 +303,7 @@ static int lst__overlap(const lst__fill *F, const lst__mask *m, double c[4][3])
             continue;
         for (s = F->group[q]; s < F->group[q + 1]; s++) {
             const float *l = F->lattice + 4 * s;
-            if (lst__cell_any(&m->vol, m->cell, l[0] * vc[0][0] + l[1] * vc[1][0] + l[2] * vc[2][0] + l[3] * vc[3][0],
+            if (lst__cell_any(m, l[0] * vc[0][0] + l[1] * vc[1][0] + l[2] * vc[2][0] + l[3] * vc[3][0],
                               l[0] * vc[0][1] + l[1] * vc[1][1] + l[2] * vc[2][1] + l[3] * vc[3][1],
                               l[0] * vc[0][2] + l[1] * vc[1][2] + l[2] * vc[2][2] + l[3] * vc[3][2]))
                 return LST__PART;
@@ -547,7 +547,7 @@ static void lst__coverage_share(void *ctx, int share)
                 x = l[0] * vc[0][0] + l[1] * vc[1][0] + l[2] * vc[2][0] + l[3] * vc[3][0];
                 y = l[0] * vc[0][1] + l[1] * vc[1][1] + l[2] * vc[2][1] + l[3] * vc[3][1];
                 z = l[0] * vc[0][2] + l[1] * vc[1][2] + l[2] * vc[2][2] + l[3] * vc[3][2];
-                al = lst__cell_any(&m->vol, m->cell, x, y, z) ? lst__mask_alpha_vox(&m->vol, x, y, z) : 0.0f;
+                al = lst__cell_any(m, x, y, z) ? lst__mask_alpha_vox(&m->vol, x, y, z) : 0.0f;
             }
             cv[q] = (unsigned char)(cv[q] + (int)(al * (255 - cv[q]) + 0.5f));
             all &= cv[q] >= F->threshold;
