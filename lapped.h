@@ -33,9 +33,9 @@
  *  16520: src/lapped/patch.c, §3.1 texture patches. A patch is the texture as RGBA whos
  *  16834: src/lapped/builtin.c, built-in meshes (made by the shared shapes module) and tex
  *  17028: src/lapped/grow.c, pasting (§3.3-3.6): grow a surface patch around an uncove
- *  18661: src/lapped/render.c, runtime pasting (§4): the mesh drawn once per paste, in p
- *  18908: src/lapped/atlas.c, §4 "Rendering with a texture atlas".
- *  19151: src/lapped/io.c, the paste file format and the file conveniences of lapped.
+ *  18735: src/lapped/render.c, runtime pasting (§4): the mesh drawn once per paste, in p
+ *  18982: src/lapped/atlas.c, §4 "Rendering with a texture atlas".
+ *  19225: src/lapped/io.c, the paste file format and the file conveniences of lapped.
  */
 /* lapped.h - lapped textures: overlapping texture patches pasted over a mesh.
  *
@@ -17361,6 +17361,7 @@ typedef struct lapped__patchbuf {
     int hard;              /* growth stopped somewhere at the distortion limit */
     unsigned char *sliver; /* nf: 1 for a degenerate triangle (pw_trimesh_sliver) */
     float *keep;           /* nv*2: the coordinates of verts before the last optimisation */
+    pw__atlas_hash fold;   /* the patch triangles' texture images (lapped__folds) */
 } lapped__patchbuf;
 
 static void lapped__patchbuf_free(const pw_alloc *a, lapped__patchbuf *p)
@@ -17379,15 +17380,23 @@ static void lapped__patchbuf_free(const pw_alloc *a, lapped__patchbuf *p)
     pw_free(a, p->queue.item);
     pw_free(a, p->sliver);
     pw_free(a, p->keep);
+    pw__atlas_hash_free(a, &p->fold);
     memset(p, 0, sizeof *p);
 }
 
 /* Every array sized for the whole mesh: a patch may cover all of it, and a
- * triangle waits in the candidate queue at most once at a time. */
-static int lapped__patchbuf_init(const pw_alloc *a, const pw_trimesh *m, lapped__patchbuf *p, pw_err *e)
+ * triangle waits in the candidate queue at most once at a time. The fold
+ * hash's cells are twice the mean triangle's side in texture units (ft
+ * holds the field, |T| the scale). */
+static int lapped__patchbuf_init(const pw_alloc *a, const pw_trimesh *m, const float *ft, lapped__patchbuf *p,
+                                 pw_err *e)
 {
     int nf = m->nf, nv = m->nv, f;
+    double mean = 0.0;
     memset(p, 0, sizeof *p);
+    for (f = 0; f < nf; f++) mean += m->area[f] / pw_v3_dot(pw_v3_load(ft + 3 * f), pw_v3_load(ft + 3 * f)) / nf;
+    if (!(mean > 1e-12)) mean = 1e-12;
+    if (pw__atlas_hash_init(a, &p->fold, nf, 2.0 * sqrt(2.0 * mean), e) != PW_OK) return PW_ERR_NOMEM;
     p->sliver = (unsigned char *)pw_alloc_array(a, (size_t)nf, 1, "degenerate triangles", e);
     p->keep = (float *)pw_alloc_array(a, (size_t)nv * 2, sizeof(float), "patch coordinates", e);
     p->fin = (int *)pw_calloc_array(a, (size_t)nf, sizeof(int), "patch triangles", e);
@@ -17670,9 +17679,72 @@ static void lapped__frame(lapped__paster *P, int g)
     pw_v3_store(p->fs + 3 * g, s);
 }
 
+/* The texture coordinates of patch triangle f's corners (the fold hash's
+ * coordinates; ctx is the paster). */
+static void lapped__tex_tri(const void *ctx, int f, double *t)
+{
+    const lapped__paster *P = (const lapped__paster *)ctx;
+    int k;
+    for (k = 0; k < 6; k++) t[k] = P->pb.vuv[2 * P->m.tri[3 * f + k / 2] + k % 2];
+}
+
+/* Adds triangle f to the patch, its image to the fold hash. */
+static int lapped__join(lapped__paster *P, int f, pw_v3 centre3, pw_err *e)
+{
+    lapped__patchbuf *p = &P->pb;
+    double t[6];
+    p->fin[f] = p->stamp;
+    p->faces[p->nfaces++] = f;
+    lapped__push_neighbours(P, f, centre3);
+    lapped__tex_tri(P, f, t);
+    return pw__atlas_hash_insert(P->a, &p->fold, f, t, e);
+}
+
+/* After the optimisation moved the vertices: the fold hash from scratch. */
+static int lapped__rehash(lapped__paster *P, pw_err *e)
+{
+    lapped__patchbuf *p = &P->pb;
+    double t[6];
+    int i, r = PW_OK;
+    pw__atlas_hash_clear(&p->fold);
+    for (i = 0; i < p->nfaces && r == PW_OK; i++) {
+        lapped__tex_tri(P, p->faces[i], t);
+        r = pw__atlas_hash_insert(P->a, &p->fold, p->faces[i], t, e);
+    }
+    return r;
+}
+
+/* Would candidate g, mapped, fold over the patch: does its texture image
+ * overlap a patch triangle's by more than a thousandth of its longest
+ * side? The paper lets a patch wrap over itself in texture space (§3.3),
+ * which it found rare on meshes of about 5,000 faces. Growth makes it
+ * common on fine meshes: the coordinates of a new vertex are predicted
+ * from its neighbours' (Maillot et al.), the predictions of two fronts
+ * that meet disagree by an amount set by the surface's curvature and the
+ * distance grown, not by the triangles' size, so the finer the mesh the
+ * more of the triangles between them exceed the distortion limit; refused,
+ * they leave slits, and the fronts on either side go on growing as
+ * separate sheets over the same texture. On CGAL's bunny00 scan (75K
+ * triangles) the grown pastes covered their texture 1.00 times (median),
+ * on its 1-to-4 subdivision 1.73 times (up to 9.5), and held 5.4 and 11.1
+ * times the mesh's triangles (docs/performance.md). A second sheet pastes
+ * the same texture again over more surface; refusing it keeps a paste to
+ * one layer of its texture patch, whatever the mesh's resolution. */
+static int lapped__folds(lapped__paster *P, int g)
+{
+    double t[6], longest = 0.0;
+    int k;
+    lapped__tex_tri(P, g, t);
+    for (k = 0; k < 3; k++) {
+        double du = t[2 * ((k + 1) % 3)] - t[2 * k], dv = t[2 * ((k + 1) % 3) + 1] - t[2 * k + 1];
+        if (du * du + dv * dv > longest) longest = du * du + dv * dv;
+    }
+    return pw__atlas_hash_hits(&P->pb.fold, t, 1e-3 * sqrt(longest), lapped__tex_tri, P);
+}
+
 /* Starts a patch on triangle f at barycentric point b, mapped to the
  * centre of patch image `patch` (§3.3). */
-static void lapped__start(lapped__paster *P, int f, const float b[3], int patch, pw_v3 *centre3)
+static int lapped__start(lapped__paster *P, int f, const float b[3], int patch, pw_v3 *centre3, pw_err *e)
 {
     lapped__patchbuf *p = &P->pb;
     int k;
@@ -17693,9 +17765,8 @@ static void lapped__start(lapped__paster *P, int f, const float b[3], int patch,
             lapped__seed_uv(p, f, pw_trimesh_corner(&P->m, f, k), *centre3, P->centre + 2 * patch, uv);
             lapped__map_vertex(p, P->m.tri[3 * f + k], uv[0], uv[1]);
         }
-    p->fin[f] = p->stamp;
-    p->faces[p->nfaces++] = f;
-    lapped__push_neighbours(P, f, *centre3);
+    pw__atlas_hash_clear(&p->fold);
+    return lapped__join(P, f, *centre3, e);
 }
 
 /* Shared edges of candidate g with the patch: how many, the last one, and
@@ -17719,47 +17790,48 @@ static int lapped__shared(const lapped__paster *P, int g, const pw_polyhull *hul
 
 /* Tries to add candidate g (§3.3): only across an edge that still reaches
  * into the texture patch, only if the patch stays a disc, and only if the
- * new triangle is not too distorted (else the paste keeps a hard edge). */
-static void lapped__try_add(lapped__paster *P, int g, const pw_polyhull *hull, pw_v3 centre3)
+ * new triangle is neither too distorted nor folded over the patch (else
+ * the paste keeps a hard edge). */
+static int lapped__try_add(lapped__paster *P, int g, const pw_polyhull *hull, pw_v3 centre3, pw_err *e)
 {
     lapped__patchbuf *p = &P->pb;
     int edge = 0, inside, shared = lapped__shared(P, g, hull, &edge, &inside);
     int c = P->m.tri[3 * g + (edge + 2) % 3], fresh = 0;
-    if (shared == 0 || !inside) return; /* may be reached again through another edge */
+    if (shared == 0 || !inside) return PW_OK; /* may be reached again through another edge */
     if (shared == 3 || (shared == 1 && p->vin[c] == p->stamp)) {
         p->fout[g] = p->stamp; /* would close the surface or pinch a hole: not a disc */
-        return;
+        return PW_OK;
     }
     lapped__frame(P, g);
     if (shared == 1) {
         lapped__map_new_vertex(&P->m, p, c, 3 * g + (edge + 2) % 3);
         fresh = 1;
     }
-    if (lapped__distortion(&P->m, p, g) > P->o.max_distortion) {
+    if (lapped__distortion(&P->m, p, g) > P->o.max_distortion || lapped__folds(P, g)) {
         if (fresh) { /* forget the vertex mapped for it */
             p->vin[c] = 0;
             p->nverts--;
         }
         p->fout[g] = p->stamp;
         p->hard = 1;
-        return;
+        return PW_OK;
     }
-    p->fin[g] = p->stamp;
-    p->faces[p->nfaces++] = g;
-    lapped__push_neighbours(P, g, centre3);
+    return lapped__join(P, g, centre3, e);
 }
 
-/* Grows until no candidate is left; returns how many triangles were added. */
-static int lapped__grow(lapped__paster *P, const pw_polyhull *hull, pw_v3 centre3)
+/* Grows until no candidate is left; *added gets how many triangles were
+ * added. */
+static int lapped__grow(lapped__paster *P, const pw_polyhull *hull, pw_v3 centre3, int *added, pw_err *e)
 {
     lapped__patchbuf *p = &P->pb;
-    int before = p->nfaces;
-    while (p->queue.n > 0) {
+    int before = p->nfaces, r = PW_OK;
+    while (p->queue.n > 0 && r == PW_OK) {
         int g = pw_heap_pop(&p->queue);
         p->fq[g] = 0;
-        if (p->fin[g] != p->stamp && p->fout[g] != p->stamp) lapped__try_add(P, g, hull, centre3);
+        if (p->fin[g] != p->stamp && p->fout[g] != p->stamp) r = lapped__try_add(P, g, hull, centre3, e);
     }
-    return p->nfaces - before;
+    *added = p->nfaces - before;
+    return r;
 }
 
 /* After the optimisation moved the vertices, the boundary may expose more
@@ -18247,13 +18319,13 @@ static void lapped__keep(lapped__patchbuf *p, int restore)
  * uncovered texture, up to three rounds (§3.3, §3.4), trim, record. */
 static int lapped__paste(lapped__paster *P, int early, const lapped__lsq *ls, pw_err *e)
 {
-    int f, patch, round, r = PW_OK;
+    int f, patch, round, added = 0, r;
     float bary[3];
     pw_v3 centre3;
     lapped__pick(P, early, &f, bary);
     patch = P->npatches > 1 ? (int)pw_rng_below(&P->rng, (uint32_t)P->npatches) : 0;
-    lapped__start(P, f, bary, patch, &centre3);
-    lapped__grow(P, &P->hulls[patch], centre3);
+    r = lapped__start(P, f, bary, patch, &centre3, e);
+    if (r == PW_OK) r = lapped__grow(P, &P->hulls[patch], centre3, &added, e);
     for (round = 0; round < 3 && r == PW_OK; round++) {
         lapped__keep(&P->pb, 0);
         r = lapped__optimize(P, f, bary, patch, ls, e);
@@ -18262,7 +18334,9 @@ static int lapped__paste(lapped__paster *P, int early, const lapped__lsq *ls, pw
             break;
         }
         lapped__requeue_boundary(P, centre3);
-        if (r != PW_OK || lapped__grow(P, &P->hulls[patch], centre3) == 0) break;
+        if (r == PW_OK) r = lapped__rehash(P, e);
+        if (r == PW_OK) r = lapped__grow(P, &P->hulls[patch], centre3, &added, e);
+        if (r != PW_OK || added == 0) break;
     }
     if (r == PW_OK) lapped__trim(P, f);
     return r == PW_OK ? lapped__record(P, patch, e) : r;
@@ -18558,7 +18632,7 @@ static int lapped__setup(lapped__paster *P, const lapped_mesh *mesh, const lappe
     surf.fs = P->fs;
     surf.ft = P->ft;
     if ((r = lapped__cover_init(P->a, &surf, lapped__max_side(P), P->o.coverage, &P->cover, e)) != PW_OK ||
-        (r = lapped__patchbuf_init(P->a, &P->m, &P->pb, e)) != PW_OK)
+        (r = lapped__patchbuf_init(P->a, &P->m, P->ft, &P->pb, e)) != PW_OK)
         return r;
     P->rng = pw_rng_seed(P->o.seed, 5);
     return PW_OK;
