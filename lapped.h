@@ -15,27 +15,27 @@
  *   5290: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
  *   5819: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
  *   6243: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
- *   7975: src/common/raster.h, exact scan conversion of 2D triangles.
- *   8487: src/common/parallel.h, a parallel for, the one way work is split across threads.
- *   8811: src/common/render.h, a small deterministic software renderer for textured trian
- *  10975: src/lapped/polyhull.h, the polygonal hull of a texture patch (Praun, Finkelstein 
- *  11806: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
- *  12003: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
- *  12088: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
- *  12277: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
- *  13197: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
- *  13895: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
- *  14131: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
- *  14895: src/common/glue.h, what every method header needs between its public types an
- *  15231: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  15895: src/lapped/core.c, lapped.h's glue to the shared core, its defaults, and the 
- *  16065: src/lapped/field.c, §3.2 the tangent field, one frame (S, T) per triangle, an
- *  16520: src/lapped/patch.c, §3.1 texture patches. A patch is the texture as RGBA whos
- *  16834: src/lapped/builtin.c, built-in meshes (made by the shared shapes module) and tex
- *  17028: src/lapped/grow.c, pasting (§3.3-3.6): grow a surface patch around an uncove
- *  18735: src/lapped/render.c, runtime pasting (§4): the mesh drawn once per paste, in p
- *  18982: src/lapped/atlas.c, §4 "Rendering with a texture atlas".
- *  19225: src/lapped/io.c, the paste file format and the file conveniences of lapped.
+ *   7977: src/common/raster.h, exact scan conversion of 2D triangles.
+ *   8489: src/common/parallel.h, a parallel for, the one way work is split across threads.
+ *   8813: src/common/render.h, a small deterministic software renderer for textured trian
+ *  10977: src/lapped/polyhull.h, the polygonal hull of a texture patch (Praun, Finkelstein 
+ *  11808: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
+ *  12005: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
+ *  12090: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
+ *  12279: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
+ *  13199: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
+ *  13897: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
+ *  14133: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
+ *  14897: src/common/glue.h, what every method header needs between its public types an
+ *  15233: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  15897: src/lapped/core.c, lapped.h's glue to the shared core, its defaults, and the 
+ *  16067: src/lapped/field.c, §3.2 the tangent field, one frame (S, T) per triangle, an
+ *  16522: src/lapped/patch.c, §3.1 texture patches. A patch is the texture as RGBA whos
+ *  16836: src/lapped/builtin.c, built-in meshes (made by the shared shapes module) and tex
+ *  17030: src/lapped/grow.c, pasting (§3.3-3.6): grow a surface patch around an uncove
+ *  18737: src/lapped/render.c, runtime pasting (§4): the mesh drawn once per paste, in p
+ *  18984: src/lapped/atlas.c, §4 "Rendering with a texture atlas".
+ *  19227: src/lapped/io.c, the paste file format and the file conveniences of lapped.
  */
 /* lapped.h - lapped textures: overlapping texture patches pasted over a mesh.
  *
@@ -7715,9 +7715,11 @@ PW__DEF int pw__ldlt_row(pw_ldlt *F, const pw_csr *A, const pw__ldlt_work *W, in
     y[k] = 0.0;
     for (; top < F->n; top++) {
         int i = pattern[top], q, end = F->Lp[i] + len[i];
-        double yi = y[i], l;
+        const int *Li = F->Li;
+        const double *Lx = F->Lx;
+        double yi = y[i], nyi = -yi, l;
         y[i] = 0.0;
-        for (q = F->Lp[i]; q < end; q++) y[F->Li[q]] -= F->Lx[q] * yi;
+        for (q = F->Lp[i]; q < end; q++) y[Li[q]] += Lx[q] * nyi; /* y - Lx yi, exactly, one load fewer */
         l = yi / F->D[i];
         F->D[k] -= l * yi;
         F->Li[end] = k;

@@ -17,31 +17,31 @@
  *   6482: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
  *   6679: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
  *   6764: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
- *   8496: src/common/raster.h, exact scan conversion of 2D triangles.
- *   9008: src/common/parallel.h, a parallel for, the one way work is split across threads.
- *   9332: src/common/render.h, a small deterministic software renderer for textured trian
- *  11496: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
- *  11685: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
- *  12605: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
- *  13303: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
- *  13539: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
- *  14300: src/common/tetmesh.h, the tetrahedral mesh that lapped solid textures work on, a
- *  14787: src/common/tetio.h, tetrahedral mesh files, TetGen .node/.ele and MEDIT .mesh.
- *  15279: src/common/bisect.h, graded, conforming tetrahedral meshes of a box by newest-v
- *  15606: src/common/stuffing.h, the built-in tetrahedralizer of lst.h, so that no external
- *  18983: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
- *  19126: src/common/pca.h, principal component analysis of vectors streamed one at a 
- *  19313: src/common/glue.h, what every method header needs between its public types an
- *  19649: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  20313: src/lst/core.c, lst.h's glue to the shared core, its defaults, the convers
- *  20647: src/lst/exemplar.c, solid exemplars (§5): sampling, the procedural exemplars 
- *  21219: src/lst/field.c, §5.2.2, the fields that orient and scale the pastes. The 
- *  22431: src/lst/paste.c, §5.2.3-5.2.7, filling the model. Each paste picks a rando
- *  23461: src/lst/render.c, §5.1, showing a model. Every point of a tetrahedron is th
- *  24358: src/lst/cut.c, §5.1.1, cutting a model along the zero set of a scalar fi
- *  24963: src/lst/builtin.c, the tetrahedralizer entry point, checks of caller meshes, 
- *  25485: src/lst/io.c, the model file, the constraint files and the file convenie
- *  26178: src/lst/export.c, the visible boundary with a baked texture atlas, for glTF.
+ *   8498: src/common/raster.h, exact scan conversion of 2D triangles.
+ *   9010: src/common/parallel.h, a parallel for, the one way work is split across threads.
+ *   9334: src/common/render.h, a small deterministic software renderer for textured trian
+ *  11498: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
+ *  11687: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
+ *  12607: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
+ *  13305: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
+ *  13541: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
+ *  14302: src/common/tetmesh.h, the tetrahedral mesh that lapped solid textures work on, a
+ *  14789: src/common/tetio.h, tetrahedral mesh files, TetGen .node/.ele and MEDIT .mesh.
+ *  15281: src/common/bisect.h, graded, conforming tetrahedral meshes of a box by newest-v
+ *  15608: src/common/stuffing.h, the built-in tetrahedralizer of lst.h, so that no external
+ *  18985: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
+ *  19128: src/common/pca.h, principal component analysis of vectors streamed one at a 
+ *  19315: src/common/glue.h, what every method header needs between its public types an
+ *  19651: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  20315: src/lst/core.c, lst.h's glue to the shared core, its defaults, the convers
+ *  20649: src/lst/exemplar.c, solid exemplars (§5): sampling, the procedural exemplars 
+ *  21221: src/lst/field.c, §5.2.2, the fields that orient and scale the pastes. The 
+ *  22433: src/lst/paste.c, §5.2.3-5.2.7, filling the model. Each paste picks a rando
+ *  23463: src/lst/render.c, §5.1, showing a model. Every point of a tetrahedron is th
+ *  24360: src/lst/cut.c, §5.1.1, cutting a model along the zero set of a scalar fi
+ *  24965: src/lst/builtin.c, the tetrahedralizer entry point, checks of caller meshes, 
+ *  25487: src/lst/io.c, the model file, the constraint files and the file convenie
+ *  26180: src/lst/export.c, the visible boundary with a baked texture atlas, for glTF.
  */
 /* lst.h - lapped solid textures: solid exemplars pasted inside a model.
  *
@@ -8236,9 +8236,11 @@ PW__DEF int pw__ldlt_row(pw_ldlt *F, const pw_csr *A, const pw__ldlt_work *W, in
     y[k] = 0.0;
     for (; top < F->n; top++) {
         int i = pattern[top], q, end = F->Lp[i] + len[i];
-        double yi = y[i], l;
+        const int *Li = F->Li;
+        const double *Lx = F->Lx;
+        double yi = y[i], nyi = -yi, l;
         y[i] = 0.0;
-        for (q = F->Lp[i]; q < end; q++) y[F->Li[q]] -= F->Lx[q] * yi;
+        for (q = F->Lp[i]; q < end; q++) y[Li[q]] += Lx[q] * nyi; /* y - Lx yi, exactly, one load fewer */
         l = yi / F->D[i];
         F->D[k] -= l * yi;
         F->Li[end] = k;

@@ -15,38 +15,38 @@
  *   5486: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
  *   6015: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
  *   6439: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
- *   8171: src/common/zsparse.h, complex Hermitian sparse systems, solved by conjugate grad
- *   8525: src/common/zamg.h, a smoothed-aggregation multigrid preconditioner for the co
- *   9345: src/common/raster.h, exact scan conversion of 2D triangles.
- *   9857: src/common/parallel.h, a parallel for, the one way work is split across threads.
- *  10181: src/common/render.h, a small deterministic software renderer for textured trian
- *  12345: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
- *  12542: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
- *  12627: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
- *  12816: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
- *  13736: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
- *  14434: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
- *  14670: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
- *  15434: src/common/periodic.h, the periodic global parameterization of a triangle mesh al
- *  16294: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
- *  17055: src/pgp/tile3.h, sampling a material-space tile (Ray et al. 2009, §2: "a 3
- *  17163: src/common/glue.h, what every method header needs between its public types an
- *  17499: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  18163: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
- *  18660: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
- *  19146: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
- *  19289: src/common/kdtree.h, nearest-neighbour search among n points of dimension d, wi
- *  19632: src/common/pca.h, principal component analysis of vectors streamed one at a 
- *  19819: src/pgp/core.c, pgp.h's glue to the shared core, its defaults, and the map
- *  20033: src/pgp/field.c, §2.1 effect areas and §2.2 interpolation of the constrai
- *  20232: src/pgp/solve.c, §2.3 the periodic global parameterization, the recovery o
- *  20775: src/pgp/edit.c, the public editing calls of a mapping. §2.1 (Ray, Lévy, 
- *  20920: src/pgp/render.c, §3 rendering, and a cleaner treatment of the vortices.
- *  21282: src/pgp/builtin.c, built-in meshes and material-space tiles for demos and tes
- *  21551: src/pgp/io.c, files and memory for pgp.h: material-space tiles (NRRD, or
- *  21899: src/pgp/export.c, the mapping for other programs. A viewer that knows nothin
- *  22125: src/pgp/morph.c, the inputs of §1 (keys brought to the tile size, made til
- *  22804: src/pgp/synth.c, §1.2 constrained tile synthesis, and the whole of §1: ke
+ *   8173: src/common/zsparse.h, complex Hermitian sparse systems, solved by conjugate grad
+ *   8527: src/common/zamg.h, a smoothed-aggregation multigrid preconditioner for the co
+ *   9347: src/common/raster.h, exact scan conversion of 2D triangles.
+ *   9859: src/common/parallel.h, a parallel for, the one way work is split across threads.
+ *  10183: src/common/render.h, a small deterministic software renderer for textured trian
+ *  12347: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
+ *  12544: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
+ *  12629: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
+ *  12818: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
+ *  13738: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
+ *  14436: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
+ *  14672: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
+ *  15436: src/common/periodic.h, the periodic global parameterization of a triangle mesh al
+ *  16296: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
+ *  17057: src/pgp/tile3.h, sampling a material-space tile (Ray et al. 2009, §2: "a 3
+ *  17165: src/common/glue.h, what every method header needs between its public types an
+ *  17501: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  18165: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
+ *  18662: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
+ *  19148: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
+ *  19291: src/common/kdtree.h, nearest-neighbour search among n points of dimension d, wi
+ *  19634: src/common/pca.h, principal component analysis of vectors streamed one at a 
+ *  19821: src/pgp/core.c, pgp.h's glue to the shared core, its defaults, and the map
+ *  20035: src/pgp/field.c, §2.1 effect areas and §2.2 interpolation of the constrai
+ *  20234: src/pgp/solve.c, §2.3 the periodic global parameterization, the recovery o
+ *  20777: src/pgp/edit.c, the public editing calls of a mapping. §2.1 (Ray, Lévy, 
+ *  20922: src/pgp/render.c, §3 rendering, and a cleaner treatment of the vortices.
+ *  21284: src/pgp/builtin.c, built-in meshes and material-space tiles for demos and tes
+ *  21553: src/pgp/io.c, files and memory for pgp.h: material-space tiles (NRRD, or
+ *  21901: src/pgp/export.c, the mapping for other programs. A viewer that knows nothin
+ *  22127: src/pgp/morph.c, the inputs of §1 (keys brought to the tile size, made til
+ *  22806: src/pgp/synth.c, §1.2 constrained tile synthesis, and the whole of §1: ke
  */
 /* pgp.h - material-space texturing with a periodic global parameterization.
  *
@@ -7911,9 +7911,11 @@ PW__DEF int pw__ldlt_row(pw_ldlt *F, const pw_csr *A, const pw__ldlt_work *W, in
     y[k] = 0.0;
     for (; top < F->n; top++) {
         int i = pattern[top], q, end = F->Lp[i] + len[i];
-        double yi = y[i], l;
+        const int *Li = F->Li;
+        const double *Lx = F->Lx;
+        double yi = y[i], nyi = -yi, l;
         y[i] = 0.0;
-        for (q = F->Lp[i]; q < end; q++) y[F->Li[q]] -= F->Lx[q] * yi;
+        for (q = F->Lp[i]; q < end; q++) y[Li[q]] += Lx[q] * nyi; /* y - Lx yi, exactly, one load fewer */
         l = yi / F->D[i];
         F->D[k] -= l * yi;
         F->Li[end] = k;

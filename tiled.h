@@ -16,28 +16,28 @@
  *   5829: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
  *   6253: src/common/subdiv.h, Catmull-Clark subdivision (Catmull and Clark 1978) with
  *   6392: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
- *   8124: src/common/zsparse.h, complex Hermitian sparse systems, solved by conjugate grad
- *   8478: src/common/zamg.h, a smoothed-aggregation multigrid preconditioner for the co
- *   9298: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
- *   9495: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
- *   9580: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
- *  10344: src/common/periodic.h, the periodic global parameterization of a triangle mesh al
- *  11204: src/common/raster.h, exact scan conversion of 2D triangles.
- *  11718: src/common/parallel.h, a parallel for, the one way work is split across threads.
- *  12042: src/common/render.h, a small deterministic software renderer for textured trian
- *  14206: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
- *  14703: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
- *  15189: src/common/glue.h, what every method header needs between its public types an
- *  15525: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  16189: src/tiled/core.c, tiled.h's glue to the shared core, its defaults, result
- *  16278: src/tiled/layout.c, ch. III.1, the boundary types and the tiled texture they
- *  16550: src/tiled/cells.c, beyond the thesis (issue 23): tiles of a chosen size on an
- *  17468: src/tiled/map.c, ch. III.2, the texture mapping algorithm of Fig. 29
- *  17737: src/tiled/synth.c, ch. III.1.3, tiled texture image synthesis: an edge-matche
- *  18183: src/tiled/validate.c, checks a hand-made tiled texture (the thesis's Figs. 39,
- *  18311: src/tiled/builtin.c, built-in meshes and exemplars for demos and tests: the
- *  18508: src/tiled/render.c, a software rendering of a mapped mesh (the thesis rendered
- *  18732: src/tiled/io.c, files. Meshes and exemplars in; the mapped mesh with its t
+ *   8126: src/common/zsparse.h, complex Hermitian sparse systems, solved by conjugate grad
+ *   8480: src/common/zamg.h, a smoothed-aggregation multigrid preconditioner for the co
+ *   9300: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
+ *   9497: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
+ *   9582: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
+ *  10346: src/common/periodic.h, the periodic global parameterization of a triangle mesh al
+ *  11206: src/common/raster.h, exact scan conversion of 2D triangles.
+ *  11720: src/common/parallel.h, a parallel for, the one way work is split across threads.
+ *  12044: src/common/render.h, a small deterministic software renderer for textured trian
+ *  14208: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
+ *  14705: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
+ *  15191: src/common/glue.h, what every method header needs between its public types an
+ *  15527: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  16191: src/tiled/core.c, tiled.h's glue to the shared core, its defaults, result
+ *  16280: src/tiled/layout.c, ch. III.1, the boundary types and the tiled texture they
+ *  16552: src/tiled/cells.c, beyond the thesis (issue 23): tiles of a chosen size on an
+ *  17470: src/tiled/map.c, ch. III.2, the texture mapping algorithm of Fig. 29
+ *  17739: src/tiled/synth.c, ch. III.1.3, tiled texture image synthesis: an edge-matche
+ *  18185: src/tiled/validate.c, checks a hand-made tiled texture (the thesis's Figs. 39,
+ *  18313: src/tiled/builtin.c, built-in meshes and exemplars for demos and tests: the
+ *  18510: src/tiled/render.c, a software rendering of a mapped mesh (the thesis rendered
+ *  18734: src/tiled/io.c, files. Meshes and exemplars in; the mapped mesh with its t
  */
 /* tiled.h - seamless, singularity-free tiled textures on quad meshes.
  *
@@ -7864,9 +7864,11 @@ PW__DEF int pw__ldlt_row(pw_ldlt *F, const pw_csr *A, const pw__ldlt_work *W, in
     y[k] = 0.0;
     for (; top < F->n; top++) {
         int i = pattern[top], q, end = F->Lp[i] + len[i];
-        double yi = y[i], l;
+        const int *Li = F->Li;
+        const double *Lx = F->Lx;
+        double yi = y[i], nyi = -yi, l;
         y[i] = 0.0;
-        for (q = F->Lp[i]; q < end; q++) y[F->Li[q]] -= F->Lx[q] * yi;
+        for (q = F->Lp[i]; q < end; q++) y[Li[q]] += Lx[q] * nyi; /* y - Lx yi, exactly, one load fewer */
         l = yi / F->D[i];
         F->D[k] -= l * yi;
         F->Li[end] = k;

@@ -1473,9 +1473,11 @@ PW__DEF int pw__ldlt_row(pw_ldlt *F, const pw_csr *A, const pw__ldlt_work *W, in
     y[k] = 0.0;
     for (; top < F->n; top++) {
         int i = pattern[top], q, end = F->Lp[i] + len[i];
-        double yi = y[i], l;
+        const int *Li = F->Li;
+        const double *Lx = F->Lx;
+        double yi = y[i], nyi = -yi, l;
         y[i] = 0.0;
-        for (q = F->Lp[i]; q < end; q++) y[F->Li[q]] -= F->Lx[q] * yi;
+        for (q = F->Lp[i]; q < end; q++) y[Li[q]] += Lx[q] * nyi; /* y - Lx yi, exactly, one load fewer */
         l = yi / F->D[i];
         F->D[k] -= l * yi;
         F->Li[end] = k;
