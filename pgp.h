@@ -16,37 +16,37 @@
  *   6015: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
  *   6439: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
  *   8100: src/common/zsparse.h, complex Hermitian sparse systems, solved by conjugate grad
- *   8454: src/common/zamg.h, a smoothed-aggregation multigrid preconditioner for the co
- *   9274: src/common/raster.h, exact scan conversion of 2D triangles.
- *   9786: src/common/parallel.h, a parallel for, the one way work is split across threads.
- *  10110: src/common/render.h, a small deterministic software renderer for textured trian
- *  12274: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
- *  12471: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
- *  12556: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
- *  12745: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
- *  13665: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
- *  14363: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
- *  14599: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
- *  15363: src/common/periodic.h, the periodic global parameterization of a triangle mesh al
- *  16223: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
- *  16984: src/pgp/tile3.h, sampling a material-space tile (Ray et al. 2009, §2: "a 3
- *  17092: src/common/glue.h, what every method header needs between its public types an
- *  17428: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  18092: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
- *  18589: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
- *  19075: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
- *  19218: src/common/kdtree.h, nearest-neighbour search among n points of dimension d, wi
- *  19561: src/common/pca.h, principal component analysis of vectors streamed one at a 
- *  19748: src/pgp/core.c, pgp.h's glue to the shared core, its defaults, and the map
- *  19962: src/pgp/field.c, §2.1 effect areas and §2.2 interpolation of the constrai
- *  20161: src/pgp/solve.c, §2.3 the periodic global parameterization, the recovery o
- *  20704: src/pgp/edit.c, the public editing calls of a mapping. §2.1 (Ray, Lévy, 
- *  20849: src/pgp/render.c, §3 rendering, and a cleaner treatment of the vortices.
- *  21211: src/pgp/builtin.c, built-in meshes and material-space tiles for demos and tes
- *  21480: src/pgp/io.c, files and memory for pgp.h: material-space tiles (NRRD, or
- *  21828: src/pgp/export.c, the mapping for other programs. A viewer that knows nothin
- *  22054: src/pgp/morph.c, the inputs of §1 (keys brought to the tile size, made til
- *  22733: src/pgp/synth.c, §1.2 constrained tile synthesis, and the whole of §1: ke
+ *   8600: src/common/zamg.h, a smoothed-aggregation multigrid preconditioner for the co
+ *   9409: src/common/raster.h, exact scan conversion of 2D triangles.
+ *   9921: src/common/parallel.h, a parallel for, the one way work is split across threads.
+ *  10245: src/common/render.h, a small deterministic software renderer for textured trian
+ *  12409: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
+ *  12606: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
+ *  12691: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
+ *  12880: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
+ *  13800: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
+ *  14498: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
+ *  14734: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
+ *  15498: src/common/periodic.h, the periodic global parameterization of a triangle mesh al
+ *  16336: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
+ *  17097: src/pgp/tile3.h, sampling a material-space tile (Ray et al. 2009, §2: "a 3
+ *  17205: src/common/glue.h, what every method header needs between its public types an
+ *  17541: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  18205: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
+ *  18702: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
+ *  19188: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
+ *  19331: src/common/kdtree.h, nearest-neighbour search among n points of dimension d, wi
+ *  19674: src/common/pca.h, principal component analysis of vectors streamed one at a 
+ *  19861: src/pgp/core.c, pgp.h's glue to the shared core, its defaults, and the map
+ *  20075: src/pgp/field.c, §2.1 effect areas and §2.2 interpolation of the constrai
+ *  20274: src/pgp/solve.c, §2.3 the periodic global parameterization, the recovery o
+ *  20817: src/pgp/edit.c, the public editing calls of a mapping. §2.1 (Ray, Lévy, 
+ *  20962: src/pgp/render.c, §3 rendering, and a cleaner treatment of the vortices.
+ *  21324: src/pgp/builtin.c, built-in meshes and material-space tiles for demos and tes
+ *  21593: src/pgp/io.c, files and memory for pgp.h: material-space tiles (NRRD, or
+ *  21941: src/pgp/export.c, the mapping for other programs. A viewer that knows nothin
+ *  22167: src/pgp/morph.c, the inputs of §1 (keys brought to the tile size, made til
+ *  22846: src/pgp/synth.c, §1.2 constrained tile synthesis, and the whole of §1: ke
  */
 /* pgp.h - material-space texturing with a periodic global parameterization.
  *
@@ -8230,6 +8230,152 @@ PW__DEF int pw_zcsr_from_triplets(const pw_alloc *a, const pw_triplets *t, pw_zc
     return PW_OK;
 }
 
+/* Sorts the first n ints of v (short rows: insertion sort). */
+PW__DEF void pw__zsort(int *v, int n)
+{
+    int i, j;
+    for (i = 1; i < n; i++) {
+        int x = v[i];
+        for (j = i; j > 0 && v[j - 1] > x; j--) v[j] = v[j - 1];
+        v[j] = x;
+    }
+}
+
+/* The position of (i, j) in A, -1 if absent (rows are short: a scan). */
+PW__DEF int pw__zcsr_find(const pw_zcsr *A, int i, int j)
+{
+    int k;
+    for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++)
+        if (A->col[k] == j) return k;
+    return -1;
+}
+
+/* The structure of a Hermitian matrix of n rows holding every diagonal
+ * entry and, for each of the np pairs (ij[2p] != ij[2p+1], both in [0,
+ * n)), the entries (ij[2p], ij[2p+1]) and (ij[2p+1], ij[2p]), with zero
+ * values: dpos[i] is where (i, i) sits, pos[2p] and pos[2p+1] where the
+ * pair's two entries sit (a repeated pair shares them). The caller then
+ * adds each term at its position, in the order it visits them: no
+ * triplets and no sort of the entries (assembly from a mesh's adjacency,
+ * where the pairs are its edges). */
+PW__DEF int pw_zcsr_pattern(const pw_alloc *a, int n, int np, const int *ij, pw_zcsr *A, int *dpos, int *pos, pw_err *e)
+{
+    int i, k, p, lo = 0, out = 0;
+    memset(A, 0, sizeof *A);
+    A->n = n;
+    A->rowptr = (int *)pw_calloc_array(a, (size_t)n + 1, sizeof(int), "complex CSR", e);
+    A->col = (int *)pw_alloc_array(a, (size_t)n + 2 * (size_t)np, sizeof(int), "complex CSR", e);
+    if (!A->rowptr || !A->col) {
+        pw_zcsr_free(a, A);
+        return PW_ERR_NOMEM;
+    }
+    for (p = 0; p < 2 * np; p++) A->rowptr[ij[p] + 1]++;
+    for (i = 0; i < n; i++) A->rowptr[i + 1] += A->rowptr[i] + 1; /* + the diagonal */
+    for (i = 0; i < n; i++) {                                     /* dpos: each row's fill cursor */
+        dpos[i] = A->rowptr[i];
+        A->col[dpos[i]++] = i;
+    }
+    for (p = 0; p < np; p++) {
+        A->col[dpos[ij[2 * p]]++] = ij[2 * p + 1];
+        A->col[dpos[ij[2 * p + 1]]++] = ij[2 * p];
+    }
+    for (i = 0; i < n; i++) { /* columns increasing, repeats merged */
+        int hi = A->rowptr[i + 1];
+        pw__zsort(A->col + lo, hi - lo);
+        A->rowptr[i] = out;
+        for (k = lo; k < hi; k++)
+            if (k == lo || A->col[k] != A->col[k - 1]) A->col[out++] = A->col[k];
+        lo = hi;
+    }
+    A->rowptr[n] = out;
+    A->val = (double *)pw_calloc_array(a, 2 * (size_t)out + 2, sizeof(double), "complex CSR", e);
+    if (!A->val) {
+        pw_zcsr_free(a, A);
+        return PW_ERR_NOMEM;
+    }
+    for (i = 0; i < n; i++) dpos[i] = pw__zcsr_find(A, i, i);
+    for (p = 0; p < np; p++) {
+        pos[2 * p] = pw__zcsr_find(A, ij[2 * p], ij[2 * p + 1]);
+        pos[2 * p + 1] = pw__zcsr_find(A, ij[2 * p + 1], ij[2 * p]);
+    }
+    return PW_OK;
+}
+
+/* A Hermitian system sum w |z_i - c z_j|^2 (+ diagonal terms) assembled
+ * into its structure (pw_zcsr_pattern): the matrix, where its diagonal
+ * and pair entries sit, the right-hand side (2n) and the pairs used so
+ * far. The pairs are given by pair(ctx, k, ij) for k in [0, count): 1
+ * and the two unknowns in ij when k makes one (both ends unknowns). */
+typedef struct pw_zpairs {
+    int count;
+    int (*pair)(const void *ctx, int k, int *ij);
+    const void *ctx;
+} pw_zpairs;
+
+typedef struct pw_zasm {
+    pw_zcsr A;
+    int *dpos, *pos;
+    double *b;
+    int next;
+} pw_zasm;
+
+PW__DEF void pw_zasm_free(const pw_alloc *a, pw_zasm *S)
+{
+    pw_zcsr_free(a, &S->A);
+    pw_free(a, S->dpos);
+    pw_free(a, S->pos);
+    pw_free(a, S->b);
+    memset(S, 0, sizeof *S);
+}
+
+/* The structure of the system of n unknowns and the pairs of pr, values
+ * and right-hand side zero; on failure what was allocated is left for
+ * pw_zasm_free. */
+PW__DEF int pw_zasm_init(const pw_alloc *a, pw_zasm *S, int n, const pw_zpairs *pr, pw_err *e)
+{
+    int k, np = 0, ij[2], *all, r;
+    memset(S, 0, sizeof *S);
+    for (k = 0; k < pr->count; k++) np += pr->pair(pr->ctx, k, ij);
+    S->dpos = (int *)pw_alloc_array(a, (size_t)n + 1, sizeof(int), "complex system", e);
+    S->pos = (int *)pw_alloc_array(a, 2 * (size_t)np + 1, sizeof(int), "complex system", e);
+    S->b = (double *)pw_calloc_array(a, 2 * (size_t)n + 1, sizeof(double), "complex system", e);
+    all = (int *)pw_alloc_array(a, 2 * (size_t)np + 1, sizeof(int), "complex system", e);
+    if (!S->dpos || !S->pos || !S->b || !all) {
+        pw_free(a, all);
+        return PW_ERR_NOMEM;
+    }
+    for (k = 0, np = 0; k < pr->count; k++)
+        if (pr->pair(pr->ctx, k, all + 2 * np)) np++;
+    r = pw_zcsr_pattern(a, n, np, all, &S->A, S->dpos, S->pos, e);
+    pw_free(a, all);
+    return r;
+}
+
+/* Adds the term w |z_i - c z_j|^2 (i or j -1 where that end is not an
+ * unknown, its value zfix moving to b): w on the diagonals of the
+ * unknowns, -w c at (i, j) and -w conj(c) at (j, i) when both are (the
+ * next pair, in the order pw_zasm_init met them). */
+PW__DEF void pw_zasm_term(pw_zasm *S, int i, int j, double w, const double *c, const double *zfix)
+{
+    double *v = S->A.val, *b = S->b;
+    if (i >= 0) v[2 * S->dpos[i]] += w;
+    if (j >= 0) v[2 * S->dpos[j]] += w;
+    if (i >= 0 && j >= 0) {
+        double *ij = v + 2 * S->pos[2 * S->next], *ji = v + 2 * S->pos[2 * S->next + 1];
+        ij[0] += -w * c[0];
+        ij[1] += -w * c[1];
+        ji[0] += -w * c[0];
+        ji[1] += w * c[1];
+        S->next++;
+    } else if (i >= 0) { /* b_i += w c z_j */
+        b[2 * i] += w * (c[0] * zfix[0] - c[1] * zfix[1]);
+        b[2 * i + 1] += w * (c[0] * zfix[1] + c[1] * zfix[0]);
+    } else if (j >= 0) { /* b_j += w conj(c) z_i */
+        b[2 * j] += w * (c[0] * zfix[0] + c[1] * zfix[1]);
+        b[2 * j + 1] += w * (c[0] * zfix[1] - c[1] * zfix[0]);
+    }
+}
+
 /* A product y = A x by blocks of rows: each block's share of Re(x^H y). */
 typedef struct pw__zmul {
     const pw_zcsr *A;
@@ -8612,17 +8758,6 @@ PW__DEF int pw__zamg_aggregate(const pw_zcsr *A, const double *d, int *agg, doub
 
 /* ---- sparse products -------------------------------------------------------- */
 
-/* Sorts the first n ints of v (short rows: insertion sort). */
-PW__DEF void pw__zamg_sort(int *v, int n)
-{
-    int i, j;
-    for (i = 1; i < n; i++) {
-        int x = v[i];
-        for (j = i; j > 0 && v[j - 1] > x; j--) v[j] = v[j - 1];
-        v[j] = x;
-    }
-}
-
 /* Scratch of a row-by-row product: per column of the result, its slot in
  * the row being built (-1: none) and its sum; the row's columns. */
 typedef struct pw__zamg_acc {
@@ -8670,7 +8805,7 @@ PW__DEF void pw__zamg_acc_add(pw__zamg_acc *w, int c, double re, double im)
 PW__DEF void pw__zamg_acc_flush(pw__zamg_acc *w, int *col, double *val, int *nnz)
 {
     int m;
-    pw__zamg_sort(w->list, w->cnt);
+    pw__zsort(w->list, w->cnt);
     for (m = 0; m < w->cnt; m++) {
         int c = w->list[m];
         if (col) {
@@ -15408,30 +15543,20 @@ typedef struct pw_periodic {
 
 /* ---- sparse symmetric positive definite solves ----------------------------- */
 
-/* Solves the system collected in t for x (warm start: x's current values)
- * to a relative residual tol: real symmetric positive definite (n x n
- * triplets) by IC(0)-preconditioned CG, or complex Hermitian (zsparse.h:
- * n x 2n triplets, b and x complex) by CG with a multigrid (zamg.h) or
- * IC(0) preconditioner, whichever pays (pw_zpd_solve). */
+/* Solves the real symmetric positive definite system collected in t (n x
+ * n triplets) for x (warm start: x's current values) to a relative
+ * residual tol, by IC(0)-preconditioned CG. (The complex systems are
+ * assembled into their structure directly, pw_zcsr_pattern.) */
 PW__DEF int pw_periodic_pd_solve(const pw_periodic *P, const pw_triplets *t, const double *b, double *x, double tol,
                                  pw_err *e)
 {
     const pw_alloc *a = &P->a;
-    const int complex = t->m == 2 * t->n;
     pw_csr A;
     pw_ic0 L;
-    pw_zcsr ZA;
     pw_cg_options o = pw_cg_default_options();
     int r;
     o.tol = tol;
     o.max_iter = 4000;
-    if (complex) {
-        if ((r = pw_zcsr_from_triplets(a, t, &ZA, e)) != PW_OK) return r;
-        ZA.run = &P->run;
-        r = pw_zpd_solve(a, &ZA, b, x, &o, e);
-        pw_zcsr_free(a, &ZA);
-        return r;
-    }
     memset(&L, 0, sizeof L);
     if ((r = pw_csr_from_triplets(a, t, &A, e)) != PW_OK) return r;
     if ((r = pw_ic0_factor(a, &A, &L, e)) == PW_OK) r = pw_pcg_solve(a, &A, &L, b, x, &o, NULL, e);
@@ -15595,28 +15720,28 @@ PW__DEF double pw_periodic_dir_weight(const pw_periodic *P, int h)
     return P->dual[h] > 0.0 ? len / P->dual[h] : 1.0;
 }
 
+/* The interior edge k (twin > k) between free triangles (id[f] >= 0): a
+ * pair of the orientation system (pw_zpairs). */
+PW__DEF int pw_periodic_dir_pair(const void *ctx, int k, int *ij)
+{
+    const pw_periodic *P = (const pw_periodic *)((const void *const *)ctx)[0];
+    const int *id = (const int *)((const void *const *)ctx)[1], t = P->m.hm.twin[k];
+    if (t < k) return 0;
+    ij[0] = id[k / 3];
+    ij[1] = id[t / 3];
+    return ij[0] >= 0 && ij[1] >= 0;
+}
+
 /* Adds one interior edge (half-edge h of triangle f, twin in g) to the
  * orientation system: w |z_f - c z_g|^2 with c the transport from g into f
- * (pw_df_connection): w on both diagonals, -w c at (f, g) and its
- * conjugate at (g, f); a fixed neighbour moves to b. */
-PW__DEF int pw_periodic_dir_edge(const pw_periodic *P, const int *id, int h, pw_triplets *t, double *b, pw_err *e)
+ * (pw_df_connection); a fixed neighbour moves to b. */
+PW__DEF void pw_periodic_dir_edge(const pw_periodic *P, pw_zasm *S, const int *id, int h)
 {
-    int f = h / 3, g = P->m.hm.twin[h] / 3, i = id[f], j = id[g], r = PW_OK;
-    double w = pw_periodic_dir_weight(P, h), cx = P->conn[2 * h], cy = P->conn[2 * h + 1];
-    const double *zf = P->dir + 2 * f, *zg = P->dir + 2 * g;
-    if (i >= 0) r = pw_ztriplets_add(t, i, i, w, 0.0, e);
-    if (r == PW_OK && j >= 0) r = pw_ztriplets_add(t, j, j, w, 0.0, e);
-    if (r == PW_OK && i >= 0 && j >= 0) {
-        r = pw_ztriplets_add(t, i, j, -w * cx, -w * cy, e);
-        if (r == PW_OK) r = pw_ztriplets_add(t, j, i, -w * cx, w * cy, e);
-    } else if (i >= 0) { /* b_f += w c z_g */
-        b[2 * i] += w * (cx * zg[0] - cy * zg[1]);
-        b[2 * i + 1] += w * (cx * zg[1] + cy * zg[0]);
-    } else if (j >= 0) { /* b_g += w conj(c) z_f */
-        b[2 * j] += w * (cx * zf[0] + cy * zf[1]);
-        b[2 * j + 1] += w * (cx * zf[1] - cy * zf[0]);
-    }
-    return r;
+    int f = h / 3, g = P->m.hm.twin[h] / 3;
+    double c[2];
+    c[0] = P->conn[2 * h];
+    c[1] = P->conn[2 * h + 1];
+    pw_zasm_term(S, id[f], id[g], pw_periodic_dir_weight(P, h), c, P->dir + 2 * (id[f] < 0 ? f : g));
 }
 
 /* Directions are normalised after the solve: a loose tolerance suffices. */
@@ -15632,33 +15757,43 @@ PW__DEF int pw_periodic_dir_smooth(pw_periodic *P, const unsigned char *free, co
 {
     const pw_trimesh *m = &P->m;
     int *id = (int *)pw_alloc_array(&P->a, (size_t)m->nf, sizeof(int), "orientation", e);
-    double *b = NULL, *x = NULL;
-    pw_triplets t;
+    double *x = NULL;
+    const void *ctx[2];
+    pw_zpairs pr;
+    pw_zasm S;
+    pw_cg_options o = pw_cg_default_options();
     int n = 0, f, h, r = id ? PW_OK : PW_ERR_NOMEM;
-    memset(&t, 0, sizeof t);
+    memset(&S, 0, sizeof S);
     for (h = 0; r == PW_OK && h < m->nf; h++) { /* breadth-first order */
         f = P->forder[h];
         id[f] = free[f] ? n++ : -1;
     }
+    ctx[0] = P;
+    ctx[1] = id;
+    pr.count = 3 * m->nf;
+    pr.pair = pw_periodic_dir_pair;
+    pr.ctx = ctx;
     if (r == PW_OK && n > 0) {
-        b = (double *)pw_calloc_array(&P->a, (size_t)n * 2, sizeof(double), "orientation", e);
         x = (double *)pw_alloc_array(&P->a, (size_t)n * 2, sizeof(double), "orientation", e);
-        if (!b || !x) r = PW_ERR_NOMEM;
-        else r = pw_triplets_init(&t, &P->a, n, 2 * n, e);
+        r = x ? pw_zasm_init(&P->a, &S, n, &pr, e) : PW_ERR_NOMEM;
     }
     for (f = 0; r == PW_OK && n > 0 && f < m->nf; f++)
         if (id[f] >= 0) {
             double w = pull ? pull[f] + PW_PERIODIC_PULL : PW_PERIODIC_PULL;
             x[2 * id[f]] = P->dir[2 * f];
             x[2 * id[f] + 1] = P->dir[2 * f + 1];
-            b[2 * id[f]] += w * P->base[2 * f];
-            b[2 * id[f] + 1] += w * P->base[2 * f + 1];
-            r = pw_ztriplets_add(&t, id[f], id[f], w, 0.0, e);
+            S.b[2 * id[f]] += w * P->base[2 * f];
+            S.b[2 * id[f] + 1] += w * P->base[2 * f + 1];
+            S.A.val[2 * S.dpos[id[f]]] = w;
         }
     for (h = 0; r == PW_OK && n > 0 && h < 3 * m->nf; h++)
-        if (m->hm.twin[h] > h && (id[h / 3] >= 0 || id[m->hm.twin[h] / 3] >= 0))
-            r = pw_periodic_dir_edge(P, id, h, &t, b, e);
-    if (r == PW_OK && n > 0) r = pw_periodic_pd_solve(P, &t, b, x, PW_PERIODIC_DIR_TOL, e);
+        if (m->hm.twin[h] > h && (id[h / 3] >= 0 || id[m->hm.twin[h] / 3] >= 0)) pw_periodic_dir_edge(P, &S, id, h);
+    o.tol = PW_PERIODIC_DIR_TOL;
+    o.max_iter = 4000;
+    if (r == PW_OK && n > 0) {
+        S.A.run = &P->run;
+        r = pw_zpd_solve(&P->a, &S.A, S.b, x, &o, e);
+    }
     for (f = 0; r == PW_OK && n > 0 && f < m->nf; f++)
         if (id[f] >= 0) {
             double *z = P->dir + 2 * f;
@@ -15669,9 +15804,8 @@ PW__DEF int pw_periodic_dir_smooth(pw_periodic *P, const unsigned char *free, co
                 z[1] = P->base[2 * f + 1];
             }
         }
-    pw_triplets_free(&t);
+    pw_zasm_free(&P->a, &S);
     pw_free(&P->a, id);
-    pw_free(&P->a, b);
     pw_free(&P->a, x);
     return r;
 }
@@ -15786,13 +15920,13 @@ PW__DEF double pw_periodic_weight(const pw_periodic *P, int h)
 }
 
 /* The complex Hermitian system of coordinate k over the free vertices,
- * being assembled. */
+ * being assembled: its structure (the edges between free vertices, the
+ * same for s and t) and the terms of every edge. */
 typedef struct pw_periodic_zsys {
     const double *z; /* nv*2: the current z, read at the fixed vertices */
     const int *id;   /* nv: vertex -> unknown (-1: fixed) */
     int k;           /* the coordinate: 0 for s, 1 for t */
-    pw_triplets *t;  /* the matrix being assembled (n x 2n) */
-    double *b;       /* 2n: the right-hand side */
+    pw_zasm S;       /* the matrix and right-hand side */
     double *edge;    /* 3nf*3: per half-edge assembled (twin < h) its weight
                          and e^{i alpha}, pw_periodic_edge_terms */
     const pw_periodic *P;
@@ -15815,39 +15949,35 @@ PW__DEF void pw_periodic_edge_terms(void *ctx, int blk)
         }
 }
 
+/* Edge k (twin < k, each edge once) between free vertices: a pair of
+ * the PGP's systems (pw_zpairs), i -> j. */
+PW__DEF int pw_periodic_pair(const void *ctx, int k, int *ij)
+{
+    const pw_periodic_zsys *Z = (const pw_periodic_zsys *)ctx;
+    const pw_trimesh *m = &Z->P->m;
+    if (m->hm.twin[k] >= k) return 0;
+    ij[0] = Z->id[m->tri[k]];
+    ij[1] = Z->id[m->tri[3 * (k / 3) + (k % 3 + 1) % 3]];
+    return ij[0] >= 0 && ij[1] >= 0;
+}
+
 /* Adds the term w |z_j - R(alpha) z_i|^2 of edge h (i -> j) to the system
  * of the free vertices (id >= 0). R(alpha) is the rotation by +alpha,
- * [cos -sin; sin cos], i.e. the product with e^{i alpha}: with z = e^{2 pi
- * i s}, s_j = s_i + alpha/2pi is z_j = e^{i alpha} z_i. (The matrix printed
- * in the paper has the signs of the sines the other way round, which would
- * make s decrease along g; tests/test_pgp.c checks a flat grid, where the
- * exact answer is linear.) In the complex Hermitian system: w on both
- * diagonals, -w e^{i alpha} at (j, i) and its conjugate at (i, j); a fixed
- * end moves to the right-hand side. */
-PW__DEF int pw_periodic_edge(const pw_periodic *P, const pw_periodic_zsys *Z, int h, pw_err *e)
+ * [cos -sin; sin cos], i.e. the product with e^{i alpha}: with z = e^{2
+ * pi i s}, s_j = s_i + alpha/2pi is z_j = e^{i alpha} z_i. (The matrix
+ * printed in the paper has the signs of the sines the other way round,
+ * which would make s decrease along g; tests/test_pgp.c checks a flat
+ * grid, where the exact answer is linear.) That is |z_i - e^{-i alpha}
+ * z_j|^2: w on both diagonals, -w e^{-i alpha} at (i, j) and its
+ * conjugate at (j, i); a fixed end moves to the right-hand side. */
+PW__DEF void pw_periodic_edge(const pw_periodic *P, pw_periodic_zsys *Z, int h)
 {
-    const double *z = Z->z;
-    const int *id = Z->id;
-    pw_triplets *t = Z->t;
-    double *b = Z->b;
-    int f = h / 3;
-    int vi = P->m.tri[h], vj = P->m.tri[3 * f + (h % 3 + 1) % 3], i = id[vi], j = id[vj], r = PW_OK;
+    int vi = P->m.tri[h], vj = P->m.tri[3 * (h / 3) + (h % 3 + 1) % 3], i = Z->id[vi], j = Z->id[vj];
     const double *term = Z->edge + 3 * (size_t)h;
-    double w = term[0], c = term[1], sn = term[2];
-    const double *zi = z + 2 * vi, *zj = z + 2 * vj;
-    if (i >= 0) r = pw_ztriplets_add(t, i, i, w, 0.0, e);
-    if (r == PW_OK && j >= 0) r = pw_ztriplets_add(t, j, j, w, 0.0, e);
-    if (r == PW_OK && i >= 0 && j >= 0) {
-        r = pw_ztriplets_add(t, j, i, -w * c, -w * sn, e);
-        if (r == PW_OK) r = pw_ztriplets_add(t, i, j, -w * c, w * sn, e);
-    } else if (j >= 0) { /* b_j += w e^{i a} z_i */
-        b[2 * j] += w * (c * zi[0] - sn * zi[1]);
-        b[2 * j + 1] += w * (c * zi[1] + sn * zi[0]);
-    } else if (i >= 0) { /* b_i += w e^{-i a} z_j */
-        b[2 * i] += w * (c * zj[0] + sn * zj[1]);
-        b[2 * i + 1] += w * (c * zj[1] - sn * zj[0]);
-    }
-    return r;
+    double c[2];
+    c[0] = term[1];
+    c[1] = -term[2];
+    pw_zasm_term(&Z->S, i, j, term[0], c, Z->z + 2 * (i < 0 ? vi : vj));
 }
 
 /* Proximal steps and their weights: each step minimises
@@ -15870,20 +16000,6 @@ PW__DEF int pw_periodic_edge(const pw_periodic *P, const pw_periodic_zsys *Z, in
  * triangles.) */
 #define PW_PERIODIC_STEPS 4
 static const double pw_periodic_mu[PW_PERIODIC_STEPS] = {1e-5, 1e-3, 1e-2, 0.1};
-
-/* Where each row's diagonal entry sits in A (every row has one). */
-PW__DEF int pw_periodic_diag_index(const pw_alloc *a, const pw_zcsr *A, int **out, pw_err *e)
-{
-    int i, k, *d = (int *)pw_alloc_array(a, (size_t)A->n, sizeof(int), "PGP", e);
-    *out = d;
-    if (!d) return PW_ERR_NOMEM;
-    for (i = 0; i < A->n; i++)
-        for (d[i] = -1, k = A->rowptr[i]; k < A->rowptr[i + 1]; k++)
-            if (A->col[k] == i) d[i] = k;
-    for (i = 0; i < A->n; i++)
-        if (d[i] < 0) return pw_fail(e, PW_ERR_INVALID, "PGP: row %d has no diagonal", i);
-    return PW_OK;
-}
 
 /* A first estimate: z carried from the fixed vertices along a breadth-first
  * tree, z_j = e^{i alpha_ij} z_i, i.e. the field integrated along the tree. */
@@ -15942,53 +16058,41 @@ PW__DEF int pw_periodic_propagate(pw_periodic *P, double *z, const int *id, int 
 }
 
 /* Solves for the unit complex numbers z (nv*2) of coordinate k at the free
- * vertices (id >= 0, n of them), the others fixed. */
-PW__DEF int pw_periodic_solve_k(pw_periodic *P, double *z, const int *id, int n, int k, pw_err *e)
+ * vertices (Z->id >= 0, n of them), the others fixed; Z->S holds the
+ * structure (pw_zasm_init with pw_periodic_pair). */
+PW__DEF int pw_periodic_solve_k(pw_periodic *P, pw_periodic_zsys *Z, double *z, int n, int k, pw_err *e)
 {
-    double *b = (double *)pw_calloc_array(&P->a, (size_t)n * 5, sizeof(double), "PGP", e);
-    double *x = b + 2 * n, *dg = b + 4 * n, *rhs = NULL;
-    int *dpos = NULL;
-    pw_triplets t;
-    pw_zcsr A;
+    double *x = (double *)pw_alloc_array(&P->a, (size_t)n * 5, sizeof(double), "PGP", e);
+    double *dg = x + 2 * n, *rhs = x + 3 * n, *b = Z->S.b;
+    const int *id = Z->id;
+    pw_zcsr *A = &Z->S.A;
     pw_zamg M;
     pw_cg_options o = pw_cg_default_options();
-    pw_periodic_zsys Z;
-    int v, h, q, step, multigrid = 0, r = b ? PW_OK : PW_ERR_NOMEM;
-    Z.z = z;
-    Z.id = id;
-    Z.k = k;
-    Z.t = &t;
-    Z.b = b;
-    Z.P = P;
-    Z.edge = (double *)pw_alloc_array(&P->a, 9 * (size_t)P->m.nf + 1, sizeof(double), "PGP", e);
-    if (!Z.edge) r = PW_ERR_NOMEM;
-    else pw__zfor(&P->run, P->m.nf, pw__zblocks(P->m.nf), pw_periodic_edge_terms, &Z);
-    memset(&t, 0, sizeof t);
-    memset(&A, 0, sizeof A);
-    if (r == PW_OK) r = pw_triplets_init(&t, &P->a, n, 2 * n, e);
+    int v, h, q, step, multigrid = 0, r = x ? PW_OK : PW_ERR_NOMEM;
+    Z->z = z;
+    Z->k = k;
+    Z->edge = (double *)pw_alloc_array(&P->a, 9 * (size_t)P->m.nf + 1, sizeof(double), "PGP", e);
+    if (!Z->edge) r = PW_ERR_NOMEM;
+    else pw__zfor(&P->run, P->m.nf, pw__zblocks(P->m.nf), pw_periodic_edge_terms, Z);
+    memset(A->val, 0, sizeof(double) * 2 * (size_t)A->rowptr[n]);
+    memset(b, 0, sizeof(double) * 2 * (size_t)n);
+    Z->S.next = 0;
     for (h = 0; r == PW_OK && h < 3 * P->m.nf; h++)
-        if (P->m.hm.twin[h] < h) r = pw_periodic_edge(P, &Z, h, e); /* each edge once */
-    pw_free(&P->a, Z.edge);
-    Z.edge = NULL;
-    for (q = 0; r == PW_OK && q < t.count; q++) /* the (real) diagonal of F's matrix */
-        if (t.col[q] == 2 * t.row[q]) dg[t.row[q]] += t.val[q];
+        if (P->m.hm.twin[h] < h) pw_periodic_edge(P, Z, h); /* each edge once */
+    pw_free(&P->a, Z->edge);
+    Z->edge = NULL;
+    for (q = 0; r == PW_OK && q < n; q++) dg[q] = A->val[2 * Z->S.dpos[q]]; /* the (real) diagonal of F's matrix */
     if (r == PW_OK) r = pw_periodic_propagate(P, z, id, k, e);
-    if (r == PW_OK && (r = pw_zcsr_from_triplets(&P->a, &t, &A, e)) == PW_OK) {
-        A.run = &P->run;
-        r = pw_periodic_diag_index(&P->a, &A, &dpos, e);
-    }
-    if (r == PW_OK && !(rhs = (double *)pw_alloc_array(&P->a, (size_t)n * 2, sizeof(double), "PGP", e)))
-        r = PW_ERR_NOMEM;
     o.max_iter = 4000;
     memset(&M, 0, sizeof M);
     for (step = 0; r == PW_OK && step < PW_PERIODIC_STEPS; step++) {
         double mu = pw_periodic_mu[step];
-        for (q = 0; q < n; q++) A.val[2 * dpos[q]] = dg[q] * (1.0 + mu);
-        if (step == 0 && pw_zamg_pays(&A)) { /* one hierarchy for the steps that need it */
+        for (q = 0; q < n; q++) A->val[2 * Z->S.dpos[q]] = dg[q] * (1.0 + mu);
+        if (step == 0 && pw_zamg_pays(A)) { /* one hierarchy for the steps that need it */
             pw_err se;
             int sr;
             pw_err_clear(&se);
-            sr = pw_zamg_setup(&P->a, &A, &M, &se);
+            sr = pw_zamg_setup(&P->a, A, &M, &se);
             multigrid = sr == PW_OK;
             if (sr != PW_OK && sr != PW_ERR_INVALID) r = pw_fail(e, sr, "%s", se.msg); /* INVALID: IC(0) instead */
         }
@@ -16002,8 +16106,8 @@ PW__DEF int pw_periodic_solve_k(pw_periodic *P, double *z, const int *id, int n,
         o.tol = step < PW_PERIODIC_STEPS - 1 ? 1e-3 : 1e-4; /* each step is normalised: no need for more */
         /* the steps' matrices differ in the diagonal only: level 0 sees it, the coarse levels need not */
         if (r == PW_OK)
-            r = multigrid && pw_zamg_pays(&A) ? pw_zamg_solve(&P->a, &A, &M, rhs, x, &o, NULL, e)
-                                              : pw_zic0_solve(&P->a, &A, rhs, x, &o, e);
+            r = multigrid && pw_zamg_pays(A) ? pw_zamg_solve(&P->a, A, &M, rhs, x, &o, NULL, e)
+                                             : pw_zic0_solve(&P->a, A, rhs, x, &o, e);
         for (v = 0; r == PW_OK && v < P->m.nv; v++)
             if ((q = id[v]) >= 0) {
                 double zz[2];
@@ -16016,11 +16120,7 @@ PW__DEF int pw_periodic_solve_k(pw_periodic *P, double *z, const int *id, int n,
             }
     }
     if (multigrid) pw_zamg_free(&P->a, &M);
-    pw_free(&P->a, dpos);
-    pw_zcsr_free(&P->a, &A);
-    pw_triplets_free(&t);
-    pw_free(&P->a, b);
-    pw_free(&P->a, rhs);
+    pw_free(&P->a, x);
     return r;
 }
 
@@ -16033,6 +16133,14 @@ PW__DEF int pw_periodic_solve(pw_periodic *P, const unsigned char *vfree, int wh
     int *comp = (int *)pw_calloc_array(&P->a, (size_t)P->m.nf * 2, sizeof(int), "PGP", e);
     unsigned char *lock = (unsigned char *)pw_calloc_array(&P->a, (size_t)P->m.nv, 1, "PGP", e);
     int n = 0, v, f, c, nc = 0, r = id && comp && lock ? PW_OK : PW_ERR_NOMEM;
+    pw_periodic_zsys Z;
+    pw_zpairs pr;
+    memset(&Z, 0, sizeof Z);
+    Z.id = id;
+    Z.P = P;
+    pr.count = 3 * P->m.nf;
+    pr.pair = pw_periodic_pair;
+    pr.ctx = &Z;
     if (r == PW_OK && whole) r = pw_hmesh_components(&P->a, &P->m.hm, comp, &nc, e);
     for (f = 0; r == PW_OK && whole && f < P->m.nf; f++) /* the first triangle of each component */
         if (!comp[P->m.nf + comp[f]]) {
@@ -16049,10 +16157,15 @@ PW__DEF int pw_periodic_solve(pw_periodic *P, const unsigned char *vfree, int wh
             P->zs[2 * v + 1] = P->zt[2 * v + 1] = 0.0;
         }
     }
-    if (r == PW_OK && n > 0) r = pw_periodic_solve_k(P, P->zs, id, n, 0, e);
-    if (r == PW_OK && n > 0) r = pw_periodic_solve_k(P, P->zt, id, n, 1, e);
-    pw_free(&P->a, id);
     pw_free(&P->a, comp);
+    if (r == PW_OK && n > 0) r = pw_zasm_init(&P->a, &Z.S, n, &pr, e);
+    if (r == PW_OK && n > 0) {
+        Z.S.A.run = &P->run;
+        r = pw_periodic_solve_k(P, &Z, P->zs, n, 0, e);
+    }
+    if (r == PW_OK && n > 0) r = pw_periodic_solve_k(P, &Z, P->zt, n, 1, e);
+    pw_zasm_free(&P->a, &Z.S);
+    pw_free(&P->a, id);
     pw_free(&P->a, lock);
     return r;
 }

@@ -159,17 +159,6 @@ PW__DEF int pw__zamg_aggregate(const pw_zcsr *A, const double *d, int *agg, doub
 
 /* ---- sparse products -------------------------------------------------------- */
 
-/* Sorts the first n ints of v (short rows: insertion sort). */
-PW__DEF void pw__zamg_sort(int *v, int n)
-{
-    int i, j;
-    for (i = 1; i < n; i++) {
-        int x = v[i];
-        for (j = i; j > 0 && v[j - 1] > x; j--) v[j] = v[j - 1];
-        v[j] = x;
-    }
-}
-
 /* Scratch of a row-by-row product: per column of the result, its slot in
  * the row being built (-1: none) and its sum; the row's columns. */
 typedef struct pw__zamg_acc {
@@ -217,7 +206,7 @@ PW__DEF void pw__zamg_acc_add(pw__zamg_acc *w, int c, double re, double im)
 PW__DEF void pw__zamg_acc_flush(pw__zamg_acc *w, int *col, double *val, int *nnz)
 {
     int m;
-    pw__zamg_sort(w->list, w->cnt);
+    pw__zsort(w->list, w->cnt);
     for (m = 0; m < w->cnt; m++) {
         int c = w->list[m];
         if (col) {
