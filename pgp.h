@@ -17,36 +17,36 @@
  *   6439: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
  *   8100: src/common/zsparse.h, complex Hermitian sparse systems, solved by conjugate grad
  *   8600: src/common/zamg.h, a smoothed-aggregation multigrid preconditioner for the co
- *   9409: src/common/raster.h, exact scan conversion of 2D triangles.
- *   9921: src/common/parallel.h, a parallel for, the one way work is split across threads.
- *  10245: src/common/render.h, a small deterministic software renderer for textured trian
- *  12409: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
- *  12606: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
- *  12691: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
- *  12880: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
- *  13800: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
- *  14498: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
- *  14734: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
- *  15498: src/common/periodic.h, the periodic global parameterization of a triangle mesh al
- *  16336: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
- *  17097: src/pgp/tile3.h, sampling a material-space tile (Ray et al. 2009, §2: "a 3
- *  17205: src/common/glue.h, what every method header needs between its public types an
- *  17541: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  18205: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
- *  18702: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
- *  19188: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
- *  19331: src/common/kdtree.h, nearest-neighbour search among n points of dimension d, wi
- *  19674: src/common/pca.h, principal component analysis of vectors streamed one at a 
- *  19861: src/pgp/core.c, pgp.h's glue to the shared core, its defaults, and the map
- *  20075: src/pgp/field.c, §2.1 effect areas and §2.2 interpolation of the constrai
- *  20274: src/pgp/solve.c, §2.3 the periodic global parameterization, the recovery o
- *  20817: src/pgp/edit.c, the public editing calls of a mapping. §2.1 (Ray, Lévy, 
- *  20962: src/pgp/render.c, §3 rendering, and a cleaner treatment of the vortices.
- *  21324: src/pgp/builtin.c, built-in meshes and material-space tiles for demos and tes
- *  21593: src/pgp/io.c, files and memory for pgp.h: material-space tiles (NRRD, or
- *  21941: src/pgp/export.c, the mapping for other programs. A viewer that knows nothin
- *  22167: src/pgp/morph.c, the inputs of §1 (keys brought to the tile size, made til
- *  22846: src/pgp/synth.c, §1.2 constrained tile synthesis, and the whole of §1: ke
+ *   9451: src/common/raster.h, exact scan conversion of 2D triangles.
+ *   9963: src/common/parallel.h, a parallel for, the one way work is split across threads.
+ *  10287: src/common/render.h, a small deterministic software renderer for textured trian
+ *  12451: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
+ *  12648: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
+ *  12733: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
+ *  12922: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
+ *  13842: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
+ *  14540: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
+ *  14776: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
+ *  15540: src/common/periodic.h, the periodic global parameterization of a triangle mesh al
+ *  16378: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
+ *  17139: src/pgp/tile3.h, sampling a material-space tile (Ray et al. 2009, §2: "a 3
+ *  17247: src/common/glue.h, what every method header needs between its public types an
+ *  17583: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  18247: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
+ *  18744: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
+ *  19230: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
+ *  19373: src/common/kdtree.h, nearest-neighbour search among n points of dimension d, wi
+ *  19716: src/common/pca.h, principal component analysis of vectors streamed one at a 
+ *  19903: src/pgp/core.c, pgp.h's glue to the shared core, its defaults, and the map
+ *  20117: src/pgp/field.c, §2.1 effect areas and §2.2 interpolation of the constrai
+ *  20316: src/pgp/solve.c, §2.3 the periodic global parameterization, the recovery o
+ *  20859: src/pgp/edit.c, the public editing calls of a mapping. §2.1 (Ray, Lévy, 
+ *  21004: src/pgp/render.c, §3 rendering, and a cleaner treatment of the vortices.
+ *  21366: src/pgp/builtin.c, built-in meshes and material-space tiles for demos and tes
+ *  21635: src/pgp/io.c, files and memory for pgp.h: material-space tiles (NRRD, or
+ *  21983: src/pgp/export.c, the mapping for other programs. A viewer that knows nothin
+ *  22209: src/pgp/morph.c, the inputs of §1 (keys brought to the tile size, made til
+ *  22888: src/pgp/synth.c, §1.2 constrained tile synthesis, and the whole of §1: ke
  */
 /* pgp.h - material-space texturing with a periodic global parameterization.
  *
@@ -8801,18 +8801,16 @@ PW__DEF void pw__zamg_acc_add(pw__zamg_acc *w, int c, double re, double im)
 }
 
 /* Ends the row: its entries, columns increasing, into (col, val) from
- * position *nnz on (or only counted when col is NULL). */
+ * position *nnz on. */
 PW__DEF void pw__zamg_acc_flush(pw__zamg_acc *w, int *col, double *val, int *nnz)
 {
     int m;
     pw__zsort(w->list, w->cnt);
     for (m = 0; m < w->cnt; m++) {
         int c = w->list[m];
-        if (col) {
-            col[*nnz] = c;
-            val[2 * *nnz] = w->sum[2 * c];
-            val[2 * *nnz + 1] = w->sum[2 * c + 1];
-        }
+        col[*nnz] = c;
+        val[2 * *nnz] = w->sum[2 * c];
+        val[2 * *nnz + 1] = w->sum[2 * c + 1];
         ++*nnz;
         w->mark[c] = -1;
     }
@@ -8820,11 +8818,14 @@ PW__DEF void pw__zamg_acc_flush(pw__zamg_acc *w, int *col, double *val, int *nnz
 }
 
 /* A sparse matrix built row by row: row(ctx, i, w) adds the entries of
- * row i to w (columns below ncols). pw__zamg_rows builds it in two
- * passes on run, by blocks of rows each with its own scratch: count, then
- * fill; each row is the same as built alone. */
+ * row i to w (columns below ncols), which are at most bound(ctx, i).
+ * pw__zamg_rows builds it in one pass on run, by blocks of rows each with
+ * its own scratch, each block writing its rows from where the bounds of
+ * the rows before it end; the blocks then close up, in order. Each row
+ * is the same as built alone. */
 typedef struct pw__zamg_rowjob {
     void (*row)(const void *ctx, int i, pw__zamg_acc *w);
+    int (*bound)(const void *ctx, int i);
     const void *ctx;
     const pw_zrun *run;
     int n;
@@ -8834,21 +8835,21 @@ typedef struct pw__zamg_pass {
     const pw__zamg_rowjob *job;
     pw_zcsr *C;
     pw__zamg_acc *w;
+    size_t start[PW__ZBLOCKS + 1]; /* where each block's rows go */
     int nb;
 } pw__zamg_pass;
 
-/* One pass over block b: each row's entries counted into C->rowptr[i + 1]
- * (C->col NULL) or written from C->rowptr[i] on. */
+/* Block b's rows, from p->start[b] on; row i's count into C->rowptr[i + 1]. */
 PW__DEF void pw__zamg_pass_block(void *ctx, int b)
 {
     const pw__zamg_pass *p = (const pw__zamg_pass *)ctx;
     pw_zcsr *C = p->C;
-    int i, hi = pw__zblock_start(C->n, p->nb, b + 1);
+    int i, nnz = (int)p->start[b], hi = pw__zblock_start(C->n, p->nb, b + 1);
     for (i = pw__zblock_start(C->n, p->nb, b); i < hi; i++) {
-        int nnz = C->col ? C->rowptr[i] : 0;
+        int at = nnz;
         p->job->row(p->job->ctx, i, &p->w[b]);
         pw__zamg_acc_flush(&p->w[b], C->col, C->val, &nnz);
-        if (!C->col) C->rowptr[i + 1] = nnz;
+        C->rowptr[i + 1] = nnz - at;
     }
 }
 
@@ -8857,27 +8858,48 @@ PW__DEF int pw__zamg_rows(const pw_alloc *a, const pw__zamg_rowjob *job, int nco
     pw__zamg_acc w[PW__ZBLOCKS];
     pw__zamg_pass p;
     int i, b, r = PW_OK;
+    size_t at = 0;
     memset(C, 0, sizeof *C);
     p.job = job;
     p.C = C;
     p.w = w;
     p.nb = pw__zblocks(job->n);
-    for (b = 0; b < p.nb; b++) /* (a failed init has freed its own) */
+    for (b = 0, p.start[0] = 0; b < p.nb; b++) { /* (a failed init has freed its own) */
+        int hi = pw__zblock_start(job->n, p.nb, b + 1);
         if (r != PW_OK || (r = pw__zamg_acc_init(a, ncols, &w[b], e)) != PW_OK) memset(&w[b], 0, sizeof w[b]);
+        for (p.start[b + 1] = p.start[b], i = pw__zblock_start(job->n, p.nb, b); i < hi; i++) {
+            int m = job->bound(job->ctx, i);
+            p.start[b + 1] += (size_t)(m < ncols ? m : ncols);
+        }
+    }
+    if (r == PW_OK && p.start[p.nb] > (size_t)INT_MAX) r = pw_fail(e, PW_ERR_LIMIT, "multigrid: a product too large");
     C->n = job->n;
     C->rowptr = (int *)pw_alloc_array(a, (size_t)job->n + 1, sizeof(int), "multigrid matrix", e);
-    if (r == PW_OK && C->rowptr) {
+    C->col = (int *)pw_alloc_array(a, p.start[p.nb] + 1, sizeof(int), "multigrid matrix", e);
+    C->val = (double *)pw_alloc_array(a, 2 * p.start[p.nb] + 2, sizeof(double), "multigrid matrix", e);
+    if (r == PW_OK && C->rowptr && C->col && C->val) {
         pw__zfor(job->run, job->n, p.nb, pw__zamg_pass_block, &p);
+        for (b = 0; b < p.nb; b++) { /* close up, and the row pointers */
+            int lo = pw__zblock_start(job->n, p.nb, b), hi = pw__zblock_start(job->n, p.nb, b + 1);
+            size_t cnt = 0;
+            for (i = lo; i < hi; i++) cnt += (size_t)C->rowptr[i + 1];
+            memmove(C->col + at, C->col + p.start[b], cnt * sizeof(int));
+            memmove(C->val + 2 * at, C->val + 2 * p.start[b], 2 * cnt * sizeof(double));
+            at += cnt;
+        }
         C->rowptr[0] = 0;
         for (i = 0; i < job->n; i++) C->rowptr[i + 1] += C->rowptr[i];
-        C->col = (int *)pw_alloc_array(a, (size_t)C->rowptr[job->n] + 1, sizeof(int), "multigrid matrix", e);
-        C->val = (double *)pw_alloc_array(a, 2 * (size_t)C->rowptr[job->n] + 2, sizeof(double), "multigrid matrix", e);
-        if (C->col && C->val) pw__zfor(job->run, job->n, p.nb, pw__zamg_pass_block, &p);
     }
     for (b = 0; b < p.nb; b++) pw__zamg_acc_free(a, &w[b]);
     if (r != PW_OK || !C->rowptr || !C->col || !C->val) {
         pw_zcsr_free(a, C);
-        return PW_ERR_NOMEM;
+        return r != PW_OK ? r : PW_ERR_NOMEM;
+    }
+    {
+        void *q = pw_realloc(a, C->col, (at + 1) * sizeof(int)); /* the bounds' slack back (kept if this fails) */
+        if (q) C->col = (int *)q;
+        q = pw_realloc(a, C->val, (2 * at + 2) * sizeof(double));
+        if (q) C->val = (double *)q;
     }
     return PW_OK;
 }
@@ -8903,6 +8925,16 @@ PW__DEF void pw__zamg_prod_row(const void *ctx, int i, pw__zamg_acc *w)
     }
 }
 
+/* The entries of row i of X Y at most: those of the rows of Y it sums. */
+PW__DEF int pw__zamg_prod_bound(const void *ctx, int i)
+{
+    const pw__zamg_prod *p = (const pw__zamg_prod *)ctx;
+    int k, m = 0;
+    for (k = p->X->rowptr[i]; k < p->X->rowptr[i + 1]; k++)
+        m += p->Y->rowptr[p->X->col[k] + 1] - p->Y->rowptr[p->X->col[k]];
+    return m;
+}
+
 /* C = X Y for complex CSR X and Y of ncols columns; C gets C->n = X->n
  * rows (on X's run). */
 PW__DEF int pw__zamg_mul(const pw_alloc *a, const pw_zcsr *X, const pw_zcsr *Y, int ncols, pw_zcsr *C, pw_err *e)
@@ -8912,6 +8944,7 @@ PW__DEF int pw__zamg_mul(const pw_alloc *a, const pw_zcsr *X, const pw_zcsr *Y, 
     p.X = X;
     p.Y = Y;
     job.row = pw__zamg_prod_row;
+    job.bound = pw__zamg_prod_bound;
     job.ctx = &p;
     job.run = X->run;
     job.n = X->n;
@@ -8971,6 +9004,14 @@ PW__DEF void pw__zamg_prolong_row(const void *ctx, int i, pw__zamg_acc *w)
     }
 }
 
+/* The entries of row i of P at most: one per entry of A's row i, and
+ * its own aggregate. */
+PW__DEF int pw__zamg_prolong_bound(const void *ctx, int i)
+{
+    const pw_zcsr *A = ((const pw__zamg_smooth *)ctx)->A;
+    return A->rowptr[i + 1] - A->rowptr[i] + 1;
+}
+
 /* The smoothed prolongation P = (I - omega D^-1 A) P_t of level L (n x nc),
  * P_t given by agg and ph (pw__zamg_aggregate), into P. */
 PW__DEF int pw__zamg_prolong(const pw_alloc *a, const pw__zamg_level *L, const int *agg, const double *ph,
@@ -8983,6 +9024,7 @@ PW__DEF int pw__zamg_prolong(const pw_alloc *a, const pw__zamg_level *L, const i
     m.ph = ph;
     m.d = d;
     job.row = pw__zamg_prolong_row;
+    job.bound = pw__zamg_prolong_bound;
     job.ctx = &m;
     job.run = L->A.run;
     job.n = L->A.n;

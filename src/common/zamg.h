@@ -202,18 +202,16 @@ PW__DEF void pw__zamg_acc_add(pw__zamg_acc *w, int c, double re, double im)
 }
 
 /* Ends the row: its entries, columns increasing, into (col, val) from
- * position *nnz on (or only counted when col is NULL). */
+ * position *nnz on. */
 PW__DEF void pw__zamg_acc_flush(pw__zamg_acc *w, int *col, double *val, int *nnz)
 {
     int m;
     pw__zsort(w->list, w->cnt);
     for (m = 0; m < w->cnt; m++) {
         int c = w->list[m];
-        if (col) {
-            col[*nnz] = c;
-            val[2 * *nnz] = w->sum[2 * c];
-            val[2 * *nnz + 1] = w->sum[2 * c + 1];
-        }
+        col[*nnz] = c;
+        val[2 * *nnz] = w->sum[2 * c];
+        val[2 * *nnz + 1] = w->sum[2 * c + 1];
         ++*nnz;
         w->mark[c] = -1;
     }
@@ -221,11 +219,14 @@ PW__DEF void pw__zamg_acc_flush(pw__zamg_acc *w, int *col, double *val, int *nnz
 }
 
 /* A sparse matrix built row by row: row(ctx, i, w) adds the entries of
- * row i to w (columns below ncols). pw__zamg_rows builds it in two
- * passes on run, by blocks of rows each with its own scratch: count, then
- * fill; each row is the same as built alone. */
+ * row i to w (columns below ncols), which are at most bound(ctx, i).
+ * pw__zamg_rows builds it in one pass on run, by blocks of rows each with
+ * its own scratch, each block writing its rows from where the bounds of
+ * the rows before it end; the blocks then close up, in order. Each row
+ * is the same as built alone. */
 typedef struct pw__zamg_rowjob {
     void (*row)(const void *ctx, int i, pw__zamg_acc *w);
+    int (*bound)(const void *ctx, int i);
     const void *ctx;
     const pw_zrun *run;
     int n;
@@ -235,21 +236,21 @@ typedef struct pw__zamg_pass {
     const pw__zamg_rowjob *job;
     pw_zcsr *C;
     pw__zamg_acc *w;
+    size_t start[PW__ZBLOCKS + 1]; /* where each block's rows go */
     int nb;
 } pw__zamg_pass;
 
-/* One pass over block b: each row's entries counted into C->rowptr[i + 1]
- * (C->col NULL) or written from C->rowptr[i] on. */
+/* Block b's rows, from p->start[b] on; row i's count into C->rowptr[i + 1]. */
 PW__DEF void pw__zamg_pass_block(void *ctx, int b)
 {
     const pw__zamg_pass *p = (const pw__zamg_pass *)ctx;
     pw_zcsr *C = p->C;
-    int i, hi = pw__zblock_start(C->n, p->nb, b + 1);
+    int i, nnz = (int)p->start[b], hi = pw__zblock_start(C->n, p->nb, b + 1);
     for (i = pw__zblock_start(C->n, p->nb, b); i < hi; i++) {
-        int nnz = C->col ? C->rowptr[i] : 0;
+        int at = nnz;
         p->job->row(p->job->ctx, i, &p->w[b]);
         pw__zamg_acc_flush(&p->w[b], C->col, C->val, &nnz);
-        if (!C->col) C->rowptr[i + 1] = nnz;
+        C->rowptr[i + 1] = nnz - at;
     }
 }
 
@@ -258,27 +259,48 @@ PW__DEF int pw__zamg_rows(const pw_alloc *a, const pw__zamg_rowjob *job, int nco
     pw__zamg_acc w[PW__ZBLOCKS];
     pw__zamg_pass p;
     int i, b, r = PW_OK;
+    size_t at = 0;
     memset(C, 0, sizeof *C);
     p.job = job;
     p.C = C;
     p.w = w;
     p.nb = pw__zblocks(job->n);
-    for (b = 0; b < p.nb; b++) /* (a failed init has freed its own) */
+    for (b = 0, p.start[0] = 0; b < p.nb; b++) { /* (a failed init has freed its own) */
+        int hi = pw__zblock_start(job->n, p.nb, b + 1);
         if (r != PW_OK || (r = pw__zamg_acc_init(a, ncols, &w[b], e)) != PW_OK) memset(&w[b], 0, sizeof w[b]);
+        for (p.start[b + 1] = p.start[b], i = pw__zblock_start(job->n, p.nb, b); i < hi; i++) {
+            int m = job->bound(job->ctx, i);
+            p.start[b + 1] += (size_t)(m < ncols ? m : ncols);
+        }
+    }
+    if (r == PW_OK && p.start[p.nb] > (size_t)INT_MAX) r = pw_fail(e, PW_ERR_LIMIT, "multigrid: a product too large");
     C->n = job->n;
     C->rowptr = (int *)pw_alloc_array(a, (size_t)job->n + 1, sizeof(int), "multigrid matrix", e);
-    if (r == PW_OK && C->rowptr) {
+    C->col = (int *)pw_alloc_array(a, p.start[p.nb] + 1, sizeof(int), "multigrid matrix", e);
+    C->val = (double *)pw_alloc_array(a, 2 * p.start[p.nb] + 2, sizeof(double), "multigrid matrix", e);
+    if (r == PW_OK && C->rowptr && C->col && C->val) {
         pw__zfor(job->run, job->n, p.nb, pw__zamg_pass_block, &p);
+        for (b = 0; b < p.nb; b++) { /* close up, and the row pointers */
+            int lo = pw__zblock_start(job->n, p.nb, b), hi = pw__zblock_start(job->n, p.nb, b + 1);
+            size_t cnt = 0;
+            for (i = lo; i < hi; i++) cnt += (size_t)C->rowptr[i + 1];
+            memmove(C->col + at, C->col + p.start[b], cnt * sizeof(int));
+            memmove(C->val + 2 * at, C->val + 2 * p.start[b], 2 * cnt * sizeof(double));
+            at += cnt;
+        }
         C->rowptr[0] = 0;
         for (i = 0; i < job->n; i++) C->rowptr[i + 1] += C->rowptr[i];
-        C->col = (int *)pw_alloc_array(a, (size_t)C->rowptr[job->n] + 1, sizeof(int), "multigrid matrix", e);
-        C->val = (double *)pw_alloc_array(a, 2 * (size_t)C->rowptr[job->n] + 2, sizeof(double), "multigrid matrix", e);
-        if (C->col && C->val) pw__zfor(job->run, job->n, p.nb, pw__zamg_pass_block, &p);
     }
     for (b = 0; b < p.nb; b++) pw__zamg_acc_free(a, &w[b]);
     if (r != PW_OK || !C->rowptr || !C->col || !C->val) {
         pw_zcsr_free(a, C);
-        return PW_ERR_NOMEM;
+        return r != PW_OK ? r : PW_ERR_NOMEM;
+    }
+    {
+        void *q = pw_realloc(a, C->col, (at + 1) * sizeof(int)); /* the bounds' slack back (kept if this fails) */
+        if (q) C->col = (int *)q;
+        q = pw_realloc(a, C->val, (2 * at + 2) * sizeof(double));
+        if (q) C->val = (double *)q;
     }
     return PW_OK;
 }
@@ -304,6 +326,16 @@ PW__DEF void pw__zamg_prod_row(const void *ctx, int i, pw__zamg_acc *w)
     }
 }
 
+/* The entries of row i of X Y at most: those of the rows of Y it sums. */
+PW__DEF int pw__zamg_prod_bound(const void *ctx, int i)
+{
+    const pw__zamg_prod *p = (const pw__zamg_prod *)ctx;
+    int k, m = 0;
+    for (k = p->X->rowptr[i]; k < p->X->rowptr[i + 1]; k++)
+        m += p->Y->rowptr[p->X->col[k] + 1] - p->Y->rowptr[p->X->col[k]];
+    return m;
+}
+
 /* C = X Y for complex CSR X and Y of ncols columns; C gets C->n = X->n
  * rows (on X's run). */
 PW__DEF int pw__zamg_mul(const pw_alloc *a, const pw_zcsr *X, const pw_zcsr *Y, int ncols, pw_zcsr *C, pw_err *e)
@@ -313,6 +345,7 @@ PW__DEF int pw__zamg_mul(const pw_alloc *a, const pw_zcsr *X, const pw_zcsr *Y, 
     p.X = X;
     p.Y = Y;
     job.row = pw__zamg_prod_row;
+    job.bound = pw__zamg_prod_bound;
     job.ctx = &p;
     job.run = X->run;
     job.n = X->n;
@@ -372,6 +405,14 @@ PW__DEF void pw__zamg_prolong_row(const void *ctx, int i, pw__zamg_acc *w)
     }
 }
 
+/* The entries of row i of P at most: one per entry of A's row i, and
+ * its own aggregate. */
+PW__DEF int pw__zamg_prolong_bound(const void *ctx, int i)
+{
+    const pw_zcsr *A = ((const pw__zamg_smooth *)ctx)->A;
+    return A->rowptr[i + 1] - A->rowptr[i] + 1;
+}
+
 /* The smoothed prolongation P = (I - omega D^-1 A) P_t of level L (n x nc),
  * P_t given by agg and ph (pw__zamg_aggregate), into P. */
 PW__DEF int pw__zamg_prolong(const pw_alloc *a, const pw__zamg_level *L, const int *agg, const double *ph,
@@ -384,6 +425,7 @@ PW__DEF int pw__zamg_prolong(const pw_alloc *a, const pw__zamg_level *L, const i
     m.ph = ph;
     m.d = d;
     job.row = pw__zamg_prolong_row;
+    job.bound = pw__zamg_prolong_bound;
     job.ctx = &m;
     job.run = L->A.run;
     job.n = L->A.n;
