@@ -17,36 +17,36 @@
  *   6439: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
  *   8100: src/common/zsparse.h, complex Hermitian sparse systems, solved by conjugate grad
  *   8600: src/common/zamg.h, a smoothed-aggregation multigrid preconditioner for the co
- *   9451: src/common/raster.h, exact scan conversion of 2D triangles.
- *   9963: src/common/parallel.h, a parallel for, the one way work is split across threads.
- *  10287: src/common/render.h, a small deterministic software renderer for textured trian
- *  12451: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
- *  12648: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
- *  12733: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
- *  12922: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
- *  13842: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
- *  14540: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
- *  14776: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
- *  15540: src/common/periodic.h, the periodic global parameterization of a triangle mesh al
- *  16378: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
- *  17139: src/pgp/tile3.h, sampling a material-space tile (Ray et al. 2009, §2: "a 3
- *  17247: src/common/glue.h, what every method header needs between its public types an
- *  17583: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  18247: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
- *  18744: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
- *  19230: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
- *  19373: src/common/kdtree.h, nearest-neighbour search among n points of dimension d, wi
- *  19716: src/common/pca.h, principal component analysis of vectors streamed one at a 
- *  19903: src/pgp/core.c, pgp.h's glue to the shared core, its defaults, and the map
- *  20117: src/pgp/field.c, §2.1 effect areas and §2.2 interpolation of the constrai
- *  20316: src/pgp/solve.c, §2.3 the periodic global parameterization, the recovery o
- *  20859: src/pgp/edit.c, the public editing calls of a mapping. §2.1 (Ray, Lévy, 
- *  21004: src/pgp/render.c, §3 rendering, and a cleaner treatment of the vortices.
- *  21366: src/pgp/builtin.c, built-in meshes and material-space tiles for demos and tes
- *  21635: src/pgp/io.c, files and memory for pgp.h: material-space tiles (NRRD, or
- *  21983: src/pgp/export.c, the mapping for other programs. A viewer that knows nothin
- *  22209: src/pgp/morph.c, the inputs of §1 (keys brought to the tile size, made til
- *  22888: src/pgp/synth.c, §1.2 constrained tile synthesis, and the whole of §1: ke
+ *   9513: src/common/raster.h, exact scan conversion of 2D triangles.
+ *  10025: src/common/parallel.h, a parallel for, the one way work is split across threads.
+ *  10349: src/common/render.h, a small deterministic software renderer for textured trian
+ *  12513: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
+ *  12710: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
+ *  12795: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
+ *  12984: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
+ *  13904: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
+ *  14602: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
+ *  14838: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
+ *  15602: src/common/periodic.h, the periodic global parameterization of a triangle mesh al
+ *  16440: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
+ *  17201: src/pgp/tile3.h, sampling a material-space tile (Ray et al. 2009, §2: "a 3
+ *  17309: src/common/glue.h, what every method header needs between its public types an
+ *  17645: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  18309: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
+ *  18806: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
+ *  19292: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
+ *  19435: src/common/kdtree.h, nearest-neighbour search among n points of dimension d, wi
+ *  19778: src/common/pca.h, principal component analysis of vectors streamed one at a 
+ *  19965: src/pgp/core.c, pgp.h's glue to the shared core, its defaults, and the map
+ *  20179: src/pgp/field.c, §2.1 effect areas and §2.2 interpolation of the constrai
+ *  20378: src/pgp/solve.c, §2.3 the periodic global parameterization, the recovery o
+ *  20921: src/pgp/edit.c, the public editing calls of a mapping. §2.1 (Ray, Lévy, 
+ *  21066: src/pgp/render.c, §3 rendering, and a cleaner treatment of the vortices.
+ *  21428: src/pgp/builtin.c, built-in meshes and material-space tiles for demos and tes
+ *  21697: src/pgp/io.c, files and memory for pgp.h: material-space tiles (NRRD, or
+ *  22045: src/pgp/export.c, the mapping for other programs. A viewer that knows nothin
+ *  22271: src/pgp/morph.c, the inputs of §1 (keys brought to the tile size, made til
+ *  22950: src/pgp/synth.c, §1.2 constrained tile synthesis, and the whole of §1: ke
  */
 /* pgp.h - material-space texturing with a periodic global parameterization.
  *
@@ -8651,7 +8651,11 @@ PW__DEF int pw_zic0_solve(const pw_alloc *a, const pw_zcsr *A, const double *b, 
 /* One level: its matrix, the prolongation from the next (coarser) level's
  * unknowns (n x nc, complex CSR) and its adjoint (nc x n), the sums of
  * |a_ij| over each row's columns in other blocks (l1, n), and the cycle's
- * vectors (2n doubles). */
+ * vectors (2n doubles). The cycle streams the matrices from memory, so it
+ * reads them in single precision (av, pv, hv: A's, P's and P^H's values;
+ * the set-up's products are in double, whose values it then frees, but
+ * level 0's, the caller's): the cycle is a preconditioner, and CG's
+ * products and residuals stay in double. */
 typedef struct pw__zamg_level {
     pw_zcsr A;
     int nc;
@@ -8660,6 +8664,7 @@ typedef struct pw__zamg_level {
     pw_zcsr PH;
     double *l1;
     double *x, *b, *r;
+    float *av, *pv, *hv;
 } pw__zamg_level;
 
 typedef struct pw_zamg {
@@ -9166,6 +9171,9 @@ PW__DEF void pw_zamg_free(const pw_alloc *a, pw_zamg *M)
         pw_free(a, L->pcol);
         pw_free(a, L->pval);
         pw_zcsr_free(a, &L->PH);
+        pw_free(a, L->av);
+        pw_free(a, L->pv);
+        pw_free(a, L->hv);
         pw_free(a, L->l1);
         pw_free(a, L->x);
         pw_free(a, L->b);
@@ -9174,6 +9182,52 @@ PW__DEF void pw_zamg_free(const pw_alloc *a, pw_zamg *M)
     pw_free(a, M->chol);
     pw_free(a, M->cx);
     memset(M, 0, sizeof *M);
+}
+
+/* The single-precision copy of the 2 cnt values *v (for the cycle):
+ * *out, and *v freed unless keep. */
+PW__DEF int pw__zamg_single(const pw_alloc *a, double **v, size_t cnt, int keep, float **out, pw_err *e)
+{
+    size_t k;
+    *out = (float *)pw_alloc_array(a, 2 * cnt + 2, sizeof(float), "multigrid matrix", e);
+    if (!*out) return PW_ERR_NOMEM;
+    for (k = 0; k < 2 * cnt; k++) (*out)[k] = (float)(*v)[k];
+    if (!keep) {
+        pw_free(a, *v);
+        *v = NULL;
+    }
+    return PW_OK;
+}
+
+/* Level 0's single-precision values from A (the caller's matrix, whose
+ * values may have changed since the set-up: pgp's steps change its
+ * diagonal). */
+PW__DEF void pw__zamg_refresh(const pw_zamg *M, const pw_zcsr *A)
+{
+    size_t k, cnt = 2 * (size_t)A->rowptr[A->n];
+    float *av = M->lev[0].av;
+    if (!av) return; /* A is the coarsest level: no cycle reads it */
+    for (k = 0; k < cnt; k++) av[k] = (float)A->val[k];
+}
+
+/* The cycle's single-precision values: level 0's a copy of the caller's
+ * (refreshed by every solve), the others' in place of the doubles, which
+ * only the set-up needed. */
+PW__DEF int pw__zamg_singles(const pw_alloc *a, pw_zamg *M, pw_err *e)
+{
+    int l, r = PW_OK;
+    for (l = 0; l <= M->levels && r == PW_OK; l++) {
+        pw__zamg_level *L = &M->lev[l];
+        if (l == M->levels) { /* the coarsest: its factor is made */
+            pw_free(a, L->A.val);
+            L->A.val = NULL;
+            break;
+        }
+        r = pw__zamg_single(a, &L->pval, (size_t)L->prow[L->A.n], 0, &L->pv, e);
+        if (r == PW_OK) r = pw__zamg_single(a, &L->PH.val, (size_t)L->PH.rowptr[L->PH.n], 0, &L->hv, e);
+        if (r == PW_OK) r = pw__zamg_single(a, &L->A.val, (size_t)L->A.rowptr[L->A.n], l == 0, &L->av, e);
+    }
+    return r;
 }
 
 /* Builds the hierarchy of a Hermitian positive (semi)definite A whose
@@ -9212,6 +9266,7 @@ PW__DEF int pw_zamg_setup(const pw_alloc *a, const pw_zcsr *A, pw_zamg *M, pw_er
         if (pw__zamg_chol_try(&M->lev[l].A, shift, M->chol)) break;
     if (r == PW_OK && k == 40)
         r = pw_fail(e, PW_ERR_INVALID, "multigrid: the coarsest matrix is not positive definite");
+    if (r == PW_OK) r = pw__zamg_singles(a, M, e);
     if (r != PW_OK) pw_zamg_free(a, M);
     return r;
 }
@@ -9234,7 +9289,8 @@ PW__DEF void pw__zamg_pre(void *ctx, int b)
     for (i = lo; i < hi; i++) {
         double sr = rhs[2 * i], si = rhs[2 * i + 1], dr = 0.0;
         for (k = A->rowptr[i]; k < A->rowptr[i + 1] && A->col[k] <= i; k++) {
-            const double *v = A->val + 2 * k, *y = x + 2 * A->col[k];
+            const float *v = w->L->av + 2 * k;
+            const double *y = x + 2 * A->col[k];
             if (A->col[k] == i) dr = v[0];
             else if (A->col[k] >= lo) {
                 sr -= v[0] * y[0] - v[1] * y[1];
@@ -9261,7 +9317,8 @@ PW__DEF void pw__zamg_residual(void *ctx, int b)
     for (i = lo; i < hi; i++) {
         double sr = w->L->l1[i] * x[2 * i], si = w->L->l1[i] * x[2 * i + 1], d = 0.0;
         for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++) {
-            const double *v = A->val + 2 * k, *y = x + 2 * A->col[k];
+            const float *v = w->L->av + 2 * k;
+            const double *y = x + 2 * A->col[k];
             int j = A->col[k];
             if (j == i) d = v[0];
             else if (j > i || j < lo) {
@@ -9286,7 +9343,8 @@ PW__DEF void pw__zamg_restrict(void *ctx, int b)
     for (I = pw__zblock_start(H->n, w->nb, b); I < hi; I++) {
         double sr = 0.0, si = 0.0;
         for (k = H->rowptr[I]; k < H->rowptr[I + 1]; k++) {
-            const double *h = H->val + 2 * k, *y = r + 2 * H->col[k];
+            const float *h = w->L->hv + 2 * k;
+            const double *y = r + 2 * H->col[k];
             sr += h[0] * y[0] - h[1] * y[1];
             si += h[0] * y[1] + h[1] * y[0];
         }
@@ -9306,7 +9364,8 @@ PW__DEF void pw__zamg_prolong_add(void *ctx, int b)
     for (i = pw__zblock_start(L->A.n, w->nb, b); i < hi; i++) {
         double sr = L->x[2 * i], si = L->x[2 * i + 1];
         for (k = L->prow[i]; k < L->prow[i + 1]; k++) {
-            const double *p = L->pval + 2 * k, *y = xc + 2 * L->pcol[k];
+            const float *p = L->pv + 2 * k;
+            const double *y = xc + 2 * L->pcol[k];
             sr += p[0] * y[0] - p[1] * y[1];
             si += p[0] * y[1] + p[1] * y[0];
         }
@@ -9328,7 +9387,8 @@ PW__DEF void pw__zamg_post(void *ctx, int b)
         double sr = rhs[2 * i] + w->L->l1[i] * x[2 * i], si = rhs[2 * i + 1] + w->L->l1[i] * x[2 * i + 1], dr = 0.0;
         for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++) {
             int j = A->col[k];
-            const double *v = A->val + 2 * k, *y = (j >= lo && j < hi ? x : old) + 2 * j;
+            const float *v = w->L->av + 2 * k;
+            const double *y = (j >= lo && j < hi ? x : old) + 2 * j;
             if (j == i) {
                 dr = v[0];
                 continue;
@@ -9366,7 +9426,8 @@ PW__DEF void pw__zamg_cycle(const pw_zamg *M, int l)
     pw__zfor(L->A.run, n, w.nb, pw__zamg_post, &w);
 }
 
-/* z = one V-cycle applied to r (2n doubles each). */
+/* z = one V-cycle applied to r (2n doubles each), with level 0's values
+ * as the last set-up or solve saw them. */
 PW__DEF void pw_zamg_apply(const pw_zamg *M, const double *r, double *z)
 {
     const pw__zamg_level *L = &M->lev[0];
@@ -9389,6 +9450,7 @@ PW__DEF int pw_zamg_solve(const pw_alloc *a, const pw_zcsr *A, const pw_zamg *M,
     op.b = b;
     op.x = x;
     op.what = "multigrid PCG";
+    pw__zamg_refresh(M, A);
     return pw__zpcg_checked(a, &op, "zamg", o, s, e);
 }
 

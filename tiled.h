@@ -18,26 +18,26 @@
  *   6392: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
  *   8053: src/common/zsparse.h, complex Hermitian sparse systems, solved by conjugate grad
  *   8553: src/common/zamg.h, a smoothed-aggregation multigrid preconditioner for the co
- *   9404: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
- *   9601: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
- *   9686: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
- *  10450: src/common/periodic.h, the periodic global parameterization of a triangle mesh al
- *  11288: src/common/raster.h, exact scan conversion of 2D triangles.
- *  11802: src/common/parallel.h, a parallel for, the one way work is split across threads.
- *  12126: src/common/render.h, a small deterministic software renderer for textured trian
- *  14290: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
- *  14787: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
- *  15273: src/common/glue.h, what every method header needs between its public types an
- *  15609: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  16273: src/tiled/core.c, tiled.h's glue to the shared core, its defaults, result
- *  16362: src/tiled/layout.c, ch. III.1, the boundary types and the tiled texture they
- *  16634: src/tiled/cells.c, beyond the thesis (issue 23): tiles of a chosen size on an
- *  17552: src/tiled/map.c, ch. III.2, the texture mapping algorithm of Fig. 29
- *  17821: src/tiled/synth.c, ch. III.1.3, tiled texture image synthesis: an edge-matche
- *  18267: src/tiled/validate.c, checks a hand-made tiled texture (the thesis's Figs. 39,
- *  18395: src/tiled/builtin.c, built-in meshes and exemplars for demos and tests: the
- *  18592: src/tiled/render.c, a software rendering of a mapped mesh (the thesis rendered
- *  18816: src/tiled/io.c, files. Meshes and exemplars in; the mapped mesh with its t
+ *   9466: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
+ *   9663: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
+ *   9748: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
+ *  10512: src/common/periodic.h, the periodic global parameterization of a triangle mesh al
+ *  11350: src/common/raster.h, exact scan conversion of 2D triangles.
+ *  11864: src/common/parallel.h, a parallel for, the one way work is split across threads.
+ *  12188: src/common/render.h, a small deterministic software renderer for textured trian
+ *  14352: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
+ *  14849: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
+ *  15335: src/common/glue.h, what every method header needs between its public types an
+ *  15671: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  16335: src/tiled/core.c, tiled.h's glue to the shared core, its defaults, result
+ *  16424: src/tiled/layout.c, ch. III.1, the boundary types and the tiled texture they
+ *  16696: src/tiled/cells.c, beyond the thesis (issue 23): tiles of a chosen size on an
+ *  17614: src/tiled/map.c, ch. III.2, the texture mapping algorithm of Fig. 29
+ *  17883: src/tiled/synth.c, ch. III.1.3, tiled texture image synthesis: an edge-matche
+ *  18329: src/tiled/validate.c, checks a hand-made tiled texture (the thesis's Figs. 39,
+ *  18457: src/tiled/builtin.c, built-in meshes and exemplars for demos and tests: the
+ *  18654: src/tiled/render.c, a software rendering of a mapped mesh (the thesis rendered
+ *  18878: src/tiled/io.c, files. Meshes and exemplars in; the mapped mesh with its t
  */
 /* tiled.h - seamless, singularity-free tiled textures on quad meshes.
  *
@@ -8604,7 +8604,11 @@ PW__DEF int pw_zic0_solve(const pw_alloc *a, const pw_zcsr *A, const double *b, 
 /* One level: its matrix, the prolongation from the next (coarser) level's
  * unknowns (n x nc, complex CSR) and its adjoint (nc x n), the sums of
  * |a_ij| over each row's columns in other blocks (l1, n), and the cycle's
- * vectors (2n doubles). */
+ * vectors (2n doubles). The cycle streams the matrices from memory, so it
+ * reads them in single precision (av, pv, hv: A's, P's and P^H's values;
+ * the set-up's products are in double, whose values it then frees, but
+ * level 0's, the caller's): the cycle is a preconditioner, and CG's
+ * products and residuals stay in double. */
 typedef struct pw__zamg_level {
     pw_zcsr A;
     int nc;
@@ -8613,6 +8617,7 @@ typedef struct pw__zamg_level {
     pw_zcsr PH;
     double *l1;
     double *x, *b, *r;
+    float *av, *pv, *hv;
 } pw__zamg_level;
 
 typedef struct pw_zamg {
@@ -9119,6 +9124,9 @@ PW__DEF void pw_zamg_free(const pw_alloc *a, pw_zamg *M)
         pw_free(a, L->pcol);
         pw_free(a, L->pval);
         pw_zcsr_free(a, &L->PH);
+        pw_free(a, L->av);
+        pw_free(a, L->pv);
+        pw_free(a, L->hv);
         pw_free(a, L->l1);
         pw_free(a, L->x);
         pw_free(a, L->b);
@@ -9127,6 +9135,52 @@ PW__DEF void pw_zamg_free(const pw_alloc *a, pw_zamg *M)
     pw_free(a, M->chol);
     pw_free(a, M->cx);
     memset(M, 0, sizeof *M);
+}
+
+/* The single-precision copy of the 2 cnt values *v (for the cycle):
+ * *out, and *v freed unless keep. */
+PW__DEF int pw__zamg_single(const pw_alloc *a, double **v, size_t cnt, int keep, float **out, pw_err *e)
+{
+    size_t k;
+    *out = (float *)pw_alloc_array(a, 2 * cnt + 2, sizeof(float), "multigrid matrix", e);
+    if (!*out) return PW_ERR_NOMEM;
+    for (k = 0; k < 2 * cnt; k++) (*out)[k] = (float)(*v)[k];
+    if (!keep) {
+        pw_free(a, *v);
+        *v = NULL;
+    }
+    return PW_OK;
+}
+
+/* Level 0's single-precision values from A (the caller's matrix, whose
+ * values may have changed since the set-up: pgp's steps change its
+ * diagonal). */
+PW__DEF void pw__zamg_refresh(const pw_zamg *M, const pw_zcsr *A)
+{
+    size_t k, cnt = 2 * (size_t)A->rowptr[A->n];
+    float *av = M->lev[0].av;
+    if (!av) return; /* A is the coarsest level: no cycle reads it */
+    for (k = 0; k < cnt; k++) av[k] = (float)A->val[k];
+}
+
+/* The cycle's single-precision values: level 0's a copy of the caller's
+ * (refreshed by every solve), the others' in place of the doubles, which
+ * only the set-up needed. */
+PW__DEF int pw__zamg_singles(const pw_alloc *a, pw_zamg *M, pw_err *e)
+{
+    int l, r = PW_OK;
+    for (l = 0; l <= M->levels && r == PW_OK; l++) {
+        pw__zamg_level *L = &M->lev[l];
+        if (l == M->levels) { /* the coarsest: its factor is made */
+            pw_free(a, L->A.val);
+            L->A.val = NULL;
+            break;
+        }
+        r = pw__zamg_single(a, &L->pval, (size_t)L->prow[L->A.n], 0, &L->pv, e);
+        if (r == PW_OK) r = pw__zamg_single(a, &L->PH.val, (size_t)L->PH.rowptr[L->PH.n], 0, &L->hv, e);
+        if (r == PW_OK) r = pw__zamg_single(a, &L->A.val, (size_t)L->A.rowptr[L->A.n], l == 0, &L->av, e);
+    }
+    return r;
 }
 
 /* Builds the hierarchy of a Hermitian positive (semi)definite A whose
@@ -9165,6 +9219,7 @@ PW__DEF int pw_zamg_setup(const pw_alloc *a, const pw_zcsr *A, pw_zamg *M, pw_er
         if (pw__zamg_chol_try(&M->lev[l].A, shift, M->chol)) break;
     if (r == PW_OK && k == 40)
         r = pw_fail(e, PW_ERR_INVALID, "multigrid: the coarsest matrix is not positive definite");
+    if (r == PW_OK) r = pw__zamg_singles(a, M, e);
     if (r != PW_OK) pw_zamg_free(a, M);
     return r;
 }
@@ -9187,7 +9242,8 @@ PW__DEF void pw__zamg_pre(void *ctx, int b)
     for (i = lo; i < hi; i++) {
         double sr = rhs[2 * i], si = rhs[2 * i + 1], dr = 0.0;
         for (k = A->rowptr[i]; k < A->rowptr[i + 1] && A->col[k] <= i; k++) {
-            const double *v = A->val + 2 * k, *y = x + 2 * A->col[k];
+            const float *v = w->L->av + 2 * k;
+            const double *y = x + 2 * A->col[k];
             if (A->col[k] == i) dr = v[0];
             else if (A->col[k] >= lo) {
                 sr -= v[0] * y[0] - v[1] * y[1];
@@ -9214,7 +9270,8 @@ PW__DEF void pw__zamg_residual(void *ctx, int b)
     for (i = lo; i < hi; i++) {
         double sr = w->L->l1[i] * x[2 * i], si = w->L->l1[i] * x[2 * i + 1], d = 0.0;
         for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++) {
-            const double *v = A->val + 2 * k, *y = x + 2 * A->col[k];
+            const float *v = w->L->av + 2 * k;
+            const double *y = x + 2 * A->col[k];
             int j = A->col[k];
             if (j == i) d = v[0];
             else if (j > i || j < lo) {
@@ -9239,7 +9296,8 @@ PW__DEF void pw__zamg_restrict(void *ctx, int b)
     for (I = pw__zblock_start(H->n, w->nb, b); I < hi; I++) {
         double sr = 0.0, si = 0.0;
         for (k = H->rowptr[I]; k < H->rowptr[I + 1]; k++) {
-            const double *h = H->val + 2 * k, *y = r + 2 * H->col[k];
+            const float *h = w->L->hv + 2 * k;
+            const double *y = r + 2 * H->col[k];
             sr += h[0] * y[0] - h[1] * y[1];
             si += h[0] * y[1] + h[1] * y[0];
         }
@@ -9259,7 +9317,8 @@ PW__DEF void pw__zamg_prolong_add(void *ctx, int b)
     for (i = pw__zblock_start(L->A.n, w->nb, b); i < hi; i++) {
         double sr = L->x[2 * i], si = L->x[2 * i + 1];
         for (k = L->prow[i]; k < L->prow[i + 1]; k++) {
-            const double *p = L->pval + 2 * k, *y = xc + 2 * L->pcol[k];
+            const float *p = L->pv + 2 * k;
+            const double *y = xc + 2 * L->pcol[k];
             sr += p[0] * y[0] - p[1] * y[1];
             si += p[0] * y[1] + p[1] * y[0];
         }
@@ -9281,7 +9340,8 @@ PW__DEF void pw__zamg_post(void *ctx, int b)
         double sr = rhs[2 * i] + w->L->l1[i] * x[2 * i], si = rhs[2 * i + 1] + w->L->l1[i] * x[2 * i + 1], dr = 0.0;
         for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++) {
             int j = A->col[k];
-            const double *v = A->val + 2 * k, *y = (j >= lo && j < hi ? x : old) + 2 * j;
+            const float *v = w->L->av + 2 * k;
+            const double *y = (j >= lo && j < hi ? x : old) + 2 * j;
             if (j == i) {
                 dr = v[0];
                 continue;
@@ -9319,7 +9379,8 @@ PW__DEF void pw__zamg_cycle(const pw_zamg *M, int l)
     pw__zfor(L->A.run, n, w.nb, pw__zamg_post, &w);
 }
 
-/* z = one V-cycle applied to r (2n doubles each). */
+/* z = one V-cycle applied to r (2n doubles each), with level 0's values
+ * as the last set-up or solve saw them. */
 PW__DEF void pw_zamg_apply(const pw_zamg *M, const double *r, double *z)
 {
     const pw__zamg_level *L = &M->lev[0];
@@ -9342,6 +9403,7 @@ PW__DEF int pw_zamg_solve(const pw_alloc *a, const pw_zcsr *A, const pw_zamg *M,
     op.b = b;
     op.x = x;
     op.what = "multigrid PCG";
+    pw__zamg_refresh(M, A);
     return pw__zpcg_checked(a, &op, "zamg", o, s, e);
 }
 
