@@ -43,6 +43,9 @@ typedef struct pw_periodic {
                              makes the field integrable) */
     double *zs, *zt;      /* nv*2: the unit complex unknowns of s and t (§2.3) */
     float *stm;           /* nf*9: per corner s, t, m (Eq. 4) */
+    float *grad;          /* nf*6: g for s and t of every triangle as the
+                             last pw_periodic_solve saw the field (what
+                             pw_periodic_recover reads) */
     int *forder, *vorder; /* triangles and vertices in breadth-first order: the
                              order of the unknowns of every solve */
     float scale0;         /* default tile side */
@@ -138,7 +141,7 @@ PW__DEF int pw_periodic_init(pw_periodic *P, const pw_mesh *v, pw_err *e)
     nv = (size_t)P->m.nv;
     P->dual = (double *)pw_alloc_array(&P->a, 3 * nf, sizeof(double), "mapping", e);
     P->base = (double *)pw_alloc_array(&P->a, 4 * nf, sizeof(double), "mapping", e);
-    P->scale = (float *)pw_alloc_array(&P->a, 2 * nv + 9 * nf, sizeof(float), "mapping", e);
+    P->scale = (float *)pw_alloc_array(&P->a, 2 * nv + 15 * nf, sizeof(float), "mapping", e);
     P->zs = (double *)pw_alloc_array(&P->a, 4 * nv, sizeof(double), "mapping", e);
     P->forder = (int *)pw_alloc_array(&P->a, nf + nv, sizeof(int), "mapping", e);
     done = (unsigned char *)pw_calloc_array(&P->a, nv + nf, 1, "mapping", e);
@@ -152,6 +155,7 @@ PW__DEF int pw_periodic_init(pw_periodic *P, const pw_mesh *v, pw_err *e)
     P->dir = P->base + 2 * nf;
     P->sfac = P->scale + nv;
     P->stm = P->sfac + nv;
+    P->grad = P->stm + 9 * nf;
     P->zt = P->zs + 2 * nv;
     pw_df_dual(&P->m, P->dual);
     return pw_df_connection(&P->a, &P->m, &P->conn, e);
@@ -391,17 +395,44 @@ PW__DEF double pw_periodic_turns(double x, double y)
 
 /* ---- §2.3 per-edge rotations ------------------------------------------------------------ */
 
-/* alpha / 2 pi of half-edge h (from tri[h] to the next corner) for s (k = 0)
- * or t (k = 1): e_ij . (g_T + g_T') / 2, the gradient averaged over the two
- * triangles of the edge (the one triangle on a boundary). This is the
- * coordinate difference s_j - s_i the field asks for along the edge. */
+/* alpha / 2 pi of half-edge h (from tri[h] to the next corner) given the
+ * gradients g of its triangle and gt of its twin's (unused on a boundary):
+ * e_ij . (g_T + g_T') / 2, the gradient averaged over the two triangles of
+ * the edge (the one triangle on a boundary). This is the coordinate
+ * difference s_j - s_i the field asks for along the edge. */
+PW__DEF double pw__periodic_alpha_of(const pw_periodic *P, int h, pw_v3 g, pw_v3 gt)
+{
+    int f = h / 3, c = h % 3;
+    pw_v3 ed = pw_v3_sub(pw_trimesh_corner(&P->m, f, (c + 1) % 3), pw_trimesh_corner(&P->m, f, c));
+    if (P->m.hm.twin[h] >= 0) g = pw_v3_scale(pw_v3_add(g, gt), 0.5f);
+    return (double)pw_v3_dot(ed, g);
+}
+
+/* alpha / 2 pi of half-edge h for s (k = 0) or t (k = 1), from the field
+ * as it is. */
 PW__DEF double pw_periodic_alpha(const pw_periodic *P, int h, int k)
 {
-    int f = h / 3, c = h % 3, t = P->m.hm.twin[h];
-    pw_v3 ed = pw_v3_sub(pw_trimesh_corner(&P->m, f, (c + 1) % 3), pw_trimesh_corner(&P->m, f, c));
-    pw_v3 g = pw_periodic_grad(P, f, k);
-    if (t >= 0) g = pw_v3_scale(pw_v3_add(g, pw_periodic_grad(P, t / 3, k)), 0.5f);
-    return (double)pw_v3_dot(ed, g);
+    int t = P->m.hm.twin[h];
+    pw_v3 g = pw_periodic_grad(P, h / 3, k);
+    return pw__periodic_alpha_of(P, h, g, t >= 0 ? pw_periodic_grad(P, t / 3, k) : g);
+}
+
+/* The same from the gradients of the last solve (P->grad): the same value
+ * while the field has not changed since. */
+PW__DEF double pw_periodic_alpha_solved(const pw_periodic *P, int h, int k)
+{
+    int t = P->m.hm.twin[h];
+    pw_v3 g = pw_v3_load(P->grad + 6 * (h / 3) + 3 * k);
+    return pw__periodic_alpha_of(P, h, g, t >= 0 ? pw_v3_load(P->grad + 6 * (t / 3) + 3 * k) : g);
+}
+
+/* P->grad over a block of triangles (on the solve's threads). */
+PW__DEF void pw__periodic_grad_block(void *ctx, int b)
+{
+    pw_periodic *P = (pw_periodic *)ctx;
+    int f, k, nb = pw__zblocks(P->m.nf), hi = pw__zblock_start(P->m.nf, nb, b + 1);
+    for (f = pw__zblock_start(P->m.nf, nb, b); f < hi; f++)
+        for (k = 0; k < 2; k++) pw_v3_store(P->grad + 6 * f + 3 * k, pw_periodic_grad(P, f, k));
 }
 
 /* ---- §2.3 the least-squares system ----------------------------------------------------- */
@@ -452,7 +483,7 @@ PW__DEF void pw_periodic_edge_terms(void *ctx, int blk)
     int nf = P->m.nf, nb = pw__zblocks(nf), h, hi = 3 * pw__zblock_start(nf, nb, blk + 1);
     for (h = 3 * pw__zblock_start(nf, nb, blk); h < hi; h++)
         if (P->m.hm.twin[h] < h) {
-            double a = PW_PERIODIC_TWO_PI * pw_periodic_alpha(P, h, Z->k), *o = Z->edge + 3 * (size_t)h;
+            double a = PW_PERIODIC_TWO_PI * pw_periodic_alpha_solved(P, h, Z->k), *o = Z->edge + 3 * (size_t)h;
             o[0] = pw_periodic_weight(P, h);
             o[1] = pw_cos(a);
             o[2] = pw_sin(a);
@@ -542,7 +573,7 @@ PW__DEF int pw_periodic_propagate(pw_periodic *P, double *z, const int *id, int 
             double a, c, sn, *zu = z + 2 * u;
             w = fw ? m->tri[3 * (hh / 3) + (hh % 3 + 1) % 3] : m->tri[hh];
             if (done[w]) continue;
-            a = PW_PERIODIC_TWO_PI * pw_periodic_alpha(P, hh, k) * (fw ? 1.0 : -1.0);
+            a = PW_PERIODIC_TWO_PI * pw_periodic_alpha_solved(P, hh, k) * (fw ? 1.0 : -1.0);
             c = pw_cos(a);
             sn = pw_sin(a);
             z[2 * w] = c * zu[0] - sn * zu[1];
@@ -668,6 +699,7 @@ PW__DEF int pw_periodic_solve(pw_periodic *P, const unsigned char *vfree, int wh
         }
     }
     pw_free(&P->a, comp);
+    pw__zfor(&P->run, P->m.nf, pw__zblocks(P->m.nf), pw__periodic_grad_block, P);
     if (r == PW_OK && n > 0) r = pw_zasm_init(&P->a, &Z.S, n, &pr, e);
     if (r == PW_OK && n > 0) {
         Z.S.A.run = &P->run;
@@ -685,7 +717,8 @@ PW__DEF int pw_periodic_solve(pw_periodic *P, const unsigned char *vfree, int wh
 /* s and t of triangle f's corners: corner 0 reads Arg(z)/2pi, corners 1
  * and 2 add the integer p that brings their difference to corner 0 closest
  * to what the field asks for along the edge (alpha), so that every vertex
- * differs between its triangles by integers only. */
+ * differs between its triangles by integers only. alpha is the last
+ * pw_periodic_solve's (the field must not have changed since). */
 PW__DEF void pw_periodic_recover(pw_periodic *P, int f)
 {
     const int *tri = P->m.tri + 3 * f;
@@ -697,7 +730,8 @@ PW__DEF void pw_periodic_recover(pw_periodic *P, int f)
         o[k] = (float)s0;
         for (c = 1; c < 3; c++) {
             /* alpha from corner 0 to corner c: edge 0->1 is half-edge 3f, edge 0->2 is 3f+2 reversed */
-            double want = s0 + (c == 1 ? pw_periodic_alpha(P, 3 * f, k) : -pw_periodic_alpha(P, 3 * f + 2, k));
+            double want =
+                s0 + (c == 1 ? pw_periodic_alpha_solved(P, 3 * f, k) : -pw_periodic_alpha_solved(P, 3 * f + 2, k));
             double sc = pw_periodic_turns(z[2 * tri[c]], z[2 * tri[c] + 1]);
             o[3 * c + k] = (float)(sc + floor(want - sc + 0.5));
         }
