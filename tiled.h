@@ -18,26 +18,26 @@
  *   6392: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
  *   8053: src/common/zsparse.h, complex Hermitian sparse systems, solved by conjugate grad
  *   8553: src/common/zamg.h, a smoothed-aggregation multigrid preconditioner for the co
- *   9466: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
- *   9663: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
- *   9748: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
- *  10512: src/common/periodic.h, the periodic global parameterization of a triangle mesh al
- *  11384: src/common/raster.h, exact scan conversion of 2D triangles.
- *  11898: src/common/parallel.h, a parallel for, the one way work is split across threads.
- *  12222: src/common/render.h, a small deterministic software renderer for textured trian
- *  14386: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
- *  14883: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
- *  15369: src/common/glue.h, what every method header needs between its public types an
- *  15705: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  16369: src/tiled/core.c, tiled.h's glue to the shared core, its defaults, result
- *  16458: src/tiled/layout.c, ch. III.1, the boundary types and the tiled texture they
- *  16730: src/tiled/cells.c, beyond the thesis (issue 23): tiles of a chosen size on an
- *  17648: src/tiled/map.c, ch. III.2, the texture mapping algorithm of Fig. 29
- *  17917: src/tiled/synth.c, ch. III.1.3, tiled texture image synthesis: an edge-matche
- *  18363: src/tiled/validate.c, checks a hand-made tiled texture (the thesis's Figs. 39,
- *  18491: src/tiled/builtin.c, built-in meshes and exemplars for demos and tests: the
- *  18688: src/tiled/render.c, a software rendering of a mapped mesh (the thesis rendered
- *  18912: src/tiled/io.c, files. Meshes and exemplars in; the mapped mesh with its t
+ *   9494: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
+ *   9691: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
+ *   9776: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
+ *  10540: src/common/periodic.h, the periodic global parameterization of a triangle mesh al
+ *  11412: src/common/raster.h, exact scan conversion of 2D triangles.
+ *  11926: src/common/parallel.h, a parallel for, the one way work is split across threads.
+ *  12250: src/common/render.h, a small deterministic software renderer for textured trian
+ *  14414: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
+ *  14911: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
+ *  15397: src/common/glue.h, what every method header needs between its public types an
+ *  15733: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  16397: src/tiled/core.c, tiled.h's glue to the shared core, its defaults, result
+ *  16486: src/tiled/layout.c, ch. III.1, the boundary types and the tiled texture they
+ *  16758: src/tiled/cells.c, beyond the thesis (issue 23): tiles of a chosen size on an
+ *  17676: src/tiled/map.c, ch. III.2, the texture mapping algorithm of Fig. 29
+ *  17945: src/tiled/synth.c, ch. III.1.3, tiled texture image synthesis: an edge-matche
+ *  18391: src/tiled/validate.c, checks a hand-made tiled texture (the thesis's Figs. 39,
+ *  18519: src/tiled/builtin.c, built-in meshes and exemplars for demos and tests: the
+ *  18716: src/tiled/render.c, a software rendering of a mapped mesh (the thesis rendered
+ *  18940: src/tiled/io.c, files. Meshes and exemplars in; the mapped mesh with its t
  */
 /* tiled.h - seamless, singularity-free tiled textures on quad meshes.
  *
@@ -8618,6 +8618,7 @@ typedef struct pw__zamg_level {
     double *l1;
     double *x, *b, *r;
     float *av, *pv, *hv;
+    int *xrow, *xpos; /* each row's entries in other blocks: positions in A */
 } pw__zamg_level;
 
 typedef struct pw_zamg {
@@ -9092,23 +9093,35 @@ PW__DEF void pw__zamg_chol_solve(const double *L, int n, const double *b, double
     }
 }
 
-/* The l1 terms of level L's smoother: for every row, sum |a_ij| over
- * the columns outside its block. */
+/* The entries of every row of level L in columns outside its block
+ * (xrow, xpos: their positions in A), and the l1 terms of the smoother,
+ * the sums of their |a_ij|. */
 PW__DEF int pw__zamg_l1(const pw_alloc *a, pw__zamg_level *L, pw_err *e)
 {
     const pw_zcsr *A = &L->A;
-    int n = A->n, nb = pw__zblocks(n), b, i, k;
+    int n = A->n, nb = pw__zblocks(n), b, i, k, m = 0;
     L->l1 = (double *)pw_alloc_array(a, (size_t)n, sizeof(double), "multigrid smoother", e);
-    if (!L->l1) return PW_ERR_NOMEM;
+    L->xrow = (int *)pw_alloc_array(a, (size_t)n + 1, sizeof(int), "multigrid smoother", e);
     for (b = 0; b < nb; b++) {
+        int lo = pw__zblock_start(n, nb, b), hi = pw__zblock_start(n, nb, b + 1);
+        for (k = A->rowptr[lo]; k < A->rowptr[hi]; k++) m += A->col[k] < lo || A->col[k] >= hi;
+    }
+    L->xpos = (int *)pw_alloc_array(a, (size_t)m + 1, sizeof(int), "multigrid smoother", e);
+    if (!L->l1 || !L->xrow || !L->xpos) return PW_ERR_NOMEM;
+    for (b = 0, m = 0; b < nb; b++) {
         int lo = pw__zblock_start(n, nb, b), hi = pw__zblock_start(n, nb, b + 1);
         for (i = lo; i < hi; i++) {
             double s = 0.0;
+            L->xrow[i] = m;
             for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++)
-                if (A->col[k] < lo || A->col[k] >= hi) s += pw__zamg_abs(A->val + 2 * k);
+                if (A->col[k] < lo || A->col[k] >= hi) {
+                    s += pw__zamg_abs(A->val + 2 * k);
+                    L->xpos[m++] = k;
+                }
             L->l1[i] = s;
         }
     }
+    L->xrow[n] = m;
     return PW_OK;
 }
 
@@ -9127,6 +9140,8 @@ PW__DEF void pw_zamg_free(const pw_alloc *a, pw_zamg *M)
         pw_free(a, L->av);
         pw_free(a, L->pv);
         pw_free(a, L->hv);
+        pw_free(a, L->xrow);
+        pw_free(a, L->xpos);
         pw_free(a, L->l1);
         pw_free(a, L->x);
         pw_free(a, L->b);
@@ -9230,19 +9245,28 @@ typedef struct pw__zamg_step {
     int nb;
 } pw__zamg_step;
 
-/* The forward sweep of block b from x = 0: rows of other blocks read 0,
- * the block's rows above the current one too (not swept yet). */
+/* The forward sweep of block b from x = 0 (rows of other blocks read 0,
+ * the block's rows above the current one too: not swept yet), and what it
+ * leaves of r = b - A x within the block: row i was solved with the
+ * block's rows below it and (a_ii + l1_i) on the diagonal, so what is left
+ * is l1_i x_i less the terms of the block's rows above it, which each row
+ * subtracts from the rows below it as it is solved (a_ji = conj(a_ij):
+ * only the lower part is read); pw__zamg_cross then subtracts the other
+ * blocks' terms. A row without a positive diagonal (all zero, A being
+ * semidefinite) keeps x_i = 0 and r_i = b_i. */
 PW__DEF void pw__zamg_pre(void *ctx, int b)
 {
     const pw__zamg_step *w = (const pw__zamg_step *)ctx;
     const pw_zcsr *A = &w->L->A;
+    const float *av = w->L->av;
     const double *rhs = w->L->b;
-    double *x = w->L->x;
+    double *x = w->L->x, *r = w->L->r;
     int i, k, lo = pw__zblock_start(A->n, w->nb, b), hi = pw__zblock_start(A->n, w->nb, b + 1);
     for (i = lo; i < hi; i++) {
-        double sr = rhs[2 * i], si = rhs[2 * i + 1], dr = 0.0;
-        for (k = A->rowptr[i]; k < A->rowptr[i + 1] && A->col[k] <= i; k++) {
-            const float *v = w->L->av + 2 * k;
+        double sr = rhs[2 * i], si = rhs[2 * i + 1], dr = 0.0, xr = 0.0, xi = 0.0, l1 = w->L->l1[i];
+        int k0 = A->rowptr[i], kd;
+        for (k = k0; k < A->rowptr[i + 1] && A->col[k] <= i; k++) {
+            const float *v = av + 2 * k;
             const double *y = x + 2 * A->col[k];
             if (A->col[k] == i) dr = v[0];
             else if (A->col[k] >= lo) {
@@ -9250,38 +9274,42 @@ PW__DEF void pw__zamg_pre(void *ctx, int b)
                 si -= v[0] * y[1] + v[1] * y[0];
             }
         }
-        x[2 * i] = dr > 0.0 ? sr / (dr + w->L->l1[i]) : 0.0;
-        x[2 * i + 1] = dr > 0.0 ? si / (dr + w->L->l1[i]) : 0.0;
+        kd = k;
+        if (dr > 0.0) {
+            xr = sr / (dr + l1);
+            xi = si / (dr + l1);
+        }
+        x[2 * i] = xr;
+        x[2 * i + 1] = xi;
+        r[2 * i] = dr > 0.0 ? l1 * xr : rhs[2 * i];
+        r[2 * i + 1] = dr > 0.0 ? l1 * xi : rhs[2 * i + 1];
+        for (k = k0; k < kd; k++) { /* r_j -= conj(a_ij) x_i for the block's rows j above */
+            const float *v = av + 2 * k;
+            double *y = r + 2 * A->col[k];
+            if (A->col[k] < lo || A->col[k] == i) continue;
+            y[0] -= v[0] * xr + v[1] * xi;
+            y[1] -= v[0] * xi - v[1] * xr;
+        }
     }
 }
 
-/* r = b - A x after the forward sweep of block b: row i was solved with
- * the block's rows below it and (a_ii + l1_i) on the diagonal, so what is
- * left is l1_i x_i less the terms of the block's rows above it and of the
- * other blocks' rows; a row without a positive diagonal (all zero, A
- * being semidefinite) keeps r_i = b_i. */
-PW__DEF void pw__zamg_residual(void *ctx, int b)
+/* r_i -= the terms of row i from other blocks, over block b, once every
+ * block is swept (pw__zamg_pre). */
+PW__DEF void pw__zamg_cross(void *ctx, int b)
 {
     const pw__zamg_step *w = (const pw__zamg_step *)ctx;
-    const pw_zcsr *A = &w->L->A;
-    const double *x = w->L->x, *rhs = w->L->b;
-    double *r = w->L->r;
-    int i, k, lo = pw__zblock_start(A->n, w->nb, b), hi = pw__zblock_start(A->n, w->nb, b + 1);
-    for (i = lo; i < hi; i++) {
-        double sr = w->L->l1[i] * x[2 * i], si = w->L->l1[i] * x[2 * i + 1], d = 0.0;
-        for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++) {
-            const float *v = w->L->av + 2 * k;
-            const double *y = x + 2 * A->col[k];
-            int j = A->col[k];
-            if (j == i) d = v[0];
-            else if (j > i || j < lo) {
-                sr -= v[0] * y[0] - v[1] * y[1];
-                si -= v[0] * y[1] + v[1] * y[0];
-            }
+    const pw__zamg_level *L = w->L;
+    const double *x = L->x;
+    double *r = L->r;
+    int i, q, hi = pw__zblock_start(L->A.n, w->nb, b + 1);
+    for (i = pw__zblock_start(L->A.n, w->nb, b); i < hi; i++)
+        for (q = L->xrow[i]; q < L->xrow[i + 1]; q++) {
+            int k = L->xpos[q];
+            const float *v = L->av + 2 * k;
+            const double *y = x + 2 * L->A.col[k];
+            r[2 * i] -= v[0] * y[0] - v[1] * y[1];
+            r[2 * i + 1] -= v[0] * y[1] + v[1] * y[0];
         }
-        r[2 * i] = d > 0.0 ? sr : rhs[2 * i];
-        r[2 * i + 1] = d > 0.0 ? si : rhs[2 * i + 1];
-    }
 }
 
 /* b_c = P^H r over block b of the coarse rows (the adjoint's rows: each
@@ -9372,7 +9400,7 @@ PW__DEF void pw__zamg_cycle(const pw_zamg *M, int l)
     w.nb = pw__zblocks(n);
     wc.nb = pw__zblocks(L->nc);
     pw__zfor(L->A.run, n, w.nb, pw__zamg_pre, &w);
-    pw__zfor(L->A.run, n, w.nb, pw__zamg_residual, &w);
+    if (w.nb > 1) pw__zfor(L->A.run, n, w.nb, pw__zamg_cross, &w);
     pw__zfor(L->A.run, L->nc, wc.nb, pw__zamg_restrict, &wc);
     pw__zamg_cycle(M, l + 1);
     pw__zfor(L->A.run, n, w.nb, pw__zamg_prolong_add, &w);

@@ -66,6 +66,7 @@ typedef struct pw__zamg_level {
     double *l1;
     double *x, *b, *r;
     float *av, *pv, *hv;
+    int *xrow, *xpos; /* each row's entries in other blocks: positions in A */
 } pw__zamg_level;
 
 typedef struct pw_zamg {
@@ -540,23 +541,35 @@ PW__DEF void pw__zamg_chol_solve(const double *L, int n, const double *b, double
     }
 }
 
-/* The l1 terms of level L's smoother: for every row, sum |a_ij| over
- * the columns outside its block. */
+/* The entries of every row of level L in columns outside its block
+ * (xrow, xpos: their positions in A), and the l1 terms of the smoother,
+ * the sums of their |a_ij|. */
 PW__DEF int pw__zamg_l1(const pw_alloc *a, pw__zamg_level *L, pw_err *e)
 {
     const pw_zcsr *A = &L->A;
-    int n = A->n, nb = pw__zblocks(n), b, i, k;
+    int n = A->n, nb = pw__zblocks(n), b, i, k, m = 0;
     L->l1 = (double *)pw_alloc_array(a, (size_t)n, sizeof(double), "multigrid smoother", e);
-    if (!L->l1) return PW_ERR_NOMEM;
+    L->xrow = (int *)pw_alloc_array(a, (size_t)n + 1, sizeof(int), "multigrid smoother", e);
     for (b = 0; b < nb; b++) {
+        int lo = pw__zblock_start(n, nb, b), hi = pw__zblock_start(n, nb, b + 1);
+        for (k = A->rowptr[lo]; k < A->rowptr[hi]; k++) m += A->col[k] < lo || A->col[k] >= hi;
+    }
+    L->xpos = (int *)pw_alloc_array(a, (size_t)m + 1, sizeof(int), "multigrid smoother", e);
+    if (!L->l1 || !L->xrow || !L->xpos) return PW_ERR_NOMEM;
+    for (b = 0, m = 0; b < nb; b++) {
         int lo = pw__zblock_start(n, nb, b), hi = pw__zblock_start(n, nb, b + 1);
         for (i = lo; i < hi; i++) {
             double s = 0.0;
+            L->xrow[i] = m;
             for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++)
-                if (A->col[k] < lo || A->col[k] >= hi) s += pw__zamg_abs(A->val + 2 * k);
+                if (A->col[k] < lo || A->col[k] >= hi) {
+                    s += pw__zamg_abs(A->val + 2 * k);
+                    L->xpos[m++] = k;
+                }
             L->l1[i] = s;
         }
     }
+    L->xrow[n] = m;
     return PW_OK;
 }
 
@@ -575,6 +588,8 @@ PW__DEF void pw_zamg_free(const pw_alloc *a, pw_zamg *M)
         pw_free(a, L->av);
         pw_free(a, L->pv);
         pw_free(a, L->hv);
+        pw_free(a, L->xrow);
+        pw_free(a, L->xpos);
         pw_free(a, L->l1);
         pw_free(a, L->x);
         pw_free(a, L->b);
@@ -678,19 +693,28 @@ typedef struct pw__zamg_step {
     int nb;
 } pw__zamg_step;
 
-/* The forward sweep of block b from x = 0: rows of other blocks read 0,
- * the block's rows above the current one too (not swept yet). */
+/* The forward sweep of block b from x = 0 (rows of other blocks read 0,
+ * the block's rows above the current one too: not swept yet), and what it
+ * leaves of r = b - A x within the block: row i was solved with the
+ * block's rows below it and (a_ii + l1_i) on the diagonal, so what is left
+ * is l1_i x_i less the terms of the block's rows above it, which each row
+ * subtracts from the rows below it as it is solved (a_ji = conj(a_ij):
+ * only the lower part is read); pw__zamg_cross then subtracts the other
+ * blocks' terms. A row without a positive diagonal (all zero, A being
+ * semidefinite) keeps x_i = 0 and r_i = b_i. */
 PW__DEF void pw__zamg_pre(void *ctx, int b)
 {
     const pw__zamg_step *w = (const pw__zamg_step *)ctx;
     const pw_zcsr *A = &w->L->A;
+    const float *av = w->L->av;
     const double *rhs = w->L->b;
-    double *x = w->L->x;
+    double *x = w->L->x, *r = w->L->r;
     int i, k, lo = pw__zblock_start(A->n, w->nb, b), hi = pw__zblock_start(A->n, w->nb, b + 1);
     for (i = lo; i < hi; i++) {
-        double sr = rhs[2 * i], si = rhs[2 * i + 1], dr = 0.0;
-        for (k = A->rowptr[i]; k < A->rowptr[i + 1] && A->col[k] <= i; k++) {
-            const float *v = w->L->av + 2 * k;
+        double sr = rhs[2 * i], si = rhs[2 * i + 1], dr = 0.0, xr = 0.0, xi = 0.0, l1 = w->L->l1[i];
+        int k0 = A->rowptr[i], kd;
+        for (k = k0; k < A->rowptr[i + 1] && A->col[k] <= i; k++) {
+            const float *v = av + 2 * k;
             const double *y = x + 2 * A->col[k];
             if (A->col[k] == i) dr = v[0];
             else if (A->col[k] >= lo) {
@@ -698,38 +722,42 @@ PW__DEF void pw__zamg_pre(void *ctx, int b)
                 si -= v[0] * y[1] + v[1] * y[0];
             }
         }
-        x[2 * i] = dr > 0.0 ? sr / (dr + w->L->l1[i]) : 0.0;
-        x[2 * i + 1] = dr > 0.0 ? si / (dr + w->L->l1[i]) : 0.0;
+        kd = k;
+        if (dr > 0.0) {
+            xr = sr / (dr + l1);
+            xi = si / (dr + l1);
+        }
+        x[2 * i] = xr;
+        x[2 * i + 1] = xi;
+        r[2 * i] = dr > 0.0 ? l1 * xr : rhs[2 * i];
+        r[2 * i + 1] = dr > 0.0 ? l1 * xi : rhs[2 * i + 1];
+        for (k = k0; k < kd; k++) { /* r_j -= conj(a_ij) x_i for the block's rows j above */
+            const float *v = av + 2 * k;
+            double *y = r + 2 * A->col[k];
+            if (A->col[k] < lo || A->col[k] == i) continue;
+            y[0] -= v[0] * xr + v[1] * xi;
+            y[1] -= v[0] * xi - v[1] * xr;
+        }
     }
 }
 
-/* r = b - A x after the forward sweep of block b: row i was solved with
- * the block's rows below it and (a_ii + l1_i) on the diagonal, so what is
- * left is l1_i x_i less the terms of the block's rows above it and of the
- * other blocks' rows; a row without a positive diagonal (all zero, A
- * being semidefinite) keeps r_i = b_i. */
-PW__DEF void pw__zamg_residual(void *ctx, int b)
+/* r_i -= the terms of row i from other blocks, over block b, once every
+ * block is swept (pw__zamg_pre). */
+PW__DEF void pw__zamg_cross(void *ctx, int b)
 {
     const pw__zamg_step *w = (const pw__zamg_step *)ctx;
-    const pw_zcsr *A = &w->L->A;
-    const double *x = w->L->x, *rhs = w->L->b;
-    double *r = w->L->r;
-    int i, k, lo = pw__zblock_start(A->n, w->nb, b), hi = pw__zblock_start(A->n, w->nb, b + 1);
-    for (i = lo; i < hi; i++) {
-        double sr = w->L->l1[i] * x[2 * i], si = w->L->l1[i] * x[2 * i + 1], d = 0.0;
-        for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++) {
-            const float *v = w->L->av + 2 * k;
-            const double *y = x + 2 * A->col[k];
-            int j = A->col[k];
-            if (j == i) d = v[0];
-            else if (j > i || j < lo) {
-                sr -= v[0] * y[0] - v[1] * y[1];
-                si -= v[0] * y[1] + v[1] * y[0];
-            }
+    const pw__zamg_level *L = w->L;
+    const double *x = L->x;
+    double *r = L->r;
+    int i, q, hi = pw__zblock_start(L->A.n, w->nb, b + 1);
+    for (i = pw__zblock_start(L->A.n, w->nb, b); i < hi; i++)
+        for (q = L->xrow[i]; q < L->xrow[i + 1]; q++) {
+            int k = L->xpos[q];
+            const float *v = L->av + 2 * k;
+            const double *y = x + 2 * L->A.col[k];
+            r[2 * i] -= v[0] * y[0] - v[1] * y[1];
+            r[2 * i + 1] -= v[0] * y[1] + v[1] * y[0];
         }
-        r[2 * i] = d > 0.0 ? sr : rhs[2 * i];
-        r[2 * i + 1] = d > 0.0 ? si : rhs[2 * i + 1];
-    }
 }
 
 /* b_c = P^H r over block b of the coarse rows (the adjoint's rows: each
@@ -820,7 +848,7 @@ PW__DEF void pw__zamg_cycle(const pw_zamg *M, int l)
     w.nb = pw__zblocks(n);
     wc.nb = pw__zblocks(L->nc);
     pw__zfor(L->A.run, n, w.nb, pw__zamg_pre, &w);
-    pw__zfor(L->A.run, n, w.nb, pw__zamg_residual, &w);
+    if (w.nb > 1) pw__zfor(L->A.run, n, w.nb, pw__zamg_cross, &w);
     pw__zfor(L->A.run, L->nc, wc.nb, pw__zamg_restrict, &wc);
     pw__zamg_cycle(M, l + 1);
     pw__zfor(L->A.run, n, w.nb, pw__zamg_prolong_add, &w);
