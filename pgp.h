@@ -17,36 +17,36 @@
  *   6439: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
  *   8100: src/common/zsparse.h, complex Hermitian sparse systems, solved by conjugate grad
  *   8600: src/common/zamg.h, a smoothed-aggregation multigrid preconditioner for the co
- *   9541: src/common/raster.h, exact scan conversion of 2D triangles.
- *  10053: src/common/parallel.h, a parallel for, the one way work is split across threads.
- *  10377: src/common/render.h, a small deterministic software renderer for textured trian
- *  12541: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
- *  12738: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
- *  12823: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
- *  13012: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
- *  13932: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
- *  14630: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
- *  14866: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
- *  15630: src/common/periodic.h, the periodic global parameterization of a triangle mesh al
- *  16502: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
- *  17263: src/pgp/tile3.h, sampling a material-space tile (Ray et al. 2009, §2: "a 3
- *  17371: src/common/glue.h, what every method header needs between its public types an
- *  17707: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  18371: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
- *  18868: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
- *  19354: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
- *  19497: src/common/kdtree.h, nearest-neighbour search among n points of dimension d, wi
- *  19840: src/common/pca.h, principal component analysis of vectors streamed one at a 
- *  20027: src/pgp/core.c, pgp.h's glue to the shared core, its defaults, and the map
- *  20241: src/pgp/field.c, §2.1 effect areas and §2.2 interpolation of the constrai
- *  20440: src/pgp/solve.c, §2.3 the periodic global parameterization, the recovery o
- *  20983: src/pgp/edit.c, the public editing calls of a mapping. §2.1 (Ray, Lévy, 
- *  21128: src/pgp/render.c, §3 rendering, and a cleaner treatment of the vortices.
- *  21490: src/pgp/builtin.c, built-in meshes and material-space tiles for demos and tes
- *  21759: src/pgp/io.c, files and memory for pgp.h: material-space tiles (NRRD, or
- *  22107: src/pgp/export.c, the mapping for other programs. A viewer that knows nothin
- *  22333: src/pgp/morph.c, the inputs of §1 (keys brought to the tile size, made til
- *  23012: src/pgp/synth.c, §1.2 constrained tile synthesis, and the whole of §1: ke
+ *   9554: src/common/raster.h, exact scan conversion of 2D triangles.
+ *  10066: src/common/parallel.h, a parallel for, the one way work is split across threads.
+ *  10390: src/common/render.h, a small deterministic software renderer for textured trian
+ *  12554: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
+ *  12751: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
+ *  12836: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
+ *  13025: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
+ *  13945: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
+ *  14643: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
+ *  14879: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
+ *  15643: src/common/periodic.h, the periodic global parameterization of a triangle mesh al
+ *  16515: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
+ *  17276: src/pgp/tile3.h, sampling a material-space tile (Ray et al. 2009, §2: "a 3
+ *  17384: src/common/glue.h, what every method header needs between its public types an
+ *  17720: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  18384: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
+ *  18881: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
+ *  19367: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
+ *  19510: src/common/kdtree.h, nearest-neighbour search among n points of dimension d, wi
+ *  19853: src/common/pca.h, principal component analysis of vectors streamed one at a 
+ *  20040: src/pgp/core.c, pgp.h's glue to the shared core, its defaults, and the map
+ *  20254: src/pgp/field.c, §2.1 effect areas and §2.2 interpolation of the constrai
+ *  20453: src/pgp/solve.c, §2.3 the periodic global parameterization, the recovery o
+ *  20996: src/pgp/edit.c, the public editing calls of a mapping. §2.1 (Ray, Lévy, 
+ *  21141: src/pgp/render.c, §3 rendering, and a cleaner treatment of the vortices.
+ *  21503: src/pgp/builtin.c, built-in meshes and material-space tiles for demos and tes
+ *  21772: src/pgp/io.c, files and memory for pgp.h: material-space tiles (NRRD, or
+ *  22120: src/pgp/export.c, the mapping for other programs. A viewer that knows nothin
+ *  22346: src/pgp/morph.c, the inputs of §1 (keys brought to the tile size, made til
+ *  23025: src/pgp/synth.c, §1.2 constrained tile synthesis, and the whole of §1: ke
  */
 /* pgp.h - material-space texturing with a periodic global parameterization.
  *
@@ -8665,6 +8665,7 @@ typedef struct pw__zamg_level {
     double *l1;
     double *x, *b, *r;
     float *av, *pv, *hv;
+    double *dinv;     /* 1 / (a_ii + l1_i) as the cycle reads a_ii, 0 where a_ii <= 0 */
     int *xrow, *xpos; /* each row's entries in other blocks: positions in A */
 } pw__zamg_level;
 
@@ -9189,6 +9190,7 @@ PW__DEF void pw_zamg_free(const pw_alloc *a, pw_zamg *M)
         pw_free(a, L->hv);
         pw_free(a, L->xrow);
         pw_free(a, L->xpos);
+        pw_free(a, L->dinv);
         pw_free(a, L->l1);
         pw_free(a, L->x);
         pw_free(a, L->b);
@@ -9214,6 +9216,19 @@ PW__DEF int pw__zamg_single(const pw_alloc *a, double **v, size_t cnt, int keep,
     return PW_OK;
 }
 
+/* The sweeps' inverse diagonal of level L from its single-precision
+ * values. */
+PW__DEF void pw__zamg_dinv(const pw__zamg_level *L)
+{
+    int i, k;
+    for (i = 0; i < L->A.n; i++) {
+        double d = 0.0;
+        for (k = L->A.rowptr[i]; k < L->A.rowptr[i + 1]; k++)
+            if (L->A.col[k] == i) d = L->av[2 * k];
+        L->dinv[i] = d > 0.0 ? 1.0 / (d + L->l1[i]) : 0.0;
+    }
+}
+
 /* Level 0's single-precision values from A (the caller's matrix, whose
  * values may have changed since the set-up: pgp's steps change its
  * diagonal). */
@@ -9223,6 +9238,7 @@ PW__DEF void pw__zamg_refresh(const pw_zamg *M, const pw_zcsr *A)
     float *av = M->lev[0].av;
     if (!av) return; /* A is the coarsest level: no cycle reads it */
     for (k = 0; k < cnt; k++) av[k] = (float)A->val[k];
+    pw__zamg_dinv(&M->lev[0]);
 }
 
 /* The cycle's single-precision values: level 0's a copy of the caller's
@@ -9241,6 +9257,10 @@ PW__DEF int pw__zamg_singles(const pw_alloc *a, pw_zamg *M, pw_err *e)
         r = pw__zamg_single(a, &L->pval, (size_t)L->prow[L->A.n], 0, &L->pv, e);
         if (r == PW_OK) r = pw__zamg_single(a, &L->PH.val, (size_t)L->PH.rowptr[L->PH.n], 0, &L->hv, e);
         if (r == PW_OK) r = pw__zamg_single(a, &L->A.val, (size_t)L->A.rowptr[L->A.n], l == 0, &L->av, e);
+        if (r == PW_OK &&
+            !(L->dinv = (double *)pw_alloc_array(a, (size_t)L->A.n, sizeof(double), "multigrid smoother", e)))
+            r = PW_ERR_NOMEM;
+        if (r == PW_OK) pw__zamg_dinv(L);
     }
     return r;
 }
@@ -9310,30 +9330,25 @@ PW__DEF void pw__zamg_pre(void *ctx, int b)
     double *x = w->L->x, *r = w->L->r;
     int i, k, lo = pw__zblock_start(A->n, w->nb, b), hi = pw__zblock_start(A->n, w->nb, b + 1);
     for (i = lo; i < hi; i++) {
-        double sr = rhs[2 * i], si = rhs[2 * i + 1], dr = 0.0, xr = 0.0, xi = 0.0, l1 = w->L->l1[i];
+        double sr = rhs[2 * i], si = rhs[2 * i + 1], xr, xi, di = w->L->dinv[i];
         int k0 = A->rowptr[i], kd;
-        for (k = k0; k < A->rowptr[i + 1] && A->col[k] <= i; k++) {
+        for (k = k0; k < A->rowptr[i + 1] && A->col[k] < i; k++) {
             const float *v = av + 2 * k;
             const double *y = x + 2 * A->col[k];
-            if (A->col[k] == i) dr = v[0];
-            else if (A->col[k] >= lo) {
+            if (A->col[k] >= lo) {
                 sr -= v[0] * y[0] - v[1] * y[1];
                 si -= v[0] * y[1] + v[1] * y[0];
             }
         }
         kd = k;
-        if (dr > 0.0) {
-            xr = sr / (dr + l1);
-            xi = si / (dr + l1);
-        }
-        x[2 * i] = xr;
-        x[2 * i + 1] = xi;
-        r[2 * i] = dr > 0.0 ? l1 * xr : rhs[2 * i];
-        r[2 * i + 1] = dr > 0.0 ? l1 * xi : rhs[2 * i + 1];
+        xr = x[2 * i] = sr * di;
+        xi = x[2 * i + 1] = si * di;
+        r[2 * i] = di > 0.0 ? w->L->l1[i] * xr : rhs[2 * i];
+        r[2 * i + 1] = di > 0.0 ? w->L->l1[i] * xi : rhs[2 * i + 1];
         for (k = k0; k < kd; k++) { /* r_j -= conj(a_ij) x_i for the block's rows j above */
             const float *v = av + 2 * k;
             double *y = r + 2 * A->col[k];
-            if (A->col[k] < lo || A->col[k] == i) continue;
+            if (A->col[k] < lo) continue;
             y[0] -= v[0] * xr + v[1] * xi;
             y[1] -= v[0] * xi - v[1] * xr;
         }
@@ -9412,21 +9427,19 @@ PW__DEF void pw__zamg_post(void *ctx, int b)
     double *x = w->L->x;
     int i, k, lo = pw__zblock_start(A->n, w->nb, b), hi = pw__zblock_start(A->n, w->nb, b + 1);
     for (i = hi - 1; i >= lo; i--) { /* x_i += (b - A x)_i / (a_ii + l1_i) */
-        double sr = rhs[2 * i] + w->L->l1[i] * x[2 * i], si = rhs[2 * i + 1] + w->L->l1[i] * x[2 * i + 1], dr = 0.0;
+        double sr = rhs[2 * i] + w->L->l1[i] * x[2 * i], si = rhs[2 * i + 1] + w->L->l1[i] * x[2 * i + 1],
+               di = w->L->dinv[i];
         for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++) {
             int j = A->col[k];
             const float *v = w->L->av + 2 * k;
             const double *y = (j >= lo && j < hi ? x : old) + 2 * j;
-            if (j == i) {
-                dr = v[0];
-                continue;
-            }
+            if (j == i) continue;
             sr -= v[0] * y[0] - v[1] * y[1];
             si -= v[0] * y[1] + v[1] * y[0];
         }
-        if (dr > 0.0) {
-            x[2 * i] = sr / (dr + w->L->l1[i]);
-            x[2 * i + 1] = si / (dr + w->L->l1[i]);
+        if (di > 0.0) {
+            x[2 * i] = sr * di;
+            x[2 * i + 1] = si * di;
         }
     }
 }

@@ -66,6 +66,7 @@ typedef struct pw__zamg_level {
     double *l1;
     double *x, *b, *r;
     float *av, *pv, *hv;
+    double *dinv;     /* 1 / (a_ii + l1_i) as the cycle reads a_ii, 0 where a_ii <= 0 */
     int *xrow, *xpos; /* each row's entries in other blocks: positions in A */
 } pw__zamg_level;
 
@@ -590,6 +591,7 @@ PW__DEF void pw_zamg_free(const pw_alloc *a, pw_zamg *M)
         pw_free(a, L->hv);
         pw_free(a, L->xrow);
         pw_free(a, L->xpos);
+        pw_free(a, L->dinv);
         pw_free(a, L->l1);
         pw_free(a, L->x);
         pw_free(a, L->b);
@@ -615,6 +617,19 @@ PW__DEF int pw__zamg_single(const pw_alloc *a, double **v, size_t cnt, int keep,
     return PW_OK;
 }
 
+/* The sweeps' inverse diagonal of level L from its single-precision
+ * values. */
+PW__DEF void pw__zamg_dinv(const pw__zamg_level *L)
+{
+    int i, k;
+    for (i = 0; i < L->A.n; i++) {
+        double d = 0.0;
+        for (k = L->A.rowptr[i]; k < L->A.rowptr[i + 1]; k++)
+            if (L->A.col[k] == i) d = L->av[2 * k];
+        L->dinv[i] = d > 0.0 ? 1.0 / (d + L->l1[i]) : 0.0;
+    }
+}
+
 /* Level 0's single-precision values from A (the caller's matrix, whose
  * values may have changed since the set-up: pgp's steps change its
  * diagonal). */
@@ -624,6 +639,7 @@ PW__DEF void pw__zamg_refresh(const pw_zamg *M, const pw_zcsr *A)
     float *av = M->lev[0].av;
     if (!av) return; /* A is the coarsest level: no cycle reads it */
     for (k = 0; k < cnt; k++) av[k] = (float)A->val[k];
+    pw__zamg_dinv(&M->lev[0]);
 }
 
 /* The cycle's single-precision values: level 0's a copy of the caller's
@@ -642,6 +658,10 @@ PW__DEF int pw__zamg_singles(const pw_alloc *a, pw_zamg *M, pw_err *e)
         r = pw__zamg_single(a, &L->pval, (size_t)L->prow[L->A.n], 0, &L->pv, e);
         if (r == PW_OK) r = pw__zamg_single(a, &L->PH.val, (size_t)L->PH.rowptr[L->PH.n], 0, &L->hv, e);
         if (r == PW_OK) r = pw__zamg_single(a, &L->A.val, (size_t)L->A.rowptr[L->A.n], l == 0, &L->av, e);
+        if (r == PW_OK &&
+            !(L->dinv = (double *)pw_alloc_array(a, (size_t)L->A.n, sizeof(double), "multigrid smoother", e)))
+            r = PW_ERR_NOMEM;
+        if (r == PW_OK) pw__zamg_dinv(L);
     }
     return r;
 }
@@ -711,30 +731,25 @@ PW__DEF void pw__zamg_pre(void *ctx, int b)
     double *x = w->L->x, *r = w->L->r;
     int i, k, lo = pw__zblock_start(A->n, w->nb, b), hi = pw__zblock_start(A->n, w->nb, b + 1);
     for (i = lo; i < hi; i++) {
-        double sr = rhs[2 * i], si = rhs[2 * i + 1], dr = 0.0, xr = 0.0, xi = 0.0, l1 = w->L->l1[i];
+        double sr = rhs[2 * i], si = rhs[2 * i + 1], xr, xi, di = w->L->dinv[i];
         int k0 = A->rowptr[i], kd;
-        for (k = k0; k < A->rowptr[i + 1] && A->col[k] <= i; k++) {
+        for (k = k0; k < A->rowptr[i + 1] && A->col[k] < i; k++) {
             const float *v = av + 2 * k;
             const double *y = x + 2 * A->col[k];
-            if (A->col[k] == i) dr = v[0];
-            else if (A->col[k] >= lo) {
+            if (A->col[k] >= lo) {
                 sr -= v[0] * y[0] - v[1] * y[1];
                 si -= v[0] * y[1] + v[1] * y[0];
             }
         }
         kd = k;
-        if (dr > 0.0) {
-            xr = sr / (dr + l1);
-            xi = si / (dr + l1);
-        }
-        x[2 * i] = xr;
-        x[2 * i + 1] = xi;
-        r[2 * i] = dr > 0.0 ? l1 * xr : rhs[2 * i];
-        r[2 * i + 1] = dr > 0.0 ? l1 * xi : rhs[2 * i + 1];
+        xr = x[2 * i] = sr * di;
+        xi = x[2 * i + 1] = si * di;
+        r[2 * i] = di > 0.0 ? w->L->l1[i] * xr : rhs[2 * i];
+        r[2 * i + 1] = di > 0.0 ? w->L->l1[i] * xi : rhs[2 * i + 1];
         for (k = k0; k < kd; k++) { /* r_j -= conj(a_ij) x_i for the block's rows j above */
             const float *v = av + 2 * k;
             double *y = r + 2 * A->col[k];
-            if (A->col[k] < lo || A->col[k] == i) continue;
+            if (A->col[k] < lo) continue;
             y[0] -= v[0] * xr + v[1] * xi;
             y[1] -= v[0] * xi - v[1] * xr;
         }
@@ -813,21 +828,19 @@ PW__DEF void pw__zamg_post(void *ctx, int b)
     double *x = w->L->x;
     int i, k, lo = pw__zblock_start(A->n, w->nb, b), hi = pw__zblock_start(A->n, w->nb, b + 1);
     for (i = hi - 1; i >= lo; i--) { /* x_i += (b - A x)_i / (a_ii + l1_i) */
-        double sr = rhs[2 * i] + w->L->l1[i] * x[2 * i], si = rhs[2 * i + 1] + w->L->l1[i] * x[2 * i + 1], dr = 0.0;
+        double sr = rhs[2 * i] + w->L->l1[i] * x[2 * i], si = rhs[2 * i + 1] + w->L->l1[i] * x[2 * i + 1],
+               di = w->L->dinv[i];
         for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++) {
             int j = A->col[k];
             const float *v = w->L->av + 2 * k;
             const double *y = (j >= lo && j < hi ? x : old) + 2 * j;
-            if (j == i) {
-                dr = v[0];
-                continue;
-            }
+            if (j == i) continue;
             sr -= v[0] * y[0] - v[1] * y[1];
             si -= v[0] * y[1] + v[1] * y[0];
         }
-        if (dr > 0.0) {
-            x[2 * i] = sr / (dr + w->L->l1[i]);
-            x[2 * i + 1] = si / (dr + w->L->l1[i]);
+        if (di > 0.0) {
+            x[2 * i] = sr * di;
+            x[2 * i + 1] = si * di;
         }
     }
 }
