@@ -17,36 +17,36 @@
  *   6439: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
  *   8100: src/common/zsparse.h, complex Hermitian sparse systems, solved by conjugate grad
  *   8600: src/common/zamg.h, a smoothed-aggregation multigrid preconditioner for the co
- *   9628: src/common/raster.h, exact scan conversion of 2D triangles.
- *  10140: src/common/parallel.h, a parallel for, the one way work is split across threads.
- *  10464: src/common/render.h, a small deterministic software renderer for textured trian
- *  12628: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
- *  12825: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
- *  12910: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
- *  13099: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
- *  14019: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
- *  14717: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
- *  14953: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
- *  15717: src/common/periodic.h, the periodic global parameterization of a triangle mesh al
- *  16589: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
- *  17350: src/pgp/tile3.h, sampling a material-space tile (Ray et al. 2009, §2: "a 3
- *  17458: src/common/glue.h, what every method header needs between its public types an
- *  17794: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  18458: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
- *  18955: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
- *  19441: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
- *  19584: src/common/kdtree.h, nearest-neighbour search among n points of dimension d, wi
- *  19927: src/common/pca.h, principal component analysis of vectors streamed one at a 
- *  20114: src/pgp/core.c, pgp.h's glue to the shared core, its defaults, and the map
- *  20328: src/pgp/field.c, §2.1 effect areas and §2.2 interpolation of the constrai
- *  20527: src/pgp/solve.c, §2.3 the periodic global parameterization, the recovery o
- *  21070: src/pgp/edit.c, the public editing calls of a mapping. §2.1 (Ray, Lévy, 
- *  21215: src/pgp/render.c, §3 rendering, and a cleaner treatment of the vortices.
- *  21577: src/pgp/builtin.c, built-in meshes and material-space tiles for demos and tes
- *  21846: src/pgp/io.c, files and memory for pgp.h: material-space tiles (NRRD, or
- *  22194: src/pgp/export.c, the mapping for other programs. A viewer that knows nothin
- *  22420: src/pgp/morph.c, the inputs of §1 (keys brought to the tile size, made til
- *  23099: src/pgp/synth.c, §1.2 constrained tile synthesis, and the whole of §1: ke
+ *   9633: src/common/raster.h, exact scan conversion of 2D triangles.
+ *  10145: src/common/parallel.h, a parallel for, the one way work is split across threads.
+ *  10469: src/common/render.h, a small deterministic software renderer for textured trian
+ *  12633: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
+ *  12830: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
+ *  12915: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
+ *  13104: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
+ *  14024: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
+ *  14722: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
+ *  14958: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
+ *  15722: src/common/periodic.h, the periodic global parameterization of a triangle mesh al
+ *  16611: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
+ *  17372: src/pgp/tile3.h, sampling a material-space tile (Ray et al. 2009, §2: "a 3
+ *  17480: src/common/glue.h, what every method header needs between its public types an
+ *  17816: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  18480: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
+ *  18977: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
+ *  19463: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
+ *  19606: src/common/kdtree.h, nearest-neighbour search among n points of dimension d, wi
+ *  19949: src/common/pca.h, principal component analysis of vectors streamed one at a 
+ *  20136: src/pgp/core.c, pgp.h's glue to the shared core, its defaults, and the map
+ *  20350: src/pgp/field.c, §2.1 effect areas and §2.2 interpolation of the constrai
+ *  20549: src/pgp/solve.c, §2.3 the periodic global parameterization, the recovery o
+ *  21092: src/pgp/edit.c, the public editing calls of a mapping. §2.1 (Ray, Lévy, 
+ *  21237: src/pgp/render.c, §3 rendering, and a cleaner treatment of the vortices.
+ *  21599: src/pgp/builtin.c, built-in meshes and material-space tiles for demos and tes
+ *  21868: src/pgp/io.c, files and memory for pgp.h: material-space tiles (NRRD, or
+ *  22216: src/pgp/export.c, the mapping for other programs. A viewer that knows nothin
+ *  22442: src/pgp/morph.c, the inputs of §1 (keys brought to the tile size, made til
+ *  23121: src/pgp/synth.c, §1.2 constrained tile synthesis, and the whole of §1: ke
  */
 /* pgp.h - material-space texturing with a periodic global parameterization.
  *
@@ -9578,26 +9578,31 @@ PW__DEF int pw_zamg_solve(const pw_alloc *a, const pw_zcsr *A, const pw_zamg *M,
 #define PW_ZAMG_MIN_UNKNOWNS 20000
 #define PW_ZAMG_MAX_EXCESS 0.005
 
-/* sum_i (a_ii - sum_j |a_ij|) / sum_i a_ii. */
-PW__DEF double pw__zamg_excess(const pw_zcsr *A)
+/* The sums of A's diagonal and of the moduli of its other entries. */
+PW__DEF void pw__zamg_sums(const pw_zcsr *A, double *dsum, double *off)
 {
-    double dsum = 0.0, xs = 0.0;
     int i, k;
+    *dsum = *off = 0.0;
     for (i = 0; i < A->n; i++)
-        for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++) {
-            double m = pw__zamg_abs(A->val + 2 * k);
-            if (A->col[k] == i) {
-                dsum += A->val[2 * k];
-                xs += A->val[2 * k];
-            } else xs -= m;
-        }
-    return dsum > 0.0 ? xs / dsum : 0.0;
+        for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++)
+            if (A->col[k] == i) *dsum += A->val[2 * k];
+            else *off += pw__zamg_abs(A->val + 2 * k);
 }
 
-/* 1 if multigrid pays on A: large and poorly conditioned. */
+/* 1 if multigrid pays on a matrix of n unknowns whose diagonal sums to
+ * dsum and the moduli of its other entries to off: large and poorly
+ * conditioned (the diagonal excess, (dsum - off) / dsum, small). */
+PW__DEF int pw_zamg_pays_sums(int n, double dsum, double off)
+{
+    return n >= PW_ZAMG_MIN_UNKNOWNS && (dsum > 0.0 ? (dsum - off) / dsum : 0.0) < PW_ZAMG_MAX_EXCESS;
+}
+
+/* 1 if multigrid pays on A. */
 PW__DEF int pw_zamg_pays(const pw_zcsr *A)
 {
-    return A->n >= PW_ZAMG_MIN_UNKNOWNS && pw__zamg_excess(A) < PW_ZAMG_MAX_EXCESS;
+    double dsum, off;
+    pw__zamg_sums(A, &dsum, &off);
+    return pw_zamg_pays_sums(A->n, dsum, off);
 }
 
 /* Solves the Hermitian positive definite A x = b (x the warm start) by CG,
@@ -15751,6 +15756,9 @@ typedef struct pw_periodic {
     float *sfac;          /* nv: a factor of S_i (1 but where the method
                              makes the field integrable) */
     double *zs, *zt;      /* nv*2: the unit complex unknowns of s and t (§2.3) */
+    double *turn;         /* nv*2: Arg(z) / 2 pi of s and t per vertex, as the
+                             last pw_periodic_solve left z (what
+                             pw_periodic_recover reads) */
     float *stm;           /* nf*9: per corner s, t, m (Eq. 4) */
     float *grad;          /* nf*6: g for s and t of every triangle as the
                              last pw_periodic_solve saw the field (what
@@ -15851,7 +15859,7 @@ PW__DEF int pw_periodic_init(pw_periodic *P, const pw_mesh *v, pw_err *e)
     P->dual = (double *)pw_alloc_array(&P->a, 3 * nf, sizeof(double), "mapping", e);
     P->base = (double *)pw_alloc_array(&P->a, 4 * nf, sizeof(double), "mapping", e);
     P->scale = (float *)pw_alloc_array(&P->a, 2 * nv + 15 * nf, sizeof(float), "mapping", e);
-    P->zs = (double *)pw_alloc_array(&P->a, 4 * nv, sizeof(double), "mapping", e);
+    P->zs = (double *)pw_alloc_array(&P->a, 6 * nv, sizeof(double), "mapping", e);
     P->forder = (int *)pw_alloc_array(&P->a, nf + nv, sizeof(int), "mapping", e);
     done = (unsigned char *)pw_calloc_array(&P->a, nv + nf, 1, "mapping", e);
     if (!P->dual || !P->base || !P->scale || !P->zs || !P->forder || !done) {
@@ -15866,6 +15874,7 @@ PW__DEF int pw_periodic_init(pw_periodic *P, const pw_mesh *v, pw_err *e)
     P->stm = P->sfac + nv;
     P->grad = P->stm + 9 * nf;
     P->zt = P->zs + 2 * nv;
+    P->turn = P->zt + 2 * nv;
     pw_df_dual(&P->m, P->dual);
     return pw_df_connection(&P->a, &P->m, &P->conn, e);
 }
@@ -16313,12 +16322,12 @@ PW__DEF int pw_periodic_propagate(pw_periodic *P, double *z, const int *id, int 
 PW__DEF int pw_periodic_solve_k(pw_periodic *P, pw_periodic_zsys *Z, double *z, int n, int k, pw_err *e)
 {
     double *x = (double *)pw_alloc_array(&P->a, (size_t)n * 5, sizeof(double), "PGP", e);
-    double *dg = x + 2 * n, *rhs = x + 3 * n, *b = Z->S.b;
+    double *dg = x + 2 * n, *rhs = x + 3 * n, *b = Z->S.b, dsum, off;
     const int *id = Z->id;
     pw_zcsr *A = &Z->S.A;
     pw_zamg M;
     pw_cg_options o = pw_cg_default_options();
-    int v, h, q, step, multigrid = 0, r = x ? PW_OK : PW_ERR_NOMEM;
+    int v, h, q, step, multigrid = 0, pays, r = x ? PW_OK : PW_ERR_NOMEM;
     Z->z = z;
     Z->k = k;
     Z->edge = (double *)pw_alloc_array(&P->a, 9 * (size_t)P->m.nf + 1, sizeof(double), "PGP", e);
@@ -16335,10 +16344,12 @@ PW__DEF int pw_periodic_solve_k(pw_periodic *P, pw_periodic_zsys *Z, double *z, 
     if (r == PW_OK) r = pw_periodic_propagate(P, z, id, k, e);
     o.max_iter = 4000;
     memset(&M, 0, sizeof M);
+    if (r == PW_OK) pw__zamg_sums(A, &dsum, &off); /* the off-diagonal moduli: the same for every step */
     for (step = 0; r == PW_OK && step < PW_PERIODIC_STEPS; step++) {
         double mu = pw_periodic_mu[step];
-        for (q = 0; q < n; q++) A->val[2 * Z->S.dpos[q]] = dg[q] * (1.0 + mu);
-        if (step == 0 && pw_zamg_pays(A)) { /* one hierarchy for the steps that need it */
+        for (q = 0, dsum = 0.0; q < n; q++) dsum += A->val[2 * Z->S.dpos[q]] = dg[q] * (1.0 + mu);
+        pays = pw_zamg_pays_sums(n, dsum, off);
+        if (step == 0 && pays) { /* one hierarchy for the steps that need it */
             pw_err se;
             int sr;
             pw_err_clear(&se);
@@ -16356,8 +16367,8 @@ PW__DEF int pw_periodic_solve_k(pw_periodic *P, pw_periodic_zsys *Z, double *z, 
         o.tol = step < PW_PERIODIC_STEPS - 1 ? 1e-3 : 1e-4; /* each step is normalised: no need for more */
         /* the steps' matrices differ in the diagonal only: level 0 sees it, the coarse levels need not */
         if (r == PW_OK)
-            r = multigrid && pw_zamg_pays(A) ? pw_zamg_solve(&P->a, A, &M, rhs, x, &o, NULL, e)
-                                             : pw_zic0_solve(&P->a, A, rhs, x, &o, e);
+            r = multigrid && pays ? pw_zamg_solve(&P->a, A, &M, rhs, x, &o, NULL, e)
+                                  : pw_zic0_solve(&P->a, A, rhs, x, &o, e);
         for (v = 0; r == PW_OK && v < P->m.nv; v++)
             if ((q = id[v]) >= 0) {
                 double zz[2];
@@ -16372,6 +16383,17 @@ PW__DEF int pw_periodic_solve_k(pw_periodic *P, pw_periodic_zsys *Z, double *z, 
     if (multigrid) pw_zamg_free(&P->a, &M);
     pw_free(&P->a, x);
     return r;
+}
+
+/* P->turn over a block of vertices (on the solve's threads). */
+PW__DEF void pw__periodic_turn_block(void *ctx, int b)
+{
+    pw_periodic *P = (pw_periodic *)ctx;
+    int v, nb = pw__zblocks(P->m.nv), hi = pw__zblock_start(P->m.nv, nb, b + 1);
+    for (v = pw__zblock_start(P->m.nv, nb, b); v < hi; v++) {
+        P->turn[2 * v] = pw_periodic_turns(P->zs[2 * v], P->zs[2 * v + 1]);
+        P->turn[2 * v + 1] = pw_periodic_turns(P->zt[2 * v], P->zt[2 * v + 1]);
+    }
 }
 
 /* §2.3 over the free vertices: "in the special case of initialization, we
@@ -16415,6 +16437,7 @@ PW__DEF int pw_periodic_solve(pw_periodic *P, const unsigned char *vfree, int wh
         r = pw_periodic_solve_k(P, &Z, P->zs, n, 0, e);
     }
     if (r == PW_OK && n > 0) r = pw_periodic_solve_k(P, &Z, P->zt, n, 1, e);
+    if (r == PW_OK) pw__zfor(&P->run, P->m.nv, pw__zblocks(P->m.nv), pw__periodic_turn_block, P);
     pw_zasm_free(&P->a, &Z.S);
     pw_free(&P->a, id);
     pw_free(&P->a, lock);
@@ -16426,7 +16449,7 @@ PW__DEF int pw_periodic_solve(pw_periodic *P, const unsigned char *vfree, int wh
 /* s and t of triangle f's corners: corner 0 reads Arg(z)/2pi, corners 1
  * and 2 add the integer p that brings their difference to corner 0 closest
  * to what the field asks for along the edge (alpha), so that every vertex
- * differs between its triangles by integers only. alpha is the last
+ * differs between its triangles by integers only. z and alpha are the last
  * pw_periodic_solve's (the field must not have changed since). */
 PW__DEF void pw_periodic_recover(pw_periodic *P, int f)
 {
@@ -16434,14 +16457,13 @@ PW__DEF void pw_periodic_recover(pw_periodic *P, int f)
     float *o = P->stm + 9 * f;
     int c, k;
     for (k = 0; k < 2; k++) {
-        const double *z = k ? P->zt : P->zs;
-        double s0 = pw_periodic_turns(z[2 * tri[0]], z[2 * tri[0] + 1]);
+        double s0 = P->turn[2 * tri[0] + k];
         o[k] = (float)s0;
         for (c = 1; c < 3; c++) {
             /* alpha from corner 0 to corner c: edge 0->1 is half-edge 3f, edge 0->2 is 3f+2 reversed */
             double want =
                 s0 + (c == 1 ? pw_periodic_alpha_solved(P, 3 * f, k) : -pw_periodic_alpha_solved(P, 3 * f + 2, k));
-            double sc = pw_periodic_turns(z[2 * tri[c]], z[2 * tri[c] + 1]);
+            double sc = P->turn[2 * tri[c] + k];
             o[3 * c + k] = (float)(sc + floor(want - sc + 0.5));
         }
     }

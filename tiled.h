@@ -18,26 +18,26 @@
  *   6392: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
  *   8053: src/common/zsparse.h, complex Hermitian sparse systems, solved by conjugate grad
  *   8553: src/common/zamg.h, a smoothed-aggregation multigrid preconditioner for the co
- *   9581: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
- *   9778: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
- *   9863: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
- *  10627: src/common/periodic.h, the periodic global parameterization of a triangle mesh al
- *  11499: src/common/raster.h, exact scan conversion of 2D triangles.
- *  12013: src/common/parallel.h, a parallel for, the one way work is split across threads.
- *  12337: src/common/render.h, a small deterministic software renderer for textured trian
- *  14501: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
- *  14998: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
- *  15484: src/common/glue.h, what every method header needs between its public types an
- *  15820: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  16484: src/tiled/core.c, tiled.h's glue to the shared core, its defaults, result
- *  16573: src/tiled/layout.c, ch. III.1, the boundary types and the tiled texture they
- *  16845: src/tiled/cells.c, beyond the thesis (issue 23): tiles of a chosen size on an
- *  17763: src/tiled/map.c, ch. III.2, the texture mapping algorithm of Fig. 29
- *  18032: src/tiled/synth.c, ch. III.1.3, tiled texture image synthesis: an edge-matche
- *  18478: src/tiled/validate.c, checks a hand-made tiled texture (the thesis's Figs. 39,
- *  18606: src/tiled/builtin.c, built-in meshes and exemplars for demos and tests: the
- *  18803: src/tiled/render.c, a software rendering of a mapped mesh (the thesis rendered
- *  19027: src/tiled/io.c, files. Meshes and exemplars in; the mapped mesh with its t
+ *   9586: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
+ *   9783: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
+ *   9868: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
+ *  10632: src/common/periodic.h, the periodic global parameterization of a triangle mesh al
+ *  11521: src/common/raster.h, exact scan conversion of 2D triangles.
+ *  12035: src/common/parallel.h, a parallel for, the one way work is split across threads.
+ *  12359: src/common/render.h, a small deterministic software renderer for textured trian
+ *  14523: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
+ *  15020: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
+ *  15506: src/common/glue.h, what every method header needs between its public types an
+ *  15842: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  16506: src/tiled/core.c, tiled.h's glue to the shared core, its defaults, result
+ *  16595: src/tiled/layout.c, ch. III.1, the boundary types and the tiled texture they
+ *  16867: src/tiled/cells.c, beyond the thesis (issue 23): tiles of a chosen size on an
+ *  17785: src/tiled/map.c, ch. III.2, the texture mapping algorithm of Fig. 29
+ *  18054: src/tiled/synth.c, ch. III.1.3, tiled texture image synthesis: an edge-matche
+ *  18500: src/tiled/validate.c, checks a hand-made tiled texture (the thesis's Figs. 39,
+ *  18628: src/tiled/builtin.c, built-in meshes and exemplars for demos and tests: the
+ *  18825: src/tiled/render.c, a software rendering of a mapped mesh (the thesis rendered
+ *  19049: src/tiled/io.c, files. Meshes and exemplars in; the mapped mesh with its t
  */
 /* tiled.h - seamless, singularity-free tiled textures on quad meshes.
  *
@@ -9531,26 +9531,31 @@ PW__DEF int pw_zamg_solve(const pw_alloc *a, const pw_zcsr *A, const pw_zamg *M,
 #define PW_ZAMG_MIN_UNKNOWNS 20000
 #define PW_ZAMG_MAX_EXCESS 0.005
 
-/* sum_i (a_ii - sum_j |a_ij|) / sum_i a_ii. */
-PW__DEF double pw__zamg_excess(const pw_zcsr *A)
+/* The sums of A's diagonal and of the moduli of its other entries. */
+PW__DEF void pw__zamg_sums(const pw_zcsr *A, double *dsum, double *off)
 {
-    double dsum = 0.0, xs = 0.0;
     int i, k;
+    *dsum = *off = 0.0;
     for (i = 0; i < A->n; i++)
-        for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++) {
-            double m = pw__zamg_abs(A->val + 2 * k);
-            if (A->col[k] == i) {
-                dsum += A->val[2 * k];
-                xs += A->val[2 * k];
-            } else xs -= m;
-        }
-    return dsum > 0.0 ? xs / dsum : 0.0;
+        for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++)
+            if (A->col[k] == i) *dsum += A->val[2 * k];
+            else *off += pw__zamg_abs(A->val + 2 * k);
 }
 
-/* 1 if multigrid pays on A: large and poorly conditioned. */
+/* 1 if multigrid pays on a matrix of n unknowns whose diagonal sums to
+ * dsum and the moduli of its other entries to off: large and poorly
+ * conditioned (the diagonal excess, (dsum - off) / dsum, small). */
+PW__DEF int pw_zamg_pays_sums(int n, double dsum, double off)
+{
+    return n >= PW_ZAMG_MIN_UNKNOWNS && (dsum > 0.0 ? (dsum - off) / dsum : 0.0) < PW_ZAMG_MAX_EXCESS;
+}
+
+/* 1 if multigrid pays on A. */
 PW__DEF int pw_zamg_pays(const pw_zcsr *A)
 {
-    return A->n >= PW_ZAMG_MIN_UNKNOWNS && pw__zamg_excess(A) < PW_ZAMG_MAX_EXCESS;
+    double dsum, off;
+    pw__zamg_sums(A, &dsum, &off);
+    return pw_zamg_pays_sums(A->n, dsum, off);
 }
 
 /* Solves the Hermitian positive definite A x = b (x the warm start) by CG,
@@ -10661,6 +10666,9 @@ typedef struct pw_periodic {
     float *sfac;          /* nv: a factor of S_i (1 but where the method
                              makes the field integrable) */
     double *zs, *zt;      /* nv*2: the unit complex unknowns of s and t (§2.3) */
+    double *turn;         /* nv*2: Arg(z) / 2 pi of s and t per vertex, as the
+                             last pw_periodic_solve left z (what
+                             pw_periodic_recover reads) */
     float *stm;           /* nf*9: per corner s, t, m (Eq. 4) */
     float *grad;          /* nf*6: g for s and t of every triangle as the
                              last pw_periodic_solve saw the field (what
@@ -10761,7 +10769,7 @@ PW__DEF int pw_periodic_init(pw_periodic *P, const pw_mesh *v, pw_err *e)
     P->dual = (double *)pw_alloc_array(&P->a, 3 * nf, sizeof(double), "mapping", e);
     P->base = (double *)pw_alloc_array(&P->a, 4 * nf, sizeof(double), "mapping", e);
     P->scale = (float *)pw_alloc_array(&P->a, 2 * nv + 15 * nf, sizeof(float), "mapping", e);
-    P->zs = (double *)pw_alloc_array(&P->a, 4 * nv, sizeof(double), "mapping", e);
+    P->zs = (double *)pw_alloc_array(&P->a, 6 * nv, sizeof(double), "mapping", e);
     P->forder = (int *)pw_alloc_array(&P->a, nf + nv, sizeof(int), "mapping", e);
     done = (unsigned char *)pw_calloc_array(&P->a, nv + nf, 1, "mapping", e);
     if (!P->dual || !P->base || !P->scale || !P->zs || !P->forder || !done) {
@@ -10776,6 +10784,7 @@ PW__DEF int pw_periodic_init(pw_periodic *P, const pw_mesh *v, pw_err *e)
     P->stm = P->sfac + nv;
     P->grad = P->stm + 9 * nf;
     P->zt = P->zs + 2 * nv;
+    P->turn = P->zt + 2 * nv;
     pw_df_dual(&P->m, P->dual);
     return pw_df_connection(&P->a, &P->m, &P->conn, e);
 }
@@ -11223,12 +11232,12 @@ PW__DEF int pw_periodic_propagate(pw_periodic *P, double *z, const int *id, int 
 PW__DEF int pw_periodic_solve_k(pw_periodic *P, pw_periodic_zsys *Z, double *z, int n, int k, pw_err *e)
 {
     double *x = (double *)pw_alloc_array(&P->a, (size_t)n * 5, sizeof(double), "PGP", e);
-    double *dg = x + 2 * n, *rhs = x + 3 * n, *b = Z->S.b;
+    double *dg = x + 2 * n, *rhs = x + 3 * n, *b = Z->S.b, dsum, off;
     const int *id = Z->id;
     pw_zcsr *A = &Z->S.A;
     pw_zamg M;
     pw_cg_options o = pw_cg_default_options();
-    int v, h, q, step, multigrid = 0, r = x ? PW_OK : PW_ERR_NOMEM;
+    int v, h, q, step, multigrid = 0, pays, r = x ? PW_OK : PW_ERR_NOMEM;
     Z->z = z;
     Z->k = k;
     Z->edge = (double *)pw_alloc_array(&P->a, 9 * (size_t)P->m.nf + 1, sizeof(double), "PGP", e);
@@ -11245,10 +11254,12 @@ PW__DEF int pw_periodic_solve_k(pw_periodic *P, pw_periodic_zsys *Z, double *z, 
     if (r == PW_OK) r = pw_periodic_propagate(P, z, id, k, e);
     o.max_iter = 4000;
     memset(&M, 0, sizeof M);
+    if (r == PW_OK) pw__zamg_sums(A, &dsum, &off); /* the off-diagonal moduli: the same for every step */
     for (step = 0; r == PW_OK && step < PW_PERIODIC_STEPS; step++) {
         double mu = pw_periodic_mu[step];
-        for (q = 0; q < n; q++) A->val[2 * Z->S.dpos[q]] = dg[q] * (1.0 + mu);
-        if (step == 0 && pw_zamg_pays(A)) { /* one hierarchy for the steps that need it */
+        for (q = 0, dsum = 0.0; q < n; q++) dsum += A->val[2 * Z->S.dpos[q]] = dg[q] * (1.0 + mu);
+        pays = pw_zamg_pays_sums(n, dsum, off);
+        if (step == 0 && pays) { /* one hierarchy for the steps that need it */
             pw_err se;
             int sr;
             pw_err_clear(&se);
@@ -11266,8 +11277,8 @@ PW__DEF int pw_periodic_solve_k(pw_periodic *P, pw_periodic_zsys *Z, double *z, 
         o.tol = step < PW_PERIODIC_STEPS - 1 ? 1e-3 : 1e-4; /* each step is normalised: no need for more */
         /* the steps' matrices differ in the diagonal only: level 0 sees it, the coarse levels need not */
         if (r == PW_OK)
-            r = multigrid && pw_zamg_pays(A) ? pw_zamg_solve(&P->a, A, &M, rhs, x, &o, NULL, e)
-                                             : pw_zic0_solve(&P->a, A, rhs, x, &o, e);
+            r = multigrid && pays ? pw_zamg_solve(&P->a, A, &M, rhs, x, &o, NULL, e)
+                                  : pw_zic0_solve(&P->a, A, rhs, x, &o, e);
         for (v = 0; r == PW_OK && v < P->m.nv; v++)
             if ((q = id[v]) >= 0) {
                 double zz[2];
@@ -11282,6 +11293,17 @@ PW__DEF int pw_periodic_solve_k(pw_periodic *P, pw_periodic_zsys *Z, double *z, 
     if (multigrid) pw_zamg_free(&P->a, &M);
     pw_free(&P->a, x);
     return r;
+}
+
+/* P->turn over a block of vertices (on the solve's threads). */
+PW__DEF void pw__periodic_turn_block(void *ctx, int b)
+{
+    pw_periodic *P = (pw_periodic *)ctx;
+    int v, nb = pw__zblocks(P->m.nv), hi = pw__zblock_start(P->m.nv, nb, b + 1);
+    for (v = pw__zblock_start(P->m.nv, nb, b); v < hi; v++) {
+        P->turn[2 * v] = pw_periodic_turns(P->zs[2 * v], P->zs[2 * v + 1]);
+        P->turn[2 * v + 1] = pw_periodic_turns(P->zt[2 * v], P->zt[2 * v + 1]);
+    }
 }
 
 /* §2.3 over the free vertices: "in the special case of initialization, we
@@ -11325,6 +11347,7 @@ PW__DEF int pw_periodic_solve(pw_periodic *P, const unsigned char *vfree, int wh
         r = pw_periodic_solve_k(P, &Z, P->zs, n, 0, e);
     }
     if (r == PW_OK && n > 0) r = pw_periodic_solve_k(P, &Z, P->zt, n, 1, e);
+    if (r == PW_OK) pw__zfor(&P->run, P->m.nv, pw__zblocks(P->m.nv), pw__periodic_turn_block, P);
     pw_zasm_free(&P->a, &Z.S);
     pw_free(&P->a, id);
     pw_free(&P->a, lock);
@@ -11336,7 +11359,7 @@ PW__DEF int pw_periodic_solve(pw_periodic *P, const unsigned char *vfree, int wh
 /* s and t of triangle f's corners: corner 0 reads Arg(z)/2pi, corners 1
  * and 2 add the integer p that brings their difference to corner 0 closest
  * to what the field asks for along the edge (alpha), so that every vertex
- * differs between its triangles by integers only. alpha is the last
+ * differs between its triangles by integers only. z and alpha are the last
  * pw_periodic_solve's (the field must not have changed since). */
 PW__DEF void pw_periodic_recover(pw_periodic *P, int f)
 {
@@ -11344,14 +11367,13 @@ PW__DEF void pw_periodic_recover(pw_periodic *P, int f)
     float *o = P->stm + 9 * f;
     int c, k;
     for (k = 0; k < 2; k++) {
-        const double *z = k ? P->zt : P->zs;
-        double s0 = pw_periodic_turns(z[2 * tri[0]], z[2 * tri[0] + 1]);
+        double s0 = P->turn[2 * tri[0] + k];
         o[k] = (float)s0;
         for (c = 1; c < 3; c++) {
             /* alpha from corner 0 to corner c: edge 0->1 is half-edge 3f, edge 0->2 is 3f+2 reversed */
             double want =
                 s0 + (c == 1 ? pw_periodic_alpha_solved(P, 3 * f, k) : -pw_periodic_alpha_solved(P, 3 * f + 2, k));
-            double sc = pw_periodic_turns(z[2 * tri[c]], z[2 * tri[c] + 1]);
+            double sc = P->turn[2 * tri[c] + k];
             o[3 * c + k] = (float)(sc + floor(want - sc + 0.5));
         }
     }

@@ -42,6 +42,9 @@ typedef struct pw_periodic {
     float *sfac;          /* nv: a factor of S_i (1 but where the method
                              makes the field integrable) */
     double *zs, *zt;      /* nv*2: the unit complex unknowns of s and t (§2.3) */
+    double *turn;         /* nv*2: Arg(z) / 2 pi of s and t per vertex, as the
+                             last pw_periodic_solve left z (what
+                             pw_periodic_recover reads) */
     float *stm;           /* nf*9: per corner s, t, m (Eq. 4) */
     float *grad;          /* nf*6: g for s and t of every triangle as the
                              last pw_periodic_solve saw the field (what
@@ -142,7 +145,7 @@ PW__DEF int pw_periodic_init(pw_periodic *P, const pw_mesh *v, pw_err *e)
     P->dual = (double *)pw_alloc_array(&P->a, 3 * nf, sizeof(double), "mapping", e);
     P->base = (double *)pw_alloc_array(&P->a, 4 * nf, sizeof(double), "mapping", e);
     P->scale = (float *)pw_alloc_array(&P->a, 2 * nv + 15 * nf, sizeof(float), "mapping", e);
-    P->zs = (double *)pw_alloc_array(&P->a, 4 * nv, sizeof(double), "mapping", e);
+    P->zs = (double *)pw_alloc_array(&P->a, 6 * nv, sizeof(double), "mapping", e);
     P->forder = (int *)pw_alloc_array(&P->a, nf + nv, sizeof(int), "mapping", e);
     done = (unsigned char *)pw_calloc_array(&P->a, nv + nf, 1, "mapping", e);
     if (!P->dual || !P->base || !P->scale || !P->zs || !P->forder || !done) {
@@ -157,6 +160,7 @@ PW__DEF int pw_periodic_init(pw_periodic *P, const pw_mesh *v, pw_err *e)
     P->stm = P->sfac + nv;
     P->grad = P->stm + 9 * nf;
     P->zt = P->zs + 2 * nv;
+    P->turn = P->zt + 2 * nv;
     pw_df_dual(&P->m, P->dual);
     return pw_df_connection(&P->a, &P->m, &P->conn, e);
 }
@@ -604,12 +608,12 @@ PW__DEF int pw_periodic_propagate(pw_periodic *P, double *z, const int *id, int 
 PW__DEF int pw_periodic_solve_k(pw_periodic *P, pw_periodic_zsys *Z, double *z, int n, int k, pw_err *e)
 {
     double *x = (double *)pw_alloc_array(&P->a, (size_t)n * 5, sizeof(double), "PGP", e);
-    double *dg = x + 2 * n, *rhs = x + 3 * n, *b = Z->S.b;
+    double *dg = x + 2 * n, *rhs = x + 3 * n, *b = Z->S.b, dsum, off;
     const int *id = Z->id;
     pw_zcsr *A = &Z->S.A;
     pw_zamg M;
     pw_cg_options o = pw_cg_default_options();
-    int v, h, q, step, multigrid = 0, r = x ? PW_OK : PW_ERR_NOMEM;
+    int v, h, q, step, multigrid = 0, pays, r = x ? PW_OK : PW_ERR_NOMEM;
     Z->z = z;
     Z->k = k;
     Z->edge = (double *)pw_alloc_array(&P->a, 9 * (size_t)P->m.nf + 1, sizeof(double), "PGP", e);
@@ -626,10 +630,12 @@ PW__DEF int pw_periodic_solve_k(pw_periodic *P, pw_periodic_zsys *Z, double *z, 
     if (r == PW_OK) r = pw_periodic_propagate(P, z, id, k, e);
     o.max_iter = 4000;
     memset(&M, 0, sizeof M);
+    if (r == PW_OK) pw__zamg_sums(A, &dsum, &off); /* the off-diagonal moduli: the same for every step */
     for (step = 0; r == PW_OK && step < PW_PERIODIC_STEPS; step++) {
         double mu = pw_periodic_mu[step];
-        for (q = 0; q < n; q++) A->val[2 * Z->S.dpos[q]] = dg[q] * (1.0 + mu);
-        if (step == 0 && pw_zamg_pays(A)) { /* one hierarchy for the steps that need it */
+        for (q = 0, dsum = 0.0; q < n; q++) dsum += A->val[2 * Z->S.dpos[q]] = dg[q] * (1.0 + mu);
+        pays = pw_zamg_pays_sums(n, dsum, off);
+        if (step == 0 && pays) { /* one hierarchy for the steps that need it */
             pw_err se;
             int sr;
             pw_err_clear(&se);
@@ -647,8 +653,8 @@ PW__DEF int pw_periodic_solve_k(pw_periodic *P, pw_periodic_zsys *Z, double *z, 
         o.tol = step < PW_PERIODIC_STEPS - 1 ? 1e-3 : 1e-4; /* each step is normalised: no need for more */
         /* the steps' matrices differ in the diagonal only: level 0 sees it, the coarse levels need not */
         if (r == PW_OK)
-            r = multigrid && pw_zamg_pays(A) ? pw_zamg_solve(&P->a, A, &M, rhs, x, &o, NULL, e)
-                                             : pw_zic0_solve(&P->a, A, rhs, x, &o, e);
+            r = multigrid && pays ? pw_zamg_solve(&P->a, A, &M, rhs, x, &o, NULL, e)
+                                  : pw_zic0_solve(&P->a, A, rhs, x, &o, e);
         for (v = 0; r == PW_OK && v < P->m.nv; v++)
             if ((q = id[v]) >= 0) {
                 double zz[2];
@@ -663,6 +669,17 @@ PW__DEF int pw_periodic_solve_k(pw_periodic *P, pw_periodic_zsys *Z, double *z, 
     if (multigrid) pw_zamg_free(&P->a, &M);
     pw_free(&P->a, x);
     return r;
+}
+
+/* P->turn over a block of vertices (on the solve's threads). */
+PW__DEF void pw__periodic_turn_block(void *ctx, int b)
+{
+    pw_periodic *P = (pw_periodic *)ctx;
+    int v, nb = pw__zblocks(P->m.nv), hi = pw__zblock_start(P->m.nv, nb, b + 1);
+    for (v = pw__zblock_start(P->m.nv, nb, b); v < hi; v++) {
+        P->turn[2 * v] = pw_periodic_turns(P->zs[2 * v], P->zs[2 * v + 1]);
+        P->turn[2 * v + 1] = pw_periodic_turns(P->zt[2 * v], P->zt[2 * v + 1]);
+    }
 }
 
 /* §2.3 over the free vertices: "in the special case of initialization, we
@@ -706,6 +723,7 @@ PW__DEF int pw_periodic_solve(pw_periodic *P, const unsigned char *vfree, int wh
         r = pw_periodic_solve_k(P, &Z, P->zs, n, 0, e);
     }
     if (r == PW_OK && n > 0) r = pw_periodic_solve_k(P, &Z, P->zt, n, 1, e);
+    if (r == PW_OK) pw__zfor(&P->run, P->m.nv, pw__zblocks(P->m.nv), pw__periodic_turn_block, P);
     pw_zasm_free(&P->a, &Z.S);
     pw_free(&P->a, id);
     pw_free(&P->a, lock);
@@ -717,7 +735,7 @@ PW__DEF int pw_periodic_solve(pw_periodic *P, const unsigned char *vfree, int wh
 /* s and t of triangle f's corners: corner 0 reads Arg(z)/2pi, corners 1
  * and 2 add the integer p that brings their difference to corner 0 closest
  * to what the field asks for along the edge (alpha), so that every vertex
- * differs between its triangles by integers only. alpha is the last
+ * differs between its triangles by integers only. z and alpha are the last
  * pw_periodic_solve's (the field must not have changed since). */
 PW__DEF void pw_periodic_recover(pw_periodic *P, int f)
 {
@@ -725,14 +743,13 @@ PW__DEF void pw_periodic_recover(pw_periodic *P, int f)
     float *o = P->stm + 9 * f;
     int c, k;
     for (k = 0; k < 2; k++) {
-        const double *z = k ? P->zt : P->zs;
-        double s0 = pw_periodic_turns(z[2 * tri[0]], z[2 * tri[0] + 1]);
+        double s0 = P->turn[2 * tri[0] + k];
         o[k] = (float)s0;
         for (c = 1; c < 3; c++) {
             /* alpha from corner 0 to corner c: edge 0->1 is half-edge 3f, edge 0->2 is 3f+2 reversed */
             double want =
                 s0 + (c == 1 ? pw_periodic_alpha_solved(P, 3 * f, k) : -pw_periodic_alpha_solved(P, 3 * f + 2, k));
-            double sc = pw_periodic_turns(z[2 * tri[c]], z[2 * tri[c] + 1]);
+            double sc = P->turn[2 * tri[c] + k];
             o[3 * c + k] = (float)(sc + floor(want - sc + 0.5));
         }
     }

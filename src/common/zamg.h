@@ -979,26 +979,31 @@ PW__DEF int pw_zamg_solve(const pw_alloc *a, const pw_zcsr *A, const pw_zamg *M,
 #define PW_ZAMG_MIN_UNKNOWNS 20000
 #define PW_ZAMG_MAX_EXCESS 0.005
 
-/* sum_i (a_ii - sum_j |a_ij|) / sum_i a_ii. */
-PW__DEF double pw__zamg_excess(const pw_zcsr *A)
+/* The sums of A's diagonal and of the moduli of its other entries. */
+PW__DEF void pw__zamg_sums(const pw_zcsr *A, double *dsum, double *off)
 {
-    double dsum = 0.0, xs = 0.0;
     int i, k;
+    *dsum = *off = 0.0;
     for (i = 0; i < A->n; i++)
-        for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++) {
-            double m = pw__zamg_abs(A->val + 2 * k);
-            if (A->col[k] == i) {
-                dsum += A->val[2 * k];
-                xs += A->val[2 * k];
-            } else xs -= m;
-        }
-    return dsum > 0.0 ? xs / dsum : 0.0;
+        for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++)
+            if (A->col[k] == i) *dsum += A->val[2 * k];
+            else *off += pw__zamg_abs(A->val + 2 * k);
 }
 
-/* 1 if multigrid pays on A: large and poorly conditioned. */
+/* 1 if multigrid pays on a matrix of n unknowns whose diagonal sums to
+ * dsum and the moduli of its other entries to off: large and poorly
+ * conditioned (the diagonal excess, (dsum - off) / dsum, small). */
+PW__DEF int pw_zamg_pays_sums(int n, double dsum, double off)
+{
+    return n >= PW_ZAMG_MIN_UNKNOWNS && (dsum > 0.0 ? (dsum - off) / dsum : 0.0) < PW_ZAMG_MAX_EXCESS;
+}
+
+/* 1 if multigrid pays on A. */
 PW__DEF int pw_zamg_pays(const pw_zcsr *A)
 {
-    return A->n >= PW_ZAMG_MIN_UNKNOWNS && pw__zamg_excess(A) < PW_ZAMG_MAX_EXCESS;
+    double dsum, off;
+    pw__zamg_sums(A, &dsum, &off);
+    return pw_zamg_pays_sums(A->n, dsum, off);
 }
 
 /* Solves the Hermitian positive definite A x = b (x the warm start) by CG,
