@@ -16,37 +16,37 @@
  *   6015: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
  *   6439: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
  *   8173: src/common/zsparse.h, complex Hermitian sparse systems, solved by conjugate grad
- *   8527: src/common/zamg.h, a smoothed-aggregation multigrid preconditioner for the co
- *   9347: src/common/raster.h, exact scan conversion of 2D triangles.
- *   9859: src/common/parallel.h, a parallel for, the one way work is split across threads.
- *  10183: src/common/render.h, a small deterministic software renderer for textured trian
- *  12347: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
- *  12544: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
- *  12629: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
- *  12818: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
- *  13738: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
- *  14436: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
- *  14672: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
- *  15436: src/common/periodic.h, the periodic global parameterization of a triangle mesh al
- *  16296: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
- *  17057: src/pgp/tile3.h, sampling a material-space tile (Ray et al. 2009, §2: "a 3
- *  17165: src/common/glue.h, what every method header needs between its public types an
- *  17501: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  18165: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
- *  18662: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
- *  19148: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
- *  19291: src/common/kdtree.h, nearest-neighbour search among n points of dimension d, wi
- *  19634: src/common/pca.h, principal component analysis of vectors streamed one at a 
- *  19821: src/pgp/core.c, pgp.h's glue to the shared core, its defaults, and the map
- *  20035: src/pgp/field.c, §2.1 effect areas and §2.2 interpolation of the constrai
- *  20234: src/pgp/solve.c, §2.3 the periodic global parameterization, the recovery o
- *  20777: src/pgp/edit.c, the public editing calls of a mapping. §2.1 (Ray, Lévy, 
- *  20922: src/pgp/render.c, §3 rendering, and a cleaner treatment of the vortices.
- *  21284: src/pgp/builtin.c, built-in meshes and material-space tiles for demos and tes
- *  21553: src/pgp/io.c, files and memory for pgp.h: material-space tiles (NRRD, or
- *  21901: src/pgp/export.c, the mapping for other programs. A viewer that knows nothin
- *  22127: src/pgp/morph.c, the inputs of §1 (keys brought to the tile size, made til
- *  22806: src/pgp/synth.c, §1.2 constrained tile synthesis, and the whole of §1: ke
+ *   8673: src/common/zamg.h, a smoothed-aggregation multigrid preconditioner for the co
+ *   9706: src/common/raster.h, exact scan conversion of 2D triangles.
+ *  10218: src/common/parallel.h, a parallel for, the one way work is split across threads.
+ *  10542: src/common/render.h, a small deterministic software renderer for textured trian
+ *  12706: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
+ *  12903: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
+ *  12988: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
+ *  13177: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
+ *  14097: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
+ *  14795: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
+ *  15031: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
+ *  15795: src/common/periodic.h, the periodic global parameterization of a triangle mesh al
+ *  16684: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
+ *  17445: src/pgp/tile3.h, sampling a material-space tile (Ray et al. 2009, §2: "a 3
+ *  17553: src/common/glue.h, what every method header needs between its public types an
+ *  17889: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  18553: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
+ *  19050: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
+ *  19536: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
+ *  19679: src/common/kdtree.h, nearest-neighbour search among n points of dimension d, wi
+ *  20022: src/common/pca.h, principal component analysis of vectors streamed one at a 
+ *  20209: src/pgp/core.c, pgp.h's glue to the shared core, its defaults, and the map
+ *  20423: src/pgp/field.c, §2.1 effect areas and §2.2 interpolation of the constrai
+ *  20622: src/pgp/solve.c, §2.3 the periodic global parameterization, the recovery o
+ *  21165: src/pgp/edit.c, the public editing calls of a mapping. §2.1 (Ray, Lévy, 
+ *  21310: src/pgp/render.c, §3 rendering, and a cleaner treatment of the vortices.
+ *  21672: src/pgp/builtin.c, built-in meshes and material-space tiles for demos and tes
+ *  21941: src/pgp/io.c, files and memory for pgp.h: material-space tiles (NRRD, or
+ *  22289: src/pgp/export.c, the mapping for other programs. A viewer that knows nothin
+ *  22515: src/pgp/morph.c, the inputs of §1 (keys brought to the tile size, made til
+ *  23194: src/pgp/synth.c, §1.2 constrained tile synthesis, and the whole of §1: ke
  */
 /* pgp.h - material-space texturing with a periodic global parameterization.
  *
@@ -8303,6 +8303,152 @@ PW__DEF int pw_zcsr_from_triplets(const pw_alloc *a, const pw_triplets *t, pw_zc
     return PW_OK;
 }
 
+/* Sorts the first n ints of v (short rows: insertion sort). */
+PW__DEF void pw__zsort(int *v, int n)
+{
+    int i, j;
+    for (i = 1; i < n; i++) {
+        int x = v[i];
+        for (j = i; j > 0 && v[j - 1] > x; j--) v[j] = v[j - 1];
+        v[j] = x;
+    }
+}
+
+/* The position of (i, j) in A, -1 if absent (rows are short: a scan). */
+PW__DEF int pw__zcsr_find(const pw_zcsr *A, int i, int j)
+{
+    int k;
+    for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++)
+        if (A->col[k] == j) return k;
+    return -1;
+}
+
+/* The structure of a Hermitian matrix of n rows holding every diagonal
+ * entry and, for each of the np pairs (ij[2p] != ij[2p+1], both in [0,
+ * n)), the entries (ij[2p], ij[2p+1]) and (ij[2p+1], ij[2p]), with zero
+ * values: dpos[i] is where (i, i) sits, pos[2p] and pos[2p+1] where the
+ * pair's two entries sit (a repeated pair shares them). The caller then
+ * adds each term at its position, in the order it visits them: no
+ * triplets and no sort of the entries (assembly from a mesh's adjacency,
+ * where the pairs are its edges). */
+PW__DEF int pw_zcsr_pattern(const pw_alloc *a, int n, int np, const int *ij, pw_zcsr *A, int *dpos, int *pos, pw_err *e)
+{
+    int i, k, p, lo = 0, out = 0;
+    memset(A, 0, sizeof *A);
+    A->n = n;
+    A->rowptr = (int *)pw_calloc_array(a, (size_t)n + 1, sizeof(int), "complex CSR", e);
+    A->col = (int *)pw_alloc_array(a, (size_t)n + 2 * (size_t)np, sizeof(int), "complex CSR", e);
+    if (!A->rowptr || !A->col) {
+        pw_zcsr_free(a, A);
+        return PW_ERR_NOMEM;
+    }
+    for (p = 0; p < 2 * np; p++) A->rowptr[ij[p] + 1]++;
+    for (i = 0; i < n; i++) A->rowptr[i + 1] += A->rowptr[i] + 1; /* + the diagonal */
+    for (i = 0; i < n; i++) {                                     /* dpos: each row's fill cursor */
+        dpos[i] = A->rowptr[i];
+        A->col[dpos[i]++] = i;
+    }
+    for (p = 0; p < np; p++) {
+        A->col[dpos[ij[2 * p]]++] = ij[2 * p + 1];
+        A->col[dpos[ij[2 * p + 1]]++] = ij[2 * p];
+    }
+    for (i = 0; i < n; i++) { /* columns increasing, repeats merged */
+        int hi = A->rowptr[i + 1];
+        pw__zsort(A->col + lo, hi - lo);
+        A->rowptr[i] = out;
+        for (k = lo; k < hi; k++)
+            if (k == lo || A->col[k] != A->col[k - 1]) A->col[out++] = A->col[k];
+        lo = hi;
+    }
+    A->rowptr[n] = out;
+    A->val = (double *)pw_calloc_array(a, 2 * (size_t)out + 2, sizeof(double), "complex CSR", e);
+    if (!A->val) {
+        pw_zcsr_free(a, A);
+        return PW_ERR_NOMEM;
+    }
+    for (i = 0; i < n; i++) dpos[i] = pw__zcsr_find(A, i, i);
+    for (p = 0; p < np; p++) {
+        pos[2 * p] = pw__zcsr_find(A, ij[2 * p], ij[2 * p + 1]);
+        pos[2 * p + 1] = pw__zcsr_find(A, ij[2 * p + 1], ij[2 * p]);
+    }
+    return PW_OK;
+}
+
+/* A Hermitian system sum w |z_i - c z_j|^2 (+ diagonal terms) assembled
+ * into its structure (pw_zcsr_pattern): the matrix, where its diagonal
+ * and pair entries sit, the right-hand side (2n) and the pairs used so
+ * far. The pairs are given by pair(ctx, k, ij) for k in [0, count): 1
+ * and the two unknowns in ij when k makes one (both ends unknowns). */
+typedef struct pw_zpairs {
+    int count;
+    int (*pair)(const void *ctx, int k, int *ij);
+    const void *ctx;
+} pw_zpairs;
+
+typedef struct pw_zasm {
+    pw_zcsr A;
+    int *dpos, *pos;
+    double *b;
+    int next;
+} pw_zasm;
+
+PW__DEF void pw_zasm_free(const pw_alloc *a, pw_zasm *S)
+{
+    pw_zcsr_free(a, &S->A);
+    pw_free(a, S->dpos);
+    pw_free(a, S->pos);
+    pw_free(a, S->b);
+    memset(S, 0, sizeof *S);
+}
+
+/* The structure of the system of n unknowns and the pairs of pr, values
+ * and right-hand side zero; on failure what was allocated is left for
+ * pw_zasm_free. */
+PW__DEF int pw_zasm_init(const pw_alloc *a, pw_zasm *S, int n, const pw_zpairs *pr, pw_err *e)
+{
+    int k, np = 0, ij[2], *all, r;
+    memset(S, 0, sizeof *S);
+    for (k = 0; k < pr->count; k++) np += pr->pair(pr->ctx, k, ij);
+    S->dpos = (int *)pw_alloc_array(a, (size_t)n + 1, sizeof(int), "complex system", e);
+    S->pos = (int *)pw_alloc_array(a, 2 * (size_t)np + 1, sizeof(int), "complex system", e);
+    S->b = (double *)pw_calloc_array(a, 2 * (size_t)n + 1, sizeof(double), "complex system", e);
+    all = (int *)pw_alloc_array(a, 2 * (size_t)np + 1, sizeof(int), "complex system", e);
+    if (!S->dpos || !S->pos || !S->b || !all) {
+        pw_free(a, all);
+        return PW_ERR_NOMEM;
+    }
+    for (k = 0, np = 0; k < pr->count; k++)
+        if (pr->pair(pr->ctx, k, all + 2 * np)) np++;
+    r = pw_zcsr_pattern(a, n, np, all, &S->A, S->dpos, S->pos, e);
+    pw_free(a, all);
+    return r;
+}
+
+/* Adds the term w |z_i - c z_j|^2 (i or j -1 where that end is not an
+ * unknown, its value zfix moving to b): w on the diagonals of the
+ * unknowns, -w c at (i, j) and -w conj(c) at (j, i) when both are (the
+ * next pair, in the order pw_zasm_init met them). */
+PW__DEF void pw_zasm_term(pw_zasm *S, int i, int j, double w, const double *c, const double *zfix)
+{
+    double *v = S->A.val, *b = S->b;
+    if (i >= 0) v[2 * S->dpos[i]] += w;
+    if (j >= 0) v[2 * S->dpos[j]] += w;
+    if (i >= 0 && j >= 0) {
+        double *ij = v + 2 * S->pos[2 * S->next], *ji = v + 2 * S->pos[2 * S->next + 1];
+        ij[0] += -w * c[0];
+        ij[1] += -w * c[1];
+        ji[0] += -w * c[0];
+        ji[1] += w * c[1];
+        S->next++;
+    } else if (i >= 0) { /* b_i += w c z_j */
+        b[2 * i] += w * (c[0] * zfix[0] - c[1] * zfix[1]);
+        b[2 * i + 1] += w * (c[0] * zfix[1] + c[1] * zfix[0]);
+    } else if (j >= 0) { /* b_j += w conj(c) z_i */
+        b[2 * j] += w * (c[0] * zfix[0] + c[1] * zfix[1]);
+        b[2 * j + 1] += w * (c[0] * zfix[1] - c[1] * zfix[0]);
+    }
+}
+
 /* A product y = A x by blocks of rows: each block's share of Re(x^H y). */
 typedef struct pw__zmul {
     const pw_zcsr *A;
@@ -8536,8 +8682,8 @@ PW__DEF int pw_zic0_solve(const pw_alloc *a, const pw_zcsr *A, const double *b, 
  * by R from unknown to unknown. The coarse spaces follow that:
  *
  *   - Aggregation (Vanek, Mandel, Brezina 1996): unknowns joined by a
- *     strong entry (|a_ij| >= theta sqrt(a_ii a_jj)) are grouped around
- *     roots taken in index order, leftovers join their strongest
+ *     strong entry (|a_ij| at least 0.25 of the row's largest) are grouped
+ *     around roots taken in index order, leftovers join their strongest
  *     aggregated neighbour.
  *   - Tentative prolongation, one entry per row: the phase that carries the
  *     aggregate's value from the root to the unknown along the edge that
@@ -8578,7 +8724,11 @@ PW__DEF int pw_zic0_solve(const pw_alloc *a, const pw_zcsr *A, const double *b, 
 /* One level: its matrix, the prolongation from the next (coarser) level's
  * unknowns (n x nc, complex CSR) and its adjoint (nc x n), the sums of
  * |a_ij| over each row's columns in other blocks (l1, n), and the cycle's
- * vectors (2n doubles). */
+ * vectors (2n doubles). The cycle streams the matrices from memory, so it
+ * reads them in single precision (av, pv, hv: A's, P's and P^H's values;
+ * the set-up's products are in double, whose values it then frees, but
+ * level 0's, the caller's): the cycle is a preconditioner, and CG's
+ * products and residuals stay in double. */
 typedef struct pw__zamg_level {
     pw_zcsr A;
     int nc;
@@ -8587,6 +8737,12 @@ typedef struct pw__zamg_level {
     pw_zcsr PH;
     double *l1;
     double *x, *b, *r;
+    float *av, *pv, *hv;
+    double *dinv;     /* 1 / (a_ii + l1_i) as the cycle reads a_ii, 0 where a_ii <= 0 */
+    double *d0, *dd;  /* the diagonal at the set-up, and its change since (pw__zamg_refresh) */
+    double *rho;      /* sum_J |p_iJ| of every row of P */
+    int *dpos;        /* where each diagonal entry sits in A */
+    int *xrow, *xpos; /* each row's entries in other blocks: positions in A */
 } pw__zamg_level;
 
 typedef struct pw_zamg {
@@ -8612,15 +8768,18 @@ PW__DEF double pw__zamg_diag(const pw_zcsr *A, int i)
     return 0.0;
 }
 
-/* The strength threshold of row i: 0.08 of its largest off-diagonal |a_ij|
- * (0 for a row without any). */
+/* The strength threshold of row i: 0.25 of its largest off-diagonal |a_ij|
+ * (0 for a row without any). On pgp's systems (bunny00 at 75K, 300K,
+ * 1.2M) 0.25 takes 10-20% fewer V-cycles than 0.08, with levels of about
+ * the same size and cost; 0.5 fewer still, but its coarser levels cost
+ * more than that saves. */
 PW__DEF double pw__zamg_strong(const pw_zcsr *A, int i)
 {
     double m = 0.0;
     int k;
     for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++)
         if (A->col[k] != i) m = pw__zamg_abs(A->val + 2 * k) > m ? pw__zamg_abs(A->val + 2 * k) : m;
-    return 0.08 * m;
+    return 0.25 * m;
 }
 
 /* ---- aggregation ---------------------------------------------------------- */
@@ -8685,17 +8844,6 @@ PW__DEF int pw__zamg_aggregate(const pw_zcsr *A, const double *d, int *agg, doub
 
 /* ---- sparse products -------------------------------------------------------- */
 
-/* Sorts the first n ints of v (short rows: insertion sort). */
-PW__DEF void pw__zamg_sort(int *v, int n)
-{
-    int i, j;
-    for (i = 1; i < n; i++) {
-        int x = v[i];
-        for (j = i; j > 0 && v[j - 1] > x; j--) v[j] = v[j - 1];
-        v[j] = x;
-    }
-}
-
 /* Scratch of a row-by-row product: per column of the result, its slot in
  * the row being built (-1: none) and its sum; the row's columns. */
 typedef struct pw__zamg_acc {
@@ -8739,18 +8887,16 @@ PW__DEF void pw__zamg_acc_add(pw__zamg_acc *w, int c, double re, double im)
 }
 
 /* Ends the row: its entries, columns increasing, into (col, val) from
- * position *nnz on (or only counted when col is NULL). */
+ * position *nnz on. */
 PW__DEF void pw__zamg_acc_flush(pw__zamg_acc *w, int *col, double *val, int *nnz)
 {
     int m;
-    pw__zamg_sort(w->list, w->cnt);
+    pw__zsort(w->list, w->cnt);
     for (m = 0; m < w->cnt; m++) {
         int c = w->list[m];
-        if (col) {
-            col[*nnz] = c;
-            val[2 * *nnz] = w->sum[2 * c];
-            val[2 * *nnz + 1] = w->sum[2 * c + 1];
-        }
+        col[*nnz] = c;
+        val[2 * *nnz] = w->sum[2 * c];
+        val[2 * *nnz + 1] = w->sum[2 * c + 1];
         ++*nnz;
         w->mark[c] = -1;
     }
@@ -8758,11 +8904,14 @@ PW__DEF void pw__zamg_acc_flush(pw__zamg_acc *w, int *col, double *val, int *nnz
 }
 
 /* A sparse matrix built row by row: row(ctx, i, w) adds the entries of
- * row i to w (columns below ncols). pw__zamg_rows builds it in two
- * passes on run, by blocks of rows each with its own scratch: count, then
- * fill; each row is the same as built alone. */
+ * row i to w (columns below ncols), which are at most bound(ctx, i).
+ * pw__zamg_rows builds it in one pass on run, by blocks of rows each with
+ * its own scratch, each block writing its rows from where the bounds of
+ * the rows before it end; the blocks then close up, in order. Each row
+ * is the same as built alone. */
 typedef struct pw__zamg_rowjob {
     void (*row)(const void *ctx, int i, pw__zamg_acc *w);
+    int (*bound)(const void *ctx, int i);
     const void *ctx;
     const pw_zrun *run;
     int n;
@@ -8772,21 +8921,21 @@ typedef struct pw__zamg_pass {
     const pw__zamg_rowjob *job;
     pw_zcsr *C;
     pw__zamg_acc *w;
+    size_t start[PW__ZBLOCKS + 1]; /* where each block's rows go */
     int nb;
 } pw__zamg_pass;
 
-/* One pass over block b: each row's entries counted into C->rowptr[i + 1]
- * (C->col NULL) or written from C->rowptr[i] on. */
+/* Block b's rows, from p->start[b] on; row i's count into C->rowptr[i + 1]. */
 PW__DEF void pw__zamg_pass_block(void *ctx, int b)
 {
     const pw__zamg_pass *p = (const pw__zamg_pass *)ctx;
     pw_zcsr *C = p->C;
-    int i, hi = pw__zblock_start(C->n, p->nb, b + 1);
+    int i, nnz = (int)p->start[b], hi = pw__zblock_start(C->n, p->nb, b + 1);
     for (i = pw__zblock_start(C->n, p->nb, b); i < hi; i++) {
-        int nnz = C->col ? C->rowptr[i] : 0;
+        int at = nnz;
         p->job->row(p->job->ctx, i, &p->w[b]);
         pw__zamg_acc_flush(&p->w[b], C->col, C->val, &nnz);
-        if (!C->col) C->rowptr[i + 1] = nnz;
+        C->rowptr[i + 1] = nnz - at;
     }
 }
 
@@ -8795,27 +8944,48 @@ PW__DEF int pw__zamg_rows(const pw_alloc *a, const pw__zamg_rowjob *job, int nco
     pw__zamg_acc w[PW__ZBLOCKS];
     pw__zamg_pass p;
     int i, b, r = PW_OK;
+    size_t at = 0;
     memset(C, 0, sizeof *C);
     p.job = job;
     p.C = C;
     p.w = w;
     p.nb = pw__zblocks(job->n);
-    for (b = 0; b < p.nb; b++) /* (a failed init has freed its own) */
+    for (b = 0, p.start[0] = 0; b < p.nb; b++) { /* (a failed init has freed its own) */
+        int hi = pw__zblock_start(job->n, p.nb, b + 1);
         if (r != PW_OK || (r = pw__zamg_acc_init(a, ncols, &w[b], e)) != PW_OK) memset(&w[b], 0, sizeof w[b]);
+        for (p.start[b + 1] = p.start[b], i = pw__zblock_start(job->n, p.nb, b); i < hi; i++) {
+            int m = job->bound(job->ctx, i);
+            p.start[b + 1] += (size_t)(m < ncols ? m : ncols);
+        }
+    }
+    if (r == PW_OK && p.start[p.nb] > (size_t)INT_MAX) r = pw_fail(e, PW_ERR_LIMIT, "multigrid: a product too large");
     C->n = job->n;
     C->rowptr = (int *)pw_alloc_array(a, (size_t)job->n + 1, sizeof(int), "multigrid matrix", e);
-    if (r == PW_OK && C->rowptr) {
+    C->col = (int *)pw_alloc_array(a, p.start[p.nb] + 1, sizeof(int), "multigrid matrix", e);
+    C->val = (double *)pw_alloc_array(a, 2 * p.start[p.nb] + 2, sizeof(double), "multigrid matrix", e);
+    if (r == PW_OK && C->rowptr && C->col && C->val) {
         pw__zfor(job->run, job->n, p.nb, pw__zamg_pass_block, &p);
+        for (b = 0; b < p.nb; b++) { /* close up, and the row pointers */
+            int lo = pw__zblock_start(job->n, p.nb, b), hi = pw__zblock_start(job->n, p.nb, b + 1);
+            size_t cnt = 0;
+            for (i = lo; i < hi; i++) cnt += (size_t)C->rowptr[i + 1];
+            memmove(C->col + at, C->col + p.start[b], cnt * sizeof(int));
+            memmove(C->val + 2 * at, C->val + 2 * p.start[b], 2 * cnt * sizeof(double));
+            at += cnt;
+        }
         C->rowptr[0] = 0;
         for (i = 0; i < job->n; i++) C->rowptr[i + 1] += C->rowptr[i];
-        C->col = (int *)pw_alloc_array(a, (size_t)C->rowptr[job->n] + 1, sizeof(int), "multigrid matrix", e);
-        C->val = (double *)pw_alloc_array(a, 2 * (size_t)C->rowptr[job->n] + 2, sizeof(double), "multigrid matrix", e);
-        if (C->col && C->val) pw__zfor(job->run, job->n, p.nb, pw__zamg_pass_block, &p);
     }
     for (b = 0; b < p.nb; b++) pw__zamg_acc_free(a, &w[b]);
     if (r != PW_OK || !C->rowptr || !C->col || !C->val) {
         pw_zcsr_free(a, C);
-        return PW_ERR_NOMEM;
+        return r != PW_OK ? r : PW_ERR_NOMEM;
+    }
+    {
+        void *q = pw_realloc(a, C->col, (at + 1) * sizeof(int)); /* the bounds' slack back (kept if this fails) */
+        if (q) C->col = (int *)q;
+        q = pw_realloc(a, C->val, (2 * at + 2) * sizeof(double));
+        if (q) C->val = (double *)q;
     }
     return PW_OK;
 }
@@ -8841,6 +9011,16 @@ PW__DEF void pw__zamg_prod_row(const void *ctx, int i, pw__zamg_acc *w)
     }
 }
 
+/* The entries of row i of X Y at most: those of the rows of Y it sums. */
+PW__DEF int pw__zamg_prod_bound(const void *ctx, int i)
+{
+    const pw__zamg_prod *p = (const pw__zamg_prod *)ctx;
+    int k, m = 0;
+    for (k = p->X->rowptr[i]; k < p->X->rowptr[i + 1]; k++)
+        m += p->Y->rowptr[p->X->col[k] + 1] - p->Y->rowptr[p->X->col[k]];
+    return m;
+}
+
 /* C = X Y for complex CSR X and Y of ncols columns; C gets C->n = X->n
  * rows (on X's run). */
 PW__DEF int pw__zamg_mul(const pw_alloc *a, const pw_zcsr *X, const pw_zcsr *Y, int ncols, pw_zcsr *C, pw_err *e)
@@ -8850,6 +9030,7 @@ PW__DEF int pw__zamg_mul(const pw_alloc *a, const pw_zcsr *X, const pw_zcsr *Y, 
     p.X = X;
     p.Y = Y;
     job.row = pw__zamg_prod_row;
+    job.bound = pw__zamg_prod_bound;
     job.ctx = &p;
     job.run = X->run;
     job.n = X->n;
@@ -8909,6 +9090,14 @@ PW__DEF void pw__zamg_prolong_row(const void *ctx, int i, pw__zamg_acc *w)
     }
 }
 
+/* The entries of row i of P at most: one per entry of A's row i, and
+ * its own aggregate. */
+PW__DEF int pw__zamg_prolong_bound(const void *ctx, int i)
+{
+    const pw_zcsr *A = ((const pw__zamg_smooth *)ctx)->A;
+    return A->rowptr[i + 1] - A->rowptr[i] + 1;
+}
+
 /* The smoothed prolongation P = (I - omega D^-1 A) P_t of level L (n x nc),
  * P_t given by agg and ph (pw__zamg_aggregate), into P. */
 PW__DEF int pw__zamg_prolong(const pw_alloc *a, const pw__zamg_level *L, const int *agg, const double *ph,
@@ -8921,6 +9110,7 @@ PW__DEF int pw__zamg_prolong(const pw_alloc *a, const pw__zamg_level *L, const i
     m.ph = ph;
     m.d = d;
     job.row = pw__zamg_prolong_row;
+    job.bound = pw__zamg_prolong_bound;
     job.ctx = &m;
     job.run = L->A.run;
     job.n = L->A.n;
@@ -8968,9 +9158,10 @@ PW__DEF int pw__zamg_coarsen(const pw_alloc *a, pw__zamg_level *L, pw_zcsr *C, p
 
 /* ---- the coarsest level: dense Cholesky --------------------------------------- */
 
-/* Factors the n x n Hermitian A (sparse) into the dense lower L (row-major,
- * complex) with L L^H = A + shift diag(A); 0 when a pivot is not positive. */
-PW__DEF int pw__zamg_chol_try(const pw_zcsr *A, double shift, double *L)
+/* Factors the n x n Hermitian A (sparse) plus the diagonal dd into the
+ * dense lower L (row-major, complex) with L L^H = (A + dd) + shift
+ * diag(A + dd); 0 when a pivot is not positive. */
+PW__DEF int pw__zamg_chol_try(const pw_zcsr *A, const double *dd, double shift, double *L)
 {
     int n = A->n, i, j, k;
     memset(L, 0, sizeof(double) * 2 * (size_t)n * n);
@@ -8978,7 +9169,7 @@ PW__DEF int pw__zamg_chol_try(const pw_zcsr *A, double shift, double *L)
         for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++)
             if (A->col[k] <= i) {
                 double *l = L + 2 * ((size_t)i * n + A->col[k]);
-                l[0] = A->val[2 * k] * (A->col[k] == i ? 1.0 + shift : 1.0);
+                l[0] = A->col[k] == i ? (A->val[2 * k] + dd[i]) * (1.0 + shift) : A->val[2 * k];
                 l[1] = A->val[2 * k + 1];
             }
     for (j = 0; j < n; j++) {
@@ -9030,23 +9221,35 @@ PW__DEF void pw__zamg_chol_solve(const double *L, int n, const double *b, double
     }
 }
 
-/* The l1 terms of level L's smoother: for every row, sum |a_ij| over
- * the columns outside its block. */
+/* The entries of every row of level L in columns outside its block
+ * (xrow, xpos: their positions in A), and the l1 terms of the smoother,
+ * the sums of their |a_ij|. */
 PW__DEF int pw__zamg_l1(const pw_alloc *a, pw__zamg_level *L, pw_err *e)
 {
     const pw_zcsr *A = &L->A;
-    int n = A->n, nb = pw__zblocks(n), b, i, k;
+    int n = A->n, nb = pw__zblocks(n), b, i, k, m = 0;
     L->l1 = (double *)pw_alloc_array(a, (size_t)n, sizeof(double), "multigrid smoother", e);
-    if (!L->l1) return PW_ERR_NOMEM;
+    L->xrow = (int *)pw_alloc_array(a, (size_t)n + 1, sizeof(int), "multigrid smoother", e);
     for (b = 0; b < nb; b++) {
+        int lo = pw__zblock_start(n, nb, b), hi = pw__zblock_start(n, nb, b + 1);
+        for (k = A->rowptr[lo]; k < A->rowptr[hi]; k++) m += A->col[k] < lo || A->col[k] >= hi;
+    }
+    L->xpos = (int *)pw_alloc_array(a, (size_t)m + 1, sizeof(int), "multigrid smoother", e);
+    if (!L->l1 || !L->xrow || !L->xpos) return PW_ERR_NOMEM;
+    for (b = 0, m = 0; b < nb; b++) {
         int lo = pw__zblock_start(n, nb, b), hi = pw__zblock_start(n, nb, b + 1);
         for (i = lo; i < hi; i++) {
             double s = 0.0;
+            L->xrow[i] = m;
             for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++)
-                if (A->col[k] < lo || A->col[k] >= hi) s += pw__zamg_abs(A->val + 2 * k);
+                if (A->col[k] < lo || A->col[k] >= hi) {
+                    s += pw__zamg_abs(A->val + 2 * k);
+                    L->xpos[m++] = k;
+                }
             L->l1[i] = s;
         }
     }
+    L->xrow[n] = m;
     return PW_OK;
 }
 
@@ -9062,6 +9265,16 @@ PW__DEF void pw_zamg_free(const pw_alloc *a, pw_zamg *M)
         pw_free(a, L->pcol);
         pw_free(a, L->pval);
         pw_zcsr_free(a, &L->PH);
+        pw_free(a, L->av);
+        pw_free(a, L->pv);
+        pw_free(a, L->hv);
+        pw_free(a, L->xrow);
+        pw_free(a, L->xpos);
+        pw_free(a, L->dinv);
+        pw_free(a, L->d0);
+        pw_free(a, L->dd);
+        pw_free(a, L->dpos);
+        pw_free(a, L->rho);
         pw_free(a, L->l1);
         pw_free(a, L->x);
         pw_free(a, L->b);
@@ -9072,12 +9285,140 @@ PW__DEF void pw_zamg_free(const pw_alloc *a, pw_zamg *M)
     memset(M, 0, sizeof *M);
 }
 
+/* The single-precision copy of the 2 cnt values *v (for the cycle):
+ * *out, and *v freed unless keep. */
+PW__DEF int pw__zamg_single(const pw_alloc *a, double **v, size_t cnt, int keep, float **out, pw_err *e)
+{
+    size_t k;
+    *out = (float *)pw_alloc_array(a, 2 * cnt + 2, sizeof(float), "multigrid matrix", e);
+    if (!*out) return PW_ERR_NOMEM;
+    for (k = 0; k < 2 * cnt; k++) (*out)[k] = (float)(*v)[k];
+    if (!keep) {
+        pw_free(a, *v);
+        *v = NULL;
+    }
+    return PW_OK;
+}
+
+/* The sweeps' inverse diagonal of level L from its single-precision
+ * values. */
+PW__DEF void pw__zamg_dinv(const pw__zamg_level *L)
+{
+    int i, k;
+    for (i = 0; i < L->A.n; i++) {
+        double d = 0.0;
+        for (k = L->A.rowptr[i]; k < L->A.rowptr[i + 1]; k++)
+            if (L->A.col[k] == i) d = L->av[2 * k];
+        L->dinv[i] = d > 0.0 ? 1.0 / (d + L->l1[i]) : 0.0;
+    }
+}
+
+/* The coarsest level's dense factor, from its matrix plus its diagonal's
+ * change (a growing shift where a pivot is not positive); 0 if none
+ * worked. */
+PW__DEF int pw__zamg_factor(const pw_zamg *M)
+{
+    const pw__zamg_level *L = &M->lev[M->levels];
+    double shift = 0.0;
+    int k;
+    for (k = 0; k<40; k++, shift = shift> 0.0 ? 2.0 * shift : 1e-10)
+        if (pw__zamg_chol_try(&L->A, L->dd, shift, M->chol)) return 1;
+    return 0;
+}
+
+/* Level 0's single-precision values from A (the caller's matrix, whose
+ * values may have changed since the set-up: pgp's steps change its
+ * diagonal), and a change D of its diagonal carried to the coarse levels:
+ * the Galerkin matrix of A + D is P^H A P + P^H D P, which each level
+ * takes lumped on its diagonal, sum_J |(P^H D P)_IJ| bounded by sum_i
+ * |p_iI| d_i sum_J |p_iJ| (the coarse levels stay positive definite; on
+ * smooth vectors, whose phases the connection aligns, the bound is close
+ * to the quadratic form: on zsparse/amg_diagonal_change the hierarchy so
+ * updated takes the V-cycles of one set up anew, where the diagonal
+ * alone, without the rest of P^H D P, takes up to 40% more); the
+ * coarsest is factored again. 0 if that factor failed. */
+PW__DEF int pw__zamg_refresh(const pw_zamg *M, const pw_zcsr *A)
+{
+    const pw__zamg_level *L0 = &M->lev[0];
+    size_t k, cnt = 2 * (size_t)A->rowptr[A->n];
+    int i, l, q, changed = 0;
+    if (!L0->av) return 1; /* A is the coarsest level: no cycle reads it */
+    for (k = 0; k < cnt; k++) L0->av[k] = (float)A->val[k];
+    pw__zamg_dinv(L0);
+    for (i = 0; i < A->n; i++) {
+        double d = A->val[2 * L0->dpos[i]] - L0->d0[i];
+        changed |= d != L0->dd[i];
+        L0->dd[i] = d;
+    }
+    if (!changed) return 1;
+    for (l = 0; l < M->levels; l++) {
+        const pw__zamg_level *L = &M->lev[l], *C = &M->lev[l + 1];
+        for (i = 0; i < C->A.n; i++) {
+            double d = 0.0;
+            for (q = L->PH.rowptr[i]; q < L->PH.rowptr[i + 1]; q++) {
+                const float *h = L->hv + 2 * q;
+                int j = L->PH.col[q];
+                d += sqrt((double)h[0] * h[0] + (double)h[1] * h[1]) * L->rho[j] * L->dd[j];
+            }
+            C->dd[i] = d;
+            if (l + 1 < M->levels) C->av[2 * C->dpos[i]] = (float)(C->d0[i] + d);
+        }
+        if (l + 1 < M->levels) pw__zamg_dinv(C);
+    }
+    return pw__zamg_factor(M);
+}
+
+/* Level L's diagonal at the set-up (d0, dpos; dd zero). */
+PW__DEF int pw__zamg_diagonal(const pw_alloc *a, pw__zamg_level *L, pw_err *e)
+{
+    int i, k, n = L->A.n;
+    L->d0 = (double *)pw_alloc_array(a, (size_t)n + 1, sizeof(double), "multigrid diagonal", e);
+    L->dd = (double *)pw_calloc_array(a, (size_t)n + 1, sizeof(double), "multigrid diagonal", e);
+    L->dpos = (int *)pw_alloc_array(a, (size_t)n + 1, sizeof(int), "multigrid diagonal", e);
+    if (!L->d0 || !L->dd || !L->dpos) return PW_ERR_NOMEM;
+    for (i = 0; i < n; i++)
+        for (L->dpos[i] = -1, L->d0[i] = 0.0, k = L->A.rowptr[i]; k < L->A.rowptr[i + 1]; k++)
+            if (L->A.col[k] == i) {
+                L->dpos[i] = k;
+                L->d0[i] = L->A.val[2 * k];
+            }
+    for (i = 0; i < n; i++)
+        if (L->dpos[i] < 0) return pw_fail(e, PW_ERR_INVALID, "multigrid: row %d has no diagonal entry", i);
+    return PW_OK;
+}
+
+/* The cycle's single-precision values: level 0's a copy of the caller's
+ * (refreshed by every solve), the others' in place of the doubles, which
+ * only the set-up needed (but the coarsest's, factored again when the
+ * diagonal changes). */
+PW__DEF int pw__zamg_singles(const pw_alloc *a, pw_zamg *M, pw_err *e)
+{
+    int l, i, k, r = PW_OK;
+    for (l = 0; l <= M->levels && r == PW_OK; l++) {
+        pw__zamg_level *L = &M->lev[l];
+        r = pw__zamg_diagonal(a, L, e);
+        if (l == M->levels || r != PW_OK) break;
+        r = pw__zamg_single(a, &L->pval, (size_t)L->prow[L->A.n], 0, &L->pv, e);
+        if (r == PW_OK) r = pw__zamg_single(a, &L->PH.val, (size_t)L->PH.rowptr[L->PH.n], 0, &L->hv, e);
+        if (r == PW_OK && !(L->rho = (double *)pw_alloc_array(a, (size_t)L->A.n, sizeof(double), "multigrid", e)))
+            r = PW_ERR_NOMEM;
+        for (i = 0; r == PW_OK && i < L->A.n; i++)
+            for (L->rho[i] = 0.0, k = L->prow[i]; k < L->prow[i + 1]; k++)
+                L->rho[i] += sqrt((double)L->pv[2 * k] * L->pv[2 * k] + (double)L->pv[2 * k + 1] * L->pv[2 * k + 1]);
+        if (r == PW_OK) r = pw__zamg_single(a, &L->A.val, (size_t)L->A.rowptr[L->A.n], l == 0, &L->av, e);
+        if (r == PW_OK &&
+            !(L->dinv = (double *)pw_alloc_array(a, (size_t)L->A.n, sizeof(double), "multigrid smoother", e)))
+            r = PW_ERR_NOMEM;
+        if (r == PW_OK) pw__zamg_dinv(L);
+    }
+    return r;
+}
+
 /* Builds the hierarchy of a Hermitian positive (semi)definite A whose
  * diagonal entries are all present; A must outlive M (level 0 uses it). */
 PW__DEF int pw_zamg_setup(const pw_alloc *a, const pw_zcsr *A, pw_zamg *M, pw_err *e)
 {
-    int l = 0, r = PW_OK, k;
-    double shift = 0.0;
+    int l = 0, r = PW_OK;
     memset(M, 0, sizeof *M);
     M->lev[0].A = *A;
     while (r == PW_OK && M->lev[l].A.n > PW__ZAMG_COARSEST && l + 1 < PW__ZAMG_LEVELS) {
@@ -9104,9 +9445,8 @@ PW__DEF int pw_zamg_setup(const pw_alloc *a, const pw_zcsr *A, pw_zamg *M, pw_er
         M->lev[l].b = (double *)pw_alloc_array(a, 2 * (size_t)M->nc, sizeof(double), "multigrid vectors", e);
         if (!M->chol || !M->cx || !M->lev[l].x || !M->lev[l].b) r = PW_ERR_NOMEM;
     }
-    for (k = 0; r == PW_OK && k<40; k++, shift = shift> 0.0 ? 2.0 * shift : 1e-10)
-        if (pw__zamg_chol_try(&M->lev[l].A, shift, M->chol)) break;
-    if (r == PW_OK && k == 40)
+    if (r == PW_OK) r = pw__zamg_singles(a, M, e);
+    if (r == PW_OK && !pw__zamg_factor(M))
         r = pw_fail(e, PW_ERR_INVALID, "multigrid: the coarsest matrix is not positive definite");
     if (r != PW_OK) pw_zamg_free(a, M);
     return r;
@@ -9118,56 +9458,66 @@ typedef struct pw__zamg_step {
     int nb;
 } pw__zamg_step;
 
-/* The forward sweep of block b from x = 0: rows of other blocks read 0,
- * the block's rows above the current one too (not swept yet). */
+/* The forward sweep of block b from x = 0 (rows of other blocks read 0,
+ * the block's rows above the current one too: not swept yet), and what it
+ * leaves of r = b - A x within the block: row i was solved with the
+ * block's rows below it and (a_ii + l1_i) on the diagonal, so what is left
+ * is l1_i x_i less the terms of the block's rows above it, which each row
+ * subtracts from the rows below it as it is solved (a_ji = conj(a_ij):
+ * only the lower part is read); pw__zamg_cross then subtracts the other
+ * blocks' terms. A row without a positive diagonal (all zero, A being
+ * semidefinite) keeps x_i = 0 and r_i = b_i. */
 PW__DEF void pw__zamg_pre(void *ctx, int b)
 {
     const pw__zamg_step *w = (const pw__zamg_step *)ctx;
     const pw_zcsr *A = &w->L->A;
+    const float *av = w->L->av;
     const double *rhs = w->L->b;
-    double *x = w->L->x;
+    double *x = w->L->x, *r = w->L->r;
     int i, k, lo = pw__zblock_start(A->n, w->nb, b), hi = pw__zblock_start(A->n, w->nb, b + 1);
     for (i = lo; i < hi; i++) {
-        double sr = rhs[2 * i], si = rhs[2 * i + 1], dr = 0.0;
-        for (k = A->rowptr[i]; k < A->rowptr[i + 1] && A->col[k] <= i; k++) {
-            const double *v = A->val + 2 * k, *y = x + 2 * A->col[k];
-            if (A->col[k] == i) dr = v[0];
-            else if (A->col[k] >= lo) {
+        double sr = rhs[2 * i], si = rhs[2 * i + 1], xr, xi, di = w->L->dinv[i];
+        int k0 = A->rowptr[i], kd;
+        for (k = k0; k < A->rowptr[i + 1] && A->col[k] < i; k++) {
+            const float *v = av + 2 * k;
+            const double *y = x + 2 * A->col[k];
+            if (A->col[k] >= lo) {
                 sr -= v[0] * y[0] - v[1] * y[1];
                 si -= v[0] * y[1] + v[1] * y[0];
             }
         }
-        x[2 * i] = dr > 0.0 ? sr / (dr + w->L->l1[i]) : 0.0;
-        x[2 * i + 1] = dr > 0.0 ? si / (dr + w->L->l1[i]) : 0.0;
+        kd = k;
+        xr = x[2 * i] = sr * di;
+        xi = x[2 * i + 1] = si * di;
+        r[2 * i] = di > 0.0 ? w->L->l1[i] * xr : rhs[2 * i];
+        r[2 * i + 1] = di > 0.0 ? w->L->l1[i] * xi : rhs[2 * i + 1];
+        for (k = k0; k < kd; k++) { /* r_j -= conj(a_ij) x_i for the block's rows j above */
+            const float *v = av + 2 * k;
+            double *y = r + 2 * A->col[k];
+            if (A->col[k] < lo) continue;
+            y[0] -= v[0] * xr + v[1] * xi;
+            y[1] -= v[0] * xi - v[1] * xr;
+        }
     }
 }
 
-/* r = b - A x after the forward sweep of block b: row i was solved with
- * the block's rows below it and (a_ii + l1_i) on the diagonal, so what is
- * left is l1_i x_i less the terms of the block's rows above it and of the
- * other blocks' rows; a row without a positive diagonal (all zero, A
- * being semidefinite) keeps r_i = b_i. */
-PW__DEF void pw__zamg_residual(void *ctx, int b)
+/* r_i -= the terms of row i from other blocks, over block b, once every
+ * block is swept (pw__zamg_pre). */
+PW__DEF void pw__zamg_cross(void *ctx, int b)
 {
     const pw__zamg_step *w = (const pw__zamg_step *)ctx;
-    const pw_zcsr *A = &w->L->A;
-    const double *x = w->L->x, *rhs = w->L->b;
-    double *r = w->L->r;
-    int i, k, lo = pw__zblock_start(A->n, w->nb, b), hi = pw__zblock_start(A->n, w->nb, b + 1);
-    for (i = lo; i < hi; i++) {
-        double sr = w->L->l1[i] * x[2 * i], si = w->L->l1[i] * x[2 * i + 1], d = 0.0;
-        for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++) {
-            const double *v = A->val + 2 * k, *y = x + 2 * A->col[k];
-            int j = A->col[k];
-            if (j == i) d = v[0];
-            else if (j > i || j < lo) {
-                sr -= v[0] * y[0] - v[1] * y[1];
-                si -= v[0] * y[1] + v[1] * y[0];
-            }
+    const pw__zamg_level *L = w->L;
+    const double *x = L->x;
+    double *r = L->r;
+    int i, q, hi = pw__zblock_start(L->A.n, w->nb, b + 1);
+    for (i = pw__zblock_start(L->A.n, w->nb, b); i < hi; i++)
+        for (q = L->xrow[i]; q < L->xrow[i + 1]; q++) {
+            int k = L->xpos[q];
+            const float *v = L->av + 2 * k;
+            const double *y = x + 2 * L->A.col[k];
+            r[2 * i] -= v[0] * y[0] - v[1] * y[1];
+            r[2 * i + 1] -= v[0] * y[1] + v[1] * y[0];
         }
-        r[2 * i] = d > 0.0 ? sr : rhs[2 * i];
-        r[2 * i + 1] = d > 0.0 ? si : rhs[2 * i + 1];
-    }
 }
 
 /* b_c = P^H r over block b of the coarse rows (the adjoint's rows: each
@@ -9182,7 +9532,8 @@ PW__DEF void pw__zamg_restrict(void *ctx, int b)
     for (I = pw__zblock_start(H->n, w->nb, b); I < hi; I++) {
         double sr = 0.0, si = 0.0;
         for (k = H->rowptr[I]; k < H->rowptr[I + 1]; k++) {
-            const double *h = H->val + 2 * k, *y = r + 2 * H->col[k];
+            const float *h = w->L->hv + 2 * k;
+            const double *y = r + 2 * H->col[k];
             sr += h[0] * y[0] - h[1] * y[1];
             si += h[0] * y[1] + h[1] * y[0];
         }
@@ -9202,7 +9553,8 @@ PW__DEF void pw__zamg_prolong_add(void *ctx, int b)
     for (i = pw__zblock_start(L->A.n, w->nb, b); i < hi; i++) {
         double sr = L->x[2 * i], si = L->x[2 * i + 1];
         for (k = L->prow[i]; k < L->prow[i + 1]; k++) {
-            const double *p = L->pval + 2 * k, *y = xc + 2 * L->pcol[k];
+            const float *p = L->pv + 2 * k;
+            const double *y = xc + 2 * L->pcol[k];
             sr += p[0] * y[0] - p[1] * y[1];
             si += p[0] * y[1] + p[1] * y[0];
         }
@@ -9221,20 +9573,19 @@ PW__DEF void pw__zamg_post(void *ctx, int b)
     double *x = w->L->x;
     int i, k, lo = pw__zblock_start(A->n, w->nb, b), hi = pw__zblock_start(A->n, w->nb, b + 1);
     for (i = hi - 1; i >= lo; i--) { /* x_i += (b - A x)_i / (a_ii + l1_i) */
-        double sr = rhs[2 * i] + w->L->l1[i] * x[2 * i], si = rhs[2 * i + 1] + w->L->l1[i] * x[2 * i + 1], dr = 0.0;
+        double sr = rhs[2 * i] + w->L->l1[i] * x[2 * i], si = rhs[2 * i + 1] + w->L->l1[i] * x[2 * i + 1],
+               di = w->L->dinv[i];
         for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++) {
             int j = A->col[k];
-            const double *v = A->val + 2 * k, *y = (j >= lo && j < hi ? x : old) + 2 * j;
-            if (j == i) {
-                dr = v[0];
-                continue;
-            }
+            const float *v = w->L->av + 2 * k;
+            const double *y = (j >= lo && j < hi ? x : old) + 2 * j;
+            if (j == i) continue;
             sr -= v[0] * y[0] - v[1] * y[1];
             si -= v[0] * y[1] + v[1] * y[0];
         }
-        if (dr > 0.0) {
-            x[2 * i] = sr / (dr + w->L->l1[i]);
-            x[2 * i + 1] = si / (dr + w->L->l1[i]);
+        if (di > 0.0) {
+            x[2 * i] = sr * di;
+            x[2 * i + 1] = si * di;
         }
     }
 }
@@ -9255,14 +9606,15 @@ PW__DEF void pw__zamg_cycle(const pw_zamg *M, int l)
     w.nb = pw__zblocks(n);
     wc.nb = pw__zblocks(L->nc);
     pw__zfor(L->A.run, n, w.nb, pw__zamg_pre, &w);
-    pw__zfor(L->A.run, n, w.nb, pw__zamg_residual, &w);
+    if (w.nb > 1) pw__zfor(L->A.run, n, w.nb, pw__zamg_cross, &w);
     pw__zfor(L->A.run, L->nc, wc.nb, pw__zamg_restrict, &wc);
     pw__zamg_cycle(M, l + 1);
     pw__zfor(L->A.run, n, w.nb, pw__zamg_prolong_add, &w);
     pw__zfor(L->A.run, n, w.nb, pw__zamg_post, &w);
 }
 
-/* z = one V-cycle applied to r (2n doubles each). */
+/* z = one V-cycle applied to r (2n doubles each), with level 0's values
+ * as the last set-up or solve saw them. */
 PW__DEF void pw_zamg_apply(const pw_zamg *M, const double *r, double *z)
 {
     const pw__zamg_level *L = &M->lev[0];
@@ -9285,6 +9637,8 @@ PW__DEF int pw_zamg_solve(const pw_alloc *a, const pw_zcsr *A, const pw_zamg *M,
     op.b = b;
     op.x = x;
     op.what = "multigrid PCG";
+    if (!pw__zamg_refresh(M, A))
+        return pw_fail(e, PW_ERR_INVALID, "multigrid: the coarsest matrix is not positive definite");
     return pw__zpcg_checked(a, &op, "zamg", o, s, e);
 }
 
@@ -9297,26 +9651,31 @@ PW__DEF int pw_zamg_solve(const pw_alloc *a, const pw_zcsr *A, const pw_zamg *M,
 #define PW_ZAMG_MIN_UNKNOWNS 20000
 #define PW_ZAMG_MAX_EXCESS 0.005
 
-/* sum_i (a_ii - sum_j |a_ij|) / sum_i a_ii. */
-PW__DEF double pw__zamg_excess(const pw_zcsr *A)
+/* The sums of A's diagonal and of the moduli of its other entries. */
+PW__DEF void pw__zamg_sums(const pw_zcsr *A, double *dsum, double *off)
 {
-    double dsum = 0.0, xs = 0.0;
     int i, k;
+    *dsum = *off = 0.0;
     for (i = 0; i < A->n; i++)
-        for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++) {
-            double m = pw__zamg_abs(A->val + 2 * k);
-            if (A->col[k] == i) {
-                dsum += A->val[2 * k];
-                xs += A->val[2 * k];
-            } else xs -= m;
-        }
-    return dsum > 0.0 ? xs / dsum : 0.0;
+        for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++)
+            if (A->col[k] == i) *dsum += A->val[2 * k];
+            else *off += pw__zamg_abs(A->val + 2 * k);
 }
 
-/* 1 if multigrid pays on A: large and poorly conditioned. */
+/* 1 if multigrid pays on a matrix of n unknowns whose diagonal sums to
+ * dsum and the moduli of its other entries to off: large and poorly
+ * conditioned (the diagonal excess, (dsum - off) / dsum, small). */
+PW__DEF int pw_zamg_pays_sums(int n, double dsum, double off)
+{
+    return n >= PW_ZAMG_MIN_UNKNOWNS && (dsum > 0.0 ? (dsum - off) / dsum : 0.0) < PW_ZAMG_MAX_EXCESS;
+}
+
+/* 1 if multigrid pays on A. */
 PW__DEF int pw_zamg_pays(const pw_zcsr *A)
 {
-    return A->n >= PW_ZAMG_MIN_UNKNOWNS && pw__zamg_excess(A) < PW_ZAMG_MAX_EXCESS;
+    double dsum, off;
+    pw__zamg_sums(A, &dsum, &off);
+    return pw_zamg_pays_sums(A->n, dsum, off);
 }
 
 /* Solves the Hermitian positive definite A x = b (x the warm start) by CG,
@@ -15470,7 +15829,13 @@ typedef struct pw_periodic {
     float *sfac;          /* nv: a factor of S_i (1 but where the method
                              makes the field integrable) */
     double *zs, *zt;      /* nv*2: the unit complex unknowns of s and t (§2.3) */
+    double *turn;         /* nv*2: Arg(z) / 2 pi of s and t per vertex, as the
+                             last pw_periodic_solve left z (what
+                             pw_periodic_recover reads) */
     float *stm;           /* nf*9: per corner s, t, m (Eq. 4) */
+    float *grad;          /* nf*6: g for s and t of every triangle as the
+                             last pw_periodic_solve saw the field (what
+                             pw_periodic_recover reads) */
     int *forder, *vorder; /* triangles and vertices in breadth-first order: the
                              order of the unknowns of every solve */
     float scale0;         /* default tile side */
@@ -15481,30 +15846,20 @@ typedef struct pw_periodic {
 
 /* ---- sparse symmetric positive definite solves ----------------------------- */
 
-/* Solves the system collected in t for x (warm start: x's current values)
- * to a relative residual tol: real symmetric positive definite (n x n
- * triplets) by IC(0)-preconditioned CG, or complex Hermitian (zsparse.h:
- * n x 2n triplets, b and x complex) by CG with a multigrid (zamg.h) or
- * IC(0) preconditioner, whichever pays (pw_zpd_solve). */
+/* Solves the real symmetric positive definite system collected in t (n x
+ * n triplets) for x (warm start: x's current values) to a relative
+ * residual tol, by IC(0)-preconditioned CG. (The complex systems are
+ * assembled into their structure directly, pw_zcsr_pattern.) */
 PW__DEF int pw_periodic_pd_solve(const pw_periodic *P, const pw_triplets *t, const double *b, double *x, double tol,
                                  pw_err *e)
 {
     const pw_alloc *a = &P->a;
-    const int complex = t->m == 2 * t->n;
     pw_csr A;
     pw_ic0 L;
-    pw_zcsr ZA;
     pw_cg_options o = pw_cg_default_options();
     int r;
     o.tol = tol;
     o.max_iter = 4000;
-    if (complex) {
-        if ((r = pw_zcsr_from_triplets(a, t, &ZA, e)) != PW_OK) return r;
-        ZA.run = &P->run;
-        r = pw_zpd_solve(a, &ZA, b, x, &o, e);
-        pw_zcsr_free(a, &ZA);
-        return r;
-    }
     memset(&L, 0, sizeof L);
     if ((r = pw_csr_from_triplets(a, t, &A, e)) != PW_OK) return r;
     if ((r = pw_ic0_factor(a, &A, &L, e)) == PW_OK) r = pw_pcg_solve(a, &A, &L, b, x, &o, NULL, e);
@@ -15576,8 +15931,8 @@ PW__DEF int pw_periodic_init(pw_periodic *P, const pw_mesh *v, pw_err *e)
     nv = (size_t)P->m.nv;
     P->dual = (double *)pw_alloc_array(&P->a, 3 * nf, sizeof(double), "mapping", e);
     P->base = (double *)pw_alloc_array(&P->a, 4 * nf, sizeof(double), "mapping", e);
-    P->scale = (float *)pw_alloc_array(&P->a, 2 * nv + 9 * nf, sizeof(float), "mapping", e);
-    P->zs = (double *)pw_alloc_array(&P->a, 4 * nv, sizeof(double), "mapping", e);
+    P->scale = (float *)pw_alloc_array(&P->a, 2 * nv + 15 * nf, sizeof(float), "mapping", e);
+    P->zs = (double *)pw_alloc_array(&P->a, 6 * nv, sizeof(double), "mapping", e);
     P->forder = (int *)pw_alloc_array(&P->a, nf + nv, sizeof(int), "mapping", e);
     done = (unsigned char *)pw_calloc_array(&P->a, nv + nf, 1, "mapping", e);
     if (!P->dual || !P->base || !P->scale || !P->zs || !P->forder || !done) {
@@ -15590,7 +15945,9 @@ PW__DEF int pw_periodic_init(pw_periodic *P, const pw_mesh *v, pw_err *e)
     P->dir = P->base + 2 * nf;
     P->sfac = P->scale + nv;
     P->stm = P->sfac + nv;
+    P->grad = P->stm + 9 * nf;
     P->zt = P->zs + 2 * nv;
+    P->turn = P->zt + 2 * nv;
     pw_df_dual(&P->m, P->dual);
     return pw_df_connection(&P->a, &P->m, &P->conn, e);
 }
@@ -15668,28 +16025,28 @@ PW__DEF double pw_periodic_dir_weight(const pw_periodic *P, int h)
     return P->dual[h] > 0.0 ? len / P->dual[h] : 1.0;
 }
 
+/* The interior edge k (twin > k) between free triangles (id[f] >= 0): a
+ * pair of the orientation system (pw_zpairs). */
+PW__DEF int pw_periodic_dir_pair(const void *ctx, int k, int *ij)
+{
+    const pw_periodic *P = (const pw_periodic *)((const void *const *)ctx)[0];
+    const int *id = (const int *)((const void *const *)ctx)[1], t = P->m.hm.twin[k];
+    if (t < k) return 0;
+    ij[0] = id[k / 3];
+    ij[1] = id[t / 3];
+    return ij[0] >= 0 && ij[1] >= 0;
+}
+
 /* Adds one interior edge (half-edge h of triangle f, twin in g) to the
  * orientation system: w |z_f - c z_g|^2 with c the transport from g into f
- * (pw_df_connection): w on both diagonals, -w c at (f, g) and its
- * conjugate at (g, f); a fixed neighbour moves to b. */
-PW__DEF int pw_periodic_dir_edge(const pw_periodic *P, const int *id, int h, pw_triplets *t, double *b, pw_err *e)
+ * (pw_df_connection); a fixed neighbour moves to b. */
+PW__DEF void pw_periodic_dir_edge(const pw_periodic *P, pw_zasm *S, const int *id, int h)
 {
-    int f = h / 3, g = P->m.hm.twin[h] / 3, i = id[f], j = id[g], r = PW_OK;
-    double w = pw_periodic_dir_weight(P, h), cx = P->conn[2 * h], cy = P->conn[2 * h + 1];
-    const double *zf = P->dir + 2 * f, *zg = P->dir + 2 * g;
-    if (i >= 0) r = pw_ztriplets_add(t, i, i, w, 0.0, e);
-    if (r == PW_OK && j >= 0) r = pw_ztriplets_add(t, j, j, w, 0.0, e);
-    if (r == PW_OK && i >= 0 && j >= 0) {
-        r = pw_ztriplets_add(t, i, j, -w * cx, -w * cy, e);
-        if (r == PW_OK) r = pw_ztriplets_add(t, j, i, -w * cx, w * cy, e);
-    } else if (i >= 0) { /* b_f += w c z_g */
-        b[2 * i] += w * (cx * zg[0] - cy * zg[1]);
-        b[2 * i + 1] += w * (cx * zg[1] + cy * zg[0]);
-    } else if (j >= 0) { /* b_g += w conj(c) z_f */
-        b[2 * j] += w * (cx * zf[0] + cy * zf[1]);
-        b[2 * j + 1] += w * (cx * zf[1] - cy * zf[0]);
-    }
-    return r;
+    int f = h / 3, g = P->m.hm.twin[h] / 3;
+    double c[2];
+    c[0] = P->conn[2 * h];
+    c[1] = P->conn[2 * h + 1];
+    pw_zasm_term(S, id[f], id[g], pw_periodic_dir_weight(P, h), c, P->dir + 2 * (id[f] < 0 ? f : g));
 }
 
 /* Directions are normalised after the solve: a loose tolerance suffices. */
@@ -15705,33 +16062,43 @@ PW__DEF int pw_periodic_dir_smooth(pw_periodic *P, const unsigned char *free, co
 {
     const pw_trimesh *m = &P->m;
     int *id = (int *)pw_alloc_array(&P->a, (size_t)m->nf, sizeof(int), "orientation", e);
-    double *b = NULL, *x = NULL;
-    pw_triplets t;
+    double *x = NULL;
+    const void *ctx[2];
+    pw_zpairs pr;
+    pw_zasm S;
+    pw_cg_options o = pw_cg_default_options();
     int n = 0, f, h, r = id ? PW_OK : PW_ERR_NOMEM;
-    memset(&t, 0, sizeof t);
+    memset(&S, 0, sizeof S);
     for (h = 0; r == PW_OK && h < m->nf; h++) { /* breadth-first order */
         f = P->forder[h];
         id[f] = free[f] ? n++ : -1;
     }
+    ctx[0] = P;
+    ctx[1] = id;
+    pr.count = 3 * m->nf;
+    pr.pair = pw_periodic_dir_pair;
+    pr.ctx = ctx;
     if (r == PW_OK && n > 0) {
-        b = (double *)pw_calloc_array(&P->a, (size_t)n * 2, sizeof(double), "orientation", e);
         x = (double *)pw_alloc_array(&P->a, (size_t)n * 2, sizeof(double), "orientation", e);
-        if (!b || !x) r = PW_ERR_NOMEM;
-        else r = pw_triplets_init(&t, &P->a, n, 2 * n, e);
+        r = x ? pw_zasm_init(&P->a, &S, n, &pr, e) : PW_ERR_NOMEM;
     }
     for (f = 0; r == PW_OK && n > 0 && f < m->nf; f++)
         if (id[f] >= 0) {
             double w = pull ? pull[f] + PW_PERIODIC_PULL : PW_PERIODIC_PULL;
             x[2 * id[f]] = P->dir[2 * f];
             x[2 * id[f] + 1] = P->dir[2 * f + 1];
-            b[2 * id[f]] += w * P->base[2 * f];
-            b[2 * id[f] + 1] += w * P->base[2 * f + 1];
-            r = pw_ztriplets_add(&t, id[f], id[f], w, 0.0, e);
+            S.b[2 * id[f]] += w * P->base[2 * f];
+            S.b[2 * id[f] + 1] += w * P->base[2 * f + 1];
+            S.A.val[2 * S.dpos[id[f]]] = w;
         }
     for (h = 0; r == PW_OK && n > 0 && h < 3 * m->nf; h++)
-        if (m->hm.twin[h] > h && (id[h / 3] >= 0 || id[m->hm.twin[h] / 3] >= 0))
-            r = pw_periodic_dir_edge(P, id, h, &t, b, e);
-    if (r == PW_OK && n > 0) r = pw_periodic_pd_solve(P, &t, b, x, PW_PERIODIC_DIR_TOL, e);
+        if (m->hm.twin[h] > h && (id[h / 3] >= 0 || id[m->hm.twin[h] / 3] >= 0)) pw_periodic_dir_edge(P, &S, id, h);
+    o.tol = PW_PERIODIC_DIR_TOL;
+    o.max_iter = 4000;
+    if (r == PW_OK && n > 0) {
+        S.A.run = &P->run;
+        r = pw_zpd_solve(&P->a, &S.A, S.b, x, &o, e);
+    }
     for (f = 0; r == PW_OK && n > 0 && f < m->nf; f++)
         if (id[f] >= 0) {
             double *z = P->dir + 2 * f;
@@ -15742,9 +16109,8 @@ PW__DEF int pw_periodic_dir_smooth(pw_periodic *P, const unsigned char *free, co
                 z[1] = P->base[2 * f + 1];
             }
         }
-    pw_triplets_free(&t);
+    pw_zasm_free(&P->a, &S);
     pw_free(&P->a, id);
-    pw_free(&P->a, b);
     pw_free(&P->a, x);
     return r;
 }
@@ -15820,17 +16186,44 @@ PW__DEF double pw_periodic_turns(double x, double y)
 
 /* ---- §2.3 per-edge rotations ------------------------------------------------------------ */
 
-/* alpha / 2 pi of half-edge h (from tri[h] to the next corner) for s (k = 0)
- * or t (k = 1): e_ij . (g_T + g_T') / 2, the gradient averaged over the two
- * triangles of the edge (the one triangle on a boundary). This is the
- * coordinate difference s_j - s_i the field asks for along the edge. */
+/* alpha / 2 pi of half-edge h (from tri[h] to the next corner) given the
+ * gradients g of its triangle and gt of its twin's (unused on a boundary):
+ * e_ij . (g_T + g_T') / 2, the gradient averaged over the two triangles of
+ * the edge (the one triangle on a boundary). This is the coordinate
+ * difference s_j - s_i the field asks for along the edge. */
+PW__DEF double pw__periodic_alpha_of(const pw_periodic *P, int h, pw_v3 g, pw_v3 gt)
+{
+    int f = h / 3, c = h % 3;
+    pw_v3 ed = pw_v3_sub(pw_trimesh_corner(&P->m, f, (c + 1) % 3), pw_trimesh_corner(&P->m, f, c));
+    if (P->m.hm.twin[h] >= 0) g = pw_v3_scale(pw_v3_add(g, gt), 0.5f);
+    return (double)pw_v3_dot(ed, g);
+}
+
+/* alpha / 2 pi of half-edge h for s (k = 0) or t (k = 1), from the field
+ * as it is. */
 PW__DEF double pw_periodic_alpha(const pw_periodic *P, int h, int k)
 {
-    int f = h / 3, c = h % 3, t = P->m.hm.twin[h];
-    pw_v3 ed = pw_v3_sub(pw_trimesh_corner(&P->m, f, (c + 1) % 3), pw_trimesh_corner(&P->m, f, c));
-    pw_v3 g = pw_periodic_grad(P, f, k);
-    if (t >= 0) g = pw_v3_scale(pw_v3_add(g, pw_periodic_grad(P, t / 3, k)), 0.5f);
-    return (double)pw_v3_dot(ed, g);
+    int t = P->m.hm.twin[h];
+    pw_v3 g = pw_periodic_grad(P, h / 3, k);
+    return pw__periodic_alpha_of(P, h, g, t >= 0 ? pw_periodic_grad(P, t / 3, k) : g);
+}
+
+/* The same from the gradients of the last solve (P->grad): the same value
+ * while the field has not changed since. */
+PW__DEF double pw_periodic_alpha_solved(const pw_periodic *P, int h, int k)
+{
+    int t = P->m.hm.twin[h];
+    pw_v3 g = pw_v3_load(P->grad + 6 * (h / 3) + 3 * k);
+    return pw__periodic_alpha_of(P, h, g, t >= 0 ? pw_v3_load(P->grad + 6 * (t / 3) + 3 * k) : g);
+}
+
+/* P->grad over a block of triangles (on the solve's threads). */
+PW__DEF void pw__periodic_grad_block(void *ctx, int b)
+{
+    pw_periodic *P = (pw_periodic *)ctx;
+    int f, k, nb = pw__zblocks(P->m.nf), hi = pw__zblock_start(P->m.nf, nb, b + 1);
+    for (f = pw__zblock_start(P->m.nf, nb, b); f < hi; f++)
+        for (k = 0; k < 2; k++) pw_v3_store(P->grad + 6 * f + 3 * k, pw_periodic_grad(P, f, k));
 }
 
 /* ---- §2.3 the least-squares system ----------------------------------------------------- */
@@ -15859,13 +16252,13 @@ PW__DEF double pw_periodic_weight(const pw_periodic *P, int h)
 }
 
 /* The complex Hermitian system of coordinate k over the free vertices,
- * being assembled. */
+ * being assembled: its structure (the edges between free vertices, the
+ * same for s and t) and the terms of every edge. */
 typedef struct pw_periodic_zsys {
     const double *z; /* nv*2: the current z, read at the fixed vertices */
     const int *id;   /* nv: vertex -> unknown (-1: fixed) */
     int k;           /* the coordinate: 0 for s, 1 for t */
-    pw_triplets *t;  /* the matrix being assembled (n x 2n) */
-    double *b;       /* 2n: the right-hand side */
+    pw_zasm S;       /* the matrix and right-hand side */
     double *edge;    /* 3nf*3: per half-edge assembled (twin < h) its weight
                          and e^{i alpha}, pw_periodic_edge_terms */
     const pw_periodic *P;
@@ -15881,46 +16274,42 @@ PW__DEF void pw_periodic_edge_terms(void *ctx, int blk)
     int nf = P->m.nf, nb = pw__zblocks(nf), h, hi = 3 * pw__zblock_start(nf, nb, blk + 1);
     for (h = 3 * pw__zblock_start(nf, nb, blk); h < hi; h++)
         if (P->m.hm.twin[h] < h) {
-            double a = PW_PERIODIC_TWO_PI * pw_periodic_alpha(P, h, Z->k), *o = Z->edge + 3 * (size_t)h;
+            double a = PW_PERIODIC_TWO_PI * pw_periodic_alpha_solved(P, h, Z->k), *o = Z->edge + 3 * (size_t)h;
             o[0] = pw_periodic_weight(P, h);
             o[1] = pw_cos(a);
             o[2] = pw_sin(a);
         }
 }
 
+/* Edge k (twin < k, each edge once) between free vertices: a pair of
+ * the PGP's systems (pw_zpairs), i -> j. */
+PW__DEF int pw_periodic_pair(const void *ctx, int k, int *ij)
+{
+    const pw_periodic_zsys *Z = (const pw_periodic_zsys *)ctx;
+    const pw_trimesh *m = &Z->P->m;
+    if (m->hm.twin[k] >= k) return 0;
+    ij[0] = Z->id[m->tri[k]];
+    ij[1] = Z->id[m->tri[3 * (k / 3) + (k % 3 + 1) % 3]];
+    return ij[0] >= 0 && ij[1] >= 0;
+}
+
 /* Adds the term w |z_j - R(alpha) z_i|^2 of edge h (i -> j) to the system
  * of the free vertices (id >= 0). R(alpha) is the rotation by +alpha,
- * [cos -sin; sin cos], i.e. the product with e^{i alpha}: with z = e^{2 pi
- * i s}, s_j = s_i + alpha/2pi is z_j = e^{i alpha} z_i. (The matrix printed
- * in the paper has the signs of the sines the other way round, which would
- * make s decrease along g; tests/test_pgp.c checks a flat grid, where the
- * exact answer is linear.) In the complex Hermitian system: w on both
- * diagonals, -w e^{i alpha} at (j, i) and its conjugate at (i, j); a fixed
- * end moves to the right-hand side. */
-PW__DEF int pw_periodic_edge(const pw_periodic *P, const pw_periodic_zsys *Z, int h, pw_err *e)
+ * [cos -sin; sin cos], i.e. the product with e^{i alpha}: with z = e^{2
+ * pi i s}, s_j = s_i + alpha/2pi is z_j = e^{i alpha} z_i. (The matrix
+ * printed in the paper has the signs of the sines the other way round,
+ * which would make s decrease along g; tests/test_pgp.c checks a flat
+ * grid, where the exact answer is linear.) That is |z_i - e^{-i alpha}
+ * z_j|^2: w on both diagonals, -w e^{-i alpha} at (i, j) and its
+ * conjugate at (j, i); a fixed end moves to the right-hand side. */
+PW__DEF void pw_periodic_edge(const pw_periodic *P, pw_periodic_zsys *Z, int h)
 {
-    const double *z = Z->z;
-    const int *id = Z->id;
-    pw_triplets *t = Z->t;
-    double *b = Z->b;
-    int f = h / 3;
-    int vi = P->m.tri[h], vj = P->m.tri[3 * f + (h % 3 + 1) % 3], i = id[vi], j = id[vj], r = PW_OK;
+    int vi = P->m.tri[h], vj = P->m.tri[3 * (h / 3) + (h % 3 + 1) % 3], i = Z->id[vi], j = Z->id[vj];
     const double *term = Z->edge + 3 * (size_t)h;
-    double w = term[0], c = term[1], sn = term[2];
-    const double *zi = z + 2 * vi, *zj = z + 2 * vj;
-    if (i >= 0) r = pw_ztriplets_add(t, i, i, w, 0.0, e);
-    if (r == PW_OK && j >= 0) r = pw_ztriplets_add(t, j, j, w, 0.0, e);
-    if (r == PW_OK && i >= 0 && j >= 0) {
-        r = pw_ztriplets_add(t, j, i, -w * c, -w * sn, e);
-        if (r == PW_OK) r = pw_ztriplets_add(t, i, j, -w * c, w * sn, e);
-    } else if (j >= 0) { /* b_j += w e^{i a} z_i */
-        b[2 * j] += w * (c * zi[0] - sn * zi[1]);
-        b[2 * j + 1] += w * (c * zi[1] + sn * zi[0]);
-    } else if (i >= 0) { /* b_i += w e^{-i a} z_j */
-        b[2 * i] += w * (c * zj[0] + sn * zj[1]);
-        b[2 * i + 1] += w * (c * zj[1] - sn * zj[0]);
-    }
-    return r;
+    double c[2];
+    c[0] = term[1];
+    c[1] = -term[2];
+    pw_zasm_term(&Z->S, i, j, term[0], c, Z->z + 2 * (i < 0 ? vi : vj));
 }
 
 /* Proximal steps and their weights: each step minimises
@@ -15943,20 +16332,6 @@ PW__DEF int pw_periodic_edge(const pw_periodic *P, const pw_periodic_zsys *Z, in
  * triangles.) */
 #define PW_PERIODIC_STEPS 4
 static const double pw_periodic_mu[PW_PERIODIC_STEPS] = {1e-5, 1e-3, 1e-2, 0.1};
-
-/* Where each row's diagonal entry sits in A (every row has one). */
-PW__DEF int pw_periodic_diag_index(const pw_alloc *a, const pw_zcsr *A, int **out, pw_err *e)
-{
-    int i, k, *d = (int *)pw_alloc_array(a, (size_t)A->n, sizeof(int), "PGP", e);
-    *out = d;
-    if (!d) return PW_ERR_NOMEM;
-    for (i = 0; i < A->n; i++)
-        for (d[i] = -1, k = A->rowptr[i]; k < A->rowptr[i + 1]; k++)
-            if (A->col[k] == i) d[i] = k;
-    for (i = 0; i < A->n; i++)
-        if (d[i] < 0) return pw_fail(e, PW_ERR_INVALID, "PGP: row %d has no diagonal", i);
-    return PW_OK;
-}
 
 /* A first estimate: z carried from the fixed vertices along a breadth-first
  * tree, z_j = e^{i alpha_ij} z_i, i.e. the field integrated along the tree. */
@@ -15989,7 +16364,7 @@ PW__DEF int pw_periodic_propagate(pw_periodic *P, double *z, const int *id, int 
             double a, c, sn, *zu = z + 2 * u;
             w = fw ? m->tri[3 * (hh / 3) + (hh % 3 + 1) % 3] : m->tri[hh];
             if (done[w]) continue;
-            a = PW_PERIODIC_TWO_PI * pw_periodic_alpha(P, hh, k) * (fw ? 1.0 : -1.0);
+            a = PW_PERIODIC_TWO_PI * pw_periodic_alpha_solved(P, hh, k) * (fw ? 1.0 : -1.0);
             c = pw_cos(a);
             sn = pw_sin(a);
             z[2 * w] = c * zu[0] - sn * zu[1];
@@ -16015,53 +16390,43 @@ PW__DEF int pw_periodic_propagate(pw_periodic *P, double *z, const int *id, int 
 }
 
 /* Solves for the unit complex numbers z (nv*2) of coordinate k at the free
- * vertices (id >= 0, n of them), the others fixed. */
-PW__DEF int pw_periodic_solve_k(pw_periodic *P, double *z, const int *id, int n, int k, pw_err *e)
+ * vertices (Z->id >= 0, n of them), the others fixed; Z->S holds the
+ * structure (pw_zasm_init with pw_periodic_pair). */
+PW__DEF int pw_periodic_solve_k(pw_periodic *P, pw_periodic_zsys *Z, double *z, int n, int k, pw_err *e)
 {
-    double *b = (double *)pw_calloc_array(&P->a, (size_t)n * 5, sizeof(double), "PGP", e);
-    double *x = b + 2 * n, *dg = b + 4 * n, *rhs = NULL;
-    int *dpos = NULL;
-    pw_triplets t;
-    pw_zcsr A;
+    double *x = (double *)pw_alloc_array(&P->a, (size_t)n * 5, sizeof(double), "PGP", e);
+    double *dg = x + 2 * n, *rhs = x + 3 * n, *b = Z->S.b, dsum, off;
+    const int *id = Z->id;
+    pw_zcsr *A = &Z->S.A;
     pw_zamg M;
     pw_cg_options o = pw_cg_default_options();
-    pw_periodic_zsys Z;
-    int v, h, q, step, multigrid = 0, r = b ? PW_OK : PW_ERR_NOMEM;
-    Z.z = z;
-    Z.id = id;
-    Z.k = k;
-    Z.t = &t;
-    Z.b = b;
-    Z.P = P;
-    Z.edge = (double *)pw_alloc_array(&P->a, 9 * (size_t)P->m.nf + 1, sizeof(double), "PGP", e);
-    if (!Z.edge) r = PW_ERR_NOMEM;
-    else pw__zfor(&P->run, P->m.nf, pw__zblocks(P->m.nf), pw_periodic_edge_terms, &Z);
-    memset(&t, 0, sizeof t);
-    memset(&A, 0, sizeof A);
-    if (r == PW_OK) r = pw_triplets_init(&t, &P->a, n, 2 * n, e);
+    int v, h, q, step, multigrid = 0, pays, r = x ? PW_OK : PW_ERR_NOMEM;
+    Z->z = z;
+    Z->k = k;
+    Z->edge = (double *)pw_alloc_array(&P->a, 9 * (size_t)P->m.nf + 1, sizeof(double), "PGP", e);
+    if (!Z->edge) r = PW_ERR_NOMEM;
+    else pw__zfor(&P->run, P->m.nf, pw__zblocks(P->m.nf), pw_periodic_edge_terms, Z);
+    memset(A->val, 0, sizeof(double) * 2 * (size_t)A->rowptr[n]);
+    memset(b, 0, sizeof(double) * 2 * (size_t)n);
+    Z->S.next = 0;
     for (h = 0; r == PW_OK && h < 3 * P->m.nf; h++)
-        if (P->m.hm.twin[h] < h) r = pw_periodic_edge(P, &Z, h, e); /* each edge once */
-    pw_free(&P->a, Z.edge);
-    Z.edge = NULL;
-    for (q = 0; r == PW_OK && q < t.count; q++) /* the (real) diagonal of F's matrix */
-        if (t.col[q] == 2 * t.row[q]) dg[t.row[q]] += t.val[q];
+        if (P->m.hm.twin[h] < h) pw_periodic_edge(P, Z, h); /* each edge once */
+    pw_free(&P->a, Z->edge);
+    Z->edge = NULL;
+    for (q = 0; r == PW_OK && q < n; q++) dg[q] = A->val[2 * Z->S.dpos[q]]; /* the (real) diagonal of F's matrix */
     if (r == PW_OK) r = pw_periodic_propagate(P, z, id, k, e);
-    if (r == PW_OK && (r = pw_zcsr_from_triplets(&P->a, &t, &A, e)) == PW_OK) {
-        A.run = &P->run;
-        r = pw_periodic_diag_index(&P->a, &A, &dpos, e);
-    }
-    if (r == PW_OK && !(rhs = (double *)pw_alloc_array(&P->a, (size_t)n * 2, sizeof(double), "PGP", e)))
-        r = PW_ERR_NOMEM;
     o.max_iter = 4000;
     memset(&M, 0, sizeof M);
+    if (r == PW_OK) pw__zamg_sums(A, &dsum, &off); /* the off-diagonal moduli: the same for every step */
     for (step = 0; r == PW_OK && step < PW_PERIODIC_STEPS; step++) {
         double mu = pw_periodic_mu[step];
-        for (q = 0; q < n; q++) A.val[2 * dpos[q]] = dg[q] * (1.0 + mu);
-        if (step == 0 && pw_zamg_pays(&A)) { /* one hierarchy for the steps that need it */
+        for (q = 0, dsum = 0.0; q < n; q++) dsum += A->val[2 * Z->S.dpos[q]] = dg[q] * (1.0 + mu);
+        pays = pw_zamg_pays_sums(n, dsum, off);
+        if (step == 0 && pays) { /* one hierarchy for the steps that need it */
             pw_err se;
             int sr;
             pw_err_clear(&se);
-            sr = pw_zamg_setup(&P->a, &A, &M, &se);
+            sr = pw_zamg_setup(&P->a, A, &M, &se);
             multigrid = sr == PW_OK;
             if (sr != PW_OK && sr != PW_ERR_INVALID) r = pw_fail(e, sr, "%s", se.msg); /* INVALID: IC(0) instead */
         }
@@ -16075,8 +16440,8 @@ PW__DEF int pw_periodic_solve_k(pw_periodic *P, double *z, const int *id, int n,
         o.tol = step < PW_PERIODIC_STEPS - 1 ? 1e-3 : 1e-4; /* each step is normalised: no need for more */
         /* the steps' matrices differ in the diagonal only: level 0 sees it, the coarse levels need not */
         if (r == PW_OK)
-            r = multigrid && pw_zamg_pays(&A) ? pw_zamg_solve(&P->a, &A, &M, rhs, x, &o, NULL, e)
-                                              : pw_zic0_solve(&P->a, &A, rhs, x, &o, e);
+            r = multigrid && pays ? pw_zamg_solve(&P->a, A, &M, rhs, x, &o, NULL, e)
+                                  : pw_zic0_solve(&P->a, A, rhs, x, &o, e);
         for (v = 0; r == PW_OK && v < P->m.nv; v++)
             if ((q = id[v]) >= 0) {
                 double zz[2];
@@ -16089,12 +16454,19 @@ PW__DEF int pw_periodic_solve_k(pw_periodic *P, double *z, const int *id, int n,
             }
     }
     if (multigrid) pw_zamg_free(&P->a, &M);
-    pw_free(&P->a, dpos);
-    pw_zcsr_free(&P->a, &A);
-    pw_triplets_free(&t);
-    pw_free(&P->a, b);
-    pw_free(&P->a, rhs);
+    pw_free(&P->a, x);
     return r;
+}
+
+/* P->turn over a block of vertices (on the solve's threads). */
+PW__DEF void pw__periodic_turn_block(void *ctx, int b)
+{
+    pw_periodic *P = (pw_periodic *)ctx;
+    int v, nb = pw__zblocks(P->m.nv), hi = pw__zblock_start(P->m.nv, nb, b + 1);
+    for (v = pw__zblock_start(P->m.nv, nb, b); v < hi; v++) {
+        P->turn[2 * v] = pw_periodic_turns(P->zs[2 * v], P->zs[2 * v + 1]);
+        P->turn[2 * v + 1] = pw_periodic_turns(P->zt[2 * v], P->zt[2 * v + 1]);
+    }
 }
 
 /* §2.3 over the free vertices: "in the special case of initialization, we
@@ -16106,6 +16478,14 @@ PW__DEF int pw_periodic_solve(pw_periodic *P, const unsigned char *vfree, int wh
     int *comp = (int *)pw_calloc_array(&P->a, (size_t)P->m.nf * 2, sizeof(int), "PGP", e);
     unsigned char *lock = (unsigned char *)pw_calloc_array(&P->a, (size_t)P->m.nv, 1, "PGP", e);
     int n = 0, v, f, c, nc = 0, r = id && comp && lock ? PW_OK : PW_ERR_NOMEM;
+    pw_periodic_zsys Z;
+    pw_zpairs pr;
+    memset(&Z, 0, sizeof Z);
+    Z.id = id;
+    Z.P = P;
+    pr.count = 3 * P->m.nf;
+    pr.pair = pw_periodic_pair;
+    pr.ctx = &Z;
     if (r == PW_OK && whole) r = pw_hmesh_components(&P->a, &P->m.hm, comp, &nc, e);
     for (f = 0; r == PW_OK && whole && f < P->m.nf; f++) /* the first triangle of each component */
         if (!comp[P->m.nf + comp[f]]) {
@@ -16122,10 +16502,17 @@ PW__DEF int pw_periodic_solve(pw_periodic *P, const unsigned char *vfree, int wh
             P->zs[2 * v + 1] = P->zt[2 * v + 1] = 0.0;
         }
     }
-    if (r == PW_OK && n > 0) r = pw_periodic_solve_k(P, P->zs, id, n, 0, e);
-    if (r == PW_OK && n > 0) r = pw_periodic_solve_k(P, P->zt, id, n, 1, e);
-    pw_free(&P->a, id);
     pw_free(&P->a, comp);
+    pw__zfor(&P->run, P->m.nf, pw__zblocks(P->m.nf), pw__periodic_grad_block, P);
+    if (r == PW_OK && n > 0) r = pw_zasm_init(&P->a, &Z.S, n, &pr, e);
+    if (r == PW_OK && n > 0) {
+        Z.S.A.run = &P->run;
+        r = pw_periodic_solve_k(P, &Z, P->zs, n, 0, e);
+    }
+    if (r == PW_OK && n > 0) r = pw_periodic_solve_k(P, &Z, P->zt, n, 1, e);
+    if (r == PW_OK) pw__zfor(&P->run, P->m.nv, pw__zblocks(P->m.nv), pw__periodic_turn_block, P);
+    pw_zasm_free(&P->a, &Z.S);
+    pw_free(&P->a, id);
     pw_free(&P->a, lock);
     return r;
 }
@@ -16135,20 +16522,21 @@ PW__DEF int pw_periodic_solve(pw_periodic *P, const unsigned char *vfree, int wh
 /* s and t of triangle f's corners: corner 0 reads Arg(z)/2pi, corners 1
  * and 2 add the integer p that brings their difference to corner 0 closest
  * to what the field asks for along the edge (alpha), so that every vertex
- * differs between its triangles by integers only. */
+ * differs between its triangles by integers only. z and alpha are the last
+ * pw_periodic_solve's (the field must not have changed since). */
 PW__DEF void pw_periodic_recover(pw_periodic *P, int f)
 {
     const int *tri = P->m.tri + 3 * f;
     float *o = P->stm + 9 * f;
     int c, k;
     for (k = 0; k < 2; k++) {
-        const double *z = k ? P->zt : P->zs;
-        double s0 = pw_periodic_turns(z[2 * tri[0]], z[2 * tri[0] + 1]);
+        double s0 = P->turn[2 * tri[0] + k];
         o[k] = (float)s0;
         for (c = 1; c < 3; c++) {
             /* alpha from corner 0 to corner c: edge 0->1 is half-edge 3f, edge 0->2 is 3f+2 reversed */
-            double want = s0 + (c == 1 ? pw_periodic_alpha(P, 3 * f, k) : -pw_periodic_alpha(P, 3 * f + 2, k));
-            double sc = pw_periodic_turns(z[2 * tri[c]], z[2 * tri[c] + 1]);
+            double want =
+                s0 + (c == 1 ? pw_periodic_alpha_solved(P, 3 * f, k) : -pw_periodic_alpha_solved(P, 3 * f + 2, k));
+            double sc = P->turn[2 * tri[c] + k];
             o[3 * c + k] = (float)(sc + floor(want - sc + 0.5));
         }
     }

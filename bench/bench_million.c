@@ -9,7 +9,7 @@
  * holds 16 times the triangles of 75K (docs/performance.md).
  * The peak counts what the child inherits (the ladder's meshes, printed as
  * the parent's resident set). Prints the growth exponent of each over the
- * ladder. */
+ * ladder. `bench_million pgp` (or `lapped`) runs that method alone. */
 #define _DEFAULT_SOURCE /* wait4 */
 #include "bench.h"
 #include <sys/resource.h>
@@ -98,7 +98,7 @@ static outcome in_child(outcome (*fn)(const bench_mesh *), const bench_mesh *bm,
     return o;
 }
 
-int main(void)
+int main(int argc, char **argv)
 {
     static const char *const names[2] = {"pgp_create", "lapped_create"};
     outcome (*const fns[2])(const bench_mesh *) = {run_pgp, run_lapped};
@@ -107,7 +107,12 @@ int main(void)
     pgp_error err;
     bench_mesh base, rung[NRUNGS];
     double faces[NRUNGS], cpu[2][NRUNGS], mb[2][NRUNGS];
-    int builtin = 0, i, k;
+    int builtin = 0, i, k, k0 = 0, k1 = 2;
+    if (argc > 1) { /* one method by name */
+        for (k0 = 0; k0 < 2 && strncmp(names[k0], argv[1], strlen(argv[1])) != 0; k0++) continue;
+        if (k0 == 2) return printf("usage: bench_million [pgp | lapped]\n"), 1;
+        k1 = k0 + 1;
+    }
     if (pgp_load_mesh(MESH_FILE, &opt, &mesh, &err)) {
         builtin = 1;
         if (pgp_builtin_mesh("bumpy", &opt, &mesh, &err)) return printf("no mesh: %s\n", err.message), 1;
@@ -125,14 +130,14 @@ int main(void)
     printf("%-14s %10s %10s %12s\n", "", "triangles", "cpu s", "peak RSS MB");
     for (i = 0; i < NRUNGS; i++) {
         faces[i] = rung[i].nfaces;
-        for (k = 0; k < 2; k++) {
+        for (k = k0; k < k1; k++) {
             outcome o = in_child(fns[k], &rung[i], &mb[k][i]);
             if (o.fail) return printf("%s failed on %d triangles\n", names[k], rung[i].nfaces), 1;
             cpu[k][i] = o.cpu;
             printf("%-14s %10d %10.2f %12.0f\n", names[k], rung[i].nfaces, o.cpu, mb[k][i]);
         }
     }
-    for (k = 0; k < 2; k++) {
+    for (k = k0; k < k1; k++) {
         char task[96], fig[64], over[96], note[96];
         int top = NRUNGS - 1;
         double b = bench_loglog_slope(faces, cpu[k], top + 1);

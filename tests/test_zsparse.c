@@ -79,6 +79,53 @@ static void t_mul_matches_real(void)
     pw_triplets_free(&rt);
 }
 
+/* pw_zcsr_pattern: the structure of diagonal + pairs, repeated pairs
+ * merged; terms added at the positions it gives make the same matrix, bit
+ * for bit, as the triplets added in the same order. */
+static void t_pattern_matches_triplets(void)
+{
+    static const int ij[] = {0, 3, 2, 1, 4, 0, 3, 0, 1, 4, 2, 3, 1, 2};
+    const int n = 5, np = 7;
+    pw_triplets t;
+    pw_zcsr Z, A;
+    pw_err e;
+    int dpos[5], pos[14], i, p, k;
+    REQUIRE(pw_triplets_init(&t, NULL, n, 2 * n, &e) == PW_OK);
+    REQUIRE(pw_zcsr_pattern(NULL, n, np, ij, &A, dpos, pos, &e) == PW_OK);
+    CHECK_EQ_INT(A.rowptr[n], n + 2 * 5); /* (0, 3) and (2, 1) twice */
+    CHECK_EQ_INT(pos[0], pos[7]); /* (0, 3) and its repeat (3, 0) share */
+    CHECK_EQ_INT(pos[1], pos[6]);
+    for (i = 0; i < n; i++) {
+        double d = 0.1 * (i + 1);
+        pw_ztriplets_add(&t, i, i, d, 0.0, &e);
+        A.val[2 * dpos[i]] += d;
+    }
+    for (p = 0; p < np; p++) {
+        double w = 1.0 + 0.3 * p, c = cos(0.7 * p), s = sin(0.7 * p);
+        int a = ij[2 * p], b = ij[2 * p + 1];
+        pw_ztriplets_add(&t, a, a, w, 0.0, &e);
+        pw_ztriplets_add(&t, b, b, w, 0.0, &e);
+        pw_ztriplets_add(&t, a, b, -w * c, -w * s, &e);
+        pw_ztriplets_add(&t, b, a, -w * c, w * s, &e);
+        A.val[2 * dpos[a]] += w;
+        A.val[2 * dpos[b]] += w;
+        A.val[2 * pos[2 * p]] += -w * c;
+        A.val[2 * pos[2 * p] + 1] += -w * s;
+        A.val[2 * pos[2 * p + 1]] += -w * c;
+        A.val[2 * pos[2 * p + 1] + 1] += w * s;
+    }
+    REQUIRE(pw_zcsr_from_triplets(NULL, &t, &Z, &e) == PW_OK);
+    for (i = 0; i <= n; i++) CHECK_EQ_INT(A.rowptr[i], Z.rowptr[i]);
+    for (k = 0; k < Z.rowptr[n]; k++) {
+        CHECK_EQ_INT(A.col[k], Z.col[k]);
+        CHECKF(A.val[2 * k] == Z.val[2 * k] && A.val[2 * k + 1] == Z.val[2 * k + 1], "entry %d: (%g, %g) vs (%g, %g)",
+               k, A.val[2 * k], A.val[2 * k + 1], Z.val[2 * k], Z.val[2 * k + 1]);
+    }
+    pw_zcsr_free(NULL, &A);
+    pw_zcsr_free(NULL, &Z);
+    pw_triplets_free(&t);
+}
+
 /* The complex solve reaches the tolerance and agrees with the real one. */
 static void t_solve_matches_real(void)
 {
@@ -290,6 +337,52 @@ static void t_amg_small_and_determinism(void)
 }
 
 /* Every allocation of the setup failing in turn: PW_ERR_NOMEM, nothing left. */
+/* A hierarchy set up for A serves A + mu D (D = A's diagonal, as pgp's
+ * proximal steps): the solve carries the diagonal's change to the coarse
+ * levels, and takes about the V-cycles of a hierarchy set up for A + mu D
+ * itself (the change left at level 0 alone takes many more). */
+static void t_amg_diagonal_change(void)
+{
+    static const double mus[3] = {1e-3, 1e-2, 0.1};
+    pw_zcsr Z;
+    pw_zamg M, F;
+    pw_cg_options o;
+    pw_cg_stats s1, s2;
+    pw_err e;
+    double *b, *x, *d;
+    int n = 96 * 96, i, k, m;
+    REQUIRE(!grid_system(96, 96, &Z, &b));
+    x = (double *)calloc(2 * (size_t)n, sizeof(double));
+    d = (double *)malloc(sizeof(double) * (size_t)n);
+    REQUIRE(x && d);
+    for (i = 0; i < n; i++)
+        for (k = Z.rowptr[i]; k < Z.rowptr[i + 1]; k++)
+            if (Z.col[k] == i) d[i] = Z.val[2 * k];
+    memset(&o, 0, sizeof o);
+    o.tol = 1e-6;
+    REQUIRE(pw_zamg_setup(NULL, &Z, &M, &e) == PW_OK);
+    for (m = 0; m < 3; m++) {
+        for (i = 0; i < n; i++)
+            for (k = Z.rowptr[i]; k < Z.rowptr[i + 1]; k++)
+                if (Z.col[k] == i) Z.val[2 * k] = d[i] * (1.0 + mus[m]);
+        memset(x, 0, sizeof(double) * 2 * n);
+        REQUIRE(pw_zamg_solve(NULL, &Z, &M, b, x, &o, &s1, &e) == PW_OK);
+        REQUIRE(pw_zamg_setup(NULL, &Z, &F, &e) == PW_OK);
+        memset(x, 0, sizeof(double) * 2 * n);
+        REQUIRE(pw_zamg_solve(NULL, &Z, &F, b, x, &o, &s2, &e) == PW_OK);
+        pw_zamg_free(NULL, &F);
+        pwt_info("diagonal times 1 + %g: %d V-cycles with the first hierarchy, %d with its own", mus[m],
+                 s1.iterations, s2.iterations);
+        CHECKF(s1.iterations <= s2.iterations + 2, "mu %g: %d V-cycles against %d", mus[m], s1.iterations,
+               s2.iterations);
+    }
+    pw_zamg_free(NULL, &M);
+    pw_zcsr_free(NULL, &Z);
+    free(b);
+    free(x);
+    free(d);
+}
+
 static void t_amg_alloc_failures(void)
 {
     pw_zcsr Z;
@@ -317,11 +410,13 @@ static void t_amg_alloc_failures(void)
 
 static const pwt_case cases[] = {
     {"zsparse/mul_matches_real", t_mul_matches_real},
+    {"zsparse/pattern_matches_triplets", t_pattern_matches_triplets},
     {"zsparse/solve_matches_real", t_solve_matches_real},
     {"zsparse/errors", t_errors},
     {"zsparse/alloc_failures", t_alloc_failures},
     {"zsparse/amg_scaling", t_amg_scaling},
     {"zsparse/amg_small_and_determinism", t_amg_small_and_determinism},
+    {"zsparse/amg_diagonal_change", t_amg_diagonal_change},
     {"zsparse/amg_alloc_failures", t_amg_alloc_failures},
 };
 PWT_MAIN(cases)

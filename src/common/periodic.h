@@ -42,7 +42,13 @@ typedef struct pw_periodic {
     float *sfac;          /* nv: a factor of S_i (1 but where the method
                              makes the field integrable) */
     double *zs, *zt;      /* nv*2: the unit complex unknowns of s and t (§2.3) */
+    double *turn;         /* nv*2: Arg(z) / 2 pi of s and t per vertex, as the
+                             last pw_periodic_solve left z (what
+                             pw_periodic_recover reads) */
     float *stm;           /* nf*9: per corner s, t, m (Eq. 4) */
+    float *grad;          /* nf*6: g for s and t of every triangle as the
+                             last pw_periodic_solve saw the field (what
+                             pw_periodic_recover reads) */
     int *forder, *vorder; /* triangles and vertices in breadth-first order: the
                              order of the unknowns of every solve */
     float scale0;         /* default tile side */
@@ -53,30 +59,20 @@ typedef struct pw_periodic {
 
 /* ---- sparse symmetric positive definite solves ----------------------------- */
 
-/* Solves the system collected in t for x (warm start: x's current values)
- * to a relative residual tol: real symmetric positive definite (n x n
- * triplets) by IC(0)-preconditioned CG, or complex Hermitian (zsparse.h:
- * n x 2n triplets, b and x complex) by CG with a multigrid (zamg.h) or
- * IC(0) preconditioner, whichever pays (pw_zpd_solve). */
+/* Solves the real symmetric positive definite system collected in t (n x
+ * n triplets) for x (warm start: x's current values) to a relative
+ * residual tol, by IC(0)-preconditioned CG. (The complex systems are
+ * assembled into their structure directly, pw_zcsr_pattern.) */
 PW__DEF int pw_periodic_pd_solve(const pw_periodic *P, const pw_triplets *t, const double *b, double *x, double tol,
                                  pw_err *e)
 {
     const pw_alloc *a = &P->a;
-    const int complex = t->m == 2 * t->n;
     pw_csr A;
     pw_ic0 L;
-    pw_zcsr ZA;
     pw_cg_options o = pw_cg_default_options();
     int r;
     o.tol = tol;
     o.max_iter = 4000;
-    if (complex) {
-        if ((r = pw_zcsr_from_triplets(a, t, &ZA, e)) != PW_OK) return r;
-        ZA.run = &P->run;
-        r = pw_zpd_solve(a, &ZA, b, x, &o, e);
-        pw_zcsr_free(a, &ZA);
-        return r;
-    }
     memset(&L, 0, sizeof L);
     if ((r = pw_csr_from_triplets(a, t, &A, e)) != PW_OK) return r;
     if ((r = pw_ic0_factor(a, &A, &L, e)) == PW_OK) r = pw_pcg_solve(a, &A, &L, b, x, &o, NULL, e);
@@ -148,8 +144,8 @@ PW__DEF int pw_periodic_init(pw_periodic *P, const pw_mesh *v, pw_err *e)
     nv = (size_t)P->m.nv;
     P->dual = (double *)pw_alloc_array(&P->a, 3 * nf, sizeof(double), "mapping", e);
     P->base = (double *)pw_alloc_array(&P->a, 4 * nf, sizeof(double), "mapping", e);
-    P->scale = (float *)pw_alloc_array(&P->a, 2 * nv + 9 * nf, sizeof(float), "mapping", e);
-    P->zs = (double *)pw_alloc_array(&P->a, 4 * nv, sizeof(double), "mapping", e);
+    P->scale = (float *)pw_alloc_array(&P->a, 2 * nv + 15 * nf, sizeof(float), "mapping", e);
+    P->zs = (double *)pw_alloc_array(&P->a, 6 * nv, sizeof(double), "mapping", e);
     P->forder = (int *)pw_alloc_array(&P->a, nf + nv, sizeof(int), "mapping", e);
     done = (unsigned char *)pw_calloc_array(&P->a, nv + nf, 1, "mapping", e);
     if (!P->dual || !P->base || !P->scale || !P->zs || !P->forder || !done) {
@@ -162,7 +158,9 @@ PW__DEF int pw_periodic_init(pw_periodic *P, const pw_mesh *v, pw_err *e)
     P->dir = P->base + 2 * nf;
     P->sfac = P->scale + nv;
     P->stm = P->sfac + nv;
+    P->grad = P->stm + 9 * nf;
     P->zt = P->zs + 2 * nv;
+    P->turn = P->zt + 2 * nv;
     pw_df_dual(&P->m, P->dual);
     return pw_df_connection(&P->a, &P->m, &P->conn, e);
 }
@@ -240,28 +238,28 @@ PW__DEF double pw_periodic_dir_weight(const pw_periodic *P, int h)
     return P->dual[h] > 0.0 ? len / P->dual[h] : 1.0;
 }
 
+/* The interior edge k (twin > k) between free triangles (id[f] >= 0): a
+ * pair of the orientation system (pw_zpairs). */
+PW__DEF int pw_periodic_dir_pair(const void *ctx, int k, int *ij)
+{
+    const pw_periodic *P = (const pw_periodic *)((const void *const *)ctx)[0];
+    const int *id = (const int *)((const void *const *)ctx)[1], t = P->m.hm.twin[k];
+    if (t < k) return 0;
+    ij[0] = id[k / 3];
+    ij[1] = id[t / 3];
+    return ij[0] >= 0 && ij[1] >= 0;
+}
+
 /* Adds one interior edge (half-edge h of triangle f, twin in g) to the
  * orientation system: w |z_f - c z_g|^2 with c the transport from g into f
- * (pw_df_connection): w on both diagonals, -w c at (f, g) and its
- * conjugate at (g, f); a fixed neighbour moves to b. */
-PW__DEF int pw_periodic_dir_edge(const pw_periodic *P, const int *id, int h, pw_triplets *t, double *b, pw_err *e)
+ * (pw_df_connection); a fixed neighbour moves to b. */
+PW__DEF void pw_periodic_dir_edge(const pw_periodic *P, pw_zasm *S, const int *id, int h)
 {
-    int f = h / 3, g = P->m.hm.twin[h] / 3, i = id[f], j = id[g], r = PW_OK;
-    double w = pw_periodic_dir_weight(P, h), cx = P->conn[2 * h], cy = P->conn[2 * h + 1];
-    const double *zf = P->dir + 2 * f, *zg = P->dir + 2 * g;
-    if (i >= 0) r = pw_ztriplets_add(t, i, i, w, 0.0, e);
-    if (r == PW_OK && j >= 0) r = pw_ztriplets_add(t, j, j, w, 0.0, e);
-    if (r == PW_OK && i >= 0 && j >= 0) {
-        r = pw_ztriplets_add(t, i, j, -w * cx, -w * cy, e);
-        if (r == PW_OK) r = pw_ztriplets_add(t, j, i, -w * cx, w * cy, e);
-    } else if (i >= 0) { /* b_f += w c z_g */
-        b[2 * i] += w * (cx * zg[0] - cy * zg[1]);
-        b[2 * i + 1] += w * (cx * zg[1] + cy * zg[0]);
-    } else if (j >= 0) { /* b_g += w conj(c) z_f */
-        b[2 * j] += w * (cx * zf[0] + cy * zf[1]);
-        b[2 * j + 1] += w * (cx * zf[1] - cy * zf[0]);
-    }
-    return r;
+    int f = h / 3, g = P->m.hm.twin[h] / 3;
+    double c[2];
+    c[0] = P->conn[2 * h];
+    c[1] = P->conn[2 * h + 1];
+    pw_zasm_term(S, id[f], id[g], pw_periodic_dir_weight(P, h), c, P->dir + 2 * (id[f] < 0 ? f : g));
 }
 
 /* Directions are normalised after the solve: a loose tolerance suffices. */
@@ -277,33 +275,43 @@ PW__DEF int pw_periodic_dir_smooth(pw_periodic *P, const unsigned char *free, co
 {
     const pw_trimesh *m = &P->m;
     int *id = (int *)pw_alloc_array(&P->a, (size_t)m->nf, sizeof(int), "orientation", e);
-    double *b = NULL, *x = NULL;
-    pw_triplets t;
+    double *x = NULL;
+    const void *ctx[2];
+    pw_zpairs pr;
+    pw_zasm S;
+    pw_cg_options o = pw_cg_default_options();
     int n = 0, f, h, r = id ? PW_OK : PW_ERR_NOMEM;
-    memset(&t, 0, sizeof t);
+    memset(&S, 0, sizeof S);
     for (h = 0; r == PW_OK && h < m->nf; h++) { /* breadth-first order */
         f = P->forder[h];
         id[f] = free[f] ? n++ : -1;
     }
+    ctx[0] = P;
+    ctx[1] = id;
+    pr.count = 3 * m->nf;
+    pr.pair = pw_periodic_dir_pair;
+    pr.ctx = ctx;
     if (r == PW_OK && n > 0) {
-        b = (double *)pw_calloc_array(&P->a, (size_t)n * 2, sizeof(double), "orientation", e);
         x = (double *)pw_alloc_array(&P->a, (size_t)n * 2, sizeof(double), "orientation", e);
-        if (!b || !x) r = PW_ERR_NOMEM;
-        else r = pw_triplets_init(&t, &P->a, n, 2 * n, e);
+        r = x ? pw_zasm_init(&P->a, &S, n, &pr, e) : PW_ERR_NOMEM;
     }
     for (f = 0; r == PW_OK && n > 0 && f < m->nf; f++)
         if (id[f] >= 0) {
             double w = pull ? pull[f] + PW_PERIODIC_PULL : PW_PERIODIC_PULL;
             x[2 * id[f]] = P->dir[2 * f];
             x[2 * id[f] + 1] = P->dir[2 * f + 1];
-            b[2 * id[f]] += w * P->base[2 * f];
-            b[2 * id[f] + 1] += w * P->base[2 * f + 1];
-            r = pw_ztriplets_add(&t, id[f], id[f], w, 0.0, e);
+            S.b[2 * id[f]] += w * P->base[2 * f];
+            S.b[2 * id[f] + 1] += w * P->base[2 * f + 1];
+            S.A.val[2 * S.dpos[id[f]]] = w;
         }
     for (h = 0; r == PW_OK && n > 0 && h < 3 * m->nf; h++)
-        if (m->hm.twin[h] > h && (id[h / 3] >= 0 || id[m->hm.twin[h] / 3] >= 0))
-            r = pw_periodic_dir_edge(P, id, h, &t, b, e);
-    if (r == PW_OK && n > 0) r = pw_periodic_pd_solve(P, &t, b, x, PW_PERIODIC_DIR_TOL, e);
+        if (m->hm.twin[h] > h && (id[h / 3] >= 0 || id[m->hm.twin[h] / 3] >= 0)) pw_periodic_dir_edge(P, &S, id, h);
+    o.tol = PW_PERIODIC_DIR_TOL;
+    o.max_iter = 4000;
+    if (r == PW_OK && n > 0) {
+        S.A.run = &P->run;
+        r = pw_zpd_solve(&P->a, &S.A, S.b, x, &o, e);
+    }
     for (f = 0; r == PW_OK && n > 0 && f < m->nf; f++)
         if (id[f] >= 0) {
             double *z = P->dir + 2 * f;
@@ -314,9 +322,8 @@ PW__DEF int pw_periodic_dir_smooth(pw_periodic *P, const unsigned char *free, co
                 z[1] = P->base[2 * f + 1];
             }
         }
-    pw_triplets_free(&t);
+    pw_zasm_free(&P->a, &S);
     pw_free(&P->a, id);
-    pw_free(&P->a, b);
     pw_free(&P->a, x);
     return r;
 }
@@ -392,17 +399,44 @@ PW__DEF double pw_periodic_turns(double x, double y)
 
 /* ---- §2.3 per-edge rotations ------------------------------------------------------------ */
 
-/* alpha / 2 pi of half-edge h (from tri[h] to the next corner) for s (k = 0)
- * or t (k = 1): e_ij . (g_T + g_T') / 2, the gradient averaged over the two
- * triangles of the edge (the one triangle on a boundary). This is the
- * coordinate difference s_j - s_i the field asks for along the edge. */
+/* alpha / 2 pi of half-edge h (from tri[h] to the next corner) given the
+ * gradients g of its triangle and gt of its twin's (unused on a boundary):
+ * e_ij . (g_T + g_T') / 2, the gradient averaged over the two triangles of
+ * the edge (the one triangle on a boundary). This is the coordinate
+ * difference s_j - s_i the field asks for along the edge. */
+PW__DEF double pw__periodic_alpha_of(const pw_periodic *P, int h, pw_v3 g, pw_v3 gt)
+{
+    int f = h / 3, c = h % 3;
+    pw_v3 ed = pw_v3_sub(pw_trimesh_corner(&P->m, f, (c + 1) % 3), pw_trimesh_corner(&P->m, f, c));
+    if (P->m.hm.twin[h] >= 0) g = pw_v3_scale(pw_v3_add(g, gt), 0.5f);
+    return (double)pw_v3_dot(ed, g);
+}
+
+/* alpha / 2 pi of half-edge h for s (k = 0) or t (k = 1), from the field
+ * as it is. */
 PW__DEF double pw_periodic_alpha(const pw_periodic *P, int h, int k)
 {
-    int f = h / 3, c = h % 3, t = P->m.hm.twin[h];
-    pw_v3 ed = pw_v3_sub(pw_trimesh_corner(&P->m, f, (c + 1) % 3), pw_trimesh_corner(&P->m, f, c));
-    pw_v3 g = pw_periodic_grad(P, f, k);
-    if (t >= 0) g = pw_v3_scale(pw_v3_add(g, pw_periodic_grad(P, t / 3, k)), 0.5f);
-    return (double)pw_v3_dot(ed, g);
+    int t = P->m.hm.twin[h];
+    pw_v3 g = pw_periodic_grad(P, h / 3, k);
+    return pw__periodic_alpha_of(P, h, g, t >= 0 ? pw_periodic_grad(P, t / 3, k) : g);
+}
+
+/* The same from the gradients of the last solve (P->grad): the same value
+ * while the field has not changed since. */
+PW__DEF double pw_periodic_alpha_solved(const pw_periodic *P, int h, int k)
+{
+    int t = P->m.hm.twin[h];
+    pw_v3 g = pw_v3_load(P->grad + 6 * (h / 3) + 3 * k);
+    return pw__periodic_alpha_of(P, h, g, t >= 0 ? pw_v3_load(P->grad + 6 * (t / 3) + 3 * k) : g);
+}
+
+/* P->grad over a block of triangles (on the solve's threads). */
+PW__DEF void pw__periodic_grad_block(void *ctx, int b)
+{
+    pw_periodic *P = (pw_periodic *)ctx;
+    int f, k, nb = pw__zblocks(P->m.nf), hi = pw__zblock_start(P->m.nf, nb, b + 1);
+    for (f = pw__zblock_start(P->m.nf, nb, b); f < hi; f++)
+        for (k = 0; k < 2; k++) pw_v3_store(P->grad + 6 * f + 3 * k, pw_periodic_grad(P, f, k));
 }
 
 /* ---- §2.3 the least-squares system ----------------------------------------------------- */
@@ -431,13 +465,13 @@ PW__DEF double pw_periodic_weight(const pw_periodic *P, int h)
 }
 
 /* The complex Hermitian system of coordinate k over the free vertices,
- * being assembled. */
+ * being assembled: its structure (the edges between free vertices, the
+ * same for s and t) and the terms of every edge. */
 typedef struct pw_periodic_zsys {
     const double *z; /* nv*2: the current z, read at the fixed vertices */
     const int *id;   /* nv: vertex -> unknown (-1: fixed) */
     int k;           /* the coordinate: 0 for s, 1 for t */
-    pw_triplets *t;  /* the matrix being assembled (n x 2n) */
-    double *b;       /* 2n: the right-hand side */
+    pw_zasm S;       /* the matrix and right-hand side */
     double *edge;    /* 3nf*3: per half-edge assembled (twin < h) its weight
                          and e^{i alpha}, pw_periodic_edge_terms */
     const pw_periodic *P;
@@ -453,46 +487,42 @@ PW__DEF void pw_periodic_edge_terms(void *ctx, int blk)
     int nf = P->m.nf, nb = pw__zblocks(nf), h, hi = 3 * pw__zblock_start(nf, nb, blk + 1);
     for (h = 3 * pw__zblock_start(nf, nb, blk); h < hi; h++)
         if (P->m.hm.twin[h] < h) {
-            double a = PW_PERIODIC_TWO_PI * pw_periodic_alpha(P, h, Z->k), *o = Z->edge + 3 * (size_t)h;
+            double a = PW_PERIODIC_TWO_PI * pw_periodic_alpha_solved(P, h, Z->k), *o = Z->edge + 3 * (size_t)h;
             o[0] = pw_periodic_weight(P, h);
             o[1] = pw_cos(a);
             o[2] = pw_sin(a);
         }
 }
 
+/* Edge k (twin < k, each edge once) between free vertices: a pair of
+ * the PGP's systems (pw_zpairs), i -> j. */
+PW__DEF int pw_periodic_pair(const void *ctx, int k, int *ij)
+{
+    const pw_periodic_zsys *Z = (const pw_periodic_zsys *)ctx;
+    const pw_trimesh *m = &Z->P->m;
+    if (m->hm.twin[k] >= k) return 0;
+    ij[0] = Z->id[m->tri[k]];
+    ij[1] = Z->id[m->tri[3 * (k / 3) + (k % 3 + 1) % 3]];
+    return ij[0] >= 0 && ij[1] >= 0;
+}
+
 /* Adds the term w |z_j - R(alpha) z_i|^2 of edge h (i -> j) to the system
  * of the free vertices (id >= 0). R(alpha) is the rotation by +alpha,
- * [cos -sin; sin cos], i.e. the product with e^{i alpha}: with z = e^{2 pi
- * i s}, s_j = s_i + alpha/2pi is z_j = e^{i alpha} z_i. (The matrix printed
- * in the paper has the signs of the sines the other way round, which would
- * make s decrease along g; tests/test_pgp.c checks a flat grid, where the
- * exact answer is linear.) In the complex Hermitian system: w on both
- * diagonals, -w e^{i alpha} at (j, i) and its conjugate at (i, j); a fixed
- * end moves to the right-hand side. */
-PW__DEF int pw_periodic_edge(const pw_periodic *P, const pw_periodic_zsys *Z, int h, pw_err *e)
+ * [cos -sin; sin cos], i.e. the product with e^{i alpha}: with z = e^{2
+ * pi i s}, s_j = s_i + alpha/2pi is z_j = e^{i alpha} z_i. (The matrix
+ * printed in the paper has the signs of the sines the other way round,
+ * which would make s decrease along g; tests/test_pgp.c checks a flat
+ * grid, where the exact answer is linear.) That is |z_i - e^{-i alpha}
+ * z_j|^2: w on both diagonals, -w e^{-i alpha} at (i, j) and its
+ * conjugate at (j, i); a fixed end moves to the right-hand side. */
+PW__DEF void pw_periodic_edge(const pw_periodic *P, pw_periodic_zsys *Z, int h)
 {
-    const double *z = Z->z;
-    const int *id = Z->id;
-    pw_triplets *t = Z->t;
-    double *b = Z->b;
-    int f = h / 3;
-    int vi = P->m.tri[h], vj = P->m.tri[3 * f + (h % 3 + 1) % 3], i = id[vi], j = id[vj], r = PW_OK;
+    int vi = P->m.tri[h], vj = P->m.tri[3 * (h / 3) + (h % 3 + 1) % 3], i = Z->id[vi], j = Z->id[vj];
     const double *term = Z->edge + 3 * (size_t)h;
-    double w = term[0], c = term[1], sn = term[2];
-    const double *zi = z + 2 * vi, *zj = z + 2 * vj;
-    if (i >= 0) r = pw_ztriplets_add(t, i, i, w, 0.0, e);
-    if (r == PW_OK && j >= 0) r = pw_ztriplets_add(t, j, j, w, 0.0, e);
-    if (r == PW_OK && i >= 0 && j >= 0) {
-        r = pw_ztriplets_add(t, j, i, -w * c, -w * sn, e);
-        if (r == PW_OK) r = pw_ztriplets_add(t, i, j, -w * c, w * sn, e);
-    } else if (j >= 0) { /* b_j += w e^{i a} z_i */
-        b[2 * j] += w * (c * zi[0] - sn * zi[1]);
-        b[2 * j + 1] += w * (c * zi[1] + sn * zi[0]);
-    } else if (i >= 0) { /* b_i += w e^{-i a} z_j */
-        b[2 * i] += w * (c * zj[0] + sn * zj[1]);
-        b[2 * i + 1] += w * (c * zj[1] - sn * zj[0]);
-    }
-    return r;
+    double c[2];
+    c[0] = term[1];
+    c[1] = -term[2];
+    pw_zasm_term(&Z->S, i, j, term[0], c, Z->z + 2 * (i < 0 ? vi : vj));
 }
 
 /* Proximal steps and their weights: each step minimises
@@ -515,20 +545,6 @@ PW__DEF int pw_periodic_edge(const pw_periodic *P, const pw_periodic_zsys *Z, in
  * triangles.) */
 #define PW_PERIODIC_STEPS 4
 static const double pw_periodic_mu[PW_PERIODIC_STEPS] = {1e-5, 1e-3, 1e-2, 0.1};
-
-/* Where each row's diagonal entry sits in A (every row has one). */
-PW__DEF int pw_periodic_diag_index(const pw_alloc *a, const pw_zcsr *A, int **out, pw_err *e)
-{
-    int i, k, *d = (int *)pw_alloc_array(a, (size_t)A->n, sizeof(int), "PGP", e);
-    *out = d;
-    if (!d) return PW_ERR_NOMEM;
-    for (i = 0; i < A->n; i++)
-        for (d[i] = -1, k = A->rowptr[i]; k < A->rowptr[i + 1]; k++)
-            if (A->col[k] == i) d[i] = k;
-    for (i = 0; i < A->n; i++)
-        if (d[i] < 0) return pw_fail(e, PW_ERR_INVALID, "PGP: row %d has no diagonal", i);
-    return PW_OK;
-}
 
 /* A first estimate: z carried from the fixed vertices along a breadth-first
  * tree, z_j = e^{i alpha_ij} z_i, i.e. the field integrated along the tree. */
@@ -561,7 +577,7 @@ PW__DEF int pw_periodic_propagate(pw_periodic *P, double *z, const int *id, int 
             double a, c, sn, *zu = z + 2 * u;
             w = fw ? m->tri[3 * (hh / 3) + (hh % 3 + 1) % 3] : m->tri[hh];
             if (done[w]) continue;
-            a = PW_PERIODIC_TWO_PI * pw_periodic_alpha(P, hh, k) * (fw ? 1.0 : -1.0);
+            a = PW_PERIODIC_TWO_PI * pw_periodic_alpha_solved(P, hh, k) * (fw ? 1.0 : -1.0);
             c = pw_cos(a);
             sn = pw_sin(a);
             z[2 * w] = c * zu[0] - sn * zu[1];
@@ -587,53 +603,43 @@ PW__DEF int pw_periodic_propagate(pw_periodic *P, double *z, const int *id, int 
 }
 
 /* Solves for the unit complex numbers z (nv*2) of coordinate k at the free
- * vertices (id >= 0, n of them), the others fixed. */
-PW__DEF int pw_periodic_solve_k(pw_periodic *P, double *z, const int *id, int n, int k, pw_err *e)
+ * vertices (Z->id >= 0, n of them), the others fixed; Z->S holds the
+ * structure (pw_zasm_init with pw_periodic_pair). */
+PW__DEF int pw_periodic_solve_k(pw_periodic *P, pw_periodic_zsys *Z, double *z, int n, int k, pw_err *e)
 {
-    double *b = (double *)pw_calloc_array(&P->a, (size_t)n * 5, sizeof(double), "PGP", e);
-    double *x = b + 2 * n, *dg = b + 4 * n, *rhs = NULL;
-    int *dpos = NULL;
-    pw_triplets t;
-    pw_zcsr A;
+    double *x = (double *)pw_alloc_array(&P->a, (size_t)n * 5, sizeof(double), "PGP", e);
+    double *dg = x + 2 * n, *rhs = x + 3 * n, *b = Z->S.b, dsum, off;
+    const int *id = Z->id;
+    pw_zcsr *A = &Z->S.A;
     pw_zamg M;
     pw_cg_options o = pw_cg_default_options();
-    pw_periodic_zsys Z;
-    int v, h, q, step, multigrid = 0, r = b ? PW_OK : PW_ERR_NOMEM;
-    Z.z = z;
-    Z.id = id;
-    Z.k = k;
-    Z.t = &t;
-    Z.b = b;
-    Z.P = P;
-    Z.edge = (double *)pw_alloc_array(&P->a, 9 * (size_t)P->m.nf + 1, sizeof(double), "PGP", e);
-    if (!Z.edge) r = PW_ERR_NOMEM;
-    else pw__zfor(&P->run, P->m.nf, pw__zblocks(P->m.nf), pw_periodic_edge_terms, &Z);
-    memset(&t, 0, sizeof t);
-    memset(&A, 0, sizeof A);
-    if (r == PW_OK) r = pw_triplets_init(&t, &P->a, n, 2 * n, e);
+    int v, h, q, step, multigrid = 0, pays, r = x ? PW_OK : PW_ERR_NOMEM;
+    Z->z = z;
+    Z->k = k;
+    Z->edge = (double *)pw_alloc_array(&P->a, 9 * (size_t)P->m.nf + 1, sizeof(double), "PGP", e);
+    if (!Z->edge) r = PW_ERR_NOMEM;
+    else pw__zfor(&P->run, P->m.nf, pw__zblocks(P->m.nf), pw_periodic_edge_terms, Z);
+    memset(A->val, 0, sizeof(double) * 2 * (size_t)A->rowptr[n]);
+    memset(b, 0, sizeof(double) * 2 * (size_t)n);
+    Z->S.next = 0;
     for (h = 0; r == PW_OK && h < 3 * P->m.nf; h++)
-        if (P->m.hm.twin[h] < h) r = pw_periodic_edge(P, &Z, h, e); /* each edge once */
-    pw_free(&P->a, Z.edge);
-    Z.edge = NULL;
-    for (q = 0; r == PW_OK && q < t.count; q++) /* the (real) diagonal of F's matrix */
-        if (t.col[q] == 2 * t.row[q]) dg[t.row[q]] += t.val[q];
+        if (P->m.hm.twin[h] < h) pw_periodic_edge(P, Z, h); /* each edge once */
+    pw_free(&P->a, Z->edge);
+    Z->edge = NULL;
+    for (q = 0; r == PW_OK && q < n; q++) dg[q] = A->val[2 * Z->S.dpos[q]]; /* the (real) diagonal of F's matrix */
     if (r == PW_OK) r = pw_periodic_propagate(P, z, id, k, e);
-    if (r == PW_OK && (r = pw_zcsr_from_triplets(&P->a, &t, &A, e)) == PW_OK) {
-        A.run = &P->run;
-        r = pw_periodic_diag_index(&P->a, &A, &dpos, e);
-    }
-    if (r == PW_OK && !(rhs = (double *)pw_alloc_array(&P->a, (size_t)n * 2, sizeof(double), "PGP", e)))
-        r = PW_ERR_NOMEM;
     o.max_iter = 4000;
     memset(&M, 0, sizeof M);
+    if (r == PW_OK) pw__zamg_sums(A, &dsum, &off); /* the off-diagonal moduli: the same for every step */
     for (step = 0; r == PW_OK && step < PW_PERIODIC_STEPS; step++) {
         double mu = pw_periodic_mu[step];
-        for (q = 0; q < n; q++) A.val[2 * dpos[q]] = dg[q] * (1.0 + mu);
-        if (step == 0 && pw_zamg_pays(&A)) { /* one hierarchy for the steps that need it */
+        for (q = 0, dsum = 0.0; q < n; q++) dsum += A->val[2 * Z->S.dpos[q]] = dg[q] * (1.0 + mu);
+        pays = pw_zamg_pays_sums(n, dsum, off);
+        if (step == 0 && pays) { /* one hierarchy for the steps that need it */
             pw_err se;
             int sr;
             pw_err_clear(&se);
-            sr = pw_zamg_setup(&P->a, &A, &M, &se);
+            sr = pw_zamg_setup(&P->a, A, &M, &se);
             multigrid = sr == PW_OK;
             if (sr != PW_OK && sr != PW_ERR_INVALID) r = pw_fail(e, sr, "%s", se.msg); /* INVALID: IC(0) instead */
         }
@@ -647,8 +653,8 @@ PW__DEF int pw_periodic_solve_k(pw_periodic *P, double *z, const int *id, int n,
         o.tol = step < PW_PERIODIC_STEPS - 1 ? 1e-3 : 1e-4; /* each step is normalised: no need for more */
         /* the steps' matrices differ in the diagonal only: level 0 sees it, the coarse levels need not */
         if (r == PW_OK)
-            r = multigrid && pw_zamg_pays(&A) ? pw_zamg_solve(&P->a, &A, &M, rhs, x, &o, NULL, e)
-                                              : pw_zic0_solve(&P->a, &A, rhs, x, &o, e);
+            r = multigrid && pays ? pw_zamg_solve(&P->a, A, &M, rhs, x, &o, NULL, e)
+                                  : pw_zic0_solve(&P->a, A, rhs, x, &o, e);
         for (v = 0; r == PW_OK && v < P->m.nv; v++)
             if ((q = id[v]) >= 0) {
                 double zz[2];
@@ -661,12 +667,19 @@ PW__DEF int pw_periodic_solve_k(pw_periodic *P, double *z, const int *id, int n,
             }
     }
     if (multigrid) pw_zamg_free(&P->a, &M);
-    pw_free(&P->a, dpos);
-    pw_zcsr_free(&P->a, &A);
-    pw_triplets_free(&t);
-    pw_free(&P->a, b);
-    pw_free(&P->a, rhs);
+    pw_free(&P->a, x);
     return r;
+}
+
+/* P->turn over a block of vertices (on the solve's threads). */
+PW__DEF void pw__periodic_turn_block(void *ctx, int b)
+{
+    pw_periodic *P = (pw_periodic *)ctx;
+    int v, nb = pw__zblocks(P->m.nv), hi = pw__zblock_start(P->m.nv, nb, b + 1);
+    for (v = pw__zblock_start(P->m.nv, nb, b); v < hi; v++) {
+        P->turn[2 * v] = pw_periodic_turns(P->zs[2 * v], P->zs[2 * v + 1]);
+        P->turn[2 * v + 1] = pw_periodic_turns(P->zt[2 * v], P->zt[2 * v + 1]);
+    }
 }
 
 /* §2.3 over the free vertices: "in the special case of initialization, we
@@ -678,6 +691,14 @@ PW__DEF int pw_periodic_solve(pw_periodic *P, const unsigned char *vfree, int wh
     int *comp = (int *)pw_calloc_array(&P->a, (size_t)P->m.nf * 2, sizeof(int), "PGP", e);
     unsigned char *lock = (unsigned char *)pw_calloc_array(&P->a, (size_t)P->m.nv, 1, "PGP", e);
     int n = 0, v, f, c, nc = 0, r = id && comp && lock ? PW_OK : PW_ERR_NOMEM;
+    pw_periodic_zsys Z;
+    pw_zpairs pr;
+    memset(&Z, 0, sizeof Z);
+    Z.id = id;
+    Z.P = P;
+    pr.count = 3 * P->m.nf;
+    pr.pair = pw_periodic_pair;
+    pr.ctx = &Z;
     if (r == PW_OK && whole) r = pw_hmesh_components(&P->a, &P->m.hm, comp, &nc, e);
     for (f = 0; r == PW_OK && whole && f < P->m.nf; f++) /* the first triangle of each component */
         if (!comp[P->m.nf + comp[f]]) {
@@ -694,10 +715,17 @@ PW__DEF int pw_periodic_solve(pw_periodic *P, const unsigned char *vfree, int wh
             P->zs[2 * v + 1] = P->zt[2 * v + 1] = 0.0;
         }
     }
-    if (r == PW_OK && n > 0) r = pw_periodic_solve_k(P, P->zs, id, n, 0, e);
-    if (r == PW_OK && n > 0) r = pw_periodic_solve_k(P, P->zt, id, n, 1, e);
-    pw_free(&P->a, id);
     pw_free(&P->a, comp);
+    pw__zfor(&P->run, P->m.nf, pw__zblocks(P->m.nf), pw__periodic_grad_block, P);
+    if (r == PW_OK && n > 0) r = pw_zasm_init(&P->a, &Z.S, n, &pr, e);
+    if (r == PW_OK && n > 0) {
+        Z.S.A.run = &P->run;
+        r = pw_periodic_solve_k(P, &Z, P->zs, n, 0, e);
+    }
+    if (r == PW_OK && n > 0) r = pw_periodic_solve_k(P, &Z, P->zt, n, 1, e);
+    if (r == PW_OK) pw__zfor(&P->run, P->m.nv, pw__zblocks(P->m.nv), pw__periodic_turn_block, P);
+    pw_zasm_free(&P->a, &Z.S);
+    pw_free(&P->a, id);
     pw_free(&P->a, lock);
     return r;
 }
@@ -707,20 +735,21 @@ PW__DEF int pw_periodic_solve(pw_periodic *P, const unsigned char *vfree, int wh
 /* s and t of triangle f's corners: corner 0 reads Arg(z)/2pi, corners 1
  * and 2 add the integer p that brings their difference to corner 0 closest
  * to what the field asks for along the edge (alpha), so that every vertex
- * differs between its triangles by integers only. */
+ * differs between its triangles by integers only. z and alpha are the last
+ * pw_periodic_solve's (the field must not have changed since). */
 PW__DEF void pw_periodic_recover(pw_periodic *P, int f)
 {
     const int *tri = P->m.tri + 3 * f;
     float *o = P->stm + 9 * f;
     int c, k;
     for (k = 0; k < 2; k++) {
-        const double *z = k ? P->zt : P->zs;
-        double s0 = pw_periodic_turns(z[2 * tri[0]], z[2 * tri[0] + 1]);
+        double s0 = P->turn[2 * tri[0] + k];
         o[k] = (float)s0;
         for (c = 1; c < 3; c++) {
             /* alpha from corner 0 to corner c: edge 0->1 is half-edge 3f, edge 0->2 is 3f+2 reversed */
-            double want = s0 + (c == 1 ? pw_periodic_alpha(P, 3 * f, k) : -pw_periodic_alpha(P, 3 * f + 2, k));
-            double sc = pw_periodic_turns(z[2 * tri[c]], z[2 * tri[c] + 1]);
+            double want =
+                s0 + (c == 1 ? pw_periodic_alpha_solved(P, 3 * f, k) : -pw_periodic_alpha_solved(P, 3 * f + 2, k));
+            double sc = P->turn[2 * tri[c] + k];
             o[3 * c + k] = (float)(sc + floor(want - sc + 0.5));
         }
     }

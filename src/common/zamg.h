@@ -9,8 +9,8 @@
  * by R from unknown to unknown. The coarse spaces follow that:
  *
  *   - Aggregation (Vanek, Mandel, Brezina 1996): unknowns joined by a
- *     strong entry (|a_ij| >= theta sqrt(a_ii a_jj)) are grouped around
- *     roots taken in index order, leftovers join their strongest
+ *     strong entry (|a_ij| at least 0.25 of the row's largest) are grouped
+ *     around roots taken in index order, leftovers join their strongest
  *     aggregated neighbour.
  *   - Tentative prolongation, one entry per row: the phase that carries the
  *     aggregate's value from the root to the unknown along the edge that
@@ -52,7 +52,11 @@
 /* One level: its matrix, the prolongation from the next (coarser) level's
  * unknowns (n x nc, complex CSR) and its adjoint (nc x n), the sums of
  * |a_ij| over each row's columns in other blocks (l1, n), and the cycle's
- * vectors (2n doubles). */
+ * vectors (2n doubles). The cycle streams the matrices from memory, so it
+ * reads them in single precision (av, pv, hv: A's, P's and P^H's values;
+ * the set-up's products are in double, whose values it then frees, but
+ * level 0's, the caller's): the cycle is a preconditioner, and CG's
+ * products and residuals stay in double. */
 typedef struct pw__zamg_level {
     pw_zcsr A;
     int nc;
@@ -61,6 +65,12 @@ typedef struct pw__zamg_level {
     pw_zcsr PH;
     double *l1;
     double *x, *b, *r;
+    float *av, *pv, *hv;
+    double *dinv;     /* 1 / (a_ii + l1_i) as the cycle reads a_ii, 0 where a_ii <= 0 */
+    double *d0, *dd;  /* the diagonal at the set-up, and its change since (pw__zamg_refresh) */
+    double *rho;      /* sum_J |p_iJ| of every row of P */
+    int *dpos;        /* where each diagonal entry sits in A */
+    int *xrow, *xpos; /* each row's entries in other blocks: positions in A */
 } pw__zamg_level;
 
 typedef struct pw_zamg {
@@ -86,15 +96,18 @@ PW__DEF double pw__zamg_diag(const pw_zcsr *A, int i)
     return 0.0;
 }
 
-/* The strength threshold of row i: 0.08 of its largest off-diagonal |a_ij|
- * (0 for a row without any). */
+/* The strength threshold of row i: 0.25 of its largest off-diagonal |a_ij|
+ * (0 for a row without any). On pgp's systems (bunny00 at 75K, 300K,
+ * 1.2M) 0.25 takes 10-20% fewer V-cycles than 0.08, with levels of about
+ * the same size and cost; 0.5 fewer still, but its coarser levels cost
+ * more than that saves. */
 PW__DEF double pw__zamg_strong(const pw_zcsr *A, int i)
 {
     double m = 0.0;
     int k;
     for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++)
         if (A->col[k] != i) m = pw__zamg_abs(A->val + 2 * k) > m ? pw__zamg_abs(A->val + 2 * k) : m;
-    return 0.08 * m;
+    return 0.25 * m;
 }
 
 /* ---- aggregation ---------------------------------------------------------- */
@@ -159,17 +172,6 @@ PW__DEF int pw__zamg_aggregate(const pw_zcsr *A, const double *d, int *agg, doub
 
 /* ---- sparse products -------------------------------------------------------- */
 
-/* Sorts the first n ints of v (short rows: insertion sort). */
-PW__DEF void pw__zamg_sort(int *v, int n)
-{
-    int i, j;
-    for (i = 1; i < n; i++) {
-        int x = v[i];
-        for (j = i; j > 0 && v[j - 1] > x; j--) v[j] = v[j - 1];
-        v[j] = x;
-    }
-}
-
 /* Scratch of a row-by-row product: per column of the result, its slot in
  * the row being built (-1: none) and its sum; the row's columns. */
 typedef struct pw__zamg_acc {
@@ -213,18 +215,16 @@ PW__DEF void pw__zamg_acc_add(pw__zamg_acc *w, int c, double re, double im)
 }
 
 /* Ends the row: its entries, columns increasing, into (col, val) from
- * position *nnz on (or only counted when col is NULL). */
+ * position *nnz on. */
 PW__DEF void pw__zamg_acc_flush(pw__zamg_acc *w, int *col, double *val, int *nnz)
 {
     int m;
-    pw__zamg_sort(w->list, w->cnt);
+    pw__zsort(w->list, w->cnt);
     for (m = 0; m < w->cnt; m++) {
         int c = w->list[m];
-        if (col) {
-            col[*nnz] = c;
-            val[2 * *nnz] = w->sum[2 * c];
-            val[2 * *nnz + 1] = w->sum[2 * c + 1];
-        }
+        col[*nnz] = c;
+        val[2 * *nnz] = w->sum[2 * c];
+        val[2 * *nnz + 1] = w->sum[2 * c + 1];
         ++*nnz;
         w->mark[c] = -1;
     }
@@ -232,11 +232,14 @@ PW__DEF void pw__zamg_acc_flush(pw__zamg_acc *w, int *col, double *val, int *nnz
 }
 
 /* A sparse matrix built row by row: row(ctx, i, w) adds the entries of
- * row i to w (columns below ncols). pw__zamg_rows builds it in two
- * passes on run, by blocks of rows each with its own scratch: count, then
- * fill; each row is the same as built alone. */
+ * row i to w (columns below ncols), which are at most bound(ctx, i).
+ * pw__zamg_rows builds it in one pass on run, by blocks of rows each with
+ * its own scratch, each block writing its rows from where the bounds of
+ * the rows before it end; the blocks then close up, in order. Each row
+ * is the same as built alone. */
 typedef struct pw__zamg_rowjob {
     void (*row)(const void *ctx, int i, pw__zamg_acc *w);
+    int (*bound)(const void *ctx, int i);
     const void *ctx;
     const pw_zrun *run;
     int n;
@@ -246,21 +249,21 @@ typedef struct pw__zamg_pass {
     const pw__zamg_rowjob *job;
     pw_zcsr *C;
     pw__zamg_acc *w;
+    size_t start[PW__ZBLOCKS + 1]; /* where each block's rows go */
     int nb;
 } pw__zamg_pass;
 
-/* One pass over block b: each row's entries counted into C->rowptr[i + 1]
- * (C->col NULL) or written from C->rowptr[i] on. */
+/* Block b's rows, from p->start[b] on; row i's count into C->rowptr[i + 1]. */
 PW__DEF void pw__zamg_pass_block(void *ctx, int b)
 {
     const pw__zamg_pass *p = (const pw__zamg_pass *)ctx;
     pw_zcsr *C = p->C;
-    int i, hi = pw__zblock_start(C->n, p->nb, b + 1);
+    int i, nnz = (int)p->start[b], hi = pw__zblock_start(C->n, p->nb, b + 1);
     for (i = pw__zblock_start(C->n, p->nb, b); i < hi; i++) {
-        int nnz = C->col ? C->rowptr[i] : 0;
+        int at = nnz;
         p->job->row(p->job->ctx, i, &p->w[b]);
         pw__zamg_acc_flush(&p->w[b], C->col, C->val, &nnz);
-        if (!C->col) C->rowptr[i + 1] = nnz;
+        C->rowptr[i + 1] = nnz - at;
     }
 }
 
@@ -269,27 +272,48 @@ PW__DEF int pw__zamg_rows(const pw_alloc *a, const pw__zamg_rowjob *job, int nco
     pw__zamg_acc w[PW__ZBLOCKS];
     pw__zamg_pass p;
     int i, b, r = PW_OK;
+    size_t at = 0;
     memset(C, 0, sizeof *C);
     p.job = job;
     p.C = C;
     p.w = w;
     p.nb = pw__zblocks(job->n);
-    for (b = 0; b < p.nb; b++) /* (a failed init has freed its own) */
+    for (b = 0, p.start[0] = 0; b < p.nb; b++) { /* (a failed init has freed its own) */
+        int hi = pw__zblock_start(job->n, p.nb, b + 1);
         if (r != PW_OK || (r = pw__zamg_acc_init(a, ncols, &w[b], e)) != PW_OK) memset(&w[b], 0, sizeof w[b]);
+        for (p.start[b + 1] = p.start[b], i = pw__zblock_start(job->n, p.nb, b); i < hi; i++) {
+            int m = job->bound(job->ctx, i);
+            p.start[b + 1] += (size_t)(m < ncols ? m : ncols);
+        }
+    }
+    if (r == PW_OK && p.start[p.nb] > (size_t)INT_MAX) r = pw_fail(e, PW_ERR_LIMIT, "multigrid: a product too large");
     C->n = job->n;
     C->rowptr = (int *)pw_alloc_array(a, (size_t)job->n + 1, sizeof(int), "multigrid matrix", e);
-    if (r == PW_OK && C->rowptr) {
+    C->col = (int *)pw_alloc_array(a, p.start[p.nb] + 1, sizeof(int), "multigrid matrix", e);
+    C->val = (double *)pw_alloc_array(a, 2 * p.start[p.nb] + 2, sizeof(double), "multigrid matrix", e);
+    if (r == PW_OK && C->rowptr && C->col && C->val) {
         pw__zfor(job->run, job->n, p.nb, pw__zamg_pass_block, &p);
+        for (b = 0; b < p.nb; b++) { /* close up, and the row pointers */
+            int lo = pw__zblock_start(job->n, p.nb, b), hi = pw__zblock_start(job->n, p.nb, b + 1);
+            size_t cnt = 0;
+            for (i = lo; i < hi; i++) cnt += (size_t)C->rowptr[i + 1];
+            memmove(C->col + at, C->col + p.start[b], cnt * sizeof(int));
+            memmove(C->val + 2 * at, C->val + 2 * p.start[b], 2 * cnt * sizeof(double));
+            at += cnt;
+        }
         C->rowptr[0] = 0;
         for (i = 0; i < job->n; i++) C->rowptr[i + 1] += C->rowptr[i];
-        C->col = (int *)pw_alloc_array(a, (size_t)C->rowptr[job->n] + 1, sizeof(int), "multigrid matrix", e);
-        C->val = (double *)pw_alloc_array(a, 2 * (size_t)C->rowptr[job->n] + 2, sizeof(double), "multigrid matrix", e);
-        if (C->col && C->val) pw__zfor(job->run, job->n, p.nb, pw__zamg_pass_block, &p);
     }
     for (b = 0; b < p.nb; b++) pw__zamg_acc_free(a, &w[b]);
     if (r != PW_OK || !C->rowptr || !C->col || !C->val) {
         pw_zcsr_free(a, C);
-        return PW_ERR_NOMEM;
+        return r != PW_OK ? r : PW_ERR_NOMEM;
+    }
+    {
+        void *q = pw_realloc(a, C->col, (at + 1) * sizeof(int)); /* the bounds' slack back (kept if this fails) */
+        if (q) C->col = (int *)q;
+        q = pw_realloc(a, C->val, (2 * at + 2) * sizeof(double));
+        if (q) C->val = (double *)q;
     }
     return PW_OK;
 }
@@ -315,6 +339,16 @@ PW__DEF void pw__zamg_prod_row(const void *ctx, int i, pw__zamg_acc *w)
     }
 }
 
+/* The entries of row i of X Y at most: those of the rows of Y it sums. */
+PW__DEF int pw__zamg_prod_bound(const void *ctx, int i)
+{
+    const pw__zamg_prod *p = (const pw__zamg_prod *)ctx;
+    int k, m = 0;
+    for (k = p->X->rowptr[i]; k < p->X->rowptr[i + 1]; k++)
+        m += p->Y->rowptr[p->X->col[k] + 1] - p->Y->rowptr[p->X->col[k]];
+    return m;
+}
+
 /* C = X Y for complex CSR X and Y of ncols columns; C gets C->n = X->n
  * rows (on X's run). */
 PW__DEF int pw__zamg_mul(const pw_alloc *a, const pw_zcsr *X, const pw_zcsr *Y, int ncols, pw_zcsr *C, pw_err *e)
@@ -324,6 +358,7 @@ PW__DEF int pw__zamg_mul(const pw_alloc *a, const pw_zcsr *X, const pw_zcsr *Y, 
     p.X = X;
     p.Y = Y;
     job.row = pw__zamg_prod_row;
+    job.bound = pw__zamg_prod_bound;
     job.ctx = &p;
     job.run = X->run;
     job.n = X->n;
@@ -383,6 +418,14 @@ PW__DEF void pw__zamg_prolong_row(const void *ctx, int i, pw__zamg_acc *w)
     }
 }
 
+/* The entries of row i of P at most: one per entry of A's row i, and
+ * its own aggregate. */
+PW__DEF int pw__zamg_prolong_bound(const void *ctx, int i)
+{
+    const pw_zcsr *A = ((const pw__zamg_smooth *)ctx)->A;
+    return A->rowptr[i + 1] - A->rowptr[i] + 1;
+}
+
 /* The smoothed prolongation P = (I - omega D^-1 A) P_t of level L (n x nc),
  * P_t given by agg and ph (pw__zamg_aggregate), into P. */
 PW__DEF int pw__zamg_prolong(const pw_alloc *a, const pw__zamg_level *L, const int *agg, const double *ph,
@@ -395,6 +438,7 @@ PW__DEF int pw__zamg_prolong(const pw_alloc *a, const pw__zamg_level *L, const i
     m.ph = ph;
     m.d = d;
     job.row = pw__zamg_prolong_row;
+    job.bound = pw__zamg_prolong_bound;
     job.ctx = &m;
     job.run = L->A.run;
     job.n = L->A.n;
@@ -442,9 +486,10 @@ PW__DEF int pw__zamg_coarsen(const pw_alloc *a, pw__zamg_level *L, pw_zcsr *C, p
 
 /* ---- the coarsest level: dense Cholesky --------------------------------------- */
 
-/* Factors the n x n Hermitian A (sparse) into the dense lower L (row-major,
- * complex) with L L^H = A + shift diag(A); 0 when a pivot is not positive. */
-PW__DEF int pw__zamg_chol_try(const pw_zcsr *A, double shift, double *L)
+/* Factors the n x n Hermitian A (sparse) plus the diagonal dd into the
+ * dense lower L (row-major, complex) with L L^H = (A + dd) + shift
+ * diag(A + dd); 0 when a pivot is not positive. */
+PW__DEF int pw__zamg_chol_try(const pw_zcsr *A, const double *dd, double shift, double *L)
 {
     int n = A->n, i, j, k;
     memset(L, 0, sizeof(double) * 2 * (size_t)n * n);
@@ -452,7 +497,7 @@ PW__DEF int pw__zamg_chol_try(const pw_zcsr *A, double shift, double *L)
         for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++)
             if (A->col[k] <= i) {
                 double *l = L + 2 * ((size_t)i * n + A->col[k]);
-                l[0] = A->val[2 * k] * (A->col[k] == i ? 1.0 + shift : 1.0);
+                l[0] = A->col[k] == i ? (A->val[2 * k] + dd[i]) * (1.0 + shift) : A->val[2 * k];
                 l[1] = A->val[2 * k + 1];
             }
     for (j = 0; j < n; j++) {
@@ -504,23 +549,35 @@ PW__DEF void pw__zamg_chol_solve(const double *L, int n, const double *b, double
     }
 }
 
-/* The l1 terms of level L's smoother: for every row, sum |a_ij| over
- * the columns outside its block. */
+/* The entries of every row of level L in columns outside its block
+ * (xrow, xpos: their positions in A), and the l1 terms of the smoother,
+ * the sums of their |a_ij|. */
 PW__DEF int pw__zamg_l1(const pw_alloc *a, pw__zamg_level *L, pw_err *e)
 {
     const pw_zcsr *A = &L->A;
-    int n = A->n, nb = pw__zblocks(n), b, i, k;
+    int n = A->n, nb = pw__zblocks(n), b, i, k, m = 0;
     L->l1 = (double *)pw_alloc_array(a, (size_t)n, sizeof(double), "multigrid smoother", e);
-    if (!L->l1) return PW_ERR_NOMEM;
+    L->xrow = (int *)pw_alloc_array(a, (size_t)n + 1, sizeof(int), "multigrid smoother", e);
     for (b = 0; b < nb; b++) {
+        int lo = pw__zblock_start(n, nb, b), hi = pw__zblock_start(n, nb, b + 1);
+        for (k = A->rowptr[lo]; k < A->rowptr[hi]; k++) m += A->col[k] < lo || A->col[k] >= hi;
+    }
+    L->xpos = (int *)pw_alloc_array(a, (size_t)m + 1, sizeof(int), "multigrid smoother", e);
+    if (!L->l1 || !L->xrow || !L->xpos) return PW_ERR_NOMEM;
+    for (b = 0, m = 0; b < nb; b++) {
         int lo = pw__zblock_start(n, nb, b), hi = pw__zblock_start(n, nb, b + 1);
         for (i = lo; i < hi; i++) {
             double s = 0.0;
+            L->xrow[i] = m;
             for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++)
-                if (A->col[k] < lo || A->col[k] >= hi) s += pw__zamg_abs(A->val + 2 * k);
+                if (A->col[k] < lo || A->col[k] >= hi) {
+                    s += pw__zamg_abs(A->val + 2 * k);
+                    L->xpos[m++] = k;
+                }
             L->l1[i] = s;
         }
     }
+    L->xrow[n] = m;
     return PW_OK;
 }
 
@@ -536,6 +593,16 @@ PW__DEF void pw_zamg_free(const pw_alloc *a, pw_zamg *M)
         pw_free(a, L->pcol);
         pw_free(a, L->pval);
         pw_zcsr_free(a, &L->PH);
+        pw_free(a, L->av);
+        pw_free(a, L->pv);
+        pw_free(a, L->hv);
+        pw_free(a, L->xrow);
+        pw_free(a, L->xpos);
+        pw_free(a, L->dinv);
+        pw_free(a, L->d0);
+        pw_free(a, L->dd);
+        pw_free(a, L->dpos);
+        pw_free(a, L->rho);
         pw_free(a, L->l1);
         pw_free(a, L->x);
         pw_free(a, L->b);
@@ -546,12 +613,140 @@ PW__DEF void pw_zamg_free(const pw_alloc *a, pw_zamg *M)
     memset(M, 0, sizeof *M);
 }
 
+/* The single-precision copy of the 2 cnt values *v (for the cycle):
+ * *out, and *v freed unless keep. */
+PW__DEF int pw__zamg_single(const pw_alloc *a, double **v, size_t cnt, int keep, float **out, pw_err *e)
+{
+    size_t k;
+    *out = (float *)pw_alloc_array(a, 2 * cnt + 2, sizeof(float), "multigrid matrix", e);
+    if (!*out) return PW_ERR_NOMEM;
+    for (k = 0; k < 2 * cnt; k++) (*out)[k] = (float)(*v)[k];
+    if (!keep) {
+        pw_free(a, *v);
+        *v = NULL;
+    }
+    return PW_OK;
+}
+
+/* The sweeps' inverse diagonal of level L from its single-precision
+ * values. */
+PW__DEF void pw__zamg_dinv(const pw__zamg_level *L)
+{
+    int i, k;
+    for (i = 0; i < L->A.n; i++) {
+        double d = 0.0;
+        for (k = L->A.rowptr[i]; k < L->A.rowptr[i + 1]; k++)
+            if (L->A.col[k] == i) d = L->av[2 * k];
+        L->dinv[i] = d > 0.0 ? 1.0 / (d + L->l1[i]) : 0.0;
+    }
+}
+
+/* The coarsest level's dense factor, from its matrix plus its diagonal's
+ * change (a growing shift where a pivot is not positive); 0 if none
+ * worked. */
+PW__DEF int pw__zamg_factor(const pw_zamg *M)
+{
+    const pw__zamg_level *L = &M->lev[M->levels];
+    double shift = 0.0;
+    int k;
+    for (k = 0; k<40; k++, shift = shift> 0.0 ? 2.0 * shift : 1e-10)
+        if (pw__zamg_chol_try(&L->A, L->dd, shift, M->chol)) return 1;
+    return 0;
+}
+
+/* Level 0's single-precision values from A (the caller's matrix, whose
+ * values may have changed since the set-up: pgp's steps change its
+ * diagonal), and a change D of its diagonal carried to the coarse levels:
+ * the Galerkin matrix of A + D is P^H A P + P^H D P, which each level
+ * takes lumped on its diagonal, sum_J |(P^H D P)_IJ| bounded by sum_i
+ * |p_iI| d_i sum_J |p_iJ| (the coarse levels stay positive definite; on
+ * smooth vectors, whose phases the connection aligns, the bound is close
+ * to the quadratic form: on zsparse/amg_diagonal_change the hierarchy so
+ * updated takes the V-cycles of one set up anew, where the diagonal
+ * alone, without the rest of P^H D P, takes up to 40% more); the
+ * coarsest is factored again. 0 if that factor failed. */
+PW__DEF int pw__zamg_refresh(const pw_zamg *M, const pw_zcsr *A)
+{
+    const pw__zamg_level *L0 = &M->lev[0];
+    size_t k, cnt = 2 * (size_t)A->rowptr[A->n];
+    int i, l, q, changed = 0;
+    if (!L0->av) return 1; /* A is the coarsest level: no cycle reads it */
+    for (k = 0; k < cnt; k++) L0->av[k] = (float)A->val[k];
+    pw__zamg_dinv(L0);
+    for (i = 0; i < A->n; i++) {
+        double d = A->val[2 * L0->dpos[i]] - L0->d0[i];
+        changed |= d != L0->dd[i];
+        L0->dd[i] = d;
+    }
+    if (!changed) return 1;
+    for (l = 0; l < M->levels; l++) {
+        const pw__zamg_level *L = &M->lev[l], *C = &M->lev[l + 1];
+        for (i = 0; i < C->A.n; i++) {
+            double d = 0.0;
+            for (q = L->PH.rowptr[i]; q < L->PH.rowptr[i + 1]; q++) {
+                const float *h = L->hv + 2 * q;
+                int j = L->PH.col[q];
+                d += sqrt((double)h[0] * h[0] + (double)h[1] * h[1]) * L->rho[j] * L->dd[j];
+            }
+            C->dd[i] = d;
+            if (l + 1 < M->levels) C->av[2 * C->dpos[i]] = (float)(C->d0[i] + d);
+        }
+        if (l + 1 < M->levels) pw__zamg_dinv(C);
+    }
+    return pw__zamg_factor(M);
+}
+
+/* Level L's diagonal at the set-up (d0, dpos; dd zero). */
+PW__DEF int pw__zamg_diagonal(const pw_alloc *a, pw__zamg_level *L, pw_err *e)
+{
+    int i, k, n = L->A.n;
+    L->d0 = (double *)pw_alloc_array(a, (size_t)n + 1, sizeof(double), "multigrid diagonal", e);
+    L->dd = (double *)pw_calloc_array(a, (size_t)n + 1, sizeof(double), "multigrid diagonal", e);
+    L->dpos = (int *)pw_alloc_array(a, (size_t)n + 1, sizeof(int), "multigrid diagonal", e);
+    if (!L->d0 || !L->dd || !L->dpos) return PW_ERR_NOMEM;
+    for (i = 0; i < n; i++)
+        for (L->dpos[i] = -1, L->d0[i] = 0.0, k = L->A.rowptr[i]; k < L->A.rowptr[i + 1]; k++)
+            if (L->A.col[k] == i) {
+                L->dpos[i] = k;
+                L->d0[i] = L->A.val[2 * k];
+            }
+    for (i = 0; i < n; i++)
+        if (L->dpos[i] < 0) return pw_fail(e, PW_ERR_INVALID, "multigrid: row %d has no diagonal entry", i);
+    return PW_OK;
+}
+
+/* The cycle's single-precision values: level 0's a copy of the caller's
+ * (refreshed by every solve), the others' in place of the doubles, which
+ * only the set-up needed (but the coarsest's, factored again when the
+ * diagonal changes). */
+PW__DEF int pw__zamg_singles(const pw_alloc *a, pw_zamg *M, pw_err *e)
+{
+    int l, i, k, r = PW_OK;
+    for (l = 0; l <= M->levels && r == PW_OK; l++) {
+        pw__zamg_level *L = &M->lev[l];
+        r = pw__zamg_diagonal(a, L, e);
+        if (l == M->levels || r != PW_OK) break;
+        r = pw__zamg_single(a, &L->pval, (size_t)L->prow[L->A.n], 0, &L->pv, e);
+        if (r == PW_OK) r = pw__zamg_single(a, &L->PH.val, (size_t)L->PH.rowptr[L->PH.n], 0, &L->hv, e);
+        if (r == PW_OK && !(L->rho = (double *)pw_alloc_array(a, (size_t)L->A.n, sizeof(double), "multigrid", e)))
+            r = PW_ERR_NOMEM;
+        for (i = 0; r == PW_OK && i < L->A.n; i++)
+            for (L->rho[i] = 0.0, k = L->prow[i]; k < L->prow[i + 1]; k++)
+                L->rho[i] += sqrt((double)L->pv[2 * k] * L->pv[2 * k] + (double)L->pv[2 * k + 1] * L->pv[2 * k + 1]);
+        if (r == PW_OK) r = pw__zamg_single(a, &L->A.val, (size_t)L->A.rowptr[L->A.n], l == 0, &L->av, e);
+        if (r == PW_OK &&
+            !(L->dinv = (double *)pw_alloc_array(a, (size_t)L->A.n, sizeof(double), "multigrid smoother", e)))
+            r = PW_ERR_NOMEM;
+        if (r == PW_OK) pw__zamg_dinv(L);
+    }
+    return r;
+}
+
 /* Builds the hierarchy of a Hermitian positive (semi)definite A whose
  * diagonal entries are all present; A must outlive M (level 0 uses it). */
 PW__DEF int pw_zamg_setup(const pw_alloc *a, const pw_zcsr *A, pw_zamg *M, pw_err *e)
 {
-    int l = 0, r = PW_OK, k;
-    double shift = 0.0;
+    int l = 0, r = PW_OK;
     memset(M, 0, sizeof *M);
     M->lev[0].A = *A;
     while (r == PW_OK && M->lev[l].A.n > PW__ZAMG_COARSEST && l + 1 < PW__ZAMG_LEVELS) {
@@ -578,9 +773,8 @@ PW__DEF int pw_zamg_setup(const pw_alloc *a, const pw_zcsr *A, pw_zamg *M, pw_er
         M->lev[l].b = (double *)pw_alloc_array(a, 2 * (size_t)M->nc, sizeof(double), "multigrid vectors", e);
         if (!M->chol || !M->cx || !M->lev[l].x || !M->lev[l].b) r = PW_ERR_NOMEM;
     }
-    for (k = 0; r == PW_OK && k<40; k++, shift = shift> 0.0 ? 2.0 * shift : 1e-10)
-        if (pw__zamg_chol_try(&M->lev[l].A, shift, M->chol)) break;
-    if (r == PW_OK && k == 40)
+    if (r == PW_OK) r = pw__zamg_singles(a, M, e);
+    if (r == PW_OK && !pw__zamg_factor(M))
         r = pw_fail(e, PW_ERR_INVALID, "multigrid: the coarsest matrix is not positive definite");
     if (r != PW_OK) pw_zamg_free(a, M);
     return r;
@@ -592,56 +786,66 @@ typedef struct pw__zamg_step {
     int nb;
 } pw__zamg_step;
 
-/* The forward sweep of block b from x = 0: rows of other blocks read 0,
- * the block's rows above the current one too (not swept yet). */
+/* The forward sweep of block b from x = 0 (rows of other blocks read 0,
+ * the block's rows above the current one too: not swept yet), and what it
+ * leaves of r = b - A x within the block: row i was solved with the
+ * block's rows below it and (a_ii + l1_i) on the diagonal, so what is left
+ * is l1_i x_i less the terms of the block's rows above it, which each row
+ * subtracts from the rows below it as it is solved (a_ji = conj(a_ij):
+ * only the lower part is read); pw__zamg_cross then subtracts the other
+ * blocks' terms. A row without a positive diagonal (all zero, A being
+ * semidefinite) keeps x_i = 0 and r_i = b_i. */
 PW__DEF void pw__zamg_pre(void *ctx, int b)
 {
     const pw__zamg_step *w = (const pw__zamg_step *)ctx;
     const pw_zcsr *A = &w->L->A;
+    const float *av = w->L->av;
     const double *rhs = w->L->b;
-    double *x = w->L->x;
+    double *x = w->L->x, *r = w->L->r;
     int i, k, lo = pw__zblock_start(A->n, w->nb, b), hi = pw__zblock_start(A->n, w->nb, b + 1);
     for (i = lo; i < hi; i++) {
-        double sr = rhs[2 * i], si = rhs[2 * i + 1], dr = 0.0;
-        for (k = A->rowptr[i]; k < A->rowptr[i + 1] && A->col[k] <= i; k++) {
-            const double *v = A->val + 2 * k, *y = x + 2 * A->col[k];
-            if (A->col[k] == i) dr = v[0];
-            else if (A->col[k] >= lo) {
+        double sr = rhs[2 * i], si = rhs[2 * i + 1], xr, xi, di = w->L->dinv[i];
+        int k0 = A->rowptr[i], kd;
+        for (k = k0; k < A->rowptr[i + 1] && A->col[k] < i; k++) {
+            const float *v = av + 2 * k;
+            const double *y = x + 2 * A->col[k];
+            if (A->col[k] >= lo) {
                 sr -= v[0] * y[0] - v[1] * y[1];
                 si -= v[0] * y[1] + v[1] * y[0];
             }
         }
-        x[2 * i] = dr > 0.0 ? sr / (dr + w->L->l1[i]) : 0.0;
-        x[2 * i + 1] = dr > 0.0 ? si / (dr + w->L->l1[i]) : 0.0;
+        kd = k;
+        xr = x[2 * i] = sr * di;
+        xi = x[2 * i + 1] = si * di;
+        r[2 * i] = di > 0.0 ? w->L->l1[i] * xr : rhs[2 * i];
+        r[2 * i + 1] = di > 0.0 ? w->L->l1[i] * xi : rhs[2 * i + 1];
+        for (k = k0; k < kd; k++) { /* r_j -= conj(a_ij) x_i for the block's rows j above */
+            const float *v = av + 2 * k;
+            double *y = r + 2 * A->col[k];
+            if (A->col[k] < lo) continue;
+            y[0] -= v[0] * xr + v[1] * xi;
+            y[1] -= v[0] * xi - v[1] * xr;
+        }
     }
 }
 
-/* r = b - A x after the forward sweep of block b: row i was solved with
- * the block's rows below it and (a_ii + l1_i) on the diagonal, so what is
- * left is l1_i x_i less the terms of the block's rows above it and of the
- * other blocks' rows; a row without a positive diagonal (all zero, A
- * being semidefinite) keeps r_i = b_i. */
-PW__DEF void pw__zamg_residual(void *ctx, int b)
+/* r_i -= the terms of row i from other blocks, over block b, once every
+ * block is swept (pw__zamg_pre). */
+PW__DEF void pw__zamg_cross(void *ctx, int b)
 {
     const pw__zamg_step *w = (const pw__zamg_step *)ctx;
-    const pw_zcsr *A = &w->L->A;
-    const double *x = w->L->x, *rhs = w->L->b;
-    double *r = w->L->r;
-    int i, k, lo = pw__zblock_start(A->n, w->nb, b), hi = pw__zblock_start(A->n, w->nb, b + 1);
-    for (i = lo; i < hi; i++) {
-        double sr = w->L->l1[i] * x[2 * i], si = w->L->l1[i] * x[2 * i + 1], d = 0.0;
-        for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++) {
-            const double *v = A->val + 2 * k, *y = x + 2 * A->col[k];
-            int j = A->col[k];
-            if (j == i) d = v[0];
-            else if (j > i || j < lo) {
-                sr -= v[0] * y[0] - v[1] * y[1];
-                si -= v[0] * y[1] + v[1] * y[0];
-            }
+    const pw__zamg_level *L = w->L;
+    const double *x = L->x;
+    double *r = L->r;
+    int i, q, hi = pw__zblock_start(L->A.n, w->nb, b + 1);
+    for (i = pw__zblock_start(L->A.n, w->nb, b); i < hi; i++)
+        for (q = L->xrow[i]; q < L->xrow[i + 1]; q++) {
+            int k = L->xpos[q];
+            const float *v = L->av + 2 * k;
+            const double *y = x + 2 * L->A.col[k];
+            r[2 * i] -= v[0] * y[0] - v[1] * y[1];
+            r[2 * i + 1] -= v[0] * y[1] + v[1] * y[0];
         }
-        r[2 * i] = d > 0.0 ? sr : rhs[2 * i];
-        r[2 * i + 1] = d > 0.0 ? si : rhs[2 * i + 1];
-    }
 }
 
 /* b_c = P^H r over block b of the coarse rows (the adjoint's rows: each
@@ -656,7 +860,8 @@ PW__DEF void pw__zamg_restrict(void *ctx, int b)
     for (I = pw__zblock_start(H->n, w->nb, b); I < hi; I++) {
         double sr = 0.0, si = 0.0;
         for (k = H->rowptr[I]; k < H->rowptr[I + 1]; k++) {
-            const double *h = H->val + 2 * k, *y = r + 2 * H->col[k];
+            const float *h = w->L->hv + 2 * k;
+            const double *y = r + 2 * H->col[k];
             sr += h[0] * y[0] - h[1] * y[1];
             si += h[0] * y[1] + h[1] * y[0];
         }
@@ -676,7 +881,8 @@ PW__DEF void pw__zamg_prolong_add(void *ctx, int b)
     for (i = pw__zblock_start(L->A.n, w->nb, b); i < hi; i++) {
         double sr = L->x[2 * i], si = L->x[2 * i + 1];
         for (k = L->prow[i]; k < L->prow[i + 1]; k++) {
-            const double *p = L->pval + 2 * k, *y = xc + 2 * L->pcol[k];
+            const float *p = L->pv + 2 * k;
+            const double *y = xc + 2 * L->pcol[k];
             sr += p[0] * y[0] - p[1] * y[1];
             si += p[0] * y[1] + p[1] * y[0];
         }
@@ -695,20 +901,19 @@ PW__DEF void pw__zamg_post(void *ctx, int b)
     double *x = w->L->x;
     int i, k, lo = pw__zblock_start(A->n, w->nb, b), hi = pw__zblock_start(A->n, w->nb, b + 1);
     for (i = hi - 1; i >= lo; i--) { /* x_i += (b - A x)_i / (a_ii + l1_i) */
-        double sr = rhs[2 * i] + w->L->l1[i] * x[2 * i], si = rhs[2 * i + 1] + w->L->l1[i] * x[2 * i + 1], dr = 0.0;
+        double sr = rhs[2 * i] + w->L->l1[i] * x[2 * i], si = rhs[2 * i + 1] + w->L->l1[i] * x[2 * i + 1],
+               di = w->L->dinv[i];
         for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++) {
             int j = A->col[k];
-            const double *v = A->val + 2 * k, *y = (j >= lo && j < hi ? x : old) + 2 * j;
-            if (j == i) {
-                dr = v[0];
-                continue;
-            }
+            const float *v = w->L->av + 2 * k;
+            const double *y = (j >= lo && j < hi ? x : old) + 2 * j;
+            if (j == i) continue;
             sr -= v[0] * y[0] - v[1] * y[1];
             si -= v[0] * y[1] + v[1] * y[0];
         }
-        if (dr > 0.0) {
-            x[2 * i] = sr / (dr + w->L->l1[i]);
-            x[2 * i + 1] = si / (dr + w->L->l1[i]);
+        if (di > 0.0) {
+            x[2 * i] = sr * di;
+            x[2 * i + 1] = si * di;
         }
     }
 }
@@ -729,14 +934,15 @@ PW__DEF void pw__zamg_cycle(const pw_zamg *M, int l)
     w.nb = pw__zblocks(n);
     wc.nb = pw__zblocks(L->nc);
     pw__zfor(L->A.run, n, w.nb, pw__zamg_pre, &w);
-    pw__zfor(L->A.run, n, w.nb, pw__zamg_residual, &w);
+    if (w.nb > 1) pw__zfor(L->A.run, n, w.nb, pw__zamg_cross, &w);
     pw__zfor(L->A.run, L->nc, wc.nb, pw__zamg_restrict, &wc);
     pw__zamg_cycle(M, l + 1);
     pw__zfor(L->A.run, n, w.nb, pw__zamg_prolong_add, &w);
     pw__zfor(L->A.run, n, w.nb, pw__zamg_post, &w);
 }
 
-/* z = one V-cycle applied to r (2n doubles each). */
+/* z = one V-cycle applied to r (2n doubles each), with level 0's values
+ * as the last set-up or solve saw them. */
 PW__DEF void pw_zamg_apply(const pw_zamg *M, const double *r, double *z)
 {
     const pw__zamg_level *L = &M->lev[0];
@@ -759,6 +965,8 @@ PW__DEF int pw_zamg_solve(const pw_alloc *a, const pw_zcsr *A, const pw_zamg *M,
     op.b = b;
     op.x = x;
     op.what = "multigrid PCG";
+    if (!pw__zamg_refresh(M, A))
+        return pw_fail(e, PW_ERR_INVALID, "multigrid: the coarsest matrix is not positive definite");
     return pw__zpcg_checked(a, &op, "zamg", o, s, e);
 }
 
@@ -771,26 +979,31 @@ PW__DEF int pw_zamg_solve(const pw_alloc *a, const pw_zcsr *A, const pw_zamg *M,
 #define PW_ZAMG_MIN_UNKNOWNS 20000
 #define PW_ZAMG_MAX_EXCESS 0.005
 
-/* sum_i (a_ii - sum_j |a_ij|) / sum_i a_ii. */
-PW__DEF double pw__zamg_excess(const pw_zcsr *A)
+/* The sums of A's diagonal and of the moduli of its other entries. */
+PW__DEF void pw__zamg_sums(const pw_zcsr *A, double *dsum, double *off)
 {
-    double dsum = 0.0, xs = 0.0;
     int i, k;
+    *dsum = *off = 0.0;
     for (i = 0; i < A->n; i++)
-        for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++) {
-            double m = pw__zamg_abs(A->val + 2 * k);
-            if (A->col[k] == i) {
-                dsum += A->val[2 * k];
-                xs += A->val[2 * k];
-            } else xs -= m;
-        }
-    return dsum > 0.0 ? xs / dsum : 0.0;
+        for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++)
+            if (A->col[k] == i) *dsum += A->val[2 * k];
+            else *off += pw__zamg_abs(A->val + 2 * k);
 }
 
-/* 1 if multigrid pays on A: large and poorly conditioned. */
+/* 1 if multigrid pays on a matrix of n unknowns whose diagonal sums to
+ * dsum and the moduli of its other entries to off: large and poorly
+ * conditioned (the diagonal excess, (dsum - off) / dsum, small). */
+PW__DEF int pw_zamg_pays_sums(int n, double dsum, double off)
+{
+    return n >= PW_ZAMG_MIN_UNKNOWNS && (dsum > 0.0 ? (dsum - off) / dsum : 0.0) < PW_ZAMG_MAX_EXCESS;
+}
+
+/* 1 if multigrid pays on A. */
 PW__DEF int pw_zamg_pays(const pw_zcsr *A)
 {
-    return A->n >= PW_ZAMG_MIN_UNKNOWNS && pw__zamg_excess(A) < PW_ZAMG_MAX_EXCESS;
+    double dsum, off;
+    pw__zamg_sums(A, &dsum, &off);
+    return pw_zamg_pays_sums(A->n, dsum, off);
 }
 
 /* Solves the Hermitian positive definite A x = b (x the warm start) by CG,

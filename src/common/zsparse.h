@@ -131,6 +131,152 @@ PW__DEF int pw_zcsr_from_triplets(const pw_alloc *a, const pw_triplets *t, pw_zc
     return PW_OK;
 }
 
+/* Sorts the first n ints of v (short rows: insertion sort). */
+PW__DEF void pw__zsort(int *v, int n)
+{
+    int i, j;
+    for (i = 1; i < n; i++) {
+        int x = v[i];
+        for (j = i; j > 0 && v[j - 1] > x; j--) v[j] = v[j - 1];
+        v[j] = x;
+    }
+}
+
+/* The position of (i, j) in A, -1 if absent (rows are short: a scan). */
+PW__DEF int pw__zcsr_find(const pw_zcsr *A, int i, int j)
+{
+    int k;
+    for (k = A->rowptr[i]; k < A->rowptr[i + 1]; k++)
+        if (A->col[k] == j) return k;
+    return -1;
+}
+
+/* The structure of a Hermitian matrix of n rows holding every diagonal
+ * entry and, for each of the np pairs (ij[2p] != ij[2p+1], both in [0,
+ * n)), the entries (ij[2p], ij[2p+1]) and (ij[2p+1], ij[2p]), with zero
+ * values: dpos[i] is where (i, i) sits, pos[2p] and pos[2p+1] where the
+ * pair's two entries sit (a repeated pair shares them). The caller then
+ * adds each term at its position, in the order it visits them: no
+ * triplets and no sort of the entries (assembly from a mesh's adjacency,
+ * where the pairs are its edges). */
+PW__DEF int pw_zcsr_pattern(const pw_alloc *a, int n, int np, const int *ij, pw_zcsr *A, int *dpos, int *pos, pw_err *e)
+{
+    int i, k, p, lo = 0, out = 0;
+    memset(A, 0, sizeof *A);
+    A->n = n;
+    A->rowptr = (int *)pw_calloc_array(a, (size_t)n + 1, sizeof(int), "complex CSR", e);
+    A->col = (int *)pw_alloc_array(a, (size_t)n + 2 * (size_t)np, sizeof(int), "complex CSR", e);
+    if (!A->rowptr || !A->col) {
+        pw_zcsr_free(a, A);
+        return PW_ERR_NOMEM;
+    }
+    for (p = 0; p < 2 * np; p++) A->rowptr[ij[p] + 1]++;
+    for (i = 0; i < n; i++) A->rowptr[i + 1] += A->rowptr[i] + 1; /* + the diagonal */
+    for (i = 0; i < n; i++) {                                     /* dpos: each row's fill cursor */
+        dpos[i] = A->rowptr[i];
+        A->col[dpos[i]++] = i;
+    }
+    for (p = 0; p < np; p++) {
+        A->col[dpos[ij[2 * p]]++] = ij[2 * p + 1];
+        A->col[dpos[ij[2 * p + 1]]++] = ij[2 * p];
+    }
+    for (i = 0; i < n; i++) { /* columns increasing, repeats merged */
+        int hi = A->rowptr[i + 1];
+        pw__zsort(A->col + lo, hi - lo);
+        A->rowptr[i] = out;
+        for (k = lo; k < hi; k++)
+            if (k == lo || A->col[k] != A->col[k - 1]) A->col[out++] = A->col[k];
+        lo = hi;
+    }
+    A->rowptr[n] = out;
+    A->val = (double *)pw_calloc_array(a, 2 * (size_t)out + 2, sizeof(double), "complex CSR", e);
+    if (!A->val) {
+        pw_zcsr_free(a, A);
+        return PW_ERR_NOMEM;
+    }
+    for (i = 0; i < n; i++) dpos[i] = pw__zcsr_find(A, i, i);
+    for (p = 0; p < np; p++) {
+        pos[2 * p] = pw__zcsr_find(A, ij[2 * p], ij[2 * p + 1]);
+        pos[2 * p + 1] = pw__zcsr_find(A, ij[2 * p + 1], ij[2 * p]);
+    }
+    return PW_OK;
+}
+
+/* A Hermitian system sum w |z_i - c z_j|^2 (+ diagonal terms) assembled
+ * into its structure (pw_zcsr_pattern): the matrix, where its diagonal
+ * and pair entries sit, the right-hand side (2n) and the pairs used so
+ * far. The pairs are given by pair(ctx, k, ij) for k in [0, count): 1
+ * and the two unknowns in ij when k makes one (both ends unknowns). */
+typedef struct pw_zpairs {
+    int count;
+    int (*pair)(const void *ctx, int k, int *ij);
+    const void *ctx;
+} pw_zpairs;
+
+typedef struct pw_zasm {
+    pw_zcsr A;
+    int *dpos, *pos;
+    double *b;
+    int next;
+} pw_zasm;
+
+PW__DEF void pw_zasm_free(const pw_alloc *a, pw_zasm *S)
+{
+    pw_zcsr_free(a, &S->A);
+    pw_free(a, S->dpos);
+    pw_free(a, S->pos);
+    pw_free(a, S->b);
+    memset(S, 0, sizeof *S);
+}
+
+/* The structure of the system of n unknowns and the pairs of pr, values
+ * and right-hand side zero; on failure what was allocated is left for
+ * pw_zasm_free. */
+PW__DEF int pw_zasm_init(const pw_alloc *a, pw_zasm *S, int n, const pw_zpairs *pr, pw_err *e)
+{
+    int k, np = 0, ij[2], *all, r;
+    memset(S, 0, sizeof *S);
+    for (k = 0; k < pr->count; k++) np += pr->pair(pr->ctx, k, ij);
+    S->dpos = (int *)pw_alloc_array(a, (size_t)n + 1, sizeof(int), "complex system", e);
+    S->pos = (int *)pw_alloc_array(a, 2 * (size_t)np + 1, sizeof(int), "complex system", e);
+    S->b = (double *)pw_calloc_array(a, 2 * (size_t)n + 1, sizeof(double), "complex system", e);
+    all = (int *)pw_alloc_array(a, 2 * (size_t)np + 1, sizeof(int), "complex system", e);
+    if (!S->dpos || !S->pos || !S->b || !all) {
+        pw_free(a, all);
+        return PW_ERR_NOMEM;
+    }
+    for (k = 0, np = 0; k < pr->count; k++)
+        if (pr->pair(pr->ctx, k, all + 2 * np)) np++;
+    r = pw_zcsr_pattern(a, n, np, all, &S->A, S->dpos, S->pos, e);
+    pw_free(a, all);
+    return r;
+}
+
+/* Adds the term w |z_i - c z_j|^2 (i or j -1 where that end is not an
+ * unknown, its value zfix moving to b): w on the diagonals of the
+ * unknowns, -w c at (i, j) and -w conj(c) at (j, i) when both are (the
+ * next pair, in the order pw_zasm_init met them). */
+PW__DEF void pw_zasm_term(pw_zasm *S, int i, int j, double w, const double *c, const double *zfix)
+{
+    double *v = S->A.val, *b = S->b;
+    if (i >= 0) v[2 * S->dpos[i]] += w;
+    if (j >= 0) v[2 * S->dpos[j]] += w;
+    if (i >= 0 && j >= 0) {
+        double *ij = v + 2 * S->pos[2 * S->next], *ji = v + 2 * S->pos[2 * S->next + 1];
+        ij[0] += -w * c[0];
+        ij[1] += -w * c[1];
+        ji[0] += -w * c[0];
+        ji[1] += w * c[1];
+        S->next++;
+    } else if (i >= 0) { /* b_i += w c z_j */
+        b[2 * i] += w * (c[0] * zfix[0] - c[1] * zfix[1]);
+        b[2 * i + 1] += w * (c[0] * zfix[1] + c[1] * zfix[0]);
+    } else if (j >= 0) { /* b_j += w conj(c) z_i */
+        b[2 * j] += w * (c[0] * zfix[0] + c[1] * zfix[1]);
+        b[2 * j + 1] += w * (c[0] * zfix[1] - c[1] * zfix[0]);
+    }
+}
+
 /* A product y = A x by blocks of rows: each block's share of Re(x^H y). */
 typedef struct pw__zmul {
     const pw_zcsr *A;
