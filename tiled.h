@@ -8365,7 +8365,7 @@ PW__DEF int pw_zasm_init(const pw_alloc *a, pw_zasm *S, int n, const pw_zpairs *
     S->dpos = (int *)pw_alloc_array(a, (size_t)n + 1, sizeof(int), "complex system", e);
     S->pos = (int *)pw_alloc_array(a, 2 * (size_t)np + 1, sizeof(int), "complex system", e);
     S->b = (double *)pw_calloc_array(a, 2 * (size_t)n + 1, sizeof(double), "complex system", e);
-    all = (int *)pw_alloc_array(a, 2 * (size_t)np + 1, sizeof(int), "complex system", e);
+    all = (int *)pw_alloc_array(a, 2 * (size_t)np + 2, sizeof(int), "complex system", e); /* + a refused pair's */
     if (!S->dpos || !S->pos || !S->b || !all) {
         pw_free(a, all);
         return PW_ERR_NOMEM;
