@@ -447,6 +447,21 @@ static void t_bad_input(void)
     o.scale = -1.0f;
     CHECK_EQ_INT(lapped_create(&sphere, &src, &o, &t, &err), LAPPED_ERR_INVALID);
     o.scale = 0.5f;
+    {   /* one tiny vector in a FACES field: under the paste estimate, refused by name (a fuzzer's find) */
+        lapped_field fld;
+        lapped_options fo = o;
+        int k3;
+        REQUIRE(lapped_compute_field(&sphere, &o, &fld, &err) == LAPPED_OK);
+        fo.field = LAPPED_FIELD_FACES;
+        fo.face_t = fld.t;
+        fo.face_s = fld.s;
+        CHECK_EQ_INT(lapped_create(&sphere, &src, &fo, &t, &err), LAPPED_OK);
+        lapped_texture_free(&t);
+        for (k3 = 0; k3 < 3; k3++) fld.t[3 * 7 + k3] *= 1e-7f, fld.s[3 * 7 + k3] *= 1e-7f;
+        CHECK_EQ_INT(lapped_create(&sphere, &src, &fo, &t, &err), LAPPED_ERR_INVALID);
+        CHECKF(strstr(err.message, "triangle 7") && strstr(err.message, "1e-5"), "%s", err.message);
+        lapped_field_free(&fld);
+    }
     /* patches that are not RGBA, and no patches */
     clear = patch;
     clear.channels = 3;

@@ -1568,6 +1568,31 @@ static double lapped__len_d(const float *v)
     return sqrt((double)v[0] * v[0] + (double)v[1] * v[1] + (double)v[2] * v[2]);
 }
 
+/* Every triangle's frame within what a paste can be: S and T no longer
+ * than 20 times the mesh's size (one patch would cover the whole mesh) and
+ * no shorter than 1e-5 of it (10^10 pastes to cover it). Checked before
+ * the paste estimate: one vector that short on a zero-area triangle makes
+ * the estimate 0/0, and a frame whose squared length underflows a float
+ * has no inverse. */
+static int lapped__check_frames(const lapped__paster *P, pw_err *e)
+{
+    int f, k;
+    for (f = 0; f < P->m.nf; f++)
+        for (k = 0; k < 2; k++) {
+            double len = lapped__len_d((k ? P->fs : P->ft) + 3 * f);
+            if (len > 20.0 * P->m.diag)
+                return pw_fail(e, PW_ERR_INVALID,
+                               "the texture scale %g at triangle %d is more than 20 times the mesh's size "
+                               "(%g): one patch would have to cover the whole mesh",
+                               len, f, P->m.diag);
+            if (!(len >= 1e-5 * P->m.diag))
+                return pw_fail(e, PW_ERR_INVALID,
+                               "the texture scale %g at triangle %d is under 1e-5 of the mesh's size (%g)", len, f,
+                               P->m.diag);
+        }
+    return PW_OK;
+}
+
 static int lapped__setup(lapped__paster *P, const lapped_mesh *mesh, const lapped_image *patches, int npatches,
                          double *estimate, pw_err *e)
 {
@@ -1591,17 +1616,13 @@ static int lapped__setup(lapped__paster *P, const lapped_mesh *mesh, const lappe
      * the count a fill would reach is 1.4-1.6 times the area estimate
      * (CGAL's elephant, cow, knot and mushroom at four scales), so 1.5
      * times it beyond the limit is refused at once, not after the limit */
+    if ((r = lapped__check_frames(P, e)) != PW_OK) return r;
     *estimate = lapped__estimate(P);
     if (1.5 * *estimate > P->o.max_pastes)
         return pw_fail(e, PW_ERR_LIMIT,
                        "the texture scale is too small for this mesh: covering it would take about "
                        "%.0f pastes, over the limit of %d (lapped_options.max_pastes; --max-pastes)",
                        1.5 * *estimate, P->o.max_pastes);
-    if (lapped__len_d(P->ft) > 20.0 * P->m.diag)
-        return pw_fail(e, PW_ERR_INVALID,
-                       "the texture scale %g is more than 20 times the mesh's size "
-                       "(%g): one patch would have to cover the whole mesh",
-                       lapped__len_d(P->ft), P->m.diag);
     surf.m = &P->m;
     surf.fs = P->fs;
     surf.ft = P->ft;
