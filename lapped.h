@@ -3,39 +3,39 @@
  *
  * CONTENTS (line: source, what it holds)
  *     40: src/lapped/lapped.h, the public API and its documentation
- *    480: src/common/base.h, allocation hooks, result codes, error messages, limits, he
- *    792: src/common/vec.h, small vector math on float[3] arrays and a 3-float struct.
- *    906: src/common/rng.h, seeded random numbers with the same output on every platfo
- *    983: src/common/noise.h, value noise and its fractal sum, for the built-in procedur
- *   1085: src/common/image.h, float images and their file formats.
- *   1790: src/common/deflate.h, zlib (RFC 1950) and deflate (RFC 1951) compression and
- *   2789: src/common/png.h, PNG writer and reader, and the image front end.
- *   3348: src/common/text.h, locale-independent number parsing and formatting, a line s
- *   3761: src/common/mesh.h, polygon meshes as flat arrays, and their file formats.
- *   5290: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
- *   5819: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
- *   6243: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
- *   7977: src/common/raster.h, exact scan conversion of 2D triangles.
- *   8489: src/common/parallel.h, a parallel for, the one way work is split across threads.
- *   8813: src/common/render.h, a small deterministic software renderer for textured trian
- *  10977: src/lapped/polyhull.h, the polygonal hull of a texture patch (Praun, Finkelstein 
- *  11808: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
- *  12005: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
- *  12090: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
- *  12279: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
- *  13199: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
- *  13897: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
- *  14133: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
- *  14897: src/common/glue.h, what every method header needs between its public types an
- *  15233: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  15897: src/lapped/core.c, lapped.h's glue to the shared core, its defaults, and the 
- *  16067: src/lapped/field.c, §3.2 the tangent field, one frame (S, T) per triangle, an
- *  16522: src/lapped/patch.c, §3.1 texture patches. A patch is the texture as RGBA whos
- *  16836: src/lapped/builtin.c, built-in meshes (made by the shared shapes module) and tex
- *  17030: src/lapped/grow.c, pasting (§3.3-3.6): grow a surface patch around an uncove
- *  18758: src/lapped/render.c, runtime pasting (§4): the mesh drawn once per paste, in p
- *  19005: src/lapped/atlas.c, §4 "Rendering with a texture atlas".
- *  19248: src/lapped/io.c, the paste file format and the file conveniences of lapped.
+ *    482: src/common/base.h, allocation hooks, result codes, error messages, limits, he
+ *    794: src/common/vec.h, small vector math on float[3] arrays and a 3-float struct.
+ *    908: src/common/rng.h, seeded random numbers with the same output on every platfo
+ *    985: src/common/noise.h, value noise and its fractal sum, for the built-in procedur
+ *   1087: src/common/image.h, float images and their file formats.
+ *   1792: src/common/deflate.h, zlib (RFC 1950) and deflate (RFC 1951) compression and
+ *   2791: src/common/png.h, PNG writer and reader, and the image front end.
+ *   3350: src/common/text.h, locale-independent number parsing and formatting, a line s
+ *   3763: src/common/mesh.h, polygon meshes as flat arrays, and their file formats.
+ *   5292: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
+ *   5821: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
+ *   6245: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
+ *   7979: src/common/raster.h, exact scan conversion of 2D triangles.
+ *   8491: src/common/parallel.h, a parallel for, the one way work is split across threads.
+ *   8834: src/common/render.h, a small deterministic software renderer for textured trian
+ *  10998: src/lapped/polyhull.h, the polygonal hull of a texture patch (Praun, Finkelstein 
+ *  11829: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
+ *  12026: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
+ *  12111: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
+ *  12300: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
+ *  13220: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
+ *  13918: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
+ *  14154: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
+ *  14918: src/common/glue.h, what every method header needs between its public types an
+ *  15254: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  15918: src/lapped/core.c, lapped.h's glue to the shared core, its defaults, and the 
+ *  16088: src/lapped/field.c, §3.2 the tangent field, one frame (S, T) per triangle, an
+ *  16543: src/lapped/patch.c, §3.1 texture patches. A patch is the texture as RGBA whos
+ *  16857: src/lapped/builtin.c, built-in meshes (made by the shared shapes module) and tex
+ *  17051: src/lapped/grow.c, pasting (§3.3-3.6): grow a surface patch around an uncove
+ *  18791: src/lapped/render.c, runtime pasting (§4): the mesh drawn once per paste, in p
+ *  19038: src/lapped/atlas.c, §4 "Rendering with a texture atlas".
+ *  19281: src/lapped/io.c, the paste file format and the file conveniences of lapped.
  */
 /* lapped.h - lapped textures: overlapping texture patches pasted over a mesh.
  *
@@ -277,7 +277,9 @@ typedef struct lapped_options {
     lapped_field_mode field;              /* default LAPPED_FIELD_UP */
     float up[3];                          /* UP: default (0,1,0) */
     float scale;                          /* side of a texture patch on the surface, mesh units;
-                                  0: a tenth of the bounding-box diagonal */
+                                  0: a tenth of the bounding-box diagonal; lapped_create
+                                  refuses a field whose S or T, at any triangle, is under
+                                  1e-5 or over 20 times the diagonal */
     const lapped_constraint *constraints; /* CONSTRAINTS */
     int nconstraints;
     const float *face_t;          /* FACES: ntris*3 "up" vectors (|T| = scale) */
@@ -8630,8 +8632,18 @@ PW__DEF void pw__pool_run(int threads, int n, pw_task_fn task, void *ctx)
  * each asleep until the caller hands out a task set. The caller works on
  * the set too, and returns when all its tasks have run. gen counts the
  * sets handed out (and the stop): a thread that has seen set `seen` waits
- * for gen to move, spinning a little first (under its lock a crew's
- * sets often follow each other within microseconds), then asleep. */
+ * for gen to move, spinning first, then asleep. The spin is long:
+ * PW_CREW_SPIN pause instructions, 2,000,000 by default (about 30 ms on
+ * the 2-core Xeon of bench/results.md, 15 ns a pause). The methods hand
+ * out many small sets between serial steps (lapped_create paints each of
+ * ~1,200 pastes, ~0.25 ms of work, after ~1 ms of growth; lst_create
+ * covers each clump): a thread woken from its condition variable arrives
+ * tens of microseconds late, a good part of such a set, so a short spin
+ * (20,000 pauses: 0.3 ms) left the coverage at 1.40-1.59 times faster on 2
+ * threads, the long one at 1.70-1.84 (bunny00, bench_threads). The cost:
+ * while a crew lives (one create or render call, pw_parallel_start to
+ * pw_parallel_stop) its threads keep their cores busy between sets.
+ * Define PW_CREW_SPIN smaller (0: no spin) where that matters more. */
 typedef struct pw__crew {
     pthread_mutex_t lock;
     pthread_cond_t wake, finished;
@@ -8646,13 +8658,24 @@ typedef struct pw__crew {
 /* gen and done are read outside the lock while spinning: atomically where
  * the compiler has the builtins, else not at all (no spin). */
 #if defined(__GNUC__) || defined(__clang__)
-#define PW__CREW_SPIN 20000
+#ifndef PW_CREW_SPIN
+#define PW_CREW_SPIN 2000000
+#endif
+#define PW__CREW_SPIN PW_CREW_SPIN
 #define PW__CREW_PEEK(x) __atomic_load_n(&(x), __ATOMIC_ACQUIRE)
 #define PW__CREW_SET(x, v) __atomic_store_n(&(x), (v), __ATOMIC_RELEASE)
+#if defined(__x86_64__) || defined(__i386__)
+#define PW__CREW_PAUSE() __builtin_ia32_pause()
+#elif defined(__aarch64__)
+#define PW__CREW_PAUSE() __asm__ __volatile__("yield")
+#else
+#define PW__CREW_PAUSE() ((void)0)
+#endif
 #else
 #define PW__CREW_SPIN 0
 #define PW__CREW_PEEK(x) (x)
 #define PW__CREW_SET(x, v) ((x) = (v))
+#define PW__CREW_PAUSE() ((void)0)
 #endif
 
 /* Runs the set's tasks until none is left to claim; called, and returns,
@@ -8680,8 +8703,7 @@ PW__DEF void *pw__crew_main(void *arg)
     for (;;) {
         if (c->gen == seen) {
             pthread_mutex_unlock(&c->lock);
-            for (k = 0; k < PW__CREW_SPIN && PW__CREW_PEEK(c->gen) == seen; k++) {
-            }
+            for (k = 0; k < PW__CREW_SPIN && PW__CREW_PEEK(c->gen) == seen; k++) PW__CREW_PAUSE();
             pthread_mutex_lock(&c->lock);
         }
         while (c->gen == seen) pthread_cond_wait(&c->wake, &c->lock);
@@ -8715,8 +8737,7 @@ PW__DEF int pw__crew_run(pw__crew *c, int n, pw_task_fn task, void *ctx)
     pw__crew_work(c);
     if (c->done < n) {
         pthread_mutex_unlock(&c->lock);
-        for (k = 0; k < PW__CREW_SPIN && PW__CREW_PEEK(c->done) < n; k++) {
-        }
+        for (k = 0; k < PW__CREW_SPIN && PW__CREW_PEEK(c->done) < n; k++) PW__CREW_PAUSE();
         pthread_mutex_lock(&c->lock);
     }
     while (c->done < n) pthread_cond_wait(&c->finished, &c->lock);
@@ -17289,21 +17310,23 @@ static void lapped__cover_retire(lapped__cover *c, int f)
  * own): full[i] says whether triangle i of the paste is now covered. The
  * open list changes after, in the paste's order, so the coverage is the
  * same for any number of threads. */
+#define LAPPED__PAINT_SHARES 256
+
 typedef struct lapped__painting {
     lapped__cover *c;
     const lapped_paste *q;
     const lapped__eroded *er;
     unsigned char *full;
-    int shares;
+    int shares, start[LAPPED__PAINT_SHARES + 1]; /* share k: the paste's triangles start[k] to start[k+1] */
 } lapped__painting;
 
 static void lapped__paint_share(void *ctx, int share)
 {
     const lapped__painting *w = (const lapped__painting *)ctx;
     const lapped_paste *q = w->q;
-    int i = (int)((long long)q->nfaces * share / w->shares),
-        end = (int)((long long)q->nfaces * (share + 1) / w->shares);
-    for (; i < end; i++) w->full[i] = (unsigned char)lapped__cover_paint(w->c, q->faces[i], q->uvs + 6 * i, w->er);
+    int i;
+    for (i = w->start[share]; i < w->start[share + 1]; i++)
+        w->full[i] = (unsigned char)lapped__cover_paint(w->c, q->faces[i], q->uvs + 6 * i, w->er);
 }
 
 /* Lattice points below which a paste is painted on the calling thread
@@ -17311,18 +17334,28 @@ static void lapped__paint_share(void *ctx, int share)
  * many). */
 #define LAPPED__PAINT_SERIAL 4096
 
+/* The paste's triangles in shares of about equal lattice points (a
+ * triangle's lattice grows with its texture area: equal counts of
+ * triangles can differ several times in work), four per thread. */
 static void lapped__paint(const pw_parallel *par, lapped__cover *c, const lapped_paste *q, const lapped__eroded *er,
                           unsigned char *full)
 {
     lapped__painting w;
-    size_t points = 0;
-    int i, width = pw_parallel_width(par);
+    size_t points = 0, done = 0;
+    int i, k = 1, width = pw_parallel_width(par);
     for (i = 0; i < q->nfaces && width > 1; i++) points += c->off[q->faces[i] + 1] - c->off[q->faces[i]];
     w.c = c;
     w.q = q;
     w.er = er;
     w.full = full;
     w.shares = points < LAPPED__PAINT_SERIAL ? 1 : (q->nfaces < 4 * width ? q->nfaces : 4 * width);
+    if (w.shares > LAPPED__PAINT_SHARES) w.shares = LAPPED__PAINT_SHARES;
+    w.start[0] = 0;
+    for (i = 0; i < q->nfaces && k < w.shares; i++) {
+        done += c->off[q->faces[i] + 1] - c->off[q->faces[i]];
+        while (k < w.shares && done * (size_t)w.shares >= points * (size_t)k) w.start[k++] = i + 1;
+    }
+    while (k <= w.shares) w.start[k++] = q->nfaces;
     if (w.shares <= 1) lapped__paint_share(&w, 0);
     else pw_parallel_for(par, w.shares, lapped__paint_share, &w);
 }

@@ -19,29 +19,29 @@
  *   6764: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
  *   8498: src/common/raster.h, exact scan conversion of 2D triangles.
  *   9010: src/common/parallel.h, a parallel for, the one way work is split across threads.
- *   9334: src/common/render.h, a small deterministic software renderer for textured trian
- *  11498: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
- *  11687: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
- *  12607: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
- *  13305: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
- *  13541: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
- *  14302: src/common/tetmesh.h, the tetrahedral mesh that lapped solid textures work on, a
- *  14789: src/common/tetio.h, tetrahedral mesh files, TetGen .node/.ele and MEDIT .mesh.
- *  15281: src/common/bisect.h, graded, conforming tetrahedral meshes of a box by newest-v
- *  15608: src/common/stuffing.h, the built-in tetrahedralizer of lst.h, so that no external
- *  18985: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
- *  19128: src/common/pca.h, principal component analysis of vectors streamed one at a 
- *  19315: src/common/glue.h, what every method header needs between its public types an
- *  19651: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  20315: src/lst/core.c, lst.h's glue to the shared core, its defaults, the convers
- *  20649: src/lst/exemplar.c, solid exemplars (§5): sampling, the procedural exemplars 
- *  21221: src/lst/field.c, §5.2.2, the fields that orient and scale the pastes. The 
- *  22433: src/lst/paste.c, §5.2.3-5.2.7, filling the model. Each paste picks a rando
- *  23463: src/lst/render.c, §5.1, showing a model. Every point of a tetrahedron is th
- *  24360: src/lst/cut.c, §5.1.1, cutting a model along the zero set of a scalar fi
- *  24965: src/lst/builtin.c, the tetrahedralizer entry point, checks of caller meshes, 
- *  25487: src/lst/io.c, the model file, the constraint files and the file convenie
- *  26180: src/lst/export.c, the visible boundary with a baked texture atlas, for glTF.
+ *   9353: src/common/render.h, a small deterministic software renderer for textured trian
+ *  11517: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
+ *  11706: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
+ *  12626: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
+ *  13324: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
+ *  13560: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
+ *  14321: src/common/tetmesh.h, the tetrahedral mesh that lapped solid textures work on, a
+ *  14808: src/common/tetio.h, tetrahedral mesh files, TetGen .node/.ele and MEDIT .mesh.
+ *  15300: src/common/bisect.h, graded, conforming tetrahedral meshes of a box by newest-v
+ *  15627: src/common/stuffing.h, the built-in tetrahedralizer of lst.h, so that no external
+ *  19004: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
+ *  19147: src/common/pca.h, principal component analysis of vectors streamed one at a 
+ *  19334: src/common/glue.h, what every method header needs between its public types an
+ *  19670: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  20334: src/lst/core.c, lst.h's glue to the shared core, its defaults, the convers
+ *  20668: src/lst/exemplar.c, solid exemplars (§5): sampling, the procedural exemplars 
+ *  21240: src/lst/field.c, §5.2.2, the fields that orient and scale the pastes. The 
+ *  22452: src/lst/paste.c, §5.2.3-5.2.7, filling the model. Each paste picks a rando
+ *  23483: src/lst/render.c, §5.1, showing a model. Every point of a tetrahedron is th
+ *  24380: src/lst/cut.c, §5.1.1, cutting a model along the zero set of a scalar fi
+ *  24985: src/lst/builtin.c, the tetrahedralizer entry point, checks of caller meshes, 
+ *  25507: src/lst/io.c, the model file, the constraint files and the file convenie
+ *  26200: src/lst/export.c, the visible boundary with a baked texture atlas, for glTF.
  */
 /* lst.h - lapped solid textures: solid exemplars pasted inside a model.
  *
@@ -9151,8 +9151,18 @@ PW__DEF void pw__pool_run(int threads, int n, pw_task_fn task, void *ctx)
  * each asleep until the caller hands out a task set. The caller works on
  * the set too, and returns when all its tasks have run. gen counts the
  * sets handed out (and the stop): a thread that has seen set `seen` waits
- * for gen to move, spinning a little first (under its lock a crew's
- * sets often follow each other within microseconds), then asleep. */
+ * for gen to move, spinning first, then asleep. The spin is long:
+ * PW_CREW_SPIN pause instructions, 2,000,000 by default (about 30 ms on
+ * the 2-core Xeon of bench/results.md, 15 ns a pause). The methods hand
+ * out many small sets between serial steps (lapped_create paints each of
+ * ~1,200 pastes, ~0.25 ms of work, after ~1 ms of growth; lst_create
+ * covers each clump): a thread woken from its condition variable arrives
+ * tens of microseconds late, a good part of such a set, so a short spin
+ * (20,000 pauses: 0.3 ms) left the coverage at 1.40-1.59 times faster on 2
+ * threads, the long one at 1.70-1.84 (bunny00, bench_threads). The cost:
+ * while a crew lives (one create or render call, pw_parallel_start to
+ * pw_parallel_stop) its threads keep their cores busy between sets.
+ * Define PW_CREW_SPIN smaller (0: no spin) where that matters more. */
 typedef struct pw__crew {
     pthread_mutex_t lock;
     pthread_cond_t wake, finished;
@@ -9167,13 +9177,24 @@ typedef struct pw__crew {
 /* gen and done are read outside the lock while spinning: atomically where
  * the compiler has the builtins, else not at all (no spin). */
 #if defined(__GNUC__) || defined(__clang__)
-#define PW__CREW_SPIN 20000
+#ifndef PW_CREW_SPIN
+#define PW_CREW_SPIN 2000000
+#endif
+#define PW__CREW_SPIN PW_CREW_SPIN
 #define PW__CREW_PEEK(x) __atomic_load_n(&(x), __ATOMIC_ACQUIRE)
 #define PW__CREW_SET(x, v) __atomic_store_n(&(x), (v), __ATOMIC_RELEASE)
+#if defined(__x86_64__) || defined(__i386__)
+#define PW__CREW_PAUSE() __builtin_ia32_pause()
+#elif defined(__aarch64__)
+#define PW__CREW_PAUSE() __asm__ __volatile__("yield")
+#else
+#define PW__CREW_PAUSE() ((void)0)
+#endif
 #else
 #define PW__CREW_SPIN 0
 #define PW__CREW_PEEK(x) (x)
 #define PW__CREW_SET(x, v) ((x) = (v))
+#define PW__CREW_PAUSE() ((void)0)
 #endif
 
 /* Runs the set's tasks until none is left to claim; called, and returns,
@@ -9201,8 +9222,7 @@ PW__DEF void *pw__crew_main(void *arg)
     for (;;) {
         if (c->gen == seen) {
             pthread_mutex_unlock(&c->lock);
-            for (k = 0; k < PW__CREW_SPIN && PW__CREW_PEEK(c->gen) == seen; k++) {
-            }
+            for (k = 0; k < PW__CREW_SPIN && PW__CREW_PEEK(c->gen) == seen; k++) PW__CREW_PAUSE();
             pthread_mutex_lock(&c->lock);
         }
         while (c->gen == seen) pthread_cond_wait(&c->wake, &c->lock);
@@ -9236,8 +9256,7 @@ PW__DEF int pw__crew_run(pw__crew *c, int n, pw_task_fn task, void *ctx)
     pw__crew_work(c);
     if (c->done < n) {
         pthread_mutex_unlock(&c->lock);
-        for (k = 0; k < PW__CREW_SPIN && PW__CREW_PEEK(c->done) < n; k++) {
-        }
+        for (k = 0; k < PW__CREW_SPIN && PW__CREW_PEEK(c->done) < n; k++) PW__CREW_PAUSE();
         pthread_mutex_lock(&c->lock);
     }
     while (c->done < n) pthread_cond_wait(&c->finished, &c->lock);
@@ -22989,8 +23008,9 @@ static void lst__coverage_share(void *ctx, int share)
 }
 
 /* Samples below which a clump is covered on the calling thread alone
- * (handing work to threads costs about as much as this many). */
-#define LST__COVER_SERIAL 16384
+ * (handing work to the crew, spinning between clumps, costs about as much
+ * as this many; at 16384, 583 of the kiwi's 779 clumps stayed on one). */
+#define LST__COVER_SERIAL 4096
 
 static void lst__coverage(lst__fill *F, const lst__spec *s, int id)
 {

@@ -19,34 +19,34 @@
  *   8673: src/common/zamg.h, a smoothed-aggregation multigrid preconditioner for the co
  *   9706: src/common/raster.h, exact scan conversion of 2D triangles.
  *  10218: src/common/parallel.h, a parallel for, the one way work is split across threads.
- *  10542: src/common/render.h, a small deterministic software renderer for textured trian
- *  12706: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
- *  12903: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
- *  12988: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
- *  13177: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
- *  14097: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
- *  14795: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
- *  15031: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
- *  15795: src/common/periodic.h, the periodic global parameterization of a triangle mesh al
- *  16684: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
- *  17445: src/pgp/tile3.h, sampling a material-space tile (Ray et al. 2009, §2: "a 3
- *  17553: src/common/glue.h, what every method header needs between its public types an
- *  17889: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  18553: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
- *  19050: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
- *  19536: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
- *  19679: src/common/kdtree.h, nearest-neighbour search among n points of dimension d, wi
- *  20022: src/common/pca.h, principal component analysis of vectors streamed one at a 
- *  20209: src/pgp/core.c, pgp.h's glue to the shared core, its defaults, and the map
- *  20423: src/pgp/field.c, §2.1 effect areas and §2.2 interpolation of the constrai
- *  20622: src/pgp/solve.c, §2.3 the periodic global parameterization, the recovery o
- *  21165: src/pgp/edit.c, the public editing calls of a mapping. §2.1 (Ray, Lévy, 
- *  21310: src/pgp/render.c, §3 rendering, and a cleaner treatment of the vortices.
- *  21672: src/pgp/builtin.c, built-in meshes and material-space tiles for demos and tes
- *  21941: src/pgp/io.c, files and memory for pgp.h: material-space tiles (NRRD, or
- *  22289: src/pgp/export.c, the mapping for other programs. A viewer that knows nothin
- *  22515: src/pgp/morph.c, the inputs of §1 (keys brought to the tile size, made til
- *  23194: src/pgp/synth.c, §1.2 constrained tile synthesis, and the whole of §1: ke
+ *  10561: src/common/render.h, a small deterministic software renderer for textured trian
+ *  12725: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
+ *  12922: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
+ *  13007: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
+ *  13196: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
+ *  14116: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
+ *  14814: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
+ *  15050: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
+ *  15814: src/common/periodic.h, the periodic global parameterization of a triangle mesh al
+ *  16703: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
+ *  17464: src/pgp/tile3.h, sampling a material-space tile (Ray et al. 2009, §2: "a 3
+ *  17572: src/common/glue.h, what every method header needs between its public types an
+ *  17908: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  18572: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
+ *  19069: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
+ *  19555: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
+ *  19698: src/common/kdtree.h, nearest-neighbour search among n points of dimension d, wi
+ *  20041: src/common/pca.h, principal component analysis of vectors streamed one at a 
+ *  20228: src/pgp/core.c, pgp.h's glue to the shared core, its defaults, and the map
+ *  20442: src/pgp/field.c, §2.1 effect areas and §2.2 interpolation of the constrai
+ *  20641: src/pgp/solve.c, §2.3 the periodic global parameterization, the recovery o
+ *  21184: src/pgp/edit.c, the public editing calls of a mapping. §2.1 (Ray, Lévy, 
+ *  21329: src/pgp/render.c, §3 rendering, and a cleaner treatment of the vortices.
+ *  21691: src/pgp/builtin.c, built-in meshes and material-space tiles for demos and tes
+ *  21960: src/pgp/io.c, files and memory for pgp.h: material-space tiles (NRRD, or
+ *  22308: src/pgp/export.c, the mapping for other programs. A viewer that knows nothin
+ *  22534: src/pgp/morph.c, the inputs of §1 (keys brought to the tile size, made til
+ *  23213: src/pgp/synth.c, §1.2 constrained tile synthesis, and the whole of §1: ke
  */
 /* pgp.h - material-space texturing with a periodic global parameterization.
  *
@@ -10359,8 +10359,18 @@ PW__DEF void pw__pool_run(int threads, int n, pw_task_fn task, void *ctx)
  * each asleep until the caller hands out a task set. The caller works on
  * the set too, and returns when all its tasks have run. gen counts the
  * sets handed out (and the stop): a thread that has seen set `seen` waits
- * for gen to move, spinning a little first (under its lock a crew's
- * sets often follow each other within microseconds), then asleep. */
+ * for gen to move, spinning first, then asleep. The spin is long:
+ * PW_CREW_SPIN pause instructions, 2,000,000 by default (about 30 ms on
+ * the 2-core Xeon of bench/results.md, 15 ns a pause). The methods hand
+ * out many small sets between serial steps (lapped_create paints each of
+ * ~1,200 pastes, ~0.25 ms of work, after ~1 ms of growth; lst_create
+ * covers each clump): a thread woken from its condition variable arrives
+ * tens of microseconds late, a good part of such a set, so a short spin
+ * (20,000 pauses: 0.3 ms) left the coverage at 1.40-1.59 times faster on 2
+ * threads, the long one at 1.70-1.84 (bunny00, bench_threads). The cost:
+ * while a crew lives (one create or render call, pw_parallel_start to
+ * pw_parallel_stop) its threads keep their cores busy between sets.
+ * Define PW_CREW_SPIN smaller (0: no spin) where that matters more. */
 typedef struct pw__crew {
     pthread_mutex_t lock;
     pthread_cond_t wake, finished;
@@ -10375,13 +10385,24 @@ typedef struct pw__crew {
 /* gen and done are read outside the lock while spinning: atomically where
  * the compiler has the builtins, else not at all (no spin). */
 #if defined(__GNUC__) || defined(__clang__)
-#define PW__CREW_SPIN 20000
+#ifndef PW_CREW_SPIN
+#define PW_CREW_SPIN 2000000
+#endif
+#define PW__CREW_SPIN PW_CREW_SPIN
 #define PW__CREW_PEEK(x) __atomic_load_n(&(x), __ATOMIC_ACQUIRE)
 #define PW__CREW_SET(x, v) __atomic_store_n(&(x), (v), __ATOMIC_RELEASE)
+#if defined(__x86_64__) || defined(__i386__)
+#define PW__CREW_PAUSE() __builtin_ia32_pause()
+#elif defined(__aarch64__)
+#define PW__CREW_PAUSE() __asm__ __volatile__("yield")
+#else
+#define PW__CREW_PAUSE() ((void)0)
+#endif
 #else
 #define PW__CREW_SPIN 0
 #define PW__CREW_PEEK(x) (x)
 #define PW__CREW_SET(x, v) ((x) = (v))
+#define PW__CREW_PAUSE() ((void)0)
 #endif
 
 /* Runs the set's tasks until none is left to claim; called, and returns,
@@ -10409,8 +10430,7 @@ PW__DEF void *pw__crew_main(void *arg)
     for (;;) {
         if (c->gen == seen) {
             pthread_mutex_unlock(&c->lock);
-            for (k = 0; k < PW__CREW_SPIN && PW__CREW_PEEK(c->gen) == seen; k++) {
-            }
+            for (k = 0; k < PW__CREW_SPIN && PW__CREW_PEEK(c->gen) == seen; k++) PW__CREW_PAUSE();
             pthread_mutex_lock(&c->lock);
         }
         while (c->gen == seen) pthread_cond_wait(&c->wake, &c->lock);
@@ -10444,8 +10464,7 @@ PW__DEF int pw__crew_run(pw__crew *c, int n, pw_task_fn task, void *ctx)
     pw__crew_work(c);
     if (c->done < n) {
         pthread_mutex_unlock(&c->lock);
-        for (k = 0; k < PW__CREW_SPIN && PW__CREW_PEEK(c->done) < n; k++) {
-        }
+        for (k = 0; k < PW__CREW_SPIN && PW__CREW_PEEK(c->done) < n; k++) PW__CREW_PAUSE();
         pthread_mutex_lock(&c->lock);
     }
     while (c->done < n) pthread_cond_wait(&c->finished, &c->lock);

@@ -24,20 +24,20 @@
  *  10705: src/common/periodic.h, the periodic global parameterization of a triangle mesh al
  *  11594: src/common/raster.h, exact scan conversion of 2D triangles.
  *  12108: src/common/parallel.h, a parallel for, the one way work is split across threads.
- *  12432: src/common/render.h, a small deterministic software renderer for textured trian
- *  14596: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
- *  15093: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
- *  15579: src/common/glue.h, what every method header needs between its public types an
- *  15915: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  16579: src/tiled/core.c, tiled.h's glue to the shared core, its defaults, result
- *  16668: src/tiled/layout.c, ch. III.1, the boundary types and the tiled texture they
- *  16940: src/tiled/cells.c, beyond the thesis (issue 23): tiles of a chosen size on an
- *  17858: src/tiled/map.c, ch. III.2, the texture mapping algorithm of Fig. 29
- *  18127: src/tiled/synth.c, ch. III.1.3, tiled texture image synthesis: an edge-matche
- *  18573: src/tiled/validate.c, checks a hand-made tiled texture (the thesis's Figs. 39,
- *  18701: src/tiled/builtin.c, built-in meshes and exemplars for demos and tests: the
- *  18898: src/tiled/render.c, a software rendering of a mapped mesh (the thesis rendered
- *  19122: src/tiled/io.c, files. Meshes and exemplars in; the mapped mesh with its t
+ *  12451: src/common/render.h, a small deterministic software renderer for textured trian
+ *  14615: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
+ *  15112: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
+ *  15598: src/common/glue.h, what every method header needs between its public types an
+ *  15934: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  16598: src/tiled/core.c, tiled.h's glue to the shared core, its defaults, result
+ *  16687: src/tiled/layout.c, ch. III.1, the boundary types and the tiled texture they
+ *  16959: src/tiled/cells.c, beyond the thesis (issue 23): tiles of a chosen size on an
+ *  17877: src/tiled/map.c, ch. III.2, the texture mapping algorithm of Fig. 29
+ *  18146: src/tiled/synth.c, ch. III.1.3, tiled texture image synthesis: an edge-matche
+ *  18592: src/tiled/validate.c, checks a hand-made tiled texture (the thesis's Figs. 39,
+ *  18720: src/tiled/builtin.c, built-in meshes and exemplars for demos and tests: the
+ *  18917: src/tiled/render.c, a software rendering of a mapped mesh (the thesis rendered
+ *  19141: src/tiled/io.c, files. Meshes and exemplars in; the mapped mesh with its t
  */
 /* tiled.h - seamless, singularity-free tiled textures on quad meshes.
  *
@@ -12249,8 +12249,18 @@ PW__DEF void pw__pool_run(int threads, int n, pw_task_fn task, void *ctx)
  * each asleep until the caller hands out a task set. The caller works on
  * the set too, and returns when all its tasks have run. gen counts the
  * sets handed out (and the stop): a thread that has seen set `seen` waits
- * for gen to move, spinning a little first (under its lock a crew's
- * sets often follow each other within microseconds), then asleep. */
+ * for gen to move, spinning first, then asleep. The spin is long:
+ * PW_CREW_SPIN pause instructions, 2,000,000 by default (about 30 ms on
+ * the 2-core Xeon of bench/results.md, 15 ns a pause). The methods hand
+ * out many small sets between serial steps (lapped_create paints each of
+ * ~1,200 pastes, ~0.25 ms of work, after ~1 ms of growth; lst_create
+ * covers each clump): a thread woken from its condition variable arrives
+ * tens of microseconds late, a good part of such a set, so a short spin
+ * (20,000 pauses: 0.3 ms) left the coverage at 1.40-1.59 times faster on 2
+ * threads, the long one at 1.70-1.84 (bunny00, bench_threads). The cost:
+ * while a crew lives (one create or render call, pw_parallel_start to
+ * pw_parallel_stop) its threads keep their cores busy between sets.
+ * Define PW_CREW_SPIN smaller (0: no spin) where that matters more. */
 typedef struct pw__crew {
     pthread_mutex_t lock;
     pthread_cond_t wake, finished;
@@ -12265,13 +12275,24 @@ typedef struct pw__crew {
 /* gen and done are read outside the lock while spinning: atomically where
  * the compiler has the builtins, else not at all (no spin). */
 #if defined(__GNUC__) || defined(__clang__)
-#define PW__CREW_SPIN 20000
+#ifndef PW_CREW_SPIN
+#define PW_CREW_SPIN 2000000
+#endif
+#define PW__CREW_SPIN PW_CREW_SPIN
 #define PW__CREW_PEEK(x) __atomic_load_n(&(x), __ATOMIC_ACQUIRE)
 #define PW__CREW_SET(x, v) __atomic_store_n(&(x), (v), __ATOMIC_RELEASE)
+#if defined(__x86_64__) || defined(__i386__)
+#define PW__CREW_PAUSE() __builtin_ia32_pause()
+#elif defined(__aarch64__)
+#define PW__CREW_PAUSE() __asm__ __volatile__("yield")
+#else
+#define PW__CREW_PAUSE() ((void)0)
+#endif
 #else
 #define PW__CREW_SPIN 0
 #define PW__CREW_PEEK(x) (x)
 #define PW__CREW_SET(x, v) ((x) = (v))
+#define PW__CREW_PAUSE() ((void)0)
 #endif
 
 /* Runs the set's tasks until none is left to claim; called, and returns,
@@ -12299,8 +12320,7 @@ PW__DEF void *pw__crew_main(void *arg)
     for (;;) {
         if (c->gen == seen) {
             pthread_mutex_unlock(&c->lock);
-            for (k = 0; k < PW__CREW_SPIN && PW__CREW_PEEK(c->gen) == seen; k++) {
-            }
+            for (k = 0; k < PW__CREW_SPIN && PW__CREW_PEEK(c->gen) == seen; k++) PW__CREW_PAUSE();
             pthread_mutex_lock(&c->lock);
         }
         while (c->gen == seen) pthread_cond_wait(&c->wake, &c->lock);
@@ -12334,8 +12354,7 @@ PW__DEF int pw__crew_run(pw__crew *c, int n, pw_task_fn task, void *ctx)
     pw__crew_work(c);
     if (c->done < n) {
         pthread_mutex_unlock(&c->lock);
-        for (k = 0; k < PW__CREW_SPIN && PW__CREW_PEEK(c->done) < n; k++) {
-        }
+        for (k = 0; k < PW__CREW_SPIN && PW__CREW_PEEK(c->done) < n; k++) PW__CREW_PAUSE();
         pthread_mutex_lock(&c->lock);
     }
     while (c->done < n) pthread_cond_wait(&c->finished, &c->lock);

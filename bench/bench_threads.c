@@ -349,10 +349,19 @@ static void pgp_threads(void)
     bench_mesh_free(&rung[1]);
 }
 
-int main(void)
+/* With arguments, only the named parts (lapped, lst, pgp). */
+static int wanted(int argc, char **argv, const char *name)
 {
-    lapped_threads();
-    lst_threads();
-    pgp_threads();
+    int k;
+    for (k = 1; k < argc; k++)
+        if (!strcmp(argv[k], name)) return 1;
+    return argc < 2;
+}
+
+int main(int argc, char **argv)
+{
+    if (wanted(argc, argv, "lapped")) lapped_threads();
+    if (wanted(argc, argv, "lst")) lst_threads();
+    if (wanted(argc, argv, "pgp")) pgp_threads();
     return 0;
 }

@@ -142,8 +142,18 @@ PW__DEF void pw__pool_run(int threads, int n, pw_task_fn task, void *ctx)
  * each asleep until the caller hands out a task set. The caller works on
  * the set too, and returns when all its tasks have run. gen counts the
  * sets handed out (and the stop): a thread that has seen set `seen` waits
- * for gen to move, spinning a little first (under its lock a crew's
- * sets often follow each other within microseconds), then asleep. */
+ * for gen to move, spinning first, then asleep. The spin is long:
+ * PW_CREW_SPIN pause instructions, 2,000,000 by default (about 30 ms on
+ * the 2-core Xeon of bench/results.md, 15 ns a pause). The methods hand
+ * out many small sets between serial steps (lapped_create paints each of
+ * ~1,200 pastes, ~0.25 ms of work, after ~1 ms of growth; lst_create
+ * covers each clump): a thread woken from its condition variable arrives
+ * tens of microseconds late, a good part of such a set, so a short spin
+ * (20,000 pauses: 0.3 ms) left the coverage at 1.40-1.59 times faster on 2
+ * threads, the long one at 1.70-1.84 (bunny00, bench_threads). The cost:
+ * while a crew lives (one create or render call, pw_parallel_start to
+ * pw_parallel_stop) its threads keep their cores busy between sets.
+ * Define PW_CREW_SPIN smaller (0: no spin) where that matters more. */
 typedef struct pw__crew {
     pthread_mutex_t lock;
     pthread_cond_t wake, finished;
@@ -158,13 +168,24 @@ typedef struct pw__crew {
 /* gen and done are read outside the lock while spinning: atomically where
  * the compiler has the builtins, else not at all (no spin). */
 #if defined(__GNUC__) || defined(__clang__)
-#define PW__CREW_SPIN 20000
+#ifndef PW_CREW_SPIN
+#define PW_CREW_SPIN 2000000
+#endif
+#define PW__CREW_SPIN PW_CREW_SPIN
 #define PW__CREW_PEEK(x) __atomic_load_n(&(x), __ATOMIC_ACQUIRE)
 #define PW__CREW_SET(x, v) __atomic_store_n(&(x), (v), __ATOMIC_RELEASE)
+#if defined(__x86_64__) || defined(__i386__)
+#define PW__CREW_PAUSE() __builtin_ia32_pause()
+#elif defined(__aarch64__)
+#define PW__CREW_PAUSE() __asm__ __volatile__("yield")
+#else
+#define PW__CREW_PAUSE() ((void)0)
+#endif
 #else
 #define PW__CREW_SPIN 0
 #define PW__CREW_PEEK(x) (x)
 #define PW__CREW_SET(x, v) ((x) = (v))
+#define PW__CREW_PAUSE() ((void)0)
 #endif
 
 /* Runs the set's tasks until none is left to claim; called, and returns,
@@ -192,8 +213,7 @@ PW__DEF void *pw__crew_main(void *arg)
     for (;;) {
         if (c->gen == seen) {
             pthread_mutex_unlock(&c->lock);
-            for (k = 0; k < PW__CREW_SPIN && PW__CREW_PEEK(c->gen) == seen; k++) {
-            }
+            for (k = 0; k < PW__CREW_SPIN && PW__CREW_PEEK(c->gen) == seen; k++) PW__CREW_PAUSE();
             pthread_mutex_lock(&c->lock);
         }
         while (c->gen == seen) pthread_cond_wait(&c->wake, &c->lock);
@@ -227,8 +247,7 @@ PW__DEF int pw__crew_run(pw__crew *c, int n, pw_task_fn task, void *ctx)
     pw__crew_work(c);
     if (c->done < n) {
         pthread_mutex_unlock(&c->lock);
-        for (k = 0; k < PW__CREW_SPIN && PW__CREW_PEEK(c->done) < n; k++) {
-        }
+        for (k = 0; k < PW__CREW_SPIN && PW__CREW_PEEK(c->done) < n; k++) PW__CREW_PAUSE();
         pthread_mutex_lock(&c->lock);
     }
     while (c->done < n) pthread_cond_wait(&c->finished, &c->lock);

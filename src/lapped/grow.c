@@ -261,21 +261,23 @@ static void lapped__cover_retire(lapped__cover *c, int f)
  * own): full[i] says whether triangle i of the paste is now covered. The
  * open list changes after, in the paste's order, so the coverage is the
  * same for any number of threads. */
+#define LAPPED__PAINT_SHARES 256
+
 typedef struct lapped__painting {
     lapped__cover *c;
     const lapped_paste *q;
     const lapped__eroded *er;
     unsigned char *full;
-    int shares;
+    int shares, start[LAPPED__PAINT_SHARES + 1]; /* share k: the paste's triangles start[k] to start[k+1] */
 } lapped__painting;
 
 static void lapped__paint_share(void *ctx, int share)
 {
     const lapped__painting *w = (const lapped__painting *)ctx;
     const lapped_paste *q = w->q;
-    int i = (int)((long long)q->nfaces * share / w->shares),
-        end = (int)((long long)q->nfaces * (share + 1) / w->shares);
-    for (; i < end; i++) w->full[i] = (unsigned char)lapped__cover_paint(w->c, q->faces[i], q->uvs + 6 * i, w->er);
+    int i;
+    for (i = w->start[share]; i < w->start[share + 1]; i++)
+        w->full[i] = (unsigned char)lapped__cover_paint(w->c, q->faces[i], q->uvs + 6 * i, w->er);
 }
 
 /* Lattice points below which a paste is painted on the calling thread
@@ -283,18 +285,28 @@ static void lapped__paint_share(void *ctx, int share)
  * many). */
 #define LAPPED__PAINT_SERIAL 4096
 
+/* The paste's triangles in shares of about equal lattice points (a
+ * triangle's lattice grows with its texture area: equal counts of
+ * triangles can differ several times in work), four per thread. */
 static void lapped__paint(const pw_parallel *par, lapped__cover *c, const lapped_paste *q, const lapped__eroded *er,
                           unsigned char *full)
 {
     lapped__painting w;
-    size_t points = 0;
-    int i, width = pw_parallel_width(par);
+    size_t points = 0, done = 0;
+    int i, k = 1, width = pw_parallel_width(par);
     for (i = 0; i < q->nfaces && width > 1; i++) points += c->off[q->faces[i] + 1] - c->off[q->faces[i]];
     w.c = c;
     w.q = q;
     w.er = er;
     w.full = full;
     w.shares = points < LAPPED__PAINT_SERIAL ? 1 : (q->nfaces < 4 * width ? q->nfaces : 4 * width);
+    if (w.shares > LAPPED__PAINT_SHARES) w.shares = LAPPED__PAINT_SHARES;
+    w.start[0] = 0;
+    for (i = 0; i < q->nfaces && k < w.shares; i++) {
+        done += c->off[q->faces[i] + 1] - c->off[q->faces[i]];
+        while (k < w.shares && done * (size_t)w.shares >= points * (size_t)k) w.start[k++] = i + 1;
+    }
+    while (k <= w.shares) w.start[k++] = q->nfaces;
     if (w.shares <= 1) lapped__paint_share(&w, 0);
     else pw_parallel_for(par, w.shares, lapped__paint_share, &w);
 }

@@ -238,7 +238,9 @@ typedef struct lapped_options {
     lapped_field_mode field;              /* default LAPPED_FIELD_UP */
     float up[3];                          /* UP: default (0,1,0) */
     float scale;                          /* side of a texture patch on the surface, mesh units;
-                                  0: a tenth of the bounding-box diagonal */
+                                  0: a tenth of the bounding-box diagonal; lapped_create
+                                  refuses a field whose S or T, at any triangle, is under
+                                  1e-5 or over 20 times the diagonal */
     const lapped_constraint *constraints; /* CONSTRAINTS */
     int nconstraints;
     const float *face_t;          /* FACES: ntris*3 "up" vectors (|T| = scale) */
