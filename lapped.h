@@ -8635,9 +8635,9 @@ PW__DEF void pw__pool_run(int threads, int n, pw_task_fn task, void *ctx)
  * for gen to move, spinning first, then asleep. The spin is long:
  * PW_CREW_SPIN pause instructions, 2,000,000 by default (about 30 ms on
  * the 2-core Xeon of bench/results.md, 15 ns a pause). The methods hand
- * out many small sets between serial steps (lapped_create paints each of
- * ~1,200 pastes, ~0.25 ms of work, after ~1 ms of growth; lst_create
- * covers each clump): a thread woken from its condition variable arrives
+ * out many small sets between serial steps (lapped_create paints each
+ * paste, ~0.25 ms of work, after ~1 ms of growth; lst_create covers each
+ * clump, ~0.1 ms): a thread woken from its condition variable arrives
  * tens of microseconds late, a good part of such a set, so a short spin
  * (20,000 pauses: 0.3 ms) left the coverage at 1.40-1.59 times faster on 2
  * threads, the long one at 1.70-1.84 (bunny00, bench_threads). The cost:
@@ -18673,11 +18673,11 @@ static int lapped__setup(lapped__paster *P, const lapped_mesh *mesh, const lappe
             PW_OK ||
         (r = lapped__setup_patches(P, patches, npatches, e)) != PW_OK)
         return r;
+    if ((r = lapped__check_frames(P, e)) != PW_OK) return r;
     /* before the coverage lattice, whose size grows as the scale shrinks:
      * the count a fill would reach is 1.4-1.6 times the area estimate
      * (CGAL's elephant, cow, knot and mushroom at four scales), so 1.5
      * times it beyond the limit is refused at once, not after the limit */
-    if ((r = lapped__check_frames(P, e)) != PW_OK) return r;
     *estimate = lapped__estimate(P);
     if (1.5 * *estimate > P->o.max_pastes)
         return pw_fail(e, PW_ERR_LIMIT,

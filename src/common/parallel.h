@@ -145,9 +145,9 @@ PW__DEF void pw__pool_run(int threads, int n, pw_task_fn task, void *ctx)
  * for gen to move, spinning first, then asleep. The spin is long:
  * PW_CREW_SPIN pause instructions, 2,000,000 by default (about 30 ms on
  * the 2-core Xeon of bench/results.md, 15 ns a pause). The methods hand
- * out many small sets between serial steps (lapped_create paints each of
- * ~1,200 pastes, ~0.25 ms of work, after ~1 ms of growth; lst_create
- * covers each clump): a thread woken from its condition variable arrives
+ * out many small sets between serial steps (lapped_create paints each
+ * paste, ~0.25 ms of work, after ~1 ms of growth; lst_create covers each
+ * clump, ~0.1 ms): a thread woken from its condition variable arrives
  * tens of microseconds late, a good part of such a set, so a short spin
  * (20,000 pauses: 0.3 ms) left the coverage at 1.40-1.59 times faster on 2
  * threads, the long one at 1.70-1.84 (bunny00, bench_threads). The cost:

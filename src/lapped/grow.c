@@ -1624,11 +1624,11 @@ static int lapped__setup(lapped__paster *P, const lapped_mesh *mesh, const lappe
             PW_OK ||
         (r = lapped__setup_patches(P, patches, npatches, e)) != PW_OK)
         return r;
+    if ((r = lapped__check_frames(P, e)) != PW_OK) return r;
     /* before the coverage lattice, whose size grows as the scale shrinks:
      * the count a fill would reach is 1.4-1.6 times the area estimate
      * (CGAL's elephant, cow, knot and mushroom at four scales), so 1.5
      * times it beyond the limit is refused at once, not after the limit */
-    if ((r = lapped__check_frames(P, e)) != PW_OK) return r;
     *estimate = lapped__estimate(P);
     if (1.5 * *estimate > P->o.max_pastes)
         return pw_fail(e, PW_ERR_LIMIT,

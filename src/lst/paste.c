@@ -511,8 +511,13 @@ static void lst__uncover_remove(lst__fill *F, int t)
  * paste's opaque core is marked, so that earlier pastes there can be
  * dropped as hidden. Points already opaque are not sampled again.
  *
- * On threads the clump goes in shares: a clump holds each tetrahedron
- * once, and each one's samples and mark are its own. full[i] says whether
+ * On threads the clump goes in shares, dealt round-robin (tetrahedron i
+ * to share i mod shares): the costly tetrahedra, those the paste's edge
+ * crosses, sampled point by point, lie together in the clump's order, so
+ * contiguous ranges kept one thread waiting (the kiwi's coverage stage on
+ * 2 threads, six runs each: median 1.67 times faster with ranges, 1.78
+ * dealt). A clump holds each tetrahedron once, and each one's samples and
+ * mark are its own. full[i] says whether
  * clump tetrahedron i is now covered; the uncovered list changes after, in
  * the clump's order, so the fill is the same for any number of threads. */
 typedef struct lst__covering {
@@ -526,9 +531,8 @@ static void lst__coverage_share(void *ctx, int share)
     const lst__covering *w = (const lst__covering *)ctx;
     lst__fill *F = w->F;
     const lst__mask *m = w->m;
-    int i = (int)((long long)F->nct * share / w->shares), end = (int)((long long)F->nct * (share + 1) / w->shares), k,
-        q;
-    for (; i < end; i++) {
+    int i, k, q;
+    for (i = share; i < F->nct; i += w->shares) {
         int t = F->ctet[i], all = 1, ov;
         unsigned char *cv = F->cov + (size_t)t * F->nsamp;
         double c[4][3];
