@@ -16,37 +16,37 @@
  *   6015: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
  *   6439: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
  *   8173: src/common/zsparse.h, complex Hermitian sparse systems, solved by conjugate grad
- *   8673: src/common/zamg.h, a smoothed-aggregation multigrid preconditioner for the co
- *   9706: src/common/raster.h, exact scan conversion of 2D triangles.
- *  10218: src/common/parallel.h, a parallel for, the one way work is split across threads.
- *  10561: src/common/render.h, a small deterministic software renderer for textured trian
- *  12725: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
- *  12922: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
- *  13007: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
- *  13196: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
- *  14116: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
- *  14814: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
- *  15050: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
- *  15814: src/common/periodic.h, the periodic global parameterization of a triangle mesh al
- *  16703: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
- *  17464: src/pgp/tile3.h, sampling a material-space tile (Ray et al. 2009, §2: "a 3
- *  17572: src/common/glue.h, what every method header needs between its public types an
- *  17908: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  18572: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
- *  19069: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
- *  19555: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
- *  19698: src/common/kdtree.h, nearest-neighbour search among n points of dimension d, wi
- *  20041: src/common/pca.h, principal component analysis of vectors streamed one at a 
- *  20228: src/pgp/core.c, pgp.h's glue to the shared core, its defaults, and the map
- *  20442: src/pgp/field.c, §2.1 effect areas and §2.2 interpolation of the constrai
- *  20641: src/pgp/solve.c, §2.3 the periodic global parameterization, the recovery o
- *  21184: src/pgp/edit.c, the public editing calls of a mapping. §2.1 (Ray, Lévy, 
- *  21329: src/pgp/render.c, §3 rendering, and a cleaner treatment of the vortices.
- *  21691: src/pgp/builtin.c, built-in meshes and material-space tiles for demos and tes
- *  21960: src/pgp/io.c, files and memory for pgp.h: material-space tiles (NRRD, or
- *  22308: src/pgp/export.c, the mapping for other programs. A viewer that knows nothin
- *  22534: src/pgp/morph.c, the inputs of §1 (keys brought to the tile size, made til
- *  23213: src/pgp/synth.c, §1.2 constrained tile synthesis, and the whole of §1: ke
+ *   8698: src/common/zamg.h, a smoothed-aggregation multigrid preconditioner for the co
+ *   9731: src/common/raster.h, exact scan conversion of 2D triangles.
+ *  10243: src/common/parallel.h, a parallel for, the one way work is split across threads.
+ *  10586: src/common/render.h, a small deterministic software renderer for textured trian
+ *  12750: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
+ *  12947: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
+ *  13032: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
+ *  13221: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
+ *  14141: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
+ *  14839: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
+ *  15075: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
+ *  15839: src/common/periodic.h, the periodic global parameterization of a triangle mesh al
+ *  16765: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
+ *  17526: src/pgp/tile3.h, sampling a material-space tile (Ray et al. 2009, §2: "a 3
+ *  17634: src/common/glue.h, what every method header needs between its public types an
+ *  17970: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  18634: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
+ *  19131: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
+ *  19617: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
+ *  19760: src/common/kdtree.h, nearest-neighbour search among n points of dimension d, wi
+ *  20103: src/common/pca.h, principal component analysis of vectors streamed one at a 
+ *  20290: src/pgp/core.c, pgp.h's glue to the shared core, its defaults, and the map
+ *  20504: src/pgp/field.c, §2.1 effect areas and §2.2 interpolation of the constrai
+ *  20703: src/pgp/solve.c, §2.3 the periodic global parameterization, the recovery o
+ *  21247: src/pgp/edit.c, the public editing calls of a mapping. §2.1 (Ray, Lévy, 
+ *  21392: src/pgp/render.c, §3 rendering, and a cleaner treatment of the vortices.
+ *  21754: src/pgp/builtin.c, built-in meshes and material-space tiles for demos and tes
+ *  22023: src/pgp/io.c, files and memory for pgp.h: material-space tiles (NRRD, or
+ *  22371: src/pgp/export.c, the mapping for other programs. A viewer that knows nothin
+ *  22597: src/pgp/morph.c, the inputs of §1 (keys brought to the tile size, made til
+ *  23276: src/pgp/synth.c, §1.2 constrained tile synthesis, and the whole of §1: ke
  */
 /* pgp.h - material-space texturing with a periodic global parameterization.
  *
@@ -8222,6 +8222,7 @@ struct pw_parallel;
 typedef struct pw_zrun {
     void (*pfor)(const struct pw_parallel *par, int n, void (*task)(void *, int), void *ctx);
     const struct pw_parallel *par;
+    int width; /* how many tasks of pfor may run at once (pw_parallel_width) */
 } pw_zrun;
 
 /* At most this many blocks of at least PW__ZBLOCK_ROWS rows; loops over
@@ -8389,7 +8390,7 @@ typedef struct pw_zasm {
     pw_zcsr A;
     int *dpos, *pos;
     double *b;
-    int next;
+    int next, npairs; /* the pair pw_zasm_term adds next; how many pos holds */
 } pw_zasm;
 
 PW__DEF void pw_zasm_free(const pw_alloc *a, pw_zasm *S)
@@ -8419,9 +8420,33 @@ PW__DEF int pw_zasm_init(const pw_alloc *a, pw_zasm *S, int n, const pw_zpairs *
     }
     for (k = 0, np = 0; k < pr->count; k++)
         if (pr->pair(pr->ctx, k, all + 2 * np)) np++;
+    S->npairs = np;
     r = pw_zcsr_pattern(a, n, np, all, &S->A, S->dpos, S->pos, e);
     pw_free(a, all);
     return r;
+}
+
+/* dst: src's structure (n, pattern, dpos and pos), values and right-hand
+ * side zero, run NULL; on failure what was allocated is left for
+ * pw_zasm_free. */
+PW__DEF int pw_zasm_copy(const pw_alloc *a, pw_zasm *dst, const pw_zasm *src, pw_err *e)
+{
+    size_t n = (size_t)src->A.n, nnz = (size_t)src->A.rowptr[n], np = (size_t)src->npairs;
+    memset(dst, 0, sizeof *dst);
+    dst->A.n = src->A.n;
+    dst->npairs = src->npairs;
+    dst->A.rowptr = (int *)pw_alloc_array(a, n + 1, sizeof(int), "complex system", e);
+    dst->A.col = (int *)pw_alloc_array(a, nnz + 1, sizeof(int), "complex system", e);
+    dst->A.val = (double *)pw_calloc_array(a, 2 * nnz + 2, sizeof(double), "complex system", e);
+    dst->dpos = (int *)pw_alloc_array(a, n + 1, sizeof(int), "complex system", e);
+    dst->pos = (int *)pw_alloc_array(a, 2 * np + 1, sizeof(int), "complex system", e);
+    dst->b = (double *)pw_calloc_array(a, 2 * n + 1, sizeof(double), "complex system", e);
+    if (!dst->A.rowptr || !dst->A.col || !dst->A.val || !dst->dpos || !dst->pos || !dst->b) return PW_ERR_NOMEM;
+    memcpy(dst->A.rowptr, src->A.rowptr, (n + 1) * sizeof(int));
+    memcpy(dst->A.col, src->A.col, nnz * sizeof(int));
+    memcpy(dst->dpos, src->dpos, n * sizeof(int));
+    memcpy(dst->pos, src->pos, 2 * np * sizeof(int));
+    return PW_OK;
 }
 
 /* Adds the term w |z_i - c z_j|^2 (i or j -1 where that end is not an
@@ -16424,7 +16449,7 @@ PW__DEF int pw_periodic_solve_k(pw_periodic *P, pw_periodic_zsys *Z, double *z, 
     Z->k = k;
     Z->edge = (double *)pw_alloc_array(&P->a, 9 * (size_t)P->m.nf + 1, sizeof(double), "PGP", e);
     if (!Z->edge) r = PW_ERR_NOMEM;
-    else pw__zfor(&P->run, P->m.nf, pw__zblocks(P->m.nf), pw_periodic_edge_terms, Z);
+    else pw__zfor(A->run, P->m.nf, pw__zblocks(P->m.nf), pw_periodic_edge_terms, Z);
     memset(A->val, 0, sizeof(double) * 2 * (size_t)A->rowptr[n]);
     memset(b, 0, sizeof(double) * 2 * (size_t)n);
     Z->S.next = 0;
@@ -16488,23 +16513,52 @@ PW__DEF void pw__periodic_turn_block(void *ctx, int b)
     }
 }
 
+/* s and t solved at once, each on one thread, when the solve's run has
+ * two (pw_periodic_solve): their systems share the structure only. */
+typedef struct pw__periodic_both {
+    pw_periodic *P;
+    pw_periodic_zsys Z[2];
+    int n, r[2];
+    pw_err e[2];
+} pw__periodic_both;
+
+PW__DEF void pw__periodic_solve_task(void *ctx, int k)
+{
+    pw__periodic_both *B = (pw__periodic_both *)ctx;
+    pw_err_clear(&B->e[k]);
+    B->r[k] = pw_periodic_solve_k(B->P, &B->Z[k], k ? B->P->zt : B->P->zs, B->n, k, &B->e[k]);
+}
+
+/* Unknowns from which s and t are solved side by side on two threads. */
+#define PW__PERIODIC_BOTH 4096
+
 /* §2.3 over the free vertices: "in the special case of initialization, we
  * lock a single vertex s_0 = 0 <=> z_0 = [1,0], else s is locked outside
- * the effect area" (whole: the first vertex of every component locked). */
+ * the effect area" (whole: the first vertex of every component locked).
+ *
+ * s and t are independent systems. On two threads or more they are solved
+ * at the same time, one on each thread, their row loops on that thread
+ * alone: most of a solve is sequential (the aggregation, the coarsest
+ * factor, IC(0)'s triangular solves), so this halves it where the loops
+ * on threads took 40% off (bunny00). The price: a second copy of the
+ * system and of its multigrid hierarchy while both run. Both ways give the
+ * same bits: the row loops' blocks don't depend on the threads. */
 PW__DEF int pw_periodic_solve(pw_periodic *P, const unsigned char *vfree, int whole, pw_err *e)
 {
     int *id = (int *)pw_alloc_array(&P->a, (size_t)P->m.nv, sizeof(int), "PGP", e);
     int *comp = (int *)pw_calloc_array(&P->a, (size_t)P->m.nf * 2, sizeof(int), "PGP", e);
     unsigned char *lock = (unsigned char *)pw_calloc_array(&P->a, (size_t)P->m.nv, 1, "PGP", e);
     int n = 0, v, f, c, nc = 0, r = id && comp && lock ? PW_OK : PW_ERR_NOMEM;
-    pw_periodic_zsys Z;
+    pw__periodic_both B;
+    pw_periodic_zsys *Z = B.Z;
     pw_zpairs pr;
-    memset(&Z, 0, sizeof Z);
-    Z.id = id;
-    Z.P = P;
+    memset(&B, 0, sizeof B);
+    B.P = P;
+    Z[0].id = Z[1].id = id;
+    Z[0].P = Z[1].P = P;
     pr.count = 3 * P->m.nf;
     pr.pair = pw_periodic_pair;
-    pr.ctx = &Z;
+    pr.ctx = &Z[0];
     if (r == PW_OK && whole) r = pw_hmesh_components(&P->a, &P->m.hm, comp, &nc, e);
     for (f = 0; r == PW_OK && whole && f < P->m.nf; f++) /* the first triangle of each component */
         if (!comp[P->m.nf + comp[f]]) {
@@ -16523,14 +16577,22 @@ PW__DEF int pw_periodic_solve(pw_periodic *P, const unsigned char *vfree, int wh
     }
     pw_free(&P->a, comp);
     pw__zfor(&P->run, P->m.nf, pw__zblocks(P->m.nf), pw__periodic_grad_block, P);
-    if (r == PW_OK && n > 0) r = pw_zasm_init(&P->a, &Z.S, n, &pr, e);
-    if (r == PW_OK && n > 0) {
-        Z.S.A.run = &P->run;
-        r = pw_periodic_solve_k(P, &Z, P->zs, n, 0, e);
+    if (r == PW_OK && n > 0) r = pw_zasm_init(&P->a, &Z[0].S, n, &pr, e);
+    if (r == PW_OK && n >= PW__PERIODIC_BOTH && P->run.pfor && P->run.width > 1) {
+        B.n = n;
+        if ((r = pw_zasm_copy(&P->a, &Z[1].S, &Z[0].S, e)) == PW_OK) {
+            P->run.pfor(P->run.par, 2, pw__periodic_solve_task, &B);
+            for (c = 0; c < 2 && r == PW_OK; c++)
+                if ((r = B.r[c]) != PW_OK) pw_fail(e, r, "%s", B.e[c].msg);
+        }
+    } else if (r == PW_OK && n > 0) {
+        Z[0].S.A.run = &P->run;
+        r = pw_periodic_solve_k(P, &Z[0], P->zs, n, 0, e);
+        if (r == PW_OK) r = pw_periodic_solve_k(P, &Z[0], P->zt, n, 1, e);
     }
-    if (r == PW_OK && n > 0) r = pw_periodic_solve_k(P, &Z, P->zt, n, 1, e);
     if (r == PW_OK) pw__zfor(&P->run, P->m.nv, pw__zblocks(P->m.nv), pw__periodic_turn_block, P);
-    pw_zasm_free(&P->a, &Z.S);
+    pw_zasm_free(&P->a, &Z[0].S);
+    pw_zasm_free(&P->a, &Z[1].S);
     pw_free(&P->a, id);
     pw_free(&P->a, lock);
     return r;
@@ -21116,6 +21178,7 @@ static int pgp__create_map(const pgp_mesh *mesh, const pgp_options *opt, pgp_map
     P->par = pw_parallel_make(o.threads, o.parallel, o.parallel_pool);
     P->pp.run.pfor = pw_parallel_for;
     P->pp.run.par = &P->par;
+    P->pp.run.width = pw_parallel_width(&P->par);
     out->state = P;
     out->allocator = pgp__allocator(&a);
     pw_parallel_start(&P->par); /* one crew for the whole map's solves */

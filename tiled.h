@@ -17,27 +17,27 @@
  *   6253: src/common/subdiv.h, Catmull-Clark subdivision (Catmull and Clark 1978) with
  *   6392: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
  *   8126: src/common/zsparse.h, complex Hermitian sparse systems, solved by conjugate grad
- *   8626: src/common/zamg.h, a smoothed-aggregation multigrid preconditioner for the co
- *   9659: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
- *   9856: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
- *   9941: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
- *  10705: src/common/periodic.h, the periodic global parameterization of a triangle mesh al
- *  11594: src/common/raster.h, exact scan conversion of 2D triangles.
- *  12108: src/common/parallel.h, a parallel for, the one way work is split across threads.
- *  12451: src/common/render.h, a small deterministic software renderer for textured trian
- *  14615: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
- *  15112: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
- *  15598: src/common/glue.h, what every method header needs between its public types an
- *  15934: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  16598: src/tiled/core.c, tiled.h's glue to the shared core, its defaults, result
- *  16687: src/tiled/layout.c, ch. III.1, the boundary types and the tiled texture they
- *  16959: src/tiled/cells.c, beyond the thesis (issue 23): tiles of a chosen size on an
- *  17877: src/tiled/map.c, ch. III.2, the texture mapping algorithm of Fig. 29
- *  18146: src/tiled/synth.c, ch. III.1.3, tiled texture image synthesis: an edge-matche
- *  18592: src/tiled/validate.c, checks a hand-made tiled texture (the thesis's Figs. 39,
- *  18720: src/tiled/builtin.c, built-in meshes and exemplars for demos and tests: the
- *  18917: src/tiled/render.c, a software rendering of a mapped mesh (the thesis rendered
- *  19141: src/tiled/io.c, files. Meshes and exemplars in; the mapped mesh with its t
+ *   8651: src/common/zamg.h, a smoothed-aggregation multigrid preconditioner for the co
+ *   9684: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
+ *   9881: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
+ *   9966: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
+ *  10730: src/common/periodic.h, the periodic global parameterization of a triangle mesh al
+ *  11656: src/common/raster.h, exact scan conversion of 2D triangles.
+ *  12170: src/common/parallel.h, a parallel for, the one way work is split across threads.
+ *  12513: src/common/render.h, a small deterministic software renderer for textured trian
+ *  14677: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
+ *  15174: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
+ *  15660: src/common/glue.h, what every method header needs between its public types an
+ *  15996: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  16660: src/tiled/core.c, tiled.h's glue to the shared core, its defaults, result
+ *  16749: src/tiled/layout.c, ch. III.1, the boundary types and the tiled texture they
+ *  17021: src/tiled/cells.c, beyond the thesis (issue 23): tiles of a chosen size on an
+ *  17939: src/tiled/map.c, ch. III.2, the texture mapping algorithm of Fig. 29
+ *  18208: src/tiled/synth.c, ch. III.1.3, tiled texture image synthesis: an edge-matche
+ *  18654: src/tiled/validate.c, checks a hand-made tiled texture (the thesis's Figs. 39,
+ *  18782: src/tiled/builtin.c, built-in meshes and exemplars for demos and tests: the
+ *  18979: src/tiled/render.c, a software rendering of a mapped mesh (the thesis rendered
+ *  19203: src/tiled/io.c, files. Meshes and exemplars in; the mapped mesh with its t
  */
 /* tiled.h - seamless, singularity-free tiled textures on quad meshes.
  *
@@ -8175,6 +8175,7 @@ struct pw_parallel;
 typedef struct pw_zrun {
     void (*pfor)(const struct pw_parallel *par, int n, void (*task)(void *, int), void *ctx);
     const struct pw_parallel *par;
+    int width; /* how many tasks of pfor may run at once (pw_parallel_width) */
 } pw_zrun;
 
 /* At most this many blocks of at least PW__ZBLOCK_ROWS rows; loops over
@@ -8342,7 +8343,7 @@ typedef struct pw_zasm {
     pw_zcsr A;
     int *dpos, *pos;
     double *b;
-    int next;
+    int next, npairs; /* the pair pw_zasm_term adds next; how many pos holds */
 } pw_zasm;
 
 PW__DEF void pw_zasm_free(const pw_alloc *a, pw_zasm *S)
@@ -8372,9 +8373,33 @@ PW__DEF int pw_zasm_init(const pw_alloc *a, pw_zasm *S, int n, const pw_zpairs *
     }
     for (k = 0, np = 0; k < pr->count; k++)
         if (pr->pair(pr->ctx, k, all + 2 * np)) np++;
+    S->npairs = np;
     r = pw_zcsr_pattern(a, n, np, all, &S->A, S->dpos, S->pos, e);
     pw_free(a, all);
     return r;
+}
+
+/* dst: src's structure (n, pattern, dpos and pos), values and right-hand
+ * side zero, run NULL; on failure what was allocated is left for
+ * pw_zasm_free. */
+PW__DEF int pw_zasm_copy(const pw_alloc *a, pw_zasm *dst, const pw_zasm *src, pw_err *e)
+{
+    size_t n = (size_t)src->A.n, nnz = (size_t)src->A.rowptr[n], np = (size_t)src->npairs;
+    memset(dst, 0, sizeof *dst);
+    dst->A.n = src->A.n;
+    dst->npairs = src->npairs;
+    dst->A.rowptr = (int *)pw_alloc_array(a, n + 1, sizeof(int), "complex system", e);
+    dst->A.col = (int *)pw_alloc_array(a, nnz + 1, sizeof(int), "complex system", e);
+    dst->A.val = (double *)pw_calloc_array(a, 2 * nnz + 2, sizeof(double), "complex system", e);
+    dst->dpos = (int *)pw_alloc_array(a, n + 1, sizeof(int), "complex system", e);
+    dst->pos = (int *)pw_alloc_array(a, 2 * np + 1, sizeof(int), "complex system", e);
+    dst->b = (double *)pw_calloc_array(a, 2 * n + 1, sizeof(double), "complex system", e);
+    if (!dst->A.rowptr || !dst->A.col || !dst->A.val || !dst->dpos || !dst->pos || !dst->b) return PW_ERR_NOMEM;
+    memcpy(dst->A.rowptr, src->A.rowptr, (n + 1) * sizeof(int));
+    memcpy(dst->A.col, src->A.col, nnz * sizeof(int));
+    memcpy(dst->dpos, src->dpos, n * sizeof(int));
+    memcpy(dst->pos, src->pos, 2 * np * sizeof(int));
+    return PW_OK;
 }
 
 /* Adds the term w |z_i - c z_j|^2 (i or j -1 where that end is not an
@@ -11315,7 +11340,7 @@ PW__DEF int pw_periodic_solve_k(pw_periodic *P, pw_periodic_zsys *Z, double *z, 
     Z->k = k;
     Z->edge = (double *)pw_alloc_array(&P->a, 9 * (size_t)P->m.nf + 1, sizeof(double), "PGP", e);
     if (!Z->edge) r = PW_ERR_NOMEM;
-    else pw__zfor(&P->run, P->m.nf, pw__zblocks(P->m.nf), pw_periodic_edge_terms, Z);
+    else pw__zfor(A->run, P->m.nf, pw__zblocks(P->m.nf), pw_periodic_edge_terms, Z);
     memset(A->val, 0, sizeof(double) * 2 * (size_t)A->rowptr[n]);
     memset(b, 0, sizeof(double) * 2 * (size_t)n);
     Z->S.next = 0;
@@ -11379,23 +11404,52 @@ PW__DEF void pw__periodic_turn_block(void *ctx, int b)
     }
 }
 
+/* s and t solved at once, each on one thread, when the solve's run has
+ * two (pw_periodic_solve): their systems share the structure only. */
+typedef struct pw__periodic_both {
+    pw_periodic *P;
+    pw_periodic_zsys Z[2];
+    int n, r[2];
+    pw_err e[2];
+} pw__periodic_both;
+
+PW__DEF void pw__periodic_solve_task(void *ctx, int k)
+{
+    pw__periodic_both *B = (pw__periodic_both *)ctx;
+    pw_err_clear(&B->e[k]);
+    B->r[k] = pw_periodic_solve_k(B->P, &B->Z[k], k ? B->P->zt : B->P->zs, B->n, k, &B->e[k]);
+}
+
+/* Unknowns from which s and t are solved side by side on two threads. */
+#define PW__PERIODIC_BOTH 4096
+
 /* §2.3 over the free vertices: "in the special case of initialization, we
  * lock a single vertex s_0 = 0 <=> z_0 = [1,0], else s is locked outside
- * the effect area" (whole: the first vertex of every component locked). */
+ * the effect area" (whole: the first vertex of every component locked).
+ *
+ * s and t are independent systems. On two threads or more they are solved
+ * at the same time, one on each thread, their row loops on that thread
+ * alone: most of a solve is sequential (the aggregation, the coarsest
+ * factor, IC(0)'s triangular solves), so this halves it where the loops
+ * on threads took 40% off (bunny00). The price: a second copy of the
+ * system and of its multigrid hierarchy while both run. Both ways give the
+ * same bits: the row loops' blocks don't depend on the threads. */
 PW__DEF int pw_periodic_solve(pw_periodic *P, const unsigned char *vfree, int whole, pw_err *e)
 {
     int *id = (int *)pw_alloc_array(&P->a, (size_t)P->m.nv, sizeof(int), "PGP", e);
     int *comp = (int *)pw_calloc_array(&P->a, (size_t)P->m.nf * 2, sizeof(int), "PGP", e);
     unsigned char *lock = (unsigned char *)pw_calloc_array(&P->a, (size_t)P->m.nv, 1, "PGP", e);
     int n = 0, v, f, c, nc = 0, r = id && comp && lock ? PW_OK : PW_ERR_NOMEM;
-    pw_periodic_zsys Z;
+    pw__periodic_both B;
+    pw_periodic_zsys *Z = B.Z;
     pw_zpairs pr;
-    memset(&Z, 0, sizeof Z);
-    Z.id = id;
-    Z.P = P;
+    memset(&B, 0, sizeof B);
+    B.P = P;
+    Z[0].id = Z[1].id = id;
+    Z[0].P = Z[1].P = P;
     pr.count = 3 * P->m.nf;
     pr.pair = pw_periodic_pair;
-    pr.ctx = &Z;
+    pr.ctx = &Z[0];
     if (r == PW_OK && whole) r = pw_hmesh_components(&P->a, &P->m.hm, comp, &nc, e);
     for (f = 0; r == PW_OK && whole && f < P->m.nf; f++) /* the first triangle of each component */
         if (!comp[P->m.nf + comp[f]]) {
@@ -11414,14 +11468,22 @@ PW__DEF int pw_periodic_solve(pw_periodic *P, const unsigned char *vfree, int wh
     }
     pw_free(&P->a, comp);
     pw__zfor(&P->run, P->m.nf, pw__zblocks(P->m.nf), pw__periodic_grad_block, P);
-    if (r == PW_OK && n > 0) r = pw_zasm_init(&P->a, &Z.S, n, &pr, e);
-    if (r == PW_OK && n > 0) {
-        Z.S.A.run = &P->run;
-        r = pw_periodic_solve_k(P, &Z, P->zs, n, 0, e);
+    if (r == PW_OK && n > 0) r = pw_zasm_init(&P->a, &Z[0].S, n, &pr, e);
+    if (r == PW_OK && n >= PW__PERIODIC_BOTH && P->run.pfor && P->run.width > 1) {
+        B.n = n;
+        if ((r = pw_zasm_copy(&P->a, &Z[1].S, &Z[0].S, e)) == PW_OK) {
+            P->run.pfor(P->run.par, 2, pw__periodic_solve_task, &B);
+            for (c = 0; c < 2 && r == PW_OK; c++)
+                if ((r = B.r[c]) != PW_OK) pw_fail(e, r, "%s", B.e[c].msg);
+        }
+    } else if (r == PW_OK && n > 0) {
+        Z[0].S.A.run = &P->run;
+        r = pw_periodic_solve_k(P, &Z[0], P->zs, n, 0, e);
+        if (r == PW_OK) r = pw_periodic_solve_k(P, &Z[0], P->zt, n, 1, e);
     }
-    if (r == PW_OK && n > 0) r = pw_periodic_solve_k(P, &Z, P->zt, n, 1, e);
     if (r == PW_OK) pw__zfor(&P->run, P->m.nv, pw__zblocks(P->m.nv), pw__periodic_turn_block, P);
-    pw_zasm_free(&P->a, &Z.S);
+    pw_zasm_free(&P->a, &Z[0].S);
+    pw_zasm_free(&P->a, &Z[1].S);
     pw_free(&P->a, id);
     pw_free(&P->a, lock);
     return r;

@@ -50,6 +50,7 @@ struct pw_parallel;
 typedef struct pw_zrun {
     void (*pfor)(const struct pw_parallel *par, int n, void (*task)(void *, int), void *ctx);
     const struct pw_parallel *par;
+    int width; /* how many tasks of pfor may run at once (pw_parallel_width) */
 } pw_zrun;
 
 /* At most this many blocks of at least PW__ZBLOCK_ROWS rows; loops over
@@ -217,7 +218,7 @@ typedef struct pw_zasm {
     pw_zcsr A;
     int *dpos, *pos;
     double *b;
-    int next;
+    int next, npairs; /* the pair pw_zasm_term adds next; how many pos holds */
 } pw_zasm;
 
 PW__DEF void pw_zasm_free(const pw_alloc *a, pw_zasm *S)
@@ -247,9 +248,33 @@ PW__DEF int pw_zasm_init(const pw_alloc *a, pw_zasm *S, int n, const pw_zpairs *
     }
     for (k = 0, np = 0; k < pr->count; k++)
         if (pr->pair(pr->ctx, k, all + 2 * np)) np++;
+    S->npairs = np;
     r = pw_zcsr_pattern(a, n, np, all, &S->A, S->dpos, S->pos, e);
     pw_free(a, all);
     return r;
+}
+
+/* dst: src's structure (n, pattern, dpos and pos), values and right-hand
+ * side zero, run NULL; on failure what was allocated is left for
+ * pw_zasm_free. */
+PW__DEF int pw_zasm_copy(const pw_alloc *a, pw_zasm *dst, const pw_zasm *src, pw_err *e)
+{
+    size_t n = (size_t)src->A.n, nnz = (size_t)src->A.rowptr[n], np = (size_t)src->npairs;
+    memset(dst, 0, sizeof *dst);
+    dst->A.n = src->A.n;
+    dst->npairs = src->npairs;
+    dst->A.rowptr = (int *)pw_alloc_array(a, n + 1, sizeof(int), "complex system", e);
+    dst->A.col = (int *)pw_alloc_array(a, nnz + 1, sizeof(int), "complex system", e);
+    dst->A.val = (double *)pw_calloc_array(a, 2 * nnz + 2, sizeof(double), "complex system", e);
+    dst->dpos = (int *)pw_alloc_array(a, n + 1, sizeof(int), "complex system", e);
+    dst->pos = (int *)pw_alloc_array(a, 2 * np + 1, sizeof(int), "complex system", e);
+    dst->b = (double *)pw_calloc_array(a, 2 * n + 1, sizeof(double), "complex system", e);
+    if (!dst->A.rowptr || !dst->A.col || !dst->A.val || !dst->dpos || !dst->pos || !dst->b) return PW_ERR_NOMEM;
+    memcpy(dst->A.rowptr, src->A.rowptr, (n + 1) * sizeof(int));
+    memcpy(dst->A.col, src->A.col, nnz * sizeof(int));
+    memcpy(dst->dpos, src->dpos, n * sizeof(int));
+    memcpy(dst->pos, src->pos, 2 * np * sizeof(int));
+    return PW_OK;
 }
 
 /* Adds the term w |z_i - c z_j|^2 (i or j -1 where that end is not an

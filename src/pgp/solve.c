@@ -476,6 +476,7 @@ static int pgp__create_map(const pgp_mesh *mesh, const pgp_options *opt, pgp_map
     P->par = pw_parallel_make(o.threads, o.parallel, o.parallel_pool);
     P->pp.run.pfor = pw_parallel_for;
     P->pp.run.par = &P->par;
+    P->pp.run.width = pw_parallel_width(&P->par);
     out->state = P;
     out->allocator = pgp__allocator(&a);
     pw_parallel_start(&P->par); /* one crew for the whole map's solves */
