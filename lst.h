@@ -30,18 +30,18 @@
  *  15300: src/common/bisect.h, graded, conforming tetrahedral meshes of a box by newest-v
  *  15627: src/common/stuffing.h, the built-in tetrahedralizer of lst.h, so that no external
  *  19004: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
- *  19147: src/common/pca.h, principal component analysis of vectors streamed one at a 
- *  19334: src/common/glue.h, what every method header needs between its public types an
- *  19670: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  20334: src/lst/core.c, lst.h's glue to the shared core, its defaults, the convers
- *  20668: src/lst/exemplar.c, solid exemplars (§5): sampling, the procedural exemplars 
- *  21240: src/lst/field.c, §5.2.2, the fields that orient and scale the pastes. The 
- *  22452: src/lst/paste.c, §5.2.3-5.2.7, filling the model. Each paste picks a rando
- *  23487: src/lst/render.c, §5.1, showing a model. Every point of a tetrahedron is th
- *  24384: src/lst/cut.c, §5.1.1, cutting a model along the zero set of a scalar fi
- *  24989: src/lst/builtin.c, the tetrahedralizer entry point, checks of caller meshes, 
- *  25511: src/lst/io.c, the model file, the constraint files and the file convenie
- *  26204: src/lst/export.c, the visible boundary with a baked texture atlas, for glTF.
+ *  19171: src/common/pca.h, principal component analysis of vectors streamed one at a 
+ *  19358: src/common/glue.h, what every method header needs between its public types an
+ *  19694: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  20358: src/lst/core.c, lst.h's glue to the shared core, its defaults, the convers
+ *  20692: src/lst/exemplar.c, solid exemplars (§5): sampling, the procedural exemplars 
+ *  21264: src/lst/field.c, §5.2.2, the fields that orient and scale the pastes. The 
+ *  22476: src/lst/paste.c, §5.2.3-5.2.7, filling the model. Each paste picks a rando
+ *  23511: src/lst/render.c, §5.1, showing a model. Every point of a tetrahedron is th
+ *  24408: src/lst/cut.c, §5.1.1, cutting a model along the zero set of a scalar fi
+ *  25013: src/lst/builtin.c, the tetrahedralizer entry point, checks of caller meshes, 
+ *  25535: src/lst/io.c, the model file, the constraint files and the file convenie
+ *  26228: src/lst/export.c, the visible boundary with a baked texture atlas, for glTF.
  */
 /* lst.h - lapped solid textures: solid exemplars pasted inside a model.
  *
@@ -19090,6 +19090,29 @@ PW__DEF void pw__edt_pass(float *data, int n, int count, size_t ls, size_t es, c
     }
 }
 
+/* The first pass over a binary image, along lines of length n laid out as
+ * in pw__edt_pass that hold 0 at the sites and PW_EDT_FAR elsewhere, not
+ * wrapping: the squared distance to the nearest site on the line, by a
+ * sweep each way. The same values as pw__edt_pass's (squares of integers,
+ * exact in float), at a fraction of the cost: no parabolas, no division. */
+PW__DEF void pw__edt_sites(float *data, int n, int count, size_t ls, size_t es)
+{
+    int l, i, at;
+    for (l = 0; l < count; l++) {
+        float *line = data + (size_t)l * ls;
+        for (i = 0, at = -1; i < n; i++) { /* to the nearest site before: 0 marks the sites */
+            float *d = line + (size_t)i * es;
+            if (*d == 0.0f) at = i;
+            else if (at >= 0) *d = (float)((i - at) * (i - at));
+        }
+        for (i = n - 1, at = -1; i >= 0; i--) { /* or after, when nearer */
+            float *d = line + (size_t)i * es;
+            if (*d == 0.0f) at = i;
+            else if (at >= 0 && (float)((at - i) * (at - i)) < *d) *d = (float)((at - i) * (at - i));
+        }
+    }
+}
+
 /* out[y*w + x] = squared distance from (x, y) to the nearest pixel with
  * site[] != 0, periodic in x and y when wrap is set; PW_EDT_FAR everywhere
  * when there is no site. */
@@ -19113,7 +19136,8 @@ PW__DEF int pw_edt_sq(const pw_alloc *a, const pw_edt_image *site, float *out, p
     ws.z = z;
     ws.wrap = site->wrap;
     for (i = 0; i < n; i++) out[i] = site->px[i] ? 0.0f : PW_EDT_FAR;
-    pw__edt_pass(out, w, h, (size_t)w, 1, &ws);
+    if (site->wrap) pw__edt_pass(out, w, h, (size_t)w, 1, &ws);
+    else pw__edt_sites(out, w, h, (size_t)w, 1);
     pw__edt_pass(out, h, w, 1, (size_t)w, &ws);
     pw_free(a, f);
     pw_free(a, v);
@@ -21099,7 +21123,7 @@ static int lst__edt(const pw_alloc *a, const pw_volume *mask, int want_positive,
     ws.v = v;
     ws.z = zz;
     ws.wrap = 0;
-    pw__edt_pass(dist, X, Y * Z, (size_t)X, 1, &ws);
+    pw__edt_sites(dist, X, Y * Z, (size_t)X, 1);
     for (z = 0; z < Z; z++) pw__edt_pass(dist + (size_t)z * X * Y, Y, X, 1, (size_t)X, &ws);
     pw__edt_pass(dist, Z, X * Y, 1, (size_t)X * Y, &ws);
     for (k = 0; k < total; k++) dist[k] = dist[k] >= PW_EDT_FAR ? 1e6f : (float)(sqrt((double)dist[k]) / big);

@@ -35,18 +35,18 @@
  *  18634: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
  *  19131: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
  *  19617: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
- *  19760: src/common/kdtree.h, nearest-neighbour search among n points of dimension d, wi
- *  20103: src/common/pca.h, principal component analysis of vectors streamed one at a 
- *  20290: src/pgp/core.c, pgp.h's glue to the shared core, its defaults, and the map
- *  20504: src/pgp/field.c, §2.1 effect areas and §2.2 interpolation of the constrai
- *  20703: src/pgp/solve.c, §2.3 the periodic global parameterization, the recovery o
- *  21247: src/pgp/edit.c, the public editing calls of a mapping. §2.1 (Ray, Lévy, 
- *  21392: src/pgp/render.c, §3 rendering, and a cleaner treatment of the vortices.
- *  21754: src/pgp/builtin.c, built-in meshes and material-space tiles for demos and tes
- *  22023: src/pgp/io.c, files and memory for pgp.h: material-space tiles (NRRD, or
- *  22371: src/pgp/export.c, the mapping for other programs. A viewer that knows nothin
- *  22597: src/pgp/morph.c, the inputs of §1 (keys brought to the tile size, made til
- *  23276: src/pgp/synth.c, §1.2 constrained tile synthesis, and the whole of §1: ke
+ *  19784: src/common/kdtree.h, nearest-neighbour search among n points of dimension d, wi
+ *  20127: src/common/pca.h, principal component analysis of vectors streamed one at a 
+ *  20314: src/pgp/core.c, pgp.h's glue to the shared core, its defaults, and the map
+ *  20528: src/pgp/field.c, §2.1 effect areas and §2.2 interpolation of the constrai
+ *  20727: src/pgp/solve.c, §2.3 the periodic global parameterization, the recovery o
+ *  21271: src/pgp/edit.c, the public editing calls of a mapping. §2.1 (Ray, Lévy, 
+ *  21416: src/pgp/render.c, §3 rendering, and a cleaner treatment of the vortices.
+ *  21778: src/pgp/builtin.c, built-in meshes and material-space tiles for demos and tes
+ *  22047: src/pgp/io.c, files and memory for pgp.h: material-space tiles (NRRD, or
+ *  22395: src/pgp/export.c, the mapping for other programs. A viewer that knows nothin
+ *  22621: src/pgp/morph.c, the inputs of §1 (keys brought to the tile size, made til
+ *  23300: src/pgp/synth.c, §1.2 constrained tile synthesis, and the whole of §1: ke
  */
 /* pgp.h - material-space texturing with a periodic global parameterization.
  *
@@ -19703,6 +19703,29 @@ PW__DEF void pw__edt_pass(float *data, int n, int count, size_t ls, size_t es, c
     }
 }
 
+/* The first pass over a binary image, along lines of length n laid out as
+ * in pw__edt_pass that hold 0 at the sites and PW_EDT_FAR elsewhere, not
+ * wrapping: the squared distance to the nearest site on the line, by a
+ * sweep each way. The same values as pw__edt_pass's (squares of integers,
+ * exact in float), at a fraction of the cost: no parabolas, no division. */
+PW__DEF void pw__edt_sites(float *data, int n, int count, size_t ls, size_t es)
+{
+    int l, i, at;
+    for (l = 0; l < count; l++) {
+        float *line = data + (size_t)l * ls;
+        for (i = 0, at = -1; i < n; i++) { /* to the nearest site before: 0 marks the sites */
+            float *d = line + (size_t)i * es;
+            if (*d == 0.0f) at = i;
+            else if (at >= 0) *d = (float)((i - at) * (i - at));
+        }
+        for (i = n - 1, at = -1; i >= 0; i--) { /* or after, when nearer */
+            float *d = line + (size_t)i * es;
+            if (*d == 0.0f) at = i;
+            else if (at >= 0 && (float)((at - i) * (at - i)) < *d) *d = (float)((at - i) * (at - i));
+        }
+    }
+}
+
 /* out[y*w + x] = squared distance from (x, y) to the nearest pixel with
  * site[] != 0, periodic in x and y when wrap is set; PW_EDT_FAR everywhere
  * when there is no site. */
@@ -19726,7 +19749,8 @@ PW__DEF int pw_edt_sq(const pw_alloc *a, const pw_edt_image *site, float *out, p
     ws.z = z;
     ws.wrap = site->wrap;
     for (i = 0; i < n; i++) out[i] = site->px[i] ? 0.0f : PW_EDT_FAR;
-    pw__edt_pass(out, w, h, (size_t)w, 1, &ws);
+    if (site->wrap) pw__edt_pass(out, w, h, (size_t)w, 1, &ws);
+    else pw__edt_sites(out, w, h, (size_t)w, 1);
     pw__edt_pass(out, h, w, 1, (size_t)w, &ws);
     pw_free(a, f);
     pw_free(a, v);

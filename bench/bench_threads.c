@@ -13,10 +13,11 @@
  *   3. lst_render_volume of that kiwi, 200 slices at 640x480 (the frame's
  *      bands on threads).
  *   4. pgp_create on the bunny (75K triangles) and its 1-to-4 subdivision
- *      (300K), tile side a tenth of the diagonal: the multigrid sweeps,
- *      residuals and transfers, the products of CG, the Galerkin products,
- *      the PGP's edge terms and the Eq. (4) recovery run on threads; the
- *      assembly, the aggregation and the IC(0) solves on one.
+ *      (300K), tile side a tenth of the diagonal: the PGP's s and t
+ *      systems solved side by side, one on each thread; the field's
+ *      multigrid sweeps, residuals and transfers, products of CG and
+ *      Galerkin products, and the Eq. (4) recovery on threads; the mesh
+ *      set-up, the assembly and the field's aggregation on one.
  * Built with PW_THREADS (POSIX threads; each create call keeps one crew of
  * threads for all its parallel-fors). The whole create is timed, so its
  * speed-up is bounded by the parts still on one thread; the coverage stage

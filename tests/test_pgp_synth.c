@@ -200,6 +200,29 @@ static void t_edt_brute_force(void)
     CHECKF(bad == 0, "%d distances differ from brute force", bad);
 }
 
+/* edt.h's first pass over binary lines (two sweeps) gives the parabolas'
+ * values bit for bit: lines of 1 to 40 pixels, strided, with no site, one,
+ * several and all. */
+static void t_edt_sites_pass(void)
+{
+    float a[2 * 40], b[2 * 40], f[80], d[80];
+    double z[81];
+    int v[80], n, trial, i, bad = 0;
+    pw__edt_ws ws;
+    ws.f = f, ws.d = d, ws.v = v, ws.z = z, ws.wrap = 0;
+    for (n = 1; n <= 40; n++)
+        for (trial = 0; trial < 8; trial++) {
+            for (i = 0; i < 2 * n; i++) {
+                float p = trial == 0 ? 0.0f : trial == 7 ? 1.0f : 0.04f * trial * trial;
+                a[i] = b[i] = noise(i, n, trial) < p ? 0.0f : PW_EDT_FAR;
+            }
+            pw__edt_pass(a, n, 1, 0, 2, &ws); /* every other element */
+            pw__edt_sites(b, n, 1, 0, 2);
+            for (i = 0; i < 2 * n; i++) bad += memcmp(&a[i], &b[i], sizeof(float)) != 0;
+        }
+    CHECKF(bad == 0, "%d values of the two-sweep pass differ from the parabolas'", bad);
+}
+
 /* pw_edt_signed: positive exactly inside, |phi| = distance to the other
  * kind - 1/2; a disc's signed distance is its radius minus the distance to
  * the centre within a texel. */
@@ -988,6 +1011,7 @@ static void t_real_brick_marble_wood(void)
 
 static const pwt_case cases[] = {
     {"pgp_synth/edt_brute_force", t_edt_brute_force},
+    {"pgp_synth/edt_sites_pass", t_edt_sites_pass},
     {"pgp_synth/edt_signed_disc", t_edt_signed_disc},
     {"pgp_synth/kdtree_penalties", t_kdtree_penalties},
     {"pgp_synth/pca_axes", t_pca_axes},

@@ -87,6 +87,29 @@ PW__DEF void pw__edt_pass(float *data, int n, int count, size_t ls, size_t es, c
     }
 }
 
+/* The first pass over a binary image, along lines of length n laid out as
+ * in pw__edt_pass that hold 0 at the sites and PW_EDT_FAR elsewhere, not
+ * wrapping: the squared distance to the nearest site on the line, by a
+ * sweep each way. The same values as pw__edt_pass's (squares of integers,
+ * exact in float), at a fraction of the cost: no parabolas, no division. */
+PW__DEF void pw__edt_sites(float *data, int n, int count, size_t ls, size_t es)
+{
+    int l, i, at;
+    for (l = 0; l < count; l++) {
+        float *line = data + (size_t)l * ls;
+        for (i = 0, at = -1; i < n; i++) { /* to the nearest site before: 0 marks the sites */
+            float *d = line + (size_t)i * es;
+            if (*d == 0.0f) at = i;
+            else if (at >= 0) *d = (float)((i - at) * (i - at));
+        }
+        for (i = n - 1, at = -1; i >= 0; i--) { /* or after, when nearer */
+            float *d = line + (size_t)i * es;
+            if (*d == 0.0f) at = i;
+            else if (at >= 0 && (float)((at - i) * (at - i)) < *d) *d = (float)((at - i) * (at - i));
+        }
+    }
+}
+
 /* out[y*w + x] = squared distance from (x, y) to the nearest pixel with
  * site[] != 0, periodic in x and y when wrap is set; PW_EDT_FAR everywhere
  * when there is no site. */
@@ -110,7 +133,8 @@ PW__DEF int pw_edt_sq(const pw_alloc *a, const pw_edt_image *site, float *out, p
     ws.z = z;
     ws.wrap = site->wrap;
     for (i = 0; i < n; i++) out[i] = site->px[i] ? 0.0f : PW_EDT_FAR;
-    pw__edt_pass(out, w, h, (size_t)w, 1, &ws);
+    if (site->wrap) pw__edt_pass(out, w, h, (size_t)w, 1, &ws);
+    else pw__edt_sites(out, w, h, (size_t)w, 1);
     pw__edt_pass(out, h, w, 1, (size_t)w, &ws);
     pw_free(a, f);
     pw_free(a, v);

@@ -433,7 +433,7 @@ static int lst__edt(const pw_alloc *a, const pw_volume *mask, int want_positive,
     ws.v = v;
     ws.z = zz;
     ws.wrap = 0;
-    pw__edt_pass(dist, X, Y * Z, (size_t)X, 1, &ws);
+    pw__edt_sites(dist, X, Y * Z, (size_t)X, 1);
     for (z = 0; z < Z; z++) pw__edt_pass(dist + (size_t)z * X * Y, Y, X, 1, (size_t)X, &ws);
     pw__edt_pass(dist, Z, X * Y, 1, (size_t)X * Y, &ws);
     for (k = 0; k < total; k++) dist[k] = dist[k] >= PW_EDT_FAR ? 1e6f : (float)(sqrt((double)dist[k]) / big);
