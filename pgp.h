@@ -3,50 +3,50 @@
  *
  * CONTENTS (line: source, what it holds)
  *     51: src/pgp/pgp.h, the public API and its documentation
- *    678: src/common/base.h, allocation hooks, result codes, error messages, limits, he
- *    990: src/common/vec.h, small vector math on float[3] arrays and a 3-float struct.
- *   1104: src/common/rng.h, seeded random numbers with the same output on every platfo
- *   1181: src/common/noise.h, value noise and its fractal sum, for the built-in procedur
- *   1283: src/common/image.h, float images and their file formats.
- *   1988: src/common/deflate.h, zlib (RFC 1950) and deflate (RFC 1951) compression and
- *   2985: src/common/png.h, PNG writer and reader, and the image front end.
- *   3544: src/common/text.h, locale-independent number parsing and formatting, a line s
- *   3957: src/common/mesh.h, polygon meshes as flat arrays, and their file formats.
- *   5486: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
- *   6015: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
- *   6439: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
- *   8173: src/common/zsparse.h, complex Hermitian sparse systems, solved by conjugate grad
- *   8698: src/common/zamg.h, a smoothed-aggregation multigrid preconditioner for the co
- *   9731: src/common/raster.h, exact scan conversion of 2D triangles.
- *  10243: src/common/parallel.h, a parallel for, the one way work is split across threads.
- *  10586: src/common/render.h, a small deterministic software renderer for textured trian
- *  12750: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
- *  12947: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
- *  13032: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
- *  13221: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
- *  14141: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
- *  14839: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
- *  15075: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
- *  15839: src/common/periodic.h, the periodic global parameterization of a triangle mesh al
- *  16765: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
- *  17526: src/pgp/tile3.h, sampling a material-space tile (Ray et al. 2009, §2: "a 3
- *  17634: src/common/glue.h, what every method header needs between its public types an
- *  17970: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
- *  18634: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
- *  19131: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
- *  19617: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
- *  19784: src/common/kdtree.h, nearest-neighbour search among n points of dimension d, wi
- *  20127: src/common/pca.h, principal component analysis of vectors streamed one at a 
- *  20314: src/pgp/core.c, pgp.h's glue to the shared core, its defaults, and the map
- *  20528: src/pgp/field.c, §2.1 effect areas and §2.2 interpolation of the constrai
- *  20727: src/pgp/solve.c, §2.3 the periodic global parameterization, the recovery o
- *  21271: src/pgp/edit.c, the public editing calls of a mapping. §2.1 (Ray, Lévy, 
- *  21416: src/pgp/render.c, §3 rendering, and a cleaner treatment of the vortices.
- *  21778: src/pgp/builtin.c, built-in meshes and material-space tiles for demos and tes
- *  22047: src/pgp/io.c, files and memory for pgp.h: material-space tiles (NRRD, or
- *  22395: src/pgp/export.c, the mapping for other programs. A viewer that knows nothin
- *  22621: src/pgp/morph.c, the inputs of §1 (keys brought to the tile size, made til
- *  23300: src/pgp/synth.c, §1.2 constrained tile synthesis, and the whole of §1: ke
+ *    679: src/common/base.h, allocation hooks, result codes, error messages, limits, he
+ *    991: src/common/vec.h, small vector math on float[3] arrays and a 3-float struct.
+ *   1105: src/common/rng.h, seeded random numbers with the same output on every platfo
+ *   1182: src/common/noise.h, value noise and its fractal sum, for the built-in procedur
+ *   1284: src/common/image.h, float images and their file formats.
+ *   1989: src/common/deflate.h, zlib (RFC 1950) and deflate (RFC 1951) compression and
+ *   2986: src/common/png.h, PNG writer and reader, and the image front end.
+ *   3545: src/common/text.h, locale-independent number parsing and formatting, a line s
+ *   3958: src/common/mesh.h, polygon meshes as flat arrays, and their file formats.
+ *   5487: src/common/shapes.h, the built-in surface meshes of the demos and tests, shared
+ *   6016: src/common/halfedge.h, half-edge connectivity of a polygon mesh.
+ *   6440: src/common/sparse.h, sparse matrices and a Jacobi-preconditioned conjugate grad
+ *   8174: src/common/zsparse.h, complex Hermitian sparse systems, solved by conjugate grad
+ *   8699: src/common/zamg.h, a smoothed-aggregation multigrid preconditioner for the co
+ *   9732: src/common/raster.h, exact scan conversion of 2D triangles.
+ *  10244: src/common/parallel.h, a parallel for, the one way work is split across threads.
+ *  10587: src/common/render.h, a small deterministic software renderer for textured trian
+ *  12751: src/common/trimesh.h, the triangle mesh that the surface methods (lapped, pgp) w
+ *  12948: src/common/heap.h, a binary min-heap of (key, item) pairs, ties broken by the
+ *  13033: src/common/atlas.h, texture atlases of triangle meshes — what the stages sha
+ *  13222: src/common/atlas_charts.h, the charts of a texture atlas (lapped textures §4).
+ *  14142: src/common/atlas_pack.h, the charts of an atlas packed into the unit square.
+ *  14840: src/common/atlas_bake.h, a texture baked into the packed charts of an atlas.
+ *  15076: src/common/dirfield.h, direction fields on a triangle mesh, one direction per
+ *  15840: src/common/periodic.h, the periodic global parameterization of a triangle mesh al
+ *  16766: src/common/nrrd.h, volumes and the NRRD file format, with gzip streams.
+ *  17527: src/pgp/tile3.h, sampling a material-space tile (Ray et al. 2009, §2: "a 3
+ *  17635: src/common/glue.h, what every method header needs between its public types an
+ *  17971: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
+ *  18635: src/common/graphcut.h, s-t minimum cut / maximum flow by the Boykov-Kolmogorov
+ *  19132: src/common/quilt.h, graph-cut compositing of several source images ("graph-cut
+ *  19618: src/common/edt.h, exact Euclidean distance transforms of binary images, plai
+ *  19785: src/common/kdtree.h, nearest-neighbour search among n points of dimension d, wi
+ *  20128: src/common/pca.h, principal component analysis of vectors streamed one at a 
+ *  20315: src/pgp/core.c, pgp.h's glue to the shared core, its defaults, and the map
+ *  20529: src/pgp/field.c, §2.1 effect areas and §2.2 interpolation of the constrai
+ *  20728: src/pgp/solve.c, §2.3 the periodic global parameterization, the recovery o
+ *  21272: src/pgp/edit.c, the public editing calls of a mapping. §2.1 (Ray, Lévy, 
+ *  21417: src/pgp/render.c, §3 rendering, and a cleaner treatment of the vortices.
+ *  21779: src/pgp/builtin.c, built-in meshes and material-space tiles for demos and tes
+ *  22048: src/pgp/io.c, files and memory for pgp.h: material-space tiles (NRRD, or
+ *  22396: src/pgp/export.c, the mapping for other programs. A viewer that knows nothin
+ *  22622: src/pgp/morph.c, the inputs of §1 (keys brought to the tile size, made til
+ *  23301: src/pgp/synth.c, §1.2 constrained tile synthesis, and the whole of §1: ke
  */
 /* pgp.h - material-space texturing with a periodic global parameterization.
  *
@@ -444,11 +444,12 @@ typedef struct pgp_options {
                                 pgp_add_constraint would (its own effect area and
                                 solve); their ids are 0, 1, ...; default none */
     int nconstraints;
-    int threads;               /* threads of pgp_create's and the edits' solves (the
-                                multigrid sweeps and the products of their conjugate
-                                gradients), as render.threads: 0 (default) one per
-                                processor with PW_THREADS, else 1; the map is the same,
-                                bit for bit, for any number */
+    int threads;               /* threads of pgp_create's and the edits' solves (s and t
+                                side by side, holding two copies of the system; the
+                                field's multigrid sweeps and the products of its
+                                conjugate gradients), as render.threads: 0 (default) one
+                                per processor with PW_THREADS, else 1; the map is the
+                                same, bit for bit, for any number */
     pgp_parallel_fn parallel;  /* optional: the caller's parallel for, used instead of threads */
     void *parallel_pool;       /* its first argument */
     pgp_render_options render; /* pgp_render's settings (pass &opt.render) */

@@ -394,11 +394,12 @@ typedef struct pgp_options {
                                 pgp_add_constraint would (its own effect area and
                                 solve); their ids are 0, 1, ...; default none */
     int nconstraints;
-    int threads;               /* threads of pgp_create's and the edits' solves (the
-                                multigrid sweeps and the products of their conjugate
-                                gradients), as render.threads: 0 (default) one per
-                                processor with PW_THREADS, else 1; the map is the same,
-                                bit for bit, for any number */
+    int threads;               /* threads of pgp_create's and the edits' solves (s and t
+                                side by side, holding two copies of the system; the
+                                field's multigrid sweeps and the products of its
+                                conjugate gradients), as render.threads: 0 (default) one
+                                per processor with PW_THREADS, else 1; the map is the
+                                same, bit for bit, for any number */
     pgp_parallel_fn parallel;  /* optional: the caller's parallel for, used instead of threads */
     void *parallel_pool;       /* its first argument */
     pgp_render_options render; /* pgp_render's settings (pass &opt.render) */
