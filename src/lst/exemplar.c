@@ -314,7 +314,10 @@ static void lst__splotch_lobes(unsigned long long seed, double *lobes)
  * the border, 0 outside. */
 static void lst__splotch(pw_volume *mask, const double *lobes, double radius, double falloff, const double *centre)
 {
-    int x, y, z;
+    double top = 1.0, rmax = 0.5 - 0.5 / mask->x;
+    int x, y, z, k;
+    for (k = 0; k < 8; k++) top += lobes[4 * k + 3] > 0.0 ? lobes[4 * k + 3] : 0.0;
+    rmax = (radius * top < rmax ? radius * top : rmax) * (1.0 + 1e-9); /* no radius reaches it */
     for (z = 0; z < mask->z; z++)
         for (y = 0; y < mask->y; y++)
             for (x = 0; x < mask->x; x++) {
@@ -323,6 +326,10 @@ static void lst__splotch(pw_volume *mask, const double *lobes, double radius, do
                 d[1] = 1.0 - (y + 0.5) / mask->y - centre[1];
                 d[2] = (z + 0.5) / mask->z - centre[2];
                 len = pw_norm3(d);
+                if (len > rmax) { /* beyond every lobe: the fall-off gives 0 */
+                    mask->px[((size_t)z * mask->y + y) * mask->x + x] = 0.0f;
+                    continue;
+                }
                 r = len > 0.0 ? lst__splotch_radius(lobes, radius, d) : radius;
                 if (r > 0.5 - 0.5 / mask->x) r = 0.5 - 0.5 / mask->x; /* stays inside the cube's sides */
                 mask->px[((size_t)z * mask->y + y) * mask->x + x] = (float)pw_smoothstep(r, r - falloff, len);
@@ -495,8 +502,10 @@ static void lst__mask_cells(const pw_volume *v, unsigned char *cell)
 /* Whether alpha is > 0 at voxel coordinates (x, y, z) of mask m (exactly
  * as lst__mask_alpha_vox would say), from one byte of its cells. Inside
  * [-0.5, side - 0.5] truncation is the clamp to the voxels (a coordinate
- * in [-0.5, 0) gives 0, one above side - 1 gives side - 1). */
-static int lst__cell_any(const lst__mask *m, float x, float y, float z)
+ * in [-0.5, 0) gives 0, one above side - 1 gives side - 1). Inline: it is
+ * called for every sample point of growth and coverage, and the call cost
+ * 3% of the kiwi's fill (callgrind). */
+static inline int lst__cell_any(const lst__mask *m, float x, float y, float z)
 {
     size_t i;
     if (!(x >= -0.5f && x <= m->hi[0] && y >= -0.5f && y <= m->hi[1] && z >= -0.5f && z <= m->hi[2])) return 0;
