@@ -13,7 +13,9 @@
  * parallel-fors on the same threads, every task run once, none on one
  * thread or under a caller's parallel-for, a parallel-for inside a task.
  * pgp_create's solves on threads (s and t side by side, the field's
- * multigrid sweeps and products): the same map, bit for bit, likewise. */
+ * multigrid sweeps and products): the same map, bit for bit, likewise,
+ * and every allocation failing in turn on 2 threads ends in an
+ * out-of-memory error with nothing left allocated. */
 #define PW_THREADS
 #define PATCHWORK_IMPLEMENTATION
 #include "../tiled.h"
@@ -28,15 +30,20 @@
 typedef struct counter {
     pthread_mutex_t lock;
     size_t bytes, peak;
+    long calls, fail_at; /* allocations so far; the one that fails (0: none) */
 } counter;
 
-static counter C = {PTHREAD_MUTEX_INITIALIZER, 0, 0};
+static counter C = {PTHREAD_MUTEX_INITIALIZER, 0, 0, 0, 0};
 
 static void *c_malloc(void *user, size_t n)
 {
     counter *c = (counter *)user;
-    size_t *p = (size_t *)malloc(n + sizeof(size_t));
-    if (!p) return NULL;
+    size_t *p;
+    int fail;
+    pthread_mutex_lock(&c->lock);
+    fail = ++c->calls == c->fail_at;
+    pthread_mutex_unlock(&c->lock);
+    if (fail || !(p = (size_t *)malloc(n + sizeof(size_t)))) return NULL;
     *p = n;
     pthread_mutex_lock(&c->lock);
     c->bytes += n;
@@ -380,8 +387,7 @@ static void t_pgp(void)
  * the parallel sweeps), then an orientation constraint over half of it
  * (s and t side by side again); the coordinates and the singular
  * triangles compared bit for bit. */
-#define GRID 150
-static int pgp_grid(pgp_mesh *m)
+static int pgp_grid(pgp_mesh *m, int GRID)
 {
     int i, j, f = 0;
     memset(m, 0, sizeof *m);
@@ -444,7 +450,7 @@ static void t_pgp_create(void)
     size_t n;
     float *ref, *got;
     int threads, calls = reverse_calls, pairs = reverse_pairs;
-    REQUIRE(pgp_grid(&mesh) == 0);
+    REQUIRE(pgp_grid(&mesh, 150) == 0);
     n = 10 * (size_t)mesh.nfaces;
     ref = (float *)malloc(sizeof(float) * n);
     got = (float *)malloc(sizeof(float) * n);
@@ -467,6 +473,52 @@ static void t_pgp_create(void)
     CHECK(pgp_grid_map(&mesh, &opt, got) != 0);
     free(ref);
     free(got);
+    free(mesh.positions);
+    free(mesh.face_start);
+    free(mesh.face_verts);
+}
+
+/* pgp_create on 2 threads with the N-th allocation failing, for every N:
+ * s and t are solved side by side there (a 72 x 72 grid, 5,184 unknowns),
+ * so a failure may come in either task, or in the copy of the system,
+ * while the other task runs on. Every run ends in PGP_ERR_NOMEM (or, past
+ * the last allocation, succeeds) and leaves no byte allocated. */
+static void t_pgp_create_nomem(void)
+{
+    pgp_options opt = pgp_default_options();
+    pgp_mesh mesh;
+    pgp_map map;
+    long total, n, runs = 0, nomem = 0, leaks = 0, other = 0;
+    size_t base;
+    REQUIRE(pgp_grid(&mesh, 72) == 0);
+    SET_ALLOC(opt.allocator);
+    opt.scale = 0.05f, opt.threads = 2;
+    base = C.bytes;
+    C.calls = 0, C.fail_at = 0;
+    REQUIRE(pgp_create(&mesh, &opt, &map, NULL) == PGP_OK);
+    pgp_map_free(&map);
+    total = C.calls;
+    n = reverse_pairs;
+    opt.threads = 0, opt.parallel = reverse_for; /* the split is taken at this size */
+    REQUIRE(pgp_create(&mesh, &opt, &map, NULL) == PGP_OK);
+    pgp_map_free(&map);
+    CHECKF(reverse_pairs > n, "pgp_create: s and t not solved side by side on the %d x %d grid", 72, 72);
+    opt.threads = 2, opt.parallel = NULL;
+    for (n = 1; n <= total + 1; n++, runs++) {
+        pgp_result r;
+        C.calls = 0, C.fail_at = n;
+        r = pgp_create(&mesh, &opt, &map, NULL);
+        if (r == PGP_OK) pgp_map_free(&map);
+        if (r == PGP_ERR_NOMEM) nomem++;
+        else if (n <= total || r != PGP_OK) other++;
+        leaks += C.bytes != base;
+    }
+    C.fail_at = 0;
+    CHECKF(other == 0, "pgp_create on 2 threads: %ld of %ld runs did not end in NOMEM (or, the last, succeed)", other,
+           runs);
+    CHECKF(leaks == 0, "pgp_create on 2 threads: %ld of %ld runs left bytes allocated", leaks, runs);
+    pwt_info("pgp_create on 2 threads: %ld allocations, %ld runs with one failing, %ld ended in NOMEM", total, runs,
+             nomem);
     free(mesh.positions);
     free(mesh.face_start);
     free(mesh.face_verts);
@@ -695,6 +747,7 @@ static const pwt_case cases[] = {
     {"threads_lapped_coverage", t_lapped_coverage},
     {"threads_pgp", t_pgp},
     {"threads_pgp_create", t_pgp_create},
+    {"threads_pgp_create_nomem", t_pgp_create_nomem},
     {"threads_lst", t_lst},
     {"threads_lst_coverage", t_lst_coverage},
     {"threads_crew", t_crew},
