@@ -35,13 +35,13 @@
  *  19694: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
  *  20358: src/lst/core.c, lst.h's glue to the shared core, its defaults, the convers
  *  20692: src/lst/exemplar.c, solid exemplars (§5): sampling, the procedural exemplars 
- *  21273: src/lst/field.c, §5.2.2, the fields that orient and scale the pastes. The 
- *  22485: src/lst/paste.c, §5.2.3-5.2.7, filling the model. Each paste picks a rando
- *  23520: src/lst/render.c, §5.1, showing a model. Every point of a tetrahedron is th
- *  24417: src/lst/cut.c, §5.1.1, cutting a model along the zero set of a scalar fi
- *  25022: src/lst/builtin.c, the tetrahedralizer entry point, checks of caller meshes, 
- *  25544: src/lst/io.c, the model file, the constraint files and the file convenie
- *  26237: src/lst/export.c, the visible boundary with a baked texture atlas, for glTF.
+ *  21274: src/lst/field.c, §5.2.2, the fields that orient and scale the pastes. The 
+ *  22486: src/lst/paste.c, §5.2.3-5.2.7, filling the model. Each paste picks a rando
+ *  23521: src/lst/render.c, §5.1, showing a model. Every point of a tetrahedron is th
+ *  24418: src/lst/cut.c, §5.1.1, cutting a model along the zero set of a scalar fi
+ *  25023: src/lst/builtin.c, the tetrahedralizer entry point, checks of caller meshes, 
+ *  25545: src/lst/io.c, the model file, the constraint files and the file convenie
+ *  26238: src/lst/export.c, the visible boundary with a baked texture atlas, for glTF.
  */
 /* lst.h - lapped solid textures: solid exemplars pasted inside a model.
  *
@@ -19106,9 +19106,9 @@ PW__DEF void pw__edt_sites(float *data, int n, int count, size_t ls, size_t es)
             else if (at >= 0) *d = (float)((i - at) * (i - at));
         }
         for (i = n - 1, at = -1; i >= 0; i--) { /* or after, when nearer */
-            float *d = line + (size_t)i * es;
+            float *d = line + (size_t)i * es, after = (float)((at - i) * (at - i));
             if (*d == 0.0f) at = i;
-            else if (at >= 0 && (float)((at - i) * (at - i)) < *d) *d = (float)((at - i) * (at - i));
+            else if (at >= 0 && after < *d) *d = after;
         }
     }
 }
@@ -21004,25 +21004,26 @@ static void lst__splotch_lobes(unsigned long long seed, double *lobes)
  * the border, 0 outside. */
 static void lst__splotch(pw_volume *mask, const double *lobes, double radius, double falloff, const double *centre)
 {
-    double top = 1.0, rmax = 0.5 - 0.5 / mask->x;
+    double top = 1.0, cap = 0.5 - 0.5 / mask->x, rmax; /* cap: the radius stays inside the cube's sides */
     int x, y, z, k;
+    float *px = mask->px;
     for (k = 0; k < 8; k++) top += lobes[4 * k + 3] > 0.0 ? lobes[4 * k + 3] : 0.0;
-    rmax = (radius * top < rmax ? radius * top : rmax) * (1.0 + 1e-9); /* no radius reaches it */
+    rmax = (radius * top < cap ? radius * top : cap) * (1.0 + 1e-9); /* no radius reaches it */
     for (z = 0; z < mask->z; z++)
         for (y = 0; y < mask->y; y++)
-            for (x = 0; x < mask->x; x++) {
+            for (x = 0; x < mask->x; x++, px++) {
                 double d[3], len, r;
                 d[0] = (x + 0.5) / mask->x - centre[0];
                 d[1] = 1.0 - (y + 0.5) / mask->y - centre[1];
                 d[2] = (z + 0.5) / mask->z - centre[2];
                 len = pw_norm3(d);
                 if (len > rmax) { /* beyond every lobe: the fall-off gives 0 */
-                    mask->px[((size_t)z * mask->y + y) * mask->x + x] = 0.0f;
+                    *px = 0.0f;
                     continue;
                 }
                 r = len > 0.0 ? lst__splotch_radius(lobes, radius, d) : radius;
-                if (r > 0.5 - 0.5 / mask->x) r = 0.5 - 0.5 / mask->x; /* stays inside the cube's sides */
-                mask->px[((size_t)z * mask->y + y) * mask->x + x] = (float)pw_smoothstep(r, r - falloff, len);
+                if (r > cap) r = cap;
+                *px = (float)pw_smoothstep(r, r - falloff, len);
             }
 }
 

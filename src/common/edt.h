@@ -103,9 +103,9 @@ PW__DEF void pw__edt_sites(float *data, int n, int count, size_t ls, size_t es)
             else if (at >= 0) *d = (float)((i - at) * (i - at));
         }
         for (i = n - 1, at = -1; i >= 0; i--) { /* or after, when nearer */
-            float *d = line + (size_t)i * es;
+            float *d = line + (size_t)i * es, after = (float)((at - i) * (at - i));
             if (*d == 0.0f) at = i;
-            else if (at >= 0 && (float)((at - i) * (at - i)) < *d) *d = (float)((at - i) * (at - i));
+            else if (at >= 0 && after < *d) *d = after;
         }
     }
 }

@@ -314,25 +314,26 @@ static void lst__splotch_lobes(unsigned long long seed, double *lobes)
  * the border, 0 outside. */
 static void lst__splotch(pw_volume *mask, const double *lobes, double radius, double falloff, const double *centre)
 {
-    double top = 1.0, rmax = 0.5 - 0.5 / mask->x;
+    double top = 1.0, cap = 0.5 - 0.5 / mask->x, rmax; /* cap: the radius stays inside the cube's sides */
     int x, y, z, k;
+    float *px = mask->px;
     for (k = 0; k < 8; k++) top += lobes[4 * k + 3] > 0.0 ? lobes[4 * k + 3] : 0.0;
-    rmax = (radius * top < rmax ? radius * top : rmax) * (1.0 + 1e-9); /* no radius reaches it */
+    rmax = (radius * top < cap ? radius * top : cap) * (1.0 + 1e-9); /* no radius reaches it */
     for (z = 0; z < mask->z; z++)
         for (y = 0; y < mask->y; y++)
-            for (x = 0; x < mask->x; x++) {
+            for (x = 0; x < mask->x; x++, px++) {
                 double d[3], len, r;
                 d[0] = (x + 0.5) / mask->x - centre[0];
                 d[1] = 1.0 - (y + 0.5) / mask->y - centre[1];
                 d[2] = (z + 0.5) / mask->z - centre[2];
                 len = pw_norm3(d);
                 if (len > rmax) { /* beyond every lobe: the fall-off gives 0 */
-                    mask->px[((size_t)z * mask->y + y) * mask->x + x] = 0.0f;
+                    *px = 0.0f;
                     continue;
                 }
                 r = len > 0.0 ? lst__splotch_radius(lobes, radius, d) : radius;
-                if (r > 0.5 - 0.5 / mask->x) r = 0.5 - 0.5 / mask->x; /* stays inside the cube's sides */
-                mask->px[((size_t)z * mask->y + y) * mask->x + x] = (float)pw_smoothstep(r, r - falloff, len);
+                if (r > cap) r = cap;
+                *px = (float)pw_smoothstep(r, r - falloff, len);
             }
 }
 
