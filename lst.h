@@ -35,13 +35,13 @@
  *  19694: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
  *  20358: src/lst/core.c, lst.h's glue to the shared core, its defaults, the convers
  *  20692: src/lst/exemplar.c, solid exemplars (§5): sampling, the procedural exemplars 
- *  21274: src/lst/field.c, §5.2.2, the fields that orient and scale the pastes. The 
- *  22486: src/lst/paste.c, §5.2.3-5.2.7, filling the model. Each paste picks a rando
- *  23521: src/lst/render.c, §5.1, showing a model. Every point of a tetrahedron is th
- *  24418: src/lst/cut.c, §5.1.1, cutting a model along the zero set of a scalar fi
- *  25023: src/lst/builtin.c, the tetrahedralizer entry point, checks of caller meshes, 
- *  25545: src/lst/io.c, the model file, the constraint files and the file convenie
- *  26238: src/lst/export.c, the visible boundary with a baked texture atlas, for glTF.
+ *  21326: src/lst/field.c, §5.2.2, the fields that orient and scale the pastes. The 
+ *  22538: src/lst/paste.c, §5.2.3-5.2.7, filling the model. Each paste picks a rando
+ *  23596: src/lst/render.c, §5.1, showing a model. Every point of a tetrahedron is th
+ *  24493: src/lst/cut.c, §5.1.1, cutting a model along the zero set of a scalar fi
+ *  25098: src/lst/builtin.c, the tetrahedralizer entry point, checks of caller meshes, 
+ *  25620: src/lst/io.c, the model file, the constraint files and the file convenie
+ *  26313: src/lst/export.c, the visible boundary with a baked texture atlas, for glTF.
  */
 /* lst.h - lapped solid textures: solid exemplars pasted inside a model.
  *
@@ -21154,6 +21154,7 @@ typedef struct lst__mask {
     double ostep;
     float *in;
     unsigned char *cell; /* a bit per voxel: 1 if trilinear alpha is > 0 somewhere in the cell it starts */
+    unsigned *sum;       /* (x+1)(y+1)(z+1): the cells' bits summed over [0, x) x [0, y) x [0, z) (4 bytes a voxel) */
     float hi[3];         /* the volume's sides less half a voxel: where lookups stop */
     double margin;       /* how far trilinear interpolation and the nearest-voxel lookup reach */
 } lst__mask;
@@ -21163,7 +21164,9 @@ static void lst__mask_free(const pw_alloc *a, lst__mask *m)
     pw_free(a, m->out8);
     pw_free(a, m->in);
     pw_free(a, m->cell);
+    pw_free(a, m->sum);
     m->in = NULL;
+    m->sum = NULL;
     m->out8 = m->cell = NULL;
 }
 
@@ -21204,6 +21207,52 @@ static inline int lst__cell_any(const lst__mask *m, float x, float y, float z)
     return m->cell[i >> 3] >> (i & 7) & 1;
 }
 
+/* m->sum from m->cell: a summed-volume table (unsigned arithmetic: the
+ * differences of lst__cells_in_box are exact modulo 2^32, and no count
+ * reaches it). */
+static void lst__mask_sums(lst__mask *m)
+{
+    const int X = m->vol.x, Y = m->vol.y, Z = m->vol.z;
+    const size_t sx = 1, sy = (size_t)X + 1, sz = sy * ((size_t)Y + 1);
+    size_t i = 0;
+    int x, y, z;
+    memset(m->sum, 0, sizeof(unsigned) * sz);
+    for (z = 0; z < Z; z++) {
+        unsigned *s = m->sum + (size_t)(z + 1) * sz;
+        memset(s, 0, sizeof(unsigned) * sy);
+        for (y = 0; y < Y; y++) {
+            s[(size_t)(y + 1) * sy] = 0;
+            for (x = 0; x < X; x++, i++) {
+                unsigned bit = m->cell[i >> 3] >> (i & 7) & 1u;
+                size_t at = (size_t)(y + 1) * sy + (size_t)(x + 1) * sx;
+                s[at] = bit + s[at - sx] + s[at - sy] - s[at - sx - sy] + (s - sz)[at] - (s - sz)[at - sx] -
+                        (s - sz)[at - sy] + (s - sz)[at - sx - sy];
+            }
+        }
+    }
+}
+
+/* 0 when no point of the box lo..hi (voxel coordinates) is inside the
+ * mask as lst__cell_any tells it: no cell of the box has its bit (the
+ * coordinates outside [-0.5, side - 0.5] are never inside, the others
+ * truncate to their cell). 1 when one has, or the box is not finite. */
+static int lst__cells_in_box(const lst__mask *m, const float *lo, const float *hi)
+{
+    const size_t sy = (size_t)m->vol.x + 1, sz = sy * ((size_t)m->vol.y + 1);
+    int a[3], b[3], k;
+    const unsigned *s = m->sum;
+    for (k = 0; k < 3; k++) {
+        if (!(lo[k] <= hi[k])) return 1; /* NaN */
+        if (hi[k] < -0.5f || lo[k] > m->hi[k]) return 0;
+        a[k] = lo[k] < 0.0f ? 0 : (int)lo[k];
+        b[k] = (int)(hi[k] < m->hi[k] ? hi[k] : m->hi[k]) + 1;
+    }
+    return s[b[2] * sz + b[1] * sy + b[0]] - s[b[2] * sz + b[1] * sy + a[0]] - s[b[2] * sz + a[1] * sy + b[0]] +
+               s[b[2] * sz + a[1] * sy + a[0]] - s[a[2] * sz + b[1] * sy + b[0]] + s[a[2] * sz + b[1] * sy + a[0]] +
+               s[a[2] * sz + a[1] * sy + b[0]] - s[a[2] * sz + a[1] * sy + a[0]] !=
+           0u;
+}
+
 /* out8 and ostep from the exact distances d: the largest multiple of
  * ostep (1/255 of the largest distance) that is not above each. */
 static void lst__quantise_out(const float *d, size_t total, lst__mask *m)
@@ -21229,11 +21278,13 @@ static int lst__mask_init(const pw_alloc *a, const pw_volume *vol, lst__mask *m,
     m->out8 = (unsigned char *)pw_alloc_array(a, total, 1, "mask distances", e);
     m->in = (float *)pw_alloc_array(a, total, sizeof(float), "mask distances", e);
     m->cell = (unsigned char *)pw_calloc_array(a, total / 8 + 1, 1, "mask cells", e);
+    m->sum = (unsigned *)pw_alloc_array(a, ((size_t)vol->x + 1) * (vol->y + 1) * (vol->z + 1), sizeof(unsigned),
+                                        "mask cells", e);
     m->margin = 2.6 / pw_mini(vol->x, pw_mini(vol->y, vol->z));
     m->hi[0] = (float)vol->x - 0.5f;
     m->hi[1] = (float)vol->y - 0.5f;
     m->hi[2] = (float)vol->z - 0.5f;
-    if (!out || !m->out8 || !m->in || !m->cell) r = PW_ERR_NOMEM;
+    if (!out || !m->out8 || !m->in || !m->cell || !m->sum) r = PW_ERR_NOMEM;
     if (r == PW_OK && (lst__edt(a, vol, 1, out, e) || lst__edt(a, vol, 0, m->in, e))) r = e->code;
     if (r == PW_OK) lst__quantise_out(out, total, m);
     pw_free(a, out);
@@ -21251,6 +21302,7 @@ static int lst__mask_init(const pw_alloc *a, const pw_volume *vol, lst__mask *m,
                 if (f < m->in[k]) m->in[k] = (float)f;
             }
     lst__mask_cells(vol, m->cell);
+    lst__mask_sums(m);
     return PW_OK;
 }
 
@@ -22768,24 +22820,47 @@ static int lst__overlap_fields(const lst__mask *m, double c[4][3])
     return LST__PART;
 }
 
+/* The box of voxel coordinates around the points vc[idx[0..3]], widened
+ * by LST__BOX_SLACK voxels: it holds every sample point interpolated
+ * between them (the float rounding of the interpolation included). */
+#define LST__BOX_SLACK 0.01f
+static inline void lst__box(float vc[10][3], const int *idx, float *lo, float *hi)
+{
+    int k, j;
+    for (j = 0; j < 3; j++) lo[j] = hi[j] = vc[idx[0]][j];
+    for (k = 1; k < 4; k++)
+        for (j = 0; j < 3; j++) {
+            float x = vc[idx[k]][j];
+            lo[j] = x < lo[j] ? x : lo[j];
+            hi[j] = x > hi[j] ? x : hi[j];
+        }
+    for (j = 0; j < 3; j++) {
+        lo[j] -= LST__BOX_SLACK * (1.0f + fabsf(lo[j]));
+        hi[j] += LST__BOX_SLACK * (1.0f + fabsf(hi[j]));
+    }
+}
+
+/* lst__overlap_fields, then, when it says LST__PART, the sample points,
+ * octant by octant (lst__octants). The samples are taken only where the
+ * cells can answer yes: the summed cells (lst__cells_in_box) of the box
+ * around the tetrahedron, then around each octant, must hold one with
+ * alpha. Exactly what sampling every point says, found sooner: on the
+ * kiwi's fill 3.29 -> 3.06 G instructions (callgrind), where the distance
+ * field around each octant's centroid cleared less and cost more. */
 static int lst__overlap(const lst__fill *F, const lst__mask *m, double c[4][3])
 {
-    double g[3], lim, p[10][3], o[4][3];
-    float vc[4][3];
+    static const int corners[4] = {0, 1, 2, 3};
+    float vc[10][3], lo[3], hi[3];
     int k, j, s, q, ov = lst__overlap_fields(m, c);
     if (ov != LST__PART) return ov;
-    for (k = 0; k < 4; k++) {
-        lst__to_voxel(&m->vol, c[k][0], c[k][1], c[k][2], vc[k]);
-        memcpy(p[k], c[k], sizeof p[k]);
-    }
+    for (k = 0; k < 4; k++) lst__to_voxel(&m->vol, c[k][0], c[k][1], c[k][2], vc[k]);
+    lst__box(vc, corners, lo, hi);
+    if (!lst__cells_in_box(m, lo, hi)) return LST__OUT;
     for (k = 0; k < 6; k++)
-        for (j = 0; j < 3; j++) p[4 + k][j] = 0.5 * (c[lst__midpoints[k][0]][j] + c[lst__midpoints[k][1]][j]);
-    for (q = 0; q < 8; q++) { /* octants the distance field clears are not sampled */
-        for (k = 0; k < 4; k++) memcpy(o[k], p[lst__octants[q][k]], sizeof o[k]);
-        lim = lst__ball(o, g) + m->margin;
-        if (lst__mask_clear(m, pw_clampf((float)g[0], 0, 1), pw_clampf((float)g[1], 0, 1), pw_clampf((float)g[2], 0, 1),
-                            lim))
-            continue;
+        for (j = 0; j < 3; j++) vc[4 + k][j] = 0.5f * (vc[lst__midpoints[k][0]][j] + vc[lst__midpoints[k][1]][j]);
+    for (q = 0; q < 8; q++) {
+        lst__box(vc, lst__octants[q], lo, hi);
+        if (!lst__cells_in_box(m, lo, hi)) continue;
         for (s = F->group[q]; s < F->group[q + 1]; s++) {
             const float *l = F->lattice + 4 * s;
             if (lst__cell_any(m, l[0] * vc[0][0] + l[1] * vc[1][0] + l[2] * vc[2][0] + l[3] * vc[3][0],

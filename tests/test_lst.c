@@ -632,6 +632,67 @@ static void t_masks(void)
     lst_volume_free(&ex);
 }
 
+/* Whether a point of [lo, hi] along one axis of n cells reaches cell c as
+ * lst__cell_any looks it up: cell 0 from -0.5, the last to n - 0.5, each
+ * other [c, c + 1). */
+static int box_reaches(float lo, float hi, int c, int n)
+{
+    float a = c == 0 ? -0.5f : (float)c, b = c == n - 1 ? (float)n - 0.5f : (float)c + 1.0f;
+    return lo <= b && hi >= a && (c == n - 1 || lo < b);
+}
+
+/* The summed cells of a mask (lst__cells_in_box, growth's and coverage's
+ * shortcut past sampling): against every cell with alpha tested one by
+ * one, on random boxes of a random sparse mask of odd sides, many of them
+ * reaching past the volume; a box that is not finite must be sampled. */
+static void t_mask_box(void)
+{
+    pw_alloc a;
+    pw_volume vol;
+    lst__mask m;
+    pw_err e;
+    pw_rng r = pw_rng_seed(11, 3);
+    int i, k, x, y, z, wrong = 0, empty = 0, full = 0;
+    memset(&a, 0, sizeof a);
+    vol.c = 1, vol.x = 7, vol.y = 5, vol.z = 6;
+    vol.px = (float *)calloc((size_t)vol.x * vol.y * vol.z, sizeof(float));
+    REQUIRE(vol.px != NULL);
+    for (i = 0; i < vol.x * vol.y * vol.z; i++) vol.px[i] = pw_rng_double(&r) < 0.03 ? 0.5f : 0.0f;
+    memset(&m, 0, sizeof m);
+    pw_err_clear(&e);
+    REQUIRE(lst__mask_init(&a, &vol, &m, &e) == PW_OK);
+    for (i = 0; i < 20000; i++) {
+        float lo[3], hi[3];
+        int want = 0, got;
+        for (k = 0; k < 3; k++) {
+            int n = k == 0 ? vol.x : k == 1 ? vol.y : vol.z;
+            float u = (float)(pw_rng_double(&r) * (n + 3) - 2.0), w = (float)(pw_rng_double(&r) * 3.0);
+            lo[k] = u;
+            hi[k] = u + (i % 4 == 0 ? 0.0f : w);
+        }
+        for (z = 0; z < vol.z; z++)
+            for (y = 0; y < vol.y; y++)
+                for (x = 0; x < vol.x; x++) {
+                    size_t c = ((size_t)z * vol.y + y) * vol.x + x;
+                    want |= (m.cell[c >> 3] >> (c & 7) & 1) && box_reaches(lo[0], hi[0], x, vol.x) &&
+                            box_reaches(lo[1], hi[1], y, vol.y) && box_reaches(lo[2], hi[2], z, vol.z);
+                }
+        got = lst__cells_in_box(&m, lo, hi);
+        wrong += got != want;
+        empty += !want;
+        full += want;
+    }
+    CHECKF(wrong == 0, "%d of 20000 boxes answered wrong", wrong);
+    CHECKF(empty > 2000 && full > 2000, "boxes: %d empty, %d not", empty, full);
+    {
+        float lo[3] = {0.0f, 0.0f, 0.0f}, hi[3] = {1.0f, 1.0f, 1.0f};
+        lo[1] = NAN;
+        CHECK(lst__cells_in_box(&m, lo, hi) == 1);
+    }
+    lst__mask_free(&a, &m);
+    free(vol.px);
+}
+
 /* Same inputs and seed: the same model file byte for byte; another seed:
  * another model. */
 static void t_determinism(void)
@@ -771,6 +832,7 @@ static const pwt_case cases[] = {
     {"layer_weights", t_layer_weights},
     {"exp", t_exp},
     {"masks", t_masks},
+    {"mask_box", t_mask_box},
     {"determinism", t_determinism},
     {"manual_paste", t_manual_paste},
     {"cancel", t_cancel},

@@ -464,6 +464,7 @@ typedef struct lst__mask {
     double ostep;
     float *in;
     unsigned char *cell; /* a bit per voxel: 1 if trilinear alpha is > 0 somewhere in the cell it starts */
+    unsigned *sum;       /* (x+1)(y+1)(z+1): the cells' bits summed over [0, x) x [0, y) x [0, z) (4 bytes a voxel) */
     float hi[3];         /* the volume's sides less half a voxel: where lookups stop */
     double margin;       /* how far trilinear interpolation and the nearest-voxel lookup reach */
 } lst__mask;
@@ -473,7 +474,9 @@ static void lst__mask_free(const pw_alloc *a, lst__mask *m)
     pw_free(a, m->out8);
     pw_free(a, m->in);
     pw_free(a, m->cell);
+    pw_free(a, m->sum);
     m->in = NULL;
+    m->sum = NULL;
     m->out8 = m->cell = NULL;
 }
 
@@ -514,6 +517,52 @@ static inline int lst__cell_any(const lst__mask *m, float x, float y, float z)
     return m->cell[i >> 3] >> (i & 7) & 1;
 }
 
+/* m->sum from m->cell: a summed-volume table (unsigned arithmetic: the
+ * differences of lst__cells_in_box are exact modulo 2^32, and no count
+ * reaches it). */
+static void lst__mask_sums(lst__mask *m)
+{
+    const int X = m->vol.x, Y = m->vol.y, Z = m->vol.z;
+    const size_t sx = 1, sy = (size_t)X + 1, sz = sy * ((size_t)Y + 1);
+    size_t i = 0;
+    int x, y, z;
+    memset(m->sum, 0, sizeof(unsigned) * sz);
+    for (z = 0; z < Z; z++) {
+        unsigned *s = m->sum + (size_t)(z + 1) * sz;
+        memset(s, 0, sizeof(unsigned) * sy);
+        for (y = 0; y < Y; y++) {
+            s[(size_t)(y + 1) * sy] = 0;
+            for (x = 0; x < X; x++, i++) {
+                unsigned bit = m->cell[i >> 3] >> (i & 7) & 1u;
+                size_t at = (size_t)(y + 1) * sy + (size_t)(x + 1) * sx;
+                s[at] = bit + s[at - sx] + s[at - sy] - s[at - sx - sy] + (s - sz)[at] - (s - sz)[at - sx] -
+                        (s - sz)[at - sy] + (s - sz)[at - sx - sy];
+            }
+        }
+    }
+}
+
+/* 0 when no point of the box lo..hi (voxel coordinates) is inside the
+ * mask as lst__cell_any tells it: no cell of the box has its bit (the
+ * coordinates outside [-0.5, side - 0.5] are never inside, the others
+ * truncate to their cell). 1 when one has, or the box is not finite. */
+static int lst__cells_in_box(const lst__mask *m, const float *lo, const float *hi)
+{
+    const size_t sy = (size_t)m->vol.x + 1, sz = sy * ((size_t)m->vol.y + 1);
+    int a[3], b[3], k;
+    const unsigned *s = m->sum;
+    for (k = 0; k < 3; k++) {
+        if (!(lo[k] <= hi[k])) return 1; /* NaN */
+        if (hi[k] < -0.5f || lo[k] > m->hi[k]) return 0;
+        a[k] = lo[k] < 0.0f ? 0 : (int)lo[k];
+        b[k] = (int)(hi[k] < m->hi[k] ? hi[k] : m->hi[k]) + 1;
+    }
+    return s[b[2] * sz + b[1] * sy + b[0]] - s[b[2] * sz + b[1] * sy + a[0]] - s[b[2] * sz + a[1] * sy + b[0]] +
+               s[b[2] * sz + a[1] * sy + a[0]] - s[a[2] * sz + b[1] * sy + b[0]] + s[a[2] * sz + b[1] * sy + a[0]] +
+               s[a[2] * sz + a[1] * sy + b[0]] - s[a[2] * sz + a[1] * sy + a[0]] !=
+           0u;
+}
+
 /* out8 and ostep from the exact distances d: the largest multiple of
  * ostep (1/255 of the largest distance) that is not above each. */
 static void lst__quantise_out(const float *d, size_t total, lst__mask *m)
@@ -539,11 +588,13 @@ static int lst__mask_init(const pw_alloc *a, const pw_volume *vol, lst__mask *m,
     m->out8 = (unsigned char *)pw_alloc_array(a, total, 1, "mask distances", e);
     m->in = (float *)pw_alloc_array(a, total, sizeof(float), "mask distances", e);
     m->cell = (unsigned char *)pw_calloc_array(a, total / 8 + 1, 1, "mask cells", e);
+    m->sum = (unsigned *)pw_alloc_array(a, ((size_t)vol->x + 1) * (vol->y + 1) * (vol->z + 1), sizeof(unsigned),
+                                        "mask cells", e);
     m->margin = 2.6 / pw_mini(vol->x, pw_mini(vol->y, vol->z));
     m->hi[0] = (float)vol->x - 0.5f;
     m->hi[1] = (float)vol->y - 0.5f;
     m->hi[2] = (float)vol->z - 0.5f;
-    if (!out || !m->out8 || !m->in || !m->cell) r = PW_ERR_NOMEM;
+    if (!out || !m->out8 || !m->in || !m->cell || !m->sum) r = PW_ERR_NOMEM;
     if (r == PW_OK && (lst__edt(a, vol, 1, out, e) || lst__edt(a, vol, 0, m->in, e))) r = e->code;
     if (r == PW_OK) lst__quantise_out(out, total, m);
     pw_free(a, out);
@@ -561,6 +612,7 @@ static int lst__mask_init(const pw_alloc *a, const pw_volume *vol, lst__mask *m,
                 if (f < m->in[k]) m->in[k] = (float)f;
             }
     lst__mask_cells(vol, m->cell);
+    lst__mask_sums(m);
     return PW_OK;
 }
 

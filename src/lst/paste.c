@@ -283,24 +283,47 @@ static int lst__overlap_fields(const lst__mask *m, double c[4][3])
     return LST__PART;
 }
 
+/* The box of voxel coordinates around the points vc[idx[0..3]], widened
+ * by LST__BOX_SLACK voxels: it holds every sample point interpolated
+ * between them (the float rounding of the interpolation included). */
+#define LST__BOX_SLACK 0.01f
+static inline void lst__box(float vc[10][3], const int *idx, float *lo, float *hi)
+{
+    int k, j;
+    for (j = 0; j < 3; j++) lo[j] = hi[j] = vc[idx[0]][j];
+    for (k = 1; k < 4; k++)
+        for (j = 0; j < 3; j++) {
+            float x = vc[idx[k]][j];
+            lo[j] = x < lo[j] ? x : lo[j];
+            hi[j] = x > hi[j] ? x : hi[j];
+        }
+    for (j = 0; j < 3; j++) {
+        lo[j] -= LST__BOX_SLACK * (1.0f + fabsf(lo[j]));
+        hi[j] += LST__BOX_SLACK * (1.0f + fabsf(hi[j]));
+    }
+}
+
+/* lst__overlap_fields, then, when it says LST__PART, the sample points,
+ * octant by octant (lst__octants). The samples are taken only where the
+ * cells can answer yes: the summed cells (lst__cells_in_box) of the box
+ * around the tetrahedron, then around each octant, must hold one with
+ * alpha. Exactly what sampling every point says, found sooner: on the
+ * kiwi's fill 3.29 -> 3.06 G instructions (callgrind), where the distance
+ * field around each octant's centroid cleared less and cost more. */
 static int lst__overlap(const lst__fill *F, const lst__mask *m, double c[4][3])
 {
-    double g[3], lim, p[10][3], o[4][3];
-    float vc[4][3];
+    static const int corners[4] = {0, 1, 2, 3};
+    float vc[10][3], lo[3], hi[3];
     int k, j, s, q, ov = lst__overlap_fields(m, c);
     if (ov != LST__PART) return ov;
-    for (k = 0; k < 4; k++) {
-        lst__to_voxel(&m->vol, c[k][0], c[k][1], c[k][2], vc[k]);
-        memcpy(p[k], c[k], sizeof p[k]);
-    }
+    for (k = 0; k < 4; k++) lst__to_voxel(&m->vol, c[k][0], c[k][1], c[k][2], vc[k]);
+    lst__box(vc, corners, lo, hi);
+    if (!lst__cells_in_box(m, lo, hi)) return LST__OUT;
     for (k = 0; k < 6; k++)
-        for (j = 0; j < 3; j++) p[4 + k][j] = 0.5 * (c[lst__midpoints[k][0]][j] + c[lst__midpoints[k][1]][j]);
-    for (q = 0; q < 8; q++) { /* octants the distance field clears are not sampled */
-        for (k = 0; k < 4; k++) memcpy(o[k], p[lst__octants[q][k]], sizeof o[k]);
-        lim = lst__ball(o, g) + m->margin;
-        if (lst__mask_clear(m, pw_clampf((float)g[0], 0, 1), pw_clampf((float)g[1], 0, 1), pw_clampf((float)g[2], 0, 1),
-                            lim))
-            continue;
+        for (j = 0; j < 3; j++) vc[4 + k][j] = 0.5f * (vc[lst__midpoints[k][0]][j] + vc[lst__midpoints[k][1]][j]);
+    for (q = 0; q < 8; q++) {
+        lst__box(vc, lst__octants[q], lo, hi);
+        if (!lst__cells_in_box(m, lo, hi)) continue;
         for (s = F->group[q]; s < F->group[q + 1]; s++) {
             const float *l = F->lattice + 4 * s;
             if (lst__cell_any(m, l[0] * vc[0][0] + l[1] * vc[1][0] + l[2] * vc[2][0] + l[3] * vc[3][0],
