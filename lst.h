@@ -37,11 +37,11 @@
  *  20692: src/lst/exemplar.c, solid exemplars (§5): sampling, the procedural exemplars 
  *  21326: src/lst/field.c, §5.2.2, the fields that orient and scale the pastes. The 
  *  22538: src/lst/paste.c, §5.2.3-5.2.7, filling the model. Each paste picks a rando
- *  23596: src/lst/render.c, §5.1, showing a model. Every point of a tetrahedron is th
- *  24493: src/lst/cut.c, §5.1.1, cutting a model along the zero set of a scalar fi
- *  25098: src/lst/builtin.c, the tetrahedralizer entry point, checks of caller meshes, 
- *  25620: src/lst/io.c, the model file, the constraint files and the file convenie
- *  26313: src/lst/export.c, the visible boundary with a baked texture atlas, for glTF.
+ *  23601: src/lst/render.c, §5.1, showing a model. Every point of a tetrahedron is th
+ *  24498: src/lst/cut.c, §5.1.1, cutting a model along the zero set of a scalar fi
+ *  25103: src/lst/builtin.c, the tetrahedralizer entry point, checks of caller meshes, 
+ *  25625: src/lst/io.c, the model file, the constraint files and the file convenie
+ *  26318: src/lst/export.c, the visible boundary with a baked texture atlas, for glTF.
  */
 /* lst.h - lapped solid textures: solid exemplars pasted inside a model.
  *
@@ -22577,7 +22577,7 @@ typedef struct lst__fill {
     int *uncov, *upos, nuncov;             /* the uncovered list and each tetrahedron's place in it (-1: covered) */
     int *opaque;                           /* nt: the latest paste whose opaque core holds the whole tetrahedron */
     unsigned char *seeded;                 /* nt: 1 once the tetrahedron has been a seed */
-    unsigned char *full;                   /* nt: per clump tetrahedron, covered now (lst__coverage) */
+    unsigned char *full;                   /* 2 nt: per clump tetrahedron, covered now (by shares: lst__coverage) */
     pw_parallel par;                       /* the coverage's threads */
     int threshold;                         /* opacity, 0..255, that counts as covered */
     int *tstamp, *tstate;                  /* nt: paste id of the last visit; 1 in the clump, 2 refused */
@@ -23077,13 +23077,16 @@ static void lst__uncover_remove(lst__fill *F, int t)
  * contiguous ranges kept one thread waiting (the kiwi's coverage stage on
  * 2 threads, six runs each: median 1.67 times faster with ranges, 1.78
  * dealt). A clump holds each tetrahedron once, and each one's samples and
- * mark are its own. full[i] says whether
- * clump tetrahedron i is now covered; the uncovered list changes after, in
- * the clump's order, so the fill is the same for any number of threads. */
+ * mark are its own. Whether clump tetrahedron i is now covered goes to
+ * full[], each share's answers together (share s's j-th at s * per + j,
+ * per = ceil(nct / shares)): dealt one by one into full[i], neighbouring
+ * bytes came from different threads, and each write fetched the cache
+ * line from the other core. The uncovered list changes after, in the
+ * clump's order, so the fill is the same for any number of threads. */
 typedef struct lst__covering {
     lst__fill *F;
     const lst__mask *m;
-    int id, shares;
+    int id, shares, per;
 } lst__covering;
 
 static void lst__coverage_share(void *ctx, int share)
@@ -23091,16 +23094,17 @@ static void lst__coverage_share(void *ctx, int share)
     const lst__covering *w = (const lst__covering *)ctx;
     lst__fill *F = w->F;
     const lst__mask *m = w->m;
-    int i, k, q;
-    for (i = share; i < F->nct; i += w->shares) {
+    unsigned char *full = F->full + (size_t)share * w->per;
+    int i, j, k, q;
+    for (i = share, j = 0; i < F->nct; i += w->shares, j++) {
         int t = F->ctet[i], all = 1, ov;
         unsigned char *cv = F->cov + (size_t)t * F->nsamp;
         double c[4][3];
         float vc[4][3];
-        F->full[i] = 0;
         for (k = 0; k < 4; k++) memcpy(c[k], F->w + 3 * F->ccorner[4 * i + k], sizeof c[k]);
         ov = F->upos[t] < 0 ? lst__overlap_fields(m, c) : lst__overlap(F, m, c); /* covered: only the core counts */
         if (ov == LST__CORE) F->opaque[t] = w->id;
+        full[j] = 0;
         if (F->upos[t] < 0 || ov == LST__OUT) continue;
         for (k = 0; k < 4; k++) lst__to_voxel(&m->vol, c[k][0], c[k][1], c[k][2], vc[k]);
         for (q = 0; q < F->nsamp; q++) {
@@ -23116,7 +23120,7 @@ static void lst__coverage_share(void *ctx, int share)
             cv[q] = (unsigned char)(cv[q] + (int)(al * (255 - cv[q]) + 0.5f));
             all &= cv[q] >= F->threshold;
         }
-        F->full[i] = (unsigned char)all;
+        full[j] = (unsigned char)all;
     }
 }
 
@@ -23134,10 +23138,11 @@ static void lst__coverage(lst__fill *F, const lst__spec *s, int id)
     w.id = id;
     w.shares =
         width < 2 || (long long)F->nct * F->nsamp < LST__COVER_SERIAL ? 1 : (F->nct < 4 * width ? F->nct : 4 * width);
+    w.per = (F->nct + w.shares - 1) / w.shares;
     if (w.shares <= 1) lst__coverage_share(&w, 0);
     else pw_parallel_for(&F->par, w.shares, lst__coverage_share, &w);
     for (i = 0; i < F->nct; i++)
-        if (F->full[i]) lst__uncover_remove(F, F->ctet[i]);
+        if (F->full[(size_t)(i % w.shares) * w.per + i / w.shares]) lst__uncover_remove(F, F->ctet[i]);
 }
 
 /* Keeps the clump as paste `id`: tetrahedra, corners, vertices and their
@@ -23277,7 +23282,7 @@ static int lst__fill_init(lst__fill *F, const pw_volume *masks, int nmasks, int 
     F->uncov = (int *)pw_alloc_array(a, (size_t)nt, sizeof(int), "uncovered list", e);
     F->upos = (int *)pw_alloc_array(a, (size_t)nt, sizeof(int), "uncovered list", e);
     F->seeded = (unsigned char *)pw_calloc_array(a, (size_t)nt, 1, "uncovered list", e);
-    F->full = (unsigned char *)pw_alloc_array(a, (size_t)nt, 1, "uncovered list", e);
+    F->full = (unsigned char *)pw_alloc_array(a, (size_t)nt * 2, 1, "uncovered list", e); /* shares' rounding */
     if (!F->cov || !F->uncov || !F->upos || !F->seeded || !F->full) return PW_ERR_NOMEM;
     F->par = pw_parallel_make(o->threads, o->parallel, o->parallel_pool);
     pw_parallel_start(&F->par); /* one crew for every clump's coverage */
