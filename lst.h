@@ -35,13 +35,13 @@
  *  19694: src/common/gltf.h, binary glTF 2.0 (.glb) output: one self-contained file wit
  *  20358: src/lst/core.c, lst.h's glue to the shared core, its defaults, the convers
  *  20692: src/lst/exemplar.c, solid exemplars (§5): sampling, the procedural exemplars 
- *  21326: src/lst/field.c, §5.2.2, the fields that orient and scale the pastes. The 
- *  22538: src/lst/paste.c, §5.2.3-5.2.7, filling the model. Each paste picks a rando
- *  23601: src/lst/render.c, §5.1, showing a model. Every point of a tetrahedron is th
- *  24498: src/lst/cut.c, §5.1.1, cutting a model along the zero set of a scalar fi
- *  25103: src/lst/builtin.c, the tetrahedralizer entry point, checks of caller meshes, 
- *  25625: src/lst/io.c, the model file, the constraint files and the file convenie
- *  26318: src/lst/export.c, the visible boundary with a baked texture atlas, for glTF.
+ *  21329: src/lst/field.c, §5.2.2, the fields that orient and scale the pastes. The 
+ *  22541: src/lst/paste.c, §5.2.3-5.2.7, filling the model. Each paste picks a rando
+ *  23606: src/lst/render.c, §5.1, showing a model. Every point of a tetrahedron is th
+ *  24503: src/lst/cut.c, §5.1.1, cutting a model along the zero set of a scalar fi
+ *  25108: src/lst/builtin.c, the tetrahedralizer entry point, checks of caller meshes, 
+ *  25630: src/lst/io.c, the model file, the constraint files and the file convenie
+ *  26323: src/lst/export.c, the visible boundary with a baked texture atlas, for glTF.
  */
 /* lst.h - lapped solid textures: solid exemplars pasted inside a model.
  *
@@ -21213,7 +21213,7 @@ static inline int lst__cell_any(const lst__mask *m, float x, float y, float z)
 static void lst__mask_sums(lst__mask *m)
 {
     const int X = m->vol.x, Y = m->vol.y, Z = m->vol.z;
-    const size_t sx = 1, sy = (size_t)X + 1, sz = sy * ((size_t)Y + 1);
+    const size_t sy = (size_t)X + 1, sz = sy * ((size_t)Y + 1);
     size_t i = 0;
     int x, y, z;
     memset(m->sum, 0, sizeof(unsigned) * sz);
@@ -21224,9 +21224,10 @@ static void lst__mask_sums(lst__mask *m)
             s[(size_t)(y + 1) * sy] = 0;
             for (x = 0; x < X; x++, i++) {
                 unsigned bit = m->cell[i >> 3] >> (i & 7) & 1u;
-                size_t at = (size_t)(y + 1) * sy + (size_t)(x + 1) * sx;
-                s[at] = bit + s[at - sx] + s[at - sy] - s[at - sx - sy] + (s - sz)[at] - (s - sz)[at - sx] -
-                        (s - sz)[at - sy] + (s - sz)[at - sx - sy];
+                const size_t at = (size_t)(y + 1) * sy + (size_t)x + 1;
+                const unsigned *below = s - sz; /* the plane z */
+                s[at] = bit + s[at - 1] + s[at - sy] - s[at - 1 - sy] + below[at] - below[at - 1] - below[at - sy] +
+                        below[at - 1 - sy];
             }
         }
     }
@@ -21239,17 +21240,19 @@ static void lst__mask_sums(lst__mask *m)
 static int lst__cells_in_box(const lst__mask *m, const float *lo, const float *hi)
 {
     const size_t sy = (size_t)m->vol.x + 1, sz = sy * ((size_t)m->vol.y + 1);
-    int a[3], b[3], k;
-    const unsigned *s = m->sum;
+    const unsigned *far, *near; /* the planes z = b and z = a of the table */
+    size_t a[3], b[3];
+    int k;
     for (k = 0; k < 3; k++) {
         if (!(lo[k] <= hi[k])) return 1; /* NaN */
         if (hi[k] < -0.5f || lo[k] > m->hi[k]) return 0;
-        a[k] = lo[k] < 0.0f ? 0 : (int)lo[k];
-        b[k] = (int)(hi[k] < m->hi[k] ? hi[k] : m->hi[k]) + 1;
+        a[k] = lo[k] < 0.0f ? 0 : (size_t)lo[k];
+        b[k] = (size_t)(hi[k] < m->hi[k] ? hi[k] : m->hi[k]) + 1;
     }
-    return s[b[2] * sz + b[1] * sy + b[0]] - s[b[2] * sz + b[1] * sy + a[0]] - s[b[2] * sz + a[1] * sy + b[0]] +
-               s[b[2] * sz + a[1] * sy + a[0]] - s[a[2] * sz + b[1] * sy + b[0]] + s[a[2] * sz + b[1] * sy + a[0]] +
-               s[a[2] * sz + a[1] * sy + b[0]] - s[a[2] * sz + a[1] * sy + a[0]] !=
+    far = m->sum + b[2] * sz;
+    near = m->sum + a[2] * sz;
+    return far[b[1] * sy + b[0]] - far[b[1] * sy + a[0]] - far[a[1] * sy + b[0]] + far[a[1] * sy + a[0]] -
+               (near[b[1] * sy + b[0]] - near[b[1] * sy + a[0]] - near[a[1] * sy + b[0]] + near[a[1] * sy + a[0]]) !=
            0u;
 }
 
@@ -23104,8 +23107,10 @@ static void lst__coverage_share(void *ctx, int share)
         for (k = 0; k < 4; k++) memcpy(c[k], F->w + 3 * F->ccorner[4 * i + k], sizeof c[k]);
         ov = F->upos[t] < 0 ? lst__overlap_fields(m, c) : lst__overlap(F, m, c); /* covered: only the core counts */
         if (ov == LST__CORE) F->opaque[t] = w->id;
-        full[j] = 0;
-        if (F->upos[t] < 0 || ov == LST__OUT) continue;
+        if (F->upos[t] < 0 || ov == LST__OUT) {
+            full[j] = 0;
+            continue;
+        }
         for (k = 0; k < 4; k++) lst__to_voxel(&m->vol, c[k][0], c[k][1], c[k][2], vc[k]);
         for (q = 0; q < F->nsamp; q++) {
             const float *l = F->lattice + 4 * q;

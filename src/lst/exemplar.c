@@ -523,7 +523,7 @@ static inline int lst__cell_any(const lst__mask *m, float x, float y, float z)
 static void lst__mask_sums(lst__mask *m)
 {
     const int X = m->vol.x, Y = m->vol.y, Z = m->vol.z;
-    const size_t sx = 1, sy = (size_t)X + 1, sz = sy * ((size_t)Y + 1);
+    const size_t sy = (size_t)X + 1, sz = sy * ((size_t)Y + 1);
     size_t i = 0;
     int x, y, z;
     memset(m->sum, 0, sizeof(unsigned) * sz);
@@ -534,9 +534,10 @@ static void lst__mask_sums(lst__mask *m)
             s[(size_t)(y + 1) * sy] = 0;
             for (x = 0; x < X; x++, i++) {
                 unsigned bit = m->cell[i >> 3] >> (i & 7) & 1u;
-                size_t at = (size_t)(y + 1) * sy + (size_t)(x + 1) * sx;
-                s[at] = bit + s[at - sx] + s[at - sy] - s[at - sx - sy] + (s - sz)[at] - (s - sz)[at - sx] -
-                        (s - sz)[at - sy] + (s - sz)[at - sx - sy];
+                const size_t at = (size_t)(y + 1) * sy + (size_t)x + 1;
+                const unsigned *below = s - sz; /* the plane z */
+                s[at] = bit + s[at - 1] + s[at - sy] - s[at - 1 - sy] + below[at] - below[at - 1] - below[at - sy] +
+                        below[at - 1 - sy];
             }
         }
     }
@@ -549,17 +550,19 @@ static void lst__mask_sums(lst__mask *m)
 static int lst__cells_in_box(const lst__mask *m, const float *lo, const float *hi)
 {
     const size_t sy = (size_t)m->vol.x + 1, sz = sy * ((size_t)m->vol.y + 1);
-    int a[3], b[3], k;
-    const unsigned *s = m->sum;
+    const unsigned *far, *near; /* the planes z = b and z = a of the table */
+    size_t a[3], b[3];
+    int k;
     for (k = 0; k < 3; k++) {
         if (!(lo[k] <= hi[k])) return 1; /* NaN */
         if (hi[k] < -0.5f || lo[k] > m->hi[k]) return 0;
-        a[k] = lo[k] < 0.0f ? 0 : (int)lo[k];
-        b[k] = (int)(hi[k] < m->hi[k] ? hi[k] : m->hi[k]) + 1;
+        a[k] = lo[k] < 0.0f ? 0 : (size_t)lo[k];
+        b[k] = (size_t)(hi[k] < m->hi[k] ? hi[k] : m->hi[k]) + 1;
     }
-    return s[b[2] * sz + b[1] * sy + b[0]] - s[b[2] * sz + b[1] * sy + a[0]] - s[b[2] * sz + a[1] * sy + b[0]] +
-               s[b[2] * sz + a[1] * sy + a[0]] - s[a[2] * sz + b[1] * sy + b[0]] + s[a[2] * sz + b[1] * sy + a[0]] +
-               s[a[2] * sz + a[1] * sy + b[0]] - s[a[2] * sz + a[1] * sy + a[0]] !=
+    far = m->sum + b[2] * sz;
+    near = m->sum + a[2] * sz;
+    return far[b[1] * sy + b[0]] - far[b[1] * sy + a[0]] - far[a[1] * sy + b[0]] + far[a[1] * sy + a[0]] -
+               (near[b[1] * sy + b[0]] - near[b[1] * sy + a[0]] - near[a[1] * sy + b[0]] + near[a[1] * sy + a[0]]) !=
            0u;
 }
 

@@ -567,8 +567,10 @@ static void lst__coverage_share(void *ctx, int share)
         for (k = 0; k < 4; k++) memcpy(c[k], F->w + 3 * F->ccorner[4 * i + k], sizeof c[k]);
         ov = F->upos[t] < 0 ? lst__overlap_fields(m, c) : lst__overlap(F, m, c); /* covered: only the core counts */
         if (ov == LST__CORE) F->opaque[t] = w->id;
-        full[j] = 0;
-        if (F->upos[t] < 0 || ov == LST__OUT) continue;
+        if (F->upos[t] < 0 || ov == LST__OUT) {
+            full[j] = 0;
+            continue;
+        }
         for (k = 0; k < 4; k++) lst__to_voxel(&m->vol, c[k][0], c[k][1], c[k][2], vc[k]);
         for (q = 0; q < F->nsamp; q++) {
             const float *l = F->lattice + 4 * q;
